@@ -1,0 +1,53 @@
+/* headplan: the command-line program. Dispatches to one subcommand; stdout carries only
+ * results, every diagnostic goes to stderr. */
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+#include "headplan/headplan.h"
+
+#include <locale.h>
+#include <stdio.h>
+#include <string.h>
+
+typedef struct {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} command;
+
+static const command commands[] = {
+    {"ik", hp_cmd_ik, "one bladder: inner radius -> pressure (closed form)"},
+    {"fk", hp_cmd_fk, "one bladder: pressure -> inner radius (stable branch)"},
+    {"paper", hp_cmd_paper, "reproduce the paper's expansion and compression tables"},
+};
+static const size_t n_commands = sizeof commands / sizeof commands[0];
+
+static void usage(FILE *out)
+{
+    fprintf(out, "usage: headplan COMMAND [OPTIONS]   (headplan COMMAND --help)\n\ncommands:\n");
+    for (size_t i = 0; i < n_commands; ++i)
+        fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
+    fprintf(out, "\n  --version  print the version\n  --help     this text\n"
+                 "\nexit status: 0 ok, 1 closest reachable only, 64 usage, 65 bad data,\n"
+                 "66 cannot open input, 70 solver or internal failure, 73 cannot write output\n");
+}
+
+int main(int argc, char **argv)
+{
+    setlocale(LC_ALL, "C");
+    if (argc < 2) {
+        usage(stderr);
+        return HP_EXIT_USAGE;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
+        usage(stdout);
+        return HP_EXIT_OK;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("headplan %s\n", hp_version());
+        return HP_EXIT_OK;
+    }
+    for (size_t i = 0; i < n_commands; ++i)
+        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
+    fprintf(stderr, "headplan: unknown command '%s' (see headplan --help)\n", argv[1]);
+    return HP_EXIT_USAGE;
+}

@@ -1,0 +1,50 @@
+/* Error names, diagnostics and the version string (shared by every module). */
+#include "headplan/hp_common.h"
+#include "headplan/hp_version.h"
+
+#include <stdarg.h>
+#include <stdio.h>
+
+static const char *const error_names[HP_ERR_COUNT_] = {
+    "ok", "null-argument", "invalid-argument", "domain", "no-stable-radius",
+    "no-convergence", "parse", "io", "out-of-memory", "solver", "state",
+};
+
+static const char *const error_messages[HP_ERR_COUNT_] = {
+    "success",
+    "a required pointer argument was NULL",
+    "an argument is NaN, infinite, of the wrong sign or out of range",
+    "outside the model's domain",
+    "no stable radius: pressure above the bladder's limit point",
+    "an iteration did not converge within its budget",
+    "malformed input",
+    "a file could not be read or written",
+    "out of memory",
+    "solver failure",
+    "call out of order or on an object that failed to build",
+};
+
+const char *hp_error_name(hp_error e)
+{
+    if ((int)e < 0 || e >= HP_ERR_COUNT_) return "unknown";
+    return error_names[e];
+}
+
+const char *hp_error_message(hp_error e)
+{
+    if ((int)e < 0 || e >= HP_ERR_COUNT_) return "unknown error code";
+    return error_messages[e];
+}
+
+hp_error hp_diag_set(hp_diag *diag, hp_error code, const char *fmt, ...)
+{
+    if (diag) {
+        va_list ap;
+        va_start(ap, fmt);
+        vsnprintf(diag->text, sizeof diag->text, fmt, ap);
+        va_end(ap);
+    }
+    return code;
+}
+
+const char *hp_version(void) { return HP_VERSION_STRING; }

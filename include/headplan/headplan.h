@@ -1,0 +1,11 @@
+/* headplan: a desired 6-DOF head correction -> the pressures of an eight-bladder soft robot.
+ * The one header a user includes. */
+#ifndef HEADPLAN_H
+#define HEADPLAN_H
+
+#include "headplan/hp_version.h"
+#include "headplan/hp_common.h"
+#include "headplan/hp_iab.h"
+#include "headplan/hp_kinematics.h"
+
+#endif

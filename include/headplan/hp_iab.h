@@ -1,0 +1,105 @@
+/* One inflatable air bladder (IAB): a thick spherical shell of incompressible
+ * Mooney–Rivlin rubber. All quantities in SI: metres, pascals.
+ *
+ * Strain energy in the paper's convention: W = ½·C1·(I1−3) + ½·C2·(I2−3).
+ * Finite-element tools write W = C10·(I1−3) + C01·(I2−3); then C1 = 2·C10, C2 = 2·C01.
+ *
+ * Every function here is pure, reentrant, allocates nothing and is safe to call from any
+ * number of threads at once. */
+#ifndef HP_IAB_H
+#define HP_IAB_H
+
+#include "headplan/hp_common.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* A bladder's reference geometry and material. Valid when 0 < Ri < Ro, C1 > 0, C2 >= 0,
+ * all finite (C2 = 0 is the neo-Hookean shell, which has an inflation limit point). */
+typedef struct hp_iab {
+    double Ri; /* reference (unpressurised) inner radius [m] */
+    double Ro; /* reference outer radius [m] */
+    double C1; /* Mooney–Rivlin modulus, paper convention [Pa] */
+    double C2; /* Mooney–Rivlin modulus, paper convention [Pa] */
+} hp_iab;
+
+/* Which convention a pair of moduli is written in. */
+typedef enum hp_material_convention {
+    HP_MATERIAL_PAPER = 0, /* "paper": C1, C2 with W = ½C1(I1−3) + ½C2(I2−3) */
+    HP_MATERIAL_FE         /* "fe": C10, C01 with W = C10(I1−3) + C01(I2−3) */
+} hp_material_convention;
+
+/* "paper" / "fe"; "unknown" for other values. */
+const char *hp_material_convention_name(hp_material_convention c);
+/* Parses "paper" or "fe"; returns HP_ERR_INVALID for anything else. */
+hp_error hp_material_convention_parse(const char *s, hp_material_convention *out);
+
+/* Converts moduli (a, b) given in convention conv to the paper's (C1, C2). */
+hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, double b,
+                                double *C1, double *C2);
+
+/* Checks a bladder: finite values, 0 < Ri < Ro, C1 > 0, C2 >= 0. On failure returns
+ * HP_ERR_INVALID or HP_ERR_DOMAIN and names the field in diag (may be NULL). */
+hp_error hp_iab_validate(const hp_iab *b, hp_diag *diag);
+
+/* Volume law: outer radius for inner radius ri, ro³ = Ro³ + ri³ − Ri³.
+ * Requires ri > 0 and finite. */
+hp_error hp_iab_ro(const hp_iab *b, double ri, double *ro);
+
+/* Inverse volume law: inner radius for outer radius ro; HP_ERR_DOMAIN when the cavity
+ * would collapse (ro³ <= Ro³ − Ri³). */
+hp_error hp_iab_ri(const hp_iab *b, double ro, double *ri);
+
+/* Inverse kinematics, closed form: internal pressure [Pa] that holds inner radius ri.
+ * P = 2·C1·[f(λi) − f(λo)] + 2·C2·[g(λi) − g(λo)], f(λ) = −1/λ − 1/(4λ⁴), g(λ) = λ − 1/(2λ²),
+ * evaluated so that the relative error stays a few ulps even near λi = 1. */
+hp_error hp_iab_ik(const hp_iab *b, double ri, double *P);
+
+/* Inverse kinematics with exact derivatives with respect to ri. Any output pointer but P
+ * may be NULL. */
+hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri,
+                          double *d2P_dri2);
+
+/* The paper's two integral forms of the pressure. */
+typedef enum hp_quad_form {
+    HP_QUAD_CURRENT = 0,  /* P(r): integral over the current radius r in [ri, ro] */
+    HP_QUAD_REFERENCE     /* P(R): integral over the reference radius R in [Ri, Ro] */
+} hp_quad_form;
+
+/* Pressure by a fixed n-point Gauss–Legendre rule on the chosen form (1 <= n <= 64). */
+hp_error hp_iab_ik_gauss(const hp_iab *b, double ri, hp_quad_form form, int n, double *P);
+
+/* Pressure by adaptive Gauss–Kronrod (7–15) quadrature on the chosen form to a relative
+ * tolerance rel_tol (> 0). err_est and evals may be NULL. HP_ERR_NO_CONVERGENCE when the
+ * subdivision budget runs out before the estimate meets the tolerance. */
+hp_error hp_iab_ik_adaptive(const hp_iab *b, double ri, hp_quad_form form, double rel_tol,
+                            double *P, double *err_est, int *evals);
+
+/* The inflation limit point: the first maximum of P(λi) for λi > 1, where dP/dλi = 0.
+ * Materials with a small C2/C1 have one; past it a pressure has two radii and the bladder
+ * is unstable under pressure control. */
+typedef struct hp_iab_limit {
+    int exists;        /* 1 when P(λi) has a maximum; 0 when it rises monotonically */
+    double lambda_i;   /* stretch at the limit point (+inf when none) */
+    double ri;         /* inner radius there [m] (+inf when none) */
+    double pressure;   /* pressure there [Pa] (+inf when none) */
+} hp_iab_limit;
+
+/* Finds the limit point (to full double precision in λi). */
+hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp);
+
+/* Forward kinematics: the inner radius on the stable branch (below any limit point) that
+ * holds pressure P. A safeguarded root find that never leaves its bracket.
+ * HP_ERR_NO_STABLE when P is at or above the limit-point pressure. */
+hp_error hp_iab_fk(const hp_iab *b, double P, double *ri);
+
+/* Wall stresses at current radius r in [ri, ro] of a bladder held at inner radius ri:
+ * radial σrr and hoop σθθ [Pa], closed form (σrr(ri) = −P, σrr(ro) = 0). */
+hp_error hp_iab_wall_stress(const hp_iab *b, double ri, double r, double *s_rr,
+                            double *s_tt);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

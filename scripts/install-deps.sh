@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package headplan needs to build, test, fuzz, benchmark and plot.
+# Safe to run again: it installs only what is missing. Needs root (or sudo) on first use.
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake pkg-config git
+  coinor-libipopt-dev   # Ipopt 3.11 C interface (reference NLP backend)
+  libnlopt-dev          # NLopt 2.7 (SLSQP, COBYLA)
+  libeigen3-dev         # Eigen 3.4 (SVD, QR, least squares)
+  libyaml-dev           # libyaml: scene files with line:column marks
+  libjansson-dev        # jansson: JSON output and JSON Lines traces
+  libcmocka-dev         # cmocka: unit-test framework
+  gnuplot-nox           # charts (PNG, SVG)
+  clang libclang-rt-14-dev  # libFuzzer targets and sanitizer runtimes
+  valgrind cppcheck
+  python3 python3-numpy python3-scipy  # peer benchmark (SciPy SLSQP)
+)
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present" >&2
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}" >&2
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2

@@ -1,0 +1,13 @@
+# Sourced by the command-line tests: expect_exit, expect_stdout_empty, expect_stderr_has.
+HP_BIN="$1"; HP_SRC="$2"
+fails=0; passes=0
+TMP=$(mktemp -d); trap 'rm -rf "$TMP"' EXIT
+# run ARGS...: runs headplan, keeps stdout in $TMP/out, stderr in $TMP/err, status in $rc.
+run() { "$HP_BIN" "$@" >"$TMP/out" 2>"$TMP/err"; rc=$?; }
+ok() { passes=$((passes+1)); }
+bad() { fails=$((fails+1)); echo "FAIL: $*"; echo "  stdout: $(head -c 400 "$TMP/out")"; echo "  stderr: $(head -c 400 "$TMP/err")"; }
+expect_exit() { [ "$rc" -eq "$1" ] && ok || bad "$2: exit $rc, want $1"; }
+expect_stdout_empty() { [ ! -s "$TMP/out" ] && ok || bad "$1: stdout not empty"; }
+expect_stderr_has() { grep -qF -- "$1" "$TMP/err" && ok || bad "$2: stderr lacks '$1'"; }
+expect_stdout_has() { grep -qF -- "$1" "$TMP/out" && ok || bad "$2: stdout lacks '$1'"; }
+finish() { echo "$passes passed, $fails failed"; [ "$fails" -eq 0 ]; }
