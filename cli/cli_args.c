@@ -1,0 +1,110 @@
+/* Strict parsing of command-line values (see cli_args.h). */
+#include "cli/cli_args.h"
+#include "cli/exit_codes.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+int hp_cli_fail(int status, const char *cmd, const char *fmt, ...)
+{
+    va_list ap;
+    fprintf(stderr, "headplan %s: ", cmd);
+    va_start(ap, fmt);
+    vfprintf(stderr, fmt, ap);
+    va_end(ap);
+    fputc('\n', stderr);
+    return status;
+}
+
+/* strtod accepts "nan", "inf", hex floats and leading spaces; a user's number is none of
+ * those, so the characters are checked before strtod sees them. */
+static int plain_number_chars(const char *s)
+{
+    if (*s == '\0') return 0;
+    for (const char *p = s; *p; ++p)
+        if (!strchr("0123456789+-.eE", *p)) return 0;
+    return 1;
+}
+
+int hp_cli_double(const char *cmd, const char *option, const char *text, double *out)
+{
+    if (!text || !plain_number_chars(text))
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' is not a number", option,
+                           text ? text : "");
+    char *end = NULL;
+    errno = 0;
+    double v = strtod(text, &end);
+    if (end == text || *end != '\0')
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' is not a number", option, text);
+    if (errno == ERANGE && fabs(v) > 1.0)
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' overflows a double", option, text);
+    if (!isfinite(v))
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' is not finite", option, text);
+    *out = v;
+    return 0;
+}
+
+int hp_cli_doubles(const char *cmd, const char *option, const char *text, int n, double *out)
+{
+    char buf[512];
+    if (!text || strlen(text) >= sizeof buf)
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: expected %d comma-separated numbers",
+                           option, n);
+    strcpy(buf, text);
+    int count = 0;
+    char *p = buf;
+    for (;;) {
+        char *comma = strchr(p, ',');
+        if (comma) *comma = '\0';
+        if (count >= n)
+            return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: more than %d numbers in '%s'",
+                               option, n, text);
+        int rc = hp_cli_double(cmd, option, p, &out[count]);
+        if (rc) return rc;
+        ++count;
+        if (!comma) break;
+        p = comma + 1;
+    }
+    if (count != n)
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: %d numbers in '%s', expected %d", option,
+                           count, text, n);
+    return 0;
+}
+
+int hp_cli_int(const char *cmd, const char *option, const char *text, long lo, long hi,
+               long *out)
+{
+    if (!text || *text == '\0' || strspn(text, "0123456789") != strlen(text))
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' is not a whole number", option,
+                           text ? text : "");
+    errno = 0;
+    long v = strtol(text, NULL, 10);
+    if (errno == ERANGE || v < lo || v > hi)
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' is outside [%ld, %ld]", option,
+                           text, lo, hi);
+    *out = v;
+    return 0;
+}
+
+int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
+               const char **value)
+{
+    const char *a = argv[*i];
+    size_t n = strlen(name);
+    if (strncmp(a, name, n) != 0) return 0;
+    if (a[n] == '=') {
+        *value = a + n + 1;
+        return 1;
+    }
+    if (a[n] != '\0') return 0;
+    if (*i + 1 >= argc) {
+        hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: missing value", name);
+        return -1;
+    }
+    *i += 1;
+    *value = argv[*i];
+    return 1;
+}

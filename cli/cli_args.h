@@ -1,0 +1,38 @@
+/* Strict command-line value parsing and output helpers shared by every subcommand. Every
+ * parse failure prints one line on stderr naming the option and returns non-zero. */
+#ifndef HP_CLI_ARGS_H
+#define HP_CLI_ARGS_H
+
+#include <stdio.h>
+
+/* Parses text as a finite double: the whole string must be a number ("1.5abc", "", "nan",
+ * "inf" and overflow are refused). On failure prints "headplan CMD: OPTION: why" to stderr
+ * and returns HP_EXIT_USAGE (64). Returns 0 on success. */
+int hp_cli_double(const char *cmd, const char *option, const char *text, double *out);
+
+/* Parses a comma-separated list of exactly n finite doubles ("1,2,3"). Same contract. */
+int hp_cli_doubles(const char *cmd, const char *option, const char *text, int n, double *out);
+
+/* Parses a positive integer in [lo, hi]. Same contract. */
+int hp_cli_int(const char *cmd, const char *option, const char *text, long lo, long hi,
+               long *out);
+
+/* Option walker: matches argv[*i] against "--name" (value in the next argument) or
+ * "--name=value". Returns 1 and sets *value (advancing *i past a separate value) when it
+ * matches, 0 when it does not, and -1 (after printing "missing value") when the value is
+ * missing. */
+int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
+               const char **value);
+
+/* Prints "headplan CMD: message" and a newline to stderr; returns status. */
+int hp_cli_fail(int status, const char *cmd, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* Number format used in every JSON and table output: shortest round-trip ("%.17g"
+ * trimmed by jansson's precision 17), so results are reproducible bit for bit. */
+#define HP_JSON_REAL_PRECISION 17
+
+#endif
