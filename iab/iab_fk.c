@@ -1,0 +1,206 @@
+/* The inflation limit point and forward kinematics (pressure -> inner radius). */
+#include "iab/iab_internal.h"
+
+#include <float.h>
+#include <math.h>
+
+/* Scan grid for the limit point: geometric in λi from 1 to HP_LP_SPAN·max(1, Ro/Ri). The
+ * first maximum of P lies where the C1 part of P peaks (any C2 > 0 only delays it); for a
+ * neo-Hookean shell that is λi ≈ 1.38 (thin) up to about 1.7·Ro/Ri (thick), well inside. */
+#define HP_LP_SPAN 64.0
+#define HP_LP_GRID 1024
+
+static double dP(const hp_iab_s *s, double ri)
+{
+    double p, d1;
+    if (hp_iab_s_ik(s, ri, &p, &d1, NULL) != HP_OK) return NAN;
+    return d1;
+}
+
+/* Bisects to adjacent doubles for the sign change of dP/dri in [lo, hi], dP(lo) > 0 >= dP(hi).
+ * Bisection rather than Newton: dP/dri is known to its rounding level only, and bisection
+ * lands where its computed sign changes, whatever its slope. */
+static double bisect_dp(const hp_iab_s *s, double lo, double hi)
+{
+    for (int it = 0; it < 200; ++it) {
+        double mid = 0.5 * (lo + hi);
+        if (!(mid > lo && mid < hi)) break;
+        if (dP(s, mid) > 0)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Minimum of dP/dri on [lo, hi] by golden-section search: the point and the value. */
+static double golden_min_dp(const hp_iab_s *s, double lo, double hi, double *at)
+{
+    const double g = 0.6180339887498949;
+    double x1 = hi - g * (hi - lo), x2 = lo + g * (hi - lo);
+    double f1 = dP(s, x1), f2 = dP(s, x2);
+    for (int it = 0; it < 120 && hi - lo > 4.0 * DBL_EPSILON * hi; ++it) {
+        if (f1 < f2) {
+            hi = x2;
+            x2 = x1;
+            f2 = f1;
+            x1 = hi - g * (hi - lo);
+            f1 = dP(s, x1);
+        } else {
+            lo = x1;
+            x1 = x2;
+            f1 = f2;
+            x2 = lo + g * (hi - lo);
+            f2 = dP(s, x2);
+        }
+    }
+    *at = f1 < f2 ? x1 : x2;
+    return f1 < f2 ? f1 : f2;
+}
+
+/* The limit point in scaled units: *ri_lp = +inf when none. */
+static hp_error limit_scaled(const hp_iab_s *s, double *ri_lp, double *p_lp)
+{
+    double top = HP_LP_SPAN * fmax(1.0, s->Ro / s->Ri);
+    double ratio = pow(top, 1.0 / HP_LP_GRID);
+    double prev_r = s->Ri, prev_d = dP(s, s->Ri), pprev_d = INFINITY;
+    if (!(prev_d > 0)) return HP_ERR_DOMAIN; /* cannot happen for a valid bladder */
+    for (int k = 1; k <= HP_LP_GRID; ++k) {
+        double r = s->Ri * pow(ratio, k);
+        double d = dP(s, r);
+        if (isnan(d)) return HP_ERR_DOMAIN;
+        if (!(d > 0)) {
+            double r_lp = bisect_dp(s, prev_r, r);
+            *ri_lp = r_lp;
+            return hp_iab_s_ik(s, r_lp, p_lp, NULL, NULL);
+        }
+        /* A local minimum of dP/dri at the previous grid point: the slope may dip below zero
+         * and recover between grid points (C2/C1 just below the threshold for a limit
+         * point). Search the two cells around it. */
+        if (prev_d < pprev_d && prev_d <= d && k >= 2) {
+            double lo = s->Ri * pow(ratio, k - 2), at;
+            if (!(golden_min_dp(s, lo, r, &at) > 0)) {
+                double r_lp = bisect_dp(s, lo, at);
+                *ri_lp = r_lp;
+                return hp_iab_s_ik(s, r_lp, p_lp, NULL, NULL);
+            }
+        }
+        pprev_d = prev_d;
+        prev_d = d;
+        prev_r = r;
+    }
+    *ri_lp = INFINITY;
+    *p_lp = INFINITY;
+    return HP_OK;
+}
+
+hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp)
+{
+    if (!lp) return HP_ERR_NULL;
+    hp_iab_s s;
+    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    double r, p;
+    if (e == HP_OK) e = limit_scaled(&s, &r, &p);
+    if (e != HP_OK) return e;
+    lp->exists = isfinite(r);
+    lp->lambda_i = lp->exists ? r / s.Ri : INFINITY;
+    lp->ri = lp->exists ? r / s.scale : INFINITY;
+    lp->pressure = p;
+    return HP_OK;
+}
+
+/* Safeguarded Newton on P(ri) = target inside [lo, hi] with P(lo) < target < P(hi): every
+ * iterate stays strictly inside the bracket, which shrinks at every step; a Newton step that
+ * leaves it or fails to halve the step before last is replaced by bisection. */
+static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, double hi,
+                              double *out)
+{
+    double x = 0.5 * (lo + hi), dx_old = hi - lo, dx = dx_old;
+    double best = x, best_f = INFINITY;
+    for (int it = 0; it < 300; ++it) {
+        double p, d;
+        if (hp_iab_s_ik(s, x, &p, &d, NULL) != HP_OK) return HP_ERR_DOMAIN;
+        double f = p - target;
+        if (fabs(f) < best_f) {
+            best_f = fabs(f);
+            best = x;
+        }
+        if (f == 0) break;
+        if (f < 0)
+            lo = x;
+        else
+            hi = x;
+        if (!(hi - lo > 2.0 * DBL_EPSILON * hi)) break;
+        double xn = x - f / d;
+        if (d > 0 && xn > lo && xn < hi && fabs(2.0 * (xn - x)) < fabs(dx_old)) {
+            dx_old = dx;
+            dx = xn - x;
+            if (fabs(dx) <= DBL_EPSILON * x) { /* converged: one last look at xn */
+                if (hp_iab_s_ik(s, xn, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f)
+                    best = xn;
+                break;
+            }
+            x = xn;
+        } else {
+            dx_old = dx;
+            dx = 0.5 * (hi - lo);
+            x = lo + dx;
+            if (!(x > lo && x < hi)) break;
+        }
+    }
+    *out = best;
+    return HP_OK;
+}
+
+hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
+{
+    if (!ri) return HP_ERR_NULL;
+    hp_iab_s s;
+    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    if (e != HP_OK) return e;
+    if (!isfinite(P)) return HP_ERR_INVALID;
+    if (P == 0) {
+        *ri = b->Ri;
+        return HP_OK;
+    }
+    double lo, hi, p;
+    if (P > 0) {
+        double r_lp, p_lp;
+        e = limit_scaled(&s, &r_lp, &p_lp);
+        if (e != HP_OK) return e;
+        if (P >= p_lp) return HP_ERR_NO_STABLE;
+        lo = s.Ri;
+        hi = isfinite(r_lp) ? r_lp : 2.0 * s.Ri;
+        /* No limit point: P grows without bound (like 2C2(1 − Ri/Ro)λi), so doubling finds
+         * an upper end, or leaves the range of the model. */
+        for (;;) {
+            if (hp_iab_s_ik(&s, hi, &p, NULL, NULL) != HP_OK || hi > 1e30) return HP_ERR_DOMAIN;
+            if (p >= P) break;
+            lo = hi;
+            hi *= 2.0;
+        }
+        if (p == P) {
+            *ri = hi / s.scale;
+            return HP_OK;
+        }
+    } else {
+        /* Compression: P → −∞ as ri → 0, so halving finds a lower end. */
+        hi = s.Ri;
+        lo = 0.5 * s.Ri;
+        for (;;) {
+            if (lo < 1e-30 || hp_iab_s_ik(&s, lo, &p, NULL, NULL) != HP_OK) return HP_ERR_DOMAIN;
+            if (p <= P) break;
+            hi = lo;
+            lo *= 0.5;
+        }
+        if (p == P) {
+            *ri = lo / s.scale;
+            return HP_OK;
+        }
+    }
+    double r;
+    e = solve_bracket(&s, P, lo, hi, &r);
+    if (e != HP_OK) return e;
+    *ri = r / s.scale;
+    return HP_OK;
+}

@@ -1,0 +1,59 @@
+/* Internal helpers of the bladder model, shared by the iab module only (not installed).
+ *
+ * Lengths are rescaled by a power of two so that Ro lies in [1, 2): the scaling is exact,
+ * pressures do not change (they depend on stretches only), and radii to the sixth power
+ * neither overflow nor underflow for any bladder a user can describe. */
+#ifndef HP_IAB_INTERNAL_H
+#define HP_IAB_INTERNAL_H
+
+#include "headplan/hp_iab.h"
+
+/* A validated bladder in scaled lengths. */
+typedef struct hp_iab_s {
+    double Ri, Ro;  /* reference radii × scale */
+    double C1, C2;  /* moduli [Pa] */
+    double scale;   /* power of two: scaled length = length [m] × scale */
+    double W;       /* Ro³ − Ri³ (scaled), the wall's volume / (4π/3); ro³ − ri³ = W always */
+} hp_iab_s;
+
+/* x³ − y³ without cancellation beyond the one rounding of x − y (exact by Sterbenz's lemma
+ * when x and y are within a factor of two). */
+static inline double hp_iab_cube_diff(double x, double y)
+{
+    return (x - y) * (x * x + x * y + y * y);
+}
+
+/* Validates b and fills s. Same codes and messages as hp_iab_validate. */
+hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag);
+
+/* Scaled outer radius for scaled inner radius ri > 0: ro = cbrt(W + ri³), a sum of two
+ * positive terms (no cancellation). */
+double hp_iab_s_ro(const hp_iab_s *s, double ri);
+
+/* 2C1[f(λ1) − f(λ2)] + 2C2[g(λ1) − g(λ2)] for two radii r1 < r2 of the same deformed wall
+ * (λk = rk/Rk), in a cancellation-free form:
+ *   f(a) − f(b) = (a − b)·[1/(ab) + (a + b)(a² + b²)/(4a⁴b⁴)],
+ *   g(a) − g(b) = (a − b)·[1 + (a + b)/(2a²b²)],
+ *   λ1 − λ2 = (r1R2 − r2R1)/(R1R2),  r1R2 − r2R1 = a·(r2³ − r1³)/(x² + xy + y²)
+ * with x = r1R2, y = r2R1, a = r³ − R³ (the same everywhere in the wall, = ri³ − Ri³),
+ * c21 = r2³ − r1³ > 0. Every bracket is a sum of positive terms, so the relative error is a
+ * few ulps, including at λ → 1 where the naive difference cancels. */
+double hp_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, double R2,
+                            double a, double c21);
+
+/* Closed-form pressure and exact derivatives in scaled units (dP/dri per scaled length).
+ * Requires ri > 0 finite; returns HP_ERR_DOMAIN when the result is not finite (ri so small
+ * or so large that the pressure overflows). d1, d2 may be NULL. */
+hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2);
+
+/* Gauss–Legendre rule of n points on [-1, 1] (1 <= n <= HP_IAB_GL_MAX): nodes x[k] >= 0 and
+ * weights w[k] for k < (n + 1)/2 (the rule is symmetric; x[k] = 0 only for the middle node
+ * of an odd rule). Computed by Newton's method on the Legendre recurrence; no allocation. */
+#define HP_IAB_GL_MAX 64
+hp_error hp_iab_gl_rule(int n, double *x, double *w);
+
+/* The Gauss–Kronrod 7–15 tables: x[0..7] Kronrod nodes >= 0 (descending, x[7] = 0), wk[0..7]
+ * their weights, wg[0..3] the weights of the embedded Gauss rule on x[1], x[3], x[5], x[7]. */
+void hp_iab_gk15_rule(const double **x, const double **wk, const double **wg);
+
+#endif

@@ -1,0 +1,140 @@
+/* Bladder validation, material conventions and the volume law. */
+#include "iab/iab_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+/* A cavity below 1e-9 of the outer radius is no bladder; the bound keeps every power of a
+ * scaled radius that the model forms (up to the eighth) inside the double range. */
+#define HP_IAB_MIN_RI_OVER_RO 1e-9
+
+const char *hp_material_convention_name(hp_material_convention c)
+{
+    switch (c) {
+    case HP_MATERIAL_PAPER: return "paper";
+    case HP_MATERIAL_FE: return "fe";
+    }
+    return "unknown";
+}
+
+hp_error hp_material_convention_parse(const char *s, hp_material_convention *out)
+{
+    if (!s || !out) return HP_ERR_NULL;
+    if (strcmp(s, "paper") == 0) {
+        *out = HP_MATERIAL_PAPER;
+        return HP_OK;
+    }
+    if (strcmp(s, "fe") == 0) {
+        *out = HP_MATERIAL_FE;
+        return HP_OK;
+    }
+    return HP_ERR_INVALID;
+}
+
+hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, double b, double *C1,
+                                double *C2)
+{
+    if (!C1 || !C2) return HP_ERR_NULL;
+    if (!isfinite(a) || !isfinite(b)) return HP_ERR_INVALID;
+    switch (conv) {
+    case HP_MATERIAL_PAPER:
+        *C1 = a;
+        *C2 = b;
+        return HP_OK;
+    case HP_MATERIAL_FE: /* W = C10(I1−3) + C01(I2−3) = ½(2C10)(I1−3) + ½(2C01)(I2−3) */
+        if (!isfinite(2.0 * a) || !isfinite(2.0 * b)) return HP_ERR_INVALID;
+        *C1 = 2.0 * a;
+        *C2 = 2.0 * b;
+        return HP_OK;
+    }
+    return HP_ERR_INVALID;
+}
+
+hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
+{
+    if (!b) return hp_diag_set(diag, HP_ERR_NULL, "bladder: NULL pointer");
+    if (!isfinite(b->Ri))
+        return hp_diag_set(diag, HP_ERR_INVALID, "Ri: must be a finite number (got %g)", b->Ri);
+    if (!isfinite(b->Ro))
+        return hp_diag_set(diag, HP_ERR_INVALID, "Ro: must be a finite number (got %g)", b->Ro);
+    if (!isfinite(b->C1))
+        return hp_diag_set(diag, HP_ERR_INVALID, "C1: must be a finite number (got %g)", b->C1);
+    if (!isfinite(b->C2))
+        return hp_diag_set(diag, HP_ERR_INVALID, "C2: must be a finite number (got %g)", b->C2);
+    if (!(b->Ri > 0))
+        return hp_diag_set(diag, HP_ERR_INVALID, "Ri: must be > 0 m (got %g)", b->Ri);
+    if (!(b->Ro > b->Ri))
+        return hp_diag_set(diag, HP_ERR_DOMAIN, "Ro: must be greater than Ri (Ro %g m, Ri %g m)",
+                           b->Ro, b->Ri);
+    if (!(b->Ri >= HP_IAB_MIN_RI_OVER_RO * b->Ro))
+        return hp_diag_set(diag, HP_ERR_DOMAIN,
+                           "Ri: must be at least %g of Ro (Ri %g m, Ro %g m)",
+                           HP_IAB_MIN_RI_OVER_RO, b->Ri, b->Ro);
+    if (!(b->C1 > 0))
+        return hp_diag_set(diag, HP_ERR_INVALID, "C1: must be > 0 Pa (got %g)", b->C1);
+    if (!(b->C2 >= 0))
+        return hp_diag_set(diag, HP_ERR_INVALID, "C2: must be >= 0 Pa (got %g)", b->C2);
+    if (s) {
+        int e;
+        frexp(b->Ro, &e); /* Ro = m·2^e, m in [0.5, 1) */
+        s->scale = ldexp(1.0, 1 - e);
+        s->Ri = b->Ri * s->scale;
+        s->Ro = b->Ro * s->scale;
+        s->C1 = b->C1;
+        s->C2 = b->C2;
+        s->W = hp_iab_cube_diff(s->Ro, s->Ri);
+    }
+    return HP_OK;
+}
+
+hp_error hp_iab_validate(const hp_iab *b, hp_diag *diag)
+{
+    return hp_iab_scaled_init(b, NULL, diag);
+}
+
+double hp_iab_s_ro(const hp_iab_s *s, double ri) { return cbrt(s->W + ri * ri * ri); }
+
+/* A scaled inner radius from a radius in metres: HP_ERR_INVALID for NaN/Inf, HP_ERR_DOMAIN
+ * for ri <= 0 or a radius so far from the bladder's size that its cube leaves the range. */
+static hp_error scaled_radius(const hp_iab_s *s, double r, double *out)
+{
+    if (!isfinite(r)) return HP_ERR_INVALID;
+    if (!(r > 0)) return HP_ERR_DOMAIN;
+    double rs = r * s->scale;
+    if (!(rs >= 1e-30 && rs <= 1e30)) return HP_ERR_DOMAIN;
+    *out = rs;
+    return HP_OK;
+}
+
+hp_error hp_iab_ro(const hp_iab *b, double ri, double *ro)
+{
+    if (!ro) return HP_ERR_NULL;
+    hp_iab_s s;
+    double ris;
+    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    if (e == HP_OK) e = scaled_radius(&s, ri, &ris);
+    if (e != HP_OK) return e;
+    *ro = hp_iab_s_ro(&s, ris) / s.scale;
+    return HP_OK;
+}
+
+hp_error hp_iab_ri(const hp_iab *b, double ro, double *ri)
+{
+    if (!ri) return HP_ERR_NULL;
+    hp_iab_s s;
+    double ros;
+    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    if (e == HP_OK) e = scaled_radius(&s, ro, &ros);
+    if (e != HP_OK) return e;
+    double c = ros * ros * ros - s.W; /* ri³; cancels for thick walls and near collapse */
+    if (!(c > 0)) return HP_ERR_DOMAIN;
+    double r = cbrt(c);
+    /* Two Newton steps on ri³ − Ri³ = ro³ − Ro³, both sides formed without cancellation:
+     * the residual is then known to ~ulp(|ro³ − Ro³|), so ri ends within a few ulps
+     * wherever the law itself is well conditioned (dri/dro = ro²/ri²). */
+    double rhs = hp_iab_cube_diff(ros, s.Ro);
+    for (int it = 0; it < 2; ++it) r -= (hp_iab_cube_diff(r, s.Ri) - rhs) / (3.0 * r * r);
+    if (!(r > 0) || !isfinite(r)) return HP_ERR_DOMAIN;
+    *ri = r / s.scale;
+    return HP_OK;
+}

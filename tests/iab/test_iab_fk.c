@@ -1,0 +1,203 @@
+/* Forward kinematics and the inflation limit point: against a hand derivation of
+ * dP/dλi = 0 solved in quad precision, the thin-shell limit 7^(1/6), FK∘IK round trips,
+ * and HP_ERR_NO_STABLE at and above the limit-point pressure. */
+#include "test_util.h"
+#include "headplan/hp_iab.h"
+#include "iab_quadref.h"
+
+#define ULP 0x1p-52
+
+/* Hand derivation (C2 = 0). P = 2C1[f(λi) − f(λo)], f'(λ) = λ⁻²(1 + λ⁻³), and from the volume
+ * law dλo/dλi = (Ri/Ro)³·λi²/λo². So dP/dλi = 0 ⇔ λi⁻⁴(1 + λi⁻³)·Ro³ = λo⁻⁴(1 + λo⁻³)·Ri³,
+ * with λo³ = 1 + (λi³ − 1)(Ri/Ro)³. The left minus right side is positive at λi = 1 (Ro > Ri)
+ * and negative for large λi; solved here by quad bisection (113-bit) on a bracket. */
+static q128 hand_residual(q128 l, q128 q)
+{
+    q128 q3 = q * q * q;
+    q128 lo = cbrtq(1 + (l * l * l - 1) * q3);
+    return (1 + 1 / (l * l * l)) / (l * l * l * l) - q3 * (1 + 1 / (lo * lo * lo)) / (lo * lo * lo * lo);
+}
+
+static q128 hand_limit(q128 q)
+{
+    q128 a = 1, b = 10 / q;
+    for (int it = 0; it < 200; ++it) {
+        q128 m = (a + b) / 2;
+        if (hand_residual(m, q) > 0) a = m; else b = m;
+    }
+    return (a + b) / 2;
+}
+
+static void test_limit_point_neo_hookean(void **state)
+{
+    (void)state;
+    const double qs[] = {0.5, 0.7, 0.8, 0.9, 0.95, 0.98, 0.999};
+    double worst = 0;
+    for (size_t i = 0; i < sizeof qs / sizeof qs[0]; ++i) {
+        const double Ro = 0.03, Ri = qs[i] * Ro, C1 = 1.1e4;
+        hp_iab b = {Ri, Ro, C1, 0};
+        hp_iab_limit lp;
+        assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
+        assert_int_equal(lp.exists, 1);
+        q128 lq = hand_limit((q128)Ri / Ro);
+        /* Tolerance 1e-12 relative in λi: the library locates the sign change of its computed
+         * dP/dri, whose rounding noise (~ulps of its two terms of size S) shifts the root by
+         * ~ε·S/|d²P/dri²|·(1/ri), about 1e-14 here (measured below); 100× margin. */
+        hp_assert_close(lp.lambda_i, (double)lq, 1e-12, 0);
+        if (fabs(lp.lambda_i - (double)lq) / (double)lq > worst) worst = fabs(lp.lambda_i - (double)lq) / (double)lq;
+        hp_assert_close(lp.ri, lp.lambda_i * Ri, 2 * ULP, 0);
+        /* P is flat at its maximum, so the λ error enters P at second order: 16 ulps. */
+        hp_assert_close(lp.pressure, (double)q_ik(Ri, Ro, C1, 0, lq * Ri), 16 * ULP, 0);
+        /* a maximum: P is lower a little either side */
+        double Pm, Pp;
+        assert_int_equal(hp_iab_ik(&b, lp.ri * (1 - 1e-4), &Pm), HP_OK);
+        assert_int_equal(hp_iab_ik(&b, lp.ri * (1 + 1e-4), &Pp), HP_OK);
+        assert_true(Pm < lp.pressure && Pp < lp.pressure);
+    }
+    printf("neo-Hookean limit point vs quad hand derivation: worst relative error in lambda_i %.3g\n", worst);
+    /* DESIGN.md's "near 1.43" is the 27/30 mm shell: 1.4312271769565827 (quad). */
+    hp_iab b = {0.027, 0.03, 1.1e4, 0};
+    hp_iab_limit lp;
+    assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
+    hp_assert_close(lp.lambda_i, 1.4312271769565827, 1e-12, 0);
+    /* Thin-shell limit: P ∝ λ⁻¹ − λ⁻⁷ (membrane), maximal at λ⁶ = 7. The thick-shell value
+     * approaches it linearly in the thickness (0.999 gives 1.38352 vs 1.38309). */
+    hp_iab thin = {0.03 * 0.99999, 0.03, 1.1e4, 0};
+    assert_int_equal(hp_iab_limit_point(&thin, &lp), HP_OK);
+    hp_assert_close(lp.lambda_i, pow(7.0, 1.0 / 6.0), 1e-4, 0);
+}
+
+/* With C2 > 0 the first maximum (if any) is found by the same dP/dri = 0 search; checked
+ * against quad bisection on the quad analytic derivative for C2/C1 = 0.05, 0.1, and
+ * "none" for the paper's C2/C1 = 2 (P rises monotonically: quad derivative positive on a
+ * dense grid to λi = 64·Ro/Ri). */
+static void test_limit_point_mooney_rivlin(void **state)
+{
+    (void)state;
+    const double Ro = 0.03, Ri = 0.027, C1 = 1.1e4;
+    const double cs[] = {0.05, 0.1};
+    for (int i = 0; i < 2; ++i) {
+        hp_iab b = {Ri, Ro, C1, cs[i] * C1};
+        hp_iab_limit lp;
+        assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
+        assert_int_equal(lp.exists, 1);
+        q128 a = Ri, c = 2 * Ri; /* dP > 0 at λi = 1, < 0 at 2 for these moduli */
+        assert_true(q_dik(Ri, Ro, C1, cs[i] * C1, c) < 0);
+        for (int it = 0; it < 200; ++it) {
+            q128 m = (a + c) / 2;
+            if (q_dik(Ri, Ro, C1, cs[i] * C1, m) > 0) a = m; else c = m;
+        }
+        hp_assert_close(lp.ri, (double)a, 1e-12, 0);
+    }
+    hp_iab paper = {Ri, Ro, C1, 2.2e4};
+    hp_iab_limit lp;
+    assert_int_equal(hp_iab_limit_point(&paper, &lp), HP_OK);
+    assert_int_equal(lp.exists, 0);
+    assert_true(isinf(lp.lambda_i) && isinf(lp.ri) && isinf(lp.pressure));
+    for (int k = 0; k <= 4000; ++k) {
+        q128 ri = Ri * powq(64 * Ro / Ri, (q128)k / 4000);
+        assert_true(q_dik(Ri, Ro, C1, 2.2e4, ri) > 0);
+    }
+}
+
+/* Near the threshold C2/C1 where the limit point disappears, the maximum and the following
+ * minimum merge: a coarse scan of dP/dri could step over a narrow dip. The library's answer
+ * (exists or not) is compared with a dense quad scan (20 000 points on λi ∈ [1, 4]) over a
+ * fine sweep of C2/C1 across the threshold. */
+static void test_limit_point_threshold(void **state)
+{
+    (void)state;
+    const double Ro = 0.03, Ri = 0.027, C1 = 1.1e4;
+    int seen_yes = 0, seen_no = 0;
+    for (int k = 0; k <= 40; ++k) {
+        double c = 0.15 + 0.0025 * k;
+        hp_iab b = {Ri, Ro, C1, c * C1};
+        hp_iab_limit lp;
+        assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
+        int quad_has = 0;
+        for (int j = 0; j <= 20000 && !quad_has; ++j)
+            if (q_dik(Ri, Ro, C1, c * C1, (q128)Ri * (1 + 3 * (q128)j / 20000)) <= 0) quad_has = 1;
+        assert_int_equal(lp.exists, quad_has);
+        seen_yes += quad_has;
+        seen_no += !quad_has;
+    }
+    assert_true(seen_yes > 0 && seen_no > 0); /* the sweep does cross the threshold */
+}
+
+/* FK∘IK returns ri to 1e-12 relative on the stable branch. Conditioning: δri/ri ≈
+ * δP/(ri·dP/dri) with δP ~ 16 ulps of P; away from the limit point (λi <= 0.97·λ*) this is
+ * < 1e-13 for every case here. */
+static void test_fk_round_trip(void **state)
+{
+    (void)state;
+    const double qs[] = {0.5, 0.7, 0.9, 0.95, 0.98}, cs[] = {0, 0.1, 2};
+    double worst = 0;
+    for (size_t iq = 0; iq < 5; ++iq)
+        for (size_t ic = 0; ic < 3; ++ic) {
+            hp_iab b = {qs[iq] * 0.03, 0.03, 1.1e4, cs[ic] * 1.1e4};
+            hp_iab_limit lp;
+            assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
+            double top = lp.exists ? fmin(3.0, 0.97 * lp.lambda_i) : 3.0;
+            for (int k = 0; k <= 300; ++k) {
+                double ri = (0.5 + (top - 0.5) * k / 300.0) * b.Ri, P, back;
+                assert_int_equal(hp_iab_ik(&b, ri, &P), HP_OK);
+                assert_int_equal(hp_iab_fk(&b, P, &back), HP_OK);
+                hp_assert_close(back, ri, 1e-12, 0);
+                if (fabs(back - ri) / ri > worst) worst = fabs(back - ri) / ri;
+            }
+        }
+    printf("FK(IK(ri)) worst relative error in ri: %.3g\n", worst);
+    /* P = 0 is the reference radius exactly */
+    hp_iab b = {0.027, 0.03, 1.1e4, 2.2e4};
+    double r;
+    assert_int_equal(hp_iab_fk(&b, 0.0, &r), HP_OK);
+    assert_true(r == 0.027);
+    /* far up the paper material's branch (no limit point) and deep compression */
+    double P;
+    assert_int_equal(hp_iab_ik(&b, 30.0, &P), HP_OK);
+    assert_int_equal(hp_iab_fk(&b, P, &r), HP_OK);
+    hp_assert_close(r, 30.0, 1e-12, 0);
+    assert_int_equal(hp_iab_ik(&b, 0.027 * 0.05, &P), HP_OK);
+    assert_int_equal(hp_iab_fk(&b, P, &r), HP_OK);
+    hp_assert_close(r, 0.027 * 0.05, 1e-12, 0);
+}
+
+/* At and above the limit-point pressure there is no stable radius; just below there is,
+ * and it lies below the limit-point radius. The output is left untouched on failure. */
+static void test_fk_no_stable(void **state)
+{
+    (void)state;
+    hp_iab b = {0.027, 0.03, 1.1e4, 0};
+    hp_iab_limit lp;
+    assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
+    double r = 123.0;
+    assert_int_equal(hp_iab_fk(&b, lp.pressure, &r), HP_ERR_NO_STABLE);
+    assert_int_equal(hp_iab_fk(&b, lp.pressure * 1.5, &r), HP_ERR_NO_STABLE);
+    assert_int_equal(hp_iab_fk(&b, 1e300, &r), HP_ERR_NO_STABLE);
+    assert_true(r == 123.0);
+    assert_int_equal(hp_iab_fk(&b, lp.pressure * (1 - 1e-9), &r), HP_OK);
+    assert_true(r < lp.ri && r > 0.027);
+    /* the stable-branch root, not the one past the maximum: IK there gives the pressure */
+    double P;
+    assert_int_equal(hp_iab_ik(&b, r, &P), HP_OK);
+    hp_assert_close(P, lp.pressure * (1 - 1e-9), 1e-12, 0);
+    /* pressures the model cannot reach without leaving the double range */
+    assert_int_equal(hp_iab_fk(&b, -1e300, &r), HP_ERR_DOMAIN);
+    hp_iab paper = {0.027, 0.03, 1.1e4, 2.2e4};
+    assert_int_equal(hp_iab_fk(&paper, 1e300, &r), HP_ERR_DOMAIN);
+    assert_int_equal(hp_iab_fk(&paper, NAN, &r), HP_ERR_INVALID);
+    assert_int_equal(hp_iab_fk(&paper, INFINITY, &r), HP_ERR_INVALID);
+    assert_int_equal(hp_iab_fk(&paper, 1.0, NULL), HP_ERR_NULL);
+    assert_true(r == r); /* never NaN */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_limit_point_neo_hookean),
+        cmocka_unit_test(test_limit_point_mooney_rivlin),
+        cmocka_unit_test(test_limit_point_threshold), cmocka_unit_test(test_fk_round_trip),
+        cmocka_unit_test(test_fk_no_stable),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
