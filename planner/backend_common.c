@@ -1,0 +1,195 @@
+/* Helpers shared by the Ipopt and NLopt backends: problem checks, starting point, clipping,
+ * and a first-order optimality test for results a solver could not certify. */
+#include "planner/backend_common.h"
+
+#include <math.h>
+#include <string.h>
+
+#define HP_PI 3.14159265358979323846
+
+hp_error hp_backend_check_problem(const hp_problem *pb, hp_diag *d)
+{
+    if (!pb || !pb->layout) return hp_diag_set(d, HP_ERR_NULL, "problem: NULL");
+    if (pb->n < 1 || pb->n > HP_MAX_BLADDERS || pb->n != pb->layout->n || pb->nx != 6 + pb->n)
+        return hp_diag_set(d, HP_ERR_INVALID, "problem: n = %d, nx = %d do not match the layout",
+                           pb->n, pb->nx);
+    if (pb->level == HP_LEVEL_AUTO)
+        return hp_diag_set(d, HP_ERR_INVALID, "problem: level must be resolved, not auto");
+    for (int i = 0; i < 6; i++) {
+        if (!isfinite(pb->d[i]))
+            return hp_diag_set(d, HP_ERR_INVALID, "problem: desired[%d] is not finite", i);
+        if (!(pb->w[i] >= 0.0) || !isfinite(pb->w[i]))
+            return hp_diag_set(d, HP_ERR_INVALID, "problem: weight[%d] must be >= 0", i);
+    }
+    if (!(pb->mu >= 0.0) || !isfinite(pb->mu))
+        return hp_diag_set(d, HP_ERR_INVALID, "problem: mu must be finite and >= 0");
+    for (int k = 0; k < pb->n; k++) {
+        const char *name = pb->layout->bladders[k].name;
+        if (!isfinite(pb->ri_lo[k]) || !isfinite(pb->ri_hi[k]) || !(pb->ri_lo[k] > 0.0))
+            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: ri bounds not finite and > 0",
+                               name);
+        if (!isfinite(pb->p_prev[k]))
+            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: previous pressure not finite",
+                               name);
+        if (!(pb->ri_lo[k] <= pb->ri_hi[k]))
+            return hp_diag_set(d, HP_ERR_DOMAIN,
+                               "bladder %s: ri bounds empty (%.17g > %.17g mm): limits "
+                               "cannot all hold",
+                               name, pb->ri_lo[k], pb->ri_hi[k]);
+    }
+    return HP_OK;
+}
+
+void hp_backend_clip(const hp_problem *pb, double *x)
+{
+    for (int k = 0; k < pb->n; k++) {
+        double *r = &x[6 + k];
+        if (*r < pb->ri_lo[k]) *r = pb->ri_lo[k];
+        if (*r > pb->ri_hi[k]) *r = pb->ri_hi[k];
+    }
+}
+
+hp_error hp_backend_default_start(const hp_problem *pb, double *x)
+{
+    double xi[6], rho[HP_MAX_BLADDERS];
+    for (int i = 0; i < 6; i++) {
+        x[i] = pb->d[i];
+        xi[i] = pb->d[i] * (i < 3 ? 1e-3 : HP_PI / 180.0);
+    }
+    hp_error e = hp_contact_eval(pb->layout, pb->level, xi, rho, NULL, NULL);
+    if (e != HP_OK) return e;
+    for (int k = 0; k < pb->n; k++) {
+        double ri;
+        if (hp_iab_ri(&pb->layout->bladders[k].iab, rho[k], &ri) == HP_OK && isfinite(ri))
+            x[6 + k] = ri * 1e3;
+        else
+            x[6 + k] = pb->ri_lo[k];
+    }
+    hp_backend_clip(pb, x);
+    return HP_OK;
+}
+
+hp_error hp_backend_start(const hp_problem *pb, const double *x0, double *x)
+{
+    if (!x0) return hp_backend_default_start(pb, x);
+    for (int i = 0; i < pb->nx; i++) {
+        if (!isfinite(x0[i])) return HP_ERR_INVALID;
+        x[i] = x0[i];
+    }
+    hp_backend_clip(pb, x);
+    return HP_OK;
+}
+
+/* Solves A y = b in place for symmetric positive definite A (m×m); 0 when not SPD. */
+static int cholesky_solve(double *A, double *b, int m)
+{
+    for (int j = 0; j < m; j++) {
+        double s = A[j * m + j];
+        for (int k = 0; k < j; k++) s -= A[j * m + k] * A[j * m + k];
+        if (!(s > 0.0)) return 0;
+        double l = sqrt(s);
+        A[j * m + j] = l;
+        for (int i = j + 1; i < m; i++) {
+            double t = A[i * m + j];
+            for (int k = 0; k < j; k++) t -= A[i * m + k] * A[j * m + k];
+            A[i * m + j] = t / l;
+        }
+    }
+    for (int i = 0; i < m; i++) {
+        double t = b[i];
+        for (int k = 0; k < i; k++) t -= A[i * m + k] * b[k];
+        b[i] = t / A[i * m + i];
+    }
+    for (int i = m - 1; i >= 0; i--) {
+        double t = b[i];
+        for (int k = i + 1; k < m; k++) t -= A[k * m + i] * b[k];
+        b[i] = t / A[i * m + i];
+    }
+    return 1;
+}
+
+hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_measure *m_out)
+{
+    const int n = pb->n, nx = pb->nx;
+    double f, g[HP_PROBLEM_NX_MAX], c[HP_MAX_BLADDERS];
+    double jac[HP_MAX_BLADDERS * HP_PROBLEM_NX_MAX];
+    hp_error e = hp_problem_objective(pb, x, &f, g, NULL);
+    if (e != HP_OK) return e;
+    e = hp_problem_constraints(pb, x, c, jac, NULL, NULL);
+    if (e != HP_OK) return e;
+    m_out->grad_max = 0.0;
+    m_out->feasibility = 0.0;
+    m_out->stationarity = HUGE_VAL;
+    m_out->wrong_sign = HUGE_VAL;
+    m_out->in_bounds = 1;
+    for (int i = 0; i < nx; i++) m_out->grad_max = fmax(m_out->grad_max, fabs(g[i]));
+    /* A bound counts as active within 1e-7 mm: far below any physical meaning of ri and
+     * far above the 1e-14 mm rounding of ri near 30 mm. */
+    const double btol = 1e-7;
+
+    int lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
+    for (int k = 0; k < n; k++) {
+        m_out->feasibility = fmax(m_out->feasibility, fabs(c[k]));
+        double r = x[6 + k];
+        if (!(r >= pb->ri_lo[k] && r <= pb->ri_hi[k])) m_out->in_bounds = 0;
+        lo[k] = r - pb->ri_lo[k] <= btol;
+        hi[k] = pb->ri_hi[k] - r <= btol;
+    }
+    /* A free ri_k fixes its contact multiplier: g_{6+k} + λ_k·ro'_k = 0 (ro' = jac[k][6+k] > 0).
+     * The active ones take the least-squares (ridge-regularised, minimum-norm) values that
+     * best cancel the pose rows of the Lagrangian's gradient. */
+    double lam[HP_MAX_BLADDERS] = {0};
+    double b[6];
+    for (int i = 0; i < 6; i++) b[i] = g[i];
+    int act[HP_MAX_BLADDERS], m = 0;
+    for (int k = 0; k < n; k++) {
+        if (lo[k] || hi[k]) {
+            act[m++] = k;
+            continue;
+        }
+        lam[k] = -g[6 + k] / jac[k * nx + 6 + k];
+        for (int i = 0; i < 6; i++) b[i] += lam[k] * jac[k * nx + i];
+    }
+    if (m > 0) {
+        double A[HP_MAX_BLADDERS * HP_MAX_BLADDERS], rhs[HP_MAX_BLADDERS];
+        double tr = 0.0;
+        for (int p = 0; p < m; p++) {
+            for (int q = 0; q < m; q++) {
+                double s = 0.0;
+                for (int i = 0; i < 6; i++) s += jac[act[p] * nx + i] * jac[act[q] * nx + i];
+                A[p * m + q] = s;
+            }
+            tr += A[p * m + p];
+            double s = 0.0;
+            for (int i = 0; i < 6; i++) s += jac[act[p] * nx + i] * b[i];
+            rhs[p] = -s;
+        }
+        for (int p = 0; p < m; p++) A[p * m + p] += 1e-12 * (tr > 0.0 ? tr : 1.0);
+        if (!cholesky_solve(A, rhs, m)) return HP_OK; /* measures stay +inf */
+        for (int p = 0; p < m; p++) {
+            int k = act[p];
+            lam[k] = rhs[p];
+            for (int i = 0; i < 6; i++) b[i] += lam[k] * jac[k * nx + i];
+        }
+    }
+    m_out->stationarity = 0.0;
+    for (int i = 0; i < 6; i++) m_out->stationarity = fmax(m_out->stationarity, fabs(b[i]));
+    m_out->wrong_sign = 0.0;
+    for (int p = 0; p < m; p++) {
+        int k = act[p];
+        /* Bound multiplier z = ∂L/∂ri_k: >= 0 at a lower bound, <= 0 at an upper one. */
+        double z = g[6 + k] + lam[k] * jac[k * nx + 6 + k];
+        if (lo[k] && !hi[k]) m_out->wrong_sign = fmax(m_out->wrong_sign, -z);
+        if (hi[k] && !lo[k]) m_out->wrong_sign = fmax(m_out->wrong_sign, z);
+    }
+    return HP_OK;
+}
+
+int hp_backend_kkt_ok(const hp_problem *pb, const double *x, double feas_tol)
+{
+    hp_kkt_measure m;
+    if (hp_backend_kkt_measure(pb, x, &m) != HP_OK) return 0;
+    const double stat_tol = 1e-6 * (1.0 + m.grad_max);
+    return m.in_bounds && m.feasibility <= feas_tol && m.stationarity <= stat_tol &&
+           m.wrong_sign <= stat_tol;
+}

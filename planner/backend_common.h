@@ -1,0 +1,42 @@
+/* Internal: helpers the general-purpose backends (Ipopt, NLopt) share. Not installed. */
+#ifndef HP_PLANNER_BACKEND_COMMON_H
+#define HP_PLANNER_BACKEND_COMMON_H
+
+#include "planner/problem.h"
+
+/* Checks pb's dimensions and bounds: HP_OK; HP_ERR_INVALID when n, nx, d, w, mu or a bound
+ * is NaN/inf or out of range; HP_ERR_DOMAIN when some ri_lo_k > ri_hi_k (the limits cannot
+ * all hold: the caller reports HP_STATUS_INFEASIBLE_START). */
+hp_error hp_backend_check_problem(const hp_problem *pb, hp_diag *d);
+
+/* The direct-chain starting point: ξ = d, ri_k = inverse volume law of ρ_k(d), clipped to
+ * [ri_lo_k, ri_hi_k] (ri_lo_k where ρ_k(d) would collapse the cavity). x has nx entries,
+ * scaled units. Allocates nothing. */
+hp_error hp_backend_default_start(const hp_problem *pb, double *x);
+
+/* Copies x0 (or the default start when x0 is NULL) into x, clipping ri into its bounds;
+ * HP_ERR_INVALID when x0 holds a NaN or infinity. */
+hp_error hp_backend_start(const hp_problem *pb, const double *x0, double *x);
+
+/* Moves every ri_k into [ri_lo_k, ri_hi_k] (solvers may leave them 1e-8 relative outside). */
+void hp_backend_clip(const hp_problem *pb, double *x);
+
+/* First-order optimality measures of a point x (scaled units). */
+typedef struct hp_kkt_measure {
+    double feasibility;  /* max_k |c_k| [mm] */
+    double stationarity; /* max over pose rows of |∇f + Jᵀλ| with least-squares λ */
+    double wrong_sign;   /* largest wrong-signed bound multiplier (0 when all are right) */
+    double grad_max;     /* |∇f|∞, the scale of the two above */
+    int in_bounds;       /* 1 when every ri_k is inside [ri_lo_k, ri_hi_k] */
+} hp_kkt_measure;
+
+/* Fills m for x (+inf stationarity when no multipliers can be computed). Allocates nothing. */
+hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_measure *m);
+
+/* First-order optimality test of a point the solver could not certify (NLopt's
+ * ROUNDOFF_LIMITED): 1 when every contact constraint holds to feas_tol [mm], every ri_k is
+ * inside its bounds, and multipliers exist (least squares) making the Lagrangian's gradient
+ * vanish to 1e-6·(1 + |∇f|∞) with bound multipliers of the right sign; else 0. */
+int hp_backend_kkt_ok(const hp_problem *pb, const double *x, double feas_tol);
+
+#endif

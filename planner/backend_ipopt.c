@@ -1,0 +1,346 @@
+/* The reference backend: Ipopt 3.11 through its C interface on the full program
+ * (x = [ξ (mm, deg), ri (mm)], n contact equalities), with the exact constraint Jacobian and
+ * the exact Hessian of the Lagrangian from problem_eval.c.
+ *
+ * Facts this file relies on (SOLVERS.md, measured on this machine):
+ * - Debian's Ipopt/MUMPS is not thread-safe, even with one problem per thread: every Ipopt
+ *   call (create, options, solve, free) runs under one process-wide mutex owned here.
+ * - The library must never print: `sb yes` (licence banner), print_level 0, and
+ *   option_file_name "" (otherwise ./ipopt.opt silently overrides the options). Every option
+ *   call's return is checked: an unknown option prints and returns false.
+ * - 3.11 has no statistics API: the intermediate callback counts iterations.
+ * - The C interface copies the variable bounds at creation and offers no way to change them,
+ *   so the problem object is reused while ri_lo/ri_hi are bitwise unchanged and recreated
+ *   (about 0.7 ms and some allocation) when they change, i.e. every cycle with rate limits.
+ * - Warm start (previous point and multipliers, warm_start_init_point, tiny bound pushes and
+ *   mu_init) is used when the caller's x0 is bitwise the last solution this object returned
+ *   and that solve converged: then the stored multipliers belong to x0. */
+#include "planner/backend_common.h"
+#include "planner/backend_testing.h"
+
+#include <IpStdCInterface.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdatomic.h>
+#include <stdlib.h>
+#include <string.h>
+
+static pthread_mutex_t ipopt_lock = PTHREAD_MUTEX_INITIALIZER;
+static atomic_int ipopt_fault = HP_TEST_FAULT_NONE;
+
+void hp_backend_ipopt_test_hook(int fault) { atomic_store(&ipopt_fault, fault); }
+
+/* Ipopt reads bounds beyond ±1e19 as infinite. */
+#define IPOPT_INF 1e19
+/* mu_init for a cold start (Ipopt's default) and for a warm start near the solution. */
+#define MU_INIT_COLD 0.1
+#define MU_INIT_WARM 1e-9
+#define WARM_PUSH 1e-9
+
+typedef struct ipopt_state {
+    IpoptProblem app;
+    hp_settings s;
+    int n, nx;
+    double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS]; /* bounds app was built with */
+    const hp_problem *pb;                                  /* during a solve only */
+    int iters;
+    int have_prev;
+    double x_prev[HP_PROBLEM_NX_MAX];
+    double mult_g[HP_MAX_BLADDERS];
+    double mult_xl[HP_PROBLEM_NX_MAX], mult_xu[HP_PROBLEM_NX_MAX];
+    double dense[HP_PROBLEM_NX_MAX * HP_PROBLEM_NX_MAX]; /* Hessian / Jacobian scratch */
+} ipopt_state;
+
+static Bool eval_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr u)
+{
+    (void)n, (void)new_x;
+    const ipopt_state *st = u;
+    if (atomic_load(&ipopt_fault) == HP_TEST_FAULT_NAN_OBJECTIVE) {
+        *f = NAN;
+        return TRUE;
+    }
+    return hp_problem_objective(st->pb, x, f, NULL, NULL) == HP_OK;
+}
+
+static Bool eval_grad_f(Index n, Number *x, Bool new_x, Number *grad, UserDataPtr u)
+{
+    (void)n, (void)new_x;
+    const ipopt_state *st = u;
+    double f;
+    return hp_problem_objective(st->pb, x, &f, grad, NULL) == HP_OK;
+}
+
+static Bool eval_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr u)
+{
+    (void)n, (void)new_x, (void)m;
+    const ipopt_state *st = u;
+    if (atomic_load(&ipopt_fault) == HP_TEST_FAULT_FAIL_CONSTRAINTS) return FALSE;
+    return hp_problem_constraints(st->pb, x, g, NULL, NULL, NULL) == HP_OK;
+}
+
+/* Row k of the Jacobian touches the six pose columns and its own ri column. */
+static Bool eval_jac_g(Index n, Number *x, Bool new_x, Index m, Index nele, Index *iRow,
+                       Index *jCol, Number *values, UserDataPtr u)
+{
+    (void)n, (void)new_x, (void)nele;
+    ipopt_state *st = u;
+    if (!values) {
+        int e = 0;
+        for (int k = 0; k < m; k++) {
+            for (int i = 0; i < 6; i++, e++) iRow[e] = k, jCol[e] = i;
+            iRow[e] = k, jCol[e] = 6 + k, e++;
+        }
+        return TRUE;
+    }
+    if (atomic_load(&ipopt_fault) == HP_TEST_FAULT_FAIL_CONSTRAINTS) return FALSE;
+    if (hp_problem_constraints(st->pb, x, NULL, st->dense, NULL, NULL) != HP_OK) return FALSE;
+    int e = 0;
+    for (int k = 0; k < m; k++) {
+        for (int i = 0; i < 6; i++) values[e++] = st->dense[k * st->nx + i];
+        values[e++] = st->dense[k * st->nx + 6 + k];
+    }
+    return TRUE;
+}
+
+/* Lower triangle: the dense 6×6 pose block (21 entries) then the ri diagonal; the objective
+ * and the constraints have no pose–ri cross terms. */
+static Bool eval_h(Index n, Number *x, Bool new_x, Number obj_factor, Index m, Number *lambda,
+                   Bool new_lambda, Index nele, Index *iRow, Index *jCol, Number *values,
+                   UserDataPtr u)
+{
+    (void)new_x, (void)new_lambda, (void)nele;
+    ipopt_state *st = u;
+    if (!values) {
+        int e = 0;
+        for (int i = 0; i < 6; i++)
+            for (int j = 0; j <= i; j++, e++) iRow[e] = i, jCol[e] = j;
+        for (int k = 0; k < m; k++, e++) iRow[e] = 6 + k, jCol[e] = 6 + k;
+        return TRUE;
+    }
+    double *h = st->dense;
+    double f;
+    if (hp_problem_objective(st->pb, x, &f, NULL, h) != HP_OK) return FALSE;
+    for (int i = 0; i < n * n; i++) h[i] *= obj_factor;
+    if (hp_problem_constraints(st->pb, x, NULL, NULL, lambda, h) != HP_OK) return FALSE;
+    int e = 0;
+    for (int i = 0; i < 6; i++)
+        for (int j = 0; j <= i; j++) values[e++] = h[i * n + j];
+    for (int k = 0; k < m; k++) values[e++] = h[(6 + k) * n + 6 + k];
+    return TRUE;
+}
+
+static Bool intermediate(Index alg_mod, Index iter, Number obj, Number inf_pr, Number inf_du,
+                         Number mu, Number d_norm, Number reg, Number alpha_du, Number alpha_pr,
+                         Index ls, UserDataPtr u)
+{
+    (void)alg_mod, (void)obj, (void)inf_pr, (void)inf_du, (void)mu, (void)d_norm, (void)reg;
+    (void)alpha_du, (void)alpha_pr, (void)ls;
+    ipopt_state *st = u;
+    st->iters = iter;
+    return TRUE;
+}
+
+/* Option setters that fail loudly (in the diagnostic) instead of printing. Caller holds the
+ * lock. */
+static hp_error opt_str(IpoptProblem a, const char *k, const char *v, hp_diag *d)
+{
+    if (!AddIpoptStrOption(a, (char *)k, (char *)v))
+        return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %s rejected", k, v);
+    return HP_OK;
+}
+static hp_error opt_num(IpoptProblem a, const char *k, double v, hp_diag *d)
+{
+    if (!AddIpoptNumOption(a, (char *)k, v))
+        return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %g rejected", k, v);
+    return HP_OK;
+}
+static hp_error opt_int(IpoptProblem a, const char *k, int v, hp_diag *d)
+{
+    if (!AddIpoptIntOption(a, (char *)k, v))
+        return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %d rejected", k, v);
+    return HP_OK;
+}
+
+/* Builds st->app for bounds pb->ri_lo/ri_hi with every fixed option. Caller holds the lock
+ * and has freed any previous app. */
+static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
+{
+    double xl[HP_PROBLEM_NX_MAX], xu[HP_PROBLEM_NX_MAX];
+    double gz[HP_MAX_BLADDERS] = {0};
+    for (int i = 0; i < 6; i++) xl[i] = -IPOPT_INF, xu[i] = IPOPT_INF;
+    for (int k = 0; k < st->n; k++) {
+        xl[6 + k] = pb->ri_lo[k];
+        xu[6 + k] = pb->ri_hi[k];
+        st->ri_lo[k] = pb->ri_lo[k];
+        st->ri_hi[k] = pb->ri_hi[k];
+    }
+    st->app = CreateIpoptProblem(st->nx, xl, xu, st->n, gz, gz, 7 * st->n, 21 + st->n, 0,
+                                 eval_f, eval_g, eval_grad_f, eval_jac_g, eval_h);
+    if (!st->app) return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: CreateIpoptProblem failed");
+    const hp_settings *s = &st->s;
+    /* bound_relax_factor 0: by default Ipopt relaxes each bound by 1e-8 relative (3e-7 mm
+     * here) and then projects the answer back onto it, which breaks the contact equality by
+     * that much at every binding bladder. Ipopt's acceptable-level heuristic would stop with a contact violation up to 1e-2 mm
+     * (acceptable_constr_viol_tol): keep it off, and its tolerances tight where it can still
+     * be reached (restoration). */
+    double acc = fmax(10.0 * s->tolerance, 1e-9);
+    hp_error e;
+    if ((e = opt_str(st->app, "sb", "yes", d)) ||
+        (e = opt_int(st->app, "print_level", 0, d)) ||
+        (e = opt_str(st->app, "option_file_name", "", d)) ||
+        (e = opt_num(st->app, "tol", s->tolerance, d)) ||
+        (e = opt_num(st->app, "constr_viol_tol", s->tolerance, d)) ||
+        (e = opt_num(st->app, "bound_relax_factor", 0.0, d)) ||
+        (e = opt_int(st->app, "acceptable_iter", 0, d)) ||
+        (e = opt_num(st->app, "acceptable_tol", acc, d)) ||
+        (e = opt_num(st->app, "acceptable_constr_viol_tol", acc, d)) ||
+        (e = opt_int(st->app, "max_iter", s->max_iter, d)) ||
+        (e = opt_num(st->app, "max_cpu_time", s->max_time, d)) ||
+        (e = opt_num(st->app, "warm_start_bound_push", WARM_PUSH, d)) ||
+        (e = opt_num(st->app, "warm_start_bound_frac", WARM_PUSH, d)) ||
+        (e = opt_num(st->app, "warm_start_slack_bound_push", WARM_PUSH, d)) ||
+        (e = opt_num(st->app, "warm_start_slack_bound_frac", WARM_PUSH, d)) ||
+        (e = opt_num(st->app, "warm_start_mult_bound_push", WARM_PUSH, d)))
+        return e;
+    if (!SetIntermediateCallback(st->app, intermediate))
+        return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: SetIntermediateCallback failed");
+    return HP_OK;
+}
+
+static hp_error ipopt_create(void **state, const hp_problem *pb, const hp_settings *s,
+                             hp_diag *d)
+{
+    if (!state || !pb || !s) return hp_diag_set(d, HP_ERR_NULL, "ipopt: NULL argument");
+    *state = NULL;
+    hp_error e = hp_backend_check_problem(pb, d);
+    if (e != HP_OK && e != HP_ERR_DOMAIN) return e;
+    if (!(s->tolerance > 0.0) || !(s->max_iter > 0) || !(s->max_time > 0.0))
+        return hp_diag_set(d, HP_ERR_INVALID, "ipopt: tolerance, max_iter, max_time must be > 0");
+    ipopt_state *st = calloc(1, sizeof *st);
+    if (!st) return hp_diag_set(d, HP_ERR_NOMEM, "ipopt: out of memory");
+    st->s = *s;
+    st->n = pb->n;
+    st->nx = pb->nx;
+    /* An empty ri box (rate limits) is left for solve to report; build with a valid one. */
+    hp_problem tmp = *pb;
+    for (int k = 0; k < pb->n; k++)
+        if (!(tmp.ri_lo[k] <= tmp.ri_hi[k])) tmp.ri_hi[k] = tmp.ri_lo[k];
+    pthread_mutex_lock(&ipopt_lock);
+    e = build_app(st, &tmp, d);
+    if (e != HP_OK && st->app) FreeIpoptProblem(st->app);
+    pthread_mutex_unlock(&ipopt_lock);
+    if (e != HP_OK) {
+        free(st);
+        return e;
+    }
+    *state = st;
+    return HP_OK;
+}
+
+static void ipopt_destroy(void *state)
+{
+    ipopt_state *st = state;
+    if (!st) return;
+    if (st->app) {
+        pthread_mutex_lock(&ipopt_lock);
+        FreeIpoptProblem(st->app);
+        pthread_mutex_unlock(&ipopt_lock);
+    }
+    free(st);
+}
+
+static hp_status map_status(enum ApplicationReturnStatus r, int *converged)
+{
+    *converged = 0;
+    switch (r) {
+    case Solve_Succeeded:
+    case Solved_To_Acceptable_Level:
+        *converged = 1;
+        return HP_STATUS_REACHED; /* the core decides REACHED or CLOSEST */
+    case Maximum_Iterations_Exceeded:
+        return HP_STATUS_ITERATION_LIMIT;
+    case Maximum_CpuTime_Exceeded:
+        return HP_STATUS_TIME_LIMIT;
+    case Infeasible_Problem_Detected:
+        return HP_STATUS_INFEASIBLE_START;
+    default:
+        return HP_STATUS_SOLVER_ERROR;
+    }
+}
+
+static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0, double *x,
+                            hp_backend_result *r, hp_diag *d)
+{
+    ipopt_state *st = state;
+    if (!st || !pb || !x || !r) return hp_diag_set(d, HP_ERR_NULL, "ipopt: NULL argument");
+    r->status = HP_STATUS_SOLVER_ERROR;
+    r->raw_code = 0;
+    r->iterations = 0;
+    r->converged = 0;
+    if (pb->n != st->n || pb->nx != st->nx)
+        return hp_diag_set(d, HP_ERR_INVALID, "ipopt: problem size changed since create");
+    hp_error e = hp_backend_check_problem(pb, d);
+    if (e == HP_ERR_DOMAIN) {
+        r->status = HP_STATUS_INFEASIBLE_START;
+        return HP_OK;
+    }
+    if (e != HP_OK) return e;
+
+    double xs[HP_PROBLEM_NX_MAX];
+    e = hp_backend_start(pb, x0, xs);
+    if (e != HP_OK) return hp_diag_set(d, e, "ipopt: starting point not finite or not valid");
+    int warm = st->s.warm_start && st->have_prev && x0 &&
+               memcmp(x0, st->x_prev, (size_t)st->nx * sizeof *x0) == 0;
+    int same_bounds = memcmp(st->ri_lo, pb->ri_lo, (size_t)st->n * sizeof(double)) == 0 &&
+                      memcmp(st->ri_hi, pb->ri_hi, (size_t)st->n * sizeof(double)) == 0;
+
+    pthread_mutex_lock(&ipopt_lock);
+    if (!same_bounds || !st->app) { /* also retries after a failed rebuild */
+        if (st->app) FreeIpoptProblem(st->app);
+        st->app = NULL;
+        e = build_app(st, pb, d);
+        if (e != HP_OK) {
+            if (st->app) FreeIpoptProblem(st->app);
+            st->app = NULL;
+        }
+    }
+    if (e == HP_OK) e = opt_str(st->app, "warm_start_init_point", warm ? "yes" : "no", d);
+    if (e == HP_OK) e = opt_num(st->app, "mu_init", warm ? MU_INIT_WARM : MU_INIT_COLD, d);
+    enum ApplicationReturnStatus rc = Internal_Error;
+    if (e == HP_OK) {
+        st->pb = pb;
+        st->iters = 0;
+        double obj;
+        memcpy(x, xs, (size_t)st->nx * sizeof *x);
+        rc = IpoptSolve(st->app, x, NULL, &obj, st->mult_g, st->mult_xl, st->mult_xu, st);
+        st->pb = NULL;
+    }
+    pthread_mutex_unlock(&ipopt_lock);
+    if (e != HP_OK) {
+        st->have_prev = 0;
+        return e;
+    }
+
+    r->raw_code = (int)rc;
+    r->iterations = st->iters;
+    r->status = map_status(rc, &r->converged);
+    int finite = 1;
+    for (int i = 0; i < st->nx; i++) finite = finite && isfinite(x[i]);
+    if (!finite) {
+        /* Never hand back NaN: the start point is at least inside the bounds. */
+        memcpy(x, xs, (size_t)st->nx * sizeof *x);
+        r->converged = 0;
+        r->status = HP_STATUS_SOLVER_ERROR;
+    }
+    hp_backend_clip(pb, x);
+    st->have_prev = r->converged;
+    if (r->converged) memcpy(st->x_prev, x, (size_t)st->nx * sizeof *x);
+    return HP_OK;
+}
+
+const hp_backend_ops hp_backend_ipopt_ops = {
+    .name = "ipopt",
+    .create = ipopt_create,
+    .solve = ipopt_solve,
+    .destroy = ipopt_destroy,
+};

@@ -1,0 +1,334 @@
+/* Comparison backends through NLopt 2.7.1.
+ *
+ * SLSQP works on the full program of problem.h (x = [ξ (mm, deg), ri (mm)], n contact
+ * equalities with a tolerance each, ri bounds): the same program Ipopt solves, so the two can
+ * be compared point for point.
+ *
+ * COBYLA works on the reduced program: variables ξ only, objective Σ w (ξ − d)² (plus the
+ * pressure tie-breaker evaluated at the implied radii), and 2n inequalities
+ * ro_lo_k <= ρ_k(ξ) <= ro_hi_k; the radii come afterwards from the inverse volume law
+ * ri_k = ri(ρ_k(ξ)). COBYLA turns each equality into two opposed inequalities and then
+ * crawls along the contact manifold with linear models (SOLVERS.md: up to 2.4 mm wrong on the
+ * full form); the reduced form has 6 variables instead of 14 and only inequalities, which is
+ * what COBYLA's linear-programming steps handle well, and its contacts hold exactly by
+ * construction.
+ *
+ * Determinism: nlopt_srand(HP_NLOPT_SEED) right before every optimisation (otherwise NLopt
+ * seeds from the clock). Budget: max_time is NLopt's wall-clock maxtime; an NLopt "iteration"
+ * here is one evaluation: SLSQP gets maxeval = 4·max_iter (an SQP iteration is one gradient
+ * plus a short line search), COBYLA maxeval = (6 + 1)·max_iter (one simplex worth of
+ * evaluations per iteration). Reported iterations are evaluations (nlopt_get_numevals). */
+#include "planner/backend_common.h"
+
+#include <math.h>
+#include <nlopt.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define HP_PI 3.14159265358979323846
+/* Seed of NLopt's random number generator: any fixed value gives reproducible runs. */
+#define HP_NLOPT_SEED 20200531UL
+#define SLSQP_EVALS_PER_ITER 4
+/* Smallest per-constraint tolerance handed to NLopt [mm] (see create_common). */
+#define HP_NLOPT_CONTACT_TOL_MIN 1e-10
+#define COBYLA_EVALS_PER_ITER 7
+/* COBYLA's initial trust radius: 1 mm / 1 degree, the size of a typical correction. */
+#define COBYLA_INITIAL_STEP 1.0
+
+typedef struct nlopt_state {
+    nlopt_opt opt;
+    int reduced; /* 1: COBYLA's 6-variable form */
+    int n, nx;
+    hp_settings s;
+    const hp_problem *pb; /* during a solve only */
+    int eval_failed;
+} nlopt_state;
+
+static double pose_scale(int i) { return i < 3 ? 1e-3 : HP_PI / 180.0; }
+
+static void eval_fail(nlopt_state *st)
+{
+    st->eval_failed = 1;
+    nlopt_force_stop(st->opt);
+}
+
+/* ---- full program (SLSQP) ---- */
+
+static double full_objective(unsigned nx, const double *x, double *grad, void *data)
+{
+    (void)nx;
+    nlopt_state *st = data;
+    double f;
+    if (hp_problem_objective(st->pb, x, &f, grad, NULL) != HP_OK) {
+        eval_fail(st);
+        return HUGE_VAL;
+    }
+    return f;
+}
+
+static void full_constraints(unsigned m, double *c, unsigned nx, const double *x, double *grad,
+                             void *data)
+{
+    (void)nx;
+    nlopt_state *st = data;
+    if (hp_problem_constraints(st->pb, x, c, grad, NULL, NULL) != HP_OK) {
+        for (unsigned k = 0; k < m; k++) c[k] = HUGE_VAL;
+        eval_fail(st);
+    }
+}
+
+/* ---- reduced program (COBYLA) ---- */
+
+/* Contact distances [mm] at scaled pose x. */
+static hp_error reduced_rho(const hp_problem *pb, const double *x, double *rho_mm)
+{
+    double xi[6];
+    for (int i = 0; i < 6; i++) xi[i] = x[i] * pose_scale(i);
+    hp_error e = hp_contact_eval(pb->layout, pb->level, xi, rho_mm, NULL, NULL);
+    if (e != HP_OK) return e;
+    for (int k = 0; k < pb->n; k++) rho_mm[k] *= 1e3;
+    return HP_OK;
+}
+
+/* Full x (nx) from the pose: ri_k from ρ_k clipped into [ro_lo_k, ro_hi_k]. */
+static hp_error reduced_expand(const hp_problem *pb, const double *xi6, double *x)
+{
+    double rho[HP_MAX_BLADDERS];
+    hp_error e = reduced_rho(pb, xi6, rho);
+    if (e != HP_OK) return e;
+    memcpy(x, xi6, 6 * sizeof *x);
+    for (int k = 0; k < pb->n; k++) {
+        double ro = fmin(fmax(rho[k], pb->ro_lo[k]), pb->ro_hi[k]);
+        double ri;
+        e = hp_iab_ri(&pb->layout->bladders[k].iab, ro * 1e-3, &ri);
+        if (e != HP_OK) return e;
+        x[6 + k] = ri * 1e3;
+    }
+    hp_backend_clip(pb, x);
+    return HP_OK;
+}
+
+static double reduced_objective(unsigned n6, const double *x, double *grad, void *data)
+{
+    (void)n6, (void)grad; /* derivative-free */
+    nlopt_state *st = data;
+    const hp_problem *pb = st->pb;
+    double f = 0.0;
+    for (int i = 0; i < 6; i++) f += pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
+    if (pb->mu > 0.0) {
+        double full[HP_PROBLEM_NX_MAX];
+        double fo;
+        if (reduced_expand(pb, x, full) != HP_OK ||
+            hp_problem_objective(pb, full, &fo, NULL, NULL) != HP_OK) {
+            eval_fail(st);
+            return HUGE_VAL;
+        }
+        f = fo; /* same pose term, plus the pressure term at the implied radii */
+    }
+    return f;
+}
+
+static void reduced_constraints(unsigned m, double *c, unsigned n6, const double *x,
+                                double *grad, void *data)
+{
+    (void)n6, (void)grad;
+    nlopt_state *st = data;
+    const hp_problem *pb = st->pb;
+    double rho[HP_MAX_BLADDERS];
+    if (reduced_rho(pb, x, rho) != HP_OK) {
+        for (unsigned k = 0; k < m; k++) c[k] = HUGE_VAL;
+        eval_fail(st);
+        return;
+    }
+    for (int k = 0; k < pb->n; k++) {
+        c[2 * k] = pb->ro_lo[k] - rho[k];
+        c[2 * k + 1] = rho[k] - pb->ro_hi[k];
+    }
+}
+
+/* ---- lifecycle ---- */
+
+static hp_error nl(nlopt_result r, const char *what, hp_diag *d)
+{
+    if (r < 0) return hp_diag_set(d, HP_ERR_SOLVER, "nlopt: %s failed (%d)", what, (int)r);
+    return HP_OK;
+}
+
+static hp_error create_common(void **state, const hp_problem *pb, const hp_settings *s,
+                              hp_diag *d, int reduced)
+{
+    if (!state || !pb || !s) return hp_diag_set(d, HP_ERR_NULL, "nlopt: NULL argument");
+    *state = NULL;
+    hp_error e = hp_backend_check_problem(pb, d);
+    if (e != HP_OK && e != HP_ERR_DOMAIN) return e;
+    if (!(s->tolerance > 0.0) || !(s->max_iter > 0) || !(s->max_time > 0.0))
+        return hp_diag_set(d, HP_ERR_INVALID, "nlopt: tolerance, max_iter, max_time must be > 0");
+    nlopt_state *st = calloc(1, sizeof *st);
+    if (!st) return hp_diag_set(d, HP_ERR_NOMEM, "nlopt: out of memory");
+    st->reduced = reduced;
+    st->n = pb->n;
+    st->nx = pb->nx;
+    st->s = *s;
+    unsigned nv = reduced ? 6u : (unsigned)pb->nx;
+    st->opt = nlopt_create(reduced ? NLOPT_LN_COBYLA : NLOPT_LD_SLSQP, nv);
+    if (!st->opt) {
+        free(st);
+        return hp_diag_set(d, HP_ERR_NOMEM, "nlopt: nlopt_create failed");
+    }
+    /* NLopt's SLSQP returns the best *feasible* point it met, feasible meaning |c_k| <= tol_k:
+     * below ~1e-10 mm (3 ulp-ish of rounding in ρ and ro near 30 mm, amplified by the
+     * linearisation error of each step) no iterate may qualify and it hands back the start
+     * point. Hence the floor. */
+    double tol[2 * HP_MAX_BLADDERS];
+    for (int k = 0; k < 2 * HP_MAX_BLADDERS; k++)
+        tol[k] = fmax(s->tolerance, HP_NLOPT_CONTACT_TOL_MIN);
+    double xtol[HP_PROBLEM_NX_MAX];
+    for (int i = 0; i < HP_PROBLEM_NX_MAX; i++) xtol[i] = s->tolerance;
+    int evals_per_iter = reduced ? COBYLA_EVALS_PER_ITER : SLSQP_EVALS_PER_ITER;
+    int maxeval = s->max_iter > 100000000 / evals_per_iter ? 100000000
+                                                            : s->max_iter * evals_per_iter;
+    /* f = Σ w (x − d)²: a change below tolerance² in f is a change below tolerance in x. */
+    double ftol = s->tolerance * s->tolerance;
+    if ((e = nl(reduced ? nlopt_set_min_objective(st->opt, reduced_objective, st)
+                        : nlopt_set_min_objective(st->opt, full_objective, st),
+                "set_min_objective", d)) ||
+        (e = nl(reduced ? nlopt_add_inequality_mconstraint(st->opt, 2u * (unsigned)pb->n,
+                                                           reduced_constraints, st, tol)
+                        : nlopt_add_equality_mconstraint(st->opt, (unsigned)pb->n,
+                                                         full_constraints, st, tol),
+                "add constraints", d)) ||
+        (e = nl(nlopt_set_xtol_abs(st->opt, xtol), "set_xtol_abs", d)) ||
+        (e = nl(nlopt_set_ftol_abs(st->opt, ftol), "set_ftol_abs", d)) ||
+        (e = nl(nlopt_set_maxeval(st->opt, maxeval), "set_maxeval", d)) ||
+        (e = nl(nlopt_set_maxtime(st->opt, s->max_time), "set_maxtime", d)) ||
+        (reduced && (e = nl(nlopt_set_initial_step1(st->opt, COBYLA_INITIAL_STEP),
+                            "set_initial_step", d)))) {
+        nlopt_destroy(st->opt);
+        free(st);
+        return e;
+    }
+    *state = st;
+    return HP_OK;
+}
+
+static hp_error slsqp_create(void **state, const hp_problem *pb, const hp_settings *s,
+                             hp_diag *d)
+{
+    return create_common(state, pb, s, d, 0);
+}
+
+static hp_error cobyla_create(void **state, const hp_problem *pb, const hp_settings *s,
+                              hp_diag *d)
+{
+    return create_common(state, pb, s, d, 1);
+}
+
+static void nlopt_state_destroy(void *state)
+{
+    nlopt_state *st = state;
+    if (!st) return;
+    nlopt_destroy(st->opt);
+    free(st);
+}
+
+static hp_status map_result(nlopt_result r, int *converged)
+{
+    *converged = 0;
+    switch (r) {
+    case NLOPT_SUCCESS:
+    case NLOPT_STOPVAL_REACHED:
+    case NLOPT_FTOL_REACHED:
+    case NLOPT_XTOL_REACHED:
+        *converged = 1;
+        return HP_STATUS_REACHED; /* the core decides REACHED or CLOSEST */
+    case NLOPT_MAXEVAL_REACHED:
+        return HP_STATUS_ITERATION_LIMIT;
+    case NLOPT_MAXTIME_REACHED:
+        return HP_STATUS_TIME_LIMIT;
+    default: /* FAILURE, INVALID_ARGS, OUT_OF_MEMORY, FORCED_STOP; ROUNDOFF checked by caller */
+        return HP_STATUS_SOLVER_ERROR;
+    }
+}
+
+static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0, double *x,
+                            hp_backend_result *r, hp_diag *d)
+{
+    nlopt_state *st = state;
+    if (!st || !pb || !x || !r) return hp_diag_set(d, HP_ERR_NULL, "nlopt: NULL argument");
+    r->status = HP_STATUS_SOLVER_ERROR;
+    r->raw_code = 0;
+    r->iterations = 0;
+    r->converged = 0;
+    if (pb->n != st->n || pb->nx != st->nx)
+        return hp_diag_set(d, HP_ERR_INVALID, "nlopt: problem size changed since create");
+    hp_error e = hp_backend_check_problem(pb, d);
+    if (e == HP_ERR_DOMAIN) {
+        r->status = HP_STATUS_INFEASIBLE_START;
+        return HP_OK;
+    }
+    if (e != HP_OK) return e;
+    double xs[HP_PROBLEM_NX_MAX];
+    e = hp_backend_start(pb, x0, xs);
+    if (e != HP_OK) return hp_diag_set(d, e, "nlopt: starting point not finite or not valid");
+
+    if (!st->reduced) {
+        double lb[HP_PROBLEM_NX_MAX], ub[HP_PROBLEM_NX_MAX];
+        for (int i = 0; i < 6; i++) lb[i] = -HUGE_VAL, ub[i] = HUGE_VAL;
+        for (int k = 0; k < pb->n; k++) lb[6 + k] = pb->ri_lo[k], ub[6 + k] = pb->ri_hi[k];
+        if ((e = nl(nlopt_set_lower_bounds(st->opt, lb), "set_lower_bounds", d)) ||
+            (e = nl(nlopt_set_upper_bounds(st->opt, ub), "set_upper_bounds", d)))
+            return e;
+    }
+    double v[HP_PROBLEM_NX_MAX];
+    memcpy(v, xs, (size_t)st->nx * sizeof *v);
+    st->pb = pb;
+    st->eval_failed = 0;
+    nlopt_srand(HP_NLOPT_SEED);
+    double fmin = HUGE_VAL;
+    nlopt_result rc = nlopt_optimize(st->opt, v, &fmin);
+    st->pb = NULL;
+
+    r->raw_code = (int)rc;
+    r->iterations = nlopt_get_numevals(st->opt);
+    r->status = map_result(rc, &r->converged);
+
+    int finite = 1;
+    for (int i = 0; i < (st->reduced ? 6 : st->nx); i++) finite = finite && isfinite(v[i]);
+    if (finite && st->reduced) {
+        double full[HP_PROBLEM_NX_MAX];
+        if (reduced_expand(pb, v, full) == HP_OK)
+            memcpy(v, full, (size_t)st->nx * sizeof *v);
+        else
+            finite = 0;
+    }
+    if (!finite || st->eval_failed) {
+        memcpy(v, xs, (size_t)st->nx * sizeof *v);
+        r->converged = 0;
+        r->status = HP_STATUS_SOLVER_ERROR;
+    } else if (rc == NLOPT_ROUNDOFF_LIMITED) {
+        /* Ambiguous (SOLVERS.md): accept the point only if it is feasible and stationary.
+         * Feasibility to 10× the constraint tolerance (1e-9 mm at least): SLSQP's last step
+         * is limited by rounding at about that level. */
+        if (hp_backend_kkt_ok(pb, v, fmax(10.0 * st->s.tolerance, 1e-9))) {
+            r->converged = 1;
+            r->status = HP_STATUS_REACHED;
+        }
+    }
+    hp_backend_clip(pb, v);
+    memcpy(x, v, (size_t)st->nx * sizeof *x);
+    return HP_OK;
+}
+
+const hp_backend_ops hp_backend_nlopt_slsqp_ops = {
+    .name = "nlopt-slsqp",
+    .create = slsqp_create,
+    .solve = nlopt_solve,
+    .destroy = nlopt_state_destroy,
+};
+
+const hp_backend_ops hp_backend_nlopt_cobyla_ops = {
+    .name = "nlopt-cobyla",
+    .create = cobyla_create,
+    .solve = nlopt_solve,
+    .destroy = nlopt_state_destroy,
+};
