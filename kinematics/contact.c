@@ -1,0 +1,136 @@
+/* Contact distances at three fidelity levels with exact first and second derivatives.
+ *
+ * Surface and plane both evaluate a function f of the back-transformed bladder centre
+ * c' = Rᵀ(c − pivot − t) + pivot (the centre seen from the head's own frame): the exact
+ * distance of c' to the nominal head (surface), or nᵀ(c' − p) for the nominal tangent
+ * plane (plane; equal to n(ξ)ᵀ(c − p(ξ)) with n(ξ) = R n, p(ξ) = pivot + R(p − pivot) + t).
+ * Chain rule: J = ∇fᵀ C, H = Cᵀ ∇²f C + Σ_m ∂f/∂c'_m ∂²c'_m, C = ∂c'/∂ξ. */
+#include "kin_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+/* c' and its first (C, 3×6) and second (D2, 3×6×6) derivatives at pose xi for centre c. */
+typedef struct backmap {
+    double cp[3];
+    double C[3][6];
+    double D2[3][6][6];
+} backmap;
+
+typedef struct rotd {
+    double R[9], dR[3][9], d2R[3][3][9];
+} rotd;
+
+static void back_transform(const hp_layout *L, const double c[3], const double xi[6],
+                           const rotd *rd, int want_d2, backmap *bm)
+{
+    const double *R = rd->R;
+    double u[3];
+    for (int i = 0; i < 3; ++i) u[i] = c[i] - L->pivot[i] - xi[i];
+    for (int m = 0; m < 3; ++m) {
+        bm->cp[m] = R[m] * u[0] + R[3 + m] * u[1] + R[6 + m] * u[2] + L->pivot[m];
+        for (int i = 0; i < 3; ++i) bm->C[m][i] = -R[i * 3 + m];
+        for (int j = 0; j < 3; ++j)
+            bm->C[m][3 + j] = rd->dR[j][m] * u[0] + rd->dR[j][3 + m] * u[1] + rd->dR[j][6 + m] * u[2];
+    }
+    if (!want_d2) return;
+    for (int m = 0; m < 3; ++m) {
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) bm->D2[m][i][j] = 0.0;
+        for (int a = 0; a < 3; ++a)
+            for (int b = 0; b < 3; ++b) {
+                double v = -rd->dR[b][a * 3 + m];
+                bm->D2[m][a][3 + b] = v;
+                bm->D2[m][3 + b][a] = v;
+                const double *Q = rd->d2R[a][b];
+                bm->D2[m][3 + a][3 + b] = Q[m] * u[0] + Q[3 + m] * u[1] + Q[6 + m] * u[2];
+            }
+    }
+}
+
+static void linear_row(const hp_layout *L, int k, double row[6])
+{
+    const double *n = L->normal[k];
+    double lv[3];
+    for (int i = 0; i < 3; ++i) lv[i] = L->contact[k][i] - L->pivot[i];
+    row[0] = -n[0];
+    row[1] = -n[1];
+    row[2] = -n[2];
+    row[3] = -(lv[1] * n[2] - lv[2] * n[1]);
+    row[4] = -(lv[2] * n[0] - lv[0] * n[2]);
+    row[5] = -(lv[0] * n[1] - lv[1] * n[0]);
+}
+
+static void fill_nan(int n, double *rho, double *J, double *H)
+{
+    for (int k = 0; k < n; ++k) {
+        if (rho) rho[k] = NAN;
+        if (J)
+            for (int i = 0; i < 6; ++i) J[k * 6 + i] = NAN;
+        if (H)
+            for (int i = 0; i < 36; ++i) H[k * 36 + i] = NAN;
+    }
+}
+
+hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
+                         double *rho, double *J, double *H)
+{
+    if (!L || !xi) return HP_ERR_NULL;
+    if (!L->prepared) return HP_ERR_STATE;
+    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
+        return HP_ERR_INVALID;
+    for (int i = 0; i < 6; ++i)
+        if (!isfinite(xi[i])) {
+            fill_nan(L->n, rho, J, H);
+            return HP_ERR_INVALID;
+        }
+    if (level == HP_LEVEL_LINEAR) {
+        for (int k = 0; k < L->n; ++k) {
+            double row[6], v = L->rho0[k];
+            linear_row(L, k, row);
+            for (int i = 0; i < 6; ++i) v += row[i] * xi[i];
+            if (rho) rho[k] = v;
+            if (J) memcpy(J + 6 * k, row, sizeof row);
+            if (H)
+                for (int i = 0; i < 36; ++i) H[k * 36 + i] = 0.0;
+        }
+        return HP_OK;
+    }
+    rotd rd;
+    hp_kin_rotation_derivs(xi + 3, rd.R, rd.dR, H ? rd.d2R : NULL);
+    for (int k = 0; k < L->n; ++k) {
+        backmap bm;
+        back_transform(L, L->bladders[k].center, xi, &rd, H != NULL, &bm);
+        double f, g[3], hf[9] = {0};
+        if (level == HP_LEVEL_SURFACE) {
+            hp_error err = hp_kin_head_distance(&L->head, bm.cp, &f, g, H ? hf : NULL, NULL);
+            if (err) {
+                fill_nan(L->n, rho, J, H);
+                return err;
+            }
+        } else {
+            const double *n = L->normal[k], *p = L->contact[k];
+            f = n[0] * (bm.cp[0] - p[0]) + n[1] * (bm.cp[1] - p[1]) + n[2] * (bm.cp[2] - p[2]);
+            memcpy(g, n, sizeof g);
+        }
+        if (rho) rho[k] = f;
+        if (J)
+            for (int i = 0; i < 6; ++i)
+                J[k * 6 + i] = g[0] * bm.C[0][i] + g[1] * bm.C[1][i] + g[2] * bm.C[2][i];
+        if (H) {
+            double hC[3][6]; /* ∇²f · C */
+            for (int a = 0; a < 3; ++a)
+                for (int i = 0; i < 6; ++i)
+                    hC[a][i] = hf[a * 3] * bm.C[0][i] + hf[a * 3 + 1] * bm.C[1][i] +
+                               hf[a * 3 + 2] * bm.C[2][i];
+            for (int i = 0; i < 6; ++i)
+                for (int j = i; j < 6; ++j) {
+                    double v = 0.0;
+                    for (int a = 0; a < 3; ++a) v += bm.C[a][i] * hC[a][j] + g[a] * bm.D2[a][i][j];
+                    H[k * 36 + i * 6 + j] = v;
+                    H[k * 36 + j * 6 + i] = v;
+                }
+        }
+    }
+    return HP_OK;
+}

@@ -1,0 +1,218 @@
+/* The rigid head: shapes, validation, and the signed distance from a point to its surface
+ * with exact first and second derivatives. */
+#include "kin_internal.h"
+
+#include <float.h>
+#include <math.h>
+#include <string.h>
+
+const char *hp_head_shape_name(hp_head_shape s)
+{
+    switch (s) {
+    case HP_HEAD_SPHERE: return "sphere";
+    case HP_HEAD_ELLIPSOID: return "ellipsoid";
+    }
+    return "unknown";
+}
+
+hp_error hp_head_shape_parse(const char *s, hp_head_shape *out)
+{
+    if (!s || !out) return HP_ERR_NULL;
+    if (strcmp(s, "sphere") == 0) *out = HP_HEAD_SPHERE;
+    else if (strcmp(s, "ellipsoid") == 0) *out = HP_HEAD_ELLIPSOID;
+    else return HP_ERR_INVALID;
+    return HP_OK;
+}
+
+hp_error hp_kin_head_validate(const hp_head *h, hp_diag *diag)
+{
+    if (h->shape != HP_HEAD_SPHERE && h->shape != HP_HEAD_ELLIPSOID)
+        return hp_diag_set(diag, HP_ERR_INVALID, "head: shape: must be sphere or ellipsoid");
+    if (!hp_kin_finite3(h->center))
+        return hp_diag_set(diag, HP_ERR_INVALID, "head: center: must be finite");
+    static const char *const axis[3] = {"x", "y", "z"};
+    int na = h->shape == HP_HEAD_SPHERE ? 1 : 3;
+    for (int i = 0; i < na; ++i) {
+        if (!(h->semi_axes[i] > 0) || !isfinite(h->semi_axes[i])) {
+            if (h->shape == HP_HEAD_SPHERE)
+                return hp_diag_set(diag, HP_ERR_INVALID,
+                                   "head: radius: must be finite and > 0 (got %g m)",
+                                   h->semi_axes[0]);
+            return hp_diag_set(diag, HP_ERR_INVALID,
+                               "head: semi_axes.%s: must be finite and > 0 (got %g m)",
+                               axis[i], h->semi_axes[i]);
+        }
+    }
+    if (!(h->mass >= 0) || !isfinite(h->mass))
+        return hp_diag_set(diag, HP_ERR_INVALID, "head: mass: must be finite and >= 0 (got %g kg)",
+                           h->mass);
+    return HP_OK;
+}
+
+double hp_kin_head_min_curvature_radius(const hp_head *h)
+{
+    if (h->shape == HP_HEAD_SPHERE) return h->semi_axes[0];
+    double amin = fmin(h->semi_axes[0], fmin(h->semi_axes[1], h->semi_axes[2]));
+    double amax = fmax(h->semi_axes[0], fmax(h->semi_axes[1], h->semi_axes[2]));
+    return amin * amin / amax;
+}
+
+/* Hessian of a distance whose gradient is n = m/|m|: (I − n nᵀ)/|m| · Dm. */
+static void project_hessian(const double n[3], double mnorm, const double Dm[9],
+                            double hess[9])
+{
+    double P[9], T[9];
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) P[i * 3 + j] = ((i == j) - n[i] * n[j]) / mnorm;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            T[i * 3 + j] = P[i * 3] * Dm[j] + P[i * 3 + 1] * Dm[3 + j] + P[i * 3 + 2] * Dm[6 + j];
+    /* The exact Hessian is symmetric; average away the rounding asymmetry. */
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) hess[i * 3 + j] = 0.5 * (T[i * 3 + j] + T[j * 3 + i]);
+}
+
+static hp_error sphere_distance(const hp_head *h, const double y[3], double *d,
+                                double grad[3], double hess[9], double foot[3])
+{
+    double r = h->semi_axes[0];
+    double len = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
+    if (!(len >= 1e-3 * r)) return HP_ERR_DOMAIN; /* at the centre: no unique closest point */
+    double n[3] = {y[0] / len, y[1] / len, y[2] / len};
+    *d = len - r;
+    if (grad) memcpy(grad, n, sizeof n);
+    if (foot)
+        for (int i = 0; i < 3; ++i) foot[i] = h->center[i] + r * n[i];
+    if (hess) {
+        const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+        project_hessian(n, len, I, hess);
+    }
+    return HP_OK;
+}
+
+/* The ellipsoid sum(x_i²/a_i²) = 1. The closest point is x_i = a_i² y_i/(a_i² + t) where t
+ * is the root of G(t) = Σ (a_i y_i/(a_i² + t))² − 1 with t > −a_min² (Lagrange multiplier;
+ * the signed distance is t·|x/a²|). In the scaled variable s = t/e², e = a_min,
+ * r_i = (a_i/e)² >= 1 and z_i = |y_i|/a_i (the first octant; symmetry restores the signs),
+ * G(s) = Σ (r_i z_i/(r_i + s))² − 1 is decreasing on s > −1 with one root there; a
+ * bracket [lo, hi] guards the Newton iteration below against rounding.
+ * Left bound: the term j alone reaches 1 at s = r_j(z_j − 1), so G >= 0 at the largest of
+ * these (and at 0 outside). Right bound outside: G <= |r∘z|²/(1 + s)² − 1 <= 0 at
+ * s = |r∘z| − 1. Inside, s <= 0. Points on an axis or on equal axes need no special case. */
+static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *d,
+                                   double grad[3], double hess[9], double foot[3])
+{
+    const double *a = h->semi_axes;
+    double e = fmin(a[0], fmin(a[1], a[2]));
+    double r[3], z[3], rz[3], g0 = -1.0;
+    for (int i = 0; i < 3; ++i) {
+        r[i] = (a[i] / e) * (a[i] / e);
+        z[i] = fabs(y[i]) / a[i];
+        rz[i] = r[i] * z[i];
+        g0 += z[i] * z[i];
+    }
+    double lo = -1.0, hi;
+    for (int i = 0; i < 3; ++i) lo = fmax(lo, r[i] * (z[i] - 1.0));
+    if (g0 > 0) {
+        lo = fmax(lo, 0.0);
+        hi = sqrt(rz[0] * rz[0] + rz[1] * rz[1] + rz[2] * rz[2]) - 1.0;
+        if (hi < lo) hi = lo;
+    } else {
+        /* Deep inside, near the set of centres of curvature, the distance is not smooth. */
+        if (!(lo + 1.0 >= 1e-3)) return HP_ERR_DOMAIN;
+        hi = 0.0;
+        if (lo > hi) lo = hi;
+    }
+    /* Newton on ψ(s) = Q(s)^(-1/2) − 1, Q = G + 1: ψ is a power mean with exponent −2 of
+     * the affine (r_i + s)/(r_i z_i), hence concave and increasing, and exactly linear
+     * for a sphere; Newton from the left (ψ <= 0) climbs monotonically and converges in a
+     * few steps where Newton on G itself would crawl. */
+    double s = g0 == 0.0 ? 0.0 : lo; /* exactly on the surface: t = 0 */
+    if (g0 != 0.0) {
+        for (int it = 0; it < 200; ++it) {
+            double Q = 0.0, dQ = 0.0;
+            for (int i = 0; i < 3; ++i) {
+                double q = rz[i] / (r[i] + s);
+                Q += q * q;
+                dQ -= 2.0 * q * q / (r[i] + s);
+            }
+            if (Q == 1.0) break;
+            if (Q > 1.0) lo = s; else hi = s;
+            double sn = dQ < 0 ? s - 2.0 * Q * (sqrt(Q) - 1.0) / dQ : 0.5 * (lo + hi);
+            /* s enters only as r_i + s with r_i >= 1: absolute resolution 2ε·max(1,|s|). */
+            if (fabs(sn - s) <= 2.0 * DBL_EPSILON * fmax(1.0, fabs(s))) break;
+            if (!(sn > lo && sn < hi)) {
+                sn = 0.5 * (lo + hi);
+                if (sn == lo || sn == hi) break; /* bracket down to adjacent doubles */
+            }
+            s = sn;
+        }
+    }
+    double t = s * e * e;
+    double x[3], m[3], w[3], v[3], S = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        double den = e * e * (r[i] + s); /* a_i² + t > 0 */
+        x[i] = y[i] * (r[i] / (r[i] + s));
+        m[i] = y[i] / den;            /* x_i/a_i²: the unnormalised outward normal */
+        w[i] = x[i] / den;
+        v[i] = w[i] / (a[i] * a[i]);
+        S += x[i] * v[i];
+    }
+    double mn = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    if (!(mn > 0) || !(S > 0)) return HP_ERR_DOMAIN;
+    double n[3] = {m[0] / mn, m[1] / mn, m[2] / mn};
+    *d = t * mn;
+    if (grad) memcpy(grad, n, sizeof n);
+    if (foot)
+        for (int i = 0; i < 3; ++i) foot[i] = h->center[i] + x[i];
+    if (hess) {
+        /* ∂m/∂y = diag(1/(a²+t)) − v wᵀ/S, from implicit differentiation of G(y, t) = 0:
+         * ∂t/∂y = w/S, ∂x/∂y = diag(a²/(a²+t)) − w wᵀ/S. */
+        double Dm[9];
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j)
+                Dm[i * 3 + j] = (i == j ? 1.0 / (e * e * (r[i] + s)) : 0.0) - v[i] * w[j] / S;
+        project_hessian(n, mn, Dm, hess);
+    }
+    return HP_OK;
+}
+
+hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
+                              double grad[3], double hess[9], double foot[3])
+{
+    double y[3] = {q[0] - h->center[0], q[1] - h->center[1], q[2] - h->center[2]};
+    if (!hp_kin_finite3(y)) return HP_ERR_INVALID;
+    /* Beyond 1000 km the question is not about a head (and squares could overflow). */
+    for (int i = 0; i < 3; ++i)
+        if (!(fabs(y[i]) <= 1e6)) return HP_ERR_DOMAIN;
+    if (h->shape == HP_HEAD_SPHERE) return sphere_distance(h, y, d, grad, hess, foot);
+    return ellipsoid_distance(h, y, d, grad, hess, foot);
+}
+
+hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro,
+                                   double preload, double center[3], hp_diag *diag)
+{
+    if (!h || !p || !center) return hp_diag_set(diag, HP_ERR_NULL, "touch: NULL argument");
+    hp_error err = hp_kin_head_validate(h, diag);
+    if (err) return err;
+    if (!hp_kin_finite3(p)) return hp_diag_set(diag, HP_ERR_INVALID, "touch: must be finite");
+    if (!(Ro > 0) || !isfinite(Ro))
+        return hp_diag_set(diag, HP_ERR_INVALID, "Ro: must be finite and > 0 (got %g m)", Ro);
+    if (!isfinite(preload) || !(Ro + preload > 0))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "preload: must be finite and > -Ro (got %g m)", preload);
+    double m[3], F = -1.0;
+    for (int i = 0; i < 3; ++i) {
+        double a = h->shape == HP_HEAD_SPHERE ? h->semi_axes[0] : h->semi_axes[i];
+        double u = (p[i] - h->center[i]) / a;
+        F += u * u;
+        m[i] = u / a;
+    }
+    if (!(fabs(F) <= 1e-9))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "touch: point is not on the head surface (implicit function %.3g, "
+                           "tolerance 1e-9)", F);
+    double mn = hypot(hypot(m[0], m[1]), m[2]);
+    for (int i = 0; i < 3; ++i) center[i] = p[i] + (Ro + preload) * (m[i] / mn);
+    return HP_OK;
+}

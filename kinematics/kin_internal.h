@@ -1,0 +1,32 @@
+/* Internal helpers of the kinematics module: rotation derivatives, the point-to-head
+ * distance with its derivatives, and small vector helpers. Not installed. */
+#ifndef HP_KIN_INTERNAL_H
+#define HP_KIN_INTERNAL_H
+
+#include "headplan/hp_kinematics.h"
+
+/* R = Rz(yaw)·Ry(roll)·Rx(pitch) for th = (pitch, roll, yaw), with its first derivatives
+ * dR[j] = ∂R/∂th_j and second derivatives d2R[j][k] = ∂²R/∂th_j∂th_k (all row-major 3×3).
+ * dR and d2R may be NULL. */
+void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
+                            double d2R[3][3][9]);
+
+/* Signed distance d from point q to the head surface at the nominal pose (> 0 outside),
+ * its gradient (the outward unit normal at the closest surface point), its Hessian (3×3,
+ * row-major) and the closest surface point foot. grad, hess and foot may be NULL.
+ * HP_ERR_DOMAIN when q lies so deep inside the head that the closest point is not unique
+ * or the distance is not smooth there (within 1e-3 of the centre-curvature set).
+ * Allocates nothing. */
+hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
+                              double grad[3], double hess[9], double foot[3]);
+
+/* Smallest radius of curvature of the head surface [m] (a_min²/a_max for an ellipsoid). */
+double hp_kin_head_min_curvature_radius(const hp_head *h);
+
+/* Checks the head: shape, finite centre, positive finite semi-axes, mass >= 0. */
+hp_error hp_kin_head_validate(const hp_head *h, hp_diag *diag);
+
+/* 1 when all three components are finite. */
+int hp_kin_finite3(const double v[3]);
+
+#endif

@@ -1,0 +1,154 @@
+/* Layout validation and the nominal contact geometry of every bladder. */
+#include "kin_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+const char *hp_level_name(hp_level l)
+{
+    switch (l) {
+    case HP_LEVEL_LINEAR: return "linear";
+    case HP_LEVEL_PLANE: return "plane";
+    case HP_LEVEL_SURFACE: return "surface";
+    case HP_LEVEL_AUTO: return "auto";
+    }
+    return "unknown";
+}
+
+hp_error hp_level_parse(const char *s, hp_level *out)
+{
+    if (!s || !out) return HP_ERR_NULL;
+    for (int l = HP_LEVEL_LINEAR; l <= HP_LEVEL_AUTO; ++l)
+        if (strcmp(s, hp_level_name((hp_level)l)) == 0) {
+            *out = (hp_level)l;
+            return HP_OK;
+        }
+    return HP_ERR_INVALID;
+}
+
+/* The bladder's own checks that need no geometry. */
+static hp_error check_bladder(const hp_layout *L, int k, hp_diag *diag)
+{
+    const hp_bladder *b = &L->bladders[k];
+    size_t len = 0;
+    while (len < HP_NAME_MAX && b->name[len] != '\0') ++len;
+    if (len == 0)
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladder #%d: name: must not be empty", k + 1);
+    if (len == HP_NAME_MAX)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder #%d: name: longer than %d characters", k + 1,
+                           HP_NAME_MAX - 1);
+    for (int j = 0; j < k; ++j)
+        if (strncmp(L->bladders[j].name, b->name, HP_NAME_MAX) == 0)
+            return hp_diag_set(diag, HP_ERR_INVALID,
+                               "bladder '%s' (#%d): name: used twice (also #%d)", b->name, k + 1,
+                               j + 1);
+    if (!hp_kin_finite3(b->center))
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%s': center: must be finite",
+                           b->name);
+    hp_diag sub;
+    sub.text[0] = '\0';
+    hp_error err = hp_iab_validate(&b->iab, &sub);
+    if (err) return hp_diag_set(diag, err, "bladder '%s': %s", b->name, sub.text);
+    if (!isfinite(b->p_min))
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%s': p_min: must be finite",
+                           b->name);
+    if (!isfinite(b->p_max))
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%s': p_max: must be finite",
+                           b->name);
+    if (!(b->p_min < b->p_max))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': p_max: must be > p_min (got %g Pa <= %g Pa)", b->name,
+                           b->p_max, b->p_min);
+    if (!(b->stretch_min > 0) || !isfinite(b->stretch_min))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': stretch_min: must be finite and > 0 (got %g)", b->name,
+                           b->stretch_min);
+    if (!isfinite(b->stretch_max) || !(b->stretch_max > b->stretch_min))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': stretch_max: must be finite and > stretch_min "
+                           "(got %g)", b->name, b->stretch_max);
+    if (!(b->rate_max > 0)) /* +inf allowed: unlimited */
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': rate_max: must be > 0 or +inf (got %g Pa)", b->name,
+                           b->rate_max);
+    hp_iab_limit lp;
+    err = hp_iab_limit_point(&b->iab, &lp);
+    if (err) return hp_diag_set(diag, err, "bladder '%s': limit point: %s", b->name,
+                                hp_error_message(err));
+    if (lp.exists && !(b->stretch_max < lp.lambda_i))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': stretch_max: must be below the inflation limit point "
+                           "(got %g >= %g)", b->name, b->stretch_max, lp.lambda_i);
+    return HP_OK;
+}
+
+/* Margin by which the nominal stretch must lie inside its limits: the nominal distance is
+ * known to a few ulps, so a limit placed exactly at the nominal stretch (e.g. 1 without
+ * preload) must fail whichever way the rounding falls. */
+#define NOMINAL_STRETCH_MARGIN 1e-9
+
+/* The nominal pose must hold: stretch strictly inside its limits, pressure inside its own. */
+static hp_error check_nominal(const hp_bladder *b, double rho0, hp_diag *diag)
+{
+    double ri, P;
+    if (hp_iab_ri(&b->iab, rho0, &ri) != HP_OK)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': center: the nominal contact distance %.6g mm "
+                           "collapses the bladder's cavity", b->name, rho0 * 1e3);
+    double lam = ri / b->iab.Ri;
+    if (!(b->stretch_min < lam - NOMINAL_STRETCH_MARGIN))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': stretch_min: must be below the nominal stretch %.6g "
+                           "(got %g)", b->name, lam, b->stretch_min);
+    if (!(lam + NOMINAL_STRETCH_MARGIN < b->stretch_max))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': stretch_max: must be above the nominal stretch %.6g "
+                           "(got %g)", b->name, lam, b->stretch_max);
+    hp_error err = hp_iab_ik(&b->iab, ri, &P);
+    if (err) return hp_diag_set(diag, err, "bladder '%s': nominal pressure: %s", b->name,
+                                hp_error_message(err));
+    if (!(b->p_min <= P))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': p_min: must be <= the nominal pressure %.6g Pa "
+                           "(got %g Pa)", b->name, P, b->p_min);
+    if (!(P <= b->p_max))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': p_max: must be >= the nominal pressure %.6g Pa "
+                           "(got %g Pa)", b->name, P, b->p_max);
+    return HP_OK;
+}
+
+hp_error hp_layout_prepare(hp_layout *L, hp_diag *diag)
+{
+    if (!L) return hp_diag_set(diag, HP_ERR_NULL, "layout: NULL");
+    L->prepared = 0;
+    hp_error err = hp_kin_head_validate(&L->head, diag);
+    if (err) return err;
+    if (L->head.shape == HP_HEAD_SPHERE)
+        L->head.semi_axes[1] = L->head.semi_axes[2] = L->head.semi_axes[0];
+    if (!hp_kin_finite3(L->pivot))
+        return hp_diag_set(diag, HP_ERR_INVALID, "pivot: must be finite");
+    if (!(L->n >= 1 && L->n <= HP_MAX_BLADDERS))
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladders: count must be 1..%d (got %d)",
+                           HP_MAX_BLADDERS, L->n);
+    for (int k = 0; k < L->n; ++k) {
+        err = check_bladder(L, k, diag);
+        if (err) return err;
+    }
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder *b = &L->bladders[k];
+        double d, n[3], p[3];
+        err = hp_kin_head_distance(&L->head, b->center, &d, n, NULL, p);
+        if (err != HP_OK || !(d > 0))
+            return hp_diag_set(diag, HP_ERR_INVALID,
+                               "bladder '%s': center: must lie outside the head", b->name);
+        err = check_nominal(b, d, diag);
+        if (err) return err;
+        memcpy(L->contact[k], p, sizeof p);
+        memcpy(L->normal[k], n, sizeof n);
+        L->rho0[k] = d;
+    }
+    L->prepared = 1;
+    return HP_OK;
+}

@@ -1,0 +1,119 @@
+/* Error bounds of the linear and plane levels against the surface level, and the choice of
+ * level by tolerance. */
+#include "test_util.h"
+
+#include "default_layout.h"
+#include "kin_test_util.h"
+
+static hp_layout LAY;
+
+static int setup(void **state)
+{
+    (void)state;
+    return default_layout(&LAY);
+}
+
+/* Worst sampled |level − surface| over poses with |t| = T and |θ| = rot exactly (the bound
+ * grows with both sizes, so the sphere surfaces hold the worst cases), plus a share inside. */
+static double sampled_worst(const hp_layout *L, hp_level lv, double T, double rot, int count,
+                            uint64_t seed)
+{
+    kin_rng rng = {seed};
+    double worst = 0.0;
+    for (int it = 0; it < count; ++it) {
+        double xi[6], rs[HP_MAX_BLADDERS], rl[HP_MAX_BLADDERS];
+        kin_rng_pose(&rng, T, rot, it % 4 != 0, xi);
+        assert_int_equal(hp_contact_eval(L, HP_LEVEL_SURFACE, xi, rs, NULL, NULL), HP_OK);
+        assert_int_equal(hp_contact_eval(L, lv, xi, rl, NULL, NULL), HP_OK);
+        for (int k = 0; k < L->n; ++k) worst = fmax(worst, fabs(rl[k] - rs[k]));
+    }
+    return worst;
+}
+
+/* Sizes from trivial to large; every sampled error must stay under the bound, and at the
+ * moderate sizes (1..10 mm, 1..5°) the bound must be within ×20 of the sampled worst. */
+static void test_bounds_hold_and_are_tight(void **state)
+{
+    (void)state;
+    const double sizes[][2] = {{1e-5, 1e-4}, {0.001, 0.0175}, {0.003, 0.0349}, {0.005, 0.0524},
+                               {0.010, 0.0873}, {0.005, 0.0},    {0.0, 0.0524}, {0.02, 0.2},
+                               {0.04, 0.5}};
+    for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; ++s)
+        for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_PLANE; ++lv) {
+            double T = sizes[s][0], rot = sizes[s][1], b;
+            assert_int_equal(hp_contact_error_bound(&LAY, (hp_level)lv, T, rot, &b), HP_OK);
+            double w = sampled_worst(&LAY, (hp_level)lv, T, rot, 4000, 1000 + s);
+            print_message("%-7s T %5.1f mm rot %5.2f deg: sampled %.3e mm bound %.3e mm (x%.2f)\n",
+                          hp_level_name((hp_level)lv), T * 1e3, rot * 57.29578, w * 1e3, b * 1e3,
+                          b / w);
+            assert_true(w <= b);
+            int moderate = T <= 0.010 && rot <= 0.0873 && (T >= 0.001 || rot >= 0.0175);
+            if (moderate) assert_true(b <= 20.0 * w);
+        }
+    double b;
+    assert_int_equal(hp_contact_error_bound(&LAY, HP_LEVEL_SURFACE, 0.01, 0.1, &b), HP_OK);
+    assert_true(b == 0.0);
+    assert_int_equal(hp_contact_error_bound(&LAY, HP_LEVEL_PLANE, 0.0, 0.0, &b), HP_OK);
+    assert_true(b == 0.0);
+    assert_int_equal(hp_contact_error_bound(&LAY, HP_LEVEL_PLANE, -1.0, 0.0, &b), HP_ERR_INVALID);
+    assert_int_equal(hp_contact_error_bound(&LAY, HP_LEVEL_PLANE, 0.0, NAN, &b), HP_ERR_INVALID);
+}
+
+/* The bounds also hold on other heads and pivots: a sphere with an off-centre pivot, and a
+ * flatter ellipsoid with the pivot 3 cm behind the head centre. */
+static void test_bounds_other_layouts(void **state)
+{
+    (void)state;
+    hp_head heads[2] = {default_head(), default_head()};
+    heads[0].shape = HP_HEAD_SPHERE;
+    heads[0].semi_axes[0] = 0.09;
+    heads[1].semi_axes[0] = 0.06;
+    heads[1].semi_axes[2] = 0.11;
+    const double pivots[2][3] = {{0.01, 0.02, -0.01}, {0.0, 0.0, -0.03}};
+    for (int c = 0; c < 2; ++c) {
+        hp_layout L;
+        assert_int_equal(default_layout_on(&L, &heads[c], 0.0), 0);
+        for (int i = 0; i < 3; ++i) L.pivot[i] = pivots[c][i];
+        assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+        const double sizes[3][2] = {{0.002, 0.02}, {0.01, 0.1}, {0.03, 0.3}};
+        for (int s = 0; s < 3; ++s)
+            for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_PLANE; ++lv) {
+                double b;
+                assert_int_equal(hp_contact_error_bound(&L, (hp_level)lv, sizes[s][0], sizes[s][1], &b),
+                                 HP_OK);
+                double w = sampled_worst(&L, (hp_level)lv, sizes[s][0], sizes[s][1], 2000, 77 + s);
+                assert_true(w <= b);
+            }
+    }
+}
+
+/* The ordering linear >= plane and the choice of the cheapest level meeting tol. */
+static void test_auto(void **state)
+{
+    (void)state;
+    double bl, bp;
+    const double T = 0.003, rot = 0.035;
+    assert_int_equal(hp_contact_error_bound(&LAY, HP_LEVEL_LINEAR, T, rot, &bl), HP_OK);
+    assert_int_equal(hp_contact_error_bound(&LAY, HP_LEVEL_PLANE, T, rot, &bp), HP_OK);
+    assert_true(bp < bl);
+    hp_level lv;
+    assert_int_equal(hp_contact_auto(&LAY, bl * 1.0001, T, rot, &lv), HP_OK);
+    assert_int_equal(lv, HP_LEVEL_LINEAR);
+    assert_int_equal(hp_contact_auto(&LAY, 0.5 * (bl + bp), T, rot, &lv), HP_OK);
+    assert_int_equal(lv, HP_LEVEL_PLANE);
+    assert_int_equal(hp_contact_auto(&LAY, bp * 0.999, T, rot, &lv), HP_OK);
+    assert_int_equal(lv, HP_LEVEL_SURFACE);
+    assert_int_equal(hp_contact_auto(&LAY, 0.0, 0.0, 0.0, &lv), HP_OK);
+    assert_int_equal(lv, HP_LEVEL_LINEAR); /* the zero correction is exact at every level */
+    assert_int_equal(hp_contact_auto(&LAY, NAN, T, rot, &lv), HP_ERR_INVALID);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_bounds_hold_and_are_tight),
+        cmocka_unit_test(test_bounds_other_layouts),
+        cmocka_unit_test(test_auto),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}

@@ -1,0 +1,237 @@
+/* Contact distances at the three levels: values against independent formulas, exact J and
+ * H against central differences and Richardson-extrapolated differences. */
+#include "test_util.h"
+
+#include "default_layout.h"
+#include "kin_test_util.h"
+
+#include <string.h>
+
+static hp_layout LAY;
+
+static int setup(void **state)
+{
+    (void)state;
+    return default_layout(&LAY);
+}
+
+static double rho_at(const hp_layout *L, hp_level lv, const double xi[6], int k)
+{
+    double rho[HP_MAX_BLADDERS];
+    assert_int_equal(hp_contact_eval(L, lv, xi, rho, NULL, NULL), HP_OK);
+    return rho[k];
+}
+
+/* Central difference of J (for H) at step h, and of rho (for J) Richardson-extrapolated.
+ * Tolerances, in SI (rho ~ 0.03 m, lever ~ 0.13 m, curvature radius >= 52 mm):
+ *  - J vs Richardson of rho (h = 2.5e-4 and 1.25e-4): the h⁴ term was measured at
+ *    1.2e-9 for h = 1e-3 (coefficient ~5e3), so 5e-12 here; rounding ε·0.03/1.25e-4 ≈
+ *    5e-14: tolerance 1e-10 (J entries are O(0.01..1)).
+ *  - J vs plain central difference (h = 1e-6): truncation h²·|ρ'''|/6 <= 1e-12·1e3/6,
+ *    rounding ε·0.03/1e-6 ≈ 7e-12: tolerance 1e-8.
+ *  - H vs central difference of J (h = 1e-6): same reasoning one order up: rel 1e-7 plus
+ *    abs 1e-8 (entries O(0.01..10)).
+ *  - H vs Richardson of second differences of rho (h = 2e-3 and 1e-3): rounding
+ *    4ε·0.03/(1e-3)² ≈ 3e-11, truncation h⁴ terms <= 1e-12·1e4: tolerance 1e-7 + 1e-6 rel. */
+static void check_level_derivs(const hp_layout *L, hp_level lv, const double xi[6])
+{
+    int n = L->n;
+    double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
+    assert_int_equal(hp_contact_eval(L, lv, xi, rho, J, H), HP_OK);
+    for (int i = 0; i < 6; ++i) {
+        double xp[6], xm[6], Jp[HP_MAX_BLADDERS * 6], Jm[HP_MAX_BLADDERS * 6];
+        double rp[HP_MAX_BLADDERS], rm[HP_MAX_BLADDERS];
+        const double h = 1e-6;
+        memcpy(xp, xi, sizeof xp);
+        memcpy(xm, xi, sizeof xm);
+        xp[i] += h;
+        xm[i] -= h;
+        assert_int_equal(hp_contact_eval(L, lv, xp, rp, Jp, NULL), HP_OK);
+        assert_int_equal(hp_contact_eval(L, lv, xm, rm, Jm, NULL), HP_OK);
+        for (int k = 0; k < n; ++k) {
+            hp_assert_close(J[k * 6 + i], (rp[k] - rm[k]) / (2 * h), 0, 1e-8);
+            for (int j = 0; j < 6; ++j)
+                hp_assert_close(H[k * 36 + j * 6 + i], (Jp[k * 6 + j] - Jm[k * 6 + j]) / (2 * h),
+                                1e-7, 1e-8);
+            double D[2];
+            for (int l = 0; l < 2; ++l) {
+                double s = 2.5e-4 / (1 << l), a[6], b[6];
+                memcpy(a, xi, sizeof a);
+                memcpy(b, xi, sizeof b);
+                a[i] += s;
+                b[i] -= s;
+                D[l] = (rho_at(L, lv, a, k) - rho_at(L, lv, b, k)) / (2 * s);
+            }
+            hp_assert_close(J[k * 6 + i], (4 * D[1] - D[0]) / 3, 0, 1e-10);
+        }
+    }
+    /* Second method for H: Richardson of the second differences of rho itself. */
+    for (int i = 0; i < 6; ++i)
+        for (int j = i; j < 6; ++j) {
+            double D[HP_MAX_BLADDERS][2];
+            for (int l = 0; l < 2; ++l) {
+                double s = 2e-3 / (1 << l);
+                double x[4][6], r[4][HP_MAX_BLADDERS];
+                const int si[4] = {1, 1, -1, -1}, sj[4] = {1, -1, 1, -1};
+                for (int q = 0; q < 4; ++q) {
+                    memcpy(x[q], xi, sizeof x[q]);
+                    x[q][i] += si[q] * s;
+                    x[q][j] += sj[q] * s;
+                    assert_int_equal(hp_contact_eval(L, lv, x[q], r[q], NULL, NULL), HP_OK);
+                }
+                for (int k = 0; k < n; ++k)
+                    D[k][l] = (r[0][k] - r[1][k] - r[2][k] + r[3][k]) / (4 * s * s);
+            }
+            for (int k = 0; k < n; ++k)
+                hp_assert_close(H[k * 36 + i * 6 + j], (4 * D[k][1] - D[k][0]) / 3, 1e-6, 1e-7);
+        }
+}
+
+static void test_derivatives_all_levels(void **state)
+{
+    (void)state;
+    kin_rng rng = {2024};
+    const double zero[6] = {0};
+    for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_SURFACE; ++lv) {
+        check_level_derivs(&LAY, (hp_level)lv, zero);
+        for (int i = 0; i < 12; ++i) {
+            double xi[6];
+            kin_rng_pose(&rng, 0.02, 0.26, 0, xi);
+            check_level_derivs(&LAY, (hp_level)lv, xi);
+        }
+    }
+    /* A sphere head, off-centre pivot. */
+    hp_head s = default_head();
+    s.shape = HP_HEAD_SPHERE;
+    s.semi_axes[0] = 0.09;
+    s.center[2] = 0.01;
+    hp_layout L;
+    assert_int_equal(default_layout_on(&L, &s, 0.0), 0);
+    L.pivot[1] = 0.02;
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    for (int i = 0; i < 4; ++i) {
+        double xi[6];
+        kin_rng_pose(&rng, 0.02, 0.26, 0, xi);
+        check_level_derivs(&L, HP_LEVEL_SURFACE, xi);
+        check_level_derivs(&L, HP_LEVEL_PLANE, xi);
+    }
+}
+
+/* At xi = 0 all three levels have the same value (rho0) and Jacobian (the linear J0 from
+ * its closed form). J agreement to 1e-15: both are sums of three products of O(1) terms. */
+static void test_levels_agree_at_zero(void **state)
+{
+    (void)state;
+    const double zero[6] = {0};
+    double r[3][HP_MAX_BLADDERS], J[3][HP_MAX_BLADDERS * 6];
+    for (int lv = 0; lv < 3; ++lv)
+        assert_int_equal(hp_contact_eval(&LAY, (hp_level)lv, zero, r[lv], J[lv], NULL), HP_OK);
+    for (int k = 0; k < LAY.n; ++k) {
+        hp_assert_close(r[0][k], 0.030, 0, 1e-15); /* touching at Ro, no preload */
+        for (int lv = 1; lv < 3; ++lv) {
+            hp_assert_close(r[lv][k], r[0][k], 0, 1e-16);
+            for (int i = 0; i < 6; ++i) hp_assert_close(J[lv][k * 6 + i], J[0][k * 6 + i], 0, 1e-15);
+        }
+    }
+}
+
+/* Plane level against the direct formula n(ξ)ᵀ(c − p(ξ)), p(ξ) = pivot + R(p − pivot) + t,
+ * n(ξ) = R n (computed here without the back-transform the library uses): 1e-16 m. Surface
+ * level against a brute-force moved ellipsoid: the surface point pivot + R(s − pivot) + t
+ * for s on the nominal surface, minimised over a dense sample near the contact. */
+static void test_plane_formula(void **state)
+{
+    (void)state;
+    kin_rng rng = {99};
+    for (int it = 0; it < 200; ++it) {
+        double xi[6], R[9], rho[HP_MAX_BLADDERS];
+        kin_rng_pose(&rng, 0.03, 0.5, 0, xi);
+        hp_rotation(xi[3], xi[4], xi[5], R);
+        assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_PLANE, xi, rho, NULL, NULL), HP_OK);
+        for (int k = 0; k < LAY.n; ++k) {
+            double pm[3], nm[3], v = 0;
+            for (int i = 0; i < 3; ++i) {
+                pm[i] = LAY.pivot[i] + xi[i];
+                nm[i] = 0;
+                for (int j = 0; j < 3; ++j) {
+                    pm[i] += R[i * 3 + j] * (LAY.contact[k][j] - LAY.pivot[j]);
+                    nm[i] += R[i * 3 + j] * LAY.normal[k][j];
+                }
+            }
+            for (int i = 0; i < 3; ++i) v += nm[i] * (LAY.bladders[k].center[i] - pm[i]);
+            hp_assert_close(rho[k], v, 0, 1e-16);
+        }
+    }
+}
+
+static void test_surface_brute_force(void **state)
+{
+    (void)state;
+    const double xi[6] = {0.004, -0.006, 0.003, 0.05, -0.08, 0.06};
+    double R[9], rho[HP_MAX_BLADDERS];
+    hp_rotation(xi[3], xi[4], xi[5], R);
+    assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_SURFACE, xi, rho, NULL, NULL), HP_OK);
+    const double *a = LAY.head.semi_axes;
+    for (int k = 0; k < LAY.n; ++k) {
+        /* Parametrise the surface by angles around the nominal contact; a fine grid then
+         * a local refinement by repeated grid shrinking (independent of the root find). */
+        double p0[3];
+        for (int i = 0; i < 3; ++i) p0[i] = LAY.contact[k][i] / a[i];
+        double th0 = acos(p0[2]), ph0 = atan2(p0[1], p0[0]);
+        double best = INFINITY, bt = th0, bp = ph0, span = 0.3;
+        for (int round = 0; round < 40; ++round) {
+            double ct = bt, cp = bp;
+            for (int i = -10; i <= 10; ++i)
+                for (int j = -10; j <= 10; ++j) {
+                    double th = ct + span * i / 10, ph = cp + span * j / 10;
+                    double s[3] = {a[0] * sin(th) * cos(ph), a[1] * sin(th) * sin(ph),
+                                   a[2] * cos(th)};
+                    double e = 0;
+                    for (int m = 0; m < 3; ++m) {
+                        double w = LAY.pivot[m] + xi[m];
+                        for (int l = 0; l < 3; ++l) w += R[m * 3 + l] * (s[l] - LAY.pivot[l]);
+                        e += (LAY.bladders[k].center[m] - w) * (LAY.bladders[k].center[m] - w);
+                    }
+                    e = sqrt(e);
+                    if (e < best) {
+                        best = e;
+                        bt = th;
+                        bp = ph;
+                    }
+                }
+            span *= 0.5;
+        }
+        /* The refined grid minimum converges to ~1e-16 relative; 1e-14 m allows rounding of
+         * the trigonometric parametrisation. */
+        hp_assert_close(rho[k], best, 0, 1e-14);
+    }
+}
+
+static void test_bad_args(void **state)
+{
+    (void)state;
+    double xi[6] = {0, 0, 0, 0, 0, 0}, rho[HP_MAX_BLADDERS];
+    assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_AUTO, xi, rho, NULL, NULL), HP_ERR_INVALID);
+    assert_int_equal(hp_contact_eval(NULL, HP_LEVEL_PLANE, xi, rho, NULL, NULL), HP_ERR_NULL);
+    xi[4] = NAN;
+    assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_SURFACE, xi, rho, NULL, NULL), HP_ERR_INVALID);
+    assert_true(isnan(rho[0]));
+    hp_layout un = LAY;
+    un.prepared = 0;
+    xi[4] = 0;
+    assert_int_equal(hp_contact_eval(&un, HP_LEVEL_SURFACE, xi, rho, NULL, NULL), HP_ERR_STATE);
+    /* A pose that drives a bladder centre deep into the head: a domain error, NaN outputs. */
+    for (int i = 0; i < 3; ++i) xi[i] = LAY.bladders[0].center[i] - LAY.head.center[i];
+    assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_SURFACE, xi, rho, NULL, NULL), HP_ERR_DOMAIN);
+    assert_true(isnan(rho[0]));
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_derivatives_all_levels), cmocka_unit_test(test_levels_agree_at_zero),
+        cmocka_unit_test(test_plane_formula),          cmocka_unit_test(test_surface_brute_force),
+        cmocka_unit_test(test_bad_args),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}

@@ -1,0 +1,146 @@
+/* Forward contact kinematics: pose -> radii -> pose round trips. */
+#include "test_util.h"
+
+#include "default_layout.h"
+#include "kin_test_util.h"
+
+#include <string.h>
+
+static hp_layout LAY;
+
+static int setup(void **state)
+{
+    (void)state;
+    return default_layout(&LAY);
+}
+
+/* Round trip at every level: radii from a pose, the pose back from the radii. Surface:
+ * 1e-9 mm = 1e-12 m per translation and 1e-12 rad per angle (1e-9 mm at a 1 m lever);
+ * the radii are exact to ~1e-17 m and the scaled Jacobian's condition is ~30, so the
+ * attainable error is ~1e-15 m. RMS residual at the answer below 1e-15 m. */
+static void test_round_trip(void **state)
+{
+    (void)state;
+    kin_rng rng = {5};
+    double worst[3] = {0};
+    for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_SURFACE; ++lv)
+        for (int it = 0; it < 200; ++it) {
+            double xi[6], ro[HP_MAX_BLADDERS], got[6], res;
+            int iters;
+            kin_rng_pose(&rng, 0.01, 0.09, 0, xi);
+            assert_int_equal(hp_contact_eval(&LAY, (hp_level)lv, xi, ro, NULL, NULL), HP_OK);
+            assert_int_equal(hp_contact_fk(&LAY, (hp_level)lv, ro, NULL, got, &res, &iters), HP_OK);
+            for (int i = 0; i < 6; ++i) {
+                hp_assert_close(got[i], xi[i], 0, 1e-12);
+                worst[lv] = fmax(worst[lv], fabs(got[i] - xi[i]));
+            }
+            assert_true(res < 1e-15);
+            assert_true(iters < 50);
+        }
+    print_message("worst round-trip error: linear %.2e, plane %.2e, surface %.2e (m or rad)\n",
+                  worst[0], worst[1], worst[2]);
+    /* A warm start at the answer returns it at once. */
+    double xi[6] = {0.002, -0.001, 0.003, 0.01, -0.02, 0.015}, ro[HP_MAX_BLADDERS], got[6], res;
+    int iters;
+    assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_SURFACE, xi, ro, NULL, NULL), HP_OK);
+    assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_SURFACE, ro, xi, got, &res, &iters), HP_OK);
+    assert_true(iters <= 3);
+    for (int i = 0; i < 6; ++i) hp_assert_close(got[i], xi[i], 0, 1e-12);
+}
+
+static double cosine(const double *J, const double *rho, const double *ro, int j)
+{
+    double g = 0, nj = 0, nr = 0;
+    for (int k = 0; k < LAY.n; ++k) {
+        double r = rho[k] - ro[k];
+        g += J[k * 6 + j] * r;
+        nj += J[k * 6 + j] * J[k * 6 + j];
+        nr += r * r;
+    }
+    return fabs(g) / sqrt(nj * nr);
+}
+
+/* Inconsistent radii (noise of 0.1 mm): the fit is a least-squares stationary point at the
+ * linear and surface levels, and the reported RMS is that of the returned pose. */
+static void test_noisy(void **state)
+{
+    (void)state;
+    kin_rng rng = {8};
+    const double zero[6] = {0};
+    double ro[HP_MAX_BLADDERS], xi[6], res, J[HP_MAX_BLADDERS * 6];
+    assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_LINEAR, zero, ro, J, NULL), HP_OK);
+    double noise[HP_MAX_BLADDERS];
+    for (int k = 0; k < LAY.n; ++k) {
+        noise[k] = 1e-4 * kin_rng_normal(&rng);
+        ro[k] += noise[k];
+    }
+    assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_LINEAR, ro, NULL, xi, &res, NULL), HP_OK);
+    /* Optimality: the residual is orthogonal to every column of J (normal equations): the
+     * cosine between r and column j below 1e-9 (a pose offset along column j of 1e-9·|r|/|J_j|,
+     * i.e. below 1e-12 m or rad here). */
+    double rho[HP_MAX_BLADDERS];
+    assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_LINEAR, xi, rho, NULL, NULL), HP_OK);
+    double ss = 0;
+    for (int k = 0; k < LAY.n; ++k) ss += (rho[k] - ro[k]) * (rho[k] - ro[k]);
+    hp_assert_close(res, sqrt(ss / LAY.n), 1e-12, 0);
+    for (int j = 0; j < 6; ++j) assert_true(cosine(J, rho, ro, j) < 1e-9);
+    assert_true(res > 1e-6); /* eight equations, six unknowns: noise cannot all be fitted */
+    /* Surface level with the same noise: also a stationary point of the surface residual. */
+    assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_SURFACE, ro, NULL, xi, &res, NULL), HP_OK);
+    double Js[HP_MAX_BLADDERS * 6];
+    assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_SURFACE, xi, rho, Js, NULL), HP_OK);
+    for (int j = 0; j < 6; ++j) assert_true(cosine(Js, rho, ro, j) < 1e-9);
+}
+
+/* A sphere head: only translation is observable; rotations come back 0 and translations
+ * exact (the sphere's radii do not depend on a rotation about its centre = pivot). */
+static void test_sphere(void **state)
+{
+    (void)state;
+    hp_head s = default_head();
+    s.shape = HP_HEAD_SPHERE;
+    s.semi_axes[0] = 0.09;
+    hp_layout L;
+    assert_int_equal(default_layout_on(&L, &s, 0.0), 0);
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    double xi[6] = {0.004, -0.003, 0.002, 0.05, -0.03, 0.02}, ro[HP_MAX_BLADDERS], got[6], res;
+    assert_int_equal(hp_contact_eval(&L, HP_LEVEL_SURFACE, xi, ro, NULL, NULL), HP_OK);
+    assert_int_equal(hp_contact_fk(&L, HP_LEVEL_SURFACE, ro, NULL, got, &res, NULL), HP_OK);
+    for (int i = 0; i < 3; ++i) hp_assert_close(got[i], xi[i], 0, 1e-12);
+    for (int i = 3; i < 6; ++i) assert_true(got[i] == 0.0);
+    assert_true(res < 1e-15);
+}
+
+static void test_bad_input(void **state)
+{
+    (void)state;
+    double ro[HP_MAX_BLADDERS], xi[6], res;
+    for (int k = 0; k < LAY.n; ++k) ro[k] = 0.03;
+    ro[3] = NAN;
+    assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_SURFACE, ro, NULL, xi, &res, NULL), HP_ERR_INVALID);
+    ro[3] = -0.01;
+    assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_SURFACE, ro, NULL, xi, &res, NULL), HP_ERR_INVALID);
+    ro[3] = 0.03;
+    assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_AUTO, ro, NULL, xi, &res, NULL), HP_ERR_INVALID);
+    hp_layout few = LAY;
+    few.n = 5;
+    assert_int_equal(hp_layout_prepare(&few, NULL), HP_OK);
+    assert_int_equal(hp_contact_fk(&few, HP_LEVEL_SURFACE, ro, NULL, xi, &res, NULL), HP_ERR_INVALID);
+    /* Five bladders cannot hold six degrees of freedom: the analysis says rank 5. */
+    hp_layout_analysis a;
+    assert_int_equal(hp_layout_analyze(&few, HP_LEVEL_LINEAR, &a), HP_OK);
+    assert_int_equal(a.rank, 5);
+    assert_true(isinf(a.condition));
+    assert_true(a.singular_values[5] == 0.0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_round_trip),
+        cmocka_unit_test(test_noisy),
+        cmocka_unit_test(test_sphere),
+        cmocka_unit_test(test_bad_input),
+    };
+    return cmocka_run_group_tests(tests, setup, NULL);
+}
