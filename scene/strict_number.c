@@ -3,12 +3,13 @@
 #include "scene/strict_number.h"
 
 #include <errno.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
 /* Grammar check first: strtod alone would accept "nan", "inf", "0x1p3" and leading spaces. */
-static int decimal_grammar(const char *s, size_t len)
+int hp_decimal_syntax(const char *s, size_t len)
 {
     size_t i = 0, digits = 0;
     if (i < len && (s[i] == '+' || s[i] == '-')) ++i;
@@ -32,7 +33,7 @@ const char *hp_strict_double(const char *s, size_t len, double *out)
 {
     char buf[128];
     if (!s || len == 0) return "empty where a number is expected";
-    if (len >= sizeof buf || !decimal_grammar(s, len)) return "not a number";
+    if (len >= sizeof buf || !hp_decimal_syntax(s, len)) return "not a number";
     memcpy(buf, s, len);
     buf[len] = '\0';
     errno = 0;
@@ -40,6 +41,7 @@ const char *hp_strict_double(const char *s, size_t len, double *out)
     double v = strtod(buf, &end);
     if (end != buf + len) return "not a number";
     if (errno == ERANGE && fabs(v) > 1.0) return "overflows a double";
+    if (errno == ERANGE || (v != 0.0 && fabs(v) < DBL_MIN)) return "too small for a double";
     if (!isfinite(v)) return "not finite";
     *out = v;
     return NULL;

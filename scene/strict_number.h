@@ -4,10 +4,14 @@
 
 #include <stddef.h>
 
+/* 1 when s[0..len) is a decimal number: [+-] (digits [. digits*] | . digits)
+ * [(e|E) [+-] digits], nothing else (no spaces, "nan", "inf", hex). */
+int hp_decimal_syntax(const char *s, size_t len);
+
 /* Parses s[0..len) as a finite decimal number: optional sign, digits, optional fraction,
  * optional exponent. Refuses empty text, spaces, "nan", "inf", hex, trailing characters and
- * overflow. Returns NULL on success, else a short reason ("not a number", "overflows a
- * double", ...). Underflow to a subnormal or zero is accepted. */
+ * overflow or underflow. Returns NULL on success, else a short reason ("not a number",
+ * "overflows a double", ...). */
 const char *hp_strict_double(const char *s, size_t len, double *out);
 
 #endif

@@ -31,6 +31,15 @@ struct hp_trace_reader {
     long pending_lineno;
 };
 
+const char *hp_trace_rows_name(hp_trace_rows r)
+{
+    switch (r) {
+    case HP_TRACE_CORRECTION: return "correction";
+    case HP_TRACE_DEVIATION: return "deviation";
+    }
+    return "unknown";
+}
+
 hp_error hp_trace_rows_parse(const char *s, hp_trace_rows *out)
 {
     if (!s || !out) return HP_ERR_NULL;

@@ -7,5 +7,7 @@
 #include "headplan/hp_common.h"
 #include "headplan/hp_iab.h"
 #include "headplan/hp_kinematics.h"
+#include "headplan/hp_scene.h"
+#include "headplan/hp_trace.h"
 
 #endif

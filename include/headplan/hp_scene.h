@@ -1,0 +1,139 @@
+/* Scene files: everything one study needs, read from YAML (format: docs/scenes.md).
+ *
+ * Two kinds of scene:
+ *   layout  — a head, its bladders (placement, radii, material, limits), pivot, contact
+ *             fidelity, solver settings, and a desired correction and/or a trace file;
+ *   bladder — one bladder and one inverse (ri -> P) or forward (P -> ri) study, optionally
+ *             with the values a paper printed for it (the paper's two tables).
+ *
+ * Files speak clinical units (every key names its unit: _mm, _deg, _pa, _kpa, _kg, _s);
+ * everything in hp_scene is SI (m, rad, Pa, kg, s).
+ *
+ * Errors are one line: "FILE:LINE:COL: KEY.PATH: message" (1-based line and column).
+ * On any error the output scene is all zero: nothing partial is returned as valid.
+ *
+ * The parser allocates while it runs and frees everything before returning; hp_scene holds
+ * no pointers (copy it freely). Reentrant; safe in several threads at once. */
+#ifndef HP_SCENE_H
+#define HP_SCENE_H
+
+#include <stddef.h>
+
+#include "headplan/hp_common.h"
+#include "headplan/hp_iab.h"
+#include "headplan/hp_kinematics.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* The format version this build reads (key `headplan_scene`). */
+#define HP_SCENE_VERSION 1
+/* Larger files are refused before parsing. */
+#define HP_SCENE_MAX_BYTES (1024 * 1024)
+/* Longest free text (name, notes) kept, including the NUL; longer text is refused. */
+#define HP_SCENE_TEXT_MAX 256
+/* Longest path kept (trace file, resolved against the scene's folder), including the NUL. */
+#define HP_SCENE_PATH_MAX 1024
+/* Longest backend name, including the NUL. */
+#define HP_SCENE_BACKEND_MAX 16
+
+/* Defaults of the optional sections (the same values as the planner's HP_DEFAULT_*). */
+#define HP_SCENE_DEFAULT_LEVEL HP_LEVEL_LINEAR
+#define HP_SCENE_DEFAULT_LEVEL_TOLERANCE 1e-5   /* [m] = 0.01 mm */
+#define HP_SCENE_DEFAULT_BACKEND "realtime"
+#define HP_SCENE_DEFAULT_TOLERANCE 1e-9         /* pose tolerance in mm and degrees */
+#define HP_SCENE_DEFAULT_MAX_ITER 200
+#define HP_SCENE_DEFAULT_MAX_TIME 1.0           /* [s] */
+#define HP_SCENE_DEFAULT_WEIGHT_MM_PER_DEG 1.0
+
+typedef enum hp_scene_kind {
+    HP_SCENE_LAYOUT = 0, /* key `bladders`: a head and its bladders */
+    HP_SCENE_BLADDER     /* key `bladder`: one bladder study */
+} hp_scene_kind;
+
+/* What a trace row holds. */
+typedef enum hp_trace_rows {
+    HP_TRACE_DEVIATION = 0, /* measured head deviation; the desired correction is its negative */
+    HP_TRACE_CORRECTION     /* the desired correction itself */
+} hp_trace_rows;
+
+/* The single-bladder study's input. */
+typedef enum hp_study_input {
+    HP_STUDY_IK = 0, /* inner radius given (`ri_mm`): pressure wanted */
+    HP_STUDY_FK      /* pressure given (`pressure_pa`): inner radius wanted */
+} hp_study_input;
+
+/* One value as a paper printed it: the number and its literal text (e.g. ".033"), so a
+ * report can show it verbatim and know its printed precision. */
+typedef struct hp_scene_printed {
+    int given;     /* 1 when the file states it */
+    double value;  /* in the unit its key names (m, Pa, m³), exactly as printed */
+    char text[32]; /* the literal from the file */
+} hp_scene_printed;
+
+typedef struct hp_scene {
+    int version;                       /* HP_SCENE_VERSION */
+    char name[HP_SCENE_TEXT_MAX];      /* `name` */
+    char file[HP_SCENE_PATH_MAX];      /* the file name the scene was read from */
+    hp_scene_kind kind;
+
+    /* ---- layout scenes (kind == HP_SCENE_LAYOUT) ---- */
+    hp_layout layout;                  /* validated and prepared (hp_layout_prepare) */
+    hp_level level;                    /* `model.level` (may be HP_LEVEL_AUTO) */
+    double level_tolerance;            /* `model.tolerance_mm` [m], > 0 */
+    int has_auto_range;                /* `model.auto_translation_mm` and `_rotation_deg` */
+    double auto_trans;                 /* [m] largest translation auto must cover */
+    double auto_rot;                   /* [rad] largest rotation auto must cover */
+    char backend[HP_SCENE_BACKEND_MAX];/* "realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla" */
+    double tolerance;                  /* `solver.tolerance` (mm and degrees), > 0 */
+    int max_iter;                      /* `solver.max_iter`, 1..1000000 */
+    double max_time;                   /* `solver.max_time_s` [s], > 0 */
+    double weight_mm_per_deg;          /* `solver.weight_mm_per_deg`, > 0 */
+    int has_correction;                /* `correction` given */
+    double correction[6];              /* [m, m, m, rad, rad, rad]: x y z pitch roll yaw */
+    int has_trace;                     /* `trace` given */
+    char trace_path[HP_SCENE_PATH_MAX];/* resolved against the scene file's folder */
+    hp_trace_rows trace_rows;
+
+    /* ---- single-bladder scenes (kind == HP_SCENE_BLADDER) ---- */
+    hp_iab iab;                        /* radii [m], moduli in the paper's convention [Pa] */
+    hp_material_convention convention; /* the convention the file wrote the moduli in */
+    double moduli_written[2];          /* the moduli as written (C1,C2 or C10,C01) [Pa] */
+    hp_study_input study;
+    double study_ri;                   /* [m] input for HP_STUDY_IK, else 0 */
+    double study_pressure;             /* [Pa] input for HP_STUDY_FK, else 0 */
+    int has_printed;                   /* `paper_printed` given */
+    char printed_title[HP_SCENE_TEXT_MAX]; /* `paper_printed.title` ("" when absent) */
+    char printed_note[HP_SCENE_TEXT_MAX];  /* `paper_printed.note` ("" when absent) */
+    hp_scene_printed printed_C1;       /* `C1_pa` */
+    hp_scene_printed printed_C2;       /* `C2_pa` */
+    hp_scene_printed printed_Ri;       /* `Ri_m` */
+    hp_scene_printed printed_ri;       /* `ri_m` */
+    hp_scene_printed printed_Ro;       /* `Ro_m` */
+    hp_scene_printed printed_ro;       /* `ro_m` */
+    hp_scene_printed printed_pressure; /* `pressure_pa` (the paper says Pascals) */
+    hp_scene_printed printed_dV;       /* `dV_m3` (the paper prints "≈ 0") */
+} hp_scene;
+
+/* Reads and validates the scene file at path (at most HP_SCENE_MAX_BYTES). Returns HP_OK,
+ * HP_ERR_IO (cannot open or read; diag "FILE: why"), HP_ERR_PARSE (syntax, keys, types,
+ * numbers) or HP_ERR_INVALID / HP_ERR_DOMAIN (values out of range, layout cannot be
+ * prepared), with the one-line message in diag (may be NULL). out is zeroed on failure. */
+hp_error hp_scene_load(const char *path, hp_scene *out, hp_diag *diag);
+
+/* Parses a scene from memory (len bytes, need not be NUL-terminated). filename is used in
+ * messages and to resolve a relative trace path (NULL: "<scene>", relative to the current
+ * directory). Same contract as hp_scene_load. */
+hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_scene *out,
+                        hp_diag *diag);
+
+/* "layout" / "bladder"; "unknown" otherwise. */
+const char *hp_scene_kind_name(hp_scene_kind k);
+/* "deviation" / "correction"; "unknown" otherwise. */
+const char *hp_trace_rows_name(hp_trace_rows r);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,318 @@
+/* Scene files: the top level, the model/solver/correction/trace sections, and loading. */
+#include "headplan/hp_trace.h"
+#include "scene/scene_parts.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const LAYOUT_KEYS[] = {"headplan_scene", "name",     "head",
+                                          "pivot_mm",       "bladder_defaults",
+                                          "bladders",       "model",    "solver",
+                                          "correction",     "trace",    NULL};
+static const char *const BLADDER_KEYS[] = {"headplan_scene", "name", "bladder", "paper_printed",
+                                           NULL};
+
+const char *hp_scene_kind_name(hp_scene_kind k)
+{
+    switch (k) {
+    case HP_SCENE_LAYOUT: return "layout";
+    case HP_SCENE_BLADDER: return "bladder";
+    }
+    return "unknown";
+}
+
+/* `headplan_scene: 1` must be the first key, so a reader knows the format before anything
+ * else is interpreted. */
+static hp_error version(const sr_ctx *c, const yt_node *root, hp_scene *s)
+{
+    if (root->type != YT_MAPPING)
+        return sr_fail(c, root, "scene", HP_ERR_PARSE,
+                       "expected a mapping of keys starting with 'headplan_scene: 1', found %s",
+                       sr_type_name(root));
+    if (yt_map_size(root) == 0 || strcmp(yt_map_key(root, 0)->value, "headplan_scene") != 0) {
+        const yt_node *at = yt_map_size(root) ? yt_map_key(root, 0) : root;
+        return sr_fail(c, at, "headplan_scene", HP_ERR_PARSE,
+                       "a scene must start with 'headplan_scene: %d'", HP_SCENE_VERSION);
+    }
+    const yt_node *v = yt_map_value(root, 0);
+    long ver;
+    hp_error e = sr_integer(c, v, "headplan_scene", 0, 1000000, &ver);
+    if (e) return e;
+    if (ver != HP_SCENE_VERSION)
+        return sr_fail(c, v, "headplan_scene", HP_ERR_PARSE,
+                       "unsupported version %ld (this build reads version %d)", ver,
+                       HP_SCENE_VERSION);
+    s->version = (int)ver;
+    return HP_OK;
+}
+
+static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
+{
+    static const char *const KEYS[] = {"level", "tolerance_mm", "auto_translation_mm",
+                                       "auto_rotation_deg", NULL};
+    hp_error e = sr_map(c, node, "model", KEYS, NULL);
+    if (e) return e;
+    const yt_node *n;
+    if ((n = yt_map_get(node, "level"))) {
+        char name[16];
+        if (n->type != YT_SCALAR)
+            return sr_fail(c, n, "model.level", HP_ERR_PARSE, "expected text, found %s",
+                           sr_type_name(n));
+        if (sr_text(c, n, "model.level", name, sizeof name) != HP_OK ||
+            hp_level_parse(name, &s->level) != HP_OK)
+            return sr_fail(c, n, "model.level", HP_ERR_PARSE,
+                           "unknown level '%.40s' (known: linear, plane, surface, auto)",
+                           n->value);
+    }
+    if ((n = yt_map_get(node, "tolerance_mm"))) {
+        double t;
+        if ((e = sr_number(c, n, "model.tolerance_mm", &t))) return e;
+        if (!(t > 0))
+            return sr_fail(c, n, "model.tolerance_mm", HP_ERR_INVALID,
+                           "must be > 0 mm (got %g)", t);
+        s->level_tolerance = t * 1e-3;
+    }
+    const yt_node *tr = yt_map_get(node, "auto_translation_mm");
+    const yt_node *ro = yt_map_get(node, "auto_rotation_deg");
+    if (!tr != !ro)
+        return sr_fail(c, node, tr ? "model.auto_rotation_deg" : "model.auto_translation_mm",
+                       HP_ERR_PARSE,
+                       "missing required key (auto_translation_mm and auto_rotation_deg go "
+                       "together)");
+    if (tr) {
+        double a, b;
+        if ((e = sr_number(c, tr, "model.auto_translation_mm", &a))) return e;
+        if (!(a >= 0))
+            return sr_fail(c, tr, "model.auto_translation_mm", HP_ERR_INVALID,
+                           "must be >= 0 mm (got %g)", a);
+        if ((e = sr_number(c, ro, "model.auto_rotation_deg", &b))) return e;
+        if (!(b >= 0 && b <= 180))
+            return sr_fail(c, ro, "model.auto_rotation_deg", HP_ERR_INVALID,
+                           "must be in [0, 180] deg (got %g)", b);
+        s->has_auto_range = 1;
+        s->auto_trans = a * 1e-3;
+        s->auto_rot = b * (3.14159265358979323846 / 180.0);
+    }
+    return HP_OK;
+}
+
+static hp_error solver(const sr_ctx *c, const yt_node *node, hp_scene *s)
+{
+    static const char *const KEYS[] = {"backend", "tolerance", "max_iter", "max_time_s",
+                                       "weight_mm_per_deg", NULL};
+    static const char *const BACKENDS[] = {"realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla"};
+    hp_error e = sr_map(c, node, "solver", KEYS, NULL);
+    if (e) return e;
+    const yt_node *n;
+    if ((n = yt_map_get(node, "backend"))) {
+        char name[HP_SCENE_BACKEND_MAX] = {0}; /* copied whole: no stale bytes */
+        int known = 0;
+        if (n->type != YT_SCALAR)
+            return sr_fail(c, n, "solver.backend", HP_ERR_PARSE, "expected text, found %s",
+                           sr_type_name(n));
+        if (sr_text(c, n, "solver.backend", name, sizeof name) == HP_OK)
+            for (int i = 0; i < 4; ++i) known |= strcmp(name, BACKENDS[i]) == 0;
+        if (!known)
+            return sr_fail(c, n, "solver.backend", HP_ERR_PARSE,
+                           "unknown backend '%.40s' (known: realtime, ipopt, nlopt-slsqp, "
+                           "nlopt-cobyla)",
+                           n->value);
+        memcpy(s->backend, name, sizeof name);
+    }
+    static const char *const POS[3] = {"tolerance", "max_time_s", "weight_mm_per_deg"};
+    double *dst[3] = {&s->tolerance, &s->max_time, &s->weight_mm_per_deg};
+    for (int i = 0; i < 3; ++i) {
+        if (!(n = yt_map_get(node, POS[i]))) continue;
+        char p[SR_PATH_MAX];
+        double v;
+        sr_join(p, sizeof p, "solver", POS[i]);
+        if ((e = sr_number(c, n, p, &v))) return e;
+        if (!(v > 0)) return sr_fail(c, n, p, HP_ERR_INVALID, "must be > 0 (got %g)", v);
+        *dst[i] = v;
+    }
+    if ((n = yt_map_get(node, "max_iter"))) {
+        long it;
+        if ((e = sr_integer(c, n, "solver.max_iter", 1, 1000000, &it))) return e;
+        s->max_iter = (int)it;
+    }
+    return HP_OK;
+}
+
+static hp_error correction(const sr_ctx *c, const yt_node *node, hp_scene *s)
+{
+    static const char *const KEYS[] = {"x_mm", "y_mm", "z_mm", "pitch_deg", "roll_deg",
+                                       "yaw_deg", NULL};
+    hp_error e = sr_map(c, node, "correction", KEYS, NULL);
+    if (e) return e;
+    double v[6];
+    for (int i = 0; i < 6; ++i) {
+        const yt_node *n;
+        char p[SR_PATH_MAX];
+        if ((e = sr_require(c, node, "correction", KEYS[i], &n))) return e;
+        sr_join(p, sizeof p, "correction", KEYS[i]);
+        if ((e = sr_number(c, n, p, &v[i]))) return e;
+    }
+    hp_pose_from_clinical(v, s->correction);
+    s->has_correction = 1;
+    return HP_OK;
+}
+
+/* The trace path as given, or joined to the scene file's folder when relative. */
+static hp_error trace(const sr_ctx *c, const yt_node *node, hp_scene *s)
+{
+    static const char *const KEYS[] = {"file", "rows", NULL};
+    hp_error e = sr_map(c, node, "trace", KEYS, NULL);
+    if (e) return e;
+    const yt_node *f, *r;
+    char file[HP_SCENE_PATH_MAX], rows[16];
+    if ((e = sr_require(c, node, "trace", "file", &f))) return e;
+    if ((e = sr_text(c, f, "trace.file", file, sizeof file))) return e;
+    if ((e = sr_require(c, node, "trace", "rows", &r))) return e;
+    if (r->type != YT_SCALAR)
+        return sr_fail(c, r, "trace.rows", HP_ERR_PARSE, "expected text, found %s",
+                       sr_type_name(r));
+    if (sr_text(c, r, "trace.rows", rows, sizeof rows) != HP_OK ||
+        hp_trace_rows_parse(rows, &s->trace_rows) != HP_OK)
+        return sr_fail(c, r, "trace.rows", HP_ERR_PARSE,
+                       "unknown rows '%.40s' (known: deviation, correction)", r->value);
+    const char *slash = strrchr(c->file, '/');
+    int n;
+    if (file[0] == '/' || !slash)
+        n = snprintf(s->trace_path, sizeof s->trace_path, "%s", file);
+    else
+        n = snprintf(s->trace_path, sizeof s->trace_path, "%.*s/%s",
+                     (int)(slash - c->file), c->file, file);
+    if (n < 0 || (size_t)n >= sizeof s->trace_path)
+        return sr_fail(c, f, "trace.file", HP_ERR_INVALID, "path longer than %d characters",
+                       HP_SCENE_PATH_MAX - 1);
+    s->has_trace = 1;
+    return HP_OK;
+}
+
+static hp_error layout_scene(const sr_ctx *c, const yt_node *root, hp_scene *s)
+{
+    hp_error e = sr_map(c, root, "", LAYOUT_KEYS, NULL);
+    if (e) return e;
+    const yt_node *n, *list;
+    if ((e = sr_require(c, root, "", "head", &n))) return e;
+    if ((e = sp_head(c, n, "head", &s->layout.head))) return e;
+    if ((n = yt_map_get(root, "pivot_mm"))) {
+        double p[3];
+        if ((e = sr_vector(c, n, "pivot_mm", 3, p))) return e;
+        for (int i = 0; i < 3; ++i) s->layout.pivot[i] = p[i] * 1e-3;
+    }
+    const yt_node *defaults = yt_map_get(root, "bladder_defaults");
+    if (defaults) {
+        static const char *const KEYS[] = {"Ri_mm", "Ro_mm", "material", "pressure_min_kpa",
+                                           "pressure_max_kpa", "stretch_min", "stretch_max",
+                                           "rate_max_kpa", NULL};
+        hp_bladder scratch;
+        if ((e = sr_map(c, defaults, "bladder_defaults", KEYS, NULL))) return e;
+        if ((e = sp_bladder_params(c, defaults, "bladder_defaults", NULL, 0, &scratch)))
+            return e;
+    }
+    if ((e = sr_require(c, root, "", "bladders", &list))) return e;
+    if ((e = sp_bladders(c, list, defaults, &s->layout))) return e;
+    hp_diag sub;
+    sub.text[0] = '\0';
+    if ((e = hp_layout_prepare(&s->layout, &sub)))
+        return sr_fail(c, list, "bladders", e, "%s", sub.text);
+    if ((n = yt_map_get(root, "model")) && (e = model(c, n, s))) return e;
+    if ((n = yt_map_get(root, "solver")) && (e = solver(c, n, s))) return e;
+    if ((n = yt_map_get(root, "correction")) && (e = correction(c, n, s))) return e;
+    if ((n = yt_map_get(root, "trace")) && (e = trace(c, n, s))) return e;
+    return HP_OK;
+}
+
+static hp_error bladder_scene(const sr_ctx *c, const yt_node *root, hp_scene *s)
+{
+    hp_error e = sr_map(c, root, "", BLADDER_KEYS, "in a single-bladder scene");
+    if (e) return e;
+    if ((e = sp_study(c, yt_map_get(root, "bladder"), s))) return e;
+    const yt_node *n = yt_map_get(root, "paper_printed");
+    if (n && (e = sp_printed(c, n, s))) return e;
+    return HP_OK;
+}
+
+static hp_error parse_tree(const sr_ctx *c, const yt_node *root, hp_scene *s)
+{
+    hp_error e = version(c, root, s);
+    if (e) return e;
+    const yt_node *n;
+    if ((e = sr_require(c, root, "", "name", &n))) return e;
+    if ((e = sr_text(c, n, "name", s->name, sizeof s->name))) return e;
+    s->level = HP_SCENE_DEFAULT_LEVEL;
+    s->level_tolerance = HP_SCENE_DEFAULT_LEVEL_TOLERANCE;
+    memcpy(s->backend, HP_SCENE_DEFAULT_BACKEND, sizeof HP_SCENE_DEFAULT_BACKEND);
+    s->tolerance = HP_SCENE_DEFAULT_TOLERANCE;
+    s->max_iter = HP_SCENE_DEFAULT_MAX_ITER;
+    s->max_time = HP_SCENE_DEFAULT_MAX_TIME;
+    s->weight_mm_per_deg = HP_SCENE_DEFAULT_WEIGHT_MM_PER_DEG;
+    if (yt_map_get(root, "bladder")) {
+        s->kind = HP_SCENE_BLADDER;
+        return bladder_scene(c, root, s);
+    }
+    if (!yt_map_get(root, "bladders"))
+        return sr_fail(c, root, "bladders", HP_ERR_PARSE,
+                       "missing required key (a scene has 'bladders' and a 'head', or one "
+                       "'bladder' study)");
+    s->kind = HP_SCENE_LAYOUT;
+    return layout_scene(c, root, s);
+}
+
+hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_scene *out,
+                        hp_diag *diag)
+{
+    if (!out) return hp_diag_set(diag, HP_ERR_NULL, "scene: NULL output");
+    memset(out, 0, sizeof *out);
+    const char *file = filename ? filename : "<scene>";
+    if (!text) return hp_diag_set(diag, HP_ERR_NULL, "%s: NULL text", file);
+    if (len > HP_SCENE_MAX_BYTES)
+        return hp_diag_set(diag, HP_ERR_PARSE, "%s: larger than the 1 MiB limit (%zu bytes)",
+                           file, len);
+    sr_ctx c = {.file = file, .diag = diag};
+    yt_node *root = NULL;
+    hp_error e = yt_parse(text, len, file, &root, diag);
+    /* The scene is large (it embeds a layout): build it in the heap and copy on success. */
+    hp_scene *s = NULL;
+    if (e == HP_OK && !(s = calloc(1, sizeof *s)))
+        e = hp_diag_set(diag, HP_ERR_NOMEM, "%s: out of memory", file);
+    if (e == HP_OK) {
+        snprintf(s->file, sizeof s->file, "%s", file);
+        e = parse_tree(&c, root, s);
+    }
+    if (e == HP_OK) memcpy(out, s, sizeof *s); /* padding too: outputs compare bytewise */
+    free(s);
+    yt_free(root);
+    return e;
+}
+
+hp_error hp_scene_load(const char *path, hp_scene *out, hp_diag *diag)
+{
+    if (!out) return hp_diag_set(diag, HP_ERR_NULL, "scene: NULL output");
+    memset(out, 0, sizeof *out);
+    if (!path) return hp_diag_set(diag, HP_ERR_NULL, "scene: NULL path");
+    FILE *f = fopen(path, "rb");
+    if (!f) return hp_diag_set(diag, HP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    /* Read at most one byte past the limit: enough to know the file is too large. */
+    char *buf = malloc(HP_SCENE_MAX_BYTES + 1);
+    if (!buf) {
+        fclose(f);
+        return hp_diag_set(diag, HP_ERR_NOMEM, "%s: out of memory", path);
+    }
+    size_t len = fread(buf, 1, HP_SCENE_MAX_BYTES + 1, f);
+    int failed = ferror(f);
+    fclose(f);
+    hp_error e;
+    if (failed)
+        e = hp_diag_set(diag, HP_ERR_IO, "%s: read error", path);
+    else if (len > HP_SCENE_MAX_BYTES)
+        e = hp_diag_set(diag, HP_ERR_PARSE, "%s: larger than the 1 MiB limit", path);
+    else
+        e = hp_scene_parse(buf, len, path, out, diag);
+    free(buf);
+    return e;
+}
