@@ -108,3 +108,14 @@ int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
     *value = argv[*i];
     return 1;
 }
+
+const char *hp_cli_fmt(char buf[HP_FMT_MAX], double v)
+{
+    /* The fewest significant digits that read back to the same double: stable across runs
+     * and machines, and without the noise digits of a fixed %.17g. */
+    for (int prec = 15; prec <= 17; ++prec) {
+        snprintf(buf, HP_FMT_MAX, "%.*g", prec, v);
+        if (strtod(buf, NULL) == v || prec == 17) break;
+    }
+    return buf;
+}

@@ -31,6 +31,12 @@ int hp_cli_fail(int status, const char *cmd, const char *fmt, ...)
 #endif
     ;
 
+/* Size of a buffer for hp_cli_fmt. */
+#define HP_FMT_MAX 32
+/* Formats v with the fewest significant digits (15 to 17) that read back to the same double
+ * ("%.Ng"); returns buf. The number format of every CSV and table output. */
+const char *hp_cli_fmt(char buf[HP_FMT_MAX], double v);
+
 /* Number format used in every JSON and table output: shortest round-trip ("%.17g"
  * trimmed by jansson's precision 17), so results are reproducible bit for bit. */
 #define HP_JSON_REAL_PRECISION 17

@@ -152,12 +152,12 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
     return HP_OK;
 }
 
-hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
+static hp_error fk_scaled(const hp_iab_s *sp, const hp_iab *b, double r_lp, double p_lp,
+                          double P, double *ri)
 {
+    hp_iab_s s = *sp;
+    hp_error e;
     if (!ri) return HP_ERR_NULL;
-    hp_iab_s s;
-    hp_error e = hp_iab_scaled_init(b, &s, NULL);
-    if (e != HP_OK) return e;
     if (!isfinite(P)) return HP_ERR_INVALID;
     if (P == 0) {
         *ri = b->Ri;
@@ -165,9 +165,6 @@ hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
     }
     double lo, hi, p;
     if (P > 0) {
-        double r_lp, p_lp;
-        e = limit_scaled(&s, &r_lp, &p_lp);
-        if (e != HP_OK) return e;
         if (P >= p_lp) return HP_ERR_NO_STABLE;
         lo = s.Ri;
         hi = isfinite(r_lp) ? r_lp : 2.0 * s.Ri;
@@ -203,4 +200,29 @@ hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
     if (e != HP_OK) return e;
     *ri = r / s.scale;
     return HP_OK;
+}
+
+hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
+{
+    if (!ri) return HP_ERR_NULL;
+    hp_iab_s s;
+    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    if (e != HP_OK) return e;
+    if (!isfinite(P)) return HP_ERR_INVALID;
+    double r_lp = INFINITY, p_lp = INFINITY;
+    if (P > 0 && (e = limit_scaled(&s, &r_lp, &p_lp)) != HP_OK) return e;
+    return fk_scaled(&s, b, r_lp, p_lp, P, ri);
+}
+
+hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, double *ri)
+{
+    if (!ri || !lp) return HP_ERR_NULL;
+    hp_iab_s s;
+    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    if (e != HP_OK) return e;
+    if (!isfinite(P)) return HP_ERR_INVALID;
+    double r_lp = lp->exists ? lp->ri * s.scale : INFINITY;
+    double p_lp = lp->exists ? lp->pressure : INFINITY;
+    if (lp->exists && !(r_lp > s.Ri && isfinite(p_lp))) return HP_ERR_INVALID;
+    return fk_scaled(&s, b, r_lp, p_lp, P, ri);
 }

@@ -191,13 +191,45 @@ static void test_fk_no_stable(void **state)
     assert_true(r == r); /* never NaN */
 }
 
+/* hp_iab_fk_limit with a precomputed limit point is the same computation as hp_iab_fk:
+ * identical bits over compression, expansion, and up to the limit point; the same refusal
+ * above it; and a limit point of another material is refused when it cannot belong. */
+static void test_fk_limit_same_as_fk(void **state)
+{
+    (void)state;
+    const double c2s[] = {0.0, 0.1 * 1.1e4, 2.2e4};
+    for (size_t m = 0; m < sizeof c2s / sizeof c2s[0]; ++m) {
+        hp_iab b = {0.027, 0.030, 1.1e4, c2s[m]};
+        hp_iab_limit lp;
+        assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
+        double p_top = lp.exists ? lp.pressure : 2e4;
+        for (int k = -200; k <= 200; ++k) {
+            double P = k < 0 ? 40.0 * k : p_top * (k / 200.0) * (1.0 - 1e-9);
+            double r1 = NAN, r2 = NAN;
+            hp_error e1 = hp_iab_fk(&b, P, &r1), e2 = hp_iab_fk_limit(&b, &lp, P, &r2);
+            assert_int_equal(e1, e2);
+            if (e1 == HP_OK) assert_memory_equal(&r1, &r2, sizeof r1);
+        }
+        if (lp.exists) {
+            double r;
+            assert_int_equal(hp_iab_fk_limit(&b, &lp, lp.pressure * 1.001, &r), HP_ERR_NO_STABLE);
+            hp_iab_limit bad = lp;
+            bad.ri = b.Ri * 0.5; /* below Ri: cannot be an inflation limit point */
+            assert_int_equal(hp_iab_fk_limit(&b, &bad, 10.0, &r), HP_ERR_INVALID);
+        }
+    }
+    double r;
+    hp_iab b = {0.027, 0.030, 1.1e4, 2.2e4};
+    assert_int_equal(hp_iab_fk_limit(&b, NULL, 1.0, &r), HP_ERR_NULL);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_limit_point_neo_hookean),
         cmocka_unit_test(test_limit_point_mooney_rivlin),
         cmocka_unit_test(test_limit_point_threshold), cmocka_unit_test(test_fk_round_trip),
-        cmocka_unit_test(test_fk_no_stable),
+        cmocka_unit_test(test_fk_no_stable), cmocka_unit_test(test_fk_limit_same_as_fk),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,58 @@
+/* Scene loading and planner settings for the subcommands (see cli_scene.h). */
+#include "cli/cli_scene.h"
+#include "cli/cli_args.h"
+#include "cli/exit_codes.h"
+
+#include <stdlib.h>
+
+int hp_cli_load_scene(const char *cmd, const char *path, int need_layout, hp_scene **out)
+{
+    *out = NULL;
+    hp_scene *sc = calloc(1, sizeof *sc);
+    if (!sc) return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "out of memory");
+    hp_diag d = {{0}};
+    hp_error e = hp_scene_load(path, sc, &d);
+    if (e != HP_OK) {
+        free(sc);
+        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, cmd, "%s",
+                           d.text);
+    }
+    if (need_layout && sc->kind != HP_SCENE_LAYOUT) {
+        free(sc);
+        return hp_cli_fail(HP_EXIT_DATAERR, cmd,
+                           "%s: a single-bladder study has no layout (see headplan ik/fk)",
+                           path);
+    }
+    *out = sc;
+    return 0;
+}
+
+int hp_cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
+                    const char *level, hp_settings *s)
+{
+    hp_settings_default(s);
+    if (backend) {
+        if (hp_backend_parse(backend, &s->backend) != HP_OK)
+            return hp_cli_fail(HP_EXIT_USAGE, cmd,
+                               "--backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, "
+                               "nlopt-cobyla)",
+                               backend);
+    } else if (hp_backend_parse(sc->backend, &s->backend) != HP_OK) {
+        return hp_cli_fail(HP_EXIT_DATAERR, cmd, "solver.backend: unknown backend '%s'",
+                           sc->backend);
+    }
+    s->level = sc->level;
+    if (level && hp_level_parse(level, &s->level) != HP_OK)
+        return hp_cli_fail(HP_EXIT_USAGE, cmd,
+                           "--level: unknown level '%s' (linear, plane, surface, auto)", level);
+    s->level_tolerance = sc->level_tolerance;
+    if (sc->has_auto_range) {
+        s->auto_trans = sc->auto_trans;
+        s->auto_rot = sc->auto_rot;
+    }
+    s->tolerance = sc->tolerance;
+    s->max_iter = sc->max_iter;
+    s->max_time = sc->max_time;
+    s->weight_mm_per_deg = sc->weight_mm_per_deg;
+    return 0;
+}
