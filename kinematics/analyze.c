@@ -9,8 +9,6 @@
 
 #define RAD_PER_DEG (3.14159265358979323846 / 180.0)
 /* Reach is searched up to these caps (a correction beyond them is not clinical). */
-#define REACH_CAP_MM 50.0
-#define REACH_CAP_DEG 30.0
 /* Coarse scan steps before bisection, so that a feasible set that is not an interval
  * along the axis still yields its first boundary. */
 #define REACH_SCAN 100
@@ -41,7 +39,7 @@ static int feasible(const hp_layout *L, hp_level level, const double xi[6])
  * (to the scan resolution, then bisected to ~1e-15 of cap). */
 static double reach_axis(const hp_layout *L, hp_level level, int axis, double sign)
 {
-    double cap = axis < 3 ? REACH_CAP_MM : REACH_CAP_DEG;
+    double cap = axis < 3 ? HP_REACH_CAP_MM : HP_REACH_CAP_DEG;
     double unit = axis < 3 ? 1e-3 : RAD_PER_DEG;
     double xi[6] = {0};
     if (!feasible(L, level, xi)) return 0.0;

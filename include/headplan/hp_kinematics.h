@@ -135,6 +135,10 @@ hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double ro
 hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
                        const double *xi0, double xi[6], double *residual, int *iters);
 
+/* The reach search stops at these (mm, degrees): a reach equal to one means "at least". */
+#define HP_REACH_CAP_MM 50.0
+#define HP_REACH_CAP_DEG 30.0
+
 /* Layout analysis at the nominal pose, translation per mm and rotation per degree. */
 typedef struct hp_layout_analysis {
     double singular_values[6];  /* of J scaled to mm/mm and mm/deg, descending */

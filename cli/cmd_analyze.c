@@ -1,0 +1,330 @@
+/* headplan analyze: the layout analysis of a scene — conditioning of the contact Jacobian
+ * (mm of radius change per mm and per degree), the weakest direction, the reach of each axis
+ * inside the bladders' limits, the contact models' error bounds and the resolved geometry.
+ * Command-line units: mm, degrees, Pa; the library speaks SI. */
+#include "cli/cli_args.h"
+#include "cli/cli_scene.h"
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+#include "headplan/hp_planner.h"
+#include "headplan/hp_scene.h"
+
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const CMD = "analyze";
+
+/* The reach search caps of hp_layout_analyze (kinematics/analyze.c): a reach equal to one of
+ * them means no limit was met inside it. Used only to label the human output. */
+
+static const char *const SPHERE_NOTE =
+    "sphere head: rotation about its centre cannot be commanded (pushing on a sphere cannot "
+    "turn it); translation only, rank 3";
+
+static void help(void)
+{
+    printf("usage: headplan analyze SCENE [--level NAME] [--json]\n\n"
+           "Analyses the bladder layout in SCENE (a YAML layout scene, see docs/scenes.md) at\n"
+           "its nominal pose: singular values, rank and condition number of the contact\n"
+           "Jacobian (translation per mm, rotation per degree), the weakest direction, the\n"
+           "largest correction along each axis inside every bladder's pressure and stretch\n"
+           "limits (searched up to 50 mm and 30 deg), the error bounds of the linear and\n"
+           "plane contact models and the level auto picks, and the resolved geometry\n"
+           "(bladder centres, nominal contact points and normals). See docs/kinematics.md.\n\n"
+           "  --level NAME   contact model for the reach: linear, plane, surface or auto;\n"
+           "                 default: the scene's (auto resolves with the scene's tolerance)\n"
+           "  --json         one JSON object on stdout instead of the text\n"
+           "  --help         this text\n\n"
+           "exit status: 0 ok, 64 bad command line, 65 bad scene or not a layout scene,\n"
+           "66 scene cannot be read, 70 internal failure\n");
+}
+
+typedef struct analyze_args {
+    const char *scene, *level;
+    int json;
+} analyze_args;
+
+/* Returns -1 to continue, or the exit status (0 after --help). */
+static int parse(int argc, char **argv, analyze_args *a)
+{
+    for (int i = 1; i < argc; ++i)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            help();
+            return HP_EXIT_OK;
+        }
+    for (int i = 1; i < argc; ++i) {
+        const char *v = NULL;
+        if (strcmp(argv[i], "--json") == 0) {
+            a->json = 1;
+            continue;
+        }
+        int m = hp_cli_opt(CMD, argc, argv, &i, "--level", &v);
+        if (m < 0) return HP_EXIT_USAGE;
+        if (m > 0) {
+            if (a->level) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--level: given more than once");
+            a->level = v;
+            continue;
+        }
+        if (argv[i][0] == '-' && argv[i][1] != '\0')
+            return hp_cli_fail(HP_EXIT_USAGE, CMD,
+                               "unknown option '%s' (see headplan analyze --help)", argv[i]);
+        if (a->scene)
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "'%s': only one scene file may be given",
+                               argv[i]);
+        a->scene = argv[i];
+    }
+    if (!a->scene)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD, "SCENE: missing (see headplan analyze --help)");
+    return -1;
+}
+
+/* Everything one run reports besides the scene itself. */
+typedef struct analysis {
+    hp_level requested;     /* the option's or the scene's level (may be auto) */
+    int from_option;        /* 1 when --level gave it */
+    hp_level level;         /* resolved: the level the reach used */
+    double trans, rot;      /* correction size the bounds cover [m], [rad] */
+    int range_from_scene;   /* 1: model.auto_*; 0: the planner's defaults (as solve uses) */
+    double bound_linear, bound_plane; /* [m] */
+    hp_level auto_level;    /* what auto picks for the scene's tolerance and that size */
+    hp_layout_analysis an;
+} analysis;
+
+/* Resolves the level and the auto range from the planner settings the scene gives (the same
+ * settings solve uses, so the level named here is the one a solve of this scene runs), then
+ * runs the bounds and the analysis. Returns -1 to continue, or the exit status. */
+static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
+{
+    const hp_layout *L = &sc->layout;
+    hp_settings s;
+    int rc = hp_cli_settings(CMD, sc, NULL, a->level, &s);
+    if (rc) return rc;
+    r->from_option = a->level != NULL;
+    r->requested = s.level;
+    r->range_from_scene = sc->has_auto_range;
+    r->trans = s.auto_trans;
+    r->rot = s.auto_rot;
+    hp_error e = hp_contact_error_bound(L, HP_LEVEL_LINEAR, r->trans, r->rot, &r->bound_linear);
+    if (!e) e = hp_contact_error_bound(L, HP_LEVEL_PLANE, r->trans, r->rot, &r->bound_plane);
+    if (!e) e = hp_contact_auto(L, s.level_tolerance, r->trans, r->rot, &r->auto_level);
+    if (e)
+        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: error bounds: %s", a->scene,
+                           hp_error_message(e));
+    r->level = r->requested == HP_LEVEL_AUTO ? r->auto_level : r->requested;
+    e = hp_layout_analyze(L, r->level, &r->an);
+    if (e)
+        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: layout analysis: %s", a->scene,
+                           hp_error_message(e));
+    return -1;
+}
+
+static json_t *vec_json(const double *v, int n, double scale)
+{
+    json_t *arr = json_array();
+    for (int i = 0; i < n; ++i) json_array_append_new(arr, json_real(v[i] * scale));
+    return arr;
+}
+
+static json_t *geometry_bladders_json(const hp_layout *L)
+{
+    json_t *bl = json_array();
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder *B = &L->bladders[k];
+        json_t *e = json_object();
+        json_object_set_new(e, "name", json_string(B->name));
+        json_object_set_new(e, "center_mm", vec_json(B->center, 3, 1e3));
+        json_object_set_new(e, "Ri_mm", json_real(B->iab.Ri * 1e3));
+        json_object_set_new(e, "Ro_mm", json_real(B->iab.Ro * 1e3));
+        json_object_set_new(e, "c1_pa", json_real(B->iab.C1));
+        json_object_set_new(e, "c2_pa", json_real(B->iab.C2));
+        json_object_set_new(e, "pressure_min_pa", json_real(B->p_min));
+        json_object_set_new(e, "pressure_max_pa", json_real(B->p_max));
+        json_object_set_new(e, "stretch_min", json_real(B->stretch_min));
+        json_object_set_new(e, "stretch_max", json_real(B->stretch_max));
+        json_object_set_new(e, "contact_mm", vec_json(L->contact[k], 3, 1e3));
+        json_object_set_new(e, "normal", vec_json(L->normal[k], 3, 1.0));
+        json_object_set_new(e, "rho0_mm", json_real(L->rho0[k] * 1e3));
+        json_array_append_new(bl, e);
+    }
+    return bl;
+}
+
+static json_t *head_json(const hp_head *h)
+{
+    json_t *o = json_object();
+    json_object_set_new(o, "shape", json_string(hp_head_shape_name(h->shape)));
+    json_object_set_new(o, "center_mm", vec_json(h->center, 3, 1e3));
+    if (h->shape == HP_HEAD_SPHERE)
+        json_object_set_new(o, "radius_mm", json_real(h->semi_axes[0] * 1e3));
+    else
+        json_object_set_new(o, "semi_axes_mm", vec_json(h->semi_axes, 3, 1e3));
+    json_object_set_new(o, "mass_kg", h->mass > 0 ? json_real(h->mass) : json_null());
+    return o;
+}
+
+static int print_json(const hp_scene *sc, const analysis *r)
+{
+    const hp_layout *L = &sc->layout;
+    const hp_layout_analysis *an = &r->an;
+    json_t *o = json_object();
+    json_object_set_new(o, "scene", json_string(sc->name));
+    json_object_set_new(o, "level", json_string(hp_level_name(r->level)));
+    json_object_set_new(o, "level_requested", json_string(hp_level_name(r->requested)));
+    json_object_set_new(o, "level_source", json_string(r->from_option ? "option" : "scene"));
+    json_object_set_new(o, "singular_values", vec_json(an->singular_values, 6, 1.0));
+    json_object_set_new(o, "rank", json_integer(an->rank));
+    json_object_set_new(o, "condition", isfinite(an->condition) ? json_real(an->condition)
+                                                                : json_null());
+    json_t *w = json_object();
+    json_object_set_new(w, "vector", vec_json(an->weakest, 6, 1.0));
+    json_object_set_new(w, "phrase", json_string(an->weakest_words));
+    json_object_set_new(w, "singular_value", json_real(an->singular_values[5]));
+    json_object_set_new(o, "weakest_direction", w);
+    json_object_set_new(o, "rotation_commandable", json_boolean(an->rotation_commandable));
+    json_object_set_new(o, "note", an->rotation_commandable ? json_null()
+                                                            : json_string(SPHERE_NOTE));
+    json_t *reach = json_object();
+    for (int i = 0; i < 6; ++i) {
+        if (i >= 3 && !an->rotation_commandable) {
+            json_object_set_new(reach, hp_pose_key(i), json_null()); /* not commanded */
+            continue;
+        }
+        json_object_set_new(reach, hp_pose_key(i), vec_json(an->reach[i], 2, 1.0));
+    }
+    json_object_set_new(o, "reach", reach);
+    json_t *b = json_object();
+    json_object_set_new(b, "tolerance_mm", json_real(sc->level_tolerance * 1e3));
+    json_object_set_new(b, "translation_mm", json_real(r->trans * 1e3));
+    json_object_set_new(b, "rotation_deg", json_real(r->rot * 180.0 / 3.14159265358979323846));
+    json_object_set_new(b, "range_source", json_string(r->range_from_scene ? "scene"
+                                                                           : "default"));
+    json_object_set_new(b, "linear_mm", json_real(r->bound_linear * 1e3));
+    json_object_set_new(b, "plane_mm", json_real(r->bound_plane * 1e3));
+    json_object_set_new(b, "surface_mm", json_real(0.0));
+    json_object_set_new(b, "auto_level", json_string(hp_level_name(r->auto_level)));
+    json_object_set_new(o, "error_bounds", b);
+    json_object_set_new(o, "head", head_json(&L->head));
+    json_object_set_new(o, "pivot_mm", vec_json(L->pivot, 3, 1e3));
+    json_object_set_new(o, "bladders", geometry_bladders_json(L));
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    json_decref(o);
+    if (!s) return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "cannot format JSON output");
+    puts(s);
+    free(s);
+    return HP_EXIT_OK;
+}
+
+static void print_vec3(const char *label, const double v[3], double scale, const char *unit)
+{
+    printf("%-13s (%.4f, %.4f, %.4f)%s%s\n", label, v[0] * scale, v[1] * scale, v[2] * scale,
+           *unit ? " " : "", unit);
+}
+
+static void print_text(const hp_scene *sc, const analysis *r)
+{
+    const hp_layout *L = &sc->layout;
+    const hp_head *h = &L->head;
+    const hp_layout_analysis *an = &r->an;
+    printf("%-13s %s\n", "scene", sc->name);
+    if (h->shape == HP_HEAD_SPHERE)
+        printf("%-13s sphere, radius %.4f mm\n", "head", h->semi_axes[0] * 1e3);
+    else
+        printf("%-13s ellipsoid, semi-axes %.4f x %.4f x %.4f mm\n", "head",
+               h->semi_axes[0] * 1e3, h->semi_axes[1] * 1e3, h->semi_axes[2] * 1e3);
+    print_vec3("head centre", h->center, 1e3, "mm");
+    print_vec3("pivot", L->pivot, 1e3, "mm");
+    printf("%-13s %s", "level", hp_level_name(r->level));
+    if (r->requested == HP_LEVEL_AUTO) printf(" (auto)");
+    printf(", from the %s\n", r->from_option ? "--level option" : "scene");
+
+    printf("\ncontact Jacobian at the nominal pose (mm of radius per mm and per degree)\n");
+    printf("%-13s", "singular");
+    for (int j = 0; j < 6; ++j) printf(" %10.6f", an->singular_values[j]);
+    printf("\n%-13s %d of 6\n", "rank", an->rank);
+    if (isfinite(an->condition))
+        printf("%-13s %.6g\n", "condition", an->condition);
+    else
+        printf("%-13s infinite (rank < 6)\n", "condition");
+    printf("%-13s %s%s\n", "weakest", an->weakest_words,
+           an->rank < 6 ? " (not observable: singular value 0)" : "");
+    printf("%-13s", "  vector");
+    for (int j = 0; j < 6; ++j) printf(" %s %+.4f", hp_pose_key(j), an->weakest[j]);
+    printf("\n");
+    if (!an->rotation_commandable) printf("%-13s %s\n", "note", SPHERE_NOTE);
+
+    printf("\nreach inside every bladder's pressure and stretch limits (level %s)\n",
+           hp_level_name(r->level));
+    printf("%-13s %12s %12s\n", "axis", "negative", "positive");
+    for (int i = 0; i < 6; ++i) {
+        if (i >= 3 && !an->rotation_commandable) {
+            printf("%-13s %25s\n", hp_pose_key(i), "not commanded");
+            continue;
+        }
+        double cap = i < 3 ? HP_REACH_CAP_MM : HP_REACH_CAP_DEG;
+        int capped = an->reach[i][0] <= -cap || an->reach[i][1] >= cap;
+        printf("%-13s %12.4f %12.4f%s\n", hp_pose_key(i), an->reach[i][0], an->reach[i][1],
+               capped ? "  (search cap reached)" : "");
+    }
+
+    printf("\nerror bounds against the exact surface, corrections up to %.4g mm and %.4g deg"
+           " (%s)\n",
+           r->trans * 1e3, r->rot * 180.0 / 3.14159265358979323846,
+           r->range_from_scene ? "model.auto_translation_mm/auto_rotation_deg"
+                               : "default range: the scene states none");
+    printf("%-13s %.6g mm\n", "linear", r->bound_linear * 1e3);
+    printf("%-13s %.6g mm\n", "plane", r->bound_plane * 1e3);
+    printf("%-13s 0 (exact)\n", "surface");
+    printf("%-13s %s (tolerance %.6g mm)\n", "auto picks", hp_level_name(r->auto_level),
+           sc->level_tolerance * 1e3);
+
+    printf("\n%-18s %-30s %-30s %-28s %6s %6s %8s %8s %8s %8s\n", "bladder", "centre_mm",
+           "contact_mm", "normal", "Ri_mm", "Ro_mm", "C1_pa", "C2_pa", "Pmin_pa", "Pmax_pa");
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder *B = &L->bladders[k];
+        char c[64], p[64], n[64];
+        snprintf(c, sizeof c, "(%.3f, %.3f, %.3f)", B->center[0] * 1e3, B->center[1] * 1e3,
+                 B->center[2] * 1e3);
+        snprintf(p, sizeof p, "(%.3f, %.3f, %.3f)", L->contact[k][0] * 1e3,
+                 L->contact[k][1] * 1e3, L->contact[k][2] * 1e3);
+        snprintf(n, sizeof n, "(%.4f, %.4f, %.4f)", L->normal[k][0], L->normal[k][1],
+                 L->normal[k][2]);
+        printf("%-18s %-30s %-30s %-28s %6.2f %6.2f %8.0f %8.0f %8.0f %8.0f\n", B->name, c, p,
+               n, B->iab.Ri * 1e3, B->iab.Ro * 1e3, B->iab.C1, B->iab.C2, B->p_min, B->p_max);
+    }
+}
+
+int hp_cmd_analyze(int argc, char **argv)
+{
+    analyze_args a = {0};
+    int rc = parse(argc, argv, &a);
+    if (rc >= 0) return rc;
+    /* An unknown --level is a usage error even when the scene is also bad: check it first. */
+    hp_level lv;
+    if (a.level && hp_level_parse(a.level, &lv) != HP_OK)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+                           "--level: unknown level '%s' (linear, plane, surface, auto)", a.level);
+
+    hp_scene *sc = NULL;
+    if ((rc = hp_cli_load_scene(CMD, a.scene, 0, &sc))) return rc;
+    if (sc->kind != HP_SCENE_LAYOUT) {
+        free(sc);
+        return hp_cli_fail(HP_EXIT_DATAERR, CMD,
+                           "%s: analyze needs a layout scene (head and bladders)", a.scene);
+    }
+    analysis r;
+    memset(&r, 0, sizeof r);
+    rc = compute(sc, &a, &r);
+    if (rc < 0) {
+        if (a.json)
+            rc = print_json(sc, &r);
+        else {
+            print_text(sc, &r);
+            rc = HP_EXIT_OK;
+        }
+    }
+    free(sc);
+    return rc;
+}
