@@ -9,5 +9,6 @@
 #include "headplan/hp_kinematics.h"
 #include "headplan/hp_scene.h"
 #include "headplan/hp_trace.h"
+#include "headplan/hp_planner.h"
 
 #endif

@@ -4,12 +4,18 @@
  * Lifecycle: hp_settings_default -> (edit) -> hp_planner_create (the only call that
  * allocates) -> hp_plan, as often as needed -> hp_planner_destroy.
  *
+ * Units: the API speaks SI (m, rad, Pa) like hp_kinematics.h; the tolerance and the weight
+ * speak mm and degrees, the units the solvers work in.
+ *
  * Thread-safety: one planner per thread. Distinct planners may run in different threads at
  * once EXCEPT with the Ipopt backend: Debian's Ipopt/MUMPS is not thread-safe, so the library
  * serialises Ipopt solves process-wide with a mutex (hp_plan with HP_BACKEND_IPOPT may wait
  * for another thread's Ipopt solve). The realtime and NLopt backends take no lock.
  *
- * DRAFT: the planner engineer owns and refines this header. */
+ * Real time: with HP_BACKEND_REALTIME, hp_plan allocates nothing, prints nothing, takes no
+ * lock and runs in bounded time (the direct chain, else at most max_iter active-set steps per
+ * QP and, on the plane/surface levels, at most max_iter SQP steps). The Ipopt and NLopt
+ * libraries allocate inside their own solve calls. */
 #ifndef HP_PLANNER_H
 #define HP_PLANNER_H
 
@@ -21,16 +27,21 @@ extern "C" {
 #endif
 
 typedef enum hp_backend {
-    HP_BACKEND_REALTIME = 0, /* "realtime": direct chain, then a small bounded solver */
+    HP_BACKEND_REALTIME = 0, /* "realtime": direct chain, then a small bounded QP/SQP */
     HP_BACKEND_IPOPT,        /* "ipopt": reference, exact first and second derivatives */
     HP_BACKEND_NLOPT_SLSQP,  /* "nlopt-slsqp" */
     HP_BACKEND_NLOPT_COBYLA, /* "nlopt-cobyla": derivative-free */
     HP_BACKEND_COUNT_
 } hp_backend;
+/* "realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla"; "unknown" for other values. */
 const char *hp_backend_name(hp_backend b);
+/* Parses a backend name; HP_ERR_INVALID (out untouched) for anything else or NULL. */
 hp_error hp_backend_parse(const char *s, hp_backend *out);
 
-/* Outcome of one plan. */
+/* Outcome of one plan. REACHED and CLOSEST carry a new answer; ITERATION_LIMIT and
+ * TIME_LIMIT carry the last feasible iterate when the backend had one (inside every limit,
+ * not proven closest), else the safe output; the other statuses carry the safe output (see
+ * hp_plan). Whatever the status, every pressure is inside its limits. */
 typedef enum hp_status {
     HP_STATUS_REACHED = 0,        /* the desired correction is met (to the tolerance) */
     HP_STATUS_CLOSEST,            /* unreachable: the closest reachable correction */
@@ -41,71 +52,128 @@ typedef enum hp_status {
     HP_STATUS_SOLVER_ERROR,       /* the backend failed */
     HP_STATUS_COUNT_
 } hp_status;
+/* "reached", "closest", "iteration-limit", "time-limit", "infeasible-start",
+ * "invalid-input", "solver-error"; "unknown" for other values. */
 const char *hp_status_name(hp_status s);
 
-/* Why a bladder's answer sits on a limit (bit flags). */
+/* Why a bladder's answer sits on a limit (bit flags; several may be set). */
 enum {
     HP_BIND_PRESSURE_MIN = 1u << 0,
     HP_BIND_PRESSURE_MAX = 1u << 1,
     HP_BIND_STRETCH_MIN = 1u << 2,
     HP_BIND_STRETCH_MAX = 1u << 3,
     HP_BIND_RATE_DOWN = 1u << 4,
-    HP_BIND_RATE_UP = 1u << 5
+    HP_BIND_RATE_UP = 1u << 5,
+    HP_BIND_LIMIT_POINT = 1u << 6 /* the stable-branch cap below the inflation limit point */
 };
-/* "pressure_min", ... for one flag bit; "unknown" otherwise. */
+#define HP_BIND_COUNT 7
+/* "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
+ * "limit_point" for one flag bit; "unknown" otherwise. */
 const char *hp_binding_name(unsigned flag);
 
 #define HP_DEFAULT_BACKEND HP_BACKEND_REALTIME
 #define HP_DEFAULT_LEVEL HP_LEVEL_LINEAR
-#define HP_DEFAULT_TOLERANCE 1e-9      /* pose tolerance, mm and degrees */
+#define HP_DEFAULT_LEVEL_TOLERANCE 1e-6 /* [m] contact-model error auto may accept */
+#define HP_DEFAULT_AUTO_TRANS 0.01      /* [m] translation auto must cover */
+#define HP_DEFAULT_AUTO_ROT 0.0872664625997164788 /* [rad] (5 degrees) rotation auto covers */
+#define HP_DEFAULT_TOLERANCE 1e-9       /* pose tolerance, mm and degrees */
 #define HP_DEFAULT_MAX_ITER 200
-#define HP_DEFAULT_MAX_TIME 1.0        /* seconds (Ipopt: CPU time) */
+#define HP_DEFAULT_MAX_TIME 1.0         /* seconds (Ipopt: CPU time) */
 #define HP_DEFAULT_WEIGHT_MM_PER_DEG 1.0
 #define HP_DEFAULT_MU 0.0
+#define HP_DEFAULT_USE_RATE_LIMITS 1
+#define HP_DEFAULT_WARM_START 1
 
 typedef struct hp_settings {
     hp_backend backend;       /* which solver runs when a limit binds */
     hp_level level;           /* contact fidelity (auto: resolved at create) */
-    double level_tolerance;   /* [m] for HP_LEVEL_AUTO */
-    double auto_trans;        /* [m] largest translation auto must cover */
-    double auto_rot;          /* [rad] largest rotation auto must cover */
+    double level_tolerance;   /* [m] for HP_LEVEL_AUTO (> 0) */
+    double auto_trans;        /* [m] largest translation auto must cover (>= 0) */
+    double auto_rot;          /* [rad] largest rotation auto must cover (>= 0) */
     double tolerance;         /* pose tolerance in mm and degrees (> 0) */
     int max_iter;             /* iteration budget per plan (> 0) */
     double max_time;          /* time budget per plan [s] (> 0) */
-    double weight_mm_per_deg; /* W: 1 mm of error weighs as much as this many degrees */
-    double mu;                /* pressure regularisation (tie-breaker) [1/Pa²], >= 0 */
+    double weight_mm_per_deg; /* W: 1 mm of error weighs as much as this many degrees (> 0) */
+    double mu;                /* pressure regularisation (tie-breaker) [1/Pa²], >= 0;
+                                 the realtime backend needs none and ignores it */
     int use_rate_limits;      /* 1: apply each bladder's rate_max from the previous plan */
     int warm_start;           /* 1: start each solve from the previous result */
 } hp_settings;
 
+/* Fills every field with its HP_DEFAULT_* value. s may be NULL (nothing happens). */
 void hp_settings_default(hp_settings *s);
+/* Checks every field (finite, in range); the first bad one is named in diag (may be NULL).
+ * Returns HP_OK, HP_ERR_NULL or HP_ERR_INVALID. */
 hp_error hp_settings_validate(const hp_settings *s, hp_diag *diag);
 
 typedef struct hp_bladder_result {
     double ri, ro;       /* [m] */
     double pressure;     /* [Pa], always inside [p_min, p_max] */
     double stretch;      /* ri / Ri */
-    unsigned binding;    /* HP_BIND_* flags */
+    unsigned binding;    /* HP_BIND_* flags of the limits this bladder sits on */
 } hp_bladder_result;
 
 typedef struct hp_result {
     hp_status status;
-    int raw_code;             /* the backend's own return code */
-    double desired[6];        /* SI */
-    double achieved[6];       /* SI; pose reached by the returned radii */
-    int commanded[6];         /* 0 where the layout cannot command that direction */
+    int raw_code;             /* the backend's own return code (0 for the direct chain) */
+    hp_backend backend;       /* the backend that was configured */
+    hp_level level;           /* the resolved contact level the answer was computed at */
+    double desired[6];        /* SI, as passed */
+    double achieved[6];       /* SI; pose of the returned radii at `level` (see below) */
+    int commanded[6];         /* 0 where the layout cannot command that direction: the
+                                 planner holds it at 0 and ignores its desired value */
+    double pose_error;        /* max over commanded i of |achieved − desired|, mm or deg */
     int n;
     hp_bladder_result bladders[HP_MAX_BLADDERS];
-    int iterations;
-    double solve_time;        /* [s] */
+    int iterations;           /* solver iterations (0: the direct chain answered) */
+    double solve_time;        /* [s], CLOCK_MONOTONIC, the whole hp_plan call */
 } hp_result;
 
 typedef struct hp_planner hp_planner;
 
+/* Builds a planner for a layout (copied: the caller may free it afterwards; prepared here
+ * if it is not) and settings (NULL = defaults). Resolves HP_LEVEL_AUTO, finds the commanded
+ * directions (rank of the contact Jacobian), maps every pressure and stretch limit to
+ * bounds on the bladders' radii (clipped below any inflation limit point) and creates the
+ * backend. The only call that allocates. On failure returns the error, sets *out = NULL,
+ * frees everything, and puts the message in diag (may be NULL). */
 hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
-                           hp_planner **out);
+                           hp_planner **out, hp_diag *diag);
+
+/* Plans one correction desired[6] (SI: m, rad). Always fills *result; returns HP_OK when a
+ * result was produced (look at result->status), HP_ERR_NULL for NULL arguments and
+ * HP_ERR_STATE for a planner that failed to build.
+ *   - First the direct chain: pose -> contact distances -> radii -> pressures; when every
+ *     limit holds that is the exact answer (REACHED, 0 iterations).
+ *   - Otherwise the backend finds the closest reachable pose (CLOSEST, binding flags set).
+ *   - achieved[] is the pose at the planner's level for which the returned outer radii are
+ *     exactly the contact distances (the model-level round trip); a caller that wants the
+ *     strict check runs hp_iab_fk -> hp_iab_ro -> hp_contact_fk at HP_LEVEL_SURFACE.
+ *   - On INVALID_INPUT, INFEASIBLE_START or SOLVER_ERROR the result holds the SAFE OUTPUT:
+ *     the previous valid answer's bladders and pose (after create or hp_planner_reset: the
+ *     nominal pose's radii and pressures, clamped into the limits), so a controller that
+ *     applies it holds the bladders where they are.
+ * Every returned pressure is finite and inside [p_min, p_max] whatever the status.
+ * Realtime backend: allocates nothing, prints nothing, takes no lock, bounded time. The text
+ * of the last failure is kept (hp_planner_error). */
 hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *result);
+
+/* The message of the last failed or non-REACHED plan ("" when none). Never NULL. */
 const char *hp_planner_error(const hp_planner *p);
+
+/* The resolved contact level and the planner's (prepared) copy of the layout. */
+hp_level hp_planner_level(const hp_planner *p);
+const hp_layout *hp_planner_layout(const hp_planner *p);
+
+/* Sets the pressures the bladders hold now [Pa] (n values): the rate limits of the next plan
+ * start from them and they become the safe output. Each must be finite, inside its limits
+ * and on the stable branch; otherwise HP_ERR_INVALID and nothing changes. */
+hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
+
+/* Forgets the previous plan: the nominal pose becomes the previous answer again. */
+void hp_planner_reset(hp_planner *p);
+
+/* Frees a planner; safe on NULL and on a half-built planner. */
 void hp_planner_destroy(hp_planner *p);
 
 #ifdef __cplusplus

@@ -1,0 +1,282 @@
+/* headplan solve: a scene file -> every bladder's pressure for one desired correction, the
+ * achieved pose and the status. Command-line units: mm and degrees; the library speaks SI. */
+#include "cli/cli_args.h"
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+#include "headplan/hp_planner.h"
+#include "headplan/hp_scene.h"
+
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const CMD = "solve";
+
+static void help(void)
+{
+    printf("usage: headplan solve SCENE [--correction X,Y,Z,PITCH,ROLL,YAW] [--backend NAME]\n"
+           "                      [--level NAME] [--json]\n\n"
+           "Plans the bladder pressures that produce one desired head correction for the\n"
+           "layout in SCENE (a YAML scene file, see docs/scenes.md), inside every bladder's\n"
+           "pressure and stretch limits. When the correction is out of reach the answer is the\n"
+           "closest reachable one, and the limits that bind are named. A single solve starts\n"
+           "from the nominal pose: per-cycle rate limits do not apply (see headplan batch).\n\n"
+           "  --correction X,Y,Z,PITCH,ROLL,YAW  desired correction, mm and degrees (pitch\n"
+           "                 about X, roll about Y, yaw about Z); default: the scene's\n"
+           "  --backend NAME realtime (default unless the scene says), ipopt, nlopt-slsqp,\n"
+           "                 nlopt-cobyla\n"
+           "  --level NAME   contact model: linear, plane, surface or auto; default: the scene's\n"
+           "  --json         one JSON object on stdout instead of the tables\n"
+           "  --help         this text\n\n"
+           "exit status: 0 reached, 1 only the closest reachable correction, 64 bad command\n"
+           "line, 65 bad scene or correction, 66 scene cannot be read, 70 solver failure\n");
+}
+
+typedef struct solve_args {
+    const char *scene, *correction, *backend, *level;
+    int json;
+} solve_args;
+
+static int parse(int argc, char **argv, solve_args *a)
+{
+    for (int i = 1; i < argc; ++i)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            help();
+            return HP_EXIT_OK;
+        }
+    for (int i = 1; i < argc; ++i) {
+        const char *v = NULL;
+        int m;
+        if (strcmp(argv[i], "--json") == 0) {
+            a->json = 1;
+            continue;
+        }
+        const char *names[3] = {"--correction", "--backend", "--level"};
+        const char **slots[3] = {&a->correction, &a->backend, &a->level};
+        int matched = 0;
+        for (int o = 0; o < 3 && !matched; ++o) {
+            m = hp_cli_opt(CMD, argc, argv, &i, names[o], &v);
+            if (m < 0) return HP_EXIT_USAGE;
+            if (m == 0) continue;
+            if (*slots[o]) return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given more than once", names[o]);
+            *slots[o] = v;
+            matched = 1;
+        }
+        if (matched) continue;
+        if (argv[i][0] == '-' && argv[i][1] != '\0')
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see headplan solve --help)",
+                               argv[i]);
+        if (a->scene)
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "'%s': only one scene file may be given", argv[i]);
+        a->scene = argv[i];
+    }
+    if (!a->scene) return hp_cli_fail(HP_EXIT_USAGE, CMD, "SCENE: missing (see headplan solve --help)");
+    return -1;
+}
+
+static json_t *pose_json(const double xi[6])
+{
+    double c[6];
+    hp_pose_to_clinical(xi, c);
+    json_t *o = json_object();
+    for (int i = 0; i < 6; ++i) json_object_set_new(o, hp_pose_key(i), json_real(c[i]));
+    return o;
+}
+
+static json_t *vec3_mm(const double v[3])
+{
+    json_t *a = json_array();
+    for (int i = 0; i < 3; ++i) json_array_append_new(a, json_real(v[i] * 1e3));
+    return a;
+}
+
+static json_t *binding_json(unsigned flags)
+{
+    json_t *a = json_array();
+    for (int b = 0; b < HP_BIND_COUNT; ++b)
+        if (flags & (1u << b)) json_array_append_new(a, json_string(hp_binding_name(1u << b)));
+    return a;
+}
+
+static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
+{
+    json_t *o = json_object();
+    json_object_set_new(o, "status", json_string(hp_status_name(r->status)));
+    json_object_set_new(o, "backend", json_string(hp_backend_name(r->backend)));
+    json_object_set_new(o, "level", json_string(hp_level_name(r->level)));
+    json_object_set_new(o, "desired", pose_json(r->desired));
+    json_object_set_new(o, "achieved", pose_json(r->achieved));
+    json_t *cmd = json_object();
+    for (int i = 0; i < 6; ++i)
+        json_object_set_new(cmd, hp_pose_key(i), json_boolean(r->commanded[i]));
+    json_object_set_new(o, "commanded", cmd);
+    json_t *bl = json_array();
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder *B = &L->bladders[k];
+        const hp_bladder_result *b = &r->bladders[k];
+        json_t *e = json_object();
+        json_object_set_new(e, "name", json_string(B->name));
+        json_object_set_new(e, "center_mm", vec3_mm(B->center));
+        json_object_set_new(e, "Ri_mm", json_real(B->iab.Ri * 1e3));
+        json_object_set_new(e, "Ro_mm", json_real(B->iab.Ro * 1e3));
+        json_object_set_new(e, "c1_pa", json_real(B->iab.C1));
+        json_object_set_new(e, "c2_pa", json_real(B->iab.C2));
+        json_object_set_new(e, "pressure_min_pa", json_real(B->p_min));
+        json_object_set_new(e, "pressure_max_pa", json_real(B->p_max));
+        json_object_set_new(e, "ri_mm", json_real(b->ri * 1e3));
+        json_object_set_new(e, "ro_mm", json_real(b->ro * 1e3));
+        json_object_set_new(e, "pressure_pa", json_real(b->pressure));
+        json_object_set_new(e, "binding", binding_json(b->binding));
+        json_array_append_new(bl, e);
+    }
+    json_object_set_new(o, "bladders", bl);
+    json_t *h = json_object();
+    json_object_set_new(h, "shape", json_string(hp_head_shape_name(L->head.shape)));
+    json_object_set_new(h, "center_mm", vec3_mm(L->head.center));
+    if (L->head.shape == HP_HEAD_SPHERE)
+        json_object_set_new(h, "radius_mm", json_real(L->head.semi_axes[0] * 1e3));
+    else
+        json_object_set_new(h, "semi_axes_mm", vec3_mm(L->head.semi_axes));
+    json_object_set_new(o, "head", h);
+    json_object_set_new(o, "pivot_mm", vec3_mm(L->pivot));
+    json_object_set_new(o, "iterations", json_integer(r->iterations));
+    json_object_set_new(o, "solve_time_us", json_real(r->solve_time * 1e6));
+    json_object_set_new(o, "message", json_string(msg));
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    json_decref(o);
+    if (!s) return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "cannot format JSON output");
+    puts(s);
+    free(s);
+    return 0;
+}
+
+static void print_table(const hp_layout *L, const hp_result *r, const char *msg)
+{
+    double d[6], a[6];
+    hp_pose_to_clinical(r->desired, d);
+    hp_pose_to_clinical(r->achieved, a);
+    printf("status      %s%s%s\n", hp_status_name(r->status), *msg ? " — " : "", msg);
+    printf("backend     %s (contact level %s), %d iterations, %.1f us\n\n",
+           hp_backend_name(r->backend), hp_level_name(r->level), r->iterations,
+           r->solve_time * 1e6);
+    printf("%-18s %10s %10s %12s %8s  %s\n", "bladder", "ri_mm", "ro_mm", "pressure_pa",
+           "stretch", "binding");
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder_result *b = &r->bladders[k];
+        printf("%-18s %10.4f %10.4f %12.2f %8.4f  ", L->bladders[k].name, b->ri * 1e3,
+               b->ro * 1e3, b->pressure, b->stretch);
+        int any = 0;
+        for (int f = 0; f < HP_BIND_COUNT; ++f)
+            if (b->binding & (1u << f)) {
+                printf("%s%s", any ? "," : "", hp_binding_name(1u << f));
+                any = 1;
+            }
+        printf("%s\n", any ? "" : "-");
+    }
+    printf("\n%-10s %12s %12s %12s\n", "pose", "desired", "achieved", "error");
+    for (int i = 0; i < 6; ++i)
+        printf("%-10s %12.6f %12.6f %12.3g%s\n", hp_pose_key(i), d[i], a[i], a[i] - d[i],
+               r->commanded[i] ? "" : "  (not commanded)");
+}
+
+int hp_cmd_solve(int argc, char **argv)
+{
+    solve_args a = {0};
+    int rc = parse(argc, argv, &a);
+    if (rc >= 0) return rc;
+
+    double corr_clin[6];
+    if (a.correction && (rc = hp_cli_doubles(CMD, "--correction", a.correction, 6, corr_clin)))
+        return rc;
+    hp_backend backend = HP_BACKEND_REALTIME;
+    if (a.backend && hp_backend_parse(a.backend, &backend) != HP_OK)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+                           "--backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, "
+                           "nlopt-cobyla)", a.backend);
+    hp_level level = HP_LEVEL_LINEAR;
+    if (a.level && hp_level_parse(a.level, &level) != HP_OK)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+                           "--level: unknown level '%s' (linear, plane, surface, auto)", a.level);
+
+    hp_scene *sc = calloc(1, sizeof *sc);
+    if (!sc) return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    hp_diag d = {{0}};
+    hp_error e = hp_scene_load(a.scene, sc, &d);
+    if (e != HP_OK) {
+        free(sc);
+        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
+    }
+    if (sc->kind != HP_SCENE_LAYOUT) {
+        free(sc);
+        return hp_cli_fail(HP_EXIT_DATAERR, CMD,
+                           "%s: a single-bladder study has no layout to solve (see headplan ik/fk)",
+                           a.scene);
+    }
+    double desired[6];
+    if (a.correction) {
+        hp_pose_from_clinical(corr_clin, desired);
+    } else if (sc->has_correction) {
+        memcpy(desired, sc->correction, sizeof desired);
+    } else {
+        free(sc);
+        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+                           "--correction: missing (the scene %s states no correction)", a.scene);
+    }
+
+    hp_settings s;
+    hp_settings_default(&s);
+    if (!a.backend && hp_backend_parse(sc->backend, &backend) != HP_OK) {
+        int r2 = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: solver.backend: unknown backend '%s'",
+                             a.scene, sc->backend);
+        free(sc);
+        return r2;
+    }
+    s.backend = backend;
+    s.level = a.level ? level : sc->level;
+    s.level_tolerance = sc->level_tolerance;
+    if (sc->has_auto_range) {
+        s.auto_trans = sc->auto_trans;
+        s.auto_rot = sc->auto_rot;
+    }
+    s.tolerance = sc->tolerance;
+    s.max_iter = sc->max_iter;
+    s.max_time = sc->max_time;
+    s.weight_mm_per_deg = sc->weight_mm_per_deg;
+    s.use_rate_limits = 0; /* one solve from the nominal pose: no previous cycle */
+
+    hp_planner *p = NULL;
+    e = hp_planner_create(&sc->layout, &s, &p, &d);
+    if (e != HP_OK) {
+        int r2 = hp_cli_fail(e == HP_ERR_INVALID || e == HP_ERR_DOMAIN ? HP_EXIT_DATAERR
+                                                                       : HP_EXIT_SOFTWARE,
+                             CMD, "%s: %s", a.scene, d.text);
+        free(sc);
+        return r2;
+    }
+    hp_result r;
+    e = hp_plan(p, desired, &r);
+    const char *msg = hp_planner_error(p);
+    int status;
+    if (e != HP_OK) {
+        status = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", a.scene,
+                             hp_error_message(e));
+    } else if (r.status == HP_STATUS_INVALID_INPUT) {
+        status = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: %s",
+                             a.correction ? "--correction" : "correction", msg);
+    } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) {
+        status = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: %s: %s", a.scene,
+                             hp_status_name(r.status), msg);
+    } else {
+        status = r.status == HP_STATUS_REACHED ? HP_EXIT_OK : HP_EXIT_CLOSEST;
+        if (a.json) {
+            if (print_json(hp_planner_layout(p), &r, msg)) status = HP_EXIT_SOFTWARE;
+        } else {
+            print_table(hp_planner_layout(p), &r, msg);
+        }
+    }
+    hp_planner_destroy(p);
+    free(sc);
+    return status;
+}

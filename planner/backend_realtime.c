@@ -1,0 +1,360 @@
+/* The real-time backend: the closest reachable pose under ro_lo <= rho(xi) <= ro_hi.
+ * Linear level: one convex QP in the commanded pose components (Goldfarb–Idnani, qp.c).
+ * Plane/surface levels: SQP — linearise rho at the current pose, solve the same QP, repeat
+ * (at most max_iter steps) — then a feasibility restoration so the radii strictly respect
+ * the limits. Everything lives in the state allocated at create: solve allocates nothing,
+ * prints nothing, takes no lock, and its time is bounded by max_iter and max_time. */
+#define _POSIX_C_SOURCE 200809L
+#include "planner/problem_setup.h"
+#include "planner/qp.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+/* The QP sees limits moved inward by this much (mm) so that rounding in rho(xi) can never
+ * put a returned radius outside them; it is 1000× the rounding of rho ~ 30 mm. */
+#define RT_MARGIN_MM 1e-11
+/* A constraint counts as met when violated by less than this (mm per unit-norm row). */
+#define RT_FEAS_TOL 1e-12
+/* Restoration: re-solves with limits tightened by the measured violation, then bisection. */
+#define RT_RESTORE_ROUNDS 3
+#define RT_BISECT_STEPS 60
+/* SQP steps below this (mm or deg) are taken whole, larger ones by a merit line search. */
+#define RT_FULL_STEP 1e-2
+
+typedef struct rt_state {
+    hp_qp qp;
+    int max_iter;
+    double max_time, tolerance;
+    double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
+    double u[HP_QP_MMAX]; /* multipliers of the last QP: the Lagrangian's curvature */
+    int have_u;
+} rt_state;
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* rho (mm), J (mm per mm/deg) and, if H is not NULL, the SI Hessians of rho (per m², m·rad,
+ * rad²; scaled by the caller) at scaled pose x. */
+static hp_error hp_contact_eval_scaled_h(const hp_layout *L, hp_level level, const double *x,
+                                         double *rho, double *J, double *H)
+{
+    if (!H) return hp_setup_contact_scaled(L, level, x, rho, J);
+    double xi[6], Jsi[HP_MAX_BLADDERS * 6];
+    for (int i = 0; i < 3; ++i) {
+        xi[i] = x[i] / HP_MM_PER_M;
+        xi[i + 3] = x[i + 3] / HP_DEG_PER_RAD;
+    }
+    hp_error e = hp_contact_eval(L, level, xi, rho, Jsi, H);
+    if (e != HP_OK) return e;
+    for (int k = 0; k < L->n; ++k) {
+        rho[k] *= HP_MM_PER_M;
+        if (!isfinite(rho[k])) return HP_ERR_DOMAIN;
+        for (int i = 0; i < 3; ++i) {
+            J[k * 6 + i] = Jsi[k * 6 + i];
+            J[k * 6 + i + 3] = Jsi[k * 6 + i + 3] * HP_MM_PER_M / HP_DEG_PER_RAD;
+        }
+        for (int i = 0; i < 36; ++i)
+            if (!isfinite(H[k * 36 + i])) return HP_ERR_DOMAIN;
+    }
+    return HP_OK;
+}
+
+static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings *s,
+                          hp_diag *d)
+{
+    (void)pb;
+    rt_state *st = calloc(1, sizeof *st);
+    if (!st) return hp_diag_set(d, HP_ERR_NOMEM, "realtime backend: out of memory");
+    st->max_iter = s->max_iter;
+    st->max_time = s->max_time;
+    st->tolerance = s->tolerance;
+    *state = st;
+    return HP_OK;
+}
+
+static void rt_destroy(void *state) { free(state); }
+
+/* Builds and solves the QP linearised at xk (scaled pose; uncommanded entries 0), with the
+ * limits tightened by extra[k] (mm, may be NULL). Writes the new pose into x. */
+/* 1 when the symmetric G (nv×nv) is positive definite with every Cholesky pivot above
+ * frac × its diagonal entry: far from the answer, large multipliers times the contact
+ * curvature make the Lagrangian nearly singular and the Newton step wild. */
+static int well_convex(const double *G, int nv, double frac)
+{
+    double L[HP_QP_NMAX * HP_QP_NMAX] = {0};
+    for (int j = 0; j < nv; ++j) {
+        double s = G[j * nv + j];
+        for (int k = 0; k < j; ++k) s -= L[j * nv + k] * L[j * nv + k];
+        if (!(s > frac * G[j * nv + j])) return 0;
+        L[j * nv + j] = sqrt(s);
+        for (int i = j + 1; i < nv; ++i) {
+            double t = G[i * nv + j];
+            for (int k = 0; k < j; ++k) t -= L[i * nv + k] * L[j * nv + k];
+            L[i * nv + j] = t / L[j * nv + j];
+        }
+    }
+    return 1;
+}
+
+/* Hessian of the Lagrangian in the commanded variables, W − Σ (u_lo,k − u_hi,k)·∇²rho_k
+ * (Newton-SQP: quadratic convergence on the curved levels), written into q->G, and the
+ * linear term for the variables x (not the step). */
+static void build_objective(rt_state *st, const hp_problem *pb, const int *map, int nv,
+                            const double *xk, int curved)
+{
+    hp_qp *q = &st->qp;
+    const double s[6] = {HP_MM_PER_M, HP_MM_PER_M, HP_MM_PER_M,
+                         HP_DEG_PER_RAD, HP_DEG_PER_RAD, HP_DEG_PER_RAD};
+    memset(q->G, 0, sizeof q->G);
+    for (int v = 0; v < nv; ++v) q->G[v * nv + v] = pb->w[map[v]];
+    if (curved)
+        for (int k = 0; k < pb->n; ++k) {
+            double lam = st->u[2 * k] - st->u[2 * k + 1];
+            if (lam == 0.0) continue;
+            for (int a = 0; a < nv; ++a)
+                for (int b = 0; b < nv; ++b) {
+                    int i = map[a], j = map[b];
+                    q->G[a * nv + b] -= lam * st->H[k * 36 + i * 6 + j] * HP_MM_PER_M /
+                                        (s[i] * s[j]);
+                }
+        }
+    if (curved && !well_convex(q->G, nv, 0.1)) { /* keep only W: safe, linear rate */
+        memset(q->G, 0, sizeof q->G);
+        for (int v = 0; v < nv; ++v) q->G[v * nv + v] = pb->w[map[v]];
+    }
+    /* ½(x − xk)ᵀG(x − xk) + ∇f(xk)ᵀ(x − xk) in x: a = ∇f(xk) − G·xk. */
+    for (int a = 0; a < nv; ++a) {
+        double g = pb->w[map[a]] * (xk[map[a]] - pb->d[map[a]]);
+        for (int b = 0; b < nv; ++b) g -= q->G[a * nv + b] * xk[map[b]];
+        q->a[a] = g;
+    }
+}
+
+static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
+                          const double *extra, double *x, int budget, int *iters)
+{
+    hp_qp *q = &st->qp;
+    int map[6], nv = 0;
+    for (int i = 0; i < 6; ++i)
+        if (pb->w[i] > 0) map[nv++] = i;
+    int curved = pb->level != HP_LEVEL_LINEAR && st->have_u;
+    if (hp_contact_eval_scaled_h(pb->layout, pb->level, xk, st->rho, st->J,
+                                 curved ? st->H : NULL) != HP_OK)
+        return HP_QP_BAD_INPUT;
+    q->n = nv;
+    q->m = 2 * pb->n;
+    build_objective(st, pb, map, nv, xk, curved);
+    for (int k = 0; k < pb->n; ++k) {
+        double span = pb->ro_hi[k] - pb->ro_lo[k];
+        double mg = fmin(RT_MARGIN_MM, 0.25 * span) + (extra ? extra[k] : 0.0);
+        double base = st->rho[k]; /* rho(xk) − J·xk: the linearisation's constant */
+        for (int v = 0; v < nv; ++v) {
+            double jv = st->J[k * 6 + map[v]];
+            base -= jv * xk[map[v]];
+            q->C[(2 * k) * HP_QP_NMAX + v] = jv;
+            q->C[(2 * k + 1) * HP_QP_NMAX + v] = -jv;
+        }
+        q->b[2 * k] = pb->ro_lo[k] + mg - base;         /* J x >= lo − base */
+        q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base);  /* −J x >= −(hi − base) */
+    }
+    hp_qp_status qs = hp_qp_solve(q, budget, RT_FEAS_TOL);
+    *iters += q->iterations;
+    if (qs == HP_QP_BAD_INPUT && curved) { /* Lagrangian not convex here: plain W */
+        build_objective(st, pb, map, nv, xk, 0);
+        qs = hp_qp_solve(q, budget, RT_FEAS_TOL);
+        *iters += q->iterations;
+    }
+    if (qs == HP_QP_OPTIMAL) {
+        memcpy(st->u, q->u, sizeof st->u);
+        st->have_u = 1;
+    }
+    if (qs == HP_QP_OPTIMAL) {
+        for (int i = 0; i < 6; ++i) x[i] = 0.0;
+        for (int v = 0; v < nv; ++v) x[map[v]] = q->x[v];
+    }
+    return qs;
+}
+
+/* Largest violation of the true limits by rho(x) (mm); per-bladder violations in viol. */
+static double violation(rt_state *st, const hp_problem *pb, const double *x, double *viol)
+{
+    if (hp_setup_contact_scaled(pb->layout, pb->level, x, st->rho, NULL) != HP_OK)
+        return INFINITY;
+    double worst = 0;
+    for (int k = 0; k < pb->n; ++k) {
+        double v = fmax(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]);
+        v = fmax(v, 0.0);
+        if (viol) viol[k] = v;
+        worst = fmax(worst, v);
+    }
+    return worst;
+}
+
+/* The l1 merit function ½Σw(x − d)² + nu·Σ violation(x) (mm), which the SQP step decreases
+ * for nu above the largest multiplier. */
+static double merit(rt_state *st, const hp_problem *pb, const double *x, double nu)
+{
+    double f = 0;
+    for (int i = 0; i < 6; ++i) f += 0.5 * pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
+    if (hp_setup_contact_scaled(pb->layout, pb->level, x, st->rho, NULL) != HP_OK)
+        return INFINITY;
+    double v = 0;
+    for (int k = 0; k < pb->n; ++k)
+        v += fmax(0.0, fmax(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]));
+    return f + nu * v;
+}
+
+/* Backtracking on the merit function along xk -> xn (Armijo, at most 30 halvings): far
+ * from the answer the full SQP step can overshoot the curved limits and cycle. xk becomes
+ * the accepted point. */
+static void line_search(rt_state *st, const hp_problem *pb, double *xk, const double *xn)
+{
+    double nu = 1.0;
+    for (int j = 0; j < 2 * pb->n; ++j) nu = fmax(nu, 2.0 * st->u[j]);
+    double phi0 = merit(st, pb, xk, nu), viol0 = 0, slope = 0;
+    for (int k = 0; k < pb->n; ++k)
+        viol0 += fmax(0.0, fmax(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]));
+    for (int i = 0; i < 6; ++i) slope += pb->w[i] * (xk[i] - pb->d[i]) * (xn[i] - xk[i]);
+    slope -= nu * viol0; /* directional derivative bound of the l1 merit along a QP step */
+    double alpha = 1.0, xt[6];
+    for (int it = 0; it < 30; ++it, alpha *= 0.5) {
+        for (int i = 0; i < 6; ++i) xt[i] = xk[i] + alpha * (xn[i] - xk[i]);
+        if (merit(st, pb, xt, nu) <= phi0 + 1e-4 * alpha * fmin(slope, 0.0)) break;
+    }
+    memcpy(xk, xt, sizeof xt);
+}
+
+static hp_status qp_status_map(hp_qp_status qs)
+{
+    switch (qs) {
+    case HP_QP_OPTIMAL: return HP_STATUS_CLOSEST;
+    case HP_QP_INFEASIBLE: return HP_STATUS_INFEASIBLE_START;
+    case HP_QP_ITERATION_LIMIT: return HP_STATUS_ITERATION_LIMIT;
+    default: return HP_STATUS_SOLVER_ERROR;
+    }
+}
+
+static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, double *x,
+                         hp_backend_result *r, hp_diag *d)
+{
+    rt_state *st = state;
+    double t0 = now_s(), xk[6], xn[6];
+    r->iterations = 0;
+    r->converged = 0;
+    r->raw_code = 0;
+    for (int i = 0; i < 6; ++i) xk[i] = (pb->w[i] > 0 && x0 && isfinite(x0[i])) ? x0[i] : 0.0;
+    if (pb->level == HP_LEVEL_LINEAR) for (int i = 0; i < 6; ++i) xk[i] = 0.0;
+
+    int iters = 0, sqp = 0;
+    double prev_step = INFINITY;
+    st->have_u = 0;
+    hp_qp_status qs = HP_QP_OPTIMAL;
+    hp_status st_out = HP_STATUS_CLOSEST;
+    for (;;) {
+        qs = qp_at(st, pb, xk, NULL, xn, st->max_iter, &iters);
+        ++sqp;
+        if (qs != HP_QP_OPTIMAL && sqp > 1) {
+            /* A linearisation far from the answer can be empty or degenerate: keep the last
+             * iterate, let the restoration make it feasible, and say it is not optimal. */
+            qs = HP_QP_OPTIMAL;
+            st_out = HP_STATUS_ITERATION_LIMIT;
+            r->converged = 0;
+            break;
+        }
+        if (qs != HP_QP_OPTIMAL) break;
+        double step = 0;
+        for (int i = 0; i < 6; ++i) step = fmax(step, fabs(xn[i] - xk[i]));
+        if (pb->level == HP_LEVEL_LINEAR) {
+            memcpy(xk, xn, sizeof xk);
+            r->converged = 1;
+            break;
+        }
+        /* Globalise only big steps: near the answer the full step converges quadratically,
+         * and a merit line search there would reject it (the Maratos effect). */
+        if (step > RT_FULL_STEP) line_search(st, pb, xk, xn);
+        else memcpy(xk, xn, sizeof xk);
+        /* Converged when the step is far below the pose tolerance, or below a tenth of it
+         * and no longer shrinking (Newton steps that stall have hit the rounding floor). */
+        if (step <= 1e-3 * st->tolerance ||
+            (step <= 0.1 * st->tolerance && step >= 0.5 * prev_step)) {
+            r->converged = 1;
+            break;
+        }
+        prev_step = step;
+        if (sqp >= st->max_iter) { st_out = HP_STATUS_ITERATION_LIMIT; break; }
+        if (now_s() - t0 > st->max_time) { st_out = HP_STATUS_TIME_LIMIT; break; }
+    }
+    r->raw_code = (int)qs;
+    r->iterations = iters;
+    if (qs != HP_QP_OPTIMAL) {
+        r->status = qp_status_map(qs);
+        return hp_diag_set(d, HP_ERR_SOLVER, "realtime QP: %s",
+                           qs == HP_QP_INFEASIBLE ? "the limits cannot all hold at once"
+                           : qs == HP_QP_ITERATION_LIMIT ? "iteration budget exhausted"
+                                                         : "bad numbers in the problem");
+    }
+
+    /* Feasibility restoration (only the nonlinear levels can need it). */
+    double viol[HP_MAX_BLADDERS], extra[HP_MAX_BLADDERS] = {0};
+    double v = violation(st, pb, xk, viol);
+    for (int round = 0; v > 0 && round < RT_RESTORE_ROUNDS; ++round) {
+        for (int k = 0; k < pb->n; ++k) extra[k] += 2.0 * viol[k];
+        if (qp_at(st, pb, xk, extra, xn, st->max_iter, &iters) != HP_QP_OPTIMAL) break;
+        double vn = violation(st, pb, xn, viol);
+        if (vn < v) { memcpy(xk, xn, sizeof xk); v = vn; }
+        r->converged = 0; /* a tightened answer is feasible but not proven closest */
+    }
+    if (v > 0) {
+        /* Bisection toward a feasible anchor: the warm start, else the nominal pose. */
+        double anchor[6] = {0};
+        int have = 0;
+        if (x0) {
+            for (int i = 0; i < 6; ++i) anchor[i] = pb->w[i] > 0 && isfinite(x0[i]) ? x0[i] : 0;
+            have = violation(st, pb, anchor, NULL) == 0;
+        }
+        if (!have) {
+            memset(anchor, 0, sizeof anchor);
+            have = violation(st, pb, anchor, NULL) == 0;
+        }
+        if (!have) {
+            r->status = HP_STATUS_SOLVER_ERROR;
+            return hp_diag_set(d, HP_ERR_SOLVER,
+                               "realtime SQP: no feasible point found for the restoration");
+        }
+        double lo = 0, hi = 1, xt[6];
+        for (int it = 0; it < RT_BISECT_STEPS; ++it) {
+            double mid = 0.5 * (lo + hi);
+            for (int i = 0; i < 6; ++i) xt[i] = anchor[i] + mid * (xk[i] - anchor[i]);
+            if (violation(st, pb, xt, NULL) == 0) lo = mid;
+            else hi = mid;
+        }
+        for (int i = 0; i < 6; ++i) xk[i] = anchor[i] + lo * (xk[i] - anchor[i]);
+        r->converged = 0;
+    }
+    r->iterations = iters;
+    if (!r->converged && st_out == HP_STATUS_CLOSEST && pb->level != HP_LEVEL_LINEAR)
+        st_out = HP_STATUS_ITERATION_LIMIT;
+    r->status = st_out;
+    /* Pose and the inner radii that keep contact with it. */
+    if (hp_setup_contact_scaled(pb->layout, pb->level, xk, st->rho, NULL) != HP_OK) {
+        r->status = HP_STATUS_SOLVER_ERROR;
+        return hp_diag_set(d, HP_ERR_SOLVER, "realtime: contact model failed at the answer");
+    }
+    for (int i = 0; i < 6; ++i) x[i] = xk[i];
+    for (int k = 0; k < pb->n; ++k) {
+        double ri;
+        if (hp_iab_ri(&pb->layout->bladders[k].iab, st->rho[k] / HP_MM_PER_M, &ri) != HP_OK)
+            ri = NAN;
+        x[6 + k] = ri * HP_MM_PER_M;
+    }
+    return HP_OK;
+}
+
+const hp_backend_ops hp_backend_realtime_ops = {"realtime", rt_create, rt_solve, rt_destroy};

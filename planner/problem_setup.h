@@ -1,0 +1,54 @@
+/* Internal: what hp_planner_create and hp_plan derive from a layout before any solver runs —
+ * every limit as a bound on the bladders' radii, the commanded directions, unit scaling. */
+#ifndef HP_PLANNER_PROBLEM_SETUP_H
+#define HP_PLANNER_PROBLEM_SETUP_H
+
+#include "planner/problem.h"
+
+/* Scaled units of hp_problem: x[0..2] mm, x[3..5] degrees, radii mm. */
+#define HP_MM_PER_M 1e3
+#define HP_DEG_PER_RAD 57.295779513082320877
+/* Relative distance below an inflation limit point's inner radius that the planner keeps
+ * every bladder: 1e-3 of ri leaves the pressure ~1e-6 below the peak, so hp_iab_fk can still
+ * recover the radius from the pressure (dP/dri vanishes at the peak). */
+#define HP_STABLE_MARGIN 1e-3
+
+/* Limits of one layout that do not change from plan to plan, in SI. */
+typedef struct hp_static_bounds {
+    double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS]; /* [m] */
+    unsigned lo_flags[HP_MAX_BLADDERS], hi_flags[HP_MAX_BLADDERS]; /* HP_BIND_* at each */
+    double p_lo[HP_MAX_BLADDERS], p_hi[HP_MAX_BLADDERS];   /* IK at ri_lo, ri_hi [Pa] */
+    hp_iab_limit limit[HP_MAX_BLADDERS]; /* inflation limit points, for hp_iab_fk_limit:
+                                            pressure -> radius every cycle without a scan */
+} hp_static_bounds;
+
+/* Pressure, stretch and limit-point limits as inner-radius bounds, so that IK(ri_lo) >=
+ * p_min and IK(ri_hi) <= p_max hold exactly in floating point. Errors name the bladder. */
+hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag *d);
+
+/* One plan's bounds: the static ones intersected with the rate limits around p_prev (when
+ * use_rate), written into pb (mm) with the HP_BIND_* flags of each bound. Allocates nothing.
+ * HP_ERR_INVALID with the bladder named when a bladder's interval is empty. */
+hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
+                               const double *p_prev, int use_rate, hp_problem *pb,
+                               unsigned *lo_flags, unsigned *hi_flags, hp_diag *d);
+
+/* Which pose components the layout can command at level (1) and which it cannot (0): the
+ * rank of the scaled contact Jacobian at the nominal pose (one-sided Jacobi SVD, singular
+ * values > 1e-9 of the largest) and, when rank < 6, rotations then translations whose
+ * column lies in the span of the others are dropped. */
+hp_error hp_setup_commanded(const hp_layout *L, hp_level level, int commanded[6],
+                            hp_diag *d);
+
+/* Contact distances and Jacobian in scaled units: rho_mm[n], J_s[n×6] (mm per mm, mm per
+ * degree); J_s may be NULL. x is scaled (mm, deg). Allocates nothing. */
+hp_error hp_setup_contact_scaled(const hp_layout *L, hp_level level, const double x[6],
+                                 double *rho_mm, double *J_s);
+
+/* A bladder's state from its outer radius ro [m]: ri, pressure (clamped into [p_lo, p_hi]
+ * after the model is evaluated), stretch. HP_ERR_DOMAIN/INVALID on a non-finite result. */
+hp_error hp_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, double ri_hi,
+                                  double p_lo, double p_hi, hp_bladder_result *out,
+                                  int *clamped);
+
+#endif

@@ -1,0 +1,43 @@
+/* Internal: a small dense strictly convex QP,
+ *     minimise ½ xᵀ G x + aᵀ x   subject to   C x >= b   (m rows),
+ * by the Goldfarb–Idnani dual active-set method (Math. Programming 27, 1983). It starts from
+ * the unconstrained minimum and adds violated constraints one at a time, keeping the dual
+ * feasible; linearly dependent (degenerate) constraints are handled by its "drop" steps, and
+ * an empty feasible set is detected, not looped on. Fixed-size workspace: no allocation. */
+#ifndef HP_PLANNER_QP_H
+#define HP_PLANNER_QP_H
+
+#include "headplan/hp_common.h"
+
+#define HP_QP_NMAX 6
+#define HP_QP_MMAX (2 * HP_MAX_BLADDERS)
+
+typedef enum hp_qp_status {
+    HP_QP_OPTIMAL = 0,
+    HP_QP_INFEASIBLE,     /* no x satisfies C x >= b */
+    HP_QP_ITERATION_LIMIT,
+    HP_QP_BAD_INPUT       /* G not positive definite, NaN, sizes out of range */
+} hp_qp_status;
+
+typedef struct hp_qp {
+    int n, m;
+    double G[HP_QP_NMAX * HP_QP_NMAX]; /* row-major, symmetric positive definite */
+    double a[HP_QP_NMAX];
+    double C[HP_QP_MMAX * HP_QP_NMAX]; /* row j: constraint normal */
+    double b[HP_QP_MMAX];
+    /* outputs */
+    double x[HP_QP_NMAX];
+    double u[HP_QP_MMAX];   /* multiplier of every constraint (0 when inactive) */
+    int active[HP_QP_MMAX]; /* 1 when constraint j is in the final active set */
+    int iterations;         /* add + drop steps */
+    /* workspace */
+    double J_[HP_QP_NMAX * HP_QP_NMAX], R_[HP_QP_NMAX * HP_QP_NMAX];
+    int A_[HP_QP_NMAX];
+    double uA_[HP_QP_NMAX + 1];
+} hp_qp;
+
+/* Solves the QP held in q (n, m, G, a, C, b filled) with at most max_iter add/drop steps;
+ * feas_tol is the violation (in units of b, per unit-norm row) accepted as satisfied. */
+hp_qp_status hp_qp_solve(hp_qp *q, int max_iter, double feas_tol);
+
+#endif
