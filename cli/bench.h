@@ -1,0 +1,79 @@
+/* headplan bench: the shared method table. Every family of methods (the bladder IK now, the
+ * planner later) fills rows of the same shape; cmd_bench.c writes them as CSV, draws the
+ * chart and prints the summary without knowing which family they came from. */
+#ifndef HP_CLI_BENCH_H
+#define HP_CLI_BENCH_H
+
+#include <stddef.h>
+
+/* Errors smaller than this (including exact zeros) are drawn at this value on the log-scale
+ * chart; the CSV keeps the true value. */
+#define HP_BENCH_ERROR_FLOOR 1e-17
+
+/* How hard to measure. */
+typedef struct hp_bench_options {
+    int quick;              /* 1: a test run: few samples; the IK's accuracy still on every
+                               input, the planner's on fewer targets */
+    unsigned long seed;     /* order in which timed batches walk the inputs */
+    long samples;           /* timed batches per method */
+    long warmup_batches;    /* untimed batches first */
+    double batch_target_ns; /* a batch lasts at least this long (clock resolution/overhead) */
+    const char *scene;      /* the layout scene of the planner family */
+} hp_bench_options;
+
+/* Fills the sampling settings for a full (quick = 0) or quick run; scene = NULL. */
+void hp_bench_options_default(hp_bench_options *o, int quick, unsigned long seed);
+
+/* One method's measurements: one CSV row. Text fields never hold commas or quotes. */
+typedef struct hp_bench_row {
+    char method[48];    /* unique name, e.g. "gl-ref-16" */
+    char family[16];    /* "ik", "planner" */
+    char variant[32];   /* the chart's series, e.g. "gauss-reference" */
+    char parameter[24]; /* what varies along the series: order, tolerance, level... */
+    char input_set[16]; /* which inputs it ran on; only rows on the same inputs compete
+                           for the Pareto front ("grid", "binding", "reachable") */
+    double median_ns;   /* median time per evaluation over the timed batches [ns] */
+    double p99_ns;      /* 99th percentile (nearest rank) of the same [ns] */
+    double max_error;   /* IK: max relative error vs the __float128 reference;
+                           planner: max pose error [mm or deg] */
+    char worst[64];     /* where max_error occurred, "key=value;key=value" */
+    double max_violation; /* worst constraint violation; NaN = not applicable */
+    double model_error; /* planner: max pose difference between the exact-model round trip
+                           and the method's own claim [mm or deg]; NaN = not applicable */
+    long failures;      /* inputs on which the method returned an error or failed status */
+    long inputs;        /* inputs the accuracy was measured on */
+    long samples;       /* timed batches */
+    long batch;         /* evaluations per timed batch */
+    double ratio_to_baseline; /* median_ns / the family baseline's median_ns */
+    int pareto;         /* 1 when no row on the same input set is both faster (or as fast)
+                           and more accurate (or as accurate) */
+} hp_bench_row;
+
+/* A growable list of rows (cmd_bench.c owns it). */
+typedef struct hp_bench_table {
+    hp_bench_row *rows;
+    size_t n, cap;
+    const char *baseline; /* method name of the row the ratios divide by; the chart's thick
+                             front is that of the baseline's input set */
+} hp_bench_table;
+
+/* Appends a zeroed row (max_violation NaN) and returns it; NULL when out of memory. */
+hp_bench_row *hp_bench_table_add(hp_bench_table *t);
+/* Fills ratio_to_baseline (NaN when the baseline row is missing) and the pareto flags. */
+void hp_bench_table_finish(hp_bench_table *t);
+void hp_bench_table_free(hp_bench_table *t);
+
+/* A family of methods: runs every method on the family's inputs and appends one row each.
+ * Progress goes to stderr, nothing to stdout. Returns 0, or a process exit status. */
+typedef int (*hp_bench_family_fn)(const hp_bench_options *o, hp_bench_table *t);
+
+/* The bladder IK: closed form, Gauss–Legendre (both forms, orders 2..64), adaptive
+ * Gauss–Kronrod (both forms, tolerances 1e-4..1e-13); baseline the closed form. */
+int hp_bench_ik(const hp_bench_options *o, hp_bench_table *t);
+
+/* The planner: fast path per level; backend × level × tolerance on targets where a limit
+ * binds; accuracy through the exact surface model against Ipopt at a tight tolerance;
+ * baseline Ipopt at the surface level, tolerance 1e-9. Needs o->scene. */
+int hp_bench_planner(const hp_bench_options *o, hp_bench_table *t);
+
+#endif

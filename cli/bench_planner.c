@@ -1,0 +1,283 @@
+/* headplan bench, family "planner": every backend × contact fidelity level × tolerance, and
+ * the direct-chain fast path, on the same targets of one layout scene.
+ *
+ * Targets: a fixed set (seeded, independent of --seed) in two groups. "Binding" targets
+ * (uniform in ±6 mm, ±4° per axis) make a pressure or stretch limit bind, so a solver runs;
+ * every backend row is measured on them. "Reachable" targets (±0.5 mm, ±0.3°) are answered
+ * by the direct chain alone; the fast-path rows are measured on them.
+ *
+ * Accuracy, always through the exact model: the returned pressures go through the bladder
+ * FK (pressure -> inner radius), the volume law (-> outer radius) and the contact FK at the
+ * SURFACE level (-> pose). max_error is the largest difference, in mm or degrees over the
+ * six axes, between that pose and the reference answer's (Ipopt, surface level, tolerance
+ * 1e-10, sent through the same round trip). model_error is the largest difference between
+ * that pose and the pose the method claimed (result.achieved): what its fidelity level
+ * costs. max_violation is the worst pressure or stretch limit violation as a fraction of
+ * the limit's span (the planner promises 0). Every plan is cold: hp_planner_reset before
+ * each, warm start off, so the order of the targets does not matter. */
+#include "cli/bench.h"
+#include "cli/bench_timing.h"
+#include "cli/exit_codes.h"
+#include "headplan/hp_planner.h"
+#include "headplan/hp_scene.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define N_BIND_FULL 40
+#define N_BIND_QUICK 4
+#define N_REACH 40
+#define N_TARGETS_MAX (N_BIND_FULL + N_REACH)
+#define REF_TOLERANCE 1e-10
+#define TARGET_SEED 20261123u
+#define PI 3.14159265358979323846
+
+typedef struct {
+    hp_planner *p;
+    const double (*targets)[6];
+    long n;
+    const long *perm;
+    double sink;
+} plan_ctx;
+
+static void batch(void *vctx, long first, long count)
+{
+    plan_ctx *c = vctx;
+    long pos = first % c->n;
+    hp_result r;
+    for (long j = 0; j < count; ++j) {
+        hp_planner_reset(c->p);
+        if (hp_plan(c->p, c->targets[c->perm[pos]], &r) == HP_OK)
+            c->sink += r.bladders[0].pressure;
+        if (++pos == c->n) pos = 0;
+    }
+}
+
+static double urand(uint64_t *s)
+{
+    *s ^= *s >> 12;
+    *s ^= *s << 25;
+    *s ^= *s >> 27;
+    return (double)((*s * 0x2545F4914F6CDD1Du) >> 11) / 9007199254740992.0;
+}
+
+/* Targets in SI: translations within ±mm, rotations within ±deg, per axis. */
+static void make_targets(double (*t)[6], long n, double mm, double deg, uint64_t *s)
+{
+    for (long k = 0; k < n; ++k)
+        for (int i = 0; i < 6; ++i) {
+            double u = 2 * urand(s) - 1;
+            t[k][i] = i < 3 ? u * mm * 1e-3 : u * deg * (PI / 180.0);
+        }
+}
+
+/* The pose the head actually takes under the pressures of r: bladder FK, volume law,
+ * contact FK at the surface level. Returns HP_OK or the first failing call's code. */
+static hp_error round_trip(const hp_layout *L, const hp_result *r, double xi[6])
+{
+    double ro[HP_MAX_BLADDERS];
+    for (int k = 0; k < L->n; ++k) {
+        double ri;
+        hp_error e = hp_iab_fk(&L->bladders[k].iab, r->bladders[k].pressure, &ri);
+        if (e == HP_OK) e = hp_iab_ro(&L->bladders[k].iab, ri, &ro[k]);
+        if (e != HP_OK) return e;
+    }
+    return hp_contact_fk(L, HP_LEVEL_SURFACE, ro, r->achieved, xi, NULL, NULL);
+}
+
+/* Largest axis difference in mm (translation) or degrees (rotation). */
+static double pose_diff(const double a[6], const double b[6])
+{
+    double m = 0;
+    for (int i = 0; i < 6; ++i) {
+        double d = fabs(a[i] - b[i]) * (i < 3 ? 1e3 : 180.0 / PI);
+        if (!(d <= m)) m = d;
+    }
+    return m;
+}
+
+static double violation(const hp_layout *L, const hp_result *r)
+{
+    double v = 0;
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder *b = &L->bladders[k];
+        double P = r->bladders[k].pressure, s = r->bladders[k].stretch;
+        double vp = fmax(fmax(P - b->p_max, b->p_min - P), 0) / (b->p_max - b->p_min);
+        double vs = fmax(fmax(s - b->stretch_max, b->stretch_min - s), 0) /
+                    (b->stretch_max - b->stretch_min);
+        if (!(vp <= v)) v = vp;
+        if (!(vs <= v)) v = vs;
+    }
+    return v;
+}
+
+typedef struct {
+    hp_backend backend; /* HP_BACKEND_COUNT_: the fast path (realtime on reachable targets) */
+    hp_level level;
+    double tol;
+} plan_method;
+
+static int create(const hp_layout *L, hp_backend b, hp_level level, double tol, hp_planner **p)
+{
+    hp_settings s;
+    hp_settings_default(&s);
+    s.backend = b;
+    s.level = level;
+    s.tolerance = tol;
+    s.warm_start = 0;
+    s.max_iter = b == HP_BACKEND_NLOPT_COBYLA ? 5000 : 3000;
+    s.max_time = 5.0;
+    hp_diag d;
+    if (hp_planner_create(L, &s, p, &d) != HP_OK) {
+        fprintf(stderr, "headplan bench: planner (%s, %s, tolerance %g): %s\n",
+                hp_backend_name(b), hp_level_name(level), tol, d.text);
+        return HP_EXIT_SOFTWARE;
+    }
+    return 0;
+}
+
+/* The reference round-trip pose of every target. */
+static int reference(const hp_layout *L, const double (*t)[6], long n, double (*ref)[6])
+{
+    hp_planner *p;
+    int rc = create(L, HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, REF_TOLERANCE, &p);
+    for (long k = 0; k < n && rc == 0; ++k) {
+        hp_result r;
+        hp_planner_reset(p);
+        if (hp_plan(p, t[k], &r) != HP_OK ||
+            (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
+            round_trip(L, &r, ref[k]) != HP_OK) {
+            fprintf(stderr, "headplan bench: the reference (ipopt, surface) failed on target %ld: %s\n",
+                    k, hp_planner_error(p));
+            rc = HP_EXIT_SOFTWARE;
+        }
+    }
+    hp_planner_destroy(p);
+    return rc;
+}
+
+static void measure_accuracy(hp_planner *p, const hp_layout *L, const double (*t)[6],
+                             const double (*ref)[6], long n, hp_bench_row *row,
+                             double *model_error)
+{
+    double worst = -1, model = 0, viol = 0;
+    long wk = 0;
+    const char *first_failure = NULL;
+    row->failures = 0;
+    for (long k = 0; k < n; ++k) {
+        hp_result r;
+        double xi[6];
+        hp_planner_reset(p);
+        hp_error pe = hp_plan(p, t[k], &r);
+        if (pe != HP_OK || (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
+            round_trip(L, &r, xi) != HP_OK) {
+            if (!first_failure)
+                first_failure = pe != HP_OK ? hp_error_name(pe)
+                                : (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST)
+                                    ? hp_status_name(r.status)
+                                    : "round-trip";
+            row->failures++;
+            continue;
+        }
+        double e = pose_diff(xi, ref[k]), me = pose_diff(xi, r.achieved), v = violation(L, &r);
+        if (e > worst) {
+            worst = e;
+            wk = k;
+        }
+        if (me > model) model = me;
+        if (v > viol) viol = v;
+    }
+    row->inputs = n;
+    row->max_error = worst < 0 ? NAN : worst;
+    row->max_violation = viol;
+    *model_error = model;
+    /* The first failure's status says why (e.g. "iteration-limit"). */
+    snprintf(row->worst, sizeof row->worst, "target=%ld%s%s", wk,
+             first_failure ? ";first_failure=" : "", first_failure ? first_failure : "");
+}
+
+int hp_bench_planner(const hp_bench_options *o, hp_bench_table *t)
+{
+    hp_scene scene;
+    hp_diag d;
+    if (hp_scene_load(o->scene, &scene, &d) != HP_OK) {
+        fprintf(stderr, "headplan bench: --scene: %s\n", d.text);
+        return HP_EXIT_NOINPUT;
+    }
+    if (scene.kind != HP_SCENE_LAYOUT) {
+        fprintf(stderr, "headplan bench: --scene: %s: not a layout scene\n", o->scene);
+        return HP_EXIT_DATAERR;
+    }
+    const hp_layout *L = &scene.layout;
+    static double targets[N_TARGETS_MAX][6], ref[N_TARGETS_MAX][6];
+    static long perm_bind[N_BIND_FULL], perm_reach[N_REACH];
+    long n_bind = o->quick ? N_BIND_QUICK : N_BIND_FULL, n_reach = o->quick ? 4 : N_REACH;
+    uint64_t s = TARGET_SEED;
+    make_targets(targets, N_BIND_FULL, 6.0, 4.0, &s);
+    make_targets(targets + N_BIND_FULL, N_REACH, 0.5, 0.3, &s);
+    hp_bench_shuffle(perm_bind, n_bind, o->seed);
+    hp_bench_shuffle(perm_reach, n_reach, o->seed);
+
+    fprintf(stderr, "bench planner: reference answers (ipopt, surface, tolerance %g)\n",
+            REF_TOLERANCE);
+    int rc = reference(L, (const double(*)[6])targets, n_bind, ref);
+    if (rc == 0)
+        rc = reference(L, (const double(*)[6])targets + N_BIND_FULL, n_reach, ref + N_BIND_FULL);
+    if (rc) return rc;
+
+    plan_method ms[64];
+    int nm = 0;
+    static const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    static const double tols[] = {1e-4, 1e-9};
+    for (int l = 0; l < 3; ++l) ms[nm++] = (plan_method){HP_BACKEND_COUNT_, levels[l], 1e-9};
+    for (int b = 0; b < HP_BACKEND_COUNT_; ++b)
+        for (int l = 0; l < 3; ++l)
+            for (int k = 0; k < 2; ++k) ms[nm++] = (plan_method){(hp_backend)b, levels[l], tols[k]};
+
+    for (int i = 0; i < nm && rc == 0; ++i) {
+        const plan_method *m = &ms[i];
+        int fast = m->backend == HP_BACKEND_COUNT_;
+        hp_bench_row *row = hp_bench_table_add(t);
+        if (!row) {
+            fprintf(stderr, "headplan bench: out of memory\n");
+            return HP_EXIT_SOFTWARE;
+        }
+        snprintf(row->family, sizeof row->family, "planner");
+        snprintf(row->input_set, sizeof row->input_set, "%s", fast ? "reachable" : "binding");
+        if (fast) {
+            snprintf(row->method, sizeof row->method, "fastpath-%s", hp_level_name(m->level));
+            snprintf(row->variant, sizeof row->variant, "fast-path");
+            snprintf(row->parameter, sizeof row->parameter, "%s", hp_level_name(m->level));
+        } else {
+            snprintf(row->method, sizeof row->method, "%s-%s-%.0e", hp_backend_name(m->backend),
+                     hp_level_name(m->level), m->tol);
+            snprintf(row->variant, sizeof row->variant, "%s", hp_backend_name(m->backend));
+            snprintf(row->parameter, sizeof row->parameter, "%s/%.0e", hp_level_name(m->level),
+                     m->tol);
+        }
+        fprintf(stderr, "bench planner: [%2d/%d] %-24s", i + 1, nm, row->method);
+        hp_planner *p;
+        if ((rc = create(L, fast ? HP_BACKEND_REALTIME : m->backend, m->level, m->tol, &p)))
+            break;
+        const double(*tg)[6] = (const double(*)[6])targets + (fast ? N_BIND_FULL : 0);
+        long n = fast ? n_reach : n_bind;
+        measure_accuracy(p, L, tg, (const double(*)[6])ref + (fast ? N_BIND_FULL : 0), n, row,
+                         &row->model_error);
+        plan_ctx c = {p, tg, n, fast ? perm_reach : perm_bind, 0};
+        hp_bench_timing tm;
+        if (hp_bench_time(o, batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
+        hp_planner_destroy(p);
+        if (rc) break;
+        row->median_ns = tm.median_ns;
+        row->p99_ns = tm.p99_ns;
+        row->samples = tm.samples;
+        row->batch = tm.batch;
+        fprintf(stderr, " %12.0f ns  max error %.2e  failures %ld\n", row->median_ns,
+                row->max_error, row->failures);
+    }
+    t->baseline = "ipopt-surface-1e-09";
+    return rc;
+}

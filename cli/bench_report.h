@@ -1,0 +1,46 @@
+/* headplan bench: writing the results (CSV, gnuplot chart, summary) and the output folder. */
+#ifndef HP_CLI_BENCH_REPORT_H
+#define HP_CLI_BENCH_REPORT_H
+
+#include "cli/bench.h"
+
+#include <stdio.h>
+
+/* The CSV header line (without newline); the columns never change order. */
+extern const char *const hp_bench_csv_header;
+
+/* Writes the header and one line per row to f. Returns 0, or -1 on a write error. */
+int hp_bench_write_csv(const hp_bench_table *t, FILE *f);
+
+/* The short human-readable table printed on stdout. */
+void hp_bench_print_summary(const hp_bench_table *t, FILE *f);
+
+/* What the chart of one family says. */
+typedef struct hp_bench_chart {
+    const char *family; /* file stem: DIR/<family>.csv, DIR/<family>_pareto.{gp,png,svg} */
+    const char *title;
+    const char *xlabel;
+    const char *ylabel;
+} hp_bench_chart;
+
+/* Creates dir and its parents (like mkdir -p). Returns 0, or HP_EXIT_CANTCREAT after one
+ * line on stderr naming the folder. */
+int hp_bench_mkdirs(const char *dir);
+
+/* Writes DIR/NAME through DIR/NAME.tmp and a rename, so that a failed run never leaves a
+ * partial file under the final name. writer returns 0 or -1. Returns 0, or
+ * HP_EXIT_CANTCREAT after one line on stderr naming the file. */
+int hp_bench_save(const char *dir, const char *name,
+                  int (*writer)(const void *arg, FILE *f), const void *arg);
+
+/* 0 when `gnuplot --version` runs (found on PATH, exits 0), else -1. */
+int hp_bench_gnuplot_available(void);
+
+/* Writes DIR/<family>_pareto.gp (reads DIR/<family>.csv, which must exist) and runs gnuplot
+ * in DIR, drawing <family>_pareto.png and <family>_pareto.svg: time on x, error on y, log
+ * scales, one mark and label per method, a series per variant, the Pareto front as a step
+ * line, errors below HP_BENCH_ERROR_FLOOR drawn at the floor. Returns 0, HP_EXIT_CANTCREAT,
+ * or HP_EXIT_SOFTWARE when gnuplot fails or leaves an output missing or empty. */
+int hp_bench_plot(const hp_bench_table *t, const hp_bench_chart *c, const char *dir);
+
+#endif

@@ -1,0 +1,165 @@
+/* headplan bench: speed versus accuracy of every method, per family, on the same inputs.
+ * Writes DIR/<family>.csv and the charts DIR/<family>_pareto.{png,svg} (gnuplot), prints a
+ * summary table on stdout and progress on stderr. A benchmark measures; it never fails on
+ * a time. */
+#include "cli/bench.h"
+#include "cli/bench_report.h"
+#include "cli/cli_args.h"
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+
+#include <limits.h>
+#include <stdio.h>
+#include <string.h>
+
+#define CMD "bench"
+#define DEFAULT_OUT "out/bench"
+#define DEFAULT_SCENE "scenarios/default.yaml"
+
+/* The families, in the order they run. A new family is one row here and one
+ * hp_bench_family_fn that appends rows to the table. */
+typedef struct {
+    hp_bench_chart chart;
+    hp_bench_family_fn run;
+} family;
+
+static const family families[] = {
+    {{"ik", "Bladder inverse kinematics (radius to pressure): speed versus accuracy",
+      "median time per evaluation [ns]",
+      "max relative error vs float128 reference (1000 inputs)"},
+     hp_bench_ik},
+    {{"planner", "Planner: speed versus accuracy (default layout, targets where a limit binds)",
+      "median time per plan [ns]",
+      "max pose difference from the reference after the exact-model round trip [mm or deg]"},
+     hp_bench_planner},
+};
+#define N_FAMILIES (sizeof families / sizeof families[0])
+
+static void help(void)
+{
+    printf("usage: headplan bench [--out DIR] [--quick] [--only FAMILY[,FAMILY]] [--seed N]\n"
+           "                      [--scene FILE]\n\n"
+           "Measures every method of each family on the same inputs: median and 99th\n"
+           "percentile time per evaluation (CLOCK_MONOTONIC, warm-up, batches timed together)\n"
+           "and accuracy against a high-precision reference. Writes DIR/FAMILY.csv and the\n"
+           "charts DIR/FAMILY_pareto.png and .svg (time versus error, log scales, Pareto\n"
+           "front) with gnuplot; prints a summary table on stdout, progress on stderr.\n\n"
+           "  --out DIR      output folder, created if missing (default %s)\n"
+           "  --quick        a test run: few timing samples; the IK's accuracy is still measured\n"
+           "                 on every input, the planner's on 4 targets per group (not 40)\n"
+           "  --only LIST    comma-separated families to run (default: all):",
+           DEFAULT_OUT);
+    for (size_t i = 0; i < N_FAMILIES; ++i) printf(" %s", families[i].chart.family);
+    printf("\n"
+           "  --seed N       order in which the timed batches walk the inputs (default 1)\n"
+           "  --scene FILE   layout scene of the planner family (default %s)\n"
+           "  --help         this text\n\n"
+           "exit status: 0 ok, 64 bad command line, 70 gnuplot missing or failed,\n"
+           "66 scene cannot be read, 73 cannot write the output folder\n", DEFAULT_SCENE);
+}
+
+/* Marks the families named in a comma-separated list. Returns 0 or HP_EXIT_USAGE. */
+static int parse_only(const char *list, int *on)
+{
+    char buf[256];
+    if (strlen(list) >= sizeof buf || !*list)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD, "--only: expected a list of families");
+    strcpy(buf, list);
+    for (char *p = buf;;) {
+        char *comma = strchr(p, ',');
+        if (comma) *comma = '\0';
+        size_t k = 0;
+        while (k < N_FAMILIES && strcmp(families[k].chart.family, p) != 0) ++k;
+        if (k == N_FAMILIES)
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "--only: unknown family '%s' (known: ik, planner)", p);
+        on[k] = 1;
+        if (!comma) break;
+        p = comma + 1;
+    }
+    return 0;
+}
+
+static int csv_writer(const void *arg, FILE *f) { return hp_bench_write_csv(arg, f); }
+
+/* Runs one family and writes its files. Returns 0 or an exit status. */
+static int run_family(const family *fam, const hp_bench_options *o, const char *dir)
+{
+    hp_bench_table t = {0};
+    int rc = fam->run(o, &t);
+    if (rc == 0) {
+        hp_bench_table_finish(&t);
+        char name[64];
+        snprintf(name, sizeof name, "%s.csv", fam->chart.family);
+        rc = hp_bench_save(dir, name, csv_writer, &t);
+    }
+    if (rc == 0) rc = hp_bench_plot(&t, &fam->chart, dir);
+    if (rc == 0) {
+        hp_bench_print_summary(&t, stdout);
+        fprintf(stderr, "bench %s: wrote %s/%s.csv, %s/%s_pareto.png, %s/%s_pareto.svg\n",
+                fam->chart.family, dir, fam->chart.family, dir, fam->chart.family, dir,
+                fam->chart.family);
+    }
+    hp_bench_table_free(&t);
+    return rc;
+}
+
+int hp_cmd_bench(int argc, char **argv)
+{
+    const char *out = DEFAULT_OUT, *scene = DEFAULT_SCENE;
+    int quick = 0, only_given = 0, rc;
+    int on[N_FAMILIES] = {0};
+    long seed = 1;
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            help();
+            return HP_EXIT_OK;
+        }
+    }
+    for (int i = 1; i < argc; ++i) {
+        const char *v = NULL;
+        int m;
+        if (strcmp(argv[i], "--quick") == 0) {
+            quick = 1;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--out", &v)) != 0) {
+            if (m < 0) return HP_EXIT_USAGE;
+            if (!*v) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--out: empty folder name");
+            out = v;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--only", &v)) != 0) {
+            if (m < 0 || (rc = parse_only(v, on)) != 0) return HP_EXIT_USAGE;
+            only_given = 1;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--scene", &v)) != 0) {
+            if (m < 0) return HP_EXIT_USAGE;
+            scene = v;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--seed", &v)) != 0) {
+            if (m < 0 || (rc = hp_cli_int(CMD, "--seed", v, 0, LONG_MAX, &seed)) != 0)
+                return HP_EXIT_USAGE;
+        } else {
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see headplan bench --help)",
+                               argv[i]);
+        }
+    }
+    if (!only_given)
+        for (size_t k = 0; k < N_FAMILIES; ++k) on[k] = 1;
+
+    /* Fail before minutes of measuring, not after. */
+    if (hp_bench_gnuplot_available() != 0)
+        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD,
+                           "gnuplot not found on PATH (it draws the charts; install the "
+                           "'gnuplot' package)");
+    for (size_t k = 0; k < N_FAMILIES; ++k) {
+        FILE *f;
+        if (on[k] && families[k].run == hp_bench_planner && !(f = fopen(scene, "r")))
+            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "--scene: cannot open '%s' (the planner "
+                               "family needs a layout scene)", scene);
+        else if (on[k] && families[k].run == hp_bench_planner)
+            fclose(f);
+    }
+    if ((rc = hp_bench_mkdirs(out)) != 0) return rc;
+
+    hp_bench_options o;
+    hp_bench_options_default(&o, quick, (unsigned long)seed);
+    o.scene = scene;
+    for (size_t k = 0; k < N_FAMILIES; ++k)
+        if (on[k] && (rc = run_family(&families[k], &o, out)) != 0) return rc;
+    return HP_EXIT_OK;
+}

@@ -1,0 +1,105 @@
+# headplan bench: the IK family's CSV, accuracy relations and charts (no timing assertions:
+# times depend on the machine; accuracies do not).
+source "$2/tests/cli_lib.sh"
+
+OUT="$TMP/bench out"   # a space in the folder name: gnuplot runs without a shell
+run bench --quick --only ik --out "$OUT" --seed 7
+expect_exit 0 "bench --quick"
+expect_stdout_has "median_ns" "summary table header"
+expect_stdout_has "closed" "summary names the closed form"
+expect_stderr_has "bench ik: [ 1/34] closed" "progress on stderr"
+csv="$OUT/ik.csv"
+
+want_header="method,family,variant,parameter,input_set,median_ns,p99_ns,max_error,worst_input,max_violation,model_error,failures,inputs,samples,batch,ratio_to_baseline,pareto"
+[ -f "$csv" ] && [ "$(head -n 1 "$csv")" = "$want_header" ] && ok || bad "ik.csv header"
+
+# One row per method: closed form (value, with derivatives), Gauss-Legendre orders
+# 2..64 and adaptive tolerances 1e-4..1e-13, each on both integral forms.
+methods="closed closed-derivs"
+for f in cur ref; do
+  for n in 2 4 8 16 32 64; do methods="$methods gl-$f-$n"; done
+  for e in 04 05 06 07 08 09 10 11 12 13; do methods="$methods aq-$f-1e-$e"; done
+done
+for m in $methods; do
+  [ "$(awk -F, -v m="$m" 'NR > 1 && $1 == m' "$csv" | wc -l)" -eq 1 ] && ok || bad "row for $m"
+done
+[ "$(($(wc -l <"$csv") - 1))" -eq 34 ] && ok || bad "34 rows"
+
+# field METHOD COLUMN_NAME: the value of a named column in a method's row.
+field() {
+  awk -F, -v m="$1" -v name="$2" 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == name) c = i }
+                                  NR > 1 && $1 == m && c { print $c }' "$csv"
+}
+# Every row: positive times with p99 >= median, a measured error, no failures, 1000 inputs.
+bad_rows=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  !($c["median_ns"] > 0 && $c["p99_ns"] >= $c["median_ns"] && $c["max_error"] != "" &&
+    $c["failures"] == 0 && $c["inputs"] == 1000) { print $1 }' "$csv")
+[ -z "$bad_rows" ] && ok || bad "rows with missing values: $bad_rows"
+
+# The closed form is within 1e-14 relative of the __float128 reference everywhere
+# (docs/accuracy.md measures 8.8 ulps = 2e-15 worst over a wider sweep).
+awk -v e="$(field closed max_error)" 'BEGIN { exit !(e != "" && e <= 1e-14) }' && ok || bad "closed max_error $(field closed max_error) > 1e-14"
+awk -v e="$(field closed-derivs max_error)" 'BEGIN { exit !(e != "" && e <= 1e-14) }' && ok || bad "closed-derivs max_error"
+# The ratio column divides by the closed form's own median: 1 on its own row.
+[ "$(field closed ratio_to_baseline)" = "1" ] && ok || bad "closed ratio_to_baseline $(field closed ratio_to_baseline)"
+
+# Quadrature converges: 2 points are far worse than 64 on both forms (2 points: ~0.25 and
+# ~0.5 relative; 64 points: rounding level), and a tight adaptive tolerance beats a loose one.
+for f in cur ref; do
+  awk -v a="$(field gl-$f-2 max_error)" -v b="$(field gl-$f-64 max_error)" 'BEGIN { exit !(a > 1e-3 && b < 1e-12 && a > b) }' \
+    && ok || bad "gl-$f-2 ($(field gl-$f-2 max_error)) not worse than gl-$f-64 ($(field gl-$f-64 max_error))"
+  awk -v a="$(field aq-$f-1e-04 max_error)" -v b="$(field aq-$f-1e-13 max_error)" 'BEGIN { exit !(a > b && b < 1e-12) }' \
+    && ok || bad "aq-$f-1e-04 not worse than aq-$f-1e-13"
+done
+# The closed form is more accurate than any quadrature, so it is on the Pareto front.
+[ "$(field closed pareto)" = "1" ] && ok || bad "closed not on the Pareto front"
+
+# Charts: PNG (magic bytes \x89PNG) and SVG, non-empty; the script is kept beside them.
+png="$OUT/ik_pareto.png"; svg="$OUT/ik_pareto.svg"
+[ -s "$png" ] && [ "$(head -c 4 "$png" | od -An -tx1 | tr -d ' \n')" = "89504e47" ] && ok || bad "ik_pareto.png"
+[ -s "$svg" ] && grep -q "<svg" "$svg" && ok || bad "ik_pareto.svg"
+[ -s "$OUT/ik_pareto.gp" ] && ok || bad "ik_pareto.gp kept"
+[ -z "$(ls "$OUT" | grep '\.tmp$')" ] && ok || bad "temporary files left behind"
+
+# The planner family (quick: 4 targets per group): a row per method, the baseline's ratio 1,
+# and no returned pressure or stretch outside its limits (the planner's promise: 0 exactly).
+run bench --quick --only planner --out "$OUT" --scene "$HP_SRC/scenarios/default.yaml"
+expect_exit 0 "bench --only planner"
+csv="$OUT/planner.csv"
+[ "$(($(wc -l <"$csv") - 1))" -eq 27 ] && ok || bad "planner: 27 rows"
+[ "$(field ipopt-surface-1e-09 ratio_to_baseline)" = "1" ] && ok || bad "planner baseline ratio"
+viol=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  $c["max_violation"] != 0 { print $1 "=" $c["max_violation"] }' "$csv")
+[ -z "$viol" ] && ok || bad "planner: limit violations: $viol"
+# The fast path at the surface level is the exact chain: its round trip returns the
+# reference pose to well below a micrometre (LM in contact FK stops at ~1e-14 m).
+awk -v e="$(field fastpath-surface max_error)" 'BEGIN { exit !(e != "" && e < 1e-6) }' \
+  && ok || bad "fastpath-surface max_error $(field fastpath-surface max_error)"
+[ -s "$OUT/planner_pareto.png" ] && [ -s "$OUT/planner_pareto.svg" ] && ok || bad "planner charts"
+run bench --quick --only planner --out "$OUT" --scene "$TMP/missing.yaml"
+expect_exit 66 "--scene missing"; expect_stderr_has "missing.yaml" "names the scene"
+
+# Command-line errors: one line on stderr naming the option, usage status, no stdout.
+run bench --only nonsense --out "$TMP/x"
+expect_exit 64 "--only nonsense"; expect_stderr_has "--only" "names --only"; expect_stdout_empty "--only nonsense"
+run bench --seed -3 --out "$TMP/x"
+expect_exit 64 "--seed -3"; expect_stderr_has "--seed" "names --seed"
+run bench --frobnicate
+expect_exit 64 "unknown option"; expect_stderr_has "--frobnicate" "names the option"
+run bench --out
+expect_exit 64 "--out without value"
+run bench --help
+expect_exit 0 "--help"; expect_stdout_has "--quick" "help lists --quick"
+
+# An output folder that cannot be created: status 73, naming it.
+touch "$TMP/file"
+run bench --quick --only ik --out "$TMP/file/sub"
+expect_exit 73 "--out under a file"; expect_stderr_has "$TMP/file" "names the folder"
+
+# gnuplot missing: status 70 with a clear message, before any measuring or output.
+HP_BIN_ABS=$(cd "$(dirname "$HP_BIN")" && pwd)/$(basename "$HP_BIN")
+PATH=/nonexistent "$HP_BIN_ABS" bench --quick --only ik --out "$TMP/nognu" >"$TMP/out" 2>"$TMP/err"; rc=$?
+expect_exit 70 "gnuplot missing"; expect_stderr_has "gnuplot not found" "says gnuplot is missing"
+[ ! -e "$TMP/nognu" ] && ok || bad "output folder created although gnuplot is missing"
+
+finish
