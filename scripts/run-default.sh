@@ -6,4 +6,6 @@ bash scripts/install-deps.sh
 export LC_ALL=C
 cmake -S . -B build >/dev/null
 cmake --build build -j"$(nproc)" >&2
-./build/headplan paper scenarios/paper_expansion.yaml scenarios/paper_compression.yaml
+# The main job: the default scene (the paper's eight-bladder layout, default adult head,
+# a small 6-DOF correction) -> the eight pressures, the achieved pose and the status.
+./build/headplan solve scenarios/default.yaml
