@@ -1,6 +1,7 @@
 /* headplan solve: a scene file -> every bladder's pressure for one desired correction, the
  * achieved pose and the status. Command-line units: mm and degrees; the library speaks SI. */
 #include "cli/cli_args.h"
+#include "cli/cli_scene.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "headplan/hp_planner.h"
@@ -190,30 +191,8 @@ int hp_cmd_solve(int argc, char **argv)
     double corr_clin[6];
     if (a.correction && (rc = hp_cli_doubles(CMD, "--correction", a.correction, 6, corr_clin)))
         return rc;
-    hp_backend backend = HP_BACKEND_REALTIME;
-    if (a.backend && hp_backend_parse(a.backend, &backend) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD,
-                           "--backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, "
-                           "nlopt-cobyla)", a.backend);
-    hp_level level = HP_LEVEL_LINEAR;
-    if (a.level && hp_level_parse(a.level, &level) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD,
-                           "--level: unknown level '%s' (linear, plane, surface, auto)", a.level);
-
-    hp_scene *sc = calloc(1, sizeof *sc);
-    if (!sc) return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
-    hp_diag d = {{0}};
-    hp_error e = hp_scene_load(a.scene, sc, &d);
-    if (e != HP_OK) {
-        free(sc);
-        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
-    }
-    if (sc->kind != HP_SCENE_LAYOUT) {
-        free(sc);
-        return hp_cli_fail(HP_EXIT_DATAERR, CMD,
-                           "%s: a single-bladder study has no layout to solve (see headplan ik/fk)",
-                           a.scene);
-    }
+    hp_scene *sc = NULL;
+    if ((rc = hp_cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
     double desired[6];
     if (a.correction) {
         hp_pose_from_clinical(corr_clin, desired);
@@ -224,28 +203,15 @@ int hp_cmd_solve(int argc, char **argv)
         return hp_cli_fail(HP_EXIT_USAGE, CMD,
                            "--correction: missing (the scene %s states no correction)", a.scene);
     }
-
     hp_settings s;
-    hp_settings_default(&s);
-    if (!a.backend && hp_backend_parse(sc->backend, &backend) != HP_OK) {
-        int r2 = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: solver.backend: unknown backend '%s'",
-                             a.scene, sc->backend);
+    if ((rc = hp_cli_settings(CMD, sc, a.backend, a.level, &s))) {
         free(sc);
-        return r2;
+        return rc;
     }
-    s.backend = backend;
-    s.level = a.level ? level : sc->level;
-    s.level_tolerance = sc->level_tolerance;
-    if (sc->has_auto_range) {
-        s.auto_trans = sc->auto_trans;
-        s.auto_rot = sc->auto_rot;
-    }
-    s.tolerance = sc->tolerance;
-    s.max_iter = sc->max_iter;
-    s.max_time = sc->max_time;
-    s.weight_mm_per_deg = sc->weight_mm_per_deg;
     s.use_rate_limits = 0; /* one solve from the nominal pose: no previous cycle */
 
+    hp_diag d = {{0}};
+    hp_error e;
     hp_planner *p = NULL;
     e = hp_planner_create(&sc->layout, &s, &p, &d);
     if (e != HP_OK) {
