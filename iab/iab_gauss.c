@@ -1,7 +1,9 @@
 /* Gauss–Legendre nodes and weights by Newton's method on the Legendre recurrence. */
+#define _POSIX_C_SOURCE 200809L
 #include "iab/iab_internal.h"
 
 #include <math.h>
+#include <pthread.h>
 
 /* P_n(x) and P_n'(x) by the three-term recurrence (k+1)P_{k+1} = (2k+1)xP_k − kP_{k−1}. */
 static void legendre(int n, double x, double *p, double *dp)
@@ -42,5 +44,26 @@ hp_error hp_iab_gl_rule(int n, double *x, double *w)
         x[i] = t;
         w[i] = 2.0 / ((1.0 - t * t) * dp * dp);
     }
+    return HP_OK;
+}
+
+/* Every rule is computed once per process (about 0.1 ms for all 64), so a quadrature costs
+ * only its integrand evaluations; pthread_once makes the first use thread-safe. */
+static double cache_x[HP_IAB_GL_MAX + 1][(HP_IAB_GL_MAX + 1) / 2];
+static double cache_w[HP_IAB_GL_MAX + 1][(HP_IAB_GL_MAX + 1) / 2];
+static pthread_once_t cache_once = PTHREAD_ONCE_INIT;
+
+static void fill_cache(void)
+{
+    for (int n = 1; n <= HP_IAB_GL_MAX; ++n) (void)hp_iab_gl_rule(n, cache_x[n], cache_w[n]);
+}
+
+hp_error hp_iab_gl_cached(int n, const double **x, const double **w)
+{
+    if (!x || !w) return HP_ERR_NULL;
+    if (n < 1 || n > HP_IAB_GL_MAX) return HP_ERR_INVALID;
+    pthread_once(&cache_once, fill_cache);
+    *x = cache_x[n];
+    *w = cache_w[n];
     return HP_OK;
 }

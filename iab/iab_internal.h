@@ -51,6 +51,9 @@ hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double
  * of an odd rule). Computed by Newton's method on the Legendre recurrence; no allocation. */
 #define HP_IAB_GL_MAX 64
 hp_error hp_iab_gl_rule(int n, double *x, double *w);
+/* The same rule from a table filled once per process (thread-safe); the pointers stay valid
+ * for the life of the process. */
+hp_error hp_iab_gl_cached(int n, const double **x, const double **w);
 
 /* The Gauss–Kronrod 7–15 tables: x[0..7] Kronrod nodes >= 0 (descending, x[7] = 0), wk[0..7]
  * their weights, wg[0..3] the weights of the embedded Gauss rule on x[1], x[3], x[5], x[7]. */

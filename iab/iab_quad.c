@@ -74,9 +74,10 @@ hp_error hp_iab_ik_gauss(const hp_iab *b, double ri, hp_quad_form form, int n, d
     if (!P) return HP_ERR_NULL;
     hp_iab_s s;
     integrand q;
-    double lo, hi, x[HP_IAB_GL_MAX], w[HP_IAB_GL_MAX];
+    double lo, hi;
+    const double *x = NULL, *w = NULL;
     hp_error e = setup(b, ri, form, &s, &q, &lo, &hi);
-    if (e == HP_OK) e = hp_iab_gl_rule(n, x, w);
+    if (e == HP_OK) e = hp_iab_gl_cached(n, &x, &w);
     if (e != HP_OK) return e;
     double c = 0.5 * (lo + hi), h = 0.5 * (hi - lo), sum = 0, mag;
     for (int k = 0; k < (n + 1) / 2; ++k) {

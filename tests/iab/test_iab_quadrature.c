@@ -35,6 +35,17 @@ static void test_gauss_legendre_rule(void **state)
             assert_true(fabs(sum - 2.0 / (2 * n + 1)) > 1e-12);
         }
     }
+    /* The cached table holds exactly what the rule computes. */
+    for (int n = 1; n <= HP_IAB_GL_MAX; ++n) {
+        const double *cx, *cw;
+        assert_int_equal(hp_iab_gl_rule(n, x, w), HP_OK);
+        assert_int_equal(hp_iab_gl_cached(n, &cx, &cw), HP_OK);
+        assert_memory_equal(cx, x, (size_t)(n + 1) / 2 * sizeof *x);
+        assert_memory_equal(cw, w, (size_t)(n + 1) / 2 * sizeof *w);
+    }
+    const double *cx, *cw;
+    assert_int_equal(hp_iab_gl_cached(0, &cx, &cw), HP_ERR_INVALID);
+    assert_int_equal(hp_iab_gl_cached(65, &cx, &cw), HP_ERR_INVALID);
     assert_int_equal(hp_iab_gl_rule(0, x, w), HP_ERR_INVALID);
     assert_int_equal(hp_iab_gl_rule(65, x, w), HP_ERR_INVALID);
     assert_int_equal(hp_iab_gl_rule(5, NULL, w), HP_ERR_NULL);
