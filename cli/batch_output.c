@@ -7,6 +7,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static const char *const POSE_KEYS[6] = {"x_mm", "y_mm", "z_mm",
@@ -128,27 +129,43 @@ static int write_jsonl(FILE *f, const hp_layout *L, const batch_in *in, const ba
     return 0;
 }
 
-int batch_write(const char *path, hp_trace_format fmt, const hp_layout *L, const batch_in *in,
-                const batch_out *out, size_t rows, int times)
+FILE *batch_open(const char *path)
 {
-    FILE *f = stdout;
-    if (path) {
-        int n = snprintf(tmp_path, sizeof tmp_path, "%s.partial-%ld", path, (long)getpid());
-        if (n < 0 || (size_t)n >= sizeof tmp_path) {
-            fprintf(stderr, "headplan batch: -o: path too long\n");
-            return HP_EXIT_CANTCREAT;
-        }
-        signal(SIGINT, on_signal);
-        signal(SIGTERM, on_signal);
-        signal(SIGHUP, on_signal);
-        f = fopen(tmp_path, "wx");
-        if (!f) {
-            fprintf(stderr, "headplan batch: -o: cannot create %s: %s\n", tmp_path,
-                    strerror(errno));
-            return HP_EXIT_CANTCREAT;
-        }
-        tmp_live = 1;
+    if (!path) return stdout;
+    int n = snprintf(tmp_path, sizeof tmp_path, "%s.partial-%ld", path, (long)getpid());
+    if (n < 0 || (size_t)n >= sizeof tmp_path) {
+        fprintf(stderr, "headplan batch: -o: %s: path too long\n", path);
+        return NULL;
     }
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
+        fprintf(stderr, "headplan batch: -o: %s is a directory, not a file\n", path);
+        return NULL;
+    }
+    signal(SIGINT, on_signal);
+    signal(SIGTERM, on_signal);
+    signal(SIGHUP, on_signal);
+    FILE *f = fopen(tmp_path, "wx");
+    if (!f) {
+        fprintf(stderr, "headplan batch: -o: cannot create %s (as %s): %s\n", path, tmp_path,
+                strerror(errno));
+        return NULL;
+    }
+    tmp_live = 1;
+    return f;
+}
+
+void batch_abandon(FILE *f, const char *path)
+{
+    if (!f || !path) return;
+    fclose(f);
+    unlink(tmp_path);
+    tmp_live = 0;
+}
+
+int batch_write(FILE *f, const char *path, hp_trace_format fmt, const hp_layout *L,
+                const batch_in *in, const batch_out *out, size_t rows, int times)
+{
     int rc = fmt == HP_TRACE_CSV ? write_csv(f, L, in, out, rows, times)
                                  : write_jsonl(f, L, in, out, rows, times);
     if (fflush(f) != 0 || ferror(f)) rc = -1;

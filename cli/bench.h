@@ -18,10 +18,14 @@ typedef struct hp_bench_options {
     long samples;           /* timed batches per method */
     long warmup_batches;    /* untimed batches first */
     double batch_target_ns; /* a batch lasts at least this long (clock resolution/overhead) */
-    const char *scene;      /* the layout scene of the planner family */
+    const char *scene;      /* the layout scene of the planner and peers families */
+    const char *scenarios;  /* the scenario catalogue folder (stability, levels) */
+    const char *python;     /* the Python with SciPy (peers) */
+    const char *peer_script;/* bench/scipy_peer.py (peers) */
+    const char *out_dir;    /* the output folder (peers writes its exchange files there) */
 } hp_bench_options;
 
-/* Fills the sampling settings for a full (quick = 0) or quick run; scene = NULL. */
+/* Fills the sampling settings for a full (quick = 0) or quick run; the paths NULL. */
 void hp_bench_options_default(hp_bench_options *o, int quick, unsigned long seed);
 
 /* One method's measurements: one CSV row. Text fields never hold commas or quotes. */
@@ -75,5 +79,25 @@ int hp_bench_ik(const hp_bench_options *o, hp_bench_table *t);
  * binds; accuracy through the exact surface model against Ipopt at a tight tolerance;
  * baseline Ipopt at the surface level, tolerance 1e-9. Needs o->scene. */
 int hp_bench_planner(const hp_bench_options *o, hp_bench_table *t);
+
+/* A family that writes its own files into dir (CSV, charts) and prints its summary on
+ * stdout, for results that are not one row per method. Returns 0 or an exit status. */
+typedef int (*hp_bench_files_fn)(const hp_bench_options *o, const char *dir);
+
+/* Stability where methods fail: every backend × level on correction sizes 0.01..1000 along
+ * seeded random 6-D directions, on the default, soft-material and near-degenerate layouts
+ * and from bad warm starts; success rate, iterations, violations, and every silent wrong
+ * answer. Writes DIR/stability.csv, stability_wrong.csv, stability.gp/.png/.svg. */
+int hp_bench_stability(const hp_bench_options *o, const char *dir);
+
+/* The peers on the same NLP (linear contact level, binding targets of o->scene): SciPy
+ * SLSQP (o->python, o->peer_script) and Ipopt with a limited-memory Hessian, against Ipopt
+ * with the exact Hessian (the baseline) and headplan's own backends. Rows of the table. */
+int hp_bench_peers(const hp_bench_options *o, hp_bench_table *t);
+
+/* Model no more than a scene needs: for every layout scene of the catalogue, the level
+ * `auto` picks, each level's error bound, median time per plan and pose error against the
+ * exact surface answer. Writes DIR/levels.csv. */
+int hp_bench_levels(const hp_bench_options *o, const char *dir);
 
 #endif

@@ -74,10 +74,7 @@ int hp_bench_save(const char *dir, const char *name,
     return 0;
 }
 
-/* Runs argv[0] from PATH in folder cwd (NULL: here) with its stdout sent to our stderr (our
- * stdout carries results only) or, quiet, both to /dev/null. Returns its exit status, or
- * -1 when it could not be started or did not exit normally. */
-static int run_child(char *const argv[], const char *cwd, int quiet)
+int hp_bench_run_child(char *const argv[], const char *cwd, int quiet)
 {
     fflush(stdout);
     fflush(stderr);
@@ -106,7 +103,7 @@ static int run_child(char *const argv[], const char *cwd, int quiet)
 int hp_bench_gnuplot_available(void)
 {
     char *const argv[] = {"gnuplot", "--version", NULL};
-    return run_child(argv, NULL, 1) == 0 ? 0 : -1;
+    return hp_bench_run_child(argv, NULL, 1) == 0 ? 0 : -1;
 }
 
 typedef struct {
@@ -265,6 +262,24 @@ static int nonempty(const char *dir, const char *family, const char *suffix)
     return stat(p, &st) == 0 && st.st_size > 0;
 }
 
+int hp_bench_gnuplot_run(const char *dir, const char *script, const char *const *outputs)
+{
+    char *const argv[] = {"gnuplot", (char *)script, NULL};
+    int st = hp_bench_run_child(argv, dir, 0);
+    if (st != 0) {
+        fprintf(stderr, "headplan bench: gnuplot failed on '%s/%s' (%s %d)\n", dir, script,
+                st < 0 ? "could not run, status" : "exit status", st);
+        return HP_EXIT_SOFTWARE;
+    }
+    for (; outputs && *outputs; ++outputs)
+        if (!nonempty(dir, *outputs, "")) {
+            fprintf(stderr, "headplan bench: gnuplot left '%s/%s' missing or empty\n", dir,
+                    *outputs);
+            return HP_EXIT_SOFTWARE;
+        }
+    return 0;
+}
+
 int hp_bench_plot(const hp_bench_table *t, const hp_bench_chart *c, const char *dir)
 {
     char script[256];
@@ -273,7 +288,7 @@ int hp_bench_plot(const hp_bench_table *t, const hp_bench_chart *c, const char *
     int rc = hp_bench_save(dir, script, write_script, &a);
     if (rc) return rc;
     char *const argv[] = {"gnuplot", script, NULL};
-    int st = run_child(argv, dir, 0);
+    int st = hp_bench_run_child(argv, dir, 0);
     if (st != 0) {
         fprintf(stderr, "headplan bench: gnuplot failed on '%s/%s' (%s %d)\n", dir, script,
                 st < 0 ? "could not run, status" : "exit status", st);

@@ -33,6 +33,16 @@ int hp_bench_mkdirs(const char *dir);
 int hp_bench_save(const char *dir, const char *name,
                   int (*writer)(const void *arg, FILE *f), const void *arg);
 
+/* Runs argv[0] from PATH (execvp, no shell) in folder cwd (NULL: here) with its stdout sent
+ * to our stderr (our stdout carries results only) or, quiet, both to /dev/null. Returns its
+ * exit status, or -1 when it could not be started or did not exit normally. */
+int hp_bench_run_child(char *const argv[], const char *cwd, int quiet);
+
+/* Runs `gnuplot SCRIPT` in dir and checks that every file named in the NULL-terminated list
+ * outputs (relative to dir) exists and is not empty. Returns 0 or HP_EXIT_SOFTWARE after one
+ * line on stderr. */
+int hp_bench_gnuplot_run(const char *dir, const char *script, const char *const *outputs);
+
 /* 0 when `gnuplot --version` runs (found on PATH, exits 0), else -1. */
 int hp_bench_gnuplot_available(void);
 

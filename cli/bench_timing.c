@@ -24,6 +24,10 @@ void hp_bench_options_default(hp_bench_options *o, int quick, unsigned long seed
     o->warmup_batches = quick ? 5 : 200;
     o->batch_target_ns = quick ? 2e3 : 1e4;
     o->scene = NULL;
+    o->scenarios = NULL;
+    o->python = NULL;
+    o->peer_script = NULL;
+    o->out_dir = NULL;
 }
 
 double hp_bench_now_ns(void)

@@ -41,7 +41,7 @@ static int parse(int argc, char **argv, batch_args *a)
     a->jobs = 1;
     a->progress = 1;
     a->times = 1;
-    int npos = 0;
+    int npos = 0, jobs_given = 0;
     for (int i = 1; i < argc; ++i) {
         const char *v = NULL;
         int m;
@@ -51,17 +51,15 @@ static int parse(int argc, char **argv, batch_args *a)
         }
         if (strcmp(argv[i], "--no-progress") == 0) { a->progress = 0; continue; }
         if (strcmp(argv[i], "--no-times") == 0) { a->times = 0; continue; }
-        if ((m = hp_cli_opt(CMD, argc, argv, &i, "-o", &v)) != 0) {
-            if (m < 0) return HP_EXIT_USAGE;
-            a->out = v;
-            continue;
-        }
 #define OPT(name, field)                                                                      \
     if ((m = hp_cli_opt(CMD, argc, argv, &i, name, &v)) != 0) {                               \
         if (m < 0) return HP_EXIT_USAGE;                                                      \
+        if (a->field)                                                                         \
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given more than once", name);         \
         a->field = v;                                                                         \
         continue;                                                                             \
     }
+        OPT("-o", out)
         OPT("--format", format)
         OPT("--backend", backend)
         OPT("--level", level)
@@ -69,6 +67,8 @@ static int parse(int argc, char **argv, batch_args *a)
 #undef OPT
         if ((m = hp_cli_opt(CMD, argc, argv, &i, "--jobs", &v)) != 0) {
             if (m < 0) return HP_EXIT_USAGE;
+            if (jobs_given++)
+                return hp_cli_fail(HP_EXIT_USAGE, CMD, "--jobs: given more than once");
             int rc = hp_cli_int(CMD, "--jobs", v, 1, 64, &a->jobs);
             if (rc) return rc;
             continue;
@@ -254,15 +254,20 @@ int hp_cmd_batch(int argc, char **argv)
     batch_out *out = calloc(n + 1, sizeof *out);
     size_t repaired = 0;
     int show = a.progress && isatty(2);
+    /* Create the output before planning: an unwritable -o must not cost a whole run. */
+    FILE *dest = out ? batch_open(a.out) : NULL;
     if (!out) {
         rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    } else if (!dest) {
+        rc = HP_EXIT_CANTCREAT;
     } else if (batch_run(&sc->layout, &s, in, out, n, (int)a.jobs, show ? draw_progress : NULL,
                          &repaired) != 0) {
+        batch_abandon(dest, a.out);
         rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: the run failed; no output written", trace);
     } else {
         if (show) fputc('\n', stderr);
         /* The planner prepares its own copy of the layout; the names are the scene's. */
-        rc = batch_write(a.out, fmt, &sc->layout, in, out, n, a.times);
+        rc = batch_write(dest, a.out, fmt, &sc->layout, in, out, n, a.times);
         int status = summarise(in, out, n, (int)a.jobs, repaired);
         if (rc == 0) rc = status;
     }

@@ -15,35 +15,51 @@
 #define CMD "bench"
 #define DEFAULT_OUT "out/bench"
 #define DEFAULT_SCENE "scenarios/default.yaml"
+#define DEFAULT_SCENARIOS "scenarios"
+#define DEFAULT_PYTHON "/usr/bin/python3"
+#define DEFAULT_PEER_SCRIPT "bench/scipy_peer.py"
 
-/* The families, in the order they run. A new family is one row here and one
- * hp_bench_family_fn that appends rows to the table. */
+/* The families, in the order they run. A new family is one row here and either one
+ * hp_bench_family_fn that appends rows to the table (CSV and Pareto chart written here) or
+ * one hp_bench_files_fn that writes its own files. */
 typedef struct {
     hp_bench_chart chart;
     hp_bench_family_fn run;
+    hp_bench_files_fn files;
+    int needs_scene; /* reads --scene */
 } family;
 
 static const family families[] = {
     {{"ik", "Bladder inverse kinematics (radius to pressure): speed versus accuracy",
       "median time per evaluation [ns]",
       "max relative error vs float128 reference (1000 inputs)"},
-     hp_bench_ik},
+     hp_bench_ik, NULL, 0},
     {{"planner", "Planner: speed versus accuracy (default layout, targets where a limit binds)",
       "median time per plan [ns]",
       "max pose difference from the reference after the exact-model round trip [mm or deg]"},
-     hp_bench_planner},
+     hp_bench_planner, NULL, 1},
+    {{"stability", NULL, NULL, NULL}, NULL, hp_bench_stability, 0},
+    {{"peers", "Peers on the same NLP (linear contact level, default layout, binding targets)",
+      "median time per plan [ns]",
+      "max pose difference from Ipopt (exact Hessian, tolerance 1e-10) [mm or deg]"},
+     hp_bench_peers, NULL, 1},
+    {{"levels", NULL, NULL, NULL}, NULL, hp_bench_levels, 0},
 };
 #define N_FAMILIES (sizeof families / sizeof families[0])
 
 static void help(void)
 {
     printf("usage: headplan bench [--out DIR] [--quick] [--only FAMILY[,FAMILY]] [--seed N]\n"
-           "                      [--scene FILE]\n\n"
+           "                      [--scene FILE] [--scenarios DIR] [--python EXE]\n"
+           "                      [--peer-script FILE]\n\n"
            "Measures every method of each family on the same inputs: median and 99th\n"
            "percentile time per evaluation (CLOCK_MONOTONIC, warm-up, batches timed together)\n"
            "and accuracy against a high-precision reference. Writes DIR/FAMILY.csv and the\n"
            "charts DIR/FAMILY_pareto.png and .svg (time versus error, log scales, Pareto\n"
-           "front) with gnuplot; prints a summary table on stdout, progress on stderr.\n\n"
+           "front) with gnuplot; prints a summary table on stdout, progress on stderr.\n"
+           "The stability family writes DIR/stability.csv, stability_wrong.csv and the chart\n"
+           "stability.png/.svg (success rate, iterations, violations versus correction size);\n"
+           "the levels family writes DIR/levels.csv (what each contact level costs and errs).\n\n"
            "  --out DIR      output folder, created if missing (default %s)\n"
            "  --quick        a test run: few timing samples; the IK's accuracy is still measured\n"
            "                 on every input, the planner's on 4 targets per group (not 40)\n"
@@ -52,10 +68,15 @@ static void help(void)
     for (size_t i = 0; i < N_FAMILIES; ++i) printf(" %s", families[i].chart.family);
     printf("\n"
            "  --seed N       order in which the timed batches walk the inputs (default 1)\n"
-           "  --scene FILE   layout scene of the planner family (default %s)\n"
+           "  --scene FILE   layout scene of the planner and peers families (default %s)\n"
+           "  --scenarios DIR  scenario catalogue of the stability and levels families\n"
+           "                 (default " DEFAULT_SCENARIOS ")\n"
+           "  --python EXE   Python with SciPy for the peers family (default " DEFAULT_PYTHON ")\n"
+           "  --peer-script FILE  the SciPy peer (default " DEFAULT_PEER_SCRIPT ")\n"
            "  --help         this text\n\n"
-           "exit status: 0 ok, 64 bad command line, 70 gnuplot missing or failed,\n"
-           "66 scene cannot be read, 73 cannot write the output folder\n", DEFAULT_SCENE);
+           "exit status: 0 ok, 64 bad command line, 70 gnuplot or SciPy missing or failed,\n"
+           "66 scene, catalogue or peer script cannot be read, 73 cannot write the output\n"
+           "folder\n", DEFAULT_SCENE);
 }
 
 /* Marks the families named in a comma-separated list. Returns 0 or HP_EXIT_USAGE. */
@@ -71,7 +92,8 @@ static int parse_only(const char *list, int *on)
         size_t k = 0;
         while (k < N_FAMILIES && strcmp(families[k].chart.family, p) != 0) ++k;
         if (k == N_FAMILIES)
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "--only: unknown family '%s' (known: ik, planner)", p);
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "--only: unknown family '%s' (known: ik, "
+                               "planner, stability, peers, levels)", p);
         on[k] = 1;
         if (!comma) break;
         p = comma + 1;
@@ -84,6 +106,7 @@ static int csv_writer(const void *arg, FILE *f) { return hp_bench_write_csv(arg,
 /* Runs one family and writes its files. Returns 0 or an exit status. */
 static int run_family(const family *fam, const hp_bench_options *o, const char *dir)
 {
+    if (fam->files) return fam->files(o, dir);
     hp_bench_table t = {0};
     int rc = fam->run(o, &t);
     if (rc == 0) {
@@ -105,7 +128,8 @@ static int run_family(const family *fam, const hp_bench_options *o, const char *
 
 int hp_cmd_bench(int argc, char **argv)
 {
-    const char *out = DEFAULT_OUT, *scene = DEFAULT_SCENE;
+    const char *out = DEFAULT_OUT, *scene = DEFAULT_SCENE, *scenarios = DEFAULT_SCENARIOS;
+    const char *python = DEFAULT_PYTHON, *peer_script = DEFAULT_PEER_SCRIPT;
     int quick = 0, only_given = 0, rc;
     int on[N_FAMILIES] = {0};
     long seed = 1;
@@ -130,6 +154,15 @@ int hp_cmd_bench(int argc, char **argv)
         } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--scene", &v)) != 0) {
             if (m < 0) return HP_EXIT_USAGE;
             scene = v;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--scenarios", &v)) != 0) {
+            if (m < 0) return HP_EXIT_USAGE;
+            scenarios = v;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--python", &v)) != 0) {
+            if (m < 0) return HP_EXIT_USAGE;
+            python = v;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--peer-script", &v)) != 0) {
+            if (m < 0) return HP_EXIT_USAGE;
+            peer_script = v;
         } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--seed", &v)) != 0) {
             if (m < 0 || (rc = hp_cli_int(CMD, "--seed", v, 0, LONG_MAX, &seed)) != 0)
                 return HP_EXIT_USAGE;
@@ -148,17 +181,36 @@ int hp_cmd_bench(int argc, char **argv)
                            "'gnuplot' package)");
     for (size_t k = 0; k < N_FAMILIES; ++k) {
         FILE *f;
-        if (on[k] && families[k].run == hp_bench_planner && !(f = fopen(scene, "r")))
-            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "--scene: cannot open '%s' (the planner "
-                               "family needs a layout scene)", scene);
-        else if (on[k] && families[k].run == hp_bench_planner)
+        if (on[k] && families[k].needs_scene && !(f = fopen(scene, "r")))
+            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "--scene: cannot open '%s' (the %s "
+                               "family needs a layout scene)", scene, families[k].chart.family);
+        else if (on[k] && families[k].needs_scene)
             fclose(f);
+    }
+    int peers_on = 0;
+    for (size_t k = 0; k < N_FAMILIES; ++k)
+        peers_on |= on[k] && families[k].run == hp_bench_peers;
+    if (peers_on) { /* SciPy must be there before minutes of measuring */
+        FILE *f = fopen(peer_script, "r");
+        if (!f)
+            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "--peer-script: cannot open '%s'",
+                               peer_script);
+        fclose(f);
+        char *const chk[] = {(char *)python, "-c", "import scipy.optimize, numpy", NULL};
+        if (hp_bench_run_child(chk, NULL, 1) != 0)
+            return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "--python: '%s' cannot import scipy "
+                               "(install Debian's python3-scipy, or name a Python that has "
+                               "SciPy)", python);
     }
     if ((rc = hp_bench_mkdirs(out)) != 0) return rc;
 
     hp_bench_options o;
     hp_bench_options_default(&o, quick, (unsigned long)seed);
     o.scene = scene;
+    o.scenarios = scenarios;
+    o.python = python;
+    o.peer_script = peer_script;
+    o.out_dir = out;
     for (size_t k = 0; k < N_FAMILIES; ++k)
         if (on[k] && (rc = run_family(&families[k], &o, out)) != 0) return rc;
     return HP_EXIT_OK;

@@ -81,6 +81,11 @@ static int parse(int argc, char **argv, ik_args *a)
             a->text[o] = v;
             matched = 1;
         }
+        if (!matched && argv[i][0] != '-')
+            return hp_cli_fail(HP_EXIT_USAGE, a->cmd,
+                               "unexpected argument '%s' (%s takes options only; see headplan "
+                               "%s --help)",
+                               argv[i], a->cmd, a->cmd);
         if (!matched)
             return hp_cli_fail(HP_EXIT_USAGE, a->cmd, "unknown option '%s' (see headplan %s --help)",
                                argv[i], a->cmd);
@@ -222,8 +227,16 @@ static int run(int argc, char **argv, const char *cmd, const char *target)
     rc = values(&a, &v);
     if (rc >= 0) return rc;
     ik_result r;
-    if (hp_iab_limit_point(&v.b, &r.lp) != HP_OK)
-        return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "cannot locate the limit point");
+    hp_error le = hp_iab_limit_point(&v.b, &r.lp);
+    /* Moduli near DBL_MAX overflow the pressure: a bad value, not an internal failure. */
+    if (le == HP_ERR_DOMAIN || le == HP_ERR_INVALID)
+        return hp_cli_fail(HP_EXIT_DATAERR, cmd,
+                           "%s/%s: C1 %g Pa, C2 %g Pa: %s (the limit point cannot be located)",
+                           a.text[O_C10] ? "--c10" : "--c1", a.text[O_C10] ? "--c01" : "--c2",
+                           v.C1, v.C2, hp_error_message(le));
+    if (le != HP_OK)
+        return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "cannot locate the limit point: %s",
+                           hp_error_message(le));
     hp_error e;
     if (strcmp(cmd, "ik") == 0) {
         r.ri_m = v.target * 1e-3;

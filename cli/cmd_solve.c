@@ -49,7 +49,6 @@ static int parse(int argc, char **argv, solve_args *a)
         }
     for (int i = 1; i < argc; ++i) {
         const char *v = NULL;
-        int m;
         if (strcmp(argv[i], "--json") == 0) {
             a->json = 1;
             continue;
@@ -58,7 +57,7 @@ static int parse(int argc, char **argv, solve_args *a)
         const char **slots[3] = {&a->correction, &a->backend, &a->level};
         int matched = 0;
         for (int o = 0; o < 3 && !matched; ++o) {
-            m = hp_cli_opt(CMD, argc, argv, &i, names[o], &v);
+            int m = hp_cli_opt(CMD, argc, argv, &i, names[o], &v);
             if (m < 0) return HP_EXIT_USAGE;
             if (m == 0) continue;
             if (*slots[o]) return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given more than once", names[o]);
@@ -231,9 +230,21 @@ int hp_cmd_solve(int argc, char **argv)
     } else if (r.status == HP_STATUS_INVALID_INPUT) {
         status = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: %s",
                              a.correction ? "--correction" : "correction", msg);
+    } else if (r.status == HP_STATUS_TIME_LIMIT || r.status == HP_STATUS_ITERATION_LIMIT) {
+        /* Name the budget that stopped the backend, so the user knows what to raise. */
+        int t = r.status == HP_STATUS_TIME_LIMIT;
+        status = hp_cli_fail(HP_EXIT_SOFTWARE, CMD,
+                             "%s: %s: the %s backend did not converge within solver.%s = %g%s "
+                             "(no answer printed)",
+                             a.scene, hp_status_name(r.status), hp_backend_name(s.backend),
+                             t ? "max_time_s" : "max_iter", t ? s.max_time : (double)s.max_iter,
+                             t ? " s" : " iterations");
     } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) {
-        status = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: %s: %s", a.scene,
-                             hp_status_name(r.status), msg);
+        /* The planner's message starts with the status name already. */
+        const char *name = hp_status_name(r.status);
+        int named = strncmp(msg, name, strlen(name)) == 0;
+        status = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: %s%s%s", a.scene, named ? "" : name,
+                             named ? "" : ": ", msg);
     } else {
         status = r.status == HP_STATUS_REACHED ? HP_EXIT_OK : HP_EXIT_CLOSEST;
         if (a.json) {

@@ -26,9 +26,18 @@
 #include <string.h>
 
 static pthread_mutex_t ipopt_lock = PTHREAD_MUTEX_INITIALIZER;
+/* Test-only hooks (planner/backend_testing.h): inert unless a test sets them. */
 static atomic_int ipopt_fault = HP_TEST_FAULT_NONE;
+static atomic_int ipopt_forced = HP_TEST_NO_FORCE;
 
-void hp_backend_ipopt_test_hook(int fault) { atomic_store(&ipopt_fault, fault); }
+void hp_test_ipopt_fault(int fault) { atomic_store(&ipopt_fault, fault); }
+void hp_backend_ipopt_test_hook(int fault) { hp_test_ipopt_fault(fault); }
+void hp_test_ipopt_force_status(int code) { atomic_store(&ipopt_forced, code); }
+void hp_test_ipopt_lock(int hold)
+{
+    if (hold) pthread_mutex_lock(&ipopt_lock);
+    else pthread_mutex_unlock(&ipopt_lock);
+}
 
 /* Ipopt reads bounds beyond ±1e19 as infinite. */
 #define IPOPT_INF 1e19
@@ -137,7 +146,7 @@ static Bool intermediate(Index alg_mod, Index iter, Number obj, Number inf_pr, N
     (void)alpha_du, (void)alpha_pr, (void)ls;
     ipopt_state *st = u;
     st->iters = iter;
-    return TRUE;
+    return atomic_load(&ipopt_fault) == HP_TEST_FAULT_STOP ? FALSE : TRUE;
 }
 
 /* Option setters that fail loudly (in the diagnostic) instead of printing. Caller holds the
@@ -201,6 +210,10 @@ static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
         (e = opt_num(st->app, "warm_start_slack_bound_push", WARM_PUSH, d)) ||
         (e = opt_num(st->app, "warm_start_slack_bound_frac", WARM_PUSH, d)) ||
         (e = opt_num(st->app, "warm_start_mult_bound_push", WARM_PUSH, d)))
+        return e;
+    /* The quasi-Newton peer of the benchmarks: Ipopt then never calls eval_h. */
+    if (s->ipopt_hessian_approx == 1 &&
+        (e = opt_str(st->app, "hessian_approximation", "limited-memory", d)))
         return e;
     if (!SetIntermediateCallback(st->app, intermediate))
         return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: SetIntermediateCallback failed");
@@ -314,6 +327,8 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
         memcpy(x, xs, (size_t)st->nx * sizeof *x);
         rc = IpoptSolve(st->app, x, NULL, &obj, st->mult_g, st->mult_xl, st->mult_xu, st);
         st->pb = NULL;
+        int forced = atomic_load(&ipopt_forced);
+        if (forced != HP_TEST_NO_FORCE) rc = (enum ApplicationReturnStatus)forced;
     }
     pthread_mutex_unlock(&ipopt_lock);
     if (e != HP_OK) {

@@ -19,9 +19,11 @@
  * plus a short line search), COBYLA maxeval = (6 + 1)·max_iter (one simplex worth of
  * evaluations per iteration). Reported iterations are evaluations (nlopt_get_numevals). */
 #include "planner/backend_common.h"
+#include "planner/backend_testing.h"
 
 #include <math.h>
 #include <nlopt.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -44,6 +46,13 @@ typedef struct nlopt_state {
     int eval_failed;
 } nlopt_state;
 
+/* Test-only hooks (planner/backend_testing.h): inert unless a test sets them. */
+static atomic_int nlopt_fault = HP_TEST_FAULT_NONE;
+static atomic_int nlopt_forced = HP_TEST_NO_FORCE;
+
+void hp_test_nlopt_fault(int fault) { atomic_store(&nlopt_fault, fault); }
+void hp_test_nlopt_force_result(int code) { atomic_store(&nlopt_forced, code); }
+
 static double pose_scale(int i) { return i < 3 ? 1e-3 : HP_PI / 180.0; }
 
 static void eval_fail(nlopt_state *st)
@@ -59,6 +68,7 @@ static double full_objective(unsigned nx, const double *x, double *grad, void *d
     (void)nx;
     nlopt_state *st = data;
     double f;
+    if (atomic_load(&nlopt_fault) == HP_TEST_FAULT_NAN_OBJECTIVE) return NAN;
     if (hp_problem_objective(st->pb, x, &f, grad, NULL) != HP_OK) {
         eval_fail(st);
         return HUGE_VAL;
@@ -71,7 +81,8 @@ static void full_constraints(unsigned m, double *c, unsigned nx, const double *x
 {
     (void)nx;
     nlopt_state *st = data;
-    if (hp_problem_constraints(st->pb, x, c, grad, NULL, NULL) != HP_OK) {
+    if (atomic_load(&nlopt_fault) == HP_TEST_FAULT_FAIL_CONSTRAINTS ||
+        hp_problem_constraints(st->pb, x, c, grad, NULL, NULL) != HP_OK) {
         for (unsigned k = 0; k < m; k++) c[k] = HUGE_VAL;
         eval_fail(st);
     }
@@ -114,6 +125,7 @@ static double reduced_objective(unsigned n6, const double *x, double *grad, void
     nlopt_state *st = data;
     const hp_problem *pb = st->pb;
     double f = 0.0;
+    if (atomic_load(&nlopt_fault) == HP_TEST_FAULT_NAN_OBJECTIVE) return NAN;
     for (int i = 0; i < 6; i++) f += pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
     if (pb->mu > 0.0) {
         double full[HP_PROBLEM_NX_MAX];
@@ -135,7 +147,8 @@ static void reduced_constraints(unsigned m, double *c, unsigned n6, const double
     nlopt_state *st = data;
     const hp_problem *pb = st->pb;
     double rho[HP_MAX_BLADDERS];
-    if (reduced_rho(pb, x, rho) != HP_OK) {
+    if (atomic_load(&nlopt_fault) == HP_TEST_FAULT_FAIL_CONSTRAINTS ||
+        reduced_rho(pb, x, rho) != HP_OK) {
         for (unsigned k = 0; k < m; k++) c[k] = HUGE_VAL;
         eval_fail(st);
         return;
@@ -287,6 +300,8 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
     double fmin = HUGE_VAL;
     nlopt_result rc = nlopt_optimize(st->opt, v, &fmin);
     st->pb = NULL;
+    int forced = atomic_load(&nlopt_forced);
+    if (forced != HP_TEST_NO_FORCE) rc = (nlopt_result)forced;
 
     r->raw_code = (int)rc;
     r->iterations = nlopt_get_numevals(st->opt);

@@ -5,10 +5,12 @@
  * the limits. Everything lives in the state allocated at create: solve allocates nothing,
  * prints nothing, takes no lock, and its time is bounded by max_iter and max_time. */
 #define _POSIX_C_SOURCE 200809L
+#include "planner/backend_testing.h"
 #include "planner/problem_setup.h"
 #include "planner/qp.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -31,7 +33,22 @@ typedef struct rt_state {
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
     double u[HP_QP_MMAX]; /* multipliers of the last QP: the Lagrangian's curvature */
     int have_u;
+    int qps; /* QPs solved in this solve (for the test hook) */
 } rt_state;
+
+/* Test-only hook (planner/backend_testing.h), inert unless a test sets it: the contact
+ * distances come back NaN while the evaluation reports success — a model failing silently,
+ * the worst case — everywhere in this backend (the core's own evaluations are not hooked). */
+static atomic_int rt_fault = HP_TEST_FAULT_NONE;
+
+void hp_test_realtime_fault(int fault) { atomic_store(&rt_fault, fault); }
+
+static void rt_inject(const rt_state *st, int n, double *rho)
+{
+    int f = atomic_load(&rt_fault);
+    if (f == HP_TEST_FAULT_NAN_CONTACT || (f == HP_TEST_FAULT_NAN_CONTACT_LATE && st->qps > 0))
+        for (int k = 0; k < n; ++k) rho[k] = NAN;
+}
 
 static double now_s(void)
 {
@@ -148,6 +165,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     if (hp_contact_eval_scaled_h(pb->layout, pb->level, xk, st->rho, st->J,
                                  curved ? st->H : NULL) != HP_OK)
         return HP_QP_BAD_INPUT;
+    rt_inject(st, pb->n, st->rho);
     q->n = nv;
     q->m = 2 * pb->n;
     build_objective(st, pb, map, nv, xk, curved);
@@ -171,6 +189,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
         qs = hp_qp_solve(q, budget, RT_FEAS_TOL);
         *iters += q->iterations;
     }
+    ++st->qps;
     if (qs == HP_QP_OPTIMAL) {
         memcpy(st->u, q->u, sizeof st->u);
         st->have_u = 1;
@@ -187,8 +206,10 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
 {
     if (hp_setup_contact_scaled(pb->layout, pb->level, x, st->rho, NULL) != HP_OK)
         return INFINITY;
+    rt_inject(st, pb->n, st->rho);
     double worst = 0;
     for (int k = 0; k < pb->n; ++k) {
+        if (!isfinite(st->rho[k])) return INFINITY; /* fmax would drop a NaN */
         double v = fmax(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]);
         v = fmax(v, 0.0);
         if (viol) viol[k] = v;
@@ -205,6 +226,7 @@ static double merit(rt_state *st, const hp_problem *pb, const double *x, double 
     for (int i = 0; i < 6; ++i) f += 0.5 * pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
     if (hp_setup_contact_scaled(pb->layout, pb->level, x, st->rho, NULL) != HP_OK)
         return INFINITY;
+    rt_inject(st, pb->n, st->rho);
     double v = 0;
     for (int k = 0; k < pb->n; ++k)
         v += fmax(0.0, fmax(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]));
@@ -255,6 +277,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     int iters = 0, sqp = 0;
     double prev_step = INFINITY;
     st->have_u = 0;
+    st->qps = 0;
     hp_qp_status qs = HP_QP_OPTIMAL;
     hp_status st_out = HP_STATUS_CLOSEST;
     for (;;) {
@@ -347,6 +370,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         r->status = HP_STATUS_SOLVER_ERROR;
         return hp_diag_set(d, HP_ERR_SOLVER, "realtime: contact model failed at the answer");
     }
+    rt_inject(st, pb->n, st->rho);
     for (int i = 0; i < 6; ++i) x[i] = xk[i];
     for (int k = 0; k < pb->n; ++k) {
         double ri;

@@ -1,17 +1,50 @@
-/* INTERNAL, TEST-ONLY: fault injection into the Ipopt backend's evaluation callbacks, so the
- * reliability tests can show that a failing or NaN-producing evaluation becomes an honest
- * status (never a NaN or out-of-limit result). Not installed; not for production code. */
+/* INTERNAL, TEST-ONLY: fault injection into the backends, so the reliability tests
+ * (tests/reliability/test_faults.c, tests/planner/test_backends.c) can show that every way a
+ * backend fails becomes an honest status with a safe output (never a NaN or out-of-limit
+ * result, never an unlabelled failure).
+ *
+ * NOT PART OF THE PUBLIC API: not installed, declared in no public header, may change or
+ * vanish without notice. The hooks are compiled in always (so the tested library is the
+ * shipped one) but are inert until a test sets them: each is one process-wide atomic int
+ * read once per evaluation or solve, default "off". Production code must never call them. */
 #ifndef HP_PLANNER_BACKEND_TESTING_H
 #define HP_PLANNER_BACKEND_TESTING_H
 
 enum hp_test_fault {
-    HP_TEST_FAULT_NONE = 0,     /* normal evaluations */
-    HP_TEST_FAULT_NAN_OBJECTIVE, /* eval_f returns true with f = NaN */
-    HP_TEST_FAULT_FAIL_CONSTRAINTS /* eval_g and eval_jac_g return false */
+    HP_TEST_FAULT_NONE = 0,         /* normal evaluations */
+    HP_TEST_FAULT_NAN_OBJECTIVE,    /* Ipopt/NLopt: the objective returns NaN (call "succeeds") */
+    HP_TEST_FAULT_FAIL_CONSTRAINTS, /* Ipopt: eval_g/eval_jac_g return false;
+                                       NLopt: the constraint evaluation reports failure */
+    HP_TEST_FAULT_STOP,             /* Ipopt: the intermediate callback asks to stop */
+    HP_TEST_FAULT_NAN_CONTACT,      /* realtime: every contact evaluation in the backend
+                                       returns NaN distances */
+    HP_TEST_FAULT_NAN_CONTACT_LATE  /* realtime: the first QP is clean, every later contact
+                                       evaluation in the backend returns NaN */
 };
 
+/* Sentinel for "no forced code" in the force hooks below. */
+#define HP_TEST_NO_FORCE (-1000000)
+
 /* Sets the fault every Ipopt backend in the process injects from now on (an atomic store;
- * HP_TEST_FAULT_NONE switches it off). */
+ * HP_TEST_FAULT_NONE switches it off). hp_backend_ipopt_test_hook is the older name. */
+void hp_test_ipopt_fault(int fault);
 void hp_backend_ipopt_test_hook(int fault);
+
+/* After the next IpoptSolve calls, report this ApplicationReturnStatus instead of the real
+ * one (the solve still runs; its point is kept). HP_TEST_NO_FORCE switches it off. For codes
+ * a test cannot provoke honestly (restoration failure, internal error, ...). */
+void hp_test_ipopt_force_status(int code);
+
+/* The same two hooks for the NLopt backends (SLSQP and COBYLA): the fault in the
+ * evaluations, and an nlopt_result to report instead of nlopt_optimize's own. */
+void hp_test_nlopt_fault(int fault);
+void hp_test_nlopt_force_result(int code);
+
+/* Fault in the realtime backend's contact evaluations (HP_TEST_FAULT_NAN_CONTACT*). */
+void hp_test_realtime_fault(int fault);
+
+/* Takes (hold = 1) or releases (hold = 0) the process-wide Ipopt mutex from the calling
+ * thread, so a test can prove that the realtime and NLopt backends never wait on it. */
+void hp_test_ipopt_lock(int hold);
 
 #endif

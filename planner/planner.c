@@ -16,6 +16,10 @@
  * above the realtime margin (1e-11 mm) and the rounding of rho, far below any clinical
  * meaning. */
 #define HP_BIND_TOL_MM 1e-7
+/* Largest RMS contact residual [mm] of clamped radii that still counts as holding a pose:
+ * 100× above the solvers' own contact slop (1e-9 mm tolerance, bounds kept exactly), far
+ * below anything physical. */
+#define HP_CLAMP_RESID_MM 1e-6
 
 struct hp_planner {
     hp_layout L;                 /* private, prepared copy */
@@ -70,6 +74,20 @@ static void err_add(hp_planner *p, const char *s)
     if (have + n >= sizeof p->err) n = sizeof p->err - 1 - have;
     memcpy(p->err + have, s, n);
     p->err[have + n] = '\0';
+}
+
+/* Appends a decimal integer (no printf: see err_set). */
+static void err_add_int(hp_planner *p, int v)
+{
+    char buf[16], *q = buf + sizeof buf - 1;
+    unsigned u = v < 0 ? 0u - (unsigned)v : (unsigned)v;
+    *q = '\0';
+    do {
+        *--q = (char)('0' + u % 10u);
+        u /= 10u;
+    } while (u);
+    if (v < 0) *--q = '-';
+    err_add(p, q);
 }
 
 static void to_scaled(const double xi[6], double x[6])
@@ -251,7 +269,11 @@ const hp_layout *hp_planner_layout(const hp_planner *p) { return p ? &p->L : NUL
 
 hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
 {
-    if (!p || !pressures) return HP_ERR_NULL;
+    if (!p) return HP_ERR_NULL;
+    if (!pressures) {
+        err_set(p, "set_previous: pressures is NULL");
+        return HP_ERR_NULL;
+    }
     if (!p->built) return HP_ERR_STATE;
     hp_result r = p->nominal;
     double ro[HP_MAX_BLADDERS];
@@ -302,7 +324,11 @@ static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, double t0
 hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
 {
     double t0 = now_s();
-    if (!p || !res) return HP_ERR_NULL;
+    if (!p) return HP_ERR_NULL;
+    if (!res) {
+        err_set(p, "result: NULL");
+        return HP_ERR_NULL;
+    }
     if (!p->built) {
         memset(res, 0, sizeof *res);
         res->status = HP_STATUS_SOLVER_ERROR;
@@ -365,16 +391,33 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
                 xcold[6 + k] = p->L.bladders[k].iab.Ri * HP_MM_PER_M;
             x0 = xcold;
         }
+        p->diag.text[0] = '\0';
         hp_error e = p->ops->solve(p->bstate, pb, x0, p->x_work, &br, &p->diag);
         r->raw_code = br.raw_code;
         r->iterations = br.iterations;
-        if (e != HP_OK) {
-            err_set(p, p->diag.text);
+        /* A backend may also report a failure through its status with HP_OK (Ipopt and
+         * NLopt do for a failed solve, handing back their start point): that point is no
+         * answer, so it must not be relabelled as an iteration limit. */
+        int failed = e != HP_OK || br.status == HP_STATUS_SOLVER_ERROR ||
+                     br.status == HP_STATUS_INFEASIBLE_START ||
+                     br.status == HP_STATUS_INVALID_INPUT;
+        if (failed) {
             /* The backend's own label, except that a failed call never claims success. */
             hp_status fs = br.status;
             if (fs == HP_STATUS_REACHED || fs == HP_STATUS_CLOSEST || (int)fs < 0 ||
                 fs >= HP_STATUS_COUNT_)
                 fs = HP_STATUS_SOLVER_ERROR;
+            err_set(p, p->ops->name);
+            err_add(p, ": ");
+            err_add(p, hp_status_name(fs));
+            err_add(p, " (raw code ");
+            err_add_int(p, br.raw_code);
+            err_add(p, ")");
+            if (e != HP_OK && p->diag.text[0]) {
+                err_add(p, ": ");
+                err_add(p, p->diag.text);
+            }
+            err_add(p, "; holding the previous pressures");
             hp_error ret = fail_safe(p, res, fs, t0);
             res->raw_code = br.raw_code;
             res->iterations = br.iterations;
@@ -386,9 +429,13 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         converged = br.converged;
         st = br.status;
     }
+    int raw = r->raw_code, iters = r->iterations;
     if (!answer_from_pose(p, x, r, &clamp_mm)) {
         err_set(p, "the answer was not finite or left a limit: holding the previous pressures");
-        return fail_safe(p, res, HP_STATUS_SOLVER_ERROR, t0);
+        fail_safe(p, res, HP_STATUS_SOLVER_ERROR, t0);
+        res->raw_code = raw;
+        res->iterations = iters;
+        return HP_OK;
     }
     if (clamp_mm > 1e-9) {
         /* A backend's radii left a limit (by its own tolerance): the clamped radii hold a
@@ -396,9 +443,26 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         double ro[HP_MAX_BLADDERS], xi[6], resid, xs[6];
         for (int k = 0; k < p->L.n; ++k) ro[k] = r->bladders[k].ro;
         from_scaled(x, xs);
-        if (hp_contact_fk(&p->L, p->level, ro, xs, xi, &resid, NULL) != HP_OK) {
-            err_set(p, "forward contact kinematics failed on the clamped radii");
-            return fail_safe(p, res, HP_STATUS_SOLVER_ERROR, t0);
+        /* Radii that no pose holds (a backend that stopped at an infeasible point, e.g.
+         * under rate limits that cannot all hold) are no answer: the fitted pose would not be
+         * where the head goes. */
+        if (hp_contact_fk(&p->L, p->level, ro, xs, xi, &resid, NULL) != HP_OK ||
+            !(resid * HP_MM_PER_M <= HP_CLAMP_RESID_MM)) {
+            /* A budget that ran out before a feasible iterate keeps its label. */
+            hp_status fs = (st == HP_STATUS_ITERATION_LIMIT || st == HP_STATUS_TIME_LIMIT)
+                               ? st
+                               : HP_STATUS_SOLVER_ERROR;
+            err_set(p, p->ops->name);
+            err_add(p, ": ");
+            err_add(p, hp_status_name(fs));
+            err_add(p, " (raw code ");
+            err_add_int(p, raw);
+            err_add(p, "): the backend's radii, clamped into the limits, hold no pose; "
+                       "holding the previous pressures");
+            fail_safe(p, res, fs, t0);
+            res->raw_code = raw;
+            res->iterations = iters;
+            return HP_OK;
         }
         for (int i = 0; i < 6; ++i) r->achieved[i] = p->commanded[i] ? xi[i] : 0.0;
         converged = 0;

@@ -29,6 +29,7 @@ struct hp_trace_reader {
     int pending;          /* a data line was read while looking for the header */
     char *pending_line;
     long pending_lineno;
+    int read_errno;       /* errno of the last failed read (EISDIR for a directory) */
 };
 
 const char *hp_trace_rows_name(hp_trace_rows r)
@@ -86,7 +87,10 @@ static int read_line(hp_trace_reader *r, size_t *len_out)
 {
     errno = 0;
     ssize_t n = getline(&r->line, &r->cap, r->f);
-    if (n < 0) return ferror(r->f) ? -1 : 0;
+    if (n < 0) {
+        r->read_errno = errno;
+        return ferror(r->f) ? -1 : 0;
+    }
     r->lineno++;
     size_t len = (size_t)n;
     int had_newline = len > 0 && r->line[len - 1] == '\n';
@@ -106,7 +110,9 @@ static int is_blank(const char *s)
 
 static hp_error line_problem(const hp_trace_reader *r, int code, size_t len, hp_diag *diag)
 {
-    if (code == -1) return hp_diag_set(diag, HP_ERR_IO, "%s: read error", r->name);
+    if (code == -1)
+        return hp_diag_set(diag, HP_ERR_IO, "%s: cannot read: %s", r->name,
+                           r->read_errno ? strerror(r->read_errno) : "I/O error");
     if (len > TRACE_LINE_MAX)
         return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: line longer than %d characters",
                            r->name, r->lineno, TRACE_LINE_MAX);
@@ -288,7 +294,9 @@ static hp_error fill_row(const hp_trace_reader *r, long lineno, const double v[7
     (void)diag;
     for (int i = 0; i < 6; ++i) {
         mm_deg[i] = r->rows == HP_TRACE_DEVIATION ? -v[i + 1] : v[i + 1];
-        if (mm_deg[i] == 0.0) mm_deg[i] = 0.0; /* −0 would print as "-0" in outputs */
+        /* −0 compares equal to 0 but would print as "-0" in outputs: store +0. */
+        /* cppcheck-suppress duplicateConditionalAssign ; the assignment turns -0 into +0 */
+        if (mm_deg[i] == 0.0) mm_deg[i] = 0.0;
     }
     row->line = lineno;
     row->t = v[0];

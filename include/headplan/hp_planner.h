@@ -15,7 +15,37 @@
  * Real time: with HP_BACKEND_REALTIME, hp_plan allocates nothing, prints nothing, takes no
  * lock and runs in bounded time (the direct chain, else at most max_iter active-set steps per
  * QP and, on the plane/surface levels, at most max_iter SQP steps). The Ipopt and NLopt
- * libraries allocate inside their own solve calls. */
+ * libraries allocate inside their own solve calls.
+ *
+ * Safety invariants (docs/safety.md; each is one test of the same name in
+ * tests/reliability/test_invariants.c, run through every backend and contact level):
+ *   pressure_within_limits: every returned pressure is finite and inside the bladder's
+ *     [p_min, p_max], whatever the status.
+ *   stretch_within_limits: every returned stretch (= ri / Ri) is inside
+ *     [stretch_min, stretch_max], and ri is strictly below any inflation limit point's radius
+ *     (at most (1 − 1e-3) of it), whatever the status.
+ *   valid_fields_finite: for every status, status, raw_code, backend, level, n, commanded,
+ *     iterations (>= 0), solve_time (>= 0), achieved[6] and every bladder's ri, ro, pressure,
+ *     stretch are finite; pose_error is finite when the result answers this request
+ *     (REACHED, CLOSEST, and ITERATION_LIMIT / TIME_LIMIT carrying an iterate) and exactly
+ *     +inf when it is the safe output; never NaN. desired[] is a copy of the input (may be
+ *     NaN/Inf on INVALID_INPUT).
+ *   plan_never_allocates: hp_plan's own code allocates nothing with any backend; with the
+ *     realtime backend nothing at all is allocated. (Ipopt and NLopt allocate, and free,
+ *     inside their own solve calls.)
+ *   plan_never_prints: nothing is written to stdout or stderr, Ipopt and NLopt included.
+ *   plan_never_blocks: the realtime and NLopt backends take no lock; the Ipopt backend waits
+ *     only on its process-wide solver mutex. hp_plan never exits.
+ *   failure_labelled_with_safe_output: a result that is not a new answer has a status other
+ *     than REACHED/CLOSEST, the backend's raw_code, a text in hp_planner_error, and the SAFE
+ *     OUTPUT: bit for bit the bladders and achieved pose of the last plan that returned an
+ *     answer, or (after create, hp_planner_reset) the nominal answer, or (after
+ *     hp_planner_set_previous) the pressures it was given. INVALID_INPUT, INFEASIBLE_START
+ *     and SOLVER_ERROR always carry it; ITERATION_LIMIT / TIME_LIMIT carry it when the
+ *     backend stopped without a usable iterate (pose_error +inf tells which).
+ *   reached_means_reached: REACHED means the returned pressures, inverted by hp_iab_fk ->
+ *     hp_iab_ro -> hp_contact_fk at the planner's level, give the desired pose in every
+ *     commanded component within 1e-6 mm / degree (measured: below 1e-9). */
 #ifndef HP_PLANNER_H
 #define HP_PLANNER_H
 
@@ -83,6 +113,7 @@ const char *hp_binding_name(unsigned flag);
 #define HP_DEFAULT_MU 0.0
 #define HP_DEFAULT_USE_RATE_LIMITS 1
 #define HP_DEFAULT_WARM_START 1
+#define HP_DEFAULT_IPOPT_HESSIAN_APPROX 0 /* exact Hessian of the Lagrangian */
 
 typedef struct hp_settings {
     hp_backend backend;       /* which solver runs when a limit binds */
@@ -98,6 +129,9 @@ typedef struct hp_settings {
                                  the realtime backend needs none and ignores it */
     int use_rate_limits;      /* 1: apply each bladder's rate_max from the previous plan */
     int warm_start;           /* 1: start each solve from the previous result */
+    int ipopt_hessian_approx; /* Ipopt only: 0 exact Hessian (problem_eval.c), 1 Ipopt's
+                                 limited-memory quasi-Newton approximation (a benchmark peer;
+                                 the other backends ignore it) */
 } hp_settings;
 
 /* Fills every field with its HP_DEFAULT_* value. s may be NULL (nothing happens). */

@@ -79,6 +79,82 @@ awk -v e="$(field fastpath-surface max_error)" 'BEGIN { exit !(e != "" && e < 1e
 run bench --quick --only planner --out "$OUT" --scene "$TMP/missing.yaml"
 expect_exit 66 "--scene missing"; expect_stderr_has "missing.yaml" "names the scene"
 
+# col FILE COLUMN_NAME: prints the 1-based index of a named column of a CSV header.
+col() { head -n 1 "$1" | tr ',' '\n' | grep -nx -- "$2" | cut -d: -f1; }
+
+# The stability family (quick: 2 directions x 6 sizes per case): 4 cases x 12 methods x 6
+# sizes; every plan is accounted for, nothing leaves a pressure or stretch limit, every
+# failure carries a status, and trivial corrections always succeed.
+run bench --quick --only stability --out "$OUT" --scenarios "$HP_SRC/scenarios"
+expect_exit 0 "bench --only stability"
+expect_stdout_has "silent wrong answers:" "stability summary"
+csv="$OUT/stability.csv"
+[ "$(($(wc -l <"$csv") - 1))" -eq 288 ] && ok || bad "stability: 288 rows ($(($(wc -l <"$csv") - 1)))"
+badrows=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  !($c["reached"] + $c["closest"] + $c["failures"] == $c["targets"] &&
+    $c["verified"] + $c["unverified"] + $c["wrong"] == $c["reached"] + $c["closest"] &&
+    $c["targets"] == 2 && $c["max_limit_violation"] == 0 &&
+    ($c["failures"] == 0 || $c["failure_statuses"] != "") &&
+    $c["success_rate"] >= 0 && $c["success_rate"] <= 1) { print $1 "/" $2 "/" $5 }' "$csv")
+[ -z "$badrows" ] && ok || bad "stability: inconsistent rows: $badrows"
+# 0.01 mm/deg is reachable by the direct chain on every layout: all verified, 0 iterations.
+small=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  $c["size"] == 0.01 && !($c["verified"] == 2 && $c["max_iterations"] == 0) { print $1 "/" $2 }' "$csv")
+[ -z "$small" ] && ok || bad "stability: size 0.01 not all verified: $small"
+# Every method of every case has a row at each of the 6 sizes.
+[ "$(awk -F, 'NR > 1 { print $1 "/" $2 }' "$csv" | sort | uniq -c | awk '$1 != 6' | wc -l)" -eq 0 ] \
+  && ok || bad "stability: a method lacks sizes"
+# Every silent wrong answer counted in the CSV is listed in stability_wrong.csv.
+wrong_sum=$(awk -F, -v w="$(col "$csv" wrong)" 'NR > 1 { s += $w } END { print s + 0 }' "$csv")
+listed=$(awk -F, 'NR > 1 && $7 != "ipopt-worse"' "$OUT/stability_wrong.csv" | wc -l)
+[ "$wrong_sum" -eq "$listed" ] && ok || bad "stability: $wrong_sum wrong answers counted, $listed listed"
+[ -s "$OUT/stability.png" ] && [ "$(head -c 4 "$OUT/stability.png" | od -An -tx1 | tr -d ' \n')" = "89504e47" ] \
+  && grep -q "<svg" "$OUT/stability.svg" && [ -s "$OUT/stability.gp" ] && ok || bad "stability charts"
+run bench --quick --only stability --out "$OUT" --scenarios "$TMP/nowhere"
+expect_exit 66 "--scenarios missing"; expect_stderr_has "nowhere" "names the catalogue"
+
+# The peers family: the baseline (Ipopt, exact Hessian) has ratio 1; every method solves the
+# same NLP to the same answer. Ipopt limited-memory stops at tolerance 1e-9, so its answer is
+# within 1e-6 mm/deg of the 1e-10 reference; SciPy's SLSQP (ftol 1e-12 on an objective in
+# mm^2) within 1e-3 (measured 2e-7 analytic, 8e-7 with finite differences).
+run bench --quick --only peers --out "$OUT" --scene "$HP_SRC/scenarios/default.yaml" \
+  --peer-script "$HP_SRC/bench/scipy_peer.py"
+expect_exit 0 "bench --only peers"
+csv="$OUT/peers.csv"
+[ "$(($(wc -l <"$csv") - 1))" -eq 8 ] && ok || bad "peers: 8 rows"
+[ "$(field ipopt-exact-linear ratio_to_baseline)" = "1" ] && ok || bad "peers baseline ratio"
+for m in ipopt-exact-linear ipopt-lbfgs-linear realtime-linear ipopt-exact-surface ipopt-lbfgs-surface; do
+  awk -v e="$(field $m max_error)" -v f="$(field $m failures)" 'BEGIN { exit !(e != "" && e < 1e-6 && f == 0) }' \
+    && ok || bad "peers: $m max_error $(field $m max_error) failures $(field $m failures)"
+done
+for m in scipy-slsqp scipy-slsqp-fd; do
+  awk -v e="$(field $m max_error)" -v f="$(field $m failures)" 'BEGIN { exit !(e != "" && e < 1e-3 && f == 0) }' \
+    && ok || bad "peers: $m max_error $(field $m max_error) failures $(field $m failures)"
+done
+[ -s "$OUT/peers_pareto.png" ] && [ -s "$OUT/peers_problem.json" ] && ok || bad "peers files"
+# SciPy missing: status 70 naming --python, before anything is measured.
+run bench --quick --only peers --out "$TMP/nopy" --python /nonexistent/python3 \
+  --scene "$HP_SRC/scenarios/default.yaml" --peer-script "$HP_SRC/bench/scipy_peer.py"
+expect_exit 70 "--python missing"; expect_stderr_has "--python" "names --python"
+[ ! -e "$TMP/nopy" ] && ok || bad "output folder created although SciPy is missing"
+
+# The levels family: one row per level for each of the 7 layout scenes; auto picks the
+# cheapest level whose error bound meets the scene's tolerance; the surface level is the
+# reference (bound 0, error 0).
+run bench --quick --only levels --out "$OUT" --scenarios "$HP_SRC/scenarios"
+expect_exit 0 "bench --only levels"
+csv="$OUT/levels.csv"
+[ "$(($(wc -l <"$csv") - 1))" -eq 21 ] && ok || bad "levels: 21 rows"
+badlv=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  { s = $c["scene"]; b[s, $c["level"]] = $c["bound_mm"]; tol[s] = $c["tolerance_mm"]; a[s] = $c["auto_level"]
+    if ($c["level"] == "surface" && !($c["bound_mm"] == 0 && $c["max_error"] == 0)) print s ": surface not exact" }
+  END { for (s in a) {
+      want = (b[s, "linear"] <= tol[s]) ? "linear" : (b[s, "plane"] <= tol[s]) ? "plane" : "surface"
+      if (a[s] != want) print s ": auto " a[s] ", want " want } }' "$csv")
+[ -z "$badlv" ] && ok || bad "levels: $badlv"
+[ "$(awk -F, '$1 == "sphere_head" && $9 == 1 { print $8 }' "$csv")" = "linear" ] && ok || bad "levels: sphere_head auto"
+[ "$(awk -F, '$1 == "large_rotation" && $9 == 1 { print $8 }' "$csv")" = "surface" ] && ok || bad "levels: large_rotation auto"
+
 # Command-line errors: one line on stderr naming the option, usage status, no stdout.
 run bench --only nonsense --out "$TMP/x"
 expect_exit 64 "--only nonsense"; expect_stderr_has "--only" "names --only"; expect_stdout_empty "--only nonsense"

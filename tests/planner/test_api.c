@@ -35,9 +35,12 @@ static void test_settings_defaults(void **st)
     assert_false(FIELD_KEPT_SENTINEL(s, mu));
     assert_false(FIELD_KEPT_SENTINEL(s, use_rate_limits));
     assert_false(FIELD_KEPT_SENTINEL(s, warm_start));
-    /* The struct has exactly these fields (2 enums + 3 ints + 7 doubles, 4 bytes of tail
-     * padding on LP64), so a field added without a line above fails this test. */
-    assert_int_equal(sizeof s, 5 * sizeof(int) + 7 * sizeof(double) + 4);
+    assert_false(FIELD_KEPT_SENTINEL(s, ipopt_hessian_approx));
+    /* ipopt_hessian_approx is the last field (the struct ends there, up to alignment), so a
+     * field appended without a line above fails this test. */
+    size_t end = offsetof(hp_settings, ipopt_hessian_approx) + sizeof s.ipopt_hessian_approx;
+    assert_int_equal(sizeof s, (end + _Alignof(hp_settings) - 1) / _Alignof(hp_settings) *
+                                   _Alignof(hp_settings));
     assert_int_equal(s.backend, HP_DEFAULT_BACKEND);
     assert_int_equal(s.level, HP_DEFAULT_LEVEL);
     assert_true(s.tolerance == HP_DEFAULT_TOLERANCE);

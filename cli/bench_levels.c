@@ -1,0 +1,256 @@
+/* headplan bench, family "levels": model no more than a scene needs.
+ *
+ * For every layout scene of the catalogue (the .yaml files of o->scenarios, by name; bladder scenes are
+ * skipped): its targets are its correction and up to N_TRACE rows of its trace (evenly
+ * strided); their size is the largest translation norm (mm) and rotation-vector norm (deg).
+ * `auto` = hp_contact_auto(layout, the scene's model tolerance, that size). For each level
+ * (linear, plane, surface): hp_contact_error_bound at that size, the median time per plan
+ * (the scene's backend and solver settings, cold plans, timing harness) and the pose error:
+ * each answer's pressures through bladder FK, the volume law and the SURFACE contact FK,
+ * against the same round trip of the surface-level answer (mm or deg, commanded axes). */
+#define _DEFAULT_SOURCE
+#include "cli/bench.h"
+#include "cli/bench_report.h"
+#include "cli/bench_timing.h"
+#include "cli/bench_util.h"
+#include "cli/exit_codes.h"
+#include "headplan/hp_trace.h"
+
+#include <dirent.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define N_TRACE_FULL 200
+#define N_TRACE_QUICK 10
+#define MAX_T (N_TRACE_FULL + 1)
+#define MAX_SCENES 32
+#define MAX_TRACE_READ 200000
+
+typedef struct {
+    char scene[64];
+    char backend[16];
+    int targets;
+    double trans_mm, rot_deg, tol_mm;
+    hp_level auto_level;
+    struct {
+        double bound_mm, median_ns, p99_ns, max_error;
+        long failures;
+    } lv[3];
+} level_row;
+
+typedef struct {
+    hp_planner *p;
+    const double (*targets)[6];
+    long n;
+    double sink;
+} plan_ctx;
+
+static void batch(void *vctx, long first, long count)
+{
+    plan_ctx *c = vctx;
+    long pos = first % c->n;
+    hp_result r;
+    for (long j = 0; j < count; ++j) {
+        hp_planner_reset(c->p);
+        if (hp_plan(c->p, c->targets[pos], &r) == HP_OK) c->sink += r.bladders[0].pressure;
+        if (++pos == c->n) pos = 0;
+    }
+}
+
+/* The scene's targets (SI). Returns the count, or -1 after a message on stderr. */
+static int scene_targets(const hp_scene *sc, int quick, double (*t)[6])
+{
+    int n = 0;
+    if (sc->has_correction) memcpy(t[n++], sc->correction, sizeof t[0]);
+    if (!sc->has_trace) return n;
+    hp_trace_reader *r;
+    hp_diag d;
+    hp_trace_rows rows = sc->trace_rows;
+    if (hp_trace_open(sc->trace_path, &rows, &r, &d) != HP_OK) {
+        fprintf(stderr, "headplan bench: levels: %s\n", d.text);
+        return -1;
+    }
+    double (*all)[6] = malloc(MAX_TRACE_READ * sizeof *all);
+    long m = 0;
+    hp_trace_row row;
+    hp_error e;
+    while (all && m < MAX_TRACE_READ && (e = hp_trace_next(r, &row, &d)) != HP_ERR_STATE) {
+        if (e != HP_OK) {
+            fprintf(stderr, "headplan bench: levels: %s\n", d.text);
+            free(all);
+            hp_trace_close(r);
+            return -1;
+        }
+        memcpy(all[m++], row.correction, sizeof all[0]);
+    }
+    hp_trace_close(r);
+    if (!all) return -1;
+    long want = quick ? N_TRACE_QUICK : N_TRACE_FULL;
+    long stride = m > want ? m / want : 1;
+    for (long k = 0; k < m && n < want + 1; k += stride) memcpy(t[n++], all[k], sizeof t[0]);
+    free(all);
+    return n;
+}
+
+static int cmp_str(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+static const hp_level levels[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+
+/* One scene: fills row. Returns 0, 1 when the scene is skipped, or an exit status. */
+static int run_scene(const hp_bench_options *o, const char *path, const char *stem,
+                     level_row *row)
+{
+    static hp_scene sc;
+    hp_diag d;
+    if (hp_scene_load(path, &sc, &d) != HP_OK) {
+        fprintf(stderr, "headplan bench: levels: %s\n", d.text);
+        return HP_EXIT_DATAERR;
+    }
+    if (sc.kind != HP_SCENE_LAYOUT) return 1;
+    static double t[MAX_T][6], ref[MAX_T][6];
+    int n = scene_targets(&sc, o->quick, t);
+    if (n < 0) return HP_EXIT_DATAERR;
+    if (n == 0) return 1;
+    const hp_layout *L = &sc.layout;
+    memset(row, 0, sizeof *row);
+    snprintf(row->scene, sizeof row->scene, "%s", stem);
+    snprintf(row->backend, sizeof row->backend, "%s", sc.backend);
+    row->targets = n;
+    double tr = 0, rot = 0;
+    for (int k = 0; k < n; ++k) {
+        tr = fmax(tr, sqrt(t[k][0] * t[k][0] + t[k][1] * t[k][1] + t[k][2] * t[k][2]));
+        rot = fmax(rot, sqrt(t[k][3] * t[k][3] + t[k][4] * t[k][4] + t[k][5] * t[k][5]));
+    }
+    row->trans_mm = tr * 1e3;
+    row->rot_deg = rot * 180 / HP_BENCH_PI;
+    row->tol_mm = sc.level_tolerance * 1e3;
+    if (hp_contact_auto(L, sc.level_tolerance, tr, rot, &row->auto_level) != HP_OK) {
+        fprintf(stderr, "headplan bench: levels: %s: auto could not choose a level\n", path);
+        return HP_EXIT_SOFTWARE;
+    }
+    hp_backend be;
+    if (hp_backend_parse(sc.backend, &be) != HP_OK) return HP_EXIT_DATAERR;
+    for (int li = 2; li >= 0; --li) { /* surface first: the reference */
+        hp_settings s;
+        hp_settings_default(&s);
+        s.backend = be;
+        s.level = levels[li];
+        s.tolerance = sc.tolerance;
+        s.max_iter = sc.max_iter;
+        s.max_time = sc.max_time;
+        s.weight_mm_per_deg = sc.weight_mm_per_deg;
+        s.warm_start = 0;
+        hp_planner *p;
+        int rc = hp_bench_planner_new(L, &s, &p);
+        if (rc) return rc;
+        double worst = 0;
+        long fails = 0;
+        for (int k = 0; k < n; ++k) {
+            hp_result r;
+            double xi[6];
+            hp_planner_reset(p);
+            if (hp_plan(p, t[k], &r) != HP_OK ||
+                (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
+                hp_bench_round_trip(L, HP_LEVEL_SURFACE, &r, xi, NULL) != HP_OK) {
+                fails++;
+                if (li == 2) memset(ref[k], 0, sizeof ref[k]);
+                continue;
+            }
+            if (li == 2) memcpy(ref[k], xi, sizeof xi);
+            double e = hp_bench_pose_diff(xi, ref[k], r.commanded);
+            if (!(e <= worst)) worst = e;
+        }
+        plan_ctx c = {p, (const double(*)[6])t, n, 0};
+        hp_bench_timing tm;
+        rc = hp_bench_time(o, batch, &c, &tm) != 0 ? HP_EXIT_SOFTWARE : 0;
+        hp_planner_destroy(p);
+        if (rc) return rc;
+        double bound;
+        if (hp_contact_error_bound(L, levels[li], tr, rot, &bound) != HP_OK) bound = NAN;
+        row->lv[li].bound_mm = bound * 1e3;
+        row->lv[li].median_ns = tm.median_ns;
+        row->lv[li].p99_ns = tm.p99_ns;
+        row->lv[li].max_error = worst;
+        row->lv[li].failures = fails;
+    }
+    fprintf(stderr, "bench levels: %-16s auto=%-7s (%.3g mm, %.3g deg, tolerance %g mm)\n",
+            stem, hp_level_name(row->auto_level), row->trans_mm, row->rot_deg, row->tol_mm);
+    return 0;
+}
+
+typedef struct {
+    const level_row *rows;
+    int n;
+} level_table;
+
+static int csv_writer(const void *arg, FILE *f)
+{
+    const level_table *lt = arg;
+    fprintf(f, "scene,backend,targets,trans_mm,rot_deg,tolerance_mm,auto_level,level,is_auto,"
+               "bound_mm,bound_meets_tolerance,median_ns,p99_ns,max_error,failures,"
+               "time_ratio_to_auto\n");
+    for (int i = 0; i < lt->n; ++i) {
+        const level_row *r = &lt->rows[i];
+        double tauto = r->lv[r->auto_level].median_ns;
+        for (int l = 0; l < 3; ++l)
+            fprintf(f, "%s,%s,%d,%.6g,%.6g,%g,%s,%s,%d,%.6e,%d,%.1f,%.1f,%.6e,%ld,%.4g\n",
+                    r->scene, r->backend, r->targets, r->trans_mm, r->rot_deg, r->tol_mm,
+                    hp_level_name(r->auto_level), hp_level_name(levels[l]),
+                    levels[l] == r->auto_level, r->lv[l].bound_mm,
+                    r->lv[l].bound_mm <= r->tol_mm, r->lv[l].median_ns, r->lv[l].p99_ns,
+                    r->lv[l].max_error, r->lv[l].failures, r->lv[l].median_ns / tauto);
+    }
+    return ferror(f) ? -1 : 0;
+}
+
+int hp_bench_levels(const hp_bench_options *o, const char *dir)
+{
+    DIR *dp = opendir(o->scenarios);
+    if (!dp) {
+        fprintf(stderr, "headplan bench: --scenarios: cannot open folder '%s'\n", o->scenarios);
+        return HP_EXIT_NOINPUT;
+    }
+    char *names[MAX_SCENES];
+    int nn = 0;
+    struct dirent *de;
+    while ((de = readdir(dp)) && nn < MAX_SCENES) {
+        size_t len = strlen(de->d_name);
+        if (len > 5 && strcmp(de->d_name + len - 5, ".yaml") == 0)
+            names[nn++] = strdup(de->d_name);
+    }
+    closedir(dp);
+    qsort(names, (size_t)nn, sizeof *names, cmp_str);
+    static level_row rows[MAX_SCENES];
+    int nr = 0, rc = 0;
+    for (int i = 0; i < nn && rc == 0; ++i) {
+        char path[4096], stem[64];
+        snprintf(path, sizeof path, "%s/%s", o->scenarios, names[i]);
+        snprintf(stem, sizeof stem, "%.*s", (int)(strlen(names[i]) - 5), names[i]);
+        int r = names[i] ? run_scene(o, path, stem, &rows[nr]) : HP_EXIT_SOFTWARE;
+        if (r == 0) ++nr;
+        else if (r != 1) rc = r;
+    }
+    for (int i = 0; i < nn; ++i) free(names[i]);
+    if (rc) return rc;
+    level_table lt = {rows, nr};
+    if ((rc = hp_bench_save(dir, "levels.csv", csv_writer, &lt)) != 0) return rc;
+    printf("%-16s %-8s %7s %8s %7s %-8s %-8s %10s %12s %12s %8s\n", "scene", "backend",
+           "targets", "size_mm", "size_deg", "auto", "level", "bound_mm", "median_ns",
+           "max_error", "failures");
+    for (int i = 0; i < nr; ++i)
+        for (int l = 0; l < 3; ++l) {
+            const level_row *r = &rows[i];
+            printf("%-16s %-8s %7d %8.3g %7.3g %-8s %-8s %10.3e %12.0f %12.3e %8ld%s\n",
+                   r->scene, r->backend, r->targets, r->trans_mm, r->rot_deg,
+                   hp_level_name(r->auto_level), hp_level_name(levels[l]), r->lv[l].bound_mm,
+                   r->lv[l].median_ns, r->lv[l].max_error, r->lv[l].failures,
+                   levels[l] == r->auto_level ? "  <- auto" : "");
+        }
+    fprintf(stderr, "bench levels: wrote %s/levels.csv\n", dir);
+    return 0;
+}

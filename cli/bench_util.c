@@ -1,0 +1,154 @@
+/* headplan bench: shared helpers (see bench_util.h). */
+#include "cli/bench_util.h"
+#include "cli/exit_codes.h"
+
+#include <math.h>
+#include <stdio.h>
+
+int hp_bench_load_layout(const char *path, hp_scene *scene)
+{
+    hp_diag d;
+    if (hp_scene_load(path, scene, &d) != HP_OK) {
+        fprintf(stderr, "headplan bench: %s\n", d.text);
+        return HP_EXIT_NOINPUT;
+    }
+    if (scene->kind != HP_SCENE_LAYOUT) {
+        fprintf(stderr, "headplan bench: %s: not a layout scene\n", path);
+        return HP_EXIT_DATAERR;
+    }
+    return 0;
+}
+
+int hp_bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p)
+{
+    hp_diag d;
+    if (hp_planner_create(L, s, p, &d) != HP_OK) {
+        fprintf(stderr, "headplan bench: planner (%s, %s, tolerance %g): %s\n",
+                hp_backend_name(s->backend), hp_level_name(s->level), s->tolerance, d.text);
+        return HP_EXIT_SOFTWARE;
+    }
+    return 0;
+}
+
+int hp_bench_bounds_of(const hp_layout *L, hp_bench_bounds *b)
+{
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder *B = &L->bladders[k];
+        hp_iab_limit lp;
+        double lo = B->stretch_min * B->iab.Ri, hi = B->stretch_max * B->iab.Ri, r;
+        if (hp_iab_limit_point(&B->iab, &lp) != HP_OK) return -1;
+        if (lp.exists) hi = fmin(hi, lp.ri * (1.0 - 1e-3));
+        if (hp_iab_fk(&B->iab, B->p_min, &r) != HP_OK) return -1;
+        lo = fmax(lo, r);
+        if ((!lp.exists || B->p_max < lp.pressure) && hp_iab_fk(&B->iab, B->p_max, &r) == HP_OK)
+            hi = fmin(hi, r);
+        if (!(lo < hi) || hp_iab_ik(&B->iab, lo, &b->p_lo[k]) != HP_OK ||
+            hp_iab_ik(&B->iab, hi, &b->p_hi[k]) != HP_OK)
+            return -1;
+        b->ri_lo[k] = lo;
+        b->ri_hi[k] = hi;
+    }
+    return 0;
+}
+
+static hp_error outer_radii(const hp_layout *L, const hp_result *r, double *ro)
+{
+    for (int k = 0; k < L->n; ++k) {
+        double ri;
+        hp_error e = hp_iab_fk(&L->bladders[k].iab, r->bladders[k].pressure, &ri);
+        if (e == HP_OK) e = hp_iab_ro(&L->bladders[k].iab, ri, &ro[k]);
+        if (e != HP_OK) return e;
+    }
+    return HP_OK;
+}
+
+hp_error hp_bench_round_trip(const hp_layout *L, hp_level level, const hp_result *r,
+                             double xi[6], double *ro_out)
+{
+    double ro[HP_MAX_BLADDERS];
+    hp_error e = outer_radii(L, r, ro);
+    if (e != HP_OK) return e;
+    if (ro_out)
+        for (int k = 0; k < L->n; ++k) ro_out[k] = ro[k];
+    return hp_contact_fk(L, level, ro, r->achieved, xi, NULL, NULL);
+}
+
+static double axis_diff(const double a[6], const double b[6], int i)
+{
+    return fabs(a[i] - b[i]) * (i < 3 ? 1e3 : 180.0 / HP_BENCH_PI);
+}
+
+double hp_bench_pose_diff(const double a[6], const double b[6], const int *commanded)
+{
+    double m = 0;
+    for (int i = 0; i < 6; ++i) {
+        if (commanded && !commanded[i]) continue;
+        double d = axis_diff(a, b, i);
+        if (!(d <= m)) m = d; /* NaN propagates */
+    }
+    return m;
+}
+
+double hp_bench_pose_dist(const double a[6], const double b[6], const int *commanded)
+{
+    double s = 0;
+    for (int i = 0; i < 6; ++i)
+        if (!commanded || commanded[i]) s += axis_diff(a, b, i) * axis_diff(a, b, i);
+    return sqrt(s);
+}
+
+double hp_bench_limit_violation(const hp_layout *L, const hp_result *r)
+{
+    double v = 0;
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder *b = &L->bladders[k];
+        double P = r->bladders[k].pressure, s = r->bladders[k].stretch;
+        double vp = fmax(fmax(P - b->p_max, b->p_min - P), 0) / (b->p_max - b->p_min);
+        double vs = fmax(fmax(s - b->stretch_max, b->stretch_min - s), 0) /
+                    (b->stretch_max - b->stretch_min);
+        if (!(vp <= v)) v = vp;
+        if (!(vs <= v)) v = vs;
+    }
+    return v;
+}
+
+double hp_bench_contact_violation(const hp_layout *L, hp_level level, const hp_result *r)
+{
+    double ro[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS], v = 0;
+    if (outer_radii(L, r, ro) != HP_OK ||
+        hp_contact_eval(L, level, r->achieved, rho, NULL, NULL) != HP_OK)
+        return NAN;
+    for (int k = 0; k < L->n; ++k) {
+        double d = fabs(ro[k] - rho[k]) * 1e3;
+        if (!(d <= v)) v = d;
+    }
+    return v;
+}
+
+double hp_bench_urand(uint64_t *s)
+{
+    *s ^= *s >> 12;
+    *s ^= *s << 25;
+    *s ^= *s >> 27;
+    return (double)((*s * 0x2545F4914F6CDD1Du) >> 11) / 9007199254740992.0;
+}
+
+void hp_bench_unit6(uint64_t *s, double u[6])
+{
+    double n2 = 0;
+    do {
+        n2 = 0;
+        for (int i = 0; i < 6; ++i) {
+            double a = hp_bench_urand(s), b = hp_bench_urand(s);
+            u[i] = sqrt(-2.0 * log(1.0 - a)) * cos(2.0 * HP_BENCH_PI * b);
+            n2 += u[i] * u[i];
+        }
+    } while (!(n2 > 1e-6));
+    double n = sqrt(n2);
+    for (int i = 0; i < 6; ++i) u[i] /= n;
+}
+
+void hp_bench_to_si(const double mm_deg[6], double xi[6])
+{
+    for (int i = 0; i < 6; ++i) xi[i] = mm_deg[i] * (i < 3 ? 1e-3 : HP_BENCH_PI / 180.0);
+}

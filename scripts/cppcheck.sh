@@ -1,0 +1,30 @@
+#!/usr/bin/env bash
+# Static analysis: cppcheck (2.10 on Debian 12) over the library and the program, C11, with
+# warning, performance, portability and style checks. Every finding is either fixed, or
+# suppressed inline in the source with its reason, or -- in files whose owners have not yet
+# taken the change -- suppressed below by check id and file, each listed with the reason it
+# is not a defect in docs/static-analysis.md. Exits non-zero on any other finding.
+#   bash scripts/cppcheck.sh          (needs a configured build dir for hp_version.h: it
+#                                      uses build-cppcheck/, configured here if missing)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+command -v cppcheck >/dev/null || bash scripts/install-deps.sh
+B=${CPPCHECK_BUILD:-build-cppcheck}
+[ -f "$B/include/headplan/hp_version.h" ] || cmake -S . -B "$B" >/dev/null
+echo "cppcheck: $(cppcheck --version)"
+# Known false positives / accepted style findings (docs/static-analysis.md explains each).
+# File-scoped: a new finding of the same id elsewhere still fails the run.
+SUPPRESS=(
+  --suppress=missingIncludeSystem              # system and Eigen headers are not analysed
+  --suppress=uninitvar:planner/backend_common.c # lo[]/hi[] set for every k < n; act[] < n
+  --suppress=uninitvar:planner/qp.c             # d[k], r[j] set for k < n, j > k before use
+  --suppress=duplicateCondition:planner/backend_realtime.c # two blocks, same guard: style
+  --suppress=uninitvar:cli/bench_levels.c       # qsort of 0 elements when no file is read
+  --suppress=clarifyCalculation:cli/bench_stability.c # (a + b) ? x : y is the intent
+  --suppress=unusedStructMember:cli/bench_stability.c # a counter not printed yet
+)
+cppcheck --std=c11 --enable=warning,performance,portability,style --inline-suppr \
+  --error-exitcode=1 --quiet --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \
+  -Iinclude -I. -I"$B/include" -D__GNUC__ "${SUPPRESS[@]}" \
+  iab kinematics scene planner cli
+echo "cppcheck: no findings beyond the documented suppressions"
