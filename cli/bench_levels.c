@@ -220,8 +220,9 @@ int hp_bench_levels(const hp_bench_options *o, const char *dir)
     struct dirent *de;
     while ((de = readdir(dp)) && nn < MAX_SCENES) {
         size_t len = strlen(de->d_name);
-        if (len > 5 && strcmp(de->d_name + len - 5, ".yaml") == 0)
-            names[nn++] = strdup(de->d_name);
+        if (len > 5 && strcmp(de->d_name + len - 5, ".yaml") == 0 &&
+            (names[nn] = strdup(de->d_name)) != NULL)
+            ++nn;
     }
     closedir(dp);
     qsort(names, (size_t)nn, sizeof *names, cmp_str);

@@ -64,7 +64,7 @@ static const hp_level levels[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SUR
 
 /* One (case, method, size) cell. */
 typedef struct {
-    int targets, reached, closest, verified, unverified, wrong, ipopt_worse;
+    int targets, reached, closest, verified, unverified, wrong;
     int fail[HP_STATUS_COUNT_ + 1]; /* per status; [COUNT_] = hp_plan returned an error */
     int iters[N_DIR_FULL], n_iters;
     int max_iter;
@@ -370,7 +370,7 @@ static int chart_writer(const void *arg, FILE *f)
             for (int k = 0; k < cd->n_size; ++k) {
                 const cell *ce = &cd->cells[m][k];
                 double sr = ce->targets ? (double)ce->verified / ce->targets : 0;
-                double cv = ce->reached + ce->closest ? ce->max_contact_viol : NAN;
+                double cv = (ce->reached + ce->closest) ? ce->max_contact_viol : NAN;
                 if (cv < HP_BENCH_ERROR_FLOOR) cv = HP_BENCH_ERROR_FLOOR;
                 fprintf(f, "%g %.6g ", cd->sizes[k], sr);
                 if (ce->n_iters) fprintf(f, "%d ", ce->max_iter + 1);

@@ -303,12 +303,14 @@ hp_error hp_scene_load(const char *path, hp_scene *out, hp_diag *diag)
         fclose(f);
         return hp_diag_set(diag, HP_ERR_NOMEM, "%s: out of memory", path);
     }
+    errno = 0;
     size_t len = fread(buf, 1, HP_SCENE_MAX_BYTES + 1, f);
-    int failed = ferror(f);
+    int failed = ferror(f), why = errno;
     fclose(f);
     hp_error e;
     if (failed)
-        e = hp_diag_set(diag, HP_ERR_IO, "%s: read error", path);
+        e = hp_diag_set(diag, HP_ERR_IO, "%s: cannot read: %s", path,
+                        why ? strerror(why) : "read error");
     else if (len > HP_SCENE_MAX_BYTES)
         e = hp_diag_set(diag, HP_ERR_PARSE, "%s: larger than the 1 MiB limit", path);
     else

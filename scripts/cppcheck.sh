@@ -20,8 +20,6 @@ SUPPRESS=(
   --suppress=uninitvar:planner/qp.c             # d[k], r[j] set for k < n, j > k before use
   --suppress=duplicateCondition:planner/backend_realtime.c # two blocks, same guard: style
   --suppress=uninitvar:cli/bench_levels.c       # qsort of 0 elements when no file is read
-  --suppress=clarifyCalculation:cli/bench_stability.c # (a + b) ? x : y is the intent
-  --suppress=unusedStructMember:cli/bench_stability.c # a counter not printed yet
 )
 cppcheck --std=c11 --enable=warning,performance,portability,style --inline-suppr \
   --error-exitcode=1 --quiet --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \
