@@ -62,6 +62,10 @@ static hp_planner *make(const hp_layout *L, hp_backend b, hp_level level)
     s.backend = b;
     s.level = level;
     s.tolerance = backend_tolerance(b);
+    /* Accuracy, not speed, is under test: a generous budget so that a loaded machine or
+     * valgrind (Ipopt's first solve took over the default 1 s of CPU there) cannot turn a
+     * target into TIME_LIMIT. */
+    s.max_time = 60.0;
     hp_planner *p = NULL;
     hp_diag d = {{0}};
     hp_error e = hp_planner_create(L, &s, &p, &d);
