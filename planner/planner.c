@@ -1,6 +1,7 @@
 /* The planner core: create/destroy, the direct chain, the backend call through its table,
  * and the checks every answer passes before it is returned (see hp_planner.h). */
 #define _POSIX_C_SOURCE 200809L
+#include "planner/backend_common.h"
 #include "planner/problem_setup.h"
 
 #include <math.h>
@@ -321,6 +322,27 @@ static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, double t0
     return HP_OK;
 }
 
+/* Whether a backend's claimed optimum x (scaled, full program) meets the first-order
+ * optimality conditions: contacts within max(10·tolerance, 1e-6) mm, radii inside their
+ * bounds, stationarity and multiplier signs within 1e-3 of the gradient's scale. Checked for the NLopt backends, whose stopping tests (XTOL, FTOL)
+ * say nothing about optimality; Ipopt stops on its own KKT test and the realtime QP on its
+ * multipliers' signs. The check uses the minimum-norm multipliers, so at a degenerate vertex
+ * it can refuse a true optimum: then the answer is labelled solver-error, never wrong. */
+static int closest_verified(const hp_planner *p, const double *x)
+{
+    if (p->s.backend != HP_BACKEND_NLOPT_SLSQP && p->s.backend != HP_BACKEND_NLOPT_COBYLA)
+        return 1;
+    hp_kkt_measure m;
+    if (hp_backend_kkt_measure(&p->pb, x, &m) != HP_OK) return 0;
+    /* Loose on purpose: SLSQP's answers stop up to ~1e-5 mm/deg short and its multipliers
+     * are not exact, while a stalled start point misses stationarity by O(1) of the
+     * gradient; 1e-3 of the gradient's scale separates the two. */
+    double feas = 10.0 * p->s.tolerance > 1e-6 ? 10.0 * p->s.tolerance : 1e-6;
+    double stat = 1e-3 * (1.0 + m.grad_max);
+    return m.in_bounds && m.feasibility <= feas && m.stationarity <= stat &&
+           m.wrong_sign <= stat;
+}
+
 hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
 {
     double t0 = now_s();
@@ -470,6 +492,19 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     pose_error(p, r, pb->d);
     if (r->pose_error <= p->s.tolerance) {
         r->status = HP_STATUS_REACHED;
+    } else if (converged && !closest_verified(p, x)) {
+        /* A backend that claims an optimum the first-order conditions refute (NLopt SLSQP
+         * far beyond reach handed back its start point with XTOL_REACHED) gives no answer:
+         * label it and hold, never report it as the closest correction. */
+        err_set(p, p->ops->name);
+        err_add(p, ": solver-error (raw code ");
+        err_add_int(p, raw);
+        err_add(p, "): its claimed optimum fails the first-order (KKT) check; "
+                   "holding the previous pressures");
+        fail_safe(p, res, HP_STATUS_SOLVER_ERROR, t0);
+        res->raw_code = raw;
+        res->iterations = iters;
+        return HP_OK;
     } else if (converged) {
         r->status = HP_STATUS_CLOSEST;
     } else {
