@@ -63,13 +63,17 @@ static void eval_fail(nlopt_state *st)
 
 /* ---- full program (SLSQP) ---- */
 
+/* On a failed evaluation every output NLopt reads is still written (SLSQP reads the
+ * gradient even after a forced stop), so nothing uninitialised reaches it. */
 static double full_objective(unsigned nx, const double *x, double *grad, void *data)
 {
-    (void)nx;
     nlopt_state *st = data;
     double f;
-    if (atomic_load(&nlopt_fault) == HP_TEST_FAULT_NAN_OBJECTIVE) return NAN;
-    if (hp_problem_objective(st->pb, x, &f, grad, NULL) != HP_OK) {
+    int nan_fault = atomic_load(&nlopt_fault) == HP_TEST_FAULT_NAN_OBJECTIVE;
+    if (nan_fault || hp_problem_objective(st->pb, x, &f, grad, NULL) != HP_OK) {
+        if (grad)
+            for (unsigned i = 0; i < nx; i++) grad[i] = 0.0;
+        if (nan_fault) return NAN;
         eval_fail(st);
         return HUGE_VAL;
     }
@@ -79,11 +83,12 @@ static double full_objective(unsigned nx, const double *x, double *grad, void *d
 static void full_constraints(unsigned m, double *c, unsigned nx, const double *x, double *grad,
                              void *data)
 {
-    (void)nx;
     nlopt_state *st = data;
     if (atomic_load(&nlopt_fault) == HP_TEST_FAULT_FAIL_CONSTRAINTS ||
         hp_problem_constraints(st->pb, x, c, grad, NULL, NULL) != HP_OK) {
         for (unsigned k = 0; k < m; k++) c[k] = HUGE_VAL;
+        if (grad)
+            for (unsigned i = 0; i < m * nx; i++) grad[i] = 0.0;
         eval_fail(st);
     }
 }
@@ -284,10 +289,17 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
     e = hp_backend_start(pb, x0, xs);
     if (e != HP_OK) return hp_diag_set(d, e, "nlopt: starting point not finite or not valid");
 
-    if (!st->reduced) {
+    {
+        /* An uncommanded pose component (weight 0) is fixed at 0, as the core holds it:
+         * left free, the solver uses it to meet the contacts. */
         double lb[HP_PROBLEM_NX_MAX], ub[HP_PROBLEM_NX_MAX];
-        for (int i = 0; i < 6; i++) lb[i] = -HUGE_VAL, ub[i] = HUGE_VAL;
-        for (int k = 0; k < pb->n; k++) lb[6 + k] = pb->ri_lo[k], ub[6 + k] = pb->ri_hi[k];
+        for (int i = 0; i < 6; i++) {
+            double b = pb->w[i] > 0.0 ? HUGE_VAL : 0.0;
+            lb[i] = -b, ub[i] = b;
+            if (b == 0.0) xs[i] = 0.0;
+        }
+        for (int k = 0; !st->reduced && k < pb->n; k++)
+            lb[6 + k] = pb->ri_lo[k], ub[6 + k] = pb->ri_hi[k];
         if ((e = nl(nlopt_set_lower_bounds(st->opt, lb), "set_lower_bounds", d)) ||
             (e = nl(nlopt_set_upper_bounds(st->opt, ub), "set_upper_bounds", d)))
             return e;
