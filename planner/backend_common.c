@@ -138,6 +138,10 @@ hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_me
     /* A free ri_k fixes its contact multiplier: g_{6+k} + λ_k·ro'_k = 0 (ro' = jac[k][6+k] > 0).
      * The active ones take the least-squares (ridge-regularised, minimum-norm) values that
      * best cancel the pose rows of the Lagrangian's gradient. */
+    /* A pose component of weight 0 is not commanded: the backends hold it fixed at 0, so
+     * its row of the Lagrangian's gradient carries a bound multiplier, not a condition. */
+    int free_[6];
+    for (int i = 0; i < 6; i++) free_[i] = pb->w[i] > 0.0;
     double lam[HP_MAX_BLADDERS] = {0};
     double b[6];
     for (int i = 0; i < 6; i++) b[i] = g[i];
@@ -156,12 +160,14 @@ hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_me
         for (int p = 0; p < m; p++) {
             for (int q = 0; q < m; q++) {
                 double s = 0.0;
-                for (int i = 0; i < 6; i++) s += jac[act[p] * nx + i] * jac[act[q] * nx + i];
+                for (int i = 0; i < 6; i++)
+                    if (free_[i]) s += jac[act[p] * nx + i] * jac[act[q] * nx + i];
                 A[p * m + q] = s;
             }
             tr += A[p * m + p];
             double s = 0.0;
-            for (int i = 0; i < 6; i++) s += jac[act[p] * nx + i] * b[i];
+            for (int i = 0; i < 6; i++)
+                if (free_[i]) s += jac[act[p] * nx + i] * b[i];
             rhs[p] = -s;
         }
         for (int p = 0; p < m; p++) A[p * m + p] += 1e-12 * (tr > 0.0 ? tr : 1.0);
@@ -173,7 +179,8 @@ hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_me
         }
     }
     m_out->stationarity = 0.0;
-    for (int i = 0; i < 6; i++) m_out->stationarity = fmax(m_out->stationarity, fabs(b[i]));
+    for (int i = 0; i < 6; i++)
+        if (free_[i]) m_out->stationarity = fmax(m_out->stationarity, fabs(b[i]));
     m_out->wrong_sign = 0.0;
     for (int p = 0; p < m; p++) {
         int k = act[p];

@@ -176,7 +176,12 @@ static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
 {
     double xl[HP_PROBLEM_NX_MAX], xu[HP_PROBLEM_NX_MAX];
     double gz[HP_MAX_BLADDERS] = {0};
-    for (int i = 0; i < 6; i++) xl[i] = -IPOPT_INF, xu[i] = IPOPT_INF;
+    /* An uncommanded pose component (weight 0) is fixed at 0: left free, Ipopt uses it to
+     * meet the contacts, and the core (which holds it at 0) then gets radii no pose holds. */
+    for (int i = 0; i < 6; i++) {
+        double b = pb->w[i] > 0.0 ? IPOPT_INF : 0.0;
+        xl[i] = -b, xu[i] = b;
+    }
     for (int k = 0; k < st->n; k++) {
         xl[6 + k] = pb->ri_lo[k];
         xu[6 + k] = pb->ri_hi[k];

@@ -65,7 +65,8 @@ typedef enum hp_backend {
 } hp_backend;
 /* "realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla"; "unknown" for other values. */
 const char *hp_backend_name(hp_backend b);
-/* Parses a backend name; HP_ERR_INVALID (out untouched) for anything else or NULL. */
+/* Parses a backend name; HP_ERR_NULL for a NULL argument, HP_ERR_INVALID (out untouched)
+ * for anything else. */
 hp_error hp_backend_parse(const char *s, hp_backend *out);
 
 /* Outcome of one plan. REACHED and CLOSEST carry a new answer; ITERATION_LIMIT and
