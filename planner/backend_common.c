@@ -200,3 +200,27 @@ int hp_backend_kkt_ok(const hp_problem *pb, const double *x, double feas_tol)
     return m.in_bounds && m.feasibility <= feas_tol && m.stationarity <= stat_tol &&
            m.wrong_sign <= stat_tol;
 }
+
+hp_error hp_backend_begin(const char *name, const hp_problem *pb, int n, int nx,
+                          const double *x0, double *xs, hp_backend_result *r, int *go,
+                          hp_diag *d)
+{
+    *go = 0;
+    r->status = HP_STATUS_SOLVER_ERROR;
+    r->raw_code = 0;
+    r->iterations = 0;
+    r->converged = 0;
+    if (pb->n != n || pb->nx != nx)
+        return hp_diag_set(d, HP_ERR_INVALID, "%s: problem size changed since create", name);
+    hp_error e = hp_backend_check_problem(pb, d);
+    if (e == HP_ERR_DOMAIN) {
+        r->status = HP_STATUS_INFEASIBLE_START;
+        return HP_OK;
+    }
+    if (e != HP_OK) return e;
+    e = hp_backend_start(pb, x0, xs);
+    if (e != HP_OK)
+        return hp_diag_set(d, e, "%s: starting point not finite or not valid", name);
+    *go = 1;
+    return HP_OK;
+}

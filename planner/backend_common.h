@@ -18,6 +18,15 @@ hp_error hp_backend_default_start(const hp_problem *pb, double *x);
  * HP_ERR_INVALID when x0 holds a NaN or infinity. */
 hp_error hp_backend_start(const hp_problem *pb, const double *x0, double *x);
 
+/* What every backend's solve does first: resets r, checks that the problem still has the
+ * size the backend was created for (n, nx), checks the bounds, and builds the starting point
+ * xs from x0. Returns HP_OK with *go = 1 to solve; HP_OK with *go = 0 when the bounds are
+ * empty (r->status = INFEASIBLE_START, nothing to solve); an error (named after the backend
+ * `name` in d) otherwise. */
+hp_error hp_backend_begin(const char *name, const hp_problem *pb, int n, int nx,
+                          const double *x0, double *xs, hp_backend_result *r, int *go,
+                          hp_diag *d);
+
 /* Moves every ri_k into [ri_lo_k, ri_hi_k] (solvers may leave them 1e-8 relative outside). */
 void hp_backend_clip(const hp_problem *pb, double *x);
 

@@ -291,22 +291,10 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
 {
     ipopt_state *st = state;
     if (!st || !pb || !x || !r) return hp_diag_set(d, HP_ERR_NULL, "ipopt: NULL argument");
-    r->status = HP_STATUS_SOLVER_ERROR;
-    r->raw_code = 0;
-    r->iterations = 0;
-    r->converged = 0;
-    if (pb->n != st->n || pb->nx != st->nx)
-        return hp_diag_set(d, HP_ERR_INVALID, "ipopt: problem size changed since create");
-    hp_error e = hp_backend_check_problem(pb, d);
-    if (e == HP_ERR_DOMAIN) {
-        r->status = HP_STATUS_INFEASIBLE_START;
-        return HP_OK;
-    }
-    if (e != HP_OK) return e;
-
     double xs[HP_PROBLEM_NX_MAX];
-    e = hp_backend_start(pb, x0, xs);
-    if (e != HP_OK) return hp_diag_set(d, e, "ipopt: starting point not finite or not valid");
+    int go;
+    hp_error e = hp_backend_begin("ipopt", pb, st->n, st->nx, x0, xs, r, &go, d);
+    if (e != HP_OK || !go) return e;
     int warm = st->s.warm_start && st->have_prev && x0 &&
                memcmp(x0, st->x_prev, (size_t)st->nx * sizeof *x0) == 0;
     int same_bounds = memcmp(st->ri_lo, pb->ri_lo, (size_t)st->n * sizeof(double)) == 0 &&
