@@ -70,12 +70,14 @@ static double full_objective(unsigned nx, const double *x, double *grad, void *d
     nlopt_state *st = data;
     double f;
     int nan_fault = atomic_load(&nlopt_fault) == HP_TEST_FAULT_NAN_OBJECTIVE;
-    if (nan_fault || hp_problem_objective(st->pb, x, &f, grad, NULL) != HP_OK) {
+    if (nan_fault || hp_problem_objective(st->pb, x, &f, grad, NULL) != HP_OK ||
+        !isfinite(f)) {
         if (grad)
             for (unsigned i = 0; i < nx; i++) grad[i] = 0.0;
-        if (nan_fault) return NAN;
+        /* A NaN objective stops the solve as a failure: SLSQP would otherwise go on from
+         * numbers it cannot compare. */
         eval_fail(st);
-        return HUGE_VAL;
+        return nan_fault ? NAN : HUGE_VAL;
     }
     return f;
 }
@@ -130,7 +132,10 @@ static double reduced_objective(unsigned n6, const double *x, double *grad, void
     nlopt_state *st = data;
     const hp_problem *pb = st->pb;
     double f = 0.0;
-    if (atomic_load(&nlopt_fault) == HP_TEST_FAULT_NAN_OBJECTIVE) return NAN;
+    if (atomic_load(&nlopt_fault) == HP_TEST_FAULT_NAN_OBJECTIVE) {
+        eval_fail(st);
+        return NAN;
+    }
     for (int i = 0; i < 6; i++) f += pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
     if (pb->mu > 0.0) {
         double full[HP_PROBLEM_NX_MAX];
@@ -308,8 +313,10 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
     r->iterations = nlopt_get_numevals(st->opt);
     r->status = map_result(rc, &r->converged);
 
-    int finite = 1;
-    for (int i = 0; i < (st->reduced ? 6 : st->nx); i++) finite = finite && isfinite(v[i]);
+    /* After a failed evaluation the point is not read at all (NLopt may have left it
+     * built from numbers it never computed). */
+    int finite = !st->eval_failed;
+    for (int i = 0; finite && i < (st->reduced ? 6 : st->nx); i++) finite = isfinite(v[i]);
     if (finite && st->reduced) {
         double full[HP_PROBLEM_NX_MAX];
         if (reduced_expand(pb, v, full) == HP_OK)

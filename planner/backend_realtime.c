@@ -204,6 +204,8 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
 /* Largest violation of the true limits by rho(x) (mm); per-bladder violations in viol. */
 static double violation(rt_state *st, const hp_problem *pb, const double *x, double *viol)
 {
+    if (viol) /* every entry is written, even when a non-finite rho ends the scan */
+        for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
     if (hp_setup_contact_scaled(pb->layout, pb->level, x, st->rho, NULL) != HP_OK)
         return INFINITY;
     rt_inject(st, pb->n, st->rho);
@@ -327,7 +329,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     /* Feasibility restoration (only the nonlinear levels can need it). */
     double viol[HP_MAX_BLADDERS], extra[HP_MAX_BLADDERS] = {0};
     double v = violation(st, pb, xk, viol);
-    for (int round = 0; v > 0 && round < RT_RESTORE_ROUNDS; ++round) {
+    /* Restoration tightens finite violations; a non-finite one has nothing to tighten. */
+    for (int round = 0; v > 0 && isfinite(v) && round < RT_RESTORE_ROUNDS; ++round) {
         for (int k = 0; k < pb->n; ++k) extra[k] += 2.0 * viol[k];
         if (qp_at(st, pb, xk, extra, xn, st->max_iter, &iters) != HP_QP_OPTIMAL) break;
         double vn = violation(st, pb, xn, viol);
