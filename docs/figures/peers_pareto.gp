@@ -12,32 +12,32 @@ set title "Peers on the same NLP (linear contact level, default layout, binding 
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 7.93e-05]
-set xrange [* : 1.13971e+08]
+set xrange [* : 6.14073e+07]
 
 $front << EOD
-3395,3.161601e-10,realtime-linear
-1.13971e+08,3.161601e-10,end
+3442,3.161601e-10,realtime-linear
+6.14073e+07,3.161601e-10,end
 EOD
 
 $front1 << EOD
-7.39036e+06,1.208007e-09,ipopt-exact-surface
-1.13971e+08,1.208007e-09,end
+3.55066e+06,1.208007e-09,ipopt-exact-surface
+6.14073e+07,1.208007e-09,end
 EOD
 
 $front2 << EOD
-3.53386e+07,1.335114e-09,ipopt-lbfgs-surface
-3.79904e+07,9.654712e-10,ipopt-lbfgs-linear
-1.13971e+08,9.654712e-10,end
+1.90923e+07,1.335114e-09,ipopt-lbfgs-surface
+2.04691e+07,9.654712e-10,ipopt-lbfgs-linear
+6.14073e+07,9.654712e-10,end
 EOD
 
 $front3 << EOD
-3395,3.161601e-10,realtime-linear
-1.13971e+08,3.161601e-10,end
+3442,3.161601e-10,realtime-linear
+6.14073e+07,3.161601e-10,end
 EOD
 
 $front4 << EOD
-796716,3.948884e-07,scipy-slsqp
-1.13971e+08,3.948884e-07,end
+821773,3.948884e-07,scipy-slsqp
+6.14073e+07,3.948884e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {

@@ -12,45 +12,45 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 2.24198e+07]
+set xrange [* : 1.34598e+07]
 
 $front << EOD
-3348,4.646568e-01,realtime-linear-1e-09
-27972,1.355016e-10,realtime-surface-1e-04
-2.24198e+07,1.355016e-10,end
+3321.67,4.646568e-01,realtime-linear-1e-09
+28042,1.355016e-10,realtime-surface-1e-04
+1.34598e+07,1.355016e-10,end
 EOD
 
 $front1 << EOD
-1689.17,4.936833e-03,fastpath-linear
-4403.33,1.000000e-17,fastpath-surface
-2.24198e+07,1.000000e-17,end
+1687.5,4.936833e-03,fastpath-linear
+5698.5,1.000000e-17,fastpath-surface
+1.34598e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-3348,4.646568e-01,realtime-linear-1e-09
-27972,1.355016e-10,realtime-surface-1e-04
-2.24198e+07,1.355016e-10,end
+3321.67,4.646568e-01,realtime-linear-1e-09
+28042,1.355016e-10,realtime-surface-1e-04
+1.34598e+07,1.355016e-10,end
 EOD
 
 $front3 << EOD
-3.94825e+06,1.571585e+00,ipopt-plane-1e-04
-5.32076e+06,8.015648e-04,ipopt-surface-1e-04
-7.47325e+06,1.208007e-09,ipopt-surface-1e-09
-2.24198e+07,1.208007e-09,end
+2.63539e+06,4.646549e-01,ipopt-linear-1e-04
+2.83098e+06,8.015648e-04,ipopt-surface-1e-04
+4.48659e+06,1.208007e-09,ipopt-surface-1e-09
+1.34598e+07,1.208007e-09,end
 EOD
 
 $front4 << EOD
-73198.5,4.646546e-01,nlopt-slsqp-linear-1e-04
-125797,1.324757e-05,nlopt-slsqp-surface-1e-09
-2.24198e+07,1.324757e-05,end
+77806,4.646546e-01,nlopt-slsqp-linear-1e-04
+127670,1.324757e-05,nlopt-slsqp-surface-1e-09
+1.34598e+07,1.324757e-05,end
 EOD
 
 $front5 << EOD
-184074,4.646758e-01,nlopt-cobyla-linear-1e-04
-361688,4.646569e-01,nlopt-cobyla-linear-1e-09
-433324,1.437161e-04,nlopt-cobyla-surface-1e-04
-808093,5.750551e-07,nlopt-cobyla-surface-1e-09
-2.24198e+07,5.750551e-07,end
+184846,4.646758e-01,nlopt-cobyla-linear-1e-04
+375239,4.646569e-01,nlopt-cobyla-linear-1e-09
+451116,1.437161e-04,nlopt-cobyla-surface-1e-04
+810737,5.750551e-07,nlopt-cobyla-surface-1e-09
+1.34598e+07,5.750551e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
