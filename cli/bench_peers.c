@@ -37,27 +37,6 @@
 #define REF_TOLERANCE 1e-10
 #define SCIPY_CONTACT_TOL 1e-6 /* mm */
 
-typedef struct {
-    hp_planner *p;
-    const double (*targets)[6];
-    long n;
-    const long *perm;
-    double sink;
-} plan_ctx;
-
-static void batch(void *vctx, long first, long count)
-{
-    plan_ctx *c = vctx;
-    long pos = first % c->n;
-    hp_result r;
-    for (long j = 0; j < count; ++j) {
-        hp_planner_reset(c->p);
-        if (hp_plan(c->p, c->targets[c->perm[pos]], &r) == HP_OK)
-            c->sink += r.bladders[0].pressure;
-        if (++pos == c->n) pos = 0;
-    }
-}
-
 static hp_settings settings_of(hp_backend b, hp_level l, double tol, int lbfgs)
 {
     hp_settings s;
@@ -343,9 +322,9 @@ int hp_bench_peers(const hp_bench_options *o, hp_bench_table *t)
         if ((rc = hp_bench_planner_new(L, &st2, &p))) break;
         accuracy(p, L, (const double(*)[6])tg, n,
                  (const double(*)[6])(m->l == HP_LEVEL_LINEAR ? ref_lin : ref_sur), row);
-        plan_ctx c = {p, (const double(*)[6])tg, n, perm, 0};
+        hp_bench_plan_ctx c = {p, (const double(*)[6])tg, n, perm, 0};
         hp_bench_timing tm;
-        if (hp_bench_time(o, batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
+        if (hp_bench_time(o, hp_bench_plan_batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
         hp_planner_destroy(p);
         row->median_ns = tm.median_ns;
         row->p99_ns = tm.p99_ns;

@@ -17,6 +17,7 @@
  * each, warm start off, so the order of the targets does not matter. */
 #include "cli/bench.h"
 #include "cli/bench_timing.h"
+#include "cli/bench_util.h"
 #include "cli/exit_codes.h"
 #include "headplan/hp_planner.h"
 #include "headplan/hp_scene.h"
@@ -33,85 +34,15 @@
 #define N_TARGETS_MAX (N_BIND_FULL + N_REACH)
 #define REF_TOLERANCE 1e-10
 #define TARGET_SEED 20261123u
-#define PI 3.14159265358979323846
-
-typedef struct {
-    hp_planner *p;
-    const double (*targets)[6];
-    long n;
-    const long *perm;
-    double sink;
-} plan_ctx;
-
-static void batch(void *vctx, long first, long count)
-{
-    plan_ctx *c = vctx;
-    long pos = first % c->n;
-    hp_result r;
-    for (long j = 0; j < count; ++j) {
-        hp_planner_reset(c->p);
-        if (hp_plan(c->p, c->targets[c->perm[pos]], &r) == HP_OK)
-            c->sink += r.bladders[0].pressure;
-        if (++pos == c->n) pos = 0;
-    }
-}
-
-static double urand(uint64_t *s)
-{
-    *s ^= *s >> 12;
-    *s ^= *s << 25;
-    *s ^= *s >> 27;
-    return (double)((*s * 0x2545F4914F6CDD1Du) >> 11) / 9007199254740992.0;
-}
 
 /* Targets in SI: translations within ±mm, rotations within ±deg, per axis. */
 static void make_targets(double (*t)[6], long n, double mm, double deg, uint64_t *s)
 {
     for (long k = 0; k < n; ++k)
         for (int i = 0; i < 6; ++i) {
-            double u = 2 * urand(s) - 1;
-            t[k][i] = i < 3 ? u * mm * 1e-3 : u * deg * (PI / 180.0);
+            double u = 2 * hp_bench_urand(s) - 1;
+            t[k][i] = i < 3 ? u * mm * 1e-3 : u * deg * (HP_BENCH_PI / 180.0);
         }
-}
-
-/* The pose the head actually takes under the pressures of r: bladder FK, volume law,
- * contact FK at the surface level. Returns HP_OK or the first failing call's code. */
-static hp_error round_trip(const hp_layout *L, const hp_result *r, double xi[6])
-{
-    double ro[HP_MAX_BLADDERS];
-    for (int k = 0; k < L->n; ++k) {
-        double ri;
-        hp_error e = hp_iab_fk(&L->bladders[k].iab, r->bladders[k].pressure, &ri);
-        if (e == HP_OK) e = hp_iab_ro(&L->bladders[k].iab, ri, &ro[k]);
-        if (e != HP_OK) return e;
-    }
-    return hp_contact_fk(L, HP_LEVEL_SURFACE, ro, r->achieved, xi, NULL, NULL);
-}
-
-/* Largest axis difference in mm (translation) or degrees (rotation). */
-static double pose_diff(const double a[6], const double b[6])
-{
-    double m = 0;
-    for (int i = 0; i < 6; ++i) {
-        double d = fabs(a[i] - b[i]) * (i < 3 ? 1e3 : 180.0 / PI);
-        if (!(d <= m)) m = d;
-    }
-    return m;
-}
-
-static double violation(const hp_layout *L, const hp_result *r)
-{
-    double v = 0;
-    for (int k = 0; k < L->n; ++k) {
-        const hp_bladder *b = &L->bladders[k];
-        double P = r->bladders[k].pressure, s = r->bladders[k].stretch;
-        double vp = fmax(fmax(P - b->p_max, b->p_min - P), 0) / (b->p_max - b->p_min);
-        double vs = fmax(fmax(s - b->stretch_max, b->stretch_min - s), 0) /
-                    (b->stretch_max - b->stretch_min);
-        if (!(vp <= v)) v = vp;
-        if (!(vs <= v)) v = vs;
-    }
-    return v;
 }
 
 typedef struct {
@@ -149,7 +80,7 @@ static int reference(const hp_layout *L, const double (*t)[6], long n, double (*
         hp_planner_reset(p);
         if (hp_plan(p, t[k], &r) != HP_OK ||
             (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
-            round_trip(L, &r, ref[k]) != HP_OK) {
+            hp_bench_round_trip(L, HP_LEVEL_SURFACE, &r, ref[k], NULL) != HP_OK) {
             fprintf(stderr, "headplan bench: the reference (ipopt, surface) failed on target %ld: %s\n",
                     k, hp_planner_error(p));
             rc = HP_EXIT_SOFTWARE;
@@ -173,7 +104,7 @@ static void measure_accuracy(hp_planner *p, const hp_layout *L, const double (*t
         hp_planner_reset(p);
         hp_error pe = hp_plan(p, t[k], &r);
         if (pe != HP_OK || (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
-            round_trip(L, &r, xi) != HP_OK) {
+            hp_bench_round_trip(L, HP_LEVEL_SURFACE, &r, xi, NULL) != HP_OK) {
             if (!first_failure)
                 first_failure = pe != HP_OK ? hp_error_name(pe)
                                 : (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST)
@@ -182,7 +113,9 @@ static void measure_accuracy(hp_planner *p, const hp_layout *L, const double (*t
             row->failures++;
             continue;
         }
-        double e = pose_diff(xi, ref[k]), me = pose_diff(xi, r.achieved), v = violation(L, &r);
+        double e = hp_bench_pose_diff(xi, ref[k], NULL);
+        double me = hp_bench_pose_diff(xi, r.achieved, NULL);
+        double v = hp_bench_limit_violation(L, &r);
         if (e > worst) {
             worst = e;
             wk = k;
@@ -266,9 +199,9 @@ int hp_bench_planner(const hp_bench_options *o, hp_bench_table *t)
         long n = fast ? n_reach : n_bind;
         measure_accuracy(p, L, tg, (const double(*)[6])ref + (fast ? N_BIND_FULL : 0), n, row,
                          &row->model_error);
-        plan_ctx c = {p, tg, n, fast ? perm_reach : perm_bind, 0};
+        hp_bench_plan_ctx c = {p, tg, n, fast ? perm_reach : perm_bind, 0};
         hp_bench_timing tm;
-        if (hp_bench_time(o, batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
+        if (hp_bench_time(o, hp_bench_plan_batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
         hp_planner_destroy(p);
         if (rc) break;
         row->median_ns = tm.median_ns;

@@ -152,3 +152,16 @@ void hp_bench_to_si(const double mm_deg[6], double xi[6])
 {
     for (int i = 0; i < 6; ++i) xi[i] = mm_deg[i] * (i < 3 ? 1e-3 : HP_BENCH_PI / 180.0);
 }
+
+void hp_bench_plan_batch(void *vctx, long first, long count)
+{
+    hp_bench_plan_ctx *c = vctx;
+    long pos = first % c->n;
+    hp_result r;
+    for (long j = 0; j < count; ++j) {
+        hp_planner_reset(c->p);
+        if (hp_plan(c->p, c->targets[c->perm[pos]], &r) == HP_OK)
+            c->sink += r.bladders[0].pressure;
+        if (++pos == c->n) pos = 0;
+    }
+}

@@ -49,6 +49,17 @@ double hp_bench_limit_violation(const hp_layout *L, const hp_result *r);
  * contact distances of the pose the method claims. NaN when a model call fails. */
 double hp_bench_contact_violation(const hp_layout *L, hp_level level, const hp_result *r);
 
+/* The timed body shared by the planner and peers families: plans targets[perm[pos]] from a
+ * reset planner, `count` times, walking the seeded permutation from `first`. */
+typedef struct hp_bench_plan_ctx {
+    hp_planner *p;
+    const double (*targets)[6];
+    long n;
+    const long *perm;
+    double sink; /* keeps the compiler from dropping the plans */
+} hp_bench_plan_ctx;
+void hp_bench_plan_batch(void *ctx, long first, long count);
+
 /* xorshift64* in [0, 1); the same seed gives the same numbers on every machine. */
 double hp_bench_urand(uint64_t *s);
 

@@ -10,35 +10,7 @@
 
 #include <stdlib.h>
 
-static int armed;
-static long count;
-
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t a, size_t b);
-void *__real_realloc(void *p, size_t n);
-void __real_free(void *p);
-void *__real_aligned_alloc(size_t a, size_t n);
-int __real_posix_memalign(void **p, size_t a, size_t n);
-void *__real__Znwm(size_t n);
-void *__real__Znam(size_t n);
-
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t a, size_t b);
-void *__wrap_realloc(void *p, size_t n);
-void __wrap_free(void *p);
-void *__wrap_aligned_alloc(size_t a, size_t n);
-int __wrap_posix_memalign(void **p, size_t a, size_t n);
-void *__wrap__Znwm(size_t n);
-void *__wrap__Znam(size_t n);
-
-void *__wrap_malloc(size_t n) { count += armed; return __real_malloc(n); }
-void *__wrap_calloc(size_t a, size_t b) { count += armed; return __real_calloc(a, b); }
-void *__wrap_realloc(void *p, size_t n) { count += armed; return __real_realloc(p, n); }
-void __wrap_free(void *p) { count += armed && p; __real_free(p); }
-void *__wrap_aligned_alloc(size_t a, size_t n) { count += armed; return __real_aligned_alloc(a, n); }
-int __wrap_posix_memalign(void **p, size_t a, size_t n) { count += armed; return __real_posix_memalign(p, a, n); }
-void *__wrap__Znwm(size_t n) { count += armed; return __real__Znwm(n); }
-void *__wrap__Znam(size_t n) { count += armed; return __real__Znam(n); }
+#include "alloc_counter.h"
 
 /* The wrapping is active for the library's own calls: hp_planner_create allocates (its
  * planner and the backend's workspace) and each allocation must be counted, in any build
@@ -49,17 +21,17 @@ static void test_wrap_active(void **st)
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);
     hp_planner *p = NULL;
-    armed = 1;
-    count = 0;
+    alloc_armed = 1;
+    alloc_count = 0;
     hp_error e = hp_planner_create(&L, NULL, &p, NULL);
-    armed = 0;
+    alloc_armed = 0;
     assert_int_equal(e, HP_OK);
-    assert_true(count >= 2);
-    armed = 1;
-    count = 0;
+    assert_true(alloc_count >= 2);
+    alloc_armed = 1;
+    alloc_count = 0;
     hp_planner_destroy(p);
-    armed = 0;
-    assert_true(count >= 2);
+    alloc_armed = 0;
+    assert_true(alloc_count >= 2);
 }
 
 static void plans_without_allocation(hp_level level, double rate)
@@ -81,11 +53,11 @@ static void plans_without_allocation(hp_level level, double rate)
         for (int i = 0; i < 6; ++i) c[i] = scale * lf_uniform(&seed);
         lf_pose(c, xi);
         if (t % 17 == 5) xi[t % 6] = NAN;
-        armed = 1;
-        count = 0;
+        alloc_armed = 1;
+        alloc_count = 0;
         hp_error e = hp_plan(p, xi, &r);
-        armed = 0;
-        total += count;
+        alloc_armed = 0;
+        total += alloc_count;
         assert_int_equal(e, HP_OK);
     }
     print_message("%s level, rate %g: %ld allocations in 60 plans\n", hp_level_name(level),

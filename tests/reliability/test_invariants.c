@@ -19,33 +19,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static int armed;
-static long count;
-
-void *__real_malloc(size_t n);
-void *__real_calloc(size_t a, size_t b);
-void *__real_realloc(void *p, size_t n);
-void __real_free(void *p);
-void *__real_aligned_alloc(size_t a, size_t n);
-int __real_posix_memalign(void **p, size_t a, size_t n);
-void *__real__Znwm(size_t n);
-void *__real__Znam(size_t n);
-void *__wrap_malloc(size_t n);
-void *__wrap_calloc(size_t a, size_t b);
-void *__wrap_realloc(void *p, size_t n);
-void __wrap_free(void *p);
-void *__wrap_aligned_alloc(size_t a, size_t n);
-int __wrap_posix_memalign(void **p, size_t a, size_t n);
-void *__wrap__Znwm(size_t n);
-void *__wrap__Znam(size_t n);
-void *__wrap_malloc(size_t n) { count += armed; return __real_malloc(n); }
-void *__wrap_calloc(size_t a, size_t b) { count += armed; return __real_calloc(a, b); }
-void *__wrap_realloc(void *p, size_t n) { count += armed; return __real_realloc(p, n); }
-void __wrap_free(void *p) { count += armed && p; __real_free(p); }
-void *__wrap_aligned_alloc(size_t a, size_t n) { count += armed; return __real_aligned_alloc(a, n); }
-int __wrap_posix_memalign(void **p, size_t a, size_t n) { count += armed; return __real_posix_memalign(p, a, n); }
-void *__wrap__Znwm(size_t n) { count += armed; return __real__Znwm(n); }
-void *__wrap__Znam(size_t n) { count += armed; return __real__Znam(n); }
+#include "alloc_counter.h"
 
 /* Targets per backend × level × planner: Ipopt ~3–5 ms a plan, COBYLA ~10× more. */
 static int campaign_size(hp_backend b)
@@ -183,12 +157,12 @@ static void reached_means_reached(void **st)
 static void count_around(int phase)
 {
     if (phase) {
-        count = 0;
-        armed = 1;
+        alloc_count = 0;
+        alloc_armed = 1;
     } else {
-        armed = 0;
-        if (count != 0) {
-            print_error("hp_plan made %ld allocations\n", count);
+        alloc_armed = 0;
+        if (alloc_count != 0) {
+            print_error("hp_plan made %ld allocations\n", alloc_count);
             fail();
         }
     }
@@ -201,12 +175,12 @@ static void plan_never_allocates(void **st)
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);
     hp_planner *p = NULL;
-    count = 0;
-    armed = 1;
+    alloc_count = 0;
+    alloc_armed = 1;
     hp_error e = hp_planner_create(&L, NULL, &p, NULL);
-    armed = 0;
+    alloc_armed = 0;
     assert_int_equal(e, HP_OK);
-    assert_true(count >= 1);
+    assert_true(alloc_count >= 1);
     hp_planner_destroy(p);
     /* The library's own code (statically linked: every call is counted) allocates nothing in
      * hp_plan, whatever the backend, level, target or failure. */
