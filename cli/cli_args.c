@@ -119,3 +119,42 @@ const char *hp_cli_fmt(char buf[HP_FMT_MAX], double v)
     }
     return buf;
 }
+
+int hp_cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
+                      const char *const *names, const char **const *slots, int nopts,
+                      int *json, const char **scene)
+{
+    for (int i = 1; i < argc; ++i)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            help();
+            return HP_EXIT_OK;
+        }
+    for (int i = 1; i < argc; ++i) {
+        if (strcmp(argv[i], "--json") == 0) {
+            *json = 1;
+            continue;
+        }
+        int matched = 0;
+        for (int o = 0; o < nopts && !matched; ++o) {
+            const char *v = NULL;
+            int m = hp_cli_opt(cmd, argc, argv, &i, names[o], &v);
+            if (m < 0) return HP_EXIT_USAGE;
+            if (m == 0) continue;
+            if (*slots[o])
+                return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: given more than once", names[o]);
+            *slots[o] = v;
+            matched = 1;
+        }
+        if (matched) continue;
+        if (argv[i][0] == '-' && argv[i][1] != '\0')
+            return hp_cli_fail(HP_EXIT_USAGE, cmd, "unknown option '%s' (see headplan %s --help)",
+                               argv[i], cmd);
+        if (*scene)
+            return hp_cli_fail(HP_EXIT_USAGE, cmd, "'%s': only one scene file may be given",
+                               argv[i]);
+        *scene = argv[i];
+    }
+    if (!*scene)
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "SCENE: missing (see headplan %s --help)", cmd);
+    return -1;
+}

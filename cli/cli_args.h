@@ -24,6 +24,15 @@ int hp_cli_int(const char *cmd, const char *option, const char *text, long lo, l
 int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
                const char **value);
 
+/* Parses the command line of a subcommand of the form `SCENE [--NAME VALUE]... [--json]`:
+ * --help or -h anywhere prints help() and returns 0; each of the nopts value options
+ * names[o] fills *slots[o] (a second one is refused); --json sets *json; one positional
+ * argument is the scene. Returns -1 to go on, or the exit status after one line on stderr
+ * (64: unknown option, missing value, repeated option, no or two scenes). */
+int hp_cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
+                      const char *const *names, const char **const *slots, int nopts,
+                      int *json, const char **scene);
+
 /* Prints "headplan CMD: message" and a newline to stderr; returns status. */
 int hp_cli_fail(int status, const char *cmd, const char *fmt, ...)
 #if defined(__GNUC__)

@@ -50,35 +50,9 @@ typedef struct analyze_args {
 /* Returns -1 to continue, or the exit status (0 after --help). */
 static int parse(int argc, char **argv, analyze_args *a)
 {
-    for (int i = 1; i < argc; ++i)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            help();
-            return HP_EXIT_OK;
-        }
-    for (int i = 1; i < argc; ++i) {
-        const char *v = NULL;
-        if (strcmp(argv[i], "--json") == 0) {
-            a->json = 1;
-            continue;
-        }
-        int m = hp_cli_opt(CMD, argc, argv, &i, "--level", &v);
-        if (m < 0) return HP_EXIT_USAGE;
-        if (m > 0) {
-            if (a->level) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--level: given more than once");
-            a->level = v;
-            continue;
-        }
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
-            return hp_cli_fail(HP_EXIT_USAGE, CMD,
-                               "unknown option '%s' (see headplan analyze --help)", argv[i]);
-        if (a->scene)
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "'%s': only one scene file may be given",
-                               argv[i]);
-        a->scene = argv[i];
-    }
-    if (!a->scene)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD, "SCENE: missing (see headplan analyze --help)");
-    return -1;
+    static const char *const names[] = {"--level"};
+    const char **const slots[] = {&a->level};
+    return hp_cli_scene_args(CMD, argc, argv, help, names, slots, 1, &a->json, &a->scene);
 }
 
 /* Everything one run reports besides the scene itself. */

@@ -40,40 +40,12 @@ typedef struct solve_args {
     int json;
 } solve_args;
 
+/* Returns -1 to continue, or the exit status (0 after --help). */
 static int parse(int argc, char **argv, solve_args *a)
 {
-    for (int i = 1; i < argc; ++i)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            help();
-            return HP_EXIT_OK;
-        }
-    for (int i = 1; i < argc; ++i) {
-        const char *v = NULL;
-        if (strcmp(argv[i], "--json") == 0) {
-            a->json = 1;
-            continue;
-        }
-        const char *names[3] = {"--correction", "--backend", "--level"};
-        const char **slots[3] = {&a->correction, &a->backend, &a->level};
-        int matched = 0;
-        for (int o = 0; o < 3 && !matched; ++o) {
-            int m = hp_cli_opt(CMD, argc, argv, &i, names[o], &v);
-            if (m < 0) return HP_EXIT_USAGE;
-            if (m == 0) continue;
-            if (*slots[o]) return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given more than once", names[o]);
-            *slots[o] = v;
-            matched = 1;
-        }
-        if (matched) continue;
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see headplan solve --help)",
-                               argv[i]);
-        if (a->scene)
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "'%s': only one scene file may be given", argv[i]);
-        a->scene = argv[i];
-    }
-    if (!a->scene) return hp_cli_fail(HP_EXIT_USAGE, CMD, "SCENE: missing (see headplan solve --help)");
-    return -1;
+    static const char *const names[] = {"--correction", "--backend", "--level"};
+    const char **const slots[] = {&a->correction, &a->backend, &a->level};
+    return hp_cli_scene_args(CMD, argc, argv, help, names, slots, 3, &a->json, &a->scene);
 }
 
 static json_t *pose_json(const double xi[6])
