@@ -19,13 +19,10 @@ hp_error sp_material(const sr_ctx *c, const yt_node *node, const char *path, hp_
     char p[SR_PATH_MAX], name[16];
     if ((e = sr_require(c, node, path, "convention", &cv))) return e;
     sr_join(p, sizeof p, path, "convention");
-    if (cv->type != YT_SCALAR)
-        return sr_fail(c, cv, p, HP_ERR_PARSE, "expected text, found %s", sr_type_name(cv));
-    hp_material_convention mc;
-    if (sr_text(c, cv, p, name, sizeof name) != HP_OK ||
-        hp_material_convention_parse(name, &mc) != HP_OK)
-        return sr_fail(c, cv, p, HP_ERR_PARSE, "unknown convention '%.40s' (known: paper, fe)",
-                       cv->value);
+    static const char *const CONVENTIONS[] = {"paper", "fe", NULL};
+    if ((e = sr_word(c, cv, p, "convention", CONVENTIONS, name, sizeof name))) return e;
+    hp_material_convention mc = HP_MATERIAL_PAPER;
+    (void)hp_material_convention_parse(name, &mc); /* cannot fail: name is in CONVENTIONS */
     const char *const *keys = mc == HP_MATERIAL_PAPER ? PAPER_KEYS : FE_KEYS;
     if ((e = sr_map(c, node, path, keys,
                     mc == HP_MATERIAL_PAPER ? "with convention paper" : "with convention fe")))

@@ -17,12 +17,9 @@ hp_error sp_head(const sr_ctx *c, const yt_node *node, const char *path, hp_head
     char p[SR_PATH_MAX], name[32];
     if ((e = sr_require(c, node, path, "shape", &sh))) return e;
     sr_join(p, sizeof p, path, "shape");
-    if (sh->type != YT_SCALAR)
-        return sr_fail(c, sh, p, HP_ERR_PARSE, "expected text, found %s", sr_type_name(sh));
-    if (sr_text(c, sh, p, name, sizeof name) != HP_OK ||
-        hp_head_shape_parse(name, &h->shape) != HP_OK)
-        return sr_fail(c, sh, p, HP_ERR_PARSE, "unknown shape '%.40s' (known: sphere, ellipsoid)",
-                       sh->value);
+    static const char *const SHAPES[] = {"sphere", "ellipsoid", NULL};
+    if ((e = sr_word(c, sh, p, "shape", SHAPES, name, sizeof name))) return e;
+    (void)hp_head_shape_parse(name, &h->shape); /* cannot fail: name is in SHAPES */
     int sphere = h->shape == HP_HEAD_SPHERE;
     if ((e = sr_map(c, node, path, sphere ? SPHERE : ELLIPSOID,
                     sphere ? "for a sphere head" : "for an ellipsoid head")))

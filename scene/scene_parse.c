@@ -57,15 +57,10 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if (e) return e;
     const yt_node *n;
     if ((n = yt_map_get(node, "level"))) {
+        static const char *const LEVELS[] = {"linear", "plane", "surface", "auto", NULL};
         char name[16];
-        if (n->type != YT_SCALAR)
-            return sr_fail(c, n, "model.level", HP_ERR_PARSE, "expected text, found %s",
-                           sr_type_name(n));
-        if (sr_text(c, n, "model.level", name, sizeof name) != HP_OK ||
-            hp_level_parse(name, &s->level) != HP_OK)
-            return sr_fail(c, n, "model.level", HP_ERR_PARSE,
-                           "unknown level '%.40s' (known: linear, plane, surface, auto)",
-                           n->value);
+        if ((e = sr_word(c, n, "model.level", "level", LEVELS, name, sizeof name))) return e;
+        (void)hp_level_parse(name, &s->level); /* cannot fail: name is in LEVELS */
     }
     if ((n = yt_map_get(node, "tolerance_mm"))) {
         double t;
@@ -103,23 +98,15 @@ static hp_error solver(const sr_ctx *c, const yt_node *node, hp_scene *s)
 {
     static const char *const KEYS[] = {"backend", "tolerance", "max_iter", "max_time_s",
                                        "weight_mm_per_deg", NULL};
-    static const char *const BACKENDS[] = {"realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla"};
+    static const char *const BACKENDS[] = {"realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla",
+                                           NULL};
     hp_error e = sr_map(c, node, "solver", KEYS, NULL);
     if (e) return e;
     const yt_node *n;
     if ((n = yt_map_get(node, "backend"))) {
         char name[HP_SCENE_BACKEND_MAX] = {0}; /* copied whole: no stale bytes */
-        int known = 0;
-        if (n->type != YT_SCALAR)
-            return sr_fail(c, n, "solver.backend", HP_ERR_PARSE, "expected text, found %s",
-                           sr_type_name(n));
-        if (sr_text(c, n, "solver.backend", name, sizeof name) == HP_OK)
-            for (int i = 0; i < 4; ++i) known |= strcmp(name, BACKENDS[i]) == 0;
-        if (!known)
-            return sr_fail(c, n, "solver.backend", HP_ERR_PARSE,
-                           "unknown backend '%.40s' (known: realtime, ipopt, nlopt-slsqp, "
-                           "nlopt-cobyla)",
-                           n->value);
+        if ((e = sr_word(c, n, "solver.backend", "backend", BACKENDS, name, sizeof name)))
+            return e;
         memcpy(s->backend, name, sizeof name);
     }
     static const char *const POS[3] = {"tolerance", "max_time_s", "weight_mm_per_deg"};
@@ -171,13 +158,9 @@ static hp_error trace(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if ((e = sr_require(c, node, "trace", "file", &f))) return e;
     if ((e = sr_text(c, f, "trace.file", file, sizeof file))) return e;
     if ((e = sr_require(c, node, "trace", "rows", &r))) return e;
-    if (r->type != YT_SCALAR)
-        return sr_fail(c, r, "trace.rows", HP_ERR_PARSE, "expected text, found %s",
-                       sr_type_name(r));
-    if (sr_text(c, r, "trace.rows", rows, sizeof rows) != HP_OK ||
-        hp_trace_rows_parse(rows, &s->trace_rows) != HP_OK)
-        return sr_fail(c, r, "trace.rows", HP_ERR_PARSE,
-                       "unknown rows '%.40s' (known: deviation, correction)", r->value);
+    static const char *const ROWS[] = {"deviation", "correction", NULL};
+    if ((e = sr_word(c, r, "trace.rows", "rows", ROWS, rows, sizeof rows))) return e;
+    (void)hp_trace_rows_parse(rows, &s->trace_rows); /* cannot fail: rows is in ROWS */
     const char *slash = strrchr(c->file, '/');
     int n;
     if (file[0] == '/' || !slash)

@@ -204,3 +204,21 @@ hp_error sr_text(const sr_ctx *c, const yt_node *node, const char *path, char *b
     memcpy(buf, node->value, node->len + 1);
     return HP_OK;
 }
+
+hp_error sr_word(const sr_ctx *c, const yt_node *node, const char *path, const char *what,
+                 const char *const *known, char *buf, size_t size)
+{
+    if (node->type != YT_SCALAR)
+        return sr_fail(c, node, path, HP_ERR_PARSE, "expected text, found %s",
+                       sr_type_name(node));
+    if (sr_text(c, node, path, buf, size) == HP_OK)
+        for (int i = 0; known[i]; ++i)
+            if (strcmp(buf, known[i]) == 0) return HP_OK;
+    char list[256] = "";
+    for (int i = 0; known[i]; ++i) {
+        size_t used = strlen(list);
+        snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "", known[i]);
+    }
+    return sr_fail(c, node, path, HP_ERR_PARSE, "unknown %s '%.40s' (known: %s)", what,
+                   node->value, list);
+}

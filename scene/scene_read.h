@@ -59,6 +59,12 @@ hp_error sr_integer(const sr_ctx *c, const yt_node *node, const char *path, long
 hp_error sr_text(const sr_ctx *c, const yt_node *node, const char *path, char *buf,
                  size_t size);
 
+/* A word from a fixed set (`known`, NULL-terminated), copied into buf: "expected text, found
+ * ..." for a node that is no scalar, and "unknown WHAT 'x' (known: a, b, ...)" for any other
+ * text that is not in the set (including empty or over-long text). */
+hp_error sr_word(const sr_ctx *c, const yt_node *node, const char *path, const char *what,
+                 const char *const *known, char *buf, size_t size);
+
 /* Name of a node's type for messages: "a number", "a list", "a mapping", "text". */
 const char *sr_type_name(const yt_node *node);
 
