@@ -70,6 +70,23 @@ static inline hp_error lf_layout_ex(hp_layout *L, int sphere, double C2)
 
 static inline hp_error lf_layout(hp_layout *L) { return lf_layout_ex(L, 0, 2.2e4); }
 
+/* The default layout in neo-Hookean rubber (C2 = 0, which has an inflation limit point) with
+ * every stretch_max just below the limit point (closer than the planner's stable margin)
+ * and p_max = p_max_factor × the peak pressure, so that the planner's stable-branch cap is
+ * the binding upper limit. lp receives the limit point. */
+static inline hp_error lf_soft_layout(hp_layout *L, double p_max_factor, hp_iab_limit *lp)
+{
+    hp_error e = lf_layout_ex(L, 0, 0.0);
+    if (e == HP_OK) e = hp_iab_limit_point(&L->bladders[0].iab, lp);
+    if (e != HP_OK) return e;
+    if (!lp->exists) return HP_ERR_DOMAIN;
+    for (int k = 0; k < L->n; ++k) {
+        L->bladders[k].stretch_max = lp->lambda_i * (1.0 - 1e-6);
+        L->bladders[k].p_max = p_max_factor * lp->pressure;
+    }
+    return hp_layout_prepare(L, NULL);
+}
+
 /* Deterministic generator (splitmix64) for seeded property tests. */
 static inline uint64_t lf_next(uint64_t *s)
 {

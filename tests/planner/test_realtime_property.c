@@ -137,15 +137,8 @@ static void test_soft_material(void **st)
 {
     (void)st;
     hp_layout L;
-    assert_int_equal(lf_layout_ex(&L, 0, 0.0), HP_OK);
     hp_iab_limit lp;
-    assert_int_equal(hp_iab_limit_point(&L.bladders[0].iab, &lp), HP_OK);
-    assert_true(lp.exists);
-    for (int k = 0; k < L.n; ++k) {
-        L.bladders[k].stretch_max = lp.lambda_i * (1.0 - 1e-6);
-        L.bladders[k].p_max = 2.0 * lp.pressure;
-    }
-    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    assert_int_equal(lf_soft_layout(&L, 2.0, &lp), HP_OK);
     run(&L, HP_LEVEL_LINEAR, INFINITY, 6, 500);
     run(&L, HP_LEVEL_SURFACE, INFINITY, 7, 200);
 }
