@@ -15,6 +15,8 @@ PACKAGES=(
   clang libclang-rt-14-dev  # libFuzzer targets and sanitizer runtimes
   valgrind cppcheck
   python3 python3-numpy python3-scipy  # peer benchmark (SciPy SLSQP)
+  python3-dev python3-pytest python3-matplotlib  # Python module, its tests, its pictures
+  parallel              # the GNU parallel sharding recipe is run by the tests
 )
 
 missing=()
