@@ -104,7 +104,7 @@ const char *hp_binding_name(unsigned flag);
 
 #define HP_DEFAULT_BACKEND HP_BACKEND_REALTIME
 #define HP_DEFAULT_LEVEL HP_LEVEL_LINEAR
-#define HP_DEFAULT_LEVEL_TOLERANCE 1e-6 /* [m] contact-model error auto may accept */
+#define HP_DEFAULT_LEVEL_TOLERANCE 1e-5 /* [m] (0.01 mm) contact-model error auto may accept */
 #define HP_DEFAULT_AUTO_TRANS 0.01      /* [m] translation auto must cover */
 #define HP_DEFAULT_AUTO_ROT 0.0872664625997164788 /* [rad] (5 degrees) rotation auto covers */
 #define HP_DEFAULT_TOLERANCE 1e-9       /* pose tolerance, mm and degrees */
