@@ -185,7 +185,7 @@ static void test_soft_material(void **state)
     hp_iab_limit lp;
     assert_int_equal(hp_iab_limit_point(&b->iab, &lp), HP_OK);
     assert_int_equal(lp.exists, 1);
-    assert_true(lp.lambda_i > 1.38 && lp.lambda_i < 1.48); /* "near 1.43" (DESIGN.md §3) */
+    assert_true(lp.lambda_i > 1.38 && lp.lambda_i < 1.48); /* "near 1.43" (docs/model.md §3) */
     assert_true(b->stretch_max < lp.lambda_i);
     assert_int_equal(s->level, HP_LEVEL_PLANE);
 }
