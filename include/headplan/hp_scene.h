@@ -113,12 +113,12 @@ typedef struct hp_scene {
  * HP_ERR_IO (cannot open or read; diag "FILE: why"), HP_ERR_PARSE (syntax, keys, types,
  * numbers) or HP_ERR_INVALID / HP_ERR_DOMAIN (values out of range, layout cannot be
  * prepared), with the one-line message in diag (may be NULL). out is zeroed on failure. */
-hp_error hp_scene_load(const char *path, hp_scene *out, hp_diag *diag);
+HP_API hp_error hp_scene_load(const char *path, hp_scene *out, hp_diag *diag);
 
 /* Parses a scene from memory (len bytes, need not be NUL-terminated). filename is used in
  * messages and to resolve a relative trace path (NULL: "<scene>", relative to the current
  * directory). Same contract as hp_scene_load. */
-hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_scene *out,
+HP_API hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_scene *out,
                         hp_diag *diag);
 
 /* The planner settings a layout scene asks for: hp_settings_default(), then the scene's
@@ -128,12 +128,12 @@ hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_s
  * HP_ERR_NULL for NULL arguments; HP_ERR_INVALID for a single-bladder scene (it has no
  * layout) or settings that hp_settings_validate refuses (only possible for an hp_scene
  * that was not filled by hp_scene_load/parse). out is filled only on HP_OK. */
-hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag);
+HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag);
 
 /* "layout" / "bladder"; "unknown" otherwise. */
-const char *hp_scene_kind_name(hp_scene_kind k);
+HP_API const char *hp_scene_kind_name(hp_scene_kind k);
 /* "deviation" / "correction"; "unknown" otherwise. */
-const char *hp_trace_rows_name(hp_trace_rows r);
+HP_API const char *hp_trace_rows_name(hp_trace_rows r);
 
 #ifdef __cplusplus
 }

@@ -41,6 +41,29 @@ cmp "$tmp/out1" "$tmp/out2" >/dev/null || { echo "the two builds disagree"; exit
 cc -std=c11 -Wall -Wextra -Wshadow -Wpedantic -Werror "$src/examples/plan_scene.c" \
    -o "$tmp/pc_plan_scene" $(pc --cflags) $(pc --libs) -lm -Wl,-rpath,"$libdir"
 
+# A C-only program links the static library too (CMake above; pkg-config --static here)
+# and plans exactly as the shared-library build does.
+cc -std=c11 -Wall -Wextra -Wshadow -Wpedantic -Werror "$src/examples/plan_scene.c" \
+   -o "$tmp/pc_plan_scene_static" $(pc --cflags) "$libdir/libheadplan.a" $(pkg-config --static --libs-only-l --libs-only-L headplan | sed 's/-lheadplan//') -lm
+for sc in "${scenes[@]}"; do
+  "$tmp/pc_plan_scene_static" "$sc" >"$tmp/static.out" || true
+  "$tmp/cmake-build/plan_scene_static" "$sc" >"$tmp/static_cmake.out" || true
+  cmp "$tmp/static.out" "$tmp/ex_$(basename "$sc")" >/dev/null &&
+    cmp "$tmp/static_cmake.out" "$tmp/ex_$(basename "$sc")" >/dev/null ||
+    { echo "$sc: the static builds disagree with the shared one"; exit 1; }
+done
+
+# The ABI boundary: the installed shared library exports exactly the functions the
+# installed public headers declare (scripts/hp_api.py lists them), nothing more or less.
+nm -D --defined-only "$libdir/libheadplan.so" | awk '{ print $3 }' | sort >"$tmp/exported"
+python3 "$src/scripts/hp_api.py" list "$prefix"/include/headplan/*.h | sort >"$tmp/declared"
+if ! cmp -s "$tmp/exported" "$tmp/declared"; then
+  echo "exported symbols differ from the public headers' functions (< declared only, > exported only):"
+  diff "$tmp/declared" "$tmp/exported" | grep '^[<>]' | head -20
+  exit 1
+fi
+[ "$(wc -l <"$tmp/declared")" -ge 50 ] || { echo "too few public functions listed"; exit 1; }
+
 # The README's C block is examples/plan_scene.c, verbatim.
 awk '/^```c$/ { on = 1; next } /^```$/ { if (on) exit } on' "$src/README.md" >"$tmp/readme.c"
 cmp "$tmp/readme.c" "$src/examples/plan_scene.c" >/dev/null \
