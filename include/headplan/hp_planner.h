@@ -81,10 +81,14 @@ typedef enum hp_status {
     HP_STATUS_INFEASIBLE_START,   /* the limits cannot all hold (e.g. rate limits) */
     HP_STATUS_INVALID_INPUT,      /* NaN/Inf or out-of-range desired correction */
     HP_STATUS_SOLVER_ERROR,       /* the backend failed */
+    HP_STATUS_UNCOMMANDED,        /* the commanded part is reached, but part of the desired
+                                     correction (beyond the tolerance) lies in directions the
+                                     layout cannot observe: result.uncommanded, named in
+                                     hp_planner_error; never REACHED */
     HP_STATUS_COUNT_
 } hp_status;
 /* "reached", "closest", "iteration-limit", "time-limit", "infeasible-start",
- * "invalid-input", "solver-error"; "unknown" for other values. */
+ * "invalid-input", "solver-error", "uncommanded"; "unknown" for other values. */
 const char *hp_status_name(hp_status s);
 
 /* Why a bladder's answer sits on a limit (bit flags; several may be set). */
@@ -98,6 +102,11 @@ enum {
     HP_BIND_LIMIT_POINT = 1u << 6 /* the stable-branch cap below the inflation limit point */
 };
 #define HP_BIND_COUNT 7
+/* A bladder is reported as sitting on a limit when its outer radius is within this many mm
+ * of the bound, the one threshold for every backend and level: above the solvers' stopping
+ * slack at a bound (Ipopt's interior point keeps ~1e-8 of the bound, the realtime QP
+ * 1e-11 mm), far below any clinical meaning. A CLOSEST answer names at least one. */
+#define HP_BINDING_TOL_MM 1e-6
 /* "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
  * "limit_point" for one flag bit; "unknown" otherwise. */
 const char *hp_binding_name(unsigned flag);
@@ -155,9 +164,16 @@ typedef struct hp_result {
     hp_level level;           /* the resolved contact level the answer was computed at */
     double desired[6];        /* SI, as passed */
     double achieved[6];       /* SI; pose of the returned radii at `level` (see below) */
-    int commanded[6];         /* 0 where the layout cannot command that direction: the
-                                 planner holds it at 0 and ignores its desired value */
-    double pose_error;        /* max over commanded i of |achieved − desired|, mm or deg */
+    int commanded[6];         /* 1: the planner moves this pose component; 0: held at 0.
+                                 The commanded part of desired (hp_pose_commanded_part: the
+                                 pose in these components alone with the same contact
+                                 distances) is what the planner aims at; achieved[] is 0 in
+                                 the components not commanded */
+    double uncommanded[6];    /* SI: desired − its commanded part, the part the layout cannot
+                                 observe (all 0 for a rank-6 layout and on the safe output);
+                                 beyond the tolerance it makes REACHED into UNCOMMANDED */
+    double pose_error;        /* max over commanded i of |achieved − commanded part of
+                                 desired|, mm or deg */
     int n;
     hp_bladder_result bladders[HP_MAX_BLADDERS];
     int iterations;           /* solver iterations (0: the direct chain answered) */
