@@ -37,10 +37,18 @@ static hp_error residual(const hp_layout *L, hp_level level, const double *ro,
     return HP_OK;
 }
 
-hp_error hp_kin_fit(const hp_layout *L, hp_level level, const double *target,
+hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target,
                     const int free_[6], const double x0[6], double xi[6], double *residual_rms,
                     int *iters)
 {
+    if (!L || !target || !free_ || !x0 || !xi) return HP_ERR_NULL;
+    if (!L->prepared) return HP_ERR_STATE;
+    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
+        return HP_ERR_INVALID;
+    for (int k = 0; k < L->n; ++k)
+        if (!isfinite(target[k])) return HP_ERR_INVALID;
+    for (int i = 0; i < 6; ++i)
+        if (free_[i] && !isfinite(x0[i])) return HP_ERR_INVALID;
     int n = L->n, col[6], nf = 0;
     for (int i = 0; i < 6; ++i)
         if (free_[i]) col[nf++] = i;
@@ -80,8 +88,10 @@ hp_error hp_kin_fit(const hp_layout *L, hp_level level, const double *target,
             if (stepsize <= FK_STEP_TOL) done = 1;
         } else {
             lambda *= 10.0;
-            /* No descent at any damping: the fit is at its minimum to rounding. */
-            if (lambda > FK_LAMBDA_MAX || stepsize <= FK_STEP_TOL) done = 1;
+            /* No descent at any damping: the fit is at its minimum to rounding. (A tiny
+             * rejected step is no such proof: heavy damping makes every step tiny, and on an
+             * ill-conditioned layout that stopped the fit far from the minimum.) */
+            if (lambda > FK_LAMBDA_MAX) done = 1;
         }
     }
     if (!done && cost != 0.0) return HP_ERR_NO_CONVERGENCE;
@@ -112,5 +122,5 @@ hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
     }
     int free_[6];
     for (int i = 0; i < 6; ++i) free_[i] = i < dof;
-    return hp_kin_fit(L, level, ro, free_, x, xi, residual_rms, iters);
+    return hp_contact_fit(L, level, ro, free_, x, xi, residual_rms, iters);
 }

@@ -244,5 +244,5 @@ hp_error hp_pose_commanded_part(const hp_layout *L, const hp_identifiable *id, h
     double rho[HP_MAX_BLADDERS];
     hp_error e = hp_contact_eval(L, level, xd, rho, NULL, NULL);
     if (e != HP_OK) return e;
-    return hp_kin_fit(L, level, rho, id->commanded, x0, xc, NULL, NULL);
+    return hp_contact_fit(L, level, rho, id->commanded, x0, xc, NULL, NULL);
 }

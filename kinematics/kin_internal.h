@@ -29,12 +29,4 @@ hp_error hp_kin_head_validate(const hp_head *h, hp_diag *diag);
 /* 1 when all three components are finite. */
 int hp_kin_finite3(const double v[3]);
 
-/* Levenberg–Marquardt fit of the pose components with free_[i] = 1 (the others held at 0)
- * so that the contact distances at level match target[0..n-1] (finite, any sign) in least
- * squares, started at x0; the engine of hp_contact_fk. residual_rms and iters may be NULL.
- * Allocates nothing. */
-hp_error hp_kin_fit(const hp_layout *L, hp_level level, const double *target,
-                    const int free_[6], const double x0[6], double xi[6], double *residual_rms,
-                    int *iters);
-
 #endif

@@ -13,6 +13,11 @@
  * every contact model stays well defined. */
 #define HP_PLAN_MAX_TRANS 1.0                /* [m] */
 #define HP_PLAN_MAX_ROT 3.14159265358979324 /* [rad] */
+/* A reached pose counts as identified when forward contact kinematics started from the
+ * nominal pose recovers it to this (mm and degrees): far above the fit's own precision
+ * (~1e-12 on the near-degenerate layout), far below the distance of any second fit seen
+ * (0.8 degrees on the near-degenerate layout at the plane level). */
+#define HP_IDENT_FK_TOL 1e-7
 /* Largest RMS contact residual [mm] of clamped radii that still counts as holding a pose:
  * 100× above the solvers' own contact slop (1e-9 mm tolerance, bounds kept exactly), far
  * below anything physical. */
@@ -409,6 +414,48 @@ static int in_identifiable_range(hp_planner *p, const double desired[6])
     return 1;
 }
 
+/* 1 when the strict round trip of answer r gives xc back (HP_IDENT_FK_TOL): its pressures
+ * -> stable radii -> outer radii -> forward contact kinematics in the commanded components
+ * started from the NOMINAL pose. Else 0 with the other pose's distance in p->err. On a
+ * near-degenerate layout at the plane level the fit from the nominal pose can end in a
+ * second local fit; then the correction is not identified by this layout. Allocates
+ * nothing. */
+static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double xc[6])
+{
+    double ro[HP_MAX_BLADDERS], zero[6] = {0}, xf[6], a[6], b[6];
+    for (int k = 0; k < p->L.n; ++k) {
+        const hp_iab *m = &p->L.bladders[k].iab;
+        double ri;
+        if (hp_iab_fk_limit(m, &p->sb.limit[k], r->bladders[k].pressure, &ri) != HP_OK ||
+            hp_iab_ro(m, ri, &ro[k]) != HP_OK)
+            ro[k] = r->bladders[k].ro;
+    }
+    hp_error e = hp_contact_fit(&p->L, p->level, ro, p->commanded, zero, xf, NULL, NULL);
+    to_scaled(xc, a);
+    to_scaled(xf, b);
+    double worst = e == HP_OK ? 0.0 : INFINITY;
+    for (int i = 0; i < 6; ++i) worst = fmax(worst, fabs(a[i] - b[i]));
+    if (worst <= HP_IDENT_FK_TOL) return 1;
+    err_set(p, "desired: outside the identifiable range of this layout at the ");
+    err_add(p, hp_level_name(p->level));
+    err_add(p, " level: forward contact kinematics from the nominal pose finds another pose ");
+    if (isfinite(worst)) {
+        err_add_num(p, worst, 6);
+        err_add(p, " mm/deg away with nearly the same contact distances");
+    } else {
+        err_add(p, "(it did not converge)");
+    }
+    return 0;
+}
+
+/* 1 when some bladder of r sits on a limit (HP_BINDING_TOL_MM). */
+static int binds_any(const hp_result *r)
+{
+    for (int k = 0; k < r->n; ++k)
+        if (r->bladders[k].binding) return 1;
+    return 0;
+}
+
 /* 1 when some component of the part not commanded exceeds the pose tolerance (mm, deg). */
 static int uncommanded_beyond(const hp_planner *p, const double unc[6])
 {
@@ -611,11 +658,33 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         res->raw_code = raw;
         res->iterations = iters;
         return HP_OK;
+    } else if (converged && !binds_any(r)) {
+        /* Nothing binds, so the first-order conditions say the optimum is the target: a
+         * claimed optimum short of it is not the closest (Ipopt stops its interior point
+         * a few 1e-6 mm inside a bound when the remaining pose error is tiny, because its
+         * complementarity test scales with the multiplier). Label it, never CLOSEST. */
+        err_set(p, p->ops->name);
+        err_add(p, ": solver-error (raw code ");
+        err_add_int(p, raw);
+        err_add(p, "): its claimed optimum binds no limit (none within ");
+        err_add_num(p, HP_BINDING_TOL_MM * 1e6, 0);
+        err_add(p, " nm), so it is not the closest; holding the previous pressures");
+        fail_safe(p, res, HP_STATUS_SOLVER_ERROR, t0);
+        res->raw_code = raw;
+        res->iterations = iters;
+        return HP_OK;
     } else if (converged) {
         r->status = HP_STATUS_CLOSEST;
     } else {
         r->status = (st == HP_STATUS_TIME_LIMIT) ? HP_STATUS_TIME_LIMIT
                                                   : HP_STATUS_ITERATION_LIMIT;
+    }
+    if ((r->status == HP_STATUS_REACHED || r->status == HP_STATUS_UNCOMMANDED) &&
+        !recovered_from_nominal(p, r, xc)) {
+        fail_safe(p, res, HP_STATUS_INVALID_INPUT, t0);
+        res->raw_code = raw;
+        res->iterations = iters;
+        return HP_OK;
     }
     if (r->status == HP_STATUS_UNCOMMANDED) {
         err_set(p, "uncommanded: the commanded part is reached; ");

@@ -135,6 +135,16 @@ hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double ro
 hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
                        const double *xi0, double xi[6], double *residual, int *iters);
 
+/* Forward contact kinematics in the pose components with free_[i] = 1 (the others held at
+ * 0): Levenberg–Marquardt as in hp_contact_fk, fitting the contact distances at level to
+ * target[0..n-1] (finite, any sign: a desired pose's own distances may be <= 0), started
+ * at x0 (free components only). The engine of hp_contact_fk, and what the planner uses to
+ * check that a commanded pose is recovered from the nominal one. residual and iters may be
+ * NULL. HP_ERR_NO_CONVERGENCE after 200 iterations. Allocates nothing. */
+hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target,
+                        const int free_[6], const double x0[6], double xi[6], double *residual,
+                        int *iters);
+
 /* The reach search stops at these (mm, degrees): a reach equal to one means "at least". */
 #define HP_REACH_CAP_MM 50.0
 #define HP_REACH_CAP_DEG 30.0
