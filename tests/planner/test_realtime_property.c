@@ -33,6 +33,10 @@ static void check_one(hp_planner *p, const hp_layout *L, const double xi[6],
     case HP_STATUS_REACHED:
         assert_true(r->pose_error <= 1e-9);
         break;
+    case HP_STATUS_UNCOMMANDED: /* an answer: the commanded part reached, the rest named */
+        assert_true(r->pose_error <= 1e-9);
+        assert_true(strstr(hp_planner_error(p), "not commanded") != NULL);
+        break;
     case HP_STATUS_CLOSEST: {
         int any = 0;
         for (int k = 0; k < L->n; ++k) any |= r->bladders[k].binding != 0;
