@@ -52,17 +52,40 @@ static void pivot_column(const hp_layout *L, int j, double ell, double col[6])
     col[j] = 1.0;
 }
 
-/* Rank of Jc (n×6) times the pivot columns selected by keep[] (all dimensionless), relative
- * to the largest singular value. Columns are not normalised: a sphere's rotation about its
- * centre has a column of rounding noise (~1e-17) that must stay negligible. */
+/* Rank of Jc (n×6) on the span of the pivot columns selected by keep[] (dimensionless),
+ * relative to the largest singular value. The kept columns are first made orthonormal (Gram
+ * –Schmidt, twice): a far pivot makes them nearly parallel (1 km: a turn's own part is 1e-4
+ * of its column, the rest a translation) and Jc times them directly would square that ratio
+ * in the singular values; the span, which is all the rank depends on, is well conditioned.
+ * With every translation kept it is exactly the span of the same components about the head
+ * centre. Jc's columns are not normalised: a sphere's rotation about its centre has a column
+ * of rounding noise (~1e-17) that must stay negligible. */
 static int subset_rank(int n, const double *Jc, const double A[6][6], const int keep[6])
 {
-    double M[HP_MAX_BLADDERS * 6], sv[6], V[36];
+    double Q[6][6], M[HP_MAX_BLADDERS * 6], sv[6], V[36];
+    int c = 0;
+    for (int j = 0; j < 6; ++j) {
+        if (!keep[j]) continue;
+        double q[6];
+        memcpy(q, A[j], sizeof q);
+        for (int pass = 0; pass < 2; ++pass)
+            for (int m = 0; m < c; ++m) {
+                double d = 0.0;
+                for (int i = 0; i < 6; ++i) d += Q[m][i] * q[i];
+                for (int i = 0; i < 6; ++i) q[i] -= d * Q[m][i];
+            }
+        double nq = 0.0;
+        for (int i = 0; i < 6; ++i) nq += q[i] * q[i];
+        nq = sqrt(nq);
+        if (!(nq > 0)) continue; /* A is invertible: does not happen */
+        for (int i = 0; i < 6; ++i) Q[c][i] = q[i] / nq;
+        ++c;
+    }
     for (int k = 0; k < n; ++k)
         for (int j = 0; j < 6; ++j) {
             double v = 0.0;
-            if (keep[j])
-                for (int i = 0; i < 6; ++i) v += Jc[k * 6 + i] * A[j][i];
+            if (j < c)
+                for (int i = 0; i < 6; ++i) v += Jc[k * 6 + i] * Q[j][i];
             M[k * 6 + j] = v;
         }
     if (hp_kin_svd6(n, M, sv, V) != 0) return -1;
