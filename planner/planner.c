@@ -14,10 +14,17 @@
 #define HP_PLAN_MAX_TRANS 1.0                /* [m] */
 #define HP_PLAN_MAX_ROT 3.14159265358979324 /* [rad] */
 /* A reached pose counts as identified when forward contact kinematics started from the
- * nominal pose recovers it to this (mm and degrees): far above the fit's own precision
- * (~1e-12 on the near-degenerate layout), far below the distance of any second fit seen
- * (0.8 degrees on the near-degenerate layout at the plane level). */
+ * nominal pose recovers it to HP_IDENT_FK_TOL (mm and degrees): far above the fit's own
+ * precision on a well-posed layout (~1e-12), far below the distance of any second fit seen
+ * (0.8 degrees on the near-degenerate layout at the plane level). A pivot far away makes
+ * the pose coordinates themselves ill-conditioned (1 km: ~1e-6 mm/deg of rounding), so a
+ * fit that meets the contact distances to HP_IDENT_FIT_MM and lies within HP_IDENT_SAME of
+ * the pose is the same pose: another pose with the same distances would be a symmetric
+ * copy (>= 90 degrees away) or a second fit (0.8 degrees). */
 #define HP_IDENT_FK_TOL 1e-7
+#define HP_IDENT_FIT_MM 1e-8 /* 100x the rounding of distances computed with a 1 km lever;
+                                 the second fit above misses them by 5.6e-5 mm */
+#define HP_IDENT_SAME 1e-3
 /* Largest RMS contact residual [mm] of clamped radii that still counts as holding a pose:
  * 100× above the solvers' own contact slop (1e-9 mm tolerance, bounds kept exactly), far
  * below anything physical. */
@@ -430,12 +437,14 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
             hp_iab_ro(m, ri, &ro[k]) != HP_OK)
             ro[k] = r->bladders[k].ro;
     }
-    hp_error e = hp_contact_fit(&p->L, p->level, ro, p->commanded, zero, xf, NULL, NULL);
+    double resid = INFINITY;
+    hp_error e = hp_contact_fit(&p->L, p->level, ro, p->commanded, zero, xf, &resid, NULL);
     to_scaled(xc, a);
     to_scaled(xf, b);
     double worst = e == HP_OK ? 0.0 : INFINITY;
     for (int i = 0; i < 6; ++i) worst = fmax(worst, fabs(a[i] - b[i]));
     if (worst <= HP_IDENT_FK_TOL) return 1;
+    if (worst <= HP_IDENT_SAME && resid * HP_MM_PER_M <= HP_IDENT_FIT_MM) return 1;
     err_set(p, "desired: outside the identifiable range of this layout at the ");
     err_add(p, hp_level_name(p->level));
     err_add(p, " level: forward contact kinematics from the nominal pose finds another pose ");
