@@ -48,7 +48,7 @@ static void half_turn_refused(void **st)
     (void)st;
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);
-    const double bad_deg[6] = {180.0, -180.0, 170.0, 90.0, -90.0, 120.0};
+    const double bad_deg[6] = {180.0, -180.0, 170.0, 90.001, -90.001, 120.0};
     for (int bi = 0; bi < 4; ++bi) {
         hp_planner *p = make(&L, backends[bi], HP_LEVEL_SURFACE);
         assert_non_null(p);
