@@ -44,8 +44,16 @@
  *     and SOLVER_ERROR always carry it; ITERATION_LIMIT / TIME_LIMIT carry it when the
  *     backend stopped without a usable iterate (pose_error +inf tells which).
  *   reached_means_reached: REACHED means the returned pressures, inverted by hp_iab_fk ->
- *     hp_iab_ro -> hp_contact_fk at the planner's level, give the desired pose in every
- *     commanded component within 1e-6 mm / degree (measured: below 1e-9). */
+ *     hp_iab_ro -> hp_contact_fk at the planner's level started from the NOMINAL pose (not
+ *     from the answer), give the desired pose in every component within 1e-6 mm / degree
+ *     (measured: below 1e-9); UNCOMMANDED means they give its commanded part
+ *     (desired − uncommanded) back the same way. REACHED never has an uncommanded component
+ *     beyond the tolerance. A correction outside the identifiable range (hp_kinematics.h,
+ *     hp_identifiable: rotation angle >= 90 degrees for a head that is not a sphere,
+ *     translation beyond the smallest semi-axis) is INVALID_INPUT, the limit named.
+ *   closest_names_binding: a CLOSEST answer has at least one bladder with binding flags
+ *     (HP_BINDING_TOL_MM, the same for every backend) named in hp_planner_error; a claimed
+ *     optimum with nothing binding is SOLVER_ERROR with the safe output. */
 #ifndef HP_PLANNER_H
 #define HP_PLANNER_H
 
@@ -183,8 +191,8 @@ typedef struct hp_result {
 typedef struct hp_planner hp_planner;
 
 /* Builds a planner for a layout (copied: the caller may free it afterwards; prepared here
- * if it is not) and settings (NULL = defaults). Resolves HP_LEVEL_AUTO, finds the commanded
- * directions (rank of the contact Jacobian), maps every pressure and stretch limit to
+ * if it is not) and settings (NULL = defaults). Resolves HP_LEVEL_AUTO, finds what the
+ * layout can tell apart and the commanded components (hp_layout_identify), maps every pressure and stretch limit to
  * bounds on the bladders' radii (clipped below any inflation limit point) and creates the
  * backend. The only call that allocates. On failure returns the error, sets *out = NULL,
  * frees everything, and puts the message in diag (may be NULL). */
@@ -194,12 +202,18 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
 /* Plans one correction desired[6] (SI: m, rad). Always fills *result; returns HP_OK when a
  * result was produced (look at result->status), HP_ERR_NULL for NULL arguments and
  * HP_ERR_STATE for a planner that failed to build.
+ *   - A correction outside the identifiable range (hp_layout_identify) is INVALID_INPUT
+ *     with the limit named; otherwise the planner aims at its commanded part
+ *     (hp_pose_commanded_part) and returns the rest in uncommanded[].
  *   - First the direct chain: pose -> contact distances -> radii -> pressures; when every
- *     limit holds that is the exact answer (REACHED, 0 iterations).
+ *     limit holds that is the exact answer (REACHED, or UNCOMMANDED when part of the
+ *     correction is not commanded; 0 iterations).
  *   - Otherwise the backend finds the closest reachable pose (CLOSEST, binding flags set).
  *   - achieved[] is the pose at the planner's level for which the returned outer radii are
- *     exactly the contact distances (the model-level round trip); a caller that wants the
- *     strict check runs hp_iab_fk -> hp_iab_ro -> hp_contact_fk at HP_LEVEL_SURFACE.
+ *     exactly the contact distances (the model-level round trip). Before REACHED or
+ *     UNCOMMANDED the planner runs the strict round trip itself (pressures -> radii ->
+ *     hp_contact_fit from the nominal pose); a correction it does not recover is not
+ *     identified by this layout: INVALID_INPUT.
  *   - On INVALID_INPUT, INFEASIBLE_START or SOLVER_ERROR the result holds the SAFE OUTPUT:
  *     the previous valid answer's bladders and pose (after create or hp_planner_reset: the
  *     nominal pose's radii and pressures, clamped into the limits), so a controller that
