@@ -152,8 +152,9 @@ hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target
 /* Layout analysis at the nominal pose, translation per mm and rotation per degree. */
 typedef struct hp_layout_analysis {
     double singular_values[6];  /* of J scaled to mm/mm and mm/deg, descending */
-    int rank;                   /* numerical rank (sv > 1e-9·sv_max) */
-    double condition;           /* sv_max / sv_min; +inf when rank < 6 */
+    int rank;                   /* rank as decided by hp_layout_identify (dimensionless,
+                                   head-centred: independent of units, scale and pivot) */
+    double condition;           /* sv_max / sv_min (mm, degrees); +inf when rank < 6 */
     double weakest[6];          /* right singular vector of the smallest sv (unit, mm/deg) */
     char weakest_words[160];    /* e.g. "pitch with some longitudinal shift" */
     double reach[6][2];         /* largest correction along each axis, [i][0] negative

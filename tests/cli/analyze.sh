@@ -174,6 +174,7 @@ python3 - "$TMP/out" <<'PY' && ok || bad "pivot 1 km: identifiable range unchang
 import json, sys
 d = json.load(open(sys.argv[1]))
 assert d["pivot_mm"][2] == 1e6, d["pivot_mm"]
+assert d["rank"] == 6 and d["condition"] is not None, d["rank"]   # old main: rank 4
 i = d["identifiable"]
 assert i["rank"] == 6 and all(i["commanded"].values()), i
 PY
