@@ -88,10 +88,8 @@ hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target
             if (stepsize <= FK_STEP_TOL) done = 1;
         } else {
             lambda *= 10.0;
-            /* No descent at any damping: the fit is at its minimum to rounding. (A tiny
-             * rejected step is no such proof: heavy damping makes every step tiny, and on an
-             * ill-conditioned layout that stopped the fit far from the minimum.) */
-            if (lambda > FK_LAMBDA_MAX) done = 1;
+            /* No descent at any damping: the fit is at its minimum to rounding. */
+            if (lambda > FK_LAMBDA_MAX || stepsize <= FK_STEP_TOL) done = 1;
         }
     }
     if (!done && cost != 0.0) return HP_ERR_NO_CONVERGENCE;

@@ -429,6 +429,11 @@ static int in_identifiable_range(hp_planner *p, const double desired[6])
  * nothing. */
 static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double xc[6])
 {
+    /* The linear model is linear in the pose and the commanded columns have full column
+     * rank (hp_layout_identify keeps exactly `rank` of them): the least-squares fit is
+     * unique, so the fit from the nominal pose is the commanded part itself, to rounding.
+     * The check would cost ~50 us of a ~10 us plan and could not fail. */
+    if (p->level == HP_LEVEL_LINEAR) return 1;
     double ro[HP_MAX_BLADDERS], zero[6] = {0}, xf[6], a[6], b[6];
     for (int k = 0; k < p->L.n; ++k) {
         const hp_iab *m = &p->L.bladders[k].iab;
