@@ -25,7 +25,7 @@
  *     [stretch_min, stretch_max], and ri is strictly below any inflation limit point's radius
  *     (at most (1 − 1e-3) of it), whatever the status.
  *   valid_fields_finite: for every status, status, raw_code, backend, level, n, commanded,
- *     iterations (>= 0), solve_time (>= 0), achieved[6] and every bladder's ri, ro, pressure,
+ *     uncommanded[6] (0 on the safe output), iterations (>= 0), solve_time (>= 0), achieved[6] and every bladder's ri, ro, pressure,
  *     stretch are finite; pose_error is finite when the result answers this request
  *     (REACHED, CLOSEST, and ITERATION_LIMIT / TIME_LIMIT carrying an iterate) and exactly
  *     +inf when it is the safe output; never NaN. desired[] is a copy of the input (may be

@@ -3,7 +3,8 @@
  * every plan in tests/reliability goes through.
  *
  * Fields that are valid per status (the "finite_valid_fields" invariant, hp_planner.h):
- *   every status: status, raw_code, backend, level, n, commanded[], iterations (>= 0),
+ *   every status: status, raw_code, backend, level, n, commanded[], uncommanded[] (0 on the
+ *     safe output), iterations (>= 0),
  *     solve_time (finite, >= 0), achieved[] (finite), and for k < n every bladder's ri, ro,
  *     pressure, stretch (finite);
  *   pose_error: finite for an answer to this desired (REACHED, CLOSEST, and ITERATION_LIMIT /
@@ -185,6 +186,10 @@ static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
     if (mask & REL_INV_FINITE) {
         for (int i = 0; i < 6; ++i)
             if (!isfinite(r->achieved[i])) return rel_fail(why, wn, "achieved[%d] not finite", i);
+        for (int i = 0; i < 6; ++i)
+            if (!isfinite(r->uncommanded[i]) || (!answer && r->uncommanded[i] != 0.0))
+                return rel_fail(why, wn, "uncommanded[%d] = %g (%s)", i, r->uncommanded[i],
+                                hp_status_name(r->status));
         if (isnan(r->pose_error) || r->pose_error < 0)
             return rel_fail(why, wn, "pose_error %g", r->pose_error);
         if (!answer && rel_answer_status(r->status))
