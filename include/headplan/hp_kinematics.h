@@ -236,10 +236,15 @@ hp_error hp_layout_identify(const hp_layout *L, hp_identifiable *out);
 double hp_pose_rotation_angle(const double xi[6]);
 
 /* The commanded part xc of a desired pose xd for a layout (see hp_identifiable): zeros in
- * the components id->commanded[] drops, and contact distances at level equal to those of xd
- * (exactly for centre_only heads at the surface level: the head centre moves as under xd;
- * otherwise by a least-squares fit in the commanded components started from the linear
- * projection along the unobservable motions). xc = xd when rank is 6. Allocates nothing.
+ * the components id->commanded[] drops, and the contact distances of xd. For a centre_only
+ * head commanding x, y, z: exactly the translation that moves the head centre where xd
+ * moves it (pivot + R(centre − pivot) + t − centre), at every level (the surface level's
+ * distances are then those of xd exactly). Otherwise the projection along the unobservable
+ * motions that zeroes the dropped components (exact at the linear level), refined at the
+ * plane and surface levels by hp_contact_fit of xd's distances in the commanded components
+ * (exact when they can reproduce them, e.g. up to five bladders; least squares when the
+ * layout sees the dropped directions at second order, e.g. a flat layout). xc = xd bit for
+ * bit when rank is 6 or xd is already zero in the dropped components. Allocates nothing.
  * HP_ERR_INVALID for a non-finite xd; the contact model's errors otherwise. */
 hp_error hp_pose_commanded_part(const hp_layout *L, const hp_identifiable *id, hp_level level,
                                 const double xd[6], double xc[6]);
