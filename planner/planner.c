@@ -282,6 +282,8 @@ hp_level hp_planner_level(const hp_planner *p) { return p ? p->level : HP_LEVEL_
 
 const hp_layout *hp_planner_layout(const hp_planner *p) { return p ? &p->L : NULL; }
 
+const hp_identifiable *hp_planner_identifiable(const hp_planner *p) { return p ? &p->id : NULL; }
+
 hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
 {
     if (!p) return HP_ERR_NULL;

@@ -229,6 +229,9 @@ const char *hp_planner_error(const hp_planner *p);
 /* The resolved contact level and the planner's (prepared) copy of the layout. */
 hp_level hp_planner_level(const hp_planner *p);
 const hp_layout *hp_planner_layout(const hp_planner *p);
+/* What the planner's layout can tell apart (hp_layout_identify, computed at create): the
+ * identifiable range hp_plan enforces and the commanded components. NULL for NULL. */
+const hp_identifiable *hp_planner_identifiable(const hp_planner *p);
 
 /* Sets the pressures the bladders hold now [Pa] (n values): the rate limits of the next plan
  * start from them and they become the safe output. Each must be finite, inside its limits

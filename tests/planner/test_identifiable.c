@@ -52,6 +52,10 @@ static void half_turn_refused(void **st)
     for (int bi = 0; bi < 4; ++bi) {
         hp_planner *p = make(&L, backends[bi], HP_LEVEL_SURFACE);
         assert_non_null(p);
+        const hp_identifiable *id = hp_planner_identifiable(p);
+        assert_non_null(id);
+        assert_true(id->rot_limit == 0.5 * PI && id->rank == 6);
+        assert_null(hp_planner_identifiable(NULL));
         hp_result nominal, r;
         const double nan6[6] = {NAN, 0, 0, 0, 0, 0};
         hp_plan(p, nan6, &nominal);
