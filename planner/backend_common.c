@@ -1,11 +1,12 @@
 /* Helpers shared by the Ipopt and NLopt backends: problem checks, starting point, clipping,
  * and a first-order optimality test for results a solver could not certify. */
 #include "planner/backend_common.h"
+#include "common/units.h"
+#include "common/dense.h"
 
 #include <math.h>
 #include <string.h>
 
-#define HP_PI 3.14159265358979323846
 
 hp_error hp_backend_check_problem(const hp_problem *pb, hp_diag *d)
 {
@@ -54,7 +55,7 @@ hp_error hp_backend_default_start(const hp_problem *pb, double *x)
     double xi[6], rho[HP_MAX_BLADDERS];
     for (int i = 0; i < 6; i++) {
         x[i] = pb->d[i];
-        xi[i] = pb->d[i] * (i < 3 ? 1e-3 : HP_PI / 180.0);
+        xi[i] = pb->d[i] * (i < 3 ? 1e-3 : HP_RAD_PER_DEG);
     }
     hp_error e = hp_contact_eval(pb->layout, pb->level, xi, rho, NULL, NULL);
     if (e != HP_OK) return e;
@@ -80,31 +81,12 @@ hp_error hp_backend_start(const hp_problem *pb, const double *x0, double *x)
     return HP_OK;
 }
 
-/* Solves A y = b in place for symmetric positive definite A (m×m); 0 when not SPD. */
+/* Solves A y = b in place for symmetric positive definite A (m×m, overwritten by its
+ * factor); 0 when not SPD. */
 static int cholesky_solve(double *A, double *b, int m)
 {
-    for (int j = 0; j < m; j++) {
-        double s = A[j * m + j];
-        for (int k = 0; k < j; k++) s -= A[j * m + k] * A[j * m + k];
-        if (!(s > 0.0)) return 0;
-        double l = sqrt(s);
-        A[j * m + j] = l;
-        for (int i = j + 1; i < m; i++) {
-            double t = A[i * m + j];
-            for (int k = 0; k < j; k++) t -= A[i * m + k] * A[j * m + k];
-            A[i * m + j] = t / l;
-        }
-    }
-    for (int i = 0; i < m; i++) {
-        double t = b[i];
-        for (int k = 0; k < i; k++) t -= A[i * m + k] * b[k];
-        b[i] = t / A[i * m + i];
-    }
-    for (int i = m - 1; i >= 0; i--) {
-        double t = b[i];
-        for (int k = i + 1; k < m; k++) t -= A[k * m + i] * b[k];
-        b[i] = t / A[i * m + i];
-    }
+    if (!hp_cholesky(A, m, m, 0.0, A, m)) return 0;
+    hp_cholesky_solve(A, m, m, b);
     return 1;
 }
 

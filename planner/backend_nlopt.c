@@ -19,6 +19,7 @@
  * plus a short line search), COBYLA maxeval = (6 + 1)·max_iter (one simplex worth of
  * evaluations per iteration). Reported iterations are evaluations (nlopt_get_numevals). */
 #include "planner/backend_common.h"
+#include "common/units.h"
 #include "planner/backend_testing.h"
 
 #include <math.h>
@@ -27,7 +28,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define HP_PI 3.14159265358979323846
 /* Seed of NLopt's random number generator: any fixed value gives reproducible runs. */
 #define HP_NLOPT_SEED 20200531UL
 #define SLSQP_EVALS_PER_ITER 4
@@ -53,7 +53,7 @@ static atomic_int nlopt_forced = HP_TEST_NO_FORCE;
 void hp_test_nlopt_fault(int fault) { atomic_store(&nlopt_fault, fault); }
 void hp_test_nlopt_force_result(int code) { atomic_store(&nlopt_forced, code); }
 
-static double pose_scale(int i) { return i < 3 ? 1e-3 : HP_PI / 180.0; }
+static double pose_scale(int i) { return i < 3 ? 1e-3 : HP_RAD_PER_DEG; }
 
 static void eval_fail(nlopt_state *st)
 {

@@ -8,6 +8,7 @@
 #include "planner/backend_testing.h"
 #include "planner/problem_setup.h"
 #include "planner/qp.h"
+#include "common/dense.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -106,18 +107,7 @@ static void rt_destroy(void *state) { free(state); }
 static int well_convex(const double *G, int nv, double frac)
 {
     double L[HP_QP_NMAX * HP_QP_NMAX] = {0};
-    for (int j = 0; j < nv; ++j) {
-        double s = G[j * nv + j];
-        for (int k = 0; k < j; ++k) s -= L[j * nv + k] * L[j * nv + k];
-        if (!(s > frac * G[j * nv + j])) return 0;
-        L[j * nv + j] = sqrt(s);
-        for (int i = j + 1; i < nv; ++i) {
-            double t = G[i * nv + j];
-            for (int k = 0; k < j; ++k) t -= L[i * nv + k] * L[j * nv + k];
-            L[i * nv + j] = t / L[j * nv + j];
-        }
-    }
-    return 1;
+    return hp_cholesky(G, nv, nv, frac, L, nv);
 }
 
 /* Hessian of the Lagrangian in the commanded variables, W − Σ (u_lo,k − u_hi,k)·∇²rho_k

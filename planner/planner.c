@@ -12,7 +12,7 @@
 /* Largest correction hp_plan accepts: far beyond any bladder's reach, small enough that
  * every contact model stays well defined. */
 #define HP_PLAN_MAX_TRANS 1.0                /* [m] */
-#define HP_PLAN_MAX_ROT 3.14159265358979324 /* [rad] */
+#define HP_PLAN_MAX_ROT HP_PI /* [rad] */
 /* A reached pose counts as identified when forward contact kinematics started from the
  * nominal pose recovers it to HP_IDENT_FK_TOL (mm and degrees): far above the fit's own
  * precision on a well-posed layout (~1e-12), far below the distance of any second fit seen

@@ -8,14 +8,14 @@
  * The volume law ro³ = Ro³ + ri³ − Ri³ is homogeneous, so ro' = ri²/ro² (dimensionless) and
  * ro'' = 2ri/ro² − 2ri²ro'/ro³ = (2ri/ro²)(1 − ri³/ro³) [1/mm] hold directly in mm. */
 #include "planner/problem.h"
+#include "common/units.h"
 
 #include <math.h>
 #include <string.h>
 
-#define HP_PI 3.14159265358979323846
 
 /* SI per scaled unit of pose component i. */
-static double pose_scale(int i) { return i < 3 ? 1e-3 : HP_PI / 180.0; }
+static double pose_scale(int i) { return i < 3 ? 1e-3 : HP_RAD_PER_DEG; }
 
 static hp_error check_problem(const hp_problem *pb, const double *x)
 {

@@ -5,9 +5,8 @@
 
 #include "planner/problem.h"
 
-/* Scaled units of hp_problem: x[0..2] mm, x[3..5] degrees, radii mm. */
-#define HP_MM_PER_M 1e3
-#define HP_DEG_PER_RAD 57.295779513082320877
+/* Scaled units of hp_problem: x[0..2] mm, x[3..5] degrees, radii mm (common/units.h). */
+#include "common/units.h"
 /* Relative distance below an inflation limit point's inner radius that the planner keeps
  * every bladder: 1e-3 of ri leaves the pressure ~1e-6 below the peak, so hp_iab_fk can still
  * recover the radius from the pressure (dP/dri vanishes at the peak). */

@@ -3,6 +3,7 @@
  * step direction is z = J₂J₂ᵀ n and the dual one r = R⁻¹J₁ᵀ n. Orthogonal updates use the
  * symmetric Givens reflector [[c, s], [s, −c]]. */
 #include "planner/qp.h"
+#include "common/dense.h"
 
 #include <math.h>
 #include <string.h>
@@ -13,17 +14,7 @@
 static int cholesky_inverse_transpose(const double *G, int n, double *J)
 {
     double L[NM * NM] = {0}, Li[NM * NM] = {0};
-    for (int j = 0; j < n; ++j) {
-        double s = G[j * n + j];
-        for (int k = 0; k < j; ++k) s -= L[IDX(j, k)] * L[IDX(j, k)];
-        if (!(s > 0)) return 0;
-        L[IDX(j, j)] = sqrt(s);
-        for (int i = j + 1; i < n; ++i) {
-            double t = G[i * n + j];
-            for (int k = 0; k < j; ++k) t -= L[IDX(i, k)] * L[IDX(j, k)];
-            L[IDX(i, j)] = t / L[IDX(j, j)];
-        }
-    }
+    if (!hp_cholesky(G, n, n, 0.0, L, NM)) return 0;
     for (int j = 0; j < n; ++j) { /* Li = L⁻¹, lower triangular, column by column */
         Li[IDX(j, j)] = 1.0 / L[IDX(j, j)];
         for (int i = j + 1; i < n; ++i) {
