@@ -8,7 +8,7 @@
  *
  * Rows (input set "linear-nlp"): ipopt-exact-linear (the BASELINE: exact Hessian, tolerance
  * 1e-9), ipopt-lbfgs-linear (Ipopt's limited-memory quasi-Newton Hessian, the
- * hp_settings.ipopt_hessian_approx = 1 peer), realtime-linear, nlopt-slsqp-linear,
+ * hp_planner_set_option "hessian_approximation" 1 peer), realtime-linear, nlopt-slsqp-linear,
  * scipy-slsqp (bench/scipy_peer.py, analytic gradients) and scipy-slsqp-fd (SciPy's finite
  * differences). Input set "surface-nlp": ipopt-exact-surface and ipopt-lbfgs-surface, against
  * a surface-level reference. max_error: the largest difference, mm or degrees, between a
@@ -38,11 +38,9 @@
 #define REF_TOLERANCE 1e-10
 #define SCIPY_CONTACT_TOL 1e-6 /* mm */
 
-static hp_settings settings_of(hp_backend b, hp_level l, double tol, int lbfgs)
+static hp_settings settings_of(hp_backend b, hp_level l, double tol)
 {
-    hp_settings s = bench_settings(b, l, tol, 0);
-    s.ipopt_hessian_approx = lbfgs;
-    return s;
+    return bench_settings(b, l, tol, 0);
 }
 
 static bench_row *new_row(bench_table *t, const char *method, const char *variant,
@@ -238,8 +236,8 @@ int bench_peers(const bench_options *o, bench_table *t)
     static long perm[N_FULL];
     int commanded[6] = {1, 1, 1, 1, 1, 1};
     hp_planner *pl, *ps;
-    hp_settings sl = settings_of(HP_BACKEND_IPOPT, HP_LEVEL_LINEAR, REF_TOLERANCE, 0);
-    hp_settings ss = settings_of(HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, REF_TOLERANCE, 0);
+    hp_settings sl = settings_of(HP_BACKEND_IPOPT, HP_LEVEL_LINEAR, REF_TOLERANCE);
+    hp_settings ss = settings_of(HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, REF_TOLERANCE);
     if ((rc = bench_planner_new(L, &sl, &pl))) return rc;
     if ((rc = bench_planner_new(L, &ss, &ps))) {
         hp_planner_destroy(pl);
@@ -311,9 +309,16 @@ int bench_peers(const bench_options *o, bench_table *t)
         const peer_method *m = &ms[i];
         bench_row *row = new_row(t, m->name, m->variant, m->param, m->set);
         if (!row) return HP_EXIT_SOFTWARE;
-        hp_settings st2 = settings_of(m->b, m->l, 1e-9, m->lbfgs);
+        hp_settings st2 = settings_of(m->b, m->l, 1e-9);
         hp_planner *p;
         if ((rc = bench_planner_new(L, &st2, &p))) break;
+        /* The quasi-Newton peer: a backend option, not a settings field. */
+        if (m->lbfgs && hp_planner_set_option(p, "hessian_approximation", 1) != HP_OK) {
+            fprintf(stderr, "headplan-bench: peers: %s\n", hp_planner_error(p));
+            hp_planner_destroy(p);
+            rc = HP_EXIT_SOFTWARE;
+            break;
+        }
         accuracy(p, L, (const double(*)[6])tg, n,
                  (const double(*)[6])(m->l == HP_LEVEL_LINEAR ? ref_lin : ref_sur), row);
         bench_plan_ctx c = {p, (const double(*)[6])tg, n, perm, 0};

@@ -209,7 +209,7 @@ int hp_cmd_solve(int argc, char **argv)
     }
     hp_result r;
     e = hp_plan(p, desired, &r);
-    const char *msg = hp_planner_error(p);
+    const char *msg = *hp_planner_error(p) ? hp_planner_error(p) : hp_planner_note(p);
     int status;
     if (e != HP_OK) {
         status = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", a.scene,

@@ -61,7 +61,8 @@ static void show(const hp_layout *L, const hp_result *r, const hp_planner *p)
 {
     double a[6];
     hp_pose_to_clinical(r->achieved, a);
-    printf("status %s (%s)\n", hp_status_name(r->status), hp_planner_error(p));
+    printf("status %s (%s)\n", hp_status_name(r->status),
+           *hp_planner_note(p) ? hp_planner_note(p) : hp_planner_error(p));
     for (int k = 0; k < L->n; ++k)
         printf("  %-18s %10.2f Pa%s\n", L->bladders[k].name, r->bladders[k].pressure,
                r->bladders[k].binding ? "  (on a limit)" : "");

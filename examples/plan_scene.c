@@ -45,7 +45,8 @@ int main(int argc, char **argv)
         goto done;
     }
     printf("status %s\n", hp_status_name(r.status));
-    if (r.status != HP_STATUS_REACHED) printf("message %s\n", hp_planner_error(p));
+    if (r.status != HP_STATUS_REACHED) /* an answer explains itself, a failure says why */
+        printf("message %s\n", *hp_planner_note(p) ? hp_planner_note(p) : hp_planner_error(p));
     for (int k = 0; k < r.n; ++k)
         printf("%s %.17g\n", sc->layout.bladders[k].name, r.bladders[k].pressure);
     rc = r.status == HP_STATUS_REACHED ? 0 : 1;

@@ -13,8 +13,8 @@
  *   so the problem object is reused while ri_lo/ri_hi are bitwise unchanged and recreated
  *   (about 0.7 ms and some allocation) when they change, i.e. every cycle with rate limits.
  * - Warm start (previous point and multipliers, warm_start_init_point, tiny bound pushes and
- *   mu_init) is used when the caller's x0 is bitwise the last solution this object returned
- *   and that solve converged: then the stored multipliers belong to x0. */
+ *   mu_init) is used when the core has said (warm_point) that x0 is the answer this object's
+ *   last solve returned and that solve converged: then the stored multipliers belong to x0. */
 #include "planner/backend_common.h"
 #include "planner/backend_testing.h"
 
@@ -53,8 +53,10 @@ typedef struct ipopt_state {
     double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS]; /* bounds app was built with */
     const hp_problem *pb;                                  /* during a solve only */
     int iters;
-    int have_prev;
-    double x_prev[HP_PROBLEM_NX_MAX];
+    int have_prev;          /* the last solve converged: its multipliers are usable */
+    int accepted;           /* the core starts the next solve from that answer (warm_point) */
+    int lbfgs;              /* option "hessian_approximation" = 1 */
+    int rebuild;            /* an option changed: rebuild the app before the next solve */
     double mult_g[HP_MAX_BLADDERS];
     double mult_xl[HP_PROBLEM_NX_MAX], mult_xu[HP_PROBLEM_NX_MAX];
     double dense[HP_PROBLEM_NX_MAX * HP_PROBLEM_NX_MAX]; /* Hessian / Jacobian scratch */
@@ -217,7 +219,7 @@ static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
         (e = opt_num(st->app, "warm_start_mult_bound_push", WARM_PUSH, d)))
         return e;
     /* The quasi-Newton peer of the benchmarks: Ipopt then never calls eval_h. */
-    if (s->ipopt_hessian_approx == 1 &&
+    if (st->lbfgs &&
         (e = opt_str(st->app, "hessian_approximation", "limited-memory", d)))
         return e;
     if (!SetIntermediateCallback(st->app, intermediate))
@@ -295,13 +297,16 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
     int go;
     hp_error e = hp_backend_begin("ipopt", pb, st->n, st->nx, x0, xs, r, &go, d);
     if (e != HP_OK || !go) return e;
-    int warm = st->s.warm_start && st->have_prev && x0 &&
-               memcmp(x0, st->x_prev, (size_t)st->nx * sizeof *x0) == 0;
+    /* Warm (previous multipliers, small bound pushes) only when the core said that x0 is
+     * this backend's own last converged answer (warm_point). */
+    int warm = st->s.warm_start && st->have_prev && st->accepted && x0;
+    st->accepted = 0;
     int same_bounds = memcmp(st->ri_lo, pb->ri_lo, (size_t)st->n * sizeof(double)) == 0 &&
                       memcmp(st->ri_hi, pb->ri_hi, (size_t)st->n * sizeof(double)) == 0;
 
     pthread_mutex_lock(&ipopt_lock);
-    if (!same_bounds || !st->app) { /* also retries after a failed rebuild */
+    if (!same_bounds || !st->app || st->rebuild) { /* also retries after a failed rebuild */
+        st->rebuild = 0;
         if (st->app) FreeIpoptProblem(st->app);
         st->app = NULL;
         e = build_app(st, pb, d);
@@ -342,13 +347,42 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
     }
     hp_backend_clip(pb, x);
     st->have_prev = r->converged;
-    if (r->converged) memcpy(st->x_prev, x, (size_t)st->nx * sizeof *x);
     return HP_OK;
+}
+
+static void ipopt_warm_point(void *state, int accepted)
+{
+    ipopt_state *st = state;
+    if (st) st->accepted = accepted;
+}
+
+/* "hessian_approximation": 0 the exact Hessian of the Lagrangian (problem_eval.c), 1 Ipopt's
+ * limited-memory quasi-Newton approximation (a benchmark peer). */
+static hp_error ipopt_set_option(void *state, const char *name, double value, hp_diag *d)
+{
+    ipopt_state *st = state;
+    if (!st || !name) return hp_diag_set(d, HP_ERR_NULL, "ipopt: NULL option");
+    if (strcmp(name, "hessian_approximation") == 0) {
+        if (value != 0.0 && value != 1.0)
+            return hp_diag_set(d, HP_ERR_INVALID,
+                               "ipopt: hessian_approximation must be 0 (exact) or 1 "
+                               "(limited-memory) (got %g)",
+                               value);
+        st->lbfgs = value == 1.0;
+        st->rebuild = 1;
+        st->have_prev = 0;
+        return HP_OK;
+    }
+    return hp_diag_set(d, HP_ERR_INVALID,
+                       "ipopt: unknown option '%s' (known: hessian_approximation)", name);
 }
 
 const hp_backend_ops hp_backend_ipopt_ops = {
     .name = "ipopt",
+    .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_WARM_STARTS,
     .create = ipopt_create,
     .solve = ipopt_solve,
     .destroy = ipopt_destroy,
+    .warm_point = ipopt_warm_point,
+    .set_option = ipopt_set_option,
 };

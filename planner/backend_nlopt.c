@@ -344,6 +344,7 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
 
 const hp_backend_ops hp_backend_nlopt_slsqp_ops = {
     .name = "nlopt-slsqp",
+    .caps = HP_BACKEND_THREAD_SAFE,
     .create = slsqp_create,
     .solve = nlopt_solve,
     .destroy = nlopt_state_destroy,
@@ -351,6 +352,7 @@ const hp_backend_ops hp_backend_nlopt_slsqp_ops = {
 
 const hp_backend_ops hp_backend_nlopt_cobyla_ops = {
     .name = "nlopt-cobyla",
+    .caps = HP_BACKEND_THREAD_SAFE,
     .create = cobyla_create,
     .solve = nlopt_solve,
     .destroy = nlopt_state_destroy,

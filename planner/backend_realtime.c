@@ -374,4 +374,10 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     return HP_OK;
 }
 
-const hp_backend_ops hp_backend_realtime_ops = {"realtime", rt_create, rt_solve, rt_destroy};
+const hp_backend_ops hp_backend_realtime_ops = {
+    .name = "realtime",
+    .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_THREAD_SAFE | HP_BACKEND_REAL_TIME,
+    .create = rt_create,
+    .solve = rt_solve,
+    .destroy = rt_destroy,
+};

@@ -58,12 +58,33 @@ typedef struct hp_backend_result {
     int converged;      /* 1 when the backend reports a (locally) optimal point */
 } hp_backend_result;
 
+/* What a backend is, so the core asks for a property instead of testing the enum. */
+enum {
+    /* A converged claim is a certified local optimum (Ipopt's KKT test, the realtime QP's
+     * multiplier signs): the core need not re-check first-order conditions. */
+    HP_BACKEND_CERTIFIES = 1u << 0,
+    /* Solves from different threads need no process-wide lock (Ipopt's MUMPS does). */
+    HP_BACKEND_THREAD_SAFE = 1u << 1,
+    /* solve allocates nothing and is bounded by max_iter (the control loop's path). */
+    HP_BACKEND_REAL_TIME = 1u << 2,
+    /* Uses warm_point: warm-starts from its own last answer (points and multipliers). */
+    HP_BACKEND_WARM_STARTS = 1u << 3
+};
+
 typedef struct hp_backend_ops {
-    const char *name;
+    const char *name;   /* = hp_backend_name of its enum value */
+    unsigned caps;      /* HP_BACKEND_* flags */
     hp_error (*create)(void **state, const hp_problem *pb, const hp_settings *s, hp_diag *d);
     hp_error (*solve)(void *state, const hp_problem *pb, const double *x0, double *x,
                       hp_backend_result *r, hp_diag *d);
     void (*destroy)(void *state);
+    /* Optional (NULL: the backend keeps nothing between solves). The core says whether the
+     * next solve starts from the answer this backend's last solve returned (accepted = 1:
+     * the backend may reuse its multipliers) or from some other point (0). */
+    void (*warm_point)(void *state, int accepted);
+    /* Optional (NULL: no options). A backend-specific option by name; HP_ERR_INVALID for a
+     * name it does not know or a bad value (message in d). Takes effect at the next solve. */
+    hp_error (*set_option)(void *state, const char *name, double value, hp_diag *d);
 } hp_backend_ops;
 
 extern const hp_backend_ops hp_backend_realtime_ops;

@@ -19,7 +19,6 @@ void hp_settings_default(hp_settings *s)
     s->mu = HP_DEFAULT_MU;
     s->use_rate_limits = HP_DEFAULT_USE_RATE_LIMITS;
     s->warm_start = HP_DEFAULT_WARM_START;
-    s->ipopt_hessian_approx = HP_DEFAULT_IPOPT_HESSIAN_APPROX;
 }
 
 /* Each check accepts only finite values in range; written as !(v > x) so NaN fails. */
@@ -92,8 +91,5 @@ hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
     if (s->warm_start != 0 && s->warm_start != 1)
         return hp_diag_set(d, HP_ERR_INVALID, "warm_start: must be 0 or 1 (got %d)",
                            s->warm_start);
-    if (s->ipopt_hessian_approx != 0 && s->ipopt_hessian_approx != 1)
-        return hp_diag_set(d, HP_ERR_INVALID, "ipopt_hessian_approx: must be 0 or 1 (got %d)",
-                           s->ipopt_hessian_approx);
     return HP_OK;
 }

@@ -131,7 +131,6 @@ HP_API const char *hp_binding_name(unsigned flag);
 #define HP_DEFAULT_MU 0.0
 #define HP_DEFAULT_USE_RATE_LIMITS 1
 #define HP_DEFAULT_WARM_START 1
-#define HP_DEFAULT_IPOPT_HESSIAN_APPROX 0 /* exact Hessian of the Lagrangian */
 
 typedef struct hp_settings {
     hp_backend backend;       /* which solver runs when a limit binds */
@@ -147,9 +146,6 @@ typedef struct hp_settings {
                                  the realtime backend needs none and ignores it */
     int use_rate_limits;      /* 1: apply each bladder's rate_max from the previous plan */
     int warm_start;           /* 1: start each solve from the previous result */
-    int ipopt_hessian_approx; /* Ipopt only: 0 exact Hessian (problem_eval.c), 1 Ipopt's
-                                 limited-memory quasi-Newton approximation (a benchmark peer;
-                                 the other backends ignore it) */
 } hp_settings;
 
 /* Fills every field with its HP_DEFAULT_* value. s may be NULL (nothing happens). */
@@ -223,8 +219,23 @@ HP_API hp_error hp_planner_create(const hp_layout *layout, const hp_settings *se
  * of the last failure is kept (hp_planner_error). */
 HP_API hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *result);
 
-/* The message of the last failed or non-REACHED plan ("" when none). Never NULL. */
+/* The message of the last failure: a plan whose status is not REACHED, CLOSEST or
+ * UNCOMMANDED (ITERATION_LIMIT and TIME_LIMIT included: the budget ran out), or a refused
+ * call. "" after an answer. Never NULL. */
 HP_API const char *hp_planner_error(const hp_planner *p);
+
+/* Why the last answer is CLOSEST or UNCOMMANDED (answers, not failures): the binding
+ * limits (bladder and limit names) and the components the layout cannot command, with
+ * their values. "" after REACHED and after a failure. Never NULL. */
+HP_API const char *hp_planner_note(const hp_planner *p);
+
+/* Sets a backend-specific option by name, NLopt style, so that one backend's switch is not
+ * a field every caller sees. Known: for Ipopt, "hessian_approximation" 0 (the exact
+ * Hessian, default) or 1 (Ipopt's limited-memory quasi-Newton approximation, a benchmark
+ * peer). Takes effect at the next plan. Returns HP_OK, HP_ERR_NULL, HP_ERR_STATE (planner
+ * not built) or HP_ERR_INVALID (an option the configured backend does not know, or a bad
+ * value; the message in hp_planner_error). Allocates nothing. */
+HP_API hp_error hp_planner_set_option(hp_planner *p, const char *name, double value);
 
 /* The resolved contact level and the planner's (prepared) copy of the layout. */
 HP_API hp_level hp_planner_level(const hp_planner *p);

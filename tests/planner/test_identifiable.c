@@ -116,7 +116,7 @@ static void deficient_layouts_never_reached(void **st)
                 assert_true(r.status != HP_STATUS_REACHED);
                 if (r.status == HP_STATUS_UNCOMMANDED) {
                     ++unc;
-                    assert_non_null(strstr(hp_planner_error(p), "not commanded"));
+                    assert_non_null(strstr(hp_planner_note(p), "not commanded"));
                     /* With at most five bladders the commanded components meet the desired
                      * pose's own distances exactly; the flat layout sees z, pitch and roll at
                      * second order, which no commanded motion reproduces (least squares). */
@@ -235,7 +235,7 @@ static void sphere_off_centre_pivot(void **st)
     assert_int_equal(hp_plan(p, pitch25, &r), HP_OK);
     assert_int_equal(r.status, HP_STATUS_CLOSEST);
     hp_assert_close(-r.uncommanded[1], -0.07 * sin(25 * PI / 180), 0, 1e-15);
-    assert_non_null(strstr(hp_planner_error(p), "pitch 25.000000 deg"));
+    assert_non_null(strstr(hp_planner_note(p), "pitch 25.000000 deg"));
     hp_planner_destroy(p);
 }
 

@@ -228,7 +228,7 @@ static void closest_vs_bruteforce(const hp_layout *L, uint64_t seed, int count, 
                 any |= r.bladders[k].binding != 0;
             }
             assert_true(any);
-            assert_true(strstr(hp_planner_error(p), "binding") != NULL);
+            assert_true(strstr(hp_planner_note(p), "binding") != NULL);
         } else {
             assert_int_equal(r.status, HP_STATUS_REACHED);
         }
@@ -370,8 +370,8 @@ static void test_sphere_uncommanded(void **s)
     hp_result r;
     assert_int_equal(hp_plan(p, xi, &r), HP_OK);
     assert_int_equal(r.status, HP_STATUS_UNCOMMANDED);
-    assert_non_null(strstr(hp_planner_error(p), "pitch 2.000000 deg"));
-    assert_non_null(strstr(hp_planner_error(p), "yaw 4.000000 deg"));
+    assert_non_null(strstr(hp_planner_note(p), "pitch 2.000000 deg"));
+    assert_non_null(strstr(hp_planner_note(p), "yaw 4.000000 deg"));
     for (int i = 0; i < 3; ++i) {
         assert_int_equal(r.commanded[i], 1);
         assert_true(r.uncommanded[i] == 0.0); /* pivot at the centre: the turn moves nothing */
@@ -410,7 +410,7 @@ static void test_soft_limit_point(void **s)
         named |= (r.bladders[k].binding & HP_BIND_LIMIT_POINT) != 0;
     }
     assert_true(named);
-    assert_true(strstr(hp_planner_error(p), "limit_point") != NULL);
+    assert_true(strstr(hp_planner_note(p), "limit_point") != NULL);
     hp_planner_destroy(p);
 }
 

@@ -200,8 +200,19 @@ static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
         if (r->level != hp_planner_level(p)) return rel_fail(why, wn, "level changed");
     }
     if (mask & REL_INV_SAFE) {
-        if (r->status != HP_STATUS_REACHED && hp_planner_error(p)[0] == '\0')
-            return rel_fail(why, wn, "%s without an error text", hp_status_name(r->status));
+        /* Two text channels, one meaning each: an answer other than REACHED explains itself
+         * in the note and leaves the error empty; anything else is a failure with text. */
+        int explained = r->status == HP_STATUS_CLOSEST || r->status == HP_STATUS_UNCOMMANDED;
+        if (explained && (hp_planner_note(p)[0] == '\0' || hp_planner_error(p)[0] != '\0'))
+            return rel_fail(why, wn, "%s: note '%s', error '%s'", hp_status_name(r->status),
+                            hp_planner_note(p), hp_planner_error(p));
+        if (r->status == HP_STATUS_REACHED &&
+            (hp_planner_note(p)[0] != '\0' || hp_planner_error(p)[0] != '\0'))
+            return rel_fail(why, wn, "reached with a text");
+        if (!explained && r->status != HP_STATUS_REACHED &&
+            (hp_planner_error(p)[0] == '\0' || hp_planner_note(p)[0] != '\0'))
+            return rel_fail(why, wn, "%s without an error text (or with a note)",
+                            hp_status_name(r->status));
         int fail_st = r->status == HP_STATUS_INVALID_INPUT ||
                       r->status == HP_STATUS_INFEASIBLE_START ||
                       r->status == HP_STATUS_SOLVER_ERROR;
@@ -226,7 +237,7 @@ static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
         int any = 0;
         for (int k = 0; k < L->n; ++k) any |= r->bladders[k].binding != 0;
         if (!any) return rel_fail(why, wn, "CLOSEST names no binding limit");
-        if (strstr(hp_planner_error(p), "binding none"))
+        if (strstr(hp_planner_note(p), "binding none") || !strstr(hp_planner_note(p), "binding"))
             return rel_fail(why, wn, "CLOSEST text says 'binding none'");
     }
     if ((mask & REL_INV_REACHED) &&

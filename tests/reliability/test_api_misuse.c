@@ -165,7 +165,8 @@ static void s_muneg(hp_settings *s) { s->mu = -1e-9; }
 static void s_munan(hp_settings *s) { s->mu = NAN; }
 static void s_rate2(hp_settings *s) { s->use_rate_limits = 2; }
 static void s_warmneg(hp_settings *s) { s->warm_start = -1; }
-static void s_hess2(hp_settings *s) { s->ipopt_hessian_approx = 2; }
+static void s_w_tiny(hp_settings *s) { s->weight_mm_per_deg = 1e-200; }
+static void s_time_huge(hp_settings *s) { s->max_time = 1e9; }
 
 static const struct {
     const char *what;
@@ -195,7 +196,8 @@ static const struct {
     {"mu NaN", s_munan, "mu"},
     {"use_rate_limits 2", s_rate2, "use_rate_limits"},
     {"warm_start -1", s_warmneg, "warm_start"},
-    {"ipopt_hessian_approx 2", s_hess2, "ipopt_hessian_approx"},
+    {"weight 1e-200 (its inverse square overflows)", s_w_tiny, "weight_mm_per_deg"},
+    {"max_time 1e9", s_time_huge, "max_time"},
 };
 
 static void invalid_settings(void **st)

@@ -1,0 +1,445 @@
+/* hp_plan: validate -> direct chain -> solve -> accept -> label, each a step of its own.
+ * Every answer passes the checks of hp_planner.h before it is returned; anything else is
+ * labelled and carries the safe output. Allocation-free (messages via plan_text.c). */
+#include "planner/planner_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+static const char *const pose_names[6] = {"x", "y", "z", "pitch", "roll", "yaw"};
+
+/* One plan's working state, passed between the steps. */
+typedef struct plan_ctx {
+    double t0;        /* hp_plan's start [s] */
+    double xc[6];     /* the commanded part of the desired correction (SI) */
+    double unc[6];    /* the rest: what the layout cannot observe (SI) */
+    const double *x;  /* the answer's scaled point (pose, radii) */
+    int direct;       /* 1: the direct chain answered, no backend ran */
+    int converged;    /* the backend claims a (local) optimum */
+    hp_status st;     /* the backend's status */
+    int raw, iters;   /* the backend's raw code and iterations */
+    double clamp_mm;  /* largest radius moved back into its limits */
+} plan_ctx;
+
+/* The safe output: the previous valid answer, labelled with a failure status (the message
+ * is already in p->err). */
+static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, const plan_ctx *c)
+{
+    double desired[6];
+    memcpy(desired, res->desired, sizeof desired);
+    *res = p->prev;
+    memcpy(res->desired, desired, sizeof desired);
+    res->status = st;
+    res->raw_code = c ? c->raw : res->raw_code;
+    res->iterations = c ? c->iters : 0;
+    res->pose_error = INFINITY;
+    for (int i = 0; i < 6; ++i) res->uncommanded[i] = 0.0;
+    for (int k = 0; k < res->n; ++k) res->bladders[k].binding = 0;
+    p->note[0] = '\0';
+    res->solve_time = hp_plan_now() - (c ? c->t0 : res->solve_time);
+    return HP_OK;
+}
+
+/* "BACKEND: STATUS (raw code N)" into p->err, the start of every backend failure. */
+static void err_backend(hp_planner *p, hp_status st, int raw)
+{
+    hp_text_set(p->err, p->ops->name);
+    hp_text_add(p->err, ": ");
+    hp_text_add(p->err, hp_status_name(st));
+    hp_text_add(p->err, " (raw code ");
+    hp_text_add_int(p->err, raw);
+    hp_text_add(p->err, ")");
+}
+
+/* 1 when desired lies in the identifiable range (hp_identifiable): translation norm up to
+ * trans_limit, rotation angle below rot_limit; else 0 with the limit named in p->err. */
+static int in_identifiable_range(hp_planner *p, const double desired[6])
+{
+    const hp_identifiable *id = &p->id;
+    double tn = hypot(hypot(desired[0], desired[1]), desired[2]);
+    if (!(tn <= id->trans_limit)) {
+        hp_text_set(p->err, "desired translation: |(x, y, z)| = ");
+        hp_text_add_num(p->err, tn * HP_MM_PER_M, 1);
+        hp_text_add(p->err, " mm is outside the identifiable range (<= ");
+        hp_text_add_num(p->err, id->trans_limit * HP_MM_PER_M, 1);
+        hp_text_add(p->err, " mm, the head's smallest semi-axis)");
+        return 0;
+    }
+    double ang = hp_pose_rotation_angle(desired);
+    if (!id->centre_only && !(ang < id->rot_limit)) {
+        hp_text_set(p->err, "desired rotation: angle ");
+        hp_text_add_num(p->err, ang * HP_DEG_PER_RAD, 1);
+        hp_text_add(p->err, " deg is outside the identifiable range (below ");
+        hp_text_add_num(p->err, id->rot_limit * HP_DEG_PER_RAD, 0);
+        hp_text_add(p->err, " deg: the head looks the same after ");
+        hp_text_add(p->err, id->symmetry);
+        hp_text_add(p->err, ", so the contact distances confuse such a turn with a smaller one)");
+        return 0;
+    }
+    return 1;
+}
+
+/* Step 1: the request. Checks desired (finite, in range, identifiable), splits it into the
+ * commanded part and the rest, and sets this cycle's bounds. Returns 1 to go on, else 0
+ * with res labelled (safe output). */
+static int validate(hp_planner *p, const double desired[6], hp_result *res, plan_ctx *c)
+{
+    for (int i = 0; i < 6; ++i) res->desired[i] = desired[i];
+    for (int i = 0; i < 6; ++i) {
+        double lim = i < 3 ? HP_PLAN_MAX_TRANS : HP_PLAN_MAX_ROT;
+        if (!isfinite(desired[i]) || !(fabs(desired[i]) <= lim)) {
+            hp_text_set(p->err, "desired ");
+            hp_text_add(p->err, pose_names[i]);
+            hp_text_add(p->err, isfinite(desired[i]) ? ": out of range (|translation| <= 1 m, "
+                                                        "|rotation| <= pi rad)"
+                                                      : ": not finite");
+            fail_safe(p, res, HP_STATUS_INVALID_INPUT, c);
+            return 0;
+        }
+    }
+    if (!in_identifiable_range(p, desired)) {
+        fail_safe(p, res, HP_STATUS_INVALID_INPUT, c);
+        return 0;
+    }
+    /* The commanded part: what the layout can observe of the desired correction, in the
+     * commanded components; the rest is reported, never silently dropped. */
+    if (hp_pose_commanded_part(&p->L, &p->id, p->level, desired, c->xc) != HP_OK) {
+        hp_text_set(p->err, "desired: the contact model cannot evaluate this correction (a "
+                            "bladder centre would lie deep inside the head)");
+        fail_safe(p, res, HP_STATUS_INVALID_INPUT, c);
+        return 0;
+    }
+    for (int i = 0; i < 6; ++i) c->unc[i] = desired[i] - c->xc[i];
+    hp_problem *pb = &p->pb;
+    hp_plan_to_scaled(c->xc, pb->d);
+    for (int i = 0; i < 6; ++i)
+        if (!p->commanded[i]) pb->d[i] = 0.0;
+    if (hp_setup_cycle_bounds(&p->L, &p->sb, pb->p_prev, p->s.use_rate_limits, pb, p->lo_flags,
+                              p->hi_flags, NULL) != HP_OK) {
+        hp_text_set(p->err, "the rate limits leave no radius inside the pressure and stretch "
+                            "limits");
+        fail_safe(p, res, HP_STATUS_INFEASIBLE_START, c);
+        return 0;
+    }
+    return 1;
+}
+
+/* Step 2: the direct chain. 1 when every limit holds at the commanded part itself: then it
+ * is the exact answer and no solver runs. */
+static int direct_chain(hp_planner *p)
+{
+    double rho[HP_MAX_BLADDERS];
+    const hp_problem *pb = &p->pb;
+    if (hp_setup_contact_scaled(&p->L, p->level, pb->d, rho, NULL) != HP_OK) return 0;
+    for (int k = 0; k < p->L.n; ++k)
+        if (!(rho[k] >= pb->ro_lo[k] && rho[k] <= pb->ro_hi[k])) return 0;
+    return 1;
+}
+
+/* Step 3: the backend, through its table, from the previous answer (warm) or a cold point.
+ * Returns 1 with c->x set, or 0 with res labelled (the backend failed: safe output). */
+static int solve(hp_planner *p, hp_result *res, plan_ctx *c)
+{
+    hp_backend_result br = {HP_STATUS_SOLVER_ERROR, 0, 0, 0};
+    const double *x0 = p->x_prev;
+    double xcold[HP_PROBLEM_NX_MAX];
+    if (!p->s.warm_start) {
+        for (int i = 0; i < 6; ++i) xcold[i] = 0.0;
+        for (int k = 0; k < p->L.n; ++k) xcold[6 + k] = p->L.bladders[k].iab.Ri * HP_MM_PER_M;
+        x0 = xcold;
+    }
+    p->diag.text[0] = '\0';
+    hp_error e = p->ops->solve(p->bstate, &p->pb, x0, p->x_work, &br, &p->diag);
+    c->raw = br.raw_code;
+    c->iters = br.iterations;
+    /* A backend may also report a failure through its status with HP_OK (Ipopt and NLopt do
+     * for a failed solve, handing back their start point): that point is no answer, so it
+     * must not be relabelled as an iteration limit. */
+    if (e != HP_OK || br.status == HP_STATUS_SOLVER_ERROR ||
+        br.status == HP_STATUS_INFEASIBLE_START || br.status == HP_STATUS_INVALID_INPUT) {
+        /* The backend's own label, except that a failed call never claims success. */
+        hp_status fs = br.status;
+        if (fs == HP_STATUS_REACHED || fs == HP_STATUS_CLOSEST ||
+            fs == HP_STATUS_UNCOMMANDED || (int)fs < 0 || fs >= HP_STATUS_COUNT_)
+            fs = HP_STATUS_SOLVER_ERROR;
+        err_backend(p, fs, br.raw_code);
+        if (e != HP_OK && p->diag.text[0]) {
+            hp_text_add(p->err, ": ");
+            hp_text_add(p->err, p->diag.text);
+        }
+        hp_text_add(p->err, "; holding the previous pressures");
+        fail_safe(p, res, fs, c);
+        return 0;
+    }
+    for (int i = 0; i < 6; ++i)
+        if (!p->commanded[i]) p->x_work[i] = 0.0;
+    c->x = p->x_work;
+    c->converged = br.converged;
+    c->st = br.status;
+    return 1;
+}
+
+/* Step 4: the answer at the point c->x: radii and pressures inside this cycle's limits; a
+ * backend's radii moved back into their limits hold a slightly different pose, found by
+ * forward contact kinematics (not real time). Returns 1, or 0 with res labelled. */
+static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
+{
+    if (!hp_plan_answer_from_pose(p, c->x, r, &c->clamp_mm)) {
+        hp_text_set(p->err, "the answer was not finite or left a limit: holding the previous "
+                            "pressures");
+        fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
+        return 0;
+    }
+    if (!(c->clamp_mm > 1e-9)) return 1;
+    double ro[HP_MAX_BLADDERS], xi[6], resid, xs[6];
+    for (int k = 0; k < p->L.n; ++k) ro[k] = r->bladders[k].ro;
+    hp_plan_from_scaled(c->x, xs);
+    /* Radii that no pose holds (a backend that stopped at an infeasible point, e.g. under
+     * rate limits that cannot all hold) are no answer: the fitted pose would not be where
+     * the head goes. */
+    if (hp_contact_fk(&p->L, p->level, ro, xs, xi, &resid, NULL) != HP_OK ||
+        !(resid * HP_MM_PER_M <= HP_CLAMP_RESID_MM)) {
+        /* A budget that ran out before a feasible iterate keeps its label. */
+        hp_status fs = (c->st == HP_STATUS_ITERATION_LIMIT || c->st == HP_STATUS_TIME_LIMIT)
+                           ? c->st
+                           : HP_STATUS_SOLVER_ERROR;
+        err_backend(p, fs, c->raw);
+        hp_text_add(p->err, ": the backend's radii, clamped into the limits, hold no pose; "
+                            "holding the previous pressures");
+        fail_safe(p, r, fs, c);
+        return 0;
+    }
+    for (int i = 0; i < 6; ++i) r->achieved[i] = p->commanded[i] ? xi[i] : 0.0;
+    c->converged = 0;
+    return 1;
+}
+
+/* Whether a backend's claimed optimum x (scaled, full program) meets the first-order
+ * optimality conditions: contacts within max(10·tolerance, 1e-6) mm, radii inside their
+ * bounds, stationarity and multiplier signs within 1e-3 of the gradient's scale. A backend
+ * that certifies its own optimum (HP_BACKEND_CERTIFIES: Ipopt's KKT test, the realtime QP's
+ * multiplier signs) is not re-checked; NLopt's stopping tests (XTOL, FTOL) say nothing
+ * about optimality. The check uses the minimum-norm multipliers, so at a degenerate vertex
+ * it can refuse a true optimum: then the answer is labelled solver-error, never wrong. */
+static int closest_verified(const hp_planner *p, const double *x)
+{
+    if (p->ops->caps & HP_BACKEND_CERTIFIES) return 1;
+    hp_kkt_measure m;
+    if (hp_backend_kkt_measure(&p->pb, x, &m) != HP_OK) return 0;
+    /* Loose on purpose: SLSQP's answers stop up to ~1e-5 mm/deg short and its multipliers
+     * are not exact, while a stalled start point misses stationarity by O(1) of the
+     * gradient; 1e-3 of the gradient's scale separates the two. */
+    double feas = 10.0 * p->s.tolerance > 1e-6 ? 10.0 * p->s.tolerance : 1e-6;
+    double stat = 1e-3 * (1.0 + m.grad_max);
+    return m.in_bounds && m.feasibility <= feas && m.stationarity <= stat &&
+           m.wrong_sign <= stat;
+}
+
+/* 1 when the strict round trip of answer r gives xc back (HP_IDENT_FK_TOL): its pressures
+ * -> stable radii -> outer radii -> forward contact kinematics in the commanded components
+ * started from the NOMINAL pose. Else 0 with the other pose's distance in p->err. On a
+ * near-degenerate layout at the plane level the fit from the nominal pose can end in a
+ * second local fit; then the correction is not identified by this layout. Allocates
+ * nothing. */
+static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double xc[6])
+{
+    /* The linear model is linear in the pose and the commanded columns have full column
+     * rank (hp_layout_identify keeps exactly `rank` of them): the least-squares fit is
+     * unique, so the fit from the nominal pose is the commanded part itself, to rounding.
+     * The check would cost ~50 us of a ~10 us plan and could not fail. */
+    if (p->level == HP_LEVEL_LINEAR) return 1;
+    double ro[HP_MAX_BLADDERS], zero[6] = {0}, xf[6], a[6], b[6];
+    for (int k = 0; k < p->L.n; ++k) {
+        const hp_iab *m = &p->L.bladders[k].iab;
+        double ri;
+        if (hp_iab_fk_limit(m, &p->sb.limit[k], r->bladders[k].pressure, &ri) != HP_OK ||
+            hp_iab_ro(m, ri, &ro[k]) != HP_OK)
+            ro[k] = r->bladders[k].ro;
+    }
+    double resid = INFINITY;
+    hp_error e = hp_contact_fit(&p->L, p->level, ro, p->commanded, zero, xf, &resid, NULL);
+    hp_plan_to_scaled(xc, a);
+    hp_plan_to_scaled(xf, b);
+    double worst = e == HP_OK ? 0.0 : INFINITY;
+    for (int i = 0; i < 6; ++i) worst = fmax(worst, fabs(a[i] - b[i]));
+    if (worst <= HP_IDENT_FK_TOL) return 1;
+    if (worst <= HP_IDENT_SAME && resid * HP_MM_PER_M <= HP_IDENT_FIT_MM) return 1;
+    hp_text_set(p->err, "desired: outside the identifiable range of this layout at the ");
+    hp_text_add(p->err, hp_level_name(p->level));
+    hp_text_add(p->err, " level: forward contact kinematics from the nominal pose finds "
+                        "another pose ");
+    if (isfinite(worst)) {
+        hp_text_add_num(p->err, worst, 6);
+        hp_text_add(p->err, " mm/deg away with nearly the same contact distances");
+    } else {
+        hp_text_add(p->err, "(it did not converge)");
+    }
+    return 0;
+}
+
+/* 1 when some bladder of r sits on a limit (HP_BINDING_TOL_MM). */
+static int binds_any(const hp_result *r)
+{
+    for (int k = 0; k < r->n; ++k)
+        if (r->bladders[k].binding) return 1;
+    return 0;
+}
+
+/* 1 when some component of the part not commanded exceeds the pose tolerance (mm, deg). */
+static int uncommanded_beyond(const hp_planner *p, const double unc[6])
+{
+    double u[6];
+    hp_plan_to_scaled(unc, u);
+    for (int i = 0; i < 6; ++i)
+        if (fabs(u[i]) > p->s.tolerance) return 1;
+    return 0;
+}
+
+/* Names the components of the part not commanded beyond the tolerance, with values. */
+static void add_uncommanded(const hp_planner *p, char *buf, const double unc[6])
+{
+    double u[6];
+    hp_plan_to_scaled(unc, u);
+    hp_text_add(buf, "not commanded (the layout cannot observe it):");
+    int first = 1;
+    for (int i = 0; i < 6; ++i) {
+        if (!(fabs(u[i]) > p->s.tolerance)) continue;
+        hp_text_add(buf, first ? " " : ", ");
+        hp_text_add(buf, pose_names[i]);
+        hp_text_add(buf, " ");
+        hp_text_add_num(buf, u[i], 6);
+        hp_text_add(buf, i < 3 ? " mm" : " deg");
+        first = 0;
+    }
+}
+
+/* "STATUS: binding BLADDER LIMIT..., ..." (or "none") into buf. */
+static void add_binding(const hp_planner *p, char *buf, const hp_result *r)
+{
+    hp_text_set(buf, hp_status_name(r->status));
+    hp_text_add(buf, ": binding");
+    int any = 0;
+    for (int k = 0; k < p->L.n; ++k) {
+        if (!r->bladders[k].binding) continue;
+        hp_text_add(buf, any ? ", " : " ");
+        hp_text_add(buf, p->L.bladders[k].name);
+        for (int b = 0; b < HP_BIND_COUNT; ++b)
+            if (r->bladders[k].binding & (1u << b)) {
+                hp_text_add(buf, " ");
+                hp_text_add(buf, hp_binding_name(1u << b));
+            }
+        any = 1;
+    }
+    if (!any) hp_text_add(buf, " none");
+}
+
+/* Step 5: the label. REACHED / UNCOMMANDED when the commanded part is met and the strict
+ * round trip confirms it; CLOSEST when a certified or verified optimum binds a limit;
+ * ITERATION_LIMIT / TIME_LIMIT for a budget's last feasible iterate. Returns 1, or 0 with
+ * res labelled (a claim the checks refute: safe output). */
+static int label(hp_planner *p, hp_result *r, plan_ctx *c)
+{
+    int unc_any = uncommanded_beyond(p, c->unc);
+    if (r->pose_error <= p->s.tolerance) {
+        r->status = unc_any ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED;
+        if (!recovered_from_nominal(p, r, c->xc)) {
+            fail_safe(p, r, HP_STATUS_INVALID_INPUT, c);
+            return 0;
+        }
+    } else if (c->converged && !closest_verified(p, c->x)) {
+        /* A backend that claims an optimum the first-order conditions refute (NLopt SLSQP
+         * far beyond reach handed back its start point with XTOL_REACHED) gives no answer:
+         * label it and hold, never report it as the closest correction. */
+        err_backend(p, HP_STATUS_SOLVER_ERROR, c->raw);
+        hp_text_add(p->err, ": its claimed optimum fails the first-order (KKT) check; "
+                            "holding the previous pressures");
+        fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
+        return 0;
+    } else if (c->converged && !binds_any(r)) {
+        /* Nothing binds, so the first-order conditions say the optimum is the target: a
+         * claimed optimum short of it is not the closest (Ipopt stops its interior point a
+         * few 1e-6 mm inside a bound when the remaining pose error is tiny, because its
+         * complementarity test scales with the multiplier). Label it, never CLOSEST. */
+        err_backend(p, HP_STATUS_SOLVER_ERROR, c->raw);
+        hp_text_add(p->err, ": its claimed optimum binds no limit (none within ");
+        hp_text_add_num(p->err, HP_BINDING_TOL_MM * 1e6, 0);
+        hp_text_add(p->err, " nm), so it is not the closest; holding the previous pressures");
+        fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
+        return 0;
+    } else if (c->converged) {
+        r->status = HP_STATUS_CLOSEST;
+    } else {
+        r->status = (c->st == HP_STATUS_TIME_LIMIT) ? HP_STATUS_TIME_LIMIT
+                                                     : HP_STATUS_ITERATION_LIMIT;
+    }
+    /* The two text channels: an answer explains itself in the note, a budget that ran out
+     * is a failure to finish (error). */
+    if (r->status == HP_STATUS_UNCOMMANDED) {
+        hp_text_set(p->note, "uncommanded: the commanded part is reached; ");
+        add_uncommanded(p, p->note, c->unc);
+    } else if (r->status != HP_STATUS_REACHED) {
+        char *buf = r->status == HP_STATUS_CLOSEST ? p->note : p->err;
+        add_binding(p, buf, r);
+        if (unc_any) {
+            hp_text_add(buf, "; ");
+            add_uncommanded(p, buf, c->unc);
+        }
+    }
+    return 1;
+}
+
+hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
+{
+    plan_ctx c = {.t0 = hp_plan_now(), .st = HP_STATUS_REACHED, .converged = 1};
+    if (!p) return HP_ERR_NULL;
+    if (!res) {
+        hp_text_set(p->err, "result: NULL");
+        return HP_ERR_NULL;
+    }
+    if (!p->built) {
+        memset(res, 0, sizeof *res);
+        res->status = HP_STATUS_SOLVER_ERROR;
+        return HP_ERR_STATE;
+    }
+    p->err[0] = '\0';
+    p->note[0] = '\0';
+    if (!desired) {
+        for (int i = 0; i < 6; ++i) res->desired[i] = NAN;
+        hp_text_set(p->err, "desired: NULL");
+        fail_safe(p, res, HP_STATUS_INVALID_INPUT, &c);
+        return HP_ERR_NULL;
+    }
+    if (!validate(p, desired, res, &c)) return HP_OK;
+
+    res->backend = p->s.backend;
+    res->level = p->level;
+    res->n = p->L.n;
+    res->raw_code = 0;
+    res->iterations = 0;
+    for (int i = 0; i < 6; ++i) res->commanded[i] = p->commanded[i];
+    memcpy(res->uncommanded, c.unc, sizeof c.unc);
+
+    c.direct = direct_chain(p);
+    c.x = p->pb.d;
+    if (!c.direct && !solve(p, res, &c)) return HP_OK;
+    res->raw_code = c.raw;
+    res->iterations = c.iters;
+    if (!accept(p, res, &c)) return HP_OK;
+    double a[6];
+    hp_plan_to_scaled(res->achieved, a);
+    res->pose_error = 0;
+    for (int i = 0; i < 6; ++i)
+        if (p->commanded[i]) res->pose_error = fmax(res->pose_error, fabs(a[i] - p->pb.d[i]));
+    if (!label(p, res, &c)) return HP_OK;
+
+    hp_plan_set_previous_answer(p, res);
+    /* A backend's own answer, unmoved, is the next start: tell the backend (warm start with
+     * its multipliers). */
+    if (!c.direct && c.clamp_mm == 0) {
+        memcpy(p->x_prev, p->x_work, sizeof p->x_work);
+        if (p->ops->warm_point) p->ops->warm_point(p->bstate, 1);
+    }
+    res->solve_time = hp_plan_now() - c.t0;
+    p->prev.solve_time = res->solve_time;
+    return HP_OK;
+}

@@ -1,0 +1,80 @@
+/* Internal: the planner object and the pieces its files share. planner.c holds the
+ * lifecycle (create, reset, set_previous, destroy, accessors), plan.c the plan pipeline
+ * (validate -> direct chain -> solve -> accept -> label), plan_text.c the allocation-free
+ * message builders, backends.c the backend table. */
+#ifndef HP_PLANNER_INTERNAL_H
+#define HP_PLANNER_INTERNAL_H
+
+#include "planner/backend_common.h"
+#include "planner/problem_setup.h"
+
+/* Largest correction hp_plan accepts: far beyond any bladder's reach, small enough that
+ * every contact model stays well defined. */
+#define HP_PLAN_MAX_TRANS 1.0   /* [m] */
+#define HP_PLAN_MAX_ROT HP_PI   /* [rad] */
+/* A reached pose counts as identified when forward contact kinematics started from the
+ * nominal pose recovers it to HP_IDENT_FK_TOL (mm and degrees): far above the fit's own
+ * precision on a well-posed layout (~1e-12), far below the distance of any second fit seen
+ * (0.8 degrees on the near-degenerate layout at the plane level). A pivot far away makes
+ * the pose coordinates themselves ill-conditioned (1 km: ~1e-6 mm/deg of rounding), so a
+ * fit that meets the contact distances to HP_IDENT_FIT_MM and lies within HP_IDENT_SAME of
+ * the pose is the same pose: another pose with the same distances would be a symmetric
+ * copy (>= 90 degrees away) or a second fit (0.8 degrees). */
+#define HP_IDENT_FK_TOL 1e-7
+#define HP_IDENT_FIT_MM 1e-8 /* 100x the rounding of distances computed with a 1 km lever;
+                                 the second fit above misses them by 5.6e-5 mm */
+#define HP_IDENT_SAME 1e-3
+/* Largest RMS contact residual [mm] of clamped radii that still counts as holding a pose:
+ * 100× above the solvers' own contact slop (1e-9 mm tolerance, bounds kept exactly), far
+ * below anything physical. */
+#define HP_CLAMP_RESID_MM 1e-6
+
+struct hp_planner {
+    hp_layout L;                 /* private, prepared copy */
+    hp_settings s;
+    hp_level level;
+    hp_identifiable id;          /* what the layout can tell apart (hp_layout_identify) */
+    int commanded[6];            /* = id.commanded */
+    hp_static_bounds sb;
+    hp_problem pb;
+    unsigned lo_flags[HP_MAX_BLADDERS], hi_flags[HP_MAX_BLADDERS];
+    const hp_backend_ops *ops;
+    void *bstate;
+    int built;
+    hp_result nominal;           /* safe output after create / reset */
+    hp_result prev;              /* last valid answer: the safe output */
+    double x_prev[HP_PROBLEM_NX_MAX];
+    double x_work[HP_PROBLEM_NX_MAX];
+    char err[HP_DIAG_MAX];       /* the last failure (hp_planner_error) */
+    char note[HP_DIAG_MAX];      /* why the last answer is not REACHED (hp_planner_note) */
+    hp_diag diag;
+};
+
+/* The backend of an enum value (backends.c); NULL for a value with no backend. */
+const hp_backend_ops *hp_backend_table(hp_backend b);
+
+/* CLOCK_MONOTONIC in seconds. */
+double hp_plan_now(void);
+
+/* Message building without printf (hp_plan must not allocate; printf's float formatting
+ * may), into a buffer of HP_DIAG_MAX bytes (plan_text.c). */
+void hp_text_set(char *buf, const char *s);
+void hp_text_add(char *buf, const char *s);
+void hp_text_add_int(char *buf, long long v);
+void hp_text_add_num(char *buf, double v, int dec); /* |v| to dec decimals, with its sign */
+
+/* Pose scaling of hp_problem: SI -> mm and degrees, and back. */
+void hp_plan_to_scaled(const double xi[6], double x[6]);
+void hp_plan_from_scaled(const double x[6], double xi[6]);
+
+/* Fills res from a scaled pose x: contact distances at the planner's level, radii,
+ * pressures (clamped into this cycle's limits), binding flags and achieved pose. Returns 0
+ * when something was not finite. clamp_mm receives the largest radius correction. */
+int hp_plan_answer_from_pose(hp_planner *p, const double x[6], hp_result *res,
+                             double *clamp_mm);
+
+/* Makes r the previous answer: the safe output, the rate limits' origin and the next
+ * solve's start point. */
+void hp_plan_set_previous_answer(hp_planner *p, const hp_result *r);
+
+#endif
