@@ -12,8 +12,11 @@
 #define MAT_MAX_ITERS 200
 #define MAT_LAMBDA_MAX 1e16
 /* Above this condition number of the Jacobian with columns scaled by the moduli, the data
- * see only one combination of C1 and C2 (docs/calibration.md measures typical designs). */
-#define MAT_COND_MAX 1e6
+ * see only one combination of C1 and C2: a relative error of 1e-4 in the radii (2.7 µm on
+ * 27 mm, below a caliper's resolution) could then move the moduli by 100 %. The number grows
+ * like 0.7/max|λi − 1| for points on one side of λ = 1 and 0.18/max|λi − 1| on both sides
+ * (docs/calibration.md). */
+#define MAT_COND_MAX 1e4
 
 /* a(ri) = ∂P/∂C1 and b(ri) = ∂P/∂C2 at inner radius ri: the closed form with unit moduli. */
 static hp_error basis(double Ri, double Ro, double ri, double *a, double *b)
@@ -239,6 +242,25 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
     double C[2];
     start_point(Ri, Ro, pts, ri_meas, n, &C[0], &C[1]);
     hp_iab m = {Ri, Ro, C[0], C[1]};
+    /* The fit in pressure can follow a falling branch, the fit in radius cannot: when the
+     * moduli the pressures suggest put the largest measured radius past their own limit
+     * point, the bladder was measured beyond it (under volume control) and the
+     * pressure-controlled model has no radius there. */
+    hp_iab_limit lp0;
+    if (hp_iab_limit_point(&m, &lp0) == HP_OK && lp0.exists) {
+        int imax = 0;
+        for (int i = 1; i < n; ++i)
+            if (ri_meas[i] > ri_meas[imax]) imax = i;
+        if (!(ri_meas[imax] < lp0.ri)) {
+            err = hp_diag_set(diag, HP_ERR_INVALID,
+                              "the fit runs into the limit point: point %ld (ri %.6g mm) lies "
+                              "past the inflation limit point (λi %.4f, %.6g Pa) of the moduli "
+                              "its pressures suggest; fit stable-branch points only",
+                              line_of(&pts[imax], imax), ri_meas[imax] * 1e3, lp0.lambda_i,
+                              lp0.pressure);
+            goto done;
+        }
+    }
     int bad = -1;
     err = residuals(&m, kind, pts, n, e, J, &bad, NULL);
     /* The linear start may put a large pressure past the limit point: stiffen until not. */
@@ -351,7 +373,7 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
         }
         err = hp_diag_set(diag, HP_ERR_INVALID,
                           "cannot determine both moduli: the Jacobian's condition number is "
-                          "%.3g (> %.0e): the measured stretches λi = %.4f..%.4f only see one "
+                          "%.3g (> %.0e; 1e-4 relative error in a radius could move the moduli by 100 %%): the measured stretches λi = %.4f..%.4f only see one "
                           "combination of C1 and C2; measure further from λ = 1, on both sides",
                           cond, MAT_COND_MAX, lo, hi);
         goto done;

@@ -71,8 +71,9 @@ typedef struct hp_material_fit {
  *   - fewer than two distinct non-zero pressures (each pressure is one equation in the two
  *     moduli; P = 0 gives r = Ri whatever the moduli), or fewer than three points (no degree
  *     of freedom left to estimate the scatter);
- *   - a condition number of the scaled Jacobian above 1e6 (ill-conditioned: all points
- *     close to λ = 1 on one side, where the data only see C1 + C2);
+ *   - a condition number of the scaled Jacobian above 1e4 (all points so close to λ = 1
+ *     that the data only see C1 + C2; points on one side of λ = 1 are ill-conditioned, not
+ *     unidentifiable: the number grows like 0.7/max|λi − 1|, 0.18/max|λi − 1| on both sides);
  *   - a fit that runs into the limit point: a measured pressure at or above the fitted
  *     bladder's limit-point pressure, or a measured radius past its limit-point radius;
  *   - moduli outside the model (C1 <= 0 or C2 < 0 at the optimum).
