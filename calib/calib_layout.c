@@ -13,7 +13,7 @@
 #include <string.h>
 
 #define LAY_MAX_ITERS 200
-#define LAY_FD_STEP 1e-6     /* [m] central-difference step: 1 µm */
+#define LAY_FD_STEP 1e-6     /* [m] central-difference step of the contact model: 1 µm */
 /* A singular value below this fraction of the largest (unit-norm columns) counts as zero:
  * the central differences carry ~1e-9 relative noise, so an exactly unidentifiable direction
  * shows up near 1e-8 (docs/calibration.md); weak but real directions stay, with their wide
@@ -70,43 +70,109 @@ static hp_error apply(const lay_ctx *c, const double *theta, hp_layout *L, int v
     return HP_OK;
 }
 
-/* Weighted residuals (measured − model)/σ of every row, n×dofp. */
-static hp_error resid(const lay_ctx *c, const hp_layout *L, double *e)
+/* Weighted residuals (measured − model)/σ of every row, n×dofp. Each row's forward
+ * kinematics starts from start[i] when given (the model's pose at the unperturbed
+ * parameters: central differences then compare two solves from the same point, which keeps
+ * their difference smooth), else from the measured pose; poses (may be NULL) receives the
+ * model's poses. */
+static hp_error resid(const lay_ctx *c, const hp_layout *L, double *e,
+                      const double (*start)[6], double (*poses)[6])
 {
     for (int i = 0; i < c->n; ++i) {
         double xi[6];
-        hp_error err = hp_contact_fk(L, c->level, c->ro[i], c->rows[i].pose, xi, NULL, NULL);
+        hp_error err = hp_contact_fk(L, c->level, c->ro[i], start ? start[i] : c->rows[i].pose,
+                                     xi, NULL, NULL);
         if (err) return err;
+        if (poses) memcpy(poses[i], xi, sizeof xi);
         for (int j = 0; j < c->dofp; ++j)
             e[i * c->dofp + j] = (c->rows[i].pose[j] - xi[j]) * c->w[j];
     }
     return HP_OK;
 }
 
-static hp_error resid_at(const lay_ctx *c, const double *theta, double *e, int validate)
+static hp_error resid_at(const lay_ctx *c, const double *theta, double *e, int validate,
+                         const double (*start)[6], double (*poses)[6])
 {
     hp_layout L;
     hp_error err = apply(c, theta, &L, validate, NULL);
-    return err ? err : resid(c, &L, e);
+    return err ? err : resid(c, &L, e, start, poses);
 }
 
-/* Jacobian of the weighted residuals w.r.t. all np parameters (m×np, row-major), by central
- * differences; tmp holds 2m doubles. */
+/* Jacobian of the weighted residuals w.r.t. all np parameters (m×np, row-major). The model's
+ * pose ξ of a row solves the forward kinematics' normal equations F = Jcᵀ·r = 0, with
+ * r = rho(ξ; θ) − ro and Jc = ∂rho/∂ξ; the implicit function theorem gives exactly
+ *   dξ/dθ = −(JcᵀJc + Σ r_k H_k)⁻¹ (Jcᵀ ∂rho/∂θ + (∂Jc/∂θ)ᵀ r),
+ * H_k = ∂²rho_k/∂ξ². The derivatives in θ at fixed ξ are central differences of direct
+ * evaluations of the contact model (no iteration inside, so their noise is rounding only);
+ * differencing whole forward-kinematics solves instead would inherit their stopping
+ * tolerance. tmp is unused scratch kept for the caller's layout. */
 static hp_error jacobian(const lay_ctx *c, const double *theta, double *J, double *tmp)
 {
-    int m = c->n * c->dofp;
+    (void)tmp;
+    int n = c->n, nb = c->L0->n, dp = c->dofp, np = c->np;
+    size_t per = (size_t)nb * 6;
+    double (*xi)[6] = malloc(sizeof *xi * (size_t)n);
+    double *drho = malloc(sizeof(double) * (size_t)n * nb * np);
+    double *dJc = malloc(sizeof(double) * (size_t)n * per * np);
+    hp_error err = (!xi || !drho || !dJc) ? HP_ERR_NOMEM : HP_OK;
+    hp_layout L;
+    if (!err) err = apply(c, theta, &L, 0, NULL);
+    for (int i = 0; !err && i < n; ++i)
+        err = hp_contact_fk(&L, c->level, c->ro[i], c->rows[i].pose, xi[i], NULL, NULL);
     double th[HP_CALIB_MAX_PARAMS];
-    for (int j = 0; j < c->np; ++j) {
-        memcpy(th, theta, sizeof(double) * (size_t)c->np);
+    for (int j = 0; !err && j < np; ++j) {
+        hp_layout Lp, Lm;
+        memcpy(th, theta, sizeof(double) * (size_t)np);
         th[j] = theta[j] + LAY_FD_STEP;
-        hp_error err = resid_at(c, th, tmp, 0);
+        err = apply(c, th, &Lp, 0, NULL);
         th[j] = theta[j] - LAY_FD_STEP;
-        if (!err) err = resid_at(c, th, tmp + m, 0);
-        if (err) return err;
-        for (int i = 0; i < m; ++i)
-            J[i * c->np + j] = (tmp[i] - tmp[m + i]) / (2.0 * LAY_FD_STEP);
+        if (!err) err = apply(c, th, &Lm, 0, NULL);
+        for (int i = 0; !err && i < n; ++i) {
+            double rp[HP_MAX_BLADDERS], rm[HP_MAX_BLADDERS];
+            double Jp[HP_MAX_BLADDERS * 6], Jm[HP_MAX_BLADDERS * 6];
+            err = hp_contact_eval(&Lp, c->level, xi[i], rp, Jp, NULL);
+            if (!err) err = hp_contact_eval(&Lm, c->level, xi[i], rm, Jm, NULL);
+            if (err) break;
+            for (int k = 0; k < nb; ++k)
+                drho[((size_t)i * np + j) * nb + k] = (rp[k] - rm[k]) / (2.0 * LAY_FD_STEP);
+            for (size_t q = 0; q < per; ++q)
+                dJc[((size_t)i * np + j) * per + q] = (Jp[q] - Jm[q]) / (2.0 * LAY_FD_STEP);
+        }
     }
-    return HP_OK;
+    for (int i = 0; !err && i < n; ++i) {
+        double rho[HP_MAX_BLADDERS], Jc[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
+        err = hp_contact_eval(&L, c->level, xi[i], rho, Jc, H);
+        if (err) break;
+        double A[36], r[HP_MAX_BLADDERS];
+        for (int k = 0; k < nb; ++k) r[k] = rho[k] - c->ro[i][k];
+        for (int a = 0; a < dp; ++a)
+            for (int b = 0; b < dp; ++b) {
+                double sum = 0.0;
+                for (int k = 0; k < nb; ++k)
+                    sum += Jc[k * 6 + a] * Jc[k * 6 + b] + r[k] * H[k * 36 + a * 6 + b];
+                A[a * dp + b] = sum;
+            }
+        for (int j = 0; j < np; ++j) {
+            const double *dr = &drho[((size_t)i * np + j) * nb];
+            const double *dj = &dJc[((size_t)i * np + j) * per];
+            double rhs[6], dx[6], ones[6] = {1, 1, 1, 1, 1, 1};
+            for (int a = 0; a < dp; ++a) {
+                double sum = 0.0;
+                for (int k = 0; k < nb; ++k) sum += Jc[k * 6 + a] * dr[k] + dj[k * 6 + a] * r[k];
+                rhs[a] = sum;
+            }
+            /* A·dx = −rhs, by the kinematics' QR least squares (no damping). */
+            if (hp_kin_damped_lstsq(dp, dp, A, rhs, ones, 0.0, dx) != 0) {
+                err = HP_ERR_NO_CONVERGENCE;
+                break;
+            }
+            for (int a = 0; a < dp; ++a) J[(i * dp + a) * np + j] = -c->w[a] * dx[a];
+        }
+    }
+    free(xi);
+    free(drho);
+    free(dJc);
+    return err;
 }
 
 /* Copies the columns cols[0..k) of J (m×np) into S (m×k), scaled to unit norm (scale[]). */
@@ -312,7 +378,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     double *et = e + m, *tmp = e + 2 * m, *J = e + 4 * m, *S = J + (size_t)m * np;
     double theta[HP_CALIB_MAX_PARAMS] = {0}, scale[HP_CALIB_MAX_PARAMS];
     double svall[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
-    err = resid_at(&c, theta, e, 1);
+    err = resid_at(&c, theta, e, 1, NULL, NULL);
     if (!err) err = jacobian(&c, theta, J, tmp);
     if (err) {
         err = hp_diag_set(diag, err, "the scene's layout cannot reproduce the rows (%s)",
@@ -338,7 +404,10 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     for (int q = 0; q < np; ++q) {
         int j = q < np - c.n_axes ? c.n_axes + q : q - (np - c.n_axes);
         int want = j < c.n_axes ? opt->fit_axes : opt->fit_offsets;
-        if (!want) continue;
+        if (!want) {
+            out->determined[j] = -1;
+            continue;
+        }
         c.sel[c.nsel] = j;
         columns(m, np, J, c.sel, c.nsel + 1, S, scale);
         double sv[HP_CALIB_MAX_PARAMS];
@@ -377,7 +446,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
             th[c.sel[q]] += dx[q];
             step = fmax(step, fabs(dx[q]));
         }
-        hp_error te = resid_at(&c, th, et, 1);
+        hp_error te = resid_at(&c, th, et, 1, NULL, NULL);
         double ct = te ? INFINITY : sumsq(m, et);
         if (ct <= cost) {
             memcpy(theta, th, sizeof theta);
@@ -412,6 +481,29 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     if (covariance(m, c.nsel, S, scale, C, &out->condition)) {
         err = hp_diag_set(diag, HP_ERR_INVALID, "the fitted Jacobian is singular");
         goto done;
+    }
+    /* The weakest direction: the right singular vector of the smallest singular value,
+     * back in parameter units (m), and the standard error along it. */
+    {
+        int k = c.nsel;
+        double sv[HP_CALIB_MAX_PARAMS], u[HP_CALIB_MAX_PARAMS], norm = 0.0, var = 0.0;
+        if (hp_kin_svd(m, k, S, sv, V) == 0) {
+            for (int q = 0; q < k; ++q) {
+                u[q] = V[q * k + (k - 1)] / scale[q];
+                norm += u[q] * u[q];
+            }
+            norm = sqrt(norm);
+            for (int q = 0; q < k; ++q) u[q] /= norm;
+            /* Sign: largest component positive, so the output does not flip with rounding. */
+            int big = 0;
+            for (int q = 1; q < k; ++q)
+                if (fabs(u[q]) > fabs(u[big])) big = q;
+            double sg = u[big] < 0 ? -1.0 : 1.0;
+            for (int a = 0; a < k; ++a)
+                for (int b = 0; b < k; ++b) var += u[a] * C[a * k + b] * u[b];
+            for (int q = 0; q < k; ++q) out->weakest[c.sel[q]] = sg * u[q];
+            out->weakest_se = sqrt(cost / (m - k)) * sqrt(var);
+        }
     }
     out->n_rows = n;
     out->n_res = m;
@@ -448,7 +540,7 @@ hp_error hp_fit_layout_gain(const hp_layout *L, const hp_calib_row *rows, int n,
     double theta[HP_CALIB_MAX_PARAMS];
     for (int j = 0; j < c.np; ++j) {
         theta[j] = fit->value[j] - fit->scene_value[j];
-        if (fit->determined[j]) c.sel[c.nsel++] = j;
+        if (fit->determined[j] == 1) c.sel[c.nsel++] = j;
     }
     int m = n * c.dofp, np = c.np, k = c.nsel;
     double *J = malloc(sizeof(double) * (size_t)m * ((size_t)np + 2));

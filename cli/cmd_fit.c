@@ -337,10 +337,10 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
     printf("  %-30s %12s %12s %10s %25s\n", "parameter [mm]", "scene", "fitted", "SE",
            "95% interval");
     for (int j = 0; j < f->np; ++j) {
-        if (!f->determined[j]) {
+        if (f->determined[j] != 1) {
             printf("  %-30s %12.4f %12s %10s %25s\n", f->name[j], f->scene_value[j] * 1e3,
-                   "(held)", "-", "-");
-            ++held;
+                   f->determined[j] ? "(not fitted)" : "(held)", "-", "-");
+            held += f->determined[j] == 0;
             continue;
         }
         char iv[64];
@@ -351,9 +351,13 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
     if (held) {
         printf("\n  not determined by these data (held at the scene's value):");
         for (int j = 0; j < f->np; ++j)
-            if (!f->determined[j]) printf(" %s", f->name[j]);
+            if (f->determined[j] == 0) printf(" %s", f->name[j]);
         printf("\n  (their effect on the measured poses is a combination of the fitted ones')\n");
     }
+    printf("\n  weakest combination (SE %.4g mm along it):", f->weakest_se * 1e3);
+    for (int j = 0; j < f->np; ++j)
+        if (fabs(f->weakest[j]) >= 0.2) printf(" %+.2f %s", f->weakest[j], f->name[j]);
+    printf("\n");
     printf("\n  singular values (unit-norm columns):");
     for (int j = 0; j < f->np; ++j) printf(" %.3g", f->sv[j]);
     printf("\n\n  residual RMS per axis   %12s %12s\n", "before", "after");
@@ -396,21 +400,27 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
     for (int j = 0; j < f->np; ++j) {
         json_t *p = json_object();
         json_object_set_new(p, "name", json_string(f->name[j]));
-        json_object_set_new(p, "determined", json_boolean(f->determined[j]));
+        json_object_set_new(p, "status", json_string(f->determined[j] == 1   ? "fitted"
+                                                     : f->determined[j] == 0 ? "undetermined"
+                                                                             : "not_fitted"));
         json_object_set_new(p, "scene_mm", json_real(f->scene_value[j] * 1e3));
         json_object_set_new(p, "fitted_mm", json_real(f->value[j] * 1e3));
         json_object_set_new(p, "se_mm", real_or_null(f->se[j] * 1e3));
-        json_object_set_new(p, "ci95_mm", f->determined[j]
+        json_object_set_new(p, "ci95_mm", f->determined[j] == 1
                                               ? json_pack("[f,f]", f->ci[j][0] * 1e3,
                                                           f->ci[j][1] * 1e3)
                                               : json_null());
         json_array_append_new(ps, p);
-        if (!f->determined[j]) json_array_append_new(un, json_string(f->name[j]));
+        if (f->determined[j] == 0) json_array_append_new(un, json_string(f->name[j]));
         json_array_append_new(sv, json_real(f->sv[j]));
     }
     json_object_set_new(o, "parameters", ps);
     json_object_set_new(o, "undetermined", un);
     json_object_set_new(o, "singular_values", sv);
+    json_t *wk = json_array();
+    for (int j = 0; j < f->np; ++j) json_array_append_new(wk, json_real(f->weakest[j]));
+    json_object_set_new(o, "weakest_direction", wk);
+    json_object_set_new(o, "weakest_se_mm", real_or_null(f->weakest_se * 1e3));
     json_t *rb = json_object(), *ra = json_object();
     for (int j = 0; j < 6; ++j) {
         double k = j < 3 ? 1e3 : DEG;

@@ -118,12 +118,17 @@ typedef struct hp_layout_fit {
     char name[HP_CALIB_MAX_PARAMS][HP_CALIB_NAME_MAX]; /* "semi_axis_x", "offset:NAME" */
     double scene_value[HP_CALIB_MAX_PARAMS]; /* semi-axis [m] or 0 (offset) before */
     double value[HP_CALIB_MAX_PARAMS];       /* after [m] */
-    int determined[HP_CALIB_MAX_PARAMS];     /* 1: fitted; 0: held at its scene value */
+    int determined[HP_CALIB_MAX_PARAMS];     /* 1: fitted; 0: held at its scene value
+                                                because the data cannot determine it;
+                                                -1: not asked for (options) */
     double se[HP_CALIB_MAX_PARAMS];          /* standard error [m] (NaN when held) */
     double ci[HP_CALIB_MAX_PARAMS][2];       /* 95 % interval [m] (NaN when held) */
     int rank;                                /* numerical rank of the full Jacobian */
     double sv[HP_CALIB_MAX_PARAMS];          /* its singular values (unit-norm columns) */
     double condition;                        /* of the fitted (determined) columns */
+    double weakest[HP_CALIB_MAX_PARAMS];     /* unit direction in parameter space (held: 0)
+                                                the data determine worst */
+    double weakest_se;                       /* standard error along it [m] */
     int n_rows, n_res, dof;                  /* rows, residual components, n_res − fitted */
     double t, s;                             /* t(0.975, dof); residual SD for unit weight */
     double rms_before[6], rms_after[6];      /* per pose axis [m or rad] */
@@ -134,11 +139,16 @@ typedef struct hp_layout_fit {
 /* Fits the selected parameters of layout L (prepared) to n rows: minimises the weighted sum
  * of squared differences between each measured pose and the model's pose (pressures ->
  * hp_iab_fk -> hp_iab_ro -> hp_contact_fk at opt->level), Gauss–Newton with Levenberg–
- * Marquardt damping, Jacobian by central differences (step 1 µm) of that whole chain. The
+ * Marquardt damping. The Jacobian of each model pose comes from the implicit function
+ * theorem on the forward kinematics' normal equations (exact second-order terms included),
+ * with the contact model's derivatives in the parameters by central differences (1 µm) at
+ * the fixed pose (rounding-level noise, ~1e-12 relative). The
  * rank of the Jacobian is taken from its SVD (columns scaled to unit norm, threshold 1e-7 of
  * the largest singular value); parameters are admitted in list order while each raises the
  * rank, and the rest are held at their scene values (named by determined[] = 0). A sphere
- * head's rotations are not compared (the model cannot rotate it). Refuses (HP_ERR_INVALID)
+ * head's rotations are not compared (the model cannot rotate it). Offsets are admitted
+ * before semi-axes (a head can be measured by hand, a bladder's seat on its panel cannot).
+ * Refuses (HP_ERR_INVALID)
  * bad rows (non-finite, a pressure outside the bladder's stable branch or its limits), fewer
  * rows than give one degree of freedom, nothing to fit. resid_after (may be NULL) gets n×6
  * residuals measured − model after the fit. Allocates work memory; frees it. */
