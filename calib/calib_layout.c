@@ -105,10 +105,9 @@ static hp_error resid_at(const lay_ctx *c, const double *theta, double *e, int v
  * H_k = ∂²rho_k/∂ξ². The derivatives in θ at fixed ξ are central differences of direct
  * evaluations of the contact model (no iteration inside, so their noise is rounding only);
  * differencing whole forward-kinematics solves instead would inherit their stopping
- * tolerance. tmp is unused scratch kept for the caller's layout. */
-static hp_error jacobian(const lay_ctx *c, const double *theta, double *J, double *tmp)
+ * tolerance. */
+static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
 {
-    (void)tmp;
     int n = c->n, nb = c->L0->n, dp = c->dofp, np = c->np;
     size_t per = (size_t)nb * 6;
     double (*xi)[6] = malloc(sizeof *xi * (size_t)n);
@@ -370,16 +369,16 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     hp_error err = setup(L, rows, n, opt, &c, out, diag);
     if (err) return err;
     int m = n * c.dofp, np = c.np;
-    double *e = malloc(sizeof(double) * (size_t)m * (2 * (size_t)np + 5));
+    double *e = malloc(sizeof(double) * (size_t)m * (2 * (size_t)np + 2));
     if (!e) {
         free(c.ro);
         return hp_diag_set(diag, HP_ERR_NOMEM, "out of memory");
     }
-    double *et = e + m, *tmp = e + 2 * m, *J = e + 4 * m, *S = J + (size_t)m * np;
+    double *et = e + m, *J = e + 2 * m, *S = J + (size_t)m * np;
     double theta[HP_CALIB_MAX_PARAMS] = {0}, scale[HP_CALIB_MAX_PARAMS];
     double svall[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
     err = resid_at(&c, theta, e, 1, NULL, NULL);
-    if (!err) err = jacobian(&c, theta, J, tmp);
+    if (!err) err = jacobian(&c, theta, J);
     if (err) {
         err = hp_diag_set(diag, err, "the scene's layout cannot reproduce the rows (%s)",
                           hp_error_message(err));
@@ -453,7 +452,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
             memcpy(e, et, sizeof(double) * (size_t)m);
             cost = ct;
             lambda = fmax(lambda * 0.1, 1e-12);
-            err = jacobian(&c, theta, J, tmp);
+            err = jacobian(&c, theta, J);
             if (err) {
                 err = hp_diag_set(diag, err, "the Jacobian failed during the fit");
                 goto done;
@@ -543,14 +542,13 @@ hp_error hp_fit_layout_gain(const hp_layout *L, const hp_calib_row *rows, int n,
         if (fit->determined[j] == 1) c.sel[c.nsel++] = j;
     }
     int m = n * c.dofp, np = c.np, k = c.nsel;
-    double *J = malloc(sizeof(double) * (size_t)m * ((size_t)np + 2));
+    double *J = malloc(sizeof(double) * (size_t)m * (size_t)np);
     if (!J || k == 0) {
         free(J);
         free(c.ro);
         return hp_diag_set(diag, J ? HP_ERR_INVALID : HP_ERR_NOMEM, "no fitted parameter");
     }
-    double *tmp = J + (size_t)m * np;
-    err = jacobian(&c, theta, J, tmp);
+    err = jacobian(&c, theta, J);
     /* Information A = JᵀJ of the selected columns; each candidate adds its row's block. */
     double A[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS], B[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
     double Ci[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS], Cn[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];

@@ -108,9 +108,6 @@ static void test_recovery_surface(void **state)
                         f.ci[j][0] * 1e3, f.ci[j][1] * 1e3);
             fail();
         }
-        if (getenv("HP_TEST_VERBOSE"))
-            print_message("%s %.6f +- %.6f (truth %.6f) s=%.3f it=%d\n", f.name[j], f.value[j] * 1e3,
-                          f.se[j] * 1e3, truth * 1e3, f.s, f.iterations);
     }
     /* The scatter estimate matches the noise put in (s ≈ 1 within its sampling error,
      * ~1/sqrt(2·229) = 5 %; 4 sigma). */
