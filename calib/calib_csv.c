@@ -1,11 +1,12 @@
-/* Readers of the calibration data files (CSV, see hp_calib.h and docs/calibration.md). Both
- * share one line splitter; every number goes through the project's strict parser, and every
+/* Readers of the calibration data files (CSV, and JSON Lines for layout rows; see hp_calib.h
+ * and docs/calibration.md). They share one line reader; every number goes through the project's strict parser, and every
  * refusal names FILE:LINE:COL (1-based; the column of the field at fault). */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/hp_calib.h"
 #include "scene/strict_number.h"
 
 #include <errno.h>
+#include <jansson.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -50,9 +51,9 @@ static hp_error csv_open(csv_file *f, const char *path, hp_diag *d)
 
 static void csv_close(csv_file *f) { free(f->text); }
 
-/* The next line that is neither blank nor a '#' comment, split at commas (spaces around a
- * field are trimmed). Returns 1 with fields, 0 at the end, -1 after a message. */
-static int csv_next(csv_file *f, csv_field *fl, int *nf, hp_diag *d)
+/* The next line that is neither blank nor a '#' comment (without its line end). Returns 1
+ * with the line, 0 at the end, -1 after a message. */
+static int next_line(csv_file *f, const char **line, size_t *len, hp_diag *d)
 {
     while (f->pos < f->len) {
         const char *s = f->text + f->pos;
@@ -69,25 +70,38 @@ static int csv_next(csv_file *f, csv_field *fl, int *nf, hp_diag *d)
         size_t i = 0;
         while (i < e && (s[i] == ' ' || s[i] == '\t')) ++i;
         if (i == e || s[i] == '#') continue;
-        *nf = 0;
-        size_t start = 0;
-        for (size_t k = 0; k <= e; ++k) {
-            if (k < e && s[k] != ',') continue;
-            if (*nf == CSV_MAX_FIELDS) {
-                hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%zu: more than %d columns", f->path,
-                            f->line, k + 1, CSV_MAX_FIELDS);
-                return -1;
-            }
-            size_t a = start, b = k;
-            while (a < b && (s[a] == ' ' || s[a] == '\t')) ++a;
-            while (b > a && (s[b - 1] == ' ' || s[b - 1] == '\t')) --b;
-            fl[*nf] = (csv_field){s + a, b - a, (int)a + 1};
-            (*nf)++;
-            start = k + 1;
-        }
+        *line = s;
+        *len = e;
         return 1;
     }
     return 0;
+}
+
+/* The next data line split at commas (spaces around a field are trimmed). Returns 1 with
+ * fields, 0 at the end, -1 after a message. */
+static int csv_next(csv_file *f, csv_field *fl, int *nf, hp_diag *d)
+{
+    const char *s;
+    size_t e;
+    int r = next_line(f, &s, &e, d);
+    if (r != 1) return r;
+    *nf = 0;
+    size_t start = 0;
+    for (size_t k = 0; k <= e; ++k) {
+        if (k < e && s[k] != ',') continue;
+        if (*nf == CSV_MAX_FIELDS) {
+            hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%zu: more than %d columns", f->path, f->line,
+                        k + 1, CSV_MAX_FIELDS);
+            return -1;
+        }
+        size_t a = start, b = k;
+        while (a < b && (s[a] == ' ' || s[a] == '\t')) ++a;
+        while (b > a && (s[b - 1] == ' ' || s[b - 1] == '\t')) --b;
+        fl[*nf] = (csv_field){s + a, b - a, (int)a + 1};
+        (*nf)++;
+        start = k + 1;
+    }
+    return 1;
 }
 
 static int field_is(const csv_field *f, const char *name)
@@ -202,6 +216,172 @@ hp_error hp_calib_read_material(const char *path, hp_calib_point *pts, int max, 
     return err;
 }
 
+/* What a layout data column (or JSON key) holds: a bladder's pressure (role = its index,
+ * scale to Pa) or a pose component (role = -1 - component, scale to m or rad); -100 when
+ * the name is none of them. */
+static int column_role(const hp_layout *L, const char *name, size_t len, double *scale)
+{
+    csv_field f = {name, len, 1};
+    for (int j = 0; j < 6; ++j)
+        if (field_is(&f, hp_pose_key(j))) {
+            *scale = j < 3 ? 1e-3 : 3.14159265358979323846 / 180.0;
+            return -1 - j;
+        }
+    for (int k = 0; k < L->n; ++k) {
+        char pa[HP_NAME_MAX + 8], kpa[HP_NAME_MAX + 8];
+        snprintf(pa, sizeof pa, "p_%s_pa", L->bladders[k].name);
+        snprintf(kpa, sizeof kpa, "p_%s_kpa", L->bladders[k].name);
+        if (field_is(&f, pa) || field_is(&f, kpa)) {
+            *scale = field_is(&f, pa) ? 1.0 : 1e3;
+            return k;
+        }
+    }
+    return -100;
+}
+
+/* Stores value v (SI) of a role in row, refusing a pressure outside the bladder's limits or
+ * past its limit point; col is the position for the message. */
+static hp_error store(const csv_file *f, const hp_layout *L, const hp_iab_limit *lp, int role,
+                      double v, int col, hp_calib_row *row, hp_diag *d)
+{
+    if (role < 0) {
+        row->pose[-1 - role] = v;
+        return HP_OK;
+    }
+    const hp_bladder *b = &L->bladders[role];
+    if (!(v >= b->p_min && v <= b->p_max))
+        return hp_diag_set(d, HP_ERR_PARSE,
+                           "%s:%ld:%d: p_%s: %g Pa outside the bladder's limits [%g, %g] Pa",
+                           f->path, f->line, col, b->name, v, b->p_min, b->p_max);
+    if (lp[role].exists && !(v < lp[role].pressure))
+        return hp_diag_set(d, HP_ERR_PARSE,
+                           "%s:%ld:%d: p_%s: %g Pa is past the bladder's limit point (%g Pa): "
+                           "no stable radius",
+                           f->path, f->line, col, b->name, v, lp[role].pressure);
+    row->pressure[role] = v;
+    return HP_OK;
+}
+
+static const char *role_name(const hp_layout *L, int role, char *buf, size_t cap)
+{
+    if (role >= 0) snprintf(buf, cap, "p_%s", L->bladders[role].name);
+    else snprintf(buf, cap, "%s", hp_pose_key(-1 - role));
+    return buf;
+}
+
+/* 1-based column of "key" in a JSON line (1 when not found). */
+static int key_column(const char *s, size_t len, const char *key)
+{
+    size_t kl = strlen(key);
+    for (size_t i = 0; i + kl + 2 <= len; ++i)
+        if (s[i] == '"' && memcmp(s + i + 1, key, kl) == 0 && s[i + 1 + kl] == '"')
+            return (int)i + 1;
+    return 1;
+}
+
+/* One JSON Lines row: an object with every bladder's pressure key and the six pose keys. */
+static hp_error jsonl_row(const csv_file *f, const hp_layout *L, const hp_iab_limit *lp,
+                          const char *s, size_t len, hp_calib_row *row, hp_diag *d)
+{
+    json_error_t je;
+    json_t *o = json_loadb(s, len, JSON_REJECT_DUPLICATES, &je);
+    if (!o)
+        return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s", f->path, f->line,
+                           je.column > 0 ? je.column : 1, je.text);
+    hp_error err = HP_OK;
+    int seen_b[HP_MAX_BLADDERS] = {0}, seen_p[6] = {0};
+    if (!json_is_object(o))
+        err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: expected one object per line", f->path,
+                          f->line);
+    const char *key;
+    json_t *val;
+    json_object_foreach(o, key, val)
+    {
+        if (err) break;
+        double scale;
+        int col = key_column(s, len, key);
+        int role = column_role(L, key, strlen(key), &scale);
+        if (role == -100) {
+            err = hp_diag_set(d, HP_ERR_PARSE,
+                              "%s:%ld:%d: unknown key '%.60s' (expected p_<bladder>_pa or _kpa "
+                              "for the scene's bladders and x_mm ... yaw_deg)",
+                              f->path, f->line, col, key);
+            break;
+        }
+        int *seen = role >= 0 ? &seen_b[role] : &seen_p[-1 - role];
+        if ((*seen)++) {
+            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s given twice (in Pa and kPa?)",
+                              f->path, f->line, col, key);
+            break;
+        }
+        if (!json_is_number(val)) {
+            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s: expected a number", f->path,
+                              f->line, col, key);
+            break;
+        }
+        err = store(f, L, lp, role, json_number_value(val) * scale, col, row, d);
+    }
+    for (int k = 0; !err && k < L->n; ++k)
+        if (!seen_b[k])
+            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: missing key p_%s_pa", f->path,
+                              f->line, L->bladders[k].name);
+    for (int j = 0; !err && j < 6; ++j)
+        if (!seen_p[j])
+            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: missing key %s", f->path, f->line,
+                              hp_pose_key(j));
+    json_decref(o);
+    return err;
+}
+
+/* 1 when the file is JSON Lines: by its extension, else by its first data character. */
+static int is_jsonl(const csv_file *f)
+{
+    size_t n = strlen(f->path);
+    if ((n >= 6 && strcmp(f->path + n - 6, ".jsonl") == 0) ||
+        (n >= 7 && strcmp(f->path + n - 7, ".ndjson") == 0))
+        return 1;
+    if (n >= 4 && strcmp(f->path + n - 4, ".csv") == 0) return 0;
+    for (size_t i = 0; i < f->len; ++i) {
+        char c = f->text[i];
+        if (c == '#') {
+            while (i < f->len && f->text[i] != '\n') ++i;
+            continue;
+        }
+        if (c != ' ' && c != '\t' && c != '\r' && c != '\n') return c == '{';
+    }
+    return 0;
+}
+
+/* The CSV header: every column's role and scale. */
+static hp_error csv_header(const csv_file *f, const hp_layout *L, const csv_field *fl, int nf,
+                           int *role, double *scale, hp_diag *d)
+{
+    int seen_b[HP_MAX_BLADDERS] = {0}, seen_p[6] = {0};
+    for (int c = 0; c < nf; ++c) {
+        role[c] = column_role(L, fl[c].s, fl[c].len, &scale[c]);
+        if (role[c] == -100)
+            return hp_diag_set(d, HP_ERR_PARSE,
+                               "%s:%ld:%d: header: unknown column '%.*s' (expected "
+                               "p_<bladder>_pa or _kpa for the scene's bladders, x_mm, y_mm, "
+                               "z_mm, pitch_deg, roll_deg, yaw_deg)",
+                               f->path, f->line, fl[c].col,
+                               (int)(fl[c].len > 60 ? 60 : fl[c].len), fl[c].s);
+        int *seen = role[c] >= 0 ? &seen_b[role[c]] : &seen_p[-1 - role[c]];
+        if ((*seen)++)
+            return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: header: '%.*s' appears twice",
+                               f->path, f->line, fl[c].col, (int)fl[c].len, fl[c].s);
+    }
+    for (int k = 0; k < L->n; ++k)
+        if (!seen_b[k])
+            return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: header: missing column p_%s_pa",
+                               f->path, f->line, L->bladders[k].name);
+    for (int j = 0; j < 6; ++j)
+        if (!seen_p[j])
+            return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: header: missing column %s", f->path,
+                               f->line, hp_pose_key(j));
+    return HP_OK;
+}
+
 hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row *rows,
                               int max, int *n, hp_diag *d)
 {
@@ -209,66 +389,29 @@ hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row
     *n = 0;
     csv_file f;
     hp_error err = csv_open(&f, path, d);
-    if (err) {
-        csv_close(&f);
-        return err;
-    }
-    csv_field fl[CSV_MAX_FIELDS];
-    int nf = 0, r = csv_next(&f, fl, &nf, d);
-    /* role[c]: bladder index (>= 0) or -1 - pose component. */
-    int role[CSV_MAX_FIELDS], seen_b[HP_MAX_BLADDERS] = {0}, seen_p[6] = {0};
-    double scale[CSV_MAX_FIELDS];
-    if (r == 0) err = hp_diag_set(d, HP_ERR_PARSE, "%s:1:1: empty file (expected the header "
-                                  "p_<bladder>_pa...,x_mm,...,yaw_deg)", path);
-    else if (r < 0) err = HP_ERR_PARSE;
-    for (int c = 0; !err && c < nf; ++c) {
-        role[c] = -100;
-        for (int j = 0; j < 6; ++j)
-            if (field_is(&fl[c], hp_pose_key(j))) {
-                role[c] = -1 - j;
-                scale[c] = j < 3 ? 1e-3 : 3.14159265358979323846 / 180.0;
-                if (seen_p[j]++) role[c] = -200;
-            }
-        for (int k = 0; k < L->n && role[c] == -100; ++k) {
-            char pa[HP_NAME_MAX + 8], kpa[HP_NAME_MAX + 8];
-            snprintf(pa, sizeof pa, "p_%s_pa", L->bladders[k].name);
-            snprintf(kpa, sizeof kpa, "p_%s_kpa", L->bladders[k].name);
-            if (field_is(&fl[c], pa) || field_is(&fl[c], kpa)) {
-                role[c] = k;
-                scale[c] = field_is(&fl[c], pa) ? 1.0 : 1e3;
-                if (seen_b[k]++) role[c] = -200;
-            }
-        }
-        if (role[c] == -200)
-            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: header: '%.*s' appears twice", path,
-                              f.line, fl[c].col, (int)fl[c].len, fl[c].s);
-        else if (role[c] == -100)
-            err = hp_diag_set(d, HP_ERR_PARSE,
-                              "%s:%ld:%d: header: unknown column '%.*s' (expected p_<bladder>_pa "
-                              "or _kpa for the scene's bladders, x_mm, y_mm, z_mm, pitch_deg, "
-                              "roll_deg, yaw_deg)",
-                              path, f.line, fl[c].col, (int)(fl[c].len > 60 ? 60 : fl[c].len),
-                              fl[c].s);
-    }
-    for (int k = 0; !err && k < L->n; ++k)
-        if (!seen_b[k])
-            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: header: missing column p_%s_pa", path,
-                              f.line, L->bladders[k].name);
-    for (int j = 0; !err && j < 6; ++j)
-        if (!seen_p[j])
-            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: header: missing column %s", path,
-                              f.line, hp_pose_key(j));
-    int ncol = nf;
     hp_iab_limit lp[HP_MAX_BLADDERS];
     for (int k = 0; !err && k < L->n; ++k)
         if (hp_iab_limit_point(&L->bladders[k].iab, &lp[k]))
             err = hp_diag_set(d, HP_ERR_INVALID, "bladder '%s': no limit point",
                               L->bladders[k].name);
-    while (!err && (r = csv_next(&f, fl, &nf, d)) == 1) {
-        if (nf != ncol) {
-            err = wrong_count(&f, nf, ncol, d);
-            break;
-        }
+    int jsonl = !err && is_jsonl(&f), r = 0, nf = 0, ncol = 0;
+    csv_field fl[CSV_MAX_FIELDS];
+    int role[CSV_MAX_FIELDS];
+    double scale[CSV_MAX_FIELDS];
+    if (!err && !jsonl) {
+        r = csv_next(&f, fl, &nf, d);
+        if (r == 0)
+            err = hp_diag_set(d, HP_ERR_PARSE, "%s:1:1: empty file (expected the header "
+                              "p_<bladder>_pa...,x_mm,...,yaw_deg)", path);
+        else if (r < 0) err = HP_ERR_PARSE;
+        else err = csv_header(&f, L, fl, nf, role, scale, d);
+        ncol = nf;
+    }
+    while (!err) {
+        const char *s = NULL;
+        size_t len = 0;
+        r = jsonl ? next_line(&f, &s, &len, d) : csv_next(&f, fl, &nf, d);
+        if (r != 1) break;
         if (*n == max) {
             err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: more than %d rows", path, f.line, max);
             break;
@@ -276,29 +419,17 @@ hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row
         hp_calib_row *row = &rows[*n];
         memset(row, 0, sizeof *row);
         row->line = f.line;
-        for (int c = 0; !err && c < ncol; ++c) {
-            double v;
-            char what[HP_NAME_MAX + 16];
-            if (role[c] >= 0) snprintf(what, sizeof what, "p_%s", L->bladders[role[c]].name);
-            else snprintf(what, sizeof what, "%s", hp_pose_key(-1 - role[c]));
-            err = number(&f, &fl[c], what, &v, d);
-            if (err) break;
-            v *= scale[c];
-            if (role[c] < 0) {
-                row->pose[-1 - role[c]] = v;
-                continue;
+        if (jsonl) {
+            err = jsonl_row(&f, L, lp, s, len, row, d);
+        } else if (nf != ncol) {
+            err = wrong_count(&f, nf, ncol, d);
+        } else {
+            for (int c = 0; !err && c < ncol; ++c) {
+                double v;
+                char what[HP_NAME_MAX + 16];
+                err = number(&f, &fl[c], role_name(L, role[c], what, sizeof what), &v, d);
+                if (!err) err = store(&f, L, lp, role[c], v * scale[c], fl[c].col, row, d);
             }
-            const hp_bladder *b = &L->bladders[role[c]];
-            if (!(v >= b->p_min && v <= b->p_max))
-                err = hp_diag_set(d, HP_ERR_PARSE,
-                                  "%s:%ld:%d: %s: %g Pa outside the bladder's limits [%g, %g] Pa",
-                                  path, f.line, fl[c].col, what, v, b->p_min, b->p_max);
-            else if (lp[role[c]].exists && !(v < lp[role[c]].pressure))
-                err = hp_diag_set(d, HP_ERR_PARSE,
-                                  "%s:%ld:%d: %s: %g Pa is past the bladder's limit point "
-                                  "(%g Pa): no stable radius",
-                                  path, f.line, fl[c].col, what, v, lp[role[c]].pressure);
-            row->pressure[role[c]] = v;
         }
         if (err) break;
         (*n)++;

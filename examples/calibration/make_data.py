@@ -5,6 +5,7 @@ what measuring it would give.
 
   material_ri.csv  free inflation of one bladder, inner radius measured (sigma 0.02 mm)
   material_ro.csv  the same bladder, outer radius measured by calipers (sigma 0.02 mm)
+  layout_rows.jsonl the same rows as JSON Lines
   layout_rows.csv  24 rows (eight pressures, measured pose) for scenarios/default.yaml's
                    layout on a head 0.6/-0.8/+0.5 mm off in its semi-axes and with bladders
                    sitting up to 0.3 mm off their drawn positions (pose noise 0.05 mm, 0.05 deg)
@@ -151,6 +152,11 @@ def layout(rng):
                 "truth: offsets_mm=%s" % " ".join("%g" % o for o in offsets),
                 "pose noise sigma %g mm, %g deg" % (sig_mm, sig_deg)]
     write(os.path.join(HERE, "layout_rows.csv"), header, rows, comments)
+    # The same rows as JSON Lines (numbers written as in the CSV, so both read the same).
+    keys = header.split(",")
+    with open(os.path.join(HERE, "layout_rows.jsonl"), "w", encoding="ascii", newline="\n") as f:
+        for r in rows:
+            f.write("{" + ", ".join('"%s": %s' % (k, v) for k, v in zip(keys, r)) + "}\n")
 
 
 def main():

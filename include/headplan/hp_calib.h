@@ -181,9 +181,12 @@ hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level lev
 hp_error hp_calib_read_material(const char *path, hp_calib_point *pts, int max, int *n,
                                 hp_calib_radius *kind, hp_diag *diag);
 
-/* Reads a layout data CSV for layout L: header `p_<name>_pa` (or `_kpa`) for every bladder of
- * L in any order, then x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg. Every pressure must lie in
- * the bladder's [p_min, p_max] and below its limit point. Same contract as above. */
+/* Reads layout data for layout L. CSV: header `p_<name>_pa` (or `_kpa`) for every bladder of
+ * L and x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg, in any order. JSON Lines (extension
+ * .jsonl / .ndjson, or a first data character '{'): one object per line with the same keys
+ * (JSON numbers; duplicate keys refused). Every pressure must lie in the bladder's
+ * [p_min, p_max] and below its limit point. Same contract as above (for JSON Lines the
+ * column is that of the key at fault). */
 hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row *rows,
                               int max, int *n, hp_diag *diag);
 

@@ -165,6 +165,65 @@ static void test_layout_messages(void **state)
     free(sc);
 }
 
+static void jsonl_case(const hp_layout *L, const char *text, const char *want, const char *has)
+{
+    const char *p = write_file("l.jsonl", text);
+    static hp_calib_row out[8];
+    int n = -1;
+    hp_diag d = {{0}};
+    hp_error e = hp_calib_read_layout(p, L, out, 8, &n, &d);
+    char full[300];
+    snprintf(full, sizeof full, "%s/l.jsonl:%s", dir, want);
+    if (e == HP_OK || strncmp(d.text, full, strlen(full)) != 0 || !strstr(d.text, has)) {
+        print_error("want '%s', got %d '%s'\n", full, e, d.text);
+        fail();
+    }
+}
+
+/* JSON Lines: the example rows read exactly as their CSV twin; malformed lines refused. */
+static void test_layout_jsonl(void **state)
+{
+    (void)state;
+    hp_scene *sc = calloc(1, sizeof *sc);
+    assert_int_equal(hp_scene_load(HP_SOURCE_DIR "/scenarios/default.yaml", sc, NULL), HP_OK);
+    const hp_layout *L = &sc->layout;
+    static hp_calib_row a[32], b[32];
+    int na, nb;
+    hp_diag d = {{0}};
+    assert_int_equal(hp_calib_read_layout(HP_SOURCE_DIR "/examples/calibration/layout_rows.csv",
+                                          L, a, 32, &na, &d), HP_OK);
+    assert_int_equal(hp_calib_read_layout(HP_SOURCE_DIR "/examples/calibration/layout_rows.jsonl",
+                                          L, b, 32, &nb, &d), HP_OK);
+    assert_int_equal(na, 24);
+    assert_int_equal(nb, 24);
+    for (int i = 0; i < na; ++i) {
+        for (int k = 0; k < 8; ++k) assert_true(a[i].pressure[k] == b[i].pressure[k]);
+        for (int j = 0; j < 6; ++j) assert_true(a[i].pose[j] == b[i].pose[j]);
+    }
+    const char *keys = "\"p_base_neck_left_pa\": 0, \"p_base_neck_right_pa\": 0, "
+                       "\"p_base_skull_left_pa\": 0, \"p_base_skull_right_pa\": 0, "
+                       "\"p_side_fore_left_pa\": 0, \"p_side_fore_right_pa\": 0, "
+                       "\"p_side_chin_left_pa\": 0, \"p_side_chin_right_pa\": 0, "
+                       "\"x_mm\": 0, \"y_mm\": 0, \"z_mm\": 0, \"pitch_deg\": 0, "
+                       "\"roll_deg\": 0";
+    char t[2048];
+    snprintf(t, sizeof t, "{%s, \"yaw_deg\": 0}\n{%s, \"yaw_deg\": 1}\n", keys, keys);
+    const char *p = write_file("ok.jsonl", t);
+    assert_int_equal(hp_calib_read_layout(p, L, a, 32, &na, &d), HP_OK);
+    assert_int_equal(na, 2);
+    snprintf(t, sizeof t, "{%s, \"yaw_deg\": \"1\"}\n", keys);
+    jsonl_case(L, t, "1:", "yaw_deg: expected a number");
+    snprintf(t, sizeof t, "{%s}\n", keys);
+    jsonl_case(L, t, "1:1: missing key yaw_deg", "");
+    snprintf(t, sizeof t, "{%s, \"yaw_deg\": 0, \"t_s\": 1}\n", keys);
+    jsonl_case(L, t, "1:", "unknown key 't_s'");
+    snprintf(t, sizeof t, "{%s, \"yaw_deg\": 0, \"yaw_deg\": 1}\n", keys);
+    jsonl_case(L, t, "1:", "duplicate");
+    jsonl_case(L, "{\"x_mm\": NaN}\n", "1:", "");
+    jsonl_case(L, "[1, 2]\n", "1:1: expected one object per line", "");
+    free(sc);
+}
+
 static int setup(void **state)
 {
     (void)state;
@@ -186,6 +245,7 @@ int main(void)
         cmocka_unit_test(test_material_bad),
         cmocka_unit_test(test_layout),
         cmocka_unit_test(test_layout_messages),
+        cmocka_unit_test(test_layout_jsonl),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -100,6 +100,15 @@ for k in d["rms_before"]:
 assert all(w > 0.2 for w in d["weakest_direction"]), d["weakest_direction"]
 assert all(0 < g["se_ratio"] < 1 for g in d["repeat_row_gain"])
 PY
+run fit layout "$S/default.yaml" "$E/layout_rows.jsonl" --sigma-mm 0.05 --sigma-deg 0.05 --json
+expect_exit 0 "layout from JSON Lines"
+python3 - "$TMP/layout.json" "$TMP/out" <<'PY' && ok || bad "JSON Lines rows fit exactly as the CSV rows"
+import json, sys
+a, b = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+for d in (a, b):
+    del d["data"]; d["output"] = None
+assert a == b
+PY
 run analyze "$TMP/cal.yaml"
 expect_exit 0 "calibrated scene analyses"
 run solve "$TMP/cal.yaml" --correction 0.5,0,-0.3,0.2,0,0
