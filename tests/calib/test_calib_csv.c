@@ -82,21 +82,30 @@ static void test_material_bad(void **state)
 
 static char header[1024];
 
-static void layout_case(const hp_layout *L, const char *rows, const char *want)
+/* Reading text (written to NAME) as layout rows must fail with a message that starts with
+ * "DIR/NAME:" + want and contains has. */
+static void expect_layout_refusal(const hp_layout *L, const char *name, const char *text,
+                                  const char *want, const char *has)
 {
-    char text[4096];
-    snprintf(text, sizeof text, "%s\n%s", header, rows);
-    const char *p = write_file("l.csv", text);
+    const char *p = write_file(name, text);
     static hp_calib_row out[8];
     int n = -1;
     hp_diag d = {{0}};
     hp_error e = hp_calib_read_layout(p, L, out, 8, &n, &d);
     char full[300];
-    snprintf(full, sizeof full, "%s/l.csv:%s", dir, want);
-    if (e == HP_OK || strncmp(d.text, full, strlen(full)) != 0) {
-        print_error("want '%s', got %d '%s'\n", full, e, d.text);
+    snprintf(full, sizeof full, "%s/%s:%s", dir, name, want);
+    if (e == HP_OK || strncmp(d.text, full, strlen(full)) != 0 || !strstr(d.text, has)) {
+        print_error("want '%s' (with '%s'), got %d '%s'\n", full, has, e, d.text);
         fail();
     }
+    assert_int_equal(n, 0);
+}
+
+static void layout_case(const hp_layout *L, const char *rows, const char *want)
+{
+    char text[4096];
+    snprintf(text, sizeof text, "%s\n%s", header, rows);
+    expect_layout_refusal(L, "l.csv", text, want, "");
 }
 
 static void test_layout(void **state)
@@ -167,17 +176,7 @@ static void test_layout_messages(void **state)
 
 static void jsonl_case(const hp_layout *L, const char *text, const char *want, const char *has)
 {
-    const char *p = write_file("l.jsonl", text);
-    static hp_calib_row out[8];
-    int n = -1;
-    hp_diag d = {{0}};
-    hp_error e = hp_calib_read_layout(p, L, out, 8, &n, &d);
-    char full[300];
-    snprintf(full, sizeof full, "%s/l.jsonl:%s", dir, want);
-    if (e == HP_OK || strncmp(d.text, full, strlen(full)) != 0 || !strstr(d.text, has)) {
-        print_error("want '%s', got %d '%s'\n", full, e, d.text);
-        fail();
-    }
+    expect_layout_refusal(L, "l.jsonl", text, want, has);
 }
 
 /* JSON Lines: the example rows read exactly as their CSV twin; malformed lines refused. */

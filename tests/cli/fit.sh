@@ -107,6 +107,8 @@ import json, sys
 a, b = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
 for d in (a, b):
     del d["data"]; d["output"] = None
+    for g in d["repeat_row_gain"]:
+        del g["line"]                                       # the files number lines apart
 assert a == b
 PY
 run analyze "$TMP/cal.yaml"
