@@ -1,11 +1,12 @@
 /* headplan fit: calibration from measurements (docs/calibration.md).
- *   fit material DATA --Ri-mm R --Ro-mm R [--json]
+ *   fit material DATA --Ri-mm R --Ro-mm R [--plot OUT.svg] [--json]
  *   fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit offsets,axes]
  *                         [--sigma-mm S] [--sigma-deg S] [--json] */
 #include "cli/cli_args.h"
 #include "cli/cli_scene.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
+#include "cli/fit_plot.h"
 #include "headplan/headplan.h"
 
 #include <jansson.h>
@@ -21,13 +22,14 @@
 
 static void help(void)
 {
-    printf("usage: headplan fit material DATA --Ri-mm R --Ro-mm R [--json]\n"
+    printf("usage: headplan fit material DATA --Ri-mm R --Ro-mm R [--plot OUT.svg] [--json]\n"
            "       headplan fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit WHAT]\n"
            "                           [--sigma-mm S] [--sigma-deg S] [--json]\n\n"
            "material: fit one bladder's moduli C1, C2 (paper convention) to free-inflation\n"
            "  measurements. DATA is CSV with the header pressure_pa,ri_mm (or ro_mm; pressure_kpa\n"
            "  allowed) and an optional third column sigma_mm (the radius's standard deviation).\n"
            "  --Ri-mm, --Ro-mm   the bladder's reference inner and outer radius (required)\n"
+           "  --plot OUT.svg     also write the residuals against the pressure as an SVG chart\n"
            "layout: fit every bladder's radial offset and the head's semi-axes to measured\n"
            "  (pressures, pose) rows. DATA is CSV: p_<bladder>_pa (or _kpa) for every bladder of\n"
            "  SCENE, then x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg.\n"
@@ -95,7 +97,7 @@ static void candidates(const hp_iab *b, const hp_calib_point *pts, int n, double
 
 static int run_material(int argc, char **argv)
 {
-    const char *data = NULL, *ri_t = NULL, *ro_t = NULL;
+    const char *data = NULL, *ri_t = NULL, *ro_t = NULL, *plot = NULL;
     int json = 0;
     for (int i = 0; i < argc; ++i) {
         const char *v;
@@ -108,6 +110,9 @@ static int run_material(int argc, char **argv)
         } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--Ro-mm", &v)) != 0) {
             if (m < 0) return HP_EXIT_USAGE;
             ro_t = v;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--plot", &v)) != 0) {
+            if (m < 0) return HP_EXIT_USAGE;
+            plot = v;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
             return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         } else if (data) {
@@ -148,6 +153,28 @@ static int run_material(int argc, char **argv)
         free(pts);
         free(res);
         return rc;
+    }
+    if (plot) {
+        /* Residuals in mm against pressure in kPa; dashed: ±t·s·σ of the first point, the
+         * band a residual of that weight stays inside 95 % of the time. */
+        double *xs = malloc(sizeof *xs * (size_t)n), *ys = malloc(sizeof *ys * (size_t)n);
+        if (!xs || !ys) rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+        for (int i = 0; !rc && i < n; ++i) {
+            xs[i] = pts[i].pressure * 1e-3;
+            ys[i] = res[i] * 1e3;
+        }
+        if (!rc)
+            rc = hp_fit_plot_svg(CMD, plot, "headplan fit material: residuals (measured - fitted)",
+                                 xs, ys, n, f.t * f.s * pts[0].sigma * 1e3, "pressure [kPa]",
+                                 kind == HP_CALIB_INNER ? "ri residual [mm]"
+                                                        : "ro residual [mm]");
+        free(xs);
+        free(ys);
+        if (rc) {
+            free(pts);
+            free(res);
+            return rc;
+        }
     }
     double cand[N_CAND], shrink[2 * N_CAND];
     /* The next point is assumed as precise as the first one measured. */

@@ -40,6 +40,17 @@ expect_stdout_has "C10 =" "text shows the FE convention"
 expect_stdout_has "material: {convention: paper, C1_pa:" "text ends with a scene fragment"
 expect_stdout_has "residuals (measured - fitted)" "text has the residual table"
 
+run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --plot "$TMP/res.svg"
+expect_exit 0 "material --plot"
+python3 - "$TMP/res.svg" <<'PY' && ok || bad "residual chart: well-formed SVG, one dot per point"
+import sys, xml.dom.minidom as m
+d = m.parse(sys.argv[1])
+assert d.documentElement.tagName == "svg"
+assert len(d.getElementsByTagName("circle")) == 12
+PY
+run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --plot "$TMP/no/dir/res.svg"
+expect_exit 73 "--plot unwritable"; expect_stdout_empty "--plot unwritable"
+
 # ---- material refusals -----------------------------------------------------------------
 printf 'pressure_pa,ri_mm\n2000,29\n2000,29.01\n2000,28.99\n' > "$TMP/one.csv"
 run fit material "$TMP/one.csv" --Ri-mm 27 --Ro-mm 30
