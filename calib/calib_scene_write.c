@@ -36,7 +36,8 @@ static void quoted(FILE *f, const char *s)
     fputc('"', f);
 }
 
-static void write_body(FILE *f, const hp_layout *L, hp_level level, const char *name)
+static void write_body(FILE *f, const hp_layout *L, hp_level level, const hp_scene *base,
+                       const char *name)
 {
     fprintf(f, "headplan_scene: 1\n# Written by headplan fit layout: every bladder by its "
                "calibrated centre.\nname: ");
@@ -69,12 +70,32 @@ static void write_body(FILE *f, const hp_layout *L, hp_level level, const char *
                 b->stretch_max);
         if (isfinite(b->rate_max)) fprintf(f, "    rate_max_kpa: %.17g\n", b->rate_max / 1e3);
     }
-    fprintf(f, "model: {level: %s}\n", hp_level_name(level));
+    if (!base) {
+        fprintf(f, "model: {level: %s}\n", hp_level_name(level));
+        return;
+    }
+    fprintf(f, "model: {level: %s, tolerance_mm: %.17g", hp_level_name(level),
+            base->level_tolerance * 1e3);
+    if (base->has_auto_range)
+        fprintf(f, ", auto_translation_mm: %.17g, auto_rotation_deg: %.17g",
+                base->auto_trans * 1e3, base->auto_rot * 180.0 / 3.14159265358979323846);
+    fprintf(f, "}\nsolver: {backend: %s, tolerance: %.17g, max_iter: %d, max_time_s: %.17g, "
+               "weight_mm_per_deg: %.17g}\n",
+            base->backend, base->tolerance, base->max_iter, base->max_time,
+            base->weight_mm_per_deg);
+    if (base->has_correction) {
+        double c[6];
+        hp_pose_to_clinical(base->correction, c);
+        fprintf(f, "correction: {");
+        for (int j = 0; j < 6; ++j)
+            fprintf(f, "%s%s: %.17g", j ? ", " : "", hp_pose_key(j), c[j]);
+        fprintf(f, "}\n");
+    }
 }
 
 hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level level,
-                              const char *name, const char *const *inputs, int n_inputs,
-                              hp_diag *d)
+                              const hp_scene *base, const char *name,
+                              const char *const *inputs, int n_inputs, hp_diag *d)
 {
     if (!path || !L || !name || (n_inputs > 0 && !inputs))
         return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
@@ -105,7 +126,7 @@ hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level lev
         free(tmp);
         return hp_diag_set(d, HP_ERR_IO, "%s: cannot write", path);
     }
-    write_body(f, L, level, name);
+    write_body(f, L, level, base, name);
     int bad = fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0;
     bad |= fclose(f) != 0;
     /* mkstemp makes the file 0600; a scene is an ordinary document. */

@@ -496,7 +496,7 @@ static int run_layout(int argc, char **argv)
         char name[HP_SCENE_TEXT_MAX];
         snprintf(name, sizeof name, "%.200s (calibrated)", sc->name);
         const char *inputs[2] = {a.scene, a.data};
-        e = hp_calib_write_scene(a.out, &f->fitted, sc->level, name, inputs, 2, &d);
+        e = hp_calib_write_scene(a.out, &f->fitted, sc->level, sc, name, inputs, 2, &d);
         if (e) rc = hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_CANTCREAT : HP_EXIT_USAGE, CMD, "%s",
                                 d.text);
     }

@@ -15,6 +15,7 @@
 #include "headplan/hp_common.h"
 #include "headplan/hp_iab.h"
 #include "headplan/hp_kinematics.h"
+#include "headplan/hp_scene.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -164,13 +165,15 @@ hp_error hp_fit_layout_gain(const hp_layout *L, const hp_calib_row *rows, int n,
                             double *gain, hp_diag *diag);
 
 /* Writes a layout scene file at path holding the layout L (every bladder by centre, with its
- * own parameters), level, and the given name; through a temporary file in the same folder
- * renamed over path, so a reader never sees half a file. Refuses (HP_ERR_INVALID) when path
- * names the same file as any of the `inputs` (n_inputs paths, may be 0). HP_ERR_IO when it
- * cannot write. */
+ * own parameters), contact level `level`, and the given name; when base is not NULL also its
+ * model tolerance and auto range, its solver section and its correction (not its trace,
+ * whose path is relative to the base's folder). Written through a temporary file in the same
+ * folder renamed over path, so a reader never sees half a file. Refuses (HP_ERR_INVALID)
+ * when path names the same file as any of the `inputs` (n_inputs paths, may be 0). HP_ERR_IO
+ * when it cannot write. */
 hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level level,
-                              const char *name, const char *const *inputs, int n_inputs,
-                              hp_diag *diag);
+                              const hp_scene *base, const char *name,
+                              const char *const *inputs, int n_inputs, hp_diag *diag);
 
 /* ---- data files ---- */
 

@@ -388,13 +388,13 @@ static void test_calibrated_scene(void **state)
     fclose(in);
     const char *inputs[1] = {input};
     hp_diag d = {{0}};
-    assert_int_equal(hp_calib_write_scene(input, &f.fitted, HP_LEVEL_SURFACE, "c", inputs, 1, &d),
+    assert_int_equal(hp_calib_write_scene(input, &f.fitted, HP_LEVEL_SURFACE, NULL, "c", inputs, 1, &d),
                      HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "is an input"));
-    assert_int_equal(hp_calib_write_scene(path, &f.fitted, HP_LEVEL_SURFACE, "calibrated \"x\"",
-                                          inputs, 1, &d), HP_OK);
+    assert_int_equal(hp_calib_write_scene(path, &f.fitted, HP_LEVEL_SURFACE, NULL,
+                                          "calibrated \"x\"", inputs, 1, &d), HP_OK);
     /* Written twice (the second replaces the first): still one file and no temporary. */
-    assert_int_equal(hp_calib_write_scene(path, &f.fitted, HP_LEVEL_SURFACE, "calibrated \"x\"",
+    assert_int_equal(hp_calib_write_scene(path, &f.fitted, HP_LEVEL_AUTO, sc, "calibrated \"x\"",
                                           inputs, 1, &d), HP_OK);
     char cmd[256];
     snprintf(cmd, sizeof cmd, "test $(ls %s | wc -l) -eq 2", dir);
@@ -405,6 +405,15 @@ static void test_calibrated_scene(void **state)
         fail();
     }
     assert_string_equal(back->name, "calibrated \"x\"");
+    /* The second write carried the base scene's model, solver and correction sections. */
+    assert_int_equal(back->level, HP_LEVEL_AUTO);
+    hp_assert_close(back->level_tolerance, sc->level_tolerance, 1e-15, 0);
+    assert_int_equal(back->has_auto_range, 1);
+    hp_assert_close(back->auto_rot, sc->auto_rot, 1e-15, 0);
+    assert_string_equal(back->backend, sc->backend);
+    assert_int_equal(back->max_iter, sc->max_iter);
+    assert_int_equal(back->has_correction, 1);
+    for (int j = 0; j < 6; ++j) hp_assert_close(back->correction[j], sc->correction[j], 1e-15, 1e-18);
     for (int j = 0; j < 3; ++j)
         hp_assert_close(back->layout.head.semi_axes[j], f.fitted.head.semi_axes[j], 1e-14, 0);
     for (int k = 0; k < 8; ++k) {

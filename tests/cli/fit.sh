@@ -126,6 +126,10 @@ run analyze "$TMP/cal.yaml"
 expect_exit 0 "calibrated scene analyses"
 run solve "$TMP/cal.yaml" --correction 0.5,0,-0.3,0.2,0,0
 expect_exit 0 "calibrated scene solves (reached)"
+run solve "$TMP/cal.yaml"
+expect_exit 0 "calibrated scene keeps the input's correction"
+grep -q "^model: {level: auto, tolerance_mm: 0.01" "$TMP/cal.yaml" && ok || bad "model section copied"
+grep -q "^solver: {backend: realtime" "$TMP/cal.yaml" && ok || bad "solver section copied"
 
 run fit layout "$S/default.yaml" "$E/layout_rows.csv" --fit offsets --level linear
 expect_exit 0 "offsets only, linear"
