@@ -254,7 +254,7 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
         if (!(ri_meas[imax] < lp0.ri)) {
             err = hp_diag_set(diag, HP_ERR_INVALID,
                               "the fit runs into the limit point: point %ld (ri %.6g mm) lies "
-                              "past the inflation limit point (λi %.4f, %.6g Pa) of the moduli "
+                              "past the inflation limit point (lambda_i %.4f, %.6g Pa) of the moduli "
                               "its pressures suggest; fit stable-branch points only",
                               line_of(&pts[imax], imax), ri_meas[imax] * 1e3, lp0.lambda_i,
                               lp0.pressure);
@@ -283,7 +283,10 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
         double A[3], g[2], inv[3];
         normal_eq(n, J, e, A, g);
         double Ad[3] = {A[0] * (1.0 + lambda), A[1], A[2] * (1.0 + lambda)};
-        if (!inv2(Ad, inv)) break;
+        if (!inv2(Ad, inv)) {
+            converged = 1; /* singular: the condition check below says why */
+            break;
+        }
         double step[2] = {-(inv[0] * g[0] + inv[1] * g[1]), -(inv[1] * g[0] + inv[2] * g[1])};
         hp_iab t = m;
         t.C1 += step[0];
@@ -373,8 +376,8 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
         }
         err = hp_diag_set(diag, HP_ERR_INVALID,
                           "cannot determine both moduli: the Jacobian's condition number is "
-                          "%.3g (> %.0e; 1e-4 relative error in a radius could move the moduli by 100 %%): the measured stretches λi = %.4f..%.4f only see one "
-                          "combination of C1 and C2; measure further from λ = 1, on both sides",
+                          "%.3g (> %.0e; 1e-4 relative error in a radius could move the moduli by 100 %%): the measured stretches lambda_i = %.4f..%.4f only see one "
+                          "combination of C1 and C2; measure further from lambda = 1, on both sides",
                           cond, MAT_COND_MAX, lo, hi);
         goto done;
     }
