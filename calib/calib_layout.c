@@ -361,17 +361,35 @@ static hp_error covariance(int m, int k, const double *S, const double *scale, d
     return HP_OK;
 }
 
+/* A failed fit answers nothing: every number NaN, nothing determined, no layout. */
+static void invalidate(hp_layout_fit *out)
+{
+    for (int j = 0; j < HP_CALIB_MAX_PARAMS; ++j) {
+        out->value[j] = out->se[j] = out->ci[j][0] = out->ci[j][1] = NAN;
+        out->sv[j] = out->weakest[j] = NAN;
+        out->determined[j] = 0;
+    }
+    for (int j = 0; j < 6; ++j) out->rms_before[j] = out->rms_after[j] = NAN;
+    out->condition = out->t = out->s = out->weakest_se = NAN;
+    out->rank = out->dof = 0;
+    out->fitted.prepared = 0;
+}
+
 hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
                        const hp_layout_fit_options *opt, hp_layout_fit *out,
                        double *resid_after, hp_diag *diag)
 {
     lay_ctx c;
     hp_error err = setup(L, rows, n, opt, &c, out, diag);
-    if (err) return err;
+    if (err) {
+        if (out) invalidate(out);
+        return err;
+    }
     int m = n * c.dofp, np = c.np;
     double *e = malloc(sizeof(double) * (size_t)m * (2 * (size_t)np + 2));
     if (!e) {
         free(c.ro);
+        invalidate(out);
         return hp_diag_set(diag, HP_ERR_NOMEM, "out of memory");
     }
     double *et = e + m, *J = e + 2 * m, *S = J + (size_t)m * np;
@@ -520,6 +538,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
 done:
     free(e);
     free(c.ro);
+    if (err) invalidate(out);
     return err;
 }
 

@@ -152,7 +152,8 @@ typedef struct hp_layout_fit {
  * Refuses (HP_ERR_INVALID)
  * bad rows (non-finite, a pressure outside the bladder's stable branch or its limits), fewer
  * rows than give one degree of freedom, nothing to fit. resid_after (may be NULL) gets n×6
- * residuals measured − model after the fit. Allocates work memory; frees it. */
+ * residuals measured − model after the fit. On failure every number of out is NaN and
+ * out->fitted is not prepared. Allocates work memory; frees it. */
 hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
                        const hp_layout_fit_options *opt, hp_layout_fit *out,
                        double *resid_after, hp_diag *diag);

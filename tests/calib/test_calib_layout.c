@@ -473,6 +473,7 @@ static void test_bad_rows(void **state)
     rows[2].pose[4] = NAN;
     assert_int_equal(hp_fit_layout(&sc->layout, rows, 4, &o, &f, NULL, &d), HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "row 3: roll_deg"));
+    assert_true(isnan(f.value[0]) && isnan(f.rms_before[0]) && !f.fitted.prepared);
     rows[2].pose[4] = 0;
     rows[1].pressure[5] = 20000;
     assert_int_equal(hp_fit_layout(&sc->layout, rows, 4, &o, &f, NULL, &d), HP_ERR_INVALID);
