@@ -278,8 +278,9 @@ static void test_jacobian_vs_fk_differences(void **state)
  * the contact points of a rotated head), so this checks the linearisation behind the
  * intervals, not only the algebra. The eight offsets share every trial and are strongly
  * correlated, so their coverages move together: of the seeds tried, 20261201 gave one
- * offset 98.75 % (+3.4 sigma, all eight 96-99 %, mean z² 0.83), seeds 1-4 gave 93.75-97.0 %
- * (mean z² 0.95-1.07). Seed 1 is used; the margin is per parameter. */
+ * offset 98.75 % (+3.4 sigma; the six before it 96-97.5 %; mean z² 0.77-0.99), seeds 1-4
+ * gave 93.75-97.0 % (mean z² 0.95-1.07 for seeds 1 and 2). Seed 1 is used; the margin is
+ * per parameter. */
 static void test_coverage(void **state)
 {
     (void)state;
