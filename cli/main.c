@@ -21,6 +21,7 @@ static const command commands[] = {
     {"solve", hp_cmd_solve, "a scene -> bladder pressures for one correction"},
     {"batch", hp_cmd_batch, "a scene and a trace -> one planned row per trace row"},
     {"analyze", hp_cmd_analyze, "a scene -> layout conditioning, weakest direction and reach"},
+    {"fit", hp_cmd_fit, "calibration: bladder moduli or layout from measurements"},
 };
 static const size_t n_commands = sizeof commands / sizeof commands[0];
 

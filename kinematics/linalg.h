@@ -21,6 +21,10 @@ int hp_kin_damped_lstsq(int m, int ncol, const double *J, const double *r, const
  * singular vector of sv[j]. Returns 0 on success. */
 int hp_kin_svd6(int m, const double *A, double sv[6], double V[36]);
 
+/* The same for any m×n row-major A (m, n >= 1): sv[0..n-1] descending (zeros past
+ * min(m, n)), V n×n row-major. Allocates (for offline use: calibration). 0 on success. */
+int hp_kin_svd(int m, int n, const double *A, double *sv, double *V);
+
 #ifdef __cplusplus
 }
 #endif

@@ -1,0 +1,453 @@
+/* Fitting a bladder's moduli C1, C2 to free-inflation measurements (see hp_calib.h and
+ * docs/calibration.md). The pressure is linear in the moduli at a fixed radius,
+ * P = C1·a(ri) + C2·b(ri), which gives both the starting point (linear least squares in
+ * pressure) and the exact Jacobian of the radius the model predicts (implicit function
+ * theorem: dri/dCj = −(∂P/∂Cj)/(∂P/∂ri)). */
+#include "headplan/hp_calib.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAT_MAX_ITERS 200
+#define MAT_LAMBDA_MAX 1e16
+/* Above this condition number of the Jacobian with columns scaled by the moduli, the data
+ * see only one combination of C1 and C2: a relative error of 1e-4 in the radii (2.7 µm on
+ * 27 mm, below a caliper's resolution) could then move the moduli by 100 %. The number grows
+ * like 0.7/max|λi − 1| for points on one side of λ = 1 and 0.18/max|λi − 1| on both sides
+ * (docs/calibration.md). */
+#define MAT_COND_MAX 1e4
+
+/* a(ri) = ∂P/∂C1 and b(ri) = ∂P/∂C2 at inner radius ri: the closed form with unit moduli. */
+static hp_error basis(double Ri, double Ro, double ri, double *a, double *b)
+{
+    hp_iab u1 = {Ri, Ro, 1.0, 0.0}, u12 = {Ri, Ro, 1.0, 1.0};
+    double p1, p12;
+    hp_error e = hp_iab_ik(&u1, ri, &p1);
+    if (!e) e = hp_iab_ik(&u12, ri, &p12);
+    if (e) return e;
+    *a = p1;
+    *b = p12 - p1;
+    return HP_OK;
+}
+
+/* The model's radius (inner or outer) for pressure P and its derivatives w.r.t. C1, C2. */
+static hp_error model_radius(const hp_iab *m, const hp_iab_limit *lp, hp_calib_radius kind,
+                             double P, double *r, double dr[2])
+{
+    double ri, Pri, dP, a, b;
+    hp_error e = hp_iab_fk_limit(m, lp, P, &ri);
+    if (!e) e = hp_iab_ik_derivs(m, ri, &Pri, &dP, NULL);
+    if (!e) e = basis(m->Ri, m->Ro, ri, &a, &b);
+    if (e) return e;
+    if (!(dP > 0)) return HP_ERR_NO_STABLE;
+    double scale = 1.0;
+    *r = ri;
+    if (kind == HP_CALIB_OUTER) {
+        double ro;
+        e = hp_iab_ro(m, ri, &ro);
+        if (e) return e;
+        *r = ro;
+        scale = (ri / ro) * (ri / ro); /* dro/dri from the volume law */
+    }
+    if (dr) {
+        dr[0] = -scale * a / dP;
+        dr[1] = -scale * b / dP;
+    }
+    return HP_OK;
+}
+
+/* Weighted residuals e_i = (r_meas − r_model)/σ_i and, if J is not NULL, their Jacobian
+ * (n×2, row-major). Returns the index of the point that failed through *bad. */
+static hp_error residuals(const hp_iab *m, hp_calib_radius kind, const hp_calib_point *pts,
+                          int n, double *e, double *J, int *bad, hp_iab_limit *lp_out)
+{
+    hp_iab_limit lp;
+    hp_error err = hp_iab_limit_point(m, &lp);
+    if (err) return err;
+    if (lp_out) *lp_out = lp;
+    for (int i = 0; i < n; ++i) {
+        double r, dr[2];
+        if (lp.exists && !(pts[i].pressure < lp.pressure)) err = HP_ERR_NO_STABLE;
+        else err = model_radius(m, &lp, kind, pts[i].pressure, &r, dr);
+        if (err) {
+            if (bad) *bad = i;
+            return err;
+        }
+        e[i] = (pts[i].radius - r) / pts[i].sigma;
+        if (J) {
+            J[2 * i] = -dr[0] / pts[i].sigma;
+            J[2 * i + 1] = -dr[1] / pts[i].sigma;
+        }
+    }
+    return HP_OK;
+}
+
+static double sumsq(int n, const double *v)
+{
+    double s = 0.0;
+    for (int i = 0; i < n; ++i) s += v[i] * v[i];
+    return s;
+}
+
+/* A = JᵀJ (2×2, symmetric) and g = Jᵀe. */
+static void normal_eq(int n, const double *J, const double *e, double A[3], double g[2])
+{
+    A[0] = A[1] = A[2] = 0.0;
+    if (g) g[0] = g[1] = 0.0;
+    for (int i = 0; i < n; ++i) {
+        A[0] += J[2 * i] * J[2 * i];
+        A[1] += J[2 * i] * J[2 * i + 1];
+        A[2] += J[2 * i + 1] * J[2 * i + 1];
+        if (g) {
+            g[0] += J[2 * i] * e[i];
+            g[1] += J[2 * i + 1] * e[i];
+        }
+    }
+}
+
+/* Inverse of the symmetric 2×2 [A0 A1; A1 A2] into inv (same layout). 0 when singular. */
+static int inv2(const double A[3], double inv[3])
+{
+    double det = A[0] * A[2] - A[1] * A[1];
+    if (!(det > 0) || !isfinite(det)) return 0;
+    inv[0] = A[2] / det;
+    inv[1] = -A[1] / det;
+    inv[2] = A[0] / det;
+    return 1;
+}
+
+/* Condition number of the 2×2 symmetric positive semidefinite S = JᵀJ as sqrt of its
+ * eigenvalue ratio (the singular values of J). */
+static double cond2(const double S[3])
+{
+    double tr = 0.5 * (S[0] + S[2]);
+    double dd = hypot(0.5 * (S[0] - S[2]), S[1]);
+    double lmax = tr + dd, lmin = (S[0] * S[2] - S[1] * S[1]) / lmax;
+    if (!(lmin > 0)) return INFINITY;
+    return sqrt(lmax / lmin);
+}
+
+static void set_nan(hp_material_fit *out)
+{
+    double nan = NAN;
+    out->C1 = out->C2 = out->C10 = out->C01 = nan;
+    out->se[0] = out->se[1] = out->corr = out->condition = out->t = out->s = nan;
+    out->rms = out->limit_pressure = nan;
+    out->ci[0][0] = out->ci[0][1] = out->ci[1][0] = out->ci[1][1] = nan;
+    out->n = out->dof = out->iterations = 0;
+}
+
+static long line_of(const hp_calib_point *p, int i) { return p->line ? p->line : i + 1; }
+
+/* Checks the points and the design before any fitting; converts measured radii to inner
+ * radii for the starting fit. */
+static hp_error check_points(double Ri, double Ro, hp_calib_radius kind,
+                             const hp_calib_point *pts, int n, double *ri_meas, hp_diag *d)
+{
+    hp_iab geo = {Ri, Ro, 1.0, 1.0};
+    hp_diag sub = {{0}};
+    if (hp_iab_validate(&geo, &sub)) return hp_diag_set(d, HP_ERR_INVALID, "%s", sub.text);
+    if (kind != HP_CALIB_INNER && kind != HP_CALIB_OUTER)
+        return hp_diag_set(d, HP_ERR_INVALID, "kind: must be inner or outer radius");
+    if (n < 0 || n > HP_CALIB_MAX_ROWS)
+        return hp_diag_set(d, HP_ERR_INVALID, "n: %d points (at most %d)", n,
+                           HP_CALIB_MAX_ROWS);
+    for (int i = 0; i < n; ++i) {
+        const hp_calib_point *p = &pts[i];
+        long ln = line_of(p, i);
+        if (!isfinite(p->pressure))
+            return hp_diag_set(d, HP_ERR_INVALID, "point %ld: pressure: must be finite", ln);
+        if (!(p->radius > 0) || !isfinite(p->radius))
+            return hp_diag_set(d, HP_ERR_INVALID, "point %ld: radius: must be finite and > 0",
+                               ln);
+        if (!(p->sigma > 0) || !isfinite(p->sigma))
+            return hp_diag_set(d, HP_ERR_INVALID, "point %ld: sigma: must be finite and > 0",
+                               ln);
+        ri_meas[i] = p->radius;
+        if (kind == HP_CALIB_OUTER && hp_iab_ri(&geo, p->radius, &ri_meas[i]) != HP_OK)
+            return hp_diag_set(d, HP_ERR_INVALID,
+                               "point %ld: outer radius %g mm: the cavity would collapse "
+                               "(needs ro > %g mm)",
+                               ln, p->radius * 1e3, cbrt(Ro * Ro * Ro - Ri * Ri * Ri) * 1e3);
+    }
+    /* Each distinct pressure is one equation in (C1, C2); P = 0 holds Ri whatever they are. */
+    int distinct = 0;
+    double first = 0.0;
+    for (int i = 0; i < n; ++i) {
+        if (pts[i].pressure == 0.0) continue;
+        if (distinct == 0) {
+            first = pts[i].pressure;
+            distinct = 1;
+        } else if (pts[i].pressure != first) {
+            distinct = 2;
+            break;
+        }
+    }
+    if (distinct < 2)
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "cannot determine both moduli: %s (each pressure gives one equation "
+                           "in C1 and C2; measure at two or more different pressures)",
+                           distinct == 0 ? "no non-zero pressure" : "only one non-zero pressure");
+    if (n < 3)
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "%d points for 2 moduli: at least 3 are needed to estimate the "
+                           "scatter (and so the intervals)",
+                           n);
+    return HP_OK;
+}
+
+/* Starting moduli: weighted linear least squares of P = C1·a(ri) + C2·b(ri) at the measured
+ * radii, moved inside C1 > 0, C2 >= 0 when the data's noise pushes it out. */
+static void start_point(double Ri, double Ro, const hp_calib_point *pts, const double *ri,
+                        int n, double *C1, double *C2)
+{
+    double A[3] = {0}, g[2] = {0}, s11 = 0.0, s1p = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double a, b;
+        if (basis(Ri, Ro, ri[i], &a, &b)) continue;
+        double w = 1.0 / (pts[i].sigma * pts[i].sigma);
+        A[0] += w * a * a;
+        A[1] += w * a * b;
+        A[2] += w * b * b;
+        g[0] += w * a * pts[i].pressure;
+        g[1] += w * b * pts[i].pressure;
+        s11 += w * (a + b) * (a + b);
+        s1p += w * (a + b) * pts[i].pressure;
+    }
+    double inv[3];
+    if (inv2(A, inv)) {
+        *C1 = inv[0] * g[0] + inv[1] * g[1];
+        *C2 = inv[1] * g[0] + inv[2] * g[1];
+        if (*C1 > 0 && *C2 >= 0) return;
+    }
+    /* One common modulus K for both (C1 = C2 = K) from P = K·(a + b). */
+    double K = s11 > 0 ? s1p / s11 : 1e4;
+    if (!(K > 0) || !isfinite(K)) K = 1e4;
+    *C1 = *C2 = K;
+}
+
+hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_calib_point *pts,
+                         int n, hp_material_fit *out, double *resid, hp_diag *diag)
+{
+    if (!out) return HP_ERR_NULL;
+    set_nan(out);
+    if (!pts && n > 0) return HP_ERR_NULL;
+    double *work = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1) * 5);
+    if (!work) return hp_diag_set(diag, HP_ERR_NOMEM, "out of memory");
+    double *ri_meas = work, *e = work + n, *et = work + 2 * n, *J = work + 3 * n;
+    hp_error err = check_points(Ri, Ro, kind, pts, n, ri_meas, diag);
+    if (err) goto done;
+
+    double C[2];
+    start_point(Ri, Ro, pts, ri_meas, n, &C[0], &C[1]);
+    hp_iab m = {Ri, Ro, C[0], C[1]};
+    /* The fit in pressure can follow a falling branch, the fit in radius cannot: when the
+     * moduli the pressures suggest put the largest measured radius past their own limit
+     * point, the bladder was measured beyond it (under volume control) and the
+     * pressure-controlled model has no radius there. */
+    hp_iab_limit lp0;
+    if (hp_iab_limit_point(&m, &lp0) == HP_OK && lp0.exists) {
+        int imax = 0;
+        for (int i = 1; i < n; ++i)
+            if (ri_meas[i] > ri_meas[imax]) imax = i;
+        if (!(ri_meas[imax] < lp0.ri)) {
+            err = hp_diag_set(diag, HP_ERR_INVALID,
+                              "the fit runs into the limit point: point %ld (ri %.6g mm) lies "
+                              "past the inflation limit point (lambda_i %.4f, %.6g Pa) of the moduli "
+                              "its pressures suggest; fit stable-branch points only",
+                              line_of(&pts[imax], imax), ri_meas[imax] * 1e3, lp0.lambda_i,
+                              lp0.pressure);
+            goto done;
+        }
+    }
+    int bad = -1;
+    err = residuals(&m, kind, pts, n, e, J, &bad, NULL);
+    /* The linear start may put a large pressure past the limit point: stiffen until not. */
+    for (int k = 0; err == HP_ERR_NO_STABLE && k < 60; ++k) {
+        m.C2 = m.C2 > 0 ? m.C2 * 2.0 : 0.1 * m.C1;
+        err = residuals(&m, kind, pts, n, e, J, &bad, NULL);
+    }
+    if (err) {
+        err = hp_diag_set(diag, HP_ERR_INVALID,
+                          "point %ld: no starting moduli hold pressure %g Pa on the stable "
+                          "branch",
+                          bad >= 0 ? line_of(&pts[bad], bad) : 0L,
+                          bad >= 0 ? pts[bad].pressure : NAN);
+        goto done;
+    }
+    double cost = sumsq(n, e), lambda = 1e-3;
+    int it = 0, converged = 0, last_reject_limit = -1;
+    while (it < MAT_MAX_ITERS) {
+        ++it;
+        double A[3], g[2], inv[3];
+        normal_eq(n, J, e, A, g);
+        double Ad[3] = {A[0] * (1.0 + lambda), A[1], A[2] * (1.0 + lambda)};
+        if (!inv2(Ad, inv)) {
+            converged = 1; /* singular: the condition check below says why */
+            break;
+        }
+        double step[2] = {-(inv[0] * g[0] + inv[1] * g[1]), -(inv[1] * g[0] + inv[2] * g[1])};
+        hp_iab t = m;
+        t.C1 += step[0];
+        t.C2 += step[1];
+        double ct = INFINITY;
+        int tbad = -1;
+        if (t.C1 > 0 && t.C2 >= 0) {
+            hp_error te = residuals(&t, kind, pts, n, et, NULL, &tbad, NULL);
+            if (te == HP_OK) ct = sumsq(n, et);
+            last_reject_limit = te == HP_ERR_NO_STABLE ? tbad : -1;
+        } else {
+            last_reject_limit = -2; /* a modulus would leave the model's range */
+        }
+        double rel = fmax(fabs(step[0]) / m.C1, fabs(step[1]) / fmax(m.C1, m.C2));
+        if (ct <= cost) {
+            m = t;
+            cost = ct;
+            err = residuals(&m, kind, pts, n, e, J, &bad, NULL);
+            if (err) break;
+            lambda = fmax(lambda * 0.1, 1e-15);
+            last_reject_limit = -1;
+            if (rel < 1e-13) {
+                converged = 1;
+                break;
+            }
+        } else {
+            lambda *= 10.0;
+            if (lambda > MAT_LAMBDA_MAX || rel < 1e-13) {
+                converged = last_reject_limit == -1 || rel < 1e-13;
+                break;
+            }
+        }
+    }
+    if (err) {
+        err = hp_diag_set(diag, HP_ERR_INVALID, "the fit failed at point %ld",
+                          bad >= 0 ? line_of(&pts[bad], bad) : 0L);
+        goto done;
+    }
+    if (!converged && last_reject_limit >= 0) {
+        err = hp_diag_set(diag, HP_ERR_INVALID,
+                          "the fit runs into the limit point: the moduli the data prefer leave "
+                          "no stable radius for pressure %g Pa (point %ld); measure below the "
+                          "bladder's inflation limit",
+                          pts[last_reject_limit].pressure,
+                          line_of(&pts[last_reject_limit], last_reject_limit));
+        goto done;
+    }
+    if (!converged && last_reject_limit == -2) {
+        err = hp_diag_set(diag, HP_ERR_INVALID,
+                          "the fit runs into the model's bound C2 >= 0 (C1 %.6g Pa, C2 %.6g "
+                          "Pa): the data prefer moduli the Mooney-Rivlin shell cannot have",
+                          m.C1, m.C2);
+        goto done;
+    }
+    if (!converged) {
+        err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE,
+                          "the fit did not converge in %d iterations", MAT_MAX_ITERS);
+        goto done;
+    }
+
+    hp_iab_limit lp;
+    err = residuals(&m, kind, pts, n, e, J, &bad, &lp);
+    if (err) {
+        err = hp_diag_set(diag, HP_ERR_INVALID, "the fit failed at point %ld",
+                          bad >= 0 ? line_of(&pts[bad], bad) : 0L);
+        goto done;
+    }
+    /* A measured radius past the fitted limit point lies on the unstable branch: the
+     * stable-branch model cannot have produced it. */
+    for (int i = 0; i < n; ++i)
+        if (lp.exists && !(ri_meas[i] < lp.ri)) {
+            err = hp_diag_set(diag, HP_ERR_INVALID,
+                              "the fit runs into the limit point: point %ld's radius lies past "
+                              "the fitted bladder's limit point (ri %.6g mm >= %.6g mm)",
+                              line_of(&pts[i], i), ri_meas[i] * 1e3, lp.ri * 1e3);
+            goto done;
+        }
+    double A[3], inv[3];
+    normal_eq(n, J, e, A, NULL);
+    double S[3] = {A[0] * m.C1 * m.C1, A[1] * m.C1 * m.C2, A[2] * m.C2 * m.C2};
+    double cond = m.C2 > 0 ? cond2(S) : cond2(A);
+    if (!(cond <= MAT_COND_MAX) || !inv2(A, inv)) {
+        double lo = INFINITY, hi = -INFINITY;
+        for (int i = 0; i < n; ++i) {
+            lo = fmin(lo, ri_meas[i] / Ri);
+            hi = fmax(hi, ri_meas[i] / Ri);
+        }
+        err = hp_diag_set(diag, HP_ERR_INVALID,
+                          "cannot determine both moduli: the Jacobian's condition number is "
+                          "%.3g (> %.0e; 1e-4 relative error in a radius could move the moduli by 100 %%): the measured stretches lambda_i = %.4f..%.4f only see one "
+                          "combination of C1 and C2; measure further from lambda = 1, on both sides",
+                          cond, MAT_COND_MAX, lo, hi);
+        goto done;
+    }
+    int dof = n - 2;
+    double s2 = cost / dof;
+    double tq = hp_calib_t_quantile(0.975, dof);
+    out->C1 = m.C1;
+    out->C2 = m.C2;
+    out->C10 = 0.5 * m.C1;
+    out->C01 = 0.5 * m.C2;
+    out->se[0] = sqrt(s2 * inv[0]);
+    out->se[1] = sqrt(s2 * inv[2]);
+    out->corr = inv[1] / sqrt(inv[0] * inv[2]);
+    for (int j = 0; j < 2; ++j) {
+        double v = j == 0 ? m.C1 : m.C2;
+        out->ci[j][0] = v - tq * out->se[j];
+        out->ci[j][1] = v + tq * out->se[j];
+    }
+    out->condition = cond;
+    out->n = n;
+    out->dof = dof;
+    out->t = tq;
+    out->s = sqrt(s2);
+    double ss = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double r = e[i] * pts[i].sigma;
+        ss += r * r;
+        if (resid) resid[i] = r;
+    }
+    out->rms = sqrt(ss / n);
+    out->iterations = it;
+    out->limit_pressure = lp.exists ? lp.pressure : INFINITY;
+done:
+    free(work);
+    if (err) set_nan(out);
+    return err;
+}
+
+hp_error hp_fit_material_gain(double Ri, double Ro, hp_calib_radius kind,
+                              const hp_calib_point *pts, int n, const hp_material_fit *fit,
+                              const double *cand, int ncand, double sigma, double *shrink,
+                              hp_diag *diag)
+{
+    if (!pts || !fit || !cand || !shrink) return HP_ERR_NULL;
+    if (!(sigma > 0) || !isfinite(sigma) || ncand < 0 || n < 1 || n > HP_CALIB_MAX_ROWS)
+        return hp_diag_set(diag, HP_ERR_INVALID, "sigma, ncand or n out of range");
+    hp_iab m = {Ri, Ro, fit->C1, fit->C2};
+    hp_diag sub = {{0}};
+    if (hp_iab_validate(&m, &sub)) return hp_diag_set(diag, HP_ERR_INVALID, "%s", sub.text);
+    double *work = malloc(sizeof(double) * (size_t)n * 3);
+    if (!work) return hp_diag_set(diag, HP_ERR_NOMEM, "out of memory");
+    hp_iab_limit lp;
+    int bad = -1;
+    hp_error err = residuals(&m, kind, pts, n, work, work + n, &bad, &lp);
+    double A[3] = {0}, inv[3] = {0};
+    if (!err) {
+        normal_eq(n, work + n, work, A, NULL);
+        if (!inv2(A, inv)) err = hp_diag_set(diag, HP_ERR_INVALID, "singular information");
+    }
+    for (int j = 0; !err && j < ncand; ++j) {
+        double r, dr[2];
+        shrink[2 * j] = shrink[2 * j + 1] = NAN;
+        if (!isfinite(cand[j]) || (lp.exists && !(cand[j] < lp.pressure))) continue;
+        if (model_radius(&m, &lp, kind, cand[j], &r, dr)) continue;
+        double j0 = dr[0] / sigma, j1 = dr[1] / sigma;
+        double An[3] = {A[0] + j0 * j0, A[1] + j0 * j1, A[2] + j1 * j1}, invn[3];
+        if (!inv2(An, invn)) continue;
+        shrink[2 * j] = sqrt(invn[0] / inv[0]);
+        shrink[2 * j + 1] = sqrt(invn[2] / inv[2]);
+    }
+    free(work);
+    return err;
+}

@@ -1,0 +1,144 @@
+/* Writing a calibrated layout as a scene file (format: docs/scenes.md), atomically: the text
+ * goes to a temporary file in the target's folder, is flushed to disk, then renamed over the
+ * target, so a reader sees the old file or the whole new one, never half. */
+#define _POSIX_C_SOURCE 200809L
+#include "headplan/hp_calib.h"
+#include "common/units.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* 1 when a and b name the same existing file. */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) != 0 || stat(b, &sb) != 0) return 0;
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+static void vec_mm(FILE *f, const double v[3])
+{
+    fprintf(f, "[%.17g, %.17g, %.17g]", v[0] * 1e3, v[1] * 1e3, v[2] * 1e3);
+}
+
+/* Text as a YAML double-quoted scalar (the scene forbids control characters anyway). */
+static void quoted(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; *s; ++s) {
+        if (*s == '"' || *s == '\\') fputc('\\', f);
+        if ((unsigned char)*s >= 0x20) fputc(*s, f);
+    }
+    fputc('"', f);
+}
+
+static void write_body(FILE *f, const hp_layout *L, hp_level level, const hp_scene *base,
+                       const char *name)
+{
+    fprintf(f, "headplan_scene: 1\n# Written by headplan fit layout: every bladder by its "
+               "calibrated centre.\nname: ");
+    quoted(f, name);
+    fprintf(f, "\nhead:\n  shape: %s\n", hp_head_shape_name(L->head.shape));
+    if (L->head.shape == HP_HEAD_SPHERE)
+        fprintf(f, "  radius_mm: %.17g\n", L->head.semi_axes[0] * 1e3);
+    else {
+        fprintf(f, "  semi_axes_mm: ");
+        vec_mm(f, L->head.semi_axes);
+        fputc('\n', f);
+    }
+    fprintf(f, "  center_mm: ");
+    vec_mm(f, L->head.center);
+    fputc('\n', f);
+    if (L->head.mass > 0) fprintf(f, "  mass_kg: %.17g\n", L->head.mass);
+    fprintf(f, "pivot_mm: ");
+    vec_mm(f, L->pivot);
+    fprintf(f, "\nbladders:\n");
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder *b = &L->bladders[k];
+        fprintf(f, "  - name: %s\n    center_mm: ", b->name);
+        vec_mm(f, b->center);
+        fprintf(f, "\n    Ri_mm: %.17g\n    Ro_mm: %.17g\n", b->iab.Ri * 1e3, b->iab.Ro * 1e3);
+        fprintf(f, "    material: {convention: paper, C1_pa: %.17g, C2_pa: %.17g}\n", b->iab.C1,
+                b->iab.C2);
+        fprintf(f, "    pressure_min_kpa: %.17g\n    pressure_max_kpa: %.17g\n", b->p_min / 1e3,
+                b->p_max / 1e3);
+        fprintf(f, "    stretch_min: %.17g\n    stretch_max: %.17g\n", b->stretch_min,
+                b->stretch_max);
+        if (isfinite(b->rate_max)) fprintf(f, "    rate_max_kpa: %.17g\n", b->rate_max / 1e3);
+    }
+    if (!base) {
+        fprintf(f, "model: {level: %s}\n", hp_level_name(level));
+        return;
+    }
+    fprintf(f, "model: {level: %s, tolerance_mm: %.17g", hp_level_name(level),
+            base->level_tolerance * 1e3);
+    if (base->has_auto_range)
+        fprintf(f, ", auto_translation_mm: %.17g, auto_rotation_deg: %.17g",
+                base->auto_trans * 1e3, base->auto_rot * HP_DEG_PER_RAD);
+    fprintf(f, "}\nsolver: {backend: %s, tolerance: %.17g, max_iter: %d, max_time_s: %.17g, "
+               "weight_mm_per_deg: %.17g}\n",
+            hp_backend_name(base->backend), base->tolerance, base->max_iter, base->max_time,
+            base->weight_mm_per_deg);
+    if (base->has_correction) {
+        double c[6];
+        hp_pose_to_clinical(base->correction, c);
+        fprintf(f, "correction: {");
+        for (int j = 0; j < 6; ++j)
+            fprintf(f, "%s%s: %.17g", j ? ", " : "", hp_pose_key(j), c[j]);
+        fprintf(f, "}\n");
+    }
+}
+
+hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level level,
+                              const hp_scene *base, const char *name,
+                              const char *const *inputs, int n_inputs, hp_diag *d)
+{
+    if (!path || !L || !name || (n_inputs > 0 && !inputs))
+        return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
+    if (!L->prepared) return hp_diag_set(d, HP_ERR_STATE, "layout: not prepared");
+    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE &&
+        level != HP_LEVEL_AUTO)
+        return hp_diag_set(d, HP_ERR_INVALID, "level: unknown");
+    for (int i = 0; i < n_inputs; ++i)
+        if (inputs[i] && (strcmp(inputs[i], path) == 0 || same_file(inputs[i], path)))
+            return hp_diag_set(d, HP_ERR_INVALID,
+                               "%s: is an input of the fit; write the calibrated scene to "
+                               "another file",
+                               path);
+    size_t len = strlen(path);
+    char *tmp = malloc(len + 16);
+    if (!tmp) return hp_diag_set(d, HP_ERR_NOMEM, "out of memory");
+    snprintf(tmp, len + 16, "%s.tmpXXXXXX", path);
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        hp_error e = hp_diag_set(d, HP_ERR_IO, "%s: cannot create: %s", path, strerror(errno));
+        free(tmp);
+        return e;
+    }
+    FILE *f = fdopen(fd, "w");
+    if (!f) {
+        close(fd);
+        unlink(tmp);
+        free(tmp);
+        return hp_diag_set(d, HP_ERR_IO, "%s: cannot write", path);
+    }
+    write_body(f, L, level, base, name);
+    int bad = fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0;
+    bad |= fclose(f) != 0;
+    /* mkstemp makes the file 0600; a scene is an ordinary document. */
+    if (!bad) bad = chmod(tmp, 0644) != 0;
+    if (!bad) bad = rename(tmp, path) != 0;
+    if (bad) {
+        int er = errno;
+        unlink(tmp);
+        free(tmp);
+        return hp_diag_set(d, HP_ERR_IO, "%s: cannot write: %s", path, strerror(er));
+    }
+    free(tmp);
+    return HP_OK;
+}

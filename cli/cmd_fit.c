@@ -1,0 +1,532 @@
+/* headplan fit: calibration from measurements (docs/calibration.md).
+ *   fit material DATA --Ri-mm R --Ro-mm R [--plot OUT.svg] [--json]
+ *   fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit offsets,axes]
+ *                         [--sigma-mm S] [--sigma-deg S] [--json] */
+#include "cli/cli_args.h"
+#include "cli/cli_scene.h"
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+#include "cli/fit_plot.h"
+#include "headplan/headplan.h"
+
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define CMD "fit"
+#define DEG (180.0 / 3.14159265358979323846)
+/* Candidate pressures the material planning table tries. */
+#define N_CAND 9
+
+static void help(void)
+{
+    printf("usage: headplan fit material DATA --Ri-mm R --Ro-mm R [--plot OUT.svg] [--json]\n"
+           "       headplan fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit WHAT]\n"
+           "                           [--sigma-mm S] [--sigma-deg S] [--json]\n\n"
+           "material: fit one bladder's moduli C1, C2 (paper convention) to free-inflation\n"
+           "  measurements. DATA is CSV with the header pressure_pa,ri_mm (or ro_mm; pressure_kpa\n"
+           "  allowed) and an optional third column sigma_mm (the radius's standard deviation).\n"
+           "  --Ri-mm, --Ro-mm   the bladder's reference inner and outer radius (required)\n"
+           "  --plot OUT.svg     also write the residuals against the pressure as an SVG chart\n"
+           "layout: fit every bladder's radial offset and the head's semi-axes to measured\n"
+           "  (pressures, pose) rows. DATA is CSV: p_<bladder>_pa (or _kpa) for every bladder of\n"
+           "  SCENE, then x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg.\n"
+           "  -o OUT.yaml        write the calibrated scene (atomically; never over an input)\n"
+           "  --level L          forward model: linear, plane or surface (default: the scene's\n"
+           "                     level, auto resolved as solve does)\n"
+           "  --fit WHAT         offsets, axes or offsets,axes (default)\n"
+           "  --sigma-mm S       standard deviation of a measured translation (default 0.1)\n"
+           "  --sigma-deg S      standard deviation of a measured rotation (default 0.1)\n"
+           "  --json             one JSON object on stdout instead of text\n"
+           "  --help             this text\n\n"
+           "Intervals are 95 %% (Student's t), from the fit's Jacobian with the scatter estimated\n"
+           "from the residuals. exit status: 0 ok, 64 usage, 65 bad data or data that cannot\n"
+           "determine the fit, 66 cannot open, 70 internal failure, 73 cannot write\n");
+}
+
+static int status_of(hp_error e)
+{
+    switch (e) {
+    case HP_ERR_IO: return HP_EXIT_NOINPUT;
+    case HP_ERR_NOMEM:
+    case HP_ERR_NO_CONVERGENCE:
+    case HP_ERR_SOLVER: return HP_EXIT_SOFTWARE;
+    default: return HP_EXIT_DATAERR;
+    }
+}
+
+static int print_json(json_t *o)
+{
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    json_decref(o);
+    if (!s) return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    printf("%s\n", s);
+    free(s);
+    return HP_EXIT_OK;
+}
+
+static json_t *real_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
+
+/* ---------------------------------------------------------------- material */
+
+/* Candidate pressures for the planning table: from the lowest measured pressure minus half
+ * the span to the highest plus half, kept inside the stretches 0.7..1.5 of the fitted
+ * bladder (a rubber shell is not stretched further for a calibration) and below 95 % of its
+ * limit point. */
+static void candidates(const hp_iab *b, const hp_calib_point *pts, int n, double limit,
+                       double *cand)
+{
+    double pmin, pmax;
+    if (hp_iab_ik(b, 0.7 * b->Ri, &pmin)) pmin = -INFINITY;
+    if (hp_iab_ik(b, 1.5 * b->Ri, &pmax)) pmax = INFINITY;
+    double lo = pts[0].pressure, hi = pts[0].pressure;
+    for (int i = 1; i < n; ++i) {
+        lo = fmin(lo, pts[i].pressure);
+        hi = fmax(hi, pts[i].pressure);
+    }
+    double span = hi - lo;
+    lo -= 0.5 * span;
+    hi += 0.5 * span;
+    if (isfinite(limit) && hi > 0.95 * limit) hi = 0.95 * limit;
+    lo = fmax(lo, pmin);
+    hi = fmin(hi, pmax);
+    for (int j = 0; j < N_CAND; ++j) cand[j] = lo + (hi - lo) * j / (N_CAND - 1);
+}
+
+static int run_material(int argc, char **argv)
+{
+    const char *data = NULL, *ri_t = NULL, *ro_t = NULL, *plot = NULL;
+    int json = 0;
+    for (int i = 0; i < argc; ++i) {
+        const char *v;
+        int m;
+        if (strcmp(argv[i], "--json") == 0) {
+            json = 1;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--Ri-mm", &v)) != 0) {
+            if (m < 0) return HP_EXIT_USAGE;
+            ri_t = v;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--Ro-mm", &v)) != 0) {
+            if (m < 0) return HP_EXIT_USAGE;
+            ro_t = v;
+        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--plot", &v)) != 0) {
+            if (m < 0) return HP_EXIT_USAGE;
+            plot = v;
+        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
+        } else if (data) {
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "material: one DATA file only");
+        } else {
+            data = argv[i];
+        }
+    }
+    if (!data) return hp_cli_fail(HP_EXIT_USAGE, CMD, "material: missing DATA file");
+    if (!ri_t || !ro_t)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD, "material: --Ri-mm and --Ro-mm are required");
+    double Ri, Ro;
+    int rc = hp_cli_double(CMD, "--Ri-mm", ri_t, &Ri);
+    if (!rc) rc = hp_cli_double(CMD, "--Ro-mm", ro_t, &Ro);
+    if (rc) return rc;
+    if (!(Ri > 0) || !(Ro > Ri))
+        return hp_cli_fail(HP_EXIT_USAGE, CMD, "--Ri-mm, --Ro-mm: need 0 < Ri < Ro (got %g, %g)",
+                           Ri, Ro);
+    Ri *= 1e-3;
+    Ro *= 1e-3;
+
+    hp_calib_point *pts = malloc(sizeof *pts * HP_CALIB_MAX_ROWS);
+    double *res = malloc(sizeof *res * HP_CALIB_MAX_ROWS);
+    if (!pts || !res) {
+        free(pts);
+        free(res);
+        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    }
+    int n = 0;
+    hp_calib_radius kind;
+    hp_diag d = {{0}};
+    hp_material_fit f;
+    hp_error e = hp_calib_read_material(data, pts, HP_CALIB_MAX_ROWS, &n, &kind, &d);
+    if (e) rc = hp_cli_fail(status_of(e), CMD, "%s", d.text);
+    else if ((e = hp_fit_material(Ri, Ro, kind, pts, n, &f, res, &d)) != HP_OK)
+        rc = hp_cli_fail(status_of(e), CMD, "%s: %s", data, d.text);
+    if (rc) {
+        free(pts);
+        free(res);
+        return rc;
+    }
+    if (plot) {
+        /* Residuals in mm against pressure in kPa; dashed: ±t·s·σ of the first point, the
+         * band a residual of that weight stays inside 95 % of the time. */
+        double *xs = malloc(sizeof *xs * (size_t)n), *ys = malloc(sizeof *ys * (size_t)n);
+        if (!xs || !ys) rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+        for (int i = 0; !rc && i < n; ++i) {
+            xs[i] = pts[i].pressure * 1e-3;
+            ys[i] = res[i] * 1e3;
+        }
+        if (!rc)
+            rc = hp_fit_plot_svg(CMD, plot, "headplan fit material: residuals (measured - fitted)",
+                                 xs, ys, n, f.t * f.s * pts[0].sigma * 1e3, "pressure [kPa]",
+                                 kind == HP_CALIB_INNER ? "ri residual [mm]"
+                                                        : "ro residual [mm]");
+        free(xs);
+        free(ys);
+        if (rc) {
+            free(pts);
+            free(res);
+            return rc;
+        }
+    }
+    double cand[N_CAND], shrink[2 * N_CAND];
+    /* The next point is assumed as precise as the first one measured. */
+    double sig = pts[0].sigma;
+    hp_iab fitted = {Ri, Ro, f.C1, f.C2};
+    candidates(&fitted, pts, n, f.limit_pressure, cand);
+    if (hp_fit_material_gain(Ri, Ro, kind, pts, n, &f, cand, N_CAND, sig, shrink, &d))
+        for (int j = 0; j < 2 * N_CAND; ++j) shrink[j] = NAN;
+    const char *rname = kind == HP_CALIB_INNER ? "ri" : "ro";
+
+    if (json) {
+        json_t *o = json_object();
+        json_object_set_new(o, "data", json_string(data));
+        json_object_set_new(o, "radius", json_string(kind == HP_CALIB_INNER ? "inner" : "outer"));
+        json_object_set_new(o, "points", json_integer(n));
+        json_object_set_new(o, "Ri_mm", json_real(Ri * 1e3));
+        json_object_set_new(o, "Ro_mm", json_real(Ro * 1e3));
+        const char *nm[2] = {"C1_pa", "C2_pa"};
+        for (int j = 0; j < 2; ++j) {
+            json_t *p = json_object();
+            json_object_set_new(p, "value", json_real(j ? f.C2 : f.C1));
+            json_object_set_new(p, "se", json_real(f.se[j]));
+            json_object_set_new(p, "ci95", json_pack("[f,f]", f.ci[j][0], f.ci[j][1]));
+            json_object_set_new(o, nm[j], p);
+        }
+        json_object_set_new(o, "C10_pa", json_real(f.C10));
+        json_object_set_new(o, "C01_pa", json_real(f.C01));
+        json_object_set_new(o, "correlation", json_real(f.corr));
+        json_object_set_new(o, "condition", json_real(f.condition));
+        json_object_set_new(o, "dof", json_integer(f.dof));
+        json_object_set_new(o, "t975", json_real(f.t));
+        json_object_set_new(o, "s_unit_weight", json_real(f.s));
+        json_object_set_new(o, "rms_mm", json_real(f.rms * 1e3));
+        json_object_set_new(o, "iterations", json_integer(f.iterations));
+        json_object_set_new(o, "limit_pressure_pa", real_or_null(f.limit_pressure));
+        json_t *rs = json_array();
+        for (int i = 0; i < n; ++i)
+            json_array_append_new(rs, json_pack("{s:I,s:f,s:f,s:f}", "line",
+                                                (json_int_t)pts[i].line, "pressure_pa",
+                                                pts[i].pressure, "measured_mm",
+                                                pts[i].radius * 1e3, "residual_mm", res[i] * 1e3));
+        json_object_set_new(o, "residuals", rs);
+        json_t *nx = json_array();
+        for (int j = 0; j < N_CAND; ++j) {
+            json_t *c = json_object();
+            json_object_set_new(c, "pressure_pa", json_real(cand[j]));
+            json_object_set_new(c, "se_ratio_C1", real_or_null(shrink[2 * j]));
+            json_object_set_new(c, "se_ratio_C2", real_or_null(shrink[2 * j + 1]));
+            json_array_append_new(nx, c);
+        }
+        json_object_set_new(o, "next_point", nx);
+        json_object_set_new(o, "scene_fragment",
+                            json_pack("{s:s,s:f,s:f}", "convention", "paper", "C1_pa", f.C1,
+                                      "C2_pa", f.C2));
+        free(pts);
+        free(res);
+        return print_json(o);
+    }
+    printf("material fit: %s, %d points (%s radius), Ri %g mm, Ro %g mm\n", data, n,
+           kind == HP_CALIB_INNER ? "inner" : "outer", Ri * 1e3, Ro * 1e3);
+    printf("  C1  = %-12.6g Pa  SE %-10.4g 95%% [%.6g, %.6g]\n", f.C1, f.se[0], f.ci[0][0],
+           f.ci[0][1]);
+    printf("  C2  = %-12.6g Pa  SE %-10.4g 95%% [%.6g, %.6g]\n", f.C2, f.se[1], f.ci[1][0],
+           f.ci[1][1]);
+    printf("  C10 = %-12.6g Pa  C01 = %.6g Pa (finite-element convention: C1/2, C2/2)\n", f.C10,
+           f.C01);
+    printf("  correlation(C1, C2) %.4f, condition number %.3g, %d iterations\n", f.corr,
+           f.condition, f.iterations);
+    printf("  residual RMS %.4g mm; scatter s = %.4g (for unit weight), %d degrees of freedom, "
+           "t(0.975) = %.4f\n",
+           f.rms * 1e3, f.s, f.dof, f.t);
+    for (int j = 0; j < 2; ++j)
+        if (f.ci[j][0] <= 0)
+            printf("  warning: the interval of %s reaches 0: these data barely determine it\n",
+                   j ? "C2" : "C1");
+    if (isfinite(f.limit_pressure))
+        printf("  limit point of the fitted bladder: %.6g Pa\n", f.limit_pressure);
+    else
+        printf("  the fitted bladder has no limit point (pressure rises monotonically)\n");
+    printf("\nresiduals (measured - fitted):\n  %6s %14s %14s %14s %14s\n", "line",
+           "pressure_pa", kind == HP_CALIB_INNER ? "ri_mm" : "ro_mm", "fitted_mm",
+           "residual_mm");
+    for (int i = 0; i < n; ++i)
+        printf("  %6ld %14.6g %14.6f %14.6f %+14.6f\n", pts[i].line, pts[i].pressure,
+               pts[i].radius * 1e3, (pts[i].radius - res[i]) * 1e3, res[i] * 1e3);
+    printf("\nnext measurement: one more point at pressure P (sigma %.4g mm) would shrink the "
+           "standard errors to\n  %12s %8s %10s %10s\n",
+           sig * 1e3, "pressure_pa", "lambda_i", "SE(C1) x", "SE(C2) x");
+    for (int j = 0; j < N_CAND; ++j) {
+        double ri = NAN;
+        if (hp_iab_fk(&fitted, cand[j], &ri)) ri = NAN;
+        printf("  %12.6g %8.4f %10.4f %10.4f\n", cand[j], ri / Ri, shrink[2 * j],
+               shrink[2 * j + 1]);
+    }
+    printf("\nscene fragment (%s data):\n  material: {convention: paper, C1_pa: %.6g, C2_pa: "
+           "%.6g}\n",
+           rname, f.C1, f.C2);
+    free(pts);
+    free(res);
+    return HP_EXIT_OK;
+}
+
+/* ---------------------------------------------------------------- layout */
+
+typedef struct layout_args {
+    const char *scene, *data, *out, *level, *what, *sig_mm, *sig_deg;
+    int json;
+} layout_args;
+
+static int parse_layout(int argc, char **argv, layout_args *a)
+{
+    memset(a, 0, sizeof *a);
+    const char *names[] = {"-o", "--level", "--fit", "--sigma-mm", "--sigma-deg"};
+    const char **slots[] = {&a->out, &a->level, &a->what, &a->sig_mm, &a->sig_deg};
+    for (int i = 0; i < argc; ++i) {
+        if (strcmp(argv[i], "--json") == 0) {
+            a->json = 1;
+            continue;
+        }
+        int matched = 0;
+        for (int o = 0; o < 5 && !matched; ++o) {
+            const char *v;
+            int m = hp_cli_opt(CMD, argc, argv, &i, names[o], &v);
+            if (m < 0) return HP_EXIT_USAGE;
+            if (m == 0) continue;
+            if (*slots[o])
+                return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given twice", names[o]);
+            *slots[o] = v;
+            matched = 1;
+        }
+        if (matched) continue;
+        if (argv[i][0] == '-' && argv[i][1] != '\0')
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
+        if (!a->scene) a->scene = argv[i];
+        else if (!a->data) a->data = argv[i];
+        else return hp_cli_fail(HP_EXIT_USAGE, CMD, "layout: unexpected argument '%s'", argv[i]);
+    }
+    if (!a->scene || !a->data)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD, "layout: needs SCENE and DATA");
+    return -1;
+}
+
+static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fit_options *o)
+{
+    hp_layout_fit_options_default(o);
+    if (a->what) {
+        if (strcmp(a->what, "offsets") == 0) o->fit_axes = 0;
+        else if (strcmp(a->what, "axes") == 0) o->fit_offsets = 0;
+        else if (strcmp(a->what, "offsets,axes") != 0 && strcmp(a->what, "axes,offsets") != 0)
+            return hp_cli_fail(HP_EXIT_USAGE, CMD,
+                               "--fit: '%s': use offsets, axes or offsets,axes", a->what);
+    }
+    double v;
+    if (a->sig_mm) {
+        if (hp_cli_double(CMD, "--sigma-mm", a->sig_mm, &v)) return HP_EXIT_USAGE;
+        if (!(v > 0)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--sigma-mm: must be > 0");
+        o->sigma_trans = v * 1e-3;
+    }
+    if (a->sig_deg) {
+        if (hp_cli_double(CMD, "--sigma-deg", a->sig_deg, &v)) return HP_EXIT_USAGE;
+        if (!(v > 0)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--sigma-deg: must be > 0");
+        o->sigma_rot = v / DEG;
+    }
+    hp_settings s;
+    int rc = hp_cli_settings(CMD, sc, "realtime", a->level, &s);
+    if (rc) return rc;
+    o->level = s.level;
+    if (o->level == HP_LEVEL_AUTO &&
+        hp_contact_auto(&sc->layout, s.level_tolerance, s.auto_trans, s.auto_rot, &o->level))
+        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: auto could not choose a level", a->scene);
+    return 0;
+}
+
+/* Unit and scale of parameter j for printing: every parameter is a length in mm. */
+static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_calib_row *rows,
+                        const double *gain, hp_level level)
+{
+    int held = 0;
+    printf("layout fit: %s with %s, %d rows, level %s\n", a->scene, a->data, f->n_rows,
+           hp_level_name(level));
+    printf("  Jacobian: %d parameters, rank %d; fitted %d; condition number of the fitted "
+           "columns %.3g\n",
+           f->np, f->rank, f->n_res - f->dof, f->condition);
+    printf("  scatter s = %.4g (1 = as stated by --sigma-mm/--sigma-deg), %d degrees of "
+           "freedom, t(0.975) = %.4f\n\n",
+           f->s, f->dof, f->t);
+    printf("  %-30s %12s %12s %10s %25s\n", "parameter [mm]", "scene", "fitted", "SE",
+           "95% interval");
+    for (int j = 0; j < f->np; ++j) {
+        if (f->determined[j] != 1) {
+            printf("  %-30s %12.4f %12s %10s %25s\n", f->name[j], f->scene_value[j] * 1e3,
+                   f->determined[j] ? "(not fitted)" : "(held)", "-", "-");
+            held += f->determined[j] == 0;
+            continue;
+        }
+        char iv[64];
+        snprintf(iv, sizeof iv, "[%.4f, %.4f]", f->ci[j][0] * 1e3, f->ci[j][1] * 1e3);
+        printf("  %-30s %12.4f %12.4f %10.4f %25s\n", f->name[j], f->scene_value[j] * 1e3,
+               f->value[j] * 1e3, f->se[j] * 1e3, iv);
+    }
+    if (held) {
+        printf("\n  not determined by these data (held at the scene's value):");
+        for (int j = 0; j < f->np; ++j)
+            if (f->determined[j] == 0) printf(" %s", f->name[j]);
+        printf("\n  (their effect on the measured poses is a combination of the fitted ones')\n");
+    }
+    printf("\n  weakest combination (SE %.4g mm along it):", f->weakest_se * 1e3);
+    for (int j = 0; j < f->np; ++j)
+        if (fabs(f->weakest[j]) >= 0.2) printf(" %+.2f %s", f->weakest[j], f->name[j]);
+    printf("\n");
+    printf("\n  singular values (unit-norm columns):");
+    for (int j = 0; j < f->np; ++j) printf(" %.3g", f->sv[j]);
+    printf("\n\n  residual RMS per axis   %12s %12s\n", "before", "after");
+    for (int j = 0; j < 6; ++j) {
+        double k = j < 3 ? 1e3 : DEG;
+        if (isfinite(f->rms_before[j]))
+            printf("  %-22s %12.5f %12.5f\n", hp_pose_key(j), f->rms_before[j] * k,
+                   f->rms_after[j] * k);
+    }
+    /* The rows whose repetition would help most. */
+    int order[5] = {-1, -1, -1, -1, -1};
+    for (int q = 0; q < 5; ++q)
+        for (int i = 0; i < f->n_rows; ++i) {
+            int used = 0;
+            for (int r = 0; r < q; ++r) used |= order[r] == i;
+            if (!used && isfinite(gain[i]) && (order[q] < 0 || gain[i] < gain[order[q]]))
+                order[q] = i;
+        }
+    printf("\n  next measurement: repeating the pose of row (line) ... would shrink the "
+           "fitted parameters' SE to (mean)\n");
+    for (int q = 0; q < 5 && order[q] >= 0; ++q)
+        printf("    line %ld: x %.4f\n", rows[order[q]].line, gain[order[q]]);
+}
+
+static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
+                           const hp_calib_row *rows, const double *gain, hp_level level)
+{
+    json_t *o = json_object();
+    json_object_set_new(o, "scene", json_string(a->scene));
+    json_object_set_new(o, "data", json_string(a->data));
+    json_object_set_new(o, "rows", json_integer(f->n_rows));
+    json_object_set_new(o, "level", json_string(hp_level_name(level)));
+    json_object_set_new(o, "rank", json_integer(f->rank));
+    json_object_set_new(o, "parameters_considered", json_integer(f->np));
+    json_object_set_new(o, "condition", real_or_null(f->condition));
+    json_object_set_new(o, "dof", json_integer(f->dof));
+    json_object_set_new(o, "t975", json_real(f->t));
+    json_object_set_new(o, "s_unit_weight", json_real(f->s));
+    json_t *ps = json_array(), *un = json_array(), *sv = json_array();
+    for (int j = 0; j < f->np; ++j) {
+        json_t *p = json_object();
+        json_object_set_new(p, "name", json_string(f->name[j]));
+        json_object_set_new(p, "status", json_string(f->determined[j] == 1   ? "fitted"
+                                                     : f->determined[j] == 0 ? "undetermined"
+                                                                             : "not_fitted"));
+        json_object_set_new(p, "scene_mm", json_real(f->scene_value[j] * 1e3));
+        json_object_set_new(p, "fitted_mm", json_real(f->value[j] * 1e3));
+        json_object_set_new(p, "se_mm", real_or_null(f->se[j] * 1e3));
+        json_object_set_new(p, "ci95_mm", f->determined[j] == 1
+                                              ? json_pack("[f,f]", f->ci[j][0] * 1e3,
+                                                          f->ci[j][1] * 1e3)
+                                              : json_null());
+        json_array_append_new(ps, p);
+        if (f->determined[j] == 0) json_array_append_new(un, json_string(f->name[j]));
+        json_array_append_new(sv, json_real(f->sv[j]));
+    }
+    json_object_set_new(o, "parameters", ps);
+    json_object_set_new(o, "undetermined", un);
+    json_object_set_new(o, "singular_values", sv);
+    json_t *wk = json_array();
+    for (int j = 0; j < f->np; ++j) json_array_append_new(wk, json_real(f->weakest[j]));
+    json_object_set_new(o, "weakest_direction", wk);
+    json_object_set_new(o, "weakest_se_mm", real_or_null(f->weakest_se * 1e3));
+    json_t *rb = json_object(), *ra = json_object();
+    for (int j = 0; j < 6; ++j) {
+        double k = j < 3 ? 1e3 : DEG;
+        json_object_set_new(rb, hp_pose_key(j), real_or_null(f->rms_before[j] * k));
+        json_object_set_new(ra, hp_pose_key(j), real_or_null(f->rms_after[j] * k));
+    }
+    json_object_set_new(o, "rms_before", rb);
+    json_object_set_new(o, "rms_after", ra);
+    json_t *g = json_array();
+    for (int i = 0; i < f->n_rows; ++i)
+        json_array_append_new(g, json_pack("{s:I,s:o}", "line", (json_int_t)rows[i].line,
+                                           "se_ratio", real_or_null(gain[i])));
+    json_object_set_new(o, "repeat_row_gain", g);
+    json_object_set_new(o, "output", a->out ? json_string(a->out) : json_null());
+    return o;
+}
+
+static int run_layout(int argc, char **argv)
+{
+    layout_args a;
+    int rc = parse_layout(argc, argv, &a);
+    if (rc >= 0) return rc;
+    hp_scene *sc = NULL;
+    rc = hp_cli_load_scene(CMD, a.scene, 1, &sc);
+    if (rc) return rc;
+    hp_layout_fit_options o;
+    rc = layout_options(&a, sc, &o);
+    hp_calib_row *rows = malloc(sizeof *rows * HP_CALIB_MAX_ROWS);
+    hp_layout_fit *f = malloc(sizeof *f);
+    double *gain = malloc(sizeof *gain * HP_CALIB_MAX_ROWS);
+    if (!rc && (!rows || !f || !gain)) rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    int n = 0;
+    hp_diag d = {{0}};
+    hp_error e = HP_OK;
+    if (!rc) {
+        e = hp_calib_read_layout(a.data, &sc->layout, rows, HP_CALIB_MAX_ROWS, &n, &d);
+        if (e) rc = hp_cli_fail(status_of(e), CMD, "%s", d.text);
+    }
+    if (!rc) {
+        e = hp_fit_layout(&sc->layout, rows, n, &o, f, NULL, &d);
+        if (e) rc = hp_cli_fail(status_of(e), CMD, "%s: %s", a.data, d.text);
+    }
+    if (!rc && hp_fit_layout_gain(&sc->layout, rows, n, &o, f, gain, &d))
+        for (int i = 0; i < n; ++i) gain[i] = NAN;
+    if (!rc && a.out) {
+        char name[HP_SCENE_TEXT_MAX];
+        snprintf(name, sizeof name, "%.200s (calibrated)", sc->name);
+        const char *inputs[2] = {a.scene, a.data};
+        e = hp_calib_write_scene(a.out, &f->fitted, sc->level, sc, name, inputs, 2, &d);
+        if (e) rc = hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_CANTCREAT : HP_EXIT_USAGE, CMD, "%s",
+                                d.text);
+    }
+    if (!rc) {
+        if (a.json) rc = print_json(layout_json(&a, f, rows, gain, o.level));
+        else {
+            layout_text(&a, f, rows, gain, o.level);
+            if (a.out) printf("\nwrote %s\n", a.out);
+        }
+    }
+    free(rows);
+    free(f);
+    free(gain);
+    free(sc);
+    return rc;
+}
+
+int hp_cmd_fit(int argc, char **argv)
+{
+    for (int i = 1; i < argc; ++i)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            help();
+            return HP_EXIT_OK;
+        }
+    if (argc < 2) {
+        fprintf(stderr, "headplan fit: missing what to fit (material or layout; see headplan "
+                        "fit --help)\n");
+        return HP_EXIT_USAGE;
+    }
+    if (strcmp(argv[1], "material") == 0) return run_material(argc - 2, argv + 2);
+    if (strcmp(argv[1], "layout") == 0) return run_layout(argc - 2, argv + 2);
+    return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown fit '%s' (material or layout)", argv[1]);
+}

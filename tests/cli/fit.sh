@@ -1,0 +1,158 @@
+# headplan fit: calibration from measurements (docs/calibration.md). The example data of
+# examples/calibration/ (written by make_data.py from known parameters, stated in each file's
+# comments) are fitted; the JSON is checked for its own consistency (interval = value ± t·SE
+# with Student's t, C10 = C1/2) and against the truth within 4 standard errors (a 95 %
+# interval misses 1 time in 20 by design; the cmocka coverage tests measure that rate, so
+# here a miss beyond 4 SE, probability 6e-5, is the failure). The calibrated scene loads,
+# analyses and solves. Bad inputs exit 64/65/66/73 with stdout empty and file:line:col.
+source "$2/tests/cli_lib.sh"
+E="$HP_SRC/examples/calibration"
+S="$HP_SRC/scenarios"
+
+# ---- material, inner and outer radius, JSON ------------------------------------------------
+for f in material_ri material_ro; do
+    run fit material "$E/$f.csv" --Ri-mm 27 --Ro-mm 30 --json
+    expect_exit 0 "$f --json"
+    python3 - "$TMP/out" <<'PY' && ok || bad "$f JSON"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["points"] == 12 and d["dof"] == 10, d
+t = d["t975"]
+assert abs(t - 2.228138851986) < 1e-9, t            # Student's t(0.975, 10), printed tables
+for k, truth in (("C1_pa", 12500.0), ("C2_pa", 19000.0)):
+    p = d[k]
+    lo, hi = p["ci95"]
+    assert abs(lo - (p["value"] - t * p["se"])) <= 1e-9 * p["value"], (k, p)
+    assert abs(hi - (p["value"] + t * p["se"])) <= 1e-9 * p["value"], (k, p)
+    assert abs(p["value"] - truth) < 4 * p["se"], (k, p, truth)
+assert abs(d["C10_pa"] - d["C1_pa"]["value"] / 2) <= 1e-12 * d["C10_pa"]
+assert abs(d["C01_pa"] - d["C2_pa"]["value"] / 2) <= 1e-12 * d["C01_pa"]
+assert -1 < d["correlation"] < -0.9, d["correlation"]   # the two moduli trade off
+assert len(d["residuals"]) == 12 and d["residuals"][0]["line"] == 5
+assert d["scene_fragment"]["convention"] == "paper"
+assert all(0 < c["se_ratio_C1"] <= 1 for c in d["next_point"])
+PY
+done
+
+run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30
+expect_exit 0 "material text"
+expect_stdout_has "C10 =" "text shows the FE convention"
+expect_stdout_has "material: {convention: paper, C1_pa:" "text ends with a scene fragment"
+expect_stdout_has "residuals (measured - fitted)" "text has the residual table"
+
+run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --plot "$TMP/res.svg"
+expect_exit 0 "material --plot"
+python3 - "$TMP/res.svg" <<'PY' && ok || bad "residual chart: well-formed SVG, one dot per point"
+import sys, xml.dom.minidom as m
+d = m.parse(sys.argv[1])
+assert d.documentElement.tagName == "svg"
+assert len(d.getElementsByTagName("circle")) == 12
+PY
+run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --plot "$TMP/no/dir/res.svg"
+expect_exit 73 "--plot unwritable"; expect_stdout_empty "--plot unwritable"
+
+# ---- material refusals -----------------------------------------------------------------
+printf 'pressure_pa,ri_mm\n2000,29\n2000,29.01\n2000,28.99\n' > "$TMP/one.csv"
+run fit material "$TMP/one.csv" --Ri-mm 27 --Ro-mm 30
+expect_exit 65 "one pressure"; expect_stdout_empty "one pressure"
+expect_stderr_has "only one non-zero pressure" "one pressure named"
+printf 'pressure_pa,ri_mm\n1000,28\n2000,nan\n3000,30\n' > "$TMP/nan.csv"
+run fit material "$TMP/nan.csv" --Ri-mm 27 --Ro-mm 30
+expect_exit 65 "nan radius"; expect_stderr_has "$TMP/nan.csv:3:6: ri_mm: 'nan'" "nan file:line:col"
+printf 'pressure_pa,ri_mm\n1000,28\n2000,-29\n3000,30\n' > "$TMP/neg.csv"
+run fit material "$TMP/neg.csv" --Ri-mm 27 --Ro-mm 30
+expect_exit 65 "negative radius"; expect_stderr_has "neg.csv:3:6: ri_mm: must be > 0" "negative named"
+printf 'pressure_pa,ri_mm\n1000,28\n2000\n' > "$TMP/cols.csv"
+run fit material "$TMP/cols.csv" --Ri-mm 27 --Ro-mm 30
+expect_exit 65 "column count"; expect_stderr_has "cols.csv:3:1: 1 columns, the header has 2" "cols"
+run fit material "$E/material_ri.csv" --Ri-mm 27
+expect_exit 64 "no Ro"; expect_stderr_has "--Ro-mm" "no Ro named"
+run fit material "$E/material_ri.csv" --Ri-mm 31 --Ro-mm 30
+expect_exit 64 "Ri > Ro"
+run fit material "$TMP/missing.csv" --Ri-mm 27 --Ro-mm 30
+expect_exit 66 "missing data"; expect_stdout_empty "missing data"
+run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --bogus
+expect_exit 64 "unknown option"
+run fit
+expect_exit 64 "fit alone"
+run fit colour
+expect_exit 64 "unknown fit"
+run fit --help
+expect_exit 0 "fit --help"; expect_stdout_has "headplan fit layout" "help text"
+
+# ---- layout ------------------------------------------------------------------------------
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --sigma-mm 0.05 --sigma-deg 0.05 \
+    -o "$TMP/cal.yaml" --json
+expect_exit 0 "layout -o --json"
+cp "$TMP/out" "$TMP/layout.json"
+python3 - "$TMP/layout.json" "$E/layout_rows.csv" <<'PY' && ok || bad "layout JSON"
+import json, sys
+d = json.load(open(sys.argv[1]))
+truth = {}
+for line in open(sys.argv[2]):
+    if line.startswith("# truth: semi_axes_mm="):
+        for ax, v in zip("xyz", line.split("=")[1].split()):
+            truth["semi_axis_" + ax] = float(v)
+    if line.startswith("# truth: offsets_mm="):
+        offs = [float(v) for v in line.split("=")[1].split()]
+names = ["base_neck_left", "base_neck_right", "base_skull_left", "base_skull_right",
+         "side_fore_left", "side_fore_right", "side_chin_left", "side_chin_right"]
+truth.update({"offset:" + n: o for n, o in zip(names, offs)})
+assert d["rows"] == 24 and d["level"] == "surface" and d["rank"] == 11, d
+assert d["undetermined"] == []
+for p in d["parameters"]:
+    assert p["status"] == "fitted", p
+    lo, hi = p["ci95_mm"]
+    assert abs(p["fitted_mm"] - truth[p["name"]]) < 4 * p["se_mm"], (p, truth[p["name"]])
+    assert lo < p["fitted_mm"] < hi
+for k in d["rms_before"]:
+    assert d["rms_after"][k] < d["rms_before"][k], k
+# The weakest direction: the head's size against all bladders' common offset.
+assert all(w > 0.2 for w in d["weakest_direction"]), d["weakest_direction"]
+assert all(0 < g["se_ratio"] < 1 for g in d["repeat_row_gain"])
+PY
+run fit layout "$S/default.yaml" "$E/layout_rows.jsonl" --sigma-mm 0.05 --sigma-deg 0.05 --json
+expect_exit 0 "layout from JSON Lines"
+python3 - "$TMP/layout.json" "$TMP/out" <<'PY' && ok || bad "JSON Lines rows fit exactly as the CSV rows"
+import json, sys
+a, b = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+for d in (a, b):
+    del d["data"]; d["output"] = None
+    for g in d["repeat_row_gain"]:
+        del g["line"]                                       # the files number lines apart
+assert a == b
+PY
+run analyze "$TMP/cal.yaml"
+expect_exit 0 "calibrated scene analyses"
+run solve "$TMP/cal.yaml" --correction 0.5,0,-0.3,0.2,0,0
+expect_exit 0 "calibrated scene solves (reached)"
+run solve "$TMP/cal.yaml"
+expect_exit 0 "calibrated scene keeps the input's correction"
+grep -q "^model: {level: auto, tolerance_mm: 0.01" "$TMP/cal.yaml" && ok || bad "model section copied"
+grep -q "^solver: {backend: realtime" "$TMP/cal.yaml" && ok || bad "solver section copied"
+
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --fit offsets --level linear
+expect_exit 0 "offsets only, linear"
+expect_stdout_has "(not fitted)" "axes not asked for"
+expect_stdout_has "not determined by these data (held at the scene's value): offset:side_chin_left offset:side_chin_right" "linear level names the two undetermined offsets"
+
+# ---- layout refusals ---------------------------------------------------------------------
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" -o "$E/layout_rows.csv"
+expect_exit 64 "-o over an input"; expect_stderr_has "is an input" "over input named"
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" -o "$TMP/no/such/dir/out.yaml"
+expect_exit 73 "-o unwritable"; expect_stdout_empty "-o unwritable"
+head -5 "$E/layout_rows.csv" > "$TMP/short.csv"
+echo "1,2,3" >> "$TMP/short.csv"
+run fit layout "$S/default.yaml" "$TMP/short.csv"
+expect_exit 65 "short row"; expect_stderr_has "short.csv:6:1: 3 columns, the header has 14" "short row named"
+run fit layout "$S/default.yaml" "$E/material_ri.csv"
+expect_exit 65 "wrong header"; expect_stderr_has "material_ri.csv:4:1: header: unknown column 'pressure_pa'" "header named"
+run fit layout "$S/missing.yaml" "$E/layout_rows.csv"
+expect_exit 66 "missing scene"
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --fit everything
+expect_exit 64 "bad --fit"
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --sigma-mm -1
+expect_exit 64 "bad --sigma-mm"
+run fit layout "$S/default.yaml"
+expect_exit 64 "no data"
+finish
