@@ -21,6 +21,7 @@ static const command commands[] = {
     {"bench", hp_cmd_bench, "speed versus accuracy of every method: CSV and charts"},
     {"solve", hp_cmd_solve, "a scene -> bladder pressures for one correction"},
     {"batch", hp_cmd_batch, "a scene and a trace -> one planned row per trace row"},
+    {"horizon", hp_cmd_horizon, "a scene and a trace -> greedy, receding and offline plans"},
     {"analyze", hp_cmd_analyze, "a scene -> layout conditioning, weakest direction and reach"},
 };
 static const size_t n_commands = sizeof commands / sizeof commands[0];

@@ -10,5 +10,6 @@
 #include "headplan/hp_scene.h"
 #include "headplan/hp_trace.h"
 #include "headplan/hp_planner.h"
+#include "headplan/hp_horizon.h"
 
 #endif

@@ -1,0 +1,23 @@
+/* Internal: what the horizon planners (planner/horizon_*.c) share. Not installed. */
+#ifndef HP_PLANNER_HORIZON_INTERNAL_H
+#define HP_PLANNER_HORIZON_INTERNAL_H
+
+#include "headplan/hp_horizon.h"
+
+/* Sets the per-plan rate limit [Pa] of every bladder for the next hp_plan calls (planner.c;
+ * each > 0, +inf for none). HP_ERR_NULL / HP_ERR_INVALID (nothing changes). */
+hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max);
+
+/* Objective weight of pose component i (mm², deg² / weight_mm_per_deg²), 0 when the layout
+ * does not command it. */
+double hp_horizon_weight(const hp_settings *s, const int commanded[6], int i);
+
+/* Δ [Pa] of every bladder for a row interval dt [s]. */
+void hp_horizon_row_rates(const hp_layout *L, const hp_horizon_settings *hs, double dt,
+                          double *delta);
+
+/* The rate limits are met by at most this much less than Δ in the offline NLP [Pa], so the
+ * returned pressures satisfy |ΔP| <= Δ exactly despite Ipopt's constraint tolerance. */
+#define HP_HORIZON_RATE_MARGIN 1e-3
+
+#endif

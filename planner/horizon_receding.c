@@ -1,0 +1,410 @@
+/* The receding-horizon planner: at every row, the next N rows under a predicted desired pose,
+ * solved in a workspace allocated at create; the first row is applied through hp_plan.
+ *
+ * The horizon problem is the offline one (hp_horizon.h) over N rows, with the radii
+ * eliminated (ro_k = ρ_k(ξ); ri and P follow on the stable branch) and its inequalities
+ * handled by a log barrier:
+ *   F_μ(z) = Σ_j Σ_i w_i (z_j,i − d_j,i)² + smooth Σ_j,k u_j,k²          z_j scaled (mm, deg)
+ *          − μ Σ_j,k [log(ρ_k(z_j) − ro_lo_k) + log(ro_hi_k − ρ_k(z_j))
+ *                     + log(Δ_j,k/1 kPa − u_j,k) + log(Δ_j,k/1 kPa + u_j,k)]
+ * with u_j,k = (P_j,k − P_j−1,k) / 1 kPa, every bound relaxed by a hair (RH_RELAX_*) so the
+ * pressures held now are strictly inside. Each iteration takes one Gauss–Newton step (exact
+ * contact Jacobians and dP/dro of the bladder model; the barrier's curvature μ/s²·∇s∇sᵀ)
+ * with a fraction-to-the-boundary backtracking line search, then divides μ by RH_MU_FACTOR.
+ * The normal matrix is block tridiagonal (row j couples only with j ± 1 through the rate
+ * and smoothness terms), so each step is a block Cholesky in O(N · 6³): no dense 6N × 6N
+ * matrix. The start is the previous call's plan shifted by one row when it is strictly
+ * feasible, else the pose applied now held over the horizon (always strictly feasible). The
+ * applied first row goes through hp_plan (realtime backend, this row's rate limits), which
+ * keeps every limit exactly. Uncommanded pose components are pulled to 0 with unit weight,
+ * as the planner holds them. */
+#include "planner/horizon_internal.h"
+#include "planner/problem_setup.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define RH_RELAX_MM 1e-7   /* box bounds relaxed by this [mm] (hp_plan projects it away) */
+#define RH_RELAX_KPA 1e-6  /* rate bounds relaxed by this [kPa] */
+#define RH_MU_START 1e-2   /* barrier weight of the first iteration [mm²] */
+#define RH_MU_FACTOR 5.0   /* μ shrinks by this per iteration ... */
+#define RH_MU_MIN 1e-10    /* ... down to this */
+#define RH_LINE_STEPS 30   /* halvings of the line search */
+#define RH_BOUNDARY 0.995  /* fraction-to-the-boundary of a step */
+
+struct hp_horizon_rh {
+    hp_planner *p;
+    const hp_layout *L; /* the planner's prepared copy */
+    hp_settings s;
+    hp_horizon_settings hs;
+    hp_level level;
+    int n, N;
+    int commanded[6];
+    double w[6];                     /* pose weights (1 where not commanded) */
+    double ro_lo[HP_MAX_BLADDERS], ro_hi[HP_MAX_BLADDERS]; /* [mm] static box */
+    double p_now[HP_MAX_BLADDERS];   /* pressures the bladders hold [Pa] */
+    double last_t;
+    int started;
+    int hist_n;                      /* desired poses kept for the velocity prediction */
+    double hist_t[HP_HORIZON_MAX], hist_d[HP_HORIZON_MAX][6];
+    double z[HP_HORIZON_MAX * 6], zt[HP_HORIZON_MAX * 6], dz[HP_HORIZON_MAX * 6];
+    double d[HP_HORIZON_MAX * 6];
+    double delta[HP_HORIZON_MAX * HP_MAX_BLADDERS];
+    double rho[HP_HORIZON_MAX * HP_MAX_BLADDERS], J[HP_HORIZON_MAX * HP_MAX_BLADDERS * 6];
+    double P[HP_HORIZON_MAX * HP_MAX_BLADDERS], dP[HP_HORIZON_MAX * HP_MAX_BLADDERS];
+    double g[HP_HORIZON_MAX * 6];
+    double A[HP_HORIZON_MAX * 36], B[HP_HORIZON_MAX * 36]; /* diagonal / sub-diagonal blocks */
+    hp_result applied; /* the last applied answer (its pose starts a cold plan) */
+};
+
+/* P [Pa] and dP/dro [Pa/mm] at outer radius ro (mm), ro held inside the box. */
+static int press_of_ro(const hp_horizon_rh *rh, int k, double ro, double *P, double *dP)
+{
+    const hp_iab *b = &rh->L->bladders[k].iab;
+    double rc = fmin(fmax(ro, rh->ro_lo[k]), rh->ro_hi[k]) / HP_MM_PER_M, ri, dPdri;
+    if (hp_iab_ri(b, rc, &ri) != HP_OK || hp_iab_ik_derivs(b, ri, P, &dPdri, NULL) != HP_OK)
+        return 0;
+    /* Outside the box the value is held (the box penalty acts there), so is its slope. */
+    *dP = (ro < rh->ro_lo[k] || ro > rh->ro_hi[k]) ? 0.0
+                                                   : dPdri / HP_MM_PER_M * (rc / ri) * (rc / ri);
+    return isfinite(*P) && isfinite(*dP);
+}
+
+/* Contact distances, Jacobians and pressures of every row at z; the barrier cost F at mu.
+ * 0 on failure or when z is not strictly inside every (relaxed) bound. */
+static int evaluate(hp_horizon_rh *rh, const double *z, double mu, double *F)
+{
+    const int n = rh->n;
+    double f = 0;
+    for (int j = 0; j < rh->N; ++j) {
+        if (hp_setup_contact_scaled(rh->L, rh->level, z + 6 * j, rh->rho + n * j,
+                                    rh->J + 6 * n * j) != HP_OK)
+            return 0;
+        for (int i = 0; i < 6; ++i) {
+            double e = z[6 * j + i] - rh->d[6 * j + i];
+            f += rh->w[i] * e * e;
+        }
+        for (int k = 0; k < n; ++k) {
+            double ro = rh->rho[n * j + k];
+            double s1 = ro - rh->ro_lo[k] + RH_RELAX_MM, s2 = rh->ro_hi[k] + RH_RELAX_MM - ro;
+            if (!(s1 > 0 && s2 > 0)) return 0;
+            if (!press_of_ro(rh, k, ro, &rh->P[n * j + k], &rh->dP[n * j + k])) return 0;
+            double prev = j ? rh->P[n * (j - 1) + k] : rh->p_now[k];
+            double u = (rh->P[n * j + k] - prev) * 1e-3;
+            f += rh->hs.smooth * u * u - mu * (log(s1) + log(s2));
+            double D = rh->delta[n * j + k] * 1e-3;
+            if (isfinite(D)) {
+                double s3 = D + RH_RELAX_KPA - u, s4 = D + RH_RELAX_KPA + u;
+                if (!(s3 > 0 && s4 > 0)) return 0;
+                f -= mu * (log(s3) + log(s4));
+            }
+        }
+    }
+    *F = f;
+    return isfinite(f);
+}
+
+/* Adds c·a·bᵀ into the 6×6 block M. */
+static void add_outer(double *M, double c, const double *a, const double *b)
+{
+    for (int r = 0; r < 6; ++r)
+        for (int q = 0; q < 6; ++q) M[6 * r + q] += c * a[r] * b[q];
+}
+
+/* The Gauss–Newton normal equations of F_mu at the point evaluate() last saw: A, B, g. */
+static void normal_equations(hp_horizon_rh *rh, const double *z, double mu)
+{
+    const int n = rh->n, N = rh->N;
+    memset(rh->A, 0, sizeof(double) * 36 * (size_t)N);
+    memset(rh->B, 0, sizeof(double) * 36 * (size_t)N);
+    memset(rh->g, 0, sizeof(double) * 6 * (size_t)N);
+    for (int j = 0; j < N; ++j) {
+        double *A = rh->A + 36 * j, *g = rh->g + 6 * j;
+        for (int i = 0; i < 6; ++i) {
+            A[7 * i] += rh->w[i];
+            g[i] += rh->w[i] * (z[6 * j + i] - rh->d[6 * j + i]);
+        }
+        for (int k = 0; k < n; ++k) {
+            const double *Jk = rh->J + 6 * (n * j + k);
+            double ro = rh->rho[n * j + k];
+            double s1 = ro - rh->ro_lo[k] + RH_RELAX_MM, s2 = rh->ro_hi[k] + RH_RELAX_MM - ro;
+            /* −μ log s1 − μ log s2: gradient (−μ/s1 + μ/s2) J, curvature μ(1/s1² + 1/s2²) JJᵀ */
+            add_outer(A, mu * (1.0 / (s1 * s1) + 1.0 / (s2 * s2)), Jk, Jk);
+            for (int i = 0; i < 6; ++i) g[i] += mu * (1.0 / s2 - 1.0 / s1) * Jk[i];
+            /* u_j,k = (P_j − P_j−1)/1 kPa: gradient a on row j, b on row j − 1. */
+            double prev = j ? rh->P[n * (j - 1) + k] : rh->p_now[k];
+            double u = (rh->P[n * j + k] - prev) * 1e-3;
+            double a[6], b[6];
+            for (int i = 0; i < 6; ++i) {
+                a[i] = rh->dP[n * j + k] * 1e-3 * Jk[i];
+                b[i] = j ? -rh->dP[n * (j - 1) + k] * 1e-3 * rh->J[6 * (n * (j - 1) + k) + i] : 0;
+            }
+            /* smooth u² + (−μ log(D − u) − μ log(D + u)) as c·(∇u∇uᵀ) and ge·∇u */
+            double c = rh->hs.smooth, ge = rh->hs.smooth * u;
+            double D = rh->delta[n * j + k] * 1e-3;
+            if (isfinite(D)) {
+                double s3 = D + RH_RELAX_KPA - u, s4 = D + RH_RELAX_KPA + u;
+                c += mu * (1.0 / (s3 * s3) + 1.0 / (s4 * s4));
+                ge += mu * (1.0 / s3 - 1.0 / s4);
+            }
+            if (c == 0.0) continue;
+            add_outer(A, c, a, a);
+            for (int i = 0; i < 6; ++i) g[i] += ge * a[i];
+            if (j) {
+                add_outer(rh->A + 36 * (j - 1), c, b, b);
+                add_outer(rh->B + 36 * j, c, a, b);
+                for (int i = 0; i < 6; ++i) rh->g[6 * (j - 1) + i] += ge * b[i];
+            }
+        }
+    }
+}
+
+/* In-place Cholesky of a symmetric positive definite 6×6 block (lower triangle kept). */
+static int chol6(double *M)
+{
+    for (int c = 0; c < 6; ++c) {
+        double s = M[7 * c];
+        for (int q = 0; q < c; ++q) s -= M[6 * c + q] * M[6 * c + q];
+        if (!(s > 0)) return 0;
+        M[7 * c] = sqrt(s);
+        for (int r = c + 1; r < 6; ++r) {
+            double t = M[6 * r + c];
+            for (int q = 0; q < c; ++q) t -= M[6 * r + q] * M[6 * c + q];
+            M[6 * r + c] = t / M[7 * c];
+        }
+    }
+    return 1;
+}
+
+/* x := L⁻¹ x (trans 0) or L⁻ᵀ x (trans 1) for a 6×6 Cholesky factor L. */
+static void tri6(const double *L, double *x, int trans)
+{
+    if (!trans) {
+        for (int r = 0; r < 6; ++r) {
+            for (int q = 0; q < r; ++q) x[r] -= L[6 * r + q] * x[q];
+            x[r] /= L[7 * r];
+        }
+    } else {
+        for (int r = 5; r >= 0; --r) {
+            for (int q = r + 1; q < 6; ++q) x[r] -= L[6 * q + r] * x[q];
+            x[r] /= L[7 * r];
+        }
+    }
+}
+
+/* Solves the block-tridiagonal system (A, B) dz = −g by block Cholesky; A and B are
+ * overwritten by the factors (A_j → L_jj, B_j → L_j,j−1). */
+static int solve_banded(hp_horizon_rh *rh)
+{
+    const int N = rh->N;
+    for (int j = 0; j < N; ++j) {
+        double *A = rh->A + 36 * j;
+        if (j) {
+            double *Bj = rh->B + 36 * j;
+            const double *Lp = rh->A + 36 * (j - 1);
+            for (int r = 0; r < 6; ++r) tri6(Lp, Bj + 6 * r, 0); /* row r of B L⁻ᵀ */
+            for (int r = 0; r < 6; ++r)
+                for (int q = 0; q <= r; ++q) {
+                    double s = 0;
+                    for (int i = 0; i < 6; ++i) s += Bj[6 * r + i] * Bj[6 * q + i];
+                    A[6 * r + q] -= s;
+                }
+        }
+        for (int r = 0; r < 6; ++r)
+            for (int q = r + 1; q < 6; ++q) A[6 * r + q] = A[6 * q + r];
+        if (!chol6(A)) return 0;
+    }
+    double *y = rh->dz;
+    for (int j = 0; j < N; ++j) {
+        for (int i = 0; i < 6; ++i) y[6 * j + i] = -rh->g[6 * j + i];
+        if (j)
+            for (int r = 0; r < 6; ++r)
+                for (int q = 0; q < 6; ++q) y[6 * j + r] -= rh->B[36 * j + 6 * r + q] * y[6 * (j - 1) + q];
+        tri6(rh->A + 36 * j, y + 6 * j, 0);
+    }
+    for (int j = N - 1; j >= 0; --j) {
+        if (j + 1 < N)
+            for (int r = 0; r < 6; ++r)
+                for (int q = 0; q < 6; ++q) y[6 * j + r] -= rh->B[36 * (j + 1) + 6 * q + r] * y[6 * (j + 1) + q];
+        tri6(rh->A + 36 * j, y + 6 * j, 1);
+    }
+    for (int i = 0; i < 6 * N; ++i)
+        if (!isfinite(y[i])) return 0;
+    return 1;
+}
+
+/* At most rh_max_iter barrier Gauss–Newton steps from rh->z (strictly feasible: the caller
+ * checked); keeps the last accepted point. */
+static void barrier_solve(hp_horizon_rh *rh)
+{
+    double mu = RH_MU_START, F;
+    if (!evaluate(rh, rh->z, mu, &F)) return;
+    for (int it = 0; it < rh->hs.rh_max_iter; ++it) {
+        normal_equations(rh, rh->z, mu);
+        if (!solve_banded(rh)) return;
+        double alpha = 1.0, Ft = INFINITY;
+        int ok = 0;
+        for (int ls = 0; ls < RH_LINE_STEPS && !ok; ++ls, alpha *= 0.5) {
+            for (int i = 0; i < 6 * rh->N; ++i) rh->zt[i] = rh->z[i] + alpha * rh->dz[i];
+            ok = evaluate(rh, rh->zt, mu, &Ft) && Ft <= F;
+        }
+        if (ok) memcpy(rh->z, rh->zt, sizeof(double) * 6 * (size_t)rh->N);
+        mu = fmax(mu / RH_MU_FACTOR, RH_MU_MIN);
+        if (!evaluate(rh, rh->z, mu, &F)) return;
+    }
+}
+
+/* The predicted desired poses of rows 0..N−1 and their rate limits (row 0: dt0). */
+static void predict(hp_horizon_rh *rh, double dt0)
+{
+    const int h = rh->hist_n - 1; /* index of the newest entry */
+    double v[6] = {0}, dtp = dt0;
+    int m = h < rh->hs.velocity_rows - 1 ? h : rh->hs.velocity_rows - 1;
+    if (m >= 1) {
+        double span = rh->hist_t[h] - rh->hist_t[h - m];
+        dtp = span / m;
+        if (rh->hs.prediction == HP_PREDICT_VELOCITY)
+            for (int i = 0; i < 6; ++i) v[i] = (rh->hist_d[h][i] - rh->hist_d[h - m][i]) / span;
+    }
+    for (int j = 0; j < rh->N; ++j) {
+        for (int i = 0; i < 6; ++i) {
+            double s = i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD;
+            rh->d[6 * j + i] =
+                rh->commanded[i] ? (rh->hist_d[h][i] + v[i] * dtp * j) * s : 0.0;
+        }
+        hp_horizon_row_rates(rh->L, &rh->hs, j ? dtp : dt0, rh->delta + rh->n * j);
+    }
+}
+
+hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
+                              const hp_horizon_settings *hs, const double *p_start,
+                              hp_horizon_rh **out, hp_diag *d)
+{
+    if (out) *out = NULL;
+    if (!L || !out) return hp_diag_set(d, HP_ERR_NULL, "receding: NULL argument");
+    hp_horizon_rh *rh = calloc(1, sizeof *rh);
+    if (!rh) return hp_diag_set(d, HP_ERR_NOMEM, "receding: out of memory");
+    if (settings) rh->s = *settings;
+    else hp_settings_default(&rh->s);
+    rh->s.backend = HP_BACKEND_REALTIME;
+    if (hs) rh->hs = *hs;
+    else hp_horizon_settings_default(&rh->hs);
+    hp_error e = hp_horizon_settings_validate(&rh->hs, d);
+    if (e == HP_OK) e = hp_planner_create(L, &rh->s, &rh->p, d);
+    if (e != HP_OK) goto fail;
+    rh->L = hp_planner_layout(rh->p);
+    rh->level = hp_planner_level(rh->p);
+    rh->n = rh->L->n;
+    rh->N = rh->hs.horizon;
+    hp_static_bounds sb;
+    hp_problem pb;
+    memset(&pb, 0, sizeof pb);
+    if ((e = hp_setup_commanded(rh->L, rh->level, rh->commanded, d)) != HP_OK ||
+        (e = hp_setup_static_bounds(rh->L, &sb, d)) != HP_OK ||
+        (e = hp_setup_cycle_bounds(rh->L, &sb, NULL, 0, &pb, NULL, NULL, d)) != HP_OK)
+        goto fail;
+    for (int k = 0; k < rh->n; ++k) {
+        rh->ro_lo[k] = pb.ro_lo[k];
+        rh->ro_hi[k] = pb.ro_hi[k];
+    }
+    for (int i = 0; i < 6; ++i) {
+        double w = hp_horizon_weight(&rh->s, rh->commanded, i);
+        rh->w[i] = w > 0 ? w : 1.0;
+    }
+    if (p_start) memcpy(rh->p_now, p_start, sizeof(double) * (size_t)rh->n);
+    else if ((e = hp_horizon_nominal_pressures(rh->L, rh->p_now, d)) != HP_OK) goto fail;
+    if ((e = hp_planner_set_previous(rh->p, rh->p_now)) != HP_OK) {
+        hp_diag_set(d, e, "start pressures: %s", hp_planner_error(rh->p));
+        goto fail;
+    }
+    /* The pose the start pressures hold: where a cold plan starts. */
+    double ro[HP_MAX_BLADDERS];
+    for (int k = 0; k < rh->n && e == HP_OK; ++k) {
+        double ri;
+        e = hp_iab_fk_limit(&rh->L->bladders[k].iab, &sb.limit[k], rh->p_now[k], &ri);
+        if (e == HP_OK) e = hp_iab_ro(&rh->L->bladders[k].iab, ri, &ro[k]);
+    }
+    if (e == HP_OK) e = hp_contact_fk(rh->L, rh->level, ro, NULL, rh->applied.achieved, NULL, NULL);
+    if (e != HP_OK) {
+        hp_diag_set(d, e, "start pressures: no pose holds them (%s)", hp_error_message(e));
+        goto fail;
+    }
+    *out = rh;
+    return HP_OK;
+fail:
+    hp_horizon_rh_destroy(rh);
+    return e;
+}
+
+void hp_horizon_rh_destroy(hp_horizon_rh *rh)
+{
+    if (!rh) return;
+    hp_planner_destroy(rh->p);
+    free(rh);
+}
+
+hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6],
+                            hp_result *result)
+{
+    if (!rh || !desired || !result) return HP_ERR_NULL;
+    if (!isfinite(t) || (rh->started && !(t > rh->last_t))) return HP_ERR_INVALID;
+    double dt0 = rh->started ? t - rh->last_t : rh->hs.start_interval_s;
+    int finite = 1;
+    for (int i = 0; i < 6; ++i) finite = finite && isfinite(desired[i]);
+    double target[6];
+    memcpy(target, desired, sizeof target);
+    if (finite) {
+        if (rh->hist_n == HP_HORIZON_MAX) {
+            memmove(rh->hist_t, rh->hist_t + 1, sizeof(double) * (HP_HORIZON_MAX - 1));
+            memmove(rh->hist_d, rh->hist_d + 1, sizeof(double) * 6 * (HP_HORIZON_MAX - 1));
+            rh->hist_n--;
+        }
+        rh->hist_t[rh->hist_n] = t;
+        memcpy(rh->hist_d[rh->hist_n], desired, sizeof rh->hist_d[0]);
+        rh->hist_n++;
+        predict(rh, dt0);
+        double F;
+        if (!rh->started || !evaluate(rh, rh->z, RH_MU_START, &F)) {
+            /* the pose applied now, held: strictly feasible (ΔP = 0, ro inside the box) */
+            const hp_result *now = &rh->applied;
+            for (int j = 0; j < rh->N; ++j)
+                for (int i = 0; i < 6; ++i)
+                    rh->z[6 * j + i] = now->achieved[i] * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
+        }
+        barrier_solve(rh);
+        for (int i = 0; i < 6; ++i)
+            target[i] = rh->commanded[i]
+                            ? rh->z[i] / (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD)
+                            : desired[i];
+    }
+    double delta[HP_MAX_BLADDERS];
+    hp_horizon_row_rates(rh->L, &rh->hs, dt0, delta);
+    hp_error e = hp_planner_set_rate_max(rh->p, delta);
+    if (e == HP_OK) e = hp_plan(rh->p, target, result);
+    if (e != HP_OK) return e;
+    rh->started = 1;
+    rh->last_t = t;
+    for (int k = 0; k < rh->n; ++k) rh->p_now[k] = result->bladders[k].pressure;
+    rh->applied = *result;
+    /* The row's own desired pose and error, not the planned target's. */
+    memcpy(result->desired, desired, sizeof result->desired);
+    if (result->status == HP_STATUS_REACHED || result->status == HP_STATUS_CLOSEST) {
+        double err = 0;
+        for (int i = 0; i < 6; ++i)
+            if (result->commanded[i])
+                err = fmax(err, fabs(result->achieved[i] - desired[i]) *
+                                    (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD));
+        result->pose_error = err;
+        result->status = err <= rh->s.tolerance ? HP_STATUS_REACHED : HP_STATUS_CLOSEST;
+    }
+    /* Shift the plan by one row and start the next call from it (the new last row repeats
+     * the old one); with N = 1 the applied pose is the start. */
+    if (rh->N > 1) {
+        memmove(rh->z, rh->z + 6, sizeof(double) * 6 * (size_t)(rh->N - 1));
+    } else {
+        for (int i = 0; i < 6; ++i)
+            rh->z[i] = result->achieved[i] * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
+    }
+    return HP_OK;
+}
