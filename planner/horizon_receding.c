@@ -2,22 +2,20 @@
  * solved in a workspace allocated at create; the first row is applied through hp_plan.
  *
  * The horizon problem is the offline one (hp_horizon.h) over N rows, with the radii
- * eliminated (ro_k = ρ_k(ξ); ri and P follow on the stable branch) and its inequalities
- * handled by a log barrier:
- *   F_μ(z) = Σ_j Σ_i w_i (z_j,i − d_j,i)² + smooth Σ_j,k u_j,k²          z_j scaled (mm, deg)
- *          − μ Σ_j,k [log(ρ_k(z_j) − ro_lo_k) + log(ro_hi_k − ρ_k(z_j))
- *                     + log(Δ_j,k/1 kPa − u_j,k) + log(Δ_j,k/1 kPa + u_j,k)]
- * with u_j,k = (P_j,k − P_j−1,k) / 1 kPa, every bound relaxed by a hair (RH_RELAX_*) so the
- * pressures held now are strictly inside. Each iteration takes one Gauss–Newton step (exact
- * contact Jacobians and dP/dro of the bladder model; the barrier's curvature μ/s²·∇s∇sᵀ)
- * with a fraction-to-the-boundary backtracking line search, then divides μ by RH_MU_FACTOR.
- * The normal matrix is block tridiagonal (row j couples only with j ± 1 through the rate
- * and smoothness terms), so each step is a block Cholesky in O(N · 6³): no dense 6N × 6N
- * matrix. The start is the previous call's plan shifted by one row when it is strictly
- * feasible, else the pose applied now held over the horizon (always strictly feasible). The
- * applied first row goes through hp_plan (realtime backend, this row's rate limits), which
- * keeps every limit exactly. Uncommanded pose components are pulled to 0 with unit weight,
- * as the planner holds them. */
+ * eliminated (ro_k = ρ_k(ξ); ri and P follow on the stable branch):
+ *   minimise  Σ_j Σ_i w_i (z_j,i − d_j,i)² + smooth Σ_j,k u_j,k²          z_j scaled (mm, deg)
+ *   s.t.      ro_lo_k <= ρ_k(z_j) <= ro_hi_k,   |u_j,k| <= Δ_j,k / 1 kPa
+ * with u_j,k = (P_j,k − P_j−1,k) / 1 kPa (row 0 against the pressures held now). It is
+ * solved by a primal-dual interior-point method (slacks s and multipliers λ for the 4·n·N
+ * inequalities, started inside, fraction-to-the-boundary steps, centring σ = RH_SIGMA), with
+ * the constraints linearised at every iterate (exact contact Jacobians, dP/dro of the bladder
+ * model) and a Gauss–Newton Hessian of the objective. Eliminating s and λ leaves the normal
+ * matrix H + Σ_i (λ_i/s_i) ∇c_i ∇c_iᵀ, block tridiagonal (row j couples only with j ± 1
+ * through the rate and smoothness terms), so each step is a block Cholesky in O(N · 6³): no
+ * dense 6N × 6N matrix. At most rh_max_iter iterations, started from the previous call's plan
+ * shifted by one row. The iterate need not be feasible: the applied first row goes through
+ * hp_plan (realtime backend, this row's rate limits), which keeps every limit exactly.
+ * Uncommanded pose components are pulled to 0 with unit weight, as the planner holds them. */
 #include "planner/horizon_internal.h"
 #include "planner/problem_setup.h"
 
@@ -25,13 +23,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define RH_RELAX_MM 1e-7   /* box bounds relaxed by this [mm] (hp_plan projects it away) */
-#define RH_RELAX_KPA 1e-6  /* rate bounds relaxed by this [kPa] */
-#define RH_MU_START 1e-2   /* barrier weight of the first iteration [mm²] */
-#define RH_MU_FACTOR 5.0   /* μ shrinks by this per iteration ... */
-#define RH_MU_MIN 1e-10    /* ... down to this */
-#define RH_LINE_STEPS 30   /* halvings of the line search */
+#define RH_SIGMA 0.1       /* centring: the next barrier weight is this times the mean s·λ */
 #define RH_BOUNDARY 0.995  /* fraction-to-the-boundary of a step */
+#define RH_S_MIN 1e-3      /* smallest starting slack (mm or kPa) */
+#define RH_MU0 1e-3        /* starting complementarity s·λ */
+#define RH_NC 4            /* inequalities per bladder and row: ro >= lo, ro <= hi, ±u <= Δ */
 
 struct hp_horizon_rh {
     hp_planner *p;
@@ -56,6 +52,11 @@ struct hp_horizon_rh {
     double g[HP_HORIZON_MAX * 6];
     double A[HP_HORIZON_MAX * 36], B[HP_HORIZON_MAX * 36]; /* diagonal / sub-diagonal blocks */
     hp_result applied; /* the last applied answer (its pose starts a cold plan) */
+    double c[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];   /* constraint values (>= 0 wanted) */
+    double sl[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];  /* slacks */
+    double lam[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* multipliers */
+    double ds[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];
+    double dl[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];
 };
 
 /* P [Pa] and dP/dro [Pa/mm] at outer radius ro (mm), ro held inside the box. */
@@ -71,38 +72,29 @@ static int press_of_ro(const hp_horizon_rh *rh, int k, double ro, double *P, dou
     return isfinite(*P) && isfinite(*dP);
 }
 
-/* Contact distances, Jacobians and pressures of every row at z; the barrier cost F at mu.
- * 0 on failure or when z is not strictly inside every (relaxed) bound. */
-static int evaluate(hp_horizon_rh *rh, const double *z, double mu, double *F)
+/* Contact distances, Jacobians, pressures and the constraint values c (index
+ * RH_NC·(n·j + k) + 0..3: ro − lo, hi − ro, Δ − u, Δ + u; without a rate limit the last two
+ * are a large constant) of every row at z. 0 on failure. */
+static int evaluate(hp_horizon_rh *rh, const double *z)
 {
     const int n = rh->n;
-    double f = 0;
     for (int j = 0; j < rh->N; ++j) {
         if (hp_setup_contact_scaled(rh->L, rh->level, z + 6 * j, rh->rho + n * j,
                                     rh->J + 6 * n * j) != HP_OK)
             return 0;
-        for (int i = 0; i < 6; ++i) {
-            double e = z[6 * j + i] - rh->d[6 * j + i];
-            f += rh->w[i] * e * e;
-        }
         for (int k = 0; k < n; ++k) {
-            double ro = rh->rho[n * j + k];
-            double s1 = ro - rh->ro_lo[k] + RH_RELAX_MM, s2 = rh->ro_hi[k] + RH_RELAX_MM - ro;
-            if (!(s1 > 0 && s2 > 0)) return 0;
+            double ro = rh->rho[n * j + k], *c = rh->c + RH_NC * (n * j + k);
             if (!press_of_ro(rh, k, ro, &rh->P[n * j + k], &rh->dP[n * j + k])) return 0;
             double prev = j ? rh->P[n * (j - 1) + k] : rh->p_now[k];
-            double u = (rh->P[n * j + k] - prev) * 1e-3;
-            f += rh->hs.smooth * u * u - mu * (log(s1) + log(s2));
-            double D = rh->delta[n * j + k] * 1e-3;
-            if (isfinite(D)) {
-                double s3 = D + RH_RELAX_KPA - u, s4 = D + RH_RELAX_KPA + u;
-                if (!(s3 > 0 && s4 > 0)) return 0;
-                f -= mu * (log(s3) + log(s4));
-            }
+            double u = (rh->P[n * j + k] - prev) * 1e-3, D = rh->delta[n * j + k] * 1e-3;
+            if (!isfinite(D)) D = 1e6, u = 0;
+            c[0] = ro - rh->ro_lo[k];
+            c[1] = rh->ro_hi[k] - ro;
+            c[2] = D - u;
+            c[3] = D + u;
         }
     }
-    *F = f;
-    return isfinite(f);
+    return 1;
 }
 
 /* Adds c·a·bᵀ into the 6×6 block M. */
@@ -112,7 +104,20 @@ static void add_outer(double *M, double c, const double *a, const double *b)
         for (int q = 0; q < 6; ++q) M[6 * r + q] += c * a[r] * b[q];
 }
 
-/* The Gauss–Newton normal equations of F_mu at the point evaluate() last saw: A, B, g. */
+/* ∇u_j,k on row j (a) and on row j − 1 (b, zero for j = 0). */
+static void rate_grad(const hp_horizon_rh *rh, int j, int k, double *a, double *b)
+{
+    const int n = rh->n;
+    for (int i = 0; i < 6; ++i) {
+        a[i] = rh->dP[n * j + k] * 1e-3 * rh->J[6 * (n * j + k) + i];
+        b[i] = j ? -rh->dP[n * (j - 1) + k] * 1e-3 * rh->J[6 * (n * (j - 1) + k) + i] : 0.0;
+    }
+}
+
+/* The reduced Newton system at the point evaluate() last saw, for barrier weight mu:
+ *   (H + Σ_i (λ_i/s_i) ∇c_i∇c_iᵀ) dz = −g,  g = ∇f − Σ_i ∇c_i (mu − λ_i (c_i − s_i)) / s_i,
+ * H the Gauss–Newton Hessian of the objective (halved, like g's objective part), in the
+ * blocks A (diagonal), B (sub-diagonal) and g. */
 static void normal_equations(hp_horizon_rh *rh, const double *z, double mu)
 {
     const int n = rh->n, N = rh->N;
@@ -122,38 +127,34 @@ static void normal_equations(hp_horizon_rh *rh, const double *z, double mu)
     for (int j = 0; j < N; ++j) {
         double *A = rh->A + 36 * j, *g = rh->g + 6 * j;
         for (int i = 0; i < 6; ++i) {
-            A[7 * i] += rh->w[i];
-            g[i] += rh->w[i] * (z[6 * j + i] - rh->d[6 * j + i]);
+            A[7 * i] += 2.0 * rh->w[i];
+            g[i] += 2.0 * rh->w[i] * (z[6 * j + i] - rh->d[6 * j + i]);
         }
         for (int k = 0; k < n; ++k) {
             const double *Jk = rh->J + 6 * (n * j + k);
-            double ro = rh->rho[n * j + k];
-            double s1 = ro - rh->ro_lo[k] + RH_RELAX_MM, s2 = rh->ro_hi[k] + RH_RELAX_MM - ro;
-            /* −μ log s1 − μ log s2: gradient (−μ/s1 + μ/s2) J, curvature μ(1/s1² + 1/s2²) JJᵀ */
-            add_outer(A, mu * (1.0 / (s1 * s1) + 1.0 / (s2 * s2)), Jk, Jk);
-            for (int i = 0; i < 6; ++i) g[i] += mu * (1.0 / s2 - 1.0 / s1) * Jk[i];
-            /* u_j,k = (P_j − P_j−1)/1 kPa: gradient a on row j, b on row j − 1. */
+            const int o = RH_NC * (n * j + k);
+            double q[RH_NC], wt[RH_NC];
+            for (int c = 0; c < RH_NC; ++c) {
+                wt[c] = rh->lam[o + c] / rh->sl[o + c];
+                q[c] = (mu - rh->lam[o + c] * (rh->c[o + c] - rh->sl[o + c])) / rh->sl[o + c];
+            }
+            /* box: ∇c0 = J, ∇c1 = −J */
+            add_outer(A, wt[0] + wt[1], Jk, Jk);
+            for (int i = 0; i < 6; ++i) g[i] -= (q[0] - q[1]) * Jk[i];
+            /* rate (∇c2 = −∇u, ∇c3 = ∇u) and smoothness smooth·u² */
+            double a[6], b[6];
+            rate_grad(rh, j, k, a, b);
             double prev = j ? rh->P[n * (j - 1) + k] : rh->p_now[k];
             double u = (rh->P[n * j + k] - prev) * 1e-3;
-            double a[6], b[6];
-            for (int i = 0; i < 6; ++i) {
-                a[i] = rh->dP[n * j + k] * 1e-3 * Jk[i];
-                b[i] = j ? -rh->dP[n * (j - 1) + k] * 1e-3 * rh->J[6 * (n * (j - 1) + k) + i] : 0;
-            }
-            /* smooth u² + (−μ log(D − u) − μ log(D + u)) as c·(∇u∇uᵀ) and ge·∇u */
-            double c = rh->hs.smooth, ge = rh->hs.smooth * u;
-            double D = rh->delta[n * j + k] * 1e-3;
-            if (isfinite(D)) {
-                double s3 = D + RH_RELAX_KPA - u, s4 = D + RH_RELAX_KPA + u;
-                c += mu * (1.0 / (s3 * s3) + 1.0 / (s4 * s4));
-                ge += mu * (1.0 / s3 - 1.0 / s4);
-            }
-            if (c == 0.0) continue;
-            add_outer(A, c, a, a);
+            int lim = isfinite(rh->delta[n * j + k]);
+            double cw = 2.0 * rh->hs.smooth + (lim ? wt[2] + wt[3] : 0.0);
+            double ge = 2.0 * rh->hs.smooth * u - (lim ? q[3] - q[2] : 0.0);
+            if (cw == 0.0 && ge == 0.0) continue;
+            add_outer(A, cw, a, a);
             for (int i = 0; i < 6; ++i) g[i] += ge * a[i];
             if (j) {
-                add_outer(rh->A + 36 * (j - 1), c, b, b);
-                add_outer(rh->B + 36 * j, c, a, b);
+                add_outer(rh->A + 36 * (j - 1), cw, b, b);
+                add_outer(rh->B + 36 * j, cw, a, b);
                 for (int i = 0; i < 6; ++i) rh->g[6 * (j - 1) + i] += ge * b[i];
             }
         }
@@ -234,24 +235,60 @@ static int solve_banded(hp_horizon_rh *rh)
     return 1;
 }
 
-/* At most rh_max_iter barrier Gauss–Newton steps from rh->z (strictly feasible: the caller
- * checked); keeps the last accepted point. */
-static void barrier_solve(hp_horizon_rh *rh)
+/* Largest step in (0, 1] keeping v + α dv >= (1 − RH_BOUNDARY) v. */
+static double to_boundary(const double *v, const double *dv, int m)
 {
-    double mu = RH_MU_START, F;
-    if (!evaluate(rh, rh->z, mu, &F)) return;
+    double alpha = 1.0;
+    for (int i = 0; i < m; ++i)
+        if (dv[i] < 0) alpha = fmin(alpha, -RH_BOUNDARY * v[i] / dv[i]);
+    return alpha;
+}
+
+/* At most rh_max_iter primal-dual interior-point iterations from rh->z. */
+static void interior_point(hp_horizon_rh *rh)
+{
+    const int n = rh->n, m = RH_NC * n * rh->N;
+    if (!evaluate(rh, rh->z)) return;
+    for (int i = 0; i < m; ++i) {
+        rh->sl[i] = fmax(rh->c[i], RH_S_MIN);
+        rh->lam[i] = RH_MU0 / rh->sl[i];
+    }
     for (int it = 0; it < rh->hs.rh_max_iter; ++it) {
+        double gap = 0;
+        for (int i = 0; i < m; ++i) gap += rh->sl[i] * rh->lam[i];
+        double mu = RH_SIGMA * gap / m;
         normal_equations(rh, rh->z, mu);
         if (!solve_banded(rh)) return;
-        double alpha = 1.0, Ft = INFINITY;
-        int ok = 0;
-        for (int ls = 0; ls < RH_LINE_STEPS && !ok; ++ls, alpha *= 0.5) {
-            for (int i = 0; i < 6 * rh->N; ++i) rh->zt[i] = rh->z[i] + alpha * rh->dz[i];
-            ok = evaluate(rh, rh->zt, mu, &Ft) && Ft <= F;
+        /* ds = ∇cᵀdz + (c − s), dλ = (mu − sλ − λ ds)/s */
+        for (int j = 0; j < rh->N; ++j)
+            for (int k = 0; k < n; ++k) {
+                const int o = RH_NC * (n * j + k);
+                const double *Jk = rh->J + 6 * (n * j + k), *dzj = rh->dz + 6 * j;
+                double a[6], b[6], dr = 0, du = 0;
+                rate_grad(rh, j, k, a, b);
+                for (int i = 0; i < 6; ++i) {
+                    dr += Jk[i] * dzj[i];
+                    du += a[i] * dzj[i] + (j ? b[i] * rh->dz[6 * (j - 1) + i] : 0.0);
+                }
+                if (!isfinite(rh->delta[n * j + k])) du = 0;
+                const double dc[RH_NC] = {dr, -dr, -du, du};
+                for (int c = 0; c < RH_NC; ++c) {
+                    rh->ds[o + c] = dc[c] + rh->c[o + c] - rh->sl[o + c];
+                    rh->dl[o + c] = (mu - rh->sl[o + c] * rh->lam[o + c] -
+                                     rh->lam[o + c] * rh->ds[o + c]) / rh->sl[o + c];
+                }
+            }
+        double ap = to_boundary(rh->sl, rh->ds, m), ad = to_boundary(rh->lam, rh->dl, m);
+        for (int i = 0; i < 6 * rh->N; ++i) rh->zt[i] = rh->z[i] + ap * rh->dz[i];
+        if (!evaluate(rh, rh->zt)) {
+            evaluate(rh, rh->z); /* keep the last point that evaluated */
+            return;
         }
-        if (ok) memcpy(rh->z, rh->zt, sizeof(double) * 6 * (size_t)rh->N);
-        mu = fmax(mu / RH_MU_FACTOR, RH_MU_MIN);
-        if (!evaluate(rh, rh->z, mu, &F)) return;
+        memcpy(rh->z, rh->zt, sizeof(double) * 6 * (size_t)rh->N);
+        for (int i = 0; i < m; ++i) {
+            rh->sl[i] += ap * rh->ds[i];
+            rh->lam[i] += ad * rh->dl[i];
+        }
     }
 }
 
@@ -364,15 +401,14 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
         memcpy(rh->hist_d[rh->hist_n], desired, sizeof rh->hist_d[0]);
         rh->hist_n++;
         predict(rh, dt0);
-        double F;
-        if (!rh->started || !evaluate(rh, rh->z, RH_MU_START, &F)) {
-            /* the pose applied now, held: strictly feasible (ΔP = 0, ro inside the box) */
-            const hp_result *now = &rh->applied;
+        if (!rh->started) {
+            /* the pose the start pressures hold, over the whole horizon */
             for (int j = 0; j < rh->N; ++j)
                 for (int i = 0; i < 6; ++i)
-                    rh->z[6 * j + i] = now->achieved[i] * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
+                    rh->z[6 * j + i] =
+                        rh->applied.achieved[i] * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
         }
-        barrier_solve(rh);
+        interior_point(rh);
         for (int i = 0; i < 6; ++i)
             target[i] = rh->commanded[i]
                             ? rh->z[i] / (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD)

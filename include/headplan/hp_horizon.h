@@ -47,7 +47,7 @@ hp_error hp_prediction_parse(const char *s, hp_prediction *out);
 #define HP_DEFAULT_START_INTERVAL 0.1  /* [s] */
 #define HP_DEFAULT_HORIZON 10
 #define HP_DEFAULT_VELOCITY_ROWS 3
-#define HP_DEFAULT_RH_MAX_ITER 8
+#define HP_DEFAULT_RH_MAX_ITER 20
 #define HP_DEFAULT_OFFLINE_TOL 1e-8
 #define HP_DEFAULT_OFFLINE_MAX_ITER 3000
 #define HP_DEFAULT_OFFLINE_MAX_TIME 600.0 /* [s] CPU time of one window */
