@@ -12,7 +12,7 @@
  * model) and a Gauss–Newton Hessian of the objective. Eliminating s and λ leaves the normal
  * matrix H + Σ_i (λ_i/s_i) ∇c_i ∇c_iᵀ, block tridiagonal (row j couples only with j ± 1
  * through the rate and smoothness terms), so each step is a block Cholesky in O(N · 6³): no
- * dense 6N × 6N matrix. At most rh_max_iter iterations, started from the previous call's plan
+ * dense 6N × 6N matrix. At most rh_max_iter iterations (fewer once converged), started from the previous call's plan
  * shifted by one row. The iterate need not be feasible: the applied first row goes through
  * hp_plan (realtime backend, this row's rate limits), which keeps every limit exactly.
  * Uncommanded pose components are pulled to 0 with unit weight, as the planner holds them. */
@@ -27,6 +27,8 @@
 #define RH_BOUNDARY 0.995  /* fraction-to-the-boundary of a step */
 #define RH_S_MIN 1e-3      /* smallest starting slack (mm or kPa) */
 #define RH_MU0 1e-3        /* starting complementarity s·λ */
+#define RH_GAP_TOL 1e-10   /* stop when the mean s·λ is below this ... */
+#define RH_STEP_TOL 1e-9   /* ... and the last step moved no pose by more (mm or degrees) */
 #define RH_NC 4            /* inequalities per bladder and row: ro >= lo, ro <= hi, ±u <= Δ */
 
 struct hp_horizon_rh {
@@ -285,10 +287,15 @@ static void interior_point(hp_horizon_rh *rh)
             return;
         }
         memcpy(rh->z, rh->zt, sizeof(double) * 6 * (size_t)rh->N);
+        double step = 0;
+        for (int i = 0; i < 6 * rh->N; ++i) step = fmax(step, fabs(ap * rh->dz[i]));
+        gap = 0;
         for (int i = 0; i < m; ++i) {
             rh->sl[i] += ap * rh->ds[i];
             rh->lam[i] += ad * rh->dl[i];
+            gap += rh->sl[i] * rh->lam[i];
         }
+        if (gap / m < RH_GAP_TOL && step < RH_STEP_TOL) return;
     }
 }
 
