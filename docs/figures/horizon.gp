@@ -1,7 +1,7 @@
 # Pose error over time of the greedy, receding-horizon and offline plans (docs/horizon.md).
 # Data: horizon_step.csv and horizon_breathing.csv, written by
-#   headplan horizon scenarios/horizon_step.yaml -o docs/figures/horizon_step.csv
-#   headplan horizon scenarios/horizon_breathing.yaml --prediction velocity \
+#   headplan horizon scenarios/horizon/step.yaml -o docs/figures/horizon_step.csv
+#   headplan horizon scenarios/horizon/breathing.yaml --prediction velocity \
 #       -o docs/figures/horizon_breathing.csv
 # Redraw: cd docs/figures && gnuplot horizon.gp
 set terminal pngcairo size 1000,700 font "DejaVu Sans,10"

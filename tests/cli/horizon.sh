@@ -5,7 +5,7 @@ S="$HP_SRC/scenarios"
 
 # A short step trace: the first shift (5 s) and its settling, rate-limited.
 head -81 "$S/traces/step.csv" > "$TMP/step.csv"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --rows deviation --json -o "$TMP/out.csv"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --json -o "$TMP/out.csv"
 expect_exit 0 "compare"
 python3 - "$TMP/out" "$TMP/out.csv" <<'PY' && ok || bad "compare outputs"
 import csv, json, sys
@@ -32,47 +32,47 @@ for r in rows:
     assert abs(e - float(r["pose_error"])) <= 1e-12 * max(1, e), (r, e)
 PY
 # The summary table names every plan; one mode alone; the same run gives the same bytes.
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --rows deviation --mode greedy
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode greedy
 expect_exit 0 "greedy only"; expect_stdout_has "greedy,rms," "greedy summary"
 grep -q "offline" "$TMP/out" && bad "greedy mode printed offline" || ok
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --rows deviation --mode receding \
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode receding \
     --horizon 3 --prediction velocity -o "$TMP/a.csv"
 expect_exit 0 "receding velocity"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --rows deviation --mode receding \
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode receding \
     --horizon 3 --prediction velocity -o "$TMP/b.csv"
 cmp -s "$TMP/a.csv" "$TMP/b.csv" && ok || bad "two runs differ"
 # Windows and a per-second rate limit on irregular time stamps.
 head -301 "$S/traces/drift_long.csv" > "$TMP/drift.csv"
-run horizon "$S/horizon_drift_long.yaml" "$TMP/drift.csv" --rows deviation --mode offline \
+run horizon "$S/horizon/drift_long.yaml" "$TMP/drift.csv" --rows deviation --mode offline \
     --window 120 --overlap 30 --rate-kpa-per-s 1.5 --json
 expect_exit 0 "windows"; expect_stdout_has '"windows": 3' "three windows"
 # The scene's own trace is the default.
-run horizon "$S/horizon_step.yaml" --mode greedy; expect_exit 0 "scene trace"
+run horizon "$S/horizon/step.yaml" --mode greedy; expect_exit 0 "scene trace"
 
 # Bad inputs: usage 64, data 65, no input 66.
 run horizon; expect_exit 64 "no scene"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --mode best; expect_exit 64 "bad mode"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --mode best; expect_exit 64 "bad mode"
 expect_stderr_has "--mode" "bad mode named"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --horizon 0; expect_exit 64 "horizon 0"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --horizon 65; expect_exit 64 "horizon 65"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --overlap 5; expect_exit 64 "overlap alone"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --window 10 --overlap 10; expect_exit 64 "overlap = window"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --rate-kpa-per-s nan; expect_exit 64 "rate nan"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --rate-kpa-per-s -1; expect_exit 64 "rate < 0"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --smooth 2; expect_exit 64 "smooth > 1"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --tolerance-mm 0; expect_exit 64 "tolerance 0"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --tolerance-deg inf; expect_exit 64 "tolerance inf"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --prediction psychic; expect_exit 64 "prediction"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --rows sideways; expect_exit 64 "rows"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --bogus; expect_exit 64 "unknown option"
-run horizon "$S/horizon_step.yaml" "$TMP/missing.csv"; expect_exit 66 "missing trace"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --horizon 0; expect_exit 64 "horizon 0"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --horizon 65; expect_exit 64 "horizon 65"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --overlap 5; expect_exit 64 "overlap alone"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --window 10 --overlap 10; expect_exit 64 "overlap = window"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rate-kpa-per-s nan; expect_exit 64 "rate nan"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rate-kpa-per-s -1; expect_exit 64 "rate < 0"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --smooth 2; expect_exit 64 "smooth > 1"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --tolerance-mm 0; expect_exit 64 "tolerance 0"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --tolerance-deg inf; expect_exit 64 "tolerance inf"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --prediction psychic; expect_exit 64 "prediction"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows sideways; expect_exit 64 "rows"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --bogus; expect_exit 64 "unknown option"
+run horizon "$S/horizon/step.yaml" "$TMP/missing.csv"; expect_exit 66 "missing trace"
 printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0.0,0,0,0,0,0,0\n0.1,1,0,0,0,0,0\n0.1,2,0,0,0,0,0\n' > "$TMP/dup.csv"
-run horizon "$S/horizon_step.yaml" "$TMP/dup.csv" --rows deviation --mode greedy
+run horizon "$S/horizon/step.yaml" "$TMP/dup.csv" --rows deviation --mode greedy
 expect_exit 65 "time not increasing"; expect_stderr_has "line 4: t_s" "time line named"
 printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0.0,0,0,0,0,0,0\n0.1,abc,0,0,0,0,0\n' > "$TMP/badrow.csv"
-run horizon "$S/horizon_step.yaml" "$TMP/badrow.csv" --rows deviation; expect_exit 65 "bad row"
+run horizon "$S/horizon/step.yaml" "$TMP/badrow.csv" --rows deviation; expect_exit 65 "bad row"
 printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n' > "$TMP/empty.csv"
-run horizon "$S/horizon_step.yaml" "$TMP/empty.csv" --rows deviation; expect_exit 65 "no rows"
-run horizon "$S/horizon_step.yaml" "$TMP/step.csv" --mode greedy -o /nonexistent/dir/x.csv
+run horizon "$S/horizon/step.yaml" "$TMP/empty.csv" --rows deviation; expect_exit 65 "no rows"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --mode greedy -o /nonexistent/dir/x.csv
 expect_exit 73 "cannot write"
 finish

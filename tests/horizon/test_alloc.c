@@ -10,7 +10,7 @@
 static void test_wrap_active(void **st)
 {
     (void)st;
-    hf_case *c = hf_load("horizon_step.yaml", "step.csv", 10);
+    hf_case *c = hf_load("horizon/step.yaml", "step.csv", 10);
     assert_non_null(c);
     hp_horizon_rh *rh = NULL;
     alloc_armed = 1;
@@ -25,7 +25,7 @@ static void test_wrap_active(void **st)
 
 static void steps_without_allocation(hp_level level, hp_prediction pred, int N)
 {
-    hf_case *c = hf_load("horizon_step.yaml", "step.csv", 150);
+    hf_case *c = hf_load("horizon/step.yaml", "step.csv", 150);
     assert_non_null(c);
     c->s.level = level;
     hp_horizon_settings hs;

@@ -91,7 +91,7 @@ static hp_horizon_settings defaults(void)
 static void test_offline_not_worse_step(void **st)
 {
     (void)st;
-    hf_case *c = hf_load("horizon_step.yaml", "step.csv", STEP_ROWS);
+    hf_case *c = hf_load("horizon/step.yaml", "step.csv", STEP_ROWS);
     assert_non_null(c);
     assert_int_equal((int)c->T, STEP_ROWS);
     hp_horizon_settings hs = defaults();
@@ -116,7 +116,7 @@ static void test_offline_not_worse_step(void **st)
 static void test_per_second_irregular(void **st)
 {
     (void)st;
-    hf_case *c = hf_load("horizon_drift_long.yaml", "drift_long.csv", 600);
+    hf_case *c = hf_load("horizon/drift_long.yaml", "drift_long.csv", 600);
     assert_non_null(c);
     int irregular = 0;
     for (size_t t = 1; t < c->T; ++t)
@@ -144,7 +144,7 @@ static void test_per_second_irregular(void **st)
 static void test_windows_agree(void **st)
 {
     (void)st;
-    hf_case *c = hf_load("horizon_step.yaml", "step.csv", STEP_ROWS);
+    hf_case *c = hf_load("horizon/step.yaml", "step.csv", STEP_ROWS);
     assert_non_null(c);
     hp_horizon_settings hs = defaults();
     hp_horizon_row *whole = calloc(c->T, sizeof *whole), *win = calloc(c->T, sizeof *win);
@@ -179,7 +179,7 @@ static void test_windows_agree(void **st)
 static void test_receding_one_row_is_greedy(void **st)
 {
     (void)st;
-    hf_case *c = hf_load("horizon_step.yaml", "step.csv", STEP_ROWS);
+    hf_case *c = hf_load("horizon/step.yaml", "step.csv", STEP_ROWS);
     assert_non_null(c);
     hp_horizon_settings hs = defaults();
     hs.horizon = 1;
@@ -244,7 +244,7 @@ static void test_settings_checked(void **st)
 static void test_time_stamps_checked(void **st)
 {
     (void)st;
-    hf_case *c = hf_load("horizon_step.yaml", "step.csv", 20);
+    hf_case *c = hf_load("horizon/step.yaml", "step.csv", 20);
     assert_non_null(c);
     hp_horizon_settings hs = defaults();
     double delta[20 * HP_MAX_BLADDERS];
