@@ -20,4 +20,15 @@ void hp_horizon_row_rates(const hp_layout *L, const hp_horizon_settings *hs, dou
  * returned pressures satisfy |ΔP| <= Δ exactly despite Ipopt's constraint tolerance. */
 #define HP_HORIZON_RATE_MARGIN 1e-3
 
+/* Test access to the offline NLP of T rows (horizon_offline.c): at x (T·(6+n), scaled) its
+ * objective f, gradient grad (T·nx), constraints g (T·2n), dense Jacobian jac (T·2n × T·nx,
+ * row-major) and the dense lower triangle of the Lagrangian's Hessian
+ * obj_factor·∇²f + Σ lambda_i ∇²g_i (T·nx × T·nx), all from the callbacks Ipopt gets and
+ * their sparsity patterns. Allocates. */
+hp_error hp_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
+                              const hp_horizon_settings *hs, const hp_trace_row *rows, int T,
+                              const double *p0, const double *x, double obj_factor,
+                              const double *lambda, double *f, double *grad, double *g,
+                              double *jac, double *hess);
+
 #endif

@@ -255,6 +255,63 @@ typedef struct offline_ctx {
     const hp_settings *s;
 } offline_ctx;
 
+/* The planner (for its prepared layout, level and the greedy start) and everything the
+ * windows share. *p is the caller's to destroy, also on failure. */
+static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
+                          const hp_horizon_settings *hs, hp_settings *s, hp_planner **p,
+                          offline_ctx *c, hp_diag *d)
+{
+    if (settings) *s = *settings;
+    else hp_settings_default(s);
+    s->backend = HP_BACKEND_REALTIME; /* the start plan; the NLP itself is Ipopt's */
+    *p = NULL;
+    memset(c, 0, sizeof *c);
+    hp_error e = hp_planner_create(L, s, p, d);
+    if (e != HP_OK) return e;
+    c->L = hp_planner_layout(*p);
+    c->hs = hs;
+    c->s = s;
+    int commanded[6];
+    if ((e = hp_setup_commanded(c->L, hp_planner_level(*p), commanded, d)) != HP_OK ||
+        (e = hp_setup_static_bounds(c->L, &c->sb, d)) != HP_OK)
+        return e;
+    c->pb.layout = c->L;
+    c->pb.level = hp_planner_level(*p);
+    c->pb.n = c->L->n;
+    c->pb.nx = 6 + c->L->n;
+    c->pb.mu = 0.0;
+    for (int i = 0; i < 6; ++i) c->pb.w[i] = hp_horizon_weight(s, commanded, i);
+    return hp_setup_cycle_bounds(c->L, &c->sb, NULL, 0, &c->pb, NULL, NULL, d);
+}
+
+/* Doubles one window's NLP needs (nlp_init's buf). */
+static size_t nlp_doubles(int T, int n)
+{
+    const size_t nx = 6 + (size_t)n, NV = (size_t)T * nx, NC = (size_t)T * 2u * (size_t)n;
+    return 3 * (size_t)T * (size_t)n + nx * nx + (size_t)n * nx + 3 * NV + 2 * NC;
+}
+
+/* One window's NLP on top of buf (nlp_doubles(T, n) doubles; x, bounds follow q->jac). */
+static void nlp_init(nlp *q, const offline_ctx *c, const hp_trace_row *rows,
+                     const double *delta, int T, const double *p0, double *buf)
+{
+    const int n = c->L->n, nx = 6 + n;
+    memset(q, 0, sizeof *q);
+    q->pb = c->pb;
+    q->n = n;
+    q->nx = nx;
+    q->T = T;
+    q->rows = rows;
+    q->delta = delta;
+    q->smooth = c->hs->smooth;
+    memcpy(q->p0, p0, sizeof(double) * (size_t)n);
+    q->P = buf;
+    q->dP = q->P + (size_t)T * (size_t)n;
+    q->d2P = q->dP + (size_t)T * (size_t)n;
+    q->h = q->d2P + (size_t)T * (size_t)n;
+    q->jac = q->h + (size_t)nx * (size_t)nx;
+}
+
 /* Solves rows [0, T) of `rows` from pressures p0, starting at the plan `start`; writes out.
  * Caller frees nothing: every buffer is freed here. */
 static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, const double *delta,
@@ -264,23 +321,9 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
     const int n = c->L->n, nx = 6 + n;
     const size_t NV = (size_t)T * (size_t)nx, NC = (size_t)T * 2u * (size_t)n;
     nlp q;
-    memset(&q, 0, sizeof q);
-    q.pb = c->pb;
-    q.n = n;
-    q.nx = nx;
-    q.T = T;
-    q.rows = rows;
-    q.delta = delta;
-    q.smooth = c->hs->smooth;
-    memcpy(q.p0, p0, sizeof(double) * (size_t)n);
-    double *buf = malloc(sizeof(double) * (3 * (size_t)T * (size_t)n + (size_t)nx * (size_t)nx +
-                                           (size_t)n * (size_t)nx + 3 * NV + 2 * NC));
+    double *buf = malloc(sizeof(double) * nlp_doubles(T, n));
     if (!buf) return hp_diag_set(d, HP_ERR_NOMEM, "offline: out of memory (%d rows)", T);
-    q.P = buf;
-    q.dP = q.P + (size_t)T * (size_t)n;
-    q.d2P = q.dP + (size_t)T * (size_t)n;
-    q.h = q.d2P + (size_t)T * (size_t)n;
-    q.jac = q.h + (size_t)nx * (size_t)nx;
+    nlp_init(&q, c, rows, delta, T, p0, buf);
     double *x = q.jac + (size_t)n * (size_t)nx, *xl = x + NV, *xu = xl + NV;
     double *gl = xu + NV, *gu = gl + NC;
 
@@ -397,31 +440,13 @@ hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
     if (T > (size_t)(1 << 20))
         return hp_diag_set(d, HP_ERR_INVALID, "offline: %zu rows; window the trace", T);
     hp_settings s;
-    if (settings) s = *settings;
-    else hp_settings_default(&s);
-    s.backend = HP_BACKEND_REALTIME; /* the start plan; the NLP itself is Ipopt's */
     hp_planner *p = NULL;
-    if ((e = hp_planner_create(L, &s, &p, d)) != HP_OK) return e;
     offline_ctx c;
-    memset(&c, 0, sizeof c);
-    c.L = hp_planner_layout(p);
-    c.hs = hs;
-    c.s = &s;
-    int commanded[6];
-    const int n = c.L->n;
     double start[HP_MAX_BLADDERS];
     double *delta = NULL;
     hp_horizon_row *greedy = NULL;
-    if ((e = hp_setup_commanded(c.L, hp_planner_level(p), commanded, d)) != HP_OK ||
-        (e = hp_setup_static_bounds(c.L, &c.sb, d)) != HP_OK)
-        goto done;
-    c.pb.layout = c.L;
-    c.pb.level = hp_planner_level(p);
-    c.pb.n = n;
-    c.pb.nx = 6 + n;
-    c.pb.mu = 0.0;
-    for (int i = 0; i < 6; ++i) c.pb.w[i] = hp_horizon_weight(&s, commanded, i);
-    if ((e = hp_setup_cycle_bounds(c.L, &c.sb, NULL, 0, &c.pb, NULL, NULL, d)) != HP_OK) goto done;
+    if ((e = ctx_build(L, settings, hs, &s, &p, &c, d)) != HP_OK) goto done;
+    const int n = c.L->n;
     if (p_start) memcpy(start, p_start, sizeof(double) * (size_t)n);
     else if ((e = hp_horizon_nominal_pressures(c.L, start, d)) != HP_OK) goto done;
 
@@ -452,6 +477,58 @@ hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
 done:
     free(delta);
     free(greedy);
+    hp_planner_destroy(p);
+    return e;
+}
+
+hp_error hp_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
+                              const hp_horizon_settings *hs, const hp_trace_row *rows, int T,
+                              const double *p0, const double *x, double obj_factor,
+                              const double *lambda, double *f, double *grad, double *g,
+                              double *jac, double *hess)
+{
+    hp_settings s;
+    hp_planner *p = NULL;
+    offline_ctx c;
+    hp_error e = ctx_build(L, settings, hs, &s, &p, &c, NULL);
+    const int n = L->n, nx = 6 + n, NV = T * nx, NC = T * 2 * n;
+    const size_t cap = (size_t)T * (size_t)(21 + 9 * n);
+    double *delta = malloc(sizeof(double) * (size_t)T * (size_t)n);
+    double *buf = malloc(sizeof(double) * nlp_doubles(T, n));
+    Index *iR = malloc(sizeof(Index) * cap), *jC = malloc(sizeof(Index) * cap);
+    double *v = malloc(sizeof(double) * cap);
+    if (e == HP_OK && (!delta || !buf || !iR || !jC || !v)) e = HP_ERR_NOMEM;
+    if (e == HP_OK) e = hp_horizon_rates(c.L, hs, rows, (size_t)T, delta, NULL);
+    if (e == HP_OK) {
+        nlp q;
+        nlp_init(&q, &c, rows, delta, T, p0, buf);
+        double *xx = (double *)x; /* Ipopt's callbacks take non-const pointers */
+        double *ll = (double *)lambda;
+        Index nj = T * 7 * n + T * 2 * n - n, nh = T * (21 + n) + (T - 1) * n;
+        if (!eval_f(NV, xx, 1, f, &q) || !eval_grad_f(NV, xx, 1, grad, &q) ||
+            !eval_g(NV, xx, 1, NC, g, &q) || !eval_jac_g(NV, xx, 1, NC, nj, iR, jC, NULL, &q) ||
+            !eval_jac_g(NV, xx, 1, NC, nj, NULL, NULL, v, &q))
+            e = HP_ERR_DOMAIN;
+        if (e == HP_OK) {
+            memset(jac, 0, sizeof(double) * (size_t)NC * (size_t)NV);
+            for (Index i = 0; i < nj; ++i) jac[(size_t)iR[i] * (size_t)NV + (size_t)jC[i]] += v[i];
+            if (!eval_h(NV, xx, 1, obj_factor, NC, ll, 1, nh, iR, jC, NULL, &q) ||
+                !eval_h(NV, xx, 1, obj_factor, NC, ll, 1, nh, NULL, NULL, v, &q))
+                e = HP_ERR_DOMAIN;
+        }
+        if (e == HP_OK) {
+            memset(hess, 0, sizeof(double) * (size_t)NV * (size_t)NV);
+            for (Index i = 0; i < nh; ++i) {
+                if (iR[i] < jC[i]) e = HP_ERR_INVALID; /* not the lower triangle */
+                hess[(size_t)iR[i] * (size_t)NV + (size_t)jC[i]] += v[i];
+            }
+        }
+    }
+    free(delta);
+    free(buf);
+    free(iR);
+    free(jC);
+    free(v);
     hp_planner_destroy(p);
     return e;
 }
