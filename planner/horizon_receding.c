@@ -68,7 +68,8 @@ static int press_of_ro(const hp_horizon_rh *rh, int k, double ro, double *P, dou
     double rc = fmin(fmax(ro, rh->ro_lo[k]), rh->ro_hi[k]) / HP_MM_PER_M, ri, dPdri;
     if (hp_iab_ri(b, rc, &ri) != HP_OK || hp_iab_ik_derivs(b, ri, P, &dPdri, NULL) != HP_OK)
         return 0;
-    /* Outside the box the value is held (the box penalty acts there), so is its slope. */
+    /* Outside the box the value is held (the box constraints pull the iterate back), so is
+     * its slope. */
     *dP = (ro < rh->ro_lo[k] || ro > rh->ro_hi[k]) ? 0.0
                                                    : dPdri / HP_MM_PER_M * (rc / ri) * (rc / ri);
     return isfinite(*P) && isfinite(*dP);

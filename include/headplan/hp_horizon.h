@@ -14,7 +14,7 @@
  * Greedy: hp_plan per row with the rate limits carried. Offline: all rows in one sparse NLP
  * on Ipopt (the best tracking any planner can reach under the limits), in overlapping
  * windows for long traces. Receding horizon: at every row the next N rows, with a predicted
- * desired pose, by a penalty Gauss–Newton solver in a preallocated workspace; the first row
+ * desired pose, by a primal-dual interior-point solver in a preallocated workspace; the first row
  * is then applied through hp_plan on the realtime backend, so every limit holds exactly.
  *
  * Units: SI (m, rad, Pa, s) like hp_planner.h; the smoothness weight is mm² per kPa². */
@@ -59,7 +59,7 @@ typedef struct hp_horizon_settings {
     int horizon;             /* receding horizon N (rows), 1..HP_HORIZON_MAX */
     hp_prediction prediction;
     int velocity_rows;       /* rows the velocity is estimated from, 2..HP_HORIZON_MAX */
-    int rh_max_iter;         /* Gauss–Newton steps per receding-horizon call, 1..100 */
+    int rh_max_iter;         /* interior-point iterations per receding-horizon call, 1..100 */
     int window;              /* offline: rows per window (0: the whole trace at once) */
     int overlap;             /* offline: rows shared by consecutive windows, < window */
     double offline_tol;      /* Ipopt tolerance of the offline NLP, in (0, 1e-2] */
@@ -130,10 +130,10 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
                               hp_horizon_rh **out, hp_diag *diag);
 
 /* Plans the row at time t (s, later than the previous call's) with desired correction
- * desired[6] (SI): predicts the next N−1 desired poses, solves the N-row problem warm-started
- * from the previous call's plan shifted by one row (at most rh_max_iter Gauss–Newton steps),
+ * desired[6] (SI): predicts the next N−1 desired poses, solves the N-row problem started from
+ * the previous call's plan shifted by one row (at most rh_max_iter interior-point iterations)
  * and applies its first row through hp_plan (realtime) with this row's rate limits. result
- * is hp_plan's. Allocates nothing, prints nothing, takes no lock, bounded iterations.
+ * is hp_plan's, its desired[] and pose_error those of this row's own desired correction. Allocates nothing, prints nothing, takes no lock, bounded iterations.
  * HP_ERR_NULL / HP_ERR_INVALID (t not finite or not increasing: result holds nothing new). */
 hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6],
                             hp_result *result);
