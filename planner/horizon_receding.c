@@ -12,16 +12,19 @@
  * model) and a Gauss–Newton Hessian of the objective. Eliminating s and λ leaves the normal
  * matrix H + Σ_i (λ_i/s_i) ∇c_i ∇c_iᵀ, block tridiagonal (row j couples only with j ± 1
  * through the rate and smoothness terms), so each step is a block Cholesky in O(N · 6³): no
- * dense 6N × 6N matrix. At most rh_max_iter iterations (fewer once converged), started from the previous call's plan
+ * dense 6N × 6N matrix. At most rh_max_iter iterations (fewer once converged, none begun
+ * after half the planner's max_time), started from the previous call's plan
  * shifted by one row. The iterate need not be feasible: the applied first row goes through
  * hp_plan (realtime backend, this row's rate limits), which keeps every limit exactly.
  * Uncommanded pose components are pulled to 0 with unit weight, as the planner holds them. */
+#define _POSIX_C_SOURCE 200809L
 #include "planner/horizon_internal.h"
 #include "planner/problem_setup.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define RH_SIGMA 0.1       /* centring: the next barrier weight is this times the mean s·λ */
 #define RH_BOUNDARY 0.995  /* fraction-to-the-boundary of a step */
@@ -247,16 +250,25 @@ static double to_boundary(const double *v, const double *dv, int m)
     return alpha;
 }
 
-/* At most rh_max_iter primal-dual interior-point iterations from rh->z. */
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* At most rh_max_iter primal-dual interior-point iterations from rh->z, and none started
+ * after the planner's max_time (half of it: hp_plan gets the rest). */
 static void interior_point(hp_horizon_rh *rh)
 {
     const int n = rh->n, m = RH_NC * n * rh->N;
+    const double t_end = now_s() + 0.5 * rh->s.max_time;
     if (!evaluate(rh, rh->z)) return;
     for (int i = 0; i < m; ++i) {
         rh->sl[i] = fmax(rh->c[i], RH_S_MIN);
         rh->lam[i] = RH_MU0 / rh->sl[i];
     }
-    for (int it = 0; it < rh->hs.rh_max_iter; ++it) {
+    for (int it = 0; it < rh->hs.rh_max_iter && now_s() < t_end; ++it) {
         double gap = 0;
         for (int i = 0; i < m; ++i) gap += rh->sl[i] * rh->lam[i];
         double mu = RH_SIGMA * gap / m;

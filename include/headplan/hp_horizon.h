@@ -133,7 +133,9 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
  * desired[6] (SI): predicts the next N−1 desired poses, solves the N-row problem started from
  * the previous call's plan shifted by one row (at most rh_max_iter interior-point iterations)
  * and applies its first row through hp_plan (realtime) with this row's rate limits. result
- * is hp_plan's, its desired[] and pose_error those of this row's own desired correction. Allocates nothing, prints nothing, takes no lock, bounded iterations.
+ * is hp_plan's, its desired[] and pose_error those of this row's own desired correction.
+ * Allocates nothing, prints nothing, takes no lock; bounded: no iteration begins after half
+ * of the settings' max_time, and hp_plan keeps its own bounds.
  * HP_ERR_NULL / HP_ERR_INVALID (t not finite or not increasing: result holds nothing new). */
 hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6],
                             hp_result *result);
