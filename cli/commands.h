@@ -10,5 +10,6 @@ int hp_cmd_solve(int argc, char **argv);
 int hp_cmd_analyze(int argc, char **argv);
 int hp_cmd_batch(int argc, char **argv);
 int hp_cmd_fit(int argc, char **argv);
+int hp_cmd_horizon(int argc, char **argv);
 
 #endif

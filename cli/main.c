@@ -20,6 +20,7 @@ static const command commands[] = {
     {"paper", hp_cmd_paper, "reproduce the paper's expansion and compression tables"},
     {"solve", hp_cmd_solve, "a scene -> bladder pressures for one correction"},
     {"batch", hp_cmd_batch, "a scene and a trace -> one planned row per trace row"},
+    {"horizon", hp_cmd_horizon, "a scene and a trace -> greedy, receding and offline plans"},
     {"analyze", hp_cmd_analyze, "a scene -> layout conditioning, weakest direction and reach"},
     {"fit", hp_cmd_fit, "calibration: bladder moduli or layout from measurements"},
 };

@@ -17,6 +17,7 @@
  *   last solve returned and that solve converged: then the stored multipliers belong to x0. */
 #include "planner/backend_common.h"
 #include "planner/backend_testing.h"
+#include "planner/ipopt_shared.h"
 
 #include <IpStdCInterface.h>
 #include <math.h>
@@ -26,6 +27,9 @@
 #include <string.h>
 
 static pthread_mutex_t ipopt_lock = PTHREAD_MUTEX_INITIALIZER;
+
+void hp_ipopt_lock(void) { pthread_mutex_lock(&ipopt_lock); }
+void hp_ipopt_unlock(void) { pthread_mutex_unlock(&ipopt_lock); }
 /* Test-only hooks (planner/backend_testing.h): inert unless a test sets them. */
 static atomic_int ipopt_fault = HP_TEST_FAULT_NONE;
 static atomic_int ipopt_forced = HP_TEST_NO_FORCE;
@@ -172,6 +176,36 @@ static hp_error opt_int(IpoptProblem a, const char *k, int v, hp_diag *d)
     return HP_OK;
 }
 
+hp_error hp_ipopt_base_options(IpoptProblem app, double tol, int max_iter, double max_time,
+                               hp_diag *d)
+{
+    /* bound_relax_factor 0: by default Ipopt relaxes each bound by 1e-8 relative (3e-7 mm
+     * here) and then projects the answer back onto it, which breaks the contact equality by
+     * that much at every binding bladder. Ipopt's acceptable-level heuristic would stop with a contact violation up to 1e-2 mm
+     * (acceptable_constr_viol_tol): keep it off, and its tolerances tight where it can still
+     * be reached (restoration). */
+    double acc = fmax(10.0 * tol, 1e-9);
+    hp_error e;
+    if ((e = opt_str(app, "sb", "yes", d)) ||
+        (e = opt_int(app, "print_level", 0, d)) ||
+        (e = opt_str(app, "option_file_name", "", d)) ||
+        (e = opt_num(app, "tol", tol, d)) ||
+        (e = opt_num(app, "constr_viol_tol", tol, d)) ||
+        (e = opt_num(app, "bound_relax_factor", 0.0, d)) ||
+        (e = opt_int(app, "acceptable_iter", 0, d)) ||
+        (e = opt_num(app, "acceptable_tol", acc, d)) ||
+        (e = opt_num(app, "acceptable_constr_viol_tol", acc, d)) ||
+        (e = opt_int(app, "max_iter", max_iter, d)) ||
+        (e = opt_num(app, "max_cpu_time", max_time, d)) ||
+        (e = opt_num(app, "warm_start_bound_push", WARM_PUSH, d)) ||
+        (e = opt_num(app, "warm_start_bound_frac", WARM_PUSH, d)) ||
+        (e = opt_num(app, "warm_start_slack_bound_push", WARM_PUSH, d)) ||
+        (e = opt_num(app, "warm_start_slack_bound_frac", WARM_PUSH, d)) ||
+        (e = opt_num(app, "warm_start_mult_bound_push", WARM_PUSH, d)))
+        return e;
+    return HP_OK;
+}
+
 /* Builds st->app for bounds pb->ri_lo/ri_hi with every fixed option. Caller holds the lock
  * and has freed any previous app. */
 static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
@@ -194,30 +228,8 @@ static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
                                  eval_f, eval_g, eval_grad_f, eval_jac_g, eval_h);
     if (!st->app) return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: CreateIpoptProblem failed");
     const hp_settings *s = &st->s;
-    /* bound_relax_factor 0: by default Ipopt relaxes each bound by 1e-8 relative (3e-7 mm
-     * here) and then projects the answer back onto it, which breaks the contact equality by
-     * that much at every binding bladder. Ipopt's acceptable-level heuristic would stop with a contact violation up to 1e-2 mm
-     * (acceptable_constr_viol_tol): keep it off, and its tolerances tight where it can still
-     * be reached (restoration). */
-    double acc = fmax(10.0 * s->tolerance, 1e-9);
-    hp_error e;
-    if ((e = opt_str(st->app, "sb", "yes", d)) ||
-        (e = opt_int(st->app, "print_level", 0, d)) ||
-        (e = opt_str(st->app, "option_file_name", "", d)) ||
-        (e = opt_num(st->app, "tol", s->tolerance, d)) ||
-        (e = opt_num(st->app, "constr_viol_tol", s->tolerance, d)) ||
-        (e = opt_num(st->app, "bound_relax_factor", 0.0, d)) ||
-        (e = opt_int(st->app, "acceptable_iter", 0, d)) ||
-        (e = opt_num(st->app, "acceptable_tol", acc, d)) ||
-        (e = opt_num(st->app, "acceptable_constr_viol_tol", acc, d)) ||
-        (e = opt_int(st->app, "max_iter", s->max_iter, d)) ||
-        (e = opt_num(st->app, "max_cpu_time", s->max_time, d)) ||
-        (e = opt_num(st->app, "warm_start_bound_push", WARM_PUSH, d)) ||
-        (e = opt_num(st->app, "warm_start_bound_frac", WARM_PUSH, d)) ||
-        (e = opt_num(st->app, "warm_start_slack_bound_push", WARM_PUSH, d)) ||
-        (e = opt_num(st->app, "warm_start_slack_bound_frac", WARM_PUSH, d)) ||
-        (e = opt_num(st->app, "warm_start_mult_bound_push", WARM_PUSH, d)))
-        return e;
+    hp_error e = hp_ipopt_base_options(st->app, s->tolerance, s->max_iter, s->max_time, d);
+    if (e != HP_OK) return e;
     /* The quasi-Newton peer of the benchmarks: Ipopt then never calls eval_h. */
     if (st->lbfgs &&
         (e = opt_str(st->app, "hessian_approximation", "limited-memory", d)))

@@ -259,3 +259,13 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
     return HP_OK;
 }
 
+
+/* Internal (horizon/horizon_internal.h): the rate limits of the next plans. */
+hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
+{
+    if (!p || !rate_max) return HP_ERR_NULL;
+    for (int k = 0; k < p->L.n; ++k)
+        if (!(rate_max[k] > 0.0)) return HP_ERR_INVALID; /* NaN, 0 and negatives */
+    for (int k = 0; k < p->L.n; ++k) p->L.bladders[k].rate_max = rate_max[k];
+    return HP_OK;
+}

@@ -2,7 +2,7 @@
 """The include graph runs one way: no file includes anything from a layer above its own.
 
 Layers, bottom up (a module may include its own files and those of the layers below):
-  common < iab < kinematics < planner < scene < calib < cli < bench
+  common < iab < kinematics < planner < scene < calib < horizon < cli < bench
 The public headers belong to the layer of the module that implements them (PUBLIC below).
 The umbrella headplan.h includes every public header, so only the layers above the library
 (cli, bench) may include it. Tests, fuzzers, examples and the Python module sit above
@@ -12,12 +12,12 @@ import os
 import re
 import sys
 
-LAYERS = ["common", "iab", "kinematics", "planner", "scene", "calib", "cli", "bench"]
+LAYERS = ["common", "iab", "kinematics", "planner", "scene", "calib", "horizon", "cli", "bench"]
 PUBLIC = {  # include/headplan/<header> -> the module that implements it
     "hp_common.h": "common", "hp_version.h": "common", "hp_iab.h": "iab",
     "hp_kinematics.h": "kinematics", "hp_load.h": "kinematics", "hp_planner.h": "planner",
-    "hp_horizon.h": "planner", "hp_scene.h": "scene", "hp_trace.h": "scene",
-    "hp_calib.h": "calib", "headplan.h": "calib",  # the umbrella: the top of the library
+    "hp_horizon.h": "horizon", "hp_scene.h": "scene", "hp_trace.h": "scene",
+    "hp_calib.h": "calib", "headplan.h": "horizon",  # the umbrella: the top of the library
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 

@@ -10,6 +10,7 @@
 #include "headplan/hp_scene.h"
 #include "headplan/hp_trace.h"
 #include "headplan/hp_planner.h"
+#include "headplan/hp_horizon.h"
 #include "headplan/hp_calib.h"
 
 #endif

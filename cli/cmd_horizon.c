@@ -1,0 +1,367 @@
+/* headplan horizon: greedy, receding-horizon and offline plans of one trace, and their
+ * comparison (docs/horizon.md). */
+#define _POSIX_C_SOURCE 200809L
+#include "cli/cli_args.h"
+#include "cli/cli_scene.h"
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+
+#include <jansson.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const CMD = "horizon";
+
+static void help(void)
+{
+    printf("usage: headplan horizon SCENE [TRACE] [--mode greedy|receding|offline|compare]\n"
+           "           [--horizon N] [--prediction hold|velocity] [--window ROWS]\n"
+           "           [--overlap ROWS] [--rate-kpa-per-s R] [--smooth S]\n"
+           "           [--rows deviation|correction] [--tolerance-mm MM] [--tolerance-deg DEG]\n"
+           "           [-o OUT.csv] [--json]\n\n"
+           "Plans every row of TRACE (default: the scene's trace) under the scene's limits\n"
+           "and the rate limits between rows (each bladder's rate_max_kpa per row and\n"
+           "--rate-kpa-per-s times the row interval, whichever is smaller):\n"
+           "  greedy    each row on its own, from the previous row's pressures\n"
+           "  receding  each row planned N rows ahead (--horizon, default 10) with a\n"
+           "            predicted desired pose (--prediction, default hold)\n"
+           "  offline   all rows in one NLP (Ipopt): the best tracking the limits allow;\n"
+           "            --window ROWS --overlap ROWS solves long traces in windows\n"
+           "  compare   all three (the default)\n"
+           "Prints per plan the RMS and largest error per axis, the time outside the\n"
+           "tolerance (default 0.5 mm / 0.5 deg), the pressure travel and the cost; --json\n"
+           "prints it as JSON. -o writes every plan's rows as CSV, the summary in its\n"
+           "'# ' header lines. --smooth is the pressure-change weight (mm^2 per kPa^2).\n\n"
+           "exit: 0 ok, 64 usage, 65 bad scene, trace or value, 66 no input, 70 solver\n"
+           "failure, 73 cannot write OUT\n");
+}
+
+typedef struct {
+    const char *scene, *trace, *out, *mode, *prediction, *rows;
+    const char *horizon, *window, *overlap, *rate, *smooth, *tol_mm, *tol_deg;
+    int json;
+} hz_args;
+
+static int parse(int argc, char **argv, hz_args *a)
+{
+    int npos = 0;
+    for (int i = 1; i < argc; ++i) {
+        const char *v = NULL;
+        int m;
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            help();
+            return HP_EXIT_OK;
+        }
+        if (strcmp(argv[i], "--json") == 0) {
+            a->json = 1;
+            continue;
+        }
+#define OPT(name, field)                                                                      \
+    if ((m = hp_cli_opt(CMD, argc, argv, &i, name, &v)) != 0) {                               \
+        if (m < 0) return HP_EXIT_USAGE;                                                      \
+        if (a->field)                                                                         \
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given more than once", name);         \
+        a->field = v;                                                                         \
+        continue;                                                                             \
+    }
+        OPT("-o", out)
+        OPT("--mode", mode)
+        OPT("--prediction", prediction)
+        OPT("--rows", rows)
+        OPT("--horizon", horizon)
+        OPT("--window", window)
+        OPT("--overlap", overlap)
+        OPT("--rate-kpa-per-s", rate)
+        OPT("--smooth", smooth)
+        OPT("--tolerance-mm", tol_mm)
+        OPT("--tolerance-deg", tol_deg)
+#undef OPT
+        if (argv[i][0] == '-' && argv[i][1] != '\0')
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
+        if (npos == 0) a->scene = argv[i];
+        else if (npos == 1) a->trace = argv[i];
+        else return hp_cli_fail(HP_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
+        ++npos;
+    }
+    if (!a->scene) return hp_cli_fail(HP_EXIT_USAGE, CMD, "missing SCENE (see --help)");
+    return -1;
+}
+
+/* Every value option into the horizon settings and tolerances; 0 or the exit status. */
+static int settings_from_args(const hz_args *a, hp_horizon_settings *hs, double *tol_mm,
+                              double *tol_deg, int *modes)
+{
+    hp_horizon_settings_default(hs);
+    long v;
+    double x;
+    int rc;
+    if (a->horizon) {
+        if ((rc = hp_cli_int(CMD, "--horizon", a->horizon, 1, HP_HORIZON_MAX, &v))) return rc;
+        hs->horizon = (int)v;
+    }
+    if (a->window) {
+        if ((rc = hp_cli_int(CMD, "--window", a->window, 2, 1 << 20, &v))) return rc;
+        hs->window = (int)v;
+    }
+    if (a->overlap) {
+        if (!a->window) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--overlap: needs --window");
+        if ((rc = hp_cli_int(CMD, "--overlap", a->overlap, 1, hs->window - 1, &v))) return rc;
+        hs->overlap = (int)v;
+    }
+    if (a->rate) {
+        if ((rc = hp_cli_double(CMD, "--rate-kpa-per-s", a->rate, &x))) return rc;
+        if (!(x > 0)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--rate-kpa-per-s: must be > 0");
+        hs->rate_max_per_s = x * 1e3;
+    }
+    if (a->smooth) {
+        if ((rc = hp_cli_double(CMD, "--smooth", a->smooth, &x))) return rc;
+        if (!(x >= 0 && x <= 1)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--smooth: must be in [0, 1]");
+        hs->smooth = x;
+    }
+    if (a->prediction && hp_prediction_parse(a->prediction, &hs->prediction) != HP_OK)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD, "--prediction: '%s' is not hold or velocity",
+                           a->prediction);
+    *tol_mm = *tol_deg = 0.5;
+    if (a->tol_mm) {
+        if ((rc = hp_cli_double(CMD, "--tolerance-mm", a->tol_mm, tol_mm))) return rc;
+        if (!(*tol_mm > 0)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--tolerance-mm: must be > 0");
+    }
+    if (a->tol_deg) {
+        if ((rc = hp_cli_double(CMD, "--tolerance-deg", a->tol_deg, tol_deg))) return rc;
+        if (!(*tol_deg > 0)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--tolerance-deg: must be > 0");
+    }
+    static const char *const names[3] = {"greedy", "receding", "offline"};
+    const char *mode = a->mode ? a->mode : "compare";
+    modes[0] = modes[1] = modes[2] = strcmp(mode, "compare") == 0;
+    for (int p = 0; p < 3; ++p) modes[p] |= strcmp(mode, names[p]) == 0;
+    if (!modes[0] && !modes[1] && !modes[2])
+        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+                           "--mode: '%s' is not greedy, receding, offline or compare", mode);
+    return 0;
+}
+
+/* Reads every row of a trace; a bad row stops (a horizon plan needs every row). */
+static int read_trace(const char *path, const hp_trace_rows *ovr, hp_trace_row **out, size_t *T)
+{
+    hp_trace_reader *r = NULL;
+    hp_diag d = {{0}};
+    hp_error e = hp_trace_open(path, ovr, &r, &d);
+    if (e != HP_OK)
+        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
+    size_t n = 0, cap = 1024;
+    hp_trace_row *rows = malloc(cap * sizeof *rows);
+    int rc = 0;
+    for (;;) {
+        if (!rows) {
+            rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+            break;
+        }
+        if (n == cap) {
+            cap *= 2;
+            hp_trace_row *g = realloc(rows, cap * sizeof *rows);
+            if (!g) free(rows);
+            rows = g;
+            continue;
+        }
+        e = hp_trace_next(r, &rows[n], &d);
+        if (e == HP_ERR_STATE) break;
+        if (e != HP_OK) {
+            rc = hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
+            break;
+        }
+        ++n;
+    }
+    hp_trace_close(r);
+    if (rc == 0 && n == 0) rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: no rows", path);
+    if (rc) {
+        free(rows);
+        return rc;
+    }
+    *out = rows;
+    *T = n;
+    return 0;
+}
+
+static const char *const PLAN_NAMES[3] = {"greedy", "receding", "offline"};
+static const char *const AXES[6] = {"x_mm", "y_mm", "z_mm", "pitch_deg", "roll_deg", "yaw_deg"};
+
+static double unit(int i) { return i < 3 ? 1e3 : 57.295779513082320877; }
+
+static void write_summary_text(FILE *f, const char *prefix, const int *modes,
+                               const hp_horizon_metrics *m)
+{
+    char b[HP_FMT_MAX];
+    fprintf(f, "%splan,metric", prefix);
+    for (int i = 0; i < 6; ++i) fprintf(f, ",%s", AXES[i]);
+    fprintf(f, "\n");
+    for (int p = 0; p < 3; ++p) {
+        if (!modes[p]) continue;
+        fprintf(f, "%s%s,rms", prefix, PLAN_NAMES[p]);
+        for (int i = 0; i < 6; ++i) fprintf(f, ",%s", hp_cli_fmt(b, m[p].rms[i]));
+        fprintf(f, "\n%s%s,max", prefix, PLAN_NAMES[p]);
+        for (int i = 0; i < 6; ++i) fprintf(f, ",%s", hp_cli_fmt(b, m[p].max[i]));
+        fprintf(f, "\n");
+    }
+    fprintf(f, "%splan,time_outside_s,rows_outside,travel_kpa,cost,pose_cost\n", prefix);
+    for (int p = 0; p < 3; ++p) {
+        if (!modes[p]) continue;
+        fprintf(f, "%s%s,%s", prefix, PLAN_NAMES[p], hp_cli_fmt(b, m[p].time_outside));
+        fprintf(f, ",%s", hp_cli_fmt(b, m[p].rows_outside));
+        fprintf(f, ",%s", hp_cli_fmt(b, m[p].travel * 1e-3));
+        fprintf(f, ",%s", hp_cli_fmt(b, m[p].cost));
+        fprintf(f, ",%s\n", hp_cli_fmt(b, m[p].pose_cost));
+    }
+}
+
+static int write_csv(const char *path, const hp_layout *L, const int *modes,
+                     hp_horizon_row *const *plans, size_t T, const hp_horizon_metrics *m,
+                     const char *scene, const char *trace, double tol_mm, double tol_deg)
+{
+    FILE *f = fopen(path, "w");
+    if (!f) return hp_cli_fail(HP_EXIT_CANTCREAT, CMD, "%s: cannot create", path);
+    char b[HP_FMT_MAX];
+    fprintf(f, "# headplan horizon: scene %s, trace %s, %zu rows\n", scene, trace, T);
+    fprintf(f, "# tolerance_mm %s", hp_cli_fmt(b, tol_mm));
+    fprintf(f, ", tolerance_deg %s\n", hp_cli_fmt(b, tol_deg));
+    write_summary_text(f, "# ", modes, m);
+    fprintf(f, "plan,t_s");
+    for (int i = 0; i < 6; ++i) fprintf(f, ",desired_%s", AXES[i]);
+    for (int i = 0; i < 6; ++i) fprintf(f, ",achieved_%s", AXES[i]);
+    fprintf(f, ",pose_error,status");
+    for (int k = 0; k < L->n; ++k) fprintf(f, ",%s_kpa", L->bladders[k].name);
+    fprintf(f, "\n");
+    for (int p = 0; p < 3; ++p) {
+        if (!modes[p]) continue;
+        for (size_t t = 0; t < T; ++t) {
+            const hp_horizon_row *o = &plans[p][t];
+            double err = 0;
+            fprintf(f, "%s,%s", PLAN_NAMES[p], hp_cli_fmt(b, o->t));
+            for (int i = 0; i < 6; ++i) fprintf(f, ",%s", hp_cli_fmt(b, o->desired[i] * unit(i)));
+            for (int i = 0; i < 6; ++i) {
+                fprintf(f, ",%s", hp_cli_fmt(b, o->achieved[i] * unit(i)));
+                err = fmax(err, fabs(o->achieved[i] - o->desired[i]) * unit(i));
+            }
+            fprintf(f, ",%s,%s", hp_cli_fmt(b, err), hp_status_name(o->status));
+            for (int k = 0; k < L->n; ++k) fprintf(f, ",%s", hp_cli_fmt(b, o->pressure[k] * 1e-3));
+            fprintf(f, "\n");
+        }
+    }
+    if (fclose(f) != 0) return hp_cli_fail(HP_EXIT_CANTCREAT, CMD, "%s: write failed", path);
+    return 0;
+}
+
+static json_t *vec6(const double *v)
+{
+    json_t *o = json_object();
+    for (int i = 0; i < 6; ++i) json_object_set_new(o, AXES[i], json_real(v[i]));
+    return o;
+}
+
+static void print_json(const int *modes, const hp_horizon_metrics *m, size_t T,
+                       const hp_horizon_settings *hs, const hp_horizon_info *info,
+                       double tol_mm, double tol_deg)
+{
+    json_t *o = json_object();
+    json_object_set_new(o, "rows", json_integer((json_int_t)T));
+    json_object_set_new(o, "tolerance_mm", json_real(tol_mm));
+    json_object_set_new(o, "tolerance_deg", json_real(tol_deg));
+    json_object_set_new(o, "horizon", json_integer(hs->horizon));
+    json_object_set_new(o, "prediction", json_string(hp_prediction_name(hs->prediction)));
+    json_object_set_new(o, "smooth", json_real(hs->smooth));
+    json_t *plans = json_object();
+    for (int p = 0; p < 3; ++p) {
+        if (!modes[p]) continue;
+        json_t *e = json_object();
+        json_object_set_new(e, "rms", vec6(m[p].rms));
+        json_object_set_new(e, "max", vec6(m[p].max));
+        json_object_set_new(e, "time_outside_s", json_real(m[p].time_outside));
+        json_object_set_new(e, "rows_outside", json_real(m[p].rows_outside));
+        json_object_set_new(e, "travel_kpa", json_real(m[p].travel * 1e-3));
+        json_object_set_new(e, "cost", json_real(m[p].cost));
+        json_object_set_new(e, "pose_cost", json_real(m[p].pose_cost));
+        if (p == 2) {
+            json_object_set_new(e, "windows", json_integer(info->windows));
+            json_object_set_new(e, "iterations", json_integer(info->iterations));
+        }
+        json_object_set_new(plans, PLAN_NAMES[p], e);
+    }
+    json_object_set_new(o, "plans", plans);
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    if (s) printf("%s\n", s);
+    free(s);
+    json_decref(o);
+}
+
+int hp_cmd_horizon(int argc, char **argv)
+{
+    hz_args a;
+    memset(&a, 0, sizeof a);
+    int rc = parse(argc, argv, &a);
+    if (rc >= 0) return rc;
+    hp_horizon_settings hs;
+    double tol_mm, tol_deg;
+    int modes[3];
+    if ((rc = settings_from_args(&a, &hs, &tol_mm, &tol_deg, modes))) return rc;
+    hp_trace_rows ovr;
+    if (a.rows && hp_trace_rows_parse(a.rows, &ovr) != HP_OK)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD, "--rows: '%s' is not deviation or correction",
+                           a.rows);
+    hp_scene *sc = NULL;
+    if ((rc = hp_cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
+    hp_settings s;
+    hp_horizon_row *plans[3] = {NULL, NULL, NULL};
+    hp_trace_row *rows = NULL;
+    size_t T = 0;
+    const char *trace = a.trace;
+    const hp_trace_rows *use_ovr = a.rows ? &ovr : NULL;
+    if (!trace) {
+        if (!sc->has_trace) {
+            rc = hp_cli_fail(HP_EXIT_USAGE, CMD, "no TRACE given and the scene names none");
+            goto done;
+        }
+        trace = sc->trace_path;
+        if (!a.rows) use_ovr = &sc->trace_rows;
+    }
+    if ((rc = hp_cli_settings(CMD, sc, NULL, NULL, &s))) goto done;
+    if ((rc = read_trace(trace, use_ovr, &rows, &T))) goto done;
+    hp_diag d = {{0}};
+    double p0[HP_MAX_BLADDERS];
+    if (hp_horizon_nominal_pressures(&sc->layout, p0, &d) != HP_OK) {
+        rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s", d.text);
+        goto done;
+    }
+    /* The start pressures are held one sampling interval before row 0. */
+    if (T > 1 && rows[1].t > rows[0].t) hs.start_interval_s = rows[1].t - rows[0].t;
+    hp_horizon_metrics m[3];
+    hp_horizon_info info;
+    memset(&info, 0, sizeof info);
+    for (int p = 0; p < 3; ++p) {
+        if (!modes[p]) continue;
+        plans[p] = malloc(T * sizeof *plans[p]);
+        if (!plans[p]) {
+            rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+            goto done;
+        }
+        hp_error e;
+        if (p == 0) e = hp_horizon_greedy(&sc->layout, &s, &hs, rows, T, p0, plans[p], &d);
+        else if (p == 1) e = hp_horizon_receding(&sc->layout, &s, &hs, rows, T, p0, plans[p], &d);
+        else e = hp_horizon_offline(&sc->layout, &s, &hs, rows, T, p0, plans[p], &info, &d);
+        if (e != HP_OK) {
+            rc = hp_cli_fail(e == HP_ERR_INVALID ? HP_EXIT_DATAERR : HP_EXIT_SOFTWARE, CMD,
+                             "%s: %s", PLAN_NAMES[p], d.text);
+            goto done;
+        }
+        hp_horizon_measure(plans[p], T, sc->layout.n, p0, &s, &hs, tol_mm, tol_deg, &m[p]);
+    }
+    if (a.out && (rc = write_csv(a.out, &sc->layout, modes, plans, T, m, a.scene, trace, tol_mm,
+                                 tol_deg)))
+        goto done;
+    if (a.json) print_json(modes, m, T, &hs, &info, tol_mm, tol_deg);
+    else write_summary_text(stdout, "", modes, m);
+done:
+    for (int p = 0; p < 3; ++p) free(plans[p]);
+    free(rows);
+    free(sc);
+    return rc;
+}

@@ -1,0 +1,256 @@
+/* Horizon settings, per-row rate limits from time stamps, the greedy plan, study metrics. */
+#include "horizon/horizon_internal.h"
+#include "planner/problem_setup.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+const char *hp_prediction_name(hp_prediction p)
+{
+    switch (p) {
+    case HP_PREDICT_HOLD: return "hold";
+    case HP_PREDICT_VELOCITY: return "velocity";
+    default: return "unknown";
+    }
+}
+
+hp_error hp_prediction_parse(const char *s, hp_prediction *out)
+{
+    if (!s || !out) return HP_ERR_NULL;
+    if (strcmp(s, "hold") == 0) *out = HP_PREDICT_HOLD;
+    else if (strcmp(s, "velocity") == 0) *out = HP_PREDICT_VELOCITY;
+    else return HP_ERR_INVALID;
+    return HP_OK;
+}
+
+void hp_horizon_settings_default(hp_horizon_settings *s)
+{
+    if (!s) return;
+    s->rate_max_per_s = HP_DEFAULT_RATE_PER_S;
+    s->smooth = HP_DEFAULT_SMOOTH;
+    s->start_interval_s = HP_DEFAULT_START_INTERVAL;
+    s->horizon = HP_DEFAULT_HORIZON;
+    s->prediction = HP_PREDICT_HOLD;
+    s->velocity_rows = HP_DEFAULT_VELOCITY_ROWS;
+    s->rh_max_iter = HP_DEFAULT_RH_MAX_ITER;
+    s->window = 0;
+    s->overlap = 0;
+    s->offline_tol = HP_DEFAULT_OFFLINE_TOL;
+    s->offline_max_iter = HP_DEFAULT_OFFLINE_MAX_ITER;
+    s->offline_max_time = HP_DEFAULT_OFFLINE_MAX_TIME;
+}
+
+hp_error hp_horizon_settings_validate(const hp_horizon_settings *s, hp_diag *d)
+{
+    if (!s) return hp_diag_set(d, HP_ERR_NULL, "horizon settings: NULL");
+    if (!(s->rate_max_per_s > 0)) /* +inf allowed: no limit */
+        return hp_diag_set(d, HP_ERR_INVALID, "rate_max_per_s: must be > 0 Pa/s (got %g)",
+                           s->rate_max_per_s);
+    if (!(s->smooth >= 0 && s->smooth <= 1))
+        return hp_diag_set(d, HP_ERR_INVALID, "smooth: must be in [0, 1] mm²/kPa² (got %g)",
+                           s->smooth);
+    if (!(s->start_interval_s > 0 && isfinite(s->start_interval_s)))
+        return hp_diag_set(d, HP_ERR_INVALID, "start_interval_s: must be finite and > 0 (got %g)",
+                           s->start_interval_s);
+    if (s->horizon < 1 || s->horizon > HP_HORIZON_MAX)
+        return hp_diag_set(d, HP_ERR_INVALID, "horizon: must be in 1..%d rows (got %d)",
+                           HP_HORIZON_MAX, s->horizon);
+    if (s->prediction != HP_PREDICT_HOLD && s->prediction != HP_PREDICT_VELOCITY)
+        return hp_diag_set(d, HP_ERR_INVALID, "prediction: unknown value %d", (int)s->prediction);
+    if (s->velocity_rows < 2 || s->velocity_rows > HP_HORIZON_MAX)
+        return hp_diag_set(d, HP_ERR_INVALID, "velocity_rows: must be in 2..%d (got %d)",
+                           HP_HORIZON_MAX, s->velocity_rows);
+    if (s->rh_max_iter < 1 || s->rh_max_iter > 100)
+        return hp_diag_set(d, HP_ERR_INVALID, "rh_max_iter: must be in 1..100 (got %d)",
+                           s->rh_max_iter);
+    if (s->window < 0)
+        return hp_diag_set(d, HP_ERR_INVALID, "window: must be >= 0 rows (got %d)", s->window);
+    if (s->overlap < 0 || (s->window > 0 && s->overlap >= s->window) ||
+        (s->window == 0 && s->overlap != 0))
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "overlap: must be >= 0 and < window (got %d, window %d)", s->overlap,
+                           s->window);
+    if (!(s->offline_tol > 0 && s->offline_tol <= 1e-2))
+        return hp_diag_set(d, HP_ERR_INVALID, "offline_tol: must be in (0, 1e-2] (got %g)",
+                           s->offline_tol);
+    if (s->offline_max_iter < 1)
+        return hp_diag_set(d, HP_ERR_INVALID, "offline_max_iter: must be > 0 (got %d)",
+                           s->offline_max_iter);
+    if (!(s->offline_max_time > 0 && isfinite(s->offline_max_time)))
+        return hp_diag_set(d, HP_ERR_INVALID, "offline_max_time: must be finite and > 0 s (got %g)",
+                           s->offline_max_time);
+    return HP_OK;
+}
+
+double hp_horizon_weight(const hp_settings *s, const int commanded[6], int i)
+{
+    if (commanded && !commanded[i]) return 0.0;
+    return i < 3 ? 1.0 : 1.0 / (s->weight_mm_per_deg * s->weight_mm_per_deg);
+}
+
+void hp_horizon_row_rates(const hp_layout *L, const hp_horizon_settings *hs, double dt,
+                          double *delta)
+{
+    double per_s = isfinite(hs->rate_max_per_s) ? hs->rate_max_per_s * dt : INFINITY;
+    for (int k = 0; k < L->n; ++k) delta[k] = fmin(L->bladders[k].rate_max, per_s);
+}
+
+/* The interval before row t (the start interval for row 0), checked. */
+static hp_error row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
+                       double *dt, hp_diag *d)
+{
+    if (!isfinite(rows[t].t))
+        return hp_diag_set(d, HP_ERR_INVALID, "line %ld: t_s: not finite", rows[t].line);
+    *dt = hs->start_interval_s;
+    if (t > 0) {
+        *dt = rows[t].t - rows[t - 1].t;
+        if (!(*dt > 0))
+            return hp_diag_set(d, HP_ERR_INVALID,
+                               "line %ld: t_s: %.17g s is not after the previous row's %.17g s",
+                               rows[t].line, rows[t].t, rows[t - 1].t);
+    }
+    return HP_OK;
+}
+
+hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
+                          const hp_trace_row *rows, size_t T, double *delta, hp_diag *d)
+{
+    if (!L || !hs || (!rows && T) || (!delta && T))
+        return hp_diag_set(d, HP_ERR_NULL, "horizon rates: NULL argument");
+    for (size_t t = 0; t < T; ++t) {
+        double dt;
+        hp_error e = row_dt(hs, rows, t, &dt, d);
+        if (e != HP_OK) return e;
+        hp_horizon_row_rates(L, hs, dt, delta + t * (size_t)L->n);
+    }
+    return HP_OK;
+}
+
+hp_error hp_horizon_nominal_pressures(const hp_layout *L, double *p_start, hp_diag *d)
+{
+    if (!L || !p_start) return hp_diag_set(d, HP_ERR_NULL, "nominal pressures: NULL argument");
+    if (!L->prepared) return hp_diag_set(d, HP_ERR_STATE, "nominal pressures: layout not prepared");
+    for (int k = 0; k < L->n; ++k) {
+        double ri;
+        const hp_iab *b = &L->bladders[k].iab;
+        hp_error e = hp_iab_ri(b, L->rho0[k], &ri);
+        if (e == HP_OK) e = hp_iab_ik(b, ri, &p_start[k]);
+        if (e != HP_OK)
+            return hp_diag_set(d, e, "bladder %s: nominal pressure: %s", L->bladders[k].name,
+                               hp_error_message(e));
+    }
+    return HP_OK;
+}
+
+static void row_from_result(const hp_trace_row *in, const hp_result *r, int n,
+                            hp_horizon_row *o)
+{
+    o->t = in->t;
+    memcpy(o->desired, in->correction, sizeof o->desired);
+    memcpy(o->achieved, r->achieved, sizeof o->achieved);
+    for (int k = 0; k < n; ++k) {
+        o->ri[k] = r->bladders[k].ri;
+        o->pressure[k] = r->bladders[k].pressure;
+    }
+    o->status = r->status;
+}
+
+hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
+                           const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
+                           const double *p_start, hp_horizon_row *out, hp_diag *d)
+{
+    if (!L || !hs || (T && (!rows || !out)))
+        return hp_diag_set(d, HP_ERR_NULL, "greedy: NULL argument");
+    hp_error e = hp_horizon_settings_validate(hs, d);
+    if (e != HP_OK) return e;
+    hp_planner *p = NULL;
+    if ((e = hp_planner_create(L, settings, &p, d)) != HP_OK) return e;
+    const hp_layout *PL = hp_planner_layout(p);
+    double start[HP_MAX_BLADDERS], delta[HP_MAX_BLADDERS];
+    if (p_start) memcpy(start, p_start, sizeof(double) * (size_t)PL->n);
+    else if ((e = hp_horizon_nominal_pressures(PL, start, d)) != HP_OK) goto done;
+    if ((e = hp_planner_set_previous(p, start)) != HP_OK) {
+        hp_diag_set(d, e, "start pressures: %s", hp_planner_error(p));
+        goto done;
+    }
+    for (size_t t = 0; t < T; ++t) {
+        double dt;
+        if ((e = row_dt(hs, rows, t, &dt, d)) != HP_OK) goto done;
+        hp_horizon_row_rates(PL, hs, dt, delta);
+        if ((e = hp_planner_set_rate_max(p, delta)) != HP_OK) {
+            hp_diag_set(d, e, "line %ld: rate limit", rows[t].line);
+            goto done;
+        }
+        hp_result r;
+        e = hp_plan(p, rows[t].correction, &r);
+        if (e != HP_OK) {
+            hp_diag_set(d, e, "line %ld: %s", rows[t].line, hp_planner_error(p));
+            goto done;
+        }
+        row_from_result(rows + t, &r, PL->n, out + t);
+    }
+done:
+    hp_planner_destroy(p);
+    return e;
+}
+
+hp_error hp_horizon_measure(const hp_horizon_row *out, size_t T, int n, const double *p_start,
+                            const hp_settings *settings, const hp_horizon_settings *hs,
+                            double tol_mm, double tol_deg, hp_horizon_metrics *m)
+{
+    if (!out || !p_start || !settings || !hs || !m) return HP_ERR_NULL;
+    if (!(tol_mm > 0 && tol_deg > 0) || n < 1 || n > HP_MAX_BLADDERS || T == 0)
+        return HP_ERR_INVALID;
+    memset(m, 0, sizeof *m);
+    double sq[6] = {0}, outside_rows = 0;
+    for (size_t t = 0; t < T; ++t) {
+        const hp_horizon_row *o = &out[t];
+        int outside = 0;
+        for (int i = 0; i < 6; ++i) {
+            double s = i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD;
+            double e = (o->achieved[i] - o->desired[i]) * s;
+            sq[i] += e * e;
+            m->max[i] = fmax(m->max[i], fabs(e));
+            m->pose_cost += hp_horizon_weight(settings, NULL, i) * e * e;
+            outside |= fabs(e) > (i < 3 ? tol_mm : tol_deg);
+        }
+        double dt = t ? o->t - out[t - 1].t : hs->start_interval_s;
+        if (outside) {
+            m->time_outside += dt;
+            outside_rows += 1;
+        }
+        const double *prev = t ? out[t - 1].pressure : p_start;
+        for (int k = 0; k < n; ++k) {
+            double dp = o->pressure[k] - prev[k];
+            m->travel += fabs(dp);
+            m->cost += hs->smooth * (dp * 1e-3) * (dp * 1e-3);
+        }
+    }
+    for (int i = 0; i < 6; ++i) m->rms[i] = sqrt(sq[i] / (double)T);
+    m->cost += m->pose_cost;
+    m->rows_outside = outside_rows / (double)T;
+    return HP_OK;
+}
+
+hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
+                             const hp_horizon_settings *hs, const hp_trace_row *rows,
+                             size_t T, const double *p_start, hp_horizon_row *out,
+                             hp_diag *d)
+{
+    if (!L || (T && (!rows || !out))) return hp_diag_set(d, HP_ERR_NULL, "receding: NULL argument");
+    hp_horizon_rh *rh = NULL;
+    hp_error e = hp_horizon_rh_create(L, settings, hs, p_start, &rh, d);
+    if (e != HP_OK) return e;
+    for (size_t t = 0; t < T; ++t) {
+        hp_result r;
+        e = hp_horizon_rh_step(rh, rows[t].t, rows[t].correction, &r);
+        if (e != HP_OK) {
+            hp_diag_set(d, e, "line %ld: t_s: not after the previous row", rows[t].line);
+            break;
+        }
+        row_from_result(rows + t, &r, L->n, out + t);
+    }
+    hp_horizon_rh_destroy(rh);
+    return e;
+}

@@ -1,0 +1,22 @@
+/* Internal: what every Ipopt user in the library shares with the per-row backend
+ * (backend_ipopt.c): the one process-wide solver mutex and the fixed option set. */
+#ifndef HP_PLANNER_IPOPT_SHARED_H
+#define HP_PLANNER_IPOPT_SHARED_H
+
+#include "headplan/hp_common.h"
+
+#include <IpStdCInterface.h>
+
+/* Debian's Ipopt/MUMPS is not thread-safe even with one problem per thread: every Ipopt
+ * call (create, options, solve, free) anywhere in the library runs between these two. */
+void hp_ipopt_lock(void);
+void hp_ipopt_unlock(void);
+
+/* The options every solve of the library sets (caller holds the lock): silent (`sb`,
+ * print_level 0), no option file, tolerances tol (also on the constraint violation), bounds
+ * never relaxed, no "acceptable" early stop, the iteration and CPU-time budgets, tiny
+ * warm-start pushes. HP_ERR_SOLVER naming the option Ipopt rejected. */
+hp_error hp_ipopt_base_options(IpoptProblem app, double tol, int max_iter, double max_time,
+                               hp_diag *d);
+
+#endif

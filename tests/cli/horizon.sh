@@ -1,0 +1,78 @@
+# headplan horizon: the comparison of greedy, receding-horizon and offline plans, its outputs
+# (summary, JSON, CSV with the summary in its header), and every bad input refused.
+source "$2/tests/cli_lib.sh"
+S="$HP_SRC/scenarios"
+
+# A short step trace: the first shift (5 s) and its settling, rate-limited.
+head -81 "$S/traces/step.csv" > "$TMP/step.csv"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --json -o "$TMP/out.csv"
+expect_exit 0 "compare"
+python3 - "$TMP/out" "$TMP/out.csv" <<'PY' && ok || bad "compare outputs"
+import csv, json, sys
+j = json.load(open(sys.argv[1]))
+p = j["plans"]
+assert set(p) == {"greedy", "receding", "offline"}, p.keys()
+assert j["rows"] == 80 and j["tolerance_mm"] == 0.5 and j["tolerance_deg"] == 0.5
+# the offline plan is the optimum of the common problem: no larger cost, strictly smaller here
+assert p["offline"]["cost"] <= p["greedy"]["cost"] * (1 + 1e-4)
+assert p["offline"]["cost"] <= p["receding"]["cost"] * (1 + 1e-4)
+assert p["offline"]["pose_cost"] < 0.5 * p["greedy"]["pose_cost"]
+assert p["offline"]["windows"] == 1 and p["offline"]["iterations"] > 0
+lines = open(sys.argv[2]).read().splitlines()
+meta = [l for l in lines if l.startswith("#")]
+assert any(l.startswith("# offline,rms,") for l in meta), meta
+assert any(l.startswith("# plan,time_outside_s,") for l in meta), meta
+rows = list(csv.DictReader(l for l in lines if not l.startswith("#")))
+assert len(rows) == 3 * 80, len(rows)
+assert [r["plan"] for r in rows[::80]] == ["greedy", "receding", "offline"]
+# the CSV's pose error column is the largest |achieved - desired| of the row
+for r in rows:
+    e = max(abs(float(r["achieved_" + a]) - float(r["desired_" + a]))
+            for a in ("x_mm", "y_mm", "z_mm", "pitch_deg", "roll_deg", "yaw_deg"))
+    assert abs(e - float(r["pose_error"])) <= 1e-12 * max(1, e), (r, e)
+PY
+# The summary table names every plan; one mode alone; the same run gives the same bytes.
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode greedy
+expect_exit 0 "greedy only"; expect_stdout_has "greedy,rms," "greedy summary"
+grep -q "offline" "$TMP/out" && bad "greedy mode printed offline" || ok
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode receding \
+    --horizon 3 --prediction velocity -o "$TMP/a.csv"
+expect_exit 0 "receding velocity"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode receding \
+    --horizon 3 --prediction velocity -o "$TMP/b.csv"
+cmp -s "$TMP/a.csv" "$TMP/b.csv" && ok || bad "two runs differ"
+# Windows and a per-second rate limit on irregular time stamps.
+head -301 "$S/traces/drift_long.csv" > "$TMP/drift.csv"
+run horizon "$S/horizon/drift_long.yaml" "$TMP/drift.csv" --rows deviation --mode offline \
+    --window 120 --overlap 30 --rate-kpa-per-s 1.5 --json
+expect_exit 0 "windows"; expect_stdout_has '"windows": 3' "three windows"
+# The scene's own trace is the default.
+run horizon "$S/horizon/step.yaml" --mode greedy; expect_exit 0 "scene trace"
+
+# Bad inputs: usage 64, data 65, no input 66.
+run horizon; expect_exit 64 "no scene"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --mode best; expect_exit 64 "bad mode"
+expect_stderr_has "--mode" "bad mode named"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --horizon 0; expect_exit 64 "horizon 0"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --horizon 65; expect_exit 64 "horizon 65"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --overlap 5; expect_exit 64 "overlap alone"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --window 10 --overlap 10; expect_exit 64 "overlap = window"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rate-kpa-per-s nan; expect_exit 64 "rate nan"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rate-kpa-per-s -1; expect_exit 64 "rate < 0"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --smooth 2; expect_exit 64 "smooth > 1"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --tolerance-mm 0; expect_exit 64 "tolerance 0"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --tolerance-deg inf; expect_exit 64 "tolerance inf"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --prediction psychic; expect_exit 64 "prediction"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows sideways; expect_exit 64 "rows"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --bogus; expect_exit 64 "unknown option"
+run horizon "$S/horizon/step.yaml" "$TMP/missing.csv"; expect_exit 66 "missing trace"
+printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0.0,0,0,0,0,0,0\n0.1,1,0,0,0,0,0\n0.1,2,0,0,0,0,0\n' > "$TMP/dup.csv"
+run horizon "$S/horizon/step.yaml" "$TMP/dup.csv" --rows deviation --mode greedy
+expect_exit 65 "time not increasing"; expect_stderr_has "line 4: t_s" "time line named"
+printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0.0,0,0,0,0,0,0\n0.1,abc,0,0,0,0,0\n' > "$TMP/badrow.csv"
+run horizon "$S/horizon/step.yaml" "$TMP/badrow.csv" --rows deviation; expect_exit 65 "bad row"
+printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n' > "$TMP/empty.csv"
+run horizon "$S/horizon/step.yaml" "$TMP/empty.csv" --rows deviation; expect_exit 65 "no rows"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --mode greedy -o /nonexistent/dir/x.csv
+expect_exit 73 "cannot write"
+finish
