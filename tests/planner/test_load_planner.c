@@ -1,0 +1,186 @@
+/* The load-level planner (realtime): reachable poses are held (equilibrium residual below
+ * 1e-9 N, round trip through the forward statics), an unreachable pose gives the nearest
+ * held one with the binding limits named, every pressure stays inside its bounds, and
+ * layouts that cannot carry the head are refused at create with the direction named. */
+#include "test_util.h"
+
+#include "../kinematics/default_layout.h"
+#include "headplan/hp_load_planner.h"
+
+#include <string.h>
+
+/* The default layout with stretch_max raised to 1.6 (p_max 10 kPa then binds first at
+ * about 8 kPa... the stretch cap is ~9 kPa): the base bladders can then carry the 4.5 kg
+ * head at the nominal pose. With the default 1.3 they cannot (test_unreachable). */
+static void layout_with(hp_layout *L, double stretch_max)
+{
+    assert_int_equal(default_layout(L), 0);
+    for (int k = 0; k < L->n; ++k) L->bladders[k].stretch_max = stretch_max;
+    assert_int_equal(hp_layout_prepare(L, NULL), HP_OK);
+}
+
+static hp_load_planner *make(const hp_layout *L, const hp_load_spec *s)
+{
+    hp_load_planner *p = NULL;
+    hp_diag d;
+    d.text[0] = '\0';
+    hp_error e = hp_load_planner_create(L, s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d);
+    if (e) print_error("create: %s\n", d.text);
+    assert_int_equal(e, HP_OK);
+    return p;
+}
+
+static void assert_in_bounds(const hp_load_planner *p, const hp_result *r)
+{
+    double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
+    assert_int_equal(hp_load_planner_bounds(p, lo, hi), HP_OK);
+    for (int k = 0; k < r->n; ++k) {
+        assert_true(isfinite(r->bladders[k].pressure));
+        assert_true(r->bladders[k].pressure >= lo[k] && r->bladders[k].pressure <= hi[k]);
+    }
+}
+
+/* Nominal pose, reachable: REACHED, the generalized force below 1e-9 N, the Newton–Euler
+ * residual from the contact points below 1e-9 N, and the forward statics started at the
+ * NOMINAL pose (not at the answer) returns the desired pose to 1e-8 mm: the held head's
+ * softest direction (yaw/lateral, sides carrying nothing) has a compliance of ~1e9 mm/N,
+ * so 1e-12 N of residual moves it ~1e-9 mm; the measured round trip is 1.2e-9 mm. */
+static void test_reached_nominal(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_planner *p = make(&L, &s);
+    double d[6] = {0}, Q[6], P[HP_MAX_BLADDERS];
+    hp_result r;
+    hp_load_info info;
+    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_REACHED);
+    assert_true(r.pose_error == 0.0);
+    assert_in_bounds(p, &r);
+    for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
+    assert_int_equal(hp_load_eval(hp_load_planner_model(p), r.achieved, P, Q, NULL, NULL, NULL,
+                                  NULL), HP_OK);
+    for (int i = 0; i < 6; ++i) assert_true(fabs(Q[i]) < 1e-9);
+    assert_true(info.residual_force < 1e-9);
+    assert_true(info.residual_moment < 1e-10);
+    /* The base carries the weight; by symmetry the four base forces are equal. */
+    for (int k = 1; k < 4; ++k) hp_assert_close(info.force[k], info.force[0], 1e-9, 0.0);
+    double rest[6];
+    assert_int_equal(hp_load_rest(hp_load_planner_model(p), P, NULL, rest, NULL), HP_OK);
+    for (int i = 0; i < 6; ++i) assert_true(fabs(rest[i] - d[i]) / (i < 3 ? 1e-3 : 0.0174532925199) < 1e-8);
+    hp_load_planner_destroy(p);
+}
+
+/* A vertical lift of 10 mm is held too (higher pressures, sides joining in); the rest
+ * started at the answer stays there to 1e-9 mm. */
+static void test_reached_lift(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_planner *p = make(&L, &s);
+    double d[6] = {0, 0, 10e-3, 0, 0, 0};
+    hp_result r;
+    hp_load_info info;
+    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_REACHED);
+    assert_in_bounds(p, &r);
+    assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
+    assert_true(info.rest_error < 1e-9);
+    assert_true(info.holding.stable);
+    hp_load_planner_destroy(p);
+}
+
+/* With stretch_max 1.3 the base cannot hold the head at the nominal pose: CLOSEST, lower
+ * (z < 0), every bladder at its stretch cap with the stretch_max flag, and still an
+ * equilibrium (residual below 1e-9 N) whose forward statics is the returned pose. */
+static void test_unreachable(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.3);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_planner *p = make(&L, &s);
+    double d[6] = {0};
+    hp_result r;
+    hp_load_info info;
+    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_CLOSEST);
+    assert_true(r.achieved[2] < -1e-3);
+    assert_in_bounds(p, &r);
+    for (int k = 0; k < 4; ++k) assert_true(r.bladders[k].binding & HP_BIND_STRETCH_MAX);
+    assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
+    assert_true(info.rest_error < 1e-9);
+    hp_load_planner_destroy(p);
+}
+
+/* A layout of base bladders only, with gravity pointing anterior (+z, a prone patient):
+ * nothing pushes the head down, and create says which way support is missing. A weight
+ * beyond what the bladders can carry at their largest pressures is refused too. */
+static void test_refused(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.3);
+    L.n = 4;
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    s.gravity[2] = +HP_GRAVITY;
+    hp_load_planner *p = (hp_load_planner *)1;
+    hp_diag d;
+    assert_int_equal(hp_load_planner_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
+                     HP_ERR_INVALID);
+    assert_null(p);
+    assert_non_null(strstr(d.text, "no bladder pushes against gravity"));
+    assert_non_null(strstr(d.text, "-z"));
+    s.gravity[2] = -HP_GRAVITY;
+    s.mass = 100.0;
+    assert_int_equal(hp_load_planner_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
+                     HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "can carry at most"));
+    /* A sphere head cannot be held at the load level. */
+    hp_layout S;
+    hp_head h = default_head();
+    h.shape = HP_HEAD_SPHERE;
+    h.semi_axes[0] = h.semi_axes[1] = h.semi_axes[2] = 0.09;
+    assert_int_equal(default_layout_on(&S, &h, 0.0), 0);
+    s.mass = 4.5;
+    assert_int_equal(hp_load_planner_create(&S, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
+                     HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "sphere"));
+}
+
+/* NaN input: INVALID_INPUT with the safe output (pressures inside bounds, finite). */
+static void test_invalid_input(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_planner *p = make(&L, &s);
+    double d[6] = {NAN, 0, 0, 0, 0, 0};
+    hp_result r;
+    assert_int_equal(hp_load_plan(p, d, &r, NULL), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_INVALID_INPUT);
+    assert_in_bounds(p, &r);
+    assert_true(isinf(r.pose_error));
+    hp_load_planner_destroy(p);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_reached_nominal), cmocka_unit_test(test_reached_lift),
+        cmocka_unit_test(test_unreachable),     cmocka_unit_test(test_refused),
+        cmocka_unit_test(test_invalid_input),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
