@@ -209,6 +209,10 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
     if (!feasible) return HP_LOAD_SOLVE_UNREACHABLE;
     for (int k = 0; k < n; ++k) {
         F[k] = f[k];
+        /* A force at rounding level (the SQP approaching the kink at F = 0 from above)
+         * is no force: the bladder then takes the tie-breaker's pressure among those
+         * that carry nothing, instead of the touching pressure. */
+        if (f[k] <= 1e-13 * fmax(1.0, fscale)) f[k] = 0.0;
         if (f[k] > 0.0 && L[k] < U[k]) {
             if (pressure_of_force(M, k, rho[k], L[k], U[k], Fhi[k], f[k], &P[k]))
                 return HP_LOAD_SOLVE_ERROR;

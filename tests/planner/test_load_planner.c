@@ -19,15 +19,23 @@ static void layout_with(hp_layout *L, double stretch_max)
     assert_int_equal(hp_layout_prepare(L, NULL), HP_OK);
 }
 
-static hp_load_planner *make(const hp_layout *L, const hp_load_spec *s)
+static hp_load_planner *make_at(const hp_layout *L, const hp_load_spec *s, hp_level level)
 {
     hp_load_planner *p = NULL;
     hp_diag d;
     d.text[0] = '\0';
-    hp_error e = hp_load_planner_create(L, s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d);
+    hp_settings set;
+    hp_settings_default(&set);
+    set.level = level;
+    hp_error e = hp_load_planner_create(L, s, &set, HP_TIE_LEAST_SQUEEZE, &p, &d);
     if (e) print_error("create: %s\n", d.text);
     assert_int_equal(e, HP_OK);
     return p;
+}
+
+static hp_load_planner *make(const hp_layout *L, const hp_load_spec *s)
+{
+    return make_at(L, s, HP_LEVEL_SURFACE);
 }
 
 static void assert_in_bounds(const hp_load_planner *p, const hp_result *r)
@@ -92,8 +100,42 @@ static void test_reached_lift(void **state)
     assert_in_bounds(p, &r);
     assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
     assert_true(info.rest_error < 1e-9);
-    assert_true(info.holding.stable);
+    /* Least squeeze does not ask for a stable hold: at the surface level this one is a
+     * saddle of the potential, and the holding report must say so (K not positive
+     * definite, infinite compliance along the weakest direction). */
+    assert_int_equal(info.holding.stable, 0);
+    assert_true(isinf(info.holding.weakest_compliance));
     hp_load_planner_destroy(p);
+}
+
+/* An asymmetric correction at every contact level: REACHED, generalized force below 1e-9
+ * N; at the plane and surface levels also the Newton–Euler equations from the contact
+ * points (at the linear level they measure the linearisation's own error instead). */
+static void test_levels(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    const hp_level lv[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    const double d[6] = {1e-3, 0, -0.5e-3, 0.3 * 0.0174532925199, 0, -0.2 * 0.0174532925199};
+    for (int l = 0; l < 3; ++l) {
+        hp_load_planner *p = make_at(&L, &s, lv[l]);
+        hp_result r;
+        hp_load_info info;
+        double Q[6], P[HP_MAX_BLADDERS];
+        assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+        assert_int_equal(r.status, HP_STATUS_REACHED);
+        assert_int_equal(r.level, lv[l]);
+        assert_in_bounds(p, &r);
+        for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
+        assert_int_equal(hp_load_eval(hp_load_planner_model(p), r.achieved, P, Q, NULL, NULL,
+                                      NULL, NULL), HP_OK);
+        for (int i = 0; i < 6; ++i) assert_true(fabs(Q[i]) < 1e-9);
+        if (l > 0) assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
+        hp_load_planner_destroy(p);
+    }
 }
 
 /* With stretch_max 1.3 the base cannot hold the head at the nominal pose: CLOSEST, lower
@@ -178,7 +220,7 @@ static void test_invalid_input(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_reached_nominal), cmocka_unit_test(test_reached_lift),
+        cmocka_unit_test(test_reached_nominal), cmocka_unit_test(test_reached_lift), cmocka_unit_test(test_levels),
         cmocka_unit_test(test_unreachable),     cmocka_unit_test(test_refused),
         cmocka_unit_test(test_invalid_input),
     };
