@@ -130,6 +130,22 @@ typedef struct hp_load_rest_info {
 hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0,
                       double xi[6], hp_load_rest_info *info);
 
+/* The sag the load would cause at the nominal pose if the bladders held the pressures a
+ * kinematic plan gives there (each bladder at the pressure whose free radius is the
+ * nominal contact distance, touching with zero force): the weight m·|g| over the
+ * bladders' combined stiffness along gravity, ĝᵀ·K_tt·ĝ, with K taken on the contact
+ * branch (the stiffness a touching bladder has as soon as it is pressed). +inf when that
+ * stiffness is zero (nothing inflated at the nominal pose). sag [m] and k_gravity [N/m]
+ * (may be NULL). */
+hp_error hp_load_predicted_sag(const hp_load_model *M, double *sag, double *k_gravity);
+
+/* What `auto` does with a scene that states a load: the load level when the predicted sag
+ * exceeds tol [m] (> 0), else the kinematic levels. *use_load gets 1 or 0 and why (may be
+ * NULL, len bytes) one line saying so with the numbers, e.g. "load: predicted sag
+ * 12.3 mm > tolerance 0.01 mm". */
+hp_error hp_load_auto_choose(const hp_load_model *M, double tol, int *use_load, double *sag,
+                             char *why, size_t len);
+
 #ifdef __cplusplus
 }
 #endif

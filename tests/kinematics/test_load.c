@@ -225,6 +225,52 @@ static void test_compliance_predicts(void **state)
                 info.holding.weakest_is_rotation);
 }
 
+/* auto's criterion. Without preload every bladder touches at zero pressure: no stiffness,
+ * unbounded sag, the load level. With a 2 mm preload (each bladder inflated to reach the
+ * head) the touching stiffness is k = sum_k 2·pi·P_k·rho_k·(u_k·ĝ)² by hand (the law's
+ * dF/drho at delta = 0 along each pushing direction u_k = −n_k): the predicted sag equals
+ * weight/k to rounding, and the decision flips exactly at tolerance = sag (both sides
+ * tested, 1 % away). */
+static void test_auto_choice(void **state)
+{
+    (void)state;
+    int use;
+    double sag;
+    char why[200];
+    assert_int_equal(hp_load_auto_choose(&MOD[2], 1e-5, &use, &sag, why, sizeof why), HP_OK);
+    assert_int_equal(use, 1);
+    assert_true(isinf(sag));
+    assert_non_null(strstr(why, "load"));
+    hp_layout L;
+    hp_head h = default_head();
+    assert_int_equal(default_layout_on(&L, &h, 2e-3), 0);
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_model M;
+    assert_int_equal(hp_load_model_init(&M, &L, &s, HP_LEVEL_SURFACE, NULL), HP_OK);
+    double kg;
+    assert_int_equal(hp_load_predicted_sag(&M, &sag, &kg), HP_OK);
+    double k = 0.0;
+    const double pi = 3.14159265358979323846;
+    for (int j = 0; j < L.n; ++j) {
+        double ri, P;
+        assert_int_equal(hp_iab_ri(&L.bladders[j].iab, M.layout.rho0[j], &ri), HP_OK);
+        assert_int_equal(hp_iab_ik(&L.bladders[j].iab, ri, &P), HP_OK);
+        assert_true(P > 0);
+        double ug = M.layout.normal[j][2]; /* u·ĝ = (−n)·(−ez) */
+        k += 2.0 * pi * P * M.layout.rho0[j] * ug * ug;
+    }
+    hp_assert_close(kg, k, 1e-12, 0.0);
+    hp_assert_close(sag, s.mass * HP_GRAVITY / k, 1e-12, 0.0);
+    assert_int_equal(hp_load_auto_choose(&M, sag * 1.01, &use, NULL, why, sizeof why), HP_OK);
+    assert_int_equal(use, 0);
+    assert_non_null(strstr(why, "kinematic"));
+    assert_int_equal(hp_load_auto_choose(&M, sag * 0.99, &use, NULL, why, sizeof why), HP_OK);
+    assert_int_equal(use, 1);
+    assert_non_null(strstr(why, "load: predicted sag"));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -234,6 +280,7 @@ int main(void)
         cmocka_unit_test(test_rest),
         cmocka_unit_test(test_no_rest),
         cmocka_unit_test(test_compliance_predicts),
+        cmocka_unit_test(test_auto_choice),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
