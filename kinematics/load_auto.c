@@ -27,7 +27,9 @@ hp_error hp_load_predicted_sag(const hp_load_model *M, double *sag, double *k_gr
     for (int a = 0; a < 3; ++a)
         for (int b = 0; b < 3; ++b)
             kg -= M->spec.gravity[a] / g * dQ[a * 6 + b] * M->spec.gravity[b] / g;
-    *sag = kg > 0 ? M->spec.mass * g / kg : INFINITY;
+    /* Below a millinewton per metre nothing holds the head: the nominal pressures are zero
+     * up to rounding (~1e-12 Pa), and so is any "stiffness" they give. */
+    *sag = kg > 1e-3 ? M->spec.mass * g / kg : INFINITY;
     if (k_gravity) *k_gravity = kg;
     return HP_OK;
 }

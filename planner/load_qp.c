@@ -5,83 +5,56 @@
 #include <math.h>
 #include <string.h>
 
-/* d(λ), the dual function θ(λ) and its gradient phi = c + M d. */
-static double dual(int nv, const double *M, const double c[6], const double *h,
-                   const double *g, const double *l, const double *u, const double lam[6],
-                   double *d, double phi[6])
-{
-    double theta = 0.0;
-    for (int r = 0; r < 6; ++r) phi[r] = c[r];
-    for (int i = 0; i < nv; ++i) {
-        double a = 0.0;
-        for (int r = 0; r < 6; ++r) a += M[r * nv + i] * lam[r];
-        double v = g[i] - a / h[i];
-        v = v < l[i] ? l[i] : (v > u[i] ? u[i] : v);
-        d[i] = v;
-        theta += 0.5 * h[i] * (v - g[i]) * (v - g[i]) + a * v;
-        for (int r = 0; r < 6; ++r) phi[r] += M[r * nv + i] * v;
-    }
-    for (int r = 0; r < 6; ++r) theta += lam[r] * c[r];
-    return theta;
-}
+int hp_load_box_qp(int nv, const double *H, const double *g, const double *l,
+                   const double *u, int max_iter, double *d);
 
 hp_load_qp_status hp_load_qp_solve(int nv, const double *M, const double c[6],
                                    const double *h, const double *g, const double *l,
                                    const double *u, double tol, int max_iter,
                                    double lambda[6], double *d, int *iterations)
 {
-    double phi[6], theta = dual(nv, M, c, h, g, l, u, lambda, d, phi);
-    /* The dual grows without bound exactly when the box misses the equations; a multiplier
-     * this large (relative to the problem's own scale) is that divergence. */
-    double scale = 1.0;
-    for (int i = 0; i < nv; ++i) scale = fmax(scale, fabs(h[i] * g[i]));
+    /* The method of multipliers: each outer step minimises the augmented Lagrangian
+     * ½Σh(d−g)² + λᵀ(Md + c) + ½ρ|Md + c|² over the box (a finite active-set box QP),
+     * then λ += ρ(Md + c); ρ grows tenfold whenever the residual fails to shrink fourfold.
+     * A residual that persists as ρ grows past 1e12 of its start means no d in the box
+     * solves the equations. */
+    double hmax = 0.0, mmax = 0.0;
+    for (int i = 0; i < nv; ++i) {
+        hmax = fmax(hmax, h[i]);
+        double s = 0.0;
+        for (int r = 0; r < 6; ++r) s += M[r * nv + i] * M[r * nv + i];
+        mmax = fmax(mmax, s);
+    }
+    if (!(mmax > 0)) mmax = 1.0;
+    const double rho0 = 1e3 * hmax / mmax;
+    double rho = rho0, prev = INFINITY;
+    double H[HP_LOAD_QP_NMAX * HP_LOAD_QP_NMAX], q[HP_LOAD_QP_NMAX];
     for (int it = 0; it < max_iter; ++it) {
-        if (iterations) *iterations = it;
-        double err = 0.0;
-        for (int r = 0; r < 6; ++r) err = fmax(err, fabs(phi[r]));
-        if (err <= tol) return HP_LOAD_QP_OPTIMAL;
-        double S[36] = {0}, smax = 0.0;
+        if (iterations) *iterations = it + 1;
         for (int i = 0; i < nv; ++i) {
-            double a = 0.0;
-            for (int r = 0; r < 6; ++r) a += M[r * nv + i] * lambda[r];
-            double v = g[i] - a / h[i];
-            if (!(v > l[i] && v < u[i])) continue; /* at a bound: no curvature */
-            for (int r = 0; r < 6; ++r)
-                for (int q = 0; q < 6; ++q) S[r * 6 + q] += M[r * nv + i] * M[q * nv + i] / h[i];
-        }
-        for (int r = 0; r < 6; ++r) smax = fmax(smax, S[r * 6 + r]);
-        double F[36], step[6], reg = 1e-12 * (smax > 0 ? smax : 1.0);
-        for (int attempt = 0;; ++attempt) {
-            memcpy(F, S, sizeof F);
-            for (int r = 0; r < 6; ++r) F[r * 6 + r] += reg;
-            if (hp_load_cholesky(6, F) == 0) break;
-            if (attempt > 30) return HP_LOAD_QP_ITERATION_LIMIT;
-            reg *= 100.0;
-        }
-        memcpy(step, phi, sizeof step);
-        hp_load_cholesky_solve(6, F, step);
-        double slope = 0.0;
-        for (int r = 0; r < 6; ++r) slope += phi[r] * step[r];
-        double t = 1.0, lam[6], dn[HP_LOAD_QP_NMAX], phin[6], thn = theta;
-        int ok = 0;
-        for (int ls = 0; ls < 60; ++ls, t *= 0.5) {
-            for (int r = 0; r < 6; ++r) lam[r] = lambda[r] + t * step[r];
-            thn = dual(nv, M, c, h, g, l, u, lam, dn, phin);
-            if (thn >= theta + 1e-4 * t * slope) {
-                ok = 1;
-                break;
+            double v = -h[i] * g[i];
+            for (int r = 0; r < 6; ++r) v += M[r * nv + i] * (lambda[r] + rho * c[r]);
+            q[i] = v;
+            for (int j = 0; j < nv; ++j) {
+                double a = i == j ? h[i] : 0.0;
+                for (int r = 0; r < 6; ++r) a += rho * M[r * nv + i] * M[r * nv + j];
+                H[i * nv + j] = a;
             }
         }
-        if (!ok) return HP_LOAD_QP_ITERATION_LIMIT;
-        memcpy(lambda, lam, sizeof lam);
-        memcpy(d, dn, (size_t)nv * sizeof *d);
-        memcpy(phi, phin, sizeof phi);
-        theta = thn;
-        double lmax = 0.0;
-        for (int r = 0; r < 6; ++r) lmax = fmax(lmax, fabs(lambda[r]));
-        if (lmax > 1e12 * scale) return HP_LOAD_QP_INFEASIBLE;
+        if (hp_load_box_qp(nv, H, q, l, u, 4 * nv + 40, d) != 0)
+            return rho > 1e6 * rho0 ? HP_LOAD_QP_INFEASIBLE : HP_LOAD_QP_ITERATION_LIMIT;
+        double res[6], err = 0.0;
+        for (int r = 0; r < 6; ++r) {
+            res[r] = c[r];
+            for (int i = 0; i < nv; ++i) res[r] += M[r * nv + i] * d[i];
+            err = fmax(err, fabs(res[r]));
+        }
+        for (int r = 0; r < 6; ++r) lambda[r] += rho * res[r];
+        if (err <= tol) return HP_LOAD_QP_OPTIMAL;
+        if (err > 0.25 * prev) rho *= 10.0;
+        if (rho > 1e12 * rho0) return HP_LOAD_QP_INFEASIBLE;
+        prev = err;
     }
-    if (iterations) *iterations = max_iter;
     return HP_LOAD_QP_ITERATION_LIMIT;
 }
 

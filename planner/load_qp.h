@@ -1,15 +1,13 @@
 /* Internal: the small separable QP of the load planner,
  *     minimise ½·sum_i h_i·(d_i − g_i)²   subject to   c + M·d = 0 (6 rows),  l <= d <= u,
- * with h_i > 0, solved through its 6-dimensional concave dual by a semismooth Newton
- * method with backtracking: d(λ) = clip(g − Mᵀλ/h, l, u) and the dual gradient is
- * c + M·d(λ). Cost per step: one pass over the nv columns and a 6×6 Cholesky, whatever
- * nv is. No allocation. */
+ * with h_i > 0 and l <= 0 <= u, by the method of multipliers over a finite active-set
+ * box QP (an nv×nv Cholesky per active-set change). No allocation. */
 #ifndef HP_PLANNER_LOAD_QP_H
 #define HP_PLANNER_LOAD_QP_H
 
 #include "headplan/hp_common.h"
 
-#define HP_LOAD_QP_NMAX (HP_MAX_BLADDERS + 6)
+#define HP_LOAD_QP_NMAX HP_MAX_BLADDERS
 
 typedef enum hp_load_qp_status {
     HP_LOAD_QP_OPTIMAL = 0,
@@ -18,8 +16,8 @@ typedef enum hp_load_qp_status {
 } hp_load_qp_status;
 
 /* Solves the QP above with nv <= HP_LOAD_QP_NMAX variables; M is 6×nv row-major; lambda
- * (6) is the warm start in and the multipliers out; d receives the primal solution.
- * tol is the accepted |c + M·d|∞. */
+ * (6) is the warm start in and the multipliers out (of λᵀ(c + M·d)); d receives the
+ * solution. tol is the accepted |c + M·d|∞; max_iter bounds the multiplier updates. */
 hp_load_qp_status hp_load_qp_solve(int nv, const double *M, const double c[6],
                                    const double *h, const double *g, const double *l,
                                    const double *u, double tol, int max_iter,

@@ -137,88 +137,128 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
     for (int r = 0; r < 6; ++r) fscale = fmax(fscale, fabs(b[r]));
     const double tol = 1e-13 * fmax(1.0, fscale);
 
-    /* Start: the forces of the starting pressures, clipped into the box. */
+    /* Phase 1, in the forces: the point of {A·F = b, Flo <= F <= Fhi} nearest to the
+     * forces of the starting pressures (each force scaled by its range). The constraints are
+     * linear, so this decides reachability exactly. */
     double f[HP_MAX_BLADDERS], lam[6] = {0};
-    for (int k = 0; k < n; ++k) {
-        bstate s;
-        double p0 = start ? start[k] : 0.5 * (L[k] + U[k]);
-        p0 = fmin(fmax(p0, L[k]), U[k]);
-        f[k] = 0.0;
-        if (L[k] < U[k] && bladder_state(M, k, p0, rho[k], &s) == HP_OK)
-            f[k] = fmin(fmax(s.F, Flo[k]), Fhi[k]);
-    }
-    int it = 0, feasible = 0;
-    for (; it < max_iter; ++it) {
-        double h[HP_MAX_BLADDERS], g[HP_MAX_BLADDERS], l[HP_MAX_BLADDERS],
-            u[HP_MAX_BLADDERS], d[HP_MAX_BLADDERS], c[6], p[HP_MAX_BLADDERS];
-        double phi0 = 0.0;
+    {
+        double h[HP_MAX_BLADDERS], g[HP_MAX_BLADDERS], l[HP_MAX_BLADDERS], u[HP_MAX_BLADDERS],
+            d[HP_MAX_BLADDERS], c[6];
         for (int k = 0; k < n; ++k) {
+            bstate s;
+            double p0 = start ? start[k] : 0.5 * (L[k] + U[k]);
+            p0 = fmin(fmax(p0, L[k]), U[k]);
+            f[k] = 0.0;
+            if (L[k] < U[k] && bladder_state(M, k, p0, rho[k], &s) == HP_OK)
+                f[k] = fmin(fmax(s.F, Flo[k]), Fhi[k]);
+            double Fs = fmax(Fhi[k], 1e-6);
+            h[k] = 1.0 / (Fs * Fs);
+            g[k] = 0.0;
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
-            if (!(L[k] < U[k]) || Fhi[k] <= Flo[k]) {
-                h[k] = 1.0;
-                g[k] = 0.0;
-                p[k] = L[k];
-                continue;
-            }
-            if (pressure_of_force(M, k, rho[k], L[k], U[k], Fhi[k], f[k], &p[k]))
-                return HP_LOAD_SOLVE_ERROR;
-            bstate s;
-            if (bladder_state(M, k, p[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
-            /* phi = ½ (P − t)² in kPa², as a function of F: phi' = (P − t) P',
-             * phi'' = P'² + (P − t) P'' with P' = 1/F_P, P'' = −F_PP/F_P³. */
-            double FP = fmax(s.FP, 1e-9), d1 = 1e-3 / FP, d2 = -1e-3 * s.FPP / (FP * FP * FP);
-            double e = (p[k] - target[k]) * 1e-3; /* kPa; d1, d2 in kPa/N, kPa/N² */
-            double hk = fmax(d1 * d1 + e * d2, 1e-3 * d1 * d1);
-            h[k] = fmin(fmax(hk, 1e-12), 1e12);
-            g[k] = -(e * d1) / h[k];
-            phi0 += 0.5 * e * e;
         }
         for (int r = 0; r < 6; ++r) {
             c[r] = -b[r];
             for (int k = 0; k < n; ++k) c[r] += A[r * n + k] * f[k];
         }
-        int qit;
-        hp_load_qp_status qs = hp_load_qp_solve(n, A, c, h, g, l, u, tol, 200, lam, d, &qit);
-        if (qs == HP_LOAD_QP_INFEASIBLE || (qs != HP_LOAD_QP_OPTIMAL && !feasible))
+        if (hp_load_qp_solve(n, A, c, h, g, l, u, tol, 200, lam, d, NULL) != HP_LOAD_QP_OPTIMAL)
             return HP_LOAD_SOLVE_UNREACHABLE;
-        if (qs != HP_LOAD_QP_OPTIMAL) break;
-        /* Once feasible, every point between f and f + d stays feasible (linear equations,
-         * box): backtrack on the tie-breaker so a poor curvature estimate cannot climb. */
-        double t = 1.0, dmax = 0.0;
-        for (int k = 0; k < n; ++k) dmax = fmax(dmax, fabs(d[k]) / fmax(1.0, Fhi[k]));
-        if (feasible) {
-            for (int ls = 0; ls < 30; ++ls, t *= 0.5) {
-                double phi = 0.0;
-                for (int k = 0; k < n; ++k) {
-                    if (!(L[k] < U[k]) || Fhi[k] <= Flo[k]) continue;
-                    double pk;
-                    if (pressure_of_force(M, k, rho[k], L[k], U[k], Fhi[k], f[k] + t * d[k], &pk))
-                        return HP_LOAD_SOLVE_ERROR;
-                    double e = (pk - target[k]) * 1e-3;
-                    phi += 0.5 * e * e;
-                }
-                if (phi <= phi0 + 1e-12 * (1.0 + phi0) || dmax * t < 1e-12) break;
-            }
-        }
-        for (int k = 0; k < n; ++k) f[k] = fmin(fmax(f[k] + t * d[k], Flo[k]), Fhi[k]);
-        feasible = 1;
-        if (dmax * t <= 1e-13) break;
+        for (int k = 0; k < n; ++k) f[k] = fmin(fmax(f[k] + d[k], Flo[k]), Fhi[k]);
     }
+    /* Phase 2, in the pressures (kPa): SQP on ½·sum (P − t)² subject to A·F(P) = b with the
+     * exact Lagrangian Hessian 1 + (Aᵀλ)_k·F''_k (clamped positive), an l1 merit line
+     * search, and the box [L, U] in every QP. */
+    double p[HP_MAX_BLADDERS];
+    for (int k = 0; k < n; ++k) {
+        p[k] = L[k];
+        if (L[k] < U[k] && pressure_of_force(M, k, rho[k], L[k], U[k], Fhi[k], f[k], &p[k]))
+            return HP_LOAD_SOLVE_ERROR;
+    }
+    memset(lam, 0, sizeof lam);
+    int it = 0;
+    double Fk[HP_MAX_BLADDERS], F1[HP_MAX_BLADDERS], F2[HP_MAX_BLADDERS], c[6];
+    for (;; ++it) {
+        for (int k = 0; k < n; ++k) {
+            bstate s;
+            Fk[k] = F1[k] = F2[k] = 0.0;
+            if (!(L[k] < U[k])) continue;
+            if (bladder_state(M, k, p[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
+            Fk[k] = fmax(s.F, 0.0);
+            F1[k] = s.FP * 1e3; /* N per kPa */
+            F2[k] = s.FPP * 1e6;
+        }
+        double cmax = 0.0;
+        for (int r = 0; r < 6; ++r) {
+            c[r] = -b[r];
+            for (int k = 0; k < n; ++k) c[r] += A[r * n + k] * Fk[k];
+            cmax = fmax(cmax, fabs(c[r]));
+        }
+        if (it >= max_iter) break;
+        double h[HP_MAX_BLADDERS], g[HP_MAX_BLADDERS], l[HP_MAX_BLADDERS], u[HP_MAX_BLADDERS],
+            d[HP_MAX_BLADDERS], Mx[6 * HP_MAX_BLADDERS];
+        for (int k = 0; k < n; ++k) {
+            double al = 0.0;
+            for (int r = 0; r < 6; ++r) al += A[r * n + k] * lam[r];
+            h[k] = fmin(fmax(1.0 + al * F2[k], 0.1), 1e3);
+            g[k] = -(p[k] - target[k]) * 1e-3 / h[k];
+            l[k] = (L[k] - p[k]) * 1e-3;
+            u[k] = (U[k] - p[k]) * 1e-3;
+            if (!(L[k] < U[k])) l[k] = u[k] = 0.0;
+            for (int r = 0; r < 6; ++r) Mx[r * n + k] = A[r * n + k] * F1[k];
+        }
+        double lam_new[6];
+        memcpy(lam_new, lam, sizeof lam_new);
+        if (hp_load_qp_solve(n, Mx, c, h, g, l, u, tol, 200, lam_new, d, NULL) !=
+            HP_LOAD_QP_OPTIMAL)
+            break; /* keep the current point: the planner checks its equilibrium */
+        double dmax = 0.0, nu = 1.0, phi = 0.0, slope = 0.0;
+
+        for (int r = 0; r < 6; ++r) nu = fmax(nu, 2.0 * fabs(lam_new[r]));
+        for (int k = 0; k < n; ++k) {
+            double e = (p[k] - target[k]) * 1e-3;
+            dmax = fmax(dmax, fabs(d[k]));
+            phi += 0.5 * e * e;
+            slope += e * d[k];
+        }
+        double csum = 0.0;
+        for (int r = 0; r < 6; ++r) csum += fabs(c[r]);
+        double merit = phi + nu * csum, t = 1.0, pn[HP_MAX_BLADDERS];
+        /* Directional derivative of the l1 merit along d (the QP step cancels c). */
+        double dmerit = slope - nu * csum;
+        for (int ls = 0; ls < 30; ++ls, t *= 0.5) {
+            double phin = 0.0, cn = 0.0, cr[6];
+            int okk = 1;
+            for (int k = 0; k < n; ++k) {
+                pn[k] = fmin(fmax(p[k] + t * d[k] * 1e3, L[k]), U[k]);
+                double e = (pn[k] - target[k]) * 1e-3;
+                phin += 0.5 * e * e;
+            }
+            for (int r = 0; r < 6; ++r) cr[r] = -b[r];
+            for (int k = 0; k < n && okk; ++k) {
+                bstate s;
+                if (!(L[k] < U[k])) continue;
+                if (bladder_state(M, k, pn[k], rho[k], &s)) okk = 0;
+                else
+                    for (int r = 0; r < 6; ++r) cr[r] += A[r * n + k] * fmax(s.F, 0.0);
+            }
+            for (int r = 0; r < 6; ++r) cn += fabs(cr[r]);
+            if (okk && (phin + nu * cn <= merit + 1e-4 * t * dmerit || dmax * t < 1e-10)) break;
+        }
+        memcpy(p, pn, (size_t)n * sizeof *p);
+        memcpy(lam, lam_new, sizeof lam);
+        /* 1e-9 kPa (a micropascal): the steps' rounding noise is ~1e-11 kPa. */
+        if (dmax * t <= 1e-9 && cmax <= tol) break;
+    }
+    int feasible = 1;
+    for (int k = 0; k < n; ++k) f[k] = Fk[k];
     if (iterations) *iterations = it;
     if (!feasible) return HP_LOAD_SOLVE_UNREACHABLE;
     for (int k = 0; k < n; ++k) {
         F[k] = f[k];
-        /* A force at rounding level (the SQP approaching the kink at F = 0 from above)
-         * is no force: the bladder then takes the tie-breaker's pressure among those
-         * that carry nothing, instead of the touching pressure. */
-        if (f[k] <= 1e-13 * fmax(1.0, fscale)) f[k] = 0.0;
-        if (f[k] > 0.0 && L[k] < U[k]) {
-            if (pressure_of_force(M, k, rho[k], L[k], U[k], Fhi[k], f[k], &P[k]))
-                return HP_LOAD_SOLVE_ERROR;
-        } else {
-            /* Carries nothing: any pressure up to where it would start carrying will do;
-             * the tie-breaker's choice among them. */
+        P[k] = p[k];
+        /* A force at rounding level is no force: the bladder then takes the tie-breaker's
+         * pressure among those that carry nothing, instead of the touching pressure. */
+        if (f[k] <= 1e-13 * fmax(1.0, fscale) || !(L[k] < U[k])) {
             double top = fmin(hi[k], fmax(0.0, Pt[k]));
             P[k] = fmin(fmax(target[k], lo[k]), fmax(lo[k], top));
             F[k] = 0.0;
