@@ -28,7 +28,7 @@ hp_error hp_load_eval_radii(const hp_load_model *M, const double xi[6], const do
                             const double *ro, const double *dro, int right, double Q[6],
                             double *dQ_dxi, double *dQ_dP, double *force, double *energy);
 
-/* Cholesky factor of a symmetric n×n (n <= 16) matrix A in place (lower triangle);
+/* Cholesky factor of a symmetric n×n matrix A (row-major) in place (lower triangle);
  * returns 0 when A is positive definite, -1 otherwise. */
 int hp_load_cholesky(int n, double *A);
 /* Solves L Lᵀ x = b with the factor of hp_load_cholesky (b overwritten by x). */

@@ -176,6 +176,58 @@ static int holds(const hp_load_model *M, const double xi[6], const double *P)
     return 1;
 }
 
+static double pose_err(const double xi[6], const double desired[6], const double W[6])
+{
+    double e = 0.0;
+    for (int i = 0; i < 6; ++i) {
+        double v = (xi[i] - desired[i]) / hp_load_unit(i);
+        e += W[i] * v * v;
+    }
+    return e;
+}
+
+/* The held pose nearest to the desired one along gravity: the head sinks (translation along
+ * ĝ) until some pressures inside the limits hold it, found by doubling the depth from
+ * 1/16 mm to 64 mm and bisecting the boundary to 1e-9 mm. This is where a head too heavy
+ * for the limits comes to rest, and the start of the 6-D refinement. Returns 1 with the
+ * pose and its HOLD pressures, 0 when no depth up to 64 mm is held. */
+static int sink(const hp_load_planner *p, const double desired[6], const double *target,
+                double xs[6], double *Ps)
+{
+    const hp_load_model *M = &p->M;
+    double g = 0.0, F[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], x[6];
+    for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];
+    g = sqrt(g);
+    double lo = 0.0, hi = -1.0;
+    for (double depth = 6.25e-5; depth <= 0.0641; depth *= 2.0) {
+        memcpy(x, desired, sizeof x);
+        for (int a = 0; a < 3; ++a) x[a] += depth * M->spec.gravity[a] / g;
+        if (hp_load_hold(M, x, p->lo, p->hi, target, NULL, p->set.max_iter, Pt, F, NULL) ==
+                HP_LOAD_SOLVE_OK && holds(M, x, Pt)) {
+            hi = depth;
+            memcpy(xs, x, sizeof x);
+            memcpy(Ps, Pt, (size_t)M->layout.n * sizeof *Ps);
+            break;
+        }
+        lo = depth;
+    }
+    if (hi < 0) return 0;
+    while (hi - lo > 1e-12) {
+        double mid = 0.5 * (lo + hi);
+        memcpy(x, desired, sizeof x);
+        for (int a = 0; a < 3; ++a) x[a] += mid * M->spec.gravity[a] / g;
+        if (hp_load_hold(M, x, p->lo, p->hi, target, NULL, p->set.max_iter, Pt, F, NULL) ==
+                HP_LOAD_SOLVE_OK && holds(M, x, Pt)) {
+            hi = mid;
+            memcpy(xs, x, sizeof x);
+            memcpy(Ps, Pt, (size_t)M->layout.n * sizeof *Ps);
+        } else {
+            lo = mid;
+        }
+    }
+    return 1;
+}
+
 static double now(void)
 {
     struct timespec ts;
@@ -241,9 +293,17 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
             double W[6];
             for (int i = 0; i < 6; ++i)
                 W[i] = i < 3 ? 1.0 : 1.0 / (p->set.weight_mm_per_deg * p->set.weight_mm_per_deg);
-            double Pa[HP_MAX_BLADDERS];
-            st = hp_load_pose(M, desired, W, p->lo, p->hi, p->prev_xi, p->prev_P,
-                              p->set.max_iter, xi, Pa, &it2);
+            double Pa[HP_MAX_BLADDERS], xs[6], Ps[HP_MAX_BLADDERS];
+            int sunk = sink(p, desired, target, xs, Ps);
+            st = hp_load_pose(M, desired, W, p->lo, p->hi, sunk ? xs : p->prev_xi,
+                              sunk ? Ps : p->prev_P, p->set.max_iter, xi, Pa, &it2);
+            /* The 6-D refinement must end on a held pose nearer than the sunk one. */
+            if (sunk && (st != HP_LOAD_SOLVE_OK || !holds(M, xi, Pa) ||
+                         pose_err(xi, desired, W) > pose_err(xs, desired, W))) {
+                memcpy(xi, xs, sizeof xi);
+                memcpy(Pa, Ps, (size_t)n * sizeof *Pa);
+                st = HP_LOAD_SOLVE_OK;
+            }
             if (st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT) {
                 double err = 0.0;
                 for (int i = 0; i < 6; ++i)
