@@ -58,8 +58,8 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
     hp_pose_to_clinical(r->desired, d);
     hp_pose_to_clinical(r->achieved, a);
     printf("status      %s\n", hp_status_name(r->status));
-    printf("level       load (contact geometry %s, tie-breaker %s), %d iterations, %.1f us\n",
-           hp_level_name(r->level), hp_load_tiebreak_name(tie), r->iterations,
+    printf("level       load (contact geometry %s, tie-breaker %s), backend %s, %.1f us\n",
+           hp_level_name(r->level), hp_load_tiebreak_name(tie), hp_backend_name(r->backend),
            r->solve_time * 1e6);
     printf("why         %s\n\n", why);
     printf("%-18s %10s %10s %12s %8s %10s  %s\n", "bladder", "ri_mm", "ro_mm", "pressure_pa",
@@ -106,6 +106,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
 {
     json_t *o = json_object();
     json_object_set_new(o, "status", json_string(hp_status_name(r->status)));
+    json_object_set_new(o, "backend", json_string(hp_backend_name(r->backend)));
     json_object_set_new(o, "level", json_string("load"));
     json_object_set_new(o, "geometry", json_string(hp_level_name(r->level)));
     json_object_set_new(o, "tiebreak", json_string(hp_load_tiebreak_name(tie)));

@@ -134,10 +134,10 @@ hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *spec,
     if ((int)tie < 0 || tie >= HP_TIE_COUNT_)
         return hp_diag_set(diag, HP_ERR_INVALID, "load planner: tie-breaker: unknown value %d",
                            (int)tie);
-    if (set.backend != HP_BACKEND_REALTIME)
+    if (set.backend != HP_BACKEND_REALTIME && set.backend != HP_BACKEND_IPOPT)
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load planner: backend %s is not available at the load level "
-                           "(use realtime)", hp_backend_name(set.backend));
+                           "(use realtime or ipopt)", hp_backend_name(set.backend));
     if (L->head.shape == HP_HEAD_SPHERE)
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load: a sphere head cannot be held at the load level (its contact "
@@ -228,6 +228,17 @@ static int sink(const hp_load_planner *p, const double desired[6], const double 
     return 1;
 }
 
+/* HOLD with the configured backend's tie-breaker (Ipopt: its raw code in *raw). */
+static hp_load_solve_status hold(const hp_load_planner *p, const double xi[6],
+                                 const double *target, const double *start, double *P,
+                                 double *F, int *iters, int *raw)
+{
+    if (p->set.backend == HP_BACKEND_IPOPT)
+        return hp_load_hold_on_ipopt(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter,
+                                     P, F, iters, raw);
+    return hp_load_hold(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter, P, F, iters);
+}
+
 static double now(void)
 {
     struct timespec ts;
@@ -284,7 +295,7 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
     if (!bad) {
         /* HOLD at the desired pose, accepted only when its equilibrium checks out. */
         memcpy(xi, desired, sizeof xi);
-        st = hp_load_hold(M, xi, p->lo, p->hi, target, p->prev_P, p->set.max_iter, P, F, &it1);
+        st = hold(p, xi, target, p->prev_P, P, F, &it1, &r->raw_code);
         if (st == HP_LOAD_SOLVE_OK && !holds(M, xi, P)) st = HP_LOAD_SOLVE_UNREACHABLE;
         r->status = HP_STATUS_REACHED;
         if (st != HP_LOAD_SOLVE_OK) {
@@ -310,8 +321,7 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
                     err = fmax(err, fabs(xi[i] - desired[i]) / hp_load_unit(i));
                 int reached = err <= p->set.tolerance;
                 if (reached) memcpy(xi, desired, sizeof xi);
-                hp_load_solve_status s2 =
-                    hp_load_hold(M, xi, p->lo, p->hi, target, Pa, p->set.max_iter, P, F, &it3);
+                hp_load_solve_status s2 = hold(p, xi, target, Pa, P, F, &it3, &r->raw_code);
                 /* POSE's pressures hold the head at xi by construction (a forward-statics
                  * rest); HOLD only tie-breaks among the holding pressures, and where it
                  * finds no verified answer (a family squeezed against the limits) POSE's

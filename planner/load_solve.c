@@ -106,10 +106,11 @@ static hp_error gravity_q(const hp_load_model *M, const double xi[6], double Q[6
     return hp_load_eval_radii(M, xi, P, ro, NULL, 0, Q, NULL, NULL, NULL, NULL);
 }
 
-hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
-                                  const double *lo, const double *hi, const double *target,
-                                  const double *start, int max_iter, double *P, double *F,
-                                  int *iterations)
+static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
+                                      const double *lo, const double *hi,
+                                      const double *target, const double *start, int max_iter,
+                                      int use_ipopt, double *P, double *F, int *iterations,
+                                      int *raw)
 {
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
@@ -177,7 +178,12 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
     memset(lam, 0, sizeof lam);
     int it = 0;
     double Fk[HP_MAX_BLADDERS], F1[HP_MAX_BLADDERS], F2[HP_MAX_BLADDERS], c[6];
-    for (;; ++it) {
+    if (use_ipopt) {
+        hp_load_hold_nlp nlp = {M, n, rho, A, b, L, U, target};
+        hp_load_solve_status st = hp_load_hold_ipopt(&nlp, p, max_iter, &it, raw);
+        if (st != HP_LOAD_SOLVE_OK) return st;
+    }
+    for (; !use_ipopt; ++it) {
         for (int k = 0; k < n; ++k) {
             bstate s;
             Fk[k] = F1[k] = F2[k] = 0.0;
@@ -250,7 +256,13 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
         if (dmax * t <= 1e-9 && cmax <= tol) break;
     }
     int feasible = 1;
-    for (int k = 0; k < n; ++k) f[k] = Fk[k];
+    for (int k = 0; k < n; ++k) {
+        bstate s;
+        f[k] = 0.0;
+        if (!(L[k] < U[k])) continue;
+        if (bladder_state(M, k, p[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
+        f[k] = fmax(s.F, 0.0);
+    }
     if (iterations) *iterations = it;
     if (!feasible) return HP_LOAD_SOLVE_UNREACHABLE;
     for (int k = 0; k < n; ++k) {
@@ -265,6 +277,35 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
         }
     }
     return HP_LOAD_SOLVE_OK;
+}
+
+hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
+                                  const double *lo, const double *hi, const double *target,
+                                  const double *start, int max_iter, double *P, double *F,
+                                  int *iterations)
+{
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 0, P, F, iterations, NULL);
+}
+
+hp_load_solve_status hp_load_hold_on_ipopt(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi,
+                                           const double *target, const double *start,
+                                           int max_iter, double *P, double *F,
+                                           int *iterations, int *raw)
+{
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 1, P, F, iterations, raw);
+}
+
+hp_error hp_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
+                               double *F, double *dF, double *d2F)
+{
+    bstate s;
+    hp_error err = bladder_state(M, k, P, rho, &s);
+    if (err) return err;
+    *F = s.F;
+    *dF = s.FP;
+    *d2F = s.FPP;
+    return HP_OK;
 }
 
 /* Rest of pressures p from xi (forward statics) and the rest's sensitivity G = dxi/dP
