@@ -237,6 +237,7 @@ int hp_cmd_solve(int argc, char **argv)
             if (print_json(hp_planner_layout(p), &r, msg)) status = HP_EXIT_SOFTWARE;
         } else {
             print_table(hp_planner_layout(p), &r, msg);
+            hp_cli_print_hoop(hp_planner_layout(p), &r);
             if (why[0]) printf("\nlevel choice: %s\n", why); /* a load scene kept kinematic */
         }
     }

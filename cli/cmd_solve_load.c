@@ -51,6 +51,30 @@ static void binding_text(unsigned flags, char *buf, size_t len)
     if (!n) snprintf(buf, len, "-");
 }
 
+/* Hoop stress at the inner surface [kPa] of an answer's bladder (NaN when it cannot be
+ * evaluated). */
+static double hoop_kpa(const hp_bladder *B, const hp_bladder_result *b)
+{
+    double s;
+    return hp_iab_hoop_stress_inner(&B->iab, b->ri, &s) == HP_OK ? s * 1e-3 : NAN;
+}
+
+void hp_cli_print_hoop(const hp_layout *L, const hp_result *r)
+{
+    int any = 0;
+    for (int k = 0; k < L->n; ++k) any |= L->bladders[k].stress_max > 0;
+    if (!any) return;
+    printf("\n%-18s %12s %12s\n", "bladder", "hoop_kpa", "limit_kpa");
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder *B = &L->bladders[k];
+        if (B->stress_max > 0 && isfinite(B->stress_max))
+            printf("%-18s %12.4f %12.4f\n", B->name, hoop_kpa(B, &r->bladders[k]),
+                   B->stress_max * 1e-3);
+        else
+            printf("%-18s %12.4f %12s\n", B->name, hoop_kpa(B, &r->bladders[k]), "-");
+    }
+}
+
 static void print_table(const hp_layout *L, const hp_result *r, const hp_load_info *info,
                         const char *why, hp_load_tiebreak tie)
 {
@@ -62,14 +86,15 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
            hp_level_name(r->level), hp_load_tiebreak_name(tie), hp_backend_name(r->backend),
            r->solve_time * 1e6);
     printf("why         %s\n\n", why);
-    printf("%-18s %10s %10s %12s %8s %10s  %s\n", "bladder", "ri_mm", "ro_mm", "pressure_pa",
-           "stretch", "force_n", "binding");
+    printf("%-18s %10s %10s %12s %8s %10s %10s  %s\n", "bladder", "ri_mm", "ro_mm",
+           "pressure_pa", "stretch", "force_n", "hoop_kpa", "binding");
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder_result *b = &r->bladders[k];
         char bind[128];
         binding_text(b->binding, bind, sizeof bind);
-        printf("%-18s %10.4f %10.4f %12.2f %8.4f %10.4f  %s\n", L->bladders[k].name,
-               b->ri * 1e3, b->ro * 1e3, b->pressure, b->stretch, info->force[k], bind);
+        printf("%-18s %10.4f %10.4f %12.2f %8.4f %10.4f %10.4f  %s\n", L->bladders[k].name,
+               b->ri * 1e3, b->ro * 1e3, b->pressure, b->stretch, info->force[k],
+               hoop_kpa(&L->bladders[k], b), bind);
     }
     printf("\n%-10s %12s %12s %12s\n", "pose", "desired", "achieved", "error");
     for (int i = 0; i < 6; ++i)
@@ -122,6 +147,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
         json_object_set_new(e, "ro_mm", json_real(b->ro * 1e3));
         json_object_set_new(e, "pressure_pa", json_real(b->pressure));
         json_object_set_new(e, "force_n", json_real(info->force[k]));
+        json_object_set_new(e, "hoop_stress_kpa", num(hoop_kpa(&L->bladders[k], b)));
         for (int f = 0; f < HP_BIND_COUNT; ++f)
             if (b->binding & (1u << f))
                 json_array_append_new(bind, json_string(hp_binding_name(1u << f)));

@@ -21,4 +21,8 @@ int hp_cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg
 int hp_cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
                       const double desired[6], int json, const char *why);
 
+/* When a bladder of L has a stress limit: a table of every bladder's hoop stress at the
+ * inner surface (kPa) beside its limit. Prints nothing otherwise. */
+void hp_cli_print_hoop(const hp_layout *L, const hp_result *r);
+
 #endif

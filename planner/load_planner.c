@@ -63,6 +63,12 @@ static hp_error bladder_bounds(hp_load_planner *p, int k, hp_diag *diag)
         cap = (1.0 - 1e-3) * lp->ri;
         cap_bind = HP_BIND_LIMIT_POINT;
     }
+    double rs;
+    if (b->stress_max > 0 && isfinite(b->stress_max) &&
+        hp_iab_stress_radius(&b->iab, b->stress_max, cap, &rs) == HP_OK && rs < cap) {
+        cap = rs;
+        cap_bind = HP_BIND_STRESS_MAX;
+    }
     if (hp_iab_ik(&b->iab, cap, &P) == HP_OK && P < p->hi[k]) {
         p->hi[k] = P;
         p->hi_bind[k] = cap_bind;

@@ -209,7 +209,7 @@ static hp_error layout_scene(const sr_ctx *c, const yt_node *root, hp_scene *s)
     if (defaults) {
         static const char *const KEYS[] = {"Ri_mm", "Ro_mm", "material", "pressure_min_kpa",
                                            "pressure_max_kpa", "stretch_min", "stretch_max",
-                                           "rate_max_kpa", NULL};
+                                           "rate_max_kpa", "stress_max_kpa", NULL};
         hp_bladder scratch;
         if ((e = sr_map(c, defaults, "bladder_defaults", KEYS, NULL))) return e;
         if ((e = sp_bladder_params(c, defaults, "bladder_defaults", NULL, 0, &scratch)))

@@ -95,11 +95,12 @@ enum {
     HP_BIND_STRETCH_MAX = 1u << 3,
     HP_BIND_RATE_DOWN = 1u << 4,
     HP_BIND_RATE_UP = 1u << 5,
-    HP_BIND_LIMIT_POINT = 1u << 6 /* the stable-branch cap below the inflation limit point */
+    HP_BIND_LIMIT_POINT = 1u << 6, /* the stable-branch cap below the inflation limit point */
+    HP_BIND_STRESS_MAX = 1u << 7   /* the bladder's inner hoop-stress limit (stress_max) */
 };
-#define HP_BIND_COUNT 7
+#define HP_BIND_COUNT 8
 /* "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
- * "limit_point" for one flag bit; "unknown" otherwise. */
+ * "limit_point", "stress_max" for one flag bit; "unknown" otherwise. */
 const char *hp_binding_name(unsigned flag);
 
 #define HP_DEFAULT_BACKEND HP_BACKEND_REALTIME

@@ -245,6 +245,58 @@ static void test_unreachable(void **state)
     hp_load_planner_destroy(p);
 }
 
+/* A hoop-stress limit below the stretch cap's stress binds by the name stress_max, at the
+ * load level (the base cannot hold the head at the nominal pose any more: closest, lower)
+ * and in the kinematic planner (a 25 mm lift needs the base past the limit). Every returned
+ * bladder's inner hoop stress stays within its limit (1e-9 relative: the bisection's
+ * bound side). */
+static void test_stress_binding(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    double s_cap;
+    assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[0].iab, 1.6 * L.bladders[0].iab.Ri,
+                                              &s_cap), HP_OK);
+    for (int k = 0; k < 4; ++k) L.bladders[k].stress_max = 0.3 * s_cap;
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_planner *p = make(&L, &s);
+    double d[6] = {0};
+    hp_result r;
+    hp_load_info info;
+    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_CLOSEST);
+    int bound = 0;
+    for (int k = 0; k < r.n; ++k) {
+        double h;
+        assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[k].iab, r.bladders[k].ri, &h),
+                         HP_OK);
+        if (k < 4) assert_true(h <= 0.3 * s_cap * (1 + 1e-9));
+        bound += (r.bladders[k].binding & HP_BIND_STRESS_MAX) != 0;
+    }
+    assert_true(bound >= 1);
+    assert_string_equal(hp_binding_name(HP_BIND_STRESS_MAX), "stress_max");
+    hp_load_planner_destroy(p);
+
+    hp_planner *kp = NULL;
+    assert_int_equal(hp_planner_create(&L, NULL, &kp, NULL), HP_OK);
+    double lift[6] = {0, 0, 25e-3, 0, 0, 0};
+    assert_int_equal(hp_plan(kp, lift, &r), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_CLOSEST);
+    bound = 0;
+    for (int k = 0; k < 4; ++k) {
+        double h;
+        assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[k].iab, r.bladders[k].ri, &h),
+                         HP_OK);
+        assert_true(h <= 0.3 * s_cap * (1 + 1e-9));
+        bound += (r.bladders[k].binding & HP_BIND_STRESS_MAX) != 0;
+    }
+    assert_true(bound >= 1);
+    hp_planner_destroy(kp);
+}
+
 /* A layout of base bladders only, with gravity pointing anterior (+z, a prone patient):
  * nothing pushes the head down, and create says which way support is missing. A weight
  * beyond what the bladders can carry at their largest pressures is refused too. */
@@ -305,7 +357,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_reached_nominal), cmocka_unit_test(test_reached_lift), cmocka_unit_test(test_levels),
         cmocka_unit_test(test_backends_agree),
-        cmocka_unit_test(test_unreachable),     cmocka_unit_test(test_refused),
+        cmocka_unit_test(test_unreachable), cmocka_unit_test(test_stress_binding),     cmocka_unit_test(test_refused),
         cmocka_unit_test(test_invalid_input),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
