@@ -140,10 +140,10 @@ hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *spec,
     if ((int)tie < 0 || tie >= HP_TIE_COUNT_)
         return hp_diag_set(diag, HP_ERR_INVALID, "load planner: tie-breaker: unknown value %d",
                            (int)tie);
-    if (set.backend != HP_BACKEND_REALTIME && set.backend != HP_BACKEND_IPOPT)
+    if (set.backend == HP_BACKEND_NLOPT_COBYLA)
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load planner: backend %s is not available at the load level "
-                           "(use realtime or ipopt)", hp_backend_name(set.backend));
+                           "(use realtime, ipopt or nlopt-slsqp)", hp_backend_name(set.backend));
     if (L->head.shape == HP_HEAD_SPHERE)
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load: a sphere head cannot be held at the load level (its contact "
@@ -241,6 +241,9 @@ static hp_load_solve_status hold(const hp_load_planner *p, const double xi[6],
 {
     if (p->set.backend == HP_BACKEND_IPOPT)
         return hp_load_hold_on_ipopt(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter,
+                                     P, F, iters, raw);
+    if (p->set.backend == HP_BACKEND_NLOPT_SLSQP)
+        return hp_load_hold_on_nlopt(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter,
                                      P, F, iters, raw);
     return hp_load_hold(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter, P, F, iters);
 }

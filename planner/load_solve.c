@@ -178,9 +178,10 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
     memset(lam, 0, sizeof lam);
     int it = 0;
     double Fk[HP_MAX_BLADDERS], F1[HP_MAX_BLADDERS], F2[HP_MAX_BLADDERS], c[6];
-    if (use_ipopt) {
+    if (use_ipopt) { /* 1: Ipopt, 2: NLopt SLSQP */
         hp_load_hold_nlp nlp = {M, n, rho, A, b, L, U, target};
-        hp_load_solve_status st = hp_load_hold_ipopt(&nlp, p, max_iter, &it, raw);
+        hp_load_solve_status st = use_ipopt == 1 ? hp_load_hold_ipopt(&nlp, p, max_iter, &it, raw)
+                                                 : hp_load_hold_nlopt(&nlp, p, max_iter, &it, raw);
         if (st != HP_LOAD_SOLVE_OK) return st;
     }
     for (; !use_ipopt; ++it) {
@@ -294,6 +295,15 @@ hp_load_solve_status hp_load_hold_on_ipopt(const hp_load_model *M, const double 
                                            int *iterations, int *raw)
 {
     return hold_core(M, xi, lo, hi, target, start, max_iter, 1, P, F, iterations, raw);
+}
+
+hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi,
+                                           const double *target, const double *start,
+                                           int max_iter, double *P, double *F,
+                                           int *iterations, int *raw)
+{
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 2, P, F, iterations, raw);
 }
 
 hp_error hp_load_bladder_force(const hp_load_model *M, int k, double P, double rho,

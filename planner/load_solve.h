@@ -27,6 +27,12 @@ hp_load_solve_status hp_load_hold_on_ipopt(const hp_load_model *M, const double 
                                            const double *target, const double *start,
                                            int max_iter, double *P, double *F,
                                            int *iterations, int *raw);
+/* The same with NLopt SLSQP for the second phase. */
+hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi,
+                                           const double *target, const double *start,
+                                           int max_iter, double *P, double *F,
+                                           int *iterations, int *raw);
 
 /* The tie-breaker NLP of HOLD at a fixed pose, for a general-purpose solver: variables the
  * pressures (kPa) of the bladders with L_k < U_k (the others fixed at L_k), objective
@@ -39,6 +45,10 @@ typedef struct hp_load_hold_nlp {
 
 /* Solves that NLP from p (Pa, feasible) with Ipopt; p gets the answer. */
 hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
+                                        int *iterations, int *raw);
+
+/* The same NLP on NLopt SLSQP (load_nlopt.c); raw gets NLopt's result code. */
+hp_load_solve_status hp_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
                                         int *iterations, int *raw);
 
 /* Bladder k's contact force at pressure P against contact distance rho (the contact branch's

@@ -26,6 +26,23 @@ for b in d["bladders"]:
     assert b["pressure_pa"] <= 10000.0 and b["pressure_pa"] >= -5000.0
 PY
 
+for b in realtime ipopt nlopt-slsqp; do
+    run solve "$S/load_tilted.yaml" --backend "$b" --json
+    expect_exit 0 "tilted on $b"
+    cp "$TMP/out" "$TMP/$b.json"
+done
+python3 - "$TMP" <<'PY' && ok || bad "backends agree on the load level (1e-6 Pa)"
+import json, sys
+d = {b: json.load(open(f"{sys.argv[1]}/{b}.json")) for b in ("realtime", "ipopt", "nlopt-slsqp")}
+for b in ("ipopt", "nlopt-slsqp"):
+    for x, y in zip(d["realtime"]["bladders"], d[b]["bladders"]):
+        assert abs(x["pressure_pa"] - y["pressure_pa"]) <= 1e-6, (b, x, y)
+PY
+
+run solve "$S/load_tilted.yaml" --backend nlopt-cobyla
+expect_exit 65 "cobyla refused at the load level"
+expect_stderr_has "not available at the load level" "says why"
+
 run solve "$S/load_tilted.yaml"
 expect_exit 0 "tilted load scene reached"
 expect_stdout_has "holding               stable" "the tilted hold is stable"

@@ -176,8 +176,8 @@ static int assert_kkt(const hp_load_planner *p, const hp_result *r, const hp_loa
     return nf;
 }
 
-/* The realtime and Ipopt backends agree on reachable poses: the same pressures to 1e-6 Pa
- * (measured: 6e-9 Pa). Both start the tie-breaker from the same exact feasibility point
+/* The realtime, Ipopt and NLopt SLSQP backends agree on reachable poses: the same
+ * pressures to 1e-6 Pa. Both start the tie-breaker from the same exact feasibility point
  * (phase 1) and solve it independently (SQP on the QP of load_qp.c vs Ipopt's interior
  * point with the exact Hessian); phase 2 moves the pressures (e.g. the side bladders from
  * 1.8 N to nothing at the nominal pose), so the agreement is not a shared starting
@@ -192,10 +192,12 @@ static void test_backends_agree(void **state)
     hp_settings set;
     hp_settings_default(&set);
     set.level = HP_LEVEL_SURFACE;
-    hp_load_planner *p[2];
+    hp_load_planner *p[3];
     hp_diag d;
-    for (int b = 0; b < 2; ++b) {
-        set.backend = b ? HP_BACKEND_IPOPT : HP_BACKEND_REALTIME;
+    const hp_backend backends[3] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT,
+                                    HP_BACKEND_NLOPT_SLSQP};
+    for (int b = 0; b < 3; ++b) {
+        set.backend = backends[b];
         assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p[b], &d),
                          HP_OK);
     }
@@ -205,20 +207,22 @@ static void test_backends_agree(void **state)
                              {-1e-3, 1e-3, 2e-3, 0.6 * deg, 0.6 * deg, 0}};
     int chosen = 0;
     for (int q = 0; q < 3; ++q) {
-        hp_result r[2];
-        hp_load_info in[2];
-        for (int b = 0; b < 2; ++b) {
+        hp_result r[3];
+        hp_load_info in[3];
+        for (int b = 0; b < 3; ++b) {
             assert_int_equal(hp_load_plan(p[b], ds[q], &r[b], &in[b]), HP_OK);
             assert_int_equal(r[b].status, HP_STATUS_REACHED);
             assert_true(in[b].residual_force < 1e-9 && in[b].residual_moment < 1e-10);
             chosen += assert_kkt(p[b], &r[b], &in[b]) > 6;
         }
-        for (int k = 0; k < r[0].n; ++k)
-            hp_assert_close(r[1].bladders[k].pressure, r[0].bladders[k].pressure, 0.0, 1e-6);
+        for (int b = 1; b < 3; ++b)
+            for (int k = 0; k < r[0].n; ++k)
+                hp_assert_close(r[b].bladders[k].pressure, r[0].bladders[k].pressure, 0.0,
+                                1e-6);
     }
     (void)chosen; /* least squeeze mostly ends with six carrying bladders: a vertex, where
                    * this check has nothing to test; the agreement below still does */
-    for (int b = 0; b < 2; ++b) hp_load_planner_destroy(p[b]);
+    for (int b = 0; b < 3; ++b) hp_load_planner_destroy(p[b]);
 }
 
 /* With stretch_max 1.3 the base cannot hold the head at the nominal pose: CLOSEST, lower
