@@ -99,5 +99,9 @@ int hp_bench_peers(const hp_bench_options *o, hp_bench_table *t);
  * `auto` picks, each level's error bound, median time per plan and pose error against the
  * exact surface answer. Writes DIR/levels.csv. */
 int hp_bench_levels(const hp_bench_options *o, const char *dir);
+/* The load level on the catalogue's load scenes: time per plan of the kinematic planner and
+ * of the load planner on each backend, and the sag error of the kinematic plan measured
+ * through the forward statics. Writes DIR/load.csv (cli/bench_load.c). */
+int hp_bench_load(const hp_bench_options *o, const char *dir);
 
 #endif
