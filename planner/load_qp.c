@@ -84,22 +84,24 @@ int hp_load_box_qp(int nv, const double *H, const double *g, const double *l,
         if (nf) hp_load_cholesky_solve(nf, A, x);
         /* Move towards the free minimiser until the first bound. */
         double t = 1.0;
-        int hit = -1;
+        int hit = -1, hit_side = 0;
         for (int a = 0; a < nf; ++a) {
             int i = F[a];
             double step = x[a] - d[i];
             if (x[a] > u[i] && step > 0 && (u[i] - d[i]) / step < t) {
                 t = (u[i] - d[i]) / step;
                 hit = i;
+                hit_side = 1;
             } else if (x[a] < l[i] && step < 0 && (l[i] - d[i]) / step < t) {
                 t = (l[i] - d[i]) / step;
                 hit = i;
+                hit_side = -1;
             }
         }
         for (int a = 0; a < nf; ++a) d[F[a]] += t * (x[a] - d[F[a]]);
-        if (hit >= 0) {
-            state[hit] = x[0] == x[0] && d[hit] >= u[hit] - 1e-300 ? 1 : -1;
-            d[hit] = state[hit] > 0 ? u[hit] : l[hit];
+        if (hit >= 0) { /* the first bound on the way: it joins the active set */
+            state[hit] = hit_side;
+            d[hit] = hit_side > 0 ? u[hit] : l[hit];
             continue;
         }
         /* At the free minimiser: release the bound whose multiplier has the wrong sign. */

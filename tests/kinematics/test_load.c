@@ -260,6 +260,48 @@ static void test_auto_choice(void **state)
     assert_non_null(strstr(why, "load: predicted sag"));
 }
 
+/* Bad input: every field of the load checked, NaN and infinity refused, outputs NaN on
+ * error, a sphere or unprepared model refused by the calls that need one. */
+static void test_bad_input(void **state)
+{
+    (void)state;
+    hp_load_spec s;
+    hp_load_spec_default(&MOD[0].layout.head, &s);
+    assert_int_equal(hp_load_spec_validate(&s, NULL), HP_OK);
+    hp_diag d;
+    hp_load_spec b = s;
+    b.mass = NAN;
+    assert_int_equal(hp_load_spec_validate(&b, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "mass"));
+    b = s;
+    b.mass = 0.0;
+    assert_int_equal(hp_load_spec_validate(&b, &d), HP_ERR_INVALID);
+    b = s;
+    b.com[1] = INFINITY;
+    assert_int_equal(hp_load_spec_validate(&b, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "com"));
+    b = s;
+    b.gravity[2] = 0.0;
+    assert_int_equal(hp_load_spec_validate(&b, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "gravity"));
+    assert_int_equal(hp_load_spec_validate(NULL, &d), HP_ERR_NULL);
+    hp_load_model M;
+    assert_int_equal(hp_load_model_init(&M, &MOD[0].layout, &s, HP_LEVEL_AUTO, &d),
+                     HP_ERR_INVALID);
+    double xi[6] = {0, NAN, 0, 0, 0, 0}, Q[6], F[8];
+    assert_int_equal(hp_load_eval(&MOD[2], xi, P_HOLD, Q, NULL, NULL, F, NULL), HP_ERR_INVALID);
+    for (int i = 0; i < 6; ++i) assert_true(isnan(Q[i]));
+    xi[1] = 0.0;
+    double P[8];
+    memcpy(P, P_HOLD, sizeof P);
+    P[3] = INFINITY;
+    assert_int_equal(hp_load_eval(&MOD[2], xi, P, Q, NULL, NULL, F, NULL), HP_ERR_INVALID);
+    assert_int_equal(hp_load_rest(&MOD[2], P, NULL, xi, NULL), HP_ERR_INVALID);
+    hp_load_model U;
+    memset(&U, 0, sizeof U);
+    assert_int_equal(hp_load_eval(&U, xi, P_HOLD, Q, NULL, NULL, NULL, NULL), HP_ERR_STATE);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -270,6 +312,7 @@ int main(void)
         cmocka_unit_test(test_no_rest),
         cmocka_unit_test(test_compliance_predicts),
         cmocka_unit_test(test_auto_choice),
+        cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

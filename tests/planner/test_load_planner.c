@@ -338,6 +338,49 @@ static void test_refused(void **state)
     assert_non_null(strstr(d.text, "sphere"));
 }
 
+/* The `previous` tie-breaker: planning the same pose again returns the same pressures
+ * (the previous ones hold it: distance 0), and a nearby pose's pressures are closer to the
+ * previous ones than least squeeze's are (sum of squares). */
+static void test_tiebreak_previous(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_settings set;
+    hp_settings_default(&set);
+    set.level = HP_LEVEL_SURFACE;
+    hp_load_planner *prev = NULL, *ls = NULL;
+    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_PREVIOUS, &prev, NULL), HP_OK);
+    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &ls, NULL),
+                     HP_OK);
+    const double a[6] = {0, 0, 5e-3, 0, 0, 0}, b[6] = {0.5e-3, 0, 5.5e-3, 0, 0, 0};
+    hp_result r0, r1, r2, q;
+    assert_int_equal(hp_load_plan(prev, a, &r0, NULL), HP_OK);
+    assert_int_equal(hp_load_plan(prev, a, &r1, NULL), HP_OK);
+    for (int k = 0; k < r0.n; ++k)
+        hp_assert_close(r1.bladders[k].pressure, r0.bladders[k].pressure, 0.0, 1e-6);
+    assert_int_equal(hp_load_plan(prev, b, &r2, NULL), HP_OK);
+    assert_int_equal(hp_load_plan(ls, b, &q, NULL), HP_OK);
+    assert_int_equal(r2.status, HP_STATUS_REACHED);
+    double dp = 0.0, dl = 0.0;
+    for (int k = 0; k < r0.n; ++k) {
+        double e = r2.bladders[k].pressure - r1.bladders[k].pressure;
+        double f = q.bladders[k].pressure - r1.bladders[k].pressure;
+        dp += e * e;
+        dl += f * f;
+    }
+    assert_true(dp <= dl * (1 + 1e-9));
+    assert_string_equal(hp_load_tiebreak_name(HP_TIE_PREVIOUS), "previous");
+    hp_load_tiebreak t;
+    assert_int_equal(hp_load_tiebreak_parse("least-squeeze", &t), HP_OK);
+    assert_int_equal(t, HP_TIE_LEAST_SQUEEZE);
+    assert_int_equal(hp_load_tiebreak_parse("stiff", &t), HP_ERR_INVALID);
+    hp_load_planner_destroy(prev);
+    hp_load_planner_destroy(ls);
+}
+
 /* NaN input: INVALID_INPUT with the safe output (pressures inside bounds, finite). */
 static void test_invalid_input(void **state)
 {
@@ -362,7 +405,7 @@ int main(void)
         cmocka_unit_test(test_reached_nominal), cmocka_unit_test(test_reached_lift), cmocka_unit_test(test_levels),
         cmocka_unit_test(test_backends_agree),
         cmocka_unit_test(test_unreachable), cmocka_unit_test(test_stress_binding),     cmocka_unit_test(test_refused),
-        cmocka_unit_test(test_invalid_input),
+        cmocka_unit_test(test_invalid_input), cmocka_unit_test(test_tiebreak_previous),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
