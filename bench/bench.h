@@ -103,5 +103,9 @@ int bench_peers(const bench_options *o, bench_table *t);
  * `auto` picks, each level's error bound, median time per plan and pose error against the
  * exact surface answer. Writes DIR/levels.csv. */
 int bench_levels(const bench_options *o, const char *dir);
+/* The load level on the catalogue's load scenes: time per plan of the kinematic planner and
+ * of the load planner on each backend, and the sag error of the kinematic plan measured
+ * through the forward statics. Writes DIR/load.csv (bench/bench_load.c). */
+int bench_load(const bench_options *o, const char *dir);
 
 #endif

@@ -45,6 +45,7 @@ static const family families[] = {
       "max pose difference from Ipopt (exact Hessian, tolerance 1e-10) [mm or deg]"},
      bench_peers, NULL, 1},
     {{"levels", NULL, NULL, NULL}, NULL, bench_levels, 0},
+    {{"load", NULL, NULL, NULL}, NULL, bench_load, 0},
 };
 #define N_FAMILIES (sizeof families / sizeof families[0])
 
@@ -60,7 +61,9 @@ static void help(void)
            "front) with gnuplot; prints a summary table on stdout, progress on stderr.\n"
            "The stability family writes DIR/stability.csv, stability_wrong.csv and the chart\n"
            "stability.png/.svg (success rate, iterations, violations versus correction size);\n"
-           "the levels family writes DIR/levels.csv (what each contact level costs and errs).\n\n"
+           "the levels family writes DIR/levels.csv (what each contact level costs and errs);\n"
+           "the load family writes DIR/load.csv (the load level's cost on each backend and\n"
+           "the sag a kinematic plan leaves on the load scenes).\n\n"
            "  --out DIR      output folder, created if missing (default %s)\n"
            "  --quick        a test run: few timing samples; the IK's accuracy is still measured\n"
            "                 on every input, the planner's on 4 targets per group (not 40)\n"
@@ -94,7 +97,7 @@ static int parse_only(const char *list, int *on)
         while (k < N_FAMILIES && strcmp(families[k].chart.family, p) != 0) ++k;
         if (k == N_FAMILIES)
             return hp_cli_fail(HP_EXIT_USAGE, CMD, "--only: unknown family '%s' (known: ik, "
-                               "planner, stability, peers, levels)", p);
+                               "planner, stability, peers, levels, load)", p);
         on[k] = 1;
         if (!comma) break;
         p = comma + 1;

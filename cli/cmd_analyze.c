@@ -2,6 +2,7 @@
  * (mm of radius change per mm and per degree), the weakest direction, the reach of each axis
  * inside the bladders' limits, the contact models' error bounds and the resolved geometry.
  * Command-line units: mm, degrees, Pa; the library speaks SI. */
+#include "cli/analyze_load.h"
 #include "cli/cli_args.h"
 #include "cli/cli_scene.h"
 #include "cli/commands.h"
@@ -230,6 +231,8 @@ static int print_json(const hp_scene *sc, const analysis *r)
     json_object_set_new(o, "head", head_json(&L->head));
     json_object_set_new(o, "pivot_mm", vec_json(L->pivot, 3, 1e3));
     json_object_set_new(o, "bladders", geometry_bladders_json(L));
+    json_t *load = hp_cli_analyze_load_json(sc);
+    json_object_set_new(o, "load", load ? load : json_null());
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
     json_decref(o);
     if (!s) return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "cannot format JSON output");
@@ -339,6 +342,7 @@ static void print_text(const hp_scene *sc, const analysis *r)
         printf("%-18s %-30s %-30s %-28s %6.2f %6.2f %8.0f %8.0f %8.0f %8.0f\n", B->name, c, p,
                n, B->iab.Ri * 1e3, B->iab.Ro * 1e3, B->iab.C1, B->iab.C2, B->p_min, B->p_max);
     }
+    hp_cli_analyze_load_text(sc);
 }
 
 int hp_cmd_analyze(int argc, char **argv)

@@ -2,6 +2,7 @@
  * achieved pose and the status. Command-line units: mm and degrees; the library speaks SI. */
 #include "cli/cli_args.h"
 #include "cli/cli_scene.h"
+#include "cli/cmd_solve_load.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "headplan/hp_planner.h"
@@ -28,7 +29,8 @@ static void help(void)
            "                 about X, roll about Y, yaw about Z); default: the scene's\n"
            "  --backend NAME realtime (default unless the scene says), ipopt, nlopt-slsqp,\n"
            "                 nlopt-cobyla\n"
-           "  --level NAME   contact model: linear, plane, surface or auto; default: the scene's\n"
+           "  --level NAME   contact model: linear, plane, surface, auto or load (the head's\n"
+           "                 weight, docs/load.md); default: the scene's\n"
            "  --json         one JSON object on stdout instead of the tables\n"
            "  --help         this text\n\n"
            "A correction outside the layout's identifiable range (headplan analyze) is refused.\n"
@@ -189,12 +191,24 @@ int hp_cmd_solve(int argc, char **argv)
         return hp_cli_fail(HP_EXIT_USAGE, CMD,
                            "--correction: missing (the scene %s states no correction)", a.scene);
     }
+    int use_load;
+    char why[256];
+    if ((rc = hp_cli_load_level(CMD, sc, a.level, &use_load, why, sizeof why))) {
+        free(sc);
+        return rc;
+    }
+    int level_is_load = a.level && strcmp(a.level, "load") == 0;
     hp_settings s;
-    if ((rc = hp_cli_settings(CMD, sc, a.backend, a.level, &s))) {
+    if ((rc = hp_cli_settings(CMD, sc, a.backend, level_is_load ? NULL : a.level, &s))) {
         free(sc);
         return rc;
     }
     s.use_rate_limits = 0; /* one solve from the nominal pose: no previous cycle */
+    if (use_load) {
+        rc = hp_cli_solve_load(CMD, sc, &s, desired, a.json, why);
+        free(sc);
+        return rc;
+    }
 
     hp_diag d = {{0}};
     hp_error e;
@@ -241,6 +255,8 @@ int hp_cmd_solve(int argc, char **argv)
             if (print_json(hp_planner_layout(p), &r, msg)) status = HP_EXIT_SOFTWARE;
         } else {
             print_table(hp_planner_layout(p), &r, msg);
+            hp_cli_print_hoop(hp_planner_layout(p), &r);
+            if (why[0]) printf("\nlevel choice: %s\n", why); /* a load scene kept kinematic */
         }
     }
     hp_planner_destroy(p);

@@ -72,6 +72,10 @@ static hp_error check_bladder(const hp_layout *L, int k, hp_diag *diag)
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "bladder '%s': rate_max: must be > 0 or +inf (got %g Pa)", b->name,
                            b->rate_max);
+    if (!(b->stress_max >= 0)) /* NaN and negatives; 0 and +inf mean no limit */
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': stress_max: must be > 0 (got %g Pa)", b->name,
+                           b->stress_max);
     hp_iab_limit lp;
     err = hp_iab_limit_point(&b->iab, &lp);
     if (err) return hp_diag_set(diag, err, "bladder '%s': limit point: %s", b->name,

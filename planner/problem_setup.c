@@ -71,6 +71,10 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
         double lo = B->stretch_min * m->Ri, hi = B->stretch_max * m->Ri;
         unsigned lof = HP_BIND_STRETCH_MIN, hif = HP_BIND_STRETCH_MAX;
         if (lp.exists) take_min(&hi, &hif, lp.ri * (1.0 - HP_STABLE_MARGIN), HP_BIND_LIMIT_POINT);
+        double rs; /* the hoop-stress limit as a radius bound (monotone: iab/iab_stress.c) */
+        if (B->stress_max > 0 && isfinite(B->stress_max) && hi > m->Ri &&
+            hp_iab_stress_radius(m, B->stress_max, hi, &rs) == HP_OK)
+            take_min(&hi, &hif, rs, HP_BIND_STRESS_MAX);
 
         double r;
         e = hp_iab_fk(m, B->p_min, &r);

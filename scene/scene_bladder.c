@@ -91,15 +91,15 @@ static hp_error param(const sr_ctx *c, const yt_node *map, const char *path,
     return HP_OK;
 }
 
-enum { P_RI, P_RO, P_PMIN, P_PMAX, P_SMIN, P_SMAX, P_RATE, P_COUNT };
+enum { P_RI, P_RO, P_PMIN, P_PMAX, P_SMIN, P_SMAX, P_RATE, P_STRESS, P_COUNT };
 
 hp_error sp_bladder_params(const sr_ctx *c, const yt_node *map, const char *path,
                            const yt_node *defaults, int require, hp_bladder *b)
 {
     static const char *const key[P_COUNT] = {"Ri_mm", "Ro_mm", "pressure_min_kpa",
                                              "pressure_max_kpa", "stretch_min", "stretch_max",
-                                             "rate_max_kpa"};
-    static const double scale[P_COUNT] = {1e-3, 1e-3, 1e3, 1e3, 1.0, 1.0, 1e3};
+                                             "rate_max_kpa", "stress_max_kpa"};
+    static const double scale[P_COUNT] = {1e-3, 1e-3, 1e3, 1e3, 1.0, 1.0, 1e3, 1e3};
     double v[P_COUNT] = {0};
     int given[P_COUNT] = {0};
     const yt_node *at[P_COUNT];
@@ -107,7 +107,7 @@ hp_error sp_bladder_params(const sr_ctx *c, const yt_node *map, const char *path
     hp_error e;
     for (int i = 0; i < P_COUNT; ++i) {
         p[i][0] = '\0';
-        int req = require && i != P_RATE;
+        int req = require && i != P_RATE && i != P_STRESS;
         if ((e = param(c, map, path, defaults, req, key[i], scale[i], &v[i], &given[i], &at[i],
                        p[i])))
             return e;
@@ -126,6 +126,10 @@ hp_error sp_bladder_params(const sr_ctx *c, const yt_node *map, const char *path
         return sr_fail(c, at[P_RATE], p[P_RATE], HP_ERR_INVALID,
                        "must be > 0 kPa (got %g; omit the key for no rate limit)",
                        v[P_RATE] * 1e-3);
+    if (given[P_STRESS] && !(v[P_STRESS] > 0))
+        return sr_fail(c, at[P_STRESS], p[P_STRESS], HP_ERR_INVALID,
+                       "must be > 0 kPa (got %g; omit the key for no stress limit)",
+                       v[P_STRESS] * 1e-3);
     if (given[P_RI] && given[P_RO] && !(v[P_RI] < v[P_RO]))
         return sr_fail(c, at[P_RI], p[P_RI], HP_ERR_DOMAIN,
                        "must be less than Ro_mm (Ri %g mm, Ro %g mm)", v[P_RI] * 1e3,
@@ -167,6 +171,7 @@ hp_error sp_bladder_params(const sr_ctx *c, const yt_node *map, const char *path
     b->stretch_min = v[P_SMIN];
     b->stretch_max = v[P_SMAX];
     b->rate_max = given[P_RATE] ? v[P_RATE] : INFINITY;
+    b->stress_max = given[P_STRESS] ? v[P_STRESS] : 0.0;
     return HP_OK;
 }
 

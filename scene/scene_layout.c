@@ -156,7 +156,7 @@ hp_error sp_bladders(const sr_ctx *c, const yt_node *list, const yt_node *defaul
         "name",          "center_mm",        "touch_mm",         "touch_dir",
         "preload_mm",    "Ri_mm",            "Ro_mm",            "material",
         "pressure_min_kpa", "pressure_max_kpa", "stretch_min",   "stretch_max",
-        "rate_max_kpa",  NULL};
+        "rate_max_kpa",  "stress_max_kpa", NULL};
     if (list->type != YT_SEQUENCE)
         return sr_fail(c, list, "bladders", HP_ERR_PARSE, "expected a list of bladders, found %s",
                        sr_type_name(list));

@@ -13,7 +13,8 @@
 static const char *const LAYOUT_KEYS[] = {"headplan_scene", "name",     "head",
                                           "pivot_mm",       "bladder_defaults",
                                           "bladders",       "model",    "solver",
-                                          "correction",     "trace",    NULL};
+                                          "correction",     "trace",    "load",
+                                          NULL};
 static const char *const BLADDER_KEYS[] = {"headplan_scene", "name", "bladder", "paper_printed",
                                            NULL};
 
@@ -59,10 +60,19 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if (e) return e;
     const yt_node *n;
     if ((n = yt_map_get(node, "level"))) {
-        static const char *const LEVELS[] = {"linear", "plane", "surface", "auto", NULL};
+        static const char *const LEVELS[] = {"linear", "plane", "surface", "auto", "load",
+                                             NULL};
         char name[16];
         if ((e = sr_word(c, n, "model.level", "level", LEVELS, name, sizeof name))) return e;
-        (void)hp_level_parse(name, &s->level); /* cannot fail: name is in LEVELS */
+        /* "load" is the load level (a planner of its own, docs/load.md); its contact
+         * geometry is `load.geometry`, and a kinematic planner built from the same scene
+         * uses the surface level. */
+        s->level_load = strcmp(name, "load") == 0;
+        if (s->level_load && !s->has_load)
+            return sr_fail(c, n, "model.level", HP_ERR_INVALID,
+                           "'load' needs a 'load' section (what the bladders carry)");
+        if (s->level_load) s->level = HP_LEVEL_SURFACE;
+        else (void)hp_level_parse(name, &s->level); /* cannot fail: name is in LEVELS */
     }
     if ((n = yt_map_get(node, "tolerance_mm"))) {
         double t;
@@ -200,7 +210,7 @@ static hp_error layout_scene(const sr_ctx *c, const yt_node *root, hp_scene *s)
     if (defaults) {
         static const char *const KEYS[] = {"Ri_mm", "Ro_mm", "material", "pressure_min_kpa",
                                            "pressure_max_kpa", "stretch_min", "stretch_max",
-                                           "rate_max_kpa", NULL};
+                                           "rate_max_kpa", "stress_max_kpa", NULL};
         hp_bladder scratch;
         if ((e = sr_map(c, defaults, "bladder_defaults", KEYS, NULL))) return e;
         if ((e = sp_bladder_params(c, defaults, "bladder_defaults", NULL, 0, &scratch)))
@@ -212,6 +222,7 @@ static hp_error layout_scene(const sr_ctx *c, const yt_node *root, hp_scene *s)
     sub.text[0] = '\0';
     if ((e = hp_layout_prepare(&s->layout, &sub)))
         return sr_fail(c, list, "bladders", e, "%s", sub.text);
+    if ((n = yt_map_get(root, "load")) && (e = sp_load(c, n, s))) return e;
     if ((n = yt_map_get(root, "model")) && (e = model(c, n, s))) return e;
     if ((n = yt_map_get(root, "solver")) && (e = solver(c, n, s))) return e;
     if ((n = yt_map_get(root, "correction")) && (e = correction(c, n, s))) return e;

@@ -29,4 +29,7 @@ hp_error sp_bladders(const sr_ctx *c, const yt_node *list, const yt_node *defaul
 hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_scene *s);
 hp_error sp_printed(const sr_ctx *c, const yt_node *node, hp_scene *s);
 
+/* The `load` section (head and layout already read). */
+hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s);
+
 #endif

@@ -22,4 +22,21 @@
         }                                                                                   \
     } while (0)
 
+/* Solves the 6×6 system A x = b in place (b becomes x) by Gaussian elimination without
+ * pivoting: for the symmetric positive definite matrices the tests build (stiffnesses,
+ * normal equations). A is overwritten. */
+static inline void hp_test_solve6(double A[36], double b[6])
+{
+    for (int c = 0; c < 6; ++c)
+        for (int r = c + 1; r < 6; ++r) {
+            double f = A[r * 6 + c] / A[c * 6 + c];
+            for (int j = c; j < 6; ++j) A[r * 6 + j] -= f * A[c * 6 + j];
+            b[r] -= f * b[c];
+        }
+    for (int r = 5; r >= 0; --r) {
+        for (int j = r + 1; j < 6; ++j) b[r] -= A[r * 6 + j] * b[j];
+        b[r] /= A[r * 6 + r];
+    }
+}
+
 #endif

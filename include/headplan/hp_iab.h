@@ -130,6 +130,16 @@ HP_API hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double 
 HP_API hp_error hp_iab_wall_stress(const hp_iab *b, double ri, double r, double *s_rr,
                             double *s_tt);
 
+/* Hoop stress [Pa] at the inner surface of a bladder held at inner radius ri (closed form:
+ * hp_iab_wall_stress at r = ri). The quantity of a bladder's optional `stress_max` limit. */
+HP_API hp_error hp_iab_hoop_stress_inner(const hp_iab *b, double ri, double *sigma);
+
+/* The largest inner radius in [Ri, ri_cap] whose inner hoop stress is <= sigma_max (> 0),
+ * by bisection to adjacent doubles; ri_cap (> Ri, on the stable branch) itself when its
+ * stress is within the bound. On the stable branch above Ri the stress rises with ri, so
+ * this is the radius bound the stress limit means. HP_ERR_INVALID for bad arguments. */
+HP_API hp_error hp_iab_stress_radius(const hp_iab *b, double sigma_max, double ri_cap, double *ri);
+
 #ifdef __cplusplus
 }
 #endif

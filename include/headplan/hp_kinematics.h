@@ -57,6 +57,8 @@ typedef struct hp_bladder {
     double stretch_min;   /* safe inner stretch λi = ri/Ri, lower bound (> 0) */
     double stretch_max;   /* upper bound, below any limit point */
     double rate_max;      /* largest pressure change per cycle [Pa]; +inf when unlimited */
+    double stress_max;    /* largest hoop stress at the inner surface [Pa] (> 0); 0 or
+                             +inf: no stress limit (hp_iab_hoop_stress_inner) */
 } hp_bladder;
 
 /* The head and its bladders at the nominal pose, plus what hp_layout_prepare derives. */

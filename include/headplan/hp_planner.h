@@ -107,16 +107,17 @@ enum {
     HP_BIND_STRETCH_MAX = 1u << 3,
     HP_BIND_RATE_DOWN = 1u << 4,
     HP_BIND_RATE_UP = 1u << 5,
-    HP_BIND_LIMIT_POINT = 1u << 6 /* the stable-branch cap below the inflation limit point */
+    HP_BIND_LIMIT_POINT = 1u << 6, /* the stable-branch cap below the inflation limit point */
+    HP_BIND_STRESS_MAX = 1u << 7   /* the bladder's inner hoop-stress limit (stress_max) */
 };
-#define HP_BIND_COUNT 7
+#define HP_BIND_COUNT 8
 /* A bladder is reported as sitting on a limit when its outer radius is within this many mm
  * of the bound, the one threshold for every backend and level: above the solvers' stopping
  * slack at a bound (Ipopt's interior point keeps ~1e-8 of the bound, the realtime QP
  * 1e-11 mm), far below any clinical meaning. A CLOSEST answer names at least one. */
 #define HP_BINDING_TOL_MM 1e-6
 /* "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
- * "limit_point" for one flag bit; "unknown" otherwise. */
+ * "limit_point", "stress_max" for one flag bit; "unknown" otherwise. */
 HP_API const char *hp_binding_name(unsigned flag);
 
 #define HP_DEFAULT_BACKEND HP_BACKEND_REALTIME

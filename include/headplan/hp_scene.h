@@ -22,6 +22,7 @@
 #include "headplan/hp_common.h"
 #include "headplan/hp_iab.h"
 #include "headplan/hp_kinematics.h"
+#include "headplan/hp_load.h"
 #include "headplan/hp_planner.h"
 
 #ifdef __cplusplus
@@ -107,6 +108,14 @@ typedef struct hp_scene {
     hp_scene_printed printed_ro;       /* `ro_m` */
     hp_scene_printed printed_pressure; /* `pressure_pa` (the paper says Pascals) */
     hp_scene_printed printed_dV;       /* `dV_m3` (the paper prints "≈ 0") */
+
+    /* ---- the load level (layout scenes with a `load` section; docs/load.md) ---- */
+    int has_load;                      /* `load` given */
+    double load_fraction;              /* `load.carried_fraction`, in (0, 1] */
+    hp_load_spec load;                 /* carried mass [kg], centre of mass [m], gravity */
+    hp_level load_geometry;            /* `load.geometry` (default surface) */
+    int load_tiebreak;                 /* `load.tiebreak` (an hp_load_tiebreak) */
+    int level_load;                    /* 1: `model.level: load` asks for the load level */
 } hp_scene;
 
 /* Reads and validates the scene file at path (at most HP_SCENE_MAX_BYTES). Returns HP_OK,

@@ -141,13 +141,14 @@ run --quick --only peers --out "$TMP/nopy" --python /nonexistent/python3 \
 expect_exit 70 "--python missing"; expect_stderr_has "--python" "names --python"
 [ ! -e "$TMP/nopy" ] && ok || bad "output folder created although SciPy is missing"
 
-# The levels family: one row per level for each of the 7 layout scenes; auto picks the
+# The levels family: one row per level for each of the 11 layout scenes (the 4 load scenes
+# are planned at the kinematic levels here: the load level is not in the bench); auto picks the
 # cheapest level whose error bound meets the scene's tolerance; the surface level is the
 # reference (bound 0, error 0).
 run --quick --only levels --out "$OUT" --scenarios "$HP_SRC/scenarios"
 expect_exit 0 "bench --only levels"
 csv="$OUT/levels.csv"
-[ "$(($(wc -l <"$csv") - 1))" -eq 21 ] && ok || bad "levels: 21 rows"
+[ "$(($(wc -l <"$csv") - 1))" -eq 33 ] && ok || bad "levels: 33 rows"
 badlv=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
   { s = $c["scene"]; b[s, $c["level"]] = $c["bound_mm"]; tol[s] = $c["tolerance_mm"]; a[s] = $c["auto_level"]
     if ($c["level"] == "surface" && !($c["bound_mm"] == 0 && $c["max_error"] == 0)) print s ": surface not exact" }

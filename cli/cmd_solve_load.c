@@ -1,0 +1,215 @@
+/* headplan solve at the load level: which level a scene with a `load` section gets, and
+ * the load planner's answer with its equilibrium residual, holding compliance, the forward
+ * statics' round trip and the binding limits. */
+#include "cli/cmd_solve_load.h"
+#include "cli/exit_codes.h"
+#include "headplan/hp_load_planner.h"
+
+#include <jansson.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+int hp_cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
+                      int *use_load, char *why, size_t len)
+{
+    *use_load = 0;
+    why[0] = '\0';
+    int asked = level_arg ? strcmp(level_arg, "load") == 0 : sc->level_load;
+    int automatic = level_arg ? strcmp(level_arg, "auto") == 0 : sc->level == HP_LEVEL_AUTO;
+    if (asked && !sc->has_load)
+        return hp_cli_fail(HP_EXIT_USAGE, cmd,
+                           "--level: load needs a scene with a 'load' section (%s has none)",
+                           sc->file);
+    if (asked) {
+        *use_load = 1;
+        snprintf(why, len, "load: asked for by %s", level_arg ? "--level" : "model.level");
+        return 0;
+    }
+    if (!automatic || !sc->has_load) return 0;
+    hp_load_model *M = malloc(sizeof *M);
+    if (!M) return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "out of memory");
+    hp_diag d = {{0}};
+    hp_error e = hp_load_model_init(M, &sc->layout, &sc->load, sc->load_geometry, &d);
+    if (!e) e = hp_load_auto_choose(M, sc->level_tolerance, use_load, NULL, why, len);
+    free(M);
+    if (e)
+        return hp_cli_fail(HP_EXIT_DATAERR, cmd, "%s: load: %s", sc->file,
+                           d.text[0] ? d.text : hp_error_message(e));
+    return 0;
+}
+
+static void binding_text(unsigned flags, char *buf, size_t len)
+{
+    size_t n = 0;
+    buf[0] = '\0';
+    for (int f = 0; f < HP_BIND_COUNT && n < len; ++f)
+        if (flags & (1u << f))
+            n += (size_t)snprintf(buf + n, len - n, "%s%s", n ? "," : "",
+                                  hp_binding_name(1u << f));
+    if (!n) snprintf(buf, len, "-");
+}
+
+/* Hoop stress at the inner surface [kPa] of an answer's bladder (NaN when it cannot be
+ * evaluated). */
+static double hoop_kpa(const hp_bladder *B, const hp_bladder_result *b)
+{
+    double s;
+    return hp_iab_hoop_stress_inner(&B->iab, b->ri, &s) == HP_OK ? s * 1e-3 : NAN;
+}
+
+void hp_cli_print_hoop(const hp_layout *L, const hp_result *r)
+{
+    int any = 0;
+    for (int k = 0; k < L->n; ++k) any |= L->bladders[k].stress_max > 0;
+    if (!any) return;
+    printf("\n%-18s %12s %12s\n", "bladder", "hoop_kpa", "limit_kpa");
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder *B = &L->bladders[k];
+        if (B->stress_max > 0 && isfinite(B->stress_max))
+            printf("%-18s %12.4f %12.4f\n", B->name, hoop_kpa(B, &r->bladders[k]),
+                   B->stress_max * 1e-3);
+        else
+            printf("%-18s %12.4f %12s\n", B->name, hoop_kpa(B, &r->bladders[k]), "-");
+    }
+}
+
+static void print_table(const hp_layout *L, const hp_result *r, const hp_load_info *info,
+                        const char *why, hp_load_tiebreak tie)
+{
+    double d[6], a[6];
+    hp_pose_to_clinical(r->desired, d);
+    hp_pose_to_clinical(r->achieved, a);
+    printf("status      %s\n", hp_status_name(r->status));
+    printf("level       load (contact geometry %s, tie-breaker %s), backend %s, %.1f us\n",
+           hp_level_name(r->level), hp_load_tiebreak_name(tie), hp_backend_name(r->backend),
+           r->solve_time * 1e6);
+    printf("why         %s\n\n", why);
+    printf("%-18s %10s %10s %12s %8s %10s %10s  %s\n", "bladder", "ri_mm", "ro_mm",
+           "pressure_pa", "stretch", "force_n", "hoop_kpa", "binding");
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder_result *b = &r->bladders[k];
+        char bind[128];
+        binding_text(b->binding, bind, sizeof bind);
+        printf("%-18s %10.4f %10.4f %12.2f %8.4f %10.4f %10.4f  %s\n", L->bladders[k].name,
+               b->ri * 1e3, b->ro * 1e3, b->pressure, b->stretch, info->force[k],
+               hoop_kpa(&L->bladders[k], b), bind);
+    }
+    printf("\n%-10s %12s %12s %12s\n", "pose", "desired", "achieved", "error");
+    for (int i = 0; i < 6; ++i)
+        printf("%-10s %12.6f %12.6f %12.3g\n", hp_pose_key(i), d[i], a[i], a[i] - d[i]);
+    const hp_load_holding *h = &info->holding;
+    printf("\nequilibrium residual  %.3g N, %.3g N*m (Newton-Euler, from the contact points)\n",
+           info->residual_force, info->residual_moment);
+    printf("forward statics       rest %.3g mm/deg from the achieved pose\n", info->rest_error);
+    printf("holding               %s; weakest %s, %.4g %s\n",
+           h->stable ? "stable" : "NOT stable (the stiffness is not positive definite)",
+           h->weakest_words, h->weakest_compliance, h->weakest_is_rotation ? "deg/(N*m)" : "mm/N");
+    printf("compliance            x %.4g, y %.4g, z %.4g mm/N; pitch %.4g, roll %.4g, yaw %.4g "
+           "deg/(N*m)\n", h->compliance[0], h->compliance[1], h->compliance[2],
+           h->compliance[3], h->compliance[4], h->compliance[5]);
+}
+
+static json_t *pose_json(const double xi[6])
+{
+    double c[6];
+    hp_pose_to_clinical(xi, c);
+    json_t *o = json_object();
+    for (int i = 0; i < 6; ++i) json_object_set_new(o, hp_pose_key(i), json_real(c[i]));
+    return o;
+}
+
+/* JSON has no infinity: an unbounded compliance is written as null. */
+static json_t *num(double v)
+{
+    return isfinite(v) ? json_real(v) : json_null();
+}
+
+static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
+                      const hp_load_info *info, const char *why, hp_load_tiebreak tie)
+{
+    json_t *o = json_object();
+    json_object_set_new(o, "status", json_string(hp_status_name(r->status)));
+    json_object_set_new(o, "backend", json_string(hp_backend_name(r->backend)));
+    json_object_set_new(o, "level", json_string("load"));
+    json_object_set_new(o, "geometry", json_string(hp_level_name(r->level)));
+    json_object_set_new(o, "tiebreak", json_string(hp_load_tiebreak_name(tie)));
+    json_object_set_new(o, "why", json_string(why));
+    json_object_set_new(o, "desired", pose_json(r->desired));
+    json_object_set_new(o, "achieved", pose_json(r->achieved));
+    json_t *bl = json_array();
+    for (int k = 0; k < L->n; ++k) {
+        const hp_bladder_result *b = &r->bladders[k];
+        json_t *e = json_object(), *bind = json_array();
+        json_object_set_new(e, "name", json_string(L->bladders[k].name));
+        json_object_set_new(e, "ri_mm", json_real(b->ri * 1e3));
+        json_object_set_new(e, "ro_mm", json_real(b->ro * 1e3));
+        json_object_set_new(e, "pressure_pa", json_real(b->pressure));
+        json_object_set_new(e, "force_n", json_real(info->force[k]));
+        json_object_set_new(e, "hoop_stress_kpa", num(hoop_kpa(&L->bladders[k], b)));
+        for (int f = 0; f < HP_BIND_COUNT; ++f)
+            if (b->binding & (1u << f))
+                json_array_append_new(bind, json_string(hp_binding_name(1u << f)));
+        json_object_set_new(e, "binding", bind);
+        json_array_append_new(bl, e);
+    }
+    json_object_set_new(o, "bladders", bl);
+    json_object_set_new(o, "residual_force_n", json_real(info->residual_force));
+    json_object_set_new(o, "residual_moment_nm", json_real(info->residual_moment));
+    json_object_set_new(o, "rest_error", num(info->rest_error));
+    const hp_load_holding *h = &info->holding;
+    json_t *c = json_object();
+    static const char *const keys[6] = {"x_mm_per_n", "y_mm_per_n", "z_mm_per_n",
+                                        "pitch_deg_per_nm", "roll_deg_per_nm", "yaw_deg_per_nm"};
+    for (int i = 0; i < 6; ++i) json_object_set_new(c, keys[i], num(h->compliance[i]));
+    json_object_set_new(o, "compliance", c);
+    json_object_set_new(o, "stable", json_boolean(h->stable));
+    json_object_set_new(o, "weakest", json_string(h->weakest_words));
+    json_object_set_new(o, "weakest_compliance", num(h->weakest_compliance));
+    json_object_set_new(o, "iterations", json_integer(r->iterations));
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    json_decref(o);
+    if (!s) return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "cannot format JSON output");
+    puts(s);
+    free(s);
+    return 0;
+}
+
+int hp_cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
+                      const double desired[6], int json, const char *why)
+{
+    hp_settings set = *s;
+    set.level = sc->load_geometry;
+    hp_load_tiebreak tie = (hp_load_tiebreak)sc->load_tiebreak;
+    hp_load_planner *p = NULL;
+    hp_diag d = {{0}};
+    hp_error e = hp_load_planner_create(&sc->layout, &sc->load, &set, tie, &p, &d);
+    if (e)
+        return hp_cli_fail(e == HP_ERR_INVALID || e == HP_ERR_DOMAIN ? HP_EXIT_DATAERR
+                                                                     : HP_EXIT_SOFTWARE,
+                           cmd, "%s: %s", sc->file, d.text);
+    hp_result r;
+    hp_load_info info;
+    e = hp_load_plan(p, desired, &r, &info);
+    int status;
+    if (e) {
+        status = hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "%s: load planner failed: %s", sc->file,
+                             hp_error_message(e));
+    } else if (r.status == HP_STATUS_INVALID_INPUT) {
+        status = hp_cli_fail(HP_EXIT_DATAERR, cmd, "correction: %s", hp_load_planner_error(p));
+    } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) {
+        status = hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "%s: %s: %s", sc->file,
+                             hp_status_name(r.status), hp_load_planner_error(p));
+    } else {
+        status = r.status == HP_STATUS_REACHED ? HP_EXIT_OK : HP_EXIT_CLOSEST;
+        const hp_layout *L = &hp_load_planner_model(p)->layout;
+        if (json) {
+            if (print_json(cmd, L, &r, &info, why, tie)) status = HP_EXIT_SOFTWARE;
+        } else {
+            print_table(L, &r, &info, why, tie);
+        }
+    }
+    hp_load_planner_destroy(p);
+    return status;
+}

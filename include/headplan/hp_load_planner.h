@@ -1,0 +1,75 @@
+/* The load-level planner: a desired pose -> the bladder pressures that HOLD the head there
+ * against its weight (hp_load.h), inside every pressure, stretch and limit-point bound.
+ *
+ * It is a planner object of its own, beside hp_planner (same settings, result and status
+ * types), because the load level solves a different problem: at a pose the six
+ * equilibrium equations are linear in the contact forces F_k, and n pressures leave an
+ * (n − 6)-dimensional family that holds a reachable pose, from which a tie-breaker picks
+ * one. See docs/load.md.
+ *
+ * Lifecycle: hp_load_planner_create (allocates) -> hp_load_plan (allocates nothing with the
+ * realtime backend) -> hp_load_planner_destroy. One planner per thread. */
+#ifndef HP_LOAD_PLANNER_H
+#define HP_LOAD_PLANNER_H
+
+#include "headplan/hp_load.h"
+#include "headplan/hp_planner.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* Which member of the family of holding pressures a reachable pose gets. */
+typedef enum hp_load_tiebreak {
+    HP_TIE_LEAST_SQUEEZE = 0, /* "least-squeeze": minimise sum_k P_k² */
+    HP_TIE_PREVIOUS,          /* "previous": minimise sum_k (P_k − P_prev,k)² */
+    HP_TIE_COUNT_
+} hp_load_tiebreak;
+HP_API const char *hp_load_tiebreak_name(hp_load_tiebreak t); /* "unknown" for other values */
+HP_API hp_error hp_load_tiebreak_parse(const char *s, hp_load_tiebreak *out);
+
+/* What the load planner reports beyond hp_result. */
+typedef struct hp_load_info {
+    double force[HP_MAX_BLADDERS]; /* contact force of each bladder [N] */
+    double residual_force;         /* |sum f + m g| at the answer [N] (Newton–Euler) */
+    double residual_moment;        /* |net moment about the centre of mass| [N·m] */
+    double rest[6];                /* the forward statics' rest of the returned pressures,
+                                      started at the answer [m, rad] */
+    double rest_error;             /* max |rest − achieved| in mm / degrees */
+    hp_load_holding holding;       /* stiffness and compliance at the answer */
+} hp_load_info;
+
+typedef struct hp_load_planner hp_load_planner;
+
+/* Builds a load planner for layout L carrying spec, with settings s (NULL = defaults;
+ * s->level is the contact geometry: linear, plane or surface; auto means surface) and
+ * tie-breaker tie. Refuses (HP_ERR_INVALID, message in diag) a sphere head (it cannot be
+ * turned, and its contact forces pass through its centre), a layout in which no bladder
+ * pushes against gravity ("no bladder pushes against gravity (+z)"), and a weight larger
+ * than the bladders can carry along gravity at their largest pressures. */
+HP_API hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *spec,
+                                const hp_settings *s, hp_load_tiebreak tie,
+                                hp_load_planner **out, hp_diag *diag);
+
+/* Plans the pressures that hold the head at desired[6] (SI). REACHED: the equilibrium
+ * holds at the desired pose (the pose error is 0 by construction); CLOSEST: no pressures
+ * inside the limits hold it there, and the answer is the pose nearest to it (weighted as
+ * the settings say) at which some do, with the binding limits flagged. info (may be NULL)
+ * gets the residuals, forces, the forward statics' rest of the answer and the holding. With
+ * the realtime backend nothing is allocated. Every pressure is inside its limits, whatever
+ * the status. */
+HP_API hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *result,
+                      hp_load_info *info);
+
+/* The message of the last failure ("" when none). Never NULL. */
+HP_API const char *hp_load_planner_error(const hp_load_planner *p);
+/* The planner's model (layout, carried load, geometry). */
+HP_API const hp_load_model *hp_load_planner_model(const hp_load_planner *p);
+/* Each bladder's pressure bounds [Pa] (from the pressure, stretch and limit-point limits). */
+HP_API hp_error hp_load_planner_bounds(const hp_load_planner *p, double *lo, double *hi);
+HP_API void hp_load_planner_destroy(hp_load_planner *p);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

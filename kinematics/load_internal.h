@@ -1,0 +1,40 @@
+/* Internal pieces of the load model shared by the forward statics and the load planner.
+ * Not installed. */
+#ifndef HP_LOAD_INTERNAL_H
+#define HP_LOAD_INTERNAL_H
+
+#include "headplan/hp_load.h"
+
+/* One bladder's contact force and its partial derivatives. */
+typedef struct hp_load_force {
+    double F;       /* [N] */
+    double dF_drho; /* [N/m] */
+    double dF_dP;   /* [N/Pa], through ro(P) as well */
+    double dF_dro;  /* [N/m] at fixed P */
+    double E;       /* [J] P times the volume of the cap the head cuts off */
+} hp_load_force;
+
+/* The membrane law for pressure P, free outer radius ro (with dro = dro/dP) and contact
+ * distance rho. right = 1 gives the contact branch's derivatives also where the bladder
+ * just touches (delta = 0 or P = 0), the one-sided derivative a planner needs. */
+void hp_load_law(double P, double ro, double dro, double rho, int right, hp_load_force *f);
+
+/* Outer radii (and dro/dP when dro is not NULL) of every bladder at pressures P. */
+hp_error hp_load_radii(const hp_load_model *M, const double *P, double *ro, double *dro);
+
+/* hp_load_eval with the radii already known (no input checks, no NaN fill): the cheap
+ * inner evaluation of Newton and SQP loops. */
+hp_error hp_load_eval_radii(const hp_load_model *M, const double xi[6], const double *P,
+                            const double *ro, const double *dro, int right, double Q[6],
+                            double *dQ_dxi, double *dQ_dP, double *force, double *energy);
+
+/* Cholesky factor of a symmetric n×n matrix A (row-major) in place (lower triangle);
+ * returns 0 when A is positive definite, -1 otherwise. */
+int hp_load_cholesky(int n, double *A);
+/* Solves L Lᵀ x = b with the factor of hp_load_cholesky (b overwritten by x). */
+void hp_load_cholesky_solve(int n, const double *Lf, double *b);
+
+/* Scale of pose component i: 1 mm in m, 1 degree in rad. */
+double hp_load_unit(int i);
+
+#endif

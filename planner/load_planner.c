@@ -1,0 +1,417 @@
+/* The load-level planner object: bounds, the layout's ability to carry the load, and the
+ * plan (HOLD at the desired pose; when unreachable POSE then HOLD), verified by the
+ * forward statics when the caller asks for the details. */
+#define _POSIX_C_SOURCE 200809L
+#include "headplan/hp_load_planner.h"
+#include "kinematics/load_internal.h"
+#include "planner/load_solve.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+struct hp_load_planner {
+    hp_load_model M;
+    hp_settings set;
+    hp_load_tiebreak tie;
+    double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
+    unsigned lo_bind[HP_MAX_BLADDERS], hi_bind[HP_MAX_BLADDERS];
+    double prev_P[HP_MAX_BLADDERS];
+    double prev_xi[6];
+    char err[HP_DIAG_MAX];
+};
+
+static const char *const TIE_NAMES[HP_TIE_COUNT_] = {"least-squeeze", "previous"};
+
+const char *hp_load_tiebreak_name(hp_load_tiebreak t)
+{
+    return (int)t >= 0 && t < HP_TIE_COUNT_ ? TIE_NAMES[t] : "unknown";
+}
+
+hp_error hp_load_tiebreak_parse(const char *s, hp_load_tiebreak *out)
+{
+    if (!s || !out) return HP_ERR_NULL;
+    for (int i = 0; i < HP_TIE_COUNT_; ++i)
+        if (strcmp(s, TIE_NAMES[i]) == 0) {
+            *out = (hp_load_tiebreak)i;
+            return HP_OK;
+        }
+    return HP_ERR_INVALID;
+}
+
+/* Pressure bounds of bladder k: [p_min, p_max] cut by the pressures of the stretch limits
+ * and of the stable-branch cap (1 − 1e-3 of the limit point's radius, as the kinematic
+ * planner). Each bound remembers which limit set it. */
+static hp_error bladder_bounds(hp_load_planner *p, int k, hp_diag *diag)
+{
+    const hp_bladder *b = &p->M.layout.bladders[k];
+    double P;
+    p->lo[k] = b->p_min;
+    p->lo_bind[k] = HP_BIND_PRESSURE_MIN;
+    if (hp_iab_ik(&b->iab, b->stretch_min * b->iab.Ri, &P) == HP_OK && P > p->lo[k]) {
+        p->lo[k] = P;
+        p->lo_bind[k] = HP_BIND_STRETCH_MIN;
+    }
+    p->hi[k] = b->p_max;
+    p->hi_bind[k] = HP_BIND_PRESSURE_MAX;
+    double cap = b->stretch_max * b->iab.Ri;
+    unsigned cap_bind = HP_BIND_STRETCH_MAX;
+    const hp_iab_limit *lp = &p->M.limit[k];
+    if (lp->exists && (1.0 - 1e-3) * lp->ri < cap) {
+        cap = (1.0 - 1e-3) * lp->ri;
+        cap_bind = HP_BIND_LIMIT_POINT;
+    }
+    double rs;
+    if (b->stress_max > 0 && isfinite(b->stress_max) &&
+        hp_iab_stress_radius(&b->iab, b->stress_max, cap, &rs) == HP_OK && rs < cap) {
+        cap = rs;
+        cap_bind = HP_BIND_STRESS_MAX;
+    }
+    if (hp_iab_ik(&b->iab, cap, &P) == HP_OK && P < p->hi[k]) {
+        p->hi[k] = P;
+        p->hi_bind[k] = cap_bind;
+    }
+    if (!(p->lo[k] < p->hi[k]))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%s': its pressure and stretch limits leave no pressure "
+                           "(%.6g Pa > %.6g Pa)", b->name, p->lo[k], p->hi[k]);
+    return HP_OK;
+}
+
+static const char *direction_words(const double v[3], char *buf, size_t len)
+{
+    static const char *const names[3] = {"x", "y", "z"};
+    int d = 0;
+    for (int i = 1; i < 3; ++i)
+        if (fabs(v[i]) > fabs(v[d])) d = i;
+    snprintf(buf, len, "%c%s", v[d] >= 0 ? '+' : '-', names[d]);
+    return buf;
+}
+
+/* Can the bladders push against gravity at all, and hard enough? Each bladder pushes the
+ * head along u_k = −n_k (into the head) with at most p_hi·pi·ro(p_hi)² (the whole cap
+ * flattened), so the support along −g is at most sum_k max(0, −ĝ·u_k)·that. */
+static hp_error check_carry(hp_load_planner *p, hp_diag *diag)
+{
+    const hp_load_model *M = &p->M;
+    double g = 0.0, up[3];
+    for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];
+    g = sqrt(g);
+    for (int a = 0; a < 3; ++a) up[a] = -M->spec.gravity[a] / g;
+    double cap = 0.0;
+    int any = 0;
+    for (int k = 0; k < M->layout.n; ++k) {
+        const double *n = M->layout.normal[k];
+        double s = -(n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
+        if (s <= 1e-9 || p->hi[k] <= 0) continue;
+        any = 1;
+        double ro;
+        if (hp_load_radius(M, k, p->hi[k], &ro, NULL) == HP_OK)
+            cap += s * p->hi[k] * 3.14159265358979323846 * ro * ro;
+    }
+    char w[8];
+    if (!any)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "load: no bladder pushes against gravity (the head needs support "
+                           "along %s)", direction_words(up, w, sizeof w));
+    double weight = M->spec.mass * g;
+    if (!(cap >= weight))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "load: the bladders can carry at most %.4g N along %s at their "
+                           "largest pressures; the load weighs %.4g N",
+                           cap, direction_words(up, w, sizeof w), weight);
+    return HP_OK;
+}
+
+hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *spec,
+                                const hp_settings *s, hp_load_tiebreak tie,
+                                hp_load_planner **out, hp_diag *diag)
+{
+    if (!out) return hp_diag_set(diag, HP_ERR_NULL, "load planner: NULL output");
+    *out = NULL;
+    if (!L || !spec) return hp_diag_set(diag, HP_ERR_NULL, "load planner: NULL argument");
+    hp_settings set;
+    hp_settings_default(&set);
+    if (s) set = *s;
+    hp_error err = hp_settings_validate(&set, diag);
+    if (err) return err;
+    if ((int)tie < 0 || tie >= HP_TIE_COUNT_)
+        return hp_diag_set(diag, HP_ERR_INVALID, "load planner: tie-breaker: unknown value %d",
+                           (int)tie);
+    if (set.backend == HP_BACKEND_NLOPT_COBYLA)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "load planner: backend %s is not available at the load level "
+                           "(use realtime, ipopt or nlopt-slsqp)", hp_backend_name(set.backend));
+    if (L->head.shape == HP_HEAD_SPHERE)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "load: a sphere head cannot be held at the load level (its contact "
+                           "forces all pass through its centre, so nothing holds its "
+                           "rotation): use an ellipsoid head");
+    hp_load_planner *p = calloc(1, sizeof *p);
+    if (!p) return hp_diag_set(diag, HP_ERR_NOMEM, "load planner: out of memory");
+    hp_level geom = set.level == HP_LEVEL_AUTO ? HP_LEVEL_SURFACE : set.level;
+    err = hp_load_model_init(&p->M, L, spec, geom, diag);
+    for (int k = 0; !err && k < p->M.layout.n; ++k) err = bladder_bounds(p, k, diag);
+    if (!err) err = check_carry(p, diag);
+    if (err) {
+        free(p);
+        return err;
+    }
+    p->set = set;
+    p->set.level = geom;
+    p->tie = tie;
+    for (int k = 0; k < p->M.layout.n; ++k)
+        p->prev_P[k] = fmin(fmax(0.0, p->lo[k]), p->hi[k]);
+    *out = p;
+    return HP_OK;
+}
+
+/* The equilibrium residual a returned answer must meet: every generalized force below
+ * 1e-9 N (moment rows: N·m per rad times 1°/1 mm), i.e. far below what moves the head by
+ * 1e-9 mm at the stiffnesses of a held head (>= 1 N/mm). */
+#define HOLD_TOL 1e-9
+
+static int holds(const hp_load_model *M, const double xi[6], const double *P)
+{
+    double Q[6];
+    if (hp_load_eval(M, xi, P, Q, NULL, NULL, NULL, NULL) != HP_OK) return 0;
+    for (int i = 0; i < 6; ++i)
+        if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hp_load_unit(i) / 1e-3) <= HOLD_TOL)) return 0;
+    return 1;
+}
+
+static double pose_err(const double xi[6], const double desired[6], const double W[6])
+{
+    double e = 0.0;
+    for (int i = 0; i < 6; ++i) {
+        double v = (xi[i] - desired[i]) / hp_load_unit(i);
+        e += W[i] * v * v;
+    }
+    return e;
+}
+
+/* The held pose nearest to the desired one along gravity: the head sinks (translation along
+ * ĝ) until some pressures inside the limits hold it, found by doubling the depth from
+ * 1/16 mm to 64 mm and bisecting the boundary to 1e-9 mm. This is where a head too heavy
+ * for the limits comes to rest, and the start of the 6-D refinement. Returns 1 with the
+ * pose and its HOLD pressures, 0 when no depth up to 64 mm is held. */
+static int sink(const hp_load_planner *p, const double desired[6], const double *target,
+                double xs[6], double *Ps)
+{
+    const hp_load_model *M = &p->M;
+    double g = 0.0, F[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], x[6];
+    for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];
+    g = sqrt(g);
+    double lo = 0.0, hi = -1.0;
+    for (double depth = 6.25e-5; depth <= 0.0641; depth *= 2.0) {
+        memcpy(x, desired, sizeof x);
+        for (int a = 0; a < 3; ++a) x[a] += depth * M->spec.gravity[a] / g;
+        if (hp_load_hold(M, x, p->lo, p->hi, target, NULL, p->set.max_iter, Pt, F, NULL) ==
+                HP_LOAD_SOLVE_OK && holds(M, x, Pt)) {
+            hi = depth;
+            memcpy(xs, x, sizeof x);
+            memcpy(Ps, Pt, (size_t)M->layout.n * sizeof *Ps);
+            break;
+        }
+        lo = depth;
+    }
+    if (hi < 0) return 0;
+    while (hi - lo > 1e-12) {
+        double mid = 0.5 * (lo + hi);
+        memcpy(x, desired, sizeof x);
+        for (int a = 0; a < 3; ++a) x[a] += mid * M->spec.gravity[a] / g;
+        if (hp_load_hold(M, x, p->lo, p->hi, target, NULL, p->set.max_iter, Pt, F, NULL) ==
+                HP_LOAD_SOLVE_OK && holds(M, x, Pt)) {
+            hi = mid;
+            memcpy(xs, x, sizeof x);
+            memcpy(Ps, Pt, (size_t)M->layout.n * sizeof *Ps);
+        } else {
+            lo = mid;
+        }
+    }
+    return 1;
+}
+
+/* HOLD with the configured backend's tie-breaker (Ipopt: its raw code in *raw). */
+static hp_load_solve_status hold(const hp_load_planner *p, const double xi[6],
+                                 const double *target, const double *start, double *P,
+                                 double *F, int *iters, int *raw)
+{
+    if (p->set.backend == HP_BACKEND_IPOPT)
+        return hp_load_hold_on_ipopt(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter,
+                                     P, F, iters, raw);
+    if (p->set.backend == HP_BACKEND_NLOPT_SLSQP)
+        return hp_load_hold_on_nlopt(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter,
+                                     P, F, iters, raw);
+    return hp_load_hold(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter, P, F, iters);
+}
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* Fills the per-bladder part of r from pressures P. */
+static hp_error fill_bladders(const hp_load_planner *p, const double *P, int closest,
+                              hp_result *r)
+{
+    const hp_load_model *M = &p->M;
+    r->n = M->layout.n;
+    for (int k = 0; k < M->layout.n; ++k) {
+        const hp_iab *b = &M->layout.bladders[k].iab;
+        hp_bladder_result *o = &r->bladders[k];
+        double ri, ro;
+        hp_error err = hp_iab_fk_limit(b, &M->limit[k], P[k], &ri);
+        if (!err) err = hp_iab_ro(b, ri, &ro);
+        if (err) return err;
+        o->pressure = P[k];
+        o->ri = ri;
+        o->ro = ro;
+        o->stretch = ri / b->Ri;
+        o->binding = 0;
+        if (closest) {
+            double eps = 1e-9 * (p->hi[k] - p->lo[k]);
+            if (P[k] <= p->lo[k] + eps) o->binding |= p->lo_bind[k];
+            if (P[k] >= p->hi[k] - eps) o->binding |= p->hi_bind[k];
+        }
+    }
+    return HP_OK;
+}
+
+hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
+                      hp_load_info *info)
+{
+    if (!p || !desired || !r) return HP_ERR_NULL;
+    double t0 = now();
+    memset(r, 0, sizeof *r);
+    const hp_load_model *M = &p->M;
+    const int n = M->layout.n;
+    r->backend = p->set.backend;
+    r->level = M->level;
+    memcpy(r->desired, desired, sizeof r->desired);
+    for (int i = 0; i < 6; ++i) r->commanded[i] = 1;
+    p->err[0] = '\0';
+    int bad = 0;
+    for (int i = 0; i < 6; ++i) bad |= !isfinite(desired[i]);
+    double target[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], xi[6];
+    for (int k = 0; k < n; ++k) target[k] = p->tie == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
+    hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
+    int it1 = 0, it2 = 0, it3 = 0;
+    if (!bad) {
+        /* HOLD at the desired pose, accepted only when its equilibrium checks out. */
+        memcpy(xi, desired, sizeof xi);
+        st = hold(p, xi, target, p->prev_P, P, F, &it1, &r->raw_code);
+        if (st == HP_LOAD_SOLVE_OK && !holds(M, xi, P)) st = HP_LOAD_SOLVE_UNREACHABLE;
+        r->status = HP_STATUS_REACHED;
+        if (st != HP_LOAD_SOLVE_OK) {
+            /* POSE: the nearest held pose (the desired one itself when HOLD's tie-breaking
+             * solve failed on a reachable pose), then HOLD there for the tie-breaker. */
+            double W[6];
+            for (int i = 0; i < 6; ++i)
+                W[i] = i < 3 ? 1.0 : 1.0 / (p->set.weight_mm_per_deg * p->set.weight_mm_per_deg);
+            double Pa[HP_MAX_BLADDERS], xs[6], Ps[HP_MAX_BLADDERS];
+            int sunk = sink(p, desired, target, xs, Ps);
+            st = hp_load_pose(M, desired, W, p->lo, p->hi, sunk ? xs : p->prev_xi,
+                              sunk ? Ps : p->prev_P, p->set.max_iter, xi, Pa, &it2);
+            /* The 6-D refinement must end on a held pose nearer than the sunk one. */
+            if (sunk && (st != HP_LOAD_SOLVE_OK || !holds(M, xi, Pa) ||
+                         pose_err(xi, desired, W) > pose_err(xs, desired, W))) {
+                memcpy(xi, xs, sizeof xi);
+                memcpy(Pa, Ps, (size_t)n * sizeof *Pa);
+                st = HP_LOAD_SOLVE_OK;
+            }
+            if (st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT) {
+                double err = 0.0;
+                for (int i = 0; i < 6; ++i)
+                    err = fmax(err, fabs(xi[i] - desired[i]) / hp_load_unit(i));
+                int reached = err <= p->set.tolerance;
+                if (reached) memcpy(xi, desired, sizeof xi);
+                hp_load_solve_status s2 = hold(p, xi, target, Pa, P, F, &it3, &r->raw_code);
+                /* POSE's pressures hold the head at xi by construction (a forward-statics
+                 * rest); HOLD only tie-breaks among the holding pressures, and where it
+                 * finds no verified answer (a family squeezed against the limits) POSE's
+                 * pressures stand. */
+                if (s2 != HP_LOAD_SOLVE_OK || !holds(M, xi, P)) {
+                    memcpy(P, Pa, (size_t)n * sizeof *P);
+                    if (reached && !holds(M, xi, P)) reached = 0;
+                }
+                r->status = reached ? HP_STATUS_REACHED
+                                    : st == HP_LOAD_SOLVE_OK ? HP_STATUS_CLOSEST
+                                                             : HP_STATUS_ITERATION_LIMIT;
+                st = HP_LOAD_SOLVE_OK;
+            }
+        }
+    }
+    r->iterations = it1 + it2 + it3;
+    if (bad || st != HP_LOAD_SOLVE_OK) {
+        r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
+        snprintf(p->err, sizeof p->err, "%s",
+                 bad ? "desired: must be finite"
+                     : "load planner: no pose near the desired one is held inside the limits");
+        /* Safe output: the previous pressures at the previous pose. */
+        memcpy(xi, p->prev_xi, sizeof xi);
+        memcpy(P, p->prev_P, (size_t)n * sizeof *P);
+    }
+    hp_error err = fill_bladders(p, P, r->status == HP_STATUS_CLOSEST, r);
+    if (err) return err;
+    memcpy(r->achieved, xi, sizeof xi);
+    r->pose_error = 0.0;
+    for (int i = 0; i < 6; ++i)
+        r->pose_error = fmax(r->pose_error, fabs(xi[i] - desired[i]) / hp_load_unit(i));
+    if (r->status == HP_STATUS_INVALID_INPUT || r->status == HP_STATUS_SOLVER_ERROR)
+        r->pose_error = INFINITY;
+    else {
+        memcpy(p->prev_P, P, (size_t)n * sizeof *P);
+        memcpy(p->prev_xi, xi, sizeof xi);
+    }
+    if (info) {
+        memset(info, 0, sizeof *info);
+        double Q[6], f[3], m[3];
+        err = hp_load_eval(M, xi, P, Q, NULL, NULL, info->force, NULL);
+        if (!err) err = hp_load_newton_euler(M, xi, P, f, m);
+        if (err) return err;
+        info->residual_force = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+        info->residual_moment = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+        hp_load_rest_info ri;
+        if (hp_load_rest(M, P, xi, info->rest, &ri) == HP_OK) {
+            info->holding = ri.holding;
+            info->rest_error = 0.0;
+            for (int i = 0; i < 6; ++i)
+                info->rest_error =
+                    fmax(info->rest_error, fabs(info->rest[i] - xi[i]) / hp_load_unit(i));
+        } else {
+            for (int i = 0; i < 6; ++i) info->rest[i] = NAN;
+            info->rest_error = INFINITY;
+            (void)hp_load_holding_at(M, xi, P, &info->holding);
+        }
+    }
+    r->solve_time = now() - t0;
+    return HP_OK;
+}
+
+const char *hp_load_planner_error(const hp_load_planner *p)
+{
+    return p ? p->err : "";
+}
+
+const hp_load_model *hp_load_planner_model(const hp_load_planner *p)
+{
+    return p ? &p->M : NULL;
+}
+
+hp_error hp_load_planner_bounds(const hp_load_planner *p, double *lo, double *hi)
+{
+    if (!p || !lo || !hi) return HP_ERR_NULL;
+    memcpy(lo, p->lo, (size_t)p->M.layout.n * sizeof *lo);
+    memcpy(hi, p->hi, (size_t)p->M.layout.n * sizeof *hi);
+    return HP_OK;
+}
+
+void hp_load_planner_destroy(hp_load_planner *p)
+{
+    free(p);
+}

@@ -1,0 +1,463 @@
+/* The load planner's two solves, shared by every backend that uses them:
+ *
+ * HOLD (pose fixed): at a pose xi the equilibrium is linear in the contact forces,
+ *     sum_k F_k·J_k(xi) = −Q_grav(xi),
+ * and each F_k = P_k·pi·(ro(P_k)² − rho_k²) rises monotonically with P_k from the pressure
+ * at which the bladder starts to carry (max(p_lo, 0, the touching pressure)) to p_hi. So
+ * the set of holding pressures is exactly {F in a box : A·F = b}: an SQP in F has exact
+ * (linear) constraints, decides reachability exactly, and minimises the tie-breaker
+ * sum (P_k(F_k) − t_k)² with its exact second derivative (Newton steps).
+ *
+ * POSE (pose free, when HOLD finds the desired pose unreachable): the nearest pose at which
+ * some pressures inside the limits hold the head, by SQP on (xi, P) with the generalized
+ * force's exact Jacobians, the weighted pose error as objective, a small proximal term on
+ * P and a 2 mm / 2° trust region per step; then HOLD at that pose picks the pressures.
+ *
+ * Each QP is load_qp.c's 6-dimensional dual. No allocation. */
+#include "planner/load_solve.h"
+#include "kinematics/load_internal.h"
+#include "planner/load_qp.h"
+
+#include <math.h>
+#include <string.h>
+
+static const double PI = 3.14159265358979323846;
+
+/* Row weights of the equilibrium equations: N for the force rows, and N·m/rad times
+ * (1°/1 mm) for the moment rows, so both read as "force per unit of pose". */
+static double row_w(int r)
+{
+    return r < 3 ? 1.0 : hp_load_unit(r) / 1e-3;
+}
+
+/* One bladder at pressure P against contact distance rho: F and its first two pressure
+ * derivatives (ro'' from the bladder model's d²P/dri²). */
+typedef struct bstate {
+    double F, FP, FPP;
+} bstate;
+
+static hp_error bladder_state(const hp_load_model *M, int k, double P, double rho, bstate *s)
+{
+    const hp_iab *b = &M->layout.bladders[k].iab;
+    double ri, ro, Pc, Pr, Prr;
+    hp_error err = hp_iab_fk_limit(b, &M->limit[k], P, &ri);
+    if (!err) err = hp_iab_ro(b, ri, &ro);
+    if (!err) err = hp_iab_ik_derivs(b, ri, &Pc, &Pr, &Prr);
+    if (err) return err;
+    double r1 = 1.0 / Pr, r2 = -Prr * r1 * r1 * r1;           /* ri', ri'' */
+    double q = ri * ri / (ro * ro);                           /* dro/dri */
+    double q2 = 2.0 * ri / (ro * ro) - 2.0 * q * q / ro;      /* d²ro/dri² */
+    double o1 = q * r1, o2 = q2 * r1 * r1 + q * r2;           /* ro', ro'' */
+    s->F = P * PI * (ro - rho) * (ro + rho);
+    s->FP = PI * (ro - rho) * (ro + rho) + 2.0 * PI * P * ro * o1;
+    s->FPP = 4.0 * PI * ro * o1 + 2.0 * PI * P * (o1 * o1 + ro * o2);
+    return HP_OK;
+}
+
+/* The touching pressure: the one whose free radius equals rho (−inf when rho is below the
+ * smallest radius the cavity allows, +inf past the limit point). */
+static double touch_pressure(const hp_load_model *M, int k, double rho)
+{
+    const hp_iab *b = &M->layout.bladders[k].iab;
+    double ri, P;
+    if (hp_iab_ri(b, rho, &ri) != HP_OK) return -INFINITY;
+    if (M->limit[k].exists && !(ri < M->limit[k].ri)) return INFINITY;
+    if (hp_iab_ik(b, ri, &P) != HP_OK) return ri > b->Ri ? INFINITY : -INFINITY;
+    return P;
+}
+
+/* The pressure in [lo, hi] whose force is F (F increasing in P there): safeguarded Newton. */
+static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, double lo,
+                                  double hi, double Fhi, double F, double *P)
+{
+    if (F <= 0.0) {
+        *P = lo;
+        return HP_OK;
+    }
+    if (F >= Fhi) {
+        *P = hi;
+        return HP_OK;
+    }
+    double a = lo, c = hi, x = lo + (hi - lo) * (F / Fhi);
+    for (int it = 0; it < 200; ++it) {
+        bstate s;
+        hp_error err = bladder_state(M, k, x, rho, &s);
+        if (err) return err;
+        double r = s.F - F;
+        if (r > 0) c = x; else a = x;
+        if (r == 0.0) break;
+        double xn = s.FP > 0 ? x - r / s.FP : 0.5 * (a + c);
+        if (!(xn > a && xn < c)) xn = 0.5 * (a + c);
+        if (fabs(xn - x) <= 4e-16 * fmax(1.0, fabs(x)) || c - a <= 4e-16 * fmax(1.0, fabs(x))) {
+            x = xn;
+            break;
+        }
+        x = xn;
+    }
+    *P = x;
+    return HP_OK;
+}
+
+/* Gravity's generalized force at xi (every bladder at zero pressure carries nothing). */
+static hp_error gravity_q(const hp_load_model *M, const double xi[6], double Q[6])
+{
+    double P[HP_MAX_BLADDERS] = {0}, ro[HP_MAX_BLADDERS];
+    for (int k = 0; k < M->layout.n; ++k) ro[k] = M->layout.bladders[k].iab.Ro;
+    return hp_load_eval_radii(M, xi, P, ro, NULL, 0, Q, NULL, NULL, NULL, NULL);
+}
+
+static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
+                                      const double *lo, const double *hi,
+                                      const double *target, const double *start, int max_iter,
+                                      int use_ipopt, double *P, double *F, int *iterations,
+                                      int *raw)
+{
+    const int n = M->layout.n;
+    double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
+    if (hp_contact_eval(&M->layout, M->level, xi, rho, J, NULL) != HP_OK ||
+        gravity_q(M, xi, Qg) != HP_OK)
+        return HP_LOAD_SOLVE_ERROR;
+    double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS],
+        Fhi[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
+    for (int k = 0; k < n; ++k) {
+        Pt[k] = touch_pressure(M, k, rho[k]);
+        L[k] = fmax(lo[k], fmax(0.0, Pt[k]));
+        U[k] = hi[k];
+        bstate s;
+        Flo[k] = Fhi[k] = 0.0;
+        if (L[k] < U[k]) {
+            if (bladder_state(M, k, L[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
+            Flo[k] = fmax(0.0, s.F);
+            if (bladder_state(M, k, U[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
+            Fhi[k] = s.F;
+        }
+        for (int r = 0; r < 6; ++r) A[r * n + k] = J[k * 6 + r] * row_w(r);
+    }
+    for (int r = 0; r < 6; ++r) b[r] = -Qg[r] * row_w(r);
+    double fscale = 0.0;
+    for (int r = 0; r < 6; ++r) fscale = fmax(fscale, fabs(b[r]));
+    const double tol = 1e-13 * fmax(1.0, fscale);
+
+    /* Phase 1, in the forces: the point of {A·F = b, Flo <= F <= Fhi} nearest to the
+     * forces of the starting pressures (each force scaled by its range). The constraints are
+     * linear, so this decides reachability exactly. */
+    double f[HP_MAX_BLADDERS], lam[6] = {0};
+    {
+        double h[HP_MAX_BLADDERS], g[HP_MAX_BLADDERS], l[HP_MAX_BLADDERS], u[HP_MAX_BLADDERS],
+            d[HP_MAX_BLADDERS], c[6];
+        for (int k = 0; k < n; ++k) {
+            bstate s;
+            double p0 = start ? start[k] : 0.5 * (L[k] + U[k]);
+            p0 = fmin(fmax(p0, L[k]), U[k]);
+            f[k] = 0.0;
+            if (L[k] < U[k] && bladder_state(M, k, p0, rho[k], &s) == HP_OK)
+                f[k] = fmin(fmax(s.F, Flo[k]), Fhi[k]);
+            double Fs = fmax(Fhi[k], 1e-6);
+            h[k] = 1.0 / (Fs * Fs);
+            g[k] = 0.0;
+            l[k] = Flo[k] - f[k];
+            u[k] = Fhi[k] - f[k];
+        }
+        for (int r = 0; r < 6; ++r) {
+            c[r] = -b[r];
+            for (int k = 0; k < n; ++k) c[r] += A[r * n + k] * f[k];
+        }
+        if (hp_load_qp_solve(n, A, c, h, g, l, u, tol, 200, lam, d, NULL) != HP_LOAD_QP_OPTIMAL)
+            return HP_LOAD_SOLVE_UNREACHABLE;
+        for (int k = 0; k < n; ++k) f[k] = fmin(fmax(f[k] + d[k], Flo[k]), Fhi[k]);
+    }
+    /* Phase 2, in the pressures (kPa): SQP on ½·sum (P − t)² subject to A·F(P) = b with the
+     * exact Lagrangian Hessian 1 + (Aᵀλ)_k·F''_k (clamped positive), an l1 merit line
+     * search, and the box [L, U] in every QP. */
+    double p[HP_MAX_BLADDERS];
+    for (int k = 0; k < n; ++k) {
+        p[k] = L[k];
+        if (L[k] < U[k] && pressure_of_force(M, k, rho[k], L[k], U[k], Fhi[k], f[k], &p[k]))
+            return HP_LOAD_SOLVE_ERROR;
+    }
+    memset(lam, 0, sizeof lam);
+    int it = 0;
+    double Fk[HP_MAX_BLADDERS], F1[HP_MAX_BLADDERS], F2[HP_MAX_BLADDERS], c[6];
+    if (use_ipopt) { /* 1: Ipopt, 2: NLopt SLSQP */
+        hp_load_hold_nlp nlp = {M, n, rho, A, b, L, U, target};
+        hp_load_solve_status st = use_ipopt == 1 ? hp_load_hold_ipopt(&nlp, p, max_iter, &it, raw)
+                                                 : hp_load_hold_nlopt(&nlp, p, max_iter, &it, raw);
+        if (st != HP_LOAD_SOLVE_OK) return st;
+    }
+    for (; !use_ipopt; ++it) {
+        for (int k = 0; k < n; ++k) {
+            bstate s;
+            Fk[k] = F1[k] = F2[k] = 0.0;
+            if (!(L[k] < U[k])) continue;
+            if (bladder_state(M, k, p[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
+            Fk[k] = fmax(s.F, 0.0);
+            F1[k] = s.FP * 1e3; /* N per kPa */
+            F2[k] = s.FPP * 1e6;
+        }
+        double cmax = 0.0;
+        for (int r = 0; r < 6; ++r) {
+            c[r] = -b[r];
+            for (int k = 0; k < n; ++k) c[r] += A[r * n + k] * Fk[k];
+            cmax = fmax(cmax, fabs(c[r]));
+        }
+        if (it >= max_iter) break;
+        double h[HP_MAX_BLADDERS], g[HP_MAX_BLADDERS], l[HP_MAX_BLADDERS], u[HP_MAX_BLADDERS],
+            d[HP_MAX_BLADDERS], Mx[6 * HP_MAX_BLADDERS];
+        for (int k = 0; k < n; ++k) {
+            double al = 0.0;
+            for (int r = 0; r < 6; ++r) al += A[r * n + k] * lam[r];
+            h[k] = fmin(fmax(1.0 + al * F2[k], 0.1), 1e3);
+            g[k] = -(p[k] - target[k]) * 1e-3 / h[k];
+            l[k] = (L[k] - p[k]) * 1e-3;
+            u[k] = (U[k] - p[k]) * 1e-3;
+            if (!(L[k] < U[k])) l[k] = u[k] = 0.0;
+            for (int r = 0; r < 6; ++r) Mx[r * n + k] = A[r * n + k] * F1[k];
+        }
+        double lam_new[6];
+        memcpy(lam_new, lam, sizeof lam_new);
+        if (hp_load_qp_solve(n, Mx, c, h, g, l, u, tol, 200, lam_new, d, NULL) !=
+            HP_LOAD_QP_OPTIMAL)
+            break; /* keep the current point: the planner checks its equilibrium */
+        double dmax = 0.0, nu = 1.0, phi = 0.0, slope = 0.0;
+
+        for (int r = 0; r < 6; ++r) nu = fmax(nu, 2.0 * fabs(lam_new[r]));
+        for (int k = 0; k < n; ++k) {
+            double e = (p[k] - target[k]) * 1e-3;
+            dmax = fmax(dmax, fabs(d[k]));
+            phi += 0.5 * e * e;
+            slope += e * d[k];
+        }
+        double csum = 0.0;
+        for (int r = 0; r < 6; ++r) csum += fabs(c[r]);
+        double merit = phi + nu * csum, t = 1.0, pn[HP_MAX_BLADDERS];
+        /* Directional derivative of the l1 merit along d (the QP step cancels c). */
+        double dmerit = slope - nu * csum;
+        for (int ls = 0; ls < 30; ++ls, t *= 0.5) {
+            double phin = 0.0, cn = 0.0, cr[6];
+            int okk = 1;
+            for (int k = 0; k < n; ++k) {
+                pn[k] = fmin(fmax(p[k] + t * d[k] * 1e3, L[k]), U[k]);
+                double e = (pn[k] - target[k]) * 1e-3;
+                phin += 0.5 * e * e;
+            }
+            for (int r = 0; r < 6; ++r) cr[r] = -b[r];
+            for (int k = 0; k < n && okk; ++k) {
+                bstate s;
+                if (!(L[k] < U[k])) continue;
+                if (bladder_state(M, k, pn[k], rho[k], &s)) okk = 0;
+                else
+                    for (int r = 0; r < 6; ++r) cr[r] += A[r * n + k] * fmax(s.F, 0.0);
+            }
+            for (int r = 0; r < 6; ++r) cn += fabs(cr[r]);
+            if (okk && (phin + nu * cn <= merit + 1e-4 * t * dmerit || dmax * t < 1e-10)) break;
+        }
+        memcpy(p, pn, (size_t)n * sizeof *p);
+        memcpy(lam, lam_new, sizeof lam);
+        /* 1e-9 kPa (a micropascal): the steps' rounding noise is ~1e-11 kPa. */
+        if (dmax * t <= 1e-9 && cmax <= tol) break;
+    }
+    int feasible = 1;
+    for (int k = 0; k < n; ++k) {
+        bstate s;
+        f[k] = 0.0;
+        if (!(L[k] < U[k])) continue;
+        if (bladder_state(M, k, p[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
+        f[k] = fmax(s.F, 0.0);
+    }
+    if (iterations) *iterations = it;
+    if (!feasible) return HP_LOAD_SOLVE_UNREACHABLE;
+    for (int k = 0; k < n; ++k) {
+        F[k] = f[k];
+        P[k] = p[k];
+        /* A force at rounding level is no force: the bladder then takes the tie-breaker's
+         * pressure among those that carry nothing, instead of the touching pressure. */
+        if (f[k] <= 1e-13 * fmax(1.0, fscale) || !(L[k] < U[k])) {
+            double top = fmin(hi[k], fmax(0.0, Pt[k]));
+            P[k] = fmin(fmax(target[k], lo[k]), fmax(lo[k], top));
+            F[k] = 0.0;
+        }
+    }
+    return HP_LOAD_SOLVE_OK;
+}
+
+hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
+                                  const double *lo, const double *hi, const double *target,
+                                  const double *start, int max_iter, double *P, double *F,
+                                  int *iterations)
+{
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 0, P, F, iterations, NULL);
+}
+
+hp_load_solve_status hp_load_hold_on_ipopt(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi,
+                                           const double *target, const double *start,
+                                           int max_iter, double *P, double *F,
+                                           int *iterations, int *raw)
+{
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 1, P, F, iterations, raw);
+}
+
+hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi,
+                                           const double *target, const double *start,
+                                           int max_iter, double *P, double *F,
+                                           int *iterations, int *raw)
+{
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 2, P, F, iterations, raw);
+}
+
+hp_error hp_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
+                               double *F, double *dF, double *d2F)
+{
+    bstate s;
+    hp_error err = bladder_state(M, k, P, rho, &s);
+    if (err) return err;
+    *F = s.F;
+    *dF = s.FP;
+    *d2F = s.FPP;
+    return HP_OK;
+}
+
+/* Rest of pressures p from xi (forward statics) and the rest's sensitivity G = dxi/dP
+ * = K⁻¹·dQ/dP (6×n, scaled: mm or degrees per kPa), by the implicit function theorem. */
+static int rest_and_sensitivity(const hp_load_model *M, const double *p, double xi[6],
+                                double *G)
+{
+    const int n = M->layout.n;
+    if (hp_load_rest(M, p, xi, xi, NULL) != HP_OK) return -1;
+    double ro[HP_MAX_BLADDERS], dro[HP_MAX_BLADDERS], Q[6], dX[36], dP[6 * HP_MAX_BLADDERS];
+    if (hp_load_radii(M, p, ro, dro) != HP_OK ||
+        hp_load_eval_radii(M, xi, p, ro, dro, 1, Q, dX, dP, NULL, NULL) != HP_OK)
+        return -1;
+    /* K_s = −S dQ/dxi S (scaled, symmetric); K_s·dxi_s = S·dQ/dP·dP. */
+    double K[36];
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j)
+            K[i * 6 + j] = -0.5 * (dX[i * 6 + j] + dX[j * 6 + i]) * hp_load_unit(i) * hp_load_unit(j);
+    double F[36];
+    memcpy(F, K, sizeof F);
+    /* A saddle (K indefinite) still has a well-defined sensitivity: solve by Gaussian
+     * elimination with partial pivoting rather than Cholesky. */
+    double B[6 * HP_MAX_BLADDERS];
+    for (int i = 0; i < 6; ++i)
+        for (int k = 0; k < n; ++k) B[i * n + k] = dP[i * n + k] * hp_load_unit(i) * 1e3;
+    for (int c = 0; c < 6; ++c) {
+        int piv = c;
+        for (int r = c + 1; r < 6; ++r)
+            if (fabs(F[r * 6 + c]) > fabs(F[piv * 6 + c])) piv = r;
+        if (!(fabs(F[piv * 6 + c]) > 0)) return -1;
+        if (piv != c) {
+            for (int j = 0; j < 6; ++j) {
+                double t = F[c * 6 + j]; F[c * 6 + j] = F[piv * 6 + j]; F[piv * 6 + j] = t;
+            }
+            for (int k = 0; k < n; ++k) {
+                double t = B[c * n + k]; B[c * n + k] = B[piv * n + k]; B[piv * n + k] = t;
+            }
+        }
+        for (int r = c + 1; r < 6; ++r) {
+            double f = F[r * 6 + c] / F[c * 6 + c];
+            for (int j = c; j < 6; ++j) F[r * 6 + j] -= f * F[c * 6 + j];
+            for (int k = 0; k < n; ++k) B[r * n + k] -= f * B[c * n + k];
+        }
+    }
+    for (int r = 5; r >= 0; --r)
+        for (int k = 0; k < n; ++k) {
+            double v = B[r * n + k];
+            for (int j = r + 1; j < 6; ++j) v -= F[r * 6 + j] * G[j * n + k];
+            G[r * n + k] = v / F[r * 6 + r];
+        }
+    return 0;
+}
+
+static double pose_cost(const double xi[6], const double desired[6], const double W[6])
+{
+    double c = 0.0;
+    for (int j = 0; j < 6; ++j) {
+        double e = (xi[j] - desired[j]) / hp_load_unit(j);
+        c += 0.5 * W[j] * e * e;
+    }
+    return c;
+}
+
+hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6],
+                                  const double W[6], const double *lo, const double *hi,
+                                  const double xi0[6], const double *P0, int max_iter,
+                                  double xi[6], double *P, int *iterations)
+{
+    /* Every iterate is an equilibrium: the pressures are the unknowns and the pose is their
+     * rest (forward statics). Gauss–Newton on the weighted pose error with the box on the
+     * pressures, each step a QP in (e, dP): minimise ½eᵀWe + ½mu|dP|² subject to
+     * e − G·dP = xi − desired; mu is Levenberg's damping (raised when a step fails). */
+    const int n = M->layout.n;
+    double x[6], p[HP_MAX_BLADDERS], G[6 * HP_MAX_BLADDERS];
+    memcpy(x, xi0, sizeof x);
+    for (int k = 0; k < n; ++k) p[k] = fmin(fmax(P0[k], lo[k]), hi[k]);
+    if (rest_and_sensitivity(M, p, x, G) != 0) {
+        /* The starting pressures do not hold the head: start from the middle of each
+         * bladder's carrying range, then from the top. */
+        int ok = 0;
+        for (int attempt = 0; attempt < 2 && !ok; ++attempt) {
+            for (int k = 0; k < n; ++k)
+                p[k] = attempt == 0 ? 0.5 * (fmax(lo[k], 0.0) + hi[k]) : hi[k];
+            memset(x, 0, sizeof x);
+            ok = rest_and_sensitivity(M, p, x, G) == 0;
+        }
+        if (!ok) return HP_LOAD_SOLVE_UNREACHABLE;
+    }
+    double cost = pose_cost(x, desired, W), mu = 1e-6;
+    int it = 0;
+    hp_load_solve_status st = HP_LOAD_SOLVE_ITERATION_LIMIT;
+    for (; it < max_iter; ++it) {
+        /* The step's QP in dP alone (kPa): e = (xi − desired) + G·dP eliminated. */
+        double H[HP_MAX_BLADDERS * HP_MAX_BLADDERS], g[HP_MAX_BLADDERS], l[HP_MAX_BLADDERS],
+            u[HP_MAX_BLADDERS], d[HP_MAX_BLADDERS], r[6];
+        for (int j = 0; j < 6; ++j) r[j] = (x[j] - desired[j]) / hp_load_unit(j);
+        for (int a = 0; a < n; ++a) {
+            g[a] = 0.0;
+            for (int j = 0; j < 6; ++j) g[a] += G[j * n + a] * W[j] * r[j];
+            for (int b = 0; b < n; ++b) {
+                double v = a == b ? mu : 0.0;
+                for (int j = 0; j < 6; ++j) v += G[j * n + a] * W[j] * G[j * n + b];
+                H[a * n + b] = v;
+            }
+            l[a] = (lo[a] - p[a]) * 1e-3;
+            u[a] = (hi[a] - p[a]) * 1e-3;
+        }
+        if (hp_load_box_qp(n, H, g, l, u, 4 * n + 20, d) != 0) return HP_LOAD_SOLVE_ERROR;
+        double pn[HP_MAX_BLADDERS], xn[6], Gn[6 * HP_MAX_BLADDERS], dmax = 0.0;
+        for (int k = 0; k < n; ++k) {
+            pn[k] = fmin(fmax(p[k] + d[k] * 1e3, lo[k]), hi[k]);
+            dmax = fmax(dmax, fabs(pn[k] - p[k]));
+        }
+        if (dmax <= 1e-9) { /* Pa: the pressures no longer move */
+            st = HP_LOAD_SOLVE_OK;
+            break;
+        }
+        memcpy(xn, x, sizeof xn);
+        double cn = INFINITY;
+        if (rest_and_sensitivity(M, pn, xn, Gn) == 0) cn = pose_cost(xn, desired, W);
+        if (cn <= cost) {
+            int small = cost - cn <= 1e-15 * (1.0 + cost);
+            memcpy(p, pn, (size_t)n * sizeof *p);
+            memcpy(x, xn, sizeof x);
+            memcpy(G, Gn, (size_t)(6 * n) * sizeof *G);
+            cost = cn;
+            mu = fmax(mu * 0.3, 1e-12);
+            if (small && dmax <= 1e-3) {
+                st = HP_LOAD_SOLVE_OK;
+                ++it;
+                break;
+            }
+        } else {
+            mu *= 10.0;
+            if (mu > 1e12) {
+                st = HP_LOAD_SOLVE_OK; /* no step improves: a local minimum */
+                break;
+            }
+        }
+    }
+    if (iterations) *iterations = it;
+    memcpy(xi, x, sizeof x);
+    memcpy(P, p, (size_t)n * sizeof *P);
+    return st;
+}

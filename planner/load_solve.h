@@ -1,0 +1,66 @@
+/* Internal: the load planner's HOLD and POSE solves (see load_solve.c). No allocation. */
+#ifndef HP_PLANNER_LOAD_SOLVE_H
+#define HP_PLANNER_LOAD_SOLVE_H
+
+#include "headplan/hp_load.h"
+
+typedef enum hp_load_solve_status {
+    HP_LOAD_SOLVE_OK = 0,
+    HP_LOAD_SOLVE_UNREACHABLE,     /* no pressures inside the bounds hold this pose */
+    HP_LOAD_SOLVE_ITERATION_LIMIT,
+    HP_LOAD_SOLVE_ERROR            /* the model failed (geometry or bladder domain) */
+} hp_load_solve_status;
+
+/* HOLD: pressures P[n] inside [lo, hi] holding the head at xi, nearest (sum of squares) to
+ * target[n] among all that do; F[n] their contact forces. start (may be NULL) seeds the
+ * forces. */
+hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
+                                  const double *lo, const double *hi, const double *target,
+                                  const double *start, int max_iter, double *P, double *F,
+                                  int *iterations);
+
+/* HOLD with its second phase (the tie-breaker) solved by Ipopt with exact first and second
+ * derivatives (load_ipopt.c); the first phase (reachability) is the same exact one. raw
+ * gets Ipopt's return code. Allocates (inside Ipopt) and takes the process-wide Ipopt lock. */
+hp_load_solve_status hp_load_hold_on_ipopt(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi,
+                                           const double *target, const double *start,
+                                           int max_iter, double *P, double *F,
+                                           int *iterations, int *raw);
+/* The same with NLopt SLSQP for the second phase. */
+hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi,
+                                           const double *target, const double *start,
+                                           int max_iter, double *P, double *F,
+                                           int *iterations, int *raw);
+
+/* The tie-breaker NLP of HOLD at a fixed pose, for a general-purpose solver: variables the
+ * pressures (kPa) of the bladders with L_k < U_k (the others fixed at L_k), objective
+ * ½·sum (P − t)², constraints sum_k A[r][k]·F_k(P_k) = b[r] (six). */
+typedef struct hp_load_hold_nlp {
+    const hp_load_model *M;
+    int n;
+    const double *rho, *A, *b, *L, *U, *target; /* A 6×n row-major; L, U, target in Pa */
+} hp_load_hold_nlp;
+
+/* Solves that NLP from p (Pa, feasible) with Ipopt; p gets the answer. */
+hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
+                                        int *iterations, int *raw);
+
+/* The same NLP on NLopt SLSQP (load_nlopt.c); raw gets NLopt's result code. */
+hp_load_solve_status hp_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
+                                        int *iterations, int *raw);
+
+/* Bladder k's contact force at pressure P against contact distance rho (the contact branch's
+ * formula, not clipped at 0) with dF/dP and d²F/dP². */
+hp_error hp_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
+                               double *F, double *dF, double *d2F);
+
+/* POSE: the pose nearest to desired (weights W per mm² and degree²) at which pressures in
+ * [lo, hi] hold the head, from (xi0, P0); P gets those pressures (not tie-broken). */
+hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6],
+                                  const double W[6], const double *lo, const double *hi,
+                                  const double xi0[6], const double *P0, int max_iter,
+                                  double xi[6], double *P, int *iterations);
+
+#endif

@@ -1,0 +1,64 @@
+/* The `load` section of a layout scene: what part of the head's weight the bladders carry,
+ * where its centre of mass is, which way gravity points, and the load planner's choices. */
+#include "headplan/hp_load_planner.h"
+#include "scene/scene_parts.h"
+
+#include <math.h>
+#include <string.h>
+
+hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
+{
+    static const char *const KEYS[] = {"carried_fraction", "com_mm", "gravity_dir",
+                                       "geometry", "tiebreak", NULL};
+    hp_error e = sr_map(c, node, "load", KEYS, NULL);
+    if (e) return e;
+    const hp_head *h = &s->layout.head;
+    if (!(h->mass > 0))
+        return sr_fail(c, node, "load", HP_ERR_INVALID,
+                       "needs the head's mass (head.mass_kg) to know what the bladders carry");
+    const yt_node *n;
+    double f;
+    if ((e = sr_require(c, node, "load", "carried_fraction", &n))) return e;
+    if ((e = sr_number(c, n, "load.carried_fraction", &f))) return e;
+    if (!(f > 0 && f <= 1))
+        return sr_fail(c, n, "load.carried_fraction", HP_ERR_INVALID,
+                       "must be in (0, 1]: the part of the head's weight on the bladders "
+                       "(got %g)", f);
+    hp_load_spec_default(h, &s->load);
+    s->load.mass = f * h->mass;
+    s->load_fraction = f;
+    if ((n = yt_map_get(node, "com_mm"))) {
+        double x[3];
+        if ((e = sr_vector(c, n, "load.com_mm", 3, x))) return e;
+        for (int i = 0; i < 3; ++i) s->load.com[i] = x[i] * 1e-3;
+    }
+    if ((n = yt_map_get(node, "gravity_dir"))) {
+        double g[3];
+        if ((e = sr_vector(c, n, "load.gravity_dir", 3, g))) return e;
+        double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+        if (!(len > 1e-9) || !isfinite(len))
+            return sr_fail(c, n, "load.gravity_dir", HP_ERR_INVALID,
+                           "must be a non-zero direction (unitless; scaled to 9.80665 m/s^2)");
+        for (int i = 0; i < 3; ++i) s->load.gravity[i] = HP_GRAVITY * g[i] / len;
+    }
+    s->load_geometry = HP_LEVEL_SURFACE;
+    if ((n = yt_map_get(node, "geometry"))) {
+        static const char *const GEOMS[] = {"linear", "plane", "surface", NULL};
+        char name[16];
+        if ((e = sr_word(c, n, "load.geometry", "geometry", GEOMS, name, sizeof name)))
+            return e;
+        (void)hp_level_parse(name, &s->load_geometry); /* cannot fail: name is in GEOMS */
+    }
+    s->load_tiebreak = HP_TIE_LEAST_SQUEEZE;
+    if ((n = yt_map_get(node, "tiebreak"))) {
+        static const char *const TIES[] = {"least-squeeze", "previous", NULL};
+        char name[16];
+        hp_load_tiebreak t;
+        if ((e = sr_word(c, n, "load.tiebreak", "tie-breaker", TIES, name, sizeof name)))
+            return e;
+        (void)hp_load_tiebreak_parse(name, &t); /* cannot fail: name is in TIES */
+        s->load_tiebreak = (int)t;
+    }
+    s->has_load = 1;
+    return HP_OK;
+}

@@ -1,0 +1,71 @@
+# The load level from the command line (docs/load.md): solve on the load scenes (reached,
+# closest with the binding limit named, refused with the unsupported direction), the JSON
+# answer's equilibrium residual, auto's stated choice, and analyze's load section.
+source "$2/tests/cli_lib.sh"
+S="$HP_SRC/scenarios"
+
+run solve "$S/load_supine.yaml"
+expect_exit 0 "supine load scene reached"
+expect_stdout_has "level       load" "says the load level"
+expect_stdout_has "why         load: " "says why auto chose it"
+expect_stdout_has "equilibrium residual" "reports the residual"
+expect_stdout_has "compliance" "reports the compliance"
+
+run solve "$S/load_supine.yaml" --json
+expect_exit 0 "supine --json"
+python3 - "$TMP/out" <<'PY' && ok || bad "load JSON: residual, forces, round trip"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["status"] == "reached" and d["level"] == "load", d["status"]
+assert d["residual_force_n"] < 1e-9 and d["residual_moment_nm"] < 1e-10
+# the base carries the weight (80 % of 4.5 kg = 35.3 N vertically; its forces lean outward,
+# so their magnitudes add to more)
+base = sum(b["force_n"] for b in d["bladders"][:4])
+assert 35.3 < base < 45.0, base
+for b in d["bladders"]:
+    assert b["pressure_pa"] <= 10000.0 and b["pressure_pa"] >= -5000.0
+PY
+
+for b in realtime ipopt nlopt-slsqp; do
+    run solve "$S/load_tilted.yaml" --backend "$b" --json
+    expect_exit 0 "tilted on $b"
+    cp "$TMP/out" "$TMP/$b.json"
+done
+python3 - "$TMP" <<'PY' && ok || bad "backends agree on the load level (1e-6 Pa)"
+import json, sys
+d = {b: json.load(open(f"{sys.argv[1]}/{b}.json")) for b in ("realtime", "ipopt", "nlopt-slsqp")}
+for b in ("ipopt", "nlopt-slsqp"):
+    for x, y in zip(d["realtime"]["bladders"], d[b]["bladders"]):
+        assert abs(x["pressure_pa"] - y["pressure_pa"]) <= 1e-6, (b, x, y)
+PY
+
+run solve "$S/load_tilted.yaml" --backend nlopt-cobyla
+expect_exit 65 "cobyla refused at the load level"
+expect_stderr_has "not available at the load level" "says why"
+
+run solve "$S/load_tilted.yaml"
+expect_exit 0 "tilted load scene reached"
+expect_stdout_has "holding               stable" "the tilted hold is stable"
+
+run solve "$S/load_heavy.yaml"
+expect_exit 1 "too heavy for the limits: closest"
+expect_stdout_has "stretch_max" "names the binding limit"
+
+run solve "$S/load_prone.yaml"
+expect_exit 65 "prone: refused"
+expect_stderr_has "along -z" "names the unsupported direction"
+expect_stdout_empty "prone: nothing on stdout"
+
+run solve "$S/default.yaml" --level load
+expect_exit 64 "--level load without a load section"
+expect_stderr_has "needs a scene with a 'load' section" "says what is missing"
+
+run analyze "$S/default.yaml"
+expect_exit 0 "analyze default"
+expect_stdout_has "kinematic sag unbounded" "analyze reports the sag it ignores"
+expect_stdout_has "plans stay kinematic" "and that the plans stay kinematic"
+
+run analyze "$S/load_tilted.yaml"
+expect_exit 0 "analyze tilted"
+expect_stdout_has "holding       stable" "analyze reports the holding"
+finish

@@ -1,0 +1,411 @@
+/* The load-level planner (realtime): reachable poses are held (equilibrium residual below
+ * 1e-9 N, round trip through the forward statics), an unreachable pose gives the nearest
+ * held one with the binding limits named, every pressure stays inside its bounds, and
+ * layouts that cannot carry the head are refused at create with the direction named. */
+#include "test_util.h"
+
+#include "../kinematics/default_layout.h"
+#include "headplan/hp_load_planner.h"
+
+#include <string.h>
+
+/* The default layout with stretch_max raised to 1.6 (p_max 10 kPa then binds first at
+ * about 8 kPa... the stretch cap is ~9 kPa): the base bladders can then carry the 4.5 kg
+ * head at the nominal pose. With the default 1.3 they cannot (test_unreachable). */
+static void layout_with(hp_layout *L, double stretch_max)
+{
+    assert_int_equal(default_layout(L), 0);
+    for (int k = 0; k < L->n; ++k) L->bladders[k].stretch_max = stretch_max;
+    assert_int_equal(hp_layout_prepare(L, NULL), HP_OK);
+}
+
+static hp_load_planner *make_at(const hp_layout *L, const hp_load_spec *s, hp_level level)
+{
+    hp_load_planner *p = NULL;
+    hp_diag d;
+    d.text[0] = '\0';
+    hp_settings set;
+    hp_settings_default(&set);
+    set.level = level;
+    hp_error e = hp_load_planner_create(L, s, &set, HP_TIE_LEAST_SQUEEZE, &p, &d);
+    if (e) print_error("create: %s\n", d.text);
+    assert_int_equal(e, HP_OK);
+    return p;
+}
+
+static hp_load_planner *make(const hp_layout *L, const hp_load_spec *s)
+{
+    return make_at(L, s, HP_LEVEL_SURFACE);
+}
+
+static void assert_in_bounds(const hp_load_planner *p, const hp_result *r)
+{
+    double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
+    assert_int_equal(hp_load_planner_bounds(p, lo, hi), HP_OK);
+    for (int k = 0; k < r->n; ++k) {
+        assert_true(isfinite(r->bladders[k].pressure));
+        assert_true(r->bladders[k].pressure >= lo[k] && r->bladders[k].pressure <= hi[k]);
+    }
+}
+
+/* Nominal pose, reachable: REACHED, the generalized force below 1e-9 N, the Newton–Euler
+ * residual from the contact points below 1e-9 N, and the forward statics started at the
+ * NOMINAL pose (not at the answer) returns the desired pose to 1e-8 mm: the held head's
+ * softest direction (yaw/lateral, sides carrying nothing) has a compliance of ~1e9 mm/N,
+ * so 1e-12 N of residual moves it ~1e-9 mm; the measured round trip is 1.2e-9 mm. */
+static void test_reached_nominal(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_planner *p = make(&L, &s);
+    double d[6] = {0}, Q[6], P[HP_MAX_BLADDERS];
+    hp_result r;
+    hp_load_info info;
+    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_REACHED);
+    assert_true(r.pose_error == 0.0);
+    assert_in_bounds(p, &r);
+    for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
+    assert_int_equal(hp_load_eval(hp_load_planner_model(p), r.achieved, P, Q, NULL, NULL, NULL,
+                                  NULL), HP_OK);
+    for (int i = 0; i < 6; ++i) assert_true(fabs(Q[i]) < 1e-9);
+    assert_true(info.residual_force < 1e-9);
+    assert_true(info.residual_moment < 1e-10);
+    /* The base carries the weight; by symmetry the four base forces are equal. */
+    for (int k = 1; k < 4; ++k) hp_assert_close(info.force[k], info.force[0], 1e-9, 0.0);
+    double rest[6];
+    assert_int_equal(hp_load_rest(hp_load_planner_model(p), P, NULL, rest, NULL), HP_OK);
+    for (int i = 0; i < 6; ++i) assert_true(fabs(rest[i] - d[i]) / (i < 3 ? 1e-3 : 0.0174532925199) < 1e-8);
+    hp_load_planner_destroy(p);
+}
+
+/* A vertical lift of 10 mm is held too (higher pressures, sides joining in); the rest
+ * started at the answer stays there to 1e-9 mm. */
+static void test_reached_lift(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_planner *p = make(&L, &s);
+    double d[6] = {0, 0, 10e-3, 0, 0, 0};
+    hp_result r;
+    hp_load_info info;
+    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_REACHED);
+    assert_in_bounds(p, &r);
+    assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
+    assert_true(info.rest_error < 1e-9);
+    /* Least squeeze does not ask for a stable hold: at the surface level this one is a
+     * saddle of the potential, and the holding report must say so (K not positive
+     * definite, infinite compliance along the weakest direction). */
+    assert_int_equal(info.holding.stable, 0);
+    assert_true(isinf(info.holding.weakest_compliance));
+    hp_load_planner_destroy(p);
+}
+
+/* An asymmetric correction at every contact level: REACHED, generalized force below 1e-9
+ * N; at the plane and surface levels also the Newton–Euler equations from the contact
+ * points (at the linear level they measure the linearisation's own error instead). */
+static void test_levels(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    const hp_level lv[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    const double d[6] = {1e-3, 0, -0.5e-3, 0.3 * 0.0174532925199, 0, -0.2 * 0.0174532925199};
+    for (int l = 0; l < 3; ++l) {
+        hp_load_planner *p = make_at(&L, &s, lv[l]);
+        hp_result r;
+        hp_load_info info;
+        double Q[6], P[HP_MAX_BLADDERS];
+        assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+        assert_int_equal(r.status, HP_STATUS_REACHED);
+        assert_int_equal(r.level, lv[l]);
+        assert_in_bounds(p, &r);
+        for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
+        assert_int_equal(hp_load_eval(hp_load_planner_model(p), r.achieved, P, Q, NULL, NULL,
+                                      NULL, NULL), HP_OK);
+        for (int i = 0; i < 6; ++i) assert_true(fabs(Q[i]) < 1e-9);
+        if (l > 0) assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
+        hp_load_planner_destroy(p);
+    }
+}
+
+/* First-order optimality of the least-squeeze answer, checked from outside: for the
+ * bladders that carry and sit strictly inside their bounds, P must lie in the span of
+ * the columns of dQ/dP (the gradient of sum P² is a combination of the constraints'
+ * gradients). Least squares for the six multipliers; the residual must be below 1e-6 of
+ * |P| (the solvers stop at micropascal steps). */
+static int assert_kkt(const hp_load_planner *p, const hp_result *r, const hp_load_info *info)
+{
+    const hp_load_model *M = hp_load_planner_model(p);
+    double P[HP_MAX_BLADDERS], Q[6], G[6 * HP_MAX_BLADDERS], lo[HP_MAX_BLADDERS],
+        hi[HP_MAX_BLADDERS];
+    int n = r->n, free_[HP_MAX_BLADDERS], nf = 0;
+    assert_int_equal(hp_load_planner_bounds(p, lo, hi), HP_OK);
+    for (int k = 0; k < n; ++k) P[k] = r->bladders[k].pressure;
+    assert_int_equal(hp_load_eval(M, r->achieved, P, Q, NULL, G, NULL, NULL), HP_OK);
+    for (int k = 0; k < n; ++k)
+        if (info->force[k] > 0 && P[k] > lo[k] + 1.0 && P[k] < hi[k] - 1.0) free_[nf++] = k;
+    if (nf <= 6) return nf; /* as many equations as free pressures: nothing to choose */
+    /* Normal equations (G_f G_fᵀ) mu = G_f P_f, 6×6, by Gaussian elimination. */
+    double A[36] = {0}, y[6] = {0}, mu[6];
+    for (int i = 0; i < 6; ++i) {
+        for (int j = 0; j < 6; ++j)
+            for (int a = 0; a < nf; ++a) A[i * 6 + j] += G[i * n + free_[a]] * G[j * n + free_[a]];
+        for (int a = 0; a < nf; ++a) y[i] += G[i * n + free_[a]] * P[free_[a]];
+    }
+    memcpy(mu, y, sizeof mu);
+    hp_test_solve6(A, mu);
+    double res = 0.0, norm = 0.0;
+    for (int a = 0; a < nf; ++a) {
+        double v = P[free_[a]];
+        for (int i = 0; i < 6; ++i) v -= G[i * n + free_[a]] * mu[i];
+        res = fmax(res, fabs(v));
+        norm = fmax(norm, fabs(P[free_[a]]));
+    }
+    if (!(res <= 1e-6 * norm)) print_error("KKT residual %g Pa of %g Pa\n", res, norm);
+    assert_true(res <= 1e-6 * norm);
+    return nf;
+}
+
+/* The realtime, Ipopt and NLopt SLSQP backends agree on reachable poses: the same
+ * pressures to 1e-6 Pa. Both start the tie-breaker from the same exact feasibility point
+ * (phase 1) and solve it independently (SQP on the QP of load_qp.c vs Ipopt's interior
+ * point with the exact Hessian); phase 2 moves the pressures (e.g. the side bladders from
+ * 1.8 N to nothing at the nominal pose), so the agreement is not a shared starting
+ * point. Both answers are held (equilibrium residual below 1e-9 N). */
+static void test_backends_agree(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_settings set;
+    hp_settings_default(&set);
+    set.level = HP_LEVEL_SURFACE;
+    hp_load_planner *p[3];
+    hp_diag d;
+    const hp_backend backends[3] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT,
+                                    HP_BACKEND_NLOPT_SLSQP};
+    for (int b = 0; b < 3; ++b) {
+        set.backend = backends[b];
+        assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p[b], &d),
+                         HP_OK);
+    }
+    const double deg = 0.0174532925199;
+    const double ds[3][6] = {{1e-3, 0, -0.5e-3, 0.3 * deg, 0, -0.2 * deg},
+                             {0, 0, 5e-3, 0, 0, 0},
+                             {-1e-3, 1e-3, 2e-3, 0.6 * deg, 0.6 * deg, 0}};
+    int chosen = 0;
+    for (int q = 0; q < 3; ++q) {
+        hp_result r[3];
+        hp_load_info in[3];
+        for (int b = 0; b < 3; ++b) {
+            assert_int_equal(hp_load_plan(p[b], ds[q], &r[b], &in[b]), HP_OK);
+            assert_int_equal(r[b].status, HP_STATUS_REACHED);
+            assert_true(in[b].residual_force < 1e-9 && in[b].residual_moment < 1e-10);
+            chosen += assert_kkt(p[b], &r[b], &in[b]) > 6;
+        }
+        for (int b = 1; b < 3; ++b)
+            for (int k = 0; k < r[0].n; ++k)
+                hp_assert_close(r[b].bladders[k].pressure, r[0].bladders[k].pressure, 0.0,
+                                1e-6);
+    }
+    (void)chosen; /* least squeeze mostly ends with six carrying bladders: a vertex, where
+                   * this check has nothing to test; the agreement below still does */
+    for (int b = 0; b < 3; ++b) hp_load_planner_destroy(p[b]);
+}
+
+/* With stretch_max 1.3 the base cannot hold the head at the nominal pose: CLOSEST, lower
+ * (z < 0), every bladder at its stretch cap with the stretch_max flag, and still an
+ * equilibrium (residual below 1e-9 N) whose forward statics is the returned pose. */
+static void test_unreachable(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.3);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_planner *p = make(&L, &s);
+    double d[6] = {0};
+    hp_result r;
+    hp_load_info info;
+    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_CLOSEST);
+    assert_true(r.achieved[2] < -1e-3);
+    assert_in_bounds(p, &r);
+    for (int k = 0; k < 4; ++k) assert_true(r.bladders[k].binding & HP_BIND_STRETCH_MAX);
+    assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
+    assert_true(info.rest_error < 1e-9);
+    hp_load_planner_destroy(p);
+}
+
+/* A hoop-stress limit below the stretch cap's stress binds by the name stress_max, at the
+ * load level (the base cannot hold the head at the nominal pose any more: closest, lower)
+ * and in the kinematic planner (a 25 mm lift needs the base past the limit). Every returned
+ * bladder's inner hoop stress stays within its limit (1e-9 relative: the bisection's
+ * bound side). */
+static void test_stress_binding(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    double s_cap;
+    assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[0].iab, 1.6 * L.bladders[0].iab.Ri,
+                                              &s_cap), HP_OK);
+    for (int k = 0; k < 4; ++k) L.bladders[k].stress_max = 0.3 * s_cap;
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_planner *p = make(&L, &s);
+    double d[6] = {0};
+    hp_result r;
+    hp_load_info info;
+    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_CLOSEST);
+    int bound = 0;
+    for (int k = 0; k < r.n; ++k) {
+        double h;
+        assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[k].iab, r.bladders[k].ri, &h),
+                         HP_OK);
+        if (k < 4) assert_true(h <= 0.3 * s_cap * (1 + 1e-9));
+        bound += (r.bladders[k].binding & HP_BIND_STRESS_MAX) != 0;
+    }
+    assert_true(bound >= 1);
+    assert_string_equal(hp_binding_name(HP_BIND_STRESS_MAX), "stress_max");
+    hp_load_planner_destroy(p);
+
+    hp_planner *kp = NULL;
+    assert_int_equal(hp_planner_create(&L, NULL, &kp, NULL), HP_OK);
+    double lift[6] = {0, 0, 25e-3, 0, 0, 0};
+    assert_int_equal(hp_plan(kp, lift, &r), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_CLOSEST);
+    bound = 0;
+    for (int k = 0; k < 4; ++k) {
+        double h;
+        assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[k].iab, r.bladders[k].ri, &h),
+                         HP_OK);
+        assert_true(h <= 0.3 * s_cap * (1 + 1e-9));
+        bound += (r.bladders[k].binding & HP_BIND_STRESS_MAX) != 0;
+    }
+    assert_true(bound >= 1);
+    hp_planner_destroy(kp);
+}
+
+/* A layout of base bladders only, with gravity pointing anterior (+z, a prone patient):
+ * nothing pushes the head down, and create says which way support is missing. A weight
+ * beyond what the bladders can carry at their largest pressures is refused too. */
+static void test_refused(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.3);
+    L.n = 4;
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    s.gravity[2] = +HP_GRAVITY;
+    hp_load_planner *p = (hp_load_planner *)1;
+    hp_diag d;
+    assert_int_equal(hp_load_planner_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
+                     HP_ERR_INVALID);
+    assert_null(p);
+    assert_non_null(strstr(d.text, "no bladder pushes against gravity"));
+    assert_non_null(strstr(d.text, "-z"));
+    s.gravity[2] = -HP_GRAVITY;
+    s.mass = 100.0;
+    assert_int_equal(hp_load_planner_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
+                     HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "can carry at most"));
+    /* A sphere head cannot be held at the load level. */
+    hp_layout S;
+    hp_head h = default_head();
+    h.shape = HP_HEAD_SPHERE;
+    h.semi_axes[0] = h.semi_axes[1] = h.semi_axes[2] = 0.09;
+    assert_int_equal(default_layout_on(&S, &h, 0.0), 0);
+    s.mass = 4.5;
+    assert_int_equal(hp_load_planner_create(&S, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
+                     HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "sphere"));
+}
+
+/* The `previous` tie-breaker: planning the same pose again returns the same pressures
+ * (the previous ones hold it: distance 0), and a nearby pose's pressures are closer to the
+ * previous ones than least squeeze's are (sum of squares). */
+static void test_tiebreak_previous(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_settings set;
+    hp_settings_default(&set);
+    set.level = HP_LEVEL_SURFACE;
+    hp_load_planner *prev = NULL, *ls = NULL;
+    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_PREVIOUS, &prev, NULL), HP_OK);
+    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &ls, NULL),
+                     HP_OK);
+    const double a[6] = {0, 0, 5e-3, 0, 0, 0}, b[6] = {0.5e-3, 0, 5.5e-3, 0, 0, 0};
+    hp_result r0, r1, r2, q;
+    assert_int_equal(hp_load_plan(prev, a, &r0, NULL), HP_OK);
+    assert_int_equal(hp_load_plan(prev, a, &r1, NULL), HP_OK);
+    for (int k = 0; k < r0.n; ++k)
+        hp_assert_close(r1.bladders[k].pressure, r0.bladders[k].pressure, 0.0, 1e-6);
+    assert_int_equal(hp_load_plan(prev, b, &r2, NULL), HP_OK);
+    assert_int_equal(hp_load_plan(ls, b, &q, NULL), HP_OK);
+    assert_int_equal(r2.status, HP_STATUS_REACHED);
+    double dp = 0.0, dl = 0.0;
+    for (int k = 0; k < r0.n; ++k) {
+        double e = r2.bladders[k].pressure - r1.bladders[k].pressure;
+        double f = q.bladders[k].pressure - r1.bladders[k].pressure;
+        dp += e * e;
+        dl += f * f;
+    }
+    assert_true(dp <= dl * (1 + 1e-9));
+    assert_string_equal(hp_load_tiebreak_name(HP_TIE_PREVIOUS), "previous");
+    hp_load_tiebreak t;
+    assert_int_equal(hp_load_tiebreak_parse("least-squeeze", &t), HP_OK);
+    assert_int_equal(t, HP_TIE_LEAST_SQUEEZE);
+    assert_int_equal(hp_load_tiebreak_parse("stiff", &t), HP_ERR_INVALID);
+    hp_load_planner_destroy(prev);
+    hp_load_planner_destroy(ls);
+}
+
+/* NaN input: INVALID_INPUT with the safe output (pressures inside bounds, finite). */
+static void test_invalid_input(void **state)
+{
+    (void)state;
+    hp_layout L;
+    layout_with(&L, 1.6);
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_planner *p = make(&L, &s);
+    double d[6] = {NAN, 0, 0, 0, 0, 0};
+    hp_result r;
+    assert_int_equal(hp_load_plan(p, d, &r, NULL), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_INVALID_INPUT);
+    assert_in_bounds(p, &r);
+    assert_true(isinf(r.pose_error));
+    hp_load_planner_destroy(p);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_reached_nominal), cmocka_unit_test(test_reached_lift), cmocka_unit_test(test_levels),
+        cmocka_unit_test(test_backends_agree),
+        cmocka_unit_test(test_unreachable), cmocka_unit_test(test_stress_binding),     cmocka_unit_test(test_refused),
+        cmocka_unit_test(test_invalid_input), cmocka_unit_test(test_tiebreak_previous),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
