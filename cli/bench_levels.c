@@ -76,7 +76,7 @@ static int scene_targets(const hp_scene *sc, int quick, double (*t)[6])
     long m = 0;
     hp_trace_row row;
     hp_error e;
-    while (all && m < MAX_TRACE_READ && (e = hp_trace_next(r, &row, &d)) != HP_ERR_STATE) {
+    while (all && m < MAX_TRACE_READ && (e = hp_trace_next(r, &row, &d)) != HP_END) {
         if (e != HP_OK) {
             fprintf(stderr, "headplan bench: levels: %s\n", d.text);
             free(all);

@@ -103,7 +103,7 @@ static int read_rows(const char *path, const hp_trace_rows *rows_override, batch
         }
         hp_trace_row row;
         e = hp_trace_next(r, &row, &d);
-        if (e == HP_ERR_STATE) break;
+        if (e == HP_END) break;
         if (e == HP_ERR_IO) {
             hp_trace_close(r);
             free(rows);

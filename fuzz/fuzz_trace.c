@@ -19,7 +19,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     hp_trace_row row;
     for (int i = 0; i < 100000; ++i) {
         hp_error e = hp_trace_next(r, &row, &d);
-        if (e == HP_ERR_STATE || e == HP_ERR_IO) break;
+        if (e == HP_END || e == HP_ERR_STATE || e == HP_ERR_IO) break;
     }
     hp_trace_close(r);
     return 0;
