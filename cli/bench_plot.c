@@ -2,6 +2,8 @@
  * as a child process (fork + execvp, no shell, so no quoting of the folder name) in the
  * output folder, which makes the generated script re-runnable there by hand. */
 #define _POSIX_C_SOURCE 200809L
+#include "cli/cli_args.h"
+#include "cli/cli_output.h"
 #include "cli/bench_report.h"
 #include "cli/exit_codes.h"
 
@@ -65,13 +67,13 @@ int hp_bench_save(const char *dir, const char *name,
         return HP_EXIT_CANTCREAT;
     }
     int bad = writer(arg, f) != 0;
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, final) != 0) {
-        fprintf(stderr, "headplan bench: cannot write '%s': %s\n", final, strerror(errno));
-        remove(tmp);
-        return HP_EXIT_CANTCREAT;
-    }
-    return 0;
+    int rc = hp_cli_close_output(f, tmp, "bench");
+    if (rc == 0 && bad) rc = hp_cli_fail(HP_EXIT_IOERR, "bench", "cannot write %s", tmp);
+    if (rc == 0 && rename(tmp, final) != 0)
+        rc = hp_cli_fail(HP_EXIT_IOERR, "bench", "cannot rename %s to %s: %s", tmp, final,
+                         strerror(errno));
+    if (rc) remove(tmp);
+    return rc;
 }
 
 int hp_bench_run_child(char *const argv[], const char *cwd, int quiet)

@@ -23,6 +23,8 @@
  * the desired pose than Ipopt's (by > THR_CLOSEST) is listed there as "ipopt-worse" (a defect
  * of the reference). CLOSEST without an Ipopt answer to compare is "unverified" (not a
  * success). Every other outcome is a failure with its status. */
+#include "cli/cli_args.h"
+#include "cli/cli_output.h"
 #include "cli/bench.h"
 #include "cli/bench_report.h"
 #include "cli/bench_timing.h"
@@ -482,11 +484,10 @@ int hp_bench_stability(const hp_bench_options *o, const char *dir)
             rc = run_case(o, &cases[c], &run, cd[c]);
         }
     }
-    int bad = fclose(run.wrong) != 0;
-    if (rc == 0 && (bad || rename(wtmp, wpath) != 0)) {
-        fprintf(stderr, "headplan bench: cannot write '%s'\n", wpath);
-        rc = HP_EXIT_CANTCREAT;
-    }
+    int closed = hp_cli_close_output(run.wrong, wtmp, "bench");
+    if (rc == 0) rc = closed;
+    if (rc == 0 && rename(wtmp, wpath) != 0)
+        rc = hp_cli_fail(HP_EXIT_IOERR, "bench", "cannot rename %s to %s", wtmp, wpath);
     if (rc) remove(wtmp);
     all_cases a = {cd};
     if (rc == 0) rc = hp_bench_save(dir, "stability.csv", csv_writer, &a);
