@@ -45,6 +45,7 @@ struct hp_trace_reader {
     char name[TRACE_NAME_MAX];
     int pending;          /* non-zero: `line` holds a line (this read_line code) not yet used */
     int stopped;          /* a line passed the limit: the reader cannot go on */
+    int stated;           /* the file states the kind of its rows */
     int read_errno;
 };
 
@@ -96,6 +97,7 @@ const char *hp_trace_form_name(hp_trace_form f)
 
 hp_trace_rows hp_trace_rows_of(const hp_trace_reader *r) { return r->rows; }
 hp_trace_form hp_trace_form_of(const hp_trace_reader *r) { return r->form; }
+int hp_trace_states_rows(const hp_trace_reader *r) { return r->stated; }
 
 void hp_trace_close(hp_trace_reader *r)
 {
@@ -291,6 +293,7 @@ static hp_error settle_rows(hp_trace_reader *r, int stated, hp_trace_rows file_r
                            "{\"headplan_trace\": 1, \"rows\": ...}), or give %s",
                            r->name, from);
     r->rows = stated ? file_rows : *rows;
+    r->stated = stated;
     return HP_OK;
 }
 

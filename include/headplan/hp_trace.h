@@ -95,6 +95,8 @@ hp_error hp_trace_next(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag);
 /* What the trace's rows are, and their pose form. */
 hp_trace_rows hp_trace_rows_of(const hp_trace_reader *r);
 hp_trace_form hp_trace_form_of(const hp_trace_reader *r);
+/* 1 when the file itself states the kind of its rows (directive or header record). */
+int hp_trace_states_rows(const hp_trace_reader *r);
 
 /* Closes the reader (not a stream given to hp_trace_open_stream); safe on NULL. */
 void hp_trace_close(hp_trace_reader *r);
