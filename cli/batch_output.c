@@ -74,8 +74,8 @@ int batch_output_format(const char *format, const char *out, hp_trace_format *fm
         return hp_cli_fail(HP_EXIT_USAGE, "batch",
                            "-o %s: cannot tell the format: give --format csv|jsonl or name the "
                            "file .csv or .jsonl", out);
-    return hp_cli_fail(HP_EXIT_USAGE, "batch",
-                       "standard output: give --format csv or --format jsonl");
+    *fmt = HP_TRACE_CSV; /* standard output has no name to contradict: CSV, documented */
+    return 0;
 }
 
 /* 0 when path may be written; otherwise HP_EXIT_CANTCREAT after one line. */

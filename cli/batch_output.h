@@ -37,7 +37,7 @@ typedef struct batch_sink {
 } batch_sink;
 
 /* Picks the output format: --format when given; else from OUT's extension (.csv, .jsonl,
- * .ndjson); else (no extension, or stdout) an error. A --format that contradicts the
+ * .ndjson); else an error for a file, CSV for standard output. A --format that contradicts the
  * extension is an error. Returns 0 or HP_EXIT_USAGE after one line. */
 int batch_output_format(const char *format, const char *out, hp_trace_format *fmt);
 

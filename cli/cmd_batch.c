@@ -41,7 +41,7 @@ static void help(void)
            "-o OUT writes a temporary file beside OUT and renames it when complete; OUT may\n"
            "not be a symbolic link, a device or FIFO, or an input. -o - (or no -o) is\n"
            "standard output. The format is --format, else OUT's extension (.csv, .jsonl),\n"
-           "else an error. --jobs N runs N processes and gives the same output as one job.\n"
+           "else an error (standard output: CSV). --jobs N runs N processes and gives the same output as one job.\n"
            "--no-times drops solve_time_us (a measurement) so two runs' outputs are\n"
            "byte-identical. Rows stopped by the time budget (solver.max_time_s) depend on\n"
            "machine load: their output is not reproducible run to run; the summary on\n"
@@ -172,9 +172,9 @@ static double time_quantile(const summary *S, double q)
 static int summarise(const summary *S, int jobs, size_t repaired, int strict)
 {
     fprintf(stderr,
-            "headplan batch: %zu rows: %zu reached, %zu closest, %zu failed, %zu invalid, "
-            "%zu bad rows\n",
-            S->rows, S->reached, S->closest, S->failed, S->invalid, S->bad);
+            "headplan batch: %zu rows: %zu reached, %zu closest, %zu failed (%zu at the time "
+            "budget), %zu invalid, %zu bad rows\n",
+            S->rows, S->reached, S->closest, S->failed, S->time_limit, S->invalid, S->bad);
     fprintf(stderr,
             "headplan batch: worst pose error %.3g mm, %.3g deg on reached rows; %.3g mm, "
             "%.3g deg on closest rows\n",
@@ -185,10 +185,11 @@ static int summarise(const summary *S, int jobs, size_t repaired, int strict)
                 "job%s, %zu row%s re-planned at shard joins\n",
                 time_quantile(S, 0.5), time_quantile(S, 0.99), jobs, jobs == 1 ? "" : "s",
                 repaired, repaired == 1 ? "" : "s");
-    fprintf(stderr,
-            "headplan batch: %zu row%s stopped at the time budget%s\n", S->time_limit,
-            S->time_limit == 1 ? "" : "s",
-            S->time_limit ? " (their output depends on machine load: not reproducible)" : "");
+    if (S->time_limit)
+        fprintf(stderr,
+                "headplan batch: %zu row%s stopped at the time budget: their output depends on "
+                "machine load and is not reproducible run to run\n",
+                S->time_limit, S->time_limit == 1 ? "" : "s");
     if (S->failed) return HP_EXIT_SOFTWARE;
     if (S->bad || S->invalid) return HP_EXIT_DATAERR;
     return S->closest && strict ? HP_EXIT_CLOSEST : HP_EXIT_OK;
@@ -218,7 +219,7 @@ static int open_trace(const char *path, trace_input *t)
     }
     if (fstat(fileno(t->f), &t->st) != 0 || S_ISDIR(t->st.st_mode))
         return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot read: %s", t->name,
-                           S_ISDIR(t->st.st_mode) ? "a directory" : strerror(errno));
+                           strerror(S_ISDIR(t->st.st_mode) ? EISDIR : errno));
     if (S_ISREG(t->st.st_mode) && t->f != stdin) {
         if (hp_sha256_file(path, t->sha) != 0)
             return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot read: %s", path, strerror(errno));
