@@ -1,0 +1,49 @@
+# Every subcommand checks its writes (issue 9): with stdout on a full device (/dev/full) or
+# closed (>&-), and a file output past a file-size limit, the exit status is 74 with one line
+# on stderr naming what could not be written, never 0 with cut output.
+source "$2/tests/cli_lib.sh"
+S="$HP_SRC/scenarios"
+M="--c1 1.1e4 --c2 2.2e4"
+mkdir -p "$TMP/bench" "$TMP/bench2"
+cmds=(
+  "--version"
+  "--help"
+  "solve $S/default.yaml"
+  "solve $S/default.yaml --json"
+  "analyze $S/default.yaml"
+  "ik --Ri 27 --Ro 30 --ri 30 $M"
+  "fk --Ri 27 --Ro 30 --pressure 1000 $M --json"
+  "paper $S/paper_expansion.yaml"
+  "batch $S/default.yaml --no-progress"
+  "batch $S/default.yaml --no-progress --format jsonl -o -"
+  "bench --quick --only ik --out $TMP/bench --seed 7"
+)
+for c in "${cmds[@]}"; do
+  read -r -a argv <<<"$c"
+  name="${argv[0]}"
+  # Full device: the writes fail with ENOSPC.
+  "$HP_BIN" "${argv[@]}" >/dev/full 2>"$TMP/err"; rc=$?
+  expect_exit 74 "$c >/dev/full"
+  expect_stderr_has "cannot write standard output: No space left on device" "$c >/dev/full"
+  [ "$(grep -c 'cannot write' "$TMP/err")" -eq 1 ] && ok || bad "$c >/dev/full: not one line"
+  # Closed stdout: the writes fail with EBADF (and no file the command opens takes fd 1).
+  "$HP_BIN" "${argv[@]}" >&- 2>"$TMP/err"; rc=$?
+  expect_exit 74 "$c >&-"
+  expect_stderr_has "cannot write standard output" "$c >&-"
+done
+
+# A file output past the file-size limit (SIGXFSZ ignored, so the write fails with EFBIG):
+# batch -o and bench's files give 74, and batch leaves neither OUT nor its temporary file.
+( ulimit -f 8; trap '' XFSZ
+  exec "$HP_BIN" batch "$S/default.yaml" --no-progress -o "$TMP/big.csv" ) >"$TMP/out" 2>"$TMP/err"
+rc=$?
+expect_exit 74 "batch -o past the size limit"
+expect_stderr_has "cannot write" "batch -o past the size limit named"
+[ ! -e "$TMP/big.csv" ] && ! ls "$TMP" | grep -q 'big.csv.partial' && ok \
+  || bad "a failed batch -o left a file"
+( ulimit -f 1; trap '' XFSZ
+  exec "$HP_BIN" bench --quick --only ik --out "$TMP/bench2" --seed 7 ) >/dev/null 2>"$TMP/err"
+rc=$?
+expect_exit 74 "bench files past the size limit"
+expect_stderr_has "cannot write" "bench file named"
+finish
