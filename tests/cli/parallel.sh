@@ -19,7 +19,7 @@ head -n 2 recording.csv > header.csv
 tail -n +3 recording.csv | split -l 400 -d -a 3 --additional-suffix=.csv \
   --filter='cat header.csv - > "$FILE"' - pieces/part_
 parallel --jobs 2 --halt now,fail=1 \
-  headplan batch study.yaml {} --no-progress --no-times -o results/{/.}.csv ::: pieces/*.csv 2>/dev/null
+  headplan batch study.yaml {} --no-progress --no-times -o results/{/.}.csv ::: pieces/*.csv
 rc=$?
 for f in results/part_*.csv; do grep -v '^#' "$f" | tail -n +2; done > joined.csv
 # ---- end of the recipe ----
