@@ -52,6 +52,9 @@ printf '%s\n0,0,0,0,0\x00,0,0\n0,0,0,0,0,0,0\n' "$HDR" >"$T/nul_row.csv"
 printf '%s\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n0,0,0,0,1,0.1,0,0\n' "$DIR" >"$T/quat_norm.csv"
 ln -sf "$T/outlink_target.csv" "$T/outlink.csv"
 mkfifo "$T/outfifo.csv"
+# Scenes with a NUL byte or broken UTF-8 on line 6 (reported there, not at 1:1).
+{ head -n 5 "$S/default.yaml"; printf 'name: ab\x00cd\n'; tail -n +7 "$S/default.yaml"; } >"$T/nul.yaml"
+{ head -n 5 "$S/default.yaml"; printf 'notes: ab\xffcd\n'; tail -n +6 "$S/default.yaml"; } >"$T/bad_utf8.yaml"
 # Layout scenes derived from the default one.
 sed 's/^correction:.*/correction: {x_mm: 5000, y_mm: 0, z_mm: 0, pitch_deg: 0, roll_deg: 0, yaw_deg: 0}/' \
   "$S/default.yaml" >"$T/correction_too_far.yaml"

@@ -223,6 +223,8 @@ run batch "$S/default.yaml" "$nl_path"; expect_exit 66 "missing trace with a new
 expect_stderr_has 'new\x0aline.csv: cannot open' "newline escaped"
 printf '\xef\xbb\xbf%s\n%s\n0,0.1,0,0,0,0,0\n' "$COR" "$HDR" >"$TMP/bom.csv"
 run batch "$S/default.yaml" "$TMP/bom.csv" --no-times; expect_exit 0 "BOM skipped"
+{ printf '\xef\xbb\xbf'; cat "$S/default.yaml"; } >"$TMP/bom.yaml"
+run solve "$TMP/bom.yaml"; expect_exit 0 "a scene's BOM skipped"
 
 # ---- exit statuses: closest rows are a finished study unless --strict ----
 printf '%s\n%s\n0,0.1,0,0,0,0,0\n0.1,15,0,0,0,0,10\n' "$COR" "$HDR" >"$TMP/far.csv"
