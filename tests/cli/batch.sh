@@ -118,8 +118,8 @@ expect_exit 0 "JSON Lines through a pipe"
 diff <(data "$TMP/pipe.csv" | cut -d, -f2-) <(data "$TMP/j1.csv" | cut -d, -f2-) >/dev/null \
   && ok || bad "a piped JSON Lines trace lost its header or rows"
 
-# Memory is flat in the number of rows: peak RSS of 200 000 rows minus that of 20 000 rows
-# (both streamed from a generator) stays under 16 MB (it grew ~110 MB before issue 9).
+# Memory is flat in the number of rows: peak RSS of 100 000 rows minus that of 10 000 rows
+# (both streamed from a generator) stays under 16 MB (it grew ~60 MB before issue 9).
 rss() {
   python3 - "$HP_BIN" "$S/default.yaml" "$1" <<'PY'
 import resource, subprocess, sys
@@ -139,9 +139,9 @@ gen.wait()
 print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss if p.returncode == 0 else -1)
 PY
 }
-small=$(rss 20000); large=$(rss 200000)
+small=$(rss 10000); large=$(rss 100000)
 [ "$small" -gt 0 ] && [ "$large" -gt 0 ] && [ $((large - small)) -lt 16384 ] && ok \
-  || bad "memory grows with rows: ${small} kB at 20k rows, ${large} kB at 200k rows"
+  || bad "memory grows with rows: ${small} kB at 10k rows, ${large} kB at 100k rows"
 
 # ---- three jobs on a trace with rate limits binding: shard joins repaired ----
 python3 - "$TMP/fast.csv" <<'PY'
