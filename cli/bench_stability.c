@@ -231,7 +231,7 @@ static int run_case(const hp_bench_options *o, const stab_case *c, stab_run *run
     const hp_layout *L = &scene.layout;
     hp_bench_bounds b;
     if (hp_bench_bounds_of(L, &b) != 0) {
-        fprintf(stderr, "headplan bench: %s: a bladder has no valid radius interval\n", path);
+        hp_cli_fail(0, "bench", "%s: a bladder has no valid radius interval", path);
         return HP_EXIT_DATAERR;
     }
     cd->n_size = o->quick ? 6 : N_SIZE_FULL;
@@ -471,14 +471,14 @@ int hp_bench_stability(const hp_bench_options *o, const char *dir)
     snprintf(wtmp, sizeof wtmp, "%s.tmp", wpath);
     int rc = 0;
     if (!(run.wrong = fopen(wtmp, "w"))) {
-        fprintf(stderr, "headplan bench: cannot create '%s'\n", wtmp);
+        hp_cli_fail(0, "bench", "cannot create '%s'", wtmp);
         return HP_EXIT_CANTCREAT;
     }
     fprintf(run.wrong, "case,method,size,direction,status,iterations,check,error,"
                        "desired_mm_deg,achieved_mm_deg,ipopt_status,ipopt_achieved_mm_deg\n");
     for (int c = 0; c < N_CASES && rc == 0; ++c) {
         if (!(cd[c] = calloc(1, sizeof *cd[c]))) {
-            fprintf(stderr, "headplan bench: out of memory\n");
+            hp_cli_fail(0, "bench", "out of memory");
             rc = HP_EXIT_SOFTWARE;
         } else {
             rc = run_case(o, &cases[c], &run, cd[c]);
