@@ -102,33 +102,7 @@ static int output_allowed(const char *path, const batch_input_id *inputs, int ni
     return 0;
 }
 
-static void name_columns(batch_sink *k)
-{
-    int c = 0;
-#define COL(...) snprintf(col_names[c++], COL_NAME_MAX, __VA_ARGS__)
-    COL("line");
-    COL("t_s");
-    COL("status");
-    static const char *const groups[3] = {"desired", "achieved", "error"};
-    for (int g = 0; g < 3; ++g)
-        for (int i = 0; i < 6; ++i) COL("%s_%s_%s", groups[g], AXES[i], AXIS_UNITS[i]);
-    for (int i = 0; i < 6; ++i) COL("commanded_%s", AXES[i]);
-    COL("pose_error_mm");
-    COL("pose_error_deg");
-    for (int b = 0; b < k->L->n; ++b) {
-        const char *nm = k->L->bladders[b].name;
-        COL("%s_pressure_pa", nm);
-        COL("%s_ri_mm", nm);
-        COL("%s_ro_mm", nm);
-        COL("%s_stretch", nm);
-    }
-    COL("binding");
-    COL("iterations");
-    if (k->times) COL("solve_time_us");
-    COL("error");
-#undef COL
-    k->ncols = c;
-}
+static void name_columns(batch_sink *k);
 
 int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const hp_layout *L,
                     int times, const batch_input_id *inputs, int ninputs)
@@ -202,56 +176,73 @@ static void binding_text(const hp_layout *L, const batch_out *o, char *buf, size
     }
 }
 
-/* The cells of one row, in column order (name_columns). The lead may add columns here. */
+/* The one list of output columns: the cells of one row in column order, and (names != 0)
+ * the column names into col_names. Add a column here and both formats and the header
+ * follow. A bad row fills only line, status and error. */
 static int row_cells(const batch_sink *k, const batch_in *in, const batch_out *o, cell *c,
-                     char *bind, size_t bind_size)
+                     char *bind, size_t bind_size, int names)
 {
     int n = 0;
-#define NUM(v) (c[n].kind = CELL_NUM, c[n++].num = (v))
-#define INT(v) (c[n].kind = CELL_INT, c[n++].i = (v))
-#define TEXT(v) (c[n].kind = CELL_TEXT, c[n++].text = (v))
-#define NONE() (c[n++].kind = CELL_NONE)
-    INT(in->line);
+#define NAME(...) (names ? (void)snprintf(col_names[n], COL_NAME_MAX, __VA_ARGS__) : (void)0)
+#define NUM(v, ...) (NAME(__VA_ARGS__), c[n].kind = CELL_NUM, c[n++].num = (v))
+#define INT(v, ...) (NAME(__VA_ARGS__), c[n].kind = CELL_INT, c[n++].i = (v))
+#define TEXT(v, ...) (NAME(__VA_ARGS__), c[n].kind = CELL_TEXT, c[n++].text = (v))
+#define NONE(...) (NAME(__VA_ARGS__), c[n++].kind = CELL_NONE)
+    INT(in->line, "line");
     if (o->bad) {
-        NONE();
-        TEXT("bad-row");
-        while (n < k->ncols - 1) NONE();
-        TEXT(in->msg ? in->msg : "bad row");
+        NONE("t_s");
+        TEXT("bad-row", "status");
+        while (n < k->ncols - 1) NONE("-");
+        TEXT(in->msg ? in->msg : "bad row", "error");
         return n;
     }
-    NUM(in->t);
-    TEXT(hp_status_name(o->status));
+    NUM(in->t, "t_s");
+    TEXT(hp_status_name(o->status), "status");
     double want[6], got[6], err_mm = 0.0, err_deg = 0.0;
     hp_pose_to_clinical(in->correction, want);
     hp_pose_to_clinical(o->achieved, got);
-    for (int i = 0; i < 6; ++i) NUM(want[i]);
-    for (int i = 0; i < 6; ++i) NUM(got[i]);
+    for (int i = 0; i < 6; ++i) NUM(want[i], "desired_%s_%s", AXES[i], AXIS_UNITS[i]);
+    for (int i = 0; i < 6; ++i) NUM(got[i], "achieved_%s_%s", AXES[i], AXIS_UNITS[i]);
     for (int i = 0; i < 6; ++i) {
         double e = got[i] - want[i];
-        NUM(e);
+        NUM(e, "error_%s_%s", AXES[i], AXIS_UNITS[i]);
         if (!o->commanded[i]) continue;
         double *worst = i < 3 ? &err_mm : &err_deg;
         if (!(fabs(e) <= *worst)) *worst = fabs(e); /* NaN propagates */
     }
-    for (int i = 0; i < 6; ++i) INT(o->commanded[i] ? 1 : 0);
-    NUM(err_mm);
-    NUM(err_deg);
+    for (int i = 0; i < 6; ++i) INT(o->commanded[i] ? 1 : 0, "commanded_%s", AXES[i]);
+    NUM(err_mm, "pose_error_mm");
+    NUM(err_deg, "pose_error_deg");
     for (int b = 0; b < k->L->n; ++b) {
-        NUM(o->pressure[b]);
-        NUM(o->ri[b] * 1e3);
-        NUM(o->ro[b] * 1e3);
-        NUM(o->stretch[b]);
+        const char *nm = k->L->bladders[b].name;
+        NUM(o->pressure[b], "%s_pressure_pa", nm);
+        NUM(o->ri[b] * 1e3, "%s_ri_mm", nm);
+        NUM(o->ro[b] * 1e3, "%s_ro_mm", nm);
+        NUM(o->stretch[b], "%s_stretch", nm);
     }
     binding_text(k->L, o, bind, bind_size);
-    TEXT(bind);
-    INT(o->iterations);
-    if (k->times) NUM(round(o->solve_time * 1e9) / 1e3); /* whole nanoseconds */
-    NONE();
+    TEXT(bind, "binding");
+    INT(o->iterations, "iterations");
+    if (k->times) NUM(round(o->solve_time * 1e9) / 1e3, "solve_time_us"); /* whole ns */
+    NONE("error");
+#undef NAME
 #undef NUM
 #undef INT
 #undef TEXT
 #undef NONE
     return n;
+}
+
+/* Names the columns from row_cells on a placeholder good row. */
+static void name_columns(batch_sink *k)
+{
+    cell cells[MAX_COLS];
+    char bind[8];
+    batch_in in;
+    batch_out out;
+    memset(&in, 0, sizeof in);
+    memset(&out, 0, sizeof out);
+    k->ncols = row_cells(k, &in, &out, cells, bind, sizeof bind, 1);
 }
 
 /* Text with control characters and broken UTF-8 escaped (\xNN), then quoted as the format
@@ -372,7 +363,7 @@ int batch_sink_rows(batch_sink *k, const batch_in *in, const batch_out *out, siz
     cell cells[MAX_COLS];
     char bind[2048];
     for (size_t r = 0; r < rows; ++r) {
-        int n = row_cells(k, &in[r], &out[r], cells, bind, sizeof bind);
+        int n = row_cells(k, &in[r], &out[r], cells, bind, sizeof bind, 0);
         if (k->fmt == HP_TRACE_JSONL) fputc('{', k->f);
         for (int c = 0; c < n; ++c) {
             if (c) fputc(',', k->f);
