@@ -127,8 +127,9 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
             continue;
         }
         double us = o->solve_time * 1e6;
-        int bin = us > 0 ? (int)floor((log10(us) + 2.0) * 100.0) : 0;
-        S->time_bin[bin < 0 ? 0 : bin >= TIME_BINS ? TIME_BINS - 1 : bin]++;
+        double at = us > 0 ? floor((log10(us) + 2.0) * 100.0) : 0.0;
+        int bin = at < 0 ? 0 : at >= TIME_BINS ? TIME_BINS - 1 : (int)at; /* clamp, then cast */
+        S->time_bin[bin]++;
         S->timed++;
         int which = -1;
         switch (o->status) {

@@ -230,8 +230,10 @@ static void rows_kind_rules(void **state)
                       NULL, HP_ERR_PARSE, "header record must be exactly");
     hp_trace_reader *r = open_rows(dev, HP_TRACE_CSV, &DEVIATION); /* agreeing: fine */
     assert_int_equal(hp_trace_rows_of(r), HP_TRACE_DEVIATION);
+    assert_int_equal(hp_trace_states_rows(r), 1);
     hp_trace_close(r);
     r = open_rows(none, HP_TRACE_CSV, &CORRECTION);
+    assert_int_equal(hp_trace_states_rows(r), 0);
     expect_row(r, 2, 0.0, (const double[6]){1, 0, 0, 0, 0, 0});
     hp_trace_close(r);
     /* A directive after the header, or a header record after the first line: bad rows. */
@@ -373,6 +375,9 @@ static void override_and_names(void **state)
     assert_int_equal(hp_trace_format_parse("jsonl", &fmt), HP_OK);
     assert_string_equal(hp_trace_format_name(fmt), "jsonl");
     assert_int_equal(hp_trace_format_parse("tsv", &fmt), HP_ERR_INVALID);
+    assert_string_equal(hp_trace_form_name(HP_TRACE_QUATERNION), "quaternion");
+    assert_string_equal(hp_trace_form_name(HP_TRACE_MATRIX), "matrix");
+    assert_string_equal(hp_error_name(HP_END), "end");
     hp_diag d = {{0}};
     assert_int_equal(hp_trace_open("/nonexistent/x.csv", NULL, &r, &d), HP_ERR_IO);
     assert_non_null(strstr(d.text, "/nonexistent/x.csv: cannot open"));
