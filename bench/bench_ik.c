@@ -7,6 +7,7 @@
  * log2(1/|λi − λo|) bits; on this grid |λi − 1| >= 0.00625 and λi − λo >= 0.06·(λi − 1)
  * (thinnest wall, Ri/Ro = 0.98), so fewer than 15 of the 113 bits go: the reference is
  * ~1e-29 relative, far below any double-precision error. */
+#include "cli/cli_args.h"
 #include "bench/bench.h"
 #include "bench/bench_timing.h"
 #include "cli/exit_codes.h"
@@ -182,7 +183,7 @@ int bench_ik(const bench_options *o, bench_table *t)
         free(in);
         free(perm);
         free(ref);
-        fprintf(stderr, "headplan-bench: out of memory\n");
+        hp_cli_fail(0, "bench", "out of memory");
         return HP_EXIT_SOFTWARE;
     }
     for (size_t j = 0; j < N_RATIO; ++j)
@@ -222,7 +223,7 @@ int bench_ik(const bench_options *o, bench_table *t)
         r->batch = tm.batch;
         fprintf(stderr, " %10.1f ns  max error %.2e\n", r->median_ns, r->max_error);
     }
-    if (rc) fprintf(stderr, "headplan-bench: out of memory\n");
+    if (rc) hp_cli_fail(0, "bench", "out of memory");
     if (!isfinite(sink)) fprintf(stderr, "bench ik: note: a method returned a non-finite sum\n");
     t->baseline = "closed";
     free(in);

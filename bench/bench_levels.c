@@ -9,6 +9,7 @@
  * each answer's pressures through bladder FK, the volume law and the SURFACE contact FK,
  * against the same round trip of the surface-level answer (mm or deg, commanded axes). */
 #define _DEFAULT_SOURCE
+#include "cli/cli_args.h"
 #include "bench/bench.h"
 #include "bench/bench_report.h"
 #include "bench/bench_timing.h"
@@ -69,16 +70,16 @@ static int scene_targets(const hp_scene *sc, int quick, double (*t)[6])
     hp_diag d;
     hp_trace_rows rows = sc->trace_rows;
     if (hp_trace_open(sc->trace_path, &rows, &r, &d) != HP_OK) {
-        fprintf(stderr, "headplan-bench: levels: %s\n", d.text);
+        hp_cli_fail(0, "bench", "levels: %s", d.text);
         return -1;
     }
     double (*all)[6] = malloc(MAX_TRACE_READ * sizeof *all);
     long m = 0;
     hp_trace_row row;
     hp_error e;
-    while (all && m < MAX_TRACE_READ && (e = hp_trace_next(r, &row, &d)) != HP_ERR_STATE) {
+    while (all && m < MAX_TRACE_READ && (e = hp_trace_next(r, &row, &d)) != HP_END) {
         if (e != HP_OK) {
-            fprintf(stderr, "headplan-bench: levels: %s\n", d.text);
+            hp_cli_fail(0, "bench", "levels: %s", d.text);
             free(all);
             hp_trace_close(r);
             return -1;
@@ -108,7 +109,7 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     static hp_scene sc;
     hp_diag d;
     if (hp_scene_load(path, &sc, &d) != HP_OK) {
-        fprintf(stderr, "headplan-bench: levels: %s\n", d.text);
+        hp_cli_fail(0, "bench", "levels: %s", d.text);
         return HP_EXIT_DATAERR;
     }
     if (sc.kind != HP_SCENE_LAYOUT) return 1;
@@ -130,7 +131,7 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     row->rot_deg = rot * 180 / BENCH_PI;
     row->tol_mm = sc.level_tolerance * 1e3;
     if (hp_contact_auto(L, sc.level_tolerance, tr, rot, &row->auto_level) != HP_OK) {
-        fprintf(stderr, "headplan-bench: levels: %s: auto could not choose a level\n", path);
+        hp_cli_fail(0, "bench", "levels: %s: auto could not choose a level", path);
         return HP_EXIT_SOFTWARE;
     }
     hp_settings base;
@@ -206,7 +207,7 @@ int bench_levels(const bench_options *o, const char *dir)
 {
     DIR *dp = opendir(o->scenarios);
     if (!dp) {
-        fprintf(stderr, "headplan-bench: --scenarios: cannot open folder '%s'\n", o->scenarios);
+        hp_cli_fail(0, "bench", "--scenarios: cannot open folder '%s'", o->scenarios);
         return HP_EXIT_NOINPUT;
     }
     char *names[MAX_SCENES];

@@ -18,6 +18,7 @@
  * A SciPy answer counts as a failure when SciPy says it failed or its contact equalities
  * are off by more than 1e-6 mm. */
 #define _POSIX_C_SOURCE 200809L
+#include "cli/cli_args.h"
 #include "bench/bench.h"
 #include "bench/bench_report.h"
 #include "bench/bench_timing.h"
@@ -139,7 +140,7 @@ static int read_scipy(const char *path, const hp_layout *L, const bench_bounds *
     static const char *const variants[2] = {"analytic", "fd"};
     FILE *f = fopen(path, "r");
     if (!f) {
-        fprintf(stderr, "headplan-bench: peers: the SciPy peer wrote no '%s'\n", path);
+        hp_cli_fail(0, "bench", "peers: the SciPy peer wrote no '%s'", path);
         return HP_EXIT_SOFTWARE;
     }
     double rho0[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], z[6] = {0};
@@ -191,7 +192,7 @@ static int read_scipy(const char *path, const hp_layout *L, const bench_bounds *
     fclose(f);
     if (rc == 0 && (seen[0] != n || seen[1] != n)) rc = HP_EXIT_SOFTWARE;
     if (rc) {
-        fprintf(stderr, "headplan-bench: peers: '%s' is malformed or incomplete\n", path);
+        hp_cli_fail(0, "bench", "peers: '%s' is malformed or incomplete", path);
         free(times);
         return rc;
     }
@@ -227,7 +228,7 @@ int bench_peers(const bench_options *o, bench_table *t)
     const hp_layout *L = &scene.layout;
     bench_bounds b;
     if (bench_bounds_of(L, &b) != 0) {
-        fprintf(stderr, "headplan-bench: peers: %s: a bladder has no valid radius interval\n",
+        hp_cli_fail(0, "bench", "peers: %s: a bladder has no valid radius interval",
                 o->scene);
         return HP_EXIT_DATAERR;
     }
@@ -269,7 +270,7 @@ int bench_peers(const bench_options *o, bench_table *t)
     hp_planner_destroy(pl);
     hp_planner_destroy(ps);
     if (n < want) {
-        fprintf(stderr, "headplan-bench: peers: only %ld of %ld binding targets found\n", n, want);
+        hp_cli_fail(0, "bench", "peers: only %ld of %ld binding targets found", n, want);
         return HP_EXIT_SOFTWARE;
     }
     bench_shuffle(perm, n, o->seed);
@@ -279,14 +280,14 @@ int bench_peers(const bench_options *o, bench_table *t)
     snprintf(jpath, sizeof jpath, "%s/peers_problem.json", o->out_dir);
     snprintf(cpath, sizeof cpath, "%s/peers_scipy.csv", o->out_dir);
     if (write_problem(jpath, L, &b, commanded, (const double(*)[6])tg, n, o->quick ? 1 : 5) != 0) {
-        fprintf(stderr, "headplan-bench: cannot write '%s'\n", jpath);
+        hp_cli_fail(0, "bench", "cannot write '%s'", jpath);
         return HP_EXIT_CANTCREAT;
     }
     fprintf(stderr, "bench peers: %s %s (%ld targets)\n", o->python, o->peer_script, n);
     char *const argv[] = {(char *)o->python, (char *)o->peer_script, jpath, cpath, NULL};
     int st = bench_run_child(argv, NULL, 0);
     if (st != 0) {
-        fprintf(stderr, "headplan-bench: peers: '%s %s' failed (exit status %d)%s\n", o->python,
+        hp_cli_fail(0, "bench", "peers: '%s %s' failed (exit status %d)%s", o->python,
                 o->peer_script, st, st == 3 ? ": SciPy is missing" : "");
         return HP_EXIT_SOFTWARE;
     }

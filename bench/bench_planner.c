@@ -15,6 +15,7 @@
  * costs. max_violation is the worst pressure or stretch limit violation as a fraction of
  * the limit's span (the planner promises 0). Every plan is cold: hp_planner_reset before
  * each, warm start off, so the order of the targets does not matter. */
+#include "cli/cli_args.h"
 #include "bench/bench.h"
 #include "bench/bench_settings.h"
 #include "bench/bench_timing.h"
@@ -57,7 +58,7 @@ static int create(const hp_layout *L, hp_backend b, hp_level level, double tol, 
     hp_settings s = bench_settings(b, level, tol, 0);
     hp_diag d;
     if (hp_planner_create(L, &s, p, &d) != HP_OK) {
-        fprintf(stderr, "headplan-bench: planner (%s, %s, tolerance %g): %s\n",
+        hp_cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s",
                 hp_backend_name(b), hp_level_name(level), tol, d.text);
         return HP_EXIT_SOFTWARE;
     }
@@ -75,7 +76,7 @@ static int reference(const hp_layout *L, const double (*t)[6], long n, double (*
         if (hp_plan(p, t[k], &r) != HP_OK ||
             (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
             bench_round_trip(L, HP_LEVEL_SURFACE, &r, ref[k], NULL) != HP_OK) {
-            fprintf(stderr, "headplan-bench: the reference (ipopt, surface) failed on target %ld: %s\n",
+            hp_cli_fail(0, "bench", "the reference (ipopt, surface) failed on target %ld: %s",
                     k, hp_planner_error(p));
             rc = HP_EXIT_SOFTWARE;
         }
@@ -131,11 +132,11 @@ int bench_planner(const bench_options *o, bench_table *t)
     hp_scene scene;
     hp_diag d;
     if (hp_scene_load(o->scene, &scene, &d) != HP_OK) {
-        fprintf(stderr, "headplan-bench: --scene: %s\n", d.text);
+        hp_cli_fail(0, "bench", "--scene: %s", d.text);
         return HP_EXIT_NOINPUT;
     }
     if (scene.kind != HP_SCENE_LAYOUT) {
-        fprintf(stderr, "headplan-bench: --scene: %s: not a layout scene\n", o->scene);
+        hp_cli_fail(0, "bench", "--scene: %s: not a layout scene", o->scene);
         return HP_EXIT_DATAERR;
     }
     const hp_layout *L = &scene.layout;
@@ -169,7 +170,7 @@ int bench_planner(const bench_options *o, bench_table *t)
         int fast = m->backend == HP_BACKEND_COUNT_;
         bench_row *row = bench_table_add(t);
         if (!row) {
-            fprintf(stderr, "headplan-bench: out of memory\n");
+            hp_cli_fail(0, "bench", "out of memory");
             return HP_EXIT_SOFTWARE;
         }
         snprintf(row->family, sizeof row->family, "planner");

@@ -2,6 +2,8 @@
  * as a child process (fork + execvp, no shell, so no quoting of the folder name) in the
  * output folder, which makes the generated script re-runnable there by hand. */
 #define _POSIX_C_SOURCE 200809L
+#include "cli/cli_args.h"
+#include "cli/cli_output.h"
 #include "bench/bench_report.h"
 #include "cli/exit_codes.h"
 
@@ -20,7 +22,7 @@ int bench_mkdirs(const char *dir)
 {
     char p[PATH_CAP];
     if (!dir || !*dir || strlen(dir) >= sizeof p) {
-        fprintf(stderr, "headplan-bench: --out: folder name empty or too long\n");
+        hp_cli_fail(0, "bench", "--out: folder name empty or too long");
         return HP_EXIT_CANTCREAT;
     }
     strcpy(p, dir);
@@ -29,7 +31,7 @@ int bench_mkdirs(const char *dir)
         if (*s == '/' || end) {
             *s = '\0';
             if (mkdir(p, 0777) != 0 && errno != EEXIST) {
-                fprintf(stderr, "headplan-bench: --out: cannot create folder '%s': %s\n", p,
+                hp_cli_fail(0, "bench", "--out: cannot create folder '%s': %s", p,
                         strerror(errno));
                 return HP_EXIT_CANTCREAT;
             }
@@ -39,7 +41,7 @@ int bench_mkdirs(const char *dir)
     }
     struct stat st;
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-        fprintf(stderr, "headplan-bench: --out: '%s' is not a folder\n", dir);
+        hp_cli_fail(0, "bench", "--out: '%s' is not a folder", dir);
         return HP_EXIT_CANTCREAT;
     }
     return 0;
@@ -56,22 +58,22 @@ int bench_save(const char *dir, const char *name,
 {
     char final[PATH_CAP], tmp[PATH_CAP];
     if (join(final, sizeof final, dir, name, "") || join(tmp, sizeof tmp, dir, name, ".tmp")) {
-        fprintf(stderr, "headplan-bench: %s/%s: path too long\n", dir, name);
+        hp_cli_fail(0, "bench", "%s/%s: path too long", dir, name);
         return HP_EXIT_CANTCREAT;
     }
     FILE *f = fopen(tmp, "w");
     if (!f) {
-        fprintf(stderr, "headplan-bench: cannot create '%s': %s\n", tmp, strerror(errno));
+        hp_cli_fail(0, "bench", "cannot create '%s': %s", tmp, strerror(errno));
         return HP_EXIT_CANTCREAT;
     }
     int bad = writer(arg, f) != 0;
-    bad |= fclose(f) != 0;
-    if (bad || rename(tmp, final) != 0) {
-        fprintf(stderr, "headplan-bench: cannot write '%s': %s\n", final, strerror(errno));
-        remove(tmp);
-        return HP_EXIT_CANTCREAT;
-    }
-    return 0;
+    int rc = hp_cli_close_output(f, tmp, "bench");
+    if (rc == 0 && bad) rc = hp_cli_fail(HP_EXIT_IOERR, "bench", "cannot write %s", tmp);
+    if (rc == 0 && rename(tmp, final) != 0)
+        rc = hp_cli_fail(HP_EXIT_IOERR, "bench", "cannot rename %s to %s: %s", tmp, final,
+                         strerror(errno));
+    if (rc) remove(tmp);
+    return rc;
 }
 
 int bench_run_child(char *const argv[], const char *cwd, int quiet)
@@ -267,13 +269,13 @@ int bench_gnuplot_run(const char *dir, const char *script, const char *const *ou
     char *const argv[] = {"gnuplot", (char *)script, NULL};
     int st = bench_run_child(argv, dir, 0);
     if (st != 0) {
-        fprintf(stderr, "headplan-bench: gnuplot failed on '%s/%s' (%s %d)\n", dir, script,
+        hp_cli_fail(0, "bench", "gnuplot failed on '%s/%s' (%s %d)", dir, script,
                 st < 0 ? "could not run, status" : "exit status", st);
         return HP_EXIT_SOFTWARE;
     }
     for (; outputs && *outputs; ++outputs)
         if (!nonempty(dir, *outputs, "")) {
-            fprintf(stderr, "headplan-bench: gnuplot left '%s/%s' missing or empty\n", dir,
+            hp_cli_fail(0, "bench", "gnuplot left '%s/%s' missing or empty", dir,
                     *outputs);
             return HP_EXIT_SOFTWARE;
         }
@@ -290,12 +292,12 @@ int bench_plot(const bench_table *t, const bench_chart *c, const char *dir)
     char *const argv[] = {"gnuplot", script, NULL};
     int st = bench_run_child(argv, dir, 0);
     if (st != 0) {
-        fprintf(stderr, "headplan-bench: gnuplot failed on '%s/%s' (%s %d)\n", dir, script,
+        hp_cli_fail(0, "bench", "gnuplot failed on '%s/%s' (%s %d)", dir, script,
                 st < 0 ? "could not run, status" : "exit status", st);
         return HP_EXIT_SOFTWARE;
     }
     if (!nonempty(dir, c->family, "_pareto.png") || !nonempty(dir, c->family, "_pareto.svg")) {
-        fprintf(stderr, "headplan-bench: gnuplot left '%s/%s_pareto.png' or .svg missing or empty\n",
+        hp_cli_fail(0, "bench", "gnuplot left '%s/%s_pareto.png' or .svg missing or empty",
                 dir, c->family);
         return HP_EXIT_SOFTWARE;
     }

@@ -23,6 +23,8 @@
  * the desired pose than Ipopt's (by > THR_CLOSEST) is listed there as "ipopt-worse" (a defect
  * of the reference). CLOSEST without an Ipopt answer to compare is "unverified" (not a
  * success). Every other outcome is a failure with its status. */
+#include "cli/cli_args.h"
+#include "cli/cli_output.h"
 #include "bench/bench.h"
 #include "bench/bench_report.h"
 #include "bench/bench_timing.h"
@@ -222,7 +224,7 @@ static int run_case(const bench_options *o, const stab_case *c, stab_run *run, c
     const hp_layout *L = &scene.layout;
     bench_bounds b;
     if (bench_bounds_of(L, &b) != 0) {
-        fprintf(stderr, "headplan-bench: %s: a bladder has no valid radius interval\n", path);
+        hp_cli_fail(0, "bench", "%s: a bladder has no valid radius interval", path);
         return HP_EXIT_DATAERR;
     }
     cd->n_size = o->quick ? 6 : N_SIZE_FULL;
@@ -462,24 +464,23 @@ int bench_stability(const bench_options *o, const char *dir)
     snprintf(wtmp, sizeof wtmp, "%s.tmp", wpath);
     int rc = 0;
     if (!(run.wrong = fopen(wtmp, "w"))) {
-        fprintf(stderr, "headplan-bench: cannot create '%s'\n", wtmp);
+        hp_cli_fail(0, "bench", "cannot create '%s'", wtmp);
         return HP_EXIT_CANTCREAT;
     }
     fprintf(run.wrong, "case,method,size,direction,status,iterations,check,error,"
                        "desired_mm_deg,achieved_mm_deg,ipopt_status,ipopt_achieved_mm_deg\n");
     for (int c = 0; c < N_CASES && rc == 0; ++c) {
         if (!(cd[c] = calloc(1, sizeof *cd[c]))) {
-            fprintf(stderr, "headplan-bench: out of memory\n");
+            hp_cli_fail(0, "bench", "out of memory");
             rc = HP_EXIT_SOFTWARE;
         } else {
             rc = run_case(o, &cases[c], &run, cd[c]);
         }
     }
-    int bad = fclose(run.wrong) != 0;
-    if (rc == 0 && (bad || rename(wtmp, wpath) != 0)) {
-        fprintf(stderr, "headplan-bench: cannot write '%s'\n", wpath);
-        rc = HP_EXIT_CANTCREAT;
-    }
+    int closed = hp_cli_close_output(run.wrong, wtmp, "bench");
+    if (rc == 0) rc = closed;
+    if (rc == 0 && rename(wtmp, wpath) != 0)
+        rc = hp_cli_fail(HP_EXIT_IOERR, "bench", "cannot rename %s to %s", wtmp, wpath);
     if (rc) remove(wtmp);
     all_cases a = {cd};
     if (rc == 0) rc = bench_save(dir, "stability.csv", csv_writer, &a);

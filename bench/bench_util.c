@@ -1,3 +1,4 @@
+#include "cli/cli_args.h"
 /* headplan-bench: shared helpers (see bench_util.h). */
 #include "bench/bench_util.h"
 #include "cli/exit_codes.h"
@@ -9,11 +10,11 @@ int bench_load_layout(const char *path, hp_scene *scene)
 {
     hp_diag d;
     if (hp_scene_load(path, scene, &d) != HP_OK) {
-        fprintf(stderr, "headplan-bench: %s\n", d.text);
+        hp_cli_fail(0, "bench", "%s", d.text);
         return HP_EXIT_NOINPUT;
     }
     if (scene->kind != HP_SCENE_LAYOUT) {
-        fprintf(stderr, "headplan-bench: %s: not a layout scene\n", path);
+        hp_cli_fail(0, "bench", "%s: not a layout scene", path);
         return HP_EXIT_DATAERR;
     }
     return 0;
@@ -23,7 +24,7 @@ int bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p)
 {
     hp_diag d;
     if (hp_planner_create(L, s, p, &d) != HP_OK) {
-        fprintf(stderr, "headplan-bench: planner (%s, %s, tolerance %g): %s\n",
+        hp_cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s",
                 hp_backend_name(s->backend), hp_level_name(s->level), s->tolerance, d.text);
         return HP_EXIT_SOFTWARE;
     }

@@ -1,5 +1,6 @@
 /* Internal to the batch subcommand: the rows of a trace, their planned outputs, and the
- * sharded run that gives the same output for any number of jobs. */
+ * engine that plans a trace block by block (memory flat in the number of rows), with
+ * shards in processes that give the same output for any number of jobs. */
 #ifndef HP_CLI_BATCH_H
 #define HP_CLI_BATCH_H
 
@@ -8,11 +9,11 @@
 
 #include <stddef.h>
 
-/* One input row of the trace, read before any planning (bad rows keep their message). */
+/* One input row of the trace (bad rows keep their message). */
 typedef struct batch_in {
     long line;
     double t;
-    double correction[6]; /* SI */
+    double correction[6]; /* SI: the desired correction */
     int bad;              /* 1: the row could not be read; msg says why */
     char *msg;
 } batch_in;
@@ -23,9 +24,10 @@ typedef struct batch_out {
     int bad;
     hp_status status;
     int raw_code;
-    double achieved[6];
-    double pose_error;
+    double achieved[6];   /* SI */
+    int commanded[6];
     double pressure[HP_MAX_BLADDERS];
+    double ri[HP_MAX_BLADDERS], ro[HP_MAX_BLADDERS], stretch[HP_MAX_BLADDERS];
     unsigned binding[HP_MAX_BLADDERS];
     int iterations;
     double solve_time; /* [s]: a measurement, excluded from comparisons */
@@ -41,14 +43,27 @@ hp_error batch_plan_range(hp_planner *p, const batch_in *in, batch_out *out, siz
 /* 1 when two output rows are equal in every field that the files show (time excluded). */
 int batch_same(const batch_out *a, const batch_out *b, int n);
 
-/* Runs the whole trace with `jobs` processes. Shard k > 0 starts from the nominal pressures
- * (a guess); afterwards the parent re-plans each shard's head from the true previous
- * pressures until a row comes out identical to the guess, from which on the two runs agree
- * (the planner's state is a function of the previous pressures alone). The result equals a
- * single sequential run, bit for bit. progress_cb (may be NULL) is called about ten times a
- * second with rows done. Returns 0, or non-zero after printing why to stderr. */
-int batch_run(const hp_layout *L, const hp_settings *s, const batch_in *in, batch_out *out,
-              size_t rows, int jobs, void (*progress_cb)(size_t done, size_t total),
-              size_t *repaired_rows);
+/* Plans a trace block by block; the state (previous pressures) carries across blocks. */
+typedef struct batch_engine {
+    const hp_layout *L;
+    const hp_settings *s;
+    int jobs;
+    hp_planner *p;                 /* in-process: every row when jobs == 1, repairs else */
+    double prev[HP_MAX_BLADDERS];  /* pressures after the last good row (nominal at first) */
+    size_t repaired;               /* rows re-planned at shard joins, over all blocks */
+} batch_engine;
+
+/* Creates the planner and the nominal state. Returns 0, or 1 after a line on stderr. */
+int batch_engine_init(batch_engine *e, const hp_layout *L, const hp_settings *s, int jobs);
+
+/* Plans rows in[0..rows) into out, continuing from the engine's state. With jobs > 1 the
+ * block is split into `jobs` processes; shard k > 0 starts from the nominal pressures (a
+ * guess) and the parent then re-plans each shard's head from the true previous pressures
+ * until a row comes out identical to the guess, from which on the two runs agree (the
+ * planner's state is a function of the previous pressures alone). The result equals a
+ * single sequential run, bit for bit. Returns 0, or non-zero after a line on stderr. */
+int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t rows);
+
+void batch_engine_free(batch_engine *e);
 
 #endif

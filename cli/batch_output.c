@@ -1,21 +1,26 @@
-/* Writing batch results as CSV or JSON Lines, to a temporary name renamed when complete. */
+/* Writing batch results (see batch_output.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "cli/batch_output.h"
+#include "cli/cli_output.h"
 
 #include <errno.h>
-#include <jansson.h>
+#include <math.h>
 #include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
-static const char *const POSE_KEYS[6] = {"x_mm", "y_mm", "z_mm",
-                                         "pitch_deg", "roll_deg", "yaw_deg"};
+static const char *const AXES[6] = {"x", "y", "z", "pitch", "roll", "yaw"};
+static const char *const AXIS_UNITS[6] = {"mm", "mm", "mm", "deg", "deg", "deg"};
+
+#define MAX_COLS (40 + 4 * HP_MAX_BLADDERS)
+#define COL_NAME_MAX (HP_NAME_MAX + 24)
 
 /* The temporary file an interrupted run must not leave behind (signal handler). */
 static char tmp_path[4096];
 static volatile sig_atomic_t tmp_live;
+static char col_names[MAX_COLS][COL_NAME_MAX];
 
 static void on_signal(int sig)
 {
@@ -23,6 +28,131 @@ static void on_signal(int sig)
     signal(sig, SIG_DFL);
     raise(sig);
 }
+
+/* Removes the temporary file on sig, unless sig was ignored on entry (nohup, trap ''). */
+static void guard_signal(int sig)
+{
+    struct sigaction old;
+    if (sigaction(sig, NULL, &old) == 0 && old.sa_handler == SIG_IGN) return;
+    struct sigaction sa;
+    memset(&sa, 0, sizeof sa);
+    sa.sa_handler = on_signal;
+    sigemptyset(&sa.sa_mask);
+    sigaction(sig, &sa, NULL);
+}
+
+static int ext_format(const char *path, hp_trace_format *fmt)
+{
+    const char *dot = strrchr(path, '.');
+    const char *slash = strrchr(path, '/');
+    if (!dot || (slash && dot < slash)) return 0;
+    if (strcmp(dot, ".csv") == 0) *fmt = HP_TRACE_CSV;
+    else if (strcmp(dot, ".jsonl") == 0 || strcmp(dot, ".ndjson") == 0) *fmt = HP_TRACE_JSONL;
+    else return 0;
+    return 1;
+}
+
+int batch_output_format(const char *format, const char *out, hp_trace_format *fmt)
+{
+    int to_file = out && strcmp(out, "-") != 0;
+    hp_trace_format by_ext = HP_TRACE_CSV;
+    int has_ext = to_file && ext_format(out, &by_ext);
+    if (format) {
+        if (hp_trace_format_parse(format, fmt) != HP_OK)
+            return hp_cli_fail(HP_EXIT_USAGE, "batch", "--format: unknown format '%s' (csv, jsonl)",
+                               format);
+        if (has_ext && by_ext != *fmt)
+            return hp_cli_fail(HP_EXIT_USAGE, "batch",
+                               "--format %s contradicts the extension of -o %s", format, out);
+        return 0;
+    }
+    if (has_ext) {
+        *fmt = by_ext;
+        return 0;
+    }
+    if (to_file)
+        return hp_cli_fail(HP_EXIT_USAGE, "batch",
+                           "-o %s: cannot tell the format: give --format csv|jsonl or name the "
+                           "file .csv or .jsonl", out);
+    *fmt = HP_TRACE_CSV; /* standard output has no name to contradict: CSV, documented */
+    return 0;
+}
+
+/* 0 when path may be written; otherwise HP_EXIT_CANTCREAT after one line. */
+static int output_allowed(const char *path, const batch_input_id *inputs, int ninputs)
+{
+    struct stat st;
+    if (lstat(path, &st) != 0) {
+        if (errno == ENOENT) return 0;
+        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s: %s", path, strerror(errno));
+    }
+    if (S_ISLNK(st.st_mode))
+        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch",
+                           "-o %s is a symbolic link: refused (name the file itself)", path);
+    if (S_ISDIR(st.st_mode))
+        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s is a directory, not a file", path);
+    if (!S_ISREG(st.st_mode))
+        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch",
+                           "-o %s exists and is not a regular file (a device, FIFO or socket): "
+                           "refused; use -o - for standard output", path);
+    for (int i = 0; i < ninputs; ++i)
+        if (inputs[i].dev == st.st_dev && inputs[i].ino == st.st_ino)
+            return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s is the %s %s: refused", path,
+                               inputs[i].what, inputs[i].path);
+    return 0;
+}
+
+static void name_columns(batch_sink *k);
+
+int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const hp_layout *L,
+                    int times, const batch_input_id *inputs, int ninputs)
+{
+    memset(k, 0, sizeof *k);
+    k->fmt = fmt;
+    k->L = L;
+    k->times = times;
+    name_columns(k);
+    if (!out || strcmp(out, "-") == 0) {
+        k->f = stdout;
+        return 0;
+    }
+    int rc = output_allowed(out, inputs, ninputs);
+    if (rc) return rc;
+    int n = snprintf(tmp_path, sizeof tmp_path, "%s.partial-XXXXXX", out);
+    if (n < 0 || (size_t)n >= sizeof tmp_path)
+        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s: path too long", out);
+    guard_signal(SIGINT);
+    guard_signal(SIGTERM);
+    guard_signal(SIGHUP);
+    int fd = mkstemp(tmp_path);
+    if (fd < 0)
+        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s: cannot create %s: %s", out,
+                           tmp_path, strerror(errno));
+    tmp_live = 1;
+    /* mkstemp makes the file private (0600); the result gets the usual mode. */
+    mode_t mask = umask(0);
+    umask(mask);
+    (void)fchmod(fd, 0666 & ~mask);
+    k->f = fdopen(fd, "w");
+    if (!k->f) {
+        close(fd);
+        unlink(tmp_path);
+        tmp_live = 0;
+        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s: %s", out, strerror(errno));
+    }
+    k->path = out;
+    return 0;
+}
+
+/* ---- cells: one function lists a row's columns; CSV and JSON Lines print the same ---- */
+
+typedef enum { CELL_NUM, CELL_INT, CELL_TEXT, CELL_NONE } cell_kind;
+typedef struct cell {
+    cell_kind kind;
+    double num;       /* CELL_NUM; NaN prints as an empty field / null */
+    long i;           /* CELL_INT */
+    const char *text; /* CELL_TEXT */
+} cell;
 
 static void binding_text(const hp_layout *L, const batch_out *o, char *buf, size_t size)
 {
@@ -46,138 +176,232 @@ static void binding_text(const hp_layout *L, const batch_out *o, char *buf, size
     }
 }
 
-static const char *status_text(const batch_out *o)
+/* The one list of output columns: the cells of one row in column order, and (names != 0)
+ * the column names into col_names. Add a column here and both formats and the header
+ * follow. A bad row fills only line, status and error. */
+static int row_cells(const batch_sink *k, const batch_in *in, const batch_out *o, cell *c,
+                     char *bind, size_t bind_size, int names)
 {
-    return o->bad ? "bad-row" : hp_status_name(o->status);
-}
-
-static int write_csv(FILE *f, const hp_layout *L, const batch_in *in, const batch_out *out,
-                     size_t rows, int times)
-{
-    fprintf(f, "line,t_s,status");
-    for (int i = 0; i < 6; ++i) fprintf(f, ",%s", POSE_KEYS[i]);
-    fprintf(f, ",pose_error");
-    for (int k = 0; k < L->n; ++k) fprintf(f, ",%s_pa", L->bladders[k].name);
-    fprintf(f, ",binding,iterations%s\n", times ? ",solve_time_us" : "");
-    char bind[2048];
-    for (size_t i = 0; i < rows; ++i) {
-        const batch_out *o = &out[i];
-        if (o->bad) {
-            fprintf(f, "%ld,,bad-row", in[i].line);
-            for (int c = 0; c < 7 + L->n + 2 + times; ++c) fputc(',', f);
-            fputc('\n', f);
-            continue;
-        }
-        double pose[6];
-        hp_pose_to_clinical(o->achieved, pose);
-        char num[HP_FMT_MAX];
-        fprintf(f, "%ld,%s,%s", in[i].line, hp_cli_fmt(num, in[i].t), status_text(o));
-        for (int c = 0; c < 6; ++c) fprintf(f, ",%s", hp_cli_fmt(num, pose[c]));
-        fprintf(f, ",%s", hp_cli_fmt(num, o->pose_error));
-        for (int k = 0; k < L->n; ++k) fprintf(f, ",%s", hp_cli_fmt(num, o->pressure[k]));
-        binding_text(L, o, bind, sizeof bind);
-        fprintf(f, ",%s,%d", bind, o->iterations);
-        if (times) fprintf(f, ",%.3f", o->solve_time * 1e6);
-        fputc('\n', f);
+    int n = 0;
+#define NAME(...) (names ? (void)snprintf(col_names[n], COL_NAME_MAX, __VA_ARGS__) : (void)0)
+#define NUM(v, ...) (NAME(__VA_ARGS__), c[n].kind = CELL_NUM, c[n++].num = (v))
+#define INT(v, ...) (NAME(__VA_ARGS__), c[n].kind = CELL_INT, c[n++].i = (v))
+#define TEXT(v, ...) (NAME(__VA_ARGS__), c[n].kind = CELL_TEXT, c[n++].text = (v))
+#define NONE(...) (NAME(__VA_ARGS__), c[n++].kind = CELL_NONE)
+    INT(in->line, "line");
+    if (o->bad) {
+        NONE("t_s");
+        TEXT("bad-row", "status");
+        while (n < k->ncols - 1) NONE("-");
+        TEXT(in->msg ? in->msg : "bad row", "error");
+        return n;
     }
-    return 0;
+    NUM(in->t, "t_s");
+    TEXT(hp_status_name(o->status), "status");
+    double want[6], got[6], err_mm = 0.0, err_deg = 0.0;
+    hp_pose_to_clinical(in->correction, want);
+    hp_pose_to_clinical(o->achieved, got);
+    for (int i = 0; i < 6; ++i) NUM(want[i], "desired_%s_%s", AXES[i], AXIS_UNITS[i]);
+    for (int i = 0; i < 6; ++i) NUM(got[i], "achieved_%s_%s", AXES[i], AXIS_UNITS[i]);
+    for (int i = 0; i < 6; ++i) {
+        double e = got[i] - want[i];
+        NUM(e, "error_%s_%s", AXES[i], AXIS_UNITS[i]);
+        if (!o->commanded[i]) continue;
+        double *worst = i < 3 ? &err_mm : &err_deg;
+        if (!(fabs(e) <= *worst)) *worst = fabs(e); /* NaN propagates */
+    }
+    for (int i = 0; i < 6; ++i) INT(o->commanded[i] ? 1 : 0, "commanded_%s", AXES[i]);
+    NUM(err_mm, "pose_error_mm");
+    NUM(err_deg, "pose_error_deg");
+    for (int b = 0; b < k->L->n; ++b) {
+        const char *nm = k->L->bladders[b].name;
+        NUM(o->pressure[b], "%s_pressure_pa", nm);
+        NUM(o->ri[b] * 1e3, "%s_ri_mm", nm);
+        NUM(o->ro[b] * 1e3, "%s_ro_mm", nm);
+        NUM(o->stretch[b], "%s_stretch", nm);
+    }
+    binding_text(k->L, o, bind, bind_size);
+    TEXT(bind, "binding");
+    INT(o->iterations, "iterations");
+    if (k->times) NUM(round(o->solve_time * 1e9) / 1e3, "solve_time_us"); /* whole ns */
+    NONE("error");
+#undef NAME
+#undef NUM
+#undef INT
+#undef TEXT
+#undef NONE
+    return n;
 }
 
-static int write_jsonl(FILE *f, const hp_layout *L, const batch_in *in, const batch_out *out,
-                       size_t rows, int times)
+/* Names the columns from row_cells on a placeholder good row. */
+static void name_columns(batch_sink *k)
 {
-    const size_t flags = JSON_COMPACT | JSON_PRESERVE_ORDER |
-                         JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION);
-    for (size_t i = 0; i < rows; ++i) {
-        const batch_out *o = &out[i];
-        json_t *row = json_object();
-        json_object_set_new(row, "line", json_integer(in[i].line));
-        if (o->bad) {
-            json_object_set_new(row, "status", json_string("bad-row"));
-            json_object_set_new(row, "error", json_string(in[i].msg ? in[i].msg : ""));
+    cell cells[MAX_COLS];
+    char bind[8];
+    batch_in in;
+    batch_out out;
+    memset(&in, 0, sizeof in);
+    memset(&out, 0, sizeof out);
+    k->ncols = row_cells(k, &in, &out, cells, bind, sizeof bind, 1);
+}
+
+/* Text with control characters and broken UTF-8 escaped (\xNN), then quoted as the format
+ * needs: CSV (RFC 4180, only when it holds , " or \) or a JSON string. */
+static void put_text(FILE *f, const char *s, hp_trace_format fmt)
+{
+    /* Fast path: printable ASCII that needs no quoting in either format. */
+    size_t plain = 0;
+    while (s[plain] >= 0x20 && s[plain] < 0x7f && s[plain] != ',' && s[plain] != '"' &&
+           s[plain] != '\\')
+        ++plain;
+    if (s[plain] == '\0') {
+        if (fmt == HP_TRACE_JSONL) fputc('"', f);
+        fputs(s, f);
+        if (fmt == HP_TRACE_JSONL) fputc('"', f);
+        return;
+    }
+    char *clean = NULL;
+    size_t size = 0;
+    FILE *m = open_memstream(&clean, &size);
+    if (!m) return;
+    hp_cli_put_escaped(m, s);
+    fclose(m);
+    if (fmt == HP_TRACE_CSV) {
+        if (strpbrk(clean, ",\"\\") == NULL) {
+            fputs(clean, f);
         } else {
-            double pose[6];
-            hp_pose_to_clinical(o->achieved, pose);
-            json_object_set_new(row, "t_s", json_real(in[i].t));
-            json_object_set_new(row, "status", json_string(status_text(o)));
-            json_t *ach = json_object();
-            for (int c = 0; c < 6; ++c) json_object_set_new(ach, POSE_KEYS[c], json_real(pose[c]));
-            json_object_set_new(row, "achieved", ach);
-            json_object_set_new(row, "pose_error", json_real(o->pose_error));
-            json_t *pr = json_object(), *bind = json_object();
-            for (int k = 0; k < L->n; ++k) {
-                json_object_set_new(pr, L->bladders[k].name, json_real(o->pressure[k]));
-                if (!o->binding[k]) continue;
-                json_t *list = json_array();
-                for (int b = 0; b < HP_BIND_COUNT; ++b)
-                    if (o->binding[k] & (1u << b))
-                        json_array_append_new(list, json_string(hp_binding_name(1u << b)));
-                json_object_set_new(bind, L->bladders[k].name, list);
+            fputc('"', f);
+            for (const char *p = clean; *p; ++p) {
+                if (*p == '"') fputc('"', f);
+                fputc(*p, f);
             }
-            json_object_set_new(row, "pressures_pa", pr);
-            json_object_set_new(row, "binding", bind);
-            json_object_set_new(row, "iterations", json_integer(o->iterations));
-            if (times) json_object_set_new(row, "solve_time_us", json_real(o->solve_time * 1e6));
+            fputc('"', f);
         }
-        char *text = json_dumps(row, flags);
-        json_decref(row);
-        if (!text) return -1;
-        fputs(text, f);
+    } else {
+        fputc('"', f);
+        for (const char *p = clean; *p; ++p) {
+            if (*p == '"' || *p == '\\') fputc('\\', f);
+            fputc(*p, f);
+        }
+        fputc('"', f);
+    }
+    free(clean);
+}
+
+static void put_cell(FILE *f, const cell *c, hp_trace_format fmt)
+{
+    char num[HP_FMT_MAX];
+    int json = fmt == HP_TRACE_JSONL;
+    switch (c->kind) {
+    case CELL_NUM:
+        if (isfinite(c->num)) fputs(hp_cli_fmt(num, c->num), f);
+        else if (json) fputs("null", f);
+        break;
+    case CELL_INT: fprintf(f, "%ld", c->i); break;
+    case CELL_TEXT: put_text(f, c->text, fmt); break;
+    case CELL_NONE: if (json) fputs("null", f); break;
+    }
+}
+
+void batch_sink_meta(batch_sink *k, const batch_meta *m)
+{
+    char ver[64], tol[HP_FMT_MAX], tmax[HP_FMT_MAX], w[HP_FMT_MAX], iters[24];
+    snprintf(ver, sizeof ver, "headplan %s", hp_version());
+    snprintf(iters, sizeof iters, "%d", m->s->max_iter);
+    hp_cli_fmt(tol, m->s->tolerance);
+    hp_cli_fmt(tmax, m->s->max_time);
+    hp_cli_fmt(w, m->s->weight_mm_per_deg);
+    /* key, value, 1 when the value is a number (JSON) */
+    const struct { const char *key, *value; int number; } meta[] = {
+        {"headplan_batch", "1", 1},
+        {"program", ver, 0},
+        {"scene", m->scene, 0},
+        {"scene_sha256", m->scene_sha256, 0},
+        {"trace", m->trace, 0},
+        {"trace_sha256", m->trace_sha256, 0},
+        {"rows", m->rows, 0},
+        {"rows_from", m->rows_from, 0},
+        {"pose_form", m->pose_form, 0},
+        {"backend", hp_backend_name(m->s->backend), 0},
+        {"level", m->level, 0},
+        {"tolerance_mm_deg", tol, 1},
+        {"max_iter", iters, 1},
+        {"max_time_s", tmax, 1},
+        {"weight_mm_per_deg", w, 1},
+        {"rate_limits", m->s->use_rate_limits ? "true" : "false", 1},
+        {"warm_start", m->s->warm_start ? "true" : "false", 1},
+    };
+    const size_t nm = sizeof meta / sizeof meta[0];
+    FILE *f = k->f;
+    if (k->fmt == HP_TRACE_CSV) {
+        for (size_t i = 0; i < nm; ++i) {
+            fprintf(f, "# %s: ", meta[i].key);
+            hp_cli_put_escaped(f, meta[i].value ? meta[i].value : "none (not a regular file)");
+            fputc('\n', f);
+        }
+        for (int c = 0; c < k->ncols; ++c) {
+            if (c) fputc(',', f);
+            put_text(f, col_names[c], HP_TRACE_CSV);
+        }
         fputc('\n', f);
-        free(text);
+        return;
     }
-    return 0;
+    fputc('{', f);
+    for (size_t i = 0; i < nm; ++i) {
+        if (i) fputc(',', f);
+        put_text(f, meta[i].key, HP_TRACE_JSONL);
+        fputc(':', f);
+        if (!meta[i].value) fputs("null", f);
+        else if (meta[i].number) fputs(meta[i].value, f);
+        else put_text(f, meta[i].value, HP_TRACE_JSONL);
+    }
+    fputs("}\n", f);
 }
 
-FILE *batch_open(const char *path)
+int batch_sink_rows(batch_sink *k, const batch_in *in, const batch_out *out, size_t rows)
 {
-    if (!path) return stdout;
-    int n = snprintf(tmp_path, sizeof tmp_path, "%s.partial-%ld", path, (long)getpid());
-    if (n < 0 || (size_t)n >= sizeof tmp_path) {
-        fprintf(stderr, "headplan batch: -o: %s: path too long\n", path);
-        return NULL;
+    cell cells[MAX_COLS];
+    char bind[2048];
+    for (size_t r = 0; r < rows; ++r) {
+        int n = row_cells(k, &in[r], &out[r], cells, bind, sizeof bind, 0);
+        if (k->fmt == HP_TRACE_JSONL) fputc('{', k->f);
+        for (int c = 0; c < n; ++c) {
+            if (c) fputc(',', k->f);
+            if (k->fmt == HP_TRACE_JSONL) {
+                put_text(k->f, col_names[c], HP_TRACE_JSONL);
+                fputc(':', k->f);
+            }
+            put_cell(k->f, &cells[c], k->fmt);
+        }
+        fputs(k->fmt == HP_TRACE_JSONL ? "}\n" : "\n", k->f);
     }
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-        fprintf(stderr, "headplan batch: -o: %s is a directory, not a file\n", path);
-        return NULL;
-    }
-    signal(SIGINT, on_signal);
-    signal(SIGTERM, on_signal);
-    signal(SIGHUP, on_signal);
-    FILE *f = fopen(tmp_path, "wx");
-    if (!f) {
-        fprintf(stderr, "headplan batch: -o: cannot create %s (as %s): %s\n", path, tmp_path,
-                strerror(errno));
-        return NULL;
-    }
-    tmp_live = 1;
-    return f;
+    return ferror(k->f) ? HP_EXIT_IOERR : 0;
 }
 
-void batch_abandon(FILE *f, const char *path)
+int batch_sink_commit(batch_sink *k)
 {
-    if (!f || !path) return;
-    fclose(f);
+    if (!k->path) return 0; /* main checks and closes stdout, with its one line */
+    int rc = hp_cli_flush_output(k->f, tmp_path, "batch");
+    if (rc == 0 && fsync(fileno(k->f)) != 0)
+        rc = hp_cli_fail(HP_EXIT_IOERR, "batch", "cannot write %s: %s", tmp_path, strerror(errno));
+    int closed = hp_cli_close_output(k->f, tmp_path, "batch");
+    if (rc == 0) rc = closed;
+    k->f = NULL;
+    /* The path may have changed while the rows were planned: check it again. */
+    if (rc == 0 && output_allowed(k->path, NULL, 0) != 0) rc = HP_EXIT_CANTCREAT;
+    if (rc == 0 && rename(tmp_path, k->path) != 0)
+        rc = hp_cli_fail(HP_EXIT_IOERR, "batch", "cannot rename %s to %s: %s", tmp_path, k->path,
+                         strerror(errno));
+    if (rc != 0) unlink(tmp_path);
+    tmp_live = 0;
+    return rc;
+}
+
+void batch_sink_abandon(batch_sink *k)
+{
+    if (!k->path || !k->f) return;
+    fclose(k->f);
+    k->f = NULL;
     unlink(tmp_path);
     tmp_live = 0;
-}
-
-int batch_write(FILE *f, const char *path, hp_trace_format fmt, const hp_layout *L,
-                const batch_in *in, const batch_out *out, size_t rows, int times)
-{
-    int rc = fmt == HP_TRACE_CSV ? write_csv(f, L, in, out, rows, times)
-                                 : write_jsonl(f, L, in, out, rows, times);
-    if (fflush(f) != 0 || ferror(f)) rc = -1;
-    if (path) {
-        if (rc == 0 && fsync(fileno(f)) != 0) rc = -1;
-        if (fclose(f) != 0) rc = -1;
-        if (rc == 0 && rename(tmp_path, path) != 0) rc = -1;
-        if (rc != 0) {
-            fprintf(stderr, "headplan batch: -o: cannot write %s: %s\n", path, strerror(errno));
-            unlink(tmp_path);
-        }
-        tmp_live = 0;
-    }
-    return rc == 0 ? 0 : HP_EXIT_CANTCREAT;
 }

@@ -1,4 +1,6 @@
-/* Internal to the batch subcommand: output files. */
+/* Internal to the batch subcommand: where results go (never over an input, a device, a
+ * FIFO or a symbolic link), the metadata record, and the rows in CSV or JSON Lines with the
+ * same columns and the same number text. */
 #ifndef HP_CLI_BATCH_OUTPUT_H
 #define HP_CLI_BATCH_OUTPUT_H
 
@@ -6,20 +8,60 @@
 #include "cli/cli_args.h"
 #include "cli/exit_codes.h"
 
-/* Creates the output before any planning, so that an -o that cannot be written fails at
- * once: path NULL gives stdout; otherwise "PATH.partial-PID" is created (never an existing
- * file) and SIGINT, SIGTERM and SIGHUP remove it from then on. Returns the stream, or NULL
- * after printing one line naming PATH (exit status HP_EXIT_CANTCREAT). */
-FILE *batch_open(const char *path);
+#include <sys/types.h>
 
-/* Writes one output row per input row, in order, to f from batch_open(path); a file is
- * synced, closed and renamed to PATH only once complete. times: add the solve_time_us
- * column (a measurement, so two runs differ there). Returns 0 or an exit status after
- * printing why. */
-int batch_write(FILE *f, const char *path, hp_trace_format fmt, const hp_layout *L,
-                const batch_in *in, const batch_out *out, size_t rows, int times);
+/* An input file by identity (device and inode), to refuse it as the output. */
+typedef struct batch_input_id {
+    const char *what; /* "scene", "trace" */
+    const char *path;
+    dev_t dev;
+    ino_t ino;
+} batch_input_id;
 
-/* Closes f from batch_open(path) without a result and removes the partial file. */
-void batch_abandon(FILE *f, const char *path);
+/* The metadata record written before the rows (one `# key: value` line each in CSV, one
+ * object in JSON Lines), in this order. */
+typedef struct batch_meta {
+    const char *scene, *scene_sha256, *trace, *trace_sha256; /* trace_sha256 NULL: a stream */
+    const char *rows, *rows_from, *pose_form;
+    const char *level; /* the resolved contact level */
+    const hp_settings *s;
+} batch_meta;
+
+typedef struct batch_sink {
+    FILE *f;
+    const char *path;  /* final path; NULL for stdout */
+    hp_trace_format fmt;
+    const hp_layout *L;
+    int times;         /* the solve_time_us column */
+    int ncols;
+} batch_sink;
+
+/* Picks the output format: --format when given; else from OUT's extension (.csv, .jsonl,
+ * .ndjson); else an error for a file, CSV for standard output. A --format that contradicts the
+ * extension is an error. Returns 0 or HP_EXIT_USAGE after one line. */
+int batch_output_format(const char *format, const char *out, hp_trace_format *fmt);
+
+/* Opens the output before any planning: out NULL or "-" is stdout. A path is refused (exit
+ * HP_EXIT_CANTCREAT, one line, nothing written) when it is a symbolic link, exists and is
+ * not a regular file, or is the same file (device and inode) as any input. Otherwise a
+ * temporary file beside it is created exclusively (mkstemp) and SIGINT, SIGTERM and SIGHUP
+ * remove it from then on, except a signal that was ignored on entry (nohup), which stays
+ * ignored. Returns 0 or an exit status after one line. */
+int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const hp_layout *L,
+                    int times, const batch_input_id *inputs, int ninputs);
+
+/* Writes the metadata record and the column header. */
+void batch_sink_meta(batch_sink *k, const batch_meta *m);
+
+/* Writes one output row per input row. Returns 0, or HP_EXIT_IOERR when the output has
+ * failed (so a caller stops early). */
+int batch_sink_rows(batch_sink *k, const batch_in *in, const batch_out *out, size_t rows);
+
+/* Completes the output: a file is flushed, synced, closed and renamed to its path; stdout
+ * is flushed. Returns 0 or HP_EXIT_IOERR after one line (the temporary file removed). */
+int batch_sink_commit(batch_sink *k);
+
+/* Closes the output without a result and removes the temporary file. */
+void batch_sink_abandon(batch_sink *k);
 
 #endif

@@ -34,9 +34,12 @@ hp_error batch_plan_range(hp_planner *p, const batch_in *in, batch_out *out, siz
             o->status = r.status;
             o->raw_code = r.raw_code;
             memcpy(o->achieved, r.achieved, sizeof o->achieved);
-            o->pose_error = r.pose_error;
+            memcpy(o->commanded, r.commanded, sizeof o->commanded);
             for (int k = 0; k < n; ++k) {
                 o->pressure[k] = r.bladders[k].pressure;
+                o->ri[k] = r.bladders[k].ri;
+                o->ro[k] = r.bladders[k].ro;
+                o->stretch[k] = r.bladders[k].stretch;
                 o->binding[k] = r.bladders[k].binding;
                 prev[k] = r.bladders[k].pressure;
             }
@@ -56,9 +59,12 @@ int batch_same(const batch_out *a, const batch_out *b, int n)
         a->iterations != b->iterations)
         return 0;
     if (memcmp(a->achieved, b->achieved, sizeof a->achieved) != 0) return 0;
-    if (memcmp(&a->pose_error, &b->pose_error, sizeof a->pose_error) != 0) return 0;
+    if (memcmp(a->commanded, b->commanded, sizeof a->commanded) != 0) return 0;
     for (int k = 0; k < n; ++k)
         if (memcmp(&a->pressure[k], &b->pressure[k], sizeof(double)) != 0 ||
+            memcmp(&a->ri[k], &b->ri[k], sizeof(double)) != 0 ||
+            memcmp(&a->ro[k], &b->ro[k], sizeof(double)) != 0 ||
+            memcmp(&a->stretch[k], &b->stretch[k], sizeof(double)) != 0 ||
             a->binding[k] != b->binding[k])
             return 0;
     return 1;
@@ -89,40 +95,66 @@ static int make_planner(const hp_layout *L, const hp_settings *s, hp_planner **p
     return 0;
 }
 
-static void sleep_ms(long ms)
+int batch_engine_init(batch_engine *e, const hp_layout *L, const hp_settings *s, int jobs)
 {
-    struct timespec ts = {ms / 1000, (ms % 1000) * 1000000L};
-    nanosleep(&ts, NULL);
+    memset(e, 0, sizeof *e);
+    e->L = L;
+    e->s = s;
+    e->jobs = jobs < 1 ? 1 : jobs;
+    if (make_planner(L, s, &e->p)) return 1;
+    if (nominal_pressures(e->p, e->prev) != HP_OK) {
+        fprintf(stderr, "headplan batch: nominal pressures: %s\n", hp_planner_error(e->p));
+        return 1;
+    }
+    return 0;
 }
 
-int batch_run(const hp_layout *L, const hp_settings *s, const batch_in *in, batch_out *out,
-              size_t rows, int jobs, void (*progress_cb)(size_t done, size_t total),
-              size_t *repaired_rows)
+void batch_engine_free(batch_engine *e)
 {
-    *repaired_rows = 0;
-    if (jobs < 1) jobs = 1;
-    if ((size_t)jobs > rows) jobs = rows > 0 ? (int)rows : 1;
+    hp_planner_destroy(e->p);
+    e->p = NULL;
+}
 
-    /* Outputs and per-job progress live in shared memory so the workers write in place. */
+/* The state after row i-1 of this block: the last good row before it, else the state the
+ * block started from. */
+static void state_before(const batch_out *out, size_t i, const double *start, int n,
+                         double *prev)
+{
+    size_t j = i;
+    while (j > 0 && out[j - 1].bad) --j;
+    memcpy(prev, j > 0 ? out[j - 1].pressure : start, (size_t)n * sizeof *prev);
+}
+
+int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t rows)
+{
+    const int n = e->L->n;
+    int jobs = e->jobs;
+    if ((size_t)jobs > rows) jobs = rows > 0 ? (int)rows : 1;
+    if (jobs == 1) {
+        if (batch_plan_range(e->p, in, out, 0, rows, e->prev, NULL) != HP_OK) {
+            fprintf(stderr, "headplan batch: %s\n", hp_planner_error(e->p));
+            return 1;
+        }
+        return 0;
+    }
+
+    /* Outputs live in shared memory so the workers write in place. */
     size_t out_bytes = rows * sizeof *out + 1;
     batch_out *shared = mmap(NULL, out_bytes, PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS,
                              -1, 0);
-    volatile size_t *progress = mmap(NULL, (size_t)jobs * sizeof(size_t) * 2,
-                                     PROT_READ | PROT_WRITE, MAP_SHARED | MAP_ANONYMOUS, -1, 0);
-    if (shared == MAP_FAILED || progress == MAP_FAILED) {
+    if (shared == MAP_FAILED) {
         fprintf(stderr, "headplan batch: cannot map shared memory: %s\n", strerror(errno));
         return 1;
     }
-    volatile size_t *failed = progress + jobs;
     size_t chunk = (rows + (size_t)jobs - 1) / (size_t)jobs;
+    double start[HP_MAX_BLADDERS];
+    memcpy(start, e->prev, sizeof start);
 
     pid_t pids[256];
     int started = 0, rc = 0;
     fflush(NULL);
     for (int k = 0; k < jobs; ++k) {
         size_t from = (size_t)k * chunk, to = from + chunk < rows ? from + chunk : rows;
-        progress[k] = 0;
-        failed[k] = 0;
         pid_t pid = fork();
         if (pid < 0) {
             fprintf(stderr, "headplan batch: fork: %s\n", strerror(errno));
@@ -135,79 +167,52 @@ int batch_run(const hp_layout *L, const hp_settings *s, const batch_in *in, batc
             if (getppid() == 1) _exit(1);
             hp_planner *p = NULL;
             double prev[HP_MAX_BLADDERS];
-            int bad = make_planner(L, s, &p) || nominal_pressures(p, prev) != HP_OK ||
-                      batch_plan_range(p, in, shared, from, to, prev, &progress[k]) != HP_OK;
-            if (bad) {
-                if (p) fprintf(stderr, "headplan batch: %s\n", hp_planner_error(p));
-                failed[k] = 1;
-            }
+            int bad = make_planner(e->L, e->s, &p) || nominal_pressures(p, prev) != HP_OK;
+            if (!bad && k == 0) memcpy(prev, start, sizeof prev); /* the true state */
+            bad = bad || batch_plan_range(p, in, shared, from, to, prev, NULL) != HP_OK;
+            if (bad && p) fprintf(stderr, "headplan batch: %s\n", hp_planner_error(p));
             hp_planner_destroy(p);
             _exit(bad ? 1 : 0);
         }
         pids[started++] = pid;
     }
-    /* Wait, reporting progress; a worker that dies by a signal fails the run. */
-    int live = started;
-    while (live > 0) {
-        for (int k = 0; k < started; ++k) {
-            if (pids[k] <= 0) continue;
-            int st;
-            pid_t w = waitpid(pids[k], &st, WNOHANG);
-            if (w == pids[k]) {
-                if (!WIFEXITED(st) || WEXITSTATUS(st) != 0) {
-                    if (WIFSIGNALED(st))
-                        fprintf(stderr, "headplan batch: job %d killed by signal %d\n", k,
-                                WTERMSIG(st));
-                    rc = 1;
-                }
-                pids[k] = 0;
-                --live;
-            }
+    /* A worker that fails or dies by a signal fails the run. */
+    for (int k = 0; k < started; ++k) {
+        int st;
+        while (waitpid(pids[k], &st, 0) < 0 && errno == EINTR) {}
+        if (!WIFEXITED(st) || WEXITSTATUS(st) != 0) {
+            if (WIFSIGNALED(st))
+                fprintf(stderr, "headplan batch: job %d killed by signal %d\n", k, WTERMSIG(st));
+            rc = 1;
         }
-        if (progress_cb) {
-            size_t done = 0;
-            for (int k = 0; k < jobs; ++k) done += progress[k];
-            progress_cb(done, rows);
-        }
-        if (live > 0) sleep_ms(100);
     }
-    for (int k = 0; k < jobs; ++k) rc |= failed[k] ? 1 : 0;
 
     /* Repair: re-plan each later shard's head from the true previous pressures until a row
      * matches the guess. */
-    if (rc == 0 && jobs > 1) {
-        hp_planner *p = NULL;
+    for (int k = 1; rc == 0 && k < jobs; ++k) {
+        size_t from = (size_t)k * chunk, to = from + chunk < rows ? from + chunk : rows;
         double prev[HP_MAX_BLADDERS];
-        if (make_planner(L, s, &p) || nominal_pressures(p, prev) != HP_OK) rc = 1;
-        for (int k = 1; rc == 0 && k < jobs; ++k) {
-            size_t from = (size_t)k * chunk, to = from + chunk < rows ? from + chunk : rows;
-            /* True state: the pressures after the last good row before this shard. */
-            size_t j = from;
-            while (j > 0 && shared[j - 1].bad) --j;
-            if (j > 0) memcpy(prev, shared[j - 1].pressure, sizeof prev);
-            else nominal_pressures(p, prev);
-            for (size_t i = from; i < to; ++i) {
-                batch_out fresh;
-                batch_out tmp[1];
-                if (batch_plan_range(p, in + i, tmp, 0, 1, prev, NULL) != HP_OK) {
-                    fprintf(stderr, "headplan batch: %s\n", hp_planner_error(p));
-                    rc = 1;
-                    break;
-                }
-                fresh = tmp[0];
-                int same = batch_same(&fresh, &shared[i], L->n);
-                if (!same) {
-                    shared[i] = fresh;
-                    *repaired_rows += 1;
-                }
-                /* Equal non-bad rows mean equal state from here on. */
-                if (same && !fresh.bad) break;
+        state_before(shared, from, start, n, prev);
+        for (size_t i = from; i < to; ++i) {
+            batch_out fresh[1];
+            if (batch_plan_range(e->p, in + i, fresh, 0, 1, prev, NULL) != HP_OK) {
+                fprintf(stderr, "headplan batch: %s\n", hp_planner_error(e->p));
+                rc = 1;
+                break;
             }
+            int same = batch_same(&fresh[0], &shared[i], n);
+            if (!same) {
+                shared[i] = fresh[0];
+                e->repaired += 1;
+            }
+            /* Equal non-bad rows mean equal state from here on. */
+            if (same && !fresh[0].bad) break;
         }
-        hp_planner_destroy(p);
     }
-    if (rc == 0) memcpy(out, shared, rows * sizeof *out);
+    if (rc == 0) {
+        memcpy(out, shared, rows * sizeof *out);
+        state_before(out, rows, start, n, e->prev);
+    }
     munmap(shared, out_bytes);
-    munmap((void *)progress, (size_t)jobs * sizeof(size_t) * 2);
     return rc;
 }

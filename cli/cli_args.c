@@ -1,6 +1,7 @@
 /* Strict parsing of command-line values (see cli_args.h). */
 #include "cli/cli_args.h"
 #include "cli/exit_codes.h"
+#include "scene/text_check.h"
 
 #include <errno.h>
 #include <math.h>
@@ -8,13 +9,34 @@
 #include <stdlib.h>
 #include <string.h>
 
+void hp_cli_put_escaped(FILE *f, const char *s)
+{
+    size_t len = strlen(s);
+    for (size_t i = 0; i < len;) {
+        int nul = 0;
+        long bad = hp_text_bad_byte(s + i, len - i, &nul);
+        size_t clean = bad < 0 ? len - i : (size_t)bad;
+        for (size_t k = 0; k < clean; ++k) {
+            unsigned char c = (unsigned char)s[i + k];
+            if (c < 0x20 || c == 0x7f) fprintf(f, "\\x%02x", c);
+            else fputc(c, f);
+        }
+        i += clean;
+        if (i < len) fprintf(f, "\\x%02x", (unsigned char)s[i++]);
+    }
+}
+
 int hp_cli_fail(int status, const char *cmd, const char *fmt, ...)
 {
+    /* Echoed text (a path, an option, a key from a file) may hold control characters or
+     * broken UTF-8: the message stays one line of clean text. */
+    char buf[2048];
     va_list ap;
-    fprintf(stderr, "headplan %s: ", cmd);
     va_start(ap, fmt);
-    vfprintf(stderr, fmt, ap);
+    vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
+    fprintf(stderr, "headplan %s: ", cmd);
+    hp_cli_put_escaped(stderr, buf);
     fputc('\n', stderr);
     return status;
 }
@@ -112,11 +134,19 @@ int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
 const char *hp_cli_fmt(char buf[HP_FMT_MAX], double v)
 {
     /* The fewest significant digits that read back to the same double: stable across runs
-     * and machines, and without the noise digits of a fixed %.17g. */
-    for (int prec = 15; prec <= 17; ++prec) {
-        snprintf(buf, HP_FMT_MAX, "%.*g", prec, v);
-        if (strtod(buf, NULL) == v || prec == 17) break;
+     * and machines, and without the noise digits of a fixed %.17g. Literal formats (not
+     * "%.*g"): glibc takes a slow positional path for '*', and batch prints ~60 numbers a
+     * row. Whole numbers (0, pressures on a limit) skip the search. */
+    if (v == 0.0 || (fabs(v) < 1e15 && v == (double)(long long)v)) {
+        snprintf(buf, HP_FMT_MAX, "%.0f", v);
+        if (v == 0.0 && signbit(v)) snprintf(buf, HP_FMT_MAX, "-0");
+        return buf;
     }
+    snprintf(buf, HP_FMT_MAX, "%.15g", v);
+    if (strtod(buf, NULL) == v) return buf;
+    snprintf(buf, HP_FMT_MAX, "%.16g", v);
+    if (strtod(buf, NULL) == v) return buf;
+    snprintf(buf, HP_FMT_MAX, "%.17g", v);
     return buf;
 }
 

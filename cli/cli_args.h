@@ -33,7 +33,12 @@ int hp_cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void)
                       const char *const *names, const char **const *slots, int nopts,
                       int *json, const char **scene);
 
-/* Prints "headplan CMD: message" and a newline to stderr; returns status. */
+/* Writes s to f with control characters (and DEL) as \xNN, and every byte that is not
+ * part of well-formed UTF-8 as \xNN: echoed text cannot break a message's one line. */
+void hp_cli_put_escaped(FILE *f, const char *s);
+
+/* Prints "headplan CMD: message" and a newline to stderr, the message escaped as by
+ * hp_cli_put_escaped; returns status. */
 int hp_cli_fail(int status, const char *cmd, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))

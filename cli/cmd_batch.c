@@ -1,39 +1,61 @@
-/* headplan batch: plan every row of a trace, in order, into CSV or JSON Lines. */
+/* headplan batch: plan every row of a trace, in order, into CSV or JSON Lines, streaming:
+ * memory does not grow with the number of rows. */
 #define _POSIX_C_SOURCE 200809L
 #include "cli/batch.h"
 #include "cli/batch_output.h"
+#include "cli/cli_output.h"
 #include "cli/cli_scene.h"
 #include "cli/commands.h"
+#include "cli/sha256.h"
 
+#include <errno.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 static const char *const CMD = "batch";
 
+/* Rows planned per block and job: large enough that a fork per block costs little, small
+ * enough that memory stays a few MB. */
+#define BLOCK_PER_JOB 8192
+
 static void help(void)
 {
-    printf("usage: headplan batch SCENE [TRACE] [-o OUT] [--format csv|jsonl]\n"
-           "                      [--backend NAME] [--level NAME] [--rows deviation|correction]\n"
-           "                      [--jobs N] [--no-progress] [--no-times]\n\n"
-           "Plans every row of TRACE (default: the scene's trace) with the scene's layout and\n"
-           "writes one output row per input row, in order: line, t_s, status, achieved pose\n"
-           "(mm, deg), pose_error, each bladder's pressure (Pa), binding limits, iterations\n"
-           "and solve_time_us. Rate limits carry from row to row (each plan starts from the\n"
-           "previous row's pressures). A bad row is reported on stderr with its line and\n"
-           "gets status bad-row; the others go on. -o writes OUT.partial-PID and renames it\n"
-           "to OUT only when complete. --jobs N runs N processes and gives the same output\n"
-           "as one job. --no-times drops the solve_time_us column (a measurement), so two\n"
-           "runs' outputs are byte-identical. A summary goes to stderr.\n\n"
-           "exit: 0 all reached, 1 some only closest, 65 bad rows or scene, 66 no input,\n"
-           "70 solver failure, 73 cannot write OUT\n");
+    printf("usage: headplan batch SCENE [TRACE|-] [-o OUT|-] [--format csv|jsonl]\n"
+           "                      [--rows deviation|correction] [--backend NAME] [--level NAME]\n"
+           "                      [--jobs N] [--strict] [--no-progress] [--no-times]\n\n"
+           "Plans every row of TRACE (default: the scene's trace; '-': standard input, read\n"
+           "as a stream) with the scene's layout and writes one output row per input row, in\n"
+           "order, after a metadata record: desired, achieved and error pose (mm, deg), the\n"
+           "commanded directions, pose_error_mm and _deg, each bladder's pressure (Pa), radii\n"
+           "(mm) and stretch, binding limits, iterations and solve_time_us. Rate limits carry\n"
+           "from row to row. A bad row is reported on stderr with its line and gets status\n"
+           "bad-row; the others go on.\n\n"
+           "The kind of rows is never guessed: the trace's first line\n"
+           "'# headplan-trace: rows=deviation' (or =correction; JSON Lines: a first record\n"
+           "{\"headplan_trace\": 1, \"rows\": ...}), --rows, or the scene's trace.rows when the\n"
+           "scene's own trace is used. Two that disagree, or none: an error. A deviation's\n"
+           "correction is its exact inverse rigid motion about the pivot.\n\n"
+           "-o OUT writes a temporary file beside OUT and renames it when complete; OUT may\n"
+           "not be a symbolic link, a device or FIFO, or an input. -o - (or no -o) is\n"
+           "standard output. The format is --format, else OUT's extension (.csv, .jsonl),\n"
+           "else an error (standard output: CSV). --jobs N runs N processes and gives the same output as one job.\n"
+           "--no-times drops solve_time_us (a measurement) so two runs' outputs are\n"
+           "byte-identical. Rows stopped by the time budget (solver.max_time_s) depend on\n"
+           "machine load: their output is not reproducible run to run; the summary on\n"
+           "stderr counts them.\n\n"
+           "exit: 0 finished (rows reached or only closest), 1 some only closest with\n"
+           "--strict, 64 usage, 65 bad rows, bad scene or rows kind, 66 no input, 70 solver\n"
+           "failure or time/iteration limit, 73 OUT refused or cannot be created, 74 a write\n"
+           "failed\n");
 }
 
 typedef struct {
     const char *scene, *trace, *out, *format, *backend, *level, *rows;
     long jobs;
-    int progress, times;
+    int progress, times, strict;
 } batch_args;
 
 static int parse(int argc, char **argv, batch_args *a)
@@ -51,6 +73,7 @@ static int parse(int argc, char **argv, batch_args *a)
         }
         if (strcmp(argv[i], "--no-progress") == 0) { a->progress = 0; continue; }
         if (strcmp(argv[i], "--no-times") == 0) { a->times = 0; continue; }
+        if (strcmp(argv[i], "--strict") == 0) { a->strict = 1; continue; }
 #define OPT(name, field)                                                                      \
     if ((m = hp_cli_opt(CMD, argc, argv, &i, name, &v)) != 0) {                               \
         if (m < 0) return HP_EXIT_USAGE;                                                      \
@@ -84,132 +107,211 @@ static int parse(int argc, char **argv, batch_args *a)
     return -1;
 }
 
-/* Reads every row first: shards need random access, and bad rows are reported in order. */
-static int read_rows(const char *path, const hp_trace_rows *rows_override, batch_in **out,
-                     size_t *count, size_t *bad)
-{
-    hp_trace_reader *r = NULL;
-    hp_diag d = {{0}};
-    hp_error e = hp_trace_open(path, rows_override, &r, &d);
-    if (e != HP_OK)
-        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
-    size_t n = 0, cap = 1024;
-    batch_in *rows = malloc(cap * sizeof *rows);
-    *bad = 0;
-    for (;;) {
-        if (!rows) {
-            hp_trace_close(r);
-            return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
-        }
-        hp_trace_row row;
-        e = hp_trace_next(r, &row, &d);
-        if (e == HP_ERR_STATE) break;
-        if (e == HP_ERR_IO) {
-            hp_trace_close(r);
-            free(rows);
-            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s", d.text);
-        }
-        if (n == cap) {
-            cap *= 2;
-            batch_in *grown = realloc(rows, cap * sizeof *rows);
-            if (!grown) free(rows);
-            rows = grown;
-            if (!rows) continue;
-        }
-        batch_in *b = &rows[n++];
-        memset(b, 0, sizeof *b);
-        if (e == HP_OK) {
-            b->line = row.line;
-            b->t = row.t;
-            memcpy(b->correction, row.correction, sizeof b->correction);
-        } else {
-            /* The message starts "FILE:LINE:"; keep the line for the output row. */
-            const char *colon = strchr(d.text, ':');
-            b->line = colon ? strtol(colon + 1, NULL, 10) : 0;
-            b->bad = 1;
-            b->msg = strdup(d.text);
-            ++*bad;
-        }
-    }
-    hp_trace_close(r);
-    *out = rows;
-    *count = n;
-    return 0;
-}
+/* ---- the summary: counts and a log-histogram of plan times (memory flat in rows) ---- */
 
-static void draw_progress(size_t done, size_t total)
-{
-    int width = 40, fill = total ? (int)((double)width * (double)done / (double)total) : width;
-    fprintf(stderr, "\r[");
-    for (int i = 0; i < width; ++i) fputc(i < fill ? '#' : '.', stderr);
-    fprintf(stderr, "] %3d%% %zu/%zu", total ? (int)(100.0 * (double)done / (double)total) : 100,
-            done, total);
-    fflush(stderr);
-}
+#define TIME_BINS 1000 /* 100 per decade from 0.01 us to 1e8 us: quantiles to 2.3 % */
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
+typedef struct {
+    size_t rows, reached, closest, failed, time_limit, invalid, bad;
+    double worst_mm[2], worst_deg[2]; /* [0] reached rows, [1] closest rows */
+    size_t time_bin[TIME_BINS], timed;
+} summary;
 
-/* Prints the summary and returns the exit status the rows call for. */
-static int summarise(const batch_in *in, const batch_out *out, size_t rows, int jobs,
-                     size_t repaired)
+static void tally(summary *S, const batch_in *in, const batch_out *out, size_t rows)
 {
-    size_t reached = 0, closest = 0, failed = 0, bad = 0, invalid = 0;
-    double worst_closest = 0.0, worst_reached = 0.0;
-    double *times = malloc((rows + 1) * sizeof *times);
-    size_t nt = 0;
     for (size_t i = 0; i < rows; ++i) {
         const batch_out *o = &out[i];
+        S->rows++;
         if (o->bad) {
-            fprintf(stderr, "headplan batch: %s\n", in[i].msg ? in[i].msg : "bad row");
-            ++bad;
+            S->bad++;
             continue;
         }
-        if (times) times[nt++] = o->solve_time;
+        double us = o->solve_time * 1e6;
+        double at = us > 0 ? floor((log10(us) + 2.0) * 100.0) : 0.0;
+        int bin = at < 0 ? 0 : at >= TIME_BINS ? TIME_BINS - 1 : (int)at; /* clamp, then cast */
+        S->time_bin[bin]++;
+        S->timed++;
+        int which = -1;
         switch (o->status) {
-        case HP_STATUS_REACHED:
-            ++reached;
-            if (o->pose_error > worst_reached) worst_reached = o->pose_error;
-            break;
-        case HP_STATUS_CLOSEST:
-            ++closest;
-            if (o->pose_error > worst_closest) worst_closest = o->pose_error;
-            break;
+        case HP_STATUS_REACHED: S->reached++; which = 0; break;
+        case HP_STATUS_CLOSEST: S->closest++; which = 1; break;
         case HP_STATUS_INVALID_INPUT:
-            ++invalid;
+            S->invalid++;
             fprintf(stderr, "headplan batch: line %ld: invalid correction\n", in[i].line);
             break;
         default:
-            ++failed;
+            S->failed++;
+            if (o->status == HP_STATUS_TIME_LIMIT) S->time_limit++;
             fprintf(stderr, "headplan batch: line %ld: %s\n", in[i].line,
                     hp_status_name(o->status));
             break;
         }
+        if (which < 0) continue;
+        double want[6], got[6];
+        hp_pose_to_clinical(in[i].correction, want);
+        hp_pose_to_clinical(o->achieved, got);
+        for (int k = 0; k < 6; ++k) {
+            if (!o->commanded[k]) continue;
+            double e = fabs(got[k] - want[k]);
+            double *w = k < 3 ? &S->worst_mm[which] : &S->worst_deg[which];
+            if (e > *w) *w = e;
+        }
     }
+}
+
+static double time_quantile(const summary *S, double q)
+{
+    size_t want = (size_t)ceil(q * (double)S->timed), seen = 0;
+    for (int b = 0; b < TIME_BINS; ++b) {
+        seen += S->time_bin[b];
+        if (seen >= want && seen > 0) return pow(10.0, (b + 1) / 100.0 - 2.0);
+    }
+    return 0.0;
+}
+
+/* Prints the summary and returns the exit status the rows call for. */
+static int summarise(const summary *S, int jobs, size_t repaired, int strict)
+{
     fprintf(stderr,
-            "headplan batch: %zu rows: %zu reached, %zu closest, %zu failed, %zu invalid, "
-            "%zu bad rows\n",
-            rows, reached, closest, failed, invalid, bad);
+            "headplan batch: %zu rows: %zu reached, %zu closest, %zu failed (%zu at the time "
+            "budget), %zu invalid, %zu bad rows\n",
+            S->rows, S->reached, S->closest, S->failed, S->time_limit, S->invalid, S->bad);
     fprintf(stderr,
-            "headplan batch: worst pose error %.3g (mm or deg) on reached rows, %.3g on "
-            "closest rows\n",
-            worst_reached, worst_closest);
-    if (times && nt) {
-        qsort(times, nt, sizeof *times, cmp_double);
-        size_t p99 = (size_t)ceil(0.99 * (double)nt) - 1;
+            "headplan batch: worst pose error %.3g mm, %.3g deg on reached rows; %.3g mm, "
+            "%.3g deg on closest rows\n",
+            S->worst_mm[0], S->worst_deg[0], S->worst_mm[1], S->worst_deg[1]);
+    if (S->timed)
         fprintf(stderr,
-                "headplan batch: time per plan: median %.1f us, p99 %.1f us; %d job%s, %zu "
-                "row%s re-planned at shard joins\n",
-                times[nt / 2] * 1e6, times[p99] * 1e6, jobs, jobs == 1 ? "" : "s", repaired,
-                repaired == 1 ? "" : "s");
+                "headplan batch: time per plan: median %.3g us, p99 %.3g us (to 2.3%%); %d "
+                "job%s, %zu row%s re-planned at shard joins\n",
+                time_quantile(S, 0.5), time_quantile(S, 0.99), jobs, jobs == 1 ? "" : "s",
+                repaired, repaired == 1 ? "" : "s");
+    if (S->time_limit)
+        fprintf(stderr,
+                "headplan batch: %zu row%s stopped at the time budget: their output depends on "
+                "machine load and is not reproducible run to run\n",
+                S->time_limit, S->time_limit == 1 ? "" : "s");
+    if (S->failed) return HP_EXIT_SOFTWARE;
+    if (S->bad || S->invalid) return HP_EXIT_DATAERR;
+    return S->closest && strict ? HP_EXIT_CLOSEST : HP_EXIT_OK;
+}
+
+/* ---- inputs ---- */
+
+typedef struct {
+    FILE *f;
+    const char *name;     /* for messages */
+    char sha[65];
+    int hashed;           /* a regular file, hashed before reading */
+    struct stat st;
+} trace_input;
+
+/* Opens TRACE ("-": stdin) and hashes it when it is a regular file. */
+static int open_trace(const char *path, trace_input *t)
+{
+    memset(t, 0, sizeof *t);
+    if (strcmp(path, "-") == 0) {
+        t->f = stdin;
+        t->name = "<stdin>";
+    } else {
+        t->name = path;
+        if (!(t->f = fopen(path, "rb")))
+            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
     }
-    free(times);
-    if (failed) return HP_EXIT_SOFTWARE;
-    if (bad || invalid) return HP_EXIT_DATAERR;
-    return closest ? HP_EXIT_CLOSEST : HP_EXIT_OK;
+    if (fstat(fileno(t->f), &t->st) != 0 || S_ISDIR(t->st.st_mode))
+        return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot read: %s", t->name,
+                           strerror(S_ISDIR(t->st.st_mode) ? EISDIR : errno));
+    if (S_ISREG(t->st.st_mode) && t->f != stdin) {
+        if (hp_sha256_file(path, t->sha) != 0)
+            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot read: %s", path, strerror(errno));
+        t->hashed = 1;
+    }
+    return 0;
+}
+
+static void close_trace(trace_input *t)
+{
+    if (t->f && t->f != stdin) fclose(t->f);
+    t->f = NULL;
+}
+
+/* Settles where the kind of rows comes from and opens the reader. */
+static int open_reader(const batch_args *a, const hp_scene *sc, const trace_input *t,
+                       hp_trace_reader **r)
+{
+    hp_trace_rows opt = HP_TRACE_CORRECTION, scene_rows = sc->trace_rows;
+    if (a->rows && hp_trace_rows_parse(a->rows, &opt) != HP_OK)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+                           "--rows: '%s' is neither 'deviation' nor 'correction'", a->rows);
+    int scene_trace = !a->trace; /* the scene's trace.rows speaks only for its own trace */
+    if (a->rows && scene_trace && opt != scene_rows)
+        return hp_cli_fail(HP_EXIT_DATAERR, CMD,
+                           "--rows says %s but the scene's trace.rows says %s: they must agree",
+                           hp_trace_rows_name(opt), hp_trace_rows_name(scene_rows));
+    const hp_trace_rows *given = a->rows ? &opt : scene_trace ? &scene_rows : NULL;
+    const char *from = a->rows ? "--rows" : scene_trace ? "the scene's trace.rows" : "--rows";
+    hp_diag d = {{0}};
+    hp_error e = hp_trace_open_stream(t->f, t->name, given, from, r, &d);
+    if (e != HP_OK)
+        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
+    return 0;
+}
+
+/* Reads up to cap rows into in; *end is set at the end of the trace. Bad rows are reported
+ * at once, in order. Returns 0, or an exit status when reading cannot go on. */
+static int read_block(hp_trace_reader *r, batch_in *in, size_t cap, size_t *n, int *end)
+{
+    *n = 0;
+    while (*n < cap) {
+        hp_trace_row row;
+        hp_diag d = {{0}};
+        hp_error e = hp_trace_next(r, &row, &d);
+        if (e == HP_END) {
+            *end = 1;
+            return 0;
+        }
+        if (e == HP_ERR_IO) return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s", d.text);
+        if (e != HP_OK && e != HP_ERR_PARSE) return hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s", d.text);
+        batch_in *b = &in[(*n)++];
+        memset(b, 0, sizeof *b);
+        b->line = row.line;
+        if (e == HP_OK) {
+            b->t = row.t;
+            memcpy(b->correction, row.correction, sizeof b->correction);
+        } else {
+            b->bad = 1;
+            b->msg = strdup(d.text);
+            hp_cli_fail(0, CMD, "%s", d.text);
+        }
+    }
+    return 0;
+}
+
+/* Plans the whole trace block by block into the sink. */
+static int run_blocks(const batch_args *a, hp_trace_reader *r, batch_engine *eng,
+                      batch_sink *sink, summary *S)
+{
+    size_t cap = (size_t)BLOCK_PER_JOB * (size_t)a->jobs;
+    batch_in *in = calloc(cap, sizeof *in);
+    batch_out *out = calloc(cap, sizeof *out);
+    int rc = in && out ? 0 : hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    int end = 0, show = a->progress && isatty(2);
+    while (rc == 0 && !end) {
+        size_t n = 0;
+        rc = read_block(r, in, cap, &n, &end);
+        if (rc == 0 && n > 0 && batch_engine_run(eng, in, out, n) != 0)
+            rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "the run failed; no output written");
+        if (rc == 0) {
+            tally(S, in, out, n);
+            if (batch_sink_rows(sink, in, out, n) != 0) rc = HP_EXIT_IOERR;
+        }
+        for (size_t i = 0; i < n; ++i) free(in[i].msg);
+        if (show) fprintf(stderr, "\r%zu rows", S->rows);
+    }
+    if (show) fputc('\n', stderr);
+    free(in);
+    free(out);
+    return rc;
 }
 
 int hp_cmd_batch(int argc, char **argv)
@@ -218,62 +320,68 @@ int hp_cmd_batch(int argc, char **argv)
     int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;
     hp_trace_format fmt = HP_TRACE_CSV;
-    if (a.format && hp_trace_format_parse(a.format, &fmt) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD, "--format: unknown format '%s' (csv, jsonl)",
-                           a.format);
-    hp_trace_rows rows_kind;
-    if (a.rows && hp_trace_rows_parse(a.rows, &rows_kind) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD,
-                           "--rows: '%s' is neither 'deviation' nor 'correction'", a.rows);
+    if ((rc = batch_output_format(a.format, a.out, &fmt))) return rc;
 
     hp_scene *sc = NULL;
     if ((rc = hp_cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
     hp_settings s;
+    char scene_sha[65];
+    struct stat scene_st;
     if ((rc = hp_cli_settings(CMD, sc, a.backend, a.level, &s))) {
         free(sc);
         return rc;
     }
-    const char *trace = a.trace;
-    hp_trace_rows scene_rows = sc->trace_rows;
-    const hp_trace_rows *override = a.rows ? &rows_kind : NULL;
-    if (!trace) {
-        if (!sc->has_trace) {
-            free(sc);
-            return hp_cli_fail(HP_EXIT_USAGE, CMD,
-                               "missing TRACE (the scene %s names no trace)", a.scene);
-        }
-        trace = sc->trace_path;
-        if (!override) override = &scene_rows;
-    }
-    batch_in *in = NULL;
-    size_t n = 0, nbad = 0;
-    if ((rc = read_rows(trace, override, &in, &n, &nbad))) {
+    if (hp_sha256_file(a.scene, scene_sha) != 0 || stat(a.scene, &scene_st) != 0) {
         free(sc);
-        return rc;
+        return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot read: %s", a.scene, strerror(errno));
     }
-    batch_out *out = calloc(n + 1, sizeof *out);
-    size_t repaired = 0;
-    int show = a.progress && isatty(2);
-    /* Create the output before planning: an unwritable -o must not cost a whole run. */
-    FILE *dest = out ? batch_open(a.out) : NULL;
-    if (!out) {
-        rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
-    } else if (!dest) {
-        rc = HP_EXIT_CANTCREAT;
-    } else if (batch_run(&sc->layout, &s, in, out, n, (int)a.jobs, show ? draw_progress : NULL,
-                         &repaired) != 0) {
-        batch_abandon(dest, a.out);
-        rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: the run failed; no output written", trace);
-    } else {
-        if (show) fputc('\n', stderr);
-        /* The planner prepares its own copy of the layout; the names are the scene's. */
-        rc = batch_write(dest, a.out, fmt, &sc->layout, in, out, n, a.times);
-        int status = summarise(in, out, n, (int)a.jobs, repaired);
+    if (!a.trace && !sc->has_trace) {
+        free(sc);
+        return hp_cli_fail(HP_EXIT_USAGE, CMD, "missing TRACE (the scene %s names no trace)",
+                           a.scene);
+    }
+    const char *trace_path = a.trace ? a.trace : sc->trace_path;
+    trace_input t = {0};
+    hp_trace_reader *r = NULL;
+    batch_sink sink = {0};
+    batch_engine eng = {0};
+    summary *S = calloc(1, sizeof *S);
+    rc = S ? open_trace(trace_path, &t) : hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    if (rc == 0) rc = open_reader(&a, sc, &t, &r);
+    if (rc == 0) {
+        const batch_input_id ids[2] = {{"scene", a.scene, scene_st.st_dev, scene_st.st_ino},
+                                       {"trace", t.name, t.st.st_dev, t.st.st_ino}};
+        rc = batch_sink_open(&sink, a.out, fmt, &sc->layout, a.times, ids, 2);
+    }
+    if (rc == 0 && batch_engine_init(&eng, &sc->layout, &s, (int)a.jobs) != 0)
+        rc = HP_EXIT_SOFTWARE;
+    if (rc == 0) {
+        const char *from = hp_trace_states_rows(r) ? "trace" : a.rows ? "--rows"
+                                                                      : "scene trace.rows";
+        const batch_meta meta = {a.scene, scene_sha, a.trace ? a.trace : trace_path,
+                                 t.hashed ? t.sha : NULL,
+                                 hp_trace_rows_name(hp_trace_rows_of(r)), from,
+                                 hp_trace_form_name(hp_trace_form_of(r)),
+                                 hp_level_name(hp_planner_level(eng.p)), &s};
+        batch_sink_meta(&sink, &meta);
+        rc = run_blocks(&a, r, &eng, &sink, S);
+    }
+    if (rc == 0) {
+        int status = summarise(S, (int)a.jobs, eng.repaired, a.strict);
+        rc = batch_sink_commit(&sink);
         if (rc == 0) rc = status;
+    } else if (rc == HP_EXIT_IOERR && sink.path) {
+        /* A file failed: one line saying so (main reports a failed stdout). */
+        if (hp_cli_flush_output(sink.f, sink.path, CMD) == 0)
+            hp_cli_fail(0, CMD, "cannot write %s", sink.path);
+        batch_sink_abandon(&sink);
+    } else {
+        batch_sink_abandon(&sink);
     }
-    for (size_t i = 0; i < n; ++i) free(in[i].msg);
-    free(in);
-    free(out);
+    batch_engine_free(&eng);
+    hp_trace_close(r);
+    close_trace(&t);
+    free(S);
     free(sc);
     return rc;
 }

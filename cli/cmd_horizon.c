@@ -165,7 +165,7 @@ static int read_trace(const char *path, const hp_trace_rows *ovr, hp_trace_row *
             continue;
         }
         e = hp_trace_next(r, &rows[n], &d);
-        if (e == HP_ERR_STATE) break;
+        if (e == HP_END) break;
         if (e != HP_OK) {
             rc = hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
             break;

@@ -11,7 +11,8 @@ enum {
     HP_EXIT_DATAERR = 65,    /* bad data: a value out of range, a malformed scene */
     HP_EXIT_NOINPUT = 66,    /* an input file cannot be opened */
     HP_EXIT_SOFTWARE = 70,   /* solver failure or internal error */
-    HP_EXIT_CANTCREAT = 73,  /* an output file cannot be created */
+    HP_EXIT_CANTCREAT = 73,  /* an output file cannot be created or is refused (batch -o) */
+    HP_EXIT_IOERR = 74,      /* a write, flush or close of stdout or a file failed */
 };
 
 #endif

@@ -1,5 +1,7 @@
 /* headplan: the command-line program. Dispatches to one subcommand; stdout carries only
  * results, every diagnostic goes to stderr. */
+#include "cli/cli_args.h"
+#include "cli/cli_output.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "headplan/headplan.h"
@@ -33,26 +35,34 @@ static void usage(FILE *out)
         fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
     fprintf(out, "\n  --version  print the version\n  --help     this text\n"
                  "\nexit status: 0 ok, 1 closest reachable only, 64 usage, 65 bad data,\n"
-                 "66 cannot open input, 70 solver or internal failure, 73 cannot write output\n");
+                 "66 cannot open input, 70 solver or internal failure, 73 output refused or cannot\n"
+                 "be created, 74 a write to stdout or a file failed\n");
 }
 
 int main(int argc, char **argv)
 {
     setlocale(LC_ALL, "C");
+    hp_cli_guard_std_fds();
     if (argc < 2) {
         usage(stderr);
         return HP_EXIT_USAGE;
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         usage(stdout);
-        return HP_EXIT_OK;
+        return hp_cli_finish_stdout("--help", HP_EXIT_OK);
     }
     if (strcmp(argv[1], "--version") == 0) {
         printf("headplan %s\n", hp_version());
-        return HP_EXIT_OK;
+        return hp_cli_finish_stdout("--version", HP_EXIT_OK);
     }
+    /* Every subcommand's stdout is checked here, after it returns: a result that could not
+     * be written in full is never exit 0. */
     for (size_t i = 0; i < n_commands; ++i)
-        if (strcmp(argv[1], commands[i].name) == 0) return commands[i].run(argc - 1, argv + 1);
-    fprintf(stderr, "headplan: unknown command '%s' (see headplan --help)\n", argv[1]);
+        if (strcmp(argv[1], commands[i].name) == 0)
+            return hp_cli_finish_stdout(commands[i].name,
+                                        commands[i].run(argc - 1, argv + 1));
+    fprintf(stderr, "headplan: unknown command '");
+    hp_cli_put_escaped(stderr, argv[1]);
+    fprintf(stderr, "' (see headplan --help)\n");
     return HP_EXIT_USAGE;
 }

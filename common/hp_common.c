@@ -8,6 +8,7 @@
 static const char *const error_names[HP_ERR_COUNT_] = {
     "ok", "null-argument", "invalid-argument", "domain", "no-stable-radius",
     "no-convergence", "parse", "io", "out-of-memory", "solver", "state",
+    "end",
 };
 
 static const char *const error_messages[HP_ERR_COUNT_] = {
@@ -22,6 +23,7 @@ static const char *const error_messages[HP_ERR_COUNT_] = {
     "out of memory",
     "solver failure",
     "call out of order or on an object that failed to build",
+    "end of input",
 };
 
 const char *hp_error_name(hp_error e)

@@ -3,33 +3,50 @@
 #include "headplan/hp_trace.h"
 #include "headplan/hp_kinematics.h"
 #include "scene/strict_number.h"
+#include "scene/text_check.h"
 
+#include <ctype.h>
 #include <errno.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
-#define TRACE_LINE_MAX 4096
 #define TRACE_NAME_MAX 256
+#define FORM_COLS_MAX 17
+#define DIRECTIVE "# headplan-trace: rows="
 
-static const char *const trace_keys[7] = {"t_s", "x_mm", "y_mm", "z_mm",
-                                          "pitch_deg", "roll_deg", "yaw_deg"};
+/* The columns of each pose form, t_s first. */
+typedef struct form_cols {
+    int n;
+    const char *key[FORM_COLS_MAX];
+} form_cols;
+
+static const form_cols FORMS[3] = {
+    {7, {"t_s", "x_mm", "y_mm", "z_mm", "pitch_deg", "roll_deg", "yaw_deg"}},
+    {8, {"t_s", "x_mm", "y_mm", "z_mm", "qw", "qx", "qy", "qz"}},
+    {17, {"t_s", "m00", "m01", "m02", "m03_mm", "m10", "m11", "m12", "m13_mm", "m20", "m21",
+          "m22", "m23_mm", "m30", "m31", "m32", "m33"}},
+};
 
 struct hp_trace_reader {
     FILE *f;
+    int owns_f;
     char *mem;            /* copy of an in-memory trace (fmemopen does not copy) */
-    char *line;           /* getline's buffer */
-    size_t cap;
+    char line[HP_TRACE_LINE_MAX + 1];
+    size_t len;
     long lineno;
     hp_trace_format format;
     hp_trace_rows rows;
+    hp_trace_form form;
+    int form_known;       /* JSON Lines: set by the first data row */
     char name[TRACE_NAME_MAX];
-    int pending;          /* a data line was read while looking for the header */
-    char *pending_line;
-    long pending_lineno;
-    int read_errno;       /* errno of the last failed read (EISDIR for a directory) */
+    int pending;          /* non-zero: `line` holds a line (this read_line code) not yet used */
+    int stopped;          /* a line passed the limit: the reader cannot go on */
+    int stated;           /* the file states the kind of its rows */
+    int read_errno;
 };
 
 const char *hp_trace_rows_name(hp_trace_rows r)
@@ -68,37 +85,85 @@ hp_error hp_trace_format_parse(const char *s, hp_trace_format *out)
     return HP_OK;
 }
 
+const char *hp_trace_form_name(hp_trace_form f)
+{
+    switch (f) {
+    case HP_TRACE_ANGLES: return "angles";
+    case HP_TRACE_QUATERNION: return "quaternion";
+    case HP_TRACE_MATRIX: return "matrix";
+    }
+    return "unknown";
+}
+
 hp_trace_rows hp_trace_rows_of(const hp_trace_reader *r) { return r->rows; }
+hp_trace_form hp_trace_form_of(const hp_trace_reader *r) { return r->form; }
+int hp_trace_states_rows(const hp_trace_reader *r) { return r->stated; }
 
 void hp_trace_close(hp_trace_reader *r)
 {
     if (!r) return;
-    if (r->f) fclose(r->f);
+    if (r->f && r->owns_f) fclose(r->f);
     free(r->mem);
-    free(r->line);
-    free(r->pending_line);
     free(r);
 }
 
-/* Reads one physical line without its end-of-line. Returns 1 with a line, 0 at the end,
- * -1 for an I/O error, -2 for a line that is too long, has a NUL byte, or lacks its final
- * newline (a truncated file). */
-static int read_line(hp_trace_reader *r, size_t *len_out)
+/* Line-reading outcomes. */
+enum { LINE_OK = 1, LINE_EOF = 0, LINE_IOERR = -1, LINE_LONG = -2, LINE_NOEOL = -3 };
+
+/* Reads one physical line into r->line without its end of line, one byte at a time, so
+ * that nothing past the line is consumed and a line is refused as soon as it passes the
+ * limit (a stream without newlines, /dev/zero, cannot grow memory or loop). */
+static int read_line(hp_trace_reader *r)
 {
+    size_t n = 0;
+    int c;
     errno = 0;
-    ssize_t n = getline(&r->line, &r->cap, r->f);
-    if (n < 0) {
-        r->read_errno = errno;
-        return ferror(r->f) ? -1 : 0;
+    while ((c = getc_unlocked(r->f)) != EOF && c != '\n') {
+        if (n == HP_TRACE_LINE_MAX) {
+            r->lineno++;
+            r->stopped = 1;
+            return LINE_LONG;
+        }
+        r->line[n++] = (char)c;
+    }
+    if (c == EOF) {
+        if (ferror(r->f)) {
+            r->read_errno = errno;
+            return LINE_IOERR;
+        }
+        if (n == 0) return LINE_EOF;
     }
     r->lineno++;
-    size_t len = (size_t)n;
-    int had_newline = len > 0 && r->line[len - 1] == '\n';
-    if (had_newline) r->line[--len] = '\0';
-    if (len > 0 && r->line[len - 1] == '\r') r->line[--len] = '\0';
-    *len_out = len;
-    if (strlen(r->line) != len || len > TRACE_LINE_MAX || !had_newline) return -2;
-    return 1;
+    if (r->lineno == 1 && n >= 3 && memcmp(r->line, "\xEF\xBB\xBF", 3) == 0) {
+        memmove(r->line, r->line + 3, n - 3); /* a UTF-8 byte-order mark is skipped */
+        n -= 3;
+    }
+    if (n > 0 && r->line[n - 1] == '\r') --n;
+    r->line[n] = '\0';
+    r->len = n;
+    return c == EOF ? LINE_NOEOL : LINE_OK;
+}
+
+/* The one-line message for a line that could not be read, or HP_OK for a clean line. */
+static hp_error line_problem(const hp_trace_reader *r, int code, hp_diag *diag)
+{
+    if (code == LINE_IOERR)
+        return hp_diag_set(diag, HP_ERR_IO, "%s: cannot read: %s", r->name,
+                           r->read_errno ? strerror(r->read_errno) : "I/O error");
+    if (code == LINE_LONG)
+        return hp_diag_set(diag, HP_ERR_STATE,
+                           "%s:%ld: line longer than %d bytes; the rest is not read", r->name,
+                           r->lineno, HP_TRACE_LINE_MAX);
+    if (code == LINE_NOEOL)
+        return hp_diag_set(diag, HP_ERR_PARSE,
+                           "%s:%ld: truncated: the last line has no end of line", r->name,
+                           r->lineno);
+    int nul = 0;
+    long at = hp_text_bad_byte(r->line, r->len, &nul);
+    if (at >= 0)
+        return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %s", r->name, r->lineno, at + 1,
+                           nul ? "NUL byte" : "invalid UTF-8");
+    return HP_OK;
 }
 
 static int is_blank(const char *s)
@@ -108,111 +173,164 @@ static int is_blank(const char *s)
     return 1;
 }
 
-static hp_error line_problem(const hp_trace_reader *r, int code, size_t len, hp_diag *diag)
+/* A comment that a reader could take for a directive: '#', blanks, then "headplan" or
+ * "rows" in any case. Such a line must be the exact directive on line 1. */
+static int looks_like_directive(const char *s)
 {
-    if (code == -1)
-        return hp_diag_set(diag, HP_ERR_IO, "%s: cannot read: %s", r->name,
-                           r->read_errno ? strerror(r->read_errno) : "I/O error");
-    if (len > TRACE_LINE_MAX)
-        return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: line longer than %d characters",
-                           r->name, r->lineno, TRACE_LINE_MAX);
-    if (strlen(r->line) != len)
-        return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: NUL byte in line", r->name, r->lineno);
-    return hp_diag_set(diag, HP_ERR_PARSE,
-                       "%s:%ld: truncated: the last line has no end of line", r->name,
-                       r->lineno);
+    if (s[0] != '#') return 0;
+    const char *p = s + 1;
+    while (*p == ' ' || *p == '\t') ++p;
+    return strncasecmp(p, "headplan", 8) == 0 || strncasecmp(p, "rows", 4) == 0;
 }
 
-/* "# rows: deviation" sets what the rows are; other comments are skipped. */
-static hp_error csv_comment(hp_trace_reader *r, const char *s, int apply, hp_diag *diag)
+/* Parses line 1 as the directive; returns HP_OK and sets *rows, or the error with column. */
+static hp_error csv_directive(const hp_trace_reader *r, hp_trace_rows *rows, hp_diag *diag)
 {
-    const char *p = s + 1;
-    while (*p == ' ') ++p;
-    if (strncmp(p, "rows:", 5) != 0) return HP_OK;
-    p += 5;
-    while (*p == ' ') ++p;
-    char word[32];
-    size_t n = strcspn(p, " \t");
-    if (n == 0 || n >= sizeof word || !is_blank(p + n))
+    size_t k = strlen(DIRECTIVE);
+    size_t i = 0;
+    while (i < k && r->line[i] == DIRECTIVE[i]) ++i;
+    if (i < k || hp_trace_rows_parse(r->line + k, rows) != HP_OK)
         return hp_diag_set(diag, HP_ERR_PARSE,
-                           "%s:%ld: rows: expected 'deviation' or 'correction'", r->name,
-                           r->lineno);
-    memcpy(word, p, n);
-    word[n] = '\0';
-    hp_trace_rows rows;
-    if (hp_trace_rows_parse(word, &rows) != HP_OK)
-        return hp_diag_set(diag, HP_ERR_PARSE,
-                           "%s:%ld: rows: '%s' is neither 'deviation' nor 'correction'",
-                           r->name, r->lineno, word);
-    if (apply) r->rows = rows;
+                           "%s:%ld:%zu: directive must read exactly '" DIRECTIVE
+                           "deviation' or '" DIRECTIVE "correction'",
+                           r->name, r->lineno, i + 1);
     return HP_OK;
 }
 
-static hp_error csv_header(hp_trace_reader *r, int apply_rows, hp_diag *diag)
+static hp_error csv_header(hp_trace_reader *r, int *stated, hp_trace_rows *rows,
+                           hp_diag *diag)
 {
     for (;;) {
-        size_t len = 0;
-        int rc = read_line(r, &len);
-        if (rc == 0)
+        int rc = r->pending ? r->pending : read_line(r);
+        r->pending = 0;
+        if (rc == LINE_EOF)
             return hp_diag_set(diag, HP_ERR_PARSE, "%s: empty trace: no header line", r->name);
-        if (rc < 0) return line_problem(r, rc, len, diag);
-        if (is_blank(r->line)) continue;
-        if (r->line[0] == '#') {
-            hp_error e = csv_comment(r, r->line, apply_rows, diag);
-            if (e) return e;
+        hp_error e = line_problem(r, rc, diag);
+        if (e != HP_OK) return e;
+        if (looks_like_directive(r->line)) {
+            if (r->lineno != 1)
+                return hp_diag_set(diag, HP_ERR_PARSE,
+                                   "%s:%ld:1: a directive must be the first line", r->name,
+                                   r->lineno);
+            if ((e = csv_directive(r, rows, diag))) return e;
+            *stated = 1;
             continue;
         }
-        char want[128];
-        snprintf(want, sizeof want, "%s,%s,%s,%s,%s,%s,%s", trace_keys[0], trace_keys[1],
-                 trace_keys[2], trace_keys[3], trace_keys[4], trace_keys[5], trace_keys[6]);
-        if (strcmp(r->line, want) != 0)
-            return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: header must be '%s'", r->name,
-                               r->lineno, want);
-        return HP_OK;
+        if (is_blank(r->line) || r->line[0] == '#') continue;
+        for (int f = 0; f < 3; ++f) {
+            char want[256];
+            size_t used = 0;
+            for (int c = 0; c < FORMS[f].n; ++c)
+                used += (size_t)snprintf(want + used, sizeof want - used, "%s%s", c ? "," : "",
+                                         FORMS[f].key[c]);
+            if (strcmp(r->line, want) == 0) {
+                r->form = (hp_trace_form)f;
+                return HP_OK;
+            }
+        }
+        return hp_diag_set(diag, HP_ERR_PARSE,
+                           "%s:%ld:1: header must be 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,"
+                           "yaw_deg' (or the quaternion or 4x4 form of docs/batch.md)",
+                           r->name, r->lineno);
     }
 }
 
-/* A JSON Lines file may start with {"rows": "..."}; anything else is kept as data. */
-static hp_error jsonl_header(hp_trace_reader *r, int apply_rows, hp_diag *diag)
+/* A JSON Lines file may start with {"headplan_trace": 1, "rows": "..."}; a first line that
+ * is anything else is kept as data. */
+static hp_error jsonl_header(hp_trace_reader *r, int *stated, hp_trace_rows *rows,
+                             hp_diag *diag)
 {
     for (;;) {
-        size_t len = 0;
-        int rc = read_line(r, &len);
-        if (rc == 0) return HP_OK;
-        if (rc < 0) return line_problem(r, rc, len, diag);
-        if (is_blank(r->line)) continue;
-        json_error_t jerr;
-        json_t *obj = json_loadb(r->line, len, JSON_REJECT_DUPLICATES, &jerr);
-        if (obj && json_is_object(obj) && json_object_size(obj) == 1 &&
-            json_object_get(obj, "rows")) {
-            const char *s = json_string_value(json_object_get(obj, "rows"));
-            hp_trace_rows rows;
-            hp_error e = HP_OK;
-            if (!s || hp_trace_rows_parse(s, &rows) != HP_OK)
-                e = hp_diag_set(diag, HP_ERR_PARSE,
-                                "%s:%ld: rows: expected \"deviation\" or \"correction\"",
-                                r->name, r->lineno);
-            else if (apply_rows)
-                r->rows = rows;
-            json_decref(obj);
-            return e;
+        int rc = r->pending ? r->pending : read_line(r);
+        r->pending = 0;
+        if (rc == LINE_EOF) return HP_OK;
+        if (rc == LINE_IOERR || rc == LINE_LONG) return line_problem(r, rc, diag);
+        hp_diag scratch;
+        if (rc != LINE_OK || line_problem(r, rc, &scratch) != HP_OK) {
+            r->pending = rc; /* a bad line: hp_trace_next reports it */
+            return HP_OK;
         }
-        json_decref(obj);
-        r->pending = 1;
-        r->pending_line = strdup(r->line);
-        r->pending_lineno = r->lineno;
-        if (!r->pending_line) return hp_diag_set(diag, HP_ERR_NOMEM, "%s: out of memory", r->name);
-        return HP_OK;
+        if (!is_blank(r->line)) {
+            r->pending = rc;
+            break;
+        }
     }
+    json_error_t jerr;
+    json_t *obj = json_loadb(r->line, r->len, JSON_REJECT_DUPLICATES, &jerr);
+    hp_error e = HP_OK;
+    if (obj && json_is_object(obj) &&
+        (json_object_get(obj, "headplan_trace") || json_object_get(obj, "rows"))) {
+        r->pending = 0;
+        json_t *v = json_object_get(obj, "headplan_trace");
+        const char *s = json_string_value(json_object_get(obj, "rows"));
+        if (!v || !json_is_integer(v) || json_integer_value(v) != 1 || !s ||
+            json_object_size(obj) != 2 || hp_trace_rows_parse(s, rows) != HP_OK)
+            e = hp_diag_set(diag, HP_ERR_PARSE,
+                            "%s:%ld:1: header record must be exactly "
+                            "{\"headplan_trace\": 1, \"rows\": \"deviation\"} (or \"correction\")",
+                            r->name, r->lineno);
+        else
+            *stated = 1;
+    }
+    json_decref(obj);
+    return e;
 }
 
-static hp_error finish_open(hp_trace_reader *r, const hp_trace_rows *rows_override,
-                            hp_trace_reader **out, hp_diag *diag)
+/* Settles the kind of rows from the file's statement and the caller's. */
+static hp_error settle_rows(hp_trace_reader *r, int stated, hp_trace_rows file_rows,
+                            const hp_trace_rows *rows, const char *rows_from, hp_diag *diag)
 {
-    r->rows = rows_override ? *rows_override : HP_TRACE_CORRECTION;
-    int apply = rows_override == NULL;
-    hp_error e = r->format == HP_TRACE_CSV ? csv_header(r, apply, diag)
-                                           : jsonl_header(r, apply, diag);
+    const char *from = rows_from ? rows_from : "the caller";
+    if (stated && rows && *rows != file_rows)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "%s: the trace states rows=%s but %s says %s: they must agree",
+                           r->name, hp_trace_rows_name(file_rows), from,
+                           hp_trace_rows_name(*rows));
+    if (!stated && !rows)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "%s: does not state what its rows are: start it with '" DIRECTIVE
+                           "deviation' (or correction; JSON Lines: "
+                           "{\"headplan_trace\": 1, \"rows\": ...}), or give %s",
+                           r->name, from);
+    r->rows = stated ? file_rows : *rows;
+    r->stated = stated;
+    return HP_OK;
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcmp(s + n - m, suffix) == 0;
+}
+
+/* format: HP_TRACE_CSV / HP_TRACE_JSONL, or -1 to take it from the name or the content. */
+static hp_error open_common(hp_trace_reader *r, int format, const hp_trace_rows *rows,
+                            const char *rows_from, hp_trace_reader **out, hp_diag *diag)
+{
+    if (format < 0) {
+        if (ends_with(r->name, ".csv")) format = HP_TRACE_CSV;
+        else if (ends_with(r->name, ".jsonl") || ends_with(r->name, ".ndjson"))
+            format = HP_TRACE_JSONL;
+    }
+    if (format < 0) {
+        /* Look at the first non-blank line, keeping it for the header reader: no rewind. */
+        int rc;
+        while ((rc = read_line(r)) == LINE_OK && is_blank(r->line)) {}
+        if (rc == LINE_OK || rc == LINE_NOEOL) r->pending = rc;
+        if (rc == LINE_IOERR || rc == LINE_LONG) {
+            hp_error e = line_problem(r, rc, diag);
+            hp_trace_close(r);
+            return e;
+        }
+        format = (r->pending && r->line[strspn(r->line, " \t")] == '{') ? HP_TRACE_JSONL
+                                                                              : HP_TRACE_CSV;
+    }
+    r->format = (hp_trace_format)format;
+    int stated = 0;
+    hp_trace_rows file_rows = HP_TRACE_CORRECTION;
+    hp_error e = r->format == HP_TRACE_CSV ? csv_header(r, &stated, &file_rows, diag)
+                                           : jsonl_header(r, &stated, &file_rows, diag);
+    if (e == HP_OK) e = settle_rows(r, stated, file_rows, rows, rows_from, diag);
     if (e != HP_OK) {
         hp_trace_close(r);
         return e;
@@ -228,14 +346,19 @@ static hp_trace_reader *new_reader(const char *name)
     return r;
 }
 
-static int ends_with(const char *s, const char *suffix)
+hp_error hp_trace_open_stream(FILE *f, const char *name, const hp_trace_rows *rows,
+                              const char *rows_from, hp_trace_reader **out, hp_diag *diag)
 {
-    size_t n = strlen(s), m = strlen(suffix);
-    return n >= m && strcmp(s + n - m, suffix) == 0;
+    if (!f || !out) return hp_diag_set(diag, HP_ERR_NULL, "trace: NULL argument");
+    *out = NULL;
+    hp_trace_reader *r = new_reader(name);
+    if (!r) return hp_diag_set(diag, HP_ERR_NOMEM, "%s: out of memory", name ? name : "trace");
+    r->f = f;
+    return open_common(r, -1, rows, rows_from, out, diag);
 }
 
-hp_error hp_trace_open(const char *path, const hp_trace_rows *rows_override,
-                       hp_trace_reader **out, hp_diag *diag)
+hp_error hp_trace_open(const char *path, const hp_trace_rows *rows, hp_trace_reader **out,
+                       hp_diag *diag)
 {
     if (!path || !out) return hp_diag_set(diag, HP_ERR_NULL, "trace: NULL argument");
     *out = NULL;
@@ -246,21 +369,12 @@ hp_error hp_trace_open(const char *path, const hp_trace_rows *rows_override,
         hp_trace_close(r);
         return hp_diag_set(diag, HP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     }
-    if (ends_with(path, ".csv")) {
-        r->format = HP_TRACE_CSV;
-    } else if (ends_with(path, ".jsonl") || ends_with(path, ".ndjson")) {
-        r->format = HP_TRACE_JSONL;
-    } else {
-        int c;
-        do c = fgetc(r->f); while (c == ' ' || c == '\t' || c == '\n' || c == '\r');
-        r->format = c == '{' ? HP_TRACE_JSONL : HP_TRACE_CSV;
-        rewind(r->f);
-    }
-    return finish_open(r, rows_override, out, diag);
+    r->owns_f = 1;
+    return open_common(r, -1, rows, NULL, out, diag);
 }
 
 hp_error hp_trace_open_mem(const char *data, size_t len, const char *name,
-                           hp_trace_format format, const hp_trace_rows *rows_override,
+                           hp_trace_format format, const hp_trace_rows *rows,
                            hp_trace_reader **out, hp_diag *diag)
 {
     if (!data || !out) return hp_diag_set(diag, HP_ERR_NULL, "trace: NULL argument");
@@ -269,7 +383,6 @@ hp_error hp_trace_open_mem(const char *data, size_t len, const char *name,
         return hp_diag_set(diag, HP_ERR_INVALID, "trace: unknown format");
     hp_trace_reader *r = new_reader(name);
     if (!r) return hp_diag_set(diag, HP_ERR_NOMEM, "trace: out of memory");
-    r->format = format;
     /* fmemopen of a zero-length buffer fails on some libcs: keep one spare byte. */
     r->mem = malloc(len + 1);
     if (!r->mem) {
@@ -283,94 +396,125 @@ hp_error hp_trace_open_mem(const char *data, size_t len, const char *name,
         hp_trace_close(r);
         return hp_diag_set(diag, HP_ERR_IO, "%s: cannot open in memory", name ? name : "trace");
     }
+    r->owns_f = 1;
     if (len == 0) (void)fgetc(r->f); /* the spare byte is not data */
-    return finish_open(r, rows_override, out, diag);
+    return open_common(r, (int)format, rows, NULL, out, diag);
 }
 
-static hp_error fill_row(const hp_trace_reader *r, long lineno, const double v[7],
+/* The row's values (form columns after t_s, in file units) -> the desired correction. */
+static hp_error fill_row(const hp_trace_reader *r, long lineno, const double *v,
                          hp_trace_row *row, hp_diag *diag)
 {
-    double mm_deg[6];
-    (void)diag;
+    double pose[6];
+    hp_diag d = {{0}};
+    hp_error e = HP_OK;
+    if (r->form == HP_TRACE_ANGLES) {
+        hp_pose_from_clinical(v + 1, pose);
+    } else if (r->form == HP_TRACE_QUATERNION) {
+        const double t[3] = {v[1] / 1e3, v[2] / 1e3, v[3] / 1e3};
+        e = hp_pose_from_quaternion(t, v + 4, pose, &d);
+    } else {
+        double M[16];
+        memcpy(M, v + 1, sizeof M);
+        for (int i = 0; i < 3; ++i) M[i * 4 + 3] /= 1e3; /* mm -> m */
+        e = hp_pose_from_matrix(M, pose, &d);
+    }
+    if (e != HP_OK) return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: %s", r->name, lineno, d.text);
+    if (r->rows == HP_TRACE_DEVIATION) hp_pose_inverse(pose, pose);
     for (int i = 0; i < 6; ++i) {
-        mm_deg[i] = r->rows == HP_TRACE_DEVIATION ? -v[i + 1] : v[i + 1];
         /* −0 compares equal to 0 but would print as "-0" in outputs: store +0. */
         /* cppcheck-suppress duplicateConditionalAssign ; the assignment turns -0 into +0 */
-        if (mm_deg[i] == 0.0) mm_deg[i] = 0.0;
+        if (pose[i] == 0.0) pose[i] = 0.0;
+        row->correction[i] = pose[i];
     }
-    row->line = lineno;
     row->t = v[0];
-    hp_pose_from_clinical(mm_deg, row->correction);
     return HP_OK;
 }
 
-static hp_error csv_row(hp_trace_reader *r, size_t len, hp_trace_row *row, hp_diag *diag)
+static hp_error csv_row(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
 {
-    double v[7];
-    const char *p = r->line, *end = r->line + len;
-    for (int i = 0; i < 7; ++i) {
+    double v[FORM_COLS_MAX];
+    const form_cols *fc = &FORMS[r->form];
+    const char *p = r->line, *end = r->line + r->len;
+    for (int i = 0; i < fc->n; ++i) {
         const char *comma = memchr(p, ',', (size_t)(end - p));
         const char *stop = comma ? comma : end;
-        if (i < 6 && !comma)
-            return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: %d fields, expected 7", r->name,
-                               r->lineno, i + 1);
-        if (i == 6 && comma)
-            return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: more than 7 fields", r->name,
-                               r->lineno);
+        if (i < fc->n - 1 && !comma)
+            return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: %d fields, expected %d", r->name,
+                               r->lineno, i + 1, fc->n);
+        if (i == fc->n - 1 && comma)
+            return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: more than %d fields", r->name,
+                               r->lineno, fc->n);
         const char *why = hp_strict_double(p, (size_t)(stop - p), &v[i]);
         if (why)
-            return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: %s: %s", r->name, r->lineno,
-                               trace_keys[i], why);
+            return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %s: %s", r->name, r->lineno,
+                               (long)(p - r->line) + 1, fc->key[i], why);
         p = stop + 1;
     }
     return fill_row(r, r->lineno, v, row, diag);
 }
 
-static hp_error jsonl_row(hp_trace_reader *r, const char *text, size_t len, long lineno,
-                          hp_trace_row *row, hp_diag *diag)
+/* The form whose keys are exactly obj's, or -1. */
+static int json_form(json_t *obj)
+{
+    for (int f = 0; f < 3; ++f) {
+        if (json_object_size(obj) != (size_t)FORMS[f].n) continue;
+        int all = 1;
+        for (int c = 0; c < FORMS[f].n && all; ++c) all = json_object_get(obj, FORMS[f].key[c]) != NULL;
+        if (all) return f;
+    }
+    return -1;
+}
+
+static hp_error jsonl_row(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
 {
     json_error_t jerr;
-    json_t *obj = json_loadb(text, len, JSON_REJECT_DUPLICATES, &jerr);
+    json_t *obj = json_loadb(r->line, r->len, JSON_REJECT_DUPLICATES, &jerr);
+    long ln = r->lineno;
     if (!obj)
-        return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%d: %s", r->name, lineno, jerr.column,
+        return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%d: %s", r->name, ln, jerr.column,
                            jerr.text);
     hp_error e = HP_OK;
-    double v[7];
+    double v[FORM_COLS_MAX];
+    int f = json_is_object(obj) ? json_form(obj) : -1;
     if (!json_is_object(obj)) {
-        e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: expected a JSON object", r->name, lineno);
-        goto done;
+        e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:1: expected a JSON object", r->name, ln);
+    } else if (json_object_get(obj, "headplan_trace") || json_object_get(obj, "rows")) {
+        e = hp_diag_set(diag, HP_ERR_PARSE,
+                        "%s:%ld:1: a header record must be the first line", r->name, ln);
+    } else if (f < 0 || (r->form_known && f != (int)r->form)) {
+        const form_cols *want = &FORMS[r->form_known ? r->form : HP_TRACE_ANGLES];
+        const char *key;
+        json_t *val;
+        const char *odd = NULL;
+        json_object_foreach(obj, key, val) {
+            int known = 0;
+            for (int c = 0; c < want->n; ++c) known |= strcmp(key, want->key[c]) == 0;
+            if (!known && !odd) odd = key;
+        }
+        for (int c = 0; c < want->n && !odd; ++c)
+            if (!json_object_get(obj, want->key[c])) {
+                e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: missing key '%s'", r->name, ln,
+                                want->key[c]);
+                goto done;
+            }
+        e = odd ? hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: unknown key '%s'", r->name, ln, odd)
+                : hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: keys of another pose form", r->name,
+                              ln);
+    } else {
+        r->form = (hp_trace_form)f;
+        r->form_known = 1;
+        for (int c = 0; c < FORMS[f].n && e == HP_OK; ++c) {
+            json_t *x = json_object_get(obj, FORMS[f].key[c]);
+            if (!json_is_number(x))
+                e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: %s: not a number", r->name, ln,
+                                FORMS[f].key[c]);
+            else if (!isfinite(v[c] = json_number_value(x)))
+                e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: %s: not finite", r->name, ln,
+                                FORMS[f].key[c]);
+        }
+        if (e == HP_OK) e = fill_row(r, ln, v, row, diag);
     }
-    const char *key;
-    json_t *val;
-    json_object_foreach(obj, key, val) {
-        int known = 0;
-        for (int i = 0; i < 7; ++i) known |= strcmp(key, trace_keys[i]) == 0;
-        if (!known) {
-            e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: unknown key '%s'", r->name, lineno,
-                            key);
-            goto done;
-        }
-    }
-    for (int i = 0; i < 7; ++i) {
-        json_t *x = json_object_get(obj, trace_keys[i]);
-        if (!x) {
-            e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: missing key '%s'", r->name, lineno,
-                            trace_keys[i]);
-            goto done;
-        }
-        if (!json_is_number(x)) {
-            e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: %s: not a number", r->name, lineno,
-                            trace_keys[i]);
-            goto done;
-        }
-        v[i] = json_number_value(x);
-        if (!isfinite(v[i])) {
-            e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: %s: not finite", r->name, lineno,
-                            trace_keys[i]);
-            goto done;
-        }
-    }
-    e = fill_row(r, lineno, v, row, diag);
 done:
     json_decref(obj);
     return e;
@@ -380,24 +524,22 @@ hp_error hp_trace_next(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
 {
     if (!r || !row) return hp_diag_set(diag, HP_ERR_NULL, "trace: NULL argument");
     if (diag) diag->text[0] = '\0';
-    if (r->pending) {
-        r->pending = 0;
-        hp_error e = jsonl_row(r, r->pending_line, strlen(r->pending_line), r->pending_lineno,
-                               row, diag);
-        free(r->pending_line);
-        r->pending_line = NULL;
-        return e;
-    }
+    if (r->stopped)
+        return hp_diag_set(diag, HP_ERR_STATE, "%s:%ld: line longer than %d bytes; the rest "
+                           "is not read", r->name, r->lineno, HP_TRACE_LINE_MAX);
     for (;;) {
-        size_t len = 0;
-        int rc = read_line(r, &len);
-        if (rc == 0) return HP_ERR_STATE;
-        if (rc < 0) return line_problem(r, rc, len, diag);
+        int rc = r->pending ? r->pending : read_line(r);
+        r->pending = 0;
+        if (rc == LINE_EOF) return HP_END;
+        row->line = r->lineno;
+        hp_error e = line_problem(r, rc, diag);
+        if (e != HP_OK) return e;
         if (is_blank(r->line)) continue;
-        if (r->format == HP_TRACE_CSV) {
-            if (r->line[0] == '#') continue;
-            return csv_row(r, len, row, diag);
-        }
-        return jsonl_row(r, r->line, len, r->lineno, row, diag);
+        if (r->format == HP_TRACE_JSONL) return jsonl_row(r, row, diag);
+        if (r->line[0] != '#') return csv_row(r, row, diag);
+        if (looks_like_directive(r->line))
+            return hp_diag_set(diag, HP_ERR_PARSE,
+                               "%s:%ld:1: a directive must be the first line", r->name,
+                               r->lineno);
     }
 }

@@ -2,6 +2,7 @@
  * is used rather than its document API because the events show anchors and aliases, which
  * are refused here: a scene has no use for them and they are the billion-laughs vector. */
 #include "scene/yaml_tree.h"
+#include "scene/text_check.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -176,10 +177,37 @@ static hp_error parser_error(builder *b, const yaml_parser_t *p)
                        (unsigned long)m->line + 1, (unsigned long)m->column + 1, problem);
 }
 
+/* A NUL byte or broken UTF-8 anywhere, reported at its own line and column (libyaml would
+ * report 1:1, or read the text as another encoding). Columns count characters. */
+static hp_error check_bytes(const char *text, size_t len, const char *filename, hp_diag *diag)
+{
+    int nul = 0;
+    long at = hp_text_bad_byte(text, len, &nul);
+    if (at < 0) return HP_OK;
+    unsigned long line = 1, col = 1;
+    for (long i = 0; i < at; ++i) {
+        if (text[i] == '\n') {
+            ++line;
+            col = 1;
+        } else if (((unsigned char)text[i] & 0xC0) != 0x80) {
+            ++col;
+        }
+    }
+    return hp_diag_set(diag, HP_ERR_PARSE, "%s:%lu:%lu: %s", filename, line, col,
+                       nul ? "NUL byte" : "invalid UTF-8");
+}
+
 hp_error yt_parse(const char *text, size_t len, const char *filename, yt_node **root,
                   hp_diag *diag)
 {
     *root = NULL;
+    /* A UTF-8 byte-order mark is skipped (editors on Windows write one). */
+    if (len >= 3 && memcmp(text, "\xEF\xBB\xBF", 3) == 0) {
+        text += 3;
+        len -= 3;
+    }
+    hp_error bytes = check_bytes(text, len, filename, diag);
+    if (bytes != HP_OK) return bytes;
     builder b = {.file = filename, .diag = diag};
     yaml_parser_t p;
     if (!yaml_parser_initialize(&p))

@@ -37,6 +37,7 @@ typedef enum hp_error {
     HP_ERR_NOMEM,          /* memory allocation failed */
     HP_ERR_SOLVER,         /* a solver backend failed in a way it could not label */
     HP_ERR_STATE,          /* a call out of order, or on an object that failed to build */
+    HP_END,                /* not an error: the end of a stream (hp_trace_next) */
     HP_ERR_COUNT_          /* number of codes; not an error */
 } hp_error;
 

@@ -30,6 +30,40 @@ HP_API const char *hp_pose_key(int i);
 /* Rotation matrix R = Rz(yaw)·Ry(roll)·Rx(pitch), row-major 3×3. */
 HP_API void hp_rotation(double pitch, double roll, double yaw, double R[9]);
 
+/* The angles (rad) of a rotation matrix R (row-major, orthonormal) in the convention above:
+ * pitch and yaw in (−π, π], roll in [−π/2, π/2]. At roll = ±π/2 (gimbal lock) any split of
+ * pitch and yaw that gives R is returned. */
+HP_API void hp_rotation_angles(const double R[9], double *pitch, double *roll, double *yaw);
+
+/* The exact inverse of a pose about the pivot: the rotation Rᵀ and translation −Rᵀ·t, in
+ * the angle convention above. A measured deviation's correction is its inverse (not its
+ * negation: −xi leaves 0.26 mm of a 5 mm / 3° yaw deviation uncorrected). inv may be xi. */
+HP_API void hp_pose_inverse(const double xi[6], double inv[6]);
+
+/* A pose from translation t [m] and a unit quaternion q = (w, x, y, z) (Hamilton, active:
+ * the same rotation R as the pose's). |q| must be 1 within 1e-6 (it is normalised); else
+ * HP_ERR_INVALID, as for non-finite input. q and −q give the same pose. */
+HP_API hp_error hp_pose_from_quaternion(const double t[3], const double q[4], double xi[6],
+                                 hp_diag *diag);
+/* The pose's translation t [m] and its unit quaternion (w >= 0). */
+HP_API void hp_pose_to_quaternion(const double xi[6], double t[3], double q[4]);
+
+/* A pose from a 4×4 rigid transform M (row-major, translation column in metres) in the
+ * frame centred on the pivot: M maps q − pivot to R·(q − pivot) + t. The last row must be
+ * exactly 0 0 0 1 and the 3×3 block a rotation (RᵀR = I within 1e-6, det +1); else
+ * HP_ERR_INVALID naming what is wrong. */
+HP_API hp_error hp_pose_from_matrix(const double M[16], double xi[6], hp_diag *diag);
+/* The pose as a 4×4 rigid transform (same layout). */
+HP_API void hp_pose_to_matrix(const double xi[6], double M[16]);
+
+/* ROS REP 103: the pose in the head's body frame x anterior (IEC +Z), y patient's left
+ * (IEC +X), z superior (IEC +Y), origin at the pivot, as ros = [x, y, z (m), roll, pitch,
+ * yaw (rad)] with R = Rz(yaw)·Ry(pitch)·Rx(roll). Exact (through the rotation matrix), so
+ * the two calls invert each other; the mapping of single angles is tabled in
+ * docs/kinematics.md. */
+HP_API void hp_pose_to_rep103(const double xi[6], double ros[6]);
+HP_API void hp_pose_from_rep103(const double ros[6], double xi[6]);
+
 typedef enum hp_head_shape { HP_HEAD_SPHERE = 0, HP_HEAD_ELLIPSOID } hp_head_shape;
 HP_API const char *hp_head_shape_name(hp_head_shape s);            /* "sphere", "ellipsoid" */
 HP_API hp_error hp_head_shape_parse(const char *s, hp_head_shape *out);

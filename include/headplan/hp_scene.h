@@ -48,7 +48,8 @@ typedef enum hp_scene_kind {
 
 /* What a trace row holds. */
 typedef enum hp_trace_rows {
-    HP_TRACE_DEVIATION = 0, /* measured head deviation; the desired correction is its negative */
+    HP_TRACE_DEVIATION = 0, /* measured head deviation; the desired correction is its exact
+                               inverse rigid motion (hp_pose_inverse) */
     HP_TRACE_CORRECTION     /* the desired correction itself */
 } hp_trace_rows;
 

@@ -4,7 +4,8 @@
 Deterministic: the same files on every machine (own linear congruential generator, fixed
 formats). Rerun after editing:  python3 scenarios/traces/make_traces.py
 
-Columns: t_s, x_mm, y_mm, z_mm, pitch_deg, roll_deg, yaw_deg: the measured head deviation
+First line: the directive "# headplan-trace: rows=deviation" (docs/batch.md): the rows are
+deviations, whatever reads them. Columns: t_s, x_mm, y_mm, z_mm, pitch_deg, roll_deg, yaw_deg: the measured head deviation
 from the planned pose (IEC 61217 axes, +X left, +Y superior, +Z anterior), sampled at 10 Hz.
 
 drift_10hz.csv  3 minutes (1800 rows): thermoplastic-mask drift of a few mm (the paper's
@@ -26,6 +27,7 @@ import math
 import os
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+DIRECTIVE = "# headplan-trace: rows=deviation"
 HEADER = "t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg"
 
 
@@ -47,7 +49,7 @@ class Lcg:
 def write(name, rows, time_format="%.1f"):
     path = os.path.join(HERE, name)
     with open(path, "w", newline="\n") as f:
-        f.write(HEADER + "\n")
+        f.write(DIRECTIVE + "\n" + HEADER + "\n")
         for r in rows:
             f.write((time_format + ",%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n") % r)
 

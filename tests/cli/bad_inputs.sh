@@ -39,6 +39,22 @@ printf '{"t_s":0,"x_mm":0,"y_mm":0,"z_mm":0,"pitch_deg":0,"roll_deg":0,"yaw_deg"
 printf '[0,0,0,0,0,0,0]\n' >"$T/not_object.jsonl"
 printf '{"t_s":0,"x_mm":0,\n' >"$T/broken.jsonl"
 mkdir -p "$T/dir.csv" "$T/dir.yaml" "$T/outdir"
+# Rows kind, directive and output-safety cases (issue 9).
+DIR='# headplan-trace: rows=deviation'
+printf '%s\n0,0.1,0,0,0,0,0\n' "$HDR" >"$T/no_kind.csv"
+printf '%s\n%s\n0,0.1,0,0,0,0,0\n' "$DIR" "$HDR" >"$T/deviation.csv"
+printf '# Rows: deviation\n%s\n0,0.1,0,0,0,0,0\n' "$HDR" >"$T/rows_capital.csv"
+printf '%s\n0,0.1,0,0,0,0,0\n%s\n0.1,0,0,0,0,0,0\n' "$HDR" "$DIR" >"$T/late_directive.csv"
+printf '{"rows": "deviation"}\n{"t_s":0,"x_mm":0,"y_mm":0,"z_mm":0,"pitch_deg":0,"roll_deg":0,"yaw_deg":0}\n' \
+  >"$T/old_header.jsonl"
+printf '%s\n0,\xc3\x28,0,0,0,0,0\n0,0,0,0,0,0,0\n' "$HDR" >"$T/bad_utf8.csv"
+printf '%s\n0,0,0,0,0\x00,0,0\n0,0,0,0,0,0,0\n' "$HDR" >"$T/nul_row.csv"
+printf '%s\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n0,0,0,0,1,0.1,0,0\n' "$DIR" >"$T/quat_norm.csv"
+ln -sf "$T/outlink_target.csv" "$T/outlink.csv"
+mkfifo "$T/outfifo.csv"
+# Scenes with a NUL byte or broken UTF-8 on line 6 (reported there, not at 1:1).
+{ head -n 5 "$S/default.yaml"; printf 'name: ab\x00cd\n'; tail -n +7 "$S/default.yaml"; } >"$T/nul.yaml"
+{ head -n 5 "$S/default.yaml"; printf 'notes: ab\xffcd\n'; tail -n +6 "$S/default.yaml"; } >"$T/bad_utf8.yaml"
 # Layout scenes derived from the default one.
 sed 's/^correction:.*/correction: {x_mm: 5000, y_mm: 0, z_mm: 0, pitch_deg: 0, roll_deg: 0, yaw_deg: 0}/' \
   "$S/default.yaml" >"$T/correction_too_far.yaml"

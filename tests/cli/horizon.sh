@@ -73,6 +73,6 @@ printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0.0,0,0,0,0,0,0\n0.1,abc,
 run horizon "$S/horizon/step.yaml" "$TMP/badrow.csv" --rows deviation; expect_exit 65 "bad row"
 printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n' > "$TMP/empty.csv"
 run horizon "$S/horizon/step.yaml" "$TMP/empty.csv" --rows deviation; expect_exit 65 "no rows"
-run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --mode greedy -o /nonexistent/dir/x.csv
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode greedy -o /nonexistent/dir/x.csv
 expect_exit 73 "cannot write"
 finish

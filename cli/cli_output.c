@@ -1,0 +1,51 @@
+/* Checked output (see cli_output.h). */
+#define _POSIX_C_SOURCE 200809L
+#include "cli/cli_output.h"
+#include "cli/exit_codes.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <string.h>
+#include <unistd.h>
+
+void hp_cli_guard_std_fds(void)
+{
+    for (int fd = 0; fd <= 2; ++fd) {
+        if (fcntl(fd, F_GETFD) != -1 || errno != EBADF) continue;
+        /* open() returns the lowest free descriptor: this one. Read-only for 1 and 2 (writes
+         * fail with EBADF), write-only for 0 (reads fail). */
+        int got = open("/dev/null", fd == 0 ? O_WRONLY : O_RDONLY);
+        if (got != fd && got >= 0) close(got);
+    }
+}
+
+static int failed(const char *what, const char *cmd, int err)
+{
+    fprintf(stderr, "headplan %s: cannot write %s: %s\n", cmd, what,
+            err ? strerror(err) : "write error");
+    return HP_EXIT_IOERR;
+}
+
+int hp_cli_flush_output(FILE *f, const char *what, const char *cmd)
+{
+    errno = 0;
+    int bad = fflush(f) != 0;
+    int err = errno;
+    if (bad || ferror(f)) return failed(what, cmd, bad ? err : 0);
+    return 0;
+}
+
+int hp_cli_close_output(FILE *f, const char *what, const char *cmd)
+{
+    int rc = hp_cli_flush_output(f, what, cmd);
+    errno = 0;
+    if (fclose(f) != 0 && rc == 0) rc = failed(what, cmd, errno);
+    return rc;
+}
+
+int hp_cli_finish_stdout(const char *cmd, int status)
+{
+    int rc = hp_cli_close_output(stdout, "standard output", cmd);
+    if (rc == 0) return status;
+    return status == HP_EXIT_OK || status == HP_EXIT_CLOSEST ? rc : status;
+}

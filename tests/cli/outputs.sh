@@ -1,0 +1,54 @@
+# Every subcommand checks its writes (issue 9): with stdout on a full device (/dev/full) or
+# closed (>&-), and a file output past a file-size limit, the exit status is 74 with one line
+# on stderr naming what could not be written, never 0 with cut output.
+source "$2/tests/cli_lib.sh"
+S="$HP_SRC/scenarios"
+M="--c1 1.1e4 --c2 2.2e4"
+mkdir -p "$TMP/bench" "$TMP/bench2"
+cmds=(
+  "--version"
+  "--help"
+  "solve $S/default.yaml"
+  "solve $S/default.yaml --json"
+  "analyze $S/default.yaml"
+  "ik --Ri 27 --Ro 30 --ri 30 $M"
+  "fk --Ri 27 --Ro 30 --pressure 1000 $M --json"
+  "paper $S/paper_expansion.yaml"
+  "batch $S/default.yaml --no-progress"
+  "batch $S/default.yaml --no-progress --format jsonl -o -"
+)
+# The benchmark lab beside the product checks its output the same way.
+BENCH_BIN="$(dirname "$HP_BIN")/headplan-bench"
+[ -x "$BENCH_BIN" ] && cmds+=("@bench --quick --only ik --out $TMP/bench --seed 7")
+for c in "${cmds[@]}"; do
+  bin="$HP_BIN"
+  case "$c" in @bench*) bin="$BENCH_BIN"; c="${c#@bench }";; esac
+  read -r -a argv <<<"$c"
+  name="${argv[0]}"
+  # Full device: the writes fail with ENOSPC.
+  "$bin" "${argv[@]}" >/dev/full 2>"$TMP/err"; rc=$?
+  expect_exit 74 "$c >/dev/full"
+  expect_stderr_has "cannot write standard output: No space left on device" "$c >/dev/full"
+  [ "$(grep -c 'cannot write' "$TMP/err")" -eq 1 ] && ok || bad "$c >/dev/full: not one line"
+  # Closed stdout: the writes fail with EBADF (and no file the command opens takes fd 1).
+  "$bin" "${argv[@]}" >&- 2>"$TMP/err"; rc=$?
+  expect_exit 74 "$c >&-"
+  expect_stderr_has "cannot write standard output" "$c >&-"
+done
+
+# A file output past the file-size limit (SIGXFSZ ignored, so the write fails with EFBIG):
+# batch -o and bench's files give 74, and batch leaves neither OUT nor its temporary file.
+( ulimit -f 8; trap '' XFSZ
+  exec "$HP_BIN" batch "$S/default.yaml" --no-progress -o "$TMP/big.csv" ) 2>&1 >/dev/null | cat >"$TMP/err"
+rc=${PIPESTATUS[0]}
+expect_exit 74 "batch -o past the size limit"
+expect_stderr_has "cannot write" "batch -o past the size limit named"
+[ ! -e "$TMP/big.csv" ] && ! ls "$TMP" | grep -q 'big.csv.partial' && ok \
+  || bad "a failed batch -o left a file"
+# (stderr goes through a pipe: the limit would cut a file holding it too)
+( ulimit -f 1; trap '' XFSZ
+  exec "$BENCH_BIN" --quick --only ik --out "$TMP/bench2" --seed 7 ) 2>&1 >/dev/null | cat >"$TMP/err"
+rc=${PIPESTATUS[0]}
+expect_exit 74 "bench files past the size limit"
+expect_stderr_has "cannot write" "bench file named"
+finish
