@@ -26,6 +26,7 @@ typedef struct batch_out {
     int raw_code;
     double achieved[6];   /* SI */
     int commanded[6];
+    double uncommanded[6]; /* SI: the part of the correction the layout cannot command */
     double pressure[HP_MAX_BLADDERS];
     double ri[HP_MAX_BLADDERS], ro[HP_MAX_BLADDERS], stretch[HP_MAX_BLADDERS];
     unsigned binding[HP_MAX_BLADDERS];

@@ -211,6 +211,11 @@ static int row_cells(const batch_sink *k, const batch_in *in, const batch_out *o
         if (!(fabs(e) <= *worst)) *worst = fabs(e); /* NaN propagates */
     }
     for (int i = 0; i < 6; ++i) INT(o->commanded[i] ? 1 : 0, "commanded_%s", AXES[i]);
+    /* The part of the desired correction the layout cannot observe (status uncommanded when
+     * beyond the tolerance): never silently dropped. */
+    double unc[6];
+    hp_pose_to_clinical(o->uncommanded, unc);
+    for (int i = 0; i < 6; ++i) NUM(unc[i], "uncommanded_%s_%s", AXES[i], AXIS_UNITS[i]);
     NUM(err_mm, "pose_error_mm");
     NUM(err_deg, "pose_error_deg");
     for (int b = 0; b < k->L->n; ++b) {

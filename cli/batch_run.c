@@ -35,6 +35,7 @@ hp_error batch_plan_range(hp_planner *p, const batch_in *in, batch_out *out, siz
             o->raw_code = r.raw_code;
             memcpy(o->achieved, r.achieved, sizeof o->achieved);
             memcpy(o->commanded, r.commanded, sizeof o->commanded);
+            memcpy(o->uncommanded, r.uncommanded, sizeof o->uncommanded);
             for (int k = 0; k < n; ++k) {
                 o->pressure[k] = r.bladders[k].pressure;
                 o->ri[k] = r.bladders[k].ri;
@@ -60,6 +61,7 @@ int batch_same(const batch_out *a, const batch_out *b, int n)
         return 0;
     if (memcmp(a->achieved, b->achieved, sizeof a->achieved) != 0) return 0;
     if (memcmp(a->commanded, b->commanded, sizeof a->commanded) != 0) return 0;
+    if (memcmp(a->uncommanded, b->uncommanded, sizeof a->uncommanded) != 0) return 0;
     for (int k = 0; k < n; ++k)
         if (memcmp(&a->pressure[k], &b->pressure[k], sizeof(double)) != 0 ||
             memcmp(&a->ri[k], &b->ri[k], sizeof(double)) != 0 ||

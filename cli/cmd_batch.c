@@ -46,8 +46,8 @@ static void help(void)
            "byte-identical. Rows stopped by the time budget (solver.max_time_s) depend on\n"
            "machine load: their output is not reproducible run to run; the summary on\n"
            "stderr counts them.\n\n"
-           "exit: 0 finished (rows reached or only closest), 1 some only closest with\n"
-           "--strict, 64 usage, 65 bad rows, bad scene or rows kind, 66 no input, 70 solver\n"
+           "exit: 0 finished (rows reached, closest or uncommanded), 1 some only closest\n"
+           "with --strict, 2 some uncommanded with --strict, 64 usage, 65 bad rows, bad scene or rows kind, 66 no input, 70 solver\n"
            "failure or time/iteration limit, 73 OUT refused or cannot be created, 74 a write\n"
            "failed\n");
 }
@@ -112,7 +112,8 @@ static int parse(int argc, char **argv, batch_args *a)
 #define TIME_BINS 1000 /* 100 per decade from 0.01 us to 1e8 us: quantiles to 2.3 % */
 
 typedef struct {
-    size_t rows, reached, closest, failed, time_limit, invalid, bad;
+    size_t rows, reached, closest, uncommanded, failed, time_limit, invalid, bad;
+    double unc_max[6]; /* largest |uncommanded part| per axis, mm or deg */
     double worst_mm[2], worst_deg[2]; /* [0] reached rows, [1] closest rows */
     size_t time_bin[TIME_BINS], timed;
 } summary;
@@ -135,6 +136,7 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
         switch (o->status) {
         case HP_STATUS_REACHED: S->reached++; which = 0; break;
         case HP_STATUS_CLOSEST: S->closest++; which = 1; break;
+        case HP_STATUS_UNCOMMANDED: S->uncommanded++; which = 0; break;
         case HP_STATUS_INVALID_INPUT:
             S->invalid++;
             fprintf(stderr, "headplan batch: line %ld: invalid correction\n", in[i].line);
@@ -147,12 +149,15 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
             break;
         }
         if (which < 0) continue;
-        double want[6], got[6];
+        double want[6], got[6], unc[6];
+        hp_pose_to_clinical(o->uncommanded, unc);
+        for (int k = 0; k < 6; ++k)
+            if (fabs(unc[k]) > S->unc_max[k]) S->unc_max[k] = fabs(unc[k]);
         hp_pose_to_clinical(in[i].correction, want);
         hp_pose_to_clinical(o->achieved, got);
         for (int k = 0; k < 6; ++k) {
             if (!o->commanded[k]) continue;
-            double e = fabs(got[k] - want[k]);
+            double e = fabs(got[k] - (want[k] - unc[k])); /* against the commanded part */
             double *w = k < 3 ? &S->worst_mm[which] : &S->worst_deg[which];
             if (e > *w) *w = e;
         }
@@ -173,9 +178,18 @@ static double time_quantile(const summary *S, double q)
 static int summarise(const summary *S, int jobs, size_t repaired, int strict)
 {
     fprintf(stderr,
-            "headplan batch: %zu rows: %zu reached, %zu closest, %zu failed (%zu at the time "
-            "budget), %zu invalid, %zu bad rows\n",
-            S->rows, S->reached, S->closest, S->failed, S->time_limit, S->invalid, S->bad);
+            "headplan batch: %zu rows: %zu reached, %zu closest, %zu uncommanded, %zu failed "
+            "(%zu at the time budget), %zu invalid, %zu bad rows\n",
+            S->rows, S->reached, S->closest, S->uncommanded, S->failed, S->time_limit,
+            S->invalid, S->bad);
+    if (S->uncommanded) {
+        static const char *const axis[6] = {"x", "y", "z", "pitch", "roll", "yaw"};
+        fprintf(stderr, "headplan batch: not commanded (the layout cannot observe it), largest:");
+        for (int k = 0; k < 6; ++k)
+            if (S->unc_max[k] > 0)
+                fprintf(stderr, " %s %.3g %s", axis[k], S->unc_max[k], k < 3 ? "mm" : "deg");
+        fputc('\n', stderr);
+    }
     fprintf(stderr,
             "headplan batch: worst pose error %.3g mm, %.3g deg on reached rows; %.3g mm, "
             "%.3g deg on closest rows\n",
@@ -193,6 +207,7 @@ static int summarise(const summary *S, int jobs, size_t repaired, int strict)
                 S->time_limit, S->time_limit == 1 ? "" : "s");
     if (S->failed) return HP_EXIT_SOFTWARE;
     if (S->bad || S->invalid) return HP_EXIT_DATAERR;
+    if (strict && S->uncommanded) return HP_EXIT_UNCOMMANDED;
     return S->closest && strict ? HP_EXIT_CLOSEST : HP_EXIT_OK;
 }
 

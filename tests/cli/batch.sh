@@ -273,4 +273,25 @@ pid=$!
 sleep 1.5
 kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null
 [ ! -e "$TMP/killed.csv" ] && ok || bad "killed run left $TMP/killed.csv"
+# Uncommanded never reads as reached: a sphere head cannot be turned about its centre, so
+# every nodding row is "uncommanded", its uncommanded_* columns carry the part dropped (the
+# pitch of the row), the summary counts and names it, and --strict exits 2.
+run batch "$S/sphere_head.yaml" "$S/traces/nodding.csv" --no-times -o "$TMP/sph.csv"
+expect_exit 0 "sphere nodding"
+expect_stderr_has "uncommanded, 0 failed" "summary counts uncommanded rows"
+expect_stderr_has "not commanded (the layout cannot observe it), largest: pitch" "summary names the direction"
+python3 - "$TMP/sph.csv" <<'PY' && ok || bad "uncommanded rows and columns"
+import csv, sys
+rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
+assert rows and all(r["status"] == "uncommanded" for r in rows[1:]), "a row not uncommanded"
+for r in rows:
+    if r["status"] != "uncommanded":
+        continue
+    # The whole desired pitch is the part not commanded (a sphere ignores rotation about
+    # its centre, which is the pivot here), and the commanded components are met.
+    assert abs(float(r["uncommanded_pitch_deg"]) - float(r["desired_pitch_deg"])) < 1e-9, r
+    assert abs(float(r["error_x_mm"]) + float(r["uncommanded_x_mm"])) < 1e-9, r
+PY
+run batch "$S/sphere_head.yaml" "$S/traces/nodding.csv" --no-times --strict -o "$TMP/sph2.csv"
+expect_exit 2 "--strict with uncommanded rows"
 finish
