@@ -10,5 +10,7 @@ int hp_cmd_bench(int argc, char **argv);
 int hp_cmd_solve(int argc, char **argv);
 int hp_cmd_analyze(int argc, char **argv);
 int hp_cmd_batch(int argc, char **argv);
+int hp_cmd_render(int argc, char **argv);
+int hp_cmd_plot(int argc, char **argv);
 
 #endif

@@ -22,6 +22,8 @@ static const command commands[] = {
     {"solve", hp_cmd_solve, "a scene -> bladder pressures for one correction"},
     {"batch", hp_cmd_batch, "a scene and a trace -> one planned row per trace row"},
     {"analyze", hp_cmd_analyze, "a scene -> layout conditioning, weakest direction and reach"},
+    {"render", hp_cmd_render, "a scene and one plan drawn in 3-D (gnuplot): PNG or SVG"},
+    {"plot", hp_cmd_plot, "a batch result over time (gnuplot): pose error, pressures"},
 };
 static const size_t n_commands = sizeof commands / sizeof commands[0];
 
@@ -32,7 +34,8 @@ static void usage(FILE *out)
         fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
     fprintf(out, "\n  --version  print the version\n  --help     this text\n"
                  "\nexit status: 0 ok, 1 closest reachable only, 64 usage, 65 bad data,\n"
-                 "66 cannot open input, 70 solver or internal failure, 73 cannot write output\n");
+                 "66 cannot open input, 69 gnuplot missing (render, plot), 70 solver or internal failure,\n"
+                 "73 cannot write output\n");
 }
 
 int main(int argc, char **argv)

@@ -124,7 +124,7 @@ def test_threads_with_their_own_planners_equal_serial(default_scene):
             lambda: headplan.Planner(default_scene, backend="nlopt-slsqp"),
             lambda: headplan.Planner(sat),
             lambda: headplan.Planner(default_scene, backend="ipopt", level="linear")]
-    sizes = [3000, 300, 3000, 30]  # Ipopt (its solves serialised by the library) is slow
+    sizes = [3000, 300, 300, 30]  # saturation (surface SQP) and Ipopt take milliseconds a plan
     serial = [make[i]().plan_many(inputs[i][:sizes[i]]) for i in range(4)]
     planners = [m() for m in make]
     par = run_threads([lambda i=i: planners[i].plan_many(inputs[i][:sizes[i]])
