@@ -154,7 +154,17 @@ int hp_gp_draw(const char *cmd, const hp_gp_out *o, int (*writer)(const void *ar
         if (script == tmp) unlink(tmp);
         return rc;
     }
-    remove(o->path); /* a stale picture must not pass for a new one */
+    /* An unwritable picture is the user's to fix (73), not a gnuplot failure; and a stale
+     * picture must not pass for a new one. */
+    FILE *probe = fopen(o->path, "w");
+    if (!probe) {
+        int err = errno;
+        if (script == tmp) unlink(tmp);
+        return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "-o: cannot create '%s': %s", o->path,
+                           strerror(err));
+    }
+    fclose(probe);
+    remove(o->path);
     char *const argv[] = {"gnuplot", (char *)script, NULL};
     int st = hp_bench_run_child(argv, NULL, 0);
     if (script == tmp) unlink(tmp);
