@@ -21,7 +21,7 @@ typedef __float128 q128;
 
 /* The grid: λi = 0.50625 + 0.0125·k, k = 0..199 (covers [0.5, 3], never exactly 1, where
  * P = 0 and a relative error has no meaning), × wall thickness Ri/Ro, at Ro = 30 mm and the
- * paper's moduli C1 = 1.1e4 Pa, C2 = 2.2e4 Pa (DESIGN.md §3). */
+ * paper's moduli C1 = 1.1e4 Pa, C2 = 2.2e4 Pa (docs/model.md §3). */
 #define N_LAMBDA 200
 static const double ratios[] = {0.5, 0.7, 0.9, 0.95, 0.98};
 #define N_RATIO (sizeof ratios / sizeof ratios[0])

@@ -119,7 +119,7 @@ static int run_scene(const hp_bench_options *o, const char *path, const char *st
     const hp_layout *L = &sc.layout;
     memset(row, 0, sizeof *row);
     snprintf(row->scene, sizeof row->scene, "%s", stem);
-    snprintf(row->backend, sizeof row->backend, "%s", sc.backend);
+    snprintf(row->backend, sizeof row->backend, "%s", hp_backend_name(sc.backend));
     row->targets = n;
     double tr = 0, rot = 0;
     for (int k = 0; k < n; ++k) {
@@ -133,17 +133,11 @@ static int run_scene(const hp_bench_options *o, const char *path, const char *st
         fprintf(stderr, "headplan bench: levels: %s: auto could not choose a level\n", path);
         return HP_EXIT_SOFTWARE;
     }
-    hp_backend be;
-    if (hp_backend_parse(sc.backend, &be) != HP_OK) return HP_EXIT_DATAERR;
+    hp_settings base;
+    if (hp_scene_settings(&sc, &base, &d) != HP_OK) return HP_EXIT_DATAERR;
     for (int li = 2; li >= 0; --li) { /* surface first: the reference */
-        hp_settings s;
-        hp_settings_default(&s);
-        s.backend = be;
+        hp_settings s = base;
         s.level = levels[li];
-        s.tolerance = sc.tolerance;
-        s.max_iter = sc.max_iter;
-        s.max_time = sc.max_time;
-        s.weight_mm_per_deg = sc.weight_mm_per_deg;
         s.warm_start = 0;
         hp_planner *p;
         int rc = hp_bench_planner_new(L, &s, &p);

@@ -1,4 +1,4 @@
-/* headplan bench, family "peers": the same NLP solved by the peers DESIGN.md §8 names, beside
+/* headplan bench, family "peers": the same NLP solved by the peers docs/model.md §8 names, beside
  * headplan's own backends, on the same targets, in the same run.
  *
  * Problem: the planner's NLP at the LINEAR contact level (rho = rho0 + J·xi) on o->scene,

@@ -30,29 +30,16 @@ int hp_cli_load_scene(const char *cmd, const char *path, int need_layout, hp_sce
 int hp_cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
                     const char *level, hp_settings *s)
 {
-    hp_settings_default(s);
-    if (backend) {
-        if (hp_backend_parse(backend, &s->backend) != HP_OK)
-            return hp_cli_fail(HP_EXIT_USAGE, cmd,
-                               "--backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, "
-                               "nlopt-cobyla)",
-                               backend);
-    } else if (hp_backend_parse(sc->backend, &s->backend) != HP_OK) {
-        return hp_cli_fail(HP_EXIT_DATAERR, cmd, "solver.backend: unknown backend '%s'",
-                           sc->backend);
-    }
-    s->level = sc->level;
+    hp_diag d = {{0}};
+    if (hp_scene_settings(sc, s, &d) != HP_OK)
+        return hp_cli_fail(HP_EXIT_DATAERR, cmd, "%s", d.text);
+    if (backend && hp_backend_parse(backend, &s->backend) != HP_OK)
+        return hp_cli_fail(HP_EXIT_USAGE, cmd,
+                           "--backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, "
+                           "nlopt-cobyla)",
+                           backend);
     if (level && hp_level_parse(level, &s->level) != HP_OK)
         return hp_cli_fail(HP_EXIT_USAGE, cmd,
                            "--level: unknown level '%s' (linear, plane, surface, auto)", level);
-    s->level_tolerance = sc->level_tolerance;
-    if (sc->has_auto_range) {
-        s->auto_trans = sc->auto_trans;
-        s->auto_rot = sc->auto_rot;
-    }
-    s->tolerance = sc->tolerance;
-    s->max_iter = sc->max_iter;
-    s->max_time = sc->max_time;
-    s->weight_mm_per_deg = sc->weight_mm_per_deg;
     return 0;
 }

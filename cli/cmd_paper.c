@@ -36,7 +36,7 @@ static const char EXPANSION[] =
     "  pressure_pa: .76\n"
     "  dV_m3: 0\n"
     "  note: \"the printed ro and P do not follow from the volume law and the closed form "
-    "(DESIGN.md 3, errata)\"\n";
+    "(docs/model.md 3, errata)\"\n";
 static const char COMPRESSION[] =
     "headplan_scene: 1\n"
     "name: paper table (compression)\n"

@@ -2,7 +2,7 @@
  * (x = [ξ (mm, deg), ri (mm)], n contact equalities), with the exact constraint Jacobian and
  * the exact Hessian of the Lagrangian from problem_eval.c.
  *
- * Facts this file relies on (SOLVERS.md, measured on this machine):
+ * Facts this file relies on (docs/solver-facts.md, measured on this machine):
  * - Debian's Ipopt/MUMPS is not thread-safe, even with one problem per thread: every Ipopt
  *   call (create, options, solve, free) runs under one process-wide mutex owned here.
  * - The library must never print: `sb yes` (licence banner), print_level 0, and

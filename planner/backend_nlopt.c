@@ -8,7 +8,7 @@
  * pressure tie-breaker evaluated at the implied radii), and 2n inequalities
  * ro_lo_k <= ρ_k(ξ) <= ro_hi_k; the radii come afterwards from the inverse volume law
  * ri_k = ri(ρ_k(ξ)). COBYLA turns each equality into two opposed inequalities and then
- * crawls along the contact manifold with linear models (SOLVERS.md: up to 2.4 mm wrong on the
+ * crawls along the contact manifold with linear models (docs/solver-facts.md: up to 2.4 mm wrong on the
  * full form); the reduced form has 6 variables instead of 14 and only inequalities, which is
  * what COBYLA's linear-programming steps handle well, and its contacts hold exactly by
  * construction.
@@ -329,7 +329,7 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
         r->converged = 0;
         r->status = HP_STATUS_SOLVER_ERROR;
     } else if (rc == NLOPT_ROUNDOFF_LIMITED) {
-        /* Ambiguous (SOLVERS.md): accept the point only if it is feasible and stationary.
+        /* Ambiguous (docs/solver-facts.md): accept the point only if it is feasible and stationary.
          * Feasibility to 10× the constraint tolerance (1e-9 mm at least): SLSQP's last step
          * is limited by rounding at about that level. */
         if (hp_backend_kkt_ok(pb, v, fmax(10.0 * st->s.tolerance, 1e-9))) {

@@ -1,6 +1,6 @@
 /* Internal: the planner's nonlinear program, shared by every backend.
  *
- * Variables x (scaled so the solvers see numbers near 1, SOLVERS.md "Scaling matters"):
+ * Variables x (scaled so the solvers see numbers near 1, docs/solver-facts.md "Scaling matters"):
  *   x[0..2] translation [mm], x[3..5] rotation [deg], x[6+k] inner radius ri_k [mm].
  * Problem:
  *   minimise   Σ_i w_i (x_i − d_i)²  +  mu · Σ_k (P_k(ri_k) − p_prev_k)²

@@ -1,5 +1,6 @@
 /* Planner settings: defaults and the one validator. */
 #include "headplan/hp_planner.h"
+#include "planner/settings_check.h"
 
 #include <math.h>
 
@@ -21,6 +22,44 @@ void hp_settings_default(hp_settings *s)
     s->ipopt_hessian_approx = HP_DEFAULT_IPOPT_HESSIAN_APPROX;
 }
 
+/* Each check accepts only finite values in range; written as !(v > x) so NaN fails. */
+const char *hp_check_level_tolerance(double v)
+{
+    return (v > 0 && isfinite(v)) ? NULL : "must be finite and > 0";
+}
+
+const char *hp_check_auto_trans(double v)
+{
+    return (v >= 0 && isfinite(v)) ? NULL : "must be finite and >= 0";
+}
+
+const char *hp_check_auto_rot(double v)
+{
+    return (v >= 0 && isfinite(v)) ? NULL : "must be finite and >= 0";
+}
+
+const char *hp_check_tolerance(double v)
+{
+    return (v > 0 && isfinite(v)) ? NULL : "must be finite and > 0";
+}
+
+const char *hp_check_max_iter(long v)
+{
+    return (v > 0 && v <= HP_MAX_ITER_MAX) ? NULL : "must be an integer in 1..1000000";
+}
+
+const char *hp_check_max_time(double v)
+{
+    return (v > 0 && v <= HP_MAX_TIME_MAX) ? NULL : "must be > 0 and at most 3600 s";
+}
+
+const char *hp_check_weight(double v)
+{
+    return (v >= HP_WEIGHT_MM_PER_DEG_MIN && v <= HP_WEIGHT_MM_PER_DEG_MAX)
+               ? NULL
+               : "must be in [1e-6, 1e6] (its square and inverse square enter the objective)";
+}
+
 hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
 {
     if (!s) return hp_diag_set(d, HP_ERR_NULL, "settings: NULL");
@@ -28,26 +67,22 @@ hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
         return hp_diag_set(d, HP_ERR_INVALID, "backend: unknown value %d", (int)s->backend);
     if ((int)s->level < 0 || s->level > HP_LEVEL_AUTO)
         return hp_diag_set(d, HP_ERR_INVALID, "level: unknown value %d", (int)s->level);
-    if (!(s->level_tolerance > 0) || !isfinite(s->level_tolerance))
-        return hp_diag_set(d, HP_ERR_INVALID, "level_tolerance: must be finite and > 0 m (got %g)",
+    const char *why;
+    if ((why = hp_check_level_tolerance(s->level_tolerance)))
+        return hp_diag_set(d, HP_ERR_INVALID, "level_tolerance: %s m (got %g)", why,
                            s->level_tolerance);
-    if (!(s->auto_trans >= 0) || !isfinite(s->auto_trans))
-        return hp_diag_set(d, HP_ERR_INVALID, "auto_trans: must be finite and >= 0 m (got %g)",
-                           s->auto_trans);
-    if (!(s->auto_rot >= 0) || !isfinite(s->auto_rot))
-        return hp_diag_set(d, HP_ERR_INVALID, "auto_rot: must be finite and >= 0 rad (got %g)",
-                           s->auto_rot);
-    if (!(s->tolerance > 0) || !isfinite(s->tolerance))
-        return hp_diag_set(d, HP_ERR_INVALID, "tolerance: must be finite and > 0 (got %g)",
-                           s->tolerance);
-    if (!(s->max_iter > 0))
-        return hp_diag_set(d, HP_ERR_INVALID, "max_iter: must be > 0 (got %d)", s->max_iter);
-    if (!(s->max_time > 0) || !isfinite(s->max_time))
-        return hp_diag_set(d, HP_ERR_INVALID, "max_time: must be finite and > 0 s (got %g)",
-                           s->max_time);
-    if (!(s->weight_mm_per_deg > 0) || !isfinite(s->weight_mm_per_deg))
-        return hp_diag_set(d, HP_ERR_INVALID,
-                           "weight_mm_per_deg: must be finite and > 0 (got %g)",
+    if ((why = hp_check_auto_trans(s->auto_trans)))
+        return hp_diag_set(d, HP_ERR_INVALID, "auto_trans: %s m (got %g)", why, s->auto_trans);
+    if ((why = hp_check_auto_rot(s->auto_rot)))
+        return hp_diag_set(d, HP_ERR_INVALID, "auto_rot: %s rad (got %g)", why, s->auto_rot);
+    if ((why = hp_check_tolerance(s->tolerance)))
+        return hp_diag_set(d, HP_ERR_INVALID, "tolerance: %s (got %g)", why, s->tolerance);
+    if ((why = hp_check_max_iter(s->max_iter)))
+        return hp_diag_set(d, HP_ERR_INVALID, "max_iter: %s (got %d)", why, s->max_iter);
+    if ((why = hp_check_max_time(s->max_time)))
+        return hp_diag_set(d, HP_ERR_INVALID, "max_time: %s (got %g)", why, s->max_time);
+    if ((why = hp_check_weight(s->weight_mm_per_deg)))
+        return hp_diag_set(d, HP_ERR_INVALID, "weight_mm_per_deg: %s (got %g)", why,
                            s->weight_mm_per_deg);
     if (!(s->mu >= 0) || !isfinite(s->mu))
         return hp_diag_set(d, HP_ERR_INVALID, "mu: must be finite and >= 0 (got %g)", s->mu);

@@ -1,5 +1,6 @@
 /* Scene files: the top level, the model/solver/correction/trace sections, and loading. */
 #include "headplan/hp_trace.h"
+#include "planner/settings_check.h"
 #include "scene/scene_parts.h"
 
 #include <errno.h>
@@ -64,10 +65,11 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
     }
     if ((n = yt_map_get(node, "tolerance_mm"))) {
         double t;
+        const char *why;
         if ((e = sr_number(c, n, "model.tolerance_mm", &t))) return e;
-        if (!(t > 0))
-            return sr_fail(c, n, "model.tolerance_mm", HP_ERR_INVALID,
-                           "must be > 0 mm (got %g)", t);
+        if ((why = hp_check_level_tolerance(t * 1e-3)))
+            return sr_fail(c, n, "model.tolerance_mm", HP_ERR_INVALID, "%s mm (got %g)", why,
+                           t);
         s->level_tolerance = t * 1e-3;
     }
     const yt_node *tr = yt_map_get(node, "auto_translation_mm");
@@ -79,10 +81,11 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
                        "together)");
     if (tr) {
         double a, b;
+        const char *why;
         if ((e = sr_number(c, tr, "model.auto_translation_mm", &a))) return e;
-        if (!(a >= 0))
+        if ((why = hp_check_auto_trans(a * 1e-3)))
             return sr_fail(c, tr, "model.auto_translation_mm", HP_ERR_INVALID,
-                           "must be >= 0 mm (got %g)", a);
+                           "%s mm (got %g)", why, a);
         if ((e = sr_number(c, ro, "model.auto_rotation_deg", &b))) return e;
         if (!(b >= 0 && b <= 180))
             return sr_fail(c, ro, "model.auto_rotation_deg", HP_ERR_INVALID,
@@ -104,25 +107,30 @@ static hp_error solver(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if (e) return e;
     const yt_node *n;
     if ((n = yt_map_get(node, "backend"))) {
-        char name[HP_SCENE_BACKEND_MAX] = {0}; /* copied whole: no stale bytes */
+        char name[16];
         if ((e = sr_word(c, n, "solver.backend", "backend", BACKENDS, name, sizeof name)))
             return e;
-        memcpy(s->backend, name, sizeof name);
+        (void)hp_backend_parse(name, &s->backend); /* cannot fail: name is in BACKENDS */
     }
+    /* The planner's own per-field checks (planner/settings_check.h), so a value the
+     * planner would refuse is refused here, at its line and column. */
     static const char *const POS[3] = {"tolerance", "max_time_s", "weight_mm_per_deg"};
+    const char *(*const check[3])(double) = {hp_check_tolerance, hp_check_max_time,
+                                             hp_check_weight};
     double *dst[3] = {&s->tolerance, &s->max_time, &s->weight_mm_per_deg};
     for (int i = 0; i < 3; ++i) {
         if (!(n = yt_map_get(node, POS[i]))) continue;
         char p[SR_PATH_MAX];
         double v;
+        const char *why;
         sr_join(p, sizeof p, "solver", POS[i]);
         if ((e = sr_number(c, n, p, &v))) return e;
-        if (!(v > 0)) return sr_fail(c, n, p, HP_ERR_INVALID, "must be > 0 (got %g)", v);
+        if ((why = check[i](v))) return sr_fail(c, n, p, HP_ERR_INVALID, "%s (got %g)", why, v);
         *dst[i] = v;
     }
     if ((n = yt_map_get(node, "max_iter"))) {
         long it;
-        if ((e = sr_integer(c, n, "solver.max_iter", 1, 1000000, &it))) return e;
+        if ((e = sr_integer(c, n, "solver.max_iter", 1, HP_MAX_ITER_MAX, &it))) return e;
         s->max_iter = (int)it;
     }
     return HP_OK;
@@ -227,13 +235,18 @@ static hp_error parse_tree(const sr_ctx *c, const yt_node *root, hp_scene *s)
     const yt_node *n;
     if ((e = sr_require(c, root, "", "name", &n))) return e;
     if ((e = sr_text(c, n, "name", s->name, sizeof s->name))) return e;
-    s->level = HP_SCENE_DEFAULT_LEVEL;
-    s->level_tolerance = HP_SCENE_DEFAULT_LEVEL_TOLERANCE;
-    memcpy(s->backend, HP_SCENE_DEFAULT_BACKEND, sizeof HP_SCENE_DEFAULT_BACKEND);
-    s->tolerance = HP_SCENE_DEFAULT_TOLERANCE;
-    s->max_iter = HP_SCENE_DEFAULT_MAX_ITER;
-    s->max_time = HP_SCENE_DEFAULT_MAX_TIME;
-    s->weight_mm_per_deg = HP_SCENE_DEFAULT_WEIGHT_MM_PER_DEG;
+    /* One set of defaults: the planner's. */
+    hp_settings def;
+    hp_settings_default(&def);
+    s->level = def.level;
+    s->level_tolerance = def.level_tolerance;
+    s->auto_trans = def.auto_trans;
+    s->auto_rot = def.auto_rot;
+    s->backend = def.backend;
+    s->tolerance = def.tolerance;
+    s->max_iter = def.max_iter;
+    s->max_time = def.max_time;
+    s->weight_mm_per_deg = def.weight_mm_per_deg;
     if (yt_map_get(root, "bladder")) {
         s->kind = HP_SCENE_BLADDER;
         return bladder_scene(c, root, s);

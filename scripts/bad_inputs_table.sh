@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Writes the table of docs/bad-inputs.md from tests/cli/bad_inputs.txt and the messages the
 # program actually prints (it runs tests/cli/bad_inputs.sh with BAD_INPUTS_REPORT).
-#   bash scripts/bad_inputs_table.sh HEADPLAN_BIN > table.md
+#   bash scripts/bad_inputs_table.sh HEADPLAN_BIN   (the Markdown table on stdout)
 set -euo pipefail
 BIN=$(realpath "$1"); SRC=$(cd "$(dirname "$0")/.." && pwd)
 rep=$(mktemp); trap 'rm -f "$rep"' EXIT

@@ -4,6 +4,14 @@
 
 #include <stddef.h>
 
+/* Marks a function of the public API: the shared library is built with hidden visibility,
+ * so only what carries HP_API is exported (scripts/hp_api.py annotates and lists them). */
+#if defined(__GNUC__) || defined(__clang__)
+#define HP_API __attribute__((visibility("default")))
+#else
+#define HP_API
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -40,21 +48,21 @@ typedef struct hp_diag {
 
 /* Stable lower-case name of an error code ("ok", "invalid-argument", ...); "unknown" for a
  * value outside the enum. Never NULL. */
-const char *hp_error_name(hp_error e);
+HP_API const char *hp_error_name(hp_error e);
 
 /* One-line English description of an error code; safe for unknown codes. Never NULL. */
-const char *hp_error_message(hp_error e);
+HP_API const char *hp_error_message(hp_error e);
 
 /* Writes a printf-style message into diag (if diag is not NULL) and returns code, so that
  * a failing path reads `return hp_diag_set(d, HP_ERR_INVALID, "Ri_mm: must be > 0");`. */
-hp_error hp_diag_set(hp_diag *diag, hp_error code, const char *fmt, ...)
+HP_API hp_error hp_diag_set(hp_diag *diag, hp_error code, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
 
 /* The library version as "MAJOR.MINOR.PATCH". */
-const char *hp_version(void);
+HP_API const char *hp_version(void);
 
 #ifdef __cplusplus
 }

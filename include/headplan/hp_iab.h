@@ -31,12 +31,12 @@ typedef enum hp_material_convention {
 } hp_material_convention;
 
 /* "paper" / "fe"; "unknown" for other values. */
-const char *hp_material_convention_name(hp_material_convention c);
+HP_API const char *hp_material_convention_name(hp_material_convention c);
 /* Parses "paper" or "fe"; returns HP_ERR_INVALID for anything else. */
-hp_error hp_material_convention_parse(const char *s, hp_material_convention *out);
+HP_API hp_error hp_material_convention_parse(const char *s, hp_material_convention *out);
 
 /* Converts moduli (a, b) given in convention conv to the paper's (C1, C2). */
-hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, double b,
+HP_API hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, double b,
                                 double *C1, double *C2);
 
 /* Checks a bladder: finite values, 0 < Ri < Ro, C1 > 0, C2 >= 0, and Ri >= 1e-9·Ro (a
@@ -45,17 +45,17 @@ hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, double b,
  * or HP_ERR_DOMAIN (Ri >= Ro, Ri < 1e-9·Ro) and writes a message naming the field ("Ri",
  * "Ro", "C1", "C2") into diag (may be NULL). Every other function here runs the same checks
  * first and returns the same code. */
-hp_error hp_iab_validate(const hp_iab *b, hp_diag *diag);
+HP_API hp_error hp_iab_validate(const hp_iab *b, hp_diag *diag);
 
 /* Volume law: outer radius [m] for inner radius ri [m], ro³ = Ro³ + ri³ − Ri³, formed as
  * cbrt((Ro³ − Ri³) + ri³) (no cancellation; ≤ 2 ulps). HP_ERR_INVALID for NaN/Inf ri,
  * HP_ERR_DOMAIN for ri <= 0 or ri outside 1e±30 of Ro. */
-hp_error hp_iab_ro(const hp_iab *b, double ri, double *ro);
+HP_API hp_error hp_iab_ro(const hp_iab *b, double ri, double *ro);
 
 /* Inverse volume law: inner radius for outer radius ro [m]; HP_ERR_DOMAIN when the cavity
  * would collapse (ro³ <= Ro³ − Ri³). Newton-refined on a cancellation-free residual: a few
  * ulps wherever the law is well conditioned (dri/dro = ro²/ri²). */
-hp_error hp_iab_ri(const hp_iab *b, double ro, double *ri);
+HP_API hp_error hp_iab_ri(const hp_iab *b, double ro, double *ri);
 
 /* Inverse kinematics, closed form: internal pressure [Pa] that holds inner radius ri [m].
  * P = 2·C1·[f(λi) − f(λo)] + 2·C2·[g(λi) − g(λo)], f(λ) = −1/λ − 1/(4λ⁴), g(λ) = λ − 1/(2λ²),
@@ -63,13 +63,13 @@ hp_error hp_iab_ri(const hp_iab *b, double ro, double *ri);
  * ulps even near λi = 1 (≤ 16 ulps asserted, 8.8 measured over λi ∈ [0.5, 3]; see
  * docs/accuracy.md). P = 0 exactly at ri = Ri. HP_ERR_DOMAIN when ri <= 0 or the pressure
  * would overflow (ri below ~1e-30 of Ro); HP_ERR_INVALID for NaN/Inf. */
-hp_error hp_iab_ik(const hp_iab *b, double ri, double *P);
+HP_API hp_error hp_iab_ik(const hp_iab *b, double ri, double *P);
 
 /* Inverse kinematics with exact derivatives with respect to ri: dP/dri [Pa/m] and
  * d²P/dri² [Pa/m²], closed form (no finite differences). Any output pointer but P may be
  * NULL. The derivative is a difference of two terms that cancel at a limit point, so its
  * error is a few ulps of the larger term, not of itself. */
-hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri,
+HP_API hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri,
                           double *d2P_dri2);
 
 /* The paper's two integral forms of the pressure. */
@@ -82,7 +82,7 @@ typedef enum hp_quad_form {
  * computed per call by Newton on the Legendre recurrence, on the stack. The reference form
  * converges slowly under strong compression of thick walls (a branch point of r(R) nears Ri
  * as ri → 0): n = 32 leaves ~1e-10 there, n = 64 reaches rounding level. */
-hp_error hp_iab_ik_gauss(const hp_iab *b, double ri, hp_quad_form form, int n, double *P);
+HP_API hp_error hp_iab_ik_gauss(const hp_iab *b, double ri, hp_quad_form form, int n, double *P);
 
 /* Pressure by adaptive Gauss–Kronrod (7–15) quadrature on the chosen form to a relative
  * tolerance rel_tol (> 0), bisecting the interval of largest estimate |K15 − G7|. Also
@@ -91,7 +91,7 @@ hp_error hp_iab_ik_gauss(const hp_iab *b, double ri, hp_quad_form form, int n, d
  * stack storage (256 intervals), no allocation. err_est and evals may be NULL.
  * HP_ERR_NO_CONVERGENCE (P set to NaN, err_est and evals still written) when the budget
  * runs out first. */
-hp_error hp_iab_ik_adaptive(const hp_iab *b, double ri, hp_quad_form form, double rel_tol,
+HP_API hp_error hp_iab_ik_adaptive(const hp_iab *b, double ri, hp_quad_form form, double rel_tol,
                             double *P, double *err_est, int *evals);
 
 /* The inflation limit point: the first maximum of P(λi) for λi > 1, where dP/dλi = 0.
@@ -109,7 +109,7 @@ typedef struct hp_iab_limit {
  * C2/C1 threshold is not stepped over), then bisection to adjacent doubles. λi is accurate
  * to ~1e-13 relative (the slope's rounding noise; worse for very thin walls, whose slope is
  * a small difference of large terms). */
-hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp);
+HP_API hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp);
 
 /* Forward kinematics: the inner radius [m] on the stable branch (below any limit point) that
  * holds pressure P [Pa]. Newton's method safeguarded by bisection on a bracket it never
@@ -117,17 +117,17 @@ hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp);
  * ri → 0. HP_ERR_NO_STABLE when P is at or above the limit-point pressure, HP_ERR_INVALID
  * for NaN/Inf, HP_ERR_DOMAIN when the radius would leave the model's range (|P| huge).
  * Cost: the limit-point scan (~1000 closed-form evaluations) plus ~10 Newton steps. */
-hp_error hp_iab_fk(const hp_iab *b, double P, double *ri);
+HP_API hp_error hp_iab_fk(const hp_iab *b, double P, double *ri);
 
 /* The same as hp_iab_fk with the bladder's limit point lp (from hp_iab_limit_point)
  * computed once beforehand: about a thousand times cheaper for a positive pressure, for
  * callers that invert pressures every cycle. lp must belong to b. */
-hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, double *ri);
+HP_API hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, double *ri);
 
 /* Wall stresses at current radius r in [ri, ro] of a bladder held at inner radius ri:
  * radial σrr and hoop σθθ [Pa], closed form (σrr(ri) = −P, σrr(ro) = 0 exactly). r may lie
  * up to 8 ulps outside [ri, ro] (clamped); further out is HP_ERR_DOMAIN. */
-hp_error hp_iab_wall_stress(const hp_iab *b, double ri, double r, double *s_rr,
+HP_API hp_error hp_iab_wall_stress(const hp_iab *b, double ri, double r, double *s_rr,
                             double *s_tt);
 
 #ifdef __cplusplus

@@ -22,17 +22,17 @@ extern "C" {
 enum { HP_X = 0, HP_Y, HP_Z, HP_PITCH, HP_ROLL, HP_YAW, HP_DOF };
 
 /* Clinical units (mm, degrees) <-> SI (m, rad), the one place these conversions live. */
-void hp_pose_from_clinical(const double mm_deg[6], double xi[6]);
-void hp_pose_to_clinical(const double xi[6], double mm_deg[6]);
+HP_API void hp_pose_from_clinical(const double mm_deg[6], double xi[6]);
+HP_API void hp_pose_to_clinical(const double xi[6], double mm_deg[6]);
 /* Names of the pose components as a user types them: "x_mm" ... "yaw_deg". */
-const char *hp_pose_key(int i);
+HP_API const char *hp_pose_key(int i);
 
 /* Rotation matrix R = Rz(yaw)·Ry(roll)·Rx(pitch), row-major 3×3. */
-void hp_rotation(double pitch, double roll, double yaw, double R[9]);
+HP_API void hp_rotation(double pitch, double roll, double yaw, double R[9]);
 
 typedef enum hp_head_shape { HP_HEAD_SPHERE = 0, HP_HEAD_ELLIPSOID } hp_head_shape;
-const char *hp_head_shape_name(hp_head_shape s);            /* "sphere", "ellipsoid" */
-hp_error hp_head_shape_parse(const char *s, hp_head_shape *out);
+HP_API const char *hp_head_shape_name(hp_head_shape s);            /* "sphere", "ellipsoid" */
+HP_API hp_error hp_head_shape_parse(const char *s, hp_head_shape *out);
 
 /* A rigid head. A sphere uses semi_axes[0] as its radius (all three equal). */
 typedef struct hp_head {
@@ -83,12 +83,12 @@ typedef struct hp_layout {
  * HP_ERR_INVALID (or the bladder model's code) with a message naming the bladder and
  * field at fault, e.g. "bladder 'side_fore_left': stretch_max: ...". Uses the bladder
  * model; allocates nothing. */
-hp_error hp_layout_prepare(hp_layout *L, hp_diag *diag);
+HP_API hp_error hp_layout_prepare(hp_layout *L, hp_diag *diag);
 
 /* Point of the head surface a bladder touches placed by "touch": returns the bladder centre
  * c = p + (Ro + preload)·n(p) for surface point p (which must lie on the surface to within
  * 1e-9 relative of its implicit function; otherwise HP_ERR_INVALID). */
-hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro,
+HP_API hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro,
                                    double preload, double center[3], hp_diag *diag);
 
 /* Fidelity levels of the contact model. */
@@ -98,8 +98,8 @@ typedef enum hp_level {
     HP_LEVEL_SURFACE,    /* exact distance to the moved sphere or ellipsoid */
     HP_LEVEL_AUTO        /* the cheapest level whose error bound meets a tolerance */
 } hp_level;
-const char *hp_level_name(hp_level l); /* "linear", "plane", "surface", "auto" */
-hp_error hp_level_parse(const char *s, hp_level *out);
+HP_API const char *hp_level_name(hp_level l); /* "linear", "plane", "surface", "auto" */
+HP_API hp_error hp_level_parse(const char *s, hp_level *out);
 
 /* Contact distances rho[k] (m) from each bladder centre to the head surface at pose xi,
  * for level linear, plane or surface (not auto). rho is signed (negative when a centre is
@@ -109,7 +109,7 @@ hp_error hp_level_parse(const char *s, hp_level *out);
  * or bad level; HP_ERR_DOMAIN (surface) when a pose puts a bladder centre so deep inside
  * the head that its closest surface point is not unique. On error the given outputs are
  * NaN. Allocates nothing; about 1–2 µs for eight bladders with J (surface, -O2). */
-hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
+HP_API hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
                          double *rho, double *J, double *H);
 
 /* Upper bound on max_k |rho_k(level) − rho_k(surface)| over all poses with translation
@@ -117,12 +117,12 @@ hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
  * 0 for surface. A proof from second-order Taylor remainders (head curvature, lever arm,
  * rotation) is in kinematics/bound.c; for the default layout the bound is within ×1.2–1.6
  * (plane) and ×6–11 (linear) of sampled worst errors at 1–10 mm, 1–5°. */
-hp_error hp_contact_error_bound(const hp_layout *L, hp_level level, double trans, double rot,
+HP_API hp_error hp_contact_error_bound(const hp_layout *L, hp_level level, double trans, double rot,
                                 double *bound);
 
 /* The cheapest level (linear, then plane, else surface) whose error bound for corrections
  * up to (trans, rot) is <= tol (m). */
-hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double rot,
+HP_API hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double rot,
                          hp_level *level);
 
 /* Forward contact kinematics: the pose whose contact distances best fit the given outer
@@ -132,7 +132,7 @@ hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double ro
  * components are returned as 0 (not observable). Needs n >= 6 (3 for a sphere), else
  * HP_ERR_INVALID; HP_ERR_NO_CONVERGENCE after 200 iterations. Consistent radii give the
  * pose back to ~1e-14 m. Allocates nothing. */
-hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
+HP_API hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
                        const double *xi0, double xi[6], double *residual, int *iters);
 
 /* The reach search stops at these (mm, degrees): a reach equal to one means "at least". */
@@ -158,7 +158,7 @@ typedef struct hp_layout_analysis {
  * nominal pose itself violates a limit. A sphere head gets rotation_commandable = 0 and
  * rotation reach 0. weakest_words names the dominant component of the weakest vector and
  * any other component of magnitude >= 0.3. */
-hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysis *out);
+HP_API hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysis *out);
 
 #ifdef __cplusplus
 }

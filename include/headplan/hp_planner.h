@@ -64,10 +64,10 @@ typedef enum hp_backend {
     HP_BACKEND_COUNT_
 } hp_backend;
 /* "realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla"; "unknown" for other values. */
-const char *hp_backend_name(hp_backend b);
+HP_API const char *hp_backend_name(hp_backend b);
 /* Parses a backend name; HP_ERR_NULL for a NULL argument, HP_ERR_INVALID (out untouched)
  * for anything else. */
-hp_error hp_backend_parse(const char *s, hp_backend *out);
+HP_API hp_error hp_backend_parse(const char *s, hp_backend *out);
 
 /* Outcome of one plan. REACHED and CLOSEST carry a new answer; ITERATION_LIMIT and
  * TIME_LIMIT carry the last feasible iterate when the backend had one (inside every limit,
@@ -85,7 +85,7 @@ typedef enum hp_status {
 } hp_status;
 /* "reached", "closest", "iteration-limit", "time-limit", "infeasible-start",
  * "invalid-input", "solver-error"; "unknown" for other values. */
-const char *hp_status_name(hp_status s);
+HP_API const char *hp_status_name(hp_status s);
 
 /* Why a bladder's answer sits on a limit (bit flags; several may be set). */
 enum {
@@ -100,11 +100,11 @@ enum {
 #define HP_BIND_COUNT 7
 /* "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
  * "limit_point" for one flag bit; "unknown" otherwise. */
-const char *hp_binding_name(unsigned flag);
+HP_API const char *hp_binding_name(unsigned flag);
 
 #define HP_DEFAULT_BACKEND HP_BACKEND_REALTIME
 #define HP_DEFAULT_LEVEL HP_LEVEL_LINEAR
-#define HP_DEFAULT_LEVEL_TOLERANCE 1e-6 /* [m] contact-model error auto may accept */
+#define HP_DEFAULT_LEVEL_TOLERANCE 1e-5 /* [m] (0.01 mm) contact-model error auto may accept */
 #define HP_DEFAULT_AUTO_TRANS 0.01      /* [m] translation auto must cover */
 #define HP_DEFAULT_AUTO_ROT 0.0872664625997164788 /* [rad] (5 degrees) rotation auto covers */
 #define HP_DEFAULT_TOLERANCE 1e-9       /* pose tolerance, mm and degrees */
@@ -136,10 +136,10 @@ typedef struct hp_settings {
 } hp_settings;
 
 /* Fills every field with its HP_DEFAULT_* value. s may be NULL (nothing happens). */
-void hp_settings_default(hp_settings *s);
+HP_API void hp_settings_default(hp_settings *s);
 /* Checks every field (finite, in range); the first bad one is named in diag (may be NULL).
  * Returns HP_OK, HP_ERR_NULL or HP_ERR_INVALID. */
-hp_error hp_settings_validate(const hp_settings *s, hp_diag *diag);
+HP_API hp_error hp_settings_validate(const hp_settings *s, hp_diag *diag);
 
 typedef struct hp_bladder_result {
     double ri, ro;       /* [m] */
@@ -172,7 +172,7 @@ typedef struct hp_planner hp_planner;
  * bounds on the bladders' radii (clipped below any inflation limit point) and creates the
  * backend. The only call that allocates. On failure returns the error, sets *out = NULL,
  * frees everything, and puts the message in diag (may be NULL). */
-hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
+HP_API hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
                            hp_planner **out, hp_diag *diag);
 
 /* Plans one correction desired[6] (SI: m, rad). Always fills *result; returns HP_OK when a
@@ -191,22 +191,22 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
  * Every returned pressure is finite and inside [p_min, p_max] whatever the status.
  * Realtime backend: allocates nothing, prints nothing, takes no lock, bounded time. The text
  * of the last failure is kept (hp_planner_error). */
-hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *result);
+HP_API hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *result);
 
 /* The message of the last failed or non-REACHED plan ("" when none). Never NULL. */
-const char *hp_planner_error(const hp_planner *p);
+HP_API const char *hp_planner_error(const hp_planner *p);
 
 /* The resolved contact level and the planner's (prepared) copy of the layout. */
-hp_level hp_planner_level(const hp_planner *p);
-const hp_layout *hp_planner_layout(const hp_planner *p);
+HP_API hp_level hp_planner_level(const hp_planner *p);
+HP_API const hp_layout *hp_planner_layout(const hp_planner *p);
 
 /* Sets the pressures the bladders hold now [Pa] (n values): the rate limits of the next plan
  * start from them and they become the safe output. Each must be finite, inside its limits
  * and on the stable branch; otherwise HP_ERR_INVALID and nothing changes. */
-hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
+HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
 
 /* Forgets the previous plan: the nominal pose becomes the previous answer again. */
-void hp_planner_reset(hp_planner *p);
+HP_API void hp_planner_reset(hp_planner *p);
 
 /* The pressures [Pa] (n values) that hold the layout's nominal pose: each bladder's
  * closed-form IK at its nominal contact distance, unclamped. A trace run (headplan batch,
@@ -215,7 +215,7 @@ void hp_planner_reset(hp_planner *p);
 hp_error hp_planner_nominal_pressures(const hp_planner *p, double *pressures);
 
 /* Frees a planner; safe on NULL and on a half-built planner. */
-void hp_planner_destroy(hp_planner *p);
+HP_API void hp_planner_destroy(hp_planner *p);
 
 #ifdef __cplusplus
 }

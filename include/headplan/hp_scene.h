@@ -22,6 +22,7 @@
 #include "headplan/hp_common.h"
 #include "headplan/hp_iab.h"
 #include "headplan/hp_kinematics.h"
+#include "headplan/hp_planner.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -35,17 +36,9 @@ extern "C" {
 #define HP_SCENE_TEXT_MAX 256
 /* Longest path kept (trace file, resolved against the scene's folder), including the NUL. */
 #define HP_SCENE_PATH_MAX 1024
-/* Longest backend name, including the NUL. */
-#define HP_SCENE_BACKEND_MAX 16
-
-/* Defaults of the optional sections (the same values as the planner's HP_DEFAULT_*). */
-#define HP_SCENE_DEFAULT_LEVEL HP_LEVEL_LINEAR
-#define HP_SCENE_DEFAULT_LEVEL_TOLERANCE 1e-5   /* [m] = 0.01 mm */
-#define HP_SCENE_DEFAULT_BACKEND "realtime"
-#define HP_SCENE_DEFAULT_TOLERANCE 1e-9         /* pose tolerance in mm and degrees */
-#define HP_SCENE_DEFAULT_MAX_ITER 200
-#define HP_SCENE_DEFAULT_MAX_TIME 1.0           /* [s] */
-#define HP_SCENE_DEFAULT_WEIGHT_MM_PER_DEG 1.0
+/* The optional `model` and `solver` sections default to the planner's own HP_DEFAULT_*
+ * values (hp_planner.h): a scene that leaves them out plans exactly as
+ * hp_settings_default() does. */
 
 typedef enum hp_scene_kind {
     HP_SCENE_LAYOUT = 0, /* key `bladders`: a head and its bladders */
@@ -85,7 +78,7 @@ typedef struct hp_scene {
     int has_auto_range;                /* `model.auto_translation_mm` and `_rotation_deg` */
     double auto_trans;                 /* [m] largest translation auto must cover */
     double auto_rot;                   /* [rad] largest rotation auto must cover */
-    char backend[HP_SCENE_BACKEND_MAX];/* "realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla" */
+    hp_backend backend;                /* `solver.backend` */
     double tolerance;                  /* `solver.tolerance` (mm and degrees), > 0 */
     int max_iter;                      /* `solver.max_iter`, 1..1000000 */
     double max_time;                   /* `solver.max_time_s` [s], > 0 */
@@ -120,18 +113,27 @@ typedef struct hp_scene {
  * HP_ERR_IO (cannot open or read; diag "FILE: why"), HP_ERR_PARSE (syntax, keys, types,
  * numbers) or HP_ERR_INVALID / HP_ERR_DOMAIN (values out of range, layout cannot be
  * prepared), with the one-line message in diag (may be NULL). out is zeroed on failure. */
-hp_error hp_scene_load(const char *path, hp_scene *out, hp_diag *diag);
+HP_API hp_error hp_scene_load(const char *path, hp_scene *out, hp_diag *diag);
 
 /* Parses a scene from memory (len bytes, need not be NUL-terminated). filename is used in
  * messages and to resolve a relative trace path (NULL: "<scene>", relative to the current
  * directory). Same contract as hp_scene_load. */
-hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_scene *out,
+HP_API hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_scene *out,
                         hp_diag *diag);
 
+/* The planner settings a layout scene asks for: hp_settings_default(), then the scene's
+ * `model` (level, tolerance, auto range) and `solver` (backend, tolerance, budgets, weight)
+ * sections. The one place a scene becomes settings: the command line and the Python module
+ * call it too, so a scene plans the same whichever entry point loads it. Returns HP_OK;
+ * HP_ERR_NULL for NULL arguments; HP_ERR_INVALID for a single-bladder scene (it has no
+ * layout) or settings that hp_settings_validate refuses (only possible for an hp_scene
+ * that was not filled by hp_scene_load/parse). out is filled only on HP_OK. */
+HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag);
+
 /* "layout" / "bladder"; "unknown" otherwise. */
-const char *hp_scene_kind_name(hp_scene_kind k);
+HP_API const char *hp_scene_kind_name(hp_scene_kind k);
 /* "deviation" / "correction"; "unknown" otherwise. */
-const char *hp_trace_rows_name(hp_trace_rows r);
+HP_API const char *hp_trace_rows_name(hp_trace_rows r);
 
 #ifdef __cplusplus
 }

@@ -27,7 +27,7 @@ assert abs(d["condition"] - sv[0] / sv[-1]) <= 1e-12 * d["condition"], d["condit
 w = d["weakest_direction"]
 assert list(w)[:2] == ["vector", "phrase"] and len(w["vector"]) == 6
 assert abs(math.fsum(v * v for v in w["vector"]) - 1) < 1e-12       # unit vector
-# DESIGN.md section 4: Y translation and pitch are the weakest directions of this layout.
+# docs/model.md section 4: Y translation and pitch are the weakest directions of this layout.
 assert "pitch" in w["phrase"], w["phrase"]
 assert abs(w["vector"][3]) == max(abs(v) for v in w["vector"]), w["vector"]
 assert abs(w["vector"][1]) >= 0.3, w["vector"]
@@ -77,7 +77,7 @@ for b in d["bladders"]:
 PY
 
 # ---- the singular values again, by numpy from the reported geometry ---------------------
-# Rows [-n, -((p - pivot) x n)·pi/180] (mm/mm and mm/deg, p in mm): DESIGN.md section 4's
+# Rows [-n, -((p - pivot) x n)·pi/180] (mm/mm and mm/deg, p in mm): docs/model.md section 4's
 # Jacobian written from the reported contacts and normals, decomposed by LAPACK instead of
 # Eigen's JacobiSVD. Tolerance 1e-9 of sv_max: both SVDs are backward stable (~1e-15
 # relative) and the inputs are printed to 17 digits, so 1e-9 leaves a wide margin while

@@ -51,8 +51,11 @@ for f in cur ref; do
   awk -v a="$(field aq-$f-1e-04 max_error)" -v b="$(field aq-$f-1e-13 max_error)" 'BEGIN { exit !(a > b && b < 1e-12) }' \
     && ok || bad "aq-$f-1e-04 not worse than aq-$f-1e-13"
 done
-# The closed form is more accurate than any quadrature, so it is on the Pareto front.
-[ "$(field closed pareto)" = "1" ] && ok || bad "closed not on the Pareto front"
+# The closed form is at least as accurate as every other IK method (an accuracy relation
+# only: whether it is on the time/error Pareto front depends on the clock, and two methods
+# tie on accuracy, so the front is not asserted: a busy machine may reorder the times).
+worse=$(awk -F, -v e="$(field closed max_error)" 'NR > 1 && $2 == "ik" && $8 + 0 < e + 0 { print $1 }' "$csv")
+[ -z "$worse" ] && ok || bad "more accurate than the closed form: $worse"
 
 # Charts: PNG (magic bytes \x89PNG) and SVG, non-empty; the script is kept beside them.
 png="$OUT/ik_pareto.png"; svg="$OUT/ik_pareto.svg"

@@ -1,4 +1,4 @@
-# headplan ik / fk: DESIGN.md §3 reference values, every bad-input class, fk round trip.
+# headplan ik / fk: docs/model.md §3 reference values, every bad-input class, fk round trip.
 source "$2/tests/cli_lib.sh"
 
 # jnum FMT KEY: the number under KEY (a.b for nested) in the JSON on stdout, in format FMT.

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # headplan paper: the paper's two tables, computed numbers and the DIFFERS marks.
-# Reference numbers: DESIGN.md section 3 (closed form, confirmed by quadrature of both
+# Reference numbers: docs/model.md section 3 (closed form, confirmed by quadrature of both
 # integrals): expansion ro 32.49649 mm, P 3053.1854 Pa; compression ri 23 mm,
 # ro 28.66033 mm, P -5402.1338 Pa.
 source "$2/tests/cli_lib.sh"
@@ -32,7 +32,7 @@ expect_exit 0 "files"
 grep -v '^scene: ' "$TMP/out" > "$TMP/a"; grep -v '^scene: ' "$TMP/builtin" > "$TMP/b"
 cmp -s "$TMP/a" "$TMP/b" && ok || bad "built-in scenes differ from scenarios/paper_*.yaml"
 
-# JSON: full-precision numbers, within half a unit of the last digit DESIGN.md gives
+# JSON: full-precision numbers, within half a unit of the last digit docs/model.md gives
 run paper --json
 expect_exit 0 "json"
 python3 - "$TMP/out" <<'PY' && ok || bad "json values"

@@ -1,4 +1,4 @@
-/* Closed-form IK: DESIGN.md §3 reference values, accuracy against a __float128 reference
+/* Closed-form IK: docs/model.md §3 reference values, accuracy against a __float128 reference
  * over λi in [0.5, 3] × wall thicknesses × C2/C1, exact derivatives, the volume law and the
  * wall stresses. */
 #include "test_util.h"
@@ -9,7 +9,7 @@
 
 #define ULP 0x1p-52 /* 2.22e-16, the spacing of doubles in [1, 2) */
 
-/* DESIGN.md §3 table (C1 = 1.1e4 Pa, C2 = 2.2e4 Pa), printed to 7 and 8 significant
+/* docs/model.md §3 table (C1 = 1.1e4 Pa, C2 = 2.2e4 Pa), printed to 7 and 8 significant
  * digits: half a unit of the last printed digit is the tolerance. */
 static void test_reference_values(void **state)
 {

@@ -55,7 +55,7 @@ static void test_limit_point_neo_hookean(void **state)
         assert_true(Pm < lp.pressure && Pp < lp.pressure);
     }
     printf("neo-Hookean limit point vs quad hand derivation: worst relative error in lambda_i %.3g\n", worst);
-    /* DESIGN.md's "near 1.43" is the 27/30 mm shell: 1.4312271769565827 (quad). */
+    /* docs/model.md's "near 1.43" is the 27/30 mm shell: 1.4312271769565827 (quad). */
     hp_iab b = {0.027, 0.03, 1.1e4, 0};
     hp_iab_limit lp;
     assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);

@@ -108,7 +108,7 @@ static void test_gauss_vs_closed_form(void **state)
 }
 
 /* Convergence in n: a few-point rule is visibly wrong and the error falls with n; shows
- * the comparison is not vacuous. Reference row 1 of DESIGN.md (P = 3053.1854 Pa). */
+ * the comparison is not vacuous. Reference row 1 of docs/model.md (P = 3053.1854 Pa). */
 static void test_gauss_convergence(void **state)
 {
     (void)state;
@@ -166,7 +166,7 @@ static void test_adaptive_vs_closed_form(void **state)
     printf("adaptive GK15: worst |true error| / estimate = %.3g\n", worst_ratio);
 }
 
-/* Paper errata check by quadrature: the paper's integrals reproduce DESIGN.md's reference
+/* Paper errata check by quadrature: the paper's integrals reproduce docs/model.md's reference
  * pressures (3053.1854, −5402.1338, 0 Pa) to their printed digits. */
 static void test_quadrature_reference_values(void **state)
 {

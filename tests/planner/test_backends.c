@@ -82,7 +82,7 @@ static const double reachable[3][6] = {
 
 /* Pose error tolerated per backend (mm or deg), with the solver tolerance it runs at:
  * - Ipopt, tol 1e-12: Newton steps on exact second derivatives converge quadratically, so
- *   the last step leaves an error far below tol; 1e-9 is the contract (SOLVERS.md measured
+ *   the last step leaves an error far below tol; 1e-9 is the contract (docs/solver-facts.md measured
  *   5.5e-6 mm at tol 1e-8).
  * - SLSQP, xtol 1e-12: superlinear BFGS-SQP; stops when the step is below xtol, by which
  *   time the error is about that size; 1e-8 leaves room for the last BFGS step.

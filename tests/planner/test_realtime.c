@@ -246,7 +246,7 @@ static void test_closest_matches_bruteforce(void **s)
 }
 
 /* Every bladder's stretch window nearly closed: the optimum sits at a vertex with far more
- * than six constraints (nearly) active — the degenerate case of SOLVERS.md. */
+ * than six constraints (nearly) active — the degenerate case of docs/solver-facts.md. */
 static void test_degenerate_vertex(void **s)
 {
     (void)s;

@@ -146,7 +146,7 @@ static void test_default_layout(void **state)
     assert_int_equal(s->has_auto_range, 1);
     hp_assert_close(s->auto_trans, 5e-3, 1e-15, 0);
     hp_assert_close(s->auto_rot, 3 * DEG, 1e-15, 0);
-    assert_string_equal(s->backend, "realtime");
+    assert_int_equal(s->backend, HP_BACKEND_REALTIME);
     assert_true(s->tolerance == 1e-9 && s->max_iter == 200 && s->max_time == 1.0 &&
                 s->weight_mm_per_deg == 1.0);
     assert_int_equal(s->has_correction, 1);
@@ -171,7 +171,7 @@ static void test_sphere_head(void **state)
     for (int i = 0; i < 3; ++i) hp_assert_close(L->bladders[k].center[i], p[i] * 4 / 3, 0, 1e-15);
     assert_int_equal(s->level, HP_LEVEL_SURFACE);
     /* defaults where the solver section omits a key */
-    assert_true(s->max_iter == HP_SCENE_DEFAULT_MAX_ITER && s->tolerance == 1e-9);
+    assert_true(s->max_iter == HP_DEFAULT_MAX_ITER && s->tolerance == 1e-9);
     assert_int_equal(s->has_trace, 0);
 }
 
@@ -185,7 +185,7 @@ static void test_soft_material(void **state)
     hp_iab_limit lp;
     assert_int_equal(hp_iab_limit_point(&b->iab, &lp), HP_OK);
     assert_int_equal(lp.exists, 1);
-    assert_true(lp.lambda_i > 1.38 && lp.lambda_i < 1.48); /* "near 1.43" (DESIGN.md §3) */
+    assert_true(lp.lambda_i > 1.38 && lp.lambda_i < 1.48); /* "near 1.43" (docs/model.md §3) */
     assert_true(b->stretch_max < lp.lambda_i);
     assert_int_equal(s->level, HP_LEVEL_PLANE);
 }
@@ -195,7 +195,7 @@ static void test_saturation_and_rotation(void **state)
     (void)state;
     hp_scene *s = load("saturation.yaml");
     hp_assert_close(s->layout.bladders[3].rate_max, 2000, 1e-15, 0);
-    assert_string_equal(s->backend, "ipopt");
+    assert_int_equal(s->backend, HP_BACKEND_IPOPT);
     hp_assert_close(s->correction[0], 0.015, 1e-15, 0);
     hp_assert_close(s->correction[5], 10 * DEG, 1e-15, 0);
     s = load("large_rotation.yaml");

@@ -1,0 +1,24 @@
+/* One check per planner-settings field, shared by hp_settings_validate and by the scene
+ * reader (which reports the failing key with file:line:col). A check takes the value in SI
+ * (as hp_settings holds it) and returns NULL when it is acceptable, else the reason as a
+ * phrase ("must be finite and > 0"), so both callers say the same thing. */
+#ifndef HP_SETTINGS_CHECK_H
+#define HP_SETTINGS_CHECK_H
+
+/* The weight W (mm per degree) enters the objective squared and inverted; outside this
+ * range 1/W² overflows or underflows to 0 and the closest answer loses a whole axis. */
+#define HP_WEIGHT_MM_PER_DEG_MIN 1e-6
+#define HP_WEIGHT_MM_PER_DEG_MAX 1e6
+/* Longest iteration budget and time budget a plan may be given. */
+#define HP_MAX_ITER_MAX 1000000
+#define HP_MAX_TIME_MAX 3600.0
+
+const char *hp_check_level_tolerance(double v); /* [m] */
+const char *hp_check_auto_trans(double v);      /* [m] */
+const char *hp_check_auto_rot(double v);        /* [rad] */
+const char *hp_check_tolerance(double v);       /* mm and degrees */
+const char *hp_check_max_iter(long v);
+const char *hp_check_max_time(double v);        /* [s] */
+const char *hp_check_weight(double v);          /* mm per degree */
+
+#endif

@@ -1,0 +1,28 @@
+/* A loaded scene -> planner settings: the one place this happens (see hp_scene.h). */
+#include "headplan/hp_scene.h"
+
+hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag)
+{
+    if (!sc || !out) return hp_diag_set(diag, HP_ERR_NULL, "scene settings: NULL argument");
+    if (sc->kind != HP_SCENE_LAYOUT)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "%s: a single-bladder study has no layout to plan for",
+                           sc->file[0] ? sc->file : "<scene>");
+    hp_settings s;
+    hp_settings_default(&s);
+    s.backend = sc->backend;
+    s.level = sc->level;
+    s.level_tolerance = sc->level_tolerance;
+    if (sc->has_auto_range) {
+        s.auto_trans = sc->auto_trans;
+        s.auto_rot = sc->auto_rot;
+    }
+    s.tolerance = sc->tolerance;
+    s.max_iter = sc->max_iter;
+    s.max_time = sc->max_time;
+    s.weight_mm_per_deg = sc->weight_mm_per_deg;
+    hp_error e = hp_settings_validate(&s, diag);
+    if (e != HP_OK) return e;
+    *out = s;
+    return HP_OK;
+}
