@@ -239,7 +239,7 @@ static PyObject *get_trace_rows(PyObject *o, void *c)
 static PyObject *get_backend(PyObject *o, void *c)
 {
     (void)c;
-    return PyUnicode_FromString(((hpy_scene *)o)->sc->backend);
+    return PyUnicode_FromString(hp_backend_name(((hpy_scene *)o)->sc->backend));
 }
 
 static PyObject *get_level(PyObject *o, void *c)

@@ -4,27 +4,6 @@
 
 #include <string.h>
 
-/* replaced by hp_scene_settings at merge */
-/* The settings a scene states, as the command line reads them (cli/cli_scene.c). */
-static hp_error scene_settings(const hp_scene *sc, hp_settings *s, hp_diag *d)
-{
-    hp_settings_default(s);
-    if (hp_backend_parse(sc->backend, &s->backend) != HP_OK)
-        return hp_diag_set(d, HP_ERR_INVALID, "solver.backend: unknown backend '%s'",
-                           sc->backend);
-    s->level = sc->level;
-    s->level_tolerance = sc->level_tolerance;
-    if (sc->has_auto_range) {
-        s->auto_trans = sc->auto_trans;
-        s->auto_rot = sc->auto_rot;
-    }
-    s->tolerance = sc->tolerance;
-    s->max_iter = sc->max_iter;
-    s->max_time = sc->max_time;
-    s->weight_mm_per_deg = sc->weight_mm_per_deg;
-    return HP_OK;
-}
-
 static int kw_double(PyObject *kw, const char *key, double scale, double *out)
 {
     PyObject *v = kw ? PyDict_GetItemString(kw, key) : NULL;
@@ -85,7 +64,7 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
         }
     }
     hp_diag d = {{0}};
-    if (scene_settings(sc, s, &d) != HP_OK) {
+    if (hp_scene_settings(sc, s, &d) != HP_OK) {
         hpy_fail("%s: %s", sc->file, d.text);
         return -1;
     }
