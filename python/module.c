@@ -68,8 +68,11 @@ PyArrayObject *hpy_rows(PyObject *obj, const char *name, int cols, int one_row)
             used += (size_t)snprintf(shape + used, sizeof shape - used, "%s%zd", i ? "×" : "",
                                      (Py_ssize_t)dims[i]);
         Py_DECREF(a);
-        return (PyArrayObject *)hpy_fail("%s: expected shape (N, %d)%s, got (%s)", name, cols,
-                                          one_row ? " or (" : "", shape);
+        if (one_row)
+            return (PyArrayObject *)hpy_fail("%s: expected shape (N, %d) or (%d,), got (%s)",
+                                              name, cols, cols, shape);
+        return (PyArrayObject *)hpy_fail("%s: expected shape (N, %d), got (%s)", name, cols,
+                                          shape);
     }
     if (nd == 1) {
         npy_intp d2[2] = {1, cols};

@@ -54,8 +54,11 @@ def test_a_million_plans_hold_memory_and_references(default_scene):
         del r
     gc.collect()
     grown = rss_bytes() - base
-    # A leak of one byte per plan would be 1 MB; of one result block per call, 30 MB.
-    assert grown < 4 * 2**20, f"resident memory grew by {grown} bytes over {PLANS} plans"
+    # A leak of one byte per plan would be 1 MB; of one result block per call, 30 MB. Under
+    # AddressSanitizer freed memory is held in quarantine, so the process grows whatever the
+    # code does: there only the reference counts are checked (ASan checks every access).
+    if not UNDER_ASAN:
+        assert grown < 4 * 2**20, f"resident memory grew by {grown} bytes over {PLANS} plans"
     assert (sys.getrefcount(x), sys.getrefcount(p), sys.getrefcount(default_scene)) == \
         (ref_x, ref_p, ref_s)
 
@@ -92,6 +95,7 @@ def test_every_entry_point_returns_what_it_takes(default_scene, default_planner)
         # A leaked object is at least 16 bytes: over n calls more than the allowance of
         # 8 bytes a call plus 16 kB of pool noise (measured: 5 kB over 30000 plan calls).
         n = {"analyze": 20, "run_trace": 150, "load_scene": 150, "errors": 300}.get(name, 1000)
+        n = max(20, n // 5) if UNDER_ASAN else n
         grown = python_growth(fn, n)
         assert grown < 8 * n + 16 * 1024, f"{name}: Python memory grew by {grown} B in {n} calls"
     assert [sys.getrefcount(o) for o in (pose, poses, ri, trace, p, default_scene)] == counts
@@ -125,6 +129,8 @@ def test_threads_with_their_own_planners_equal_serial(default_scene):
             lambda: headplan.Planner(sat),
             lambda: headplan.Planner(default_scene, backend="ipopt", level="linear")]
     sizes = [3000, 300, 300, 30]  # saturation (surface SQP) and Ipopt take milliseconds a plan
+    if UNDER_ASAN:
+        sizes = [s // 5 for s in sizes]
     serial = [make[i]().plan_many(inputs[i][:sizes[i]]) for i in range(4)]
     planners = [m() for m in make]
     par = run_threads([lambda i=i: planners[i].plan_many(inputs[i][:sizes[i]])
