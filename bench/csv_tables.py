@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""Print the Markdown tables of docs/benchmarks.md from the CSVs of `headplan bench`.
+"""Print the Markdown tables of docs/benchmarks.md from the CSVs of `headplan-bench`.
 
 Usage: bench/csv_tables.py [DIR]   (DIR defaults to docs/figures)
 

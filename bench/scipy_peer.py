@@ -1,5 +1,5 @@
 #!/usr/bin/python3
-"""The SciPy SLSQP peer of `headplan bench --only peers` (docs/benchmarks.md).
+"""The SciPy SLSQP peer of `headplan-bench --only peers` (docs/benchmarks.md).
 
 The planner's NLP as a researcher would first write it with SciPy, at the linear contact
 level, from the problem data headplan exports (JSON, mm and degrees):

@@ -65,6 +65,7 @@ typedef struct analysis {
     double bound_linear, bound_plane; /* [m] */
     hp_level auto_level;    /* what auto picks for the scene's tolerance and that size */
     hp_layout_analysis an;
+    hp_identifiable id;     /* what the contact model can tell apart */
 } analysis;
 
 /* Resolves the level and the auto range from the planner settings the scene gives (the same
@@ -88,6 +89,10 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
         return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: error bounds: %s", a->scene,
                            hp_error_message(e));
     r->level = r->requested == HP_LEVEL_AUTO ? r->auto_level : r->requested;
+    e = hp_layout_identify(L, &r->id);
+    if (e)
+        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: identifiable range: %s", a->scene,
+                           hp_error_message(e));
     e = hp_layout_analyze(L, r->level, &r->an);
     if (e)
         return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: layout analysis: %s", a->scene,
@@ -139,6 +144,47 @@ static json_t *head_json(const hp_head *h)
     return o;
 }
 
+#define DEG_PER_RAD (180.0 / 3.14159265358979323846)
+
+/* Unobservable motion m in mm and degrees, scaled so its largest component is 1 (sign:
+ * that component positive), so that it reads "per degree" or "per mm". */
+static void null_clinical(const hp_identifiable *id, int m, double c[6])
+{
+    hp_pose_to_clinical(id->null_space[m], c);
+    int big = 0;
+    for (int i = 1; i < 6; ++i)
+        if (fabs(c[i]) > fabs(c[big]) * (1.0 + 1e-12)) big = i;
+    double s = c[big];
+    for (int i = 0; i < 6; ++i) c[i] = s != 0 ? c[i] / s : 0.0;
+}
+
+/* The identifiable range (hp_identifiable) as JSON: mm and degrees. */
+static json_t *identifiable_json(const hp_identifiable *id)
+{
+    json_t *o = json_object();
+    json_object_set_new(o, "rank", json_integer(id->rank));
+    json_object_set_new(o, "relative_singular_values", vec_json(id->rel_sv, 6, 1.0));
+    json_t *cmd = json_object();
+    for (int i = 0; i < 6; ++i)
+        json_object_set_new(cmd, hp_pose_key(i), json_boolean(id->commanded[i]));
+    json_object_set_new(o, "commanded", cmd);
+    json_t *un = json_array();
+    for (int m = 0; m < id->n_null; ++m) {
+        double c[6];
+        null_clinical(id, m, c);
+        json_t *v = json_object();
+        for (int i = 0; i < 6; ++i) json_object_set_new(v, hp_pose_key(i), json_real(c[i]));
+        json_array_append_new(un, v);
+    }
+    json_object_set_new(o, "unobservable_motions", un);
+    json_object_set_new(o, "only_centre_motion", json_boolean(id->centre_only));
+    json_object_set_new(o, "rotation_angle_below_deg",
+                        id->centre_only ? json_null() : json_real(id->rot_limit * DEG_PER_RAD));
+    json_object_set_new(o, "translation_norm_max_mm", json_real(id->trans_limit * 1e3));
+    json_object_set_new(o, "head_symmetry", json_string(id->symmetry));
+    return o;
+}
+
 static int print_json(const hp_scene *sc, const analysis *r)
 {
     const hp_layout *L = &sc->layout;
@@ -169,6 +215,7 @@ static int print_json(const hp_scene *sc, const analysis *r)
         json_object_set_new(reach, hp_pose_key(i), vec_json(an->reach[i], 2, 1.0));
     }
     json_object_set_new(o, "reach", reach);
+    json_object_set_new(o, "identifiable", identifiable_json(&r->id));
     json_t *b = json_object();
     json_object_set_new(b, "tolerance_mm", json_real(sc->level_tolerance * 1e3));
     json_object_set_new(b, "translation_mm", json_real(r->trans * 1e3));
@@ -228,6 +275,30 @@ static void print_text(const hp_scene *sc, const analysis *r)
     for (int j = 0; j < 6; ++j) printf(" %s %+.4f", hp_pose_key(j), an->weakest[j]);
     printf("\n");
     if (!an->rotation_commandable) printf("%-13s %s\n", "note", SPHERE_NOTE);
+
+    const hp_identifiable *id = &r->id;
+    printf("\nidentifiable range: the corrections the contact distances tell apart\n");
+    printf("%-13s %d of 6 (dimensionless, head-centred: independent of units, scale, pivot)\n",
+           "rank", id->rank);
+    printf("%-13s", "commanded");
+    for (int i = 0; i < 6; ++i) printf(" %s%s", hp_pose_key(i), id->commanded[i] ? "" : "(no)");
+    printf("\n");
+    for (int m = 0; m < id->n_null; ++m) {
+        double c[6];
+        null_clinical(id, m, c);
+        printf("%-13s", m == 0 ? "unobservable" : "");
+        for (int i = 0; i < 6; ++i) printf(" %+.4f", c[i]);
+        printf("  (mm, deg)\n");
+    }
+    printf("%-13s %s\n", "symmetry", id->symmetry);
+    if (id->centre_only)
+        printf("%-13s none identified: only the motion of the head centre is seen; a turn "
+               "about the centre is reported as not commanded\n", "rotation");
+    else
+        printf("%-13s angle below %.4g deg (any axis; a half-turn maps the head onto "
+               "itself)\n", "rotation", id->rot_limit * DEG_PER_RAD);
+    printf("%-13s |(x, y, z)| up to %.4f mm (the head's smallest semi-axis)\n", "translation",
+           id->trans_limit * 1e3);
 
     printf("\nreach inside every bladder's pressure and stretch limits (level %s)\n",
            hp_level_name(r->level));

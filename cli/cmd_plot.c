@@ -45,12 +45,12 @@ static void help(void)
            "exit status: 0 picture written, 64 bad command line, 65 bad result, scene or\n"
            "trace, 66 an input cannot be read, 69 gnuplot not installed, 70 gnuplot failed,\n"
            "73 picture or script cannot be written\n",
-           HP_GP_HELP);
+           GP_HELP);
 }
 
 typedef struct plot_args {
     const char *result, *scene, *trace, *rows;
-    hp_gp_out out;
+    gp_out out;
 } plot_args;
 
 static int parse(int argc, char **argv, plot_args *a)
@@ -65,7 +65,7 @@ static int parse(int argc, char **argv, plot_args *a)
     const char *names[] = {"--scene", "--trace", "--rows"};
     const char **slots[] = {&a->scene, &a->trace, &a->rows};
     for (int i = 1; i < argc; ++i) {
-        int m = hp_gp_option(CMD, argc, argv, &i, &a->out);
+        int m = gp_option(CMD, argc, argv, &i, &a->out);
         if (m == 1) continue;
         if (m != 0) return m;
         int matched = 0;
@@ -86,7 +86,7 @@ static int parse(int argc, char **argv, plot_args *a)
         a->result = argv[i];
     }
     if (!a->result) return hp_cli_fail(HP_EXIT_USAGE, CMD, "missing RESULT (see --help)");
-    return hp_gp_check(CMD, &a->out);
+    return gp_check(CMD, &a->out);
 }
 
 /* One row of the result. */
@@ -167,7 +167,8 @@ static int header(const char *path, char **f, int nf, int *col, result *res)
 static int read_result(const char *path, result *res)
 {
     FILE *in = fopen(path, "r");
-    if (!in) return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: %s", path, strerror(errno));
+    if (!in)
+        return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
     char buf[8192];
     char *f[MAXF];
     int col[10 + HP_MAX_BLADDERS], nf = 0, rc = -1;
@@ -276,11 +277,11 @@ static int write_script(const void *arg, FILE *f)
 {
     const void *const *pa = arg;
     const result *res = pa[0];
-    const hp_gp_out *out = pa[1];
+    const gp_out *out = pa[1];
     const char *title = pa[2];
     fprintf(f, "# headplan plot: %s. Units: s, mm and degrees, kPa. Redraw: gnuplot THIS_FILE\n",
             title);
-    hp_gp_terminal(f, out);
+    gp_terminal(f, out);
     /* $rows: t, six axis errors (or pose_error), pressures in kPa. */
     double emin = -TOLERANCE_BAND, emax = TOLERANCE_BAND, pmin = INFINITY, pmax = -INFINITY;
     fprintf(f, "$rows << EOD\n# t_s");
@@ -342,7 +343,7 @@ static int write_script(const void *arg, FILE *f)
         bad += res->rows[i].bad;
     }
     fprintf(f, "set multiplot layout 2,1 title ");
-    hp_gp_quote(f, title);
+    gp_quote(f, title);
     fprintf(f, " noenhanced font ',14'\n");
     fprintf(f, "set key outside right top noenhanced\nset grid\nset xrange [%.10g:%.10g]\n", tmin, tmax);
     fprintf(f, "set lmargin 12\nset rmargin 30\n");
@@ -457,7 +458,7 @@ int hp_cmd_plot(int argc, char **argv)
         snprintf(title, sizeof title, "%s%s%s", slash ? slash + 1 : a.result, sc ? ": " : "",
                  sc ? sc->name : "");
         const void *args[3] = {&res, &a.out, title};
-        rc = hp_gp_draw(CMD, &a.out, write_script, args);
+        rc = gp_draw(CMD, &a.out, write_script, args);
     }
     free(sc);
     free(res.rows);

@@ -38,12 +38,12 @@ static void help(void)
            "exit status: 0 picture written, 64 bad command line, 65 bad scene, 66 scene\n"
            "cannot be read, 69 gnuplot not installed, 70 planner or gnuplot failure, 73\n"
            "picture or script cannot be written\n",
-           HP_GP_HELP);
+           GP_HELP);
 }
 
 typedef struct render_args {
     const char *scene, *correction, *backend, *level;
-    hp_gp_out out;
+    gp_out out;
 } render_args;
 
 static int parse(int argc, char **argv, render_args *a)
@@ -56,7 +56,7 @@ static int parse(int argc, char **argv, render_args *a)
     const char *names[] = {"--correction", "--backend", "--level"};
     const char **slots[] = {&a->correction, &a->backend, &a->level};
     for (int i = 1; i < argc; ++i) {
-        int m = hp_gp_option(CMD, argc, argv, &i, &a->out);
+        int m = gp_option(CMD, argc, argv, &i, &a->out);
         if (m == 1) continue;
         if (m != 0) return m;
         int matched = 0;
@@ -77,7 +77,7 @@ static int parse(int argc, char **argv, render_args *a)
         a->scene = argv[i];
     }
     if (!a->scene) return hp_cli_fail(HP_EXIT_USAGE, CMD, "missing SCENE (see --help)");
-    return hp_gp_check(CMD, &a->out);
+    return gp_check(CMD, &a->out);
 }
 
 /* What the picture shows. */
@@ -267,7 +267,7 @@ static void write_table(const picture *p, FILE *f, double mag, double left)
  * the second also carries the colour scale and the table. */
 typedef struct full_script {
     const picture *p;
-    const hp_gp_out *out;
+    const gp_out *out;
 } full_script;
 
 static int write_full(const void *arg, FILE *f)
@@ -284,7 +284,7 @@ static int write_full(const void *arg, FILE *f)
     fprintf(f, "# headplan render: scene '%s'. Units: mm; colour: pressure in kPa.\n"
                "# Redraw with: gnuplot THIS_FILE\n",
             p->scene_name);
-    hp_gp_terminal(f, s->out);
+    gp_terminal(f, s->out);
     write_data(p, f);
     fprintf(f, "set view equal xyz\nset xyplane 0\nset border 0\nunset tics\nunset key\n"
                "set pm3d depthorder border lc rgb '#606060' lw 0.3\n"
@@ -298,7 +298,7 @@ static int write_full(const void *arg, FILE *f)
         fprintf(f, "set palette defined (%.6g '#f7f7f7', %.6g '#b2182b')\n", lo, hi);
     write_marks(p, f, mag);
     fprintf(f, "set multiplot title ");
-    hp_gp_quote(f, p->scene_name);
+    gp_quote(f, p->scene_name);
     fprintf(f, " noenhanced font ',14'\n"
                "set size 0.36,0.92\nset origin 0.0,0.02\n"
                "set view 90,0,1.3\nset title 'from the feet (+Z anterior up, +X left to the right)'\n"
@@ -351,7 +351,7 @@ int hp_cmd_render(int argc, char **argv)
     } else {
         pic.message = hp_planner_error(p);
         full_script fs = {&pic, &a.out};
-        rc = hp_gp_draw(CMD, &a.out, write_full, &fs);
+        rc = gp_draw(CMD, &a.out, write_full, &fs);
     }
     hp_planner_destroy(p);
     free(sc);

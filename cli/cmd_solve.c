@@ -31,8 +31,13 @@ static void help(void)
            "  --level NAME   contact model: linear, plane, surface or auto; default: the scene's\n"
            "  --json         one JSON object on stdout instead of the tables\n"
            "  --help         this text\n\n"
-           "exit status: 0 reached, 1 only the closest reachable correction, 64 bad command\n"
-           "line, 65 bad scene or correction, 66 scene cannot be read, 70 solver failure\n");
+           "A correction outside the layout's identifiable range (headplan analyze) is refused.\n"
+           "The part of a correction the layout cannot observe (e.g. a sphere's turn about its\n"
+           "centre) is not commanded: it is shown, and the status is 'uncommanded'.\n\n"
+           "exit status: 0 reached, 1 only the closest reachable correction, 2 uncommanded\n"
+           "(the commanded part reached, the rest not observable), 64 bad command line, 65 bad\n"
+           "scene or correction (also outside the identifiable range), 66 scene cannot be\n"
+           "read, 70 solver failure\n");
 }
 
 typedef struct solve_args {
@@ -84,6 +89,13 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
     for (int i = 0; i < 6; ++i)
         json_object_set_new(cmd, hp_pose_key(i), json_boolean(r->commanded[i]));
     json_object_set_new(o, "commanded", cmd);
+    json_object_set_new(o, "uncommanded", pose_json(r->uncommanded));
+    json_t *ud = json_array();
+    double u[6];
+    hp_pose_to_clinical(r->uncommanded, u);
+    for (int i = 0; i < 6; ++i)
+        if (fabs(u[i]) > HP_DEFAULT_TOLERANCE) json_array_append_new(ud, json_string(hp_pose_key(i)));
+    json_object_set_new(o, "uncommanded_directions", ud);
     json_t *bl = json_array();
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
@@ -126,9 +138,10 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
 
 static void print_table(const hp_layout *L, const hp_result *r, const char *msg)
 {
-    double d[6], a[6];
+    double d[6], a[6], u[6];
     hp_pose_to_clinical(r->desired, d);
     hp_pose_to_clinical(r->achieved, a);
+    hp_pose_to_clinical(r->uncommanded, u);
     printf("status      %s%s%s\n", hp_status_name(r->status), *msg ? " — " : "", msg);
     printf("backend     %s (contact level %s), %d iterations, %.1f us\n\n",
            hp_backend_name(r->backend), hp_level_name(r->level), r->iterations,
@@ -147,10 +160,12 @@ static void print_table(const hp_layout *L, const hp_result *r, const char *msg)
             }
         printf("%s\n", any ? "" : "-");
     }
-    printf("\n%-10s %12s %12s %12s\n", "pose", "desired", "achieved", "error");
+    /* error: achieved − the commanded part of desired (desired − uncommanded). */
+    printf("\n%-10s %12s %12s %12s %14s\n", "pose", "desired", "achieved", "error",
+           "uncommanded");
     for (int i = 0; i < 6; ++i)
-        printf("%-10s %12.6f %12.6f %12.3g%s\n", hp_pose_key(i), d[i], a[i], a[i] - d[i],
-               r->commanded[i] ? "" : "  (not commanded)");
+        printf("%-10s %12.6f %12.6f %12.3g %14.6f%s\n", hp_pose_key(i), d[i], a[i],
+               a[i] - (d[i] - u[i]), u[i], r->commanded[i] ? "" : "  (not commanded)");
 }
 
 int hp_cmd_solve(int argc, char **argv)
@@ -211,14 +226,17 @@ int hp_cmd_solve(int argc, char **argv)
                              a.scene, hp_status_name(r.status), hp_backend_name(s.backend),
                              t ? "max_time_s" : "max_iter", t ? s.max_time : (double)s.max_iter,
                              t ? " s" : " iterations");
-    } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) {
+    } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST &&
+               r.status != HP_STATUS_UNCOMMANDED) {
         /* The planner's message starts with the status name already. */
         const char *name = hp_status_name(r.status);
         int named = strncmp(msg, name, strlen(name)) == 0;
         status = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: %s%s%s", a.scene, named ? "" : name,
                              named ? "" : ": ", msg);
     } else {
-        status = r.status == HP_STATUS_REACHED ? HP_EXIT_OK : HP_EXIT_CLOSEST;
+        status = r.status == HP_STATUS_REACHED       ? HP_EXIT_OK
+                 : r.status == HP_STATUS_UNCOMMANDED ? HP_EXIT_UNCOMMANDED
+                                                     : HP_EXIT_CLOSEST;
         if (a.json) {
             if (print_json(hp_planner_layout(p), &r, msg)) status = HP_EXIT_SOFTWARE;
         } else {

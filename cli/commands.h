@@ -6,7 +6,6 @@
 int hp_cmd_ik(int argc, char **argv);
 int hp_cmd_fk(int argc, char **argv);
 int hp_cmd_paper(int argc, char **argv);
-int hp_cmd_bench(int argc, char **argv);
 int hp_cmd_solve(int argc, char **argv);
 int hp_cmd_analyze(int argc, char **argv);
 int hp_cmd_batch(int argc, char **argv);

@@ -5,9 +5,12 @@
 enum {
     HP_EXIT_OK = 0,          /* success; for solve: the correction was reached */
     HP_EXIT_CLOSEST = 1,     /* solve/batch: only the closest reachable correction */
+    HP_EXIT_UNCOMMANDED = 2, /* solve: the commanded part was reached, but part of the
+                                correction lies in directions the layout cannot observe */
     HP_EXIT_USAGE = 64,      /* bad command line: unknown option, missing value */
     HP_EXIT_DATAERR = 65,    /* bad data: a value out of range, a malformed scene */
     HP_EXIT_NOINPUT = 66,    /* an input file cannot be opened */
+    HP_EXIT_UNAVAILABLE = 69,/* render/plot: gnuplot is not installed (nothing else needs it) */
     HP_EXIT_SOFTWARE = 70,   /* solver failure or internal error */
     HP_EXIT_CANTCREAT = 73,  /* an output file cannot be created */
 };

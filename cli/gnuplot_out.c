@@ -1,25 +1,27 @@
 /* Output options and the gnuplot run shared by render and plot (see gnuplot_out.h). The
  * script holds its data inline (gnuplot data blocks), so --script-out gives one file that
- * redraws the picture by hand: `gnuplot FILE.gp`. */
+ * redraws the picture by hand (`gnuplot FILE.gp`); the drawing itself pipes the same script
+ * into gnuplot. */
 #define _POSIX_C_SOURCE 200809L
 #include "cli/gnuplot_out.h"
-#include "cli/bench_report.h"
 #include "cli/cli_args.h"
 #include "cli/exit_codes.h"
 
 #include <errno.h>
+#include <signal.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
-const char HP_GP_HELP[] =
+const char GP_HELP[] =
     "  -o FILE        the picture: FILE.png or FILE.svg (required unless --dry-run)\n"
     "  --size WxH     picture size in pixels (default 1500x700)\n"
     "  --script-out F also keep the gnuplot script, data inline (redraw: gnuplot F)\n"
     "  --dry-run      write the script (to stdout, or to --script-out) and do not draw\n";
 
-int hp_gp_option(const char *cmd, int argc, char **argv, int *i, hp_gp_out *o)
+int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o)
 {
     if (strcmp(argv[*i], "--dry-run") == 0) {
         o->dry_run = 1;
@@ -67,7 +69,7 @@ static int ends_with(const char *s, const char *suffix)
     return n > k && strcmp(s + n - k, suffix) == 0;
 }
 
-int hp_gp_check(const char *cmd, hp_gp_out *o)
+int gp_check(const char *cmd, gp_out *o)
 {
     if (!o->width) {
         o->width = 1500;
@@ -83,7 +85,7 @@ int hp_gp_check(const char *cmd, hp_gp_out *o)
     return -1;
 }
 
-void hp_gp_quote(FILE *f, const char *s)
+void gp_quote(FILE *f, const char *s)
 {
     fputc('\'', f);
     for (; *s; ++s) {
@@ -93,7 +95,7 @@ void hp_gp_quote(FILE *f, const char *s)
     fputc('\'', f);
 }
 
-void hp_gp_terminal(FILE *f, const hp_gp_out *o)
+void gp_terminal(FILE *f, const gp_out *o)
 {
     if (o->svg) {
         fprintf(f, "set terminal svg size %ld,%ld enhanced font 'Sans,12' background 'white'\n",
@@ -106,7 +108,7 @@ void hp_gp_terminal(FILE *f, const hp_gp_out *o)
                 o->width, o->height, o->width, o->height);
     }
     fprintf(f, "set output ");
-    hp_gp_quote(f, o->path ? o->path : "/dev/null");
+    gp_quote(f, o->path ? o->path : "/dev/null");
     fprintf(f, "\nset encoding utf8\n");
 }
 
@@ -121,53 +123,70 @@ static int write_script(const char *cmd, const char *path, FILE *f,
     return 0;
 }
 
-int hp_gp_draw(const char *cmd, const hp_gp_out *o, int (*writer)(const void *arg, FILE *f),
+/* 1 when an executable "gnuplot" is in a folder of PATH. */
+static int gnuplot_on_path(void)
+{
+    const char *path = getenv("PATH");
+    if (!path) return 0;
+    char dir[4096];
+    while (*path) {
+        size_t n = strcspn(path, ":");
+        if (n > 0 && n < sizeof dir - 16) {
+            memcpy(dir, path, n);
+            strcpy(dir + n, "/gnuplot");
+            if (access(dir, X_OK) == 0) return 1;
+        }
+        path += n;
+        if (*path == ':') ++path;
+    }
+    return 0;
+}
+
+/* Pipes the script into gnuplot (its output to our stderr: stdout carries results only).
+ * Returns gnuplot's exit status, or -1 when it could not be run. */
+static int run_gnuplot(int (*writer)(const void *, FILE *), const void *arg)
+{
+    fflush(stdout);
+    fflush(stderr);
+    FILE *g = popen("gnuplot 1>&2", "w");
+    if (!g) return -1;
+    /* gnuplot stopping early must not kill us with SIGPIPE: its status tells. */
+    struct sigaction ign = {0}, old;
+    ign.sa_handler = SIG_IGN;
+    sigaction(SIGPIPE, &ign, &old);
+    writer(arg, g);
+    int st = pclose(g);
+    sigaction(SIGPIPE, &old, NULL);
+    return st >= 0 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+int gp_draw(const char *cmd, const gp_out *o, int (*writer)(const void *arg, FILE *f),
                const void *arg)
 {
-    if (!o->dry_run && hp_bench_gnuplot_available() != 0)
+    if (!o->dry_run && !gnuplot_on_path())
         return hp_cli_fail(HP_EXIT_UNAVAILABLE, cmd,
                            "gnuplot not found on PATH (install gnuplot-nox; --dry-run writes "
                            "the script without it)");
-    char tmp[] = "/tmp/headplan-gnuplot-XXXXXX";
-    const char *script = o->script_out;
-    FILE *f;
-    if (script) {
-        f = fopen(script, "w");
+    if (o->script_out) {
+        FILE *f = fopen(o->script_out, "w");
         if (!f)
             return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "--script-out: cannot create '%s': %s",
-                               script, strerror(errno));
+                               o->script_out, strerror(errno));
+        int rc = write_script(cmd, o->script_out, f, writer, arg);
+        if (rc) return rc;
     } else if (o->dry_run) {
-        f = stdout;
-        script = "(stdout)";
-    } else {
-        int fd = mkstemp(tmp);
-        f = fd >= 0 ? fdopen(fd, "w") : NULL;
-        if (!f) {
-            if (fd >= 0) close(fd);
-            return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "cannot create a temporary script: %s",
-                               strerror(errno));
-        }
-        script = tmp;
+        return write_script(cmd, "(stdout)", stdout, writer, arg);
     }
-    int rc = write_script(cmd, script, f, writer, arg);
-    if (rc || o->dry_run) {
-        if (script == tmp) unlink(tmp);
-        return rc;
-    }
+    if (o->dry_run) return 0;
     /* An unwritable picture is the user's to fix (73), not a gnuplot failure; and a stale
      * picture must not pass for a new one. */
     FILE *probe = fopen(o->path, "w");
-    if (!probe) {
-        int err = errno;
-        if (script == tmp) unlink(tmp);
+    if (!probe)
         return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "-o: cannot create '%s': %s", o->path,
-                           strerror(err));
-    }
+                           strerror(errno));
     fclose(probe);
     remove(o->path);
-    char *const argv[] = {"gnuplot", (char *)script, NULL};
-    int st = hp_bench_run_child(argv, NULL, 0);
-    if (script == tmp) unlink(tmp);
+    int st = run_gnuplot(writer, arg);
     struct stat sb;
     if (st != 0)
         return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "gnuplot failed (exit %d) drawing %s", st,

@@ -18,7 +18,6 @@ static const command commands[] = {
     {"ik", hp_cmd_ik, "one bladder: inner radius -> pressure (closed form)"},
     {"fk", hp_cmd_fk, "one bladder: pressure -> inner radius (stable branch)"},
     {"paper", hp_cmd_paper, "reproduce the paper's expansion and compression tables"},
-    {"bench", hp_cmd_bench, "speed versus accuracy of every method: CSV and charts"},
     {"solve", hp_cmd_solve, "a scene -> bladder pressures for one correction"},
     {"batch", hp_cmd_batch, "a scene and a trace -> one planned row per trace row"},
     {"analyze", hp_cmd_analyze, "a scene -> layout conditioning, weakest direction and reach"},

@@ -93,11 +93,14 @@ hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysi
     double sv[6], V[36];
     if (hp_kin_svd6(L->n, J, sv, V) != 0) return HP_ERR_NO_CONVERGENCE;
     memset(out, 0, sizeof *out);
-    int rank = 0;
-    for (int j = 0; j < 6; ++j) {
-        out->singular_values[j] = sv[j];
-        if (sv[j] > 1e-9 * sv[0]) ++rank;
-    }
+    for (int j = 0; j < 6; ++j) out->singular_values[j] = sv[j];
+    /* The rank is the one decision of hp_layout_identify (dimensionless, head-centred): the
+     * singular values here, in mm and degrees about the pivot, depend on units and on the
+     * pivot (1 km away they span 9 decades), so a threshold on them would not. */
+    hp_identifiable id;
+    err = hp_layout_identify(L, &id);
+    if (err) return err;
+    int rank = id.rank;
     out->rank = rank;
     out->condition = rank < 6 ? INFINITY : sv[0] / sv[5];
     /* Sign convention: the largest component positive, so the words read the same. */

@@ -123,9 +123,10 @@ hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_me
     m_out->wrong_sign = HUGE_VAL;
     m_out->in_bounds = 1;
     for (int i = 0; i < nx; i++) m_out->grad_max = fmax(m_out->grad_max, fabs(g[i]));
-    /* A bound counts as active within 1e-7 mm: far below any physical meaning of ri and
-     * far above the 1e-14 mm rounding of ri near 30 mm. */
-    const double btol = 1e-7;
+    /* A bound counts as active within the one binding threshold of the planner (mm): far
+     * below any physical meaning of ri and far above the 1e-14 mm rounding of ri near
+     * 30 mm. */
+    const double btol = HP_BINDING_TOL_MM;
 
     int lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
     for (int k = 0; k < n; k++) {

@@ -8,7 +8,7 @@ static const char *const backend_names[HP_BACKEND_COUNT_] = {
 
 static const char *const status_names[HP_STATUS_COUNT_] = {
     "reached", "closest", "iteration-limit", "time-limit",
-    "infeasible-start", "invalid-input", "solver-error"};
+    "infeasible-start", "invalid-input", "solver-error", "uncommanded"};
 
 static const char *const binding_names[HP_BIND_COUNT] = {
     "pressure_min", "pressure_max", "stretch_min", "stretch_max",

@@ -13,10 +13,18 @@
  * every contact model stays well defined. */
 #define HP_PLAN_MAX_TRANS 1.0                /* [m] */
 #define HP_PLAN_MAX_ROT 3.14159265358979324 /* [rad] */
-/* A bladder is reported as sitting on a limit when its radius is within this of it (mm):
- * above the realtime margin (1e-11 mm) and the rounding of rho, far below any clinical
- * meaning. */
-#define HP_BIND_TOL_MM 1e-7
+/* A reached pose counts as identified when forward contact kinematics started from the
+ * nominal pose recovers it to HP_IDENT_FK_TOL (mm and degrees): far above the fit's own
+ * precision on a well-posed layout (~1e-12), far below the distance of any second fit seen
+ * (0.8 degrees on the near-degenerate layout at the plane level). A pivot far away makes
+ * the pose coordinates themselves ill-conditioned (1 km: ~1e-6 mm/deg of rounding), so a
+ * fit that meets the contact distances to HP_IDENT_FIT_MM and lies within HP_IDENT_SAME of
+ * the pose is the same pose: another pose with the same distances would be a symmetric
+ * copy (>= 90 degrees away) or a second fit (0.8 degrees). */
+#define HP_IDENT_FK_TOL 1e-7
+#define HP_IDENT_FIT_MM 1e-8 /* 100x the rounding of distances computed with a 1 km lever;
+                                 the second fit above misses them by 5.6e-5 mm */
+#define HP_IDENT_SAME 1e-3
 /* Largest RMS contact residual [mm] of clamped radii that still counts as holding a pose:
  * 100× above the solvers' own contact slop (1e-9 mm tolerance, bounds kept exactly), far
  * below anything physical. */
@@ -26,7 +34,8 @@ struct hp_planner {
     hp_layout L;                 /* private, prepared copy */
     hp_settings s;
     hp_level level;
-    int commanded[6];
+    hp_identifiable id;          /* what the layout can tell apart (hp_layout_identify) */
+    int commanded[6];            /* = id.commanded */
     hp_static_bounds sb;
     hp_problem pb;
     unsigned lo_flags[HP_MAX_BLADDERS], hi_flags[HP_MAX_BLADDERS];
@@ -78,10 +87,10 @@ static void err_add(hp_planner *p, const char *s)
 }
 
 /* Appends a decimal integer (no printf: see err_set). */
-static void err_add_int(hp_planner *p, int v)
+static void err_add_int(hp_planner *p, long long v)
 {
-    char buf[16], *q = buf + sizeof buf - 1;
-    unsigned u = v < 0 ? 0u - (unsigned)v : (unsigned)v;
+    char buf[32], *q = buf + sizeof buf - 1;
+    unsigned long long u = v < 0 ? 0ull - (unsigned long long)v : (unsigned long long)v;
     *q = '\0';
     do {
         *--q = (char)('0' + u % 10u);
@@ -118,7 +127,7 @@ static int answer_from_pose(hp_planner *p, const double x[6], hp_result *res,
     if (hp_setup_contact_scaled(&p->L, p->level, x, rho, NULL) != HP_OK) return 0;
     for (int k = 0; k < p->L.n; ++k) {
         const hp_bladder *B = &p->L.bladders[k];
-        double ri_lo = p->pb.ri_lo[k] / HP_MM_PER_M, ri_hi = p->pb.ri_hi[k] / HP_MM_PER_M;
+        double ri_lo = p->pb.ri_lo_si[k], ri_hi = p->pb.ri_hi_si[k];
         double plo = p->sb.p_lo[k], phi = p->sb.p_hi[k];
         if (p->s.use_rate_limits && isfinite(B->rate_max)) {
             plo = fmax(plo, p->prev.bladders[k].pressure - B->rate_max);
@@ -131,8 +140,8 @@ static int answer_from_pose(hp_planner *p, const double x[6], hp_result *res,
             return 0;
         if (c) *clamp_mm = fmax(*clamp_mm, fabs(br->ro * HP_MM_PER_M - rho[k]));
         double ro_mm = br->ro * HP_MM_PER_M;
-        if (ro_mm <= p->pb.ro_lo[k] + HP_BIND_TOL_MM) br->binding |= p->lo_flags[k];
-        if (ro_mm >= p->pb.ro_hi[k] - HP_BIND_TOL_MM) br->binding |= p->hi_flags[k];
+        if (ro_mm <= p->pb.ro_lo[k] + HP_BINDING_TOL_MM) br->binding |= p->lo_flags[k];
+        if (ro_mm >= p->pb.ro_hi[k] - HP_BINDING_TOL_MM) br->binding |= p->hi_flags[k];
         if (!(br->pressure >= B->p_min && br->pressure <= B->p_max) || !isfinite(br->ri) ||
             !isfinite(br->ro))
             return 0;
@@ -225,7 +234,12 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
             goto fail;
         }
     }
-    if ((e = hp_setup_commanded(&p->L, p->level, p->commanded, d)) != HP_OK) goto fail;
+    if ((e = hp_layout_identify(&p->L, &p->id)) != HP_OK) {
+        hp_diag_set(d, e, "layout: the contact Jacobian at the nominal pose: %s",
+                    hp_error_message(e));
+        goto fail;
+    }
+    memcpy(p->commanded, p->id.commanded, sizeof p->commanded);
     if ((e = hp_setup_static_bounds(&p->L, &p->sb, d)) != HP_OK) goto fail;
 
     hp_problem *pb = &p->pb;
@@ -268,6 +282,8 @@ hp_level hp_planner_level(const hp_planner *p) { return p ? p->level : HP_LEVEL_
 
 const hp_layout *hp_planner_layout(const hp_planner *p) { return p ? &p->L : NULL; }
 
+const hp_identifiable *hp_planner_identifiable(const hp_planner *p) { return p ? &p->id : NULL; }
+
 hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
 {
     if (!p) return HP_ERR_NULL;
@@ -286,7 +302,15 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
             err_add(p, B->name);
             return HP_ERR_INVALID;
         }
-        if (hp_iab_fk_limit(&B->iab, &p->sb.limit[k], P, &ri) != HP_OK || hp_iab_ro(&B->iab, ri, &ro[k]) != HP_OK) {
+        if (hp_iab_fk_limit(&B->iab, &p->sb.limit[k], P, &ri) != HP_OK) {
+            err_set(p, "set_previous: no stable radius for the pressure of ");
+            err_add(p, B->name);
+            return HP_ERR_INVALID;
+        }
+        /* The root of a pressure inside [p_lo, p_hi] lies inside [ri_lo, ri_hi] up to an
+         * ulp or two: keep the stretch inside its limits to the last bit. */
+        ri = fmin(fmax(ri, p->sb.ri_lo[k]), p->sb.ri_hi[k]);
+        if (hp_iab_ro(&B->iab, ri, &ro[k]) != HP_OK) {
             err_set(p, "set_previous: no stable radius for the pressure of ");
             err_add(p, B->name);
             return HP_ERR_INVALID;
@@ -317,6 +341,7 @@ static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, double t0
     res->status = st;
     res->iterations = 0;
     res->pose_error = INFINITY;
+    for (int i = 0; i < 6; ++i) res->uncommanded[i] = 0.0;
     for (int k = 0; k < res->n; ++k) res->bladders[k].binding = 0;
     res->solve_time = now_s() - t0;
     return HP_OK;
@@ -341,6 +366,138 @@ static int closest_verified(const hp_planner *p, const double *x)
     double stat = 1e-3 * (1.0 + m.grad_max);
     return m.in_bounds && m.feasibility <= feas && m.stationarity <= stat &&
            m.wrong_sign <= stat;
+}
+
+/* Appends |v| rounded to `dec` decimals, with its sign (no printf: see err_set). */
+static void err_add_num(hp_planner *p, double v, int dec)
+{
+    double scale = 1.0;
+    for (int i = 0; i < dec; ++i) scale *= 10.0;
+    if (!(fabs(v) * scale < 1e15)) {
+        err_add(p, v != v ? "nan" : "huge");
+        return;
+    }
+    long long q = llround(fabs(v) * scale);
+    if (v < 0 && q != 0) err_add(p, "-");
+    long long ip = q;
+    for (int i = 0; i < dec; ++i) ip /= 10;
+    err_add_int(p, ip);
+    if (dec > 0) {
+        char frac[16];
+        long long f = q;
+        for (int i = dec - 1; i >= 0; --i) {
+            frac[i] = (char)('0' + f % 10);
+            f /= 10;
+        }
+        frac[dec] = '\0';
+        err_add(p, ".");
+        err_add(p, frac);
+    }
+}
+
+/* 1 when desired lies in the identifiable range (hp_identifiable): translation norm up to
+ * trans_limit, rotation angle below rot_limit; else 0 with the limit named in p->err. */
+static int in_identifiable_range(hp_planner *p, const double desired[6])
+{
+    const hp_identifiable *id = &p->id;
+    double tn = hypot(hypot(desired[0], desired[1]), desired[2]);
+    if (!(tn <= id->trans_limit)) {
+        err_set(p, "desired translation: |(x, y, z)| = ");
+        err_add_num(p, tn * HP_MM_PER_M, 1);
+        err_add(p, " mm is outside the identifiable range (<= ");
+        err_add_num(p, id->trans_limit * HP_MM_PER_M, 1);
+        err_add(p, " mm, the head's smallest semi-axis)");
+        return 0;
+    }
+    double ang = hp_pose_rotation_angle(desired);
+    if (!id->centre_only && !(ang < id->rot_limit)) {
+        err_set(p, "desired rotation: angle ");
+        err_add_num(p, ang * HP_DEG_PER_RAD, 1);
+        err_add(p, " deg is outside the identifiable range (below ");
+        err_add_num(p, id->rot_limit * HP_DEG_PER_RAD, 0);
+        err_add(p, " deg: the head looks the same after ");
+        err_add(p, id->symmetry);
+        err_add(p, ", so the contact distances confuse such a turn with a smaller one)");
+        return 0;
+    }
+    return 1;
+}
+
+/* 1 when the strict round trip of answer r gives xc back (HP_IDENT_FK_TOL): its pressures
+ * -> stable radii -> outer radii -> forward contact kinematics in the commanded components
+ * started from the NOMINAL pose. Else 0 with the other pose's distance in p->err. On a
+ * near-degenerate layout at the plane level the fit from the nominal pose can end in a
+ * second local fit; then the correction is not identified by this layout. Allocates
+ * nothing. */
+static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double xc[6])
+{
+    /* The linear model is linear in the pose and the commanded columns have full column
+     * rank (hp_layout_identify keeps exactly `rank` of them): the least-squares fit is
+     * unique, so the fit from the nominal pose is the commanded part itself, to rounding.
+     * The check would cost ~50 us of a ~10 us plan and could not fail. */
+    if (p->level == HP_LEVEL_LINEAR) return 1;
+    double ro[HP_MAX_BLADDERS], zero[6] = {0}, xf[6], a[6], b[6];
+    for (int k = 0; k < p->L.n; ++k) {
+        const hp_iab *m = &p->L.bladders[k].iab;
+        double ri;
+        if (hp_iab_fk_limit(m, &p->sb.limit[k], r->bladders[k].pressure, &ri) != HP_OK ||
+            hp_iab_ro(m, ri, &ro[k]) != HP_OK)
+            ro[k] = r->bladders[k].ro;
+    }
+    double resid = INFINITY;
+    hp_error e = hp_contact_fit(&p->L, p->level, ro, p->commanded, zero, xf, &resid, NULL);
+    to_scaled(xc, a);
+    to_scaled(xf, b);
+    double worst = e == HP_OK ? 0.0 : INFINITY;
+    for (int i = 0; i < 6; ++i) worst = fmax(worst, fabs(a[i] - b[i]));
+    if (worst <= HP_IDENT_FK_TOL) return 1;
+    if (worst <= HP_IDENT_SAME && resid * HP_MM_PER_M <= HP_IDENT_FIT_MM) return 1;
+    err_set(p, "desired: outside the identifiable range of this layout at the ");
+    err_add(p, hp_level_name(p->level));
+    err_add(p, " level: forward contact kinematics from the nominal pose finds another pose ");
+    if (isfinite(worst)) {
+        err_add_num(p, worst, 6);
+        err_add(p, " mm/deg away with nearly the same contact distances");
+    } else {
+        err_add(p, "(it did not converge)");
+    }
+    return 0;
+}
+
+/* 1 when some bladder of r sits on a limit (HP_BINDING_TOL_MM). */
+static int binds_any(const hp_result *r)
+{
+    for (int k = 0; k < r->n; ++k)
+        if (r->bladders[k].binding) return 1;
+    return 0;
+}
+
+/* 1 when some component of the part not commanded exceeds the pose tolerance (mm, deg). */
+static int uncommanded_beyond(const hp_planner *p, const double unc[6])
+{
+    double u[6];
+    to_scaled(unc, u);
+    for (int i = 0; i < 6; ++i)
+        if (fabs(u[i]) > p->s.tolerance) return 1;
+    return 0;
+}
+
+/* Names the components of the part not commanded beyond the tolerance, with values. */
+static void add_uncommanded(hp_planner *p, const double unc[6])
+{
+    double u[6];
+    to_scaled(unc, u);
+    err_add(p, "not commanded (the layout cannot observe it):");
+    int first = 1;
+    for (int i = 0; i < 6; ++i) {
+        if (!(fabs(u[i]) > p->s.tolerance)) continue;
+        err_add(p, first ? " " : ", ");
+        err_add(p, pose_names[i]);
+        err_add(p, " ");
+        err_add_num(p, u[i], 6);
+        err_add(p, i < 3 ? " mm" : " deg");
+        first = 0;
+    }
 }
 
 hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
@@ -375,10 +532,20 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
             return fail_safe(p, res, HP_STATUS_INVALID_INPUT, t0);
         }
     }
+    if (!in_identifiable_range(p, desired)) return fail_safe(p, res, HP_STATUS_INVALID_INPUT, t0);
+    /* The commanded part: what the layout can observe of the desired correction, in the
+     * commanded components; the rest is reported, never silently dropped. */
+    double xc[6], unc[6];
+    if (hp_pose_commanded_part(&p->L, &p->id, p->level, desired, xc) != HP_OK) {
+        err_set(p, "desired: the contact model cannot evaluate this correction (a bladder "
+                   "centre would lie deep inside the head)");
+        return fail_safe(p, res, HP_STATUS_INVALID_INPUT, t0);
+    }
+    for (int i = 0; i < 6; ++i) unc[i] = desired[i] - xc[i];
     hp_problem *pb = &p->pb;
-    double dsc[6];
-    to_scaled(desired, dsc);
-    for (int i = 0; i < 6; ++i) pb->d[i] = p->commanded[i] ? dsc[i] : 0.0;
+    to_scaled(xc, pb->d);
+    for (int i = 0; i < 6; ++i)
+        if (!p->commanded[i]) pb->d[i] = 0.0;
     if (hp_setup_cycle_bounds(&p->L, &p->sb, pb->p_prev, p->s.use_rate_limits, pb, p->lo_flags,
                               p->hi_flags, NULL) != HP_OK) {
         err_set(p, "the rate limits leave no radius inside the pressure and stretch limits");
@@ -392,6 +559,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     r->raw_code = 0;
     r->iterations = 0;
     for (int i = 0; i < 6; ++i) r->commanded[i] = p->commanded[i];
+    memcpy(r->uncommanded, unc, sizeof unc);
 
     /* Direct chain: the desired pose itself, when every limit holds there. */
     double rho[HP_MAX_BLADDERS], clamp_mm = 0;
@@ -490,8 +658,9 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         converged = 0;
     }
     pose_error(p, r, pb->d);
+    int unc_any = uncommanded_beyond(p, unc);
     if (r->pose_error <= p->s.tolerance) {
-        r->status = HP_STATUS_REACHED;
+        r->status = unc_any ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED;
     } else if (converged && !closest_verified(p, x)) {
         /* A backend that claims an optimum the first-order conditions refute (NLopt SLSQP
          * far beyond reach handed back its start point with XTOL_REACHED) gives no answer:
@@ -505,13 +674,38 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         res->raw_code = raw;
         res->iterations = iters;
         return HP_OK;
+    } else if (converged && !binds_any(r)) {
+        /* Nothing binds, so the first-order conditions say the optimum is the target: a
+         * claimed optimum short of it is not the closest (Ipopt stops its interior point
+         * a few 1e-6 mm inside a bound when the remaining pose error is tiny, because its
+         * complementarity test scales with the multiplier). Label it, never CLOSEST. */
+        err_set(p, p->ops->name);
+        err_add(p, ": solver-error (raw code ");
+        err_add_int(p, raw);
+        err_add(p, "): its claimed optimum binds no limit (none within ");
+        err_add_num(p, HP_BINDING_TOL_MM * 1e6, 0);
+        err_add(p, " nm), so it is not the closest; holding the previous pressures");
+        fail_safe(p, res, HP_STATUS_SOLVER_ERROR, t0);
+        res->raw_code = raw;
+        res->iterations = iters;
+        return HP_OK;
     } else if (converged) {
         r->status = HP_STATUS_CLOSEST;
     } else {
         r->status = (st == HP_STATUS_TIME_LIMIT) ? HP_STATUS_TIME_LIMIT
                                                   : HP_STATUS_ITERATION_LIMIT;
     }
-    if (r->status != HP_STATUS_REACHED) {
+    if ((r->status == HP_STATUS_REACHED || r->status == HP_STATUS_UNCOMMANDED) &&
+        !recovered_from_nominal(p, r, xc)) {
+        fail_safe(p, res, HP_STATUS_INVALID_INPUT, t0);
+        res->raw_code = raw;
+        res->iterations = iters;
+        return HP_OK;
+    }
+    if (r->status == HP_STATUS_UNCOMMANDED) {
+        err_set(p, "uncommanded: the commanded part is reached; ");
+        add_uncommanded(p, unc);
+    } else if (r->status != HP_STATUS_REACHED) {
         err_set(p, hp_status_name(r->status));
         err_add(p, ": binding");
         int any = 0;
@@ -527,6 +721,10 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
             any = 1;
         }
         if (!any) err_add(p, " none");
+        if (unc_any) {
+            err_add(p, "; ");
+            add_uncommanded(p, unc);
+        }
     }
     p->prev = *r;
     set_prev_x(p, r);

@@ -30,6 +30,10 @@ typedef struct hp_problem {
     double ro_lo[HP_MAX_BLADDERS];   /* the same bounds as outer radius [mm] */
     double ro_hi[HP_MAX_BLADDERS];
     double p_prev[HP_MAX_BLADDERS];  /* previous pressures [Pa] */
+    double ri_lo_si[HP_MAX_BLADDERS]; /* ri_lo, ri_hi in metres, exactly the radii whose
+                                         stretch and pressure hold their limits in double
+                                         precision (the mm copies may differ by an ulp) */
+    double ri_hi_si[HP_MAX_BLADDERS];
 } hp_problem;
 
 /* Objective f(x); grad (nx) and hess (nx×nx dense, row-major) may be NULL. */

@@ -91,8 +91,14 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
             return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_min bound", B->name);
         if ((hif & HP_BIND_PRESSURE_MAX) && !nudge_hi(m, &hi, B->p_max))
             return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max bound", B->name);
+        /* The stretch is reported as ri / Ri in double precision: move each bound inward
+         * by ulps until that quotient sits inside [stretch_min, stretch_max] (0.944 · Ri
+         * rounded can divide back to 1 ulp below 0.944). Inward moves only raise the
+         * pressure at lo and lower it at hi, so the pressure bounds keep holding. */
+        for (int i = 0; i < 8 && lo / m->Ri < B->stretch_min; ++i) lo = nextafter(lo, INFINITY);
+        for (int i = 0; i < 8 && hi / m->Ri > B->stretch_max; ++i) hi = nextafter(hi, 0.0);
         double plo, phi;
-        if (!(lo < hi) || hp_iab_ik(m, lo, &plo) != HP_OK || hp_iab_ik(m, hi, &phi) != HP_OK)
+        if (!(lo < hi) || lo / m->Ri < B->stretch_min || hi / m->Ri > B->stretch_max || hp_iab_ik(m, lo, &plo) != HP_OK || hp_iab_ik(m, hi, &phi) != HP_OK)
             return hp_diag_set(d, HP_ERR_INVALID,
                                "bladder %s: the pressure and stretch limits leave no stable "
                                "radius (ri %.6g..%.6g mm)",
@@ -143,6 +149,8 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                "bladder %s: the rate limit around %.6g Pa leaves no radius "
                                "inside the pressure and stretch limits",
                                B->name, p_prev ? p_prev[k] : 0.0);
+        pb->ri_lo_si[k] = lo;
+        pb->ri_hi_si[k] = hi;
         pb->ri_lo[k] = lo * HP_MM_PER_M;
         pb->ri_hi[k] = hi * HP_MM_PER_M;
         pb->ro_lo[k] = rol * HP_MM_PER_M;
@@ -171,85 +179,6 @@ hp_error hp_setup_contact_scaled(const hp_layout *L, hp_level level, const doubl
             J_s[k * 6 + i] = J[k * 6 + i];                                 /* mm/mm */
             J_s[k * 6 + i + 3] = J[k * 6 + i + 3] * HP_MM_PER_M / HP_DEG_PER_RAD; /* mm/deg */
         }
-    }
-    return HP_OK;
-}
-
-/* Singular values of the m×c matrix A (row-major, leading dimension 6; destroyed) by
- * one-sided Jacobi: rotate column pairs until all are orthogonal; the norms are the
- * singular values. */
-static void jacobi_sv(double *A, int m, int c, double *sv)
-{
-    for (int sweep = 0; sweep < 60; ++sweep) {
-        double off = 0.0;
-        for (int p = 0; p < c; ++p)
-            for (int q = p + 1; q < c; ++q) {
-                double a = 0, bb = 0, g = 0;
-                for (int i = 0; i < m; ++i) {
-                    a += A[i * 6 + p] * A[i * 6 + p];
-                    bb += A[i * 6 + q] * A[i * 6 + q];
-                    g += A[i * 6 + p] * A[i * 6 + q];
-                }
-                if (g == 0.0 || fabs(g) <= 1e-15 * sqrt(a * bb)) continue;
-                off = fmax(off, fabs(g) / sqrt(a * bb));
-                double zeta = (bb - a) / (2.0 * g);
-                double t = (zeta >= 0 ? 1.0 : -1.0) / (fabs(zeta) + sqrt(1.0 + zeta * zeta));
-                double cs = 1.0 / sqrt(1.0 + t * t), sn = cs * t;
-                for (int i = 0; i < m; ++i) {
-                    double u = A[i * 6 + p], v = A[i * 6 + q];
-                    A[i * 6 + p] = cs * u - sn * v;
-                    A[i * 6 + q] = sn * u + cs * v;
-                }
-            }
-        if (off <= 1e-15) break;
-    }
-    for (int p = 0; p < c; ++p) {
-        double s = 0;
-        for (int i = 0; i < m; ++i) s += A[i * 6 + p] * A[i * 6 + p];
-        sv[p] = sqrt(s);
-    }
-}
-
-/* Numerical rank of the columns of J_s (n×6) selected by keep[]; tol is absolute. */
-static int rank_of(const double *J_s, int n, const int keep[6], double tol)
-{
-    double A[HP_MAX_BLADDERS * 6], sv[6];
-    int c = 0;
-    for (int j = 0; j < 6; ++j) {
-        if (!keep[j]) continue;
-        for (int i = 0; i < n; ++i) A[i * 6 + c] = J_s[i * 6 + j];
-        ++c;
-    }
-    if (c == 0) return 0;
-    jacobi_sv(A, n, c, sv);
-    int r = 0;
-    for (int j = 0; j < c; ++j) r += sv[j] > tol;
-    return r;
-}
-
-hp_error hp_setup_commanded(const hp_layout *L, hp_level level, int commanded[6],
-                            hp_diag *d)
-{
-    double x0[6] = {0}, rho[HP_MAX_BLADDERS], J_s[HP_MAX_BLADDERS * 6];
-    hp_error e = hp_setup_contact_scaled(L, level, x0, rho, J_s);
-    if (e != HP_OK)
-        return hp_diag_set(d, e, "contact model at the nominal pose: %s", hp_error_message(e));
-    double A[HP_MAX_BLADDERS * 6], sv[6];
-    memcpy(A, J_s, sizeof(double) * 6 * (size_t)L->n);
-    jacobi_sv(A, L->n, 6, sv);
-    double smax = 0;
-    for (int j = 0; j < 6; ++j) smax = fmax(smax, sv[j]);
-    if (!(smax > 0)) return hp_diag_set(d, HP_ERR_INVALID, "layout: the contact Jacobian is zero");
-    double tol = 1e-9 * smax;
-    for (int j = 0; j < 6; ++j) commanded[j] = 1;
-    int rank = rank_of(J_s, L->n, commanded, tol);
-    /* Rotations first (a sphere head's rotations are the natural unobservable ones). */
-    static const int order[6] = {HP_YAW, HP_ROLL, HP_PITCH, HP_Z, HP_Y, HP_X};
-    int dropped = 0;
-    for (int t = 0; t < 6 && dropped < 6 - rank; ++t) {
-        commanded[order[t]] = 0;
-        if (rank_of(J_s, L->n, commanded, tol) == rank) ++dropped;
-        else commanded[order[t]] = 1;
     }
     return HP_OK;
 }

@@ -33,13 +33,6 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                const double *p_prev, int use_rate, hp_problem *pb,
                                unsigned *lo_flags, unsigned *hi_flags, hp_diag *d);
 
-/* Which pose components the layout can command at level (1) and which it cannot (0): the
- * rank of the scaled contact Jacobian at the nominal pose (one-sided Jacobi SVD, singular
- * values > 1e-9 of the largest) and, when rank < 6, rotations then translations whose
- * column lies in the span of the others are dropped. */
-hp_error hp_setup_commanded(const hp_layout *L, hp_level level, int commanded[6],
-                            hp_diag *d);
-
 /* Contact distances and Jacobian in scaled units: rho_mm[n], J_s[n×6] (mm per mm, mm per
  * degree); J_s may be NULL. x is scaled (mm, deg). Allocates nothing. */
 hp_error hp_setup_contact_scaled(const hp_layout *L, hp_level level, const double x[6],

@@ -1,5 +1,6 @@
 /* Scene files: the top level, the model/solver/correction/trace sections, and loading. */
 #include "headplan/hp_trace.h"
+#include "common/units.h"
 #include "planner/settings_check.h"
 #include "scene/scene_parts.h"
 
@@ -92,7 +93,7 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
                            "must be in [0, 180] deg (got %g)", b);
         s->has_auto_range = 1;
         s->auto_trans = a * 1e-3;
-        s->auto_rot = b * (3.14159265358979323846 / 180.0);
+        s->auto_rot = b * HP_RAD_PER_DEG;
     }
     return HP_OK;
 }

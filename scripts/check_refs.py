@@ -29,6 +29,8 @@ ALLOWED = {
 def is_placeholder(name):
     base = os.path.basename(name)
     stem = base.rsplit(".", 1)[0]
+    if re.search(r"(^|[_-])[A-Z]{3,}($|[_-])", stem):  # backend_NAME.c, FAMILY_pareto.gp
+        return True
     return stem.isupper() or stem.upper() == stem or base in ALLOWED or name in ALLOWED
 
 

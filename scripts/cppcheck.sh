@@ -19,7 +19,7 @@ SUPPRESS=(
   --suppress=uninitvar:planner/backend_common.c # lo[]/hi[] set for every k < n; act[] < n
   --suppress=uninitvar:planner/qp.c             # d[k], r[j] set for k < n, j > k before use
   --suppress=duplicateCondition:planner/backend_realtime.c # two blocks, same guard: style
-  --suppress=uninitvar:cli/bench_levels.c       # qsort of 0 elements when no file is read
+  --suppress=uninitvar:bench/bench_levels.c       # qsort of 0 elements when no file is read
 )
 cppcheck --std=c11 --enable=warning,performance,portability,style --inline-suppr \
   --error-exitcode=1 --quiet --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \

@@ -135,6 +135,16 @@ HP_API hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, do
 HP_API hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
                        const double *xi0, double xi[6], double *residual, int *iters);
 
+/* Forward contact kinematics in the pose components with free_[i] = 1 (the others held at
+ * 0): Levenberg–Marquardt as in hp_contact_fk, fitting the contact distances at level to
+ * target[0..n-1] (finite, any sign: a desired pose's own distances may be <= 0), started
+ * at x0 (free components only). The engine of hp_contact_fk, and what the planner uses to
+ * check that a commanded pose is recovered from the nominal one. residual and iters may be
+ * NULL. HP_ERR_NO_CONVERGENCE after 200 iterations. Allocates nothing. */
+HP_API hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target,
+                        const int free_[6], const double x0[6], double xi[6], double *residual,
+                        int *iters);
+
 /* The reach search stops at these (mm, degrees): a reach equal to one means "at least". */
 #define HP_REACH_CAP_MM 50.0
 #define HP_REACH_CAP_DEG 30.0
@@ -142,8 +152,9 @@ HP_API hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *
 /* Layout analysis at the nominal pose, translation per mm and rotation per degree. */
 typedef struct hp_layout_analysis {
     double singular_values[6];  /* of J scaled to mm/mm and mm/deg, descending */
-    int rank;                   /* numerical rank (sv > 1e-9·sv_max) */
-    double condition;           /* sv_max / sv_min; +inf when rank < 6 */
+    int rank;                   /* rank as decided by hp_layout_identify (dimensionless,
+                                   head-centred: independent of units, scale and pivot) */
+    double condition;           /* sv_max / sv_min (mm, degrees); +inf when rank < 6 */
     double weakest[6];          /* right singular vector of the smallest sv (unit, mm/deg) */
     char weakest_words[160];    /* e.g. "pitch with some longitudinal shift" */
     double reach[6][2];         /* largest correction along each axis, [i][0] negative
@@ -159,6 +170,84 @@ typedef struct hp_layout_analysis {
  * rotation reach 0. weakest_words names the dominant component of the weakest vector and
  * any other component of magnitude >= 0.3. */
 HP_API hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysis *out);
+
+/* Relative singular value below which a direction of the nondimensional contact Jacobian
+ * (hp_layout_identify) counts as unobservable: far above rounding (~1e-15 for 16 rows), far
+ * below a genuinely weak but observable direction (the near-spherical 90/90.01/90.02 mm
+ * ellipsoid has ~1e-4). */
+#define HP_IDENT_RANK_TOL 1e-8
+
+/* What the contact model can tell apart: the identifiable range of a layout and head shape.
+ *
+ * Observable motions. The contact distances see the moved head only as a set, so a motion
+ * that maps the head onto itself is invisible. The rank is decided on the contact Jacobian
+ * at the nominal pose written in the head-centred frame (translation of the head centre,
+ * rotation about it, the rotation columns divided by the head's largest semi-axis): every
+ * entry is then dimensionless, so the decision does not depend on units, on the overall
+ * scale of the scene, or on where the pivot is (the pivot only changes coordinates: a
+ * rotation about a far pivot is a rotation about the centre plus a translation). A sphere's
+ * rotation about its centre has exactly zero columns there (rank 3); a head of revolution
+ * loses the turn about its axis (rank <= 5); fewer than six bladders or bladders facing too
+ * few directions lose more.
+ *
+ * Commanded components. The pose components the planner moves (commanded[i] = 1) are chosen
+ * among x, y, z, pitch, roll, yaw about the pivot: rotations (yaw, roll, pitch) then
+ * translations (z, y, x) are dropped while the others keep the full rank. The commanded
+ * part of a desired correction is the pose in those components alone that the exact model
+ * cannot tell from it (for a sphere, exactly: the same motion of its centre, whatever the
+ * pivot); the rest is not commanded.
+ *
+ * Range. Rotations: the head's symmetries are the rotations about its centre that map it
+ * onto itself. An ellipsoid with three distinct semi-axes has the half-turns about each of
+ * its axes; one with two equal semi-axes also every turn about its axis of revolution
+ * (unobservable, above) and half-turns about every axis across it. Two rotations are
+ * confused when they differ by a symmetry, i.e. by a half-turn (angle 180°); so poses whose
+ * rotation angle (the angle of R about its own axis, whatever the axis and the pivot) is
+ * below 90° are pairwise distinct, and 90° is the largest such bound (±90° about one axis
+ * differ by a half-turn). A sphere identifies no rotation: only the motion of its centre
+ * (rot_limit = pi, i.e. any correction is accepted and its rotation about the centre is
+ * reported not commanded). Translations: |(x, y, z)|₂ up to the head's smallest semi-axis,
+ * so the moved head still contains its nominal centre and every bladder faces the side of
+ * the head it faced at rest (the planner's strict round-trip tests sample this range; far
+ * beyond any bladder's reach). */
+typedef struct hp_identifiable {
+    int rank;                  /* of the nondimensional Jacobian, 0..6 */
+    double rel_sv[6];          /* its singular values over the largest, descending */
+    int commanded[6];          /* 1: the planner moves this pose component; 0: holds it at 0 */
+    int n_null;                /* 6 − rank */
+    double null_space[6][6];   /* rows 0..n_null−1: unobservable motions, pose coordinates
+                                  about the pivot (SI), unit length in the nondimensional
+                                  metric */
+    int centre_only;           /* 1: all semi-axes equal: only the centre's motion is seen */
+    double length;             /* [m] characteristic length: the largest semi-axis */
+    double rot_limit;          /* [rad] rotation angle must be < this (pi/2), or pi when no
+                                  rotation is identified (centre_only) */
+    double trans_limit;        /* [m] translation norm must be <= this */
+    char symmetry[128];        /* the head's symmetries in words */
+} hp_identifiable;
+
+/* Fills out for a prepared layout (see hp_identifiable). HP_ERR_NULL, HP_ERR_STATE (not
+ * prepared), HP_ERR_INVALID (the Jacobian is zero), HP_ERR_NO_CONVERGENCE (SVD). Allocates
+ * nothing. */
+HP_API hp_error hp_layout_identify(const hp_layout *L, hp_identifiable *out);
+
+/* Angle [rad] of the rotation of pose xi (pitch, roll, yaw in xi[3..5]) about its own axis,
+ * in [0, pi]: the quantity hp_identifiable.rot_limit bounds. */
+HP_API double hp_pose_rotation_angle(const double xi[6]);
+
+/* The commanded part xc of a desired pose xd for a layout (see hp_identifiable): zeros in
+ * the components id->commanded[] drops, and the contact distances of xd. For a centre_only
+ * head commanding x, y, z: exactly the translation that moves the head centre where xd
+ * moves it (pivot + R(centre − pivot) + t − centre), at every level (the surface level's
+ * distances are then those of xd exactly). Otherwise the projection along the unobservable
+ * motions that zeroes the dropped components (exact at the linear level), refined at the
+ * plane and surface levels by hp_contact_fit of xd's distances in the commanded components
+ * (exact when they can reproduce them, e.g. up to five bladders; least squares when the
+ * layout sees the dropped directions at second order, e.g. a flat layout). xc = xd bit for
+ * bit when rank is 6 or xd is already zero in the dropped components. Allocates nothing.
+ * HP_ERR_INVALID for a non-finite xd; the contact model's errors otherwise. */
+HP_API hp_error hp_pose_commanded_part(const hp_layout *L, const hp_identifiable *id, hp_level level,
+                                const double xd[6], double xc[6]);
 
 #ifdef __cplusplus
 }

@@ -25,7 +25,7 @@
  *     [stretch_min, stretch_max], and ri is strictly below any inflation limit point's radius
  *     (at most (1 − 1e-3) of it), whatever the status.
  *   valid_fields_finite: for every status, status, raw_code, backend, level, n, commanded,
- *     iterations (>= 0), solve_time (>= 0), achieved[6] and every bladder's ri, ro, pressure,
+ *     uncommanded[6] (0 on the safe output), iterations (>= 0), solve_time (>= 0), achieved[6] and every bladder's ri, ro, pressure,
  *     stretch are finite; pose_error is finite when the result answers this request
  *     (REACHED, CLOSEST, and ITERATION_LIMIT / TIME_LIMIT carrying an iterate) and exactly
  *     +inf when it is the safe output; never NaN. desired[] is a copy of the input (may be
@@ -44,8 +44,16 @@
  *     and SOLVER_ERROR always carry it; ITERATION_LIMIT / TIME_LIMIT carry it when the
  *     backend stopped without a usable iterate (pose_error +inf tells which).
  *   reached_means_reached: REACHED means the returned pressures, inverted by hp_iab_fk ->
- *     hp_iab_ro -> hp_contact_fk at the planner's level, give the desired pose in every
- *     commanded component within 1e-6 mm / degree (measured: below 1e-9). */
+ *     hp_iab_ro -> hp_contact_fk at the planner's level started from the NOMINAL pose (not
+ *     from the answer), give the desired pose in every component within 1e-6 mm / degree
+ *     (measured: below 1e-9); UNCOMMANDED means they give its commanded part
+ *     (desired − uncommanded) back the same way. REACHED never has an uncommanded component
+ *     beyond the tolerance. A correction outside the identifiable range (hp_kinematics.h,
+ *     hp_identifiable: rotation angle >= 90 degrees for a head that is not a sphere,
+ *     translation beyond the smallest semi-axis) is INVALID_INPUT, the limit named.
+ *   closest_names_binding: a CLOSEST answer has at least one bladder with binding flags
+ *     (HP_BINDING_TOL_MM, the same for every backend) named in hp_planner_error; a claimed
+ *     optimum with nothing binding is SOLVER_ERROR with the safe output. */
 #ifndef HP_PLANNER_H
 #define HP_PLANNER_H
 
@@ -81,10 +89,14 @@ typedef enum hp_status {
     HP_STATUS_INFEASIBLE_START,   /* the limits cannot all hold (e.g. rate limits) */
     HP_STATUS_INVALID_INPUT,      /* NaN/Inf or out-of-range desired correction */
     HP_STATUS_SOLVER_ERROR,       /* the backend failed */
+    HP_STATUS_UNCOMMANDED,        /* the commanded part is reached, but part of the desired
+                                     correction (beyond the tolerance) lies in directions the
+                                     layout cannot observe: result.uncommanded, named in
+                                     hp_planner_error; never REACHED */
     HP_STATUS_COUNT_
 } hp_status;
 /* "reached", "closest", "iteration-limit", "time-limit", "infeasible-start",
- * "invalid-input", "solver-error"; "unknown" for other values. */
+ * "invalid-input", "solver-error", "uncommanded"; "unknown" for other values. */
 HP_API const char *hp_status_name(hp_status s);
 
 /* Why a bladder's answer sits on a limit (bit flags; several may be set). */
@@ -98,6 +110,11 @@ enum {
     HP_BIND_LIMIT_POINT = 1u << 6 /* the stable-branch cap below the inflation limit point */
 };
 #define HP_BIND_COUNT 7
+/* A bladder is reported as sitting on a limit when its outer radius is within this many mm
+ * of the bound, the one threshold for every backend and level: above the solvers' stopping
+ * slack at a bound (Ipopt's interior point keeps ~1e-8 of the bound, the realtime QP
+ * 1e-11 mm), far below any clinical meaning. A CLOSEST answer names at least one. */
+#define HP_BINDING_TOL_MM 1e-6
 /* "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
  * "limit_point" for one flag bit; "unknown" otherwise. */
 HP_API const char *hp_binding_name(unsigned flag);
@@ -155,9 +172,16 @@ typedef struct hp_result {
     hp_level level;           /* the resolved contact level the answer was computed at */
     double desired[6];        /* SI, as passed */
     double achieved[6];       /* SI; pose of the returned radii at `level` (see below) */
-    int commanded[6];         /* 0 where the layout cannot command that direction: the
-                                 planner holds it at 0 and ignores its desired value */
-    double pose_error;        /* max over commanded i of |achieved − desired|, mm or deg */
+    int commanded[6];         /* 1: the planner moves this pose component; 0: held at 0.
+                                 The commanded part of desired (hp_pose_commanded_part: the
+                                 pose in these components alone with the same contact
+                                 distances) is what the planner aims at; achieved[] is 0 in
+                                 the components not commanded */
+    double uncommanded[6];    /* SI: desired − its commanded part, the part the layout cannot
+                                 observe (all 0 for a rank-6 layout and on the safe output);
+                                 beyond the tolerance it makes REACHED into UNCOMMANDED */
+    double pose_error;        /* max over commanded i of |achieved − commanded part of
+                                 desired|, mm or deg */
     int n;
     hp_bladder_result bladders[HP_MAX_BLADDERS];
     int iterations;           /* solver iterations (0: the direct chain answered) */
@@ -167,8 +191,8 @@ typedef struct hp_result {
 typedef struct hp_planner hp_planner;
 
 /* Builds a planner for a layout (copied: the caller may free it afterwards; prepared here
- * if it is not) and settings (NULL = defaults). Resolves HP_LEVEL_AUTO, finds the commanded
- * directions (rank of the contact Jacobian), maps every pressure and stretch limit to
+ * if it is not) and settings (NULL = defaults). Resolves HP_LEVEL_AUTO, finds what the
+ * layout can tell apart and the commanded components (hp_layout_identify), maps every pressure and stretch limit to
  * bounds on the bladders' radii (clipped below any inflation limit point) and creates the
  * backend. The only call that allocates. On failure returns the error, sets *out = NULL,
  * frees everything, and puts the message in diag (may be NULL). */
@@ -178,12 +202,18 @@ HP_API hp_error hp_planner_create(const hp_layout *layout, const hp_settings *se
 /* Plans one correction desired[6] (SI: m, rad). Always fills *result; returns HP_OK when a
  * result was produced (look at result->status), HP_ERR_NULL for NULL arguments and
  * HP_ERR_STATE for a planner that failed to build.
+ *   - A correction outside the identifiable range (hp_layout_identify) is INVALID_INPUT
+ *     with the limit named; otherwise the planner aims at its commanded part
+ *     (hp_pose_commanded_part) and returns the rest in uncommanded[].
  *   - First the direct chain: pose -> contact distances -> radii -> pressures; when every
- *     limit holds that is the exact answer (REACHED, 0 iterations).
+ *     limit holds that is the exact answer (REACHED, or UNCOMMANDED when part of the
+ *     correction is not commanded; 0 iterations).
  *   - Otherwise the backend finds the closest reachable pose (CLOSEST, binding flags set).
  *   - achieved[] is the pose at the planner's level for which the returned outer radii are
- *     exactly the contact distances (the model-level round trip); a caller that wants the
- *     strict check runs hp_iab_fk -> hp_iab_ro -> hp_contact_fk at HP_LEVEL_SURFACE.
+ *     exactly the contact distances (the model-level round trip). Before REACHED or
+ *     UNCOMMANDED the planner runs the strict round trip itself (pressures -> radii ->
+ *     hp_contact_fit from the nominal pose); a correction it does not recover is not
+ *     identified by this layout: INVALID_INPUT.
  *   - On INVALID_INPUT, INFEASIBLE_START or SOLVER_ERROR the result holds the SAFE OUTPUT:
  *     the previous valid answer's bladders and pose (after create or hp_planner_reset: the
  *     nominal pose's radii and pressures, clamped into the limits), so a controller that
@@ -199,6 +229,9 @@ HP_API const char *hp_planner_error(const hp_planner *p);
 /* The resolved contact level and the planner's (prepared) copy of the layout. */
 HP_API hp_level hp_planner_level(const hp_planner *p);
 HP_API const hp_layout *hp_planner_layout(const hp_planner *p);
+/* What the planner's layout can tell apart (hp_layout_identify, computed at create): the
+ * identifiable range hp_plan enforces and the commanded components. NULL for NULL. */
+HP_API const hp_identifiable *hp_planner_identifiable(const hp_planner *p);
 
 /* Sets the pressures the bladders hold now [Pa] (n values): the rate limits of the next plan
  * start from them and they become the safe output. Each must be finite, inside its limits

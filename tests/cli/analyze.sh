@@ -153,6 +153,57 @@ line = [l for l in text.splitlines() if l.startswith("condition")][0]
 assert abs(float(line.split()[1]) - d["condition"]) <= 1e-5 * d["condition"], line  # %.6g
 PY
 
+# ---- the identifiable range (issue 10) -------------------------------------------------------
+python3 - "$TMP/default.json" <<'PY' && ok || bad "default JSON: identifiable range"
+import json, sys
+d = json.load(open(sys.argv[1]))["identifiable"]
+assert d["rank"] == 6 and d["unobservable_motions"] == [] and not d["only_centre_motion"]
+assert all(d["commanded"].values()), d["commanded"]
+assert d["rotation_angle_below_deg"] == 90 and d["translation_norm_max_mm"] == 77.5, d
+assert d["head_symmetry"] == "half-turns about its X, Y and Z axes", d["head_symmetry"]
+PY
+run analyze "$S/default.yaml"
+expect_stdout_has "identifiable range" "default text: identifiable range"
+expect_stdout_has "angle below 90 deg" "default text: rotation bound"
+expect_stdout_has "up to 77.5000 mm" "default text: translation bound"
+# A pivot 1 km away only changes coordinates: still rank 6, everything commanded.
+sed 's/^pivot_mm: \[0, 0, 0\]/pivot_mm: [0, 0, 1000000]/' "$S/default.yaml" >"$TMP/far.yaml"
+run analyze "$TMP/far.yaml" --json
+expect_exit 0 "pivot 1 km --json"
+python3 - "$TMP/out" <<'PY' && ok || bad "pivot 1 km: identifiable range unchanged"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["pivot_mm"][2] == 1e6, d["pivot_mm"]
+assert d["rank"] == 6 and d["condition"] is not None, d["rank"]   # old main: rank 4
+i = d["identifiable"]
+assert i["rank"] == 6 and all(i["commanded"].values()), i
+PY
+# A sphere with its pivot 70 mm below the centre: rank 3; the unobservable motions are turns
+# about the centre, i.e. J·v = 0 for J rebuilt here from the reported contacts and normals.
+sed 's/^pivot_mm: \[0, 0, 0\]/pivot_mm: [0, 0, -70]/' "$S/sphere_head.yaml" >"$TMP/sphere_off.yaml"
+run analyze "$TMP/sphere_off.yaml" --json
+expect_exit 0 "sphere off-centre pivot --json"
+python3 - "$TMP/out" <<'PY' && ok || bad "sphere off-centre pivot: unobservable motions"
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+i = d["identifiable"]
+assert i["rank"] == 3 and i["only_centre_motion"] and i["rotation_angle_below_deg"] is None
+assert [i["commanded"][k] for k in ["x_mm", "y_mm", "z_mm", "pitch_deg", "roll_deg", "yaw_deg"]] \
+    == [True, True, True, False, False, False], i["commanded"]
+pv = d["pivot_mm"]
+assert len(i["unobservable_motions"]) == 3
+for v in i["unobservable_motions"]:
+    x = [v[k] for k in ["x_mm", "y_mm", "z_mm", "pitch_deg", "roll_deg", "yaw_deg"]]
+    assert abs(max(x, key=abs) - 1) < 1e-12, x                      # scaled: largest is 1
+    for b in d["bladders"]:
+        n, p = b["normal"], b["contact_mm"]
+        l = [p[j] - pv[j] for j in range(3)]
+        lxn = [l[1] * n[2] - l[2] * n[1], l[2] * n[0] - l[0] * n[2], l[0] * n[1] - l[1] * n[0]]
+        row = [-n[0], -n[1], -n[2]] + [-c * math.pi / 180 for c in lxn]   # mm per mm, per deg
+        s = sum(r * y for r, y in zip(row, x))
+        assert abs(s) < 1e-9, (b["name"], s)
+PY
+
 # ---- sphere head: translation only --------------------------------------------------------
 run analyze "$S/sphere_head.yaml" --json
 expect_exit 0 "sphere --json"

@@ -1,5 +1,6 @@
-# headplan solve: exit statuses 0 (reached), 1 (closest), 64 (usage), 65 (bad scene or
-# correction), 66 (unreadable scene), 70 (solver failure); JSON keys; errors on stderr only.
+# headplan solve: exit statuses 0 (reached), 1 (closest), 2 (uncommanded), 64 (usage), 65
+# (bad scene or correction, also outside the identifiable range), 66 (unreadable scene), 70
+# (solver failure); JSON keys; errors on stderr only.
 source "$2/tests/cli_lib.sh"
 S="$HP_SRC/scenarios"
 
@@ -59,6 +60,48 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 assert d["head"]["shape"] == "sphere" and "radius_mm" in d["head"]
 assert d["commanded"]["yaw_deg"] is False and d["achieved"]["yaw_deg"] == 0
+PY
+
+# Issue 10: a half-turn (and 170 degrees) is outside the identifiable range: the head is
+# symmetric under half-turns, so the contact distances cannot tell it from a smaller turn.
+# Old main said "reached" with the pressures of 0 and -10 degrees.
+for c in 0,0,0,180,0,0 0,0,0,170,0,0 0,0,0,0,0,-120; do
+    run solve "$S/default.yaml" --correction $c
+    expect_exit 65 "turn $c refused"; expect_stdout_empty "turn $c refused"
+    expect_stderr_has "outside the identifiable range (below 90 deg" "turn $c names the limit"
+done
+
+# Issue 10: a sphere turned about a pivot 70 mm below its centre. The turn moves the centre,
+# which the bladders observe (commanded: -70 sin 3 deg = -3.6635 mm along y); the turn about
+# the centre itself is not observable: reported, status "uncommanded", exit 2 (old main:
+# "reached", exit 0, the whole turn dropped).
+sed 's/^pivot_mm: \[0, 0, 0\]/pivot_mm: [0, 0, -70]/' "$S/sphere_head.yaml" >"$TMP/sphere_off.yaml"
+grep -q "pivot_mm: \[0, 0, -70\]" "$TMP/sphere_off.yaml" && ok || bad "sphere_off.yaml not made"
+run solve "$TMP/sphere_off.yaml" --correction 0,0,0,3,0,0
+expect_exit 2 "sphere off-centre pivot: uncommanded"
+expect_stdout_has "uncommanded" "uncommanded text status"
+expect_stdout_has "pitch 3.000000 deg" "uncommanded text names the direction"
+run solve "$TMP/sphere_off.yaml" --correction 0,0,0,3,0,0 --json
+expect_exit 2 "uncommanded --json"
+python3 - "$TMP/out" <<'PY' && ok || bad "uncommanded JSON"
+import json, math, sys
+d = json.load(open(sys.argv[1]))
+assert d["status"] == "uncommanded", d["status"]
+u, a = d["uncommanded"], d["achieved"]
+assert abs(u["pitch_deg"] - 3) < 1e-12 and u["roll_deg"] == 0 and u["yaw_deg"] == 0, u
+want_y = -70 * math.sin(math.radians(3))                # the centre's motion, commanded
+want_z = 70 * math.cos(math.radians(3)) - 70
+assert abs(a["y_mm"] - want_y) < 1e-9 and abs(a["z_mm"] - want_z) < 1e-9, a
+assert abs(u["y_mm"] + want_y) < 1e-9 and abs(u["z_mm"] + want_z) < 1e-9, u
+assert d["uncommanded_directions"] == ["y_mm", "z_mm", "pitch_deg"], d["uncommanded_directions"]
+assert "not commanded" in d["message"] and "pitch 3.000000 deg" in d["message"], d["message"]
+PY
+run solve "$S/default.yaml" --json
+python3 - "$TMP/out" <<'PY' && ok || bad "reached JSON: nothing uncommanded"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["status"] == "reached" and d["uncommanded_directions"] == []
+assert all(v == 0 for v in d["uncommanded"].values()), d["uncommanded"]
 PY
 
 # usage errors: 64, nothing on stdout, one line naming the option

@@ -4,6 +4,7 @@
  * active sets, an independent method), degenerate vertices, rate limits, a sphere head's
  * uncommanded rotations and a soft material's limit point. */
 #include "test_util.h"
+#include <string.h>
 #include "tests/planner/layout_fixture.h"
 
 #include <stdlib.h>
@@ -355,7 +356,9 @@ static void test_rate_limits(void **s)
 }
 
 /* A sphere head cannot be rotated about its centre (the pivot): rotations are not
- * commanded, held at 0, and the translation is met exactly. */
+ * commanded, held at 0, and the translation is met exactly. Issue 10 changed the status:
+ * the desired rotations are reported in uncommanded[] and the status is UNCOMMANDED, never
+ * REACHED (it was REACHED before, silently dropping them). */
 static void test_sphere_uncommanded(void **s)
 {
     (void)s;
@@ -366,11 +369,17 @@ static void test_sphere_uncommanded(void **s)
     lf_pose(c, xi);
     hp_result r;
     assert_int_equal(hp_plan(p, xi, &r), HP_OK);
-    assert_int_equal(r.status, HP_STATUS_REACHED);
-    for (int i = 0; i < 3; ++i) assert_int_equal(r.commanded[i], 1);
+    assert_int_equal(r.status, HP_STATUS_UNCOMMANDED);
+    assert_non_null(strstr(hp_planner_error(p), "pitch 2.000000 deg"));
+    assert_non_null(strstr(hp_planner_error(p), "yaw 4.000000 deg"));
+    for (int i = 0; i < 3; ++i) {
+        assert_int_equal(r.commanded[i], 1);
+        assert_true(r.uncommanded[i] == 0.0); /* pivot at the centre: the turn moves nothing */
+    }
     for (int i = 3; i < 6; ++i) {
         assert_int_equal(r.commanded[i], 0);
         assert_true(r.achieved[i] == 0.0);
+        assert_true(r.uncommanded[i] == xi[i]);
     }
     assert_int_equal(lf_round_trip(&L, HP_LEVEL_SURFACE, &r, back), HP_OK);
     for (int i = 0; i < 3; ++i) hp_assert_close(back[i] * 1e3, c[i], 0, 1e-9);

@@ -3,7 +3,8 @@
  * every plan in tests/reliability goes through.
  *
  * Fields that are valid per status (the "finite_valid_fields" invariant, hp_planner.h):
- *   every status: status, raw_code, backend, level, n, commanded[], iterations (>= 0),
+ *   every status: status, raw_code, backend, level, n, commanded[], uncommanded[] (0 on the
+ *     safe output), iterations (>= 0),
  *     solve_time (finite, >= 0), achieved[] (finite), and for k < n every bladder's ri, ro,
  *     pressure, stretch (finite);
  *   pose_error: finite for an answer to this desired (REACHED, CLOSEST, and ITERATION_LIMIT /
@@ -138,8 +139,15 @@ enum {
     REL_INV_FINITE = 1 << 2,   /* valid_fields_finite */
     REL_INV_SAFE = 1 << 3,     /* failure_labelled_with_safe_output */
     REL_INV_REACHED = 1 << 4,  /* reached_means_reached */
-    REL_INV_ALL = 31
+    REL_INV_BINDS = 1 << 5,    /* closest_names_binding */
+    REL_INV_ALL = 63
 };
+
+/* A status that carries a new answer to this request. */
+static inline int rel_answer_status(hp_status s)
+{
+    return s == HP_STATUS_REACHED || s == HP_STATUS_CLOSEST || s == HP_STATUS_UNCOMMANDED;
+}
 
 /* Checks one plan's result r (hp_plan returned ret) against the invariants in mask; 1 when
  * all hold, else 0 with the reason in why. Updates the expected safe output. */
@@ -178,9 +186,13 @@ static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
     if (mask & REL_INV_FINITE) {
         for (int i = 0; i < 6; ++i)
             if (!isfinite(r->achieved[i])) return rel_fail(why, wn, "achieved[%d] not finite", i);
+        for (int i = 0; i < 6; ++i)
+            if (!isfinite(r->uncommanded[i]) || (!answer && r->uncommanded[i] != 0.0))
+                return rel_fail(why, wn, "uncommanded[%d] = %g (%s)", i, r->uncommanded[i],
+                                hp_status_name(r->status));
         if (isnan(r->pose_error) || r->pose_error < 0)
             return rel_fail(why, wn, "pose_error %g", r->pose_error);
-        if (!answer && r->status <= HP_STATUS_CLOSEST)
+        if (!answer && rel_answer_status(r->status))
             return rel_fail(why, wn, "%s with pose_error +inf", hp_status_name(r->status));
         if (r->iterations < 0 || !isfinite(r->solve_time) || r->solve_time < 0)
             return rel_fail(why, wn, "iterations %d / solve_time %g", r->iterations,
@@ -210,8 +222,19 @@ static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
             if (memcmp(&r->desired[i], &desired[i], sizeof(double)) != 0)
                 return rel_fail(why, wn, "desired[%d] not copied", i);
     }
-    if ((mask & REL_INV_REACHED) && r->status == HP_STATUS_REACHED) {
-        double ro[HP_MAX_BLADDERS], xi[6], resid, dsi[6];
+    if ((mask & REL_INV_BINDS) && r->status == HP_STATUS_CLOSEST) {
+        int any = 0;
+        for (int k = 0; k < L->n; ++k) any |= r->bladders[k].binding != 0;
+        if (!any) return rel_fail(why, wn, "CLOSEST names no binding limit");
+        if (strstr(hp_planner_error(p), "binding none"))
+            return rel_fail(why, wn, "CLOSEST text says 'binding none'");
+    }
+    if ((mask & REL_INV_REACHED) &&
+        (r->status == HP_STATUS_REACHED || r->status == HP_STATUS_UNCOMMANDED)) {
+        /* The strict round trip: pressures -> radii -> forward contact kinematics started
+         * from the NOMINAL pose (not from the answer) must give the desired pose (REACHED)
+         * or its commanded part desired − uncommanded (UNCOMMANDED), in every component. */
+        double ro[HP_MAX_BLADDERS], xi[6], resid, want[6];
         for (int k = 0; k < L->n; ++k) {
             double ri;
             const hp_iab *m = &L->bladders[k].iab;
@@ -222,20 +245,35 @@ static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
                 return rel_fail(why, wn, "round trip: %s pressure %.17g not invertible",
                                 L->bladders[k].name, r->bladders[k].pressure);
         }
-        if (hp_contact_fk(L, r->level, ro, r->achieved, xi, &resid, NULL) != HP_OK)
-            return rel_fail(why, wn, "round trip: hp_contact_fk failed");
-        for (int i = 0; i < 6; ++i) dsi[i] = r->desired[i];
         for (int i = 0; i < 6; ++i) {
-            if (!r->commanded[i]) continue;
-            double s = i < 3 ? 1e3 : 57.295779513082320877;
-            double err = fabs(xi[i] - dsi[i]) * s;
-            if (err > c->worst_fk) c->worst_fk = err;
-            if (!(err <= REL_FK_TOL))
-                return rel_fail(why, wn, "REACHED but FK pose[%d] is %.3g mm/deg off", i, err);
+            double u = r->uncommanded[i], s = i < 3 ? 1e3 : 57.295779513082320877;
+            if (r->status == HP_STATUS_REACHED && !(fabs(u) * s <= HP_DEFAULT_TOLERANCE))
+                return rel_fail(why, wn, "REACHED with uncommanded[%d] = %g", i, u);
+            want[i] = r->desired[i] - u;
         }
-        (void)resid;
+        if (r->status == HP_STATUS_UNCOMMANDED) {
+            double umax = 0;
+            for (int i = 0; i < 6; ++i)
+                umax = fmax(umax, fabs(r->uncommanded[i]) * (i < 3 ? 1e3 : 57.29577951308232));
+            if (!(umax > HP_DEFAULT_TOLERANCE))
+                return rel_fail(why, wn, "UNCOMMANDED with nothing uncommanded");
+        }
+        int dof = L->head.shape == HP_HEAD_SPHERE ? 3 : 6;
+        if (L->n >= dof) {
+            if (hp_contact_fk(L, r->level, ro, NULL, xi, &resid, NULL) != HP_OK)
+                return rel_fail(why, wn, "round trip: hp_contact_fk from nominal failed");
+            for (int i = 0; i < 6; ++i) {
+                double s = i < 3 ? 1e3 : 57.295779513082320877;
+                double err = fabs(xi[i] - want[i]) * s;
+                if (err > c->worst_fk) c->worst_fk = err;
+                if (!(err <= REL_FK_TOL))
+                    return rel_fail(why, wn, "%s but FK from nominal pose[%d] is %.3g mm/deg off",
+                                    hp_status_name(r->status), i, err);
+            }
+        }
         if (!(r->pose_error <= HP_DEFAULT_TOLERANCE))
-            return rel_fail(why, wn, "REACHED with pose_error %g", r->pose_error);
+            return rel_fail(why, wn, "%s with pose_error %g", hp_status_name(r->status),
+                            r->pose_error);
     }
     if (answer) {
         c->safe = *r;

@@ -46,10 +46,9 @@ typedef void (*around_fn)(int phase); /* 1 before hp_plan, 0 after */
 
 /* Runs the campaign through every backend and level, checks `mask` on every result; `around`
  * (may be NULL) runs right before and after each hp_plan call. Returns the plan count. */
-static long campaign(unsigned mask, around_fn around, const char *name)
+static long campaign_on(const hp_layout *Lp, unsigned mask, around_fn around, const char *name)
 {
-    hp_layout L;
-    assert_int_equal(lf_layout(&L), HP_OK);
+    hp_layout L = *Lp;
     long plans = 0;
     double worst_fk = 0;
     for (int bi = 0; bi < 4; ++bi)
@@ -82,6 +81,13 @@ static long campaign(unsigned mask, around_fn around, const char *name)
         print_message("%s: %ld plans, worst REACHED round-trip error %.3g mm/deg\n", name,
                       plans, worst_fk);
     return plans;
+}
+
+static long campaign(unsigned mask, around_fn around, const char *name)
+{
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    return campaign_on(&L, mask, around, name);
 }
 
 static void pressure_within_limits(void **st)
@@ -129,6 +135,73 @@ static void failure_labelled_with_safe_output(void **st)
     campaign(REL_INV_SAFE, NULL, "failure_labelled_with_safe_output");
 }
 
+/* Rotation of angle th (rad) about unit axis u (Rodrigues, written here) as a pose. */
+static void axis_angle_pose(const double u[3], double th, double xi[6])
+{
+    double c = cos(th), s = sin(th), v = 1.0 - c, R[9];
+    R[0] = c + u[0] * u[0] * v;        R[1] = u[0] * u[1] * v - u[2] * s;
+    R[2] = u[0] * u[2] * v + u[1] * s; R[3] = u[1] * u[0] * v + u[2] * s;
+    R[4] = c + u[1] * u[1] * v;        R[5] = u[1] * u[2] * v - u[0] * s;
+    R[6] = u[2] * u[0] * v - u[1] * s; R[7] = u[2] * u[1] * v + u[0] * s;
+    R[8] = c + u[2] * u[2] * v;
+    xi[0] = xi[1] = xi[2] = 0.0;
+    xi[4] = -asin(fmax(-1.0, fmin(1.0, R[6])));
+    xi[3] = atan2(R[7], R[8]);
+    xi[5] = atan2(R[3], R[0]);
+}
+
+/* Rotations to ±180 degrees about each axis and about random axes, through every backend
+ * and level: at or beyond 90 degrees (the head's half-turn symmetry) the plan is refused as
+ * invalid input naming the identifiable range; below it every answer passes every
+ * invariant, REACHED through the strict round trip from the nominal pose (small angles are
+ * reached, large ones are beyond reach). */
+static void rotation_sweep(const hp_layout *L)
+{
+    /* ±90.001 and ±89.999, not 90: the double nearest 90 degrees is itself within
+     * rounding of the bound, on either side depending on the axis. */
+    static const double deg[13] = {-180, -170, -90.001, -89.999, -10, -1, 0.3,
+                                   1,    10,   89.999,  90.001,  170, 180};
+    double axes[6][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    uint64_t seed = 0xA7E5u;
+    for (int a = 3; a < 6; ++a) {
+        double n = 0;
+        for (int i = 0; i < 3; ++i) {
+            axes[a][i] = lf_uniform(&seed);
+            n += axes[a][i] * axes[a][i];
+        }
+        for (int i = 0; i < 3; ++i) axes[a][i] /= sqrt(n);
+    }
+    long reached = 0, invalid = 0;
+    for (int bi = 0; bi < 4; ++bi)
+        for (int li = 0; li < 3; ++li) {
+            hp_planner *p = rel_planner(L, rel_backends[bi], rel_levels[li], INFINITY, 0);
+            assert_non_null(p);
+            rel_ctx c;
+            rel_ctx_init(&c, p);
+            rel_ctx_capture_safe(&c, p);
+            for (int a = 0; a < 6; ++a)
+                for (int t = 0; t < 13; ++t) {
+                    double xi[6];
+                    hp_result r;
+                    axis_angle_pose(axes[a], deg[t] * (3.14159265358979323846 / 180.0), xi);
+                    hp_plan(p, xi, &r);
+                    REL_ASSERT(&c, HP_OK, xi, &r, REL_INV_ALL, "rotation sweep");
+                    if (fabs(deg[t]) >= 90.0) {
+                        assert_int_equal(r.status, HP_STATUS_INVALID_INPUT);
+                        assert_non_null(strstr(hp_planner_error(p), "identifiable range"));
+                        ++invalid;
+                    } else {
+                        assert_int_not_equal(r.status, HP_STATUS_INVALID_INPUT);
+                        if (fabs(deg[t]) <= 1.0) assert_int_equal(r.status, HP_STATUS_REACHED);
+                        reached += r.status == HP_STATUS_REACHED;
+                    }
+                }
+            hp_planner_destroy(p);
+        }
+    print_message("rotation sweep: %ld reached (strict round trip), %ld refused at >= 90 deg\n",
+                  reached, invalid);
+}
+
 static void reached_means_reached(void **st)
 {
     (void)st;
@@ -150,6 +223,7 @@ static void reached_means_reached(void **st)
             assert_int_equal(r.status, HP_STATUS_REACHED);
             hp_planner_destroy(p);
         }
+    rotation_sweep(&L);
 }
 
 /* ---- plan_never_allocates ---- */
@@ -305,6 +379,104 @@ static void plan_never_blocks(void **st)
     signal(SIGALRM, SIG_DFL);
 }
 
+/* ---- closest_names_binding ---- */
+
+/* Small unreachable corrections on every backend and level: the default layout with every
+ * stretch limit 2e-4 either side of the nominal stretch (a reach of a few micrometres), and
+ * the default layout with a 1 Pa rate limit after a first move. Every CLOSEST answer names
+ * a binding limit (the one threshold HP_BINDING_TOL_MM); an optimum claimed with nothing
+ * binding is labelled solver-error, never closest. */
+static void closest_names_binding(void **st)
+{
+    (void)st;
+    hp_layout tight, L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    tight = L;
+    for (int k = 0; k < tight.n; ++k) {
+        tight.bladders[k].stretch_min = 1.0 - 2e-4;
+        tight.bladders[k].stretch_max = 1.0 + 2e-4;
+    }
+    tight.prepared = 0;
+    assert_int_equal(hp_layout_prepare(&tight, NULL), HP_OK);
+    for (int bi = 0; bi < 4; ++bi) {
+        long closest = 0, labelled = 0;
+        for (int li = 0; li < 3; ++li)
+            for (int kind = 0; kind < 2; ++kind) {
+                hp_planner *p = kind == 0
+                                    ? rel_planner(&tight, rel_backends[bi], rel_levels[li], INFINITY, 0)
+                                    : rel_planner(&L, rel_backends[bi], rel_levels[li], 1.0, 0);
+                assert_non_null(p);
+                rel_ctx c;
+                rel_ctx_init(&c, p);
+                rel_ctx_capture_safe(&c, p);
+                uint64_t seed = 0xB1D0u + (uint64_t)(bi * 10 + li * 2 + kind);
+                for (int t = 0; t < 10; ++t) {
+                    double cl[6], xi[6];
+                    /* 1e-3 .. 0.3 mm/deg, log-spread */
+                    double mag = pow(10.0, -3.0 + 2.5 * (0.5 * (lf_uniform(&seed) + 1.0)));
+                    for (int i = 0; i < 6; ++i) cl[i] = mag * lf_uniform(&seed);
+                    lf_pose(cl, xi);
+                    hp_result r;
+                    hp_error e = hp_plan(p, xi, &r);
+                    REL_ASSERT(&c, e, xi, &r, REL_INV_ALL, "closest_names_binding");
+                    closest += r.status == HP_STATUS_CLOSEST;
+                    labelled += r.status == HP_STATUS_SOLVER_ERROR &&
+                                strstr(hp_planner_error(p), "binds no limit") != NULL;
+                }
+                hp_planner_destroy(p);
+            }
+        print_message("closest_names_binding %s: %ld closest (each naming a binding limit), "
+                      "%ld claimed optima with nothing binding labelled solver-error\n",
+                      hp_backend_name(rel_backends[bi]), closest, labelled);
+        assert_true(closest >= 10);
+    }
+}
+
+/* ---- limits that are not exactly representable ---- */
+
+/* stretch_min 0.944 and 0.953 and stretch_max 1.0999 (none exactly representable; NLopt once
+ * returned a stretch 1 ulp below 0.944): the campaign and compressing targets through every
+ * backend and level; the checker compares with <= and >=, no tolerance. */
+static void limits_not_representable(void **st)
+{
+    (void)st;
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    for (int k = 0; k < L.n; ++k) {
+        L.bladders[k].stretch_min = k % 2 ? 0.953 : 0.944;
+        L.bladders[k].stretch_max = 1.0999;
+    }
+    L.prepared = 0;
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    campaign_on(&L, REL_INV_PRESSURE | REL_INV_STRETCH | REL_INV_FINITE, NULL,
+                "limits_not_representable");
+    long at_min = 0;
+    for (int bi = 0; bi < 4; ++bi)
+        for (int li = 0; li < 3; ++li) {
+            hp_planner *p = rel_planner(&L, rel_backends[bi], rel_levels[li], INFINITY, 0);
+            assert_non_null(p);
+            rel_ctx c;
+            rel_ctx_init(&c, p);
+            for (int t = 0; t < 6; ++t) { /* push into the bladders: their stretch_min binds */
+                double xi[6] = {0};
+                xi[t % 3] = (t < 3 ? 1 : -1) * 0.006;
+                hp_result r;
+                hp_error e = hp_plan(p, xi, &r);
+                REL_ASSERT(&c, e, xi, &r, REL_INV_PRESSURE | REL_INV_STRETCH | REL_INV_BINDS,
+                           "compress");
+                for (int k = 0; k < L.n; ++k) {
+                    const hp_bladder *B = &L.bladders[k];
+                    assert_true(r.bladders[k].ri / B->iab.Ri >= B->stretch_min);
+                    assert_true(r.bladders[k].ri / B->iab.Ri <= B->stretch_max);
+                    at_min += (r.bladders[k].binding & HP_BIND_STRETCH_MIN) != 0;
+                }
+            }
+            hp_planner_destroy(p);
+        }
+    print_message("limits_not_representable: %ld bladder answers on stretch_min\n", at_min);
+    assert_true(at_min >= 12);
+}
+
 /* The checker itself catches each kind of violation (else every test above could pass
  * vacuously): doctored copies of a real CLOSEST and a real failure result. */
 static void checker_detects_violations(void **st)
@@ -377,6 +549,8 @@ int main(void)
         cmocka_unit_test(plan_never_blocks),
         cmocka_unit_test(failure_labelled_with_safe_output),
         cmocka_unit_test(reached_means_reached),
+        cmocka_unit_test(closest_names_binding),
+        cmocka_unit_test(limits_not_representable),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

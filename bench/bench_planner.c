@@ -1,4 +1,4 @@
-/* headplan bench, family "planner": every backend × contact fidelity level × tolerance, and
+/* headplan-bench, family "planner": every backend × contact fidelity level × tolerance, and
  * the direct-chain fast path, on the same targets of one layout scene.
  *
  * Targets: a fixed set (seeded, independent of --seed) in two groups. "Binding" targets
@@ -15,9 +15,10 @@
  * costs. max_violation is the worst pressure or stretch limit violation as a fraction of
  * the limit's span (the planner promises 0). Every plan is cold: hp_planner_reset before
  * each, warm start off, so the order of the targets does not matter. */
-#include "cli/bench.h"
-#include "cli/bench_timing.h"
-#include "cli/bench_util.h"
+#include "bench/bench.h"
+#include "bench/bench_settings.h"
+#include "bench/bench_timing.h"
+#include "bench/bench_util.h"
 #include "cli/exit_codes.h"
 #include "headplan/hp_planner.h"
 #include "headplan/hp_scene.h"
@@ -40,8 +41,8 @@ static void make_targets(double (*t)[6], long n, double mm, double deg, uint64_t
 {
     for (long k = 0; k < n; ++k)
         for (int i = 0; i < 6; ++i) {
-            double u = 2 * hp_bench_urand(s) - 1;
-            t[k][i] = i < 3 ? u * mm * 1e-3 : u * deg * (HP_BENCH_PI / 180.0);
+            double u = 2 * bench_urand(s) - 1;
+            t[k][i] = i < 3 ? u * mm * 1e-3 : u * deg * (BENCH_PI / 180.0);
         }
 }
 
@@ -53,17 +54,10 @@ typedef struct {
 
 static int create(const hp_layout *L, hp_backend b, hp_level level, double tol, hp_planner **p)
 {
-    hp_settings s;
-    hp_settings_default(&s);
-    s.backend = b;
-    s.level = level;
-    s.tolerance = tol;
-    s.warm_start = 0;
-    s.max_iter = b == HP_BACKEND_NLOPT_COBYLA ? 5000 : 3000;
-    s.max_time = 5.0;
+    hp_settings s = bench_settings(b, level, tol, 0);
     hp_diag d;
     if (hp_planner_create(L, &s, p, &d) != HP_OK) {
-        fprintf(stderr, "headplan bench: planner (%s, %s, tolerance %g): %s\n",
+        fprintf(stderr, "headplan-bench: planner (%s, %s, tolerance %g): %s\n",
                 hp_backend_name(b), hp_level_name(level), tol, d.text);
         return HP_EXIT_SOFTWARE;
     }
@@ -80,8 +74,8 @@ static int reference(const hp_layout *L, const double (*t)[6], long n, double (*
         hp_planner_reset(p);
         if (hp_plan(p, t[k], &r) != HP_OK ||
             (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
-            hp_bench_round_trip(L, HP_LEVEL_SURFACE, &r, ref[k], NULL) != HP_OK) {
-            fprintf(stderr, "headplan bench: the reference (ipopt, surface) failed on target %ld: %s\n",
+            bench_round_trip(L, HP_LEVEL_SURFACE, &r, ref[k], NULL) != HP_OK) {
+            fprintf(stderr, "headplan-bench: the reference (ipopt, surface) failed on target %ld: %s\n",
                     k, hp_planner_error(p));
             rc = HP_EXIT_SOFTWARE;
         }
@@ -91,7 +85,7 @@ static int reference(const hp_layout *L, const double (*t)[6], long n, double (*
 }
 
 static void measure_accuracy(hp_planner *p, const hp_layout *L, const double (*t)[6],
-                             const double (*ref)[6], long n, hp_bench_row *row,
+                             const double (*ref)[6], long n, bench_row *row,
                              double *model_error)
 {
     double worst = -1, model = 0, viol = 0;
@@ -104,7 +98,7 @@ static void measure_accuracy(hp_planner *p, const hp_layout *L, const double (*t
         hp_planner_reset(p);
         hp_error pe = hp_plan(p, t[k], &r);
         if (pe != HP_OK || (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
-            hp_bench_round_trip(L, HP_LEVEL_SURFACE, &r, xi, NULL) != HP_OK) {
+            bench_round_trip(L, HP_LEVEL_SURFACE, &r, xi, NULL) != HP_OK) {
             if (!first_failure)
                 first_failure = pe != HP_OK ? hp_error_name(pe)
                                 : (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST)
@@ -113,9 +107,9 @@ static void measure_accuracy(hp_planner *p, const hp_layout *L, const double (*t
             row->failures++;
             continue;
         }
-        double e = hp_bench_pose_diff(xi, ref[k], NULL);
-        double me = hp_bench_pose_diff(xi, r.achieved, NULL);
-        double v = hp_bench_limit_violation(L, &r);
+        double e = bench_pose_diff(xi, ref[k], NULL);
+        double me = bench_pose_diff(xi, r.achieved, NULL);
+        double v = bench_limit_violation(L, &r);
         if (e > worst) {
             worst = e;
             wk = k;
@@ -132,16 +126,16 @@ static void measure_accuracy(hp_planner *p, const hp_layout *L, const double (*t
              first_failure ? ";first_failure=" : "", first_failure ? first_failure : "");
 }
 
-int hp_bench_planner(const hp_bench_options *o, hp_bench_table *t)
+int bench_planner(const bench_options *o, bench_table *t)
 {
     hp_scene scene;
     hp_diag d;
     if (hp_scene_load(o->scene, &scene, &d) != HP_OK) {
-        fprintf(stderr, "headplan bench: --scene: %s\n", d.text);
+        fprintf(stderr, "headplan-bench: --scene: %s\n", d.text);
         return HP_EXIT_NOINPUT;
     }
     if (scene.kind != HP_SCENE_LAYOUT) {
-        fprintf(stderr, "headplan bench: --scene: %s: not a layout scene\n", o->scene);
+        fprintf(stderr, "headplan-bench: --scene: %s: not a layout scene\n", o->scene);
         return HP_EXIT_DATAERR;
     }
     const hp_layout *L = &scene.layout;
@@ -151,8 +145,8 @@ int hp_bench_planner(const hp_bench_options *o, hp_bench_table *t)
     uint64_t s = TARGET_SEED;
     make_targets(targets, N_BIND_FULL, 6.0, 4.0, &s);
     make_targets(targets + N_BIND_FULL, N_REACH, 0.5, 0.3, &s);
-    hp_bench_shuffle(perm_bind, n_bind, o->seed);
-    hp_bench_shuffle(perm_reach, n_reach, o->seed);
+    bench_shuffle(perm_bind, n_bind, o->seed);
+    bench_shuffle(perm_reach, n_reach, o->seed);
 
     fprintf(stderr, "bench planner: reference answers (ipopt, surface, tolerance %g)\n",
             REF_TOLERANCE);
@@ -173,9 +167,9 @@ int hp_bench_planner(const hp_bench_options *o, hp_bench_table *t)
     for (int i = 0; i < nm && rc == 0; ++i) {
         const plan_method *m = &ms[i];
         int fast = m->backend == HP_BACKEND_COUNT_;
-        hp_bench_row *row = hp_bench_table_add(t);
+        bench_row *row = bench_table_add(t);
         if (!row) {
-            fprintf(stderr, "headplan bench: out of memory\n");
+            fprintf(stderr, "headplan-bench: out of memory\n");
             return HP_EXIT_SOFTWARE;
         }
         snprintf(row->family, sizeof row->family, "planner");
@@ -199,9 +193,9 @@ int hp_bench_planner(const hp_bench_options *o, hp_bench_table *t)
         long n = fast ? n_reach : n_bind;
         measure_accuracy(p, L, tg, (const double(*)[6])ref + (fast ? N_BIND_FULL : 0), n, row,
                          &row->model_error);
-        hp_bench_plan_ctx c = {p, tg, n, fast ? perm_reach : perm_bind, 0};
-        hp_bench_timing tm;
-        if (hp_bench_time(o, hp_bench_plan_batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
+        bench_plan_ctx c = {p, tg, n, fast ? perm_reach : perm_bind, 0};
+        bench_timing tm;
+        if (bench_time(o, bench_plan_batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
         hp_planner_destroy(p);
         if (rc) break;
         row->median_ns = tm.median_ns;

@@ -1,9 +1,9 @@
-# headplan bench: the IK family's CSV, accuracy relations and charts (no timing assertions:
+# headplan-bench (the benchmark lab): the IK family's CSV, accuracy relations and charts (no timing assertions:
 # times depend on the machine; accuracies do not).
 source "$2/tests/cli_lib.sh"
 
 OUT="$TMP/bench out"   # a space in the folder name: gnuplot runs without a shell
-run bench --quick --only ik --out "$OUT" --seed 7
+run --quick --only ik --out "$OUT" --seed 7
 expect_exit 0 "bench --quick"
 expect_stdout_has "median_ns" "summary table header"
 expect_stdout_has "closed" "summary names the closed form"
@@ -66,7 +66,7 @@ png="$OUT/ik_pareto.png"; svg="$OUT/ik_pareto.svg"
 
 # The planner family (quick: 4 targets per group): a row per method, the baseline's ratio 1,
 # and no returned pressure or stretch outside its limits (the planner's promise: 0 exactly).
-run bench --quick --only planner --out "$OUT" --scene "$HP_SRC/scenarios/default.yaml"
+run --quick --only planner --out "$OUT" --scene "$HP_SRC/scenarios/default.yaml"
 expect_exit 0 "bench --only planner"
 csv="$OUT/planner.csv"
 [ "$(($(wc -l <"$csv") - 1))" -eq 27 ] && ok || bad "planner: 27 rows"
@@ -79,7 +79,7 @@ viol=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
 awk -v e="$(field fastpath-surface max_error)" 'BEGIN { exit !(e != "" && e < 1e-6) }' \
   && ok || bad "fastpath-surface max_error $(field fastpath-surface max_error)"
 [ -s "$OUT/planner_pareto.png" ] && [ -s "$OUT/planner_pareto.svg" ] && ok || bad "planner charts"
-run bench --quick --only planner --out "$OUT" --scene "$TMP/missing.yaml"
+run --quick --only planner --out "$OUT" --scene "$TMP/missing.yaml"
 expect_exit 66 "--scene missing"; expect_stderr_has "missing.yaml" "names the scene"
 
 # col FILE COLUMN_NAME: prints the 1-based index of a named column of a CSV header.
@@ -88,7 +88,7 @@ col() { head -n 1 "$1" | tr ',' '\n' | grep -nx -- "$2" | cut -d: -f1; }
 # The stability family (quick: 2 directions x 6 sizes per case): 4 cases x 12 methods x 6
 # sizes; every plan is accounted for, nothing leaves a pressure or stretch limit, every
 # failure carries a status, and trivial corrections always succeed.
-run bench --quick --only stability --out "$OUT" --scenarios "$HP_SRC/scenarios"
+run --quick --only stability --out "$OUT" --scenarios "$HP_SRC/scenarios"
 expect_exit 0 "bench --only stability"
 expect_stdout_has "silent wrong answers:" "stability summary"
 csv="$OUT/stability.csv"
@@ -113,14 +113,14 @@ listed=$(awk -F, 'NR > 1 && $7 != "ipopt-worse"' "$OUT/stability_wrong.csv" | wc
 [ "$wrong_sum" -eq "$listed" ] && ok || bad "stability: $wrong_sum wrong answers counted, $listed listed"
 [ -s "$OUT/stability.png" ] && [ "$(head -c 4 "$OUT/stability.png" | od -An -tx1 | tr -d ' \n')" = "89504e47" ] \
   && grep -q "<svg" "$OUT/stability.svg" && [ -s "$OUT/stability.gp" ] && ok || bad "stability charts"
-run bench --quick --only stability --out "$OUT" --scenarios "$TMP/nowhere"
+run --quick --only stability --out "$OUT" --scenarios "$TMP/nowhere"
 expect_exit 66 "--scenarios missing"; expect_stderr_has "nowhere" "names the catalogue"
 
 # The peers family: the baseline (Ipopt, exact Hessian) has ratio 1; every method solves the
 # same NLP to the same answer. Ipopt limited-memory stops at tolerance 1e-9, so its answer is
 # within 1e-6 mm/deg of the 1e-10 reference; SciPy's SLSQP (ftol 1e-12 on an objective in
 # mm^2) within 1e-3 (measured 2e-7 analytic, 8e-7 with finite differences).
-run bench --quick --only peers --out "$OUT" --scene "$HP_SRC/scenarios/default.yaml" \
+run --quick --only peers --out "$OUT" --scene "$HP_SRC/scenarios/default.yaml" \
   --peer-script "$HP_SRC/bench/scipy_peer.py"
 expect_exit 0 "bench --only peers"
 csv="$OUT/peers.csv"
@@ -136,7 +136,7 @@ for m in scipy-slsqp scipy-slsqp-fd; do
 done
 [ -s "$OUT/peers_pareto.png" ] && [ -s "$OUT/peers_problem.json" ] && ok || bad "peers files"
 # SciPy missing: status 70 naming --python, before anything is measured.
-run bench --quick --only peers --out "$TMP/nopy" --python /nonexistent/python3 \
+run --quick --only peers --out "$TMP/nopy" --python /nonexistent/python3 \
   --scene "$HP_SRC/scenarios/default.yaml" --peer-script "$HP_SRC/bench/scipy_peer.py"
 expect_exit 70 "--python missing"; expect_stderr_has "--python" "names --python"
 [ ! -e "$TMP/nopy" ] && ok || bad "output folder created although SciPy is missing"
@@ -144,7 +144,7 @@ expect_exit 70 "--python missing"; expect_stderr_has "--python" "names --python"
 # The levels family: one row per level for each of the 7 layout scenes; auto picks the
 # cheapest level whose error bound meets the scene's tolerance; the surface level is the
 # reference (bound 0, error 0).
-run bench --quick --only levels --out "$OUT" --scenarios "$HP_SRC/scenarios"
+run --quick --only levels --out "$OUT" --scenarios "$HP_SRC/scenarios"
 expect_exit 0 "bench --only levels"
 csv="$OUT/levels.csv"
 [ "$(($(wc -l <"$csv") - 1))" -eq 21 ] && ok || bad "levels: 21 rows"
@@ -159,25 +159,32 @@ badlv=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
 [ "$(awk -F, '$1 == "large_rotation" && $9 == 1 { print $8 }' "$csv")" = "surface" ] && ok || bad "levels: large_rotation auto"
 
 # Command-line errors: one line on stderr naming the option, usage status, no stdout.
-run bench --only nonsense --out "$TMP/x"
+run --only nonsense --out "$TMP/x"
 expect_exit 64 "--only nonsense"; expect_stderr_has "--only" "names --only"; expect_stdout_empty "--only nonsense"
-run bench --seed -3 --out "$TMP/x"
+run --seed -3 --out "$TMP/x"
 expect_exit 64 "--seed -3"; expect_stderr_has "--seed" "names --seed"
-run bench --frobnicate
+run --frobnicate
 expect_exit 64 "unknown option"; expect_stderr_has "--frobnicate" "names the option"
-run bench --out
+run --out
 expect_exit 64 "--out without value"
-run bench --help
+run --help
 expect_exit 0 "--help"; expect_stdout_has "--quick" "help lists --quick"
 
 # An output folder that cannot be created: status 73, naming it.
 touch "$TMP/file"
-run bench --quick --only ik --out "$TMP/file/sub"
+run --quick --only ik --out "$TMP/file/sub"
 expect_exit 73 "--out under a file"; expect_stderr_has "$TMP/file" "names the folder"
+
+# A scene that is not a layout scene: refused before any measurement, no output folder.
+run --quick --only planner --out "$TMP/notlayout" --scene "$HP_SRC/scenarios/paper_expansion.yaml"
+expect_exit 65 "--scene single-bladder study"; expect_stderr_has "not a layout scene" "says why"
+[ ! -e "$TMP/notlayout/planner.csv" ] && ok || bad "planner.csv written for a bad scene"
+run --out /dev/null/x --only ik --quick
+expect_exit 73 "--out under a device"; expect_stderr_has "/dev/null/x" "names the folder"
 
 # gnuplot missing: status 70 with a clear message, before any measuring or output.
 HP_BIN_ABS=$(cd "$(dirname "$HP_BIN")" && pwd)/$(basename "$HP_BIN")
-PATH=/nonexistent "$HP_BIN_ABS" bench --quick --only ik --out "$TMP/nognu" >"$TMP/out" 2>"$TMP/err"; rc=$?
+PATH=/nonexistent "$HP_BIN_ABS" --quick --only ik --out "$TMP/nognu" >"$TMP/out" 2>"$TMP/err"; rc=$?
 expect_exit 70 "gnuplot missing"; expect_stderr_has "gnuplot not found" "says gnuplot is missing"
 [ ! -e "$TMP/nognu" ] && ok || bad "output folder created although gnuplot is missing"
 

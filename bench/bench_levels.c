@@ -1,4 +1,4 @@
-/* headplan bench, family "levels": model no more than a scene needs.
+/* headplan-bench, family "levels": model no more than a scene needs.
  *
  * For every layout scene of the catalogue (the .yaml files of o->scenarios, by name; bladder scenes are
  * skipped): its targets are its correction and up to N_TRACE rows of its trace (evenly
@@ -9,10 +9,10 @@
  * each answer's pressures through bladder FK, the volume law and the SURFACE contact FK,
  * against the same round trip of the surface-level answer (mm or deg, commanded axes). */
 #define _DEFAULT_SOURCE
-#include "cli/bench.h"
-#include "cli/bench_report.h"
-#include "cli/bench_timing.h"
-#include "cli/bench_util.h"
+#include "bench/bench.h"
+#include "bench/bench_report.h"
+#include "bench/bench_timing.h"
+#include "bench/bench_util.h"
 #include "cli/exit_codes.h"
 #include "headplan/hp_trace.h"
 
@@ -69,7 +69,7 @@ static int scene_targets(const hp_scene *sc, int quick, double (*t)[6])
     hp_diag d;
     hp_trace_rows rows = sc->trace_rows;
     if (hp_trace_open(sc->trace_path, &rows, &r, &d) != HP_OK) {
-        fprintf(stderr, "headplan bench: levels: %s\n", d.text);
+        fprintf(stderr, "headplan-bench: levels: %s\n", d.text);
         return -1;
     }
     double (*all)[6] = malloc(MAX_TRACE_READ * sizeof *all);
@@ -78,7 +78,7 @@ static int scene_targets(const hp_scene *sc, int quick, double (*t)[6])
     hp_error e;
     while (all && m < MAX_TRACE_READ && (e = hp_trace_next(r, &row, &d)) != HP_ERR_STATE) {
         if (e != HP_OK) {
-            fprintf(stderr, "headplan bench: levels: %s\n", d.text);
+            fprintf(stderr, "headplan-bench: levels: %s\n", d.text);
             free(all);
             hp_trace_close(r);
             return -1;
@@ -102,13 +102,13 @@ static int cmp_str(const void *a, const void *b)
 static const hp_level levels[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
 
 /* One scene: fills row. Returns 0, 1 when the scene is skipped, or an exit status. */
-static int run_scene(const hp_bench_options *o, const char *path, const char *stem,
+static int run_scene(const bench_options *o, const char *path, const char *stem,
                      level_row *row)
 {
     static hp_scene sc;
     hp_diag d;
     if (hp_scene_load(path, &sc, &d) != HP_OK) {
-        fprintf(stderr, "headplan bench: levels: %s\n", d.text);
+        fprintf(stderr, "headplan-bench: levels: %s\n", d.text);
         return HP_EXIT_DATAERR;
     }
     if (sc.kind != HP_SCENE_LAYOUT) return 1;
@@ -127,10 +127,10 @@ static int run_scene(const hp_bench_options *o, const char *path, const char *st
         rot = fmax(rot, sqrt(t[k][3] * t[k][3] + t[k][4] * t[k][4] + t[k][5] * t[k][5]));
     }
     row->trans_mm = tr * 1e3;
-    row->rot_deg = rot * 180 / HP_BENCH_PI;
+    row->rot_deg = rot * 180 / BENCH_PI;
     row->tol_mm = sc.level_tolerance * 1e3;
     if (hp_contact_auto(L, sc.level_tolerance, tr, rot, &row->auto_level) != HP_OK) {
-        fprintf(stderr, "headplan bench: levels: %s: auto could not choose a level\n", path);
+        fprintf(stderr, "headplan-bench: levels: %s: auto could not choose a level\n", path);
         return HP_EXIT_SOFTWARE;
     }
     hp_settings base;
@@ -140,7 +140,7 @@ static int run_scene(const hp_bench_options *o, const char *path, const char *st
         s.level = levels[li];
         s.warm_start = 0;
         hp_planner *p;
-        int rc = hp_bench_planner_new(L, &s, &p);
+        int rc = bench_planner_new(L, &s, &p);
         if (rc) return rc;
         double worst = 0;
         long fails = 0;
@@ -150,18 +150,18 @@ static int run_scene(const hp_bench_options *o, const char *path, const char *st
             hp_planner_reset(p);
             if (hp_plan(p, t[k], &r) != HP_OK ||
                 (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
-                hp_bench_round_trip(L, HP_LEVEL_SURFACE, &r, xi, NULL) != HP_OK) {
+                bench_round_trip(L, HP_LEVEL_SURFACE, &r, xi, NULL) != HP_OK) {
                 fails++;
                 if (li == 2) memset(ref[k], 0, sizeof ref[k]);
                 continue;
             }
             if (li == 2) memcpy(ref[k], xi, sizeof xi);
-            double e = hp_bench_pose_diff(xi, ref[k], r.commanded);
+            double e = bench_pose_diff(xi, ref[k], r.commanded);
             if (!(e <= worst)) worst = e;
         }
         plan_ctx c = {p, (const double(*)[6])t, n, 0};
-        hp_bench_timing tm;
-        rc = hp_bench_time(o, batch, &c, &tm) != 0 ? HP_EXIT_SOFTWARE : 0;
+        bench_timing tm;
+        rc = bench_time(o, batch, &c, &tm) != 0 ? HP_EXIT_SOFTWARE : 0;
         hp_planner_destroy(p);
         if (rc) return rc;
         double bound;
@@ -202,11 +202,11 @@ static int csv_writer(const void *arg, FILE *f)
     return ferror(f) ? -1 : 0;
 }
 
-int hp_bench_levels(const hp_bench_options *o, const char *dir)
+int bench_levels(const bench_options *o, const char *dir)
 {
     DIR *dp = opendir(o->scenarios);
     if (!dp) {
-        fprintf(stderr, "headplan bench: --scenarios: cannot open folder '%s'\n", o->scenarios);
+        fprintf(stderr, "headplan-bench: --scenarios: cannot open folder '%s'\n", o->scenarios);
         return HP_EXIT_NOINPUT;
     }
     char *names[MAX_SCENES];
@@ -233,7 +233,7 @@ int hp_bench_levels(const hp_bench_options *o, const char *dir)
     for (int i = 0; i < nn; ++i) free(names[i]);
     if (rc) return rc;
     level_table lt = {rows, nr};
-    if ((rc = hp_bench_save(dir, "levels.csv", csv_writer, &lt)) != 0) return rc;
+    if ((rc = bench_save(dir, "levels.csv", csv_writer, &lt)) != 0) return rc;
     printf("%-16s %-8s %7s %8s %7s %-8s %-8s %10s %12s %12s %8s\n", "scene", "backend",
            "targets", "size_mm", "size_deg", "auto", "level", "bound_mm", "median_ns",
            "max_error", "failures");

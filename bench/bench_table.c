@@ -1,29 +1,29 @@
-/* headplan bench: the method table, its CSV file and the summary on stdout. */
-#include "cli/bench.h"
-#include "cli/bench_report.h"
+/* headplan-bench: the method table, its CSV file and the summary on stdout. */
+#include "bench/bench.h"
+#include "bench/bench_report.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-hp_bench_row *hp_bench_table_add(hp_bench_table *t)
+bench_row *bench_table_add(bench_table *t)
 {
     if (t->n == t->cap) {
         size_t cap = t->cap ? 2 * t->cap : 64;
-        hp_bench_row *r = realloc(t->rows, cap * sizeof *r);
+        bench_row *r = realloc(t->rows, cap * sizeof *r);
         if (!r) return NULL;
         t->rows = r;
         t->cap = cap;
     }
-    hp_bench_row *r = &t->rows[t->n++];
+    bench_row *r = &t->rows[t->n++];
     memset(r, 0, sizeof *r);
     r->median_ns = r->p99_ns = r->max_error = r->max_violation = NAN;
     r->ratio_to_baseline = r->model_error = NAN;
     return r;
 }
 
-void hp_bench_table_free(hp_bench_table *t)
+void bench_table_free(bench_table *t)
 {
     free(t->rows);
     memset(t, 0, sizeof *t);
@@ -31,20 +31,20 @@ void hp_bench_table_free(hp_bench_table *t)
 
 /* Row a dominates row b when it is no slower and no less accurate, and better in one. A row
  * with a NaN error or time is on no front. */
-static int dominates(const hp_bench_row *a, const hp_bench_row *b)
+static int dominates(const bench_row *a, const bench_row *b)
 {
     return a->median_ns <= b->median_ns && a->max_error <= b->max_error &&
            (a->median_ns < b->median_ns || a->max_error < b->max_error);
 }
 
-void hp_bench_table_finish(hp_bench_table *t)
+void bench_table_finish(bench_table *t)
 {
     double base = NAN;
     for (size_t i = 0; i < t->n; ++i)
         if (t->baseline && strcmp(t->rows[i].method, t->baseline) == 0)
             base = t->rows[i].median_ns;
     for (size_t i = 0; i < t->n; ++i) {
-        hp_bench_row *r = &t->rows[i];
+        bench_row *r = &t->rows[i];
         r->ratio_to_baseline = base > 0 ? r->median_ns / base : NAN;
         r->pareto = isfinite(r->median_ns) && isfinite(r->max_error) && r->failures == 0;
         for (size_t j = 0; j < t->n && r->pareto; ++j)
@@ -54,7 +54,7 @@ void hp_bench_table_finish(hp_bench_table *t)
     }
 }
 
-const char *const hp_bench_csv_header =
+const char *const bench_csv_header =
     "method,family,variant,parameter,input_set,median_ns,p99_ns,max_error,worst_input,max_violation,"
     "model_error,failures,inputs,samples,batch,ratio_to_baseline,pareto";
 
@@ -65,11 +65,11 @@ static void num(FILE *f, const char *fmt, double x)
     if (!isnan(x)) fprintf(f, fmt, x);
 }
 
-int hp_bench_write_csv(const hp_bench_table *t, FILE *f)
+int bench_write_csv(const bench_table *t, FILE *f)
 {
-    fprintf(f, "%s\n", hp_bench_csv_header);
+    fprintf(f, "%s\n", bench_csv_header);
     for (size_t i = 0; i < t->n; ++i) {
-        const hp_bench_row *r = &t->rows[i];
+        const bench_row *r = &t->rows[i];
         fprintf(f, "%s,%s,%s,%s,%s", r->method, r->family, r->variant, r->parameter,
                 r->input_set);
         num(f, "%.1f", r->median_ns);
@@ -85,12 +85,12 @@ int hp_bench_write_csv(const hp_bench_table *t, FILE *f)
     return ferror(f) ? -1 : 0;
 }
 
-void hp_bench_print_summary(const hp_bench_table *t, FILE *f)
+void bench_print_summary(const bench_table *t, FILE *f)
 {
     fprintf(f, "%-8s %-24s %12s %12s %12s %9s %8s %s\n", "family", "method", "median_ns",
             "p99_ns", "max_error", "vs_base", "failures", "pareto");
     for (size_t i = 0; i < t->n; ++i) {
-        const hp_bench_row *r = &t->rows[i];
+        const bench_row *r = &t->rows[i];
         fprintf(f, "%-8s %-24s %12.1f %12.1f %12.3e %9.3g %8ld %s\n", r->family, r->method,
                 r->median_ns, r->p99_ns, r->max_error, r->ratio_to_baseline, r->failures,
                 r->pareto ? "*" : "");

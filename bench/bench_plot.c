@@ -1,8 +1,8 @@
-/* headplan bench: the output folder, atomic file writes and the gnuplot chart. gnuplot runs
+/* headplan-bench: the output folder, atomic file writes and the gnuplot chart. gnuplot runs
  * as a child process (fork + execvp, no shell, so no quoting of the folder name) in the
  * output folder, which makes the generated script re-runnable there by hand. */
 #define _POSIX_C_SOURCE 200809L
-#include "cli/bench_report.h"
+#include "bench/bench_report.h"
 #include "cli/exit_codes.h"
 
 #include <errno.h>
@@ -16,11 +16,11 @@
 
 #define PATH_CAP 4096
 
-int hp_bench_mkdirs(const char *dir)
+int bench_mkdirs(const char *dir)
 {
     char p[PATH_CAP];
     if (!dir || !*dir || strlen(dir) >= sizeof p) {
-        fprintf(stderr, "headplan bench: --out: folder name empty or too long\n");
+        fprintf(stderr, "headplan-bench: --out: folder name empty or too long\n");
         return HP_EXIT_CANTCREAT;
     }
     strcpy(p, dir);
@@ -29,7 +29,7 @@ int hp_bench_mkdirs(const char *dir)
         if (*s == '/' || end) {
             *s = '\0';
             if (mkdir(p, 0777) != 0 && errno != EEXIST) {
-                fprintf(stderr, "headplan bench: --out: cannot create folder '%s': %s\n", p,
+                fprintf(stderr, "headplan-bench: --out: cannot create folder '%s': %s\n", p,
                         strerror(errno));
                 return HP_EXIT_CANTCREAT;
             }
@@ -39,7 +39,7 @@ int hp_bench_mkdirs(const char *dir)
     }
     struct stat st;
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-        fprintf(stderr, "headplan bench: --out: '%s' is not a folder\n", dir);
+        fprintf(stderr, "headplan-bench: --out: '%s' is not a folder\n", dir);
         return HP_EXIT_CANTCREAT;
     }
     return 0;
@@ -51,30 +51,30 @@ static int join(char *out, size_t cap, const char *dir, const char *name, const 
     return n < 0 || (size_t)n >= cap ? -1 : 0;
 }
 
-int hp_bench_save(const char *dir, const char *name,
+int bench_save(const char *dir, const char *name,
                   int (*writer)(const void *arg, FILE *f), const void *arg)
 {
     char final[PATH_CAP], tmp[PATH_CAP];
     if (join(final, sizeof final, dir, name, "") || join(tmp, sizeof tmp, dir, name, ".tmp")) {
-        fprintf(stderr, "headplan bench: %s/%s: path too long\n", dir, name);
+        fprintf(stderr, "headplan-bench: %s/%s: path too long\n", dir, name);
         return HP_EXIT_CANTCREAT;
     }
     FILE *f = fopen(tmp, "w");
     if (!f) {
-        fprintf(stderr, "headplan bench: cannot create '%s': %s\n", tmp, strerror(errno));
+        fprintf(stderr, "headplan-bench: cannot create '%s': %s\n", tmp, strerror(errno));
         return HP_EXIT_CANTCREAT;
     }
     int bad = writer(arg, f) != 0;
     bad |= fclose(f) != 0;
     if (bad || rename(tmp, final) != 0) {
-        fprintf(stderr, "headplan bench: cannot write '%s': %s\n", final, strerror(errno));
+        fprintf(stderr, "headplan-bench: cannot write '%s': %s\n", final, strerror(errno));
         remove(tmp);
         return HP_EXIT_CANTCREAT;
     }
     return 0;
 }
 
-int hp_bench_run_child(char *const argv[], const char *cwd, int quiet)
+int bench_run_child(char *const argv[], const char *cwd, int quiet)
 {
     fflush(stdout);
     fflush(stderr);
@@ -100,25 +100,25 @@ int hp_bench_run_child(char *const argv[], const char *cwd, int quiet)
     return WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-int hp_bench_gnuplot_available(void)
+int bench_gnuplot_available(void)
 {
     char *const argv[] = {"gnuplot", "--version", NULL};
-    return hp_bench_run_child(argv, NULL, 1) == 0 ? 0 : -1;
+    return bench_run_child(argv, NULL, 1) == 0 ? 0 : -1;
 }
 
 typedef struct {
-    const hp_bench_table *t;
-    const hp_bench_chart *c;
+    const bench_table *t;
+    const bench_chart *c;
 } plot_args;
 
 static double floored(double e)
 {
-    return e > HP_BENCH_ERROR_FLOOR ? e : HP_BENCH_ERROR_FLOOR;
+    return e > BENCH_ERROR_FLOOR ? e : BENCH_ERROR_FLOOR;
 }
 
 static int cmp_time_error(const void *a, const void *b)
 {
-    const hp_bench_row *x = *(const hp_bench_row *const *)a, *y = *(const hp_bench_row *const *)b;
+    const bench_row *x = *(const bench_row *const *)a, *y = *(const bench_row *const *)b;
     if (x->median_ns != y->median_ns) return (x->median_ns > y->median_ns) - (x->median_ns < y->median_ns);
     return (x->max_error > y->max_error) - (x->max_error < y->max_error);
 }
@@ -127,14 +127,14 @@ static int cmp_time_error(const void *a, const void *b)
  * block $name: sorted by time, each point more accurate than every faster one. The last
  * error is repeated at x_end so the step line spans the chart: all that lies above and to
  * the right of it is dominated. Comma-separated, as the script's data separator says. */
-static int write_front(FILE *f, const hp_bench_table *t, const char *variant,
+static int write_front(FILE *f, const bench_table *t, const char *variant,
                        const char *input_set, const char *name, double x_end)
 {
-    const hp_bench_row **rows = malloc((t->n ? t->n : 1) * sizeof *rows);
+    const bench_row **rows = malloc((t->n ? t->n : 1) * sizeof *rows);
     if (!rows) return -1;
     size_t m = 0;
     for (size_t i = 0; i < t->n; ++i) {
-        const hp_bench_row *r = &t->rows[i];
+        const bench_row *r = &t->rows[i];
         if ((!variant || strcmp(r->variant, variant) == 0) &&
             (!input_set || strcmp(r->input_set, input_set) == 0) && r->failures == 0 &&
             isfinite(r->median_ns) && isfinite(r->max_error))
@@ -156,7 +156,7 @@ static int write_front(FILE *f, const hp_bench_table *t, const char *variant,
 }
 
 /* The distinct variants in first-appearance order; returns how many (at most cap). */
-static int variants(const hp_bench_table *t, const char **out, int cap)
+static int variants(const bench_table *t, const char **out, int cap)
 {
     int nv = 0;
     for (size_t i = 0; i < t->n; ++i) {
@@ -172,7 +172,7 @@ static int variants(const hp_bench_table *t, const char **out, int cap)
 /* 1-based index of a column of the CSV header (gnuplot numbers columns from 1). */
 static int column(const char *name)
 {
-    const char *h = hp_bench_csv_header;
+    const char *h = bench_csv_header;
     size_t n = strlen(name);
     for (int i = 1;; ++i) {
         if (strncmp(h, name, n) == 0 && (h[n] == ',' || h[n] == '\0')) return i;
@@ -185,14 +185,14 @@ static int column(const char *name)
 static int write_script(const void *arg, FILE *f)
 {
     const plot_args *a = arg;
-    const hp_bench_chart *c = a->c;
-    const hp_bench_table *t = a->t;
+    const bench_chart *c = a->c;
+    const bench_table *t = a->t;
     static const int pts[] = {7, 5, 9, 11, 13, 15, 4, 6, 8, 10};
     const char *v[MAX_VARIANTS];
     int nv = variants(t, v, MAX_VARIANTS);
     int c_name = column("method"), c_var = column("variant"), c_time = column("median_ns"),
         c_err = column("max_error");
-    double x_max = 0, y_max = HP_BENCH_ERROR_FLOOR;
+    double x_max = 0, y_max = BENCH_ERROR_FLOOR;
     const char *base_set = NULL;
     for (size_t i = 0; i < t->n; ++i) {
         if (t->rows[i].median_ns > x_max) x_max = t->rows[i].median_ns;
@@ -201,7 +201,7 @@ static int write_script(const void *arg, FILE *f)
             base_set = t->rows[i].input_set;
     }
     fprintf(f,
-            "# Generated by headplan bench from %s.csv (columns: %s).\n"
+            "# Generated by headplan-bench from %s.csv (columns: %s).\n"
             "# Redraw: cd into this folder and run: gnuplot %s_pareto.gp\n"
             "set datafile separator comma\n"
             "floor = %g\n"
@@ -218,8 +218,8 @@ static int write_script(const void *arg, FILE *f)
             "set key outside right top box opaque noenhanced\n"
             "set yrange [floor / 4 : %.3g]\n"
             "set xrange [* : %.6g]\n\n",
-            c->family, hp_bench_csv_header, c->family, HP_BENCH_ERROR_FLOOR, c->xlabel,
-            c->ylabel, c->title, HP_BENCH_ERROR_FLOOR, HP_BENCH_ERROR_FLOOR, 100 * y_max, 3 * x_max);
+            c->family, bench_csv_header, c->family, BENCH_ERROR_FLOOR, c->xlabel,
+            c->ylabel, c->title, BENCH_ERROR_FLOOR, BENCH_ERROR_FLOOR, 100 * y_max, 3 * x_max);
     if (write_front(f, t, NULL, base_set, "front", 3 * x_max) != 0) return -1;
     for (int k = 0; k < nv; ++k) {
         char name[32];
@@ -262,40 +262,40 @@ static int nonempty(const char *dir, const char *family, const char *suffix)
     return stat(p, &st) == 0 && st.st_size > 0;
 }
 
-int hp_bench_gnuplot_run(const char *dir, const char *script, const char *const *outputs)
+int bench_gnuplot_run(const char *dir, const char *script, const char *const *outputs)
 {
     char *const argv[] = {"gnuplot", (char *)script, NULL};
-    int st = hp_bench_run_child(argv, dir, 0);
+    int st = bench_run_child(argv, dir, 0);
     if (st != 0) {
-        fprintf(stderr, "headplan bench: gnuplot failed on '%s/%s' (%s %d)\n", dir, script,
+        fprintf(stderr, "headplan-bench: gnuplot failed on '%s/%s' (%s %d)\n", dir, script,
                 st < 0 ? "could not run, status" : "exit status", st);
         return HP_EXIT_SOFTWARE;
     }
     for (; outputs && *outputs; ++outputs)
         if (!nonempty(dir, *outputs, "")) {
-            fprintf(stderr, "headplan bench: gnuplot left '%s/%s' missing or empty\n", dir,
+            fprintf(stderr, "headplan-bench: gnuplot left '%s/%s' missing or empty\n", dir,
                     *outputs);
             return HP_EXIT_SOFTWARE;
         }
     return 0;
 }
 
-int hp_bench_plot(const hp_bench_table *t, const hp_bench_chart *c, const char *dir)
+int bench_plot(const bench_table *t, const bench_chart *c, const char *dir)
 {
     char script[256];
     snprintf(script, sizeof script, "%s_pareto.gp", c->family);
     plot_args a = {t, c};
-    int rc = hp_bench_save(dir, script, write_script, &a);
+    int rc = bench_save(dir, script, write_script, &a);
     if (rc) return rc;
     char *const argv[] = {"gnuplot", script, NULL};
-    int st = hp_bench_run_child(argv, dir, 0);
+    int st = bench_run_child(argv, dir, 0);
     if (st != 0) {
-        fprintf(stderr, "headplan bench: gnuplot failed on '%s/%s' (%s %d)\n", dir, script,
+        fprintf(stderr, "headplan-bench: gnuplot failed on '%s/%s' (%s %d)\n", dir, script,
                 st < 0 ? "could not run, status" : "exit status", st);
         return HP_EXIT_SOFTWARE;
     }
     if (!nonempty(dir, c->family, "_pareto.png") || !nonempty(dir, c->family, "_pareto.svg")) {
-        fprintf(stderr, "headplan bench: gnuplot left '%s/%s_pareto.png' or .svg missing or empty\n",
+        fprintf(stderr, "headplan-bench: gnuplot left '%s/%s_pareto.png' or .svg missing or empty\n",
                 dir, c->family);
         return HP_EXIT_SOFTWARE;
     }

@@ -1,72 +1,72 @@
-/* headplan bench: helpers shared by the stability, peers and levels families — scene
+/* headplan-bench: helpers shared by the stability, peers and levels families — scene
  * loading, the planner's radius bounds recomputed through the public API, the checks of an
  * answer through the exact model, and seeded random numbers. */
-#ifndef HP_CLI_BENCH_UTIL_H
-#define HP_CLI_BENCH_UTIL_H
+#ifndef HP_BENCH_LAB_UTIL_H
+#define HP_BENCH_LAB_UTIL_H
 
 #include "headplan/hp_planner.h"
 #include "headplan/hp_scene.h"
 
 #include <stdint.h>
 
-#define HP_BENCH_PI 3.14159265358979323846
+#define BENCH_PI 3.14159265358979323846
 
 /* Loads a layout scene; on failure one line on stderr and HP_EXIT_NOINPUT or
  * HP_EXIT_DATAERR (not a layout). */
-int hp_bench_load_layout(const char *path, hp_scene *scene);
+int bench_load_layout(const char *path, hp_scene *scene);
 
 /* Creates a planner; on failure one line on stderr naming the settings, HP_EXIT_SOFTWARE. */
-int hp_bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p);
+int bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p);
 
 /* Every bladder's inner-radius bounds [m] and the pressures there [Pa], as the planner
  * derives them from the pressure, stretch and limit-point limits (planner/problem_setup.c:
  * stretch limits, FK of p_min and p_max, 1e-3 below any limit point), recomputed here from
  * the public API. Returns 0, or -1 when a bladder has no valid interval. */
-typedef struct hp_bench_bounds {
+typedef struct bench_bounds {
     double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];
     double p_lo[HP_MAX_BLADDERS], p_hi[HP_MAX_BLADDERS];
-} hp_bench_bounds;
-int hp_bench_bounds_of(const hp_layout *L, hp_bench_bounds *b);
+} bench_bounds;
+int bench_bounds_of(const hp_layout *L, bench_bounds *b);
 
 /* The pose the head takes under r's pressures at `level`: bladder FK (pressure -> ri), the
  * volume law (-> ro) and the contact FK from r->achieved. ro_out (n, [m]) may be NULL.
  * Returns HP_OK or the first failing call's code. */
-hp_error hp_bench_round_trip(const hp_layout *L, hp_level level, const hp_result *r,
+hp_error bench_round_trip(const hp_layout *L, hp_level level, const hp_result *r,
                              double xi[6], double *ro_out);
 
 /* Largest axis difference, mm (translation) or degrees (rotation), over the axes with
  * commanded[i] != 0 (commanded NULL: all six). */
-double hp_bench_pose_diff(const double a[6], const double b[6], const int *commanded);
+double bench_pose_diff(const double a[6], const double b[6], const int *commanded);
 
 /* Weighted distance sqrt(Σ (a−b)²) in mm and degrees (1 mm ≙ 1°) over commanded axes. */
-double hp_bench_pose_dist(const double a[6], const double b[6], const int *commanded);
+double bench_pose_dist(const double a[6], const double b[6], const int *commanded);
 
 /* Worst pressure or stretch limit violation of r, as a fraction of the limit's span. */
-double hp_bench_limit_violation(const hp_layout *L, const hp_result *r);
+double bench_limit_violation(const hp_layout *L, const hp_result *r);
 
 /* Worst contact-equality violation max_k |ro_k(P_k) − rho_k(achieved)| [mm] at `level`:
  * the outer radii the returned pressures really give (bladder FK, volume law) against the
  * contact distances of the pose the method claims. NaN when a model call fails. */
-double hp_bench_contact_violation(const hp_layout *L, hp_level level, const hp_result *r);
+double bench_contact_violation(const hp_layout *L, hp_level level, const hp_result *r);
 
 /* The timed body shared by the planner and peers families: plans targets[perm[pos]] from a
  * reset planner, `count` times, walking the seeded permutation from `first`. */
-typedef struct hp_bench_plan_ctx {
+typedef struct bench_plan_ctx {
     hp_planner *p;
     const double (*targets)[6];
     long n;
     const long *perm;
     double sink; /* keeps the compiler from dropping the plans */
-} hp_bench_plan_ctx;
-void hp_bench_plan_batch(void *ctx, long first, long count);
+} bench_plan_ctx;
+void bench_plan_batch(void *ctx, long first, long count);
 
 /* xorshift64* in [0, 1); the same seed gives the same numbers on every machine. */
-double hp_bench_urand(uint64_t *s);
+double bench_urand(uint64_t *s);
 
 /* A random unit vector in 6-D (Gaussian by Box–Muller, normalised). */
-void hp_bench_unit6(uint64_t *s, double u[6]);
+void bench_unit6(uint64_t *s, double u[6]);
 
 /* mm/deg <-> SI for a pose. */
-void hp_bench_to_si(const double mm_deg[6], double xi[6]);
+void bench_to_si(const double mm_deg[6], double xi[6]);
 
 #endif

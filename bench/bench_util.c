@@ -1,36 +1,36 @@
-/* headplan bench: shared helpers (see bench_util.h). */
-#include "cli/bench_util.h"
+/* headplan-bench: shared helpers (see bench_util.h). */
+#include "bench/bench_util.h"
 #include "cli/exit_codes.h"
 
 #include <math.h>
 #include <stdio.h>
 
-int hp_bench_load_layout(const char *path, hp_scene *scene)
+int bench_load_layout(const char *path, hp_scene *scene)
 {
     hp_diag d;
     if (hp_scene_load(path, scene, &d) != HP_OK) {
-        fprintf(stderr, "headplan bench: %s\n", d.text);
+        fprintf(stderr, "headplan-bench: %s\n", d.text);
         return HP_EXIT_NOINPUT;
     }
     if (scene->kind != HP_SCENE_LAYOUT) {
-        fprintf(stderr, "headplan bench: %s: not a layout scene\n", path);
+        fprintf(stderr, "headplan-bench: %s: not a layout scene\n", path);
         return HP_EXIT_DATAERR;
     }
     return 0;
 }
 
-int hp_bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p)
+int bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p)
 {
     hp_diag d;
     if (hp_planner_create(L, s, p, &d) != HP_OK) {
-        fprintf(stderr, "headplan bench: planner (%s, %s, tolerance %g): %s\n",
+        fprintf(stderr, "headplan-bench: planner (%s, %s, tolerance %g): %s\n",
                 hp_backend_name(s->backend), hp_level_name(s->level), s->tolerance, d.text);
         return HP_EXIT_SOFTWARE;
     }
     return 0;
 }
 
-int hp_bench_bounds_of(const hp_layout *L, hp_bench_bounds *b)
+int bench_bounds_of(const hp_layout *L, bench_bounds *b)
 {
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
@@ -62,7 +62,7 @@ static hp_error outer_radii(const hp_layout *L, const hp_result *r, double *ro)
     return HP_OK;
 }
 
-hp_error hp_bench_round_trip(const hp_layout *L, hp_level level, const hp_result *r,
+hp_error bench_round_trip(const hp_layout *L, hp_level level, const hp_result *r,
                              double xi[6], double *ro_out)
 {
     double ro[HP_MAX_BLADDERS];
@@ -75,10 +75,10 @@ hp_error hp_bench_round_trip(const hp_layout *L, hp_level level, const hp_result
 
 static double axis_diff(const double a[6], const double b[6], int i)
 {
-    return fabs(a[i] - b[i]) * (i < 3 ? 1e3 : 180.0 / HP_BENCH_PI);
+    return fabs(a[i] - b[i]) * (i < 3 ? 1e3 : 180.0 / BENCH_PI);
 }
 
-double hp_bench_pose_diff(const double a[6], const double b[6], const int *commanded)
+double bench_pose_diff(const double a[6], const double b[6], const int *commanded)
 {
     double m = 0;
     for (int i = 0; i < 6; ++i) {
@@ -89,7 +89,7 @@ double hp_bench_pose_diff(const double a[6], const double b[6], const int *comma
     return m;
 }
 
-double hp_bench_pose_dist(const double a[6], const double b[6], const int *commanded)
+double bench_pose_dist(const double a[6], const double b[6], const int *commanded)
 {
     double s = 0;
     for (int i = 0; i < 6; ++i)
@@ -97,7 +97,7 @@ double hp_bench_pose_dist(const double a[6], const double b[6], const int *comma
     return sqrt(s);
 }
 
-double hp_bench_limit_violation(const hp_layout *L, const hp_result *r)
+double bench_limit_violation(const hp_layout *L, const hp_result *r)
 {
     double v = 0;
     for (int k = 0; k < L->n; ++k) {
@@ -112,7 +112,7 @@ double hp_bench_limit_violation(const hp_layout *L, const hp_result *r)
     return v;
 }
 
-double hp_bench_contact_violation(const hp_layout *L, hp_level level, const hp_result *r)
+double bench_contact_violation(const hp_layout *L, hp_level level, const hp_result *r)
 {
     double ro[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS], v = 0;
     if (outer_radii(L, r, ro) != HP_OK ||
@@ -125,7 +125,7 @@ double hp_bench_contact_violation(const hp_layout *L, hp_level level, const hp_r
     return v;
 }
 
-double hp_bench_urand(uint64_t *s)
+double bench_urand(uint64_t *s)
 {
     *s ^= *s >> 12;
     *s ^= *s << 25;
@@ -133,14 +133,14 @@ double hp_bench_urand(uint64_t *s)
     return (double)((*s * 0x2545F4914F6CDD1Du) >> 11) / 9007199254740992.0;
 }
 
-void hp_bench_unit6(uint64_t *s, double u[6])
+void bench_unit6(uint64_t *s, double u[6])
 {
     double n2 = 0;
     do {
         n2 = 0;
         for (int i = 0; i < 6; ++i) {
-            double a = hp_bench_urand(s), b = hp_bench_urand(s);
-            u[i] = sqrt(-2.0 * log(1.0 - a)) * cos(2.0 * HP_BENCH_PI * b);
+            double a = bench_urand(s), b = bench_urand(s);
+            u[i] = sqrt(-2.0 * log(1.0 - a)) * cos(2.0 * BENCH_PI * b);
             n2 += u[i] * u[i];
         }
     } while (!(n2 > 1e-6));
@@ -148,14 +148,14 @@ void hp_bench_unit6(uint64_t *s, double u[6])
     for (int i = 0; i < 6; ++i) u[i] /= n;
 }
 
-void hp_bench_to_si(const double mm_deg[6], double xi[6])
+void bench_to_si(const double mm_deg[6], double xi[6])
 {
-    for (int i = 0; i < 6; ++i) xi[i] = mm_deg[i] * (i < 3 ? 1e-3 : HP_BENCH_PI / 180.0);
+    for (int i = 0; i < 6; ++i) xi[i] = mm_deg[i] * (i < 3 ? 1e-3 : BENCH_PI / 180.0);
 }
 
-void hp_bench_plan_batch(void *vctx, long first, long count)
+void bench_plan_batch(void *vctx, long first, long count)
 {
-    hp_bench_plan_ctx *c = vctx;
+    bench_plan_ctx *c = vctx;
     long pos = first % c->n;
     hp_result r;
     for (long j = 0; j < count; ++j) {

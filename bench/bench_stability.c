@@ -1,4 +1,4 @@
-/* headplan bench, family "stability": where do the methods fail, and do they say so?
+/* headplan-bench, family "stability": where do the methods fail, and do they say so?
  *
  * Cases (scenario catalogue): "default" (default.yaml), "soft" (soft_material.yaml: neo-
  * Hookean bladders whose stretch limit sits just below the inflation limit point),
@@ -10,7 +10,7 @@
  *
  * Methods: every backend × level (linear, plane, surface), tolerance 1e-9, cold plans
  * (hp_planner_reset before each; warm start only in "bad-start"), max_iter 3000 (COBYLA
- * 5000), max_time 1 s.
+ * 5000), max_time 5 s (bench_settings.h).
  *
  * Success = REACHED or CLOSEST with a verified answer:
  *   - REACHED: the returned pressures through bladder FK, the volume law and contact FK at
@@ -23,10 +23,11 @@
  * the desired pose than Ipopt's (by > THR_CLOSEST) is listed there as "ipopt-worse" (a defect
  * of the reference). CLOSEST without an Ipopt answer to compare is "unverified" (not a
  * success). Every other outcome is a failure with its status. */
-#include "cli/bench.h"
-#include "cli/bench_report.h"
-#include "cli/bench_timing.h"
-#include "cli/bench_util.h"
+#include "bench/bench.h"
+#include "bench/bench_report.h"
+#include "bench/bench_timing.h"
+#include "bench/bench_settings.h"
+#include "bench/bench_util.h"
 #include "cli/exit_codes.h"
 
 #include <math.h>
@@ -95,7 +96,7 @@ static int cmp_dbl(const void *a, const void *b)
 static void fmt_pose(char *buf, size_t cap, const double xi[6])
 {
     snprintf(buf, cap, "%.9g;%.9g;%.9g;%.9g;%.9g;%.9g", xi[0] * 1e3, xi[1] * 1e3, xi[2] * 1e3,
-             xi[3] * 180 / HP_BENCH_PI, xi[4] * 180 / HP_BENCH_PI, xi[5] * 180 / HP_BENCH_PI);
+             xi[3] * 180 / BENCH_PI, xi[4] * 180 / BENCH_PI, xi[5] * 180 / BENCH_PI);
 }
 
 static void log_wrong(stab_run *run, const char *cs, const char *method, double size, int dir,
@@ -120,7 +121,7 @@ static void classify(stab_run *run, const hp_layout *L, const stab_case *c, cons
         ce->fail[HP_STATUS_COUNT_]++;
         return;
     }
-    double lv = hp_bench_limit_violation(L, r);
+    double lv = bench_limit_violation(L, r);
     if (!(lv <= ce->max_limit_viol)) ce->max_limit_viol = lv;
     if (r->status != HP_STATUS_INVALID_INPUT) {
         ce->iters[ce->n_iters++] = r->iterations;
@@ -131,21 +132,21 @@ static void classify(stab_run *run, const hp_layout *L, const stab_case *c, cons
         ce->fail[r->status]++;
         return;
     }
-    double cv = hp_bench_contact_violation(L, r->level, r);
+    double cv = bench_contact_violation(L, r->level, r);
     if (!(cv <= ce->max_contact_viol)) ce->max_contact_viol = cv;
     if (r->status == HP_STATUS_REACHED) ce->reached++;
     else ce->closest++;
     double xi[6];
-    if (hp_bench_round_trip(L, r->level, r, xi, NULL) != HP_OK) {
+    if (bench_round_trip(L, r->level, r, xi, NULL) != HP_OK) {
         ce->wrong++;
         run->n_wrong++;
         log_wrong(run, c->name, method, size, dir, r, "round-trip-failed", NAN, ref);
         return;
     }
     const int *cm = r->commanded;
-    double claim = hp_bench_pose_diff(xi, r->achieved, cm);
+    double claim = bench_pose_diff(xi, r->achieved, cm);
     if (r->status == HP_STATUS_REACHED) {
-        double e = hp_bench_pose_diff(xi, r->desired, cm);
+        double e = bench_pose_diff(xi, r->desired, cm);
         if (!(e <= THR_REACHED)) {
             ce->wrong++;
             run->n_wrong++;
@@ -163,9 +164,9 @@ static void classify(stab_run *run, const hp_layout *L, const stab_case *c, cons
         else ce->unverified++;
         return;
     }
-    double diff = hp_bench_pose_diff(r->achieved, ref->r.achieved, cm);
-    double dm = hp_bench_pose_dist(r->achieved, r->desired, cm);
-    double dr = hp_bench_pose_dist(ref->r.achieved, r->desired, cm);
+    double diff = bench_pose_diff(r->achieved, ref->r.achieved, cm);
+    double dm = bench_pose_dist(r->achieved, r->desired, cm);
+    double dr = bench_pose_dist(ref->r.achieved, r->desired, cm);
     if (!(diff <= ce->max_ref_diff)) ce->max_ref_diff = diff;
     if (r->status == HP_STATUS_CLOSEST && diff > THR_CLOSEST && dm > dr + THR_CLOSEST) {
         ce->wrong++;
@@ -182,26 +183,18 @@ static void classify(stab_run *run, const hp_layout *L, const stab_case *c, cons
 
 /* Extreme valid pressures for a bad start: each bladder at p_lo or p_hi (random), moved
  * 1e-6 of the span inwards so the stable-branch FK of set_previous accepts them. */
-static void extreme_pressures(const hp_layout *L, const hp_bench_bounds *b, uint64_t *s,
+static void extreme_pressures(const hp_layout *L, const bench_bounds *b, uint64_t *s,
                               double *P)
 {
     for (int k = 0; k < L->n; ++k) {
         double span = b->p_hi[k] - b->p_lo[k];
-        P[k] = hp_bench_urand(s) < 0.5 ? b->p_lo[k] + 1e-6 * span : b->p_hi[k] - 1e-6 * span;
+        P[k] = bench_urand(s) < 0.5 ? b->p_lo[k] + 1e-6 * span : b->p_hi[k] - 1e-6 * span;
     }
 }
 
 static hp_settings method_settings(hp_backend b, hp_level l, double tol, int warm)
 {
-    hp_settings s;
-    hp_settings_default(&s);
-    s.backend = b;
-    s.level = l;
-    s.tolerance = tol;
-    s.warm_start = warm;
-    s.max_iter = b == HP_BACKEND_NLOPT_COBYLA ? 5000 : 3000;
-    s.max_time = 1.0;
-    return s;
+    return bench_settings(b, l, tol, warm);
 }
 
 typedef struct {
@@ -219,17 +212,17 @@ static void method_name(char *buf, size_t cap, int m)
 }
 
 /* Runs one case. Returns 0 or an exit status. */
-static int run_case(const hp_bench_options *o, const stab_case *c, stab_run *run, case_data *cd)
+static int run_case(const bench_options *o, const stab_case *c, stab_run *run, case_data *cd)
 {
     char path[1024];
     snprintf(path, sizeof path, "%s/%s", o->scenarios, c->file);
     hp_scene scene;
-    int rc = hp_bench_load_layout(path, &scene);
+    int rc = bench_load_layout(path, &scene);
     if (rc) return rc;
     const hp_layout *L = &scene.layout;
-    hp_bench_bounds b;
-    if (hp_bench_bounds_of(L, &b) != 0) {
-        fprintf(stderr, "headplan bench: %s: a bladder has no valid radius interval\n", path);
+    bench_bounds b;
+    if (bench_bounds_of(L, &b) != 0) {
+        fprintf(stderr, "headplan-bench: %s: a bladder has no valid radius interval\n", path);
         return HP_EXIT_DATAERR;
     }
     cd->n_size = o->quick ? 6 : N_SIZE_FULL;
@@ -237,13 +230,13 @@ static int run_case(const hp_bench_options *o, const stab_case *c, stab_run *run
     cd->n_t = cd->n_size * cd->n_dir;
     uint64_t s = DIR_SEED, sp = DIR_SEED ^ 0x5bd1e995u;
     double u[N_DIR_FULL][6];
-    for (int d = 0; d < cd->n_dir; ++d) hp_bench_unit6(&s, u[d]);
+    for (int d = 0; d < cd->n_dir; ++d) bench_unit6(&s, u[d]);
     for (int k = 0; k < cd->n_size; ++k) {
         cd->sizes[k] = 0.01 * pow(10.0, (o->quick ? 2 * k : k) * 0.5);
         for (int d = 0; d < cd->n_dir; ++d) {
             double md[6];
             for (int i = 0; i < 6; ++i) md[i] = cd->sizes[k] * u[d][i];
-            hp_bench_to_si(md, cd->targets[k * cd->n_dir + d]);
+            bench_to_si(md, cd->targets[k * cd->n_dir + d]);
             extreme_pressures(L, &b, &sp, cd->prev[k * cd->n_dir + d]);
         }
     }
@@ -251,7 +244,7 @@ static int run_case(const hp_bench_options *o, const stab_case *c, stab_run *run
     for (int l = 0; l < 3; ++l) {
         hp_settings st = method_settings(HP_BACKEND_IPOPT, levels[l], REF_TOLERANCE, 0);
         hp_planner *p;
-        if ((rc = hp_bench_planner_new(L, &st, &p))) return rc;
+        if ((rc = bench_planner_new(L, &st, &p))) return rc;
         for (int t = 0; t < cd->n_t; ++t) {
             ref_answer *ra = &cd->ref[l][t];
             hp_planner_reset(p);
@@ -266,13 +259,13 @@ static int run_case(const hp_bench_options *o, const stab_case *c, stab_run *run
         method_name(name, sizeof name, m);
         hp_settings st = method_settings((hp_backend)(m / 3), levels[m % 3], 1e-9, c->bad_start);
         hp_planner *p;
-        if ((rc = hp_bench_planner_new(L, &st, &p))) return rc;
+        if ((rc = bench_planner_new(L, &st, &p))) return rc;
         int ok = 0, n = 0;
         for (int t = 0; t < cd->n_t; ++t) {
             hp_result r;
             hp_planner_reset(p);
             if (c->bad_start && hp_planner_set_previous(p, cd->prev[t]) != HP_OK) {
-                fprintf(stderr, "headplan bench: stability: set_previous refused an extreme "
+                fprintf(stderr, "headplan-bench: stability: set_previous refused an extreme "
                                 "pressure: %s\n", hp_planner_error(p));
                 hp_planner_destroy(p);
                 return HP_EXIT_SOFTWARE;
@@ -322,7 +315,7 @@ static void write_rows(FILE *f, const stab_case *c, const case_data *cd)
                                                            : 0.5 * (it[ce->n_iters / 2 - 1] +
                                                                     it[ce->n_iters / 2]))
                                         : NAN;
-            double med_t = ce->n_times ? hp_bench_percentile(tm, ce->n_times, 0.5) : NAN;
+            double med_t = ce->n_times ? bench_percentile(tm, ce->n_times, 0.5) : NAN;
             fprintf(f, "%s,%s,%s,%s,%g,%d,%d,%d,%d,%d,%d,%d,%s,%.4f,", c->name, name,
                     hp_backend_name((hp_backend)(m / 3)), hp_level_name(levels[m % 3]),
                     cd->sizes[k], ce->targets, ce->reached, ce->closest, ce->verified,
@@ -360,9 +353,9 @@ static int chart_writer(const void *arg, FILE *f)
     static const char *const colour[HP_BACKEND_COUNT_] = {"#1b9e77", "#d95f02", "#7570b3",
                                                           "#e7298a"};
     static const int dash[3] = {3, 2, 1}, pt[3] = {6, 4, 7};
-    fprintf(f, "# Generated by headplan bench (stability family); data inline, from "
+    fprintf(f, "# Generated by headplan-bench (stability family); data inline, from "
                "stability.csv.\n# Redraw: gnuplot stability.gp\nfloor = %g\n\n",
-            HP_BENCH_ERROR_FLOOR);
+            BENCH_ERROR_FLOOR);
     for (int c = 0; c < N_CASES; ++c)
         for (int m = 0; m < N_METHODS; ++m) {
             const case_data *cd = a->cd[c];
@@ -371,7 +364,7 @@ static int chart_writer(const void *arg, FILE *f)
                 const cell *ce = &cd->cells[m][k];
                 double sr = ce->targets ? (double)ce->verified / ce->targets : 0;
                 double cv = (ce->reached + ce->closest) ? ce->max_contact_viol : NAN;
-                if (cv < HP_BENCH_ERROR_FLOOR) cv = HP_BENCH_ERROR_FLOOR;
+                if (cv < BENCH_ERROR_FLOOR) cv = BENCH_ERROR_FLOOR;
                 fprintf(f, "%g %.6g ", cd->sizes[k], sr);
                 if (ce->n_iters) fprintf(f, "%d ", ce->max_iter + 1);
                 else fprintf(f, "NaN ");
@@ -460,7 +453,7 @@ static void summary(const all_cases *a, const stab_run *run)
            run->n_wrong, run->n_ipopt_worse);
 }
 
-int hp_bench_stability(const hp_bench_options *o, const char *dir)
+int bench_stability(const bench_options *o, const char *dir)
 {
     case_data *cd[N_CASES] = {0};
     stab_run run = {0};
@@ -469,14 +462,14 @@ int hp_bench_stability(const hp_bench_options *o, const char *dir)
     snprintf(wtmp, sizeof wtmp, "%s.tmp", wpath);
     int rc = 0;
     if (!(run.wrong = fopen(wtmp, "w"))) {
-        fprintf(stderr, "headplan bench: cannot create '%s'\n", wtmp);
+        fprintf(stderr, "headplan-bench: cannot create '%s'\n", wtmp);
         return HP_EXIT_CANTCREAT;
     }
     fprintf(run.wrong, "case,method,size,direction,status,iterations,check,error,"
                        "desired_mm_deg,achieved_mm_deg,ipopt_status,ipopt_achieved_mm_deg\n");
     for (int c = 0; c < N_CASES && rc == 0; ++c) {
         if (!(cd[c] = calloc(1, sizeof *cd[c]))) {
-            fprintf(stderr, "headplan bench: out of memory\n");
+            fprintf(stderr, "headplan-bench: out of memory\n");
             rc = HP_EXIT_SOFTWARE;
         } else {
             rc = run_case(o, &cases[c], &run, cd[c]);
@@ -484,15 +477,15 @@ int hp_bench_stability(const hp_bench_options *o, const char *dir)
     }
     int bad = fclose(run.wrong) != 0;
     if (rc == 0 && (bad || rename(wtmp, wpath) != 0)) {
-        fprintf(stderr, "headplan bench: cannot write '%s'\n", wpath);
+        fprintf(stderr, "headplan-bench: cannot write '%s'\n", wpath);
         rc = HP_EXIT_CANTCREAT;
     }
     if (rc) remove(wtmp);
     all_cases a = {cd};
-    if (rc == 0) rc = hp_bench_save(dir, "stability.csv", csv_writer, &a);
-    if (rc == 0) rc = hp_bench_save(dir, "stability.gp", chart_writer, &a);
+    if (rc == 0) rc = bench_save(dir, "stability.csv", csv_writer, &a);
+    if (rc == 0) rc = bench_save(dir, "stability.gp", chart_writer, &a);
     static const char *const outs[] = {"stability.png", "stability.svg", NULL};
-    if (rc == 0) rc = hp_bench_gnuplot_run(dir, "stability.gp", outs);
+    if (rc == 0) rc = bench_gnuplot_run(dir, "stability.gp", outs);
     if (rc == 0) {
         summary(&a, &run);
         fprintf(stderr, "bench stability: wrote %s/stability.csv, stability_wrong.csv, "

@@ -1,11 +1,10 @@
-/* headplan bench: speed versus accuracy of every method, per family, on the same inputs.
+/* headplan-bench: speed versus accuracy of every method, per family, on the same inputs.
  * Writes DIR/<family>.csv and the charts DIR/<family>_pareto.{png,svg} (gnuplot), prints a
  * summary table on stdout and progress on stderr. A benchmark measures; it never fails on
  * a time. */
-#include "cli/bench.h"
-#include "cli/bench_report.h"
+#include "bench/bench.h"
+#include "bench/bench_report.h"
 #include "cli/cli_args.h"
-#include "cli/commands.h"
 #include "cli/exit_codes.h"
 
 #include <limits.h>
@@ -14,18 +13,20 @@
 
 #define CMD "bench"
 #define DEFAULT_OUT "out/bench"
-#define DEFAULT_SCENE "scenarios/default.yaml"
-#define DEFAULT_SCENARIOS "scenarios"
+/* The lab reads the project's own catalogue and peer script wherever it is run from: the
+ * build puts the source tree's path in HP_SOURCE_DIR. */
+#define DEFAULT_SCENE HP_SOURCE_DIR "/scenarios/default.yaml"
+#define DEFAULT_SCENARIOS HP_SOURCE_DIR "/scenarios"
 #define DEFAULT_PYTHON "/usr/bin/python3"
-#define DEFAULT_PEER_SCRIPT "bench/scipy_peer.py"
+#define DEFAULT_PEER_SCRIPT HP_SOURCE_DIR "/bench/scipy_peer.py"
 
 /* The families, in the order they run. A new family is one row here and either one
- * hp_bench_family_fn that appends rows to the table (CSV and Pareto chart written here) or
- * one hp_bench_files_fn that writes its own files. */
+ * bench_family_fn that appends rows to the table (CSV and Pareto chart written here) or
+ * one bench_files_fn that writes its own files. */
 typedef struct {
-    hp_bench_chart chart;
-    hp_bench_family_fn run;
-    hp_bench_files_fn files;
+    bench_chart chart;
+    bench_family_fn run;
+    bench_files_fn files;
     int needs_scene; /* reads --scene */
 } family;
 
@@ -33,23 +34,23 @@ static const family families[] = {
     {{"ik", "Bladder inverse kinematics (radius to pressure): speed versus accuracy",
       "median time per evaluation [ns]",
       "max relative error vs float128 reference (1000 inputs)"},
-     hp_bench_ik, NULL, 0},
+     bench_ik, NULL, 0},
     {{"planner", "Planner: speed versus accuracy (default layout, targets where a limit binds)",
       "median time per plan [ns]",
       "max pose difference from the reference after the exact-model round trip [mm or deg]"},
-     hp_bench_planner, NULL, 1},
-    {{"stability", NULL, NULL, NULL}, NULL, hp_bench_stability, 0},
+     bench_planner, NULL, 1},
+    {{"stability", NULL, NULL, NULL}, NULL, bench_stability, 0},
     {{"peers", "Peers on the same NLP (linear contact level, default layout, binding targets)",
       "median time per plan [ns]",
       "max pose difference from Ipopt (exact Hessian, tolerance 1e-10) [mm or deg]"},
-     hp_bench_peers, NULL, 1},
-    {{"levels", NULL, NULL, NULL}, NULL, hp_bench_levels, 0},
+     bench_peers, NULL, 1},
+    {{"levels", NULL, NULL, NULL}, NULL, bench_levels, 0},
 };
 #define N_FAMILIES (sizeof families / sizeof families[0])
 
 static void help(void)
 {
-    printf("usage: headplan bench [--out DIR] [--quick] [--only FAMILY[,FAMILY]] [--seed N]\n"
+    printf("usage: headplan-bench [--out DIR] [--quick] [--only FAMILY[,FAMILY]] [--seed N]\n"
            "                      [--scene FILE] [--scenarios DIR] [--python EXE]\n"
            "                      [--peer-script FILE]\n\n"
            "Measures every method of each family on the same inputs: median and 99th\n"
@@ -101,32 +102,32 @@ static int parse_only(const char *list, int *on)
     return 0;
 }
 
-static int csv_writer(const void *arg, FILE *f) { return hp_bench_write_csv(arg, f); }
+static int csv_writer(const void *arg, FILE *f) { return bench_write_csv(arg, f); }
 
 /* Runs one family and writes its files. Returns 0 or an exit status. */
-static int run_family(const family *fam, const hp_bench_options *o, const char *dir)
+static int run_family(const family *fam, const bench_options *o, const char *dir)
 {
     if (fam->files) return fam->files(o, dir);
-    hp_bench_table t = {0};
+    bench_table t = {0};
     int rc = fam->run(o, &t);
     if (rc == 0) {
-        hp_bench_table_finish(&t);
+        bench_table_finish(&t);
         char name[64];
         snprintf(name, sizeof name, "%s.csv", fam->chart.family);
-        rc = hp_bench_save(dir, name, csv_writer, &t);
+        rc = bench_save(dir, name, csv_writer, &t);
     }
-    if (rc == 0) rc = hp_bench_plot(&t, &fam->chart, dir);
+    if (rc == 0) rc = bench_plot(&t, &fam->chart, dir);
     if (rc == 0) {
-        hp_bench_print_summary(&t, stdout);
+        bench_print_summary(&t, stdout);
         fprintf(stderr, "bench %s: wrote %s/%s.csv, %s/%s_pareto.png, %s/%s_pareto.svg\n",
                 fam->chart.family, dir, fam->chart.family, dir, fam->chart.family, dir,
                 fam->chart.family);
     }
-    hp_bench_table_free(&t);
+    bench_table_free(&t);
     return rc;
 }
 
-int hp_cmd_bench(int argc, char **argv)
+int bench_run_cli(int argc, char **argv)
 {
     const char *out = DEFAULT_OUT, *scene = DEFAULT_SCENE, *scenarios = DEFAULT_SCENARIOS;
     const char *python = DEFAULT_PYTHON, *peer_script = DEFAULT_PEER_SCRIPT;
@@ -167,7 +168,7 @@ int hp_cmd_bench(int argc, char **argv)
             if (m < 0 || (rc = hp_cli_int(CMD, "--seed", v, 0, LONG_MAX, &seed)) != 0)
                 return HP_EXIT_USAGE;
         } else {
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see headplan bench --help)",
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see headplan-bench --help)",
                                argv[i]);
         }
     }
@@ -175,7 +176,7 @@ int hp_cmd_bench(int argc, char **argv)
         for (size_t k = 0; k < N_FAMILIES; ++k) on[k] = 1;
 
     /* Fail before minutes of measuring, not after. */
-    if (hp_bench_gnuplot_available() != 0)
+    if (bench_gnuplot_available() != 0)
         return hp_cli_fail(HP_EXIT_SOFTWARE, CMD,
                            "gnuplot not found on PATH (it draws the charts; install the "
                            "'gnuplot' package)");
@@ -189,7 +190,7 @@ int hp_cmd_bench(int argc, char **argv)
     }
     int peers_on = 0;
     for (size_t k = 0; k < N_FAMILIES; ++k)
-        peers_on |= on[k] && families[k].run == hp_bench_peers;
+        peers_on |= on[k] && families[k].run == bench_peers;
     if (peers_on) { /* SciPy must be there before minutes of measuring */
         FILE *f = fopen(peer_script, "r");
         if (!f)
@@ -197,15 +198,15 @@ int hp_cmd_bench(int argc, char **argv)
                                peer_script);
         fclose(f);
         char *const chk[] = {(char *)python, "-c", "import scipy.optimize, numpy", NULL};
-        if (hp_bench_run_child(chk, NULL, 1) != 0)
+        if (bench_run_child(chk, NULL, 1) != 0)
             return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "--python: '%s' cannot import scipy "
                                "(install Debian's python3-scipy, or name a Python that has "
                                "SciPy)", python);
     }
-    if ((rc = hp_bench_mkdirs(out)) != 0) return rc;
+    if ((rc = bench_mkdirs(out)) != 0) return rc;
 
-    hp_bench_options o;
-    hp_bench_options_default(&o, quick, (unsigned long)seed);
+    bench_options o;
+    bench_options_default(&o, quick, (unsigned long)seed);
     o.scene = scene;
     o.scenarios = scenarios;
     o.python = python;

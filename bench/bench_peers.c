@@ -1,4 +1,4 @@
-/* headplan bench, family "peers": the same NLP solved by the peers docs/model.md §8 names, beside
+/* headplan-bench, family "peers": the same NLP solved by the peers docs/model.md §8 names, beside
  * headplan's own backends, on the same targets, in the same run.
  *
  * Problem: the planner's NLP at the LINEAR contact level (rho = rho0 + J·xi) on o->scene,
@@ -18,10 +18,11 @@
  * A SciPy answer counts as a failure when SciPy says it failed or its contact equalities
  * are off by more than 1e-6 mm. */
 #define _POSIX_C_SOURCE 200809L
-#include "cli/bench.h"
-#include "cli/bench_report.h"
-#include "cli/bench_timing.h"
-#include "cli/bench_util.h"
+#include "bench/bench.h"
+#include "bench/bench_report.h"
+#include "bench/bench_timing.h"
+#include "bench/bench_settings.h"
+#include "bench/bench_util.h"
 #include "cli/exit_codes.h"
 
 #include <jansson.h>
@@ -39,22 +40,15 @@
 
 static hp_settings settings_of(hp_backend b, hp_level l, double tol, int lbfgs)
 {
-    hp_settings s;
-    hp_settings_default(&s);
-    s.backend = b;
-    s.level = l;
-    s.tolerance = tol;
-    s.warm_start = 0;
-    s.max_iter = 3000;
-    s.max_time = 5.0;
+    hp_settings s = bench_settings(b, l, tol, 0);
     s.ipopt_hessian_approx = lbfgs;
     return s;
 }
 
-static hp_bench_row *new_row(hp_bench_table *t, const char *method, const char *variant,
+static bench_row *new_row(bench_table *t, const char *method, const char *variant,
                              const char *param, const char *set)
 {
-    hp_bench_row *r = hp_bench_table_add(t);
+    bench_row *r = bench_table_add(t);
     if (!r) return NULL;
     snprintf(r->method, sizeof r->method, "%s", method);
     snprintf(r->family, sizeof r->family, "peers");
@@ -66,7 +60,7 @@ static hp_bench_row *new_row(hp_bench_table *t, const char *method, const char *
 
 /* Plans every target with p and compares with ref (scaled poses compared in mm/deg). */
 static void accuracy(hp_planner *p, const hp_layout *L, const double (*tg)[6], long n,
-                     const double (*ref)[6], hp_bench_row *row)
+                     const double (*ref)[6], bench_row *row)
 {
     double worst = -1, viol = 0;
     long wk = 0;
@@ -79,9 +73,9 @@ static void accuracy(hp_planner *p, const hp_layout *L, const double (*tg)[6], l
             row->failures++;
             continue;
         }
-        double e = hp_bench_pose_diff(r.achieved, ref[k], r.commanded);
+        double e = bench_pose_diff(r.achieved, ref[k], r.commanded);
         if (e > worst) worst = e, wk = k;
-        double v = hp_bench_limit_violation(L, &r);
+        double v = bench_limit_violation(L, &r);
         if (v > viol) viol = v;
     }
     row->inputs = n;
@@ -91,7 +85,7 @@ static void accuracy(hp_planner *p, const hp_layout *L, const double (*tg)[6], l
 }
 
 /* The problem data for scipy_peer.py (mm, degrees). Returns 0 or -1. */
-static int write_problem(const char *path, const hp_layout *L, const hp_bench_bounds *b,
+static int write_problem(const char *path, const hp_layout *L, const bench_bounds *b,
                          const int commanded[6], const double (*tg)[6], long n, int repeats)
 {
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], x0[6] = {0};
@@ -104,7 +98,7 @@ static int write_problem(const char *path, const hp_layout *L, const hp_bench_bo
         json_t *row = json_array();
         for (int i = 0; i < 6; ++i)
             json_array_append_new(row, json_real(i < 3 ? J[k * 6 + i]
-                                                       : J[k * 6 + i] * 1e3 * HP_BENCH_PI / 180));
+                                                       : J[k * 6 + i] * 1e3 * BENCH_PI / 180));
         json_array_append_new(jj, row);
         json_array_append_new(r0, json_real(rho[k] * 1e3));
         json_array_append_new(Ri, json_real(L->bladders[k].iab.Ri * 1e3));
@@ -115,7 +109,7 @@ static int write_problem(const char *path, const hp_layout *L, const hp_bench_bo
     for (long t = 0; t < n; ++t) {
         json_t *row = json_array();
         for (int i = 0; i < 6; ++i)
-            json_array_append_new(row, json_real(commanded[i] ? tg[t][i] * (i < 3 ? 1e3 : 180 / HP_BENCH_PI) : 0.0));
+            json_array_append_new(row, json_real(commanded[i] ? tg[t][i] * (i < 3 ? 1e3 : 180 / BENCH_PI) : 0.0));
         json_array_append_new(ts, row);
     }
     json_object_set_new(o, "n", json_integer(L->n));
@@ -141,18 +135,18 @@ static int cmp_dbl(const void *a, const void *b)
 }
 
 /* Reads scipy_peer.py's CSV into one row per variant. Returns 0 or an exit status. */
-static int read_scipy(const char *path, const hp_layout *L, const hp_bench_bounds *b,
-                      const int commanded[6], long n, const double (*ref)[6], hp_bench_table *t)
+static int read_scipy(const char *path, const hp_layout *L, const bench_bounds *b,
+                      const int commanded[6], long n, const double (*ref)[6], bench_table *t)
 {
     static const char *const variants[2] = {"analytic", "fd"};
     FILE *f = fopen(path, "r");
     if (!f) {
-        fprintf(stderr, "headplan bench: peers: the SciPy peer wrote no '%s'\n", path);
+        fprintf(stderr, "headplan-bench: peers: the SciPy peer wrote no '%s'\n", path);
         return HP_EXIT_SOFTWARE;
     }
     double rho0[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], z[6] = {0};
     hp_contact_eval(L, HP_LEVEL_LINEAR, z, rho0, J, NULL);
-    hp_bench_row *rows[2];
+    bench_row *rows[2];
     double *times = calloc((size_t)n * 2, sizeof *times);
     long nt[2] = {0, 0}, seen[2] = {0, 0};
     double worst[2] = {-1, -1}, viol[2] = {0, 0};
@@ -181,7 +175,7 @@ static int read_scipy(const char *path, const hp_layout *L, const hp_bench_bound
             double ri = x[6 + q], Ri = m->Ri * 1e3, Ro = m->Ro * 1e3;
             double ro = cbrt(Ro * Ro * Ro - Ri * Ri * Ri + ri * ri * ri), rho = rho0[q] * 1e3;
             for (int i = 0; i < 6; ++i)
-                rho += (i < 3 ? J[q * 6 + i] : J[q * 6 + i] * 1e3 * HP_BENCH_PI / 180) * x[i];
+                rho += (i < 3 ? J[q * 6 + i] : J[q * 6 + i] * 1e3 * BENCH_PI / 180) * x[i];
             cviol = fmax(cviol, fabs(ro - rho));
             double span = (b->ri_hi[q] - b->ri_lo[q]) * 1e3;
             bviol = fmax(bviol, fmax(b->ri_lo[q] * 1e3 - ri, ri - b->ri_hi[q] * 1e3) / span);
@@ -192,14 +186,14 @@ static int read_scipy(const char *path, const hp_layout *L, const hp_bench_bound
         }
         if (bviol > viol[v]) viol[v] = bviol;
         double xi[6];
-        hp_bench_to_si(x, xi);
-        double err = hp_bench_pose_diff(xi, ref[k], commanded);
+        bench_to_si(x, xi);
+        double err = bench_pose_diff(xi, ref[k], commanded);
         if (err > worst[v]) worst[v] = err, wk[v] = k;
     }
     fclose(f);
     if (rc == 0 && (seen[0] != n || seen[1] != n)) rc = HP_EXIT_SOFTWARE;
     if (rc) {
-        fprintf(stderr, "headplan bench: peers: '%s' is malformed or incomplete\n", path);
+        fprintf(stderr, "headplan-bench: peers: '%s' is malformed or incomplete\n", path);
         free(times);
         return rc;
     }
@@ -211,8 +205,8 @@ static int read_scipy(const char *path, const hp_layout *L, const hp_bench_bound
             return HP_EXIT_SOFTWARE;
         }
         qsort(times + v * n, (size_t)nt[v], sizeof *times, cmp_dbl);
-        rows[v]->median_ns = hp_bench_percentile(times + v * n, nt[v], 0.5);
-        rows[v]->p99_ns = hp_bench_percentile(times + v * n, nt[v], 0.99);
+        rows[v]->median_ns = bench_percentile(times + v * n, nt[v], 0.5);
+        rows[v]->p99_ns = bench_percentile(times + v * n, nt[v], 0.99);
         rows[v]->max_error = worst[v] < 0 ? NAN : worst[v];
         rows[v]->max_violation = viol[v];
         rows[v]->failures = fails[v];
@@ -227,15 +221,15 @@ static int read_scipy(const char *path, const hp_layout *L, const hp_bench_bound
     return 0;
 }
 
-int hp_bench_peers(const hp_bench_options *o, hp_bench_table *t)
+int bench_peers(const bench_options *o, bench_table *t)
 {
     hp_scene scene;
-    int rc = hp_bench_load_layout(o->scene, &scene);
+    int rc = bench_load_layout(o->scene, &scene);
     if (rc) return rc;
     const hp_layout *L = &scene.layout;
-    hp_bench_bounds b;
-    if (hp_bench_bounds_of(L, &b) != 0) {
-        fprintf(stderr, "headplan bench: peers: %s: a bladder has no valid radius interval\n",
+    bench_bounds b;
+    if (bench_bounds_of(L, &b) != 0) {
+        fprintf(stderr, "headplan-bench: peers: %s: a bladder has no valid radius interval\n",
                 o->scene);
         return HP_EXIT_DATAERR;
     }
@@ -246,8 +240,8 @@ int hp_bench_peers(const hp_bench_options *o, hp_bench_table *t)
     hp_planner *pl, *ps;
     hp_settings sl = settings_of(HP_BACKEND_IPOPT, HP_LEVEL_LINEAR, REF_TOLERANCE, 0);
     hp_settings ss = settings_of(HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, REF_TOLERANCE, 0);
-    if ((rc = hp_bench_planner_new(L, &sl, &pl))) return rc;
-    if ((rc = hp_bench_planner_new(L, &ss, &ps))) {
+    if ((rc = bench_planner_new(L, &sl, &pl))) return rc;
+    if ((rc = bench_planner_new(L, &ss, &ps))) {
         hp_planner_destroy(pl);
         return rc;
     }
@@ -257,8 +251,8 @@ int hp_bench_peers(const hp_bench_options *o, hp_bench_table *t)
     for (int c = 0; c < N_CAND && n < want; ++c) {
         double x[6];
         for (int i = 0; i < 6; ++i) {
-            double u = 2 * hp_bench_urand(&s) - 1;
-            x[i] = i < 3 ? u * 6.0 * 1e-3 : u * 4.0 * (HP_BENCH_PI / 180.0);
+            double u = 2 * bench_urand(&s) - 1;
+            x[i] = i < 3 ? u * 6.0 * 1e-3 : u * 4.0 * (BENCH_PI / 180.0);
         }
         hp_result r1, r2;
         hp_planner_reset(pl);
@@ -277,24 +271,24 @@ int hp_bench_peers(const hp_bench_options *o, hp_bench_table *t)
     hp_planner_destroy(pl);
     hp_planner_destroy(ps);
     if (n < want) {
-        fprintf(stderr, "headplan bench: peers: only %ld of %ld binding targets found\n", n, want);
+        fprintf(stderr, "headplan-bench: peers: only %ld of %ld binding targets found\n", n, want);
         return HP_EXIT_SOFTWARE;
     }
-    hp_bench_shuffle(perm, n, o->seed);
+    bench_shuffle(perm, n, o->seed);
 
     /* The SciPy peer first: a child process, so nothing of ours runs beside it. */
     char jpath[4200], cpath[4200];
     snprintf(jpath, sizeof jpath, "%s/peers_problem.json", o->out_dir);
     snprintf(cpath, sizeof cpath, "%s/peers_scipy.csv", o->out_dir);
     if (write_problem(jpath, L, &b, commanded, (const double(*)[6])tg, n, o->quick ? 1 : 5) != 0) {
-        fprintf(stderr, "headplan bench: cannot write '%s'\n", jpath);
+        fprintf(stderr, "headplan-bench: cannot write '%s'\n", jpath);
         return HP_EXIT_CANTCREAT;
     }
     fprintf(stderr, "bench peers: %s %s (%ld targets)\n", o->python, o->peer_script, n);
     char *const argv[] = {(char *)o->python, (char *)o->peer_script, jpath, cpath, NULL};
-    int st = hp_bench_run_child(argv, NULL, 0);
+    int st = bench_run_child(argv, NULL, 0);
     if (st != 0) {
-        fprintf(stderr, "headplan bench: peers: '%s %s' failed (exit status %d)%s\n", o->python,
+        fprintf(stderr, "headplan-bench: peers: '%s %s' failed (exit status %d)%s\n", o->python,
                 o->peer_script, st, st == 3 ? ": SciPy is missing" : "");
         return HP_EXIT_SOFTWARE;
     }
@@ -315,16 +309,16 @@ int hp_bench_peers(const hp_bench_options *o, hp_bench_table *t)
     };
     for (size_t i = 0; i < sizeof ms / sizeof ms[0] && rc == 0; ++i) {
         const peer_method *m = &ms[i];
-        hp_bench_row *row = new_row(t, m->name, m->variant, m->param, m->set);
+        bench_row *row = new_row(t, m->name, m->variant, m->param, m->set);
         if (!row) return HP_EXIT_SOFTWARE;
         hp_settings st2 = settings_of(m->b, m->l, 1e-9, m->lbfgs);
         hp_planner *p;
-        if ((rc = hp_bench_planner_new(L, &st2, &p))) break;
+        if ((rc = bench_planner_new(L, &st2, &p))) break;
         accuracy(p, L, (const double(*)[6])tg, n,
                  (const double(*)[6])(m->l == HP_LEVEL_LINEAR ? ref_lin : ref_sur), row);
-        hp_bench_plan_ctx c = {p, (const double(*)[6])tg, n, perm, 0};
-        hp_bench_timing tm;
-        if (hp_bench_time(o, hp_bench_plan_batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
+        bench_plan_ctx c = {p, (const double(*)[6])tg, n, perm, 0};
+        bench_timing tm;
+        if (bench_time(o, bench_plan_batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
         hp_planner_destroy(p);
         row->median_ns = tm.median_ns;
         row->p99_ns = tm.p99_ns;

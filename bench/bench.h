@@ -1,17 +1,21 @@
-/* headplan bench: the shared method table. Every family of methods (the bladder IK now, the
+/* headplan-bench: the shared method table. Every family of methods (the bladder IK now, the
  * planner later) fills rows of the same shape; cmd_bench.c writes them as CSV, draws the
  * chart and prints the summary without knowing which family they came from. */
-#ifndef HP_CLI_BENCH_H
-#define HP_CLI_BENCH_H
+#ifndef HP_BENCH_LAB_H
+#define HP_BENCH_LAB_H
 
 #include <stddef.h>
 
+/* The lab's command line (bench_cmd.c): argc/argv as main gets them; returns the exit
+ * status. */
+int bench_run_cli(int argc, char **argv);
+
 /* Errors smaller than this (including exact zeros) are drawn at this value on the log-scale
  * chart; the CSV keeps the true value. */
-#define HP_BENCH_ERROR_FLOOR 1e-17
+#define BENCH_ERROR_FLOOR 1e-17
 
 /* How hard to measure. */
-typedef struct hp_bench_options {
+typedef struct bench_options {
     int quick;              /* 1: a test run: few samples; the IK's accuracy still on every
                                input, the planner's on fewer targets */
     unsigned long seed;     /* order in which timed batches walk the inputs */
@@ -23,13 +27,13 @@ typedef struct hp_bench_options {
     const char *python;     /* the Python with SciPy (peers) */
     const char *peer_script;/* bench/scipy_peer.py (peers) */
     const char *out_dir;    /* the output folder (peers writes its exchange files there) */
-} hp_bench_options;
+} bench_options;
 
 /* Fills the sampling settings for a full (quick = 0) or quick run; the paths NULL. */
-void hp_bench_options_default(hp_bench_options *o, int quick, unsigned long seed);
+void bench_options_default(bench_options *o, int quick, unsigned long seed);
 
 /* One method's measurements: one CSV row. Text fields never hold commas or quotes. */
-typedef struct hp_bench_row {
+typedef struct bench_row {
     char method[48];    /* unique name, e.g. "gl-ref-16" */
     char family[16];    /* "ik", "planner" */
     char variant[32];   /* the chart's series, e.g. "gauss-reference" */
@@ -51,53 +55,53 @@ typedef struct hp_bench_row {
     double ratio_to_baseline; /* median_ns / the family baseline's median_ns */
     int pareto;         /* 1 when no row on the same input set is both faster (or as fast)
                            and more accurate (or as accurate) */
-} hp_bench_row;
+} bench_row;
 
 /* A growable list of rows (cmd_bench.c owns it). */
-typedef struct hp_bench_table {
-    hp_bench_row *rows;
+typedef struct bench_table {
+    bench_row *rows;
     size_t n, cap;
     const char *baseline; /* method name of the row the ratios divide by; the chart's thick
                              front is that of the baseline's input set */
-} hp_bench_table;
+} bench_table;
 
 /* Appends a zeroed row (max_violation NaN) and returns it; NULL when out of memory. */
-hp_bench_row *hp_bench_table_add(hp_bench_table *t);
+bench_row *bench_table_add(bench_table *t);
 /* Fills ratio_to_baseline (NaN when the baseline row is missing) and the pareto flags. */
-void hp_bench_table_finish(hp_bench_table *t);
-void hp_bench_table_free(hp_bench_table *t);
+void bench_table_finish(bench_table *t);
+void bench_table_free(bench_table *t);
 
 /* A family of methods: runs every method on the family's inputs and appends one row each.
  * Progress goes to stderr, nothing to stdout. Returns 0, or a process exit status. */
-typedef int (*hp_bench_family_fn)(const hp_bench_options *o, hp_bench_table *t);
+typedef int (*bench_family_fn)(const bench_options *o, bench_table *t);
 
 /* The bladder IK: closed form, Gauss–Legendre (both forms, orders 2..64), adaptive
  * Gauss–Kronrod (both forms, tolerances 1e-4..1e-13); baseline the closed form. */
-int hp_bench_ik(const hp_bench_options *o, hp_bench_table *t);
+int bench_ik(const bench_options *o, bench_table *t);
 
 /* The planner: fast path per level; backend × level × tolerance on targets where a limit
  * binds; accuracy through the exact surface model against Ipopt at a tight tolerance;
  * baseline Ipopt at the surface level, tolerance 1e-9. Needs o->scene. */
-int hp_bench_planner(const hp_bench_options *o, hp_bench_table *t);
+int bench_planner(const bench_options *o, bench_table *t);
 
 /* A family that writes its own files into dir (CSV, charts) and prints its summary on
  * stdout, for results that are not one row per method. Returns 0 or an exit status. */
-typedef int (*hp_bench_files_fn)(const hp_bench_options *o, const char *dir);
+typedef int (*bench_files_fn)(const bench_options *o, const char *dir);
 
 /* Stability where methods fail: every backend × level on correction sizes 0.01..1000 along
  * seeded random 6-D directions, on the default, soft-material and near-degenerate layouts
  * and from bad warm starts; success rate, iterations, violations, and every silent wrong
  * answer. Writes DIR/stability.csv, stability_wrong.csv, stability.gp/.png/.svg. */
-int hp_bench_stability(const hp_bench_options *o, const char *dir);
+int bench_stability(const bench_options *o, const char *dir);
 
 /* The peers on the same NLP (linear contact level, binding targets of o->scene): SciPy
  * SLSQP (o->python, o->peer_script) and Ipopt with a limited-memory Hessian, against Ipopt
  * with the exact Hessian (the baseline) and headplan's own backends. Rows of the table. */
-int hp_bench_peers(const hp_bench_options *o, hp_bench_table *t);
+int bench_peers(const bench_options *o, bench_table *t);
 
 /* Model no more than a scene needs: for every layout scene of the catalogue, the level
  * `auto` picks, each level's error bound, median time per plan and pose error against the
  * exact surface answer. Writes DIR/levels.csv. */
-int hp_bench_levels(const hp_bench_options *o, const char *dir);
+int bench_levels(const bench_options *o, const char *dir);
 
 #endif

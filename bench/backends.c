@@ -1,11 +1,13 @@
-/* Rough timings of the general-purpose backends on the default layout (not a test: it is
- * not built by ctest; docs/backends.md gives the command). Prints a Markdown table, one row
+/* headplan-bench-backends: rough timings of the general-purpose backends on the default
+ * layout, through the core/backend contract (part of the benchmark lab; docs/backends.md
+ * gives the command). Prints a Markdown table, one row
  * per case: backend, level, target set, start, median CPU and median / p90 / max wall time
  * per solve, mean iterations (NLopt: evaluations), number not converged, worst pose
  * difference from Ipopt's cold answer (mm or deg). */
 #define _POSIX_C_SOURCE 199309L
 #include "planner/backend_common.h"
 #include "planner/backend_fixture.h"
+#include "bench/bench_settings.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -45,12 +47,8 @@ static void run(const hp_backend_ops *ops, hp_level level, const char *set, doub
     if (fx_layout(&L) != HP_OK) exit(1);
     hp_problem pb;
     if (fx_problem(&L, level, targets[0], &pb) != HP_OK) exit(1);
-    hp_settings s;
-    memset(&s, 0, sizeof s);
-    s.tolerance = tol;
-    s.max_iter = 200;
-    s.max_time = 1.0;
-    s.warm_start = warm;
+    /* The backend is chosen through ops; level is that of the problem pb. */
+    hp_settings s = bench_settings(HP_BACKEND_IPOPT, level, tol, warm);
     void *st;
     if (ops->create(&st, &pb, &s, NULL) != HP_OK) exit(1);
     double t[N], cpu[N], x[HP_PROBLEM_NX_MAX], prev[HP_PROBLEM_NX_MAX], x0[HP_PROBLEM_NX_MAX] = {0};

@@ -1,4 +1,4 @@
-/* headplan bench, family "ik": the bladder's inverse kinematics (radius -> pressure) by the
+/* headplan-bench, family "ik": the bladder's inverse kinematics (radius -> pressure) by the
  * closed form versus the paper's two integrals by fixed Gauss–Legendre and adaptive
  * Gauss–Kronrod quadrature, all on the same grid of inputs.
  *
@@ -7,8 +7,8 @@
  * log2(1/|λi − λo|) bits; on this grid |λi − 1| >= 0.00625 and λi − λo >= 0.06·(λi − 1)
  * (thinnest wall, Ri/Ro = 0.98), so fewer than 15 of the 113 bits go: the reference is
  * ~1e-29 relative, far below any double-precision error. */
-#include "cli/bench.h"
-#include "cli/bench_timing.h"
+#include "bench/bench.h"
+#include "bench/bench_timing.h"
 #include "cli/exit_codes.h"
 #include "headplan/hp_iab.h"
 
@@ -104,7 +104,7 @@ static void batch(void *vctx, long first, long count)
     c->sink += s; /* results are used, so no call can be optimised away */
 }
 
-static void name_method(const ik_method *m, hp_bench_row *r)
+static void name_method(const ik_method *m, bench_row *r)
 {
     const char *f = m->form == HP_QUAD_CURRENT ? "cur" : "ref";
     const char *fl = m->form == HP_QUAD_CURRENT ? "current" : "reference";
@@ -134,7 +134,7 @@ static void name_method(const ik_method *m, hp_bench_row *r)
 }
 
 /* Accuracy over every input; fills max_error, worst, failures, inputs. */
-static void accuracy(const ik_method *m, const ik_input *in, const q128 *ref, hp_bench_row *r)
+static void accuracy(const ik_method *m, const ik_input *in, const q128 *ref, bench_row *r)
 {
     q128 worst = -1;
     long wi = 0;
@@ -173,7 +173,7 @@ static int build_methods(ik_method *ms, int cap)
     return n;
 }
 
-int hp_bench_ik(const hp_bench_options *o, hp_bench_table *t)
+int bench_ik(const bench_options *o, bench_table *t)
 {
     ik_input *in = malloc((size_t)N_INPUTS * sizeof *in);
     long *perm = malloc((size_t)N_INPUTS * sizeof *perm);
@@ -182,7 +182,7 @@ int hp_bench_ik(const hp_bench_options *o, hp_bench_table *t)
         free(in);
         free(perm);
         free(ref);
-        fprintf(stderr, "headplan bench: out of memory\n");
+        fprintf(stderr, "headplan-bench: out of memory\n");
         return HP_EXIT_SOFTWARE;
     }
     for (size_t j = 0; j < N_RATIO; ++j)
@@ -194,14 +194,14 @@ int hp_bench_ik(const hp_bench_options *o, hp_bench_table *t)
             x->ri = x->lambda * x->b.Ri;
             ref[(long)j * N_LAMBDA + k] = reference(&x->b, x->ri);
         }
-    hp_bench_shuffle(perm, N_INPUTS, o->seed);
+    bench_shuffle(perm, N_INPUTS, o->seed);
 
     ik_method ms[64];
     int nm = build_methods(ms, 64);
     int rc = 0;
     double sink = 0;
     for (int i = 0; i < nm && rc == 0; ++i) {
-        hp_bench_row *r = hp_bench_table_add(t);
+        bench_row *r = bench_table_add(t);
         if (!r) {
             rc = HP_EXIT_SOFTWARE;
             break;
@@ -210,8 +210,8 @@ int hp_bench_ik(const hp_bench_options *o, hp_bench_table *t)
         fprintf(stderr, "bench ik: [%2d/%d] %-16s", i + 1, nm, r->method);
         accuracy(&ms[i], in, ref, r);
         ik_ctx c = {&ms[i], in, perm, 0};
-        hp_bench_timing tm;
-        if (hp_bench_time(o, batch, &c, &tm) != 0) {
+        bench_timing tm;
+        if (bench_time(o, batch, &c, &tm) != 0) {
             rc = HP_EXIT_SOFTWARE;
             break;
         }
@@ -222,7 +222,7 @@ int hp_bench_ik(const hp_bench_options *o, hp_bench_table *t)
         r->batch = tm.batch;
         fprintf(stderr, " %10.1f ns  max error %.2e\n", r->median_ns, r->max_error);
     }
-    if (rc) fprintf(stderr, "headplan bench: out of memory\n");
+    if (rc) fprintf(stderr, "headplan-bench: out of memory\n");
     if (!isfinite(sink)) fprintf(stderr, "bench ik: note: a method returned a non-finite sum\n");
     t->baseline = "closed";
     free(in);

@@ -1,6 +1,6 @@
-/* Timing harness of headplan bench (see bench_timing.h). */
+/* Timing harness of headplan-bench (see bench_timing.h). */
 #define _POSIX_C_SOURCE 200809L
-#include "cli/bench_timing.h"
+#include "bench/bench_timing.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -14,7 +14,7 @@
 #define MIN_SAMPLES 21
 #define MAX_BATCH (1L << 24)
 
-void hp_bench_options_default(hp_bench_options *o, int quick, unsigned long seed)
+void bench_options_default(bench_options *o, int quick, unsigned long seed)
 {
     o->quick = quick;
     o->seed = seed;
@@ -30,7 +30,7 @@ void hp_bench_options_default(hp_bench_options *o, int quick, unsigned long seed
     o->out_dir = NULL;
 }
 
-double hp_bench_now_ns(void)
+double bench_now_ns(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);
@@ -43,7 +43,7 @@ static int cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-double hp_bench_percentile(const double *sorted, long n, double p)
+double bench_percentile(const double *sorted, long n, double p)
 {
     if (n <= 0) return NAN;
     if (p == 0.5) return (n % 2) ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
@@ -53,7 +53,7 @@ double hp_bench_percentile(const double *sorted, long n, double p)
     return sorted[k];
 }
 
-void hp_bench_shuffle(long *perm, long n, unsigned long seed)
+void bench_shuffle(long *perm, long n, unsigned long seed)
 {
     uint64_t s = (uint64_t)seed * 0x9E3779B97F4A7C15u + 0x2545F4914F6CDD1Du;
     for (long i = 0; i < n; ++i) perm[i] = i;
@@ -69,8 +69,8 @@ void hp_bench_shuffle(long *perm, long n, unsigned long seed)
     }
 }
 
-int hp_bench_time(const hp_bench_options *o, hp_bench_batch_fn fn, void *ctx,
-                  hp_bench_timing *out)
+int bench_time(const bench_options *o, bench_batch_fn fn, void *ctx,
+                  bench_timing *out)
 {
     long pos = 0;
     /* Calibration: double the batch until it lasts the target. The first call also pays
@@ -78,9 +78,9 @@ int hp_bench_time(const hp_bench_options *o, hp_bench_batch_fn fn, void *ctx,
     long batch = 1;
     double per_call = 0;
     for (;;) {
-        double t0 = hp_bench_now_ns();
+        double t0 = bench_now_ns();
         fn(ctx, pos, batch);
-        double dt = hp_bench_now_ns() - t0;
+        double dt = bench_now_ns() - t0;
         pos += batch;
         per_call = dt / (double)batch;
         if (dt >= o->batch_target_ns || batch >= MAX_BATCH) break;
@@ -102,13 +102,13 @@ int hp_bench_time(const hp_bench_options *o, hp_bench_batch_fn fn, void *ctx,
     double *t = malloc((size_t)samples * sizeof *t);
     if (!t) return -1;
     for (long k = 0; k < samples; ++k, pos += batch) {
-        double t0 = hp_bench_now_ns();
+        double t0 = bench_now_ns();
         fn(ctx, pos, batch);
-        t[k] = (hp_bench_now_ns() - t0) / (double)batch;
+        t[k] = (bench_now_ns() - t0) / (double)batch;
     }
     qsort(t, (size_t)samples, sizeof *t, cmp_double);
-    out->median_ns = hp_bench_percentile(t, samples, 0.5);
-    out->p99_ns = hp_bench_percentile(t, samples, 0.99);
+    out->median_ns = bench_percentile(t, samples, 0.5);
+    out->p99_ns = bench_percentile(t, samples, 0.99);
     out->samples = samples;
     out->batch = batch;
     free(t);

@@ -1,0 +1,251 @@
+/* Regression tests of issue 10's planner findings, each of which failed on the old main:
+ *   - half-turns "reached" with the pressures of another pose (180° and 170° of pitch);
+ *   - components a layout cannot command dropped while the plan said "reached" (one to five
+ *     bladders, a flat layout), and a rank decision that depended on scale (pivot 1 km away:
+ *     rotations dropped; 100 m: not);
+ *   - a sphere turned about an off-centre pivot: the turn moves the centre, which the layout
+ *     observes, but the whole turn was dropped (checked here against contact distances
+ *     computed from the geometry in this file, not the library's). */
+#include "test_util.h"
+#include "tests/kinematics/ident_layouts.h"
+#include "tests/planner/layout_fixture.h"
+
+#include <string.h>
+
+#define PI 3.14159265358979323846
+
+static const hp_backend backends[4] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT,
+                                       HP_BACKEND_NLOPT_SLSQP, HP_BACKEND_NLOPT_COBYLA};
+
+static hp_planner *make(const hp_layout *L, hp_backend b, hp_level level)
+{
+    hp_settings s;
+    hp_settings_default(&s);
+    s.backend = b;
+    s.level = level;
+    s.max_time = 60.0; /* outcomes must not depend on the machine's speed */
+    hp_planner *p = NULL;
+    hp_diag d = {{0}};
+    if (hp_planner_create(L, &s, &p, &d) != HP_OK) print_error("create: %s\n", d.text);
+    return p;
+}
+
+/* R = Rz(yaw)·Ry(roll)·Rx(pitch), written out here (not the library's). */
+static void my_rotation(const double th[3], double R[9])
+{
+    double ca = cos(th[0]), sa = sin(th[0]), cb = cos(th[1]), sb = sin(th[1]);
+    double cg = cos(th[2]), sg = sin(th[2]);
+    double M[9] = {cg * cb, cg * sb * sa - sg * ca, cg * sb * ca + sg * sa,
+                   sg * cb, sg * sb * sa + cg * ca, sg * sb * ca - cg * sa,
+                   -sb,     cb * sa,                cb * ca};
+    memcpy(R, M, sizeof M);
+}
+
+/* Half-turns and everything at or beyond 90° about any axis are refused as invalid input
+ * with the limit named, holding the nominal pressures; just below 90° is planned. */
+static void half_turn_refused(void **st)
+{
+    (void)st;
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    const double bad_deg[6] = {180.0, -180.0, 170.0, 90.001, -90.001, 120.0};
+    for (int bi = 0; bi < 4; ++bi) {
+        hp_planner *p = make(&L, backends[bi], HP_LEVEL_SURFACE);
+        assert_non_null(p);
+        const hp_identifiable *id = hp_planner_identifiable(p);
+        assert_non_null(id);
+        assert_true(id->rot_limit == 0.5 * PI && id->rank == 6);
+        assert_null(hp_planner_identifiable(NULL));
+        hp_result nominal, r;
+        const double nan6[6] = {NAN, 0, 0, 0, 0, 0};
+        hp_plan(p, nan6, &nominal);
+        for (int axis = 3; axis < 6; ++axis)
+            for (int t = 0; t < 6; ++t) {
+                double xi[6] = {0};
+                xi[axis] = bad_deg[t] * PI / 180.0;
+                assert_int_equal(hp_plan(p, xi, &r), HP_OK);
+                if (r.status != HP_STATUS_INVALID_INPUT)
+                    print_error("%s: %s %g deg -> %s\n", hp_backend_name(backends[bi]),
+                                hp_pose_key(axis), bad_deg[t], hp_status_name(r.status));
+                assert_int_equal(r.status, HP_STATUS_INVALID_INPUT);
+                assert_non_null(strstr(hp_planner_error(p), "identifiable range"));
+                assert_non_null(strstr(hp_planner_error(p), "below 90 deg"));
+                for (int k = 0; k < L.n; ++k)
+                    assert_true(r.bladders[k].pressure == nominal.bladders[k].pressure);
+            }
+        double ok[6] = {0, 0, 0, 89.9 * PI / 180.0, 0, 0};
+        assert_int_equal(hp_plan(p, ok, &r), HP_OK);
+        assert_int_not_equal(r.status, HP_STATUS_INVALID_INPUT);
+        assert_int_not_equal(r.status, HP_STATUS_REACHED); /* far beyond reach */
+        hp_planner_destroy(p);
+    }
+}
+
+/* Layouts that cannot observe every direction: what they cannot observe is reported and
+ * the plan is never "reached" while it is beyond the tolerance; what they can observe is met
+ * with the contact distances of the desired pose itself. */
+static void deficient_layouts_never_reached(void **st)
+{
+    (void)st;
+    double flat[8][3];
+    il_flat_rays(flat);
+    uint64_t seed = 10;
+    for (int c = 1; c <= 6; ++c) {
+        hp_layout L;
+        int n = c <= 5 ? c : 8;
+        const double(*rays)[3] = c <= 5 ? il_default_rays : (const double(*)[3])flat;
+        assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin,
+                                   il_origin, n, rays, 1.0), HP_OK);
+        for (int bi = 0; bi < 2; ++bi) {
+            hp_planner *p = make(&L, backends[bi], HP_LEVEL_SURFACE);
+            assert_non_null(p);
+            int unc = 0;
+            for (int t = 0; t < 12; ++t) {
+                double cl[6], xi[6];
+                for (int i = 0; i < 6; ++i) cl[i] = 0.3 * lf_uniform(&seed);
+                lf_pose(cl, xi);
+                hp_result r;
+                assert_int_equal(hp_plan(p, xi, &r), HP_OK);
+                int dropped = 0;
+                for (int i = 0; i < 6; ++i) dropped += !r.commanded[i];
+                assert_true(dropped >= 6 - (n < 6 ? n : 3));
+                double umax = 0;
+                for (int i = 0; i < 6; ++i)
+                    umax = fmax(umax, fabs(r.uncommanded[i]) * (i < 3 ? 1e3 : 180 / PI));
+                assert_true(umax > 1e-6); /* a random correction has a part it cannot see */
+                assert_true(r.status != HP_STATUS_REACHED);
+                if (r.status == HP_STATUS_UNCOMMANDED) {
+                    ++unc;
+                    assert_non_null(strstr(hp_planner_error(p), "not commanded"));
+                    /* With at most five bladders the commanded components meet the desired
+                     * pose's own distances exactly; the flat layout sees z, pitch and roll at
+                     * second order, which no commanded motion reproduces (least squares). */
+                    double rho[8];
+                    assert_int_equal(hp_contact_eval(&L, HP_LEVEL_SURFACE, xi, rho, NULL, NULL),
+                                     HP_OK);
+                    for (int k = 0; k < n && n <= 5; ++k)
+                        hp_assert_close(r.bladders[k].ro, rho[k], 0, 1e-12);
+                    for (int i = 0; i < 6; ++i)
+                        if (!r.commanded[i]) assert_true(r.achieved[i] == 0.0);
+                }
+            }
+            assert_true(unc >= 1);
+            /* A correction in the commanded components only is reached. */
+            double xi[6] = {0};
+            for (int i = 0; i < 6; ++i)
+                if (hp_planner_layout(p) && i < 3) xi[i] = 0;
+            hp_result r;
+            int first = -1;
+            hp_plan(p, xi, &r);
+            for (int i = 0; i < 6 && first < 0; ++i)
+                if (r.commanded[i]) first = i;
+            xi[first] = first < 3 ? 1e-4 : 1e-3;
+            assert_int_equal(hp_plan(p, xi, &r), HP_OK);
+            assert_int_equal(r.status, HP_STATUS_REACHED);
+            hp_planner_destroy(p);
+        }
+    }
+}
+
+/* A pivot far away changes only coordinates: every direction stays commanded (on old main
+ * the rotations were dropped at 1 km and the plan said "reached"), and a correction is met
+ * exactly in every component or labelled closest. */
+static void far_pivot_commands_everything(void **st)
+{
+    (void)st;
+    const double pivots[3][3] = {{0, 0, -0.07}, {0, 100.0, 0}, {0, 0, 1000.0}};
+    for (int pi = 0; pi < 3; ++pi) {
+        hp_layout L;
+        assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin,
+                                   pivots[pi], 8, il_default_rays, 1.0), HP_OK);
+        hp_planner *p = make(&L, HP_BACKEND_REALTIME, HP_LEVEL_SURFACE);
+        assert_non_null(p);
+        const double small[6] = {0.3e-3, -0.2e-3, 0.1e-3, 1e-7, -2e-7, 1e-7};
+        hp_result r;
+        assert_int_equal(hp_plan(p, small, &r), HP_OK);
+        for (int i = 0; i < 6; ++i) assert_int_equal(r.commanded[i], 1);
+        for (int i = 0; i < 6; ++i) assert_true(r.uncommanded[i] == 0.0);
+        assert_int_equal(r.status, HP_STATUS_REACHED);
+        const double turn[6] = {0, 0, 0, 0.02, 0, 0};
+        assert_int_equal(hp_plan(p, turn, &r), HP_OK);
+        assert_true(r.status == HP_STATUS_REACHED || r.status == HP_STATUS_CLOSEST);
+        hp_planner_destroy(p);
+    }
+}
+
+/* Sphere head, pivot 70 mm below its centre (and one off every axis): the commanded part is
+ * the motion of the centre. For every answer that claims its commanded part, the returned
+ * outer radii equal the exact contact distances at the DESIRED pose, computed here:
+ * |c_k − centre'| − r with centre' = pivot + R(centre − pivot) + t. */
+static void sphere_off_centre_pivot(void **st)
+{
+    (void)st;
+    const double r90[3] = {0.09, 0.09, 0.09};
+    const double pivots[2][3] = {{0, 0, -0.07}, {0.02, -0.03, -0.05}};
+    uint64_t seed = 45;
+    for (int pi = 0; pi < 2; ++pi) {
+        hp_layout L;
+        assert_int_equal(il_layout(&L, HP_HEAD_SPHERE, r90, il_origin, pivots[pi], 8,
+                                   il_default_rays, 1.0), HP_OK);
+        for (int bi = 0; bi < 4; ++bi) {
+            hp_planner *p = make(&L, backends[bi], HP_LEVEL_SURFACE);
+            assert_non_null(p);
+            int checked = 0, n = bi == 0 ? 45 : 12;
+            for (int t = 0; t < n; ++t) {
+                double cl[6], xi[6], R[9], c[3];
+                for (int i = 0; i < 3; ++i) cl[i] = 1.0 * lf_uniform(&seed);
+                for (int i = 3; i < 6; ++i) cl[i] = 3.0 * lf_uniform(&seed);
+                lf_pose(cl, xi);
+                hp_result r;
+                assert_int_equal(hp_plan(p, xi, &r), HP_OK);
+                my_rotation(xi + 3, R);
+                for (int i = 0; i < 3; ++i) {
+                    c[i] = pivots[pi][i] + xi[i];
+                    for (int j = 0; j < 3; ++j) c[i] += R[i * 3 + j] * (0.0 - pivots[pi][j]);
+                }
+                /* The part not commanded: the turn, and the translation that makes it a
+                 * turn about the centre; the commanded part is the centre's motion. */
+                for (int i = 0; i < 3; ++i) hp_assert_close(xi[i] - r.uncommanded[i], c[i], 0, 1e-15);
+                for (int i = 3; i < 6; ++i) assert_true(r.uncommanded[i] == xi[i]);
+                assert_true(r.status != HP_STATUS_REACHED);
+                if (r.status != HP_STATUS_UNCOMMANDED) continue;
+                ++checked;
+                for (int k = 0; k < 8; ++k) {
+                    const double *b = L.bladders[k].center;
+                    double d = sqrt((b[0] - c[0]) * (b[0] - c[0]) + (b[1] - c[1]) * (b[1] - c[1]) +
+                                    (b[2] - c[2]) * (b[2] - c[2])) - 0.09;
+                    /* Pose tolerance 1e-9 mm through a unit-gain Jacobian, plus rounding. */
+                    hp_assert_close(r.bladders[k].ro, d, 0, 2e-12);
+                }
+            }
+            print_message("sphere pivot #%d %s: %d of %d answers checked against the geometry\n",
+                          pi, hp_backend_name(backends[bi]), checked, n);
+            assert_true(checked >= n / 3);
+            hp_planner_destroy(p);
+        }
+    }
+    /* The issue's case: 25 degrees of pitch about a pivot 70 mm below the centre moves the
+     * centre 29.6 mm; that motion is commanded (here beyond reach: closest), the turn not. */
+    hp_layout L;
+    assert_int_equal(il_layout(&L, HP_HEAD_SPHERE, r90, il_origin, pivots[0], 8,
+                               il_default_rays, 1.0), HP_OK);
+    hp_planner *p = make(&L, HP_BACKEND_REALTIME, HP_LEVEL_SURFACE);
+    const double pitch25[6] = {0, 0, 0, 25 * PI / 180, 0, 0};
+    hp_result r;
+    assert_int_equal(hp_plan(p, pitch25, &r), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_CLOSEST);
+    hp_assert_close(-r.uncommanded[1], -0.07 * sin(25 * PI / 180), 0, 1e-15);
+    assert_non_null(strstr(hp_planner_error(p), "pitch 25.000000 deg"));
+    hp_planner_destroy(p);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(half_turn_refused),
+        cmocka_unit_test(deficient_layouts_never_reached),
+        cmocka_unit_test(far_pivot_commands_everything),
+        cmocka_unit_test(sphere_off_centre_pivot),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
