@@ -6,6 +6,7 @@
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 PyObject *hpy_error;
 
@@ -124,7 +125,10 @@ PyObject *hpy_str_array(const char *const *texts, npy_intp n)
         Py_DECREF(list);
         return NULL;
     }
-    d->elsize = 16 * 4; /* the longest status name, "iteration-limit", is 15 */
+    size_t longest = 1;
+    for (npy_intp i = 0; i < n; ++i)
+        if (strlen(texts[i]) > longest) longest = strlen(texts[i]);
+    d->elsize = (int)longest * 4; /* UCS4: as wide as the longest text, no wider */
     PyObject *arr = PyArray_FromAny(list, d, 1, 1, NPY_ARRAY_DEFAULT, NULL);
     Py_DECREF(list);
     return arr;
