@@ -261,6 +261,15 @@ static void write_table(const picture *p, FILE *f, double mag, double left)
     fprintf(f, "set label 142 'red: a bladder on a limit' at screen %.3f,%.3f font 'Sans,10' "
                "tc rgb '#d00000'\n",
             left, y);
+    if (*p->message) {
+        /* The planner's own words for a status other than reached, cut to the panel. */
+        y -= step;
+        fprintf(f, "set label 143 ");
+        char text[72];
+        snprintf(text, sizeof text, "%s", p->message);
+        gp_quote(f, text);
+        fprintf(f, " at screen %.3f,%.3f font 'Sans,9' noenhanced\n", left, y);
+    }
 }
 
 /* The whole gnuplot script: terminal, data, settings, then the two views in a multiplot;
