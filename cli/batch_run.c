@@ -75,16 +75,7 @@ int batch_same(const batch_out *a, const batch_out *b, int n)
 static hp_error nominal_pressures(hp_planner *p, double *prev)
 {
     hp_planner_reset(p);
-    const hp_layout *L = hp_planner_layout(p);
-    for (int k = 0; k < L->n; ++k) {
-        double ri, P;
-        const hp_iab *b = &L->bladders[k].iab;
-        hp_error e = hp_iab_ri(b, L->rho0[k], &ri);
-        if (e == HP_OK) e = hp_iab_ik(b, ri, &P);
-        if (e != HP_OK) return e;
-        prev[k] = P;
-    }
-    return HP_OK;
+    return hp_planner_nominal_pressures(p, prev);
 }
 
 static int make_planner(const hp_layout *L, const hp_settings *s, hp_planner **p)

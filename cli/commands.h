@@ -11,5 +11,7 @@ int hp_cmd_analyze(int argc, char **argv);
 int hp_cmd_batch(int argc, char **argv);
 int hp_cmd_fit(int argc, char **argv);
 int hp_cmd_horizon(int argc, char **argv);
+int hp_cmd_render(int argc, char **argv);
+int hp_cmd_plot(int argc, char **argv);
 
 #endif

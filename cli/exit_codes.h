@@ -10,6 +10,7 @@ enum {
     HP_EXIT_USAGE = 64,      /* bad command line: unknown option, missing value */
     HP_EXIT_DATAERR = 65,    /* bad data: a value out of range, a malformed scene */
     HP_EXIT_NOINPUT = 66,    /* an input file cannot be opened */
+    HP_EXIT_UNAVAILABLE = 69,/* render/plot: gnuplot is not installed (nothing else needs it) */
     HP_EXIT_SOFTWARE = 70,   /* solver failure or internal error */
     HP_EXIT_CANTCREAT = 73,  /* an output file cannot be created or is refused (batch -o) */
     HP_EXIT_IOERR = 74,      /* a write, flush or close of stdout or a file failed */

@@ -25,6 +25,8 @@ static const command commands[] = {
     {"horizon", hp_cmd_horizon, "a scene and a trace -> greedy, receding and offline plans"},
     {"analyze", hp_cmd_analyze, "a scene -> layout conditioning, weakest direction and reach"},
     {"fit", hp_cmd_fit, "calibration: bladder moduli or layout from measurements"},
+    {"render", hp_cmd_render, "a scene and one plan drawn in 3-D (gnuplot): PNG or SVG"},
+    {"plot", hp_cmd_plot, "a batch result over time (gnuplot): pose error, pressures"},
 };
 static const size_t n_commands = sizeof commands / sizeof commands[0];
 
@@ -35,8 +37,9 @@ static void usage(FILE *out)
         fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
     fprintf(out, "\n  --version  print the version\n  --help     this text\n"
                  "\nexit status: 0 ok, 1 closest reachable only, 64 usage, 65 bad data,\n"
-                 "66 cannot open input, 70 solver or internal failure, 73 output refused or cannot\n"
-                 "be created, 74 a write to stdout or a file failed\n");
+                 "66 cannot open input, 69 gnuplot missing (render, plot), 70 solver or internal\n"
+                 "failure, 73 output refused or cannot be created, 74 a write to stdout or a file\n"
+                 "failed\n");
 }
 
 int main(int argc, char **argv)

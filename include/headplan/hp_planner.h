@@ -253,6 +253,12 @@ HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
 /* Forgets the previous plan: the nominal pose becomes the previous answer again. */
 HP_API void hp_planner_reset(hp_planner *p);
 
+/* The pressures [Pa] (n values) that hold the layout's nominal pose: each bladder's
+ * closed-form IK at its nominal contact distance, unclamped. A trace run (headplan batch,
+ * the Python module's run_trace) starts from them with hp_planner_set_previous. Returns
+ * HP_OK, HP_ERR_NULL, or the bladder model's error (pressures then NaN). Allocates nothing. */
+HP_API hp_error hp_planner_nominal_pressures(const hp_planner *p, double *pressures);
+
 /* Frees a planner; safe on NULL and on a half-built planner. */
 HP_API void hp_planner_destroy(hp_planner *p);
 

@@ -1,0 +1,495 @@
+/* headplan plot: a batch result (CSV of headplan batch) drawn over time by gnuplot — the
+ * pose error of every axis against the clinical tolerance band (0.5 mm / 0.5 degree), the
+ * bladders' pressures with their limits, and the rows that did not reach their correction.
+ * The result holds the achieved pose; the desired one comes from the trace (--trace, or the
+ * scene's), matched by line. Units: mm, degrees, kPa on the picture. */
+#define _POSIX_C_SOURCE 200809L
+#include "cli/cli_args.h"
+#include "cli/cli_scene.h"
+#include "cli/commands.h"
+#include "cli/exit_codes.h"
+#include "cli/gnuplot_out.h"
+#include "headplan/hp_scene.h"
+#include "headplan/hp_trace.h"
+
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *const CMD = "plot";
+
+/* The clinical tolerance the band shows: 0.5 mm in translation, 0.5 degree in rotation. */
+#define TOLERANCE_BAND 0.5
+
+static void help(void)
+{
+    printf("usage: headplan plot RESULT [--scene SCENE] [--trace TRACE]\n"
+           "                     [--rows deviation|correction] -o FILE.png|FILE.svg\n"
+           "                     [--size WxH] [--script-out FILE.gp] [--dry-run]\n\n"
+           "Draws a headplan batch result (CSV) over time with gnuplot. Top: the pose error\n"
+           "of every axis (achieved - desired; mm for x, y, z and degrees for pitch, roll,\n"
+           "yaw) inside the clinical tolerance band of +-0.5 mm / +-0.5 deg (green). Bottom:\n"
+           "every bladder's pressure in kPa with its limits (dashed). Rows that only reached\n"
+           "the closest correction are marked by orange triangles along the top of both\n"
+           "panels, failed rows by red crosses (uncommanded rows with the closest ones). The\n"
+           "errors are the result's error_* columns; a trace (--trace, else the scene's), when\n"
+           "given, is matched to the result by line and must be the one it was planned from.\n"
+           "The limits come from --scene.\n\n"
+           "  --scene SCENE  the scene the result was planned with (limits, trace)\n"
+           "  --trace TRACE  the trace it was planned from (default: the scene's)\n"
+           "  --rows KIND    deviation or correction (default: the trace's or the scene's)\n"
+           "%s"
+           "  --help         this text\n\n"
+           "exit status: 0 picture written, 64 bad command line, 65 bad result, scene or\n"
+           "trace, 66 an input cannot be read, 69 gnuplot not installed, 70 gnuplot failed,\n"
+           "73 picture or script cannot be written\n",
+           GP_HELP);
+}
+
+typedef struct plot_args {
+    const char *result, *scene, *trace, *rows;
+    gp_out out;
+} plot_args;
+
+static int parse(int argc, char **argv, plot_args *a)
+{
+    for (int i = 1; i < argc; ++i)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            help();
+            return HP_EXIT_OK;
+        }
+    a->out.width = 1400;
+    a->out.height = 900;
+    const char *names[] = {"--scene", "--trace", "--rows"};
+    const char **slots[] = {&a->scene, &a->trace, &a->rows};
+    for (int i = 1; i < argc; ++i) {
+        int m = gp_option(CMD, argc, argv, &i, &a->out);
+        if (m == 1) continue;
+        if (m != 0) return m;
+        int matched = 0;
+        for (int o = 0; o < 3 && !matched; ++o) {
+            const char *v = NULL;
+            m = hp_cli_opt(CMD, argc, argv, &i, names[o], &v);
+            if (m < 0) return HP_EXIT_USAGE;
+            if (m == 0) continue;
+            if (*slots[o])
+                return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given more than once", names[o]);
+            *slots[o] = v;
+            matched = 1;
+        }
+        if (matched) continue;
+        if (argv[i][0] == '-' && argv[i][1])
+            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
+        if (a->result) return hp_cli_fail(HP_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
+        a->result = argv[i];
+    }
+    if (!a->result) return hp_cli_fail(HP_EXIT_USAGE, CMD, "missing RESULT (see --help)");
+    return gp_check(CMD, &a->out);
+}
+
+/* One row of the result. */
+typedef struct row {
+    long line;
+    double t;
+    int status; /* 0 reached, 1 closest, 2 anything else (bad row included) */
+    int bad;    /* no numbers (bad-row) */
+    double achieved[6], pose_error, err[6];
+    int has_desired;
+    double p[HP_MAX_BLADDERS]; /* kPa */
+} row;
+
+typedef struct result {
+    size_t n, cap;
+    row *rows;
+    int nb;                             /* bladders (the *_pa columns) */
+    char names[HP_MAX_BLADDERS][HP_NAME_MAX];
+    int have_limits;
+    double pmin[HP_MAX_BLADDERS], pmax[HP_MAX_BLADDERS]; /* kPa */
+    int have_desired;
+    int have_err_cols;                  /* the error_* columns are in the result */
+} result;
+
+/* Splits a CSV line in place (no quoting in batch output). Returns the field count. */
+static int split(char *s, char **f, int max)
+{
+    int n = 0;
+    s[strcspn(s, "\r\n")] = '\0';
+    for (;;) {
+        if (n == max) return -1;
+        f[n++] = s;
+        char *c = strchr(s, ',');
+        if (!c) return n;
+        *c = '\0';
+        s = c + 1;
+    }
+}
+
+static int number(const char *text, double *v)
+{
+    char *end;
+    errno = 0;
+    *v = strtod(text, &end);
+    return end != text && *end == '\0' && errno == 0 && isfinite(*v) ? 0 : -1;
+}
+
+enum { MAXF = 256 }; /* columns: 8 bladders give about 80 */
+
+/* Column indices from the header. Returns -1 to go on, or the exit status. */
+static int header(const char *path, char **f, int nf, int *col, result *res)
+{
+    static const char *const need[] = {
+        "line", "t_s", "status", "achieved_x_mm", "achieved_y_mm", "achieved_z_mm",
+        "achieved_pitch_deg", "achieved_roll_deg", "achieved_yaw_deg", "pose_error_mm"};
+    for (int k = 0; k < 10; ++k) {
+        col[k] = -1;
+        for (int i = 0; i < nf; ++i)
+            if (strcmp(f[i], need[k]) == 0) col[k] = i;
+        if (col[k] < 0)
+            return hp_cli_fail(HP_EXIT_DATAERR, CMD,
+                               "%s:1: not a headplan batch CSV: no column '%s'", path, need[k]);
+    }
+    res->nb = 0;
+    static const char suffix[] = "_pressure_pa";
+    const size_t sl = sizeof suffix - 1;
+    for (int i = 0; i < nf; ++i) {
+        size_t len = strlen(f[i]);
+        if (len > sl && strcmp(f[i] + len - sl, suffix) == 0 && res->nb < HP_MAX_BLADDERS &&
+            len - sl < HP_NAME_MAX) {
+            col[10 + HP_MAX_BLADDERS + res->nb] = i;
+            memcpy(res->names[res->nb], f[i], len - sl);
+            res->names[res->nb][len - sl] = '\0';
+            res->nb++;
+        }
+    }
+    if (res->nb == 0)
+        return hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s:1: no pressure columns (NAME_pressure_pa)",
+                           path);
+    /* The per-axis errors (achieved − desired) are in the result itself. */
+    static const char *const errs[6] = {"error_x_mm", "error_y_mm", "error_z_mm",
+                                        "error_pitch_deg", "error_roll_deg", "error_yaw_deg"};
+    res->have_err_cols = 1;
+    for (int k = 0; k < 6; ++k) {
+        col[10 + k] = -1;
+        for (int i = 0; i < nf; ++i)
+            if (strcmp(f[i], errs[k]) == 0) col[10 + k] = i;
+        if (col[10 + k] < 0) res->have_err_cols = 0;
+    }
+    return -1;
+}
+
+static int read_result(const char *path, result *res)
+{
+    FILE *in = fopen(path, "r");
+    if (!in)
+        return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    char buf[8192];
+    char *f[MAXF];
+    int col[10 + 6 + 2 * HP_MAX_BLADDERS], nf = 0, rc = -1;
+    long lineno = 0;
+    int have_header = 0;
+    while (rc < 0 && fgets(buf, sizeof buf, in)) {
+        ++lineno;
+        if (buf[0] == '#' || buf[0] == '\n') continue;
+        nf = split(buf, f, MAXF);
+        if (nf < 0) {
+            rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s:%ld: more than %d columns", path, lineno,
+                             MAXF);
+            break;
+        }
+        if (!have_header) {
+            rc = header(path, f, nf, col, res);
+            have_header = 1;
+            continue;
+        }
+        if (res->n == res->cap) {
+            size_t cap = res->cap ? res->cap * 2 : 1024;
+            row *g = realloc(res->rows, cap * sizeof *g);
+            if (!g) {
+                rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+                break;
+            }
+            res->rows = g;
+            res->cap = cap;
+        }
+        row *r = &res->rows[res->n];
+        memset(r, 0, sizeof *r);
+        double v;
+        int maxcol = 0;
+        for (int k = 0; k < 10; ++k) maxcol = col[k] > maxcol ? col[k] : maxcol;
+        for (int k = 0; k < res->nb; ++k)
+            maxcol = col[10 + HP_MAX_BLADDERS + k] > maxcol ? col[10 + HP_MAX_BLADDERS + k] : maxcol;
+        for (int k = 0; res->have_err_cols && k < 6; ++k)
+            maxcol = col[10 + k] > maxcol ? col[10 + k] : maxcol;
+        if (nf <= maxcol || number(f[col[0]], &v)) {
+            rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s:%ld: malformed row", path, lineno);
+            break;
+        }
+        r->line = (long)v;
+        const char *st = f[col[2]];
+        r->bad = strcmp(st, "bad-row") == 0;
+        /* uncommanded is an answer, marked with the closest ones: neither met the request */
+        r->status = strcmp(st, "reached") == 0                                      ? 0
+                    : strcmp(st, "closest") == 0 || strcmp(st, "uncommanded") == 0 ? 1
+                                                                                    : 2;
+        if (!r->bad) {
+            int bad = number(f[col[1]], &r->t) || number(f[col[9]], &r->pose_error);
+            for (int i = 0; i < 6; ++i) bad |= number(f[col[3 + i]], &r->achieved[i]);
+            for (int k = 0; k < res->nb; ++k) {
+                bad |= number(f[col[10 + HP_MAX_BLADDERS + k]], &r->p[k]);
+                r->p[k] *= 1e-3;
+            }
+            for (int k = 0; res->have_err_cols && k < 6; ++k)
+                bad |= number(f[col[10 + k]], &r->err[k]);
+            r->has_desired = res->have_err_cols;
+            if (bad) {
+                rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s:%ld: a number is malformed", path,
+                                 lineno);
+                break;
+            }
+        }
+        res->n++;
+    }
+    if (rc < 0 && !have_header)
+        rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: empty (no header)", path);
+    if (rc < 0 && ferror(in)) rc = hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: read error", path);
+    fclose(in);
+    return rc;
+}
+
+/* Desired poses from the trace, matched to the result's rows by line (both in file order). */
+static int read_desired(const char *path, const hp_trace_rows *rows, result *res)
+{
+    hp_trace_reader *r = NULL;
+    hp_diag d = {{0}};
+    hp_error e = hp_trace_open(path, rows, &r, &d);
+    if (e != HP_OK)
+        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
+    size_t i = 0;
+    for (size_t k = 0; k < res->n; ++k) res->rows[k].has_desired = 0; /* matched anew */
+    for (;;) {
+        hp_trace_row tr;
+        e = hp_trace_next(r, &tr, &d);
+        if (e == HP_END) break;
+        if (e == HP_ERR_IO) {
+            hp_trace_close(r);
+            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s", d.text);
+        }
+        if (e != HP_OK) continue; /* a bad trace row is a bad-row in the result */
+        while (i < res->n && res->rows[i].line < tr.line) ++i;
+        if (i < res->n && res->rows[i].line == tr.line && !res->rows[i].bad) {
+            double c[6];
+            hp_pose_to_clinical(tr.correction, c);
+            for (int k = 0; k < 6; ++k) res->rows[i].err[k] = res->rows[i].achieved[k] - c[k];
+            res->rows[i].has_desired = 1;
+        }
+    }
+    hp_trace_close(r);
+    size_t matched = 0;
+    for (size_t k = 0; k < res->n; ++k) matched += res->rows[k].has_desired;
+    size_t good = 0;
+    for (size_t k = 0; k < res->n; ++k) good += !res->rows[k].bad;
+    if (matched != good)
+        return hp_cli_fail(HP_EXIT_DATAERR, CMD,
+                           "%s: %zu of the result's %zu rows have no row of the same line in "
+                           "the trace (is it the trace the result was planned from?)",
+                           path, good - matched, good);
+    res->have_desired = 1;
+    return -1;
+}
+
+static int write_script(const void *arg, FILE *f)
+{
+    const void *const *pa = arg;
+    const result *res = pa[0];
+    const gp_out *out = pa[1];
+    const char *title = pa[2];
+    fprintf(f, "# headplan plot: %s. Units: s, mm and degrees, kPa. Redraw: gnuplot THIS_FILE\n",
+            title);
+    gp_terminal(f, out);
+    /* $rows: t, six axis errors (or pose_error), pressures in kPa. */
+    double emin = -TOLERANCE_BAND, emax = TOLERANCE_BAND, pmin = INFINITY, pmax = -INFINITY;
+    fprintf(f, "$rows << EOD\n# t_s");
+    if (res->have_desired)
+        for (int i = 0; i < 6; ++i) fprintf(f, " err_%s", hp_pose_key(i));
+    else
+        fprintf(f, " pose_error");
+    for (int k = 0; k < res->nb; ++k) fprintf(f, " %s_kpa", res->names[k]);
+    fprintf(f, "\n");
+    double tmin = INFINITY, tmax = -INFINITY;
+    for (size_t i = 0; i < res->n; ++i) {
+        const row *r = &res->rows[i];
+        if (r->bad) continue;
+        tmin = fmin(tmin, r->t);
+        tmax = fmax(tmax, r->t);
+        fprintf(f, "%.10g", r->t);
+        int ne = res->have_desired ? 6 : 1;
+        for (int k = 0; k < ne; ++k) {
+            double e = res->have_desired ? r->err[k] : r->pose_error;
+            emin = fmin(emin, e);
+            emax = fmax(emax, e);
+            fprintf(f, " %.10g", e);
+        }
+        for (int k = 0; k < res->nb; ++k) {
+            pmin = fmin(pmin, r->p[k]);
+            pmax = fmax(pmax, r->p[k]);
+            fprintf(f, " %.10g", r->p[k]);
+        }
+        fprintf(f, "\n");
+    }
+    fprintf(f, "EOD\n");
+    if (res->have_limits)
+        for (int k = 0; k < res->nb; ++k) {
+            pmin = fmin(pmin, res->pmin[k]);
+            pmax = fmax(pmax, res->pmax[k]);
+        }
+    if (!(pmax > pmin)) {
+        pmin -= 1;
+        pmax += 1;
+    }
+    if (!(tmax > tmin)) {
+        tmin -= 0.5;
+        tmax += 0.5;
+    }
+    double epad = 0.12 * (emax - emin), ppad = 0.12 * (pmax - pmin);
+    double etop = emax + 0.6 * epad, ptop = pmax + 0.6 * ppad;
+    /* Rows that did not reach: closest, and failed (other statuses). */
+    for (int s = 1; s <= 2; ++s) {
+        fprintf(f, "$status%d << EOD\n", s);
+        for (size_t i = 0; i < res->n; ++i)
+            if (res->rows[i].status == s && !res->rows[i].bad)
+                fprintf(f, "%.10g\n", res->rows[i].t);
+        fprintf(f, "EOD\n");
+    }
+    size_t closest = 0, failed = 0, bad = 0;
+    for (size_t i = 0; i < res->n; ++i) {
+        closest += res->rows[i].status == 1;
+        failed += res->rows[i].status == 2 && !res->rows[i].bad;
+        bad += res->rows[i].bad;
+    }
+    fprintf(f, "set multiplot layout 2,1 title ");
+    gp_quote(f, title);
+    fprintf(f, " noenhanced font ',14'\n");
+    fprintf(f, "set key outside right top noenhanced\nset grid\nset xrange [%.10g:%.10g]\n", tmin, tmax);
+    fprintf(f, "set lmargin 12\nset rmargin 30\n");
+    fprintf(f, "set yrange [%.10g:%.10g]\n", emin - epad, emax + epad);
+    fprintf(f, "set ylabel '%s'\n", res->have_desired ? "pose error [mm or deg]"
+                                                       : "largest axis error [mm or deg]");
+    fprintf(f, "set title '%zu rows: %zu closest (orange), %zu failed (red), %zu bad rows'\n",
+            res->n, closest, failed, bad);
+    fprintf(f, "set object 1 rect from graph 0, first %g to graph 1, first %g behind "
+               "fc rgb '#d9f0d3' fs solid 1.0 noborder\n",
+            -TOLERANCE_BAND, TOLERANCE_BAND);
+    fprintf(f, "plot ");
+    if (res->have_desired)
+        for (int i = 0; i < 6; ++i)
+            fprintf(f, "$rows using 1:%d with lines lw 1.5 title '%s', ", 2 + i, hp_pose_key(i));
+    else
+        fprintf(f, "$rows using 1:2 with lines lw 1.5 title 'pose\\_error', ");
+    fprintf(f, "NaN with filledcurves fc rgb '#d9f0d3' title 'tolerance +-0.5'");
+    /* Empty marker blocks are left out (gnuplot warns about a plot with no points). */
+    if (closest)
+        fprintf(f, ", $status1 using 1:(%.10g) with points pt 9 ps 1 lc rgb '#f08000' title "
+                   "'closest'",
+                etop);
+    if (failed)
+        fprintf(f, ", $status2 using 1:(%.10g) with points pt 2 ps 1.2 lc rgb '#d00000' "
+                   "title 'failed'",
+                etop);
+    fprintf(f, "\n");
+    int ecol = res->have_desired ? 8 : 3;
+    fprintf(f, "unset object 1\nset title 'pressures%s'\nset ylabel 'pressure [kPa]'\n"
+               "set xlabel 'time [s]'\nset yrange [%.10g:%.10g]\nset key outside right top "
+               "noenhanced\n",
+            res->have_limits ? " and their limits (dashed)" : " (no --scene: limits unknown)",
+            pmin - ppad, pmax + ppad);
+    fprintf(f, "plot ");
+    for (int k = 0; k < res->nb; ++k)
+        fprintf(f, "$rows using 1:%d with lines lw 1.2 lc %d title '%s', ", ecol + k, k + 1,
+                res->names[k]);
+    if (res->have_limits) {
+        /* One dashed pair for limits shared by every bladder, else one pair per bladder. */
+        int same = 1;
+        for (int k = 1; k < res->nb; ++k)
+            same &= res->pmin[k] == res->pmin[0] && res->pmax[k] == res->pmax[0];
+        for (int k = 0; k < (same ? 1 : res->nb); ++k) {
+            char lc[32];
+            snprintf(lc, sizeof lc, same ? "rgb '#000000'" : "%d", k + 1);
+            fprintf(f, "%.10g with lines dt 2 lw 1.5 lc %s title '%s', %.10g with lines dt 2 "
+                       "lw 1.5 lc %s notitle, ",
+                    res->pmin[k], lc, same ? "limits" : "", res->pmax[k], lc);
+        }
+    }
+    if (closest)
+        fprintf(f, "$status1 using 1:(%.10g) with points pt 9 ps 1 lc rgb '#f08000' notitle, ",
+                ptop);
+    if (failed)
+        fprintf(f, "$status2 using 1:(%.10g) with points pt 2 ps 1.2 lc rgb '#d00000' notitle, ",
+                ptop);
+    fprintf(f, "NaN notitle\nunset multiplot\n");
+    return ferror(f) ? -1 : 0;
+}
+
+int hp_cmd_plot(int argc, char **argv)
+{
+    plot_args a = {0};
+    int rc = parse(argc, argv, &a);
+    if (rc >= 0) return rc;
+    hp_trace_rows kind;
+    if (a.rows && hp_trace_rows_parse(a.rows, &kind) != HP_OK)
+        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+                           "--rows: '%s' is neither 'deviation' nor 'correction'", a.rows);
+    result res = {0};
+    if ((rc = read_result(a.result, &res)) >= 0) {
+        free(res.rows);
+        return rc;
+    }
+    hp_scene *sc = NULL;
+    const char *trace = a.trace;
+    const hp_trace_rows *override = a.rows ? &kind : NULL;
+    hp_trace_rows scene_rows;
+    if (a.scene) {
+        int lrc = hp_cli_load_scene(CMD, a.scene, 1, &sc);
+        if (lrc) {
+            free(res.rows);
+            return lrc;
+        }
+        /* Limits by name: the result's columns are the scene's bladders. */
+        res.have_limits = 1;
+        for (int k = 0; k < res.nb; ++k) {
+            int found = 0;
+            for (int j = 0; j < sc->layout.n && !found; ++j)
+                if (strcmp(sc->layout.bladders[j].name, res.names[k]) == 0) {
+                    res.pmin[k] = sc->layout.bladders[j].p_min * 1e-3;
+                    res.pmax[k] = sc->layout.bladders[j].p_max * 1e-3;
+                    found = 1;
+                }
+            if (!found) {
+                rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: the scene %s has no bladder '%s'",
+                                 a.result, a.scene, res.names[k]);
+                break;
+            }
+        }
+        if (rc < 0 && !trace && sc->has_trace) {
+            trace = sc->trace_path;
+            scene_rows = sc->trace_rows;
+            if (!override) override = &scene_rows;
+        }
+    }
+    /* The result carries its own per-axis errors; a trace, when given, is checked against it
+     * (same lines) and supplies the same numbers. */
+    if (rc < 0 && res.have_err_cols) res.have_desired = 1;
+    if (rc < 0 && trace) rc = read_desired(trace, override, &res);
+    if (rc < 0) {
+        const char *slash = strrchr(a.result, '/');
+        char title[HP_SCENE_TEXT_MAX + 512];
+        snprintf(title, sizeof title, "%s%s%s", slash ? slash + 1 : a.result, sc ? ": " : "",
+                 sc ? sc->name : "");
+        const void *args[3] = {&res, &a.out, title};
+        rc = gp_draw(CMD, &a.out, write_script, args);
+    }
+    free(sc);
+    free(res.rows);
+    return rc;
+}

@@ -1,0 +1,197 @@
+/* Output options and the gnuplot run shared by render and plot (see gnuplot_out.h). The
+ * script holds its data inline (gnuplot data blocks), so --script-out gives one file that
+ * redraws the picture by hand (`gnuplot FILE.gp`); the drawing itself pipes the same script
+ * into gnuplot. */
+#define _POSIX_C_SOURCE 200809L
+#include "cli/gnuplot_out.h"
+#include "cli/cli_args.h"
+#include "cli/exit_codes.h"
+
+#include <errno.h>
+#include <signal.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+const char GP_HELP[] =
+    "  -o FILE        the picture: FILE.png or FILE.svg (required unless --dry-run)\n"
+    "  --size WxH     picture size in pixels (default 1500x700)\n"
+    "  --script-out F also keep the gnuplot script, data inline (redraw: gnuplot F)\n"
+    "  --dry-run      write the script (to stdout, or to --script-out) and do not draw\n";
+
+int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o)
+{
+    if (strcmp(argv[*i], "--dry-run") == 0) {
+        o->dry_run = 1;
+        return 1;
+    }
+    const char *v = NULL;
+    int m;
+    if ((m = hp_cli_opt(cmd, argc, argv, i, "-o", &v)) != 0) {
+        if (m < 0) return HP_EXIT_USAGE;
+        if (o->path) return hp_cli_fail(HP_EXIT_USAGE, cmd, "-o: given more than once");
+        o->path = v;
+        return 1;
+    }
+    if ((m = hp_cli_opt(cmd, argc, argv, i, "--script-out", &v)) != 0) {
+        if (m < 0) return HP_EXIT_USAGE;
+        if (o->script_out)
+            return hp_cli_fail(HP_EXIT_USAGE, cmd, "--script-out: given more than once");
+        o->script_out = v;
+        return 1;
+    }
+    if ((m = hp_cli_opt(cmd, argc, argv, i, "--size", &v)) != 0) {
+        if (m < 0) return HP_EXIT_USAGE;
+        char *end;
+        errno = 0;
+        long w = strtol(v, &end, 10), h = 0;
+        int ok = end != v && *end == 'x' && errno == 0;
+        if (ok) {
+            const char *hs = end + 1;
+            h = strtol(hs, &end, 10);
+            ok = end != hs && *end == '\0' && errno == 0;
+        }
+        if (!ok || w < 200 || w > 10000 || h < 200 || h > 10000)
+            return hp_cli_fail(HP_EXIT_USAGE, cmd,
+                               "--size: expected WxH in pixels, each 200..10000 (got '%s')", v);
+        o->width = w;
+        o->height = h;
+        return 1;
+    }
+    return 0;
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    return n > k && strcmp(s + n - k, suffix) == 0;
+}
+
+int gp_check(const char *cmd, gp_out *o)
+{
+    if (!o->width) {
+        o->width = 1500;
+        o->height = 700;
+    }
+    if (!o->path) {
+        if (o->dry_run) return -1;
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "-o: missing (FILE.png or FILE.svg)");
+    }
+    if (ends_with(o->path, ".svg")) o->svg = 1;
+    else if (!ends_with(o->path, ".png"))
+        return hp_cli_fail(HP_EXIT_USAGE, cmd, "-o: '%s' must end in .png or .svg", o->path);
+    return -1;
+}
+
+void gp_quote(FILE *f, const char *s)
+{
+    fputc('\'', f);
+    for (; *s; ++s) {
+        if (*s == '\'') fputc('\'', f);
+        fputc(*s, f);
+    }
+    fputc('\'', f);
+}
+
+void gp_terminal(FILE *f, const gp_out *o)
+{
+    if (o->svg) {
+        fprintf(f, "set terminal svg size %ld,%ld enhanced font 'Sans,12' background 'white'\n",
+                o->width, o->height);
+    } else {
+        fprintf(f,
+                "if (strstrt(GPVAL_TERMINALS, 'pngcairo') > 0) {\n"
+                "  set terminal pngcairo size %ld,%ld enhanced font 'Sans,11'\n"
+                "} else {\n  set terminal png size %ld,%ld\n}\n",
+                o->width, o->height, o->width, o->height);
+    }
+    fprintf(f, "set output ");
+    gp_quote(f, o->path ? o->path : "/dev/null");
+    fprintf(f, "\nset encoding utf8\n");
+}
+
+static int write_script(const char *cmd, const char *path, FILE *f,
+                        int (*writer)(const void *, FILE *), const void *arg)
+{
+    int bad = writer(arg, f) != 0;
+    bad |= ferror(f) != 0;
+    if (f != stdout) bad |= fclose(f) != 0;
+    else bad |= fflush(f) != 0;
+    if (bad) return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "cannot write the script %s", path);
+    return 0;
+}
+
+/* 1 when an executable "gnuplot" is in a folder of PATH. */
+static int gnuplot_on_path(void)
+{
+    const char *path = getenv("PATH");
+    if (!path) return 0;
+    char dir[4096];
+    while (*path) {
+        size_t n = strcspn(path, ":");
+        if (n > 0 && n < sizeof dir - 16) {
+            memcpy(dir, path, n);
+            strcpy(dir + n, "/gnuplot");
+            if (access(dir, X_OK) == 0) return 1;
+        }
+        path += n;
+        if (*path == ':') ++path;
+    }
+    return 0;
+}
+
+/* Pipes the script into gnuplot (its output to our stderr: stdout carries results only).
+ * Returns gnuplot's exit status, or -1 when it could not be run. */
+static int run_gnuplot(int (*writer)(const void *, FILE *), const void *arg)
+{
+    fflush(stdout);
+    fflush(stderr);
+    FILE *g = popen("gnuplot 1>&2", "w");
+    if (!g) return -1;
+    /* gnuplot stopping early must not kill us with SIGPIPE: its status tells. */
+    struct sigaction ign = {0}, old;
+    ign.sa_handler = SIG_IGN;
+    sigaction(SIGPIPE, &ign, &old);
+    writer(arg, g);
+    int st = pclose(g);
+    sigaction(SIGPIPE, &old, NULL);
+    return st >= 0 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
+}
+
+int gp_draw(const char *cmd, const gp_out *o, int (*writer)(const void *arg, FILE *f),
+               const void *arg)
+{
+    if (!o->dry_run && !gnuplot_on_path())
+        return hp_cli_fail(HP_EXIT_UNAVAILABLE, cmd,
+                           "gnuplot not found on PATH (install gnuplot-nox; --dry-run writes "
+                           "the script without it)");
+    if (o->script_out) {
+        FILE *f = fopen(o->script_out, "w");
+        if (!f)
+            return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "--script-out: cannot create '%s': %s",
+                               o->script_out, strerror(errno));
+        int rc = write_script(cmd, o->script_out, f, writer, arg);
+        if (rc) return rc;
+    } else if (o->dry_run) {
+        return write_script(cmd, "(stdout)", stdout, writer, arg);
+    }
+    if (o->dry_run) return 0;
+    /* An unwritable picture is the user's to fix (73), not a gnuplot failure; and a stale
+     * picture must not pass for a new one. */
+    FILE *probe = fopen(o->path, "w");
+    if (!probe)
+        return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "-o: cannot create '%s': %s", o->path,
+                           strerror(errno));
+    fclose(probe);
+    remove(o->path);
+    int st = run_gnuplot(writer, arg);
+    struct stat sb;
+    if (st != 0)
+        return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "gnuplot failed (exit %d) drawing %s", st,
+                           o->path);
+    if (stat(o->path, &sb) != 0 || sb.st_size == 0)
+        return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "-o: %s was not written", o->path);
+    return 0;
+}

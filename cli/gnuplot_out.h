@@ -1,0 +1,42 @@
+/* Pictures drawn by gnuplot for headplan render and headplan plot: the output options they
+ * share, the terminal preamble, and running gnuplot on the script. The program needs gnuplot
+ * only for these two subcommands: without it they fail with exit 69 and one line. */
+#ifndef HP_CLI_GNUPLOT_OUT_H
+#define HP_CLI_GNUPLOT_OUT_H
+
+#include <stdio.h>
+
+typedef struct gp_out {
+    const char *path;       /* -o FILE.png | FILE.svg */
+    int svg;                /* 1 for .svg */
+    long width, height;     /* --size WxH in pixels */
+    const char *script_out; /* --script-out FILE: keep the gnuplot script (data inline) */
+    int dry_run;            /* --dry-run: write the script (stdout unless --script-out) only */
+} gp_out;
+
+/* Matches one of the shared options at argv[*i] (-o, --size, --script-out, --dry-run) and
+ * stores it. Returns 1 when matched, 0 when not, or the exit status (64) after a message. */
+int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o);
+
+/* Checks the options once parsed: -o given (unless --dry-run) with a .png or .svg name.
+ * Returns -1 to go on, or 64 after a message. */
+int gp_check(const char *cmd, gp_out *o);
+
+/* Help text lines of the shared options, for a subcommand's --help. */
+extern const char GP_HELP[];
+
+/* Writes "set terminal ...; set output '...'" for o (pngcairo when this gnuplot has it, else
+ * png; svg). */
+void gp_terminal(FILE *f, const gp_out *o);
+
+/* Writes s as a gnuplot single-quoted string (a quote inside is doubled). */
+void gp_quote(FILE *f, const char *s);
+
+/* Writes the script with writer(arg, f) to --script-out (if given) or, for --dry-run alone,
+ * to stdout; then (unless --dry-run) pipes it into gnuplot (found on PATH) and checks that the
+ * picture was written and is not empty. Returns 0, 69 (gnuplot missing), 70 (gnuplot failed) or 73
+ * (script or picture cannot be written), after one line on stderr. */
+int gp_draw(const char *cmd, const gp_out *o, int (*writer)(const void *arg, FILE *f),
+               const void *arg);
+
+#endif

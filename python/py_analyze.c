@@ -1,0 +1,88 @@
+/* headplan.analyze: the layout analysis (hp_layout_analyze) and the contact models' error
+ * bounds as a dict, with the keys of `headplan analyze --json`. Units: mm and degrees. */
+#include "hpy.h"
+
+#include <math.h>
+#include <string.h>
+
+static PyObject *array(const double *v, npy_intp rows, npy_intp cols, double scale)
+{
+    PyArrayObject *a = hpy_new(cols ? 2 : 1, rows, cols, NPY_DOUBLE);
+    if (!a) return NULL;
+    double *o = PyArray_DATA(a);
+    for (npy_intp i = 0; i < rows * (cols ? cols : 1); ++i) o[i] = v[i] * scale;
+    return (PyObject *)a;
+}
+
+PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
+{
+    (void)self;
+    static char *kw[] = {"scene", "level", NULL};
+    PyObject *scene;
+    const char *level = NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|z:analyze", kw, &scene, &level))
+        return NULL;
+    const hp_scene *sc = hpy_layout_scene(scene);
+    if (!sc) return NULL;
+    hp_settings s;
+    PyObject *over = level ? Py_BuildValue("{s:s}", "level", level) : NULL;
+    if (level && !over) return NULL;
+    int rc = hpy_settings(sc, over, &s);
+    Py_XDECREF(over);
+    if (rc < 0) return NULL;
+    const hp_layout *L = &sc->layout;
+    double bl = 0, bp = 0;
+    hp_level autolevel = HP_LEVEL_SURFACE, used;
+    hp_layout_analysis an;
+    hp_error e;
+    Py_BEGIN_ALLOW_THREADS
+    e = hp_contact_error_bound(L, HP_LEVEL_LINEAR, s.auto_trans, s.auto_rot, &bl);
+    if (e == HP_OK) e = hp_contact_error_bound(L, HP_LEVEL_PLANE, s.auto_trans, s.auto_rot, &bp);
+    if (e == HP_OK) e = hp_contact_auto(L, s.level_tolerance, s.auto_trans, s.auto_rot, &autolevel);
+    used = s.level == HP_LEVEL_AUTO ? autolevel : s.level;
+    if (e == HP_OK) e = hp_layout_analyze(L, used, &an);
+    Py_END_ALLOW_THREADS
+    if (e != HP_OK) return hpy_fail("%s: layout analysis: %s", sc->file, hp_error_message(e));
+
+    PyObject *d = PyDict_New(), *w = PyDict_New(), *b = PyDict_New();
+    if (!d || !w || !b) goto fail;
+    if (hpy_put(w, "vector", array(an.weakest, 6, 0, 1.0)) ||
+        hpy_put(w, "phrase", PyUnicode_FromString(an.weakest_words)) ||
+        hpy_put(w, "singular_value", PyFloat_FromDouble(an.singular_values[5])))
+        goto fail;
+    if (hpy_put(b, "tolerance_mm", PyFloat_FromDouble(s.level_tolerance * 1e3)) ||
+        hpy_put(b, "translation_mm", PyFloat_FromDouble(s.auto_trans * 1e3)) ||
+        hpy_put(b, "rotation_deg", PyFloat_FromDouble(s.auto_rot * 180.0 / 3.14159265358979323846)) ||
+        hpy_put(b, "linear_mm", PyFloat_FromDouble(bl * 1e3)) ||
+        hpy_put(b, "plane_mm", PyFloat_FromDouble(bp * 1e3)) ||
+        hpy_put(b, "surface_mm", PyFloat_FromDouble(0.0)) ||
+        hpy_put(b, "auto_level", PyUnicode_FromString(hp_level_name(autolevel))))
+        goto fail;
+    /* Reach: 6×2, negative then positive direction; NaN where rotation is not commanded. */
+    double reach[12];
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 2; ++j)
+            reach[i * 2 + j] = i >= 3 && !an.rotation_commandable ? NAN : an.reach[i][j];
+    Py_INCREF(w);
+    Py_INCREF(b);
+    if (hpy_put(d, "scene", PyUnicode_FromString(sc->name)) ||
+        hpy_put(d, "level", PyUnicode_FromString(hp_level_name(used))) ||
+        hpy_put(d, "level_requested", PyUnicode_FromString(hp_level_name(s.level))) ||
+        hpy_put(d, "singular_values", array(an.singular_values, 6, 0, 1.0)) ||
+        hpy_put(d, "rank", PyLong_FromLong(an.rank)) ||
+        hpy_put(d, "condition", PyFloat_FromDouble(an.condition)) ||
+        hpy_put(d, "weakest_direction", w) ||
+        hpy_put(d, "rotation_commandable", PyBool_FromLong(an.rotation_commandable)) ||
+        hpy_put(d, "reach", array(reach, 6, 2, 1.0)) || hpy_put(d, "error_bounds", b)) {
+        w = b = NULL; /* references passed on (or dropped) by hpy_put */
+        goto fail;
+    }
+    Py_DECREF(w);
+    Py_DECREF(b);
+    return d;
+fail:
+    Py_XDECREF(d);
+    Py_XDECREF(w);
+    Py_XDECREF(b);
+    return NULL;
+}

@@ -1,0 +1,399 @@
+/* headplan.Planner: plan one correction or an N×6 array of them (the loop in C, the GIL
+ * released), each from the nominal pose like `headplan solve`. Traces: py_trace.c. */
+#include "hpy.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+int hpy_block_alloc(hpy_block *b, npy_intp rows, int n)
+{
+    memset(b, 0, sizeof *b);
+    b->rows = rows;
+    b->n = n;
+    size_t r = rows > 0 ? (size_t)rows : 1, rn = r * (size_t)n;
+    b->pressure = malloc(rn * sizeof(double));
+    b->ri = malloc(rn * sizeof(double));
+    b->ro = malloc(rn * sizeof(double));
+    b->stretch = malloc(rn * sizeof(double));
+    b->binding = malloc(rn * sizeof(unsigned));
+    b->achieved = malloc(r * 6 * sizeof(double));
+    b->desired = malloc(r * 6 * sizeof(double));
+    b->pose_error = malloc(r * sizeof(double));
+    b->solve_time_us = malloc(r * sizeof(double));
+    b->iterations = malloc(r * sizeof(int));
+    b->status = malloc(r * sizeof(int));
+    if (!b->pressure || !b->ri || !b->ro || !b->stretch || !b->binding || !b->achieved ||
+        !b->desired || !b->pose_error || !b->solve_time_us || !b->iterations || !b->status) {
+        hpy_block_free(b);
+        return -1;
+    }
+    return 0;
+}
+
+void hpy_block_free(hpy_block *b)
+{
+    free(b->pressure);
+    free(b->ri);
+    free(b->ro);
+    free(b->stretch);
+    free(b->binding);
+    free(b->achieved);
+    free(b->desired);
+    free(b->pose_error);
+    free(b->solve_time_us);
+    free(b->iterations);
+    free(b->status);
+    memset(b, 0, sizeof *b);
+}
+
+void hpy_block_store(hpy_block *b, npy_intp i, const hp_result *r)
+{
+    const int n = b->n;
+    for (int k = 0; k < n; ++k) {
+        const hp_bladder_result *x = &r->bladders[k];
+        b->pressure[i * n + k] = x->pressure;
+        b->ri[i * n + k] = x->ri * 1e3; /* as the command line prints ri_mm */
+        b->ro[i * n + k] = x->ro * 1e3;
+        b->stretch[i * n + k] = x->stretch;
+        b->binding[i * n + k] = x->binding;
+    }
+    hp_pose_to_clinical(r->achieved, &b->achieved[i * 6]);
+    hp_pose_to_clinical(r->desired, &b->desired[i * 6]);
+    b->pose_error[i] = r->pose_error;
+    b->solve_time_us[i] = r->solve_time * 1e6;
+    b->iterations[i] = r->iterations;
+    b->status[i] = (int)r->status;
+}
+
+void hpy_block_bad(hpy_block *b, npy_intp i)
+{
+    const int n = b->n;
+    for (int k = 0; k < n; ++k) {
+        b->pressure[i * n + k] = b->ri[i * n + k] = b->ro[i * n + k] = NAN;
+        b->stretch[i * n + k] = NAN;
+        b->binding[i * n + k] = 0;
+    }
+    for (int c = 0; c < 6; ++c) b->achieved[i * 6 + c] = b->desired[i * 6 + c] = NAN;
+    b->pose_error[i] = b->solve_time_us[i] = NAN;
+    b->iterations[i] = 0;
+    b->status[i] = -1;
+}
+
+static PyObject *block_array(const void *src, npy_intp rows, npy_intp cols, int typenum,
+                             size_t elsize)
+{
+    PyArrayObject *a = hpy_new(cols ? 2 : 1, rows, cols, typenum);
+    if (a && rows) memcpy(PyArray_DATA(a), src, (size_t)rows * (cols ? (size_t)cols : 1) * elsize);
+    return (PyObject *)a;
+}
+
+PyObject *hpy_block_dict(const hpy_block *b)
+{
+    const npy_intp N = b->rows, n = b->n;
+    const char **names = malloc((N > 0 ? (size_t)N : 1) * sizeof *names);
+    PyArrayObject *code = hpy_new(1, N, 0, NPY_INT32);
+    PyObject *d = PyDict_New();
+    if (!names || !code || !d) {
+        free(names);
+        Py_XDECREF(code);
+        Py_XDECREF(d);
+        return PyErr_NoMemory();
+    }
+    npy_int32 *c = PyArray_DATA(code);
+    for (npy_intp i = 0; i < N; ++i) {
+        names[i] = b->status[i] < 0 ? "bad-row" : hp_status_name((hp_status)b->status[i]);
+        c[i] = b->status[i];
+    }
+    PyObject *status = hpy_str_array(names, N);
+    free(names);
+    PyArrayObject *err = hpy_new(2, N, 6, NPY_DOUBLE);
+    if (err) {
+        double *e = PyArray_DATA(err);
+        for (npy_intp i = 0; i < N * 6; ++i) e[i] = b->achieved[i] - b->desired[i];
+    }
+    int bad = hpy_put(d, "status", status) || hpy_put(d, "status_code", (PyObject *)code) ||
+              hpy_put(d, "pressure_pa", block_array(b->pressure, N, n, NPY_DOUBLE, sizeof(double))) ||
+              hpy_put(d, "ri_mm", block_array(b->ri, N, n, NPY_DOUBLE, sizeof(double))) ||
+              hpy_put(d, "ro_mm", block_array(b->ro, N, n, NPY_DOUBLE, sizeof(double))) ||
+              hpy_put(d, "stretch", block_array(b->stretch, N, n, NPY_DOUBLE, sizeof(double))) ||
+              hpy_put(d, "binding", block_array(b->binding, N, n, NPY_UINT32, sizeof(unsigned))) ||
+              hpy_put(d, "desired", block_array(b->desired, N, 6, NPY_DOUBLE, sizeof(double))) ||
+              hpy_put(d, "achieved", block_array(b->achieved, N, 6, NPY_DOUBLE, sizeof(double))) ||
+              hpy_put(d, "error", (PyObject *)err) ||
+              hpy_put(d, "pose_error", block_array(b->pose_error, N, 0, NPY_DOUBLE, sizeof(double))) ||
+              hpy_put(d, "iterations", block_array(b->iterations, N, 0, NPY_INT32, sizeof(int))) ||
+              hpy_put(d, "solve_time_us",
+                      block_array(b->solve_time_us, N, 0, NPY_DOUBLE, sizeof(double)));
+    if (bad) Py_CLEAR(d);
+    return d;
+}
+
+void hpy_planner_lock(hpy_planner *self)
+{
+    if (PyThread_acquire_lock(self->lock, NOWAIT_LOCK)) return;
+    Py_BEGIN_ALLOW_THREADS
+    PyThread_acquire_lock(self->lock, WAIT_LOCK);
+    Py_END_ALLOW_THREADS
+}
+
+static int planner_init(PyObject *o, PyObject *args, PyObject *kwargs)
+{
+    hpy_planner *self = (hpy_planner *)o;
+    if (self->p) {
+        PyErr_SetString(PyExc_RuntimeError, "Planner: already built");
+        return -1;
+    }
+    PyObject *scene;
+    if (!PyArg_ParseTuple(args, "O:Planner", &scene)) return -1;
+    const hp_scene *sc = hpy_layout_scene(scene);
+    if (!sc || hpy_settings(sc, kwargs, &self->s) < 0) return -1;
+    /* One solve from the nominal pose at a time, like headplan solve: no previous cycle. */
+    self->s.use_rate_limits = 0;
+    self->layout = sc->layout;
+    self->has_trace = sc->has_trace;
+    self->trace_rows = sc->trace_rows;
+    memcpy(self->trace_path, sc->trace_path, sizeof self->trace_path);
+    hp_diag d = {{0}};
+    hp_error e;
+    hp_planner *p = NULL;
+    Py_BEGIN_ALLOW_THREADS
+    e = hp_planner_create(&self->layout, &self->s, &p, &d);
+    Py_END_ALLOW_THREADS
+    if (e != HP_OK) {
+        hpy_fail("%s: %s", sc->file, d.text);
+        return -1;
+    }
+    self->p = p;
+    self->lock = PyThread_allocate_lock();
+    self->names = PyTuple_New(sc->layout.n);
+    if (!self->lock || !self->names) {
+        PyErr_NoMemory();
+        return -1;
+    }
+    for (int k = 0; k < sc->layout.n; ++k) {
+        PyObject *s = PyUnicode_FromString(sc->layout.bladders[k].name);
+        if (!s) return -1;
+        PyTuple_SET_ITEM(self->names, k, s);
+    }
+    return 0;
+}
+
+static void planner_dealloc(PyObject *o)
+{
+    hpy_planner *self = (hpy_planner *)o;
+    hp_planner_destroy(self->p);
+    if (self->lock) PyThread_free_lock(self->lock);
+    Py_XDECREF(self->names);
+    Py_TYPE(o)->tp_free(o);
+}
+
+static int built(hpy_planner *self)
+{
+    if (self->p) return 1;
+    PyErr_SetString(PyExc_RuntimeError, "Planner: not built (call Planner(scene, ...))");
+    return 0;
+}
+
+/* Plans rows of poses (mm, degrees) into the block, each from the nominal pose. Runs
+ * without the GIL; the caller holds the planner's lock. */
+static hp_error plan_rows(hp_planner *p, const double *poses, hpy_block *b)
+{
+    for (npy_intp i = 0; i < b->rows; ++i) {
+        double xi[6];
+        hp_pose_from_clinical(&poses[i * 6], xi);
+        hp_planner_reset(p);
+        hp_result r;
+        hp_error e = hp_plan(p, xi, &r);
+        /* A NaN or out-of-range row is a status of its own, as in headplan batch. */
+        if (e != HP_OK && r.status != HP_STATUS_INVALID_INPUT) return e;
+        hpy_block_store(b, i, &r);
+    }
+    return HP_OK;
+}
+
+/* Plans an N×6 float64 array into a dict of arrays. */
+static PyObject *plan_array(hpy_planner *self, PyArrayObject *poses)
+{
+    hpy_block b;
+    if (hpy_block_alloc(&b, PyArray_DIM(poses, 0), hp_planner_layout(self->p)->n) < 0)
+        return PyErr_NoMemory();
+    const double *x = PyArray_DATA(poses);
+    hp_error e;
+    hpy_planner_lock(self);
+    Py_BEGIN_ALLOW_THREADS
+    e = plan_rows(self->p, x, &b);
+    Py_END_ALLOW_THREADS
+    PyThread_release_lock(self->lock);
+    PyObject *d = e == HP_OK ? hpy_block_dict(&b)
+                             : hpy_fail("plan: %s: %s", hp_error_message(e),
+                                        hp_planner_error(self->p));
+    hpy_block_free(&b);
+    return d;
+}
+
+static PyObject *planner_plan_many(PyObject *o, PyObject *arg)
+{
+    hpy_planner *self = (hpy_planner *)o;
+    if (!built(self)) return NULL;
+    PyArrayObject *poses = hpy_rows(arg, "poses", 6, 0);
+    if (!poses) return NULL;
+    PyObject *d = plan_array(self, poses);
+    Py_DECREF(poses);
+    return d;
+}
+
+/* One row of a block dict -> the same keys with the leading axis dropped. */
+static PyObject *first_row(PyObject *block)
+{
+    PyObject *d = PyDict_New(), *key, *value;
+    Py_ssize_t pos = 0;
+    while (d && PyDict_Next(block, &pos, &key, &value)) {
+        PyObject *row = PySequence_GetItem(value, 0);
+        /* Scalars come back as Python numbers and str, not 0-d arrays. */
+        if (row && PyArray_IsScalar(row, Generic)) {
+            PyObject *item = PyObject_CallMethod(row, "item", NULL);
+            Py_DECREF(row);
+            row = item;
+        }
+        if (!row || PyDict_SetItem(d, key, row) < 0) Py_CLEAR(d);
+        Py_XDECREF(row);
+    }
+    return d;
+}
+
+static PyObject *planner_plan(PyObject *o, PyObject *args, PyObject *kwargs)
+{
+    hpy_planner *self = (hpy_planner *)o;
+    static char *kw[] = {"correction", NULL};
+    PyObject *corr;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O:plan", kw, &corr)) return NULL;
+    if (!built(self)) return NULL;
+    PyArrayObject *pose = hpy_doubles(corr, "correction", 0);
+    if (!pose) return NULL;
+    if (PyArray_NDIM(pose) != 1 || PyArray_DIM(pose, 0) != 6) {
+        Py_DECREF(pose);
+        return hpy_fail("correction: expected 6 values [x_mm, y_mm, z_mm, pitch_deg, "
+                        "roll_deg, yaw_deg]");
+    }
+    npy_intp d2[2] = {1, 6};
+    PyArray_Dims shape = {d2, 2};
+    PyArrayObject *one = (PyArrayObject *)PyArray_Newshape(pose, &shape, NPY_CORDER);
+    Py_DECREF(pose);
+    if (!one) return NULL;
+    PyObject *block = plan_array(self, one);
+    Py_DECREF(one);
+    if (!block) return NULL;
+    PyObject *d = first_row(block);
+    Py_DECREF(block);
+    /* An answer (closest, uncommanded) explains itself in the note; a failure in the error. */
+    const char *msg = *hp_planner_error(self->p) ? hp_planner_error(self->p)
+                                                 : hp_planner_note(self->p);
+    if (d && hpy_put(d, "message", PyUnicode_FromString(msg)) < 0)
+        Py_CLEAR(d);
+    return d;
+}
+
+static PyObject *get_level(PyObject *o, void *c)
+{
+    (void)c;
+    hpy_planner *self = (hpy_planner *)o;
+    return built(self) ? PyUnicode_FromString(hp_level_name(hp_planner_level(self->p))) : NULL;
+}
+
+static PyObject *get_backend(PyObject *o, void *c)
+{
+    (void)c;
+    hpy_planner *self = (hpy_planner *)o;
+    return built(self) ? PyUnicode_FromString(hp_backend_name(self->s.backend)) : NULL;
+}
+
+static PyObject *get_names(PyObject *o, void *c)
+{
+    (void)c;
+    hpy_planner *self = (hpy_planner *)o;
+    if (!built(self)) return NULL;
+    Py_INCREF(self->names);
+    return self->names;
+}
+
+static PyObject *get_settings(PyObject *o, void *c)
+{
+    (void)c;
+    hpy_planner *self = (hpy_planner *)o;
+    if (!built(self)) return NULL;
+    const hp_settings *s = &self->s;
+    return Py_BuildValue("{s:s,s:s,s:d,s:d,s:i,s:d,s:d,s:i}", "backend",
+                         hp_backend_name(s->backend), "level", hp_level_name(s->level),
+                         "level_tolerance_mm", s->level_tolerance * 1e3, "tolerance",
+                         s->tolerance, "max_iter", s->max_iter, "max_time_s", s->max_time,
+                         "weight_mm_per_deg", s->weight_mm_per_deg, "warm_start",
+                         s->warm_start);
+}
+
+static PyMethodDef planner_methods[] = {
+    {"plan", (PyCFunction)(void (*)(void))planner_plan, METH_VARARGS | METH_KEYWORDS,
+     "plan(correction) -> dict\n\n"
+     "Plans one correction [x_mm, y_mm, z_mm, pitch_deg, roll_deg, yaw_deg] from the nominal\n"
+     "pose, like `headplan solve` (no rate limits). Returns a dict: status (str), status_code,\n"
+     "pressure_pa, ri_mm, ro_mm, stretch, binding (n arrays; binding holds flags, see\n"
+     "binding_names), desired, achieved, error (achieved - desired; 6 arrays, mm and\n"
+     "degrees), pose_error (max over commanded axes, mm or degrees), iterations,\n"
+     "solve_time_us, message (the planner's text for a non-reached status). A status other\n"
+     "than 'reached'/'closest' carries the safe output (the nominal pressures). NaN in the\n"
+     "correction gives status 'invalid-input'."},
+    {"plan_many", planner_plan_many, METH_O,
+     "plan_many(poses) -> dict of arrays\n\n"
+     "Plans every row of an N×6 array of corrections (mm and degrees), each independently\n"
+     "from the nominal pose (as plan does, bit for bit). The loop runs in C with the GIL\n"
+     "released, so threads with their own planners run at once. Returns the keys of plan\n"
+     "with a leading axis N: status (str array), status_code (int32), pressure_pa, ri_mm,\n"
+     "ro_mm, stretch (N×n), binding (N×n uint32), desired, achieved, error (N×6), pose_error,\n"
+     "solve_time_us (N), iterations (N int32). Any numeric dtype and any strides are\n"
+     "accepted (converted to float64); other dtypes raise TypeError, other shapes\n"
+     "headplan.Error. Rows with NaN get status 'invalid-input'."},
+    {"run_trace", (PyCFunction)(void (*)(void))hpy_planner_run_trace,
+     METH_VARARGS | METH_KEYWORDS,
+     "run_trace(trace=None, t=None, rows=None, rate_limits=True) -> dict of arrays\n\n"
+     "Plans a trace greedily, row after row, as `headplan batch` does: each plan starts from\n"
+     "the previous row's pressures (rate limits carry over; the first row starts from the\n"
+     "nominal pressures). trace is a path to a CSV / JSON Lines trace file, an N×6 array of\n"
+     "poses (mm, degrees) with time stamps t [s] (default 0, 0.1, 0.2, ...), or None for the\n"
+     "scene's own trace. rows is 'deviation' (the head's measured offset; the correction is\n"
+     "its negative) or 'correction'; None keeps what the file or scene states (arrays:\n"
+     "'correction'). Returns the keys of plan_many plus line (the input line, 0 for arrays)\n"
+     "and t_s. A bad file row gets status 'bad-row' and NaN values, and its message is in\n"
+     "'messages' (a list), as batch reports it."},
+    {NULL, NULL, 0, NULL},
+};
+
+static PyGetSetDef planner_getset[] = {
+    {"level", get_level, NULL, "the resolved contact level ('auto' resolved at build)", NULL},
+    {"backend", get_backend, NULL, "the backend name", NULL},
+    {"bladder_names", get_names, NULL, "tuple of the bladders' names (column order)", NULL},
+    {"settings", get_settings, NULL,
+     "dict of the settings in use (tolerance in mm and degrees, level_tolerance_mm)", NULL},
+    {NULL, NULL, NULL, NULL, NULL},
+};
+
+PyTypeObject hpy_planner_type = {
+    PyVarObject_HEAD_INIT(NULL, 0)
+    .tp_name = "headplan.Planner",
+    .tp_basicsize = sizeof(hpy_planner),
+    .tp_dealloc = planner_dealloc,
+    .tp_flags = Py_TPFLAGS_DEFAULT,
+    .tp_doc =
+        "Planner(scene, *, backend=None, level=None, tolerance=None, max_iter=None,\n"
+        "        max_time_s=None, weight_mm_per_deg=None, level_tolerance_mm=None,\n"
+        "        warm_start=None)\n\n"
+        "A planner for a layout scene, with the scene's model and solver settings and these\n"
+        "overrides: backend ('realtime', 'ipopt', 'nlopt-slsqp', 'nlopt-cobyla'), level\n"
+        "('linear', 'plane', 'surface', 'auto'), tolerance (pose tolerance, mm and degrees),\n"
+        "max_iter, max_time_s [s], weight_mm_per_deg, level_tolerance_mm [mm] (for 'auto'),\n"
+        "warm_start (0/1). Raises headplan.Error for a bad value. One call at a time per\n"
+        "planner (a second thread waits); use one planner per thread for parallel work.",
+    .tp_methods = planner_methods,
+    .tp_getset = planner_getset,
+    .tp_init = planner_init,
+    .tp_new = PyType_GenericNew,
+};

@@ -1,0 +1,96 @@
+/* Planner settings for the Python module: the scene's model and solver sections, then the
+ * keyword overrides a Planner is built with. */
+#include "hpy.h"
+
+#include <string.h>
+
+static int kw_double(PyObject *kw, const char *key, double scale, double *out)
+{
+    PyObject *v = kw ? PyDict_GetItemString(kw, key) : NULL;
+    if (!v || v == Py_None) return 0;
+    double x;
+    if (hpy_double(v, key, &x) < 0) return -1;
+    *out = x * scale;
+    return 0;
+}
+
+static int kw_text(PyObject *kw, const char *key, const char **out)
+{
+    PyObject *v = kw ? PyDict_GetItemString(kw, key) : NULL;
+    if (!v || v == Py_None) return 0;
+    if (!PyUnicode_Check(v)) {
+        PyErr_Format(PyExc_TypeError, "%s: expected a str", key);
+        return -1;
+    }
+    *out = PyUnicode_AsUTF8(v);
+    return *out ? 0 : -1;
+}
+
+static int kw_int(PyObject *kw, const char *key, int lo, int hi, int *out)
+{
+    PyObject *v = kw ? PyDict_GetItemString(kw, key) : NULL;
+    if (!v || v == Py_None) return 0;
+    if (!PyLong_Check(v)) {
+        PyErr_Format(PyExc_TypeError, "%s: expected an int", key);
+        return -1;
+    }
+    long x = PyLong_AsLong(v);
+    if (x == -1 && PyErr_Occurred()) return -1;
+    if (x < lo || x > hi) {
+        hpy_fail("%s: must be in %d..%d (got %ld)", key, lo, hi, x);
+        return -1;
+    }
+    *out = (int)x;
+    return 0;
+}
+
+int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
+{
+    static const char *const known[] = {"backend",           "level",      "tolerance",
+                                        "max_iter",          "max_time_s", "weight_mm_per_deg",
+                                        "level_tolerance_mm", "warm_start", NULL};
+    if (kw) {
+        PyObject *key, *value;
+        Py_ssize_t pos = 0;
+        while (PyDict_Next(kw, &pos, &key, &value)) {
+            const char *k = PyUnicode_AsUTF8(key);
+            if (!k) return -1;
+            int found = 0;
+            for (int i = 0; known[i]; ++i) found |= strcmp(k, known[i]) == 0;
+            if (!found) {
+                PyErr_Format(PyExc_TypeError, "Planner: unknown keyword '%s'", k);
+                return -1;
+            }
+        }
+    }
+    hp_diag d = {{0}};
+    if (hp_scene_settings(sc, s, &d) != HP_OK) {
+        hpy_fail("%s: %s", sc->file, d.text);
+        return -1;
+    }
+    const char *backend = NULL, *level = NULL;
+    int warm = s->warm_start;
+    if (kw_text(kw, "backend", &backend) || kw_text(kw, "level", &level) ||
+        kw_double(kw, "tolerance", 1.0, &s->tolerance) ||
+        kw_int(kw, "max_iter", 1, 1000000, &s->max_iter) ||
+        kw_double(kw, "max_time_s", 1.0, &s->max_time) ||
+        kw_double(kw, "weight_mm_per_deg", 1.0, &s->weight_mm_per_deg) ||
+        kw_double(kw, "level_tolerance_mm", 1e-3, &s->level_tolerance) ||
+        kw_int(kw, "warm_start", 0, 1, &warm))
+        return -1;
+    s->warm_start = warm;
+    if (backend && hp_backend_parse(backend, &s->backend) != HP_OK) {
+        hpy_fail("backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, nlopt-cobyla)",
+                 backend);
+        return -1;
+    }
+    if (level && hp_level_parse(level, &s->level) != HP_OK) {
+        hpy_fail("level: unknown level '%s' (linear, plane, surface, auto)", level);
+        return -1;
+    }
+    if (hp_settings_validate(s, &d) != HP_OK) {
+        hpy_fail("%s", d.text);
+        return -1;
+    }
+    return 0;
+}

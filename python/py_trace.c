@@ -1,0 +1,246 @@
+/* Planner.run_trace: a trace planned greedily, row after row, as `headplan batch` plans it.
+ * Rows are read by the library's trace reader: a file directly, an array through the same
+ * CSV text a file would hold (printed with 17 significant digits, so every double reads
+ * back exactly), so deviation rows, -0 and bad rows are handled by one piece of code. */
+#include "hpy.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct {
+    size_t n, cap;
+    long *line;
+    double *t;
+    double *corr; /* n×6, SI */
+    char **msg;   /* NULL for a good row */
+} trace_in;
+
+static void trace_free(trace_in *in)
+{
+    for (size_t i = 0; i < in->n; ++i) free(in->msg[i]);
+    free(in->line);
+    free(in->t);
+    free(in->corr);
+    free(in->msg);
+    memset(in, 0, sizeof *in);
+}
+
+static int trace_grow(trace_in *in)
+{
+    size_t cap = in->cap ? in->cap * 2 : 1024;
+    long *line = realloc(in->line, cap * sizeof *line);
+    if (line) in->line = line;
+    double *t = realloc(in->t, cap * sizeof *t);
+    if (t) in->t = t;
+    double *corr = realloc(in->corr, cap * 6 * sizeof *corr);
+    if (corr) in->corr = corr;
+    char **msg = realloc(in->msg, cap * sizeof *msg);
+    if (msg) in->msg = msg;
+    if (!line || !t || !corr || !msg) return -1;
+    in->cap = cap;
+    return 0;
+}
+
+/* Reads every row (bad rows keep their message). No GIL needed. */
+static hp_error read_all(hp_trace_reader *r, trace_in *in, hp_diag *d)
+{
+    for (;;) {
+        hp_trace_row row;
+        hp_diag rd = {{0}};
+        hp_error e = hp_trace_next(r, &row, &rd);
+        if (e == HP_END) return HP_OK;
+        if (e == HP_ERR_IO) return hp_diag_set(d, e, "%s", rd.text);
+        if (in->n == in->cap && trace_grow(in) < 0)
+            return hp_diag_set(d, HP_ERR_NOMEM, "trace: out of memory");
+        size_t i = in->n++;
+        in->msg[i] = NULL;
+        if (e == HP_OK) {
+            in->line[i] = row.line;
+            in->t[i] = row.t;
+            memcpy(&in->corr[i * 6], row.correction, sizeof row.correction);
+        } else {
+            /* The message starts "NAME:LINE:" (hp_trace.h). */
+            const char *colon = strchr(rd.text, ':');
+            in->line[i] = colon ? strtol(colon + 1, NULL, 10) : 0;
+            in->t[i] = NAN;
+            in->msg[i] = strdup(rd.text);
+            if (!in->msg[i]) return hp_diag_set(d, HP_ERR_NOMEM, "trace: out of memory");
+        }
+    }
+}
+
+/* Plans the rows greedily into the block: every plan starts from the previous good row's
+ * pressures (the nominal pressures before the first), set with hp_planner_set_previous, so
+ * the state of each plan is a function of those pressures alone, as in headplan batch. */
+static hp_error plan_all(hp_planner *p, const trace_in *in, hpy_block *b)
+{
+    double prev[HP_MAX_BLADDERS];
+    hp_planner_reset(p);
+    hp_error e = hp_planner_nominal_pressures(p, prev);
+    for (size_t i = 0; e == HP_OK && i < in->n; ++i) {
+        if (in->msg[i]) {
+            hpy_block_bad(b, (npy_intp)i);
+            continue;
+        }
+        if ((e = hp_planner_set_previous(p, prev)) != HP_OK) break;
+        hp_result r;
+        e = hp_plan(p, &in->corr[i * 6], &r);
+        if (e != HP_OK && r.status != HP_STATUS_INVALID_INPUT) break;
+        e = HP_OK;
+        hpy_block_store(b, (npy_intp)i, &r);
+        for (int k = 0; k < b->n; ++k) prev[k] = r.bladders[k].pressure;
+    }
+    return e;
+}
+
+/* The CSV text of an array trace; NULL with an exception set on failure. */
+static char *array_text(PyObject *poses_obj, PyObject *t_obj, size_t *len)
+{
+    PyArrayObject *poses = hpy_rows(poses_obj, "trace", 6, 0), *t = NULL;
+    if (!poses) return NULL;
+    npy_intp N = PyArray_DIM(poses, 0);
+    if (t_obj && t_obj != Py_None) {
+        t = hpy_doubles(t_obj, "t", 1);
+        if (t && (PyArray_NDIM(t) != 1 || PyArray_DIM(t, 0) != N)) {
+            hpy_fail("t: expected %zd time stamps [s], one per row", (Py_ssize_t)N);
+            Py_CLEAR(t);
+        }
+        if (!t) {
+            Py_DECREF(poses);
+            return NULL;
+        }
+    }
+    /* A row: 7 numbers of at most 24 characters and their separators. */
+    size_t cap = 64 + (size_t)N * 7 * 26;
+    char *text = malloc(cap);
+    if (!text) {
+        Py_DECREF(poses);
+        Py_XDECREF(t);
+        PyErr_NoMemory();
+        return NULL;
+    }
+    const double *x = PyArray_DATA(poses), *ts = t ? PyArray_DATA(t) : NULL;
+    size_t used = (size_t)snprintf(text, cap, "t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n");
+    for (npy_intp i = 0; i < N; ++i) {
+        double tv = ts ? ts[i] : 0.1 * (double)i;
+        used += (size_t)snprintf(text + used, cap - used, "%.17g", tv);
+        for (int c = 0; c < 6; ++c)
+            used += (size_t)snprintf(text + used, cap - used, ",%.17g", x[i * 6 + c]);
+        text[used++] = '\n';
+    }
+    Py_DECREF(poses);
+    Py_XDECREF(t);
+    *len = used;
+    return text;
+}
+
+PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
+{
+    hpy_planner *self = (hpy_planner *)o;
+    static char *kw[] = {"trace", "t", "rows", "rate_limits", NULL};
+    PyObject *trace = Py_None, *t = Py_None;
+    const char *rows = NULL;
+    int rate_limits = 1;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "|OOzp:run_trace", kw, &trace, &t, &rows,
+                                     &rate_limits))
+        return NULL;
+    if (!self->p) {
+        PyErr_SetString(PyExc_RuntimeError, "Planner: not built");
+        return NULL;
+    }
+    hp_trace_rows kind = HP_TRACE_CORRECTION;
+    const hp_trace_rows *override = NULL;
+    if (rows) {
+        if (hp_trace_rows_parse(rows, &kind) != HP_OK)
+            return hpy_fail("rows: '%s' is neither 'deviation' nor 'correction'", rows);
+        override = &kind;
+    }
+    int is_path = trace == Py_None || PyUnicode_Check(trace) || PyBytes_Check(trace) ||
+                  PyObject_HasAttrString(trace, "__fspath__");
+    PyObject *path = NULL;
+    char *text = NULL;
+    size_t len = 0;
+    if (trace == Py_None) {
+        if (!self->has_trace) return hpy_fail("run_trace: the scene names no trace");
+        if (!override) {
+            kind = self->trace_rows;
+            override = &kind;
+        }
+        path = PyBytes_FromString(self->trace_path);
+        if (!path) return NULL;
+    } else if (is_path) {
+        if (t != Py_None) return hpy_fail("t: time stamps come from the trace file");
+        if (!PyUnicode_FSConverter(trace, &path)) return NULL;
+    } else {
+        /* The kind of a trace's rows is never guessed, for arrays as for files. */
+        if (!override)
+            return hpy_fail("rows: an array trace needs rows='deviation' or rows='correction'");
+        text = array_text(trace, t, &len);
+        if (!text) return NULL;
+    }
+
+    hp_settings s = self->s;
+    s.use_rate_limits = rate_limits;
+    hp_diag d = {{0}};
+    hp_error e = HP_OK;
+    trace_in in = {0};
+    hpy_block b = {0};
+    int nomem = 0;
+    hp_planner *p = NULL;
+    const char *cpath = path ? PyBytes_AS_STRING(path) : NULL;
+    Py_BEGIN_ALLOW_THREADS
+    hp_trace_reader *r = NULL;
+    e = cpath ? hp_trace_open(cpath, override, &r, &d)
+              : hp_trace_open_mem(text, len, "<array>", HP_TRACE_CSV, override, &r, &d);
+    if (e == HP_OK) e = read_all(r, &in, &d);
+    hp_trace_close(r);
+    if (e == HP_OK) e = hp_planner_create(&self->layout, &s, &p, &d);
+    if (e == HP_OK) {
+        nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n) < 0;
+        if (!nomem) {
+            e = plan_all(p, &in, &b);
+            if (e != HP_OK) hp_diag_set(&d, e, "run_trace: %s", hp_planner_error(p));
+        }
+    }
+    hp_planner_destroy(p);
+    Py_END_ALLOW_THREADS
+    int from_array = text != NULL;
+    free(text);
+    Py_XDECREF(path);
+
+    PyObject *out = NULL;
+    if (nomem) PyErr_NoMemory();
+    else if (e != HP_OK) hpy_fail("%s", d.text);
+    else out = hpy_block_dict(&b);
+    PyObject *lines = out ? (PyObject *)hpy_new(1, (npy_intp)in.n, 0, NPY_INT64) : NULL;
+    PyObject *ts = out ? (PyObject *)hpy_new(1, (npy_intp)in.n, 0, NPY_DOUBLE) : NULL;
+    PyObject *msgs = out ? PyList_New(0) : NULL;
+    if (lines && ts && msgs) {
+        npy_int64 *l = PyArray_DATA((PyArrayObject *)lines);
+        double *tv = PyArray_DATA((PyArrayObject *)ts);
+        for (size_t i = 0; i < in.n; ++i) {
+            l[i] = from_array ? (npy_int64)i : in.line[i];
+            tv[i] = in.t[i];
+            if (in.msg[i]) {
+                PyObject *m = PyUnicode_FromString(in.msg[i]);
+                if (!m || PyList_Append(msgs, m) < 0) Py_CLEAR(out);
+                Py_XDECREF(m);
+            }
+        }
+    }
+    if (out) {
+        int bad = hpy_put(out, "line", lines);
+        bad |= hpy_put(out, "t_s", ts);
+        bad |= hpy_put(out, "messages", msgs);
+        if (bad) Py_CLEAR(out);
+    } else {
+        Py_XDECREF(lines);
+        Py_XDECREF(ts);
+        Py_XDECREF(msgs);
+    }
+    hpy_block_free(&b);
+    trace_free(&in);
+    return out;
+}

@@ -1,0 +1,148 @@
+"""run_trace against `headplan batch --no-times`: same rows, same statuses, same numbers bit
+for bit (the batch CSV prints the shortest text that reads back to the same double)."""
+import csv
+import io
+
+import numpy as np
+import pytest
+
+import headplan
+from conftest import DEFAULT, cli, scenario
+
+KEYS = headplan.POSE_KEYS
+
+
+def batch_csv(*args):
+    rc, out, err = cli("batch", *args, "--no-times", "--no-progress", check=False)
+    assert rc in (0, 1, 65), err
+    # The metadata record is the leading '#' lines; then the header and one row per row.
+    body = "".join(l for l in io.StringIO(out) if not l.startswith("#"))
+    return list(csv.DictReader(io.StringIO(body)))
+
+
+def assert_same_as_batch(r, rows, names):
+    assert len(rows) == len(r["status"])
+    for i, row in enumerate(rows):
+        assert r["status"][i] == row["status"], i
+        if row["status"] == "bad-row":
+            assert np.all(np.isnan(r["pressure_pa"][i]))
+            continue
+        assert r["line"][i] == int(row["line"])
+        assert r["t_s"][i] == float(row["t_s"])
+        for c, k in enumerate(KEYS):
+            assert r["achieved"][i, c] == float(row["achieved_" + k]), (i, k)
+        for b, name in enumerate(names):
+            assert r["pressure_pa"][i, b] == float(row[name + "_pressure_pa"]), (i, name)
+        assert r["iterations"][i] == int(row["iterations"])
+        bind = ";".join(f"{names[b]}:" + "|".join(headplan.binding_names(int(f)))
+                        for b, f in enumerate(r["binding"][i]) if f)
+        assert bind == row["binding"], i
+
+
+@pytest.mark.parametrize("name,extra", [("default.yaml", []), ("nodding.yaml", []),
+                                        ("saturation.yaml", ["traces/nodding.csv"]),
+                                        ("default.yaml", ["--backend", "nlopt-slsqp"])])
+def test_trace_equals_batch(name, extra):
+    sc = headplan.load_scene(scenario(name))
+    kw = {}
+    if "--backend" in extra:
+        kw["backend"] = extra[extra.index("--backend") + 1]
+    p = headplan.Planner(sc, **kw)
+    args = [scenario(name)]
+    trace = None
+    if extra and not extra[0].startswith("--"):
+        trace = scenario(extra[0])
+        args.append(trace)
+        extra = extra[1:]
+    rows = batch_csv(*args, *extra)
+    r = p.run_trace(trace)
+    assert_same_as_batch(r, rows, p.bladder_names)
+
+
+def test_rate_limits_carry_over_like_batch(tmp_path):
+    # Jumps of 3 mm each cycle need more than the saturation scene's 2 kPa per cycle.
+    sc = headplan.load_scene(scenario("saturation.yaml"))
+    poses = np.zeros((12, 6))
+    poses[:, 2] = np.where(np.arange(12) % 2, 3.0, -3.0)
+    r = headplan.Planner(sc).run_trace(poses, rows="correction")
+    flags = np.bitwise_or.reduce(r["binding"].ravel())
+    assert flags & 0x30, "the rate limits were never exercised"
+    f = tmp_path / "jumps.csv"
+    np.savetxt(f, np.column_stack([np.arange(12) * 0.1, poses]), delimiter=",", fmt="%.17g",
+               header="t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg", comments="")
+    rows = batch_csv(scenario("saturation.yaml"), str(f), "--rows", "correction")
+    rf = headplan.Planner(sc).run_trace(str(f), rows="correction")
+    assert_same_as_batch(rf, rows, sc.bladder_names)
+    assert np.array_equal(rf["pressure_pa"], r["pressure_pa"])
+    # Without carrying the rate limits over, no rate limit binds.
+    free = headplan.Planner(sc).run_trace(poses, rows="correction", rate_limits=False)
+    assert not np.bitwise_or.reduce(free["binding"].ravel()) & 0x30
+
+
+def test_array_trace_equals_file(default_scene, default_planner):
+    # Line 1 is the rows-kind directive, line 2 the header.
+    text = np.genfromtxt(default_scene.trace, delimiter=",", names=True, skip_header=1)
+    poses = np.column_stack([text[k] for k in KEYS])
+    a = default_planner.run_trace(poses, t=text["t_s"], rows="deviation")
+    f = default_planner.run_trace()  # the scene's trace, rows: deviation
+    for key in ("pressure_pa", "achieved", "desired", "t_s", "binding", "pose_error"):
+        assert np.array_equal(a[key], f[key]), key
+    assert a["line"][:3].tolist() == [0, 1, 2] and f["line"][:3].tolist() == [3, 4, 5]
+    # A deviation row asks for its exact inverse rigid motion about the pivot (the default
+    # scene's pivot is the origin), checked here with numpy: R = Rz(yaw) Ry(roll) Rx(pitch),
+    # correction ∘ deviation = identity to rounding (1e-12 mm / rad).
+    def rot(deg):
+        px, ry, yz = np.radians(deg)
+        cx, sx, cy, sy, cz, sz = np.cos(px), np.sin(px), np.cos(ry), np.sin(ry), np.cos(yz), np.sin(yz)
+        Rx = np.array([[1, 0, 0], [0, cx, -sx], [0, sx, cx]])
+        Ry = np.array([[cy, 0, sy], [0, 1, 0], [-sy, 0, cy]])
+        Rz = np.array([[cz, -sz, 0], [sz, cz, 0], [0, 0, 1]])
+        return Rz @ Ry @ Rx
+    for dev, cor in zip(poses[::97], a["desired"][::97]):
+        Rd, Rc = rot(dev[3:]), rot(cor[3:])
+        assert np.abs(Rc @ Rd - np.eye(3)).max() < 1e-12
+        assert np.abs(Rc @ dev[:3] + cor[:3]).max() < 1e-12
+
+
+def test_array_rows_never_guessed(default_planner):
+    poses = np.array([[0.5, 0, 0, 0, 0, 0], [0, 0.5, 0, 0, 0, 0]])
+    with pytest.raises(headplan.Error, match="rows="):
+        default_planner.run_trace(poses)  # an array states no kind: the caller must
+    r = default_planner.run_trace(poses, rows="correction")
+    assert np.array_equal(r["desired"], poses)
+    assert r["t_s"].tolist() == [0.0, 0.1]
+
+
+def test_bad_rows_reported_and_skipped(tmp_path, default_planner):
+    f = tmp_path / "t.csv"
+    f.write_text("t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n"
+                 "0,0.1,0,0,0,0,0\n0.1,zzz,0,0,0,0,0\n0.2,0.2,0,0,0,0,0\n")
+    r = default_planner.run_trace(str(f), rows="correction")
+    assert r["status"].tolist() == ["reached", "bad-row", "reached"]
+    assert len(r["messages"]) == 1 and r["messages"][0].startswith(f"{f}:3:")
+    rows = batch_csv(DEFAULT, str(f), "--rows", "correction")
+    assert_same_as_batch(r, rows, default_planner.bladder_names)
+    x = np.zeros((2, 6))
+    x[1, 3] = np.nan  # the reader refuses non-finite numbers, as in a file
+    r = default_planner.run_trace(x, rows="correction")
+    assert r["status"].tolist() == ["reached", "bad-row"]
+
+
+def test_trace_errors(tmp_path, default_planner):
+    with pytest.raises(headplan.Error, match="nope.csv"):
+        default_planner.run_trace(str(tmp_path / "nope.csv"))
+    with pytest.raises(headplan.Error, match="rows"):
+        default_planner.run_trace(np.zeros((2, 6)), rows="sideways")
+    with pytest.raises(headplan.Error, match="t: expected 2 time stamps"):
+        default_planner.run_trace(np.zeros((2, 6)), t=[0.0], rows="correction")
+    with pytest.raises(headplan.Error, match="t: element 1 is NaN"):
+        default_planner.run_trace(np.zeros((2, 6)), t=[0.0, np.nan], rows="correction")
+    with pytest.raises(headplan.Error, match="expected shape"):
+        default_planner.run_trace(np.zeros((2, 7)), rows="correction")
+    with pytest.raises(TypeError):
+        default_planner.run_trace(np.zeros((2, 6), complex), rows="correction")
+    with pytest.raises(headplan.Error, match="time stamps come from the trace file"):
+        default_planner.run_trace(DEFAULT, t=[0.0])
+    nt = headplan.Planner(headplan.load_scene(scenario("saturation.yaml")))
+    with pytest.raises(headplan.Error, match="names no trace"):
+        nt.run_trace()
