@@ -5,11 +5,12 @@
 #define HP_BENCH_LAB_UTIL_H
 
 #include "headplan/hp_planner.h"
+#include "common/units.h"
 #include "headplan/hp_scene.h"
 
 #include <stdint.h>
 
-#define BENCH_PI 3.14159265358979323846
+#define BENCH_PI HP_PI
 
 /* Loads a layout scene; on failure one line on stderr and HP_EXIT_NOINPUT or
  * HP_EXIT_DATAERR (not a layout). */

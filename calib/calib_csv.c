@@ -3,6 +3,7 @@
  * refusal names FILE:LINE:COL (1-based; the column of the field at fault). */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/hp_calib.h"
+#include "common/units.h"
 #include "scene/strict_number.h"
 
 #include <errno.h>
@@ -224,7 +225,7 @@ static int column_role(const hp_layout *L, const char *name, size_t len, double 
     csv_field f = {name, len, 1};
     for (int j = 0; j < 6; ++j)
         if (field_is(&f, hp_pose_key(j))) {
-            *scale = j < 3 ? 1e-3 : 3.14159265358979323846 / 180.0;
+            *scale = j < 3 ? 1e-3 : HP_RAD_PER_DEG;
             return -1 - j;
         }
     for (int k = 0; k < L->n; ++k) {

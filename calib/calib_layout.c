@@ -4,6 +4,7 @@
  * radii depend only on the pressures and the bladders' material, so they are computed once;
  * only the contact geometry depends on the fitted parameters. */
 #include "headplan/hp_calib.h"
+#include "common/units.h"
 #include "kinematics/kin_internal.h"
 #include "kinematics/linalg.h"
 
@@ -28,7 +29,7 @@ void hp_layout_fit_options_default(hp_layout_fit_options *o)
     o->fit_offsets = 1;
     o->level = HP_LEVEL_SURFACE;
     o->sigma_trans = 1e-4;
-    o->sigma_rot = 0.1 * 3.14159265358979323846 / 180.0;
+    o->sigma_rot = 0.1 * HP_RAD_PER_DEG;
 }
 
 typedef struct lay_ctx {

@@ -3,6 +3,7 @@
  * inside the bladders' limits, the contact models' error bounds and the resolved geometry.
  * Command-line units: mm, degrees, Pa; the library speaks SI. */
 #include "cli/analyze_load.h"
+#include "common/units.h"
 #include "cli/cli_args.h"
 #include "cli/cli_scene.h"
 #include "cli/commands.h"
@@ -145,7 +146,7 @@ static json_t *head_json(const hp_head *h)
     return o;
 }
 
-#define DEG_PER_RAD (180.0 / 3.14159265358979323846)
+#define DEG_PER_RAD HP_DEG_PER_RAD
 
 /* Unobservable motion m in mm and degrees, scaled so its largest component is 1 (sign:
  * that component positive), so that it reads "per degree" or "per mm". */
@@ -220,7 +221,7 @@ static int print_json(const hp_scene *sc, const analysis *r)
     json_t *b = json_object();
     json_object_set_new(b, "tolerance_mm", json_real(sc->level_tolerance * 1e3));
     json_object_set_new(b, "translation_mm", json_real(r->trans * 1e3));
-    json_object_set_new(b, "rotation_deg", json_real(r->rot * 180.0 / 3.14159265358979323846));
+    json_object_set_new(b, "rotation_deg", json_real(r->rot * 180.0 / HP_PI));
     json_object_set_new(b, "range_source", json_string(r->range_from_scene ? "scene"
                                                                            : "default"));
     json_object_set_new(b, "linear_mm", json_real(r->bound_linear * 1e3));
@@ -319,7 +320,7 @@ static void print_text(const hp_scene *sc, const analysis *r)
 
     printf("\nerror bounds against the exact surface, corrections up to %.4g mm and %.4g deg"
            " (%s)\n",
-           r->trans * 1e3, r->rot * 180.0 / 3.14159265358979323846,
+           r->trans * 1e3, r->rot * 180.0 / HP_PI,
            r->range_from_scene ? "model.auto_translation_mm/auto_rotation_deg"
                                : "default range: the scene states none");
     printf("%-13s %.6g mm\n", "linear", r->bound_linear * 1e3);

@@ -3,6 +3,7 @@
  *   fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit offsets,axes]
  *                         [--sigma-mm S] [--sigma-deg S] [--json] */
 #include "cli/cli_args.h"
+#include "common/units.h"
 #include "cli/cli_scene.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
@@ -16,7 +17,7 @@
 #include <string.h>
 
 #define CMD "fit"
-#define DEG (180.0 / 3.14159265358979323846)
+#define DEG HP_DEG_PER_RAD
 /* Candidate pressures the material planning table tries. */
 #define N_CAND 9
 

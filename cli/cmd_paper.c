@@ -3,6 +3,7 @@
  * side by side with the values the paper printed, each marked "agrees" or "DIFFERS: why".
  * See docs/paper.md. */
 #include "cli/cli_args.h"
+#include "common/units.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "headplan/hp_iab.h"
@@ -118,7 +119,7 @@ static int compute(const hp_scene *s, result *r)
     if (e != HP_OK)
         return hp_cli_fail(HP_EXIT_DATAERR, "paper", "%s: %s", s->file, hp_error_message(e));
     /* volume of the wall now minus at rest: zero for an incompressible shell */
-    const double k = 4.0 / 3.0 * 3.14159265358979323846;
+    const double k = 4.0 / 3.0 * HP_PI;
     double now = r->ro * r->ro * r->ro - r->ri * r->ri * r->ri;
     double rest = b->Ro * b->Ro * b->Ro - b->Ri * b->Ri * b->Ri;
     r->dV = k * (now - rest);

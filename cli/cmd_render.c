@@ -3,8 +3,8 @@
  * marked, and the desired against the achieved head motion (magnified), in two views that
  * together show all the bladders. Units: mm, degrees, kPa on the picture. */
 #define _POSIX_C_SOURCE 200809L
-#define _DEFAULT_SOURCE /* M_PI */
 #include "cli/cli_args.h"
+#include "common/units.h"
 #include "cli/cli_scene.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
@@ -148,9 +148,9 @@ static void write_data(const picture *p, FILE *f)
     const hp_head *h = &p->L->head;
     fprintf(f, "$head << EOD\n");
     for (int i = 0; i <= 18; ++i) {
-        double th = M_PI * i / 18.0;
+        double th = HP_PI * i / 18.0;
         for (int j = 0; j <= 36; ++j) {
-            double ph = 2 * M_PI * j / 36.0;
+            double ph = 2 * HP_PI * j / 36.0;
             fprintf(f, "%.4f %.4f %.4f\n", (h->center[0] + h->semi_axes[0] * sin(th) * cos(ph)) * 1e3,
                     (h->center[1] + h->semi_axes[1] * cos(th)) * 1e3,
                     (h->center[2] + h->semi_axes[2] * sin(th) * sin(ph)) * 1e3);
@@ -164,9 +164,9 @@ static void write_data(const picture *p, FILE *f)
         fprintf(f, "# %d %s: pressure %.6g kPa, outer radius %.6g mm\n", k + 1,
                 p->L->bladders[k].name, kpa, ro);
         for (int i = 0; i <= 12; ++i) {
-            double th = M_PI * i / 12.0;
+            double th = HP_PI * i / 12.0;
             for (int j = 0; j <= 24; ++j) {
-                double ph = 2 * M_PI * j / 24.0;
+                double ph = 2 * HP_PI * j / 24.0;
                 fprintf(f, "%.4f %.4f %.4f %.6g %d\n", c[0] * 1e3 + ro * sin(th) * cos(ph),
                         c[1] * 1e3 + ro * sin(th) * sin(ph), c[2] * 1e3 + ro * cos(th), kpa,
                         k + 1);

@@ -1,6 +1,7 @@
 /* Gauss–Legendre nodes and weights by Newton's method on the Legendre recurrence. */
 #define _POSIX_C_SOURCE 200809L
 #include "iab/iab_internal.h"
+#include "common/units.h"
 
 #include <math.h>
 #include <pthread.h>
@@ -23,7 +24,7 @@ hp_error hp_iab_gl_rule(int n, double *x, double *w)
 {
     if (!x || !w) return HP_ERR_NULL;
     if (n < 1 || n > HP_IAB_GL_MAX) return HP_ERR_INVALID;
-    const double pi = 3.14159265358979323846;
+    const double pi = HP_PI;
     int half = (n + 1) / 2;
     for (int i = 0; i < half; ++i) {
         /* Tricomi's estimate of the (i+1)-th largest root; Newton converges from it in a

@@ -1,13 +1,14 @@
 /* Layout analysis: conditioning of the contact Jacobian in clinical units, the weakest
  * direction in words, and the reach of each axis inside the bladders' limits. */
 #include "kin_internal.h"
+#include "common/units.h"
 #include "linalg.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#define RAD_PER_DEG (3.14159265358979323846 / 180.0)
+#define RAD_PER_DEG HP_RAD_PER_DEG
 /* Reach is searched up to these caps (a correction beyond them is not clinical). */
 /* Coarse scan steps before bisection, so that a feasible set that is not an interval
  * along the axis still yields its first boundary. */

@@ -3,13 +3,14 @@
  * the unobservable motions, the rotation and translation range, and the commanded part of a
  * desired correction. */
 #include "kin_internal.h"
+#include "common/units.h"
 #include "linalg.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#define ID_PI 3.14159265358979323846
+#define ID_PI HP_PI
 
 static void cross3(const double a[3], const double b[3], double c[3])
 {

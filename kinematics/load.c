@@ -9,13 +9,14 @@
  * The bladder radius ro(P) comes from the bladder model's forward kinematics, and
  * ro'(P) = (dro/dri)/(dP/dri) = (ri/ro)² / (dP/dri). */
 #include "headplan/hp_load.h"
+#include "common/units.h"
 #include "load_internal.h"
 #include "kin_internal.h"
 
 #include <math.h>
 #include <string.h>
 
-static const double PI = 3.14159265358979323846;
+static const double PI = HP_PI;
 
 void hp_load_spec_default(const hp_head *h, hp_load_spec *s)
 {

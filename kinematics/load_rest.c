@@ -1,6 +1,7 @@
 /* Forward statics of the load model: where the head rests under given pressures, and how
  * firmly it is held there (stiffness, stability, compliance, sag). */
 #include "headplan/hp_load.h"
+#include "common/units.h"
 #include "load_internal.h"
 #include "kin_internal.h"
 #include "linalg.h"
@@ -17,7 +18,7 @@
 
 double hp_load_unit(int i)
 {
-    return i < 3 ? 1e-3 : 3.14159265358979323846 / 180.0;
+    return i < 3 ? 1e-3 : HP_RAD_PER_DEG;
 }
 
 int hp_load_cholesky(int n, double *A)

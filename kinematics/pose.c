@@ -1,13 +1,14 @@
 /* Pose units and the rotation convention: the one place where clinical units (mm, degrees)
  * meet SI (m, rad), and where R = Rz(yaw)·Ry(roll)·Rx(pitch) is built. */
 #include "kin_internal.h"
+#include "common/units.h"
 
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
 
 #define MM_PER_M 1000.0
-#define DEG_PER_RAD (180.0 / 3.14159265358979323846)
+#define DEG_PER_RAD HP_DEG_PER_RAD
 
 void hp_pose_from_clinical(const double mm_deg[6], double xi[6])
 {

@@ -6,7 +6,7 @@
  * Every Ipopt call runs under the process-wide Ipopt lock that backend_ipopt.c owns (Debian's
  * Ipopt/MUMPS is not thread-safe); `sb yes`, print_level 0 and option_file_name "" keep
  * the library silent; bound_relax_factor 0 keeps every trial pressure inside its limits. */
-#include "planner/backend_testing.h"
+#include "planner/ipopt_shared.h"
 #include "planner/load_solve.h"
 
 #include <IpStdCInterface.h>
@@ -144,7 +144,7 @@ hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, 
     for (int r = 0; r < 6; ++r) gl[r] = gu[r] = nlp->b[r];
     if (iterations) *iterations = 0;
     if (u.nf == 0) return HP_LOAD_SOLVE_OK; /* nothing to choose */
-    hp_test_ipopt_lock(1);
+    hp_ipopt_lock();
     IpoptProblem a = CreateIpoptProblem(u.nf, xl, xu, 6, gl, gu, 6 * u.nf, u.nf, 0, eval_f,
                                         eval_g, eval_grad_f, eval_jac_g, eval_h);
     hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
@@ -158,7 +158,7 @@ hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, 
         else if (rs == Maximum_Iterations_Exceeded) st = HP_LOAD_SOLVE_ITERATION_LIMIT;
     }
     if (a) FreeIpoptProblem(a);
-    hp_test_ipopt_lock(0);
+    hp_ipopt_unlock();
     if (st == HP_LOAD_SOLVE_OK)
         for (int j = 0; j < u.nf; ++j) p[u.idx[j]] = fmin(fmax(x[j] * 1e3, nlp->L[u.idx[j]]),
                                                           nlp->U[u.idx[j]]);

@@ -3,6 +3,7 @@
  * forward statics when the caller asks for the details. */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/hp_load_planner.h"
+#include "common/units.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_solve.h"
 
@@ -109,7 +110,7 @@ static hp_error check_carry(hp_load_planner *p, hp_diag *diag)
         any = 1;
         double ro;
         if (hp_load_radius(M, k, p->hi[k], &ro, NULL) == HP_OK)
-            cap += s * p->hi[k] * 3.14159265358979323846 * ro * ro;
+            cap += s * p->hi[k] * HP_PI * ro * ro;
     }
     char w[8];
     if (!any)

@@ -15,13 +15,14 @@
  *
  * Each QP is load_qp.c's 6-dimensional dual. No allocation. */
 #include "planner/load_solve.h"
+#include "common/units.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_qp.h"
 
 #include <math.h>
 #include <string.h>
 
-static const double PI = 3.14159265358979323846;
+static const double PI = HP_PI;
 
 /* Row weights of the equilibrium equations: N for the force rows, and N·m/rad times
  * (1°/1 mm) for the moment rows, so both read as "force per unit of pose". */

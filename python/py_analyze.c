@@ -1,6 +1,7 @@
 /* headplan.analyze: the layout analysis (hp_layout_analyze) and the contact models' error
  * bounds as a dict, with the keys of `headplan analyze --json`. Units: mm and degrees. */
 #include "hpy.h"
+#include "common/units.h"
 
 #include <math.h>
 #include <string.h>
@@ -52,7 +53,7 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
         goto fail;
     if (hpy_put(b, "tolerance_mm", PyFloat_FromDouble(s.level_tolerance * 1e3)) ||
         hpy_put(b, "translation_mm", PyFloat_FromDouble(s.auto_trans * 1e3)) ||
-        hpy_put(b, "rotation_deg", PyFloat_FromDouble(s.auto_rot * 180.0 / 3.14159265358979323846)) ||
+        hpy_put(b, "rotation_deg", PyFloat_FromDouble(s.auto_rot * 180.0 / HP_PI)) ||
         hpy_put(b, "linear_mm", PyFloat_FromDouble(bl * 1e3)) ||
         hpy_put(b, "plane_mm", PyFloat_FromDouble(bp * 1e3)) ||
         hpy_put(b, "surface_mm", PyFloat_FromDouble(0.0)) ||
