@@ -150,6 +150,24 @@ const char *hp_cli_fmt(char buf[HP_FMT_MAX], double v)
     return buf;
 }
 
+int hp_cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *const *names,
+                     const char **const *slots, int nopts)
+{
+    for (int o = 0; o < nopts; ++o) {
+        const char *v = NULL;
+        int m = hp_cli_opt(cmd, argc, argv, i, names[o], &v);
+        if (m < 0) return -1;
+        if (m == 0) continue;
+        if (*slots[o]) {
+            hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: given more than once", names[o]);
+            return -1;
+        }
+        *slots[o] = v;
+        return 1;
+    }
+    return 0;
+}
+
 int hp_cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
                       const char *const *names, const char **const *slots, int nopts,
                       int *json, const char **scene)
@@ -164,17 +182,8 @@ int hp_cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void)
             *json = 1;
             continue;
         }
-        int matched = 0;
-        for (int o = 0; o < nopts && !matched; ++o) {
-            const char *v = NULL;
-            int m = hp_cli_opt(cmd, argc, argv, &i, names[o], &v);
-            if (m < 0) return HP_EXIT_USAGE;
-            if (m == 0) continue;
-            if (*slots[o])
-                return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: given more than once", names[o]);
-            *slots[o] = v;
-            matched = 1;
-        }
+        int matched = hp_cli_named_opt(cmd, argc, argv, &i, names, slots, nopts);
+        if (matched < 0) return HP_EXIT_USAGE;
         if (matched) continue;
         if (argv[i][0] == '-' && argv[i][1] != '\0')
             return hp_cli_fail(HP_EXIT_USAGE, cmd, "unknown option '%s' (see headplan %s --help)",

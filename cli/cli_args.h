@@ -29,6 +29,13 @@ int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
  * names[o] fills *slots[o] (a second one is refused); --json sets *json; one positional
  * argument is the scene. Returns -1 to go on, or the exit status after one line on stderr
  * (64: unknown option, missing value, repeated option, no or two scenes). */
+/* Matches argv[*i] against the named options (each takes a value, "--name V" or
+ * "--name=V") and stores the value in the option's slot. Returns 1 when matched (*i moved
+ * past the value), 0 when argv[*i] is none of them, -1 after printing why (missing value,
+ * an option given twice): the caller exits 64. */
+int hp_cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *const *names,
+                     const char **const *slots, int nopts);
+
 int hp_cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
                       const char *const *names, const char **const *slots, int nopts,
                       int *json, const char **scene);

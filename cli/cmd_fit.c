@@ -288,24 +288,15 @@ typedef struct layout_args {
 static int parse_layout(int argc, char **argv, layout_args *a)
 {
     memset(a, 0, sizeof *a);
-    const char *names[] = {"-o", "--level", "--fit", "--sigma-mm", "--sigma-deg"};
+    const char *const names[] = {"-o", "--level", "--fit", "--sigma-mm", "--sigma-deg"};
     const char **slots[] = {&a->out, &a->level, &a->what, &a->sig_mm, &a->sig_deg};
     for (int i = 0; i < argc; ++i) {
         if (strcmp(argv[i], "--json") == 0) {
             a->json = 1;
             continue;
         }
-        int matched = 0;
-        for (int o = 0; o < 5 && !matched; ++o) {
-            const char *v;
-            int m = hp_cli_opt(CMD, argc, argv, &i, names[o], &v);
-            if (m < 0) return HP_EXIT_USAGE;
-            if (m == 0) continue;
-            if (*slots[o])
-                return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given twice", names[o]);
-            *slots[o] = v;
-            matched = 1;
-        }
+        int matched = hp_cli_named_opt(CMD, argc, argv, &i, names, slots, 5);
+        if (matched < 0) return HP_EXIT_USAGE;
         if (matched) continue;
         if (argv[i][0] == '-' && argv[i][1] != '\0')
             return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);

@@ -53,23 +53,14 @@ static int parse(int argc, char **argv, render_args *a)
             help();
             return HP_EXIT_OK;
         }
-    const char *names[] = {"--correction", "--backend", "--level"};
+    const char *const names[] = {"--correction", "--backend", "--level"};
     const char **slots[] = {&a->correction, &a->backend, &a->level};
     for (int i = 1; i < argc; ++i) {
         int m = gp_option(CMD, argc, argv, &i, &a->out);
         if (m == 1) continue;
         if (m != 0) return m;
-        int matched = 0;
-        for (int o = 0; o < 3 && !matched; ++o) {
-            const char *v = NULL;
-            m = hp_cli_opt(CMD, argc, argv, &i, names[o], &v);
-            if (m < 0) return HP_EXIT_USAGE;
-            if (m == 0) continue;
-            if (*slots[o])
-                return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given more than once", names[o]);
-            *slots[o] = v;
-            matched = 1;
-        }
+        int matched = hp_cli_named_opt(CMD, argc, argv, &i, names, slots, 3);
+        if (matched < 0) return HP_EXIT_USAGE;
         if (matched) continue;
         if (argv[i][0] == '-' && argv[i][1])
             return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
