@@ -1,8 +1,8 @@
 /* headplan-bench: the shared method table. Every family of methods (the bladder IK now, the
  * planner later) fills rows of the same shape; cmd_bench.c writes them as CSV, draws the
  * chart and prints the summary without knowing which family they came from. */
-#ifndef HP_BENCH_LAB_H
-#define HP_BENCH_LAB_H
+#ifndef BENCH_LAB_H
+#define BENCH_LAB_H
 
 #include <stddef.h>
 

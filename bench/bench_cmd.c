@@ -83,12 +83,12 @@ static void help(void)
            "folder\n", DEFAULT_SCENE);
 }
 
-/* Marks the families named in a comma-separated list. Returns 0 or HP_EXIT_USAGE. */
+/* Marks the families named in a comma-separated list. Returns 0 or CLI_EXIT_USAGE. */
 static int parse_only(const char *list, int *on)
 {
     char buf[256];
     if (strlen(list) >= sizeof buf || !*list)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD, "--only: expected a list of families");
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--only: expected a list of families");
     strcpy(buf, list);
     for (char *p = buf;;) {
         char *comma = strchr(p, ',');
@@ -96,7 +96,7 @@ static int parse_only(const char *list, int *on)
         size_t k = 0;
         while (k < N_FAMILIES && strcmp(families[k].chart.family, p) != 0) ++k;
         if (k == N_FAMILIES)
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "--only: unknown family '%s' (known: ik, "
+            return cli_fail(CLI_EXIT_USAGE, CMD, "--only: unknown family '%s' (known: ik, "
                                "planner, stability, peers, levels, load)", p);
         on[k] = 1;
         if (!comma) break;
@@ -140,7 +140,7 @@ int bench_run_cli(int argc, char **argv)
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help();
-            return HP_EXIT_OK;
+            return CLI_EXIT_OK;
         }
     }
     for (int i = 1; i < argc; ++i) {
@@ -148,30 +148,30 @@ int bench_run_cli(int argc, char **argv)
         int m;
         if (strcmp(argv[i], "--quick") == 0) {
             quick = 1;
-        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--out", &v)) != 0) {
-            if (m < 0) return HP_EXIT_USAGE;
-            if (!*v) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--out: empty folder name");
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--out", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
+            if (!*v) return cli_fail(CLI_EXIT_USAGE, CMD, "--out: empty folder name");
             out = v;
-        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--only", &v)) != 0) {
-            if (m < 0 || (rc = parse_only(v, on)) != 0) return HP_EXIT_USAGE;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--only", &v)) != 0) {
+            if (m < 0 || (rc = parse_only(v, on)) != 0) return CLI_EXIT_USAGE;
             only_given = 1;
-        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--scene", &v)) != 0) {
-            if (m < 0) return HP_EXIT_USAGE;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--scene", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
             scene = v;
-        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--scenarios", &v)) != 0) {
-            if (m < 0) return HP_EXIT_USAGE;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--scenarios", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
             scenarios = v;
-        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--python", &v)) != 0) {
-            if (m < 0) return HP_EXIT_USAGE;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--python", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
             python = v;
-        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--peer-script", &v)) != 0) {
-            if (m < 0) return HP_EXIT_USAGE;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--peer-script", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
             peer_script = v;
-        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--seed", &v)) != 0) {
-            if (m < 0 || (rc = hp_cli_int(CMD, "--seed", v, 0, LONG_MAX, &seed)) != 0)
-                return HP_EXIT_USAGE;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--seed", &v)) != 0) {
+            if (m < 0 || (rc = cli_int(CMD, "--seed", v, 0, LONG_MAX, &seed)) != 0)
+                return CLI_EXIT_USAGE;
         } else {
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see headplan-bench --help)",
+            return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s' (see headplan-bench --help)",
                                argv[i]);
         }
     }
@@ -180,13 +180,13 @@ int bench_run_cli(int argc, char **argv)
 
     /* Fail before minutes of measuring, not after. */
     if (bench_gnuplot_available() != 0)
-        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD,
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD,
                            "gnuplot not found on PATH (it draws the charts; install the "
                            "'gnuplot' package)");
     for (size_t k = 0; k < N_FAMILIES; ++k) {
         FILE *f;
         if (on[k] && families[k].needs_scene && !(f = fopen(scene, "r")))
-            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "--scene: cannot open '%s' (the %s "
+            return cli_fail(CLI_EXIT_NOINPUT, CMD, "--scene: cannot open '%s' (the %s "
                                "family needs a layout scene)", scene, families[k].chart.family);
         else if (on[k] && families[k].needs_scene)
             fclose(f);
@@ -197,12 +197,12 @@ int bench_run_cli(int argc, char **argv)
     if (peers_on) { /* SciPy must be there before minutes of measuring */
         FILE *f = fopen(peer_script, "r");
         if (!f)
-            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "--peer-script: cannot open '%s'",
+            return cli_fail(CLI_EXIT_NOINPUT, CMD, "--peer-script: cannot open '%s'",
                                peer_script);
         fclose(f);
         char *const chk[] = {(char *)python, "-c", "import scipy.optimize, numpy", NULL};
         if (bench_run_child(chk, NULL, 1) != 0)
-            return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "--python: '%s' cannot import scipy "
+            return cli_fail(CLI_EXIT_SOFTWARE, CMD, "--python: '%s' cannot import scipy "
                                "(install Debian's python3-scipy, or name a Python that has "
                                "SciPy)", python);
     }
@@ -217,5 +217,5 @@ int bench_run_cli(int argc, char **argv)
     o.out_dir = out;
     for (size_t k = 0; k < N_FAMILIES; ++k)
         if (on[k] && (rc = run_family(&families[k], &o, out)) != 0) return rc;
-    return HP_EXIT_OK;
+    return CLI_EXIT_OK;
 }

@@ -183,8 +183,8 @@ int bench_ik(const bench_options *o, bench_table *t)
         free(in);
         free(perm);
         free(ref);
-        hp_cli_fail(0, "bench", "out of memory");
-        return HP_EXIT_SOFTWARE;
+        cli_fail(0, "bench", "out of memory");
+        return CLI_EXIT_SOFTWARE;
     }
     for (size_t j = 0; j < N_RATIO; ++j)
         for (long k = 0; k < N_LAMBDA; ++k) {
@@ -204,7 +204,7 @@ int bench_ik(const bench_options *o, bench_table *t)
     for (int i = 0; i < nm && rc == 0; ++i) {
         bench_row *r = bench_table_add(t);
         if (!r) {
-            rc = HP_EXIT_SOFTWARE;
+            rc = CLI_EXIT_SOFTWARE;
             break;
         }
         name_method(&ms[i], r);
@@ -213,7 +213,7 @@ int bench_ik(const bench_options *o, bench_table *t)
         ik_ctx c = {&ms[i], in, perm, 0};
         bench_timing tm;
         if (bench_time(o, batch, &c, &tm) != 0) {
-            rc = HP_EXIT_SOFTWARE;
+            rc = CLI_EXIT_SOFTWARE;
             break;
         }
         sink += c.sink;
@@ -223,7 +223,7 @@ int bench_ik(const bench_options *o, bench_table *t)
         r->batch = tm.batch;
         fprintf(stderr, " %10.1f ns  max error %.2e\n", r->median_ns, r->max_error);
     }
-    if (rc) hp_cli_fail(0, "bench", "out of memory");
+    if (rc) cli_fail(0, "bench", "out of memory");
     if (!isfinite(sink)) fprintf(stderr, "bench ik: note: a method returned a non-finite sum\n");
     t->baseline = "closed";
     free(in);

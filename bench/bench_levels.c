@@ -70,7 +70,7 @@ static int scene_targets(const hp_scene *sc, int quick, double (*t)[6])
     hp_diag d;
     hp_trace_rows rows = sc->trace_rows;
     if (hp_trace_open(sc->trace_path, &rows, &r, &d) != HP_OK) {
-        hp_cli_fail(0, "bench", "levels: %s", d.text);
+        cli_fail(0, "bench", "levels: %s", d.text);
         return -1;
     }
     double (*all)[6] = malloc(MAX_TRACE_READ * sizeof *all);
@@ -79,7 +79,7 @@ static int scene_targets(const hp_scene *sc, int quick, double (*t)[6])
     hp_error e;
     while (all && m < MAX_TRACE_READ && (e = hp_trace_next(r, &row, &d)) != HP_END) {
         if (e != HP_OK) {
-            hp_cli_fail(0, "bench", "levels: %s", d.text);
+            cli_fail(0, "bench", "levels: %s", d.text);
             free(all);
             hp_trace_close(r);
             return -1;
@@ -109,13 +109,13 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     static hp_scene sc;
     hp_diag d;
     if (hp_scene_load(path, &sc, &d) != HP_OK) {
-        hp_cli_fail(0, "bench", "levels: %s", d.text);
-        return HP_EXIT_DATAERR;
+        cli_fail(0, "bench", "levels: %s", d.text);
+        return CLI_EXIT_DATAERR;
     }
     if (sc.kind != HP_SCENE_LAYOUT) return 1;
     static double t[MAX_T][6], ref[MAX_T][6];
     int n = scene_targets(&sc, o->quick, t);
-    if (n < 0) return HP_EXIT_DATAERR;
+    if (n < 0) return CLI_EXIT_DATAERR;
     if (n == 0) return 1;
     const hp_layout *L = &sc.layout;
     memset(row, 0, sizeof *row);
@@ -131,11 +131,11 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     row->rot_deg = rot * 180 / BENCH_PI;
     row->tol_mm = sc.level_tolerance * 1e3;
     if (hp_contact_auto(L, sc.level_tolerance, tr, rot, &row->auto_level) != HP_OK) {
-        hp_cli_fail(0, "bench", "levels: %s: auto could not choose a level", path);
-        return HP_EXIT_SOFTWARE;
+        cli_fail(0, "bench", "levels: %s: auto could not choose a level", path);
+        return CLI_EXIT_SOFTWARE;
     }
     hp_settings base;
-    if (hp_scene_settings(&sc, &base, &d) != HP_OK) return HP_EXIT_DATAERR;
+    if (hp_scene_settings(&sc, &base, &d) != HP_OK) return CLI_EXIT_DATAERR;
     for (int li = 2; li >= 0; --li) { /* surface first: the reference */
         hp_settings s = base;
         s.level = levels[li];
@@ -162,7 +162,7 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
         }
         plan_ctx c = {p, (const double(*)[6])t, n, 0};
         bench_timing tm;
-        rc = bench_time(o, batch, &c, &tm) != 0 ? HP_EXIT_SOFTWARE : 0;
+        rc = bench_time(o, batch, &c, &tm) != 0 ? CLI_EXIT_SOFTWARE : 0;
         hp_planner_destroy(p);
         if (rc) return rc;
         double bound;
@@ -207,8 +207,8 @@ int bench_levels(const bench_options *o, const char *dir)
 {
     DIR *dp = opendir(o->scenarios);
     if (!dp) {
-        hp_cli_fail(0, "bench", "--scenarios: cannot open folder '%s'", o->scenarios);
-        return HP_EXIT_NOINPUT;
+        cli_fail(0, "bench", "--scenarios: cannot open folder '%s'", o->scenarios);
+        return CLI_EXIT_NOINPUT;
     }
     char *names[MAX_SCENES];
     int nn = 0;
@@ -227,7 +227,7 @@ int bench_levels(const bench_options *o, const char *dir)
         char path[4096], stem[64];
         snprintf(path, sizeof path, "%s/%s", o->scenarios, names[i]);
         snprintf(stem, sizeof stem, "%.*s", (int)(strlen(names[i]) - 5), names[i]);
-        int r = names[i] ? run_scene(o, path, stem, &rows[nr]) : HP_EXIT_SOFTWARE;
+        int r = names[i] ? run_scene(o, path, stem, &rows[nr]) : CLI_EXIT_SOFTWARE;
         if (r == 0) ++nr;
         else if (r != 1) rc = r;
     }

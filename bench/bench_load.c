@@ -65,7 +65,7 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
                      load_row *row)
 {
     hp_scene *sc = malloc(sizeof *sc);
-    if (!sc) return HP_EXIT_SOFTWARE;
+    if (!sc) return CLI_EXIT_SOFTWARE;
     hp_diag d;
     int rc = 1;
     if (hp_scene_load(path, sc, &d) != HP_OK || sc->kind != HP_SCENE_LAYOUT || !sc->has_load ||
@@ -143,7 +143,7 @@ int bench_load(const bench_options *o, const char *dir)
     DIR *dp = opendir(o->scenarios);
     if (!dp) {
         fprintf(stderr, "headplan-bench: --scenarios: cannot open folder '%s'\n", o->scenarios);
-        return HP_EXIT_NOINPUT;
+        return CLI_EXIT_NOINPUT;
     }
     char *names[64];
     int nn = 0;

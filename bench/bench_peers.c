@@ -140,8 +140,8 @@ static int read_scipy(const char *path, const hp_layout *L, const bench_bounds *
     static const char *const variants[2] = {"analytic", "fd"};
     FILE *f = fopen(path, "r");
     if (!f) {
-        hp_cli_fail(0, "bench", "peers: the SciPy peer wrote no '%s'", path);
-        return HP_EXIT_SOFTWARE;
+        cli_fail(0, "bench", "peers: the SciPy peer wrote no '%s'", path);
+        return CLI_EXIT_SOFTWARE;
     }
     double rho0[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], z[6] = {0};
     hp_contact_eval(L, HP_LEVEL_LINEAR, z, rho0, J, NULL);
@@ -151,12 +151,12 @@ static int read_scipy(const char *path, const hp_layout *L, const bench_bounds *
     double worst[2] = {-1, -1}, viol[2] = {0, 0};
     long wk[2] = {0, 0}, fails[2] = {0, 0};
     char line[4096];
-    int rc = times ? 0 : HP_EXIT_SOFTWARE;
-    if (!fgets(line, sizeof line, f)) rc = HP_EXIT_SOFTWARE;
+    int rc = times ? 0 : CLI_EXIT_SOFTWARE;
+    if (!fgets(line, sizeof line, f)) rc = CLI_EXIT_SOFTWARE;
     while (rc == 0 && fgets(line, sizeof line, f)) {
         char *p = line, *e;
         int v = strncmp(p, "analytic,", 9) == 0 ? 0 : strncmp(p, "fd,", 3) == 0 ? 1 : -1;
-        if (v < 0) { rc = HP_EXIT_SOFTWARE; break; }
+        if (v < 0) { rc = CLI_EXIT_SOFTWARE; break; }
         p = strchr(p, ',') + 1;
         long k = strtol(p, &e, 10), ok, nit;
         ok = strtol(e + 1, &e, 10);
@@ -164,7 +164,7 @@ static int read_scipy(const char *path, const hp_layout *L, const bench_bounds *
         (void)nit;
         double tns = strtod(e + 1, &e), x[6 + HP_MAX_BLADDERS];
         for (int i = 0; i < 6 + L->n; ++i) x[i] = strtod(e + 1, &e);
-        if (k < 0 || k >= n || !isfinite(tns)) { rc = HP_EXIT_SOFTWARE; break; }
+        if (k < 0 || k >= n || !isfinite(tns)) { rc = CLI_EXIT_SOFTWARE; break; }
         seen[v]++;
         times[v * n + nt[v]++] = tns;
         /* Contact equalities and bounds of the SciPy answer (mm). */
@@ -190,9 +190,9 @@ static int read_scipy(const char *path, const hp_layout *L, const bench_bounds *
         if (err > worst[v]) worst[v] = err, wk[v] = k;
     }
     fclose(f);
-    if (rc == 0 && (seen[0] != n || seen[1] != n)) rc = HP_EXIT_SOFTWARE;
+    if (rc == 0 && (seen[0] != n || seen[1] != n)) rc = CLI_EXIT_SOFTWARE;
     if (rc) {
-        hp_cli_fail(0, "bench", "peers: '%s' is malformed or incomplete", path);
+        cli_fail(0, "bench", "peers: '%s' is malformed or incomplete", path);
         free(times);
         return rc;
     }
@@ -201,7 +201,7 @@ static int read_scipy(const char *path, const hp_layout *L, const bench_bounds *
         snprintf(name, sizeof name, v ? "scipy-slsqp-fd" : "scipy-slsqp");
         if (!(rows[v] = new_row(t, name, "scipy-slsqp", variants[v], "linear-nlp"))) {
             free(times);
-            return HP_EXIT_SOFTWARE;
+            return CLI_EXIT_SOFTWARE;
         }
         qsort(times + v * n, (size_t)nt[v], sizeof *times, cmp_dbl);
         rows[v]->median_ns = bench_percentile(times + v * n, nt[v], 0.5);
@@ -228,9 +228,9 @@ int bench_peers(const bench_options *o, bench_table *t)
     const hp_layout *L = &scene.layout;
     bench_bounds b;
     if (bench_bounds_of(L, &b) != 0) {
-        hp_cli_fail(0, "bench", "peers: %s: a bladder has no valid radius interval",
+        cli_fail(0, "bench", "peers: %s: a bladder has no valid radius interval",
                 o->scene);
-        return HP_EXIT_DATAERR;
+        return CLI_EXIT_DATAERR;
     }
     long want = o->quick ? N_QUICK : N_FULL, n = 0;
     static double tg[N_FULL][6], ref_lin[N_FULL][6], ref_sur[N_FULL][6];
@@ -270,8 +270,8 @@ int bench_peers(const bench_options *o, bench_table *t)
     hp_planner_destroy(pl);
     hp_planner_destroy(ps);
     if (n < want) {
-        hp_cli_fail(0, "bench", "peers: only %ld of %ld binding targets found", n, want);
-        return HP_EXIT_SOFTWARE;
+        cli_fail(0, "bench", "peers: only %ld of %ld binding targets found", n, want);
+        return CLI_EXIT_SOFTWARE;
     }
     bench_shuffle(perm, n, o->seed);
 
@@ -280,16 +280,16 @@ int bench_peers(const bench_options *o, bench_table *t)
     snprintf(jpath, sizeof jpath, "%s/peers_problem.json", o->out_dir);
     snprintf(cpath, sizeof cpath, "%s/peers_scipy.csv", o->out_dir);
     if (write_problem(jpath, L, &b, commanded, (const double(*)[6])tg, n, o->quick ? 1 : 5) != 0) {
-        hp_cli_fail(0, "bench", "cannot write '%s'", jpath);
-        return HP_EXIT_CANTCREAT;
+        cli_fail(0, "bench", "cannot write '%s'", jpath);
+        return CLI_EXIT_CANTCREAT;
     }
     fprintf(stderr, "bench peers: %s %s (%ld targets)\n", o->python, o->peer_script, n);
     char *const argv[] = {(char *)o->python, (char *)o->peer_script, jpath, cpath, NULL};
     int st = bench_run_child(argv, NULL, 0);
     if (st != 0) {
-        hp_cli_fail(0, "bench", "peers: '%s %s' failed (exit status %d)%s", o->python,
+        cli_fail(0, "bench", "peers: '%s %s' failed (exit status %d)%s", o->python,
                 o->peer_script, st, st == 3 ? ": SciPy is missing" : "");
-        return HP_EXIT_SOFTWARE;
+        return CLI_EXIT_SOFTWARE;
     }
 
     typedef struct {
@@ -309,7 +309,7 @@ int bench_peers(const bench_options *o, bench_table *t)
     for (size_t i = 0; i < sizeof ms / sizeof ms[0] && rc == 0; ++i) {
         const peer_method *m = &ms[i];
         bench_row *row = new_row(t, m->name, m->variant, m->param, m->set);
-        if (!row) return HP_EXIT_SOFTWARE;
+        if (!row) return CLI_EXIT_SOFTWARE;
         hp_settings st2 = settings_of(m->b, m->l, 1e-9);
         hp_planner *p;
         if ((rc = bench_planner_new(L, &st2, &p))) break;
@@ -317,14 +317,14 @@ int bench_peers(const bench_options *o, bench_table *t)
         if (m->lbfgs && hp_planner_set_option(p, "hessian_approximation", 1) != HP_OK) {
             fprintf(stderr, "headplan-bench: peers: %s\n", hp_planner_error(p));
             hp_planner_destroy(p);
-            rc = HP_EXIT_SOFTWARE;
+            rc = CLI_EXIT_SOFTWARE;
             break;
         }
         accuracy(p, L, (const double(*)[6])tg, n,
                  (const double(*)[6])(m->l == HP_LEVEL_LINEAR ? ref_lin : ref_sur), row);
         bench_plan_ctx c = {p, (const double(*)[6])tg, n, perm, 0};
         bench_timing tm;
-        if (bench_time(o, bench_plan_batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
+        if (bench_time(o, bench_plan_batch, &c, &tm) != 0) rc = CLI_EXIT_SOFTWARE;
         hp_planner_destroy(p);
         row->median_ns = tm.median_ns;
         row->p99_ns = tm.p99_ns;

@@ -58,9 +58,9 @@ static int create(const hp_layout *L, hp_backend b, hp_level level, double tol, 
     hp_settings s = bench_settings(b, level, tol, 0);
     hp_diag d;
     if (hp_planner_create(L, &s, p, &d) != HP_OK) {
-        hp_cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s",
+        cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s",
                 hp_backend_name(b), hp_level_name(level), tol, d.text);
-        return HP_EXIT_SOFTWARE;
+        return CLI_EXIT_SOFTWARE;
     }
     return 0;
 }
@@ -76,9 +76,9 @@ static int reference(const hp_layout *L, const double (*t)[6], long n, double (*
         if (hp_plan(p, t[k], &r) != HP_OK ||
             (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
             bench_round_trip(L, HP_LEVEL_SURFACE, &r, ref[k], NULL) != HP_OK) {
-            hp_cli_fail(0, "bench", "the reference (ipopt, surface) failed on target %ld: %s",
+            cli_fail(0, "bench", "the reference (ipopt, surface) failed on target %ld: %s",
                     k, hp_planner_error(p));
-            rc = HP_EXIT_SOFTWARE;
+            rc = CLI_EXIT_SOFTWARE;
         }
     }
     hp_planner_destroy(p);
@@ -132,12 +132,12 @@ int bench_planner(const bench_options *o, bench_table *t)
     hp_scene scene;
     hp_diag d;
     if (hp_scene_load(o->scene, &scene, &d) != HP_OK) {
-        hp_cli_fail(0, "bench", "--scene: %s", d.text);
-        return HP_EXIT_NOINPUT;
+        cli_fail(0, "bench", "--scene: %s", d.text);
+        return CLI_EXIT_NOINPUT;
     }
     if (scene.kind != HP_SCENE_LAYOUT) {
-        hp_cli_fail(0, "bench", "--scene: %s: not a layout scene", o->scene);
-        return HP_EXIT_DATAERR;
+        cli_fail(0, "bench", "--scene: %s: not a layout scene", o->scene);
+        return CLI_EXIT_DATAERR;
     }
     const hp_layout *L = &scene.layout;
     static double targets[N_TARGETS_MAX][6], ref[N_TARGETS_MAX][6];
@@ -170,8 +170,8 @@ int bench_planner(const bench_options *o, bench_table *t)
         int fast = m->backend == HP_BACKEND_COUNT_;
         bench_row *row = bench_table_add(t);
         if (!row) {
-            hp_cli_fail(0, "bench", "out of memory");
-            return HP_EXIT_SOFTWARE;
+            cli_fail(0, "bench", "out of memory");
+            return CLI_EXIT_SOFTWARE;
         }
         snprintf(row->family, sizeof row->family, "planner");
         snprintf(row->input_set, sizeof row->input_set, "%s", fast ? "reachable" : "binding");
@@ -196,7 +196,7 @@ int bench_planner(const bench_options *o, bench_table *t)
                          &row->model_error);
         bench_plan_ctx c = {p, tg, n, fast ? perm_reach : perm_bind, 0};
         bench_timing tm;
-        if (bench_time(o, bench_plan_batch, &c, &tm) != 0) rc = HP_EXIT_SOFTWARE;
+        if (bench_time(o, bench_plan_batch, &c, &tm) != 0) rc = CLI_EXIT_SOFTWARE;
         hp_planner_destroy(p);
         if (rc) break;
         row->median_ns = tm.median_ns;

@@ -22,8 +22,8 @@ int bench_mkdirs(const char *dir)
 {
     char p[PATH_CAP];
     if (!dir || !*dir || strlen(dir) >= sizeof p) {
-        hp_cli_fail(0, "bench", "--out: folder name empty or too long");
-        return HP_EXIT_CANTCREAT;
+        cli_fail(0, "bench", "--out: folder name empty or too long");
+        return CLI_EXIT_CANTCREAT;
     }
     strcpy(p, dir);
     for (char *s = p + 1;; ++s) {
@@ -31,9 +31,9 @@ int bench_mkdirs(const char *dir)
         if (*s == '/' || end) {
             *s = '\0';
             if (mkdir(p, 0777) != 0 && errno != EEXIST) {
-                hp_cli_fail(0, "bench", "--out: cannot create folder '%s': %s", p,
+                cli_fail(0, "bench", "--out: cannot create folder '%s': %s", p,
                         strerror(errno));
-                return HP_EXIT_CANTCREAT;
+                return CLI_EXIT_CANTCREAT;
             }
             if (end) break;
             *s = '/';
@@ -41,8 +41,8 @@ int bench_mkdirs(const char *dir)
     }
     struct stat st;
     if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-        hp_cli_fail(0, "bench", "--out: '%s' is not a folder", dir);
-        return HP_EXIT_CANTCREAT;
+        cli_fail(0, "bench", "--out: '%s' is not a folder", dir);
+        return CLI_EXIT_CANTCREAT;
     }
     return 0;
 }
@@ -58,19 +58,19 @@ int bench_save(const char *dir, const char *name,
 {
     char final[PATH_CAP], tmp[PATH_CAP];
     if (join(final, sizeof final, dir, name, "") || join(tmp, sizeof tmp, dir, name, ".tmp")) {
-        hp_cli_fail(0, "bench", "%s/%s: path too long", dir, name);
-        return HP_EXIT_CANTCREAT;
+        cli_fail(0, "bench", "%s/%s: path too long", dir, name);
+        return CLI_EXIT_CANTCREAT;
     }
     FILE *f = fopen(tmp, "w");
     if (!f) {
-        hp_cli_fail(0, "bench", "cannot create '%s': %s", tmp, strerror(errno));
-        return HP_EXIT_CANTCREAT;
+        cli_fail(0, "bench", "cannot create '%s': %s", tmp, strerror(errno));
+        return CLI_EXIT_CANTCREAT;
     }
     int bad = writer(arg, f) != 0;
-    int rc = hp_cli_close_output(f, tmp, "bench");
-    if (rc == 0 && bad) rc = hp_cli_fail(HP_EXIT_IOERR, "bench", "cannot write %s", tmp);
+    int rc = cli_close_output(f, tmp, "bench");
+    if (rc == 0 && bad) rc = cli_fail(CLI_EXIT_IOERR, "bench", "cannot write %s", tmp);
     if (rc == 0 && rename(tmp, final) != 0)
-        rc = hp_cli_fail(HP_EXIT_IOERR, "bench", "cannot rename %s to %s: %s", tmp, final,
+        rc = cli_fail(CLI_EXIT_IOERR, "bench", "cannot rename %s to %s: %s", tmp, final,
                          strerror(errno));
     if (rc) remove(tmp);
     return rc;
@@ -269,15 +269,15 @@ int bench_gnuplot_run(const char *dir, const char *script, const char *const *ou
     char *const argv[] = {"gnuplot", (char *)script, NULL};
     int st = bench_run_child(argv, dir, 0);
     if (st != 0) {
-        hp_cli_fail(0, "bench", "gnuplot failed on '%s/%s' (%s %d)", dir, script,
+        cli_fail(0, "bench", "gnuplot failed on '%s/%s' (%s %d)", dir, script,
                 st < 0 ? "could not run, status" : "exit status", st);
-        return HP_EXIT_SOFTWARE;
+        return CLI_EXIT_SOFTWARE;
     }
     for (; outputs && *outputs; ++outputs)
         if (!nonempty(dir, *outputs, "")) {
-            hp_cli_fail(0, "bench", "gnuplot left '%s/%s' missing or empty", dir,
+            cli_fail(0, "bench", "gnuplot left '%s/%s' missing or empty", dir,
                     *outputs);
-            return HP_EXIT_SOFTWARE;
+            return CLI_EXIT_SOFTWARE;
         }
     return 0;
 }
@@ -292,14 +292,14 @@ int bench_plot(const bench_table *t, const bench_chart *c, const char *dir)
     char *const argv[] = {"gnuplot", script, NULL};
     int st = bench_run_child(argv, dir, 0);
     if (st != 0) {
-        hp_cli_fail(0, "bench", "gnuplot failed on '%s/%s' (%s %d)", dir, script,
+        cli_fail(0, "bench", "gnuplot failed on '%s/%s' (%s %d)", dir, script,
                 st < 0 ? "could not run, status" : "exit status", st);
-        return HP_EXIT_SOFTWARE;
+        return CLI_EXIT_SOFTWARE;
     }
     if (!nonempty(dir, c->family, "_pareto.png") || !nonempty(dir, c->family, "_pareto.svg")) {
-        hp_cli_fail(0, "bench", "gnuplot left '%s/%s_pareto.png' or .svg missing or empty",
+        cli_fail(0, "bench", "gnuplot left '%s/%s_pareto.png' or .svg missing or empty",
                 dir, c->family);
-        return HP_EXIT_SOFTWARE;
+        return CLI_EXIT_SOFTWARE;
     }
     return 0;
 }

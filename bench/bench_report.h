@@ -1,6 +1,6 @@
 /* headplan-bench: writing the results (CSV, gnuplot chart, summary) and the output folder. */
-#ifndef HP_BENCH_LAB_REPORT_H
-#define HP_BENCH_LAB_REPORT_H
+#ifndef BENCH_LAB_REPORT_H
+#define BENCH_LAB_REPORT_H
 
 #include "bench/bench.h"
 
@@ -23,13 +23,13 @@ typedef struct bench_chart {
     const char *ylabel;
 } bench_chart;
 
-/* Creates dir and its parents (like mkdir -p). Returns 0, or HP_EXIT_CANTCREAT after one
+/* Creates dir and its parents (like mkdir -p). Returns 0, or CLI_EXIT_CANTCREAT after one
  * line on stderr naming the folder. */
 int bench_mkdirs(const char *dir);
 
 /* Writes DIR/NAME through DIR/NAME.tmp and a rename, so that a failed run never leaves a
  * partial file under the final name. writer returns 0 or -1. Returns 0, or
- * HP_EXIT_CANTCREAT after one line on stderr naming the file. */
+ * CLI_EXIT_CANTCREAT after one line on stderr naming the file. */
 int bench_save(const char *dir, const char *name,
                   int (*writer)(const void *arg, FILE *f), const void *arg);
 
@@ -39,7 +39,7 @@ int bench_save(const char *dir, const char *name,
 int bench_run_child(char *const argv[], const char *cwd, int quiet);
 
 /* Runs `gnuplot SCRIPT` in dir and checks that every file named in the NULL-terminated list
- * outputs (relative to dir) exists and is not empty. Returns 0 or HP_EXIT_SOFTWARE after one
+ * outputs (relative to dir) exists and is not empty. Returns 0 or CLI_EXIT_SOFTWARE after one
  * line on stderr. */
 int bench_gnuplot_run(const char *dir, const char *script, const char *const *outputs);
 
@@ -49,8 +49,8 @@ int bench_gnuplot_available(void);
 /* Writes DIR/<family>_pareto.gp (reads DIR/<family>.csv, which must exist) and runs gnuplot
  * in DIR, drawing <family>_pareto.png and <family>_pareto.svg: time on x, error on y, log
  * scales, one mark and label per method, a series per variant, the Pareto front as a step
- * line, errors below BENCH_ERROR_FLOOR drawn at the floor. Returns 0, HP_EXIT_CANTCREAT,
- * or HP_EXIT_SOFTWARE when gnuplot fails or leaves an output missing or empty. */
+ * line, errors below BENCH_ERROR_FLOOR drawn at the floor. Returns 0, CLI_EXIT_CANTCREAT,
+ * or CLI_EXIT_SOFTWARE when gnuplot fails or leaves an output missing or empty. */
 int bench_plot(const bench_table *t, const bench_chart *c, const char *dir);
 
 #endif

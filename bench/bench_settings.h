@@ -1,7 +1,7 @@
 /* The one place the benchmark lab builds planner settings, so every family (and the
  * backend timing program) measures methods under the same budgets. */
-#ifndef HP_BENCH_SETTINGS_H
-#define HP_BENCH_SETTINGS_H
+#ifndef BENCH_SETTINGS_H
+#define BENCH_SETTINGS_H
 
 #include "headplan/hp_planner.h"
 

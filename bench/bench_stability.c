@@ -224,8 +224,8 @@ static int run_case(const bench_options *o, const stab_case *c, stab_run *run, c
     const hp_layout *L = &scene.layout;
     bench_bounds b;
     if (bench_bounds_of(L, &b) != 0) {
-        hp_cli_fail(0, "bench", "%s: a bladder has no valid radius interval", path);
-        return HP_EXIT_DATAERR;
+        cli_fail(0, "bench", "%s: a bladder has no valid radius interval", path);
+        return CLI_EXIT_DATAERR;
     }
     cd->n_size = o->quick ? 6 : N_SIZE_FULL;
     cd->n_dir = o->quick ? N_DIR_QUICK : N_DIR_FULL;
@@ -270,7 +270,7 @@ static int run_case(const bench_options *o, const stab_case *c, stab_run *run, c
                 fprintf(stderr, "headplan-bench: stability: set_previous refused an extreme "
                                 "pressure: %s\n", hp_planner_error(p));
                 hp_planner_destroy(p);
-                return HP_EXIT_SOFTWARE;
+                return CLI_EXIT_SOFTWARE;
             }
             hp_error pe = hp_plan(p, cd->targets[t], &r);
             cell *ce = &cd->cells[m][t / cd->n_dir];
@@ -464,23 +464,23 @@ int bench_stability(const bench_options *o, const char *dir)
     snprintf(wtmp, sizeof wtmp, "%s.tmp", wpath);
     int rc = 0;
     if (!(run.wrong = fopen(wtmp, "w"))) {
-        hp_cli_fail(0, "bench", "cannot create '%s'", wtmp);
-        return HP_EXIT_CANTCREAT;
+        cli_fail(0, "bench", "cannot create '%s'", wtmp);
+        return CLI_EXIT_CANTCREAT;
     }
     fprintf(run.wrong, "case,method,size,direction,status,iterations,check,error,"
                        "desired_mm_deg,achieved_mm_deg,ipopt_status,ipopt_achieved_mm_deg\n");
     for (int c = 0; c < N_CASES && rc == 0; ++c) {
         if (!(cd[c] = calloc(1, sizeof *cd[c]))) {
-            hp_cli_fail(0, "bench", "out of memory");
-            rc = HP_EXIT_SOFTWARE;
+            cli_fail(0, "bench", "out of memory");
+            rc = CLI_EXIT_SOFTWARE;
         } else {
             rc = run_case(o, &cases[c], &run, cd[c]);
         }
     }
-    int closed = hp_cli_close_output(run.wrong, wtmp, "bench");
+    int closed = cli_close_output(run.wrong, wtmp, "bench");
     if (rc == 0) rc = closed;
     if (rc == 0 && rename(wtmp, wpath) != 0)
-        rc = hp_cli_fail(HP_EXIT_IOERR, "bench", "cannot rename %s to %s", wtmp, wpath);
+        rc = cli_fail(CLI_EXIT_IOERR, "bench", "cannot rename %s to %s", wtmp, wpath);
     if (rc) remove(wtmp);
     all_cases a = {cd};
     if (rc == 0) rc = bench_save(dir, "stability.csv", csv_writer, &a);

@@ -1,7 +1,7 @@
 /* headplan-bench: the timing harness. Times batches of evaluations with CLOCK_MONOTONIC so
  * that nanosecond-scale calls are not drowned by the clock's own cost and resolution. */
-#ifndef HP_BENCH_LAB_TIMING_H
-#define HP_BENCH_LAB_TIMING_H
+#ifndef BENCH_LAB_TIMING_H
+#define BENCH_LAB_TIMING_H
 
 #include "bench/bench.h"
 

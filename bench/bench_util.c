@@ -10,12 +10,12 @@ int bench_load_layout(const char *path, hp_scene *scene)
 {
     hp_diag d;
     if (hp_scene_load(path, scene, &d) != HP_OK) {
-        hp_cli_fail(0, "bench", "%s", d.text);
-        return HP_EXIT_NOINPUT;
+        cli_fail(0, "bench", "%s", d.text);
+        return CLI_EXIT_NOINPUT;
     }
     if (scene->kind != HP_SCENE_LAYOUT) {
-        hp_cli_fail(0, "bench", "%s: not a layout scene", path);
-        return HP_EXIT_DATAERR;
+        cli_fail(0, "bench", "%s: not a layout scene", path);
+        return CLI_EXIT_DATAERR;
     }
     return 0;
 }
@@ -24,9 +24,9 @@ int bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p)
 {
     hp_diag d;
     if (hp_planner_create(L, s, p, &d) != HP_OK) {
-        hp_cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s",
+        cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s",
                 hp_backend_name(s->backend), hp_level_name(s->level), s->tolerance, d.text);
-        return HP_EXIT_SOFTWARE;
+        return CLI_EXIT_SOFTWARE;
     }
     return 0;
 }

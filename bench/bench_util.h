@@ -1,8 +1,8 @@
 /* headplan-bench: helpers shared by the stability, peers and levels families — scene
  * loading, the planner's radius bounds recomputed through the public API, the checks of an
  * answer through the exact model, and seeded random numbers. */
-#ifndef HP_BENCH_LAB_UTIL_H
-#define HP_BENCH_LAB_UTIL_H
+#ifndef BENCH_LAB_UTIL_H
+#define BENCH_LAB_UTIL_H
 
 #include "headplan/hp_planner.h"
 #include "common/units.h"
@@ -12,11 +12,11 @@
 
 #define BENCH_PI HP_PI
 
-/* Loads a layout scene; on failure one line on stderr and HP_EXIT_NOINPUT or
- * HP_EXIT_DATAERR (not a layout). */
+/* Loads a layout scene; on failure one line on stderr and CLI_EXIT_NOINPUT or
+ * CLI_EXIT_DATAERR (not a layout). */
 int bench_load_layout(const char *path, hp_scene *scene);
 
-/* Creates a planner; on failure one line on stderr naming the settings, HP_EXIT_SOFTWARE. */
+/* Creates a planner; on failure one line on stderr naming the settings, CLI_EXIT_SOFTWARE. */
 int bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p);
 
 /* Every bladder's inner-radius bounds [m] and the pressures there [Pa], as the planner

@@ -11,6 +11,6 @@
 int main(int argc, char **argv)
 {
     setlocale(LC_ALL, "C");
-    hp_cli_guard_std_fds();
-    return hp_cli_finish_stdout("bench", bench_run_cli(argc, argv));
+    cli_guard_std_fds();
+    return cli_finish_stdout("bench", bench_run_cli(argc, argv));
 }

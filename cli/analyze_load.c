@@ -56,7 +56,7 @@ static int compute(const hp_scene *sc, load_report *rep)
     return 0;
 }
 
-void hp_cli_analyze_load_text(const hp_scene *sc)
+void cli_analyze_load_text(const hp_scene *sc)
 {
     load_report *rep = malloc(sizeof *rep);
     if (!rep || compute(sc, rep) != 0) {
@@ -104,7 +104,7 @@ static json_t *num(double v)
     return isfinite(v) ? json_real(v) : json_null();
 }
 
-json_t *hp_cli_analyze_load_json(const hp_scene *sc)
+json_t *cli_analyze_load_json(const hp_scene *sc)
 {
     load_report *rep = malloc(sizeof *rep);
     if (!rep || compute(sc, rep) != 0) {

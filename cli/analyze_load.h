@@ -1,6 +1,6 @@
 /* headplan analyze: the load section (docs/load.md). */
-#ifndef HP_CLI_ANALYZE_LOAD_H
-#define HP_CLI_ANALYZE_LOAD_H
+#ifndef CLI_ANALYZE_LOAD_H
+#define CLI_ANALYZE_LOAD_H
 
 #include "headplan/headplan.h"
 
@@ -11,8 +11,8 @@
  * the holding pressures' stiffness, stability, weakest direction and compliance. Without a
  * `load` section the whole head mass under gravity along −Z is assumed and said so.
  * Prints nothing for a scene without mass. */
-void hp_cli_analyze_load_text(const hp_scene *sc);
+void cli_analyze_load_text(const hp_scene *sc);
 /* The same as a JSON object (NULL for a scene without mass). */
-json_t *hp_cli_analyze_load_json(const hp_scene *sc);
+json_t *cli_analyze_load_json(const hp_scene *sc);
 
 #endif

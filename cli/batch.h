@@ -1,8 +1,8 @@
 /* Internal to the batch subcommand: the rows of a trace, their planned outputs, and the
  * engine that plans a trace block by block (memory flat in the number of rows), with
  * shards in processes that give the same output for any number of jobs. */
-#ifndef HP_CLI_BATCH_H
-#define HP_CLI_BATCH_H
+#ifndef CLI_BATCH_H
+#define CLI_BATCH_H
 
 #include "headplan/headplan.h"
 #include "headplan/hp_planner.h"

@@ -59,10 +59,10 @@ int batch_output_format(const char *format, const char *out, hp_trace_format *fm
     int has_ext = to_file && ext_format(out, &by_ext);
     if (format) {
         if (hp_trace_format_parse(format, fmt) != HP_OK)
-            return hp_cli_fail(HP_EXIT_USAGE, "batch", "--format: unknown format '%s' (csv, jsonl)",
+            return cli_fail(CLI_EXIT_USAGE, "batch", "--format: unknown format '%s' (csv, jsonl)",
                                format);
         if (has_ext && by_ext != *fmt)
-            return hp_cli_fail(HP_EXIT_USAGE, "batch",
+            return cli_fail(CLI_EXIT_USAGE, "batch",
                                "--format %s contradicts the extension of -o %s", format, out);
         return 0;
     }
@@ -71,33 +71,33 @@ int batch_output_format(const char *format, const char *out, hp_trace_format *fm
         return 0;
     }
     if (to_file)
-        return hp_cli_fail(HP_EXIT_USAGE, "batch",
+        return cli_fail(CLI_EXIT_USAGE, "batch",
                            "-o %s: cannot tell the format: give --format csv|jsonl or name the "
                            "file .csv or .jsonl", out);
     *fmt = HP_TRACE_CSV; /* standard output has no name to contradict: CSV, documented */
     return 0;
 }
 
-/* 0 when path may be written; otherwise HP_EXIT_CANTCREAT after one line. */
+/* 0 when path may be written; otherwise CLI_EXIT_CANTCREAT after one line. */
 static int output_allowed(const char *path, const batch_input_id *inputs, int ninputs)
 {
     struct stat st;
     if (lstat(path, &st) != 0) {
         if (errno == ENOENT) return 0;
-        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s: %s", path, strerror(errno));
+        return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s: %s", path, strerror(errno));
     }
     if (S_ISLNK(st.st_mode))
-        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch",
+        return cli_fail(CLI_EXIT_CANTCREAT, "batch",
                            "-o %s is a symbolic link: refused (name the file itself)", path);
     if (S_ISDIR(st.st_mode))
-        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s is a directory, not a file", path);
+        return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s is a directory, not a file", path);
     if (!S_ISREG(st.st_mode))
-        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch",
+        return cli_fail(CLI_EXIT_CANTCREAT, "batch",
                            "-o %s exists and is not a regular file (a device, FIFO or socket): "
                            "refused; use -o - for standard output", path);
     for (int i = 0; i < ninputs; ++i)
         if (inputs[i].dev == st.st_dev && inputs[i].ino == st.st_ino)
-            return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s is the %s %s: refused", path,
+            return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s is the %s %s: refused", path,
                                inputs[i].what, inputs[i].path);
     return 0;
 }
@@ -120,13 +120,13 @@ int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const h
     if (rc) return rc;
     int n = snprintf(tmp_path, sizeof tmp_path, "%s.partial-XXXXXX", out);
     if (n < 0 || (size_t)n >= sizeof tmp_path)
-        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s: path too long", out);
+        return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s: path too long", out);
     guard_signal(SIGINT);
     guard_signal(SIGTERM);
     guard_signal(SIGHUP);
     int fd = mkstemp(tmp_path);
     if (fd < 0)
-        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s: cannot create %s: %s", out,
+        return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s: cannot create %s: %s", out,
                            tmp_path, strerror(errno));
     tmp_live = 1;
     /* mkstemp makes the file private (0600); the result gets the usual mode. */
@@ -138,7 +138,7 @@ int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const h
         close(fd);
         unlink(tmp_path);
         tmp_live = 0;
-        return hp_cli_fail(HP_EXIT_CANTCREAT, "batch", "-o %s: %s", out, strerror(errno));
+        return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s: %s", out, strerror(errno));
     }
     k->path = out;
     return 0;
@@ -269,7 +269,7 @@ static void put_text(FILE *f, const char *s, hp_trace_format fmt)
     size_t size = 0;
     FILE *m = open_memstream(&clean, &size);
     if (!m) return;
-    hp_cli_put_escaped(m, s);
+    cli_put_escaped(m, s);
     fclose(m);
     if (fmt == HP_TRACE_CSV) {
         if (strpbrk(clean, ",\"\\") == NULL) {
@@ -295,11 +295,11 @@ static void put_text(FILE *f, const char *s, hp_trace_format fmt)
 
 static void put_cell(FILE *f, const cell *c, hp_trace_format fmt)
 {
-    char num[HP_FMT_MAX];
+    char num[CLI_FMT_MAX];
     int json = fmt == HP_TRACE_JSONL;
     switch (c->kind) {
     case CELL_NUM:
-        if (isfinite(c->num)) fputs(hp_cli_fmt(num, c->num), f);
+        if (isfinite(c->num)) fputs(cli_fmt(num, c->num), f);
         else if (json) fputs("null", f);
         break;
     case CELL_INT: fprintf(f, "%ld", c->i); break;
@@ -310,12 +310,12 @@ static void put_cell(FILE *f, const cell *c, hp_trace_format fmt)
 
 void batch_sink_meta(batch_sink *k, const batch_meta *m)
 {
-    char ver[64], tol[HP_FMT_MAX], tmax[HP_FMT_MAX], w[HP_FMT_MAX], iters[24];
+    char ver[64], tol[CLI_FMT_MAX], tmax[CLI_FMT_MAX], w[CLI_FMT_MAX], iters[24];
     snprintf(ver, sizeof ver, "headplan %s", hp_version());
     snprintf(iters, sizeof iters, "%d", m->s->max_iter);
-    hp_cli_fmt(tol, m->s->tolerance);
-    hp_cli_fmt(tmax, m->s->max_time);
-    hp_cli_fmt(w, m->s->weight_mm_per_deg);
+    cli_fmt(tol, m->s->tolerance);
+    cli_fmt(tmax, m->s->max_time);
+    cli_fmt(w, m->s->weight_mm_per_deg);
     /* key, value, 1 when the value is a number (JSON) */
     const struct { const char *key, *value; int number; } meta[] = {
         {"headplan_batch", "1", 1},
@@ -341,7 +341,7 @@ void batch_sink_meta(batch_sink *k, const batch_meta *m)
     if (k->fmt == HP_TRACE_CSV) {
         for (size_t i = 0; i < nm; ++i) {
             fprintf(f, "# %s: ", meta[i].key);
-            hp_cli_put_escaped(f, meta[i].value ? meta[i].value : "none (not a regular file)");
+            cli_put_escaped(f, meta[i].value ? meta[i].value : "none (not a regular file)");
             fputc('\n', f);
         }
         for (int c = 0; c < k->ncols; ++c) {
@@ -380,22 +380,22 @@ int batch_sink_rows(batch_sink *k, const batch_in *in, const batch_out *out, siz
         }
         fputs(k->fmt == HP_TRACE_JSONL ? "}\n" : "\n", k->f);
     }
-    return ferror(k->f) ? HP_EXIT_IOERR : 0;
+    return ferror(k->f) ? CLI_EXIT_IOERR : 0;
 }
 
 int batch_sink_commit(batch_sink *k)
 {
     if (!k->path) return 0; /* main checks and closes stdout, with its one line */
-    int rc = hp_cli_flush_output(k->f, tmp_path, "batch");
+    int rc = cli_flush_output(k->f, tmp_path, "batch");
     if (rc == 0 && fsync(fileno(k->f)) != 0)
-        rc = hp_cli_fail(HP_EXIT_IOERR, "batch", "cannot write %s: %s", tmp_path, strerror(errno));
-    int closed = hp_cli_close_output(k->f, tmp_path, "batch");
+        rc = cli_fail(CLI_EXIT_IOERR, "batch", "cannot write %s: %s", tmp_path, strerror(errno));
+    int closed = cli_close_output(k->f, tmp_path, "batch");
     if (rc == 0) rc = closed;
     k->f = NULL;
     /* The path may have changed while the rows were planned: check it again. */
-    if (rc == 0 && output_allowed(k->path, NULL, 0) != 0) rc = HP_EXIT_CANTCREAT;
+    if (rc == 0 && output_allowed(k->path, NULL, 0) != 0) rc = CLI_EXIT_CANTCREAT;
     if (rc == 0 && rename(tmp_path, k->path) != 0)
-        rc = hp_cli_fail(HP_EXIT_IOERR, "batch", "cannot rename %s to %s: %s", tmp_path, k->path,
+        rc = cli_fail(CLI_EXIT_IOERR, "batch", "cannot rename %s to %s: %s", tmp_path, k->path,
                          strerror(errno));
     if (rc != 0) unlink(tmp_path);
     tmp_live = 0;

@@ -1,8 +1,8 @@
 /* Internal to the batch subcommand: where results go (never over an input, a device, a
  * FIFO or a symbolic link), the metadata record, and the rows in CSV or JSON Lines with the
  * same columns and the same number text. */
-#ifndef HP_CLI_BATCH_OUTPUT_H
-#define HP_CLI_BATCH_OUTPUT_H
+#ifndef CLI_BATCH_OUTPUT_H
+#define CLI_BATCH_OUTPUT_H
 
 #include "cli/batch.h"
 #include "cli/cli_args.h"
@@ -38,11 +38,11 @@ typedef struct batch_sink {
 
 /* Picks the output format: --format when given; else from OUT's extension (.csv, .jsonl,
  * .ndjson); else an error for a file, CSV for standard output. A --format that contradicts the
- * extension is an error. Returns 0 or HP_EXIT_USAGE after one line. */
+ * extension is an error. Returns 0 or CLI_EXIT_USAGE after one line. */
 int batch_output_format(const char *format, const char *out, hp_trace_format *fmt);
 
 /* Opens the output before any planning: out NULL or "-" is stdout. A path is refused (exit
- * HP_EXIT_CANTCREAT, one line, nothing written) when it is a symbolic link, exists and is
+ * CLI_EXIT_CANTCREAT, one line, nothing written) when it is a symbolic link, exists and is
  * not a regular file, or is the same file (device and inode) as any input. Otherwise a
  * temporary file beside it is created exclusively (mkstemp) and SIGINT, SIGTERM and SIGHUP
  * remove it from then on, except a signal that was ignored on entry (nohup), which stays
@@ -53,12 +53,12 @@ int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const h
 /* Writes the metadata record and the column header. */
 void batch_sink_meta(batch_sink *k, const batch_meta *m);
 
-/* Writes one output row per input row. Returns 0, or HP_EXIT_IOERR when the output has
+/* Writes one output row per input row. Returns 0, or CLI_EXIT_IOERR when the output has
  * failed (so a caller stops early). */
 int batch_sink_rows(batch_sink *k, const batch_in *in, const batch_out *out, size_t rows);
 
 /* Completes the output: a file is flushed, synced, closed and renamed to its path; stdout
- * is flushed. Returns 0 or HP_EXIT_IOERR after one line (the temporary file removed). */
+ * is flushed. Returns 0 or CLI_EXIT_IOERR after one line (the temporary file removed). */
 int batch_sink_commit(batch_sink *k);
 
 /* Closes the output without a result and removes the temporary file. */

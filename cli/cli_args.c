@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-void hp_cli_put_escaped(FILE *f, const char *s)
+void cli_put_escaped(FILE *f, const char *s)
 {
     size_t len = strlen(s);
     for (size_t i = 0; i < len;) {
@@ -26,7 +26,7 @@ void hp_cli_put_escaped(FILE *f, const char *s)
     }
 }
 
-int hp_cli_fail(int status, const char *cmd, const char *fmt, ...)
+int cli_fail(int status, const char *cmd, const char *fmt, ...)
 {
     /* Echoed text (a path, an option, a key from a file) may hold control characters or
      * broken UTF-8: the message stays one line of clean text. */
@@ -36,7 +36,7 @@ int hp_cli_fail(int status, const char *cmd, const char *fmt, ...)
     vsnprintf(buf, sizeof buf, fmt, ap);
     va_end(ap);
     fprintf(stderr, "headplan %s: ", cmd);
-    hp_cli_put_escaped(stderr, buf);
+    cli_put_escaped(stderr, buf);
     fputc('\n', stderr);
     return status;
 }
@@ -51,29 +51,29 @@ static int plain_number_chars(const char *s)
     return 1;
 }
 
-int hp_cli_double(const char *cmd, const char *option, const char *text, double *out)
+int cli_double(const char *cmd, const char *option, const char *text, double *out)
 {
     if (!text || !plain_number_chars(text))
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' is not a number", option,
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is not a number", option,
                            text ? text : "");
     char *end = NULL;
     errno = 0;
     double v = strtod(text, &end);
     if (end == text || *end != '\0')
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' is not a number", option, text);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is not a number", option, text);
     if (errno == ERANGE && fabs(v) > 1.0)
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' overflows a double", option, text);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' overflows a double", option, text);
     if (!isfinite(v))
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' is not finite", option, text);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is not finite", option, text);
     *out = v;
     return 0;
 }
 
-int hp_cli_doubles(const char *cmd, const char *option, const char *text, int n, double *out)
+int cli_doubles(const char *cmd, const char *option, const char *text, int n, double *out)
 {
     char buf[512];
     if (!text || strlen(text) >= sizeof buf)
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: expected %d comma-separated numbers",
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: expected %d comma-separated numbers",
                            option, n);
     strcpy(buf, text);
     int count = 0;
@@ -82,36 +82,36 @@ int hp_cli_doubles(const char *cmd, const char *option, const char *text, int n,
         char *comma = strchr(p, ',');
         if (comma) *comma = '\0';
         if (count >= n)
-            return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: more than %d numbers in '%s'",
+            return cli_fail(CLI_EXIT_USAGE, cmd, "%s: more than %d numbers in '%s'",
                                option, n, text);
-        int rc = hp_cli_double(cmd, option, p, &out[count]);
+        int rc = cli_double(cmd, option, p, &out[count]);
         if (rc) return rc;
         ++count;
         if (!comma) break;
         p = comma + 1;
     }
     if (count != n)
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: %d numbers in '%s', expected %d", option,
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: %d numbers in '%s', expected %d", option,
                            count, text, n);
     return 0;
 }
 
-int hp_cli_int(const char *cmd, const char *option, const char *text, long lo, long hi,
+int cli_int(const char *cmd, const char *option, const char *text, long lo, long hi,
                long *out)
 {
     if (!text || *text == '\0' || strspn(text, "0123456789") != strlen(text))
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' is not a whole number", option,
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is not a whole number", option,
                            text ? text : "");
     errno = 0;
     long v = strtol(text, NULL, 10);
     if (errno == ERANGE || v < lo || v > hi)
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: '%s' is outside [%ld, %ld]", option,
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is outside [%ld, %ld]", option,
                            text, lo, hi);
     *out = v;
     return 0;
 }
 
-int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
+int cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
                const char **value)
 {
     const char *a = argv[*i];
@@ -123,7 +123,7 @@ int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
     }
     if (a[n] != '\0') return 0;
     if (*i + 1 >= argc) {
-        hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: missing value", name);
+        cli_fail(CLI_EXIT_USAGE, cmd, "%s: missing value", name);
         return -1;
     }
     *i += 1;
@@ -131,35 +131,35 @@ int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
     return 1;
 }
 
-const char *hp_cli_fmt(char buf[HP_FMT_MAX], double v)
+const char *cli_fmt(char buf[CLI_FMT_MAX], double v)
 {
     /* The fewest significant digits that read back to the same double: stable across runs
      * and machines, and without the noise digits of a fixed %.17g. Literal formats (not
      * "%.*g"): glibc takes a slow positional path for '*', and batch prints ~60 numbers a
      * row. Whole numbers (0, pressures on a limit) skip the search. */
     if (v == 0.0 || (fabs(v) < 1e15 && v == (double)(long long)v)) {
-        snprintf(buf, HP_FMT_MAX, "%.0f", v);
-        if (v == 0.0 && signbit(v)) snprintf(buf, HP_FMT_MAX, "-0");
+        snprintf(buf, CLI_FMT_MAX, "%.0f", v);
+        if (v == 0.0 && signbit(v)) snprintf(buf, CLI_FMT_MAX, "-0");
         return buf;
     }
-    snprintf(buf, HP_FMT_MAX, "%.15g", v);
+    snprintf(buf, CLI_FMT_MAX, "%.15g", v);
     if (strtod(buf, NULL) == v) return buf;
-    snprintf(buf, HP_FMT_MAX, "%.16g", v);
+    snprintf(buf, CLI_FMT_MAX, "%.16g", v);
     if (strtod(buf, NULL) == v) return buf;
-    snprintf(buf, HP_FMT_MAX, "%.17g", v);
+    snprintf(buf, CLI_FMT_MAX, "%.17g", v);
     return buf;
 }
 
-int hp_cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *const *names,
+int cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *const *names,
                      const char **const *slots, int nopts)
 {
     for (int o = 0; o < nopts; ++o) {
         const char *v = NULL;
-        int m = hp_cli_opt(cmd, argc, argv, i, names[o], &v);
+        int m = cli_opt(cmd, argc, argv, i, names[o], &v);
         if (m < 0) return -1;
         if (m == 0) continue;
         if (*slots[o]) {
-            hp_cli_fail(HP_EXIT_USAGE, cmd, "%s: given more than once", names[o]);
+            cli_fail(CLI_EXIT_USAGE, cmd, "%s: given more than once", names[o]);
             return -1;
         }
         *slots[o] = v;
@@ -168,32 +168,32 @@ int hp_cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char 
     return 0;
 }
 
-int hp_cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
+int cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
                       const char *const *names, const char **const *slots, int nopts,
                       int *json, const char **scene)
 {
     for (int i = 1; i < argc; ++i)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help();
-            return HP_EXIT_OK;
+            return CLI_EXIT_OK;
         }
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--json") == 0) {
             *json = 1;
             continue;
         }
-        int matched = hp_cli_named_opt(cmd, argc, argv, &i, names, slots, nopts);
-        if (matched < 0) return HP_EXIT_USAGE;
+        int matched = cli_named_opt(cmd, argc, argv, &i, names, slots, nopts);
+        if (matched < 0) return CLI_EXIT_USAGE;
         if (matched) continue;
         if (argv[i][0] == '-' && argv[i][1] != '\0')
-            return hp_cli_fail(HP_EXIT_USAGE, cmd, "unknown option '%s' (see headplan %s --help)",
+            return cli_fail(CLI_EXIT_USAGE, cmd, "unknown option '%s' (see headplan %s --help)",
                                argv[i], cmd);
         if (*scene)
-            return hp_cli_fail(HP_EXIT_USAGE, cmd, "'%s': only one scene file may be given",
+            return cli_fail(CLI_EXIT_USAGE, cmd, "'%s': only one scene file may be given",
                                argv[i]);
         *scene = argv[i];
     }
     if (!*scene)
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "SCENE: missing (see headplan %s --help)", cmd);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "SCENE: missing (see headplan %s --help)", cmd);
     return -1;
 }

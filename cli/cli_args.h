@@ -1,27 +1,27 @@
 /* Strict command-line value parsing and output helpers shared by every subcommand. Every
  * parse failure prints one line on stderr naming the option and returns non-zero. */
-#ifndef HP_CLI_ARGS_H
-#define HP_CLI_ARGS_H
+#ifndef CLI_ARGS_H
+#define CLI_ARGS_H
 
 #include <stdio.h>
 
 /* Parses text as a finite double: the whole string must be a number ("1.5abc", "", "nan",
  * "inf" and overflow are refused). On failure prints "headplan CMD: OPTION: why" to stderr
- * and returns HP_EXIT_USAGE (64). Returns 0 on success. */
-int hp_cli_double(const char *cmd, const char *option, const char *text, double *out);
+ * and returns CLI_EXIT_USAGE (64). Returns 0 on success. */
+int cli_double(const char *cmd, const char *option, const char *text, double *out);
 
 /* Parses a comma-separated list of exactly n finite doubles ("1,2,3"). Same contract. */
-int hp_cli_doubles(const char *cmd, const char *option, const char *text, int n, double *out);
+int cli_doubles(const char *cmd, const char *option, const char *text, int n, double *out);
 
 /* Parses a positive integer in [lo, hi]. Same contract. */
-int hp_cli_int(const char *cmd, const char *option, const char *text, long lo, long hi,
+int cli_int(const char *cmd, const char *option, const char *text, long lo, long hi,
                long *out);
 
 /* Option walker: matches argv[*i] against "--name" (value in the next argument) or
  * "--name=value". Returns 1 and sets *value (advancing *i past a separate value) when it
  * matches, 0 when it does not, and -1 (after printing "missing value") when the value is
  * missing. */
-int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
+int cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
                const char **value);
 
 /* Parses the command line of a subcommand of the form `SCENE [--NAME VALUE]... [--json]`:
@@ -33,33 +33,33 @@ int hp_cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
  * "--name=V") and stores the value in the option's slot. Returns 1 when matched (*i moved
  * past the value), 0 when argv[*i] is none of them, -1 after printing why (missing value,
  * an option given twice): the caller exits 64. */
-int hp_cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *const *names,
+int cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *const *names,
                      const char **const *slots, int nopts);
 
-int hp_cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
+int cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
                       const char *const *names, const char **const *slots, int nopts,
                       int *json, const char **scene);
 
 /* Writes s to f with control characters (and DEL) as \xNN, and every byte that is not
  * part of well-formed UTF-8 as \xNN: echoed text cannot break a message's one line. */
-void hp_cli_put_escaped(FILE *f, const char *s);
+void cli_put_escaped(FILE *f, const char *s);
 
 /* Prints "headplan CMD: message" and a newline to stderr, the message escaped as by
- * hp_cli_put_escaped; returns status. */
-int hp_cli_fail(int status, const char *cmd, const char *fmt, ...)
+ * cli_put_escaped; returns status. */
+int cli_fail(int status, const char *cmd, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
 
-/* Size of a buffer for hp_cli_fmt. */
-#define HP_FMT_MAX 32
+/* Size of a buffer for cli_fmt. */
+#define CLI_FMT_MAX 32
 /* Formats v with the fewest significant digits (15 to 17) that read back to the same double
  * ("%.Ng"); returns buf. The number format of every CSV and table output. */
-const char *hp_cli_fmt(char buf[HP_FMT_MAX], double v);
+const char *cli_fmt(char buf[CLI_FMT_MAX], double v);
 
 /* Number format used in every JSON and table output: shortest round-trip ("%.17g"
  * trimmed by jansson's precision 17), so results are reproducible bit for bit. */
-#define HP_JSON_REAL_PRECISION 17
+#define CLI_JSON_REAL_PRECISION 17
 
 #endif

@@ -8,7 +8,7 @@
 #include <string.h>
 #include <unistd.h>
 
-void hp_cli_guard_std_fds(void)
+void cli_guard_std_fds(void)
 {
     for (int fd = 0; fd <= 2; ++fd) {
         if (fcntl(fd, F_GETFD) != -1 || errno != EBADF) continue;
@@ -23,10 +23,10 @@ static int failed(const char *what, const char *cmd, int err)
 {
     fprintf(stderr, "headplan %s: cannot write %s: %s\n", cmd, what,
             err ? strerror(err) : "write error");
-    return HP_EXIT_IOERR;
+    return CLI_EXIT_IOERR;
 }
 
-int hp_cli_flush_output(FILE *f, const char *what, const char *cmd)
+int cli_flush_output(FILE *f, const char *what, const char *cmd)
 {
     errno = 0;
     int bad = fflush(f) != 0;
@@ -35,17 +35,17 @@ int hp_cli_flush_output(FILE *f, const char *what, const char *cmd)
     return 0;
 }
 
-int hp_cli_close_output(FILE *f, const char *what, const char *cmd)
+int cli_close_output(FILE *f, const char *what, const char *cmd)
 {
-    int rc = hp_cli_flush_output(f, what, cmd);
+    int rc = cli_flush_output(f, what, cmd);
     errno = 0;
     if (fclose(f) != 0 && rc == 0) rc = failed(what, cmd, errno);
     return rc;
 }
 
-int hp_cli_finish_stdout(const char *cmd, int status)
+int cli_finish_stdout(const char *cmd, int status)
 {
-    int rc = hp_cli_close_output(stdout, "standard output", cmd);
+    int rc = cli_close_output(stdout, "standard output", cmd);
     if (rc == 0) return status;
-    return status == HP_EXIT_OK || status == HP_EXIT_CLOSEST ? rc : status;
+    return status == CLI_EXIT_OK || status == CLI_EXIT_CLOSEST ? rc : status;
 }

@@ -5,21 +5,21 @@
 
 #include <stdlib.h>
 
-int hp_cli_load_scene(const char *cmd, const char *path, int need_layout, hp_scene **out)
+int cli_load_scene(const char *cmd, const char *path, int need_layout, hp_scene **out)
 {
     *out = NULL;
     hp_scene *sc = calloc(1, sizeof *sc);
-    if (!sc) return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "out of memory");
+    if (!sc) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
     hp_diag d = {{0}};
     hp_error e = hp_scene_load(path, sc, &d);
     if (e != HP_OK) {
         free(sc);
-        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, cmd, "%s",
+        return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, cmd, "%s",
                            d.text);
     }
     if (need_layout && sc->kind != HP_SCENE_LAYOUT) {
         free(sc);
-        return hp_cli_fail(HP_EXIT_DATAERR, cmd,
+        return cli_fail(CLI_EXIT_DATAERR, cmd,
                            "%s: a single-bladder study has no layout (see headplan ik/fk)",
                            path);
     }
@@ -27,19 +27,19 @@ int hp_cli_load_scene(const char *cmd, const char *path, int need_layout, hp_sce
     return 0;
 }
 
-int hp_cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
+int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
                     const char *level, hp_settings *s)
 {
     hp_diag d = {{0}};
     if (hp_scene_settings(sc, s, &d) != HP_OK)
-        return hp_cli_fail(HP_EXIT_DATAERR, cmd, "%s", d.text);
+        return cli_fail(CLI_EXIT_DATAERR, cmd, "%s", d.text);
     if (backend && hp_backend_parse(backend, &s->backend) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, cmd,
+        return cli_fail(CLI_EXIT_USAGE, cmd,
                            "--backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, "
                            "nlopt-cobyla)",
                            backend);
     if (level && hp_level_parse(level, &s->level) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, cmd,
+        return cli_fail(CLI_EXIT_USAGE, cmd,
                            "--level: unknown level '%s' (linear, plane, surface, auto)", level);
     return 0;
 }

@@ -1,7 +1,7 @@
 /* Loading a layout scene and turning it into planner settings: shared by solve, batch and
  * bench so that every subcommand reads a scene the same way. */
-#ifndef HP_CLI_SCENE_H
-#define HP_CLI_SCENE_H
+#ifndef CLI_SCENE_H
+#define CLI_SCENE_H
 
 #include "headplan/headplan.h"
 #include "headplan/hp_planner.h"
@@ -9,12 +9,12 @@
 /* Loads SCENE (allocated into *out; free() it). Prints the parser's message and returns
  * 66 (cannot open) or 65 (malformed) on failure, or 65 when the scene is a single-bladder
  * study and need_layout is set. Returns 0 on success. */
-int hp_cli_load_scene(const char *cmd, const char *path, int need_layout, hp_scene **out);
+int cli_load_scene(const char *cmd, const char *path, int need_layout, hp_scene **out);
 
 /* Settings from the scene's model and solver sections, then the command-line overrides
  * (backend/level: NULL = keep the scene's). Prints and returns 64 for an unknown name given
  * on the command line, 65 for one in the scene; 0 on success. */
-int hp_cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
+int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
                     const char *level, hp_settings *s);
 
 #endif

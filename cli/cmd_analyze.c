@@ -54,7 +54,7 @@ static int parse(int argc, char **argv, analyze_args *a)
 {
     static const char *const names[] = {"--level"};
     const char **const slots[] = {&a->level};
-    return hp_cli_scene_args(CMD, argc, argv, help, names, slots, 1, &a->json, &a->scene);
+    return cli_scene_args(CMD, argc, argv, help, names, slots, 1, &a->json, &a->scene);
 }
 
 /* Everything one run reports besides the scene itself. */
@@ -77,7 +77,7 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
 {
     const hp_layout *L = &sc->layout;
     hp_settings s;
-    int rc = hp_cli_settings(CMD, sc, NULL, a->level, &s);
+    int rc = cli_settings(CMD, sc, NULL, a->level, &s);
     if (rc) return rc;
     r->from_option = a->level != NULL;
     r->requested = s.level;
@@ -88,16 +88,16 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
     if (!e) e = hp_contact_error_bound(L, HP_LEVEL_PLANE, r->trans, r->rot, &r->bound_plane);
     if (!e) e = hp_contact_auto(L, s.level_tolerance, r->trans, r->rot, &r->auto_level);
     if (e)
-        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: error bounds: %s", a->scene,
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: error bounds: %s", a->scene,
                            hp_error_message(e));
     r->level = r->requested == HP_LEVEL_AUTO ? r->auto_level : r->requested;
     e = hp_layout_identify(L, &r->id);
     if (e)
-        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: identifiable range: %s", a->scene,
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: identifiable range: %s", a->scene,
                            hp_error_message(e));
     e = hp_layout_analyze(L, r->level, &r->an);
     if (e)
-        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: layout analysis: %s", a->scene,
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: layout analysis: %s", a->scene,
                            hp_error_message(e));
     return -1;
 }
@@ -232,14 +232,14 @@ static int print_json(const hp_scene *sc, const analysis *r)
     json_object_set_new(o, "head", head_json(&L->head));
     json_object_set_new(o, "pivot_mm", vec_json(L->pivot, 3, 1e3));
     json_object_set_new(o, "bladders", geometry_bladders_json(L));
-    json_t *load = hp_cli_analyze_load_json(sc);
+    json_t *load = cli_analyze_load_json(sc);
     json_object_set_new(o, "load", load ? load : json_null());
-    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
-    if (!s) return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "cannot format JSON output");
+    if (!s) return cli_fail(CLI_EXIT_SOFTWARE, CMD, "cannot format JSON output");
     puts(s);
     free(s);
-    return HP_EXIT_OK;
+    return CLI_EXIT_OK;
 }
 
 static void print_vec3(const char *label, const double v[3], double scale, const char *unit)
@@ -343,10 +343,10 @@ static void print_text(const hp_scene *sc, const analysis *r)
         printf("%-18s %-30s %-30s %-28s %6.2f %6.2f %8.0f %8.0f %8.0f %8.0f\n", B->name, c, p,
                n, B->iab.Ri * 1e3, B->iab.Ro * 1e3, B->iab.C1, B->iab.C2, B->p_min, B->p_max);
     }
-    hp_cli_analyze_load_text(sc);
+    cli_analyze_load_text(sc);
 }
 
-int hp_cmd_analyze(int argc, char **argv)
+int cmd_analyze(int argc, char **argv)
 {
     analyze_args a = {0};
     int rc = parse(argc, argv, &a);
@@ -354,14 +354,14 @@ int hp_cmd_analyze(int argc, char **argv)
     /* An unknown --level is a usage error even when the scene is also bad: check it first. */
     hp_level lv;
     if (a.level && hp_level_parse(a.level, &lv) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+        return cli_fail(CLI_EXIT_USAGE, CMD,
                            "--level: unknown level '%s' (linear, plane, surface, auto)", a.level);
 
     hp_scene *sc = NULL;
-    if ((rc = hp_cli_load_scene(CMD, a.scene, 0, &sc))) return rc;
+    if ((rc = cli_load_scene(CMD, a.scene, 0, &sc))) return rc;
     if (sc->kind != HP_SCENE_LAYOUT) {
         free(sc);
-        return hp_cli_fail(HP_EXIT_DATAERR, CMD,
+        return cli_fail(CLI_EXIT_DATAERR, CMD,
                            "%s: analyze needs a layout scene (head and bladders)", a.scene);
     }
     analysis r;
@@ -372,7 +372,7 @@ int hp_cmd_analyze(int argc, char **argv)
             rc = print_json(sc, &r);
         else {
             print_text(sc, &r);
-            rc = HP_EXIT_OK;
+            rc = CLI_EXIT_OK;
         }
     }
     free(sc);

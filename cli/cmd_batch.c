@@ -69,16 +69,16 @@ static int parse(int argc, char **argv, batch_args *a)
         int m;
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help();
-            return HP_EXIT_OK;
+            return CLI_EXIT_OK;
         }
         if (strcmp(argv[i], "--no-progress") == 0) { a->progress = 0; continue; }
         if (strcmp(argv[i], "--no-times") == 0) { a->times = 0; continue; }
         if (strcmp(argv[i], "--strict") == 0) { a->strict = 1; continue; }
 #define OPT(name, field)                                                                      \
-    if ((m = hp_cli_opt(CMD, argc, argv, &i, name, &v)) != 0) {                               \
-        if (m < 0) return HP_EXIT_USAGE;                                                      \
+    if ((m = cli_opt(CMD, argc, argv, &i, name, &v)) != 0) {                               \
+        if (m < 0) return CLI_EXIT_USAGE;                                                      \
         if (a->field)                                                                         \
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given more than once", name);         \
+            return cli_fail(CLI_EXIT_USAGE, CMD, "%s: given more than once", name);         \
         a->field = v;                                                                         \
         continue;                                                                             \
     }
@@ -88,22 +88,22 @@ static int parse(int argc, char **argv, batch_args *a)
         OPT("--level", level)
         OPT("--rows", rows)
 #undef OPT
-        if ((m = hp_cli_opt(CMD, argc, argv, &i, "--jobs", &v)) != 0) {
-            if (m < 0) return HP_EXIT_USAGE;
+        if ((m = cli_opt(CMD, argc, argv, &i, "--jobs", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
             if (jobs_given++)
-                return hp_cli_fail(HP_EXIT_USAGE, CMD, "--jobs: given more than once");
-            int rc = hp_cli_int(CMD, "--jobs", v, 1, 64, &a->jobs);
+                return cli_fail(CLI_EXIT_USAGE, CMD, "--jobs: given more than once");
+            int rc = cli_int(CMD, "--jobs", v, 1, 64, &a->jobs);
             if (rc) return rc;
             continue;
         }
         if (argv[i][0] == '-' && argv[i][1] != '\0')
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
+            return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
         if (npos == 0) a->scene = argv[i];
         else if (npos == 1) a->trace = argv[i];
-        else return hp_cli_fail(HP_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
+        else return cli_fail(CLI_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
         ++npos;
     }
-    if (!a->scene) return hp_cli_fail(HP_EXIT_USAGE, CMD, "missing SCENE (see --help)");
+    if (!a->scene) return cli_fail(CLI_EXIT_USAGE, CMD, "missing SCENE (see --help)");
     return -1;
 }
 
@@ -205,10 +205,10 @@ static int summarise(const summary *S, int jobs, size_t repaired, int strict)
                 "headplan batch: %zu row%s stopped at the time budget: their output depends on "
                 "machine load and is not reproducible run to run\n",
                 S->time_limit, S->time_limit == 1 ? "" : "s");
-    if (S->failed) return HP_EXIT_SOFTWARE;
-    if (S->bad || S->invalid) return HP_EXIT_DATAERR;
-    if (strict && S->uncommanded) return HP_EXIT_UNCOMMANDED;
-    return S->closest && strict ? HP_EXIT_CLOSEST : HP_EXIT_OK;
+    if (S->failed) return CLI_EXIT_SOFTWARE;
+    if (S->bad || S->invalid) return CLI_EXIT_DATAERR;
+    if (strict && S->uncommanded) return CLI_EXIT_UNCOMMANDED;
+    return S->closest && strict ? CLI_EXIT_CLOSEST : CLI_EXIT_OK;
 }
 
 /* ---- inputs ---- */
@@ -231,14 +231,14 @@ static int open_trace(const char *path, trace_input *t)
     } else {
         t->name = path;
         if (!(t->f = fopen(path, "rb")))
-            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+            return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
     }
     if (fstat(fileno(t->f), &t->st) != 0 || S_ISDIR(t->st.st_mode))
-        return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot read: %s", t->name,
+        return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", t->name,
                            strerror(S_ISDIR(t->st.st_mode) ? EISDIR : errno));
     if (S_ISREG(t->st.st_mode) && t->f != stdin) {
-        if (hp_sha256_file(path, t->sha) != 0)
-            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot read: %s", path, strerror(errno));
+        if (sha256_file(path, t->sha) != 0)
+            return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", path, strerror(errno));
         t->hashed = 1;
     }
     return 0;
@@ -256,11 +256,11 @@ static int open_reader(const batch_args *a, const hp_scene *sc, const trace_inpu
 {
     hp_trace_rows opt = HP_TRACE_CORRECTION, scene_rows = sc->trace_rows;
     if (a->rows && hp_trace_rows_parse(a->rows, &opt) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+        return cli_fail(CLI_EXIT_USAGE, CMD,
                            "--rows: '%s' is neither 'deviation' nor 'correction'", a->rows);
     int scene_trace = !a->trace; /* the scene's trace.rows speaks only for its own trace */
     if (a->rows && scene_trace && opt != scene_rows)
-        return hp_cli_fail(HP_EXIT_DATAERR, CMD,
+        return cli_fail(CLI_EXIT_DATAERR, CMD,
                            "--rows says %s but the scene's trace.rows says %s: they must agree",
                            hp_trace_rows_name(opt), hp_trace_rows_name(scene_rows));
     const hp_trace_rows *given = a->rows ? &opt : scene_trace ? &scene_rows : NULL;
@@ -268,7 +268,7 @@ static int open_reader(const batch_args *a, const hp_scene *sc, const trace_inpu
     hp_diag d = {{0}};
     hp_error e = hp_trace_open_stream(t->f, t->name, given, from, r, &d);
     if (e != HP_OK)
-        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
+        return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, CMD, "%s", d.text);
     return 0;
 }
 
@@ -285,8 +285,8 @@ static int read_block(hp_trace_reader *r, batch_in *in, size_t cap, size_t *n, i
             *end = 1;
             return 0;
         }
-        if (e == HP_ERR_IO) return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s", d.text);
-        if (e != HP_OK && e != HP_ERR_PARSE) return hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s", d.text);
+        if (e == HP_ERR_IO) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s", d.text);
+        if (e != HP_OK && e != HP_ERR_PARSE) return cli_fail(CLI_EXIT_DATAERR, CMD, "%s", d.text);
         batch_in *b = &in[(*n)++];
         memset(b, 0, sizeof *b);
         b->line = row.line;
@@ -296,7 +296,7 @@ static int read_block(hp_trace_reader *r, batch_in *in, size_t cap, size_t *n, i
         } else {
             b->bad = 1;
             b->msg = strdup(d.text);
-            hp_cli_fail(0, CMD, "%s", d.text);
+            cli_fail(0, CMD, "%s", d.text);
         }
     }
     return 0;
@@ -309,16 +309,16 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, batch_engine *eng
     size_t cap = (size_t)BLOCK_PER_JOB * (size_t)a->jobs;
     batch_in *in = calloc(cap, sizeof *in);
     batch_out *out = calloc(cap, sizeof *out);
-    int rc = in && out ? 0 : hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    int rc = in && out ? 0 : cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
     int end = 0, show = a->progress && isatty(2);
     while (rc == 0 && !end) {
         size_t n = 0;
         rc = read_block(r, in, cap, &n, &end);
         if (rc == 0 && n > 0 && batch_engine_run(eng, in, out, n) != 0)
-            rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "the run failed; no output written");
+            rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "the run failed; no output written");
         if (rc == 0) {
             tally(S, in, out, n);
-            if (batch_sink_rows(sink, in, out, n) != 0) rc = HP_EXIT_IOERR;
+            if (batch_sink_rows(sink, in, out, n) != 0) rc = CLI_EXIT_IOERR;
         }
         for (size_t i = 0; i < n; ++i) free(in[i].msg);
         if (show) fprintf(stderr, "\r%zu rows", S->rows);
@@ -329,7 +329,7 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, batch_engine *eng
     return rc;
 }
 
-int hp_cmd_batch(int argc, char **argv)
+int cmd_batch(int argc, char **argv)
 {
     batch_args a = {0};
     int rc = parse(argc, argv, &a);
@@ -338,21 +338,21 @@ int hp_cmd_batch(int argc, char **argv)
     if ((rc = batch_output_format(a.format, a.out, &fmt))) return rc;
 
     hp_scene *sc = NULL;
-    if ((rc = hp_cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
+    if ((rc = cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
     hp_settings s;
     char scene_sha[65];
     struct stat scene_st;
-    if ((rc = hp_cli_settings(CMD, sc, a.backend, a.level, &s))) {
+    if ((rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
         free(sc);
         return rc;
     }
-    if (hp_sha256_file(a.scene, scene_sha) != 0 || stat(a.scene, &scene_st) != 0) {
+    if (sha256_file(a.scene, scene_sha) != 0 || stat(a.scene, &scene_st) != 0) {
         free(sc);
-        return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot read: %s", a.scene, strerror(errno));
+        return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", a.scene, strerror(errno));
     }
     if (!a.trace && !sc->has_trace) {
         free(sc);
-        return hp_cli_fail(HP_EXIT_USAGE, CMD, "missing TRACE (the scene %s names no trace)",
+        return cli_fail(CLI_EXIT_USAGE, CMD, "missing TRACE (the scene %s names no trace)",
                            a.scene);
     }
     const char *trace_path = a.trace ? a.trace : sc->trace_path;
@@ -361,7 +361,7 @@ int hp_cmd_batch(int argc, char **argv)
     batch_sink sink = {0};
     batch_engine eng = {0};
     summary *S = calloc(1, sizeof *S);
-    rc = S ? open_trace(trace_path, &t) : hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    rc = S ? open_trace(trace_path, &t) : cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
     if (rc == 0) rc = open_reader(&a, sc, &t, &r);
     if (rc == 0) {
         const batch_input_id ids[2] = {{"scene", a.scene, scene_st.st_dev, scene_st.st_ino},
@@ -369,7 +369,7 @@ int hp_cmd_batch(int argc, char **argv)
         rc = batch_sink_open(&sink, a.out, fmt, &sc->layout, a.times, ids, 2);
     }
     if (rc == 0 && batch_engine_init(&eng, &sc->layout, &s, (int)a.jobs) != 0)
-        rc = HP_EXIT_SOFTWARE;
+        rc = CLI_EXIT_SOFTWARE;
     if (rc == 0) {
         const char *from = hp_trace_states_rows(r) ? "trace" : a.rows ? "--rows"
                                                                       : "scene trace.rows";
@@ -385,10 +385,10 @@ int hp_cmd_batch(int argc, char **argv)
         int status = summarise(S, (int)a.jobs, eng.repaired, a.strict);
         rc = batch_sink_commit(&sink);
         if (rc == 0) rc = status;
-    } else if (rc == HP_EXIT_IOERR && sink.path) {
+    } else if (rc == CLI_EXIT_IOERR && sink.path) {
         /* A file failed: one line saying so (main reports a failed stdout). */
-        if (hp_cli_flush_output(sink.f, sink.path, CMD) == 0)
-            hp_cli_fail(0, CMD, "cannot write %s", sink.path);
+        if (cli_flush_output(sink.f, sink.path, CMD) == 0)
+            cli_fail(0, CMD, "cannot write %s", sink.path);
         batch_sink_abandon(&sink);
     } else {
         batch_sink_abandon(&sink);

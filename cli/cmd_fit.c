@@ -50,22 +50,22 @@ static void help(void)
 static int status_of(hp_error e)
 {
     switch (e) {
-    case HP_ERR_IO: return HP_EXIT_NOINPUT;
+    case HP_ERR_IO: return CLI_EXIT_NOINPUT;
     case HP_ERR_NOMEM:
     case HP_ERR_NO_CONVERGENCE:
-    case HP_ERR_SOLVER: return HP_EXIT_SOFTWARE;
-    default: return HP_EXIT_DATAERR;
+    case HP_ERR_SOLVER: return CLI_EXIT_SOFTWARE;
+    default: return CLI_EXIT_DATAERR;
     }
 }
 
 static int print_json(json_t *o)
 {
-    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
-    if (!s) return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    if (!s) return cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
     printf("%s\n", s);
     free(s);
-    return HP_EXIT_OK;
+    return CLI_EXIT_OK;
 }
 
 static json_t *real_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
@@ -105,32 +105,32 @@ static int run_material(int argc, char **argv)
         int m;
         if (strcmp(argv[i], "--json") == 0) {
             json = 1;
-        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--Ri-mm", &v)) != 0) {
-            if (m < 0) return HP_EXIT_USAGE;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--Ri-mm", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
             ri_t = v;
-        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--Ro-mm", &v)) != 0) {
-            if (m < 0) return HP_EXIT_USAGE;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--Ro-mm", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
             ro_t = v;
-        } else if ((m = hp_cli_opt(CMD, argc, argv, &i, "--plot", &v)) != 0) {
-            if (m < 0) return HP_EXIT_USAGE;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--plot", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
             plot = v;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
+            return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         } else if (data) {
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "material: one DATA file only");
+            return cli_fail(CLI_EXIT_USAGE, CMD, "material: one DATA file only");
         } else {
             data = argv[i];
         }
     }
-    if (!data) return hp_cli_fail(HP_EXIT_USAGE, CMD, "material: missing DATA file");
+    if (!data) return cli_fail(CLI_EXIT_USAGE, CMD, "material: missing DATA file");
     if (!ri_t || !ro_t)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD, "material: --Ri-mm and --Ro-mm are required");
+        return cli_fail(CLI_EXIT_USAGE, CMD, "material: --Ri-mm and --Ro-mm are required");
     double Ri, Ro;
-    int rc = hp_cli_double(CMD, "--Ri-mm", ri_t, &Ri);
-    if (!rc) rc = hp_cli_double(CMD, "--Ro-mm", ro_t, &Ro);
+    int rc = cli_double(CMD, "--Ri-mm", ri_t, &Ri);
+    if (!rc) rc = cli_double(CMD, "--Ro-mm", ro_t, &Ro);
     if (rc) return rc;
     if (!(Ri > 0) || !(Ro > Ri))
-        return hp_cli_fail(HP_EXIT_USAGE, CMD, "--Ri-mm, --Ro-mm: need 0 < Ri < Ro (got %g, %g)",
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--Ri-mm, --Ro-mm: need 0 < Ri < Ro (got %g, %g)",
                            Ri, Ro);
     Ri *= 1e-3;
     Ro *= 1e-3;
@@ -140,16 +140,16 @@ static int run_material(int argc, char **argv)
     if (!pts || !res) {
         free(pts);
         free(res);
-        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
     }
     int n = 0;
     hp_calib_radius kind;
     hp_diag d = {{0}};
     hp_material_fit f;
     hp_error e = hp_calib_read_material(data, pts, HP_CALIB_MAX_ROWS, &n, &kind, &d);
-    if (e) rc = hp_cli_fail(status_of(e), CMD, "%s", d.text);
+    if (e) rc = cli_fail(status_of(e), CMD, "%s", d.text);
     else if ((e = hp_fit_material(Ri, Ro, kind, pts, n, &f, res, &d)) != HP_OK)
-        rc = hp_cli_fail(status_of(e), CMD, "%s: %s", data, d.text);
+        rc = cli_fail(status_of(e), CMD, "%s: %s", data, d.text);
     if (rc) {
         free(pts);
         free(res);
@@ -159,13 +159,13 @@ static int run_material(int argc, char **argv)
         /* Residuals in mm against pressure in kPa; dashed: ±t·s·σ of the first point, the
          * band a residual of that weight stays inside 95 % of the time. */
         double *xs = malloc(sizeof *xs * (size_t)n), *ys = malloc(sizeof *ys * (size_t)n);
-        if (!xs || !ys) rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+        if (!xs || !ys) rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
         for (int i = 0; !rc && i < n; ++i) {
             xs[i] = pts[i].pressure * 1e-3;
             ys[i] = res[i] * 1e3;
         }
         if (!rc)
-            rc = hp_fit_plot_svg(CMD, plot, "headplan fit material: residuals (measured - fitted)",
+            rc = fit_plot_svg(CMD, plot, "headplan fit material: residuals (measured - fitted)",
                                  xs, ys, n, f.t * f.s * pts[0].sigma * 1e3, "pressure [kPa]",
                                  kind == HP_CALIB_INNER ? "ri residual [mm]"
                                                         : "ro residual [mm]");
@@ -275,7 +275,7 @@ static int run_material(int argc, char **argv)
            rname, f.C1, f.C2);
     free(pts);
     free(res);
-    return HP_EXIT_OK;
+    return CLI_EXIT_OK;
 }
 
 /* ---------------------------------------------------------------- layout */
@@ -295,17 +295,17 @@ static int parse_layout(int argc, char **argv, layout_args *a)
             a->json = 1;
             continue;
         }
-        int matched = hp_cli_named_opt(CMD, argc, argv, &i, names, slots, 5);
-        if (matched < 0) return HP_EXIT_USAGE;
+        int matched = cli_named_opt(CMD, argc, argv, &i, names, slots, 5);
+        if (matched < 0) return CLI_EXIT_USAGE;
         if (matched) continue;
         if (argv[i][0] == '-' && argv[i][1] != '\0')
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
+            return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         if (!a->scene) a->scene = argv[i];
         else if (!a->data) a->data = argv[i];
-        else return hp_cli_fail(HP_EXIT_USAGE, CMD, "layout: unexpected argument '%s'", argv[i]);
+        else return cli_fail(CLI_EXIT_USAGE, CMD, "layout: unexpected argument '%s'", argv[i]);
     }
     if (!a->scene || !a->data)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD, "layout: needs SCENE and DATA");
+        return cli_fail(CLI_EXIT_USAGE, CMD, "layout: needs SCENE and DATA");
     return -1;
 }
 
@@ -316,27 +316,27 @@ static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fi
         if (strcmp(a->what, "offsets") == 0) o->fit_axes = 0;
         else if (strcmp(a->what, "axes") == 0) o->fit_offsets = 0;
         else if (strcmp(a->what, "offsets,axes") != 0 && strcmp(a->what, "axes,offsets") != 0)
-            return hp_cli_fail(HP_EXIT_USAGE, CMD,
+            return cli_fail(CLI_EXIT_USAGE, CMD,
                                "--fit: '%s': use offsets, axes or offsets,axes", a->what);
     }
     double v;
     if (a->sig_mm) {
-        if (hp_cli_double(CMD, "--sigma-mm", a->sig_mm, &v)) return HP_EXIT_USAGE;
-        if (!(v > 0)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--sigma-mm: must be > 0");
+        if (cli_double(CMD, "--sigma-mm", a->sig_mm, &v)) return CLI_EXIT_USAGE;
+        if (!(v > 0)) return cli_fail(CLI_EXIT_USAGE, CMD, "--sigma-mm: must be > 0");
         o->sigma_trans = v * 1e-3;
     }
     if (a->sig_deg) {
-        if (hp_cli_double(CMD, "--sigma-deg", a->sig_deg, &v)) return HP_EXIT_USAGE;
-        if (!(v > 0)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--sigma-deg: must be > 0");
+        if (cli_double(CMD, "--sigma-deg", a->sig_deg, &v)) return CLI_EXIT_USAGE;
+        if (!(v > 0)) return cli_fail(CLI_EXIT_USAGE, CMD, "--sigma-deg: must be > 0");
         o->sigma_rot = v / DEG;
     }
     hp_settings s;
-    int rc = hp_cli_settings(CMD, sc, "realtime", a->level, &s);
+    int rc = cli_settings(CMD, sc, "realtime", a->level, &s);
     if (rc) return rc;
     o->level = s.level;
     if (o->level == HP_LEVEL_AUTO &&
         hp_contact_auto(&sc->layout, s.level_tolerance, s.auto_trans, s.auto_rot, &o->level))
-        return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: auto could not choose a level", a->scene);
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: auto could not choose a level", a->scene);
     return 0;
 }
 
@@ -463,24 +463,24 @@ static int run_layout(int argc, char **argv)
     int rc = parse_layout(argc, argv, &a);
     if (rc >= 0) return rc;
     hp_scene *sc = NULL;
-    rc = hp_cli_load_scene(CMD, a.scene, 1, &sc);
+    rc = cli_load_scene(CMD, a.scene, 1, &sc);
     if (rc) return rc;
     hp_layout_fit_options o;
     rc = layout_options(&a, sc, &o);
     hp_calib_row *rows = malloc(sizeof *rows * HP_CALIB_MAX_ROWS);
     hp_layout_fit *f = malloc(sizeof *f);
     double *gain = malloc(sizeof *gain * HP_CALIB_MAX_ROWS);
-    if (!rc && (!rows || !f || !gain)) rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+    if (!rc && (!rows || !f || !gain)) rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
     int n = 0;
     hp_diag d = {{0}};
     hp_error e = HP_OK;
     if (!rc) {
         e = hp_calib_read_layout(a.data, &sc->layout, rows, HP_CALIB_MAX_ROWS, &n, &d);
-        if (e) rc = hp_cli_fail(status_of(e), CMD, "%s", d.text);
+        if (e) rc = cli_fail(status_of(e), CMD, "%s", d.text);
     }
     if (!rc) {
         e = hp_fit_layout(&sc->layout, rows, n, &o, f, NULL, &d);
-        if (e) rc = hp_cli_fail(status_of(e), CMD, "%s: %s", a.data, d.text);
+        if (e) rc = cli_fail(status_of(e), CMD, "%s: %s", a.data, d.text);
     }
     if (!rc && hp_fit_layout_gain(&sc->layout, rows, n, &o, f, gain, &d))
         for (int i = 0; i < n; ++i) gain[i] = NAN;
@@ -489,7 +489,7 @@ static int run_layout(int argc, char **argv)
         snprintf(name, sizeof name, "%.200s (calibrated)", sc->name);
         const char *inputs[2] = {a.scene, a.data};
         e = hp_calib_write_scene(a.out, &f->fitted, sc->level, sc, name, inputs, 2, &d);
-        if (e) rc = hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_CANTCREAT : HP_EXIT_USAGE, CMD, "%s",
+        if (e) rc = cli_fail(e == HP_ERR_IO ? CLI_EXIT_CANTCREAT : CLI_EXIT_USAGE, CMD, "%s",
                                 d.text);
     }
     if (!rc) {
@@ -506,19 +506,19 @@ static int run_layout(int argc, char **argv)
     return rc;
 }
 
-int hp_cmd_fit(int argc, char **argv)
+int cmd_fit(int argc, char **argv)
 {
     for (int i = 1; i < argc; ++i)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help();
-            return HP_EXIT_OK;
+            return CLI_EXIT_OK;
         }
     if (argc < 2) {
         fprintf(stderr, "headplan fit: missing what to fit (material or layout; see headplan "
                         "fit --help)\n");
-        return HP_EXIT_USAGE;
+        return CLI_EXIT_USAGE;
     }
     if (strcmp(argv[1], "material") == 0) return run_material(argc - 2, argv + 2);
     if (strcmp(argv[1], "layout") == 0) return run_layout(argc - 2, argv + 2);
-    return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown fit '%s' (material or layout)", argv[1]);
+    return cli_fail(CLI_EXIT_USAGE, CMD, "unknown fit '%s' (material or layout)", argv[1]);
 }

@@ -51,17 +51,17 @@ static int parse(int argc, char **argv, hz_args *a)
         int m;
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help();
-            return HP_EXIT_OK;
+            return CLI_EXIT_OK;
         }
         if (strcmp(argv[i], "--json") == 0) {
             a->json = 1;
             continue;
         }
 #define OPT(name, field)                                                                      \
-    if ((m = hp_cli_opt(CMD, argc, argv, &i, name, &v)) != 0) {                               \
-        if (m < 0) return HP_EXIT_USAGE;                                                      \
+    if ((m = cli_opt(CMD, argc, argv, &i, name, &v)) != 0) {                               \
+        if (m < 0) return CLI_EXIT_USAGE;                                                      \
         if (a->field)                                                                         \
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "%s: given more than once", name);         \
+            return cli_fail(CLI_EXIT_USAGE, CMD, "%s: given more than once", name);         \
         a->field = v;                                                                         \
         continue;                                                                             \
     }
@@ -78,13 +78,13 @@ static int parse(int argc, char **argv, hz_args *a)
         OPT("--tolerance-deg", tol_deg)
 #undef OPT
         if (argv[i][0] == '-' && argv[i][1] != '\0')
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
+            return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
         if (npos == 0) a->scene = argv[i];
         else if (npos == 1) a->trace = argv[i];
-        else return hp_cli_fail(HP_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
+        else return cli_fail(CLI_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
         ++npos;
     }
-    if (!a->scene) return hp_cli_fail(HP_EXIT_USAGE, CMD, "missing SCENE (see --help)");
+    if (!a->scene) return cli_fail(CLI_EXIT_USAGE, CMD, "missing SCENE (see --help)");
     return -1;
 }
 
@@ -97,46 +97,46 @@ static int settings_from_args(const hz_args *a, hp_horizon_settings *hs, double 
     double x;
     int rc;
     if (a->horizon) {
-        if ((rc = hp_cli_int(CMD, "--horizon", a->horizon, 1, HP_HORIZON_MAX, &v))) return rc;
+        if ((rc = cli_int(CMD, "--horizon", a->horizon, 1, HP_HORIZON_MAX, &v))) return rc;
         hs->horizon = (int)v;
     }
     if (a->window) {
-        if ((rc = hp_cli_int(CMD, "--window", a->window, 2, 1 << 20, &v))) return rc;
+        if ((rc = cli_int(CMD, "--window", a->window, 2, 1 << 20, &v))) return rc;
         hs->window = (int)v;
     }
     if (a->overlap) {
-        if (!a->window) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--overlap: needs --window");
-        if ((rc = hp_cli_int(CMD, "--overlap", a->overlap, 1, hs->window - 1, &v))) return rc;
+        if (!a->window) return cli_fail(CLI_EXIT_USAGE, CMD, "--overlap: needs --window");
+        if ((rc = cli_int(CMD, "--overlap", a->overlap, 1, hs->window - 1, &v))) return rc;
         hs->overlap = (int)v;
     }
     if (a->rate) {
-        if ((rc = hp_cli_double(CMD, "--rate-kpa-per-s", a->rate, &x))) return rc;
-        if (!(x > 0)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--rate-kpa-per-s: must be > 0");
+        if ((rc = cli_double(CMD, "--rate-kpa-per-s", a->rate, &x))) return rc;
+        if (!(x > 0)) return cli_fail(CLI_EXIT_USAGE, CMD, "--rate-kpa-per-s: must be > 0");
         hs->rate_max_per_s = x * 1e3;
     }
     if (a->smooth) {
-        if ((rc = hp_cli_double(CMD, "--smooth", a->smooth, &x))) return rc;
-        if (!(x >= 0 && x <= 1)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--smooth: must be in [0, 1]");
+        if ((rc = cli_double(CMD, "--smooth", a->smooth, &x))) return rc;
+        if (!(x >= 0 && x <= 1)) return cli_fail(CLI_EXIT_USAGE, CMD, "--smooth: must be in [0, 1]");
         hs->smooth = x;
     }
     if (a->prediction && hp_prediction_parse(a->prediction, &hs->prediction) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD, "--prediction: '%s' is not hold or velocity",
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--prediction: '%s' is not hold or velocity",
                            a->prediction);
     *tol_mm = *tol_deg = 0.5;
     if (a->tol_mm) {
-        if ((rc = hp_cli_double(CMD, "--tolerance-mm", a->tol_mm, tol_mm))) return rc;
-        if (!(*tol_mm > 0)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--tolerance-mm: must be > 0");
+        if ((rc = cli_double(CMD, "--tolerance-mm", a->tol_mm, tol_mm))) return rc;
+        if (!(*tol_mm > 0)) return cli_fail(CLI_EXIT_USAGE, CMD, "--tolerance-mm: must be > 0");
     }
     if (a->tol_deg) {
-        if ((rc = hp_cli_double(CMD, "--tolerance-deg", a->tol_deg, tol_deg))) return rc;
-        if (!(*tol_deg > 0)) return hp_cli_fail(HP_EXIT_USAGE, CMD, "--tolerance-deg: must be > 0");
+        if ((rc = cli_double(CMD, "--tolerance-deg", a->tol_deg, tol_deg))) return rc;
+        if (!(*tol_deg > 0)) return cli_fail(CLI_EXIT_USAGE, CMD, "--tolerance-deg: must be > 0");
     }
     static const char *const names[3] = {"greedy", "receding", "offline"};
     const char *mode = a->mode ? a->mode : "compare";
     modes[0] = modes[1] = modes[2] = strcmp(mode, "compare") == 0;
     for (int p = 0; p < 3; ++p) modes[p] |= strcmp(mode, names[p]) == 0;
     if (!modes[0] && !modes[1] && !modes[2])
-        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+        return cli_fail(CLI_EXIT_USAGE, CMD,
                            "--mode: '%s' is not greedy, receding, offline or compare", mode);
     return 0;
 }
@@ -148,13 +148,13 @@ static int read_trace(const char *path, const hp_trace_rows *ovr, hp_trace_row *
     hp_diag d = {{0}};
     hp_error e = hp_trace_open(path, ovr, &r, &d);
     if (e != HP_OK)
-        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
+        return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, CMD, "%s", d.text);
     size_t n = 0, cap = 1024;
     hp_trace_row *rows = malloc(cap * sizeof *rows);
     int rc = 0;
     for (;;) {
         if (!rows) {
-            rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+            rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
             break;
         }
         if (n == cap) {
@@ -167,13 +167,13 @@ static int read_trace(const char *path, const hp_trace_rows *ovr, hp_trace_row *
         e = hp_trace_next(r, &rows[n], &d);
         if (e == HP_END) break;
         if (e != HP_OK) {
-            rc = hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
+            rc = cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, CMD, "%s", d.text);
             break;
         }
         ++n;
     }
     hp_trace_close(r);
-    if (rc == 0 && n == 0) rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: no rows", path);
+    if (rc == 0 && n == 0) rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: no rows", path);
     if (rc) {
         free(rows);
         return rc;
@@ -191,26 +191,26 @@ static double unit(int i) { return i < 3 ? 1e3 : 57.295779513082320877; }
 static void write_summary_text(FILE *f, const char *prefix, const int *modes,
                                const hp_horizon_metrics *m)
 {
-    char b[HP_FMT_MAX];
+    char b[CLI_FMT_MAX];
     fprintf(f, "%splan,metric", prefix);
     for (int i = 0; i < 6; ++i) fprintf(f, ",%s", AXES[i]);
     fprintf(f, "\n");
     for (int p = 0; p < 3; ++p) {
         if (!modes[p]) continue;
         fprintf(f, "%s%s,rms", prefix, PLAN_NAMES[p]);
-        for (int i = 0; i < 6; ++i) fprintf(f, ",%s", hp_cli_fmt(b, m[p].rms[i]));
+        for (int i = 0; i < 6; ++i) fprintf(f, ",%s", cli_fmt(b, m[p].rms[i]));
         fprintf(f, "\n%s%s,max", prefix, PLAN_NAMES[p]);
-        for (int i = 0; i < 6; ++i) fprintf(f, ",%s", hp_cli_fmt(b, m[p].max[i]));
+        for (int i = 0; i < 6; ++i) fprintf(f, ",%s", cli_fmt(b, m[p].max[i]));
         fprintf(f, "\n");
     }
     fprintf(f, "%splan,time_outside_s,rows_outside,travel_kpa,cost,pose_cost\n", prefix);
     for (int p = 0; p < 3; ++p) {
         if (!modes[p]) continue;
-        fprintf(f, "%s%s,%s", prefix, PLAN_NAMES[p], hp_cli_fmt(b, m[p].time_outside));
-        fprintf(f, ",%s", hp_cli_fmt(b, m[p].rows_outside));
-        fprintf(f, ",%s", hp_cli_fmt(b, m[p].travel * 1e-3));
-        fprintf(f, ",%s", hp_cli_fmt(b, m[p].cost));
-        fprintf(f, ",%s\n", hp_cli_fmt(b, m[p].pose_cost));
+        fprintf(f, "%s%s,%s", prefix, PLAN_NAMES[p], cli_fmt(b, m[p].time_outside));
+        fprintf(f, ",%s", cli_fmt(b, m[p].rows_outside));
+        fprintf(f, ",%s", cli_fmt(b, m[p].travel * 1e-3));
+        fprintf(f, ",%s", cli_fmt(b, m[p].cost));
+        fprintf(f, ",%s\n", cli_fmt(b, m[p].pose_cost));
     }
 }
 
@@ -219,11 +219,11 @@ static int write_csv(const char *path, const hp_layout *L, const int *modes,
                      const char *scene, const char *trace, double tol_mm, double tol_deg)
 {
     FILE *f = fopen(path, "w");
-    if (!f) return hp_cli_fail(HP_EXIT_CANTCREAT, CMD, "%s: cannot create", path);
-    char b[HP_FMT_MAX];
+    if (!f) return cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s: cannot create", path);
+    char b[CLI_FMT_MAX];
     fprintf(f, "# headplan horizon: scene %s, trace %s, %zu rows\n", scene, trace, T);
-    fprintf(f, "# tolerance_mm %s", hp_cli_fmt(b, tol_mm));
-    fprintf(f, ", tolerance_deg %s\n", hp_cli_fmt(b, tol_deg));
+    fprintf(f, "# tolerance_mm %s", cli_fmt(b, tol_mm));
+    fprintf(f, ", tolerance_deg %s\n", cli_fmt(b, tol_deg));
     write_summary_text(f, "# ", modes, m);
     fprintf(f, "plan,t_s");
     for (int i = 0; i < 6; ++i) fprintf(f, ",desired_%s", AXES[i]);
@@ -236,18 +236,18 @@ static int write_csv(const char *path, const hp_layout *L, const int *modes,
         for (size_t t = 0; t < T; ++t) {
             const hp_horizon_row *o = &plans[p][t];
             double err = 0;
-            fprintf(f, "%s,%s", PLAN_NAMES[p], hp_cli_fmt(b, o->t));
-            for (int i = 0; i < 6; ++i) fprintf(f, ",%s", hp_cli_fmt(b, o->desired[i] * unit(i)));
+            fprintf(f, "%s,%s", PLAN_NAMES[p], cli_fmt(b, o->t));
+            for (int i = 0; i < 6; ++i) fprintf(f, ",%s", cli_fmt(b, o->desired[i] * unit(i)));
             for (int i = 0; i < 6; ++i) {
-                fprintf(f, ",%s", hp_cli_fmt(b, o->achieved[i] * unit(i)));
+                fprintf(f, ",%s", cli_fmt(b, o->achieved[i] * unit(i)));
                 err = fmax(err, fabs(o->achieved[i] - o->desired[i]) * unit(i));
             }
-            fprintf(f, ",%s,%s", hp_cli_fmt(b, err), hp_status_name(o->status));
-            for (int k = 0; k < L->n; ++k) fprintf(f, ",%s", hp_cli_fmt(b, o->pressure[k] * 1e-3));
+            fprintf(f, ",%s,%s", cli_fmt(b, err), hp_status_name(o->status));
+            for (int k = 0; k < L->n; ++k) fprintf(f, ",%s", cli_fmt(b, o->pressure[k] * 1e-3));
             fprintf(f, "\n");
         }
     }
-    if (fclose(f) != 0) return hp_cli_fail(HP_EXIT_CANTCREAT, CMD, "%s: write failed", path);
+    if (fclose(f) != 0) return cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s: write failed", path);
     return 0;
 }
 
@@ -287,13 +287,13 @@ static void print_json(const int *modes, const hp_horizon_metrics *m, size_t T,
         json_object_set_new(plans, PLAN_NAMES[p], e);
     }
     json_object_set_new(o, "plans", plans);
-    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     if (s) printf("%s\n", s);
     free(s);
     json_decref(o);
 }
 
-int hp_cmd_horizon(int argc, char **argv)
+int cmd_horizon(int argc, char **argv)
 {
     hz_args a;
     memset(&a, 0, sizeof a);
@@ -305,10 +305,10 @@ int hp_cmd_horizon(int argc, char **argv)
     if ((rc = settings_from_args(&a, &hs, &tol_mm, &tol_deg, modes))) return rc;
     hp_trace_rows ovr;
     if (a.rows && hp_trace_rows_parse(a.rows, &ovr) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD, "--rows: '%s' is not deviation or correction",
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--rows: '%s' is not deviation or correction",
                            a.rows);
     hp_scene *sc = NULL;
-    if ((rc = hp_cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
+    if ((rc = cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
     hp_settings s;
     hp_horizon_row *plans[3] = {NULL, NULL, NULL};
     hp_trace_row *rows = NULL;
@@ -317,18 +317,18 @@ int hp_cmd_horizon(int argc, char **argv)
     const hp_trace_rows *use_ovr = a.rows ? &ovr : NULL;
     if (!trace) {
         if (!sc->has_trace) {
-            rc = hp_cli_fail(HP_EXIT_USAGE, CMD, "no TRACE given and the scene names none");
+            rc = cli_fail(CLI_EXIT_USAGE, CMD, "no TRACE given and the scene names none");
             goto done;
         }
         trace = sc->trace_path;
         if (!a.rows) use_ovr = &sc->trace_rows;
     }
-    if ((rc = hp_cli_settings(CMD, sc, NULL, NULL, &s))) goto done;
+    if ((rc = cli_settings(CMD, sc, NULL, NULL, &s))) goto done;
     if ((rc = read_trace(trace, use_ovr, &rows, &T))) goto done;
     hp_diag d = {{0}};
     double p0[HP_MAX_BLADDERS];
     if (hp_horizon_nominal_pressures(&sc->layout, p0, &d) != HP_OK) {
-        rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s", d.text);
+        rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s", d.text);
         goto done;
     }
     /* The start pressures are held one sampling interval before row 0. */
@@ -340,7 +340,7 @@ int hp_cmd_horizon(int argc, char **argv)
         if (!modes[p]) continue;
         plans[p] = malloc(T * sizeof *plans[p]);
         if (!plans[p]) {
-            rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+            rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
             goto done;
         }
         hp_error e;
@@ -348,7 +348,7 @@ int hp_cmd_horizon(int argc, char **argv)
         else if (p == 1) e = hp_horizon_receding(&sc->layout, &s, &hs, rows, T, p0, plans[p], &d);
         else e = hp_horizon_offline(&sc->layout, &s, &hs, rows, T, p0, plans[p], &info, &d);
         if (e != HP_OK) {
-            rc = hp_cli_fail(e == HP_ERR_INVALID ? HP_EXIT_DATAERR : HP_EXIT_SOFTWARE, CMD,
+            rc = cli_fail(e == HP_ERR_INVALID ? CLI_EXIT_DATAERR : CLI_EXIT_SOFTWARE, CMD,
                              "%s: %s", PLAN_NAMES[p], d.text);
             goto done;
         }

@@ -61,7 +61,7 @@ static int parse(int argc, char **argv, ik_args *a)
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help(a->cmd);
-            return HP_EXIT_OK;
+            return CLI_EXIT_OK;
         }
     }
     for (int i = 1; i < argc; ++i) {
@@ -72,33 +72,33 @@ static int parse(int argc, char **argv, ik_args *a)
         int matched = 0;
         for (int o = 0; o < O_COUNT && !matched; ++o) {
             const char *v = NULL;
-            int m = hp_cli_opt(a->cmd, argc, argv, &i, option_name(a, o), &v);
-            if (m < 0) return HP_EXIT_USAGE;
+            int m = cli_opt(a->cmd, argc, argv, &i, option_name(a, o), &v);
+            if (m < 0) return CLI_EXIT_USAGE;
             if (m == 0) continue;
             if (a->text[o])
-                return hp_cli_fail(HP_EXIT_USAGE, a->cmd, "%s: given more than once",
+                return cli_fail(CLI_EXIT_USAGE, a->cmd, "%s: given more than once",
                                    option_name(a, o));
             a->text[o] = v;
             matched = 1;
         }
         if (!matched && argv[i][0] != '-')
-            return hp_cli_fail(HP_EXIT_USAGE, a->cmd,
+            return cli_fail(CLI_EXIT_USAGE, a->cmd,
                                "unexpected argument '%s' (%s takes options only; see headplan "
                                "%s --help)",
                                argv[i], a->cmd, a->cmd);
         if (!matched)
-            return hp_cli_fail(HP_EXIT_USAGE, a->cmd, "unknown option '%s' (see headplan %s --help)",
+            return cli_fail(CLI_EXIT_USAGE, a->cmd, "unknown option '%s' (see headplan %s --help)",
                                argv[i], a->cmd);
     }
     int paper = a->text[O_C1] || a->text[O_C2], fe = a->text[O_C10] || a->text[O_C01];
     if (paper && fe)
-        return hp_cli_fail(HP_EXIT_USAGE, a->cmd,
+        return cli_fail(CLI_EXIT_USAGE, a->cmd,
                            "%s: cannot mix the paper's --c1/--c2 with the finite-element --c10/--c01",
                            a->text[O_C10] ? "--c10" : "--c01");
     const int need[] = {O_RI_BIG, O_RO_BIG, O_TARGET, fe ? O_C10 : O_C1, fe ? O_C01 : O_C2};
     for (size_t k = 0; k < sizeof need / sizeof need[0]; ++k)
         if (!a->text[need[k]])
-            return hp_cli_fail(HP_EXIT_USAGE, a->cmd, "%s: missing (required; see headplan %s --help)",
+            return cli_fail(CLI_EXIT_USAGE, a->cmd, "%s: missing (required; see headplan %s --help)",
                                option_name(a, need[k]), a->cmd);
     return -1;
 }
@@ -115,33 +115,33 @@ static int values(const ik_args *a, ik_values *v)
     int oc1 = fe ? O_C10 : O_C1, oc2 = fe ? O_C01 : O_C2;
     double m1, m2;
     int rc;
-    if ((rc = hp_cli_double(a->cmd, "--Ri", a->text[O_RI_BIG], &v->Ri_mm)) ||
-        (rc = hp_cli_double(a->cmd, "--Ro", a->text[O_RO_BIG], &v->Ro_mm)) ||
-        (rc = hp_cli_double(a->cmd, a->target, a->text[O_TARGET], &v->target)) ||
-        (rc = hp_cli_double(a->cmd, option_name(a, oc1), a->text[oc1], &m1)) ||
-        (rc = hp_cli_double(a->cmd, option_name(a, oc2), a->text[oc2], &m2)))
+    if ((rc = cli_double(a->cmd, "--Ri", a->text[O_RI_BIG], &v->Ri_mm)) ||
+        (rc = cli_double(a->cmd, "--Ro", a->text[O_RO_BIG], &v->Ro_mm)) ||
+        (rc = cli_double(a->cmd, a->target, a->text[O_TARGET], &v->target)) ||
+        (rc = cli_double(a->cmd, option_name(a, oc1), a->text[oc1], &m1)) ||
+        (rc = cli_double(a->cmd, option_name(a, oc2), a->text[oc2], &m2)))
         return rc;
     if (!(v->Ri_mm > 0))
-        return hp_cli_fail(HP_EXIT_DATAERR, a->cmd, "--Ri: must be > 0 mm (got %g)", v->Ri_mm);
+        return cli_fail(CLI_EXIT_DATAERR, a->cmd, "--Ri: must be > 0 mm (got %g)", v->Ri_mm);
     if (!(v->Ro_mm > v->Ri_mm))
-        return hp_cli_fail(HP_EXIT_DATAERR, a->cmd,
+        return cli_fail(CLI_EXIT_DATAERR, a->cmd,
                            "--Ro: must be greater than --Ri (got --Ro %g mm, --Ri %g mm)",
                            v->Ro_mm, v->Ri_mm);
     if (a->target[2] == 'r' && !(v->target > 0))
-        return hp_cli_fail(HP_EXIT_DATAERR, a->cmd, "--ri: must be > 0 mm (got %g)", v->target);
+        return cli_fail(CLI_EXIT_DATAERR, a->cmd, "--ri: must be > 0 mm (got %g)", v->target);
     if (!(m1 > 0))
-        return hp_cli_fail(HP_EXIT_DATAERR, a->cmd, "%s: must be > 0 Pa (got %g)",
+        return cli_fail(CLI_EXIT_DATAERR, a->cmd, "%s: must be > 0 Pa (got %g)",
                            option_name(a, oc1), m1);
     if (!(m2 >= 0))
-        return hp_cli_fail(HP_EXIT_DATAERR, a->cmd, "%s: must be >= 0 Pa (got %g)",
+        return cli_fail(CLI_EXIT_DATAERR, a->cmd, "%s: must be >= 0 Pa (got %g)",
                            option_name(a, oc2), m2);
     if (hp_iab_moduli_to_paper(fe ? HP_MATERIAL_FE : HP_MATERIAL_PAPER, m1, m2, &v->C1, &v->C2) != HP_OK)
-        return hp_cli_fail(HP_EXIT_DATAERR, a->cmd, "%s/%s: moduli out of range",
+        return cli_fail(CLI_EXIT_DATAERR, a->cmd, "%s/%s: moduli out of range",
                            option_name(a, oc1), option_name(a, oc2));
     v->b = (hp_iab){v->Ri_mm * 1e-3, v->Ro_mm * 1e-3, v->C1, v->C2};
     hp_diag d;
     if (hp_iab_validate(&v->b, &d) != HP_OK)
-        return hp_cli_fail(HP_EXIT_DATAERR, a->cmd, "bladder: %s", d.text);
+        return cli_fail(CLI_EXIT_DATAERR, a->cmd, "bladder: %s", d.text);
     return -1;
 }
 
@@ -177,12 +177,12 @@ static int print_json(const ik_values *v, const ik_result *r, const char *cmd)
     } else {
         json_object_set_new(o, "limit_point", json_null());
     }
-    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
-    if (!s) return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "cannot format JSON output");
+    if (!s) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "cannot format JSON output");
     puts(s);
     free(s);
-    return HP_EXIT_OK;
+    return CLI_EXIT_OK;
 }
 
 static void row(const char *name, double value, const char *unit)
@@ -230,12 +230,12 @@ static int run(int argc, char **argv, const char *cmd, const char *target)
     hp_error le = hp_iab_limit_point(&v.b, &r.lp);
     /* Moduli near DBL_MAX overflow the pressure: a bad value, not an internal failure. */
     if (le == HP_ERR_DOMAIN || le == HP_ERR_INVALID)
-        return hp_cli_fail(HP_EXIT_DATAERR, cmd,
+        return cli_fail(CLI_EXIT_DATAERR, cmd,
                            "%s/%s: C1 %g Pa, C2 %g Pa: %s (the limit point cannot be located)",
                            a.text[O_C10] ? "--c10" : "--c1", a.text[O_C10] ? "--c01" : "--c2",
                            v.C1, v.C2, hp_error_message(le));
     if (le != HP_OK)
-        return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "cannot locate the limit point: %s",
+        return cli_fail(CLI_EXIT_SOFTWARE, cmd, "cannot locate the limit point: %s",
                            hp_error_message(le));
     hp_error e;
     if (strcmp(cmd, "ik") == 0) {
@@ -244,25 +244,25 @@ static int run(int argc, char **argv, const char *cmd, const char *target)
         r.P = v.target;
         e = hp_iab_fk(&v.b, v.target, &r.ri_m);
         if (e == HP_ERR_NO_STABLE)
-            return hp_cli_fail(HP_EXIT_DATAERR, cmd,
+            return cli_fail(CLI_EXIT_DATAERR, cmd,
                                "--pressure: %.10g Pa is at or above the limit-point pressure "
                                "%.10g Pa (lambda_i %.10g, ri %.10g mm): no stable radius",
                                v.target, r.lp.pressure, r.lp.lambda_i, r.lp.ri * 1e3);
         if (e != HP_OK)
-            return hp_cli_fail(HP_EXIT_DATAERR, cmd, "--pressure: %.10g Pa: %s", v.target,
+            return cli_fail(CLI_EXIT_DATAERR, cmd, "--pressure: %.10g Pa: %s", v.target,
                                hp_error_message(e));
     }
     e = hp_iab_ik_derivs(&v.b, r.ri_m, &r.P, &r.dP, &r.d2P);
     if (e == HP_OK) e = hp_iab_ro(&v.b, r.ri_m, &r.ro_m);
     if (e != HP_OK)
-        return hp_cli_fail(HP_EXIT_DATAERR, cmd, "%s: %.10g: %s", target, v.target,
+        return cli_fail(CLI_EXIT_DATAERR, cmd, "%s: %.10g: %s", target, v.target,
                            hp_error_message(e));
     if (strcmp(cmd, "fk") == 0) r.P = v.target; /* report the pressure asked for */
     if (a.json) return print_json(&v, &r, cmd);
     print_table(&v, &r);
-    return HP_EXIT_OK;
+    return CLI_EXIT_OK;
 }
 
-int hp_cmd_ik(int argc, char **argv) { return run(argc, argv, "ik", "--ri"); }
+int cmd_ik(int argc, char **argv) { return run(argc, argv, "ik", "--ri"); }
 
-int hp_cmd_fk(int argc, char **argv) { return run(argc, argv, "fk", "--pressure"); }
+int cmd_fk(int argc, char **argv) { return run(argc, argv, "fk", "--pressure"); }

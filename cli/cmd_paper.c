@@ -117,7 +117,7 @@ static int compute(const hp_scene *s, result *r)
     }
     if (e == HP_OK) e = hp_iab_ro(b, r->ri, &r->ro);
     if (e != HP_OK)
-        return hp_cli_fail(HP_EXIT_DATAERR, "paper", "%s: %s", s->file, hp_error_message(e));
+        return cli_fail(CLI_EXIT_DATAERR, "paper", "%s: %s", s->file, hp_error_message(e));
     /* volume of the wall now minus at rest: zero for an incompressible shell */
     const double k = 4.0 / 3.0 * HP_PI;
     double now = r->ro * r->ro * r->ro - r->ri * r->ri * r->ri;
@@ -340,17 +340,17 @@ static void help(void)
            "66 scene file cannot be opened\n");
 }
 
-int hp_cmd_paper(int argc, char **argv)
+int cmd_paper(int argc, char **argv)
 {
     int json = 0, n_files = 0;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help();
-            return HP_EXIT_OK;
+            return CLI_EXIT_OK;
         }
         if (strcmp(argv[i], "--json") == 0) json = 1;
         else if (argv[i][0] == '-' && argv[i][1] != '\0')
-            return hp_cli_fail(HP_EXIT_USAGE, "paper", "%s: unknown option (see --help)",
+            return cli_fail(CLI_EXIT_USAGE, "paper", "%s: unknown option (see --help)",
                                argv[i]);
         else ++n_files;
     }
@@ -359,7 +359,7 @@ int hp_cmd_paper(int argc, char **argv)
     result *res = calloc((size_t)n, sizeof *res);
     const char **labels = calloc((size_t)n, sizeof *labels);
     int status = 0;
-    if (!scenes || !res || !labels) status = hp_cli_fail(HP_EXIT_SOFTWARE, "paper", "out of memory");
+    if (!scenes || !res || !labels) status = cli_fail(CLI_EXIT_SOFTWARE, "paper", "out of memory");
     for (int i = 1, k = 0; status == 0 && k < n; ++k) {
         hp_diag d = {{0}};
         hp_error e;
@@ -376,10 +376,10 @@ int hp_cmd_paper(int argc, char **argv)
                                &scenes[k], &d);
         }
         if (e != HP_OK)
-            status = hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, "paper",
+            status = cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, "paper",
                                  "%s", d.text);
         else if (scenes[k].kind != HP_SCENE_BLADDER)
-            status = hp_cli_fail(HP_EXIT_DATAERR, "paper",
+            status = cli_fail(CLI_EXIT_DATAERR, "paper",
                                  "%s: not a single-bladder scene (needs a 'bladder' section)",
                                  labels[k]);
         else
@@ -390,9 +390,9 @@ int hp_cmd_paper(int argc, char **argv)
         for (int k = 0; k < n; ++k) json_array_append_new(tables, to_json(&res[k], labels[k]));
         json_t *root = json_pack("{s:o}", "tables", tables);
         char *text = root ? json_dumps(root, JSON_PRESERVE_ORDER | JSON_INDENT(2) |
-                                                 JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION))
+                                                 JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION))
                           : NULL;
-        if (!text) status = hp_cli_fail(HP_EXIT_SOFTWARE, "paper", "JSON output failed");
+        if (!text) status = cli_fail(CLI_EXIT_SOFTWARE, "paper", "JSON output failed");
         else printf("%s\n", text);
         free(text);
         json_decref(root);

@@ -58,7 +58,7 @@ static int parse(int argc, char **argv, plot_args *a)
     for (int i = 1; i < argc; ++i)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help();
-            return HP_EXIT_OK;
+            return CLI_EXIT_OK;
         }
     a->out.width = 1400;
     a->out.height = 900;
@@ -68,15 +68,15 @@ static int parse(int argc, char **argv, plot_args *a)
         int m = gp_option(CMD, argc, argv, &i, &a->out);
         if (m == 1) continue;
         if (m != 0) return m;
-        int matched = hp_cli_named_opt(CMD, argc, argv, &i, names, slots, 3);
-        if (matched < 0) return HP_EXIT_USAGE;
+        int matched = cli_named_opt(CMD, argc, argv, &i, names, slots, 3);
+        if (matched < 0) return CLI_EXIT_USAGE;
         if (matched) continue;
         if (argv[i][0] == '-' && argv[i][1])
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
-        if (a->result) return hp_cli_fail(HP_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
+            return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
+        if (a->result) return cli_fail(CLI_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
         a->result = argv[i];
     }
-    if (!a->result) return hp_cli_fail(HP_EXIT_USAGE, CMD, "missing RESULT (see --help)");
+    if (!a->result) return cli_fail(CLI_EXIT_USAGE, CMD, "missing RESULT (see --help)");
     return gp_check(CMD, &a->out);
 }
 
@@ -138,7 +138,7 @@ static int header(const char *path, char **f, int nf, int *col, result *res)
         for (int i = 0; i < nf; ++i)
             if (strcmp(f[i], need[k]) == 0) col[k] = i;
         if (col[k] < 0)
-            return hp_cli_fail(HP_EXIT_DATAERR, CMD,
+            return cli_fail(CLI_EXIT_DATAERR, CMD,
                                "%s:1: not a headplan batch CSV: no column '%s'", path, need[k]);
     }
     res->nb = 0;
@@ -155,7 +155,7 @@ static int header(const char *path, char **f, int nf, int *col, result *res)
         }
     }
     if (res->nb == 0)
-        return hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s:1: no pressure columns (NAME_pressure_pa)",
+        return cli_fail(CLI_EXIT_DATAERR, CMD, "%s:1: no pressure columns (NAME_pressure_pa)",
                            path);
     /* The per-axis errors (achieved − desired) are in the result itself. */
     static const char *const errs[6] = {"error_x_mm", "error_y_mm", "error_z_mm",
@@ -174,7 +174,7 @@ static int read_result(const char *path, result *res)
 {
     FILE *in = fopen(path, "r");
     if (!in)
-        return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+        return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
     char buf[8192];
     char *f[MAXF];
     int col[10 + 6 + 2 * HP_MAX_BLADDERS], nf = 0, rc = -1;
@@ -185,7 +185,7 @@ static int read_result(const char *path, result *res)
         if (buf[0] == '#' || buf[0] == '\n') continue;
         nf = split(buf, f, MAXF);
         if (nf < 0) {
-            rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s:%ld: more than %d columns", path, lineno,
+            rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s:%ld: more than %d columns", path, lineno,
                              MAXF);
             break;
         }
@@ -198,7 +198,7 @@ static int read_result(const char *path, result *res)
             size_t cap = res->cap ? res->cap * 2 : 1024;
             row *g = realloc(res->rows, cap * sizeof *g);
             if (!g) {
-                rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "out of memory");
+                rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
                 break;
             }
             res->rows = g;
@@ -214,7 +214,7 @@ static int read_result(const char *path, result *res)
         for (int k = 0; res->have_err_cols && k < 6; ++k)
             maxcol = col[10 + k] > maxcol ? col[10 + k] : maxcol;
         if (nf <= maxcol || number(f[col[0]], &v)) {
-            rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s:%ld: malformed row", path, lineno);
+            rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s:%ld: malformed row", path, lineno);
             break;
         }
         r->line = (long)v;
@@ -235,7 +235,7 @@ static int read_result(const char *path, result *res)
                 bad |= number(f[col[10 + k]], &r->err[k]);
             r->has_desired = res->have_err_cols;
             if (bad) {
-                rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s:%ld: a number is malformed", path,
+                rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s:%ld: a number is malformed", path,
                                  lineno);
                 break;
             }
@@ -243,8 +243,8 @@ static int read_result(const char *path, result *res)
         res->n++;
     }
     if (rc < 0 && !have_header)
-        rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: empty (no header)", path);
-    if (rc < 0 && ferror(in)) rc = hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s: read error", path);
+        rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: empty (no header)", path);
+    if (rc < 0 && ferror(in)) rc = cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: read error", path);
     fclose(in);
     return rc;
 }
@@ -256,7 +256,7 @@ static int read_desired(const char *path, const hp_trace_rows *rows, result *res
     hp_diag d = {{0}};
     hp_error e = hp_trace_open(path, rows, &r, &d);
     if (e != HP_OK)
-        return hp_cli_fail(e == HP_ERR_IO ? HP_EXIT_NOINPUT : HP_EXIT_DATAERR, CMD, "%s", d.text);
+        return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, CMD, "%s", d.text);
     size_t i = 0;
     for (size_t k = 0; k < res->n; ++k) res->rows[k].has_desired = 0; /* matched anew */
     for (;;) {
@@ -265,7 +265,7 @@ static int read_desired(const char *path, const hp_trace_rows *rows, result *res
         if (e == HP_END) break;
         if (e == HP_ERR_IO) {
             hp_trace_close(r);
-            return hp_cli_fail(HP_EXIT_NOINPUT, CMD, "%s", d.text);
+            return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s", d.text);
         }
         if (e != HP_OK) continue; /* a bad trace row is a bad-row in the result */
         while (i < res->n && res->rows[i].line < tr.line) ++i;
@@ -282,7 +282,7 @@ static int read_desired(const char *path, const hp_trace_rows *rows, result *res
     size_t good = 0;
     for (size_t k = 0; k < res->n; ++k) good += !res->rows[k].bad;
     if (matched != good)
-        return hp_cli_fail(HP_EXIT_DATAERR, CMD,
+        return cli_fail(CLI_EXIT_DATAERR, CMD,
                            "%s: %zu of the result's %zu rows have no row of the same line in "
                            "the trace (is it the trace the result was planned from?)",
                            path, good - matched, good);
@@ -422,14 +422,14 @@ static int write_script(const void *arg, FILE *f)
     return ferror(f) ? -1 : 0;
 }
 
-int hp_cmd_plot(int argc, char **argv)
+int cmd_plot(int argc, char **argv)
 {
     plot_args a = {0};
     int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;
     hp_trace_rows kind;
     if (a.rows && hp_trace_rows_parse(a.rows, &kind) != HP_OK)
-        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+        return cli_fail(CLI_EXIT_USAGE, CMD,
                            "--rows: '%s' is neither 'deviation' nor 'correction'", a.rows);
     result res = {0};
     if ((rc = read_result(a.result, &res)) >= 0) {
@@ -441,7 +441,7 @@ int hp_cmd_plot(int argc, char **argv)
     const hp_trace_rows *override = a.rows ? &kind : NULL;
     hp_trace_rows scene_rows;
     if (a.scene) {
-        int lrc = hp_cli_load_scene(CMD, a.scene, 1, &sc);
+        int lrc = cli_load_scene(CMD, a.scene, 1, &sc);
         if (lrc) {
             free(res.rows);
             return lrc;
@@ -457,7 +457,7 @@ int hp_cmd_plot(int argc, char **argv)
                     found = 1;
                 }
             if (!found) {
-                rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: the scene %s has no bladder '%s'",
+                rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: the scene %s has no bladder '%s'",
                                  a.result, a.scene, res.names[k]);
                 break;
             }

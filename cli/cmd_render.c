@@ -51,7 +51,7 @@ static int parse(int argc, char **argv, render_args *a)
     for (int i = 1; i < argc; ++i)
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help();
-            return HP_EXIT_OK;
+            return CLI_EXIT_OK;
         }
     const char *const names[] = {"--correction", "--backend", "--level"};
     const char **slots[] = {&a->correction, &a->backend, &a->level};
@@ -59,15 +59,15 @@ static int parse(int argc, char **argv, render_args *a)
         int m = gp_option(CMD, argc, argv, &i, &a->out);
         if (m == 1) continue;
         if (m != 0) return m;
-        int matched = hp_cli_named_opt(CMD, argc, argv, &i, names, slots, 3);
-        if (matched < 0) return HP_EXIT_USAGE;
+        int matched = cli_named_opt(CMD, argc, argv, &i, names, slots, 3);
+        if (matched < 0) return CLI_EXIT_USAGE;
         if (matched) continue;
         if (argv[i][0] == '-' && argv[i][1])
-            return hp_cli_fail(HP_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
-        if (a->scene) return hp_cli_fail(HP_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
+            return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
+        if (a->scene) return cli_fail(CLI_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
         a->scene = argv[i];
     }
-    if (!a->scene) return hp_cli_fail(HP_EXIT_USAGE, CMD, "missing SCENE (see --help)");
+    if (!a->scene) return cli_fail(CLI_EXIT_USAGE, CMD, "missing SCENE (see --help)");
     return gp_check(CMD, &a->out);
 }
 
@@ -315,20 +315,20 @@ static int write_full(const void *arg, FILE *f)
     return ferror(f) ? -1 : 0;
 }
 
-int hp_cmd_render(int argc, char **argv)
+int cmd_render(int argc, char **argv)
 {
     render_args a = {0};
     int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;
     double clin[6] = {0}, desired[6] = {0};
-    if (a.correction && (rc = hp_cli_doubles(CMD, "--correction", a.correction, 6, clin)))
+    if (a.correction && (rc = cli_doubles(CMD, "--correction", a.correction, 6, clin)))
         return rc;
     hp_scene *sc = NULL;
-    if ((rc = hp_cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
+    if ((rc = cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
     if (a.correction) hp_pose_from_clinical(clin, desired);
     else if (sc->has_correction) memcpy(desired, sc->correction, sizeof desired);
     hp_settings s;
-    if ((rc = hp_cli_settings(CMD, sc, a.backend, a.level, &s))) {
+    if ((rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
         free(sc);
         return rc;
     }
@@ -336,17 +336,17 @@ int hp_cmd_render(int argc, char **argv)
     hp_diag d = {{0}};
     hp_planner *p = NULL;
     if (hp_planner_create(&sc->layout, &s, &p, &d) != HP_OK) {
-        rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: %s", a.scene, d.text);
+        rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s", a.scene, d.text);
         free(sc);
         return rc;
     }
     picture pic = {hp_planner_layout(p), sc->name, {0}, ""};
     hp_error e = hp_plan(p, desired, &pic.r);
     if (e != HP_OK && pic.r.status == HP_STATUS_INVALID_INPUT) {
-        rc = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: %s", a.correction ? "--correction" : "correction",
+        rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s", a.correction ? "--correction" : "correction",
                          hp_planner_error(p));
     } else if (e != HP_OK) {
-        rc = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", a.scene,
+        rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", a.scene,
                          hp_error_message(e));
     } else {
         pic.message = hp_planner_error(p);

@@ -52,7 +52,7 @@ static int parse(int argc, char **argv, solve_args *a)
 {
     static const char *const names[] = {"--correction", "--backend", "--level"};
     const char **const slots[] = {&a->correction, &a->backend, &a->level};
-    return hp_cli_scene_args(CMD, argc, argv, help, names, slots, 3, &a->json, &a->scene);
+    return cli_scene_args(CMD, argc, argv, help, names, slots, 3, &a->json, &a->scene);
 }
 
 static json_t *pose_json(const double xi[6])
@@ -130,9 +130,9 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
     json_object_set_new(o, "iterations", json_integer(r->iterations));
     json_object_set_new(o, "solve_time_us", json_real(r->solve_time * 1e6));
     json_object_set_new(o, "message", json_string(msg));
-    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
-    if (!s) return hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "cannot format JSON output");
+    if (!s) return cli_fail(CLI_EXIT_SOFTWARE, CMD, "cannot format JSON output");
     puts(s);
     free(s);
     return 0;
@@ -170,17 +170,17 @@ static void print_table(const hp_layout *L, const hp_result *r, const char *msg)
                a[i] - (d[i] - u[i]), u[i], r->commanded[i] ? "" : "  (not commanded)");
 }
 
-int hp_cmd_solve(int argc, char **argv)
+int cmd_solve(int argc, char **argv)
 {
     solve_args a = {0};
     int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;
 
     double corr_clin[6];
-    if (a.correction && (rc = hp_cli_doubles(CMD, "--correction", a.correction, 6, corr_clin)))
+    if (a.correction && (rc = cli_doubles(CMD, "--correction", a.correction, 6, corr_clin)))
         return rc;
     hp_scene *sc = NULL;
-    if ((rc = hp_cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
+    if ((rc = cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
     double desired[6];
     if (a.correction) {
         hp_pose_from_clinical(corr_clin, desired);
@@ -188,24 +188,24 @@ int hp_cmd_solve(int argc, char **argv)
         memcpy(desired, sc->correction, sizeof desired);
     } else {
         free(sc);
-        return hp_cli_fail(HP_EXIT_USAGE, CMD,
+        return cli_fail(CLI_EXIT_USAGE, CMD,
                            "--correction: missing (the scene %s states no correction)", a.scene);
     }
     int use_load;
     char why[256];
-    if ((rc = hp_cli_load_level(CMD, sc, a.level, &use_load, why, sizeof why))) {
+    if ((rc = cli_load_level(CMD, sc, a.level, &use_load, why, sizeof why))) {
         free(sc);
         return rc;
     }
     int level_is_load = a.level && strcmp(a.level, "load") == 0;
     hp_settings s;
-    if ((rc = hp_cli_settings(CMD, sc, a.backend, level_is_load ? NULL : a.level, &s))) {
+    if ((rc = cli_settings(CMD, sc, a.backend, level_is_load ? NULL : a.level, &s))) {
         free(sc);
         return rc;
     }
     s.use_rate_limits = 0; /* one solve from the nominal pose: no previous cycle */
     if (use_load) {
-        rc = hp_cli_solve_load(CMD, sc, &s, desired, a.json, why);
+        rc = cli_solve_load(CMD, sc, &s, desired, a.json, why);
         free(sc);
         return rc;
     }
@@ -215,8 +215,8 @@ int hp_cmd_solve(int argc, char **argv)
     hp_planner *p = NULL;
     e = hp_planner_create(&sc->layout, &s, &p, &d);
     if (e != HP_OK) {
-        int r2 = hp_cli_fail(e == HP_ERR_INVALID || e == HP_ERR_DOMAIN ? HP_EXIT_DATAERR
-                                                                       : HP_EXIT_SOFTWARE,
+        int r2 = cli_fail(e == HP_ERR_INVALID || e == HP_ERR_DOMAIN ? CLI_EXIT_DATAERR
+                                                                       : CLI_EXIT_SOFTWARE,
                              CMD, "%s: %s", a.scene, d.text);
         free(sc);
         return r2;
@@ -226,15 +226,15 @@ int hp_cmd_solve(int argc, char **argv)
     const char *msg = *hp_planner_error(p) ? hp_planner_error(p) : hp_planner_note(p);
     int status;
     if (e != HP_OK) {
-        status = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", a.scene,
+        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", a.scene,
                              hp_error_message(e));
     } else if (r.status == HP_STATUS_INVALID_INPUT) {
-        status = hp_cli_fail(HP_EXIT_DATAERR, CMD, "%s: %s",
+        status = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s",
                              a.correction ? "--correction" : "correction", msg);
     } else if (r.status == HP_STATUS_TIME_LIMIT || r.status == HP_STATUS_ITERATION_LIMIT) {
         /* Name the budget that stopped the backend, so the user knows what to raise. */
         int t = r.status == HP_STATUS_TIME_LIMIT;
-        status = hp_cli_fail(HP_EXIT_SOFTWARE, CMD,
+        status = cli_fail(CLI_EXIT_SOFTWARE, CMD,
                              "%s: %s: the %s backend did not converge within solver.%s = %g%s "
                              "(no answer printed)",
                              a.scene, hp_status_name(r.status), hp_backend_name(s.backend),
@@ -245,17 +245,17 @@ int hp_cmd_solve(int argc, char **argv)
         /* The planner's message starts with the status name already. */
         const char *name = hp_status_name(r.status);
         int named = strncmp(msg, name, strlen(name)) == 0;
-        status = hp_cli_fail(HP_EXIT_SOFTWARE, CMD, "%s: %s%s%s", a.scene, named ? "" : name,
+        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %s%s%s", a.scene, named ? "" : name,
                              named ? "" : ": ", msg);
     } else {
-        status = r.status == HP_STATUS_REACHED       ? HP_EXIT_OK
-                 : r.status == HP_STATUS_UNCOMMANDED ? HP_EXIT_UNCOMMANDED
-                                                     : HP_EXIT_CLOSEST;
+        status = r.status == HP_STATUS_REACHED       ? CLI_EXIT_OK
+                 : r.status == HP_STATUS_UNCOMMANDED ? CLI_EXIT_UNCOMMANDED
+                                                     : CLI_EXIT_CLOSEST;
         if (a.json) {
-            if (print_json(hp_planner_layout(p), &r, msg)) status = HP_EXIT_SOFTWARE;
+            if (print_json(hp_planner_layout(p), &r, msg)) status = CLI_EXIT_SOFTWARE;
         } else {
             print_table(hp_planner_layout(p), &r, msg);
-            hp_cli_print_hoop(hp_planner_layout(p), &r);
+            cli_print_hoop(hp_planner_layout(p), &r);
             if (why[0]) printf("\nlevel choice: %s\n", why); /* a load scene kept kinematic */
         }
     }

@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-int hp_cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
+int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
                       int *use_load, char *why, size_t len)
 {
     *use_load = 0;
@@ -19,7 +19,7 @@ int hp_cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg
     int asked = level_arg ? strcmp(level_arg, "load") == 0 : sc->level_load;
     int automatic = level_arg ? strcmp(level_arg, "auto") == 0 : sc->level == HP_LEVEL_AUTO;
     if (asked && !sc->has_load)
-        return hp_cli_fail(HP_EXIT_USAGE, cmd,
+        return cli_fail(CLI_EXIT_USAGE, cmd,
                            "--level: load needs a scene with a 'load' section (%s has none)",
                            sc->file);
     if (asked) {
@@ -29,13 +29,13 @@ int hp_cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg
     }
     if (!automatic || !sc->has_load) return 0;
     hp_load_model *M = malloc(sizeof *M);
-    if (!M) return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "out of memory");
+    if (!M) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
     hp_diag d = {{0}};
     hp_error e = hp_load_model_init(M, &sc->layout, &sc->load, sc->load_geometry, &d);
     if (!e) e = hp_load_auto_choose(M, sc->level_tolerance, use_load, NULL, why, len);
     free(M);
     if (e)
-        return hp_cli_fail(HP_EXIT_DATAERR, cmd, "%s: load: %s", sc->file,
+        return cli_fail(CLI_EXIT_DATAERR, cmd, "%s: load: %s", sc->file,
                            d.text[0] ? d.text : hp_error_message(e));
     return 0;
 }
@@ -59,7 +59,7 @@ static double hoop_kpa(const hp_bladder *B, const hp_bladder_result *b)
     return hp_iab_hoop_stress_inner(&B->iab, b->ri, &s) == HP_OK ? s * 1e-3 : NAN;
 }
 
-void hp_cli_print_hoop(const hp_layout *L, const hp_result *r)
+void cli_print_hoop(const hp_layout *L, const hp_result *r)
 {
     int any = 0;
     for (int k = 0; k < L->n; ++k) any |= L->bladders[k].stress_max > 0;
@@ -168,15 +168,15 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
     json_object_set_new(o, "weakest", json_string(h->weakest_words));
     json_object_set_new(o, "weakest_compliance", num(h->weakest_compliance));
     json_object_set_new(o, "iterations", json_integer(r->iterations));
-    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(HP_JSON_REAL_PRECISION));
+    char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
-    if (!s) return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "cannot format JSON output");
+    if (!s) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "cannot format JSON output");
     puts(s);
     free(s);
     return 0;
 }
 
-int hp_cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
+int cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
                       const double desired[6], int json, const char *why)
 {
     hp_settings set = *s;
@@ -186,26 +186,26 @@ int hp_cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
     hp_diag d = {{0}};
     hp_error e = hp_load_planner_create(&sc->layout, &sc->load, &set, tie, &p, &d);
     if (e)
-        return hp_cli_fail(e == HP_ERR_INVALID || e == HP_ERR_DOMAIN ? HP_EXIT_DATAERR
-                                                                     : HP_EXIT_SOFTWARE,
+        return cli_fail(e == HP_ERR_INVALID || e == HP_ERR_DOMAIN ? CLI_EXIT_DATAERR
+                                                                     : CLI_EXIT_SOFTWARE,
                            cmd, "%s: %s", sc->file, d.text);
     hp_result r;
     hp_load_info info;
     e = hp_load_plan(p, desired, &r, &info);
     int status;
     if (e) {
-        status = hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "%s: load planner failed: %s", sc->file,
+        status = cli_fail(CLI_EXIT_SOFTWARE, cmd, "%s: load planner failed: %s", sc->file,
                              hp_error_message(e));
     } else if (r.status == HP_STATUS_INVALID_INPUT) {
-        status = hp_cli_fail(HP_EXIT_DATAERR, cmd, "correction: %s", hp_load_planner_error(p));
+        status = cli_fail(CLI_EXIT_DATAERR, cmd, "correction: %s", hp_load_planner_error(p));
     } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) {
-        status = hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "%s: %s: %s", sc->file,
+        status = cli_fail(CLI_EXIT_SOFTWARE, cmd, "%s: %s: %s", sc->file,
                              hp_status_name(r.status), hp_load_planner_error(p));
     } else {
-        status = r.status == HP_STATUS_REACHED ? HP_EXIT_OK : HP_EXIT_CLOSEST;
+        status = r.status == HP_STATUS_REACHED ? CLI_EXIT_OK : CLI_EXIT_CLOSEST;
         const hp_layout *L = &hp_load_planner_model(p)->layout;
         if (json) {
-            if (print_json(cmd, L, &r, &info, why, tie)) status = HP_EXIT_SOFTWARE;
+            if (print_json(cmd, L, &r, &info, why, tie)) status = CLI_EXIT_SOFTWARE;
         } else {
             print_table(L, &r, &info, why, tie);
         }

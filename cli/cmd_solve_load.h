@@ -1,6 +1,6 @@
 /* headplan solve at the load level (docs/load.md). */
-#ifndef HP_CLI_CMD_SOLVE_LOAD_H
-#define HP_CLI_CMD_SOLVE_LOAD_H
+#ifndef CLI_CMD_SOLVE_LOAD_H
+#define CLI_CMD_SOLVE_LOAD_H
 
 #include "cli/cli_args.h"
 #include "headplan/headplan.h"
@@ -12,17 +12,17 @@
  * model.tolerance_mm. *use_load gets 1 for the load level; why (len bytes) the reason ("" when
  * the scene has no load and auto was not involved). Prints and returns an exit status on
  * error, 0 otherwise. level_arg is --level (NULL: the scene's). */
-int hp_cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
+int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
                       int *use_load, char *why, size_t len);
 
 /* Plans desired[6] (SI) with the load planner and prints the answer (table or JSON):
  * pressures, forces, binding limits, equilibrium residual, compliance, forward statics'
  * round trip. Returns the exit status (0 reached, 1 closest). */
-int hp_cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
+int cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
                       const double desired[6], int json, const char *why);
 
 /* When a bladder of L has a stress limit: a table of every bladder's hoop stress at the
  * inner surface (kPa) beside its limit. Prints nothing otherwise. */
-void hp_cli_print_hoop(const hp_layout *L, const hp_result *r);
+void cli_print_hoop(const hp_layout *L, const hp_result *r);
 
 #endif

@@ -21,7 +21,7 @@ static double map(double v, double lo, double hi, double a, double b)
     return hi > lo ? a + (v - lo) / (hi - lo) * (b - a) : 0.5 * (a + b);
 }
 
-int hp_fit_plot_svg(const char *cmd, const char *path, const char *title, const double *x,
+int fit_plot_svg(const char *cmd, const char *path, const char *title, const double *x,
                     const double *y, int n, double band, const char *xlabel,
                     const char *ylabel)
 {
@@ -38,7 +38,7 @@ int hp_fit_plot_svg(const char *cmd, const char *path, const char *title, const 
     xhi += pad;
     FILE *f = fopen(path, "w");
     if (!f)
-        return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "--plot: cannot create '%s': %s", path,
+        return cli_fail(CLI_EXIT_CANTCREAT, cmd, "--plot: cannot create '%s': %s", path,
                            strerror(errno));
     fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
                "font-family=\"sans-serif\" font-size=\"12\">\n", W, H);
@@ -76,6 +76,6 @@ int hp_fit_plot_svg(const char *cmd, const char *path, const char *title, const 
     fprintf(f, "</svg>\n");
     int bad = ferror(f) != 0;
     bad |= fclose(f) != 0;
-    if (bad) return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "--plot: cannot write '%s'", path);
+    if (bad) return cli_fail(CLI_EXIT_CANTCREAT, cmd, "--plot: cannot write '%s'", path);
     return 0;
 }

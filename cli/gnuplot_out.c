@@ -29,21 +29,21 @@ int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o)
     }
     const char *v = NULL;
     int m;
-    if ((m = hp_cli_opt(cmd, argc, argv, i, "-o", &v)) != 0) {
-        if (m < 0) return HP_EXIT_USAGE;
-        if (o->path) return hp_cli_fail(HP_EXIT_USAGE, cmd, "-o: given more than once");
+    if ((m = cli_opt(cmd, argc, argv, i, "-o", &v)) != 0) {
+        if (m < 0) return CLI_EXIT_USAGE;
+        if (o->path) return cli_fail(CLI_EXIT_USAGE, cmd, "-o: given more than once");
         o->path = v;
         return 1;
     }
-    if ((m = hp_cli_opt(cmd, argc, argv, i, "--script-out", &v)) != 0) {
-        if (m < 0) return HP_EXIT_USAGE;
+    if ((m = cli_opt(cmd, argc, argv, i, "--script-out", &v)) != 0) {
+        if (m < 0) return CLI_EXIT_USAGE;
         if (o->script_out)
-            return hp_cli_fail(HP_EXIT_USAGE, cmd, "--script-out: given more than once");
+            return cli_fail(CLI_EXIT_USAGE, cmd, "--script-out: given more than once");
         o->script_out = v;
         return 1;
     }
-    if ((m = hp_cli_opt(cmd, argc, argv, i, "--size", &v)) != 0) {
-        if (m < 0) return HP_EXIT_USAGE;
+    if ((m = cli_opt(cmd, argc, argv, i, "--size", &v)) != 0) {
+        if (m < 0) return CLI_EXIT_USAGE;
         char *end;
         errno = 0;
         long w = strtol(v, &end, 10), h = 0;
@@ -54,7 +54,7 @@ int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o)
             ok = end != hs && *end == '\0' && errno == 0;
         }
         if (!ok || w < 200 || w > 10000 || h < 200 || h > 10000)
-            return hp_cli_fail(HP_EXIT_USAGE, cmd,
+            return cli_fail(CLI_EXIT_USAGE, cmd,
                                "--size: expected WxH in pixels, each 200..10000 (got '%s')", v);
         o->width = w;
         o->height = h;
@@ -77,11 +77,11 @@ int gp_check(const char *cmd, gp_out *o)
     }
     if (!o->path) {
         if (o->dry_run) return -1;
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "-o: missing (FILE.png or FILE.svg)");
+        return cli_fail(CLI_EXIT_USAGE, cmd, "-o: missing (FILE.png or FILE.svg)");
     }
     if (ends_with(o->path, ".svg")) o->svg = 1;
     else if (!ends_with(o->path, ".png"))
-        return hp_cli_fail(HP_EXIT_USAGE, cmd, "-o: '%s' must end in .png or .svg", o->path);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "-o: '%s' must end in .png or .svg", o->path);
     return -1;
 }
 
@@ -119,7 +119,7 @@ static int write_script(const char *cmd, const char *path, FILE *f,
     bad |= ferror(f) != 0;
     if (f != stdout) bad |= fclose(f) != 0;
     else bad |= fflush(f) != 0;
-    if (bad) return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "cannot write the script %s", path);
+    if (bad) return cli_fail(CLI_EXIT_CANTCREAT, cmd, "cannot write the script %s", path);
     return 0;
 }
 
@@ -164,13 +164,13 @@ int gp_draw(const char *cmd, const gp_out *o, int (*writer)(const void *arg, FIL
                const void *arg)
 {
     if (!o->dry_run && !gnuplot_on_path())
-        return hp_cli_fail(HP_EXIT_UNAVAILABLE, cmd,
+        return cli_fail(CLI_EXIT_UNAVAILABLE, cmd,
                            "gnuplot not found on PATH (install gnuplot-nox; --dry-run writes "
                            "the script without it)");
     if (o->script_out) {
         FILE *f = fopen(o->script_out, "w");
         if (!f)
-            return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "--script-out: cannot create '%s': %s",
+            return cli_fail(CLI_EXIT_CANTCREAT, cmd, "--script-out: cannot create '%s': %s",
                                o->script_out, strerror(errno));
         int rc = write_script(cmd, o->script_out, f, writer, arg);
         if (rc) return rc;
@@ -182,16 +182,16 @@ int gp_draw(const char *cmd, const gp_out *o, int (*writer)(const void *arg, FIL
      * picture must not pass for a new one. */
     FILE *probe = fopen(o->path, "w");
     if (!probe)
-        return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "-o: cannot create '%s': %s", o->path,
+        return cli_fail(CLI_EXIT_CANTCREAT, cmd, "-o: cannot create '%s': %s", o->path,
                            strerror(errno));
     fclose(probe);
     remove(o->path);
     int st = run_gnuplot(writer, arg);
     struct stat sb;
     if (st != 0)
-        return hp_cli_fail(HP_EXIT_SOFTWARE, cmd, "gnuplot failed (exit %d) drawing %s", st,
+        return cli_fail(CLI_EXIT_SOFTWARE, cmd, "gnuplot failed (exit %d) drawing %s", st,
                            o->path);
     if (stat(o->path, &sb) != 0 || sb.st_size == 0)
-        return hp_cli_fail(HP_EXIT_CANTCREAT, cmd, "-o: %s was not written", o->path);
+        return cli_fail(CLI_EXIT_CANTCREAT, cmd, "-o: %s was not written", o->path);
     return 0;
 }

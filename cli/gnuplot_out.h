@@ -1,8 +1,8 @@
 /* Pictures drawn by gnuplot for headplan render and headplan plot: the output options they
  * share, the terminal preamble, and running gnuplot on the script. The program needs gnuplot
  * only for these two subcommands: without it they fail with exit 69 and one line. */
-#ifndef HP_CLI_GNUPLOT_OUT_H
-#define HP_CLI_GNUPLOT_OUT_H
+#ifndef CLI_GNUPLOT_OUT_H
+#define CLI_GNUPLOT_OUT_H
 
 #include <stdio.h>
 

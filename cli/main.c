@@ -17,16 +17,16 @@ typedef struct {
 } command;
 
 static const command commands[] = {
-    {"ik", hp_cmd_ik, "one bladder: inner radius -> pressure (closed form)"},
-    {"fk", hp_cmd_fk, "one bladder: pressure -> inner radius (stable branch)"},
-    {"paper", hp_cmd_paper, "reproduce the paper's expansion and compression tables"},
-    {"solve", hp_cmd_solve, "a scene -> bladder pressures for one correction"},
-    {"batch", hp_cmd_batch, "a scene and a trace -> one planned row per trace row"},
-    {"horizon", hp_cmd_horizon, "a scene and a trace -> greedy, receding and offline plans"},
-    {"analyze", hp_cmd_analyze, "a scene -> layout conditioning, weakest direction and reach"},
-    {"fit", hp_cmd_fit, "calibration: bladder moduli or layout from measurements"},
-    {"render", hp_cmd_render, "a scene and one plan drawn in 3-D (gnuplot): PNG or SVG"},
-    {"plot", hp_cmd_plot, "a batch result over time (gnuplot): pose error, pressures"},
+    {"ik", cmd_ik, "one bladder: inner radius -> pressure (closed form)"},
+    {"fk", cmd_fk, "one bladder: pressure -> inner radius (stable branch)"},
+    {"paper", cmd_paper, "reproduce the paper's expansion and compression tables"},
+    {"solve", cmd_solve, "a scene -> bladder pressures for one correction"},
+    {"batch", cmd_batch, "a scene and a trace -> one planned row per trace row"},
+    {"horizon", cmd_horizon, "a scene and a trace -> greedy, receding and offline plans"},
+    {"analyze", cmd_analyze, "a scene -> layout conditioning, weakest direction and reach"},
+    {"fit", cmd_fit, "calibration: bladder moduli or layout from measurements"},
+    {"render", cmd_render, "a scene and one plan drawn in 3-D (gnuplot): PNG or SVG"},
+    {"plot", cmd_plot, "a batch result over time (gnuplot): pose error, pressures"},
 };
 static const size_t n_commands = sizeof commands / sizeof commands[0];
 
@@ -45,27 +45,27 @@ static void usage(FILE *out)
 int main(int argc, char **argv)
 {
     setlocale(LC_ALL, "C");
-    hp_cli_guard_std_fds();
+    cli_guard_std_fds();
     if (argc < 2) {
         usage(stderr);
-        return HP_EXIT_USAGE;
+        return CLI_EXIT_USAGE;
     }
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0) {
         usage(stdout);
-        return hp_cli_finish_stdout("--help", HP_EXIT_OK);
+        return cli_finish_stdout("--help", CLI_EXIT_OK);
     }
     if (strcmp(argv[1], "--version") == 0) {
         printf("headplan %s\n", hp_version());
-        return hp_cli_finish_stdout("--version", HP_EXIT_OK);
+        return cli_finish_stdout("--version", CLI_EXIT_OK);
     }
     /* Every subcommand's stdout is checked here, after it returns: a result that could not
      * be written in full is never exit 0. */
     for (size_t i = 0; i < n_commands; ++i)
         if (strcmp(argv[1], commands[i].name) == 0)
-            return hp_cli_finish_stdout(commands[i].name,
+            return cli_finish_stdout(commands[i].name,
                                         commands[i].run(argc - 1, argv + 1));
     fprintf(stderr, "headplan: unknown command '");
-    hp_cli_put_escaped(stderr, argv[1]);
+    cli_put_escaped(stderr, argv[1]);
     fprintf(stderr, "' (see headplan --help)\n");
-    return HP_EXIT_USAGE;
+    return CLI_EXIT_USAGE;
 }

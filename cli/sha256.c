@@ -19,7 +19,7 @@ static const uint32_t K[64] = {
 
 static uint32_t ror(uint32_t x, int n) { return (x >> n) | (x << (32 - n)); }
 
-static void block(hp_sha256 *s, const unsigned char *p)
+static void block(sha256 *s, const unsigned char *p)
 {
     uint32_t w[64];
     for (int i = 0; i < 16; ++i)
@@ -41,7 +41,7 @@ static void block(hp_sha256 *s, const unsigned char *p)
     s->h[4] += e; s->h[5] += f; s->h[6] += g; s->h[7] += h;
 }
 
-void hp_sha256_init(hp_sha256 *s)
+void sha256_init(sha256 *s)
 {
     static const uint32_t H0[8] = {0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a,
                                    0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19};
@@ -50,7 +50,7 @@ void hp_sha256_init(hp_sha256 *s)
     s->used = 0;
 }
 
-void hp_sha256_add(hp_sha256 *s, const void *data, size_t len)
+void sha256_add(sha256 *s, const void *data, size_t len)
 {
     const unsigned char *p = data;
     s->bytes += len;
@@ -67,29 +67,29 @@ void hp_sha256_add(hp_sha256 *s, const void *data, size_t len)
     }
 }
 
-void hp_sha256_hex(hp_sha256 *s, char hex[65])
+void sha256_hex(sha256 *s, char hex[65])
 {
     uint64_t bits = s->bytes * 8;
     unsigned char pad = 0x80, zero = 0, len[8];
-    hp_sha256_add(s, &pad, 1);
-    while (s->used != 56) hp_sha256_add(s, &zero, 1);
+    sha256_add(s, &pad, 1);
+    while (s->used != 56) sha256_add(s, &zero, 1);
     for (int i = 0; i < 8; ++i) len[i] = (unsigned char)(bits >> (56 - 8 * i));
-    hp_sha256_add(s, len, 8);
+    sha256_add(s, len, 8);
     for (int i = 0; i < 8; ++i) snprintf(hex + 8 * i, 9, "%08x", (unsigned)s->h[i]);
 }
 
-int hp_sha256_file(const char *path, char hex[65])
+int sha256_file(const char *path, char hex[65])
 {
     FILE *f = fopen(path, "rb");
     if (!f) return -1;
-    hp_sha256 s;
-    hp_sha256_init(&s);
+    sha256 s;
+    sha256_init(&s);
     unsigned char buf[65536];
     size_t n;
-    while ((n = fread(buf, 1, sizeof buf, f)) > 0) hp_sha256_add(&s, buf, n);
+    while ((n = fread(buf, 1, sizeof buf, f)) > 0) sha256_add(&s, buf, n);
     int bad = ferror(f);
     fclose(f);
     if (bad) return -1;
-    hp_sha256_hex(&s, hex);
+    sha256_hex(&s, hex);
     return 0;
 }
