@@ -354,16 +354,24 @@ static PyMethodDef planner_methods[] = {
      "headplan.Error. Rows with NaN get status 'invalid-input'."},
     {"run_trace", (PyCFunction)(void (*)(void))hpy_planner_run_trace,
      METH_VARARGS | METH_KEYWORDS,
-     "run_trace(trace=None, t=None, rows=None, rate_limits=True) -> dict of arrays\n\n"
+     "run_trace(trace=None, t=None, rows=None, rate_limits=True, mode='batch', horizon=None,\n"
+     "          prediction=None, rate_kpa_per_s=None, window=None, overlap=None)\n"
+     "    -> dict of arrays\n\n"
      "Plans a trace greedily, row after row, as `headplan batch` does: each plan starts from\n"
      "the previous row's pressures (rate limits carry over; the first row starts from the\n"
      "nominal pressures). trace is a path to a CSV / JSON Lines trace file, an N×6 array of\n"
      "poses (mm, degrees) with time stamps t [s] (default 0, 0.1, 0.2, ...), or None for the\n"
      "scene's own trace. rows is 'deviation' (the head's measured offset; the correction is\n"
-     "its negative) or 'correction'; None keeps what the file or scene states (arrays:\n"
-     "'correction'). Returns the keys of plan_many plus line (the input line, 0 for arrays)\n"
-     "and t_s. A bad file row gets status 'bad-row' and NaN values, and its message is in\n"
-     "'messages' (a list), as batch reports it."},
+     "its exact inverse rigid motion) or 'correction'; None keeps what the file or scene\n"
+     "states; an array must say (the kind is never guessed). Returns the keys of plan_many\n"
+     "plus line (the input line, 0 for arrays) and t_s. A bad file row gets status\n"
+     "'bad-row' and NaN values, and its message is in 'messages' (a list), as batch reports\n"
+     "it.\n\n"
+     "mode plans over a horizon instead, as `headplan horizon` does (every row must be\n"
+     "good): 'greedy' (row by row with the per-row and per-second rate limits), 'receding'\n"
+     "(horizon rows ahead, prediction 'hold' or 'velocity'), 'offline' (the whole trace in\n"
+     "one sparse Ipopt NLP, or windows of `window` rows overlapping by `overlap`);\n"
+     "rate_kpa_per_s is the per-second pressure rate limit [kPa/s]."},
     {NULL, NULL, 0, NULL},
 };
 

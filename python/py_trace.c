@@ -95,6 +95,56 @@ static hp_error plan_all(hp_planner *p, const trace_in *in, hpy_block *b)
     return e;
 }
 
+/* The horizon modes of run_trace (hp_horizon.h): the same rows planned greedily with the
+ * horizon's per-row and per-second rate limits, by the receding-horizon planner, or all at
+ * once by the offline NLP (Ipopt). Every row must be good: a plan over a horizon has no
+ * place for a row it cannot read. Each planned row becomes an hp_result for the block
+ * (radii, pressures and stretches as planned; outer radii by the volume law; pose error
+ * against the row's desired pose). Allocates (the offline NLP does). */
+static hp_error plan_horizon(const hp_layout *L, const hp_settings *s,
+                             const hp_horizon_settings *hs, int mode, const trace_in *in,
+                             hpy_block *b, hp_diag *d)
+{
+    for (size_t i = 0; i < in->n; ++i)
+        if (in->msg[i]) return hp_diag_set(d, HP_ERR_PARSE, "%s", in->msg[i]);
+    hp_trace_row *rows = calloc(in->n ? in->n : 1, sizeof *rows);
+    hp_horizon_row *out = calloc(in->n ? in->n : 1, sizeof *out);
+    hp_error e = rows && out ? HP_OK : hp_diag_set(d, HP_ERR_NOMEM, "trace: out of memory");
+    for (size_t i = 0; e == HP_OK && i < in->n; ++i) {
+        rows[i].line = in->line[i];
+        rows[i].t = in->t[i];
+        memcpy(rows[i].correction, &in->corr[i * 6], sizeof rows[i].correction);
+    }
+    if (e == HP_OK) {
+        if (mode == 1) e = hp_horizon_greedy(L, s, hs, rows, in->n, NULL, out, d);
+        else if (mode == 2) e = hp_horizon_receding(L, s, hs, rows, in->n, NULL, out, d);
+        else e = hp_horizon_offline(L, s, hs, rows, in->n, NULL, out, NULL, d);
+    }
+    for (size_t i = 0; e == HP_OK && i < in->n; ++i) {
+        hp_result r;
+        memset(&r, 0, sizeof r);
+        r.status = out[i].status;
+        r.n = L->n;
+        memcpy(r.desired, out[i].desired, sizeof r.desired);
+        memcpy(r.achieved, out[i].achieved, sizeof r.achieved);
+        double a[6], w[6];
+        hp_pose_to_clinical(out[i].achieved, a);
+        hp_pose_to_clinical(out[i].desired, w);
+        for (int c = 0; c < 6; ++c) r.pose_error = fmax(r.pose_error, fabs(a[c] - w[c]));
+        for (int k = 0; k < L->n; ++k) {
+            hp_bladder_result *br = &r.bladders[k];
+            br->ri = out[i].ri[k];
+            br->pressure = out[i].pressure[k];
+            br->stretch = br->ri / L->bladders[k].iab.Ri;
+            if (hp_iab_ro(&L->bladders[k].iab, br->ri, &br->ro) != HP_OK) br->ro = NAN;
+        }
+        hpy_block_store(b, (npy_intp)i, &r);
+    }
+    free(rows);
+    free(out);
+    return e;
+}
+
 /* The CSV text of an array trace; NULL with an exception set on failure. */
 static char *array_text(PyObject *poses_obj, PyObject *t_obj, size_t *len)
 {
@@ -139,13 +189,38 @@ static char *array_text(PyObject *poses_obj, PyObject *t_obj, size_t *len)
 PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
 {
     hpy_planner *self = (hpy_planner *)o;
-    static char *kw[] = {"trace", "t", "rows", "rate_limits", NULL};
+    static char *kw[] = {"trace", "t", "rows", "rate_limits", "mode", "horizon", "prediction",
+                         "rate_kpa_per_s", "window", "overlap", NULL};
     PyObject *trace = Py_None, *t = Py_None;
-    const char *rows = NULL;
-    int rate_limits = 1;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "|OOzp:run_trace", kw, &trace, &t, &rows,
-                                     &rate_limits))
+    const char *rows = NULL, *mode_s = "batch", *pred = NULL;
+    int rate_limits = 1, horizon = -1, window = -1, overlap = -1;
+    double rate_kpa_s = NAN;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "|OOzpsizdii:run_trace", kw, &trace, &t,
+                                     &rows, &rate_limits, &mode_s, &horizon, &pred,
+                                     &rate_kpa_s, &window, &overlap))
         return NULL;
+    /* mode: 0 as batch; over a horizon (hp_horizon.h) 1 greedy, 2 receding, 3 offline. */
+    static const char *const modes[4] = {"batch", "greedy", "receding", "offline"};
+    int mode = -1;
+    for (int m = 0; m < 4; ++m)
+        if (strcmp(mode_s, modes[m]) == 0) mode = m;
+    if (mode < 0)
+        return hpy_fail("mode: '%s' is none of batch, greedy, receding, offline", mode_s);
+    hp_horizon_settings hs;
+    hp_horizon_settings_default(&hs);
+    if (horizon != -1) hs.horizon = horizon;
+    if (window != -1) hs.window = window;
+    if (overlap != -1) hs.overlap = overlap;
+    if (!isnan(rate_kpa_s)) hs.rate_max_per_s = rate_kpa_s * 1e3;
+    if (pred && hp_prediction_parse(pred, &hs.prediction) != HP_OK)
+        return hpy_fail("prediction: '%s' is neither 'hold' nor 'velocity'", pred);
+    hp_diag hd = {{0}};
+    if (mode > 0 && hp_horizon_settings_validate(&hs, &hd) != HP_OK)
+        return hpy_fail("%s", hd.text);
+    if (mode == 0 && (horizon != -1 || window != -1 || overlap != -1 || pred ||
+                      !isnan(rate_kpa_s)))
+        return hpy_fail("horizon, prediction, rate_kpa_per_s, window, overlap: only with "
+                        "mode greedy, receding or offline");
     if (!self->p) {
         PyErr_SetString(PyExc_RuntimeError, "Planner: not built");
         return NULL;
@@ -196,8 +271,13 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
               : hp_trace_open_mem(text, len, "<array>", HP_TRACE_CSV, override, &r, &d);
     if (e == HP_OK) e = read_all(r, &in, &d);
     hp_trace_close(r);
-    if (e == HP_OK) e = hp_planner_create(&self->layout, &s, &p, &d);
-    if (e == HP_OK) {
+    if (e == HP_OK && mode > 0) {
+        nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n) < 0;
+        if (!nomem) e = plan_horizon(&self->layout, &s, &hs, mode, &in, &b, &d);
+    } else if (e == HP_OK) {
+        e = hp_planner_create(&self->layout, &s, &p, &d);
+    }
+    if (e == HP_OK && mode == 0) {
         nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n) < 0;
         if (!nomem) {
             e = plan_all(p, &in, &b);

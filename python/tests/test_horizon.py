@@ -1,0 +1,70 @@
+"""run_trace over a horizon (mode greedy / receding / offline) against `headplan horizon`:
+the same rows, statuses and poses, bit for bit for the poses (both print the same doubles:
+the CLI with 17 significant digits), the pressures to 1e-12 relative (the CLI prints kPa);
+and the offline plan tracks no worse than the greedy one (it is the optimum of their common
+problem)."""
+import csv
+import io  # noqa: F401
+
+import numpy as np
+import pytest
+
+import headplan
+from conftest import cli, scenario
+
+KEYS = headplan.POSE_KEYS
+
+
+@pytest.fixture(scope="module")
+def step(tmp_path_factory):
+    path = tmp_path_factory.mktemp("hz") / "step80.csv"
+    with open(scenario("traces/step.csv")) as f:
+        path.write_text("".join(f.readlines()[:81]))  # header + 80 rows (8 s)
+    return str(path)
+
+
+def horizon_csv(scene, trace, mode):
+    out_path = trace + "." + mode + ".csv"
+    rc, out, err = cli("horizon", scene, trace, "--rows", "deviation", "--mode", mode,
+                       "-o", out_path, check=False)
+    assert rc in (0, 1), err
+    body = "".join(l for l in open(out_path) if not l.startswith("#"))
+    return [r for r in csv.DictReader(io.StringIO(body)) if r["plan"] == mode]
+
+
+@pytest.mark.parametrize("mode", ["greedy", "receding", "offline"])
+def test_horizon_equals_cli(step, mode):
+    sc = headplan.load_scene(scenario("horizon/step.yaml"))
+    r = headplan.Planner(sc).run_trace(step, rows="deviation", mode=mode)
+    rows = horizon_csv(scenario("horizon/step.yaml"), step, mode)
+    assert len(rows) == len(r["status"]) == 80
+    names = sc.bladder_names
+    for i, row in enumerate(rows):
+        assert r["status"][i] == row["status"], i
+        for c, k in enumerate(KEYS):
+            assert r["achieved"][i, c] == float(row["achieved_" + k]), (i, k)
+            assert r["desired"][i, c] == float(row["desired_" + k]), (i, k)
+        for b, n in enumerate(names):
+            want = float(row[n + "_kpa"]) * 1e3
+            assert abs(r["pressure_pa"][i, b] - want) <= 1e-12 * max(1.0, abs(want)), (i, n)
+
+
+def test_offline_no_worse_than_greedy(step):
+    p = headplan.Planner(headplan.load_scene(scenario("horizon/step.yaml")))
+    err = {}
+    for mode in ("greedy", "offline"):
+        r = p.run_trace(step, rows="deviation", mode=mode)
+        d = r["achieved"] - r["desired"]
+        err[mode] = float(np.sum(d * d))
+    assert err["offline"] <= err["greedy"] * (1 + 1e-6), err
+
+
+def test_horizon_arguments(step, default_planner):
+    with pytest.raises(headplan.Error, match="mode"):
+        default_planner.run_trace(step, rows="deviation", mode="sideways")
+    with pytest.raises(headplan.Error, match="only with mode"):
+        default_planner.run_trace(step, rows="deviation", horizon=5)
+    with pytest.raises(headplan.Error, match="prediction"):
+        default_planner.run_trace(step, rows="deviation", mode="receding", prediction="psychic")
+    with pytest.raises(headplan.Error, match="horizon"):
+        default_planner.run_trace(step, rows="deviation", mode="receding", horizon=0)
