@@ -280,7 +280,16 @@ static void test_jacobian_vs_fk_differences(void **state)
  * correlated, so their coverages move together: of the seeds tried, 20261201 gave one
  * offset 98.75 % (+3.4 sigma; the six before it 96-97.5 %; mean z² 0.77-0.99), seeds 1-4
  * gave 93.75-97.0 % (mean z² 0.95-1.07 for seeds 1 and 2). Seed 1 is used; the margin is
- * per parameter. */
+ * per parameter. Under AddressSanitizer (an order of magnitude slower, and CI runs it on a
+ * loaded machine) the same seeded sequence is cut to its first 100 trials, with the margin
+ * 3 binomial sigmas for 100 trials (±6.5 %): the memory checks need no more. */
+#ifndef COVERAGE_TRIALS
+#if defined(__SANITIZE_ADDRESS__)
+#define COVERAGE_TRIALS 100
+#else
+#define COVERAGE_TRIALS 400
+#endif
+#endif
 static void test_coverage(void **state)
 {
     (void)state;
@@ -293,7 +302,8 @@ static void test_coverage(void **state)
     hp_layout_fit_options o = opts(HP_LEVEL_SURFACE, 5e-5, 0.05 * DEG);
     o.fit_axes = 0;
     static hp_layout_fit f;
-    const int trials = 400;
+    const int trials = COVERAGE_TRIALS;
+    const double margin = 3.0 * sqrt(0.95 * 0.05 / trials); /* 3 binomial sigmas */
     int cover[11] = {0};
     double s_sum = 0, it_max = 0, zs[11] = {0};
     for (int t = 0; t < trials; ++t) {
@@ -315,7 +325,7 @@ static void test_coverage(void **state)
     for (int j = 3; j < 11; ++j) {
         double c = (double)cover[j] / trials;
         print_message("coverage %-24s %.4f\n", f.name[j], c);
-        assert_true(c >= 0.95 - 0.033 && c <= 0.95 + 0.033);
+        assert_true(c >= 0.95 - margin && c <= 0.95 + margin);
     }
     free(sc);
 }
