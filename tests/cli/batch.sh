@@ -118,6 +118,12 @@ expect_exit 0 "JSON Lines through a pipe"
 diff <(data "$TMP/pipe.csv" | cut -d, -f2-) <(data "$TMP/j1.csv" | cut -d, -f2-) >/dev/null \
   && ok || bad "a piped JSON Lines trace lost its header or rows"
 
+# A sanitizer build (libasan loaded) is an order of magnitude slower and its allocator keeps
+# freed memory in quarantine: there the long runs are shorter and the RSS check is left to
+# the ordinary build, where it means something.
+SAN=0; ldd "$HP_BIN" 2>/dev/null | grep -q libasan && SAN=1
+LONG_ROWS=100000; [ "$SAN" = 1 ] && LONG_ROWS=20000
+
 # Memory is flat in the number of rows: peak RSS of 100 000 rows minus that of 10 000 rows
 # (both streamed from a generator) stays under 16 MB (it grew ~60 MB before issue 9).
 rss() {
@@ -139,9 +145,11 @@ gen.wait()
 print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss if p.returncode == 0 else -1)
 PY
 }
-small=$(rss 10000); large=$(rss 100000)
-[ "$small" -gt 0 ] && [ "$large" -gt 0 ] && [ $((large - small)) -lt 16384 ] && ok \
-  || bad "memory grows with rows: ${small} kB at 10k rows, ${large} kB at 100k rows"
+if [ "$SAN" = 0 ]; then
+  small=$(rss 10000); large=$(rss 100000)
+  [ "$small" -gt 0 ] && [ "$large" -gt 0 ] && [ $((large - small)) -lt 16384 ] && ok \
+    || bad "memory grows with rows: ${small} kB at 10k rows, ${large} kB at 100k rows"
+fi
 
 # ---- three jobs on a trace with rate limits binding: shard joins repaired ----
 python3 - "$TMP/fast.csv" <<'PY'
@@ -235,11 +243,11 @@ run batch --help; expect_exit 0 "help"
 expect_stdout_has "not reproducible" "help says the time budget is not reproducible"
 
 # ---- signals: ignored on entry stays ignored (nohup); otherwise the partial is removed ----
-python3 - "$TMP/long.csv" <<'PY'
+python3 - "$TMP/long.csv" "$LONG_ROWS" <<'PY'
 import sys
 with open(sys.argv[1], "w") as f:
     f.write("# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n")
-    for i in range(100000):
+    for i in range(int(sys.argv[2])):
         f.write(f"{i/10:.1f},{(i%50)/100:.2f},0,0,0,0,0\n")
 PY
 # The test shell ignores HUP while it forks, so the child has it ignored from its first
