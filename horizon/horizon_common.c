@@ -1,5 +1,6 @@
 /* Horizon settings, per-row rate limits from time stamps, the greedy plan, study metrics. */
 #include "horizon/horizon_internal.h"
+#include "planner/nominal.h"
 #include "planner/problem_setup.h"
 
 #include <math.h>
@@ -131,15 +132,11 @@ hp_error hp_horizon_nominal_pressures(const hp_layout *L, double *p_start, hp_di
 {
     if (!L || !p_start) return hp_diag_set(d, HP_ERR_NULL, "nominal pressures: NULL argument");
     if (!L->prepared) return hp_diag_set(d, HP_ERR_STATE, "nominal pressures: layout not prepared");
-    for (int k = 0; k < L->n; ++k) {
-        double ri;
-        const hp_iab *b = &L->bladders[k].iab;
-        hp_error e = hp_iab_ri(b, L->rho0[k], &ri);
-        if (e == HP_OK) e = hp_iab_ik(b, ri, &p_start[k]);
-        if (e != HP_OK)
-            return hp_diag_set(d, e, "bladder %s: nominal pressure: %s", L->bladders[k].name,
-                               hp_error_message(e));
-    }
+    int bad = 0;
+    hp_error e = hp_nominal_pressures_of(L, p_start, &bad);
+    if (e != HP_OK)
+        return hp_diag_set(d, e, "bladder %s: nominal pressure: %s", L->bladders[bad].name,
+                           hp_error_message(e));
     return HP_OK;
 }
 

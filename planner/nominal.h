@@ -1,0 +1,13 @@
+/* Internal: the pressures that hold a layout's nominal pose, the one computation behind
+ * hp_planner_nominal_pressures and hp_horizon_nominal_pressures. */
+#ifndef HP_PLANNER_NOMINAL_H
+#define HP_PLANNER_NOMINAL_H
+
+#include "headplan/hp_kinematics.h"
+
+/* Every bladder's pressure at its nominal contact distance (prepared layout). Returns HP_OK,
+ * or the bladder model's error with *bad set to the failing bladder (pressures before it
+ * are written, the rest untouched). */
+hp_error hp_nominal_pressures_of(const hp_layout *L, double *pressures, int *bad);
+
+#endif
