@@ -17,29 +17,7 @@ static const char *const AXIS_UNITS[6] = {"mm", "mm", "mm", "deg", "deg", "deg"}
 #define MAX_COLS (40 + 4 * HP_MAX_BLADDERS)
 #define COL_NAME_MAX (HP_NAME_MAX + 24)
 
-/* The temporary file an interrupted run must not leave behind (signal handler). */
-static char tmp_path[4096];
-static volatile sig_atomic_t tmp_live;
 static char col_names[MAX_COLS][COL_NAME_MAX];
-
-static void on_signal(int sig)
-{
-    if (tmp_live) unlink(tmp_path);
-    signal(sig, SIG_DFL);
-    raise(sig);
-}
-
-/* Removes the temporary file on sig, unless sig was ignored on entry (nohup, trap ''). */
-static void guard_signal(int sig)
-{
-    struct sigaction old;
-    if (sigaction(sig, NULL, &old) == 0 && old.sa_handler == SIG_IGN) return;
-    struct sigaction sa;
-    memset(&sa, 0, sizeof sa);
-    sa.sa_handler = on_signal;
-    sigemptyset(&sa.sa_mask);
-    sigaction(sig, &sa, NULL);
-}
 
 static int ext_format(const char *path, hp_trace_format *fmt)
 {
@@ -70,36 +48,15 @@ int batch_output_format(const char *format, const char *out, hp_trace_format *fm
         *fmt = by_ext;
         return 0;
     }
+    /* Standard output has no name to read a format from, and a study that silently gets CSV
+     * where it expected JSON Lines is the guess this refuses. */
     if (to_file)
         return cli_fail(CLI_EXIT_USAGE, "batch",
                            "-o %s: cannot tell the format: give --format csv|jsonl or name the "
                            "file .csv or .jsonl", out);
-    *fmt = HP_TRACE_CSV; /* standard output has no name to contradict: CSV, documented */
-    return 0;
-}
-
-/* 0 when path may be written; otherwise CLI_EXIT_CANTCREAT after one line. */
-static int output_allowed(const char *path, const batch_input_id *inputs, int ninputs)
-{
-    struct stat st;
-    if (lstat(path, &st) != 0) {
-        if (errno == ENOENT) return 0;
-        return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s: %s", path, strerror(errno));
-    }
-    if (S_ISLNK(st.st_mode))
-        return cli_fail(CLI_EXIT_CANTCREAT, "batch",
-                           "-o %s is a symbolic link: refused (name the file itself)", path);
-    if (S_ISDIR(st.st_mode))
-        return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s is a directory, not a file", path);
-    if (!S_ISREG(st.st_mode))
-        return cli_fail(CLI_EXIT_CANTCREAT, "batch",
-                           "-o %s exists and is not a regular file (a device, FIFO or socket): "
-                           "refused; use -o - for standard output", path);
-    for (int i = 0; i < ninputs; ++i)
-        if (inputs[i].dev == st.st_dev && inputs[i].ino == st.st_ino)
-            return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s is the %s %s: refused", path,
-                               inputs[i].what, inputs[i].path);
-    return 0;
+    return cli_fail(CLI_EXIT_USAGE, "batch",
+                    "standard output has no file name to tell the format: give --format "
+                    "csv|jsonl (or -o FILE.csv|FILE.jsonl)");
 }
 
 static void name_columns(batch_sink *k);
@@ -116,30 +73,9 @@ int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const h
         k->f = stdout;
         return 0;
     }
-    int rc = output_allowed(out, inputs, ninputs);
+    int rc = cli_out_open(&k->file, "batch", "-o", out, inputs, ninputs);
     if (rc) return rc;
-    int n = snprintf(tmp_path, sizeof tmp_path, "%s.partial-XXXXXX", out);
-    if (n < 0 || (size_t)n >= sizeof tmp_path)
-        return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s: path too long", out);
-    guard_signal(SIGINT);
-    guard_signal(SIGTERM);
-    guard_signal(SIGHUP);
-    int fd = mkstemp(tmp_path);
-    if (fd < 0)
-        return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s: cannot create %s: %s", out,
-                           tmp_path, strerror(errno));
-    tmp_live = 1;
-    /* mkstemp makes the file private (0600); the result gets the usual mode. */
-    mode_t mask = umask(0);
-    umask(mask);
-    (void)fchmod(fd, 0666 & ~mask);
-    k->f = fdopen(fd, "w");
-    if (!k->f) {
-        close(fd);
-        unlink(tmp_path);
-        tmp_live = 0;
-        return cli_fail(CLI_EXIT_CANTCREAT, "batch", "-o %s: %s", out, strerror(errno));
-    }
+    k->f = k->file.f;
     k->path = out;
     return 0;
 }
@@ -386,27 +322,13 @@ int batch_sink_rows(batch_sink *k, const batch_in *in, const batch_out *out, siz
 int batch_sink_commit(batch_sink *k)
 {
     if (!k->path) return 0; /* main checks and closes stdout, with its one line */
-    int rc = cli_flush_output(k->f, tmp_path, "batch");
-    if (rc == 0 && fsync(fileno(k->f)) != 0)
-        rc = cli_fail(CLI_EXIT_IOERR, "batch", "cannot write %s: %s", tmp_path, strerror(errno));
-    int closed = cli_close_output(k->f, tmp_path, "batch");
-    if (rc == 0) rc = closed;
     k->f = NULL;
-    /* The path may have changed while the rows were planned: check it again. */
-    if (rc == 0 && output_allowed(k->path, NULL, 0) != 0) rc = CLI_EXIT_CANTCREAT;
-    if (rc == 0 && rename(tmp_path, k->path) != 0)
-        rc = cli_fail(CLI_EXIT_IOERR, "batch", "cannot rename %s to %s: %s", tmp_path, k->path,
-                         strerror(errno));
-    if (rc != 0) unlink(tmp_path);
-    tmp_live = 0;
-    return rc;
+    return cli_out_commit(&k->file, "batch");
 }
 
 void batch_sink_abandon(batch_sink *k)
 {
-    if (!k->path || !k->f) return;
-    fclose(k->f);
+    if (!k->path) return;
     k->f = NULL;
-    unlink(tmp_path);
-    tmp_live = 0;
+    cli_out_abandon(&k->file);
 }

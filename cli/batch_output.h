@@ -6,17 +6,13 @@
 
 #include "cli/batch.h"
 #include "cli/cli_args.h"
+#include "cli/cli_outfile.h"
 #include "cli/exit_codes.h"
 
 #include <sys/types.h>
 
-/* An input file by identity (device and inode), to refuse it as the output. */
-typedef struct batch_input_id {
-    const char *what; /* "scene", "trace" */
-    const char *path;
-    dev_t dev;
-    ino_t ino;
-} batch_input_id;
+/* An input file by identity, to refuse it as the output. */
+typedef cli_input batch_input_id;
 
 /* The metadata record written before the rows (one `# key: value` line each in CSV, one
  * object in JSON Lines), in this order. */
@@ -28,7 +24,8 @@ typedef struct batch_meta {
 } batch_meta;
 
 typedef struct batch_sink {
-    FILE *f;
+    FILE *f;           /* stdout or file.f */
+    cli_out file;      /* the -o file */
     const char *path;  /* final path; NULL for stdout */
     hp_trace_format fmt;
     const hp_layout *L;
@@ -37,7 +34,7 @@ typedef struct batch_sink {
 } batch_sink;
 
 /* Picks the output format: --format when given; else from OUT's extension (.csv, .jsonl,
- * .ndjson); else an error for a file, CSV for standard output. A --format that contradicts the
+ * .ndjson); else an error (standard output has no extension). A --format that contradicts the
  * extension is an error. Returns 0 or CLI_EXIT_USAGE after one line. */
 int batch_output_format(const char *format, const char *out, hp_trace_format *fmt);
 

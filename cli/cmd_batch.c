@@ -41,7 +41,8 @@ static void help(void)
            "-o OUT writes a temporary file beside OUT and renames it when complete; OUT may\n"
            "not be a symbolic link, a device or FIFO, or an input. -o - (or no -o) is\n"
            "standard output. The format is --format, else OUT's extension (.csv, .jsonl),\n"
-           "else an error (standard output: CSV). --jobs N runs N processes and gives the same output as one job.\n"
+           "else an error (standard output has no extension: give --format). --jobs N runs\n"
+           "N processes and gives the same output as one job.\n"
            "--no-times drops solve_time_us (a measurement) so two runs' outputs are\n"
            "byte-identical. Rows stopped by the time budget (solver.max_time_s) depend on\n"
            "machine load: their output is not reproducible run to run; the summary on\n"
@@ -364,8 +365,10 @@ int cmd_batch(int argc, char **argv)
     rc = S ? open_trace(trace_path, &t) : cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
     if (rc == 0) rc = open_reader(&a, sc, &t, &r);
     if (rc == 0) {
-        const batch_input_id ids[2] = {{"scene", a.scene, scene_st.st_dev, scene_st.st_ino},
-                                       {"trace", t.name, t.st.st_dev, t.st.st_ino}};
+        /* The trace by the identity of what was opened: standard input redirected from a
+         * file protects that file too. */
+        const batch_input_id ids[2] = {{"scene", a.scene, scene_st.st_dev, scene_st.st_ino, 1},
+                                       {"trace", t.name, t.st.st_dev, t.st.st_ino, 1}};
         rc = batch_sink_open(&sink, a.out, fmt, &sc->layout, a.times, ids, 2);
     }
     if (rc == 0 && batch_engine_init(&eng, &sc->layout, &s, (int)a.jobs) != 0)

@@ -2,6 +2,7 @@
  * comparison (docs/horizon.md). */
 #define _POSIX_C_SOURCE 200809L
 #include "cli/cli_args.h"
+#include "cli/cli_outfile.h"
 #include "cli/cli_scene.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
@@ -214,12 +215,10 @@ static void write_summary_text(FILE *f, const char *prefix, const int *modes,
     }
 }
 
-static int write_csv(const char *path, const hp_layout *L, const int *modes,
-                     hp_horizon_row *const *plans, size_t T, const hp_horizon_metrics *m,
-                     const char *scene, const char *trace, double tol_mm, double tol_deg)
+static void write_csv(FILE *f, const hp_layout *L, const int *modes,
+                      hp_horizon_row *const *plans, size_t T, const hp_horizon_metrics *m,
+                      const char *scene, const char *trace, double tol_mm, double tol_deg)
 {
-    FILE *f = fopen(path, "w");
-    if (!f) return cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s: cannot create", path);
     char b[CLI_FMT_MAX];
     fprintf(f, "# headplan horizon: scene %s, trace %s, %zu rows\n", scene, trace, T);
     fprintf(f, "# tolerance_mm %s", cli_fmt(b, tol_mm));
@@ -247,8 +246,6 @@ static int write_csv(const char *path, const hp_layout *L, const int *modes,
             fprintf(f, "\n");
         }
     }
-    if (fclose(f) != 0) return cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s: write failed", path);
-    return 0;
 }
 
 static json_t *vec6(const double *v)
@@ -310,6 +307,7 @@ int cmd_horizon(int argc, char **argv)
     hp_scene *sc = NULL;
     if ((rc = cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
     hp_settings s;
+    cli_out out = {.slot = -1};
     hp_horizon_row *plans[3] = {NULL, NULL, NULL};
     hp_trace_row *rows = NULL;
     size_t T = 0;
@@ -325,6 +323,14 @@ int cmd_horizon(int argc, char **argv)
     }
     if ((rc = cli_settings(CMD, sc, NULL, NULL, &s))) goto done;
     if ((rc = read_trace(trace, use_ovr, &rows, &T))) goto done;
+    /* The output is checked and created before any planning: a refused -o costs nothing and
+     * can name no input. */
+    if (a.out) {
+        cli_input in[2];
+        cli_input_of(&in[0], "scene", a.scene);
+        cli_input_of(&in[1], "trace", trace);
+        if ((rc = cli_out_open(&out, CMD, "-o", a.out, in, 2))) goto done;
+    }
     hp_diag d = {{0}};
     double p0[HP_MAX_BLADDERS];
     if (hp_horizon_nominal_pressures(&sc->layout, p0, &d) != HP_OK) {
@@ -354,12 +360,14 @@ int cmd_horizon(int argc, char **argv)
         }
         hp_horizon_measure(plans[p], T, sc->layout.n, p0, &s, &hs, tol_mm, tol_deg, &m[p]);
     }
-    if (a.out && (rc = write_csv(a.out, &sc->layout, modes, plans, T, m, a.scene, trace, tol_mm,
-                                 tol_deg)))
-        goto done;
+    if (a.out) {
+        write_csv(out.f, &sc->layout, modes, plans, T, m, a.scene, trace, tol_mm, tol_deg);
+        if ((rc = cli_out_commit(&out, CMD))) goto done;
+    }
     if (a.json) print_json(modes, m, T, &hs, &info, tol_mm, tol_deg);
     else write_summary_text(stdout, "", modes, m);
 done:
+    if (rc) cli_out_abandon(&out);
     for (int p = 0; p < 3; ++p) free(plans[p]);
     free(rows);
     free(sc);

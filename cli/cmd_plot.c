@@ -477,6 +477,10 @@ int cmd_plot(int argc, char **argv)
         char title[HP_SCENE_TEXT_MAX + 512];
         snprintf(title, sizeof title, "%s%s%s", slash ? slash + 1 : a.result, sc ? ": " : "",
                  sc ? sc->name : "");
+        cli_input_of(&a.out.inputs[0], "result", a.result);
+        cli_input_of(&a.out.inputs[1], "scene", a.scene);
+        cli_input_of(&a.out.inputs[2], "trace", trace);
+        a.out.ninputs = 3;
         const void *args[3] = {&res, &a.out, title};
         rc = gp_draw(CMD, &a.out, write_script, args);
     }

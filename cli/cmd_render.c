@@ -350,6 +350,8 @@ int cmd_render(int argc, char **argv)
                          hp_error_message(e));
     } else {
         pic.message = hp_planner_error(p);
+        cli_input_of(&a.out.inputs[0], "scene", a.scene);
+        a.out.ninputs = 1;
         full_script fs = {&pic, &a.out};
         rc = gp_draw(CMD, &a.out, write_full, &fs);
     }

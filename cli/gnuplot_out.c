@@ -5,6 +5,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "cli/gnuplot_out.h"
 #include "cli/cli_args.h"
+#include "cli/cli_outfile.h"
 #include "cli/exit_codes.h"
 
 #include <errno.h>
@@ -79,6 +80,9 @@ int gp_check(const char *cmd, gp_out *o)
         if (o->dry_run) return -1;
         return cli_fail(CLI_EXIT_USAGE, cmd, "-o: missing (FILE.png or FILE.svg)");
     }
+    if (o->script_out && strcmp(o->script_out, o->path) == 0)
+        return cli_fail(CLI_EXIT_USAGE, cmd, "--script-out and -o name the same file '%s'",
+                        o->path);
     if (ends_with(o->path, ".svg")) o->svg = 1;
     else if (!ends_with(o->path, ".png"))
         return cli_fail(CLI_EXIT_USAGE, cmd, "-o: '%s' must end in .png or .svg", o->path);
@@ -108,18 +112,18 @@ void gp_terminal(FILE *f, const gp_out *o)
                 o->width, o->height, o->width, o->height);
     }
     fprintf(f, "set output ");
-    gp_quote(f, o->path ? o->path : "/dev/null");
+    gp_quote(f, o->drawing ? o->drawing : o->path ? o->path : "/dev/null");
     fprintf(f, "\nset encoding utf8\n");
 }
 
-static int write_script(const char *cmd, const char *path, FILE *f,
+/* Writes the script into f; 0, or 73 after one line naming what. */
+static int write_script(const char *cmd, const char *what, FILE *f,
                         int (*writer)(const void *, FILE *), const void *arg)
 {
     int bad = writer(arg, f) != 0;
     bad |= ferror(f) != 0;
-    if (f != stdout) bad |= fclose(f) != 0;
-    else bad |= fflush(f) != 0;
-    if (bad) return cli_fail(CLI_EXIT_CANTCREAT, cmd, "cannot write the script %s", path);
+    if (f == stdout) bad |= fflush(f) != 0;
+    if (bad) return cli_fail(CLI_EXIT_CANTCREAT, cmd, "cannot write the script %s", what);
     return 0;
 }
 
@@ -160,38 +164,43 @@ static int run_gnuplot(int (*writer)(const void *, FILE *), const void *arg)
     return st >= 0 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
-int gp_draw(const char *cmd, const gp_out *o, int (*writer)(const void *arg, FILE *f),
-               const void *arg)
+int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f),
+            const void *arg)
 {
     if (!o->dry_run && !gnuplot_on_path())
         return cli_fail(CLI_EXIT_UNAVAILABLE, cmd,
                            "gnuplot not found on PATH (install gnuplot-nox; --dry-run writes "
                            "the script without it)");
-    if (o->script_out) {
-        FILE *f = fopen(o->script_out, "w");
-        if (!f)
-            return cli_fail(CLI_EXIT_CANTCREAT, cmd, "--script-out: cannot create '%s': %s",
-                               o->script_out, strerror(errno));
-        int rc = write_script(cmd, o->script_out, f, writer, arg);
-        if (rc) return rc;
-    } else if (o->dry_run) {
-        return write_script(cmd, "(stdout)", stdout, writer, arg);
+    if (!o->script_out && o->dry_run) return write_script(cmd, "(stdout)", stdout, writer, arg);
+    /* Both files are created (and checked against the inputs) before either is written, and
+     * appear under their names only when both are complete. */
+    cli_out script = {.slot = -1}, picture = {.slot = -1};
+    int rc = 0;
+    if (o->script_out)
+        rc = cli_out_open(&script, cmd, "--script-out", o->script_out, o->inputs, o->ninputs);
+    if (rc == 0 && !o->dry_run)
+        rc = cli_out_open(&picture, cmd, "-o", o->path, o->inputs, o->ninputs);
+    if (rc == 0 && o->script_out) rc = write_script(cmd, o->script_out, script.f, writer, arg);
+    if (rc == 0 && !o->dry_run) {
+        /* gnuplot writes the picture to the temporary name itself; the kept script names
+         * the final one. */
+        fclose(picture.f);
+        picture.f = NULL;
+        o->drawing = cli_out_temp(&picture);
+        int st = run_gnuplot(writer, arg);
+        o->drawing = NULL;
+        struct stat sb;
+        if (st != 0)
+            rc = cli_fail(CLI_EXIT_SOFTWARE, cmd, "gnuplot failed (exit %d) drawing %s", st,
+                          o->path);
+        else if (stat(cli_out_temp(&picture), &sb) != 0 || sb.st_size == 0)
+            rc = cli_fail(CLI_EXIT_CANTCREAT, cmd, "-o: %s was not written", o->path);
     }
-    if (o->dry_run) return 0;
-    /* An unwritable picture is the user's to fix (73), not a gnuplot failure; and a stale
-     * picture must not pass for a new one. */
-    FILE *probe = fopen(o->path, "w");
-    if (!probe)
-        return cli_fail(CLI_EXIT_CANTCREAT, cmd, "-o: cannot create '%s': %s", o->path,
-                           strerror(errno));
-    fclose(probe);
-    remove(o->path);
-    int st = run_gnuplot(writer, arg);
-    struct stat sb;
-    if (st != 0)
-        return cli_fail(CLI_EXIT_SOFTWARE, cmd, "gnuplot failed (exit %d) drawing %s", st,
-                           o->path);
-    if (stat(o->path, &sb) != 0 || sb.st_size == 0)
-        return cli_fail(CLI_EXIT_CANTCREAT, cmd, "-o: %s was not written", o->path);
-    return 0;
+    if (rc == 0 && o->script_out) rc = cli_out_commit(&script, cmd);
+    if (rc == 0 && !o->dry_run) rc = cli_out_commit(&picture, cmd);
+    if (rc) {
+        cli_out_abandon(&script);
+        cli_out_abandon(&picture);
+    }
+    return rc;
 }

@@ -4,6 +4,8 @@
 #ifndef CLI_GNUPLOT_OUT_H
 #define CLI_GNUPLOT_OUT_H
 
+#include "cli/cli_outfile.h"
+
 #include <stdio.h>
 
 typedef struct gp_out {
@@ -12,6 +14,9 @@ typedef struct gp_out {
     long width, height;     /* --size WxH in pixels */
     const char *script_out; /* --script-out FILE: keep the gnuplot script (data inline) */
     int dry_run;            /* --dry-run: write the script (stdout unless --script-out) only */
+    cli_input inputs[3];    /* files the command reads: never written over */
+    int ninputs;
+    const char *drawing;    /* set by gp_draw while gnuplot draws: the temporary picture */
 } gp_out;
 
 /* Matches one of the shared options at argv[*i] (-o, --size, --script-out, --dry-run) and
@@ -34,9 +39,11 @@ void gp_quote(FILE *f, const char *s);
 
 /* Writes the script with writer(arg, f) to --script-out (if given) or, for --dry-run alone,
  * to stdout; then (unless --dry-run) pipes it into gnuplot (found on PATH) and checks that the
- * picture was written and is not empty. Returns 0, 69 (gnuplot missing), 70 (gnuplot failed) or 73
- * (script or picture cannot be written), after one line on stderr. */
-int gp_draw(const char *cmd, const gp_out *o, int (*writer)(const void *arg, FILE *f),
-               const void *arg);
+ * picture was written and is not empty. The files go through cli_outfile.h: never over one of
+ * o->inputs, a link or a device, and under their names only when complete. Returns 0, 69
+ * (gnuplot missing), 70 (gnuplot failed) or 73 (script or picture cannot be written), after
+ * one line on stderr. */
+int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f),
+            const void *arg);
 
 #endif

@@ -41,9 +41,9 @@ grep -qx '# rows: deviation' "$TMP/j1.csv" && ok || bad "metadata names the rows
 grep -qx '# rows_from: trace' "$TMP/j1.csv" && ok || bad "metadata names where the kind came from"
 # A trace that states nothing: an error asking for --rows; with --rows it is planned.
 { echo "$HDR"; echo "0,0.1,0,0,0,0,0"; } >"$TMP/plain.csv"
-run batch "$S/default.yaml" "$TMP/plain.csv"; expect_exit 65 "kind not stated"
+run batch --format csv "$S/default.yaml" "$TMP/plain.csv"; expect_exit 65 "kind not stated"
 expect_stderr_has "or give --rows" "kind asked for"; expect_stdout_empty "kind not stated"
-run batch "$S/default.yaml" "$TMP/plain.csv" --rows correction --no-times; expect_exit 0 "--rows"
+run batch --format csv "$S/default.yaml" "$TMP/plain.csv" --rows correction --no-times; expect_exit 0 "--rows"
 expect_stdout_has "# rows_from: --rows" "--rows recorded"
 
 # ---- a deviation's correction is the exact inverse rigid motion ----
@@ -90,7 +90,7 @@ for p in 1 2 3 $$; do : >"$TMP/fresh.csv.partial-$p"; done
 run batch "$S/default.yaml" "$TMP/dev.csv" -o "$TMP/fresh.csv"; expect_exit 0 "stale partial files"
 [ -s "$TMP/fresh.csv" ] && ok || bad "no output beside stale partial files"
 # -o - is stdout; the format follows the extension; a conflict is an error.
-run batch "$S/default.yaml" "$TMP/dev.csv" -o - --no-times; expect_exit 0 "-o -"
+run batch --format csv "$S/default.yaml" "$TMP/dev.csv" -o - --no-times; expect_exit 0 "-o -"
 cmp -s "$TMP/out" "$TMP/dev_out.csv" && ok || bad "-o - differs from -o FILE"
 run batch "$S/default.yaml" "$TMP/dev.csv" -o "$TMP/ext.jsonl"; expect_exit 0 "-o x.jsonl"
 head -c 1 "$TMP/ext.jsonl" | grep -q '{' && ok || bad "-o x.jsonl did not write JSON Lines"
@@ -98,7 +98,7 @@ run batch "$S/default.yaml" "$TMP/dev.csv" -o "$TMP/x.jsonl" --format csv; expec
 [ ! -e "$TMP/x.jsonl" ] && ok || bad "format conflict wrote a file"
 
 # ---- streams: stdin, pipes and FIFOs lose nothing ----
-"$HP_BIN" batch "$S/default.yaml" - --no-times <"$DRIFT" >"$TMP/stdin.csv" 2>"$TMP/err"
+"$HP_BIN" batch --format csv "$S/default.yaml" - --no-times <"$DRIFT" >"$TMP/stdin.csv" 2>"$TMP/err"
 rc=$?; expect_exit 0 "trace from stdin"
 diff <(grep -v '^# trace' "$TMP/stdin.csv") <(grep -v '^# trace' "$TMP/j1.csv") >/dev/null \
   && ok || bad "stdin trace output differs from the file's"
@@ -137,7 +137,7 @@ w("# headplan-trace: rows=correction\\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw
 for i in range(%d):
     w("%%d,%%.3f,0,0,0,0,0\\n" %% (i, (i %% 50) / 100))
 """ % n], stdout=subprocess.PIPE)
-p = subprocess.Popen([sys.argv[1], "batch", sys.argv[2], "-", "--no-progress", "-o", "-"],
+p = subprocess.Popen([sys.argv[1], "batch", sys.argv[2], "-", "--no-progress", "-o", "-", "--format", "csv"],
                      stdin=gen.stdout, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
 gen.stdout.close()  # only the planner holds the pipe: the generator stops if it stops
 p.wait()
@@ -213,7 +213,7 @@ PY
 mkdir -p "$TMP/a:b"
 printf '%s\n%s\n0,0.1,0,0,0,0,0\n0.1,abc,0,0,0,0,0\n0.2,0,0,0,0,0\n0.3,0.2,0,0,0,0,0\n0.4,0.1,0,0,0,0' \
   "$COR" "$HDR" >"$TMP/a:b/bad.csv"
-run batch "$S/default.yaml" "$TMP/a:b/bad.csv" --no-times
+run batch --format csv "$S/default.yaml" "$TMP/a:b/bad.csv" --no-times
 expect_exit 65 "bad rows exit"
 expect_stderr_has "bad.csv:4:5: x_mm: not a number" "bad row 4 named"
 expect_stderr_has "bad.csv:5: 6 fields, expected 7" "bad row 5 named"
@@ -226,19 +226,19 @@ expect_stderr_has "bad.csv:7: truncated" "truncated last line named"
 # ---- messages: one line, control characters escaped; a BOM is skipped ----
 nl_path="$TMP/new
 line.csv"
-run batch "$S/default.yaml" "$nl_path"; expect_exit 66 "missing trace with a newline"
+run batch --format csv "$S/default.yaml" "$nl_path"; expect_exit 66 "missing trace with a newline"
 [ "$(wc -l <"$TMP/err")" -eq 1 ] && ok || bad "a newline in a path split the message"
 expect_stderr_has 'new\x0aline.csv: cannot open' "newline escaped"
 printf '\xef\xbb\xbf%s\n%s\n0,0.1,0,0,0,0,0\n' "$COR" "$HDR" >"$TMP/bom.csv"
-run batch "$S/default.yaml" "$TMP/bom.csv" --no-times; expect_exit 0 "BOM skipped"
+run batch --format csv "$S/default.yaml" "$TMP/bom.csv" --no-times; expect_exit 0 "BOM skipped"
 { printf '\xef\xbb\xbf'; cat "$S/default.yaml"; } >"$TMP/bom.yaml"
 run solve "$TMP/bom.yaml"; expect_exit 0 "a scene's BOM skipped"
 
 # ---- exit statuses: closest rows are a finished study unless --strict ----
 printf '%s\n%s\n0,0.1,0,0,0,0,0\n0.1,15,0,0,0,0,10\n' "$COR" "$HDR" >"$TMP/far.csv"
-run batch "$S/default.yaml" "$TMP/far.csv"; expect_exit 0 "closest rows without --strict"
+run batch --format csv "$S/default.yaml" "$TMP/far.csv"; expect_exit 0 "closest rows without --strict"
 expect_stderr_has "1 closest" "closest counted"
-run batch "$S/default.yaml" "$TMP/far.csv" --strict; expect_exit 1 "closest rows with --strict"
+run batch --format csv "$S/default.yaml" "$TMP/far.csv" --strict; expect_exit 1 "closest rows with --strict"
 run batch --help; expect_exit 0 "help"
 expect_stdout_has "not reproducible" "help says the time budget is not reproducible"
 
@@ -267,12 +267,12 @@ sleep 0.5; kill -HUP $pid 2>/dev/null; wait $pid 2>/dev/null
 
 # ---- usage and input errors: message, nothing on stdout ----
 run batch; expect_exit 64 "no scene"; expect_stdout_empty "no scene"
-run batch "$S/default.yaml" --jobs 0; expect_exit 64 "jobs 0"; expect_stderr_has "--jobs" "jobs named"
+run batch --format csv "$S/default.yaml" --jobs 0; expect_exit 64 "jobs 0"; expect_stderr_has "--jobs" "jobs named"
 run batch "$S/default.yaml" --format xml; expect_exit 64 "format"; expect_stderr_has "--format" "format named"
-run batch "$S/default.yaml" --bogus; expect_exit 64 "unknown option"
-run batch "$S/default.yaml" "$TMP/none.csv"; expect_exit 66 "missing trace"; expect_stdout_empty "missing trace"
-run batch "$S/paper_expansion.yaml" "$TMP/fast.csv"; expect_exit 65 "bladder scene"
-run batch "$S/sphere_head.yaml"; expect_exit 64 "scene without trace"; expect_stderr_has "missing TRACE" "trace named"
+run batch --format csv "$S/default.yaml" --bogus; expect_exit 64 "unknown option"
+run batch --format csv "$S/default.yaml" "$TMP/none.csv"; expect_exit 66 "missing trace"; expect_stdout_empty "missing trace"
+run batch --format csv "$S/paper_expansion.yaml" "$TMP/fast.csv"; expect_exit 65 "bladder scene"
+run batch --format csv "$S/sphere_head.yaml"; expect_exit 64 "scene without trace"; expect_stderr_has "missing TRACE" "trace named"
 run batch "$S/default.yaml" -o "$TMP/nodir/x.csv"; expect_exit 73 "unwritable output"
 
 # A killed run leaves no file that looks complete.

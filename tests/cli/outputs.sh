@@ -14,7 +14,7 @@ cmds=(
   "ik --Ri 27 --Ro 30 --ri 30 $M"
   "fk --Ri 27 --Ro 30 --pressure 1000 $M --json"
   "paper $S/paper_expansion.yaml"
-  "batch $S/default.yaml --no-progress"
+  "batch $S/default.yaml --no-progress --format csv"
   "batch $S/default.yaml --no-progress --format jsonl -o -"
 )
 # The benchmark lab beside the product checks its output the same way.

@@ -66,7 +66,7 @@ grep -q 'width="800"' "$TMP/d.svg" && grep -q 'height="600"' "$TMP/d.svg" && ok 
 grep -Eq "z_mm +2\.0000 +2\.0000" "$TMP/d.svg" && ok || bad "svg: the desired z of --correction"
 
 # ---- plot: script and data against the batch result ------------------------------------
-"$HP_BIN" batch "$S/saturation.yaml" "$HP_SRC/tests/cli/render_plot_jumps.csv" --no-times \
+"$HP_BIN" batch --format csv "$S/saturation.yaml" "$HP_SRC/tests/cli/render_plot_jumps.csv" --no-times \
   --no-progress -o "$TMP/jumps.csv" 2>/dev/null
 run plot "$TMP/jumps.csv" --scene "$S/saturation.yaml" --trace "$HP_SRC/tests/cli/render_plot_jumps.csv" --dry-run
 expect_exit 0 "plot --dry-run"
