@@ -116,14 +116,15 @@ void gp_terminal(FILE *f, const gp_out *o)
     fprintf(f, "\nset encoding utf8\n");
 }
 
-/* Writes the script into f; 0, or 73 after one line naming what. */
+/* Writes the script into f; 0, or 74 after one line naming what. Standard output is left
+ * to main's one check of it (cli_finish_stdout), so a failure there is reported once. */
 static int write_script(const char *cmd, const char *what, FILE *f,
                         int (*writer)(const void *, FILE *), const void *arg)
 {
     int bad = writer(arg, f) != 0;
+    if (f == stdout) return 0;
     bad |= ferror(f) != 0;
-    if (f == stdout) bad |= fflush(f) != 0;
-    if (bad) return cli_fail(CLI_EXIT_CANTCREAT, cmd, "cannot write the script %s", what);
+    if (bad) return cli_fail(CLI_EXIT_IOERR, cmd, "cannot write the script %s", what);
     return 0;
 }
 

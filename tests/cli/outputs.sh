@@ -16,7 +16,15 @@ cmds=(
   "paper $S/paper_expansion.yaml"
   "batch $S/default.yaml --no-progress --format csv"
   "batch $S/default.yaml --no-progress --format jsonl -o -"
+  "horizon $S/horizon/step.yaml --mode greedy"
+  "horizon $S/horizon/step.yaml --mode greedy --json"
+  "render $S/default.yaml --dry-run"
+  "plot $TMP/result.csv --dry-run"
+  "fit material $HP_SRC/examples/calibration/material_ri.csv --Ri-mm 27 --Ro-mm 30"
+  "fit material $HP_SRC/examples/calibration/material_ri.csv --Ri-mm 27 --Ro-mm 30 --json"
 )
+"$HP_BIN" batch "$S/default.yaml" --no-progress --format csv -o "$TMP/result.csv" 2>/dev/null ||
+  bad "setup: batch result"
 # The benchmark lab beside the product checks its output the same way.
 BENCH_BIN="$(dirname "$HP_BIN")/headplan-bench"
 [ -x "$BENCH_BIN" ] && cmds+=("@bench --quick --only ik --out $TMP/bench --seed 7")
@@ -45,6 +53,14 @@ expect_exit 74 "batch -o past the size limit"
 expect_stderr_has "cannot write" "batch -o past the size limit named"
 [ ! -e "$TMP/big.csv" ] && ! ls "$TMP" | grep -q 'big.csv.partial' && ok \
   || bad "a failed batch -o left a file"
+# horizon -o likewise.
+( ulimit -f 8; trap '' XFSZ
+  exec "$HP_BIN" horizon "$S/horizon/step.yaml" --mode greedy -o "$TMP/hbig.csv" ) 2>&1 >/dev/null | cat >"$TMP/err"
+rc=${PIPESTATUS[0]}
+expect_exit 74 "horizon -o past the size limit"
+expect_stderr_has "cannot write" "horizon -o past the size limit named"
+[ ! -e "$TMP/hbig.csv" ] && ! ls "$TMP" | grep -q 'hbig.csv.partial' && ok \
+  || bad "a failed horizon -o left a file"
 # (stderr goes through a pipe: the limit would cut a file holding it too)
 ( ulimit -f 1; trap '' XFSZ
   exec "$BENCH_BIN" --quick --only ik --out "$TMP/bench2" --seed 7 ) 2>&1 >/dev/null | cat >"$TMP/err"
