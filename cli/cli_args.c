@@ -168,6 +168,37 @@ int cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *co
     return 0;
 }
 
+int cli_parse(const char *cmd, int argc, char **argv, const cli_grammar *g)
+{
+    for (int i = 1; i < argc; ++i)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
+            g->help();
+            return CLI_EXIT_OK;
+        }
+    int npos = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (g->extra) {
+            int m = g->extra(cmd, argc, argv, &i, g->extra_ctx);
+            if (m == 1) continue;
+            if (m != 0) return m;
+        }
+        int is_flag = 0;
+        for (int f = 0; f < g->nflags && !is_flag; ++f)
+            if (strcmp(argv[i], g->flags[f]) == 0) *g->flag_slots[f] = is_flag = 1;
+        if (is_flag) continue;
+        int matched = cli_named_opt(cmd, argc, argv, &i, g->names, g->slots, g->nopts);
+        if (matched < 0) return CLI_EXIT_USAGE;
+        if (matched) continue;
+        if (argv[i][0] == '-' && argv[i][1] != '\0')
+            return cli_fail(CLI_EXIT_USAGE, cmd, "unknown option '%s' (see --help)", argv[i]);
+        if (npos >= g->npos)
+            return cli_fail(CLI_EXIT_USAGE, cmd, "unexpected argument '%s'", argv[i]);
+        *g->pos[npos++] = argv[i];
+    }
+    if (npos == 0) return cli_fail(CLI_EXIT_USAGE, cmd, "missing %s (see --help)", g->first_name);
+    return -1;
+}
+
 int cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
                       const char *const *names, const char **const *slots, int nopts,
                       int *json, const char **scene)

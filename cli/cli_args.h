@@ -40,6 +40,30 @@ int cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
                       const char *const *names, const char **const *slots, int nopts,
                       int *json, const char **scene);
 
+/* The grammar of a subcommand's command line: value options (names[o] fills *slots[o]),
+ * flags (flags[f] sets *flag_slots[f] to 1), options with their own syntax (extra, tried
+ * first: it returns 1 matched, 0 not, or an exit status), and up to two positional
+ * arguments (pos[k]; the first, named first_name, is required). */
+typedef struct cli_grammar {
+    void (*help)(void);
+    const char *const *names;
+    const char **const *slots;
+    int nopts;
+    const char *const *flags;
+    int *const *flag_slots;
+    int nflags;
+    int (*extra)(const char *cmd, int argc, char **argv, int *i, void *ctx);
+    void *extra_ctx;
+    const char **pos[2];
+    int npos;
+    const char *first_name; /* "SCENE", "RESULT" */
+} cli_grammar;
+
+/* Parses argv by g: --help or -h anywhere prints help() and returns 0. Returns -1 to go on,
+ * or 64 after one line: "unknown option 'X' (see --help)", "unexpected argument 'X'",
+ * "missing FIRST (see --help)", a missing value or an option given twice. */
+int cli_parse(const char *cmd, int argc, char **argv, const cli_grammar *g);
+
 /* Writes s to f with control characters (and DEL) as \xNN, and every byte that is not
  * part of well-formed UTF-8 as \xNN: echoed text cannot break a message's one line. */
 void cli_put_escaped(FILE *f, const char *s);

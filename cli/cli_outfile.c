@@ -97,7 +97,7 @@ int cli_out_open(cli_out *o, const char *cmd, const char *opt, const char *path,
     guard_signal(SIGHUP);
     int fd = mkstemp(tmp);
     if (fd < 0)
-        return cli_fail(CLI_EXIT_CANTCREAT, cmd, "%s %s: cannot create %s: %s", opt, path, tmp,
+        return cli_fail(CLI_EXIT_CANTCREAT, cmd, "%s %s: cannot create: %s", opt, path,
                         strerror(errno));
     tmp_live[slot] = 1;
     /* mkstemp makes the file private (0600); the result gets the usual mode. */

@@ -61,50 +61,20 @@ typedef struct {
 
 static int parse(int argc, char **argv, batch_args *a)
 {
+    const char *jobs = NULL;
+    int no_progress = 0, no_times = 0;
+    const char *const names[] = {"-o", "--format", "--backend", "--level", "--rows", "--jobs"};
+    const char **slots[] = {&a->out, &a->format, &a->backend, &a->level, &a->rows, &jobs};
+    const char *const flags[] = {"--no-progress", "--no-times", "--strict"};
+    int *const flag_slots[] = {&no_progress, &no_times, &a->strict};
+    const cli_grammar g = {help, names, slots, 6, flags, flag_slots, 3, NULL, NULL,
+                           {&a->scene, &a->trace}, 2, "SCENE"};
+    int rc = cli_parse(CMD, argc, argv, &g);
+    if (rc >= 0) return rc;
+    a->progress = !no_progress;
+    a->times = !no_times;
     a->jobs = 1;
-    a->progress = 1;
-    a->times = 1;
-    int npos = 0, jobs_given = 0;
-    for (int i = 1; i < argc; ++i) {
-        const char *v = NULL;
-        int m;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            help();
-            return CLI_EXIT_OK;
-        }
-        if (strcmp(argv[i], "--no-progress") == 0) { a->progress = 0; continue; }
-        if (strcmp(argv[i], "--no-times") == 0) { a->times = 0; continue; }
-        if (strcmp(argv[i], "--strict") == 0) { a->strict = 1; continue; }
-#define OPT(name, field)                                                                      \
-    if ((m = cli_opt(CMD, argc, argv, &i, name, &v)) != 0) {                               \
-        if (m < 0) return CLI_EXIT_USAGE;                                                      \
-        if (a->field)                                                                         \
-            return cli_fail(CLI_EXIT_USAGE, CMD, "%s: given more than once", name);         \
-        a->field = v;                                                                         \
-        continue;                                                                             \
-    }
-        OPT("-o", out)
-        OPT("--format", format)
-        OPT("--backend", backend)
-        OPT("--level", level)
-        OPT("--rows", rows)
-#undef OPT
-        if ((m = cli_opt(CMD, argc, argv, &i, "--jobs", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            if (jobs_given++)
-                return cli_fail(CLI_EXIT_USAGE, CMD, "--jobs: given more than once");
-            int rc = cli_int(CMD, "--jobs", v, 1, 64, &a->jobs);
-            if (rc) return rc;
-            continue;
-        }
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
-            return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
-        if (npos == 0) a->scene = argv[i];
-        else if (npos == 1) a->trace = argv[i];
-        else return cli_fail(CLI_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
-        ++npos;
-    }
-    if (!a->scene) return cli_fail(CLI_EXIT_USAGE, CMD, "missing SCENE (see --help)");
+    if (jobs && (rc = cli_int(CMD, "--jobs", jobs, 1, 64, &a->jobs))) return rc;
     return -1;
 }
 

@@ -46,47 +46,17 @@ typedef struct {
 
 static int parse(int argc, char **argv, hz_args *a)
 {
-    int npos = 0;
-    for (int i = 1; i < argc; ++i) {
-        const char *v = NULL;
-        int m;
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            help();
-            return CLI_EXIT_OK;
-        }
-        if (strcmp(argv[i], "--json") == 0) {
-            a->json = 1;
-            continue;
-        }
-#define OPT(name, field)                                                                      \
-    if ((m = cli_opt(CMD, argc, argv, &i, name, &v)) != 0) {                               \
-        if (m < 0) return CLI_EXIT_USAGE;                                                      \
-        if (a->field)                                                                         \
-            return cli_fail(CLI_EXIT_USAGE, CMD, "%s: given more than once", name);         \
-        a->field = v;                                                                         \
-        continue;                                                                             \
-    }
-        OPT("-o", out)
-        OPT("--mode", mode)
-        OPT("--prediction", prediction)
-        OPT("--rows", rows)
-        OPT("--horizon", horizon)
-        OPT("--window", window)
-        OPT("--overlap", overlap)
-        OPT("--rate-kpa-per-s", rate)
-        OPT("--smooth", smooth)
-        OPT("--tolerance-mm", tol_mm)
-        OPT("--tolerance-deg", tol_deg)
-#undef OPT
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
-            return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
-        if (npos == 0) a->scene = argv[i];
-        else if (npos == 1) a->trace = argv[i];
-        else return cli_fail(CLI_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
-        ++npos;
-    }
-    if (!a->scene) return cli_fail(CLI_EXIT_USAGE, CMD, "missing SCENE (see --help)");
-    return -1;
+    const char *const names[] = {"-o", "--mode", "--prediction", "--rows", "--horizon",
+                                 "--window", "--overlap", "--rate-kpa-per-s", "--smooth",
+                                 "--tolerance-mm", "--tolerance-deg"};
+    const char **slots[] = {&a->out, &a->mode, &a->prediction, &a->rows, &a->horizon,
+                            &a->window, &a->overlap, &a->rate, &a->smooth, &a->tol_mm,
+                            &a->tol_deg};
+    const char *const flags[] = {"--json"};
+    int *const flag_slots[] = {&a->json};
+    const cli_grammar g = {help, names, slots, 11, flags, flag_slots, 1, NULL, NULL,
+                           {&a->scene, &a->trace}, 2, "SCENE"};
+    return cli_parse(CMD, argc, argv, &g);
 }
 
 /* Every value option into the horizon settings and tolerances; 0 or the exit status. */

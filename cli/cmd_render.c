@@ -48,27 +48,12 @@ typedef struct render_args {
 
 static int parse(int argc, char **argv, render_args *a)
 {
-    for (int i = 1; i < argc; ++i)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            help();
-            return CLI_EXIT_OK;
-        }
     const char *const names[] = {"--correction", "--backend", "--level"};
     const char **slots[] = {&a->correction, &a->backend, &a->level};
-    for (int i = 1; i < argc; ++i) {
-        int m = gp_option(CMD, argc, argv, &i, &a->out);
-        if (m == 1) continue;
-        if (m != 0) return m;
-        int matched = cli_named_opt(CMD, argc, argv, &i, names, slots, 3);
-        if (matched < 0) return CLI_EXIT_USAGE;
-        if (matched) continue;
-        if (argv[i][0] == '-' && argv[i][1])
-            return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s' (see --help)", argv[i]);
-        if (a->scene) return cli_fail(CLI_EXIT_USAGE, CMD, "unexpected argument '%s'", argv[i]);
-        a->scene = argv[i];
-    }
-    if (!a->scene) return cli_fail(CLI_EXIT_USAGE, CMD, "missing SCENE (see --help)");
-    return gp_check(CMD, &a->out);
+    const cli_grammar g = {help, names, slots, 3, NULL, NULL, 0, gp_option_of, &a->out,
+                           {&a->scene, NULL}, 1, "SCENE"};
+    int rc = cli_parse(CMD, argc, argv, &g);
+    return rc >= 0 ? rc : gp_check(CMD, &a->out);
 }
 
 /* What the picture shows. */

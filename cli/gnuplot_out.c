@@ -64,6 +64,11 @@ int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o)
     return 0;
 }
 
+int gp_option_of(const char *cmd, int argc, char **argv, int *i, void *ctx)
+{
+    return gp_option(cmd, argc, argv, i, ctx);
+}
+
 static int ends_with(const char *s, const char *suffix)
 {
     size_t n = strlen(s), k = strlen(suffix);

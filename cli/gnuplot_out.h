@@ -23,6 +23,9 @@ typedef struct gp_out {
  * stores it. Returns 1 when matched, 0 when not, or the exit status (64) after a message. */
 int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o);
 
+/* gp_option for cli_grammar's extra matcher (ctx is the gp_out). */
+int gp_option_of(const char *cmd, int argc, char **argv, int *i, void *ctx);
+
 /* Checks the options once parsed: -o given (unless --dry-run) with a .png or .svg name.
  * Returns -1 to go on, or 64 after a message. */
 int gp_check(const char *cmd, gp_out *o);

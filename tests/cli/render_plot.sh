@@ -111,7 +111,7 @@ run render "$S/default.yaml" -o "$TMP/x.png" --correction 1,2; expect_exit 64 "r
 run render "$S/paper_expansion.yaml" -o "$TMP/x.png"; expect_exit 65 "render bladder scene"
 run render "$TMP/none.yaml" -o "$TMP/x.png";    expect_exit 66 "render missing scene"
 run render "$S/default.yaml" -o "$TMP/no/such/dir/x.png"; expect_exit 73 "render unwritable"
-expect_stderr_has "-o: cannot create" "unwritable"
+expect_stderr_has "x.png: cannot create: No such file or directory" "unwritable"
 expect_stdout_empty "render unwritable"
 run plot "$TMP/none.csv" -o "$TMP/x.png";       expect_exit 66 "plot missing result"
 run plot "$S/default.yaml" -o "$TMP/x.png";     expect_exit 65 "plot not a CSV"; expect_stderr_has "not a headplan batch CSV" "plot yaml"
