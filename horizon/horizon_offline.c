@@ -44,13 +44,12 @@ typedef struct nlp {
     int failed;
 } nlp;
 
-static double pose_scale(int i) { return i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD; }
 
 /* Sets pb.d to row t's desired correction (scaled; 0 where not commanded). */
 static void set_row(nlp *q, int t)
 {
     for (int i = 0; i < 6; ++i)
-        q->pb.d[i] = q->pb.w[i] > 0 ? q->rows[t].correction[i] * pose_scale(i) : 0.0;
+        q->pb.d[i] = q->pb.w[i] > 0 ? q->rows[t].correction[i] * hp_pose_scaled_per_si(i) : 0.0;
 }
 
 /* P, dP/dri, d²P/dri² of every bladder of every row at x (mm units). */
@@ -332,7 +331,7 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
             double lim = c->pb.w[i] > 0 ? IPOPT_INF : 0.0;
             xl[b + (size_t)i] = -lim;
             xu[b + (size_t)i] = lim;
-            x[b + (size_t)i] = c->pb.w[i] > 0 ? start[t].achieved[i] * pose_scale(i) : 0.0;
+            x[b + (size_t)i] = c->pb.w[i] > 0 ? start[t].achieved[i] * hp_pose_scaled_per_si(i) : 0.0;
         }
         for (int k = 0; k < n; ++k) {
             size_t j = b + 6 + (size_t)k;
@@ -387,8 +386,8 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         memcpy(o->desired, rows[t].correction, sizeof o->desired);
         double err = 0;
         for (int i = 0; i < 6; ++i) {
-            o->achieved[i] = xt[i] / pose_scale(i);
-            if (c->pb.w[i] > 0) err = fmax(err, fabs(xt[i] - rows[t].correction[i] * pose_scale(i)));
+            o->achieved[i] = xt[i] / hp_pose_scaled_per_si(i);
+            if (c->pb.w[i] > 0) err = fmax(err, fabs(xt[i] - rows[t].correction[i] * hp_pose_scaled_per_si(i)));
         }
         o->status = err <= OFFLINE_REACHED_TOL ? HP_STATUS_REACHED : HP_STATUS_CLOSEST;
         if (hp_setup_contact_scaled(c->L, c->pb.level, xt, rho, NULL) != HP_OK) {

@@ -53,7 +53,6 @@ static atomic_int nlopt_forced = HP_TEST_NO_FORCE;
 void hp_test_nlopt_fault(int fault) { atomic_store(&nlopt_fault, fault); }
 void hp_test_nlopt_force_result(int code) { atomic_store(&nlopt_forced, code); }
 
-static double pose_scale(int i) { return i < 3 ? 1e-3 : HP_RAD_PER_DEG; }
 
 static void eval_fail(nlopt_state *st)
 {
@@ -101,7 +100,7 @@ static void full_constraints(unsigned m, double *c, unsigned nx, const double *x
 static hp_error reduced_rho(const hp_problem *pb, const double *x, double *rho_mm)
 {
     double xi[6];
-    for (int i = 0; i < 6; i++) xi[i] = x[i] * pose_scale(i);
+    for (int i = 0; i < 6; i++) xi[i] = x[i] * hp_pose_si_per_scaled(i);
     hp_error e = hp_contact_eval(pb->layout, pb->level, xi, rho_mm, NULL, NULL);
     if (e != HP_OK) return e;
     for (int k = 0; k < pb->n; k++) rho_mm[k] *= 1e3;

@@ -17,10 +17,7 @@ double hp_plan_now(void)
 
 void hp_plan_to_scaled(const double xi[6], double x[6])
 {
-    for (int i = 0; i < 3; ++i) {
-        x[i] = xi[i] * HP_MM_PER_M;
-        x[i + 3] = xi[i + 3] * HP_DEG_PER_RAD;
-    }
+    for (int i = 0; i < 6; ++i) x[i] = xi[i] * hp_pose_scaled_per_si(i);
 }
 
 void hp_plan_from_scaled(const double x[6], double xi[6])

@@ -15,7 +15,6 @@
 
 
 /* SI per scaled unit of pose component i. */
-static double pose_scale(int i) { return i < 3 ? 1e-3 : HP_RAD_PER_DEG; }
 
 static hp_error check_problem(const hp_problem *pb, const double *x)
 {
@@ -74,7 +73,7 @@ hp_error hp_problem_constraints(const hp_problem *pb, const double *x, double *c
     const int want_h = lambda != NULL;
 
     double xi[6];
-    for (int i = 0; i < 6; i++) xi[i] = x[i] * pose_scale(i);
+    for (int i = 0; i < 6; i++) xi[i] = x[i] * hp_pose_si_per_scaled(i);
     double rho[HP_MAX_BLADDERS];
     double J[HP_MAX_BLADDERS * 6];
     double H[HP_MAX_BLADDERS * 36];
@@ -93,7 +92,7 @@ hp_error hp_problem_constraints(const hp_problem *pb, const double *x, double *c
         if (!isfinite(ro) || !isfinite(rho[k])) return HP_ERR_DOMAIN;
         if (c) c[k] = ro - rho[k] * 1e3;
         if (jac) {
-            for (int i = 0; i < 6; i++) jac[k * nx + i] = -1e3 * pose_scale(i) * J[k * 6 + i];
+            for (int i = 0; i < 6; i++) jac[k * nx + i] = -1e3 * hp_pose_si_per_scaled(i) * J[k * 6 + i];
             jac[k * nx + 6 + k] = q * q;
         }
         if (want_h) {
@@ -101,7 +100,7 @@ hp_error hp_problem_constraints(const hp_problem *pb, const double *x, double *c
             for (int i = 0; i < 6; i++)
                 for (int j = 0; j < 6; j++)
                     hess[i * nx + j] -=
-                        lk * 1e3 * pose_scale(i) * pose_scale(j) * H[k * 36 + i * 6 + j];
+                        lk * 1e3 * hp_pose_si_per_scaled(i) * hp_pose_si_per_scaled(j) * H[k * 36 + i * 6 + j];
             hess[(6 + k) * nx + 6 + k] += lk * (2.0 * q / ro) * (1.0 - q * q * q);
         }
     }
