@@ -46,7 +46,8 @@ static void run(const hp_backend_ops *ops, hp_level level, const char *set, doub
     hp_layout L;
     if (fx_layout(&L) != HP_OK) exit(1);
     hp_problem pb;
-    if (fx_problem(&L, level, targets[0], &pb) != HP_OK) exit(1);
+    hp_geom G;
+    if (fx_problem(&L, &G, level, targets[0], &pb) != HP_OK) exit(1);
     /* The backend is chosen through ops; level is that of the problem pb. */
     hp_settings s = bench_settings(HP_BACKEND_IPOPT, level, tol, warm);
     void *st;

@@ -5,6 +5,7 @@
  * only the contact geometry depends on the fitted parameters. */
 #include "headplan/hp_calib.h"
 #include "common/units.h"
+#include "kinematics/kin_geom.h"
 #include "kinematics/kin_internal.h"
 #include "kinematics/linalg.h"
 
@@ -34,6 +35,7 @@ void hp_layout_fit_options_default(hp_layout_fit_options *o)
 
 typedef struct lay_ctx {
     const hp_layout *L0;
+    hp_geom G0;                 /* L0's contact geometry: the offsets move along its normals */
     const hp_calib_row *rows;
     int n, dofp, np, nsel;
     int n_axes;                 /* 0, 1 (sphere) or 3 */
@@ -43,10 +45,10 @@ typedef struct lay_ctx {
     double (*ro)[HP_MAX_BLADDERS];
 } lay_ctx;
 
-/* The layout with parameters theta (np changes from the scene, in the parameter order),
- * contact geometry refreshed; validate = 1 runs the full hp_layout_prepare checks. */
-static hp_error apply(const lay_ctx *c, const double *theta, hp_layout *L, int validate,
-                      hp_diag *d)
+/* The layout with parameters theta (np changes from the scene, in the parameter order)
+ * and its contact geometry G; validate = 1 runs the full hp_layout_prepare checks first. */
+static hp_error apply(const lay_ctx *c, const double *theta, hp_layout *L, hp_geom *G,
+                      int validate, hp_diag *d)
 {
     *L = *c->L0;
     for (int j = 0; j < c->n_axes; ++j) L->head.semi_axes[j] += theta[j];
@@ -54,21 +56,14 @@ static hp_error apply(const lay_ctx *c, const double *theta, hp_layout *L, int v
     if (c->np > c->n_axes)
         for (int k = 0; k < L->n; ++k)
             for (int i = 0; i < 3; ++i)
-                L->bladders[k].center[i] += theta[c->n_axes + k] * c->L0->normal[k][i];
-    if (validate) return hp_layout_prepare(L, d);
+                L->bladders[k].center[i] += theta[c->n_axes + k] * c->G0.normal[k][i];
+    if (validate) {
+        hp_error e = hp_layout_prepare(L, d);
+        return e ? e : hp_geom_derive(L, G, d);
+    }
     for (int j = 0; j < 3; ++j)
         if (!(L->head.semi_axes[j] > 0)) return HP_ERR_DOMAIN;
-    for (int k = 0; k < L->n; ++k) {
-        double dist, nrm[3], foot[3];
-        hp_error e = hp_kin_head_distance(&L->head, L->bladders[k].center, &dist, nrm, NULL,
-                                          foot);
-        if (e) return e;
-        if (!(dist > 0)) return HP_ERR_DOMAIN;
-        memcpy(L->contact[k], foot, sizeof foot);
-        memcpy(L->normal[k], nrm, sizeof nrm);
-        L->rho0[k] = dist;
-    }
-    return HP_OK;
+    return hp_geom_derive(L, G, NULL) == HP_OK ? HP_OK : HP_ERR_DOMAIN;
 }
 
 /* Weighted residuals (measured − model)/σ of every row, n×dofp. Each row's forward
@@ -76,13 +71,13 @@ static hp_error apply(const lay_ctx *c, const double *theta, hp_layout *L, int v
  * parameters: central differences then compare two solves from the same point, which keeps
  * their difference smooth), else from the measured pose; poses (may be NULL) receives the
  * model's poses. */
-static hp_error resid(const lay_ctx *c, const hp_layout *L, double *e,
+static hp_error resid(const lay_ctx *c, const hp_layout *L, const hp_geom *G, double *e,
                       const double (*start)[6], double (*poses)[6])
 {
     for (int i = 0; i < c->n; ++i) {
         double xi[6];
-        hp_error err = hp_contact_fk(L, c->level, c->ro[i], start ? start[i] : c->rows[i].pose,
-                                     xi, NULL, NULL);
+        hp_error err = hp_contact_fk_g(L, G, c->level, c->ro[i],
+                                       start ? start[i] : c->rows[i].pose, xi, NULL, NULL);
         if (err) return err;
         if (poses) memcpy(poses[i], xi, sizeof xi);
         for (int j = 0; j < c->dofp; ++j)
@@ -95,8 +90,9 @@ static hp_error resid_at(const lay_ctx *c, const double *theta, double *e, int v
                          const double (*start)[6], double (*poses)[6])
 {
     hp_layout L;
-    hp_error err = apply(c, theta, &L, validate, NULL);
-    return err ? err : resid(c, &L, e, start, poses);
+    hp_geom G;
+    hp_error err = apply(c, theta, &L, &G, validate, NULL);
+    return err ? err : resid(c, &L, &G, e, start, poses);
 }
 
 /* Jacobian of the weighted residuals w.r.t. all np parameters (m×np, row-major). The model's
@@ -116,22 +112,24 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     double *dJc = malloc(sizeof(double) * (size_t)n * per * np);
     hp_error err = (!xi || !drho || !dJc) ? HP_ERR_NOMEM : HP_OK;
     hp_layout L;
-    if (!err) err = apply(c, theta, &L, 0, NULL);
+    hp_geom G;
+    if (!err) err = apply(c, theta, &L, &G, 0, NULL);
     for (int i = 0; !err && i < n; ++i)
-        err = hp_contact_fk(&L, c->level, c->ro[i], c->rows[i].pose, xi[i], NULL, NULL);
+        err = hp_contact_fk_g(&L, &G, c->level, c->ro[i], c->rows[i].pose, xi[i], NULL, NULL);
     double th[HP_CALIB_MAX_PARAMS];
     for (int j = 0; !err && j < np; ++j) {
         hp_layout Lp, Lm;
+        hp_geom Gp, Gm;
         memcpy(th, theta, sizeof(double) * (size_t)np);
         th[j] = theta[j] + LAY_FD_STEP;
-        err = apply(c, th, &Lp, 0, NULL);
+        err = apply(c, th, &Lp, &Gp, 0, NULL);
         th[j] = theta[j] - LAY_FD_STEP;
-        if (!err) err = apply(c, th, &Lm, 0, NULL);
+        if (!err) err = apply(c, th, &Lm, &Gm, 0, NULL);
         for (int i = 0; !err && i < n; ++i) {
             double rp[HP_MAX_BLADDERS], rm[HP_MAX_BLADDERS];
             double Jp[HP_MAX_BLADDERS * 6], Jm[HP_MAX_BLADDERS * 6];
-            err = hp_contact_eval(&Lp, c->level, xi[i], rp, Jp, NULL);
-            if (!err) err = hp_contact_eval(&Lm, c->level, xi[i], rm, Jm, NULL);
+            err = hp_contact_eval_g(&Lp, &Gp, c->level, xi[i], rp, Jp, NULL);
+            if (!err) err = hp_contact_eval_g(&Lm, &Gm, c->level, xi[i], rm, Jm, NULL);
             if (err) break;
             for (int k = 0; k < nb; ++k)
                 drho[((size_t)i * np + j) * nb + k] = (rp[k] - rm[k]) / (2.0 * LAY_FD_STEP);
@@ -141,7 +139,7 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     }
     for (int i = 0; !err && i < n; ++i) {
         double rho[HP_MAX_BLADDERS], Jc[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
-        err = hp_contact_eval(&L, c->level, xi[i], rho, Jc, H);
+        err = hp_contact_eval_g(&L, &G, c->level, xi[i], rho, Jc, H);
         if (err) break;
         double A[36], r[HP_MAX_BLADDERS];
         for (int k = 0; k < nb; ++k) r[k] = rho[k] - c->ro[i][k];
@@ -238,7 +236,11 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
                       hp_diag *d)
 {
     if (!L || !rows || !opt || !out) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
-    if (!L->prepared) return hp_diag_set(d, HP_ERR_STATE, "layout: not prepared");
+    hp_layout chk = *L; /* the full checks, on a copy: L is the caller's */
+    hp_geom G0;
+    hp_error e0 = hp_layout_prepare(&chk, d);
+    if (e0 == HP_OK) e0 = hp_geom_derive(&chk, &G0, d);
+    if (e0 != HP_OK) return e0;
     if (n < 1 || n > HP_CALIB_MAX_ROWS)
         return hp_diag_set(d, HP_ERR_INVALID, "rows: %d (need 1..%d)", n, HP_CALIB_MAX_ROWS);
     if (opt->level != HP_LEVEL_LINEAR && opt->level != HP_LEVEL_PLANE &&
@@ -251,6 +253,7 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
         return hp_diag_set(d, HP_ERR_INVALID, "nothing to fit: choose axes and/or offsets");
     memset(c, 0, sizeof *c);
     c->L0 = L;
+    c->G0 = G0;
     c->rows = rows;
     c->n = n;
     c->level = opt->level;
@@ -373,7 +376,7 @@ static void invalidate(hp_layout_fit *out)
     for (int j = 0; j < 6; ++j) out->rms_before[j] = out->rms_after[j] = NAN;
     out->condition = out->t = out->s = out->weakest_se = NAN;
     out->rank = out->dof = 0;
-    out->fitted.prepared = 0;
+    out->fitted.n = 0; /* no bladders: every call that takes a layout refuses it */
 }
 
 hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
@@ -483,7 +486,8 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
         }
     }
     out->iterations = it;
-    err = apply(&c, theta, &out->fitted, 1, diag);
+    hp_geom Gf;
+    err = apply(&c, theta, &out->fitted, &Gf, 1, diag);
     if (err) {
         hp_diag_set(diag, err, "the fitted layout is not valid: %s", diag ? diag->text : "");
         goto done;

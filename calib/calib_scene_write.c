@@ -100,7 +100,9 @@ hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level lev
 {
     if (!path || !L || !name || (n_inputs > 0 && !inputs))
         return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
-    if (!L->prepared) return hp_diag_set(d, HP_ERR_STATE, "layout: not prepared");
+    hp_layout chk = *L; /* the full checks, on a copy: L is the caller's */
+    hp_error e0 = hp_layout_prepare(&chk, d);
+    if (e0 != HP_OK) return e0;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE &&
         level != HP_LEVEL_AUTO)
         return hp_diag_set(d, HP_ERR_INVALID, "level: unknown");

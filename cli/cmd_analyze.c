@@ -102,6 +102,16 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
     return -1;
 }
 
+/* Bladder k's nominal contact point, normal and distance, derived from the (validated)
+ * scene layout; NaN should it fail. */
+static void nominal_contact(const hp_layout *L, int k, double pt[3], double nv[3],
+                            double *rho0)
+{
+    if (hp_layout_contact(L, k, pt, nv, rho0) == HP_OK) return;
+    for (int i = 0; i < 3; ++i) pt[i] = nv[i] = NAN;
+    *rho0 = NAN;
+}
+
 static json_t *vec_json(const double *v, int n, double scale)
 {
     json_t *arr = json_array();
@@ -125,9 +135,11 @@ static json_t *geometry_bladders_json(const hp_layout *L)
         json_object_set_new(e, "pressure_max_pa", json_real(B->p_max));
         json_object_set_new(e, "stretch_min", json_real(B->stretch_min));
         json_object_set_new(e, "stretch_max", json_real(B->stretch_max));
-        json_object_set_new(e, "contact_mm", vec_json(L->contact[k], 3, 1e3));
-        json_object_set_new(e, "normal", vec_json(L->normal[k], 3, 1.0));
-        json_object_set_new(e, "rho0_mm", json_real(L->rho0[k] * 1e3));
+        double pt[3], nv[3], rho0;
+        nominal_contact(L, k, pt, nv, &rho0);
+        json_object_set_new(e, "contact_mm", vec_json(pt, 3, 1e3));
+        json_object_set_new(e, "normal", vec_json(nv, 3, 1.0));
+        json_object_set_new(e, "rho0_mm", json_real(rho0 * 1e3));
         json_array_append_new(bl, e);
     }
     return bl;
@@ -334,12 +346,12 @@ static void print_text(const hp_scene *sc, const analysis *r)
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
         char c[64], p[64], n[64];
+        double pt[3], nv[3], rho0;
+        nominal_contact(L, k, pt, nv, &rho0);
         snprintf(c, sizeof c, "(%.3f, %.3f, %.3f)", B->center[0] * 1e3, B->center[1] * 1e3,
                  B->center[2] * 1e3);
-        snprintf(p, sizeof p, "(%.3f, %.3f, %.3f)", L->contact[k][0] * 1e3,
-                 L->contact[k][1] * 1e3, L->contact[k][2] * 1e3);
-        snprintf(n, sizeof n, "(%.4f, %.4f, %.4f)", L->normal[k][0], L->normal[k][1],
-                 L->normal[k][2]);
+        snprintf(p, sizeof p, "(%.3f, %.3f, %.3f)", pt[0] * 1e3, pt[1] * 1e3, pt[2] * 1e3);
+        snprintf(n, sizeof n, "(%.4f, %.4f, %.4f)", nv[0], nv[1], nv[2]);
         printf("%-18s %-30s %-30s %-28s %6.2f %6.2f %8.0f %8.0f %8.0f %8.0f\n", B->name, c, p,
                n, B->iab.Ri * 1e3, B->iab.Ro * 1e3, B->iab.C1, B->iab.C2, B->p_min, B->p_max);
     }

@@ -131,9 +131,13 @@ hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
 hp_error hp_horizon_nominal_pressures(const hp_layout *L, double *p_start, hp_diag *d)
 {
     if (!L || !p_start) return hp_diag_set(d, HP_ERR_NULL, "nominal pressures: NULL argument");
-    if (!L->prepared) return hp_diag_set(d, HP_ERR_STATE, "nominal pressures: layout not prepared");
+    hp_geom G;
+    hp_diag sub;
+    sub.text[0] = '\0';
+    hp_error e = hp_geom_derive(L, &G, &sub);
+    if (e != HP_OK) return hp_diag_set(d, e, "nominal pressures: %s", sub.text);
     int bad = 0;
-    hp_error e = hp_nominal_pressures_of(L, p_start, &bad);
+    e = hp_nominal_pressures_of(L, &G, p_start, &bad);
     if (e != HP_OK)
         return hp_diag_set(d, e, "bladder %s: nominal pressure: %s", L->bladders[bad].name,
                            hp_error_message(e));

@@ -247,14 +247,14 @@ static Bool intermediate(Index alg_mod, Index iter, Number obj, Number inf_pr, N
 
 /* Everything a whole offline plan shares between its windows. */
 typedef struct offline_ctx {
-    const hp_layout *L; /* the planner's prepared copy */
+    const hp_layout *L; /* the planner's validated copy */
     hp_problem pb;      /* weights, level, static box (mm) */
     hp_static_bounds sb;
     const hp_horizon_settings *hs;
     const hp_settings *s;
 } offline_ctx;
 
-/* The planner (for its prepared layout, level and the greedy start) and everything the
+/* The planner (for its validated layout and geometry, level and the greedy start) and everything the
  * windows share. *p is the caller's to destroy, also on failure. */
 static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
                           const hp_horizon_settings *hs, hp_settings *s, hp_planner **p,
@@ -274,6 +274,7 @@ static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
     memcpy(commanded, hp_planner_identifiable(*p)->commanded, sizeof commanded);
     if ((e = hp_setup_static_bounds(c->L, &c->sb, d)) != HP_OK) return e;
     c->pb.layout = c->L;
+    c->pb.geom = hp_planner_geom(*p);
     c->pb.level = hp_planner_level(*p);
     c->pb.n = c->L->n;
     c->pb.nx = 6 + c->L->n;
@@ -390,7 +391,7 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
             if (c->pb.w[i] > 0) err = fmax(err, fabs(xt[i] - rows[t].correction[i] * hp_pose_scaled_per_si(i)));
         }
         o->status = err <= OFFLINE_REACHED_TOL ? HP_STATUS_REACHED : HP_STATUS_CLOSEST;
-        if (hp_setup_contact_scaled(c->L, c->pb.level, xt, rho, NULL) != HP_OK) {
+        if (hp_setup_contact_scaled(c->L, c->pb.geom, c->pb.level, xt, rho, NULL) != HP_OK) {
             e = hp_diag_set(d, HP_ERR_SOLVER, "offline: line %ld: contact model failed",
                             rows[t].line);
             break;

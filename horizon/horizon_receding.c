@@ -36,7 +36,8 @@
 
 struct hp_horizon_rh {
     hp_planner *p;
-    const hp_layout *L; /* the planner's prepared copy */
+    const hp_layout *L; /* the planner's validated copy */
+    const hp_geom *G;   /* and its contact geometry */
     hp_settings s;
     hp_horizon_settings hs;
     hp_level level;
@@ -85,7 +86,7 @@ static int evaluate(hp_horizon_rh *rh, const double *z)
 {
     const int n = rh->n;
     for (int j = 0; j < rh->N; ++j) {
-        if (hp_setup_contact_scaled(rh->L, rh->level, z + 6 * j, rh->rho + n * j,
+        if (hp_setup_contact_scaled(rh->L, rh->G, rh->level, z + 6 * j, rh->rho + n * j,
                                     rh->J + 6 * n * j) != HP_OK)
             return 0;
         for (int k = 0; k < n; ++k) {
@@ -351,6 +352,7 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
     if (e == HP_OK) e = hp_planner_create(L, &rh->s, &rh->p, d);
     if (e != HP_OK) goto fail;
     rh->L = hp_planner_layout(rh->p);
+    rh->G = hp_planner_geom(rh->p);
     rh->level = hp_planner_level(rh->p);
     rh->n = rh->L->n;
     rh->N = rh->hs.horizon;
@@ -382,7 +384,8 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
         e = hp_iab_fk_limit(&rh->L->bladders[k].iab, &sb.limit[k], rh->p_now[k], &ri);
         if (e == HP_OK) e = hp_iab_ro(&rh->L->bladders[k].iab, ri, &ro[k]);
     }
-    if (e == HP_OK) e = hp_contact_fk(rh->L, rh->level, ro, NULL, rh->applied.achieved, NULL, NULL);
+    if (e == HP_OK) e = hp_contact_fk_g(rh->L, rh->G, rh->level, ro, NULL, rh->applied.achieved,
+                                         NULL, NULL);
     if (e != HP_OK) {
         hp_diag_set(d, e, "start pressures: no pose holds them (%s)", hp_error_message(e));
         goto fail;

@@ -1,6 +1,7 @@
 /* Layout analysis: conditioning of the contact Jacobian in clinical units, the weakest
  * direction in words, and the reach of each axis inside the bladders' limits. */
 #include "kin_internal.h"
+#include "kin_geom.h"
 #include "common/units.h"
 #include "linalg.h"
 
@@ -82,7 +83,8 @@ static void describe(const double v[6], char *out, size_t size)
 hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysis *out)
 {
     if (!L || !out) return HP_ERR_NULL;
-    if (!L->prepared) return HP_ERR_STATE;
+    hp_geom G;
+    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
         return HP_ERR_INVALID;
     double xi0[6] = {0}, J[HP_MAX_BLADDERS * 6];

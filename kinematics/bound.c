@@ -21,6 +21,7 @@
  * and always |plane − surface| <= 2δ (both sides 1-Lipschitz in c'). The linear bound is
  * the smaller of the direct one and plane + ½A. The bound is the maximum over bladders. */
 #include "kin_internal.h"
+#include "kin_geom.h"
 
 #include <math.h>
 
@@ -28,7 +29,7 @@ typedef struct sizes {
     double delta, V, A, rmin, rho0;
 } sizes;
 
-static sizes path_sizes(const hp_layout *L, int k, double T, double rot)
+static sizes path_sizes(const hp_layout *L, const hp_geom *G, int k, double T, double rot)
 {
     double w[3];
     for (int i = 0; i < 3; ++i) w[i] = L->bladders[k].center[i] - L->pivot[i];
@@ -39,8 +40,8 @@ static sizes path_sizes(const hp_layout *L, int k, double T, double rot)
     s.delta = fmin(2.0, om) * lev + T;
     s.V = om * (lev + T) + T;
     s.A = (om * om + omd) * (lev + T) + 2.0 * om * T;
-    s.rmin = hp_kin_head_min_curvature_radius(&L->head);
-    s.rho0 = L->rho0[k];
+    s.rmin = hp_kin_head_min_curvature_radius(&G->head);
+    s.rho0 = G->rho0[k];
     return s;
 }
 
@@ -60,11 +61,10 @@ static double linear_bound(const sizes *s)
     return via_plane;
 }
 
-hp_error hp_contact_error_bound(const hp_layout *L, hp_level level, double trans, double rot,
-                                double *bound)
+hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
+                                  double trans, double rot, double *bound)
 {
-    if (!L || !bound) return HP_ERR_NULL;
-    if (!L->prepared) return HP_ERR_STATE;
+    if (!L || !G || !bound) return HP_ERR_NULL;
     if (!(trans >= 0) || !isfinite(trans) || !(rot >= 0) || !isfinite(rot))
         return HP_ERR_INVALID;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
@@ -72,22 +72,22 @@ hp_error hp_contact_error_bound(const hp_layout *L, hp_level level, double trans
     double worst = 0.0;
     if (level != HP_LEVEL_SURFACE)
         for (int k = 0; k < L->n; ++k) {
-            sizes s = path_sizes(L, k, trans, rot);
+            sizes s = path_sizes(L, G, k, trans, rot);
             worst = fmax(worst, level == HP_LEVEL_LINEAR ? linear_bound(&s) : plane_bound(&s));
         }
     *bound = worst;
     return HP_OK;
 }
 
-hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double rot,
-                         hp_level *level)
+hp_error hp_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,
+                           double rot, hp_level *level)
 {
-    if (!L || !level) return HP_ERR_NULL;
+    if (!L || !G || !level) return HP_ERR_NULL;
     if (!(tol >= 0) || !isfinite(tol)) return HP_ERR_INVALID;
     static const hp_level order[2] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE};
     for (int i = 0; i < 2; ++i) {
         double b;
-        hp_error err = hp_contact_error_bound(L, order[i], trans, rot, &b);
+        hp_error err = hp_contact_error_bound_g(L, G, order[i], trans, rot, &b);
         if (err) return err;
         if (b <= tol) {
             *level = order[i];
@@ -96,4 +96,22 @@ hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double ro
     }
     *level = HP_LEVEL_SURFACE;
     return HP_OK;
+}
+
+hp_error hp_contact_error_bound(const hp_layout *L, hp_level level, double trans, double rot,
+                                double *bound)
+{
+    if (!L || !bound) return HP_ERR_NULL;
+    hp_geom G;
+    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hp_contact_error_bound_g(L, &G, level, trans, rot, bound);
+}
+
+hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double rot,
+                         hp_level *level)
+{
+    if (!L || !level) return HP_ERR_NULL;
+    hp_geom G;
+    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hp_contact_auto_g(L, &G, tol, trans, rot, level);
 }

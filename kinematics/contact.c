@@ -6,6 +6,7 @@
  * plane (plane; equal to n(ξ)ᵀ(c − p(ξ)) with n(ξ) = R n, p(ξ) = pivot + R(p − pivot) + t).
  * Chain rule: J = ∇fᵀ C, H = Cᵀ ∇²f C + Σ_m ∂f/∂c'_m ∂²c'_m, C = ∂c'/∂ξ. */
 #include "kin_internal.h"
+#include "kin_geom.h"
 
 #include <math.h>
 #include <string.h>
@@ -48,11 +49,11 @@ static void back_transform(const hp_layout *L, const double c[3], const double x
     }
 }
 
-static void linear_row(const hp_layout *L, int k, double row[6])
+static void linear_row(const hp_layout *L, const hp_geom *G, int k, double row[6])
 {
-    const double *n = L->normal[k];
+    const double *n = G->normal[k];
     double lv[3];
-    for (int i = 0; i < 3; ++i) lv[i] = L->contact[k][i] - L->pivot[i];
+    for (int i = 0; i < 3; ++i) lv[i] = G->contact[k][i] - L->pivot[i];
     row[0] = -n[0];
     row[1] = -n[1];
     row[2] = -n[2];
@@ -72,11 +73,10 @@ static void fill_nan(int n, double *rho, double *J, double *H)
     }
 }
 
-hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
-                         double *rho, double *J, double *H)
+hp_error hp_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
+                           const double xi[6], double *rho, double *J, double *H)
 {
-    if (!L || !xi) return HP_ERR_NULL;
-    if (!L->prepared) return HP_ERR_STATE;
+    if (!L || !G || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
         return HP_ERR_INVALID;
     for (int i = 0; i < 6; ++i)
@@ -86,8 +86,8 @@ hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
         }
     if (level == HP_LEVEL_LINEAR) {
         for (int k = 0; k < L->n; ++k) {
-            double row[6], v = L->rho0[k];
-            linear_row(L, k, row);
+            double row[6], v = G->rho0[k];
+            linear_row(L, G, k, row);
             for (int i = 0; i < 6; ++i) v += row[i] * xi[i];
             if (rho) rho[k] = v;
             if (J) memcpy(J + 6 * k, row, sizeof row);
@@ -103,13 +103,13 @@ hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
         back_transform(L, L->bladders[k].center, xi, &rd, H != NULL, &bm);
         double f, g[3], hf[9] = {0};
         if (level == HP_LEVEL_SURFACE) {
-            hp_error err = hp_kin_head_distance(&L->head, bm.cp, &f, g, H ? hf : NULL, NULL);
+            hp_error err = hp_kin_head_distance(&G->head, bm.cp, &f, g, H ? hf : NULL, NULL);
             if (err) {
                 fill_nan(L->n, rho, J, H);
                 return err;
             }
         } else {
-            const double *n = L->normal[k], *p = L->contact[k];
+            const double *n = G->normal[k], *p = G->contact[k];
             f = n[0] * (bm.cp[0] - p[0]) + n[1] * (bm.cp[1] - p[1]) + n[2] * (bm.cp[2] - p[2]);
             memcpy(g, n, sizeof g);
         }
@@ -133,4 +133,16 @@ hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
         }
     }
     return HP_OK;
+}
+
+hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
+                         double *rho, double *J, double *H)
+{
+    if (!L || !xi) return HP_ERR_NULL;
+    hp_geom G;
+    if (hp_geom_derive(L, &G, NULL) != HP_OK) {
+        if (L->n >= 1 && L->n <= HP_MAX_BLADDERS) fill_nan(L->n, rho, J, H);
+        return HP_ERR_INVALID;
+    }
+    return hp_contact_eval_g(L, &G, level, xi, rho, J, H);
 }

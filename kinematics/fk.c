@@ -3,6 +3,7 @@
  * least-squares solve by QR (linalg_eigen.cpp), never the normal equations, so the pitch
  * column's small lever arm does not square the conditioning. */
 #include "kin_internal.h"
+#include "kin_geom.h"
 #include "linalg.h"
 
 #include <math.h>
@@ -23,11 +24,11 @@ static double sumsq(int n, const double *v)
 
 /* Residual r = rho(xi) − ro and, if Jr is not NULL, its Jacobian in the nf free columns
  * listed in col[]. */
-static hp_error residual(const hp_layout *L, hp_level level, const double *ro,
+static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,
                          const double xi[6], int nf, const int *col, double *r, double *Jr)
 {
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6];
-    hp_error err = hp_contact_eval(L, level, xi, rho, Jr ? J : NULL, NULL);
+    hp_error err = hp_contact_eval_g(L, G, level, xi, rho, Jr ? J : NULL, NULL);
     if (err) return err;
     for (int k = 0; k < L->n; ++k) {
         r[k] = rho[k] - ro[k];
@@ -37,12 +38,11 @@ static hp_error residual(const hp_layout *L, hp_level level, const double *ro,
     return HP_OK;
 }
 
-hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target,
-                    const int free_[6], const double x0[6], double xi[6], double *residual_rms,
-                    int *iters)
+hp_error hp_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
+                          const double *target, const int free_[6], const double x0[6],
+                          double xi[6], double *residual_rms, int *iters)
 {
-    if (!L || !target || !free_ || !x0 || !xi) return HP_ERR_NULL;
-    if (!L->prepared) return HP_ERR_STATE;
+    if (!L || !G || !target || !free_ || !x0 || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
         return HP_ERR_INVALID;
     for (int k = 0; k < L->n; ++k)
@@ -59,7 +59,7 @@ hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target
         return HP_OK;
     }
     double r[HP_MAX_BLADDERS], Jr[HP_MAX_BLADDERS * 6], rt[HP_MAX_BLADDERS];
-    hp_error err = residual(L, level, target, x, nf, col, r, Jr);
+    hp_error err = residual(L, G, level, target, x, nf, col, r, Jr);
     if (err) return err;
     double cost = sumsq(n, r), lambda = 1e-3;
     int it = 0, done = 0;
@@ -77,12 +77,12 @@ hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target
         for (int j = 0; j < nf; ++j) stepsize = fmax(stepsize, fabs(D[j] * dx[j]));
         memcpy(xt, x, sizeof xt);
         for (int j = 0; j < nf; ++j) xt[col[j]] += dx[j];
-        err = residual(L, level, target, xt, nf, col, rt, NULL);
+        err = residual(L, G, level, target, xt, nf, col, rt, NULL);
         double ct = err == HP_OK ? sumsq(n, rt) : INFINITY;
         if (ct <= cost) {
             memcpy(x, xt, sizeof x);
             cost = ct;
-            err = residual(L, level, target, x, nf, col, r, Jr);
+            err = residual(L, G, level, target, x, nf, col, r, Jr);
             if (err) return err;
             lambda = fmax(lambda * 0.1, 1e-15);
             if (stepsize <= FK_STEP_TOL) done = 1;
@@ -99,11 +99,10 @@ hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target
     return HP_OK;
 }
 
-hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
-                       const double *xi0, double xi[6], double *residual_rms, int *iters)
+hp_error hp_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,
+                         const double *xi0, double xi[6], double *residual_rms, int *iters)
 {
-    if (!L || !ro || !xi) return HP_ERR_NULL;
-    if (!L->prepared) return HP_ERR_STATE;
+    if (!L || !G || !ro || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
         return HP_ERR_INVALID;
     int n = L->n;
@@ -120,5 +119,24 @@ hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
     }
     int free_[6];
     for (int i = 0; i < 6; ++i) free_[i] = i < dof;
-    return hp_contact_fit(L, level, ro, free_, x, xi, residual_rms, iters);
+    return hp_contact_fit_g(L, G, level, ro, free_, x, xi, residual_rms, iters);
+}
+
+hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target,
+                        const int free_[6], const double x0[6], double xi[6],
+                        double *residual_rms, int *iters)
+{
+    if (!L || !target || !free_ || !x0 || !xi) return HP_ERR_NULL;
+    hp_geom G;
+    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hp_contact_fit_g(L, &G, level, target, free_, x0, xi, residual_rms, iters);
+}
+
+hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
+                       const double *xi0, double xi[6], double *residual_rms, int *iters)
+{
+    if (!L || !ro || !xi) return HP_ERR_NULL;
+    hp_geom G;
+    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hp_contact_fk_g(L, &G, level, ro, xi0, xi, residual_rms, iters);
 }

@@ -3,6 +3,7 @@
  * the unobservable motions, the rotation and translation range, and the commanded part of a
  * desired correction. */
 #include "kin_internal.h"
+#include "kin_geom.h"
 #include "common/units.h"
 #include "linalg.h"
 
@@ -23,11 +24,11 @@ static void cross3(const double a[3], const double b[3], double c[3])
  * the head centre (m/m) and the rotation about it times the length ell (m/(rad·m)). Written
  * from the geometry directly (not from the pivot-frame Jacobian), so no far pivot cancels
  * digits: a sphere's rotation columns are exactly zero. */
-static void centred_row(const hp_layout *L, int k, double ell, double row[6])
+static void centred_row(const hp_geom *G, int k, double ell, double row[6])
 {
-    const double *n = L->normal[k];
+    const double *n = G->normal[k];
     double lv[3], m[3];
-    for (int i = 0; i < 3; ++i) lv[i] = L->contact[k][i] - L->head.center[i];
+    for (int i = 0; i < 3; ++i) lv[i] = G->contact[k][i] - G->head.center[i];
     cross3(lv, n, m);
     for (int i = 0; i < 3; ++i) {
         row[i] = -n[i];
@@ -115,18 +116,17 @@ static void describe_symmetry(const hp_head *h, int centre_only, char *out, size
     snprintf(out, size, "half-turns about its X, Y and Z axes");
 }
 
-hp_error hp_layout_identify(const hp_layout *L, hp_identifiable *out)
+hp_error hp_layout_identify_g(const hp_layout *L, const hp_geom *G, hp_identifiable *out)
 {
-    if (!L || !out) return HP_ERR_NULL;
-    if (!L->prepared) return HP_ERR_STATE;
+    if (!L || !G || !out) return HP_ERR_NULL;
     memset(out, 0, sizeof *out);
-    const double *a = L->head.semi_axes;
+    const double *a = G->head.semi_axes;
     double ell = fmax(a[0], fmax(a[1], a[2]));
     out->length = ell;
     out->centre_only = a[0] == a[1] && a[1] == a[2];
     int n = L->n;
     double Jc[HP_MAX_BLADDERS * 6], sv[6], V[36];
-    for (int k = 0; k < n; ++k) centred_row(L, k, ell, Jc + 6 * k);
+    for (int k = 0; k < n; ++k) centred_row(G, k, ell, Jc + 6 * k);
     if (hp_kin_svd6(n, Jc, sv, V) != 0) return HP_ERR_NO_CONVERGENCE;
     if (!(sv[0] > 0)) return HP_ERR_INVALID;
     int rank = 0;
@@ -169,7 +169,7 @@ hp_error hp_layout_identify(const hp_layout *L, hp_identifiable *out)
     }
     out->rot_limit = out->centre_only ? ID_PI : 0.5 * ID_PI;
     out->trans_limit = fmin(a[0], fmin(a[1], a[2]));
-    describe_symmetry(&L->head, out->centre_only, out->symmetry, sizeof out->symmetry);
+    describe_symmetry(&G->head, out->centre_only, out->symmetry, sizeof out->symmetry);
     return HP_OK;
 }
 
@@ -214,11 +214,11 @@ static int solve_small(int m, double M[6][6], double b[6], double x[6])
     return 1;
 }
 
-hp_error hp_pose_commanded_part(const hp_layout *L, const hp_identifiable *id, hp_level level,
-                                const double xd[6], double xc[6])
+hp_error hp_pose_commanded_part_g(const hp_layout *L, const hp_geom *G,
+                                  const hp_identifiable *id, hp_level level, const double xd[6],
+                                  double xc[6])
 {
-    if (!L || !id || !xd || !xc) return HP_ERR_NULL;
-    if (!L->prepared) return HP_ERR_STATE;
+    if (!L || !G || !id || !xd || !xc) return HP_ERR_NULL;
     for (int i = 0; i < 6; ++i)
         if (!isfinite(xd[i])) return HP_ERR_INVALID;
     if (id->n_null == 0) {
@@ -266,7 +266,24 @@ hp_error hp_pose_commanded_part(const hp_layout *L, const hp_identifiable *id, h
         return HP_OK;
     }
     double rho[HP_MAX_BLADDERS];
-    hp_error e = hp_contact_eval(L, level, xd, rho, NULL, NULL);
+    hp_error e = hp_contact_eval_g(L, G, level, xd, rho, NULL, NULL);
     if (e != HP_OK) return e;
-    return hp_contact_fit(L, level, rho, id->commanded, x0, xc, NULL, NULL);
+    return hp_contact_fit_g(L, G, level, rho, id->commanded, x0, xc, NULL, NULL);
+}
+
+hp_error hp_layout_identify(const hp_layout *L, hp_identifiable *out)
+{
+    if (!L || !out) return HP_ERR_NULL;
+    hp_geom G;
+    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hp_layout_identify_g(L, &G, out);
+}
+
+hp_error hp_pose_commanded_part(const hp_layout *L, const hp_identifiable *id, hp_level level,
+                                const double xd[6], double xc[6])
+{
+    if (!L || !id || !xd || !xc) return HP_ERR_NULL;
+    hp_geom G;
+    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hp_pose_commanded_part_g(L, &G, id, level, xd, xc);
 }

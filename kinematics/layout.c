@@ -1,5 +1,6 @@
 /* Layout validation and the nominal contact geometry of every bladder. */
 #include "kin_internal.h"
+#include "kin_geom.h"
 
 #include <math.h>
 #include <string.h>
@@ -123,36 +124,79 @@ static hp_error check_nominal(const hp_bladder *b, double rho0, hp_diag *diag)
     return HP_OK;
 }
 
-hp_error hp_layout_prepare(hp_layout *L, hp_diag *diag)
+/* The head as the geometry reads it: a sphere's three semi-axes all its radius. */
+static hp_error head_of(const hp_layout *L, hp_head *h, hp_diag *diag)
 {
-    if (!L) return hp_diag_set(diag, HP_ERR_NULL, "layout: NULL");
-    L->prepared = 0;
     hp_error err = hp_kin_head_validate(&L->head, diag);
     if (err) return err;
-    if (L->head.shape == HP_HEAD_SPHERE)
-        L->head.semi_axes[1] = L->head.semi_axes[2] = L->head.semi_axes[0];
+    *h = L->head;
+    if (h->shape == HP_HEAD_SPHERE) h->semi_axes[1] = h->semi_axes[2] = h->semi_axes[0];
+    return HP_OK;
+}
+
+static hp_error check_frame(const hp_layout *L, hp_diag *diag)
+{
     if (!hp_kin_finite3(L->pivot))
         return hp_diag_set(diag, HP_ERR_INVALID, "pivot: must be finite");
     if (!(L->n >= 1 && L->n <= HP_MAX_BLADDERS))
         return hp_diag_set(diag, HP_ERR_INVALID, "bladders: count must be 1..%d (got %d)",
                            HP_MAX_BLADDERS, L->n);
-    for (int k = 0; k < L->n; ++k) {
-        err = check_bladder(L, k, diag);
-        if (err) return err;
-    }
-    for (int k = 0; k < L->n; ++k) {
-        const hp_bladder *b = &L->bladders[k];
-        double d, n[3], p[3];
-        err = hp_kin_head_distance(&L->head, b->center, &d, n, NULL, p);
-        if (err != HP_OK || !(d > 0))
-            return hp_diag_set(diag, HP_ERR_INVALID,
-                               "bladder '%s': center: must lie outside the head", b->name);
-        err = check_nominal(b, d, diag);
-        if (err) return err;
-        memcpy(L->contact[k], p, sizeof p);
-        memcpy(L->normal[k], n, sizeof n);
-        L->rho0[k] = d;
-    }
-    L->prepared = 1;
     return HP_OK;
+}
+
+/* Bladder k's nominal contact on head h: distance d, normal n, surface point p. The name
+ * is printed with a bound: a layout that was never checked may not terminate it. */
+static hp_error bladder_contact(const hp_head *h, const hp_bladder *b, int k, double *d,
+                                double n[3], double p[3], hp_diag *diag)
+{
+    if (!hp_kin_finite3(b->center))
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%.*s' (#%d): center: must be finite",
+                           HP_NAME_MAX - 1, b->name, k + 1);
+    hp_error err = hp_kin_head_distance(h, b->center, d, n, NULL, p);
+    if (err != HP_OK || !(*d > 0))
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%.*s': center: must lie outside the head",
+                           HP_NAME_MAX - 1, b->name);
+    return HP_OK;
+}
+
+hp_error hp_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag)
+{
+    if (!L || !G) return hp_diag_set(diag, HP_ERR_NULL, "layout: NULL");
+    hp_error err = head_of(L, &G->head, diag);
+    if (!err) err = check_frame(L, diag);
+    for (int k = 0; !err && k < L->n; ++k)
+        err = bladder_contact(&G->head, &L->bladders[k], k, &G->rho0[k], G->normal[k],
+                              G->contact[k], diag);
+    return err;
+}
+
+hp_error hp_layout_contact(const hp_layout *L, int k, double point[3], double normal[3],
+                           double *rho0)
+{
+    if (!L) return HP_ERR_NULL;
+    hp_head h;
+    hp_error err = head_of(L, &h, NULL);
+    if (!err) err = check_frame(L, NULL);
+    if (!err && !(k >= 0 && k < L->n)) err = HP_ERR_INVALID;
+    double d, n[3], p[3];
+    if (!err) err = bladder_contact(&h, &L->bladders[k], k, &d, n, p, NULL);
+    if (err) return err;
+    if (point) memcpy(point, p, sizeof p);
+    if (normal) memcpy(normal, n, sizeof n);
+    if (rho0) *rho0 = d;
+    return HP_OK;
+}
+
+hp_error hp_layout_prepare(hp_layout *L, hp_diag *diag)
+{
+    if (!L) return hp_diag_set(diag, HP_ERR_NULL, "layout: NULL");
+    hp_error err = head_of(L, &L->head, diag);
+    if (!err) err = check_frame(L, diag);
+    for (int k = 0; !err && k < L->n; ++k) err = check_bladder(L, k, diag);
+    for (int k = 0; !err && k < L->n; ++k) {
+        double d, n[3], p[3];
+        err = bladder_contact(&L->head, &L->bladders[k], k, &d, n, p, diag);
+        if (!err) err = check_nominal(&L->bladders[k], d, diag);
+    }
+    return err;
 }

@@ -243,8 +243,11 @@ static hp_error contact_point(const hp_load_model *M, int k, const double R[9],
 {
     const hp_layout *L = &M->layout;
     const double *c = L->bladders[k].center;
+    double nk[3]; /* the nominal normal, derived from the layout as it is */
+    hp_error err = hp_layout_contact(L, k, NULL, nk, NULL);
+    if (err) return err;
     if (M->level == HP_LEVEL_LINEAR) {
-        for (int a = 0; a < 3; ++a) p[a] = c[a] - rho * L->normal[k][a];
+        for (int a = 0; a < 3; ++a) p[a] = c[a] - rho * nk[a];
         return HP_OK;
     }
     /* The centre seen from the head's own frame: c' = Rᵀ(c − pivot − t) + pivot. */
@@ -254,10 +257,10 @@ static hp_error contact_point(const hp_load_model *M, int k, const double R[9],
         cp[a] = R[a] * u[0] + R[3 + a] * u[1] + R[6 + a] * u[2] + L->pivot[a];
     if (M->level == HP_LEVEL_SURFACE) {
         double d;
-        hp_error err = hp_kin_head_distance(&L->head, cp, &d, NULL, NULL, foot);
+        err = hp_kin_head_distance(&L->head, cp, &d, NULL, NULL, foot);
         if (err) return err;
     } else {
-        const double *n = L->normal[k];
+        const double *n = nk;
         for (int a = 0; a < 3; ++a) foot[a] = cp[a] - rho * n[a];
     }
     move_point(L, R, xi, foot, p);

@@ -12,11 +12,12 @@ hp_error hp_load_predicted_sag(const hp_load_model *M, double *sag, double *k_gr
     const hp_layout *L = &M->layout;
     double P[HP_MAX_BLADDERS], ro[HP_MAX_BLADDERS], xi[6] = {0}, Q[6], dQ[36];
     for (int k = 0; k < L->n; ++k) {
-        double ri;
-        hp_error err = hp_iab_ri(&L->bladders[k].iab, L->rho0[k], &ri);
+        double ri, rho0;
+        hp_error err = hp_layout_contact(L, k, NULL, NULL, &rho0);
+        if (!err) err = hp_iab_ri(&L->bladders[k].iab, rho0, &ri);
         if (!err) err = hp_iab_ik(&L->bladders[k].iab, ri, &P[k]);
         if (err) return err;
-        ro[k] = L->rho0[k]; /* touching: the free radius is the contact distance */
+        ro[k] = rho0; /* touching: the free radius is the contact distance */
     }
     /* right = 1: the stiffness of the contact branch at delta = 0. */
     hp_error err = hp_load_eval_radii(M, xi, P, ro, NULL, 1, Q, dQ, NULL, NULL, NULL);

@@ -10,7 +10,7 @@
 
 hp_error hp_backend_check_problem(const hp_problem *pb, hp_diag *d)
 {
-    if (!pb || !pb->layout) return hp_diag_set(d, HP_ERR_NULL, "problem: NULL");
+    if (!pb || !pb->layout || !pb->geom) return hp_diag_set(d, HP_ERR_NULL, "problem: NULL");
     if (pb->n < 1 || pb->n > HP_MAX_BLADDERS || pb->n != pb->layout->n || pb->nx != 6 + pb->n)
         return hp_diag_set(d, HP_ERR_INVALID, "problem: n = %d, nx = %d do not match the layout",
                            pb->n, pb->nx);
@@ -57,7 +57,7 @@ hp_error hp_backend_default_start(const hp_problem *pb, double *x)
         x[i] = pb->d[i];
         xi[i] = pb->d[i] * (i < 3 ? 1e-3 : HP_RAD_PER_DEG);
     }
-    hp_error e = hp_contact_eval(pb->layout, pb->level, xi, rho, NULL, NULL);
+    hp_error e = hp_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho, NULL, NULL);
     if (e != HP_OK) return e;
     for (int k = 0; k < pb->n; k++) {
         double ri;

@@ -101,7 +101,7 @@ static hp_error reduced_rho(const hp_problem *pb, const double *x, double *rho_m
 {
     double xi[6];
     for (int i = 0; i < 6; i++) xi[i] = x[i] * hp_pose_si_per_scaled(i);
-    hp_error e = hp_contact_eval(pb->layout, pb->level, xi, rho_mm, NULL, NULL);
+    hp_error e = hp_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho_mm, NULL, NULL);
     if (e != HP_OK) return e;
     for (int k = 0; k < pb->n; k++) rho_mm[k] *= 1e3;
     return HP_OK;

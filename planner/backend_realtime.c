@@ -60,16 +60,16 @@ static double now_s(void)
 
 /* rho (mm), J (mm per mm/deg) and, if H is not NULL, the SI Hessians of rho (per m², m·rad,
  * rad²; scaled by the caller) at scaled pose x. */
-static hp_error hp_contact_eval_scaled_h(const hp_layout *L, hp_level level, const double *x,
-                                         double *rho, double *J, double *H)
+static hp_error hp_contact_eval_scaled_h(const hp_layout *L, const hp_geom *G, hp_level level,
+                                         const double *x, double *rho, double *J, double *H)
 {
-    if (!H) return hp_setup_contact_scaled(L, level, x, rho, J);
+    if (!H) return hp_setup_contact_scaled(L, G, level, x, rho, J);
     double xi[6], Jsi[HP_MAX_BLADDERS * 6];
     for (int i = 0; i < 3; ++i) {
         xi[i] = x[i] / HP_MM_PER_M;
         xi[i + 3] = x[i + 3] / HP_DEG_PER_RAD;
     }
-    hp_error e = hp_contact_eval(L, level, xi, rho, Jsi, H);
+    hp_error e = hp_contact_eval_g(L, G, level, xi, rho, Jsi, H);
     if (e != HP_OK) return e;
     for (int k = 0; k < L->n; ++k) {
         rho[k] *= HP_MM_PER_M;
@@ -152,7 +152,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     for (int i = 0; i < 6; ++i)
         if (pb->w[i] > 0) map[nv++] = i;
     int curved = pb->level != HP_LEVEL_LINEAR && st->have_u;
-    if (hp_contact_eval_scaled_h(pb->layout, pb->level, xk, st->rho, st->J,
+    if (hp_contact_eval_scaled_h(pb->layout, pb->geom, pb->level, xk, st->rho, st->J,
                                  curved ? st->H : NULL) != HP_OK)
         return HP_QP_BAD_INPUT;
     rt_inject(st, pb->n, st->rho);
@@ -196,7 +196,7 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
 {
     if (viol) /* every entry is written, even when a non-finite rho ends the scan */
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
-    if (hp_setup_contact_scaled(pb->layout, pb->level, x, st->rho, NULL) != HP_OK)
+    if (hp_setup_contact_scaled(pb->layout, pb->geom, pb->level, x, st->rho, NULL) != HP_OK)
         return INFINITY;
     rt_inject(st, pb->n, st->rho);
     double worst = 0;
@@ -216,7 +216,7 @@ static double merit(rt_state *st, const hp_problem *pb, const double *x, double 
 {
     double f = 0;
     for (int i = 0; i < 6; ++i) f += 0.5 * pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
-    if (hp_setup_contact_scaled(pb->layout, pb->level, x, st->rho, NULL) != HP_OK)
+    if (hp_setup_contact_scaled(pb->layout, pb->geom, pb->level, x, st->rho, NULL) != HP_OK)
         return INFINITY;
     rt_inject(st, pb->n, st->rho);
     double v = 0;
@@ -359,7 +359,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         st_out = HP_STATUS_ITERATION_LIMIT;
     r->status = st_out;
     /* Pose and the inner radii that keep contact with it. */
-    if (hp_setup_contact_scaled(pb->layout, pb->level, xk, st->rho, NULL) != HP_OK) {
+    if (hp_setup_contact_scaled(pb->layout, pb->geom, pb->level, xk, st->rho, NULL) != HP_OK) {
         r->status = HP_STATUS_SOLVER_ERROR;
         return hp_diag_set(d, HP_ERR_SOLVER, "realtime: contact model failed at the answer");
     }

@@ -2,15 +2,17 @@
  * hp_planner_nominal_pressures in hp_planner.h). */
 #include "headplan/hp_planner.h"
 #include "planner/nominal.h"
+#include "planner/problem_setup.h"
 
 #include <math.h>
 
-hp_error hp_nominal_pressures_of(const hp_layout *L, double *pressures, int *bad)
+hp_error hp_nominal_pressures_of(const hp_layout *L, const hp_geom *G, double *pressures,
+                                 int *bad)
 {
     for (int k = 0; k < L->n; ++k) {
         const hp_iab *b = &L->bladders[k].iab;
         double ri, P;
-        hp_error e = hp_iab_ri(b, L->rho0[k], &ri);
+        hp_error e = hp_iab_ri(b, G->rho0[k], &ri);
         if (e == HP_OK) e = hp_iab_ik(b, ri, &P);
         if (e != HP_OK) {
             *bad = k;
@@ -27,7 +29,7 @@ hp_error hp_planner_nominal_pressures(const hp_planner *p, double *pressures)
     const hp_layout *L = hp_planner_layout(p);
     if (!L) return HP_ERR_STATE;
     int bad = 0;
-    hp_error e = hp_nominal_pressures_of(L, pressures, &bad);
+    hp_error e = hp_nominal_pressures_of(L, hp_planner_geom(p), pressures, &bad);
     if (e != HP_OK)
         for (int j = 0; j < L->n; ++j) pressures[j] = NAN;
     return e;

@@ -4,10 +4,12 @@
 #define HP_PLANNER_NOMINAL_H
 
 #include "headplan/hp_kinematics.h"
+#include "kinematics/kin_geom.h"
 
-/* Every bladder's pressure at its nominal contact distance (prepared layout). Returns HP_OK,
+/* Every bladder's pressure at its nominal contact distance (G derived from L). Returns HP_OK,
  * or the bladder model's error with *bad set to the failing bladder (pressures before it
  * are written, the rest untouched). */
-hp_error hp_nominal_pressures_of(const hp_layout *L, double *pressures, int *bad);
+hp_error hp_nominal_pressures_of(const hp_layout *L, const hp_geom *G, double *pressures,
+                                 int *bad);
 
 #endif

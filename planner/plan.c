@@ -103,7 +103,7 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
     }
     /* The commanded part: what the layout can observe of the desired correction, in the
      * commanded components; the rest is reported, never silently dropped. */
-    if (hp_pose_commanded_part(&p->L, &p->id, p->level, desired, c->xc) != HP_OK) {
+    if (hp_pose_commanded_part_g(&p->L, &p->G, &p->id, p->level, desired, c->xc) != HP_OK) {
         hp_text_set(p->err, "desired: the contact model cannot evaluate this correction (a "
                             "bladder centre would lie deep inside the head)");
         fail_safe(p, res, HP_STATUS_INVALID_INPUT, c);
@@ -130,7 +130,7 @@ static int direct_chain(hp_planner *p)
 {
     double rho[HP_MAX_BLADDERS];
     const hp_problem *pb = &p->pb;
-    if (hp_setup_contact_scaled(&p->L, p->level, pb->d, rho, NULL) != HP_OK) return 0;
+    if (hp_setup_contact_scaled(&p->L, &p->G, p->level, pb->d, rho, NULL) != HP_OK) return 0;
     for (int k = 0; k < p->L.n; ++k)
         if (!(rho[k] >= pb->ro_lo[k] && rho[k] <= pb->ro_hi[k])) return 0;
     return 1;
@@ -197,7 +197,7 @@ static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
     /* Radii that no pose holds (a backend that stopped at an infeasible point, e.g. under
      * rate limits that cannot all hold) are no answer: the fitted pose would not be where
      * the head goes. */
-    if (hp_contact_fk(&p->L, p->level, ro, xs, xi, &resid, NULL) != HP_OK ||
+    if (hp_contact_fk_g(&p->L, &p->G, p->level, ro, xs, xi, &resid, NULL) != HP_OK ||
         !(resid * HP_MM_PER_M <= HP_CLAMP_RESID_MM)) {
         /* A budget that ran out before a feasible iterate keeps its label. */
         hp_status fs = (c->st == HP_STATUS_ITERATION_LIMIT || c->st == HP_STATUS_TIME_LIMIT)
@@ -257,7 +257,7 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
             ro[k] = r->bladders[k].ro;
     }
     double resid = INFINITY;
-    hp_error e = hp_contact_fit(&p->L, p->level, ro, p->commanded, zero, xf, &resid, NULL);
+    hp_error e = hp_contact_fit_g(&p->L, &p->G, p->level, ro, p->commanded, zero, xf, &resid, NULL);
     hp_plan_to_scaled(xc, a);
     hp_plan_to_scaled(xf, b);
     double worst = e == HP_OK ? 0.0 : INFINITY;

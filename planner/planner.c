@@ -33,7 +33,7 @@ int hp_plan_answer_from_pose(hp_planner *p, const double x[6], hp_result *res,
 {
     double rho[HP_MAX_BLADDERS];
     *clamp_mm = 0;
-    if (hp_setup_contact_scaled(&p->L, p->level, x, rho, NULL) != HP_OK) return 0;
+    if (hp_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
     for (int k = 0; k < p->L.n; ++k) {
         const hp_bladder *B = &p->L.bladders[k];
         double ri_lo = p->pb.ri_lo_si[k], ri_hi = p->pb.ri_hi_si[k];
@@ -70,7 +70,7 @@ static hp_error build_nominal(hp_planner *p, hp_diag *d)
     r->n = p->L.n;
     for (int i = 0; i < 6; ++i) r->commanded[i] = p->commanded[i];
     double x0[6] = {0}, rho[HP_MAX_BLADDERS];
-    if (hp_setup_contact_scaled(&p->L, p->level, x0, rho, NULL) != HP_OK)
+    if (hp_setup_contact_scaled(&p->L, &p->G, p->level, x0, rho, NULL) != HP_OK)
         return hp_diag_set(d, HP_ERR_INVALID, "layout: contact model fails at the nominal pose");
     for (int k = 0; k < p->L.n; ++k) {
         int c = 0;
@@ -83,7 +83,7 @@ static hp_error build_nominal(hp_planner *p, hp_diag *d)
     /* When a limit excludes the nominal radii, the clamped radii hold some other pose. */
     double ro[HP_MAX_BLADDERS], xi[6], resid;
     for (int k = 0; k < p->L.n; ++k) ro[k] = r->bladders[k].ro;
-    if (hp_contact_fk(&p->L, p->level, ro, NULL, xi, &resid, NULL) == HP_OK) {
+    if (hp_contact_fk_g(&p->L, &p->G, p->level, ro, NULL, xi, &resid, NULL) == HP_OK) {
         for (int i = 0; i < 6; ++i) r->achieved[i] = p->commanded[i] ? xi[i] : 0.0;
     }
     for (int k = 0; k < p->L.n; ++k) r->bladders[k].binding = 0;
@@ -126,17 +126,18 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     p->L = *layout;
     p->s = s;
     e = hp_layout_prepare(&p->L, d);
+    if (e == HP_OK) e = hp_geom_derive(&p->L, &p->G, d);
     if (e != HP_OK) goto fail;
     p->level = s.level;
     if (p->level == HP_LEVEL_AUTO) {
-        e = hp_contact_auto(&p->L, s.level_tolerance, s.auto_trans, s.auto_rot, &p->level);
+        e = hp_contact_auto_g(&p->L, &p->G, s.level_tolerance, s.auto_trans, s.auto_rot, &p->level);
         if (e != HP_OK) {
             hp_diag_set(d, e, "level: auto could not choose a contact level (%s)",
                         hp_error_message(e));
             goto fail;
         }
     }
-    if ((e = hp_layout_identify(&p->L, &p->id)) != HP_OK) {
+    if ((e = hp_layout_identify_g(&p->L, &p->G, &p->id)) != HP_OK) {
         hp_diag_set(d, e, "layout: the contact Jacobian at the nominal pose: %s",
                     hp_error_message(e));
         goto fail;
@@ -146,6 +147,7 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
 
     hp_problem *pb = &p->pb;
     pb->layout = &p->L;
+    pb->geom = &p->G;
     pb->level = p->level;
     pb->n = p->L.n;
     pb->nx = 6 + p->L.n;
@@ -184,6 +186,8 @@ const char *hp_planner_note(const hp_planner *p) { return p ? p->note : ""; }
 hp_level hp_planner_level(const hp_planner *p) { return p ? p->level : HP_LEVEL_AUTO; }
 
 const hp_layout *hp_planner_layout(const hp_planner *p) { return p ? &p->L : NULL; }
+
+const hp_geom *hp_planner_geom(const hp_planner *p) { return p ? &p->G : NULL; }
 
 const hp_identifiable *hp_planner_identifiable(const hp_planner *p) { return p ? &p->id : NULL; }
 
@@ -250,7 +254,7 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
         r.bladders[k].binding = 0;
     }
     double xi[6], resid;
-    if (hp_contact_fk(&p->L, p->level, ro, NULL, xi, &resid, NULL) == HP_OK)
+    if (hp_contact_fk_g(&p->L, &p->G, p->level, ro, NULL, xi, &resid, NULL) == HP_OK)
         for (int i = 0; i < 6; ++i) r.achieved[i] = p->commanded[i] ? xi[i] : 0.0;
     hp_plan_set_previous_answer(p, &r);
     return HP_OK;

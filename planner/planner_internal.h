@@ -30,7 +30,8 @@
 #define HP_CLAMP_RESID_MM 1e-6
 
 struct hp_planner {
-    hp_layout L;                 /* private, prepared copy */
+    hp_layout L;                 /* private, validated copy */
+    hp_geom G;                   /* its contact geometry, derived once at create */
     hp_settings s;
     hp_level level;
     hp_identifiable id;          /* what the layout can tell apart (hp_layout_identify) */

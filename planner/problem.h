@@ -16,9 +16,11 @@
 #define HP_PLANNER_PROBLEM_H
 
 #include "headplan/hp_planner.h"
+#include "kinematics/kin_geom.h"
 
 typedef struct hp_problem {
     const hp_layout *layout;
+    const hp_geom *geom;             /* layout's contact geometry, derived with it */
     hp_level level;                  /* resolved: never HP_LEVEL_AUTO */
     int n;                           /* bladders */
     int nx;                          /* 6 + n */

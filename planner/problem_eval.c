@@ -18,7 +18,7 @@
 
 static hp_error check_problem(const hp_problem *pb, const double *x)
 {
-    if (!pb || !x || !pb->layout) return HP_ERR_NULL;
+    if (!pb || !x || !pb->layout || !pb->geom) return HP_ERR_NULL;
     if (pb->n < 1 || pb->n > HP_MAX_BLADDERS || pb->n != pb->layout->n || pb->nx != 6 + pb->n)
         return HP_ERR_INVALID;
     for (int i = 0; i < pb->nx; i++)
@@ -77,7 +77,7 @@ hp_error hp_problem_constraints(const hp_problem *pb, const double *x, double *c
     double rho[HP_MAX_BLADDERS];
     double J[HP_MAX_BLADDERS * 6];
     double H[HP_MAX_BLADDERS * 36];
-    e = hp_contact_eval(pb->layout, pb->level, xi, rho, jac ? J : NULL, want_h ? H : NULL);
+    e = hp_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho, jac ? J : NULL, want_h ? H : NULL);
     if (e != HP_OK) return e;
 
     if (jac) memset(jac, 0, (size_t)n * (size_t)nx * sizeof *jac);

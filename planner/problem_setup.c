@@ -165,15 +165,15 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
     return HP_OK;
 }
 
-hp_error hp_setup_contact_scaled(const hp_layout *L, hp_level level, const double x[6],
-                                 double *rho_mm, double *J_s)
+hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
+                                 const double x[6], double *rho_mm, double *J_s)
 {
     double xi[6], J[HP_MAX_BLADDERS * 6];
     for (int i = 0; i < 3; ++i) {
         xi[i] = x[i] / HP_MM_PER_M;
         xi[i + 3] = x[i + 3] / HP_DEG_PER_RAD;
     }
-    hp_error e = hp_contact_eval(L, level, xi, rho_mm, J_s ? J : NULL, NULL);
+    hp_error e = hp_contact_eval_g(L, G, level, xi, rho_mm, J_s ? J : NULL, NULL);
     if (e != HP_OK) return e;
     for (int k = 0; k < L->n; ++k) {
         rho_mm[k] *= HP_MM_PER_M;

@@ -32,10 +32,14 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                const double *p_prev, int use_rate, hp_problem *pb,
                                unsigned *lo_flags, unsigned *hi_flags, hp_diag *d);
 
+/* The planner's contact geometry (of hp_planner_layout(p)), derived once at create: for
+ * the horizon planners that run on its layout. */
+const hp_geom *hp_planner_geom(const hp_planner *p);
+
 /* Contact distances and Jacobian in scaled units: rho_mm[n], J_s[n×6] (mm per mm, mm per
  * degree); J_s may be NULL. x is scaled (mm, deg). Allocates nothing. */
-hp_error hp_setup_contact_scaled(const hp_layout *L, hp_level level, const double x[6],
-                                 double *rho_mm, double *J_s);
+hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
+                                 const double x[6], double *rho_mm, double *J_s);
 
 /* A bladder's state from its outer radius ro [m]: ri, pressure (clamped into [p_lo, p_hi]
  * after the model is evaluated), stretch. HP_ERR_DOMAIN/INVALID on a non-finite result. */

@@ -115,6 +115,12 @@ static PyObject *vec_mm(const double *v, int n, double scale)
 static PyObject *bladder_dict(const hp_layout *L, int k)
 {
     const hp_bladder *B = &L->bladders[k];
+    /* The nominal contact, derived from the (validated) layout; NaN if it could not be. */
+    double pt[3], nv[3], rho0;
+    if (hp_layout_contact(L, k, pt, nv, &rho0) != HP_OK) {
+        for (int i = 0; i < 3; ++i) pt[i] = nv[i] = NAN;
+        rho0 = NAN;
+    }
     PyObject *d = PyDict_New();
     if (!d) return NULL;
     int bad = hpy_put(d, "name", PyUnicode_FromString(B->name)) ||
@@ -128,9 +134,9 @@ static PyObject *bladder_dict(const hp_layout *L, int k)
               hpy_put(d, "stretch_min", PyFloat_FromDouble(B->stretch_min)) ||
               hpy_put(d, "stretch_max", PyFloat_FromDouble(B->stretch_max)) ||
               hpy_put(d, "rate_max_pa", PyFloat_FromDouble(B->rate_max)) ||
-              hpy_put(d, "contact_mm", vec_mm(L->contact[k], 3, 1e3)) ||
-              hpy_put(d, "normal", vec_mm(L->normal[k], 3, 1.0)) ||
-              hpy_put(d, "rho0_mm", PyFloat_FromDouble(L->rho0[k] * 1e3));
+              hpy_put(d, "contact_mm", vec_mm(pt, 3, 1e3)) ||
+              hpy_put(d, "normal", vec_mm(nv, 3, 1.0)) ||
+              hpy_put(d, "rho0_mm", PyFloat_FromDouble(rho0 * 1e3));
     if (bad) Py_CLEAR(d);
     return d;
 }

@@ -134,12 +134,12 @@ typedef struct hp_layout_fit {
     double t, s;                             /* t(0.975, dof); residual SD for unit weight */
     double rms_before[6], rms_after[6];      /* per pose axis [m or rad] */
     int iterations;
-    hp_layout fitted;                        /* the calibrated layout (prepared) */
+    hp_layout fitted;                        /* the calibrated layout (validated) */
 } hp_layout_fit;
 
-/* Fits the selected parameters of layout L (prepared) to n rows: minimises the weighted sum
- * of squared differences between each measured pose and the model's pose (pressures ->
- * hp_iab_fk -> hp_iab_ro -> hp_contact_fk at opt->level), Gauss–Newton with Levenberg–
+/* Fits the selected parameters of layout L (valid: hp_layout_prepare) to n rows: minimises
+ * the weighted sum of squared differences between each measured pose and the model's pose
+ * (pressures -> hp_iab_fk -> hp_iab_ro -> hp_contact_fk at opt->level), Gauss–Newton with Levenberg–
  * Marquardt damping. The Jacobian of each model pose comes from the implicit function
  * theorem on the forward kinematics' normal equations (exact second-order terms included),
  * with the contact model's derivatives in the parameters by central differences (1 µm) at
@@ -153,7 +153,7 @@ typedef struct hp_layout_fit {
  * bad rows (non-finite, a pressure outside the bladder's stable branch or its limits), fewer
  * rows than give one degree of freedom, nothing to fit. resid_after (may be NULL) gets n×6
  * residuals measured − model after the fit. On failure every number of out is NaN and
- * out->fitted is not prepared. Allocates work memory; frees it. */
+ * out->fitted has n = 0 (no bladders: every layout call refuses it). Allocates work memory; frees it. */
 HP_API hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
                        const hp_layout_fit_options *opt, hp_layout_fit *out,
                        double *resid_after, hp_diag *diag);

@@ -95,37 +95,53 @@ typedef struct hp_bladder {
                              +inf: no stress limit (hp_iab_hoop_stress_inner) */
 } hp_bladder;
 
-/* The head and its bladders at the nominal pose, plus what hp_layout_prepare derives. */
+/* The head and its bladders at the nominal pose: inputs only. Nothing in it is derived, so
+ * a layout may be edited at any time; every call that takes a layout reads it as it is
+ * then (the contact geometry is derived on each call, or once by an object that keeps its
+ * own private copy, such as the planner). */
 typedef struct hp_layout {
     hp_head head;
     double pivot[3];                     /* [m] */
     int n;                               /* number of bladders, 1..HP_MAX_BLADDERS */
     hp_bladder bladders[HP_MAX_BLADDERS];
-    /* Derived by hp_layout_prepare (do not set by hand): */
-    double contact[HP_MAX_BLADDERS][3];  /* nominal contact point on the head surface [m] */
-    double normal[HP_MAX_BLADDERS][3];   /* outward unit head normal there */
-    double rho0[HP_MAX_BLADDERS];        /* nominal contact distance |c − p| [m] */
-    int prepared;
 } hp_layout;
 
-/* Validates the layout and derives the nominal contact point, normal and distance of every
- * bladder; sets prepared = 1 on success (0 on failure). Checks: finite head centre and
- * pivot, semi-axes finite > 0 (a sphere reads semi_axes[0] and this call copies it to the
- * other two), mass finite >= 0, n in 1..HP_MAX_BLADDERS, names non-empty, NUL-terminated
+/* Validates the layout; derives and keeps nothing (the name is kept from when it did).
+ * The one change it makes: a sphere's radius semi_axes[0] is copied to the other two
+ * semi-axes. Checks: finite head centre and
+ * pivot, semi-axes finite > 0 (a sphere reads semi_axes[0]), mass finite >= 0, n in
+ * 1..HP_MAX_BLADDERS, names non-empty, NUL-terminated
  * and unique, centres finite and outside the head, hp_iab_validate, finite p_min < p_max,
  * 0 < stretch_min < stretch_max, stretch_max below any inflation limit point, rate_max > 0
- * (+inf allowed), and the nominal pose holdable: the stretch at ro = rho0 strictly inside
+ * (+inf allowed), and the nominal pose holdable: the stretch at ro = rho0 (the nominal
+ * contact distance, hp_layout_contact) strictly inside
  * (stretch_min, stretch_max) by at least 1e-9 and its pressure inside [p_min, p_max].
  * HP_ERR_INVALID (or the bladder model's code) with a message naming the bladder and
  * field at fault, e.g. "bladder 'side_fore_left': stretch_max: ...". Uses the bladder
  * model; allocates nothing. */
 HP_API hp_error hp_layout_prepare(hp_layout *L, hp_diag *diag);
 
+/* The nominal contact of bladder k (0-based): the head-surface point nearest its centre
+ * (point, m), the outward unit head normal there (normal) and the nominal contact distance
+ * rho0 = |centre − point| (m). Any output may be NULL. Derived from L as it is now on
+ * every call. HP_ERR_INVALID when the head, the pivot or n is invalid, k is out of range
+ * or the centre is not finite and outside the head. Allocates nothing. */
+HP_API hp_error hp_layout_contact(const hp_layout *L, int k, double point[3], double normal[3],
+                                  double *rho0);
+
 /* Point of the head surface a bladder touches placed by "touch": returns the bladder centre
  * c = p + (Ro + preload)·n(p) for surface point p (which must lie on the surface to within
  * 1e-9 relative of its implicit function; otherwise HP_ERR_INVALID). */
 HP_API hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro,
                                    double preload, double center[3], hp_diag *diag);
+
+/* Layout calls. Every call below that takes a const hp_layout derives the nominal contact
+ * geometry it needs from the layout as it is, on its own stack, on every call (for eight
+ * bladders about as much work as one surface-level hp_contact_eval); the layout need not
+ * have been through hp_layout_prepare, but its geometry must hold: a valid head, a finite
+ * pivot, n in 1..HP_MAX_BLADDERS and every centre finite and outside the head, else
+ * HP_ERR_INVALID. Objects that keep a private copy of a layout (the planners) derive it
+ * once at creation and do not pay this per call. */
 
 /* Fidelity levels of the contact model. */
 typedef enum hp_level {
@@ -141,8 +157,8 @@ HP_API hp_error hp_level_parse(const char *s, hp_level *out);
  * for level linear, plane or surface (not auto). rho is signed (negative when a centre is
  * inside the moved head). J (n×6, row-major, per m and per rad) and H (n×6×6,
  * H[k*36 + i*6 + j] = ∂²rho_k/∂xi_i∂xi_j) are exact derivatives; any of rho, J, H may be
- * NULL. HP_ERR_STATE when the layout is not prepared; HP_ERR_INVALID for a non-finite xi
- * or bad level; HP_ERR_DOMAIN (surface) when a pose puts a bladder centre so deep inside
+ * NULL. HP_ERR_INVALID for a non-finite xi, a bad level or a layout whose geometry is
+ * invalid (see "Layout calls" below); HP_ERR_DOMAIN (surface) when a pose puts a bladder centre so deep inside
  * the head that its closest surface point is not unique. On error the given outputs are
  * NaN. Allocates nothing; about 1–2 µs for eight bladders with J (surface, -O2). */
 HP_API hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
@@ -262,8 +278,8 @@ typedef struct hp_identifiable {
     char symmetry[128];        /* the head's symmetries in words */
 } hp_identifiable;
 
-/* Fills out for a prepared layout (see hp_identifiable). HP_ERR_NULL, HP_ERR_STATE (not
- * prepared), HP_ERR_INVALID (the Jacobian is zero), HP_ERR_NO_CONVERGENCE (SVD). Allocates
+/* Fills out for a layout (see hp_identifiable). HP_ERR_NULL, HP_ERR_INVALID (the layout's
+ * geometry is invalid, or the Jacobian is zero), HP_ERR_NO_CONVERGENCE (SVD). Allocates
  * nothing. */
 HP_API hp_error hp_layout_identify(const hp_layout *L, hp_identifiable *out);
 

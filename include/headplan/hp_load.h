@@ -50,16 +50,17 @@ HP_API void hp_load_spec_default(const hp_head *h, hp_load_spec *s);
  * HP_ERR_NULL / HP_ERR_INVALID with the field named in diag (may be NULL). */
 HP_API hp_error hp_load_spec_validate(const hp_load_spec *s, hp_diag *diag);
 
-/* A layout, what it carries, and the contact geometry, prepared for load evaluations. */
+/* A layout, what it carries, and the contact level, ready for load evaluations. The calls
+ * derive the layout's contact geometry from `layout` as it is when they run. */
 typedef struct hp_load_model {
-    hp_layout layout;                   /* prepared copy */
+    hp_layout layout;                   /* validated copy */
     hp_load_spec spec;
     hp_level level;                     /* linear, plane or surface */
     hp_iab_limit limit[HP_MAX_BLADDERS]; /* each bladder's inflation limit point */
-    int prepared;
+    int prepared;                       /* 1 after a successful hp_load_model_init */
 } hp_load_model;
 
-/* Copies and prepares layout L (hp_layout_prepare), checks spec and level (not auto) and
+/* Copies and validates layout L (hp_layout_prepare), checks spec and level (not auto) and
  * finds every bladder's limit point. HP_ERR_* with the message in diag. */
 HP_API hp_error hp_load_model_init(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
                             hp_level level, hp_diag *diag);

@@ -187,8 +187,9 @@ typedef struct hp_result {
 
 typedef struct hp_planner hp_planner;
 
-/* Builds a planner for a layout (copied: the caller may free it afterwards; prepared here
- * if it is not) and settings (NULL = defaults). Resolves HP_LEVEL_AUTO, finds what the
+/* Builds a planner for a layout (copied and validated here, hp_layout_prepare: the caller
+ * may edit or free it afterwards; the planner derives its contact geometry once from its
+ * own copy) and settings (NULL = defaults). Resolves HP_LEVEL_AUTO, finds what the
  * layout can tell apart and the commanded components (hp_layout_identify), maps every pressure and stretch limit to
  * bounds on the bladders' radii (clipped below any inflation limit point) and creates the
  * backend. The only call that allocates. On failure returns the error, sets *out = NULL,
@@ -238,7 +239,7 @@ HP_API const char *hp_planner_note(const hp_planner *p);
  * value; the message in hp_planner_error). Allocates nothing. */
 HP_API hp_error hp_planner_set_option(hp_planner *p, const char *name, double value);
 
-/* The resolved contact level and the planner's (prepared) copy of the layout. */
+/* The resolved contact level and the planner's (validated) copy of the layout. */
 HP_API hp_level hp_planner_level(const hp_planner *p);
 HP_API const hp_layout *hp_planner_layout(const hp_planner *p);
 /* What the planner's layout can tell apart (hp_layout_identify, computed at create): the

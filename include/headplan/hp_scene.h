@@ -74,7 +74,7 @@ typedef struct hp_scene {
     hp_scene_kind kind;
 
     /* ---- layout scenes (kind == HP_SCENE_LAYOUT) ---- */
-    hp_layout layout;                  /* validated and prepared (hp_layout_prepare) */
+    hp_layout layout;                  /* validated (hp_layout_prepare) */
     hp_level level;                    /* `model.level` (may be HP_LEVEL_AUTO) */
     double level_tolerance;            /* `model.tolerance_mm` [m], > 0 */
     int has_auto_range;                /* `model.auto_translation_mm` and `_rotation_deg` */
@@ -121,8 +121,8 @@ typedef struct hp_scene {
 
 /* Reads and validates the scene file at path (at most HP_SCENE_MAX_BYTES). Returns HP_OK,
  * HP_ERR_IO (cannot open or read; diag "FILE: why"), HP_ERR_PARSE (syntax, keys, types,
- * numbers) or HP_ERR_INVALID / HP_ERR_DOMAIN (values out of range, layout cannot be
- * prepared), with the one-line message in diag (may be NULL). out is zeroed on failure. */
+ * numbers) or HP_ERR_INVALID / HP_ERR_DOMAIN (values out of range, layout is not
+ * valid), with the one-line message in diag (may be NULL). out is zeroed on failure. */
 HP_API hp_error hp_scene_load(const char *path, hp_scene *out, hp_diag *diag);
 
 /* Parses a scene from memory (len bytes, need not be NUL-terminated). filename is used in

@@ -33,8 +33,11 @@ static hp_layout truth_layout(const hp_layout *L, const double da[3], const doub
 {
     hp_layout T = *L;
     for (int j = 0; j < 3; ++j) T.head.semi_axes[j] += da[j];
-    for (int k = 0; k < T.n; ++k)
-        for (int i = 0; i < 3; ++i) T.bladders[k].center[i] += off[k] * L->normal[k][i];
+    for (int k = 0; k < T.n; ++k) {
+        double nk[3];
+        if (hp_layout_contact(L, k, NULL, nk, NULL) != HP_OK) fail();
+        for (int i = 0; i < 3; ++i) T.bladders[k].center[i] += off[k] * nk[i];
+    }
     hp_diag d = {{0}};
     if (hp_layout_prepare(&T, &d) != HP_OK) {
         print_error("truth: %s\n", d.text);
@@ -484,7 +487,7 @@ static void test_bad_rows(void **state)
     rows[2].pose[4] = NAN;
     assert_int_equal(hp_fit_layout(&sc->layout, rows, 4, &o, &f, NULL, &d), HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "row 3: roll_deg"));
-    assert_true(isnan(f.value[0]) && isnan(f.rms_before[0]) && !f.fitted.prepared);
+    assert_true(isnan(f.value[0]) && isnan(f.rms_before[0]) && f.fitted.n == 0);
     rows[2].pose[4] = 0;
     rows[1].pressure[5] = 20000;
     assert_int_equal(hp_fit_layout(&sc->layout, rows, 4, &o, &f, NULL, &d), HP_ERR_INVALID);

@@ -149,13 +149,14 @@ static void test_plane_formula(void **state)
         hp_rotation(xi[3], xi[4], xi[5], R);
         assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_PLANE, xi, rho, NULL, NULL), HP_OK);
         for (int k = 0; k < LAY.n; ++k) {
-            double pm[3], nm[3], v = 0;
+            double pm[3], nm[3], v = 0, c0[3], n0[3];
+            assert_int_equal(hp_layout_contact(&LAY, k, c0, n0, NULL), HP_OK);
             for (int i = 0; i < 3; ++i) {
                 pm[i] = LAY.pivot[i] + xi[i];
                 nm[i] = 0;
                 for (int j = 0; j < 3; ++j) {
-                    pm[i] += R[i * 3 + j] * (LAY.contact[k][j] - LAY.pivot[j]);
-                    nm[i] += R[i * 3 + j] * LAY.normal[k][j];
+                    pm[i] += R[i * 3 + j] * (c0[j] - LAY.pivot[j]);
+                    nm[i] += R[i * 3 + j] * n0[j];
                 }
             }
             for (int i = 0; i < 3; ++i) v += nm[i] * (LAY.bladders[k].center[i] - pm[i]);
@@ -175,8 +176,9 @@ static void test_surface_brute_force(void **state)
     for (int k = 0; k < LAY.n; ++k) {
         /* Parametrise the surface by angles around the nominal contact; a fine grid then
          * a local refinement by repeated grid shrinking (independent of the root find). */
-        double p0[3];
-        for (int i = 0; i < 3; ++i) p0[i] = LAY.contact[k][i] / a[i];
+        double p0[3], c0[3];
+        assert_int_equal(hp_layout_contact(&LAY, k, c0, NULL, NULL), HP_OK);
+        for (int i = 0; i < 3; ++i) p0[i] = c0[i] / a[i];
         double th0 = acos(p0[2]), ph0 = atan2(p0[1], p0[0]);
         double best = INFINITY, bt = th0, bp = ph0, span = 0.3;
         for (int round = 0; round < 40; ++round) {
@@ -216,10 +218,10 @@ static void test_bad_args(void **state)
     xi[4] = NAN;
     assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_SURFACE, xi, rho, NULL, NULL), HP_ERR_INVALID);
     assert_true(isnan(rho[0]));
-    hp_layout un = LAY;
-    un.prepared = 0;
+    hp_layout un = LAY; /* a layout whose geometry is invalid: the call refuses it */
+    un.n = 0;
     xi[4] = 0;
-    assert_int_equal(hp_contact_eval(&un, HP_LEVEL_SURFACE, xi, rho, NULL, NULL), HP_ERR_STATE);
+    assert_int_equal(hp_contact_eval(&un, HP_LEVEL_SURFACE, xi, rho, NULL, NULL), HP_ERR_INVALID);
     /* A pose that drives a bladder centre deep into the head: a domain error, NaN outputs. */
     for (int i = 0; i < 3; ++i) xi[i] = LAY.bladders[0].center[i] - LAY.head.center[i];
     assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_SURFACE, xi, rho, NULL, NULL), HP_ERR_DOMAIN);

@@ -17,7 +17,6 @@ static void expect_bad(const hp_layout *in, hp_error code, const char *s1, const
                     hp_error_name(code), s1, s2 ? s2 : "");
         fail();
     }
-    assert_int_equal(L.prepared, 0);
 }
 
 static void test_invalid_layouts(void **state)
@@ -30,7 +29,8 @@ static void test_invalid_layouts(void **state)
     hp_diag d;
     L = G;
     assert_int_equal(hp_layout_prepare(&L, &d), HP_OK);
-    assert_int_equal(L.prepared, 1);
+    /* A valid layout comes back unchanged: validation derives and stores nothing. */
+    assert_memory_equal(&L, &G, sizeof L);
 
 #define BAD(stmt, code, s1, s2) do { L = G; stmt; expect_bad(&L, code, s1, s2); } while (0)
     BAD(L.head.semi_axes[1] = -0.1, HP_ERR_INVALID, "head", "semi_axes.y");
@@ -85,16 +85,25 @@ static void test_touch_and_preload(void **state)
     assert_int_equal(default_layout_on(&L, &h, 0.001), 0);
     hp_diag d;
     assert_int_equal(hp_layout_prepare(&L, &d), HP_OK);
+    double nrm[8][3];
     for (int k = 0; k < 8; ++k) {
-        double pmm[3];
+        double pmm[3], p[3], rho0;
         default_touch_mm(k, pmm);
-        hp_assert_close(L.rho0[k], 0.031, 0, 1e-16);
-        for (int i = 0; i < 3; ++i) hp_assert_close(L.contact[k][i], pmm[i] * 1e-3, 0, 1e-16);
+        assert_int_equal(hp_layout_contact(&L, k, p, nrm[k], &rho0), HP_OK);
+        hp_assert_close(rho0, 0.031, 0, 1e-16);
+        for (int i = 0; i < 3; ++i) hp_assert_close(p[i], pmm[i] * 1e-3, 0, 1e-16);
     }
     /* The normals: base mostly −Z, sides mostly ±X (left = +X). */
-    for (int k = 0; k < 4; ++k) assert_true(L.normal[k][2] < -0.8);
-    assert_true(L.normal[4][0] > 0.9 && L.normal[6][0] > 0.9);
-    assert_true(L.normal[5][0] < -0.9 && L.normal[7][0] < -0.9);
+    for (int k = 0; k < 4; ++k) assert_true(nrm[k][2] < -0.8);
+    assert_true(nrm[4][0] > 0.9 && nrm[6][0] > 0.9);
+    assert_true(nrm[5][0] < -0.9 && nrm[7][0] < -0.9);
+    /* hp_layout_contact refuses what has no contact. */
+    assert_int_equal(hp_layout_contact(&L, 8, NULL, NULL, NULL), HP_ERR_INVALID);
+    assert_int_equal(hp_layout_contact(&L, -1, NULL, NULL, NULL), HP_ERR_INVALID);
+    assert_int_equal(hp_layout_contact(NULL, 0, NULL, NULL, NULL), HP_ERR_NULL);
+    hp_layout in = L;
+    memset(in.bladders[3].center, 0, sizeof in.bladders[3].center);
+    assert_int_equal(hp_layout_contact(&in, 3, NULL, NULL, NULL), HP_ERR_INVALID);
     double c[3];
     const double off[3] = {0.01, 0.01, 0.01};
     assert_int_equal(hp_head_center_from_touch(&h, off, 0.03, 0.0, c, &d), HP_ERR_INVALID);
@@ -210,11 +219,120 @@ static void test_analysis_sphere(void **state)
     assert_int_equal(a.rank, 3);
 }
 
+/* Everything the layout calls answer for layout L, collected for a bit-for-bit comparison. */
+typedef struct kin_answers {
+    double rho[3][HP_MAX_BLADDERS], J[3][HP_MAX_BLADDERS * 6], H[3][HP_MAX_BLADDERS * 36];
+    double bound[2], fk[6], fk_resid, fit[6], xc[6];
+    double contact[HP_MAX_BLADDERS][3], normal[HP_MAX_BLADDERS][3], rho0[HP_MAX_BLADDERS];
+    hp_level autolevel;
+    hp_identifiable id;
+    hp_layout_analysis an;
+} kin_answers;
+
+static void answers_of(const hp_layout *L, kin_answers *a)
+{
+    memset(a, 0, sizeof *a);
+    const double xi[6] = {0.002, -0.001, 0.0015, 0.02, -0.015, 0.01};
+    for (int l = 0; l < 3; ++l)
+        assert_int_equal(hp_contact_eval(L, (hp_level)l, xi, a->rho[l], a->J[l], a->H[l]), HP_OK);
+    assert_int_equal(hp_contact_error_bound(L, HP_LEVEL_LINEAR, 0.005, 0.05, &a->bound[0]),
+                     HP_OK);
+    assert_int_equal(hp_contact_error_bound(L, HP_LEVEL_PLANE, 0.005, 0.05, &a->bound[1]),
+                     HP_OK);
+    assert_int_equal(hp_contact_auto(L, 1e-5, 0.005, 0.05, &a->autolevel), HP_OK);
+    /* Forward kinematics from the surface distances of xi; a fit in x, y, z alone. */
+    assert_int_equal(hp_contact_fk(L, HP_LEVEL_SURFACE, a->rho[2], NULL, a->fk, &a->fk_resid,
+                                   NULL), HP_OK);
+    const int free_[6] = {1, 1, 1, 0, 0, 0};
+    const double x0[6] = {0};
+    assert_int_equal(hp_contact_fit(L, HP_LEVEL_PLANE, a->rho[1], free_, x0, a->fit, NULL, NULL),
+                     HP_OK);
+    assert_int_equal(hp_layout_identify(L, &a->id), HP_OK);
+    assert_int_equal(hp_pose_commanded_part(L, &a->id, HP_LEVEL_SURFACE, xi, a->xc), HP_OK);
+    assert_int_equal(hp_layout_analyze(L, HP_LEVEL_PLANE, &a->an), HP_OK);
+    for (int k = 0; k < L->n; ++k)
+        assert_int_equal(hp_layout_contact(L, k, a->contact[k], a->normal[k], &a->rho0[k]),
+                         HP_OK);
+}
+
+/* The layout holds inputs only, so editing it after validation cannot leave stale derived
+ * data: every kinematics call answers for the edited layout exactly as for a freshly
+ * validated copy of it (bit for bit: the same derivation runs on the same numbers), and
+ * differently from the layout before the edit. Edits: a bladder centre moved 0.5 mm, the
+ * head moved 0.3 mm and one semi-axis grown 0.2 mm; and a sphere whose radius is changed
+ * after validation (its other two semi-axes, copied by validation, are then stale inputs
+ * that the geometry must not read). */
+static void test_edit_after_validation(void **state)
+{
+    (void)state;
+    hp_head h = default_head();
+    hp_layout L;
+    assert_int_equal(default_layout_on(&L, &h, 0.0), 0);
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    static kin_answers before, edited, fresh;
+    answers_of(&L, &before);
+
+    hp_layout E = L; /* validated, then edited in place */
+    E.bladders[2].center[0] += 0.0005;
+    E.head.center[2] += 0.0003;
+    E.head.semi_axes[1] += 0.0002;
+    answers_of(&E, &edited);
+    hp_layout F = E;
+    assert_int_equal(hp_layout_prepare(&F, NULL), HP_OK);
+    answers_of(&F, &fresh);
+    assert_memory_equal(&edited, &fresh, sizeof edited);
+    assert_true(edited.rho0[2] != before.rho0[2]);
+    assert_true(edited.rho[2][0] != before.rho[2][0]);
+    assert_true(edited.bound[1] != before.bound[1]);
+
+    /* A sphere: validation copies the radius to the other semi-axes; a new radius set
+     * afterwards leaves them stale in the input, which the geometry ignores. */
+    hp_head s = default_head();
+    s.shape = HP_HEAD_SPHERE;
+    s.semi_axes[0] = 0.09;
+    s.semi_axes[1] = s.semi_axes[2] = 0.0;
+    assert_int_equal(default_layout_on(&L, &s, 0.0), 0);
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    assert_true(L.head.semi_axes[1] == 0.09 && L.head.semi_axes[2] == 0.09);
+    E = L;
+    E.head.semi_axes[0] = 0.0895; /* semi_axes[1], [2] still 0.09 */
+    hp_identifiable ie, iff;
+    double rho_e[8], rho_f[8], J_e[48], J_f[48], b_e, b_f;
+    const double xi[6] = {0.001, 0.002, -0.001, 0, 0, 0};
+    assert_int_equal(hp_layout_identify(&E, &ie), HP_OK);
+    assert_int_equal(hp_contact_eval(&E, HP_LEVEL_PLANE, xi, rho_e, J_e, NULL), HP_OK);
+    assert_int_equal(hp_contact_error_bound(&E, HP_LEVEL_PLANE, 0.005, 0.0, &b_e), HP_OK);
+    F = E;
+    assert_int_equal(hp_layout_prepare(&F, NULL), HP_OK);
+    assert_true(F.head.semi_axes[1] == 0.0895);
+    assert_int_equal(hp_layout_identify(&F, &iff), HP_OK);
+    assert_int_equal(hp_contact_eval(&F, HP_LEVEL_PLANE, xi, rho_f, J_f, NULL), HP_OK);
+    assert_int_equal(hp_contact_error_bound(&F, HP_LEVEL_PLANE, 0.005, 0.0, &b_f), HP_OK);
+    assert_memory_equal(&ie, &iff, sizeof ie);
+    assert_memory_equal(rho_e, rho_f, sizeof rho_e);
+    assert_memory_equal(J_e, J_f, sizeof J_e);
+    assert_memory_equal(&b_e, &b_f, sizeof b_e);
+    assert_int_equal(ie.centre_only, 1);
+    assert_true(ie.trans_limit == 0.0895);
+
+    /* A layout whose geometry is broken by an edit is refused by every call (no stale
+     * answer), with NaN outputs from hp_contact_eval. */
+    E = L;
+    memset(E.bladders[5].center, 0, sizeof E.bladders[5].center); /* inside the head */
+    double r[8], Jb[48];
+    assert_int_equal(hp_contact_eval(&E, HP_LEVEL_LINEAR, xi, r, Jb, NULL), HP_ERR_INVALID);
+    for (int k = 0; k < 8; ++k) assert_true(isnan(r[k]) && isnan(Jb[6 * k]));
+    assert_int_equal(hp_layout_identify(&E, &ie), HP_ERR_INVALID);
+    assert_int_equal(hp_contact_error_bound(&E, HP_LEVEL_PLANE, 0.005, 0.0, &b_e),
+                     HP_ERR_INVALID);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_invalid_layouts),
         cmocka_unit_test(test_touch_and_preload),
+        cmocka_unit_test(test_edit_after_validation),
         cmocka_unit_test(test_analysis_default),
         cmocka_unit_test(test_analysis_sphere),
     };

@@ -48,8 +48,10 @@ static void test_law_hand_values(void **state)
     /* Move the head away along bladder 0's normal so that rho_0 = ro − delta exactly at
      * the linear level: rho = rho0 + J·xi with J_0 = −nᵀ for translation. */
     const hp_load_model *ML = &MOD[0];
-    double shift = ro - delta - ML->layout.rho0[0], xi[6] = {0};
-    for (int i = 0; i < 3; ++i) xi[i] = -shift * ML->layout.normal[0][i];
+    double n0[3], rho00;
+    assert_int_equal(hp_layout_contact(&ML->layout, 0, NULL, n0, &rho00), HP_OK);
+    double shift = ro - delta - rho00, xi[6] = {0};
+    for (int i = 0; i < 3; ++i) xi[i] = -shift * n0[i];
     double P[8] = {1e4, 0, 0, 0, 0, 0, 0, 0}, Q[6], F[8];
     assert_int_equal(hp_load_eval(ML, xi, P, Q, NULL, NULL, F, NULL), HP_OK);
     hp_assert_close(F[0], want, 1e-12, 0.0);
@@ -243,12 +245,13 @@ static void test_auto_choice(void **state)
     double k = 0.0;
     const double pi = 3.14159265358979323846;
     for (int j = 0; j < L.n; ++j) {
-        double ri, P;
-        assert_int_equal(hp_iab_ri(&L.bladders[j].iab, M.layout.rho0[j], &ri), HP_OK);
+        double ri, P, nj[3], rho0;
+        assert_int_equal(hp_layout_contact(&M.layout, j, NULL, nj, &rho0), HP_OK);
+        assert_int_equal(hp_iab_ri(&L.bladders[j].iab, rho0, &ri), HP_OK);
         assert_int_equal(hp_iab_ik(&L.bladders[j].iab, ri, &P), HP_OK);
         assert_true(P > 0);
-        double ug = M.layout.normal[j][2]; /* u·ĝ = (−n)·(−ez) */
-        k += 2.0 * pi * P * M.layout.rho0[j] * ug * ug;
+        double ug = nj[2]; /* u·ĝ = (−n)·(−ez) */
+        k += 2.0 * pi * P * rho0 * ug * ug;
     }
     hp_assert_close(kg, k, 1e-12, 0.0);
     hp_assert_close(sag, s.mass * HP_GRAVITY / k, 1e-12, 0.0);

@@ -84,15 +84,18 @@ static inline hp_error fx_layout(hp_layout *L)
     return hp_layout_prepare(L, NULL);
 }
 
-/* Fills pb for layout L at level, desired correction d (mm, deg), unit weights, mu = 0,
+/* Fills pb for layout L (with its contact geometry G, derived here) at level, desired correction d (mm, deg), unit weights, mu = 0,
  * previous pressures 0, and the radius bounds of the stretch and pressure limits:
  * ri_lo = max(0.8·Ri, FK(p_min)), ri_hi = min(1.3·Ri, FK(p_max)) (mm), ro bounds by the
  * volume law. */
-static inline hp_error fx_problem(const hp_layout *L, hp_level level, const double d[6],
-                                  hp_problem *pb)
+static inline hp_error fx_problem(const hp_layout *L, hp_geom *G, hp_level level,
+                                  const double d[6], hp_problem *pb)
 {
     memset(pb, 0, sizeof *pb);
+    hp_error eg = hp_geom_derive(L, G, NULL);
+    if (eg != HP_OK) return eg;
     pb->layout = L;
+    pb->geom = G;
     pb->level = level;
     pb->n = L->n;
     pb->nx = 6 + L->n;

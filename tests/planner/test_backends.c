@@ -105,7 +105,8 @@ static void reachable_exact(void **st)
     for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_SURFACE; lv += 2)
         for (int t = 0; t < 3; t++) {
             hp_problem pb;
-            assert_int_equal(fx_problem(&L, (hp_level)lv, reachable[t], &pb), HP_OK);
+            hp_geom G;
+            assert_int_equal(fx_problem(&L, &G, (hp_level)lv, reachable[t], &pb), HP_OK);
             /* Precondition: the direct chain is inside every limit (strictly, by 0.1 mm). */
             double xs[HP_PROBLEM_NX_MAX];
             assert_int_equal(hp_backend_default_start(&pb, xs), HP_OK);
@@ -147,7 +148,8 @@ static void unreachable_closest(void **st)
     (void)st;
     const double d[6] = {30.0, 0, 0, 0, 0, 0};
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, HP_LEVEL_SURFACE, d, &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, HP_LEVEL_SURFACE, d, &pb), HP_OK);
     hp_settings s;
     settings(&s, 1e-12);
     double x0[HP_PROBLEM_NX_MAX], xi[HP_PROBLEM_NX_MAX], xs[HP_PROBLEM_NX_MAX];
@@ -229,7 +231,8 @@ static void deterministic(void **st)
                                     &hp_backend_nlopt_cobyla_ops};
     const double d[6] = {12.0, -4.0, 3.0, 2.0, -2.0, 3.0}; /* partly unreachable */
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, HP_LEVEL_SURFACE, d, &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, HP_LEVEL_SURFACE, d, &pb), HP_OK);
     double x0[HP_PROBLEM_NX_MAX];
     nominal(&pb, x0);
     for (int b = 0; b < 3; b++) {
@@ -278,7 +281,8 @@ static void *run_job(void *arg)
     double d[6];
     target(jb->first, d);
     hp_problem pb;
-    if (fx_problem(&L, HP_LEVEL_SURFACE, d, &pb) != HP_OK) return jb->ok = 0, NULL;
+    hp_geom G;
+    if (fx_problem(&L, &G, HP_LEVEL_SURFACE, d, &pb) != HP_OK) return jb->ok = 0, NULL;
     void *state;
     if (hp_backend_ipopt_ops.create(&state, &pb, &s, NULL) != HP_OK) return jb->ok = 0, NULL;
     for (int i = 0; i < THREAD_SOLVES; i++) {
@@ -320,7 +324,8 @@ static void ipopt_iteration_limit_and_faults(void **st)
     (void)st;
     const double d[6] = {20.0, 5.0, -5.0, 3.0, 3.0, -3.0};
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, HP_LEVEL_SURFACE, d, &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, HP_LEVEL_SURFACE, d, &pb), HP_OK);
     double x0[HP_PROBLEM_NX_MAX], x[HP_PROBLEM_NX_MAX];
     nominal(&pb, x0);
     hp_settings s;
@@ -360,7 +365,8 @@ static void nlopt_iteration_limit(void **st)
     (void)st;
     const double d[6] = {20.0, 5.0, -5.0, 3.0, 3.0, -3.0};
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, HP_LEVEL_SURFACE, d, &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, HP_LEVEL_SURFACE, d, &pb), HP_OK);
     double x0[HP_PROBLEM_NX_MAX], x[HP_PROBLEM_NX_MAX];
     nominal(&pb, x0);
     hp_settings s;
@@ -383,7 +389,8 @@ static void ipopt_bounds_change(void **st)
     (void)st;
     const double d[6] = {1.5, 0.0, -1.0, 0.5, 0.0, 0.5};
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, HP_LEVEL_SURFACE, d, &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, HP_LEVEL_SURFACE, d, &pb), HP_OK);
     hp_settings s;
     settings(&s, 1e-12);
     double x0[HP_PROBLEM_NX_MAX], x1[HP_PROBLEM_NX_MAX], x2[HP_PROBLEM_NX_MAX];
@@ -416,7 +423,8 @@ static void ipopt_warm_start(void **st)
 {
     (void)st;
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, HP_LEVEL_SURFACE, reachable[0], &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, HP_LEVEL_SURFACE, reachable[0], &pb), HP_OK);
     hp_settings s;
     settings(&s, 1e-12);
     void *state;

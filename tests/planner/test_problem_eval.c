@@ -31,7 +31,8 @@ static void nominal_touches(void **st)
     (void)st;
     const double d[6] = {0};
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, HP_LEVEL_SURFACE, d, &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, HP_LEVEL_SURFACE, d, &pb), HP_OK);
     double x[HP_PROBLEM_NX_MAX] = {0}, c[HP_MAX_BLADDERS];
     for (int k = 0; k < pb.n; k++) x[6 + k] = FX_RI * 1e3;
     for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_SURFACE; lv++) {
@@ -50,7 +51,8 @@ static void values_and_linear_jacobian(void **st)
     (void)st;
     const double d[6] = {0};
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, HP_LEVEL_LINEAR, d, &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, HP_LEVEL_LINEAR, d, &pb), HP_OK);
     double x[HP_PROBLEM_NX_MAX], c[HP_MAX_BLADDERS], jac[HP_MAX_BLADDERS * HP_PROBLEM_NX_MAX];
     test_point(&pb, x);
     assert_int_equal(hp_problem_constraints(&pb, x, c, jac, NULL, NULL), HP_OK);
@@ -62,7 +64,7 @@ static void values_and_linear_jacobian(void **st)
         double ri = x[6 + k];
         double want = cbrt(30.0 * 30.0 * 30.0 + ri * ri * ri - 27.0 * 27.0 * 27.0) - 1e3 * rho[k];
         hp_assert_close(c[k], want, 0.0, 1e-12); /* 30 mm values: 1e-12 = ~100 ulp */
-        const double *p = L.contact[k], *nv = L.normal[k];
+        const double *p = G.contact[k], *nv = G.normal[k];
         double m[3] = {p[1] * nv[2] - p[2] * nv[1], p[2] * nv[0] - p[0] * nv[2],
                        p[0] * nv[1] - p[1] * nv[0]};
         for (int i = 0; i < 3; i++) {
@@ -89,7 +91,8 @@ static void check_derivatives(hp_level level, double mu)
 {
     const double d[6] = {0.5, -0.25, 1.0, 0.3, 0.2, -0.4};
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, level, d, &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, level, d, &pb), HP_OK);
     pb.mu = mu;
     for (int k = 0; k < pb.n; k++) pb.p_prev[k] = 500.0 * (k - 4);
     pb.w[3] = 2.5; /* not all weights equal */
@@ -164,7 +167,8 @@ static void constraints_hessian_adds(void **st)
     (void)st;
     const double d[6] = {0};
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, HP_LEVEL_PLANE, d, &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, HP_LEVEL_PLANE, d, &pb), HP_OK);
     double x[HP_PROBLEM_NX_MAX];
     test_point(&pb, x);
     const int nx = pb.nx;
@@ -186,7 +190,8 @@ static void rejects_bad_input(void **st)
     (void)st;
     const double d[6] = {0};
     hp_problem pb;
-    assert_int_equal(fx_problem(&L, HP_LEVEL_LINEAR, d, &pb), HP_OK);
+    hp_geom G;
+    assert_int_equal(fx_problem(&L, &G, HP_LEVEL_LINEAR, d, &pb), HP_OK);
     double x[HP_PROBLEM_NX_MAX], f, c[HP_MAX_BLADDERS];
     test_point(&pb, x);
     x[2] = NAN;

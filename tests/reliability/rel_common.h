@@ -44,8 +44,10 @@ static inline hp_error rel_layout(hp_layout *L, int kind)
     if (e != HP_OK || kind != REL_DEGENERATE) return e;
     const double ax[3] = {0.090, 0.09001, 0.09002};
     for (int k = 0; k < L->n; ++k) {
-        double u[3], p[3];
-        for (int i = 0; i < 3; ++i) u[i] = L->contact[k][i] / L->head.semi_axes[i];
+        double u[3], p[3], c[3];
+        e = hp_layout_contact(L, k, c, NULL, NULL);
+        if (e != HP_OK) return e;
+        for (int i = 0; i < 3; ++i) u[i] = c[i] / L->head.semi_axes[i];
         for (int i = 0; i < 3; ++i) p[i] = u[i] * ax[i];
         double r = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
         for (int i = 0; i < 3; ++i) p[i] /= r; /* back onto the unit sphere's image */
@@ -56,7 +58,6 @@ static inline hp_error rel_layout(hp_layout *L, int kind)
         if (e != HP_OK) return e;
     }
     for (int i = 0; i < 3; ++i) L->head.semi_axes[i] = ax[i];
-    L->prepared = 0;
     return hp_layout_prepare(L, NULL);
 }
 

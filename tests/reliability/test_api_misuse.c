@@ -78,7 +78,8 @@ static void m_dup(hp_layout *L) { memcpy(L->bladders[3].name, L->bladders[1].nam
 static void m_noname(hp_layout *L) { L->bladders[2].name[0] = '\0'; }
 static void m_nan_center(hp_layout *L) { L->bladders[4].center[1] = NAN; }
 static void m_inf_center(hp_layout *L) { L->bladders[5].center[0] = INFINITY; }
-static void m_stale_prepared(hp_layout *L) { L->bladders[4].center[2] = NAN; L->prepared = 1; }
+/* The fixture layout was validated; an edit after that must be seen by the next call. */
+static void m_edited_after_check(hp_layout *L) { L->bladders[4].center[2] = NAN; }
 static void m_center_inside(hp_layout *L) { for (int i = 0; i < 3; ++i) L->bladders[0].center[i] = 0; }
 static void m_nan_pmin(hp_layout *L) { L->bladders[6].p_min = NAN; }
 static void m_inverted_p(hp_layout *L) { L->bladders[6].p_min = 2e4; }
@@ -102,7 +103,7 @@ static const struct {
     {"empty name", m_noname, "name"},
     {"NaN centre", m_nan_center, "side_fore_left"},
     {"infinite centre", m_inf_center, "side_fore_right"},
-    {"stale prepared flag", m_stale_prepared, "side_fore_left"},
+    {"edited after validation", m_edited_after_check, "side_fore_left"},
     {"centre inside the head", m_center_inside, "base_neck_left"},
     {"NaN p_min", m_nan_pmin, "side_chin_left"},
     {"p_min > p_max", m_inverted_p, "side_chin_left"},

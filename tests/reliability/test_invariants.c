@@ -396,7 +396,6 @@ static void closest_names_binding(void **st)
         tight.bladders[k].stretch_min = 1.0 - 2e-4;
         tight.bladders[k].stretch_max = 1.0 + 2e-4;
     }
-    tight.prepared = 0;
     assert_int_equal(hp_layout_prepare(&tight, NULL), HP_OK);
     for (int bi = 0; bi < 4; ++bi) {
         long closest = 0, labelled = 0;
@@ -446,7 +445,6 @@ static void limits_not_representable(void **st)
         L.bladders[k].stretch_min = k % 2 ? 0.953 : 0.944;
         L.bladders[k].stretch_max = 1.0999;
     }
-    L.prepared = 0;
     assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
     campaign_on(&L, REL_INV_PRESSURE | REL_INV_STRETCH | REL_INV_FINITE, NULL,
                 "limits_not_representable");

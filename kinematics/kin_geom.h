@@ -1,0 +1,48 @@
+/* Internal: the contact geometry a layout implies at the nominal pose, and the kinematics
+ * calls that take it ready-made. Not installed.
+ *
+ * The public hp_layout holds inputs only. Whatever is derived from it (each bladder's
+ * nominal contact point, normal and distance) lives here, owned by whoever holds a private
+ * copy of the layout (the planner, horizon planners, calibration) and derived once when
+ * that copy is made, so a hot loop does not pay the derivation per call. The public
+ * kinematics calls that take a layout derive an hp_geom on their own stack on every call
+ * and then call the _g variant below: a layout edited by its caller can never be answered
+ * with geometry from before the edit. */
+#ifndef HP_KIN_GEOM_H
+#define HP_KIN_GEOM_H
+
+#include "headplan/hp_kinematics.h"
+
+typedef struct hp_geom {
+    hp_head head;                        /* the layout's head; a sphere's three semi-axes
+                                            all equal to its radius semi_axes[0] */
+    double contact[HP_MAX_BLADDERS][3];  /* nominal contact point on the head surface [m] */
+    double normal[HP_MAX_BLADDERS][3];   /* outward unit head normal there */
+    double rho0[HP_MAX_BLADDERS];        /* nominal contact distance |c − p| [m] */
+} hp_geom;
+
+/* Derives G from L. Checks only what the geometry needs: a valid head, a finite pivot,
+ * n in 1..HP_MAX_BLADDERS, every centre finite and outside the head. HP_ERR_NULL or
+ * HP_ERR_INVALID (message in diag, may be NULL) otherwise. Allocates nothing. */
+hp_error hp_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag);
+
+/* The public calls of the same name without the _g, for a geometry G derived from L
+ * (hp_geom_derive or hp_layout_prepare's checks, then hp_geom_derive) and not changed
+ * since. Same contracts otherwise. */
+hp_error hp_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
+                           const double xi[6], double *rho, double *J, double *H);
+hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
+                                  double trans, double rot, double *bound);
+hp_error hp_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,
+                           double rot, hp_level *level);
+hp_error hp_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
+                          const double *target, const int free_[6], const double x0[6],
+                          double xi[6], double *residual, int *iters);
+hp_error hp_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,
+                         const double *xi0, double xi[6], double *residual, int *iters);
+hp_error hp_layout_identify_g(const hp_layout *L, const hp_geom *G, hp_identifiable *out);
+hp_error hp_pose_commanded_part_g(const hp_layout *L, const hp_geom *G,
+                                  const hp_identifiable *id, hp_level level, const double xd[6],
+                                  double xc[6]);
+
+#endif
