@@ -110,8 +110,8 @@ static hp_error gravity_q(const hp_load_model *M, const double xi[6], double Q[6
 static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
                                       const double *lo, const double *hi,
                                       const double *target, const double *start, int max_iter,
-                                      int use_ipopt, double *P, double *F, int *iterations,
-                                      int *raw)
+                                      int use_ipopt, int stiffness, double *P, double *F,
+                                      int *iterations, int *raw)
 {
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
@@ -180,7 +180,10 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
     int it = 0;
     double Fk[HP_MAX_BLADDERS], F1[HP_MAX_BLADDERS], F2[HP_MAX_BLADDERS], c[6];
     if (use_ipopt) { /* 1: Ipopt, 2: NLopt SLSQP */
-        hp_load_hold_nlp nlp = {M, n, rho, A, b, L, U, target};
+        hp_load_stiff S;
+        if (stiffness && hp_load_stiff_init(&S, M, xi, target) != HP_OK)
+            return HP_LOAD_SOLVE_ERROR;
+        hp_load_hold_nlp nlp = {M, n, rho, A, b, L, U, target, stiffness ? &S : NULL};
         hp_load_solve_status st = use_ipopt == 1 ? hp_load_hold_ipopt(&nlp, p, max_iter, &it, raw)
                                                  : hp_load_hold_nlopt(&nlp, p, max_iter, &it, raw);
         if (st != HP_LOAD_SOLVE_OK) return st;
@@ -286,16 +289,17 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
                                   const double *start, int max_iter, double *P, double *F,
                                   int *iterations)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, 0, P, F, iterations, NULL);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 0, 0, P, F, iterations, NULL);
 }
 
 hp_load_solve_status hp_load_hold_on_ipopt(const hp_load_model *M, const double xi[6],
                                            const double *lo, const double *hi,
                                            const double *target, const double *start,
-                                           int max_iter, double *P, double *F,
+                                           int max_iter, int stiffness, double *P, double *F,
                                            int *iterations, int *raw)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, 1, P, F, iterations, raw);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 1, stiffness, P, F, iterations,
+                     raw);
 }
 
 hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double xi[6],
@@ -304,7 +308,7 @@ hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double 
                                            int max_iter, double *P, double *F,
                                            int *iterations, int *raw)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, 2, P, F, iterations, raw);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 2, 0, P, F, iterations, raw);
 }
 
 hp_error hp_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
