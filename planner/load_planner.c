@@ -202,27 +202,41 @@ static double pose_err(const double xi[6], const double desired[6], const double
     return e;
 }
 
+/* Is the pose `depth` metres below desired (along gravity) held inside this plan's bounds?
+ * Feasibility only: HOLD's exact phase 1 (max_iter 0 skips the tie-breaker), checked by
+ * the equilibrium. x gets the pose, Pt the pressures. */
+static int held_at(const hp_load_planner *p, const double desired[6], double depth,
+                   const double *target, double x[6], double *Pt)
+{
+    const hp_load_model *M = &p->M;
+    double g = 0.0, F[HP_MAX_BLADDERS];
+    for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];
+    g = sqrt(g);
+    memcpy(x, desired, 6 * sizeof *x);
+    for (int a = 0; a < 3; ++a) x[a] += depth * M->spec.gravity[a] / g;
+    return hp_load_hold(M, x, p->elo, p->ehi, target, NULL, 0, Pt, F, NULL) ==
+               HP_LOAD_SOLVE_OK && holds(M, x, Pt);
+}
+
 /* The held pose nearest to the desired one along gravity: the head sinks (translation along
  * ĝ) until some pressures inside the limits hold it, found by doubling the depth from
  * 1/16 mm to 64 mm and bisecting the boundary to 1e-9 mm. This is where a head too heavy
  * for the limits comes to rest, and the start of the 6-D refinement. Returns 1 with the
- * pose and its HOLD pressures, 0 when no depth up to 64 mm is held. */
+ * pose and its pressures (feasible, not tie-broken: the caller's HOLD at the final pose
+ * does that), 0 when no depth up to 64 mm is held. At most 11 + 36 feasibility checks,
+ * each one HOLD phase 1 (one contact evaluation and one bounded QP), most of them
+ * unreachable depths that the row-interval test of HOLD rejects without a QP. */
 static int sink(const hp_load_planner *p, const double desired[6], const double *target,
                 double xs[6], double *Ps)
 {
-    const hp_load_model *M = &p->M;
-    double g = 0.0, F[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], x[6];
-    for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];
-    g = sqrt(g);
+    const int n = p->M.layout.n;
+    double Pt[HP_MAX_BLADDERS], x[6];
     double lo = 0.0, hi = -1.0;
     for (double depth = 6.25e-5; depth <= 0.0641; depth *= 2.0) {
-        memcpy(x, desired, sizeof x);
-        for (int a = 0; a < 3; ++a) x[a] += depth * M->spec.gravity[a] / g;
-        if (hp_load_hold(M, x, p->elo, p->ehi, target, NULL, p->set.max_iter, Pt, F, NULL) ==
-                HP_LOAD_SOLVE_OK && holds(M, x, Pt)) {
+        if (held_at(p, desired, depth, target, x, Pt)) {
             hi = depth;
             memcpy(xs, x, sizeof x);
-            memcpy(Ps, Pt, (size_t)M->layout.n * sizeof *Ps);
+            memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
             break;
         }
         lo = depth;
@@ -230,13 +244,10 @@ static int sink(const hp_load_planner *p, const double desired[6], const double 
     if (hi < 0) return 0;
     while (hi - lo > 1e-12) {
         double mid = 0.5 * (lo + hi);
-        memcpy(x, desired, sizeof x);
-        for (int a = 0; a < 3; ++a) x[a] += mid * M->spec.gravity[a] / g;
-        if (hp_load_hold(M, x, p->elo, p->ehi, target, NULL, p->set.max_iter, Pt, F, NULL) ==
-                HP_LOAD_SOLVE_OK && holds(M, x, Pt)) {
+        if (held_at(p, desired, mid, target, x, Pt)) {
             hi = mid;
             memcpy(xs, x, sizeof x);
-            memcpy(Ps, Pt, (size_t)M->layout.n * sizeof *Ps);
+            memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
         } else {
             lo = mid;
         }

@@ -99,14 +99,6 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
     return HP_OK;
 }
 
-/* Gravity's generalized force at xi (every bladder at zero pressure carries nothing). */
-static hp_error gravity_q(const hp_load_model *M, const double xi[6], double Q[6])
-{
-    double P[HP_MAX_BLADDERS] = {0}, ro[HP_MAX_BLADDERS];
-    for (int k = 0; k < M->layout.n; ++k) ro[k] = M->layout.bladders[k].iab.Ro;
-    return hp_load_eval_radii(M, xi, P, ro, NULL, 0, Q, NULL, NULL, NULL, NULL);
-}
-
 static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
                                       const double *lo, const double *hi,
                                       const double *target, const double *start, int max_iter,
@@ -115,9 +107,9 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
 {
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
-    if (hp_contact_eval(&M->layout, M->level, xi, rho, J, NULL) != HP_OK ||
-        gravity_q(M, xi, Qg) != HP_OK)
+    if (hp_contact_eval(&M->layout, M->level, xi, rho, J, NULL) != HP_OK)
         return HP_LOAD_SOLVE_ERROR;
+    hp_load_gravity(M, xi, Qg, NULL, NULL);
     double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS],
         Fhi[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
     for (int k = 0; k < n; ++k) {
@@ -139,6 +131,19 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
     for (int r = 0; r < 6; ++r) fscale = fmax(fscale, fabs(b[r]));
     const double tol = 1e-13 * fmax(1.0, fscale);
 
+    /* A row no force box can meet (sum_k A[r][k]·F_k ranges over an interval as F moves in
+     * its box) proves the pose unreachable at once: a necessary condition, exact, and cheap
+     * where phase 1's QP must run out its multiplier updates to show infeasibility (the
+     * sinking search asks this ~20 times per unreachable pose). */
+    for (int r = 0; r < 6; ++r) {
+        double rlo = 0.0, rhi = 0.0;
+        for (int k = 0; k < n; ++k) {
+            double a = A[r * n + k] * Flo[k], c = A[r * n + k] * Fhi[k];
+            rlo += fmin(a, c);
+            rhi += fmax(a, c);
+        }
+        if (b[r] < rlo - tol || b[r] > rhi + tol) return HP_LOAD_SOLVE_UNREACHABLE;
+    }
     /* Phase 1, in the forces: the point of {A·F = b, Flo <= F <= Fhi} nearest to the
      * forces of the starting pressures (each force scaled by its range). The constraints are
      * linear, so this decides reachability exactly. */

@@ -28,13 +28,10 @@ hp_error hp_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const doub
 {
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
-    double P0[HP_MAX_BLADDERS] = {0}, ro[HP_MAX_BLADDERS], Q[6], dQ[36];
+    double Q[6], dQ[36];
     hp_error err = hp_contact_eval(&M->layout, M->level, xi, rho, J, H);
     if (err) return err;
-    /* Gravity's share: every bladder at zero pressure contributes nothing. */
-    for (int k = 0; k < n; ++k) ro[k] = M->layout.bladders[k].iab.Ro;
-    err = hp_load_eval_radii(M, xi, P0, ro, NULL, 0, Q, dQ, NULL, NULL, NULL);
-    if (err) return err;
+    hp_load_gravity(M, xi, Q, dQ, NULL);
     memset(S, 0, sizeof *S);
     S->M = M;
     S->n = n;
