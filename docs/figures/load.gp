@@ -2,10 +2,10 @@
 # Redraw: gnuplot load.gp
 ceiling = 1000
 $d << EOD
-0 load_heavy 23.243 34200.7 118128 52037.5 1000 1
-1 load_prone 49.893 nan nan nan 1000 1
-2 load_supine 51.727 156.633 22943.6 278.96 1000 1
-3 load_tilted 53.3795 173.544 19371.2 169.456 1000 1
+0 load_heavy 21.601 9672.99 37966.6 9257.39 1000 1
+1 load_prone 39.434 nan nan nan 1000 1
+2 load_supine 48.3 125.544 12329.6 235.45 1000 1
+3 load_tilted 48.651 151.027 14286.4 150.686 1000 1
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
