@@ -67,7 +67,11 @@ static double touch_pressure(const hp_load_model *M, int k, double rho)
     return P;
 }
 
-/* The pressure in [lo, hi] whose force is F (F increasing in P there): safeguarded Newton. */
+/* The pressure in [lo, hi] whose force against rho is F (F increasing in P there). Solved in
+ * the inner radius ri, where the pressure (the bladder model's IK) and the outer radius (the
+ * volume law) are closed forms: only the bracket's two ends need the bladder's forward
+ * kinematics, not every Newton step (it was half of an unreachable plan's time).
+ * Safeguarded Newton with bisection, to two ulps of ri. */
 static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, double lo,
                                   double hi, double Fhi, double F, double *P)
 {
@@ -79,23 +83,32 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
         *P = hi;
         return HP_OK;
     }
-    double a = lo, c = hi, x = lo + (hi - lo) * (F / Fhi);
+    const hp_iab *b = &M->layout.bladders[k].iab;
+    double a, c;
+    hp_error err = hp_iab_fk_limit(b, &M->limit[k], lo, &a);
+    if (!err) err = hp_iab_fk_limit(b, &M->limit[k], hi, &c);
+    if (err) return err;
+    double x = a + (c - a) * (F / Fhi), Px = lo;
     for (int it = 0; it < 200; ++it) {
-        bstate s;
-        hp_error err = bladder_state(M, k, x, rho, &s);
+        double Pr, ro;
+        err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL);
+        if (!err) err = hp_iab_ro(b, x, &ro);
         if (err) return err;
-        double r = s.F - F;
+        double area = PI * (ro - rho) * (ro + rho);
+        double r = Px * area - F;
         if (r > 0) c = x; else a = x;
         if (r == 0.0) break;
-        double xn = s.FP > 0 ? x - r / s.FP : 0.5 * (a + c);
+        double dF = Pr * area + Px * 2.0 * PI * ro * (x * x) / (ro * ro); /* dro/dri = ri²/ro² */
+        double xn = dF > 0 ? x - r / dF : 0.5 * (a + c);
         if (!(xn > a && xn < c)) xn = 0.5 * (a + c);
-        if (fabs(xn - x) <= 4e-16 * fmax(1.0, fabs(x)) || c - a <= 4e-16 * fmax(1.0, fabs(x))) {
-            x = xn;
+        int done = fabs(xn - x) <= 4e-16 * x || c - a <= 4e-16 * x;
+        x = xn;
+        if (done) {
+            if ((err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL))) return err;
             break;
         }
-        x = xn;
     }
-    *P = x;
+    *P = fmin(fmax(Px, lo), hi);
     return HP_OK;
 }
 
