@@ -63,7 +63,7 @@ static void help(void)
            "stability.png/.svg (success rate, iterations, violations versus correction size);\n"
            "the levels family writes DIR/levels.csv (what each contact level costs and errs);\n"
            "the load family writes DIR/load.csv (the load level's cost on each backend and\n"
-           "the sag a kinematic plan leaves on the load scenes).\n\n"
+           "the sag a kinematic plan leaves on the load scenes) and the chart load.png/.svg.\n\n"
            "  --out DIR      output folder, created if missing (default %s)\n"
            "  --quick        a test run: few timing samples; the IK's accuracy is still measured\n"
            "                 on every input, the planner's on 4 targets per group (not 40)\n"

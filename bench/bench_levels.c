@@ -95,17 +95,13 @@ static int scene_targets(const hp_scene *sc, int quick, double (*t)[6])
     return n;
 }
 
-static int cmp_str(const void *a, const void *b)
-{
-    return strcmp(*(char *const *)a, *(char *const *)b);
-}
-
 static const hp_level levels[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
 
 /* One scene: fills row. Returns 0, 1 when the scene is skipped, or an exit status. */
 static int run_scene(const bench_options *o, const char *path, const char *stem,
-                     level_row *row)
+                     void *vrow)
 {
+    level_row *row = vrow;
     static hp_scene sc;
     hp_diag d;
     if (hp_scene_load(path, &sc, &d) != HP_OK) {
@@ -178,63 +174,31 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     return 0;
 }
 
-typedef struct {
-    const level_row *rows;
-    int n;
-} level_table;
-
-static int csv_writer(const void *arg, FILE *f)
+static void csv_row(const void *arg, int i, FILE *f)
 {
-    const level_table *lt = arg;
-    fprintf(f, "scene,backend,targets,trans_mm,rot_deg,tolerance_mm,auto_level,level,is_auto,"
-               "bound_mm,bound_meets_tolerance,median_ns,p99_ns,max_error,failures,"
-               "time_ratio_to_auto\n");
-    for (int i = 0; i < lt->n; ++i) {
-        const level_row *r = &lt->rows[i];
-        double tauto = r->lv[r->auto_level].median_ns;
-        for (int l = 0; l < 3; ++l)
-            fprintf(f, "%s,%s,%d,%.6g,%.6g,%g,%s,%s,%d,%.6e,%d,%.1f,%.1f,%.6e,%ld,%.4g\n",
-                    r->scene, r->backend, r->targets, r->trans_mm, r->rot_deg, r->tol_mm,
-                    hp_level_name(r->auto_level), hp_level_name(levels[l]),
-                    levels[l] == r->auto_level, r->lv[l].bound_mm,
-                    r->lv[l].bound_mm <= r->tol_mm, r->lv[l].median_ns, r->lv[l].p99_ns,
-                    r->lv[l].max_error, r->lv[l].failures, r->lv[l].median_ns / tauto);
-    }
-    return ferror(f) ? -1 : 0;
+    const level_row *r = (const level_row *)arg + i;
+    double tauto = r->lv[r->auto_level].median_ns;
+    for (int l = 0; l < 3; ++l)
+        fprintf(f, "%s,%s,%d,%.6g,%.6g,%g,%s,%s,%d,%.6e,%d,%.1f,%.1f,%.6e,%ld,%.4g\n",
+                r->scene, r->backend, r->targets, r->trans_mm, r->rot_deg, r->tol_mm,
+                hp_level_name(r->auto_level), hp_level_name(levels[l]),
+                levels[l] == r->auto_level, r->lv[l].bound_mm,
+                r->lv[l].bound_mm <= r->tol_mm, r->lv[l].median_ns, r->lv[l].p99_ns,
+                r->lv[l].max_error, r->lv[l].failures, r->lv[l].median_ns / tauto);
 }
 
 int bench_levels(const bench_options *o, const char *dir)
 {
-    DIR *dp = opendir(o->scenarios);
-    if (!dp) {
-        cli_fail(0, "bench", "--scenarios: cannot open folder '%s'", o->scenarios);
-        return CLI_EXIT_NOINPUT;
-    }
-    char *names[MAX_SCENES];
-    int nn = 0;
-    struct dirent *de;
-    while ((de = readdir(dp)) && nn < MAX_SCENES) {
-        size_t len = strlen(de->d_name);
-        if (len > 5 && strcmp(de->d_name + len - 5, ".yaml") == 0 &&
-            (names[nn] = strdup(de->d_name)) != NULL)
-            ++nn;
-    }
-    closedir(dp);
-    qsort(names, (size_t)nn, sizeof *names, cmp_str);
     static level_row rows[MAX_SCENES];
-    int nr = 0, rc = 0;
-    for (int i = 0; i < nn && rc == 0; ++i) {
-        char path[4096], stem[64];
-        snprintf(path, sizeof path, "%s/%s", o->scenarios, names[i]);
-        snprintf(stem, sizeof stem, "%.*s", (int)(strlen(names[i]) - 5), names[i]);
-        int r = names[i] ? run_scene(o, path, stem, &rows[nr]) : CLI_EXIT_SOFTWARE;
-        if (r == 0) ++nr;
-        else if (r != 1) rc = r;
-    }
-    for (int i = 0; i < nn; ++i) free(names[i]);
+    int nr = 0;
+    int rc = bench_each_scene(o, run_scene, rows, sizeof *rows, MAX_SCENES, &nr);
     if (rc) return rc;
-    level_table lt = {rows, nr};
-    if ((rc = bench_save(dir, "levels.csv", csv_writer, &lt)) != 0) return rc;
+    if ((rc = bench_save_csv(dir, "levels.csv",
+                             "scene,backend,targets,trans_mm,rot_deg,tolerance_mm,auto_level,"
+                             "level,is_auto,bound_mm,bound_meets_tolerance,median_ns,p99_ns,"
+                             "max_error,failures,time_ratio_to_auto",
+                             csv_row, rows, nr)) != 0)
+        return rc;
     printf("%-16s %-8s %7s %8s %7s %-8s %-8s %10s %12s %12s %8s\n", "scene", "backend",
            "targets", "size_mm", "size_deg", "auto", "level", "bound_mm", "median_ns",
            "max_error", "failures");

@@ -1,10 +1,15 @@
+#define _DEFAULT_SOURCE
 #include "cli/cli_args.h"
 /* headplan-bench: shared helpers (see bench_util.h). */
 #include "bench/bench_util.h"
+#include "bench/bench_report.h"
 #include "cli/exit_codes.h"
 
+#include <dirent.h>
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 int bench_load_layout(const char *path, hp_scene *scene)
 {
@@ -165,4 +170,69 @@ void bench_plan_batch(void *vctx, long first, long count)
             c->sink += r.bladders[0].pressure;
         if (++pos == c->n) pos = 0;
     }
+}
+
+static int cmp_names(const void *a, const void *b)
+{
+    return strcmp(*(char *const *)a, *(char *const *)b);
+}
+
+#define BENCH_MAX_SCENE_FILES 64
+
+int bench_each_scene(const bench_options *o, bench_scene_fn run, void *rows, size_t row_size,
+                     int max_rows, int *nrows)
+{
+    *nrows = 0;
+    DIR *dp = opendir(o->scenarios);
+    if (!dp) {
+        cli_fail(0, "bench", "--scenarios: cannot open folder '%s'", o->scenarios);
+        return CLI_EXIT_NOINPUT;
+    }
+    char *names[BENCH_MAX_SCENE_FILES];
+    int nn = 0, rc = 0;
+    struct dirent *de;
+    while ((de = readdir(dp)) && nn < BENCH_MAX_SCENE_FILES) {
+        size_t len = strlen(de->d_name);
+        if (len > 5 && strcmp(de->d_name + len - 5, ".yaml") == 0) {
+            if (!(names[nn] = strdup(de->d_name))) {
+                rc = CLI_EXIT_SOFTWARE;
+                break;
+            }
+            ++nn;
+        }
+    }
+    closedir(dp);
+    qsort(names, (size_t)nn, sizeof *names, cmp_names);
+    for (int i = 0; i < nn && rc == 0 && *nrows < max_rows; ++i) {
+        char path[4096], stem[64];
+        snprintf(path, sizeof path, "%s/%s", o->scenarios, names[i]);
+        snprintf(stem, sizeof stem, "%.*s", (int)(strlen(names[i]) - 5), names[i]);
+        int r = run(o, path, stem, (char *)rows + (size_t)*nrows * row_size);
+        if (r == 0) ++*nrows;
+        else if (r != 1) rc = r;
+    }
+    for (int i = 0; i < nn; ++i) free(names[i]);
+    return rc;
+}
+
+typedef struct csv_job {
+    const char *header;
+    bench_csv_row_fn row;
+    const void *arg;
+    int n;
+} csv_job;
+
+static int csv_job_write(const void *arg, FILE *f)
+{
+    const csv_job *j = arg;
+    fprintf(f, "%s\n", j->header);
+    for (int i = 0; i < j->n; ++i) j->row(j->arg, i, f);
+    return ferror(f) ? -1 : 0;
+}
+
+int bench_save_csv(const char *dir, const char *name, const char *header, bench_csv_row_fn row,
+                   const void *arg, int n)
+{
+    csv_job j = {header, row, arg, n};
+    return bench_save(dir, name, csv_job_write, &j);
 }

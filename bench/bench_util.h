@@ -4,11 +4,14 @@
 #ifndef BENCH_LAB_UTIL_H
 #define BENCH_LAB_UTIL_H
 
+#include "bench/bench.h"
 #include "headplan/hp_planner.h"
 #include "common/units.h"
 #include "headplan/hp_scene.h"
 
+#include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #define BENCH_PI HP_PI
 
@@ -60,6 +63,24 @@ typedef struct bench_plan_ctx {
     double sink; /* keeps the compiler from dropping the plans */
 } bench_plan_ctx;
 void bench_plan_batch(void *ctx, long first, long count);
+
+/* One scene of a catalogue walk: fills row from the scene at path (stem: its file name
+ * without .yaml). Returns 0 (row kept), 1 (scene skipped) or an exit status. */
+typedef int (*bench_scene_fn)(const bench_options *o, const char *path, const char *stem,
+                              void *row);
+
+/* The catalogue walk shared by the levels and load families: run on every .yaml file of
+ * o->scenarios in name order (at most 64 files), rows of row_size bytes filled in that
+ * order, at most max_rows kept; *nrows gets how many. Returns 0, the first exit status run
+ * returned, or CLI_EXIT_NOINPUT after one line on stderr when the folder cannot be read. */
+int bench_each_scene(const bench_options *o, bench_scene_fn run, void *rows, size_t row_size,
+                     int max_rows, int *nrows);
+
+/* Writes DIR/NAME (bench_save) as the CSV header line then row(arg, i, f) for i < n; the
+ * writer every catalogue family shares. Returns bench_save's status. */
+typedef void (*bench_csv_row_fn)(const void *arg, int i, FILE *f);
+int bench_save_csv(const char *dir, const char *name, const char *header, bench_csv_row_fn row,
+                   const void *arg, int n);
 
 /* xorshift64* in [0, 1); the same seed gives the same numbers on every machine. */
 double bench_urand(uint64_t *s);

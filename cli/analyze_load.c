@@ -42,6 +42,8 @@ static int compute(const hp_scene *sc, load_report *rep)
     hp_settings s;
     hp_settings_default(&s);
     s.level = geom;
+    /* The stiffness tie-breaker is solved on Ipopt only (hp_load_planner_create). */
+    if (sc->has_load && sc->load_tiebreak == HP_TIE_STIFFNESS) s.backend = HP_BACKEND_IPOPT;
     hp_load_planner *p = NULL;
     if (hp_load_planner_create(&sc->layout, &rep->spec, &s,
                                (hp_load_tiebreak)(sc->has_load ? sc->load_tiebreak : 0), &p,

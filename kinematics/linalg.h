@@ -25,6 +25,11 @@ int hp_kin_svd6(int m, const double *A, double sv[6], double V[36]);
  * min(m, n)), V n×n row-major. Allocates (for offline use: calibration). 0 on success. */
 int hp_kin_svd(int m, int n, const double *A, double *sv, double *V);
 
+/* Eigen-decomposition of a symmetric 6×6 A (row-major; only its lower triangle is read):
+ * lam[0..5] ascending, V 6×6 row-major whose column j is the unit eigenvector of lam[j].
+ * Returns 0 on success, -1 on a non-finite result. Allocates nothing. */
+int hp_kin_symeig6(const double *A, double lam[6], double V[36]);
+
 #ifdef __cplusplus
 }
 #endif

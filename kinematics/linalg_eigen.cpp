@@ -51,3 +51,18 @@ extern "C" int hp_kin_svd6(int m, const double *A, double sv[6], double V[36])
         if (!std::isfinite(sv[j])) return -1;
     return 0;
 }
+
+extern "C" int hp_kin_symeig6(const double *A, double lam[6], double V[36])
+{
+    Eigen::Matrix<double, 6, 6> M;
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j <= i; ++j) M(i, j) = M(j, i) = A[i * 6 + j];
+    Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, 6, 6>> es(M);
+    if (es.info() != Eigen::Success) return -1;
+    for (int j = 0; j < 6; ++j) {
+        lam[j] = es.eigenvalues()(j);
+        if (!std::isfinite(lam[j])) return -1;
+        for (int i = 0; i < 6; ++i) V[i * 6 + j] = es.eigenvectors()(i, j);
+    }
+    return 0;
+}

@@ -113,9 +113,8 @@ void hp_load_law(double P, double ro, double dro, double rho, int right, hp_load
     f->E = on ? P * PI * d * d * (ro - d / 3.0) : 0.0; /* P times the cap's volume */
 }
 
-/* Gravity's generalized force m·(dx_com/dxi)ᵀ·g, its Jacobian and the potential. */
-static void gravity_terms(const hp_load_model *M, const double xi[6], double Q[6],
-                          double *dQ, double *energy)
+void hp_load_gravity(const hp_load_model *M, const double xi[6], double Q[6], double *dQ,
+                     double *energy)
 {
     const hp_layout *L = &M->layout;
     double R[9], dR[3][9], d2R[3][3][9], v[3], mg[3];
@@ -169,7 +168,7 @@ hp_error hp_load_eval_radii(const hp_load_model *M, const double xi[6], const do
     hp_error err = hp_contact_eval(L, M->level, xi, rho, J, dQ_dxi ? H : NULL);
     if (err) return err;
     double e = 0.0;
-    gravity_terms(M, xi, Q, dQ_dxi, energy ? &e : NULL);
+    hp_load_gravity(M, xi, Q, dQ_dxi, energy ? &e : NULL);
     for (int k = 0; k < n; ++k) {
         hp_load_force f;
         hp_load_law(P[k], ro[k], dro ? dro[k] : 0.0, rho[k], right, &f);

@@ -19,6 +19,12 @@ typedef struct hp_load_force {
  * just touches (delta = 0 or P = 0), the one-sided derivative a planner needs. */
 void hp_load_law(double P, double ro, double dro, double rho, int right, hp_load_force *f);
 
+/* Gravity's generalized force m·(dx_com/dxi)ᵀ·g at xi, its Jacobian dQ (36, row-major; may
+ * be NULL) and its potential (may be NULL): Q of a head that no bladder touches, without
+ * the contact geometry's cost. */
+void hp_load_gravity(const hp_load_model *M, const double xi[6], double Q[6], double *dQ,
+                     double *energy);
+
 /* Outer radii (and dro/dP when dro is not NULL) of every bladder at pressures P. */
 hp_error hp_load_radii(const hp_load_model *M, const double *P, double *ro, double *dro);
 

@@ -3,9 +3,11 @@
  * of the bladders that can carry (L_k < U_k); constraints the six equilibrium rows, which
  * are separable in the pressures, so the Lagrangian's Hessian is diagonal:
  *     d²L/dP_k² = obj_factor + sum_r lambda_r·A[r][k]·F_k''(P_k).
- * Every Ipopt call runs under the process-wide Ipopt lock that backend_ipopt.c owns (Debian's
- * Ipopt/MUMPS is not thread-safe); `sb yes`, print_level 0 and option_file_name "" keep
- * the library silent; bound_relax_factor 0 keeps every trial pressure inside its limits. */
+ * The minimum-holding-stiffness objective (load_stiffness.c) couples the pressures through
+ * the eigen-decomposition of K, so with it the Hessian is the dense lower triangle.
+ * Every Ipopt call runs under the process-wide Ipopt lock and with the library's shared
+ * option set (planner/ipopt_shared.h: silent, bounds never relaxed, so every trial pressure
+ * stays inside its limits). */
 #include "planner/ipopt_shared.h"
 #include "planner/load_solve.h"
 
@@ -40,6 +42,13 @@ static Bool eval_f(Index n, Number *x, Bool new_x, Number *obj, UserDataPtr p)
 {
     (void)new_x;
     ud *u = p;
+    if (u->nlp->stiff) {
+        if (hp_load_stiff_eval(u->nlp->stiff, n, u->idx, x, obj, NULL, NULL, NULL) != 0) {
+            u->failed = 1;
+            return FALSE;
+        }
+        return TRUE;
+    }
     double v = 0.0;
     for (int j = 0; j < n; ++j) {
         double e = x[j] - u->nlp->target[u->idx[j]] * 1e-3;
@@ -53,6 +62,13 @@ static Bool eval_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr p
 {
     (void)new_x;
     ud *u = p;
+    if (u->nlp->stiff) {
+        if (hp_load_stiff_eval(u->nlp->stiff, n, u->idx, x, NULL, g, NULL, NULL) != 0) {
+            u->failed = 1;
+            return FALSE;
+        }
+        return TRUE;
+    }
     for (int j = 0; j < n; ++j) g[j] = x[j] - u->nlp->target[u->idx[j]] * 1e-3;
     return TRUE;
 }
@@ -103,28 +119,43 @@ static Bool eval_h(Index n, Number *x, Bool new_x, Number obj_factor, Index m, N
     (void)nele;
     ud *u = p;
     const hp_load_hold_nlp *q = u->nlp;
+    /* Distance: the diagonal (entry j at j). Stiffness: the lower triangle row by row
+     * (entry of (j, l), l <= j, at j(j+1)/2 + l). */
     if (!values) {
-        for (int j = 0; j < n; ++j) iRow[j] = jCol[j] = j;
+        for (int j = 0, e = 0; j < n; ++j)
+            for (int l = q->stiff ? 0 : j; l <= j; ++l, ++e) {
+                iRow[e] = j;
+                jCol[e] = l;
+            }
         return TRUE;
     }
-    for (int j = 0; j < n; ++j) {
+    double Hs[HP_MAX_BLADDERS * HP_MAX_BLADDERS];
+    if (q->stiff && hp_load_stiff_eval(q->stiff, n, u->idx, x, NULL, NULL, Hs, NULL) != 0) {
+        u->failed = 1;
+        return FALSE;
+    }
+    for (int j = 0, e = 0; j < n; ++j) {
         double F, F1, F2, s = 0.0;
         if (!force(u, j, x[j], &F, &F1, &F2)) return FALSE;
         for (int r = 0; r < m; ++r) s += lambda[r] * q->A[r * q->n + u->idx[j]];
-        values[j] = obj_factor + s * F2;
+        if (q->stiff) {
+            for (int l = 0; l < j; ++l) values[e++] = obj_factor * Hs[j * n + l];
+            values[e++] = obj_factor * Hs[j * n + j] + s * F2;
+        } else {
+            values[e++] = obj_factor + s * F2;
+        }
     }
     return TRUE;
 }
 
-static int options(IpoptProblem a, int max_iter)
+/* Tolerances: 1e-12 on the equilibrium rows (N) always; on the optimality of the distance
+ * tie-breaker 1e-12 (a convex problem: it gets there), of the stiffness one 1e-9 (a
+ * soft minimum of eigenvalues, whose rounding is ~1e-12 of K's largest). The CPU-time
+ * budget is Ipopt's own generous one: the iteration budget bounds the solve. */
+static int options(IpoptProblem a, int max_iter, int stiff)
 {
-    return AddIpoptStrOption(a, "sb", "yes") && AddIpoptIntOption(a, "print_level", 0) &&
-           AddIpoptStrOption(a, "option_file_name", "") &&
-           AddIpoptNumOption(a, "tol", 1e-12) &&
-           AddIpoptNumOption(a, "constr_viol_tol", 1e-12) &&
-           AddIpoptNumOption(a, "bound_relax_factor", 0.0) &&
-           AddIpoptStrOption(a, "honor_original_bounds", "yes") &&
-           AddIpoptIntOption(a, "max_iter", max_iter);
+    return hp_ipopt_base_options(a, stiff ? 1e-9 : 1e-12, max_iter, 1e6, NULL) == HP_OK &&
+           AddIpoptNumOption(a, "constr_viol_tol", 1e-12);
 }
 
 hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
@@ -145,17 +176,21 @@ hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, 
     if (iterations) *iterations = 0;
     if (u.nf == 0) return HP_LOAD_SOLVE_OK; /* nothing to choose */
     hp_ipopt_lock();
-    IpoptProblem a = CreateIpoptProblem(u.nf, xl, xu, 6, gl, gu, 6 * u.nf, u.nf, 0, eval_f,
+    int nh = nlp->stiff ? u.nf * (u.nf + 1) / 2 : u.nf;
+    IpoptProblem a = CreateIpoptProblem(u.nf, xl, xu, 6, gl, gu, 6 * u.nf, nh, 0, eval_f,
                                         eval_g, eval_grad_f, eval_jac_g, eval_h);
     hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
-    if (a && options(a, max_iter)) {
+    if (a && options(a, max_iter, nlp->stiff != NULL)) {
         double g[6], obj, mg[6] = {0}, ml[HP_MAX_BLADDERS] = {0}, mu[HP_MAX_BLADDERS] = {0};
         enum ApplicationReturnStatus rs = IpoptSolve(a, x, g, &obj, mg, ml, mu, &u);
         if (raw) *raw = (int)rs;
         if (u.failed) st = HP_LOAD_SOLVE_ERROR;
         else if (rs == Solve_Succeeded || rs == Solved_To_Acceptable_Level) st = HP_LOAD_SOLVE_OK;
         else if (rs == Infeasible_Problem_Detected) st = HP_LOAD_SOLVE_UNREACHABLE;
-        else if (rs == Maximum_Iterations_Exceeded) st = HP_LOAD_SOLVE_ITERATION_LIMIT;
+        /* The stiffness objective is not convex: a budget-limited iterate is still a
+         * candidate, and the caller's equilibrium check decides whether it holds. */
+        else if (rs == Maximum_Iterations_Exceeded)
+            st = nlp->stiff ? HP_LOAD_SOLVE_OK : HP_LOAD_SOLVE_ITERATION_LIMIT;
     }
     if (a) FreeIpoptProblem(a);
     hp_ipopt_unlock();

@@ -21,12 +21,17 @@ struct hp_load_planner {
     hp_load_tiebreak tie;
     double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
     unsigned lo_bind[HP_MAX_BLADDERS], hi_bind[HP_MAX_BLADDERS];
+    /* This plan's bounds: the above cut by the rate limits around prev_P (plan_bounds). */
+    double elo[HP_MAX_BLADDERS], ehi[HP_MAX_BLADDERS];
+    unsigned elo_bind[HP_MAX_BLADDERS], ehi_bind[HP_MAX_BLADDERS];
     double prev_P[HP_MAX_BLADDERS];
     double prev_xi[6];
+    int have_prev; /* prev_P came from a plan or hp_load_planner_set_previous */
     char err[HP_DIAG_MAX];
 };
 
-static const char *const TIE_NAMES[HP_TIE_COUNT_] = {"least-squeeze", "previous"};
+static const char *const TIE_NAMES[HP_TIE_COUNT_] = {"least-squeeze", "previous",
+                                                      "stiffness"};
 
 const char *hp_load_tiebreak_name(hp_load_tiebreak t)
 {
@@ -143,6 +148,10 @@ hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *spec,
     if ((int)tie < 0 || tie >= HP_TIE_COUNT_)
         return hp_diag_set(diag, HP_ERR_INVALID, "load planner: tie-breaker: unknown value %d",
                            (int)tie);
+    if (tie == HP_TIE_STIFFNESS && set.backend != HP_BACKEND_IPOPT)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "load planner: tie-breaker stiffness needs the ipopt backend (%s "
+                           "solves the distance tie-breakers only)", hp_backend_name(set.backend));
     if (set.backend == HP_BACKEND_NLOPT_COBYLA)
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load planner: backend %s is not available at the load level "
@@ -196,27 +205,41 @@ static double pose_err(const double xi[6], const double desired[6], const double
     return e;
 }
 
+/* Is the pose `depth` metres below desired (along gravity) held inside this plan's bounds?
+ * Feasibility only: HOLD's exact phase 1 (max_iter 0 skips the tie-breaker), checked by
+ * the equilibrium. x gets the pose, Pt the pressures. */
+static int held_at(const hp_load_planner *p, const double desired[6], double depth,
+                   const double *target, double x[6], double *Pt)
+{
+    const hp_load_model *M = &p->M;
+    double g = 0.0, F[HP_MAX_BLADDERS];
+    for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];
+    g = sqrt(g);
+    memcpy(x, desired, 6 * sizeof *x);
+    for (int a = 0; a < 3; ++a) x[a] += depth * M->spec.gravity[a] / g;
+    return hp_load_hold(M, x, p->elo, p->ehi, target, NULL, 0, Pt, F, NULL) ==
+               HP_LOAD_SOLVE_OK && holds(M, x, Pt);
+}
+
 /* The held pose nearest to the desired one along gravity: the head sinks (translation along
  * ĝ) until some pressures inside the limits hold it, found by doubling the depth from
  * 1/16 mm to 64 mm and bisecting the boundary to 1e-9 mm. This is where a head too heavy
  * for the limits comes to rest, and the start of the 6-D refinement. Returns 1 with the
- * pose and its HOLD pressures, 0 when no depth up to 64 mm is held. */
+ * pose and its pressures (feasible, not tie-broken: the caller's HOLD at the final pose
+ * does that), 0 when no depth up to 64 mm is held. At most 11 + 36 feasibility checks,
+ * each one HOLD phase 1 (one contact evaluation and one bounded QP), most of them
+ * unreachable depths that the row-interval test of HOLD rejects without a QP. */
 static int sink(const hp_load_planner *p, const double desired[6], const double *target,
                 double xs[6], double *Ps)
 {
-    const hp_load_model *M = &p->M;
-    double g = 0.0, F[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], x[6];
-    for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];
-    g = sqrt(g);
+    const int n = p->M.layout.n;
+    double Pt[HP_MAX_BLADDERS], x[6];
     double lo = 0.0, hi = -1.0;
     for (double depth = 6.25e-5; depth <= 0.0641; depth *= 2.0) {
-        memcpy(x, desired, sizeof x);
-        for (int a = 0; a < 3; ++a) x[a] += depth * M->spec.gravity[a] / g;
-        if (hp_load_hold(M, x, p->lo, p->hi, target, NULL, p->set.max_iter, Pt, F, NULL) ==
-                HP_LOAD_SOLVE_OK && holds(M, x, Pt)) {
+        if (held_at(p, desired, depth, target, x, Pt)) {
             hi = depth;
             memcpy(xs, x, sizeof x);
-            memcpy(Ps, Pt, (size_t)M->layout.n * sizeof *Ps);
+            memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
             break;
         }
         lo = depth;
@@ -224,18 +247,39 @@ static int sink(const hp_load_planner *p, const double desired[6], const double 
     if (hi < 0) return 0;
     while (hi - lo > 1e-12) {
         double mid = 0.5 * (lo + hi);
-        memcpy(x, desired, sizeof x);
-        for (int a = 0; a < 3; ++a) x[a] += mid * M->spec.gravity[a] / g;
-        if (hp_load_hold(M, x, p->lo, p->hi, target, NULL, p->set.max_iter, Pt, F, NULL) ==
-                HP_LOAD_SOLVE_OK && holds(M, x, Pt)) {
+        if (held_at(p, desired, mid, target, x, Pt)) {
             hi = mid;
             memcpy(xs, x, sizeof x);
-            memcpy(Ps, Pt, (size_t)M->layout.n * sizeof *Ps);
+            memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
         } else {
             lo = mid;
         }
     }
     return 1;
+}
+
+/* This plan's bounds: the pressure, stretch and limit-point bounds, cut by each bladder's
+ * rate_max around the previous pressures when the settings use rate limits and a previous
+ * pressure is known (a plan or hp_load_planner_set_previous gave one). prev_P is always
+ * inside the static bounds, so the cut box is never empty. */
+static void plan_bounds(hp_load_planner *p)
+{
+    for (int k = 0; k < p->M.layout.n; ++k) {
+        const hp_bladder *b = &p->M.layout.bladders[k];
+        p->elo[k] = p->lo[k];
+        p->ehi[k] = p->hi[k];
+        p->elo_bind[k] = p->lo_bind[k];
+        p->ehi_bind[k] = p->hi_bind[k];
+        if (!p->set.use_rate_limits || !p->have_prev || !isfinite(b->rate_max)) continue;
+        if (p->prev_P[k] - b->rate_max > p->elo[k]) {
+            p->elo[k] = p->prev_P[k] - b->rate_max;
+            p->elo_bind[k] = HP_BIND_RATE_DOWN;
+        }
+        if (p->prev_P[k] + b->rate_max < p->ehi[k]) {
+            p->ehi[k] = p->prev_P[k] + b->rate_max;
+            p->ehi_bind[k] = HP_BIND_RATE_UP;
+        }
+    }
 }
 
 /* HOLD with the configured backend's tie-breaker (Ipopt: its raw code in *raw). */
@@ -244,12 +288,14 @@ static hp_load_solve_status hold(const hp_load_planner *p, const double xi[6],
                                  double *F, int *iters, int *raw)
 {
     if (p->set.backend == HP_BACKEND_IPOPT)
-        return hp_load_hold_on_ipopt(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter,
-                                     P, F, iters, raw);
+        return hp_load_hold_on_ipopt(&p->M, xi, p->elo, p->ehi, target, start,
+                                     p->set.max_iter, p->tie == HP_TIE_STIFFNESS, P, F, iters,
+                                     raw);
     if (p->set.backend == HP_BACKEND_NLOPT_SLSQP)
-        return hp_load_hold_on_nlopt(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter,
+        return hp_load_hold_on_nlopt(&p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter,
                                      P, F, iters, raw);
-    return hp_load_hold(&p->M, xi, p->lo, p->hi, target, start, p->set.max_iter, P, F, iters);
+    return hp_load_hold(&p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter, P, F,
+                        iters);
 }
 
 static double now(void)
@@ -279,8 +325,8 @@ static hp_error fill_bladders(const hp_load_planner *p, const double *P, int clo
         o->binding = 0;
         if (closest) {
             double eps = 1e-9 * (p->hi[k] - p->lo[k]);
-            if (P[k] <= p->lo[k] + eps) o->binding |= p->lo_bind[k];
-            if (P[k] >= p->hi[k] - eps) o->binding |= p->hi_bind[k];
+            if (P[k] <= p->elo[k] + eps) o->binding |= p->elo_bind[k];
+            if (P[k] >= p->ehi[k] - eps) o->binding |= p->ehi_bind[k];
         }
     }
     return HP_OK;
@@ -301,6 +347,7 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
     p->err[0] = '\0';
     int bad = 0;
     for (int i = 0; i < 6; ++i) bad |= !isfinite(desired[i]);
+    plan_bounds(p);
     double target[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], xi[6];
     for (int k = 0; k < n; ++k) target[k] = p->tie == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
     hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
@@ -319,7 +366,7 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
                 W[i] = i < 3 ? 1.0 : 1.0 / (p->set.weight_mm_per_deg * p->set.weight_mm_per_deg);
             double Pa[HP_MAX_BLADDERS], xs[6], Ps[HP_MAX_BLADDERS];
             int sunk = sink(p, desired, target, xs, Ps);
-            st = hp_load_pose(M, desired, W, p->lo, p->hi, sunk ? xs : p->prev_xi,
+            st = hp_load_pose(M, desired, W, p->elo, p->ehi, sunk ? xs : p->prev_xi,
                               sunk ? Ps : p->prev_P, p->set.max_iter, xi, Pa, &it2);
             /* The 6-D refinement must end on a held pose nearer than the sunk one. */
             if (sunk && (st != HP_LOAD_SOLVE_OK || !holds(M, xi, Pa) ||
@@ -371,6 +418,7 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
     else {
         memcpy(p->prev_P, P, (size_t)n * sizeof *P);
         memcpy(p->prev_xi, xi, sizeof xi);
+        p->have_prev = 1;
     }
     if (info) {
         memset(info, 0, sizeof *info);
@@ -412,6 +460,22 @@ hp_error hp_load_planner_bounds(const hp_load_planner *p, double *lo, double *hi
     if (!p || !lo || !hi) return HP_ERR_NULL;
     memcpy(lo, p->lo, (size_t)p->M.layout.n * sizeof *lo);
     memcpy(hi, p->hi, (size_t)p->M.layout.n * sizeof *hi);
+    return HP_OK;
+}
+
+hp_error hp_load_planner_set_previous(hp_load_planner *p, const double *pressures)
+{
+    if (!p || !pressures) return HP_ERR_NULL;
+    for (int k = 0; k < p->M.layout.n; ++k)
+        if (!(pressures[k] >= p->lo[k] && pressures[k] <= p->hi[k])) { /* NaN too */
+            snprintf(p->err, sizeof p->err,
+                     "previous pressure of bladder '%s': %.6g Pa is outside [%.6g, %.6g] Pa",
+                     p->M.layout.bladders[k].name, pressures[k], p->lo[k], p->hi[k]);
+            return HP_ERR_INVALID;
+        }
+    memcpy(p->prev_P, pressures, (size_t)p->M.layout.n * sizeof *pressures);
+    p->have_prev = 1;
+    p->err[0] = '\0';
     return HP_OK;
 }
 

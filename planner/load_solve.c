@@ -67,7 +67,11 @@ static double touch_pressure(const hp_load_model *M, int k, double rho)
     return P;
 }
 
-/* The pressure in [lo, hi] whose force is F (F increasing in P there): safeguarded Newton. */
+/* The pressure in [lo, hi] whose force against rho is F (F increasing in P there). Solved in
+ * the inner radius ri, where the pressure (the bladder model's IK) and the outer radius (the
+ * volume law) are closed forms: only the bracket's two ends need the bladder's forward
+ * kinematics, not every Newton step (it was half of an unreachable plan's time).
+ * Safeguarded Newton with bisection, to two ulps of ri. */
 static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, double lo,
                                   double hi, double Fhi, double F, double *P)
 {
@@ -79,45 +83,46 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
         *P = hi;
         return HP_OK;
     }
-    double a = lo, c = hi, x = lo + (hi - lo) * (F / Fhi);
+    const hp_iab *b = &M->layout.bladders[k].iab;
+    double a, c;
+    hp_error err = hp_iab_fk_limit(b, &M->limit[k], lo, &a);
+    if (!err) err = hp_iab_fk_limit(b, &M->limit[k], hi, &c);
+    if (err) return err;
+    double x = a + (c - a) * (F / Fhi), Px = lo;
     for (int it = 0; it < 200; ++it) {
-        bstate s;
-        hp_error err = bladder_state(M, k, x, rho, &s);
+        double Pr, ro;
+        err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL);
+        if (!err) err = hp_iab_ro(b, x, &ro);
         if (err) return err;
-        double r = s.F - F;
+        double area = PI * (ro - rho) * (ro + rho);
+        double r = Px * area - F;
         if (r > 0) c = x; else a = x;
         if (r == 0.0) break;
-        double xn = s.FP > 0 ? x - r / s.FP : 0.5 * (a + c);
+        double dF = Pr * area + Px * 2.0 * PI * ro * (x * x) / (ro * ro); /* dro/dri = ri²/ro² */
+        double xn = dF > 0 ? x - r / dF : 0.5 * (a + c);
         if (!(xn > a && xn < c)) xn = 0.5 * (a + c);
-        if (fabs(xn - x) <= 4e-16 * fmax(1.0, fabs(x)) || c - a <= 4e-16 * fmax(1.0, fabs(x))) {
-            x = xn;
+        int done = fabs(xn - x) <= 4e-16 * x || c - a <= 4e-16 * x;
+        x = xn;
+        if (done) {
+            if ((err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL))) return err;
             break;
         }
-        x = xn;
     }
-    *P = x;
+    *P = fmin(fmax(Px, lo), hi);
     return HP_OK;
-}
-
-/* Gravity's generalized force at xi (every bladder at zero pressure carries nothing). */
-static hp_error gravity_q(const hp_load_model *M, const double xi[6], double Q[6])
-{
-    double P[HP_MAX_BLADDERS] = {0}, ro[HP_MAX_BLADDERS];
-    for (int k = 0; k < M->layout.n; ++k) ro[k] = M->layout.bladders[k].iab.Ro;
-    return hp_load_eval_radii(M, xi, P, ro, NULL, 0, Q, NULL, NULL, NULL, NULL);
 }
 
 static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
                                       const double *lo, const double *hi,
                                       const double *target, const double *start, int max_iter,
-                                      int use_ipopt, double *P, double *F, int *iterations,
-                                      int *raw)
+                                      int use_ipopt, int stiffness, double *P, double *F,
+                                      int *iterations, int *raw)
 {
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
-    if (hp_contact_eval(&M->layout, M->level, xi, rho, J, NULL) != HP_OK ||
-        gravity_q(M, xi, Qg) != HP_OK)
+    if (hp_contact_eval(&M->layout, M->level, xi, rho, J, NULL) != HP_OK)
         return HP_LOAD_SOLVE_ERROR;
+    hp_load_gravity(M, xi, Qg, NULL, NULL);
     double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS],
         Fhi[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
     for (int k = 0; k < n; ++k) {
@@ -139,6 +144,19 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
     for (int r = 0; r < 6; ++r) fscale = fmax(fscale, fabs(b[r]));
     const double tol = 1e-13 * fmax(1.0, fscale);
 
+    /* A row no force box can meet (sum_k A[r][k]·F_k ranges over an interval as F moves in
+     * its box) proves the pose unreachable at once: a necessary condition, exact, and cheap
+     * where phase 1's QP must run out its multiplier updates to show infeasibility (the
+     * sinking search asks this ~20 times per unreachable pose). */
+    for (int r = 0; r < 6; ++r) {
+        double rlo = 0.0, rhi = 0.0;
+        for (int k = 0; k < n; ++k) {
+            double a = A[r * n + k] * Flo[k], c = A[r * n + k] * Fhi[k];
+            rlo += fmin(a, c);
+            rhi += fmax(a, c);
+        }
+        if (b[r] < rlo - tol || b[r] > rhi + tol) return HP_LOAD_SOLVE_UNREACHABLE;
+    }
     /* Phase 1, in the forces: the point of {A·F = b, Flo <= F <= Fhi} nearest to the
      * forces of the starting pressures (each force scaled by its range). The constraints are
      * linear, so this decides reachability exactly. */
@@ -180,7 +198,10 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
     int it = 0;
     double Fk[HP_MAX_BLADDERS], F1[HP_MAX_BLADDERS], F2[HP_MAX_BLADDERS], c[6];
     if (use_ipopt) { /* 1: Ipopt, 2: NLopt SLSQP */
-        hp_load_hold_nlp nlp = {M, n, rho, A, b, L, U, target};
+        hp_load_stiff S;
+        if (stiffness && hp_load_stiff_init(&S, M, xi, target) != HP_OK)
+            return HP_LOAD_SOLVE_ERROR;
+        hp_load_hold_nlp nlp = {M, n, rho, A, b, L, U, target, stiffness ? &S : NULL};
         hp_load_solve_status st = use_ipopt == 1 ? hp_load_hold_ipopt(&nlp, p, max_iter, &it, raw)
                                                  : hp_load_hold_nlopt(&nlp, p, max_iter, &it, raw);
         if (st != HP_LOAD_SOLVE_OK) return st;
@@ -286,16 +307,17 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
                                   const double *start, int max_iter, double *P, double *F,
                                   int *iterations)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, 0, P, F, iterations, NULL);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 0, 0, P, F, iterations, NULL);
 }
 
 hp_load_solve_status hp_load_hold_on_ipopt(const hp_load_model *M, const double xi[6],
                                            const double *lo, const double *hi,
                                            const double *target, const double *start,
-                                           int max_iter, double *P, double *F,
+                                           int max_iter, int stiffness, double *P, double *F,
                                            int *iterations, int *raw)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, 1, P, F, iterations, raw);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 1, stiffness, P, F, iterations,
+                     raw);
 }
 
 hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double xi[6],
@@ -304,7 +326,7 @@ hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double 
                                            int max_iter, double *P, double *F,
                                            int *iterations, int *raw)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, 2, P, F, iterations, raw);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, 2, 0, P, F, iterations, raw);
 }
 
 hp_error hp_load_bladder_force(const hp_load_model *M, int k, double P, double rho,

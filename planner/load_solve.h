@@ -21,11 +21,13 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
 
 /* HOLD with its second phase (the tie-breaker) solved by Ipopt with exact first and second
  * derivatives (load_ipopt.c); the first phase (reachability) is the same exact one. raw
- * gets Ipopt's return code. Allocates (inside Ipopt) and takes the process-wide Ipopt lock. */
+ * gets Ipopt's return code. stiffness = 1 replaces the distance to target by the
+ * minimum-holding-stiffness objective (load_stiffness.c; target then only breaks its ties).
+ * Allocates (inside Ipopt) and takes the process-wide Ipopt lock. */
 hp_load_solve_status hp_load_hold_on_ipopt(const hp_load_model *M, const double xi[6],
                                            const double *lo, const double *hi,
                                            const double *target, const double *start,
-                                           int max_iter, double *P, double *F,
+                                           int max_iter, int stiffness, double *P, double *F,
                                            int *iterations, int *raw);
 /* The same with NLopt SLSQP for the second phase. */
 hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double xi[6],
@@ -34,13 +36,41 @@ hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double 
                                            int max_iter, double *P, double *F,
                                            int *iterations, int *raw);
 
+/* The minimum-holding-stiffness objective at a fixed pose (load_stiffness.c): the soft
+ * minimum of the eigenvalues of the holding stiffness K(P) in N/mm (mm/degree units),
+ * negated, plus squeeze·½·sum (P − t)² (kPa) to break its own ties. */
+#define HP_LOAD_STIFF_BETA 20.0    /* [mm/N] soft-min sharpness: within log(6)/20 = 0.09 N/mm */
+#define HP_LOAD_STIFF_SQUEEZE 1e-6 /* [N/mm per kPa²] */
+typedef struct hp_load_stiff {
+    const hp_load_model *M;
+    int n;
+    double K0[36];                      /* gravity's stiffness, scaled */
+    double JJ[HP_MAX_BLADDERS][36];     /* 2·pi·rho_k·J_k J_kᵀ per Pa, scaled */
+    double H[HP_MAX_BLADDERS][36];      /* the contact distance's Hessian, scaled */
+    double rho[HP_MAX_BLADDERS];
+    const double *target;               /* [Pa] */
+    double beta, squeeze;
+} hp_load_stiff;
+
+/* Prepares the objective at pose xi (target [Pa], kept by pointer). HP_ERR_* of the model. */
+hp_error hp_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const double xi[6],
+                            const double *target);
+
+/* The objective at x[nv] (kPa; variable j is bladder idx[j]): f, its gradient (nv) and its
+ * Hessian (nv×nv, row-major, both triangles), each may be NULL; lam_min (may be NULL) the
+ * smallest eigenvalue of K [N/mm]. 0 on success, -1 when the model fails. */
+int hp_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x,
+                       double *f, double *grad, double *hess, double *lam_min);
+
 /* The tie-breaker NLP of HOLD at a fixed pose, for a general-purpose solver: variables the
  * pressures (kPa) of the bladders with L_k < U_k (the others fixed at L_k), objective
- * ½·sum (P − t)², constraints sum_k A[r][k]·F_k(P_k) = b[r] (six). */
+ * ½·sum (P − t)² (or, with stiff, the stiffness objective above), constraints
+ * sum_k A[r][k]·F_k(P_k) = b[r] (six). */
 typedef struct hp_load_hold_nlp {
     const hp_load_model *M;
     int n;
     const double *rho, *A, *b, *L, *U, *target; /* A 6×n row-major; L, U, target in Pa */
+    const hp_load_stiff *stiff;                   /* NULL: the distance to target */
 } hp_load_hold_nlp;
 
 /* Solves that NLP from p (Pa, feasible) with Ipopt; p gets the answer. */

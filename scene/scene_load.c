@@ -51,7 +51,7 @@ hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
     }
     s->load_tiebreak = HP_TIE_LEAST_SQUEEZE;
     if ((n = yt_map_get(node, "tiebreak"))) {
-        static const char *const TIES[] = {"least-squeeze", "previous", NULL};
+        static const char *const TIES[] = {"least-squeeze", "previous", "stiffness", NULL};
         char name[16];
         hp_load_tiebreak t;
         if ((e = sr_word(c, n, "load.tiebreak", "tie-breaker", TIES, name, sizeof name)))

@@ -23,6 +23,8 @@ extern "C" {
 typedef enum hp_load_tiebreak {
     HP_TIE_LEAST_SQUEEZE = 0, /* "least-squeeze": minimise sum_k P_k² */
     HP_TIE_PREVIOUS,          /* "previous": minimise sum_k (P_k − P_prev,k)² */
+    HP_TIE_STIFFNESS,         /* "stiffness": maximise the holding stiffness's smallest
+                                 eigenvalue (a smooth soft minimum of it; ipopt only) */
     HP_TIE_COUNT_
 } hp_load_tiebreak;
 HP_API const char *hp_load_tiebreak_name(hp_load_tiebreak t); /* "unknown" for other values */
@@ -43,7 +45,7 @@ typedef struct hp_load_planner hp_load_planner;
 
 /* Builds a load planner for layout L carrying spec, with settings s (NULL = defaults;
  * s->level is the contact geometry: linear, plane or surface; auto means surface) and
- * tie-breaker tie. Refuses (HP_ERR_INVALID, message in diag) a sphere head (it cannot be
+ * tie-breaker tie (HP_TIE_STIFFNESS only with the ipopt backend). Refuses (HP_ERR_INVALID, message in diag) a sphere head (it cannot be
  * turned, and its contact forces pass through its centre), a layout in which no bladder
  * pushes against gravity ("no bladder pushes against gravity (+z)"), and a weight larger
  * than the bladders can carry along gravity at their largest pressures. */
@@ -61,11 +63,20 @@ HP_API hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *s
 HP_API hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *result,
                       hp_load_info *info);
 
+/* Sets the pressures the bladders hold now [Pa] (n values): the `previous` tie-breaker and,
+ * when the settings use rate limits, each bladder's rate_max of the next plan start from
+ * them, and they are the safe output of a failed plan. Before the first plan or this call
+ * there is no previous pressure and the first plan is not rate-limited. Each must be inside
+ * the bladder's bounds (hp_load_planner_bounds); otherwise HP_ERR_INVALID (message in
+ * hp_load_planner_error) and nothing changes. */
+HP_API hp_error hp_load_planner_set_previous(hp_load_planner *p, const double *pressures);
+
 /* The message of the last failure ("" when none). Never NULL. */
 HP_API const char *hp_load_planner_error(const hp_load_planner *p);
 /* The planner's model (layout, carried load, geometry). */
 HP_API const hp_load_model *hp_load_planner_model(const hp_load_planner *p);
-/* Each bladder's pressure bounds [Pa] (from the pressure, stretch and limit-point limits). */
+/* Each bladder's pressure bounds [Pa] (from the pressure, stretch, stress and limit-point
+ * limits; a plan's rate limits cut them further). */
 HP_API hp_error hp_load_planner_bounds(const hp_load_planner *p, double *lo, double *hi);
 HP_API void hp_load_planner_destroy(hp_load_planner *p);
 

@@ -142,7 +142,7 @@ expect_exit 70 "--python missing"; expect_stderr_has "--python" "names --python"
 [ ! -e "$TMP/nopy" ] && ok || bad "output folder created although SciPy is missing"
 
 # The levels family: one row per level for each of the 11 layout scenes (the 4 load scenes
-# are planned at the kinematic levels here: the load level is not in the bench); auto picks the
+# are planned at the kinematic levels here: the load family below times the load level); auto picks the
 # cheapest level whose error bound meets the scene's tolerance; the surface level is the
 # reference (bound 0, error 0).
 run --quick --only levels --out "$OUT" --scenarios "$HP_SRC/scenarios"
@@ -158,6 +158,22 @@ badlv=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
 [ -z "$badlv" ] && ok || bad "levels: $badlv"
 [ "$(awk -F, '$1 == "sphere_head" && $9 == 1 { print $8 }' "$csv")" = "linear" ] && ok || bad "levels: sphere_head auto"
 [ "$(awk -F, '$1 == "large_rotation" && $9 == 1 { print $8 }' "$csv")" = "surface" ] && ok || bad "levels: large_rotation auto"
+
+# The load family: the 4 load scenes × 3 backends; load_prone is refused at create on every
+# backend, the supine and tilted scenes are reached, load_heavy is closest; the kinematic
+# plan's sag is unbounded on all four (its bladders touch with zero force); the chart.
+run --quick --only load --out "$OUT" --scenarios "$HP_SRC/scenarios"
+expect_exit 0 "bench --only load"
+csv="$OUT/load.csv"
+[ "$(head -n 1 "$csv")" = "scene,kinematic_median_ns,kinematic_sag_mm,backend,load_status,load_median_ns" ] \
+  && ok || bad "load.csv header"
+[ "$(($(wc -l <"$csv") - 1))" -eq 12 ] && ok || bad "load: 12 rows"
+badld=$(awk -F, 'NR > 1 { want = $1 == "load_prone" ? "refused" : $1 == "load_heavy" ? "closest" : "reached"
+                 if ($5 != want) print $1 "/" $4 ": " $5 ", want " want
+                 if ($3 != "inf") print $1 ": sag " $3 }' "$csv")
+[ -z "$badld" ] && ok || bad "load: $badld"
+[ "$(head -c 4 "$OUT/load.png" | od -An -tx1 | tr -d ' \n')" = "89504e47" ] \
+  && grep -q "<svg" "$OUT/load.svg" && [ -s "$OUT/load.gp" ] && ok || bad "load charts"
 
 # Command-line errors: one line on stderr naming the option, usage status, no stdout.
 run --only nonsense --out "$TMP/x"

@@ -43,6 +43,20 @@ run solve "$S/load_tilted.yaml" --backend nlopt-cobyla
 expect_exit 65 "cobyla refused at the load level"
 expect_stderr_has "not available at the load level" "says why"
 
+# The minimum-holding-stiffness tie-breaker (scene load.tiebreak: stiffness): refused by name
+# on the realtime backend; on Ipopt the supine correction, which least squeeze holds at an
+# unstable equilibrium, is held stably.
+sed 's/tiebreak: least-squeeze/tiebreak: stiffness/' "$S/load_supine.yaml" >"$TMP/stiff.yaml"
+run solve "$TMP/stiff.yaml"
+expect_exit 65 "stiffness refused on realtime"
+expect_stderr_has "tie-breaker stiffness needs the ipopt backend" "names the tie-breaker and the backend"
+run solve "$S/load_supine.yaml"
+expect_stdout_has "holding               NOT stable" "least squeeze: unstable hold"
+run solve "$TMP/stiff.yaml" --backend ipopt
+expect_exit 0 "stiffness on ipopt"
+expect_stdout_has "tie-breaker stiffness" "says the tie-breaker"
+expect_stdout_has "holding               stable" "stiffness: stable hold"
+
 run solve "$S/load_tilted.yaml"
 expect_exit 0 "tilted load scene reached"
 expect_stdout_has "holding               stable" "the tilted hold is stable"

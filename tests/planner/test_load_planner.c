@@ -6,6 +6,9 @@
 
 #include "../kinematics/default_layout.h"
 #include "headplan/hp_load_planner.h"
+#include "kinematics/linalg.h"
+#include "kinematics/load_internal.h"
+#include "planner/load_solve.h"
 
 #include <string.h>
 
@@ -46,6 +49,30 @@ static void assert_in_bounds(const hp_load_planner *p, const hp_result *r)
         assert_true(isfinite(r->bladders[k].pressure));
         assert_true(r->bladders[k].pressure >= lo[k] && r->bladders[k].pressure <= hi[k]);
     }
+}
+
+/* The supine scene of the tests: the default layout at stretch_max 1.6 carrying the whole
+ * head along −Z; settings at the surface level on the realtime backend. */
+static void supine(hp_layout *L, hp_load_spec *s, hp_settings *set)
+{
+    layout_with(L, 1.6);
+    hp_load_spec_default(&L->head, s);
+    hp_settings_default(set);
+    set->level = HP_LEVEL_SURFACE;
+}
+
+/* The smallest eigenvalue [N/mm] of the holding stiffness at xi under P, in mm/degree
+ * units, assembled from hp_load_eval's Jacobian (not from load_stiffness.c). */
+static double smallest_stiffness(const hp_load_model *M, const double xi[6], const double *P)
+{
+    double Q[6], dQ[36], K[36], ev[6], V[36];
+    assert_int_equal(hp_load_eval(M, xi, P, Q, dQ, NULL, NULL, NULL), HP_OK);
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j)
+            K[i * 6 + j] = -0.5 * (dQ[i * 6 + j] + dQ[j * 6 + i]) * hp_load_unit(i) *
+                           hp_load_unit(j) * 1e3;
+    assert_int_equal(hp_kin_symeig6(K, ev, V), 0);
+    return ev[0];
 }
 
 /* Nominal pose, reachable: REACHED, the generalized force below 1e-9 N, the Newton–Euler
@@ -381,6 +408,183 @@ static void test_tiebreak_previous(void **state)
     hp_load_planner_destroy(ls);
 }
 
+/* The minimum-holding-stiffness tie-breaker (Ipopt) at the 10 mm lift, where least squeeze
+ * holds the head at a saddle (test_reached_lift): the stiffness answer is REACHED, an
+ * equilibrium (1e-9 N), STABLE (K positive definite), with a smallest stiffness eigenvalue
+ * above least squeeze's, and the forward statics started 0.5 mm / 0.5° away (not at the
+ * answer) returns the desired pose to 1e-8 mm / degree (the stable rest attracts; the
+ * softest direction's compliance is below 1e3 mm/N, so 1e-12 N of rounding moves it far
+ * less). Realtime and NLopt refuse the tie-breaker by name at create. */
+static void test_tiebreak_stiffness(void **state)
+{
+    (void)state;
+    hp_layout L;
+    hp_load_spec s;
+    hp_settings set;
+    supine(&L, &s, &set);
+    hp_load_planner *ls = NULL, *st = NULL;
+    hp_diag d;
+    d.text[0] = '\0';
+    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &ls, &d), HP_OK);
+    for (int b = 0; b < 2; ++b) {
+        set.backend = b ? HP_BACKEND_NLOPT_SLSQP : HP_BACKEND_REALTIME;
+        assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_STIFFNESS, &st, &d),
+                         HP_ERR_INVALID);
+        assert_null(st);
+        assert_non_null(strstr(d.text, "stiffness"));
+        assert_non_null(strstr(d.text, "ipopt"));
+    }
+    set.backend = HP_BACKEND_IPOPT;
+    hp_error e = hp_load_planner_create(&L, &s, &set, HP_TIE_STIFFNESS, &st, &d);
+    if (e) print_error("create: %s\n", d.text);
+    assert_int_equal(e, HP_OK);
+    const double lift[6] = {0, 0, 10e-3, 0, 0, 0};
+    hp_result r0, r1;
+    hp_load_info i0, i1;
+    assert_int_equal(hp_load_plan(ls, lift, &r0, &i0), HP_OK);
+    assert_int_equal(hp_load_plan(st, lift, &r1, &i1), HP_OK);
+    assert_int_equal(r0.status, HP_STATUS_REACHED);
+    assert_int_equal(i0.holding.stable, 0);
+    assert_int_equal(r1.status, HP_STATUS_REACHED);
+    assert_in_bounds(st, &r1);
+    assert_true(i1.residual_force < 1e-9 && i1.residual_moment < 1e-10);
+    if (!i1.holding.stable) print_error("stiffness hold not stable: %s\n", i1.holding.weakest_words);
+    assert_int_equal(i1.holding.stable, 1);
+    assert_true(i1.holding.weakest_compliance < 1e3);
+    const hp_load_model *M = hp_load_planner_model(st);
+    double P[HP_MAX_BLADDERS], x0[6], rest[6], lam[2];
+    for (int k = 0; k < r1.n; ++k) P[k] = r1.bladders[k].pressure;
+    for (int i = 0; i < 6; ++i) x0[i] = lift[i] + 0.5 * hp_load_unit(i);
+    assert_int_equal(hp_load_rest(M, P, x0, rest, NULL), HP_OK);
+    for (int i = 0; i < 6; ++i) assert_true(fabs(rest[i] - lift[i]) / hp_load_unit(i) < 1e-8);
+    double P0[HP_MAX_BLADDERS];
+    for (int k = 0; k < r0.n; ++k) P0[k] = r0.bladders[k].pressure;
+    lam[0] = smallest_stiffness(M, lift, P0);
+    lam[1] = smallest_stiffness(M, lift, P);
+    print_message("smallest stiffness eigenvalue: least squeeze %.4g, stiffness %.4g N/mm\n",
+                  lam[0], lam[1]);
+    assert_true(lam[0] < 0 && lam[1] > 0);
+    hp_load_planner_destroy(ls);
+    hp_load_planner_destroy(st);
+}
+
+/* The stiffness objective's exact gradient and Hessian (load_stiffness.c) against central
+ * differences (step 1e-4 kPa: truncation ~1e-8 of the scale, rounding ~1e-12), and its
+ * value against the soft minimum of the eigenvalues of K assembled independently by
+ * hp_load_eval (to 1e-9 N/mm). At the 10 mm lift with pressures inside every bound. */
+static void test_stiffness_derivatives(void **state)
+{
+    (void)state;
+    hp_layout L;
+    hp_load_spec s;
+    hp_settings set;
+    supine(&L, &s, &set);
+    hp_load_model M;
+    assert_int_equal(hp_load_model_init(&M, &L, &s, HP_LEVEL_SURFACE, NULL), HP_OK);
+    const double xi[6] = {0.2e-3, -0.1e-3, 10e-3, 0.3 * 0.0174532925199, 0, 0};
+    double target[HP_MAX_BLADDERS] = {0};
+    hp_load_stiff S;
+    assert_int_equal(hp_load_stiff_init(&S, &M, xi, target), HP_OK);
+    /* Every bladder pressed (above its touching pressure) at a spread of pressures. */
+    int idx[HP_MAX_BLADDERS], nv = L.n;
+    double x[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
+    for (int k = 0; k < nv; ++k) {
+        idx[k] = k;
+        x[k] = 7.0 + 0.25 * k; /* kPa */
+        P[k] = x[k] * 1e3;
+    }
+    double f, g[HP_MAX_BLADDERS], H[HP_MAX_BLADDERS * HP_MAX_BLADDERS], lmin;
+    assert_int_equal(hp_load_stiff_eval(&S, nv, idx, x, &f, g, H, &lmin), 0);
+    double force[HP_MAX_BLADDERS], Q[6], dQ[36], K[36], ev[6], V[36];
+    assert_int_equal(hp_load_eval(&M, xi, P, Q, dQ, NULL, force, NULL), HP_OK);
+    for (int k = 0; k < nv; ++k) assert_true(force[k] > 0);
+    /* The soft minimum needs every eigenvalue: the test's own decomposition of K. */
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j)
+            K[i * 6 + j] = -dQ[i * 6 + j] * hp_load_unit(i) * hp_load_unit(j) * 1e3;
+    assert_int_equal(hp_kin_symeig6(K, ev, V), 0);
+    double z = 0.0, sq = 0.0;
+    for (int i = 0; i < 6; ++i) z += exp(-S.beta * ev[i]);
+    for (int k = 0; k < nv; ++k) sq += 0.5 * S.squeeze * x[k] * x[k];
+    hp_assert_close(f, log(z) / S.beta + sq, 1e-9, 1e-9);
+    hp_assert_close(lmin, smallest_stiffness(&M, xi, P), 1e-9, 1e-9);
+    const double h = 1e-4;
+    double gs = 0.0, hs = 0.0, eg = 0.0, eh = 0.0;
+    for (int j = 0; j < nv; ++j) gs = fmax(gs, fabs(g[j]));
+    for (int j = 0; j < nv * nv; ++j) hs = fmax(hs, fabs(H[j]));
+    for (int j = 0; j < nv; ++j) {
+        double xp[HP_MAX_BLADDERS], xm[HP_MAX_BLADDERS], fp, fm, gp[HP_MAX_BLADDERS],
+            gm[HP_MAX_BLADDERS];
+        memcpy(xp, x, sizeof xp);
+        memcpy(xm, x, sizeof xm);
+        xp[j] += h;
+        xm[j] -= h;
+        assert_int_equal(hp_load_stiff_eval(&S, nv, idx, xp, &fp, gp, NULL, NULL), 0);
+        assert_int_equal(hp_load_stiff_eval(&S, nv, idx, xm, &fm, gm, NULL, NULL), 0);
+        hp_assert_close(g[j], (fp - fm) / (2 * h), 0.0, 1e-6 * gs);
+        eg = fmax(eg, fabs(g[j] - (fp - fm) / (2 * h)));
+        for (int l = 0; l < nv; ++l) {
+            hp_assert_close(H[l * nv + j], (gp[l] - gm[l]) / (2 * h), 0.0, 1e-6 * hs);
+            eh = fmax(eh, fabs(H[l * nv + j] - (gp[l] - gm[l]) / (2 * h)));
+        }
+    }
+    print_message("stiffness objective: |grad| %.3g, gradient error %.2g; |hess| %.3g, "
+                  "Hessian error %.2g\n", gs, eg, hs, eh);
+}
+
+/* set_previous and the rate limits at the load level: a previous pressure outside the
+ * bounds is refused (nothing changes); with every bladder's rate_max at 0.5 kPa and the
+ * previous pressures those of the nominal hold, a 10 mm lift (which needs the base about
+ * 1.6 kPa higher: 7.80 against 6.19 kPa) is CLOSEST, every pressure within 0.5 kPa of the
+ * previous one (to 1e-9 relative) and at least one flagged rate_up, still an equilibrium
+ * (1e-9 N); with rate limits off in the settings the same plan is REACHED. */
+static void test_rate_limits(void **state)
+{
+    (void)state;
+    hp_layout L;
+    hp_load_spec s;
+    hp_settings set;
+    supine(&L, &s, &set);
+    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
+    assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+    hp_load_planner *free_ = make(&L, &s), *lim = make(&L, &s);
+    hp_result r0, r1, r2;
+    hp_load_info info;
+    const double zero[6] = {0}, lift[6] = {0, 0, 10e-3, 0, 0, 0};
+    assert_int_equal(hp_load_plan(free_, zero, &r0, NULL), HP_OK);
+    assert_int_equal(r0.status, HP_STATUS_REACHED);
+    double prev[HP_MAX_BLADDERS], bad[HP_MAX_BLADDERS];
+    for (int k = 0; k < r0.n; ++k) prev[k] = bad[k] = r0.bladders[k].pressure;
+    bad[2] = NAN;
+    assert_int_equal(hp_load_planner_set_previous(lim, bad), HP_ERR_INVALID);
+    assert_non_null(strstr(hp_load_planner_error(lim), "previous pressure"));
+    bad[2] = 1e9;
+    assert_int_equal(hp_load_planner_set_previous(lim, bad), HP_ERR_INVALID);
+    assert_int_equal(hp_load_planner_set_previous(lim, prev), HP_OK);
+    assert_int_equal(hp_load_plan(lim, lift, &r1, &info), HP_OK);
+    assert_int_equal(r1.status, HP_STATUS_CLOSEST);
+    assert_in_bounds(lim, &r1);
+    int up = 0;
+    for (int k = 0; k < r1.n; ++k) {
+        assert_true(fabs(r1.bladders[k].pressure - prev[k]) <= 500.0 * (1 + 1e-9));
+        up += (r1.bladders[k].binding & HP_BIND_RATE_UP) != 0;
+    }
+    assert_true(up >= 1);
+    assert_true(r1.achieved[2] > 0 && r1.achieved[2] < lift[2]);
+    assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
+    /* Without rate limits in the settings: reached. */
+    set.use_rate_limits = 0;
+    hp_load_planner *off = NULL;
+    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &off, NULL),
+                     HP_OK);
+    assert_int_equal(hp_load_planner_set_previous(off, prev), HP_OK);
+    assert_int_equal(hp_load_plan(off, lift, &r2, NULL), HP_OK);
+    assert_int_equal(r2.status, HP_STATUS_REACHED);
+    hp_load_planner_destroy(free_);
+    hp_load_planner_destroy(lim);
+    hp_load_planner_destroy(off);
+}
+
 /* NaN input: INVALID_INPUT with the safe output (pressures inside bounds, finite). */
 static void test_invalid_input(void **state)
 {
@@ -406,6 +610,8 @@ int main(void)
         cmocka_unit_test(test_backends_agree),
         cmocka_unit_test(test_unreachable), cmocka_unit_test(test_stress_binding),     cmocka_unit_test(test_refused),
         cmocka_unit_test(test_invalid_input), cmocka_unit_test(test_tiebreak_previous),
+        cmocka_unit_test(test_tiebreak_stiffness), cmocka_unit_test(test_stiffness_derivatives),
+        cmocka_unit_test(test_rate_limits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
