@@ -75,6 +75,12 @@ static void fill_nan(int n, double *rho, double *J, double *H)
 hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
                          double *rho, double *J, double *H)
 {
+    return hp_kin_contact_eval_warm(L, level, xi, NULL, rho, J, H);
+}
+
+hp_error hp_kin_contact_eval_warm(const hp_layout *L, hp_level level, const double xi[6],
+                                  double *s_warm, double *rho, double *J, double *H)
+{
     if (!L || !xi) return HP_ERR_NULL;
     if (!L->prepared) return HP_ERR_STATE;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
@@ -103,7 +109,8 @@ hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
         back_transform(L, L->bladders[k].center, xi, &rd, H != NULL, &bm);
         double f, g[3], hf[9] = {0};
         if (level == HP_LEVEL_SURFACE) {
-            hp_error err = hp_kin_head_distance(&L->head, bm.cp, &f, g, H ? hf : NULL, NULL);
+            hp_error err = hp_kin_head_distance_warm(&L->head, bm.cp, s_warm ? &s_warm[k] : NULL,
+                                                     &f, g, H ? hf : NULL, NULL);
             if (err) {
                 fill_nan(L->n, rho, J, H);
                 return err;

@@ -248,7 +248,7 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
      * unique, so the fit from the nominal pose is the commanded part itself, to rounding.
      * The check would cost ~50 us of a ~10 us plan and could not fail. */
     if (p->level == HP_LEVEL_LINEAR) return 1;
-    double ro[HP_MAX_BLADDERS], zero[6] = {0}, xf[6], a[6], b[6];
+    double ro[HP_MAX_BLADDERS], xf[6], a[6], b[6];
     for (int k = 0; k < p->L.n; ++k) {
         const hp_iab *m = &p->L.bladders[k].iab;
         double ri;
@@ -257,7 +257,15 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
             ro[k] = r->bladders[k].ro;
     }
     double resid = INFINITY;
-    hp_error e = hp_contact_fit(&p->L, p->level, ro, p->commanded, zero, xf, &resid, NULL);
+    /* The fit may stop once it has provably arrived at xc (hp_kin_fit): the last two or
+     * three of its ~5 steps only polish digits far below HP_IDENT_FK_TOL. A fit that heads
+     * anywhere else runs to its end exactly as before. */
+    hp_kin_fit_near near;
+    for (int i = 0; i < 6; ++i) {
+        near.pose[i] = xc[i];
+        near.tol[i] = HP_IDENT_FK_TOL / (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
+    }
+    hp_error e = hp_plan_fit_from_nominal(p, ro, p->commanded, &near, xf, &resid);
     hp_plan_to_scaled(xc, a);
     hp_plan_to_scaled(xf, b);
     double worst = e == HP_OK ? 0.0 : INFINITY;
