@@ -31,12 +31,13 @@ void hp_plan_from_scaled(const double x[6], double xi[6])
     }
 }
 
-int hp_plan_answer_from_pose(hp_planner *p, const double x[6], hp_result *res,
-                             double *clamp_mm)
+int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
+                             hp_result *res, double *clamp_mm)
 {
     double rho[HP_MAX_BLADDERS];
     *clamp_mm = 0;
-    if (hp_setup_contact_scaled(&p->L, p->level, x, rho, NULL) != HP_OK) return 0;
+    if (rho_known) memcpy(rho, rho_known, sizeof(double) * (size_t)p->L.n);
+    else if (hp_setup_contact_scaled(&p->L, p->level, x, rho, NULL) != HP_OK) return 0;
     for (int k = 0; k < p->L.n; ++k) {
         const hp_bladder *B = &p->L.bladders[k];
         double ri_lo = p->pb.ri_lo_si[k], ri_hi = p->pb.ri_hi_si[k];

@@ -78,11 +78,12 @@ void hp_text_add_num(char *buf, double v, int dec); /* |v| to dec decimals, with
 void hp_plan_to_scaled(const double xi[6], double x[6]);
 void hp_plan_from_scaled(const double x[6], double xi[6]);
 
-/* Fills res from a scaled pose x: contact distances at the planner's level, radii,
- * pressures (clamped into this cycle's limits), binding flags and achieved pose. Returns 0
- * when something was not finite. clamp_mm receives the largest radius correction. */
-int hp_plan_answer_from_pose(hp_planner *p, const double x[6], hp_result *res,
-                             double *clamp_mm);
+/* Fills res from a scaled pose x: contact distances at the planner's level (rho_known:
+ * already evaluated at x [mm], else NULL), radii, pressures (clamped into this cycle's
+ * limits), binding flags and achieved pose. Returns 0 when something was not finite.
+ * clamp_mm receives the largest radius correction. */
+int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
+                             hp_result *res, double *clamp_mm);
 
 /* Makes r the previous answer: the safe output, the rate limits' origin and the next
  * solve's start point. */
