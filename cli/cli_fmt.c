@@ -32,12 +32,32 @@ static const double POW10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
                                  1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
                                  1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
 
+static const uint64_t POW10U[20] = {1u,
+                                    10u,
+                                    100u,
+                                    1000u,
+                                    10000u,
+                                    100000u,
+                                    1000000u,
+                                    10000000u,
+                                    100000000u,
+                                    1000000000u,
+                                    10000000000u,
+                                    100000000000u,
+                                    1000000000000u,
+                                    10000000000000u,
+                                    100000000000000u,
+                                    1000000000000000u,
+                                    10000000000000000u,
+                                    100000000000000000u,
+                                    1000000000000000000u,
+                                    10000000000000000000u};
+
 /* m·2^e2·10^k as an integer, rounded half to even (round = 1) or truncated (0). Needs
  * m < 2^53, 0 <= k <= 22, −127 < e2 <= 1: then m·10^k < 2^127 and nothing overflows. */
 static u128 scaled(uint64_t m, int e2, int k, int round)
 {
-    u128 P = m;
-    for (int i = 0; i < k; ++i) P *= 10u;
+    u128 P = k <= 19 ? (u128)m * POW10U[k] : (u128)m * POW10U[19] * POW10U[k - 19];
     if (e2 >= 0) return P << e2;
     int s = -e2;
     u128 q = P >> s, r = P - (q << s), half = (u128)1 << (s - 1);
@@ -45,15 +65,8 @@ static u128 scaled(uint64_t m, int e2, int k, int round)
     return q;
 }
 
-static u128 pow10_u128(int n)
-{
-    u128 p = 1;
-    for (int i = 0; i < n; ++i) p *= 10u;
-    return p;
-}
-
 /* The "%.{p}g" string of sign·D·10^(X−p+1), D having exactly p digits. */
-static void layout(char *buf, int neg, u128 D, int p, int X)
+static void layout(char *buf, int neg, uint64_t D, int p, int X)
 {
     char dig[20];
     for (int i = p - 1; i >= 0; --i) {
@@ -92,10 +105,10 @@ static void layout(char *buf, int neg, u128 D, int p, int X)
 }
 
 /* 1 when sign·D·10^q reads back as v (exactly decided, see the top). */
-static int reads_back(char *buf, double v, u128 D, int q)
+static int reads_back(char *buf, double v, uint64_t D, int q)
 {
-    if (D <= ((u128)1 << 53) && q >= -22 && q <= 22) {
-        double d = (double)(uint64_t)D;
+    if (D <= ((uint64_t)1 << 53) && q >= -22 && q <= 22) {
+        double d = (double)D;
         double r = q < 0 ? d / POW10[-q] : d * POW10[q];
         return r == fabs(v);
     }
@@ -111,22 +124,23 @@ static int fmt_exact(char buf[CLI_FMT_MAX], double v)
     double f = frexp(a, &E);
     uint64_t m = (uint64_t)ldexp(f, 53);
     int e2 = E - 53;
-    /* X = floor(log10 a) exactly: the truncated a·10^(16−X) has 17 digits. */
-    int X = (int)floor(log10(a));
+    /* X = floor(log10 a) exactly: the truncated a·10^(16−X) has 17 digits. The estimate
+     * from the binary exponent (a in [2^(E−1), 2^E)) is off by at most one. */
+    int X = (int)floor((E - 1) * 0.30102999566398120);
     for (int tries = 0;; ++tries) {
-        if (tries > 2 || 16 - X < 0 || 16 - X > 22) return 0;
+        if (tries > 3 || 16 - X < 0 || 16 - X > 22) return 0;
         u128 T = scaled(m, e2, 16 - X, 0);
-        if (T < pow10_u128(16)) --X;
-        else if (T >= pow10_u128(17)) ++X;
+        if (T < POW10U[16]) --X;
+        else if (T >= POW10U[17]) ++X;
         else break;
     }
     for (int p = 15; p <= 17; ++p) {
         int k = p - 1 - X;
         if (k < 0 || k > 22) return 0;
-        u128 D = scaled(m, e2, k, 1);
+        uint64_t D = (uint64_t)scaled(m, e2, k, 1); /* <= 10^17 */
         int Xp = X;
-        if (D == pow10_u128(p)) { /* rounding carried into a new digit */
-            D = pow10_u128(p - 1);
+        if (D == POW10U[p]) { /* rounding carried into a new digit */
+            D = POW10U[p - 1];
             ++Xp;
         }
         layout(buf, v < 0, D, p, Xp);
@@ -144,8 +158,19 @@ const char *cli_fmt(char buf[CLI_FMT_MAX], double v)
      * positional path in any process with a printf hook registered (libquadmath, pulled in
      * through Ipopt's Fortran runtime, registers one). */
     if (v == 0.0 || (fabs(v) < 1e15 && v == (double)(long long)v)) {
-        strfromd(buf, CLI_FMT_MAX, "%.0f", v);
-        if (v == 0.0 && signbit(v)) snprintf(buf, CLI_FMT_MAX, "-0");
+        /* What "%.0f" prints: the integer's digits (and "-0" for negative zero). */
+        long long n = (long long)v;
+        uint64_t u = n < 0 ? (uint64_t)0 - (uint64_t)n : (uint64_t)n;
+        char tmp[24];
+        int len = 0;
+        do {
+            tmp[len++] = (char)('0' + (int)(u % 10u));
+            u /= 10u;
+        } while (u);
+        char *o = buf;
+        if (signbit(v)) *o++ = '-';
+        while (len) *o++ = tmp[--len];
+        *o = '\0';
         return buf;
     }
     if (fmt_exact(buf, v)) return buf;
