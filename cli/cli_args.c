@@ -131,25 +131,6 @@ int cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
     return 1;
 }
 
-const char *cli_fmt(char buf[CLI_FMT_MAX], double v)
-{
-    /* The fewest significant digits that read back to the same double: stable across runs
-     * and machines, and without the noise digits of a fixed %.17g. Literal formats (not
-     * "%.*g"): glibc takes a slow positional path for '*', and batch prints ~60 numbers a
-     * row. Whole numbers (0, pressures on a limit) skip the search. */
-    if (v == 0.0 || (fabs(v) < 1e15 && v == (double)(long long)v)) {
-        snprintf(buf, CLI_FMT_MAX, "%.0f", v);
-        if (v == 0.0 && signbit(v)) snprintf(buf, CLI_FMT_MAX, "-0");
-        return buf;
-    }
-    snprintf(buf, CLI_FMT_MAX, "%.15g", v);
-    if (strtod(buf, NULL) == v) return buf;
-    snprintf(buf, CLI_FMT_MAX, "%.16g", v);
-    if (strtod(buf, NULL) == v) return buf;
-    snprintf(buf, CLI_FMT_MAX, "%.17g", v);
-    return buf;
-}
-
 int cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *const *names,
                      const char **const *slots, int nopts)
 {

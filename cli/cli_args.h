@@ -82,6 +82,10 @@ int cli_fail(int status, const char *cmd, const char *fmt, ...)
  * ("%.Ng"); returns buf. The number format of every CSV and table output. */
 const char *cli_fmt(char buf[CLI_FMT_MAX], double v);
 
+/* The same by printf and strtod alone (cli_fmt's path outside its integer range; the
+ * reference its test compares against). */
+const char *cli_fmt_printf(char buf[CLI_FMT_MAX], double v);
+
 /* Number format used in every JSON and table output: shortest round-trip ("%.17g"
  * trimmed by jansson's precision 17), so results are reproducible bit for bit. */
 #define CLI_JSON_REAL_PRECISION 17

@@ -113,9 +113,12 @@ hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp)
  * iterate stays strictly inside the bracket, which shrinks at every step; a Newton step that
  * leaves it or fails to halve the step before last is replaced by bisection. */
 static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, double hi,
-                              double *out)
+                              double guess, double *out)
 {
-    double x = 0.5 * (lo + hi), dx_old = hi - lo, dx = dx_old;
+    /* A guess inside the bracket (a nearby answer) saves most steps; the bracket and the
+     * bisection fallback make any start safe. */
+    double x = guess > lo && guess < hi ? guess : 0.5 * (lo + hi);
+    double dx_old = hi - lo, dx = dx_old;
     double best = x, best_f = INFINITY;
     for (int it = 0; it < 300; ++it) {
         double p, d;
@@ -153,7 +156,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
 }
 
 static hp_error fk_scaled(const hp_iab_s *sp, const hp_iab *b, double r_lp, double p_lp,
-                          double P, double *ri)
+                          double P, double guess, double *ri)
 {
     hp_iab_s s = *sp;
     hp_error e;
@@ -196,7 +199,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, const hp_iab *b, double r_lp, doub
         }
     }
     double r;
-    e = solve_bracket(&s, P, lo, hi, &r);
+    e = solve_bracket(&s, P, lo, hi, guess * s.scale, &r);
     if (e != HP_OK) return e;
     *ri = r / s.scale;
     return HP_OK;
@@ -211,10 +214,16 @@ hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
     if (!isfinite(P)) return HP_ERR_INVALID;
     double r_lp = INFINITY, p_lp = INFINITY;
     if (P > 0 && (e = limit_scaled(&s, &r_lp, &p_lp)) != HP_OK) return e;
-    return fk_scaled(&s, b, r_lp, p_lp, P, ri);
+    return fk_scaled(&s, b, r_lp, p_lp, P, NAN, ri);
 }
 
 hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, double *ri)
+{
+    return hp_iab_fk_limit_warm(b, lp, P, NAN, ri);
+}
+
+hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
+                              double ri_guess, double *ri)
 {
     if (!ri || !lp) return HP_ERR_NULL;
     hp_iab_s s;
@@ -224,5 +233,5 @@ hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, doub
     double r_lp = lp->exists ? lp->ri * s.scale : INFINITY;
     double p_lp = lp->exists ? lp->pressure : INFINITY;
     if (lp->exists && !(r_lp > s.Ri && isfinite(p_lp))) return HP_ERR_INVALID;
-    return fk_scaled(&s, b, r_lp, p_lp, P, ri);
+    return fk_scaled(&s, b, r_lp, p_lp, P, ri_guess, ri);
 }

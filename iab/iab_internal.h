@@ -46,6 +46,12 @@ double hp_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, 
  * or so large that the pressure overflows). d1, d2 may be NULL. */
 hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2);
 
+/* hp_iab_fk_limit with a start for its safeguarded Newton iteration: ri_guess [m] (a
+ * nearby answer; NAN or outside the bracket: the bracket's midpoint). The same root to
+ * rounding whatever the guess. */
+hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
+                              double ri_guess, double *ri);
+
 /* Gauss–Legendre rule of n points on [-1, 1] (1 <= n <= HP_IAB_GL_MAX): nodes x[k] >= 0 and
  * weights w[k] for k < (n + 1)/2 (the rule is symmetric; x[k] = 0 only for the middle node
  * of an odd rule). Computed by Newton's method on the Legendre recurrence; no allocation. */

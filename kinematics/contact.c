@@ -76,6 +76,13 @@ static void fill_nan(int n, double *rho, double *J, double *H)
 hp_error hp_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
                            const double xi[6], double *rho, double *J, double *H)
 {
+    return hp_kin_contact_eval_warm(L, G, level, xi, NULL, rho, J, H);
+}
+
+hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level level,
+                                  const double xi[6], double *s_warm, double *rho, double *J,
+                                  double *H)
+{
     if (!L || !G || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
         return HP_ERR_INVALID;
@@ -103,7 +110,8 @@ hp_error hp_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
         back_transform(L, L->bladders[k].center, xi, &rd, H != NULL, &bm);
         double f, g[3], hf[9] = {0};
         if (level == HP_LEVEL_SURFACE) {
-            hp_error err = hp_kin_head_distance(&G->head, bm.cp, &f, g, H ? hf : NULL, NULL);
+            hp_error err = hp_kin_head_distance_warm(&G->head, bm.cp, s_warm ? &s_warm[k] : NULL,
+                                                     &f, g, H ? hf : NULL, NULL);
             if (err) {
                 fill_nan(L->n, rho, J, H);
                 return err;

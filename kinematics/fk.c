@@ -3,6 +3,7 @@
  * least-squares solve by QR (linalg_eigen.cpp), never the normal equations, so the pitch
  * column's small lever arm does not square the conditioning. */
 #include "kin_internal.h"
+#include "fit_internal.h"
 #include "kin_geom.h"
 #include "linalg.h"
 
@@ -15,6 +16,66 @@
 #define FK_STEP_TOL 1e-15
 #define FK_LAMBDA_MAX 1e12
 
+/* min |J·dx + r|² + lambda·|diag(D)·dx|² (J n×nf row-major, nf <= 6, lambda > 0) by
+ * Householder QR of the stacked system [J; sqrt(lambda)·diag(D)]. The damping rows give it
+ * full column rank, where QR without pivoting is backward stable, so the fit's small
+ * system needs neither pivoting nor Eigen's dynamic-size machinery (a quarter of a
+ * surface-level fit's time went there). lambda = 0: the Gauss–Newton step, for a J of full
+ * column rank. Returns 0, or -1 for a zero column or a result that is not finite (then the
+ * general solver decides). */
+static int damped_qr(int n, int nf, const double *J, const double *r, const double *D,
+                     double lambda, double *dx)
+{
+    enum { MR = HP_MAX_BLADDERS + 6 };
+    double A[MR][6], b[MR];
+    int m = n + nf;
+    double sl = sqrt(lambda);
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < nf; ++j) A[i][j] = J[i * nf + j];
+        b[i] = -r[i];
+    }
+    for (int i = 0; i < nf; ++i) {
+        for (int j = 0; j < nf; ++j) A[n + i][j] = i == j ? sl * D[j] : 0.0;
+        b[n + i] = 0.0;
+    }
+    for (int j = 0; j < nf; ++j) {
+        /* Rows below n + j are still zero in the columns from j on (damping row n + i has
+         * only its diagonal until column i's reflection reaches it): skipping them changes
+         * no bit and saves a third of the work. */
+        m = n + j + 1;
+        double nrm = 0.0;
+        for (int i = j; i < m; ++i) nrm += A[i][j] * A[i][j];
+        nrm = sqrt(nrm);
+        if (!(nrm > 0) || !isfinite(nrm)) return -1;
+        double alpha = A[j][j] > 0 ? -nrm : nrm;
+        double v0 = A[j][j] - alpha; /* v = (v0, A[j+1..][j]) */
+        double vv = v0 * v0;
+        for (int i = j + 1; i < m; ++i) vv += A[i][j] * A[i][j];
+        if (vv > 0) {
+            for (int k = j + 1; k < nf; ++k) {
+                double sdot = v0 * A[j][k];
+                for (int i = j + 1; i < m; ++i) sdot += A[i][j] * A[i][k];
+                double f = 2.0 * sdot / vv;
+                A[j][k] -= f * v0;
+                for (int i = j + 1; i < m; ++i) A[i][k] -= f * A[i][j];
+            }
+            double sdot = v0 * b[j];
+            for (int i = j + 1; i < m; ++i) sdot += A[i][j] * b[i];
+            double f = 2.0 * sdot / vv;
+            b[j] -= f * v0;
+            for (int i = j + 1; i < m; ++i) b[i] -= f * A[i][j];
+        }
+        A[j][j] = alpha;
+    }
+    for (int j = nf - 1; j >= 0; --j) {
+        double v = b[j];
+        for (int k = j + 1; k < nf; ++k) v -= A[j][k] * dx[k];
+        dx[j] = v / A[j][j];
+        if (!isfinite(dx[j])) return -1;
+    }
+    return 0;
+}
+
 static double sumsq(int n, const double *v)
 {
     double s = 0.0;
@@ -23,12 +84,13 @@ static double sumsq(int n, const double *v)
 }
 
 /* Residual r = rho(xi) − ro and, if Jr is not NULL, its Jacobian in the nf free columns
- * listed in col[]. */
+ * listed in col[]; sw: the surface level's warm-start multipliers (in/out). */
 static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,
-                         const double xi[6], int nf, const int *col, double *r, double *Jr)
+                         const double xi[6], int nf, const int *col, double *sw, double *r,
+                         double *Jr)
 {
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6];
-    hp_error err = hp_contact_eval_g(L, G, level, xi, rho, Jr ? J : NULL, NULL);
+    hp_error err = hp_kin_contact_eval_warm(L, G, level, xi, sw, rho, Jr ? J : NULL, NULL);
     if (err) return err;
     for (int k = 0; k < L->n; ++k) {
         r[k] = rho[k] - ro[k];
@@ -38,9 +100,32 @@ static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, c
     return HP_OK;
 }
 
-hp_error hp_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
-                          const double *target, const int free_[6], const double x0[6],
-                          double xi[6], double *residual_rms, int *iters)
+hp_error hp_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level level,
+                             const double x0[6], hp_kin_fit_start *st)
+{
+    for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->s[k] = NAN;
+    return hp_kin_contact_eval_warm(L, G, level, x0, st->s, st->rho, st->J, NULL);
+}
+
+/* 1 when the fit has provably arrived at near (see hp_kin_fit): x within near->tol/4 of
+ * near->pose and the undamped Gauss–Newton step at x (its Jacobian Jr, residual r) below
+ * near->tol/4 in every free component. */
+static int arrived(int n, int nf, const int *col, const double *x, const double *Jr,
+                   const double *r, const hp_kin_fit_near *near)
+{
+    for (int j = 0; j < nf; ++j)
+        if (!(fabs(x[col[j]] - near->pose[col[j]]) <= 0.25 * near->tol[col[j]])) return 0;
+    double D[6], h[6];
+    for (int j = 0; j < nf; ++j) D[j] = 0.0;
+    if (damped_qr(n, nf, Jr, r, D, 0.0, h) != 0) return 0;
+    for (int j = 0; j < nf; ++j)
+        if (!(fabs(h[j]) <= 0.25 * near->tol[col[j]])) return 0;
+    return 1;
+}
+
+hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
+                    const int free_[6], const double x0[6], const hp_kin_fit_start *st,
+                    const hp_kin_fit_near *near, double xi[6], double *residual_rms, int *iters)
 {
     if (!L || !G || !target || !free_ || !x0 || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
@@ -58,10 +143,27 @@ hp_error hp_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
         memcpy(xi, x, sizeof x);
         return HP_OK;
     }
+    /* Successive iterates are close: each bladder's distance starts from its multiplier at
+     * the last evaluation. */
+    double sw[HP_MAX_BLADDERS];
     double r[HP_MAX_BLADDERS], Jr[HP_MAX_BLADDERS * 6], rt[HP_MAX_BLADDERS];
-    hp_error err = residual(L, G, level, target, x, nf, col, r, Jr);
+    double Jt[HP_MAX_BLADDERS * 6];
+    hp_error err = HP_OK;
+    if (st) {
+        for (int k = 0; k < n; ++k) {
+            sw[k] = st->s[k];
+            r[k] = st->rho[k] - target[k];
+            for (int j = 0; j < nf; ++j) Jr[k * nf + j] = st->J[k * 6 + col[j]];
+        }
+    } else {
+        for (int k = 0; k < n; ++k) sw[k] = NAN;
+        err = residual(L, G, level, target, x, nf, col, sw, r, Jr);
+    }
     if (err) return err;
-    double cost = sumsq(n, r), lambda = 1e-3;
+    /* The linear model's fit is a linear least-squares problem: an undamped first step
+     * solves it, and the second (a rounding-level correction) ends the iteration. The
+     * curved levels start damped, as Levenberg–Marquardt should from a far start. */
+    double cost = sumsq(n, r), lambda = level == HP_LEVEL_LINEAR ? 1e-15 : 1e-3;
     int it = 0, done = 0;
     while (!done && it < FK_MAX_ITERS) {
         ++it;
@@ -72,18 +174,28 @@ hp_error hp_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
             D[j] = s > 0 ? sqrt(s) : 1.0;
         }
         if (cost == 0.0) break;
-        if (hp_kin_damped_lstsq(n, nf, Jr, r, D, lambda, dx) != 0) return HP_ERR_NO_CONVERGENCE;
+        if (near && it > 1 && arrived(n, nf, col, x, Jr, r, near)) {
+            done = 1;
+            break;
+        }
+        if (damped_qr(n, nf, Jr, r, D, lambda, dx) != 0 &&
+            hp_kin_damped_lstsq(n, nf, Jr, r, D, lambda, dx) != 0)
+            return HP_ERR_NO_CONVERGENCE;
         double stepsize = 0.0;
         for (int j = 0; j < nf; ++j) stepsize = fmax(stepsize, fabs(D[j] * dx[j]));
         memcpy(xt, x, sizeof xt);
         for (int j = 0; j < nf; ++j) xt[col[j]] += dx[j];
-        err = residual(L, G, level, target, xt, nf, col, rt, NULL);
+        /* The trial's Jacobian comes with its distances (most steps are accepted, and it
+         * costs far less than a second evaluation at the accepted point). A rejected
+         * trial's multipliers still warm-start the next one: the bracket makes any start
+         * safe. */
+        err = residual(L, G, level, target, xt, nf, col, sw, rt, Jt);
         double ct = err == HP_OK ? sumsq(n, rt) : INFINITY;
         if (ct <= cost) {
             memcpy(x, xt, sizeof x);
             cost = ct;
-            err = residual(L, G, level, target, x, nf, col, r, Jr);
-            if (err) return err;
+            memcpy(r, rt, sizeof(double) * (size_t)n);
+            memcpy(Jr, Jt, sizeof(double) * (size_t)(n * nf));
             lambda = fmax(lambda * 0.1, 1e-15);
             if (stepsize <= FK_STEP_TOL) done = 1;
         } else {
@@ -97,6 +209,13 @@ hp_error hp_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
     if (residual_rms) *residual_rms = sqrt(cost / n);
     if (iters) *iters = it;
     return HP_OK;
+}
+
+hp_error hp_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
+                          const double *target, const int free_[6], const double x0[6],
+                          double xi[6], double *residual_rms, int *iters)
+{
+    return hp_kin_fit(L, G, level, target, free_, x0, NULL, NULL, xi, residual_rms, iters);
 }
 
 hp_error hp_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,

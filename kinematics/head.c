@@ -99,8 +99,8 @@ static hp_error sphere_distance(const hp_head *h, const double y[3], double *d,
  * Left bound: the term j alone reaches 1 at s = r_j(z_j − 1), so G >= 0 at the largest of
  * these (and at 0 outside). Right bound outside: G <= |r∘z|²/(1 + s)² − 1 <= 0 at
  * s = |r∘z| − 1. Inside, s <= 0. Points on an axis or on equal axes need no special case. */
-static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *d,
-                                   double grad[3], double hess[9], double foot[3])
+static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *s_io,
+                                   double *d, double grad[3], double hess[9], double foot[3])
 {
     const double *a = h->semi_axes;
     double e = fmin(a[0], fmin(a[1], a[2]));
@@ -128,6 +128,12 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
      * for a sphere; Newton from the left (ψ <= 0) climbs monotonically and converges in a
      * few steps where Newton on G itself would crawl. */
     double s = g0 == 0.0 ? 0.0 : lo; /* exactly on the surface: t = 0 */
+    /* Warm start: a multiplier from a nearby point (the previous evaluation of the same
+     * bladder) is within a small fraction of the root, so Newton needs two or three steps
+     * instead of four or five. From the right of the root ψ's concavity puts the first
+     * step left of it, then the climb is monotone as from lo; the bracket still guards
+     * every step, so a bad guess costs steps, never the answer. */
+    if (g0 != 0.0 && s_io && *s_io > lo && *s_io < hi) s = *s_io;
     if (g0 != 0.0) {
         for (int it = 0; it < 200; ++it) {
             double Q = 0.0, dQ = 0.0;
@@ -148,6 +154,7 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
             s = sn;
         }
     }
+    if (s_io) *s_io = s;
     double t = s * e * e;
     double x[3], m[3], w[3], v[3], S = 0.0;
     for (int i = 0; i < 3; ++i) {
@@ -180,13 +187,19 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
 hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
                               double grad[3], double hess[9], double foot[3])
 {
+    return hp_kin_head_distance_warm(h, q, NULL, d, grad, hess, foot);
+}
+
+hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], double *s_io,
+                                   double *d, double grad[3], double hess[9], double foot[3])
+{
     double y[3] = {q[0] - h->center[0], q[1] - h->center[1], q[2] - h->center[2]};
     if (!hp_kin_finite3(y)) return HP_ERR_INVALID;
     /* Beyond 1000 km the question is not about a head (and squares could overflow). */
     for (int i = 0; i < 3; ++i)
         if (!(fabs(y[i]) <= 1e6)) return HP_ERR_DOMAIN;
     if (h->shape == HP_HEAD_SPHERE) return sphere_distance(h, y, d, grad, hess, foot);
-    return ellipsoid_distance(h, y, d, grad, hess, foot);
+    return ellipsoid_distance(h, y, s_io, d, grad, hess, foot);
 }
 
 hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro,

@@ -31,6 +31,11 @@ hp_error hp_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag);
  * since. Same contracts otherwise. */
 hp_error hp_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
                            const double xi[6], double *rho, double *J, double *H);
+/* hp_contact_eval_g with one warm-start multiplier per bladder for the surface level
+ * (s_warm[0..n-1], see hp_kin_head_distance_warm; NULL: cold). Same answers to rounding. */
+hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level level,
+                                  const double xi[6], double *s_warm, double *rho, double *J,
+                                  double *H);
 hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
                                   double trans, double rot, double *bound);
 hp_error hp_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,

@@ -20,6 +20,14 @@ void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
 hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
                               double grad[3], double hess[9], double foot[3]);
 
+/* hp_kin_head_distance with a warm start for the ellipsoid's scaled Lagrange multiplier:
+ * *s_io (if s_io is not NULL) is the start when it lies inside the safeguarding bracket
+ * (NAN: a cold start from the bracket) and receives this point's multiplier, for the next
+ * evaluation of a nearby point. The answer is the same to rounding whatever the start; a
+ * sphere leaves *s_io alone. */
+hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], double *s_io,
+                                   double *d, double grad[3], double hess[9], double foot[3]);
+
 /* Smallest radius of curvature of the head surface [m] (a_min²/a_max for an ellipsoid). */
 double hp_kin_head_min_curvature_radius(const hp_head *h);
 

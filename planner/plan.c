@@ -2,6 +2,7 @@
  * Every answer passes the checks of hp_planner.h before it is returned; anything else is
  * labelled and carries the safe output. Allocation-free (messages via plan_text.c). */
 #include "planner/planner_internal.h"
+#include "iab/iab_internal.h"
 
 #include <math.h>
 #include <string.h>
@@ -19,6 +20,7 @@ typedef struct plan_ctx {
     hp_status st;     /* the backend's status */
     int raw, iters;   /* the backend's raw code and iterations */
     double clamp_mm;  /* largest radius moved back into its limits */
+    double rho[HP_MAX_BLADDERS]; /* the direct chain's distances at the commanded part [mm] */
 } plan_ctx;
 
 /* The safe output: the previous valid answer, labelled with a failure status (the message
@@ -126,9 +128,8 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
 
 /* Step 2: the direct chain. 1 when every limit holds at the commanded part itself: then it
  * is the exact answer and no solver runs. */
-static int direct_chain(hp_planner *p)
+static int direct_chain(hp_planner *p, double rho[HP_MAX_BLADDERS])
 {
-    double rho[HP_MAX_BLADDERS];
     const hp_problem *pb = &p->pb;
     if (hp_setup_contact_scaled(&p->L, &p->G, p->level, pb->d, rho, NULL) != HP_OK) return 0;
     for (int k = 0; k < p->L.n; ++k)
@@ -184,7 +185,8 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c)
  * forward contact kinematics (not real time). Returns 1, or 0 with res labelled. */
 static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
 {
-    if (!hp_plan_answer_from_pose(p, c->x, r, &c->clamp_mm)) {
+    /* The direct chain's answer is the pose it just evaluated: no second evaluation. */
+    if (!hp_plan_answer_from_pose(p, c->x, c->direct ? c->rho : NULL, r, &c->clamp_mm)) {
         hp_text_set(p->err, "the answer was not finite or left a limit: holding the previous "
                             "pressures");
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
@@ -248,16 +250,27 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
      * unique, so the fit from the nominal pose is the commanded part itself, to rounding.
      * The check would cost ~50 us of a ~10 us plan and could not fail. */
     if (p->level == HP_LEVEL_LINEAR) return 1;
-    double ro[HP_MAX_BLADDERS], zero[6] = {0}, xf[6], a[6], b[6];
+    double ro[HP_MAX_BLADDERS], xf[6], a[6], b[6];
     for (int k = 0; k < p->L.n; ++k) {
         const hp_iab *m = &p->L.bladders[k].iab;
         double ri;
-        if (hp_iab_fk_limit(m, &p->sb.limit[k], r->bladders[k].pressure, &ri) != HP_OK ||
+        /* Started at the answer's own stable radius: the root of its pressure is unique on
+         * the stable branch, so the start changes the steps, never what is verified. */
+        if (hp_iab_fk_limit_warm(m, &p->sb.limit[k], r->bladders[k].pressure,
+                                 r->bladders[k].ri, &ri) != HP_OK ||
             hp_iab_ro(m, ri, &ro[k]) != HP_OK)
             ro[k] = r->bladders[k].ro;
     }
     double resid = INFINITY;
-    hp_error e = hp_contact_fit_g(&p->L, &p->G, p->level, ro, p->commanded, zero, xf, &resid, NULL);
+    /* The fit may stop once it has provably arrived at xc (hp_kin_fit): the last two or
+     * three of its ~5 steps only polish digits far below HP_IDENT_FK_TOL. A fit that heads
+     * anywhere else runs to its end exactly as before. */
+    hp_kin_fit_near near;
+    for (int i = 0; i < 6; ++i) {
+        near.pose[i] = xc[i];
+        near.tol[i] = HP_IDENT_FK_TOL / (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
+    }
+    hp_error e = hp_plan_fit_from_nominal(p, ro, p->commanded, &near, xf, &resid);
     hp_plan_to_scaled(xc, a);
     hp_plan_to_scaled(xf, b);
     double worst = e == HP_OK ? 0.0 : INFINITY;
@@ -419,7 +432,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     for (int i = 0; i < 6; ++i) res->commanded[i] = p->commanded[i];
     memcpy(res->uncommanded, c.unc, sizeof c.unc);
 
-    c.direct = direct_chain(p);
+    c.direct = direct_chain(p, c.rho);
     c.x = p->pb.d;
     if (!c.direct && !solve(p, res, &c)) return HP_OK;
     res->raw_code = c.raw;

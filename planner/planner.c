@@ -28,12 +28,13 @@ void hp_plan_from_scaled(const double x[6], double xi[6])
     }
 }
 
-int hp_plan_answer_from_pose(hp_planner *p, const double x[6], hp_result *res,
-                             double *clamp_mm)
+int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
+                             hp_result *res, double *clamp_mm)
 {
     double rho[HP_MAX_BLADDERS];
     *clamp_mm = 0;
-    if (hp_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
+    if (rho_known) memcpy(rho, rho_known, sizeof(double) * (size_t)p->L.n);
+    else if (hp_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
     for (int k = 0; k < p->L.n; ++k) {
         const hp_bladder *B = &p->L.bladders[k];
         double ri_lo = p->pb.ri_lo_si[k], ri_hi = p->pb.ri_hi_si[k];
@@ -83,11 +84,28 @@ static hp_error build_nominal(hp_planner *p, hp_diag *d)
     /* When a limit excludes the nominal radii, the clamped radii hold some other pose. */
     double ro[HP_MAX_BLADDERS], xi[6], resid;
     for (int k = 0; k < p->L.n; ++k) ro[k] = r->bladders[k].ro;
-    if (hp_contact_fk_g(&p->L, &p->G, p->level, ro, NULL, xi, &resid, NULL) == HP_OK) {
+    if (hp_plan_fit_from_nominal(p, ro, p->fk_free, NULL, xi, &resid) == HP_OK) {
         for (int i = 0; i < 6; ++i) r->achieved[i] = p->commanded[i] ? xi[i] : 0.0;
     }
     for (int k = 0; k < p->L.n; ++k) r->bladders[k].binding = 0;
     return HP_OK;
+}
+
+hp_error hp_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
+                                  const hp_kin_fit_near *near, double xi[6],
+                                  double *residual_rms)
+{
+    /* With fk_free: hp_contact_fk's own checks, so this is a drop-in for it. */
+    if (free_ == p->fk_free) {
+        int nf = 0;
+        for (int i = 0; i < 6; ++i) nf += free_[i] != 0;
+        if (p->L.n < nf) return HP_ERR_INVALID;
+        for (int k = 0; k < p->L.n; ++k)
+            if (!(ro[k] > 0) || !isfinite(ro[k])) return HP_ERR_INVALID;
+    }
+    const double zero[6] = {0};
+    return hp_kin_fit(&p->L, &p->G, p->level, ro, free_, zero, p->nom_ok ? &p->nom : NULL, near, xi,
+                      residual_rms, NULL);
 }
 
 void hp_plan_set_previous_answer(hp_planner *p, const hp_result *r)
@@ -143,6 +161,13 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
         goto fail;
     }
     memcpy(p->commanded, p->id.commanded, sizeof p->commanded);
+    {
+        /* The round-trip fits all start at the nominal pose: its model once, here. */
+        const double zero[6] = {0};
+        p->nom_ok = hp_kin_fit_start_at(&p->L, &p->G, p->level, zero, &p->nom) == HP_OK;
+        int dof = p->L.head.shape == HP_HEAD_SPHERE ? 3 : 6;
+        for (int i = 0; i < 6; ++i) p->fk_free[i] = i < dof;
+    }
     if ((e = hp_setup_static_bounds(&p->L, &p->sb, d)) != HP_OK) goto fail;
 
     hp_problem *pb = &p->pb;
@@ -254,7 +279,7 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
         r.bladders[k].binding = 0;
     }
     double xi[6], resid;
-    if (hp_contact_fk_g(&p->L, &p->G, p->level, ro, NULL, xi, &resid, NULL) == HP_OK)
+    if (hp_plan_fit_from_nominal(p, ro, p->fk_free, NULL, xi, &resid) == HP_OK)
         for (int i = 0; i < 6; ++i) r.achieved[i] = p->commanded[i] ? xi[i] : 0.0;
     hp_plan_set_previous_answer(p, &r);
     return HP_OK;

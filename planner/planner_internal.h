@@ -7,6 +7,7 @@
 
 #include "planner/backend_common.h"
 #include "planner/problem_setup.h"
+#include "kinematics/fit_internal.h"
 
 /* Largest correction hp_plan accepts: far beyond any bladder's reach, small enough that
  * every contact model stays well defined. */
@@ -49,7 +50,17 @@ struct hp_planner {
     char err[HP_DIAG_MAX];       /* the last failure (hp_planner_error) */
     char note[HP_DIAG_MAX];      /* why the last answer is not REACHED (hp_planner_note) */
     hp_diag diag;
+    hp_kin_fit_start nom;        /* the contact model at the nominal pose (fit starts) */
+    int nom_ok;                  /* nom is valid (else fits evaluate it themselves) */
+    int fk_free[6];              /* hp_contact_fk's free components: 6, or 3 for a sphere */
 };
+
+/* hp_contact_fit of the outer radii ro in the components free_ from the nominal pose,
+ * taking its first model evaluation from p->nom: the same steps, one evaluation fewer.
+ * near (may be NULL): hp_kin_fit's early stop at an expected pose. */
+hp_error hp_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
+                                  const hp_kin_fit_near *near, double xi[6],
+                                  double *residual_rms);
 
 /* The backend of an enum value (backends.c); NULL for a value with no backend. */
 const hp_backend_ops *hp_backend_table(hp_backend b);
@@ -68,11 +79,12 @@ void hp_text_add_num(char *buf, double v, int dec); /* |v| to dec decimals, with
 void hp_plan_to_scaled(const double xi[6], double x[6]);
 void hp_plan_from_scaled(const double x[6], double xi[6]);
 
-/* Fills res from a scaled pose x: contact distances at the planner's level, radii,
- * pressures (clamped into this cycle's limits), binding flags and achieved pose. Returns 0
- * when something was not finite. clamp_mm receives the largest radius correction. */
-int hp_plan_answer_from_pose(hp_planner *p, const double x[6], hp_result *res,
-                             double *clamp_mm);
+/* Fills res from a scaled pose x: contact distances at the planner's level (rho_known:
+ * already evaluated at x [mm], else NULL), radii, pressures (clamped into this cycle's
+ * limits), binding flags and achieved pose. Returns 0 when something was not finite.
+ * clamp_mm receives the largest radius correction. */
+int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
+                             hp_result *res, double *clamp_mm);
 
 /* Makes r the previous answer: the safe output, the rate limits' origin and the next
  * solve's start point. */

@@ -207,12 +207,60 @@ static void test_derivatives(void **state)
     check_derivs(&s, sp);
 }
 
+/* The warm start changes the path, never the answer: from the multiplier of a nearby
+ * point (what a fit or an SQP passes on), from far-off guesses on either side of the root,
+ * from values outside the bracket and from NAN, the distance, normal, Hessian and foot
+ * agree with the cold solve to 1e-15 m (~10 ulps of a 0.1 m distance) and 1e-12 relative
+ * for the Hessian (its entries are ~1/distance; the root moves by an ulp or two), and the
+ * multiplier handed back is the cold solve's (a second warm solve from it returns the same
+ * distance). Points outside at 0.1..60 mm and just inside. */
+static void test_warm_start(void **state)
+{
+    (void)state;
+    hp_head h = ellipsoid(0.0775, 0.115, 0.0975);
+    kin_rng rng = {11};
+    for (int i = 0; i < 400; ++i) {
+        double q[3], dir[3];
+        kin_rng_vec3(&rng, 1.0, q);
+        double sc = i < 360 ? 1.0 : 0.9;
+        for (int k = 0; k < 3; ++k) q[k] *= h.semi_axes[k] * sc;
+        if (i < 360) {
+            double d0, g0[3];
+            assert_int_equal(hp_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
+            double off = kin_rng_uniform(&rng, 1e-4, 0.06);
+            for (int k = 0; k < 3; ++k) q[k] += off * g0[k];
+        }
+        double d, g[3], H[9], foot[3], s_cold = NAN;
+        assert_int_equal(hp_kin_head_distance_warm(&h, q, &s_cold, &d, g, H, foot), HP_OK);
+        assert_true(isfinite(s_cold));
+        /* A nearby point's multiplier: the point moved by up to 2 mm. */
+        kin_rng_vec3(&rng, 1.0, dir);
+        double qn[3], sn = NAN, dn;
+        for (int k = 0; k < 3; ++k) qn[k] = q[k] + 0.002 * dir[k];
+        assert_int_equal(hp_kin_head_distance_warm(&h, qn, &sn, &dn, NULL, NULL, NULL), HP_OK);
+        const double guesses[7] = {sn, s_cold * 3.0 + 0.5, s_cold - 0.5, -0.999, 1e6, -5.0, NAN};
+        for (int gi = 0; gi < 7; ++gi) {
+            double s = guesses[gi], dw, gw[3], Hw[9], fw[3];
+            assert_int_equal(hp_kin_head_distance_warm(&h, q, &s, &dw, gw, Hw, fw), HP_OK);
+            assert_true(fabs(dw - d) <= 1e-15);
+            for (int k = 0; k < 3; ++k) {
+                assert_true(fabs(gw[k] - g[k]) <= 1e-12);
+                assert_true(fabs(fw[k] - foot[k]) <= 1e-15);
+            }
+            for (int k = 0; k < 9; ++k)
+                assert_true(fabs(Hw[k] - H[k]) <= 1e-12 * (1.0 + fabs(H[k])));
+            assert_true(fabs(s - s_cold) <= 1e-13 * (1.0 + fabs(s_cold)));
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_axes_and_far),
         cmocka_unit_test(test_near_sphere),
         cmocka_unit_test(test_derivatives),
+        cmocka_unit_test(test_warm_start),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
