@@ -104,11 +104,11 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     level_row *row = vrow;
     static hp_scene sc;
     hp_diag d;
+    if (hp_scene_file_kind(path) != HP_SCENE_LAYOUT) return 1; /* a single-bladder study */
     if (hp_scene_load(path, &sc, &d) != HP_OK) {
         cli_fail(0, "bench", "levels: %s", d.text);
         return CLI_EXIT_DATAERR;
     }
-    if (sc.kind != HP_SCENE_LAYOUT) return 1;
     static double t[MAX_T][6], ref[MAX_T][6];
     int n = scene_targets(&sc, o->quick, t);
     if (n < 0) return CLI_EXIT_DATAERR;

@@ -65,8 +65,7 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     if (!sc) return CLI_EXIT_SOFTWARE;
     hp_diag d;
     int rc = 1;
-    if (hp_scene_load(path, sc, &d) != HP_OK || sc->kind != HP_SCENE_LAYOUT || !sc->has_load ||
-        !sc->has_correction) {
+    if (hp_scene_load(path, sc, &d) != HP_OK || !sc->has_load || !sc->has_correction) {
         free(sc);
         return 1;
     }

@@ -131,13 +131,13 @@ int bench_planner(const bench_options *o, bench_table *t)
 {
     hp_scene scene;
     hp_diag d;
+    if (hp_scene_file_kind(o->scene) != HP_SCENE_LAYOUT) {
+        cli_fail(0, "bench", "--scene: %s: not a layout scene", o->scene);
+        return CLI_EXIT_DATAERR;
+    }
     if (hp_scene_load(o->scene, &scene, &d) != HP_OK) {
         cli_fail(0, "bench", "--scene: %s", d.text);
         return CLI_EXIT_NOINPUT;
-    }
-    if (scene.kind != HP_SCENE_LAYOUT) {
-        cli_fail(0, "bench", "--scene: %s: not a layout scene", o->scene);
-        return CLI_EXIT_DATAERR;
     }
     const hp_layout *L = &scene.layout;
     static double targets[N_TARGETS_MAX][6], ref[N_TARGETS_MAX][6];

@@ -14,13 +14,13 @@
 int bench_load_layout(const char *path, hp_scene *scene)
 {
     hp_diag d;
+    if (hp_scene_file_kind(path) != HP_SCENE_LAYOUT) {
+        cli_fail(0, "bench", "%s: not a layout scene", path);
+        return CLI_EXIT_DATAERR;
+    }
     if (hp_scene_load(path, scene, &d) != HP_OK) {
         cli_fail(0, "bench", "%s", d.text);
         return CLI_EXIT_NOINPUT;
-    }
-    if (scene->kind != HP_SCENE_LAYOUT) {
-        cli_fail(0, "bench", "%s: not a layout scene", path);
-        return CLI_EXIT_DATAERR;
     }
     return 0;
 }

@@ -5,23 +5,29 @@
 
 #include <stdlib.h>
 
-int cli_load_scene(const char *cmd, const char *path, int need_layout, hp_scene **out)
+int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_scene **out)
 {
     *out = NULL;
+    hp_diag d = {{0}};
+    if (hp_scene_file_kind(path) == HP_SCENE_BLADDER) {
+        hp_bladder_study st;
+        hp_error e = hp_study_load(path, &st, &d);
+        if (e != HP_OK)
+            return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, cmd, "%s",
+                            d.text);
+        return cli_fail(CLI_EXIT_DATAERR, cmd,
+                        study_msg ? study_msg
+                                  : "%s: a single-bladder study has no layout (see headplan "
+                                    "ik/fk)",
+                        path);
+    }
     hp_scene *sc = calloc(1, sizeof *sc);
     if (!sc) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
-    hp_diag d = {{0}};
     hp_error e = hp_scene_load(path, sc, &d);
     if (e != HP_OK) {
         free(sc);
         return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, cmd, "%s",
                            d.text);
-    }
-    if (need_layout && sc->kind != HP_SCENE_LAYOUT) {
-        free(sc);
-        return cli_fail(CLI_EXIT_DATAERR, cmd,
-                           "%s: a single-bladder study has no layout (see headplan ik/fk)",
-                           path);
     }
     *out = sc;
     return 0;

@@ -6,10 +6,12 @@
 #include "headplan/headplan.h"
 #include "headplan/hp_planner.h"
 
-/* Loads SCENE (allocated into *out; free() it). Prints the parser's message and returns
- * 66 (cannot open) or 65 (malformed) on failure, or 65 when the scene is a single-bladder
- * study and need_layout is set. Returns 0 on success. */
-int cli_load_scene(const char *cmd, const char *path, int need_layout, hp_scene **out);
+/* Loads the layout scene SCENE (allocated into *out; free() it). Prints the parser's message
+ * and returns 66 (cannot open) or 65 (malformed) on failure. A single-bladder study is read
+ * as one (its own errors first), then refused with 65 and study_msg (a format with one %s,
+ * the path; NULL: "a single-bladder study has no layout (see headplan ik/fk)"). Returns 0
+ * on success. */
+int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_scene **out);
 
 /* Settings from the scene's model and solver sections, then the command-line overrides
  * (backend/level: NULL = keep the scene's). Prints and returns 64 for an unknown name given

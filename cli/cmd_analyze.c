@@ -370,12 +370,9 @@ int cmd_analyze(int argc, char **argv)
                            "--level: unknown level '%s' (linear, plane, surface, auto)", a.level);
 
     hp_scene *sc = NULL;
-    if ((rc = cli_load_scene(CMD, a.scene, 0, &sc))) return rc;
-    if (sc->kind != HP_SCENE_LAYOUT) {
-        free(sc);
-        return cli_fail(CLI_EXIT_DATAERR, CMD,
-                           "%s: analyze needs a layout scene (head and bladders)", a.scene);
-    }
+    if ((rc = cli_load_scene(CMD, a.scene,
+                             "%s: analyze needs a layout scene (head and bladders)", &sc)))
+        return rc;
     analysis r;
     memset(&r, 0, sizeof r);
     rc = compute(sc, &a, &r);

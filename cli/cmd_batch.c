@@ -309,7 +309,7 @@ int cmd_batch(int argc, char **argv)
     if ((rc = batch_output_format(a.format, a.out, &fmt))) return rc;
 
     hp_scene *sc = NULL;
-    if ((rc = cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
+    if ((rc = cli_load_scene(CMD, a.scene, NULL, &sc))) return rc;
     hp_settings s;
     char scene_sha[65];
     struct stat scene_st;

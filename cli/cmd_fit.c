@@ -463,7 +463,7 @@ static int run_layout(int argc, char **argv)
     int rc = parse_layout(argc, argv, &a);
     if (rc >= 0) return rc;
     hp_scene *sc = NULL;
-    rc = cli_load_scene(CMD, a.scene, 1, &sc);
+    rc = cli_load_scene(CMD, a.scene, NULL, &sc);
     if (rc) return rc;
     hp_layout_fit_options o;
     rc = layout_options(&a, sc, &o);

@@ -275,7 +275,7 @@ int cmd_horizon(int argc, char **argv)
         return cli_fail(CLI_EXIT_USAGE, CMD, "--rows: '%s' is not deviation or correction",
                            a.rows);
     hp_scene *sc = NULL;
-    if ((rc = cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
+    if ((rc = cli_load_scene(CMD, a.scene, NULL, &sc))) return rc;
     hp_settings s;
     cli_out out = {.slot = -1};
     hp_horizon_row *plans[3] = {NULL, NULL, NULL};

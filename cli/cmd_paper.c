@@ -76,7 +76,7 @@ static const struct {
 #define N_UNITS (sizeof UNITS / sizeof UNITS[0])
 
 typedef struct result {
-    const hp_scene *s;
+    const hp_bladder_study *s;
     double ri, ro, P, dV, shell;
     double gauss[2], adapt[2], adapt_err[2];
     int adapt_evals[2];
@@ -102,7 +102,7 @@ static int agrees(const hp_scene_printed *p, double computed)
     return fabs(computed - p->value) <= half_unit(p->text) * (1 + 1e-12);
 }
 
-static int compute(const hp_scene *s, result *r)
+static int compute(const hp_bladder_study *s, result *r)
 {
     memset(r, 0, sizeof *r);
     r->s = s;
@@ -216,7 +216,7 @@ static void row(const char *what, const char *fmt, double v, const hp_scene_prin
 
 static void print_text(const result *r, const char *label)
 {
-    const hp_scene *s = r->s;
+    const hp_bladder_study *s = r->s;
     char m[512];
     printf("== %s\n", s->printed_title[0] ? s->printed_title : s->name);
     printf("scene: %s\nname: %s\n", label, s->name);
@@ -276,7 +276,7 @@ static json_t *printed_json(const hp_scene_printed *p, const char *mark)
 
 static json_t *to_json(const result *r, const char *label)
 {
-    const hp_scene *s = r->s;
+    const hp_bladder_study *s = r->s;
     char m[8][512];
     mark_plain(&s->printed_C1, s->iab.C1, m[0], sizeof m[0]);
     mark_plain(&s->printed_C2, s->iab.C2, m[1], sizeof m[1]);
@@ -340,6 +340,22 @@ static void help(void)
            "66 scene file cannot be opened\n");
 }
 
+/* A file that is a layout scene: the layout reader's message when it is malformed, else
+ * that it is not a study. */
+static int not_a_study(const char *path)
+{
+    hp_scene *sc = calloc(1, sizeof *sc);
+    if (!sc) return cli_fail(CLI_EXIT_SOFTWARE, "paper", "out of memory");
+    hp_diag d = {{0}};
+    hp_error e = hp_scene_load(path, sc, &d);
+    free(sc);
+    if (e != HP_OK)
+        return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, "paper", "%s",
+                        d.text);
+    return cli_fail(CLI_EXIT_DATAERR, "paper",
+                    "%s: not a single-bladder scene (needs a 'bladder' section)", path);
+}
+
 int cmd_paper(int argc, char **argv)
 {
     int json = 0, n_files = 0;
@@ -355,7 +371,7 @@ int cmd_paper(int argc, char **argv)
         else ++n_files;
     }
     int n = n_files ? n_files : 2;
-    hp_scene *scenes = calloc((size_t)n, sizeof *scenes);
+    hp_bladder_study *scenes = calloc((size_t)n, sizeof *scenes);
     result *res = calloc((size_t)n, sizeof *res);
     const char **labels = calloc((size_t)n, sizeof *labels);
     int status = 0;
@@ -366,22 +382,23 @@ int cmd_paper(int argc, char **argv)
         if (n_files) {
             while (strcmp(argv[i], "--json") == 0) ++i;
             labels[k] = argv[i++];
-            e = hp_scene_load(labels[k], &scenes[k], &d);
+            if (hp_scene_file_kind(labels[k]) == HP_SCENE_LAYOUT) {
+                /* A layout scene: its own errors first, else the wrong kind. */
+                status = not_a_study(labels[k]);
+                continue;
+            }
+            e = hp_study_load(labels[k], &scenes[k], &d);
         } else {
             labels[k] = k == 0 ? "scenarios/paper_expansion.yaml (built in)"
                                : "scenarios/paper_compression.yaml (built in)";
             const char *text = k == 0 ? EXPANSION : COMPRESSION;
-            e = hp_scene_parse(text, strlen(text),
+            e = hp_study_parse(text, strlen(text),
                                k == 0 ? "paper_expansion.yaml" : "paper_compression.yaml",
                                &scenes[k], &d);
         }
         if (e != HP_OK)
             status = cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, "paper",
                                  "%s", d.text);
-        else if (scenes[k].kind != HP_SCENE_BLADDER)
-            status = cli_fail(CLI_EXIT_DATAERR, "paper",
-                                 "%s: not a single-bladder scene (needs a 'bladder' section)",
-                                 labels[k]);
         else
             status = compute(&scenes[k], &res[k]);
     }

@@ -426,7 +426,7 @@ int cmd_plot(int argc, char **argv)
     const hp_trace_rows *override = a.rows ? &kind : NULL;
     hp_trace_rows scene_rows;
     if (a.scene) {
-        int lrc = cli_load_scene(CMD, a.scene, 1, &sc);
+        int lrc = cli_load_scene(CMD, a.scene, NULL, &sc);
         if (lrc) {
             free(res.rows);
             return lrc;

@@ -309,7 +309,7 @@ int cmd_render(int argc, char **argv)
     if (a.correction && (rc = cli_doubles(CMD, "--correction", a.correction, 6, clin)))
         return rc;
     hp_scene *sc = NULL;
-    if ((rc = cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
+    if ((rc = cli_load_scene(CMD, a.scene, NULL, &sc))) return rc;
     if (a.correction) hp_pose_from_clinical(clin, desired);
     else if (sc->has_correction) memcpy(desired, sc->correction, sizeof desired);
     hp_settings s;

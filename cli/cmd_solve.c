@@ -180,7 +180,7 @@ int cmd_solve(int argc, char **argv)
     if (a.correction && (rc = cli_doubles(CMD, "--correction", a.correction, 6, corr_clin)))
         return rc;
     hp_scene *sc = NULL;
-    if ((rc = cli_load_scene(CMD, a.scene, 1, &sc))) return rc;
+    if ((rc = cli_load_scene(CMD, a.scene, NULL, &sc))) return rc;
     double desired[6];
     if (a.correction) {
         hp_pose_from_clinical(corr_clin, desired);

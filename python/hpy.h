@@ -54,7 +54,8 @@ int hpy_put(PyObject *d, const char *key, PyObject *value);
 /* ---- the Scene type (py_scene.c) ---- */
 typedef struct {
     PyObject_HEAD
-    hp_scene *sc; /* owned; a layout or bladder scene */
+    hp_scene *sc;          /* owned: a layout scene, or NULL */
+    hp_bladder_study *st;  /* owned: a single-bladder study, or NULL (exactly one is set) */
 } hpy_scene;
 extern PyTypeObject hpy_scene_type;
 /* headplan.load_scene(source) */

@@ -8,6 +8,7 @@ static void scene_dealloc(PyObject *o)
 {
     hpy_scene *self = (hpy_scene *)o;
     PyMem_Free(self->sc);
+    PyMem_Free(self->st);
     Py_TYPE(o)->tp_free(o);
 }
 
@@ -39,16 +40,20 @@ static PyObject *dict_text(PyObject *dict)
     return text;
 }
 
+/* The storage for a scene of kind k: a layout scene or a study. -1 when out of memory. */
+static int alloc_kind(hpy_scene *obj, hp_scene_kind k)
+{
+    if (k == HP_SCENE_BLADDER) return (obj->st = PyMem_Calloc(1, sizeof *obj->st)) ? 0 : -1;
+    return (obj->sc = PyMem_Calloc(1, sizeof *obj->sc)) ? 0 : -1;
+}
+
 PyObject *hpy_load_scene(PyObject *self, PyObject *arg)
 {
     (void)self;
     hpy_scene *obj = PyObject_New(hpy_scene, &hpy_scene_type);
     if (!obj) return NULL;
-    obj->sc = PyMem_Calloc(1, sizeof *obj->sc);
-    if (!obj->sc) {
-        Py_DECREF(obj);
-        return PyErr_NoMemory();
-    }
+    obj->sc = NULL;
+    obj->st = NULL;
     hp_diag d = {{0}};
     hp_error e;
     if (PyDict_Check(arg)) {
@@ -59,7 +64,14 @@ PyObject *hpy_load_scene(PyObject *self, PyObject *arg)
         }
         Py_ssize_t len;
         const char *utf8 = PyUnicode_AsUTF8AndSize(text, &len);
-        e = utf8 ? hp_scene_parse(utf8, (size_t)len, "<dict>", obj->sc, &d) : HP_ERR_NOMEM;
+        if (utf8 && alloc_kind(obj, hp_scene_kind_of(utf8, (size_t)len)) < 0) {
+            Py_DECREF(text);
+            Py_DECREF(obj);
+            return PyErr_NoMemory();
+        }
+        e = !utf8  ? HP_ERR_NOMEM
+            : obj->st ? hp_study_parse(utf8, (size_t)len, "<dict>", obj->st, &d)
+                      : hp_scene_parse(utf8, (size_t)len, "<dict>", obj->sc, &d);
         Py_DECREF(text);
         if (!utf8) {
             Py_DECREF(obj);
@@ -75,8 +87,17 @@ PyObject *hpy_load_scene(PyObject *self, PyObject *arg)
                                 Py_TYPE(arg)->tp_name);
         }
         const char *p = PyBytes_AS_STRING(path);
+        hp_scene_kind kind;
         Py_BEGIN_ALLOW_THREADS
-        e = hp_scene_load(p, obj->sc, &d);
+        kind = hp_scene_file_kind(p);
+        Py_END_ALLOW_THREADS
+        if (alloc_kind(obj, kind) < 0) {
+            Py_DECREF(path);
+            Py_DECREF(obj);
+            return PyErr_NoMemory();
+        }
+        Py_BEGIN_ALLOW_THREADS
+        e = obj->st ? hp_study_load(p, obj->st, &d) : hp_scene_load(p, obj->sc, &d);
         Py_END_ALLOW_THREADS
         Py_DECREF(path);
     }
@@ -94,13 +115,13 @@ const hp_scene *hpy_layout_scene(PyObject *obj)
                      Py_TYPE(obj)->tp_name);
         return NULL;
     }
-    const hp_scene *sc = ((hpy_scene *)obj)->sc;
-    if (sc->kind != HP_SCENE_LAYOUT) {
+    const hpy_scene *self = (const hpy_scene *)obj;
+    if (!self->sc) {
         hpy_fail("%s: a single-bladder study has no layout (see headplan.ik / headplan.fk)",
-                 sc->file);
+                 self->st->file);
         return NULL;
     }
-    return sc;
+    return self->sc;
 }
 
 static PyObject *vec_mm(const double *v, int n, double scale)
@@ -177,8 +198,8 @@ static PyObject *get_layout(PyObject *o, void *c)
 static PyObject *get_bladder(PyObject *o, void *c)
 {
     (void)c;
-    const hp_scene *sc = ((hpy_scene *)o)->sc;
-    if (sc->kind != HP_SCENE_BLADDER) Py_RETURN_NONE;
+    const hp_bladder_study *sc = ((hpy_scene *)o)->st;
+    if (!sc) Py_RETURN_NONE;
     return Py_BuildValue("{s:d,s:d,s:d,s:d}", "Ri_mm", sc->iab.Ri * 1e3, "Ro_mm",
                          sc->iab.Ro * 1e3, "c1_pa", sc->iab.C1, "c2_pa", sc->iab.C2);
 }
@@ -186,26 +207,29 @@ static PyObject *get_bladder(PyObject *o, void *c)
 static PyObject *get_name(PyObject *o, void *c)
 {
     (void)c;
-    return PyUnicode_FromString(((hpy_scene *)o)->sc->name);
+    const hpy_scene *self = (const hpy_scene *)o;
+    return PyUnicode_FromString(self->sc ? self->sc->name : self->st->name);
 }
 
 static PyObject *get_file(PyObject *o, void *c)
 {
     (void)c;
-    return PyUnicode_DecodeFSDefault(((hpy_scene *)o)->sc->file);
+    const hpy_scene *self = (const hpy_scene *)o;
+    return PyUnicode_DecodeFSDefault(self->sc ? self->sc->file : self->st->file);
 }
 
 static PyObject *get_kind(PyObject *o, void *c)
 {
     (void)c;
-    return PyUnicode_FromString(hp_scene_kind_name(((hpy_scene *)o)->sc->kind));
+    return PyUnicode_FromString(
+        hp_scene_kind_name(((hpy_scene *)o)->sc ? HP_SCENE_LAYOUT : HP_SCENE_BLADDER));
 }
 
 static PyObject *get_names(PyObject *o, void *c)
 {
     (void)c;
     const hp_scene *sc = ((hpy_scene *)o)->sc;
-    int n = sc->kind == HP_SCENE_LAYOUT ? sc->layout.n : 0;
+    int n = sc ? sc->layout.n : 0;
     PyObject *t = PyTuple_New(n);
     for (int k = 0; t && k < n; ++k) {
         PyObject *s = PyUnicode_FromString(sc->layout.bladders[k].name);
@@ -222,7 +246,7 @@ static PyObject *get_correction(PyObject *o, void *c)
 {
     (void)c;
     const hp_scene *sc = ((hpy_scene *)o)->sc;
-    if (!sc->has_correction) Py_RETURN_NONE;
+    if (!sc || !sc->has_correction) Py_RETURN_NONE;
     double mm_deg[6];
     hp_pose_to_clinical(sc->correction, mm_deg);
     return vec_mm(mm_deg, 6, 1.0);
@@ -232,34 +256,43 @@ static PyObject *get_trace(PyObject *o, void *c)
 {
     (void)c;
     const hp_scene *sc = ((hpy_scene *)o)->sc;
-    if (!sc->has_trace) Py_RETURN_NONE;
+    if (!sc || !sc->has_trace) Py_RETURN_NONE;
     return PyUnicode_DecodeFSDefault(sc->trace_path);
 }
 
 static PyObject *get_trace_rows(PyObject *o, void *c)
 {
     (void)c;
-    return PyUnicode_FromString(hp_trace_rows_name(((hpy_scene *)o)->sc->trace_rows));
+    const hp_scene *sc = ((hpy_scene *)o)->sc;
+    return PyUnicode_FromString(hp_trace_rows_name(sc ? sc->trace_rows : HP_TRACE_DEVIATION));
 }
 
 static PyObject *get_backend(PyObject *o, void *c)
 {
     (void)c;
-    return PyUnicode_FromString(hp_backend_name(((hpy_scene *)o)->sc->backend));
+    const hp_scene *sc = ((hpy_scene *)o)->sc;
+    hp_settings def; /* a study has no solver section: the planner's defaults */
+    hp_settings_default(&def);
+    return PyUnicode_FromString(hp_backend_name(sc ? sc->backend : def.backend));
 }
 
 static PyObject *get_level(PyObject *o, void *c)
 {
     (void)c;
-    return PyUnicode_FromString(hp_level_name(((hpy_scene *)o)->sc->level));
+    const hp_scene *sc = ((hpy_scene *)o)->sc;
+    hp_settings def; /* a study has no model section: the planner's defaults */
+    hp_settings_default(&def);
+    return PyUnicode_FromString(hp_level_name(sc ? sc->level : def.level));
 }
 
 static PyObject *scene_repr(PyObject *o)
 {
-    const hp_scene *sc = ((hpy_scene *)o)->sc;
-    return PyUnicode_FromFormat("<headplan.Scene '%s' (%s, %d bladders) from %s>", sc->name,
-                                hp_scene_kind_name(sc->kind),
-                                sc->kind == HP_SCENE_LAYOUT ? sc->layout.n : 1, sc->file);
+    const hpy_scene *self = (const hpy_scene *)o;
+    const hp_scene *sc = self->sc;
+    return PyUnicode_FromFormat("<headplan.Scene '%s' (%s, %d bladders) from %s>",
+                                sc ? sc->name : self->st->name,
+                                hp_scene_kind_name(sc ? HP_SCENE_LAYOUT : HP_SCENE_BLADDER),
+                                sc ? sc->layout.n : 1, sc ? sc->file : self->st->file);
 }
 
 static PyGetSetDef scene_getset[] = {

@@ -175,7 +175,7 @@ hp_error sp_bladder_params(const sr_ctx *c, const yt_node *map, const char *path
     return HP_OK;
 }
 
-hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_scene *s)
+hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_bladder_study *s)
 {
     static const char *const KEYS[] = {"Ri_mm", "Ro_mm", "material", "ri_mm", "pressure_pa",
                                        NULL};
@@ -231,7 +231,7 @@ hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_scene *s)
     return HP_OK;
 }
 
-hp_error sp_printed(const sr_ctx *c, const yt_node *node, hp_scene *s)
+hp_error sp_printed(const sr_ctx *c, const yt_node *node, hp_bladder_study *s)
 {
     static const char *const KEYS[] = {"title", "note",  "C1_pa", "C2_pa",       "Ri_m",
                                        "ri_m",  "Ro_m",  "ro_m",  "pressure_pa", "dV_m3",

@@ -1,4 +1,5 @@
-/* Scene files: the top level, the model/solver/correction/trace sections, and loading. */
+/* Scene files: the top level, the model/solver/correction/trace sections, and loading, for
+ * both kinds: layout scenes (hp_scene) and single-bladder studies (hp_bladder_study). */
 #include "headplan/hp_trace.h"
 #include "common/units.h"
 #include "planner/settings_check.h"
@@ -29,7 +30,7 @@ const char *hp_scene_kind_name(hp_scene_kind k)
 
 /* `headplan_scene: 1` must be the first key, so a reader knows the format before anything
  * else is interpreted. */
-static hp_error version(const sr_ctx *c, const yt_node *root, hp_scene *s)
+static hp_error version(const sr_ctx *c, const yt_node *root, int *out)
 {
     if (root->type != YT_MAPPING)
         return sr_fail(c, root, "scene", HP_ERR_PARSE,
@@ -48,7 +49,7 @@ static hp_error version(const sr_ctx *c, const yt_node *root, hp_scene *s)
         return sr_fail(c, v, "headplan_scene", HP_ERR_PARSE,
                        "unsupported version %ld (this build reads version %d)", ver,
                        HP_SCENE_VERSION);
-    s->version = (int)ver;
+    *out = (int)ver;
     return HP_OK;
 }
 
@@ -230,7 +231,7 @@ static hp_error layout_scene(const sr_ctx *c, const yt_node *root, hp_scene *s)
     return HP_OK;
 }
 
-static hp_error bladder_scene(const sr_ctx *c, const yt_node *root, hp_scene *s)
+static hp_error bladder_scene(const sr_ctx *c, const yt_node *root, hp_bladder_study *s)
 {
     hp_error e = sr_map(c, root, "", BLADDER_KEYS, "in a single-bladder scene");
     if (e) return e;
@@ -240,13 +241,46 @@ static hp_error bladder_scene(const sr_ctx *c, const yt_node *root, hp_scene *s)
     return HP_OK;
 }
 
-static hp_error parse_tree(const sr_ctx *c, const yt_node *root, hp_scene *s)
+/* The first keys of either kind: `headplan_scene` and `name`. */
+static hp_error head_keys(const sr_ctx *c, const yt_node *root, int *ver, char *name,
+                          size_t size)
 {
-    hp_error e = version(c, root, s);
+    hp_error e = version(c, root, ver);
     if (e) return e;
     const yt_node *n;
     if ((e = sr_require(c, root, "", "name", &n))) return e;
-    if ((e = sr_text(c, n, "name", s->name, sizeof s->name))) return e;
+    return sr_text(c, n, "name", name, size);
+}
+
+static hp_error study_tree(const sr_ctx *c, const yt_node *root, hp_bladder_study *s);
+static hp_error layout_tree_v(const sr_ctx *c, const yt_node *root, void *out);
+static hp_error study_tree_v(const sr_ctx *c, const yt_node *root, void *out);
+
+/* A file of the other kind: judged by that kind's reader (into a scratch struct of size
+ * bytes), so it gets that reader's message when malformed; else refused as `what`. */
+static hp_error wrong_kind(const sr_ctx *c, const yt_node *root, size_t size,
+                           hp_error (*tree)(const sr_ctx *, const yt_node *, void *),
+                           const char *what)
+{
+    void *t = calloc(1, size);
+    if (!t) return hp_diag_set(c->diag, HP_ERR_NOMEM, "%s: out of memory", c->file);
+    hp_error e = tree(c, root, t);
+    free(t);
+    if (e) return e;
+    return hp_diag_set(c->diag, HP_ERR_INVALID, "%s: %s", c->file, what);
+}
+
+/* A layout scene. A single-bladder study given to this reader is judged by the study
+ * reader first (so a file gets the same message whichever reader it is given to), then
+ * refused as the wrong kind. */
+static hp_error layout_tree(const sr_ctx *c, const yt_node *root, hp_scene *s)
+{
+    hp_error e = head_keys(c, root, &s->version, s->name, sizeof s->name);
+    if (e) return e;
+    if (yt_map_get(root, "bladder"))
+        return wrong_kind(c, root, sizeof(hp_bladder_study), study_tree_v,
+                          "a single-bladder study, not a layout scene (read it with "
+                          "hp_study_load)");
     /* One set of defaults: the planner's. */
     hp_settings def;
     hp_settings_default(&def);
@@ -259,23 +293,48 @@ static hp_error parse_tree(const sr_ctx *c, const yt_node *root, hp_scene *s)
     s->max_iter = def.max_iter;
     s->max_time = def.max_time;
     s->weight_mm_per_deg = def.weight_mm_per_deg;
-    if (yt_map_get(root, "bladder")) {
-        s->kind = HP_SCENE_BLADDER;
-        return bladder_scene(c, root, s);
-    }
     if (!yt_map_get(root, "bladders"))
         return sr_fail(c, root, "bladders", HP_ERR_PARSE,
                        "missing required key (a scene has 'bladders' and a 'head', or one "
                        "'bladder' study)");
-    s->kind = HP_SCENE_LAYOUT;
     return layout_scene(c, root, s);
 }
 
-hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_scene *out,
-                        hp_diag *diag)
+/* A single-bladder study; a layout scene is judged by the layout reader, then refused. */
+static hp_error study_tree(const sr_ctx *c, const yt_node *root, hp_bladder_study *s)
 {
-    if (!out) return hp_diag_set(diag, HP_ERR_NULL, "scene: NULL output");
-    memset(out, 0, sizeof *out);
+    hp_error e = head_keys(c, root, &s->version, s->name, sizeof s->name);
+    if (e) return e;
+    if (!yt_map_get(root, "bladder"))
+        return wrong_kind(c, root, sizeof(hp_scene), layout_tree_v,
+                          "a layout scene, not a single-bladder study (read it with "
+                          "hp_scene_load)");
+    return bladder_scene(c, root, s);
+}
+
+/* One kind's reader: its output struct, where its file name goes, and its tree reader. */
+typedef struct kind_reader {
+    void *out;
+    size_t size;
+    char *file; /* inside out, HP_SCENE_PATH_MAX bytes */
+    hp_error (*tree)(const sr_ctx *c, const yt_node *root, void *out);
+} kind_reader;
+
+static hp_error layout_tree_v(const sr_ctx *c, const yt_node *root, void *out)
+{
+    return layout_tree(c, root, out);
+}
+
+static hp_error study_tree_v(const sr_ctx *c, const yt_node *root, void *out)
+{
+    return study_tree(c, root, out);
+}
+
+/* Parses text into r->out, which is all zero unless the whole file is valid. */
+static hp_error parse_with(const char *text, size_t len, const char *filename,
+                           const kind_reader *r, hp_diag *diag)
+{
+    memset(r->out, 0, r->size);
     const char *file = filename ? filename : "<scene>";
     if (!text) return hp_diag_set(diag, HP_ERR_NULL, "%s: NULL text", file);
     if (len > HP_SCENE_MAX_BYTES)
@@ -284,45 +343,105 @@ hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_s
     sr_ctx c = {.file = file, .diag = diag};
     yt_node *root = NULL;
     hp_error e = yt_parse(text, len, file, &root, diag);
-    /* The scene is large (it embeds a layout): build it in the heap and copy on success. */
-    hp_scene *s = NULL;
-    if (e == HP_OK && !(s = calloc(1, sizeof *s)))
-        e = hp_diag_set(diag, HP_ERR_NOMEM, "%s: out of memory", file);
     if (e == HP_OK) {
-        snprintf(s->file, sizeof s->file, "%s", file);
-        e = parse_tree(&c, root, s);
+        snprintf(r->file, HP_SCENE_PATH_MAX, "%s", file);
+        e = r->tree(&c, root, r->out);
     }
-    if (e == HP_OK) memcpy(out, s, sizeof *s); /* padding too: outputs compare bytewise */
-    free(s);
+    if (e != HP_OK) memset(r->out, 0, r->size);
     yt_free(root);
+    return e;
+}
+
+hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_scene *out,
+                        hp_diag *diag)
+{
+    if (!out) return hp_diag_set(diag, HP_ERR_NULL, "scene: NULL output");
+    kind_reader r = {out, sizeof *out, out->file, layout_tree_v};
+    return parse_with(text, len, filename, &r, diag);
+}
+
+hp_error hp_study_parse(const char *text, size_t len, const char *filename,
+                        hp_bladder_study *out, hp_diag *diag)
+{
+    if (!out) return hp_diag_set(diag, HP_ERR_NULL, "study: NULL output");
+    kind_reader r = {out, sizeof *out, out->file, study_tree_v};
+    return parse_with(text, len, filename, &r, diag);
+}
+
+/* The file's bytes (at most HP_SCENE_MAX_BYTES) in *buf (malloc'd; the caller frees it). */
+static hp_error read_file(const char *path, char **buf, size_t *len, hp_diag *diag)
+{
+    *buf = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f) return hp_diag_set(diag, HP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    /* Read at most one byte past the limit: enough to know the file is too large. */
+    char *b = malloc(HP_SCENE_MAX_BYTES + 1);
+    if (!b) {
+        fclose(f);
+        return hp_diag_set(diag, HP_ERR_NOMEM, "%s: out of memory", path);
+    }
+    errno = 0;
+    size_t n = fread(b, 1, HP_SCENE_MAX_BYTES + 1, f);
+    int failed = ferror(f), why = errno;
+    fclose(f);
+    hp_error e = HP_OK;
+    if (failed)
+        e = hp_diag_set(diag, HP_ERR_IO, "%s: cannot read: %s", path,
+                        why ? strerror(why) : "read error");
+    else if (n > HP_SCENE_MAX_BYTES)
+        e = hp_diag_set(diag, HP_ERR_PARSE, "%s: larger than the 1 MiB limit", path);
+    if (e != HP_OK) {
+        free(b);
+        return e;
+    }
+    *buf = b;
+    *len = n;
+    return HP_OK;
+}
+
+static hp_error load_with(const char *path, const kind_reader *r, hp_diag *diag)
+{
+    memset(r->out, 0, r->size);
+    if (!path) return hp_diag_set(diag, HP_ERR_NULL, "scene: NULL path");
+    char *buf;
+    size_t len;
+    hp_error e = read_file(path, &buf, &len, diag);
+    if (e == HP_OK) e = parse_with(buf, len, path, r, diag);
+    free(buf);
     return e;
 }
 
 hp_error hp_scene_load(const char *path, hp_scene *out, hp_diag *diag)
 {
     if (!out) return hp_diag_set(diag, HP_ERR_NULL, "scene: NULL output");
-    memset(out, 0, sizeof *out);
-    if (!path) return hp_diag_set(diag, HP_ERR_NULL, "scene: NULL path");
-    FILE *f = fopen(path, "rb");
-    if (!f) return hp_diag_set(diag, HP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
-    /* Read at most one byte past the limit: enough to know the file is too large. */
-    char *buf = malloc(HP_SCENE_MAX_BYTES + 1);
-    if (!buf) {
-        fclose(f);
-        return hp_diag_set(diag, HP_ERR_NOMEM, "%s: out of memory", path);
-    }
-    errno = 0;
-    size_t len = fread(buf, 1, HP_SCENE_MAX_BYTES + 1, f);
-    int failed = ferror(f), why = errno;
-    fclose(f);
-    hp_error e;
-    if (failed)
-        e = hp_diag_set(diag, HP_ERR_IO, "%s: cannot read: %s", path,
-                        why ? strerror(why) : "read error");
-    else if (len > HP_SCENE_MAX_BYTES)
-        e = hp_diag_set(diag, HP_ERR_PARSE, "%s: larger than the 1 MiB limit", path);
-    else
-        e = hp_scene_parse(buf, len, path, out, diag);
+    kind_reader r = {out, sizeof *out, out->file, layout_tree_v};
+    return load_with(path, &r, diag);
+}
+
+hp_error hp_study_load(const char *path, hp_bladder_study *out, hp_diag *diag)
+{
+    if (!out) return hp_diag_set(diag, HP_ERR_NULL, "study: NULL output");
+    kind_reader r = {out, sizeof *out, out->file, study_tree_v};
+    return load_with(path, &r, diag);
+}
+
+hp_scene_kind hp_scene_kind_of(const char *text, size_t len)
+{
+    hp_scene_kind k = HP_SCENE_LAYOUT;
+    yt_node *root = NULL;
+    if (text && len <= HP_SCENE_MAX_BYTES && yt_parse(text, len, "<scene>", &root, NULL) == HP_OK &&
+        root && root->type == YT_MAPPING && yt_map_get(root, "bladder"))
+        k = HP_SCENE_BLADDER;
+    yt_free(root);
+    return k;
+}
+
+hp_scene_kind hp_scene_file_kind(const char *path)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    hp_scene_kind k = HP_SCENE_LAYOUT;
+    if (path && read_file(path, &buf, &len, NULL) == HP_OK) k = hp_scene_kind_of(buf, len);
     free(buf);
-    return e;
+    return k;
 }

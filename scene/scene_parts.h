@@ -26,8 +26,8 @@ hp_error sp_bladders(const sr_ctx *c, const yt_node *list, const yt_node *defaul
                      hp_layout *L);
 
 /* The single-bladder study (`bladder`) and the printed values (`paper_printed`). */
-hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_scene *s);
-hp_error sp_printed(const sr_ctx *c, const yt_node *node, hp_scene *s);
+hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_bladder_study *s);
+hp_error sp_printed(const sr_ctx *c, const yt_node *node, hp_bladder_study *s);
 
 /* The `load` section (head and layout already read). */
 hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s);

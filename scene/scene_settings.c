@@ -4,10 +4,6 @@
 hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag)
 {
     if (!sc || !out) return hp_diag_set(diag, HP_ERR_NULL, "scene settings: NULL argument");
-    if (sc->kind != HP_SCENE_LAYOUT)
-        return hp_diag_set(diag, HP_ERR_INVALID,
-                           "%s: a single-bladder study has no layout to plan for",
-                           sc->file[0] ? sc->file : "<scene>");
     hp_settings s;
     hp_settings_default(&s);
     s.backend = sc->backend;
