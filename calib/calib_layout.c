@@ -598,3 +598,28 @@ hp_error hp_fit_layout_gain(const hp_layout *L, const hp_calib_row *rows, int n,
     if (err) return hp_diag_set(diag, err, "the information matrix is singular");
     return HP_OK;
 }
+
+hp_error hp_fit_layout_residuals(const hp_layout *L, const hp_calib_row *rows, int n,
+                                 const hp_layout_fit_options *opt, double *resid, hp_diag *diag)
+{
+    if (!resid) return hp_diag_set(diag, HP_ERR_NULL, "NULL argument");
+    hp_layout_fit *scratch = malloc(sizeof *scratch);
+    double *e = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1) * 6);
+    lay_ctx c;
+    hp_error err = (!scratch || !e) ? hp_diag_set(diag, HP_ERR_NOMEM, "out of memory")
+                                    : setup(L, rows, n, opt, &c, scratch, diag);
+    if (!err) {
+        double theta[HP_CALIB_MAX_PARAMS] = {0};
+        err = resid_at(&c, theta, e, 0, NULL, NULL);
+        if (err)
+            err = hp_diag_set(diag, err, "the layout cannot reproduce the rows (%s)",
+                              hp_error_message(err));
+        for (int i = 0; !err && i < n; ++i)
+            for (int j = 0; j < 6; ++j)
+                resid[i * 6 + j] = j < c.dofp ? e[i * c.dofp + j] / c.w[j] : 0.0;
+        free(c.ro);
+    }
+    free(scratch);
+    free(e);
+    return err;
+}

@@ -94,6 +94,37 @@ static void write_body(FILE *f, const hp_layout *L, hp_level level, const hp_sce
     }
 }
 
+hp_error hp_calib_check_output(const char *path, const char *const *inputs, int n_inputs,
+                               hp_diag *d)
+{
+    if (!path || (n_inputs > 0 && !inputs)) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
+    for (int i = 0; i < n_inputs; ++i)
+        if (inputs[i] && (strcmp(inputs[i], path) == 0 || same_file(inputs[i], path)))
+            return hp_diag_set(d, HP_ERR_INVALID,
+                               "%s: is an input of the fit; write the calibrated scene to "
+                               "another file",
+                               path);
+    /* hp_calib_write_scene's rename replaces whatever the name holds: a FIFO someone reads, a device
+     * node (as root even /dev/null), or a symbolic link the user may have meant to write
+     * through. Only a regular file (or nothing) may be replaced. */
+    struct stat st;
+    if (lstat(path, &st) == 0) {
+        if (S_ISLNK(st.st_mode))
+            return hp_diag_set(d, HP_ERR_INVALID,
+                               "%s: is a symbolic link: refused (name the file itself)", path);
+        if (S_ISDIR(st.st_mode))
+            return hp_diag_set(d, HP_ERR_INVALID, "%s: is a directory, not a file", path);
+        if (!S_ISREG(st.st_mode))
+            return hp_diag_set(d, HP_ERR_INVALID,
+                               "%s: exists and is not a regular file (a device, FIFO or "
+                               "socket): refused",
+                               path);
+    } else if (errno != ENOENT) {
+        return hp_diag_set(d, HP_ERR_IO, "%s: %s", path, strerror(errno));
+    }
+    return HP_OK;
+}
+
 hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level level,
                               const hp_scene *base, const char *name,
                               const char *const *inputs, int n_inputs, hp_diag *d)
@@ -104,12 +135,8 @@ hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level lev
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE &&
         level != HP_LEVEL_AUTO)
         return hp_diag_set(d, HP_ERR_INVALID, "level: unknown");
-    for (int i = 0; i < n_inputs; ++i)
-        if (inputs[i] && (strcmp(inputs[i], path) == 0 || same_file(inputs[i], path)))
-            return hp_diag_set(d, HP_ERR_INVALID,
-                               "%s: is an input of the fit; write the calibrated scene to "
-                               "another file",
-                               path);
+    hp_error refused = hp_calib_check_output(path, inputs, n_inputs, d);
+    if (refused) return refused;
     size_t len = strlen(path);
     char *tmp = malloc(len + 16);
     if (!tmp) return hp_diag_set(d, HP_ERR_NOMEM, "out of memory");

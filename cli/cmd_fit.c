@@ -1,7 +1,8 @@
 /* headplan fit: calibration from measurements (docs/calibration.md).
  *   fit material DATA --Ri-mm R --Ro-mm R [--plot OUT.svg] [--json]
  *   fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit offsets,axes]
- *                         [--sigma-mm S] [--sigma-deg S] [--json] */
+ *                         [--sigma-mm S] [--sigma-deg S] [--plot OUT.png|svg]
+ *                         [--plot-script FILE.gp] [--json] */
 #include "cli/cli_args.h"
 #include "common/units.h"
 #include "cli/cli_scene.h"
@@ -25,7 +26,8 @@ static void help(void)
 {
     printf("usage: headplan fit material DATA --Ri-mm R --Ro-mm R [--plot OUT.svg] [--json]\n"
            "       headplan fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit WHAT]\n"
-           "                           [--sigma-mm S] [--sigma-deg S] [--json]\n\n"
+           "                           [--sigma-mm S] [--sigma-deg S] [--plot OUT.png|svg]\n"
+           "                           [--plot-script FILE.gp] [--json]\n\n"
            "material: fit one bladder's moduli C1, C2 (paper convention) to free-inflation\n"
            "  measurements. DATA is CSV with the header pressure_pa,ri_mm (or ro_mm; pressure_kpa\n"
            "  allowed) and an optional third column sigma_mm (the radius's standard deviation).\n"
@@ -40,11 +42,15 @@ static void help(void)
            "  --fit WHAT         offsets, axes or offsets,axes (default)\n"
            "  --sigma-mm S       standard deviation of a measured translation (default 0.1)\n"
            "  --sigma-deg S      standard deviation of a measured rotation (default 0.1)\n"
+           "  --plot OUT.png     also draw every row's residual per pose axis before and after\n"
+           "                     the fit (gnuplot; .png or .svg)\n"
+           "  --plot-script F    keep the gnuplot script of --plot (data inline)\n"
            "  --json             one JSON object on stdout instead of text\n"
            "  --help             this text\n\n"
            "Intervals are 95 %% (Student's t), from the fit's Jacobian with the scatter estimated\n"
            "from the residuals. exit status: 0 ok, 64 usage, 65 bad data or data that cannot\n"
-           "determine the fit, 66 cannot open, 70 internal failure, 73 cannot write\n");
+           "determine the fit, 66 cannot open, 69 gnuplot missing (--plot), 70 internal failure,\n"
+           "73 cannot write\n");
 }
 
 static int status_of(hp_error e)
@@ -281,21 +287,23 @@ static int run_material(int argc, char **argv)
 /* ---------------------------------------------------------------- layout */
 
 typedef struct layout_args {
-    const char *scene, *data, *out, *level, *what, *sig_mm, *sig_deg;
+    const char *scene, *data, *out, *level, *what, *sig_mm, *sig_deg, *plot, *plot_script;
     int json;
 } layout_args;
 
 static int parse_layout(int argc, char **argv, layout_args *a)
 {
     memset(a, 0, sizeof *a);
-    const char *const names[] = {"-o", "--level", "--fit", "--sigma-mm", "--sigma-deg"};
-    const char **slots[] = {&a->out, &a->level, &a->what, &a->sig_mm, &a->sig_deg};
+    const char *const names[] = {"-o",          "--level", "--fit",        "--sigma-mm",
+                                 "--sigma-deg", "--plot",  "--plot-script"};
+    const char **slots[] = {&a->out,     &a->level, &a->what,       &a->sig_mm,
+                            &a->sig_deg, &a->plot,  &a->plot_script};
     for (int i = 0; i < argc; ++i) {
         if (strcmp(argv[i], "--json") == 0) {
             a->json = 1;
             continue;
         }
-        int matched = cli_named_opt(CMD, argc, argv, &i, names, slots, 5);
+        int matched = cli_named_opt(CMD, argc, argv, &i, names, slots, 7);
         if (matched < 0) return CLI_EXIT_USAGE;
         if (matched) continue;
         if (argv[i][0] == '-' && argv[i][1] != '\0')
@@ -306,6 +314,14 @@ static int parse_layout(int argc, char **argv, layout_args *a)
     }
     if (!a->scene || !a->data)
         return cli_fail(CLI_EXIT_USAGE, CMD, "layout: needs SCENE and DATA");
+    if (a->plot_script && !a->plot)
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--plot-script: needs --plot");
+    if (a->plot) {
+        size_t k = strlen(a->plot);
+        if (k < 5 || (strcmp(a->plot + k - 4, ".png") != 0 && strcmp(a->plot + k - 4, ".svg") != 0))
+            return cli_fail(CLI_EXIT_USAGE, CMD, "--plot: '%s' must end in .png or .svg",
+                            a->plot);
+    }
     return -1;
 }
 
@@ -474,23 +490,46 @@ static int run_layout(int argc, char **argv)
     int n = 0;
     hp_diag d = {{0}};
     hp_error e = HP_OK;
+    const char *inputs[2] = {a.scene, a.data};
+    if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, 2, &d)) != HP_OK)
+        rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
     if (!rc) {
         e = hp_calib_read_layout(a.data, &sc->layout, rows, HP_CALIB_MAX_ROWS, &n, &d);
         if (e) rc = cli_fail(status_of(e), CMD, "%s", d.text);
     }
+    double *before = NULL, *after = NULL;
+    if (!rc && a.plot) {
+        before = malloc(sizeof *before * (size_t)n * 6);
+        after = malloc(sizeof *after * (size_t)n * 6);
+        if (!before || !after) rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
+    }
     if (!rc) {
-        e = hp_fit_layout(&sc->layout, rows, n, &o, f, NULL, &d);
+        e = hp_fit_layout(&sc->layout, rows, n, &o, f, after, &d);
         if (e) rc = cli_fail(status_of(e), CMD, "%s: %s", a.data, d.text);
+    }
+    if (!rc && a.plot) {
+        e = hp_fit_layout_residuals(&sc->layout, rows, n, &o, before, &d);
+        if (e) rc = cli_fail(status_of(e), CMD, "%s: %s", a.data, d.text);
+        long *lines = rc ? NULL : malloc(sizeof *lines * (size_t)n);
+        if (!rc && !lines) rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
+        for (int i = 0; !rc && i < n; ++i) lines[i] = rows[i].line;
+        if (!rc)
+            rc = fit_layout_plot(CMD, a.plot, a.plot_script,
+                                 "headplan fit layout: residuals (measured - model) per axis", n,
+                                 sc->layout.head.shape == HP_HEAD_SPHERE ? 3 : 6, lines, before,
+                                 after);
+        free(lines);
     }
     if (!rc && hp_fit_layout_gain(&sc->layout, rows, n, &o, f, gain, &d))
         for (int i = 0; i < n; ++i) gain[i] = NAN;
     if (!rc && a.out) {
         char name[HP_SCENE_TEXT_MAX];
         snprintf(name, sizeof name, "%.200s (calibrated)", sc->name);
-        const char *inputs[2] = {a.scene, a.data};
         e = hp_calib_write_scene(a.out, &f->fitted, sc->level, sc, name, inputs, 2, &d);
-        if (e) rc = cli_fail(e == HP_ERR_IO ? CLI_EXIT_CANTCREAT : CLI_EXIT_USAGE, CMD, "%s",
-                                d.text);
+        /* Every refusal here is about the output's name (an input, a link, a FIFO or
+         * device, a folder that cannot be written): the "cannot create" status. */
+        if (e) rc = cli_fail(e == HP_ERR_NOMEM ? CLI_EXIT_SOFTWARE : CLI_EXIT_CANTCREAT, CMD,
+                             "%s", d.text);
     }
     if (!rc) {
         if (a.json) rc = print_json(layout_json(&a, f, rows, gain, o.level));
@@ -502,6 +541,8 @@ static int run_layout(int argc, char **argv)
     free(rows);
     free(f);
     free(gain);
+    free(before);
+    free(after);
     free(sc);
     return rc;
 }

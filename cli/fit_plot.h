@@ -1,4 +1,4 @@
-/* The residual chart of headplan fit. */
+/* The residual charts of headplan fit. */
 #ifndef CLI_FIT_PLOT_H
 #define CLI_FIT_PLOT_H
 
@@ -7,5 +7,13 @@
 int fit_plot_svg(const char *cmd, const char *path, const char *title, const double *x,
                     const double *y, int n, double band, const char *xlabel,
                     const char *ylabel);
+
+/* headplan fit layout --plot: draws with gnuplot, into path (.png or .svg), one panel per
+ * pose axis (naxes 3 or 6) of each row's residual before and after the fit against its data
+ * line (before, after: n×6 in m and rad); script (may be NULL) keeps the gnuplot script.
+ * Returns 0, or after one line on stderr 64 (bad name), 69 (no gnuplot), 70 or 73. */
+int fit_layout_plot(const char *cmd, const char *path, const char *script, const char *title,
+                    int n, int naxes, const long *lines, const double *before,
+                    const double *after);
 
 #endif

@@ -158,6 +158,13 @@ HP_API hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int 
                        const hp_layout_fit_options *opt, hp_layout_fit *out,
                        double *resid_after, hp_diag *diag);
 
+/* The residuals measured − model (n×6, [m, rad]; a sphere head's rotations 0) of layout L
+ * (prepared) on the rows, with the forward model opt selects: the "before" of a fit given the
+ * scene's layout, its "after" given the fitted one. Same refusals as hp_fit_layout. */
+HP_API hp_error hp_fit_layout_residuals(const hp_layout *L, const hp_calib_row *rows, int n,
+                                        const hp_layout_fit_options *opt, double *resid,
+                                        hp_diag *diag);
+
 /* How much one more measurement like each row would shrink the intervals: gain[i] = mean
  * over the fitted parameters of new SE / old SE (in (0, 1]) if row i were measured once
  * more, from the information matrix with s² held fixed. */
@@ -169,9 +176,17 @@ HP_API hp_error hp_fit_layout_gain(const hp_layout *L, const hp_calib_row *rows,
  * own parameters), contact level `level`, and the given name; when base is not NULL also its
  * model tolerance and auto range, its solver section and its correction (not its trace,
  * whose path is relative to the base's folder). Written through a temporary file in the same
- * folder renamed over path, so a reader never sees half a file. Refuses (HP_ERR_INVALID)
- * when path names the same file as any of the `inputs` (n_inputs paths, may be 0). HP_ERR_IO
+ * folder renamed over path, so a reader never sees half a file. Refuses (HP_ERR_INVALID,
+ * nothing written) when path names the same file as any of the `inputs` (n_inputs paths, may
+ * be 0), or names a symbolic link, a directory, a FIFO, device or socket. HP_ERR_IO
  * when it cannot write. */
+/* The checks hp_calib_write_scene makes on its target before writing anything, for a caller
+ * that wants to refuse a bad -o before a long fit: HP_ERR_INVALID when path is one of the
+ * inputs, a symbolic link, a directory, a FIFO, device or socket; HP_ERR_IO when it cannot be
+ * examined; HP_OK when it does not exist or is a regular file. Writes nothing. */
+HP_API hp_error hp_calib_check_output(const char *path, const char *const *inputs, int n_inputs,
+                                      hp_diag *diag);
+
 HP_API hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level level,
                               const hp_scene *base, const char *name,
                               const char *const *inputs, int n_inputs, hp_diag *diag);

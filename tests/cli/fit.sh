@@ -136,9 +136,81 @@ expect_exit 0 "offsets only, linear"
 expect_stdout_has "(not fitted)" "axes not asked for"
 expect_stdout_has "not determined by these data (held at the scene's value): offset:side_chin_left offset:side_chin_right" "linear level names the two undetermined offsets"
 
+# ---- layout residual plot (gnuplot): the picture is drawn, the script redraws it and holds
+# every row's residuals, whose RMS per axis is the fit's own rms_before / rms_after ----------
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --sigma-mm 0.05 --sigma-deg 0.05 \
+    --plot "$TMP/res.png" --plot-script "$TMP/res.gp"
+expect_exit 0 "layout --plot"
+[ -s "$TMP/res.png" ] && [ "$(head -c 4 "$TMP/res.png" | tail -c 3)" = PNG ] && ok || bad "layout plot: no PNG"
+python3 - "$TMP/res.gp" "$TMP/layout.json" <<'PY' && ok || bad "layout plot script: data = the fit's residuals"
+import json, math, re, sys
+gp, fit = open(sys.argv[1]).read(), json.load(open(sys.argv[2]))
+blocks = re.findall(r"\$axis(\d) << EOD\n(.*?)EOD\n", gp, re.S)
+assert [int(b[0]) for b in blocks] == list(range(6)), blocks
+keys = ["x_mm", "y_mm", "z_mm", "pitch_deg", "roll_deg", "yaw_deg"]
+for j, body in blocks:
+    rows = [list(map(float, l.split())) for l in body.splitlines() if not l.startswith("#")]
+    assert len(rows) == 24 and rows[0][0] == 6 and rows[-1][0] == 29, rows
+    for col, which in ((1, "rms_before"), (2, "rms_after")):
+        rms = math.sqrt(sum(r[col] ** 2 for r in rows) / len(rows))
+        want = fit[which][keys[int(j)]]
+        assert abs(rms - want) <= 1e-6 * want, (j, which, rms, want)
+assert gp.count("plot $axis") == 6 and "set multiplot layout 2,3" in gp and "unset multiplot" in gp
+PY
+sed "s#^set output .*#set output '$TMP/again.svg'#; s#^  set terminal pngcairo.*#  set terminal svg#" \
+    "$TMP/res.gp" > "$TMP/again.gp"
+gnuplot "$TMP/again.gp" 2>"$TMP/err" && [ ! -s "$TMP/err" ] && [ -s "$TMP/again.svg" ] && ok || bad "the kept script does not redraw cleanly"
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --plot "$TMP/res.jpg"
+expect_exit 64 "--plot not png/svg"; expect_stderr_has "must end in .png or .svg" "--plot name"
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --plot-script "$TMP/x.gp"
+expect_exit 64 "--plot-script alone"
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --plot "$TMP/no/dir/res.png"
+expect_exit 73 "--plot unwritable"; expect_stdout_empty "--plot unwritable"
+mkdir -p "$TMP/nognuplot"
+PATH="$TMP/nognuplot" "$HP_BIN" fit layout "$S/default.yaml" "$E/layout_rows.csv" \
+    --plot "$TMP/n.png" -o "$TMP/n.yaml" >"$TMP/out" 2>"$TMP/err"; rc=$?
+expect_exit 69 "layout --plot without gnuplot"; expect_stderr_has "gnuplot not found" "no gnuplot named"
+expect_stdout_empty "no gnuplot"
+[ ! -e "$TMP/n.png" ] && [ ! -e "$TMP/n.yaml" ] && ok || bad "without gnuplot something was written"
+PATH="$TMP/nognuplot" "$HP_BIN" fit layout "$S/default.yaml" "$E/layout_rows.csv" >"$TMP/out" 2>"$TMP/err"; rc=$?
+expect_exit 0 "layout without gnuplot and without --plot"
+
 # ---- layout refusals ---------------------------------------------------------------------
-run fit layout "$S/default.yaml" "$E/layout_rows.csv" -o "$E/layout_rows.csv"
-expect_exit 64 "-o over an input"; expect_stderr_has "is an input" "over input named"
+# -o never replaces an input, a symbolic link, a FIFO or a device: exit 73, one line on
+# stderr, nothing on stdout, the target as it was (batch's -o is held to the same rule).
+one_line() { [ "$(wc -l <"$TMP/err")" -eq 1 ] && ok || bad "$1: stderr is not one line"; }
+cp "$E/layout_rows.csv" "$TMP/rows.csv"; cp "$S/default.yaml" "$TMP/scene.yaml"
+run fit layout "$TMP/scene.yaml" "$TMP/rows.csv" -o "$TMP/rows.csv"
+expect_exit 73 "-o the data"; expect_stderr_has "is an input" "over the data named"
+expect_stdout_empty "-o the data"; one_line "-o the data"
+cmp -s "$TMP/rows.csv" "$E/layout_rows.csv" && ok || bad "-o the data changed it"
+run fit layout "$TMP/scene.yaml" "$TMP/rows.csv" -o "$TMP/scene.yaml"
+expect_exit 73 "-o the scene"; one_line "-o the scene"
+cmp -s "$TMP/scene.yaml" "$S/default.yaml" && ok || bad "-o the scene changed it"
+ln -s "$TMP/scene.yaml" "$TMP/scene_link.yaml"
+run fit layout "$TMP/scene_link.yaml" "$TMP/rows.csv" -o "$TMP/scene.yaml"
+expect_exit 73 "-o the scene read through a link"
+cmp -s "$TMP/scene.yaml" "$S/default.yaml" && ok || bad "-o the linked scene changed it"
+ln -s "$TMP/nowhere.yaml" "$TMP/dangling.yaml"
+run fit layout "$TMP/scene.yaml" "$TMP/rows.csv" -o "$TMP/dangling.yaml"
+expect_exit 73 "-o a symlink"; expect_stderr_has "symbolic link" "symlink named"
+expect_stdout_empty "-o a symlink"; one_line "-o a symlink"
+[ ! -e "$TMP/nowhere.yaml" ] && [ -L "$TMP/dangling.yaml" ] && ok || bad "-o a symlink wrote"
+ln -s "$TMP/other.yaml" "$TMP/live.yaml"; echo "keep" > "$TMP/other.yaml"
+run fit layout "$TMP/scene.yaml" "$TMP/rows.csv" -o "$TMP/live.yaml"
+expect_exit 73 "-o a live symlink"
+[ -L "$TMP/live.yaml" ] && [ "$(cat "$TMP/other.yaml")" = keep ] && ok || bad "-o wrote through a link"
+mkfifo "$TMP/fifo.yaml"
+run fit layout "$TMP/scene.yaml" "$TMP/rows.csv" -o "$TMP/fifo.yaml"
+expect_exit 73 "-o a FIFO"; expect_stderr_has "not a regular file" "FIFO named"
+expect_stdout_empty "-o a FIFO"; one_line "-o a FIFO"
+[ -p "$TMP/fifo.yaml" ] && ok || bad "-o replaced a FIFO"
+run fit layout "$TMP/scene.yaml" "$TMP/rows.csv" -o /dev/null
+expect_exit 73 "-o a device"; expect_stdout_empty "-o a device"; one_line "-o a device"
+[ -c /dev/null ] && ok || bad "-o replaced /dev/null"
+run fit layout "$TMP/scene.yaml" "$TMP/rows.csv" -o "$TMP"
+expect_exit 73 "-o a directory"; one_line "-o a directory"
+ls "$TMP" | grep -q '\.tmp' && bad "-o left a temporary file" || ok
 run fit layout "$S/default.yaml" "$E/layout_rows.csv" -o "$TMP/no/such/dir/out.yaml"
 expect_exit 73 "-o unwritable"; expect_stdout_empty "-o unwritable"
 head -5 "$E/layout_rows.csv" > "$TMP/short.csv"
