@@ -4,6 +4,7 @@
  * radii depend only on the pressures and the bladders' material, so they are computed once;
  * only the contact geometry depends on the fitted parameters. */
 #include "headplan/hp_calib.h"
+#include "calib/calib_internal.h"
 #include "common/units.h"
 #include "kinematics/kin_internal.h"
 #include "kinematics/linalg.h"
@@ -175,8 +176,7 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     return err;
 }
 
-/* Copies the columns cols[0..k) of J (m×np) into S (m×k), scaled to unit norm (scale[]). */
-static void columns(int m, int np, const double *J, const int *cols, int k, double *S,
+void calib_columns(int m, int np, const double *J, const int *cols, int k, double *S,
                     double *scale)
 {
     for (int q = 0; q < k; ++q) {
@@ -289,7 +289,7 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
 /* Gauss–Newton step with Levenberg–Marquardt damping on the selected columns, scaled to
  * unit norm: (SᵀS + λI)·y = −Sᵀe solved through the SVD S = UΣVᵀ as y = −V(Σ² + λ)⁻¹Vᵀ·Sᵀe,
  * then dx = y / scale. */
-static hp_error lm_step(int m, int k, const double *S, const double *scale, const double *e,
+hp_error calib_lm_step(int m, int k, const double *S, const double *scale, const double *e,
                         double lambda, double *dx)
 {
     double sv[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
@@ -347,7 +347,7 @@ static hp_error sym_inverse(int k, const double *A, double *C)
 
 /* Inverse of the information matrix of the selected columns (k×k) through the SVD:
  * (JᵀJ)⁻¹ = V Σ⁻² Vᵀ in unit-column coordinates, unscaled. */
-static hp_error covariance(int m, int k, const double *S, const double *scale, double *C,
+hp_error calib_covariance(int m, int k, const double *S, const double *scale, double *C,
                            double *cond)
 {
     double sv[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
@@ -409,7 +409,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
      * (only the groups the options select). */
     int all[HP_CALIB_MAX_PARAMS];
     for (int j = 0; j < np; ++j) all[j] = j;
-    columns(m, np, J, all, np, S, scale);
+    calib_columns(m, np, J, all, np, S, scale);
     if (hp_kin_svd(m, np, S, svall, V)) {
         err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE, "SVD of the Jacobian failed");
         goto done;
@@ -427,7 +427,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
             continue;
         }
         c.sel[c.nsel] = j;
-        columns(m, np, J, c.sel, c.nsel + 1, S, scale);
+        calib_columns(m, np, J, c.sel, c.nsel + 1, S, scale);
         double sv[HP_CALIB_MAX_PARAMS];
         if (hp_kin_svd(m, c.nsel + 1, S, sv, V)) {
             err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE, "SVD of the Jacobian failed");
@@ -453,8 +453,8 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     int it = 0;
     for (; it < LAY_MAX_ITERS; ++it) {
         double dx[HP_CALIB_MAX_PARAMS], th[HP_CALIB_MAX_PARAMS];
-        columns(m, np, J, c.sel, c.nsel, S, scale);
-        if (lm_step(m, c.nsel, S, scale, e, lambda, dx)) {
+        calib_columns(m, np, J, c.sel, c.nsel, S, scale);
+        if (calib_lm_step(m, c.nsel, S, scale, e, lambda, dx)) {
             err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE, "SVD of the Jacobian failed");
             goto done;
         }
@@ -495,8 +495,8 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
                 resid_after[i * 6 + j] = j < c.dofp ? e[i * c.dofp + j] / c.w[j] : 0.0;
 
     double C[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
-    columns(m, np, J, c.sel, c.nsel, S, scale);
-    if (covariance(m, c.nsel, S, scale, C, &out->condition)) {
+    calib_columns(m, np, J, c.sel, c.nsel, S, scale);
+    if (calib_covariance(m, c.nsel, S, scale, C, &out->condition)) {
         err = hp_diag_set(diag, HP_ERR_INVALID, "the fitted Jacobian is singular");
         goto done;
     }

@@ -1,5 +1,5 @@
 /* headplan fit: calibration from measurements (docs/calibration.md).
- *   fit material DATA --Ri-mm R --Ro-mm R [--plot OUT.svg] [--json]
+ *   fit material DATA --Ri-mm R --Ro-mm R [--fit-ref Ri|Ro] [--plot OUT.svg] [--json]
  *   fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit offsets,axes]
  *                         [--sigma-mm S] [--sigma-deg S] [--plot OUT.png|svg]
  *                         [--plot-script FILE.gp] [--json] */
@@ -24,7 +24,8 @@
 
 static void help(void)
 {
-    printf("usage: headplan fit material DATA --Ri-mm R --Ro-mm R [--plot OUT.svg] [--json]\n"
+    printf("usage: headplan fit material DATA --Ri-mm R --Ro-mm R [--fit-ref Ri|Ro]\n"
+           "                             [--plot OUT.svg] [--json]\n"
            "       headplan fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit WHAT]\n"
            "                           [--sigma-mm S] [--sigma-deg S] [--plot OUT.png|svg]\n"
            "                           [--plot-script FILE.gp] [--json]\n\n"
@@ -32,6 +33,8 @@ static void help(void)
            "  measurements. DATA is CSV with the header pressure_pa,ri_mm (or ro_mm; pressure_kpa\n"
            "  allowed) and an optional third column sigma_mm (the radius's standard deviation).\n"
            "  --Ri-mm, --Ro-mm   the bladder's reference inner and outer radius (required)\n"
+           "  --fit-ref Ri|Ro    also fit that reference radius (its option is then the start);\n"
+           "                     refused by name when the data cannot tell it from the moduli\n"
            "  --plot OUT.svg     also write the residuals against the pressure as an SVG chart\n"
            "layout: fit every bladder's radial offset and the head's semi-axes to measured\n"
            "  (pressures, pose) rows. DATA is CSV: p_<bladder>_pa (or _kpa) for every bladder of\n"
@@ -104,7 +107,7 @@ static void candidates(const hp_iab *b, const hp_calib_point *pts, int n, double
 
 static int run_material(int argc, char **argv)
 {
-    const char *data = NULL, *ri_t = NULL, *ro_t = NULL, *plot = NULL;
+    const char *data = NULL, *ri_t = NULL, *ro_t = NULL, *plot = NULL, *ref_t = NULL;
     int json = 0;
     for (int i = 0; i < argc; ++i) {
         const char *v;
@@ -120,6 +123,9 @@ static int run_material(int argc, char **argv)
         } else if ((m = cli_opt(CMD, argc, argv, &i, "--plot", &v)) != 0) {
             if (m < 0) return CLI_EXIT_USAGE;
             plot = v;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--fit-ref", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
+            ref_t = v;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
             return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         } else if (data) {
@@ -140,6 +146,11 @@ static int run_material(int argc, char **argv)
                            Ri, Ro);
     Ri *= 1e-3;
     Ro *= 1e-3;
+    int fit_ref = ref_t != NULL;
+    hp_calib_radius ref = HP_CALIB_INNER;
+    if (ref_t && strcmp(ref_t, "Ro") == 0) ref = HP_CALIB_OUTER;
+    else if (ref_t && strcmp(ref_t, "Ri") != 0)
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--fit-ref: '%s': use Ri or Ro", ref_t);
 
     hp_calib_point *pts = malloc(sizeof *pts * HP_CALIB_MAX_ROWS);
     double *res = malloc(sizeof *res * HP_CALIB_MAX_ROWS);
@@ -154,8 +165,14 @@ static int run_material(int argc, char **argv)
     hp_material_fit f;
     hp_error e = hp_calib_read_material(data, pts, HP_CALIB_MAX_ROWS, &n, &kind, &d);
     if (e) rc = cli_fail(status_of(e), CMD, "%s", d.text);
-    else if ((e = hp_fit_material(Ri, Ro, kind, pts, n, &f, res, &d)) != HP_OK)
+    else if ((e = fit_ref ? hp_fit_material_ref(Ri, Ro, kind, ref, pts, n, &f, res, &d)
+                          : hp_fit_material(Ri, Ro, kind, pts, n, &f, res, &d)) != HP_OK)
         rc = cli_fail(status_of(e), CMD, "%s: %s", data, d.text);
+    if (!rc && f.ref_fitted) {
+        /* From here on the bladder is the fitted one. */
+        if (ref == HP_CALIB_INNER) Ri = f.ref;
+        else Ro = f.ref;
+    }
     if (rc) {
         free(pts);
         free(res);
@@ -207,6 +224,15 @@ static int run_material(int argc, char **argv)
             json_object_set_new(p, "ci95", json_pack("[f,f]", f.ci[j][0], f.ci[j][1]));
             json_object_set_new(o, nm[j], p);
         }
+        if (f.ref_fitted) {
+            json_t *p = json_object();
+            json_object_set_new(p, "value", json_real(f.ref * 1e3));
+            json_object_set_new(p, "se", json_real(f.ref_se * 1e3));
+            json_object_set_new(p, "ci95", json_pack("[f,f]", f.ref_ci[0] * 1e3, f.ref_ci[1] * 1e3));
+            json_object_set_new(p, "corr_C1", json_real(f.ref_corr[0]));
+            json_object_set_new(p, "corr_C2", json_real(f.ref_corr[1]));
+            json_object_set_new(o, ref == HP_CALIB_INNER ? "fitted_Ri_mm" : "fitted_Ro_mm", p);
+        }
         json_object_set_new(o, "C10_pa", json_real(f.C10));
         json_object_set_new(o, "C01_pa", json_real(f.C01));
         json_object_set_new(o, "correlation", json_real(f.corr));
@@ -246,6 +272,11 @@ static int run_material(int argc, char **argv)
            f.ci[0][1]);
     printf("  C2  = %-12.6g Pa  SE %-10.4g 95%% [%.6g, %.6g]\n", f.C2, f.se[1], f.ci[1][0],
            f.ci[1][1]);
+    if (f.ref_fitted)
+        printf("  %s  = %-12.6g mm  SE %-10.4g 95%% [%.6g, %.6g]  (fitted; correlation with "
+               "C1 %.3f, C2 %.3f)\n",
+               ref == HP_CALIB_INNER ? "Ri" : "Ro", f.ref * 1e3, f.ref_se * 1e3,
+               f.ref_ci[0] * 1e3, f.ref_ci[1] * 1e3, f.ref_corr[0], f.ref_corr[1]);
     printf("  C10 = %-12.6g Pa  C01 = %.6g Pa (finite-element convention: C1/2, C2/2)\n", f.C10,
            f.C01);
     printf("  correlation(C1, C2) %.4f, condition number %.3g, %d iterations\n", f.corr,
@@ -279,6 +310,8 @@ static int run_material(int argc, char **argv)
     printf("\nscene fragment (%s data):\n  material: {convention: paper, C1_pa: %.6g, C2_pa: "
            "%.6g}\n",
            rname, f.C1, f.C2);
+    if (f.ref_fitted)
+        printf("  %s: %.6g\n", ref == HP_CALIB_INNER ? "Ri_mm" : "Ro_mm", f.ref * 1e3);
     free(pts);
     free(res);
     return CLI_EXIT_OK;

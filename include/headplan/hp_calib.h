@@ -60,6 +60,12 @@ typedef struct hp_material_fit {
     double rms;             /* unweighted RMS of the radius residuals [m] */
     int iterations;         /* Levenberg–Marquardt iterations */
     double limit_pressure;  /* the fitted bladder's limit-point pressure [Pa] (+inf: none) */
+    /* hp_fit_material_ref only (hp_fit_material: ref_fitted 0, the rest NaN): */
+    int ref_fitted;             /* 1: a reference radius was fitted with the moduli */
+    hp_calib_radius ref_kind;   /* which: HP_CALIB_INNER (Ri) or HP_CALIB_OUTER (Ro) */
+    double ref, ref_se;         /* [m] its value and standard error */
+    double ref_ci[2];           /* [m] its 95 % interval */
+    double ref_corr[2];         /* its correlation with C1 and with C2 */
 } hp_material_fit;
 
 /* Fits C1, C2 (paper convention) of a bladder with reference radii Ri < Ro to n points
@@ -81,6 +87,22 @@ typedef struct hp_material_fit {
  * resid (may be NULL) receives the n residuals r_meas − r_fit [m]. */
 HP_API hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_calib_point *pts,
                          int n, hp_material_fit *out, double *resid, hp_diag *diag);
+
+/* Like hp_fit_material, but also fits one reference radius: ref = HP_CALIB_INNER fits Ri
+ * (Ri is then its starting value), HP_CALIB_OUTER fits Ro. Three parameters, so n − 3 degrees
+ * of freedom; started from hp_fit_material at the given radii (its refusals apply), then
+ * Levenberg–Marquardt on (C1, C2, R) with exact derivatives (dr/dR from the closed form's
+ * ∂P/∂R by the implicit function theorem, plus the volume law's direct term for outer radii).
+ * Refuses (HP_ERR_INVALID, diag names the radius and why) fewer than four points, a
+ * design with fewer than three equations (each distinct non-zero pressure is one; zero
+ * pressure is one only when the measured radius is the fitted one: ri(0) = Ri, ro(0) = Ro),
+ * a condition number of the Jacobian (unit-norm columns) above 1e4 — the data cannot tell the
+ * radius from the moduli (docs/calibration.md) — a radius leaving 0 < Ri < Ro, and the
+ * limit-point cases of hp_fit_material. On success out->ref_fitted = 1
+ * and the ref fields hold the radius; C1, C2 and their intervals are those of the joint fit. */
+HP_API hp_error hp_fit_material_ref(double Ri, double Ro, hp_calib_radius kind,
+                                    hp_calib_radius ref, const hp_calib_point *pts, int n,
+                                    hp_material_fit *out, double *resid, hp_diag *diag);
 
 /* How much one more measurement at each candidate pressure cand[j] (with standard deviation
  * sigma [m]) would shrink the intervals of a fit: shrink[2j], shrink[2j+1] = new SE / old SE

@@ -51,6 +51,36 @@ PY
 run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --plot "$TMP/no/dir/res.svg"
 expect_exit 73 "--plot unwritable"; expect_stdout_empty "--plot unwritable"
 
+# ---- material with a reference radius fitted (--fit-ref) ------------------------------------
+run fit material "$E/material_ro.csv" --Ri-mm 27 --Ro-mm 29.5 --fit-ref Ro --json
+expect_exit 0 "--fit-ref Ro"
+python3 - "$TMP/out" <<'PY' && ok || bad "--fit-ref Ro JSON: Ro within its interval, t with 9 dof"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["dof"] == 9, d["dof"]
+t = d["t975"]
+assert abs(t - 2.262157162799) < 1e-9, t            # Student's t(0.975, 9), printed tables
+R = d["fitted_Ro_mm"]
+lo, hi = R["ci95"]
+assert abs(lo - (R["value"] - t * R["se"])) < 1e-9 and abs(hi - (R["value"] + t * R["se"])) < 1e-9
+assert lo < 30.0 < hi, R                              # the data were made with Ro = 30 mm
+assert abs(R["value"] - 30.0) < 4 * R["se"] and R["se"] < 0.05, R
+assert abs(d["C1_pa"]["value"] - 12500) < 4 * d["C1_pa"]["se"]
+assert d["Ro_mm"] == R["value"]                       # the bladder reported is the fitted one
+PY
+run fit material "$E/material_ri.csv" --Ri-mm 27.5 --Ro-mm 30 --fit-ref Ri
+expect_exit 0 "--fit-ref Ri text"
+expect_stdout_has "Ri  = 27.00" "fitted Ri printed"; expect_stdout_has "  Ri_mm: 27.00" "Ri in the fragment"
+{ echo "pressure_pa,ri_mm,sigma_mm"; for r in 29.3309 29.3409 29.3209; do echo "2363.6,$r,0.02"; done
+  for r in 34.2477 34.2377 34.2577; do echo "5090.9,$r,0.02"; done; } > "$TMP/two_p.csv"
+run fit material "$TMP/two_p.csv" --Ri-mm 27 --Ro-mm 30
+expect_exit 0 "two pressures determine the moduli"
+run fit material "$TMP/two_p.csv" --Ri-mm 27 --Ro-mm 30 --fit-ref Ro
+expect_exit 65 "--fit-ref with two pressures"; expect_stdout_empty "--fit-ref two pressures"
+expect_stderr_has "cannot determine Ro: the points give 2 equations for 3 unknowns" "Ro named"
+run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --fit-ref Rx
+expect_exit 64 "--fit-ref Rx"; expect_stderr_has "--fit-ref: 'Rx': use Ri or Ro" "bad --fit-ref named"
+
 # ---- material refusals -----------------------------------------------------------------
 printf 'pressure_pa,ri_mm\n2000,29\n2000,29.01\n2000,28.99\n' > "$TMP/one.csv"
 run fit material "$TMP/one.csv" --Ri-mm 27 --Ro-mm 30
