@@ -43,4 +43,33 @@ hp_error calib_lm_step(int m, int k, const double *S, const double *scale, const
 hp_error calib_covariance(int m, int k, const double *S, const double *scale, double *C,
                           double *cond);
 
+/* ---- layout fit ---- */
+
+typedef struct lay_ctx {
+    const hp_layout *L0;
+    const hp_calib_row *rows;
+    int n, dofp, np, nsel;
+    int n_axes;                 /* 0, 1 (sphere) or 3 */
+    int mass_j;                 /* index of the carried mass among the parameters, or -1 */
+    int sel[HP_CALIB_MAX_PARAMS];
+    hp_level level;
+    const hp_load_spec *load;   /* NULL: contact forward kinematics; else forward statics */
+    double w[6];                /* 1/σ per pose component */
+    double (*ro)[HP_MAX_BLADDERS];
+} lay_ctx;
+
+/* The layout with parameters theta (np changes from the scene, in the parameter order),
+ * contact geometry refreshed; validate = 1 runs the full hp_layout_prepare checks. */
+hp_error calib_layout_apply(const lay_ctx *c, const double *theta, hp_layout *L, int validate,
+                            hp_diag *d);
+
+/* The load level's weighted residuals (measured − rest pose)·w of every row, for layout L
+ * (from calib_layout_apply at theta) carrying c->load with its mass changed by theta's mass
+ * entry; each rest is searched from start[i] (or the nominal pose); poses may be NULL. */
+hp_error calib_load_resid(const lay_ctx *c, const hp_layout *L, const double *theta, double *e,
+                          const double (*start)[6], double (*poses)[6]);
+
+/* The load level's Jacobian of those residuals (m×np, row-major): dξ/dθ = K⁻¹·∂Q/∂θ. */
+hp_error calib_load_jacobian(const lay_ctx *c, const double *theta, double *J);
+
 #endif

@@ -33,20 +33,8 @@ void hp_layout_fit_options_default(hp_layout_fit_options *o)
     o->sigma_rot = 0.1 * HP_RAD_PER_DEG;
 }
 
-typedef struct lay_ctx {
-    const hp_layout *L0;
-    const hp_calib_row *rows;
-    int n, dofp, np, nsel;
-    int n_axes;                 /* 0, 1 (sphere) or 3 */
-    int sel[HP_CALIB_MAX_PARAMS];
-    hp_level level;
-    double w[6];                /* 1/σ per pose component */
-    double (*ro)[HP_MAX_BLADDERS];
-} lay_ctx;
 
-/* The layout with parameters theta (np changes from the scene, in the parameter order),
- * contact geometry refreshed; validate = 1 runs the full hp_layout_prepare checks. */
-static hp_error apply(const lay_ctx *c, const double *theta, hp_layout *L, int validate,
+hp_error calib_layout_apply(const lay_ctx *c, const double *theta, hp_layout *L, int validate,
                       hp_diag *d)
 {
     *L = *c->L0;
@@ -77,9 +65,10 @@ static hp_error apply(const lay_ctx *c, const double *theta, hp_layout *L, int v
  * parameters: central differences then compare two solves from the same point, which keeps
  * their difference smooth), else from the measured pose; poses (may be NULL) receives the
  * model's poses. */
-static hp_error resid(const lay_ctx *c, const hp_layout *L, double *e,
+static hp_error resid(const lay_ctx *c, const hp_layout *L, const double *theta, double *e,
                       const double (*start)[6], double (*poses)[6])
 {
+    if (c->load) return calib_load_resid(c, L, theta, e, start, poses);
     for (int i = 0; i < c->n; ++i) {
         double xi[6];
         hp_error err = hp_contact_fk(L, c->level, c->ro[i], start ? start[i] : c->rows[i].pose,
@@ -96,8 +85,8 @@ static hp_error resid_at(const lay_ctx *c, const double *theta, double *e, int v
                          const double (*start)[6], double (*poses)[6])
 {
     hp_layout L;
-    hp_error err = apply(c, theta, &L, validate, NULL);
-    return err ? err : resid(c, &L, e, start, poses);
+    hp_error err = calib_layout_apply(c, theta, &L, validate, NULL);
+    return err ? err : resid(c, &L, theta, e, start, poses);
 }
 
 /* Jacobian of the weighted residuals w.r.t. all np parameters (m×np, row-major). The model's
@@ -110,6 +99,7 @@ static hp_error resid_at(const lay_ctx *c, const double *theta, double *e, int v
  * tolerance. */
 static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
 {
+    if (c->load) return calib_load_jacobian(c, theta, J);
     int n = c->n, nb = c->L0->n, dp = c->dofp, np = c->np;
     size_t per = (size_t)nb * 6;
     double (*xi)[6] = malloc(sizeof *xi * (size_t)n);
@@ -117,7 +107,7 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     double *dJc = malloc(sizeof(double) * (size_t)n * per * np);
     hp_error err = (!xi || !drho || !dJc) ? HP_ERR_NOMEM : HP_OK;
     hp_layout L;
-    if (!err) err = apply(c, theta, &L, 0, NULL);
+    if (!err) err = calib_layout_apply(c, theta, &L, 0, NULL);
     for (int i = 0; !err && i < n; ++i)
         err = hp_contact_fk(&L, c->level, c->ro[i], c->rows[i].pose, xi[i], NULL, NULL);
     double th[HP_CALIB_MAX_PARAMS];
@@ -125,9 +115,9 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
         hp_layout Lp, Lm;
         memcpy(th, theta, sizeof(double) * (size_t)np);
         th[j] = theta[j] + LAY_FD_STEP;
-        err = apply(c, th, &Lp, 0, NULL);
+        err = calib_layout_apply(c, th, &Lp, 0, NULL);
         th[j] = theta[j] - LAY_FD_STEP;
-        if (!err) err = apply(c, th, &Lm, 0, NULL);
+        if (!err) err = calib_layout_apply(c, th, &Lm, 0, NULL);
         for (int i = 0; !err && i < n; ++i) {
             double rp[HP_MAX_BLADDERS], rm[HP_MAX_BLADDERS];
             double Jp[HP_MAX_BLADDERS * 6], Jm[HP_MAX_BLADDERS * 6];
@@ -247,9 +237,11 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
     if (!(opt->sigma_trans > 0) || !isfinite(opt->sigma_trans) || !(opt->sigma_rot > 0) ||
         !isfinite(opt->sigma_rot))
         return hp_diag_set(d, HP_ERR_INVALID, "sigma: must be finite and > 0");
-    if (!opt->fit_axes && !opt->fit_offsets)
-        return hp_diag_set(d, HP_ERR_INVALID, "nothing to fit: choose axes and/or offsets");
+    if (!opt->fit_axes && !opt->fit_offsets && !opt->fit_mass)
+        return hp_diag_set(d, HP_ERR_INVALID, "nothing to fit: choose axes, offsets or mass");
+    if (opt->load && hp_load_spec_validate(opt->load, d)) return HP_ERR_INVALID;
     memset(c, 0, sizeof *c);
+    c->load = opt->load;
     c->L0 = L;
     c->rows = rows;
     c->n = n;
@@ -260,12 +252,18 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
     /* Both groups are always in the parameter vector; the unselected ones stay at zero
      * change (not in sel[]). */
     c->n_axes = sphere ? 1 : 3;
-    c->np = c->n_axes + L->n;
+    c->np = c->n_axes + L->n + (opt->fit_mass ? 1 : 0);
+    c->mass_j = opt->fit_mass ? c->np - 1 : -1;
     memset(out, 0, sizeof *out);
     out->np = c->np;
+    out->mass_index = c->mass_j;
+    out->mass = opt->load ? opt->load->mass : NAN;
     static const char *const axis[3] = {"semi_axis_x", "semi_axis_y", "semi_axis_z"};
     for (int j = 0; j < c->np; ++j) {
-        if (j < c->n_axes) {
+        if (j == c->mass_j) {
+            snprintf(out->name[j], HP_CALIB_NAME_MAX, "mass");
+            out->scene_value[j] = opt->load ? opt->load->mass : NAN;
+        } else if (j < c->n_axes) {
             snprintf(out->name[j], HP_CALIB_NAME_MAX, "%s", sphere ? "radius" : axis[j]);
             out->scene_value[j] = L->head.semi_axes[j];
         } else {
@@ -371,7 +369,7 @@ static void invalidate(hp_layout_fit *out)
         out->determined[j] = 0;
     }
     for (int j = 0; j < 6; ++j) out->rms_before[j] = out->rms_after[j] = NAN;
-    out->condition = out->t = out->s = out->weakest_se = NAN;
+    out->condition = out->t = out->s = out->weakest_se = out->mass = NAN;
     out->rank = out->dof = 0;
     out->fitted.prepared = 0;
 }
@@ -416,12 +414,17 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     }
     memcpy(out->sv, svall, sizeof(double) * (size_t)np);
     out->rank = rank_of(svall, np < m ? np : m);
-    /* Offsets are admitted first (the head's size is measurable by hand; the placement of a
-     * bladder on its panel is not), then the semi-axes. */
+    /* The mass first (what a load calibration is for), then the offsets (the head's size is
+     * measurable by hand; the placement of a bladder on its panel is not), then the
+     * semi-axes. */
+    int order[HP_CALIB_MAX_PARAMS], no = 0, nb = L->n;
+    if (c.mass_j >= 0) order[no++] = c.mass_j;
+    for (int k = 0; k < nb; ++k) order[no++] = c.n_axes + k;
+    for (int k = 0; k < c.n_axes; ++k) order[no++] = k;
     c.nsel = 0;
     for (int q = 0; q < np; ++q) {
-        int j = q < np - c.n_axes ? c.n_axes + q : q - (np - c.n_axes);
-        int want = j < c.n_axes ? opt->fit_axes : opt->fit_offsets;
+        int j = order[q];
+        int want = j == c.mass_j ? opt->fit_mass : j < c.n_axes ? opt->fit_axes : opt->fit_offsets;
         if (!want) {
             out->determined[j] = -1;
             continue;
@@ -483,7 +486,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
         }
     }
     out->iterations = it;
-    err = apply(&c, theta, &out->fitted, 1, diag);
+    err = calib_layout_apply(&c, theta, &out->fitted, 1, diag);
     if (err) {
         hp_diag_set(diag, err, "the fitted layout is not valid: %s", diag ? diag->text : "");
         goto done;
@@ -529,6 +532,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     out->s = sqrt(cost / out->dof);
     out->t = hp_calib_t_quantile(0.975, out->dof);
     for (int j = 0; j < np; ++j) out->value[j] = out->scene_value[j] + theta[j];
+    if (c.mass_j >= 0 && c.load) out->mass = out->value[c.mass_j];
     for (int q = 0; q < c.nsel; ++q) {
         int j = c.sel[q];
         out->determined[j] = 1;

@@ -15,6 +15,7 @@
 #include "headplan/hp_common.h"
 #include "headplan/hp_iab.h"
 #include "headplan/hp_kinematics.h"
+#include "headplan/hp_load.h"
 #include "headplan/hp_scene.h"
 
 #ifdef __cplusplus
@@ -23,8 +24,8 @@ extern "C" {
 
 /* Most rows a material or layout data set may hold. */
 #define HP_CALIB_MAX_ROWS 4096
-/* Most layout parameters: one radial offset per bladder plus three semi-axes. */
-#define HP_CALIB_MAX_PARAMS (HP_MAX_BLADDERS + 3)
+/* Most layout parameters: one radial offset per bladder, three semi-axes, the carried mass. */
+#define HP_CALIB_MAX_PARAMS (HP_MAX_BLADDERS + 4)
 /* Longest parameter name, including the NUL. */
 #define HP_CALIB_NAME_MAX 48
 
@@ -126,16 +127,23 @@ typedef struct hp_calib_row {
 typedef struct hp_layout_fit_options {
     int fit_axes;        /* 1: the head's semi-axes (a sphere: its radius) */
     int fit_offsets;     /* 1: every bladder's radial offset (centre moved along its normal) */
-    hp_level level;      /* contact level of the forward model (linear, plane or surface) */
+    int fit_mass;        /* 1: the carried mass (determined only with load != NULL) */
+    hp_level level;      /* contact level of the forward model (linear, plane or surface);
+                            with a load, the contact geometry of the forward statics */
+    const hp_load_spec *load; /* NULL: the forward model is the contact forward kinematics;
+                            else the forward statics (hp_load_rest) carrying this load, whose
+                            mass is the start (and scene value) of a fitted mass */
     double sigma_trans;  /* [m] > 0: standard deviation of a measured translation */
     double sigma_rot;    /* [rad] > 0: standard deviation of a measured rotation */
 } hp_layout_fit_options;
 
-/* Defaults: both groups fitted, surface level, σ = 0.1 mm and 0.1°. */
+/* Defaults: offsets and semi-axes fitted, no mass, no load, surface level, σ = 0.1 mm and
+ * 0.1°. */
 HP_API void hp_layout_fit_options_default(hp_layout_fit_options *o);
 
 /* The result of a layout fit. Parameters are listed semi-axes first (x, y, z; one "radius"
- * for a sphere), then one radial offset per bladder in layout order. */
+ * for a sphere), then one radial offset per bladder in layout order, then (only when
+ * options.fit_mass) the carried mass "mass" [kg]; every other value is a length [m]. */
 typedef struct hp_layout_fit {
     int np;                                  /* parameters considered */
     char name[HP_CALIB_MAX_PARAMS][HP_CALIB_NAME_MAX]; /* "semi_axis_x", "offset:NAME" */
@@ -157,6 +165,9 @@ typedef struct hp_layout_fit {
     double rms_before[6], rms_after[6];      /* per pose axis [m or rad] */
     int iterations;
     hp_layout fitted;                        /* the calibrated layout (prepared) */
+    int mass_index;                          /* index of "mass" among the parameters; -1 */
+    double mass;                             /* [kg] carried mass after the fit (the load's
+                                                mass when held; NaN without a load) */
 } hp_layout_fit;
 
 /* Fits the selected parameters of layout L (prepared) to n rows: minimises the weighted sum
@@ -169,8 +180,14 @@ typedef struct hp_layout_fit {
  * rank of the Jacobian is taken from its SVD (columns scaled to unit norm, threshold 1e-7 of
  * the largest singular value); parameters are admitted in list order while each raises the
  * rank, and the rest are held at their scene values (named by determined[] = 0). A sphere
- * head's rotations are not compared (the model cannot rotate it). Offsets are admitted
- * before semi-axes (a head can be measured by hand, a bladder's seat on its panel cannot).
+ * head's rotations are not compared (the model cannot rotate it). The mass is admitted first
+ * (it is what a load calibration is for), then offsets, then semi-axes (a head can be
+ * measured by hand, a bladder's seat on its panel cannot).
+ * With opt->load the model pose of a row is the rest of the forward statics (hp_load_rest
+ * from the nominal pose, geometry opt->level) and its Jacobian dξ/dθ = K⁻¹·∂Q/∂θ (implicit
+ * function theorem on Q(ξ; θ) = 0, K = −∂Q/∂ξ exact, ∂Q/∂θ by central differences of
+ * hp_load_eval at the fixed rest: 1 µm, 1 g). Without a load the kinematic model does not
+ * depend on the mass: its column is zero and a requested mass is held and named.
  * Refuses (HP_ERR_INVALID)
  * bad rows (non-finite, a pressure outside the bladder's stable branch or its limits), fewer
  * rows than give one degree of freedom, nothing to fit. resid_after (may be NULL) gets n×6
