@@ -28,6 +28,8 @@ void hp_layout_fit_options_default(hp_layout_fit_options *o)
     if (!o) return;
     o->fit_axes = 1;
     o->fit_offsets = 1;
+    o->fit_mass = 0;
+    o->load = NULL;
     o->level = HP_LEVEL_SURFACE;
     o->sigma_trans = 1e-4;
     o->sigma_rot = 0.1 * HP_RAD_PER_DEG;
@@ -453,7 +455,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     }
 
     double cost = sumsq(m, e), lambda = 1e-3;
-    int it = 0;
+    int it = 0, stalled = 0, accepted = 0;
     for (; it < LAY_MAX_ITERS; ++it) {
         double dx[HP_CALIB_MAX_PARAMS], th[HP_CALIB_MAX_PARAMS];
         calib_columns(m, np, J, c.sel, c.nsel, S, scale);
@@ -479,11 +481,28 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
                 err = hp_diag_set(diag, err, "the Jacobian failed during the fit");
                 goto done;
             }
+            stalled = 0;
+            ++accepted;
             if (step <= LAY_STEP_TOL) break;
         } else {
+            /* A trial the model cannot evaluate at all (e.g. no rest of the statics) is not a
+             * worse fit: when the damping runs out on such trials the search stalled. */
+            stalled = te != HP_OK;
             lambda *= 10.0;
             if (lambda > 1e12 || step <= LAY_STEP_TOL) break;
         }
+    }
+    /* Noisy data are never exactly at the scene's values: a search that accepted no step at
+     * all, or ran out of damping on trials the model could not evaluate, stalled; its
+     * numbers would be the scene's with intervals that mean nothing. */
+    if ((stalled && lambda > 1e12) || !accepted) {
+        err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE,
+                          "the fit stalled: no step from the scene's values improved the fit "
+                          "(%s); fit fewer parameters",
+                          c.load ? "at the load level the statics find no rest for the steps "
+                                   "the data ask for, or find it only roughly"
+                                 : "the contact model fails for the steps the data ask for");
+        goto done;
     }
     out->iterations = it;
     err = calib_layout_apply(&c, theta, &out->fitted, 1, diag);

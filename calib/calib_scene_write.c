@@ -3,6 +3,7 @@
  * target, so a reader sees the old file or the whole new one, never half. */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/hp_calib.h"
+#include "headplan/hp_load_planner.h"
 #include "common/units.h"
 
 #include <errno.h>
@@ -75,8 +76,22 @@ static void write_body(FILE *f, const hp_layout *L, hp_level level, const hp_sce
         fprintf(f, "model: {level: %s}\n", hp_level_name(level));
         return;
     }
-    fprintf(f, "model: {level: %s, tolerance_mm: %.17g", hp_level_name(level),
-            base->level_tolerance * 1e3);
+    if (base->has_load) {
+        /* The carried mass as the part of the head's it is (the caller raises the head's
+         * mass when a fitted load exceeds it). */
+        double g = sqrt(base->load.gravity[0] * base->load.gravity[0] +
+                        base->load.gravity[1] * base->load.gravity[1] +
+                        base->load.gravity[2] * base->load.gravity[2]);
+        double frac = L->head.mass > 0 ? base->load.mass / L->head.mass : 1.0;
+        fprintf(f, "load: {carried_fraction: %.17g, com_mm: ", frac > 1.0 ? 1.0 : frac);
+        vec_mm(f, base->load.com);
+        fprintf(f, ", gravity_dir: [%.17g, %.17g, %.17g], geometry: %s, tiebreak: %s}\n",
+                base->load.gravity[0] / g, base->load.gravity[1] / g, base->load.gravity[2] / g,
+                hp_level_name(base->load_geometry),
+                hp_load_tiebreak_name((hp_load_tiebreak)base->load_tiebreak));
+    }
+    fprintf(f, "model: {level: %s, tolerance_mm: %.17g",
+            base->level_load ? "load" : hp_level_name(level), base->level_tolerance * 1e3);
     if (base->has_auto_range)
         fprintf(f, ", auto_translation_mm: %.17g, auto_rotation_deg: %.17g",
                 base->auto_trans * 1e3, base->auto_rot * HP_DEG_PER_RAD);

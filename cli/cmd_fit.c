@@ -36,13 +36,15 @@ static void help(void)
            "  --fit-ref Ri|Ro    also fit that reference radius (its option is then the start);\n"
            "                     refused by name when the data cannot tell it from the moduli\n"
            "  --plot OUT.svg     also write the residuals against the pressure as an SVG chart\n"
-           "layout: fit every bladder's radial offset and the head's semi-axes to measured\n"
+           "layout: fit every bladder's radial offset, the head's semi-axes and (with a load\n"
+           "  section, by the forward statics) the carried mass to measured\n"
            "  (pressures, pose) rows. DATA is CSV: p_<bladder>_pa (or _kpa) for every bladder of\n"
            "  SCENE, then x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg.\n"
            "  -o OUT.yaml        write the calibrated scene (atomically; never over an input)\n"
            "  --level L          forward model: linear, plane or surface (default: the scene's\n"
            "                     level, auto resolved as solve does)\n"
-           "  --fit WHAT         offsets, axes or offsets,axes (default)\n"
+           "  --fit WHAT         a comma list of offsets, axes, mass (default offsets,axes; with\n"
+           "                     a load section also mass, fitted through the forward statics)\n"
            "  --sigma-mm S       standard deviation of a measured translation (default 0.1)\n"
            "  --sigma-deg S      standard deviation of a measured rotation (default 0.1)\n"
            "  --plot OUT.png     also draw every row's residual per pose axis before and after\n"
@@ -361,12 +363,24 @@ static int parse_layout(int argc, char **argv, layout_args *a)
 static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fit_options *o)
 {
     hp_layout_fit_options_default(o);
+    /* A scene with a load section is fitted through the forward statics, and by default its
+     * carried mass with the rest; without one the mass is fitted only when asked for (and
+     * then named as not determined: the kinematic model does not depend on it). */
+    o->fit_mass = sc->has_load;
     if (a->what) {
-        if (strcmp(a->what, "offsets") == 0) o->fit_axes = 0;
-        else if (strcmp(a->what, "axes") == 0) o->fit_offsets = 0;
-        else if (strcmp(a->what, "offsets,axes") != 0 && strcmp(a->what, "axes,offsets") != 0)
-            return cli_fail(CLI_EXIT_USAGE, CMD,
-                               "--fit: '%s': use offsets, axes or offsets,axes", a->what);
+        o->fit_axes = o->fit_offsets = o->fit_mass = 0;
+        const char *p = a->what;
+        while (*p) {
+            size_t k = strcspn(p, ",");
+            if (k == 7 && strncmp(p, "offsets", 7) == 0) o->fit_offsets = 1;
+            else if (k == 4 && strncmp(p, "axes", 4) == 0) o->fit_axes = 1;
+            else if (k == 4 && strncmp(p, "mass", 4) == 0) o->fit_mass = 1;
+            else
+                return cli_fail(CLI_EXIT_USAGE, CMD,
+                                "--fit: '%s': a comma list of offsets, axes, mass", a->what);
+            p += k;
+            if (*p == ',') ++p;
+        }
     }
     double v;
     if (a->sig_mm) {
@@ -383,6 +397,14 @@ static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fi
     int rc = cli_settings(CMD, sc, "realtime", a->level, &s);
     if (rc) return rc;
     o->level = s.level;
+    if (sc->has_load) {
+        o->load = &sc->load;
+        if (!a->level) o->level = sc->load_geometry;
+        if (o->level == HP_LEVEL_AUTO)
+            return cli_fail(CLI_EXIT_USAGE, CMD,
+                            "--level: the forward statics need linear, plane or surface");
+        return 0;
+    }
     if (o->level == HP_LEVEL_AUTO &&
         hp_contact_auto(&sc->layout, s.level_tolerance, s.auto_trans, s.auto_rot, &o->level))
         return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: auto could not choose a level", a->scene);
@@ -394,7 +416,9 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
                         const double *gain, hp_level level)
 {
     int held = 0;
-    printf("layout fit: %s with %s, %d rows, level %s\n", a->scene, a->data, f->n_rows,
+    printf("layout fit: %s with %s, %d rows, %s %s\n", a->scene, a->data, f->n_rows,
+           f->mass_index >= 0 && !isnan(f->mass) ? "forward statics (load level), geometry"
+                                                 : "level",
            hp_level_name(level));
     printf("  Jacobian: %d parameters, rank %d; fitted %d; condition number of the fitted "
            "columns %.3g\n",
@@ -405,22 +429,29 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
     printf("  %-30s %12s %12s %10s %25s\n", "parameter [mm]", "scene", "fitted", "SE",
            "95% interval");
     for (int j = 0; j < f->np; ++j) {
+        /* Lengths in mm; the carried mass in kg. */
+        double k = j == f->mass_index ? 1.0 : 1e3;
+        char nm[HP_CALIB_NAME_MAX + 8];
+        snprintf(nm, sizeof nm, "%s%s", f->name[j], j == f->mass_index ? " [kg]" : "");
         if (f->determined[j] != 1) {
-            printf("  %-30s %12.4f %12s %10s %25s\n", f->name[j], f->scene_value[j] * 1e3,
+            printf("  %-30s %12.4f %12s %10s %25s\n", nm, f->scene_value[j] * k,
                    f->determined[j] ? "(not fitted)" : "(held)", "-", "-");
             held += f->determined[j] == 0;
             continue;
         }
         char iv[64];
-        snprintf(iv, sizeof iv, "[%.4f, %.4f]", f->ci[j][0] * 1e3, f->ci[j][1] * 1e3);
-        printf("  %-30s %12.4f %12.4f %10.4f %25s\n", f->name[j], f->scene_value[j] * 1e3,
-               f->value[j] * 1e3, f->se[j] * 1e3, iv);
+        snprintf(iv, sizeof iv, "[%.4f, %.4f]", f->ci[j][0] * k, f->ci[j][1] * k);
+        printf("  %-30s %12.4f %12.4f %10.4f %25s\n", nm, f->scene_value[j] * k,
+               f->value[j] * k, f->se[j] * k, iv);
     }
     if (held) {
         printf("\n  not determined by these data (held at the scene's value):");
         for (int j = 0; j < f->np; ++j)
             if (f->determined[j] == 0) printf(" %s", f->name[j]);
         printf("\n  (their effect on the measured poses is a combination of the fitted ones')\n");
+        if (f->mass_index >= 0 && f->determined[f->mass_index] == 0 && isnan(f->mass))
+            printf("  mass: the scene has no load section, so the forward model (contact "
+                   "kinematics) does not depend on it\n");
     }
     printf("\n  weakest combination (SE %.4g mm along it):", f->weakest_se * 1e3);
     for (int j = 0; j < f->np; ++j)
@@ -458,6 +489,9 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
     json_object_set_new(o, "data", json_string(a->data));
     json_object_set_new(o, "rows", json_integer(f->n_rows));
     json_object_set_new(o, "level", json_string(hp_level_name(level)));
+    json_object_set_new(o, "model", json_string(f->mass_index >= 0 && !isnan(f->mass)
+                                                    ? "forward statics"
+                                                    : "contact kinematics"));
     json_object_set_new(o, "rank", json_integer(f->rank));
     json_object_set_new(o, "parameters_considered", json_integer(f->np));
     json_object_set_new(o, "condition", real_or_null(f->condition));
@@ -466,6 +500,23 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
     json_object_set_new(o, "s_unit_weight", json_real(f->s));
     json_t *ps = json_array(), *un = json_array(), *sv = json_array();
     for (int j = 0; j < f->np; ++j) {
+        if (j == f->mass_index) {
+            /* The carried mass has its own object (kg, not mm). */
+            json_t *m = json_object();
+            json_object_set_new(m, "status", json_string(f->determined[j] == 1   ? "fitted"
+                                                         : f->determined[j] == 0 ? "undetermined"
+                                                                                 : "not_fitted"));
+            json_object_set_new(m, "scene_kg", real_or_null(f->scene_value[j]));
+            json_object_set_new(m, "fitted_kg", real_or_null(f->mass));
+            json_object_set_new(m, "se_kg", real_or_null(f->se[j]));
+            json_object_set_new(m, "ci95_kg", f->determined[j] == 1
+                                                  ? json_pack("[f,f]", f->ci[j][0], f->ci[j][1])
+                                                  : json_null());
+            json_object_set_new(o, "carried_mass", m);
+            if (f->determined[j] == 0) json_array_append_new(un, json_string(f->name[j]));
+            json_array_append_new(sv, json_real(f->sv[j]));
+            continue;
+        }
         json_t *p = json_object();
         json_object_set_new(p, "name", json_string(f->name[j]));
         json_object_set_new(p, "status", json_string(f->determined[j] == 1   ? "fitted"
@@ -558,6 +609,12 @@ static int run_layout(int argc, char **argv)
     if (!rc && a.out) {
         char name[HP_SCENE_TEXT_MAX];
         snprintf(name, sizeof name, "%.200s (calibrated)", sc->name);
+        /* The calibrated load carries the fitted mass; a mass above the head's own is the
+         * head's (carried_fraction cannot exceed 1). */
+        if (sc->has_load && f->mass_index >= 0 && f->determined[f->mass_index] == 1) {
+            sc->load.mass = f->mass;
+            if (f->mass > f->fitted.head.mass) f->fitted.head.mass = f->mass;
+        }
         e = hp_calib_write_scene(a.out, &f->fitted, sc->level, sc, name, inputs, 2, &d);
         /* Every refusal here is about the output's name (an input, a link, a FIFO or
          * device, a folder that cannot be written): the "cannot create" status. */

@@ -1,5 +1,5 @@
 /* The layout fit at the load level (hp_fit_layout with a load): the carried mass recovered
- * from synthetic rests of the forward statics (alone and with the offsets), its standard
+ * from synthetic rests of the forward statics (with the offsets too: refused as stalled), its standard
  * error against central differences of whole rest solves, coverage of its 95 % interval
  * over seeded trials, and the mass named as undetermined without a load. */
 #include "test_util.h"
@@ -91,7 +91,16 @@ static void test_recovery(void **state)
     hp_layout_fit *f = malloc(sizeof *f);
     assert_non_null(f);
     hp_diag d = {{0}};
-    for (int offsets = 0; offsets < 2; ++offsets) {
+    /* With the offsets too the search cannot leave the start on this scene: the statics find
+     * no rest for (or only roughly) the steps the data ask for. Never answered with the
+     * start's numbers: refused as stalled (a known limit; docs/calibration.md). */
+    o.fit_offsets = 1;
+    assert_int_equal(hp_fit_layout(&sc->layout, rows, 16, &o, f, NULL, &d),
+                     HP_ERR_NO_CONVERGENCE);
+    print_message("mass and offsets: %s\n", d.text);
+    assert_non_null(strstr(d.text, "stalled"));
+    assert_true(isnan(f->value[0]) && isnan(f->mass));
+    for (int offsets = 0; offsets < 1; ++offsets) {
         o.fit_offsets = offsets;
         hp_error e = hp_fit_layout(&sc->layout, rows, 16, &o, f, NULL, &d);
         if (e) print_error("%s\n", d.text);
@@ -103,10 +112,6 @@ static void test_recovery(void **state)
         assert_int_equal(f->determined[j], 1);
         hp_assert_close(f->scene_value[j], MASS_START, 1e-12, 0);
         assert_true(f->ci[j][0] <= MASS_TRUE && MASS_TRUE <= f->ci[j][1]);
-        if (offsets) continue;
-        /* With the offsets too the search stalls where the statics find no rest for a trial
-         * step (s 3.1 measured, the start's mass kept, its interval wide enough to hold the
-         * truth; docs/calibration.md), so only the mass alone is held to these: */
         assert_true(f->ci[j][1] < MASS_START); /* the start is excluded: the data say less */
         assert_true(f->s > 0.6 && f->s < 1.5);
         /* The mass moves the head along gravity (z): there the residual falls to the noise. */

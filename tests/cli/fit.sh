@@ -166,6 +166,45 @@ expect_exit 0 "offsets only, linear"
 expect_stdout_has "(not fitted)" "axes not asked for"
 expect_stdout_has "not determined by these data (held at the scene's value): offset:side_chin_left offset:side_chin_right" "linear level names the two undetermined offsets"
 
+# ---- layout at the load level: the carried mass through the forward statics ---------------
+# load_rows.csv: rests of scenarios/load_supine.yaml carrying 3.0 kg (make_load_rows.c); the
+# fit starts from a scene carrying 0.68 * 4.5 = 3.06 kg.
+sed 's/carried_fraction: 0.8,/carried_fraction: 0.68,/' "$S/load_supine.yaml" > "$TMP/load.yaml"
+run fit layout "$TMP/load.yaml" "$E/load_rows.csv" --fit mass --sigma-mm 0.05 --sigma-deg 0.05 \
+    --json -o "$TMP/load_cal.yaml"
+expect_exit 0 "load level, mass"
+python3 - "$TMP/out" "$TMP/load_cal.yaml" <<'PY' && ok || bad "load level: the mass within its interval, written as the load"
+import json, re, sys
+d = json.load(open(sys.argv[1]))
+assert d["model"] == "forward statics", d["model"]
+m = d["carried_mass"]
+assert m["status"] == "fitted" and abs(m["scene_kg"] - 3.06) < 1e-12, m
+lo, hi = m["ci95_kg"]
+assert lo < 3.0 < hi and abs(m["fitted_kg"] - 3.0) < 4 * m["se_kg"], m
+assert hi < 3.06, m                                   # the data rule the start out
+assert 0.8 < d["s_unit_weight"] < 1.25, d["s_unit_weight"]
+f = float(re.search(r"carried_fraction: ([0-9.eE+-]+)", open(sys.argv[2]).read()).group(1))
+assert abs(f * 4.5 - m["fitted_kg"]) < 1e-9 * 4.5, (f, m)
+PY
+run analyze "$TMP/load_cal.yaml"
+expect_exit 0 "the calibrated load scene analyses"
+run fit layout "$TMP/load.yaml" "$E/load_rows.csv" --sigma-mm 0.05 --sigma-deg 0.05
+expect_exit 70 "load level, mass with offsets and axes"; expect_stdout_empty "stalled"
+expect_stderr_has "the fit stalled" "a stalled search is refused, never answered with the start"
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --fit offsets,mass --sigma-mm 0.05 --sigma-deg 0.05
+expect_exit 0 "mass without a load"
+expect_stdout_has "mass: the scene has no load section" "no load: the mass named as not determinable"
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --fit offsets,mass --json
+python3 - "$TMP/out" <<'PY' && ok || bad "no load: mass undetermined in JSON"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert "mass" in d["undetermined"] and d["carried_mass"]["status"] == "undetermined", d
+assert d["carried_mass"]["fitted_kg"] is None and d["carried_mass"]["ci95_kg"] is None
+assert d["model"] == "contact kinematics"
+PY
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --fit offsets,weight
+expect_exit 64 "--fit weight"; expect_stderr_has "a comma list of offsets, axes, mass" "--fit list named"
+
 # ---- layout residual plot (gnuplot): the picture is drawn, the script redraws it and holds
 # every row's residuals, whose RMS per axis is the fit's own rms_before / rms_after ----------
 run fit layout "$S/default.yaml" "$E/layout_rows.csv" --sigma-mm 0.05 --sigma-deg 0.05 \
