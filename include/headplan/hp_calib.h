@@ -190,7 +190,10 @@ typedef struct hp_layout_fit {
  * depend on the mass: its column is zero and a requested mass is held and named.
  * Refuses (HP_ERR_INVALID)
  * bad rows (non-finite, a pressure outside the bladder's stable branch or its limits), fewer
- * rows than give one degree of freedom, nothing to fit. resid_after (may be NULL) gets n×6
+ * rows than give one degree of freedom, nothing to fit; HP_ERR_NO_CONVERGENCE when the search
+ * stalled (no step from the scene's values was accepted, or the damping ran out on steps the
+ * model could not evaluate: at the load level, no rest of the statics), rather than answer
+ * with the scene's values. resid_after (may be NULL) gets n×6
  * residuals measured − model after the fit. On failure every number of out is NaN and
  * out->fitted is not prepared. Allocates work memory; frees it. */
 HP_API hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
