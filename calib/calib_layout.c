@@ -4,6 +4,7 @@
  * radii depend only on the pressures and the bladders' material, so they are computed once;
  * only the contact geometry depends on the fitted parameters. */
 #include "headplan/hp_calib.h"
+#include "calib/calib_internal.h"
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
 #include "kinematics/kin_internal.h"
@@ -28,27 +29,16 @@ void hp_layout_fit_options_default(hp_layout_fit_options *o)
     if (!o) return;
     o->fit_axes = 1;
     o->fit_offsets = 1;
+    o->fit_mass = 0;
+    o->load = NULL;
     o->level = HP_LEVEL_SURFACE;
     o->sigma_trans = 1e-4;
     o->sigma_rot = 0.1 * HP_RAD_PER_DEG;
 }
 
-typedef struct lay_ctx {
-    const hp_layout *L0;
-    hp_geom G0;                 /* L0's contact geometry: the offsets move along its normals */
-    const hp_calib_row *rows;
-    int n, dofp, np, nsel;
-    int n_axes;                 /* 0, 1 (sphere) or 3 */
-    int sel[HP_CALIB_MAX_PARAMS];
-    hp_level level;
-    double w[6];                /* 1/σ per pose component */
-    double (*ro)[HP_MAX_BLADDERS];
-} lay_ctx;
 
-/* The layout with parameters theta (np changes from the scene, in the parameter order)
- * and its contact geometry G; validate = 1 runs the full hp_layout_prepare checks first. */
-static hp_error apply(const lay_ctx *c, const double *theta, hp_layout *L, hp_geom *G,
-                      int validate, hp_diag *d)
+hp_error calib_layout_apply(const lay_ctx *c, const double *theta, hp_layout *L, hp_geom *G,
+                            int validate, hp_diag *d)
 {
     *L = *c->L0;
     for (int j = 0; j < c->n_axes; ++j) L->head.semi_axes[j] += theta[j];
@@ -71,9 +61,11 @@ static hp_error apply(const lay_ctx *c, const double *theta, hp_layout *L, hp_ge
  * parameters: central differences then compare two solves from the same point, which keeps
  * their difference smooth), else from the measured pose; poses (may be NULL) receives the
  * model's poses. */
-static hp_error resid(const lay_ctx *c, const hp_layout *L, const hp_geom *G, double *e,
+static hp_error resid(const lay_ctx *c, const hp_layout *L, const hp_geom *G, const double *theta,
+                      double *e,
                       const double (*start)[6], double (*poses)[6])
 {
+    if (c->load) return calib_load_resid(c, L, theta, e, start, poses);
     for (int i = 0; i < c->n; ++i) {
         double xi[6];
         hp_error err = hp_contact_fk_g(L, G, c->level, c->ro[i],
@@ -91,8 +83,8 @@ static hp_error resid_at(const lay_ctx *c, const double *theta, double *e, int v
 {
     hp_layout L;
     hp_geom G;
-    hp_error err = apply(c, theta, &L, &G, validate, NULL);
-    return err ? err : resid(c, &L, &G, e, start, poses);
+    hp_error err = calib_layout_apply(c, theta, &L, &G, validate, NULL);
+    return err ? err : resid(c, &L, &G, theta, e, start, poses);
 }
 
 /* Jacobian of the weighted residuals w.r.t. all np parameters (m×np, row-major). The model's
@@ -105,6 +97,7 @@ static hp_error resid_at(const lay_ctx *c, const double *theta, double *e, int v
  * tolerance. */
 static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
 {
+    if (c->load) return calib_load_jacobian(c, theta, J);
     int n = c->n, nb = c->L0->n, dp = c->dofp, np = c->np;
     size_t per = (size_t)nb * 6;
     double (*xi)[6] = malloc(sizeof *xi * (size_t)n);
@@ -113,7 +106,7 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     hp_error err = (!xi || !drho || !dJc) ? HP_ERR_NOMEM : HP_OK;
     hp_layout L;
     hp_geom G;
-    if (!err) err = apply(c, theta, &L, &G, 0, NULL);
+    if (!err) err = calib_layout_apply(c, theta, &L, &G, 0, NULL);
     for (int i = 0; !err && i < n; ++i)
         err = hp_contact_fk_g(&L, &G, c->level, c->ro[i], c->rows[i].pose, xi[i], NULL, NULL);
     double th[HP_CALIB_MAX_PARAMS];
@@ -122,9 +115,9 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
         hp_geom Gp, Gm;
         memcpy(th, theta, sizeof(double) * (size_t)np);
         th[j] = theta[j] + LAY_FD_STEP;
-        err = apply(c, th, &Lp, &Gp, 0, NULL);
+        err = calib_layout_apply(c, th, &Lp, &Gp, 0, NULL);
         th[j] = theta[j] - LAY_FD_STEP;
-        if (!err) err = apply(c, th, &Lm, &Gm, 0, NULL);
+        if (!err) err = calib_layout_apply(c, th, &Lm, &Gm, 0, NULL);
         for (int i = 0; !err && i < n; ++i) {
             double rp[HP_MAX_BLADDERS], rm[HP_MAX_BLADDERS];
             double Jp[HP_MAX_BLADDERS * 6], Jm[HP_MAX_BLADDERS * 6];
@@ -173,8 +166,7 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     return err;
 }
 
-/* Copies the columns cols[0..k) of J (m×np) into S (m×k), scaled to unit norm (scale[]). */
-static void columns(int m, int np, const double *J, const int *cols, int k, double *S,
+void calib_columns(int m, int np, const double *J, const int *cols, int k, double *S,
                     double *scale)
 {
     for (int q = 0; q < k; ++q) {
@@ -249,9 +241,11 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
     if (!(opt->sigma_trans > 0) || !isfinite(opt->sigma_trans) || !(opt->sigma_rot > 0) ||
         !isfinite(opt->sigma_rot))
         return hp_diag_set(d, HP_ERR_INVALID, "sigma: must be finite and > 0");
-    if (!opt->fit_axes && !opt->fit_offsets)
-        return hp_diag_set(d, HP_ERR_INVALID, "nothing to fit: choose axes and/or offsets");
+    if (!opt->fit_axes && !opt->fit_offsets && !opt->fit_mass)
+        return hp_diag_set(d, HP_ERR_INVALID, "nothing to fit: choose axes, offsets or mass");
+    if (opt->load && hp_load_spec_validate(opt->load, d)) return HP_ERR_INVALID;
     memset(c, 0, sizeof *c);
+    c->load = opt->load;
     c->L0 = L;
     c->G0 = G0;
     c->rows = rows;
@@ -263,12 +257,18 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
     /* Both groups are always in the parameter vector; the unselected ones stay at zero
      * change (not in sel[]). */
     c->n_axes = sphere ? 1 : 3;
-    c->np = c->n_axes + L->n;
+    c->np = c->n_axes + L->n + (opt->fit_mass ? 1 : 0);
+    c->mass_j = opt->fit_mass ? c->np - 1 : -1;
     memset(out, 0, sizeof *out);
     out->np = c->np;
+    out->mass_index = c->mass_j;
+    out->mass = opt->load ? opt->load->mass : NAN;
     static const char *const axis[3] = {"semi_axis_x", "semi_axis_y", "semi_axis_z"};
     for (int j = 0; j < c->np; ++j) {
-        if (j < c->n_axes) {
+        if (j == c->mass_j) {
+            snprintf(out->name[j], HP_CALIB_NAME_MAX, "mass");
+            out->scene_value[j] = opt->load ? opt->load->mass : NAN;
+        } else if (j < c->n_axes) {
             snprintf(out->name[j], HP_CALIB_NAME_MAX, "%s", sphere ? "radius" : axis[j]);
             out->scene_value[j] = L->head.semi_axes[j];
         } else {
@@ -292,7 +292,7 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
 /* Gauss–Newton step with Levenberg–Marquardt damping on the selected columns, scaled to
  * unit norm: (SᵀS + λI)·y = −Sᵀe solved through the SVD S = UΣVᵀ as y = −V(Σ² + λ)⁻¹Vᵀ·Sᵀe,
  * then dx = y / scale. */
-static hp_error lm_step(int m, int k, const double *S, const double *scale, const double *e,
+hp_error calib_lm_step(int m, int k, const double *S, const double *scale, const double *e,
                         double lambda, double *dx)
 {
     double sv[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
@@ -350,7 +350,7 @@ static hp_error sym_inverse(int k, const double *A, double *C)
 
 /* Inverse of the information matrix of the selected columns (k×k) through the SVD:
  * (JᵀJ)⁻¹ = V Σ⁻² Vᵀ in unit-column coordinates, unscaled. */
-static hp_error covariance(int m, int k, const double *S, const double *scale, double *C,
+hp_error calib_covariance(int m, int k, const double *S, const double *scale, double *C,
                            double *cond)
 {
     double sv[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
@@ -374,7 +374,7 @@ static void invalidate(hp_layout_fit *out)
         out->determined[j] = 0;
     }
     for (int j = 0; j < 6; ++j) out->rms_before[j] = out->rms_after[j] = NAN;
-    out->condition = out->t = out->s = out->weakest_se = NAN;
+    out->condition = out->t = out->s = out->weakest_se = out->mass = NAN;
     out->rank = out->dof = 0;
     out->fitted.n = 0; /* no bladders: every call that takes a layout refuses it */
 }
@@ -412,25 +412,30 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
      * (only the groups the options select). */
     int all[HP_CALIB_MAX_PARAMS];
     for (int j = 0; j < np; ++j) all[j] = j;
-    columns(m, np, J, all, np, S, scale);
+    calib_columns(m, np, J, all, np, S, scale);
     if (hp_kin_svd(m, np, S, svall, V)) {
         err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE, "SVD of the Jacobian failed");
         goto done;
     }
     memcpy(out->sv, svall, sizeof(double) * (size_t)np);
     out->rank = rank_of(svall, np < m ? np : m);
-    /* Offsets are admitted first (the head's size is measurable by hand; the placement of a
-     * bladder on its panel is not), then the semi-axes. */
+    /* The mass first (what a load calibration is for), then the offsets (the head's size is
+     * measurable by hand; the placement of a bladder on its panel is not), then the
+     * semi-axes. */
+    int order[HP_CALIB_MAX_PARAMS], no = 0, nb = L->n;
+    if (c.mass_j >= 0) order[no++] = c.mass_j;
+    for (int k = 0; k < nb; ++k) order[no++] = c.n_axes + k;
+    for (int k = 0; k < c.n_axes; ++k) order[no++] = k;
     c.nsel = 0;
     for (int q = 0; q < np; ++q) {
-        int j = q < np - c.n_axes ? c.n_axes + q : q - (np - c.n_axes);
-        int want = j < c.n_axes ? opt->fit_axes : opt->fit_offsets;
+        int j = order[q];
+        int want = j == c.mass_j ? opt->fit_mass : j < c.n_axes ? opt->fit_axes : opt->fit_offsets;
         if (!want) {
             out->determined[j] = -1;
             continue;
         }
         c.sel[c.nsel] = j;
-        columns(m, np, J, c.sel, c.nsel + 1, S, scale);
+        calib_columns(m, np, J, c.sel, c.nsel + 1, S, scale);
         double sv[HP_CALIB_MAX_PARAMS];
         if (hp_kin_svd(m, c.nsel + 1, S, sv, V)) {
             err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE, "SVD of the Jacobian failed");
@@ -453,11 +458,11 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     }
 
     double cost = sumsq(m, e), lambda = 1e-3;
-    int it = 0;
+    int it = 0, stalled = 0, accepted = 0;
     for (; it < LAY_MAX_ITERS; ++it) {
         double dx[HP_CALIB_MAX_PARAMS], th[HP_CALIB_MAX_PARAMS];
-        columns(m, np, J, c.sel, c.nsel, S, scale);
-        if (lm_step(m, c.nsel, S, scale, e, lambda, dx)) {
+        calib_columns(m, np, J, c.sel, c.nsel, S, scale);
+        if (calib_lm_step(m, c.nsel, S, scale, e, lambda, dx)) {
             err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE, "SVD of the Jacobian failed");
             goto done;
         }
@@ -479,15 +484,32 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
                 err = hp_diag_set(diag, err, "the Jacobian failed during the fit");
                 goto done;
             }
+            stalled = 0;
+            ++accepted;
             if (step <= LAY_STEP_TOL) break;
         } else {
+            /* A trial the model cannot evaluate at all (e.g. no rest of the statics) is not a
+             * worse fit: when the damping runs out on such trials the search stalled. */
+            stalled = te != HP_OK;
             lambda *= 10.0;
             if (lambda > 1e12 || step <= LAY_STEP_TOL) break;
         }
     }
+    /* Noisy data are never exactly at the scene's values: a search that accepted no step at
+     * all, or ran out of damping on trials the model could not evaluate, stalled; its
+     * numbers would be the scene's with intervals that mean nothing. */
+    if ((stalled && lambda > 1e12) || !accepted) {
+        err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE,
+                          "the fit stalled: no step from the scene's values improved the fit "
+                          "(%s); fit fewer parameters",
+                          c.load ? "at the load level the statics find no rest for the steps "
+                                   "the data ask for, or find it only roughly"
+                                 : "the contact model fails for the steps the data ask for");
+        goto done;
+    }
     out->iterations = it;
     hp_geom Gf;
-    err = apply(&c, theta, &out->fitted, &Gf, 1, diag);
+    err = calib_layout_apply(&c, theta, &out->fitted, &Gf, 1, diag);
     if (err) {
         hp_diag_set(diag, err, "the fitted layout is not valid: %s", diag ? diag->text : "");
         goto done;
@@ -499,8 +521,8 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
                 resid_after[i * 6 + j] = j < c.dofp ? e[i * c.dofp + j] / c.w[j] : 0.0;
 
     double C[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
-    columns(m, np, J, c.sel, c.nsel, S, scale);
-    if (covariance(m, c.nsel, S, scale, C, &out->condition)) {
+    calib_columns(m, np, J, c.sel, c.nsel, S, scale);
+    if (calib_covariance(m, c.nsel, S, scale, C, &out->condition)) {
         err = hp_diag_set(diag, HP_ERR_INVALID, "the fitted Jacobian is singular");
         goto done;
     }
@@ -533,6 +555,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     out->s = sqrt(cost / out->dof);
     out->t = hp_calib_t_quantile(0.975, out->dof);
     for (int j = 0; j < np; ++j) out->value[j] = out->scene_value[j] + theta[j];
+    if (c.mass_j >= 0 && c.load) out->mass = out->value[c.mass_j];
     for (int q = 0; q < c.nsel; ++q) {
         int j = c.sel[q];
         out->determined[j] = 1;
@@ -601,4 +624,29 @@ hp_error hp_fit_layout_gain(const hp_layout *L, const hp_calib_row *rows, int n,
     free(c.ro);
     if (err) return hp_diag_set(diag, err, "the information matrix is singular");
     return HP_OK;
+}
+
+hp_error hp_fit_layout_residuals(const hp_layout *L, const hp_calib_row *rows, int n,
+                                 const hp_layout_fit_options *opt, double *resid, hp_diag *diag)
+{
+    if (!resid) return hp_diag_set(diag, HP_ERR_NULL, "NULL argument");
+    hp_layout_fit *scratch = malloc(sizeof *scratch);
+    double *e = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1) * 6);
+    lay_ctx c;
+    hp_error err = (!scratch || !e) ? hp_diag_set(diag, HP_ERR_NOMEM, "out of memory")
+                                    : setup(L, rows, n, opt, &c, scratch, diag);
+    if (!err) {
+        double theta[HP_CALIB_MAX_PARAMS] = {0};
+        err = resid_at(&c, theta, e, 0, NULL, NULL);
+        if (err)
+            err = hp_diag_set(diag, err, "the layout cannot reproduce the rows (%s)",
+                              hp_error_message(err));
+        for (int i = 0; !err && i < n; ++i)
+            for (int j = 0; j < 6; ++j)
+                resid[i * 6 + j] = j < c.dofp ? e[i * c.dofp + j] / c.w[j] : 0.0;
+        free(c.ro);
+    }
+    free(scratch);
+    free(e);
+    return err;
 }

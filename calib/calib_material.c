@@ -4,6 +4,7 @@
  * pressure) and the exact Jacobian of the radius the model predicts (implicit function
  * theorem: dri/dCj = −(∂P/∂Cj)/(∂P/∂ri)). */
 #include "headplan/hp_calib.h"
+#include "calib/calib_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -31,28 +32,49 @@ static hp_error basis(double Ri, double Ro, double ri, double *a, double *b)
     return HP_OK;
 }
 
-/* The model's radius (inner or outer) for pressure P and its derivatives w.r.t. C1, C2. */
-static hp_error model_radius(const hp_iab *m, const hp_iab_limit *lp, hp_calib_radius kind,
-                             double P, double *r, double dr[2])
+/* ∂P/∂R at fixed inner radius ri of the closed form
+ * P = 2·C1·[f(λi) − f(λo)] + 2·C2·[g(λi) − g(λo)], f(λ) = −1/λ − 1/(4λ⁴), g(λ) = λ − 1/(2λ²),
+ * λi = ri/Ri, λo = ro/Ro, ro³ = Ro³ + ri³ − Ri³, for R = Ri (ref CALIB_REF_RI) or Ro. */
+static double dP_dref(const hp_iab *m, double ri, double ro, int ref)
 {
-    double ri, Pri, dP, a, b;
+    double li = ri / m->Ri, lo = ro / m->Ro;
+    double fpi = 1.0 / (li * li) + 1.0 / (li * li * li * li * li), gpi = 1.0 + 1.0 / (li * li * li);
+    double fpo = 1.0 / (lo * lo) + 1.0 / (lo * lo * lo * lo * lo), gpo = 1.0 + 1.0 / (lo * lo * lo);
+    double Pli = 2.0 * (m->C1 * fpi + m->C2 * gpi), Plo = -2.0 * (m->C1 * fpo + m->C2 * gpo);
+    if (ref == CALIB_REF_RI) /* dλi/dRi = −ri/Ri², dro/dRi = −Ri²/ro² */
+        return Pli * (-ri / (m->Ri * m->Ri)) + Plo * (-(m->Ri * m->Ri) / (ro * ro * m->Ro));
+    /* dro/dRo = Ro²/ro², so dλo/dRo = Ro/ro² − ro/Ro² */
+    return Plo * (m->Ro / (ro * ro) - ro / (m->Ro * m->Ro));
+}
+
+hp_error calib_model_radius(const hp_iab *m, const hp_iab_limit *lp, hp_calib_radius kind,
+                            double P, int ref, double *r, double dr[3])
+{
+    double ri, Pri, dP, a, b, ro;
     hp_error e = hp_iab_fk_limit(m, lp, P, &ri);
     if (!e) e = hp_iab_ik_derivs(m, ri, &Pri, &dP, NULL);
     if (!e) e = basis(m->Ri, m->Ro, ri, &a, &b);
+    if (!e) e = hp_iab_ro(m, ri, &ro);
     if (e) return e;
     if (!(dP > 0)) return HP_ERR_NO_STABLE;
     double scale = 1.0;
     *r = ri;
     if (kind == HP_CALIB_OUTER) {
-        double ro;
-        e = hp_iab_ro(m, ri, &ro);
-        if (e) return e;
         *r = ro;
         scale = (ri / ro) * (ri / ro); /* dro/dri from the volume law */
     }
     if (dr) {
         dr[0] = -scale * a / dP;
         dr[1] = -scale * b / dP;
+        if (ref != CALIB_REF_NONE) {
+            /* dri/dR = −(∂P/∂R)/(∂P/∂ri) at fixed P; an outer radius also moves with R
+             * directly through the volume law: ∂ro/∂Ri = −Ri²/ro², ∂ro/∂Ro = Ro²/ro². */
+            double dri = -dP_dref(m, ri, ro, ref) / dP;
+            dr[2] = scale * dri;
+            if (kind == HP_CALIB_OUTER)
+                dr[2] += ref == CALIB_REF_RI ? -(m->Ri * m->Ri) / (ro * ro)
+                                             : (m->Ro * m->Ro) / (ro * ro);
+        }
     }
     return HP_OK;
 }
@@ -67,9 +89,9 @@ static hp_error residuals(const hp_iab *m, hp_calib_radius kind, const hp_calib_
     if (err) return err;
     if (lp_out) *lp_out = lp;
     for (int i = 0; i < n; ++i) {
-        double r, dr[2];
+        double r, dr[3];
         if (lp.exists && !(pts[i].pressure < lp.pressure)) err = HP_ERR_NO_STABLE;
-        else err = model_radius(m, &lp, kind, pts[i].pressure, &r, dr);
+        else err = calib_model_radius(m, &lp, kind, pts[i].pressure, CALIB_REF_NONE, &r, dr);
         if (err) {
             if (bad) *bad = i;
             return err;
@@ -128,7 +150,7 @@ static double cond2(const double S[3])
     return sqrt(lmax / lmin);
 }
 
-static void set_nan(hp_material_fit *out)
+void calib_material_invalidate(hp_material_fit *out)
 {
     double nan = NAN;
     out->C1 = out->C2 = out->C10 = out->C01 = nan;
@@ -136,6 +158,10 @@ static void set_nan(hp_material_fit *out)
     out->rms = out->limit_pressure = nan;
     out->ci[0][0] = out->ci[0][1] = out->ci[1][0] = out->ci[1][1] = nan;
     out->n = out->dof = out->iterations = 0;
+    out->ref_fitted = 0;
+    out->ref_kind = HP_CALIB_INNER;
+    out->ref = out->ref_se = out->ref_ci[0] = out->ref_ci[1] = nan;
+    out->ref_corr[0] = out->ref_corr[1] = nan;
 }
 
 static long line_of(const hp_calib_point *p, int i) { return p->line ? p->line : i + 1; }
@@ -227,11 +253,43 @@ static void start_point(double Ri, double Ro, const hp_calib_point *pts, const d
     *C1 = *C2 = K;
 }
 
+void calib_material_result(hp_material_fit *out, const double C[2], const double se[2],
+                           double corr, double cond, int dof, double s2, const double *e,
+                           const hp_calib_point *pts, int n, double *resid, int iterations,
+                           const hp_iab_limit *lp)
+{
+    double tq = hp_calib_t_quantile(0.975, dof);
+    out->C1 = C[0];
+    out->C2 = C[1];
+    out->C10 = 0.5 * C[0];
+    out->C01 = 0.5 * C[1];
+    for (int j = 0; j < 2; ++j) {
+        out->se[j] = se[j];
+        out->ci[j][0] = C[j] - tq * se[j];
+        out->ci[j][1] = C[j] + tq * se[j];
+    }
+    out->corr = corr;
+    out->condition = cond;
+    out->n = n;
+    out->dof = dof;
+    out->t = tq;
+    out->s = sqrt(s2);
+    double ss = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double r = e[i] * pts[i].sigma;
+        ss += r * r;
+        if (resid) resid[i] = r;
+    }
+    out->rms = sqrt(ss / n);
+    out->iterations = iterations;
+    out->limit_pressure = lp->exists ? lp->pressure : INFINITY;
+}
+
 hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_calib_point *pts,
                          int n, hp_material_fit *out, double *resid, hp_diag *diag)
 {
     if (!out) return HP_ERR_NULL;
-    set_nan(out);
+    calib_material_invalidate(out);
     if (!pts && n > 0) return HP_ERR_NULL;
     double *work = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1) * 5);
     if (!work) return hp_diag_set(diag, HP_ERR_NOMEM, "out of memory");
@@ -383,36 +441,12 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
     }
     int dof = n - 2;
     double s2 = cost / dof;
-    double tq = hp_calib_t_quantile(0.975, dof);
-    out->C1 = m.C1;
-    out->C2 = m.C2;
-    out->C10 = 0.5 * m.C1;
-    out->C01 = 0.5 * m.C2;
-    out->se[0] = sqrt(s2 * inv[0]);
-    out->se[1] = sqrt(s2 * inv[2]);
-    out->corr = inv[1] / sqrt(inv[0] * inv[2]);
-    for (int j = 0; j < 2; ++j) {
-        double v = j == 0 ? m.C1 : m.C2;
-        out->ci[j][0] = v - tq * out->se[j];
-        out->ci[j][1] = v + tq * out->se[j];
-    }
-    out->condition = cond;
-    out->n = n;
-    out->dof = dof;
-    out->t = tq;
-    out->s = sqrt(s2);
-    double ss = 0.0;
-    for (int i = 0; i < n; ++i) {
-        double r = e[i] * pts[i].sigma;
-        ss += r * r;
-        if (resid) resid[i] = r;
-    }
-    out->rms = sqrt(ss / n);
-    out->iterations = it;
-    out->limit_pressure = lp.exists ? lp.pressure : INFINITY;
+    double se[2] = {sqrt(s2 * inv[0]), sqrt(s2 * inv[2])}, th[2] = {m.C1, m.C2};
+    calib_material_result(out, th, se, inv[1] / sqrt(inv[0] * inv[2]), cond, dof, s2, e, pts,
+                          n, resid, it, &lp);
 done:
     free(work);
-    if (err) set_nan(out);
+    if (err) calib_material_invalidate(out);
     return err;
 }
 
@@ -438,10 +472,10 @@ hp_error hp_fit_material_gain(double Ri, double Ro, hp_calib_radius kind,
         if (!inv2(A, inv)) err = hp_diag_set(diag, HP_ERR_INVALID, "singular information");
     }
     for (int j = 0; !err && j < ncand; ++j) {
-        double r, dr[2];
+        double r, dr[3];
         shrink[2 * j] = shrink[2 * j + 1] = NAN;
         if (!isfinite(cand[j]) || (lp.exists && !(cand[j] < lp.pressure))) continue;
-        if (model_radius(&m, &lp, kind, cand[j], &r, dr)) continue;
+        if (calib_model_radius(&m, &lp, kind, cand[j], CALIB_REF_NONE, &r, dr)) continue;
         double j0 = dr[0] / sigma, j1 = dr[1] / sigma;
         double An[3] = {A[0] + j0 * j0, A[1] + j0 * j1, A[2] + j1 * j1}, invn[3];
         if (!inv2(An, invn)) continue;

@@ -3,6 +3,7 @@
  * target, so a reader sees the old file or the whole new one, never half. */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/hp_calib.h"
+#include "headplan/hp_load_planner.h"
 #include "common/units.h"
 
 #include <errno.h>
@@ -75,8 +76,22 @@ static void write_body(FILE *f, const hp_layout *L, hp_level level, const hp_sce
         fprintf(f, "model: {level: %s}\n", hp_level_name(level));
         return;
     }
-    fprintf(f, "model: {level: %s, tolerance_mm: %.17g", hp_level_name(level),
-            base->level_tolerance * 1e3);
+    if (base->has_load) {
+        /* The carried mass as the part of the head's it is (the caller raises the head's
+         * mass when a fitted load exceeds it). */
+        double g = sqrt(base->load.gravity[0] * base->load.gravity[0] +
+                        base->load.gravity[1] * base->load.gravity[1] +
+                        base->load.gravity[2] * base->load.gravity[2]);
+        double frac = L->head.mass > 0 ? base->load.mass / L->head.mass : 1.0;
+        fprintf(f, "load: {carried_fraction: %.17g, com_mm: ", frac > 1.0 ? 1.0 : frac);
+        vec_mm(f, base->load.com);
+        fprintf(f, ", gravity_dir: [%.17g, %.17g, %.17g], geometry: %s, tiebreak: %s}\n",
+                base->load.gravity[0] / g, base->load.gravity[1] / g, base->load.gravity[2] / g,
+                hp_level_name(base->load_geometry),
+                hp_load_tiebreak_name((hp_load_tiebreak)base->load_tiebreak));
+    }
+    fprintf(f, "model: {level: %s, tolerance_mm: %.17g",
+            base->level_load ? "load" : hp_level_name(level), base->level_tolerance * 1e3);
     if (base->has_auto_range)
         fprintf(f, ", auto_translation_mm: %.17g, auto_rotation_deg: %.17g",
                 base->auto_trans * 1e3, base->auto_rot * HP_DEG_PER_RAD);
@@ -94,6 +109,37 @@ static void write_body(FILE *f, const hp_layout *L, hp_level level, const hp_sce
     }
 }
 
+hp_error hp_calib_check_output(const char *path, const char *const *inputs, int n_inputs,
+                               hp_diag *d)
+{
+    if (!path || (n_inputs > 0 && !inputs)) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
+    for (int i = 0; i < n_inputs; ++i)
+        if (inputs[i] && (strcmp(inputs[i], path) == 0 || same_file(inputs[i], path)))
+            return hp_diag_set(d, HP_ERR_INVALID,
+                               "%s: is an input of the fit; write the calibrated scene to "
+                               "another file",
+                               path);
+    /* hp_calib_write_scene's rename replaces whatever the name holds: a FIFO someone reads, a device
+     * node (as root even /dev/null), or a symbolic link the user may have meant to write
+     * through. Only a regular file (or nothing) may be replaced. */
+    struct stat st;
+    if (lstat(path, &st) == 0) {
+        if (S_ISLNK(st.st_mode))
+            return hp_diag_set(d, HP_ERR_INVALID,
+                               "%s: is a symbolic link: refused (name the file itself)", path);
+        if (S_ISDIR(st.st_mode))
+            return hp_diag_set(d, HP_ERR_INVALID, "%s: is a directory, not a file", path);
+        if (!S_ISREG(st.st_mode))
+            return hp_diag_set(d, HP_ERR_INVALID,
+                               "%s: exists and is not a regular file (a device, FIFO or "
+                               "socket): refused",
+                               path);
+    } else if (errno != ENOENT) {
+        return hp_diag_set(d, HP_ERR_IO, "%s: %s", path, strerror(errno));
+    }
+    return HP_OK;
+}
+
 hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level level,
                               const hp_scene *base, const char *name,
                               const char *const *inputs, int n_inputs, hp_diag *d)
@@ -106,12 +152,8 @@ hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level lev
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE &&
         level != HP_LEVEL_AUTO)
         return hp_diag_set(d, HP_ERR_INVALID, "level: unknown");
-    for (int i = 0; i < n_inputs; ++i)
-        if (inputs[i] && (strcmp(inputs[i], path) == 0 || same_file(inputs[i], path)))
-            return hp_diag_set(d, HP_ERR_INVALID,
-                               "%s: is an input of the fit; write the calibrated scene to "
-                               "another file",
-                               path);
+    hp_error refused = hp_calib_check_output(path, inputs, n_inputs, d);
+    if (refused) return refused;
     size_t len = strlen(path);
     char *tmp = malloc(len + 16);
     if (!tmp) return hp_diag_set(d, HP_ERR_NOMEM, "out of memory");

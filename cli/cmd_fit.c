@@ -1,7 +1,8 @@
 /* headplan fit: calibration from measurements (docs/calibration.md).
- *   fit material DATA --Ri-mm R --Ro-mm R [--plot OUT.svg] [--json]
+ *   fit material DATA --Ri-mm R --Ro-mm R [--fit-ref Ri|Ro] [--plot OUT.svg] [--json]
  *   fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit offsets,axes]
- *                         [--sigma-mm S] [--sigma-deg S] [--json] */
+ *                         [--sigma-mm S] [--sigma-deg S] [--plot OUT.png|svg]
+ *                         [--plot-script FILE.gp] [--json] */
 #include "cli/cli_args.h"
 #include "common/units.h"
 #include "cli/cli_scene.h"
@@ -23,28 +24,38 @@
 
 static void help(void)
 {
-    printf("usage: headplan fit material DATA --Ri-mm R --Ro-mm R [--plot OUT.svg] [--json]\n"
+    printf("usage: headplan fit material DATA --Ri-mm R --Ro-mm R [--fit-ref Ri|Ro]\n"
+           "                             [--plot OUT.svg] [--json]\n"
            "       headplan fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit WHAT]\n"
-           "                           [--sigma-mm S] [--sigma-deg S] [--json]\n\n"
+           "                           [--sigma-mm S] [--sigma-deg S] [--plot OUT.png|svg]\n"
+           "                           [--plot-script FILE.gp] [--json]\n\n"
            "material: fit one bladder's moduli C1, C2 (paper convention) to free-inflation\n"
            "  measurements. DATA is CSV with the header pressure_pa,ri_mm (or ro_mm; pressure_kpa\n"
            "  allowed) and an optional third column sigma_mm (the radius's standard deviation).\n"
            "  --Ri-mm, --Ro-mm   the bladder's reference inner and outer radius (required)\n"
+           "  --fit-ref Ri|Ro    also fit that reference radius (its option is then the start);\n"
+           "                     refused by name when the data cannot tell it from the moduli\n"
            "  --plot OUT.svg     also write the residuals against the pressure as an SVG chart\n"
-           "layout: fit every bladder's radial offset and the head's semi-axes to measured\n"
+           "layout: fit every bladder's radial offset, the head's semi-axes and (with a load\n"
+           "  section, by the forward statics) the carried mass to measured\n"
            "  (pressures, pose) rows. DATA is CSV: p_<bladder>_pa (or _kpa) for every bladder of\n"
            "  SCENE, then x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg.\n"
            "  -o OUT.yaml        write the calibrated scene (atomically; never over an input)\n"
            "  --level L          forward model: linear, plane or surface (default: the scene's\n"
            "                     level, auto resolved as solve does)\n"
-           "  --fit WHAT         offsets, axes or offsets,axes (default)\n"
+           "  --fit WHAT         a comma list of offsets, axes, mass (default offsets,axes; with\n"
+           "                     a load section also mass, fitted through the forward statics)\n"
            "  --sigma-mm S       standard deviation of a measured translation (default 0.1)\n"
            "  --sigma-deg S      standard deviation of a measured rotation (default 0.1)\n"
+           "  --plot OUT.png     also draw every row's residual per pose axis before and after\n"
+           "                     the fit (gnuplot; .png or .svg)\n"
+           "  --plot-script F    keep the gnuplot script of --plot (data inline)\n"
            "  --json             one JSON object on stdout instead of text\n"
            "  --help             this text\n\n"
            "Intervals are 95 %% (Student's t), from the fit's Jacobian with the scatter estimated\n"
            "from the residuals. exit status: 0 ok, 64 usage, 65 bad data or data that cannot\n"
-           "determine the fit, 66 cannot open, 70 internal failure, 73 cannot write\n");
+           "determine the fit, 66 cannot open, 69 gnuplot missing (--plot), 70 internal failure,\n"
+           "73 cannot write\n");
 }
 
 static int status_of(hp_error e)
@@ -98,7 +109,7 @@ static void candidates(const hp_iab *b, const hp_calib_point *pts, int n, double
 
 static int run_material(int argc, char **argv)
 {
-    const char *data = NULL, *ri_t = NULL, *ro_t = NULL, *plot = NULL;
+    const char *data = NULL, *ri_t = NULL, *ro_t = NULL, *plot = NULL, *ref_t = NULL;
     int json = 0;
     for (int i = 0; i < argc; ++i) {
         const char *v;
@@ -114,6 +125,9 @@ static int run_material(int argc, char **argv)
         } else if ((m = cli_opt(CMD, argc, argv, &i, "--plot", &v)) != 0) {
             if (m < 0) return CLI_EXIT_USAGE;
             plot = v;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--fit-ref", &v)) != 0) {
+            if (m < 0) return CLI_EXIT_USAGE;
+            ref_t = v;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
             return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         } else if (data) {
@@ -134,6 +148,11 @@ static int run_material(int argc, char **argv)
                            Ri, Ro);
     Ri *= 1e-3;
     Ro *= 1e-3;
+    int fit_ref = ref_t != NULL;
+    hp_calib_radius ref = HP_CALIB_INNER;
+    if (ref_t && strcmp(ref_t, "Ro") == 0) ref = HP_CALIB_OUTER;
+    else if (ref_t && strcmp(ref_t, "Ri") != 0)
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--fit-ref: '%s': use Ri or Ro", ref_t);
 
     hp_calib_point *pts = malloc(sizeof *pts * HP_CALIB_MAX_ROWS);
     double *res = malloc(sizeof *res * HP_CALIB_MAX_ROWS);
@@ -148,8 +167,14 @@ static int run_material(int argc, char **argv)
     hp_material_fit f;
     hp_error e = hp_calib_read_material(data, pts, HP_CALIB_MAX_ROWS, &n, &kind, &d);
     if (e) rc = cli_fail(status_of(e), CMD, "%s", d.text);
-    else if ((e = hp_fit_material(Ri, Ro, kind, pts, n, &f, res, &d)) != HP_OK)
+    else if ((e = fit_ref ? hp_fit_material_ref(Ri, Ro, kind, ref, pts, n, &f, res, &d)
+                          : hp_fit_material(Ri, Ro, kind, pts, n, &f, res, &d)) != HP_OK)
         rc = cli_fail(status_of(e), CMD, "%s: %s", data, d.text);
+    if (!rc && f.ref_fitted) {
+        /* From here on the bladder is the fitted one. */
+        if (ref == HP_CALIB_INNER) Ri = f.ref;
+        else Ro = f.ref;
+    }
     if (rc) {
         free(pts);
         free(res);
@@ -164,9 +189,11 @@ static int run_material(int argc, char **argv)
             xs[i] = pts[i].pressure * 1e-3;
             ys[i] = res[i] * 1e3;
         }
+        cli_input in;
+        cli_input_of(&in, "data", data);
         if (!rc)
-            rc = fit_plot_svg(CMD, plot, "headplan fit material: residuals (measured - fitted)",
-                                 xs, ys, n, f.t * f.s * pts[0].sigma * 1e3, "pressure [kPa]",
+            rc = fit_plot_svg(CMD, plot, &in, 1,
+                              "headplan fit material: residuals (measured - fitted)", xs, ys, n, f.t * f.s * pts[0].sigma * 1e3, "pressure [kPa]",
                                  kind == HP_CALIB_INNER ? "ri residual [mm]"
                                                         : "ro residual [mm]");
         free(xs);
@@ -200,6 +227,15 @@ static int run_material(int argc, char **argv)
             json_object_set_new(p, "se", json_real(f.se[j]));
             json_object_set_new(p, "ci95", json_pack("[f,f]", f.ci[j][0], f.ci[j][1]));
             json_object_set_new(o, nm[j], p);
+        }
+        if (f.ref_fitted) {
+            json_t *p = json_object();
+            json_object_set_new(p, "value", json_real(f.ref * 1e3));
+            json_object_set_new(p, "se", json_real(f.ref_se * 1e3));
+            json_object_set_new(p, "ci95", json_pack("[f,f]", f.ref_ci[0] * 1e3, f.ref_ci[1] * 1e3));
+            json_object_set_new(p, "corr_C1", json_real(f.ref_corr[0]));
+            json_object_set_new(p, "corr_C2", json_real(f.ref_corr[1]));
+            json_object_set_new(o, ref == HP_CALIB_INNER ? "fitted_Ri_mm" : "fitted_Ro_mm", p);
         }
         json_object_set_new(o, "C10_pa", json_real(f.C10));
         json_object_set_new(o, "C01_pa", json_real(f.C01));
@@ -240,6 +276,11 @@ static int run_material(int argc, char **argv)
            f.ci[0][1]);
     printf("  C2  = %-12.6g Pa  SE %-10.4g 95%% [%.6g, %.6g]\n", f.C2, f.se[1], f.ci[1][0],
            f.ci[1][1]);
+    if (f.ref_fitted)
+        printf("  %s  = %-12.6g mm  SE %-10.4g 95%% [%.6g, %.6g]  (fitted; correlation with "
+               "C1 %.3f, C2 %.3f)\n",
+               ref == HP_CALIB_INNER ? "Ri" : "Ro", f.ref * 1e3, f.ref_se * 1e3,
+               f.ref_ci[0] * 1e3, f.ref_ci[1] * 1e3, f.ref_corr[0], f.ref_corr[1]);
     printf("  C10 = %-12.6g Pa  C01 = %.6g Pa (finite-element convention: C1/2, C2/2)\n", f.C10,
            f.C01);
     printf("  correlation(C1, C2) %.4f, condition number %.3g, %d iterations\n", f.corr,
@@ -273,6 +314,8 @@ static int run_material(int argc, char **argv)
     printf("\nscene fragment (%s data):\n  material: {convention: paper, C1_pa: %.6g, C2_pa: "
            "%.6g}\n",
            rname, f.C1, f.C2);
+    if (f.ref_fitted)
+        printf("  %s: %.6g\n", ref == HP_CALIB_INNER ? "Ri_mm" : "Ro_mm", f.ref * 1e3);
     free(pts);
     free(res);
     return CLI_EXIT_OK;
@@ -281,21 +324,23 @@ static int run_material(int argc, char **argv)
 /* ---------------------------------------------------------------- layout */
 
 typedef struct layout_args {
-    const char *scene, *data, *out, *level, *what, *sig_mm, *sig_deg;
+    const char *scene, *data, *out, *level, *what, *sig_mm, *sig_deg, *plot, *plot_script;
     int json;
 } layout_args;
 
 static int parse_layout(int argc, char **argv, layout_args *a)
 {
     memset(a, 0, sizeof *a);
-    const char *const names[] = {"-o", "--level", "--fit", "--sigma-mm", "--sigma-deg"};
-    const char **slots[] = {&a->out, &a->level, &a->what, &a->sig_mm, &a->sig_deg};
+    const char *const names[] = {"-o",          "--level", "--fit",        "--sigma-mm",
+                                 "--sigma-deg", "--plot",  "--plot-script"};
+    const char **slots[] = {&a->out,     &a->level, &a->what,       &a->sig_mm,
+                            &a->sig_deg, &a->plot,  &a->plot_script};
     for (int i = 0; i < argc; ++i) {
         if (strcmp(argv[i], "--json") == 0) {
             a->json = 1;
             continue;
         }
-        int matched = cli_named_opt(CMD, argc, argv, &i, names, slots, 5);
+        int matched = cli_named_opt(CMD, argc, argv, &i, names, slots, 7);
         if (matched < 0) return CLI_EXIT_USAGE;
         if (matched) continue;
         if (argv[i][0] == '-' && argv[i][1] != '\0')
@@ -306,18 +351,38 @@ static int parse_layout(int argc, char **argv, layout_args *a)
     }
     if (!a->scene || !a->data)
         return cli_fail(CLI_EXIT_USAGE, CMD, "layout: needs SCENE and DATA");
+    if (a->plot_script && !a->plot)
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--plot-script: needs --plot");
+    if (a->plot) {
+        size_t k = strlen(a->plot);
+        if (k < 5 || (strcmp(a->plot + k - 4, ".png") != 0 && strcmp(a->plot + k - 4, ".svg") != 0))
+            return cli_fail(CLI_EXIT_USAGE, CMD, "--plot: '%s' must end in .png or .svg",
+                            a->plot);
+    }
     return -1;
 }
 
 static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fit_options *o)
 {
     hp_layout_fit_options_default(o);
+    /* A scene with a load section is fitted through the forward statics, and by default its
+     * carried mass with the rest; without one the mass is fitted only when asked for (and
+     * then named as not determined: the kinematic model does not depend on it). */
+    o->fit_mass = sc->has_load;
     if (a->what) {
-        if (strcmp(a->what, "offsets") == 0) o->fit_axes = 0;
-        else if (strcmp(a->what, "axes") == 0) o->fit_offsets = 0;
-        else if (strcmp(a->what, "offsets,axes") != 0 && strcmp(a->what, "axes,offsets") != 0)
-            return cli_fail(CLI_EXIT_USAGE, CMD,
-                               "--fit: '%s': use offsets, axes or offsets,axes", a->what);
+        o->fit_axes = o->fit_offsets = o->fit_mass = 0;
+        const char *p = a->what;
+        while (*p) {
+            size_t k = strcspn(p, ",");
+            if (k == 7 && strncmp(p, "offsets", 7) == 0) o->fit_offsets = 1;
+            else if (k == 4 && strncmp(p, "axes", 4) == 0) o->fit_axes = 1;
+            else if (k == 4 && strncmp(p, "mass", 4) == 0) o->fit_mass = 1;
+            else
+                return cli_fail(CLI_EXIT_USAGE, CMD,
+                                "--fit: '%s': a comma list of offsets, axes, mass", a->what);
+            p += k;
+            if (*p == ',') ++p;
+        }
     }
     double v;
     if (a->sig_mm) {
@@ -334,6 +399,14 @@ static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fi
     int rc = cli_settings(CMD, sc, "realtime", a->level, &s);
     if (rc) return rc;
     o->level = s.level;
+    if (sc->has_load) {
+        o->load = &sc->load;
+        if (!a->level) o->level = sc->load_geometry;
+        if (o->level == HP_LEVEL_AUTO)
+            return cli_fail(CLI_EXIT_USAGE, CMD,
+                            "--level: the forward statics need linear, plane or surface");
+        return 0;
+    }
     if (o->level == HP_LEVEL_AUTO &&
         hp_contact_auto(&sc->layout, s.level_tolerance, s.auto_trans, s.auto_rot, &o->level))
         return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: auto could not choose a level", a->scene);
@@ -345,7 +418,9 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
                         const double *gain, hp_level level)
 {
     int held = 0;
-    printf("layout fit: %s with %s, %d rows, level %s\n", a->scene, a->data, f->n_rows,
+    printf("layout fit: %s with %s, %d rows, %s %s\n", a->scene, a->data, f->n_rows,
+           f->mass_index >= 0 && !isnan(f->mass) ? "forward statics (load level), geometry"
+                                                 : "level",
            hp_level_name(level));
     printf("  Jacobian: %d parameters, rank %d; fitted %d; condition number of the fitted "
            "columns %.3g\n",
@@ -356,22 +431,29 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
     printf("  %-30s %12s %12s %10s %25s\n", "parameter [mm]", "scene", "fitted", "SE",
            "95% interval");
     for (int j = 0; j < f->np; ++j) {
+        /* Lengths in mm; the carried mass in kg. */
+        double k = j == f->mass_index ? 1.0 : 1e3;
+        char nm[HP_CALIB_NAME_MAX + 8];
+        snprintf(nm, sizeof nm, "%s%s", f->name[j], j == f->mass_index ? " [kg]" : "");
         if (f->determined[j] != 1) {
-            printf("  %-30s %12.4f %12s %10s %25s\n", f->name[j], f->scene_value[j] * 1e3,
+            printf("  %-30s %12.4f %12s %10s %25s\n", nm, f->scene_value[j] * k,
                    f->determined[j] ? "(not fitted)" : "(held)", "-", "-");
             held += f->determined[j] == 0;
             continue;
         }
         char iv[64];
-        snprintf(iv, sizeof iv, "[%.4f, %.4f]", f->ci[j][0] * 1e3, f->ci[j][1] * 1e3);
-        printf("  %-30s %12.4f %12.4f %10.4f %25s\n", f->name[j], f->scene_value[j] * 1e3,
-               f->value[j] * 1e3, f->se[j] * 1e3, iv);
+        snprintf(iv, sizeof iv, "[%.4f, %.4f]", f->ci[j][0] * k, f->ci[j][1] * k);
+        printf("  %-30s %12.4f %12.4f %10.4f %25s\n", nm, f->scene_value[j] * k,
+               f->value[j] * k, f->se[j] * k, iv);
     }
     if (held) {
         printf("\n  not determined by these data (held at the scene's value):");
         for (int j = 0; j < f->np; ++j)
             if (f->determined[j] == 0) printf(" %s", f->name[j]);
         printf("\n  (their effect on the measured poses is a combination of the fitted ones')\n");
+        if (f->mass_index >= 0 && f->determined[f->mass_index] == 0 && isnan(f->mass))
+            printf("  mass: the scene has no load section, so the forward model (contact "
+                   "kinematics) does not depend on it\n");
     }
     printf("\n  weakest combination (SE %.4g mm along it):", f->weakest_se * 1e3);
     for (int j = 0; j < f->np; ++j)
@@ -409,6 +491,9 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
     json_object_set_new(o, "data", json_string(a->data));
     json_object_set_new(o, "rows", json_integer(f->n_rows));
     json_object_set_new(o, "level", json_string(hp_level_name(level)));
+    json_object_set_new(o, "model", json_string(f->mass_index >= 0 && !isnan(f->mass)
+                                                    ? "forward statics"
+                                                    : "contact kinematics"));
     json_object_set_new(o, "rank", json_integer(f->rank));
     json_object_set_new(o, "parameters_considered", json_integer(f->np));
     json_object_set_new(o, "condition", real_or_null(f->condition));
@@ -417,6 +502,23 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
     json_object_set_new(o, "s_unit_weight", json_real(f->s));
     json_t *ps = json_array(), *un = json_array(), *sv = json_array();
     for (int j = 0; j < f->np; ++j) {
+        if (j == f->mass_index) {
+            /* The carried mass has its own object (kg, not mm). */
+            json_t *m = json_object();
+            json_object_set_new(m, "status", json_string(f->determined[j] == 1   ? "fitted"
+                                                         : f->determined[j] == 0 ? "undetermined"
+                                                                                 : "not_fitted"));
+            json_object_set_new(m, "scene_kg", real_or_null(f->scene_value[j]));
+            json_object_set_new(m, "fitted_kg", real_or_null(f->mass));
+            json_object_set_new(m, "se_kg", real_or_null(f->se[j]));
+            json_object_set_new(m, "ci95_kg", f->determined[j] == 1
+                                                  ? json_pack("[f,f]", f->ci[j][0], f->ci[j][1])
+                                                  : json_null());
+            json_object_set_new(o, "carried_mass", m);
+            if (f->determined[j] == 0) json_array_append_new(un, json_string(f->name[j]));
+            json_array_append_new(sv, json_real(f->sv[j]));
+            continue;
+        }
         json_t *p = json_object();
         json_object_set_new(p, "name", json_string(f->name[j]));
         json_object_set_new(p, "status", json_string(f->determined[j] == 1   ? "fitted"
@@ -474,23 +576,55 @@ static int run_layout(int argc, char **argv)
     int n = 0;
     hp_diag d = {{0}};
     hp_error e = HP_OK;
+    const char *inputs[2] = {a.scene, a.data};
+    if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, 2, &d)) != HP_OK)
+        rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
     if (!rc) {
         e = hp_calib_read_layout(a.data, &sc->layout, rows, HP_CALIB_MAX_ROWS, &n, &d);
         if (e) rc = cli_fail(status_of(e), CMD, "%s", d.text);
     }
+    double *before = NULL, *after = NULL;
+    if (!rc && a.plot) {
+        before = malloc(sizeof *before * (size_t)n * 6);
+        after = malloc(sizeof *after * (size_t)n * 6);
+        if (!before || !after) rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
+    }
     if (!rc) {
-        e = hp_fit_layout(&sc->layout, rows, n, &o, f, NULL, &d);
+        e = hp_fit_layout(&sc->layout, rows, n, &o, f, after, &d);
         if (e) rc = cli_fail(status_of(e), CMD, "%s: %s", a.data, d.text);
+    }
+    if (!rc && a.plot) {
+        e = hp_fit_layout_residuals(&sc->layout, rows, n, &o, before, &d);
+        if (e) rc = cli_fail(status_of(e), CMD, "%s: %s", a.data, d.text);
+        long *lines = rc ? NULL : malloc(sizeof *lines * (size_t)n);
+        if (!rc && !lines) rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
+        for (int i = 0; !rc && i < n; ++i) lines[i] = rows[i].line;
+        cli_input in[2];
+        cli_input_of(&in[0], "scene", a.scene);
+        cli_input_of(&in[1], "data", a.data);
+        if (!rc)
+            rc = fit_layout_plot(CMD, a.plot, a.plot_script, in, 2,
+                                 "headplan fit layout: residuals (measured - model) per axis", n,
+                                 sc->layout.head.shape == HP_HEAD_SPHERE ? 3 : 6, lines, before,
+                                 after);
+        free(lines);
     }
     if (!rc && hp_fit_layout_gain(&sc->layout, rows, n, &o, f, gain, &d))
         for (int i = 0; i < n; ++i) gain[i] = NAN;
     if (!rc && a.out) {
         char name[HP_SCENE_TEXT_MAX];
         snprintf(name, sizeof name, "%.200s (calibrated)", sc->name);
-        const char *inputs[2] = {a.scene, a.data};
+        /* The calibrated load carries the fitted mass; a mass above the head's own is the
+         * head's (carried_fraction cannot exceed 1). */
+        if (sc->has_load && f->mass_index >= 0 && f->determined[f->mass_index] == 1) {
+            sc->load.mass = f->mass;
+            if (f->mass > f->fitted.head.mass) f->fitted.head.mass = f->mass;
+        }
         e = hp_calib_write_scene(a.out, &f->fitted, sc->level, sc, name, inputs, 2, &d);
-        if (e) rc = cli_fail(e == HP_ERR_IO ? CLI_EXIT_CANTCREAT : CLI_EXIT_USAGE, CMD, "%s",
-                                d.text);
+        /* Every refusal here is about the output's name (an input, a link, a FIFO or
+         * device, a folder that cannot be written): the "cannot create" status. */
+        if (e) rc = cli_fail(e == HP_ERR_NOMEM ? CLI_EXIT_SOFTWARE : CLI_EXIT_CANTCREAT, CMD,
+                             "%s", d.text);
     }
     if (!rc) {
         if (a.json) rc = print_json(layout_json(&a, f, rows, gain, o.level));
@@ -502,6 +636,8 @@ static int run_layout(int argc, char **argv)
     free(rows);
     free(f);
     free(gain);
+    free(before);
+    free(after);
     free(sc);
     return rc;
 }

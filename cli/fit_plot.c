@@ -21,9 +21,9 @@ static double map(double v, double lo, double hi, double a, double b)
     return hi > lo ? a + (v - lo) / (hi - lo) * (b - a) : 0.5 * (a + b);
 }
 
-int fit_plot_svg(const char *cmd, const char *path, const char *title, const double *x,
-                    const double *y, int n, double band, const char *xlabel,
-                    const char *ylabel)
+int fit_plot_svg(const char *cmd, const char *path, const cli_input *in, int nin,
+                 const char *title, const double *x, const double *y, int n, double band,
+                 const char *xlabel, const char *ylabel)
 {
     double xlo = INFINITY, xhi = -INFINITY, ylim = band > 0 ? band : 0.0;
     for (int i = 0; i < n; ++i) {
@@ -36,10 +36,10 @@ int fit_plot_svg(const char *cmd, const char *path, const char *title, const dou
     double pad = (xhi - xlo) * 0.05;
     xlo -= pad;
     xhi += pad;
-    FILE *f = fopen(path, "w");
-    if (!f)
-        return cli_fail(CLI_EXIT_CANTCREAT, cmd, "--plot: cannot create '%s': %s", path,
-                           strerror(errno));
+    cli_out out;
+    int rc = cli_out_open(&out, cmd, "--plot", path, in, nin);
+    if (rc) return rc;
+    FILE *f = out.f;
     fprintf(f, "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%.0f\" height=\"%.0f\" "
                "font-family=\"sans-serif\" font-size=\"12\">\n", W, H);
     fprintf(f, "<rect width=\"%.0f\" height=\"%.0f\" fill=\"white\"/>\n", W, H);
@@ -74,8 +74,5 @@ int fit_plot_svg(const char *cmd, const char *path, const char *title, const dou
     fprintf(f, "<text x=\"16\" y=\"%.1f\" transform=\"rotate(-90 16 %.1f)\" "
                "text-anchor=\"middle\">%s</text>\n", (y0 + y1) / 2, (y0 + y1) / 2, ylabel);
     fprintf(f, "</svg>\n");
-    int bad = ferror(f) != 0;
-    bad |= fclose(f) != 0;
-    if (bad) return cli_fail(CLI_EXIT_CANTCREAT, cmd, "--plot: cannot write '%s'", path);
-    return 0;
+    return cli_out_commit(&out, cmd);
 }

@@ -15,6 +15,7 @@
 #include "headplan/hp_common.h"
 #include "headplan/hp_iab.h"
 #include "headplan/hp_kinematics.h"
+#include "headplan/hp_load.h"
 #include "headplan/hp_scene.h"
 
 #ifdef __cplusplus
@@ -23,8 +24,8 @@ extern "C" {
 
 /* Most rows a material or layout data set may hold. */
 #define HP_CALIB_MAX_ROWS 4096
-/* Most layout parameters: one radial offset per bladder plus three semi-axes. */
-#define HP_CALIB_MAX_PARAMS (HP_MAX_BLADDERS + 3)
+/* Most layout parameters: one radial offset per bladder, three semi-axes, the carried mass. */
+#define HP_CALIB_MAX_PARAMS (HP_MAX_BLADDERS + 4)
 /* Longest parameter name, including the NUL. */
 #define HP_CALIB_NAME_MAX 48
 
@@ -60,6 +61,12 @@ typedef struct hp_material_fit {
     double rms;             /* unweighted RMS of the radius residuals [m] */
     int iterations;         /* Levenberg–Marquardt iterations */
     double limit_pressure;  /* the fitted bladder's limit-point pressure [Pa] (+inf: none) */
+    /* hp_fit_material_ref only (hp_fit_material: ref_fitted 0, the rest NaN): */
+    int ref_fitted;             /* 1: a reference radius was fitted with the moduli */
+    hp_calib_radius ref_kind;   /* which: HP_CALIB_INNER (Ri) or HP_CALIB_OUTER (Ro) */
+    double ref, ref_se;         /* [m] its value and standard error */
+    double ref_ci[2];           /* [m] its 95 % interval */
+    double ref_corr[2];         /* its correlation with C1 and with C2 */
 } hp_material_fit;
 
 /* Fits C1, C2 (paper convention) of a bladder with reference radii Ri < Ro to n points
@@ -81,6 +88,22 @@ typedef struct hp_material_fit {
  * resid (may be NULL) receives the n residuals r_meas − r_fit [m]. */
 HP_API hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_calib_point *pts,
                          int n, hp_material_fit *out, double *resid, hp_diag *diag);
+
+/* Like hp_fit_material, but also fits one reference radius: ref = HP_CALIB_INNER fits Ri
+ * (Ri is then its starting value), HP_CALIB_OUTER fits Ro. Three parameters, so n − 3 degrees
+ * of freedom; started from hp_fit_material at the given radii (its refusals apply), then
+ * Levenberg–Marquardt on (C1, C2, R) with exact derivatives (dr/dR from the closed form's
+ * ∂P/∂R by the implicit function theorem, plus the volume law's direct term for outer radii).
+ * Refuses (HP_ERR_INVALID, diag names the radius and why) fewer than four points, a
+ * design with fewer than three equations (each distinct non-zero pressure is one; zero
+ * pressure is one only when the measured radius is the fitted one: ri(0) = Ri, ro(0) = Ro),
+ * a condition number of the Jacobian (unit-norm columns) above 1e4 — the data cannot tell the
+ * radius from the moduli (docs/calibration.md) — a radius leaving 0 < Ri < Ro, and the
+ * limit-point cases of hp_fit_material. On success out->ref_fitted = 1
+ * and the ref fields hold the radius; C1, C2 and their intervals are those of the joint fit. */
+HP_API hp_error hp_fit_material_ref(double Ri, double Ro, hp_calib_radius kind,
+                                    hp_calib_radius ref, const hp_calib_point *pts, int n,
+                                    hp_material_fit *out, double *resid, hp_diag *diag);
 
 /* How much one more measurement at each candidate pressure cand[j] (with standard deviation
  * sigma [m]) would shrink the intervals of a fit: shrink[2j], shrink[2j+1] = new SE / old SE
@@ -104,16 +127,23 @@ typedef struct hp_calib_row {
 typedef struct hp_layout_fit_options {
     int fit_axes;        /* 1: the head's semi-axes (a sphere: its radius) */
     int fit_offsets;     /* 1: every bladder's radial offset (centre moved along its normal) */
-    hp_level level;      /* contact level of the forward model (linear, plane or surface) */
+    int fit_mass;        /* 1: the carried mass (determined only with load != NULL) */
+    hp_level level;      /* contact level of the forward model (linear, plane or surface);
+                            with a load, the contact geometry of the forward statics */
+    const hp_load_spec *load; /* NULL: the forward model is the contact forward kinematics;
+                            else the forward statics (hp_load_rest) carrying this load, whose
+                            mass is the start (and scene value) of a fitted mass */
     double sigma_trans;  /* [m] > 0: standard deviation of a measured translation */
     double sigma_rot;    /* [rad] > 0: standard deviation of a measured rotation */
 } hp_layout_fit_options;
 
-/* Defaults: both groups fitted, surface level, σ = 0.1 mm and 0.1°. */
+/* Defaults: offsets and semi-axes fitted, no mass, no load, surface level, σ = 0.1 mm and
+ * 0.1°. */
 HP_API void hp_layout_fit_options_default(hp_layout_fit_options *o);
 
 /* The result of a layout fit. Parameters are listed semi-axes first (x, y, z; one "radius"
- * for a sphere), then one radial offset per bladder in layout order. */
+ * for a sphere), then one radial offset per bladder in layout order, then (only when
+ * options.fit_mass) the carried mass "mass" [kg]; every other value is a length [m]. */
 typedef struct hp_layout_fit {
     int np;                                  /* parameters considered */
     char name[HP_CALIB_MAX_PARAMS][HP_CALIB_NAME_MAX]; /* "semi_axis_x", "offset:NAME" */
@@ -135,6 +165,9 @@ typedef struct hp_layout_fit {
     double rms_before[6], rms_after[6];      /* per pose axis [m or rad] */
     int iterations;
     hp_layout fitted;                        /* the calibrated layout (validated) */
+    int mass_index;                          /* index of "mass" among the parameters; -1 */
+    double mass;                             /* [kg] carried mass after the fit (the load's
+                                                mass when held; NaN without a load) */
 } hp_layout_fit;
 
 /* Fits the selected parameters of layout L (valid: hp_layout_prepare) to n rows: minimises
@@ -147,16 +180,32 @@ typedef struct hp_layout_fit {
  * rank of the Jacobian is taken from its SVD (columns scaled to unit norm, threshold 1e-7 of
  * the largest singular value); parameters are admitted in list order while each raises the
  * rank, and the rest are held at their scene values (named by determined[] = 0). A sphere
- * head's rotations are not compared (the model cannot rotate it). Offsets are admitted
- * before semi-axes (a head can be measured by hand, a bladder's seat on its panel cannot).
+ * head's rotations are not compared (the model cannot rotate it). The mass is admitted first
+ * (it is what a load calibration is for), then offsets, then semi-axes (a head can be
+ * measured by hand, a bladder's seat on its panel cannot).
+ * With opt->load the model pose of a row is the rest of the forward statics (hp_load_rest
+ * from the nominal pose, geometry opt->level) and its Jacobian dξ/dθ = K⁻¹·∂Q/∂θ (implicit
+ * function theorem on Q(ξ; θ) = 0, K = −∂Q/∂ξ exact, ∂Q/∂θ by central differences of
+ * hp_load_eval at the fixed rest: 1 µm, 1 g). Without a load the kinematic model does not
+ * depend on the mass: its column is zero and a requested mass is held and named.
  * Refuses (HP_ERR_INVALID)
  * bad rows (non-finite, a pressure outside the bladder's stable branch or its limits), fewer
- * rows than give one degree of freedom, nothing to fit. resid_after (may be NULL) gets n×6
+ * rows than give one degree of freedom, nothing to fit; HP_ERR_NO_CONVERGENCE when the search
+ * stalled (no step from the scene's values was accepted, or the damping ran out on steps the
+ * model could not evaluate: at the load level, no rest of the statics), rather than answer
+ * with the scene's values. resid_after (may be NULL) gets n×6
  * residuals measured − model after the fit. On failure every number of out is NaN and
  * out->fitted has n = 0 (no bladders: every layout call refuses it). Allocates work memory; frees it. */
 HP_API hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
                        const hp_layout_fit_options *opt, hp_layout_fit *out,
                        double *resid_after, hp_diag *diag);
+
+/* The residuals measured − model (n×6, [m, rad]; a sphere head's rotations 0) of layout L
+ * (prepared) on the rows, with the forward model opt selects: the "before" of a fit given the
+ * scene's layout, its "after" given the fitted one. Same refusals as hp_fit_layout. */
+HP_API hp_error hp_fit_layout_residuals(const hp_layout *L, const hp_calib_row *rows, int n,
+                                        const hp_layout_fit_options *opt, double *resid,
+                                        hp_diag *diag);
 
 /* How much one more measurement like each row would shrink the intervals: gain[i] = mean
  * over the fitted parameters of new SE / old SE (in (0, 1]) if row i were measured once
@@ -169,9 +218,17 @@ HP_API hp_error hp_fit_layout_gain(const hp_layout *L, const hp_calib_row *rows,
  * own parameters), contact level `level`, and the given name; when base is not NULL also its
  * model tolerance and auto range, its solver section and its correction (not its trace,
  * whose path is relative to the base's folder). Written through a temporary file in the same
- * folder renamed over path, so a reader never sees half a file. Refuses (HP_ERR_INVALID)
- * when path names the same file as any of the `inputs` (n_inputs paths, may be 0). HP_ERR_IO
+ * folder renamed over path, so a reader never sees half a file. Refuses (HP_ERR_INVALID,
+ * nothing written) when path names the same file as any of the `inputs` (n_inputs paths, may
+ * be 0), or names a symbolic link, a directory, a FIFO, device or socket. HP_ERR_IO
  * when it cannot write. */
+/* The checks hp_calib_write_scene makes on its target before writing anything, for a caller
+ * that wants to refuse a bad -o before a long fit: HP_ERR_INVALID when path is one of the
+ * inputs, a symbolic link, a directory, a FIFO, device or socket; HP_ERR_IO when it cannot be
+ * examined; HP_OK when it does not exist or is a regular file. Writes nothing. */
+HP_API hp_error hp_calib_check_output(const char *path, const char *const *inputs, int n_inputs,
+                                      hp_diag *diag);
+
 HP_API hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level level,
                               const hp_scene *base, const char *name,
                               const char *const *inputs, int n_inputs, hp_diag *diag);

@@ -52,6 +52,9 @@ printf '%s\n0,0,0,0,0\x00,0,0\n0,0,0,0,0,0,0\n' "$HDR" >"$T/nul_row.csv"
 printf '%s\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n0,0,0,0,1,0.1,0,0\n' "$DIR" >"$T/quat_norm.csv"
 ln -sf "$T/outlink_target.csv" "$T/outlink.csv"
 mkfifo "$T/outfifo.csv"
+# Calibration data (headplan fit).
+cp "$HP_SRC/examples/calibration/layout_rows.csv" "$T/rows.csv"
+cp "$HP_SRC/examples/calibration/material_ri.csv" "$T/mat.csv"
 # Scenes with a NUL byte or broken UTF-8 on line 6 (reported there, not at 1:1).
 { head -n 5 "$S/default.yaml"; printf 'name: ab\x00cd\n'; tail -n +7 "$S/default.yaml"; } >"$T/nul.yaml"
 { head -n 5 "$S/default.yaml"; printf 'notes: ab\xffcd\n'; tail -n +6 "$S/default.yaml"; } >"$T/bad_utf8.yaml"

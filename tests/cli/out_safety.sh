@@ -69,6 +69,22 @@ if [ "$have_fit" = 1 ]; then
   done
 fi
 
+# fit: the material chart (--plot, an SVG written by headplan) and the layout chart's kept
+# script (--plot-script) are checked like every other output.
+cp "$HP_SRC/examples/calibration/material_ri.csv" mdata.csv; cp mdata.csv mdata.csv.orig
+cp mdata.csv mdata.svg; cp mdata.svg mdata.svg.orig; ln -s mdata.csv mlink.svg
+for t in mdata.svg mlink.svg; do
+  refuse "fit material --plot" "$t" fit material mdata.svg --Ri-mm 27 --Ro-mm 30 --plot "$t"
+  cmp -s mdata.svg mdata.svg.orig && cmp -s mdata.csv mdata.csv.orig && ok || bad "fit --plot $t: data changed"
+done
+cp "$HP_SRC/examples/calibration/layout_rows.csv" ldata.csv; cp ldata.csv ldata.csv.orig
+if [ "$have_gnuplot" = 1 ]; then
+  for t in ldata.csv scene.yaml fifo.csv link.csv; do
+    refuse "fit layout --plot-script" "$t" fit layout scene.yaml ldata.csv --plot lp.png --plot-script "$t"
+    cmp -s ldata.csv ldata.csv.orig && ok || bad "fit layout --plot-script $t: data changed"
+  done
+fi
+
 # The same options write an ordinary new file.
 run horizon hscene.yaml trace.csv --mode greedy -o new_h.csv
 expect_exit 0 "horizon -o new file"; [ -s new_h.csv ] && ok || bad "horizon -o wrote nothing"
