@@ -1,8 +1,9 @@
 /* The real-time backend: the closest reachable pose under ro_lo <= rho(xi) <= ro_hi.
  * Linear level: one convex QP in the commanded pose components (Goldfarb–Idnani, qp.c).
- * Plane/surface levels: SQP — linearise rho at the current pose, solve the same QP, repeat
- * (at most max_iter steps) — then a feasibility restoration so the radii strictly respect
- * the limits. Everything lives in the state allocated at create: solve allocates nothing,
+ * Plane/surface levels: SQP — linearise rho at the current pose, solve the same QP with the
+ * (convexified) Hessian of the Lagrangian, accept the step on an l1 merit function (second-
+ * order correction, backtracking), repeat (at most max_iter steps) — then a feasibility
+ * restoration so the radii strictly respect the limits. Everything lives in the state allocated at create: solve allocates nothing,
  * prints nothing, takes no lock, and its time is bounded by max_iter and max_time. */
 #define _POSIX_C_SOURCE 200809L
 #include "planner/backend_testing.h"

@@ -5,7 +5,9 @@
  * range, at the plane and surface levels, cold plans:
  *   - the realtime backend never stops at its iteration (or time) limit;
  *   - wherever Ipopt answers (REACHED or CLOSEST) the realtime backend returns the same
- *     status, the same achieved pose to SW_POSE_TOL and the same pressures to SW_P_TOL.
+ *     status, the same achieved pose to SW_POSE_TOL and the same pressures to SW_P_TOL, or
+ *     (CLOSEST both) another local optimum no farther than SW_LOCAL_REL from the desired
+ *     pose than Ipopt's, counted and printed apart (see SW_LOCAL_REL).
  * Ipopt is the independent reference: an interior-point method on the full program (pose
  * and radii, equality contacts), not the realtime path's eliminated form.
  *
