@@ -250,8 +250,8 @@ HP_API const hp_identifiable *hp_planner_identifiable(const hp_planner *p);
  * [mm or deg] along +e_i (−e_i) such that every correction up to it along that ray is
  * answered REACHED by the direct chain, under the planner's own limits (pressure, stretch,
  * hoop stress and the cap below an inflation limit point) at its level. So hp_plan of
- * 0.99·reach gives REACHED, and of 1.01·reach a limit binds (unless the reach equals the
- * search cap HP_REACH_CAP_MM / HP_REACH_CAP_DEG). A component the planner does not command
+ * 0.99·reach gives REACHED, and just beyond it a limit binds (CLOSEST), unless the reach
+ * equals the search cap HP_REACH_CAP_MM / HP_REACH_CAP_DEG ("at least"). A component the planner does not command
  * (hp_identifiable.commanded) gets NAN in both entries. Returns HP_OK, HP_ERR_NULL or
  * HP_ERR_STATE (planner not built). Allocates nothing; not real time (~10^4 contact
  * evaluations). */
