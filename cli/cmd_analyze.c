@@ -99,6 +99,17 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
     if (e)
         return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: layout analysis: %s", a->scene,
                            hp_error_message(e));
+    /* The reach reported is the planner's (its caps, its commanded components), so that
+     * `headplan solve` at 99 % of it reaches and at 101 % binds a limit. */
+    s.level = r->level;
+    hp_planner *p = NULL;
+    hp_diag d = {{0}};
+    e = hp_planner_create(L, &s, &p, &d);
+    if (!e) e = hp_planner_reach(p, r->an.reach);
+    hp_planner_destroy(p);
+    if (e)
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: reach: %s", a->scene,
+                        d.text[0] ? d.text : hp_error_message(e));
     return -1;
 }
 
@@ -222,7 +233,7 @@ static int print_json(const hp_scene *sc, const analysis *r)
                                                             : json_string(SPHERE_NOTE));
     json_t *reach = json_object();
     for (int i = 0; i < 6; ++i) {
-        if (i >= 3 && !an->rotation_commandable) {
+        if (isnan(an->reach[i][0])) {
             json_object_set_new(reach, hp_pose_key(i), json_null()); /* not commanded */
             continue;
         }
@@ -316,11 +327,11 @@ static void print_text(const hp_scene *sc, const analysis *r)
     printf("%-13s |(x, y, z)| up to %.4f mm (the head's smallest semi-axis)\n", "translation",
            id->trans_limit * 1e3);
 
-    printf("\nreach inside every bladder's pressure and stretch limits (level %s)\n",
+    printf("\nreach inside every bladder's limits, as solve plans (level %s)\n",
            hp_level_name(r->level));
     printf("%-13s %12s %12s\n", "axis", "negative", "positive");
     for (int i = 0; i < 6; ++i) {
-        if (i >= 3 && !an->rotation_commandable) {
+        if (isnan(an->reach[i][0])) {
             printf("%-13s %25s\n", hp_pose_key(i), "not commanded");
             continue;
         }

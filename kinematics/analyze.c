@@ -21,10 +21,12 @@ static const char *const dir_words[6] = {"lateral shift",  "longitudinal shift",
                                          "roll",           "yaw"};
 
 /* 1 when every bladder can hold contact at pose xi inside its stretch and pressure limits. */
-static int feasible(const hp_layout *L, hp_level level, const double xi[6])
+static int feasible(void *ctx, const double xi[6])
 {
+    const hp_kin_reach_ctx *c = ctx;
+    const hp_layout *L = c->L;
     double rho[HP_MAX_BLADDERS];
-    if (hp_contact_eval(L, level, xi, rho, NULL, NULL) != HP_OK) return 0;
+    if (hp_contact_eval(L, c->level, xi, rho, NULL, NULL) != HP_OK) return 0;
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *b = &L->bladders[k];
         double ri, P;
@@ -37,19 +39,18 @@ static int feasible(const hp_layout *L, hp_level level, const double xi[6])
     return 1;
 }
 
-/* Largest s in [0, cap] (clinical units) with every pose up to s·sign along axis feasible
- * (to the scan resolution, then bisected to ~1e-15 of cap). */
-static double reach_axis(const hp_layout *L, hp_level level, int axis, double sign)
+double hp_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, int axis,
+                         double sign)
 {
     double cap = axis < 3 ? HP_REACH_CAP_MM : HP_REACH_CAP_DEG;
     double unit = axis < 3 ? 1e-3 : RAD_PER_DEG;
     double xi[6] = {0};
-    if (!feasible(L, level, xi)) return 0.0;
+    if (!ok(ctx, xi)) return 0.0;
     double good = 0.0, bad = -1.0;
     for (int i = 1; i <= REACH_SCAN; ++i) {
         double s = cap * i / REACH_SCAN;
         xi[axis] = sign * s * unit;
-        if (!feasible(L, level, xi)) {
+        if (!ok(ctx, xi)) {
             bad = s;
             break;
         }
@@ -59,7 +60,7 @@ static double reach_axis(const hp_layout *L, hp_level level, int axis, double si
     for (int i = 0; i < REACH_BISECT; ++i) {
         double mid = 0.5 * (good + bad);
         xi[axis] = sign * mid * unit;
-        if (feasible(L, level, xi)) good = mid; else bad = mid;
+        if (ok(ctx, xi)) good = mid; else bad = mid;
     }
     return good;
 }
@@ -114,10 +115,12 @@ hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysi
     for (int i = 0; i < 6; ++i) out->weakest[i] = sgn * V[i * 6 + 5];
     describe(out->weakest, out->weakest_words, sizeof out->weakest_words);
     out->rotation_commandable = L->head.shape != HP_HEAD_SPHERE;
+    /* Only the components the planner commands have a reach (the others stay 0). */
+    hp_kin_reach_ctx ctx = {L, level};
     for (int i = 0; i < 6; ++i) {
-        if (i >= 3 && !out->rotation_commandable) continue; /* not commanded: reach 0 */
-        out->reach[i][0] = -reach_axis(L, level, i, -1.0);
-        out->reach[i][1] = reach_axis(L, level, i, 1.0);
+        if (!id.commanded[i]) continue;
+        out->reach[i][0] = -hp_kin_reach_axis(feasible, &ctx, i, -1.0);
+        out->reach[i][1] = hp_kin_reach_axis(feasible, &ctx, i, 1.0);
     }
     return HP_OK;
 }

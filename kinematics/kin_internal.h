@@ -37,4 +37,19 @@ hp_error hp_kin_head_validate(const hp_head *h, hp_diag *diag);
 /* 1 when all three components are finite. */
 int hp_kin_finite3(const double v[3]);
 
+/* What the kinematic reach predicate of hp_layout_analyze needs. */
+typedef struct hp_kin_reach_ctx {
+    const hp_layout *L;
+    hp_level level;
+} hp_kin_reach_ctx;
+
+/* Largest s in [0, cap] (HP_REACH_CAP_MM for axis < 3, else HP_REACH_CAP_DEG) such that
+ * ok(ctx, xi) holds at every pose sign·s'·e_axis, s' <= s (xi SI): a scan in 1/100 of the
+ * cap, so that a feasible set that is not an interval still yields its first boundary, then
+ * bisection to ~1e-15 of the cap. 0 when ok fails at the nominal pose; the cap when it never
+ * fails. Shared by hp_layout_analyze and the planner's reach (hp_planner_reach), so the two
+ * differ only in their predicate. */
+double hp_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, int axis,
+                         double sign);
+
 #endif

@@ -1,8 +1,9 @@
 /* The real-time backend: the closest reachable pose under ro_lo <= rho(xi) <= ro_hi.
  * Linear level: one convex QP in the commanded pose components (Goldfarb–Idnani, qp.c).
- * Plane/surface levels: SQP — linearise rho at the current pose, solve the same QP, repeat
- * (at most max_iter steps) — then a feasibility restoration so the radii strictly respect
- * the limits. Everything lives in the state allocated at create: solve allocates nothing,
+ * Plane/surface levels: SQP — linearise rho at the current pose, solve the same QP with the
+ * (convexified) Hessian of the Lagrangian, accept the step on an l1 merit function (second-
+ * order correction, backtracking), repeat (at most max_iter steps) — then a feasibility
+ * restoration so the radii strictly respect the limits. Everything lives in the state allocated at create: solve allocates nothing,
  * prints nothing, takes no lock, and its time is bounded by max_iter and max_time. */
 #define _POSIX_C_SOURCE 200809L
 #include "planner/backend_testing.h"
@@ -24,14 +25,23 @@
 /* Restoration: re-solves with limits tightened by the measured violation, then bisection. */
 #define RT_RESTORE_ROUNDS 3
 #define RT_BISECT_STEPS 60
-/* SQP steps below this (mm or deg) are taken whole, larger ones by a merit line search. */
-#define RT_FULL_STEP 1e-2
+/* SQP steps below this (mm or deg) are taken whole, larger ones by a merit line search:
+ * 1000x the default pose tolerance, where the merit's changes (~step²) reach its rounding. */
+#define RT_FULL_STEP 1e-6
+/* Sufficient decrease of the merit line search (a fraction of the predicted decrease). */
+#define RT_ARMIJO 1e-4
+/* Convexification of the Lagrangian's Hessian (build_objective): the largest augmented-
+ * Lagrangian weight tried, and the share of the objective's curvature W the convexified
+ * matrix must keep in every direction. */
+#define RT_AUG_MAX 1e8
+#define RT_AUG_MIN 1e-3
 
 typedef struct rt_state {
     hp_qp qp;
     int max_iter;
     double max_time, tolerance;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
+    double rho_k[HP_MAX_BLADDERS]; /* rho at the point the last QP was linearised at */
     double u[HP_QP_MMAX]; /* multipliers of the last QP: the Lagrangian's curvature */
     int have_u;
     int qps; /* QPs solved in this solve (for the test hook) */
@@ -110,17 +120,34 @@ static int well_convex(const double *G, int nv, double frac)
     return hp_cholesky(G, nv, nv, frac, L, nv);
 }
 
+/* 1 when G − frac·W is positive definite (W the objective's diagonal weights): every
+ * direction keeps at least frac of the objective's own curvature. */
+static int above_w(const double *G, const hp_problem *pb, const int *map, int nv, double frac)
+{
+    double M[HP_QP_NMAX * HP_QP_NMAX], L[HP_QP_NMAX * HP_QP_NMAX] = {0};
+    memcpy(M, G, sizeof M);
+    for (int v = 0; v < nv; ++v) M[v * nv + v] -= frac * pb->w[map[v]];
+    return hp_cholesky(M, nv, nv, 0.0, L, nv);
+}
+
 /* Hessian of the Lagrangian in the commanded variables, W − Σ (u_lo,k − u_hi,k)·∇²rho_k
  * (Newton-SQP: quadratic convergence on the curved levels), written into q->G, and the
- * linear term for the variables x (not the step). */
+ * linear term for the variables x (not the step); q->C and q->b must be built. Far from
+ * the answer, or where large multipliers times the contact curvature make it indefinite,
+ * the Lagrangian's Hessian is convexified by the augmented-Lagrangian term
+ * ½σ·Σ_j (C_j x − b_j)² over the rows j active in the previous QP: it vanishes with its
+ * gradient wherever those rows stay active, so it leaves that QP's answer unchanged while
+ * adding curvature across the active normals (only the curvature along the active
+ * manifold decides the Newton step). σ grows ×10 from 1 until the matrix is safely
+ * positive definite; if none does, W alone (safe, linear rate). */
 static void build_objective(rt_state *st, const hp_problem *pb, const int *map, int nv,
                             const double *xk, int curved)
 {
     hp_qp *q = &st->qp;
     const double s[6] = {HP_MM_PER_M, HP_MM_PER_M, HP_MM_PER_M,
                          HP_DEG_PER_RAD, HP_DEG_PER_RAD, HP_DEG_PER_RAD};
-    memset(q->G, 0, sizeof q->G);
-    for (int v = 0; v < nv; ++v) q->G[v * nv + v] = pb->w[map[v]];
+    double Gl[HP_QP_NMAX * HP_QP_NMAX] = {0};
+    for (int v = 0; v < nv; ++v) Gl[v * nv + v] = pb->w[map[v]];
     if (curved)
         for (int k = 0; k < pb->n; ++k) {
             double lam = st->u[2 * k] - st->u[2 * k + 1];
@@ -128,18 +155,39 @@ static void build_objective(rt_state *st, const hp_problem *pb, const int *map, 
             for (int a = 0; a < nv; ++a)
                 for (int b = 0; b < nv; ++b) {
                     int i = map[a], j = map[b];
-                    q->G[a * nv + b] -= lam * st->H[k * 36 + i * 6 + j] * HP_MM_PER_M /
-                                        (s[i] * s[j]);
+                    Gl[a * nv + b] -= lam * st->H[k * 36 + i * 6 + j] * HP_MM_PER_M /
+                                      (s[i] * s[j]);
                 }
         }
-    if (curved && !well_convex(q->G, nv, 0.1)) { /* keep only W: safe, linear rate */
-        memset(q->G, 0, sizeof q->G);
-        for (int v = 0; v < nv; ++v) q->G[v * nv + v] = pb->w[map[v]];
+    memcpy(q->G, Gl, sizeof Gl);
+    double sigma = 0.0;
+    if (curved && !well_convex(q->G, nv, 0.1)) {
+        int ok = 0;
+        for (sigma = 1.0; sigma <= RT_AUG_MAX; sigma *= 10.0) {
+            memcpy(q->G, Gl, sizeof Gl);
+            for (int j = 0; j < q->m; ++j) {
+                if (!(st->u[j] > 0.0)) continue;
+                const double *c = &q->C[j * HP_QP_NMAX];
+                for (int a = 0; a < nv; ++a)
+                    for (int b = 0; b < nv; ++b) q->G[a * nv + b] += sigma * c[a] * c[b];
+            }
+            if ((ok = above_w(q->G, pb, map, nv, RT_AUG_MIN))) break;
+        }
+        if (!ok) { /* keep only W */
+            sigma = 0.0;
+            memset(Gl, 0, sizeof Gl);
+            for (int v = 0; v < nv; ++v) Gl[v * nv + v] = pb->w[map[v]];
+            memcpy(q->G, Gl, sizeof Gl);
+        }
     }
-    /* ½(x − xk)ᵀG(x − xk) + ∇f(xk)ᵀ(x − xk) in x: a = ∇f(xk) − G·xk. */
+    /* ½(x − xk)ᵀGl(x − xk) + ∇f(xk)ᵀ(x − xk) in x: a = ∇f(xk) − Gl·xk, plus the
+     * augmentation's linear part −σ·Σ_j b_j C_j (its quadratic part is in G). */
     for (int a = 0; a < nv; ++a) {
         double g = pb->w[map[a]] * (xk[map[a]] - pb->d[map[a]]);
-        for (int b = 0; b < nv; ++b) g -= q->G[a * nv + b] * xk[map[b]];
+        for (int b = 0; b < nv; ++b) g -= Gl[a * nv + b] * xk[map[b]];
+        if (sigma > 0.0)
+            for (int j = 0; j < q->m; ++j)
+                if (st->u[j] > 0.0) g -= sigma * q->b[j] * q->C[j * HP_QP_NMAX + a];
         q->a[a] = g;
     }
 }
@@ -156,9 +204,9 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
                                  curved ? st->H : NULL) != HP_OK)
         return HP_QP_BAD_INPUT;
     rt_inject(st, pb->n, st->rho);
+    memcpy(st->rho_k, st->rho, sizeof st->rho_k);
     q->n = nv;
     q->m = 2 * pb->n;
-    build_objective(st, pb, map, nv, xk, curved);
     for (int k = 0; k < pb->n; ++k) {
         double span = pb->ro_hi[k] - pb->ro_lo[k];
         double mg = fmin(RT_MARGIN_MM, 0.25 * span) + (extra ? extra[k] : 0.0);
@@ -172,6 +220,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
         q->b[2 * k] = pb->ro_lo[k] + mg - base;         /* J x >= lo − base */
         q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base);  /* −J x >= −(hi − base) */
     }
+    build_objective(st, pb, map, nv, xk, curved);
     hp_qp_status qs = hp_qp_solve(q, budget, RT_FEAS_TOL);
     *iters += q->iterations;
     if (qs == HP_QP_BAD_INPUT && curved) { /* Lagrangian not convex here: plain W */
@@ -225,11 +274,18 @@ static double merit(rt_state *st, const hp_problem *pb, const double *x, double 
     return f + nu * v;
 }
 
-/* Backtracking on the merit function along xk -> xn (Armijo, at most 30 halvings): far
- * from the answer the full SQP step can overshoot the curved limits and cycle. xk becomes
- * the accepted point. */
-static void line_search(rt_state *st, const hp_problem *pb, double *xk, const double *xn)
+/* The step xk -> xn of the QP just solved at xk (still in st->qp), globalised on the l1
+ * merit function: accepted whole when it decreases the merit enough (Armijo); otherwise a
+ * second-order correction — the same QP with each linearised distance shifted by what the
+ * linearisation missed at xn, rho(xn) − rho(xk) − J·(xn − xk) — whose answer is accepted on
+ * the same test (this keeps full Newton steps near the answer, where the merit can reject
+ * them on curved limits: the Maratos effect); otherwise backtracking along the step (at
+ * most 30 halvings). Far from the answer a full step can overshoot the curved limits and
+ * cycle; every accepted point here lowers the merit. xk becomes the accepted point. */
+static void line_search(rt_state *st, const hp_problem *pb, double *xk, const double *xn,
+                        int budget, int *iters)
 {
+    hp_qp *q = &st->qp;
     double nu = 1.0;
     for (int j = 0; j < 2 * pb->n; ++j) nu = fmax(nu, 2.0 * st->u[j]);
     double phi0 = merit(st, pb, xk, nu), viol0 = 0, slope = 0;
@@ -237,10 +293,36 @@ static void line_search(rt_state *st, const hp_problem *pb, double *xk, const do
         viol0 += fmax(0.0, fmax(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]));
     for (int i = 0; i < 6; ++i) slope += pb->w[i] * (xk[i] - pb->d[i]) * (xn[i] - xk[i]);
     slope -= nu * viol0; /* directional derivative bound of the l1 merit along a QP step */
-    double alpha = 1.0, xt[6];
+    slope = fmin(slope, 0.0);
+    if (merit(st, pb, xn, nu) <= phi0 + RT_ARMIJO * slope) {
+        memcpy(xk, xn, 6 * sizeof *xk);
+        return;
+    }
+    /* Second-order correction: st->rho holds rho(xn), st->rho_k and st->J the values at xk
+     * the QP was built from; G, a and C are unchanged, only b moves. */
+    int map[6], nv = 0;
+    for (int i = 0; i < 6; ++i)
+        if (pb->w[i] > 0) map[nv++] = i;
+    for (int k = 0; k < pb->n; ++k) {
+        double dk = st->rho[k] - st->rho_k[k];
+        for (int v = 0; v < nv; ++v) dk -= st->J[k * 6 + map[v]] * (xn[map[v]] - xk[map[v]]);
+        q->b[2 * k] -= dk;
+        q->b[2 * k + 1] += dk;
+    }
+    double xt[6];
+    if (isfinite(phi0) && hp_qp_solve(q, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
+        *iters += q->iterations;
+        for (int i = 0; i < 6; ++i) xt[i] = 0.0;
+        for (int v = 0; v < nv; ++v) xt[map[v]] = q->x[v];
+        if (merit(st, pb, xt, nu) <= phi0 + RT_ARMIJO * slope) {
+            memcpy(xk, xt, sizeof xt);
+            return;
+        }
+    }
+    double alpha = 0.5;
     for (int it = 0; it < 30; ++it, alpha *= 0.5) {
         for (int i = 0; i < 6; ++i) xt[i] = xk[i] + alpha * (xn[i] - xk[i]);
-        if (merit(st, pb, xt, nu) <= phi0 + 1e-4 * alpha * fmin(slope, 0.0)) break;
+        if (merit(st, pb, xt, nu) <= phi0 + RT_ARMIJO * alpha * slope) break;
     }
     memcpy(xk, xt, sizeof xt);
 }
@@ -291,9 +373,9 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
             r->converged = 1;
             break;
         }
-        /* Globalise only big steps: near the answer the full step converges quadratically,
-         * and a merit line search there would reject it (the Maratos effect). */
-        if (step > RT_FULL_STEP) line_search(st, pb, xk, xn);
+        /* Steps far below any clinical size (at the rounding floor of the merit) are taken
+         * whole; every other one is globalised. */
+        if (step > RT_FULL_STEP) line_search(st, pb, xk, xn, st->max_iter, &iters);
         else memcpy(xk, xn, sizeof xk);
         /* Converged when the step is far below the pose tolerance, or below a tenth of it
          * and no longer shrinking (Newton steps that stall have hit the rounding floor). */

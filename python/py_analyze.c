@@ -1,4 +1,5 @@
-/* headplan.analyze: the layout analysis (hp_layout_analyze) and the contact models' error
+/* headplan.analyze: the layout analysis (hp_layout_analyze, with the planner's reach:
+ * hp_planner_reach) and the contact models' error
  * bounds as a dict, with the keys of `headplan analyze --json`. Units: mm and degrees. */
 #include "hpy.h"
 #include "common/units.h"
@@ -35,6 +36,7 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
     double bl = 0, bp = 0;
     hp_level autolevel = HP_LEVEL_SURFACE, used;
     hp_layout_analysis an;
+    double rr[6][2];
     hp_error e;
     Py_BEGIN_ALLOW_THREADS
     e = hp_contact_error_bound(L, HP_LEVEL_LINEAR, s.auto_trans, s.auto_rot, &bl);
@@ -42,6 +44,12 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
     if (e == HP_OK) e = hp_contact_auto(L, s.level_tolerance, s.auto_trans, s.auto_rot, &autolevel);
     used = s.level == HP_LEVEL_AUTO ? autolevel : s.level;
     if (e == HP_OK) e = hp_layout_analyze(L, used, &an);
+    /* The reach a plan sees (the planner's caps and commanded components), as the CLI. */
+    s.level = used;
+    hp_planner *p = NULL;
+    if (e == HP_OK) e = hp_planner_create(L, &s, &p, NULL);
+    if (e == HP_OK) e = hp_planner_reach(p, rr);
+    hp_planner_destroy(p);
     Py_END_ALLOW_THREADS
     if (e != HP_OK) return hpy_fail("%s: layout analysis: %s", sc->file, hp_error_message(e));
 
@@ -59,11 +67,10 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
         hpy_put(b, "surface_mm", PyFloat_FromDouble(0.0)) ||
         hpy_put(b, "auto_level", PyUnicode_FromString(hp_level_name(autolevel))))
         goto fail;
-    /* Reach: 6×2, negative then positive direction; NaN where rotation is not commanded. */
+    /* Reach: 6×2, negative then positive direction; NaN where the planner commands none. */
     double reach[12];
     for (int i = 0; i < 6; ++i)
-        for (int j = 0; j < 2; ++j)
-            reach[i * 2 + j] = i >= 3 && !an.rotation_commandable ? NAN : an.reach[i][j];
+        for (int j = 0; j < 2; ++j) reach[i * 2 + j] = rr[i][j];
     Py_INCREF(w);
     Py_INCREF(b);
     if (hpy_put(d, "scene", PyUnicode_FromString(sc->name)) ||

@@ -220,8 +220,10 @@ typedef struct hp_layout_analysis {
  * reach of each axis inside every bladder's pressure and stretch limits (using the bladder
  * model, rho at the given level): the first boundary along the axis, found by a scan in
  * 1/100 of the cap (50 mm, 30°) and bisection; the cap when none is met; 0 when the
- * nominal pose itself violates a limit. A sphere head gets rotation_commandable = 0 and
- * rotation reach 0. weakest_words names the dominant component of the weakest vector and
+ * nominal pose itself violates a limit. A component the planner does not command
+ * (hp_identifiable.commanded: a sphere's rotations, with rotation_commandable = 0) gets
+ * reach 0. This reach ignores the planner's own caps (the margin below an inflation limit
+ * point, the hoop-stress limit): hp_planner_reach gives the reach a plan sees. weakest_words names the dominant component of the weakest vector and
  * any other component of magnitude >= 0.3. */
 HP_API hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysis *out);
 

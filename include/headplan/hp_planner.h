@@ -246,6 +246,18 @@ HP_API const hp_layout *hp_planner_layout(const hp_planner *p);
  * identifiable range hp_plan enforces and the commanded components. NULL for NULL. */
 HP_API const hp_identifiable *hp_planner_identifiable(const hp_planner *p);
 
+/* The reach of planner p along each pose axis, as a single solve (from the nominal pose,
+ * no rate limits) sees it: reach[i][1] >= 0 (reach[i][0] <= 0) is the largest correction
+ * [mm or deg] along +e_i (−e_i) such that every correction up to it along that ray is
+ * answered REACHED by the direct chain, under the planner's own limits (pressure, stretch,
+ * hoop stress and the cap below an inflation limit point) at its level. So hp_plan of
+ * 0.99·reach gives REACHED, and just beyond it a limit binds (CLOSEST), unless the reach
+ * equals the search cap HP_REACH_CAP_MM / HP_REACH_CAP_DEG ("at least"). A component the planner does not command
+ * (hp_identifiable.commanded) gets NAN in both entries. Returns HP_OK, HP_ERR_NULL or
+ * HP_ERR_STATE (planner not built). Allocates nothing; not real time (~10^4 contact
+ * evaluations). */
+HP_API hp_error hp_planner_reach(const hp_planner *p, double reach[6][2]);
+
 /* Sets the pressures the bladders hold now [Pa] (n values): the rate limits of the next plan
  * start from them and they become the safe output. Each must be finite, inside its limits
  * and on the stable branch; otherwise HP_ERR_INVALID and nothing changes. */
