@@ -26,7 +26,7 @@ static int direct_reached(void *ctx, const double xi[6])
     hp_plan_to_scaled(xc, x);
     for (int i = 0; i < 6; ++i)
         if (!p->commanded[i]) x[i] = 0.0;
-    if (hp_setup_contact_scaled(&p->L, p->level, x, rho, NULL) != HP_OK) return 0;
+    if (hp_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
     for (int k = 0; k < p->L.n; ++k)
         if (!(rho[k] >= c->pb.ro_lo[k] && rho[k] <= c->pb.ro_hi[k])) return 0;
     return 1;

@@ -113,7 +113,6 @@ static hp_error sw_layout(uint64_t *s, hp_layout *L, char *kind, size_t kn)
         }
         if (rate) B->rate_max = rmax;
     }
-    L->prepared = 0;
     snprintf(kind, kn, "%s%s%s", sphere ? "sphere" : "ellipsoid", mat == 1 ? " soft" : "",
              rate ? " rate" : "");
     return hp_layout_prepare(L, NULL);
@@ -315,7 +314,6 @@ static void test_catalogue(void **st)
             print_error("%s\n", d.text);
             fail();
         }
-        assert_int_equal(sc->kind, HP_SCENE_LAYOUT);
         sweep_layout(&sc->layout, scenes[i], &s, SW_SCENE_TARGETS, t);
         free(sc);
     }
