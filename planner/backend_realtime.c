@@ -10,6 +10,8 @@
 #include "planner/problem_setup.h"
 #include "planner/qp.h"
 #include "common/dense.h"
+#include "common/units.h"
+#include "kinematics/kin_geom.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -45,6 +47,7 @@ typedef struct rt_state {
     double u[HP_QP_MMAX]; /* multipliers of the last QP: the Lagrangian's curvature */
     int have_u;
     int qps; /* QPs solved in this solve (for the test hook) */
+    double sw[HP_MAX_BLADDERS]; /* surface level: the last distances' multipliers (warm start) */
 } rt_state;
 
 /* Test-only hook (planner/backend_testing.h), inert unless a test sets it: the contact
@@ -68,28 +71,27 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* rho (mm), J (mm per mm/deg) and, if H is not NULL, the SI Hessians of rho (per m², m·rad,
- * rad²; scaled by the caller) at scaled pose x. */
-static hp_error hp_contact_eval_scaled_h(const hp_layout *L, const hp_geom *G, hp_level level,
-                                         const double *x, double *rho, double *J, double *H)
+/* rho (mm), J (mm per mm/deg, may be NULL) and, if H is not NULL, the SI Hessians of rho
+ * (per m², m·rad, rad²; scaled by the caller) at scaled pose x. The surface level's
+ * point-to-ellipsoid distances start from the multipliers of the previous evaluation in this
+ * solve (st->sw; the bracket keeps any start safe): successive SQP points are close. */
+static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, double *rho,
+                           double *J, double *H)
 {
-    if (!H) return hp_setup_contact_scaled(L, G, level, x, rho, J);
     double xi[6], Jsi[HP_MAX_BLADDERS * 6];
-    for (int i = 0; i < 3; ++i) {
-        xi[i] = x[i] / HP_MM_PER_M;
-        xi[i + 3] = x[i + 3] / HP_DEG_PER_RAD;
-    }
-    hp_error e = hp_contact_eval_g(L, G, level, xi, rho, Jsi, H);
+    for (int i = 0; i < 6; ++i) xi[i] = x[i] * hp_pose_si_per_scaled(i);
+    hp_error e = hp_kin_contact_eval_warm(pb->layout, pb->geom, pb->level, xi, st->sw, rho,
+                                          J ? Jsi : NULL, H);
     if (e != HP_OK) return e;
-    for (int k = 0; k < L->n; ++k) {
+    for (int k = 0; k < pb->n; ++k) {
         rho[k] *= HP_MM_PER_M;
         if (!isfinite(rho[k])) return HP_ERR_DOMAIN;
-        for (int i = 0; i < 3; ++i) {
-            J[k * 6 + i] = Jsi[k * 6 + i];
-            J[k * 6 + i + 3] = Jsi[k * 6 + i + 3] * HP_MM_PER_M / HP_DEG_PER_RAD;
-        }
-        for (int i = 0; i < 36; ++i)
-            if (!isfinite(H[k * 36 + i])) return HP_ERR_DOMAIN;
+        if (J)
+            for (int i = 0; i < 6; ++i)
+                J[k * 6 + i] = Jsi[k * 6 + i] * HP_MM_PER_M * hp_pose_si_per_scaled(i);
+        if (H)
+            for (int i = 0; i < 36; ++i)
+                if (!isfinite(H[k * 36 + i])) return HP_ERR_DOMAIN;
     }
     return HP_OK;
 }
@@ -200,8 +202,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     for (int i = 0; i < 6; ++i)
         if (pb->w[i] > 0) map[nv++] = i;
     int curved = pb->level != HP_LEVEL_LINEAR && st->have_u;
-    if (hp_contact_eval_scaled_h(pb->layout, pb->geom, pb->level, xk, st->rho, st->J,
-                                 curved ? st->H : NULL) != HP_OK)
+    if (rt_contact(st, pb, xk, st->rho, st->J, curved ? st->H : NULL) != HP_OK)
         return HP_QP_BAD_INPUT;
     rt_inject(st, pb->n, st->rho);
     memcpy(st->rho_k, st->rho, sizeof st->rho_k);
@@ -245,8 +246,7 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
 {
     if (viol) /* every entry is written, even when a non-finite rho ends the scan */
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
-    if (hp_setup_contact_scaled(pb->layout, pb->geom, pb->level, x, st->rho, NULL) != HP_OK)
-        return INFINITY;
+    if (rt_contact(st, pb, x, st->rho, NULL, NULL) != HP_OK) return INFINITY;
     rt_inject(st, pb->n, st->rho);
     double worst = 0;
     for (int k = 0; k < pb->n; ++k) {
@@ -265,8 +265,7 @@ static double merit(rt_state *st, const hp_problem *pb, const double *x, double 
 {
     double f = 0;
     for (int i = 0; i < 6; ++i) f += 0.5 * pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
-    if (hp_setup_contact_scaled(pb->layout, pb->geom, pb->level, x, st->rho, NULL) != HP_OK)
-        return INFINITY;
+    if (rt_contact(st, pb, x, st->rho, NULL, NULL) != HP_OK) return INFINITY;
     rt_inject(st, pb->n, st->rho);
     double v = 0;
     for (int k = 0; k < pb->n; ++k)
@@ -352,6 +351,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     double prev_step = INFINITY;
     st->have_u = 0;
     st->qps = 0;
+    for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN; /* a cold first distance */
     hp_qp_status qs = HP_QP_OPTIMAL;
     hp_status st_out = HP_STATUS_CLOSEST;
     for (;;) {
@@ -441,7 +441,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         st_out = HP_STATUS_ITERATION_LIMIT;
     r->status = st_out;
     /* Pose and the inner radii that keep contact with it. */
-    if (hp_setup_contact_scaled(pb->layout, pb->geom, pb->level, xk, st->rho, NULL) != HP_OK) {
+    if (rt_contact(st, pb, xk, st->rho, NULL, NULL) != HP_OK) {
         r->status = HP_STATUS_SOLVER_ERROR;
         return hp_diag_set(d, HP_ERR_SOLVER, "realtime: contact model failed at the answer");
     }
