@@ -81,19 +81,19 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
         hp_result r;
         if (bench_time(o, kin_batch, &c, &t) == 0) row->kin_ns = t.median_ns;
         if (hp_plan(c.kin, sc->correction, &r) == HP_OK) {
-            hp_load_model *M = malloc(sizeof *M);
+            hp_load_model *M = NULL;
             double P[HP_MAX_BLADDERS], rest[6];
             for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
             row->sag_mm = INFINITY;
-            if (M && hp_load_model_init(M, &sc->layout, &sc->load, sc->load_geometry, NULL) ==
-                         HP_OK &&
+            if (hp_load_model_create(&sc->layout, &sc->load, sc->load_geometry, &M, NULL) ==
+                    HP_OK &&
                 hp_load_rest(M, P, sc->correction, rest, NULL) == HP_OK) {
                 double e = 0.0;
                 for (int i = 0; i < 3; ++i) e += (rest[i] - sc->correction[i]) *
                                                  (rest[i] - sc->correction[i]);
                 row->sag_mm = sqrt(e) * 1e3;
             }
-            free(M);
+            hp_load_model_destroy(M);
         }
         hp_planner_destroy(c.kin);
     }

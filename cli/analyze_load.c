@@ -28,17 +28,17 @@ static int compute(const hp_scene *sc, load_report *rep)
     if (sc->has_load) rep->spec = sc->load;
     else hp_load_spec_default(&sc->layout.head, &rep->spec);
     hp_level geom = sc->has_load ? sc->load_geometry : HP_LEVEL_SURFACE;
-    hp_load_model *M = malloc(sizeof *M);
+    hp_load_model *M = NULL;
     hp_diag d = {{0}};
-    if (!M || hp_load_model_init(M, &sc->layout, &rep->spec, geom, &d) != HP_OK ||
+    if (hp_load_model_create(&sc->layout, &rep->spec, geom, &M, &d) != HP_OK ||
         hp_load_predicted_sag(M, &rep->sag, &rep->k_gravity) != HP_OK ||
         hp_load_auto_choose(M, sc->level_tolerance, &rep->use_load, NULL, rep->why,
                             sizeof rep->why) != HP_OK) {
-        snprintf(rep->refused, sizeof rep->refused, "%s", M ? d.text : "out of memory");
-        free(M);
+        snprintf(rep->refused, sizeof rep->refused, "%s", d.text);
+        hp_load_model_destroy(M);
         return 0;
     }
-    free(M);
+    hp_load_model_destroy(M);
     hp_settings s;
     hp_settings_default(&s);
     s.level = geom;

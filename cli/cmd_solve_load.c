@@ -28,12 +28,11 @@ int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
         return 0;
     }
     if (!automatic || !sc->has_load) return 0;
-    hp_load_model *M = malloc(sizeof *M);
-    if (!M) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
+    hp_load_model *M = NULL;
     hp_diag d = {{0}};
-    hp_error e = hp_load_model_init(M, &sc->layout, &sc->load, sc->load_geometry, &d);
+    hp_error e = hp_load_model_create(&sc->layout, &sc->load, sc->load_geometry, &M, &d);
     if (!e) e = hp_load_auto_choose(M, sc->level_tolerance, use_load, NULL, why, len);
-    free(M);
+    hp_load_model_destroy(M);
     if (e)
         return cli_fail(CLI_EXIT_DATAERR, cmd, "%s: load: %s", sc->file,
                            d.text[0] ? d.text : hp_error_message(e));
@@ -203,7 +202,7 @@ int cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
                              hp_status_name(r.status), hp_load_planner_error(p));
     } else {
         status = r.status == HP_STATUS_REACHED ? CLI_EXIT_OK : CLI_EXIT_CLOSEST;
-        const hp_layout *L = &hp_load_planner_model(p)->layout;
+        const hp_layout *L = hp_load_model_layout(hp_load_planner_model(p));
         if (json) {
             if (print_json(cmd, L, &r, &info, why, tie)) status = CLI_EXIT_SOFTWARE;
         } else {

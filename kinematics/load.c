@@ -1,7 +1,8 @@
 /* The load model: contact forces of the membrane law, the generalized force on the head
  * with its exact derivatives, the potential, and a Newton–Euler check from the contact
- * points. The geometry (rho, its Jacobian J and Hessian H) comes from hp_contact_eval, so
- * every contact level has exact derivatives:
+ * points. The geometry (rho, its Jacobian J and Hessian H) comes from hp_contact_eval_g on
+ * the model's own geometry (derived once at setup), so every contact level has exact
+ * derivatives:
  *     Q      = sum_k F_k J_k + Q_grav,
  *     dQ/dxi = sum_k (F_k H_k + dF_k/drho · J_k J_kᵀ) + dQ_grav/dxi,
  *     dQ/dP_k = dF_k/dP · J_k,
@@ -14,6 +15,7 @@
 #include "kin_internal.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 static const double PI = HP_PI;
@@ -47,8 +49,8 @@ hp_error hp_load_spec_validate(const hp_load_spec *s, hp_diag *diag)
     return HP_OK;
 }
 
-hp_error hp_load_model_init(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
-                            hp_level level, hp_diag *diag)
+hp_error hp_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
+                             hp_level level, hp_diag *diag)
 {
     if (!M || !L || !spec) return hp_diag_set(diag, HP_ERR_NULL, "load model: NULL argument");
     memset(M, 0, sizeof *M);
@@ -60,20 +62,56 @@ hp_error hp_load_model_init(hp_load_model *M, const hp_layout *L, const hp_load_
     if (err) return err;
     M->layout = *L;
     if ((err = hp_layout_prepare(&M->layout, diag))) return err;
+    if ((err = hp_geom_derive(&M->layout, &M->geom, diag))) return err;
     for (int k = 0; k < M->layout.n; ++k)
         if ((err = hp_iab_limit_point(&M->layout.bladders[k].iab, &M->limit[k])))
             return hp_diag_set(diag, err, "bladder '%s': limit point: %s",
                                M->layout.bladders[k].name, hp_error_message(err));
     M->spec = *spec;
     M->level = level;
-    M->prepared = 1;
     return HP_OK;
+}
+
+hp_error hp_load_model_create(const hp_layout *L, const hp_load_spec *spec, hp_level level,
+                              hp_load_model **out, hp_diag *diag)
+{
+    if (!out) return hp_diag_set(diag, HP_ERR_NULL, "load model: NULL argument");
+    *out = NULL;
+    if (!L || !spec) return hp_diag_set(diag, HP_ERR_NULL, "load model: NULL argument");
+    hp_load_model *M = malloc(sizeof *M);
+    if (!M) return hp_diag_set(diag, HP_ERR_NOMEM, "load model: out of memory");
+    hp_error err = hp_load_model_setup(M, L, spec, level, diag);
+    if (err) {
+        free(M);
+        return err;
+    }
+    *out = M;
+    return HP_OK;
+}
+
+void hp_load_model_destroy(hp_load_model *M)
+{
+    free(M);
+}
+
+const hp_layout *hp_load_model_layout(const hp_load_model *M)
+{
+    return M ? &M->layout : NULL;
+}
+
+const hp_load_spec *hp_load_model_spec(const hp_load_model *M)
+{
+    return M ? &M->spec : NULL;
+}
+
+hp_level hp_load_model_level(const hp_load_model *M)
+{
+    return M ? M->level : HP_LEVEL_AUTO;
 }
 
 hp_error hp_load_radius(const hp_load_model *M, int k, double P, double *ro, double *dro_dP)
 {
     if (!M || !ro) return HP_ERR_NULL;
-    if (!M->prepared) return HP_ERR_STATE;
     if (k < 0 || k >= M->layout.n || !isfinite(P)) return HP_ERR_INVALID;
     const hp_iab *b = &M->layout.bladders[k].iab;
     double ri, Pc, dP;
@@ -165,7 +203,7 @@ hp_error hp_load_eval_radii(const hp_load_model *M, const double xi[6], const do
     const hp_layout *L = &M->layout;
     int n = L->n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
-    hp_error err = hp_contact_eval(L, M->level, xi, rho, J, dQ_dxi ? H : NULL);
+    hp_error err = hp_contact_eval_g(L, &M->geom, M->level, xi, rho, J, dQ_dxi ? H : NULL);
     if (err) return err;
     double e = 0.0;
     hp_load_gravity(M, xi, Q, dQ_dxi, energy ? &e : NULL);
@@ -190,7 +228,6 @@ hp_error hp_load_eval_radii(const hp_load_model *M, const double xi[6], const do
 static hp_error check_inputs(const hp_load_model *M, const double xi[6], const double *P)
 {
     if (!M || !xi || !P) return HP_ERR_NULL;
-    if (!M->prepared) return HP_ERR_STATE;
     for (int i = 0; i < 6; ++i)
         if (!isfinite(xi[i])) return HP_ERR_INVALID;
     for (int k = 0; k < M->layout.n; ++k)
@@ -210,7 +247,7 @@ hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const double *
         err = hp_load_eval_radii(M, xi, P, ro, dQ_dP ? dro : NULL, 0, Q, dQ_dxi, dQ_dP, force,
                                  energy);
     if (err) {
-        int n = M && M->prepared ? M->layout.n : 0;
+        int n = M ? M->layout.n : 0;
         fill_nan(Q, 6);
         fill_nan(dQ_dxi, 36);
         fill_nan(dQ_dP, 6 * n);
@@ -242,9 +279,7 @@ static hp_error contact_point(const hp_load_model *M, int k, const double R[9],
 {
     const hp_layout *L = &M->layout;
     const double *c = L->bladders[k].center;
-    double nk[3]; /* the nominal normal, derived from the layout as it is */
-    hp_error err = hp_layout_contact(L, k, NULL, nk, NULL);
-    if (err) return err;
+    const double *nk = M->geom.normal[k]; /* the nominal normal */
     if (M->level == HP_LEVEL_LINEAR) {
         for (int a = 0; a < 3; ++a) p[a] = c[a] - rho * nk[a];
         return HP_OK;
@@ -256,11 +291,10 @@ static hp_error contact_point(const hp_load_model *M, int k, const double R[9],
         cp[a] = R[a] * u[0] + R[3 + a] * u[1] + R[6 + a] * u[2] + L->pivot[a];
     if (M->level == HP_LEVEL_SURFACE) {
         double d;
-        err = hp_kin_head_distance(&L->head, cp, &d, NULL, NULL, foot);
+        hp_error err = hp_kin_head_distance(&L->head, cp, &d, NULL, NULL, foot);
         if (err) return err;
     } else {
-        const double *n = nk;
-        for (int a = 0; a < 3; ++a) foot[a] = cp[a] - rho * n[a];
+        for (int a = 0; a < 3; ++a) foot[a] = cp[a] - rho * nk[a];
     }
     move_point(L, R, xi, foot, p);
     return HP_OK;
@@ -275,7 +309,7 @@ hp_error hp_load_newton_euler(const hp_load_model *M, const double xi[6], const 
     const hp_layout *L = &M->layout;
     double ro[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS], R[9], com[3];
     if ((err = hp_load_radii(M, P, ro, NULL))) return err;
-    if ((err = hp_contact_eval(L, M->level, xi, rho, NULL, NULL))) return err;
+    if ((err = hp_contact_eval_g(L, &M->geom, M->level, xi, rho, NULL, NULL))) return err;
     hp_rotation(xi[3], xi[4], xi[5], R);
     move_point(L, R, xi, M->spec.com, com);
     for (int a = 0; a < 3; ++a) {

@@ -8,13 +8,11 @@
 hp_error hp_load_predicted_sag(const hp_load_model *M, double *sag, double *k_gravity)
 {
     if (!M || !sag) return HP_ERR_NULL;
-    if (!M->prepared) return HP_ERR_STATE;
     const hp_layout *L = &M->layout;
     double P[HP_MAX_BLADDERS], ro[HP_MAX_BLADDERS], xi[6] = {0}, Q[6], dQ[36];
     for (int k = 0; k < L->n; ++k) {
-        double ri, rho0;
-        hp_error err = hp_layout_contact(L, k, NULL, NULL, &rho0);
-        if (!err) err = hp_iab_ri(&L->bladders[k].iab, rho0, &ri);
+        double ri, rho0 = M->geom.rho0[k];
+        hp_error err = hp_iab_ri(&L->bladders[k].iab, rho0, &ri);
         if (!err) err = hp_iab_ik(&L->bladders[k].iab, ri, &P[k]);
         if (err) return err;
         ro[k] = rho0; /* touching: the free radius is the contact distance */

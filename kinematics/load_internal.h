@@ -4,6 +4,23 @@
 #define HP_LOAD_INTERNAL_H
 
 #include "headplan/hp_load.h"
+#include "kin_geom.h"
+
+/* The load model behind the public handle. Every field is derived by hp_load_model_setup
+ * from its arguments and never changed afterwards, so the limits and the geometry always
+ * belong to this layout. Objects that own a model embed it (the load planner) so that
+ * their create is their only allocation. */
+struct hp_load_model {
+    hp_layout layout;                    /* validated copy (hp_layout_prepare) */
+    hp_geom geom;                        /* layout's nominal contact geometry */
+    hp_load_spec spec;                   /* validated copy */
+    hp_level level;                      /* linear, plane or surface */
+    hp_iab_limit limit[HP_MAX_BLADDERS]; /* each bladder's inflation limit point */
+};
+
+/* hp_load_model_create without the allocation: fills *M (same checks, same messages). */
+hp_error hp_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
+                             hp_level level, hp_diag *diag);
 
 /* One bladder's contact force and its partial derivatives. */
 typedef struct hp_load_force {

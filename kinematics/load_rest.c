@@ -167,7 +167,6 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
                       double xi[6], hp_load_rest_info *info)
 {
     if (!M || !P || !xi) return HP_ERR_NULL;
-    if (!M->prepared) return HP_ERR_STATE;
     double x[6] = {0};
     if (xi0) memcpy(x, xi0, sizeof x);
     for (int i = 0; i < 6; ++i)

@@ -15,8 +15,7 @@
 #include <time.h>
 
 struct hp_load_planner {
-    hp_load_model M;
-    hp_geom G;           /* M.layout's contact geometry, derived once at create */
+    hp_load_model M;     /* embedded: create stays the planner's only allocation */
     hp_settings set;
     hp_load_tiebreak tie;
     double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
@@ -111,7 +110,7 @@ static hp_error check_carry(hp_load_planner *p, hp_diag *diag)
     double cap = 0.0;
     int any = 0;
     for (int k = 0; k < M->layout.n; ++k) {
-        const double *n = p->G.normal[k];
+        const double *n = p->M.geom.normal[k];
         double s = -(n[0] * up[0] + n[1] * up[1] + n[2] * up[2]);
         if (s <= 1e-9 || p->hi[k] <= 0) continue;
         any = 1;
@@ -164,8 +163,7 @@ hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *spec,
     hp_load_planner *p = calloc(1, sizeof *p);
     if (!p) return hp_diag_set(diag, HP_ERR_NOMEM, "load planner: out of memory");
     hp_level geom = set.level == HP_LEVEL_AUTO ? HP_LEVEL_SURFACE : set.level;
-    err = hp_load_model_init(&p->M, L, spec, geom, diag);
-    if (!err) err = hp_geom_derive(&p->M.layout, &p->G, diag);
+    err = hp_load_model_setup(&p->M, L, spec, geom, diag);
     for (int k = 0; !err && k < p->M.layout.n; ++k) err = bladder_bounds(p, k, diag);
     if (!err) err = check_carry(p, diag);
     if (err) {

@@ -120,7 +120,7 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
 {
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
-    if (hp_contact_eval(&M->layout, M->level, xi, rho, J, NULL) != HP_OK)
+    if (hp_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, NULL) != HP_OK)
         return HP_LOAD_SOLVE_ERROR;
     hp_load_gravity(M, xi, Qg, NULL, NULL);
     double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS],

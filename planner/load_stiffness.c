@@ -29,7 +29,7 @@ hp_error hp_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const doub
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
     double Q[6], dQ[36];
-    hp_error err = hp_contact_eval(&M->layout, M->level, xi, rho, J, H);
+    hp_error err = hp_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, H);
     if (err) return err;
     hp_load_gravity(M, xi, Q, dQ, NULL);
     memset(S, 0, sizeof *S);

@@ -21,7 +21,7 @@
  * rest is stable exactly when K is positive definite.
  *
  * Units: SI throughout (m, rad, Pa, N, kg). Every function is reentrant and allocates
- * nothing. */
+ * nothing, except hp_load_model_create. */
 #ifndef HP_LOAD_H
 #define HP_LOAD_H
 
@@ -50,20 +50,28 @@ HP_API void hp_load_spec_default(const hp_head *h, hp_load_spec *s);
  * HP_ERR_NULL / HP_ERR_INVALID with the field named in diag (may be NULL). */
 HP_API hp_error hp_load_spec_validate(const hp_load_spec *s, hp_diag *diag);
 
-/* A layout, what it carries, and the contact level, ready for load evaluations. The calls
- * derive the layout's contact geometry from `layout` as it is when they run. */
-typedef struct hp_load_model {
-    hp_layout layout;                   /* validated copy */
-    hp_load_spec spec;
-    hp_level level;                     /* linear, plane or surface */
-    hp_iab_limit limit[HP_MAX_BLADDERS]; /* each bladder's inflation limit point */
-    int prepared;                       /* 1 after a successful hp_load_model_init */
-} hp_load_model;
+/* A layout, what it carries, and the contact level, ready for load evaluations: an opaque
+ * handle. It owns private copies of the layout and the load and everything derived from
+ * them (each bladder's limit point, the layout's nominal contact geometry), so nothing the
+ * caller edits afterwards can leave it inconsistent. */
+typedef struct hp_load_model hp_load_model;
 
-/* Copies and validates layout L (hp_layout_prepare), checks spec and level (not auto) and
- * finds every bladder's limit point. HP_ERR_* with the message in diag. */
-HP_API hp_error hp_load_model_init(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
-                            hp_level level, hp_diag *diag);
+/* Copies and validates layout L (hp_layout_prepare on the copy) and spec, checks level
+ * (linear, plane or surface; not auto), finds every bladder's limit point and derives the
+ * contact geometry once. *out gets the new model (NULL on error); the only allocation of
+ * the load model, freed by hp_load_model_destroy. HP_ERR_* with the message in diag (may
+ * be NULL). */
+HP_API hp_error hp_load_model_create(const hp_layout *L, const hp_load_spec *spec,
+                                     hp_level level, hp_load_model **out, hp_diag *diag);
+/* Frees a model of hp_load_model_create (NULL is a no-op). */
+HP_API void hp_load_model_destroy(hp_load_model *M);
+
+/* The model's validated copy of the layout (NULL for NULL M); valid until destroy. */
+HP_API const hp_layout *hp_load_model_layout(const hp_load_model *M);
+/* The model's copy of what the bladders carry (NULL for NULL M); valid until destroy. */
+HP_API const hp_load_spec *hp_load_model_spec(const hp_load_model *M);
+/* The model's contact level (HP_LEVEL_AUTO for NULL M, which no model has). */
+HP_API hp_level hp_load_model_level(const hp_load_model *M);
 
 /* Free outer radius ro [m] of bladder k at pressure P [Pa] (stable branch) and dro/dP
  * [m/Pa] (may be NULL). HP_ERR_NO_STABLE at or above the limit-point pressure. */

@@ -73,7 +73,8 @@ HP_API hp_error hp_load_planner_set_previous(hp_load_planner *p, const double *p
 
 /* The message of the last failure ("" when none). Never NULL. */
 HP_API const char *hp_load_planner_error(const hp_load_planner *p);
-/* The planner's model (layout, carried load, geometry). */
+/* The planner's model (layout, carried load, geometry), owned by the planner: valid until
+ * hp_load_planner_destroy, never to be passed to hp_load_model_destroy. NULL for NULL p. */
 HP_API const hp_load_model *hp_load_planner_model(const hp_load_planner *p);
 /* Each bladder's pressure bounds [Pa] (from the pressure, stretch, stress and limit-point
  * limits; a plan's rate limits cut them further). */

@@ -9,7 +9,7 @@
 
 #include <string.h>
 
-static hp_load_model MOD[3]; /* linear, plane, surface */
+static hp_load_model *MOD[3]; /* linear, plane, surface */
 static const hp_level LEVELS[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
 /* Base bladders carry the weight, sides hold it laterally: a stable rest about 1 mm below
  * the nominal pose (lower side pressures give rests that are unstable in y or roll). */
@@ -23,7 +23,14 @@ static int setup(void **state)
     hp_load_spec s;
     hp_load_spec_default(&L.head, &s);
     for (int i = 0; i < 3; ++i)
-        if (hp_load_model_init(&MOD[i], &L, &s, LEVELS[i], NULL) != HP_OK) return -1;
+        if (hp_load_model_create(&L, &s, LEVELS[i], &MOD[i], NULL) != HP_OK) return -1;
+    return 0;
+}
+
+static int teardown(void **state)
+{
+    (void)state;
+    for (int i = 0; i < 3; ++i) hp_load_model_destroy(MOD[i]);
     return 0;
 }
 
@@ -32,7 +39,7 @@ static int setup(void **state)
 static void test_law_hand_values(void **state)
 {
     (void)state;
-    const hp_load_model *M = &MOD[2];
+    const hp_load_model *M = MOD[2];
     /* Find the pressure whose free radius is 30 mm + 1 mm past the nominal contact of
      * bladder 0, then check F at rho = ro − 1 mm through the public evaluation. */
     double ro, dro;
@@ -47,9 +54,9 @@ static void test_law_hand_values(void **state)
     double delta = 1e-3, want = 1e4 * pi * (2.0 * ro * delta - delta * delta);
     /* Move the head away along bladder 0's normal so that rho_0 = ro − delta exactly at
      * the linear level: rho = rho0 + J·xi with J_0 = −nᵀ for translation. */
-    const hp_load_model *ML = &MOD[0];
+    const hp_load_model *ML = MOD[0];
     double n0[3], rho00;
-    assert_int_equal(hp_layout_contact(&ML->layout, 0, NULL, n0, &rho00), HP_OK);
+    assert_int_equal(hp_layout_contact(hp_load_model_layout(ML), 0, NULL, n0, &rho00), HP_OK);
     double shift = ro - delta - rho00, xi[6] = {0};
     for (int i = 0; i < 3; ++i) xi[i] = -shift * n0[i];
     double P[8] = {1e4, 0, 0, 0, 0, 0, 0, 0}, Q[6], F[8];
@@ -109,7 +116,7 @@ static void test_derivatives(void **state)
 {
     (void)state;
     for (int l = 0; l < 3; ++l) {
-        const hp_load_model *M = &MOD[l];
+        const hp_load_model *M = MOD[l];
         double Q[6], dX[36], dP[48], F[8];
         assert_int_equal(hp_load_eval(M, XI_TEST, P_HOLD, Q, dX, dP, F, NULL), HP_OK);
         for (int k = 0; k < 8; ++k) assert_true(F[k] > 0.1);
@@ -137,7 +144,7 @@ static void test_potential(void **state)
 {
     (void)state;
     for (int l = 0; l < 3; ++l) {
-        const hp_load_model *M = &MOD[l];
+        const hp_load_model *M = MOD[l];
         double Q[6], scale = 0.0;
         assert_int_equal(hp_load_eval(M, XI_TEST, P_HOLD, Q, NULL, NULL, NULL, NULL), HP_OK);
         for (int i = 0; i < 6; ++i) scale = fmax(scale, fabs(Q[i]));
@@ -163,7 +170,7 @@ static void test_rest(void **state)
 {
     (void)state;
     for (int l = 0; l < 3; ++l) {
-        const hp_load_model *M = &MOD[l];
+        const hp_load_model *M = MOD[l];
         double xi[6], xi2[6];
         hp_load_rest_info info;
         assert_int_equal(hp_load_rest(M, P_HOLD, NULL, xi, &info), HP_OK);
@@ -188,7 +195,7 @@ static void test_no_rest(void **state)
 {
     (void)state;
     double P[8] = {0}, xi[6];
-    assert_int_equal(hp_load_rest(&MOD[2], P, NULL, xi, NULL), HP_ERR_NO_CONVERGENCE);
+    assert_int_equal(hp_load_rest(MOD[2], P, NULL, xi, NULL), HP_ERR_NO_CONVERGENCE);
 }
 
 /* The compliance K⁻¹ predicts how far the rest moves when the weight grows a little:
@@ -197,13 +204,18 @@ static void test_no_rest(void **state)
 static void test_compliance_predicts(void **state)
 {
     (void)state;
-    hp_load_model M2 = MOD[2];
+    hp_load_spec heavier = *hp_load_model_spec(MOD[2]);
+    heavier.mass *= 1.01;
+    hp_load_model *M2 = NULL;
+    assert_int_equal(hp_load_model_create(hp_load_model_layout(MOD[2]), &heavier,
+                                          hp_load_model_level(MOD[2]), &M2, NULL),
+                     HP_OK);
     double xi[6], xi2[6];
     hp_load_rest_info info;
-    assert_int_equal(hp_load_rest(&MOD[2], P_HOLD, NULL, xi, &info), HP_OK);
-    M2.spec.mass *= 1.01;
-    assert_int_equal(hp_load_rest(&M2, P_HOLD, xi, xi2, NULL), HP_OK);
-    double dW = 0.01 * MOD[2].spec.mass * HP_GRAVITY;
+    assert_int_equal(hp_load_rest(MOD[2], P_HOLD, NULL, xi, &info), HP_OK);
+    assert_int_equal(hp_load_rest(M2, P_HOLD, xi, xi2, NULL), HP_OK);
+    hp_load_model_destroy(M2);
+    double dW = 0.01 * hp_load_model_spec(MOD[2])->mass * HP_GRAVITY;
     /* y and pitch couple with z: compare the full K⁻¹·ΔQ, not compliance[2] alone. */
     double K[36];
     memcpy(K, info.holding.K, sizeof K);
@@ -228,7 +240,7 @@ static void test_auto_choice(void **state)
     int use;
     double sag;
     char why[200];
-    assert_int_equal(hp_load_auto_choose(&MOD[2], 1e-5, &use, &sag, why, sizeof why), HP_OK);
+    assert_int_equal(hp_load_auto_choose(MOD[2], 1e-5, &use, &sag, why, sizeof why), HP_OK);
     assert_int_equal(use, 1);
     assert_true(isinf(sag));
     assert_non_null(strstr(why, "load"));
@@ -238,15 +250,15 @@ static void test_auto_choice(void **state)
     assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
     hp_load_spec s;
     hp_load_spec_default(&L.head, &s);
-    hp_load_model M;
-    assert_int_equal(hp_load_model_init(&M, &L, &s, HP_LEVEL_SURFACE, NULL), HP_OK);
+    hp_load_model *M = NULL;
+    assert_int_equal(hp_load_model_create(&L, &s, HP_LEVEL_SURFACE, &M, NULL), HP_OK);
     double kg;
-    assert_int_equal(hp_load_predicted_sag(&M, &sag, &kg), HP_OK);
+    assert_int_equal(hp_load_predicted_sag(M, &sag, &kg), HP_OK);
     double k = 0.0;
     const double pi = 3.14159265358979323846;
     for (int j = 0; j < L.n; ++j) {
         double ri, P, nj[3], rho0;
-        assert_int_equal(hp_layout_contact(&M.layout, j, NULL, nj, &rho0), HP_OK);
+        assert_int_equal(hp_layout_contact(hp_load_model_layout(M), j, NULL, nj, &rho0), HP_OK);
         assert_int_equal(hp_iab_ri(&L.bladders[j].iab, rho0, &ri), HP_OK);
         assert_int_equal(hp_iab_ik(&L.bladders[j].iab, ri, &P), HP_OK);
         assert_true(P > 0);
@@ -255,21 +267,75 @@ static void test_auto_choice(void **state)
     }
     hp_assert_close(kg, k, 1e-12, 0.0);
     hp_assert_close(sag, s.mass * HP_GRAVITY / k, 1e-12, 0.0);
-    assert_int_equal(hp_load_auto_choose(&M, sag * 1.01, &use, NULL, why, sizeof why), HP_OK);
+    assert_int_equal(hp_load_auto_choose(M, sag * 1.01, &use, NULL, why, sizeof why), HP_OK);
     assert_int_equal(use, 0);
     assert_non_null(strstr(why, "kinematic"));
-    assert_int_equal(hp_load_auto_choose(&M, sag * 0.99, &use, NULL, why, sizeof why), HP_OK);
+    assert_int_equal(hp_load_auto_choose(M, sag * 0.99, &use, NULL, why, sizeof why), HP_OK);
     assert_int_equal(use, 1);
     assert_non_null(strstr(why, "load: predicted sag"));
+    hp_load_model_destroy(M);
+}
+
+/* The model owns its layout and what is derived from it: the geometry stored at create
+ * answers bit for bit as the public hp_contact_eval deriving it per call (each contact
+ * force equals P·pi·(ro² − rho²) evaluated in the law's own operation order with rho from
+ * hp_contact_eval on the model's layout), and editing the caller's layout after create
+ * changes nothing (same bits as a model of an untouched copy; a model made from the edited
+ * layout does differ, so the edit matters). */
+static void test_owns_layout(void **state)
+{
+    (void)state;
+    const double pi = 3.14159265358979323846;
+    for (int l = 0; l < 3; ++l) {
+        const hp_load_model *M = MOD[l];
+        assert_int_equal(hp_load_model_level(M), LEVELS[l]);
+        double rho[8], Q[6], F[8];
+        assert_int_equal(hp_contact_eval(hp_load_model_layout(M), LEVELS[l], XI_TEST, rho, NULL,
+                                         NULL),
+                         HP_OK);
+        assert_int_equal(hp_load_eval(M, XI_TEST, P_HOLD, Q, NULL, NULL, F, NULL), HP_OK);
+        for (int k = 0; k < 8; ++k) {
+            double ro;
+            assert_int_equal(hp_load_radius(M, k, P_HOLD[k], &ro, NULL), HP_OK);
+            assert_true(ro > rho[k]);
+            assert_true(F[k] == P_HOLD[k] * (pi * (ro - rho[k]) * (ro + rho[k])));
+        }
+    }
+    hp_layout L, kept;
+    assert_int_equal(default_layout(&L), 0);
+    kept = L;
+    hp_load_spec s;
+    hp_load_spec_default(&L.head, &s);
+    hp_load_model *M = NULL, *Mk = NULL, *Me = NULL;
+    assert_int_equal(hp_load_model_create(&L, &s, HP_LEVEL_SURFACE, &M, NULL), HP_OK);
+    L.bladders[0].center[2] -= 2e-3; /* edits after create */
+    L.head.semi_axes[1] += 1e-3;
+    s.mass *= 2.0;
+    assert_int_equal(hp_load_model_create(&kept, hp_load_model_spec(M), HP_LEVEL_SURFACE, &Mk,
+                                          NULL),
+                     HP_OK);
+    assert_int_equal(hp_load_model_create(&L, &s, HP_LEVEL_SURFACE, &Me, NULL), HP_OK);
+    assert_true(hp_load_model_layout(M)->bladders[0].center[2] == kept.bladders[0].center[2]);
+    assert_true(hp_load_model_spec(M)->mass * 2.0 == s.mass);
+    double Q[6], Qk[6], Qe[6], dQ[36], dQk[36];
+    assert_int_equal(hp_load_eval(M, XI_TEST, P_HOLD, Q, dQ, NULL, NULL, NULL), HP_OK);
+    assert_int_equal(hp_load_eval(Mk, XI_TEST, P_HOLD, Qk, dQk, NULL, NULL, NULL), HP_OK);
+    assert_int_equal(hp_load_eval(Me, XI_TEST, P_HOLD, Qe, NULL, NULL, NULL, NULL), HP_OK);
+    assert_memory_equal(Q, Qk, sizeof Q);
+    assert_memory_equal(dQ, dQk, sizeof dQ);
+    assert_memory_not_equal(Q, Qe, sizeof Q);
+    hp_load_model_destroy(M);
+    hp_load_model_destroy(Mk);
+    hp_load_model_destroy(Me);
 }
 
 /* Bad input: every field of the load checked, NaN and infinity refused, outputs NaN on
- * error, a sphere or unprepared model refused by the calls that need one. */
+ * error, a missing model refused by the calls that need one. */
 static void test_bad_input(void **state)
 {
     (void)state;
     hp_load_spec s;
-    hp_load_spec_default(&MOD[0].layout.head, &s);
+    hp_load_spec_default(&hp_load_model_layout(MOD[0])->head, &s);
     assert_int_equal(hp_load_spec_validate(&s, NULL), HP_OK);
     hp_diag d;
     hp_load_spec b = s;
@@ -288,21 +354,34 @@ static void test_bad_input(void **state)
     assert_int_equal(hp_load_spec_validate(&b, &d), HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "gravity"));
     assert_int_equal(hp_load_spec_validate(NULL, &d), HP_ERR_NULL);
-    hp_load_model M;
-    assert_int_equal(hp_load_model_init(&M, &MOD[0].layout, &s, HP_LEVEL_AUTO, &d),
+    hp_load_model *M = MOD[0];
+    assert_int_equal(hp_load_model_create(hp_load_model_layout(MOD[0]), &s, HP_LEVEL_AUTO, &M,
+                                          &d),
                      HP_ERR_INVALID);
+    assert_null(M); /* *out is cleared on error */
+    assert_non_null(strstr(d.text, "level"));
+    assert_int_equal(hp_load_model_create(hp_load_model_layout(MOD[0]), &s, HP_LEVEL_SURFACE,
+                                          NULL, &d),
+                     HP_ERR_NULL);
+    assert_int_equal(hp_load_model_create(NULL, &s, HP_LEVEL_SURFACE, &M, &d), HP_ERR_NULL);
+    assert_null(M);
     double xi[6] = {0, NAN, 0, 0, 0, 0}, Q[6], F[8];
-    assert_int_equal(hp_load_eval(&MOD[2], xi, P_HOLD, Q, NULL, NULL, F, NULL), HP_ERR_INVALID);
+    assert_int_equal(hp_load_eval(MOD[2], xi, P_HOLD, Q, NULL, NULL, F, NULL), HP_ERR_INVALID);
     for (int i = 0; i < 6; ++i) assert_true(isnan(Q[i]));
     xi[1] = 0.0;
     double P[8];
     memcpy(P, P_HOLD, sizeof P);
     P[3] = INFINITY;
-    assert_int_equal(hp_load_eval(&MOD[2], xi, P, Q, NULL, NULL, F, NULL), HP_ERR_INVALID);
-    assert_int_equal(hp_load_rest(&MOD[2], P, NULL, xi, NULL), HP_ERR_INVALID);
-    hp_load_model U;
-    memset(&U, 0, sizeof U);
-    assert_int_equal(hp_load_eval(&U, xi, P_HOLD, Q, NULL, NULL, NULL, NULL), HP_ERR_STATE);
+    assert_int_equal(hp_load_eval(MOD[2], xi, P, Q, NULL, NULL, F, NULL), HP_ERR_INVALID);
+    assert_int_equal(hp_load_rest(MOD[2], P, NULL, xi, NULL), HP_ERR_INVALID);
+    /* No model: refused, outputs NaN; the accessors answer NULL / auto. */
+    assert_int_equal(hp_load_eval(NULL, xi, P_HOLD, Q, NULL, NULL, NULL, NULL), HP_ERR_NULL);
+    for (int i = 0; i < 6; ++i) assert_true(isnan(Q[i]));
+    assert_int_equal(hp_load_rest(NULL, P_HOLD, NULL, xi, NULL), HP_ERR_NULL);
+    assert_null(hp_load_model_layout(NULL));
+    assert_null(hp_load_model_spec(NULL));
+    assert_int_equal(hp_load_model_level(NULL), HP_LEVEL_AUTO);
+    hp_load_model_destroy(NULL);
 }
 
 int main(void)
@@ -315,7 +394,8 @@ int main(void)
         cmocka_unit_test(test_no_rest),
         cmocka_unit_test(test_compliance_predicts),
         cmocka_unit_test(test_auto_choice),
+        cmocka_unit_test(test_owns_layout),
         cmocka_unit_test(test_bad_input),
     };
-    return cmocka_run_group_tests(tests, setup, NULL);
+    return cmocka_run_group_tests(tests, setup, teardown);
 }

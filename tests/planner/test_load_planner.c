@@ -479,12 +479,12 @@ static void test_stiffness_derivatives(void **state)
     hp_load_spec s;
     hp_settings set;
     supine(&L, &s, &set);
-    hp_load_model M;
-    assert_int_equal(hp_load_model_init(&M, &L, &s, HP_LEVEL_SURFACE, NULL), HP_OK);
+    hp_load_model *M = NULL;
+    assert_int_equal(hp_load_model_create(&L, &s, HP_LEVEL_SURFACE, &M, NULL), HP_OK);
     const double xi[6] = {0.2e-3, -0.1e-3, 10e-3, 0.3 * 0.0174532925199, 0, 0};
     double target[HP_MAX_BLADDERS] = {0};
     hp_load_stiff S;
-    assert_int_equal(hp_load_stiff_init(&S, &M, xi, target), HP_OK);
+    assert_int_equal(hp_load_stiff_init(&S, M, xi, target), HP_OK);
     /* Every bladder pressed (above its touching pressure) at a spread of pressures. */
     int idx[HP_MAX_BLADDERS], nv = L.n;
     double x[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
@@ -496,7 +496,7 @@ static void test_stiffness_derivatives(void **state)
     double f, g[HP_MAX_BLADDERS], H[HP_MAX_BLADDERS * HP_MAX_BLADDERS], lmin;
     assert_int_equal(hp_load_stiff_eval(&S, nv, idx, x, &f, g, H, &lmin), 0);
     double force[HP_MAX_BLADDERS], Q[6], dQ[36], K[36], ev[6], V[36];
-    assert_int_equal(hp_load_eval(&M, xi, P, Q, dQ, NULL, force, NULL), HP_OK);
+    assert_int_equal(hp_load_eval(M, xi, P, Q, dQ, NULL, force, NULL), HP_OK);
     for (int k = 0; k < nv; ++k) assert_true(force[k] > 0);
     /* The soft minimum needs every eigenvalue: the test's own decomposition of K. */
     for (int i = 0; i < 6; ++i)
@@ -507,7 +507,7 @@ static void test_stiffness_derivatives(void **state)
     for (int i = 0; i < 6; ++i) z += exp(-S.beta * ev[i]);
     for (int k = 0; k < nv; ++k) sq += 0.5 * S.squeeze * x[k] * x[k];
     hp_assert_close(f, log(z) / S.beta + sq, 1e-9, 1e-9);
-    hp_assert_close(lmin, smallest_stiffness(&M, xi, P), 1e-9, 1e-9);
+    hp_assert_close(lmin, smallest_stiffness(M, xi, P), 1e-9, 1e-9);
     const double h = 1e-4;
     double gs = 0.0, hs = 0.0, eg = 0.0, eh = 0.0;
     for (int j = 0; j < nv; ++j) gs = fmax(gs, fabs(g[j]));
@@ -530,6 +530,7 @@ static void test_stiffness_derivatives(void **state)
     }
     print_message("stiffness objective: |grad| %.3g, gradient error %.2g; |hess| %.3g, "
                   "Hessian error %.2g\n", gs, eg, hs, eh);
+    hp_load_model_destroy(M);
 }
 
 /* set_previous and the rate limits at the load level: a previous pressure outside the
