@@ -8,6 +8,7 @@
  * directions the bladders hold weakly, where the search can lose its way. */
 #include "calib/calib_internal.h"
 #include "kinematics/linalg.h"
+#include "kinematics/load_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -23,7 +24,7 @@ static hp_error model_at(const lay_ctx *c, const hp_layout *L, const double *the
     hp_load_spec s = *c->load;
     if (c->mass_j >= 0) s.mass += theta[c->mass_j];
     if (!(s.mass > 0)) return HP_ERR_DOMAIN;
-    return hp_load_model_init(M, L, &s, c->level, NULL);
+    return hp_load_model_setup(M, L, &s, c->level, NULL);
 }
 
 hp_error calib_load_resid(const lay_ctx *c, const hp_layout *L, const double *theta, double *e,

@@ -44,11 +44,11 @@ int main(void)
         fprintf(stderr, "%s\n", d.text);
         return 1;
     }
-    static hp_load_model M[3];
+    hp_load_model *M[3];
     for (int q = 0; q < 3; ++q) {
         hp_load_spec s = sc.load;
         s.mass = MASS + (q == 0 ? 0.0 : q == 1 ? -0.06 : 0.06);
-        if (hp_load_model_init(&M[q], &sc.layout, &s, sc.load_geometry, &d)) {
+        if (hp_load_model_create(&sc.layout, &s, sc.load_geometry, &M[q], &d)) {
             fprintf(stderr, "%s\n", d.text);
             return 1;
         }
@@ -62,8 +62,8 @@ int main(void)
         double P[HP_MAX_BLADDERS], xi[6], other[6];
         for (int k = 0; k < sc.layout.n; k += 2)
             P[k] = P[k + 1] = (k < 4 ? 5000.0 : 1500.0) * (1.0 + 0.02 * (2.0 * uniform() - 1.0));
-        if (hp_load_rest(&M[0], P, NULL, xi, NULL) || hp_load_rest(&M[1], P, NULL, other, NULL) ||
-            hp_load_rest(&M[2], P, NULL, other, NULL))
+        if (hp_load_rest(M[0], P, NULL, xi, NULL) || hp_load_rest(M[1], P, NULL, other, NULL) ||
+            hp_load_rest(M[2], P, NULL, other, NULL))
             continue;
         for (int k = 0; k < sc.layout.n; ++k) printf("%.3f,", P[k]);
         for (int j = 0; j < 6; ++j)
@@ -72,5 +72,6 @@ int main(void)
                    j < 5 ? "," : "\n");
         ++i;
     }
+    for (int q = 0; q < 3; ++q) hp_load_model_destroy(M[q]);
     return 0;
 }

@@ -38,12 +38,11 @@ static void make_rows(const hp_scene *sc, int n, double sig_t, double sig_r, cal
 {
     hp_load_spec spec = sc->load;
     spec.mass = MASS_TRUE;
-    hp_load_model *M = malloc(sizeof *M * 3);
-    assert_non_null(M);
+    hp_load_model *M[3];
     for (int q = 0; q < 3; ++q) {
         hp_load_spec sq = spec;
         sq.mass = MASS_TRUE + (q == 0 ? 0.0 : q == 1 ? -0.06 : 0.06);
-        assert_int_equal(hp_load_model_init(&M[q], &sc->layout, &sq, sc->load_geometry, NULL),
+        assert_int_equal(hp_load_model_create(&sc->layout, &sq, sc->load_geometry, &M[q], NULL),
                          HP_OK);
     }
     for (int i = 0; i < n;) {
@@ -54,16 +53,16 @@ static void make_rows(const hp_scene *sc, int n, double sig_t, double sig_r, cal
         /* Kept only when the statics also find a rest 60 g either side (the fit starts at
          * MASS_START): a property of the pressures alone, not of the noise, so the coverage
          * below is not biased by it. */
-        if (hp_load_rest(&M[0], rows[i].pressure, NULL, xi, NULL) != HP_OK ||
-            hp_load_rest(&M[1], rows[i].pressure, NULL, other, NULL) != HP_OK ||
-            hp_load_rest(&M[2], rows[i].pressure, NULL, other, NULL) != HP_OK)
+        if (hp_load_rest(M[0], rows[i].pressure, NULL, xi, NULL) != HP_OK ||
+            hp_load_rest(M[1], rows[i].pressure, NULL, other, NULL) != HP_OK ||
+            hp_load_rest(M[2], rows[i].pressure, NULL, other, NULL) != HP_OK)
             continue;
         for (int j = 0; j < 6; ++j)
             rows[i].pose[j] = xi[j] + (j < 3 ? sig_t : sig_r) * rng_normal(r);
         rows[i].line = i + 2;
         ++i;
     }
-    free(M);
+    for (int q = 0; q < 3; ++q) hp_load_model_destroy(M[q]);
 }
 
 static hp_layout_fit_options opts(const hp_scene *sc, int offsets)
@@ -135,17 +134,19 @@ static void test_se_vs_rest_differences(void **state)
     hp_layout_fit *f = malloc(sizeof *f);
     double res[60];
     assert_int_equal(hp_fit_layout(&sc->layout, rows, 10, &o, f, res, NULL), HP_OK);
-    hp_load_model *M = malloc(sizeof *M);
+    hp_load_model *M = NULL;
     double info = 0.0, ss = 0.0, h = 1e-3;
     for (int i = 0; i < 10; ++i) {
         double xp[6], xm[6];
         hp_load_spec s = sc->load;
         s.mass = f->mass + h;
-        assert_int_equal(hp_load_model_init(M, &sc->layout, &s, o.level, NULL), HP_OK);
+        assert_int_equal(hp_load_model_create(&sc->layout, &s, o.level, &M, NULL), HP_OK);
         assert_int_equal(hp_load_rest(M, rows[i].pressure, NULL, xp, NULL), HP_OK);
+        hp_load_model_destroy(M);
         s.mass = f->mass - h;
-        assert_int_equal(hp_load_model_init(M, &sc->layout, &s, o.level, NULL), HP_OK);
+        assert_int_equal(hp_load_model_create(&sc->layout, &s, o.level, &M, NULL), HP_OK);
         assert_int_equal(hp_load_rest(M, rows[i].pressure, NULL, xm, NULL), HP_OK);
+        hp_load_model_destroy(M);
         for (int j = 0; j < 6; ++j) {
             double w = 1.0 / (j < 3 ? o.sigma_trans : o.sigma_rot);
             double g = (xp[j] - xm[j]) / (2 * h) * w;
@@ -156,7 +157,6 @@ static void test_se_vs_rest_differences(void **state)
     double se = sqrt(ss / (60 - 1)) / sqrt(info);
     print_message("SE(mass) %.9g, from rest differences %.9g\n", f->se[f->mass_index], se);
     hp_assert_close(f->se[f->mass_index], se, 1e-5, 0);
-    free(M);
     free(f);
     free(sc);
 }
