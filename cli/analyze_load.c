@@ -1,5 +1,6 @@
 /* headplan analyze: the load at the nominal pose. */
 #include "cli/analyze_load.h"
+#include "cli/json_out.h"
 #include "headplan/hp_load_planner.h"
 
 #include <math.h>
@@ -101,11 +102,6 @@ void cli_analyze_load_text(const hp_scene *sc)
     free(rep);
 }
 
-static json_t *num(double v)
-{
-    return isfinite(v) ? json_real(v) : json_null();
-}
-
 json_t *cli_analyze_load_json(const hp_scene *sc)
 {
     load_report *rep = malloc(sizeof *rep);
@@ -116,7 +112,7 @@ json_t *cli_analyze_load_json(const hp_scene *sc)
     json_t *o = json_object();
     json_object_set_new(o, "assumed", json_boolean(rep->assumed));
     json_object_set_new(o, "mass_kg", json_real(rep->spec.mass));
-    json_object_set_new(o, "kinematic_sag_mm", num(rep->sag * 1e3));
+    json_object_set_new(o, "kinematic_sag_mm", cli_json_num(rep->sag * 1e3));
     json_object_set_new(o, "auto", json_string(rep->why));
     json_object_set_new(o, "refused", rep->refused[0] ? json_string(rep->refused) : json_null());
     if (rep->held) {
@@ -124,9 +120,9 @@ json_t *cli_analyze_load_json(const hp_scene *sc)
         json_object_set_new(o, "status", json_string(hp_status_name(rep->r.status)));
         json_object_set_new(o, "stable", json_boolean(h->stable));
         json_object_set_new(o, "weakest", json_string(h->weakest_words));
-        json_object_set_new(o, "weakest_compliance", num(h->weakest_compliance));
+        json_object_set_new(o, "weakest_compliance", cli_json_num(h->weakest_compliance));
         json_t *c = json_array();
-        for (int i = 0; i < 6; ++i) json_array_append_new(c, num(h->compliance[i]));
+        for (int i = 0; i < 6; ++i) json_array_append_new(c, cli_json_num(h->compliance[i]));
         json_object_set_new(o, "compliance", c);
     }
     free(rep);

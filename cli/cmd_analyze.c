@@ -6,6 +6,7 @@
 #include "common/units.h"
 #include "cli/cli_args.h"
 #include "cli/cli_scene.h"
+#include "cli/json_out.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "headplan/hp_planner.h"
@@ -123,13 +124,6 @@ static void nominal_contact(const hp_layout *L, int k, double pt[3], double nv[3
     *rho0 = NAN;
 }
 
-static json_t *vec_json(const double *v, int n, double scale)
-{
-    json_t *arr = json_array();
-    for (int i = 0; i < n; ++i) json_array_append_new(arr, json_real(v[i] * scale));
-    return arr;
-}
-
 static json_t *geometry_bladders_json(const hp_layout *L)
 {
     json_t *bl = json_array();
@@ -137,7 +131,7 @@ static json_t *geometry_bladders_json(const hp_layout *L)
         const hp_bladder *B = &L->bladders[k];
         json_t *e = json_object();
         json_object_set_new(e, "name", json_string(B->name));
-        json_object_set_new(e, "center_mm", vec_json(B->center, 3, 1e3));
+        json_object_set_new(e, "center_mm", cli_json_vec(B->center, 3, 1e3));
         json_object_set_new(e, "Ri_mm", json_real(B->iab.Ri * 1e3));
         json_object_set_new(e, "Ro_mm", json_real(B->iab.Ro * 1e3));
         json_object_set_new(e, "c1_pa", json_real(B->iab.C1));
@@ -148,8 +142,8 @@ static json_t *geometry_bladders_json(const hp_layout *L)
         json_object_set_new(e, "stretch_max", json_real(B->stretch_max));
         double pt[3], nv[3], rho0;
         nominal_contact(L, k, pt, nv, &rho0);
-        json_object_set_new(e, "contact_mm", vec_json(pt, 3, 1e3));
-        json_object_set_new(e, "normal", vec_json(nv, 3, 1.0));
+        json_object_set_new(e, "contact_mm", cli_json_vec(pt, 3, 1e3));
+        json_object_set_new(e, "normal", cli_json_vec(nv, 3, 1.0));
         json_object_set_new(e, "rho0_mm", json_real(rho0 * 1e3));
         json_array_append_new(bl, e);
     }
@@ -160,11 +154,11 @@ static json_t *head_json(const hp_head *h)
 {
     json_t *o = json_object();
     json_object_set_new(o, "shape", json_string(hp_head_shape_name(h->shape)));
-    json_object_set_new(o, "center_mm", vec_json(h->center, 3, 1e3));
+    json_object_set_new(o, "center_mm", cli_json_vec(h->center, 3, 1e3));
     if (h->shape == HP_HEAD_SPHERE)
         json_object_set_new(o, "radius_mm", json_real(h->semi_axes[0] * 1e3));
     else
-        json_object_set_new(o, "semi_axes_mm", vec_json(h->semi_axes, 3, 1e3));
+        json_object_set_new(o, "semi_axes_mm", cli_json_vec(h->semi_axes, 3, 1e3));
     json_object_set_new(o, "mass_kg", h->mass > 0 ? json_real(h->mass) : json_null());
     return o;
 }
@@ -188,7 +182,7 @@ static json_t *identifiable_json(const hp_identifiable *id)
 {
     json_t *o = json_object();
     json_object_set_new(o, "rank", json_integer(id->rank));
-    json_object_set_new(o, "relative_singular_values", vec_json(id->rel_sv, 6, 1.0));
+    json_object_set_new(o, "relative_singular_values", cli_json_vec(id->rel_sv, 6, 1.0));
     json_t *cmd = json_object();
     for (int i = 0; i < 6; ++i)
         json_object_set_new(cmd, hp_pose_key(i), json_boolean(id->commanded[i]));
@@ -219,12 +213,12 @@ static int print_json(const hp_scene *sc, const analysis *r)
     json_object_set_new(o, "level", json_string(hp_level_name(r->level)));
     json_object_set_new(o, "level_requested", json_string(hp_level_name(r->requested)));
     json_object_set_new(o, "level_source", json_string(r->from_option ? "option" : "scene"));
-    json_object_set_new(o, "singular_values", vec_json(an->singular_values, 6, 1.0));
+    json_object_set_new(o, "singular_values", cli_json_vec(an->singular_values, 6, 1.0));
     json_object_set_new(o, "rank", json_integer(an->rank));
     json_object_set_new(o, "condition", isfinite(an->condition) ? json_real(an->condition)
                                                                 : json_null());
     json_t *w = json_object();
-    json_object_set_new(w, "vector", vec_json(an->weakest, 6, 1.0));
+    json_object_set_new(w, "vector", cli_json_vec(an->weakest, 6, 1.0));
     json_object_set_new(w, "phrase", json_string(an->weakest_words));
     json_object_set_new(w, "singular_value", json_real(an->singular_values[5]));
     json_object_set_new(o, "weakest_direction", w);
@@ -237,7 +231,7 @@ static int print_json(const hp_scene *sc, const analysis *r)
             json_object_set_new(reach, hp_pose_key(i), json_null()); /* not commanded */
             continue;
         }
-        json_object_set_new(reach, hp_pose_key(i), vec_json(an->reach[i], 2, 1.0));
+        json_object_set_new(reach, hp_pose_key(i), cli_json_vec(an->reach[i], 2, 1.0));
     }
     json_object_set_new(o, "reach", reach);
     json_object_set_new(o, "identifiable", identifiable_json(&r->id));
@@ -253,7 +247,7 @@ static int print_json(const hp_scene *sc, const analysis *r)
     json_object_set_new(b, "auto_level", json_string(hp_level_name(r->auto_level)));
     json_object_set_new(o, "error_bounds", b);
     json_object_set_new(o, "head", head_json(&L->head));
-    json_object_set_new(o, "pivot_mm", vec_json(L->pivot, 3, 1e3));
+    json_object_set_new(o, "pivot_mm", cli_json_vec(L->pivot, 3, 1e3));
     json_object_set_new(o, "bladders", geometry_bladders_json(L));
     json_t *load = cli_analyze_load_json(sc);
     json_object_set_new(o, "load", load ? load : json_null());

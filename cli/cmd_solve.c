@@ -2,6 +2,7 @@
  * achieved pose and the status. Command-line units: mm and degrees; the library speaks SI. */
 #include "cli/cli_args.h"
 #include "cli/cli_scene.h"
+#include "cli/json_out.h"
 #include "cli/cmd_solve_load.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
@@ -55,22 +56,6 @@ static int parse(int argc, char **argv, solve_args *a)
     return cli_scene_args(CMD, argc, argv, help, names, slots, 3, &a->json, &a->scene);
 }
 
-static json_t *pose_json(const double xi[6])
-{
-    double c[6];
-    hp_pose_to_clinical(xi, c);
-    json_t *o = json_object();
-    for (int i = 0; i < 6; ++i) json_object_set_new(o, hp_pose_key(i), json_real(c[i]));
-    return o;
-}
-
-static json_t *vec3_mm(const double v[3])
-{
-    json_t *a = json_array();
-    for (int i = 0; i < 3; ++i) json_array_append_new(a, json_real(v[i] * 1e3));
-    return a;
-}
-
 static json_t *binding_json(unsigned flags)
 {
     json_t *a = json_array();
@@ -85,13 +70,13 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
     json_object_set_new(o, "status", json_string(hp_status_name(r->status)));
     json_object_set_new(o, "backend", json_string(hp_backend_name(r->backend)));
     json_object_set_new(o, "level", json_string(hp_level_name(r->level)));
-    json_object_set_new(o, "desired", pose_json(r->desired));
-    json_object_set_new(o, "achieved", pose_json(r->achieved));
+    json_object_set_new(o, "desired", cli_json_pose(r->desired));
+    json_object_set_new(o, "achieved", cli_json_pose(r->achieved));
     json_t *cmd = json_object();
     for (int i = 0; i < 6; ++i)
         json_object_set_new(cmd, hp_pose_key(i), json_boolean(r->commanded[i]));
     json_object_set_new(o, "commanded", cmd);
-    json_object_set_new(o, "uncommanded", pose_json(r->uncommanded));
+    json_object_set_new(o, "uncommanded", cli_json_pose(r->uncommanded));
     json_t *ud = json_array();
     double u[6];
     hp_pose_to_clinical(r->uncommanded, u);
@@ -104,7 +89,7 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
         const hp_bladder_result *b = &r->bladders[k];
         json_t *e = json_object();
         json_object_set_new(e, "name", json_string(B->name));
-        json_object_set_new(e, "center_mm", vec3_mm(B->center));
+        json_object_set_new(e, "center_mm", cli_json_vec(B->center, 3, 1e3));
         json_object_set_new(e, "Ri_mm", json_real(B->iab.Ri * 1e3));
         json_object_set_new(e, "Ro_mm", json_real(B->iab.Ro * 1e3));
         json_object_set_new(e, "c1_pa", json_real(B->iab.C1));
@@ -120,13 +105,13 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
     json_object_set_new(o, "bladders", bl);
     json_t *h = json_object();
     json_object_set_new(h, "shape", json_string(hp_head_shape_name(L->head.shape)));
-    json_object_set_new(h, "center_mm", vec3_mm(L->head.center));
+    json_object_set_new(h, "center_mm", cli_json_vec(L->head.center, 3, 1e3));
     if (L->head.shape == HP_HEAD_SPHERE)
         json_object_set_new(h, "radius_mm", json_real(L->head.semi_axes[0] * 1e3));
     else
-        json_object_set_new(h, "semi_axes_mm", vec3_mm(L->head.semi_axes));
+        json_object_set_new(h, "semi_axes_mm", cli_json_vec(L->head.semi_axes, 3, 1e3));
     json_object_set_new(o, "head", h);
-    json_object_set_new(o, "pivot_mm", vec3_mm(L->pivot));
+    json_object_set_new(o, "pivot_mm", cli_json_vec(L->pivot, 3, 1e3));
     json_object_set_new(o, "iterations", json_integer(r->iterations));
     json_object_set_new(o, "solve_time_us", json_real(r->solve_time * 1e6));
     json_object_set_new(o, "message", json_string(msg));

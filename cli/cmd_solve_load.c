@@ -2,6 +2,7 @@
  * the load planner's answer with its equilibrium residual, holding compliance, the forward
  * statics' round trip and the binding limits. */
 #include "cli/cmd_solve_load.h"
+#include "cli/json_out.h"
 #include "cli/exit_codes.h"
 #include "headplan/hp_load_planner.h"
 
@@ -110,21 +111,6 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
            h->compliance[3], h->compliance[4], h->compliance[5]);
 }
 
-static json_t *pose_json(const double xi[6])
-{
-    double c[6];
-    hp_pose_to_clinical(xi, c);
-    json_t *o = json_object();
-    for (int i = 0; i < 6; ++i) json_object_set_new(o, hp_pose_key(i), json_real(c[i]));
-    return o;
-}
-
-/* JSON has no infinity: an unbounded compliance is written as null. */
-static json_t *num(double v)
-{
-    return isfinite(v) ? json_real(v) : json_null();
-}
-
 static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
                       const hp_load_info *info, const char *why, hp_load_tiebreak tie)
 {
@@ -135,8 +121,8 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
     json_object_set_new(o, "geometry", json_string(hp_level_name(r->level)));
     json_object_set_new(o, "tiebreak", json_string(hp_load_tiebreak_name(tie)));
     json_object_set_new(o, "why", json_string(why));
-    json_object_set_new(o, "desired", pose_json(r->desired));
-    json_object_set_new(o, "achieved", pose_json(r->achieved));
+    json_object_set_new(o, "desired", cli_json_pose(r->desired));
+    json_object_set_new(o, "achieved", cli_json_pose(r->achieved));
     json_t *bl = json_array();
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder_result *b = &r->bladders[k];
@@ -146,7 +132,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
         json_object_set_new(e, "ro_mm", json_real(b->ro * 1e3));
         json_object_set_new(e, "pressure_pa", json_real(b->pressure));
         json_object_set_new(e, "force_n", json_real(info->force[k]));
-        json_object_set_new(e, "hoop_stress_kpa", num(hoop_kpa(&L->bladders[k], b)));
+        json_object_set_new(e, "hoop_stress_kpa", cli_json_num(hoop_kpa(&L->bladders[k], b)));
         for (int f = 0; f < HP_BIND_COUNT; ++f)
             if (b->binding & (1u << f))
                 json_array_append_new(bind, json_string(hp_binding_name(1u << f)));
@@ -156,16 +142,16 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
     json_object_set_new(o, "bladders", bl);
     json_object_set_new(o, "residual_force_n", json_real(info->residual_force));
     json_object_set_new(o, "residual_moment_nm", json_real(info->residual_moment));
-    json_object_set_new(o, "rest_error", num(info->rest_error));
+    json_object_set_new(o, "rest_error", cli_json_num(info->rest_error));
     const hp_load_holding *h = &info->holding;
     json_t *c = json_object();
     static const char *const keys[6] = {"x_mm_per_n", "y_mm_per_n", "z_mm_per_n",
                                         "pitch_deg_per_nm", "roll_deg_per_nm", "yaw_deg_per_nm"};
-    for (int i = 0; i < 6; ++i) json_object_set_new(c, keys[i], num(h->compliance[i]));
+    for (int i = 0; i < 6; ++i) json_object_set_new(c, keys[i], cli_json_num(h->compliance[i]));
     json_object_set_new(o, "compliance", c);
     json_object_set_new(o, "stable", json_boolean(h->stable));
     json_object_set_new(o, "weakest", json_string(h->weakest_words));
-    json_object_set_new(o, "weakest_compliance", num(h->weakest_compliance));
+    json_object_set_new(o, "weakest_compliance", cli_json_num(h->weakest_compliance));
     json_object_set_new(o, "iterations", json_integer(r->iterations));
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
