@@ -158,7 +158,9 @@ static int run_gnuplot(int (*writer)(const void *, FILE *), const void *arg)
 {
     fflush(stdout);
     fflush(stderr);
-    FILE *g = popen("gnuplot 1>&2", "w");
+    /* The scripts say "set encoding utf8"; in a C or other non-UTF-8 locale gnuplot warns that
+     * it cannot convert its degree sign, a stray line on our stderr. */
+    FILE *g = popen("LC_ALL=C.UTF-8 gnuplot 1>&2", "w");
     if (!g) return -1;
     /* gnuplot stopping early must not kill us with SIGPIPE: its status tells. */
     struct sigaction ign = {0}, old;

@@ -228,7 +228,7 @@ assert gp.count("plot $axis") == 6 and "set multiplot layout 2,3" in gp and "uns
 PY
 sed "s#^set output .*#set output '$TMP/again.svg'#; s#^  set terminal pngcairo.*#  set terminal svg#" \
     "$TMP/res.gp" > "$TMP/again.gp"
-gnuplot "$TMP/again.gp" 2>"$TMP/err" && [ ! -s "$TMP/err" ] && [ -s "$TMP/again.svg" ] && ok || bad "the kept script does not redraw cleanly"
+LC_ALL=C.UTF-8 gnuplot "$TMP/again.gp" 2>"$TMP/err" && [ ! -s "$TMP/err" ] && [ -s "$TMP/again.svg" ] && ok || bad "the kept script does not redraw cleanly"
 run fit layout "$S/default.yaml" "$E/layout_rows.csv" --plot "$TMP/res.jpg"
 expect_exit 64 "--plot not png/svg"; expect_stderr_has "must end in .png or .svg" "--plot name"
 run fit layout "$S/default.yaml" "$E/layout_rows.csv" --plot-script "$TMP/x.gp"

@@ -133,4 +133,11 @@ PATH="$TMP/nognuplot" "$HP_BIN" render "$S/default.yaml" --dry-run >"$TMP/out" 2
 expect_exit 0 "render --dry-run without gnuplot"
 PATH="$TMP/nognuplot" "$HP_BIN" solve "$S/default.yaml" >"$TMP/out" 2>"$TMP/err"; rc=$?
 expect_exit 0 "solve without gnuplot"
+# In the C locale (what scripts and CI often run in) a drawing prints nothing on stderr:
+# gnuplot's "set encoding utf8" would otherwise warn about its degree sign.
+if command -v gnuplot >/dev/null; then
+  LC_ALL=C "$HP_BIN" render "$S/default.yaml" -o "$TMP/c_locale.png" >"$TMP/out" 2>"$TMP/err"; rc=$?
+  expect_exit 0 "render in the C locale"
+  [ ! -s "$TMP/err" ] && ok || bad "render in the C locale wrote to stderr"
+fi
 finish
