@@ -165,13 +165,7 @@ hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, 
     memset(&u, 0, sizeof u);
     u.nlp = nlp;
     double xl[HP_MAX_BLADDERS], xu[HP_MAX_BLADDERS], x[HP_MAX_BLADDERS], gl[6], gu[6];
-    for (int k = 0; k < nlp->n; ++k)
-        if (nlp->L[k] < nlp->U[k]) {
-            xl[u.nf] = nlp->L[k] * 1e-3;
-            xu[u.nf] = nlp->U[k] * 1e-3;
-            x[u.nf] = fmin(fmax(p[k] * 1e-3, xl[u.nf]), xu[u.nf]);
-            u.idx[u.nf++] = k;
-        }
+    u.nf = hp_load_hold_vars(nlp, p, u.idx, xl, xu, x);
     for (int r = 0; r < 6; ++r) gl[r] = gu[r] = nlp->b[r];
     if (iterations) *iterations = 0;
     if (u.nf == 0) return HP_LOAD_SOLVE_OK; /* nothing to choose */
@@ -194,8 +188,6 @@ hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, 
     }
     if (a) FreeIpoptProblem(a);
     hp_ipopt_unlock();
-    if (st == HP_LOAD_SOLVE_OK)
-        for (int j = 0; j < u.nf; ++j) p[u.idx[j]] = fmin(fmax(x[j] * 1e3, nlp->L[u.idx[j]]),
-                                                          nlp->U[u.idx[j]]);
+    if (st == HP_LOAD_SOLVE_OK) hp_load_hold_answer(nlp, x, u.idx, u.nf, p);
     return st;
 }

@@ -484,3 +484,23 @@ hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6
     memcpy(P, p, (size_t)n * sizeof *P);
     return st;
 }
+
+int hp_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, double *xl,
+                      double *xu, double *x)
+{
+    int nf = 0;
+    for (int k = 0; k < nlp->n; ++k)
+        if (nlp->L[k] < nlp->U[k]) {
+            xl[nf] = nlp->L[k] * 1e-3;
+            xu[nf] = nlp->U[k] * 1e-3;
+            x[nf] = fmin(fmax(p[k] * 1e-3, xl[nf]), xu[nf]);
+            idx[nf++] = k;
+        }
+    return nf;
+}
+
+void hp_load_hold_answer(const hp_load_hold_nlp *nlp, const double *x, const int *idx, int nf,
+                         double *p)
+{
+    for (int j = 0; j < nf; ++j) p[idx[j]] = fmin(fmax(x[j] * 1e3, nlp->L[idx[j]]), nlp->U[idx[j]]);
+}

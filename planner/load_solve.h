@@ -73,6 +73,17 @@ typedef struct hp_load_hold_nlp {
     const hp_load_stiff *stiff;                   /* NULL: the distance to target */
 } hp_load_hold_nlp;
 
+/* The NLP's variables for a solver: the bladders whose bounds leave room (L < U), in kPa
+ * (the solvers' scale), started from p clamped into the bounds. Fills idx (variable j is
+ * bladder idx[j]), xl, xu, x; returns how many. Shared by the Ipopt and NLopt hold. */
+int hp_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, double *xl,
+                      double *xu, double *x);
+
+/* Writes the nf variables x (kPa) back into p (Pa) for bladders idx[], clamped into [L, U]
+ * so rounding of the scale cannot leave a bound. */
+void hp_load_hold_answer(const hp_load_hold_nlp *nlp, const double *x, const int *idx, int nf,
+                         double *p);
+
 /* Solves that NLP from p (Pa, feasible) with Ipopt; p gets the answer. */
 hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
                                         int *iterations, int *raw);

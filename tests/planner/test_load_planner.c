@@ -22,6 +22,13 @@ static void layout_with(hp_layout *L, double stretch_max)
     assert_int_equal(hp_layout_prepare(L, NULL), HP_OK);
 }
 
+/* The default layout at stretch_max carrying the default head's weight. */
+static void loaded(hp_layout *L, hp_load_spec *s, double stretch_max)
+{
+    layout_with(L, stretch_max);
+    hp_load_spec_default(&L->head, s);
+}
+
 static hp_load_planner *make_at(const hp_layout *L, const hp_load_spec *s, hp_level level)
 {
     hp_load_planner *p = NULL;
@@ -55,8 +62,7 @@ static void assert_in_bounds(const hp_load_planner *p, const hp_result *r)
  * head along −Z; settings at the surface level on the realtime backend. */
 static void supine(hp_layout *L, hp_load_spec *s, hp_settings *set)
 {
-    layout_with(L, 1.6);
-    hp_load_spec_default(&L->head, s);
+    loaded(L, s, 1.6);
     hp_settings_default(set);
     set->level = HP_LEVEL_SURFACE;
 }
@@ -84,9 +90,8 @@ static void test_reached_nominal(void **state)
 {
     (void)state;
     hp_layout L;
-    layout_with(&L, 1.6);
     hp_load_spec s;
-    hp_load_spec_default(&L.head, &s);
+    loaded(&L, &s, 1.6);
     hp_load_planner *p = make(&L, &s);
     double d[6] = {0}, Q[6], P[HP_MAX_BLADDERS];
     hp_result r;
@@ -115,9 +120,8 @@ static void test_reached_lift(void **state)
 {
     (void)state;
     hp_layout L;
-    layout_with(&L, 1.6);
     hp_load_spec s;
-    hp_load_spec_default(&L.head, &s);
+    loaded(&L, &s, 1.6);
     hp_load_planner *p = make(&L, &s);
     double d[6] = {0, 0, 10e-3, 0, 0, 0};
     hp_result r;
@@ -142,9 +146,8 @@ static void test_levels(void **state)
 {
     (void)state;
     hp_layout L;
-    layout_with(&L, 1.6);
     hp_load_spec s;
-    hp_load_spec_default(&L.head, &s);
+    loaded(&L, &s, 1.6);
     const hp_level lv[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
     const double d[6] = {1e-3, 0, -0.5e-3, 0.3 * 0.0174532925199, 0, -0.2 * 0.0174532925199};
     for (int l = 0; l < 3; ++l) {
@@ -213,9 +216,8 @@ static void test_backends_agree(void **state)
 {
     (void)state;
     hp_layout L;
-    layout_with(&L, 1.6);
     hp_load_spec s;
-    hp_load_spec_default(&L.head, &s);
+    loaded(&L, &s, 1.6);
     hp_settings set;
     hp_settings_default(&set);
     set.level = HP_LEVEL_SURFACE;
@@ -259,9 +261,8 @@ static void test_unreachable(void **state)
 {
     (void)state;
     hp_layout L;
-    layout_with(&L, 1.3);
     hp_load_spec s;
-    hp_load_spec_default(&L.head, &s);
+    loaded(&L, &s, 1.3);
     hp_load_planner *p = make(&L, &s);
     double d[6] = {0};
     hp_result r;
@@ -372,9 +373,8 @@ static void test_tiebreak_previous(void **state)
 {
     (void)state;
     hp_layout L;
-    layout_with(&L, 1.6);
     hp_load_spec s;
-    hp_load_spec_default(&L.head, &s);
+    loaded(&L, &s, 1.6);
     hp_settings set;
     hp_settings_default(&set);
     set.level = HP_LEVEL_SURFACE;
@@ -591,9 +591,8 @@ static void test_invalid_input(void **state)
 {
     (void)state;
     hp_layout L;
-    layout_with(&L, 1.6);
     hp_load_spec s;
-    hp_load_spec_default(&L.head, &s);
+    loaded(&L, &s, 1.6);
     hp_load_planner *p = make(&L, &s);
     double d[6] = {NAN, 0, 0, 0, 0, 0};
     hp_result r;
