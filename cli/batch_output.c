@@ -62,7 +62,7 @@ int batch_output_format(const char *format, const char *out, hp_trace_format *fm
 static void name_columns(batch_sink *k);
 
 int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const hp_layout *L,
-                    int times, const batch_input_id *inputs, int ninputs)
+                    int times, const cli_input *inputs, int ninputs)
 {
     memset(k, 0, sizeof *k);
     k->fmt = fmt;

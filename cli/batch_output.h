@@ -11,9 +11,6 @@
 
 #include <sys/types.h>
 
-/* An input file by identity, to refuse it as the output. */
-typedef cli_input batch_input_id;
-
 /* The metadata record written before the rows (one `# key: value` line each in CSV, one
  * object in JSON Lines), in this order. */
 typedef struct batch_meta {
@@ -45,7 +42,7 @@ int batch_output_format(const char *format, const char *out, hp_trace_format *fm
  * remove it from then on, except a signal that was ignored on entry (nohup), which stays
  * ignored. Returns 0 or an exit status after one line. */
 int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const hp_layout *L,
-                    int times, const batch_input_id *inputs, int ninputs);
+                    int times, const cli_input *inputs, int ninputs);
 
 /* Writes the metadata record and the column header. */
 void batch_sink_meta(batch_sink *k, const batch_meta *m);

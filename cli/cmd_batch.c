@@ -337,8 +337,8 @@ int cmd_batch(int argc, char **argv)
     if (rc == 0) {
         /* The trace by the identity of what was opened: standard input redirected from a
          * file protects that file too. */
-        const batch_input_id ids[2] = {{"scene", a.scene, scene_st.st_dev, scene_st.st_ino, 1},
-                                       {"trace", t.name, t.st.st_dev, t.st.st_ino, 1}};
+        const cli_input ids[2] = {{"scene", a.scene, scene_st.st_dev, scene_st.st_ino, 1},
+                                  {"trace", t.name, t.st.st_dev, t.st.st_ino, 1}};
         rc = batch_sink_open(&sink, a.out, fmt, &sc->layout, a.times, ids, 2);
     }
     if (rc == 0 && batch_engine_init(&eng, &sc->layout, &s, (int)a.jobs) != 0)

@@ -192,7 +192,7 @@ def test_every_path_gives_the_same_answer(tmp_path):
     def feed():
         with open(fifo, "w") as f:
             f.write(trace.read_text())
-    t = threading.Thread(target=feed)
+    t = threading.Thread(target=feed, daemon=True)  # a failure cannot hang on the FIFO
     t.start()
     assert run(base + [str(fifo)] + opts) == by_file
     t.join()
@@ -207,7 +207,7 @@ def test_every_path_gives_the_same_answer(tmp_path):
     rows = list(csv.DictReader(io.StringIO("\n".join(by_file))))
     p = headplan.Planner(headplan.load_scene(scene))
     assert_same_as_batch(p.run_trace(str(trace)), rows, p.bladder_names)
-    t = threading.Thread(target=feed)
+    t = threading.Thread(target=feed, daemon=True)  # a failure cannot hang on the FIFO
     t.start()
     r = headplan.Planner(headplan.load_scene(scene)).run_trace(str(fifo))
     t.join()
