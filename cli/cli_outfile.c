@@ -137,11 +137,13 @@ int cli_out_commit(cli_out *o, const char *cmd)
     const char *tmp = tmp_paths[o->slot];
     int rc = 0;
     if (o->f) {
-        rc = cli_flush_output(o->f, tmp, cmd);
+        /* One line whatever fails first, naming the file the user asked for (the temporary
+         * name is ours). */
+        rc = cli_flush_output(o->f, o->path, cmd);
         if (rc == 0 && fsync(fileno(o->f)) != 0)
-            rc = cli_fail(CLI_EXIT_IOERR, cmd, "cannot write %s: %s", tmp, strerror(errno));
-        int closed = cli_close_output(o->f, tmp, cmd);
-        if (rc == 0) rc = closed;
+            rc = cli_fail(CLI_EXIT_IOERR, cmd, "cannot write %s: %s", o->path, strerror(errno));
+        if (rc == 0) rc = cli_close_output(o->f, o->path, cmd);
+        else fclose(o->f);
         o->f = NULL;
     }
     /* The path may have changed while we wrote: check it again just before the rename. */

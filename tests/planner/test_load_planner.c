@@ -567,7 +567,10 @@ static void test_rate_limits(void **state)
     assert_in_bounds(lim, &r1);
     int up = 0;
     for (int k = 0; k < r1.n; ++k) {
-        assert_true(fabs(r1.bladders[k].pressure - prev[k]) <= 500.0 * (1 + 1e-9));
+        /* Exactly inside the rate window as the planner computes it (prev ± rate_max in
+         * double): no relative slack. */
+        assert_true(r1.bladders[k].pressure <= prev[k] + 500.0);
+        assert_true(r1.bladders[k].pressure >= prev[k] - 500.0);
         up += (r1.bladders[k].binding & HP_BIND_RATE_UP) != 0;
     }
     assert_true(up >= 1);
