@@ -45,34 +45,25 @@ for c in "${cmds[@]}"; do
 done
 
 # A file output past the file-size limit (SIGXFSZ ignored, so the write fails with EFBIG):
-# batch -o and bench's files give 74, and batch leaves neither OUT nor its temporary file.
-( ulimit -f 8; trap '' XFSZ
-  exec "$HP_BIN" batch "$S/default.yaml" --no-progress -o "$TMP/big.csv" ) 2>&1 >/dev/null | cat >"$TMP/err"
-rc=${PIPESTATUS[0]}
-expect_exit 74 "batch -o past the size limit"
-expect_stderr_has "cannot write $TMP/big.csv: File too large" "batch -o past the size limit named"
-[ ! -e "$TMP/big.csv" ] && ! ls "$TMP" | grep -q 'big.csv.partial' && ok \
-  || bad "a failed batch -o left a file"
-# horizon -o likewise.
-( ulimit -f 8; trap '' XFSZ
-  exec "$HP_BIN" horizon "$S/horizon/step.yaml" --mode greedy -o "$TMP/hbig.csv" ) 2>&1 >/dev/null | cat >"$TMP/err"
-rc=${PIPESTATUS[0]}
-expect_exit 74 "horizon -o past the size limit"
-expect_stderr_has "cannot write $TMP/hbig.csv: File too large" "horizon -o past the size limit named"
-[ "$(wc -l <"$TMP/err")" -eq 1 ] && ok || bad "horizon -o past the size limit: not one line"
-[ ! -e "$TMP/hbig.csv" ] && ! ls "$TMP" | grep -q 'hbig.csv.partial' && ok \
-  || bad "a failed horizon -o left a file"
-# fit material --plot (an SVG headplan writes itself) likewise: 74, one line naming the chart.
-( ulimit -f 1; trap '' XFSZ
-  exec "$HP_BIN" fit material "$HP_SRC/examples/calibration/material_ri.csv" --Ri-mm 27 \
-    --Ro-mm 30 --plot "$TMP/chart.svg" ) 2>&1 >/dev/null | cat >"$TMP/err"
-rc=${PIPESTATUS[0]}
-expect_exit 74 "fit --plot past the size limit"
-expect_stderr_has "cannot write $TMP/chart.svg: File too large" "fit --plot past the size limit named"
-[ "$(wc -l <"$TMP/err")" -eq 1 ] && ok || bad "fit --plot past the size limit: not one line"
-[ ! -e "$TMP/chart.svg" ] && ! ls "$TMP" | grep -q 'chart.svg.partial' && ok \
-  || bad "a failed fit --plot left a file"
+# exit 74, one line naming the file asked for, and neither it nor its temporary file left.
+# past_limit BLOCKS OUT LABEL ARGS...: runs headplan ARGS under `ulimit -f BLOCKS`.
 # (stderr goes through a pipe: the limit would cut a file holding it too)
+past_limit() {
+  local blocks=$1 out=$2 label=$3; shift 3
+  ( ulimit -f "$blocks"; trap '' XFSZ; exec "$HP_BIN" "$@" ) 2>&1 >/dev/null | cat >"$TMP/err"
+  rc=${PIPESTATUS[0]}
+  expect_exit 74 "$label past the size limit"
+  expect_stderr_has "cannot write $out: File too large" "$label past the size limit named"
+  [ "$(wc -l <"$TMP/err")" -eq 1 ] && ok || bad "$label past the size limit: not one line"
+  [ ! -e "$out" ] && ! ls "$(dirname "$out")" | grep -qF "$(basename "$out").partial" && ok \
+    || bad "a failed $label left a file"
+}
+past_limit 8 "$TMP/big.csv" "batch -o" batch "$S/default.yaml" --no-progress -o "$TMP/big.csv"
+past_limit 8 "$TMP/hbig.csv" "horizon -o" horizon "$S/horizon/step.yaml" --mode greedy \
+  -o "$TMP/hbig.csv"
+# fit material --plot: an SVG headplan writes itself.
+past_limit 1 "$TMP/chart.svg" "fit --plot" fit material \
+  "$HP_SRC/examples/calibration/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --plot "$TMP/chart.svg"
 ( ulimit -f 1; trap '' XFSZ
   exec "$BENCH_BIN" --quick --only ik --out "$TMP/bench2" --seed 7 ) 2>&1 >/dev/null | cat >"$TMP/err"
 rc=${PIPESTATUS[0]}
