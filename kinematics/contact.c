@@ -83,6 +83,13 @@ hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level
                                   const double xi[6], double *s_warm, double *rho, double *J,
                                   double *H)
 {
+    return hp_kin_contact_eval_mask(L, G, level, xi, s_warm, NULL, rho, J, H);
+}
+
+hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
+                                  const double xi[6], double *s_warm, const unsigned char *hmask,
+                                  double *rho, double *J, double *H)
+{
     if (!L || !G || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
         return HP_ERR_INVALID;
@@ -103,15 +110,22 @@ hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level
         }
         return HP_OK;
     }
+    /* The second derivatives of the rotation only when some bladder's Hessian is wanted. */
+    int any_h = 0;
+    if (H)
+        for (int k = 0; k < L->n; ++k) any_h |= !hmask || hmask[k];
     rotd rd;
-    hp_kin_rotation_derivs(xi + 3, rd.R, rd.dR, H ? rd.d2R : NULL);
+    hp_kin_rotation_derivs(xi + 3, rd.R, rd.dR, any_h ? rd.d2R : NULL);
     for (int k = 0; k < L->n; ++k) {
+        int want_h = H && (!hmask || hmask[k]);
+        if (H && !want_h)
+            for (int i = 0; i < 36; ++i) H[k * 36 + i] = 0.0;
         backmap bm;
-        back_transform(L, L->bladders[k].center, xi, &rd, H != NULL, &bm);
+        back_transform(L, L->bladders[k].center, xi, &rd, want_h, &bm);
         double f, g[3], hf[9] = {0};
         if (level == HP_LEVEL_SURFACE) {
             hp_error err = hp_kin_head_distance_warm(&G->head, bm.cp, s_warm ? &s_warm[k] : NULL,
-                                                     &f, g, H ? hf : NULL, NULL);
+                                                     &f, g, want_h ? hf : NULL, NULL);
             if (err) {
                 fill_nan(L->n, rho, J, H);
                 return err;
@@ -125,7 +139,7 @@ hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level
         if (J)
             for (int i = 0; i < 6; ++i)
                 J[k * 6 + i] = g[0] * bm.C[0][i] + g[1] * bm.C[1][i] + g[2] * bm.C[2][i];
-        if (H) {
+        if (want_h) {
             double hC[3][6]; /* ∇²f · C */
             for (int a = 0; a < 3; ++a)
                 for (int i = 0; i < 6; ++i)

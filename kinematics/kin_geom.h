@@ -36,6 +36,12 @@ hp_error hp_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
 hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level level,
                                   const double xi[6], double *s_warm, double *rho, double *J,
                                   double *H);
+/* hp_kin_contact_eval_warm computing the Hessian only of the bladders k with hmask[k] != 0
+ * (NULL: all); the other bladders' Hessians are written as 0. A solver needs the Hessian of
+ * a distance only where its multiplier is not zero. */
+hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
+                                  const double xi[6], double *s_warm, const unsigned char *hmask,
+                                  double *rho, double *J, double *H);
 hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
                                   double trans, double rot, double *bound);
 hp_error hp_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,

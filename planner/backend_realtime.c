@@ -48,6 +48,12 @@ typedef struct rt_state {
     int have_u;
     int qps; /* QPs solved in this solve (for the test hook) */
     double sw[HP_MAX_BLADDERS]; /* surface level: the last distances' multipliers (warm start) */
+    int act[HP_QP_MMAX]; /* active set of the previous SQP step's QP */
+    /* The model at the last full step's trial point, evaluated with its derivatives by the
+     * line search: when that step is accepted, the next QP is built from it without a
+     * second evaluation at the same point. */
+    double c_x[6], c_rho[HP_MAX_BLADDERS], c_J[HP_MAX_BLADDERS * 6], c_H[HP_MAX_BLADDERS * 36];
+    int c_ok, c_h;
 } rt_state;
 
 /* Test-only hook (planner/backend_testing.h), inert unless a test sets it: the contact
@@ -78,10 +84,15 @@ static double now_s(void)
 static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, double *rho,
                            double *J, double *H)
 {
+    /* Hessians only where the last QP's multiplier is not zero: no other enters the
+     * Lagrangian (build_objective), and most bladders are off their limits. */
+    unsigned char mask[HP_MAX_BLADDERS];
+    if (H)
+        for (int k = 0; k < pb->n; ++k) mask[k] = st->u[2 * k] - st->u[2 * k + 1] != 0.0;
     double xi[6], Jsi[HP_MAX_BLADDERS * 6];
     for (int i = 0; i < 6; ++i) xi[i] = x[i] * hp_pose_si_per_scaled(i);
-    hp_error e = hp_kin_contact_eval_warm(pb->layout, pb->geom, pb->level, xi, st->sw, rho,
-                                          J ? Jsi : NULL, H);
+    hp_error e = hp_kin_contact_eval_mask(pb->layout, pb->geom, pb->level, xi, st->sw,
+                                          H ? mask : NULL, rho, J ? Jsi : NULL, H);
     if (e != HP_OK) return e;
     for (int k = 0; k < pb->n; ++k) {
         rho[k] *= HP_MM_PER_M;
@@ -202,8 +213,14 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     for (int i = 0; i < 6; ++i)
         if (pb->w[i] > 0) map[nv++] = i;
     int curved = pb->level != HP_LEVEL_LINEAR && st->have_u;
-    if (rt_contact(st, pb, xk, st->rho, st->J, curved ? st->H : NULL) != HP_OK)
+    if (st->c_ok && (st->c_h || !curved) && memcmp(st->c_x, xk, sizeof st->c_x) == 0) {
+        memcpy(st->rho, st->c_rho, sizeof st->rho);
+        memcpy(st->J, st->c_J, sizeof st->J);
+        if (curved) memcpy(st->H, st->c_H, sizeof st->H);
+    } else if (rt_contact(st, pb, xk, st->rho, st->J, curved ? st->H : NULL) != HP_OK) {
         return HP_QP_BAD_INPUT;
+    }
+    st->c_ok = 0;
     rt_inject(st, pb->n, st->rho);
     memcpy(st->rho_k, st->rho, sizeof st->rho_k);
     q->n = nv;
@@ -246,8 +263,12 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
 {
     if (viol) /* every entry is written, even when a non-finite rho ends the scan */
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
-    if (rt_contact(st, pb, x, st->rho, NULL, NULL) != HP_OK) return INFINITY;
-    rt_inject(st, pb->n, st->rho);
+    if (st->c_ok && memcmp(st->c_x, x, sizeof st->c_x) == 0) /* the line search's point */
+        memcpy(st->rho, st->c_rho, sizeof st->rho);
+    else if (rt_contact(st, pb, x, st->rho, NULL, NULL) != HP_OK)
+        return INFINITY;
+    else
+        rt_inject(st, pb->n, st->rho);
     double worst = 0;
     for (int k = 0; k < pb->n; ++k) {
         if (!isfinite(st->rho[k])) return INFINITY; /* fmax would drop a NaN */
@@ -260,17 +281,37 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
 }
 
 /* The l1 merit function ½Σw(x − d)² + nu·Σ violation(x) (mm), which the SQP step decreases
- * for nu above the largest multiplier. */
+ * for nu above the largest multiplier, from the radii rho at x. */
+static double merit_of(const hp_problem *pb, const double *x, const double *rho, double nu)
+{
+    double f = 0, v = 0;
+    for (int i = 0; i < 6; ++i) f += 0.5 * pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
+    for (int k = 0; k < pb->n; ++k) {
+        if (!isfinite(rho[k])) return INFINITY;
+        v += fmax(0.0, fmax(pb->ro_lo[k] - rho[k], rho[k] - pb->ro_hi[k]));
+    }
+    return f + nu * v;
+}
+
 static double merit(rt_state *st, const hp_problem *pb, const double *x, double nu)
 {
-    double f = 0;
-    for (int i = 0; i < 6; ++i) f += 0.5 * pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
     if (rt_contact(st, pb, x, st->rho, NULL, NULL) != HP_OK) return INFINITY;
     rt_inject(st, pb->n, st->rho);
-    double v = 0;
-    for (int k = 0; k < pb->n; ++k)
-        v += fmax(0.0, fmax(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]));
-    return f + nu * v;
+    return merit_of(pb, x, st->rho, nu);
+}
+
+/* The merit at a full SQP step's point x, evaluating the model there with the derivatives
+ * the next QP needs (kept in st->c_*): near the answer every full step is accepted. */
+static double merit_full(rt_state *st, const hp_problem *pb, const double *x, double nu)
+{
+    st->c_ok = 0;
+    st->c_h = pb->level != HP_LEVEL_LINEAR;
+    if (rt_contact(st, pb, x, st->c_rho, st->c_J, st->c_h ? st->c_H : NULL) != HP_OK)
+        return INFINITY;
+    memcpy(st->c_x, x, sizeof st->c_x);
+    st->c_ok = 1;
+    rt_inject(st, pb->n, st->c_rho);
+    return merit_of(pb, x, st->c_rho, nu);
 }
 
 /* The step xk -> xn of the QP just solved at xk (still in st->qp), globalised on the l1
@@ -281,41 +322,47 @@ static double merit(rt_state *st, const hp_problem *pb, const double *x, double 
  * them on curved limits: the Maratos effect); otherwise backtracking along the step (at
  * most 30 halvings). Far from the answer a full step can overshoot the curved limits and
  * cycle; every accepted point here lowers the merit. xk becomes the accepted point. */
-static void line_search(rt_state *st, const hp_problem *pb, double *xk, const double *xn,
-                        int budget, int *iters)
+static int line_search(rt_state *st, const hp_problem *pb, double *xk, const double *xn,
+                       int budget, int *iters)
 {
     hp_qp *q = &st->qp;
     double nu = 1.0;
     for (int j = 0; j < 2 * pb->n; ++j) nu = fmax(nu, 2.0 * st->u[j]);
-    double phi0 = merit(st, pb, xk, nu), viol0 = 0, slope = 0;
+    /* rho(xk) is the QP's own linearisation point (st->rho_k): no evaluation here. */
+    double phi0 = merit_of(pb, xk, st->rho_k, nu), viol0 = 0, slope = 0;
     for (int k = 0; k < pb->n; ++k)
-        viol0 += fmax(0.0, fmax(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]));
+        viol0 += fmax(0.0, fmax(pb->ro_lo[k] - st->rho_k[k], st->rho_k[k] - pb->ro_hi[k]));
     for (int i = 0; i < 6; ++i) slope += pb->w[i] * (xk[i] - pb->d[i]) * (xn[i] - xk[i]);
     slope -= nu * viol0; /* directional derivative bound of the l1 merit along a QP step */
     slope = fmin(slope, 0.0);
-    if (merit(st, pb, xn, nu) <= phi0 + RT_ARMIJO * slope) {
+    if (merit_full(st, pb, xn, nu) <= phi0 + RT_ARMIJO * slope) {
         memcpy(xk, xn, 6 * sizeof *xk);
-        return;
+        return 1;
     }
-    /* Second-order correction: st->rho holds rho(xn), st->rho_k and st->J the values at xk
-     * the QP was built from; G, a and C are unchanged, only b moves. */
+    if (!st->c_ok) /* the model failed at xn: only backtracking can help */
+        for (int k = 0; k < pb->n; ++k) st->c_rho[k] = NAN;
+    st->c_ok = 0;
+    /* Second-order correction: st->c_rho holds rho(xn), st->rho_k and st->J the values at
+     * xk the QP was built from; G, a and C are unchanged, only b moves. */
     int map[6], nv = 0;
     for (int i = 0; i < 6; ++i)
         if (pb->w[i] > 0) map[nv++] = i;
     for (int k = 0; k < pb->n; ++k) {
-        double dk = st->rho[k] - st->rho_k[k];
+        double dk = st->c_rho[k] - st->rho_k[k];
         for (int v = 0; v < nv; ++v) dk -= st->J[k * 6 + map[v]] * (xn[map[v]] - xk[map[v]]);
         q->b[2 * k] -= dk;
         q->b[2 * k + 1] += dk;
     }
     double xt[6];
-    if (isfinite(phi0) && hp_qp_solve(q, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
+    int soc_ok = 1;
+    for (int k = 0; k < pb->n; ++k) soc_ok &= isfinite(st->c_rho[k]) != 0;
+    if (soc_ok && isfinite(phi0) && hp_qp_solve(q, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
         *iters += q->iterations;
         for (int i = 0; i < 6; ++i) xt[i] = 0.0;
         for (int v = 0; v < nv; ++v) xt[map[v]] = q->x[v];
         if (merit(st, pb, xt, nu) <= phi0 + RT_ARMIJO * slope) {
             memcpy(xk, xt, sizeof xt);
-            return;
+            return 0;
         }
     }
     double alpha = 0.5;
@@ -324,6 +371,7 @@ static void line_search(rt_state *st, const hp_problem *pb, double *xk, const do
         if (merit(st, pb, xt, nu) <= phi0 + RT_ARMIJO * alpha * slope) break;
     }
     memcpy(xk, xt, sizeof xt);
+    return 0;
 }
 
 static hp_status qp_status_map(hp_qp_status qs)
@@ -344,6 +392,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     r->iterations = 0;
     r->converged = 0;
     r->raw_code = 0;
+    r->has_rho = 0;
     for (int i = 0; i < 6; ++i) xk[i] = (pb->w[i] > 0 && x0 && isfinite(x0[i])) ? x0[i] : 0.0;
     if (pb->level == HP_LEVEL_LINEAR) for (int i = 0; i < 6; ++i) xk[i] = 0.0;
 
@@ -351,6 +400,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     double prev_step = INFINITY;
     st->have_u = 0;
     st->qps = 0;
+    st->c_ok = 0;
+    int whole_prev = 0;
     for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN; /* a cold first distance */
     hp_qp_status qs = HP_QP_OPTIMAL;
     hp_status st_out = HP_STATUS_CLOSEST;
@@ -375,16 +426,29 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         }
         /* Steps far below any clinical size (at the rounding floor of the merit) are taken
          * whole; every other one is globalised. */
-        if (step > RT_FULL_STEP) line_search(st, pb, xk, xn, st->max_iter, &iters);
+        int whole = 1;
+        if (step > RT_FULL_STEP) whole = line_search(st, pb, xk, xn, st->max_iter, &iters);
         else memcpy(xk, xn, sizeof xk);
+        int same_active = memcmp(st->act, st->qp.active, sizeof st->act) == 0;
+        memcpy(st->act, st->qp.active, sizeof st->act);
         /* Converged when the step is far below the pose tolerance, or below a tenth of it
-         * and no longer shrinking (Newton steps that stall have hit the rounding floor). */
+         * and no longer shrinking (Newton steps that stall have hit the rounding floor), or
+         * when Newton's quadratic rate predicts it: two whole steps on the same active set,
+         * the second within the tolerance and at most 1 % of the first, and the next one
+         * extrapolated as step·(step/prev)² below 1e-3 of the tolerance. That saves the
+         * last QP, which would only confirm digits far below the tolerance; should the
+         * convergence be merely linear with ratio q <= 0.01, the distance left is
+         * q/(1 − q)·step <= 0.0102·tolerance. */
+        double next = step * (step / prev_step) * (step / prev_step);
         if (step <= 1e-3 * st->tolerance ||
-            (step <= 0.1 * st->tolerance && step >= 0.5 * prev_step)) {
+            (step <= 0.1 * st->tolerance && step >= 0.5 * prev_step) ||
+            (whole && whole_prev && same_active && step <= st->tolerance &&
+             step <= 0.01 * prev_step && next <= 1e-3 * st->tolerance)) {
             r->converged = 1;
             break;
         }
         prev_step = step;
+        whole_prev = whole;
         if (sqp >= st->max_iter) { st_out = HP_STATUS_ITERATION_LIMIT; break; }
         if (now_s() - t0 > st->max_time) { st_out = HP_STATUS_TIME_LIMIT; break; }
     }
@@ -401,6 +465,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     /* Feasibility restoration (only the nonlinear levels can need it). */
     double viol[HP_MAX_BLADDERS], extra[HP_MAX_BLADDERS] = {0};
     double v = violation(st, pb, xk, viol);
+    int rho_at_xk = v == 0.0; /* st->rho holds rho(xk) until a restoration moves on */
     /* Restoration tightens finite violations; a non-finite one has nothing to tighten. */
     for (int round = 0; v > 0 && isfinite(v) && round < RT_RESTORE_ROUNDS; ++round) {
         for (int k = 0; k < pb->n; ++k) extra[k] += 2.0 * viol[k];
@@ -440,13 +505,17 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     if (!r->converged && st_out == HP_STATUS_CLOSEST && pb->level != HP_LEVEL_LINEAR)
         st_out = HP_STATUS_ITERATION_LIMIT;
     r->status = st_out;
-    /* Pose and the inner radii that keep contact with it. */
-    if (rt_contact(st, pb, xk, st->rho, NULL, NULL) != HP_OK) {
+    /* Pose and the inner radii that keep contact with it (rho(xk) is in st->rho when the
+     * answer is the point the violation was measured at). */
+    if (!(rho_at_xk && isfinite(v)) && rt_contact(st, pb, xk, st->rho, NULL, NULL) != HP_OK) {
         r->status = HP_STATUS_SOLVER_ERROR;
         return hp_diag_set(d, HP_ERR_SOLVER, "realtime: contact model failed at the answer");
     }
     rt_inject(st, pb->n, st->rho);
     for (int i = 0; i < 6; ++i) x[i] = xk[i];
+    memcpy(r->rho, st->rho, sizeof r->rho);
+    r->has_rho = 1;
+    for (int k = 0; k < pb->n; ++k) r->has_rho &= isfinite(st->rho[k]) != 0;
     for (int k = 0; k < pb->n; ++k) {
         double ri;
         if (hp_iab_ri(&pb->layout->bladders[k].iab, st->rho[k] / HP_MM_PER_M, &ri) != HP_OK)

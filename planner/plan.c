@@ -20,7 +20,9 @@ typedef struct plan_ctx {
     hp_status st;     /* the backend's status */
     int raw, iters;   /* the backend's raw code and iterations */
     double clamp_mm;  /* largest radius moved back into its limits */
-    double rho[HP_MAX_BLADDERS]; /* the direct chain's distances at the commanded part [mm] */
+    /* The distances at c->x [mm]: the direct chain's, or the backend's own (has_rho). */
+    double rho[HP_MAX_BLADDERS];
+    int has_rho;
 } plan_ctx;
 
 /* The safe output: the previous valid answer, labelled with a failure status (the message
@@ -141,7 +143,7 @@ static int direct_chain(hp_planner *p, double rho[HP_MAX_BLADDERS])
  * Returns 1 with c->x set, or 0 with res labelled (the backend failed: safe output). */
 static int solve(hp_planner *p, hp_result *res, plan_ctx *c)
 {
-    hp_backend_result br = {HP_STATUS_SOLVER_ERROR, 0, 0, 0};
+    hp_backend_result br = {.status = HP_STATUS_SOLVER_ERROR};
     const double *x0 = p->x_prev;
     double xcold[HP_PROBLEM_NX_MAX];
     if (!p->s.warm_start) {
@@ -172,11 +174,16 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c)
         fail_safe(p, res, fs, c);
         return 0;
     }
+    double x_backend[6];
+    memcpy(x_backend, p->x_work, sizeof x_backend);
     for (int i = 0; i < 6; ++i)
         if (!p->commanded[i]) p->x_work[i] = 0.0;
     c->x = p->x_work;
     c->converged = br.converged;
     c->st = br.status;
+    c->has_rho = br.has_rho;
+    for (int i = 0; i < 6; ++i) c->has_rho &= p->commanded[i] || x_backend[i] == 0.0;
+    if (c->has_rho) memcpy(c->rho, br.rho, sizeof c->rho);
     return 1;
 }
 
@@ -185,8 +192,10 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c)
  * forward contact kinematics (not real time). Returns 1, or 0 with res labelled. */
 static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
 {
-    /* The direct chain's answer is the pose it just evaluated: no second evaluation. */
-    if (!hp_plan_answer_from_pose(p, c->x, c->direct ? c->rho : NULL, r, &c->clamp_mm)) {
+    /* The direct chain's answer is the pose it just evaluated, and a backend may hand back
+     * its distances at its answer: no second evaluation. */
+    if (!hp_plan_answer_from_pose(p, c->x, c->direct || c->has_rho ? c->rho : NULL, r,
+                                  &c->clamp_mm)) {
         hp_text_set(p->err, "the answer was not finite or left a limit: holding the previous "
                             "pressures");
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);

@@ -58,6 +58,10 @@ typedef struct hp_backend_result {
     int raw_code;
     int iterations;
     int converged;      /* 1 when the backend reports a (locally) optimal point */
+    /* 1 when rho holds the contact distances [mm] at the returned pose, evaluated by the
+     * backend at exactly that pose: the core then need not evaluate them again. */
+    int has_rho;
+    double rho[HP_MAX_BLADDERS];
 } hp_backend_result;
 
 /* What a backend is, so the core asks for a property instead of testing the enum. */
