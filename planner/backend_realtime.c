@@ -107,6 +107,28 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
     return HP_OK;
 }
 
+/* The margin (mm) by which the QP moves bladder k's limits inward. */
+static double rt_margin(const hp_problem *pb, int k)
+{
+    return fmin(RT_MARGIN_MM, 0.25 * (pb->ro_hi[k] - pb->ro_lo[k]));
+}
+
+/* Violation (mm, summed) of the limits the QP sees: moved inward by the margin. The merit
+ * must measure the same constraints as the QP: against the true limits, the step that
+ * moves an active radius the last 1e-11 mm into its margin only costs objective, and near
+ * a flat direction of the reduced Hessian that step can be 1e-6 mm long and rejected again
+ * and again (a warm-started trace stalled to its iteration limit so). */
+static double qp_violation(const hp_problem *pb, const double *rho)
+{
+    double v = 0;
+    for (int k = 0; k < pb->n; ++k) {
+        if (!isfinite(rho[k])) return INFINITY;
+        double mg = rt_margin(pb, k);
+        v += fmax(0.0, fmax(pb->ro_lo[k] + mg - rho[k], rho[k] - (pb->ro_hi[k] - mg)));
+    }
+    return v;
+}
+
 static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings *s,
                           hp_diag *d)
 {
@@ -226,8 +248,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     q->n = nv;
     q->m = 2 * pb->n;
     for (int k = 0; k < pb->n; ++k) {
-        double span = pb->ro_hi[k] - pb->ro_lo[k];
-        double mg = fmin(RT_MARGIN_MM, 0.25 * span) + (extra ? extra[k] : 0.0);
+        double mg = rt_margin(pb, k) + (extra ? extra[k] : 0.0);
         double base = st->rho[k]; /* rho(xk) − J·xk: the linearisation's constant */
         for (int v = 0; v < nv; ++v) {
             double jv = st->J[k * 6 + map[v]];
@@ -284,13 +305,9 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
  * for nu above the largest multiplier, from the radii rho at x. */
 static double merit_of(const hp_problem *pb, const double *x, const double *rho, double nu)
 {
-    double f = 0, v = 0;
+    double f = 0;
     for (int i = 0; i < 6; ++i) f += 0.5 * pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
-    for (int k = 0; k < pb->n; ++k) {
-        if (!isfinite(rho[k])) return INFINITY;
-        v += fmax(0.0, fmax(pb->ro_lo[k] - rho[k], rho[k] - pb->ro_hi[k]));
-    }
-    return f + nu * v;
+    return f + nu * qp_violation(pb, rho);
 }
 
 static double merit(rt_state *st, const hp_problem *pb, const double *x, double nu)
@@ -329,9 +346,7 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     double nu = 1.0;
     for (int j = 0; j < 2 * pb->n; ++j) nu = fmax(nu, 2.0 * st->u[j]);
     /* rho(xk) is the QP's own linearisation point (st->rho_k): no evaluation here. */
-    double phi0 = merit_of(pb, xk, st->rho_k, nu), viol0 = 0, slope = 0;
-    for (int k = 0; k < pb->n; ++k)
-        viol0 += fmax(0.0, fmax(pb->ro_lo[k] - st->rho_k[k], st->rho_k[k] - pb->ro_hi[k]));
+    double phi0 = merit_of(pb, xk, st->rho_k, nu), viol0 = qp_violation(pb, st->rho_k), slope = 0;
     for (int i = 0; i < 6; ++i) slope += pb->w[i] * (xk[i] - pb->d[i]) * (xn[i] - xk[i]);
     slope -= nu * viol0; /* directional derivative bound of the l1 merit along a QP step */
     slope = fmin(slope, 0.0);

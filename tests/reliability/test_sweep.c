@@ -2,7 +2,8 @@
  * and seeded randomly generated layouts (ellipsoid and sphere heads, off-centre heads and
  * pivots, soft neo-Hookean bladders with their stretch limit just below the inflation limit
  * point, rate limits), at corrections up to 100 mm and 90 degrees inside the identifiable
- * range, at the plane and surface levels, cold plans:
+ * range, at the plane and surface levels, cold plans and (test_warm_traces) warm-started
+ * traces, the control stack's path:
  *   - the realtime backend never stops at its iteration (or time) limit;
  *   - wherever Ipopt answers (REACHED or CLOSEST) the realtime backend returns the same
  *     status, the same achieved pose to SW_POSE_TOL and the same pressures to SW_P_TOL, or
@@ -30,10 +31,14 @@
 #define SW_LAYOUTS 4
 #define SW_TARGETS 9
 #define SW_SCENE_TARGETS 6
+#define SW_TRACE_LAYOUTS 3
+#define SW_TRACE_ROWS 16
 #else
 #define SW_LAYOUTS 40
 #define SW_TARGETS 30
 #define SW_SCENE_TARGETS 30
+#define SW_TRACE_LAYOUTS 16
+#define SW_TRACE_ROWS 48
 #endif
 #endif
 #define SW_SEED 0x16a2026u
@@ -179,16 +184,12 @@ static double sw_dist(const hp_result *r)
     return sqrt(s);
 }
 
-/* Plans one target with both planners (cold) and tallies; prints every stop or
+/* Tallies the realtime answer a against Ipopt's b for target xi; prints every stop or
  * disagreement. */
-static void sw_compare(hp_planner *rt, hp_planner *ip, const hp_layout *L, const char *what,
-                       const double xi[6], sw_tally *t)
+static void sw_tally_pair(const hp_result *pa, const hp_result *pb, const hp_layout *L,
+                          const char *what, const double xi[6], sw_tally *t)
 {
-    hp_result a, b;
-    hp_planner_reset(rt);
-    hp_planner_reset(ip);
-    assert_int_equal(hp_plan(rt, xi, &a), HP_OK);
-    assert_int_equal(hp_plan(ip, xi, &b), HP_OK);
+    const hp_result a = *pa, b = *pb;
     t->plans++;
     char d[160];
     fmt(d, sizeof d, xi);
@@ -232,6 +233,18 @@ static void sw_compare(hp_planner *rt, hp_planner *ip, const hp_layout *L, const
                       what, hp_level_name(a.level), hp_status_name(a.status),
                       hp_status_name(b.status), dp, dP, d, sw_dist(&a), sw_dist(&b));
     }
+}
+
+/* Plans one target with both planners (cold) and tallies. */
+static void sw_compare(hp_planner *rt, hp_planner *ip, const hp_layout *L, const char *what,
+                       const double xi[6], sw_tally *t)
+{
+    hp_result a, b;
+    hp_planner_reset(rt);
+    hp_planner_reset(ip);
+    assert_int_equal(hp_plan(rt, xi, &a), HP_OK);
+    assert_int_equal(hp_plan(ip, xi, &b), HP_OK);
+    sw_tally_pair(&a, &b, L, what, xi, t);
 }
 
 static void sw_report(const char *name, const sw_tally *t)
@@ -294,6 +307,120 @@ static void test_generated_layouts(void **st)
     sw_assert(&t[1]);
 }
 
+/* A realtime planner that starts each plan from the previous answer (warm_start = 1), and
+ * its nominal pressures in prev (a trace's first previous pressures). */
+static hp_planner *sw_warm_planner(const hp_layout *L, hp_level level, double *prev)
+{
+    hp_settings st;
+    hp_settings_default(&st);
+    st.level = level;
+    st.warm_start = 1;
+    st.max_time = 60.0;
+    hp_planner *rt = NULL;
+    hp_diag d = {{0}};
+    assert_int_equal(hp_planner_create(L, &st, &rt, &d), HP_OK);
+    assert_int_equal(hp_planner_nominal_pressures(rt, prev), HP_OK);
+    return rt;
+}
+
+/* A trace as a tracker reports it, planned warm (each plan starts from the previous answer,
+ * warm_start = 1, rate limits from the previous pressures): the correction goes smoothly out
+ * to a target of the issue's or the wide band and back, xi(j) = target·(1 − cos 2πj/T)/2,
+ * so it crosses from reachable into binding and back. Each row's Ipopt reference starts
+ * cold from the same previous pressures (hp_planner_set_previous), so both solve the same
+ * program from different starts. */
+static void trace_layout(const hp_layout *L, const char *what, uint64_t *s, sw_tally *t)
+{
+    hp_identifiable id;
+    assert_int_equal(hp_layout_identify(L, &id), HP_OK);
+    double target[6];
+    sw_target(s, (int)(sw_next(s) % 2), &id, target);
+    for (int l = 0; l < 2; ++l) {
+        double prev[HP_MAX_BLADDERS];
+        hp_planner *rt = sw_warm_planner(L, sw_levels[l], prev);
+        hp_planner *ip = sw_planner(L, HP_BACKEND_IPOPT, sw_levels[l]);
+        for (int j = 0; j < SW_TRACE_ROWS; ++j) {
+            double xi[6], f = 0.5 * (1.0 - cos(2.0 * PI * j / SW_TRACE_ROWS));
+            for (int i = 0; i < 6; ++i) xi[i] = f * target[i];
+            hp_result a, b;
+            assert_int_equal(hp_planner_set_previous(ip, prev), HP_OK);
+            assert_int_equal(hp_plan(rt, xi, &a), HP_OK);
+            assert_int_equal(hp_plan(ip, xi, &b), HP_OK);
+            sw_tally_pair(&a, &b, L, what, xi, &t[l]);
+            for (int k = 0; k < L->n; ++k) prev[k] = a.bladders[k].pressure;
+        }
+        hp_planner_destroy(rt);
+        hp_planner_destroy(ip);
+    }
+}
+
+/* A fine trace on the default scene, as a 10 Hz tracker reports a slow drift: 2000 rows,
+ * xi(j) = 3·(1 + sin(j/400))·u (mm and deg/4, fixed direction u), so successive answers are
+ * micrometres apart and the warm start sits almost on the next answer. Every row is planned
+ * warm; every 40th is compared with Ipopt (from the same previous pressures), and no row may
+ * stop at the iteration or time limit: rows 623-637 once did, the merit line search
+ * rejecting a 1.5e-6 mm step again and again. */
+static void fine_trace(const hp_layout *L, sw_tally *t)
+{
+    static const double u[6] = {1, 0.6, -0.75, 0.25 * PI / 180 * 1e3, 0.1 * PI / 180 * 1e3,
+                                -0.15 * PI / 180 * 1e3};
+    for (int l = 0; l < 2; ++l) {
+        double prev[HP_MAX_BLADDERS];
+        hp_planner *rt = sw_warm_planner(L, sw_levels[l], prev);
+        hp_planner *ip = sw_planner(L, HP_BACKEND_IPOPT, sw_levels[l]);
+        for (int j = 0; j < 2000; ++j) {
+            double xi[6], f = 3e-3 * (1.0 + sin(j / 400.0));
+            for (int i = 0; i < 6; ++i) xi[i] = f * u[i];
+            hp_result a, b;
+            assert_int_equal(hp_plan(rt, xi, &a), HP_OK);
+            if (j % 40 == 0) {
+                assert_int_equal(hp_planner_set_previous(ip, prev), HP_OK);
+                assert_int_equal(hp_plan(ip, xi, &b), HP_OK);
+                sw_tally_pair(&a, &b, L, "fine trace on default.yaml", xi, &t[l]);
+            } else if (a.status == HP_STATUS_ITERATION_LIMIT ||
+                       a.status == HP_STATUS_TIME_LIMIT) {
+                t[l].plans++;
+                if (a.status == HP_STATUS_ITERATION_LIMIT) t[l].iter_limit++;
+                else t[l].time_limit++;
+                print_message("STOP fine trace on default.yaml %s: row %d %s\n",
+                              hp_level_name(a.level), j, hp_status_name(a.status));
+            }
+            for (int k = 0; k < L->n; ++k) prev[k] = a.bladders[k].pressure;
+        }
+        hp_planner_destroy(rt);
+        hp_planner_destroy(ip);
+    }
+}
+
+static void test_warm_traces(void **st)
+{
+    (void)st;
+    uint64_t s = SW_SEED ^ 0x7ace5u;
+    sw_tally t[2] = {{0}, {0}};
+    for (int i = 0; i < SW_TRACE_LAYOUTS; ++i) {
+        hp_layout L;
+        char kind[64], what[96];
+        if (sw_layout(&s, &L, kind, sizeof kind) != HP_OK) continue;
+        snprintf(what, sizeof what, "trace on layout %d (%s)", i, kind);
+        trace_layout(&L, what, &s, t);
+    }
+    /* The default scene: coarse traces, and the fine one where a warm-started plan once
+     * stalled at its iteration limit (fine_trace). */
+    char path[1024];
+    snprintf(path, sizeof path, "%s/scenarios/default.yaml", HP_SOURCE_DIR);
+    hp_scene *sc = calloc(1, sizeof *sc);
+    assert_non_null(sc);
+    hp_diag d = {{0}};
+    assert_int_equal(hp_scene_load(path, sc, &d), HP_OK);
+    for (int i = 0; i < 4; ++i) trace_layout(&sc->layout, "trace on default.yaml", &s, t);
+    fine_trace(&sc->layout, t);
+    free(sc);
+    sw_report("warm traces, plane", &t[0]);
+    sw_report("warm traces, surface", &t[1]);
+    sw_assert(&t[0]);
+    sw_assert(&t[1]);
+}
+
 static void test_catalogue(void **st)
 {
     (void)st;
@@ -328,6 +455,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_catalogue),
         cmocka_unit_test(test_generated_layouts),
+        cmocka_unit_test(test_warm_traces),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
