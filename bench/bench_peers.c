@@ -322,7 +322,7 @@ int bench_peers(const bench_options *o, bench_table *t)
         }
         accuracy(p, L, (const double(*)[6])tg, n,
                  (const double(*)[6])(m->l == HP_LEVEL_LINEAR ? ref_lin : ref_sur), row);
-        bench_plan_ctx c = {p, (const double(*)[6])tg, n, perm, 0};
+        bench_plan_ctx c = {p, (const double(*)[6])tg, n, perm, 0, 0};
         bench_timing tm;
         if (bench_time(o, bench_plan_batch, &c, &tm) != 0) rc = CLI_EXIT_SOFTWARE;
         hp_planner_destroy(p);

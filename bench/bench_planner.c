@@ -14,7 +14,10 @@
  * that pose and the pose the method claimed (result.achieved): what its fidelity level
  * costs. max_violation is the worst pressure or stretch limit violation as a fraction of
  * the limit's span (the planner promises 0). Every plan is cold: hp_planner_reset before
- * each, warm start off, so the order of the targets does not matter. */
+ * each, warm start off, so the order of the targets does not matter; except on the
+ * "trace" rows: the realtime backend at each level with warm start on, walking a drift
+ * (N_TRACE rows, in order, no reset) from the nominal pose out to a correction where
+ * limits bind and back, as the control loop plans it. */
 #include "cli/cli_args.h"
 #include "bench/bench.h"
 #include "bench/bench_settings.h"
@@ -33,7 +36,11 @@
 #define N_BIND_FULL 40
 #define N_BIND_QUICK 4
 #define N_REACH 40
-#define N_TARGETS_MAX (N_BIND_FULL + N_REACH)
+/* The trace: xi(j) = (1 − cos 2πj/N)/2 · TRACE_PEAK (mm, deg), N_TRACE rows (a 40 s
+ * cycle at 10 Hz; successive rows at most 0.05 mm / 0.01 deg apart). */
+#define N_TRACE 400
+#define N_TRACE_QUICK 40
+#define N_TARGETS_MAX (N_BIND_FULL + N_REACH + N_TRACE)
 #define REF_TOLERANCE 1e-10
 #define TARGET_SEED 20261123u
 
@@ -51,11 +58,13 @@ typedef struct {
     hp_backend backend; /* HP_BACKEND_COUNT_: the fast path (realtime on reachable targets) */
     hp_level level;
     double tol;
+    int trace; /* 1: the warm trace */
 } plan_method;
 
-static int create(const hp_layout *L, hp_backend b, hp_level level, double tol, hp_planner **p)
+static int create(const hp_layout *L, hp_backend b, hp_level level, double tol, int warm,
+                  hp_planner **p)
 {
-    hp_settings s = bench_settings(b, level, tol, 0);
+    hp_settings s = bench_settings(b, level, tol, warm);
     hp_diag d;
     if (hp_planner_create(L, &s, p, &d) != HP_OK) {
         cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s",
@@ -69,7 +78,7 @@ static int create(const hp_layout *L, hp_backend b, hp_level level, double tol, 
 static int reference(const hp_layout *L, const double (*t)[6], long n, double (*ref)[6])
 {
     hp_planner *p;
-    int rc = create(L, HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, REF_TOLERANCE, &p);
+    int rc = create(L, HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, REF_TOLERANCE, 0, &p);
     for (long k = 0; k < n && rc == 0; ++k) {
         hp_result r;
         hp_planner_reset(p);
@@ -86,7 +95,7 @@ static int reference(const hp_layout *L, const double (*t)[6], long n, double (*
 }
 
 static void measure_accuracy(hp_planner *p, const hp_layout *L, const double (*t)[6],
-                             const double (*ref)[6], long n, bench_row *row,
+                             const double (*ref)[6], long n, int warm, bench_row *row,
                              double *model_error)
 {
     double worst = -1, model = 0, viol = 0;
@@ -96,7 +105,7 @@ static void measure_accuracy(hp_planner *p, const hp_layout *L, const double (*t
     for (long k = 0; k < n; ++k) {
         hp_result r;
         double xi[6];
-        hp_planner_reset(p);
+        if (!warm || k == 0) hp_planner_reset(p);
         hp_error pe = hp_plan(p, t[k], &r);
         if (pe != HP_OK || (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
             bench_round_trip(L, HP_LEVEL_SURFACE, &r, xi, NULL) != HP_OK) {
@@ -146,6 +155,14 @@ int bench_planner(const bench_options *o, bench_table *t)
     uint64_t s = TARGET_SEED;
     make_targets(targets, N_BIND_FULL, 6.0, 4.0, &s);
     make_targets(targets + N_BIND_FULL, N_REACH, 0.5, 0.3, &s);
+    long n_trace = o->quick ? N_TRACE_QUICK : N_TRACE;
+    double (*trace)[6] = targets + N_BIND_FULL + N_REACH;
+    static const double peak[6] = {6.0, 3.6, -4.5, 1.5, 0.6, -0.9}; /* mm, deg */
+    for (long j = 0; j < n_trace; ++j) {
+        double f = 0.5 * (1.0 - cos(2.0 * BENCH_PI * (double)j / (double)n_trace));
+        for (int i = 0; i < 6; ++i)
+            trace[j][i] = f * peak[i] * (i < 3 ? 1e-3 : BENCH_PI / 180.0);
+    }
     bench_shuffle(perm_bind, n_bind, o->seed);
     bench_shuffle(perm_reach, n_reach, o->seed);
 
@@ -154,28 +171,36 @@ int bench_planner(const bench_options *o, bench_table *t)
     int rc = reference(L, (const double(*)[6])targets, n_bind, ref);
     if (rc == 0)
         rc = reference(L, (const double(*)[6])targets + N_BIND_FULL, n_reach, ref + N_BIND_FULL);
+    if (rc == 0)
+        rc = reference(L, (const double(*)[6])trace, n_trace, ref + N_BIND_FULL + N_REACH);
     if (rc) return rc;
 
     plan_method ms[64];
     int nm = 0;
     static const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
     static const double tols[] = {1e-4, 1e-9};
-    for (int l = 0; l < 3; ++l) ms[nm++] = (plan_method){HP_BACKEND_COUNT_, levels[l], 1e-9};
+    for (int l = 0; l < 3; ++l) ms[nm++] = (plan_method){HP_BACKEND_COUNT_, levels[l], 1e-9, 0};
+    for (int l = 0; l < 3; ++l) ms[nm++] = (plan_method){HP_BACKEND_REALTIME, levels[l], 1e-9, 1};
     for (int b = 0; b < HP_BACKEND_COUNT_; ++b)
         for (int l = 0; l < 3; ++l)
-            for (int k = 0; k < 2; ++k) ms[nm++] = (plan_method){(hp_backend)b, levels[l], tols[k]};
+            for (int k = 0; k < 2; ++k) ms[nm++] = (plan_method){(hp_backend)b, levels[l], tols[k], 0};
 
     for (int i = 0; i < nm && rc == 0; ++i) {
         const plan_method *m = &ms[i];
-        int fast = m->backend == HP_BACKEND_COUNT_;
+        int fast = m->backend == HP_BACKEND_COUNT_, tr = m->trace;
         bench_row *row = bench_table_add(t);
         if (!row) {
             cli_fail(0, "bench", "out of memory");
             return CLI_EXIT_SOFTWARE;
         }
         snprintf(row->family, sizeof row->family, "planner");
-        snprintf(row->input_set, sizeof row->input_set, "%s", fast ? "reachable" : "binding");
-        if (fast) {
+        snprintf(row->input_set, sizeof row->input_set, "%s",
+                 fast ? "reachable" : tr ? "trace" : "binding");
+        if (tr) {
+            snprintf(row->method, sizeof row->method, "trace-realtime-%s", hp_level_name(m->level));
+            snprintf(row->variant, sizeof row->variant, "warm-trace");
+            snprintf(row->parameter, sizeof row->parameter, "%s", hp_level_name(m->level));
+        } else if (fast) {
             snprintf(row->method, sizeof row->method, "fastpath-%s", hp_level_name(m->level));
             snprintf(row->variant, sizeof row->variant, "fast-path");
             snprintf(row->parameter, sizeof row->parameter, "%s", hp_level_name(m->level));
@@ -188,13 +213,13 @@ int bench_planner(const bench_options *o, bench_table *t)
         }
         fprintf(stderr, "bench planner: [%2d/%d] %-24s", i + 1, nm, row->method);
         hp_planner *p;
-        if ((rc = create(L, fast ? HP_BACKEND_REALTIME : m->backend, m->level, m->tol, &p)))
+        if ((rc = create(L, fast ? HP_BACKEND_REALTIME : m->backend, m->level, m->tol, tr, &p)))
             break;
-        const double(*tg)[6] = (const double(*)[6])targets + (fast ? N_BIND_FULL : 0);
-        long n = fast ? n_reach : n_bind;
-        measure_accuracy(p, L, tg, (const double(*)[6])ref + (fast ? N_BIND_FULL : 0), n, row,
-                         &row->model_error);
-        bench_plan_ctx c = {p, tg, n, fast ? perm_reach : perm_bind, 0};
+        long off = fast ? N_BIND_FULL : tr ? N_BIND_FULL + N_REACH : 0;
+        const double(*tg)[6] = (const double(*)[6])targets + off;
+        long n = fast ? n_reach : tr ? n_trace : n_bind;
+        measure_accuracy(p, L, tg, (const double(*)[6])ref + off, n, tr, row, &row->model_error);
+        bench_plan_ctx c = {p, tg, n, fast ? perm_reach : tr ? NULL : perm_bind, 0, tr};
         bench_timing tm;
         if (bench_time(o, bench_plan_batch, &c, &tm) != 0) rc = CLI_EXIT_SOFTWARE;
         hp_planner_destroy(p);

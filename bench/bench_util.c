@@ -165,8 +165,8 @@ void bench_plan_batch(void *vctx, long first, long count)
     long pos = first % c->n;
     hp_result r;
     for (long j = 0; j < count; ++j) {
-        hp_planner_reset(c->p);
-        if (hp_plan(c->p, c->targets[c->perm[pos]], &r) == HP_OK)
+        if (!c->warm) hp_planner_reset(c->p);
+        if (hp_plan(c->p, c->targets[c->perm ? c->perm[pos] : pos], &r) == HP_OK)
             c->sink += r.bladders[0].pressure;
         if (++pos == c->n) pos = 0;
     }

@@ -59,8 +59,9 @@ typedef struct bench_plan_ctx {
     hp_planner *p;
     const double (*targets)[6];
     long n;
-    const long *perm;
+    const long *perm; /* order of the targets; NULL: in order */
     double sink; /* keeps the compiler from dropping the plans */
+    int warm;    /* 1: a trace, each plan continuing from the previous answer (no reset) */
 } bench_plan_ctx;
 void bench_plan_batch(void *ctx, long first, long count);
 

@@ -54,6 +54,10 @@ typedef struct rt_state {
      * second evaluation at the same point. */
     double c_x[6], c_rho[HP_MAX_BLADDERS], c_J[HP_MAX_BLADDERS * 6], c_H[HP_MAX_BLADDERS * 36];
     int c_ok, c_h;
+    /* The model at the nominal pose, where every cold solve builds its first QP: once, at
+     * create (the layout's geometry and level do not change after). */
+    double z_rho[HP_MAX_BLADDERS], z_J[HP_MAX_BLADDERS * 6], z_sw[HP_MAX_BLADDERS];
+    int z_ok;
 } rt_state;
 
 /* Test-only hook (planner/backend_testing.h), inert unless a test sets it: the contact
@@ -132,12 +136,15 @@ static double qp_violation(const hp_problem *pb, const double *rho)
 static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings *s,
                           hp_diag *d)
 {
-    (void)pb;
     rt_state *st = calloc(1, sizeof *st);
     if (!st) return hp_diag_set(d, HP_ERR_NOMEM, "realtime backend: out of memory");
     st->max_iter = s->max_iter;
     st->max_time = s->max_time;
     st->tolerance = s->tolerance;
+    const double zero[6] = {0};
+    for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN;
+    st->z_ok = rt_contact(st, pb, zero, st->z_rho, st->z_J, NULL) == HP_OK;
+    memcpy(st->z_sw, st->sw, sizeof st->z_sw);
     *state = st;
     return HP_OK;
 }
@@ -235,10 +242,16 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     for (int i = 0; i < 6; ++i)
         if (pb->w[i] > 0) map[nv++] = i;
     int curved = pb->level != HP_LEVEL_LINEAR && st->have_u;
+    int at_zero = !curved && st->z_ok;
+    for (int i = 0; i < 6; ++i) at_zero &= xk[i] == 0.0;
     if (st->c_ok && (st->c_h || !curved) && memcmp(st->c_x, xk, sizeof st->c_x) == 0) {
         memcpy(st->rho, st->c_rho, sizeof st->rho);
         memcpy(st->J, st->c_J, sizeof st->J);
         if (curved) memcpy(st->H, st->c_H, sizeof st->H);
+    } else if (at_zero) {
+        memcpy(st->rho, st->z_rho, sizeof st->rho);
+        memcpy(st->J, st->z_J, sizeof st->J);
+        memcpy(st->sw, st->z_sw, sizeof st->sw);
     } else if (rt_contact(st, pb, xk, st->rho, st->J, curved ? st->H : NULL) != HP_OK) {
         return HP_QP_BAD_INPUT;
     }
@@ -450,15 +463,17 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
          * and no longer shrinking (Newton steps that stall have hit the rounding floor), or
          * when Newton's quadratic rate predicts it: two whole steps on the same active set,
          * the second within the tolerance and at most 1 % of the first, and the next one
-         * extrapolated as step·(step/prev)² below 1e-3 of the tolerance. That saves the
-         * last QP, which would only confirm digits far below the tolerance; should the
+         * extrapolated as step·(step/prev)² below 1e-3 of the tolerance and a tenth of the
+         * margin (what the step leaves of the curved limits' violation is of that order: the
+         * answer stays inside them). That saves the last QP, which would only confirm digits
+         * far below the tolerance; should the
          * convergence be merely linear with ratio q <= 0.01, the distance left is
          * q/(1 − q)·step <= 0.0102·tolerance. */
         double next = step * (step / prev_step) * (step / prev_step);
         if (step <= 1e-3 * st->tolerance ||
             (step <= 0.1 * st->tolerance && step >= 0.5 * prev_step) ||
             (whole && whole_prev && same_active && step <= st->tolerance &&
-             step <= 0.01 * prev_step && next <= 1e-3 * st->tolerance)) {
+             step <= 0.01 * prev_step && next <= fmin(1e-3 * st->tolerance, 0.1 * RT_MARGIN_MM))) {
             r->converged = 1;
             break;
         }

@@ -64,12 +64,17 @@ png="$OUT/ik_pareto.png"; svg="$OUT/ik_pareto.svg"
 [ -s "$OUT/ik_pareto.gp" ] && ok || bad "ik_pareto.gp kept"
 [ -z "$(ls "$OUT" | grep '\.tmp$')" ] && ok || bad "temporary files left behind"
 
-# The planner family (quick: 4 targets per group): a row per method, the baseline's ratio 1,
+# The planner family (quick: 4 targets per group, a 40-row trace): a row per method, the baseline's ratio 1,
 # and no returned pressure or stretch outside its limits (the planner's promise: 0 exactly).
 run --quick --only planner --out "$OUT" --scene "$HP_SRC/scenarios/default.yaml"
 expect_exit 0 "bench --only planner"
 csv="$OUT/planner.csv"
-[ "$(($(wc -l <"$csv") - 1))" -eq 27 ] && ok || bad "planner: 27 rows"
+[ "$(($(wc -l <"$csv") - 1))" -eq 30 ] && ok || bad "planner: 30 rows"
+# The warm-trace rows walk the trace in order: every row answered, none failed.
+for lv in linear plane surface; do
+  [ "$(field trace-realtime-$lv input_set)" = trace ] && [ "$(field trace-realtime-$lv failures)" = 0 ] \
+    && ok || bad "planner: trace-realtime-$lv row"
+done
 [ "$(field ipopt-surface-1e-09 ratio_to_baseline)" = "1" ] && ok || bad "planner baseline ratio"
 viol=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
   $c["max_violation"] != 0 { print $1 "=" $c["max_violation"] }' "$csv")
