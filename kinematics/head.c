@@ -138,9 +138,10 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
         for (int it = 0; it < 200; ++it) {
             double Q = 0.0, dQ = 0.0;
             for (int i = 0; i < 3; ++i) {
-                double q = rz[i] / (r[i] + s);
+                double inv = 1.0 / (r[i] + s); /* one division a term, not two */
+                double q = rz[i] * inv;
                 Q += q * q;
-                dQ -= 2.0 * q * q / (r[i] + s);
+                dQ -= 2.0 * q * q * inv;
             }
             if (Q == 1.0) break;
             if (Q > 1.0) lo = s; else hi = s;

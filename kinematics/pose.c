@@ -73,13 +73,6 @@ static void mul3(const double A[9], const double B[9], double C[9])
     memcpy(C, T, sizeof T);
 }
 
-/* Product Z·Y·X with the factor of each angle at the given derivative order. */
-static void product(const double F[3][3][9], const int order[3], double P[9])
-{
-    mul3(F[2][order[2]], F[1][order[1]], P);
-    mul3(P, F[0][order[0]], P);
-}
-
 void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
                             double d2R[3][3][9])
 {
@@ -89,22 +82,25 @@ void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
         double sn = sin(th[k]), cs = cos(th[k]);
         for (int o = 0; o <= maxord; ++o) elementary(k, sn, cs, o, F[k][o]);
     }
-    int ord[3] = {0, 0, 0};
-    product((const double(*)[3][9])F, ord, R);
+    /* Every factor is (Z·Y)·X with the orders of yaw, roll and pitch; the products Z·Y are
+     * shared (ZY[oz][oy], oz + oy <= 2): 16 matrix products instead of 20, same rounding. */
+    double ZY[3][3][9];
+    for (int oz = 0; oz <= maxord; ++oz)
+        for (int oy = 0; oy + oz <= maxord; ++oy) mul3(F[2][oz], F[1][oy], ZY[oz][oy]);
+    mul3(ZY[0][0], F[0][0], R);
     if (dR) {
-        for (int j = 0; j < 3; ++j) {
-            ord[0] = ord[1] = ord[2] = 0;
-            ord[j] = 1;
-            product((const double(*)[3][9])F, ord, dR[j]);
-        }
+        mul3(ZY[0][0], F[0][1], dR[0]);
+        mul3(ZY[0][1], F[0][0], dR[1]);
+        mul3(ZY[1][0], F[0][0], dR[2]);
     }
     if (d2R) {
+        int ord[3];
         for (int j = 0; j < 3; ++j)
             for (int k = j; k < 3; ++k) {
                 ord[0] = ord[1] = ord[2] = 0;
                 ord[j] += 1;
                 ord[k] += 1;
-                product((const double(*)[3][9])F, ord, d2R[j][k]);
+                mul3(ZY[ord[2]][ord[1]], F[0][ord[0]], d2R[j][k]);
                 if (k != j) memcpy(d2R[k][j], d2R[j][k], sizeof d2R[j][k]);
             }
     }

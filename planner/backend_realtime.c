@@ -104,7 +104,7 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
         if (J)
             for (int i = 0; i < 6; ++i)
                 J[k * 6 + i] = Jsi[k * 6 + i] * HP_MM_PER_M * hp_pose_si_per_scaled(i);
-        if (H)
+        if (H && mask[k]) /* the others are exact zeros */
             for (int i = 0; i < 36; ++i)
                 if (!isfinite(H[k * 36 + i])) return HP_ERR_DOMAIN;
     }
