@@ -49,6 +49,7 @@ typedef struct rt_state {
     int qps; /* QPs solved in this solve (for the test hook) */
     double sw[HP_MAX_BLADDERS]; /* surface level: the last distances' multipliers (warm start) */
     int act[HP_QP_MMAX]; /* active set of the previous SQP step's QP */
+    int exact;           /* the last QP's Hessian was the Lagrangian's own (Newton) */
     /* The model at the last full step's trial point, evaluated with its derivatives by the
      * line search: when that step is accepted, the next QP is built from it without a
      * second evaluation at the same point. */
@@ -203,6 +204,7 @@ static void build_objective(rt_state *st, const hp_problem *pb, const int *map, 
         }
     memcpy(q->G, Gl, sizeof Gl);
     double sigma = 0.0;
+    st->exact = curved;
     if (curved && !well_convex(q->G, nv, 0.1)) {
         int ok = 0;
         for (sigma = 1.0; sigma <= RT_AUG_MAX; sigma *= 10.0) {
@@ -215,6 +217,7 @@ static void build_objective(rt_state *st, const hp_problem *pb, const int *map, 
             }
             if ((ok = above_w(q->G, pb, map, nv, RT_AUG_MIN))) break;
         }
+        st->exact = 0;
         if (!ok) { /* keep only W */
             sigma = 0.0;
             memset(Gl, 0, sizeof Gl);
@@ -429,7 +432,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     st->have_u = 0;
     st->qps = 0;
     st->c_ok = 0;
-    int whole_prev = 0;
+    int whole_prev = 0, exact_prev = 0;
     for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN; /* a cold first distance */
     hp_qp_status qs = HP_QP_OPTIMAL;
     hp_status st_out = HP_STATUS_CLOSEST;
@@ -461,24 +464,25 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         memcpy(st->act, st->qp.active, sizeof st->act);
         /* Converged when the step is far below the pose tolerance, or below a tenth of it
          * and no longer shrinking (Newton steps that stall have hit the rounding floor), or
-         * when Newton's quadratic rate predicts it: two whole steps on the same active set,
-         * the second within the tolerance and at most 1 % of the first, and the next one
-         * extrapolated as step·(step/prev)² below 1e-3 of the tolerance and a tenth of the
-         * margin (what the step leaves of the curved limits' violation is of that order: the
-         * answer stays inside them). That saves the last QP, which would only confirm digits
-         * far below the tolerance; should the
-         * convergence be merely linear with ratio q <= 0.01, the distance left is
-         * q/(1 − q)·step <= 0.0102·tolerance. */
+         * when Newton's quadratic rate predicts it: the last two QPs were exact Newton steps
+         * (the Lagrangian's own Hessian, not convexified) on the same active set, both taken
+         * whole, the second at most 1 % of the first, and the next step extrapolated at the
+         * quadratic rate, step·(step/prev)², below 1e-3 of the tolerance and a tenth of the
+         * margin (the violation of the curved limits a step leaves is of the order of the
+         * next step: the answer stays inside them). Those are the conditions under which
+         * Newton-SQP converges quadratically near a regular solution; the QP saved would
+         * only confirm digits far below the tolerance. */
         double next = step * (step / prev_step) * (step / prev_step);
         if (step <= 1e-3 * st->tolerance ||
             (step <= 0.1 * st->tolerance && step >= 0.5 * prev_step) ||
-            (whole && whole_prev && same_active && step <= st->tolerance &&
+            (whole && whole_prev && same_active && st->exact && exact_prev &&
              step <= 0.01 * prev_step && next <= fmin(1e-3 * st->tolerance, 0.1 * RT_MARGIN_MM))) {
             r->converged = 1;
             break;
         }
         prev_step = step;
         whole_prev = whole;
+        exact_prev = st->exact;
         if (sqp >= st->max_iter) { st_out = HP_STATUS_ITERATION_LIMIT; break; }
         if (now_s() - t0 > st->max_time) { st_out = HP_STATUS_TIME_LIMIT; break; }
     }
