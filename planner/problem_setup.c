@@ -115,6 +115,8 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
         b->hi_flags[k] = hif;
         b->p_lo[k] = plo > B->p_min ? plo : B->p_min;
         b->p_hi[k] = phi < B->p_max ? phi : B->p_max;
+        if (hp_iab_ro(m, lo, &b->ro_lo[k]) != HP_OK) b->ro_lo[k] = NAN;
+        if (hp_iab_ro(m, hi, &b->ro_hi[k]) != HP_OK) b->ro_hi[k] = NAN;
     }
     return HP_OK;
 }
@@ -146,9 +148,11 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                        B->name, ph);
             }
         }
-        double rol, roh;
-        if (!(lo <= hi) || hp_iab_ro(&B->iab, lo, &rol) != HP_OK ||
-            hp_iab_ro(&B->iab, hi, &roh) != HP_OK)
+        /* The static bounds' outer radii when the rate limits left them as they were. */
+        double rol = lo == b->ri_lo[k] ? b->ro_lo[k] : NAN;
+        double roh = hi == b->ri_hi[k] ? b->ro_hi[k] : NAN;
+        if (!(lo <= hi) || (isnan(rol) && hp_iab_ro(&B->iab, lo, &rol) != HP_OK) ||
+            (isnan(roh) && hp_iab_ro(&B->iab, hi, &roh) != HP_OK))
             return hp_diag_set(d, HP_ERR_INVALID,
                                "bladder %s: the rate limit around %.6g Pa leaves no radius "
                                "inside the pressure and stretch limits",

@@ -17,6 +17,9 @@ typedef struct hp_static_bounds {
     double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS]; /* [m] */
     unsigned lo_flags[HP_MAX_BLADDERS], hi_flags[HP_MAX_BLADDERS]; /* HP_BIND_* at each */
     double p_lo[HP_MAX_BLADDERS], p_hi[HP_MAX_BLADDERS];   /* IK at ri_lo, ri_hi [Pa] */
+    /* The volume law at ri_lo, ri_hi [m] (NaN if it failed): a plan without rate limits
+     * uses these bounds as they are, and need not evaluate it 2n times a plan. */
+    double ro_lo[HP_MAX_BLADDERS], ro_hi[HP_MAX_BLADDERS];
     hp_iab_limit limit[HP_MAX_BLADDERS]; /* inflation limit points, for hp_iab_fk_limit:
                                             pressure -> radius every cycle without a scan */
 } hp_static_bounds;
