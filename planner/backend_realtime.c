@@ -59,6 +59,10 @@ typedef struct rt_state {
      * create (the layout's geometry and level do not change after). */
     double z_rho[HP_MAX_BLADDERS], z_J[HP_MAX_BLADDERS * 6], z_sw[HP_MAX_BLADDERS];
     int z_ok;
+    /* The last answer's pose and whether the core starts the next solve from it
+     * (warm_point): then its multipliers and distances' multipliers start the next solve. */
+    double x_last[6];
+    int accepted;
 } rt_state;
 
 /* Test-only hook (planner/backend_testing.h), inert unless a test sets it: the contact
@@ -151,6 +155,8 @@ static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings 
 }
 
 static void rt_destroy(void *state) { free(state); }
+
+static void rt_warm_point(void *state, int accepted) { ((rt_state *)state)->accepted = accepted; }
 
 /* Builds and solves the QP linearised at xk (scaled pose; uncommanded entries 0), with the
  * limits tightened by extra[k] (mm, may be NULL). Writes the new pose into x. */
@@ -429,11 +435,19 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
 
     int iters = 0, sqp = 0;
     double prev_step = INFINITY;
-    st->have_u = 0;
+    /* Started at this backend's own last answer (the core said so, and x0 is that pose):
+     * the first QP is a Newton step with that answer's multipliers, and the distances start
+     * from theirs; along a trace the answer moves little and its active set rarely. */
+    int warm = st->accepted && st->have_u && pb->level != HP_LEVEL_LINEAR && x0 &&
+               memcmp(x0, st->x_last, sizeof st->x_last) == 0;
+    st->accepted = 0;
+    if (!warm) {
+        st->have_u = 0;
+        for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN; /* a cold first distance */
+    }
     st->qps = 0;
     st->c_ok = 0;
     int whole_prev = 0, exact_prev = 0;
-    for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN; /* a cold first distance */
     hp_qp_status qs = HP_QP_OPTIMAL;
     hp_status st_out = HP_STATUS_CLOSEST;
     for (;;) {
@@ -547,6 +561,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     }
     rt_inject(st, pb->n, st->rho);
     for (int i = 0; i < 6; ++i) x[i] = xk[i];
+    memcpy(st->x_last, xk, sizeof st->x_last);
     memcpy(r->rho, st->rho, sizeof r->rho);
     r->has_rho = 1;
     for (int k = 0; k < pb->n; ++k) r->has_rho &= isfinite(st->rho[k]) != 0;
@@ -561,8 +576,10 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
 
 const hp_backend_ops hp_backend_realtime_ops = {
     .name = "realtime",
-    .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_THREAD_SAFE | HP_BACKEND_REAL_TIME,
+    .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_THREAD_SAFE | HP_BACKEND_REAL_TIME |
+            HP_BACKEND_WARM_STARTS,
     .create = rt_create,
     .solve = rt_solve,
     .destroy = rt_destroy,
+    .warm_point = rt_warm_point,
 };
