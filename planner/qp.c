@@ -3,23 +3,43 @@
  * step direction is z = J₂J₂ᵀ n and the dual one r = R⁻¹J₁ᵀ n. Orthogonal updates use the
  * symmetric Givens reflector [[c, s], [s, −c]].
  *
- * Cost (this runs several times per realtime plan): J is stored transposed, Jt = Jᵀ, so
- * every operation on a column of J (the rotations, d = Jᵀn, z = J₂d) walks one contiguous
- * row; the initial Jt = L⁻¹ is lower triangular and the products with it skip its zeros
- * until the first rotation fills it (skipping an exact zero term leaves a sum bit-for-bit
- * the same); a row that is the exact negation of the row before it (a lower and an upper
- * limit on the same quantity) reuses that row's norm and product with x. */
+ * Cost (this runs several times per realtime plan): J is stored transposed, Jt = Jᵀ, so an
+ * operation on a column of J (a rotation, d = Jᵀn, z = J₂d) walks one contiguous row; Jt,
+ * the rows of C (copied) and x are zero-padded to NM columns, so the inner loops have a
+ * fixed length the compiler unrolls and vectorises whatever n is. The padding changes no
+ * result: a padded term is an exact ±0, and adding ±0 to a sum that starts at +0 leaves
+ * it bit-for-bit the same. A row that is the exact negation of the row before it (a lower
+ * and an upper limit on the same quantity) reuses that row's norm and product with x. */
 #include "planner/qp.h"
 #include "common/dense.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #define NM HP_QP_NMAX
 #define IDX(i, j) ((i) * NM + (j))
+#define SIGN_BIT ((uint64_t)1 << 63)
 
-/* Jt = L⁻¹ for G = L Lᵀ (Jt row-major, leading dimension NM, strict upper part zero).
- * Returns 0 unless G is positive definite with finite entries. */
+/* uᵀv over the padded length, summed in index order (the pragma only unrolls) */
+static double dot(const double *u, const double *v)
+{
+    double s = 0;
+#pragma GCC unroll 6
+    for (int i = 0; i < NM; ++i) s += u[i] * v[i];
+    return s;
+}
+
+/* y += t·v over the padded length */
+static void axpy(double *y, double t, const double *v)
+{
+#pragma GCC unroll 6
+    for (int i = 0; i < NM; ++i) y[i] += t * v[i];
+}
+
+/* Jt = L⁻¹ for G = L Lᵀ (G n×n with leading dimension n; Jt with leading dimension NM,
+ * zero outside its lower n×n triangle). Returns 0 unless G is positive definite with
+ * finite entries. */
 static int inverse_cholesky_factor(const double *G, int n, double *Jt)
 {
     memset(Jt, 0, NM * NM * sizeof *Jt);
@@ -30,16 +50,16 @@ static int inverse_cholesky_factor(const double *G, int n, double *Jt)
         for (int j = i + 1; j < n; ++j)
             if (!isfinite(G[i * n + j])) return 0;
     if (!hp_cholesky(G, n, n, 0.0, Jt, NM)) return 0;
-    /* L⁻¹ column by column, in place: column j of L⁻¹ needs the entries L_ik (k >= j) of
-     * rows not yet overwritten and the entries of L⁻¹ already computed in column j. */
-    for (int j = 0; j < n; ++j) {
-        if (!isfinite(Jt[IDX(j, j)])) return 0;
-        Jt[IDX(j, j)] = 1.0 / Jt[IDX(j, j)];
-        for (int i = j + 1; i < n; ++i) {
-            double t = 0;
-            for (int k = j; k < i; ++k) t -= Jt[IDX(i, k)] * Jt[IDX(k, j)];
-            Jt[IDX(i, j)] = t / Jt[IDX(i, i)];
-        }
+    /* L⁻¹ row by row, in place: row i of L⁻¹ is (e_i − Σ_{k<i} L_ik·row k of L⁻¹) / L_ii,
+     * from row i of L (saved first) and the rows of L⁻¹ above it. */
+    for (int i = 0; i < n; ++i) {
+        double *row = &Jt[IDX(i, 0)], l[NM], lii = row[i];
+        if (!isfinite(lii)) return 0;
+        memcpy(l, row, sizeof l);
+        memset(row, 0, sizeof l);
+        for (int k = 0; k < i; ++k) axpy(row, -l[k], &Jt[IDX(k, 0)]);
+        for (int j = 0; j < i; ++j) row[j] /= lii;
+        row[i] = 1.0 / lii;
     }
     return 1;
 }
@@ -57,10 +77,10 @@ static double givens(double a, double b, double *c, double *s)
 }
 
 /* Applies the reflector to rows j and j + 1 of Jt (columns j, j + 1 of J). */
-static void rotate_rows(double *Jt, int n, int j, double c, double s)
+static void rotate_rows(double *Jt, int j, double c, double s)
 {
     double *r1 = &Jt[IDX(j, 0)], *r2 = &Jt[IDX(j + 1, 0)];
-    for (int i = 0; i < n; ++i) {
+    for (int i = 0; i < NM; ++i) {
         double t1 = r1[i], t2 = r2[i];
         r1[i] = c * t1 + s * t2;
         r2[i] = s * t1 - c * t2;
@@ -70,7 +90,7 @@ static void rotate_rows(double *Jt, int n, int j, double c, double s)
 /* Removes active constraint number l (0 <= l < q) and restores R to triangular form. */
 static void drop(hp_qp *qp, int *q, int l)
 {
-    int n = qp->n, qq = *q;
+    int qq = *q;
     double *R = qp->R_;
     for (int k = l; k < qq - 1; ++k) {
         qp->A_[k] = qp->A_[k + 1];
@@ -88,28 +108,43 @@ static void drop(hp_qp *qp, int *q, int l)
             R[IDX(j + 1, k)] = s * t1 - c * t2;
         }
         R[IDX(j + 1, j)] = 0.0;
-        rotate_rows(qp->J_, n, j, c, s);
+        rotate_rows(qp->J_, j, c, s);
     }
     *q = qq - 1;
 }
 
-/* Checks the rows of C and b (finite entries, a row norm that does not overflow), fills
- * nrm, and marks in twin the rows that are the exact negation of the row before (that row
- * not itself a twin). Returns 0 on bad input. */
-static int check_rows(const hp_qp *qp, double *nrm, int *twin)
+/* 1 when the first n entries of row c are bit for bit those of row p with the sign
+ * flipped (mask: all ones in the first n lanes, zero in the padding). */
+static int negates(const double *c, const double *p, const uint64_t *mask)
 {
-    int n = qp->n;
-    for (int j = 0; j < qp->m; ++j) {
-        const double *c = &qp->C[j * NM];
+    uint64_t cb[NM], pb[NM], diff = 0;
+    memcpy(cb, c, sizeof cb);
+    memcpy(pb, p, sizeof pb);
+    for (int i = 0; i < NM; ++i) diff |= (cb[i] ^ pb[i] ^ SIGN_BIT) & mask[i];
+    return diff == 0;
+}
+
+/* Copies the rows of C into qp->C_ (zero-padded), checks them and b (finite entries, a row
+ * norm that does not overflow), fills nrm, and marks in twin the rows that are the exact
+ * negation of the row before (that row not itself a twin). Returns 0 on bad input. */
+static int load_rows(hp_qp *qp, double *nrm, int *twin)
+{
+    int n = qp->n, m = qp->m;
+    uint64_t mask[NM];
+    for (int i = 0; i < NM; ++i) mask[i] = i < n ? ~(uint64_t)0 : 0;
+    memcpy(qp->C_, qp->C, (size_t)m * NM * sizeof *qp->C_);
+    if (n < NM)
+        for (int j = 0; j < m; ++j)
+            for (int i = n; i < NM; ++i) qp->C_[j * NM + i] = 0.0;
+    for (int j = 0; j < m; ++j) {
+        const double *w = &qp->C_[j * NM];
         if (!isfinite(qp->b[j])) return 0;
-        twin[j] = j > 0 && !twin[j - 1];
-        for (int i = 0; i < n && twin[j]; ++i) twin[j] = c[i] == -c[i - NM];
-        if (twin[j]) { /* equal to a finite row: finite */
+        twin[j] = j > 0 && !twin[j - 1] && negates(w, w - NM, mask);
+        if (twin[j]) { /* the negation of a checked row: finite */
             nrm[j] = nrm[j - 1];
             continue;
         }
-        double s = 0;
-        for (int i = 0; i < n; ++i) s += c[i] * c[i];
+        double s = dot(w, w);
         if (!isfinite(s)) return 0; /* a NaN or infinity in the row, or |row|² overflows */
         nrm[j] = sqrt(s);
     }
@@ -121,70 +156,54 @@ hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
     int n = qp->n, m = qp->m;
     if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1) return HP_QP_BAD_INPUT;
     double *Jt = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_;
-    double nrm[HP_QP_MMAX];
+    double nrm[HP_QP_MMAX], a[NM] = {0};
     int twin[HP_QP_MMAX];
-    for (int i = 0; i < n; ++i)
+    for (int i = 0; i < n; ++i) {
         if (!isfinite(qp->a[i])) return HP_QP_BAD_INPUT;
-    if (!check_rows(qp, nrm, twin)) return HP_QP_BAD_INPUT;
+        a[i] = qp->a[i];
+    }
+    if (!load_rows(qp, nrm, twin)) return HP_QP_BAD_INPUT;
     memset(R, 0, sizeof qp->R_);
     memset(qp->u, 0, sizeof qp->u);
     memset(qp->active, 0, sizeof qp->active);
     qp->iterations = 0;
     if (!inverse_cholesky_factor(qp->G, n, Jt)) return HP_QP_BAD_INPUT;
 
-    /* x = −G⁻¹a = −J Jᵀ a, with J = Jtᵀ upper triangular */
-    double Jta[NM];
-    for (int k = 0; k < n; ++k) {
-        Jta[k] = 0;
-        for (int i = 0; i <= k; ++i) Jta[k] += Jt[IDX(k, i)] * qp->a[i];
+    /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
+    memset(x, 0, sizeof qp->x);
+    for (int k = 0; k < n; ++k) axpy(x, -dot(&Jt[IDX(k, 0)], a), &Jt[IDX(k, 0)]);
+    /* skip: active rows, and rows of zero norm (C_j x = 0 for every x: feasible or not) */
+    int q = 0, skip[HP_QP_MMAX];
+    for (int j = 0; j < m; ++j) {
+        skip[j] = nrm[j] == 0.0;
+        if (skip[j] && -qp->b[j] < -feas_tol) return HP_QP_INFEASIBLE;
     }
-    for (int i = 0; i < n; ++i) {
-        x[i] = 0;
-        for (int k = i; k < n; ++k) x[i] -= Jt[IDX(k, i)] * Jta[k];
-    }
-    int q = 0, in_active[HP_QP_MMAX] = {0}, tri = 1; /* tri: Jt still lower triangular */
 
     for (;;) {
         /* Step 1: the most violated constraint, measured per unit-norm row. */
         int p = -1;
         double worst = -feas_tol, cx = 0;
         for (int j = 0; j < m; ++j) {
-            if (twin[j]) {
-                cx = -cx;
-            } else {
-                cx = 0;
-                for (int i = 0; i < n; ++i) cx += qp->C[j * NM + i] * x[i];
-            }
-            if (in_active[j]) continue;
-            double s = cx - qp->b[j];
-            if (nrm[j] == 0.0) {
-                if (s < -feas_tol) return HP_QP_INFEASIBLE;
-                continue;
-            }
-            if (s / nrm[j] < worst) {
-                worst = s / nrm[j];
+            cx = twin[j] ? -cx : dot(&qp->C_[j * NM], x);
+            if (skip[j]) continue;
+            double v = (cx - qp->b[j]) / nrm[j];
+            if (v < worst) {
+                worst = v;
                 p = j;
             }
         }
         if (p < 0) break;
-        const double *np = &qp->C[p * NM];
+        const double *np = &qp->C_[p * NM];
         double up = 0.0;
         for (;;) { /* Step 2 */
             if (++qp->iterations > max_iter) return HP_QP_ITERATION_LIMIT;
             double d[NM], z[NM] = {0}, r[NM], dd_all = 0, dd2 = 0;
             for (int k = 0; k < n; ++k) {
-                const double *jk = &Jt[IDX(k, 0)];
-                int len = tri ? k + 1 : n;
-                d[k] = 0;
-                for (int i = 0; i < len; ++i) d[k] += jk[i] * np[i];
+                d[k] = dot(&Jt[IDX(k, 0)], np);
                 dd_all += d[k] * d[k];
                 if (k >= q) dd2 += d[k] * d[k];
             }
-            for (int k = q; k < n; ++k) {
-                const double *jk = &Jt[IDX(k, 0)];
-                int len = tri ? k + 1 : n;
-                for (int i = 0; i < len; ++i) z[i] += jk[i] * d[k];
-            }
+            for (int k = q; k < n; ++k) axpy(z, d[k], &Jt[IDX(k, 0)]);
             for (int k = q - 1; k >= 0; --k) {
                 double t = d[k];
                 for (int j = k + 1; j < q; ++j) t -= R[IDX(k, j)] * r[j];
@@ -201,22 +220,19 @@ hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
             int z_zero = !(dd2 > 1e-24 * dd_all) || q == n;
             double t2 = INFINITY;
             if (!z_zero) {
-                double sp = -qp->b[p];
-                for (int i = 0; i < n; ++i) sp += np[i] * x[i];
-                t2 = -sp / dd2; /* zᵀn_p = |J₂ᵀn_p|² */
+                t2 = -(dot(np, x) - qp->b[p]) / dd2; /* zᵀn_p = |J₂ᵀn_p|² */
                 if (t2 < 0) t2 = 0;
             }
             if (z_zero && l < 0) return HP_QP_INFEASIBLE;
             if (z_zero) {
                 for (int k = 0; k < q; ++k) u[k] -= t1 * r[k];
                 up += t1;
-                in_active[qp->A_[l]] = 0;
-                tri = 0;
+                skip[qp->A_[l]] = 0;
                 drop(qp, &q, l);
                 continue;
             }
             double t = t1 < t2 ? t1 : t2;
-            for (int i = 0; i < n; ++i) x[i] += t * z[i];
+            axpy(x, t, z);
             for (int k = 0; k < q; ++k) u[k] -= t * r[k];
             up += t;
             if (t2 <= t1) { /* full step: p joins the active set */
@@ -225,18 +241,16 @@ hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
                     double c, s;
                     d[j - 1] = givens(d[j - 1], d[j], &c, &s);
                     d[j] = 0.0;
-                    tri = 0;
-                    rotate_rows(Jt, n, j - 1, c, s);
+                    rotate_rows(Jt, j - 1, c, s);
                 }
                 for (int i = 0; i <= q; ++i) R[IDX(i, q)] = d[i];
                 qp->A_[q] = p;
                 u[q] = up;
-                in_active[p] = 1;
+                skip[p] = 1;
                 ++q;
                 break;
             }
-            in_active[qp->A_[l]] = 0; /* partial step: a blocking multiplier hit zero */
-            tri = 0;
+            skip[qp->A_[l]] = 0; /* partial step: a blocking multiplier hit zero */
             drop(qp, &q, l);
         }
     }

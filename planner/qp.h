@@ -30,8 +30,9 @@ typedef struct hp_qp {
     double u[HP_QP_MMAX];   /* multiplier of every constraint (0 when inactive) */
     int active[HP_QP_MMAX]; /* 1 when constraint j is in the final active set */
     int iterations;         /* add + drop steps */
-    /* workspace */
+    /* workspace: Jᵀ and C zero-padded to HP_QP_NMAX columns, R, the active set */
     double J_[HP_QP_NMAX * HP_QP_NMAX], R_[HP_QP_NMAX * HP_QP_NMAX];
+    double C_[HP_QP_MMAX * HP_QP_NMAX];
     int A_[HP_QP_NMAX];
     double uA_[HP_QP_NMAX + 1];
 } hp_qp;
