@@ -14,12 +14,10 @@
 #include "common/dense.h"
 
 #include <math.h>
-#include <stdint.h>
 #include <string.h>
 
 #define NM HP_QP_NMAX
 #define IDX(i, j) ((i) * NM + (j))
-#define SIGN_BIT ((uint64_t)1 << 63)
 
 /* uᵀv over the padded length, summed in index order (the pragma only unrolls) */
 static double dot(const double *u, const double *v)
@@ -113,25 +111,25 @@ static void drop(hp_qp *qp, int *q, int l)
     *q = qq - 1;
 }
 
-/* 1 when the first n entries of row c are bit for bit those of row p with the sign
- * flipped (mask: all ones in the first n lanes, zero in the padding). */
-static int negates(const double *c, const double *p, const uint64_t *mask)
+/* 1 when row c is exactly the negation of row p (both padded with zeros). For finite
+ * doubles c + p rounds to 0 only when the exact sum is 0 (a nonzero exact sum is at least
+ * the smallest subnormal in magnitude, which rounds to itself); a NaN or infinity gives a
+ * NaN or infinite sum; so the sum of |c_i + p_i| is 0 exactly when every c_i = −p_i. */
+static int negates(const double *c, const double *p)
 {
-    uint64_t cb[NM], pb[NM], diff = 0;
-    memcpy(cb, c, sizeof cb);
-    memcpy(pb, p, sizeof pb);
-    for (int i = 0; i < NM; ++i) diff |= (cb[i] ^ pb[i] ^ SIGN_BIT) & mask[i];
-    return diff == 0;
+    double s = 0;
+#pragma GCC unroll 6
+    for (int i = 0; i < NM; ++i) s += fabs(c[i] + p[i]);
+    return s == 0.0;
 }
 
 /* Copies the rows of C into qp->C_ (zero-padded), checks them and b (finite entries, a row
- * norm that does not overflow), fills nrm, and marks in twin the rows that are the exact
- * negation of the row before (that row not itself a twin). Returns 0 on bad input. */
-static int load_rows(hp_qp *qp, double *nrm, int *twin)
+ * norm that does not overflow), fills nrm, marks in twin the rows that are the exact
+ * negation of the row before (that row not itself a twin) and in skip the rows of zero
+ * norm. Returns 0 on bad input. */
+static int load_rows(hp_qp *qp, double *nrm, int *twin, int *skip)
 {
     int n = qp->n, m = qp->m;
-    uint64_t mask[NM];
-    for (int i = 0; i < NM; ++i) mask[i] = i < n ? ~(uint64_t)0 : 0;
     memcpy(qp->C_, qp->C, (size_t)m * NM * sizeof *qp->C_);
     if (n < NM)
         for (int j = 0; j < m; ++j)
@@ -139,14 +137,15 @@ static int load_rows(hp_qp *qp, double *nrm, int *twin)
     for (int j = 0; j < m; ++j) {
         const double *w = &qp->C_[j * NM];
         if (!isfinite(qp->b[j])) return 0;
-        twin[j] = j > 0 && !twin[j - 1] && negates(w, w - NM, mask);
+        twin[j] = j > 0 && !twin[j - 1] && negates(w, w - NM);
         if (twin[j]) { /* the negation of a checked row: finite */
             nrm[j] = nrm[j - 1];
-            continue;
+        } else {
+            double s = dot(w, w);
+            if (!isfinite(s)) return 0; /* a NaN or infinity in the row, or |row|² overflows */
+            nrm[j] = sqrt(s);
         }
-        double s = dot(w, w);
-        if (!isfinite(s)) return 0; /* a NaN or infinity in the row, or |row|² overflows */
-        nrm[j] = sqrt(s);
+        skip[j] = nrm[j] == 0.0;
     }
     return 1;
 }
@@ -157,12 +156,12 @@ hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
     if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1) return HP_QP_BAD_INPUT;
     double *Jt = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_;
     double nrm[HP_QP_MMAX], a[NM] = {0};
-    int twin[HP_QP_MMAX];
+    int twin[HP_QP_MMAX], skip[HP_QP_MMAX]; /* skip: active rows and rows of zero norm */
     for (int i = 0; i < n; ++i) {
         if (!isfinite(qp->a[i])) return HP_QP_BAD_INPUT;
         a[i] = qp->a[i];
     }
-    if (!load_rows(qp, nrm, twin)) return HP_QP_BAD_INPUT;
+    if (!load_rows(qp, nrm, twin, skip)) return HP_QP_BAD_INPUT;
     memset(R, 0, sizeof qp->R_);
     memset(qp->u, 0, sizeof qp->u);
     memset(qp->active, 0, sizeof qp->active);
@@ -172,12 +171,10 @@ hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
     /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
     memset(x, 0, sizeof qp->x);
     for (int k = 0; k < n; ++k) axpy(x, -dot(&Jt[IDX(k, 0)], a), &Jt[IDX(k, 0)]);
-    /* skip: active rows, and rows of zero norm (C_j x = 0 for every x: feasible or not) */
-    int q = 0, skip[HP_QP_MMAX];
-    for (int j = 0; j < m; ++j) {
-        skip[j] = nrm[j] == 0.0;
+    /* a row of zero norm holds for every x or for none */
+    for (int j = 0; j < m; ++j)
         if (skip[j] && -qp->b[j] < -feas_tol) return HP_QP_INFEASIBLE;
-    }
+    int q = 0;
 
     for (;;) {
         /* Step 1: the most violated constraint, measured per unit-norm row. */
