@@ -194,7 +194,7 @@ hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
         double up = 0.0;
         for (;;) { /* Step 2 */
             if (++qp->iterations > max_iter) return HP_QP_ITERATION_LIMIT;
-            double d[NM], z[NM] = {0}, r[NM], dd_all = 0, dd2 = 0;
+            double d[NM], z[NM] = {0}, r[NM] = {0}, dd_all = 0, dd2 = 0;
             for (int k = 0; k < n; ++k) {
                 d[k] = dot(&Jt[IDX(k, 0)], np);
                 dd_all += d[k] * d[k];
