@@ -1,7 +1,15 @@
 /* Goldfarb–Idnani dual active-set QP (see qp.h). Notation of the paper: G = L Lᵀ,
  * J = L⁻ᵀ Q, and Jᵀ N = [R; 0] for the matrix N of active constraint normals, so the primal
  * step direction is z = J₂J₂ᵀ n and the dual one r = R⁻¹J₁ᵀ n. Orthogonal updates use the
- * symmetric Givens reflector [[c, s], [s, −c]]. */
+ * symmetric Givens reflector [[c, s], [s, −c]].
+ *
+ * Cost (this runs several times per realtime plan): J is stored transposed, Jt = Jᵀ, so an
+ * operation on a column of J (a rotation, d = Jᵀn, z = J₂d) walks one contiguous row; Jt,
+ * the rows of C (copied) and x are zero-padded to NM columns, so the inner loops have a
+ * fixed length the compiler unrolls and vectorises whatever n is. The padding changes no
+ * result: a padded term is an exact ±0, and adding ±0 to a sum that starts at +0 leaves
+ * it bit-for-bit the same. A row that is the exact negation of the row before it (a lower
+ * and an upper limit on the same quantity) reuses that row's norm and product with x. */
 #include "planner/qp.h"
 #include "common/dense.h"
 
@@ -11,36 +19,76 @@
 #define NM HP_QP_NMAX
 #define IDX(i, j) ((i) * NM + (j))
 
-static int cholesky_inverse_transpose(const double *G, int n, double *J)
+/* uᵀv over the padded length, summed in index order (the pragma only unrolls) */
+static double dot(const double *u, const double *v)
 {
-    double L[NM * NM] = {0}, Li[NM * NM] = {0};
-    if (!hp_cholesky(G, n, n, 0.0, L, NM)) return 0;
-    for (int j = 0; j < n; ++j) { /* Li = L⁻¹, lower triangular, column by column */
-        Li[IDX(j, j)] = 1.0 / L[IDX(j, j)];
-        for (int i = j + 1; i < n; ++i) {
-            double t = 0;
-            for (int k = j; k < i; ++k) t -= L[IDX(i, k)] * Li[IDX(k, j)];
-            Li[IDX(i, j)] = t / L[IDX(i, i)];
-        }
-    }
+    double s = 0;
+#pragma GCC unroll 6
+    for (int i = 0; i < NM; ++i) s += u[i] * v[i];
+    return s;
+}
+
+/* y += t·v over the padded length */
+static void axpy(double *y, double t, const double *v)
+{
+#pragma GCC unroll 6
+    for (int i = 0; i < NM; ++i) y[i] += t * v[i];
+}
+
+/* Jt = L⁻¹ for G = L Lᵀ (G n×n with leading dimension n; Jt with leading dimension NM,
+ * zero outside its lower n×n triangle). Returns 0 unless G is positive definite with
+ * finite entries. */
+static int inverse_cholesky_factor(const double *G, int n, double *Jt)
+{
+    memset(Jt, 0, NM * NM * sizeof *Jt);
+    /* hp_cholesky reads only the lower triangle, and a NaN or infinity there fails a pivot
+     * test (it reaches that pivot's sum of squares), except +inf on the diagonal, which
+     * gives an infinite L_jj; the upper triangle is checked here. */
     for (int i = 0; i < n; ++i)
-        for (int j = 0; j < n; ++j) J[IDX(i, j)] = Li[IDX(j, i)];
+        for (int j = i + 1; j < n; ++j)
+            if (!isfinite(G[i * n + j])) return 0;
+    if (!hp_cholesky(G, n, n, 0.0, Jt, NM)) return 0;
+    /* L⁻¹ row by row, in place: row i of L⁻¹ is (e_i − Σ_{k<i} L_ik·row k of L⁻¹) / L_ii,
+     * from row i of L (saved first) and the rows of L⁻¹ above it. */
+    for (int i = 0; i < n; ++i) {
+        double *row = &Jt[IDX(i, 0)], l[NM], lii = row[i];
+        if (!isfinite(lii)) return 0;
+        memcpy(l, row, sizeof l);
+        memset(row, 0, sizeof l);
+        for (int k = 0; k < i; ++k) axpy(row, -l[k], &Jt[IDX(k, 0)]);
+        for (int j = 0; j < i; ++j) row[j] /= lii;
+        row[i] = 1.0 / lii;
+    }
     return 1;
 }
 
-static void rotate_cols(double *M, int rows, int j, double c, double s)
+/* The reflector zeroing b against a: c = a/h, s = b/h, returns h = |(a, b)| (b != 0).
+ * sqrt(a² + b²) is within about one ulp of hypot wherever the squares can neither overflow
+ * nor become subnormal, which 1e-150 < h < 1e150 guarantees; outside, hypot. */
+static double givens(double a, double b, double *c, double *s)
 {
-    for (int i = 0; i < rows; ++i) {
-        double t1 = M[IDX(i, j)], t2 = M[IDX(i, j + 1)];
-        M[IDX(i, j)] = c * t1 + s * t2;
-        M[IDX(i, j + 1)] = s * t1 - c * t2;
+    double h = sqrt(a * a + b * b);
+    if (!(h > 1e-150 && h < 1e150)) h = hypot(a, b);
+    *c = a / h;
+    *s = b / h;
+    return h;
+}
+
+/* Applies the reflector to rows j and j + 1 of Jt (columns j, j + 1 of J). */
+static void rotate_rows(double *Jt, int j, double c, double s)
+{
+    double *r1 = &Jt[IDX(j, 0)], *r2 = &Jt[IDX(j + 1, 0)];
+    for (int i = 0; i < NM; ++i) {
+        double t1 = r1[i], t2 = r2[i];
+        r1[i] = c * t1 + s * t2;
+        r2[i] = s * t1 - c * t2;
     }
 }
 
 /* Removes active constraint number l (0 <= l < q) and restores R to triangular form. */
 static void drop(hp_qp *qp, int *q, int l)
 {
-    int n = qp->n, qq = *q;
+    int qq = *q;
     double *R = qp->R_;
     for (int k = l; k < qq - 1; ++k) {
         qp->A_[k] = qp->A_[k + 1];
@@ -49,89 +97,110 @@ static void drop(hp_qp *qp, int *q, int l)
     }
     for (int i = 0; i < qq; ++i) R[IDX(i, qq - 1)] = 0.0;
     for (int j = l; j < qq - 1; ++j) {
-        double a = R[IDX(j, j)], bb = R[IDX(j + 1, j)];
+        double a = R[IDX(j, j)], bb = R[IDX(j + 1, j)], c, s;
         if (bb == 0.0) continue;
-        double h = hypot(a, bb), c = a / h, s = bb / h;
+        givens(a, bb, &c, &s);
         for (int k = j; k < qq - 1; ++k) {
             double t1 = R[IDX(j, k)], t2 = R[IDX(j + 1, k)];
             R[IDX(j, k)] = c * t1 + s * t2;
             R[IDX(j + 1, k)] = s * t1 - c * t2;
         }
         R[IDX(j + 1, j)] = 0.0;
-        rotate_cols(qp->J_, n, j, c, s);
+        rotate_rows(qp->J_, j, c, s);
     }
     *q = qq - 1;
+}
+
+/* 1 when row c is exactly the negation of row p (both padded with zeros). For finite
+ * doubles c + p rounds to 0 only when the exact sum is 0 (a nonzero exact sum is at least
+ * the smallest subnormal in magnitude, which rounds to itself); a NaN or infinity gives a
+ * NaN or infinite sum; so the sum of |c_i + p_i| is 0 exactly when every c_i = −p_i. */
+static int negates(const double *c, const double *p)
+{
+    double s = 0;
+#pragma GCC unroll 6
+    for (int i = 0; i < NM; ++i) s += fabs(c[i] + p[i]);
+    return s == 0.0;
+}
+
+/* Copies the rows of C into qp->C_ (zero-padded), checks them and b (finite entries, a row
+ * norm that does not overflow), fills nrm, marks in twin the rows that are the exact
+ * negation of the row before (that row not itself a twin) and in skip the rows of zero
+ * norm. Returns 0 on bad input. */
+static int load_rows(hp_qp *qp, double *nrm, int *twin, int *skip)
+{
+    int n = qp->n, m = qp->m;
+    memcpy(qp->C_, qp->C, (size_t)m * NM * sizeof *qp->C_);
+    if (n < NM)
+        for (int j = 0; j < m; ++j)
+            for (int i = n; i < NM; ++i) qp->C_[j * NM + i] = 0.0;
+    for (int j = 0; j < m; ++j) {
+        const double *w = &qp->C_[j * NM];
+        if (!isfinite(qp->b[j])) return 0;
+        twin[j] = j > 0 && !twin[j - 1] && negates(w, w - NM);
+        if (twin[j]) { /* the negation of a checked row: finite */
+            nrm[j] = nrm[j - 1];
+        } else {
+            double s = dot(w, w);
+            if (!isfinite(s)) return 0; /* a NaN or infinity in the row, or |row|² overflows */
+            nrm[j] = sqrt(s);
+        }
+        skip[j] = nrm[j] == 0.0;
+    }
+    return 1;
 }
 
 hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
 {
     int n = qp->n, m = qp->m;
     if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1) return HP_QP_BAD_INPUT;
-    for (int i = 0; i < n * n; ++i)
-        if (!isfinite(qp->G[i])) return HP_QP_BAD_INPUT;
-    for (int j = 0; j < m; ++j) {
-        if (!isfinite(qp->b[j])) return HP_QP_BAD_INPUT;
-        for (int i = 0; i < n; ++i)
-            if (!isfinite(qp->C[j * NM + i])) return HP_QP_BAD_INPUT;
+    double *Jt = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_;
+    double nrm[HP_QP_MMAX], a[NM] = {0};
+    int twin[HP_QP_MMAX], skip[HP_QP_MMAX]; /* skip: active rows and rows of zero norm */
+    for (int i = 0; i < n; ++i) {
+        if (!isfinite(qp->a[i])) return HP_QP_BAD_INPUT;
+        a[i] = qp->a[i];
     }
-    double *J = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_;
+    if (!load_rows(qp, nrm, twin, skip)) return HP_QP_BAD_INPUT;
     memset(R, 0, sizeof qp->R_);
     memset(qp->u, 0, sizeof qp->u);
     memset(qp->active, 0, sizeof qp->active);
     qp->iterations = 0;
-    if (!cholesky_inverse_transpose(qp->G, n, J)) return HP_QP_BAD_INPUT;
+    if (!inverse_cholesky_factor(qp->G, n, Jt)) return HP_QP_BAD_INPUT;
 
-    double nrm[HP_QP_MMAX];
-    for (int j = 0; j < m; ++j) {
-        double s = 0;
-        for (int i = 0; i < n; ++i) s += qp->C[j * NM + i] * qp->C[j * NM + i];
-        nrm[j] = sqrt(s);
-    }
-    /* x = −G⁻¹a = −J Jᵀ a */
-    double Jta[NM];
-    for (int k = 0; k < n; ++k) {
-        Jta[k] = 0;
-        for (int i = 0; i < n; ++i) Jta[k] += J[IDX(i, k)] * qp->a[i];
-    }
-    for (int i = 0; i < n; ++i) {
-        x[i] = 0;
-        for (int k = 0; k < n; ++k) x[i] -= J[IDX(i, k)] * Jta[k];
-    }
-    int q = 0, in_active[HP_QP_MMAX] = {0};
+    /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
+    memset(x, 0, sizeof qp->x);
+    for (int k = 0; k < n; ++k) axpy(x, -dot(&Jt[IDX(k, 0)], a), &Jt[IDX(k, 0)]);
+    /* a row of zero norm holds for every x or for none */
+    for (int j = 0; j < m; ++j)
+        if (skip[j] && -qp->b[j] < -feas_tol) return HP_QP_INFEASIBLE;
+    int q = 0;
 
     for (;;) {
         /* Step 1: the most violated constraint, measured per unit-norm row. */
         int p = -1;
-        double worst = -feas_tol;
+        double worst = -feas_tol, cx = 0;
         for (int j = 0; j < m; ++j) {
-            if (in_active[j]) continue;
-            double s = -qp->b[j];
-            for (int i = 0; i < n; ++i) s += qp->C[j * NM + i] * x[i];
-            if (nrm[j] == 0.0) {
-                if (s < -feas_tol) return HP_QP_INFEASIBLE;
-                continue;
-            }
-            if (s / nrm[j] < worst) {
-                worst = s / nrm[j];
+            cx = twin[j] ? -cx : dot(&qp->C_[j * NM], x);
+            if (skip[j]) continue;
+            double v = (cx - qp->b[j]) / nrm[j];
+            if (v < worst) {
+                worst = v;
                 p = j;
             }
         }
         if (p < 0) break;
-        const double *np = &qp->C[p * NM];
+        const double *np = &qp->C_[p * NM];
         double up = 0.0;
         for (;;) { /* Step 2 */
             if (++qp->iterations > max_iter) return HP_QP_ITERATION_LIMIT;
-            double d[NM], z[NM], r[NM], dd_all = 0, dd2 = 0;
+            double d[NM], z[NM] = {0}, r[NM] = {0}, dd_all = 0, dd2 = 0;
             for (int k = 0; k < n; ++k) {
-                d[k] = 0;
-                for (int i = 0; i < n; ++i) d[k] += J[IDX(i, k)] * np[i];
+                d[k] = dot(&Jt[IDX(k, 0)], np);
                 dd_all += d[k] * d[k];
                 if (k >= q) dd2 += d[k] * d[k];
             }
-            for (int i = 0; i < n; ++i) {
-                z[i] = 0;
-                for (int k = q; k < n; ++k) z[i] += J[IDX(i, k)] * d[k];
-            }
+            for (int k = q; k < n; ++k) axpy(z, d[k], &Jt[IDX(k, 0)]);
             for (int k = q - 1; k >= 0; --k) {
                 double t = d[k];
                 for (int j = k + 1; j < q; ++j) t -= R[IDX(k, j)] * r[j];
@@ -148,39 +217,37 @@ hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
             int z_zero = !(dd2 > 1e-24 * dd_all) || q == n;
             double t2 = INFINITY;
             if (!z_zero) {
-                double sp = -qp->b[p];
-                for (int i = 0; i < n; ++i) sp += np[i] * x[i];
-                t2 = -sp / dd2; /* zᵀn_p = |J₂ᵀn_p|² */
+                t2 = -(dot(np, x) - qp->b[p]) / dd2; /* zᵀn_p = |J₂ᵀn_p|² */
                 if (t2 < 0) t2 = 0;
             }
             if (z_zero && l < 0) return HP_QP_INFEASIBLE;
             if (z_zero) {
                 for (int k = 0; k < q; ++k) u[k] -= t1 * r[k];
                 up += t1;
-                in_active[qp->A_[l]] = 0;
+                skip[qp->A_[l]] = 0;
                 drop(qp, &q, l);
                 continue;
             }
             double t = t1 < t2 ? t1 : t2;
-            for (int i = 0; i < n; ++i) x[i] += t * z[i];
+            axpy(x, t, z);
             for (int k = 0; k < q; ++k) u[k] -= t * r[k];
             up += t;
             if (t2 <= t1) { /* full step: p joins the active set */
                 for (int j = n - 1; j > q; --j) {
                     if (d[j] == 0.0) continue;
-                    double h = hypot(d[j - 1], d[j]), c = d[j - 1] / h, s = d[j] / h;
-                    d[j - 1] = h;
+                    double c, s;
+                    d[j - 1] = givens(d[j - 1], d[j], &c, &s);
                     d[j] = 0.0;
-                    rotate_cols(J, n, j - 1, c, s);
+                    rotate_rows(Jt, j - 1, c, s);
                 }
                 for (int i = 0; i <= q; ++i) R[IDX(i, q)] = d[i];
                 qp->A_[q] = p;
                 u[q] = up;
-                in_active[p] = 1;
+                skip[p] = 1;
                 ++q;
                 break;
             }
-            in_active[qp->A_[l]] = 0; /* partial step: a blocking multiplier hit zero */
+            skip[qp->A_[l]] = 0; /* partial step: a blocking multiplier hit zero */
             drop(qp, &q, l);
         }
     }

@@ -17,7 +17,6 @@ echo "cppcheck: $(cppcheck --version)"
 SUPPRESS=(
   --suppress=missingIncludeSystem              # system and Eigen headers are not analysed
   --suppress=uninitvar:planner/backend_common.c # lo[]/hi[] set for every k < n; act[] < n
-  --suppress=uninitvar:planner/qp.c             # d[k], r[j] set for k < n, j > k before use
   --suppress=duplicateCondition:planner/backend_realtime.c # two blocks, same guard: style
   --suppress=uninitvar:bench/bench_levels.c       # qsort of 0 elements when no file is read
 )

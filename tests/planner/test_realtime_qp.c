@@ -1,6 +1,7 @@
 /* The dense Goldfarb–Idnani QP (planner/qp.c) on its own: random strictly convex QPs against
- * the KKT conditions checked independently, degenerate vertices (many constraints through
- * one point, duplicated rows), and infeasibility detection. */
+ * the KKT conditions checked independently and against an exhaustive enumeration of active
+ * sets, degenerate vertices (many constraints through one point, duplicated rows),
+ * infeasibility detection, and the refusal of non-finite input wherever it sits. */
 #include "test_util.h"
 #include "tests/planner/layout_fixture.h"
 #include "planner/qp.h"
@@ -121,12 +122,175 @@ static void test_infeasible(void **st)
     hp_assert_close(q.x[0], 1.0, 0, 1e-15);
 }
 
+/* Solves the k×k system M y = r (row-major, leading dimension k) by Gaussian elimination
+ * with partial pivoting, in place; returns the smallest pivot's magnitude (0: singular). */
+static double gauss_solve(double *M, double *r, int k)
+{
+    double minpiv = INFINITY;
+    for (int c = 0; c < k; ++c) {
+        int piv = c;
+        for (int i = c + 1; i < k; ++i)
+            if (fabs(M[i * k + c]) > fabs(M[piv * k + c])) piv = i;
+        if (!(fabs(M[piv * k + c]) > 0)) return 0.0;
+        minpiv = fmin(minpiv, fabs(M[piv * k + c]));
+        for (int j = 0; j < k; ++j) {
+            double t = M[c * k + j];
+            M[c * k + j] = M[piv * k + j];
+            M[piv * k + j] = t;
+        }
+        double t = r[c];
+        r[c] = r[piv];
+        r[piv] = t;
+        for (int i = c + 1; i < k; ++i) {
+            double f = M[i * k + c] / M[c * k + c];
+            for (int j = c; j < k; ++j) M[i * k + j] -= f * M[c * k + j];
+            r[i] -= f * r[c];
+        }
+    }
+    for (int i = k - 1; i >= 0; --i) {
+        double t = r[i];
+        for (int j = i + 1; j < k; ++j) t -= M[i * k + j] * r[j];
+        r[i] = t / M[i * k + i];
+    }
+    return minpiv;
+}
+
+/* The reference: every subset S of at most n rows, taken as equalities, gives the KKT system
+ * [G −C_Sᵀ; C_S 0][x; u_S] = [−a; b_S]; the answer is the subset whose solution is primal
+ * feasible with u_S >= 0 (unique for random data: strict complementarity holds with
+ * probability 1). Shares no code with the solver. Returns 0 if no subset qualifies. */
+static int enumerate_qp(const hp_qp *q, double *x, double *u, int *active)
+{
+    int n = q->n, m = q->m, found = 0;
+    double best = 0;
+    for (unsigned S = 0; S < (1u << m); ++S) {
+        int idx[HP_QP_MMAX], k = 0;
+        for (int j = 0; j < m; ++j)
+            if (S & (1u << j)) idx[k++] = j;
+        if (k > n) continue;
+        int dim = n + k;
+        double M[(HP_QP_NMAX + HP_QP_NMAX) * (HP_QP_NMAX + HP_QP_NMAX)] = {0}, r[12];
+        for (int i = 0; i < n; ++i) {
+            for (int j = 0; j < n; ++j) M[i * dim + j] = q->G[i * n + j];
+            for (int c = 0; c < k; ++c) {
+                M[i * dim + n + c] = -q->C[idx[c] * HP_QP_NMAX + i];
+                M[(n + c) * dim + i] = q->C[idx[c] * HP_QP_NMAX + i];
+            }
+            r[i] = -q->a[i];
+        }
+        for (int c = 0; c < k; ++c) r[n + c] = q->b[idx[c]];
+        double piv = gauss_solve(M, r, dim);
+        if (!(piv > 1e-9)) continue; /* dependent rows: another subset has the answer */
+        int ok = 1;
+        for (int c = 0; c < k; ++c) ok &= r[n + c] >= -1e-10;
+        for (int j = 0; j < m && ok; ++j) {
+            double s = -q->b[j];
+            for (int i = 0; i < n; ++i) s += q->C[j * HP_QP_NMAX + i] * r[i];
+            ok = s >= -1e-10;
+        }
+        if (!ok || (found && piv <= best)) continue;
+        found = 1;
+        best = piv; /* of several (degenerate) candidates, the best conditioned */
+        memcpy(x, r, (size_t)n * sizeof *x);
+        for (int j = 0; j < m; ++j) {
+            u[j] = 0.0;
+            active[j] = 0;
+        }
+        for (int c = 0; c < k; ++c) {
+            u[idx[c]] = r[n + c];
+            active[idx[c]] = 1;
+        }
+    }
+    return found;
+}
+
+/* Random small QPs in the realtime backend's shape — rows in pairs (c, −c) bounding c·x
+ * from both sides, so the solver's shared-row path runs — mixed with unpaired rows, zero
+ * rows, and n < 6 with NaN in the unused columns of C (the solver must never read them),
+ * against the enumeration above: x, every u and the active set agree. Tolerance 1e-8: the
+ * data are O(10), G >= I, and the reference's pivots exceed 1e-9 only for well-posed
+ * subsets; rounding in both methods is ~1e-13 here. */
+static void test_random_vs_enumeration(void **st)
+{
+    (void)st;
+    uint64_t seed = 16;
+    int checked = 0, with_pairs = 0;
+    for (int t = 0; t < 1500; ++t) {
+        hp_qp q;
+        memset(&q, 0, sizeof q);
+        int n = 1 + (int)(lf_next(&seed) % 4), m = (int)(lf_next(&seed) % 11);
+        random_qp(&q, &seed, n, m);
+        for (int c = 0; c < m; ++c)
+            for (int i = n; i < HP_QP_NMAX; ++i) q.C[c * HP_QP_NMAX + i] = NAN;
+        for (int i = n; i < HP_QP_NMAX; ++i) q.a[i] = NAN;
+        int style = (int)(lf_next(&seed) % 3); /* 0 unpaired, 1 pairs, 2 pairs + a zero row */
+        if (style > 0) {
+            for (int c = 1; c < m; c += 2) {
+                for (int i = 0; i < n; ++i) q.C[c * HP_QP_NMAX + i] = -q.C[(c - 1) * HP_QP_NMAX + i];
+                q.b[c] = -0.5 - 0.5 * fabs(lf_uniform(&seed)); /* width > 0: feasible */
+            }
+            with_pairs += m > 1;
+        }
+        if (style == 2 && m > 0) {
+            for (int i = 0; i < n; ++i) q.C[(m - 1) * HP_QP_NMAX + i] = 0.0;
+            q.b[m - 1] = -1.0; /* 0 >= −1: always satisfied */
+        }
+        double xr[HP_QP_NMAX], ur[HP_QP_MMAX];
+        int ar[HP_QP_MMAX];
+        assert_true(enumerate_qp(&q, xr, ur, ar));
+        assert_int_equal(hp_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
+        for (int i = 0; i < n; ++i) hp_assert_close(q.x[i], xr[i], 1e-8, 1e-8);
+        for (int j = 0; j < m; ++j) {
+            hp_assert_close(q.u[j], ur[j], 1e-8, 1e-8);
+            assert_int_equal(q.active[j], ar[j]);
+        }
+        ++checked;
+    }
+    assert_int_equal(checked, 1500);
+    assert_true(with_pairs > 500);
+}
+
+/* Non-finite input anywhere — either triangle or the diagonal of G, a, b, a row of C on its
+ * own or one that negates the row before but for one entry — and a row whose squared norm
+ * overflows are refused as HP_QP_BAD_INPUT; the same QP without the fault solves. */
+static void test_bad_input_everywhere(void **st)
+{
+    (void)st;
+    const double bad[] = {NAN, INFINITY, -INFINITY};
+    uint64_t seed = 99;
+    hp_qp base;
+    memset(&base, 0, sizeof base);
+    random_qp(&base, &seed, 4, 6);
+    for (int c = 1; c < 6; c += 2)
+        for (int i = 0; i < 4; ++i) base.C[c * HP_QP_NMAX + i] = -base.C[(c - 1) * HP_QP_NMAX + i];
+    hp_qp q = base;
+    assert_int_equal(hp_qp_solve(&q, 100, 1e-12), HP_QP_OPTIMAL);
+    for (int v = 0; v < 3; ++v) {
+        double *where[] = {&q.G[0 * 4 + 3], &q.G[3 * 4 + 0], &q.G[2 * 4 + 2], &q.a[1], &q.b[4],
+                           &q.C[0 * HP_QP_NMAX + 2], &q.C[3 * HP_QP_NMAX + 1],
+                           &q.C[4 * HP_QP_NMAX + 3]};
+        for (size_t w = 0; w < sizeof where / sizeof *where; ++w) {
+            q = base;
+            *where[w] = bad[v];
+            if (!(hp_qp_solve(&q, 100, 1e-12) == HP_QP_BAD_INPUT)) {
+                print_error("value %g at input %zu not refused\n", bad[v], w);
+                fail();
+            }
+        }
+    }
+    q = base;
+    q.C[2 * HP_QP_NMAX + 0] = 1e200; /* |row|² = 1e400 overflows */
+    assert_int_equal(hp_qp_solve(&q, 100, 1e-12), HP_QP_BAD_INPUT);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_kkt),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_infeasible),
+        cmocka_unit_test(test_random_vs_enumeration),
+        cmocka_unit_test(test_bad_input_everywhere),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
