@@ -132,6 +132,73 @@ static void test_rotation_derivs(void **state)
     }
 }
 
+/* The derivatives' closed forms on many angles: R = Rz(γ)Ry(β)Rx(α) and every first and
+ * second derivative built here from the textbook elementary matrices (and their
+ * derivatives: the 2×2 block of cos/sin turned by a quarter turn per order, the axis entry
+ * 0) by plain 3×3 products. The library builds the same products from sparse factors; the
+ * entries are within 4e-16 (a couple of ulps of entries <= 1; the products are the same
+ * sums, so in practice they agree to the bit). */
+static void elem_ref(int axis, double t, int order, double M[9])
+{
+    double c = cos(t), s = sin(t);
+    double cd = order == 0 ? c : order == 1 ? -s : -c; /* d^o/dt^o of cos */
+    double sd = order == 0 ? s : order == 1 ? c : -s;  /* d^o/dt^o of sin */
+    double one = order == 0 ? 1.0 : 0.0;
+    double X[9] = {one, 0, 0, 0, cd, -sd, 0, sd, cd};
+    double Y[9] = {cd, 0, sd, 0, one, 0, -sd, 0, cd};
+    double Z[9] = {cd, -sd, 0, sd, cd, 0, 0, 0, one};
+    memcpy(M, axis == 0 ? X : axis == 1 ? Y : Z, sizeof X);
+}
+
+static void mul_ref(const double A[9], const double B[9], double C[9])
+{
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            C[i * 3 + j] = A[i * 3] * B[j] + A[i * 3 + 1] * B[3 + j] + A[i * 3 + 2] * B[6 + j];
+}
+
+static void product_ref(const double th[3], const int ord[3], double P[9])
+{
+    double X[9], Y[9], Z[9], T[9];
+    elem_ref(0, th[0], ord[0], X);
+    elem_ref(1, th[1], ord[1], Y);
+    elem_ref(2, th[2], ord[2], Z);
+    mul_ref(Z, Y, T);
+    mul_ref(T, X, P);
+}
+
+static void test_rotation_derivs_closed_form(void **state)
+{
+    (void)state;
+    uint64_t r = 99;
+    for (int it = 0; it < 20000; ++it) {
+        double th[3];
+        for (int i = 0; i < 3; ++i) {
+            r = r * 6364136223846793005ull + 1442695040888963407ull;
+            th[i] = ((double)(r >> 11) * 0x1.0p-53 - 0.5) * (it % 2 ? 6.4 : 0.2);
+        }
+        if (it % 50 == 0) th[it % 3] = 0.0;
+        double R[9], dR[3][9], d2R[3][3][9], P[9];
+        hp_kin_rotation_derivs(th, R, dR, d2R);
+        int ord[3] = {0, 0, 0};
+        product_ref(th, ord, P);
+        for (int i = 0; i < 9; ++i) hp_assert_close(R[i], P[i], 0, 4e-16);
+        for (int j = 0; j < 3; ++j) {
+            int o1[3] = {0, 0, 0};
+            o1[j] = 1;
+            product_ref(th, o1, P);
+            for (int i = 0; i < 9; ++i) hp_assert_close(dR[j][i], P[i], 0, 4e-16);
+            for (int k = 0; k < 3; ++k) {
+                int o2[3] = {0, 0, 0};
+                o2[j] += 1;
+                o2[k] += 1;
+                product_ref(th, o2, P);
+                for (int i = 0; i < 9; ++i) hp_assert_close(d2R[j][k][i], P[i], 0, 4e-16);
+            }
+        }
+    }
+}
+
 static void test_names(void **state)
 {
     (void)state;
@@ -155,6 +222,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_clinical_round_trip), cmocka_unit_test(test_rotation_90),
         cmocka_unit_test(test_rotation_orthogonal), cmocka_unit_test(test_rotation_derivs),
+        cmocka_unit_test(test_rotation_derivs_closed_form),
         cmocka_unit_test(test_names),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
