@@ -213,6 +213,67 @@ static void unreachable_at(hp_level level)
     for (int b = 0; b < N_BACKENDS; ++b) hp_planner_destroy(p[b]);
 }
 
+/* A loose tolerance is an answer, not a failure: Ipopt at tolerance 1e-4 (mm, deg) on the
+ * unreachable targets answers CLOSEST with a named binding limit on every one, within 1e-3
+ * mm/deg of its own 1e-9 answer (ten times the tolerance: the stopping test bounds the
+ * optimality error, the pose error follows it through the contact curvature). Its
+ * interior point used to stop up to ~1e-5 mm inside the active bounds, where the planner's
+ * one binding threshold (1e-6 mm) sees no limit, and 35 of the benchmark's 40 binding
+ * targets came back solver-error; the backend now drives complementarity to 1e-10 whatever
+ * the tolerance (docs/backends.md). */
+static void loose_tolerance_at(hp_level level)
+{
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    hp_planner *tight = make(&L, HP_BACKEND_IPOPT, level);
+    hp_settings s;
+    hp_settings_default(&s);
+    s.backend = HP_BACKEND_IPOPT;
+    s.level = level;
+    s.tolerance = 1e-4;
+    s.max_time = 60.0;
+    hp_planner *loose = NULL;
+    hp_diag d = {{0}};
+    assert_int_equal(hp_planner_create(&L, &s, &loose, &d), HP_OK);
+    uint64_t seed = 0x1005eu + (uint64_t)level;
+    int done = 0;
+    double worst = 0.0;
+    for (int t = 0; done < N_UNREACH / 2; ++t) {
+        assert_true(t < 10 * N_UNREACH);
+        double c[6], xi[6];
+        for (int i = 0; i < 6; ++i) c[i] = (i < 3 ? 8.0 : 4.0) * lf_uniform(&seed);
+        lf_pose(c, xi);
+        hp_result ref, r;
+        hp_planner_reset(tight);
+        assert_int_equal(hp_plan(tight, xi, &ref), HP_OK);
+        if (ref.status == HP_STATUS_REACHED) continue;
+        ++done;
+        hp_planner_reset(loose);
+        assert_int_equal(hp_plan(loose, xi, &r), HP_OK);
+        if (r.status != HP_STATUS_CLOSEST)
+            print_error("ipopt 1e-4 level %s target %d: %s (%s)\n", hp_level_name(level), t,
+                        hp_status_name(r.status), hp_planner_error(loose));
+        assert_int_equal(r.status, HP_STATUS_CLOSEST);
+        check_limits(&L, &r, "ipopt 1e-4");
+        int binds = 0;
+        for (int k = 0; k < L.n; ++k) binds |= r.bladders[k].binding != 0;
+        assert_true(binds);
+        double diff = pose_diff(r.achieved, ref.achieved);
+        worst = fmax(worst, diff);
+        assert_true(diff <= 1e-3);
+    }
+    print_message("level %-7s ipopt at tolerance 1e-4: worst pose difference from 1e-9 %.3g\n",
+                  hp_level_name(level), worst);
+    hp_planner_destroy(tight);
+    hp_planner_destroy(loose);
+}
+
+static void test_loose_tolerance(void **s)
+{
+    (void)s;
+    for (int l = HP_LEVEL_LINEAR; l <= HP_LEVEL_SURFACE; ++l) loose_tolerance_at((hp_level)l);
+}
+
 static void test_reachable_linear(void **s) { (void)s; reachable_at(HP_LEVEL_LINEAR); }
 static void test_reachable_plane(void **s) { (void)s; reachable_at(HP_LEVEL_PLANE); }
 static void test_reachable_surface(void **s) { (void)s; reachable_at(HP_LEVEL_SURFACE); }
@@ -226,6 +287,7 @@ int main(void)
         cmocka_unit_test(test_reachable_linear),   cmocka_unit_test(test_reachable_plane),
         cmocka_unit_test(test_reachable_surface),  cmocka_unit_test(test_unreachable_linear),
         cmocka_unit_test(test_unreachable_plane),  cmocka_unit_test(test_unreachable_surface),
+        cmocka_unit_test(test_loose_tolerance),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
