@@ -11,33 +11,34 @@ set ylabel "max pose difference from Ipopt (exact Hessian, tolerance 1e-10) [mm 
 set title "Peers on the same NLP (linear contact level, default layout, binding targets)\n{/*0.8 Errors below 1e-17 (exact zeros included) are drawn at 1e-17.}\n{/*0.8 Thick dashed: Pareto front among the methods run on the baseline's inputs; thin dotted: front of each series.}"
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
-set yrange [floor / 4 : 7.93e-05]
-set xrange [* : 6.14073e+07]
+set yrange [floor / 4 : 5.81e-05]
+set xrange [* : 9.82123e+07]
 
 $front << EOD
-3442,3.161601e-10,realtime-linear
-6.14073e+07,3.161601e-10,end
+4784,3.161602e-10,realtime-linear
+5.68471e+06,1.000000e-17,ipopt-exact-linear
+9.82123e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-3.55066e+06,1.208007e-09,ipopt-exact-surface
-6.14073e+07,1.208007e-09,end
+5.65642e+06,1.000000e-17,ipopt-exact-surface
+9.82123e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-1.90923e+07,1.335114e-09,ipopt-lbfgs-surface
-2.04691e+07,9.654712e-10,ipopt-lbfgs-linear
-6.14073e+07,9.654712e-10,end
+3.25311e+07,1.335138e-09,ipopt-lbfgs-surface
+3.27374e+07,9.654712e-10,ipopt-lbfgs-linear
+9.82123e+07,9.654712e-10,end
 EOD
 
 $front3 << EOD
-3442,3.161601e-10,realtime-linear
-6.14073e+07,3.161601e-10,end
+4784,3.161602e-10,realtime-linear
+9.82123e+07,3.161602e-10,end
 EOD
 
 $front4 << EOD
-821773,3.948884e-07,scipy-slsqp
-6.14073e+07,3.948884e-07,end
+1.68851e+06,3.948884e-07,scipy-slsqp
+9.82123e+07,3.948884e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {

@@ -12,45 +12,51 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 1.34598e+07]
+set xrange [* : 1.86027e+07]
 
 $front << EOD
-3321.67,4.646568e-01,realtime-linear-1e-09
-28042,1.355016e-10,realtime-surface-1e-04
-1.34598e+07,1.355016e-10,end
+3391.5,4.646568e-01,realtime-linear-1e-09
+17593,1.354906e-10,realtime-surface-1e-09
+4.84342e+06,1.000000e-17,ipopt-surface-1e-09
+1.86027e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-1687.5,4.936833e-03,fastpath-linear
-5698.5,1.000000e-17,fastpath-surface
-1.34598e+07,1.000000e-17,end
+2118,4.936833e-03,fastpath-linear
+15739,1.000000e-17,fastpath-surface
+1.86027e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-3321.67,4.646568e-01,realtime-linear-1e-09
-28042,1.355016e-10,realtime-surface-1e-04
-1.34598e+07,1.355016e-10,end
+4910.83,9.238732e-02,trace-realtime-linear
+12768.5,3.417473e-08,trace-realtime-surface
+1.86027e+07,3.417473e-08,end
 EOD
 
 $front3 << EOD
-2.63539e+06,4.646549e-01,ipopt-linear-1e-04
-2.83098e+06,8.015648e-04,ipopt-surface-1e-04
-4.48659e+06,1.208007e-09,ipopt-surface-1e-09
-1.34598e+07,1.208007e-09,end
+3391.5,4.646568e-01,realtime-linear-1e-09
+17593,1.354906e-10,realtime-surface-1e-09
+1.86027e+07,1.354906e-10,end
 EOD
 
 $front4 << EOD
-77806,4.646546e-01,nlopt-slsqp-linear-1e-04
-127670,1.324757e-05,nlopt-slsqp-surface-1e-09
-1.34598e+07,1.324757e-05,end
+4.51362e+06,4.646568e-01,ipopt-linear-1e-09
+4.84342e+06,1.000000e-17,ipopt-surface-1e-09
+1.86027e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-184846,4.646758e-01,nlopt-cobyla-linear-1e-04
-375239,4.646569e-01,nlopt-cobyla-linear-1e-09
-451116,1.437161e-04,nlopt-cobyla-surface-1e-04
-810737,5.750551e-07,nlopt-cobyla-surface-1e-09
-1.34598e+07,5.750551e-07,end
+104404,4.646546e-01,nlopt-slsqp-linear-1e-04
+185486,1.324757e-05,nlopt-slsqp-surface-1e-09
+1.86027e+07,1.324757e-05,end
+EOD
+
+$front6 << EOD
+258512,4.646758e-01,nlopt-cobyla-linear-1e-04
+663609,4.646569e-01,nlopt-cobyla-linear-1e-09
+743257,1.543974e-04,nlopt-cobyla-surface-1e-04
+1.39324e+06,4.999729e-07,nlopt-cobyla-surface-1e-09
+1.86027e+07,4.999729e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -62,14 +68,16 @@ set output "planner_pareto.png"
 plot \
   'planner.csv' skip 1 using 6:(strcol(3) eq "fast-path" ? fl($8) : NaN) with points pt 7 ps 1.5 lc 1 title "fast-path", \
   $front1 using 1:2 with steps dt 3 lw 1 lc 1 notitle, \
-  'planner.csv' skip 1 using 6:(strcol(3) eq "realtime" ? fl($8) : NaN) with points pt 5 ps 1.5 lc 2 title "realtime", \
+  'planner.csv' skip 1 using 6:(strcol(3) eq "warm-trace" ? fl($8) : NaN) with points pt 5 ps 1.5 lc 2 title "warm-trace", \
   $front2 using 1:2 with steps dt 3 lw 1 lc 2 notitle, \
-  'planner.csv' skip 1 using 6:(strcol(3) eq "ipopt" ? fl($8) : NaN) with points pt 9 ps 1.5 lc 3 title "ipopt", \
+  'planner.csv' skip 1 using 6:(strcol(3) eq "realtime" ? fl($8) : NaN) with points pt 9 ps 1.5 lc 3 title "realtime", \
   $front3 using 1:2 with steps dt 3 lw 1 lc 3 notitle, \
-  'planner.csv' skip 1 using 6:(strcol(3) eq "nlopt-slsqp" ? fl($8) : NaN) with points pt 11 ps 1.5 lc 4 title "nlopt-slsqp", \
+  'planner.csv' skip 1 using 6:(strcol(3) eq "ipopt" ? fl($8) : NaN) with points pt 11 ps 1.5 lc 4 title "ipopt", \
   $front4 using 1:2 with steps dt 3 lw 1 lc 4 notitle, \
-  'planner.csv' skip 1 using 6:(strcol(3) eq "nlopt-cobyla" ? fl($8) : NaN) with points pt 13 ps 1.5 lc 5 title "nlopt-cobyla", \
+  'planner.csv' skip 1 using 6:(strcol(3) eq "nlopt-slsqp" ? fl($8) : NaN) with points pt 13 ps 1.5 lc 5 title "nlopt-slsqp", \
   $front5 using 1:2 with steps dt 3 lw 1 lc 5 notitle, \
+  'planner.csv' skip 1 using 6:(strcol(3) eq "nlopt-cobyla" ? fl($8) : NaN) with points pt 15 ps 1.5 lc 6 title "nlopt-cobyla", \
+  $front6 using 1:2 with steps dt 3 lw 1 lc 6 notitle, \
   $front using 1:2 with steps dt 2 lw 2.5 lc rgb "#303030" title "Pareto front", \
   floor with lines dt 4 lc rgb "#909090" title sprintf("floor %g", floor), \
   'planner.csv' skip 1 using 6:(fl($8)):1 with labels noenhanced font ",7" left rotate by 25 offset char 0.7, char 0.3 tc rgb "#202020" notitle
