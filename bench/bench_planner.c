@@ -183,7 +183,8 @@ int bench_planner(const bench_options *o, bench_table *t)
     for (int l = 0; l < 3; ++l) ms[nm++] = (plan_method){HP_BACKEND_REALTIME, levels[l], 1e-9, 1};
     for (int b = 0; b < HP_BACKEND_COUNT_; ++b)
         for (int l = 0; l < 3; ++l)
-            for (int k = 0; k < 2; ++k) ms[nm++] = (plan_method){(hp_backend)b, levels[l], tols[k], 0};
+            for (int k = 0; k < 2; ++k)
+                ms[nm++] = (plan_method){(hp_backend)b, levels[l], tols[k], 0};
 
     for (int i = 0; i < nm && rc == 0; ++i) {
         const plan_method *m = &ms[i];
