@@ -476,20 +476,28 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         else memcpy(xk, xn, sizeof xk);
         int same_active = memcmp(st->act, st->qp.active, sizeof st->act) == 0;
         memcpy(st->act, st->qp.active, sizeof st->act);
+        /* The accepted point inside the true limits: measured when the line search
+         * evaluated it, else a step below RT_FULL_STEP, whose linearisation error ½κ·step²
+         * (κ <= ~0.1 mm per mm² or deg²) is far below the margin. What a longer step leaves
+         * of the curved limits' violation does not follow the pose's Newton rate and can
+         * exceed the margin (a stop there was restored and labelled iteration-limit). */
+        int measured = st->c_ok && memcmp(st->c_x, xk, sizeof st->c_x) == 0;
+        int inside = measured || step <= RT_FULL_STEP;
+        for (int k = 0; measured && inside && k < pb->n; ++k)
+            inside = st->c_rho[k] >= pb->ro_lo[k] && st->c_rho[k] <= pb->ro_hi[k];
         /* Converged when the step is far below the pose tolerance, or below a tenth of it
          * and no longer shrinking (Newton steps that stall have hit the rounding floor), or
          * when Newton's quadratic rate predicts it: the last two QPs were exact Newton steps
          * (the Lagrangian's own Hessian, not convexified) on the same active set, both taken
-         * whole, the second at most 1 % of the first, and the next step extrapolated at the
+         * whole, the second at most 1 % of the first, the next step extrapolated at the
          * quadratic rate, step·(step/prev)², below 1e-3 of the tolerance and a tenth of the
-         * margin (the violation of the curved limits a step leaves is of the order of the
-         * next step: the answer stays inside them). Those are the conditions under which
-         * Newton-SQP converges quadratically near a regular solution; the QP saved would
-         * only confirm digits far below the tolerance. */
+         * margin, and the accepted point measured inside the limits. Those are the
+         * conditions under which Newton-SQP converges quadratically near a regular
+         * solution; the QP saved would only confirm digits far below the tolerance. */
         double next = step * (step / prev_step) * (step / prev_step);
         if (step <= 1e-3 * st->tolerance ||
             (step <= 0.1 * st->tolerance && step >= 0.5 * prev_step) ||
-            (whole && whole_prev && same_active && st->exact && exact_prev &&
+            (whole && whole_prev && same_active && inside && st->exact && exact_prev &&
              step <= 0.01 * prev_step && next <= fmin(1e-3 * st->tolerance, 0.1 * RT_MARGIN_MM))) {
             r->converged = 1;
             break;

@@ -153,6 +153,17 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c)
     }
     p->diag.text[0] = '\0';
     hp_error e = p->ops->solve(p->bstate, &p->pb, x0, p->x_work, &br, &p->diag);
+    if (br.status == HP_STATUS_INFEASIBLE_START && x0 != p->x_prev) {
+        /* A cold start's first linearisation can be empty (rate windows far from the
+         * nominal pose) while the program is feasible: the previous answer meets this
+         * cycle's rate windows, which are centred on its pressures. Try from there before
+         * calling the limits contradictory. */
+        hp_backend_result b2 = {.status = HP_STATUS_SOLVER_ERROR};
+        p->diag.text[0] = '\0';
+        e = p->ops->solve(p->bstate, &p->pb, p->x_prev, p->x_work, &b2, &p->diag);
+        b2.iterations += br.iterations;
+        br = b2;
+    }
     c->raw = br.raw_code;
     c->iters = br.iterations;
     /* A backend may also report a failure through its status with HP_OK (Ipopt and NLopt do

@@ -34,12 +34,14 @@
 #define SW_SCENE_TARGETS 6
 #define SW_TRACE_LAYOUTS 3
 #define SW_TRACE_ROWS 16
+#define SW_WALK_STEPS 1500
 #else
 #define SW_LAYOUTS 40
 #define SW_TARGETS 30
 #define SW_SCENE_TARGETS 30
 #define SW_TRACE_LAYOUTS 16
 #define SW_TRACE_ROWS 48
+#define SW_WALK_STEPS 12000
 #endif
 #endif
 #define SW_SEED 0x16a2026u
@@ -308,19 +310,20 @@ static void test_generated_layouts(void **st)
     sw_assert(&t[1]);
 }
 
-/* A realtime planner that starts each plan from the previous answer (warm_start = 1), and
- * its nominal pressures in prev (a trace's first previous pressures). */
-static hp_planner *sw_warm_planner(const hp_layout *L, hp_level level, double *prev)
+/* A realtime planner that starts each plan from the previous answer (warm = 1) or cold
+ * (warm = 0), and its nominal pressures in prev unless NULL (a trace's first previous
+ * pressures). */
+static hp_planner *sw_rt_planner(const hp_layout *L, hp_level level, int warm, double *prev)
 {
     hp_settings st;
     hp_settings_default(&st);
     st.level = level;
-    st.warm_start = 1;
+    st.warm_start = warm;
     st.max_time = 60.0;
     hp_planner *rt = NULL;
     hp_diag d = {{0}};
     assert_int_equal(hp_planner_create(L, &st, &rt, &d), HP_OK);
-    assert_int_equal(hp_planner_nominal_pressures(rt, prev), HP_OK);
+    if (prev) assert_int_equal(hp_planner_nominal_pressures(rt, prev), HP_OK);
     return rt;
 }
 
@@ -338,7 +341,7 @@ static void trace_layout(const hp_layout *L, const char *what, uint64_t *s, sw_t
     sw_target(s, (int)(sw_next(s) % 2), &id, target);
     for (int l = 0; l < 2; ++l) {
         double prev[HP_MAX_BLADDERS];
-        hp_planner *rt = sw_warm_planner(L, sw_levels[l], prev);
+        hp_planner *rt = sw_rt_planner(L, sw_levels[l], 1, prev);
         hp_planner *ip = sw_planner(L, HP_BACKEND_IPOPT, sw_levels[l]);
         for (int j = 0; j < SW_TRACE_ROWS; ++j) {
             double xi[6], f = 0.5 * (1.0 - cos(2.0 * PI * j / SW_TRACE_ROWS));
@@ -367,7 +370,7 @@ static void fine_trace(const hp_layout *L, sw_tally *t)
                                 -0.15 * PI / 180 * 1e3};
     for (int l = 0; l < 2; ++l) {
         double prev[HP_MAX_BLADDERS];
-        hp_planner *rt = sw_warm_planner(L, sw_levels[l], prev);
+        hp_planner *rt = sw_rt_planner(L, sw_levels[l], 1, prev);
         hp_planner *ip = sw_planner(L, HP_BACKEND_IPOPT, sw_levels[l]);
         for (int j = 0; j < 2000; ++j) {
             double xi[6], f = 3e-3 * (1.0 + sin(j / 400.0));
@@ -497,6 +500,96 @@ static void test_local_optima(void **st)
     }
 }
 
+/* Random walks, the way a control loop and its operator use one planner: small steps of the
+ * correction with occasional jumps (within ±15 mm, ±8.6° per axis), now and then a reset or
+ * hp_planner_set_previous with the pressures of some other plan. Every plan is warm (the
+ * planner continues from its own last answer and multipliers when it may) and is compared
+ * with a cold realtime planner given the same previous pressures: the same status, never an
+ * iteration or time limit, the same pose to SW_POSE_TOL. The cold planner is itself checked
+ * against Ipopt by the tests above; this one walks the state seams (warm multipliers,
+ * set_previous, reset). It found plane-level plans that stopped by the quadratic-rate rule
+ * at a point its step had left 1e-11 mm outside a curved limit, restored and labelled
+ * iteration-limit (9 of 12 000 steps on the default scene), and cold plans on
+ * saturation.yaml that said infeasible-start because the first linearisation at the
+ * nominal pose was empty while the previous answer was feasible (125 of 11 280). */
+static void walk_scene(const char *scene, hp_level level, uint64_t *s)
+{
+    char path[1024];
+    snprintf(path, sizeof path, "%s/scenarios/%s", HP_SOURCE_DIR, scene);
+    hp_scene *sc = calloc(1, sizeof *sc);
+    assert_non_null(sc);
+    hp_diag d = {{0}};
+    assert_int_equal(hp_scene_load(path, sc, &d), HP_OK);
+    const hp_layout *L = &sc->layout;
+    double prev[HP_MAX_BLADDERS], cur[6] = {0};
+    hp_planner *w = sw_rt_planner(L, level, 1, prev);
+    hp_planner *c = sw_rt_planner(L, level, 0, NULL);
+    long plans = 0, differ = 0;
+    double worst = 0.0;
+    for (int it = 0; it < SW_WALK_STEPS; ++it) {
+        double r = sw_uni(s, 0, 1);
+        if (r < 0.03) {
+            hp_planner_reset(w);
+            assert_int_equal(hp_planner_nominal_pressures(w, prev), HP_OK);
+            continue;
+        }
+        if (r < 0.06) { /* the previous pressures of another plan */
+            double t[6];
+            hp_result o;
+            for (int i = 0; i < 6; ++i) t[i] = sw_uni(s, -0.5, 0.5) * (i < 3 ? 0.012 : 0.1);
+            hp_planner_reset(c);
+            assert_int_equal(hp_plan(c, t, &o), HP_OK);
+            if (o.status == HP_STATUS_REACHED || o.status == HP_STATUS_CLOSEST) {
+                for (int k = 0; k < L->n; ++k) prev[k] = o.bladders[k].pressure;
+                assert_int_equal(hp_planner_set_previous(w, prev), HP_OK);
+            }
+            continue;
+        }
+        for (int i = 0; i < 6; ++i) {
+            double big = i < 3 ? 0.004 : 0.05, small = i < 3 ? 0.0003 : 0.003;
+            double lim = i < 3 ? 0.015 : 0.15;
+            cur[i] += sw_uni(s, -0.5, 0.5) * (r < 0.2 ? big : small);
+            cur[i] = fmin(lim, fmax(-lim, cur[i]));
+        }
+        hp_result a, b;
+        assert_int_equal(hp_plan(w, cur, &a), HP_OK);
+        assert_int_equal(hp_planner_set_previous(c, prev), HP_OK);
+        assert_int_equal(hp_plan(c, cur, &b), HP_OK);
+        ++plans;
+        double dp = 0.0;
+        for (int i = 0; i < 6; ++i)
+            dp = fmax(dp, fabs(a.achieved[i] - b.achieved[i]) * (i < 3 ? 1e3 : 180 / PI));
+        int ok = a.status == b.status && a.status != HP_STATUS_ITERATION_LIMIT &&
+                 a.status != HP_STATUS_TIME_LIMIT && dp <= SW_POSE_TOL;
+        if (!ok) {
+            if (++differ <= 5)
+                print_message("WALK %s %s step %d: warm %s, cold %s, pose %.3g mm/deg\n", scene,
+                              hp_level_name(level), it, hp_status_name(a.status),
+                              hp_status_name(b.status), dp);
+        } else {
+            worst = fmax(worst, dp);
+        }
+        if (a.status == HP_STATUS_REACHED || a.status == HP_STATUS_CLOSEST)
+            for (int k = 0; k < L->n; ++k) prev[k] = a.bladders[k].pressure;
+    }
+    print_message("walk %s %s: %ld plans, %ld differ; worst pose diff %.3g mm/deg\n", scene,
+                  hp_level_name(level), plans, differ, worst);
+    assert_int_equal(differ, 0);
+    hp_planner_destroy(w);
+    hp_planner_destroy(c);
+    free(sc);
+}
+
+static void test_random_walks(void **st)
+{
+    (void)st;
+    static const char *const scenes[] = {"default.yaml", "soft_material.yaml",
+                                         "near_degenerate.yaml", "saturation.yaml"};
+    uint64_t s = SW_SEED ^ 0x3a1cu;
+    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; ++i)
+        for (int l = 0; l < 2; ++l) walk_scene(scenes[i], sw_levels[l], &s);
+}
+
 static void test_catalogue(void **st)
 {
     (void)st;
@@ -532,6 +625,7 @@ int main(void)
         cmocka_unit_test(test_catalogue),
         cmocka_unit_test(test_generated_layouts),
         cmocka_unit_test(test_warm_traces),
+        cmocka_unit_test(test_random_walks),
         cmocka_unit_test(test_local_optima),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
