@@ -12,33 +12,32 @@ set title "Peers on the same NLP (linear contact level, default layout, binding 
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 5.81e-05]
-set xrange [* : 9.82123e+07]
+set xrange [* : 1.1292e+08]
 
 $front << EOD
-4784,3.161602e-10,realtime-linear
-5.68471e+06,1.000000e-17,ipopt-exact-linear
-9.82123e+07,1.000000e-17,end
+4833.5,3.161602e-10,realtime-linear
+5.55882e+06,1.000000e-17,ipopt-exact-linear
+1.1292e+08,1.000000e-17,end
 EOD
 
 $front1 << EOD
-5.65642e+06,1.000000e-17,ipopt-exact-surface
-9.82123e+07,1.000000e-17,end
+5.55882e+06,1.000000e-17,ipopt-exact-linear
+1.1292e+08,1.000000e-17,end
 EOD
 
 $front2 << EOD
-3.25311e+07,1.335138e-09,ipopt-lbfgs-surface
-3.27374e+07,9.654712e-10,ipopt-lbfgs-linear
-9.82123e+07,9.654712e-10,end
+2.89574e+07,9.654712e-10,ipopt-lbfgs-linear
+1.1292e+08,9.654712e-10,end
 EOD
 
 $front3 << EOD
-4784,3.161602e-10,realtime-linear
-9.82123e+07,3.161602e-10,end
+4833.5,3.161602e-10,realtime-linear
+1.1292e+08,3.161602e-10,end
 EOD
 
 $front4 << EOD
-1.68851e+06,3.948884e-07,scipy-slsqp
-9.82123e+07,3.948884e-07,end
+1.59555e+06,3.948884e-07,scipy-slsqp
+1.1292e+08,3.948884e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {

@@ -12,51 +12,50 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 1.86027e+07]
+set xrange [* : 2.01519e+07]
 
 $front << EOD
-3391.5,4.646568e-01,realtime-linear-1e-09
-17593,1.354906e-10,realtime-surface-1e-09
-4.84342e+06,1.000000e-17,ipopt-surface-1e-09
-1.86027e+07,1.000000e-17,end
+4793.5,4.646568e-01,realtime-linear-1e-04
+18585,1.354906e-10,realtime-surface-1e-09
+5.80068e+06,1.000000e-17,ipopt-surface-1e-04
+2.01519e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-2118,4.936833e-03,fastpath-linear
-15739,1.000000e-17,fastpath-surface
-1.86027e+07,1.000000e-17,end
+2399.5,4.936833e-03,fastpath-linear
+11412,1.000000e-17,fastpath-surface
+2.01519e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-4910.83,9.238732e-02,trace-realtime-linear
-12768.5,3.417473e-08,trace-realtime-surface
-1.86027e+07,3.417473e-08,end
+3359.14,9.238732e-02,trace-realtime-linear
+15178,3.417473e-08,trace-realtime-surface
+2.01519e+07,3.417473e-08,end
 EOD
 
 $front3 << EOD
-3391.5,4.646568e-01,realtime-linear-1e-09
-17593,1.354906e-10,realtime-surface-1e-09
-1.86027e+07,1.354906e-10,end
+4793.5,4.646568e-01,realtime-linear-1e-04
+18585,1.354906e-10,realtime-surface-1e-09
+2.01519e+07,1.354906e-10,end
 EOD
 
 $front4 << EOD
-4.51362e+06,4.646568e-01,ipopt-linear-1e-09
-4.84342e+06,1.000000e-17,ipopt-surface-1e-09
-1.86027e+07,1.000000e-17,end
+5.78016e+06,4.646568e-01,ipopt-linear-1e-04
+5.80068e+06,1.000000e-17,ipopt-surface-1e-04
+2.01519e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-104404,4.646546e-01,nlopt-slsqp-linear-1e-04
-185486,1.324757e-05,nlopt-slsqp-surface-1e-09
-1.86027e+07,1.324757e-05,end
+104976,4.646546e-01,nlopt-slsqp-linear-1e-04
+284210,1.324757e-05,nlopt-slsqp-surface-1e-09
+2.01519e+07,1.324757e-05,end
 EOD
 
 $front6 << EOD
-258512,4.646758e-01,nlopt-cobyla-linear-1e-04
-663609,4.646569e-01,nlopt-cobyla-linear-1e-09
-743257,1.543974e-04,nlopt-cobyla-surface-1e-04
-1.39324e+06,4.999729e-07,nlopt-cobyla-surface-1e-09
-1.86027e+07,4.999729e-07,end
+389266,4.646758e-01,nlopt-cobyla-linear-1e-04
+695598,1.543974e-04,nlopt-cobyla-surface-1e-04
+1.04928e+06,4.999729e-07,nlopt-cobyla-surface-1e-09
+2.01519e+07,4.999729e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
