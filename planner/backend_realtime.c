@@ -54,7 +54,7 @@ typedef struct rt_state {
      * line search: when that step is accepted, the next QP is built from it without a
      * second evaluation at the same point. */
     double c_x[6], c_rho[HP_MAX_BLADDERS], c_J[HP_MAX_BLADDERS * 6], c_H[HP_MAX_BLADDERS * 36];
-    int c_ok, c_h;
+    int c_ok;
     /* The model at the nominal pose, where every cold solve builds its first QP: once, at
      * create (the layout's geometry and level do not change after). */
     double z_rho[HP_MAX_BLADDERS], z_J[HP_MAX_BLADDERS * 6], z_sw[HP_MAX_BLADDERS];
@@ -253,7 +253,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     int curved = pb->level != HP_LEVEL_LINEAR && st->have_u;
     int at_zero = !curved && st->z_ok;
     for (int i = 0; i < 6; ++i) at_zero &= xk[i] == 0.0;
-    if (st->c_ok && (st->c_h || !curved) && memcmp(st->c_x, xk, sizeof st->c_x) == 0) {
+    if (st->c_ok && memcmp(st->c_x, xk, sizeof st->c_x) == 0) {
         memcpy(st->rho, st->c_rho, sizeof st->rho);
         memcpy(st->J, st->c_J, sizeof st->J);
         if (curved) memcpy(st->H, st->c_H, sizeof st->H);
@@ -344,8 +344,9 @@ static double merit(rt_state *st, const hp_problem *pb, const double *x, double 
 static double merit_full(rt_state *st, const hp_problem *pb, const double *x, double nu)
 {
     st->c_ok = 0;
-    st->c_h = pb->level != HP_LEVEL_LINEAR;
-    if (rt_contact(st, pb, x, st->c_rho, st->c_J, st->c_h ? st->c_H : NULL) != HP_OK)
+    /* Only the curved levels search lines, and only after a QP, so the Hessians (of the
+     * bladders with a multiplier) are always wanted. */
+    if (rt_contact(st, pb, x, st->c_rho, st->c_J, st->c_H) != HP_OK)
         return INFINITY;
     memcpy(st->c_x, x, sizeof st->c_x);
     st->c_ok = 1;
