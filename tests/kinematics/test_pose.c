@@ -135,9 +135,9 @@ static void test_rotation_derivs(void **state)
 /* The derivatives' closed forms on many angles: R = Rz(γ)Ry(β)Rx(α) and every first and
  * second derivative built here from the textbook elementary matrices (and their
  * derivatives: the 2×2 block of cos/sin turned by a quarter turn per order, the axis entry
- * 0) by plain 3×3 products. The library builds the same products from sparse factors; the
- * entries are within 4e-16 (a couple of ulps of entries <= 1; the products are the same
- * sums, so in practice they agree to the bit). */
+ * 0) by plain 3×3 products. The library builds the same products from sparse factors,
+ * summing the same non-zero terms in the same order, so every entry must be equal (==: only
+ * the sign of a zero may differ). */
 static void elem_ref(int axis, double t, int order, double M[9])
 {
     double c = cos(t), s = sin(t);
@@ -182,18 +182,18 @@ static void test_rotation_derivs_closed_form(void **state)
         hp_kin_rotation_derivs(th, R, dR, d2R);
         int ord[3] = {0, 0, 0};
         product_ref(th, ord, P);
-        for (int i = 0; i < 9; ++i) hp_assert_close(R[i], P[i], 0, 4e-16);
+        for (int i = 0; i < 9; ++i) assert_true(R[i] == P[i]);
         for (int j = 0; j < 3; ++j) {
             int o1[3] = {0, 0, 0};
             o1[j] = 1;
             product_ref(th, o1, P);
-            for (int i = 0; i < 9; ++i) hp_assert_close(dR[j][i], P[i], 0, 4e-16);
+            for (int i = 0; i < 9; ++i) assert_true(dR[j][i] == P[i]);
             for (int k = 0; k < 3; ++k) {
                 int o2[3] = {0, 0, 0};
                 o2[j] += 1;
                 o2[k] += 1;
                 product_ref(th, o2, P);
-                for (int i = 0; i < 9; ++i) hp_assert_close(d2R[j][k][i], P[i], 0, 4e-16);
+                for (int i = 0; i < 9; ++i) assert_true(d2R[j][k][i] == P[i]);
             }
         }
     }
