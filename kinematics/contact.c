@@ -11,11 +11,11 @@
 #include <math.h>
 #include <string.h>
 
-/* c' and its first (C, 3×6) and second (D2, 3×6×6) derivatives at pose xi for centre c. */
+/* c' and its first derivatives at pose xi for centre c; u = c − pivot − t. ∂c'/∂t = −Rᵀ
+ * needs no storage; Cr = ∂c'/∂θ (3×3). */
 typedef struct backmap {
-    double cp[3];
-    double C[3][6];
-    double D2[3][6][6];
+    double cp[3], u[3];
+    double Cr[3][3];
 } backmap;
 
 typedef struct rotd {
@@ -23,30 +23,58 @@ typedef struct rotd {
 } rotd;
 
 static void back_transform(const hp_layout *L, const double c[3], const double xi[6],
-                           const rotd *rd, int want_d2, backmap *bm)
+                           const rotd *rd, backmap *bm)
 {
     const double *R = rd->R;
-    double u[3];
+    double *u = bm->u;
     for (int i = 0; i < 3; ++i) u[i] = c[i] - L->pivot[i] - xi[i];
     for (int m = 0; m < 3; ++m) {
         bm->cp[m] = R[m] * u[0] + R[3 + m] * u[1] + R[6 + m] * u[2] + L->pivot[m];
-        for (int i = 0; i < 3; ++i) bm->C[m][i] = -R[i * 3 + m];
         for (int j = 0; j < 3; ++j)
-            bm->C[m][3 + j] = rd->dR[j][m] * u[0] + rd->dR[j][3 + m] * u[1] + rd->dR[j][6 + m] * u[2];
+            bm->Cr[m][j] = rd->dR[j][m] * u[0] + rd->dR[j][3 + m] * u[1] + rd->dR[j][6 + m] * u[2];
     }
-    if (!want_d2) return;
-    for (int m = 0; m < 3; ++m) {
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) bm->D2[m][i][j] = 0.0;
-        for (int a = 0; a < 3; ++a)
-            for (int b = 0; b < 3; ++b) {
-                double v = -rd->dR[b][a * 3 + m];
-                bm->D2[m][a][3 + b] = v;
-                bm->D2[m][3 + b][a] = v;
-                const double *Q = rd->d2R[a][b];
-                bm->D2[m][3 + a][3 + b] = Q[m] * u[0] + Q[3 + m] * u[1] + Q[6 + m] * u[2];
+}
+
+/* H = Cᵀ ∇²f C + Σ_m g_m ∂²c'_m (6×6, row-major, symmetric). The second derivatives of
+ * c' = Rᵀu + pivot are sparse: none between translations, −∂_b R[a][m] between translation
+ * a and rotation b, (∂²_ab Rᵀ u)_m between rotations. Contracted with g they are the
+ * vectors ∂_b R g and the numbers uᵀ ∂²_ab R g, so the 3×6×6 array of ∂²c' is never
+ * formed. hf NULL: f is linear in c' (the plane level), only the second term. */
+static void contact_hessian(const rotd *rd, const backmap *bm, const double g[3],
+                            const double hf[9], double *H)
+{
+    const double *u = bm->u;
+    double Hs[6][6] = {{0}};
+    if (hf) {
+        double C[3][6], hC[3][6]; /* C = ∂c'/∂ξ, hC = ∇²f · C */
+        for (int m = 0; m < 3; ++m)
+            for (int i = 0; i < 3; ++i) {
+                C[m][i] = -rd->R[i * 3 + m];
+                C[m][3 + i] = bm->Cr[m][i];
             }
+        for (int a = 0; a < 3; ++a)
+            for (int i = 0; i < 6; ++i)
+                hC[a][i] = hf[a * 3] * C[0][i] + hf[a * 3 + 1] * C[1][i] + hf[a * 3 + 2] * C[2][i];
+        for (int i = 0; i < 6; ++i)
+            for (int j = i; j < 6; ++j)
+                Hs[i][j] = C[0][i] * hC[0][j] + C[1][i] * hC[1][j] + C[2][i] * hC[2][j];
     }
+    for (int b = 0; b < 3; ++b) {
+        const double *D = rd->dR[b];
+        for (int a = 0; a < 3; ++a)
+            Hs[a][3 + b] -= D[a * 3] * g[0] + D[a * 3 + 1] * g[1] + D[a * 3 + 2] * g[2];
+        for (int a = 0; a <= b; ++a) {
+            const double *Q = rd->d2R[a][b];
+            double qg[3];
+            for (int l = 0; l < 3; ++l) qg[l] = Q[l * 3] * g[0] + Q[l * 3 + 1] * g[1] + Q[l * 3 + 2] * g[2];
+            Hs[3 + a][3 + b] += u[0] * qg[0] + u[1] * qg[1] + u[2] * qg[2];
+        }
+    }
+    for (int i = 0; i < 6; ++i)
+        for (int j = i; j < 6; ++j) {
+            H[i * 6 + j] = Hs[i][j];
+            H[j * 6 + i] = Hs[i][j];
+        }
 }
 
 static void linear_row(const hp_layout *L, const hp_geom *G, int k, double row[6])
@@ -121,8 +149,8 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
         if (H && !want_h)
             for (int i = 0; i < 36; ++i) H[k * 36 + i] = 0.0;
         backmap bm;
-        back_transform(L, L->bladders[k].center, xi, &rd, want_h, &bm);
-        double f, g[3], hf[9] = {0};
+        back_transform(L, L->bladders[k].center, xi, &rd, &bm);
+        double f, g[3], hf[9];
         if (level == HP_LEVEL_SURFACE) {
             hp_error err = hp_kin_head_distance_warm(&G->head, bm.cp, s_warm ? &s_warm[k] : NULL,
                                                      &f, g, want_h ? hf : NULL, NULL);
@@ -136,23 +164,15 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
             memcpy(g, n, sizeof g);
         }
         if (rho) rho[k] = f;
-        if (J)
-            for (int i = 0; i < 6; ++i)
-                J[k * 6 + i] = g[0] * bm.C[0][i] + g[1] * bm.C[1][i] + g[2] * bm.C[2][i];
-        if (want_h) {
-            double hC[3][6]; /* ∇²f · C */
-            for (int a = 0; a < 3; ++a)
-                for (int i = 0; i < 6; ++i)
-                    hC[a][i] = hf[a * 3] * bm.C[0][i] + hf[a * 3 + 1] * bm.C[1][i] +
-                               hf[a * 3 + 2] * bm.C[2][i];
-            for (int i = 0; i < 6; ++i)
-                for (int j = i; j < 6; ++j) {
-                    double v = 0.0;
-                    for (int a = 0; a < 3; ++a) v += bm.C[a][i] * hC[a][j] + g[a] * bm.D2[a][i][j];
-                    H[k * 36 + i * 6 + j] = v;
-                    H[k * 36 + j * 6 + i] = v;
-                }
+        if (J) {
+            const double *R = rd.R;
+            for (int i = 0; i < 3; ++i) {
+                J[k * 6 + i] = g[0] * -R[i * 3] + g[1] * -R[i * 3 + 1] + g[2] * -R[i * 3 + 2];
+                J[k * 6 + 3 + i] = g[0] * bm.Cr[0][i] + g[1] * bm.Cr[1][i] + g[2] * bm.Cr[2][i];
+            }
         }
+        if (want_h)
+            contact_hessian(&rd, &bm, g, level == HP_LEVEL_SURFACE ? hf : NULL, H + k * 36);
     }
     return HP_OK;
 }

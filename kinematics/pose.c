@@ -60,7 +60,7 @@ static void elementary(int k, double sn, double cs, int order, double M[9])
  * (k, k) entry and the 2×2 block on the other two axes, so each entry of C is one product
  * or two, summed in index order as the full product sums them; the full product only adds
  * exact zeros to that, so C is the same to the bit (up to the sign of a zero). */
-static void mul_elem(const double A[9], const double M[9], int k, double C[9])
+static inline void mul_elem(const double A[9], const double M[9], int k, double C[9])
 {
     int i1 = (k + 1) % 3, i2 = (k + 2) % 3;
     int lo = i1 < i2 ? i1 : i2, hi = i1 < i2 ? i2 : i1;
@@ -73,6 +73,10 @@ static void mul_elem(const double A[9], const double M[9], int k, double C[9])
     }
     memcpy(C, T, sizeof T);
 }
+
+/* The two factors used, each with its axis a constant (the index arithmetic folds away). */
+static void mul_x(const double A[9], const double M[9], double C[9]) { mul_elem(A, M, 0, C); }
+static void mul_y(const double A[9], const double M[9], double C[9]) { mul_elem(A, M, 1, C); }
 
 void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
                             double d2R[3][3][9])
@@ -88,12 +92,12 @@ void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
      * elementary factor (mul_elem), with the rounding of the full matrix products. */
     double ZY[3][3][9];
     for (int oz = 0; oz <= maxord; ++oz)
-        for (int oy = 0; oy + oz <= maxord; ++oy) mul_elem(F[2][oz], F[1][oy], 1, ZY[oz][oy]);
-    mul_elem(ZY[0][0], F[0][0], 0, R);
+        for (int oy = 0; oy + oz <= maxord; ++oy) mul_y(F[2][oz], F[1][oy], ZY[oz][oy]);
+    mul_x(ZY[0][0], F[0][0], R);
     if (dR) {
-        mul_elem(ZY[0][0], F[0][1], 0, dR[0]);
-        mul_elem(ZY[0][1], F[0][0], 0, dR[1]);
-        mul_elem(ZY[1][0], F[0][0], 0, dR[2]);
+        mul_x(ZY[0][0], F[0][1], dR[0]);
+        mul_x(ZY[0][1], F[0][0], dR[1]);
+        mul_x(ZY[1][0], F[0][0], dR[2]);
     }
     if (d2R) {
         int ord[3];
@@ -102,7 +106,7 @@ void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
                 ord[0] = ord[1] = ord[2] = 0;
                 ord[j] += 1;
                 ord[k] += 1;
-                mul_elem(ZY[ord[2]][ord[1]], F[0][ord[0]], 0, d2R[j][k]);
+                mul_x(ZY[ord[2]][ord[1]], F[0][ord[0]], d2R[j][k]);
                 if (k != j) memcpy(d2R[k][j], d2R[j][k], sizeof d2R[j][k]);
             }
     }

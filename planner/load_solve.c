@@ -412,7 +412,7 @@ hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6
      * pressures, each step a QP in (e, dP): minimise ½eᵀWe + ½mu|dP|² subject to
      * e − G·dP = xi − desired; mu is Levenberg's damping (raised when a step fails). */
     const int n = M->layout.n;
-    double x[6], p[HP_MAX_BLADDERS], G[6 * HP_MAX_BLADDERS];
+    double x[6], p[HP_MAX_BLADDERS] = {0}, G[6 * HP_MAX_BLADDERS];
     memcpy(x, xi0, sizeof x);
     for (int k = 0; k < n; ++k) p[k] = fmin(fmax(P0[k], lo[k]), hi[k]);
     if (rest_and_sensitivity(M, p, x, G) != 0) {
