@@ -57,6 +57,10 @@ double hp_kin_head_min_curvature_radius(const hp_head *h)
     return amin * amin / amax;
 }
 
+/* max and min of finite numbers, inline (fmax and fmin are library calls here). */
+static inline double max2(double a, double b) { return a > b ? a : b; }
+static inline double min2(double a, double b) { return a < b ? a : b; }
+
 /* Hessian of a distance whose gradient is n = m/|m|: (I − n nᵀ)/|m| · Dm. */
 static void project_hessian(const double n[3], double mnorm, const double Dm[9],
                             double hess[9])
@@ -103,7 +107,7 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
                                    double *d, double grad[3], double hess[9], double foot[3])
 {
     const double *a = h->semi_axes;
-    double e = fmin(a[0], fmin(a[1], a[2]));
+    double e = min2(a[0], min2(a[1], a[2]));
     double r[3], z[3], rz[3], g0 = -1.0;
     for (int i = 0; i < 3; ++i) {
         r[i] = (a[i] / e) * (a[i] / e);
@@ -112,9 +116,9 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
         g0 += z[i] * z[i];
     }
     double lo = -1.0, hi;
-    for (int i = 0; i < 3; ++i) lo = fmax(lo, r[i] * (z[i] - 1.0));
+    for (int i = 0; i < 3; ++i) lo = max2(lo, r[i] * (z[i] - 1.0));
     if (g0 > 0) {
-        lo = fmax(lo, 0.0);
+        lo = max2(lo, 0.0);
         hi = sqrt(rz[0] * rz[0] + rz[1] * rz[1] + rz[2] * rz[2]) - 1.0;
         if (hi < lo) hi = lo;
     } else {
@@ -136,21 +140,32 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
     if (g0 != 0.0 && s_io && *s_io > lo && *s_io < hi) s = *s_io;
     if (g0 != 0.0) {
         for (int it = 0; it < 200; ++it) {
-            double Q = 0.0, dQ = 0.0;
+            double Q = 0.0, dQ = 0.0, d2Q = 0.0;
             for (int i = 0; i < 3; ++i) {
                 double inv = 1.0 / (r[i] + s); /* one division a term, not two */
-                double q = rz[i] * inv;
-                Q += q * q;
-                dQ -= 2.0 * q * q * inv;
+                double q2 = rz[i] * inv * (rz[i] * inv);
+                Q += q2;
+                dQ -= 2.0 * q2 * inv;
+                d2Q += 6.0 * q2 * inv * inv;
             }
             if (Q == 1.0) break;
             if (Q > 1.0) lo = s; else hi = s;
             double sn = dQ < 0 ? s - 2.0 * Q * (sqrt(Q) - 1.0) / dQ : 0.5 * (lo + hi);
             /* s enters only as r_i + s with r_i >= 1: absolute resolution 2ε·max(1,|s|). */
-            if (fabs(sn - s) <= 2.0 * DBL_EPSILON * fmax(1.0, fabs(s))) break;
+            double res = 2.0 * DBL_EPSILON * max2(1.0, fabs(s)), step = fabs(sn - s);
+            if (step <= res) break;
             if (!(sn > lo && sn < hi)) {
                 sn = 0.5 * (lo + hi);
                 if (sn == lo || sn == hi) break; /* bracket down to adjacent doubles */
+            } else if (dQ < 0) {
+                /* Newton's error after this step is |ψ''/(2ψ')|·step² (ψ''/ψ' = Q''/Q' −
+                 * 1.5·Q'/Q). When that is below the resolution the step's own result is the
+                 * root to rounding and the next evaluation would only confirm it. */
+                double curv = fabs(d2Q / dQ - 1.5 * dQ / Q);
+                if (0.5 * curv * step * step <= 0.25 * res) {
+                    s = sn;
+                    break;
+                }
             }
             s = sn;
         }
