@@ -65,9 +65,9 @@ static inline double min2(double a, double b) { return a < b ? a : b; }
 static void project_hessian(const double n[3], double mnorm, const double Dm[9],
                             double hess[9])
 {
-    double P[9], T[9];
+    double P[9], T[9], im = 1.0 / mnorm;
     for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) P[i * 3 + j] = ((i == j) - n[i] * n[j]) / mnorm;
+        for (int j = 0; j < 3; ++j) P[i * 3 + j] = ((i == j) - n[i] * n[j]) * im;
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
             T[i * 3 + j] = P[i * 3] * Dm[j] + P[i * 3 + 1] * Dm[3 + j] + P[i * 3 + 2] * Dm[6 + j];
@@ -172,12 +172,13 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
     }
     if (s_io) *s_io = s;
     double t = s * e * e;
-    double x[3], m[3], w[3], v[3], S = 0.0;
+    /* Reciprocals once: a division is an order of magnitude slower than a product. */
+    double x[3], m[3], w[3], v[3], id[3], S = 0.0;
     for (int i = 0; i < 3; ++i) {
-        double den = e * e * (r[i] + s); /* a_i² + t > 0 */
+        id[i] = 1.0 / (e * e * (r[i] + s)); /* 1/(a_i² + t), a_i² + t > 0 */
         x[i] = y[i] * (r[i] / (r[i] + s));
-        m[i] = y[i] / den;            /* x_i/a_i²: the unnormalised outward normal */
-        w[i] = x[i] / den;
+        m[i] = y[i] / (e * e * (r[i] + s)); /* x_i/a_i²: the unnormalised outward normal */
+        w[i] = x[i] * id[i];
         v[i] = w[i] / (a[i] * a[i]);
         S += x[i] * v[i];
     }
@@ -191,10 +192,10 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
     if (hess) {
         /* ∂m/∂y = diag(1/(a²+t)) − v wᵀ/S, from implicit differentiation of G(y, t) = 0:
          * ∂t/∂y = w/S, ∂x/∂y = diag(a²/(a²+t)) − w wᵀ/S. */
-        double Dm[9];
+        double Dm[9], iS = 1.0 / S;
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j)
-                Dm[i * 3 + j] = (i == j ? 1.0 / (e * e * (r[i] + s)) : 0.0) - v[i] * w[j] / S;
+                Dm[i * 3 + j] = (i == j ? id[i] : 0.0) - v[i] * w[j] * iS;
         project_hessian(n, mn, Dm, hess);
     }
     return HP_OK;
