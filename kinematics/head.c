@@ -1,6 +1,7 @@
 /* The rigid head: shapes, validation, and the signed distance from a point to its surface
  * with exact first and second derivatives. */
 #include "kin_internal.h"
+#include "common/minmax.h"
 
 #include <float.h>
 #include <math.h>
@@ -57,10 +58,6 @@ double hp_kin_head_min_curvature_radius(const hp_head *h)
     return amin * amin / amax;
 }
 
-/* max and min of finite numbers, inline (fmax and fmin are library calls here). */
-static inline double max2(double a, double b) { return a > b ? a : b; }
-static inline double min2(double a, double b) { return a < b ? a : b; }
-
 /* Hessian of a distance whose gradient is n = m/|m|: (I − n nᵀ)/|m| · Dm. */
 static void project_hessian(const double n[3], double mnorm, const double Dm[9],
                             double hess[9])
@@ -107,7 +104,7 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
                                    double *d, double grad[3], double hess[9], double foot[3])
 {
     const double *a = h->semi_axes;
-    double e = min2(a[0], min2(a[1], a[2]));
+    double e = hp_min2(a[0], hp_min2(a[1], a[2]));
     double r[3], z[3], rz[3], g0 = -1.0;
     for (int i = 0; i < 3; ++i) {
         r[i] = (a[i] / e) * (a[i] / e);
@@ -116,9 +113,9 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
         g0 += z[i] * z[i];
     }
     double lo = -1.0, hi;
-    for (int i = 0; i < 3; ++i) lo = max2(lo, r[i] * (z[i] - 1.0));
+    for (int i = 0; i < 3; ++i) lo = hp_max2(lo, r[i] * (z[i] - 1.0));
     if (g0 > 0) {
-        lo = max2(lo, 0.0);
+        lo = hp_max2(lo, 0.0);
         hi = sqrt(rz[0] * rz[0] + rz[1] * rz[1] + rz[2] * rz[2]) - 1.0;
         if (hi < lo) hi = lo;
     } else {
@@ -152,7 +149,7 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
             if (Q > 1.0) lo = s; else hi = s;
             double sn = dQ < 0 ? s - 2.0 * Q * (sqrt(Q) - 1.0) / dQ : 0.5 * (lo + hi);
             /* s enters only as r_i + s with r_i >= 1: absolute resolution 2ε·max(1,|s|). */
-            double res = 2.0 * DBL_EPSILON * max2(1.0, fabs(s)), step = fabs(sn - s);
+            double res = 2.0 * DBL_EPSILON * hp_max2(1.0, fabs(s)), step = fabs(sn - s);
             if (step <= res) break;
             if (!(sn > lo && sn < hi)) {
                 sn = 0.5 * (lo + hi);

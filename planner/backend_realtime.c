@@ -10,6 +10,7 @@
 #include "planner/problem_setup.h"
 #include "planner/qp.h"
 #include "common/dense.h"
+#include "common/minmax.h"
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
 
@@ -119,7 +120,7 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
 /* The margin (mm) by which the QP moves bladder k's limits inward. */
 static double rt_margin(const hp_problem *pb, int k)
 {
-    return fmin(RT_MARGIN_MM, 0.25 * (pb->ro_hi[k] - pb->ro_lo[k]));
+    return hp_min2(RT_MARGIN_MM, 0.25 * (pb->ro_hi[k] - pb->ro_lo[k]));
 }
 
 /* Violation (mm, summed) of the limits the QP sees: moved inward by the margin. The merit
@@ -133,7 +134,7 @@ static double qp_violation(const hp_problem *pb, const double *rho)
     for (int k = 0; k < pb->n; ++k) {
         if (!isfinite(rho[k])) return INFINITY;
         double mg = rt_margin(pb, k);
-        v += fmax(0.0, fmax(pb->ro_lo[k] + mg - rho[k], rho[k] - (pb->ro_hi[k] - mg)));
+        v += hp_max2(0.0, hp_max2(pb->ro_lo[k] + mg - rho[k], rho[k] - (pb->ro_hi[k] - mg)));
     }
     return v;
 }
@@ -314,11 +315,11 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
         rt_inject(st, pb->n, st->rho);
     double worst = 0;
     for (int k = 0; k < pb->n; ++k) {
-        if (!isfinite(st->rho[k])) return INFINITY; /* fmax would drop a NaN */
-        double v = fmax(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]);
-        v = fmax(v, 0.0);
+        if (!isfinite(st->rho[k])) return INFINITY; /* a max would drop a NaN */
+        double v = hp_max2(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]);
+        v = hp_max2(v, 0.0);
         if (viol) viol[k] = v;
-        worst = fmax(worst, v);
+        worst = hp_max2(worst, v);
     }
     return worst;
 }
