@@ -194,21 +194,25 @@ static void build_objective(rt_state *st, const hp_problem *pb, const int *map, 
                             const double *xk, int curved)
 {
     hp_qp *q = &st->qp;
-    const double s[6] = {HP_MM_PER_M, HP_MM_PER_M, HP_MM_PER_M,
-                         HP_DEG_PER_RAD, HP_DEG_PER_RAD, HP_DEG_PER_RAD};
     double Gl[HP_QP_NMAX * HP_QP_NMAX] = {0};
     for (int v = 0; v < nv; ++v) Gl[v * nv + v] = pb->w[map[v]];
-    if (curved)
+    if (curved) {
+        /* SI Hessians of rho (m) to mm per scaled unit squared: mm/m · (si/scaled)_i ·
+         * (si/scaled)_j, one product per entry instead of a division. */
+        double sc[HP_QP_NMAX * HP_QP_NMAX];
+        for (int a = 0; a < nv; ++a)
+            for (int b = 0; b < nv; ++b)
+                sc[a * nv + b] = HP_MM_PER_M * hp_pose_si_per_scaled(map[a]) *
+                                 hp_pose_si_per_scaled(map[b]);
         for (int k = 0; k < pb->n; ++k) {
             double lam = st->u[2 * k] - st->u[2 * k + 1];
             if (lam == 0.0) continue;
+            const double *Hk = &st->H[k * 36];
             for (int a = 0; a < nv; ++a)
-                for (int b = 0; b < nv; ++b) {
-                    int i = map[a], j = map[b];
-                    Gl[a * nv + b] -= lam * st->H[k * 36 + i * 6 + j] * HP_MM_PER_M /
-                                      (s[i] * s[j]);
-                }
+                for (int b = 0; b < nv; ++b)
+                    Gl[a * nv + b] -= lam * Hk[map[a] * 6 + map[b]] * sc[a * nv + b];
         }
+    }
     memcpy(q->G, Gl, sizeof Gl);
     double sigma = 0.0;
     st->exact = curved;
@@ -257,7 +261,12 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     if (st->c_ok && memcmp(st->c_x, xk, sizeof st->c_x) == 0) {
         memcpy(st->rho, st->c_rho, sizeof st->rho);
         memcpy(st->J, st->c_J, sizeof st->J);
-        if (curved) memcpy(st->H, st->c_H, sizeof st->H);
+        /* Only the Hessians build_objective reads: those of bladders with a multiplier,
+         * the same st->u that masked the evaluation. */
+        if (curved)
+            for (int k = 0; k < pb->n; ++k)
+                if (st->u[2 * k] - st->u[2 * k + 1] != 0.0)
+                    memcpy(&st->H[k * 36], &st->c_H[k * 36], 36 * sizeof *st->H);
     } else if (at_zero) {
         memcpy(st->rho, st->z_rho, sizeof st->rho);
         memcpy(st->J, st->z_J, sizeof st->J);
