@@ -51,6 +51,10 @@ typedef struct rt_state {
     double sw[HP_MAX_BLADDERS]; /* surface level: the last distances' multipliers (warm start) */
     int act[HP_QP_MMAX]; /* active set of the previous SQP step's QP */
     int exact;           /* the last QP's Hessian was the Lagrangian's own (Newton) */
+    /* The Cholesky factor of the QP's G from the convexity test (build_objective), when G
+     * was not changed after it: the QP solves then do not factor G again. */
+    double Lg[HP_QP_NMAX * HP_QP_NMAX];
+    int Lg_ok;
     /* The model at the last full step's trial point, evaluated with its derivatives by the
      * line search: when that step is accepted, the next QP is built from it without a
      * second evaluation at the same point. */
@@ -164,9 +168,8 @@ static void rt_warm_point(void *state, int accepted) { ((rt_state *)state)->acce
 /* 1 when the symmetric G (nv×nv) is positive definite with every Cholesky pivot above
  * frac × its diagonal entry: far from the answer, large multipliers times the contact
  * curvature make the Lagrangian nearly singular and the Newton step wild. */
-static int well_convex(const double *G, int nv, double frac)
+static int well_convex(const double *G, int nv, double frac, double *L)
 {
-    double L[HP_QP_NMAX * HP_QP_NMAX] = {0};
     return hp_cholesky(G, nv, nv, frac, L, nv);
 }
 
@@ -216,7 +219,8 @@ static void build_objective(rt_state *st, const hp_problem *pb, const int *map, 
     memcpy(q->G, Gl, sizeof Gl);
     double sigma = 0.0;
     st->exact = curved;
-    if (curved && !well_convex(q->G, nv, 0.1)) {
+    st->Lg_ok = curved && well_convex(q->G, nv, 0.1, st->Lg);
+    if (curved && !st->Lg_ok) {
         int ok = 0;
         for (sigma = 1.0; sigma <= RT_AUG_MAX; sigma *= 10.0) {
             memcpy(q->G, Gl, sizeof Gl);
@@ -292,7 +296,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
         q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base);  /* −J x >= −(hi − base) */
     }
     build_objective(st, pb, map, nv, xk, curved);
-    hp_qp_status qs = hp_qp_solve(q, budget, RT_FEAS_TOL);
+    hp_qp_status qs = hp_qp_solve_factored(q, st->Lg_ok ? st->Lg : NULL, budget, RT_FEAS_TOL);
     *iters += q->iterations;
     if (qs == HP_QP_BAD_INPUT && curved) { /* Lagrangian not convex here: plain W */
         build_objective(st, pb, map, nv, xk, 0);
@@ -404,7 +408,8 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     double xt[6];
     int soc_ok = 1;
     for (int k = 0; k < pb->n; ++k) soc_ok &= isfinite(st->c_rho[k]) != 0;
-    if (soc_ok && isfinite(phi0) && hp_qp_solve(q, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
+    if (soc_ok && isfinite(phi0) &&
+        hp_qp_solve_factored(q, st->Lg_ok ? st->Lg : NULL, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
         *iters += q->iterations;
         for (int i = 0; i < 6; ++i) xt[i] = 0.0;
         for (int v = 0; v < nv; ++v) xt[map[v]] = q->x[v];

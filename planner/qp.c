@@ -36,9 +36,10 @@ static void axpy(double *y, double t, const double *v)
 }
 
 /* Jt = L⁻¹ for G = L Lᵀ (G n×n with leading dimension n; Jt with leading dimension NM,
- * zero outside its lower n×n triangle). Returns 0 unless G is positive definite with
- * finite entries. */
-static int inverse_cholesky_factor(const double *G, int n, double *Jt)
+ * zero outside its lower n×n triangle). Lg, when not NULL, is the caller's factor of this
+ * G (leading dimension n), used instead of factoring again. Returns 0 unless G is positive
+ * definite with finite entries. */
+static int inverse_cholesky_factor(const double *G, int n, const double *Lg, double *Jt)
 {
     memset(Jt, 0, NM * NM * sizeof *Jt);
     /* hp_cholesky reads only the lower triangle, and a NaN or infinity there fails a pivot
@@ -47,7 +48,12 @@ static int inverse_cholesky_factor(const double *G, int n, double *Jt)
     for (int i = 0; i < n; ++i)
         for (int j = i + 1; j < n; ++j)
             if (!isfinite(G[i * n + j])) return 0;
-    if (!hp_cholesky(G, n, n, 0.0, Jt, NM)) return 0;
+    if (Lg) {
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j <= i; ++j) Jt[IDX(i, j)] = Lg[i * n + j];
+    } else if (!hp_cholesky(G, n, n, 0.0, Jt, NM)) {
+        return 0;
+    }
     /* L⁻¹ row by row, in place: row i of L⁻¹ is (e_i − Σ_{k<i} L_ik·row k of L⁻¹) / L_ii,
      * from row i of L (saved first) and the rows of L⁻¹ above it. */
     for (int i = 0; i < n; ++i) {
@@ -152,6 +158,11 @@ static int load_rows(hp_qp *qp, double *nrm, int *twin, int *skip)
 
 hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
 {
+    return hp_qp_solve_factored(qp, NULL, max_iter, feas_tol);
+}
+
+hp_qp_status hp_qp_solve_factored(hp_qp *qp, const double *Lg, int max_iter, double feas_tol)
+{
     int n = qp->n, m = qp->m;
     if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1) return HP_QP_BAD_INPUT;
     double *Jt = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_;
@@ -166,7 +177,7 @@ hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
     memset(qp->u, 0, sizeof qp->u);
     memset(qp->active, 0, sizeof qp->active);
     qp->iterations = 0;
-    if (!inverse_cholesky_factor(qp->G, n, Jt)) return HP_QP_BAD_INPUT;
+    if (!inverse_cholesky_factor(qp->G, n, Lg, Jt)) return HP_QP_BAD_INPUT;
 
     /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
     memset(x, 0, sizeof qp->x);

@@ -47,4 +47,10 @@ typedef struct hp_qp {
  * before it (a lower and an upper limit on one quantity) costs about half a row. */
 hp_qp_status hp_qp_solve(hp_qp *q, int max_iter, double feas_tol);
 
+/* hp_qp_solve with Lg the lower Cholesky factor of exactly this q->G from hp_cholesky
+ * (leading dimension n; entries above the diagonal not read), when the caller has factored
+ * G already (the realtime backend does, to test its convexity): G is not factored again.
+ * Lg NULL: hp_qp_solve. The factor is the same bits either way. */
+hp_qp_status hp_qp_solve_factored(hp_qp *q, const double *Lg, int max_iter, double feas_tol);
+
 #endif

@@ -5,6 +5,7 @@
 #include "test_util.h"
 #include "tests/planner/layout_fixture.h"
 #include "planner/qp.h"
+#include "common/dense.h"
 
 /* KKT of min ½xᵀGx + aᵀx s.t. Cx >= b at the returned x and u:
  * stationarity Gx + a − Cᵀu = 0, primal feasibility, u >= 0, complementarity u·s = 0. */
@@ -56,6 +57,30 @@ static void test_random_kkt(void **st)
         assert_int_equal(hp_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
         /* 1e-9: the data are O(10), the factorisations well conditioned (G >= I). */
         check_kkt(&q, 1e-9);
+    }
+}
+
+/* A caller's Cholesky factor of G (hp_qp_solve_factored, as the realtime backend passes
+ * the factor of its convexity test) gives the same answer as the solver's own
+ * factorisation, bit for bit: it is the same computation, done once instead of twice. */
+static void test_factored_same_bits(void **st)
+{
+    (void)st;
+    uint64_t seed = 77;
+    hp_qp q, r;
+    for (int t = 0; t < 2000; ++t) {
+        int n = 1 + (int)(lf_next(&seed) % 6), m = (int)(lf_next(&seed) % (HP_QP_MMAX + 1));
+        random_qp(&q, &seed, n, m);
+        double L[HP_QP_NMAX * HP_QP_NMAX];
+        for (int i = 0; i < n * n; ++i) L[i] = NAN; /* entries above the diagonal: not read */
+        assert_int_equal(hp_cholesky(q.G, n, n, 0.1, L, n), 1);
+        memcpy(&r, &q, sizeof r);
+        assert_int_equal(hp_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
+        assert_int_equal(hp_qp_solve_factored(&r, L, 200, 1e-12), HP_QP_OPTIMAL);
+        assert_memory_equal(q.x, r.x, sizeof q.x);
+        assert_memory_equal(q.u, r.u, sizeof q.u);
+        assert_memory_equal(q.active, r.active, sizeof q.active);
+        assert_int_equal(q.iterations, r.iterations);
     }
 }
 
@@ -287,6 +312,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_random_kkt),
+        cmocka_unit_test(test_factored_same_bits),
         cmocka_unit_test(test_degenerate),
         cmocka_unit_test(test_infeasible),
         cmocka_unit_test(test_random_vs_enumeration),
