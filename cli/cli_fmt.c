@@ -90,14 +90,22 @@ static const char DIGITS2[201] = "0001020304050607080910111213141516171819202122
 static void layout(char *buf, int neg, uint64_t D, int p, int X)
 {
     char dig[20];
+    /* The last 8 digits and the rest (7 to 9: p is 15 to 17 here) in 32-bit arithmetic. */
+    uint32_t lo = (uint32_t)(D % 100000000u), hi = (uint32_t)(D / 100000000u);
     int i = p;
-    while (i >= 2) {
-        unsigned r = (unsigned)(D % 100u);
-        D /= 100u;
+    for (int j = 0; j < 4; ++j) {
+        uint32_t r = lo % 100u;
+        lo /= 100u;
         dig[--i] = DIGITS2[2 * r + 1];
         dig[--i] = DIGITS2[2 * r];
     }
-    if (i) dig[0] = (char)('0' + (int)D);
+    while (i >= 2) {
+        uint32_t r = hi % 100u;
+        hi /= 100u;
+        dig[--i] = DIGITS2[2 * r + 1];
+        dig[--i] = DIGITS2[2 * r];
+    }
+    if (i) dig[0] = (char)('0' + (int)hi);
     int nd = p;
     while (nd > 1 && dig[nd - 1] == '0') --nd;
     char *o = buf;
@@ -142,6 +150,36 @@ static int reads_back_fast(double v, uint64_t D, int q)
     return r == fabs(v);
 }
 
+/* Whether D·10^q (−22 <= q <= 0, D < 2^55) reads back as a = m·2^e2 (2^52 <= m < 2^53,
+ * −80 < e2 <= 1), decided exactly where reads_back_fast cannot (D > 2^53): it does when it
+ * lies inside a's rounding interval, whose ends (half-way to the neighbouring doubles) go
+ * to the even mantissa. With B·2^t an end, the comparison D·10^q : B·2^t is made on
+ * integers as D·2^(q−t) : B·5^(−q), both below 2^115. Returns −1 outside these ranges
+ * (then strtod decides). */
+static int reads_back_exact(uint64_t m, int e2, uint64_t D, int q)
+{
+    if (q > 0 || q < -22 || D >= ((uint64_t)1 << 55) || e2 <= -80 || e2 > 1) return -1;
+    u128 five = 1;
+    for (int i = 0; i < -q; ++i) five *= 5u;
+    /* Upper end (2m+1)·2^(e2−1); lower end (2m−1)·2^(e2−1), or (4m−1)·2^(e2−2) when m is
+     * a power of two (the double below is closer). */
+    const int pow2 = m == ((uint64_t)1 << 52);
+    const uint64_t Bhi = 2 * m + 1, Blo = pow2 ? 4 * m - 1 : 2 * m - 1;
+    const int thi = e2 - 1, tlo = pow2 ? e2 - 2 : e2 - 1;
+    int cmp[2];
+    for (int side = 0; side < 2; ++side) {
+        uint64_t B = side ? Bhi : Blo;
+        int sh = q - (side ? thi : tlo); /* 0..54 for every v of the integer path */
+        if (sh < -8 || sh > 60) return -1;  /* L < 2^115, R < 2^115: no overflow */
+        u128 L = D, R = (u128)B * five;
+        if (sh >= 0) L <<= sh;
+        else R <<= -sh;
+        cmp[side] = L < R ? -1 : L > R;
+    }
+    int even = (m & 1u) == 0;
+    return (cmp[0] > 0 || (cmp[0] == 0 && even)) && (cmp[1] < 0 || (cmp[1] == 0 && even));
+}
+
 /* The integer path; 0 when v is outside its range (buf untouched then). */
 static int fmt_exact(char buf[CLI_FMT_MAX], double v)
 {
@@ -178,6 +216,7 @@ static int fmt_exact(char buf[CLI_FMT_MAX], double v)
             ++Xp;
         }
         int ok = p == 17 ? 1 : reads_back_fast(v, D, Xp - p + 1);
+        if (ok < 0) ok = reads_back_exact(m, e2, D, Xp - p + 1);
         if (ok == 0) continue;
         layout(buf, v < 0, D, p, Xp);
         if (ok == 1 || strtod(buf, NULL) == v) return 1;
