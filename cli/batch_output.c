@@ -90,23 +90,35 @@ typedef struct cell {
     const char *text; /* CELL_TEXT */
 } cell;
 
+/* Appends s to buf (size bytes, *used of them taken), truncating as snprintf does; 0 when
+ * it did not fit. */
+static int add_text(char *buf, size_t size, size_t *used, const char *s)
+{
+    size_t len = strlen(s), room = size - *used - 1, c = len < room ? len : room;
+    memcpy(buf + *used, s, c);
+    *used += c;
+    buf[*used] = '\0';
+    return c == len;
+}
+
+/* "name:limit|limit;..." of the bladders on a limit (without printf: its format machinery
+ * cost more than the rest of writing a row). */
 static void binding_text(const hp_layout *L, const batch_out *o, char *buf, size_t size)
 {
     size_t used = 0;
     buf[0] = '\0';
     for (int k = 0; k < L->n; ++k) {
         if (!o->binding[k]) continue;
-        int n = snprintf(buf + used, size - used, "%s%s:", used ? ";" : "",
-                         L->bladders[k].name);
-        if (n < 0 || (size_t)n >= size - used) return;
-        used += (size_t)n;
+        if ((used && !add_text(buf, size, &used, ";")) ||
+            !add_text(buf, size, &used, L->bladders[k].name) ||
+            !add_text(buf, size, &used, ":"))
+            return;
         int first = 1;
         for (int b = 0; b < HP_BIND_COUNT; ++b) {
             if (!(o->binding[k] & (1u << b))) continue;
-            n = snprintf(buf + used, size - used, "%s%s", first ? "" : "|",
-                         hp_binding_name(1u << b));
-            if (n < 0 || (size_t)n >= size - used) return;
-            used += (size_t)n;
+            if ((!first && !add_text(buf, size, &used, "|")) ||
+                !add_text(buf, size, &used, hp_binding_name(1u << b)))
+                return;
             first = 0;
         }
     }

@@ -11,8 +11,11 @@
  *     digits "%.{p}g" prints, X the decimal exponent;
  *   - whether D·10^(X−p+1) reads back as v is decided exactly when D <= 2^53 and
  *     |X−p+1| <= 22 (the double nearest D and the power of ten are both exact, and one
- *     IEEE multiplication or division rounds correctly: Clinger's fast path), else strtod
- *     decides;
+ *     IEEE multiplication or division rounds correctly: Clinger's fast path), else by
+ *     comparing it with the ends of v's rounding interval in integers (reads_back_exact),
+ *     and only outside that range by strtod;
+ *   - the three roundings come from one 128-bit product (round_digits), and only the
+ *     chosen string is laid out;
  *   - the string is laid out as %g does: exponent form when X < −4 or X >= p, trailing
  *     zeros removed.
  * Anything else (0, integers, non-finite, tiny or huge magnitudes) takes the printf path.
