@@ -40,7 +40,8 @@
  *     than REACHED/CLOSEST, the backend's raw_code, a text in hp_planner_error, and the SAFE
  *     OUTPUT: bit for bit the bladders and achieved pose of the last plan that returned an
  *     answer, or (after create, hp_planner_reset) the nominal answer, or (after
- *     hp_planner_set_previous) the pressures it was given. INVALID_INPUT, INFEASIBLE_START
+ *     hp_planner_set_previous) the pressures it was given, or (after
+ *     hp_planner_set_previous_result) that result's bladders and pose. INVALID_INPUT, INFEASIBLE_START
  *     and SOLVER_ERROR always carry it; ITERATION_LIMIT / TIME_LIMIT carry it when the
  *     backend stopped without a usable iterate (pose_error +inf tells which).
  *   reached_means_reached: REACHED means the returned pressures, inverted by hp_iab_fk ->
