@@ -276,9 +276,11 @@ HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
  * stretch limits (below any limit point's cap), pressure = IK(ri) to 1e-9 of the bladder's
  * pressure range (p_max − p_min) and ro = the volume law's ro of ri to 1e-9 m. Otherwise HP_ERR_INVALID, the field (and bladder)
  * named in hp_planner_error, and nothing changes. HP_ERR_NULL, HP_ERR_STATE (planner not
- * built). Allocates nothing; no contact model is evaluated (cheap: 2n bladder-law
- * evaluations). The pose is not checked against ro: the caller vouches that it is the pose
- * of those radii, as hp_plan's achieved is. */
+ * built). Allocates nothing and evaluates no contact model: 2n bladder-law evaluations,
+ * none when the bladders are bit for bit those of this planner's last answer (which pass
+ * the checks by construction: the same results are accepted either way). The pose is not
+ * checked against ro: the caller vouches that it is the pose of those radii, as hp_plan's
+ * achieved is. */
 HP_API hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *result);
 
 /* Forgets the previous plan: the nominal pose becomes the previous answer again. */
