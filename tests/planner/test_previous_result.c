@@ -6,7 +6,9 @@
  *     the next plan bit for bit;
  *   - it is the state a sequential warm run has after that result: the next plan is the
  *     same bit for bit after a direct-chain answer, and the same answer to the solver's
- *     tolerance after a backend's answer (whose multipliers the sequential run keeps). */
+ *     tolerance after a backend's answer (whose multipliers the sequential run keeps);
+ *   - every answer of hp_plan passes the full checks, which the call skips for the
+ *     planner's own last answer. */
 #include "test_util.h"
 #include "tests/planner/layout_fixture.h"
 #include "common/units.h"
@@ -263,11 +265,59 @@ static void test_uncommanded_component(void **st)
     hp_planner_destroy(p);
 }
 
+/* Every answer hp_plan returns passes the full checks (what the shortcut for the planner's
+ * own last answer relies on): 60 seeded corrections per case (reachable, binding, far
+ * beyond reach), at every level, on the default layout with and without rate limits and on
+ * the soft layout whose stable-branch cap binds; each answer is handed to a second planner
+ * whose previous answer differs, so nothing is skipped there. */
+static void test_answers_pass_the_checks(void **st)
+{
+    (void)st;
+    uint64_t seed = 4242;
+    int answers = 0;
+    for (int c = 0; c < 9; ++c) {
+        hp_level level = (hp_level)(HP_LEVEL_LINEAR + c % 3);
+        hp_layout L;
+        if (c < 6) {
+            assert_int_equal(lf_layout(&L), HP_OK);
+            for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = c < 3 ? INFINITY : 700.0;
+        } else {
+            hp_iab_limit lp;
+            assert_int_equal(lf_soft_layout(&L, 2.0, &lp), HP_OK);
+        }
+        hp_settings s;
+        hp_settings_default(&s);
+        s.level = level;
+        hp_planner *p = NULL, *chk = NULL;
+        assert_int_equal(hp_planner_create(&L, &s, &p, NULL), HP_OK);
+        assert_int_equal(hp_planner_create(&L, &s, &chk, NULL), HP_OK);
+        for (int t = 0; t < 60; ++t) {
+            double mm_deg[6], d[6];
+            double scale = (t % 3 == 0) ? 0.5 : (t % 3 == 1) ? 8.0 : 40.0;
+            for (int i = 0; i < 6; ++i) mm_deg[i] = scale * lf_uniform(&seed);
+            lf_pose(mm_deg, d);
+            hp_result r;
+            assert_int_equal(hp_plan(p, d, &r), HP_OK);
+            if (!isfinite(r.pose_error)) continue; /* the safe output: no new answer */
+            hp_planner_reset(chk);
+            if (hp_planner_set_previous_result(chk, &r) != HP_OK)
+                fail_msg("case %d, plan %d (%s): %s", c, t, hp_status_name(r.status),
+                         hp_planner_error(chk));
+            ++answers;
+        }
+        hp_planner_destroy(p);
+        hp_planner_destroy(chk);
+    }
+    print_message("%d answers passed the checks\n", answers);
+    assert_true(answers >= 400);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_uncommanded_component),
+        cmocka_unit_test(test_answers_pass_the_checks),
         cmocka_unit_test(test_linear),
         cmocka_unit_test(test_surface),
     };
