@@ -6,10 +6,12 @@
 # loaded machine costs wall time, not the rate (up to cache effects). docs/batch.md quotes a run.
 #
 #   bench/batch_throughput.sh [ROWS] [IPOPT_ROWS] [HEADPLAN] [SCENE]
-#     ROWS        rows of each realtime run (default 20000)
+#     ROWS        rows of each realtime run (default 200000: GNU time counts CPU time in
+#                 10 ms steps, so a run must take seconds for the rate to mean 1 %)
 #     IPOPT_ROWS  rows of the Ipopt run on the binding trace (default 200)
 #
-# Two generated traces (deviation rows, a slow drift as a tracker reports it):
+# Two generated traces (deviation rows, a slow drift as a tracker reports it;
+# bench/batch_traces.sh):
 #   reachable: x from 0 to 0.5 mm (the other axes in proportion, up to 0.13 deg), no limit
 #              binds (the direct chain answers);
 #   binding:   x from 0 to 6 mm, up to 1.5 deg: a pressure or stretch limit binds on most rows.
@@ -17,25 +19,16 @@
 # on the first IPOPT_ROWS binding rows; the last line is the ratio of realtime's surface-level
 # rate to Ipopt's on the binding rows.
 set -euo pipefail
-ROWS=${1:-20000}
+ROWS=${1:-200000}
 IROWS=${2:-200}
 HP=${3:-build/headplan}
 SCENE=${4:-scenarios/default.yaml}
 [ -x /usr/bin/time ] || { echo "needs GNU time (/usr/bin/time, Debian package 'time')" >&2; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 
-gen() { # ROWS AMPLITUDE_MM OFFSET (the drift is a·(OFFSET + sin), so OFFSET 1 binds from row 1)
-  awk -v n="$1" -v a="$2" -v o="$3" 'BEGIN {
-    print "# headplan-trace: rows=deviation"
-    print "t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg"
-    for (i = 0; i < n; i++) {
-      t = i / 10; s = o + sin(t / 40)
-      printf "%.1f,%.4f,%.4f,%.4f,%.4f,%.4f,%.4f\n", t, a*s, 0.6*a*s, -0.75*a*s, 0.25*a*s, 0.1*a*s, -0.15*a*s
-    }
-  }'
-}
-gen "$ROWS" 0.25 1 >"$tmp/reachable.csv"
-gen "$ROWS" 3 1 >"$tmp/binding.csv"
+source "$(dirname "$0")/batch_traces.sh"
+batch_trace "$ROWS" 0.25 1 >"$tmp/reachable.csv"
+batch_trace "$ROWS" 3 1 >"$tmp/binding.csv"
 head -n $((IROWS + 2)) "$tmp/binding.csv" >"$tmp/binding_ipopt.csv"
 
 # run TRACE BACKEND LEVEL ROWS -> prints "rows/s  summary"; sets RATE

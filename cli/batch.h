@@ -19,7 +19,7 @@ typedef struct batch_in {
 } batch_in;
 
 /* One output row: everything the output files show, except the per-row time, is a
- * deterministic function of (previous pressures, input row). */
+ * deterministic function of (previous good output row, input row). */
 typedef struct batch_out {
     int bad;
     hp_status status;
@@ -34,34 +34,39 @@ typedef struct batch_out {
     double solve_time; /* [s]: a measurement, excluded from comparisons */
 } batch_out;
 
-/* Plans rows [from, to) in order with one planner, starting from previous pressures
- * prev (n values, updated to the last row's pressures). Bad rows pass the state through.
- * progress (may be NULL) is incremented after every row. Returns HP_OK or the planner's
- * call error. */
+/* Plans rows [from, to) in order with one planner. The state before each row is set from
+ * the previous good output row alone (hp_planner_set_previous_result); *state is the row
+ * the first plan starts from (NULL: the start of the trace, the nominal answer) and is
+ * updated to the last good row planned (a pointer into out). Bad rows pass the state
+ * through. progress (may be NULL) is incremented after every row. Returns HP_OK or the
+ * planner's call error. */
 hp_error batch_plan_range(hp_planner *p, const batch_in *in, batch_out *out, size_t from,
-                          size_t to, double *prev, volatile size_t *progress);
+                          size_t to, const batch_out **state, volatile size_t *progress);
 
 /* 1 when two output rows are equal in every field that the files show (time excluded). */
 int batch_same(const batch_out *a, const batch_out *b, int n);
 
-/* Plans a trace block by block; the state (previous pressures) carries across blocks. */
+/* Plans a trace block by block; the state (the last good output row) carries across
+ * blocks. */
 typedef struct batch_engine {
     const hp_layout *L;
     const hp_settings *s;
     int jobs;
     hp_planner *p;                 /* in-process: every row when jobs == 1, repairs else */
-    double prev[HP_MAX_BLADDERS];  /* pressures after the last good row (nominal at first) */
+    batch_out last;                /* the last good row so far (when has_last) */
+    int has_last;                  /* 0: no good row yet: the nominal answer is the state */
     size_t repaired;               /* rows re-planned at shard joins, over all blocks */
 } batch_engine;
 
-/* Creates the planner and the nominal state. Returns 0, or 1 after a line on stderr. */
+/* Creates the planner; the state is the start of the trace. Returns 0, or 1 after a line
+ * on stderr. */
 int batch_engine_init(batch_engine *e, const hp_layout *L, const hp_settings *s, int jobs);
 
 /* Plans rows in[0..rows) into out, continuing from the engine's state. With jobs > 1 the
- * block is split into `jobs` processes; shard k > 0 starts from the nominal pressures (a
- * guess) and the parent then re-plans each shard's head from the true previous pressures
+ * block is split into `jobs` processes; shard k > 0 starts from the start of the trace (a
+ * guess) and the parent then re-plans each shard's head from the true previous state
  * until a row comes out identical to the guess, from which on the two runs agree (the
- * planner's state is a function of the previous pressures alone). The result equals a
+ * planner's state is a function of the previous good row alone). The result equals a
  * single sequential run, bit for bit. Returns 0, or non-zero after a line on stderr. */
 int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t rows);
 

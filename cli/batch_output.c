@@ -90,23 +90,35 @@ typedef struct cell {
     const char *text; /* CELL_TEXT */
 } cell;
 
+/* Appends s to buf (size bytes, *used of them taken), truncating as snprintf does; 0 when
+ * it did not fit. */
+static int add_text(char *buf, size_t size, size_t *used, const char *s)
+{
+    size_t len = strlen(s), room = size - *used - 1, c = len < room ? len : room;
+    memcpy(buf + *used, s, c);
+    *used += c;
+    buf[*used] = '\0';
+    return c == len;
+}
+
+/* "name:limit|limit;..." of the bladders on a limit (without printf: its format machinery
+ * cost more than the rest of writing a row). */
 static void binding_text(const hp_layout *L, const batch_out *o, char *buf, size_t size)
 {
     size_t used = 0;
     buf[0] = '\0';
     for (int k = 0; k < L->n; ++k) {
         if (!o->binding[k]) continue;
-        int n = snprintf(buf + used, size - used, "%s%s:", used ? ";" : "",
-                         L->bladders[k].name);
-        if (n < 0 || (size_t)n >= size - used) return;
-        used += (size_t)n;
+        if ((used && !add_text(buf, size, &used, ";")) ||
+            !add_text(buf, size, &used, L->bladders[k].name) ||
+            !add_text(buf, size, &used, ":"))
+            return;
         int first = 1;
         for (int b = 0; b < HP_BIND_COUNT; ++b) {
             if (!(o->binding[k] & (1u << b))) continue;
-            n = snprintf(buf + used, size - used, "%s%s", first ? "" : "|",
-                         hp_binding_name(1u << b));
-            if (n < 0 || (size_t)n >= size - used) return;
-            used += (size_t)n;
+            if ((!first && !add_text(buf, size, &used, "|")) ||
+                !add_text(buf, size, &used, hp_binding_name(1u << b)))
+                return;
             first = 0;
         }
     }
@@ -188,14 +200,20 @@ static void name_columns(batch_sink *k)
 
 /* Text with control characters and broken UTF-8 escaped (\xNN), then quoted as the format
  * needs: CSV (RFC 4180, only when it holds , " or \) or a JSON string. */
-static void put_text(FILE *f, const char *s, hp_trace_format fmt)
+/* The length of the leading printable ASCII of s that needs no quoting in either format. */
+static size_t plain_len(const char *s)
 {
-    /* Fast path: printable ASCII that needs no quoting in either format. */
     size_t plain = 0;
     while (s[plain] >= 0x20 && s[plain] < 0x7f && s[plain] != ',' && s[plain] != '"' &&
            s[plain] != '\\')
         ++plain;
-    if (s[plain] == '\0') {
+    return plain;
+}
+
+static void put_text(FILE *f, const char *s, hp_trace_format fmt)
+{
+    /* Fast path: printable ASCII that needs no quoting in either format. */
+    if (s[plain_len(s)] == '\0') {
         if (fmt == HP_TRACE_JSONL) fputc('"', f);
         fputs(s, f);
         if (fmt == HP_TRACE_JSONL) fputc('"', f);
@@ -229,18 +247,89 @@ static void put_text(FILE *f, const char *s, hp_trace_format fmt)
     free(clean);
 }
 
-static void put_cell(FILE *f, const cell *c, hp_trace_format fmt)
+/* A row is built in memory and written with one fwrite: ~70 cells a row through stdio one
+ * call each (fputs, fputc, fprintf's format machinery for the integers) cost as much as
+ * printing the numbers. Text that needs escaping (rare: a bad row's message) flushes the
+ * buffer and goes through put_text. */
+typedef struct row_buf {
+    FILE *f;
+    size_t n;
+    char b[8192];
+} row_buf;
+
+static void rb_flush(row_buf *r)
+{
+    size_t w = r->n ? fwrite(r->b, 1, r->n, r->f) : 0;
+    /* A stream whose write fails drops its buffer and the rest of this fwrite: hand the
+     * rest over again, so that it waits in the buffer and the final flush fails again with
+     * its reason (errno), as it did when every cell was written on its own. */
+    if (w < r->n) fwrite(r->b + w, 1, r->n - w, r->f);
+    r->n = 0;
+}
+
+static void rb_put(row_buf *r, const char *s, size_t len)
+{
+    if (len > sizeof r->b - r->n) {
+        rb_flush(r);
+        if (len > sizeof r->b) {
+            fwrite(s, 1, len, r->f);
+            return;
+        }
+    }
+    memcpy(r->b + r->n, s, len);
+    r->n += len;
+}
+
+static void rb_putc(row_buf *r, char c)
+{
+    if (r->n == sizeof r->b) rb_flush(r);
+    r->b[r->n++] = c;
+}
+
+/* The digits of v, as "%ld" prints them. */
+static void rb_put_long(row_buf *r, long v)
+{
+    char tmp[24];
+    int len = 0;
+    unsigned long u = v < 0 ? 0ul - (unsigned long)v : (unsigned long)v;
+    do {
+        tmp[sizeof tmp - 1 - len++] = (char)('0' + (int)(u % 10u));
+        u /= 10u;
+    } while (u);
+    if (v < 0) tmp[sizeof tmp - 1 - len++] = '-';
+    rb_put(r, tmp + sizeof tmp - len, (size_t)len);
+}
+
+/* put_text into the row: plain text directly, anything else through put_text. */
+static void rb_text(row_buf *r, const char *s, hp_trace_format fmt)
+{
+    size_t plain = plain_len(s);
+    if (s[plain] != '\0') {
+        rb_flush(r);
+        put_text(r->f, s, fmt);
+        return;
+    }
+    if (fmt == HP_TRACE_JSONL) rb_putc(r, '"');
+    rb_put(r, s, plain);
+    if (fmt == HP_TRACE_JSONL) rb_putc(r, '"');
+}
+
+static void put_cell(row_buf *r, const cell *c, hp_trace_format fmt)
 {
     char num[CLI_FMT_MAX];
     int json = fmt == HP_TRACE_JSONL;
     switch (c->kind) {
     case CELL_NUM:
-        if (isfinite(c->num)) fputs(cli_fmt(num, c->num), f);
-        else if (json) fputs("null", f);
+        if (isfinite(c->num)) {
+            cli_fmt(num, c->num);
+            rb_put(r, num, strlen(num));
+        } else if (json) {
+            rb_put(r, "null", 4);
+        }
         break;
-    case CELL_INT: fprintf(f, "%ld", c->i); break;
-    case CELL_TEXT: put_text(f, c->text, fmt); break;
-    case CELL_NONE: if (json) fputs("null", f); break;
+    case CELL_INT: rb_put_long(r, c->i); break;
+    case CELL_TEXT: rb_text(r, c->text, fmt); break;
+    case CELL_NONE: if (json) rb_put(r, "null", 4); break;
     }
 }
 
@@ -303,18 +392,26 @@ int batch_sink_rows(batch_sink *k, const batch_in *in, const batch_out *out, siz
 {
     cell cells[MAX_COLS];
     char bind[2048];
+    row_buf rb;
+    rb.f = k->f;
+    rb.n = 0;
+    const int json = k->fmt == HP_TRACE_JSONL;
     for (size_t r = 0; r < rows; ++r) {
         int n = row_cells(k, &in[r], &out[r], cells, bind, sizeof bind, 0);
-        if (k->fmt == HP_TRACE_JSONL) fputc('{', k->f);
+        if (json) rb_putc(&rb, '{');
         for (int c = 0; c < n; ++c) {
-            if (c) fputc(',', k->f);
-            if (k->fmt == HP_TRACE_JSONL) {
-                put_text(k->f, col_names[c], HP_TRACE_JSONL);
-                fputc(':', k->f);
+            if (c) rb_putc(&rb, ',');
+            if (json) {
+                rb_text(&rb, col_names[c], HP_TRACE_JSONL);
+                rb_putc(&rb, ':');
             }
-            put_cell(k->f, &cells[c], k->fmt);
+            put_cell(&rb, &cells[c], k->fmt);
         }
-        fputs(k->fmt == HP_TRACE_JSONL ? "}\n" : "\n", k->f);
+        if (json) rb_putc(&rb, '}');
+        rb_putc(&rb, '\n');
+        /* A row at a time: smaller than stdio's own buffer, so stdio buffers it as it did
+         * the cells, and a failing stream keeps its errno for the final flush's message. */
+        rb_flush(&rb);
     }
     return ferror(k->f) ? CLI_EXIT_IOERR : 0;
 }

@@ -14,23 +14,44 @@
 #include <time.h>
 #include <unistd.h>
 
+/* The state before a row: the previous good row's output (its answer, or the safe output
+ * it carried), or, with row NULL, the start of the trace (the nominal answer). A function of
+ * that row alone, so equal rows mean equal states. */
+static hp_error set_state(hp_planner *p, const batch_out *row, int n)
+{
+    if (!row) {
+        hp_planner_reset(p);
+        return HP_OK;
+    }
+    hp_result r;
+    r.n = n;
+    memcpy(r.achieved, row->achieved, sizeof r.achieved);
+    for (int k = 0; k < n; ++k) {
+        r.bladders[k].ri = row->ri[k];
+        r.bladders[k].ro = row->ro[k];
+        r.bladders[k].pressure = row->pressure[k];
+    }
+    return hp_planner_set_previous_result(p, &r);
+}
+
 hp_error batch_plan_range(hp_planner *p, const batch_in *in, batch_out *out, size_t from,
-                          size_t to, double *prev, volatile size_t *progress)
+                          size_t to, const batch_out **state, volatile size_t *progress)
 {
     const int n = hp_planner_layout(p)->n;
     for (size_t i = from; i < to; ++i) {
         batch_out *o = &out[i];
-        memset(o, 0, sizeof *o);
         if (in[i].bad) {
+            memset(o, 0, sizeof *o);
             o->bad = 1;
         } else {
-            /* The state of every plan is set from the previous pressures alone, so any
-             * shard that starts from the same pressures continues identically. */
-            hp_error e = hp_planner_set_previous(p, prev);
+            /* The state of every plan is set from the previous good row alone, so any shard
+             * that starts from an equal row continues identically. */
+            hp_error e = set_state(p, *state, n);
             if (e != HP_OK) return e;
             hp_result r;
             e = hp_plan(p, in[i].correction, &r);
             if (e != HP_OK && r.status != HP_STATUS_INVALID_INPUT) return e;
+            memset(o, 0, sizeof *o);
             o->status = r.status;
             o->raw_code = r.raw_code;
             memcpy(o->achieved, r.achieved, sizeof o->achieved);
@@ -42,10 +63,10 @@ hp_error batch_plan_range(hp_planner *p, const batch_in *in, batch_out *out, siz
                 o->ro[k] = r.bladders[k].ro;
                 o->stretch[k] = r.bladders[k].stretch;
                 o->binding[k] = r.bladders[k].binding;
-                prev[k] = r.bladders[k].pressure;
             }
             o->iterations = r.iterations;
             o->solve_time = r.solve_time;
+            *state = o;
         }
         if (progress) *progress += 1;
     }
@@ -72,12 +93,6 @@ int batch_same(const batch_out *a, const batch_out *b, int n)
     return 1;
 }
 
-static hp_error nominal_pressures(hp_planner *p, double *prev)
-{
-    hp_planner_reset(p);
-    return hp_planner_nominal_pressures(p, prev);
-}
-
 static int make_planner(const hp_layout *L, const hp_settings *s, hp_planner **p)
 {
     hp_diag d = {{0}};
@@ -94,12 +109,7 @@ int batch_engine_init(batch_engine *e, const hp_layout *L, const hp_settings *s,
     e->L = L;
     e->s = s;
     e->jobs = jobs < 1 ? 1 : jobs;
-    if (make_planner(L, s, &e->p)) return 1;
-    if (nominal_pressures(e->p, e->prev) != HP_OK) {
-        fprintf(stderr, "headplan batch: nominal pressures: %s\n", hp_planner_error(e->p));
-        return 1;
-    }
-    return 0;
+    return make_planner(L, s, &e->p);
 }
 
 void batch_engine_free(batch_engine *e)
@@ -109,25 +119,34 @@ void batch_engine_free(batch_engine *e)
 }
 
 /* The state after row i-1 of this block: the last good row before it, else the state the
- * block started from. */
-static void state_before(const batch_out *out, size_t i, const double *start, int n,
-                         double *prev)
+ * block started from (NULL: the start of the trace). */
+static const batch_out *state_before(const batch_out *out, size_t i, const batch_out *start)
 {
     size_t j = i;
     while (j > 0 && out[j - 1].bad) --j;
-    memcpy(prev, j > 0 ? out[j - 1].pressure : start, (size_t)n * sizeof *prev);
+    return j > 0 ? &out[j - 1] : start;
+}
+
+/* Keeps the state after a block for the next one. */
+static void keep_state(batch_engine *e, const batch_out *last)
+{
+    if (last && last != &e->last) e->last = *last;
+    e->has_last = last != NULL;
 }
 
 int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t rows)
 {
     const int n = e->L->n;
     int jobs = e->jobs;
+    const batch_out *start = e->has_last ? &e->last : NULL;
     if ((size_t)jobs > rows) jobs = rows > 0 ? (int)rows : 1;
     if (jobs == 1) {
-        if (batch_plan_range(e->p, in, out, 0, rows, e->prev, NULL) != HP_OK) {
+        const batch_out *st = start;
+        if (batch_plan_range(e->p, in, out, 0, rows, &st, NULL) != HP_OK) {
             fprintf(stderr, "headplan batch: %s\n", hp_planner_error(e->p));
             return 1;
         }
+        keep_state(e, st);
         return 0;
     }
 
@@ -140,8 +159,6 @@ int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t
         return 1;
     }
     size_t chunk = (rows + (size_t)jobs - 1) / (size_t)jobs;
-    double start[HP_MAX_BLADDERS];
-    memcpy(start, e->prev, sizeof start);
 
     pid_t pids[256];
     int started = 0, rc = 0;
@@ -159,10 +176,11 @@ int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t
             prctl(PR_SET_PDEATHSIG, SIGKILL);
             if (getppid() == 1) _exit(1);
             hp_planner *p = NULL;
-            double prev[HP_MAX_BLADDERS];
-            int bad = make_planner(e->L, e->s, &p) || nominal_pressures(p, prev) != HP_OK;
-            if (!bad && k == 0) memcpy(prev, start, sizeof prev); /* the true state */
-            bad = bad || batch_plan_range(p, in, shared, from, to, prev, NULL) != HP_OK;
+            /* Shard 0 starts from the true state, the others from the start of the trace
+             * (a guess the parent repairs). */
+            const batch_out *st = k == 0 ? start : NULL;
+            int bad = make_planner(e->L, e->s, &p);
+            bad = bad || batch_plan_range(p, in, shared, from, to, &st, NULL) != HP_OK;
             if (bad && p) fprintf(stderr, "headplan batch: %s\n", hp_planner_error(p));
             hp_planner_destroy(p);
             _exit(bad ? 1 : 0);
@@ -180,15 +198,14 @@ int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t
         }
     }
 
-    /* Repair: re-plan each later shard's head from the true previous pressures until a row
+    /* Repair: re-plan each later shard's head from the true previous state until a row
      * matches the guess. */
     for (int k = 1; rc == 0 && k < jobs; ++k) {
         size_t from = (size_t)k * chunk, to = from + chunk < rows ? from + chunk : rows;
-        double prev[HP_MAX_BLADDERS];
-        state_before(shared, from, start, n, prev);
         for (size_t i = from; i < to; ++i) {
             batch_out fresh[1];
-            if (batch_plan_range(e->p, in + i, fresh, 0, 1, prev, NULL) != HP_OK) {
+            const batch_out *st = state_before(shared, i, start);
+            if (batch_plan_range(e->p, in + i, fresh, 0, 1, &st, NULL) != HP_OK) {
                 fprintf(stderr, "headplan batch: %s\n", hp_planner_error(e->p));
                 rc = 1;
                 break;
@@ -204,7 +221,7 @@ int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t
     }
     if (rc == 0) {
         memcpy(out, shared, rows * sizeof *out);
-        state_before(out, rows, start, n, e->prev);
+        keep_state(e, state_before(out, rows, start));
     }
     munmap(shared, out_bytes);
     return rc;

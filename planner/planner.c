@@ -111,6 +111,7 @@ hp_error hp_plan_fit_from_nominal(const hp_planner *p, const double *ro, const i
 void hp_plan_set_previous_answer(hp_planner *p, const hp_result *r)
 {
     if (r != &p->prev) p->prev = *r;
+    p->prev_checked = 1; /* hp_planner_set_previous clears it after this call */
     hp_plan_to_scaled(r->achieved, p->x_prev);
     for (int k = 0; k < p->L.n; ++k) p->x_prev[6 + k] = r->bladders[k].ri * HP_MM_PER_M;
     for (int k = 0; k < p->L.n; ++k) p->pb.p_prev[k] = r->bladders[k].pressure;
@@ -282,6 +283,110 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
     if (hp_plan_fit_from_nominal(p, ro, p->fk_free, NULL, xi, &resid) == HP_OK)
         for (int i = 0; i < 6; ++i) r.achieved[i] = p->commanded[i] ? xi[i] : 0.0;
     hp_plan_set_previous_answer(p, &r);
+    /* The radii solve P to the FK's precision, not to set_previous_result's tolerance. */
+    p->prev_checked = 0;
+    return HP_OK;
+}
+
+/* The consistency hp_planner_set_previous_result asks of a result's bladders. ro against the
+ * volume law of ri: HP_BINDING_TOL_MM (1e-9 m), far above the few ulps by which hp_plan's
+ * ro (the contact distance) and the law's ro of the ri it inverted to differ, far below
+ * anything physical. The pressure against IK(ri): 1e-9 of the bladder's pressure range
+ * (p_max − p_min; 1.5e-5 Pa for 15 kPa), far above the rounding by which hp_plan's clamp
+ * into a cycle's pressure window moves it (a few ulps), far below any clinical meaning. */
+#define PREV_RO_TOL_M (HP_BINDING_TOL_MM / HP_MM_PER_M)
+#define PREV_P_REL_TOL 1e-9
+
+/* "set_previous_result: WHAT[: NAME]" into p->err; returns HP_ERR_INVALID. */
+static hp_error prev_refused(hp_planner *p, const char *what, const char *name)
+{
+    hp_text_set(p->err, "set_previous_result: ");
+    hp_text_add(p->err, what);
+    if (name) {
+        hp_text_add(p->err, ": ");
+        hp_text_add(p->err, name);
+    }
+    return HP_ERR_INVALID;
+}
+
+/* The pose a previous answer may hold: finite, 0 where not commanded, inside the
+ * identifiable range. Returns HP_OK or the refusal (p->err). */
+static hp_error prev_pose_ok(hp_planner *p, const double xi[6])
+{
+    static const char *const axis[6] = {"x", "y", "z", "pitch", "roll", "yaw"};
+    for (int i = 0; i < 6; ++i) {
+        if (!isfinite(xi[i])) return prev_refused(p, "achieved: not finite", axis[i]);
+        if (!p->commanded[i] && xi[i] != 0.0)
+            return prev_refused(p, "achieved: not 0 in a component the planner does not command",
+                                axis[i]);
+    }
+    if (!(hypot(hypot(xi[0], xi[1]), xi[2]) <= p->id.trans_limit))
+        return prev_refused(p, "achieved: translation outside the identifiable range", NULL);
+    /* The rotation angle is a distance on the rotations, so the angle of the composed
+     * pitch, roll and yaw is at most the sum of their sizes: the exact angle only when that
+     * bound is not enough (it never is along a trace). */
+    double turn = fabs(xi[3]) + fabs(xi[4]) + fabs(xi[5]);
+    if (!p->id.centre_only && !(turn < p->id.rot_limit) &&
+        !(hp_pose_rotation_angle(xi) < p->id.rot_limit))
+        return prev_refused(p, "achieved: rotation outside the identifiable range", NULL);
+    return HP_OK;
+}
+
+/* Bladder k of a previous answer: pressure and ri inside the static limits, pressure =
+ * IK(ri) and ro = the law's ro of ri to the tolerances above. HP_OK or the refusal. */
+static hp_error prev_bladder_ok(hp_planner *p, int k, const hp_bladder_result *b)
+{
+    const hp_bladder *B = &p->L.bladders[k];
+    double P, ro;
+    if (!(b->pressure >= p->sb.p_lo[k] && b->pressure <= p->sb.p_hi[k]))
+        return prev_refused(p, "pressure outside its limits or not finite", B->name);
+    if (!(b->ri >= p->sb.ri_lo[k] && b->ri <= p->sb.ri_hi[k]))
+        return prev_refused(p, "ri outside its stretch limits or not finite", B->name);
+    if (hp_iab_ik(&B->iab, b->ri, &P) != HP_OK ||
+        !(fabs(P - b->pressure) <= PREV_P_REL_TOL * (B->p_max - B->p_min)))
+        return prev_refused(p, "pressure is not the pressure of ri", B->name);
+    if (hp_iab_ro(&B->iab, b->ri, &ro) != HP_OK || !(fabs(ro - b->ro) <= PREV_RO_TOL_M))
+        return prev_refused(p, "ro is not the outer radius of ri", B->name);
+    return HP_OK;
+}
+
+hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *r)
+{
+    if (!p) return HP_ERR_NULL;
+    if (!r) {
+        hp_text_set(p->err, "set_previous_result: result is NULL");
+        return HP_ERR_NULL;
+    }
+    if (!p->built) return HP_ERR_STATE;
+    if (r->n != p->L.n) return prev_refused(p, "n is not the layout's number of bladders", NULL);
+    hp_error e = prev_pose_ok(p, r->achieved);
+    if (e != HP_OK) return e;
+    /* Bladders bit for bit those of the previous answer, which passes the checks below by
+     * construction (p->prev_checked): hp_plan's pressure is IK(ri) clamped into a window
+     * whose ends IK meets to a few ulps, and its ro and the law's ro of ri differ by a few
+     * ulps, 10^7 times below the tolerances. Along a trace, where the previous row is the
+     * planner's own last answer, this skips 2n bladder-law evaluations; what is accepted
+     * is the same either way, so the state still depends on the fields alone. */
+    int same = p->prev_checked;
+    for (int k = 0; same && k < p->L.n; ++k) {
+        const hp_bladder_result *b = &r->bladders[k], *q = &p->prev.bladders[k];
+        same = memcmp(&b->ri, &q->ri, sizeof b->ri) == 0 &&
+               memcmp(&b->ro, &q->ro, sizeof b->ro) == 0 &&
+               memcmp(&b->pressure, &q->pressure, sizeof b->pressure) == 0;
+    }
+    hp_result s = p->nominal;
+    for (int k = 0; k < p->L.n; ++k) {
+        const hp_bladder *B = &p->L.bladders[k];
+        const hp_bladder_result *b = &r->bladders[k];
+        if (!same && (e = prev_bladder_ok(p, k, b)) != HP_OK) return e;
+        s.bladders[k].ri = b->ri;
+        s.bladders[k].ro = b->ro;
+        s.bladders[k].pressure = b->pressure;
+        s.bladders[k].stretch = b->ri / B->iab.Ri; /* as hp_plan computes it */
+        s.bladders[k].binding = 0;
+    }
+    memcpy(s.achieved, r->achieved, sizeof s.achieved);
+    hp_plan_set_previous_answer(p, &s);
     return HP_OK;
 }
 

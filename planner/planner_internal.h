@@ -53,6 +53,9 @@ struct hp_planner {
     hp_kin_fit_start nom;        /* the contact model at the nominal pose (fit starts) */
     int nom_ok;                  /* nom is valid (else fits evaluate it themselves) */
     int fk_free[6];              /* hp_contact_fk's free components: 6, or 3 for a sphere */
+    int prev_checked;            /* prev's bladders pass hp_planner_set_previous_result's
+                                    checks by construction (an answer of hp_plan, the
+                                    nominal answer, or a result those checks passed) */
 };
 
 /* hp_contact_fit of the outer radii ro in the components free_ from the nominal pose,

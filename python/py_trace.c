@@ -72,25 +72,28 @@ static hp_error read_all(hp_trace_reader *r, trace_in *in, hp_diag *d)
 }
 
 /* Plans the rows greedily into the block: every plan starts from the previous good row's
- * pressures (the nominal pressures before the first), set with hp_planner_set_previous, so
- * the state of each plan is a function of those pressures alone, as in headplan batch. */
+ * result (the nominal answer before the first), set with hp_planner_set_previous_result, so
+ * the state of each plan is a function of that row alone, as in headplan batch. */
 static hp_error plan_all(hp_planner *p, const trace_in *in, hpy_block *b)
 {
-    double prev[HP_MAX_BLADDERS];
-    hp_planner_reset(p);
-    hp_error e = hp_planner_nominal_pressures(p, prev);
+    hp_result prev;
+    int have_prev = 0;
+    hp_error e = HP_OK;
     for (size_t i = 0; e == HP_OK && i < in->n; ++i) {
         if (in->msg[i]) {
             hpy_block_bad(b, (npy_intp)i);
             continue;
         }
-        if ((e = hp_planner_set_previous(p, prev)) != HP_OK) break;
+        if (have_prev) e = hp_planner_set_previous_result(p, &prev);
+        else hp_planner_reset(p);
+        if (e != HP_OK) break;
         hp_result r;
         e = hp_plan(p, &in->corr[i * 6], &r);
         if (e != HP_OK && r.status != HP_STATUS_INVALID_INPUT) break;
         e = HP_OK;
         hpy_block_store(b, (npy_intp)i, &r);
-        for (int k = 0; k < b->n; ++k) prev[k] = r.bladders[k].pressure;
+        prev = r;
+        have_prev = 1;
     }
     return e;
 }

@@ -40,7 +40,8 @@
  *     than REACHED/CLOSEST, the backend's raw_code, a text in hp_planner_error, and the SAFE
  *     OUTPUT: bit for bit the bladders and achieved pose of the last plan that returned an
  *     answer, or (after create, hp_planner_reset) the nominal answer, or (after
- *     hp_planner_set_previous) the pressures it was given. INVALID_INPUT, INFEASIBLE_START
+ *     hp_planner_set_previous) the pressures it was given, or (after
+ *     hp_planner_set_previous_result) that result's bladders and pose. INVALID_INPUT, INFEASIBLE_START
  *     and SOLVER_ERROR always carry it; ITERATION_LIMIT / TIME_LIMIT carry it when the
  *     backend stopped without a usable iterate (pose_error +inf tells which).
  *   reached_means_reached: REACHED means the returned pressures, inverted by hp_iab_fk ->
@@ -262,6 +263,25 @@ HP_API hp_error hp_planner_reach(const hp_planner *p, double reach[6][2]);
  * start from them and they become the safe output. Each must be finite, inside its limits
  * and on the stable branch; otherwise HP_ERR_INVALID and nothing changes. */
 HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
+
+/* Makes a result the previous answer, as if hp_plan had just returned it, from its fields
+ * alone: the rate limits of the next plan start from its pressures, the next solve starts
+ * from its pose and inner radii (cold: the backend's own warm point, e.g. the realtime
+ * multipliers, is dropped), and its bladders and pose become the safe output. So the state
+ * is a function of these fields only, never of the calls before: equal results give equal
+ * next plans (headplan batch relies on it; docs/batch.md). Read are n, achieved[6] and each
+ * bladder's ri, ro and pressure; stretch is recomputed (ri / Ri) and nothing else is read.
+ * Each must be finite and: n the layout's; achieved 0 in the components not commanded and
+ * inside the identifiable range; pressure inside the bladder's limits, ri inside its
+ * stretch limits (below any limit point's cap), pressure = IK(ri) to 1e-9 of the bladder's
+ * pressure range (p_max − p_min) and ro = the volume law's ro of ri to 1e-9 m. Otherwise HP_ERR_INVALID, the field (and bladder)
+ * named in hp_planner_error, and nothing changes. HP_ERR_NULL, HP_ERR_STATE (planner not
+ * built). Allocates nothing and evaluates no contact model: 2n bladder-law evaluations,
+ * none when the bladders are bit for bit those of this planner's last answer (which pass
+ * the checks by construction: the same results are accepted either way). The pose is not
+ * checked against ro: the caller vouches that it is the pose of those radii, as hp_plan's
+ * achieved is. */
+HP_API hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *result);
 
 /* Forgets the previous plan: the nominal pose becomes the previous answer again. */
 HP_API void hp_planner_reset(hp_planner *p);

@@ -70,6 +70,21 @@ static inline hp_error lf_layout_ex(hp_layout *L, int sphere, double C2)
 
 static inline hp_error lf_layout(hp_layout *L) { return lf_layout_ex(L, 0, 2.2e4); }
 
+/* A planner on the default layout with default settings at a level, every bladder's
+ * rate_max set (INFINITY: none). Returns HP_OK or the error (*p NULL). */
+static inline hp_error lf_planner(hp_level level, double rate_max, hp_planner **p)
+{
+    hp_layout L;
+    hp_error e = lf_layout(&L);
+    *p = NULL;
+    if (e != HP_OK) return e;
+    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = rate_max;
+    hp_settings s;
+    hp_settings_default(&s);
+    s.level = level;
+    return hp_planner_create(&L, &s, p, NULL);
+}
+
 /* The default layout in neo-Hookean rubber (C2 = 0, which has an inflation limit point) with
  * every stretch_max just below the limit point (closer than the planner's stable margin)
  * and p_max = p_max_factor × the peak pressure, so that the planner's stable-branch cap is

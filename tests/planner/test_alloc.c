@@ -36,14 +36,8 @@ static void test_wrap_active(void **st)
 
 static void plans_without_allocation(hp_level level, double rate)
 {
-    hp_layout L;
-    assert_int_equal(lf_layout(&L), HP_OK);
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = rate;
-    hp_settings s;
-    hp_settings_default(&s);
-    s.level = level;
     hp_planner *p = NULL;
-    assert_int_equal(hp_planner_create(&L, &s, &p, NULL), HP_OK);
+    assert_int_equal(lf_planner(level, rate, &p), HP_OK);
     hp_result r;
     uint64_t seed = 31337;
     long total = 0;

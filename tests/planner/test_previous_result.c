@@ -1,0 +1,325 @@
+/* hp_planner_set_previous_result: the state before a plan as a function of a previous
+ * result's fields alone (headplan batch sets every row's state this way, docs/batch.md).
+ *   - every field it reads is checked: each refusal names the field (and bladder), returns
+ *     HP_ERR_INVALID and changes nothing;
+ *   - the state does not depend on history: after any other plans, the same result gives
+ *     the next plan bit for bit;
+ *   - it is the state a sequential warm run has after that result: the next plan is the
+ *     same bit for bit after a direct-chain answer, and the same answer to the solver's
+ *     tolerance after a backend's answer (whose multipliers the sequential run keeps);
+ *   - every answer of hp_plan passes the full checks, which the call skips for the
+ *     planner's own last answer. */
+#include "test_util.h"
+#include "tests/planner/layout_fixture.h"
+#include "common/units.h"
+
+/* Every field of a result that hp_plan computes, solve_time excluded (a measurement). */
+static void same_result(const hp_result *a, const hp_result *b, int row)
+{
+    int same = a->status == b->status && a->raw_code == b->raw_code &&
+               a->iterations == b->iterations && a->n == b->n &&
+               memcmp(a->achieved, b->achieved, sizeof a->achieved) == 0 &&
+               memcmp(a->uncommanded, b->uncommanded, sizeof a->uncommanded) == 0 &&
+               memcmp(&a->pose_error, &b->pose_error, sizeof a->pose_error) == 0;
+    for (int k = 0; same && k < a->n; ++k) {
+        const hp_bladder_result *x = &a->bladders[k], *y = &b->bladders[k];
+        same = memcmp(&x->ri, &y->ri, sizeof x->ri) == 0 &&
+               memcmp(&x->ro, &y->ro, sizeof x->ro) == 0 &&
+               memcmp(&x->pressure, &y->pressure, sizeof x->pressure) == 0 &&
+               memcmp(&x->stretch, &y->stretch, sizeof x->stretch) == 0 &&
+               x->binding == y->binding;
+    }
+    if (!same) fail_msg("row %d: results differ (status %d / %d)", row, a->status, b->status);
+}
+
+/* Row i of a drift that leaves the reachable set on about half its rows (the fixture's
+ * limits bind beyond ~4 mm along this direction), SI. */
+static void walk_row(int i, double d[6])
+{
+    double s = 4.0 * (1.0 + sin(i / 6.0));
+    const double dir[6] = {1.0, 0.6, -0.75, 0.25, 0.1, -0.15}; /* mm and degrees */
+    for (int j = 0; j < 6; ++j) d[j] = s * dir[j] / (j < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
+}
+
+#define WALK_ROWS 80
+
+static hp_planner *make(hp_level level, double rate_max)
+{
+    hp_planner *p = NULL;
+    assert_int_equal(lf_planner(level, rate_max, &p), HP_OK);
+    return p;
+}
+
+/* Plans the walk sequentially (plain hp_plan, warm) into seq[]. Returns how many rows a
+ * backend answered. */
+static int plan_sequential(hp_planner *p, hp_result *seq)
+{
+    int backend = 0;
+    for (int i = 0; i < WALK_ROWS; ++i) {
+        double d[6];
+        walk_row(i, d);
+        assert_int_equal(hp_plan(p, d, &seq[i]), HP_OK);
+        assert_true(seq[i].status == HP_STATUS_REACHED || seq[i].status == HP_STATUS_CLOSEST);
+        backend += seq[i].iterations > 0;
+    }
+    return backend;
+}
+
+/* Both halves of the claim at one level and rate limit: history independence (a second
+ * planner that planned other corrections in between) and agreement with the sequential
+ * warm run. */
+static void check_level(hp_level level, double rate_max)
+{
+    hp_planner *seq_p = make(level, rate_max), *a = make(level, rate_max);
+    hp_planner *b = make(level, rate_max);
+    static hp_result seq[WALK_ROWS];
+    int backend = plan_sequential(seq_p, seq);
+    /* Both kinds of row occur, so both paths are exercised. */
+    assert_true(backend >= 10 && backend <= WALK_ROWS - 10);
+    double worst_mm = 0, worst_pa = 0;
+    for (int i = 1; i < WALK_ROWS; ++i) {
+        double d[6], other[6];
+        walk_row(i, d);
+        /* b first plans something unrelated (a far, binding correction: warm multipliers
+         * and a different previous answer), a plans nothing else. */
+        walk_row(i + 17, other);
+        for (int j = 0; j < 6; ++j) other[j] = -other[j];
+        hp_result ra, rb, junk;
+        assert_int_equal(hp_plan(b, other, &junk), HP_OK);
+        assert_int_equal(hp_planner_set_previous_result(a, &seq[i - 1]), HP_OK);
+        assert_int_equal(hp_planner_set_previous_result(b, &seq[i - 1]), HP_OK);
+        assert_int_equal(hp_plan(a, d, &ra), HP_OK);
+        assert_int_equal(hp_plan(b, d, &rb), HP_OK);
+        same_result(&ra, &rb, i);
+        if (seq[i - 1].iterations == 0) {
+            /* After a direct-chain answer the sequential run's state is exactly this one. */
+            same_result(&ra, &seq[i], i);
+            continue;
+        }
+        /* After a backend's answer the sequential run starts from the backend's own point
+         * and multipliers: the same optimum, to the solver's tolerance (HP_DEFAULT_TOLERANCE,
+         * 1e-9 mm/deg) on every outer radius and pose component, and 1e-9 relative on every
+         * pressure (measured: 2.4e-13 and 2.9e-13). */
+        assert_int_equal(ra.status, seq[i].status);
+        for (int j = 0; j < 6; ++j) {
+            double sc = j < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD;
+            worst_mm = fmax(worst_mm, fabs(ra.achieved[j] - seq[i].achieved[j]) * sc);
+        }
+        for (int k = 0; k < ra.n; ++k) {
+            worst_mm = fmax(worst_mm, fabs(ra.bladders[k].ro - seq[i].bladders[k].ro) * 1e3);
+            worst_pa = fmax(worst_pa, fabs(ra.bladders[k].pressure - seq[i].bladders[k].pressure) /
+                                          fmax(1.0, fabs(seq[i].bladders[k].pressure)));
+        }
+    }
+    print_message("level %s, rate_max %g: after backend rows, worst %.3g mm/deg, %.3g rel Pa\n",
+                  hp_level_name(level), rate_max, worst_mm, worst_pa);
+    assert_true(worst_mm <= HP_DEFAULT_TOLERANCE);
+    assert_true(worst_pa <= 1e-9);
+    hp_planner_destroy(seq_p);
+    hp_planner_destroy(a);
+    hp_planner_destroy(b);
+}
+
+static void test_linear(void **st)
+{
+    (void)st;
+    check_level(HP_LEVEL_LINEAR, INFINITY);
+    check_level(HP_LEVEL_LINEAR, 1500.0);
+}
+
+static void test_surface(void **st)
+{
+    (void)st;
+    check_level(HP_LEVEL_SURFACE, INFINITY);
+    check_level(HP_LEVEL_SURFACE, 1500.0);
+}
+
+/* The safe output after a plan that fails: the bladders and pose of the result set. */
+static void expect_state(hp_planner *p, const hp_result *want)
+{
+    const double nan6[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
+    hp_result r;
+    assert_int_equal(hp_plan(p, nan6, &r), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_INVALID_INPUT);
+    assert_memory_equal(r.achieved, want->achieved, sizeof r.achieved);
+    for (int k = 0; k < r.n; ++k) {
+        assert_true(r.bladders[k].ri == want->bladders[k].ri);
+        assert_true(r.bladders[k].ro == want->bladders[k].ro);
+        assert_true(r.bladders[k].pressure == want->bladders[k].pressure);
+        assert_true(r.bladders[k].stretch == want->bladders[k].stretch);
+    }
+}
+
+typedef struct spoil_case {
+    const char *field, *bladder; /* both must be in the message (bladder may be NULL) */
+    void (*spoil)(hp_result *r);
+} spoil_case;
+
+static void s_n(hp_result *r) { r->n = 7; }
+static void s_pose_nan(hp_result *r) { r->achieved[1] = NAN; }
+static void s_pose_inf(hp_result *r) { r->achieved[4] = INFINITY; }
+static void s_pose_far(hp_result *r) { r->achieved[0] = 0.2; } /* > the smallest semi-axis */
+static void s_pose_turn(hp_result *r) { r->achieved[5] = 1.7; } /* 97 degrees */
+static void s_p_nan(hp_result *r) { r->bladders[2].pressure = NAN; }
+static void s_p_high(hp_result *r) { r->bladders[2].pressure = 2e4; }
+static void s_p_low(hp_result *r) { r->bladders[2].pressure = -6e3; }
+static void s_ri_nan(hp_result *r) { r->bladders[3].ri = NAN; }
+static void s_ri_low(hp_result *r) { r->bladders[3].ri = 0.8 * 0.027 * (1 - 1e-9); }
+/* 1e-7 of the 15 kPa range (100x the tolerance), towards 0 so that it stays inside the
+ * limits even from a bound. */
+static void s_p_of_ri(hp_result *r)
+{
+    r->bladders[5].pressure -= copysign(1.5e-3, r->bladders[5].pressure);
+}
+static void s_ro_of_ri(hp_result *r) { r->bladders[6].ro += 2e-9; }
+static void s_ro_inf(hp_result *r) { r->bladders[6].ro = INFINITY; }
+
+static void test_refusals(void **st)
+{
+    (void)st;
+    hp_planner *p = make(HP_LEVEL_LINEAR, INFINITY);
+    hp_result good, r;
+    double d[6];
+    walk_row(9, d); /* beyond reach: a CLOSEST answer with a limit binding */
+    assert_int_equal(hp_plan(p, d, &good), HP_OK);
+    assert_int_equal(good.status, HP_STATUS_CLOSEST);
+    hp_planner_reset(p);
+    assert_int_equal(hp_planner_set_previous_result(p, &good), HP_OK);
+    expect_state(p, &good);
+    /* The fields it does not read may be anything. */
+    r = good;
+    r.status = (hp_status)99;
+    r.pose_error = NAN;
+    for (int k = 0; k < r.n; ++k) {
+        r.bladders[k].stretch = NAN;
+        r.bladders[k].binding = ~0u;
+    }
+    assert_int_equal(hp_planner_set_previous_result(p, &r), HP_OK);
+    expect_state(p, &good);
+
+    const spoil_case cases[] = {
+        {"n", NULL, s_n},
+        {"achieved: not finite: y", NULL, s_pose_nan},
+        {"achieved: not finite: roll", NULL, s_pose_inf},
+        {"achieved: translation", NULL, s_pose_far},
+        {"achieved: rotation", NULL, s_pose_turn},
+        {"pressure outside", "base_skull_left", s_p_nan},
+        {"pressure outside", "base_skull_left", s_p_high},
+        {"pressure outside", "base_skull_left", s_p_low},
+        {"ri outside", "base_skull_right", s_ri_nan},
+        {"ri outside", "base_skull_right", s_ri_low},
+        {"pressure is not the pressure of ri", "side_fore_right", s_p_of_ri},
+        {"ro is not the outer radius of ri", "side_chin_left", s_ro_of_ri},
+        {"ro is not the outer radius of ri", "side_chin_left", s_ro_inf},
+    };
+    /* From the nominal answer, so that "nothing changes" is visible. */
+    hp_planner_reset(p);
+    hp_result nominal;
+    const double nan6[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
+    assert_int_equal(hp_plan(p, nan6, &nominal), HP_OK);
+    for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
+        r = good;
+        cases[c].spoil(&r);
+        assert_int_equal(hp_planner_set_previous_result(p, &r), HP_ERR_INVALID);
+        const char *msg = hp_planner_error(p);
+        if (!strstr(msg, "set_previous_result") || !strstr(msg, cases[c].field) ||
+            (cases[c].bladder && !strstr(msg, cases[c].bladder)))
+            fail_msg("case %zu: message '%s' does not name '%s'", c, msg, cases[c].field);
+        assert_null(strchr(msg, '\n'));
+        expect_state(p, &nominal);
+    }
+    /* A turn whose pitch, roll and yaw sum beyond 90 degrees but whose angle is 60: the
+     * cheap bound does not decide, the exact angle accepts it. */
+    r = good;
+    for (int i = 3; i < 6; ++i) r.achieved[i] = 0.6;
+    assert_int_equal(hp_planner_set_previous_result(p, &r), HP_OK);
+    /* Just inside the consistency tolerances is accepted. */
+    r = good;
+    r.bladders[6].ro += 0.5e-9;
+    r.bladders[5].pressure -= copysign(0.5 * 1.5e-5, r.bladders[5].pressure);
+    assert_int_equal(hp_planner_set_previous_result(p, &r), HP_OK);
+
+    assert_int_equal(hp_planner_set_previous_result(NULL, &good), HP_ERR_NULL);
+    assert_int_equal(hp_planner_set_previous_result(p, NULL), HP_ERR_NULL);
+    assert_non_null(strstr(hp_planner_error(p), "result is NULL"));
+    hp_planner_destroy(p);
+}
+
+/* A layout that cannot command rotations (a sphere turned about its centre looks the same):
+ * a pose with a rotation there is refused, naming the component. */
+static void test_uncommanded_component(void **st)
+{
+    (void)st;
+    hp_layout L;
+    assert_int_equal(lf_layout_ex(&L, 1, 2.2e4), HP_OK);
+    hp_planner *p = NULL;
+    assert_int_equal(hp_planner_create(&L, NULL, &p, NULL), HP_OK);
+    hp_result r;
+    const double d[6] = {1e-3, 0, 0, 0, 0, 0};
+    assert_int_equal(hp_plan(p, d, &r), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_REACHED);
+    assert_int_equal(hp_planner_set_previous_result(p, &r), HP_OK);
+    r.achieved[3] = 1e-3;
+    assert_int_equal(hp_planner_set_previous_result(p, &r), HP_ERR_INVALID);
+    assert_non_null(strstr(hp_planner_error(p), "does not command: pitch"));
+    hp_planner_destroy(p);
+}
+
+/* Every answer hp_plan returns passes the full checks (what the shortcut for the planner's
+ * own last answer relies on): 60 seeded corrections per case (reachable, binding, far
+ * beyond reach), at every level, on the default layout with and without rate limits and on
+ * the soft layout whose stable-branch cap binds; each answer is handed to a second planner
+ * whose previous answer differs, so nothing is skipped there. */
+static void test_answers_pass_the_checks(void **st)
+{
+    (void)st;
+    uint64_t seed = 4242;
+    int answers = 0;
+    for (int c = 0; c < 9; ++c) {
+        hp_level level = (hp_level)(HP_LEVEL_LINEAR + c % 3);
+        hp_layout L;
+        if (c < 6) {
+            assert_int_equal(lf_layout(&L), HP_OK);
+            for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = c < 3 ? INFINITY : 700.0;
+        } else {
+            hp_iab_limit lp;
+            assert_int_equal(lf_soft_layout(&L, 2.0, &lp), HP_OK);
+        }
+        hp_settings s;
+        hp_settings_default(&s);
+        s.level = level;
+        hp_planner *p = NULL, *chk = NULL;
+        assert_int_equal(hp_planner_create(&L, &s, &p, NULL), HP_OK);
+        assert_int_equal(hp_planner_create(&L, &s, &chk, NULL), HP_OK);
+        for (int t = 0; t < 60; ++t) {
+            double mm_deg[6], d[6];
+            double scale = (t % 3 == 0) ? 0.5 : (t % 3 == 1) ? 8.0 : 40.0;
+            for (int i = 0; i < 6; ++i) mm_deg[i] = scale * lf_uniform(&seed);
+            lf_pose(mm_deg, d);
+            hp_result r;
+            assert_int_equal(hp_plan(p, d, &r), HP_OK);
+            if (!isfinite(r.pose_error)) continue; /* the safe output: no new answer */
+            hp_planner_reset(chk);
+            if (hp_planner_set_previous_result(chk, &r) != HP_OK)
+                fail_msg("case %d, plan %d (%s): %s", c, t, hp_status_name(r.status),
+                         hp_planner_error(chk));
+            ++answers;
+        }
+        hp_planner_destroy(p);
+        hp_planner_destroy(chk);
+    }
+    print_message("%d answers passed the checks\n", answers);
+    assert_true(answers >= 400);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_refusals),
+        cmocka_unit_test(test_uncommanded_component),
+        cmocka_unit_test(test_answers_pass_the_checks),
+        cmocka_unit_test(test_linear),
+        cmocka_unit_test(test_surface),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
