@@ -589,9 +589,12 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     memcpy(r->rho, st->rho, sizeof r->rho);
     r->has_rho = 1;
     for (int k = 0; k < pb->n; ++k) r->has_rho &= isfinite(st->rho[k]) != 0;
+    /* With the distances handed back the core derives every radius from them (problem.h):
+     * inverting the volume law here too would cost eight root finds a plan for nothing. */
     for (int k = 0; k < pb->n; ++k) {
-        double ri;
-        if (hp_iab_ri(&pb->layout->bladders[k].iab, st->rho[k] / HP_MM_PER_M, &ri) != HP_OK)
+        double ri = NAN;
+        if (!r->has_rho &&
+            hp_iab_ri(&pb->layout->bladders[k].iab, st->rho[k] / HP_MM_PER_M, &ri) != HP_OK)
             ri = NAN;
         x[6 + k] = ri * HP_MM_PER_M;
     }

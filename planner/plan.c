@@ -469,7 +469,10 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     /* A backend's own answer, unmoved, is the next start: tell the backend (warm start with
      * its multipliers). */
     if (!c.direct && c.clamp_mm == 0) {
-        memcpy(p->x_prev, p->x_work, sizeof p->x_work);
+        /* The backend's own point; radii it left out (has_rho: NAN) stay the answer's. */
+        memcpy(p->x_prev, p->x_work, 6 * sizeof *p->x_work);
+        for (int k = 0; k < p->L.n; ++k)
+            if (isfinite(p->x_work[6 + k])) p->x_prev[6 + k] = p->x_work[6 + k];
         if (p->ops->warm_point) p->ops->warm_point(p->bstate, 1);
     }
     res->solve_time = hp_plan_now() - c.t0;

@@ -59,7 +59,8 @@ typedef struct hp_backend_result {
     int iterations;
     int converged;      /* 1 when the backend reports a (locally) optimal point */
     /* 1 when rho holds the contact distances [mm] at the returned pose, evaluated by the
-     * backend at exactly that pose: the core then need not evaluate them again. */
+     * backend at exactly that pose: the core then need not evaluate them again, and derives
+     * the inner radii from them (the backend may then leave x[6 + k] NAN). */
     int has_rho;
     double rho[HP_MAX_BLADDERS];
 } hp_backend_result;

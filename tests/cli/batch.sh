@@ -279,18 +279,42 @@ with open(sys.argv[1], "w") as f:
     for i in range(int(sys.argv[2])):
         f.write(f"{i/10:.1f},{(i%50)/100:.2f},0,0,0,0,0\n")
 PY
+# The runs below read the trace from a FIFO whose writer sends the rows and then holds the
+# FIFO open until the test closes it: the run is mid-trace, blocked on its input, for as
+# long as the test needs, however fast or busy the machine is (a run of a plain file used to
+# finish before a fixed sleep once the batch got faster). The test waits for the run's
+# temporary output to appear (it has planned and written its first rows), then signals.
+feed() { # feed FIFO: starts the writer, sets wpid
+  rm -f "$1"; mkfifo "$1"
+  ( cat "$TMP/long.csv"; exec sleep 3600 ) >"$1" &
+  wpid=$!
+}
+wait_partial() { # wait_partial NAME: 0 once NAME's temporary output exists (at most ~10 min)
+  for _ in $(seq 6000); do
+    ls "$TMP" | grep -q "^$1\.partial" && return 0
+    sleep 0.1
+  done
+  return 1
+}
 # The test shell ignores HUP while it forks, so the child has it ignored from its first
 # instruction (no race with a busy machine), as nohup does.
+feed "$TMP/feed1"
 trap '' HUP
-"$HP_BIN" batch "$S/default.yaml" "$TMP/long.csv" -o "$TMP/nohup.csv" --no-progress 2>/dev/null &
+"$HP_BIN" batch "$S/default.yaml" "$TMP/feed1" -o "$TMP/nohup.csv" --no-progress 2>/dev/null &
 pid=$!
 trap - HUP
-sleep 0.5; kill -HUP $pid 2>/dev/null; wait $pid; rc=$?
+wait_partial nohup.csv && ok || bad "nohup run: no partial output appeared"
+kill -HUP $pid 2>/dev/null
+kill $wpid 2>/dev/null; wait $wpid 2>/dev/null # end of input: the run completes
+wait $pid; rc=$?
 expect_exit 0 "SIGHUP ignored on entry stays ignored"
 [ -s "$TMP/nohup.csv" ] && ok || bad "nohup run left no output"
-"$HP_BIN" batch "$S/default.yaml" "$TMP/long.csv" -o "$TMP/hup.csv" --no-progress 2>/dev/null &
+feed "$TMP/feed2"
+"$HP_BIN" batch "$S/default.yaml" "$TMP/feed2" -o "$TMP/hup.csv" --no-progress 2>/dev/null &
 pid=$!
-sleep 0.5; kill -HUP $pid 2>/dev/null; wait $pid 2>/dev/null
+wait_partial hup.csv && ok || bad "hup run: no partial output appeared"
+kill -HUP $pid 2>/dev/null; wait $pid 2>/dev/null
+kill $wpid 2>/dev/null; wait $wpid 2>/dev/null
 [ ! -e "$TMP/hup.csv" ] && ! ls "$TMP" | grep -q 'hup.csv.partial' && ok \
   || bad "SIGHUP left an output or a partial file"
 
@@ -304,11 +328,13 @@ run batch --format csv "$S/paper_expansion.yaml" "$TMP/fast.csv"; expect_exit 65
 run batch --format csv "$S/sphere_head.yaml"; expect_exit 64 "scene without trace"; expect_stderr_has "missing TRACE" "trace named"
 run batch "$S/default.yaml" -o "$TMP/nodir/x.csv"; expect_exit 73 "unwritable output"
 
-# A killed run leaves no file that looks complete.
-"$HP_BIN" batch "$S/default.yaml" "$TMP/long.csv" -o "$TMP/killed.csv" --no-progress 2>/dev/null &
+# A killed run leaves no file that looks complete (killed mid-trace: see feed above).
+feed "$TMP/feed3"
+"$HP_BIN" batch "$S/default.yaml" "$TMP/feed3" -o "$TMP/killed.csv" --no-progress 2>/dev/null &
 pid=$!
-sleep 1.5
+wait_partial killed.csv && ok || bad "killed run: no partial output appeared"
 kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null
+kill $wpid 2>/dev/null; wait $wpid 2>/dev/null
 [ ! -e "$TMP/killed.csv" ] && ok || bad "killed run left $TMP/killed.csv"
 # Uncommanded never reads as reached: a sphere head cannot be turned about its centre, so
 # every nodding row is "uncommanded", its uncommanded_* columns carry the part dropped (the
