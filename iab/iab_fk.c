@@ -170,18 +170,25 @@ static hp_error fk_scaled(const hp_iab_s *sp, const hp_iab *b, double r_lp, doub
     if (P > 0) {
         if (P >= p_lp) return HP_ERR_NO_STABLE;
         lo = s.Ri;
-        hi = isfinite(r_lp) ? r_lp : 2.0 * s.Ri;
-        /* No limit point: P grows without bound (like 2C2(1 − Ri/Ro)λi), so doubling finds
-         * an upper end, or leaves the range of the model. */
-        for (;;) {
-            if (hp_iab_s_ik(&s, hi, &p, NULL, NULL) != HP_OK || hi > 1e30) return HP_ERR_DOMAIN;
-            if (p >= P) break;
-            lo = hi;
-            hi *= 2.0;
-        }
-        if (p == P) {
-            *ri = hi / s.scale;
-            return HP_OK;
+        if (isfinite(r_lp)) {
+            /* P at r_lp is p_lp > P (the caller's limit point, computed there by the same
+             * hp_iab_s_ik): r_lp is the upper end, with no evaluation. */
+            hi = r_lp;
+        } else {
+            /* No limit point: P grows without bound (like 2C2(1 − Ri/Ro)λi), so doubling
+             * finds an upper end, or leaves the range of the model. */
+            hi = 2.0 * s.Ri;
+            for (;;) {
+                if (hp_iab_s_ik(&s, hi, &p, NULL, NULL) != HP_OK || hi > 1e30)
+                    return HP_ERR_DOMAIN;
+                if (p >= P) break;
+                lo = hi;
+                hi *= 2.0;
+            }
+            if (p == P) {
+                *ri = hi / s.scale;
+                return HP_OK;
+            }
         }
     } else {
         /* Compression: P → −∞ as ri → 0, so halving finds a lower end. */

@@ -2,6 +2,7 @@
 #include "iab/iab_internal.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 /* A cavity below 1e-9 of the outer radius is no bladder; the bound keeps every power of a
@@ -50,6 +51,26 @@ hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, double b,
     return HP_ERR_INVALID;
 }
 
+/* The power of two 2^(1−e) for Ro = m·2^e, m in [0.5, 1), so that Ro·scale lies in [1, 2).
+ * Every validated call of the model forms it (a few per bladder and plan), so for a normal
+ * Ro it is read off the exponent bits: the same double frexp and ldexp give, exactly. */
+static double scale_for(double Ro)
+{
+    uint64_t u;
+    memcpy(&u, &Ro, sizeof u);
+    int E = (int)((u >> 52) & 0x7ff); /* biased exponent: Ro = 1.f·2^(E−1023) */
+    if (E >= 1 && E <= 2045) {
+        /* e = E − 1022, so 2^(1−e) = 2^(1023−E), whose biased exponent 2046 − E is normal */
+        uint64_t v = (uint64_t)(2046 - E) << 52;
+        double scale;
+        memcpy(&scale, &v, sizeof scale);
+        return scale;
+    }
+    int e;
+    frexp(Ro, &e);
+    return ldexp(1.0, 1 - e);
+}
+
 hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
 {
     if (!b) return hp_diag_set(diag, HP_ERR_NULL, "bladder: NULL pointer");
@@ -75,9 +96,7 @@ hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
     if (!(b->C2 >= 0))
         return hp_diag_set(diag, HP_ERR_INVALID, "C2: must be >= 0 Pa (got %g)", b->C2);
     if (s) {
-        int e;
-        frexp(b->Ro, &e); /* Ro = m·2^e, m in [0.5, 1) */
-        s->scale = ldexp(1.0, 1 - e);
+        s->scale = scale_for(b->Ro);
         s->Ri = b->Ri * s->scale;
         s->Ro = b->Ro * s->scale;
         s->C1 = b->C1;

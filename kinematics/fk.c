@@ -1,11 +1,14 @@
 /* Forward contact kinematics: the pose whose contact distances best fit measured outer
  * radii, by Levenberg–Marquardt with Marquardt's column scaling. Each step is a damped
- * least-squares solve by QR (linalg_eigen.cpp), never the normal equations, so the pitch
- * column's small lever arm does not square the conditioning. */
+ * least-squares solve: by the normal equations where their column-scaled matrix is provably
+ * well conditioned (damped_normal), else by QR (damped_qr; Eigen's pivoting QR in
+ * linalg_eigen.cpp where that fails), so an ill-conditioned Jacobian (a pitch column with a
+ * small lever arm, a distant pivot) never has its conditioning squared. */
 #include "kin_internal.h"
 #include "fit_internal.h"
 #include "kin_geom.h"
 #include "linalg.h"
+#include "common/dense.h"
 
 #include <math.h>
 #include <string.h>
@@ -76,6 +79,76 @@ static int damped_qr(int n, int nf, const double *J, const double *r, const doub
     return 0;
 }
 
+/* Largest condition number (2-norm bound) of the column-scaled normal matrix that
+ * damped_normal accepts. Its solution then carries a relative error of about
+ * nf·eps·FK_NORMAL_MAX_COND ≈ 1e-9 in the scaled unknowns: a Levenberg–Marquardt step that
+ * inexact still descends, and the iteration recomputes each step from an exact residual,
+ * so the error never accumulates and the fit ends where the QR steps end, to rounding.
+ * Beyond it the step's error would grow as the condition number (the square of the
+ * Jacobian's), and QR takes over. */
+#define FK_NORMAL_MAX_COND 1e6
+
+/* The same step as damped_qr from the 6×6 normal equations (Jᵀ J + lambda·diag(D)²)·dx =
+ * −Jᵀ r, symmetrically scaled to unit diagonal and solved by Cholesky: a quarter of the
+ * work of the QR. Returns -1, leaving the step to damped_qr, when the scaled matrix is not
+ * positive definite or its condition number may exceed FK_NORMAL_MAX_COND (the bound
+ * trace·‖L⁻¹‖_F² ≥ λmax/λmin is rigorous up to rounding), or the result is not finite. */
+static int damped_normal(int n, int nf, const double *J, const double *r, const double *D,
+                         double lambda, double *dx)
+{
+    /* Padded to 6 columns so that the loops have a fixed length the compiler unrolls and
+     * vectorises: a padded column is exactly zero and gets a unit diagonal below, which
+     * changes no other entry, pivot or result bit. Each entry is summed over the rows in
+     * index order, so A is exactly symmetric. */
+    double A[6][6], g[6], d[6];
+    memset(A, 0, sizeof A);
+    memset(g, 0, sizeof g);
+    for (int i = 0; i < n; ++i) {
+        double a[6] = {0};
+        for (int j = 0; j < nf; ++j) a[j] = J[i * nf + j];
+#pragma GCC unroll 6
+        for (int j = 0; j < 6; ++j) {
+#pragma GCC unroll 6
+            for (int k = 0; k < 6; ++k) A[j][k] += a[j] * a[k];
+            g[j] -= a[j] * r[i];
+        }
+    }
+    for (int j = 0; j < 6; ++j) {
+        if (j >= nf) {
+            A[j][j] = 1.0;
+            d[j] = 1.0;
+            continue;
+        }
+        A[j][j] += lambda * D[j] * D[j];
+        if (!(A[j][j] > 0) || !isfinite(A[j][j])) return -1;
+        d[j] = 1.0 / sqrt(A[j][j]);
+    }
+#pragma GCC unroll 6
+    for (int j = 0; j < 6; ++j) {
+#pragma GCC unroll 6
+        for (int k = 0; k < 6; ++k) A[j][k] *= d[j] * d[k];
+        A[j][j] = 1.0;
+        g[j] *= d[j];
+    }
+    if (!hp_cholesky(&A[0][0], 6, nf, 0.0, &A[0][0], 6)) return -1;
+    /* trace = nf (unit diagonal) */
+    if (!(nf * hp_cholesky_inv_frob2(&A[0][0], 6, nf) <= FK_NORMAL_MAX_COND)) return -1;
+    hp_cholesky_solve(&A[0][0], 6, nf, g);
+    for (int j = 0; j < nf; ++j) {
+        dx[j] = g[j] * d[j];
+        if (!isfinite(dx[j])) return -1;
+    }
+    return 0;
+}
+
+/* The damped step by the cheapest exact method that is accurate for this J. */
+static int damped_step(int n, int nf, const double *J, const double *r, const double *D,
+                       double lambda, double *dx)
+{
+    if (damped_normal(n, nf, J, r, D, lambda, dx) == 0) return 0;
+    return damped_qr(n, nf, J, r, D, lambda, dx);
+}
+
 static double sumsq(int n, const double *v)
 {
     double s = 0.0;
@@ -117,7 +190,7 @@ static int arrived(int n, int nf, const int *col, const double *x, const double 
         if (!(fabs(x[col[j]] - near->pose[col[j]]) <= 0.25 * near->tol[col[j]])) return 0;
     double D[6], h[6];
     for (int j = 0; j < nf; ++j) D[j] = 0.0;
-    if (damped_qr(n, nf, Jr, r, D, 0.0, h) != 0) return 0;
+    if (damped_step(n, nf, Jr, r, D, 0.0, h) != 0) return 0;
     for (int j = 0; j < nf; ++j)
         if (!(fabs(h[j]) <= 0.25 * near->tol[col[j]])) return 0;
     return 1;
@@ -178,7 +251,7 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
             done = 1;
             break;
         }
-        if (damped_qr(n, nf, Jr, r, D, lambda, dx) != 0 &&
+        if (damped_step(n, nf, Jr, r, D, lambda, dx) != 0 &&
             hp_kin_damped_lstsq(n, nf, Jr, r, D, lambda, dx) != 0)
             return HP_ERR_NO_CONVERGENCE;
         double stepsize = 0.0;
