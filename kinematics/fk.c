@@ -1,7 +1,7 @@
 /* Forward contact kinematics: the pose whose contact distances best fit measured outer
  * radii, by Levenberg–Marquardt with Marquardt's column scaling. Each step is a damped
  * least-squares solve: by the normal equations where their column-scaled matrix is provably
- * well conditioned (damped_normal), else by QR (damped_qr; Eigen's pivoting QR in
+ * well conditioned (hp_kin_damped_normal), else by QR (hp_kin_damped_qr; Eigen's pivoting QR in
  * linalg_eigen.cpp where that fails), so an ill-conditioned Jacobian (a pitch column with a
  * small lever arm, a distant pivot) never has its conditioning squared. */
 #include "kin_internal.h"
@@ -19,14 +19,10 @@
 #define FK_STEP_TOL 1e-15
 #define FK_LAMBDA_MAX 1e12
 
-/* min |J·dx + r|² + lambda·|diag(D)·dx|² (J n×nf row-major, nf <= 6, lambda > 0) by
- * Householder QR of the stacked system [J; sqrt(lambda)·diag(D)]. The damping rows give it
- * full column rank, where QR without pivoting is backward stable, so the fit's small
- * system needs neither pivoting nor Eigen's dynamic-size machinery (a quarter of a
- * surface-level fit's time went there). lambda = 0: the Gauss–Newton step, for a J of full
- * column rank. Returns 0, or -1 for a zero column or a result that is not finite (then the
- * general solver decides). */
-static int damped_qr(int n, int nf, const double *J, const double *r, const double *D,
+/* Stacked Householder QR (fit_internal.h). The damping rows give the system full column
+ * rank, where QR without pivoting is backward stable, so the fit's small system needs
+ * neither pivoting nor Eigen's dynamic-size machinery. */
+int hp_kin_damped_qr(int n, int nf, const double *J, const double *r, const double *D,
                      double lambda, double *dx)
 {
     enum { MR = HP_MAX_BLADDERS + 6 };
@@ -79,21 +75,9 @@ static int damped_qr(int n, int nf, const double *J, const double *r, const doub
     return 0;
 }
 
-/* Largest condition number (2-norm bound) of the column-scaled normal matrix that
- * damped_normal accepts. Its solution then carries a relative error of about
- * nf·eps·FK_NORMAL_MAX_COND ≈ 1e-9 in the scaled unknowns: a Levenberg–Marquardt step that
- * inexact still descends, and the iteration recomputes each step from an exact residual,
- * so the error never accumulates and the fit ends where the QR steps end, to rounding.
- * Beyond it the step's error would grow as the condition number (the square of the
- * Jacobian's), and QR takes over. */
-#define FK_NORMAL_MAX_COND 1e6
-
-/* The same step as damped_qr from the 6×6 normal equations (Jᵀ J + lambda·diag(D)²)·dx =
- * −Jᵀ r, symmetrically scaled to unit diagonal and solved by Cholesky: a quarter of the
- * work of the QR. Returns -1, leaving the step to damped_qr, when the scaled matrix is not
- * positive definite or its condition number may exceed FK_NORMAL_MAX_COND (the bound
- * trace·‖L⁻¹‖_F² ≥ λmax/λmin is rigorous up to rounding), or the result is not finite. */
-static int damped_normal(int n, int nf, const double *J, const double *r, const double *D,
+/* Normal equations, scaled to unit diagonal, by Cholesky (fit_internal.h): a quarter of the
+ * QR's work. Accepted only under the condition bound HP_KIN_NORMAL_MAX_COND. */
+int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
                          double lambda, double *dx)
 {
     /* Padded to 6 columns so that the loops have a fixed length the compiler unrolls and
@@ -132,7 +116,7 @@ static int damped_normal(int n, int nf, const double *J, const double *r, const 
     }
     if (!hp_cholesky(&A[0][0], 6, nf, 0.0, &A[0][0], 6)) return -1;
     /* trace = nf (unit diagonal) */
-    if (!(nf * hp_cholesky_inv_frob2(&A[0][0], 6, nf) <= FK_NORMAL_MAX_COND)) return -1;
+    if (!(nf * hp_cholesky_inv_frob2(&A[0][0], 6, nf) <= HP_KIN_NORMAL_MAX_COND)) return -1;
     hp_cholesky_solve(&A[0][0], 6, nf, g);
     for (int j = 0; j < nf; ++j) {
         dx[j] = g[j] * d[j];
@@ -145,8 +129,8 @@ static int damped_normal(int n, int nf, const double *J, const double *r, const 
 static int damped_step(int n, int nf, const double *J, const double *r, const double *D,
                        double lambda, double *dx)
 {
-    if (damped_normal(n, nf, J, r, D, lambda, dx) == 0) return 0;
-    return damped_qr(n, nf, J, r, D, lambda, dx);
+    if (hp_kin_damped_normal(n, nf, J, r, D, lambda, dx) == 0) return 0;
+    return hp_kin_damped_qr(n, nf, J, r, D, lambda, dx);
 }
 
 static double sumsq(int n, const double *v)
