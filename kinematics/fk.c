@@ -75,16 +75,19 @@ int hp_kin_damped_qr(int n, int nf, const double *J, const double *r, const doub
     return 0;
 }
 
-/* Normal equations, scaled to unit diagonal, by Cholesky (fit_internal.h): a quarter of the
- * QR's work. Accepted only under the condition bound HP_KIN_NORMAL_MAX_COND. */
-int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
-                         double lambda, double *dx)
+/* Jᵀ J and −Jᵀ r of a fit's Jacobian J (n×nf) and residual r, zero-padded to 6 columns so
+ * that the loops have a fixed length the compiler unrolls and vectorises (a padded entry is
+ * an exact zero). Each entry is summed over the rows in index order from +0, so A is
+ * exactly symmetric and A_jj is bit for bit the fit's squared column norm. */
+typedef struct fk_gram {
+    double A[6][6];
+    double g[6];
+} fk_gram;
+
+static void gram_of(int n, int nf, const double *J, const double *r, fk_gram *q)
 {
-    /* Padded to 6 columns so that the loops have a fixed length the compiler unrolls and
-     * vectorises: a padded column is exactly zero and gets a unit diagonal below, which
-     * changes no other entry, pivot or result bit. Each entry is summed over the rows in
-     * index order, so A is exactly symmetric. */
-    double A[6][6], g[6], d[6];
+    /* Local sums (no aliasing with J and r for the compiler to fear), copied out once. */
+    double A[6][6], g[6];
     memset(A, 0, sizeof A);
     memset(g, 0, sizeof g);
     for (int i = 0; i < n; ++i) {
@@ -97,22 +100,28 @@ int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const 
             g[j] -= a[j] * r[i];
         }
     }
-    for (int j = 0; j < 6; ++j) {
-        if (j >= nf) {
-            A[j][j] = 1.0;
-            d[j] = 1.0;
-            continue;
-        }
+    memcpy(q->A, A, sizeof A);
+    memcpy(q->g, g, sizeof g);
+}
+
+/* The damped step from the normal equations of q (see hp_kin_damped_normal). */
+static int normal_step(const fk_gram *q, int nf, const double *D, double lambda, double *dx)
+{
+    double A[6][6], g[6], d[6];
+    memcpy(A, q->A, sizeof A);
+    for (int j = 0; j < nf; ++j) {
         A[j][j] += lambda * D[j] * D[j];
         if (!(A[j][j] > 0) || !isfinite(A[j][j])) return -1;
         d[j] = 1.0 / sqrt(A[j][j]);
     }
+    for (int j = nf; j < 6; ++j) d[j] = 0.0;
+    /* Scaled to unit diagonal (the padded part becomes exactly zero and is not read). */
 #pragma GCC unroll 6
     for (int j = 0; j < 6; ++j) {
 #pragma GCC unroll 6
         for (int k = 0; k < 6; ++k) A[j][k] *= d[j] * d[k];
         A[j][j] = 1.0;
-        g[j] *= d[j];
+        g[j] = q->g[j] * d[j];
     }
     if (!hp_cholesky(&A[0][0], 6, nf, 0.0, &A[0][0], 6)) return -1;
     /* trace = nf (unit diagonal) */
@@ -125,11 +134,22 @@ int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const 
     return 0;
 }
 
-/* The damped step by the cheapest exact method that is accurate for this J. */
-static int damped_step(int n, int nf, const double *J, const double *r, const double *D,
-                       double lambda, double *dx)
+/* Normal equations, scaled to unit diagonal, by Cholesky (fit_internal.h): a quarter of the
+ * QR's work. Accepted only under the condition bound HP_KIN_NORMAL_MAX_COND. */
+int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
+                         double lambda, double *dx)
 {
-    if (hp_kin_damped_normal(n, nf, J, r, D, lambda, dx) == 0) return 0;
+    fk_gram q;
+    gram_of(n, nf, J, r, &q);
+    return normal_step(&q, nf, D, lambda, dx);
+}
+
+/* The damped step by the cheapest exact method that is accurate for this J (q: its normal
+ * equations). */
+static int damped_step(int n, int nf, const double *J, const double *r, const fk_gram *q,
+                       const double *D, double lambda, double *dx)
+{
+    if (normal_step(q, nf, D, lambda, dx) == 0) return 0;
     return hp_kin_damped_qr(n, nf, J, r, D, lambda, dx);
 }
 
@@ -168,13 +188,13 @@ hp_error hp_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level leve
  * near->pose and the undamped Gauss–Newton step at x (its Jacobian Jr, residual r) below
  * near->tol/4 in every free component. */
 static int arrived(int n, int nf, const int *col, const double *x, const double *Jr,
-                   const double *r, const hp_kin_fit_near *near)
+                   const double *r, const fk_gram *q, const hp_kin_fit_near *near)
 {
     for (int j = 0; j < nf; ++j)
         if (!(fabs(x[col[j]] - near->pose[col[j]]) <= 0.25 * near->tol[col[j]])) return 0;
     double D[6], h[6];
     for (int j = 0; j < nf; ++j) D[j] = 0.0;
-    if (damped_step(n, nf, Jr, r, D, 0.0, h) != 0) return 0;
+    if (damped_step(n, nf, Jr, r, q, D, 0.0, h) != 0) return 0;
     for (int j = 0; j < nf; ++j)
         if (!(fabs(h[j]) <= 0.25 * near->tol[col[j]])) return 0;
     return 1;
@@ -221,21 +241,27 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
      * solves it, and the second (a rounding-level correction) ends the iteration. The
      * curved levels start damped, as Levenberg–Marquardt should from a far start. */
     double cost = sumsq(n, r), lambda = level == HP_LEVEL_LINEAR ? 1e-15 : 1e-3;
-    int it = 0, done = 0;
+    int it = 0, done = 0, have_gram = 0;
+    fk_gram gram;
     while (!done && it < FK_MAX_ITERS) {
         ++it;
         double D[6], dx[6], xt[6];
+        /* The normal equations of each new Jacobian, once: their diagonal is the squared
+         * column norms (Marquardt's scales), and they serve every damping tried there. */
+        if (!have_gram) {
+            gram_of(n, nf, Jr, r, &gram);
+            have_gram = 1;
+        }
         for (int j = 0; j < nf; ++j) {
-            double s = 0.0;
-            for (int k = 0; k < n; ++k) s += Jr[k * nf + j] * Jr[k * nf + j];
+            double s = gram.A[j][j];
             D[j] = s > 0 ? sqrt(s) : 1.0;
         }
         if (cost == 0.0) break;
-        if (near && it > 1 && arrived(n, nf, col, x, Jr, r, near)) {
+        if (near && it > 1 && arrived(n, nf, col, x, Jr, r, &gram, near)) {
             done = 1;
             break;
         }
-        if (damped_step(n, nf, Jr, r, D, lambda, dx) != 0 &&
+        if (damped_step(n, nf, Jr, r, &gram, D, lambda, dx) != 0 &&
             hp_kin_damped_lstsq(n, nf, Jr, r, D, lambda, dx) != 0)
             return HP_ERR_NO_CONVERGENCE;
         double stepsize = 0.0;
@@ -253,6 +279,7 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
             cost = ct;
             memcpy(r, rt, sizeof(double) * (size_t)n);
             memcpy(Jr, Jt, sizeof(double) * (size_t)(n * nf));
+            have_gram = 0;
             lambda = fmax(lambda * 0.1, 1e-15);
             if (stepsize <= FK_STEP_TOL) done = 1;
         } else {
