@@ -167,11 +167,14 @@ static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, c
                          double *Jr)
 {
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6];
-    hp_error err = hp_kin_contact_eval_warm(L, G, level, xi, sw, rho, Jr ? J : NULL, NULL);
+    /* All six columns free (col is then 0..5): the model writes the Jacobian in place. */
+    int all = nf == 6;
+    hp_error err = hp_kin_contact_eval_warm(L, G, level, xi, sw, rho, Jr ? (all ? Jr : J) : NULL,
+                                            NULL);
     if (err) return err;
     for (int k = 0; k < L->n; ++k) {
         r[k] = rho[k] - ro[k];
-        if (Jr)
+        if (Jr && !all)
             for (int j = 0; j < nf; ++j) Jr[k * nf + j] = J[k * 6 + col[j]];
     }
     return HP_OK;
