@@ -1,9 +1,10 @@
 /* Forward contact kinematics: the pose whose contact distances best fit measured outer
  * radii, by Levenberg–Marquardt with Marquardt's column scaling. Each step is a damped
- * least-squares solve: by the normal equations where their column-scaled matrix is provably
- * well conditioned (hp_kin_damped_normal), else by QR (hp_kin_damped_qr; Eigen's pivoting QR in
- * linalg_eigen.cpp where that fails), so an ill-conditioned Jacobian (a pitch column with a
- * small lever arm, a distant pivot) never has its conditioning squared. */
+ * least-squares solve: by the normal equations where their column-scaled matrix is
+ * provably well conditioned (hp_kin_damped_normal), else by QR (hp_kin_damped_qr; Eigen's
+ * pivoting QR in linalg_eigen.cpp where that fails), so an ill-conditioned Jacobian (a
+ * pitch column with a small lever arm, a distant pivot) never has its conditioning
+ * squared. */
 #include "kin_internal.h"
 #include "fit_internal.h"
 #include "kin_geom.h"
@@ -115,7 +116,7 @@ static int normal_step(const fk_gram *q, int nf, const double *D, double lambda,
         d[j] = 1.0 / sqrt(A[j][j]);
     }
     for (int j = nf; j < 6; ++j) d[j] = 0.0;
-    /* Scaled to unit diagonal (the padded part becomes exactly zero and is not read). */
+    /* Scaled to unit diagonal (fixed-length loops; the padded part is never read). */
 #pragma GCC unroll 6
     for (int j = 0; j < 6; ++j) {
 #pragma GCC unroll 6
