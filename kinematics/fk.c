@@ -77,9 +77,9 @@ int hp_kin_damped_qr(int n, int nf, const double *J, const double *r, const doub
 }
 
 /* Jᵀ J and −Jᵀ r of a fit's Jacobian J (n×nf) and residual r, zero-padded to 6 columns so
- * that the loops have a fixed length the compiler unrolls and vectorises (a padded entry is
- * an exact zero). Each entry is summed over the rows in index order from +0, so A is
- * exactly symmetric and A_jj is bit for bit the fit's squared column norm. */
+ * that the loops have a fixed length the compiler unrolls (a padded entry is an exact
+ * zero). Each entry of the lower triangle is summed over the rows in index order from +0,
+ * so A_jj is bit for bit the fit's squared column norm; the upper triangle is its mirror. */
 typedef struct fk_gram {
     double A[6][6];
     double g[6];
@@ -97,10 +97,13 @@ static void gram_of(int n, int nf, const double *J, const double *r, fk_gram *q)
 #pragma GCC unroll 6
         for (int j = 0; j < 6; ++j) {
 #pragma GCC unroll 6
-            for (int k = 0; k < 6; ++k) A[j][k] += a[j] * a[k];
+            for (int k = 0; k < 6; ++k)
+                if (k <= j) A[j][k] += a[j] * a[k];
             g[j] -= a[j] * r[i];
         }
     }
+    for (int j = 0; j < 6; ++j)
+        for (int k = j + 1; k < 6; ++k) A[j][k] = A[k][j];
     memcpy(q->A, A, sizeof A);
     memcpy(q->g, g, sizeof g);
 }
