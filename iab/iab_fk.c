@@ -167,8 +167,19 @@ static hp_error fk_scaled(const hp_iab_s *sp, const hp_iab *b, double r_lp, doub
         return HP_OK;
     }
     double lo, hi, p;
+    if (P > 0 && P >= p_lp) return HP_ERR_NO_STABLE;
+    /* A guess on the right side of Ri and below the limit point whose pressure is exactly P
+     * (the usual case when it is the radius the pressure came from) is what the search
+     * below would return: P is strictly increasing on the stable branch, so the guess lies
+     * strictly inside the bracket found there and the safeguarded Newton iteration, which
+     * starts at it, stops at once. */
+    double g = guess * s.scale;
+    if ((P > 0 ? g > s.Ri && g < r_lp : g > 0 && g < s.Ri) &&
+        hp_iab_s_ik(&s, g, &p, NULL, NULL) == HP_OK && p == P) {
+        *ri = g / s.scale;
+        return HP_OK;
+    }
     if (P > 0) {
-        if (P >= p_lp) return HP_ERR_NO_STABLE;
         lo = s.Ri;
         if (isfinite(r_lp)) {
             /* P at r_lp is p_lp > P (the caller's limit point, computed there by the same
