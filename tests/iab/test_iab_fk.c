@@ -192,17 +192,26 @@ static void test_fk_no_stable(void **state)
     assert_true(r == r); /* never NaN */
 }
 
+/* Bladder m of three materials (C2/C1 = 0, neo-Hookean, and 0.1, both with a limit point;
+ * 2, the paper's, without) and its limit point. */
+#define N_MATERIALS 3
+static void material(int m, hp_iab *b, hp_iab_limit *lp)
+{
+    const double c2s[N_MATERIALS] = {0.0, 0.1 * 1.1e4, 2.2e4};
+    *b = (hp_iab){0.027, 0.030, 1.1e4, c2s[m]};
+    assert_int_equal(hp_iab_limit_point(b, lp), HP_OK);
+}
+
 /* hp_iab_fk_limit with a precomputed limit point is the same computation as hp_iab_fk:
  * identical bits over compression, expansion, and up to the limit point; the same refusal
  * above it; and a limit point of another material is refused when it cannot belong. */
 static void test_fk_limit_same_as_fk(void **state)
 {
     (void)state;
-    const double c2s[] = {0.0, 0.1 * 1.1e4, 2.2e4};
-    for (size_t m = 0; m < sizeof c2s / sizeof c2s[0]; ++m) {
-        hp_iab b = {0.027, 0.030, 1.1e4, c2s[m]};
+    for (int m = 0; m < N_MATERIALS; ++m) {
+        hp_iab b;
         hp_iab_limit lp;
-        assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
+        material(m, &b, &lp);
         double p_top = lp.exists ? lp.pressure : 2e4;
         for (int k = -200; k <= 200; ++k) {
             double P = k < 0 ? 40.0 * k : p_top * (k / 200.0) * (1.0 - 1e-9);
@@ -232,11 +241,10 @@ static void test_fk_limit_same_as_fk(void **state)
 static void test_fk_warm(void **state)
 {
     (void)state;
-    const double c2s[] = {0.0, 0.1 * 1.1e4, 2.2e4};
-    for (size_t m = 0; m < sizeof c2s / sizeof c2s[0]; ++m) {
-        hp_iab b = {0.027, 0.030, 1.1e4, c2s[m]};
+    for (int m = 0; m < N_MATERIALS; ++m) {
+        hp_iab b;
         hp_iab_limit lp;
-        assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
+        material(m, &b, &lp);
         double top = lp.exists ? lp.ri : 2.0 * b.Ri;
         for (int k = -100; k <= 100; ++k) {
             if (k == 0) continue;
