@@ -40,8 +40,9 @@ int hp_kin_damped_qr(int n, int nf, const double *J, const double *r, const doub
 #define HP_KIN_NORMAL_MAX_COND 1e6
 
 /* The same step from the normal equations (JᵀJ + lambda·diag(D)²)·dx = −Jᵀr, scaled
- * symmetrically to unit diagonal S and solved by Cholesky (hp_cholesky): about a quarter of
- * hp_kin_damped_qr's work. -1 when S is not positive definite, when the rigorous bound
+ * symmetrically to unit diagonal S and solved by Cholesky (hp_cholesky): about 3 200
+ * instructions for an 8×6 J against the QR's 4 800, and in the fit JᵀJ also yields the
+ * column scales. -1 when S is not positive definite, when the rigorous bound
  * trace(S)·‖L⁻¹‖_F² >= λmax/λmin (hp_cholesky_inv_frob2) exceeds HP_KIN_NORMAL_MAX_COND, or
  * when the result is not finite. Not bit-identical to the QR step (equal to ~1e-9 of it at
  * worst; 2e-14 measured on the default layout's, whose scaled condition is ~30). */

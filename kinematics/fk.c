@@ -138,8 +138,8 @@ static int normal_step(const fk_gram *q, int nf, const double *D, double lambda,
     return 0;
 }
 
-/* Normal equations, scaled to unit diagonal, by Cholesky (fit_internal.h): a quarter of the
- * QR's work. Accepted only under the condition bound HP_KIN_NORMAL_MAX_COND. */
+/* Normal equations, scaled to unit diagonal, by Cholesky (fit_internal.h). Accepted only
+ * under the condition bound HP_KIN_NORMAL_MAX_COND. */
 int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
                          double lambda, double *dx)
 {
