@@ -34,3 +34,19 @@ void hp_cholesky_solve(const double *L, int ldl, int n, double *b)
         b[i] = t / L[i * ldl + i];
     }
 }
+
+double hp_cholesky_inv_frob2(const double *L, int ldl, int n)
+{
+    /* Column j of L⁻¹ by forward substitution on e_j (zero above row j). */
+    double x[64], s = 0.0;
+    if (n > 64) return INFINITY;
+    for (int j = 0; j < n; ++j) {
+        for (int i = j; i < n; ++i) {
+            double t = i == j ? 1.0 : 0.0;
+            for (int k = j; k < i; ++k) t -= L[i * ldl + k] * x[k];
+            x[i] = t / L[i * ldl + i];
+            s += x[i] * x[i];
+        }
+    }
+    return s;
+}

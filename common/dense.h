@@ -15,4 +15,9 @@ int hp_cholesky(const double *A, int lda, int n, double min_frac, double *L, int
 /* Solves L·Lᵀ·y = b in place for the factor of hp_cholesky. */
 void hp_cholesky_solve(const double *L, int ldl, int n, double *b);
 
+/* ‖L⁻¹‖_F² for the factor of hp_cholesky (nonzero diagonal): an upper bound on ‖A⁻¹‖₂,
+ * so trace(A)·hp_cholesky_inv_frob2 bounds A's 2-norm condition number from above (to
+ * rounding). About n³/6 multiply-adds; allocation-free; n <= 64 (else +inf). */
+double hp_cholesky_inv_frob2(const double *L, int ldl, int n);
+
 #endif

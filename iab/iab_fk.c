@@ -167,21 +167,39 @@ static hp_error fk_scaled(const hp_iab_s *sp, const hp_iab *b, double r_lp, doub
         return HP_OK;
     }
     double lo, hi, p;
+    if (P > 0 && P >= p_lp) return HP_ERR_NO_STABLE;
+    /* A guess on the right side of Ri and below the limit point whose pressure is exactly P
+     * (the usual case when it is the radius the pressure came from) is what the search
+     * below would return: P is strictly increasing on the stable branch, so the guess lies
+     * strictly inside the bracket found there and the safeguarded Newton iteration, which
+     * starts at it, stops at once. */
+    double g = guess * s.scale;
+    if ((P > 0 ? g > s.Ri && g < r_lp : g > 0 && g < s.Ri) &&
+        hp_iab_s_ik(&s, g, &p, NULL, NULL) == HP_OK && p == P) {
+        *ri = g / s.scale;
+        return HP_OK;
+    }
     if (P > 0) {
-        if (P >= p_lp) return HP_ERR_NO_STABLE;
         lo = s.Ri;
-        hi = isfinite(r_lp) ? r_lp : 2.0 * s.Ri;
-        /* No limit point: P grows without bound (like 2C2(1 − Ri/Ro)λi), so doubling finds
-         * an upper end, or leaves the range of the model. */
-        for (;;) {
-            if (hp_iab_s_ik(&s, hi, &p, NULL, NULL) != HP_OK || hi > 1e30) return HP_ERR_DOMAIN;
-            if (p >= P) break;
-            lo = hi;
-            hi *= 2.0;
-        }
-        if (p == P) {
-            *ri = hi / s.scale;
-            return HP_OK;
+        if (isfinite(r_lp)) {
+            /* P at r_lp is p_lp > P (the caller's limit point, computed there by the same
+             * hp_iab_s_ik): r_lp is the upper end, with no evaluation. */
+            hi = r_lp;
+        } else {
+            /* No limit point: P grows without bound (like 2C2(1 − Ri/Ro)λi), so doubling
+             * finds an upper end, or leaves the range of the model. */
+            hi = 2.0 * s.Ri;
+            for (;;) {
+                if (hp_iab_s_ik(&s, hi, &p, NULL, NULL) != HP_OK || hi > 1e30)
+                    return HP_ERR_DOMAIN;
+                if (p >= P) break;
+                lo = hi;
+                hi *= 2.0;
+            }
+            if (p == P) {
+                *ri = hi / s.scale;
+                return HP_OK;
+            }
         }
     } else {
         /* Compression: P → −∞ as ri → 0, so halving finds a lower end. */

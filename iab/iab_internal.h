@@ -26,8 +26,15 @@ static inline double hp_iab_cube_diff(double x, double y)
 /* Validates b and fills s. Same codes and messages as hp_iab_validate. */
 hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag);
 
-/* Scaled outer radius for scaled inner radius ri > 0: ro = cbrt(W + ri³), a sum of two
- * positive terms (no cancellation). */
+/* The cube root of x, correctly rounded for a normal positive x except where the exact root
+ * lies within ~1e-7 ulp of a midpoint between doubles (then within 0.5 ulp + 1e-7 ulp);
+ * libm's cbrt for every other x (0, subnormal, negative, inf, NaN) and on a platform that
+ * evaluates double expressions in wider precision. Several per bladder and plan, and
+ * about half the price of libm's (which is within 1 ulp). */
+double hp_iab_cbrt(double x);
+
+/* Scaled outer radius for scaled inner radius ri > 0: ro = cbrt(W + ri³) (hp_iab_cbrt), a
+ * sum of two positive terms (no cancellation). */
 double hp_iab_s_ro(const hp_iab_s *s, double ri);
 
 /* 2C1[f(λ1) − f(λ2)] + 2C2[g(λ1) − g(λ2)] for two radii r1 < r2 of the same deformed wall

@@ -1,7 +1,9 @@
 /* Bladder validation, material conventions and the volume law. */
 #include "iab/iab_internal.h"
 
+#include <float.h>
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 /* A cavity below 1e-9 of the outer radius is no bladder; the bound keeps every power of a
@@ -50,6 +52,26 @@ hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, double b,
     return HP_ERR_INVALID;
 }
 
+/* The power of two 2^(1−e) for Ro = m·2^e, m in [0.5, 1), so that Ro·scale lies in [1, 2).
+ * Every validated call of the model forms it (a few per bladder and plan), so for a normal
+ * Ro it is read off the exponent bits: the same double frexp and ldexp give, exactly. */
+static double scale_for(double Ro)
+{
+    uint64_t u;
+    memcpy(&u, &Ro, sizeof u);
+    int E = (int)((u >> 52) & 0x7ff); /* biased exponent: Ro = 1.f·2^(E−1023) */
+    if (E >= 1 && E <= 2045) {
+        /* e = E − 1022, so 2^(1−e) = 2^(1023−E), whose biased exponent 2046 − E is normal */
+        uint64_t v = (uint64_t)(2046 - E) << 52;
+        double scale;
+        memcpy(&scale, &v, sizeof scale);
+        return scale;
+    }
+    int e;
+    frexp(Ro, &e);
+    return ldexp(1.0, 1 - e);
+}
+
 hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
 {
     if (!b) return hp_diag_set(diag, HP_ERR_NULL, "bladder: NULL pointer");
@@ -75,9 +97,7 @@ hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
     if (!(b->C2 >= 0))
         return hp_diag_set(diag, HP_ERR_INVALID, "C2: must be >= 0 Pa (got %g)", b->C2);
     if (s) {
-        int e;
-        frexp(b->Ro, &e); /* Ro = m·2^e, m in [0.5, 1) */
-        s->scale = ldexp(1.0, 1 - e);
+        s->scale = scale_for(b->Ro);
         s->Ri = b->Ri * s->scale;
         s->Ro = b->Ro * s->scale;
         s->C1 = b->C1;
@@ -92,7 +112,64 @@ hp_error hp_iab_validate(const hp_iab *b, hp_diag *diag)
     return hp_iab_scaled_init(b, NULL, diag);
 }
 
-double hp_iab_s_ro(const hp_iab_s *s, double ri) { return cbrt(s->W + ri * ri * ri); }
+/* Dekker's exact product without FMA: a·b = p + e exactly (no overflow here: |a|, |b| < 8
+ * after the argument reduction of hp_iab_cbrt). */
+static void two_prod(double a, double b, double *p, double *e)
+{
+    const double split = 134217729.0; /* 2^27 + 1 */
+    double ca = split * a, cb = split * b;
+    double ah = ca - (ca - a), al = a - ah;
+    double bh = cb - (cb - b), bl = b - bh;
+    *p = a * b;
+    *e = ((ah * bh - *p) + ah * bl + al * bh) + al * bl;
+}
+
+double hp_iab_cbrt(double x)
+{
+#if FLT_EVAL_METHOD != 0
+    return cbrt(x); /* Dekker's product needs plain double arithmetic */
+#else
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    int E = (int)(u >> 52); /* the sign bit too: negative x has E >= 2048 */
+    if (E < 1 || E > 2046) return cbrt(x); /* 0, subnormal, negative, inf, NaN */
+    /* x = m·2^e, m in [1, 2); e = 3q + k, k in {0, 1, 2}; cbrt(x) = cbrt(m·2^k)·2^q. */
+    int e = E - 1023;
+    int q = (e + 1200) / 3 - 400; /* floor(e/3): e + 1200 > 0 */
+    int k = e - 3 * q;
+    uint64_t mu = (u & 0x000fffffffffffffULL) | 0x3ff0000000000000ULL;
+    double m;
+    memcpy(&m, &mu, sizeof m);
+    double a = m * (double)(1 << k); /* exact, in [1, 8) */
+    /* cbrt on [1, 2) by its degree-5 interpolant at the Chebyshev nodes in t = m − 1.5
+     * (relative error 1.8e-6), times cbrt(2^k) */
+    static const double cbrt2k[3] = {1.0, 1.2599210498948731648, 1.5874010519681994748};
+    double t = m - 1.5;
+    double y = 1.144712948162971 +
+               t * (0.2543816456245348 +
+                    t * (-0.056436294682727636 +
+                         t * (0.020886322742378068 +
+                              t * (-0.010271170742077187 + t * 0.005072953325269895))));
+    y *= cbrt2k[k];
+    /* Newton on y³ = a squares the relative error: 1.8e-6 -> 3.2e-12 (plus rounding). */
+    y -= (y * y * y - a) / (3.0 * y * y);
+    /* Once more with the residual a − y³ formed exactly (y² and y²·y as double-doubles;
+     * a − p3 is exact by Sterbenz's lemma): the error after it is 1e-23 relative plus the
+     * one rounding of y + correction, so the result is the correctly rounded cube root
+     * unless that lies within ~1e-7 ulp of a midpoint (then still within 0.5 ulp + 1e-7). */
+    double p2, e2, p3, e3;
+    two_prod(y, y, &p2, &e2);
+    two_prod(p2, y, &p3, &e3);
+    double res = ((a - p3) - e3) - e2 * y;
+    y += res / (3.0 * p2);
+    uint64_t su = (uint64_t)(1023 + q) << 52; /* 2^q, q in [-341, 341]: normal */
+    double sc;
+    memcpy(&sc, &su, sizeof sc);
+    return y * sc;
+#endif
+}
+
+double hp_iab_s_ro(const hp_iab_s *s, double ri) { return hp_iab_cbrt(s->W + ri * ri * ri); }
 
 /* A scaled inner radius from a radius in metres: HP_ERR_INVALID for NaN/Inf, HP_ERR_DOMAIN
  * for ri <= 0 or a radius so far from the bladder's size that its cube leaves the range. */
@@ -128,7 +205,7 @@ hp_error hp_iab_ri(const hp_iab *b, double ro, double *ri)
     if (e != HP_OK) return e;
     double c = ros * ros * ros - s.W; /* ri³; cancels for thick walls and near collapse */
     if (!(c > 0)) return HP_ERR_DOMAIN;
-    double r = cbrt(c);
+    double r = hp_iab_cbrt(c);
     /* Two Newton steps on ri³ − Ri³ = ro³ − Ro³, both sides formed without cancellation:
      * the residual is then known to ~ulp(|ro³ − Ro³|), so ri ends within a few ulps
      * wherever the law itself is well conditioned (dri/dro = ro²/ri²). */

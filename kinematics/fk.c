@@ -1,11 +1,15 @@
 /* Forward contact kinematics: the pose whose contact distances best fit measured outer
  * radii, by Levenberg–Marquardt with Marquardt's column scaling. Each step is a damped
- * least-squares solve by QR (linalg_eigen.cpp), never the normal equations, so the pitch
- * column's small lever arm does not square the conditioning. */
+ * least-squares solve: by the normal equations where their column-scaled matrix is
+ * provably well conditioned (hp_kin_damped_normal), else by QR (hp_kin_damped_qr; Eigen's
+ * pivoting QR in linalg_eigen.cpp where that fails), so an ill-conditioned Jacobian (a
+ * pitch column with a small lever arm, a distant pivot) never has its conditioning
+ * squared. */
 #include "kin_internal.h"
 #include "fit_internal.h"
 #include "kin_geom.h"
 #include "linalg.h"
+#include "common/dense.h"
 
 #include <math.h>
 #include <string.h>
@@ -16,14 +20,10 @@
 #define FK_STEP_TOL 1e-15
 #define FK_LAMBDA_MAX 1e12
 
-/* min |J·dx + r|² + lambda·|diag(D)·dx|² (J n×nf row-major, nf <= 6, lambda > 0) by
- * Householder QR of the stacked system [J; sqrt(lambda)·diag(D)]. The damping rows give it
- * full column rank, where QR without pivoting is backward stable, so the fit's small
- * system needs neither pivoting nor Eigen's dynamic-size machinery (a quarter of a
- * surface-level fit's time went there). lambda = 0: the Gauss–Newton step, for a J of full
- * column rank. Returns 0, or -1 for a zero column or a result that is not finite (then the
- * general solver decides). */
-static int damped_qr(int n, int nf, const double *J, const double *r, const double *D,
+/* Stacked Householder QR (fit_internal.h). The damping rows give the system full column
+ * rank, where QR without pivoting is backward stable, so the fit's small system needs
+ * neither pivoting nor Eigen's dynamic-size machinery. */
+int hp_kin_damped_qr(int n, int nf, const double *J, const double *r, const double *D,
                      double lambda, double *dx)
 {
     enum { MR = HP_MAX_BLADDERS + 6 };
@@ -76,6 +76,87 @@ static int damped_qr(int n, int nf, const double *J, const double *r, const doub
     return 0;
 }
 
+/* Jᵀ J and −Jᵀ r of a fit's Jacobian J (n×nf) and residual r, zero-padded to 6 columns so
+ * that the loops have a fixed length the compiler unrolls (a padded entry is an exact
+ * zero). Each entry of the lower triangle is summed over the rows in index order from +0,
+ * so A_jj is bit for bit the fit's squared column norm; the upper triangle is its mirror. */
+typedef struct fk_gram {
+    double A[6][6];
+    double g[6];
+} fk_gram;
+
+static void gram_of(int n, int nf, const double *J, const double *r, fk_gram *q)
+{
+    /* Local sums (no aliasing with J and r for the compiler to fear), copied out once. */
+    double A[6][6], g[6];
+    memset(A, 0, sizeof A);
+    memset(g, 0, sizeof g);
+    for (int i = 0; i < n; ++i) {
+        double a[6] = {0};
+        for (int j = 0; j < nf; ++j) a[j] = J[i * nf + j];
+#pragma GCC unroll 6
+        for (int j = 0; j < 6; ++j) {
+#pragma GCC unroll 6
+            for (int k = 0; k < 6; ++k)
+                if (k <= j) A[j][k] += a[j] * a[k];
+            g[j] -= a[j] * r[i];
+        }
+    }
+    for (int j = 0; j < 6; ++j)
+        for (int k = j + 1; k < 6; ++k) A[j][k] = A[k][j];
+    memcpy(q->A, A, sizeof A);
+    memcpy(q->g, g, sizeof g);
+}
+
+/* The damped step from the normal equations of q (see hp_kin_damped_normal). */
+static int normal_step(const fk_gram *q, int nf, const double *D, double lambda, double *dx)
+{
+    double A[6][6], g[6], d[6];
+    memcpy(A, q->A, sizeof A);
+    for (int j = 0; j < nf; ++j) {
+        A[j][j] += lambda * D[j] * D[j];
+        if (!(A[j][j] > 0) || !isfinite(A[j][j])) return -1;
+        d[j] = 1.0 / sqrt(A[j][j]);
+    }
+    for (int j = nf; j < 6; ++j) d[j] = 0.0;
+    /* Scaled to unit diagonal (fixed-length loops; the padded part is never read). */
+#pragma GCC unroll 6
+    for (int j = 0; j < 6; ++j) {
+#pragma GCC unroll 6
+        for (int k = 0; k < 6; ++k) A[j][k] *= d[j] * d[k];
+        A[j][j] = 1.0;
+        g[j] = q->g[j] * d[j];
+    }
+    if (!hp_cholesky(&A[0][0], 6, nf, 0.0, &A[0][0], 6)) return -1;
+    /* trace = nf (unit diagonal) */
+    if (!(nf * hp_cholesky_inv_frob2(&A[0][0], 6, nf) <= HP_KIN_NORMAL_MAX_COND)) return -1;
+    hp_cholesky_solve(&A[0][0], 6, nf, g);
+    for (int j = 0; j < nf; ++j) {
+        dx[j] = g[j] * d[j];
+        if (!isfinite(dx[j])) return -1;
+    }
+    return 0;
+}
+
+/* Normal equations, scaled to unit diagonal, by Cholesky (fit_internal.h). Accepted only
+ * under the condition bound HP_KIN_NORMAL_MAX_COND. */
+int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
+                         double lambda, double *dx)
+{
+    fk_gram q;
+    gram_of(n, nf, J, r, &q);
+    return normal_step(&q, nf, D, lambda, dx);
+}
+
+/* The damped step by the cheapest exact method that is accurate for this J (q: its normal
+ * equations). */
+static int damped_step(int n, int nf, const double *J, const double *r, const fk_gram *q,
+                       const double *D, double lambda, double *dx)
+{
+    if (normal_step(q, nf, D, lambda, dx) == 0) return 0;
+    return hp_kin_damped_qr(n, nf, J, r, D, lambda, dx);
+}
+
 static double sumsq(int n, const double *v)
 {
     double s = 0.0;
@@ -90,11 +171,14 @@ static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, c
                          double *Jr)
 {
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6];
-    hp_error err = hp_kin_contact_eval_warm(L, G, level, xi, sw, rho, Jr ? J : NULL, NULL);
+    /* All six columns free (col is then 0..5): the model writes the Jacobian in place. */
+    int all = nf == 6;
+    hp_error err = hp_kin_contact_eval_warm(L, G, level, xi, sw, rho, Jr ? (all ? Jr : J) : NULL,
+                                            NULL);
     if (err) return err;
     for (int k = 0; k < L->n; ++k) {
         r[k] = rho[k] - ro[k];
-        if (Jr)
+        if (Jr && !all)
             for (int j = 0; j < nf; ++j) Jr[k * nf + j] = J[k * 6 + col[j]];
     }
     return HP_OK;
@@ -111,13 +195,13 @@ hp_error hp_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level leve
  * near->pose and the undamped Gauss–Newton step at x (its Jacobian Jr, residual r) below
  * near->tol/4 in every free component. */
 static int arrived(int n, int nf, const int *col, const double *x, const double *Jr,
-                   const double *r, const hp_kin_fit_near *near)
+                   const double *r, const fk_gram *q, const hp_kin_fit_near *near)
 {
     for (int j = 0; j < nf; ++j)
         if (!(fabs(x[col[j]] - near->pose[col[j]]) <= 0.25 * near->tol[col[j]])) return 0;
     double D[6], h[6];
     for (int j = 0; j < nf; ++j) D[j] = 0.0;
-    if (damped_qr(n, nf, Jr, r, D, 0.0, h) != 0) return 0;
+    if (damped_step(n, nf, Jr, r, q, D, 0.0, h) != 0) return 0;
     for (int j = 0; j < nf; ++j)
         if (!(fabs(h[j]) <= 0.25 * near->tol[col[j]])) return 0;
     return 1;
@@ -164,21 +248,27 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
      * solves it, and the second (a rounding-level correction) ends the iteration. The
      * curved levels start damped, as Levenberg–Marquardt should from a far start. */
     double cost = sumsq(n, r), lambda = level == HP_LEVEL_LINEAR ? 1e-15 : 1e-3;
-    int it = 0, done = 0;
+    int it = 0, done = 0, have_gram = 0;
+    fk_gram gram;
     while (!done && it < FK_MAX_ITERS) {
         ++it;
         double D[6], dx[6], xt[6];
+        /* The normal equations of each new Jacobian, once: their diagonal is the squared
+         * column norms (Marquardt's scales), and they serve every damping tried there. */
+        if (!have_gram) {
+            gram_of(n, nf, Jr, r, &gram);
+            have_gram = 1;
+        }
         for (int j = 0; j < nf; ++j) {
-            double s = 0.0;
-            for (int k = 0; k < n; ++k) s += Jr[k * nf + j] * Jr[k * nf + j];
+            double s = gram.A[j][j];
             D[j] = s > 0 ? sqrt(s) : 1.0;
         }
         if (cost == 0.0) break;
-        if (near && it > 1 && arrived(n, nf, col, x, Jr, r, near)) {
+        if (near && it > 1 && arrived(n, nf, col, x, Jr, r, &gram, near)) {
             done = 1;
             break;
         }
-        if (damped_qr(n, nf, Jr, r, D, lambda, dx) != 0 &&
+        if (damped_step(n, nf, Jr, r, &gram, D, lambda, dx) != 0 &&
             hp_kin_damped_lstsq(n, nf, Jr, r, D, lambda, dx) != 0)
             return HP_ERR_NO_CONVERGENCE;
         double stepsize = 0.0;
@@ -196,6 +286,7 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
             cost = ct;
             memcpy(r, rt, sizeof(double) * (size_t)n);
             memcpy(Jr, Jt, sizeof(double) * (size_t)(n * nf));
+            have_gram = 0;
             lambda = fmax(lambda * 0.1, 1e-15);
             if (stepsize <= FK_STEP_TOL) done = 1;
         } else {

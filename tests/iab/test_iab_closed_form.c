@@ -4,8 +4,11 @@
 #include "test_util.h"
 #include "headplan/hp_iab.h"
 #include "iab_quadref.h"
+#include "iab/iab_internal.h"
 
 #include <float.h>
+#include <stdint.h>
+#include <string.h>
 
 #define ULP 0x1p-52 /* 2.22e-16, the spacing of doubles in [1, 2) */
 
@@ -238,13 +241,73 @@ static void test_scale_invariance(void **state)
     hp_assert_close(Pc, Pa, 16 * ULP, 0);
 }
 
+/* hp_iab_cbrt against quad cbrtq: within 0.5 ulp of the result (plus 1e-6 ulp for the
+ * near-midpoint cases its header allows) on 200 000 seeded random doubles of every binade
+ * of the normal range, exact on exact cubes (k³ -> k), and libm's cbrt on the values it
+ * leaves to it (0, subnormal, negative, infinities, NaN). */
+static void test_cbrt(void **state)
+{
+    (void)state;
+    uint64_t st = 0x9e3779b97f4a7c15ULL;
+    double worst = 0;
+    for (int it = 0; it < 200000; ++it) {
+        st ^= st << 13;
+        st ^= st >> 7;
+        st ^= st << 17;
+        uint64_t E = 1 + (st >> 11) % 2046; /* biased exponent of a normal double */
+        uint64_t bits = (E << 52) | (st & 0x000fffffffffffffULL);
+        double x;
+        memcpy(&x, &bits, sizeof x);
+        double y = hp_iab_cbrt(x);
+        int ex;
+        frexp(y, &ex);
+        double ulp = ldexp(1.0, ex - 53);
+        double err = (double)fabsq((q128)y - cbrtq((q128)x)) / ulp;
+        worst = fmax(worst, err);
+        assert_true(err <= 0.5 + 1e-6);
+    }
+    for (int k = 1; k <= 100000; ++k) {
+        double c = (double)k * k * k;
+        assert_true(hp_iab_cbrt(c) == k);
+        assert_true(hp_iab_cbrt(c * 0x1p-600) == k * 0x1p-200);
+    }
+    const double special[] = {0.0, -0.0, 0x1p-1074, 0x1p-1030, -8.0, -1e-300, INFINITY,
+                              -INFINITY};
+    for (size_t i = 0; i < sizeof special / sizeof special[0]; ++i) {
+        double a = hp_iab_cbrt(special[i]), b = cbrt(special[i]);
+        assert_memory_equal(&a, &b, sizeof a);
+    }
+    assert_true(isnan(hp_iab_cbrt(NAN)));
+    printf("hp_iab_cbrt vs quad: worst %.4f ulps\n", worst);
+}
+
+/* The scaled model's power of two (read off the exponent bits) is exactly the one frexp and
+ * ldexp give, and brings Ro into [1, 2), for Ro across the normal double range (Ri = Ro/2:
+ * any valid bladder will do). */
+static void test_scale_bits(void **state)
+{
+    (void)state;
+    const double ros[] = {0.03, 1.0, 2.0, 0.5, 1.5, 0x1.fffffffffffffp-1, 1e-300, 0x1p-1022,
+                          1e300, 0x1p1022, DBL_MAX, 3e-200, 7e250};
+    for (size_t i = 0; i < sizeof ros / sizeof ros[0]; ++i) {
+        hp_iab b = {ros[i] * 0.5, ros[i], 1e4, 0};
+        hp_iab_s s;
+        assert_int_equal(hp_iab_scaled_init(&b, &s, NULL), HP_OK);
+        int e;
+        frexp(ros[i], &e);
+        assert_true(s.scale == ldexp(1.0, 1 - e));
+        assert_true(s.Ro >= 1.0 && s.Ro < 2.0);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_reference_values), cmocka_unit_test(test_accuracy_vs_quad),
         cmocka_unit_test(test_naive_form_is_worse), cmocka_unit_test(test_derivatives),
         cmocka_unit_test(test_volume_law), cmocka_unit_test(test_wall_stress),
-        cmocka_unit_test(test_scale_invariance),
+        cmocka_unit_test(test_scale_invariance), cmocka_unit_test(test_cbrt),
+        cmocka_unit_test(test_scale_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

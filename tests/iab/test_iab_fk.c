@@ -4,6 +4,7 @@
 #include "test_util.h"
 #include "headplan/hp_iab.h"
 #include "iab_quadref.h"
+#include "iab/iab_internal.h"
 
 #define ULP 0x1p-52
 
@@ -191,17 +192,26 @@ static void test_fk_no_stable(void **state)
     assert_true(r == r); /* never NaN */
 }
 
+/* Bladder m of three materials (C2/C1 = 0, neo-Hookean, and 0.1, both with a limit point;
+ * 2, the paper's, without) and its limit point. */
+#define N_MATERIALS 3
+static void material(int m, hp_iab *b, hp_iab_limit *lp)
+{
+    const double c2s[N_MATERIALS] = {0.0, 0.1 * 1.1e4, 2.2e4};
+    *b = (hp_iab){0.027, 0.030, 1.1e4, c2s[m]};
+    assert_int_equal(hp_iab_limit_point(b, lp), HP_OK);
+}
+
 /* hp_iab_fk_limit with a precomputed limit point is the same computation as hp_iab_fk:
  * identical bits over compression, expansion, and up to the limit point; the same refusal
  * above it; and a limit point of another material is refused when it cannot belong. */
 static void test_fk_limit_same_as_fk(void **state)
 {
     (void)state;
-    const double c2s[] = {0.0, 0.1 * 1.1e4, 2.2e4};
-    for (size_t m = 0; m < sizeof c2s / sizeof c2s[0]; ++m) {
-        hp_iab b = {0.027, 0.030, 1.1e4, c2s[m]};
+    for (int m = 0; m < N_MATERIALS; ++m) {
+        hp_iab b;
         hp_iab_limit lp;
-        assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
+        material(m, &b, &lp);
         double p_top = lp.exists ? lp.pressure : 2e4;
         for (int k = -200; k <= 200; ++k) {
             double P = k < 0 ? 40.0 * k : p_top * (k / 200.0) * (1.0 - 1e-9);
@@ -223,6 +233,37 @@ static void test_fk_limit_same_as_fk(void **state)
     assert_int_equal(hp_iab_fk_limit(&b, NULL, 1.0, &r), HP_ERR_NULL);
 }
 
+/* The warm start (hp_iab_fk_limit_warm, the planner's round trip): given the radius a
+ * pressure came from (P = hp_iab_ik(ri)), it returns that radius bit for bit, over
+ * compression and expansion up to the limit point; a guess that cannot be the stable root
+ * (on the other side of Ri, beyond the limit point, NaN) changes nothing: the same bits as
+ * the cold call. */
+static void test_fk_warm(void **state)
+{
+    (void)state;
+    for (int m = 0; m < N_MATERIALS; ++m) {
+        hp_iab b;
+        hp_iab_limit lp;
+        material(m, &b, &lp);
+        double top = lp.exists ? lp.ri : 2.0 * b.Ri;
+        for (int k = -100; k <= 100; ++k) {
+            if (k == 0) continue;
+            double ri = k < 0 ? b.Ri * (1.0 + 0.004 * k) : b.Ri + (top - b.Ri) * k / 101.0;
+            double P, w, cold, w2;
+            assert_int_equal(hp_iab_ik(&b, ri, &P), HP_OK);
+            assert_int_equal(hp_iab_fk_limit_warm(&b, &lp, P, ri, &w), HP_OK);
+            assert_memory_equal(&w, &ri, sizeof w);
+            assert_int_equal(hp_iab_fk_limit(&b, &lp, P, &cold), HP_OK);
+            const double bad[] = {k < 0 ? 1.5 * b.Ri : 0.5 * b.Ri, lp.exists ? 1.5 * lp.ri : -1.0,
+                                  NAN};
+            for (int i = 0; i < 3; ++i) {
+                assert_int_equal(hp_iab_fk_limit_warm(&b, &lp, P, bad[i], &w2), HP_OK);
+                assert_memory_equal(&w2, &cold, sizeof w2);
+            }
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -230,6 +271,7 @@ int main(void)
         cmocka_unit_test(test_limit_point_mooney_rivlin),
         cmocka_unit_test(test_limit_point_threshold), cmocka_unit_test(test_fk_round_trip),
         cmocka_unit_test(test_fk_no_stable), cmocka_unit_test(test_fk_limit_same_as_fk),
+        cmocka_unit_test(test_fk_warm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

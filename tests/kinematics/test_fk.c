@@ -4,6 +4,8 @@
 #include "default_layout.h"
 #include "kin_test_util.h"
 #include "kinematics/fit_internal.h"
+#include "kinematics/linalg.h"
+#include "common/dense.h"
 
 #include <string.h>
 
@@ -193,6 +195,145 @@ static void test_fit_start_and_near(void **state)
     }
 }
 
+/* Column norms of J (n×nf), the fit's Marquardt scales. */
+static void col_norms(int n, int nf, const double *J, double *D)
+{
+    for (int j = 0; j < nf; ++j) {
+        double s = 0;
+        for (int i = 0; i < n; ++i) s += J[i * nf + j] * J[i * nf + j];
+        D[j] = sqrt(s);
+    }
+}
+
+/* Largest |D_j·(a_j − b_j)| over max_j |D_j·b_j|: a step's error in the scaled unknowns
+ * (the effect on the radii), relative to the step. */
+static double scaled_err(int nf, const double *D, const double *a, const double *b)
+{
+    double e = 0, m = 0;
+    for (int j = 0; j < nf; ++j) {
+        e = fmax(e, fabs(D[j] * (a[j] - b[j])));
+        m = fmax(m, fabs(D[j] * b[j]));
+    }
+    return e / m;
+}
+
+/* The condition bound the normal equations rely on is an upper bound: for random SPD
+ * matrices (unit diagonal, 1..6, condition up to ~1e9) n·‖L⁻¹‖_F² >= λmax/λmin from an
+ * independent symmetric eigen-decomposition (Eigen), to 1e-6 relative (the eigenvalues'
+ * rounding, eps·λmax/λmin <= 1e-7). A 2×2 case by hand: A = [[4, 2], [2, 5]], L = [[2, 0],
+ * [1, 2]], L⁻¹ = [[1/2, 0], [−1/4, 1/2]], ‖L⁻¹‖_F² = 1/4 + 1/16 + 1/4 = 9/16. */
+static void test_cholesky_condition_bound(void **state)
+{
+    (void)state;
+    double A2[4] = {4, 2, 2, 5}, L2[4];
+    assert_int_equal(hp_cholesky(A2, 2, 2, 0.0, L2, 2), 1);
+    assert_true(hp_cholesky_inv_frob2(L2, 2, 2) == 9.0 / 16.0);
+    kin_rng rng = {23};
+    for (int it = 0; it < 300; ++it) {
+        int n = 1 + it % 6;
+        double J[8 * 6], S[36] = {0}, L[36], lam[6], V[36];
+        double tilt = pow(10.0, -kin_rng_uniform(&rng, 0, 4.5)); /* near-collinear pair */
+        for (int i = 0; i < 8; ++i)
+            for (int j = 0; j < n; ++j) J[i * n + j] = kin_rng_normal(&rng);
+        if (n > 1)
+            for (int i = 0; i < 8; ++i) J[i * n + n - 1] = J[i * n] + tilt * J[i * n + n - 1];
+        for (int j = 0; j < n; ++j)
+            for (int k = 0; k < n; ++k)
+                for (int i = 0; i < 8; ++i) S[j * 6 + k] += J[i * n + j] * J[i * n + k];
+        double d[6];
+        for (int j = 0; j < n; ++j) d[j] = 1.0 / sqrt(S[j * 6 + j]);
+        for (int j = 0; j < n; ++j)
+            for (int k = 0; k < n; ++k) S[j * 6 + k] *= d[j] * d[k];
+        for (int j = 0; j < n; ++j) S[j * 6 + j] = 1.0;
+        assert_int_equal(hp_cholesky(S, 6, n, 0.0, L, 6), 1);
+        double bound = n * hp_cholesky_inv_frob2(L, 6, n);
+        /* eigenvalues of the n×n block: pad to 6×6 with a unit diagonal (eigenvalue 1 lies
+         * inside [λmin, λmax] of a unit-diagonal matrix, so it changes neither) */
+        double P[36] = {0};
+        for (int j = 0; j < 6; ++j)
+            for (int k = 0; k < 6; ++k) P[j * 6 + k] = j < n && k < n ? S[j * 6 + k] : j == k;
+        assert_int_equal(hp_kin_symeig6(P, lam, V), 0);
+        assert_true(lam[0] > 0);
+        assert_true(bound >= lam[5] / lam[0] * (1 - 1e-6));
+    }
+}
+
+/* The fit's two damped least-squares solvers against Eigen's column-pivoting QR
+ * (hp_kin_damped_lstsq), an independent factorisation, on seeded random 8×nf Jacobians
+ * with the fit's column-norm scales and damping 0, 1e-3, 1, 1e3:
+ * - well conditioned (scaled condition of J ~ 1..30): the normal equations are accepted
+ *   and agree to 1e-9 of the step in the scaled unknowns (the bound nf·eps·1e6 = 7e-10 of
+ *   HP_KIN_NORMAL_MAX_COND, for the worst accepted case), the QR to 1e-12 (a few ulps times
+ *   the condition; measured below);
+ * - two columns collinear to 1e-7 (scaled condition of J ~1e7, of the normal matrix 1e14)
+ *   with a consistent right-hand side, undamped: the normal equations refuse, and the QR
+ *   (what the fit then uses) agrees with Eigen to 1e-6 of the step (eps·1e7 = 2e-9, times
+ *   the constants of a collinear pair's two large, cancelling components);
+ * - the default layout's surface-level Jacobians at random poses (the planner's check):
+ *   accepted, and equal to the QR step to 1e-12 (measured 2e-14). */
+static void test_damped_solvers(void **state)
+{
+    (void)state;
+    kin_rng rng = {29};
+    const double lams[4] = {0.0, 1e-3, 1.0, 1e3};
+    double worst_n = 0, worst_q = 0;
+    for (int it = 0; it < 200; ++it) {
+        int nf = 1 + it % 6, n = 8;
+        double J[8 * 6], r[8], D[6], a[6], b[6], c[6];
+        for (int i = 0; i < n; ++i) {
+            for (int j = 0; j < nf; ++j) J[i * nf + j] = kin_rng_normal(&rng) * (1.0 + j);
+            r[i] = kin_rng_normal(&rng);
+        }
+        col_norms(n, nf, J, D);
+        double lambda = lams[it % 4];
+        assert_int_equal(hp_kin_damped_normal(n, nf, J, r, D, lambda, a), 0);
+        assert_int_equal(hp_kin_damped_qr(n, nf, J, r, D, lambda, b), 0);
+        assert_int_equal(hp_kin_damped_lstsq(n, nf, J, r, D, lambda, c), 0);
+        worst_n = fmax(worst_n, scaled_err(nf, D, a, c));
+        worst_q = fmax(worst_q, scaled_err(nf, D, b, c));
+    }
+    assert_true(worst_n <= 1e-9);
+    assert_true(worst_q <= 1e-12);
+    double worst_ill = 0;
+    for (int it = 0; it < 50; ++it) {
+        int nf = 6, n = 8;
+        double J[8 * 6], r[8], D[6], x[6], a[6], b[6], c[6];
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < nf; ++j) J[i * nf + j] = kin_rng_normal(&rng);
+        for (int i = 0; i < n; ++i) J[i * nf + 5] = J[i * nf + 4] + 1e-7 * J[i * nf + 5];
+        for (int j = 0; j < nf; ++j) x[j] = kin_rng_normal(&rng);
+        for (int i = 0; i < n; ++i) {
+            r[i] = 0;
+            for (int j = 0; j < nf; ++j) r[i] -= J[i * nf + j] * x[j];
+        }
+        col_norms(n, nf, J, D);
+        assert_int_equal(hp_kin_damped_normal(n, nf, J, r, D, 0.0, a), -1);
+        assert_int_equal(hp_kin_damped_qr(n, nf, J, r, D, 0.0, b), 0);
+        assert_int_equal(hp_kin_damped_lstsq(n, nf, J, r, D, 0.0, c), 0);
+        worst_ill = fmax(worst_ill, scaled_err(nf, D, b, c));
+    }
+    assert_true(worst_ill <= 1e-6);
+    hp_geom G;
+    assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
+    double worst_lay = 0;
+    for (int it = 0; it < 100; ++it) {
+        double xi[6], rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], r[HP_MAX_BLADDERS], D[6];
+        double a[6], b[6];
+        kin_rng_pose(&rng, 0.01, 0.16, 0, xi);
+        assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_SURFACE, xi, rho, J, NULL), HP_OK);
+        for (int k = 0; k < LAY.n; ++k) r[k] = 1e-4 * kin_rng_normal(&rng);
+        col_norms(LAY.n, 6, J, D);
+        double lambda = lams[it % 4];
+        assert_int_equal(hp_kin_damped_normal(LAY.n, 6, J, r, D, lambda, a), 0);
+        assert_int_equal(hp_kin_damped_qr(LAY.n, 6, J, r, D, lambda, b), 0);
+        worst_lay = fmax(worst_lay, scaled_err(6, D, a, b));
+    }
+    assert_true(worst_lay <= 1e-12);
+    print_message("damped steps vs Eigen: normal %.2e, QR %.2e, QR ill-conditioned %.2e; "
+                  "default layout normal vs QR %.2e\n",
+                  worst_n, worst_q, worst_ill, worst_lay);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -201,6 +342,8 @@ int main(void)
         cmocka_unit_test(test_sphere),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_fit_start_and_near),
+        cmocka_unit_test(test_cholesky_condition_bound),
+        cmocka_unit_test(test_damped_solvers),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
