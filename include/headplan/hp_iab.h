@@ -48,7 +48,8 @@ HP_API hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, do
 HP_API hp_error hp_iab_validate(const hp_iab *b, hp_diag *diag);
 
 /* Volume law: outer radius [m] for inner radius ri [m], ro³ = Ro³ + ri³ − Ri³, formed as
- * cbrt((Ro³ − Ri³) + ri³) (no cancellation; ≤ 2 ulps). HP_ERR_INVALID for NaN/Inf ri,
+ * ∛((Ro³ − Ri³) + ri³) (no cancellation; the library's own correctly rounded cube root;
+ * ≤ 2 ulps asserted). HP_ERR_INVALID for NaN/Inf ri,
  * HP_ERR_DOMAIN for ri <= 0 or ri outside 1e±30 of Ro. */
 HP_API hp_error hp_iab_ro(const hp_iab *b, double ri, double *ro);
 
@@ -60,7 +61,7 @@ HP_API hp_error hp_iab_ri(const hp_iab *b, double ro, double *ri);
 /* Inverse kinematics, closed form: internal pressure [Pa] that holds inner radius ri [m].
  * P = 2·C1·[f(λi) − f(λo)] + 2·C2·[g(λi) − g(λo)], f(λ) = −1/λ − 1/(4λ⁴), g(λ) = λ − 1/(2λ²),
  * evaluated with (λi − λo) factored out algebraically so that the relative error stays a few
- * ulps even near λi = 1 (≤ 16 ulps asserted, 8.8 measured over λi ∈ [0.5, 3]; see
+ * ulps even near λi = 1 (≤ 16 ulps asserted, 5.0 measured over λi ∈ [0.5, 3]; see
  * docs/accuracy.md). P = 0 exactly at ri = Ri. HP_ERR_DOMAIN when ri <= 0 or the pressure
  * would overflow (ri below ~1e-30 of Ro); HP_ERR_INVALID for NaN/Inf. */
 HP_API hp_error hp_iab_ik(const hp_iab *b, double ri, double *P);
