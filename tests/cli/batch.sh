@@ -286,15 +286,30 @@ PY
 # temporary output to appear (it has planned and written its first rows), then signals.
 feed() { # feed FIFO: starts the writer, sets wpid
   rm -f "$1"; mkfifo "$1"
-  ( cat "$TMP/long.csv"; exec sleep 3600 ) >"$1" &
+  # Its stderr and stdin are not the test's: a writer left behind must not hold the pipes
+  # ctest reads to the end (it would wait for them as long as the writer lives).
+  ( cat "$TMP/long.csv"; exec sleep 600 ) >"$1" 2>/dev/null </dev/null &
   wpid=$!
 }
-wait_partial() { # wait_partial NAME: 0 once NAME's temporary output exists (at most ~10 min)
-  for _ in $(seq 6000); do
+unfeed() { kill $wpid 2>/dev/null; wait $wpid 2>/dev/null; wpid=; } # end of input
+# Every path ends the writer and the run (a failed check, an early exit of the script).
+trap 'kill $wpid $pid 2>/dev/null; rm -rf "$TMP"' EXIT
+wait_partial() { # wait_partial NAME PID: 0 once NAME's temporary output exists; 1 as soon
+  # as PID has ended without it (a run that failed early) or after ~2 min
+  for _ in $(seq 1200); do
     ls "$TMP" | grep -q "^$1\.partial" && return 0
+    kill -0 "$2" 2>/dev/null || return 1
     sleep 0.1
   done
   return 1
+}
+wait_run() { # wait_run PID: its exit status in rc; killed (-9) if still running after ~2 min
+  for _ in $(seq 1200); do
+    kill -0 "$1" 2>/dev/null || break
+    sleep 0.1
+  done
+  kill -9 "$1" 2>/dev/null
+  wait "$1"; rc=$?; pid=
 }
 # The test shell ignores HUP while it forks, so the child has it ignored from its first
 # instruction (no race with a busy machine), as nohup does.
@@ -303,18 +318,18 @@ trap '' HUP
 "$HP_BIN" batch "$S/default.yaml" "$TMP/feed1" -o "$TMP/nohup.csv" --no-progress 2>/dev/null &
 pid=$!
 trap - HUP
-wait_partial nohup.csv && ok || bad "nohup run: no partial output appeared"
+wait_partial nohup.csv $pid && ok || bad "nohup run: no partial output appeared"
 kill -HUP $pid 2>/dev/null
-kill $wpid 2>/dev/null; wait $wpid 2>/dev/null # end of input: the run completes
-wait $pid; rc=$?
+unfeed # end of input: the run completes
+wait_run $pid
 expect_exit 0 "SIGHUP ignored on entry stays ignored"
 [ -s "$TMP/nohup.csv" ] && ok || bad "nohup run left no output"
 feed "$TMP/feed2"
 "$HP_BIN" batch "$S/default.yaml" "$TMP/feed2" -o "$TMP/hup.csv" --no-progress 2>/dev/null &
 pid=$!
-wait_partial hup.csv && ok || bad "hup run: no partial output appeared"
-kill -HUP $pid 2>/dev/null; wait $pid 2>/dev/null
-kill $wpid 2>/dev/null; wait $wpid 2>/dev/null
+wait_partial hup.csv $pid && ok || bad "hup run: no partial output appeared"
+kill -HUP $pid 2>/dev/null; wait_run $pid
+unfeed
 [ ! -e "$TMP/hup.csv" ] && ! ls "$TMP" | grep -q 'hup.csv.partial' && ok \
   || bad "SIGHUP left an output or a partial file"
 
@@ -332,9 +347,9 @@ run batch "$S/default.yaml" -o "$TMP/nodir/x.csv"; expect_exit 73 "unwritable ou
 feed "$TMP/feed3"
 "$HP_BIN" batch "$S/default.yaml" "$TMP/feed3" -o "$TMP/killed.csv" --no-progress 2>/dev/null &
 pid=$!
-wait_partial killed.csv && ok || bad "killed run: no partial output appeared"
-kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null
-kill $wpid 2>/dev/null; wait $wpid 2>/dev/null
+wait_partial killed.csv $pid && ok || bad "killed run: no partial output appeared"
+kill -9 $pid 2>/dev/null; wait $pid 2>/dev/null; pid=
+unfeed
 [ ! -e "$TMP/killed.csv" ] && ok || bad "killed run left $TMP/killed.csv"
 # Uncommanded never reads as reached: a sphere head cannot be turned about its centre, so
 # every nodding row is "uncommanded", its uncommanded_* columns carry the part dropped (the

@@ -312,12 +312,61 @@ static void test_answers_pass_the_checks(void **st)
     assert_true(answers >= 400);
 }
 
+/* Every result hp_plan hands back, whatever it ends in, is accepted by a planner of the
+ * same settings (headplan batch and run_trace set the next row's state from it and stop the
+ * run on a refusal): answers cut short by the iteration budget (max_iter 1..3, so the
+ * realtime SQP stops at its first iterates; most of them have no usable iterate and carry
+ * the safe output), and closest answers to targets out to the edge of the identifiable
+ * range (translation norm 0.05 to 1 of the limit, rotations to 28 degrees per axis), at
+ * every level. */
+static void test_every_result_is_accepted(void **st)
+{
+    (void)st;
+    uint64_t seed = 777;
+    int budget = 0, answers = 0;
+    for (int c = 0; c < 12; ++c) {
+        hp_layout L;
+        assert_int_equal(lf_layout(&L), HP_OK);
+        hp_settings s;
+        hp_settings_default(&s);
+        s.level = (hp_level)(HP_LEVEL_LINEAR + c % 3);
+        s.max_iter = c < 9 ? 1 + c / 3 : 100;
+        hp_planner *p = NULL, *chk = NULL;
+        assert_int_equal(hp_planner_create(&L, &s, &p, NULL), HP_OK);
+        assert_int_equal(hp_planner_create(&L, &s, &chk, NULL), HP_OK);
+        const double lim = hp_planner_identifiable(p)->trans_limit * HP_MM_PER_M;
+        for (int t = 0; t < 100; ++t) {
+            double mm_deg[6], d[6], nt = 0;
+            for (int i = 0; i < 6; ++i) mm_deg[i] = lf_uniform(&seed);
+            for (int i = 0; i < 3; ++i) nt += mm_deg[i] * mm_deg[i];
+            double f = (0.05 + 0.95 * fabs(lf_uniform(&seed))) * lim / sqrt(nt);
+            for (int i = 0; i < 3; ++i) mm_deg[i] *= f;
+            for (int i = 3; i < 6; ++i) mm_deg[i] *= t % 3 ? 28.0 : 2.0;
+            lf_pose(mm_deg, d);
+            hp_result r;
+            hp_error e = hp_plan(p, d, &r);
+            assert_true(e == HP_OK || r.status == HP_STATUS_INVALID_INPUT);
+            hp_planner_reset(chk);
+            if (hp_planner_set_previous_result(chk, &r) != HP_OK)
+                fail_msg("case %d, plan %d (%s, pose error %g): %s", c, t, hp_status_name(r.status),
+                         r.pose_error, hp_planner_error(chk));
+            budget += r.status == HP_STATUS_ITERATION_LIMIT && isfinite(r.pose_error);
+            answers += isfinite(r.pose_error);
+        }
+        hp_planner_destroy(p);
+        hp_planner_destroy(chk);
+    }
+    print_message("%d answers (%d cut short by the budget) accepted\n", answers, budget);
+    assert_true(budget >= 30 && answers >= 300);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_refusals),
         cmocka_unit_test(test_uncommanded_component),
         cmocka_unit_test(test_answers_pass_the_checks),
+        cmocka_unit_test(test_every_result_is_accepted),
         cmocka_unit_test(test_linear),
         cmocka_unit_test(test_surface),
     };
