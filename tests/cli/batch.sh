@@ -85,7 +85,9 @@ ln -s "$TMP/nowhere.csv" "$TMP/link.csv"
 run batch "$S/default.yaml" "$TMP/dev.csv" -o "$TMP/link.csv"; expect_exit 73 "-o a symlink"
 [ ! -e "$TMP/nowhere.csv" ] && [ -L "$TMP/link.csv" ] && ok || bad "-o a symlink wrote through it"
 mkfifo "$TMP/fifo.csv"
-run batch "$S/default.yaml" "$TMP/dev.csv" -o "$TMP/fifo.csv"; expect_exit 73 "-o a FIFO"
+# Bounded: a run that opened the FIFO to write would wait for a reader for ever (exit 124).
+timeout -k 5 120 "$HP_BIN" batch "$S/default.yaml" "$TMP/dev.csv" -o "$TMP/fifo.csv" \
+  >"$TMP/out" 2>"$TMP/err"; rc=$?; expect_exit 73 "-o a FIFO"
 [ -p "$TMP/fifo.csv" ] && ok || bad "-o replaced a FIFO"
 # A stale temporary file of an old run does not block a new one (mkstemp names).
 for p in 1 2 3 $$; do : >"$TMP/fresh.csv.partial-$p"; done
