@@ -23,6 +23,10 @@ void bench_options_default(bench_options *o, int quick, unsigned long seed)
     o->samples = quick ? 101 : 20001;
     o->warmup_batches = quick ? 5 : 200;
     o->batch_target_ns = quick ? 2e3 : 1e4;
+    /* 7 rounds: a slow spell of the host (seconds here) lands in one or two rounds of every
+     * method rather than in one method's whole window; at least 3 samples per round with the
+     * 21-sample floor. */
+    o->rounds = 7;
     o->scene = NULL;
     o->scenarios = NULL;
     o->python = NULL;
@@ -69,19 +73,18 @@ void bench_shuffle(long *perm, long n, unsigned long seed)
     }
 }
 
-int bench_time(const bench_options *o, bench_batch_fn fn, void *ctx,
-                  bench_timing *out)
+/* Calibration of one method: doubles the batch until it lasts the target (the first call
+ * also pays for cold caches, so the size is then set from the last, warm, measurement), runs
+ * the warm-up, and picks the sample count under the per-method budget. */
+static void calibrate(const bench_options *o, bench_timed *m, long *pos)
 {
-    long pos = 0;
-    /* Calibration: double the batch until it lasts the target. The first call also pays
-     * for cold caches, so it is repeated once at the final size. */
     long batch = 1;
     double per_call = 0;
     for (;;) {
         double t0 = bench_now_ns();
-        fn(ctx, pos, batch);
+        m->fn(m->ctx, *pos, batch);
         double dt = bench_now_ns() - t0;
-        pos += batch;
+        *pos += batch;
         per_call = dt / (double)batch;
         if (dt >= o->batch_target_ns || batch >= MAX_BATCH) break;
         batch *= 2;
@@ -90,7 +93,7 @@ int bench_time(const bench_options *o, bench_batch_fn fn, void *ctx,
         double want = ceil(o->batch_target_ns / per_call);
         batch = want < 1 ? 1 : want > (double)MAX_BATCH ? MAX_BATCH : (long)want;
     }
-    for (long w = 0; w < o->warmup_batches; ++w, pos += batch) fn(ctx, pos, batch);
+    for (long w = 0; w < o->warmup_batches; ++w, *pos += batch) m->fn(m->ctx, *pos, batch);
 
     double budget = o->quick ? BUDGET_NS_QUICK : BUDGET_NS_FULL;
     long samples = o->samples;
@@ -99,18 +102,88 @@ int bench_time(const bench_options *o, bench_batch_fn fn, void *ctx,
         samples = (long)(budget / est);
         if (samples < MIN_SAMPLES) samples = MIN_SAMPLES;
     }
-    double *t = malloc((size_t)samples * sizeof *t);
-    if (!t) return -1;
-    for (long k = 0; k < samples; ++k, pos += batch) {
-        double t0 = bench_now_ns();
-        fn(ctx, pos, batch);
-        t[k] = (bench_now_ns() - t0) / (double)batch;
+    m->out.samples = samples;
+    m->out.batch = batch;
+}
+
+/* Samples of round r of R when a method has s in all: s/R, the first s mod R rounds one
+ * more. */
+static long round_share(long s, int r, int R)
+{
+    return s / R + (r < s % R);
+}
+
+int bench_time_set(const bench_options *o, bench_timed *m, int n)
+{
+    int R = o->rounds < 1 ? 1 : o->rounds > BENCH_MAX_ROUNDS ? BENCH_MAX_ROUNDS : o->rounds;
+    long *pos = calloc((size_t)n, sizeof *pos), *filled = calloc((size_t)n, sizeof *filled);
+    double **t = calloc((size_t)n, sizeof *t);
+    int rc = pos && filled && t ? 0 : -1;
+    for (int i = 0; i < n && rc == 0; ++i) {
+        calibrate(o, &m[i], &pos[i]);
+        if (!(t[i] = malloc((size_t)m[i].out.samples * sizeof **t))) rc = -1;
     }
-    qsort(t, (size_t)samples, sizeof *t, cmp_double);
-    out->median_ns = bench_percentile(t, samples, 0.5);
-    out->p99_ns = bench_percentile(t, samples, 0.99);
-    out->samples = samples;
-    out->batch = batch;
+    for (int r = 0; r < R && rc == 0; ++r)
+        for (int i = 0; i < n; ++i) {
+            bench_timed *mi = &m[i];
+            long batch = mi->out.batch, k1 = filled[i] + round_share(mi->out.samples, r, R);
+            mi->fn(mi->ctx, pos[i], batch); /* untimed: the caches the method before evicted */
+            pos[i] += batch;
+            for (long k = filled[i]; k < k1; ++k, pos[i] += batch) {
+                double t0 = bench_now_ns();
+                mi->fn(mi->ctx, pos[i], batch);
+                t[i][k] = (bench_now_ns() - t0) / (double)batch;
+            }
+            filled[i] = k1;
+        }
+    for (int i = 0; i < n && rc == 0; ++i) {
+        bench_timing *out = &m[i].out;
+        long k0 = 0;
+        out->rounds = R;
+        for (int r = 0; r < R; ++r) {
+            long c = round_share(out->samples, r, R);
+            qsort(t[i] + k0, (size_t)c, sizeof **t, cmp_double);
+            out->round_ns[r] = bench_percentile(t[i] + k0, c, 0.5);
+            k0 += c;
+        }
+        qsort(t[i], (size_t)out->samples, sizeof **t, cmp_double);
+        out->median_ns = bench_percentile(t[i], out->samples, 0.5);
+        out->p99_ns = bench_percentile(t[i], out->samples, 0.99);
+    }
+    for (int i = 0; t && i < n; ++i) free(t[i]);
     free(t);
-    return 0;
+    free(pos);
+    free(filled);
+    return rc;
+}
+
+int bench_time(const bench_options *o, bench_batch_fn fn, void *ctx,
+                  bench_timing *out)
+{
+    bench_timed m = {.fn = fn, .ctx = ctx};
+    int rc = bench_time_set(o, &m, 1);
+    *out = m.out;
+    return rc;
+}
+
+void bench_row_set_timing(bench_row *row, const bench_timing *tm)
+{
+    row->median_ns = tm->median_ns;
+    row->p99_ns = tm->p99_ns;
+    row->samples = tm->samples;
+    row->batch = tm->batch;
+    row->rounds = tm->rounds;
+    for (int r = 0; r < tm->rounds; ++r) row->round_ns[r] = tm->round_ns[r];
+}
+
+double bench_round_ratio(const double *a, const double *b, int rounds)
+{
+    double q[BENCH_MAX_ROUNDS];
+    if (rounds < 1 || rounds > BENCH_MAX_ROUNDS) return NAN;
+    for (int r = 0; r < rounds; ++r) {
+        q[r] = a[r] / b[r];
+        if (!(q[r] > 0) || !isfinite(q[r])) return NAN;
+    }
+    qsort(q, (size_t)rounds, sizeof *q, cmp_double);
+    return bench_percentile(q, rounds, 0.5);
 }
