@@ -24,8 +24,10 @@ typedef struct bench_options {
     unsigned long seed;     /* order in which timed batches walk the inputs */
     long samples;           /* timed batches per method */
     long warmup_batches;    /* untimed batches first */
-    int rounds;             /* timed methods take turns in this many rounds (1..
-                               BENCH_MAX_ROUNDS), so a slow spell of the host hits them all */
+    int rounds;             /* methods timed together report a median per round (1..
+                               BENCH_MAX_ROUNDS) for per-round ratios */
+    int round_turns;        /* each round is this many turns; in a turn every method times
+                               its share, so a slow spell of the host hits them all */
     double batch_target_ns; /* a batch lasts at least this long (clock resolution/overhead) */
     const char *scene;      /* the layout scene of the planner and peers families */
     const char *scenarios;  /* the scenario catalogue folder (stability, levels) */

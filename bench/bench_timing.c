@@ -13,6 +13,10 @@
 #define BUDGET_NS_QUICK 0.03e9
 #define MIN_SAMPLES 21
 #define MAX_BATCH (1L << 24)
+/* A method whose batch lasts less than this runs one untimed batch before its share of a
+ * turn: the method before it evicted its caches, which matters at microseconds and not at
+ * the milliseconds of an Ipopt plan (where the extra batch would only cost time). */
+#define WARM_TURN_NS 1e5
 
 void bench_options_default(bench_options *o, int quick, unsigned long seed)
 {
@@ -23,10 +27,11 @@ void bench_options_default(bench_options *o, int quick, unsigned long seed)
     o->samples = quick ? 101 : 20001;
     o->warmup_batches = quick ? 5 : 200;
     o->batch_target_ns = quick ? 2e3 : 1e4;
-    /* 7 rounds: a slow spell of the host (seconds here) lands in one or two rounds of every
-     * method rather than in one method's whole window; at least 3 samples per round with the
-     * 21-sample floor. */
+    /* 7 rounds of 9 turns: methods take turns every ~0.5 s of a full run, so a slow spell of
+     * the host (seconds here) falls on every method rather than on one method's whole
+     * window; at least 3 samples per round with the 21-sample floor. */
     o->rounds = 7;
+    o->round_turns = 9;
     o->scene = NULL;
     o->scenarios = NULL;
     o->python = NULL;
@@ -104,47 +109,55 @@ static void calibrate(const bench_options *o, bench_timed *m, long *pos)
     }
     m->out.samples = samples;
     m->out.batch = batch;
+    m->out.median_ns = est; /* the batch's calibrated duration, until the turns measure */
 }
 
-/* Samples of round r of R when a method has s in all: s/R, the first s mod R rounds one
- * more. */
-static long round_share(long s, int r, int R)
+/* First sample of turn j of T when a method has s in all: floor(s·j/T), so that the turns
+ * share the samples evenly and round r (turns r·steps .. r·steps + steps − 1) holds samples
+ * floor(s·r/R) .. floor(s·(r+1)/R) − 1. */
+static long turn_start(long s, long j, long T)
 {
-    return s / R + (r < s % R);
+    return (long)((double)s * (double)j / (double)T);
 }
 
 int bench_time_set(const bench_options *o, bench_timed *m, int n)
 {
     int R = o->rounds < 1 ? 1 : o->rounds > BENCH_MAX_ROUNDS ? BENCH_MAX_ROUNDS : o->rounds;
-    long *pos = calloc((size_t)n, sizeof *pos), *filled = calloc((size_t)n, sizeof *filled);
+    long steps = o->round_turns < 1 ? 1 : o->round_turns, T = R * steps;
+    long *pos = calloc((size_t)n, sizeof *pos);
     double **t = calloc((size_t)n, sizeof *t);
-    int rc = pos && filled && t ? 0 : -1;
+    int rc = pos && t ? 0 : -1;
     for (int i = 0; i < n && rc == 0; ++i) {
         calibrate(o, &m[i], &pos[i]);
         if (!(t[i] = malloc((size_t)m[i].out.samples * sizeof **t))) rc = -1;
     }
-    for (int r = 0; r < R && rc == 0; ++r)
-        for (int i = 0; i < n; ++i) {
-            bench_timed *mi = &m[i];
-            long batch = mi->out.batch, k1 = filled[i] + round_share(mi->out.samples, r, R);
-            mi->fn(mi->ctx, pos[i], batch); /* untimed: the caches the method before evicted */
-            pos[i] += batch;
-            for (long k = filled[i]; k < k1; ++k, pos[i] += batch) {
-                double t0 = bench_now_ns();
-                mi->fn(mi->ctx, pos[i], batch);
-                t[i][k] = (bench_now_ns() - t0) / (double)batch;
+    /* The turns: every method in turn times its share; the order alternates (forwards,
+     * backwards) so no method always follows the same one. */
+    for (long j = 0; j < T && rc == 0; ++j)
+        for (int q = 0; q < n; ++q) {
+            bench_timed *mi = &m[j % 2 ? n - 1 - q : q];
+            long *pi = &pos[mi - m];
+            double *ti = t[mi - m];
+            long batch = mi->out.batch, k0 = turn_start(mi->out.samples, j, T),
+                 k1 = turn_start(mi->out.samples, j + 1, T);
+            if (k1 > k0 && mi->out.median_ns < WARM_TURN_NS) {
+                mi->fn(mi->ctx, *pi, batch); /* untimed: caches the method before evicted */
+                *pi += batch;
             }
-            filled[i] = k1;
+            for (long k = k0; k < k1; ++k, *pi += batch) {
+                double t0 = bench_now_ns();
+                mi->fn(mi->ctx, *pi, batch);
+                ti[k] = (bench_now_ns() - t0) / (double)batch;
+            }
         }
     for (int i = 0; i < n && rc == 0; ++i) {
         bench_timing *out = &m[i].out;
-        long k0 = 0;
         out->rounds = R;
         for (int r = 0; r < R; ++r) {
-            long c = round_share(out->samples, r, R);
-            qsort(t[i] + k0, (size_t)c, sizeof **t, cmp_double);
-            out->round_ns[r] = bench_percentile(t[i] + k0, c, 0.5);
-            k0 += c;
+            long k0 = turn_start(out->samples, r * steps, T),
+                 k1 = turn_start(out->samples, (r + 1) * steps, T);
+            qsort(t[i] + k0, (size_t)(k1 - k0), sizeof **t, cmp_double);
+            out->round_ns[r] = bench_percentile(t[i] + k0, k1 - k0, 0.5);
         }
         qsort(t[i], (size_t)out->samples, sizeof **t, cmp_double);
         out->median_ns = bench_percentile(t[i], out->samples, 0.5);
@@ -153,7 +166,6 @@ int bench_time_set(const bench_options *o, bench_timed *m, int n)
     for (int i = 0; t && i < n; ++i) free(t[i]);
     free(t);
     free(pos);
-    free(filled);
     return rc;
 }
 

@@ -29,13 +29,14 @@ typedef struct bench_timed {
  * first calibrated in turn (batch size doubled until one batch lasts at least
  * o->batch_target_ns, then o->warmup_batches untimed batches) and given its sample count
  * (o->samples, fewer when the method is so slow that they would exceed the per-method budget,
- * never fewer than 21). Then o->rounds rounds: in each, every method in turn runs one untimed
- * batch (its caches, evicted by the method before it) and then its share (1/rounds) of its
- * timed batches. The median and p99 are over all of a method's samples; round_ns holds the
- * median of each round, so that a ratio of two methods can be taken round by round. Each
- * method's batches continue where its previous one stopped, so every input is visited in
- * turn. Allocates every sample buffer before the first round (none inside the timed loops).
- * Returns 0, or -1 when out of memory. */
+ * never fewer than 21). Then o->rounds × o->round_turns turns: in each, every method in turn
+ * (forwards in even turns, backwards in odd ones) times its even share of its batches,
+ * after one untimed batch when its batches are short (its caches, evicted by the method
+ * before it). The median and p99 are over all of a method's samples; round_ns holds the
+ * median of each round's samples (o->round_turns consecutive turns), so that a ratio of two
+ * methods can be taken round by round. Each method's batches continue where its previous one
+ * stopped, so every input is visited in turn. Allocates every sample buffer before the first
+ * turn (none inside the timed loops). Returns 0, or -1 when out of memory. */
 int bench_time_set(const bench_options *o, bench_timed *m, int n);
 
 /* One method alone: bench_time_set with n = 1 (rounds then only split its samples). */

@@ -99,10 +99,12 @@ def ratios(d):
                "Ipopt / realtime (medians; rounds)"]))
     print("|---" * 6 + "|")
 
+    def x(q):
+        return ("%.0f×" if q >= 100 else "%.3g×") % q
+
     def pair(a, b):
         rr = round_ratio(a, b)
-        return "%.3g×; %s" % (float(a["median_ns"]) / float(b["median_ns"]),
-                              "%.3g×" % rr if rr else "-")
+        return "%s; %s" % (x(float(a["median_ns"]) / float(b["median_ns"])), x(rr) if rr else "-")
 
     for lv in ("linear", "plane", "surface"):
         rt, sq, ip = (rs.get("%s-%s-1e-09" % (b, lv)) for b in ("realtime", "nlopt-slsqp", "ipopt"))
@@ -110,6 +112,16 @@ def ratios(d):
             continue
         print(row([lv, t(rt["median_ns"]), t(sq["median_ns"]), t(ip["median_ns"]), pair(sq, rt),
                    pair(ip, rt)]))
+    print()
+    print(row(["level", "direct chain (reachable)", "/ linear's (medians; rounds)",
+               "warm trace, a row", "/ its direct chain (medians; rounds)"]))
+    print("|---" * 5 + "|")
+    lin = rs.get("fastpath-linear")
+    for lv in ("linear", "plane", "surface"):
+        fp, tr = rs.get("fastpath-" + lv), rs.get("trace-realtime-" + lv)
+        if not (fp and tr and lin):
+            continue
+        print(row([lv, t(fp["median_ns"]), pair(fp, lin), t(tr["median_ns"]), pair(tr, fp)]))
 
 
 def levels(d):

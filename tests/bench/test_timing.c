@@ -44,7 +44,8 @@ static bench_options opts(void)
 
 /* Two methods: each walks its inputs without a gap; each gets all 30 samples in 7 rounds;
  * and they take turns: method 0 still runs after method 1 has started (timed one after the
- * other, method 0 would have finished before method 1's first call). */
+ * other, method 0 would have finished before method 1's first call), in at least one run of
+ * calls per round. */
 static void test_rounds_interleave(void **state)
 {
     (void)state;
@@ -67,13 +68,14 @@ static void test_rounds_interleave(void **state)
         if (call_log[k] == 0) last0 = k;
     }
     assert_true(first1 >= 0 && last0 > first1);
-    /* Method 0's timed calls come in 7 runs (one per round), separated by method 1's. */
+    /* Method 0's timed calls come in separate runs, interrupted by method 1's. */
     int runs0 = 0;
     for (int k = first1; k < n_calls; ++k)
         if (call_log[k] == 0 && call_log[k - 1] == 1) runs0++;
-    assert_int_equal(runs0, 7);
-    /* Calls per method: calibration (≥ 1), 2 warm-up, and per round 1 untimed + its share. */
-    assert_true(f[0].calls >= 1 + 2 + 7 + 30);
+    assert_true(runs0 >= 7);
+    /* Calls per method: calibration (≥ 1), 2 warm-up, its 30 timed batches, and one untimed
+     * batch in each turn where it times any (these batches are short): at least 7 turns. */
+    assert_true(f[0].calls >= 1 + 2 + 30 + 7);
 }
 
 /* One method alone (bench_time): the same sample count and an unbroken walk. */
