@@ -39,7 +39,8 @@ typedef struct bench_timed {
  * turn (none inside the timed loops). Returns 0, or -1 when out of memory. */
 int bench_time_set(const bench_options *o, bench_timed *m, int n);
 
-/* One method alone: bench_time_set with n = 1 (rounds then only split its samples). */
+/* One method alone, its batches back to back: bench_time_set with n = 1, one round of one
+ * turn (out->rounds = 1). */
 int bench_time(const bench_options *o, bench_batch_fn fn, void *ctx,
                   bench_timing *out);
 

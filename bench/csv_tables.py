@@ -4,8 +4,8 @@
 Usage: bench/csv_tables.py [DIR]   (DIR defaults to docs/figures)
 
 Prints, per family, the table the page shows (IK, planner, stability summary, silent wrong
-answers, peers, levels, and section 6's realtime ratios), each under a "### NAME" line, so a re-run's tables are pasted, not
-retyped. Reads only; standard library only. Times: < 10 µs in whole ns, < 1 ms in µs (one
+answers, peers, levels, and section 6's realtime ratios), each under a "### NAME" line, so
+a re-run's tables are pasted, not retyped. Reads only; standard library only. Times: < 10 µs in whole ns, < 1 ms in µs (one
 decimal), else ms (two decimals); errors with three significant digits; ratios as the CSV
 writes them.
 """

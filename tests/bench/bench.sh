@@ -42,6 +42,8 @@ awk -v e="$(field closed max_error)" 'BEGIN { exit !(e != "" && e <= 1e-14) }' &
 awk -v e="$(field closed-derivs max_error)" 'BEGIN { exit !(e != "" && e <= 1e-14) }' && ok || bad "closed-derivs max_error"
 # The ratio column divides by the closed form's own median: 1 on its own row.
 [ "$(field closed ratio_to_baseline)" = "1" ] && ok || bad "closed ratio_to_baseline $(field closed ratio_to_baseline)"
+# The IK methods are timed each in its own window (not in rounds): no per-round columns.
+[ -z "$(field closed round_ratio)$(field closed round_ns)" ] && ok || bad "ik rows carry rounds"
 
 # Quadrature converges: 2 points are far worse than 64 on both forms (2 points: ~0.25 and
 # ~0.5 relative; 64 points: rounding level), and a tight adaptive tolerance beats a loose one.

@@ -78,7 +78,8 @@ static void test_rounds_interleave(void **state)
     assert_true(f[0].calls >= 1 + 2 + 30 + 7);
 }
 
-/* One method alone (bench_time): the same sample count and an unbroken walk. */
+/* One method alone (bench_time): the same sample count, an unbroken walk, one round whose
+ * median is the method's, and at least 1 calibration + 2 warm-up + 30 timed calls. */
 static void test_single(void **state)
 {
     (void)state;
@@ -88,7 +89,9 @@ static void test_single(void **state)
     assert_int_equal(bench_time(&o, fake_batch, &f, &t), 0);
     assert_int_equal(f.gaps, 0);
     assert_int_equal(t.samples, 30);
-    assert_int_equal(t.rounds, 7);
+    assert_int_equal(t.rounds, 1);
+    assert_true(t.round_ns[0] == t.median_ns);
+    assert_true(f.calls >= 1 + 2 + 30);
 }
 
 /* The median of the per-round ratios, by hand: 2/1, 4/1, 9/3 -> {2, 3, 4} -> 3; four rounds
