@@ -27,7 +27,7 @@ void bench_options_default(bench_options *o, int quick, unsigned long seed)
     o->samples = quick ? 101 : 20001;
     o->warmup_batches = quick ? 5 : 200;
     o->batch_target_ns = quick ? 2e3 : 1e4;
-    /* 7 rounds of 9 turns: methods take turns every ~0.5 s of a full run, so a slow spell of
+    /* 7 rounds of 9 turns: in a full planner run a turn lasts ~0.2 s, so a slow spell of
      * the host (seconds here) falls on every method rather than on one method's whole
      * window; at least 3 samples per round with the 21-sample floor. */
     o->rounds = 7;
