@@ -14,6 +14,9 @@ int bench_run_cli(int argc, char **argv);
  * chart; the CSV keeps the true value. */
 #define BENCH_ERROR_FLOOR 1e-17
 
+/* Most rounds the timing protocol may use (bench_timing.h). */
+#define BENCH_MAX_ROUNDS 15
+
 /* How hard to measure. */
 typedef struct bench_options {
     int quick;              /* 1: a test run: few samples; the IK's accuracy still on every
@@ -21,6 +24,10 @@ typedef struct bench_options {
     unsigned long seed;     /* order in which timed batches walk the inputs */
     long samples;           /* timed batches per method */
     long warmup_batches;    /* untimed batches first */
+    int rounds;             /* methods timed together report a median per round (1..
+                               BENCH_MAX_ROUNDS) for per-round ratios */
+    int round_turns;        /* each round is this many turns; in a turn every method times
+                               its share, so a slow spell of the host hits them all */
     double batch_target_ns; /* a batch lasts at least this long (clock resolution/overhead) */
     const char *scene;      /* the layout scene of the planner and peers families */
     const char *scenarios;  /* the scenario catalogue folder (stability, levels) */
@@ -55,6 +62,10 @@ typedef struct bench_row {
     double ratio_to_baseline; /* median_ns / the family baseline's median_ns */
     int pareto;         /* 1 when no row on the same input set is both faster (or as fast)
                            and more accurate (or as accurate) */
+    int rounds;         /* timing rounds (0: not timed in rounds) */
+    double round_ns[BENCH_MAX_ROUNDS]; /* median time per evaluation in each round [ns] */
+    double round_ratio; /* median over rounds of round_ns / the baseline's round_ns: the
+                           ratio with the host's slow spells cancelled; NaN = not measured */
 } bench_row;
 
 /* A growable list of rows (cmd_bench.c owns it). */
@@ -65,9 +76,15 @@ typedef struct bench_table {
                              front is that of the baseline's input set */
 } bench_table;
 
+/* The median over rounds of a[r] / b[r], r < rounds: the ratio of two methods timed in the
+ * same rounds, in which a slow spell of the host that falls into one round cancels. NaN when
+ * rounds < 1 or a ratio is not a positive finite number. */
+double bench_round_ratio(const double *a, const double *b, int rounds);
+
 /* Appends a zeroed row (max_violation NaN) and returns it; NULL when out of memory. */
 bench_row *bench_table_add(bench_table *t);
-/* Fills ratio_to_baseline (NaN when the baseline row is missing) and the pareto flags. */
+/* Fills ratio_to_baseline and round_ratio (NaN when the baseline row is missing or, for
+ * round_ratio, was not timed in the same rounds) and the pareto flags. */
 void bench_table_finish(bench_table *t);
 void bench_table_free(bench_table *t);
 

@@ -306,33 +306,47 @@ int bench_peers(const bench_options *o, bench_table *t)
         {"ipopt-exact-surface", "ipopt-exact", "surface", "surface-nlp", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, 0},
         {"ipopt-lbfgs-surface", "ipopt-lbfgs", "surface", "surface-nlp", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, 1},
     };
-    for (size_t i = 0; i < sizeof ms / sizeof ms[0] && rc == 0; ++i) {
+    /* Every planner is created and checked first, then all are timed together in rounds
+     * (bench_time_set), so a slow spell of the host falls on every method alike. */
+    enum { NM = sizeof ms / sizeof ms[0] };
+    hp_planner *planners[NM];
+    bench_plan_ctx ctx[NM];
+    bench_timed timed[NM];
+    size_t rowi[NM]; /* row indices: adding rows may move the table */
+    size_t made = 0;
+    for (size_t i = 0; i < NM && rc == 0; ++i) {
         const peer_method *m = &ms[i];
         bench_row *row = new_row(t, m->name, m->variant, m->param, m->set);
-        if (!row) return CLI_EXIT_SOFTWARE;
-        hp_settings st2 = settings_of(m->b, m->l, 1e-9);
-        hp_planner *p;
-        if ((rc = bench_planner_new(L, &st2, &p))) break;
-        /* The quasi-Newton peer: a backend option, not a settings field. */
-        if (m->lbfgs && hp_planner_set_option(p, "hessian_approximation", 1) != HP_OK) {
-            fprintf(stderr, "headplan-bench: peers: %s\n", hp_planner_error(p));
-            hp_planner_destroy(p);
+        if (!row) {
             rc = CLI_EXIT_SOFTWARE;
             break;
         }
-        accuracy(p, L, (const double(*)[6])tg, n,
+        rowi[i] = t->n - 1;
+        hp_settings st2 = settings_of(m->b, m->l, 1e-9);
+        if ((rc = bench_planner_new(L, &st2, &planners[i]))) break;
+        made = i + 1;
+        /* The quasi-Newton peer: a backend option, not a settings field. */
+        if (m->lbfgs && hp_planner_set_option(planners[i], "hessian_approximation", 1) != HP_OK) {
+            fprintf(stderr, "headplan-bench: peers: %s\n", hp_planner_error(planners[i]));
+            rc = CLI_EXIT_SOFTWARE;
+            break;
+        }
+        accuracy(planners[i], L, (const double(*)[6])tg, n,
                  (const double(*)[6])(m->l == HP_LEVEL_LINEAR ? ref_lin : ref_sur), row);
-        bench_plan_ctx c = {p, (const double(*)[6])tg, n, perm, 0, 0};
-        bench_timing tm;
-        if (bench_time(o, bench_plan_batch, &c, &tm) != 0) rc = CLI_EXIT_SOFTWARE;
-        hp_planner_destroy(p);
-        row->median_ns = tm.median_ns;
-        row->p99_ns = tm.p99_ns;
-        row->samples = tm.samples;
-        row->batch = tm.batch;
-        fprintf(stderr, "bench peers: %-22s %12.0f ns  max error %.2e  failures %ld\n", m->name,
-                row->median_ns, row->max_error, row->failures);
+        ctx[i] = (bench_plan_ctx){planners[i], (const double(*)[6])tg, n, perm, 0, 0};
+        timed[i] = (bench_timed){.fn = bench_plan_batch, .ctx = &ctx[i]};
     }
+    if (rc == 0) {
+        fprintf(stderr, "bench peers: timing %d methods in %d rounds\n", (int)NM, o->rounds);
+        if (bench_time_set(o, timed, (int)NM) != 0) rc = CLI_EXIT_SOFTWARE;
+    }
+    for (size_t i = 0; i < NM && rc == 0; ++i) {
+        bench_row *row = &t->rows[rowi[i]];
+        bench_row_set_timing(row, &timed[i].out);
+        fprintf(stderr, "bench peers: %-22s %12.0f ns  max error %.2e  failures %ld\n",
+                ms[i].name, row->median_ns, row->max_error, row->failures);
+    }
+    for (size_t i = 0; i < made; ++i) hp_planner_destroy(planners[i]);
     if (rc == 0)
         rc = read_scipy(cpath, L, &b, commanded, n, (const double(*)[6])ref_lin, t);
     t->baseline = "ipopt-exact-linear";

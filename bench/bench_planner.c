@@ -186,14 +186,24 @@ int bench_planner(const bench_options *o, bench_table *t)
             for (int k = 0; k < 2; ++k)
                 ms[nm++] = (plan_method){(hp_backend)b, levels[l], tols[k], 0};
 
+    /* Every method's planner is created and its accuracy measured first; then all are timed
+     * together, in rounds (bench_time_set), so that a slow spell of the host falls on every
+     * method alike. The planners stay alive until the last round. */
+    static hp_planner *planners[64];
+    static bench_plan_ctx ctx[64];
+    static bench_timed timed[64];
+    size_t rowi[64]; /* row indices: adding rows may move the table */
+    int made = 0;
     for (int i = 0; i < nm && rc == 0; ++i) {
         const plan_method *m = &ms[i];
         int fast = m->backend == HP_BACKEND_COUNT_, tr = m->trace;
         bench_row *row = bench_table_add(t);
         if (!row) {
             cli_fail(0, "bench", "out of memory");
-            return CLI_EXIT_SOFTWARE;
+            rc = CLI_EXIT_SOFTWARE;
+            break;
         }
+        rowi[i] = t->n - 1;
         snprintf(row->family, sizeof row->family, "planner");
         snprintf(row->input_set, sizeof row->input_set, "%s",
                  fast ? "reachable" : tr ? "trace" : "binding");
@@ -213,25 +223,30 @@ int bench_planner(const bench_options *o, bench_table *t)
                      m->tol);
         }
         fprintf(stderr, "bench planner: [%2d/%d] %-24s", i + 1, nm, row->method);
-        hp_planner *p;
-        if ((rc = create(L, fast ? HP_BACKEND_REALTIME : m->backend, m->level, m->tol, tr, &p)))
+        if ((rc = create(L, fast ? HP_BACKEND_REALTIME : m->backend, m->level, m->tol, tr,
+                         &planners[i])))
             break;
+        made = i + 1;
         long off = fast ? N_BIND_FULL : tr ? N_BIND_FULL + N_REACH : 0;
         const double(*tg)[6] = (const double(*)[6])targets + off;
         long n = fast ? n_reach : tr ? n_trace : n_bind;
-        measure_accuracy(p, L, tg, (const double(*)[6])ref + off, n, tr, row, &row->model_error);
-        bench_plan_ctx c = {p, tg, n, fast ? perm_reach : tr ? NULL : perm_bind, 0, tr};
-        bench_timing tm;
-        if (bench_time(o, bench_plan_batch, &c, &tm) != 0) rc = CLI_EXIT_SOFTWARE;
-        hp_planner_destroy(p);
-        if (rc) break;
-        row->median_ns = tm.median_ns;
-        row->p99_ns = tm.p99_ns;
-        row->samples = tm.samples;
-        row->batch = tm.batch;
-        fprintf(stderr, " %12.0f ns  max error %.2e  failures %ld\n", row->median_ns,
-                row->max_error, row->failures);
+        measure_accuracy(planners[i], L, tg, (const double(*)[6])ref + off, n, tr, row,
+                         &row->model_error);
+        ctx[i] = (bench_plan_ctx){planners[i], tg, n, fast ? perm_reach : tr ? NULL : perm_bind,
+                                  0, tr};
+        timed[i] = (bench_timed){.fn = bench_plan_batch, .ctx = &ctx[i]};
+        fprintf(stderr, "  max error %.2e  failures %ld\n", row->max_error, row->failures);
     }
+    if (rc == 0) {
+        fprintf(stderr, "bench planner: timing %d methods in %d rounds\n", nm, o->rounds);
+        if (bench_time_set(o, timed, nm) != 0) rc = CLI_EXIT_SOFTWARE;
+    }
+    for (int i = 0; i < nm && rc == 0; ++i) {
+        bench_row *row = &t->rows[rowi[i]];
+        bench_row_set_timing(row, &timed[i].out);
+        fprintf(stderr, "bench planner: %-24s %12.0f ns\n", row->method, row->median_ns);
+    }
+    for (int i = 0; i < made; ++i) hp_planner_destroy(planners[i]);
     t->baseline = "ipopt-surface-1e-09";
     return rc;
 }

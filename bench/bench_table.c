@@ -19,7 +19,7 @@ bench_row *bench_table_add(bench_table *t)
     bench_row *r = &t->rows[t->n++];
     memset(r, 0, sizeof *r);
     r->median_ns = r->p99_ns = r->max_error = r->max_violation = NAN;
-    r->ratio_to_baseline = r->model_error = NAN;
+    r->ratio_to_baseline = r->model_error = r->round_ratio = NAN;
     return r;
 }
 
@@ -40,12 +40,18 @@ static int dominates(const bench_row *a, const bench_row *b)
 void bench_table_finish(bench_table *t)
 {
     double base = NAN;
+    const bench_row *b = NULL;
     for (size_t i = 0; i < t->n; ++i)
-        if (t->baseline && strcmp(t->rows[i].method, t->baseline) == 0)
-            base = t->rows[i].median_ns;
+        if (t->baseline && strcmp(t->rows[i].method, t->baseline) == 0) {
+            b = &t->rows[i];
+            base = b->median_ns;
+        }
     for (size_t i = 0; i < t->n; ++i) {
         bench_row *r = &t->rows[i];
         r->ratio_to_baseline = base > 0 ? r->median_ns / base : NAN;
+        r->round_ratio = b && r->rounds > 0 && r->rounds == b->rounds
+                             ? bench_round_ratio(r->round_ns, b->round_ns, r->rounds)
+                             : NAN;
         r->pareto = isfinite(r->median_ns) && isfinite(r->max_error) && r->failures == 0;
         for (size_t j = 0; j < t->n && r->pareto; ++j)
             if (j != i && t->rows[j].failures == 0 &&
@@ -56,7 +62,7 @@ void bench_table_finish(bench_table *t)
 
 const char *const bench_csv_header =
     "method,family,variant,parameter,input_set,median_ns,p99_ns,max_error,worst_input,max_violation,"
-    "model_error,failures,inputs,samples,batch,ratio_to_baseline,pareto";
+    "model_error,failures,inputs,samples,batch,ratio_to_baseline,pareto,round_ratio,round_ns";
 
 /* NaN is written as an empty field ("not applicable" / "not measured"). */
 static void num(FILE *f, const char *fmt, double x)
@@ -80,19 +86,24 @@ int bench_write_csv(const bench_table *t, FILE *f)
         num(f, "%.6e", r->model_error);
         fprintf(f, ",%ld,%ld,%ld,%ld", r->failures, r->inputs, r->samples, r->batch);
         num(f, "%.4g", r->ratio_to_baseline);
-        fprintf(f, ",%d\n", r->pareto);
+        fprintf(f, ",%d", r->pareto);
+        num(f, "%.4g", r->round_ratio);
+        /* The rounds' medians in one field, ';'-separated, for ratios of any two rows. */
+        fputc(',', f);
+        for (int k = 0; k < r->rounds; ++k) fprintf(f, "%s%.1f", k ? ";" : "", r->round_ns[k]);
+        fputc('\n', f);
     }
     return ferror(f) ? -1 : 0;
 }
 
 void bench_print_summary(const bench_table *t, FILE *f)
 {
-    fprintf(f, "%-8s %-24s %12s %12s %12s %9s %8s %s\n", "family", "method", "median_ns",
-            "p99_ns", "max_error", "vs_base", "failures", "pareto");
+    fprintf(f, "%-8s %-24s %12s %12s %12s %9s %9s %8s %s\n", "family", "method", "median_ns",
+            "p99_ns", "max_error", "vs_base", "rounds_vs", "failures", "pareto");
     for (size_t i = 0; i < t->n; ++i) {
         const bench_row *r = &t->rows[i];
-        fprintf(f, "%-8s %-24s %12.1f %12.1f %12.3e %9.3g %8ld %s\n", r->family, r->method,
-                r->median_ns, r->p99_ns, r->max_error, r->ratio_to_baseline, r->failures,
-                r->pareto ? "*" : "");
+        fprintf(f, "%-8s %-24s %12.1f %12.1f %12.3e %9.3g %9.3g %8ld %s\n", r->family,
+                r->method, r->median_ns, r->p99_ns, r->max_error, r->ratio_to_baseline,
+                r->round_ratio, r->failures, r->pareto ? "*" : "");
     }
 }

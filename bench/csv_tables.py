@@ -4,8 +4,8 @@
 Usage: bench/csv_tables.py [DIR]   (DIR defaults to docs/figures)
 
 Prints, per family, the table the page shows (IK, planner, stability summary, silent wrong
-answers, peers, levels), each under a "### NAME" line, so a re-run's tables are pasted, not
-retyped. Reads only; standard library only. Times: < 10 µs in whole ns, < 1 ms in µs (one
+answers, peers, levels, and section 6's realtime ratios), each under a "### NAME" line, so
+a re-run's tables are pasted, not retyped. Reads only; standard library only. Times: < 10 µs in whole ns, < 1 ms in µs (one
 decimal), else ms (two decimals); errors with three significant digits; ratios as the CSV
 writes them.
 """
@@ -58,22 +58,70 @@ def ik(d):
 
 def planner(d):
     print(row(["method", "inputs", "median", "p99", "max error vs reference", "model error",
-               "failures (first)", "ratio to Ipopt", "front"]))
-    print("|---" * 9 + "|")
+               "failures (first)", "ratio to Ipopt", "ratio to Ipopt (rounds)", "front"]))
+    print("|---" * 10 + "|")
     for r in read(os.path.join(d, "planner.csv")):
         print(row(["`%s`" % r["method"], r["input_set"], t(r["median_ns"]), t(r["p99_ns"]),
                    e(r["max_error"]), e(r["model_error"]), fails(r), r["ratio_to_baseline"],
-                   "*" if r["pareto"] == "1" else ""]))
+                   r.get("round_ratio", ""), "*" if r["pareto"] == "1" else ""]))
 
 
 def peers(d):
     print(row(["method", "problem", "median", "p99", "max error vs Ipopt 1e-10", "failures",
-               "ratio to Ipopt (exact Hessian)", "front"]))
-    print("|---" * 8 + "|")
+               "ratio to Ipopt (exact Hessian)", "the same (rounds)", "front"]))
+    print("|---" * 9 + "|")
     for r in read(os.path.join(d, "peers.csv")):
         print(row(["`%s`" % r["method"], r["input_set"], t(r["median_ns"]), t(r["p99_ns"]),
-                   e(r["max_error"]), fails(r), r["ratio_to_baseline"],
+                   e(r["max_error"]), fails(r), r["ratio_to_baseline"], r.get("round_ratio", ""),
                    "*" if r["pareto"] == "1" else ""]))
+
+
+def rounds(r):
+    return [float(x) for x in r["round_ns"].split(";")] if r.get("round_ns") else []
+
+
+def round_ratio(a, b):
+    """Median over rounds of a's round median / b's (both timed in the same rounds)."""
+    ra, rb = rounds(a), rounds(b)
+    if not ra or len(ra) != len(rb):
+        return None
+    q = sorted(x / y for x, y in zip(ra, rb))
+    n = len(q)
+    return q[n // 2] if n % 2 else 0.5 * (q[n // 2 - 1] + q[n // 2])
+
+
+def ratios(d):
+    """Section 6's table: realtime against NLopt SLSQP and Ipopt at each level (binding
+    targets, tolerance 1e-9), as the ratio of medians and as the median of per-round
+    ratios."""
+    rs = {r["method"]: r for r in read(os.path.join(d, "planner.csv"))}
+    print(row(["level", "realtime", "NLopt SLSQP", "Ipopt", "SLSQP / realtime (medians; rounds)",
+               "Ipopt / realtime (medians; rounds)"]))
+    print("|---" * 6 + "|")
+
+    def x(q):
+        return ("%.0f×" if q >= 100 else "%.3g×") % q
+
+    def pair(a, b):
+        rr = round_ratio(a, b)
+        return "%s; %s" % (x(float(a["median_ns"]) / float(b["median_ns"])), x(rr) if rr else "-")
+
+    for lv in ("linear", "plane", "surface"):
+        rt, sq, ip = (rs.get("%s-%s-1e-09" % (b, lv)) for b in ("realtime", "nlopt-slsqp", "ipopt"))
+        if not (rt and sq and ip):
+            continue
+        print(row([lv, t(rt["median_ns"]), t(sq["median_ns"]), t(ip["median_ns"]), pair(sq, rt),
+                   pair(ip, rt)]))
+    print()
+    print(row(["level", "direct chain (reachable)", "/ linear's (medians; rounds)",
+               "warm trace, a row", "/ its direct chain (medians; rounds)"]))
+    print("|---" * 5 + "|")
+    lin = rs.get("fastpath-linear")
+    for lv in ("linear", "plane", "surface"):
+        fp, tr = rs.get("fastpath-" + lv), rs.get("trace-realtime-" + lv)
+        if not (fp and tr and lin):
+            continue
+        print(row([lv, t(fp["median_ns"]), pair(fp, lin), t(tr["median_ns"]), pair(tr, fp)]))
 
 
 def levels(d):
@@ -135,9 +183,13 @@ def wrong(d):
 def main():
     d = sys.argv[1] if len(sys.argv) > 1 else "docs/figures"
     for name, fn in (("ik", ik), ("planner", planner), ("stability", stability),
-                     ("stability_wrong", wrong), ("peers", peers), ("levels", levels)):
+                     ("stability_wrong", wrong), ("peers", peers), ("levels", levels),
+                     ("ratios", ratios)):
         print("### %s\n" % name)
-        fn(d)
+        try:
+            fn(d)
+        except FileNotFoundError as err:
+            print("(not in this run: %s)" % err.filename)
         print()
 
 

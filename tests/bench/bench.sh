@@ -10,7 +10,7 @@ expect_stdout_has "closed" "summary names the closed form"
 expect_stderr_has "bench ik: [ 1/34] closed" "progress on stderr"
 csv="$OUT/ik.csv"
 
-want_header="method,family,variant,parameter,input_set,median_ns,p99_ns,max_error,worst_input,max_violation,model_error,failures,inputs,samples,batch,ratio_to_baseline,pareto"
+want_header="method,family,variant,parameter,input_set,median_ns,p99_ns,max_error,worst_input,max_violation,model_error,failures,inputs,samples,batch,ratio_to_baseline,pareto,round_ratio,round_ns"
 [ -f "$csv" ] && [ "$(head -n 1 "$csv")" = "$want_header" ] && ok || bad "ik.csv header"
 
 # One row per method: closed form (value, with derivatives), Gauss-Legendre orders
@@ -42,6 +42,8 @@ awk -v e="$(field closed max_error)" 'BEGIN { exit !(e != "" && e <= 1e-14) }' &
 awk -v e="$(field closed-derivs max_error)" 'BEGIN { exit !(e != "" && e <= 1e-14) }' && ok || bad "closed-derivs max_error"
 # The ratio column divides by the closed form's own median: 1 on its own row.
 [ "$(field closed ratio_to_baseline)" = "1" ] && ok || bad "closed ratio_to_baseline $(field closed ratio_to_baseline)"
+# The IK methods are timed each in its own window (not in rounds): no per-round columns.
+[ -z "$(field closed round_ratio)$(field closed round_ns)" ] && ok || bad "ik rows carry rounds"
 
 # Quadrature converges: 2 points are far worse than 64 on both forms (2 points: ~0.25 and
 # ~0.5 relative; 64 points: rounding level), and a tight adaptive tolerance beats a loose one.
@@ -76,6 +78,13 @@ for lv in linear plane surface; do
     && ok || bad "planner: trace-realtime-$lv row"
 done
 [ "$(field ipopt-surface-1e-09 ratio_to_baseline)" = "1" ] && ok || bad "planner baseline ratio"
+# All planner methods are timed together in 7 rounds: every row carries 7 positive round
+# medians, and the baseline's median per-round ratio to itself is 1.
+badr=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  { k = split($c["round_ns"], v, ";"); okr = (k == 7); for (j = 1; j <= k; j++) if (!(v[j] > 0)) okr = 0
+    if (!okr || !($c["round_ratio"] > 0)) print $1 }' "$csv")
+[ -z "$badr" ] && ok || bad "planner: rows without 7 timed rounds: $badr"
+[ "$(field ipopt-surface-1e-09 round_ratio)" = "1" ] && ok || bad "planner baseline round ratio"
 viol=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
   $c["max_violation"] != 0 { print $1 "=" $c["max_violation"] }' "$csv")
 [ -z "$viol" ] && ok || bad "planner: limit violations: $viol"
@@ -131,6 +140,13 @@ expect_exit 0 "bench --only peers"
 csv="$OUT/peers.csv"
 [ "$(($(wc -l <"$csv") - 1))" -eq 8 ] && ok || bad "peers: 8 rows"
 [ "$(field ipopt-exact-linear ratio_to_baseline)" = "1" ] && ok || bad "peers baseline ratio"
+# headplan's methods are timed together in rounds (7 round medians each); SciPy, timed in its
+# own process, has none, so no per-round ratio.
+[ "$(field ipopt-exact-linear round_ratio)" = "1" ] && ok || bad "peers baseline round ratio"
+for m in ipopt-lbfgs-linear realtime-linear nlopt-slsqp-linear ipopt-exact-surface ipopt-lbfgs-surface; do
+  [ "$(field $m round_ns | tr ';' '\n' | wc -l)" -eq 7 ] && ok || bad "peers: $m rounds"
+done
+[ -z "$(field scipy-slsqp round_ns)$(field scipy-slsqp round_ratio)" ] && ok || bad "peers: scipy has rounds"
 for m in ipopt-exact-linear ipopt-lbfgs-linear realtime-linear ipopt-exact-surface ipopt-lbfgs-surface; do
   awk -v e="$(field $m max_error)" -v f="$(field $m failures)" 'BEGIN { exit !(e != "" && e < 1e-6 && f == 0) }' \
     && ok || bad "peers: $m max_error $(field $m max_error) failures $(field $m failures)"
