@@ -60,8 +60,10 @@ static void err_backend(hp_planner *p, hp_status st, int raw)
 static int in_identifiable_range(hp_planner *p, const double desired[6])
 {
     const hp_identifiable *id = &p->id;
-    double tn = hypot(hypot(desired[0], desired[1]), desired[2]);
-    if (!(tn <= id->trans_limit)) {
+    double size;
+    int out = hp_plan_range_check(p, desired, &size);
+    if (out == 1) {
+        double tn = size;
         hp_text_set(p->err, "desired translation: |(x, y, z)| = ");
         hp_text_add_num(p->err, tn * HP_MM_PER_M, 1);
         hp_text_add(p->err, " mm is outside the identifiable range (<= ");
@@ -69,8 +71,8 @@ static int in_identifiable_range(hp_planner *p, const double desired[6])
         hp_text_add(p->err, " mm, the head's smallest semi-axis)");
         return 0;
     }
-    double ang = hp_pose_rotation_angle(desired);
-    if (!id->centre_only && !(ang < id->rot_limit)) {
+    if (out == 2) {
+        double ang = size;
         hp_text_set(p->err, "desired rotation: angle ");
         hp_text_add_num(p->err, ang * HP_DEG_PER_RAD, 1);
         hp_text_add(p->err, " deg is outside the identifiable range (below ");

@@ -91,6 +91,18 @@ static hp_error build_nominal(hp_planner *p, hp_diag *d)
     return HP_OK;
 }
 
+int hp_plan_range_check(const hp_planner *p, const double xi[6], double *size)
+{
+    const hp_identifiable *id = &p->id;
+    double tn = hypot(hypot(xi[0], xi[1]), xi[2]);
+    if (size) *size = tn;
+    if (!(tn <= id->trans_limit)) return 1;
+    if (id->centre_only) return 0;
+    double ang = hp_pose_rotation_angle(xi);
+    if (size) *size = ang;
+    return ang < id->rot_limit ? 0 : 2;
+}
+
 hp_error hp_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
                                   const hp_kin_fit_near *near, double xi[6],
                                   double *residual_rms)
@@ -320,14 +332,10 @@ static hp_error prev_pose_ok(hp_planner *p, const double xi[6])
             return prev_refused(p, "achieved: not 0 in a component the planner does not command",
                                 axis[i]);
     }
-    if (!(hypot(hypot(xi[0], xi[1]), xi[2]) <= p->id.trans_limit))
+    int out = hp_plan_range_check(p, xi, NULL);
+    if (out == 1)
         return prev_refused(p, "achieved: translation outside the identifiable range", NULL);
-    /* The rotation angle is a distance on the rotations, so the angle of the composed
-     * pitch, roll and yaw is at most the sum of their sizes: the exact angle only when that
-     * bound is not enough (it never is along a trace). */
-    double turn = fabs(xi[3]) + fabs(xi[4]) + fabs(xi[5]);
-    if (!p->id.centre_only && !(turn < p->id.rot_limit) &&
-        !(hp_pose_rotation_angle(xi) < p->id.rot_limit))
+    if (out == 2)
         return prev_refused(p, "achieved: rotation outside the identifiable range", NULL);
     return HP_OK;
 }

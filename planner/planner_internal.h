@@ -58,6 +58,12 @@ struct hp_planner {
                                     nominal answer, or a result those checks passed) */
 };
 
+/* Where pose xi (SI) lies against the layout's identifiable range (hp_identifiable): 0
+ * inside; 1 its translation norm is beyond trans_limit; 2 its rotation angle is not below
+ * rot_limit (never for a layout that sees only the centre). *size (may be NULL) gets that
+ * norm [m] or angle [rad]. The one test the plan, the reach and the previous answer share. */
+int hp_plan_range_check(const hp_planner *p, const double xi[6], double *size);
+
 /* hp_contact_fit of the outer radii ro in the components free_ from the nominal pose,
  * taking its first model evaluation from p->nom: the same steps, one evaluation fewer.
  * near (may be NULL): hp_kin_fit's early stop at an expected pose. */
