@@ -81,6 +81,68 @@ static void half_turn_refused(void **st)
     }
 }
 
+/* The identifiable-range verdict of a plan is the exact one (translation norm <= the limit,
+ * rotation angle < the limit, both computed here from my_rotation) on poses drawn around
+ * both the planner's cheap pre-test (sums of magnitudes at half the limits) and the limits
+ * themselves; poses within 1e-9 of a limit, where rounding decides, are skipped. */
+static void range_verdict_exact(void **st)
+{
+    (void)st;
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    hp_planner *p = make(&L, HP_BACKEND_REALTIME, HP_LEVEL_LINEAR);
+    assert_non_null(p);
+    const hp_identifiable *id = hp_planner_identifiable(p);
+    uint64_t seed = 77;
+    int out_t = 0, out_r = 0, in = 0;
+    for (int t = 0; t < 600; ++t) {
+        double xi[6], dir[3], dn = 0;
+        for (int i = 0; i < 3; ++i) {
+            dir[i] = lf_uniform(&seed);
+            dn += dir[i] * dir[i];
+        }
+        dn = sqrt(dn);
+        /* one third of the draws probe each limit, one third the pre-test's boundary */
+        double tn = id->trans_limit * (t % 3 == 0 ? 0.9 + 0.2 * (lf_uniform(&seed) + 1) / 2
+                                                  : 0.6 * (lf_uniform(&seed) + 1) / 2);
+        for (int i = 0; i < 3; ++i) xi[i] = tn * dir[i] / dn;
+        double rs = id->rot_limit * (t % 3 == 1 ? 0.9 + 1.6 * (lf_uniform(&seed) + 1) / 2
+                                                : 0.6 * (lf_uniform(&seed) + 1) / 2);
+        double w[3], ws = 0;
+        for (int i = 0; i < 3; ++i) {
+            w[i] = lf_uniform(&seed) + 1.0;
+            ws += w[i];
+        }
+        for (int i = 0; i < 3; ++i) xi[3 + i] = (lf_uniform(&seed) < 0 ? -1 : 1) * rs * w[i] / ws;
+        double R[9];
+        my_rotation(xi + 3, R);
+        double s = 0.5 * sqrt((R[7] - R[5]) * (R[7] - R[5]) + (R[2] - R[6]) * (R[2] - R[6]) +
+                              (R[3] - R[1]) * (R[3] - R[1]));
+        double ang = atan2(s, 0.5 * (R[0] + R[4] + R[8] - 1.0));
+        double nrm = sqrt(xi[0] * xi[0] + xi[1] * xi[1] + xi[2] * xi[2]);
+        if (fabs(nrm / id->trans_limit - 1) < 1e-9 || fabs(ang / id->rot_limit - 1) < 1e-9)
+            continue;
+        int bad_t = nrm > id->trans_limit, bad_r = ang >= id->rot_limit;
+        hp_result r;
+        assert_int_equal(hp_plan(p, xi, &r), HP_OK);
+        const char *e = hp_planner_error(p);
+        int refused = r.status == HP_STATUS_INVALID_INPUT && strstr(e, "identifiable range");
+        if (refused != (bad_t || bad_r))
+            print_error("pose %d: |t| %.17g (limit %.17g), angle %.17g (limit %.17g): %s %s\n",
+                        t, nrm, id->trans_limit, ang, id->rot_limit, hp_status_name(r.status), e);
+        assert_int_equal(refused, bad_t || bad_r);
+        if (bad_t) assert_non_null(strstr(e, "desired translation"));
+        else if (bad_r) assert_non_null(strstr(e, "desired rotation"));
+        out_t += bad_t;
+        out_r += !bad_t && bad_r;
+        in += !bad_t && !bad_r;
+    }
+    /* every branch was walked many times */
+    printf("range verdicts: %d translation out, %d rotation out, %d inside\n", out_t, out_r, in);
+    assert_true(out_t > 50 && out_r > 50 && in > 200);
+    hp_planner_destroy(p);
+}
+
 /* Layouts that cannot observe every direction: what they cannot observe is reported and
  * the plan is never "reached" while it is beyond the tolerance; what they can observe is met
  * with the contact distances of the desired pose itself. */
@@ -243,6 +305,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(half_turn_refused),
+        cmocka_unit_test(range_verdict_exact),
         cmocka_unit_test(deficient_layouts_never_reached),
         cmocka_unit_test(far_pivot_commands_everything),
         cmocka_unit_test(sphere_off_centre_pivot),
