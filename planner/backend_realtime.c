@@ -68,6 +68,12 @@ typedef struct rt_state {
      * (warm_point): then its multipliers and distances' multipliers start the next solve. */
     double x_last[6];
     int accepted;
+    /* Fixed for one solve (rt_begin): the commanded components map[0..nv), the factor
+     * taking entry (a, b) of an SI Hessian of rho to the QP's units (mm per scaled unit
+     * squared), each bladder's margin (rt_margin). */
+    int map[6], nv;
+    double hsc[HP_QP_NMAX * HP_QP_NMAX];
+    double mg[HP_MAX_BLADDERS];
 } rt_state;
 
 /* Test-only hook (planner/backend_testing.h), inert unless a test sets it: the contact
@@ -132,12 +138,12 @@ static double rt_margin(const hp_problem *pb, int k)
  * moves an active radius the last 1e-11 mm into its margin only costs objective, and near
  * a flat direction of the reduced Hessian that step can be 1e-6 mm long and rejected again
  * and again (a warm-started trace stalled to its iteration limit so). */
-static double qp_violation(const hp_problem *pb, const double *rho)
+static double qp_violation(const rt_state *st, const hp_problem *pb, const double *rho)
 {
     double v = 0;
     for (int k = 0; k < pb->n; ++k) {
         if (!isfinite(rho[k])) return INFINITY;
-        double mg = rt_margin(pb, k);
+        double mg = st->mg[k];
         v += hp_max2(0.0, hp_max2(pb->ro_lo[k] + mg - rho[k], rho[k] - (pb->ro_hi[k] - mg)));
     }
     return v;
@@ -160,6 +166,21 @@ static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings 
 }
 
 static void rt_destroy(void *state) { free(state); }
+
+/* The tables that stay fixed while one solve runs (rt_state: map, nv, hsc, mg). */
+static void rt_begin(rt_state *st, const hp_problem *pb)
+{
+    int nv = 0;
+    for (int i = 0; i < 6; ++i)
+        if (pb->w[i] > 0) st->map[nv++] = i;
+    st->nv = nv;
+    /* mm/m · (si/scaled)_a · (si/scaled)_b: one product per entry instead of a division */
+    for (int a = 0; a < nv; ++a)
+        for (int b = 0; b < nv; ++b)
+            st->hsc[a * nv + b] = HP_MM_PER_M * hp_pose_si_per_scaled(st->map[a]) *
+                                  hp_pose_si_per_scaled(st->map[b]);
+    for (int k = 0; k < pb->n; ++k) st->mg[k] = rt_margin(pb, k);
+}
 
 static void rt_warm_point(void *state, int accepted) { ((rt_state *)state)->accepted = accepted; }
 
@@ -191,28 +212,26 @@ static int above_w(const double *G, const hp_problem *pb, const int *map, int nv
  * adding curvature across the active normals (only the curvature along the active
  * manifold decides the Newton step). σ grows ×10 from 1 until the matrix is safely
  * positive definite; if none does, W alone (safe, linear rate). */
-static void build_objective(rt_state *st, const hp_problem *pb, const int *map, int nv,
-                            const double *xk, int curved)
+static void build_objective(rt_state *st, const hp_problem *pb, const double *xk, int curved)
 {
     hp_qp *q = &st->qp;
+    const int *map = st->map, nv = st->nv;
     double Gl[HP_QP_NMAX * HP_QP_NMAX] = {0};
     for (int v = 0; v < nv; ++v) Gl[v * nv + v] = pb->w[map[v]];
     if (curved) {
-        /* SI Hessians of rho (m) to mm per scaled unit squared: mm/m · (si/scaled)_i ·
-         * (si/scaled)_j, one product per entry instead of a division. */
-        double sc[HP_QP_NMAX * HP_QP_NMAX];
-        for (int a = 0; a < nv; ++a)
-            for (int b = 0; b < nv; ++b)
-                sc[a * nv + b] = HP_MM_PER_M * hp_pose_si_per_scaled(map[a]) *
-                                 hp_pose_si_per_scaled(map[b]);
+        /* The lower triangle, mirrored: the contact Hessians are symmetric (the kinematics
+         * writes each pair of entries from one value), and so G is exactly. */
         for (int k = 0; k < pb->n; ++k) {
             double lam = st->u[2 * k] - st->u[2 * k + 1];
             if (lam == 0.0) continue;
             const double *Hk = &st->H[k * 36];
-            for (int a = 0; a < nv; ++a)
-                for (int b = 0; b < nv; ++b)
-                    Gl[a * nv + b] -= lam * Hk[map[a] * 6 + map[b]] * sc[a * nv + b];
+            for (int a = 0; a < nv; ++a) {
+                const double *Ha = &Hk[map[a] * 6];
+                for (int b = 0; b <= a; ++b) Gl[a * nv + b] -= lam * Ha[map[b]] * st->hsc[a * nv + b];
+            }
         }
+        for (int a = 1; a < nv; ++a)
+            for (int b = 0; b < a; ++b) Gl[b * nv + a] = Gl[a * nv + b];
     }
     memcpy(q->G, Gl, sizeof Gl);
     double sigma = 0.0;
@@ -240,9 +259,11 @@ static void build_objective(rt_state *st, const hp_problem *pb, const int *map, 
     }
     /* ½(x − xk)ᵀGl(x − xk) + ∇f(xk)ᵀ(x − xk) in x: a = ∇f(xk) − Gl·xk, plus the
      * augmentation's linear part −σ·Σ_j b_j C_j (its quadratic part is in G). */
+    double xm[HP_QP_NMAX];
+    for (int v = 0; v < nv; ++v) xm[v] = xk[map[v]];
     for (int a = 0; a < nv; ++a) {
-        double g = pb->w[map[a]] * (xk[map[a]] - pb->d[map[a]]);
-        for (int b = 0; b < nv; ++b) g -= Gl[a * nv + b] * xk[map[b]];
+        double g = pb->w[map[a]] * (xm[a] - pb->d[map[a]]);
+        for (int b = 0; b < nv; ++b) g -= Gl[a * nv + b] * xm[b];
         if (sigma > 0.0)
             for (int j = 0; j < q->m; ++j)
                 if (st->u[j] > 0.0) g -= sigma * q->b[j] * q->C[j * HP_QP_NMAX + a];
@@ -259,9 +280,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
                           int *iters)
 {
     hp_qp *q = &st->qp;
-    int map[6], nv = 0;
-    for (int i = 0; i < 6; ++i)
-        if (pb->w[i] > 0) map[nv++] = i;
+    const int *map = st->map, nv = st->nv;
     int curved = pb->level != HP_LEVEL_LINEAR && st->have_u;
     int at_zero = !curved && st->z_ok;
     for (int i = 0; i < 6; ++i) at_zero &= xk[i] == 0.0;
@@ -286,23 +305,27 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     memcpy(st->rho_k, st->rho, sizeof st->rho_k);
     q->n = nv;
     q->m = 2 * pb->n;
+    double xm[HP_QP_NMAX];
+    for (int v = 0; v < nv; ++v) xm[v] = xk[map[v]];
     for (int k = 0; k < pb->n; ++k) {
-        double mg = rt_margin(pb, k) + (extra ? extra[k] : 0.0);
+        double mg = st->mg[k] + (extra ? extra[k] : 0.0);
         double base = st->rho[k]; /* rho(xk) − J·xk: the linearisation's constant */
+        const double *Jk = &st->J[k * 6];
+        double *lo = &q->C[(2 * k) * HP_QP_NMAX], *hi = lo + HP_QP_NMAX;
         for (int v = 0; v < nv; ++v) {
-            double jv = st->J[k * 6 + map[v]];
-            base -= jv * xk[map[v]];
-            q->C[(2 * k) * HP_QP_NMAX + v] = jv;
-            q->C[(2 * k + 1) * HP_QP_NMAX + v] = -jv;
+            double jv = Jk[map[v]];
+            base -= jv * xm[v];
+            lo[v] = jv;
+            hi[v] = -jv;
         }
         q->b[2 * k] = pb->ro_lo[k] + mg - base;         /* J x >= lo − base */
         q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base);  /* −J x >= −(hi − base) */
     }
-    build_objective(st, pb, map, nv, xk, curved);
+    build_objective(st, pb, xk, curved);
     hp_qp_status qs = hp_qp_solve_warm(q, st->Lg_ok ? st->Lg : NULL, guess, budget, RT_FEAS_TOL);
     *iters += q->iterations;
     if (qs == HP_QP_BAD_INPUT && curved) { /* Lagrangian not convex here: plain W */
-        build_objective(st, pb, map, nv, xk, 0);
+        build_objective(st, pb, xk, 0);
         qs = hp_qp_solve_warm(q, NULL, guess, budget, RT_FEAS_TOL);
         *iters += q->iterations;
     }
@@ -342,18 +365,19 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
 
 /* The l1 merit function ½Σw(x − d)² + nu·Σ violation(x) (mm), which the SQP step decreases
  * for nu above the largest multiplier, from the radii rho at x. */
-static double merit_of(const hp_problem *pb, const double *x, const double *rho, double nu)
+static double merit_of(const rt_state *st, const hp_problem *pb, const double *x,
+                       const double *rho, double nu)
 {
     double f = 0;
     for (int i = 0; i < 6; ++i) f += 0.5 * pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
-    return f + nu * qp_violation(pb, rho);
+    return f + nu * qp_violation(st, pb, rho);
 }
 
 static double merit(rt_state *st, const hp_problem *pb, const double *x, double nu)
 {
     if (rt_contact(st, pb, x, st->rho, NULL, NULL) != HP_OK) return INFINITY;
     rt_inject(st, pb->n, st->rho);
-    return merit_of(pb, x, st->rho, nu);
+    return merit_of(st, pb, x, st->rho, nu);
 }
 
 /* The merit at a full SQP step's point x, evaluating the model there with the derivatives
@@ -368,7 +392,7 @@ static double merit_full(rt_state *st, const hp_problem *pb, const double *x, do
     memcpy(st->c_x, x, sizeof st->c_x);
     st->c_ok = 1;
     rt_inject(st, pb->n, st->c_rho);
-    return merit_of(pb, x, st->c_rho, nu);
+    return merit_of(st, pb, x, st->c_rho, nu);
 }
 
 /* The step xk -> xn of the QP just solved at xk (still in st->qp), globalised on the l1
@@ -384,9 +408,11 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
 {
     hp_qp *q = &st->qp;
     double nu = 1.0;
-    for (int j = 0; j < 2 * pb->n; ++j) nu = fmax(nu, 2.0 * st->u[j]);
+    for (int j = 0; j < 2 * pb->n; ++j)
+        if (2.0 * st->u[j] > nu) nu = 2.0 * st->u[j]; /* fmax, inline */
     /* rho(xk) is the QP's own linearisation point (st->rho_k): no evaluation here. */
-    double phi0 = merit_of(pb, xk, st->rho_k, nu), viol0 = qp_violation(pb, st->rho_k), slope = 0;
+    double phi0 = merit_of(st, pb, xk, st->rho_k, nu), viol0 = qp_violation(st, pb, st->rho_k);
+    double slope = 0;
     for (int i = 0; i < 6; ++i) slope += pb->w[i] * (xk[i] - pb->d[i]) * (xn[i] - xk[i]);
     slope -= nu * viol0; /* directional derivative bound of the l1 merit along a QP step */
     slope = fmin(slope, 0.0);
@@ -399,9 +425,7 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     st->c_ok = 0;
     /* Second-order correction: st->c_rho holds rho(xn), st->rho_k and st->J the values at
      * xk the QP was built from; G, a and C are unchanged, only b moves. */
-    int map[6], nv = 0;
-    for (int i = 0; i < 6; ++i)
-        if (pb->w[i] > 0) map[nv++] = i;
+    const int *map = st->map, nv = st->nv;
     for (int k = 0; k < pb->n; ++k) {
         double dk = st->c_rho[k] - st->rho_k[k];
         for (int v = 0; v < nv; ++v) dk -= st->J[k * 6 + map[v]] * (xn[map[v]] - xk[map[v]]);
@@ -467,6 +491,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     }
     st->qps = 0;
     st->c_ok = 0;
+    rt_begin(st, pb);
     int whole_prev = 0, exact_prev = 0;
     hp_qp_status qs = HP_QP_OPTIMAL;
     hp_status st_out = HP_STATUS_CLOSEST;
@@ -486,7 +511,10 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         }
         if (qs != HP_QP_OPTIMAL) break;
         double step = 0;
-        for (int i = 0; i < 6; ++i) step = fmax(step, fabs(xn[i] - xk[i]));
+        for (int i = 0; i < 6; ++i) {
+            double s = fabs(xn[i] - xk[i]);
+            if (s > step) step = s; /* fmax, inline */
+        }
         if (pb->level == HP_LEVEL_LINEAR) {
             memcpy(xk, xn, sizeof xk);
             r->converged = 1;
