@@ -52,7 +52,8 @@ typedef struct rt_state {
     int act[HP_QP_MMAX]; /* active set of the previous SQP step's QP */
     int exact;           /* the last QP's Hessian was the Lagrangian's own (Newton) */
     /* The Cholesky factor of the QP's G from the convexity test (build_objective), when G
-     * was not changed after it: the QP solves then do not factor G again. */
+     * was not changed after it, or of G = W (diagonal): the QP solves then do not factor G
+     * again. */
     double Lg[HP_QP_NMAX * HP_QP_NMAX];
     int Lg_ok;
     /* The model at the last full step's trial point, evaluated with its derivatives by the
@@ -120,9 +121,17 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
         if (J)
             for (int i = 0; i < 6; ++i)
                 J[k * 6 + i] = Jsi[k * 6 + i] * HP_MM_PER_M * hp_pose_si_per_scaled(i);
-        if (H && mask[k]) /* the others are exact zeros */
-            for (int i = 0; i < 36; ++i)
-                if (!isfinite(H[k * 36 + i])) return HP_ERR_DOMAIN;
+        if (H && mask[k]) { /* the others are exact zeros */
+            /* h − h is +0 for a finite h and NaN for a NaN or an infinity, so the sums are
+             * 0 exactly when every entry is finite: one check, no branch per entry. */
+            const double *Hk = &H[k * 36];
+            double z0 = 0.0, z1 = 0.0;
+            for (int i = 0; i < 36; i += 2) {
+                z0 += Hk[i] - Hk[i];
+                z1 += Hk[i + 1] - Hk[i + 1];
+            }
+            if (!(z0 + z1 == 0.0)) return HP_ERR_DOMAIN;
+        }
     }
     return HP_OK;
 }
@@ -257,6 +266,13 @@ static void build_objective(rt_state *st, const hp_problem *pb, const double *xk
             memcpy(q->G, Gl, sizeof Gl);
         }
     }
+    if (!curved || (!st->Lg_ok && sigma == 0.0)) {
+        /* G = W, diagonal: its Cholesky factor is diag(√w), the very bits hp_cholesky
+         * gives (each pivot w − 0, each entry below it 0/√w), so the QP need not factor */
+        memset(st->Lg, 0, sizeof st->Lg);
+        for (int v = 0; v < nv; ++v) st->Lg[v * nv + v] = sqrt(pb->w[map[v]]);
+        st->Lg_ok = 1;
+    }
     /* ½(x − xk)ᵀGl(x − xk) + ∇f(xk)ᵀ(x − xk) in x: a = ∇f(xk) − Gl·xk, plus the
      * augmentation's linear part −σ·Σ_j b_j C_j (its quadratic part is in G). */
     double xm[HP_QP_NMAX];
@@ -326,7 +342,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     *iters += q->iterations;
     if (qs == HP_QP_BAD_INPUT && curved) { /* Lagrangian not convex here: plain W */
         build_objective(st, pb, xk, 0);
-        qs = hp_qp_solve_warm(q, NULL, guess, budget, RT_FEAS_TOL);
+        qs = hp_qp_solve_warm(q, st->Lg, guess, budget, RT_FEAS_TOL);
         *iters += q->iterations;
     }
     ++st->qps;
