@@ -236,7 +236,8 @@ static void build_objective(rt_state *st, const hp_problem *pb, const double *xk
             const double *Hk = &st->H[k * 36];
             for (int a = 0; a < nv; ++a) {
                 const double *Ha = &Hk[map[a] * 6];
-                for (int b = 0; b <= a; ++b) Gl[a * nv + b] -= lam * Ha[map[b]] * st->hsc[a * nv + b];
+                for (int b = 0; b <= a; ++b)
+                    Gl[a * nv + b] -= lam * Ha[map[b]] * st->hsc[a * nv + b];
             }
         }
         for (int a = 1; a < nv; ++a)
@@ -338,7 +339,8 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
         q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base);  /* −J x >= −(hi − base) */
     }
     build_objective(st, pb, xk, curved);
-    hp_qp_status qs = hp_qp_solve_warm(q, st->Lg_ok ? st->Lg : NULL, guess, budget, RT_FEAS_TOL);
+    hp_qp_status qs =
+        hp_qp_solve_warm(q, st->Lg_ok ? st->Lg : NULL, guess, budget, RT_FEAS_TOL);
     *iters += q->iterations;
     if (qs == HP_QP_BAD_INPUT && curved) { /* Lagrangian not convex here: plain W */
         build_objective(st, pb, xk, 0);
@@ -452,8 +454,9 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     int soc_ok = 1, guess[HP_QP_MMAX]; /* the QP just solved: its active set is the guess */
     memcpy(guess, q->active, sizeof guess);
     for (int k = 0; k < pb->n; ++k) soc_ok &= isfinite(st->c_rho[k]) != 0;
+    const double *Lg = st->Lg_ok ? st->Lg : NULL;
     if (soc_ok && isfinite(phi0) &&
-        hp_qp_solve_warm(q, st->Lg_ok ? st->Lg : NULL, guess, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
+        hp_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
         *iters += q->iterations;
         for (int i = 0; i < 6; ++i) xt[i] = 0.0;
         for (int v = 0; v < nv; ++v) xt[map[v]] = q->x[v];
@@ -515,7 +518,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         /* The previous step's active set as the guess; none for a cold solve's first QP
          * (st->act is then the last solve's, for another target: measured on the default
          * scene's binding targets, right 2 times in 37). */
-        qs = qp_at(st, pb, xk, NULL, sqp > 0 || warm ? st->act : NULL, xn, st->max_iter, &iters);
+        const int *guess = sqp > 0 || warm ? st->act : NULL;
+        qs = qp_at(st, pb, xk, NULL, guess, xn, st->max_iter, &iters);
         ++sqp;
         if (qs != HP_QP_OPTIMAL && sqp > 1) {
             /* A linearisation far from the answer can be empty or degenerate: keep the last

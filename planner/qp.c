@@ -211,7 +211,10 @@ static void back_subst(const double *L, int n, double *y, double *x)
  * positive and κ₂(S) <= trace(S)·‖R⁻¹‖_F² <= HP_QP_WARM_KAPPA, (b) every u_c >= 0, (c)
  * every other row passes the same per-unit-norm test GI stops on. (a)+(b)+(c) are the KKT
  * conditions of the full QP, which for G positive definite characterise its unique minimum;
- * (a) also bounds the rounding (qp.h). Writes the outputs only on acceptance. */
+ * (a) also bounds the rounding (qp.h): the computed u solves (S + E) u = r with |E| ~ kε|S|,
+ * so u carries κ(S)·kε; but stationarity holds for any u, so an error δu moves x only by
+ * L⁻ᵀM δu, and |M δu| <= |E||u|/σ_min(M) — a factor √κ(S), as in the full solve's QR.
+ * Writes the outputs only on acceptance. */
 static hp_qp_warm warm_try(hp_qp *qp, const int *guess, const double *a, const double *nrm,
                            const int *twin, const int *skip_in, int max_iter, double feas_tol)
 {

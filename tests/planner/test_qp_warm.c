@@ -15,12 +15,13 @@
 #define NM HP_QP_NMAX
 #define EPS DBL_EPSILON
 
-/* A random QP of the realtime backend's shape: n in 1..6, m <= 16 (or 32) rows, most in twin pairs
- * (c, −c) bounding c·x from both sides, the rest single; rows scaled by 10^±1 (the backend's
- * rows differ in size); G = F Fᵀ from a random lower-triangular factor F with diagonal in
- * [e^−2, e], so G's condition number spans several decades; some rows nearly parallel
- * to another; x = 0 strictly feasible, or (one QP in four) a vertex where many rows meet. The
- * unused columns of C and entries of a hold NaN: the solver must never read them. */
+/* A random QP of the realtime backend's shape: n in 1..6, m <= 16 (or 32) rows, most in
+ * twin pairs (c, −c) bounding c·x from both sides, the rest single; rows scaled by 10^±1
+ * (the backend's rows differ in size); G = F Fᵀ from a random lower-triangular factor F
+ * with diagonal in [e^−2, e], so G's condition number spans several decades; some rows
+ * nearly parallel to another; x = 0 strictly feasible, or (one QP in four) a vertex where
+ * many rows meet. The unused columns of C and entries of a hold NaN: the solver must never
+ * read them. */
 static void realtime_qp(hp_qp *q, uint64_t *seed)
 {
     memset(q, 0, sizeof *q);
@@ -164,8 +165,8 @@ static double worst_x = 0, worst_u = 0; /* the largest error / tolerance ratios 
  * solves are backward stable in the data (triangular solves, Cholesky, Givens rotations),
  * so each x carries a forward error of about (n + k)·ε·κ(G)·X, X = max(|x|, |G⁻¹a|) the
  * size of the terms x is summed from; the active rows enter through their factor, whose
- * condition is √κ(S) (the cold solve's R; the warm path squares it in S but, as qp.c's
- * warm_try shows, x sees only √κ(S)), S the larger of the two sets'. Hence
+ * condition is √κ(S) (the cold solve's R; the warm path squares it in S, but its x sees
+ * only √κ(S): the argument above warm_try in qp.c), S the larger of the two sets'. Hence
  * |Δx| <= 64·ε·κ(G)·√κ(S)·X (64 >= 4·(n + k): room for the bounds' constants). The
  * multipliers solve the normal equations in S, so carry κ(S) itself:
  * |Δu| <= 64·ε·κ(G)·κ(S)·U, U the largest multiplier plus |a| (the size of the right-hand
@@ -200,7 +201,8 @@ static void test_warm_vs_cold(void **st)
 {
     (void)st;
     uint64_t seed = 1617;
-    int cold_fail = 0, accepted = 0, nondeg = 0, refused_cond = 0, wrong = 0, empty_ok = 0, pairs = 0;
+    int cold_fail = 0, accepted = 0, nondeg = 0, refused_cond = 0, wrong = 0, empty_ok = 0;
+    int pairs = 0;
     for (int t = 0; t < 6000; ++t) {
         hp_qp cold, w;
         realtime_qp(&cold, &seed);
@@ -295,10 +297,11 @@ static void test_warm_vs_cold(void **st)
             assert_same_bits(&w, &cold);
         }
     }
-    print_message("cold not optimal %d, accepted %d, non-degenerate %d, refused for conditioning %d, wrong sets "
-                  "falling back %d, empty accepted %d, twin pairs %d; worst |Δx|/tol %.3g, "
-                  "|Δu|/tol %.3g\n",
-                  cold_fail, accepted, nondeg, refused_cond, wrong, empty_ok, pairs, worst_x, worst_u);
+    print_message("cold not optimal %d, accepted %d, non-degenerate %d, refused for "
+                  "conditioning %d, wrong sets falling back %d, empty accepted %d, twin pairs "
+                  "%d; worst |Δx|/tol %.3g, |Δu|/tol %.3g\n",
+                  cold_fail, accepted, nondeg, refused_cond, wrong, empty_ok, pairs, worst_x,
+                  worst_u);
     /* the sample exercises every branch */
     assert_true(accepted > 5000 && nondeg > 3000 && wrong > 6000 && empty_ok > 100 &&
                 pairs > 500 && refused_cond > 10 && cold_fail < 10);
