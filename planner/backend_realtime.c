@@ -52,7 +52,8 @@ typedef struct rt_state {
     int act[HP_QP_MMAX]; /* active set of the previous SQP step's QP */
     int exact;           /* the last QP's Hessian was the Lagrangian's own (Newton) */
     /* The Cholesky factor of the QP's G from the convexity test (build_objective), when G
-     * was not changed after it: the QP solves then do not factor G again. */
+     * was not changed after it, or of G = W (diagonal): the QP solves then do not factor G
+     * again. */
     double Lg[HP_QP_NMAX * HP_QP_NMAX];
     int Lg_ok;
     /* The model at the last full step's trial point, evaluated with its derivatives by the
@@ -68,6 +69,12 @@ typedef struct rt_state {
      * (warm_point): then its multipliers and distances' multipliers start the next solve. */
     double x_last[6];
     int accepted;
+    /* Fixed for one solve (rt_begin): the commanded components map[0..nv), the factor
+     * taking entry (a, b) of an SI Hessian of rho to the QP's units (mm per scaled unit
+     * squared), each bladder's margin (rt_margin). */
+    int map[6], nv;
+    double hsc[HP_QP_NMAX * HP_QP_NMAX];
+    double mg[HP_MAX_BLADDERS];
 } rt_state;
 
 /* Test-only hook (planner/backend_testing.h), inert unless a test sets it: the contact
@@ -114,9 +121,17 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
         if (J)
             for (int i = 0; i < 6; ++i)
                 J[k * 6 + i] = Jsi[k * 6 + i] * HP_MM_PER_M * hp_pose_si_per_scaled(i);
-        if (H && mask[k]) /* the others are exact zeros */
-            for (int i = 0; i < 36; ++i)
-                if (!isfinite(H[k * 36 + i])) return HP_ERR_DOMAIN;
+        if (H && mask[k]) { /* the others are exact zeros */
+            /* h − h is +0 for a finite h and NaN for a NaN or an infinity, so the sums are
+             * 0 exactly when every entry is finite: one check, no branch per entry. */
+            const double *Hk = &H[k * 36];
+            double z0 = 0.0, z1 = 0.0;
+            for (int i = 0; i < 36; i += 2) {
+                z0 += Hk[i] - Hk[i];
+                z1 += Hk[i + 1] - Hk[i + 1];
+            }
+            if (!(z0 + z1 == 0.0)) return HP_ERR_DOMAIN;
+        }
     }
     return HP_OK;
 }
@@ -132,12 +147,12 @@ static double rt_margin(const hp_problem *pb, int k)
  * moves an active radius the last 1e-11 mm into its margin only costs objective, and near
  * a flat direction of the reduced Hessian that step can be 1e-6 mm long and rejected again
  * and again (a warm-started trace stalled to its iteration limit so). */
-static double qp_violation(const hp_problem *pb, const double *rho)
+static double qp_violation(const rt_state *st, const hp_problem *pb, const double *rho)
 {
     double v = 0;
     for (int k = 0; k < pb->n; ++k) {
         if (!isfinite(rho[k])) return INFINITY;
-        double mg = rt_margin(pb, k);
+        double mg = st->mg[k];
         v += hp_max2(0.0, hp_max2(pb->ro_lo[k] + mg - rho[k], rho[k] - (pb->ro_hi[k] - mg)));
     }
     return v;
@@ -161,10 +176,23 @@ static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings 
 
 static void rt_destroy(void *state) { free(state); }
 
+/* The tables that stay fixed while one solve runs (rt_state: map, nv, hsc, mg). */
+static void rt_begin(rt_state *st, const hp_problem *pb)
+{
+    int nv = 0;
+    for (int i = 0; i < 6; ++i)
+        if (pb->w[i] > 0) st->map[nv++] = i;
+    st->nv = nv;
+    /* mm/m · (si/scaled)_a · (si/scaled)_b: one product per entry instead of a division */
+    for (int a = 0; a < nv; ++a)
+        for (int b = 0; b < nv; ++b)
+            st->hsc[a * nv + b] = HP_MM_PER_M * hp_pose_si_per_scaled(st->map[a]) *
+                                  hp_pose_si_per_scaled(st->map[b]);
+    for (int k = 0; k < pb->n; ++k) st->mg[k] = rt_margin(pb, k);
+}
+
 static void rt_warm_point(void *state, int accepted) { ((rt_state *)state)->accepted = accepted; }
 
-/* Builds and solves the QP linearised at xk (scaled pose; uncommanded entries 0), with the
- * limits tightened by extra[k] (mm, may be NULL). Writes the new pose into x. */
 /* 1 when the symmetric G (nv×nv) is positive definite with every Cholesky pivot above
  * frac × its diagonal entry: far from the answer, large multipliers times the contact
  * curvature make the Lagrangian nearly singular and the Newton step wild. */
@@ -193,28 +221,27 @@ static int above_w(const double *G, const hp_problem *pb, const int *map, int nv
  * adding curvature across the active normals (only the curvature along the active
  * manifold decides the Newton step). σ grows ×10 from 1 until the matrix is safely
  * positive definite; if none does, W alone (safe, linear rate). */
-static void build_objective(rt_state *st, const hp_problem *pb, const int *map, int nv,
-                            const double *xk, int curved)
+static void build_objective(rt_state *st, const hp_problem *pb, const double *xk, int curved)
 {
     hp_qp *q = &st->qp;
+    const int *map = st->map, nv = st->nv;
     double Gl[HP_QP_NMAX * HP_QP_NMAX] = {0};
     for (int v = 0; v < nv; ++v) Gl[v * nv + v] = pb->w[map[v]];
     if (curved) {
-        /* SI Hessians of rho (m) to mm per scaled unit squared: mm/m · (si/scaled)_i ·
-         * (si/scaled)_j, one product per entry instead of a division. */
-        double sc[HP_QP_NMAX * HP_QP_NMAX];
-        for (int a = 0; a < nv; ++a)
-            for (int b = 0; b < nv; ++b)
-                sc[a * nv + b] = HP_MM_PER_M * hp_pose_si_per_scaled(map[a]) *
-                                 hp_pose_si_per_scaled(map[b]);
+        /* The lower triangle, mirrored: the contact Hessians are symmetric (the kinematics
+         * writes each pair of entries from one value), and so G is exactly. */
         for (int k = 0; k < pb->n; ++k) {
             double lam = st->u[2 * k] - st->u[2 * k + 1];
             if (lam == 0.0) continue;
             const double *Hk = &st->H[k * 36];
-            for (int a = 0; a < nv; ++a)
-                for (int b = 0; b < nv; ++b)
-                    Gl[a * nv + b] -= lam * Hk[map[a] * 6 + map[b]] * sc[a * nv + b];
+            for (int a = 0; a < nv; ++a) {
+                const double *Ha = &Hk[map[a] * 6];
+                for (int b = 0; b <= a; ++b)
+                    Gl[a * nv + b] -= lam * Ha[map[b]] * st->hsc[a * nv + b];
+            }
         }
+        for (int a = 1; a < nv; ++a)
+            for (int b = 0; b < a; ++b) Gl[b * nv + a] = Gl[a * nv + b];
     }
     memcpy(q->G, Gl, sizeof Gl);
     double sigma = 0.0;
@@ -240,11 +267,20 @@ static void build_objective(rt_state *st, const hp_problem *pb, const int *map, 
             memcpy(q->G, Gl, sizeof Gl);
         }
     }
+    if (!curved || (!st->Lg_ok && sigma == 0.0)) {
+        /* G = W, diagonal: its Cholesky factor is diag(√w), the very bits hp_cholesky
+         * gives (each pivot w − 0, each entry below it 0/√w), so the QP need not factor */
+        memset(st->Lg, 0, sizeof st->Lg);
+        for (int v = 0; v < nv; ++v) st->Lg[v * nv + v] = sqrt(pb->w[map[v]]);
+        st->Lg_ok = 1;
+    }
     /* ½(x − xk)ᵀGl(x − xk) + ∇f(xk)ᵀ(x − xk) in x: a = ∇f(xk) − Gl·xk, plus the
      * augmentation's linear part −σ·Σ_j b_j C_j (its quadratic part is in G). */
+    double xm[HP_QP_NMAX];
+    for (int v = 0; v < nv; ++v) xm[v] = xk[map[v]];
     for (int a = 0; a < nv; ++a) {
-        double g = pb->w[map[a]] * (xk[map[a]] - pb->d[map[a]]);
-        for (int b = 0; b < nv; ++b) g -= Gl[a * nv + b] * xk[map[b]];
+        double g = pb->w[map[a]] * (xm[a] - pb->d[map[a]]);
+        for (int b = 0; b < nv; ++b) g -= Gl[a * nv + b] * xm[b];
         if (sigma > 0.0)
             for (int j = 0; j < q->m; ++j)
                 if (st->u[j] > 0.0) g -= sigma * q->b[j] * q->C[j * HP_QP_NMAX + a];
@@ -252,13 +288,16 @@ static void build_objective(rt_state *st, const hp_problem *pb, const int *map, 
     }
 }
 
+/* Builds and solves the QP linearised at xk (scaled pose; uncommanded entries 0), with the
+ * limits tightened by extra[k] (mm, may be NULL). Writes the new pose into x. guess (may
+ * be NULL) is the active set the QP is warm-started from (hp_qp_solve_warm): successive
+ * SQP steps' QPs mostly share theirs, and a wrong guess only costs the attempt. */
 static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
-                          const double *extra, double *x, int budget, int *iters)
+                          const double *extra, const int *guess, double *x, int budget,
+                          int *iters)
 {
     hp_qp *q = &st->qp;
-    int map[6], nv = 0;
-    for (int i = 0; i < 6; ++i)
-        if (pb->w[i] > 0) map[nv++] = i;
+    const int *map = st->map, nv = st->nv;
     int curved = pb->level != HP_LEVEL_LINEAR && st->have_u;
     int at_zero = !curved && st->z_ok;
     for (int i = 0; i < 6; ++i) at_zero &= xk[i] == 0.0;
@@ -283,24 +322,29 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     memcpy(st->rho_k, st->rho, sizeof st->rho_k);
     q->n = nv;
     q->m = 2 * pb->n;
+    double xm[HP_QP_NMAX];
+    for (int v = 0; v < nv; ++v) xm[v] = xk[map[v]];
     for (int k = 0; k < pb->n; ++k) {
-        double mg = rt_margin(pb, k) + (extra ? extra[k] : 0.0);
+        double mg = st->mg[k] + (extra ? extra[k] : 0.0);
         double base = st->rho[k]; /* rho(xk) − J·xk: the linearisation's constant */
+        const double *Jk = &st->J[k * 6];
+        double *lo = &q->C[(2 * k) * HP_QP_NMAX], *hi = lo + HP_QP_NMAX;
         for (int v = 0; v < nv; ++v) {
-            double jv = st->J[k * 6 + map[v]];
-            base -= jv * xk[map[v]];
-            q->C[(2 * k) * HP_QP_NMAX + v] = jv;
-            q->C[(2 * k + 1) * HP_QP_NMAX + v] = -jv;
+            double jv = Jk[map[v]];
+            base -= jv * xm[v];
+            lo[v] = jv;
+            hi[v] = -jv;
         }
         q->b[2 * k] = pb->ro_lo[k] + mg - base;         /* J x >= lo − base */
         q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base);  /* −J x >= −(hi − base) */
     }
-    build_objective(st, pb, map, nv, xk, curved);
-    hp_qp_status qs = hp_qp_solve_factored(q, st->Lg_ok ? st->Lg : NULL, budget, RT_FEAS_TOL);
+    build_objective(st, pb, xk, curved);
+    hp_qp_status qs =
+        hp_qp_solve_warm(q, st->Lg_ok ? st->Lg : NULL, guess, budget, RT_FEAS_TOL);
     *iters += q->iterations;
     if (qs == HP_QP_BAD_INPUT && curved) { /* Lagrangian not convex here: plain W */
-        build_objective(st, pb, map, nv, xk, 0);
-        qs = hp_qp_solve(q, budget, RT_FEAS_TOL);
+        build_objective(st, pb, xk, 0);
+        qs = hp_qp_solve_warm(q, st->Lg, guess, budget, RT_FEAS_TOL);
         *iters += q->iterations;
     }
     ++st->qps;
@@ -339,18 +383,19 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
 
 /* The l1 merit function ½Σw(x − d)² + nu·Σ violation(x) (mm), which the SQP step decreases
  * for nu above the largest multiplier, from the radii rho at x. */
-static double merit_of(const hp_problem *pb, const double *x, const double *rho, double nu)
+static double merit_of(const rt_state *st, const hp_problem *pb, const double *x,
+                       const double *rho, double nu)
 {
     double f = 0;
     for (int i = 0; i < 6; ++i) f += 0.5 * pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
-    return f + nu * qp_violation(pb, rho);
+    return f + nu * qp_violation(st, pb, rho);
 }
 
 static double merit(rt_state *st, const hp_problem *pb, const double *x, double nu)
 {
     if (rt_contact(st, pb, x, st->rho, NULL, NULL) != HP_OK) return INFINITY;
     rt_inject(st, pb->n, st->rho);
-    return merit_of(pb, x, st->rho, nu);
+    return merit_of(st, pb, x, st->rho, nu);
 }
 
 /* The merit at a full SQP step's point x, evaluating the model there with the derivatives
@@ -365,7 +410,7 @@ static double merit_full(rt_state *st, const hp_problem *pb, const double *x, do
     memcpy(st->c_x, x, sizeof st->c_x);
     st->c_ok = 1;
     rt_inject(st, pb->n, st->c_rho);
-    return merit_of(pb, x, st->c_rho, nu);
+    return merit_of(st, pb, x, st->c_rho, nu);
 }
 
 /* The step xk -> xn of the QP just solved at xk (still in st->qp), globalised on the l1
@@ -381,9 +426,11 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
 {
     hp_qp *q = &st->qp;
     double nu = 1.0;
-    for (int j = 0; j < 2 * pb->n; ++j) nu = fmax(nu, 2.0 * st->u[j]);
+    for (int j = 0; j < 2 * pb->n; ++j)
+        if (2.0 * st->u[j] > nu) nu = 2.0 * st->u[j]; /* fmax, inline */
     /* rho(xk) is the QP's own linearisation point (st->rho_k): no evaluation here. */
-    double phi0 = merit_of(pb, xk, st->rho_k, nu), viol0 = qp_violation(pb, st->rho_k), slope = 0;
+    double phi0 = merit_of(st, pb, xk, st->rho_k, nu), viol0 = qp_violation(st, pb, st->rho_k);
+    double slope = 0;
     for (int i = 0; i < 6; ++i) slope += pb->w[i] * (xk[i] - pb->d[i]) * (xn[i] - xk[i]);
     slope -= nu * viol0; /* directional derivative bound of the l1 merit along a QP step */
     slope = fmin(slope, 0.0);
@@ -396,9 +443,7 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     st->c_ok = 0;
     /* Second-order correction: st->c_rho holds rho(xn), st->rho_k and st->J the values at
      * xk the QP was built from; G, a and C are unchanged, only b moves. */
-    int map[6], nv = 0;
-    for (int i = 0; i < 6; ++i)
-        if (pb->w[i] > 0) map[nv++] = i;
+    const int *map = st->map, nv = st->nv;
     for (int k = 0; k < pb->n; ++k) {
         double dk = st->c_rho[k] - st->rho_k[k];
         for (int v = 0; v < nv; ++v) dk -= st->J[k * 6 + map[v]] * (xn[map[v]] - xk[map[v]]);
@@ -406,10 +451,12 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
         q->b[2 * k + 1] += dk;
     }
     double xt[6];
-    int soc_ok = 1;
+    int soc_ok = 1, guess[HP_QP_MMAX]; /* the QP just solved: its active set is the guess */
+    memcpy(guess, q->active, sizeof guess);
     for (int k = 0; k < pb->n; ++k) soc_ok &= isfinite(st->c_rho[k]) != 0;
+    const double *Lg = st->Lg_ok ? st->Lg : NULL;
     if (soc_ok && isfinite(phi0) &&
-        hp_qp_solve_factored(q, st->Lg_ok ? st->Lg : NULL, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
+        hp_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
         *iters += q->iterations;
         for (int i = 0; i < 6; ++i) xt[i] = 0.0;
         for (int v = 0; v < nv; ++v) xt[map[v]] = q->x[v];
@@ -463,11 +510,16 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     }
     st->qps = 0;
     st->c_ok = 0;
+    rt_begin(st, pb);
     int whole_prev = 0, exact_prev = 0;
     hp_qp_status qs = HP_QP_OPTIMAL;
     hp_status st_out = HP_STATUS_CLOSEST;
     for (;;) {
-        qs = qp_at(st, pb, xk, NULL, xn, st->max_iter, &iters);
+        /* The previous step's active set as the guess; none for a cold solve's first QP
+         * (st->act is then the last solve's, for another target: measured on the default
+         * scene's binding targets, right 2 times in 37). */
+        const int *guess = sqp > 0 || warm ? st->act : NULL;
+        qs = qp_at(st, pb, xk, NULL, guess, xn, st->max_iter, &iters);
         ++sqp;
         if (qs != HP_QP_OPTIMAL && sqp > 1) {
             /* A linearisation far from the answer can be empty or degenerate: keep the last
@@ -479,7 +531,10 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         }
         if (qs != HP_QP_OPTIMAL) break;
         double step = 0;
-        for (int i = 0; i < 6; ++i) step = fmax(step, fabs(xn[i] - xk[i]));
+        for (int i = 0; i < 6; ++i) {
+            double s = fabs(xn[i] - xk[i]);
+            if (s > step) step = s; /* fmax, inline */
+        }
         if (pb->level == HP_LEVEL_LINEAR) {
             memcpy(xk, xn, sizeof xk);
             r->converged = 1;
@@ -541,7 +596,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     /* Restoration tightens finite violations; a non-finite one has nothing to tighten. */
     for (int round = 0; v > 0 && isfinite(v) && round < RT_RESTORE_ROUNDS; ++round) {
         for (int k = 0; k < pb->n; ++k) extra[k] += 2.0 * viol[k];
-        if (qp_at(st, pb, xk, extra, xn, st->max_iter, &iters) != HP_QP_OPTIMAL) break;
+        if (qp_at(st, pb, xk, extra, st->act, xn, st->max_iter, &iters) != HP_QP_OPTIMAL) break;
         double vn = violation(st, pb, xn, viol);
         if (vn < v) { memcpy(xk, xn, sizeof xk); v = vn; }
         r->converged = 0; /* a tightened answer is feasible but not proven closest */

@@ -35,37 +35,44 @@ static void axpy(double *y, double t, const double *v)
     for (int i = 0; i < NM; ++i) y[i] += t * v[i];
 }
 
-/* Jt = L⁻¹ for G = L Lᵀ (G n×n with leading dimension n; Jt with leading dimension NM,
- * zero outside its lower n×n triangle). Lg, when not NULL, is the caller's factor of this
- * G (leading dimension n), used instead of factoring again. Returns 0 unless G is positive
- * definite with finite entries. */
-static int inverse_cholesky_factor(const double *G, int n, const double *Lg, double *Jt)
+/* The lower Cholesky factor of G = L Lᵀ into L (leading dimension NM, zero outside its
+ * lower n×n triangle); G is n×n with leading dimension n. Lg, when not NULL, is the caller's
+ * factor of this G (leading dimension n), copied instead of factoring again. Returns 0
+ * unless G is positive definite with finite entries. */
+static int cholesky_factor(const double *G, int n, const double *Lg, double *L)
 {
-    memset(Jt, 0, NM * NM * sizeof *Jt);
+    memset(L, 0, NM * NM * sizeof *L);
     /* hp_cholesky reads only the lower triangle, and a NaN or infinity there fails a pivot
      * test (it reaches that pivot's sum of squares), except +inf on the diagonal, which
-     * gives an infinite L_jj; the upper triangle is checked here. */
+     * gives an infinite L_jj (checked below); the upper triangle is checked here. */
     for (int i = 0; i < n; ++i)
         for (int j = i + 1; j < n; ++j)
             if (!isfinite(G[i * n + j])) return 0;
     if (Lg) {
         for (int i = 0; i < n; ++i)
-            for (int j = 0; j <= i; ++j) Jt[IDX(i, j)] = Lg[i * n + j];
-    } else if (!hp_cholesky(G, n, n, 0.0, Jt, NM)) {
+            for (int j = 0; j <= i; ++j) L[IDX(i, j)] = Lg[i * n + j];
+    } else if (!hp_cholesky(G, n, n, 0.0, L, NM)) {
         return 0;
     }
-    /* L⁻¹ row by row, in place: row i of L⁻¹ is (e_i − Σ_{k<i} L_ik·row k of L⁻¹) / L_ii,
-     * from row i of L (saved first) and the rows of L⁻¹ above it. */
+    for (int i = 0; i < n; ++i)
+        if (!isfinite(L[IDX(i, i)])) return 0;
+    return 1;
+}
+
+/* Jt = L⁻¹ (leading dimension NM, zero outside its lower n×n triangle) from the factor of
+ * cholesky_factor: row i of L⁻¹ is (e_i − Σ_{k<i} L_ik·row k of L⁻¹) / L_ii, formed in
+ * place from row i of L (saved first) and the rows of L⁻¹ above it. */
+static void invert_factor(const double *L, int n, double *Jt)
+{
+    memcpy(Jt, L, NM * NM * sizeof *Jt);
     for (int i = 0; i < n; ++i) {
         double *row = &Jt[IDX(i, 0)], l[NM], lii = row[i];
-        if (!isfinite(lii)) return 0;
         memcpy(l, row, sizeof l);
         memset(row, 0, sizeof l);
         for (int k = 0; k < i; ++k) axpy(row, -l[k], &Jt[IDX(k, 0)]);
         for (int j = 0; j < i; ++j) row[j] /= lii;
         row[i] = 1.0 / lii;
     }
-    return 1;
 }
 
 /* The reflector zeroing b against a: c = a/h, s = b/h, returns h = |(a, b)| (b != 0).
@@ -156,50 +163,162 @@ static int load_rows(hp_qp *qp, double *nrm, int *twin, int *skip)
     return 1;
 }
 
+/* The most violated row at x, measured per unit-norm row (the violation (C_j x − b_j)/|C_j|
+ * below −feas_tol), ignoring the rows marked in skip; −1 when none is. A twin row reuses
+ * the product of the row before it, negated. */
+static int most_violated(const hp_qp *qp, const double *x, const double *nrm, const int *twin,
+                         const int *skip, double feas_tol)
+{
+    int p = -1;
+    double worst = -feas_tol, cx = 0;
+    for (int j = 0; j < qp->m; ++j) {
+        cx = twin[j] ? -cx : dot(&qp->C_[j * NM], x);
+        if (skip[j]) continue;
+        double v = (cx - qp->b[j]) / nrm[j];
+        if (v < worst) {
+            worst = v;
+            p = j;
+        }
+    }
+    return p;
+}
+
+/* y = L⁻¹v by forward substitution (L from cholesky_factor; y padded with zeros). The
+ * padded dot product is exact here: y_i is still 0 when row i of L meets it. */
+static void forward_subst(const double *L, int n, const double *v, double *y)
+{
+    memset(y, 0, NM * sizeof *y);
+    for (int i = 0; i < n; ++i) y[i] = (v[i] - dot(&L[IDX(i, 0)], y)) / L[IDX(i, i)];
+}
+
+/* x = L⁻ᵀy by back substitution, row by row of L (y is overwritten). */
+static void back_subst(const double *L, int n, double *y, double *x)
+{
+    memset(x, 0, NM * sizeof *x);
+    for (int i = n - 1; i >= 0; --i) {
+        x[i] = y[i] / L[IDX(i, i)];
+        axpy(y, -x[i], &L[IDX(i, 0)]); /* entries >= i of y are not read again */
+    }
+}
+
+/* The warm start (qp.h, hp_qp_solve_warm): the equality-constrained QP on the guessed rows,
+ * accepted as the answer only when it is the answer. With x = L⁻ᵀ(w + M u), w = −L⁻¹a and
+ * the columns M_c = L⁻¹C_cᵀ of the k guessed rows, stationarity G x + a = Σ C_cᵀu_c holds
+ * for any u, and the guessed rows hold as equalities when (MᵀM) u = b_A − Mᵀw. The Gram
+ * matrix is formed of the normalised columns M_c/|M_c| (unit diagonal: the scaling makes
+ * its condition number the smallest diagonal scaling can reach, within a factor k, and the
+ * solve is invariant to it) and factored S = R Rᵀ. Accepted when (a) every pivot of S is
+ * positive and κ₂(S) <= trace(S)·‖R⁻¹‖_F² <= HP_QP_WARM_KAPPA, (b) every u_c >= 0, (c)
+ * every other row passes the same per-unit-norm test GI stops on. (a)+(b)+(c) are the KKT
+ * conditions of the full QP, which for G positive definite characterise its unique minimum;
+ * (a) also bounds the rounding (qp.h): the computed u solves (S + E) u = r with |E| ~ kε|S|,
+ * so u carries κ(S)·kε; but stationarity holds for any u, so an error δu moves x only by
+ * L⁻ᵀM δu, and |M δu| <= |E||u|/σ_min(M) — a factor √κ(S), as in the full solve's QR.
+ * Writes the outputs only on acceptance. */
+static hp_qp_warm warm_try(hp_qp *qp, const int *guess, const double *a, const double *nrm,
+                           const int *twin, const int *skip_in, int max_iter, double feas_tol)
+{
+    int n = qp->n, m = qp->m, A[NM], k = 0, skip[HP_QP_MMAX];
+    for (int j = 0; j < m; ++j) {
+        skip[j] = skip_in[j];
+        if (!guess[j]) continue;
+        /* a twin pair's rows are exact negations: both active would leave no interior */
+        if (k == n || skip[j] || (twin[j] && guess[j - 1])) return HP_QP_WARM_SHAPE;
+        A[k++] = j;
+        skip[j] = 1;
+    }
+    if (k > max_iter) return HP_QP_WARM_SHAPE;
+    const double *L = qp->L_;
+    double w[NM], Mt[NM * NM], D[NM], S[NM * NM], Rs[NM * NM], us[NM], y[NM], x[NM];
+    forward_subst(L, n, a, w);
+    for (int i = 0; i < n; ++i) w[i] = -w[i];
+    for (int c = 0; c < k; ++c) {
+        double *mc = &Mt[c * NM];
+        forward_subst(L, n, &qp->C_[A[c] * NM], mc);
+        D[c] = sqrt(dot(mc, mc));
+        if (!(D[c] > 0.0 && D[c] < INFINITY)) return HP_QP_WARM_CONDITION;
+        double inv = 1.0 / D[c];
+        for (int i = 0; i < NM; ++i) mc[i] *= inv;
+    }
+    double trace = 0;
+    for (int c = 0; c < k; ++c) {
+        for (int e = 0; e <= c; ++e) S[c * k + e] = dot(&Mt[c * NM], &Mt[e * NM]);
+        trace += S[c * k + c];
+    }
+    if (k > 0 && !(hp_cholesky(S, k, k, 0.0, Rs, k) &&
+                   trace * hp_cholesky_inv_frob2(Rs, k, k) <= HP_QP_WARM_KAPPA))
+        return HP_QP_WARM_CONDITION;
+    /* scaled multipliers us_c = |M_c|·u_c: S us = (b_c − M_cᵀw)/|M_c| */
+    for (int c = 0; c < k; ++c) us[c] = qp->b[A[c]] / D[c] - dot(&Mt[c * NM], w);
+    if (k > 0) hp_cholesky_solve(Rs, k, k, us);
+    for (int c = 0; c < k; ++c)
+        if (!(us[c] >= 0.0)) return HP_QP_WARM_SIGN;
+    memcpy(y, w, sizeof y);
+    for (int c = 0; c < k; ++c) axpy(y, us[c], &Mt[c * NM]);
+    back_subst(L, n, y, x);
+    if (most_violated(qp, x, nrm, twin, skip, feas_tol) >= 0) return HP_QP_WARM_VIOLATED;
+    memcpy(qp->x, x, sizeof qp->x);
+    for (int c = 0; c < k; ++c) {
+        qp->u[A[c]] = us[c] / D[c];
+        qp->active[A[c]] = 1;
+    }
+    qp->iterations = k;
+    return HP_QP_WARM_ACCEPTED;
+}
+
 hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
 {
-    return hp_qp_solve_factored(qp, NULL, max_iter, feas_tol);
+    return hp_qp_solve_warm(qp, NULL, NULL, max_iter, feas_tol);
 }
 
 hp_qp_status hp_qp_solve_factored(hp_qp *qp, const double *Lg, int max_iter, double feas_tol)
 {
+    return hp_qp_solve_warm(qp, Lg, NULL, max_iter, feas_tol);
+}
+
+hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int max_iter,
+                              double feas_tol)
+{
     int n = qp->n, m = qp->m;
+    qp->warm = HP_QP_WARM_NONE;
     if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1) return HP_QP_BAD_INPUT;
     double *Jt = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_;
     double nrm[HP_QP_MMAX], a[NM] = {0};
     int twin[HP_QP_MMAX], skip[HP_QP_MMAX]; /* skip: active rows and rows of zero norm */
+    int g[HP_QP_MMAX]; /* the guess, read before the outputs (it may be qp->active) */
+    if (guess)
+        for (int j = 0; j < m; ++j) g[j] = guess[j] != 0;
     for (int i = 0; i < n; ++i) {
         if (!isfinite(qp->a[i])) return HP_QP_BAD_INPUT;
         a[i] = qp->a[i];
     }
     if (!load_rows(qp, nrm, twin, skip)) return HP_QP_BAD_INPUT;
-    memset(R, 0, sizeof qp->R_);
     memset(qp->u, 0, sizeof qp->u);
     memset(qp->active, 0, sizeof qp->active);
     qp->iterations = 0;
-    if (!inverse_cholesky_factor(qp->G, n, Lg, Jt)) return HP_QP_BAD_INPUT;
+    if (!cholesky_factor(qp->G, n, Lg, qp->L_)) return HP_QP_BAD_INPUT;
+    /* a row of zero norm holds for every x or for none */
+    for (int j = 0; j < m; ++j)
+        if (skip[j] && -qp->b[j] < -feas_tol) return HP_QP_INFEASIBLE;
+    if (guess) {
+        qp->warm = warm_try(qp, g, a, nrm, twin, skip, max_iter, feas_tol);
+        if (qp->warm == HP_QP_WARM_ACCEPTED) {
+            for (int i = 0; i < n; ++i)
+                if (!isfinite(x[i])) return HP_QP_BAD_INPUT;
+            return HP_QP_OPTIMAL;
+        }
+    }
+    memset(R, 0, sizeof qp->R_);
+    invert_factor(qp->L_, n, Jt);
 
     /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
     memset(x, 0, sizeof qp->x);
     for (int k = 0; k < n; ++k) axpy(x, -dot(&Jt[IDX(k, 0)], a), &Jt[IDX(k, 0)]);
-    /* a row of zero norm holds for every x or for none */
-    for (int j = 0; j < m; ++j)
-        if (skip[j] && -qp->b[j] < -feas_tol) return HP_QP_INFEASIBLE;
     int q = 0;
 
     for (;;) {
-        /* Step 1: the most violated constraint, measured per unit-norm row. */
-        int p = -1;
-        double worst = -feas_tol, cx = 0;
-        for (int j = 0; j < m; ++j) {
-            cx = twin[j] ? -cx : dot(&qp->C_[j * NM], x);
-            if (skip[j]) continue;
-            double v = (cx - qp->b[j]) / nrm[j];
-            if (v < worst) {
-                worst = v;
-                p = j;
-            }
-        }
+        /* Step 1: the most violated constraint. */
+        int p = most_violated(qp, x, nrm, twin, skip, feas_tol);
         if (p < 0) break;
         const double *np = &qp->C_[p * NM];
         double up = 0.0;

@@ -19,6 +19,25 @@ typedef enum hp_qp_status {
     HP_QP_BAD_INPUT       /* G not positive definite, NaN, sizes out of range */
 } hp_qp_status;
 
+/* What the warm start of hp_qp_solve_warm did with its guessed active set. */
+typedef enum hp_qp_warm {
+    HP_QP_WARM_NONE = 0,  /* no guess given (hp_qp_solve, hp_qp_solve_factored) */
+    HP_QP_WARM_ACCEPTED,  /* the guessed rows' equality-constrained QP is the answer */
+    /* refused, the full Goldfarb–Idnani solve ran instead: */
+    HP_QP_WARM_SHAPE,     /* more rows than n or the budget, a twin pair, a zero row */
+    HP_QP_WARM_CONDITION, /* the rows dependent or their Gram matrix too ill-conditioned */
+    HP_QP_WARM_SIGN,      /* a guessed row's multiplier negative */
+    HP_QP_WARM_VIOLATED   /* another row violated beyond feas_tol */
+} hp_qp_warm;
+
+/* The largest accepted bound on the 2-norm condition number of the guessed rows' scaled
+ * Gram matrix (qp.c, warm_try). The equality solve goes through that matrix (normal
+ * equations), so the multipliers carry a relative error of about κ·k·ε (k rows, ε the
+ * unit roundoff): at 1e8 about 1e-7 in the worst case, and x, in which the error enters
+ * only through √κ, about 1e4·ε relative — the accuracy of the Goldfarb–Idnani solve,
+ * whose QR factor has the condition √κ. Beyond it the full solve runs. */
+#define HP_QP_WARM_KAPPA 1e8
+
 typedef struct hp_qp {
     int n, m;
     double G[HP_QP_NMAX * HP_QP_NMAX]; /* n×n row-major (leading dimension n), symmetric
@@ -31,12 +50,15 @@ typedef struct hp_qp {
     double x[HP_QP_NMAX];   /* entries >= n are set to 0 */
     double u[HP_QP_MMAX];   /* multiplier of every constraint (0 when inactive) */
     int active[HP_QP_MMAX]; /* 1 when constraint j is in the final active set */
-    int iterations;         /* add + drop steps */
+    int iterations;         /* add + drop steps; an accepted warm start counts one add
+                             * step per guessed row */
+    hp_qp_warm warm;        /* what the warm start did (HP_QP_WARM_NONE without a guess) */
     /* workspace: Jᵀ and C zero-padded to HP_QP_NMAX columns, R, the active set */
     double J_[HP_QP_NMAX * HP_QP_NMAX], R_[HP_QP_NMAX * HP_QP_NMAX];
     double C_[HP_QP_MMAX * HP_QP_NMAX];
     int A_[HP_QP_NMAX];
     double uA_[HP_QP_NMAX + 1];
+    double L_[HP_QP_NMAX * HP_QP_NMAX]; /* the Cholesky factor of G, zero-padded */
 } hp_qp;
 
 /* Solves the QP held in q (n, m, G, a, C, b filled) with at most max_iter add/drop steps;
@@ -52,5 +74,19 @@ hp_qp_status hp_qp_solve(hp_qp *q, int max_iter, double feas_tol);
  * G already (the realtime backend does, to test its convexity): G is not factored again.
  * Lg NULL: hp_qp_solve. The factor is the same bits either way. */
 hp_qp_status hp_qp_solve_factored(hp_qp *q, const double *Lg, int max_iter, double feas_tol);
+
+/* hp_qp_solve_factored started from a guessed active set: guess[j] != 0 for the rows
+ * guessed active (m entries; it may be q->active, read before it is overwritten; NULL: no
+ * guess, exactly hp_qp_solve_factored). The guessed rows' equality-constrained QP is
+ * solved directly and returned when it meets the full QP's optimality conditions — rows
+ * independent and well conditioned (HP_QP_WARM_KAPPA), every guessed multiplier >= 0,
+ * every other row satisfied to feas_tol as the full solve measures it — which make it the
+ * unique minimum; otherwise the full solve runs from scratch (q->warm says which). A guess
+ * with both rows of a twin pair, more rows than n or than max_iter, or a zero row is
+ * refused unsolved. Outputs, statuses and the refusal of bad input are those of
+ * hp_qp_solve; the active set and multipliers can differ from the full solve's only where
+ * they are not unique (degenerate vertices); x agrees to rounding. */
+hp_qp_status hp_qp_solve_warm(hp_qp *q, const double *Lg, const int *guess, int max_iter,
+                              double feas_tol);
 
 #endif

@@ -1,0 +1,471 @@
+/* The QP's warm start (hp_qp_solve_warm, planner/qp.c) against the cold Goldfarb–Idnani
+ * solve on thousands of seeded random QPs of the realtime backend's shape: guessed with the
+ * true active set it gives the same answer to a tolerance derived from the conditioning;
+ * guessed wrong (subsets, supersets, other sets, a twin pair) it falls back, and the fallback
+ * is the cold solve bit for bit; guessed empty, either the unconstrained minimum or the
+ * fallback. Plus its refusals one by one, and bad input and infeasibility still reported
+ * as such whatever the guess. */
+#include "test_util.h"
+#include "tests/planner/layout_fixture.h"
+#include "planner/qp.h"
+#include "common/dense.h"
+
+#include <float.h>
+
+#define NM HP_QP_NMAX
+#define EPS DBL_EPSILON
+
+/* A random QP of the realtime backend's shape: n in 1..6, m <= 16 (or 32) rows, most in
+ * twin pairs (c, −c) bounding c·x from both sides, the rest single; rows scaled by 10^±1
+ * (the backend's rows differ in size); G = F Fᵀ from a random lower-triangular factor F
+ * with diagonal in [e^−2, e], so G's condition number spans several decades; some rows
+ * nearly parallel to another; x = 0 strictly feasible, or (one QP in four) a vertex where
+ * many rows meet. The unused columns of C and entries of a hold NaN: the solver must never
+ * read them. */
+static void realtime_qp(hp_qp *q, uint64_t *seed)
+{
+    memset(q, 0, sizeof *q);
+    int n = 1 + (int)(lf_next(seed) % NM);
+    /* up to 8 pairs and 16 rows (the default layouts' 8 bladders); one QP in eight up to
+     * the solver's 32 rows (16 bladders) */
+    int mmax = lf_next(seed) % 8 == 0 ? HP_QP_MMAX : 16;
+    int pairs = (int)(lf_next(seed) % (unsigned)(mmax / 2 + 1));
+    int single = (int)(lf_next(seed) % (unsigned)(mmax - 2 * pairs + 1));
+    if (single > 4) single = 4;
+    q->n = n;
+    q->m = 2 * pairs + single;
+    double F[NM * NM] = {0};
+    for (int i = 0; i < n; ++i) {
+        for (int j = 0; j < i; ++j) F[i * NM + j] = lf_uniform(seed);
+        F[i * NM + i] = exp(-0.5 + 1.5 * lf_uniform(seed));
+    }
+    for (int i = 0; i < n; ++i)
+        for (int j = 0; j < n; ++j) {
+            double s = 0;
+            for (int k = 0; k < n; ++k) s += F[i * NM + k] * F[j * NM + k];
+            q->G[i * n + j] = s;
+        }
+    for (int i = 0; i < NM; ++i) q->a[i] = i < n ? 5.0 * lf_uniform(seed) : NAN;
+    for (int j = 0; j < q->m; ++j) {
+        double *c = &q->C[j * NM], scale = pow(10.0, lf_uniform(seed));
+        int twin = j < 2 * pairs && j % 2 == 1;
+        for (int i = 0; i < NM; ++i)
+            c[i] = i >= n ? NAN : twin ? -c[i - NM] : scale * lf_uniform(seed);
+        /* one row in five nearly parallel to an earlier leading row, 1e-9..1e-2 off:
+         * active together they make the Gram matrix ill-conditioned */
+        int lead = j >= 2 * pairs ? j - 1 : j - 2;
+        if (!twin && lead >= 0 && lf_next(seed) % 5 == 0) {
+            double off = pow(10.0, -5.5 + 3.5 * lf_uniform(seed));
+            for (int i = 0; i < n; ++i)
+                c[i] = scale * (q->C[lead * NM + i] + off * lf_uniform(seed));
+        }
+        double norm = 0;
+        for (int i = 0; i < n; ++i) norm += c[i] * c[i];
+        q->b[j] = -(0.05 + 0.5 * (lf_uniform(seed) + 1.0)) * sqrt(norm);
+    }
+    if (lf_next(seed) % 4 == 0) {
+        /* a vertex: every leading row through the point v (its twin's bound beyond), the
+         * unconstrained minimum pulled 5 away: many rows active at once, often more than
+         * n (degenerate), nearly parallel ones among them */
+        double v[NM], p[NM];
+        for (int i = 0; i < n; ++i) {
+            v[i] = lf_uniform(seed);
+            p[i] = v[i] + 5.0 * lf_uniform(seed);
+        }
+        for (int i = 0; i < n; ++i) {
+            double g = 0;
+            for (int k = 0; k < n; ++k) g += q->G[i * n + k] * p[k];
+            q->a[i] = -g;
+        }
+        for (int j = 0; j < q->m; ++j) {
+            if (j < 2 * pairs && j % 2 == 1) continue;
+            double cv = 0;
+            for (int i = 0; i < n; ++i) cv += q->C[j * NM + i] * v[i];
+            if (j < 2 * pairs) q->b[j + 1] = -cv + q->b[j + 1]; /* c·x <= c·v + width */
+            q->b[j] = cv;
+        }
+    }
+}
+
+/* An upper bound on the 2-norm condition number of the symmetric positive definite k×k A
+ * (leading dimension k): trace(A)·‖L⁻¹‖_F² (common/dense.h); +inf if not definite. */
+static double cond_bound(const double *A, int k)
+{
+    double L[NM * NM], tr = 0;
+    if (k == 0) return 1.0;
+    if (!hp_cholesky(A, k, k, 0.0, L, k)) return INFINITY;
+    for (int i = 0; i < k; ++i) tr += A[i * k + i];
+    return tr * hp_cholesky_inv_frob2(L, k, k);
+}
+
+/* The conditioning the tolerances derive from: κ(G) and κ(S) of the scaled matrix
+ * S_ij = C_i G⁻¹ C_jᵀ / (D_i D_j), D_i² = C_i G⁻¹ C_iᵀ, over the rows in set (computed here
+ * with G⁻¹ by hp_cholesky_solve, not as the solver does). */
+static void conditioning(const hp_qp *q, const int *set, double *kg, double *ks)
+{
+    int n = q->n, idx[NM], k = 0;
+    for (int j = 0; j < q->m; ++j)
+        if (set[j] && k < NM) idx[k++] = j;
+    double L[NM * NM], Gc[NM][NM], S[NM * NM], D[NM];
+    *kg = cond_bound(q->G, n);
+    assert_int_equal(hp_cholesky(q->G, n, n, 0.0, L, n), 1);
+    for (int c = 0; c < k; ++c) {
+        for (int i = 0; i < n; ++i) Gc[c][i] = q->C[idx[c] * NM + i];
+        hp_cholesky_solve(L, n, n, Gc[c]);
+        double s = 0;
+        for (int i = 0; i < n; ++i) s += q->C[idx[c] * NM + i] * Gc[c][i];
+        D[c] = sqrt(s);
+    }
+    for (int c = 0; c < k; ++c)
+        for (int e = 0; e < k; ++e) {
+            double s = 0;
+            for (int i = 0; i < n; ++i) s += q->C[idx[c] * NM + i] * Gc[e][i];
+            S[c * k + e] = s / (D[c] * D[e]);
+        }
+    *ks = cond_bound(S, k);
+}
+
+/* 1 when the cold answer is clearly non-degenerate: every active multiplier and every
+ * inactive row's slack (per unit-norm row) above 1e-6 relative to the data's size, far
+ * above the rounding (<= 1e-9 here), so the active set is unique and stable to rounding. */
+static int non_degenerate(const hp_qp *q)
+{
+    double umax = 0;
+    for (int j = 0; j < q->m; ++j) umax = fmax(umax, q->u[j]);
+    for (int j = 0; j < q->m; ++j) {
+        double cx = 0, nn = 0;
+        for (int i = 0; i < q->n; ++i) {
+            cx += q->C[j * NM + i] * q->x[i];
+            nn += q->C[j * NM + i] * q->C[j * NM + i];
+        }
+        if (q->active[j] && !(q->u[j] > 1e-6 * (1.0 + umax))) return 0;
+        if (!q->active[j] && !((cx - q->b[j]) / sqrt(nn) > 1e-6)) return 0;
+    }
+    return 1;
+}
+
+static void assert_same_bits(const hp_qp *w, const hp_qp *c)
+{
+    assert_memory_equal(w->x, c->x, sizeof w->x);
+    assert_memory_equal(w->u, c->u, sizeof w->u);
+    assert_memory_equal(w->active, c->active, sizeof w->active);
+    assert_int_equal(w->iterations, c->iterations);
+}
+
+static double inf_norm(const double *v, int n)
+{
+    double s = 0;
+    for (int i = 0; i < n; ++i) s = fmax(s, fabs(v[i]));
+    return s;
+}
+
+static double worst_x = 0, worst_u = 0; /* the largest error / tolerance ratios seen */
+
+/* The warm answer w (from the rows w->active) against the cold one c. Tolerances: both
+ * solves are backward stable in the data (triangular solves, Cholesky, Givens rotations),
+ * so each x carries a forward error of about (n + k)·ε·κ(G)·X, X = max(|x|, |G⁻¹a|) the
+ * size of the terms x is summed from; the active rows enter through their factor, whose
+ * condition is √κ(S) (the cold solve's R; the warm path squares it in S, but its x sees
+ * only √κ(S): the argument above warm_try in qp.c), S the larger of the two sets'. Hence
+ * |Δx| <= 64·ε·κ(G)·√κ(S)·X (64 >= 4·(n + k): room for the bounds' constants). The
+ * multipliers solve the normal equations in S, so carry κ(S) itself:
+ * |Δu| <= 64·ε·κ(G)·κ(S)·U, U the largest multiplier plus |a| (the size of the right-hand
+ * side they are solved from); compared only when both sets are the same (elsewhere, at a
+ * degenerate vertex, the multipliers are not unique). */
+static void compare(const hp_qp *w, const hp_qp *c)
+{
+    double kg, ks, kw;
+    conditioning(c, c->active, &kg, &ks);
+    conditioning(c, w->active, &kg, &kw);
+    ks = fmax(ks, kw);
+    double xu[NM];
+    double L[NM * NM];
+    for (int i = 0; i < c->n; ++i) xu[i] = -c->a[i];
+    assert_int_equal(hp_cholesky(c->G, c->n, c->n, 0.0, L, c->n), 1);
+    hp_cholesky_solve(L, c->n, c->n, xu);
+    double X = fmax(inf_norm(c->x, c->n), inf_norm(xu, c->n));
+    double U = inf_norm(c->u, c->m) + inf_norm(c->a, c->n);
+    double tx = 64 * EPS * kg * sqrt(ks) * X, tu = 64 * EPS * kg * ks * U;
+    for (int i = 0; i < c->n; ++i) {
+        hp_assert_close(w->x[i], c->x[i], 0, tx);
+        worst_x = fmax(worst_x, fabs(w->x[i] - c->x[i]) / tx);
+    }
+    if (memcmp(w->active, c->active, sizeof w->active) != 0) return;
+    for (int j = 0; j < c->m; ++j) {
+        hp_assert_close(w->u[j], c->u[j], 0, tu);
+        worst_u = fmax(worst_u, fabs(w->u[j] - c->u[j]) / tu);
+    }
+}
+
+static void test_warm_vs_cold(void **st)
+{
+    (void)st;
+    uint64_t seed = 1617;
+    int cold_fail = 0, accepted = 0, nondeg = 0, refused_cond = 0, wrong = 0, empty_ok = 0;
+    int pairs = 0;
+    for (int t = 0; t < 6000; ++t) {
+        hp_qp cold, w;
+        realtime_qp(&cold, &seed);
+        int m = cold.m, n = cold.n;
+        hp_qp base = cold;
+        hp_qp_status cs = hp_qp_solve(&cold, 200, 1e-12);
+        if (cs != HP_QP_OPTIMAL) {
+            /* a vertex whose feasible set is the point itself, emptied by the rounding of
+             * b: the warm start, whatever the guess, must not find an answer either */
+            ++cold_fail;
+            for (int v = 0; v < 20; ++v) {
+                int g[HP_QP_MMAX];
+                for (int j = 0; j < m; ++j) g[j] = v == 0 ? 0 : lf_next(&seed) % 3 == 0;
+                w = base;
+                assert_int_equal(hp_qp_solve_warm(&w, NULL, g, 200, 1e-12), cs);
+                assert_int_not_equal(w.warm, HP_QP_WARM_ACCEPTED);
+            }
+            continue;
+        }
+        assert_int_equal(cold.warm, HP_QP_WARM_NONE);
+        int nd = non_degenerate(&cold);
+        nondeg += nd;
+
+        /* (i) the true active set */
+        w = base;
+        assert_int_equal(hp_qp_solve_warm(&w, NULL, cold.active, 200, 1e-12), HP_QP_OPTIMAL);
+        if (w.warm == HP_QP_WARM_ACCEPTED) {
+            ++accepted;
+            compare(&w, &cold);
+            int k = 0;
+            for (int j = 0; j < m; ++j) k += w.active[j];
+            assert_int_equal(w.iterations, k); /* one add step per guessed row */
+            if (nd) assert_memory_equal(w.active, cold.active, sizeof w.active);
+        } else {
+            /* only an ill-conditioned true set may be refused: check it is one */
+            double kg, ks;
+            conditioning(&cold, cold.active, &kg, &ks);
+            if (!(w.warm == HP_QP_WARM_CONDITION && ks > 1e6) && nd) {
+                print_error("QP %d: true set refused (%d), κ(S) %g\n", t, w.warm, ks);
+                fail();
+            }
+            refused_cond += w.warm == HP_QP_WARM_CONDITION;
+            assert_same_bits(&w, &cold);
+        }
+
+        /* (ii) wrong sets: the true set with one row flipped (a superset or a subset),
+         * a random set, and a twin pair added */
+        for (int v = 0; v < 3 && m > 0; ++v) {
+            int g[HP_QP_MMAX];
+            memcpy(g, cold.active, sizeof g);
+            if (v == 0) {
+                int j = (int)(lf_next(&seed) % (unsigned)m);
+                g[j] = !g[j];
+            } else if (v == 1) {
+                for (int j = 0; j < m; ++j) g[j] = lf_next(&seed) % 3 == 0;
+            } else {
+                int j = (int)(lf_next(&seed) % (unsigned)m) | 1; /* odd: a twin if paired */
+                int is_twin = j < m;
+                for (int i = 0; i < n && is_twin; ++i)
+                    is_twin = base.C[j * NM + i] == -base.C[(j - 1) * NM + i];
+                if (!is_twin) continue;
+                g[j] = g[j - 1] = 1;
+                ++pairs;
+            }
+            if (memcmp(g, cold.active, (size_t)m * sizeof *g) == 0) continue;
+            w = base;
+            assert_int_equal(hp_qp_solve_warm(&w, NULL, g, 200, 1e-12), HP_QP_OPTIMAL);
+            if (v == 2) assert_int_equal(w.warm, HP_QP_WARM_SHAPE);
+            if (w.warm == HP_QP_WARM_ACCEPTED) {
+                /* a wrong set may pass only where the answer is degenerate (a row active
+                 * with a zero multiplier, or inactive on its bound): then x is the same */
+                assert_false(nd);
+                compare(&w, &cold);
+            } else {
+                assert_same_bits(&w, &cold);
+                wrong += nd;
+            }
+        }
+
+        /* (iii) the empty set: the unconstrained minimum when nothing is active */
+        int none[HP_QP_MMAX] = {0}, k = 0;
+        for (int j = 0; j < m; ++j) k += cold.active[j];
+        w = base;
+        assert_int_equal(hp_qp_solve_warm(&w, NULL, none, 200, 1e-12), HP_QP_OPTIMAL);
+        if (k == 0) {
+            assert_int_equal(w.warm, HP_QP_WARM_ACCEPTED);
+            assert_int_equal(w.iterations, 0);
+            compare(&w, &cold);
+            ++empty_ok;
+        } else {
+            assert_int_not_equal(w.warm, HP_QP_WARM_ACCEPTED);
+            assert_same_bits(&w, &cold);
+        }
+    }
+    print_message("cold not optimal %d, accepted %d, non-degenerate %d, refused for "
+                  "conditioning %d, wrong sets falling back %d, empty accepted %d, twin pairs "
+                  "%d; worst |Δx|/tol %.3g, |Δu|/tol %.3g\n",
+                  cold_fail, accepted, nondeg, refused_cond, wrong, empty_ok, pairs, worst_x,
+                  worst_u);
+    /* the sample exercises every branch */
+    assert_true(accepted > 5000 && nondeg > 3000 && wrong > 6000 && empty_ok > 100 &&
+                pairs > 500 && refused_cond > 10 && cold_fail < 10);
+}
+
+/* The caller's Cholesky factor (as the backend passes it) changes nothing: the warm answer
+ * with it is the warm answer without it, bit for bit, accepted or not. */
+static void test_warm_factored_same_bits(void **st)
+{
+    (void)st;
+    uint64_t seed = 4242;
+    for (int t = 0; t < 1000; ++t) {
+        hp_qp q, r;
+        realtime_qp(&q, &seed);
+        hp_qp cold = q;
+        hp_qp_status cs = hp_qp_solve(&cold, 200, 1e-12);
+        int g[HP_QP_MMAX];
+        memcpy(g, cold.active, sizeof g);
+        if (t % 2 && q.m > 0) g[t % q.m] = !g[t % q.m];
+        double L[NM * NM];
+        assert_int_equal(hp_cholesky(q.G, q.n, q.n, 0.0, L, q.n), 1);
+        r = q;
+        assert_int_equal(hp_qp_solve_warm(&q, NULL, g, 200, 1e-12), cs);
+        assert_int_equal(hp_qp_solve_warm(&r, L, g, 200, 1e-12), cs);
+        assert_int_equal(q.warm, r.warm);
+        assert_same_bits(&q, &r);
+    }
+}
+
+/* The refusals, one by one, on a 3-variable QP whose answer has rows 0 and 2 active:
+ * the true set is accepted; a twin pair, more rows than n, a zero row and a budget below
+ * the guess's size are refused unsolved; dependent rows for conditioning; a subset and a
+ * superset on the multiplier's sign or another row's violation. */
+static void test_warm_refusals(void **st)
+{
+    (void)st;
+    hp_qp q;
+    memset(&q, 0, sizeof q);
+    q.n = 3;
+    q.m = 8;
+    for (int i = 0; i < 3; ++i) q.G[i * 3 + i] = 1.0;
+    q.a[0] = q.a[1] = q.a[2] = -10.0; /* unconstrained minimum (10, 10, 10) */
+    const double rows[8][3] = {
+        {-1, 0, 0}, {1, 0, 0},   /* twin pair: 0 <= x0 <= 1 */
+        {0, -1, 0}, {0, 1, 0},   /* twin pair: 0 <= x1 <= 2 */
+        {0, 0, -1},              /* x2 <= 50: inactive */
+        {0, 0, 0},               /* zero row, 0 >= −1 */
+        {-1, 0, 0},              /* a copy of row 0, x0 <= 3: inactive */
+        {-1, -1e-9, 0},          /* nearly row 0, x0 + 1e-9 x1 <= 4: inactive */
+    };
+    const double b[8] = {-1, 0, -2, 0, -50, -1, -3, -4};
+    for (int j = 0; j < 8; ++j) {
+        memcpy(&q.C[j * NM], rows[j], sizeof rows[j]);
+        q.b[j] = b[j];
+    }
+    hp_qp cold = q;
+    assert_int_equal(hp_qp_solve(&cold, 100, 1e-12), HP_QP_OPTIMAL);
+    const int truth[8] = {1, 0, 1, 0, 0, 0, 0, 0};
+    assert_memory_equal(cold.active, truth, sizeof truth);
+    struct {
+        int g[8], budget;
+        hp_qp_warm want;
+    } cases[] = {
+        {{1, 0, 1, 0, 0, 0, 0, 0}, 100, HP_QP_WARM_ACCEPTED},
+        {{1, 1, 1, 0, 0, 0, 0, 0}, 100, HP_QP_WARM_SHAPE},     /* twin pair */
+        {{1, 0, 1, 0, 1, 0, 0, 1}, 100, HP_QP_WARM_SHAPE},     /* 4 rows, n = 3 */
+        {{1, 0, 1, 0, 0, 1, 0, 0}, 100, HP_QP_WARM_SHAPE},     /* the zero row */
+        {{1, 0, 1, 0, 0, 0, 0, 0}, 1, HP_QP_WARM_SHAPE},       /* budget 1 < 2 rows */
+        {{1, 0, 0, 0, 0, 0, 1, 0}, 100, HP_QP_WARM_CONDITION}, /* row 6 = row 0 */
+        {{1, 0, 0, 0, 0, 0, 0, 1}, 100, HP_QP_WARM_CONDITION}, /* κ(S) ~ 1e18 */
+        {{0, 0, 1, 0, 0, 0, 0, 0}, 100, HP_QP_WARM_VIOLATED},  /* x0 = 10 > 1 */
+        {{1, 0, 1, 0, 1, 0, 0, 0}, 100, HP_QP_WARM_SIGN},      /* x2 <= 50 pulled to 50 */
+        {{0, 0, 0, 0, 0, 0, 0, 0}, 100, HP_QP_WARM_VIOLATED},  /* (10, 10, 10) */
+    };
+    for (size_t c = 0; c < sizeof cases / sizeof *cases; ++c) {
+        hp_qp w = q;
+        hp_qp_status s = hp_qp_solve_warm(&w, NULL, cases[c].g, cases[c].budget, 1e-12);
+        if (w.warm != cases[c].want) {
+            print_error("case %zu: warm %d, want %d\n", c, w.warm, cases[c].want);
+            fail();
+        }
+        if (cases[c].budget == 1) { /* the fallback runs on the same budget: 2 adds > 1 */
+            assert_int_equal(s, HP_QP_ITERATION_LIMIT);
+            continue;
+        }
+        assert_int_equal(s, HP_QP_OPTIMAL);
+        for (int i = 0; i < 3; ++i) hp_assert_close(w.x[i], cold.x[i], 0, 1e-14);
+        if (w.warm != HP_QP_WARM_ACCEPTED) assert_same_bits(&w, &cold);
+    }
+    /* the answer by hand: x = (1, 2, 10), multipliers of x0 <= 1 and x1 <= 2: 9 and 8 */
+    hp_qp w = q;
+    assert_int_equal(hp_qp_solve_warm(&w, NULL, truth, 100, 1e-12), HP_QP_OPTIMAL);
+    assert_int_equal(w.iterations, 2);
+    hp_assert_close(w.x[0], 1.0, 0, 1e-15);
+    hp_assert_close(w.x[1], 2.0, 0, 1e-15);
+    hp_assert_close(w.x[2], 10.0, 0, 1e-15);
+    hp_assert_close(w.u[0], 9.0, 0, 1e-14);
+    hp_assert_close(w.u[2], 8.0, 0, 1e-14);
+    /* the guess may be the output array itself (the backend passes q->active) */
+    w = cold;
+    assert_int_equal(hp_qp_solve_warm(&w, NULL, w.active, 100, 1e-12), HP_QP_OPTIMAL);
+    assert_int_equal(w.warm, HP_QP_WARM_ACCEPTED);
+    assert_memory_equal(w.active, truth, sizeof truth);
+}
+
+/* Whatever the guess, bad input is refused and an empty feasible set reported: NaN or
+ * infinity in a guessed row, its b, G or a gives HP_QP_BAD_INPUT; x0 >= 1 with x0 <= 0
+ * stays HP_QP_INFEASIBLE guessed with either row, both, or none; so does an unsatisfiable
+ * zero row. */
+static void test_warm_bad_input_and_infeasible(void **st)
+{
+    (void)st;
+    const double bad[] = {NAN, INFINITY, -INFINITY};
+    uint64_t seed = 5;
+    hp_qp base;
+    realtime_qp(&base, &seed);
+    while (base.n < 3 || base.m < 4) realtime_qp(&base, &seed);
+    hp_qp cold = base;
+    assert_int_equal(hp_qp_solve(&cold, 200, 1e-12), HP_QP_OPTIMAL);
+    int g[HP_QP_MMAX] = {0};
+    g[2] = 1; /* a guessed row, whatever the answer */
+    for (int v = 0; v < 3; ++v) {
+        double *where[] = {&base.C[2 * NM + 1], &base.b[2], &base.G[1], &base.a[0]};
+        for (size_t k = 0; k < sizeof where / sizeof *where; ++k) {
+            hp_qp q = base;
+            *(double *)((char *)&q + ((char *)where[k] - (char *)&base)) = bad[v];
+            assert_int_equal(hp_qp_solve_warm(&q, NULL, g, 200, 1e-12), HP_QP_BAD_INPUT);
+            assert_int_equal(hp_qp_solve_warm(&q, NULL, cold.active, 200, 1e-12),
+                             HP_QP_BAD_INPUT);
+        }
+    }
+    hp_qp q;
+    memset(&q, 0, sizeof q);
+    q.n = 2;
+    q.m = 3;
+    q.G[0] = q.G[3] = 1.0;
+    q.C[0] = 1.0; /* x0 >= 1 */
+    q.b[0] = 1.0;
+    q.C[NM] = -1.0; /* −x0 >= 0 */
+    q.b[1] = 0.0;
+    q.b[2] = -1.0; /* zero row 0 >= −1: holds */
+    const int guesses[4][3] = {{1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 0}};
+    for (int k = 0; k < 4; ++k) {
+        hp_qp w = q;
+        assert_int_equal(hp_qp_solve_warm(&w, NULL, guesses[k], 100, 1e-12),
+                         HP_QP_INFEASIBLE);
+        assert_int_not_equal(w.warm, HP_QP_WARM_ACCEPTED);
+    }
+    q.b[1] = -5.0; /* now feasible; the zero row made unsatisfiable: 0 >= 1 */
+    q.b[2] = 1.0;
+    for (int k = 0; k < 4; ++k) {
+        hp_qp w = q;
+        assert_int_equal(hp_qp_solve_warm(&w, NULL, guesses[k], 100, 1e-12),
+                         HP_QP_INFEASIBLE);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_warm_vs_cold),
+        cmocka_unit_test(test_warm_factored_same_bits),
+        cmocka_unit_test(test_warm_refusals),
+        cmocka_unit_test(test_warm_bad_input_and_infeasible),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
