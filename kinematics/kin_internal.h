@@ -28,6 +28,25 @@ hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
 hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], double *s_io,
                                    double *d, double grad[3], double hess[9], double foot[3]);
 
+/* What the ellipsoid distance needs of a head beyond its inputs, derived once per head
+ * (hp_kin_head_consts) instead of on every call: the smallest semi-axis e, e², the ratios
+ * r_i = (a_i/e)² >= 1, and 1/a_i² (each computed exactly as the distance used to compute
+ * it per call, so the answers are the same bits). Unused for a sphere. */
+typedef struct hp_kin_head_k {
+    double e, e2;
+    double r[3];
+    double ia2[3];
+} hp_kin_head_k;
+
+/* Fills k for head h (valid: hp_kin_head_validate). */
+void hp_kin_head_consts(const hp_head *h, hp_kin_head_k *k);
+
+/* hp_kin_head_distance_warm for a head h whose constants k were derived from it by
+ * hp_kin_head_consts (and h not changed since). */
+hp_error hp_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
+                                double *s_io, double *d, double grad[3], double hess[9],
+                                double foot[3]);
+
 /* Smallest radius of curvature of the head surface [m] (a_min²/a_max for an ellipsoid). */
 double hp_kin_head_min_curvature_radius(const hp_head *h);
 
