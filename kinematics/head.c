@@ -158,8 +158,9 @@ static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, con
                 /* Newton's error after this step is |ψ''/(2ψ')|·step² (ψ''/ψ' = Q''/Q' −
                  * 1.5·Q'/Q). When that is below the resolution the step's own result is the
                  * root to rounding and the next evaluation would only confirm it. */
-                double curv = fabs(d2Q / dQ - 1.5 * dQ / Q);
-                if (0.5 * curv * step * step <= 0.25 * res) {
+                /* Multiplied through by |Q'·Q| > 0: no division on the Newton path. */
+                double cq = fabs(d2Q * Q - 1.5 * dQ * dQ);
+                if (0.5 * cq * step * step <= 0.25 * res * fabs(dQ * Q)) {
                     s = sn;
                     break;
                 }
@@ -213,7 +214,6 @@ void hp_kin_head_consts(const hp_head *h, hp_kin_head_k *k)
     k->e2 = e * e;
     for (int i = 0; i < 3; ++i) {
         k->r[i] = (a[i] / e) * (a[i] / e);
-        k->ia2[i] = 1.0 / (a[i] * a[i]);
     }
 }
 

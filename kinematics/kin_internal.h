@@ -30,12 +30,11 @@ hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], double *
 
 /* What the ellipsoid distance needs of a head beyond its inputs, derived once per head
  * (hp_kin_head_consts) instead of on every call: the smallest semi-axis e, e², the ratios
- * r_i = (a_i/e)² >= 1, and 1/a_i² (each computed exactly as the distance used to compute
+ * r_i = (a_i/e)² >= 1 (each computed exactly as the distance used to compute
  * it per call, so the answers are the same bits). Unused for a sphere. */
 typedef struct hp_kin_head_k {
     double e, e2;
     double r[3];
-    double ia2[3];
 } hp_kin_head_k;
 
 /* Fills k for head h (valid: hp_kin_head_validate). */
