@@ -11,6 +11,12 @@
 void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
                             double d2R[3][3][9]);
 
+/* R with its first and second derivatives in roll alone, Dr = dR[1] and Drr = d2R[1][1] of
+ * hp_kin_rotation_derivs (the same bits; Dr and Drr may be NULL): every other derivative
+ * is a signed copy of entries of these (pitch: R·[e_x]×, yaw: [e_z]×·R), which a caller
+ * that contracts them can form where it needs them. */
+void hp_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double Drr[9]);
+
 /* Signed distance d from point q to the head surface at the nominal pose (> 0 outside),
  * its gradient (the outward unit normal at the closest surface point), its Hessian (3×3,
  * row-major) and the closest surface point foot. grad, hess and foot may be NULL.

@@ -71,8 +71,7 @@ static void left_z(const double A[9], double C[9])
     }
 }
 
-void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
-                            double d2R[3][3][9])
+void hp_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double Drr[9])
 {
     double sx = sin(th[0]), cx = cos(th[0]);
     double sy = sin(th[1]), cy = cos(th[1]);
@@ -88,18 +87,40 @@ void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
     R[6] = -sy;
     R[7] = cy * sx;
     R[8] = cy * cx;
-    if (!dR) return;
+    if (Dr) {
+        Dr[0] = -p02;
+        Dr[1] = p00 * sx;
+        Dr[2] = p00 * cx;
+        Dr[3] = -p12;
+        Dr[4] = p10 * sx;
+        Dr[5] = p10 * cx;
+        Dr[6] = -cy;
+        Dr[7] = -(sy * sx);
+        Dr[8] = -(sy * cx);
+    }
+    if (Drr) {
+        Drr[0] = -p00;
+        Drr[1] = -(p02 * sx);
+        Drr[2] = -(p02 * cx);
+        Drr[3] = -p10;
+        Drr[4] = -(p12 * sx);
+        Drr[5] = -(p12 * cx);
+        Drr[6] = sy;
+        Drr[7] = -R[7];
+        Drr[8] = -R[8];
+    }
+}
+
+void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
+                            double d2R[3][3][9])
+{
+    if (!dR) {
+        hp_kin_rotation_roll(th, R, NULL, NULL);
+        return;
+    }
     double *Dr = dR[1];
+    hp_kin_rotation_roll(th, R, Dr, d2R ? d2R[1][1] : NULL);
     right_x(R, dR[0]);
-    Dr[0] = -p02;
-    Dr[1] = p00 * sx;
-    Dr[2] = p00 * cx;
-    Dr[3] = -p12;
-    Dr[4] = p10 * sx;
-    Dr[5] = p10 * cx;
-    Dr[6] = -cy;
-    Dr[7] = -(sy * sx);
-    Dr[8] = -(sy * cx);
     left_z(R, dR[2]);
     if (!d2R) return;
     for (int i = 0; i < 3; ++i) {
@@ -109,16 +130,6 @@ void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
     }
     right_x(Dr, d2R[0][1]);
     right_x(dR[2], d2R[0][2]);
-    double *Drr = d2R[1][1];
-    Drr[0] = -p00;
-    Drr[1] = -(p02 * sx);
-    Drr[2] = -(p02 * cx);
-    Drr[3] = -p10;
-    Drr[4] = -(p12 * sx);
-    Drr[5] = -(p12 * cx);
-    Drr[6] = sy;
-    Drr[7] = -R[7];
-    Drr[8] = -R[8];
     left_z(Dr, d2R[1][2]);
     for (int j = 0; j < 6; ++j) d2R[2][2][j] = -R[j];
     for (int j = 6; j < 9; ++j) d2R[2][2][j] = 0.0;
