@@ -226,7 +226,7 @@ hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
 hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], double *s_io,
                                    double *d, double grad[3], double hess[9], double foot[3])
 {
-    hp_kin_head_k k;
+    hp_kin_head_k k = {0}; /* a sphere reads none of it */
     if (h->shape != HP_HEAD_SPHERE) hp_kin_head_consts(h, &k);
     return hp_kin_head_distance_k(h, &k, q, s_io, d, grad, hess, foot);
 }
