@@ -3,17 +3,31 @@
 
 #include <math.h>
 
-int hp_cholesky(const double *A, int lda, int n, double min_frac, double *L, int ldl)
+/* Each routine's body is written once, for any n, and instantiated twice: for n = 6 (the
+ * pose's dimension: what the strict round trip's fit and the planner's QP factor almost
+ * always), where the constant bounds let the compiler unroll the loops and drop their
+ * bookkeeping (about half the instructions), and for any other n. Both run the same
+ * operations in the same order, so the results are the same bits. The unroll pragmas
+ * (6: HP_DENSE_FIXED_N) make the unrolling complete for n = 6; for other n they only unroll
+ * the inner loops partially. */
+#define HP_DENSE_FIXED_N 6
+
+static inline int cholesky_n(const double *A, int lda, int n, double min_frac, double *L,
+                             int ldl)
 {
+#pragma GCC unroll 6
     for (int j = 0; j < n; ++j) {
         double s = A[j * lda + j];
+#pragma GCC unroll 6
         for (int k = 0; k < j; ++k) s -= L[j * ldl + k] * L[j * ldl + k];
         /* Written so that NaN fails. */
         if (!(s > (min_frac > 0 ? min_frac * A[j * lda + j] : 0.0))) return 0;
         double l = sqrt(s);
         L[j * ldl + j] = l;
+#pragma GCC unroll 6
         for (int i = j + 1; i < n; ++i) {
             double t = A[i * lda + j];
+#pragma GCC unroll 6
             for (int k = 0; k < j; ++k) t -= L[i * ldl + k] * L[j * ldl + k];
             L[i * ldl + j] = t / l;
         }
@@ -21,32 +35,57 @@ int hp_cholesky(const double *A, int lda, int n, double min_frac, double *L, int
     return 1;
 }
 
-void hp_cholesky_solve(const double *L, int ldl, int n, double *b)
+int hp_cholesky(const double *A, int lda, int n, double min_frac, double *L, int ldl)
 {
+    if (n == HP_DENSE_FIXED_N) return cholesky_n(A, lda, HP_DENSE_FIXED_N, min_frac, L, ldl);
+    return cholesky_n(A, lda, n, min_frac, L, ldl);
+}
+
+static inline void cholesky_solve_n(const double *L, int ldl, int n, double *b)
+{
+#pragma GCC unroll 6
     for (int i = 0; i < n; ++i) {
         double t = b[i];
+#pragma GCC unroll 6
         for (int k = 0; k < i; ++k) t -= L[i * ldl + k] * b[k];
         b[i] = t / L[i * ldl + i];
     }
+#pragma GCC unroll 6
     for (int i = n - 1; i >= 0; --i) {
         double t = b[i];
+#pragma GCC unroll 6
         for (int k = i + 1; k < n; ++k) t -= L[k * ldl + i] * b[k];
         b[i] = t / L[i * ldl + i];
     }
 }
 
-double hp_cholesky_inv_frob2(const double *L, int ldl, int n)
+void hp_cholesky_solve(const double *L, int ldl, int n, double *b)
+{
+    if (n == HP_DENSE_FIXED_N) cholesky_solve_n(L, ldl, HP_DENSE_FIXED_N, b);
+    else cholesky_solve_n(L, ldl, n, b);
+}
+
+static inline double inv_frob2_n(const double *L, int ldl, int n)
 {
     /* Column j of L⁻¹ by forward substitution on e_j (zero above row j). */
     double x[64], s = 0.0;
-    if (n > 64) return INFINITY;
+#pragma GCC unroll 6
     for (int j = 0; j < n; ++j) {
+#pragma GCC unroll 6
         for (int i = j; i < n; ++i) {
             double t = i == j ? 1.0 : 0.0;
+#pragma GCC unroll 6
             for (int k = j; k < i; ++k) t -= L[i * ldl + k] * x[k];
             x[i] = t / L[i * ldl + i];
             s += x[i] * x[i];
         }
     }
     return s;
+}
+
+double hp_cholesky_inv_frob2(const double *L, int ldl, int n)
+{
+    if (n > 64) return INFINITY;
+    if (n == HP_DENSE_FIXED_N) return inv_frob2_n(L, ldl, HP_DENSE_FIXED_N);
+    return inv_frob2_n(L, ldl, n);
 }

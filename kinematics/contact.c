@@ -18,38 +18,56 @@ typedef struct backmap {
     double Cr[3][3];
 } backmap;
 
+/* R with its derivatives in roll (hp_kin_rotation_roll); every other derivative is a
+ * signed copy of their entries, used where it is needed. */
 typedef struct rotd {
-    double R[9], dR[3][9], d2R[3][3][9];
+    double R[9], Dr[9], Drr[9];
 } rotd;
 
+/* The columns of Cr use the structure of the rotation derivatives (hp_kin_rotation_derivs):
+ * ∂R/∂pitch = R·[e_x]× has the columns 0, R₂, −R₁, so its column of Cr is (0, w₂, −w₁)
+ * with w = Rᵀu; ∂R/∂yaw = [e_z]×·R has the rows −R₁, R₀, 0, so its column is
+ * R₀ᵀ·u₁ − R₁ᵀ·u₀ entrywise. Each is the sum the full 3-term product forms, less its exact
+ * zero terms and with an exact negation moved out: the same bits (up to the sign of a zero)
+ * for 15 products instead of 27. */
 static void back_transform(const hp_layout *L, const double c[3], const double xi[6],
                            const rotd *rd, backmap *bm)
 {
-    const double *R = rd->R;
-    double *u = bm->u;
+    const double *R = rd->R, *D = rd->Dr;
+    double *u = bm->u, w[3];
     for (int i = 0; i < 3; ++i) u[i] = c[i] - L->pivot[i] - xi[i];
     for (int m = 0; m < 3; ++m) {
-        bm->cp[m] = R[m] * u[0] + R[3 + m] * u[1] + R[6 + m] * u[2] + L->pivot[m];
-        for (int j = 0; j < 3; ++j)
-            bm->Cr[m][j] = rd->dR[j][m] * u[0] + rd->dR[j][3 + m] * u[1] + rd->dR[j][6 + m] * u[2];
+        w[m] = R[m] * u[0] + R[3 + m] * u[1] + R[6 + m] * u[2];
+        bm->cp[m] = w[m] + L->pivot[m];
+        bm->Cr[m][1] = D[m] * u[0] + D[3 + m] * u[1] + D[6 + m] * u[2];
+        bm->Cr[m][2] = -R[3 + m] * u[0] + R[m] * u[1];
     }
+    bm->Cr[0][0] = 0.0;
+    bm->Cr[1][0] = w[2];
+    bm->Cr[2][0] = -w[1];
 }
 
 /* H = Cᵀ ∇²f C + Σ_m g_m ∂²c'_m (6×6, row-major, symmetric). The second derivatives of
  * c' = Rᵀu + pivot are sparse: none between translations, −∂_b R[a][m] between translation
  * a and rotation b, (∂²_ab Rᵀ u)_m between rotations. Contracted with g they are the
  * vectors ∂_b R g and the numbers uᵀ ∂²_ab R g, so the 3×6×6 array of ∂²c' is never
- * formed. hf NULL: f is linear in c' (the plane level), only the second term. */
+ * formed. Of the nine derivative matrices only ∂R/∂roll and ∂²R/∂roll² are not signed
+ * copies of entries of R or of each other (hp_kin_rotation_roll): with the pitch factor
+ * [e_x]× on the right and the yaw factor [e_z]× on the left, every other contraction is a
+ * two-term sum or a signed copy of Rg = R·g, Dg = ∂R/∂roll·g or P = ∂R/∂pitch·g, each the
+ * sum the full 3-term contraction forms less its exact zero terms (the same bits, up to
+ * the sign of a zero). hf NULL: f is linear in c' (the plane level), only the second
+ * term. */
 static void contact_hessian(const rotd *rd, const backmap *bm, const double g[3],
-                            const double hf[9], double *H)
+                            const double Rg[3], const double hf[9], double *H)
 {
-    const double *u = bm->u;
+    const double *u = bm->u, *R = rd->R, *Dr = rd->Dr, *Drr = rd->Drr;
     double Hs[6][6] = {{0}};
     if (hf) {
         double C[3][6], hC[3][6]; /* C = ∂c'/∂ξ, hC = ∇²f · C */
         for (int m = 0; m < 3; ++m)
             for (int i = 0; i < 3; ++i) {
-                C[m][i] = -rd->R[i * 3 + m];
+                C[m][i] = -R[i * 3 + m];
                 C[m][3 + i] = bm->Cr[m][i];
             }
         for (int a = 0; a < 3; ++a)
@@ -59,17 +77,30 @@ static void contact_hessian(const rotd *rd, const backmap *bm, const double g[3]
             for (int j = i; j < 6; ++j)
                 Hs[i][j] = C[0][i] * hC[0][j] + C[1][i] * hC[1][j] + C[2][i] * hC[2][j];
     }
-    for (int b = 0; b < 3; ++b) {
-        const double *D = rd->dR[b];
-        for (int a = 0; a < 3; ++a)
-            Hs[a][3 + b] -= D[a * 3] * g[0] + D[a * 3 + 1] * g[1] + D[a * 3 + 2] * g[2];
-        for (int a = 0; a <= b; ++a) {
-            const double *Q = rd->d2R[a][b];
-            double qg[3];
-            for (int l = 0; l < 3; ++l) qg[l] = Q[l * 3] * g[0] + Q[l * 3 + 1] * g[1] + Q[l * 3 + 2] * g[2];
-            Hs[3 + a][3 + b] += u[0] * qg[0] + u[1] * qg[1] + u[2] * qg[2];
-        }
+    double P[3], Dg[3], q00[3], q01[3], q11[3];
+    for (int a = 0; a < 3; ++a) {
+        const double *r = R + 3 * a, *d = Dr + 3 * a, *dd = Drr + 3 * a;
+        P[a] = r[2] * g[1] - r[1] * g[2];         /* ∂R/∂pitch = R·[e_x]×: row (0, R_a2, −R_a1) */
+        Dg[a] = d[0] * g[0] + d[1] * g[1] + d[2] * g[2];
+        q00[a] = -(r[1] * g[1] + r[2] * g[2]);    /* ∂²/∂pitch²: row (0, −R_a1, −R_a2) */
+        q01[a] = d[2] * g[1] - d[1] * g[2];       /* ∂²/∂pitch∂roll = ∂R/∂roll·[e_x]× */
+        q11[a] = dd[0] * g[0] + dd[1] * g[1] + dd[2] * g[2];
     }
+    for (int a = 0; a < 3; ++a) {
+        Hs[a][3] -= P[a];
+        Hs[a][4] -= Dg[a];
+    }
+    /* ∂R/∂yaw = [e_z]×·R: rows −R₁, R₀, 0; so the yaw contractions of R, ∂R/∂pitch and
+     * ∂R/∂roll are (−Rg₁, Rg₀, 0), (−P₁, P₀, 0), (−Dg₁, Dg₀, 0), and ∂²/∂yaw² gives
+     * (−Rg₀, −Rg₁, 0); a zero term is left out (it adds nothing to a sum). */
+    Hs[0][5] -= -Rg[1];
+    Hs[1][5] -= Rg[0];
+    Hs[3][3] += u[0] * q00[0] + u[1] * q00[1] + u[2] * q00[2];
+    Hs[3][4] += u[0] * q01[0] + u[1] * q01[1] + u[2] * q01[2];
+    Hs[4][4] += u[0] * q11[0] + u[1] * q11[1] + u[2] * q11[2];
+    Hs[3][5] += u[0] * -P[1] + u[1] * P[0];
+    Hs[4][5] += u[0] * -Dg[1] + u[1] * Dg[0];
+    Hs[5][5] += u[0] * -Rg[0] + u[1] * -Rg[1];
     for (int i = 0; i < 6; ++i)
         for (int j = i; j < 6; ++j) {
             H[i * 6 + j] = Hs[i][j];
@@ -143,7 +174,7 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
     if (H)
         for (int k = 0; k < L->n; ++k) any_h |= !hmask || hmask[k];
     rotd rd;
-    hp_kin_rotation_derivs(xi + 3, rd.R, rd.dR, any_h ? rd.d2R : NULL);
+    hp_kin_rotation_roll(xi + 3, rd.R, rd.Dr, any_h ? rd.Drr : NULL);
     for (int k = 0; k < L->n; ++k) {
         int want_h = H && (!hmask || hmask[k]);
         if (H && !want_h)
@@ -152,7 +183,7 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
         back_transform(L, L->bladders[k].center, xi, &rd, &bm);
         double f, g[3], hf[9];
         if (level == HP_LEVEL_SURFACE) {
-            hp_error err = hp_kin_head_distance_warm(&G->head, bm.cp, s_warm ? &s_warm[k] : NULL,
+            hp_error err = hp_kin_head_distance_k(&G->head, &G->headk, bm.cp, s_warm ? &s_warm[k] : NULL,
                                                      &f, g, want_h ? hf : NULL, NULL);
             if (err) {
                 fill_nan(L->n, rho, J, H);
@@ -164,15 +195,22 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
             memcpy(g, n, sizeof g);
         }
         if (rho) rho[k] = f;
-        if (J) {
-            const double *R = rd.R;
+        /* R·g: the translation columns of J (∂c'/∂t = −Rᵀ) negated, and three of the
+         * Hessian's contractions. */
+        const double *R = rd.R;
+        double Rg[3];
+        if (J || want_h) {
+            Rg[0] = g[0] * R[0] + g[1] * R[1] + g[2] * R[2];
+            Rg[1] = g[0] * R[3] + g[1] * R[4] + g[2] * R[5];
+            Rg[2] = g[0] * R[6] + g[1] * R[7] + g[2] * R[8];
+        }
+        if (J)
             for (int i = 0; i < 3; ++i) {
-                J[k * 6 + i] = g[0] * -R[i * 3] + g[1] * -R[i * 3 + 1] + g[2] * -R[i * 3 + 2];
+                J[k * 6 + i] = -Rg[i];
                 J[k * 6 + 3 + i] = g[0] * bm.Cr[0][i] + g[1] * bm.Cr[1][i] + g[2] * bm.Cr[2][i];
             }
-        }
         if (want_h)
-            contact_hessian(&rd, &bm, g, level == HP_LEVEL_SURFACE ? hf : NULL, H + k * 36);
+            contact_hessian(&rd, &bm, g, Rg, level == HP_LEVEL_SURFACE ? hf : NULL, H + k * 36);
     }
     return HP_OK;
 }

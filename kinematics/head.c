@@ -100,14 +100,14 @@ static hp_error sphere_distance(const hp_head *h, const double y[3], double *d,
  * Left bound: the term j alone reaches 1 at s = r_j(z_j − 1), so G >= 0 at the largest of
  * these (and at 0 outside). Right bound outside: G <= |r∘z|²/(1 + s)² − 1 <= 0 at
  * s = |r∘z| − 1. Inside, s <= 0. Points on an axis or on equal axes need no special case. */
-static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *s_io,
-                                   double *d, double grad[3], double hess[9], double foot[3])
+static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, const double y[3],
+                                   double *s_io, double *d, double grad[3], double hess[9],
+                                   double foot[3])
 {
-    const double *a = h->semi_axes;
-    double e = hp_min2(a[0], hp_min2(a[1], a[2]));
-    double r[3], z[3], rz[3], g0 = -1.0;
+    const double *a = h->semi_axes, *r = k->r;
+    double e = k->e, e2 = k->e2;
+    double z[3], rz[3], g0 = -1.0;
     for (int i = 0; i < 3; ++i) {
-        r[i] = (a[i] / e) * (a[i] / e);
         z[i] = fabs(y[i]) / a[i];
         rz[i] = r[i] * z[i];
         g0 += z[i] * z[i];
@@ -158,8 +158,9 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
                 /* Newton's error after this step is |ψ''/(2ψ')|·step² (ψ''/ψ' = Q''/Q' −
                  * 1.5·Q'/Q). When that is below the resolution the step's own result is the
                  * root to rounding and the next evaluation would only confirm it. */
-                double curv = fabs(d2Q / dQ - 1.5 * dQ / Q);
-                if (0.5 * curv * step * step <= 0.25 * res) {
+                /* Multiplied through by |Q'·Q| > 0: no division on the Newton path. */
+                double cq = fabs(d2Q * Q - 1.5 * dQ * dQ);
+                if (0.5 * cq * step * step <= 0.25 * res * fabs(dQ * Q)) {
                     s = sn;
                     break;
                 }
@@ -169,21 +170,28 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
     }
     if (s_io) *s_io = s;
     double t = s * e * e;
-    /* Reciprocals once: a division is an order of magnitude slower than a product. */
-    double x[3], m[3], w[3], v[3], id[3], S = 0.0;
+    double m[3];
+    for (int i = 0; i < 3; ++i)
+        m[i] = y[i] / (e2 * (r[i] + s)); /* x_i/a_i²: the unnormalised outward normal */
+    double mn = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    if (!(mn > 0)) return HP_ERR_DOMAIN;
+    double n[3] = {m[0] / mn, m[1] / mn, m[2] / mn};
+    *d = t * mn;
+    if (grad) memcpy(grad, n, sizeof n);
+    if (!hess && !foot) return HP_OK;
+    /* The closest point x and what the Hessian needs, only when asked for (the distance
+     * and normal above do not depend on them). */
+    double x[3], w[3], v[3], id[3], S = 0.0;
     for (int i = 0; i < 3; ++i) {
-        id[i] = 1.0 / (e * e * (r[i] + s)); /* 1/(a_i² + t), a_i² + t > 0 */
+        id[i] = 1.0 / (e2 * (r[i] + s)); /* 1/(a_i² + t), a_i² + t > 0 */
         x[i] = y[i] * (r[i] / (r[i] + s));
-        m[i] = y[i] / (e * e * (r[i] + s)); /* x_i/a_i²: the unnormalised outward normal */
         w[i] = x[i] * id[i];
         v[i] = w[i] / (a[i] * a[i]);
         S += x[i] * v[i];
     }
-    double mn = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-    if (!(mn > 0) || !(S > 0)) return HP_ERR_DOMAIN;
-    double n[3] = {m[0] / mn, m[1] / mn, m[2] / mn};
-    *d = t * mn;
-    if (grad) memcpy(grad, n, sizeof n);
+    /* S = Σ x_i²/(a_i²(a_i² + t)) > 0 wherever m ≠ 0 unless it underflows (the Hessian
+     * divides by it). */
+    if (!(S > 0)) return HP_ERR_DOMAIN;
     if (foot)
         for (int i = 0; i < 3; ++i) foot[i] = h->center[i] + x[i];
     if (hess) {
@@ -198,6 +206,17 @@ static hp_error ellipsoid_distance(const hp_head *h, const double y[3], double *
     return HP_OK;
 }
 
+void hp_kin_head_consts(const hp_head *h, hp_kin_head_k *k)
+{
+    const double *a = h->semi_axes;
+    double e = hp_min2(a[0], hp_min2(a[1], a[2]));
+    k->e = e;
+    k->e2 = e * e;
+    for (int i = 0; i < 3; ++i) {
+        k->r[i] = (a[i] / e) * (a[i] / e);
+    }
+}
+
 hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
                               double grad[3], double hess[9], double foot[3])
 {
@@ -207,13 +226,22 @@ hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
 hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], double *s_io,
                                    double *d, double grad[3], double hess[9], double foot[3])
 {
+    hp_kin_head_k k = {0}; /* a sphere reads none of it */
+    if (h->shape != HP_HEAD_SPHERE) hp_kin_head_consts(h, &k);
+    return hp_kin_head_distance_k(h, &k, q, s_io, d, grad, hess, foot);
+}
+
+hp_error hp_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
+                                double *s_io, double *d, double grad[3], double hess[9],
+                                double foot[3])
+{
     double y[3] = {q[0] - h->center[0], q[1] - h->center[1], q[2] - h->center[2]};
-    if (!hp_kin_finite3(y)) return HP_ERR_INVALID;
-    /* Beyond 1000 km the question is not about a head (and squares could overflow). */
-    for (int i = 0; i < 3; ++i)
-        if (!(fabs(y[i]) <= 1e6)) return HP_ERR_DOMAIN;
+    /* Beyond 1000 km the question is not about a head (and squares could overflow); the
+     * one comparison per coordinate also fails for NaN and inf, told apart only then. */
+    if (!(fabs(y[0]) <= 1e6 && fabs(y[1]) <= 1e6 && fabs(y[2]) <= 1e6))
+        return hp_kin_finite3(y) ? HP_ERR_DOMAIN : HP_ERR_INVALID;
     if (h->shape == HP_HEAD_SPHERE) return sphere_distance(h, y, d, grad, hess, foot);
-    return ellipsoid_distance(h, y, s_io, d, grad, hess, foot);
+    return ellipsoid_distance(h, k, y, s_io, d, grad, hess, foot);
 }
 
 hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro,

@@ -12,6 +12,7 @@
 #define HP_KIN_GEOM_H
 
 #include "headplan/hp_kinematics.h"
+#include "kin_internal.h"
 
 typedef struct hp_geom {
     hp_head head;                        /* the layout's head; a sphere's three semi-axes
@@ -19,6 +20,7 @@ typedef struct hp_geom {
     double contact[HP_MAX_BLADDERS][3];  /* nominal contact point on the head surface [m] */
     double normal[HP_MAX_BLADDERS][3];   /* outward unit head normal there */
     double rho0[HP_MAX_BLADDERS];        /* nominal contact distance |c − p| [m] */
+    hp_kin_head_k headk;                 /* the head's constants for the distance */
 } hp_geom;
 
 /* Derives G from L. Checks only what the geometry needs: a valid head, a finite pivot,

@@ -11,6 +11,12 @@
 void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
                             double d2R[3][3][9]);
 
+/* R with its first and second derivatives in roll alone, Dr = dR[1] and Drr = d2R[1][1] of
+ * hp_kin_rotation_derivs (the same bits; Dr and Drr may be NULL): every other derivative
+ * is a signed copy of entries of these (pitch: R·[e_x]×, yaw: [e_z]×·R), which a caller
+ * that contracts them can form where it needs them. */
+void hp_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double Drr[9]);
+
 /* Signed distance d from point q to the head surface at the nominal pose (> 0 outside),
  * its gradient (the outward unit normal at the closest surface point), its Hessian (3×3,
  * row-major) and the closest surface point foot. grad, hess and foot may be NULL.
@@ -27,6 +33,24 @@ hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
  * sphere leaves *s_io alone. */
 hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], double *s_io,
                                    double *d, double grad[3], double hess[9], double foot[3]);
+
+/* What the ellipsoid distance needs of a head beyond its inputs, derived once per head
+ * (hp_kin_head_consts) instead of on every call: the smallest semi-axis e, e², the ratios
+ * r_i = (a_i/e)² >= 1 (each computed exactly as the distance used to compute
+ * it per call, so the answers are the same bits). Unused for a sphere. */
+typedef struct hp_kin_head_k {
+    double e, e2;
+    double r[3];
+} hp_kin_head_k;
+
+/* Fills k for head h (valid: hp_kin_head_validate). */
+void hp_kin_head_consts(const hp_head *h, hp_kin_head_k *k);
+
+/* hp_kin_head_distance_warm for a head h whose constants k were derived from it by
+ * hp_kin_head_consts (and h not changed since). */
+hp_error hp_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
+                                double *s_io, double *d, double grad[3], double hess[9],
+                                double foot[3]);
 
 /* Smallest radius of curvature of the head surface [m] (a_min²/a_max for an ellipsoid). */
 double hp_kin_head_min_curvature_radius(const hp_head *h);

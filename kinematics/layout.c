@@ -163,6 +163,7 @@ hp_error hp_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag)
 {
     if (!L || !G) return hp_diag_set(diag, HP_ERR_NULL, "layout: NULL");
     hp_error err = head_of(L, &G->head, diag);
+    if (!err) hp_kin_head_consts(&G->head, &G->headk);
     if (!err) err = check_frame(L, diag);
     for (int k = 0; !err && k < L->n; ++k)
         err = bladder_contact(&G->head, &L->bladders[k], k, &G->rho0[k], G->normal[k],

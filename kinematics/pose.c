@@ -35,81 +35,107 @@ int hp_kin_finite3(const double v[3])
     return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
 }
 
-/* One elementary rotation about axis k by an angle with sine sn and cosine cs, or its first
- * or second derivative in the angle:
- * Rk = I + sin·K + (1 − cos)·K², K = [e_k]×, K² = e_k e_kᵀ − I. */
-static void elementary(int k, double sn, double cs, int order, double M[9])
-{
-    /* The entries of I + sin·K + (1 − cos)·K² (order 0), cos·K + sin·K² (order 1) and
-     * −sin·K + cos·K² (order 2), written out: the (k, k) entry, the diagonal of the 2×2
-     * block on the other axes, and its lower (i2, i1) entry (the upper is its negative).
-     * Order 0 is exact at zero and orthogonal to rounding. */
-    int i1 = (k + 1) % 3, i2 = (k + 2) % 3;
-    double dk = order == 0 ? 1.0 : 0.0;
-    double cd = order == 0 ? cs : order == 1 ? -sn : -cs;
-    double sl = order == 0 ? sn : order == 1 ? cs : -sn;
-    for (int i = 0; i < 9; ++i) M[i] = 0.0;
-    M[k * 4] = dk;
-    M[i1 * 4] = cd;
-    M[i2 * 4] = cd;
-    M[i2 * 3 + i1] = sl;
-    M[i1 * 3 + i2] = -sl;
-}
+/* The rotation derivatives in closed form. With P = Rz·Ry (entries cz·cy, −sz, cz·sy /
+ * sz·cy, cz, sz·sy / −sy, 0, cy), R = P·Rx has the columns P₀, cx·P₁ + sx·P₂ and
+ * cx·P₂ − sx·P₁. A derivative turns one factor's (cos, sin) by a quarter turn per order, so
+ * almost every derivative is a signed copy of entries already formed:
+ *   ∂R/∂pitch = R·[e_x]× (columns 0, R₂, −R₁), ∂²/∂pitch² = (0, −R₁, −R₂);
+ *   ∂R/∂yaw = [e_z]×·R (rows −R₁, R₀, 0),       ∂²/∂yaw² = (−R₀, −R₁, 0);
+ *   ∂R/∂roll = Rz·∂Ry·Rx: rows (−cz·sy, cz·cy·sx, cz·cy·cx), (−sz·sy, sz·cy·sx, sz·cy·cx),
+ *   (−cy, −sy·sx, −sy·cx); ∂²/∂roll²: (−cz·cy, −cz·sy·sx, −cz·sy·cx), (−sz·cy, −sz·sy·sx,
+ *   −sz·sy·cx), (sy, −cy·sx, −cy·cx); the mixed ones apply [e_z]× on the left (yaw) or
+ *   [e_x]× on the right (pitch) to the roll derivative or to each other.
+ * Each entry is the very product or sum (same factors, same order, same rounding) that the
+ * full matrix product Rz·Ry·Rx of the elementary factors and their derivatives sums, once
+ * its exact zero terms are dropped and an exact negation is moved out: 24 products and 4
+ * sums for all 90 entries instead of 16 sparse 3×3 products, equal to the product form to
+ * the bit (up to the sign of a zero; tests/kinematics/test_pose.c). */
 
-/* C = A·M for an elementary factor M of axis k (elementary): M's only non-zeros are its
- * (k, k) entry and the 2×2 block on the other two axes, so each entry of C is one product
- * or two, summed in index order as the full product sums them; the full product only adds
- * exact zeros to that, so C is the same to the bit (up to the sign of a zero). */
-static inline void mul_elem(const double A[9], const double M[9], int k, double C[9])
+/* C = A·[e_x]× (pitch derivative on the right): columns 0, A₂, −A₁. */
+static void right_x(const double A[9], double C[9])
 {
-    int i1 = (k + 1) % 3, i2 = (k + 2) % 3;
-    int lo = i1 < i2 ? i1 : i2, hi = i1 < i2 ? i2 : i1;
-    double T[9];
     for (int i = 0; i < 3; ++i) {
-        const double *a = A + 3 * i;
-        T[3 * i + k] = a[k] * M[4 * k];
-        T[3 * i + lo] = a[lo] * M[3 * lo + lo] + a[hi] * M[3 * hi + lo];
-        T[3 * i + hi] = a[lo] * M[3 * lo + hi] + a[hi] * M[3 * hi + hi];
+        C[3 * i] = 0.0;
+        C[3 * i + 1] = A[3 * i + 2];
+        C[3 * i + 2] = -A[3 * i + 1];
     }
-    memcpy(C, T, sizeof T);
 }
 
-/* The two factors used, each with its axis a constant (the index arithmetic folds away). */
-static void mul_x(const double A[9], const double M[9], double C[9]) { mul_elem(A, M, 0, C); }
-static void mul_y(const double A[9], const double M[9], double C[9]) { mul_elem(A, M, 1, C); }
+/* C = [e_z]×·A (yaw derivative on the left): rows −A₁, A₀, 0. */
+static void left_z(const double A[9], double C[9])
+{
+    for (int j = 0; j < 3; ++j) {
+        C[j] = -A[3 + j];
+        C[3 + j] = A[j];
+        C[6 + j] = 0.0;
+    }
+}
+
+void hp_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double Drr[9])
+{
+    double sx = sin(th[0]), cx = cos(th[0]);
+    double sy = sin(th[1]), cy = cos(th[1]);
+    double sz = sin(th[2]), cz = cos(th[2]);
+    double p00 = cz * cy, p02 = cz * sy, p10 = sz * cy, p12 = sz * sy;
+    /* R = P·Rx; row 2 of P is (−sy, 0, cy). */
+    R[0] = p00;
+    R[1] = -sz * cx + p02 * sx;
+    R[2] = sz * sx + p02 * cx; /* the product form's (−sz)·(−sx): the same bits */
+    R[3] = p10;
+    R[4] = cz * cx + p12 * sx;
+    R[5] = -(cz * sx) + p12 * cx;
+    R[6] = -sy;
+    R[7] = cy * sx;
+    R[8] = cy * cx;
+    if (Dr) {
+        Dr[0] = -p02;
+        Dr[1] = p00 * sx;
+        Dr[2] = p00 * cx;
+        Dr[3] = -p12;
+        Dr[4] = p10 * sx;
+        Dr[5] = p10 * cx;
+        Dr[6] = -cy;
+        Dr[7] = -(sy * sx);
+        Dr[8] = -(sy * cx);
+    }
+    if (Drr) {
+        Drr[0] = -p00;
+        Drr[1] = -(p02 * sx);
+        Drr[2] = -(p02 * cx);
+        Drr[3] = -p10;
+        Drr[4] = -(p12 * sx);
+        Drr[5] = -(p12 * cx);
+        Drr[6] = sy;
+        Drr[7] = -R[7];
+        Drr[8] = -R[8];
+    }
+}
 
 void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
                             double d2R[3][3][9])
 {
-    double F[3][3][9]; /* [axis][order] */
-    int maxord = d2R ? 2 : dR ? 1 : 0;
-    for (int k = 0; k < 3; ++k) {
-        double sn = sin(th[k]), cs = cos(th[k]);
-        for (int o = 0; o <= maxord; ++o) elementary(k, sn, cs, o, F[k][o]);
+    if (!dR) {
+        hp_kin_rotation_roll(th, R, NULL, NULL);
+        return;
     }
-    /* Every factor is (Z·Y)·X with the orders of yaw, roll and pitch; the products Z·Y are
-     * shared (ZY[oz][oy], oz + oy <= 2): 16 products instead of 20, each by a sparse
-     * elementary factor (mul_elem), with the rounding of the full matrix products. */
-    double ZY[3][3][9];
-    for (int oz = 0; oz <= maxord; ++oz)
-        for (int oy = 0; oy + oz <= maxord; ++oy) mul_y(F[2][oz], F[1][oy], ZY[oz][oy]);
-    mul_x(ZY[0][0], F[0][0], R);
-    if (dR) {
-        mul_x(ZY[0][0], F[0][1], dR[0]);
-        mul_x(ZY[0][1], F[0][0], dR[1]);
-        mul_x(ZY[1][0], F[0][0], dR[2]);
+    double *Dr = dR[1];
+    hp_kin_rotation_roll(th, R, Dr, d2R ? d2R[1][1] : NULL);
+    right_x(R, dR[0]);
+    left_z(R, dR[2]);
+    if (!d2R) return;
+    for (int i = 0; i < 3; ++i) {
+        d2R[0][0][3 * i] = 0.0;
+        d2R[0][0][3 * i + 1] = -R[3 * i + 1];
+        d2R[0][0][3 * i + 2] = -R[3 * i + 2];
     }
-    if (d2R) {
-        int ord[3];
-        for (int j = 0; j < 3; ++j)
-            for (int k = j; k < 3; ++k) {
-                ord[0] = ord[1] = ord[2] = 0;
-                ord[j] += 1;
-                ord[k] += 1;
-                mul_x(ZY[ord[2]][ord[1]], F[0][ord[0]], d2R[j][k]);
-                if (k != j) memcpy(d2R[k][j], d2R[j][k], sizeof d2R[j][k]);
-            }
-    }
+    right_x(Dr, d2R[0][1]);
+    right_x(dR[2], d2R[0][2]);
+    left_z(Dr, d2R[1][2]);
+    for (int j = 0; j < 6; ++j) d2R[2][2][j] = -R[j];
+    for (int j = 6; j < 9; ++j) d2R[2][2][j] = 0.0;
+    memcpy(d2R[1][0], d2R[0][1], sizeof d2R[0][1]);
+    memcpy(d2R[2][0], d2R[0][2], sizeof d2R[0][2]);
+    memcpy(d2R[2][1], d2R[1][2], sizeof d2R[1][2]);
 }
 
 void hp_rotation(double pitch, double roll, double yaw, double R[9])

@@ -4,6 +4,7 @@
 
 #include "default_layout.h"
 #include "kin_test_util.h"
+#include "kinematics/kin_internal.h"
 
 #include <string.h>
 
@@ -209,6 +210,98 @@ static void test_surface_brute_force(void **state)
     }
 }
 
+/* The contact model's closed-form assembly against the generic chain rule it replaced, kept
+ * here as the reference: c' = Rᵀu + pivot, its derivatives ∂c'/∂θ_j = ∂R/∂θ_jᵀ u from all
+ * three rotation derivatives, J = [−R g, (∂c'/∂θ)ᵀ g], and the Hessian Cᵀ ∇²f C plus the
+ * gradient term from all nine second derivatives of R (hp_kin_rotation_derivs, itself
+ * checked against plain products in test_pose.c), all with full 3-term sums. The library
+ * drops exact zero terms and moves exact negations out of the same sums, so every distance,
+ * Jacobian and Hessian entry must be equal (==; only the sign of a zero may differ), at the
+ * plane and surface levels, on 400 seeded poses up to 20 mm and up to 170° (and some with
+ * one angle exactly 0 or ±π/2). */
+static void ref_contact(const hp_layout *L, hp_level lv, const double xi[6], double *rho,
+                        double *J, double *H)
+{
+    double R[9], dR[3][9], d2R[3][3][9];
+    hp_kin_rotation_derivs(xi + 3, R, dR, d2R);
+    for (int k = 0; k < L->n; ++k) {
+        const double *c = L->bladders[k].center;
+        double u[3], cp[3], Cr[3][3], f, g[3], hf[9];
+        for (int i = 0; i < 3; ++i) u[i] = c[i] - L->pivot[i] - xi[i];
+        for (int m = 0; m < 3; ++m) {
+            cp[m] = R[m] * u[0] + R[3 + m] * u[1] + R[6 + m] * u[2] + L->pivot[m];
+            for (int j = 0; j < 3; ++j)
+                Cr[m][j] = dR[j][m] * u[0] + dR[j][3 + m] * u[1] + dR[j][6 + m] * u[2];
+        }
+        if (lv == HP_LEVEL_SURFACE) {
+            assert_int_equal(hp_kin_head_distance(&L->head, cp, &f, g, hf, NULL), HP_OK);
+        } else {
+            double p[3], n[3];
+            assert_int_equal(hp_layout_contact(L, k, p, n, NULL), HP_OK);
+            f = n[0] * (cp[0] - p[0]) + n[1] * (cp[1] - p[1]) + n[2] * (cp[2] - p[2]);
+            memcpy(g, n, sizeof g);
+        }
+        rho[k] = f;
+        for (int i = 0; i < 3; ++i) {
+            J[k * 6 + i] = g[0] * -R[i * 3] + g[1] * -R[i * 3 + 1] + g[2] * -R[i * 3 + 2];
+            J[k * 6 + 3 + i] = g[0] * Cr[0][i] + g[1] * Cr[1][i] + g[2] * Cr[2][i];
+        }
+        double Hs[6][6] = {{0}};
+        if (lv == HP_LEVEL_SURFACE) {
+            double C[3][6], hC[3][6];
+            for (int m = 0; m < 3; ++m)
+                for (int i = 0; i < 3; ++i) {
+                    C[m][i] = -R[i * 3 + m];
+                    C[m][3 + i] = Cr[m][i];
+                }
+            for (int a = 0; a < 3; ++a)
+                for (int i = 0; i < 6; ++i)
+                    hC[a][i] = hf[a * 3] * C[0][i] + hf[a * 3 + 1] * C[1][i] + hf[a * 3 + 2] * C[2][i];
+            for (int i = 0; i < 6; ++i)
+                for (int j = i; j < 6; ++j)
+                    Hs[i][j] = C[0][i] * hC[0][j] + C[1][i] * hC[1][j] + C[2][i] * hC[2][j];
+        }
+        for (int b = 0; b < 3; ++b) {
+            const double *D = dR[b];
+            for (int a = 0; a < 3; ++a)
+                Hs[a][3 + b] -= D[a * 3] * g[0] + D[a * 3 + 1] * g[1] + D[a * 3 + 2] * g[2];
+            for (int a = 0; a <= b; ++a) {
+                const double *Q = d2R[a][b];
+                double qg[3];
+                for (int l = 0; l < 3; ++l)
+                    qg[l] = Q[l * 3] * g[0] + Q[l * 3 + 1] * g[1] + Q[l * 3 + 2] * g[2];
+                Hs[3 + a][3 + b] += u[0] * qg[0] + u[1] * qg[1] + u[2] * qg[2];
+            }
+        }
+        for (int i = 0; i < 6; ++i)
+            for (int j = i; j < 6; ++j) H[k * 36 + i * 6 + j] = H[k * 36 + j * 6 + i] = Hs[i][j];
+    }
+}
+
+static void test_generic_form(void **state)
+{
+    (void)state;
+    kin_rng rng = {404};
+    const double PI = 3.14159265358979323846;
+    for (int it = 0; it < 400; ++it) {
+        double xi[6];
+        kin_rng_pose(&rng, it % 2 ? 0.02 : 0.003, it % 2 ? 2.97 : 0.1, it % 7 == 0, xi);
+        if (it % 10 == 3) xi[3 + it % 3] = 0.0;
+        if (it % 10 == 5) xi[3 + it % 3] = it % 4 ? PI / 2 : -PI / 2;
+        for (int lv = HP_LEVEL_PLANE; lv <= HP_LEVEL_SURFACE; ++lv) {
+            double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
+            double rr[HP_MAX_BLADDERS], Jr[HP_MAX_BLADDERS * 6], Hr[HP_MAX_BLADDERS * 36];
+            assert_int_equal(hp_contact_eval(&LAY, (hp_level)lv, xi, rho, J, H), HP_OK);
+            ref_contact(&LAY, (hp_level)lv, xi, rr, Jr, Hr);
+            for (int k = 0; k < LAY.n; ++k) {
+                assert_true(rho[k] == rr[k]);
+                for (int i = 0; i < 6; ++i) assert_true(J[k * 6 + i] == Jr[k * 6 + i]);
+                for (int i = 0; i < 36; ++i) assert_true(H[k * 36 + i] == Hr[k * 36 + i]);
+            }
+        }
+    }
+}
+
 static void test_bad_args(void **state)
 {
     (void)state;
@@ -233,7 +326,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_derivatives_all_levels), cmocka_unit_test(test_levels_agree_at_zero),
         cmocka_unit_test(test_plane_formula),          cmocka_unit_test(test_surface_brute_force),
-        cmocka_unit_test(test_bad_args),
+        cmocka_unit_test(test_bad_args),              cmocka_unit_test(test_generic_form),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

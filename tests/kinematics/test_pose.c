@@ -135,9 +135,12 @@ static void test_rotation_derivs(void **state)
 /* The derivatives' closed forms on many angles: R = Rz(γ)Ry(β)Rx(α) and every first and
  * second derivative built here from the textbook elementary matrices (and their
  * derivatives: the 2×2 block of cos/sin turned by a quarter turn per order, the axis entry
- * 0) by plain 3×3 products. The library builds the same products from sparse factors,
- * summing the same non-zero terms in the same order, so every entry must be equal (==: only
- * the sign of a zero may differ). */
+ * 0) by plain 3×3 products (the library's own former method, kept here as the reference).
+ * The library writes every entry in closed form as the same non-zero products summed in
+ * the same order, an exact negation moved out, so every entry must be equal (a bound of 0
+ * ulps; ==: only the sign of a zero may differ). Random angles in ±0.1 and ±3.2 rad, some
+ * zero, and every combination of the special angles 0, ±π/2, ±π (where sines or cosines
+ * round to ±6e-17 or ±1e-16 rather than 0, and products of them underflow nothing). */
 static void elem_ref(int axis, double t, int order, double M[9])
 {
     double c = cos(t), s = sin(t);
@@ -171,13 +174,21 @@ static void test_rotation_derivs_closed_form(void **state)
 {
     (void)state;
     uint64_t r = 99;
-    for (int it = 0; it < 20000; ++it) {
+    const double special[5] = {0.0, PI / 2, -PI / 2, PI, -PI};
+    const int nspecial = 5 * 5 * 5;
+    for (int it = 0; it < 20000 + nspecial; ++it) {
         double th[3];
         for (int i = 0; i < 3; ++i) {
             r = r * 6364136223846793005ull + 1442695040888963407ull;
             th[i] = ((double)(r >> 11) * 0x1.0p-53 - 0.5) * (it % 2 ? 6.4 : 0.2);
         }
         if (it % 50 == 0) th[it % 3] = 0.0;
+        if (it >= 20000) {
+            int c = it - 20000;
+            th[0] = special[c % 5];
+            th[1] = special[(c / 5) % 5];
+            th[2] = special[c / 25];
+        }
         double R[9], dR[3][9], d2R[3][3][9], P[9];
         hp_kin_rotation_derivs(th, R, dR, d2R);
         int ord[3] = {0, 0, 0};
