@@ -121,6 +121,23 @@ static void linear_row(const hp_layout *L, const hp_geom *G, int k, double row[6
     row[5] = -(lv[0] * n[1] - lv[1] * n[0]);
 }
 
+/* Bounds of hp_kin_contact_inside: stop at the first bladder outside them. */
+typedef struct contact_stop {
+    const double *lo, *hi;
+    double scale;
+    int inside;
+} contact_stop;
+
+/* 1 (and stop->inside = 0) when distance f of bladder k, times stop->scale, is outside
+ * [lo[k], hi[k]] or not a number. */
+static int outside(contact_stop *stop, int k, double f)
+{
+    double v = f * stop->scale;
+    if (v >= stop->lo[k] && v <= stop->hi[k]) return 0;
+    stop->inside = 0;
+    return 1;
+}
+
 static void fill_nan(int n, double *rho, double *J, double *H)
 {
     for (int k = 0; k < n; ++k) {
@@ -145,9 +162,34 @@ hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level
     return hp_kin_contact_eval_mask(L, G, level, xi, s_warm, NULL, rho, J, H);
 }
 
+static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level level,
+                             const double xi[6], double *s_warm, const unsigned char *hmask,
+                             double *rho, double *J, double *H, contact_stop *stop);
+
 hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
                                   const double xi[6], double *s_warm, const unsigned char *hmask,
                                   double *rho, double *J, double *H)
+{
+    return contact_eval(L, G, level, xi, s_warm, hmask, rho, J, H, NULL);
+}
+
+hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
+                               const double xi[6], double scale, const double *lo,
+                               const double *hi, double *rho, int *inside)
+{
+    if (!lo || !hi || !rho || !inside) return HP_ERR_NULL;
+    contact_stop stop = {lo, hi, scale, 1};
+    *inside = 0;
+    hp_error e = contact_eval(L, G, level, xi, NULL, NULL, rho, NULL, NULL, &stop);
+    if (e == HP_OK) *inside = stop.inside;
+    return e;
+}
+
+/* The evaluation itself; with stop, distances only, ending at the first bladder outside
+ * stop's bounds (stop->inside = 0). */
+static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level level,
+                             const double xi[6], double *s_warm, const unsigned char *hmask,
+                             double *rho, double *J, double *H, contact_stop *stop)
 {
     if (!L || !G || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
@@ -163,6 +205,7 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
             linear_row(L, G, k, row);
             for (int i = 0; i < 6; ++i) v += row[i] * xi[i];
             if (rho) rho[k] = v;
+            if (stop && outside(stop, k, v)) return HP_OK;
             if (J) memcpy(J + 6 * k, row, sizeof row);
             if (H)
                 for (int i = 0; i < 36; ++i) H[k * 36 + i] = 0.0;
@@ -195,6 +238,7 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
             memcpy(g, n, sizeof g);
         }
         if (rho) rho[k] = f;
+        if (stop && outside(stop, k, f)) return HP_OK;
         /* R·g: the translation columns of J (∂c'/∂t = −Rᵀ) negated, and three of the
          * Hessian's contractions. */
         const double *R = rd.R;

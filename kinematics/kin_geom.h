@@ -44,6 +44,16 @@ hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level
 hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
                                   const double xi[6], double *s_warm, const unsigned char *hmask,
                                   double *rho, double *J, double *H);
+/* Whether every contact distance at xi lies inside its limits: distance_k · scale in
+ * [lo[k], hi[k]] (the caller's units, e.g. scale 1000 for mm). The distances are evaluated
+ * bladder by bladder, each the same bits as hp_contact_eval_g's, and the evaluation stops
+ * at the first one outside (a NaN is outside): a target beyond reach usually costs a
+ * fraction of a full evaluation. Returns HP_OK with *inside 1 and rho[0..n-1] written (m),
+ * or *inside 0 and rho written up to the first bladder outside; or the evaluation's error
+ * (*inside 0). */
+hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
+                               const double xi[6], double scale, const double *lo,
+                               const double *hi, double *rho, int *inside);
 hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
                                   double trans, double rot, double *bound);
 hp_error hp_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,

@@ -135,10 +135,9 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
 static int direct_chain(hp_planner *p, double rho[HP_MAX_BLADDERS])
 {
     const hp_problem *pb = &p->pb;
-    if (hp_setup_contact_scaled(&p->L, &p->G, p->level, pb->d, rho, NULL) != HP_OK) return 0;
-    for (int k = 0; k < p->L.n; ++k)
-        if (!(rho[k] >= pb->ro_lo[k] && rho[k] <= pb->ro_hi[k])) return 0;
-    return 1;
+    int inside = 0;
+    return hp_setup_contact_inside(&p->L, &p->G, p->level, pb->d, pb->ro_lo, pb->ro_hi, rho,
+                                   &inside) == HP_OK && inside;
 }
 
 /* Step 3: the backend, through its table, from the previous answer (warm) or a cold point.

@@ -191,6 +191,24 @@ hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level 
     return HP_OK;
 }
 
+hp_error hp_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
+                                 const double x[6], const double *lo_mm, const double *hi_mm,
+                                 double *rho_mm, int *inside)
+{
+    double xi[6];
+    for (int i = 0; i < 3; ++i) {
+        xi[i] = x[i] / HP_MM_PER_M;
+        xi[i + 3] = x[i + 3] / HP_DEG_PER_RAD;
+    }
+    hp_error e = hp_kin_contact_inside(L, G, level, xi, HP_MM_PER_M, lo_mm, hi_mm, rho_mm, inside);
+    if (e != HP_OK || !*inside) {
+        *inside = 0;
+        return e;
+    }
+    for (int k = 0; k < L->n; ++k) rho_mm[k] *= HP_MM_PER_M;
+    return HP_OK;
+}
+
 hp_error hp_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, double ri_hi,
                                   double p_lo, double p_hi, hp_bladder_result *out,
                                   int *clamped)

@@ -25,10 +25,9 @@ static int direct_reached(void *ctx, const double xi[6])
     hp_plan_to_scaled(xc, x);
     for (int i = 0; i < 6; ++i)
         if (!p->commanded[i]) x[i] = 0.0;
-    if (hp_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
-    for (int k = 0; k < p->L.n; ++k)
-        if (!(rho[k] >= c->pb.ro_lo[k] && rho[k] <= c->pb.ro_hi[k])) return 0;
-    return 1;
+    int inside = 0;
+    return hp_setup_contact_inside(&p->L, &p->G, p->level, x, c->pb.ro_lo, c->pb.ro_hi, rho,
+                                   &inside) == HP_OK && inside;
 }
 
 hp_error hp_planner_reach(const hp_planner *p, double reach[6][2])

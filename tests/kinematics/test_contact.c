@@ -4,6 +4,7 @@
 
 #include "default_layout.h"
 #include "kin_test_util.h"
+#include "kinematics/kin_geom.h"
 #include "kinematics/kin_internal.h"
 
 #include <string.h>
@@ -302,6 +303,55 @@ static void test_generic_form(void **state)
     }
 }
 
+/* hp_kin_contact_inside: the verdict is the exact one (every distance in mm inside its
+ * bounds, boundaries included) and the distances it writes are hp_contact_eval's bits, up to
+ * the first bladder outside; bounds at a distance itself and one ulp past it probe the
+ * comparison exactly. A NaN pose is an error and never inside. */
+static void test_inside(void **state)
+{
+    (void)state;
+    hp_geom G;
+    assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
+    kin_rng rng = {505};
+    int outs = 0, ins = 0;
+    for (int it = 0; it < 600; ++it) {
+        double xi[6];
+        kin_rng_pose(&rng, 0.01, 0.1, 0, xi);
+        hp_level lv = (hp_level)(HP_LEVEL_LINEAR + it % 3);
+        double rho[HP_MAX_BLADDERS], got[HP_MAX_BLADDERS], lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
+        assert_int_equal(hp_contact_eval(&LAY, lv, xi, rho, NULL, NULL), HP_OK);
+        int first_out = -1;
+        for (int k = 0; k < LAY.n; ++k) {
+            double mm = rho[k] * 1000.0;
+            /* mostly inside; in half the poses one bladder in eight at or past a bound */
+            int pick = it % 2 ? 4 + (int)kin_rng_uniform(&rng, 0, 4) : (int)kin_rng_uniform(&rng, 0, 32);
+            lo[k] = pick == 0 ? mm : pick == 1 ? nextafter(mm, INFINITY) : mm - 1.0;
+            hi[k] = pick == 2 ? mm : pick == 3 ? nextafter(mm, -INFINITY) : mm + 1.0;
+            if (first_out < 0 && (pick == 1 || pick == 3)) first_out = k;
+        }
+        for (int k = 0; k < LAY.n; ++k) got[k] = -1.0;
+        int inside = -1;
+        assert_int_equal(hp_kin_contact_inside(&LAY, &G, lv, xi, 1000.0, lo, hi, got, &inside),
+                         HP_OK);
+        assert_int_equal(inside, first_out < 0);
+        int last = first_out < 0 ? LAY.n - 1 : first_out;
+        for (int k = 0; k <= last; ++k) assert_true(got[k] == rho[k]);
+        for (int k = last + 1; k < LAY.n; ++k) assert_true(got[k] == -1.0); /* never reached */
+        outs += first_out >= 0;
+        ins += first_out < 0;
+    }
+    assert_true(outs > 100 && ins > 100);
+    double xi[6] = {0, 0, 0, NAN, 0, 0}, got[HP_MAX_BLADDERS], lo[HP_MAX_BLADDERS] = {0},
+           hi[HP_MAX_BLADDERS];
+    for (int k = 0; k < LAY.n; ++k) hi[k] = 1e9;
+    int inside = 1;
+    assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, lo, hi, got,
+                                           &inside), HP_ERR_INVALID);
+    assert_int_equal(inside, 0);
+    assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, NULL, hi, got,
+                                           &inside), HP_ERR_NULL);
+}
+
 static void test_bad_args(void **state)
 {
     (void)state;
@@ -327,6 +377,7 @@ int main(void)
         cmocka_unit_test(test_derivatives_all_levels), cmocka_unit_test(test_levels_agree_at_zero),
         cmocka_unit_test(test_plane_formula),          cmocka_unit_test(test_surface_brute_force),
         cmocka_unit_test(test_bad_args),              cmocka_unit_test(test_generic_form),
+        cmocka_unit_test(test_inside),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
