@@ -1,6 +1,8 @@
 /* Limits as radius bounds, commanded directions, scaled contact evaluation. */
 #include "planner/problem_setup.h"
 
+#include "iab/iab_internal.h"
+
 #include <math.h>
 #include <string.h>
 
@@ -198,15 +200,19 @@ hp_error hp_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, 
     double ri, P;
     int c = 0;
     if (!isfinite(ro)) return HP_ERR_INVALID;
-    hp_error e = hp_iab_ri(&B->iab, ro, &ri);
+    /* The bladder validated once for the three evaluations below (hp_iab_ri, hp_iab_ro,
+     * hp_iab_ik after it: the same bits). */
+    hp_iab_s s;
+    if (hp_iab_scaled_init(&B->iab, &s, NULL) != HP_OK) return HP_ERR_DOMAIN;
+    hp_error e = hp_iab_s_ri_m(&s, ro, &ri);
     if (e != HP_OK) {
         ri = ri_lo; /* collapsed cavity: the lower bound is the nearest valid radius */
         c = 1;
     }
     if (ri < ri_lo) { ri = ri_lo; c = 1; }
     if (ri > ri_hi) { ri = ri_hi; c = 1; }
-    if (c && hp_iab_ro(&B->iab, ri, &ro) != HP_OK) return HP_ERR_DOMAIN;
-    e = hp_iab_ik(&B->iab, ri, &P);
+    if (c && hp_iab_s_ro_m(&s, ri, &ro) != HP_OK) return HP_ERR_DOMAIN;
+    e = hp_iab_s_ik_m(&s, ri, &P);
     if (e != HP_OK || !isfinite(P)) return HP_ERR_DOMAIN;
     if (P < p_lo) P = p_lo;
     if (P > p_hi) P = p_hi;
