@@ -264,6 +264,46 @@ static void test_fk_warm(void **state)
     }
 }
 
+/* hp_iab_fk_limit_warm_ro (the round trip with the bladder validated once): the same codes
+ * and bits as hp_iab_fk_limit_warm followed by hp_iab_ro, for the exact guess (where the
+ * outer radius is the one the pressure's evaluation formed), for guesses that cannot be the
+ * root, at P = 0, and for the refusals (NaN pressure, above the limit point, NULL). */
+static void test_fk_warm_ro(void **state)
+{
+    (void)state;
+    for (int m = 0; m < N_MATERIALS; ++m) {
+        hp_iab b;
+        hp_iab_limit lp;
+        material(m, &b, &lp);
+        double top = lp.exists ? lp.ri : 2.0 * b.Ri;
+        for (int k = -100; k <= 100; ++k) {
+            double ri = k < 0 ? b.Ri * (1.0 + 0.004 * k) : b.Ri + (top - b.Ri) * k / 101.0;
+            double P;
+            assert_int_equal(hp_iab_ik(&b, ri, &P), HP_OK);
+            const double guesses[] = {ri, k < 0 ? 1.5 * b.Ri : 0.5 * b.Ri, NAN};
+            for (int i = 0; i < 3; ++i) {
+                double r1 = NAN, o1 = NAN, r2 = NAN, o2 = NAN;
+                assert_int_equal(hp_iab_fk_limit_warm(&b, &lp, P, guesses[i], &r1), HP_OK);
+                assert_int_equal(hp_iab_ro(&b, r1, &o1), HP_OK);
+                assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, P, guesses[i], &r2, &o2),
+                                 HP_OK);
+                assert_memory_equal(&r1, &r2, sizeof r1);
+                assert_memory_equal(&o1, &o2, sizeof o1);
+            }
+        }
+        double r = 7.0, o = 8.0;
+        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, NAN, b.Ri, &r, &o), HP_ERR_INVALID);
+        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, 1e4, b.Ri, NULL, &o), HP_ERR_NULL);
+        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, 1e4, b.Ri, &r, NULL), HP_ERR_NULL);
+        if (lp.exists)
+            assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, lp.pressure * 1.001, lp.ri, &r, &o),
+                             HP_ERR_NO_STABLE);
+        assert_true(r == 7.0 && o == 8.0);
+        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, 0.0, NAN, &r, &o), HP_OK);
+        assert_true(r == b.Ri && o == b.Ro);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -271,7 +311,7 @@ int main(void)
         cmocka_unit_test(test_limit_point_mooney_rivlin),
         cmocka_unit_test(test_limit_point_threshold), cmocka_unit_test(test_fk_round_trip),
         cmocka_unit_test(test_fk_no_stable), cmocka_unit_test(test_fk_limit_same_as_fk),
-        cmocka_unit_test(test_fk_warm),
+        cmocka_unit_test(test_fk_warm), cmocka_unit_test(test_fk_warm_ro),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
