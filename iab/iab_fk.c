@@ -157,8 +157,8 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
 
 /* The root ri [m]; *ro_s the scaled outer radius at it when the guess was the root (the
  * pressure's evaluation there formed it), else NAN. */
-static hp_error fk_scaled(const hp_iab_s *sp, const hp_iab *b, double r_lp, double p_lp,
-                          double P, double guess, double *ri, double *ro_s)
+static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P,
+                          double guess, double *ri, double *ro_s)
 {
     const hp_iab_s s = *sp;
     hp_error e;
@@ -166,7 +166,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, const hp_iab *b, double r_lp, doub
     if (!ri) return HP_ERR_NULL;
     if (!isfinite(P)) return HP_ERR_INVALID;
     if (P == 0) {
-        *ri = b->Ri;
+        *ri = s.Ri_m;
         return HP_OK;
     }
     double lo, hi, p;
@@ -238,7 +238,7 @@ hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
     double r_lp = INFINITY, p_lp = INFINITY;
     if (P > 0 && (e = limit_scaled(&s, &r_lp, &p_lp)) != HP_OK) return e;
     double ro_s;
-    return fk_scaled(&s, b, r_lp, p_lp, P, NAN, ri, &ro_s);
+    return fk_scaled(&s, r_lp, p_lp, P, NAN, ri, &ro_s);
 }
 
 hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, double *ri)
@@ -246,12 +246,10 @@ hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, doub
     return hp_iab_fk_limit_warm(b, lp, P, NAN, ri);
 }
 
-/* The scaled bladder and limit point of hp_iab_fk_limit_warm, validated. */
-static hp_error limit_init(const hp_iab *b, const hp_iab_limit *lp, double P, hp_iab_s *s,
-                           double *r_lp, double *p_lp)
+/* The limit point of hp_iab_fk_limit_warm in scaled units, checked against the bladder. */
+static hp_error limit_init(const hp_iab_s *s, const hp_iab_limit *lp, double P, double *r_lp,
+                           double *p_lp)
 {
-    hp_error e = hp_iab_scaled_init(b, s, NULL);
-    if (e != HP_OK) return e;
     if (!isfinite(P)) return HP_ERR_INVALID;
     *r_lp = lp->exists ? lp->ri * s->scale : INFINITY;
     *p_lp = lp->exists ? lp->pressure : INFINITY;
@@ -265,8 +263,29 @@ hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
     if (!ri || !lp) return HP_ERR_NULL;
     hp_iab_s s;
     double r_lp, p_lp, ro_s;
-    hp_error e = limit_init(b, lp, P, &s, &r_lp, &p_lp);
-    return e != HP_OK ? e : fk_scaled(&s, b, r_lp, p_lp, P, ri_guess, ri, &ro_s);
+    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    if (e == HP_OK) e = limit_init(&s, lp, P, &r_lp, &p_lp);
+    return e != HP_OK ? e : fk_scaled(&s, r_lp, p_lp, P, ri_guess, ri, &ro_s);
+}
+
+hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+                                   double ri_guess, double *ri, double *ro)
+{
+    if (!ri || !ro || !lp) return HP_ERR_NULL;
+    double r_lp, p_lp, ro_s, r;
+    hp_error e = limit_init(s, lp, P, &r_lp, &p_lp);
+    if (e == HP_OK) e = fk_scaled(s, r_lp, p_lp, P, ri_guess, &r, &ro_s);
+    if (e != HP_OK) return e;
+    /* hp_iab_ro(b, r) scales r back to the same g (a power of two, both ways exact) and
+     * checks its range; whenever that is not plainly so, it is asked. */
+    double rs = r * s->scale;
+    if (isfinite(ro_s) && rs >= 1e-30 && rs <= 1e30) {
+        *ro = ro_s / s->scale;
+    } else if ((e = hp_iab_s_ro_m(s, r, ro)) != HP_OK) {
+        return e;
+    }
+    *ri = r;
+    return HP_OK;
 }
 
 hp_error hp_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
@@ -274,18 +293,6 @@ hp_error hp_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double
 {
     if (!ri || !ro || !lp) return HP_ERR_NULL;
     hp_iab_s s;
-    double r_lp, p_lp, ro_s, r;
-    hp_error e = limit_init(b, lp, P, &s, &r_lp, &p_lp);
-    if (e == HP_OK) e = fk_scaled(&s, b, r_lp, p_lp, P, ri_guess, &r, &ro_s);
-    if (e != HP_OK) return e;
-    /* hp_iab_ro(b, r) scales r back to the same g (a power of two, both ways exact) and
-     * checks its range; whenever that is not plainly so, it is asked. */
-    double rs = r * s.scale;
-    if (isfinite(ro_s) && rs >= 1e-30 && rs <= 1e30) {
-        *ro = ro_s / s.scale;
-    } else if ((e = hp_iab_s_ro_m(&s, r, ro)) != HP_OK) {
-        return e;
-    }
-    *ri = r;
-    return HP_OK;
+    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    return e != HP_OK ? e : hp_iab_s_fk_limit_warm_ro(&s, lp, P, ri_guess, ri, ro);
 }

@@ -18,6 +18,7 @@ typedef struct hp_iab_s {
     double C1, C2;  /* moduli [Pa] */
     double scale;   /* power of two: scaled length = length [m] × scale */
     double W;       /* Ro³ − Ri³ (scaled), the wall's volume / (4π/3); ro³ − ri³ = W always */
+    double Ri_m;    /* Ri [m] as given: FK's exact answer at P = 0 */
 } hp_iab_s;
 
 /* x³ − y³ without cancellation beyond the one rounding of x − y (exact by Sterbenz's lemma
@@ -93,6 +94,10 @@ hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
  * evaluation at the guess already formed, so the pair costs one evaluation of the IK. */
 hp_error hp_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
                                  double ri_guess, double *ri, double *ro);
+/* The same on a bladder already validated into s (hp_iab_scaled_init): the same codes after
+ * the validation, the same bits. */
+hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+                                   double ri_guess, double *ri, double *ro);
 
 /* Gauss–Legendre rule of n points on [-1, 1] (1 <= n <= HP_IAB_GL_MAX): nodes x[k] >= 0 and
  * weights w[k] for k < (n + 1)/2 (the rule is symmetric; x[k] = 0 only for the middle node

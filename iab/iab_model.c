@@ -116,6 +116,7 @@ hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
         s->C1 = b->C1;
         s->C2 = b->C2;
         s->W = hp_iab_cube_diff(s->Ro, s->Ri);
+        s->Ri_m = b->Ri;
     }
     return HP_OK;
 }
