@@ -155,15 +155,18 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
     return HP_OK;
 }
 
-static hp_error fk_scaled(const hp_iab_s *sp, const hp_iab *b, double r_lp, double p_lp,
-                          double P, double guess, double *ri)
+/* The root ri [m]; *ro_s the scaled outer radius at it when the guess was the root (the
+ * pressure's evaluation there formed it), else NAN. */
+static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P,
+                          double guess, double *ri, double *ro_s)
 {
-    hp_iab_s s = *sp;
+    const hp_iab_s s = *sp;
     hp_error e;
+    *ro_s = NAN;
     if (!ri) return HP_ERR_NULL;
     if (!isfinite(P)) return HP_ERR_INVALID;
     if (P == 0) {
-        *ri = b->Ri;
+        *ri = s.Ri_m;
         return HP_OK;
     }
     double lo, hi, p;
@@ -174,9 +177,11 @@ static hp_error fk_scaled(const hp_iab_s *sp, const hp_iab *b, double r_lp, doub
      * strictly inside the bracket found there and the safeguarded Newton iteration, which
      * starts at it, stops at once. */
     double g = guess * s.scale;
+    double rg;
     if ((P > 0 ? g > s.Ri && g < r_lp : g > 0 && g < s.Ri) &&
-        hp_iab_s_ik(&s, g, &p, NULL, NULL) == HP_OK && p == P) {
+        hp_iab_s_pressure_ro(&s, g, &p, &rg) == HP_OK && p == P) {
         *ri = g / s.scale;
+        *ro_s = rg;
         return HP_OK;
     }
     if (P > 0) {
@@ -232,7 +237,8 @@ hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
     if (!isfinite(P)) return HP_ERR_INVALID;
     double r_lp = INFINITY, p_lp = INFINITY;
     if (P > 0 && (e = limit_scaled(&s, &r_lp, &p_lp)) != HP_OK) return e;
-    return fk_scaled(&s, b, r_lp, p_lp, P, NAN, ri);
+    double ro_s;
+    return fk_scaled(&s, r_lp, p_lp, P, NAN, ri, &ro_s);
 }
 
 hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, double *ri)
@@ -240,16 +246,53 @@ hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, doub
     return hp_iab_fk_limit_warm(b, lp, P, NAN, ri);
 }
 
+/* The limit point of hp_iab_fk_limit_warm in scaled units, checked against the bladder. */
+static hp_error limit_init(const hp_iab_s *s, const hp_iab_limit *lp, double P, double *r_lp,
+                           double *p_lp)
+{
+    if (!isfinite(P)) return HP_ERR_INVALID;
+    *r_lp = lp->exists ? lp->ri * s->scale : INFINITY;
+    *p_lp = lp->exists ? lp->pressure : INFINITY;
+    if (lp->exists && !(*r_lp > s->Ri && isfinite(*p_lp))) return HP_ERR_INVALID;
+    return HP_OK;
+}
+
 hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
                               double ri_guess, double *ri)
 {
     if (!ri || !lp) return HP_ERR_NULL;
     hp_iab_s s;
+    double r_lp, p_lp, ro_s;
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    if (e == HP_OK) e = limit_init(&s, lp, P, &r_lp, &p_lp);
+    return e != HP_OK ? e : fk_scaled(&s, r_lp, p_lp, P, ri_guess, ri, &ro_s);
+}
+
+hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+                                   double ri_guess, double *ri, double *ro)
+{
+    if (!ri || !ro || !lp) return HP_ERR_NULL;
+    double r_lp, p_lp, ro_s, r;
+    hp_error e = limit_init(s, lp, P, &r_lp, &p_lp);
+    if (e == HP_OK) e = fk_scaled(s, r_lp, p_lp, P, ri_guess, &r, &ro_s);
     if (e != HP_OK) return e;
-    if (!isfinite(P)) return HP_ERR_INVALID;
-    double r_lp = lp->exists ? lp->ri * s.scale : INFINITY;
-    double p_lp = lp->exists ? lp->pressure : INFINITY;
-    if (lp->exists && !(r_lp > s.Ri && isfinite(p_lp))) return HP_ERR_INVALID;
-    return fk_scaled(&s, b, r_lp, p_lp, P, ri_guess, ri);
+    /* hp_iab_ro(b, r) scales r back to the same g (a power of two, both ways exact) and
+     * checks its range; whenever that is not plainly so, it is asked. */
+    double rs = r * s->scale;
+    if (isfinite(ro_s) && rs >= 1e-30 && rs <= 1e30) {
+        *ro = ro_s / s->scale;
+    } else if ((e = hp_iab_s_ro_m(s, r, ro)) != HP_OK) {
+        return e;
+    }
+    *ri = r;
+    return HP_OK;
+}
+
+hp_error hp_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
+                                 double ri_guess, double *ri, double *ro)
+{
+    if (!ri || !ro || !lp) return HP_ERR_NULL;
+    hp_iab_s s;
+    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    return e != HP_OK ? e : hp_iab_s_fk_limit_warm_ro(&s, lp, P, ri_guess, ri, ro);
 }

@@ -26,12 +26,21 @@ static double fpp(double l)
 }
 static double gpp(double l) { return -3.0 / (l * l * l * l); }
 
-hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2)
+hp_error hp_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro)
 {
     double a = hp_iab_cube_diff(ri, s->Ri); /* ri³ − Ri³ */
-    double ro = hp_iab_s_ro(s, ri);
-    double p = hp_iab_s_energy_diff(s, ri, s->Ri, ro, s->Ro, a, s->W);
+    double r = hp_iab_s_ro(s, ri);
+    double p = hp_iab_s_energy_diff(s, ri, s->Ri, r, s->Ro, a, s->W);
     if (!isfinite(p)) return HP_ERR_DOMAIN;
+    *P = p;
+    *ro = r;
+    return HP_OK;
+}
+
+hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2)
+{
+    double p, ro;
+    if (hp_iab_s_pressure_ro(s, ri, &p, &ro) != HP_OK) return HP_ERR_DOMAIN;
     double dp = 0, ddp = 0;
     if (d1 || d2) {
         double li = ri / s->Ri, lo = ro / s->Ro;
@@ -54,17 +63,25 @@ hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double
 static hp_error prepare(const hp_iab *b, double ri, hp_iab_s *s, double *ris)
 {
     hp_error e = hp_iab_scaled_init(b, s, NULL);
+    return e != HP_OK ? e : hp_iab_s_radius(s, ri, ris);
+}
+
+hp_error hp_iab_s_ik_m(const hp_iab_s *s, double ri, double *P)
+{
+    double ris, p;
+    hp_error e = hp_iab_s_radius(s, ri, &ris);
+    if (e == HP_OK) e = hp_iab_s_ik(s, ris, &p, NULL, NULL);
     if (e != HP_OK) return e;
-    if (!isfinite(ri)) return HP_ERR_INVALID;
-    if (!(ri > 0)) return HP_ERR_DOMAIN;
-    *ris = ri * s->scale;
-    if (!(*ris >= 1e-30 && *ris <= 1e30)) return HP_ERR_DOMAIN;
+    *P = p;
     return HP_OK;
 }
 
 hp_error hp_iab_ik(const hp_iab *b, double ri, double *P)
 {
-    return hp_iab_ik_derivs(b, ri, P, NULL, NULL);
+    if (!P) return HP_ERR_NULL;
+    hp_iab_s s;
+    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    return e != HP_OK ? e : hp_iab_s_ik_m(&s, ri, P);
 }
 
 hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri,

@@ -1,4 +1,6 @@
-/* Internal helpers of the bladder model, shared by the iab module only (not installed).
+/* Internal helpers of the bladder model (not installed): shared by the iab module, and the
+ * hp_iab_s_*_m functions below by the planner's per-plan path, which validates a bladder
+ * once and then evaluates it several times.
  *
  * Lengths are rescaled by a power of two so that Ro lies in [1, 2): the scaling is exact,
  * pressures do not change (they depend on stretches only), and radii to the sixth power
@@ -8,12 +10,15 @@
 
 #include "headplan/hp_iab.h"
 
+#include <math.h>
+
 /* A validated bladder in scaled lengths. */
 typedef struct hp_iab_s {
     double Ri, Ro;  /* reference radii × scale */
     double C1, C2;  /* moduli [Pa] */
     double scale;   /* power of two: scaled length = length [m] × scale */
     double W;       /* Ro³ − Ri³ (scaled), the wall's volume / (4π/3); ro³ − ri³ = W always */
+    double Ri_m;    /* Ri [m] as given: FK's exact answer at P = 0 */
 } hp_iab_s;
 
 /* x³ − y³ without cancellation beyond the one rounding of x − y (exact by Sterbenz's lemma
@@ -25,6 +30,26 @@ static inline double hp_iab_cube_diff(double x, double y)
 
 /* Validates b and fills s. Same codes and messages as hp_iab_validate. */
 hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag);
+
+/* A scaled radius from a radius r in metres: HP_ERR_INVALID for NaN/Inf, HP_ERR_DOMAIN for
+ * r <= 0 or a radius so far from the bladder's size that its cube leaves the range. */
+static inline hp_error hp_iab_s_radius(const hp_iab_s *s, double r, double *out)
+{
+    if (!isfinite(r)) return HP_ERR_INVALID;
+    if (!(r > 0)) return HP_ERR_DOMAIN;
+    double rs = r * s->scale;
+    if (!(rs >= 1e-30 && rs <= 1e30)) return HP_ERR_DOMAIN;
+    *out = rs;
+    return HP_OK;
+}
+
+/* The volume law, its inverse and the closed-form IK of a bladder already validated into s
+ * (hp_iab_scaled_init), in metres and pascals: the same codes and the same bits as hp_iab_ro,
+ * hp_iab_ri and hp_iab_ik (which are these after the validation). For a caller that
+ * evaluates one bladder several times, the validation (about a third of a call) once. */
+hp_error hp_iab_s_ro_m(const hp_iab_s *s, double ri, double *ro);
+hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri);
+hp_error hp_iab_s_ik_m(const hp_iab_s *s, double ri, double *P);
 
 /* The cube root of x, correctly rounded for a normal positive x except where the exact root
  * lies within ~1e-7 ulp of a midpoint between doubles (then within 0.5 ulp + 1e-7 ulp);
@@ -53,11 +78,26 @@ double hp_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, 
  * or so large that the pressure overflows). d1, d2 may be NULL. */
 hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2);
 
+/* hp_iab_s_ik's pressure without derivatives, and the scaled outer radius it used
+ * (hp_iab_s_ro(s, ri), the same bits). */
+hp_error hp_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro);
+
 /* hp_iab_fk_limit with a start for its safeguarded Newton iteration: ri_guess [m] (a
  * nearby answer; NAN or outside the bracket: the bracket's midpoint). The same root to
  * rounding whatever the guess. */
 hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
                               double ri_guess, double *ri);
+
+/* hp_iab_fk_limit_warm, then hp_iab_ro of its root: the same codes and the same bits of *ri
+ * and *ro as the two calls, with the bladder validated once. When the guess is the root
+ * (the planner's round trip of its own answer), the outer radius is the one the pressure's
+ * evaluation at the guess already formed, so the pair costs one evaluation of the IK. */
+hp_error hp_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
+                                 double ri_guess, double *ri, double *ro);
+/* The same on a bladder already validated into s (hp_iab_scaled_init): the same codes after
+ * the validation, the same bits. */
+hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+                                   double ri_guess, double *ri, double *ro);
 
 /* Gauss–Legendre rule of n points on [-1, 1] (1 <= n <= HP_IAB_GL_MAX): nodes x[k] >= 0 and
  * weights w[k] for k < (n + 1)/2 (the rule is symmetric; x[k] = 0 only for the middle node

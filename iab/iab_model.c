@@ -72,7 +72,9 @@ static double scale_for(double Ro)
     return ldexp(1.0, 1 - e);
 }
 
-hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
+/* The checks of hp_iab_scaled_init one by one, for the message naming the first field that
+ * fails; only called when one does. */
+static hp_error invalid_bladder(const hp_iab *b, hp_diag *diag)
 {
     if (!b) return hp_diag_set(diag, HP_ERR_NULL, "bladder: NULL pointer");
     if (!isfinite(b->Ri))
@@ -94,8 +96,19 @@ hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
                            HP_IAB_MIN_RI_OVER_RO, b->Ri, b->Ro);
     if (!(b->C1 > 0))
         return hp_diag_set(diag, HP_ERR_INVALID, "C1: must be > 0 Pa (got %g)", b->C1);
-    if (!(b->C2 >= 0))
-        return hp_diag_set(diag, HP_ERR_INVALID, "C2: must be >= 0 Pa (got %g)", b->C2);
+    return hp_diag_set(diag, HP_ERR_INVALID, "C2: must be >= 0 Pa (got %g)", b->C2);
+}
+
+hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
+{
+    /* Every model call starts here (several per bladder and plan), so a valid bladder passes
+     * in one chain of comparisons, each false for NaN: 0 < Ri < Ro <= DBL_MAX makes Ri and Ro
+     * finite, and the bounds on C1 and C2 make them finite. That is exactly the conjunction
+     * of invalid_bladder's checks, which names the field when one fails. */
+    if (!(b && b->Ri > 0 && b->Ro > b->Ri && b->Ro <= DBL_MAX &&
+          b->Ri >= HP_IAB_MIN_RI_OVER_RO * b->Ro && b->C1 > 0 && b->C1 <= DBL_MAX &&
+          b->C2 >= 0 && b->C2 <= DBL_MAX))
+        return invalid_bladder(b, diag);
     if (s) {
         s->scale = scale_for(b->Ro);
         s->Ri = b->Ri * s->scale;
@@ -103,6 +116,7 @@ hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
         s->C1 = b->C1;
         s->C2 = b->C2;
         s->W = hp_iab_cube_diff(s->Ro, s->Ri);
+        s->Ri_m = b->Ri;
     }
     return HP_OK;
 }
@@ -171,15 +185,30 @@ double hp_iab_cbrt(double x)
 
 double hp_iab_s_ro(const hp_iab_s *s, double ri) { return hp_iab_cbrt(s->W + ri * ri * ri); }
 
-/* A scaled inner radius from a radius in metres: HP_ERR_INVALID for NaN/Inf, HP_ERR_DOMAIN
- * for ri <= 0 or a radius so far from the bladder's size that its cube leaves the range. */
-static hp_error scaled_radius(const hp_iab_s *s, double r, double *out)
+hp_error hp_iab_s_ro_m(const hp_iab_s *s, double ri, double *ro)
 {
-    if (!isfinite(r)) return HP_ERR_INVALID;
-    if (!(r > 0)) return HP_ERR_DOMAIN;
-    double rs = r * s->scale;
-    if (!(rs >= 1e-30 && rs <= 1e30)) return HP_ERR_DOMAIN;
-    *out = rs;
+    double ris;
+    hp_error e = hp_iab_s_radius(s, ri, &ris);
+    if (e != HP_OK) return e;
+    *ro = hp_iab_s_ro(s, ris) / s->scale;
+    return HP_OK;
+}
+
+hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri)
+{
+    double ros;
+    hp_error e = hp_iab_s_radius(s, ro, &ros);
+    if (e != HP_OK) return e;
+    double c = ros * ros * ros - s->W; /* ri³; cancels for thick walls and near collapse */
+    if (!(c > 0)) return HP_ERR_DOMAIN;
+    double r = hp_iab_cbrt(c);
+    /* Two Newton steps on ri³ − Ri³ = ro³ − Ro³, both sides formed without cancellation:
+     * the residual is then known to ~ulp(|ro³ − Ro³|), so ri ends within a few ulps
+     * wherever the law itself is well conditioned (dri/dro = ro²/ri²). */
+    double rhs = hp_iab_cube_diff(ros, s->Ro);
+    for (int it = 0; it < 2; ++it) r -= (hp_iab_cube_diff(r, s->Ri) - rhs) / (3.0 * r * r);
+    if (!(r > 0) || !isfinite(r)) return HP_ERR_DOMAIN;
+    *ri = r / s->scale;
     return HP_OK;
 }
 
@@ -187,31 +216,14 @@ hp_error hp_iab_ro(const hp_iab *b, double ri, double *ro)
 {
     if (!ro) return HP_ERR_NULL;
     hp_iab_s s;
-    double ris;
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
-    if (e == HP_OK) e = scaled_radius(&s, ri, &ris);
-    if (e != HP_OK) return e;
-    *ro = hp_iab_s_ro(&s, ris) / s.scale;
-    return HP_OK;
+    return e != HP_OK ? e : hp_iab_s_ro_m(&s, ri, ro);
 }
 
 hp_error hp_iab_ri(const hp_iab *b, double ro, double *ri)
 {
     if (!ri) return HP_ERR_NULL;
     hp_iab_s s;
-    double ros;
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
-    if (e == HP_OK) e = scaled_radius(&s, ro, &ros);
-    if (e != HP_OK) return e;
-    double c = ros * ros * ros - s.W; /* ri³; cancels for thick walls and near collapse */
-    if (!(c > 0)) return HP_ERR_DOMAIN;
-    double r = hp_iab_cbrt(c);
-    /* Two Newton steps on ri³ − Ri³ = ro³ − Ro³, both sides formed without cancellation:
-     * the residual is then known to ~ulp(|ro³ − Ro³|), so ri ends within a few ulps
-     * wherever the law itself is well conditioned (dri/dro = ro²/ri²). */
-    double rhs = hp_iab_cube_diff(ros, s.Ro);
-    for (int it = 0; it < 2; ++it) r -= (hp_iab_cube_diff(r, s.Ri) - rhs) / (3.0 * r * r);
-    if (!(r > 0) || !isfinite(r)) return HP_ERR_DOMAIN;
-    *ri = r / s.scale;
-    return HP_OK;
+    return e != HP_OK ? e : hp_iab_s_ri_m(&s, ro, ri);
 }

@@ -65,6 +65,7 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
         const hp_iab *m = &B->iab;
         hp_iab_limit lp;
         hp_error e = hp_iab_limit_point(m, &lp);
+        if (e == HP_OK) e = hp_iab_scaled_init(m, &b->iab_s[k], NULL);
         if (e != HP_OK)
             return hp_diag_set(d, e, "bladder %s: limit point: %s", B->name,
                                hp_error_message(e));
@@ -213,18 +214,30 @@ hp_error hp_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, 
                                   double p_lo, double p_hi, hp_bladder_result *out,
                                   int *clamped)
 {
+    if (!isfinite(ro)) return HP_ERR_INVALID;
+    hp_iab_s s;
+    if (hp_iab_scaled_init(&B->iab, &s, NULL) != HP_OK) return HP_ERR_DOMAIN;
+    return hp_setup_bladder_from_ro_s(B, &s, ro, ri_lo, ri_hi, p_lo, p_hi, out, clamped);
+}
+
+hp_error hp_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
+                                    double ri_lo, double ri_hi, double p_lo, double p_hi,
+                                    hp_bladder_result *out, int *clamped)
+{
     double ri, P;
     int c = 0;
     if (!isfinite(ro)) return HP_ERR_INVALID;
-    hp_error e = hp_iab_ri(&B->iab, ro, &ri);
+    /* The model on the bladder validated once (hp_iab_ri, hp_iab_ro and hp_iab_ik after
+     * their validation: the same bits). */
+    hp_error e = hp_iab_s_ri_m(s, ro, &ri);
     if (e != HP_OK) {
         ri = ri_lo; /* collapsed cavity: the lower bound is the nearest valid radius */
         c = 1;
     }
     if (ri < ri_lo) { ri = ri_lo; c = 1; }
     if (ri > ri_hi) { ri = ri_hi; c = 1; }
-    if (c && hp_iab_ro(&B->iab, ri, &ro) != HP_OK) return HP_ERR_DOMAIN;
-    e = hp_iab_ik(&B->iab, ri, &P);
+    if (c && hp_iab_s_ro_m(s, ri, &ro) != HP_OK) return HP_ERR_DOMAIN;
+    e = hp_iab_s_ik_m(s, ri, &P);
     if (e != HP_OK || !isfinite(P)) return HP_ERR_DOMAIN;
     if (P < p_lo) P = p_lo;
     if (P > p_hi) P = p_hi;

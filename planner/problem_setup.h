@@ -7,6 +7,7 @@
 
 /* Scaled units of hp_problem: x[0..2] mm, x[3..5] degrees, radii mm (common/units.h). */
 #include "common/units.h"
+#include "iab/iab_internal.h"
 /* Relative distance below an inflation limit point's inner radius that the planner keeps
  * every bladder: 1e-3 of ri leaves the pressure ~1e-6 below the peak, so hp_iab_fk can still
  * recover the radius from the pressure (dP/dri vanishes at the peak). */
@@ -22,6 +23,9 @@ typedef struct hp_static_bounds {
     double ro_lo[HP_MAX_BLADDERS], ro_hi[HP_MAX_BLADDERS];
     hp_iab_limit limit[HP_MAX_BLADDERS]; /* inflation limit points, for hp_iab_fk_limit:
                                             pressure -> radius every cycle without a scan */
+    /* Each bladder validated and scaled once (hp_iab_scaled_init), for the per-plan model
+     * evaluations (hp_setup_bladder_from_ro_s, hp_iab_s_fk_limit_warm_ro). */
+    hp_iab_s iab_s[HP_MAX_BLADDERS];
 } hp_static_bounds;
 
 /* Pressure, stretch and limit-point limits as inner-radius bounds, so that IK(ri_lo) >=
@@ -56,5 +60,10 @@ hp_error hp_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level 
 hp_error hp_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, double ri_hi,
                                   double p_lo, double p_hi, hp_bladder_result *out,
                                   int *clamped);
+/* The same with B's model already validated into s (hp_static_bounds.iab_s): the same codes
+ * and bits, without validating the bladder again. */
+hp_error hp_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
+                                    double ri_lo, double ri_hi, double p_lo, double p_hi,
+                                    hp_bladder_result *out, int *clamped);
 
 #endif

@@ -300,6 +300,44 @@ static void test_scale_bits(void **state)
     }
 }
 
+/* The per-plan entry points on a bladder validated once (hp_iab_s_ik_m, hp_iab_s_ro_m,
+ * hp_iab_s_ri_m, what the planner calls) against the public functions: the same bits over
+ * the accuracy sweep's stretches and wall thicknesses, the same codes for bad radii (NaN,
+ * inf, zero, negative, a cube outside the range) and for a collapsed cavity. */
+static void test_validated_once_same_bits(void **state)
+{
+    (void)state;
+    static double l[N_SWEEP + 64];
+    int n = sweep_points(l);
+    for (size_t iq = 0; iq < sizeof ratios / sizeof ratios[0]; ++iq)
+        for (size_t ic = 0; ic < sizeof c2c1 / sizeof c2c1[0]; ++ic) {
+            const double Ro = 0.03, Ri = ratios[iq] * Ro;
+            hp_iab b = {Ri, Ro, 1.1e4, c2c1[ic] * 1.1e4};
+            hp_iab_s s;
+            assert_int_equal(hp_iab_scaled_init(&b, &s, NULL), HP_OK);
+            for (int k = 0; k < n; ++k) {
+                double ri = l[k] * Ri, P1, P2, o1, o2, r1, r2;
+                assert_int_equal(hp_iab_ik(&b, ri, &P1), HP_OK);
+                assert_int_equal(hp_iab_s_ik_m(&s, ri, &P2), HP_OK);
+                assert_memory_equal(&P1, &P2, sizeof P1);
+                assert_int_equal(hp_iab_ro(&b, ri, &o1), HP_OK);
+                assert_int_equal(hp_iab_s_ro_m(&s, ri, &o2), HP_OK);
+                assert_memory_equal(&o1, &o2, sizeof o1);
+                hp_error e1 = hp_iab_ri(&b, o1, &r1), e2 = hp_iab_s_ri_m(&s, o1, &r2);
+                assert_int_equal(e1, e2);
+                if (e1 == HP_OK) assert_memory_equal(&r1, &r2, sizeof r1);
+            }
+            const double bad[] = {NAN, INFINITY, -INFINITY, 0.0, -Ri, 1e-40, 1e40,
+                                  0.5 * (Ro - Ri)};
+            for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
+                double x = 5.0, y = 5.0;
+                assert_int_equal(hp_iab_s_ik_m(&s, bad[i], &x), hp_iab_ik(&b, bad[i], &y));
+                assert_int_equal(hp_iab_s_ro_m(&s, bad[i], &x), hp_iab_ro(&b, bad[i], &y));
+                assert_int_equal(hp_iab_s_ri_m(&s, bad[i], &x), hp_iab_ri(&b, bad[i], &y));
+            }
+        }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -307,7 +345,7 @@ int main(void)
         cmocka_unit_test(test_naive_form_is_worse), cmocka_unit_test(test_derivatives),
         cmocka_unit_test(test_volume_law), cmocka_unit_test(test_wall_stress),
         cmocka_unit_test(test_scale_invariance), cmocka_unit_test(test_cbrt),
-        cmocka_unit_test(test_scale_bits),
+        cmocka_unit_test(test_scale_bits), cmocka_unit_test(test_validated_once_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -237,7 +237,7 @@ static void test_fk_limit_same_as_fk(void **state)
  * pressure came from (P = hp_iab_ik(ri)), it returns that radius bit for bit, over
  * compression and expansion up to the limit point; a guess that cannot be the stable root
  * (on the other side of Ri, beyond the limit point, NaN) changes nothing: the same bits as
- * the cold call. */
+ * the cold call. hp_iab_fk_limit_warm_ro gives the same root and hp_iab_ro's bits at it. */
 static void test_fk_warm(void **state)
 {
     (void)state;
@@ -255,12 +255,41 @@ static void test_fk_warm(void **state)
             assert_memory_equal(&w, &ri, sizeof w);
             assert_int_equal(hp_iab_fk_limit(&b, &lp, P, &cold), HP_OK);
             const double bad[] = {k < 0 ? 1.5 * b.Ri : 0.5 * b.Ri, lp.exists ? 1.5 * lp.ri : -1.0,
-                                  NAN};
-            for (int i = 0; i < 3; ++i) {
+                                  NAN, ri};
+            for (int i = 0; i < 4; ++i) {
                 assert_int_equal(hp_iab_fk_limit_warm(&b, &lp, P, bad[i], &w2), HP_OK);
-                assert_memory_equal(&w2, &cold, sizeof w2);
+                assert_memory_equal(&w2, i < 3 ? &cold : &ri, sizeof w2);
+                /* the round trip validated once: the same root, and hp_iab_ro's bits at it
+                 * (for the exact guess, the outer radius the pressure's evaluation formed) */
+                double r2, o1, o2;
+                assert_int_equal(hp_iab_ro(&b, w2, &o1), HP_OK);
+                assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, P, bad[i], &r2, &o2), HP_OK);
+                assert_memory_equal(&r2, &w2, sizeof r2);
+                assert_memory_equal(&o2, &o1, sizeof o2);
             }
         }
+    }
+}
+
+/* hp_iab_fk_limit_warm_ro's refusals (NaN pressure, above the limit point, NULL), outputs
+ * untouched, and P = 0 (the reference radii); its bits are checked in test_fk_warm. */
+static void test_fk_warm_ro(void **state)
+{
+    (void)state;
+    for (int m = 0; m < N_MATERIALS; ++m) {
+        hp_iab b;
+        hp_iab_limit lp;
+        material(m, &b, &lp);
+        double r = 7.0, o = 8.0;
+        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, NAN, b.Ri, &r, &o), HP_ERR_INVALID);
+        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, 1e4, b.Ri, NULL, &o), HP_ERR_NULL);
+        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, 1e4, b.Ri, &r, NULL), HP_ERR_NULL);
+        if (lp.exists)
+            assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, lp.pressure * 1.001, lp.ri, &r, &o),
+                             HP_ERR_NO_STABLE);
+        assert_true(r == 7.0 && o == 8.0);
+        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, 0.0, NAN, &r, &o), HP_OK);
+        assert_true(r == b.Ri && o == b.Ro);
     }
 }
 
@@ -271,7 +300,7 @@ int main(void)
         cmocka_unit_test(test_limit_point_mooney_rivlin),
         cmocka_unit_test(test_limit_point_threshold), cmocka_unit_test(test_fk_round_trip),
         cmocka_unit_test(test_fk_no_stable), cmocka_unit_test(test_fk_limit_same_as_fk),
-        cmocka_unit_test(test_fk_warm),
+        cmocka_unit_test(test_fk_warm), cmocka_unit_test(test_fk_warm_ro),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
