@@ -120,7 +120,7 @@ hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
     if (!L || !hs || (!rows && T) || (!delta && T))
         return hp_diag_set(d, HP_ERR_NULL, "horizon rates: NULL argument");
     for (size_t t = 0; t < T; ++t) {
-        double dt;
+        double dt = NAN; /* row_dt writes it on HP_OK; set for -O3's flow analysis */
         hp_error e = row_dt(hs, rows, t, &dt, d);
         if (e != HP_OK) return e;
         hp_horizon_row_rates(L, hs, dt, delta + t * (size_t)L->n);
@@ -176,7 +176,7 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
         goto done;
     }
     for (size_t t = 0; t < T; ++t) {
-        double dt;
+        double dt = NAN; /* as in hp_horizon_rates */
         if ((e = row_dt(hs, rows, t, &dt, d)) != HP_OK) goto done;
         hp_horizon_row_rates(PL, hs, dt, delta);
         if ((e = hp_planner_set_rate_max(p, delta)) != HP_OK) {

@@ -97,7 +97,7 @@ static hp_error limit_scaled(const hp_iab_s *s, double *ri_lp, double *p_lp)
 hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp)
 {
     if (!lp) return HP_ERR_NULL;
-    hp_iab_s s;
+    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
     double r, p;
     if (e == HP_OK) e = limit_scaled(&s, &r, &p);
@@ -231,7 +231,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
 hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
 {
     if (!ri) return HP_ERR_NULL;
-    hp_iab_s s;
+    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
     if (e != HP_OK) return e;
     if (!isfinite(P)) return HP_ERR_INVALID;
@@ -261,7 +261,7 @@ hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
                               double ri_guess, double *ri)
 {
     if (!ri || !lp) return HP_ERR_NULL;
-    hp_iab_s s;
+    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
     double r_lp, p_lp, ro_s;
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
     if (e == HP_OK) e = limit_init(&s, lp, P, &r_lp, &p_lp);
@@ -292,7 +292,7 @@ hp_error hp_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double
                                  double ri_guess, double *ri, double *ro)
 {
     if (!ri || !ro || !lp) return HP_ERR_NULL;
-    hp_iab_s s;
+    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
     return e != HP_OK ? e : hp_iab_s_fk_limit_warm_ro(&s, lp, P, ri_guess, ri, ro);
 }

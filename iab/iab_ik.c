@@ -79,7 +79,7 @@ hp_error hp_iab_s_ik_m(const hp_iab_s *s, double ri, double *P)
 hp_error hp_iab_ik(const hp_iab *b, double ri, double *P)
 {
     if (!P) return HP_ERR_NULL;
-    hp_iab_s s;
+    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
     return e != HP_OK ? e : hp_iab_s_ik_m(&s, ri, P);
 }
@@ -88,7 +88,7 @@ hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri,
                           double *d2P_dri2)
 {
     if (!P) return HP_ERR_NULL;
-    hp_iab_s s;
+    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
     double ris, p, d1, d2;
     hp_error e = prepare(b, ri, &s, &ris);
     if (e == HP_OK)
@@ -104,7 +104,7 @@ hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri,
 hp_error hp_iab_wall_stress(const hp_iab *b, double ri, double r, double *s_rr, double *s_tt)
 {
     if (!s_rr || !s_tt) return HP_ERR_NULL;
-    hp_iab_s s;
+    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
     double ris;
     hp_error e = prepare(b, ri, &s, &ris);
     if (e != HP_OK) return e;

@@ -215,7 +215,7 @@ hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri)
 hp_error hp_iab_ro(const hp_iab *b, double ri, double *ro)
 {
     if (!ro) return HP_ERR_NULL;
-    hp_iab_s s;
+    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
     return e != HP_OK ? e : hp_iab_s_ro_m(&s, ri, ro);
 }
@@ -223,7 +223,7 @@ hp_error hp_iab_ro(const hp_iab *b, double ri, double *ro)
 hp_error hp_iab_ri(const hp_iab *b, double ro, double *ri)
 {
     if (!ri) return HP_ERR_NULL;
-    hp_iab_s s;
+    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
     return e != HP_OK ? e : hp_iab_s_ri_m(&s, ro, ri);
 }

@@ -273,13 +273,11 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
     if (p->level == HP_LEVEL_LINEAR) return 1;
     double ro[HP_MAX_BLADDERS], xf[6], a[6], b[6];
     for (int k = 0; k < p->L.n; ++k) {
-        const hp_iab *m = &p->L.bladders[k].iab;
         double ri;
         /* Started at the answer's own stable radius: the root of its pressure is unique on
          * the stable branch, so the start changes the steps, never what is verified. */
-        if (hp_iab_fk_limit_warm(m, &p->sb.limit[k], r->bladders[k].pressure,
-                                 r->bladders[k].ri, &ri) != HP_OK ||
-            hp_iab_ro(m, ri, &ro[k]) != HP_OK)
+        if (hp_iab_s_fk_limit_warm_ro(&p->sb.iab_s[k], &p->sb.limit[k], r->bladders[k].pressure,
+                                      r->bladders[k].ri, &ri, &ro[k]) != HP_OK)
             ro[k] = r->bladders[k].ro;
     }
     double resid = INFINITY;

@@ -45,7 +45,8 @@ int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho
         }
         int c = 0;
         hp_bladder_result *br = &res->bladders[k];
-        if (hp_setup_bladder_from_ro(B, rho[k] / HP_MM_PER_M, ri_lo, ri_hi, plo, phi, br, &c) !=
+        if (hp_setup_bladder_from_ro_s(B, &p->sb.iab_s[k], rho[k] / HP_MM_PER_M, ri_lo, ri_hi,
+                                       plo, phi, br, &c) !=
             HP_OK)
             return 0;
         if (c) *clamp_mm = fmax(*clamp_mm, fabs(br->ro * HP_MM_PER_M - rho[k]));
@@ -75,9 +76,9 @@ static hp_error build_nominal(hp_planner *p, hp_diag *d)
         return hp_diag_set(d, HP_ERR_INVALID, "layout: contact model fails at the nominal pose");
     for (int k = 0; k < p->L.n; ++k) {
         int c = 0;
-        if (hp_setup_bladder_from_ro(&p->L.bladders[k], rho[k] / HP_MM_PER_M, p->sb.ri_lo[k],
-                                     p->sb.ri_hi[k], p->sb.p_lo[k], p->sb.p_hi[k],
-                                     &r->bladders[k], &c) != HP_OK)
+        if (hp_setup_bladder_from_ro_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
+                                       p->sb.ri_lo[k], p->sb.ri_hi[k], p->sb.p_lo[k],
+                                       p->sb.p_hi[k], &r->bladders[k], &c) != HP_OK)
             return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: no valid state at the nominal pose",
                                p->L.bladders[k].name);
     }

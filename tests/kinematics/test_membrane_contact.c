@@ -146,7 +146,7 @@ static void test_membrane_vs_law(void **state)
     int rows = 0;
     double prevF = 0.0;
     for (double s0a = 0.02; s0a <= 0.55; s0a += 0.08) {
-        double a, rho, a2, rho2;
+        double a = NAN, rho = NAN, a2 = NAN, rho2 = NAN; /* set by solve_contact on success */
         assert_int_equal(solve_contact(s0a, P, lfree, 1000, &a, &rho), 0);
         assert_int_equal(solve_contact(s0a, P, lfree, 2000, &a2, &rho2), 0);
         hp_assert_close(a2 * a2, a * a, 1e-6, 0.0);
