@@ -44,20 +44,19 @@ static int cholesky_factor(const double *G, int n, const double *Lg, double *L)
     memset(L, 0, NM * NM * sizeof *L);
     /* hp_cholesky reads only the lower triangle, and a NaN or infinity there fails a pivot
      * test (it reaches that pivot's sum of squares), except +inf on the diagonal, which
-     * gives an infinite L_jj (checked below); the upper triangle is checked here, in the
-     * loop that copies a given factor: g − g is +0 for a finite g and NaN otherwise, so
-     * the sum z is 0 exactly when every entry is finite (one test, no branch per entry). */
+     * gives an infinite L_jj; the upper triangle and that diagonal are checked by one sum:
+     * g − g is +0 for a finite g and NaN otherwise, so z is 0 exactly when every entry is
+     * finite (one test at the end, no branch per entry). */
     double z = 0.0;
     for (int i = 1; i < n; ++i)
         for (int j = 0; j < i; ++j) z += G[j * n + i] - G[j * n + i];
-    if (!(z == 0.0)) return 0;
     if (Lg) {
         for (int i = 0; i < n; ++i)
             for (int j = 0; j <= i; ++j) L[IDX(i, j)] = Lg[i * n + j];
     } else if (!hp_cholesky(G, n, n, 0.0, L, NM)) {
         return 0;
     }
-    for (int i = 0; i < n; ++i) z += L[IDX(i, i)] - L[IDX(i, i)];
+    for (int i = 0; i < n; ++i) z += L[IDX(i, i)] - L[IDX(i, i)]; /* an infinite L_jj */
     return z == 0.0;
 }
 
