@@ -242,6 +242,12 @@ static void build_objective(rt_state *st, const hp_problem *pb, const double *xk
             double lam = st->u[2 * k] - st->u[2 * k + 1];
             if (lam == 0.0) continue;
             const double *Hk = &st->H[k * 36];
+            if (nv == 6) { /* all commanded, map the identity: bounds the compiler unrolls */
+                for (int a = 0; a < 6; ++a)
+                    for (int b = 0; b <= a; ++b)
+                        Gl[a * 6 + b] -= lam * Hk[a * 6 + b] * st->hsc[a * 6 + b];
+                continue;
+            }
             for (int a = 0; a < nv; ++a) {
                 const double *Ha = &Hk[map[a] * 6];
                 for (int b = 0; b <= a; ++b)
