@@ -43,7 +43,11 @@ typedef struct rt_state {
     hp_qp qp;
     int max_iter;
     double max_time, tolerance;
-    double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
+    /* rho, J and the Hessians at the point the last QP was linearised at; J and H point into
+     * Jb and Hb, whose other halves c_J and c_H take the line search's trial evaluation:
+     * when that point is accepted the halves swap instead of being copied. */
+    double rho[HP_MAX_BLADDERS], *J, *H;
+    double Jb[2][HP_MAX_BLADDERS * 6], Hb[2][HP_MAX_BLADDERS * 36];
     double rho_k[HP_MAX_BLADDERS]; /* rho at the point the last QP was linearised at */
     double u[HP_QP_MMAX]; /* multipliers of the last QP: the Lagrangian's curvature */
     int have_u;
@@ -59,7 +63,7 @@ typedef struct rt_state {
     /* The model at the last full step's trial point, evaluated with its derivatives by the
      * line search: when that step is accepted, the next QP is built from it without a
      * second evaluation at the same point. */
-    double c_x[6], c_rho[HP_MAX_BLADDERS], c_J[HP_MAX_BLADDERS * 6], c_H[HP_MAX_BLADDERS * 36];
+    double c_x[6], c_rho[HP_MAX_BLADDERS], *c_J, *c_H;
     int c_ok;
     /* The model at the nominal pose, where every cold solve builds its first QP: once, at
      * create (the layout's geometry and level do not change after). */
@@ -166,6 +170,10 @@ static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings 
     st->max_iter = s->max_iter;
     st->max_time = s->max_time;
     st->tolerance = s->tolerance;
+    st->J = st->Jb[0];
+    st->c_J = st->Jb[1];
+    st->H = st->Hb[0];
+    st->c_H = st->Hb[1];
     const double zero[6] = {0};
     for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN;
     st->z_ok = rt_contact(st, pb, zero, st->z_rho, st->z_J, NULL) == HP_OK;
@@ -234,6 +242,12 @@ static void build_objective(rt_state *st, const hp_problem *pb, const double *xk
             double lam = st->u[2 * k] - st->u[2 * k + 1];
             if (lam == 0.0) continue;
             const double *Hk = &st->H[k * 36];
+            if (nv == 6) { /* all commanded, map the identity: bounds the compiler unrolls */
+                for (int a = 0; a < 6; ++a)
+                    for (int b = 0; b <= a; ++b)
+                        Gl[a * 6 + b] -= lam * Hk[a * 6 + b] * st->hsc[a * 6 + b];
+                continue;
+            }
             for (int a = 0; a < nv; ++a) {
                 const double *Ha = &Hk[map[a] * 6];
                 for (int b = 0; b <= a; ++b)
@@ -303,16 +317,18 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     for (int i = 0; i < 6; ++i) at_zero &= xk[i] == 0.0;
     if (st->c_ok && memcmp(st->c_x, xk, sizeof st->c_x) == 0) {
         memcpy(st->rho, st->c_rho, sizeof st->rho);
-        memcpy(st->J, st->c_J, sizeof st->J);
-        /* Only the Hessians build_objective reads: those of bladders with a multiplier,
-         * the same st->u that masked the evaluation. */
-        if (curved)
-            for (int k = 0; k < pb->n; ++k)
-                if (st->u[2 * k] - st->u[2 * k + 1] != 0.0)
-                    memcpy(&st->H[k * 36], &st->c_H[k * 36], 36 * sizeof *st->H);
+        /* The trial evaluation's J and Hessians become the current ones (its Hessians are
+         * those of the bladders with a multiplier, the same st->u that build_objective
+         * reads; the others are zeros). */
+        double *t = st->J;
+        st->J = st->c_J;
+        st->c_J = t;
+        t = st->H;
+        st->H = st->c_H;
+        st->c_H = t;
     } else if (at_zero) {
         memcpy(st->rho, st->z_rho, sizeof st->rho);
-        memcpy(st->J, st->z_J, sizeof st->J);
+        memcpy(st->J, st->z_J, sizeof st->z_J);
         memcpy(st->sw, st->z_sw, sizeof st->sw);
     } else if (rt_contact(st, pb, xk, st->rho, st->J, curved ? st->H : NULL) != HP_OK) {
         return HP_QP_BAD_INPUT;
@@ -329,11 +345,15 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
         double base = st->rho[k]; /* rho(xk) − J·xk: the linearisation's constant */
         const double *Jk = &st->J[k * 6];
         double *lo = &q->C[(2 * k) * HP_QP_NMAX], *hi = lo + HP_QP_NMAX;
-        for (int v = 0; v < nv; ++v) {
-            double jv = Jk[map[v]];
-            base -= jv * xm[v];
-            lo[v] = jv;
-            hi[v] = -jv;
+        /* the commanded columns of J's row; all six in order (the common case) in loops of
+         * fixed length the compiler unrolls; the padding (never read by the QP) zeros */
+        double jm[HP_QP_NMAX] = {0};
+        if (nv == 6) memcpy(jm, Jk, sizeof jm);
+        else for (int v = 0; v < nv; ++v) jm[v] = Jk[map[v]];
+        for (int v = 0; v < nv; ++v) base -= jm[v] * xm[v];
+        for (int v = 0; v < HP_QP_NMAX; ++v) {
+            lo[v] = jm[v];
+            hi[v] = -jm[v];
         }
         q->b[2 * k] = pb->ro_lo[k] + mg - base;         /* J x >= lo − base */
         q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base);  /* −J x >= −(hi − base) */

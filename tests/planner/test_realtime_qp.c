@@ -278,34 +278,56 @@ static void test_random_vs_enumeration(void **st)
 /* Non-finite input anywhere — either triangle or the diagonal of G, a, b, a row of C on its
  * own or one that negates the row before but for one entry — and a row whose squared norm
  * overflows are refused as HP_QP_BAD_INPUT; the same QP without the fault solves. */
-static void test_bad_input_everywhere(void **st)
+/* Non-finite input refused wherever it sits, for n < HP_QP_NMAX (rows copied and padded)
+ * and n = HP_QP_NMAX (rows read in place), with G factored by the QP and with the caller's
+ * factor (then the QP checks G's upper triangle and the factor's diagonal itself). */
+static void bad_input_at(int n, int factored)
 {
-    (void)st;
     const double bad[] = {NAN, INFINITY, -INFINITY};
     uint64_t seed = 99;
     hp_qp base;
     memset(&base, 0, sizeof base);
-    random_qp(&base, &seed, 4, 6);
+    random_qp(&base, &seed, n, 6);
     for (int c = 1; c < 6; c += 2)
-        for (int i = 0; i < 4; ++i) base.C[c * HP_QP_NMAX + i] = -base.C[(c - 1) * HP_QP_NMAX + i];
+        for (int i = 0; i < n; ++i) base.C[c * HP_QP_NMAX + i] = -base.C[(c - 1) * HP_QP_NMAX + i];
+    double Lg[36] = {0};
+    assert_true(hp_cholesky(base.G, n, n, 0.0, Lg, n));
+    const double *L = factored ? Lg : NULL;
     hp_qp q = base;
-    assert_int_equal(hp_qp_solve(&q, 100, 1e-12), HP_QP_OPTIMAL);
+    assert_int_equal(hp_qp_solve_factored(&q, L, 100, 1e-12), HP_QP_OPTIMAL);
     for (int v = 0; v < 3; ++v) {
-        double *where[] = {&q.G[0 * 4 + 3], &q.G[3 * 4 + 0], &q.G[2 * 4 + 2], &q.a[1], &q.b[4],
+        /* with a factor given, G's lower triangle is the factor's business (qp.h) */
+        double *where[] = {&q.G[0 * n + 3], &q.G[2 * n + 3], &q.a[1], &q.b[4],
                            &q.C[0 * HP_QP_NMAX + 2], &q.C[3 * HP_QP_NMAX + 1],
-                           &q.C[4 * HP_QP_NMAX + 3]};
-        for (size_t w = 0; w < sizeof where / sizeof *where; ++w) {
+                           &q.C[4 * HP_QP_NMAX + n - 1], &q.G[3 * n + 0], &q.G[2 * n + 2]};
+        size_t nw = sizeof where / sizeof *where - (factored ? 2 : 0);
+        for (size_t w = 0; w < nw; ++w) {
             q = base;
             *where[w] = bad[v];
-            if (!(hp_qp_solve(&q, 100, 1e-12) == HP_QP_BAD_INPUT)) {
-                print_error("value %g at input %zu not refused\n", bad[v], w);
+            if (!(hp_qp_solve_factored(&q, L, 100, 1e-12) == HP_QP_BAD_INPUT)) {
+                print_error("n %d factored %d: value %g at input %zu not refused\n", n, factored,
+                            bad[v], w);
                 fail();
             }
+        }
+        if (factored) { /* a non-finite diagonal entry of the given factor */
+            double Lb[36];
+            memcpy(Lb, Lg, sizeof Lb);
+            Lb[2 * n + 2] = bad[v] == -INFINITY ? INFINITY : bad[v];
+            q = base;
+            assert_int_equal(hp_qp_solve_factored(&q, Lb, 100, 1e-12), HP_QP_BAD_INPUT);
         }
     }
     q = base;
     q.C[2 * HP_QP_NMAX + 0] = 1e200; /* |row|² = 1e400 overflows */
-    assert_int_equal(hp_qp_solve(&q, 100, 1e-12), HP_QP_BAD_INPUT);
+    assert_int_equal(hp_qp_solve_factored(&q, L, 100, 1e-12), HP_QP_BAD_INPUT);
+}
+
+static void test_bad_input_everywhere(void **st)
+{
+    (void)st;
+    for (int n = 4; n <= HP_QP_NMAX; n += HP_QP_NMAX - 4)
+        for (int f = 0; f < 2; ++f) bad_input_at(n, f);
 }
 
 int main(void)
