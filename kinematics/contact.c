@@ -11,8 +11,9 @@
 #include <math.h>
 #include <string.h>
 
-/* c' and its first derivatives at pose xi for centre c; u = c − pivot − t. ∂c'/∂t = −Rᵀ
- * needs no storage; Cr = ∂c'/∂θ (3×3). */
+/* c' and its first derivatives at pose xi for the centre whose arm is c − pivot
+ * (hp_geom.arm); u = c − pivot − t, evaluated left to right as before, so the same bits.
+ * ∂c'/∂t = −Rᵀ needs no storage; Cr = ∂c'/∂θ (3×3). */
 typedef struct backmap {
     double cp[3], u[3];
     double Cr[3][3];
@@ -30,12 +31,12 @@ typedef struct rotd {
  * R₀ᵀ·u₁ − R₁ᵀ·u₀ entrywise. Each is the sum the full 3-term product forms, less its exact
  * zero terms and with an exact negation moved out: the same bits (up to the sign of a zero)
  * for 15 products instead of 27. */
-static void back_transform(const hp_layout *L, const double c[3], const double xi[6],
+static void back_transform(const hp_layout *L, const double arm[3], const double xi[6],
                            const rotd *rd, backmap *bm)
 {
     const double *R = rd->R, *D = rd->Dr;
     double *u = bm->u, w[3];
-    for (int i = 0; i < 3; ++i) u[i] = c[i] - L->pivot[i] - xi[i];
+    for (int i = 0; i < 3; ++i) u[i] = arm[i] - xi[i];
     for (int m = 0; m < 3; ++m) {
         w[m] = R[m] * u[0] + R[3 + m] * u[1] + R[6 + m] * u[2];
         bm->cp[m] = w[m] + L->pivot[m];
@@ -59,23 +60,33 @@ static void back_transform(const hp_layout *L, const double c[3], const double x
  * the sign of a zero). hf NULL: f is linear in c' (the plane level), only the second
  * term. */
 static void contact_hessian(const rotd *rd, const backmap *bm, const double g[3],
-                            const double Rg[3], const double hf[9], double *H)
+                            const double Rg[3], const double hf[9], double *restrict H)
 {
     const double *u = bm->u, *R = rd->R, *Dr = rd->Dr, *Drr = rd->Drr;
-    double Hs[6][6] = {{0}};
+#define HS(i, j) H[(i) * 6 + (j)]
     if (hf) {
-        double C[3][6], hC[3][6]; /* C = ∂c'/∂ξ, hC = ∇²f · C */
-        for (int m = 0; m < 3; ++m)
-            for (int i = 0; i < 3; ++i) {
-                C[m][i] = -R[i * 3 + m];
-                C[m][3 + i] = bm->Cr[m][i];
+        /* The columns of C = ∂c'/∂ξ = [−Rᵀ | Cr]: c_i = −(row i of R), c_{3+i} = column i of
+         * Cr; hc_i = ∇²f · c_i. The pitch column's first entry is an exact zero
+         * (back_transform), so its products are left out of both sums. The upper triangle
+         * is written straight into H (no zeroed 6×6 and copy), the lower one mirrored. */
+        double C[6][3], hC[6][3];
+        for (int i = 0; i < 3; ++i)
+            for (int m = 0; m < 3; ++m) {
+                C[i][m] = -R[i * 3 + m];
+                C[3 + i][m] = bm->Cr[m][i];
             }
-        for (int a = 0; a < 3; ++a)
-            for (int i = 0; i < 6; ++i)
-                hC[a][i] = hf[a * 3] * C[0][i] + hf[a * 3 + 1] * C[1][i] + hf[a * 3 + 2] * C[2][i];
+        for (int i = 0; i < 6; ++i)
+            for (int a = 0; a < 3; ++a)
+                hC[i][a] = i == 3 ? hf[a * 3 + 1] * C[3][1] + hf[a * 3 + 2] * C[3][2]
+                                  : hf[a * 3] * C[i][0] + hf[a * 3 + 1] * C[i][1] +
+                                        hf[a * 3 + 2] * C[i][2];
         for (int i = 0; i < 6; ++i)
             for (int j = i; j < 6; ++j)
-                Hs[i][j] = C[0][i] * hC[0][j] + C[1][i] * hC[1][j] + C[2][i] * hC[2][j];
+                HS(i, j) = i == 3 ? C[3][1] * hC[j][1] + C[3][2] * hC[j][2]
+                                  : C[i][0] * hC[j][0] + C[i][1] * hC[j][1] + C[i][2] * hC[j][2];
+    } else {
+        for (int i = 0; i < 6; ++i)
+            for (int j = i; j < 6; ++j) HS(i, j) = 0.0;
     }
     double P[3], Dg[3], q00[3], q01[3], q11[3];
     for (int a = 0; a < 3; ++a) {
@@ -87,25 +98,23 @@ static void contact_hessian(const rotd *rd, const backmap *bm, const double g[3]
         q11[a] = dd[0] * g[0] + dd[1] * g[1] + dd[2] * g[2];
     }
     for (int a = 0; a < 3; ++a) {
-        Hs[a][3] -= P[a];
-        Hs[a][4] -= Dg[a];
+        HS(a, 3) -= P[a];
+        HS(a, 4) -= Dg[a];
     }
     /* ∂R/∂yaw = [e_z]×·R: rows −R₁, R₀, 0; so the yaw contractions of R, ∂R/∂pitch and
      * ∂R/∂roll are (−Rg₁, Rg₀, 0), (−P₁, P₀, 0), (−Dg₁, Dg₀, 0), and ∂²/∂yaw² gives
      * (−Rg₀, −Rg₁, 0); a zero term is left out (it adds nothing to a sum). */
-    Hs[0][5] -= -Rg[1];
-    Hs[1][5] -= Rg[0];
-    Hs[3][3] += u[0] * q00[0] + u[1] * q00[1] + u[2] * q00[2];
-    Hs[3][4] += u[0] * q01[0] + u[1] * q01[1] + u[2] * q01[2];
-    Hs[4][4] += u[0] * q11[0] + u[1] * q11[1] + u[2] * q11[2];
-    Hs[3][5] += u[0] * -P[1] + u[1] * P[0];
-    Hs[4][5] += u[0] * -Dg[1] + u[1] * Dg[0];
-    Hs[5][5] += u[0] * -Rg[0] + u[1] * -Rg[1];
-    for (int i = 0; i < 6; ++i)
-        for (int j = i; j < 6; ++j) {
-            H[i * 6 + j] = Hs[i][j];
-            H[j * 6 + i] = Hs[i][j];
-        }
+    HS(0, 5) -= -Rg[1];
+    HS(1, 5) -= Rg[0];
+    HS(3, 3) += u[0] * q00[0] + u[1] * q00[1] + u[2] * q00[2];
+    HS(3, 4) += u[0] * q01[0] + u[1] * q01[1] + u[2] * q01[2];
+    HS(4, 4) += u[0] * q11[0] + u[1] * q11[1] + u[2] * q11[2];
+    HS(3, 5) += u[0] * -P[1] + u[1] * P[0];
+    HS(4, 5) += u[0] * -Dg[1] + u[1] * Dg[0];
+    HS(5, 5) += u[0] * -Rg[0] + u[1] * -Rg[1];
+    for (int i = 1; i < 6; ++i)
+        for (int j = 0; j < i; ++j) HS(i, j) = HS(j, i);
+#undef HS
 }
 
 static void linear_row(const hp_layout *L, const hp_geom *G, int k, double row[6])
@@ -220,10 +229,9 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
     hp_kin_rotation_roll(xi + 3, rd.R, rd.Dr, any_h ? rd.Drr : NULL);
     for (int k = 0; k < L->n; ++k) {
         int want_h = H && (!hmask || hmask[k]);
-        if (H && !want_h)
-            for (int i = 0; i < 36; ++i) H[k * 36 + i] = 0.0;
+        if (H && !want_h) memset(H + k * 36, 0, 36 * sizeof *H);
         backmap bm;
-        back_transform(L, L->bladders[k].center, xi, &rd, &bm);
+        back_transform(L, G->arm[k], xi, &rd, &bm);
         double f, g[3], hf[9];
         if (level == HP_LEVEL_SURFACE) {
             hp_error err = hp_kin_head_distance_k(&G->head, &G->headk, bm.cp, s_warm ? &s_warm[k] : NULL,

@@ -108,6 +108,33 @@ static void gram_of(int n, int nf, const double *J, const double *r, fk_gram *q)
     memcpy(q->g, g, sizeof g);
 }
 
+/* gram_of for a fit whose Jacobian Jr (n×nf, the columns col[] of st->J) is the start's:
+ * JᵀJ is copied from st->A's sub-block (the same sums of the same products in the same
+ * order) and only −Jᵀr, which depends on the target, is summed. */
+static void gram_from_start(int n, int nf, const int *col, const hp_kin_fit_start *st,
+                            const double *Jr, const double *r, fk_gram *q)
+{
+    if (nf == 6) {
+        memcpy(q->A, st->A, sizeof q->A); /* col is 0..5 */
+    } else {
+        for (int j = 0; j < 6; ++j)
+            for (int k = 0; k < 6; ++k)
+                q->A[j][k] = j < nf && k < nf ? st->A[col[j]][col[k]] : 0.0;
+    }
+    /* −Jᵀr summed from +0 over the rows in order, as gram_of sums it (its padded entries
+     * stay +0); all six columns free is the common case, with a loop of fixed length. */
+    double g[6] = {0};
+    if (nf == 6) {
+        for (int i = 0; i < n; ++i)
+#pragma GCC unroll 6
+            for (int j = 0; j < 6; ++j) g[j] -= Jr[i * 6 + j] * r[i];
+    } else {
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < nf; ++j) g[j] -= Jr[i * nf + j] * r[i];
+    }
+    memcpy(q->g, g, sizeof g);
+}
+
 /* The damped step from the normal equations of q (see hp_kin_damped_normal). */
 static int normal_step(const fk_gram *q, int nf, const double *D, double lambda, double *dx)
 {
@@ -188,7 +215,12 @@ hp_error hp_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level leve
                              const double x0[6], hp_kin_fit_start *st)
 {
     for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->s[k] = NAN;
-    return hp_kin_contact_eval_warm(L, G, level, x0, st->s, st->rho, st->J, NULL);
+    hp_error err = hp_kin_contact_eval_warm(L, G, level, x0, st->s, st->rho, st->J, NULL);
+    if (err) return err;
+    fk_gram q;
+    gram_of(L->n, 6, st->J, st->rho, &q); /* its −Jᵀr is not used */
+    memcpy(st->A, q.A, sizeof q.A);
+    return HP_OK;
 }
 
 /* 1 when the fit has provably arrived at near (see hp_kin_fit): x within near->tol/4 of
@@ -250,6 +282,10 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
     double cost = sumsq(n, r), lambda = level == HP_LEVEL_LINEAR ? 1e-15 : 1e-3;
     int it = 0, done = 0, have_gram = 0;
     fk_gram gram;
+    if (st) {
+        gram_from_start(n, nf, col, st, Jr, r, &gram);
+        have_gram = 1;
+    }
     while (!done && it < FK_MAX_ITERS) {
         ++it;
         double D[6], dx[6], xt[6];

@@ -68,9 +68,14 @@ static void project_hessian(const double n[3], double mnorm, const double Dm[9],
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
             T[i * 3 + j] = P[i * 3] * Dm[j] + P[i * 3 + 1] * Dm[3 + j] + P[i * 3 + 2] * Dm[6 + j];
-    /* The exact Hessian is symmetric; average away the rounding asymmetry. */
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) hess[i * 3 + j] = 0.5 * (T[i * 3 + j] + T[j * 3 + i]);
+    /* The exact Hessian is symmetric; average away the rounding asymmetry. On the diagonal
+     * the average 0.5·(T_ii + T_ii) is T_ii itself (a doubling and a halving, both exact
+     * for a finite T_ii), and each off-diagonal average is formed once and mirrored. */
+    for (int i = 0; i < 3; ++i) {
+        hess[i * 3 + i] = T[i * 3 + i];
+        for (int j = i + 1; j < 3; ++j)
+            hess[i * 3 + j] = hess[j * 3 + i] = 0.5 * (T[i * 3 + j] + T[j * 3 + i]);
+    }
 }
 
 static hp_error sphere_distance(const hp_head *h, const double y[3], double *d,

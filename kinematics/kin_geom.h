@@ -21,6 +21,8 @@ typedef struct hp_geom {
     double normal[HP_MAX_BLADDERS][3];   /* outward unit head normal there */
     double rho0[HP_MAX_BLADDERS];        /* nominal contact distance |c − p| [m] */
     hp_kin_head_k headk;                 /* the head's constants for the distance */
+    double arm[HP_MAX_BLADDERS][3];      /* centre − pivot [m]: the pose-free part of the
+                                            back transform's u = c − pivot − t */
 } hp_geom;
 
 /* Derives G from L. Checks only what the geometry needs: a valid head, a finite pivot,

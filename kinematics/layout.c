@@ -165,9 +165,11 @@ hp_error hp_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag)
     hp_error err = head_of(L, &G->head, diag);
     if (!err) hp_kin_head_consts(&G->head, &G->headk);
     if (!err) err = check_frame(L, diag);
-    for (int k = 0; !err && k < L->n; ++k)
+    for (int k = 0; !err && k < L->n; ++k) {
         err = bladder_contact(&G->head, &L->bladders[k], k, &G->rho0[k], G->normal[k],
                               G->contact[k], diag);
+        for (int i = 0; i < 3; ++i) G->arm[k][i] = L->bladders[k].center[i] - L->pivot[i];
+    }
     return err;
 }
 
