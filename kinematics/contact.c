@@ -32,7 +32,7 @@ typedef struct rotd {
  * zero terms and with an exact negation moved out: the same bits (up to the sign of a zero)
  * for 15 products instead of 27. */
 static void back_transform(const hp_layout *L, const double arm[3], const double xi[6],
-                           const rotd *rd, backmap *bm)
+                           const rotd *rd, int derivs, backmap *bm)
 {
     const double *R = rd->R, *D = rd->Dr;
     double *u = bm->u, w[3];
@@ -40,6 +40,9 @@ static void back_transform(const hp_layout *L, const double arm[3], const double
     for (int m = 0; m < 3; ++m) {
         w[m] = R[m] * u[0] + R[3 + m] * u[1] + R[6 + m] * u[2];
         bm->cp[m] = w[m] + L->pivot[m];
+    }
+    if (!derivs) return; /* distances only: Cr is never read */
+    for (int m = 0; m < 3; ++m) {
         bm->Cr[m][1] = D[m] * u[0] + D[3 + m] * u[1] + D[6 + m] * u[2];
         bm->Cr[m][2] = -R[3 + m] * u[0] + R[m] * u[1];
     }
@@ -226,12 +229,15 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
     if (H)
         for (int k = 0; k < L->n; ++k) any_h |= !hmask || hmask[k];
     rotd rd;
-    hp_kin_rotation_roll(xi + 3, rd.R, rd.Dr, any_h ? rd.Drr : NULL);
+    /* Distances alone (the end of a solve, a line search's trial, the direct chain) need
+     * neither the rotation's derivatives nor ∂c'/∂θ. */
+    int derivs = J || H;
+    hp_kin_rotation_roll(xi + 3, rd.R, derivs ? rd.Dr : NULL, any_h ? rd.Drr : NULL);
     for (int k = 0; k < L->n; ++k) {
         int want_h = H && (!hmask || hmask[k]);
         if (H && !want_h) memset(H + k * 36, 0, 36 * sizeof *H);
         backmap bm;
-        back_transform(L, G->arm[k], xi, &rd, &bm);
+        back_transform(L, G->arm[k], xi, &rd, derivs, &bm);
         double f, g[3], hf[9];
         if (level == HP_LEVEL_SURFACE) {
             hp_error err = hp_kin_head_distance_k(&G->head, &G->headk, bm.cp, s_warm ? &s_warm[k] : NULL,
