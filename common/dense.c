@@ -11,23 +11,30 @@
  * (6: HP_DENSE_FIXED_N) make the unrolling complete for n = 6; for other n they only unroll
  * the inner loops partially. */
 #define HP_DENSE_FIXED_N 6
+/* GCC's unroll pragma; clang reads it as a request to unroll completely, cannot for a
+ * variable n, and warns (an error here), so clang gets none and unrolls as it sees fit. */
+#if defined(__GNUC__) && !defined(__clang__)
+#define UNROLL6 _Pragma("GCC unroll 6")
+#else
+#define UNROLL6
+#endif
 
 static inline int cholesky_n(const double *A, int lda, int n, double min_frac, double *L,
                              int ldl)
 {
-#pragma GCC unroll 6
+UNROLL6
     for (int j = 0; j < n; ++j) {
         double s = A[j * lda + j];
-#pragma GCC unroll 6
+UNROLL6
         for (int k = 0; k < j; ++k) s -= L[j * ldl + k] * L[j * ldl + k];
         /* Written so that NaN fails. */
         if (!(s > (min_frac > 0 ? min_frac * A[j * lda + j] : 0.0))) return 0;
         double l = sqrt(s);
         L[j * ldl + j] = l;
-#pragma GCC unroll 6
+UNROLL6
         for (int i = j + 1; i < n; ++i) {
             double t = A[i * lda + j];
-#pragma GCC unroll 6
+UNROLL6
             for (int k = 0; k < j; ++k) t -= L[i * ldl + k] * L[j * ldl + k];
             L[i * ldl + j] = t / l;
         }
@@ -43,17 +50,17 @@ int hp_cholesky(const double *A, int lda, int n, double min_frac, double *L, int
 
 static inline void cholesky_solve_n(const double *L, int ldl, int n, double *b)
 {
-#pragma GCC unroll 6
+UNROLL6
     for (int i = 0; i < n; ++i) {
         double t = b[i];
-#pragma GCC unroll 6
+UNROLL6
         for (int k = 0; k < i; ++k) t -= L[i * ldl + k] * b[k];
         b[i] = t / L[i * ldl + i];
     }
-#pragma GCC unroll 6
+UNROLL6
     for (int i = n - 1; i >= 0; --i) {
         double t = b[i];
-#pragma GCC unroll 6
+UNROLL6
         for (int k = i + 1; k < n; ++k) t -= L[k * ldl + i] * b[k];
         b[i] = t / L[i * ldl + i];
     }
@@ -69,12 +76,12 @@ static inline double inv_frob2_n(const double *L, int ldl, int n)
 {
     /* Column j of L⁻¹ by forward substitution on e_j (zero above row j). */
     double x[64], s = 0.0;
-#pragma GCC unroll 6
+UNROLL6
     for (int j = 0; j < n; ++j) {
-#pragma GCC unroll 6
+UNROLL6
         for (int i = j; i < n; ++i) {
             double t = i == j ? 1.0 : 0.0;
-#pragma GCC unroll 6
+UNROLL6
             for (int k = j; k < i; ++k) t -= L[i * ldl + k] * x[k];
             x[i] = t / L[i * ldl + i];
             s += x[i] * x[i];
