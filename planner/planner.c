@@ -20,13 +20,7 @@ void hp_plan_to_scaled(const double xi[6], double x[6])
     for (int i = 0; i < 6; ++i) x[i] = xi[i] * hp_pose_scaled_per_si(i);
 }
 
-void hp_plan_from_scaled(const double x[6], double xi[6])
-{
-    for (int i = 0; i < 3; ++i) {
-        xi[i] = x[i] / HP_MM_PER_M;
-        xi[i + 3] = x[i + 3] / HP_DEG_PER_RAD;
-    }
-}
+void hp_plan_from_scaled(const double x[6], double xi[6]) { hp_setup_pose_from_scaled(x, xi); }
 
 int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
                              hp_result *res, double *clamp_mm)

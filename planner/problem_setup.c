@@ -170,14 +170,19 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
     return HP_OK;
 }
 
-hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
-                                 const double x[6], double *rho_mm, double *J_s)
+void hp_setup_pose_from_scaled(const double x[6], double xi[6])
 {
-    double xi[6], J[HP_MAX_BLADDERS * 6];
     for (int i = 0; i < 3; ++i) {
         xi[i] = x[i] / HP_MM_PER_M;
         xi[i + 3] = x[i + 3] / HP_DEG_PER_RAD;
     }
+}
+
+hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
+                                 const double x[6], double *rho_mm, double *J_s)
+{
+    double xi[6], J[HP_MAX_BLADDERS * 6];
+    hp_setup_pose_from_scaled(x, xi);
     hp_error e = hp_contact_eval_g(L, G, level, xi, rho_mm, J_s ? J : NULL, NULL);
     if (e != HP_OK) return e;
     for (int k = 0; k < L->n; ++k) {
@@ -197,10 +202,7 @@ hp_error hp_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level 
                                  double *rho_mm, int *inside)
 {
     double xi[6];
-    for (int i = 0; i < 3; ++i) {
-        xi[i] = x[i] / HP_MM_PER_M;
-        xi[i + 3] = x[i + 3] / HP_DEG_PER_RAD;
-    }
+    hp_setup_pose_from_scaled(x, xi);
     hp_error e = hp_kin_contact_inside(L, G, level, xi, HP_MM_PER_M, lo_mm, hi_mm, rho_mm, inside);
     if (e != HP_OK || !*inside) {
         *inside = 0;

@@ -43,6 +43,10 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
  * the horizon planners that run on its layout. */
 const hp_geom *hp_planner_geom(const hp_planner *p);
 
+/* Scaled pose (mm, deg) -> SI (m, rad), by division (the bits every evaluation of the
+ * planner's pose has always had). */
+void hp_setup_pose_from_scaled(const double x[6], double xi[6]);
+
 /* Contact distances and Jacobian in scaled units: rho_mm[n], J_s[n×6] (mm per mm, mm per
  * degree); J_s may be NULL. x is scaled (mm, deg). Allocates nothing. */
 hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
