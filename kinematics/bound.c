@@ -19,7 +19,14 @@
  *                                             |·| <= ½(V²/(Rmin + ρ0 − δ) + A),
  *   linear − plane: f_plane'' = nᵀa,           |·| <= ½A,
  * and always |plane − surface| <= 2δ (both sides 1-Lipschitz in c'). The linear bound is
- * the smaller of the direct one and plane + ½A. The bound is the maximum over bladders. */
+ * the smaller of the direct one and plane + ½A. The bound is the maximum over bladders.
+ *
+ * The same sizes bound one step of a solver, τ ↦ ξa + τΔ (hp_kin_contact_step_bound):
+ * |t| <= |ta| + |Δt| on the way, so |u| = |c − pivot − t| <= L + |ta| + |Δt| =: U; the
+ * rates are constant, |ω| <= √2|Δθ| and |ω̇| <= (1 + √5)/4·|Δθ|²; then
+ * |v| <= |ω|U + |Δt| =: V, |a| <= (|ω|² + |ω̇|)U + 2|ω||Δt| =: A, the path stays within V
+ * of c'(0), and f(1) − f(0) − f'(0) (f'(0) = J·Δ) is at most ½ max|f''|: ½A on the plane,
+ * ½(V²/(Rmin + ρa − V) + A) on the surface while V < ρa. */
 #include "kin_internal.h"
 #include "kin_geom.h"
 
@@ -29,20 +36,39 @@ typedef struct sizes {
     double delta, V, A, rmin, rho0;
 } sizes;
 
-static sizes path_sizes(const hp_layout *L, const hp_geom *G, int k, double T, double rot)
+/* Sizes of bladder k's back-transformed centre c'(τ) along a straight pose path: lev >=
+ * |c − pivot|, |t| <= ta at its start, the translation moves by at most dt (m), the
+ * rotation has angular speed <= om and acceleration <= omd. Then |u| = |c − pivot − t| <=
+ * lev + ta + dt =: U, |v| <= om·U + dt and |a| <= (om² + omd)·U + 2·om·dt (header). */
+static sizes sizes_along(const hp_geom *G, int k, double lev, double ta, double dt, double om,
+                         double omd, double rmin)
 {
-    double w[3];
-    for (int i = 0; i < 3; ++i) w[i] = L->bladders[k].center[i] - L->pivot[i];
-    double lev = hypot(hypot(w[0], w[1]), w[2]);
-    double om = rot * sqrt(1.0 + 2.0 * rot / (3.0 * sqrt(3.0)));
-    double omd = 0.25 * (1.0 + sqrt(5.0)) * rot * rot;
+    double U = lev + ta + dt;
     sizes s;
-    s.delta = fmin(2.0, om) * lev + T;
-    s.V = om * (lev + T) + T;
-    s.A = (om * om + omd) * (lev + T) + 2.0 * om * T;
-    s.rmin = hp_kin_head_min_curvature_radius(&G->head);
+    s.delta = fmin(2.0, om) * lev + ta + dt;
+    s.V = om * U + dt;
+    s.A = (om * om + omd) * U + 2.0 * om * dt;
+    s.rmin = rmin;
     s.rho0 = G->rho0[k];
     return s;
+}
+
+/* The path from the nominal pose (header): ta = 0, dt = T. */
+static sizes path_sizes(const hp_geom *G, int k, double T, double rot)
+{
+    const double *w = G->arm[k];
+    double om = rot * sqrt(1.0 + 2.0 * rot / (3.0 * sqrt(3.0)));
+    double omd = 0.25 * (1.0 + sqrt(5.0)) * rot * rot;
+    return sizes_along(G, k, hypot(hypot(w[0], w[1]), w[2]), 0.0, T, om, omd,
+                       hp_kin_head_min_curvature_radius(&G->head));
+}
+
+/* ½·max|f''| for f(τ) = d(c'(τ)), d the distance to the convex head, when the path stays
+ * at least rho0 − delta > 0 from it (d is 1-Lipschitz); infinity otherwise. */
+static double surface_remainder(const sizes *s)
+{
+    if (!(s->delta < s->rho0)) return INFINITY;
+    return 0.5 * (s->V * s->V / (s->rmin + s->rho0 - s->delta) + s->A);
 }
 
 static double plane_bound(const sizes *s)
@@ -55,10 +81,7 @@ static double plane_bound(const sizes *s)
 
 static double linear_bound(const sizes *s)
 {
-    double via_plane = plane_bound(s) + 0.5 * s->A;
-    if (s->delta < s->rho0)
-        return fmin(via_plane, 0.5 * (s->V * s->V / (s->rmin + s->rho0 - s->delta) + s->A));
-    return via_plane;
+    return fmin(plane_bound(s) + 0.5 * s->A, surface_remainder(s));
 }
 
 hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
@@ -72,7 +95,7 @@ hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level
     double worst = 0.0;
     if (level != HP_LEVEL_SURFACE)
         for (int k = 0; k < L->n; ++k) {
-            sizes s = path_sizes(L, G, k, trans, rot);
+            sizes s = path_sizes(G, k, trans, rot);
             worst = fmax(worst, level == HP_LEVEL_LINEAR ? linear_bound(&s) : plane_bound(&s));
         }
     *bound = worst;
@@ -114,4 +137,44 @@ hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double ro
     hp_geom G;
     if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
     return hp_contact_auto_g(L, &G, tol, trans, rot, level);
+}
+
+static double l1(const double v[3]) { return fabs(v[0]) + fabs(v[1]) + fabs(v[2]); }
+
+hp_error hp_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_level level,
+                                   const double xi[6], const double dxi[6], const double *rho,
+                                   double *bound)
+{
+    if (!L || !G || !xi || !dxi || !bound || (level == HP_LEVEL_SURFACE && !rho))
+        return HP_ERR_NULL;
+    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
+        return HP_ERR_INVALID;
+    for (int i = 0; i < 6; ++i)
+        if (!isfinite(xi[i]) || !isfinite(dxi[i])) return HP_ERR_INVALID;
+    /* Rates along the path are the constant dxi. With R = Rz(γ)Ry(β)Rx(α) the angular
+     * velocity is γ' e_z + β' Rz e_y + α' RzRy e_x, whose only non-orthogonal pair
+     * (e_z, RzRy e_x) has the product −sin β, so |ω|² <= |dθ|² + 2|α'γ'| <= 2|dθ|²; its
+     * derivative is bounded as from the nominal pose, by (1 + √5)/4·|dθ|². Every length
+     * is taken as its 1-norm, an upper bound of the 2-norm without a square root: a
+     * solver asks this of steps whose remainder is far below any rounding. */
+    double ta = l1(xi), dt = l1(dxi), dth = l1(dxi + 3);
+    double om = sqrt(2.0) * dth, omd = 0.25 * (1.0 + sqrt(5.0)) * dth * dth;
+    double rmin = hp_kin_head_min_curvature_radius(&G->head);
+    for (int k = 0; k < L->n; ++k) {
+        if (level == HP_LEVEL_LINEAR) {
+            bound[k] = 0.0; /* rho is affine in the pose */
+            continue;
+        }
+        sizes s = sizes_along(G, k, l1(G->arm[k]), ta, dt, om, omd, rmin);
+        if (level == HP_LEVEL_PLANE) {
+            bound[k] = 0.5 * s.A; /* f = nᵀ(c' − p): f'' = nᵀa */
+            continue;
+        }
+        /* Along this path |c'(τ) − c'(0)| <= V, so V stands for delta and rho[k] for the
+         * start's distance. */
+        s.delta = s.V;
+        s.rho0 = rho[k];
+        bound[k] = surface_remainder(&s);
+    }
+    return HP_OK;
 }

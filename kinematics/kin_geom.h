@@ -56,6 +56,15 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
 hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                const double xi[6], double scale, const double *lo,
                                const double *hi, double *rho, int *inside);
+/* A bound (m) on the second-order remainder |rho_k(xi + dxi) − rho_k(xi) − J_k(xi)·dxi| of
+ * each bladder k along the straight step from SI pose xi by dxi, at the given level: 0 at
+ * the linear level; at the surface level it needs rho[k] = rho_k(xi) (m; may be NULL at
+ * the others) and is infinity where the step could come within reach of the head.
+ * Derivation in bound.c. HP_ERR_NULL, or HP_ERR_INVALID for a bad level or a non-finite
+ * pose. Allocates nothing. */
+hp_error hp_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_level level,
+                                   const double xi[6], const double dxi[6], const double *rho,
+                                   double *bound);
 hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
                                   double trans, double rot, double *bound);
 hp_error hp_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,

@@ -14,6 +14,7 @@
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
@@ -401,6 +402,35 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
     return worst;
 }
 
+/* rho at xk (st->rho) from the last QP's linearisation at xa, rho_k + J·(xk − xa), when
+ * the step xa -> xk is so short that its second-order remainder (hp_kin_contact_step_bound,
+ * a bound derived for the layout's geometry, not an estimate) is below one rounding of
+ * each radius: then these are the numbers a fresh evaluation would give, to its own
+ * rounding, for 48 multiply-adds instead of eight distances. A converged solve's last
+ * step (~1e-11 mm or deg) leaves a remainder near 1e-18 mm. Returns 1 only when every
+ * radius is also inside its true limits (the restoration, which needs the violations,
+ * then has nothing to do); otherwise 0 with st->rho untouched. */
+static int rho_by_step(rt_state *st, const hp_problem *pb, const double *xa, const double *xk)
+{
+    double xia[6], xib[6], dxi[6], ra[HP_MAX_BLADDERS], b[HP_MAX_BLADDERS], r[HP_MAX_BLADDERS];
+    hp_setup_pose_from_scaled(xa, xia);
+    hp_setup_pose_from_scaled(xk, xib);
+    for (int i = 0; i < 6; ++i) dxi[i] = xib[i] - xia[i];
+    for (int k = 0; k < pb->n; ++k) ra[k] = st->rho_k[k] / HP_MM_PER_M;
+    if (hp_kin_contact_step_bound(pb->layout, pb->geom, pb->level, xia, dxi, ra, b) != HP_OK)
+        return 0;
+    for (int k = 0; k < pb->n; ++k) {
+        double v = st->rho_k[k];
+        for (int i = 0; i < 6; ++i) v += st->J[k * 6 + i] * (xk[i] - xa[i]);
+        /* comparisons false for a NaN: a failed model never passes */
+        if (!(b[k] * HP_MM_PER_M <= DBL_EPSILON * fabs(v))) return 0;
+        if (!(v >= pb->ro_lo[k] && v <= pb->ro_hi[k])) return 0;
+        r[k] = v;
+    }
+    memcpy(st->rho, r, (size_t)pb->n * sizeof *r);
+    return 1;
+}
+
 /* The l1 merit function ½Σw(x − d)² + nu·Σ violation(x) (mm), which the SQP step decreases
  * for nu above the largest multiplier, from the radii rho at x. */
 static double merit_of(const rt_state *st, const hp_problem *pb, const double *x,
@@ -531,7 +561,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     st->qps = 0;
     st->c_ok = 0;
     rt_begin(st, pb);
-    int whole_prev = 0, exact_prev = 0;
+    int whole_prev = 0, exact_prev = 0, short_last = 0;
+    double xa[6];
     hp_qp_status qs = HP_QP_OPTIMAL;
     hp_status st_out = HP_STATUS_CLOSEST;
     for (;;) {
@@ -563,8 +594,12 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         /* Steps far below any clinical size (at the rounding floor of the merit) are taken
          * whole; every other one is globalised. */
         int whole = 1;
-        if (step > RT_FULL_STEP) whole = line_search(st, pb, xk, xn, st->max_iter, &iters);
-        else memcpy(xk, xn, sizeof xk);
+        short_last = step <= RT_FULL_STEP;
+        if (!short_last) whole = line_search(st, pb, xk, xn, st->max_iter, &iters);
+        else {
+            memcpy(xa, xk, sizeof xa); /* where rho_k and J were evaluated */
+            memcpy(xk, xn, sizeof xk);
+        }
         int same_active = memcmp(st->act, st->qp.active, sizeof st->act) == 0;
         memcpy(st->act, st->qp.active, sizeof st->act);
         /* The accepted point inside the true limits: measured when the line search
@@ -611,7 +646,12 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
 
     /* Feasibility restoration (only the nonlinear levels can need it). */
     double viol[HP_MAX_BLADDERS], extra[HP_MAX_BLADDERS] = {0};
-    double v = violation(st, pb, xk, viol);
+    /* rho(xk): after a short last step, from that step's linearisation (rho_by_step). */
+    double v = 0.0;
+    if (short_last && qs == HP_QP_OPTIMAL && rho_by_step(st, pb, xa, xk))
+        for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
+    else
+        v = violation(st, pb, xk, viol);
     int rho_at_xk = v == 0.0; /* st->rho holds rho(xk) until a restoration moves on */
     /* Restoration tightens finite violations; a non-finite one has nothing to tighten. */
     for (int round = 0; v > 0 && isfinite(v) && round < RT_RESTORE_ROUNDS; ++round) {

@@ -4,6 +4,8 @@
  * active sets, an independent method), degenerate vertices, rate limits, a sphere head's
  * uncommanded rotations and a soft material's limit point. */
 #include "test_util.h"
+
+#include <float.h>
 #include <string.h>
 #include "tests/planner/layout_fixture.h"
 
@@ -300,8 +302,11 @@ static void nonlinear_closest_at(hp_level level, double amp, uint64_t seed0)
         }
         for (int k = 0; k < L.n; ++k) {
             /* The returned radius is the contact distance at the achieved pose, inside the
-             * limits (strictly: restoration leaves no violation). */
-            hp_assert_close(r.bladders[k].ro * 1e3, rho[k] * 1e3, 0, 1e-9);
+             * limits (strictly: restoration leaves no violation). To rounding: the backend's
+             * distances start warm, and after a short last step it extrapolates them over
+             * that step with a remainder bounded below one rounding (rho_by_step); measured
+             * up to 9.4 ε apart from this cold evaluation (6.2 ε without extrapolating). */
+            hp_assert_close(r.bladders[k].ro, rho[k], 32 * DBL_EPSILON, 0);
             assert_true(rho[k] * 1e3 >= P.lo[k] - 1e-12 && rho[k] * 1e3 <= P.hi[k] + 1e-12);
             for (int i = 0; i < 3; ++i) {
                 P.J[k * 6 + i] = J[k * 6 + i];
