@@ -63,16 +63,17 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
  * [lo[k], hi[k]] (the caller's units, e.g. scale 1000 for mm). The distances are evaluated
  * bladder by bladder, each the same bits as hp_contact_eval_g's, and the evaluation stops
  * at the first one outside (a NaN is outside): a target beyond reach usually costs a
- * fraction of a full evaluation. At the plane and surface levels the first bladder
- * evaluated is the one the linear level (hp_geom_linear · scale) predicts furthest outside
- * its bounds, the largest max(lo[k] − v, v − hi[k]) (lowest index on a tie), then the
- * others in index order; at the linear level, index order. The verdict does not depend on
- * the order. Returns HP_OK with *inside 1 and rho[0..n-1] written (m); or HP_OK with
- * *inside 0 and rho[k] written only for the bladders evaluated, in that order, up to and
- * including the first one outside (the others untouched: a caller must not read rho when
- * not inside); or the evaluation's error (*inside 0; rho all NaN for a non-finite xi or a
- * distance not defined at xi). Where a distance is not defined at xi, whether its bladder
- * is reached before one outside depends on the order: HP_OK with *inside 0 or the error. */
+ * fraction of a full evaluation. At the surface level the first bladder evaluated is the
+ * one the linear level (hp_geom_linear · scale) predicts furthest outside its bounds, the
+ * largest max(lo[k] − v, v − hi[k]) (lowest index on a tie), then the others in index
+ * order; at the linear and plane levels, index order (there a distance costs about what
+ * the prediction does). The verdict does not depend on the order.
+ * Returns HP_OK with *inside 1 and rho[0..n-1] written (m); or HP_OK with *inside 0 and
+ * rho[k] written only for the bladders evaluated, in that order, up to and including the
+ * first one outside (the others untouched: a caller must not read rho when not inside);
+ * or the evaluation's error (*inside 0; rho all NaN for a non-finite xi or a distance not
+ * defined at xi). Where a distance is not defined at xi, whether its bladder is reached
+ * before one outside depends on the order: HP_OK with *inside 0, or the error. */
 hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                const double xi[6], double scale, const double *lo,
                                const double *hi, double *rho, int *inside);

@@ -304,9 +304,9 @@ static void test_generic_form(void **state)
 }
 
 /* The order hp_kin_contact_inside documents (kin_geom.h), computed here from the public
- * linear-level evaluation: at the plane and surface levels the bladder whose linear distance
- * (mm) lies furthest outside its bounds, max(lo − v, v − hi), lowest index on a tie, then
- * the others in index order; at the linear level index order. order[0..n-1]. */
+ * linear-level evaluation: at the surface level the bladder whose linear distance (mm) lies
+ * furthest outside its bounds, max(lo − v, v − hi), lowest index on a tie, then the others
+ * in index order; at the linear and plane levels index order. order[0..n-1]. */
 static void inside_order(const hp_layout *L, hp_level lv, const double xi[6], const double *lo,
                          const double *hi, int order[HP_MAX_BLADDERS])
 {
@@ -314,7 +314,7 @@ static void inside_order(const hp_layout *L, hp_level lv, const double xi[6], co
     assert_int_equal(hp_contact_eval(L, HP_LEVEL_LINEAR, xi, rl, NULL, NULL), HP_OK);
     int first = 0;
     double most = -INFINITY;
-    for (int k = 0; lv != HP_LEVEL_LINEAR && k < L->n; ++k) {
+    for (int k = 0; lv == HP_LEVEL_SURFACE && k < L->n; ++k) {
         double v = rl[k] * 1000.0, over = fmax(lo[k] - v, v - hi[k]);
         if (over > most) {
             most = over;
@@ -365,10 +365,10 @@ static void check_inside(const hp_geom *G, hp_level lv, const double xi[6], cons
 }
 
 /* 900 seeded poses up to 10 mm and 0.1 rad at the three levels, bounds as check_inside
- * says. Each verdict occurs more than 200 times, and more than 50 "outside" verdicts stop
- * before reaching the first bladder outside in index order, so the order is exercised. A
- * NaN pose is an error, never inside, every distance NaN; a NULL argument is refused; a NaN
- * bound is outside. */
+ * says. Each verdict occurs more than 200 times, and more than 25 "outside" verdicts (at
+ * the surface level) stop before reaching the first bladder outside in index order, so the
+ * order is exercised. A NaN pose is an error, never inside, every distance NaN; a NULL
+ * argument is refused; a NaN bound is outside. */
 static void test_inside(void **state)
 {
     (void)state;
@@ -402,7 +402,7 @@ static void test_inside(void **state)
         ins += v;
         skips += sk;
     }
-    assert_true(outs > 200 && ins > 200 && skips > 50);
+    assert_true(outs > 200 && ins > 200 && skips > 25); /* 441, 459, 48 */
     double xi[6] = {0, 0, 0, NAN, 0, 0}, got[HP_MAX_BLADDERS], lo[HP_MAX_BLADDERS] = {0},
            hi[HP_MAX_BLADDERS];
     for (int k = 0; k < LAY.n; ++k) hi[k] = 1e9;
@@ -429,9 +429,10 @@ static void test_inside(void **state)
 /* The prediction can be wrong: the bladder the linear level puts furthest outside is
  * inside (its bound exactly at its distance), another one is outside by one ulp of its
  * distance, every other bound is 1 m away. The verdict is still "outside", the predicted
- * bladder was evaluated (first) and so was the one outside. At the plane and surface
- * levels, on seeded poses of up to 10 mm and 0.2 rad, where the linear level differs from
- * the exact distance by far more than an ulp (asserted), each other bladder in turn. */
+ * bladder was evaluated (at the surface level first) and so was the one outside. At the
+ * plane (index order) and surface levels, on seeded poses of 10 mm and 0.2 rad, where the
+ * linear level differs from the exact distance by far more than an ulp (asserted), each
+ * other bladder in turn as the one outside. */
 static void test_inside_prediction_wrong(void **state)
 {
     (void)state;
@@ -465,12 +466,13 @@ static void test_inside_prediction_wrong(void **state)
             if (rl[b] < rho[b]) hi[b] = nextafter(rho[b] * 1000.0, -INFINITY);
             else lo[b] = nextafter(rho[b] * 1000.0, INFINITY);
             inside_order(&LAY, lv, xi, lo, hi, order);
-            assert_int_equal(order[0], a); /* the construction makes a the predicted worst */
+            if (lv == HP_LEVEL_SURFACE)
+                assert_int_equal(order[0], a); /* the construction makes a the predicted worst */
             int inside = -1;
             assert_int_equal(hp_kin_contact_inside(&LAY, &G, lv, xi, 1000.0, lo, hi, got,
                                                    &inside), HP_OK);
             assert_int_equal(inside, 0);
-            assert_true(got[a] == rho[a]);
+            if (lv == HP_LEVEL_SURFACE) assert_true(got[a] == rho[a]);
             assert_true(got[b] == rho[b]);
             int v, sk;
             check_inside(&G, lv, xi, lo, hi, &v, &sk);
