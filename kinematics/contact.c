@@ -120,19 +120,6 @@ static void contact_hessian(const rotd *rd, const backmap *bm, const double g[3]
 #undef HS
 }
 
-static void linear_row(const hp_layout *L, const hp_geom *G, int k, double row[6])
-{
-    const double *n = G->normal[k];
-    double lv[3];
-    for (int i = 0; i < 3; ++i) lv[i] = G->contact[k][i] - L->pivot[i];
-    row[0] = -n[0];
-    row[1] = -n[1];
-    row[2] = -n[2];
-    row[3] = -(lv[1] * n[2] - lv[2] * n[1]);
-    row[4] = -(lv[2] * n[0] - lv[0] * n[2]);
-    row[5] = -(lv[0] * n[1] - lv[1] * n[0]);
-}
-
 /* Bounds of hp_kin_contact_inside: stop at the first bladder outside them. */
 typedef struct contact_stop {
     const double *lo, *hi;
@@ -148,6 +135,29 @@ static int outside(contact_stop *stop, int k, double f)
     if (v >= stop->lo[k] && v <= stop->hi[k]) return 0;
     stop->inside = 0;
     return 1;
+}
+
+/* The bladder the linear level predicts furthest outside stop's bounds at xi: the largest
+ * max(lo[k] − v, v − hi[k]) with v = ρ_lin,k · scale (the scaling of outside()), the lowest
+ * index on a tie; 0 when none is a number above −∞. A target beyond reach usually has one
+ * bladder far outside, which the linear level already sees: evaluating it first stops the
+ * direct chain after one exact distance instead of several. Six multiply-adds a bladder
+ * (the rows are hp_geom's, derived once); the order changes what is evaluated, never the
+ * verdict. */
+static int predicted_worst(const hp_geom *G, int n, const double xi[6], const contact_stop *stop)
+{
+    int worst = 0;
+    double most = -INFINITY;
+    for (int k = 0; k < n; ++k) {
+        double v = hp_geom_linear(G, k, xi) * stop->scale;
+        double below = stop->lo[k] - v, above = v - stop->hi[k];
+        double over = below > above ? below : above;
+        if (over > most) {
+            most = over;
+            worst = k;
+        }
+    }
+    return worst;
 }
 
 static void fill_nan(int n, double *rho, double *J, double *H)
@@ -174,34 +184,10 @@ hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level
     return hp_kin_contact_eval_mask(L, G, level, xi, s_warm, NULL, rho, J, H);
 }
 
-static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level level,
-                             const double xi[6], double *s_warm, const unsigned char *hmask,
-                             double *rho, double *J, double *H, contact_stop *stop);
-
-hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
-                                  const double xi[6], double *s_warm, const unsigned char *hmask,
-                                  double *rho, double *J, double *H)
-{
-    return contact_eval(L, G, level, xi, s_warm, hmask, rho, J, H, NULL);
-}
-
-hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
-                               const double xi[6], double scale, const double *lo,
-                               const double *hi, double *rho, int *inside)
-{
-    if (!lo || !hi || !rho || !inside) return HP_ERR_NULL;
-    contact_stop stop = {lo, hi, scale, 1};
-    *inside = 0;
-    hp_error e = contact_eval(L, G, level, xi, NULL, NULL, rho, NULL, NULL, &stop);
-    if (e == HP_OK) *inside = stop.inside;
-    return e;
-}
-
-/* The evaluation itself; with stop, distances only, ending at the first bladder outside
- * stop's bounds (stop->inside = 0). */
-static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level level,
-                             const double xi[6], double *s_warm, const unsigned char *hmask,
-                             double *rho, double *J, double *H, contact_stop *stop)
+/* The checks every evaluation starts with: L, G, xi not NULL (HP_ERR_NULL), a concrete
+ * level, a finite pose (else HP_ERR_INVALID with the outputs given filled with NaN). */
+static hp_error eval_args(const hp_layout *L, const hp_geom *G, hp_level level,
+                          const double xi[6], double *rho, double *J, double *H)
 {
     if (!L || !G || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
@@ -211,14 +197,98 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
             fill_nan(L->n, rho, J, H);
             return HP_ERR_INVALID;
         }
+    return HP_OK;
+}
+
+/* Distance f of bladder k at pose xi (plane or surface level) and its gradient g in c',
+ * with the back transform bm it was computed from (derivs: also ∂c'/∂θ). hf (surface
+ * level, may be NULL): ∇²f; s_io: the warm-start multiplier (may be NULL). The distance
+ * error of hp_kin_head_distance_k, nothing written elsewhere. */
+static inline hp_error bladder_distance(const hp_layout *L, const hp_geom *G, hp_level level,
+                                        const double xi[6], const rotd *rd, int derivs, int k,
+                                        double *s_io, backmap *bm, double *f, double g[3],
+                                        double *hf)
+{
+    back_transform(L, G->arm[k], xi, rd, derivs, bm);
+    if (level == HP_LEVEL_SURFACE)
+        return hp_kin_head_distance_k(&G->head, &G->headk, bm->cp, s_io, f, g, hf, NULL);
+    const double *n = G->normal[k], *p = G->contact[k];
+    *f = n[0] * (bm->cp[0] - p[0]) + n[1] * (bm->cp[1] - p[1]) + n[2] * (bm->cp[2] - p[2]);
+    memcpy(g, n, 3 * sizeof *g);
+    return HP_OK;
+}
+
+/* The direct chain's evaluation (hp_kin_contact_inside): distances only, stopping at the
+ * first bladder outside stop's bounds (stop->inside = 0). At the linear level in index
+ * order (the evaluation is the prediction); at the plane level too (a plane distance costs
+ * about what the prediction would); at the surface level the bladder the linear level
+ * predicts furthest outside (predicted_worst) first, then the others in index order. A
+ * function of its own, so that the full evaluation pays nothing for the order. */
+static hp_error inside_eval(const hp_layout *L, const hp_geom *G, hp_level level,
+                            const double xi[6], double *rho, contact_stop *stop)
+{
+    hp_error e = eval_args(L, G, level, xi, rho, NULL, NULL);
+    if (e) return e;
     if (level == HP_LEVEL_LINEAR) {
         for (int k = 0; k < L->n; ++k) {
-            double row[6], v = G->rho0[k];
-            linear_row(L, G, k, row);
-            for (int i = 0; i < 6; ++i) v += row[i] * xi[i];
-            if (rho) rho[k] = v;
-            if (stop && outside(stop, k, v)) return HP_OK;
-            if (J) memcpy(J + 6 * k, row, sizeof row);
+            rho[k] = hp_geom_linear(G, k, xi);
+            if (outside(stop, k, rho[k])) break;
+        }
+        return HP_OK;
+    }
+    rotd rd;
+    hp_kin_rotation_roll(xi + 3, rd.R, NULL, NULL);
+    /* j = −1: the predicted bladder (surface level); j = 0..n−1: the others, index order. */
+    int first = level == HP_LEVEL_SURFACE ? predicted_worst(G, L->n, xi, stop) : -1;
+    for (int j = first < 0 ? 0 : -1; j < L->n; ++j) {
+        int k = j < 0 ? first : j;
+        if (j >= 0 && k == first) continue; /* evaluated first */
+        backmap bm;
+        double g[3];
+        e = bladder_distance(L, G, level, xi, &rd, 0, k, NULL, &bm, &rho[k], g, NULL);
+        if (e) {
+            fill_nan(L->n, rho, NULL, NULL);
+            return e;
+        }
+        if (outside(stop, k, rho[k])) break;
+    }
+    return HP_OK;
+}
+
+static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level level,
+                             const double xi[6], double *s_warm, const unsigned char *hmask,
+                             double *rho, double *J, double *H);
+
+hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
+                                  const double xi[6], double *s_warm, const unsigned char *hmask,
+                                  double *rho, double *J, double *H)
+{
+    return contact_eval(L, G, level, xi, s_warm, hmask, rho, J, H);
+}
+
+hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
+                               const double xi[6], double scale, const double *lo,
+                               const double *hi, double *rho, int *inside)
+{
+    if (!lo || !hi || !rho || !inside) return HP_ERR_NULL;
+    contact_stop stop = {lo, hi, scale, 1};
+    *inside = 0;
+    hp_error e = inside_eval(L, G, level, xi, rho, &stop);
+    if (e == HP_OK) *inside = stop.inside;
+    return e;
+}
+
+/* The evaluation itself. */
+static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level level,
+                             const double xi[6], double *s_warm, const unsigned char *hmask,
+                             double *rho, double *J, double *H)
+{
+    hp_error e = eval_args(L, G, level, xi, rho, J, H);
+    if (e) return e;
+    if (level == HP_LEVEL_LINEAR) {
+        for (int k = 0; k < L->n; ++k) {
+            if (rho) rho[k] = hp_geom_linear(G, k, xi);
+            if (J) memcpy(J + 6 * k, G->row[k], sizeof G->row[k]);
             if (H)
                 for (int i = 0; i < 36; ++i) H[k * 36 + i] = 0.0;
         }
@@ -237,31 +307,22 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
         int want_h = H && (!hmask || hmask[k]);
         if (H && !want_h) memset(H + k * 36, 0, 36 * sizeof *H);
         backmap bm;
-        back_transform(L, G->arm[k], xi, &rd, derivs, &bm);
         double f, g[3], hf[9];
-        if (level == HP_LEVEL_SURFACE) {
-            hp_error err = hp_kin_head_distance_k(&G->head, &G->headk, bm.cp, s_warm ? &s_warm[k] : NULL,
-                                                     &f, g, want_h ? hf : NULL, NULL);
-            if (err) {
-                fill_nan(L->n, rho, J, H);
-                return err;
-            }
-        } else {
-            const double *n = G->normal[k], *p = G->contact[k];
-            f = n[0] * (bm.cp[0] - p[0]) + n[1] * (bm.cp[1] - p[1]) + n[2] * (bm.cp[2] - p[2]);
-            memcpy(g, n, sizeof g);
+        e = bladder_distance(L, G, level, xi, &rd, derivs, k, s_warm ? &s_warm[k] : NULL, &bm,
+                             &f, g, want_h ? hf : NULL);
+        if (e) {
+            fill_nan(L->n, rho, J, H);
+            return e;
         }
         if (rho) rho[k] = f;
-        if (stop && outside(stop, k, f)) return HP_OK;
+        if (!J && !want_h) continue;
         /* R·g: the translation columns of J (∂c'/∂t = −Rᵀ) negated, and three of the
          * Hessian's contractions. */
         const double *R = rd.R;
         double Rg[3];
-        if (J || want_h) {
-            Rg[0] = g[0] * R[0] + g[1] * R[1] + g[2] * R[2];
-            Rg[1] = g[0] * R[3] + g[1] * R[4] + g[2] * R[5];
-            Rg[2] = g[0] * R[6] + g[1] * R[7] + g[2] * R[8];
-        }
+        Rg[0] = g[0] * R[0] + g[1] * R[1] + g[2] * R[2];
+        Rg[1] = g[0] * R[3] + g[1] * R[4] + g[2] * R[5];
+        Rg[2] = g[0] * R[6] + g[1] * R[7] + g[2] * R[8];
         if (J)
             for (int i = 0; i < 3; ++i) {
                 J[k * 6 + i] = -Rg[i];

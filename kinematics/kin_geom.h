@@ -23,12 +23,25 @@ typedef struct hp_geom {
     hp_kin_head_k headk;                 /* the head's constants for the distance */
     double arm[HP_MAX_BLADDERS][3];      /* centre − pivot [m]: the pose-free part of the
                                             back transform's u = c − pivot − t */
+    double row[HP_MAX_BLADDERS][6];      /* the linear level's Jacobian row ∂ρ_k/∂ξ at the
+                                            nominal pose (−n, −(contact − pivot) × n):
+                                            ρ_lin,k = rho0[k] + row[k]·ξ (hp_geom_linear) */
 } hp_geom;
 
 /* Derives G from L. Checks only what the geometry needs: a valid head, a finite pivot,
  * n in 1..HP_MAX_BLADDERS, every centre finite and outside the head. HP_ERR_NULL or
  * HP_ERR_INVALID (message in diag, may be NULL) otherwise. Allocates nothing. */
 hp_error hp_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag);
+
+/* The linear level's distance of bladder k at pose xi (SI): rho0[k] + row[k]·xi, summed
+ * left to right from rho0[k]. The one formula of the linear level's evaluation and of the
+ * direct chain's prediction (hp_kin_contact_inside), so both give the same bits. */
+static inline double hp_geom_linear(const hp_geom *G, int k, const double xi[6])
+{
+    double v = G->rho0[k];
+    for (int i = 0; i < 6; ++i) v += G->row[k][i] * xi[i];
+    return v;
+}
 
 /* The public calls of the same name without the _g, for a geometry G derived from L
  * (hp_geom_derive or hp_layout_prepare's checks, then hp_geom_derive) and not changed
@@ -50,9 +63,17 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
  * [lo[k], hi[k]] (the caller's units, e.g. scale 1000 for mm). The distances are evaluated
  * bladder by bladder, each the same bits as hp_contact_eval_g's, and the evaluation stops
  * at the first one outside (a NaN is outside): a target beyond reach usually costs a
- * fraction of a full evaluation. Returns HP_OK with *inside 1 and rho[0..n-1] written (m),
- * or *inside 0 and rho written up to the first bladder outside; or the evaluation's error
- * (*inside 0). */
+ * fraction of a full evaluation. At the surface level the first bladder evaluated is the
+ * one the linear level (hp_geom_linear · scale) predicts furthest outside its bounds, the
+ * largest max(lo[k] − v, v − hi[k]) (lowest index on a tie), then the others in index
+ * order; at the linear and plane levels, index order (there a distance costs about what
+ * the prediction does). The verdict does not depend on the order.
+ * Returns HP_OK with *inside 1 and rho[0..n-1] written (m); or HP_OK with *inside 0 and
+ * rho[k] written only for the bladders evaluated, in that order, up to and including the
+ * first one outside (the others untouched: a caller must not read rho when not inside);
+ * or the evaluation's error (*inside 0; rho all NaN for a non-finite xi or a distance not
+ * defined at xi). Where a distance is not defined at xi, whether its bladder is reached
+ * before one outside depends on the order: HP_OK with *inside 0, or the error. */
 hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                const double xi[6], double scale, const double *lo,
                                const double *hi, double *rho, int *inside);

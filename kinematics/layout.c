@@ -159,6 +159,20 @@ static hp_error bladder_contact(const hp_head *h, const hp_bladder *b, int k, do
     return HP_OK;
 }
 
+/* The linear level's Jacobian row of a bladder touching at point p with normal n:
+ * ∂ρ/∂t = −n, ∂ρ/∂θ = −(p − pivot) × n (the contact point moves with the head). */
+static void linear_row(const hp_layout *L, const double p[3], const double n[3], double row[6])
+{
+    double lv[3];
+    for (int i = 0; i < 3; ++i) lv[i] = p[i] - L->pivot[i];
+    row[0] = -n[0];
+    row[1] = -n[1];
+    row[2] = -n[2];
+    row[3] = -(lv[1] * n[2] - lv[2] * n[1]);
+    row[4] = -(lv[2] * n[0] - lv[0] * n[2]);
+    row[5] = -(lv[0] * n[1] - lv[1] * n[0]);
+}
+
 hp_error hp_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag)
 {
     if (!L || !G) return hp_diag_set(diag, HP_ERR_NULL, "layout: NULL");
@@ -169,6 +183,7 @@ hp_error hp_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag)
         err = bladder_contact(&G->head, &L->bladders[k], k, &G->rho0[k], G->normal[k],
                               G->contact[k], diag);
         for (int i = 0; i < 3; ++i) G->arm[k][i] = L->bladders[k].center[i] - L->pivot[i];
+        if (!err) linear_row(L, G->contact[k], G->normal[k], G->row[k]);
     }
     return err;
 }

@@ -303,44 +303,106 @@ static void test_generic_form(void **state)
     }
 }
 
-/* hp_kin_contact_inside: the verdict is the exact one (every distance in mm inside its
- * bounds, boundaries included) and the distances it writes are hp_contact_eval's bits, up to
- * the first bladder outside; bounds at a distance itself and one ulp past it probe the
- * comparison exactly. A NaN pose is an error and never inside. */
+/* The order hp_kin_contact_inside documents (kin_geom.h), computed here from the public
+ * linear-level evaluation: at the surface level the bladder whose linear distance (mm) lies
+ * furthest outside its bounds, max(lo − v, v − hi), lowest index on a tie, then the others
+ * in index order; at the linear and plane levels index order. order[0..n-1]. */
+static void inside_order(const hp_layout *L, hp_level lv, const double xi[6], const double *lo,
+                         const double *hi, int order[HP_MAX_BLADDERS])
+{
+    double rl[HP_MAX_BLADDERS];
+    assert_int_equal(hp_contact_eval(L, HP_LEVEL_LINEAR, xi, rl, NULL, NULL), HP_OK);
+    int first = 0;
+    double most = -INFINITY;
+    for (int k = 0; lv == HP_LEVEL_SURFACE && k < L->n; ++k) {
+        double v = rl[k] * 1000.0, over = fmax(lo[k] - v, v - hi[k]);
+        if (over > most) {
+            most = over;
+            first = k;
+        }
+    }
+    order[0] = first;
+    for (int k = 0, j = 1; k < L->n; ++k)
+        if (k != first) order[j++] = k;
+}
+
+/* hp_kin_contact_inside against a full hp_contact_eval at the same pose: the verdict is
+ * the exact one (every distance in mm inside its bounds, boundaries included); inside, all
+ * n distances are the full evaluation's bits; outside, exactly the bladders of the documented
+ * order up to the first one outside are written, with the full evaluation's bits, and the
+ * rest untouched. Bounds at a distance itself and one ulp past it probe the comparison
+ * exactly; bounds well past it (a target beyond reach) make the prediction matter. */
+static void check_inside(const hp_geom *G, hp_level lv, const double xi[6], const double *lo,
+                         const double *hi, int *verdict, int *skipped)
+{
+    double rho[HP_MAX_BLADDERS], got[HP_MAX_BLADDERS];
+    int order[HP_MAX_BLADDERS];
+    assert_int_equal(hp_contact_eval(&LAY, lv, xi, rho, NULL, NULL), HP_OK);
+    int want = 1;
+    for (int k = 0; k < LAY.n; ++k) want &= rho[k] * 1000.0 >= lo[k] && rho[k] * 1000.0 <= hi[k];
+    for (int k = 0; k < LAY.n; ++k) got[k] = -1.0;
+    int inside = -1;
+    assert_int_equal(hp_kin_contact_inside(&LAY, G, lv, xi, 1000.0, lo, hi, got, &inside), HP_OK);
+    assert_int_equal(inside, want);
+    inside_order(&LAY, lv, xi, lo, hi, order);
+    int reached = 1; /* still evaluating, in the documented order */
+    for (int j = 0; j < LAY.n; ++j) {
+        int k = order[j];
+        if (reached) {
+            assert_true(got[k] == rho[k]);
+            reached = rho[k] * 1000.0 >= lo[k] && rho[k] * 1000.0 <= hi[k];
+        } else {
+            assert_true(got[k] == -1.0); /* never evaluated */
+        }
+    }
+    *verdict = want;
+    /* Whether the stop came before some bladder index order would have evaluated. */
+    int first_out = 0;
+    while (first_out < LAY.n && rho[first_out] * 1000.0 >= lo[first_out] &&
+           rho[first_out] * 1000.0 <= hi[first_out])
+        ++first_out;
+    *skipped = !want && order[0] > first_out;
+}
+
+/* 900 seeded poses up to 10 mm and 0.1 rad at the three levels, bounds as check_inside
+ * says. Each verdict occurs more than 200 times, and more than 25 "outside" verdicts (at
+ * the surface level) stop before reaching the first bladder outside in index order, so the
+ * order is exercised. A NaN pose is an error, never inside, every distance NaN; a NULL
+ * argument is refused; a NaN bound is outside. */
 static void test_inside(void **state)
 {
     (void)state;
     hp_geom G;
     assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
     kin_rng rng = {505};
-    int outs = 0, ins = 0;
-    for (int it = 0; it < 600; ++it) {
+    int outs = 0, ins = 0, skips = 0;
+    for (int it = 0; it < 900; ++it) {
         double xi[6];
         kin_rng_pose(&rng, 0.01, 0.1, 0, xi);
         hp_level lv = (hp_level)(HP_LEVEL_LINEAR + it % 3);
-        double rho[HP_MAX_BLADDERS], got[HP_MAX_BLADDERS], lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
+        double rho[HP_MAX_BLADDERS], lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
         assert_int_equal(hp_contact_eval(&LAY, lv, xi, rho, NULL, NULL), HP_OK);
-        int first_out = -1;
         for (int k = 0; k < LAY.n; ++k) {
             double mm = rho[k] * 1000.0;
-            /* mostly inside; in half the poses one bladder in eight at or past a bound */
-            int pick = it % 2 ? 4 + (int)kin_rng_uniform(&rng, 0, 4) : (int)kin_rng_uniform(&rng, 0, 32);
+            /* mostly inside; in a third of the poses one bladder in eight at or one ulp past
+             * a bound, in another third one in four well past a bound (0.01..3 mm) */
+            int mode = (it / 3) % 3;
+            int pick = mode == 0 ? (int)kin_rng_uniform(&rng, 0, 32)
+                     : mode == 1 ? 4 + (int)kin_rng_uniform(&rng, 0, 4)
+                                 : kin_rng_uniform(&rng, 0, 4) < 1 ? 8 : 4;
+            double past = kin_rng_uniform(&rng, 0.01, 3.0);
             lo[k] = pick == 0 ? mm : pick == 1 ? nextafter(mm, INFINITY) : mm - 1.0;
             hi[k] = pick == 2 ? mm : pick == 3 ? nextafter(mm, -INFINITY) : mm + 1.0;
-            if (first_out < 0 && (pick == 1 || pick == 3)) first_out = k;
+            if (pick == 8 && it % 2) lo[k] = mm + past;
+            if (pick == 8 && !(it % 2)) hi[k] = mm - past;
         }
-        for (int k = 0; k < LAY.n; ++k) got[k] = -1.0;
-        int inside = -1;
-        assert_int_equal(hp_kin_contact_inside(&LAY, &G, lv, xi, 1000.0, lo, hi, got, &inside),
-                         HP_OK);
-        assert_int_equal(inside, first_out < 0);
-        int last = first_out < 0 ? LAY.n - 1 : first_out;
-        for (int k = 0; k <= last; ++k) assert_true(got[k] == rho[k]);
-        for (int k = last + 1; k < LAY.n; ++k) assert_true(got[k] == -1.0); /* never reached */
-        outs += first_out >= 0;
-        ins += first_out < 0;
+        int v, sk;
+        check_inside(&G, lv, xi, lo, hi, &v, &sk);
+        outs += !v;
+        ins += v;
+        skips += sk;
     }
-    assert_true(outs > 100 && ins > 100);
+    assert_true(outs > 200 && ins > 200 && skips > 25); /* 441, 459, 48 */
     double xi[6] = {0, 0, 0, NAN, 0, 0}, got[HP_MAX_BLADDERS], lo[HP_MAX_BLADDERS] = {0},
            hi[HP_MAX_BLADDERS];
     for (int k = 0; k < LAY.n; ++k) hi[k] = 1e9;
@@ -348,8 +410,75 @@ static void test_inside(void **state)
     assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, lo, hi, got,
                                            &inside), HP_ERR_INVALID);
     assert_int_equal(inside, 0);
-    assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, NULL, hi, got,
-                                           &inside), HP_ERR_NULL);
+    for (int k = 0; k < LAY.n; ++k) assert_true(isnan(got[k]));
+    xi[3] = 0.0;
+    const double *bad[4][2] = {{NULL, hi}, {lo, NULL}, {lo, hi}, {lo, hi}};
+    for (int c = 0; c < 4; ++c)
+        assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, bad[c][0],
+                                               bad[c][1], c == 2 ? NULL : got,
+                                               c == 3 ? NULL : &inside),
+                         HP_ERR_NULL);
+    /* A NaN bound is outside whatever the order (the comparison fails). */
+    hi[LAY.n - 1] = NAN;
+    inside = 1;
+    assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_PLANE, xi, 1000.0, lo, hi, got,
+                                           &inside), HP_OK);
+    assert_int_equal(inside, 0);
+}
+
+/* The prediction can be wrong: the bladder the linear level puts furthest outside is
+ * inside (its bound exactly at its distance), another one is outside by one ulp of its
+ * distance, every other bound is 1 m away. The verdict is still "outside", the predicted
+ * bladder was evaluated (at the surface level first) and so was the one outside. At the
+ * plane (index order) and surface levels, on seeded poses of 10 mm and 0.2 rad, where the
+ * linear level differs from the exact distance by far more than an ulp (asserted), each
+ * other bladder in turn as the one outside. */
+static void test_inside_prediction_wrong(void **state)
+{
+    (void)state;
+    hp_geom G;
+    assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
+    kin_rng rng = {606};
+    for (int it = 0; it < 40; ++it) {
+        double xi[6], rl[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
+        kin_rng_pose(&rng, 0.01, 0.2, 1, xi);
+        hp_level lv = it % 2 ? HP_LEVEL_SURFACE : HP_LEVEL_PLANE;
+        assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_LINEAR, xi, rl, NULL, NULL), HP_OK);
+        assert_int_equal(hp_contact_eval(&LAY, lv, xi, rho, NULL, NULL), HP_OK);
+        /* A: the largest |exact − linear|, the bound put on the side the linear value is past. */
+        int a = 0;
+        for (int k = 1; k < LAY.n; ++k)
+            if (fabs(rho[k] - rl[k]) > fabs(rho[a] - rl[a])) a = k;
+        assert_true(fabs(rho[a] - rl[a]) * 1000.0 > 1e-6); /* mm: ~1e9 ulps of 30 mm */
+        for (int b = 0; b < LAY.n; ++b) {
+            if (b == a) continue;
+            double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS], got[HP_MAX_BLADDERS];
+            int order[HP_MAX_BLADDERS];
+            for (int k = 0; k < LAY.n; ++k) {
+                lo[k] = rho[k] * 1000.0 - 1000.0;
+                hi[k] = rho[k] * 1000.0 + 1000.0;
+                got[k] = -1.0;
+            }
+            if (rl[a] < rho[a]) lo[a] = rho[a] * 1000.0;
+            else hi[a] = rho[a] * 1000.0;
+            /* b outside by one ulp on the side its linear value is not past, so its predicted
+             * violation is about −|exact − linear| + 1 ulp, below a's +|exact − linear|. */
+            if (rl[b] < rho[b]) hi[b] = nextafter(rho[b] * 1000.0, -INFINITY);
+            else lo[b] = nextafter(rho[b] * 1000.0, INFINITY);
+            inside_order(&LAY, lv, xi, lo, hi, order);
+            if (lv == HP_LEVEL_SURFACE)
+                assert_int_equal(order[0], a); /* the construction makes a the predicted worst */
+            int inside = -1;
+            assert_int_equal(hp_kin_contact_inside(&LAY, &G, lv, xi, 1000.0, lo, hi, got,
+                                                   &inside), HP_OK);
+            assert_int_equal(inside, 0);
+            if (lv == HP_LEVEL_SURFACE) assert_true(got[a] == rho[a]);
+            assert_true(got[b] == rho[b]);
+            int v, sk;
+            check_inside(&G, lv, xi, lo, hi, &v, &sk);
+            assert_int_equal(v, 0);
+        }
+    }
 }
 
 static void test_bad_args(void **state)
@@ -377,7 +506,7 @@ int main(void)
         cmocka_unit_test(test_derivatives_all_levels), cmocka_unit_test(test_levels_agree_at_zero),
         cmocka_unit_test(test_plane_formula),          cmocka_unit_test(test_surface_brute_force),
         cmocka_unit_test(test_bad_args),              cmocka_unit_test(test_generic_form),
-        cmocka_unit_test(test_inside),
+        cmocka_unit_test(test_inside),                cmocka_unit_test(test_inside_prediction_wrong),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
