@@ -305,7 +305,6 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
     hp_kin_rotation_roll(xi + 3, rd.R, derivs ? rd.Dr : NULL, any_h ? rd.Drr : NULL);
     for (int k = 0; k < L->n; ++k) {
         int want_h = H && (!hmask || hmask[k]);
-        if (H && !want_h) memset(H + k * 36, 0, 36 * sizeof *H);
         backmap bm;
         double f, g[3], hf[9];
         e = bladder_distance(L, G, level, xi, &rd, derivs, k, s_warm ? &s_warm[k] : NULL, &bm,

@@ -54,8 +54,10 @@ hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level
                                   const double xi[6], double *s_warm, double *rho, double *J,
                                   double *H);
 /* hp_kin_contact_eval_warm computing the Hessian only of the bladders k with hmask[k] != 0
- * (NULL: all); the other bladders' Hessians are written as 0. A solver needs the Hessian of
- * a distance only where its multiplier is not zero. */
+ * (NULL: all), the same bits as a full evaluation's; the other bladders' 36 entries of H
+ * are not written (they keep what the caller left there, except after an error, which
+ * writes NaN everywhere). A solver needs the Hessian of a distance only where its
+ * multiplier is not zero, and reads no other. */
 hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
                                   const double xi[6], double *s_warm, const unsigned char *hmask,
                                   double *rho, double *J, double *H);

@@ -126,7 +126,7 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
         if (J)
             for (int i = 0; i < 6; ++i)
                 J[k * 6 + i] = Jsi[k * 6 + i] * HP_MM_PER_M * hp_pose_si_per_scaled(i);
-        if (H && mask[k]) { /* the others are exact zeros */
+        if (H && mask[k]) { /* the others are not written, and never read (build_objective) */
             /* h − h is +0 for a finite h and NaN for a NaN or an infinity, so the sums are
              * 0 exactly when every entry is finite: one check, no branch per entry. */
             const double *Hk = &H[k * 36];
@@ -320,7 +320,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
         memcpy(st->rho, st->c_rho, sizeof st->rho);
         /* The trial evaluation's J and Hessians become the current ones (its Hessians are
          * those of the bladders with a multiplier, the same st->u that build_objective
-         * reads; the others are zeros). */
+         * reads; the others are not written and never read). */
         double *t = st->J;
         st->J = st->c_J;
         st->c_J = t;

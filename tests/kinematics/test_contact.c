@@ -481,6 +481,45 @@ static void test_inside_prediction_wrong(void **state)
     }
 }
 
+/* hp_kin_contact_eval_mask: rho, J and the masked bladders' Hessians are the bits of a full
+ * evaluation; the other bladders' 36 entries of H are not written (a sentinel survives);
+ * an error writes NaN everywhere. 300 seeded poses and masks, plane and surface. */
+static void test_eval_mask(void **state)
+{
+    (void)state;
+    hp_geom G;
+    assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
+    kin_rng rng = {9090};
+    const double sentinel = 12345.0;
+    for (int it = 0; it < 300; ++it) {
+        hp_level lv = it % 2 ? HP_LEVEL_SURFACE : HP_LEVEL_PLANE;
+        double xi[6], rf[HP_MAX_BLADDERS], Jf[HP_MAX_BLADDERS * 6], Hf[HP_MAX_BLADDERS * 36];
+        double rm[HP_MAX_BLADDERS], Jm[HP_MAX_BLADDERS * 6], Hm[HP_MAX_BLADDERS * 36];
+        unsigned char mask[HP_MAX_BLADDERS];
+        kin_rng_pose(&rng, 0.01, 0.2, 0, xi);
+        for (int k = 0; k < LAY.n; ++k) mask[k] = kin_rng_uniform(&rng, 0, 1) < 0.3;
+        if (it % 7 == 0) memset(mask, 0, sizeof mask);
+        for (int i = 0; i < LAY.n * 36; ++i) Hm[i] = sentinel;
+        assert_int_equal(hp_contact_eval_g(&LAY, &G, lv, xi, rf, Jf, Hf), HP_OK);
+        assert_int_equal(hp_kin_contact_eval_mask(&LAY, &G, lv, xi, NULL, mask, rm, Jm, Hm),
+                         HP_OK);
+        assert_memory_equal(rf, rm, LAY.n * sizeof *rf);
+        assert_memory_equal(Jf, Jm, LAY.n * 6 * sizeof *Jf);
+        for (int k = 0; k < LAY.n; ++k)
+            for (int i = 0; i < 36; ++i) {
+                double want = mask[k] ? Hf[k * 36 + i] : sentinel;
+                assert_memory_equal(&want, &Hm[k * 36 + i], sizeof want);
+            }
+    }
+    double bad[6] = {0, NAN, 0, 0, 0, 0}, r[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6],
+           H[HP_MAX_BLADDERS * 36];
+    unsigned char none[HP_MAX_BLADDERS] = {0};
+    for (int i = 0; i < LAY.n * 36; ++i) H[i] = sentinel;
+    assert_int_equal(hp_kin_contact_eval_mask(&LAY, &G, HP_LEVEL_SURFACE, bad, NULL, none, r, J, H),
+                     HP_ERR_INVALID);
+    for (int i = 0; i < LAY.n * 36; ++i) assert_true(isnan(H[i]));
+}
+
 static void test_bad_args(void **state)
 {
     (void)state;
@@ -507,6 +546,7 @@ int main(void)
         cmocka_unit_test(test_plane_formula),          cmocka_unit_test(test_surface_brute_force),
         cmocka_unit_test(test_bad_args),              cmocka_unit_test(test_generic_form),
         cmocka_unit_test(test_inside),                cmocka_unit_test(test_inside_prediction_wrong),
+        cmocka_unit_test(test_eval_mask),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }
