@@ -40,6 +40,7 @@ static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, const pla
     for (int i = 0; i < 6; ++i) res->uncommanded[i] = 0.0;
     for (int k = 0; k < res->n; ++k) res->bladders[k].binding = 0;
     p->note[0] = '\0';
+    p->note_pending = 0;
     res->solve_time = hp_plan_now() - (c ? c->t0 : res->solve_time);
     return HP_OK;
 }
@@ -345,18 +346,19 @@ static void add_uncommanded(const hp_planner *p, char *buf, const double unc[6])
     }
 }
 
-/* "STATUS: binding BLADDER LIMIT..., ..." (or "none") into buf. */
-static void add_binding(const hp_planner *p, char *buf, const hp_result *r)
+/* "STATUS: binding BLADDER LIMIT..., ..." (or "none") into buf, from each bladder's
+ * HP_BIND_* flags. */
+static void add_binding(const hp_planner *p, char *buf, hp_status st, const unsigned *binding)
 {
-    hp_text_set(buf, hp_status_name(r->status));
+    hp_text_set(buf, hp_status_name(st));
     hp_text_add(buf, ": binding");
     int any = 0;
     for (int k = 0; k < p->L.n; ++k) {
-        if (!r->bladders[k].binding) continue;
+        if (!binding[k]) continue;
         hp_text_add(buf, any ? ", " : " ");
         hp_text_add(buf, p->L.bladders[k].name);
         for (int b = 0; b < HP_BIND_COUNT; ++b)
-            if (r->bladders[k].binding & (1u << b)) {
+            if (binding[k] & (1u << b)) {
                 hp_text_add(buf, " ");
                 hp_text_add(buf, hp_binding_name(1u << b));
             }
@@ -410,14 +412,28 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
         hp_text_set(p->note, "uncommanded: the commanded part is reached; ");
         add_uncommanded(p, p->note, c->unc);
     } else if (r->status != HP_STATUS_REACHED) {
+        unsigned binding[HP_MAX_BLADDERS];
+        for (int k = 0; k < p->L.n; ++k) binding[k] = r->bladders[k].binding;
+        if (r->status == HP_STATUS_CLOSEST && !unc_any) { /* written when asked for */
+            memcpy(p->note_binding, binding, sizeof binding);
+            p->note_pending = 1;
+            return 1;
+        }
         char *buf = r->status == HP_STATUS_CLOSEST ? p->note : p->err;
-        add_binding(p, buf, r);
+        add_binding(p, buf, r->status, binding);
         if (unc_any) {
             hp_text_add(buf, "; ");
             add_uncommanded(p, buf, c->unc);
         }
     }
     return 1;
+}
+
+void hp_plan_note_flush(hp_planner *p)
+{
+    if (!p->note_pending) return;
+    p->note_pending = 0;
+    add_binding(p, p->note, HP_STATUS_CLOSEST, p->note_binding);
 }
 
 hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
@@ -435,6 +451,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     }
     p->err[0] = '\0';
     p->note[0] = '\0';
+    p->note_pending = 0;
     if (!desired) {
         for (int i = 0; i < 6; ++i) res->desired[i] = NAN;
         hp_text_set(p->err, "desired: NULL");

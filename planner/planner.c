@@ -224,7 +224,14 @@ void hp_planner_destroy(hp_planner *p)
 
 const char *hp_planner_error(const hp_planner *p) { return p ? p->err : "planner is NULL"; }
 
-const char *hp_planner_note(const hp_planner *p) { return p ? p->note : ""; }
+const char *hp_planner_note(const hp_planner *p)
+{
+    if (!p) return "";
+    /* The planner is the caller's own, never a const object: the pending text is written
+     * here (hp_plan_note_flush), as hp_plan would have. */
+    if (p->note_pending) hp_plan_note_flush((hp_planner *)p);
+    return p->note;
+}
 
 hp_level hp_planner_level(const hp_planner *p) { return p ? p->level : HP_LEVEL_AUTO; }
 

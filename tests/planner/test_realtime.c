@@ -231,13 +231,31 @@ static void closest_vs_bruteforce(const hp_layout *L, uint64_t seed, int count, 
                 any |= r.bladders[k].binding != 0;
             }
             assert_true(any);
-            assert_true(strstr(hp_planner_note(p), "binding") != NULL);
+            /* The note (composed when first asked for) names every binding bladder and its
+             * limits, and a second call returns the same text. */
+            char note[HP_DIAG_MAX];
+            snprintf(note, sizeof note, "%s", hp_planner_note(p));
+            assert_true(strncmp(note, "closest: binding ", 17) == 0);
+            assert_string_equal(hp_planner_note(p), note);
+            for (int k = 0; k < L->n; ++k) {
+                if (!r.bladders[k].binding) continue;
+                assert_non_null(strstr(note, L->bladders[k].name));
+                for (int b = 0; b < HP_BIND_COUNT; ++b)
+                    if (r.bladders[k].binding & (1u << b))
+                        assert_non_null(strstr(note, hp_binding_name(1u << b)));
+            }
         } else {
             assert_int_equal(r.status, HP_STATUS_REACHED);
         }
     }
     print_message("closest: %d of %d, worst |planner − brute force| %.3g mm/deg\n", closest,
                   count, worst);
+    /* A pending note does not outlive the next plan: the nominal pose is reached. */
+    double zero[6] = {0};
+    hp_result r0;
+    assert_int_equal(hp_plan(p, zero, &r0), HP_OK);
+    assert_int_equal(r0.status, HP_STATUS_REACHED);
+    assert_string_equal(hp_planner_note(p), "");
     hp_planner_destroy(p);
 }
 
