@@ -32,6 +32,11 @@
 /* SQP steps below this (mm or deg) are taken whole, larger ones by a merit line search:
  * 1000x the default pose tolerance, where the merit's changes (~step²) reach its rounding. */
 #define RT_FULL_STEP 1e-6
+/* A line-search trial point at most this far (mm or deg) from the point the QP was built
+ * at keeps that point's contact Hessians (merit_full): the Lagrangian's Hessian then
+ * differs from its own by what the curvature changes over the step, far below the
+ * objective's weights, and the Newton rate holds; once, then they are evaluated again. */
+#define RT_REUSE_H_STEP 1e-3
 /* Sufficient decrease of the merit line search (a fraction of the predicted decrease). */
 #define RT_ARMIJO 1e-4
 /* Convexification of the Lagrangian's Hessian (build_objective): the largest augmented-
@@ -66,6 +71,11 @@ typedef struct rt_state {
      * second evaluation at the same point. */
     double c_x[6], c_rho[HP_MAX_BLADDERS], *c_J, *c_H;
     int c_ok;
+    /* The bladders whose Hessians H and c_H hold (the masks they were evaluated with);
+     * whether c_H was evaluated at c_x at all (RT_REUSE_H_STEP), and whether H is one
+     * point old (kept over a short step). */
+    unsigned char hm[HP_MAX_BLADDERS], c_hm[HP_MAX_BLADDERS];
+    int c_h_ok, h_kept;
     /* The model at the nominal pose, where every cold solve builds its first QP: once, at
      * create (the layout's geometry and level do not change after). */
     double z_rho[HP_MAX_BLADDERS], z_J[HP_MAX_BLADDERS * 6], z_sw[HP_MAX_BLADDERS];
@@ -108,11 +118,11 @@ static double now_s(void)
  * point-to-ellipsoid distances start from the multipliers of the previous evaluation in this
  * solve (st->sw; the bracket keeps any start safe): successive SQP points are close. */
 static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, double *rho,
-                           double *J, double *H)
+                           double *J, double *H, unsigned char *mask)
 {
     /* Hessians only where the last QP's multiplier is not zero: no other enters the
-     * Lagrangian (build_objective), and most bladders are off their limits. */
-    unsigned char mask[HP_MAX_BLADDERS];
+     * Lagrangian (build_objective), and most bladders are off their limits. mask (written
+     * when H is asked for) records which. */
     if (H)
         for (int k = 0; k < pb->n; ++k) mask[k] = st->u[2 * k] - st->u[2 * k + 1] != 0.0;
     double xi[6], Jsi[HP_MAX_BLADDERS * 6];
@@ -177,7 +187,7 @@ static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings 
     st->c_H = st->Hb[1];
     const double zero[6] = {0};
     for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN;
-    st->z_ok = rt_contact(st, pb, zero, st->z_rho, st->z_J, NULL) == HP_OK;
+    st->z_ok = rt_contact(st, pb, zero, st->z_rho, st->z_J, NULL, NULL) == HP_OK;
     memcpy(st->z_sw, st->sw, sizeof st->z_sw);
     *state = st;
     return HP_OK;
@@ -320,19 +330,27 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
         memcpy(st->rho, st->c_rho, sizeof st->rho);
         /* The trial evaluation's J and Hessians become the current ones (its Hessians are
          * those of the bladders with a multiplier, the same st->u that build_objective
-         * reads; the others are not written and never read). */
+         * reads; the others are not written and never read). A trial that kept the
+         * previous point's Hessians (merit_full) leaves H as it is. */
         double *t = st->J;
         st->J = st->c_J;
         st->c_J = t;
-        t = st->H;
-        st->H = st->c_H;
-        st->c_H = t;
+        if (st->c_h_ok) {
+            t = st->H;
+            st->H = st->c_H;
+            st->c_H = t;
+            memcpy(st->hm, st->c_hm, sizeof st->hm);
+        }
+        st->h_kept = !st->c_h_ok;
     } else if (at_zero) {
         memcpy(st->rho, st->z_rho, sizeof st->rho);
         memcpy(st->J, st->z_J, sizeof st->z_J);
         memcpy(st->sw, st->z_sw, sizeof st->sw);
-    } else if (rt_contact(st, pb, xk, st->rho, st->J, curved ? st->H : NULL) != HP_OK) {
+        st->h_kept = 1; /* no Hessians at xk: none to keep */
+    } else if (rt_contact(st, pb, xk, st->rho, st->J, curved ? st->H : NULL, st->hm) != HP_OK) {
         return HP_QP_BAD_INPUT;
+    } else {
+        st->h_kept = !curved;
     }
     st->c_ok = 0;
     rt_inject(st, pb->n, st->rho);
@@ -395,7 +413,7 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
     if (st->c_ok && memcmp(st->c_x, x, sizeof st->c_x) == 0) /* the line search's point */
         memcpy(st->rho, st->c_rho, sizeof st->rho);
-    else if (rt_contact(st, pb, x, st->rho, NULL, NULL) != HP_OK)
+    else if (rt_contact(st, pb, x, st->rho, NULL, NULL, NULL) != HP_OK)
         return INFINITY;
     else
         rt_inject(st, pb->n, st->rho);
@@ -451,24 +469,39 @@ static double merit_of(const rt_state *st, const hp_problem *pb, const double *x
 
 static double merit(rt_state *st, const hp_problem *pb, const double *x, double nu)
 {
-    if (rt_contact(st, pb, x, st->rho, NULL, NULL) != HP_OK) return INFINITY;
+    if (rt_contact(st, pb, x, st->rho, NULL, NULL, NULL) != HP_OK) return INFINITY;
     rt_inject(st, pb->n, st->rho);
     return merit_of(st, pb, x, st->rho, nu);
 }
 
 /* The merit at a full SQP step's point x, evaluating the model there with the derivatives
  * the next QP needs (kept in st->c_*): near the answer every full step is accepted. */
-static double merit_full(rt_state *st, const hp_problem *pb, const double *x, double nu)
+static double merit_full(rt_state *st, const hp_problem *pb, const double *x, double nu,
+                         int want_h)
 {
     st->c_ok = 0;
     /* Only the curved levels search lines, and only after a QP, so the Hessians (of the
-     * bladders with a multiplier) are always wanted. */
-    if (rt_contact(st, pb, x, st->c_rho, st->c_J, st->c_H) != HP_OK)
+     * bladders with a multiplier) are wanted unless the caller keeps the current ones. */
+    if (rt_contact(st, pb, x, st->c_rho, st->c_J, want_h ? st->c_H : NULL, st->c_hm) != HP_OK)
         return INFINITY;
     memcpy(st->c_x, x, sizeof st->c_x);
     st->c_ok = 1;
+    st->c_h_ok = want_h;
     rt_inject(st, pb->n, st->c_rho);
     return merit_of(st, pb, x, st->c_rho, nu);
+}
+
+/* 1 when the current Hessians (st->H, evaluated at the point the last QP was built at) may
+ * serve at a trial point the step xk -> xn away: a short step, H evaluated there (not kept
+ * from further back), and every bladder with a multiplier now among those H holds. */
+static int keep_h(const rt_state *st, const hp_problem *pb, const double *xk, const double *xn)
+{
+    if (st->h_kept) return 0;
+    for (int i = 0; i < 6; ++i)
+        if (!(fabs(xn[i] - xk[i]) <= RT_REUSE_H_STEP)) return 0;
+    for (int k = 0; k < pb->n; ++k)
+        if (st->u[2 * k] - st->u[2 * k + 1] != 0.0 && !st->hm[k]) return 0;
+    return 1;
 }
 
 /* The step xk -> xn of the QP just solved at xk (still in st->qp), globalised on the l1
@@ -492,7 +525,7 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     for (int i = 0; i < 6; ++i) slope += pb->w[i] * (xk[i] - pb->d[i]) * (xn[i] - xk[i]);
     slope -= nu * viol0; /* directional derivative bound of the l1 merit along a QP step */
     slope = fmin(slope, 0.0);
-    if (merit_full(st, pb, xn, nu) <= phi0 + RT_ARMIJO * slope) {
+    if (merit_full(st, pb, xn, nu, !keep_h(st, pb, xk, xn)) <= phi0 + RT_ARMIJO * slope) {
         memcpy(xk, xn, 6 * sizeof *xk);
         return 1;
     }
@@ -568,6 +601,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     }
     st->qps = 0;
     st->c_ok = 0;
+    st->h_kept = 1;
     rt_begin(st, pb);
     int whole_prev = 0, exact_prev = 0, short_last = 0;
     double xa[6];
@@ -702,7 +736,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     r->status = st_out;
     /* Pose and the inner radii that keep contact with it (rho(xk) is in st->rho when the
      * answer is the point the violation was measured at). */
-    if (!(rho_at_xk && isfinite(v)) && rt_contact(st, pb, xk, st->rho, NULL, NULL) != HP_OK) {
+    if (!(rho_at_xk && isfinite(v)) && rt_contact(st, pb, xk, st->rho, NULL, NULL, NULL) != HP_OK) {
         r->status = HP_STATUS_SOLVER_ERROR;
         return hp_diag_set(d, HP_ERR_SOLVER, "realtime: contact model failed at the answer");
     }
