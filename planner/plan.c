@@ -121,7 +121,9 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
     hp_plan_to_scaled(c->xc, pb->d);
     for (int i = 0; i < 6; ++i)
         if (!p->commanded[i]) pb->d[i] = 0.0;
-    if (hp_setup_cycle_bounds(&p->L, &p->sb, pb->p_prev, p->s.use_rate_limits, pb, p->lo_flags,
+    /* Without a rate limit the bounds are those create set (rate_free). */
+    if (!p->rate_free &&
+        hp_setup_cycle_bounds(&p->L, &p->sb, pb->p_prev, p->s.use_rate_limits, pb, p->lo_flags,
                               p->hi_flags, NULL) != HP_OK) {
         hp_text_set(p->err, "the rate limits leave no radius inside the pressure and stretch "
                             "limits");

@@ -55,6 +55,14 @@ int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho
     return 1;
 }
 
+/* rate_free (planner_internal.h) from the settings and the bladders' rate limits. */
+static void set_rate_free(hp_planner *p)
+{
+    p->rate_free = 1;
+    for (int k = 0; k < p->L.n; ++k)
+        p->rate_free &= !p->s.use_rate_limits || !isfinite(p->L.bladders[k].rate_max);
+}
+
 /* The nominal pose's answer: the first safe output. */
 static hp_error build_nominal(hp_planner *p, hp_diag *d)
 {
@@ -204,6 +212,7 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     e = hp_setup_cycle_bounds(&p->L, &p->sb, pb->p_prev, s.use_rate_limits, pb, p->lo_flags,
                               p->hi_flags, d);
     if (e != HP_OK) goto fail;
+    set_rate_free(p);
     p->ops = ops;
     e = ops->create(&p->bstate, pb, &s, d);
     if (e != HP_OK) goto fail;
@@ -418,5 +427,12 @@ hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
     for (int k = 0; k < p->L.n; ++k)
         if (!(rate_max[k] > 0.0)) return HP_ERR_INVALID; /* NaN, 0 and negatives */
     for (int k = 0; k < p->L.n; ++k) p->L.bladders[k].rate_max = rate_max[k];
+    set_rate_free(p);
+    /* Rate-free now: hp_plan no longer sets the cycle's bounds, so they return to the
+     * static ones here (what it would set; they held at create). */
+    if (p->rate_free &&
+        hp_setup_cycle_bounds(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits, &p->pb,
+                              p->lo_flags, p->hi_flags, NULL) != HP_OK)
+        return HP_ERR_STATE;
     return HP_OK;
 }

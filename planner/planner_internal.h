@@ -53,6 +53,9 @@ struct hp_planner {
      * for (hp_planner_note), from these flags: a control loop that never reads it does not
      * pay for the text (about 1 % of a plan). */
     int note_pending;
+    /* No rate limit applies (use_rate_limits off, or no bladder has a finite rate_max): the
+     * cycle's bounds do not depend on the previous answer and stay as create set them. */
+    int rate_free;
     unsigned note_binding[HP_MAX_BLADDERS];
     hp_diag diag;
     hp_kin_fit_start nom;        /* the contact model at the nominal pose (fit starts) */

@@ -5,6 +5,7 @@
  * against greedy, and the checks on settings and time stamps. */
 #include "test_util.h"
 #include "tests/horizon/horizon_fixture.h"
+#include "horizon/horizon_internal.h"
 
 /* Rows of the step trace used: the first two shifts (at 5 s and 12 s) and their settling. */
 #define STEP_ROWS 150
@@ -271,6 +272,48 @@ static void test_time_stamps_checked(void **st)
     free(c);
 }
 
+/* hp_planner_set_rate_max (horizon_internal.h) lifting every limit after a tight one: the
+ * next plan is the plan of a planner created without rate limits, to the bit (hp_plan no
+ * longer sets the bounds of a rate-free planner, so lifting the limits must restore them).
+ * Cold plans, so the previous answer enters only through the rate limits. */
+static void test_rate_max_lifted(void **st)
+{
+    (void)st;
+    hf_case *c = hf_load("horizon/drift_long.yaml", "drift_long.csv", 1);
+    assert_non_null(c);
+    const hp_layout *L = &c->sc.layout;
+    hp_settings s = c->s;
+    s.warm_start = 0;
+    s.use_rate_limits = 1;
+    hp_planner *p = NULL, *q = NULL;
+    assert_int_equal(hp_planner_create(L, &s, &p, NULL), HP_OK);
+    s.use_rate_limits = 0;
+    assert_int_equal(hp_planner_create(L, &s, &q, NULL), HP_OK);
+    const double target[6] = {0.006, -0.004, 0.003, 0.05, -0.03, 0.04};
+    double tight[HP_MAX_BLADDERS], none[HP_MAX_BLADDERS], p0[HP_MAX_BLADDERS];
+    assert_int_equal(hp_planner_nominal_pressures(p, p0), HP_OK);
+    for (int k = 0; k < L->n; ++k) {
+        tight[k] = 1.0; /* Pa */
+        none[k] = INFINITY;
+    }
+    hp_result r1, r2, rq;
+    assert_int_equal(hp_planner_set_rate_max(p, tight), HP_OK);
+    assert_int_equal(hp_plan(p, target, &r1), HP_OK);
+    for (int k = 0; k < L->n; ++k) assert_true(fabs(r1.bladders[k].pressure - p0[k]) <= 1.0 + 1e-9);
+    assert_int_equal(hp_planner_set_rate_max(p, none), HP_OK);
+    assert_int_equal(hp_plan(p, target, &r2), HP_OK);
+    assert_int_equal(hp_plan(q, target, &rq), HP_OK);
+    assert_int_equal(r2.status, rq.status);
+    for (int k = 0; k < L->n; ++k)
+        assert_memory_equal(&r2.bladders[k].pressure, &rq.bladders[k].pressure, sizeof(double));
+    int moved = 0; /* the lifted plan left the tight window somewhere */
+    for (int k = 0; k < L->n; ++k) moved |= fabs(r2.bladders[k].pressure - r1.bladders[k].pressure) > 10.0;
+    assert_true(moved);
+    hp_planner_destroy(p);
+    hp_planner_destroy(q);
+    free(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -280,6 +323,7 @@ int main(void)
         cmocka_unit_test(test_receding_one_row_is_greedy),
         cmocka_unit_test(test_settings_checked),
         cmocka_unit_test(test_time_stamps_checked),
+        cmocka_unit_test(test_rate_max_lifted),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
