@@ -126,8 +126,9 @@ hp_error hp_iab_validate(const hp_iab *b, hp_diag *diag)
     return hp_iab_scaled_init(b, NULL, diag);
 }
 
-/* Dekker's exact product without FMA: a·b = p + e exactly (no overflow here: |a|, |b| < 8
- * after the argument reduction of hp_iab_cbrt). */
+/* Dekker's exact product without FMA: a·b = p + e exactly (no overflow and normal low parts
+ * here: the arguments of hp_iab_cbrt are reduced to [1, 8), hp_iab_cbrt_near's range is
+ * bounded). */
 static void two_prod(double a, double b, double *p, double *e)
 {
     const double split = 134217729.0; /* 2^27 + 1 */
@@ -138,25 +139,27 @@ static void two_prod(double a, double b, double *p, double *e)
     *e = ((ah * bh - *p) + ah * bl + al * bh) + al * bl;
 }
 
-double hp_iab_cbrt(double x)
+/* One Newton step on y³ = a from y, with the residual a − y³ formed exactly (y² and y²·y as
+ * double-doubles; a − p3 is exact by Sterbenz's lemma when y³ is within a factor of two of
+ * a). From a start of relative error δ the error after it is about δ² + δ·2⁻⁵² + 2⁻¹⁰⁵
+ * relative plus the one rounding of y + correction. *corr is the correction, so that a
+ * caller can tell how far the start was. Needs |y| < 2^480 and y³ far from underflow
+ * (Dekker's split, the low parts). */
+static double cbrt_refine(double a, double y, double *corr)
 {
-#if FLT_EVAL_METHOD != 0
-    return cbrt(x); /* Dekker's product needs plain double arithmetic */
-#else
-    uint64_t u;
-    memcpy(&u, &x, sizeof u);
-    int E = (int)(u >> 52); /* the sign bit too: negative x has E >= 2048 */
-    if (E < 1 || E > 2046) return cbrt(x); /* 0, subnormal, negative, inf, NaN */
-    /* x = m·2^e, m in [1, 2); e = 3q + k, k in {0, 1, 2}; cbrt(x) = cbrt(m·2^k)·2^q. */
-    int e = E - 1023;
-    int q = (e + 1200) / 3 - 400; /* floor(e/3): e + 1200 > 0 */
-    int k = e - 3 * q;
-    uint64_t mu = (u & 0x000fffffffffffffULL) | 0x3ff0000000000000ULL;
-    double m;
-    memcpy(&m, &mu, sizeof m);
-    double a = m * (double)(1 << k); /* exact, in [1, 8) */
-    /* cbrt on [1, 2) by its degree-5 interpolant at the Chebyshev nodes in t = m − 1.5
-     * (relative error 1.8e-6), times cbrt(2^k) */
+    double p2, e2, p3, e3;
+    two_prod(y, y, &p2, &e2);
+    two_prod(p2, y, &p3, &e3);
+    double res = ((a - p3) - e3) - e2 * y;
+    *corr = res / (3.0 * p2);
+    return y + *corr;
+}
+
+/* cbrt on [1, 8) to ~3e-12 relative: a = m·2^k, m in [1, 2), by the degree-5 interpolant of
+ * cbrt at the Chebyshev nodes in t = m − 1.5 (relative error 1.8e-6), times cbrt(2^k), and one
+ * plain Newton step, which squares the relative error: 1.8e-6 -> 3.2e-12 (plus rounding). */
+static double cbrt_start(double m, int k, double a)
+{
     static const double cbrt2k[3] = {1.0, 1.2599210498948731648, 1.5874010519681994748};
     double t = m - 1.5;
     double y = 1.144712948162971 +
@@ -165,21 +168,57 @@ double hp_iab_cbrt(double x)
                          t * (0.020886322742378068 +
                               t * (-0.010271170742077187 + t * 0.005072953325269895))));
     y *= cbrt2k[k];
-    /* Newton on y³ = a squares the relative error: 1.8e-6 -> 3.2e-12 (plus rounding). */
-    y -= (y * y * y - a) / (3.0 * y * y);
-    /* Once more with the residual a − y³ formed exactly (y² and y²·y as double-doubles;
-     * a − p3 is exact by Sterbenz's lemma): the error after it is 1e-23 relative plus the
-     * one rounding of y + correction, so the result is the correctly rounded cube root
-     * unless that lies within ~1e-7 ulp of a midpoint (then still within 0.5 ulp + 1e-7). */
-    double p2, e2, p3, e3;
-    two_prod(y, y, &p2, &e2);
-    two_prod(p2, y, &p3, &e3);
-    double res = ((a - p3) - e3) - e2 * y;
-    y += res / (3.0 * p2);
+    return y - (y * y * y - a) / (3.0 * y * y);
+}
+
+/* The argument reduction of hp_iab_cbrt for a normal positive x = m·2^e, m in [1, 2),
+ * e = 3q + k, k in {0, 1, 2}: cbrt(x) = cbrt(m·2^k)·2^q. Returns 0 for any other x. */
+static int cbrt_reduce(double x, double *m, int *k, double *a, double *sc)
+{
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    int E = (int)(u >> 52); /* the sign bit too: negative x has E >= 2048 */
+    if (E < 1 || E > 2046) return 0; /* 0, subnormal, negative, inf, NaN */
+    int e = E - 1023;
+    int q = (e + 1200) / 3 - 400; /* floor(e/3): e + 1200 > 0 */
+    *k = e - 3 * q;
+    uint64_t mu = (u & 0x000fffffffffffffULL) | 0x3ff0000000000000ULL;
+    memcpy(m, &mu, sizeof *m);
+    *a = *m * (double)(1 << *k); /* exact, in [1, 8) */
     uint64_t su = (uint64_t)(1023 + q) << 52; /* 2^q, q in [-341, 341]: normal */
-    double sc;
-    memcpy(&sc, &su, sizeof sc);
-    return y * sc;
+    memcpy(sc, &su, sizeof *sc);
+    return 1;
+}
+
+double hp_iab_cbrt(double x)
+{
+#if FLT_EVAL_METHOD != 0
+    return cbrt(x); /* Dekker's product needs plain double arithmetic */
+#else
+    double m, a, sc, corr;
+    int k;
+    if (!cbrt_reduce(x, &m, &k, &a, &sc)) return cbrt(x);
+    /* From the start's 3.2e-12 the exact-residual step leaves 1e-23 relative plus the one
+     * rounding of y + correction, so the result is the correctly rounded cube root unless
+     * that lies within ~1e-7 ulp of a midpoint (then still within 0.5 ulp + 1e-7). */
+    return cbrt_refine(a, cbrt_start(m, k, a), &corr) * sc;
+#endif
+}
+
+double hp_iab_cbrt_near(double x, double y0)
+{
+#if FLT_EVAL_METHOD != 0
+    (void)y0;
+    return cbrt(x);
+#else
+    /* The range keeps Dekker's products and their low parts normal; a start within 2^-40
+     * leaves at most 2^-80 + 2^-92 + 2^-105 relative before the last rounding, below the
+     * 1e-23 that hp_iab_cbrt's own start leaves: the same guarantee. */
+    if (x >= 0x1p-300 && x <= 0x1p300 && y0 > 0 && y0 <= 0x1p101) {
+        double corr, y = cbrt_refine(x, y0, &corr);
+        if (fabs(corr) <= 0x1p-40 * y0) return y;
+    }
+    return hp_iab_cbrt(x);
 #endif
 }
 
