@@ -240,12 +240,25 @@ hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri)
     if (e != HP_OK) return e;
     double c = ros * ros * ros - s->W; /* ri³; cancels for thick walls and near collapse */
     if (!(c > 0)) return HP_ERR_DOMAIN;
-    double r = hp_iab_cbrt(c);
+    /* The start: cbrt(c) to ~3e-12 relative (hp_iab_cbrt without its exact-residual step,
+     * which the steps below make redundant: c itself carries the cancellation). */
+    double m, a, sc;
+    int k;
+    double r = cbrt_reduce(c, &m, &k, &a, &sc) ? cbrt_start(m, k, a) * sc : cbrt(c);
     /* Two Newton steps on ri³ − Ri³ = ro³ − Ro³, both sides formed without cancellation:
      * the residual is then known to ~ulp(|ro³ − Ro³|), so ri ends within a few ulps
-     * wherever the law itself is well conditioned (dri/dro = ro²/ri²). */
+     * wherever the law itself is well conditioned (dri/dro = ro²/ri²). The second step
+     * keeps the start's slope 3r² (its one division runs beside the first residual) when
+     * the first step moved r by δ <= 2^-26 relative: the slope is then off by ~2δ, which
+     * multiplies the second step's (already ~δ²) error by 2δ, far below rounding. A larger
+     * δ (c cancelled badly: a nearly collapsed cavity in a thick wall) takes a fresh slope,
+     * two plain Newton steps. */
     double rhs = hp_iab_cube_diff(ros, s->Ro);
-    for (int it = 0; it < 2; ++it) r -= (hp_iab_cube_diff(r, s->Ri) - rhs) / (3.0 * r * r);
+    double inv_slope = 1.0 / (3.0 * r * r);
+    double d = (hp_iab_cube_diff(r, s->Ri) - rhs) * inv_slope;
+    r -= d;
+    if (!(fabs(d) <= 0x1p-26 * r)) inv_slope = 1.0 / (3.0 * r * r);
+    r -= (hp_iab_cube_diff(r, s->Ri) - rhs) * inv_slope;
     if (!(r > 0) || !isfinite(r)) return HP_ERR_DOMAIN;
     *ri = r / s->scale;
     return HP_OK;

@@ -163,12 +163,16 @@ static void test_derivatives(void **state)
 
 /* Volume law: ro against quad cbrt (2 ulps: cbrt of a sum of two positive terms), and the
  * inverse law against the quad inverse of the same double ro to 4 ulps (Newton-refined on a
- * cancellation-free residual, see hp_iab_ri). */
+ * cancellation-free residual, see hp_iab_ri), on the sweep's walls and on thick ones (Ri/Ro
+ * down to 1e-3, where the inverse's start cbrt(ro³ − (Ro³ − Ri³)) cancels up to 1e-7 of its
+ * value and the Newton steps must recover it). */
 static void test_volume_law(void **state)
 {
     (void)state;
-    for (size_t iq = 0; iq < sizeof ratios / sizeof ratios[0]; ++iq) {
-        const double Ro = 0.03, Ri = ratios[iq] * Ro;
+    static const double thick[] = {0.1, 0.01, 0.001};
+    const size_t nr = sizeof ratios / sizeof ratios[0];
+    for (size_t iq = 0; iq < nr + sizeof thick / sizeof thick[0]; ++iq) {
+        const double Ro = 0.03, Ri = (iq < nr ? ratios[iq] : thick[iq - nr]) * Ro;
         hp_iab b = {Ri, Ro, 1.1e4, 0};
         for (int k = 0; k <= 500; ++k) {
             double ri = (0.5 + 2.5 * k / 500.0) * Ri, ro, back;
