@@ -145,7 +145,7 @@ static void two_prod(double a, double b, double *p, double *e)
  * relative plus the one rounding of y + correction. *corr is the correction, so that a
  * caller can tell how far the start was. Needs |y| < 2^480 and y³ far from underflow
  * (Dekker's split, the low parts). */
-static double cbrt_refine(double a, double y, double *corr)
+static inline double cbrt_refine(double a, double y, double *corr)
 {
     double p2, e2, p3, e3;
     two_prod(y, y, &p2, &e2);
@@ -155,25 +155,31 @@ static double cbrt_refine(double a, double y, double *corr)
     return y + *corr;
 }
 
-/* cbrt on [1, 8) to ~3e-12 relative: a = m·2^k, m in [1, 2), by the degree-5 interpolant of
- * cbrt at the Chebyshev nodes in t = m − 1.5 (relative error 1.8e-6), times cbrt(2^k), and one
- * plain Newton step, which squares the relative error: 1.8e-6 -> 3.2e-12 (plus rounding). */
-static double cbrt_start(double m, int k, double a)
+/* cbrt(a) on [1, 8) to 1.8e-6 relative: a = m·2^k, m in [1, 2), by the degree-5 interpolant
+ * of cbrt at the Chebyshev nodes in t = m − 1.5, times cbrt(2^k). Evaluated in Estrin's
+ * scheme (three independent pairs joined by t² and t⁴): half the dependent chain of
+ * Horner's, and the start only needs to be near. */
+static inline double cbrt_poly(double m, int k)
 {
     static const double cbrt2k[3] = {1.0, 1.2599210498948731648, 1.5874010519681994748};
-    double t = m - 1.5;
-    double y = 1.144712948162971 +
-               t * (0.2543816456245348 +
-                    t * (-0.056436294682727636 +
-                         t * (0.020886322742378068 +
-                              t * (-0.010271170742077187 + t * 0.005072953325269895))));
-    y *= cbrt2k[k];
+    double t = m - 1.5, t2 = t * t;
+    double y = (1.144712948162971 + t * 0.2543816456245348) +
+               t2 * ((-0.056436294682727636 + t * 0.020886322742378068) +
+                     t2 * (-0.010271170742077187 + t * 0.005072953325269895));
+    return y * cbrt2k[k];
+}
+
+/* cbrt_poly and one plain Newton step, which squares the relative error: 1.8e-6 -> 3.2e-12
+ * (plus rounding). */
+static inline double cbrt_start(double m, int k, double a)
+{
+    double y = cbrt_poly(m, k);
     return y - (y * y * y - a) / (3.0 * y * y);
 }
 
 /* The argument reduction of hp_iab_cbrt for a normal positive x = m·2^e, m in [1, 2),
  * e = 3q + k, k in {0, 1, 2}: cbrt(x) = cbrt(m·2^k)·2^q. Returns 0 for any other x. */
-static int cbrt_reduce(double x, double *m, int *k, double *a, double *sc)
+static inline int cbrt_reduce(double x, double *m, int *k, double *a, double *sc)
 {
     uint64_t u;
     memcpy(&u, &x, sizeof u);
@@ -240,25 +246,20 @@ hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri)
     if (e != HP_OK) return e;
     double c = ros * ros * ros - s->W; /* ri³; cancels for thick walls and near collapse */
     if (!(c > 0)) return HP_ERR_DOMAIN;
-    /* The start: cbrt(c) to ~3e-12 relative (hp_iab_cbrt without its exact-residual step,
-     * which the steps below make redundant: c itself carries the cancellation). */
+    /* The start: cbrt(c) to 1.8e-6 relative (hp_iab_cbrt's polynomial alone), or worse when
+     * c cancelled (then libm's cbrt of the rounded c where the polynomial does not apply). */
     double m, a, sc;
     int k;
-    double r = cbrt_reduce(c, &m, &k, &a, &sc) ? cbrt_start(m, k, a) * sc : cbrt(c);
+    double r = cbrt_reduce(c, &m, &k, &a, &sc) ? cbrt_poly(m, k) * sc : cbrt(c);
     /* Two Newton steps on ri³ − Ri³ = ro³ − Ro³, both sides formed without cancellation:
-     * the residual is then known to ~ulp(|ro³ − Ro³|), so ri ends within a few ulps
-     * wherever the law itself is well conditioned (dri/dro = ro²/ri²). The second step
-     * keeps the start's slope 3r² (its one division runs beside the first residual) when
-     * the first step moved r by δ <= 2^-26 relative: the slope is then off by ~2δ, which
-     * multiplies the second step's (already ~δ²) error by 2δ, far below rounding. A larger
-     * δ (c cancelled badly: a nearly collapsed cavity in a thick wall) takes a fresh slope,
-     * two plain Newton steps. */
+     * 1.8e-6 -> 3e-12 -> 1e-23 relative, and the residual is known to ~ulp(|ro³ − Ro³|), so
+     * ri ends within a few ulps wherever the law itself is well conditioned
+     * (dri/dro = ro²/ri²). The slope's division runs beside the residual, off the chain. */
     double rhs = hp_iab_cube_diff(ros, s->Ro);
-    double inv_slope = 1.0 / (3.0 * r * r);
-    double d = (hp_iab_cube_diff(r, s->Ri) - rhs) * inv_slope;
-    r -= d;
-    if (!(fabs(d) <= 0x1p-26 * r)) inv_slope = 1.0 / (3.0 * r * r);
-    r -= (hp_iab_cube_diff(r, s->Ri) - rhs) * inv_slope;
+    for (int it = 0; it < 2; ++it) {
+        double inv_slope = 1.0 / (3.0 * r * r);
+        r -= (hp_iab_cube_diff(r, s->Ri) - rhs) * inv_slope;
+    }
     if (!(r > 0) || !isfinite(r)) return HP_ERR_DOMAIN;
     *ri = r / s->scale;
     return HP_OK;
