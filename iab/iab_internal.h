@@ -17,6 +17,7 @@ typedef struct hp_iab_s {
     double Ri, Ro;  /* reference radii × scale */
     double C1, C2;  /* moduli [Pa] */
     double scale;   /* power of two: scaled length = length [m] × scale */
+    double inv_scale; /* 1/scale, exact (a power of two): length [m] = scaled × inv_scale */
     double W;       /* Ro³ − Ri³ (scaled), the wall's volume / (4π/3); ro³ − ri³ = W always */
     double Ri_m;    /* Ri [m] as given: FK's exact answer at P = 0 */
 } hp_iab_s;

@@ -111,6 +111,7 @@ hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
         return invalid_bladder(b, diag);
     if (s) {
         s->scale = scale_for(b->Ro);
+        s->inv_scale = 1.0 / s->scale;
         s->Ri = b->Ri * s->scale;
         s->Ro = b->Ro * s->scale;
         s->C1 = b->C1;
@@ -235,7 +236,7 @@ hp_error hp_iab_s_ro_m(const hp_iab_s *s, double ri, double *ro)
     double ris;
     hp_error e = hp_iab_s_radius(s, ri, &ris);
     if (e != HP_OK) return e;
-    *ro = hp_iab_s_ro(s, ris) / s->scale;
+    *ro = hp_iab_s_ro(s, ris) * s->inv_scale;
     return HP_OK;
 }
 
@@ -261,7 +262,7 @@ hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri)
         r -= (hp_iab_cube_diff(r, s->Ri) - rhs) * inv_slope;
     }
     if (!(r > 0) || !isfinite(r)) return HP_ERR_DOMAIN;
-    *ri = r / s->scale;
+    *ri = r * s->inv_scale; /* = r / scale exactly, without a division on the chain */
     return HP_OK;
 }
 

@@ -346,8 +346,9 @@ static void test_cbrt_near(void **state)
 }
 
 /* The scaled model's power of two (read off the exponent bits) is exactly the one frexp and
- * ldexp give, and brings Ro into [1, 2), for Ro across the normal double range (Ri = Ro/2:
- * any valid bladder will do). */
+ * ldexp give, its reciprocal exactly 2^(e−1) (so a product by it has the division's bits),
+ * and brings Ro into [1, 2), for Ro across the normal double range (Ri = Ro/2: any valid
+ * bladder will do). */
 static void test_scale_bits(void **state)
 {
     (void)state;
@@ -360,6 +361,7 @@ static void test_scale_bits(void **state)
         int e;
         frexp(ros[i], &e);
         assert_true(s.scale == ldexp(1.0, 1 - e));
+        assert_true(s.inv_scale == ldexp(1.0, e - 1)); /* exact: back to metres by a product */
         assert_true(s.Ro >= 1.0 && s.Ro < 2.0);
     }
 }
