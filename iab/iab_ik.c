@@ -83,6 +83,16 @@ hp_error hp_iab_s_ik_m(const hp_iab_s *s, double ri, double *P)
     return HP_OK;
 }
 
+hp_error hp_iab_s_ik_ro_m(const hp_iab_s *s, double ri, double *P, double *ro)
+{
+    double ris, r;
+    hp_error e = hp_iab_s_radius(s, ri, &ris);
+    if (e == HP_OK) e = hp_iab_s_pressure_ro(s, ris, P, &r);
+    if (e != HP_OK) return e;
+    *ro = r * s->inv_scale; /* hp_iab_s_ro_m's bits: the same root, the same exact scaling */
+    return HP_OK;
+}
+
 hp_error hp_iab_s_ik_near_m(const hp_iab_s *s, double ri, double ro_near, double *P)
 {
     double ris;

@@ -93,6 +93,11 @@ hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double
  * of a rounding midpoint of that radius; any ro_near is safe. */
 hp_error hp_iab_s_ik_near_m(const hp_iab_s *s, double ri, double ro_near, double *P);
 
+/* hp_iab_s_ik_m and hp_iab_s_ro_m of one inner radius ri [m] in one evaluation (the pressure
+ * forms the outer radius anyway): the same codes as hp_iab_s_ik_m, the same bits of *P and
+ * *ro [m] as the two calls. */
+hp_error hp_iab_s_ik_ro_m(const hp_iab_s *s, double ri, double *P, double *ro);
+
 /* hp_iab_s_ik's pressure without derivatives, and the scaled outer radius it used
  * (hp_iab_s_ro(s, ri), the same bits). */
 hp_error hp_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro);

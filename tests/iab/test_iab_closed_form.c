@@ -396,6 +396,10 @@ static void test_validated_once_same_bits(void **state)
                 assert_int_equal(hp_iab_s_ik_near_m(&s, ri, o1 * (1 + 4 * ULP), &P4), HP_OK);
                 assert_memory_equal(&P1, &P3, sizeof P1);
                 assert_memory_equal(&P1, &P4, sizeof P1);
+                double P5, o5;
+                assert_int_equal(hp_iab_s_ik_ro_m(&s, ri, &P5, &o5), HP_OK);
+                assert_memory_equal(&P1, &P5, sizeof P1);
+                assert_memory_equal(&o1, &o5, sizeof o1);
                 hp_error e1 = hp_iab_ri(&b, o1, &r1), e2 = hp_iab_s_ri_m(&s, o1, &r2);
                 assert_int_equal(e1, e2);
                 if (e1 == HP_OK) assert_memory_equal(&r1, &r2, sizeof r1);
@@ -407,6 +411,8 @@ static void test_validated_once_same_bits(void **state)
                 assert_int_equal(hp_iab_s_ik_m(&s, bad[i], &x), hp_iab_ik(&b, bad[i], &y));
                 assert_int_equal(hp_iab_s_ro_m(&s, bad[i], &x), hp_iab_ro(&b, bad[i], &y));
                 assert_int_equal(hp_iab_s_ik_near_m(&s, bad[i], Ro, &x), hp_iab_ik(&b, bad[i], &y));
+                double z = 5.0;
+                assert_int_equal(hp_iab_s_ik_ro_m(&s, bad[i], &x, &z), hp_iab_ik(&b, bad[i], &y));
                 assert_int_equal(hp_iab_s_ri_m(&s, bad[i], &x), hp_iab_ri(&b, bad[i], &y));
             }
         }
