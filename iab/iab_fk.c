@@ -180,7 +180,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
     double rg;
     if ((P > 0 ? g > s.Ri && g < r_lp : g > 0 && g < s.Ri) &&
         hp_iab_s_pressure_ro(&s, g, &p, &rg) == HP_OK && p == P) {
-        *ri = g / s.scale;
+        *ri = g * s.inv_scale;
         *ro_s = rg;
         return HP_OK;
     }
@@ -224,7 +224,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
     double r;
     e = solve_bracket(&s, P, lo, hi, guess * s.scale, &r);
     if (e != HP_OK) return e;
-    *ri = r / s.scale;
+    *ri = r * s.inv_scale;
     return HP_OK;
 }
 
@@ -280,7 +280,7 @@ hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, do
      * checks its range; whenever that is not plainly so, it is asked. */
     double rs = r * s->scale;
     if (isfinite(ro_s) && rs >= 1e-30 && rs <= 1e30) {
-        *ro = ro_s / s->scale;
+        *ro = ro_s * s->inv_scale;
     } else if ((e = hp_iab_s_ro_m(s, r, ro)) != HP_OK) {
         return e;
     }

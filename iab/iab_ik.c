@@ -26,13 +26,20 @@ static double fpp(double l)
 }
 static double gpp(double l) { return -3.0 / (l * l * l * l); }
 
-hp_error hp_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro)
+/* The pressure at scaled inner radius ri whose scaled outer radius is r. */
+static hp_error pressure_at(const hp_iab_s *s, double ri, double r, double *P)
 {
     double a = hp_iab_cube_diff(ri, s->Ri); /* ri³ − Ri³ */
-    double r = hp_iab_s_ro(s, ri);
     double p = hp_iab_s_energy_diff(s, ri, s->Ri, r, s->Ro, a, s->W);
     if (!isfinite(p)) return HP_ERR_DOMAIN;
     *P = p;
+    return HP_OK;
+}
+
+hp_error hp_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro)
+{
+    double r = hp_iab_s_ro(s, ri);
+    if (pressure_at(s, ri, r, P) != HP_OK) return HP_ERR_DOMAIN;
     *ro = r;
     return HP_OK;
 }
@@ -74,6 +81,26 @@ hp_error hp_iab_s_ik_m(const hp_iab_s *s, double ri, double *P)
     if (e != HP_OK) return e;
     *P = p;
     return HP_OK;
+}
+
+hp_error hp_iab_s_ik_ro_m(const hp_iab_s *s, double ri, double *P, double *ro)
+{
+    double ris, r;
+    hp_error e = hp_iab_s_radius(s, ri, &ris);
+    if (e == HP_OK) e = hp_iab_s_pressure_ro(s, ris, P, &r);
+    if (e != HP_OK) return e;
+    *ro = r * s->inv_scale; /* hp_iab_s_ro_m's bits: the same root, the same exact scaling */
+    return HP_OK;
+}
+
+hp_error hp_iab_s_ik_near_m(const hp_iab_s *s, double ri, double ro_near, double *P)
+{
+    double ris;
+    hp_error e = hp_iab_s_radius(s, ri, &ris);
+    if (e != HP_OK) return e;
+    /* hp_iab_s_ro's cube root, from the nearby radius (NaN or far off: from scratch). */
+    double r = hp_iab_cbrt_near(s->W + ris * ris * ris, ro_near * s->scale);
+    return pressure_at(s, ris, r, P);
 }
 
 hp_error hp_iab_ik(const hp_iab *b, double ri, double *P)

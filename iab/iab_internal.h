@@ -17,6 +17,7 @@ typedef struct hp_iab_s {
     double Ri, Ro;  /* reference radii × scale */
     double C1, C2;  /* moduli [Pa] */
     double scale;   /* power of two: scaled length = length [m] × scale */
+    double inv_scale; /* 1/scale, exact (a power of two): length [m] = scaled × inv_scale */
     double W;       /* Ro³ − Ri³ (scaled), the wall's volume / (4π/3); ro³ − ri³ = W always */
     double Ri_m;    /* Ri [m] as given: FK's exact answer at P = 0 */
 } hp_iab_s;
@@ -58,6 +59,14 @@ hp_error hp_iab_s_ik_m(const hp_iab_s *s, double ri, double *P);
  * about half the price of libm's (which is within 1 ulp). */
 double hp_iab_cbrt(double x);
 
+/* hp_iab_cbrt(x) from a start y0 that is already close (a nearby root: the outer radius the
+ * inner one was solved from): one exact-residual Newton step when it moves y0 by at most
+ * 2^-40 relative, else hp_iab_cbrt(x). The same guarantee as hp_iab_cbrt (correctly rounded
+ * but within ~1e-7 ulp of a midpoint), so the same bits except there, for about a third of
+ * its latency (no polynomial, no first Newton division). Any y0 is safe (NaN, 0, far off:
+ * the full cube root). */
+double hp_iab_cbrt_near(double x, double y0);
+
 /* Scaled outer radius for scaled inner radius ri > 0: ro = cbrt(W + ri³) (hp_iab_cbrt), a
  * sum of two positive terms (no cancellation). */
 double hp_iab_s_ro(const hp_iab_s *s, double ri);
@@ -77,6 +86,17 @@ double hp_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, 
  * Requires ri > 0 finite; returns HP_ERR_DOMAIN when the result is not finite (ri so small
  * or so large that the pressure overflows). d1, d2 may be NULL. */
 hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2);
+
+/* hp_iab_s_ik_m for an inner radius ri [m] whose outer radius is known to be close to
+ * ro_near [m] (the one ri was solved from by hp_iab_s_ri_m): the outer radius the pressure
+ * uses comes from hp_iab_cbrt_near, so the same bits as hp_iab_s_ik_m but within ~1e-7 ulp
+ * of a rounding midpoint of that radius; any ro_near is safe. */
+hp_error hp_iab_s_ik_near_m(const hp_iab_s *s, double ri, double ro_near, double *P);
+
+/* hp_iab_s_ik_m and hp_iab_s_ro_m of one inner radius ri [m] in one evaluation (the pressure
+ * forms the outer radius anyway): the same codes as hp_iab_s_ik_m, the same bits of *P and
+ * *ro [m] as the two calls. */
+hp_error hp_iab_s_ik_ro_m(const hp_iab_s *s, double ri, double *P, double *ro);
 
 /* hp_iab_s_ik's pressure without derivatives, and the scaled outer radius it used
  * (hp_iab_s_ro(s, ri), the same bits). */

@@ -111,6 +111,7 @@ hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
         return invalid_bladder(b, diag);
     if (s) {
         s->scale = scale_for(b->Ro);
+        s->inv_scale = 1.0 / s->scale;
         s->Ri = b->Ri * s->scale;
         s->Ro = b->Ro * s->scale;
         s->C1 = b->C1;
@@ -126,8 +127,9 @@ hp_error hp_iab_validate(const hp_iab *b, hp_diag *diag)
     return hp_iab_scaled_init(b, NULL, diag);
 }
 
-/* Dekker's exact product without FMA: a·b = p + e exactly (no overflow here: |a|, |b| < 8
- * after the argument reduction of hp_iab_cbrt). */
+/* Dekker's exact product without FMA: a·b = p + e exactly (no overflow and normal low parts
+ * here: the arguments of hp_iab_cbrt are reduced to [1, 8), hp_iab_cbrt_near's range is
+ * bounded). */
 static void two_prod(double a, double b, double *p, double *e)
 {
     const double split = 134217729.0; /* 2^27 + 1 */
@@ -138,48 +140,92 @@ static void two_prod(double a, double b, double *p, double *e)
     *e = ((ah * bh - *p) + ah * bl + al * bh) + al * bl;
 }
 
+/* One Newton step on y³ = a from y, with the residual a − y³ formed exactly (y² and y²·y as
+ * double-doubles; a − p3 is exact by Sterbenz's lemma when y³ is within a factor of two of
+ * a). From a start of relative error δ the error after it is about δ² + δ·2⁻⁵² + 2⁻¹⁰⁵
+ * relative plus the one rounding of y + correction. *corr is the correction, so that a
+ * caller can tell how far the start was. Needs |y| < 2^480 and y³ far from underflow
+ * (Dekker's split, the low parts). */
+static inline double cbrt_refine(double a, double y, double *corr)
+{
+    double p2, e2, p3, e3;
+    two_prod(y, y, &p2, &e2);
+    two_prod(p2, y, &p3, &e3);
+    double res = ((a - p3) - e3) - e2 * y;
+    *corr = res / (3.0 * p2);
+    return y + *corr;
+}
+
+/* cbrt(a) on [1, 8) to 1.8e-6 relative: a = m·2^k, m in [1, 2), by the degree-5 interpolant
+ * of cbrt at the Chebyshev nodes in t = m − 1.5, times cbrt(2^k). Evaluated in Estrin's
+ * scheme (three independent pairs joined by t² and t⁴): half the dependent chain of
+ * Horner's, and the start only needs to be near. */
+static inline double cbrt_poly(double m, int k)
+{
+    static const double cbrt2k[3] = {1.0, 1.2599210498948731648, 1.5874010519681994748};
+    double t = m - 1.5, t2 = t * t;
+    double y = (1.144712948162971 + t * 0.2543816456245348) +
+               t2 * ((-0.056436294682727636 + t * 0.020886322742378068) +
+                     t2 * (-0.010271170742077187 + t * 0.005072953325269895));
+    return y * cbrt2k[k];
+}
+
+/* cbrt_poly and one plain Newton step, which squares the relative error: 1.8e-6 -> 3.2e-12
+ * (plus rounding). */
+static inline double cbrt_start(double m, int k, double a)
+{
+    double y = cbrt_poly(m, k);
+    return y - (y * y * y - a) / (3.0 * y * y);
+}
+
+/* The argument reduction of hp_iab_cbrt for a normal positive x = m·2^e, m in [1, 2),
+ * e = 3q + k, k in {0, 1, 2}: cbrt(x) = cbrt(m·2^k)·2^q. Returns 0 for any other x. */
+static inline int cbrt_reduce(double x, double *m, int *k, double *a, double *sc)
+{
+    uint64_t u;
+    memcpy(&u, &x, sizeof u);
+    int E = (int)(u >> 52); /* the sign bit too: negative x has E >= 2048 */
+    if (E < 1 || E > 2046) return 0; /* 0, subnormal, negative, inf, NaN */
+    int e = E - 1023;
+    int q = (e + 1200) / 3 - 400; /* floor(e/3): e + 1200 > 0 */
+    *k = e - 3 * q;
+    uint64_t mu = (u & 0x000fffffffffffffULL) | 0x3ff0000000000000ULL;
+    memcpy(m, &mu, sizeof *m);
+    *a = *m * (double)(1 << *k); /* exact, in [1, 8) */
+    uint64_t su = (uint64_t)(1023 + q) << 52; /* 2^q, q in [-341, 341]: normal */
+    memcpy(sc, &su, sizeof *sc);
+    return 1;
+}
+
 double hp_iab_cbrt(double x)
 {
 #if FLT_EVAL_METHOD != 0
     return cbrt(x); /* Dekker's product needs plain double arithmetic */
 #else
-    uint64_t u;
-    memcpy(&u, &x, sizeof u);
-    int E = (int)(u >> 52); /* the sign bit too: negative x has E >= 2048 */
-    if (E < 1 || E > 2046) return cbrt(x); /* 0, subnormal, negative, inf, NaN */
-    /* x = m·2^e, m in [1, 2); e = 3q + k, k in {0, 1, 2}; cbrt(x) = cbrt(m·2^k)·2^q. */
-    int e = E - 1023;
-    int q = (e + 1200) / 3 - 400; /* floor(e/3): e + 1200 > 0 */
-    int k = e - 3 * q;
-    uint64_t mu = (u & 0x000fffffffffffffULL) | 0x3ff0000000000000ULL;
-    double m;
-    memcpy(&m, &mu, sizeof m);
-    double a = m * (double)(1 << k); /* exact, in [1, 8) */
-    /* cbrt on [1, 2) by its degree-5 interpolant at the Chebyshev nodes in t = m − 1.5
-     * (relative error 1.8e-6), times cbrt(2^k) */
-    static const double cbrt2k[3] = {1.0, 1.2599210498948731648, 1.5874010519681994748};
-    double t = m - 1.5;
-    double y = 1.144712948162971 +
-               t * (0.2543816456245348 +
-                    t * (-0.056436294682727636 +
-                         t * (0.020886322742378068 +
-                              t * (-0.010271170742077187 + t * 0.005072953325269895))));
-    y *= cbrt2k[k];
-    /* Newton on y³ = a squares the relative error: 1.8e-6 -> 3.2e-12 (plus rounding). */
-    y -= (y * y * y - a) / (3.0 * y * y);
-    /* Once more with the residual a − y³ formed exactly (y² and y²·y as double-doubles;
-     * a − p3 is exact by Sterbenz's lemma): the error after it is 1e-23 relative plus the
-     * one rounding of y + correction, so the result is the correctly rounded cube root
-     * unless that lies within ~1e-7 ulp of a midpoint (then still within 0.5 ulp + 1e-7). */
-    double p2, e2, p3, e3;
-    two_prod(y, y, &p2, &e2);
-    two_prod(p2, y, &p3, &e3);
-    double res = ((a - p3) - e3) - e2 * y;
-    y += res / (3.0 * p2);
-    uint64_t su = (uint64_t)(1023 + q) << 52; /* 2^q, q in [-341, 341]: normal */
-    double sc;
-    memcpy(&sc, &su, sizeof sc);
-    return y * sc;
+    double m, a, sc, corr;
+    int k;
+    if (!cbrt_reduce(x, &m, &k, &a, &sc)) return cbrt(x);
+    /* From the start's 3.2e-12 the exact-residual step leaves 1e-23 relative plus the one
+     * rounding of y + correction, so the result is the correctly rounded cube root unless
+     * that lies within ~1e-7 ulp of a midpoint (then still within 0.5 ulp + 1e-7). */
+    return cbrt_refine(a, cbrt_start(m, k, a), &corr) * sc;
+#endif
+}
+
+double hp_iab_cbrt_near(double x, double y0)
+{
+#if FLT_EVAL_METHOD != 0
+    (void)y0;
+    return cbrt(x);
+#else
+    /* The range keeps Dekker's products and their low parts normal; a start within 2^-40
+     * leaves at most 2^-80 + 2^-92 + 2^-105 relative before the last rounding, below the
+     * 1e-23 that hp_iab_cbrt's own start leaves: the same guarantee. */
+    if (x >= 0x1p-300 && x <= 0x1p300 && y0 > 0 && y0 <= 0x1p101) {
+        double corr, y = cbrt_refine(x, y0, &corr);
+        if (fabs(corr) <= 0x1p-40 * y0) return y;
+    }
+    return hp_iab_cbrt(x);
 #endif
 }
 
@@ -190,7 +236,7 @@ hp_error hp_iab_s_ro_m(const hp_iab_s *s, double ri, double *ro)
     double ris;
     hp_error e = hp_iab_s_radius(s, ri, &ris);
     if (e != HP_OK) return e;
-    *ro = hp_iab_s_ro(s, ris) / s->scale;
+    *ro = hp_iab_s_ro(s, ris) * s->inv_scale;
     return HP_OK;
 }
 
@@ -201,14 +247,22 @@ hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri)
     if (e != HP_OK) return e;
     double c = ros * ros * ros - s->W; /* ri³; cancels for thick walls and near collapse */
     if (!(c > 0)) return HP_ERR_DOMAIN;
-    double r = hp_iab_cbrt(c);
+    /* The start: cbrt(c) to 1.8e-6 relative (hp_iab_cbrt's polynomial alone), or worse when
+     * c cancelled (then libm's cbrt of the rounded c where the polynomial does not apply). */
+    double m, a, sc;
+    int k;
+    double r = cbrt_reduce(c, &m, &k, &a, &sc) ? cbrt_poly(m, k) * sc : cbrt(c);
     /* Two Newton steps on ri³ − Ri³ = ro³ − Ro³, both sides formed without cancellation:
-     * the residual is then known to ~ulp(|ro³ − Ro³|), so ri ends within a few ulps
-     * wherever the law itself is well conditioned (dri/dro = ro²/ri²). */
+     * 1.8e-6 -> 3e-12 -> 1e-23 relative, and the residual is known to ~ulp(|ro³ − Ro³|), so
+     * ri ends within a few ulps wherever the law itself is well conditioned
+     * (dri/dro = ro²/ri²). The slope's division runs beside the residual, off the chain. */
     double rhs = hp_iab_cube_diff(ros, s->Ro);
-    for (int it = 0; it < 2; ++it) r -= (hp_iab_cube_diff(r, s->Ri) - rhs) / (3.0 * r * r);
+    for (int it = 0; it < 2; ++it) {
+        double inv_slope = 1.0 / (3.0 * r * r);
+        r -= (hp_iab_cube_diff(r, s->Ri) - rhs) * inv_slope;
+    }
     if (!(r > 0) || !isfinite(r)) return HP_ERR_DOMAIN;
-    *ri = r / s->scale;
+    *ri = r * s->inv_scale; /* = r / scale exactly, without a division on the chain */
     return HP_OK;
 }
 

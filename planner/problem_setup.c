@@ -238,8 +238,11 @@ hp_error hp_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, doub
     }
     if (ri < ri_lo) { ri = ri_lo; c = 1; }
     if (ri > ri_hi) { ri = ri_hi; c = 1; }
-    if (c && hp_iab_s_ro_m(s, ri, &ro) != HP_OK) return HP_ERR_DOMAIN;
-    e = hp_iab_s_ik_m(s, ri, &P);
+    /* A clamped ri: its pressure and outer radius from one evaluation. Else ro is the outer
+     * radius of ri to a few ulps (ri was solved from it): the pressure's own outer radius
+     * starts there (the same bits as hp_iab_s_ik_m but within ~1e-7 ulp of a rounding
+     * midpoint). */
+    e = c ? hp_iab_s_ik_ro_m(s, ri, &P, &ro) : hp_iab_s_ik_near_m(s, ri, ro, &P);
     if (e != HP_OK || !isfinite(P)) return HP_ERR_DOMAIN;
     if (P < p_lo) P = p_lo;
     if (P > p_hi) P = p_hi;

@@ -163,12 +163,16 @@ static void test_derivatives(void **state)
 
 /* Volume law: ro against quad cbrt (2 ulps: cbrt of a sum of two positive terms), and the
  * inverse law against the quad inverse of the same double ro to 4 ulps (Newton-refined on a
- * cancellation-free residual, see hp_iab_ri). */
+ * cancellation-free residual, see hp_iab_ri), on the sweep's walls and on thick ones (Ri/Ro
+ * down to 1e-3, where the inverse's start cbrt(ro³ − (Ro³ − Ri³)) cancels up to 1e-7 of its
+ * value and the Newton steps must recover it). */
 static void test_volume_law(void **state)
 {
     (void)state;
-    for (size_t iq = 0; iq < sizeof ratios / sizeof ratios[0]; ++iq) {
-        const double Ro = 0.03, Ri = ratios[iq] * Ro;
+    static const double thick[] = {0.1, 0.01, 0.001};
+    const size_t nr = sizeof ratios / sizeof ratios[0];
+    for (size_t iq = 0; iq < nr + sizeof thick / sizeof thick[0]; ++iq) {
+        const double Ro = 0.03, Ri = (iq < nr ? ratios[iq] : thick[iq - nr]) * Ro;
         hp_iab b = {Ri, Ro, 1.1e4, 0};
         for (int k = 0; k <= 500; ++k) {
             double ri = (0.5 + 2.5 * k / 500.0) * Ri, ro, back;
@@ -281,9 +285,70 @@ static void test_cbrt(void **state)
     printf("hp_iab_cbrt vs quad: worst %.4f ulps\n", worst);
 }
 
+/* hp_iab_cbrt_near against quad cbrtq: the same bound as hp_iab_cbrt (0.5 ulp + 1e-6) from
+ * starts a few ulps and up to 1e-13 (below its 2^-40 acceptance) off the root, on 100 000
+ * seeded random x across its range [2^-300, 2^300]; hp_iab_cbrt's very bits from starts it
+ * must refuse (1e-9 off and farther, 0, negative, NaN, inf) and for x outside the range. The
+ * number of near starts whose result differs from hp_iab_cbrt's is printed (the header
+ * allows it only within ~1e-7 ulp of a midpoint, so expect 0). */
+static void test_cbrt_near(void **state)
+{
+    (void)state;
+    uint64_t st = 0x2545f4914f6cdd1dULL;
+    static const double near[] = {0.0, 0x1p-52, -0x1p-52, 3 * 0x1p-52, -3 * 0x1p-52,
+                                  1000 * 0x1p-52, -1e-13, 1e-13};
+    static const double far[] = {1e-9, -1e-9, 0.01, 1.0, -0.5};
+    double worst = 0;
+    long differ = 0;
+    for (int it = 0; it < 100000; ++it) {
+        st ^= st << 13;
+        st ^= st >> 7;
+        st ^= st << 17;
+        uint64_t E = 1023 - 300 + (st >> 11) % 601; /* x in [2^-300, 2^301) */
+        uint64_t bits = (E << 52) | (st & 0x000fffffffffffffULL);
+        double x;
+        memcpy(&x, &bits, sizeof x);
+        if (x > 0x1p300) x = 0x1p300;
+        double ref = hp_iab_cbrt(x);
+        q128 exact = cbrtq((q128)x);
+        int ex;
+        frexp(ref, &ex);
+        double ulp = ldexp(1.0, ex - 53);
+        for (size_t j = 0; j < sizeof near / sizeof near[0]; ++j) {
+            double y = hp_iab_cbrt_near(x, ref * (1.0 + near[j]));
+            double err = (double)fabsq((q128)y - exact) / ulp;
+            worst = fmax(worst, err);
+            assert_true(err <= 0.5 + 1e-6);
+            differ += y != ref;
+        }
+        for (size_t j = 0; j < sizeof far / sizeof far[0]; ++j) {
+            double y = hp_iab_cbrt_near(x, ref * (1.0 + far[j]));
+            assert_memory_equal(&y, &ref, sizeof y);
+        }
+    }
+    const double bad_start[] = {0.0, -1.0, NAN, INFINITY, 1e200, 1e-200};
+    const double xs[] = {0.5, 27.0, 0x1p-300, 0x1p300, 0x1p-301, 0x1p302, 1e-320, 1e308, 0.0,
+                         -8.0, INFINITY};
+    for (size_t i = 0; i < sizeof xs / sizeof xs[0]; ++i) {
+        double ref = hp_iab_cbrt(xs[i]);
+        for (size_t j = 0; j < sizeof bad_start / sizeof bad_start[0]; ++j) {
+            double y = hp_iab_cbrt_near(xs[i], bad_start[j]);
+            assert_memory_equal(&y, &ref, sizeof y);
+        }
+        if (!(xs[i] >= 0x1p-300 && xs[i] <= 0x1p300)) { /* outside the range: no refinement */
+            double y = hp_iab_cbrt_near(xs[i], ref);
+            assert_memory_equal(&y, &ref, sizeof y);
+        }
+    }
+    assert_true(isnan(hp_iab_cbrt_near(NAN, 1.0)));
+    printf("hp_iab_cbrt_near vs quad: worst %.4f ulps; %ld of 800000 differ from hp_iab_cbrt\n",
+           worst, differ);
+}
+
 /* The scaled model's power of two (read off the exponent bits) is exactly the one frexp and
- * ldexp give, and brings Ro into [1, 2), for Ro across the normal double range (Ri = Ro/2:
- * any valid bladder will do). */
+ * ldexp give, its reciprocal exactly 2^(e−1) (so a product by it has the division's bits),
+ * and brings Ro into [1, 2), for Ro across the normal double range (Ri = Ro/2: any valid
+ * bladder will do). */
 static void test_scale_bits(void **state)
 {
     (void)state;
@@ -296,6 +361,7 @@ static void test_scale_bits(void **state)
         int e;
         frexp(ros[i], &e);
         assert_true(s.scale == ldexp(1.0, 1 - e));
+        assert_true(s.inv_scale == ldexp(1.0, e - 1)); /* exact: back to metres by a product */
         assert_true(s.Ro >= 1.0 && s.Ro < 2.0);
     }
 }
@@ -323,6 +389,17 @@ static void test_validated_once_same_bits(void **state)
                 assert_int_equal(hp_iab_ro(&b, ri, &o1), HP_OK);
                 assert_int_equal(hp_iab_s_ro_m(&s, ri, &o2), HP_OK);
                 assert_memory_equal(&o1, &o2, sizeof o1);
+                /* the answer's path: the outer radius the pressure uses refined from a
+                 * nearby one (the exact one, or one 4 ulps off) */
+                double P3, P4;
+                assert_int_equal(hp_iab_s_ik_near_m(&s, ri, o1, &P3), HP_OK);
+                assert_int_equal(hp_iab_s_ik_near_m(&s, ri, o1 * (1 + 4 * ULP), &P4), HP_OK);
+                assert_memory_equal(&P1, &P3, sizeof P1);
+                assert_memory_equal(&P1, &P4, sizeof P1);
+                double P5, o5;
+                assert_int_equal(hp_iab_s_ik_ro_m(&s, ri, &P5, &o5), HP_OK);
+                assert_memory_equal(&P1, &P5, sizeof P1);
+                assert_memory_equal(&o1, &o5, sizeof o1);
                 hp_error e1 = hp_iab_ri(&b, o1, &r1), e2 = hp_iab_s_ri_m(&s, o1, &r2);
                 assert_int_equal(e1, e2);
                 if (e1 == HP_OK) assert_memory_equal(&r1, &r2, sizeof r1);
@@ -333,6 +410,9 @@ static void test_validated_once_same_bits(void **state)
                 double x = 5.0, y = 5.0;
                 assert_int_equal(hp_iab_s_ik_m(&s, bad[i], &x), hp_iab_ik(&b, bad[i], &y));
                 assert_int_equal(hp_iab_s_ro_m(&s, bad[i], &x), hp_iab_ro(&b, bad[i], &y));
+                assert_int_equal(hp_iab_s_ik_near_m(&s, bad[i], Ro, &x), hp_iab_ik(&b, bad[i], &y));
+                double z = 5.0;
+                assert_int_equal(hp_iab_s_ik_ro_m(&s, bad[i], &x, &z), hp_iab_ik(&b, bad[i], &y));
                 assert_int_equal(hp_iab_s_ri_m(&s, bad[i], &x), hp_iab_ri(&b, bad[i], &y));
             }
         }
@@ -345,6 +425,7 @@ int main(void)
         cmocka_unit_test(test_naive_form_is_worse), cmocka_unit_test(test_derivatives),
         cmocka_unit_test(test_volume_law), cmocka_unit_test(test_wall_stress),
         cmocka_unit_test(test_scale_invariance), cmocka_unit_test(test_cbrt),
+        cmocka_unit_test(test_cbrt_near),
         cmocka_unit_test(test_scale_bits), cmocka_unit_test(test_validated_once_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
