@@ -46,6 +46,13 @@ typedef struct hp_qp {
     double C[HP_QP_MMAX * HP_QP_NMAX]; /* row j at C + j·HP_QP_NMAX: constraint normal;
                                          * columns >= n are never read */
     double b[HP_QP_MMAX];
+    /* Declared twin pairs: for i < pairs, row 2i + 1 of C is exactly −row 2i (a lower and
+     * an upper limit on one quantity, as the realtime backend builds them), so the solver
+     * does not compare them, reads only row 2i's entries for the checks on C, and works
+     * per pair. 0 (zero-initialise the struct): twins are found by comparing each row with
+     * the one before, as they are for the rows from 2·pairs on. Outside 0..m/2:
+     * HP_QP_BAD_INPUT. A wrong declaration gives wrong answers, not an error. */
+    int pairs;
     /* outputs */
     double x[HP_QP_NMAX];   /* entries >= n are set to 0 */
     double u[HP_QP_MMAX];   /* multiplier of every constraint (0 when inactive) */
