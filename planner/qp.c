@@ -201,24 +201,35 @@ static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm, int *twi
     return Cr;
 }
 
+/* Row j's violation test of most_violated: r = C_j x − b_j. A row with r >= 0 cannot be
+ * below a negative −feas_tol: its division is skipped (same answer, fewer operations). */
+static inline void violation(double r, double nrm, int skip, int j, double *worst, int *p)
+{
+    if (skip || (!(r < 0.0) && *worst < 0.0)) return;
+    double v = r / nrm;
+    if (v < *worst) {
+        *worst = v;
+        *p = j;
+    }
+}
+
 /* The most violated row at x, measured per unit-norm row (the violation (C_j x − b_j)/|C_j|
  * below −feas_tol), ignoring the rows marked in skip; −1 when none is. A twin row reuses
- * the product of the row before it, negated. A row with C_j x − b_j >= 0 cannot be below
- * a negative −feas_tol: its division is skipped (same answer, fewer operations). */
+ * the product of the row before it, negated: a declared pair (qp->pairs) is tested as one
+ * product and two rows, the rows after the pairs one by one. */
 static int most_violated(const hp_qp *qp, const double *Cr, const double *x, const double *nrm,
                          const int *twin, const int *skip, double feas_tol)
 {
-    int p = -1;
+    int p = -1, p2 = 2 * qp->pairs;
     double worst = -feas_tol, cx = 0;
-    for (int j = 0; j < qp->m; ++j) {
+    for (int j = 0; j < p2; j += 2) {
+        cx = dot(&Cr[j * NM], x);
+        violation(cx - qp->b[j], nrm[j], skip[j], j, &worst, &p);
+        violation(-cx - qp->b[j + 1], nrm[j + 1], skip[j + 1], j + 1, &worst, &p);
+    }
+    for (int j = p2; j < qp->m; ++j) {
         cx = twin[j] ? -cx : dot(&Cr[j * NM], x);
-        double r = cx - qp->b[j];
-        if (skip[j] || (!(r < 0.0) && worst < 0.0)) continue;
-        double v = r / nrm[j];
-        if (v < worst) {
-            worst = v;
-            p = j;
-        }
+        violation(cx - qp->b[j], nrm[j], skip[j], j, &worst, &p);
     }
     return p;
 }
@@ -288,20 +299,16 @@ static void back_subst(const double *L, int ldl, int n, double *y, double *x)
  * L⁻ᵀM δu, and |M δu| <= |E||u|/σ_min(M) — a factor √κ(S), as in the full solve's QR.
  * Writes the outputs only on acceptance. */
 static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr,
-                           const int *guess, const double *a,
-                           const double *nrm, const int *twin, const int *skip_in, int max_iter,
-                           double feas_tol)
+                           const int *A, int k, const double *a, const double *nrm,
+                           const int *twin, int *skip, int max_iter, double feas_tol)
 {
-    int n = qp->n, m = qp->m, A[NM], k = 0, skip[HP_QP_MMAX];
-    for (int j = 0; j < m; ++j) {
-        skip[j] = skip_in[j];
-        if (!guess[j]) continue;
+    int n = qp->n;
+    if (k > n || k > max_iter) return HP_QP_WARM_SHAPE;
+    for (int c = 0; c < k; ++c) {
+        int j = A[c];
         /* a twin pair's rows are exact negations: both active would leave no interior */
-        if (k == n || skip[j] || (twin[j] && guess[j - 1])) return HP_QP_WARM_SHAPE;
-        A[k++] = j;
-        skip[j] = 1;
+        if (skip[j] || (twin[j] && c > 0 && A[c - 1] == j - 1)) return HP_QP_WARM_SHAPE;
     }
-    if (k > max_iter) return HP_QP_WARM_SHAPE;
     double w[NM], Mt[NM * NM], D[NM], S[NM * NM], Rs[NM * NM], us[NM], y[NM], x[NM];
     forward_subst(L, ldl, n, a, w);
     for (int i = 0; i < n; ++i) w[i] = -w[i];
@@ -329,7 +336,12 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr
     memcpy(y, w, sizeof y);
     for (int c = 0; c < k; ++c) axpy(y, us[c], &Mt[c * NM]);
     back_subst(L, ldl, n, y, x);
-    if (most_violated(qp, Cr, x, nrm, twin, skip, feas_tol) >= 0) return HP_QP_WARM_VIOLATED;
+    /* the guessed rows hold as equalities: skipped in the test (restored after; they were
+     * 0, a skipped row having been refused above) */
+    for (int c = 0; c < k; ++c) skip[A[c]] = 1;
+    int viol = most_violated(qp, Cr, x, nrm, twin, skip, feas_tol);
+    for (int c = 0; c < k; ++c) skip[A[c]] = 0;
+    if (viol >= 0) return HP_QP_WARM_VIOLATED;
     memcpy(qp->x, x, sizeof qp->x);
     for (int c = 0; c < k; ++c) {
         qp->u[A[c]] = us[c] / D[c];
@@ -360,9 +372,13 @@ hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int
     double *Jt = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_;
     double nrm[HP_QP_MMAX], a[NM] = {0};
     int twin[HP_QP_MMAX], skip[HP_QP_MMAX]; /* skip: active rows and rows of zero norm */
-    int g[HP_QP_MMAX]; /* the guess, read before the outputs (it may be qp->active) */
+    /* the guessed rows in index order, read before the outputs (guess may be qp->active) */
+    int ga[HP_QP_MMAX], gk = 0;
     if (guess)
-        for (int j = 0; j < m; ++j) g[j] = guess[j] != 0;
+        for (int j = 0; j < m; ++j) {
+            ga[gk] = j; /* gk <= j < m */
+            gk += guess[j] != 0;
+        }
     for (int i = 0; i < n; ++i) {
         if (!isfinite(qp->a[i])) return HP_QP_BAD_INPUT;
         a[i] = qp->a[i];
@@ -376,7 +392,7 @@ hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int
     if (!cholesky_factor(qp->G, n, Lg, qp->L_, &L, &ldl)) return HP_QP_BAD_INPUT;
     if (empty) return HP_QP_INFEASIBLE; /* a row of zero norm that no x satisfies */
     if (guess) {
-        qp->warm = warm_try(qp, L, ldl, Cr, g, a, nrm, twin, skip, max_iter, feas_tol);
+        qp->warm = warm_try(qp, L, ldl, Cr, ga, gk, a, nrm, twin, skip, max_iter, feas_tol);
         if (qp->warm == HP_QP_WARM_ACCEPTED) {
             for (int i = 0; i < n; ++i)
                 if (!isfinite(x[i])) return HP_QP_BAD_INPUT;
