@@ -146,7 +146,7 @@ static int load_row(const hp_qp *qp, const double *w, int j, double feas_tol, do
     double s = dot(w, w);
     if (!isfinite(s) || !isfinite(qp->b[j])) return 0;
     nrm[j] = sqrt(s);
-    skip[j] = nrm[j] == 0.0;
+    skip[j] = s == 0.0; /* sqrt(s) == 0 exactly when s is: tested off the sqrt's latency */
     *empty |= skip[j] && -qp->b[j] < -feas_tol;
     return 1;
 }
@@ -297,7 +297,8 @@ static void back_subst(const double *L, int ldl, int n, double *y, double *x)
  * (a) also bounds the rounding (qp.h): the computed u solves (S + E) u = r with |E| ~ kε|S|,
  * so u carries κ(S)·kε; but stationarity holds for any u, so an error δu moves x only by
  * L⁻ᵀM δu, and |M δu| <= |E||u|/σ_min(M) — a factor √κ(S), as in the full solve's QR.
- * Writes the outputs only on acceptance. */
+ * Writes the outputs u and active only on acceptance; x also on a refusal after the
+ * equality solve, which the full solve then overwrites. */
 static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr,
                            const int *A, int k, const double *a, const double *nrm,
                            const int *twin, int *skip, int max_iter, double feas_tol)
@@ -309,14 +310,15 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr
         /* a twin pair's rows are exact negations: both active would leave no interior */
         if (skip[j] || (twin[j] && c > 0 && A[c - 1] == j - 1)) return HP_QP_WARM_SHAPE;
     }
-    double w[NM], Mt[NM * NM], D[NM], S[NM * NM], Rs[NM * NM], us[NM], y[NM], x[NM];
+    double w[NM], Mt[NM * NM], D[NM], S[NM * NM], Rs[NM * NM], us[NM], y[NM], *x = qp->x;
     forward_subst(L, ldl, n, a, w);
     for (int i = 0; i < n; ++i) w[i] = -w[i];
     for (int c = 0; c < k; ++c) {
         double *mc = &Mt[c * NM];
         forward_subst(L, ldl, n, &Cr[A[c] * NM], mc);
-        D[c] = sqrt(dot(mc, mc));
-        if (!(D[c] > 0.0 && D[c] < INFINITY)) return HP_QP_WARM_CONDITION;
+        double d2 = dot(mc, mc); /* D_c in (0, inf) exactly when D_c² is, NaN failing */
+        if (!(d2 > 0.0 && d2 < INFINITY)) return HP_QP_WARM_CONDITION;
+        D[c] = sqrt(d2);
         double inv = 1.0 / D[c];
         for (int i = 0; i < NM; ++i) mc[i] *= inv;
     }
@@ -335,14 +337,13 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr
         if (!(us[c] >= 0.0)) return HP_QP_WARM_SIGN;
     memcpy(y, w, sizeof y);
     for (int c = 0; c < k; ++c) axpy(y, us[c], &Mt[c * NM]);
-    back_subst(L, ldl, n, y, x);
+    back_subst(L, ldl, n, y, x); /* the output x (the full solve overwrites it on refusal) */
     /* the guessed rows hold as equalities: skipped in the test (restored after; they were
      * 0, a skipped row having been refused above) */
     for (int c = 0; c < k; ++c) skip[A[c]] = 1;
     int viol = most_violated(qp, Cr, x, nrm, twin, skip, feas_tol);
     for (int c = 0; c < k; ++c) skip[A[c]] = 0;
     if (viol >= 0) return HP_QP_WARM_VIOLATED;
-    memcpy(qp->x, x, sizeof qp->x);
     for (int c = 0; c < k; ++c) {
         qp->u[A[c]] = us[c] / D[c];
         qp->active[A[c]] = 1;
@@ -399,7 +400,9 @@ hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int
             return HP_QP_OPTIMAL;
         }
     }
-    memset(R, 0, sizeof qp->R_);
+    /* row by row: a small memset compiles to a few stores, this one whole to a string
+     * store with a slow start */
+    for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
     invert_factor(L, ldl, n, Jt);
 
     /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
