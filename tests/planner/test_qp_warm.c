@@ -531,6 +531,62 @@ static void test_declared_pairs_same_bits(void **st)
     }
 }
 
+/* common/dense.c runs its routines through copies with a constant n for n = 1..6 (the
+ * warm start's Gram matrices): each must give the bits of the textbook loops written out
+ * here in the same order of operations (no reordering: the same sums, the same divisions),
+ * for n = 1..8 (7, 8: the general copy), with leading dimensions larger than n. */
+static void test_dense_fixed_sizes_same_bits(void **st)
+{
+    (void)st;
+    uint64_t seed = 99;
+    for (int t = 0; t < 400; ++t) {
+        int n = 1 + t % 8, ld = n + t % 3;
+        double F[64], A[100], L[100], Lr[100], b[10], br[10];
+        for (int i = 0; i < n * n; ++i) F[i] = lf_uniform(&seed);
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                double s = i == j ? 0.5 : 0.0;
+                for (int k = 0; k < n; ++k) s += F[i * n + k] * F[j * n + k];
+                A[i * ld + j] = s;
+            }
+        /* reference: L_jj = sqrt(A_jj − Σ L_jk²), L_ij = (A_ij − Σ L_ik L_jk) / L_jj */
+        for (int j = 0; j < n; ++j) {
+            double s = A[j * ld + j];
+            for (int k = 0; k < j; ++k) s -= Lr[j * ld + k] * Lr[j * ld + k];
+            Lr[j * ld + j] = sqrt(s);
+            for (int i = j + 1; i < n; ++i) {
+                double u = A[i * ld + j];
+                for (int k = 0; k < j; ++k) u -= Lr[i * ld + k] * Lr[j * ld + k];
+                Lr[i * ld + j] = u / Lr[j * ld + j];
+            }
+        }
+        assert_int_equal(hp_cholesky(A, ld, n, 0.0, L, ld), 1);
+        for (int i = 0; i < n; ++i)
+            assert_memory_equal(&L[i * ld], &Lr[i * ld], (size_t)(i + 1) * sizeof *L);
+        for (int i = 0; i < n; ++i) b[i] = br[i] = lf_uniform(&seed);
+        for (int i = 0; i < n; ++i) {
+            for (int k = 0; k < i; ++k) br[i] -= Lr[i * ld + k] * br[k];
+            br[i] /= Lr[i * ld + i];
+        }
+        for (int i = n - 1; i >= 0; --i) {
+            for (int k = i + 1; k < n; ++k) br[i] -= Lr[k * ld + i] * br[k];
+            br[i] /= Lr[i * ld + i];
+        }
+        hp_cholesky_solve(L, ld, n, b);
+        assert_memory_equal(b, br, (size_t)n * sizeof *b);
+        double fr = 0, x[10];
+        for (int j = 0; j < n; ++j)
+            for (int i = j; i < n; ++i) {
+                double u = i == j ? 1.0 : 0.0;
+                for (int k = j; k < i; ++k) u -= Lr[i * ld + k] * x[k];
+                x[i] = u / Lr[i * ld + i];
+                fr += x[i] * x[i];
+            }
+        double got = hp_cholesky_inv_frob2(L, ld, n);
+        assert_memory_equal(&got, &fr, sizeof fr);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -539,6 +595,7 @@ int main(void)
         cmocka_unit_test(test_warm_refusals),
         cmocka_unit_test(test_warm_bad_input_and_infeasible),
         cmocka_unit_test(test_declared_pairs_same_bits),
+        cmocka_unit_test(test_dense_fixed_sizes_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
