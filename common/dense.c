@@ -19,8 +19,15 @@
 #else
 #define UNROLL6
 #endif
+/* Each fixed-n call site gets its own copy (the compiler would otherwise keep one generic
+ * copy of the larger bodies and call it, losing the constant n). */
+#if defined(__GNUC__)
+#define FIXED_N_INLINE static inline __attribute__((always_inline))
+#else
+#define FIXED_N_INLINE static inline
+#endif
 
-static inline int cholesky_n(const double *A, int lda, int n, double min_frac, double *L,
+FIXED_N_INLINE int cholesky_n(const double *A, int lda, int n, double min_frac, double *L,
                              int ldl)
 {
 UNROLL6
@@ -56,7 +63,7 @@ int hp_cholesky(const double *A, int lda, int n, double min_frac, double *L, int
     }
 }
 
-static inline void cholesky_solve_n(const double *L, int ldl, int n, double *b)
+FIXED_N_INLINE void cholesky_solve_n(const double *L, int ldl, int n, double *b)
 {
 UNROLL6
     for (int i = 0; i < n; ++i) {
@@ -87,7 +94,7 @@ void hp_cholesky_solve(const double *L, int ldl, int n, double *b)
     }
 }
 
-static inline double inv_frob2_n(const double *L, int ldl, int n)
+FIXED_N_INLINE double inv_frob2_n(const double *L, int ldl, int n)
 {
     /* Column j of L⁻¹ by forward substitution on e_j (zero above row j). */
     double x[64], s = 0.0;
