@@ -9,7 +9,12 @@
  * fixed length the compiler unrolls and vectorises whatever n is. The padding changes no
  * result: a padded term is an exact ±0, and adding ±0 to a sum that starts at +0 leaves
  * it bit-for-bit the same. A row that is the exact negation of the row before it (a lower
- * and an upper limit on the same quantity) reuses that row's norm and product with x. */
+ * and an upper limit on the same quantity) reuses that row's norm and product with x; the
+ * caller may declare such pairs (hp_qp.pairs) so they are not compared on every call. The
+ * factor of G is read in place (the caller's, or hp_cholesky's), lower triangle only; the
+ * substitutions with it are unrolled for n = NM and keep their vector in registers, and the
+ * square root of a row's norm is taken only where a division by it is (a violated row).
+ * Every one of these is arranged to give the bits of the plain formulation. */
 #include "planner/qp.h"
 #include "common/dense.h"
 
@@ -139,28 +144,28 @@ static int negates(const double *c, const double *p)
 }
 
 /* One row's checks: |w|² finite (a NaN or infinity in the row, or an overflowing norm,
- * fails), its norm, whether it is skipped (zero norm) and violated whatever x is. */
-static int load_row(const hp_qp *qp, const double *w, int j, double feas_tol, double *nrm,
+ * fails), its squared norm, whether it is skipped (zero norm) and violated whatever x is. */
+static int load_row(const hp_qp *qp, const double *w, int j, double feas_tol, double *nrm2,
                     int *skip, int *empty)
 {
     double s = dot(w, w);
     if (!isfinite(s) || !isfinite(qp->b[j])) return 0;
-    nrm[j] = sqrt(s);
-    skip[j] = s == 0.0; /* sqrt(s) == 0 exactly when s is: tested off the sqrt's latency */
+    nrm2[j] = s;
+    skip[j] = s == 0.0;
     *empty |= skip[j] && -qp->b[j] < -feas_tol;
     return 1;
 }
 
 /* The rows of C zero-padded to NM columns: C itself when n = NM (every column is read),
  * else a copy in qp->C_. Checks them and b (finite entries, a row norm that does not
- * overflow), fills nrm, marks in twin the rows that are the exact negation of the row before
- * (that row not itself a twin): the odd rows of the qp->pairs declared pairs without
- * comparing, the rows after them by comparison; marks in skip the rows of zero norm; *empty
- * is set when such a row is violated beyond feas_tol (it holds for every x or for none).
- * Sets the outputs u and active to 0 on the way (scalar stores the loop hides; a memset
- * of them costs a string store's start-up). One pass over the rows. Returns the rows, NULL
- * on bad input. */
-static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm, int *twin, int *skip,
+ * overflow), fills nrm2 with the squared row norms, marks in twin the rows that are the
+ * exact negation of the row before (that row not itself a twin): the odd rows of the
+ * qp->pairs declared pairs without comparing, the rows after them by comparison; marks in
+ * skip the rows of zero norm; *empty is set when such a row is violated beyond feas_tol
+ * (it holds for every x or for none). Sets the outputs u and active to 0 on the way
+ * (scalar stores the loop hides; a memset of them costs a string store's start-up). One
+ * pass over the rows. Returns the rows, NULL on bad input. */
+static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm2, int *twin, int *skip,
                                int *empty)
 {
     int n = qp->n, m = qp->m, p2 = 2 * qp->pairs;
@@ -172,10 +177,10 @@ static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm, int *twi
     }
     *empty = 0;
     for (int j = 0; j < p2; j += 2) { /* declared pairs: the twin's norm is its partner's */
-        if (!load_row(qp, &Cr[j * NM], j, feas_tol, nrm, skip, empty) ||
+        if (!load_row(qp, &Cr[j * NM], j, feas_tol, nrm2, skip, empty) ||
             !isfinite(qp->b[j + 1]))
             return NULL;
-        nrm[j + 1] = nrm[j];
+        nrm2[j + 1] = nrm2[j];
         skip[j + 1] = skip[j];
         *empty |= skip[j] && -qp->b[j + 1] < -feas_tol;
         twin[j] = 0;
@@ -189,24 +194,26 @@ static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm, int *twi
         qp->u[j] = 0.0;
         qp->active[j] = 0;
         if (!twin[j]) {
-            if (!load_row(qp, w, j, feas_tol, nrm, skip, empty)) return NULL;
+            if (!load_row(qp, w, j, feas_tol, nrm2, skip, empty)) return NULL;
             continue;
         }
         /* the negation of a checked row: finite, the same norm */
         if (!isfinite(qp->b[j])) return NULL;
-        nrm[j] = nrm[j - 1];
+        nrm2[j] = nrm2[j - 1];
         skip[j] = skip[j - 1];
         *empty |= skip[j] && -qp->b[j] < -feas_tol;
     }
     return Cr;
 }
 
-/* Row j's violation test of most_violated: r = C_j x − b_j. A row with r >= 0 cannot be
- * below a negative −feas_tol: its division is skipped (same answer, fewer operations). */
-static inline void violation(double r, double nrm, int skip, int j, double *worst, int *p)
+/* Row j's violation test of most_violated: r = C_j x − b_j, nrm2 = |C_j|². A row with
+ * r >= 0 cannot be below a negative −feas_tol: its square root and division are skipped
+ * (same answer, fewer operations: the norm is taken only for the rows that need it, and
+ * it is the same bits wherever it is taken). */
+static inline void violation(double r, double nrm2, int skip, int j, double *worst, int *p)
 {
     if (skip || (!(r < 0.0) && *worst < 0.0)) return;
-    double v = r / nrm;
+    double v = r / sqrt(nrm2);
     if (v < *worst) {
         *worst = v;
         *p = j;
@@ -217,19 +224,19 @@ static inline void violation(double r, double nrm, int skip, int j, double *wors
  * below −feas_tol), ignoring the rows marked in skip; −1 when none is. A twin row reuses
  * the product of the row before it, negated: a declared pair (qp->pairs) is tested as one
  * product and two rows, the rows after the pairs one by one. */
-static int most_violated(const hp_qp *qp, const double *Cr, const double *x, const double *nrm,
+static int most_violated(const hp_qp *qp, const double *Cr, const double *x, const double *nrm2,
                          const int *twin, const int *skip, double feas_tol)
 {
     int p = -1, p2 = 2 * qp->pairs;
     double worst = -feas_tol, cx = 0;
     for (int j = 0; j < p2; j += 2) {
         cx = dot(&Cr[j * NM], x);
-        violation(cx - qp->b[j], nrm[j], skip[j], j, &worst, &p);
-        violation(-cx - qp->b[j + 1], nrm[j + 1], skip[j + 1], j + 1, &worst, &p);
+        violation(cx - qp->b[j], nrm2[j], skip[j], j, &worst, &p);
+        violation(-cx - qp->b[j + 1], nrm2[j + 1], skip[j + 1], j + 1, &worst, &p);
     }
     for (int j = p2; j < qp->m; ++j) {
         cx = twin[j] ? -cx : dot(&Cr[j * NM], x);
-        violation(cx - qp->b[j], nrm[j], skip[j], j, &worst, &p);
+        violation(cx - qp->b[j], nrm2[j], skip[j], j, &worst, &p);
     }
     return p;
 }
@@ -300,7 +307,7 @@ static void back_subst(const double *L, int ldl, int n, double *y, double *x)
  * Writes the outputs u and active only on acceptance; x also on a refusal after the
  * equality solve, which the full solve then overwrites. */
 static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr,
-                           const int *A, int k, const double *a, const double *nrm,
+                           const int *A, int k, const double *a, const double *nrm2,
                            const int *twin, int *skip, int max_iter, double feas_tol)
 {
     int n = qp->n;
@@ -341,7 +348,7 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr
     /* the guessed rows hold as equalities: skipped in the test (restored after; they were
      * 0, a skipped row having been refused above) */
     for (int c = 0; c < k; ++c) skip[A[c]] = 1;
-    int viol = most_violated(qp, Cr, x, nrm, twin, skip, feas_tol);
+    int viol = most_violated(qp, Cr, x, nrm2, twin, skip, feas_tol);
     for (int c = 0; c < k; ++c) skip[A[c]] = 0;
     if (viol >= 0) return HP_QP_WARM_VIOLATED;
     for (int c = 0; c < k; ++c) {
@@ -371,7 +378,7 @@ hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int
         qp->pairs > m / 2)
         return HP_QP_BAD_INPUT;
     double *Jt = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_;
-    double nrm[HP_QP_MMAX], a[NM] = {0};
+    double nrm2[HP_QP_MMAX], a[NM] = {0};
     int twin[HP_QP_MMAX], skip[HP_QP_MMAX]; /* skip: active rows and rows of zero norm */
     /* the guessed rows in index order, read before the outputs (guess may be qp->active) */
     int ga[HP_QP_MMAX], gk = 0;
@@ -385,7 +392,7 @@ hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int
         a[i] = qp->a[i];
     }
     int empty;
-    const double *Cr = load_rows(qp, feas_tol, nrm, twin, skip, &empty);
+    const double *Cr = load_rows(qp, feas_tol, nrm2, twin, skip, &empty);
     if (!Cr) return HP_QP_BAD_INPUT;
     qp->iterations = 0;
     const double *L;
@@ -393,7 +400,7 @@ hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int
     if (!cholesky_factor(qp->G, n, Lg, qp->L_, &L, &ldl)) return HP_QP_BAD_INPUT;
     if (empty) return HP_QP_INFEASIBLE; /* a row of zero norm that no x satisfies */
     if (guess) {
-        qp->warm = warm_try(qp, L, ldl, Cr, ga, gk, a, nrm, twin, skip, max_iter, feas_tol);
+        qp->warm = warm_try(qp, L, ldl, Cr, ga, gk, a, nrm2, twin, skip, max_iter, feas_tol);
         if (qp->warm == HP_QP_WARM_ACCEPTED) {
             for (int i = 0; i < n; ++i)
                 if (!isfinite(x[i])) return HP_QP_BAD_INPUT;
@@ -412,7 +419,7 @@ hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int
 
     for (;;) {
         /* Step 1: the most violated constraint. */
-        int p = most_violated(qp, Cr, x, nrm, twin, skip, feas_tol);
+        int p = most_violated(qp, Cr, x, nrm2, twin, skip, feas_tol);
         if (p < 0) break;
         const double *np = &Cr[p * NM];
         double up = 0.0;
