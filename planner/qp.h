@@ -70,10 +70,12 @@ typedef struct hp_qp {
 
 /* Solves the QP held in q (n, m, G, a, C, b filled) with at most max_iter add/drop steps;
  * feas_tol is the violation (in units of b, per unit-norm row) accepted as satisfied.
- * Returns HP_QP_BAD_INPUT for a NaN or infinity anywhere in G, a, C or b (first n columns),
- * for a row of C whose squared norm overflows, and for G not positive definite; then the
- * outputs are not meaningful. Allocation-free; a row that is the exact negation of the row
- * before it (a lower and an upper limit on one quantity) costs about half a row. */
+ * Returns HP_QP_BAD_INPUT for a NaN or infinity anywhere in G, a, C or b (first n columns;
+ * of a declared pair's rows the first), for a row of C whose squared norm overflows, for G
+ * not positive definite and for q->pairs outside 0..m/2; then the outputs are not
+ * meaningful (u and active may be partly zeroed). Allocation-free; a row that is the exact negation of the row before it (a lower
+ * and an upper limit on one quantity) costs about half a row, a declared pair (q->pairs)
+ * no comparison. */
 hp_qp_status hp_qp_solve(hp_qp *q, int max_iter, double feas_tol);
 
 /* hp_qp_solve with Lg the lower Cholesky factor of exactly this q->G from hp_cholesky
