@@ -65,7 +65,8 @@ typedef struct hp_qp {
     double C_[HP_QP_MMAX * HP_QP_NMAX];
     int A_[HP_QP_NMAX];
     double uA_[HP_QP_NMAX + 1];
-    double L_[HP_QP_NMAX * HP_QP_NMAX]; /* the Cholesky factor of G, zero-padded */
+    double L_[HP_QP_NMAX * HP_QP_NMAX]; /* the Cholesky factor of G when the caller gives none
+                                         * (lower triangle, leading dimension HP_QP_NMAX) */
 } hp_qp;
 
 /* Solves the QP held in q (n, m, G, a, C, b filled) with at most max_iter add/drop steps;
