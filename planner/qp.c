@@ -9,7 +9,12 @@
  * fixed length the compiler unrolls and vectorises whatever n is. The padding changes no
  * result: a padded term is an exact ±0, and adding ±0 to a sum that starts at +0 leaves
  * it bit-for-bit the same. A row that is the exact negation of the row before it (a lower
- * and an upper limit on the same quantity) reuses that row's norm and product with x. */
+ * and an upper limit on the same quantity) reuses that row's norm and product with x; the
+ * caller may declare such pairs (hp_qp.pairs) so they are not compared on every call. The
+ * factor of G is read in place (the caller's, or hp_cholesky's), lower triangle only; the
+ * substitutions with it are unrolled for n = NM and keep their vector in registers, and the
+ * square root of a row's norm is taken only where a division by it is (a violated row).
+ * Every one of these is arranged to give the bits of the plain formulation. */
 #include "planner/qp.h"
 #include "common/dense.h"
 
@@ -35,13 +40,14 @@ static void axpy(double *y, double t, const double *v)
     for (int i = 0; i < NM; ++i) y[i] += t * v[i];
 }
 
-/* The lower Cholesky factor of G = L Lᵀ into L (leading dimension NM, zero outside its
- * lower n×n triangle); G is n×n with leading dimension n. Lg, when not NULL, is the caller's
- * factor of this G (leading dimension n), copied instead of factoring again. Returns 0
- * unless G is positive definite with finite entries. */
-static int cholesky_factor(const double *G, int n, const double *Lg, double *L)
+/* The lower Cholesky factor of G = L Lᵀ: *L and its leading dimension *ldl. Lg, when not
+ * NULL, is the caller's factor of this G (leading dimension n), used in place (no copy:
+ * every reader of the factor reads its lower triangle only); else G (n×n, leading
+ * dimension n) is factored into Lw (leading dimension NM, lower triangle written).
+ * Returns 0 unless G is positive definite with finite entries. */
+static int cholesky_factor(const double *G, int n, const double *Lg, double *Lw,
+                           const double **L, int *ldl)
 {
-    memset(L, 0, NM * NM * sizeof *L);
     /* hp_cholesky reads only the lower triangle, and a NaN or infinity there fails a pivot
      * test (it reaches that pivot's sum of squares), except +inf on the diagonal, which
      * gives an infinite L_jj; the upper triangle and that diagonal are checked by one sum:
@@ -51,26 +57,26 @@ static int cholesky_factor(const double *G, int n, const double *Lg, double *L)
     for (int i = 1; i < n; ++i)
         for (int j = 0; j < i; ++j) z += G[j * n + i] - G[j * n + i];
     if (Lg) {
-        for (int i = 0; i < n; ++i)
-            for (int j = 0; j <= i; ++j) L[IDX(i, j)] = Lg[i * n + j];
-    } else if (!hp_cholesky(G, n, n, 0.0, L, NM)) {
-        return 0;
+        *L = Lg;
+        *ldl = n;
+    } else {
+        if (!hp_cholesky(G, n, n, 0.0, Lw, NM)) return 0;
+        *L = Lw;
+        *ldl = NM;
     }
-    for (int i = 0; i < n; ++i) z += L[IDX(i, i)] - L[IDX(i, i)]; /* an infinite L_jj */
+    for (int i = 0; i < n; ++i) z += (*L)[i * *ldl + i] - (*L)[i * *ldl + i]; /* an infinite L_jj */
     return z == 0.0;
 }
 
-/* Jt = L⁻¹ (leading dimension NM, zero outside its lower n×n triangle) from the factor of
- * cholesky_factor: row i of L⁻¹ is (e_i − Σ_{k<i} L_ik·row k of L⁻¹) / L_ii, formed in
- * place from row i of L (saved first) and the rows of L⁻¹ above it. */
-static void invert_factor(const double *L, int n, double *Jt)
+/* Jt = L⁻¹ (leading dimension NM, zero outside its lower n×n triangle; rows >= n are never
+ * read) from the factor of cholesky_factor: row i of L⁻¹ is
+ * (e_i − Σ_{k<i} L_ik·row k of L⁻¹) / L_ii, from the rows of L⁻¹ above it. */
+static void invert_factor(const double *L, int ldl, int n, double *Jt)
 {
-    memcpy(Jt, L, NM * NM * sizeof *Jt);
     for (int i = 0; i < n; ++i) {
-        double *row = &Jt[IDX(i, 0)], l[NM], lii = row[i];
-        memcpy(l, row, sizeof l);
-        memset(row, 0, sizeof l);
-        for (int k = 0; k < i; ++k) axpy(row, -l[k], &Jt[IDX(k, 0)]);
+        double *row = &Jt[IDX(i, 0)], lii = L[i * ldl + i];
+        memset(row, 0, NM * sizeof *row);
+        for (int k = 0; k < i; ++k) axpy(row, -L[i * ldl + k], &Jt[IDX(k, 0)]);
         for (int j = 0; j < i; ++j) row[j] /= lii;
         row[i] = 1.0 / lii;
     }
@@ -137,16 +143,32 @@ static int negates(const double *c, const double *p)
     return s == 0.0;
 }
 
+/* One row's checks: |w|² finite (a NaN or infinity in the row, or an overflowing norm,
+ * fails), its squared norm, whether it is skipped (zero norm) and violated whatever x is. */
+static int load_row(const hp_qp *qp, const double *w, int j, double feas_tol, double *nrm2,
+                    int *skip, int *empty)
+{
+    double s = dot(w, w);
+    if (!isfinite(s) || !isfinite(qp->b[j])) return 0;
+    nrm2[j] = s;
+    skip[j] = s == 0.0;
+    *empty |= skip[j] && -qp->b[j] < -feas_tol;
+    return 1;
+}
+
 /* The rows of C zero-padded to NM columns: C itself when n = NM (every column is read),
  * else a copy in qp->C_. Checks them and b (finite entries, a row norm that does not
- * overflow), fills nrm, marks in twin the rows that are the exact negation of the row before
- * (that row not itself a twin) and in skip the rows of zero norm; *empty is set when such a
- * row is violated beyond feas_tol (it holds for every x or for none). One pass over the rows.
- * Returns the rows, NULL on bad input. */
-static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm, int *twin, int *skip,
+ * overflow), fills nrm2 with the squared row norms, marks in twin the rows that are the
+ * exact negation of the row before (that row not itself a twin): the odd rows of the
+ * qp->pairs declared pairs without comparing, the rows after them by comparison; marks in
+ * skip the rows of zero norm; *empty is set when such a row is violated beyond feas_tol
+ * (it holds for every x or for none). Sets the outputs u and active to 0 on the way
+ * (scalar stores the loop hides; a memset of them costs a string store's start-up). One
+ * pass over the rows. Returns the rows, NULL on bad input. */
+static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm2, int *twin, int *skip,
                                int *empty)
 {
-    int n = qp->n, m = qp->m;
+    int n = qp->n, m = qp->m, p2 = 2 * qp->pairs;
     const double *Cr = qp->C;
     if (n < NM) {
         for (int j = 0; j < m; ++j)
@@ -154,61 +176,119 @@ static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm, int *twi
         Cr = qp->C_;
     }
     *empty = 0;
-    for (int j = 0; j < m; ++j) {
+    for (int j = 0; j < p2; j += 2) { /* declared pairs: the twin's norm is its partner's */
+        if (!load_row(qp, &Cr[j * NM], j, feas_tol, nrm2, skip, empty) ||
+            !isfinite(qp->b[j + 1]))
+            return NULL;
+        nrm2[j + 1] = nrm2[j];
+        skip[j + 1] = skip[j];
+        *empty |= skip[j] && -qp->b[j + 1] < -feas_tol;
+        twin[j] = 0;
+        twin[j + 1] = 1;
+        qp->u[j] = qp->u[j + 1] = 0.0;
+        qp->active[j] = qp->active[j + 1] = 0;
+    }
+    for (int j = p2; j < m; ++j) {
         const double *w = &Cr[j * NM];
-        if (!isfinite(qp->b[j])) return NULL;
         twin[j] = j > 0 && !twin[j - 1] && negates(w, w - NM);
-        if (twin[j]) { /* the negation of a checked row: finite */
-            nrm[j] = nrm[j - 1];
-        } else {
-            double s = dot(w, w);
-            if (!isfinite(s)) return NULL; /* a NaN or infinity in the row, or |row|² overflows */
-            nrm[j] = sqrt(s);
+        qp->u[j] = 0.0;
+        qp->active[j] = 0;
+        if (!twin[j]) {
+            if (!load_row(qp, w, j, feas_tol, nrm2, skip, empty)) return NULL;
+            continue;
         }
-        skip[j] = nrm[j] == 0.0;
+        /* the negation of a checked row: finite, the same norm */
+        if (!isfinite(qp->b[j])) return NULL;
+        nrm2[j] = nrm2[j - 1];
+        skip[j] = skip[j - 1];
         *empty |= skip[j] && -qp->b[j] < -feas_tol;
     }
     return Cr;
 }
 
+/* Row j's violation test of most_violated: r = C_j x − b_j, nrm2 = |C_j|². A row with
+ * r >= 0 cannot be below a negative −feas_tol: its square root and division are skipped
+ * (same answer, fewer operations: the norm is taken only for the rows that need it, and
+ * it is the same bits wherever it is taken). */
+static inline void violation(double r, double nrm2, int skip, int j, double *worst, int *p)
+{
+    if (skip || (!(r < 0.0) && *worst < 0.0)) return;
+    double v = r / sqrt(nrm2);
+    if (v < *worst) {
+        *worst = v;
+        *p = j;
+    }
+}
+
 /* The most violated row at x, measured per unit-norm row (the violation (C_j x − b_j)/|C_j|
  * below −feas_tol), ignoring the rows marked in skip; −1 when none is. A twin row reuses
- * the product of the row before it, negated. A row with C_j x − b_j >= 0 cannot be below
- * a negative −feas_tol: its division is skipped (same answer, fewer operations). */
-static int most_violated(const hp_qp *qp, const double *Cr, const double *x, const double *nrm,
+ * the product of the row before it, negated: a declared pair (qp->pairs) is tested as one
+ * product and two rows, the rows after the pairs one by one. */
+static int most_violated(const hp_qp *qp, const double *Cr, const double *x, const double *nrm2,
                          const int *twin, const int *skip, double feas_tol)
 {
-    int p = -1;
+    int p = -1, p2 = 2 * qp->pairs;
     double worst = -feas_tol, cx = 0;
-    for (int j = 0; j < qp->m; ++j) {
+    for (int j = 0; j < p2; j += 2) {
+        cx = dot(&Cr[j * NM], x);
+        violation(cx - qp->b[j], nrm2[j], skip[j], j, &worst, &p);
+        violation(-cx - qp->b[j + 1], nrm2[j + 1], skip[j + 1], j + 1, &worst, &p);
+    }
+    for (int j = p2; j < qp->m; ++j) {
         cx = twin[j] ? -cx : dot(&Cr[j * NM], x);
-        double r = cx - qp->b[j];
-        if (skip[j] || (!(r < 0.0) && worst < 0.0)) continue;
-        double v = r / nrm[j];
-        if (v < worst) {
-            worst = v;
-            p = j;
-        }
+        violation(cx - qp->b[j], nrm2[j], skip[j], j, &worst, &p);
     }
     return p;
 }
 
-/* y = L⁻¹v by forward substitution (L from cholesky_factor; y padded with zeros). The
- * padded dot product is exact here: y_i is still 0 when row i of L meets it. */
-static void forward_subst(const double *L, int n, const double *v, double *y)
+/* y = L⁻¹v by forward substitution (L, ldl from cholesky_factor, its lower triangle read;
+ * y zero-padded to NM), v[i] − Σ_{k<i} L_ik y_k summed from +0 in index order: the bits of
+ * the zero-padded dot product this replaces (its extra terms are L_ik·0 = ±0, and a sum
+ * that starts at +0 is never −0, so adding them changes nothing). Written for any n and
+ * instantiated for n = NM (the realtime backend's case), where the loops unroll completely
+ * and y stays in registers until the stores at the end. */
+static inline void forward_subst_n(const double *L, int ldl, int n, const double *v, double *y)
 {
-    memset(y, 0, NM * sizeof *y);
-    for (int i = 0; i < n; ++i) y[i] = (v[i] - dot(&L[IDX(i, 0)], y)) / L[IDX(i, i)];
+    double t[NM];
+#pragma GCC unroll 6
+    for (int i = 0; i < n; ++i) {
+        double s = 0;
+#pragma GCC unroll 6
+        for (int k = 0; k < i; ++k) s += L[i * ldl + k] * t[k];
+        t[i] = (v[i] - s) / L[i * ldl + i];
+    }
+#pragma GCC unroll 6
+    for (int i = 0; i < NM; ++i) y[i] = i < n ? t[i] : 0.0;
 }
 
-/* x = L⁻ᵀy by back substitution, row by row of L (y is overwritten). */
-static void back_subst(const double *L, int n, double *y, double *x)
+static void forward_subst(const double *L, int ldl, int n, const double *v, double *y)
 {
-    memset(x, 0, NM * sizeof *x);
+    if (n == NM) forward_subst_n(L, NM, NM, v, y);
+    else forward_subst_n(L, ldl, n, v, y);
+}
+
+/* x = L⁻ᵀy by back substitution, row by row of L (y is overwritten): x_i = y_i/L_ii, then
+ * y_j += −x_i·L_ij for j < i — the same operations as the zero-padded axpy it replaces on
+ * the entries it reads again. Instantiated like forward_subst; x zero-padded to NM. */
+static inline void back_subst_n(const double *L, int ldl, int n, double *y, double *x)
+{
+    double t[NM], r[NM];
+#pragma GCC unroll 6
+    for (int i = 0; i < n; ++i) t[i] = y[i];
+#pragma GCC unroll 6
     for (int i = n - 1; i >= 0; --i) {
-        x[i] = y[i] / L[IDX(i, i)];
-        axpy(y, -x[i], &L[IDX(i, 0)]); /* entries >= i of y are not read again */
+        r[i] = t[i] / L[i * ldl + i];
+#pragma GCC unroll 6
+        for (int j = 0; j < i; ++j) t[j] += -r[i] * L[i * ldl + j];
     }
+#pragma GCC unroll 6
+    for (int i = 0; i < NM; ++i) x[i] = i < n ? r[i] : 0.0;
+}
+
+static void back_subst(const double *L, int ldl, int n, double *y, double *x)
+{
+    if (n == NM) back_subst_n(L, NM, NM, y, x);
+    else back_subst_n(L, ldl, n, y, x);
 }
 
 /* The warm start (qp.h, hp_qp_solve_warm): the equality-constrained QP on the guessed rows,
@@ -224,30 +304,28 @@ static void back_subst(const double *L, int n, double *y, double *x)
  * (a) also bounds the rounding (qp.h): the computed u solves (S + E) u = r with |E| ~ kε|S|,
  * so u carries κ(S)·kε; but stationarity holds for any u, so an error δu moves x only by
  * L⁻ᵀM δu, and |M δu| <= |E||u|/σ_min(M) — a factor √κ(S), as in the full solve's QR.
- * Writes the outputs only on acceptance. */
-static hp_qp_warm warm_try(hp_qp *qp, const double *Cr, const int *guess, const double *a,
-                           const double *nrm, const int *twin, const int *skip_in, int max_iter,
-                           double feas_tol)
+ * Writes the outputs u and active only on acceptance; x also on a refusal after the
+ * equality solve, which the full solve then overwrites. */
+static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr,
+                           const int *A, int k, const double *a, const double *nrm2,
+                           const int *twin, int *skip, int max_iter, double feas_tol)
 {
-    int n = qp->n, m = qp->m, A[NM], k = 0, skip[HP_QP_MMAX];
-    for (int j = 0; j < m; ++j) {
-        skip[j] = skip_in[j];
-        if (!guess[j]) continue;
+    int n = qp->n;
+    if (k > n || k > max_iter) return HP_QP_WARM_SHAPE;
+    for (int c = 0; c < k; ++c) {
+        int j = A[c];
         /* a twin pair's rows are exact negations: both active would leave no interior */
-        if (k == n || skip[j] || (twin[j] && guess[j - 1])) return HP_QP_WARM_SHAPE;
-        A[k++] = j;
-        skip[j] = 1;
+        if (skip[j] || (twin[j] && c > 0 && A[c - 1] == j - 1)) return HP_QP_WARM_SHAPE;
     }
-    if (k > max_iter) return HP_QP_WARM_SHAPE;
-    const double *L = qp->L_;
-    double w[NM], Mt[NM * NM], D[NM], S[NM * NM], Rs[NM * NM], us[NM], y[NM], x[NM];
-    forward_subst(L, n, a, w);
+    double w[NM], Mt[NM * NM], D[NM], S[NM * NM], Rs[NM * NM], us[NM], y[NM], *x = qp->x;
+    forward_subst(L, ldl, n, a, w);
     for (int i = 0; i < n; ++i) w[i] = -w[i];
     for (int c = 0; c < k; ++c) {
         double *mc = &Mt[c * NM];
-        forward_subst(L, n, &Cr[A[c] * NM], mc);
-        D[c] = sqrt(dot(mc, mc));
-        if (!(D[c] > 0.0 && D[c] < INFINITY)) return HP_QP_WARM_CONDITION;
+        forward_subst(L, ldl, n, &Cr[A[c] * NM], mc);
+        double d2 = dot(mc, mc); /* D_c in (0, inf) exactly when D_c² is, NaN failing */
+        if (!(d2 > 0.0 && d2 < INFINITY)) return HP_QP_WARM_CONDITION;
+        D[c] = sqrt(d2);
         double inv = 1.0 / D[c];
         for (int i = 0; i < NM; ++i) mc[i] *= inv;
     }
@@ -266,9 +344,13 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *Cr, const int *guess, const 
         if (!(us[c] >= 0.0)) return HP_QP_WARM_SIGN;
     memcpy(y, w, sizeof y);
     for (int c = 0; c < k; ++c) axpy(y, us[c], &Mt[c * NM]);
-    back_subst(L, n, y, x);
-    if (most_violated(qp, Cr, x, nrm, twin, skip, feas_tol) >= 0) return HP_QP_WARM_VIOLATED;
-    memcpy(qp->x, x, sizeof qp->x);
+    back_subst(L, ldl, n, y, x); /* the output x (the full solve overwrites it on refusal) */
+    /* the guessed rows hold as equalities: skipped in the test (restored after; they were
+     * 0, a skipped row having been refused above) */
+    for (int c = 0; c < k; ++c) skip[A[c]] = 1;
+    int viol = most_violated(qp, Cr, x, nrm2, twin, skip, feas_tol);
+    for (int c = 0; c < k; ++c) skip[A[c]] = 0;
+    if (viol >= 0) return HP_QP_WARM_VIOLATED;
     for (int c = 0; c < k; ++c) {
         qp->u[A[c]] = us[c] / D[c];
         qp->active[A[c]] = 1;
@@ -292,35 +374,43 @@ hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int
 {
     int n = qp->n, m = qp->m;
     qp->warm = HP_QP_WARM_NONE;
-    if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1) return HP_QP_BAD_INPUT;
+    if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1 || qp->pairs < 0 ||
+        qp->pairs > m / 2)
+        return HP_QP_BAD_INPUT;
     double *Jt = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_;
-    double nrm[HP_QP_MMAX], a[NM] = {0};
+    double nrm2[HP_QP_MMAX], a[NM] = {0};
     int twin[HP_QP_MMAX], skip[HP_QP_MMAX]; /* skip: active rows and rows of zero norm */
-    int g[HP_QP_MMAX]; /* the guess, read before the outputs (it may be qp->active) */
+    /* the guessed rows in index order, read before the outputs (guess may be qp->active) */
+    int ga[HP_QP_MMAX], gk = 0;
     if (guess)
-        for (int j = 0; j < m; ++j) g[j] = guess[j] != 0;
+        for (int j = 0; j < m; ++j) {
+            ga[gk] = j; /* gk <= j < m */
+            gk += guess[j] != 0;
+        }
     for (int i = 0; i < n; ++i) {
         if (!isfinite(qp->a[i])) return HP_QP_BAD_INPUT;
         a[i] = qp->a[i];
     }
     int empty;
-    const double *Cr = load_rows(qp, feas_tol, nrm, twin, skip, &empty);
+    const double *Cr = load_rows(qp, feas_tol, nrm2, twin, skip, &empty);
     if (!Cr) return HP_QP_BAD_INPUT;
-    memset(qp->u, 0, sizeof qp->u);
-    memset(qp->active, 0, sizeof qp->active);
     qp->iterations = 0;
-    if (!cholesky_factor(qp->G, n, Lg, qp->L_)) return HP_QP_BAD_INPUT;
+    const double *L;
+    int ldl;
+    if (!cholesky_factor(qp->G, n, Lg, qp->L_, &L, &ldl)) return HP_QP_BAD_INPUT;
     if (empty) return HP_QP_INFEASIBLE; /* a row of zero norm that no x satisfies */
     if (guess) {
-        qp->warm = warm_try(qp, Cr, g, a, nrm, twin, skip, max_iter, feas_tol);
+        qp->warm = warm_try(qp, L, ldl, Cr, ga, gk, a, nrm2, twin, skip, max_iter, feas_tol);
         if (qp->warm == HP_QP_WARM_ACCEPTED) {
             for (int i = 0; i < n; ++i)
                 if (!isfinite(x[i])) return HP_QP_BAD_INPUT;
             return HP_QP_OPTIMAL;
         }
     }
-    memset(R, 0, sizeof qp->R_);
-    invert_factor(qp->L_, n, Jt);
+    /* row by row: a small memset compiles to a few stores, this one whole to a string
+     * store with a slow start */
+    for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
+    invert_factor(L, ldl, n, Jt);
 
     /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
     memset(x, 0, sizeof qp->x);
@@ -329,7 +419,7 @@ hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int
 
     for (;;) {
         /* Step 1: the most violated constraint. */
-        int p = most_violated(qp, Cr, x, nrm, twin, skip, feas_tol);
+        int p = most_violated(qp, Cr, x, nrm2, twin, skip, feas_tol);
         if (p < 0) break;
         const double *np = &Cr[p * NM];
         double up = 0.0;

@@ -46,6 +46,13 @@ typedef struct hp_qp {
     double C[HP_QP_MMAX * HP_QP_NMAX]; /* row j at C + j·HP_QP_NMAX: constraint normal;
                                          * columns >= n are never read */
     double b[HP_QP_MMAX];
+    /* Declared twin pairs: for i < pairs, row 2i + 1 of C is exactly −row 2i (a lower and
+     * an upper limit on one quantity, as the realtime backend builds them), so the solver
+     * does not compare them, reads only row 2i's entries for the checks on C, and works
+     * per pair. 0 (zero-initialise the struct): twins are found by comparing each row with
+     * the one before, as they are for the rows from 2·pairs on. Outside 0..m/2:
+     * HP_QP_BAD_INPUT. A wrong declaration gives wrong answers, not an error. */
+    int pairs;
     /* outputs */
     double x[HP_QP_NMAX];   /* entries >= n are set to 0 */
     double u[HP_QP_MMAX];   /* multiplier of every constraint (0 when inactive) */
@@ -58,15 +65,18 @@ typedef struct hp_qp {
     double C_[HP_QP_MMAX * HP_QP_NMAX];
     int A_[HP_QP_NMAX];
     double uA_[HP_QP_NMAX + 1];
-    double L_[HP_QP_NMAX * HP_QP_NMAX]; /* the Cholesky factor of G, zero-padded */
+    double L_[HP_QP_NMAX * HP_QP_NMAX]; /* the Cholesky factor of G when the caller gives none
+                                         * (lower triangle, leading dimension HP_QP_NMAX) */
 } hp_qp;
 
 /* Solves the QP held in q (n, m, G, a, C, b filled) with at most max_iter add/drop steps;
  * feas_tol is the violation (in units of b, per unit-norm row) accepted as satisfied.
- * Returns HP_QP_BAD_INPUT for a NaN or infinity anywhere in G, a, C or b (first n columns),
- * for a row of C whose squared norm overflows, and for G not positive definite; then the
- * outputs are not meaningful. Allocation-free; a row that is the exact negation of the row
- * before it (a lower and an upper limit on one quantity) costs about half a row. */
+ * Returns HP_QP_BAD_INPUT for a NaN or infinity anywhere in G, a, C or b (first n columns;
+ * of a declared pair's rows the first), for a row of C whose squared norm overflows, for G
+ * not positive definite and for q->pairs outside 0..m/2; then the outputs are not
+ * meaningful (u and active may be partly zeroed). Allocation-free; a row that is the exact negation of the row before it (a lower
+ * and an upper limit on one quantity) costs about half a row, a declared pair (q->pairs)
+ * no comparison. */
 hp_qp_status hp_qp_solve(hp_qp *q, int max_iter, double feas_tol);
 
 /* hp_qp_solve with Lg the lower Cholesky factor of exactly this q->G from hp_cholesky

@@ -459,6 +459,134 @@ static void test_warm_bad_input_and_infeasible(void **st)
     }
 }
 
+/* The leading rows of q that come in exact twin pairs (row 2i + 1 = −row 2i in the first
+ * n columns), counted here by comparison, independently of the solver. */
+static int leading_pairs(const hp_qp *q)
+{
+    int p = 0;
+    for (; 2 * p + 1 < q->m; ++p)
+        for (int i = 0; i < q->n; ++i)
+            if (q->C[(2 * p + 1) * NM + i] != -q->C[2 * p * NM + i]) return p;
+    return p;
+}
+
+/* Declaring the twin pairs (hp_qp.pairs) changes no bit of any answer: on 3000 QPs of the
+ * realtime backend's shape (one in seven with a pair of zero rows, which may make it
+ * infeasible), cold and warm (the cold active set, and it with a row flipped), with G
+ * factored by the solver and by the caller, the status, x, u, the active set, the step
+ * count and the warm start's verdict equal those of the same QP with pairs = 0. A count
+ * outside 0..m/2 and a NaN in a declared pair's b are refused. */
+static void test_declared_pairs_same_bits(void **st)
+{
+    (void)st;
+    uint64_t seed = 1616;
+    int declared = 0;
+    for (int t = 0; t < 3000; ++t) {
+        hp_qp q;
+        realtime_qp(&q, &seed);
+        int p = leading_pairs(&q);
+        if (p > 0 && t % 7 == 0)
+            for (int i = 0; i < q.n; ++i) {
+                q.C[i] = 0.0;
+                q.C[NM + i] = -0.0;
+            }
+        declared += p > 0;
+        hp_qp cold = q, pc = q;
+        pc.pairs = p;
+        hp_qp_status cs = hp_qp_solve(&cold, 200, 1e-12);
+        assert_int_equal(hp_qp_solve(&pc, 200, 1e-12), cs);
+        assert_same_bits(&pc, &cold);
+        int g[HP_QP_MMAX];
+        memcpy(g, cold.active, sizeof g);
+        if (t % 2 && q.m > 0) g[t % q.m] = !g[t % q.m];
+        double L[NM * NM];
+        assert_int_equal(hp_cholesky(q.G, q.n, q.n, 0.0, L, q.n), 1);
+        for (int f = 0; f < 2; ++f) {
+            hp_qp w0 = q, w1 = q;
+            w1.pairs = p;
+            hp_qp_status ws = hp_qp_solve_warm(&w0, f ? L : NULL, g, 200, 1e-12);
+            assert_int_equal(hp_qp_solve_warm(&w1, f ? L : NULL, g, 200, 1e-12), ws);
+            assert_int_equal(w1.warm, w0.warm);
+            assert_same_bits(&w1, &w0);
+        }
+    }
+    assert_true(declared > 1500); /* most generated QPs have pairs */
+    hp_qp q;
+    realtime_qp(&q, &seed);
+    while (leading_pairs(&q) < 2) realtime_qp(&q, &seed);
+    for (int bad = 0; bad < 2; ++bad) {
+        hp_qp w = q;
+        w.pairs = bad ? -1 : w.m / 2 + 1;
+        assert_int_equal(hp_qp_solve(&w, 200, 1e-12), HP_QP_BAD_INPUT);
+    }
+    for (int r = 0; r < 2; ++r) {
+        hp_qp w = q;
+        w.pairs = 2;
+        w.b[2 + r] = NAN;
+        assert_int_equal(hp_qp_solve(&w, 200, 1e-12), HP_QP_BAD_INPUT);
+        w = q;
+        w.pairs = 2;
+        w.C[2 * NM] = INFINITY; /* the checked row of a declared pair */
+        assert_int_equal(hp_qp_solve(&w, 200, 1e-12), HP_QP_BAD_INPUT);
+    }
+}
+
+/* common/dense.c runs its routines through copies with a constant n for n = 1..6 (the
+ * warm start's Gram matrices): each must give the bits of the textbook loops written out
+ * here in the same order of operations (no reordering: the same sums, the same divisions),
+ * for n = 1..8 (7, 8: the general copy), with leading dimensions larger than n. */
+static void test_dense_fixed_sizes_same_bits(void **st)
+{
+    (void)st;
+    uint64_t seed = 99;
+    for (int t = 0; t < 400; ++t) {
+        int n = 1 + t % 8, ld = n + t % 3;
+        double F[64], A[100], L[100], Lr[100], b[10], br[10];
+        for (int i = 0; i < n * n; ++i) F[i] = lf_uniform(&seed);
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j < n; ++j) {
+                double s = i == j ? 0.5 : 0.0;
+                for (int k = 0; k < n; ++k) s += F[i * n + k] * F[j * n + k];
+                A[i * ld + j] = s;
+            }
+        /* reference: L_jj = sqrt(A_jj − Σ L_jk²), L_ij = (A_ij − Σ L_ik L_jk) / L_jj */
+        for (int j = 0; j < n; ++j) {
+            double s = A[j * ld + j];
+            for (int k = 0; k < j; ++k) s -= Lr[j * ld + k] * Lr[j * ld + k];
+            Lr[j * ld + j] = sqrt(s);
+            for (int i = j + 1; i < n; ++i) {
+                double u = A[i * ld + j];
+                for (int k = 0; k < j; ++k) u -= Lr[i * ld + k] * Lr[j * ld + k];
+                Lr[i * ld + j] = u / Lr[j * ld + j];
+            }
+        }
+        assert_int_equal(hp_cholesky(A, ld, n, 0.0, L, ld), 1);
+        for (int i = 0; i < n; ++i)
+            assert_memory_equal(&L[i * ld], &Lr[i * ld], (size_t)(i + 1) * sizeof *L);
+        for (int i = 0; i < n; ++i) b[i] = br[i] = lf_uniform(&seed);
+        for (int i = 0; i < n; ++i) {
+            for (int k = 0; k < i; ++k) br[i] -= Lr[i * ld + k] * br[k];
+            br[i] /= Lr[i * ld + i];
+        }
+        for (int i = n - 1; i >= 0; --i) {
+            for (int k = i + 1; k < n; ++k) br[i] -= Lr[k * ld + i] * br[k];
+            br[i] /= Lr[i * ld + i];
+        }
+        hp_cholesky_solve(L, ld, n, b);
+        assert_memory_equal(b, br, (size_t)n * sizeof *b);
+        double fr = 0, x[10];
+        for (int j = 0; j < n; ++j)
+            for (int i = j; i < n; ++i) {
+                double u = i == j ? 1.0 : 0.0;
+                for (int k = j; k < i; ++k) u -= Lr[i * ld + k] * x[k];
+                x[i] = u / Lr[i * ld + i];
+                fr += x[i] * x[i];
+            }
+        double got = hp_cholesky_inv_frob2(L, ld, n);
+        assert_memory_equal(&got, &fr, sizeof fr);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -466,6 +594,8 @@ int main(void)
         cmocka_unit_test(test_warm_factored_same_bits),
         cmocka_unit_test(test_warm_refusals),
         cmocka_unit_test(test_warm_bad_input_and_infeasible),
+        cmocka_unit_test(test_declared_pairs_same_bits),
+        cmocka_unit_test(test_dense_fixed_sizes_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

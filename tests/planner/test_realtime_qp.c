@@ -31,6 +31,7 @@ static void random_qp(hp_qp *q, uint64_t *seed, int n, int m)
 {
     q->n = n;
     q->m = m;
+    q->pairs = 0; /* no declared twin pairs (q is not zero-initialised) */
     double A[36];
     for (int i = 0; i < n * n; ++i) A[i] = lf_uniform(seed);
     for (int i = 0; i < n; ++i) /* G = AᵀA + I: symmetric positive definite */
