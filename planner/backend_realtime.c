@@ -357,6 +357,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     memcpy(st->rho_k, st->rho, sizeof st->rho_k);
     q->n = nv;
     q->m = 2 * pb->n;
+    q->pairs = pb->n; /* rows 2k, 2k + 1: bladder k's limits, exact negations (below) */
     /* The commanded parts of xk and of J's rows; with all six commanded (the common case)
      * xk and J themselves, read in place: copies written just before these loops read them
      * in pairs stall the loads on store forwarding (measured: a tenth of the backend's own
