@@ -12,50 +12,49 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 2.11835e+07]
+set xrange [* : 1.76878e+07]
 
 $front << EOD
-3380.2,4.646568e-01,realtime-linear-1e-09
-14086,1.355027e-10,realtime-surface-1e-09
-6.85539e+06,1.000000e-17,ipopt-surface-1e-04
-2.11835e+07,1.000000e-17,end
+2076.5,4.646568e-01,realtime-linear-1e-04
+9297,1.355025e-10,realtime-surface-1e-09
+5.41803e+06,1.000000e-17,ipopt-surface-1e-04
+1.76878e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-1653.14,4.936830e-03,fastpath-linear
-9277,1.000000e-17,fastpath-surface
-2.11835e+07,1.000000e-17,end
+920.7,4.936830e-03,fastpath-linear
+8416,1.000000e-17,fastpath-surface
+1.76878e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-3297.67,9.238732e-02,trace-realtime-linear
-9848.5,3.417472e-08,trace-realtime-surface
-2.11835e+07,3.417472e-08,end
+1469.42,9.238732e-02,trace-realtime-linear
+7614,3.417473e-08,trace-realtime-surface
+1.76878e+07,3.417473e-08,end
 EOD
 
 $front3 << EOD
-3380.2,4.646568e-01,realtime-linear-1e-09
-14086,1.355027e-10,realtime-surface-1e-09
-2.11835e+07,1.355027e-10,end
+2076.5,4.646568e-01,realtime-linear-1e-04
+9297,1.355025e-10,realtime-surface-1e-09
+1.76878e+07,1.355025e-10,end
 EOD
 
 $front4 << EOD
-6.62317e+06,4.646568e-01,ipopt-linear-1e-09
-6.85539e+06,1.000000e-17,ipopt-surface-1e-04
-2.11835e+07,1.000000e-17,end
+5.41803e+06,1.000000e-17,ipopt-surface-1e-04
+1.76878e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-170819,4.646546e-01,nlopt-slsqp-linear-1e-04
-261709,1.324757e-05,nlopt-slsqp-surface-1e-09
-2.11835e+07,1.324757e-05,end
+111588,4.646546e-01,nlopt-slsqp-linear-1e-04
+198110,1.324757e-05,nlopt-slsqp-surface-1e-09
+1.76878e+07,1.324757e-05,end
 EOD
 
 $front6 << EOD
-424933,4.646758e-01,nlopt-cobyla-linear-1e-04
-634634,1.543974e-04,nlopt-cobyla-surface-1e-04
-1.20459e+06,6.093562e-07,nlopt-cobyla-surface-1e-09
-2.11835e+07,6.093562e-07,end
+313185,4.646758e-01,nlopt-cobyla-linear-1e-04
+486998,1.543974e-04,nlopt-cobyla-surface-1e-04
+900024,6.093562e-07,nlopt-cobyla-surface-1e-09
+1.76878e+07,6.093562e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
