@@ -58,6 +58,7 @@ typedef struct rt_state {
     double u[HP_QP_MMAX]; /* multipliers of the last QP: the Lagrangian's curvature */
     int have_u;
     int qps; /* QPs solved in this solve (for the test hook) */
+    hp_test_rt_counts cnt; /* this solve's paths (hp_test_realtime_count) */
     double sw[HP_MAX_BLADDERS]; /* surface level: the last distances' multipliers (warm start) */
     int act[HP_QP_MMAX]; /* active set of the previous SQP step's QP */
     int exact;           /* the last QP's Hessian was the Lagrangian's own (Newton) */
@@ -98,6 +99,33 @@ typedef struct rt_state {
 static atomic_int rt_fault = HP_TEST_FAULT_NONE;
 
 void hp_test_realtime_fault(int fault) { atomic_store(&rt_fault, fault); }
+
+/* Test-only path counts (backend_testing.h): each solve counts in st->cnt with plain
+ * increments and adds them here at its end, only while a test has counting on. */
+static atomic_int rt_counting;
+static atomic_long rt_counts[7];
+
+void hp_test_realtime_count(int on)
+{
+    if (on)
+        for (int i = 0; i < 7; ++i) atomic_store(&rt_counts[i], 0);
+    atomic_store(&rt_counting, on != 0);
+}
+
+void hp_test_realtime_counts(hp_test_rt_counts *out)
+{
+    long *f[7] = {&out->solves, &out->qps, &out->qp_warm, &out->soc, &out->soc_warm,
+                  &out->h_kept, &out->rho_step};
+    for (int i = 0; i < 7; ++i) *f[i] = atomic_load(&rt_counts[i]);
+}
+
+static void rt_count_flush(const rt_state *st)
+{
+    if (!atomic_load_explicit(&rt_counting, memory_order_relaxed)) return;
+    const hp_test_rt_counts *c = &st->cnt;
+    const long v[7] = {c->solves, st->qps, c->qp_warm, c->soc, c->soc_warm, c->h_kept, c->rho_step};
+    for (int i = 0; i < 7; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
+}
 
 static void rt_inject(const rt_state *st, int n, double *rho)
 {
@@ -526,7 +554,9 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     for (int i = 0; i < 6; ++i) slope += pb->w[i] * (xk[i] - pb->d[i]) * (xn[i] - xk[i]);
     slope -= nu * viol0; /* directional derivative bound of the l1 merit along a QP step */
     slope = fmin(slope, 0.0);
-    if (merit_full(st, pb, xn, nu, !keep_h(st, pb, xk, xn)) <= phi0 + RT_ARMIJO * slope) {
+    int kept = keep_h(st, pb, xk, xn);
+    st->cnt.h_kept += kept;
+    if (merit_full(st, pb, xn, nu, !kept) <= phi0 + RT_ARMIJO * slope) {
         memcpy(xk, xn, 6 * sizeof *xk);
         return 1;
     }
@@ -550,6 +580,8 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     if (soc_ok && isfinite(phi0) &&
         hp_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
         *iters += q->iterations;
+        ++st->cnt.soc;
+        st->cnt.soc_warm += q->warm == HP_QP_WARM_ACCEPTED;
         for (int i = 0; i < 6; ++i) xt[i] = 0.0;
         for (int v = 0; v < nv; ++v) xt[map[v]] = q->x[v];
         if (merit(st, pb, xt, nu) <= phi0 + RT_ARMIJO * slope) {
@@ -601,6 +633,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN; /* a cold first distance */
     }
     st->qps = 0;
+    memset(&st->cnt, 0, sizeof st->cnt);
+    st->cnt.solves = 1;
     st->c_ok = 0;
     st->h_kept = 1;
     rt_begin(st, pb);
@@ -615,6 +649,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         const int *guess = sqp > 0 || warm ? st->act : NULL;
         qs = qp_at(st, pb, xk, NULL, guess, xn, st->max_iter, &iters);
         ++sqp;
+        st->cnt.qp_warm += st->qp.warm == HP_QP_WARM_ACCEPTED;
         if (qs != HP_QP_OPTIMAL && sqp > 1) {
             /* A linearisation far from the answer can be empty or degenerate: keep the last
              * iterate, let the restoration make it feasible, and say it is not optimal. */
@@ -681,6 +716,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     r->iterations = iters;
     if (qs != HP_QP_OPTIMAL) {
         r->status = qp_status_map(qs);
+        rt_count_flush(st);
         return hp_diag_set(d, HP_ERR_SOLVER, "realtime QP: %s",
                            qs == HP_QP_INFEASIBLE ? "the limits cannot all hold at once"
                            : qs == HP_QP_ITERATION_LIMIT ? "iteration budget exhausted"
@@ -691,8 +727,10 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     double viol[HP_MAX_BLADDERS], extra[HP_MAX_BLADDERS] = {0};
     /* rho(xk): after a short last step, from that step's linearisation (rho_by_step). */
     double v = 0.0;
-    if (short_last && qs == HP_QP_OPTIMAL && rho_by_step(st, pb, xa, xk))
+    if (short_last && qs == HP_QP_OPTIMAL && rho_by_step(st, pb, xa, xk)) {
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
+        ++st->cnt.rho_step;
+    }
     else
         v = violation(st, pb, xk, viol);
     int rho_at_xk = v == 0.0; /* st->rho holds rho(xk) until a restoration moves on */
@@ -718,6 +756,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         }
         if (!have) {
             r->status = HP_STATUS_SOLVER_ERROR;
+            rt_count_flush(st);
             return hp_diag_set(d, HP_ERR_SOLVER,
                                "realtime SQP: no feasible point found for the restoration");
         }
@@ -739,6 +778,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
      * answer is the point the violation was measured at). */
     if (!(rho_at_xk && isfinite(v)) && rt_contact(st, pb, xk, st->rho, NULL, NULL, NULL) != HP_OK) {
         r->status = HP_STATUS_SOLVER_ERROR;
+        rt_count_flush(st);
         return hp_diag_set(d, HP_ERR_SOLVER, "realtime: contact model failed at the answer");
     }
     rt_inject(st, pb->n, st->rho);
@@ -756,6 +796,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
             ri = NAN;
         x[6 + k] = ri * HP_MM_PER_M;
     }
+    rt_count_flush(st);
     return HP_OK;
 }
 

@@ -43,6 +43,19 @@ void hp_test_nlopt_force_result(int code);
 /* Fault in the realtime backend's contact evaluations (HP_TEST_FAULT_NAN_CONTACT*). */
 void hp_test_realtime_fault(int fault);
 
+/* Counts of the realtime backend's less travelled paths, summed over every solve in the
+ * process while counting is on (so a test can assert that its targets walk them through the
+ * planner): solves, QPs solved, SQP steps whose QP's warm start was accepted, second-order-correction
+ * re-solves and those of them whose warm start was accepted, line-search trials that kept
+ * the previous point's Hessians, answers whose radii were extrapolated over the last step.
+ * Off by default: a solve then reads one atomic int and adds nothing. */
+typedef struct hp_test_rt_counts {
+    long solves, qps, qp_warm, soc, soc_warm, h_kept, rho_step;
+} hp_test_rt_counts;
+/* on = 1: zero the counts and count from now on; on = 0: stop counting (counts kept). */
+void hp_test_realtime_count(int on);
+void hp_test_realtime_counts(hp_test_rt_counts *out);
+
 /* Takes (hold = 1) or releases (hold = 0) the process-wide Ipopt mutex from the calling
  * thread, so a test can prove that the realtime and NLopt backends never wait on it. */
 void hp_test_ipopt_lock(int hold);

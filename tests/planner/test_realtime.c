@@ -8,6 +8,7 @@
 #include <float.h>
 #include <string.h>
 #include "tests/planner/layout_fixture.h"
+#include "planner/backend_testing.h"
 
 #include <stdlib.h>
 
@@ -359,7 +360,23 @@ static void test_closest_surface(void **s)
 static void test_closest_plane_far(void **s)
 {
     (void)s;
+    /* The backend's less travelled paths, counted through the planner (backend_testing.h):
+     * these targets must walk every one of them, and every answer above passes the KKT
+     * check against brute force. */
+    hp_test_realtime_count(1);
     nonlinear_closest_at(HP_LEVEL_PLANE, 30.0, 4242);
+    nonlinear_closest_at(HP_LEVEL_SURFACE, 30.0, 4242);
+    hp_test_realtime_count(0);
+    hp_test_rt_counts c;
+    hp_test_realtime_counts(&c);
+    print_message("paths: %ld solves, %ld QPs (%ld warm starts accepted), %ld SOC re-solves "
+                  "(%ld warm), %ld trials kept the Hessians, %ld answers' radii extrapolated\n",
+                  c.solves, c.qps, c.qp_warm, c.soc, c.soc_warm, c.h_kept, c.rho_step);
+    assert_true(c.solves > 0 && c.qps >= c.solves);
+    assert_true(c.qp_warm > 0);
+    assert_true(c.soc > 0 && c.soc_warm > 0 && c.soc_warm <= c.soc);
+    assert_true(c.h_kept > 0);
+    assert_true(c.rho_step > 0 && c.rho_step <= c.solves);
 }
 
 /* Rate limits: each plan moves every pressure by at most rate_max, the binding rate limits
