@@ -1,30 +1,47 @@
 #!/usr/bin/env bash
-# Time two builds of the library against each other (a benchmark, not a test: the numbers
-# depend on the machine and its load). Compiles bench/plan_time.c once against the headers of
-# this tree and runs it PAIRS times in alternation against each folder's libheadplan.so
-# (LD_LIBRARY_PATH), so a slow spell of the host hits both; prints both medians and the
-# median of the per-pair ratios B/A. To keep a build for later: cp -a build/libheadplan.so* DIR
+# Compare two builds of the library (a benchmark, not a test: the times depend on the
+# machine and its load). Compiles bench/plan_count.c once against the headers of this tree
+# and runs it against each folder's libheadplan.so (LD_LIBRARY_PATH):
+#   1. answers: 400 seeded targets, cold and warm, at the given level and size; prints how
+#      many statuses or active-set step counts differ and the largest difference of the
+#      achieved poses (mm or deg);
+#   2. time: PAIRS runs of the time mode in alternation, so a slow spell of the host hits
+#      both; prints both medians and the median of the per-pair ratios B/A.
+# To keep a build for later: cp -a build/libheadplan.so* DIR
 #
 #   bench/plan_ab.sh LIBDIR_A LIBDIR_B [LEVEL MM DEG [PAIRS [ROUNDS]]]
 #     defaults: LEVEL 2 (surface), MM 6, DEG 4 (binding targets), PAIRS 16, ROUNDS 30
 set -euo pipefail
-[ $# -ge 2 ] || { sed -n 2,10p "$0" >&2; exit 64; }
+[ $# -ge 2 ] || { sed -n 2,14p "$0" >&2; exit 64; }
 A=$1; B=$2; LEVEL=${3:-2}; MM=${4:-6}; DEG=${5:-4}; PAIRS=${6:-16}; ROUNDS=${7:-30}
 for d in "$A" "$B"; do
   [ -e "$d/libheadplan.so" ] || { echo "plan_ab: no libheadplan.so in $d" >&2; exit 66; }
 done
 here=$(cd "$(dirname "$0")/.." && pwd)
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-cc -O2 -std=c11 -I "$here/include" -I "$here/build/include" "$here/bench/plan_time.c" \
-  -o "$tmp/plan_time" -L "$A" -lheadplan -lm
+cc -O2 -std=c11 -I "$here/include" -I "$here/build/include" "$here/bench/plan_count.c" \
+  -o "$tmp/count" -L "$A" -lheadplan -lm
 scene="$here/scenarios/default.yaml"
+run() { LD_LIBRARY_PATH=$1 "$tmp/count" "$scene" "${@:2}"; }
+for warm in 0 1; do
+  run "$A" answers "$LEVEL" "$MM" "$DEG" "$warm" >"$tmp/a"
+  run "$B" answers "$LEVEL" "$MM" "$DEG" "$warm" >"$tmp/b"
+  python3 - "$tmp/a" "$tmp/b" "$warm" <<'PY'
+import sys
+a = [l.split() for l in open(sys.argv[1])]; b = [l.split() for l in open(sys.argv[2])]
+scale = [1e3] * 3 + [57.29577951308232] * 3          # m -> mm, rad -> deg
+diff = sum(x[:2] != y[:2] for x, y in zip(a, b))
+worst = max(abs(float.fromhex(x[2 + i]) - float.fromhex(y[2 + i])) * scale[i]
+            for x, y in zip(a, b) for i in range(6))
+print("answers (%s, %d targets): %d differ in status or steps, largest pose difference %.3g mm/deg"
+      % ("warm" if sys.argv[3] == "1" else "cold", len(a), diff, worst))
+PY
+done
 for i in $(seq "$PAIRS"); do
-  a=$(LD_LIBRARY_PATH=$A "$tmp/plan_time" "$scene" "$LEVEL" "$MM" "$DEG" "$ROUNDS")
-  b=$(LD_LIBRARY_PATH=$B "$tmp/plan_time" "$scene" "$LEVEL" "$MM" "$DEG" "$ROUNDS")
-  echo "$a $b"
+  echo "$(run "$A" time "$LEVEL" "$MM" "$DEG" "$ROUNDS") $(run "$B" time "$LEVEL" "$MM" "$DEG" "$ROUNDS")"
 done | python3 -c '
 import sys, statistics as s
 r = [tuple(map(float, l.split())) for l in sys.stdin]
 a = [x for x, _ in r]; b = [y for _, y in r]
-print("A median %.0f ns, B median %.0f ns, B/A %.3f, median of pair ratios %.3f (%d pairs)"
+print("time: A median %.0f ns, B median %.0f ns, B/A %.3f, median of pair ratios %.3f (%d pairs)"
       % (s.median(a), s.median(b), s.median(b) / s.median(a), s.median([y / x for x, y in r]), len(r)))'

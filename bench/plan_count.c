@@ -1,8 +1,8 @@
-/* headplan-bench-count: a fixed workload of hp_plan calls for counting instructions
+/* headplan-bench-count: fixed workloads of hp_plan calls, for counting instructions
  * (bench/plan_instructions.sh runs it under valgrind's callgrind; counts, unlike times, do
- * not depend on how busy the machine is). Public API only, so the same file also builds
- * against an older commit's library to compare before and after (docs/benchmarks.md,
- * section 6).
+ * not depend on how busy the machine is), for timing and for comparing two builds
+ * (bench/plan_ab.sh runs it against two shared libraries). Public API only, so the same
+ * file also builds against an older commit's library (docs/benchmarks.md, section 6).
  *
  *   headplan-bench-count SCENE cold LEVEL MM DEG REPS
  *       40 seeded targets uniform in ±MM mm and ±DEG deg per axis, each planned cold
@@ -10,8 +10,16 @@
  *   headplan-bench-count SCENE trace LEVEL AMP_MM ROWS
  *       a drift x(t) = AMP·(1 + sin(t/400))·(1, 0.6, −0.75 mm; 0.25, 0.1, −0.15 deg)
  *       planned in order, warm start on, no reset.
- * LEVEL: 0 linear, 1 plane, 2 surface. Prints the statuses and the mean active-set steps
- * (hp_result.iterations) of one pass on stdout. */
+ *   headplan-bench-count SCENE time LEVEL MM DEG ROUNDS
+ *       the cold targets 10 times over per round; prints the median over ROUNDS of a
+ *       round's time per plan (ns, CLOCK_MONOTONIC) instead of the statuses.
+ *   headplan-bench-count SCENE answers LEVEL MM DEG WARM
+ *       400 seeded targets of the same generator, cold (WARM 0) or in order with the warm
+ *       start (WARM 1); prints per plan the status, the active-set steps and the achieved
+ *       pose (%a, exact) instead of the statuses.
+ * LEVEL: 0 linear, 1 plane, 2 surface. cold and trace print the statuses and the mean
+ * active-set steps (hp_result.iterations) of one pass on stdout. */
+#define _POSIX_C_SOURCE 200809L
 #include <headplan/headplan.h>
 #include <headplan/hp_planner.h>
 #include <headplan/hp_scene.h>
@@ -21,6 +29,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #define N_TARGETS 40
 #define PI 3.14159265358979323846
@@ -35,16 +44,79 @@ static double urand(void) /* 64-bit LCG: seeded, the same on every machine */
 static int usage(void)
 {
     fprintf(stderr, "usage: headplan-bench-count SCENE cold LEVEL MM DEG REPS\n"
-                    "       headplan-bench-count SCENE trace LEVEL AMP_MM ROWS\n");
+                    "       headplan-bench-count SCENE trace LEVEL AMP_MM ROWS\n"
+                    "       headplan-bench-count SCENE time LEVEL MM DEG ROUNDS\n"
+                    "       headplan-bench-count SCENE answers LEVEL MM DEG WARM\n");
     return 64;
+}
+
+/* n targets uniform in ±mm mm and ±deg deg per axis (SI), from the seeded generator. */
+static void targets(double mm, double deg, int n, double (*t)[6])
+{
+    for (int k = 0; k < n; ++k)
+        for (int i = 0; i < 6; ++i) {
+            double u = 2 * urand() - 1;
+            t[k][i] = i < 3 ? u * mm * 1e-3 : u * deg * PI / 180;
+        }
+}
+
+static double now_s(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int by_value(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* The time mode: median over rounds of a round's time per cold plan (ns). */
+static int time_plans(hp_planner *p, double mm, double deg, long rounds)
+{
+    static double t[N_TARGETS][6], per[10000];
+    if (rounds < 1 || rounds > 10000) return usage();
+    targets(mm, deg, N_TARGETS, t);
+    for (long r = 0; r < rounds; ++r) {
+        double t0 = now_s();
+        for (int rep = 0; rep < 10; ++rep)
+            for (int k = 0; k < N_TARGETS; ++k) {
+                hp_result res;
+                hp_planner_reset(p);
+                hp_plan(p, t[k], &res);
+            }
+        per[r] = (now_s() - t0) / (10.0 * N_TARGETS) * 1e9;
+    }
+    qsort(per, (size_t)rounds, sizeof *per, by_value);
+    printf("%.1f\n", per[rounds / 2]);
+    return 0;
+}
+
+/* The answers mode: status, steps and achieved pose of 400 plans, exactly. */
+static int print_answers(hp_planner *p, double mm, double deg, int warm)
+{
+    static double t[400][6];
+    targets(mm, deg, 400, t);
+    for (int k = 0; k < 400; ++k) {
+        hp_result res;
+        if (!warm) hp_planner_reset(p);
+        hp_plan(p, t[k], &res);
+        printf("%s %d", hp_status_name(res.status), res.iterations);
+        for (int i = 0; i < 6; ++i) printf(" %a", res.achieved[i]);
+        printf("\n");
+    }
+    return 0;
 }
 
 int main(int argc, char **argv)
 {
     if (argc != 7 && argc != 6) return usage();
-    int cold = strcmp(argv[2], "cold") == 0;
-    if ((cold && argc != 7) || (!cold && (strcmp(argv[2], "trace") != 0 || argc != 6)))
-        return usage();
+    const char *mode = argv[2];
+    int cold = strcmp(mode, "cold") == 0, timed = strcmp(mode, "time") == 0,
+        answers = strcmp(mode, "answers") == 0, trace = strcmp(mode, "trace") == 0;
+    if (!(cold || timed || answers || trace) || argc != (trace ? 6 : 7)) return usage();
     int level = atoi(argv[3]);
     if (level < 0 || level > 2) return usage();
     static hp_scene sc;
@@ -57,7 +129,7 @@ int main(int argc, char **argv)
     hp_settings_default(&st);
     st.level = (hp_level)level;
     st.tolerance = 1e-9;
-    st.warm_start = !cold;
+    st.warm_start = trace || (answers && atoi(argv[6]) != 0);
     st.max_iter = 3000;
     st.max_time = 5.0;
     hp_planner *p = NULL;
@@ -65,16 +137,19 @@ int main(int argc, char **argv)
         fprintf(stderr, "headplan-bench-count: %s\n", d.text);
         return 65;
     }
+    if (timed || answers) {
+        double mm = atof(argv[4]), deg = atof(argv[5]);
+        int rc = timed ? time_plans(p, mm, deg, atol(argv[6]))
+                       : print_answers(p, mm, deg, st.warm_start);
+        hp_planner_destroy(p);
+        return rc;
+    }
     int count[HP_STATUS_COUNT_] = {0};
     long steps = 0, plans = 0;
     if (cold) {
         double mm = atof(argv[4]), deg = atof(argv[5]), t[N_TARGETS][6];
         long reps = atol(argv[6]);
-        for (int k = 0; k < N_TARGETS; ++k)
-            for (int i = 0; i < 6; ++i) {
-                double u = 2 * urand() - 1;
-                t[k][i] = i < 3 ? u * mm * 1e-3 : u * deg * PI / 180;
-            }
+        targets(mm, deg, N_TARGETS, t);
         for (long r = 0; r < reps; ++r)
             for (int k = 0; k < N_TARGETS; ++k) {
                 hp_result res;

@@ -123,7 +123,7 @@ static void rt_count_flush(const rt_state *st)
 {
     if (!atomic_load_explicit(&rt_counting, memory_order_relaxed)) return;
     const hp_test_rt_counts *c = &st->cnt;
-    const long v[7] = {c->solves, st->qps, c->qp_warm, c->soc, c->soc_warm, c->h_kept, c->rho_step};
+    const long v[7] = {1, st->qps, c->qp_warm, c->soc, c->soc_warm, c->h_kept, c->rho_step};
     for (int i = 0; i < 7; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
 }
 
@@ -387,9 +387,10 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     q->m = 2 * pb->n;
     q->pairs = pb->n; /* rows 2k, 2k + 1: bladder k's limits, exact negations (below) */
     /* The commanded parts of xk and of J's rows; with all six commanded (the common case)
-     * xk and J themselves, read in place: copies written just before these loops read them
-     * in pairs stall the loads on store forwarding (measured: a tenth of the backend's own
-     * time). Otherwise zero-padded copies (the padding is never read by the QP). */
+     * xk and J themselves, read in place: a perf profile put a stalled load of the copies
+     * (written just before, read in pairs) at ~8 % of this function's samples, though the
+     * plan's time moved by less than an A/B of two builds resolves (~1 %). Otherwise
+     * zero-padded copies (the padding is never read by the QP). */
     double xm[HP_QP_NMAX] = {0};
     const double *xv = xk;
     if (nv < 6) {
@@ -633,8 +634,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN; /* a cold first distance */
     }
     st->qps = 0;
-    memset(&st->cnt, 0, sizeof st->cnt);
-    st->cnt.solves = 1;
+    memset(&st->cnt, 0, sizeof st->cnt); /* its solves and qps fields stay unused here */
     st->c_ok = 0;
     st->h_kept = 1;
     rt_begin(st, pb);
@@ -727,12 +727,12 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     double viol[HP_MAX_BLADDERS], extra[HP_MAX_BLADDERS] = {0};
     /* rho(xk): after a short last step, from that step's linearisation (rho_by_step). */
     double v = 0.0;
-    if (short_last && qs == HP_QP_OPTIMAL && rho_by_step(st, pb, xa, xk)) {
+    if (short_last && rho_by_step(st, pb, xa, xk)) {
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
         ++st->cnt.rho_step;
-    }
-    else
+    } else {
         v = violation(st, pb, xk, viol);
+    }
     int rho_at_xk = v == 0.0; /* st->rho holds rho(xk) until a restoration moves on */
     /* Restoration tightens finite violations; a non-finite one has nothing to tighten. */
     for (int round = 0; v > 0 && isfinite(v) && round < RT_RESTORE_ROUNDS; ++round) {
