@@ -29,6 +29,7 @@
  * ½(V²/(Rmin + ρa − V) + A) on the surface while V < ρa. */
 #include "kin_internal.h"
 #include "kin_geom.h"
+#include "common/units.h"
 
 #include <math.h>
 
@@ -175,6 +176,55 @@ hp_error hp_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_leve
         s.delta = s.V;
         s.rho0 = rho[k];
         bound[k] = surface_remainder(&s);
+    }
+    return HP_OK;
+}
+
+/* The curvature of each distance over a ball of poses (hp_kin_contact_ball_curvature, the
+ * fit's certificate). At a pose p and along a unit scaled direction v (translation part
+ * v_t in mm, rotation part v_θ in degrees, |v_t|² + |v_θ|² = 1) the path τ ↦ p + τv has
+ * the constant rates |ṫ| = a|v_t| (a = 1 mm in m) and |θ̇| = b|v_θ| (b = 1° in rad), so
+ * (step bound above) |ω| <= √2·b|v_θ|, |ω̇| <= φ·b²|v_θ|² (φ = (1 + √5)/4), and with
+ * U >= |c − pivot − t| on the ball
+ *   |v_c| <= √2·bU|v_θ| + a|v_t| <= √(2b²U² + a²) =: V1          (Cauchy–Schwarz),
+ *   |a_c| <= (2 + φ)b²U|v_θ|² + 2√2·ab|v_θ||v_t| <= (2 + φ)b²U + √2·ab =: A1.
+ * f'' = vᵀ∇²ρ v is nᵀa_c at the plane level, and v_cᵀ∇²d v_c + ∇dᵀa_c at the surface
+ * level, where ∇²d has eigenvalues in [0, 1/(Rmin + d)] outside the convex head and the
+ * distance on the ball is at least ρ(centre) − V1·r (d is 1-Lipschitz and c' moves at most
+ * V1 per unit of scaled path). A symmetric matrix's spectral norm is its largest |vᵀHv|,
+ * so h_k bounds ‖∇²ρ_k‖ in mm per scaled unit² everywhere on the ball. */
+hp_error hp_kin_contact_ball_curvature(const hp_layout *L, const hp_geom *G, hp_level level,
+                                       const double xc[6], double r, const double *rho,
+                                       double *h)
+{
+    if (!L || !G || !xc || !h || (level == HP_LEVEL_SURFACE && !rho)) return HP_ERR_NULL;
+    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
+        return HP_ERR_INVALID;
+    if (!(r >= 0) || !isfinite(r)) return HP_ERR_INVALID;
+    for (int i = 0; i < 6; ++i)
+        if (!isfinite(xc[i])) return HP_ERR_INVALID;
+    const double a = 1.0 / HP_MM_PER_M, b = HP_RAD_PER_DEG;
+    const double phi = 0.25 * (1.0 + sqrt(5.0));
+    /* |t| on the ball: the centre's translation plus r mm. */
+    double T = sqrt(xc[0] * xc[0] + xc[1] * xc[1] + xc[2] * xc[2]) + r * a;
+    double rmin = hp_kin_head_min_curvature_radius(&G->head);
+    for (int k = 0; k < L->n; ++k) {
+        if (level == HP_LEVEL_LINEAR) {
+            h[k] = 0.0;
+            continue;
+        }
+        const double *w = G->arm[k]; /* metres: its squares neither overflow nor underflow */
+        double U = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) + T;
+        double V1 = sqrt(2.0 * b * b * U * U + a * a);
+        double A1 = (2.0 + phi) * b * b * U + sqrt(2.0) * a * b;
+        double hk = A1;
+        if (level == HP_LEVEL_SURFACE) {
+            double dmin = rho[k] - V1 * r;
+            hk = dmin > 0 && isfinite(dmin) ? V1 * V1 / (rmin + dmin) + A1 : INFINITY;
+        }
+        /* The rounding of these few operations (a few ulps) is far below the slack of each
+         * inequality; 1e-12 covers it. */
+        h[k] = hk * HP_MM_PER_M * (1.0 + 1e-12);
     }
     return HP_OK;
 }

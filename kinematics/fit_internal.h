@@ -52,11 +52,30 @@ int hp_kin_damped_qr(int n, int nf, const double *J, const double *r, const doub
 int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
                          double lambda, double *dx);
 
-/* A pose the caller expects the fit to arrive at, with a tolerance per component (SI). */
+/* A pose the caller expects the fit to arrive at, with a tolerance per component (SI), and
+ * optionally an anchor: a pose (SI, in the fit's space: the components the fit does not
+ * move equal its start's) whose contact distances at the fit's level are known (m), e.g.
+ * the planner's answer and the distances it evaluated there. */
 typedef struct hp_kin_fit_near {
     double pose[6];
     double tol[6];
+    int has_anchor;
+    double anchor[6];
+    double anchor_rho[HP_MAX_BLADDERS];
 } hp_kin_fit_near;
+
+/* 1 when the rest of a fit (hp_kin_fit) from its iterate x provably ends within near->tol/4
+ * of near->pose, within iters_left more iterations: x (SI pose), the normal matrix A6 =
+ * JᵀJ of its Jacobian's nf free columns col[] (6×6, leading dimension 6), its residual r =
+ * rho(x) − target (m), the current damping lambda; it needs near's anchor. The proof
+ * (fit_certify.c, docs/kinematics.md section 5): the distances' curvature is bounded on a
+ * ball around x that the fit cannot leave and on which the distances determine the pose;
+ * there the fit converges at a proven rate to within the noise of the anchor. 0 whenever a
+ * condition fails (then the fit simply goes on). Allocates nothing. */
+int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
+                         const int *col, const double x[6], const double *A6, const double *r,
+                         double lambda, const double *target, int iters_left,
+                         const hp_kin_fit_near *near);
 
 /* hp_contact_fit, started from st (computed at x0 for the same layout and level) when st
  * is not NULL. With near, the iteration may stop early at an iterate x (an accepted step,
@@ -64,7 +83,10 @@ typedef struct hp_kin_fit_near {
  * in every free component: the Jacobian there has full column rank and the iteration
  * converges quadratically from x to a fit about one such step away, so the fit it would
  * end in lies within tol/2 (plus that step squared) of near->pose; xi is then x and
- * residual_rms the RMS at x. Allocates nothing. */
+ * residual_rms the RMS at x. With near's anchor it may also stop at any iterate after the
+ * first where hp_kin_fit_certified proves the rest of the fit ends within tol/4 of
+ * near->pose; xi is then the anchor and residual_rms the RMS of its distances' residual.
+ * Allocates nothing. */
 hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
                     const int free_[6], const double x0[6], const hp_kin_fit_start *st,
                     const hp_kin_fit_near *near, double xi[6], double *residual_rms,

@@ -304,6 +304,20 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
             done = 1;
             break;
         }
+        if (near && it > 1 &&
+            hp_kin_fit_certified(L, G, level, nf, col, x, &gram.A[0][0], r, lambda, target,
+                                 FK_MAX_ITERS - it, near)) {
+            /* The rest of the fit provably ends within tol/4 of near->pose: report the
+             * anchor, a pose within a few 1e-10 of where it ends. */
+            for (int j = 0; j < nf; ++j) x[col[j]] = near->anchor[col[j]];
+            cost = 0.0;
+            for (int k = 0; k < n; ++k) {
+                double d = near->anchor_rho[k] - target[k];
+                cost += d * d;
+            }
+            done = 1;
+            break;
+        }
         if (damped_step(n, nf, Jr, r, &gram, D, lambda, dx) != 0 &&
             hp_kin_damped_lstsq(n, nf, Jr, r, D, lambda, dx) != 0)
             return HP_ERR_NO_CONVERGENCE;

@@ -88,6 +88,17 @@ hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level le
 hp_error hp_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_level level,
                                    const double xi[6], const double dxi[6], const double *rho,
                                    double *bound);
+/* A bound on the curvature of each bladder's contact distance over a ball of poses: for
+ * every pose p with |p − xc| <= r in the solvers' scaled metric (the six components in mm
+ * and degrees, Euclidean) and every direction v of unit scaled length,
+ * |vᵀ∇²rho_k(p)v| <= h[k], rho in mm and the pose in mm and degrees (so h[k] bounds the
+ * Hessian's spectral norm there). xc is an SI pose; at the surface level rho[k] is
+ * rho_k(xc) (m) and h[k] is infinity where the ball may reach the head; 0 at the linear
+ * level. Derivation in bound.c. HP_ERR_NULL, or HP_ERR_INVALID for a bad level, a
+ * non-finite pose or r not in [0, inf). Allocates nothing. */
+hp_error hp_kin_contact_ball_curvature(const hp_layout *L, const hp_geom *G, hp_level level,
+                                       const double xc[6], double r, const double *rho,
+                                       double *h);
 hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
                                   double trans, double rot, double *bound);
 hp_error hp_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,

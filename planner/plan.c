@@ -267,7 +267,8 @@ static int closest_verified(const hp_planner *p, const double *x)
  * near-degenerate layout at the plane level the fit from the nominal pose can end in a
  * second local fit; then the correction is not identified by this layout. Allocates
  * nothing. */
-static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double xc[6])
+static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double xc[6],
+                                  const plan_ctx *c)
 {
     /* The linear model is linear in the pose and the commanded columns have full column
      * rank (hp_layout_identify keeps exactly `rank` of them): the least-squares fit is
@@ -291,6 +292,14 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
     for (int i = 0; i < 6; ++i) {
         near.pose[i] = xc[i];
         near.tol[i] = HP_IDENT_FK_TOL / (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
+    }
+    /* The answer's point and the distances evaluated there (the direct chain's, or the
+     * backend's own): with them the fit may stop as soon as a certificate proves where it
+     * ends (hp_kin_fit_certified), usually after its first step. */
+    near.has_anchor = c->direct || c->has_rho;
+    if (near.has_anchor) {
+        hp_plan_from_scaled(c->x, near.anchor);
+        for (int k = 0; k < p->L.n; ++k) near.anchor_rho[k] = c->rho[k] / HP_MM_PER_M;
     }
     hp_error e = hp_plan_fit_from_nominal(p, ro, p->commanded, &near, xf, &resid);
     hp_plan_to_scaled(xc, a);
@@ -378,7 +387,7 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
     int unc_any = uncommanded_beyond(p, c->unc);
     if (r->pose_error <= p->s.tolerance) {
         r->status = unc_any ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED;
-        if (!recovered_from_nominal(p, r, c->xc)) {
+        if (!recovered_from_nominal(p, r, c->xc, c)) {
             fail_safe(p, r, HP_STATUS_INVALID_INPUT, c);
             return 0;
         }

@@ -5,6 +5,7 @@
 #include "default_layout.h"
 #include "kin_test_util.h"
 #include "kinematics/kin_geom.h"
+#include "common/units.h"
 
 static hp_layout LAY;
 
@@ -116,24 +117,34 @@ static void test_auto(void **state)
  * |rho(ξ + Δ) − rho(ξ) − J·Δ| must stay under the bound plus the evaluations' rounding
  * (3e-15 m: 64 roundings of a distance below 0.1 m, far below the remainders measured
  * here, ~1e-12..1e-6 m). The linear level's bound is 0 and its remainder only rounding. */
+/* Layout c of three: the default head, a 90 mm sphere and an elongated ellipsoid, each
+ * with the default bladders and its own pivot offset. */
+static void three_layouts(int c, hp_layout *L, hp_geom *G)
+{
+    hp_head h = default_head();
+    if (c == 1) {
+        h.shape = HP_HEAD_SPHERE;
+        h.semi_axes[0] = 0.09;
+    } else if (c == 2) {
+        h.semi_axes[0] = 0.06;
+        h.semi_axes[2] = 0.11;
+    }
+    const double pivots[3][3] = {{0, 0, 0}, {0.01, 0.02, -0.01}, {0.0, 0.0, -0.03}};
+    assert_int_equal(default_layout_on(L, &h, 0.0), 0);
+    for (int i = 0; i < 3; ++i) L->pivot[i] += pivots[c][i];
+    assert_int_equal(hp_layout_prepare(L, NULL), HP_OK);
+    assert_int_equal(hp_geom_derive(L, G, NULL), HP_OK);
+}
+
 static void test_step_bound(void **state)
 {
     (void)state;
-    hp_head heads[3] = {default_head(), default_head(), default_head()};
-    heads[1].shape = HP_HEAD_SPHERE;
-    heads[1].semi_axes[0] = 0.09;
-    heads[2].semi_axes[0] = 0.06;
-    heads[2].semi_axes[2] = 0.11;
-    const double pivots[3][3] = {{0, 0, 0}, {0.01, 0.02, -0.01}, {0.0, 0.0, -0.03}};
     const double hs[3] = {1e-2, 1e-3, 1e-4};
     kin_rng rng = {4711};
     for (int c = 0; c < 3; ++c) {
         hp_layout L;
         hp_geom G;
-        assert_int_equal(default_layout_on(&L, &heads[c], 0.0), 0);
-        for (int i = 0; i < 3; ++i) L.pivot[i] += pivots[c][i];
-        assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
-        assert_int_equal(hp_geom_derive(&L, &G, NULL), HP_OK);
+        three_layouts(c, &L, &G);
         for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_SURFACE; ++lv) {
             double worst_ratio = 0.0; /* remainder / bound, printed */
             int infinite[3] = {0, 0, 0};
@@ -196,6 +207,123 @@ static void test_step_bound(void **state)
     }
 }
 
+/* hp_kin_contact_ball_curvature against the model's exact Hessians: at random poses inside
+ * random balls (three heads, centres up to 20 mm / 20 deg, radii 0.01..5 scaled units) no
+ * |vᵀHv| along random unit scaled directions, nor the largest eigenvalue magnitude of the
+ * scaled Hessian, exceeds the bound; and the bound is not vacuous (the largest ratio is
+ * printed and must exceed 1/50, so a bound inflated by a factor of 50 fails too). */
+static void test_ball_curvature(void **state)
+{
+    (void)state;
+    const double radii[4] = {0.01, 0.3, 1.0, 5.0};
+    kin_rng rng = {977};
+    for (int c = 0; c < 3; ++c) {
+        hp_layout L;
+        hp_geom G;
+        three_layouts(c, &L, &G);
+        for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_SURFACE; ++lv) {
+            double worst = 0.0;
+            int infinite = 0;
+            for (int it = 0; it < 400; ++it) {
+                double r = radii[it % 4], xc[6], rc[HP_MAX_BLADDERS], h[HP_MAX_BLADDERS];
+                kin_rng_pose(&rng, 0.02, 0.35, 0, xc);
+                assert_int_equal(hp_contact_eval_g(&L, &G, (hp_level)lv, xc, rc, NULL, NULL),
+                                 HP_OK);
+                assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, (hp_level)lv, xc, r, rc, h),
+                                 HP_OK);
+                for (int s = 0; s < 4; ++s) {
+                    /* a point of the ball: a random scaled offset of length <= r */
+                    double off[6], n2 = 0, p[6];
+                    for (int i = 0; i < 6; ++i) {
+                        off[i] = kin_rng_normal(&rng);
+                        n2 += off[i] * off[i];
+                    }
+                    double len = r * kin_rng_uniform(&rng, 0.0, 1.0) / sqrt(n2);
+                    if (s == 0) len = r / sqrt(n2); /* on its boundary */
+                    for (int i = 0; i < 6; ++i)
+                        p[i] = xc[i] + off[i] * len * (i < 3 ? 1e-3 : HP_PI / 180.0);
+                    double rp[HP_MAX_BLADDERS], H[HP_MAX_BLADDERS * 36];
+                    assert_int_equal(hp_contact_eval_g(&L, &G, (hp_level)lv, p, rp, NULL, H),
+                                     HP_OK);
+                    for (int k = 0; k < L.n; ++k) {
+                        if (lv == HP_LEVEL_LINEAR) {
+                            assert_true(h[k] == 0.0);
+                            continue;
+                        }
+                        assert_true(h[k] > 0.0);
+                        /* infinite only at the surface level (a ball near the head) */
+                        if (h[k] == INFINITY) {
+                            assert_int_equal(lv, HP_LEVEL_SURFACE);
+                            ++infinite;
+                            continue;
+                        }
+                        /* the Hessian in mm per scaled unit² */
+                        double Hs[36];
+                        for (int a = 0; a < 6; ++a)
+                            for (int b = 0; b < 6; ++b)
+                                Hs[a * 6 + b] = 1e3 * H[k * 36 + a * 6 + b] *
+                                                (a < 3 ? 1e-3 : HP_PI / 180.0) *
+                                                (b < 3 ? 1e-3 : HP_PI / 180.0);
+                        /* its spectral norm by power iteration on Hs² (symmetric): the
+                         * Rayleigh quotient never exceeds the norm, so it is a fair test */
+                        double v[6] = {1, 1, 1, 1, 1, 1}, lam = 0;
+                        for (int pw = 0; pw < 60; ++pw) {
+                            double w[6] = {0}, nn = 0;
+                            for (int a = 0; a < 6; ++a)
+                                for (int b = 0; b < 6; ++b) w[a] += Hs[a * 6 + b] * v[b];
+                            for (int a = 0; a < 6; ++a) nn += w[a] * w[a];
+                            nn = sqrt(nn);
+                            if (!(nn > 0)) break;
+                            lam = nn / sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3] +
+                                            v[4] * v[4] + v[5] * v[5]);
+                            for (int a = 0; a < 6; ++a) v[a] = w[a] / nn;
+                        }
+                        /* and one random direction's quadratic form */
+                        double u[6], un = 0, q = 0;
+                        for (int a = 0; a < 6; ++a) {
+                            u[a] = kin_rng_normal(&rng);
+                            un += u[a] * u[a];
+                        }
+                        for (int a = 0; a < 6; ++a)
+                            for (int b = 0; b < 6; ++b) q += u[a] * Hs[a * 6 + b] * u[b];
+                        q = fabs(q) / un;
+                        double m = fmax(lam, q);
+                        if (!(m <= h[k]))
+                            print_error("layout %d level %d ball %d bladder %d: |H| %.6e > bound "
+                                        "%.6e mm/unit^2\n", c, lv, it, k, m, h[k]);
+                        assert_true(m <= h[k]);
+                        worst = fmax(worst, m / h[k]);
+                    }
+                }
+            }
+            if (lv == HP_LEVEL_LINEAR) continue;
+            print_message("layout %d %-7s: largest |Hessian| / ball bound %.3f (infinite "
+                          "bounds: %d of %d)\n", c, hp_level_name((hp_level)lv), worst, infinite,
+                          400 * 4 * L.n);
+            assert_true(worst > 0.02);
+            assert_true(infinite < 400 * L.n); /* balls of 5 units near the head only */
+        }
+        /* A ball that may reach the head: no finite bound at the surface level. */
+        double x0[6] = {0}, r0[HP_MAX_BLADDERS], h[HP_MAX_BLADDERS];
+        assert_int_equal(hp_contact_eval_g(&L, &G, HP_LEVEL_SURFACE, x0, r0, NULL, NULL), HP_OK);
+        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_SURFACE, x0, 200.0, r0, h),
+                         HP_OK);
+        for (int k = 0; k < L.n; ++k) assert_true(h[k] == INFINITY);
+        /* Arguments */
+        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_PLANE, x0, -1.0, r0, h),
+                         HP_ERR_INVALID);
+        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_PLANE, x0, NAN, r0, h),
+                         HP_ERR_INVALID);
+        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_SURFACE, x0, 1.0, NULL, h),
+                         HP_ERR_NULL);
+        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_AUTO, x0, 1.0, r0, h),
+                         HP_ERR_INVALID);
+        x0[3] = NAN;
+        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_PLANE, x0, 1.0, r0, h),
+                         HP_ERR_INVALID);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -203,6 +331,7 @@ int main(void)
         cmocka_unit_test(test_bounds_other_layouts),
         cmocka_unit_test(test_auto),
         cmocka_unit_test(test_step_bound),
+        cmocka_unit_test(test_ball_curvature),
     };
     return cmocka_run_group_tests(tests, setup, NULL);
 }

@@ -171,6 +171,7 @@ static void test_fit_start_and_near(void **state)
             assert_memory_equal(a, b, sizeof a);
             assert_true(ra == rb);
             hp_kin_fit_near nr;
+            memset(&nr, 0, sizeof nr);
             for (int i = 0; i < 6; ++i) {
                 nr.pose[i] = xi[i];
                 nr.tol[i] = 1e-10;
@@ -193,6 +194,116 @@ static void test_fit_start_and_near(void **state)
         /* How often it saved a step: information, not a requirement (it only saves time). */
         print_message("level %d: early stop in %d of 100 fits\n", lv, stopped);
     }
+}
+
+/* The fit's certificate (hp_kin_fit_certified): a fit given the planned pose and its
+ * distances as an anchor may stop as soon as the certificate proves where the rest of it
+ * ends. Checked against the full fit (run to its end, no expected pose) on four heads
+ * (the default ellipsoid, a sphere (translations only), an elongated ellipsoid, and the near-degenerate
+ * 90/90.01/90.02 mm ellipsoid whose plane level has a second fit near the nominal pose), at
+ * the plane and surface levels, for targets in three bands (0.5 mm/0.3°, 3 mm/2°,
+ * 12 mm/8°; a quarter with one component held): the target distances are the planned
+ * pose's with a few ulps of noise, as the planner's pressure round trip leaves them.
+ * Whenever the certified fit reports a pose within the tolerance of the planned one, the
+ * full fit ends within the tolerance too, and vice versa (the planner's verdict is the
+ * same); the certificate fires on most fits of the regular heads and is refused wherever
+ * the full fit ends elsewhere. Tolerance 1e-10 m and rad, the planner's 1e-7 mm/deg. */
+static void test_fit_certificate(void **state)
+{
+    (void)state;
+    hp_head heads[4] = {default_head(), default_head(), default_head(), default_head()};
+    heads[1].shape = HP_HEAD_SPHERE;
+    heads[1].semi_axes[0] = 0.09;
+    heads[2].semi_axes[0] = 0.06;
+    heads[2].semi_axes[2] = 0.11;
+    heads[3].semi_axes[0] = 0.090;
+    heads[3].semi_axes[1] = 0.09001;
+    heads[3].semi_axes[2] = 0.09002;
+    const double band[3][2] = {{5e-4, 0.3}, {3e-3, 2.0}, {12e-3, 8.0}};
+    const double zero[6] = {0};
+    double tol[6];
+    for (int i = 0; i < 6; ++i) tol[i] = i < 3 ? 1e-10 : 1e-7 * 3.14159265358979323846 / 180.0;
+    kin_rng rng = {2026};
+    int total_cert = 0, total_elsewhere = 0;
+    for (int c = 0; c < 4; ++c) {
+        hp_layout L;
+        hp_geom G;
+        assert_int_equal(default_layout_on(&L, &heads[c], 0.0), 0);
+        assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
+        assert_int_equal(hp_geom_derive(&L, &G, NULL), HP_OK);
+        for (int lv = HP_LEVEL_PLANE; lv <= HP_LEVEL_SURFACE; ++lv) {
+            hp_kin_fit_start st;
+            assert_int_equal(hp_kin_fit_start_at(&L, &G, (hp_level)lv, zero, &st), HP_OK);
+            int cert = 0, elsewhere = 0, fits = 0;
+            for (int it = 0; it < 150; ++it) {
+                const double *bd = band[it % 3];
+                double xi[6], rho[HP_MAX_BLADDERS], ro[HP_MAX_BLADDERS], xa[6], xb[6], xc[6];
+                int fr[6] = {1, 1, 1, 1, 1, 1}, ia, ib, ic;
+                kin_rng_pose(&rng, bd[0], bd[1] * 3.14159265358979323846 / 180.0, 0, xi);
+                if (it % 4 == 0) {
+                    fr[it % 6] = 0;
+                    xi[it % 6] = 0.0;
+                }
+                if (c == 1) /* a sphere's turns about its centre move no distance */
+                    for (int i = 3; i < 6; ++i) {
+                        fr[i] = 0;
+                        xi[i] = 0.0;
+                    }
+                if (hp_contact_eval_g(&L, &G, (hp_level)lv, xi, rho, NULL, NULL) != HP_OK) continue;
+                for (int k = 0; k < L.n; ++k)
+                    ro[k] = rho[k] * (1.0 + 4e-16 * kin_rng_uniform(&rng, -1.0, 1.0));
+                hp_kin_fit_near nr;
+                memset(&nr, 0, sizeof nr);
+                for (int i = 0; i < 6; ++i) {
+                    nr.pose[i] = xi[i];
+                    nr.tol[i] = tol[i];
+                }
+                /* without the anchor: the fit as before the certificate */
+                hp_error ec = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xc, NULL, &ic);
+                nr.has_anchor = 1;
+                memcpy(nr.anchor, xi, sizeof xi);
+                memcpy(nr.anchor_rho, rho, sizeof rho);
+                hp_error ea = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xa, NULL, &ia);
+                /* the full fit, to its end */
+                hp_error eb = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, NULL, xb, NULL, &ib);
+                ++fits;
+                /* distances in units of the tolerance */
+                double da = ea == HP_OK ? 0.0 : INFINITY, db = eb == HP_OK ? 0.0 : INFINITY;
+                for (int i = 0; i < 6; ++i) {
+                    da = fmax(da, fabs(xa[i] - xi[i]) / tol[i]);
+                    db = fmax(db, fabs(xb[i] - xi[i]) / tol[i]);
+                }
+                /* a certified fit reports the anchor itself, bit for bit (an arrived one its
+                 * own iterate, and with ia <= ic either way) */
+                int certified = ea == HP_OK && memcmp(xa, xi, sizeof xa) == 0;
+                assert_true(ea != HP_OK || ec != HP_OK || ia <= ic);
+                cert += certified;
+                elsewhere += !(db <= 1.0);
+                if ((da <= 1.0) != (db <= 1.0) || (certified && !(db <= 0.5)))
+                    print_error("head %d level %d target %d: certified %d, anchor fit %.3e, "
+                                "full fit %.3e tolerances from the planned pose\n", c, lv, it,
+                                certified, da, db);
+                assert_int_equal(da <= 1.0, db <= 1.0);
+                if (certified) assert_true(db <= 0.5);
+                /* Expecting a pose 0.3 tolerances off in one free component (the fit still
+                 * ends at the anchor): within the tolerance, yet beyond the quarter the
+                 * certificate promises, so it must not fire. */
+                int k = it % 6;
+                while (!fr[k]) k = (k + 1) % 6;
+                nr.pose[k] += 0.3 * tol[k];
+                double xo[6];
+                hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xo, NULL, NULL);
+                assert_true(memcmp(xo, xi, sizeof xo) != 0);
+            }
+            print_message("head %d %-7s: certified %d of %d fits; full fit elsewhere in %d\n", c,
+                          hp_level_name((hp_level)lv), cert, fits, elsewhere);
+            if (c < 3) assert_true(cert >= fits / 2);
+            total_cert += cert;
+            total_elsewhere += elsewhere;
+        }
+    }
+    print_message("certified %d fits; %d full fits ended away from the planned pose\n",
+                  total_cert, total_elsewhere);
 }
 
 /* Column norms of J (n×nf), the fit's Marquardt scales. */
@@ -342,6 +453,7 @@ int main(void)
         cmocka_unit_test(test_sphere),
         cmocka_unit_test(test_bad_input),
         cmocka_unit_test(test_fit_start_and_near),
+        cmocka_unit_test(test_fit_certificate),
         cmocka_unit_test(test_cholesky_condition_bound),
         cmocka_unit_test(test_damped_solvers),
     };
