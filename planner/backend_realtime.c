@@ -103,28 +103,29 @@ void hp_test_realtime_fault(int fault) { atomic_store(&rt_fault, fault); }
 /* Test-only path counts (backend_testing.h): each solve counts in st->cnt with plain
  * increments and adds them here at its end, only while a test has counting on. */
 static atomic_int rt_counting;
-static atomic_long rt_counts[7];
+static atomic_long rt_counts[8];
 
 void hp_test_realtime_count(int on)
 {
     if (on)
-        for (int i = 0; i < 7; ++i) atomic_store(&rt_counts[i], 0);
+        for (int i = 0; i < 8; ++i) atomic_store(&rt_counts[i], 0);
     atomic_store(&rt_counting, on != 0);
 }
 
 void hp_test_realtime_counts(hp_test_rt_counts *out)
 {
-    long *f[7] = {&out->solves, &out->qps, &out->qp_warm, &out->soc, &out->soc_warm,
-                  &out->h_kept, &out->rho_step};
-    for (int i = 0; i < 7; ++i) *f[i] = atomic_load(&rt_counts[i]);
+    long *f[8] = {&out->solves, &out->qps,    &out->qp_warm,  &out->soc,
+                  &out->soc_warm, &out->h_kept, &out->rho_step, &out->rho_refused};
+    for (int i = 0; i < 8; ++i) *f[i] = atomic_load(&rt_counts[i]);
 }
 
 static void rt_count_flush(const rt_state *st)
 {
     if (!atomic_load_explicit(&rt_counting, memory_order_relaxed)) return;
     const hp_test_rt_counts *c = &st->cnt;
-    const long v[7] = {1, st->qps, c->qp_warm, c->soc, c->soc_warm, c->h_kept, c->rho_step};
-    for (int i = 0; i < 7; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
+    const long v[8] = {1, st->qps, c->qp_warm, c->soc, c->soc_warm, c->h_kept, c->rho_step,
+                       c->rho_refused};
+    for (int i = 0; i < 8; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
 }
 
 static void rt_inject(const rt_state *st, int n, double *rho)
@@ -731,6 +732,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
         ++st->cnt.rho_step;
     } else {
+        st->cnt.rho_refused += short_last;
         v = violation(st, pb, xk, viol);
     }
     int rho_at_xk = v == 0.0; /* st->rho holds rho(xk) until a restoration moves on */

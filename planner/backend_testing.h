@@ -47,10 +47,12 @@ void hp_test_realtime_fault(int fault);
  * process while counting is on (so a test can assert that its targets walk them through the
  * planner): solves, QPs solved, SQP steps whose QP's warm start was accepted, second-order-correction
  * re-solves and those of them whose warm start was accepted, line-search trials that kept
- * the previous point's Hessians, answers whose radii were extrapolated over the last step.
- * Off by default: a solve then reads one atomic int and adds nothing. */
+ * the previous point's Hessians, answers whose radii were extrapolated over the last step,
+ * and answers after a short last step whose extrapolation the step bound refused (their
+ * radii evaluated instead). Off by default: a solve then reads one atomic int and adds
+ * nothing. */
 typedef struct hp_test_rt_counts {
-    long solves, qps, qp_warm, soc, soc_warm, h_kept, rho_step;
+    long solves, qps, qp_warm, soc, soc_warm, h_kept, rho_step, rho_refused;
 } hp_test_rt_counts;
 /* on = 1: zero the counts and count from now on; on = 0: stop counting (counts kept). */
 void hp_test_realtime_count(int on);

@@ -370,13 +370,56 @@ static void test_closest_plane_far(void **s)
     hp_test_rt_counts c;
     hp_test_realtime_counts(&c);
     print_message("paths: %ld solves, %ld QPs (%ld warm starts accepted), %ld SOC re-solves "
-                  "(%ld warm), %ld trials kept the Hessians, %ld answers' radii extrapolated\n",
-                  c.solves, c.qps, c.qp_warm, c.soc, c.soc_warm, c.h_kept, c.rho_step);
+                  "(%ld warm), %ld trials kept the Hessians, %ld answers' radii extrapolated "
+                  "(%ld refused)\n", c.solves, c.qps, c.qp_warm, c.soc, c.soc_warm, c.h_kept,
+                  c.rho_step, c.rho_refused);
     assert_true(c.solves > 0 && c.qps >= c.solves);
     assert_true(c.qp_warm > 0);
     assert_true(c.soc > 0 && c.soc_warm > 0 && c.soc_warm <= c.soc);
     assert_true(c.h_kept > 0);
     assert_true(c.rho_step > 0 && c.rho_step <= c.solves);
+}
+
+/* The answer's radii after a short last step whose extrapolation the step bound refuses
+ * (backend_realtime.c, rho_by_step): a pose tolerance of 1e-3 mm/deg ends the SQP after
+ * steps up to 1e-6, whose remainder is no longer below one rounding of a radius, so the
+ * radii are evaluated instead. Through the planner, counted (backend_testing.h): the path
+ * is walked, and every returned radius is still the contact distance at the achieved pose
+ * to rounding (32 ε, as in nonlinear_closest_at), inside its limits. */
+static void test_rho_step_refused(void **s)
+{
+    (void)s;
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    hp_test_realtime_count(1);
+    for (int lv = HP_LEVEL_PLANE; lv <= HP_LEVEL_SURFACE; ++lv) {
+        hp_settings st;
+        hp_settings_default(&st);
+        st.level = (hp_level)lv;
+        st.tolerance = 1e-3;
+        st.max_time = 60.0;
+        hp_planner *p = NULL;
+        assert_int_equal(hp_planner_create(&L, &st, &p, NULL), HP_OK);
+        uint64_t seed = 99;
+        for (int t = 0; t < 40; ++t) {
+            double c[6], xi[6], rho[8];
+            for (int i = 0; i < 6; ++i) c[i] = 15.0 * lf_uniform(&seed);
+            lf_pose(c, xi);
+            hp_result r;
+            assert_int_equal(hp_plan(p, xi, &r), HP_OK);
+            check_limits(&L, &r);
+            assert_true(r.status == HP_STATUS_CLOSEST || r.status == HP_STATUS_REACHED);
+            assert_int_equal(hp_contact_eval(&L, (hp_level)lv, r.achieved, rho, NULL, NULL), HP_OK);
+            for (int k = 0; k < L.n; ++k) hp_assert_close(r.bladders[k].ro, rho[k], 32 * DBL_EPSILON, 0);
+        }
+        hp_planner_destroy(p);
+    }
+    hp_test_realtime_count(0);
+    hp_test_rt_counts c;
+    hp_test_realtime_counts(&c);
+    print_message("tolerance 1e-3: %ld solves, %ld answers extrapolated, %ld refused by the "
+                  "step bound\n", c.solves, c.rho_step, c.rho_refused);
+    assert_true(c.rho_refused > 0);
 }
 
 /* Rate limits: each plan moves every pressure by at most rate_max, the binding rate limits
@@ -505,6 +548,7 @@ int main(void)
         cmocka_unit_test(test_closest_plane),
         cmocka_unit_test(test_closest_surface),
         cmocka_unit_test(test_closest_plane_far),
+        cmocka_unit_test(test_rho_step_refused),
         cmocka_unit_test(test_rate_limits),
         cmocka_unit_test(test_sphere_uncommanded),
         cmocka_unit_test(test_soft_limit_point),
