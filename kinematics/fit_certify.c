@@ -25,6 +25,7 @@
 #include "fit_internal.h"
 #include "kin_geom.h"
 #include "common/dense.h"
+#include "common/minmax.h"
 #include "common/units.h"
 
 #include <float.h>
@@ -35,32 +36,34 @@
 #define CERT_Q 0.25
 
 /* A rigorous lower bound on the smallest eigenvalue of the symmetric positive definite A
- * (nf×nf, leading dimension nf), or 0: inverse iteration estimates it from above, and a
- * Cholesky factorisation of A − 0.8·estimate·I that succeeds proves the shifted matrix
- * positive definite up to the factorisation's backward error (far below 1e-12·trace(A)),
- * which is subtracted. Without the shift, 1/‖L⁻¹‖_F² (up to nf times too small). */
+ * (nf×nf, leading dimension nf), or 0: three steps of inverse iteration estimate it from
+ * above, and a Cholesky factorisation of A − 0.8·estimate·I that succeeds proves the
+ * shifted matrix positive definite up to the factorisation's backward error (far below
+ * 1e-12·trace(A)), which is subtracted. If the shifted matrix fails, 1/‖L⁻¹‖_F² (up to nf
+ * times too small). */
 static double lambda_min_lower(const double *A, int nf)
 {
     double L[36], M[36], v[6], tr = 0.0;
     for (int j = 0; j < nf; ++j) tr += A[j * nf + j];
     if (!hp_cholesky(A, nf, nf, 0.0, L, nf)) return 0.0;
-    double lb = 1.0 / hp_cholesky_inv_frob2(L, nf, nf);
-    for (int j = 0; j < nf; ++j) v[j] = 1.0 / sqrt((double)nf) * (1.0 + 0.01 * j);
+    for (int j = 0; j < nf; ++j) v[j] = 1.0 + 0.01 * j; /* not orthogonal to any axis */
     double mu = 0.0;
-    for (int it = 0; it < 4; ++it) {
+    for (int it = 0; it < 3; ++it) {
         hp_cholesky_solve(L, nf, nf, v); /* v <- A⁻¹v */
         double nv = 0.0;
         for (int j = 0; j < nf; ++j) nv += v[j] * v[j];
         nv = sqrt(nv);
-        if (!(nv > 0) || !isfinite(nv)) return fmax(0.0, lb - 1e-12 * tr);
+        if (!(nv > 0) || !isfinite(nv)) return 0.0;
         mu = nv;
         for (int j = 0; j < nf; ++j) v[j] /= nv;
     }
-    double s = 0.8 / mu; /* the estimate 1/mu is >= the smallest eigenvalue */
+    /* |A⁻¹v| <= 1/λmin for the unit v of the last two steps: 1/mu >= λmin */
+    double s = 0.8 / mu, lb;
     memcpy(M, A, sizeof(double) * (size_t)(nf * nf));
     for (int j = 0; j < nf; ++j) M[j * nf + j] -= s;
-    if (s > lb && hp_cholesky(M, nf, nf, 0.0, L, nf)) lb = s;
-    return fmax(0.0, lb - 1e-12 * tr);
+    if (hp_cholesky(M, nf, nf, 0.0, M, nf)) lb = s;
+    else lb = 1.0 / hp_cholesky_inv_frob2(L, nf, nf);
+    return hp_max2(0.0, lb - 1e-12 * tr);
 }
 
 int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
@@ -82,14 +85,14 @@ int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, i
     double cmin = INFINITY, cmax = 0.0;
     for (int j = 0; j < nf; ++j) {
         double c = sqrt(Ah[j * nf + j]);
-        cmin = fmin(cmin, c);
-        cmax = fmax(cmax, c);
+        cmin = hp_min2(cmin, c);
+        cmax = hp_max2(cmax, c);
     }
     /* Distances in mm; ν bounds each computed distance's evaluation noise (a few ulps; the
      * realtime backend's extrapolated distances are within one ulp) with room to spare. */
     double rmax = 0.0, t2 = 0.0, r02 = 0.0, e2 = 0.0;
     for (int k = 0; k < n; ++k) {
-        rmax = fmax(rmax, fmax(fabs(target[k]), fabs(near->anchor_rho[k])));
+        rmax = hp_max2(rmax, hp_max2(fabs(target[k]), fabs(near->anchor_rho[k])));
         t2 += r[k] * r[k];
         double d = near->anchor_rho[k] - target[k];
         r02 += d * d;
@@ -107,19 +110,21 @@ int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, i
     double rho_x[HP_MAX_BLADDERS], h[HP_MAX_BLADDERS];
     for (int k = 0; k < n; ++k) rho_x[k] = target[k] + r[k] - nu / HP_MM_PER_M;
     /* A cheap necessary condition first (most iterates far from the answer fail it): σ̂ is
-     * at most the smallest column norm, so R is at least R_lo below, and the curvature
-     * bound grows with the radius. */
-    double R_lo = e + (tt + tc) / ((1.0 - CERT_Q) * cmin);
-    if (hp_kin_contact_ball_curvature(L, G, level, x, R_lo, rho_x, h) != HP_OK) return 0;
-    double eta_lo = 0.0;
-    for (int k = 0; k < n; ++k) eta_lo += h[k] * h[k];
-    if (!(sqrt(eta_lo) * R_lo <= CERT_Q * cmin)) return 0;
+     * at most the smallest column norm, so R (below) is at least R_lo. The curvature bound
+     * grows with the radius: taken on a ball of radius R_up = 4·R_lo it serves any R up to
+     * R_up (the usual case: σ̂ is rarely below a quarter of the smallest column norm). */
+    double R_lo = e + (tt + tc) / ((1.0 - CERT_Q) * cmin), R_up = 4.0 * R_lo;
+    if (hp_kin_contact_ball_curvature(L, G, level, x, R_up, rho_x, h) != HP_OK) return 0;
+    double eta2 = 0.0;
+    for (int k = 0; k < n; ++k) eta2 += h[k] * h[k];
+    double eta = sqrt(eta2);
+    if (!(eta * R_lo <= CERT_Q * cmin)) return 0;
     double lam = lambda_min_lower(Ah, nf);
     if (!(lam > 0)) return 0;
     double sig = sqrt(lam), sigB = (1.0 - CERT_Q) * sig;
     if (!(cmin > CERT_Q * sig)) return 0;
     double cD = (cmax + CERT_Q * sig) / (cmin - CERT_Q * sig);
-    double tstop = fmax(100.0 * (r0 + snu), 1.1e-12 * nf);
+    double tstop = hp_max2(100.0 * (r0 + snu), 1.1e-12 * nf);
     /* The damped step dx differs from the Gauss–Newton step g (|g| <= t/σ_B) by
      * (JᵀJ + λC²)⁻¹λC²g, so |dx| <= (1 + κ)|g| and |J(dx − g)| <= κ|Jg| <= κt with
      * κ = λ·c_max²/σ_B² (c_max the largest column norm on the ball); λ only decreases
@@ -129,19 +134,20 @@ int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, i
     if (!(kap <= 0.5)) return 0;
     double R = (e + (tt + r0 + (1.0 + kap) * tc * (1.0 + 1e-6) + cD * tstop) / sigB) *
                (1.0 + 1e-9);
-    /* The curvature on the ball itself. */
-    if (hp_kin_contact_ball_curvature(L, G, level, x, R, rho_x, h) != HP_OK) return 0;
-    double eta2 = 0.0;
-    for (int k = 0; k < n; ++k) eta2 += h[k] * h[k];
-    double eta = sqrt(eta2);
+    if (!(R <= R_up)) { /* the ball itself */
+        if (hp_kin_contact_ball_curvature(L, G, level, x, R, rho_x, h) != HP_OK) return 0;
+        eta2 = 0.0;
+        for (int k = 0; k < n; ++k) eta2 += h[k] * h[k];
+        eta = sqrt(eta2);
+    }
     if (!(eta * R <= CERT_Q * sig)) return 0;
     /* The rate above tstop (docs): the part of r̃ outside J's range is at most
      * ½η|q − a|² + r0 + ν√n <= (½η(1.01/σ_B)²t + 0.01)·t =: w·t; the damped step leaves
      * at most that plus κt of the linearised residual, its remainder adds ½η|dx|², and the
-     * noise of the new evaluation 0.01t. Each factor grows with t, so f at t bounds the
-     * factor of every later step. */
+     * noise of the two evaluations (old and new point) 2ν√n <= 0.02t. Each factor grows
+     * with t, so f at t bounds the factor of every later step. */
     double w = 0.5 * eta * (1.01 / sigB) * (1.01 / sigB) * tt + 0.01;
-    double f = w + kap + 0.5 * eta * ((1.0 + kap) / sigB) * ((1.0 + kap) / sigB) * tt + 0.01;
+    double f = w + kap + 0.5 * eta * ((1.0 + kap) / sigB) * ((1.0 + kap) / sigB) * tt + 0.02;
     f *= 1.0 + 1e-6;
     if (!(f <= 0.5)) return 0;
     int steps = tt > tstop ? (int)ceil(log(tstop / tt) / log(f)) : 0;
