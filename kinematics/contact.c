@@ -218,6 +218,23 @@ static inline hp_error bladder_distance(const hp_layout *L, const hp_geom *G, hp
     return HP_OK;
 }
 
+/* Bladder k's row of the Jacobian from its distance's gradient g (in c') and the back
+ * transform bm (computed with derivs): the translation columns −R·g (∂c'/∂t = −Rᵀ), the
+ * rotation columns gᵀ∂c'/∂θ. Rg = R·g is returned for the Hessian's contractions. */
+static inline void jacobian_row(const rotd *rd, const backmap *bm, const double g[3],
+                                double Rg[3], double *Jk)
+{
+    const double *R = rd->R;
+    Rg[0] = g[0] * R[0] + g[1] * R[1] + g[2] * R[2];
+    Rg[1] = g[0] * R[3] + g[1] * R[4] + g[2] * R[5];
+    Rg[2] = g[0] * R[6] + g[1] * R[7] + g[2] * R[8];
+    if (Jk)
+        for (int i = 0; i < 3; ++i) {
+            Jk[i] = -Rg[i];
+            Jk[3 + i] = g[0] * bm->Cr[0][i] + g[1] * bm->Cr[1][i] + g[2] * bm->Cr[2][i];
+        }
+}
+
 /* The direct chain's evaluation (hp_kin_contact_inside): distances only, stopping at the
  * first bladder outside stop's bounds (stop->inside = 0). At the linear level in index
  * order (the evaluation is the prediction); at the plane level too (a plane distance costs
@@ -225,31 +242,34 @@ static inline hp_error bladder_distance(const hp_layout *L, const hp_geom *G, hp
  * predicts furthest outside (predicted_worst) first, then the others in index order. A
  * function of its own, so that the full evaluation pays nothing for the order. */
 static hp_error inside_eval(const hp_layout *L, const hp_geom *G, hp_level level,
-                            const double xi[6], double *rho, contact_stop *stop)
+                            const double xi[6], double *rho, double *J, contact_stop *stop)
 {
-    hp_error e = eval_args(L, G, level, xi, rho, NULL, NULL);
+    hp_error e = eval_args(L, G, level, xi, rho, J, NULL);
     if (e) return e;
     if (level == HP_LEVEL_LINEAR) {
         for (int k = 0; k < L->n; ++k) {
             rho[k] = hp_geom_linear(G, k, xi);
+            if (J) memcpy(J + 6 * k, G->row[k], sizeof G->row[k]);
             if (outside(stop, k, rho[k])) break;
         }
         return HP_OK;
     }
     rotd rd;
-    hp_kin_rotation_roll(xi + 3, rd.R, NULL, NULL);
+    int derivs = J != NULL;
+    hp_kin_rotation_roll(xi + 3, rd.R, derivs ? rd.Dr : NULL, NULL);
     /* j = −1: the predicted bladder (surface level); j = 0..n−1: the others, index order. */
     int first = level == HP_LEVEL_SURFACE ? predicted_worst(G, L->n, xi, stop) : -1;
     for (int j = first < 0 ? 0 : -1; j < L->n; ++j) {
         int k = j < 0 ? first : j;
         if (j >= 0 && k == first) continue; /* evaluated first */
         backmap bm;
-        double g[3];
-        e = bladder_distance(L, G, level, xi, &rd, 0, k, NULL, &bm, &rho[k], g, NULL);
+        double g[3], Rg[3];
+        e = bladder_distance(L, G, level, xi, &rd, derivs, k, NULL, &bm, &rho[k], g, NULL);
         if (e) {
-            fill_nan(L->n, rho, NULL, NULL);
+            fill_nan(L->n, rho, J, NULL);
             return e;
         }
+        if (J) jacobian_row(&rd, &bm, g, Rg, J + 6 * k);
         if (outside(stop, k, rho[k])) break;
     }
     return HP_OK;
@@ -268,12 +288,12 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
 
 hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                const double xi[6], double scale, const double *lo,
-                               const double *hi, double *rho, int *inside)
+                               const double *hi, double *rho, double *J, int *inside)
 {
     if (!lo || !hi || !rho || !inside) return HP_ERR_NULL;
     contact_stop stop = {lo, hi, scale, 1};
     *inside = 0;
-    hp_error e = inside_eval(L, G, level, xi, rho, &stop);
+    hp_error e = inside_eval(L, G, level, xi, rho, J, &stop);
     if (e == HP_OK) *inside = stop.inside;
     return e;
 }
@@ -315,18 +335,10 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
         }
         if (rho) rho[k] = f;
         if (!J && !want_h) continue;
-        /* R·g: the translation columns of J (∂c'/∂t = −Rᵀ) negated, and three of the
-         * Hessian's contractions. */
-        const double *R = rd.R;
+        /* R·g: the translation columns of J negated, and three of the Hessian's
+         * contractions. */
         double Rg[3];
-        Rg[0] = g[0] * R[0] + g[1] * R[1] + g[2] * R[2];
-        Rg[1] = g[0] * R[3] + g[1] * R[4] + g[2] * R[5];
-        Rg[2] = g[0] * R[6] + g[1] * R[7] + g[2] * R[8];
-        if (J)
-            for (int i = 0; i < 3; ++i) {
-                J[k * 6 + i] = -Rg[i];
-                J[k * 6 + 3 + i] = g[0] * bm.Cr[0][i] + g[1] * bm.Cr[1][i] + g[2] * bm.Cr[2][i];
-            }
+        jacobian_row(&rd, &bm, g, Rg, J ? J + 6 * k : NULL);
         if (want_h)
             contact_hessian(&rd, &bm, g, Rg, level == HP_LEVEL_SURFACE ? hf : NULL, H + k * 36);
     }

@@ -66,81 +66,116 @@ static double lambda_min_lower(const double *A, int nf)
     return hp_max2(0.0, lb - 1e-12 * tr);
 }
 
-int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
-                         const int *col, const double x[6], const double *A6, const double *r,
-                         double lambda, const double *target, int iters_left,
-                         const hp_kin_fit_near *near)
+/* What every form of the proof shares: the ball's centre and the model there. */
+typedef struct cert_ctx {
+    const hp_layout *L;
+    const hp_geom *G;
+    hp_level level;
+    int nf;
+    const int *col;
+    const hp_kin_fit_near *near;
+    const double *centre;            /* SI pose */
+    double rho_c[HP_MAX_BLADDERS];   /* distances at the centre less their noise [m] */
+    double Ah[36];                   /* scaled normal matrix of the Jacobian there */
+    double cmin, cmax;               /* the range of its column norms */
+    double r0, snu;                  /* |ρ(a) − ρ*| plus noise, and the noise ν√n [mm] */
+} cert_ctx;
+
+/* Fills the scaled normal matrix Â = S·A·S (A nf×nf with leading dimension lda, SI) and its
+ * column norms' range. */
+static void scaled_normal(cert_ctx *cx, const double *A, int lda)
 {
-    if (!near || !near->has_anchor || nf < 1 || level == HP_LEVEL_LINEAR) return 0;
-    int n = L->n, freec[6] = {0};
-    for (int j = 0; j < nf; ++j) freec[col[j]] = 1;
-    /* The anchor must lie in the fit's space: the components it does not move equal x's. */
-    for (int i = 0; i < 6; ++i)
-        if (!freec[i] && near->anchor[i] != x[i]) return 0;
-    /* Scaled normal matrix Â = S·A·S (mm per scaled unit), its bounds and column norms. */
-    double Ah[36], sc[6];
-    for (int j = 0; j < nf; ++j) sc[j] = HP_MM_PER_M * hp_pose_si_per_scaled(col[j]);
+    int nf = cx->nf;
+    double sc[6];
+    for (int j = 0; j < nf; ++j) sc[j] = HP_MM_PER_M * hp_pose_si_per_scaled(cx->col[j]);
     for (int j = 0; j < nf; ++j)
-        for (int k = 0; k < nf; ++k) Ah[j * nf + k] = A6[j * 6 + k] * sc[j] * sc[k];
-    double cmin = INFINITY, cmax = 0.0;
+        for (int k = 0; k < nf; ++k) cx->Ah[j * nf + k] = A[j * lda + k] * sc[j] * sc[k];
+    cx->cmin = INFINITY;
+    cx->cmax = 0.0;
     for (int j = 0; j < nf; ++j) {
-        double c = sqrt(Ah[j * nf + j]);
-        cmin = hp_min2(cmin, c);
-        cmax = hp_max2(cmax, c);
+        double c = sqrt(cx->Ah[j * nf + j]);
+        cx->cmin = hp_min2(cx->cmin, c);
+        cx->cmax = hp_max2(cx->cmax, c);
     }
-    /* Distances in mm; ν bounds each computed distance's evaluation noise (a few ulps; the
-     * realtime backend's extrapolated distances are within one ulp) with room to spare. */
-    double rmax = 0.0, t2 = 0.0, r02 = 0.0, e2 = 0.0;
+}
+
+/* The noise ν√n, r0 and the centre's distances (rho_m: the model's at the centre, m), and
+ * 0 unless the anchor lies in the fit's space (the components it does not move equal the
+ * start's, x0) and every number is finite. */
+static int noise_and_r0(cert_ctx *cx, const double *x0, const double *rho_m,
+                        const double *target)
+{
+    const hp_kin_fit_near *near = cx->near;
+    int n = cx->L->n, freec[6] = {0};
+    for (int j = 0; j < cx->nf; ++j) freec[cx->col[j]] = 1;
+    for (int i = 0; i < 6; ++i)
+        if (!freec[i] && near->anchor[i] != x0[i]) return 0;
+    /* ν bounds each computed distance's evaluation noise (a few ulps; the realtime
+     * backend's extrapolated distances are within one ulp) with room to spare. */
+    double rmax = 0.0, r02 = 0.0;
     for (int k = 0; k < n; ++k) {
         rmax = hp_max2(rmax, hp_max2(fabs(target[k]), fabs(near->anchor_rho[k])));
-        t2 += r[k] * r[k];
+        rmax = hp_max2(rmax, fabs(rho_m[k]));
         double d = near->anchor_rho[k] - target[k];
         r02 += d * d;
     }
-    double nu = 64.0 * DBL_EPSILON * rmax * HP_MM_PER_M, snu = sqrt((double)n) * nu;
-    for (int j = 0; j < nf; ++j) {
-        double d = (x[col[j]] - near->anchor[col[j]]) / hp_pose_si_per_scaled(col[j]);
+    double nu = 64.0 * DBL_EPSILON * rmax; /* m */
+    for (int k = 0; k < n; ++k) cx->rho_c[k] = rho_m[k] - nu;
+    cx->snu = sqrt((double)n) * nu * HP_MM_PER_M;
+    cx->r0 = sqrt(r02) * HP_MM_PER_M + cx->snu;
+    return isfinite(cx->r0) && isfinite(cx->snu);
+}
+
+/* |p − q| over the free components, scaled (mm, degrees). */
+static double scaled_dist(const cert_ctx *cx, const double *p, const double *q)
+{
+    double e2 = 0.0;
+    for (int j = 0; j < cx->nf; ++j) {
+        int i = cx->col[j];
+        double d = (p[i] - q[i]) / hp_pose_si_per_scaled(i);
         e2 += d * d;
     }
-    double tc = sqrt(t2) * HP_MM_PER_M * (1.0 + 1e-14); /* the computed residual */
-    double tt = tc + snu;                                /* the true one */
-    double r0 = sqrt(r02) * HP_MM_PER_M + snu, e = sqrt(e2);
-    if (!isfinite(tt) || !isfinite(r0) || !isfinite(e) || !(cmin > 0)) return 0;
-    /* The curvature on a ball, at x's distances (ρ* + r; less ν for the rounding). */
-    double rho_x[HP_MAX_BLADDERS], h[HP_MAX_BLADDERS];
-    for (int k = 0; k < n; ++k) rho_x[k] = target[k] + r[k] - nu / HP_MM_PER_M;
-    /* A cheap necessary condition first (most iterates far from the answer fail it): σ̂ is
-     * at most the smallest column norm, so R (below) is at least R_lo. The curvature bound
-     * grows with the radius: taken on a ball of radius R_up = 4·R_lo it serves any R up to
-     * R_up (the usual case: σ̂ is rarely below a quarter of the smallest column norm). */
-    double R_lo = e + (tt + tc) / ((1.0 - CERT_Q) * cmin), R_up = 4.0 * R_lo;
-    if (hp_kin_contact_ball_curvature(L, G, level, x, R_up, rho_x, h) != HP_OK) return 0;
-    double eta2 = 0.0;
-    for (int k = 0; k < n; ++k) eta2 += h[k] * h[k];
-    double eta = sqrt(eta2);
-    if (!(eta * R_lo <= CERT_Q * cmin)) return 0;
-    double lam = lambda_min_lower(Ah, nf);
-    if (!(lam > 0)) return 0;
-    double sig = sqrt(lam), sigB = (1.0 - CERT_Q) * sig;
-    if (!(cmin > CERT_Q * sig)) return 0;
-    double cD = (cmax + CERT_Q * sig) / (cmin - CERT_Q * sig);
-    double tstop = hp_max2(100.0 * (r0 + snu), 1.1e-12 * nf);
+    return sqrt(e2);
+}
+
+/* η = |h|₂ of the curvature bounds on the ball of radius R around the centre, or −1 when
+ * the bound fails (every caller then refuses). */
+static double ball_eta(const cert_ctx *cx, double R)
+{
+    double h[HP_MAX_BLADDERS], eta2 = 0.0;
+    if (hp_kin_contact_ball_curvature(cx->L, cx->G, cx->level, cx->centre, R, cx->rho_c, h) !=
+        HP_OK)
+        return -1.0;
+    for (int k = 0; k < cx->L->n; ++k) eta2 += h[k] * h[k];
+    return sqrt(eta2);
+}
+
+/* The proof (file header; docs/kinematics.md, section 5) for an iterate x of the fit: e_ca
+ * = |centre − anchor|, e_xc = |x − centre|, tt and tc bounds on x's true and computed
+ * residual (mm), lambda the damping of x's steps, sig the lower bound σ̂ of the centre's
+ * Jacobian's smallest singular value; eta a curvature bound valid up to radius R_eta (0:
+ * none yet). */
+static int certify(const cert_ctx *cx, double sig, double e_ca, double e_xc, double tt,
+                   double tc, double lambda, int iters_left, double eta, double R_eta)
+{
+    const hp_kin_fit_near *near = cx->near;
+    double sigB = (1.0 - CERT_Q) * sig, r0 = cx->r0, snu = cx->snu;
+    if (!(sig > 0) || !(cx->cmin > CERT_Q * sig) || !isfinite(tt) || !isfinite(tc)) return 0;
+    double cD = (cx->cmax + CERT_Q * sig) / (cx->cmin - CERT_Q * sig);
+    double tstop = hp_max2(100.0 * (r0 + snu), 1.1e-12 * cx->nf);
     /* The damped step dx differs from the Gauss–Newton step g (|g| <= t/σ_B) by
      * (JᵀJ + λC²)⁻¹λC²g, so |dx| <= (1 + κ)|g| and |J(dx − g)| <= κ|Jg| <= κt with
      * κ = λ·c_max²/σ_B² (c_max the largest column norm on the ball); λ only decreases
      * while every step is accepted. Below tstop a step of any damping is at most
      * c_D·tstop/σ_B long. */
-    double kap = lambda * (cmax + CERT_Q * sig) * (cmax + CERT_Q * sig) / (sigB * sigB);
+    double cm = cx->cmax + CERT_Q * sig;
+    double kap = lambda * cm * cm / (sigB * sigB);
     if (!(kap <= 0.5)) return 0;
-    double R = (e + (tt + r0 + (1.0 + kap) * tc * (1.0 + 1e-6) + cD * tstop) / sigB) *
+    double R = (e_ca + (tt + r0 + (1.0 + kap) * tc * (1.0 + 1e-6) + cD * tstop) / sigB) *
                (1.0 + 1e-9);
-    if (!(R <= R_up)) { /* the ball itself */
-        if (hp_kin_contact_ball_curvature(L, G, level, x, R, rho_x, h) != HP_OK) return 0;
-        eta2 = 0.0;
-        for (int k = 0; k < n; ++k) eta2 += h[k] * h[k];
-        eta = sqrt(eta2);
-    }
-    if (!(eta * R <= CERT_Q * sig)) return 0;
+    if (!(e_xc <= R)) return 0;
+    if (!(R <= R_eta)) eta = ball_eta(cx, R); /* a bound on a larger ball is a safe one */
+    if (!(eta >= 0) || !(eta * R <= CERT_Q * sig)) return 0;
     /* The rate above tstop (docs): the part of r̃ outside J's range is at most
      * ½η|q − a|² + r0 + ν√n <= (½η(1.01/σ_B)²t + 0.01)·t =: w·t; the damped step leaves
      * at most that plus κt of the linearised residual, its remainder adds ½η|dx|², and the
@@ -153,11 +188,75 @@ int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, i
     int steps = tt > tstop ? (int)ceil(log(tstop / tt) / log(f)) : 0;
     if (!(steps + 2 <= iters_left)) return 0;
     double delta = (tstop + snu + r0) / sigB;
-    for (int j = 0; j < nf; ++j) {
-        int i = col[j];
+    for (int j = 0; j < cx->nf; ++j) {
+        int i = cx->col[j];
         double s = hp_pose_si_per_scaled(i);
         double off = fabs(near->anchor[i] - near->pose[i]) / s;
         if (!(off + delta <= 0.25 * near->tol[i] / s)) return 0;
     }
     return 1;
+}
+
+int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
+                         const int *col, const double x[6], const double *A6, const double *r,
+                         double lambda, const double *target, int iters_left,
+                         const hp_kin_fit_near *near)
+{
+    if (!near || !near->has_anchor || nf < 1 || level == HP_LEVEL_LINEAR) return 0;
+    int n = L->n;
+    cert_ctx cx = {.L = L, .G = G, .level = level, .nf = nf, .col = col, .near = near,
+                   .centre = x};
+    double rho_x[HP_MAX_BLADDERS], t2 = 0.0;
+    for (int k = 0; k < n; ++k) {
+        rho_x[k] = target[k] + r[k];
+        t2 += r[k] * r[k];
+    }
+    if (!noise_and_r0(&cx, x, rho_x, target)) return 0;
+    scaled_normal(&cx, A6, 6);
+    double e = scaled_dist(&cx, x, near->anchor);
+    double tc = sqrt(t2) * HP_MM_PER_M * (1.0 + 1e-14); /* the computed residual */
+    double tt = tc + cx.snu;                             /* the true one */
+    if (!isfinite(tt) || !isfinite(e) || !(cx.cmin > 0)) return 0;
+    /* A cheap necessary condition first (most iterates far from the answer fail it): σ̂ is
+     * at most the smallest column norm, so R is at least R_lo. The curvature bound grows
+     * with the radius: taken on a ball of radius R_up = 4·R_lo it serves any R up to R_up
+     * (the usual case: σ̂ is rarely below a quarter of the smallest column norm). */
+    double R_lo = e + (tt + tc) / ((1.0 - CERT_Q) * cx.cmin), R_up = 4.0 * R_lo;
+    double eta = ball_eta(&cx, R_up);
+    if (!(eta >= 0) || !(eta * R_lo <= CERT_Q * cx.cmin)) return 0;
+    double sig = sqrt(lambda_min_lower(cx.Ah, nf));
+    return certify(&cx, sig, e, 0.0, tt, tc, lambda, iters_left, eta, R_up);
+}
+
+int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
+                               const int *col, const double xt[6], const double *A6,
+                               double cost, double lambda_next, const double *target,
+                               int iters_left, const hp_kin_fit_near *near)
+{
+    if (!near || !near->has_anchor || !near->has_anchor_J || nf < 1 ||
+        level == HP_LEVEL_LINEAR)
+        return 0;
+    int n = L->n;
+    cert_ctx cx = {.L = L, .G = G, .level = level, .nf = nf, .col = col, .near = near,
+                   .centre = near->anchor};
+    if (!noise_and_r0(&cx, xt, near->anchor_rho, target)) return 0;
+    scaled_normal(&cx, A6, 6);
+    double sig = sqrt(lambda_min_lower(cx.Ah, nf));
+    /* The trial's residual through the anchor, by Taylor's theorem on the segment:
+     * |ρ(xt) − ρ*| <= |J(a)·(xt − a)| + ½η|xt − a|² + r0, and ½η e² <= ½(σ̂/4)·e once
+     * certify has checked ηR <= σ̂/4 with e <= R. J(a)·(xt − a) in mm, exactly as summed. */
+    double e = scaled_dist(&cx, xt, near->anchor), jd2 = 0.0;
+    for (int k = 0; k < n; ++k) {
+        double v = 0.0;
+        for (int j = 0; j < nf; ++j) {
+            int i = col[j];
+            v += near->anchor_J[k * 6 + i] * (xt[i] - near->anchor[i]);
+        }
+        v *= HP_MM_PER_M;
+        jd2 += v * v;
+    }
+    double tt = sqrt(jd2) * (1.0 + 1e-12) + 0.5 * CERT_Q * sig * e + cx.r0, tc = tt + cx.snu;
+    /* Accepted: its computed squared residual is below the start's (cost, m²). */
+    if (!(tc * tc * (1.0 + 1e-14) < cost * HP_MM_PER_M * HP_MM_PER_M)) return 0;
+    return certify(&cx, sig, 0.0, e, tt, tc, lambda_next, iters_left, 0.0, 0.0);
 }

@@ -62,6 +62,11 @@ typedef struct hp_kin_fit_near {
     int has_anchor;
     double anchor[6];
     double anchor_rho[HP_MAX_BLADDERS];
+    /* Optionally also the Jacobian at the anchor (n×6, per m and per rad, as
+     * hp_contact_eval_g gives it): then the certificate may hold before the fit evaluates
+     * its first step (hp_kin_fit_certified_trial). */
+    int has_anchor_J;
+    double anchor_J[HP_MAX_BLADDERS * 6];
 } hp_kin_fit_near;
 
 /* 1 when the rest of a fit (hp_kin_fit) from its iterate x provably ends within near->tol/4
@@ -76,6 +81,18 @@ int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, i
                          const int *col, const double x[6], const double *A6, const double *r,
                          double lambda, const double *target, int iters_left,
                          const hp_kin_fit_near *near);
+
+/* The same proof before the fit evaluates its first trial point xt (a step from the start,
+ * whose computed squared residual is cost): on a ball around the anchor, with the anchor's
+ * Jacobian (near->anchor_J) and its free columns' normal matrix A6 (6×6, leading dimension
+ * 6). It proves that the trial is accepted (its residual, bounded through the anchor, is
+ * below the start's), after which the damping is lambda_next, and that the rest of the fit
+ * then ends within near->tol/4 of near->pose, within iters_left more iterations. 0 whenever
+ * a condition fails. Allocates nothing. */
+int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
+                               const int *col, const double xt[6], const double *A6,
+                               double cost, double lambda_next, const double *target,
+                               int iters_left, const hp_kin_fit_near *near);
 
 /* hp_contact_fit, started from st (computed at x0 for the same layout and level) when st
  * is not NULL. With near, the iteration may stop early at an iterate x (an accepted step,

@@ -239,6 +239,26 @@ static int arrived(int n, int nf, const int *col, const double *x, const double 
     return 1;
 }
 
+/* hp_kin_fit_certified_trial with the normal matrix of the anchor's Jacobian in the free
+ * columns, formed as the fit forms its own (gram_of). */
+static int certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
+                           const int *col, const double *xt, double cost, double lambda_next,
+                           const double *target, int iters_left, const hp_kin_fit_near *near)
+{
+    int n = L->n;
+    double Ja[HP_MAX_BLADDERS * 6], r0[HP_MAX_BLADDERS] = {0};
+    const double *J = near->anchor_J;
+    if (nf < 6) {
+        for (int k = 0; k < n; ++k)
+            for (int j = 0; j < nf; ++j) Ja[k * nf + j] = near->anchor_J[k * 6 + col[j]];
+        J = Ja;
+    }
+    fk_gram q;
+    gram_of(n, nf, J, r0, &q);
+    return hp_kin_fit_certified_trial(L, G, level, nf, col, xt, &q.A[0][0], cost, lambda_next,
+                                      target, iters_left, near);
+}
+
 hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
                     const int free_[6], const double x0[6], const hp_kin_fit_start *st,
                     const hp_kin_fit_near *near, double xi[6], double *residual_rms, int *iters)
@@ -280,7 +300,7 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
      * solves it, and the second (a rounding-level correction) ends the iteration. The
      * curved levels start damped, as Levenberg–Marquardt should from a far start. */
     double cost = sumsq(n, r), lambda = level == HP_LEVEL_LINEAR ? 1e-15 : 1e-3;
-    int it = 0, done = 0, have_gram = 0;
+    int it = 0, done = 0, have_gram = 0, certified = 0;
     fk_gram gram;
     if (st) {
         gram_from_start(n, nf, col, st, Jr, r, &gram);
@@ -307,15 +327,7 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
         if (near && it > 1 &&
             hp_kin_fit_certified(L, G, level, nf, col, x, &gram.A[0][0], r, lambda, target,
                                  FK_MAX_ITERS - it, near)) {
-            /* The rest of the fit provably ends within tol/4 of near->pose: report the
-             * anchor, a pose within a few 1e-10 of where it ends. */
-            for (int j = 0; j < nf; ++j) x[col[j]] = near->anchor[col[j]];
-            cost = 0.0;
-            for (int k = 0; k < n; ++k) {
-                double d = near->anchor_rho[k] - target[k];
-                cost += d * d;
-            }
-            done = 1;
+            certified = 1;
             break;
         }
         if (damped_step(n, nf, Jr, r, &gram, D, lambda, dx) != 0 &&
@@ -325,6 +337,15 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
         for (int j = 0; j < nf; ++j) stepsize = fmax(stepsize, fabs(D[j] * dx[j]));
         memcpy(xt, x, sizeof xt);
         for (int j = 0; j < nf; ++j) xt[col[j]] += dx[j];
+        /* The first trial, before it is evaluated: with the anchor's Jacobian the proof may
+         * already hold (it then also proves the trial accepted, after which the damping is
+         * a tenth and the step too long to end the fit). */
+        if (near && it == 1 && near->has_anchor && near->has_anchor_J && stepsize > FK_STEP_TOL &&
+            certified_trial(L, G, level, nf, col, xt, cost, fmax(lambda * 0.1, 1e-15), target,
+                            FK_MAX_ITERS - it, near)) {
+            certified = 1;
+            break;
+        }
         /* The trial's Jacobian comes with its distances (most steps are accepted, and it
          * costs far less than a second evaluation at the accepted point). A rejected
          * trial's multipliers still warm-start the next one: the bracket makes any start
@@ -344,6 +365,17 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
             /* No descent at any damping: the fit is at its minimum to rounding. */
             if (lambda > FK_LAMBDA_MAX || stepsize <= FK_STEP_TOL) done = 1;
         }
+    }
+    if (certified) {
+        /* The rest of the fit provably ends within tol/4 of near->pose: report the anchor,
+         * a pose within a few 1e-10 of where it ends, and its residual. */
+        for (int j = 0; j < nf; ++j) x[col[j]] = near->anchor[col[j]];
+        cost = 0.0;
+        for (int k = 0; k < n; ++k) {
+            double d = near->anchor_rho[k] - target[k];
+            cost += d * d;
+        }
+        done = 1;
     }
     if (!done && cost != 0.0) return HP_ERR_NO_CONVERGENCE;
     memcpy(xi, x, sizeof x);

@@ -75,10 +75,12 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
  * first one outside (the others untouched: a caller must not read rho when not inside);
  * or the evaluation's error (*inside 0; rho all NaN for a non-finite xi or a distance not
  * defined at xi). Where a distance is not defined at xi, whether its bladder is reached
- * before one outside depends on the order: HP_OK with *inside 0, or the error. */
+ * before one outside depends on the order: HP_OK with *inside 0, or the error. J (may be
+ * NULL): the Jacobian rows (n×6, per m and per rad) of the bladders evaluated, the same bits
+ * as hp_contact_eval_g's (the fit's certificate needs them at a reached answer). */
 hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                const double xi[6], double scale, const double *lo,
-                               const double *hi, double *rho, int *inside);
+                               const double *hi, double *rho, double *J, int *inside);
 /* A bound (m) on the second-order remainder |rho_k(xi + dxi) − rho_k(xi) − J_k(xi)·dxi| of
  * each bladder k along the straight step from SI pose xi by dxi, at the given level: 0 at
  * the linear level; at the surface level it needs rho[k] = rho_k(xi) (m; may be NULL at

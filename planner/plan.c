@@ -135,12 +135,14 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
 
 /* Step 2: the direct chain. 1 when every limit holds at the commanded part itself: then it
  * is the exact answer and no solver runs. */
-static int direct_chain(hp_planner *p, double rho[HP_MAX_BLADDERS])
+static int direct_chain(hp_planner *p, plan_ctx *c)
 {
     const hp_problem *pb = &p->pb;
     int inside = 0;
-    return hp_setup_contact_inside(&p->L, &p->G, p->level, pb->d, pb->ro_lo, pb->ro_hi, rho,
-                                   &inside) == HP_OK && inside;
+    /* The Jacobian only where a round trip follows (the linear level skips it). */
+    double *J = p->level == HP_LEVEL_LINEAR ? NULL : p->chain_J;
+    return hp_setup_contact_inside(&p->L, &p->G, p->level, pb->d, pb->ro_lo, pb->ro_hi, c->rho,
+                                   J, &inside) == HP_OK && inside;
 }
 
 /* Step 3: the backend, through its table, from the previous answer (warm) or a cold point.
@@ -294,13 +296,17 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
         near.tol[i] = HP_IDENT_FK_TOL / (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
     }
     /* The answer's point and the distances evaluated there (the direct chain's, or the
-     * backend's own): with them the fit may stop as soon as a certificate proves where it
-     * ends (hp_kin_fit_certified), usually after its first step. */
+     * backend's own), and for the direct chain its Jacobian there: with them the fit may
+     * stop as soon as a certificate proves where it ends (hp_kin_fit_certified), with the
+     * Jacobian usually before it evaluates its first step. */
     near.has_anchor = c->direct || c->has_rho;
+    near.has_anchor_J = c->direct;
     if (near.has_anchor) {
         hp_plan_from_scaled(c->x, near.anchor);
         for (int k = 0; k < p->L.n; ++k) near.anchor_rho[k] = c->rho[k] / HP_MM_PER_M;
     }
+    if (near.has_anchor_J)
+        memcpy(near.anchor_J, p->chain_J, sizeof(double) * (size_t)(p->L.n * 6));
     hp_error e = hp_plan_fit_from_nominal(p, ro, p->commanded, &near, xf, &resid);
     hp_plan_to_scaled(xc, a);
     hp_plan_to_scaled(xf, b);
@@ -479,7 +485,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     for (int i = 0; i < 6; ++i) res->commanded[i] = p->commanded[i];
     memcpy(res->uncommanded, c.unc, sizeof c.unc);
 
-    c.direct = direct_chain(p, c.rho);
+    c.direct = direct_chain(p, &c);
     c.x = p->pb.d;
     if (!c.direct && !solve(p, res, &c)) return HP_OK;
     res->raw_code = c.raw;

@@ -47,6 +47,9 @@ struct hp_planner {
     hp_result prev;              /* last valid answer: the safe output */
     double x_prev[HP_PROBLEM_NX_MAX];
     double x_work[HP_PROBLEM_NX_MAX];
+    /* The direct chain's Jacobian at its answer (SI, n×6; curved levels): the strict round
+     * trip's certificate starts from it. Scratch of one plan, not zeroed per plan. */
+    double chain_J[HP_MAX_BLADDERS * 6];
     char err[HP_DIAG_MAX];       /* the last failure (hp_planner_error) */
     char note[HP_DIAG_MAX];      /* why the last answer is not REACHED (hp_planner_note) */
     /* A CLOSEST answer's note ("closest: binding ...") is written when it is first asked

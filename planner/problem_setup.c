@@ -199,11 +199,12 @@ hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level 
 
 hp_error hp_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                  const double x[6], const double *lo_mm, const double *hi_mm,
-                                 double *rho_mm, int *inside)
+                                 double *rho_mm, double *J_si, int *inside)
 {
     double xi[6];
     hp_setup_pose_from_scaled(x, xi);
-    hp_error e = hp_kin_contact_inside(L, G, level, xi, HP_MM_PER_M, lo_mm, hi_mm, rho_mm, inside);
+    hp_error e =
+        hp_kin_contact_inside(L, G, level, xi, HP_MM_PER_M, lo_mm, hi_mm, rho_mm, J_si, inside);
     if (e != HP_OK || !*inside) {
         *inside = 0;
         return e;

@@ -54,10 +54,11 @@ hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level 
 /* Whether every contact distance at scaled pose x lies inside [lo_mm[k], hi_mm[k]] (mm):
  * *inside 1 with rho_mm[0..n-1] the distances (mm, the bits hp_setup_contact_scaled gives),
  * else *inside 0 (rho_mm partly written). The evaluation stops at the first bladder
- * outside, so a target beyond reach costs a fraction of a full evaluation. */
+ * outside, so a target beyond reach costs a fraction of a full evaluation. J_si (may be
+ * NULL): when inside, the SI Jacobian there (n×6, per m and per rad). */
 hp_error hp_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                  const double x[6], const double *lo_mm, const double *hi_mm,
-                                 double *rho_mm, int *inside);
+                                 double *rho_mm, double *J_si, int *inside);
 
 /* A bladder's state from its outer radius ro [m]: ri, pressure (clamped into [p_lo, p_hi]
  * after the model is evaluated), stretch. HP_ERR_DOMAIN/INVALID on a non-finite result. */

@@ -26,7 +26,7 @@ static int direct_reached(void *ctx, const double xi[6])
     for (int i = 0; i < 6; ++i)
         if (!p->commanded[i]) x[i] = 0.0;
     int inside = 0;
-    return hp_setup_contact_inside(&p->L, &p->G, p->level, x, c->pb.ro_lo, c->pb.ro_hi, rho,
+    return hp_setup_contact_inside(&p->L, &p->G, p->level, x, c->pb.ro_lo, c->pb.ro_hi, rho, NULL,
                                    &inside) == HP_OK && inside;
 }
 

@@ -335,24 +335,34 @@ static void inside_order(const hp_layout *L, hp_level lv, const double xi[6], co
 static void check_inside(const hp_geom *G, hp_level lv, const double xi[6], const double *lo,
                          const double *hi, int *verdict, int *skipped)
 {
-    double rho[HP_MAX_BLADDERS], got[HP_MAX_BLADDERS];
+    double rho[HP_MAX_BLADDERS], got[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6],
+        gJ[HP_MAX_BLADDERS * 6], got2[HP_MAX_BLADDERS];
     int order[HP_MAX_BLADDERS];
-    assert_int_equal(hp_contact_eval(&LAY, lv, xi, rho, NULL, NULL), HP_OK);
+    assert_int_equal(hp_contact_eval(&LAY, lv, xi, rho, J, NULL), HP_OK);
     int want = 1;
     for (int k = 0; k < LAY.n; ++k) want &= rho[k] * 1000.0 >= lo[k] && rho[k] * 1000.0 <= hi[k];
     for (int k = 0; k < LAY.n; ++k) got[k] = -1.0;
-    int inside = -1;
-    assert_int_equal(hp_kin_contact_inside(&LAY, G, lv, xi, 1000.0, lo, hi, got, &inside), HP_OK);
+    for (int i = 0; i < LAY.n * 6; ++i) gJ[i] = -1.0;
+    int inside = -1, inside2 = -1;
+    assert_int_equal(hp_kin_contact_inside(&LAY, G, lv, xi, 1000.0, lo, hi, got, NULL, &inside), HP_OK);
     assert_int_equal(inside, want);
+    /* With the Jacobian asked for: the same distances and verdict, and the full
+     * evaluation's Jacobian rows (bit for bit) of exactly the bladders evaluated. */
+    assert_int_equal(hp_kin_contact_inside(&LAY, G, lv, xi, 1000.0, lo, hi, got2, gJ, &inside2),
+                     HP_OK);
+    assert_int_equal(inside2, want);
     inside_order(&LAY, lv, xi, lo, hi, order);
     int reached = 1; /* still evaluating, in the documented order */
     for (int j = 0; j < LAY.n; ++j) {
         int k = order[j];
         if (reached) {
             assert_true(got[k] == rho[k]);
+            assert_true(got2[k] == rho[k]);
+            assert_memory_equal(&gJ[k * 6], &J[k * 6], 6 * sizeof *J);
             reached = rho[k] * 1000.0 >= lo[k] && rho[k] * 1000.0 <= hi[k];
         } else {
             assert_true(got[k] == -1.0); /* never evaluated */
+            for (int i = 0; i < 6; ++i) assert_true(gJ[k * 6 + i] == -1.0);
         }
     }
     *verdict = want;
@@ -408,21 +418,21 @@ static void test_inside(void **state)
     for (int k = 0; k < LAY.n; ++k) hi[k] = 1e9;
     int inside = 1;
     assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, lo, hi, got,
-                                           &inside), HP_ERR_INVALID);
+                                           NULL, &inside), HP_ERR_INVALID);
     assert_int_equal(inside, 0);
     for (int k = 0; k < LAY.n; ++k) assert_true(isnan(got[k]));
     xi[3] = 0.0;
     const double *bad[4][2] = {{NULL, hi}, {lo, NULL}, {lo, hi}, {lo, hi}};
     for (int c = 0; c < 4; ++c)
         assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, bad[c][0],
-                                               bad[c][1], c == 2 ? NULL : got,
+                                               bad[c][1], c == 2 ? NULL : got, NULL,
                                                c == 3 ? NULL : &inside),
                          HP_ERR_NULL);
     /* A NaN bound is outside whatever the order (the comparison fails). */
     hi[LAY.n - 1] = NAN;
     inside = 1;
     assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_PLANE, xi, 1000.0, lo, hi, got,
-                                           &inside), HP_OK);
+                                           NULL, &inside), HP_OK);
     assert_int_equal(inside, 0);
 }
 
@@ -470,7 +480,7 @@ static void test_inside_prediction_wrong(void **state)
                 assert_int_equal(order[0], a); /* the construction makes a the predicted worst */
             int inside = -1;
             assert_int_equal(hp_kin_contact_inside(&LAY, &G, lv, xi, 1000.0, lo, hi, got,
-                                                   &inside), HP_OK);
+                                                   NULL, &inside), HP_OK);
             assert_int_equal(inside, 0);
             if (lv == HP_LEVEL_SURFACE) assert_true(got[a] == rho[a]);
             assert_true(got[b] == rho[b]);

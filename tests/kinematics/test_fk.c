@@ -224,7 +224,7 @@ static void test_fit_certificate(void **state)
     double tol[6];
     for (int i = 0; i < 6; ++i) tol[i] = i < 3 ? 1e-10 : 1e-7 * 3.14159265358979323846 / 180.0;
     kin_rng rng = {2026};
-    int total_cert = 0, total_elsewhere = 0;
+    int total_cert = 0, total_elsewhere = 0, total_early = 0;
     for (int c = 0; c < 4; ++c) {
         hp_layout L;
         hp_geom G;
@@ -234,7 +234,7 @@ static void test_fit_certificate(void **state)
         for (int lv = HP_LEVEL_PLANE; lv <= HP_LEVEL_SURFACE; ++lv) {
             hp_kin_fit_start st;
             assert_int_equal(hp_kin_fit_start_at(&L, &G, (hp_level)lv, zero, &st), HP_OK);
-            int cert = 0, elsewhere = 0, fits = 0;
+            int cert = 0, elsewhere = 0, fits = 0, early = 0;
             for (int it = 0; it < 150; ++it) {
                 const double *bd = band[it % 3];
                 double xi[6], rho[HP_MAX_BLADDERS], ro[HP_MAX_BLADDERS], xa[6], xb[6], xc[6];
@@ -263,6 +263,12 @@ static void test_fit_certificate(void **state)
                 nr.has_anchor = 1;
                 memcpy(nr.anchor, xi, sizeof xi);
                 memcpy(nr.anchor_rho, rho, sizeof rho);
+                /* with the anchor's Jacobian too (the planner's direct chain) on odd targets:
+                 * the proof may then hold before the first trial is evaluated */
+                nr.has_anchor_J = it % 2;
+                if (nr.has_anchor_J)
+                    assert_int_equal(hp_contact_eval_g(&L, &G, (hp_level)lv, xi, NULL, nr.anchor_J,
+                                                       NULL), HP_OK);
                 hp_error ea = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xa, NULL, &ia);
                 /* the full fit, to its end */
                 hp_error eb = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, NULL, xb, NULL, &ib);
@@ -278,6 +284,7 @@ static void test_fit_certificate(void **state)
                 int certified = ea == HP_OK && memcmp(xa, xi, sizeof xa) == 0;
                 assert_true(ea != HP_OK || ec != HP_OK || ia <= ic);
                 cert += certified;
+                early += certified && ia == 1; /* before any evaluation */
                 elsewhere += !(db <= 1.0);
                 if ((da <= 1.0) != (db <= 1.0) || (certified && !(db <= 0.5)))
                     print_error("head %d level %d target %d: certified %d, anchor fit %.3e, "
@@ -295,15 +302,19 @@ static void test_fit_certificate(void **state)
                 hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xo, NULL, NULL);
                 assert_true(memcmp(xo, xi, sizeof xo) != 0);
             }
-            print_message("head %d %-7s: certified %d of %d fits; full fit elsewhere in %d\n", c,
-                          hp_level_name((hp_level)lv), cert, fits, elsewhere);
+            print_message("head %d %-7s: certified %d of %d fits (%d before evaluating a "
+                          "step); full fit elsewhere in %d\n", c, hp_level_name((hp_level)lv),
+                          cert, fits, early, elsewhere);
             if (c < 3) assert_true(cert >= fits / 2);
+            if (c < 2) assert_true(early > 0); /* the elongated head's curvature bound is
+                                                   too large for it */
+            total_early += early;
             total_cert += cert;
             total_elsewhere += elsewhere;
         }
     }
-    print_message("certified %d fits; %d full fits ended away from the planned pose\n",
-                  total_cert, total_elsewhere);
+    print_message("certified %d fits (%d before evaluating a step); %d full fits ended away "
+                  "from the planned pose\n", total_cert, total_early, total_elsewhere);
 }
 
 /* Column norms of J (n×nf), the fit's Marquardt scales. */
