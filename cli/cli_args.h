@@ -82,6 +82,10 @@ int cli_fail(int status, const char *cmd, const char *fmt, ...)
  * ("%.Ng"); returns buf. The number format of every CSV and table output. */
 const char *cli_fmt(char buf[CLI_FMT_MAX], double v);
 
+/* cli_fmt's integer path alone: writes the same string as cli_fmt and returns 1 for every
+ * finite |v| in [1e-6, 1e16), else returns 0 and leaves buf untouched. */
+int cli_fmt_exact(char buf[CLI_FMT_MAX], double v);
+
 /* The same by printf and strtod alone (cli_fmt's path outside its integer range; the
  * reference its test compares against). */
 const char *cli_fmt_printf(char buf[CLI_FMT_MAX], double v);
