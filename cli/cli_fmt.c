@@ -57,6 +57,14 @@
 
 __extension__ typedef unsigned __int128 u128;
 
+/* The integer path is a handful of small steps; the compiler's own inlining budget left
+ * calls (and register saves) between them. */
+#if defined(__GNUC__)
+#define FMT_INLINE static inline __attribute__((always_inline))
+#else
+#define FMT_INLINE static inline
+#endif
+
 /* 5^k, 0 <= k <= 23 (k's range here; 5^23 < 2^54). */
 static const uint64_t POW5[24] = {UINT64_C(1),
                                   UINT64_C(5),
@@ -101,7 +109,7 @@ typedef struct scaled {
 /* T + r/2^s rounded half to even to a multiple of pj = 10^j (j = 0..3; pj a constant
  * where inlined): returns the quotient and sets *in to whether quotient·pj reads back
  * (steps 2 and 3 of the top). */
-static inline uint64_t round_at(const scaled *x, uint64_t pj, int *in)
+FMT_INLINE uint64_t round_at(const scaled *x, uint64_t pj, int *in)
 {
     uint64_t t = x->T / pj, rem = x->T - t * pj;
     /* The part of T + r/2^s above t·pj, and pj, in units of 2^−s: below 1000·2^53. */
@@ -116,7 +124,7 @@ static inline uint64_t round_at(const scaled *x, uint64_t pj, int *in)
 /* The first of the 15-, 16- and 17-digit candidates that reads back (17 always does),
  * from T's last j15, j15 − 1, j15 − 2 digits rounded off (pj15 = 10^j15, 100 or 1000);
  * sets *p to its digit count. */
-static inline uint64_t first_reading_back(const scaled *x, uint64_t pj15, int *p)
+FMT_INLINE uint64_t first_reading_back(const scaled *x, uint64_t pj15, int *p)
 {
     int in;
     uint64_t D = round_at(x, pj15, &in);
@@ -138,7 +146,7 @@ static inline uint64_t first_reading_back(const scaled *x, uint64_t pj15, int *p
  * lane below 10^4 is (y·5243) >> 19 and by 10 of a lane below 100 is (y·103) >> 10, both
  * exact over those ranges (tests/cli/test_cli_fmt.c checks every y) and without carries
  * between lanes (y·5243 < 2^26, y·103 < 2^14). */
-static inline void put8(char *o, uint32_t n)
+FMT_INLINE void put8(char *o, uint32_t n)
 {
     uint64_t hi = n / 10000u, x = hi | (uint64_t)(n - hi * 10000u) << 32;
     uint64_t q = ((x * 5243u) >> 19) & UINT64_C(0x0000007F0000007F);
@@ -152,8 +160,9 @@ static inline void put8(char *o, uint32_t n)
 #endif
 }
 
-/* The "%.{p}g" string of sign·D·10^(X−p+1), D having exactly p digits (15 to 17). */
-static inline void layout(char buf[CLI_FMT_MAX], int neg, uint64_t D, int p, int X)
+/* The "%.{p}g" string of sign·D·10^(X−p+1), D having exactly p digits (15 to 17); returns
+ * its length. */
+FMT_INLINE size_t layout(char buf[CLI_FMT_MAX], int neg, uint64_t D, int p, int X)
 {
     /* D's digits, left-padded with zeros to 17, then filler the fixed-size copies below
      * read (up to dig + 32). */
@@ -207,10 +216,12 @@ static inline void layout(char buf[CLI_FMT_MAX], int neg, uint64_t D, int p, int
         }
     }
     *o = '\0';
+    return (size_t)(o - buf);
 }
 
-/* cli_fmt_exact's work, inlined into cli_fmt (no call and register saves per number). */
-static inline int fmt_exact(char buf[CLI_FMT_MAX], double v)
+/* cli_fmt_exact's work (inlined into cli_fmt_len); returns the string's length, 0 when v
+ * is outside the range. */
+FMT_INLINE size_t fmt_exact(char buf[CLI_FMT_MAX], double v)
 {
     double a = fabs(v);
     if (!(a >= 1e-6 && a < 1e16)) return 0;
@@ -251,13 +262,18 @@ static inline int fmt_exact(char buf[CLI_FMT_MAX], double v)
         D /= 10;
         ++X;
     }
-    layout(buf, v < 0, D, p, X);
-    return 1;
+    return layout(buf, v < 0, D, p, X);
 }
 
-int cli_fmt_exact(char buf[CLI_FMT_MAX], double v) { return fmt_exact(buf, v); }
+int cli_fmt_exact(char buf[CLI_FMT_MAX], double v) { return fmt_exact(buf, v) != 0; }
 
 const char *cli_fmt(char buf[CLI_FMT_MAX], double v)
+{
+    cli_fmt_len(buf, v);
+    return buf;
+}
+
+size_t cli_fmt_len(char buf[CLI_FMT_MAX], double v)
 {
     /* The fewest significant digits that read back to the same double: stable across runs
      * and machines, and without the noise digits of a fixed %.17g. Whole numbers (0,
@@ -279,10 +295,10 @@ const char *cli_fmt(char buf[CLI_FMT_MAX], double v)
         if (signbit(v)) *o++ = '-';
         while (len) *o++ = tmp[--len];
         *o = '\0';
-        return buf;
+        return (size_t)(o - buf);
     }
-    if (fmt_exact(buf, v)) return buf;
-    return cli_fmt_printf(buf, v);
+    size_t n = fmt_exact(buf, v);
+    return n ? n : strlen(cli_fmt_printf(buf, v));
 }
 
 const char *cli_fmt_printf(char buf[CLI_FMT_MAX], double v)

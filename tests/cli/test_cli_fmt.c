@@ -43,6 +43,9 @@ static void check(double v)
         if (v == 0.0 && signbit(v)) snprintf(b, sizeof b, "-0");
     }
     if (strcmp(a, b) != 0) fail_msg("%a: cli_fmt %s, reference %s", v, a, b);
+    char c[CLI_FMT_MAX];
+    size_t len = cli_fmt_len(c, v);
+    if (len != strlen(a) || strcmp(c, a) != 0) fail_msg("%a: cli_fmt_len %zu for %s", v, len, c);
     if (isfinite(v) && strtod(a, NULL) != v) fail_msg("%a: %s does not read back", v, a);
     ++checked;
 }
