@@ -1,6 +1,6 @@
 /* cli_fmt's integer path against the printf path it replaces (cli_fmt_printf: "%.15g",
  * "%.16g", "%.17g" and strtod), string for string, and the string against the definition's
- * first requirement: it reads back to the same double (strtod).
+ * first requirement: it reads back to the same double (strtod); 4.1 million in all.
  * test_against_printf, 1.8 million inputs (seeded): log-uniform magnitudes over the
  * integer path's range and beyond it, both signs; random bit patterns; the neighbours of
  * every power of ten in range and of its halves; decimals of 1 to 17 random digits read by
@@ -205,7 +205,7 @@ static void test_decimal_ties(void **state)
         check_around(strtod(s, NULL), 2);
     }
     if (ties < 50000) fail_msg("only %ld exact ties generated", ties);
-    print_message("%ld exact ties\n", ties);
+    print_message("%ld exact ties; %ld doubles checked so far\n", ties, checked);
 }
 
 /* The lane arithmetic cli_fmt's digit writer relies on (cli/cli_fmt.c, put8): division by
