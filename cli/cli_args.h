@@ -79,11 +79,11 @@ int cli_fail(int status, const char *cmd, const char *fmt, ...)
 /* Size of a buffer for cli_fmt. */
 #define CLI_FMT_MAX 32
 /* Formats v with the fewest significant digits (15 to 17) that read back to the same double
- * ("%.Ng"); returns buf. The number format of every CSV and table output. */
+ * ("%.Ng"); returns buf. The number format of every CSV and table output. Any of buf's
+ * CLI_FMT_MAX bytes may be written (scratch beyond the string's end). */
 const char *cli_fmt(char buf[CLI_FMT_MAX], double v);
 /* The same, returning the string's length: for writers that format numbers straight into a
- * larger buffer. Like cli_fmt it may use all CLI_FMT_MAX bytes of buf as scratch beyond the
- * string's end. */
+ * larger buffer (with CLI_FMT_MAX bytes free at buf). */
 size_t cli_fmt_len(char buf[CLI_FMT_MAX], double v);
 
 /* cli_fmt's integer path alone: writes the same string as cli_fmt and returns 1 for every

@@ -196,7 +196,7 @@ FMT_INLINE size_t layout(char buf[CLI_FMT_MAX], int neg, uint64_t D, int p, int 
             o += X + 1;
         }
     } else if (X < 0 && X >= -4) {
-        /* "0." and −X − 1 zeros, then the digits: at most 1 + 5 + 17 chars. */
+        /* "0." and −X − 1 zeros, then the digits (the 24-byte copy ends by buf + 30). */
         memcpy(o, "0.000", 6);
         memcpy(o + 1 - X, d, 24);
         o += 1 - X + nd;
@@ -254,7 +254,8 @@ FMT_INLINE size_t fmt_exact(char buf[CLI_FMT_MAX], double v)
         x.r = lo & (((uint64_t)1 << sh) - 1);
     } else {
         /* |v| >= 2^51, k = 1: |v|·10 = m·5·2^(−sh) is a whole number below 2^58. (Every
-         * candidate here is v itself or at least a gap away, so W only has to be right.) */
+         * candidate here is v itself or at least a gap away from it: no output depends on
+         * W's exact value.) */
         if (k > 1) return 0; /* a safeguard */
         x.T = (m * POW5[k]) << -sh;
         x.s = 1;
