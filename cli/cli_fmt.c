@@ -288,7 +288,14 @@ size_t cli_fmt_len(char buf[CLI_FMT_MAX], double v)
      * the same conversion without printf's format machinery, which glibc runs on its slow
      * positional path in any process with a printf hook registered (libquadmath, pulled in
      * through Ipopt's Fortran runtime, registers one). */
-    if (v == 0.0 || (fabs(v) < 1e15 && v == (double)(long long)v)) {
+    if (v == 0.0) { /* a quarter of a batch row's numbers (errors, uncommanded motion) */
+        char *o = buf;
+        if (signbit(v)) *o++ = '-';
+        o[0] = '0';
+        o[1] = '\0';
+        return (size_t)(o - buf) + 1;
+    }
+    if (fabs(v) < 1e15 && v == (double)(long long)v) {
         /* What "%.0f" prints: the integer's digits (and "-0" for negative zero). */
         long long n = (long long)v;
         uint64_t u = n < 0 ? (uint64_t)0 - (uint64_t)n : (uint64_t)n;
