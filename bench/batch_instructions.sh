@@ -16,7 +16,8 @@
 #   state    hp_planner_set_previous_result (the state from the previous row's output;
 #            hp_planner_set_previous, from the previous pressures, before 2026-12-01)
 #   plan     hp_plan
-#   numbers  cli_fmt (the ~60 numbers in shortest round-trip form)
+#   numbers  cli_fmt_len (the ~60 numbers in shortest round-trip form; cli_fmt before
+#            2026-12-02)
 #   write    the rest of writing the row (batch_sink_rows without cli_fmt)
 #   read     hp_trace_next (reading and checking the trace row)
 #   hash     sha256_file (the trace's SHA-256 for the metadata)
@@ -30,6 +31,8 @@ tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 source "$(dirname "$0")/batch_traces.sh"
 
 # counts TRACE LEVEL OUT: total and the parts' inclusive counts, one "name count" a line.
+# (callgrind_annotate puts a long name's "[binary]" on the next line: names end at " [" or
+# at the line's end.)
 counts() {
   valgrind --tool=callgrind --callgrind-out-file="$tmp/cg" "$HP" batch "$SCENE" "$1" \
     --level "$2" --no-progress --no-times --format csv -o - >/dev/null 2>"$tmp/err" \
@@ -38,12 +41,12 @@ counts() {
   awk '
     function grab(name, pat) { if ($0 ~ pat && !(name in got)) { c = $1; gsub(",", "", c); got[name] = c } }
     /PROGRAM TOTALS/ { c = $1; gsub(",", "", c); got["total"] = c }
-    { grab("state", "[^_]hp_planner_set_previous(_result)? \\[");
-      grab("plan", "[^_]hp_plan \\[");
-      grab("numbers", "[^_]cli_fmt \\[");
-      grab("rows", "[^_]batch_sink_rows \\[");
-      grab("read", "[^_]hp_trace_next \\[");
-      grab("hash", "[^_]sha256_file \\[") }
+    { grab("state", "[^_]hp_planner_set_previous(_result)?( \\[|$)");
+      grab("plan", "[^_]hp_plan( \\[|$)");
+      grab("numbers", "[^_]cli_fmt(_len)?( \\[|$)");
+      grab("rows", "[^_]batch_sink_rows( \\[|$)");
+      grab("read", "[^_]hp_trace_next( \\[|$)");
+      grab("hash", "[^_]sha256_file( \\[|$)") }
     END { for (k in got) print k, got[k] }' "$tmp/ann" >"$3"
 }
 

@@ -316,13 +316,13 @@ static void rb_text(row_buf *r, const char *s, hp_trace_format fmt)
 
 static void put_cell(row_buf *r, const cell *c, hp_trace_format fmt)
 {
-    char num[CLI_FMT_MAX];
     int json = fmt == HP_TRACE_JSONL;
     switch (c->kind) {
     case CELL_NUM:
         if (isfinite(c->num)) {
-            cli_fmt(num, c->num);
-            rb_put(r, num, strlen(num));
+            /* Straight into the row: no copy, no strlen. */
+            if (sizeof r->b - r->n < CLI_FMT_MAX) rb_flush(r);
+            r->n += cli_fmt_len(r->b + r->n, c->num);
         } else if (json) {
             rb_put(r, "null", 4);
         }

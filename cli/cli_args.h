@@ -79,8 +79,16 @@ int cli_fail(int status, const char *cmd, const char *fmt, ...)
 /* Size of a buffer for cli_fmt. */
 #define CLI_FMT_MAX 32
 /* Formats v with the fewest significant digits (15 to 17) that read back to the same double
- * ("%.Ng"); returns buf. The number format of every CSV and table output. */
+ * ("%.Ng"); returns buf. The number format of every CSV and table output. Any of buf's
+ * CLI_FMT_MAX bytes may be written (scratch beyond the string's end). */
 const char *cli_fmt(char buf[CLI_FMT_MAX], double v);
+/* The same, returning the string's length: for writers that format numbers straight into a
+ * larger buffer (with CLI_FMT_MAX bytes free at buf). */
+size_t cli_fmt_len(char buf[CLI_FMT_MAX], double v);
+
+/* cli_fmt's integer path alone: writes the same string as cli_fmt and returns 1 for every
+ * finite |v| in [1e-6, 1e16), else returns 0 and leaves buf untouched. */
+int cli_fmt_exact(char buf[CLI_FMT_MAX], double v);
 
 /* The same by printf and strtod alone (cli_fmt's path outside its integer range; the
  * reference its test compares against). */

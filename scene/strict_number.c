@@ -29,6 +29,11 @@ int hp_decimal_syntax(const char *s, size_t len)
     return i == len;
 }
 
+/* 10^q for 0 <= q <= 22: all exact doubles. */
+static const double P10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
+                               1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
+                               1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
+
 /* The value of s[0..len) (already known to be a decimal number) when it is M·10^q with an
  * integer M <= 2^53 and |q| <= 22: then M and 10^q are exact doubles and one IEEE
  * multiplication or division rounds correctly, so the result is strtod's, bit for bit
@@ -36,9 +41,6 @@ int hp_decimal_syntax(const char *s, size_t len)
  * when it cannot decide (then strtod does). */
 static int fast_decimal(const char *s, size_t len, double *out)
 {
-    static const double p10[23] = {1e0,  1e1,  1e2,  1e3,  1e4,  1e5,  1e6,  1e7,
-                                   1e8,  1e9,  1e10, 1e11, 1e12, 1e13, 1e14, 1e15,
-                                   1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22};
     size_t i = 0;
     int neg = 0, sig = 0, q = 0;
     unsigned long long M = 0;
@@ -65,7 +67,36 @@ static int fast_decimal(const char *s, size_t len, double *out)
         q += eneg ? -e : e;
     }
     if (M > (1ull << 53) || q < -22 || q > 22) return 0;
-    double v = q < 0 ? (double)M / p10[-q] : (double)M * p10[q];
+    double v = q < 0 ? (double)M / P10[-q] : (double)M * P10[q];
+    *out = neg ? -v : v;
+    return 1;
+}
+
+/* The common case in one pass: [+-]digits[.digits] or [+-][digits].digits, no exponent,
+ * at most 16 significant digits, M <= 2^53 and at most 22 digits after the point. Then the
+ * grammar holds and the value is fast_decimal's, so strtod's (a batch trace's numbers are
+ * all of this form: checking the grammar and then scanning again cost twice). Returns 0,
+ * out untouched, for anything else, malformed or not: the general path decides. */
+static int plain_decimal(const char *s, size_t len, double *out)
+{
+    size_t i = 0;
+    int neg = 0, digits = 0, sig = 0, q = 0, point = 0;
+    unsigned long long M = 0;
+    if (s[0] == '+' || s[0] == '-') neg = s[i++] == '-';
+    for (; i < len; ++i) {
+        unsigned d = (unsigned)(unsigned char)s[i] - '0';
+        if (d > 9) {
+            if (s[i] != '.' || point) return 0;
+            point = 1;
+            continue;
+        }
+        ++digits;
+        if (sig || d) ++sig;
+        M = 10 * M + d;
+        q -= point;
+    }
+    if (digits == 0 || sig > 16 || M > (1ull << 53) || q < -22) return 0;
+    double v = (double)M / P10[-q];
     *out = neg ? -v : v;
     return 1;
 }
@@ -74,6 +105,7 @@ const char *hp_strict_double(const char *s, size_t len, double *out)
 {
     char buf[128];
     if (!s || len == 0) return "empty where a number is expected";
+    if (len < sizeof buf && plain_decimal(s, len, out)) return NULL;
     if (len >= sizeof buf || !hp_decimal_syntax(s, len)) return "not a number";
     if (fast_decimal(s, len, out)) return NULL;
     memcpy(buf, s, len);

@@ -1,6 +1,9 @@
 /* Byte-level text checks (see text_check.h). */
 #include "scene/text_check.h"
 
+#include <stdint.h>
+#include <string.h>
+
 /* Length of the well-formed UTF-8 sequence at s (at most n bytes), or 0 (RFC 3629). */
 static size_t utf8_seq(const unsigned char *s, size_t n)
 {
@@ -28,7 +31,19 @@ static size_t utf8_seq(const unsigned char *s, size_t n)
 long hp_text_bad_byte(const char *s, size_t len, int *is_nul)
 {
     const unsigned char *u = (const unsigned char *)s;
+    const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;
     for (size_t i = 0; i < len;) {
+        if (len - i >= 8) {
+            /* Eight bytes at once when all are ASCII (no high bit) and none is 0 ((w − ones)
+             * & ~w & highs is non-zero exactly when some byte of w is 0): a trace or scene
+             * is almost all such bytes. Otherwise one byte or sequence at a time below. */
+            uint64_t w;
+            memcpy(&w, u + i, sizeof w);
+            if (((w & highs) | ((w - ones) & ~w & highs)) == 0) {
+                i += 8;
+                continue;
+            }
+        }
         if (u[i] == 0) {
             *is_nul = 1;
             return (long)i;

@@ -406,7 +406,8 @@ static hp_error fill_row(const hp_trace_reader *r, long lineno, const double *v,
                          hp_trace_row *row, hp_diag *diag)
 {
     double pose[6];
-    hp_diag d = {{0}};
+    hp_diag d; /* only read when a conversion fails; not zeroed (512 bytes) for every row */
+    d.text[0] = '\0';
     hp_error e = HP_OK;
     if (r->form == HP_TRACE_ANGLES) {
         hp_pose_from_clinical(v + 1, pose);

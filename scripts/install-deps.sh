@@ -10,6 +10,7 @@ PACKAGES=(
   libeigen3-dev         # Eigen 3.4 (SVD, QR, least squares)
   libyaml-dev           # libyaml: scene files with line:column marks
   libjansson-dev        # jansson: JSON output and JSON Lines traces
+  nettle-dev            # Nettle: SHA-256 of batch inputs (with the CPU's SHA instructions)
   libcmocka-dev         # cmocka: unit-test framework
   gnuplot-nox           # charts (PNG, SVG)
   clang libclang-rt-14-dev  # libFuzzer targets and sanitizer runtimes

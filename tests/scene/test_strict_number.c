@@ -3,7 +3,8 @@
  * or strtod decided. Inputs (seeded, 700 000): decimals of 1 to 20 digits with the point
  * anywhere or absent, leading and trailing zeros, signs, exponents from −40 to 40 (both
  * cases, with and without sign), the fast path's edges (2^53 and its neighbours, 10^±22 and
- * 10^±23), and strings it must refuse. */
+ * 10^±23), and strings it must refuse (some of them shaped like the one-pass path's plain
+ * decimals until a late character). */
 #include "test_util.h"
 #include "scene/strict_number.h"
 
@@ -64,10 +65,12 @@ static void test_edges(void **st)
                         "1e-23", "123456789012345.6e7", "0.0000000000000000000001",
                         "4.9406564584124654e-300", "-0", "+0.0", "0e400", ".5", "5.",
                         "-.5e+1", "1.7976931348623157e308", "0.1", "0.3", "2.2250738585072014e-308",
-                        "00000000000000000000000000001.5", "1.00000000000000000000001"};
+                        "00000000000000000000000000001.5", "1.00000000000000000000001",
+                        "0.00000000000000000000001", "-0.000000000000000000000012345"};
     for (size_t i = 0; i < sizeof ok / sizeof ok[0]; ++i) same_as_strtod(ok[i]);
     const char *bad[] = {"", "nan", "inf", "0x1p3", " 1", "1 ", "1e", "e5", "-", ".", "1..2",
-                         "1e+", "1e309", "1e-400", "+-1"};
+                         "1e+", "1e309", "1e-400", "+-1", "1.2.3", "+.", "--1", "1.-2", "1a",
+                         "1,5", "-.", "0.5\xc2\xa0"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
         double v = 42.0;
         if (!hp_strict_double(bad[i], strlen(bad[i]), &v)) fail_msg("'%s' accepted", bad[i]);
