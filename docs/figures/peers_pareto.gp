@@ -12,33 +12,33 @@ set title "Peers on the same NLP (linear contact level, default layout, binding 
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 5.81e-05]
-set xrange [* : 1.08498e+08]
+set xrange [* : 1.00411e+08]
 
 $front << EOD
-2425,3.161602e-10,realtime-linear
-6.66732e+06,1.000000e-17,ipopt-exact-linear
-1.08498e+08,1.000000e-17,end
+2354,3.161602e-10,realtime-linear
+6.41031e+06,1.000000e-17,ipopt-exact-linear
+1.00411e+08,1.000000e-17,end
 EOD
 
 $front1 << EOD
-6.66732e+06,1.000000e-17,ipopt-exact-linear
-1.08498e+08,1.000000e-17,end
+6.41031e+06,1.000000e-17,ipopt-exact-linear
+1.00411e+08,1.000000e-17,end
 EOD
 
 $front2 << EOD
-3.48334e+07,1.335134e-09,ipopt-lbfgs-surface
-3.6166e+07,9.654794e-10,ipopt-lbfgs-linear
-1.08498e+08,9.654794e-10,end
+3.17017e+07,1.335134e-09,ipopt-lbfgs-surface
+3.34705e+07,9.654794e-10,ipopt-lbfgs-linear
+1.00411e+08,9.654794e-10,end
 EOD
 
 $front3 << EOD
-2425,3.161602e-10,realtime-linear
-1.08498e+08,3.161602e-10,end
+2354,3.161602e-10,realtime-linear
+1.00411e+08,3.161602e-10,end
 EOD
 
 $front4 << EOD
-2.18286e+06,3.948884e-07,scipy-slsqp
-1.08498e+08,3.948884e-07,end
+2.54901e+06,3.948884e-07,scipy-slsqp
+1.00411e+08,3.948884e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {

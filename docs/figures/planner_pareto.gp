@@ -12,49 +12,50 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 1.76878e+07]
+set xrange [* : 2.0762e+07]
 
 $front << EOD
-2076.5,4.646568e-01,realtime-linear-1e-04
-9297,1.355025e-10,realtime-surface-1e-09
-5.41803e+06,1.000000e-17,ipopt-surface-1e-04
-1.76878e+07,1.000000e-17,end
+2348.25,4.646568e-01,realtime-linear-1e-09
+10620,1.355025e-10,realtime-surface-1e-09
+6.6184e+06,1.000000e-17,ipopt-surface-1e-04
+2.0762e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-920.7,4.936830e-03,fastpath-linear
-8416,1.000000e-17,fastpath-surface
-1.76878e+07,1.000000e-17,end
+969.8,4.936830e-03,fastpath-linear
+5370,1.000000e-17,fastpath-surface
+2.0762e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-1469.42,9.238732e-02,trace-realtime-linear
-7614,3.417473e-08,trace-realtime-surface
-1.76878e+07,3.417473e-08,end
+2058.36,9.238732e-02,trace-realtime-linear
+7950,3.417473e-08,trace-realtime-surface
+2.0762e+07,3.417473e-08,end
 EOD
 
 $front3 << EOD
-2076.5,4.646568e-01,realtime-linear-1e-04
-9297,1.355025e-10,realtime-surface-1e-09
-1.76878e+07,1.355025e-10,end
+2348.25,4.646568e-01,realtime-linear-1e-09
+10620,1.355025e-10,realtime-surface-1e-09
+2.0762e+07,1.355025e-10,end
 EOD
 
 $front4 << EOD
-5.41803e+06,1.000000e-17,ipopt-surface-1e-04
-1.76878e+07,1.000000e-17,end
+6.55851e+06,1.571590e+00,ipopt-plane-1e-09
+6.6184e+06,1.000000e-17,ipopt-surface-1e-04
+2.0762e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-111588,4.646546e-01,nlopt-slsqp-linear-1e-04
-198110,1.324757e-05,nlopt-slsqp-surface-1e-09
-1.76878e+07,1.324757e-05,end
+159728,4.646546e-01,nlopt-slsqp-linear-1e-04
+241852,1.324757e-05,nlopt-slsqp-surface-1e-09
+2.0762e+07,1.324757e-05,end
 EOD
 
 $front6 << EOD
-313185,4.646758e-01,nlopt-cobyla-linear-1e-04
-486998,1.543974e-04,nlopt-cobyla-surface-1e-04
-900024,6.093562e-07,nlopt-cobyla-surface-1e-09
-1.76878e+07,6.093562e-07,end
+395979,4.646758e-01,nlopt-cobyla-linear-1e-04
+603026,1.543974e-04,nlopt-cobyla-surface-1e-04
+1.14344e+06,6.093562e-07,nlopt-cobyla-surface-1e-09
+2.0762e+07,6.093562e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
