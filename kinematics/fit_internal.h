@@ -102,7 +102,9 @@ int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level le
  * end in lies within tol/2 (plus that step squared) of near->pose; xi is then x and
  * residual_rms the RMS at x. With near's anchor it may also stop at any iterate after the
  * first where hp_kin_fit_certified proves the rest of the fit ends within tol/4 of
- * near->pose; xi is then the anchor and residual_rms the RMS of its distances' residual.
+ * near->pose, or, with the anchor's Jacobian too, at its first trial point before evaluating
+ * it (hp_kin_fit_certified_trial); xi is then the anchor and residual_rms the RMS of its
+ * distances' residual.
  * Allocates nothing. */
 hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
                     const int free_[6], const double x0[6], const hp_kin_fit_start *st,
