@@ -52,6 +52,14 @@ int hp_kin_damped_qr(int n, int nf, const double *J, const double *r, const doub
 int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
                          double lambda, double *dx);
 
+/* Iterations an early stop of hp_kin_fit (its arrived test, its certificate) leaves in the
+ * budget for the steps the full fit would still take at the rounding floor: there steps just
+ * above the step tolerance alternate between acceptance and rejection, for up to 16
+ * iterations measured (tests/kinematics/test_fit_attack.c) before the fit's own stop. Without
+ * this margin a fit stopped early near the end of its budget could report an answer that the
+ * full fit (the user's hp_contact_fk) reaches only after the budget, that is not at all. */
+#define HP_KIN_FIT_STOP_MARGIN 32
+
 /* A pose the caller expects the fit to arrive at, with a tolerance per component (SI), and
  * optionally an anchor: a pose (SI, in the fit's space: the components the fit does not
  * move equal its start's) whose contact distances at the fit's level are known (m), e.g.
@@ -102,7 +110,8 @@ int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level le
  * end in lies within tol/2 (plus that step squared) of near->pose; xi is then x and
  * residual_rms the RMS at x. With near's anchor it may also stop at any iterate after the
  * first where hp_kin_fit_certified proves the rest of the fit ends within tol/4 of
- * near->pose, or, with the anchor's Jacobian too, at its first trial point before evaluating
+ * near->pose (both early stops only with at least HP_KIN_FIT_STOP_MARGIN iterations of the
+ * budget left), or, with the anchor's Jacobian too, at its first trial point before evaluating
  * it (hp_kin_fit_certified_trial); xi is then the anchor and residual_rms the RMS of its
  * distances' residual.
  * Allocates nothing. */

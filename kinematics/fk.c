@@ -320,7 +320,10 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
             D[j] = s > 0 ? sqrt(s) : 1.0;
         }
         if (cost == 0.0) break;
-        if (near && it > 1 && arrived(n, nf, col, x, Jr, r, &gram, near)) {
+        /* The early stops leave the full fit its steps at the rounding floor
+         * (HP_KIN_FIT_STOP_MARGIN): an answer it reaches only after its budget is none. */
+        if (near && it > 1 && it + HP_KIN_FIT_STOP_MARGIN <= FK_MAX_ITERS &&
+            arrived(n, nf, col, x, Jr, r, &gram, near)) {
             done = 1;
             break;
         }
