@@ -215,13 +215,17 @@ hp_error hp_kin_contact_ball_curvature(const hp_layout *L, const hp_geom *G, hp_
         }
         const double *w = G->arm[k]; /* metres: its squares neither overflow nor underflow */
         double U = sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]) + T;
-        double V1 = sqrt(2.0 * b * b * U * U + a * a);
-        double A1 = (2.0 + phi) * b * b * U + sqrt(2.0) * a * b;
-        double hk = A1;
-        if (level == HP_LEVEL_SURFACE) {
-            double dmin = rho[k] - V1 * r;
-            hk = dmin > 0 && isfinite(dmin) ? V1 * V1 / (rmin + dmin) + A1 : INFINITY;
-        }
+        /* A unit path: its speed and acceleration bounds V1, A1 (above), the distance at
+         * the centre, and the most the path can approach the head over the ball, V1·r:
+         * surface_remainder's ½·max|f''| is then half of what is sought. */
+        sizes sz;
+        sz.V = sqrt(2.0 * b * b * U * U + a * a);
+        sz.A = (2.0 + phi) * b * b * U + sqrt(2.0) * a * b;
+        sz.delta = sz.V * r;
+        sz.rmin = rmin;
+        sz.rho0 = rho ? rho[k] : 0.0;
+        double hk = level == HP_LEVEL_SURFACE ? 2.0 * surface_remainder(&sz) : sz.A;
+        if (!(hk >= 0)) hk = INFINITY; /* a NaN distance */
         /* The rounding of these few operations (a few ulps) is far below the slack of each
          * inequality; 1e-12 covers it. */
         h[k] = hk * HP_MM_PER_M * (1.0 + 1e-12);

@@ -236,7 +236,7 @@ int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level le
                                double cost, double lambda_next, const double *target,
                                int iters_left, const hp_kin_fit_near *near)
 {
-    if (!near || !near->has_anchor || !near->has_anchor_J || nf < 1 ||
+    if (!near || !near->has_anchor || !near->anchor_J || nf < 1 ||
         level == HP_LEVEL_LINEAR)
         return 0;
     int n = L->n;

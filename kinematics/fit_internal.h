@@ -70,11 +70,10 @@ typedef struct hp_kin_fit_near {
     int has_anchor;
     double anchor[6];
     double anchor_rho[HP_MAX_BLADDERS];
-    /* Optionally also the Jacobian at the anchor (n×6, per m and per rad, as
-     * hp_contact_eval_g gives it): then the certificate may hold before the fit evaluates
-     * its first step (hp_kin_fit_certified_trial). */
-    int has_anchor_J;
-    double anchor_J[HP_MAX_BLADDERS * 6];
+    /* Optionally (NULL: none) the Jacobian at the anchor (n×6, per m and per rad, as
+     * hp_contact_eval_g gives it), read in place: then the certificate may hold before the
+     * fit evaluates its first step (hp_kin_fit_certified_trial). */
+    const double *anchor_J;
 } hp_kin_fit_near;
 
 /* 1 when the rest of a fit (hp_kin_fit) from its iterate x provably ends within near->tol/4

@@ -343,7 +343,7 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
         /* The first trial, before it is evaluated: with the anchor's Jacobian the proof may
          * already hold (it then also proves the trial accepted, after which the damping is
          * a tenth and the step too long to end the fit). */
-        if (near && it == 1 && near->has_anchor && near->has_anchor_J && stepsize > FK_STEP_TOL &&
+        if (near && it == 1 && near->has_anchor && near->anchor_J && stepsize > FK_STEP_TOL &&
             certified_trial(L, G, level, nf, col, xt, cost, fmax(lambda * 0.1, 1e-15), target,
                             FK_MAX_ITERS - it, near)) {
             certified = 1;

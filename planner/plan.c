@@ -300,13 +300,11 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
      * stop as soon as a certificate proves where it ends (hp_kin_fit_certified), with the
      * Jacobian usually before it evaluates its first step. */
     near.has_anchor = c->direct || c->has_rho;
-    near.has_anchor_J = c->direct;
+    near.anchor_J = c->direct ? p->chain_J : NULL;
     if (near.has_anchor) {
         hp_plan_from_scaled(c->x, near.anchor);
         for (int k = 0; k < p->L.n; ++k) near.anchor_rho[k] = c->rho[k] / HP_MM_PER_M;
     }
-    if (near.has_anchor_J)
-        memcpy(near.anchor_J, p->chain_J, sizeof(double) * (size_t)(p->L.n * 6));
     hp_error e = hp_plan_fit_from_nominal(p, ro, p->commanded, &near, xf, &resid);
     hp_plan_to_scaled(xc, a);
     hp_plan_to_scaled(xf, b);

@@ -139,8 +139,10 @@ static inline hp_error lf_round_trip(const hp_layout *L, hp_level level, const h
         e = hp_iab_ro(&L->bladders[k].iab, ri, &ro[k]);
         if (e != HP_OK) return e;
     }
+    /* From the nominal pose (xi0 NULL), as a user checks a plan: started at the answer
+     * itself, the fit could not show a second pose with the same distances. */
     double resid;
-    return hp_contact_fk(L, level, ro, r->achieved, xi, &resid, NULL);
+    return hp_contact_fk(L, level, ro, NULL, xi, &resid, NULL);
 }
 
 #endif
