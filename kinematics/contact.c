@@ -178,10 +178,10 @@ hp_error hp_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
 }
 
 hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level level,
-                                  const double xi[6], double *s_warm, double *rho, double *J,
-                                  double *H)
+                                  const double xi[6], hp_kin_dist_warm *warm, double *rho,
+                                  double *J, double *H)
 {
-    return hp_kin_contact_eval_mask(L, G, level, xi, s_warm, NULL, rho, J, H);
+    return hp_kin_contact_eval_mask(L, G, level, xi, warm, NULL, rho, J, H);
 }
 
 /* The checks every evaluation starts with: L, G, xi not NULL (HP_ERR_NULL), a concrete
@@ -202,16 +202,16 @@ static hp_error eval_args(const hp_layout *L, const hp_geom *G, hp_level level,
 
 /* Distance f of bladder k at pose xi (plane or surface level) and its gradient g in c',
  * with the back transform bm it was computed from (derivs: also ∂c'/∂θ). hf (surface
- * level, may be NULL): ∇²f; s_io: the warm-start multiplier (may be NULL). The distance
+ * level, may be NULL): ∇²f; w: the distance's warm state (may be NULL). The distance
  * error of hp_kin_head_distance_k, nothing written elsewhere. */
 static inline hp_error bladder_distance(const hp_layout *L, const hp_geom *G, hp_level level,
                                         const double xi[6], const rotd *rd, int derivs, int k,
-                                        double *s_io, backmap *bm, double *f, double g[3],
+                                        hp_kin_dist_warm *w, backmap *bm, double *f, double g[3],
                                         double *hf)
 {
     back_transform(L, G->arm[k], xi, rd, derivs, bm);
     if (level == HP_LEVEL_SURFACE)
-        return hp_kin_head_distance_k(&G->head, &G->headk, bm->cp, s_io, f, g, hf, NULL);
+        return hp_kin_head_distance_k(&G->head, &G->headk, bm->cp, w, f, g, hf, NULL);
     const double *n = G->normal[k], *p = G->contact[k];
     *f = n[0] * (bm->cp[0] - p[0]) + n[1] * (bm->cp[1] - p[1]) + n[2] * (bm->cp[2] - p[2]);
     memcpy(g, n, 3 * sizeof *g);
@@ -276,14 +276,14 @@ static hp_error inside_eval(const hp_layout *L, const hp_geom *G, hp_level level
 }
 
 static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level level,
-                             const double xi[6], double *s_warm, const unsigned char *hmask,
-                             double *rho, double *J, double *H);
+                             const double xi[6], hp_kin_dist_warm *warm,
+                             const unsigned char *hmask, double *rho, double *J, double *H);
 
 hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
-                                  const double xi[6], double *s_warm, const unsigned char *hmask,
-                                  double *rho, double *J, double *H)
+                                  const double xi[6], hp_kin_dist_warm *warm,
+                                  const unsigned char *hmask, double *rho, double *J, double *H)
 {
-    return contact_eval(L, G, level, xi, s_warm, hmask, rho, J, H);
+    return contact_eval(L, G, level, xi, warm, hmask, rho, J, H);
 }
 
 hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
@@ -300,8 +300,8 @@ hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level le
 
 /* The evaluation itself. */
 static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level level,
-                             const double xi[6], double *s_warm, const unsigned char *hmask,
-                             double *rho, double *J, double *H)
+                             const double xi[6], hp_kin_dist_warm *warm,
+                             const unsigned char *hmask, double *rho, double *J, double *H)
 {
     hp_error e = eval_args(L, G, level, xi, rho, J, H);
     if (e) return e;
@@ -327,7 +327,7 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
         int want_h = H && (!hmask || hmask[k]);
         backmap bm;
         double f, g[3], hf[9];
-        e = bladder_distance(L, G, level, xi, &rd, derivs, k, s_warm ? &s_warm[k] : NULL, &bm,
+        e = bladder_distance(L, G, level, xi, &rd, derivs, k, warm ? &warm[k] : NULL, &bm,
                              &f, g, want_h ? hf : NULL);
         if (e) {
             fill_nan(L->n, rho, J, H);

@@ -13,7 +13,7 @@
 typedef struct hp_kin_fit_start {
     double rho[HP_MAX_BLADDERS];     /* contact distances at x0 [m] */
     double J[HP_MAX_BLADDERS * 6];   /* their Jacobian (n×6, row-major) */
-    double s[HP_MAX_BLADDERS];       /* the surface level's multipliers at x0 (NAN: none) */
+    hp_kin_dist_warm w[HP_MAX_BLADDERS]; /* the surface level's distances' warm states at x0 */
     double A[6][6];                  /* JᵀJ of all six columns, each entry summed over the
                                         rows in order as the fit sums it: any free subset's
                                         normal matrix is a sub-block of it, bit for bit */

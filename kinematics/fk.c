@@ -192,10 +192,10 @@ static double sumsq(int n, const double *v)
 }
 
 /* Residual r = rho(xi) − ro and, if Jr is not NULL, its Jacobian in the nf free columns
- * listed in col[]; sw: the surface level's warm-start multipliers (in/out). */
+ * listed in col[]; sw: the surface level's distances' warm states (in/out). */
 static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,
-                         const double xi[6], int nf, const int *col, double *sw, double *r,
-                         double *Jr)
+                         const double xi[6], int nf, const int *col, hp_kin_dist_warm *sw,
+                         double *r, double *Jr)
 {
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6];
     /* All six columns free (col is then 0..5): the model writes the Jacobian in place. */
@@ -214,8 +214,8 @@ static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, c
 hp_error hp_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level level,
                              const double x0[6], hp_kin_fit_start *st)
 {
-    for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->s[k] = NAN;
-    hp_error err = hp_kin_contact_eval_warm(L, G, level, x0, st->s, st->rho, st->J, NULL);
+    hp_kin_dist_warm_cold(st->w, HP_MAX_BLADDERS);
+    hp_error err = hp_kin_contact_eval_warm(L, G, level, x0, st->w, st->rho, st->J, NULL);
     if (err) return err;
     fk_gram q;
     gram_of(L->n, 6, st->J, st->rho, &q); /* its −Jᵀr is not used */
@@ -279,20 +279,20 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
         memcpy(xi, x, sizeof x);
         return HP_OK;
     }
-    /* Successive iterates are close: each bladder's distance starts from its multiplier at
-     * the last evaluation. */
-    double sw[HP_MAX_BLADDERS];
+    /* Successive iterates are close: each bladder's distance starts from its state at the
+     * last evaluation. */
+    hp_kin_dist_warm sw[HP_MAX_BLADDERS];
     double r[HP_MAX_BLADDERS], Jr[HP_MAX_BLADDERS * 6], rt[HP_MAX_BLADDERS];
     double Jt[HP_MAX_BLADDERS * 6];
     hp_error err = HP_OK;
     if (st) {
         for (int k = 0; k < n; ++k) {
-            sw[k] = st->s[k];
+            sw[k] = st->w[k];
             r[k] = st->rho[k] - target[k];
             for (int j = 0; j < nf; ++j) Jr[k * nf + j] = st->J[k * 6 + col[j]];
         }
     } else {
-        for (int k = 0; k < n; ++k) sw[k] = NAN;
+        hp_kin_dist_warm_cold(sw, n);
         err = residual(L, G, level, target, x, nf, col, sw, r, Jr);
     }
     if (err) return err;

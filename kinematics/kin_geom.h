@@ -48,19 +48,19 @@ static inline double hp_geom_linear(const hp_geom *G, int k, const double xi[6])
  * since. Same contracts otherwise. */
 hp_error hp_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
                            const double xi[6], double *rho, double *J, double *H);
-/* hp_contact_eval_g with one warm-start multiplier per bladder for the surface level
- * (s_warm[0..n-1], see hp_kin_head_distance_warm; NULL: cold). Same answers to rounding. */
+/* hp_contact_eval_g with one warm state per bladder for the surface level's distances
+ * (warm[0..n-1], see hp_kin_head_distance_warm; NULL: cold). Same answers to rounding. */
 hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level level,
-                                  const double xi[6], double *s_warm, double *rho, double *J,
-                                  double *H);
+                                  const double xi[6], hp_kin_dist_warm *warm, double *rho,
+                                  double *J, double *H);
 /* hp_kin_contact_eval_warm computing the Hessian only of the bladders k with hmask[k] != 0
  * (NULL: all), the same bits as a full evaluation's; the other bladders' 36 entries of H
  * are not written (they keep what the caller left there, except after an error, which
  * writes NaN everywhere). A solver needs the Hessian of a distance only where its
  * multiplier is not zero, and reads no other. */
 hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
-                                  const double xi[6], double *s_warm, const unsigned char *hmask,
-                                  double *rho, double *J, double *H);
+                                  const double xi[6], hp_kin_dist_warm *warm,
+                                  const unsigned char *hmask, double *rho, double *J, double *H);
 /* Whether every contact distance at xi lies inside its limits: distance_k · scale in
  * [lo[k], hi[k]] (the caller's units, e.g. scale 1000 for mm). The distances are evaluated
  * bladder by bladder, each the same bits as hp_contact_eval_g's, and the evaluation stops

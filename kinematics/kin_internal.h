@@ -4,6 +4,7 @@
 #define HP_KIN_INTERNAL_H
 
 #include "headplan/hp_kinematics.h"
+#include <math.h>
 
 /* R = Rz(yaw)·Ry(roll)·Rx(pitch) for th = (pitch, roll, yaw), with its first derivatives
  * dR[j] = ∂R/∂th_j and second derivatives d2R[j][k] = ∂²R/∂th_j∂th_k (all row-major 3×3).
@@ -26,12 +27,31 @@ void hp_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double 
 hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
                               double grad[3], double hess[9], double foot[3]);
 
-/* hp_kin_head_distance with a warm start for the ellipsoid's scaled Lagrange multiplier:
- * *s_io (if s_io is not NULL) is the start when it lies inside the safeguarding bracket
- * (NAN: a cold start from the bracket) and receives this point's multiplier, for the next
- * evaluation of a nearby point. The answer is the same to rounding whatever the start; a
- * sphere leaves *s_io alone. */
-hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], double *s_io,
+/* What a warm start of the ellipsoid's root find keeps from one evaluation to the next of
+ * the same bladder: the scaled Lagrange multiplier s at the point y (relative to the head
+ * centre) and its gradient ds/dy there, so the next point y' starts from the first-order
+ * prediction s + ds·(y' − y). s NAN: nothing kept (a cold start). evals: the Q evaluations
+ * the last solve took (read by tests only). */
+typedef struct hp_kin_dist_warm {
+    double s, y[3], ds[3];
+    int evals;
+} hp_kin_dist_warm;
+
+/* Marks w[0..n-1] cold. */
+static inline void hp_kin_dist_warm_cold(hp_kin_dist_warm *w, int n)
+{
+    for (int k = 0; k < n; ++k) {
+        w[k].s = NAN;
+        w[k].evals = 0;
+    }
+}
+
+/* hp_kin_head_distance with a warm start for the ellipsoid's multiplier: w (may be NULL)
+ * supplies the start when its prediction lies inside the safeguarding bracket (else the
+ * bracket's own start) and receives this point's state, for the next evaluation of a
+ * nearby point. The answer is the same to rounding whatever w holds; a sphere leaves w
+ * alone. */
+hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], hp_kin_dist_warm *w,
                                    double *d, double grad[3], double hess[9], double foot[3]);
 
 /* What the ellipsoid distance needs of a head beyond its inputs, derived once per head
@@ -49,7 +69,7 @@ void hp_kin_head_consts(const hp_head *h, hp_kin_head_k *k);
 /* hp_kin_head_distance_warm for a head h whose constants k were derived from it by
  * hp_kin_head_consts (and h not changed since). */
 hp_error hp_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
-                                double *s_io, double *d, double grad[3], double hess[9],
+                                hp_kin_dist_warm *w, double *d, double grad[3], double hess[9],
                                 double foot[3]);
 
 /* Smallest radius of curvature of the head surface [m] (a_min²/a_max for an ellipsoid). */

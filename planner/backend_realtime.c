@@ -59,7 +59,7 @@ typedef struct rt_state {
     int have_u;
     int qps; /* QPs solved in this solve (for the test hook) */
     hp_test_rt_counts cnt; /* this solve's paths (hp_test_realtime_count) */
-    double sw[HP_MAX_BLADDERS]; /* surface level: the last distances' multipliers (warm start) */
+    hp_kin_dist_warm sw[HP_MAX_BLADDERS]; /* surface level: the last distances' warm states */
     int act[HP_QP_MMAX]; /* active set of the previous SQP step's QP */
     int exact;           /* the last QP's Hessian was the Lagrangian's own (Newton) */
     /* The Cholesky factor of the QP's G from the convexity test (build_objective), when G
@@ -79,7 +79,8 @@ typedef struct rt_state {
     int c_h_ok, h_kept;
     /* The model at the nominal pose, where every cold solve builds its first QP: once, at
      * create (the layout's geometry and level do not change after). */
-    double z_rho[HP_MAX_BLADDERS], z_J[HP_MAX_BLADDERS * 6], z_sw[HP_MAX_BLADDERS];
+    double z_rho[HP_MAX_BLADDERS], z_J[HP_MAX_BLADDERS * 6];
+    hp_kin_dist_warm z_sw[HP_MAX_BLADDERS];
     int z_ok;
     /* The last answer's pose and whether the core starts the next solve from it
      * (warm_point): then its multipliers and distances' multipliers start the next solve. */
@@ -144,8 +145,9 @@ static double now_s(void)
 
 /* rho (mm), J (mm per mm/deg, may be NULL) and, if H is not NULL, the SI Hessians of rho
  * (per m², m·rad, rad²; scaled by the caller) at scaled pose x. The surface level's
- * point-to-ellipsoid distances start from the multipliers of the previous evaluation in this
- * solve (st->sw; the bracket keeps any start safe): successive SQP points are close. */
+ * point-to-ellipsoid distances start from the previous evaluation's in this solve (st->sw,
+ * its multipliers moved to x to first order; the bracket keeps any start safe): successive
+ * SQP points are close. */
 static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, double *rho,
                            double *J, double *H, unsigned char *mask)
 {
@@ -215,7 +217,7 @@ static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings 
     st->H = st->Hb[0];
     st->c_H = st->Hb[1];
     const double zero[6] = {0};
-    for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN;
+    hp_kin_dist_warm_cold(st->sw, HP_MAX_BLADDERS);
     st->z_ok = rt_contact(st, pb, zero, st->z_rho, st->z_J, NULL, NULL) == HP_OK;
     memcpy(st->z_sw, st->sw, sizeof st->z_sw);
     *state = st;
@@ -632,7 +634,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     st->accepted = 0;
     if (!warm) {
         st->have_u = 0;
-        for (int k = 0; k < HP_MAX_BLADDERS; ++k) st->sw[k] = NAN; /* a cold first distance */
+        hp_kin_dist_warm_cold(st->sw, HP_MAX_BLADDERS); /* a cold first distance */
     }
     st->qps = 0;
     memset(&st->cnt, 0, sizeof st->cnt); /* its solves and qps fields stay unused here */

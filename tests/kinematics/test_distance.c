@@ -230,18 +230,35 @@ static void test_warm_start(void **state)
             double off = kin_rng_uniform(&rng, 1e-4, 0.06);
             for (int k = 0; k < 3; ++k) q[k] += off * g0[k];
         }
-        double d, g[3], H[9], foot[3], s_cold = NAN;
-        assert_int_equal(hp_kin_head_distance_warm(&h, q, &s_cold, &d, g, H, foot), HP_OK);
+        double d, g[3], H[9], foot[3];
+        hp_kin_dist_warm wc;
+        hp_kin_dist_warm_cold(&wc, 1);
+        assert_int_equal(hp_kin_head_distance_warm(&h, q, &wc, &d, g, H, foot), HP_OK);
+        double s_cold = wc.s;
         assert_true(isfinite(s_cold));
         /* A nearby point's multiplier: the point moved by up to 2 mm. */
         kin_rng_vec3(&rng, 1.0, dir);
-        double qn[3], sn = NAN, dn;
+        double qn[3], dn;
+        hp_kin_dist_warm wn;
+        hp_kin_dist_warm_cold(&wn, 1);
         for (int k = 0; k < 3; ++k) qn[k] = q[k] + 0.002 * dir[k];
-        assert_int_equal(hp_kin_head_distance_warm(&h, qn, &sn, &dn, NULL, NULL, NULL), HP_OK);
-        const double guesses[7] = {sn, s_cold * 3.0 + 0.5, s_cold - 0.5, -0.999, 1e6, -5.0, NAN};
-        for (int gi = 0; gi < 7; ++gi) {
-            double s = guesses[gi], dw, gw[3], Hw[9], fw[3];
-            assert_int_equal(hp_kin_head_distance_warm(&h, q, &s, &dw, gw, Hw, fw), HP_OK);
+        assert_int_equal(hp_kin_head_distance_warm(&h, qn, &wn, &dn, NULL, NULL, NULL), HP_OK);
+        /* Multipliers alone (a zero gradient: the prediction is the multiplier itself), then
+         * the nearby point's whole state (its prediction), then that state with gradients
+         * that predict far off on either side or NaN. */
+        const double guesses[7] = {wn.s, s_cold * 3.0 + 0.5, s_cold - 0.5, -0.999, 1e6, -5.0, NAN};
+        const double dsbad[3] = {1e6, -1e6, NAN};
+        for (int gi = 0; gi < 11; ++gi) {
+            hp_kin_dist_warm w = wn;
+            if (gi < 7) {
+                w.s = guesses[gi];
+                w.ds[0] = w.ds[1] = w.ds[2] = 0.0;
+            } else if (gi > 7) {
+                w.ds[gi % 3] = dsbad[gi - 8];
+            }
+            double dw, gw[3], Hw[9], fw[3];
+            assert_int_equal(hp_kin_head_distance_warm(&h, q, &w, &dw, gw, Hw, fw), HP_OK);
+            double s = w.s;
             assert_true(fabs(dw - d) <= 1e-15);
             for (int k = 0; k < 3; ++k) {
                 assert_true(fabs(gw[k] - g[k]) <= 1e-12);
@@ -342,8 +359,10 @@ static void test_long_double_reference(void **state)
             }
             mnl = sqrtl(mnl);
             long double dref = t < 0 ? -sqrtl(dl) : sqrtl(dl);
-            double d, g[3], s_out = NAN;
-            hp_error err = hp_kin_head_distance_warm(&h, q, &s_out, &d, g, NULL, NULL);
+            double d, g[3];
+            hp_kin_dist_warm w_out;
+            hp_kin_dist_warm_cold(&w_out, 1);
+            hp_error err = hp_kin_head_distance_warm(&h, q, &w_out, &d, g, NULL, NULL);
             if (err == HP_ERR_DOMAIN) {
                 assert_true(t < 0 && fabs(y[imin]) < 1e-3 * e);
                 ++n_domain;

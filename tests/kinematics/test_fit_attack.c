@@ -173,7 +173,7 @@ static void fa_gram(int n, int nf, const double *J, double A[36])
 
 /* Residual rho(x) − target and its Jacobian in the free columns col[] (sw: warm starts). */
 static int fa_residual(const hp_layout *L, const hp_geom *G, hp_level lv, const double *tg,
-                       const double x[6], int nf, const int *col, double *sw, double *r,
+                       const double x[6], int nf, const int *col, hp_kin_dist_warm *sw, double *r,
                        double *Jr)
 {
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6];
@@ -194,8 +194,9 @@ static int fa_replica(const hp_layout *L, const hp_geom *G, hp_level lv, const d
                       double xe[6], int *accepted)
 {
     int n = L->n, it = 0, done = 0;
-    double x[6], r[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], sw[HP_MAX_BLADDERS], cost = 0.0;
-    for (int k = 0; k < n; ++k) sw[k] = NAN;
+    double x[6], r[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], cost = 0.0;
+    hp_kin_dist_warm sw[HP_MAX_BLADDERS];
+    hp_kin_dist_warm_cold(sw, n);
     memcpy(x, xs, sizeof x);
     if (fa_residual(L, G, lv, tg, x, nf, col, sw, r, J) != 0) return -1;
     for (int k = 0; k < n; ++k) cost += r[k] * r[k];
@@ -294,8 +295,9 @@ static void test_certificate_promise(void **state)
                 /* any budget: the certificate itself must refuse one too short for the rest
                  * of the fit, noise-floor phase included (HP_KIN_FIT_STOP_MARGIN) */
                 int left = (int)kin_rng_uniform(&rng, 1, 200), form = t % 4 < 2;
-                double r[HP_MAX_BLADDERS], Jr[HP_MAX_BLADDERS * 6], A[36], sw[HP_MAX_BLADDERS];
-                for (int k = 0; k < n; ++k) sw[k] = NAN;
+                double r[HP_MAX_BLADDERS], Jr[HP_MAX_BLADDERS * 6], A[36];
+                hp_kin_dist_warm sw[HP_MAX_BLADDERS];
+                hp_kin_dist_warm_cold(sw, n);
                 if (fa_residual(&L, &G, (hp_level)lv, tg, x, nf, col, sw, r, Jr) != 0) continue;
                 fa_gram(n, nf, Jr, A);
                 double xs[6], lam_next = lam;
