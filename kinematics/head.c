@@ -58,11 +58,10 @@ double hp_kin_head_min_curvature_radius(const hp_head *h)
     return amin * amin / amax;
 }
 
-/* Hessian of a distance whose gradient is n = m/|m|: (I − n nᵀ)/|m| · Dm. */
-static void project_hessian(const double n[3], double mnorm, const double Dm[9],
-                            double hess[9])
+/* Hessian of a distance whose gradient is n = m/|m|: (I − n nᵀ)/|m| · Dm (im = 1/|m|). */
+static void project_hessian(const double n[3], double im, const double Dm[9], double hess[9])
 {
-    double P[9], T[9], im = 1.0 / mnorm;
+    double P[9], T[9];
     for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) P[i * 3 + j] = ((i == j) - n[i] * n[j]) * im;
     for (int i = 0; i < 3; ++i)
@@ -91,7 +90,7 @@ static hp_error sphere_distance(const hp_head *h, const double y[3], double *d,
         for (int i = 0; i < 3; ++i) foot[i] = h->center[i] + r * n[i];
     if (hess) {
         const double I[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-        project_hessian(n, len, I, hess);
+        project_hessian(n, 1.0 / len, I, hess);
     }
     return HP_OK;
 }
@@ -206,37 +205,34 @@ static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, con
         m[i] = y[i] / (e2 * (r[i] + s)); /* x_i/a_i²: the unnormalised outward normal */
     double mn = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
     if (!(mn > 0)) return HP_ERR_DOMAIN;
+    double n[3] = {m[0] / mn, m[1] / mn, m[2] / mn};
+    *d = t * mn;
+    if (grad) memcpy(grad, n, sizeof n);
+    if (!ws && !hess && !foot) return HP_OK;
+    /* The closest point x = a²∘m, w_i = x_i/(a_i² + t), v_i = w_i/a_i² = m_i/(a_i² + t)
+     * and S = Σ x_i v_i, only when asked for (the distance and normal above do not depend
+     * on them). */
+    double x[3], w[3], v[3], id[3], S = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        id[i] = 1.0 / (e2 * (r[i] + s));
+        x[i] = e2 * r[i] * m[i];
+        w[i] = x[i] * id[i];
+        v[i] = m[i] * id[i];
+        S += x[i] * v[i];
+    }
+    double iS = 1.0 / S;
     if (ws) {
-        /* ∂s/∂y from G(s, y) = 0 (implicit function theorem): with id_i = 1/(a_i² + t),
-         * ∂s/∂y_i = r_i m_i id_i / (e² Σ_j r_j m_j² id_j), the Hessian's ∂t/∂y = w/S below
-         * over e². Off the answer's path: only the next evaluation waits for it. */
-        double u[3], den = 0.0;
-        for (int i = 0; i < 3; ++i) {
-            u[i] = r[i] * m[i] / (e2 * (r[i] + s));
-            den += u[i] * m[i];
-        }
-        double iden = 1.0 / (e2 * den);
+        /* ∂t/∂y = w/S (implicit differentiation of G(y, t) = 0), so ∂s/∂y = w/(e²·S) =
+         * r∘v/S. Off the answer's path: only the next evaluation waits for it. An S that
+         * underflowed leaves a non-finite gradient, and the next start falls back to s. */
         ws->s = s;
         ws->evals = evals;
         for (int i = 0; i < 3; ++i) {
             ws->y[i] = y[i];
-            ws->ds[i] = u[i] * iden;
+            ws->ds[i] = r[i] * v[i] * iS;
         }
     }
-    double n[3] = {m[0] / mn, m[1] / mn, m[2] / mn};
-    *d = t * mn;
-    if (grad) memcpy(grad, n, sizeof n);
     if (!hess && !foot) return HP_OK;
-    /* The closest point x and what the Hessian needs, only when asked for (the distance
-     * and normal above do not depend on them). */
-    double x[3], w[3], v[3], id[3], S = 0.0;
-    for (int i = 0; i < 3; ++i) {
-        id[i] = 1.0 / (e2 * (r[i] + s)); /* 1/(a_i² + t), a_i² + t > 0 */
-        x[i] = y[i] * (r[i] / (r[i] + s));
-        w[i] = x[i] * id[i];
-        v[i] = w[i] / (a[i] * a[i]);
-        S += x[i] * v[i];
-    }
     /* S = Σ x_i²/(a_i²(a_i² + t)) > 0 wherever m ≠ 0 unless it underflows (the Hessian
      * divides by it). */
     if (!(S > 0)) return HP_ERR_DOMAIN;
@@ -245,11 +241,11 @@ static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, con
     if (hess) {
         /* ∂m/∂y = diag(1/(a²+t)) − v wᵀ/S, from implicit differentiation of G(y, t) = 0:
          * ∂t/∂y = w/S, ∂x/∂y = diag(a²/(a²+t)) − w wᵀ/S. */
-        double Dm[9], iS = 1.0 / S;
+        double Dm[9];
         for (int i = 0; i < 3; ++i)
             for (int j = 0; j < 3; ++j)
                 Dm[i * 3 + j] = (i == j ? id[i] : 0.0) - v[i] * w[j] * iS;
-        project_hessian(n, mn, Dm, hess);
+        project_hessian(n, 1.0 / mn, Dm, hess);
     }
     return HP_OK;
 }
