@@ -271,6 +271,120 @@ static void test_warm_start(void **state)
     }
 }
 
+/* The root's own uncertainty at the warm answer's s (the bound of test_long_double_reference
+ * below): Q is evaluated to a few ε, so s is defined to 8ε/|Q'(s)|, besides the iteration's
+ * resolution 2ε·max(1, |s|) that either solve may stop anywhere within (twice: two solves). */
+static double root_spread(const hp_head *h, const double q[3], double s)
+{
+    const double eps = 2.220446049250313e-16, *a = h->semi_axes;
+    double e = fmin(a[0], fmin(a[1], a[2])), dQ = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        double rk = (a[k] / e) * (a[k] / e), zk = fabs(q[k] - h->center[k]) / a[k];
+        double qk = rk * zk / (rk + s);
+        dQ += 2.0 * qk * qk / (rk + s);
+    }
+    return 2.0 * (8.0 * eps / dQ + 4.0 * eps * fmax(1.0, fabs(s)));
+}
+
+/* The predicted warm start (s + ∂s/∂y·(y − y_w)) along walks like a solver's: from 300
+ * seeded points (outside at 0.1..60 mm, 30 inside) around a head of axis ratio 1:1.5 and
+ * one of 1:10, 40 steps each of a random length log-uniform in 1e-10..1e-3 m, every point
+ * evaluated with the state the last one left (distance, normal, Hessian) and cold. Agreement:
+ * the multipliers within the root's own spread (root_spread: both solves stop anywhere
+ * inside it), the distance within that spread times ∂d/∂s <= e·√3·(1 + |s|/(1 + s)) (the
+ * long-double test's bound) plus 4 ulps of its final rounding, the normal within
+ * 2/(1 + s) times the spread plus 8ε, the Hessian 1e-12 relative as test_warm_start. The
+ * path: every step up to 2e-3 of the smallest radius of curvature ρ (0.1 mm on the first
+ * head, 4 µm on the second) takes one evaluation of Q (the predicted start is off by about
+ * (h/ρ)², the third-order step by the cube of that); over all steps the predicted starts take
+ * fewer evaluations than the same walks started from the multiplier alone (∂s/∂y = 0).
+ * Then a far jump (the next walk's start with the last walk's state) and deliberately bad
+ * states (wrong y, gradients of ±1e6 and NaN, an infinite multiplier) agree with the cold
+ * solve the same way. */
+static void check_warm_vs_cold(const hp_head *h, const double q[3], hp_kin_dist_warm *w,
+                               double *worst)
+{
+    double d, g[3], H[9], dc, gc[3], Hc[9];
+    assert_int_equal(hp_kin_head_distance_warm(h, q, w, &d, g, H, NULL), HP_OK);
+    hp_kin_dist_warm c;
+    hp_kin_dist_warm_cold(&c, 1);
+    assert_int_equal(hp_kin_head_distance_warm(h, q, &c, &dc, gc, Hc, NULL), HP_OK);
+    const double eps = 2.220446049250313e-16, *a = h->semi_axes;
+    double e = fmin(a[0], fmin(a[1], a[2])), sp = root_spread(h, q, c.s);
+    double bd = sp * e * 1.7320508 * (1.0 + fabs(c.s) / (1.0 + c.s)) + 4.0 * eps * fabs(dc);
+    double bs = sp, bg = sp * 2.0 / (1.0 + c.s) + 8.0 * eps;
+    if (!(fabs(w->s - c.s) <= bs && fabs(d - dc) <= bd))
+        fail_msg("warm s %.17g d %.17g, cold s %.17g d %.17g (bounds %.3g, %.3g)", w->s, d, c.s,
+                 dc, bs, bd);
+    worst[0] = fmax(worst[0], fabs(d - dc) / bd);
+    worst[1] = fmax(worst[1], fabs(d - dc));
+    for (int k = 0; k < 3; ++k) assert_true(fabs(g[k] - gc[k]) <= bg);
+    for (int k = 0; k < 9; ++k) assert_true(fabs(H[k] - Hc[k]) <= 1e-12 * (1.0 + fabs(Hc[k])));
+}
+
+static void test_warm_predictor(void **state)
+{
+    (void)state;
+    const double heads[2][3] = {{0.0775, 0.115, 0.0975}, {0.02, 0.2, 0.1}};
+    kin_rng rng = {404};
+    long ev_pred = 0, ev_mult = 0, small = 0;
+    double worst[2] = {0, 0};
+    for (int hc = 0; hc < 2; ++hc) {
+        hp_head h = ellipsoid(heads[hc][0], heads[hc][1], heads[hc][2]);
+        h.center[0] = 0.004;
+        hp_kin_dist_warm w, wm;
+        hp_kin_dist_warm_cold(&w, 1);
+        double hsmall = 2e-3 * hp_kin_head_min_curvature_radius(&h);
+        for (int i = 0; i < 150; ++i) {
+            double q[3];
+            kin_rng_vec3(&rng, 1.0, q);
+            double sc = i % 10 == 9 ? 0.9 : 1.0;
+            for (int k = 0; k < 3; ++k) q[k] = h.center[k] + q[k] * h.semi_axes[k] * sc;
+            if (sc == 1.0) {
+                double d0, g0[3], off = exp(kin_rng_uniform(&rng, log(1e-4), log(0.06)));
+                assert_int_equal(hp_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
+                for (int k = 0; k < 3; ++k) q[k] += off * g0[k];
+            }
+            /* The far jump: w still holds the last walk's end. */
+            check_warm_vs_cold(&h, q, &w, worst);
+            wm = w;
+            for (int st = 0; st < 40; ++st) {
+                double dir[3], len = exp(kin_rng_uniform(&rng, log(1e-10), log(1e-3)));
+                kin_rng_vec3(&rng, 1.0, dir);
+                for (int k = 0; k < 3; ++k) q[k] += len * dir[k];
+                check_warm_vs_cold(&h, q, &w, worst);
+                ev_pred += w.evals;
+                if (len <= hsmall) {
+                    ++small;
+                    if (w.evals != 1)
+                        fail_msg("head %d walk %d step %d (%.3g m): %d evaluations", hc, i, st,
+                                 len, w.evals);
+                }
+                double dm;
+                wm.ds[0] = wm.ds[1] = wm.ds[2] = 0.0; /* the multiplier alone */
+                assert_int_equal(hp_kin_head_distance_warm(&h, q, &wm, &dm, NULL, NULL, NULL),
+                                 HP_OK);
+                ev_mult += wm.evals;
+            }
+            /* Bad states at the walk's end point. */
+            for (int b = 0; b < 5; ++b) {
+                hp_kin_dist_warm bad = w;
+                if (b == 0) bad.y[b % 3] += 0.05;
+                if (b == 1) bad.ds[0] = 1e6;
+                if (b == 2) bad.ds[1] = -1e6;
+                if (b == 3) bad.ds[2] = NAN;
+                if (b == 4) bad.s = INFINITY;
+                check_warm_vs_cold(&h, q, &bad, worst);
+            }
+        }
+    }
+    print_message("warm predictor: %ld evaluations predicted, %ld from the multiplier alone "
+                  "(%ld steps <= 2e-3 of the smallest curvature radius, all one evaluation); worst distance difference %.2f of "
+                  "its bound, %.2g m\n",
+                  ev_pred, ev_mult, small, worst[0], worst[1]);
+    assert_true(ev_pred < ev_mult);
+}
+
 /* The distance against an independent long-double reference: the root t of
  * G(t) = Σ (a_i y_i/(a_i² + t))² − 1 on (−a_min², ∞) by bisection down to adjacent long
  * doubles (64-bit significand, ε = 1.1e-19), then x_i = a_i² y_i/(a_i² + t),
@@ -406,6 +520,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_axes_and_far),
+        cmocka_unit_test(test_warm_predictor),
         cmocka_unit_test(test_near_sphere),
         cmocka_unit_test(test_derivatives),
         cmocka_unit_test(test_warm_start),
