@@ -13,10 +13,10 @@
 typedef struct hp_kin_fit_start {
     double rho[HP_MAX_BLADDERS];     /* contact distances at x0 [m] */
     double J[HP_MAX_BLADDERS * 6];   /* their Jacobian (n×6, row-major) */
-    hp_kin_dist_warm w[HP_MAX_BLADDERS]; /* the surface level's distances' warm states at x0 */
     double A[6][6];                  /* JᵀJ of all six columns, each entry summed over the
                                         rows in order as the fit sums it: any free subset's
                                         normal matrix is a sub-block of it, bit for bit */
+    hp_kin_dist_warm w[HP_MAX_BLADDERS]; /* the surface level's distances' warm states at x0 */
 } hp_kin_fit_start;
 
 /* Fills st at pose x0 (finite) for level. HP_OK or hp_contact_eval's error. */
