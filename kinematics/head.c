@@ -174,7 +174,7 @@ static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, con
                 double dn = -2.0 * (Q * Q) * (sqrt(Q) - 1.0) * R;
                 double c = 0.5 * (d2Q * Q - 1.5 * dQ * dQ) * R, cd = c * dn;
                 if (fabs(cd) <= 0.25) {
-                    double c3 = (3.75 * qq * qq - 4.5 * d2Q * dQ * R + d3Q * Q * R) / 6.0;
+                    double c3 = (3.75 * qq * qq - 4.5 * d2Q * dQ * R + d3Q * Q * R) * (1.0 / 6.0);
                     sn = s + (dn - cd * dn);
                     est = fabs((2.0 * c * c - c3) * dn * dn * dn);
                 } else {
