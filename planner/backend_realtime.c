@@ -17,6 +17,7 @@
 #include <float.h>
 #include <math.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -134,6 +135,29 @@ static void rt_inject(const rt_state *st, int n, double *rho)
     int f = atomic_load(&rt_fault);
     if (f == HP_TEST_FAULT_NAN_CONTACT || (f == HP_TEST_FAULT_NAN_CONTACT_LATE && st->qps > 0))
         for (int k = 0; k < n; ++k) rho[k] = NAN;
+}
+
+/* 1 when the n doubles at a and b have the same bits (memcmp's answer: a point is "the same"
+ * only when it is, and −0 is not 0). Inline: these compare six numbers a few times a step,
+ * where a library memcmp's call cost more than the comparison (~1 % of a plan, perf). */
+static inline int same_bits(const double *a, const double *b, int n)
+{
+    uint64_t d = 0;
+    for (int i = 0; i < n; ++i) {
+        uint64_t u, v;
+        memcpy(&u, &a[i], sizeof u);
+        memcpy(&v, &b[i], sizeof v);
+        d |= u ^ v;
+    }
+    return d == 0;
+}
+
+/* 1 when two QP active sets (HP_QP_MMAX flags) are equal. */
+static inline int same_set(const int *a, const int *b)
+{
+    int d = 0;
+    for (int j = 0; j < HP_QP_MMAX; ++j) d |= a[j] ^ b[j];
+    return d == 0;
 }
 
 static double now_s(void)
@@ -357,7 +381,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     int curved = pb->level != HP_LEVEL_LINEAR && st->have_u;
     int at_zero = !curved && st->z_ok;
     for (int i = 0; i < 6; ++i) at_zero &= xk[i] == 0.0;
-    if (st->c_ok && memcmp(st->c_x, xk, sizeof st->c_x) == 0) {
+    if (st->c_ok && same_bits(st->c_x, xk, 6)) {
         memcpy(st->rho, st->c_rho, sizeof st->rho);
         /* The trial evaluation's J and Hessians become the current ones (its Hessians are
          * those of the bladders with a multiplier, the same st->u that build_objective
@@ -444,7 +468,7 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
 {
     if (viol) /* every entry is written, even when a non-finite rho ends the scan */
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
-    if (st->c_ok && memcmp(st->c_x, x, sizeof st->c_x) == 0) /* the line search's point */
+    if (st->c_ok && same_bits(st->c_x, x, 6)) /* the line search's point */
         memcpy(st->rho, st->c_rho, sizeof st->rho);
     else if (rt_contact(st, pb, x, st->rho, NULL, NULL, NULL) != HP_OK)
         return INFINITY;
@@ -630,7 +654,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
      * the first QP is a Newton step with that answer's multipliers, and the distances start
      * from theirs; along a trace the answer moves little and its active set rarely. */
     int warm = st->accepted && st->have_u && pb->level != HP_LEVEL_LINEAR && x0 &&
-               memcmp(x0, st->x_last, sizeof st->x_last) == 0;
+               same_bits(x0, st->x_last, 6);
     st->accepted = 0;
     if (!warm) {
         st->have_u = 0;
@@ -681,14 +705,14 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
             memcpy(xa, xk, sizeof xa); /* where rho_k and J were evaluated */
             memcpy(xk, xn, sizeof xk);
         }
-        int same_active = memcmp(st->act, st->qp.active, sizeof st->act) == 0;
+        int same_active = same_set(st->act, st->qp.active);
         memcpy(st->act, st->qp.active, sizeof st->act);
         /* The accepted point inside the true limits: measured when the line search
          * evaluated it, else a step below RT_FULL_STEP, whose linearisation error ½κ·step²
          * (κ <= ~0.1 mm per mm² or deg²) is far below the margin. What a longer step leaves
          * of the curved limits' violation does not follow the pose's Newton rate and can
          * exceed the margin (a stop there was restored and labelled iteration-limit). */
-        int measured = st->c_ok && memcmp(st->c_x, xk, sizeof st->c_x) == 0;
+        int measured = st->c_ok && same_bits(st->c_x, xk, 6);
         int inside = measured || step <= RT_FULL_STEP;
         for (int k = 0; measured && inside && k < pb->n; ++k)
             inside = st->c_rho[k] >= pb->ro_lo[k] && st->c_rho[k] <= pb->ro_hi[k];
