@@ -11,34 +11,33 @@ set ylabel "max pose difference from Ipopt (exact Hessian, tolerance 1e-10) [mm 
 set title "Peers on the same NLP (linear contact level, default layout, binding targets)\n{/*0.8 Errors below 1e-17 (exact zeros included) are drawn at 1e-17.}\n{/*0.8 Thick dashed: Pareto front among the methods run on the baseline's inputs; thin dotted: front of each series.}"
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
-set yrange [floor / 4 : 5.81e-05]
-set xrange [* : 1.00411e+08]
+set yrange [floor / 4 : 7.87e-05]
+set xrange [* : 7.13437e+07]
 
 $front << EOD
-2354,3.161602e-10,realtime-linear
-6.41031e+06,1.000000e-17,ipopt-exact-linear
-1.00411e+08,1.000000e-17,end
+1223,3.161592e-10,realtime-linear
+5.29822e+06,1.000000e-17,ipopt-exact-linear
+7.13437e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-6.41031e+06,1.000000e-17,ipopt-exact-linear
-1.00411e+08,1.000000e-17,end
+5.29822e+06,1.000000e-17,ipopt-exact-linear
+7.13437e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-3.17017e+07,1.335134e-09,ipopt-lbfgs-surface
-3.34705e+07,9.654794e-10,ipopt-lbfgs-linear
-1.00411e+08,9.654794e-10,end
+2.36696e+07,9.654773e-10,ipopt-lbfgs-linear
+7.13437e+07,9.654773e-10,end
 EOD
 
 $front3 << EOD
-2354,3.161602e-10,realtime-linear
-1.00411e+08,3.161602e-10,end
+1223,3.161592e-10,realtime-linear
+7.13437e+07,3.161592e-10,end
 EOD
 
 $front4 << EOD
-2.54901e+06,3.948884e-07,scipy-slsqp
-1.00411e+08,3.948884e-07,end
+636086,3.948884e-07,scipy-slsqp
+7.13437e+07,3.948884e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {

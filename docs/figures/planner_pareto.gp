@@ -12,50 +12,51 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 2.0762e+07]
+set xrange [* : 1.58904e+07]
 
 $front << EOD
-2348.25,4.646568e-01,realtime-linear-1e-09
-10620,1.355025e-10,realtime-surface-1e-09
-6.6184e+06,1.000000e-17,ipopt-surface-1e-04
-2.0762e+07,1.000000e-17,end
+1116.56,4.646568e-01,realtime-linear-1e-09
+4819,1.355203e-10,realtime-surface-1e-09
+4.93615e+06,1.000000e-17,ipopt-surface-1e-04
+1.58904e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-969.8,4.936830e-03,fastpath-linear
-5370,1.000000e-17,fastpath-surface
-2.0762e+07,1.000000e-17,end
+514,4.936830e-03,fastpath-linear
+3206,1.000000e-17,fastpath-surface
+1.58904e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-2058.36,9.238732e-02,trace-realtime-linear
-7950,3.417473e-08,trace-realtime-surface
-2.0762e+07,3.417473e-08,end
+1106.38,9.238732e-02,trace-realtime-linear
+3600.8,3.417474e-08,trace-realtime-surface
+1.58904e+07,3.417474e-08,end
 EOD
 
 $front3 << EOD
-2348.25,4.646568e-01,realtime-linear-1e-09
-10620,1.355025e-10,realtime-surface-1e-09
-2.0762e+07,1.355025e-10,end
+1116.56,4.646568e-01,realtime-linear-1e-09
+4819,1.355203e-10,realtime-surface-1e-09
+1.58904e+07,1.355203e-10,end
 EOD
 
 $front4 << EOD
-6.55851e+06,1.571590e+00,ipopt-plane-1e-09
-6.6184e+06,1.000000e-17,ipopt-surface-1e-04
-2.0762e+07,1.000000e-17,end
+4.85595e+06,1.571590e+00,ipopt-plane-1e-09
+4.90576e+06,4.646568e-01,ipopt-linear-1e-09
+4.93615e+06,1.000000e-17,ipopt-surface-1e-04
+1.58904e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-159728,4.646546e-01,nlopt-slsqp-linear-1e-04
-241852,1.324757e-05,nlopt-slsqp-surface-1e-09
-2.0762e+07,1.324757e-05,end
+57469,4.646546e-01,nlopt-slsqp-linear-1e-04
+89229,1.324757e-05,nlopt-slsqp-surface-1e-09
+1.58904e+07,1.324757e-05,end
 EOD
 
 $front6 << EOD
-395979,4.646758e-01,nlopt-cobyla-linear-1e-04
-603026,1.543974e-04,nlopt-cobyla-surface-1e-04
-1.14344e+06,6.093562e-07,nlopt-cobyla-surface-1e-09
-2.0762e+07,6.093562e-07,end
+160952,4.646880e-01,nlopt-cobyla-linear-1e-04
+290879,1.441641e-04,nlopt-cobyla-surface-1e-04
+529368,5.181534e-07,nlopt-cobyla-surface-1e-09
+1.58904e+07,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
