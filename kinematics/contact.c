@@ -235,6 +235,19 @@ static inline void jacobian_row(const rotd *rd, const backmap *bm, const double 
         }
 }
 
+/* Bladder k's Jacobian row (J may be NULL) and Hessian (H may be NULL: not wanted) from its
+ * distance's gradient g and, at the surface level, the distance's own Hessian hf (NULL at
+ * the plane level). */
+static inline void derivative_rows(const rotd *rd, const backmap *bm, const double g[3],
+                                   const double *hf, int k, double *J, double *H)
+{
+    if (!J && !H) return;
+    /* R·g: the translation columns of J negated, and three of the Hessian's contractions. */
+    double Rg[3];
+    jacobian_row(rd, bm, g, Rg, J ? J + 6 * k : NULL);
+    if (H) contact_hessian(rd, bm, g, Rg, hf, H + k * 36);
+}
+
 /* The direct chain's evaluation (hp_kin_contact_inside): distances only, stopping at the
  * first bladder outside stop's bounds (stop->inside = 0). At the linear level in index
  * order (the evaluation is the prediction); at the plane level too (a plane distance costs
@@ -323,25 +336,29 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
      * neither the rotation's derivatives nor ∂c'/∂θ. */
     int derivs = J || H;
     hp_kin_rotation_roll(xi + 3, rd.R, derivs ? rd.Dr : NULL, any_h ? rd.Drr : NULL);
+    /* At the surface level, two passes: every bladder's distance first, then the
+     * derivative rows. Its root finds are chains of divisions and square roots; back to
+     * back, with no row assembly between them, the processor overlaps one bladder's chain
+     * with the next one's (binding surface plans ~3 % faster, the same bits). A plane
+     * distance is a dot product with nothing to overlap: one pass. */
+    int split = level == HP_LEVEL_SURFACE;
+    backmap bm[HP_MAX_BLADDERS];
+    double g[HP_MAX_BLADDERS][3], hf[HP_MAX_BLADDERS][9];
     for (int k = 0; k < L->n; ++k) {
         int want_h = H && (!hmask || hmask[k]);
-        backmap bm;
-        double f, g[3], hf[9];
-        e = bladder_distance(L, G, level, xi, &rd, derivs, k, warm ? &warm[k] : NULL, &bm,
-                             &f, g, want_h ? hf : NULL);
+        double f;
+        e = bladder_distance(L, G, level, xi, &rd, derivs, k, warm ? &warm[k] : NULL, &bm[k],
+                             &f, g[k], want_h ? hf[k] : NULL);
         if (e) {
             fill_nan(L->n, rho, J, H);
             return e;
         }
         if (rho) rho[k] = f;
-        if (!J && !want_h) continue;
-        /* R·g: the translation columns of J negated, and three of the Hessian's
-         * contractions. */
-        double Rg[3];
-        jacobian_row(&rd, &bm, g, Rg, J ? J + 6 * k : NULL);
-        if (want_h)
-            contact_hessian(&rd, &bm, g, Rg, level == HP_LEVEL_SURFACE ? hf : NULL, H + k * 36);
+        if (!split) derivative_rows(&rd, &bm[k], g[k], NULL, k, J, want_h ? H : NULL);
     }
+    if (split && (J || H))
+        for (int k = 0; k < L->n; ++k)
+            derivative_rows(&rd, &bm[k], g[k], hf[k], k, J, H && (!hmask || hmask[k]) ? H : NULL);
     return HP_OK;
 }
 
