@@ -29,19 +29,26 @@ int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho
     *clamp_mm = 0;
     if (rho_known) memcpy(rho, rho_known, sizeof(double) * (size_t)p->L.n);
     else if (hp_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
+    /* Every bladder's inner radius first, then the pressures: each half is a chain of
+     * roots and divisions, and back to back the processor overlaps one bladder's chain with
+     * the next one's (the same bits as one pass). */
+    double ri[HP_MAX_BLADDERS];
+    int clamped[HP_MAX_BLADDERS];
+    for (int k = 0; k < p->L.n; ++k)
+        if (hp_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
+                                  p->pb.ri_hi_si[k], &ri[k], &clamped[k]) != HP_OK)
+            return 0;
     for (int k = 0; k < p->L.n; ++k) {
         const hp_bladder *B = &p->L.bladders[k];
-        double ri_lo = p->pb.ri_lo_si[k], ri_hi = p->pb.ri_hi_si[k];
         double plo = p->sb.p_lo[k], phi = p->sb.p_hi[k];
         if (p->s.use_rate_limits && isfinite(B->rate_max)) {
             plo = fmax(plo, p->prev.bladders[k].pressure - B->rate_max);
             phi = fmin(phi, p->prev.bladders[k].pressure + B->rate_max);
         }
-        int c = 0;
+        int c = clamped[k];
         hp_bladder_result *br = &res->bladders[k];
-        if (hp_setup_bladder_from_ro_s(B, &p->sb.iab_s[k], rho[k] / HP_MM_PER_M, ri_lo, ri_hi,
-                                       plo, phi, br, &c) !=
-            HP_OK)
+        if (hp_setup_bladder_from_ri_s(B, &p->sb.iab_s[k], rho[k] / HP_MM_PER_M, ri[k], c, plo,
+                                       phi, br) != HP_OK)
             return 0;
         if (c) *clamp_mm = fmax(*clamp_mm, fabs(br->ro * HP_MM_PER_M - rho[k]));
         double ro_mm = br->ro * HP_MM_PER_M;

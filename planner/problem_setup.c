@@ -223,27 +223,35 @@ hp_error hp_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, 
     return hp_setup_bladder_from_ro_s(B, &s, ro, ri_lo, ri_hi, p_lo, p_hi, out, clamped);
 }
 
-hp_error hp_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
-                                    double ri_lo, double ri_hi, double p_lo, double p_hi,
-                                    hp_bladder_result *out, int *clamped)
+hp_error hp_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, double ri_hi,
+                               double *ri_out, int *clamped)
 {
-    double ri, P;
+    double ri;
     int c = 0;
     if (!isfinite(ro)) return HP_ERR_INVALID;
     /* The model on the bladder validated once (hp_iab_ri, hp_iab_ro and hp_iab_ik after
      * their validation: the same bits). */
-    hp_error e = hp_iab_s_ri_m(s, ro, &ri);
-    if (e != HP_OK) {
+    if (hp_iab_s_ri_m(s, ro, &ri) != HP_OK) {
         ri = ri_lo; /* collapsed cavity: the lower bound is the nearest valid radius */
         c = 1;
     }
     if (ri < ri_lo) { ri = ri_lo; c = 1; }
     if (ri > ri_hi) { ri = ri_hi; c = 1; }
+    *ri_out = ri;
+    *clamped = c;
+    return HP_OK;
+}
+
+hp_error hp_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, double ro,
+                                    double ri, int clamped, double p_lo, double p_hi,
+                                    hp_bladder_result *out)
+{
+    double P;
     /* A clamped ri: its pressure and outer radius from one evaluation. Else ro is the outer
      * radius of ri to a few ulps (ri was solved from it): the pressure's own outer radius
      * starts there (the same bits as hp_iab_s_ik_m but within ~1e-7 ulp of a rounding
      * midpoint). */
-    e = c ? hp_iab_s_ik_ro_m(s, ri, &P, &ro) : hp_iab_s_ik_near_m(s, ri, ro, &P);
+    hp_error e = clamped ? hp_iab_s_ik_ro_m(s, ri, &P, &ro) : hp_iab_s_ik_near_m(s, ri, ro, &P);
     if (e != HP_OK || !isfinite(P)) return HP_ERR_DOMAIN;
     if (P < p_lo) P = p_lo;
     if (P > p_hi) P = p_hi;
@@ -252,6 +260,17 @@ hp_error hp_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, doub
     out->pressure = P;
     out->stretch = ri / B->iab.Ri;
     out->binding = 0;
-    if (clamped) *clamped = c;
     return HP_OK;
+}
+
+hp_error hp_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
+                                    double ri_lo, double ri_hi, double p_lo, double p_hi,
+                                    hp_bladder_result *out, int *clamped)
+{
+    double ri;
+    int c;
+    hp_error e = hp_setup_ri_from_ro_s(s, ro, ri_lo, ri_hi, &ri, &c);
+    if (e == HP_OK) e = hp_setup_bladder_from_ri_s(B, s, ro, ri, c, p_lo, p_hi, out);
+    if (e == HP_OK && clamped) *clamped = c;
+    return e;
 }

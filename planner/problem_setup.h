@@ -70,5 +70,14 @@ hp_error hp_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, 
 hp_error hp_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
                                     double ri_lo, double ri_hi, double p_lo, double p_hi,
                                     hp_bladder_result *out, int *clamped);
+/* Its two halves, for a caller that runs each over every bladder in turn (several
+ * bladders' chains of divisions and roots then overlap): the inner radius ri of ro, moved
+ * into [ri_lo, ri_hi] (*clamped 1 when moved; HP_ERR_INVALID for a non-finite ro), then
+ * the state from ro, that ri and that flag. The same codes and bits as the whole. */
+hp_error hp_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, double ri_hi,
+                               double *ri, int *clamped);
+hp_error hp_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, double ro,
+                                    double ri, int clamped, double p_lo, double p_hi,
+                                    hp_bladder_result *out);
 
 #endif
