@@ -336,14 +336,38 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
      * neither the rotation's derivatives nor ∂c'/∂θ. */
     int derivs = J || H;
     hp_kin_rotation_roll(xi + 3, rd.R, derivs ? rd.Dr : NULL, any_h ? rd.Drr : NULL);
-    /* At the surface level, two passes: every bladder's distance first, then the
-     * derivative rows. Its root finds are chains of divisions and square roots; back to
-     * back, with no row assembly between them, the processor overlaps one bladder's chain
-     * with the next one's (binding surface plans ~3 % faster, the same bits). A plane
-     * distance is a dot product with nothing to overlap: one pass. */
+    /* At the surface level, in passes: every bladder's back transform, then the distances
+     * with their root finds side by side (hp_kin_head_distances: a step of each bladder's
+     * chain of divisions and square roots in turn, so the processor overlaps the chains),
+     * then the derivative rows. The same bits as one bladder after another; binding
+     * surface plans ~3 % faster for the passes, ~2 % more for the root finds side by
+     * side. A plane distance is a dot product with nothing to overlap: one pass. */
     int split = level == HP_LEVEL_SURFACE;
     backmap bm[HP_MAX_BLADDERS];
     double g[HP_MAX_BLADDERS][3], hf[HP_MAX_BLADDERS][9];
+    if (split) {
+        /* Every bladder's back transform, then the distances side by side
+         * (hp_kin_head_distances), then the derivative rows. */
+        double cp[HP_MAX_BLADDERS][3], f[HP_MAX_BLADDERS];
+        unsigned char want[HP_MAX_BLADDERS];
+        int bad;
+        for (int k = 0; k < L->n; ++k) {
+            back_transform(L, G->arm[k], xi, &rd, derivs, &bm[k]);
+            memcpy(cp[k], bm[k].cp, sizeof cp[k]);
+            want[k] = H && (!hmask || hmask[k]);
+        }
+        e = hp_kin_head_distances(&G->head, &G->headk, L->n, (const double(*)[3])cp, warm, f, g,
+                                  H ? hf : NULL, want, &bad);
+        if (e) {
+            fill_nan(L->n, rho, J, H);
+            return e;
+        }
+        if (rho) memcpy(rho, f, sizeof(double) * (size_t)L->n);
+        if (J || H)
+            for (int k = 0; k < L->n; ++k)
+                derivative_rows(&rd, &bm[k], g[k], hf[k], k, J, want[k] ? H : NULL);
+        return HP_OK;
+    }
     for (int k = 0; k < L->n; ++k) {
         int want_h = H && (!hmask || hmask[k]);
         double f;
@@ -354,11 +378,8 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
             return e;
         }
         if (rho) rho[k] = f;
-        if (!split) derivative_rows(&rd, &bm[k], g[k], NULL, k, J, want_h ? H : NULL);
+        derivative_rows(&rd, &bm[k], g[k], NULL, k, J, want_h ? H : NULL);
     }
-    if (split && (J || H))
-        for (int k = 0; k < L->n; ++k)
-            derivative_rows(&rd, &bm[k], g[k], hf[k], k, J, H && (!hmask || hmask[k]) ? H : NULL);
     return HP_OK;
 }
 

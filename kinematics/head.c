@@ -7,6 +7,9 @@
 #include <math.h>
 #include <string.h>
 
+/* The root find's budget of steps (it ends in one to four; the bracket bounds it). */
+#define ELL_MAX_STEPS 200
+
 const char *hp_head_shape_name(hp_head_shape s)
 {
     switch (s) {
@@ -95,32 +98,30 @@ static hp_error sphere_distance(const hp_head *h, const double y[3], double *d,
     return HP_OK;
 }
 
-/* The ellipsoid sum(x_i²/a_i²) = 1. The closest point is x_i = a_i² y_i/(a_i² + t) where t
- * is the root of G(t) = Σ (a_i y_i/(a_i² + t))² − 1 with t > −a_min² (Lagrange multiplier;
- * the signed distance is t·|x/a²|). In the scaled variable s = t/e², e = a_min,
- * r_i = (a_i/e)² >= 1 and z_i = |y_i|/a_i (the first octant; symmetry restores the signs),
- * G(s) = Σ (r_i z_i/(r_i + s))² − 1 is decreasing on s > −1 with one root there; a
- * bracket [lo, hi] guards the Newton iteration below against rounding.
- * Left bound: the term j alone reaches 1 at s = r_j(z_j − 1), so G >= 0 at the largest of
- * these (and at 0 outside). Right bound outside: G <= |r∘z|²/(1 + s)² − 1 <= 0 at
- * s = |r∘z| − 1. Inside, s <= 0. Points on an axis or on equal axes need no special case. */
-static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, const double y[3],
-                                   hp_kin_dist_warm *ws, double *d, double grad[3], double hess[9],
-                                   double foot[3])
+/* One point's root find in progress (ellipsoid_distance; hp_kin_head_distances runs several
+ * side by side): the point y (head frame), z = |y|/a, r∘z, the bracket and the iterate. */
+typedef struct ell_pt {
+    double y[3], z[3], rz[3], lo, hi, s;
+    int evals, running;
+} ell_pt;
+
+/* The bracket and the start of the root find at y (see ellipsoid_distance). */
+static hp_error ell_setup(const hp_head *h, const hp_kin_head_k *k, const double y[3],
+                          const hp_kin_dist_warm *ws, ell_pt *p)
 {
     const double *a = h->semi_axes, *r = k->r;
-    double e = k->e, e2 = k->e2;
-    double z[3], rz[3], g0 = -1.0;
+    double g0 = -1.0;
     for (int i = 0; i < 3; ++i) {
-        z[i] = fabs(y[i]) / a[i];
-        rz[i] = r[i] * z[i];
-        g0 += z[i] * z[i];
+        p->y[i] = y[i];
+        p->z[i] = fabs(y[i]) / a[i];
+        p->rz[i] = r[i] * p->z[i];
+        g0 += p->z[i] * p->z[i];
     }
     double lo = -1.0, hi;
-    for (int i = 0; i < 3; ++i) lo = hp_max2(lo, r[i] * (z[i] - 1.0));
+    for (int i = 0; i < 3; ++i) lo = hp_max2(lo, r[i] * (p->z[i] - 1.0));
     if (g0 > 0) {
         lo = hp_max2(lo, 0.0);
-        hi = sqrt(rz[0] * rz[0] + rz[1] * rz[1] + rz[2] * rz[2]) - 1.0;
+        hi = sqrt(p->rz[0] * p->rz[0] + p->rz[1] * p->rz[1] + p->rz[2] * p->rz[2]) - 1.0;
         if (hi < lo) hi = lo;
     } else {
         /* Deep inside, near the set of centres of curvature, the distance is not smooth. */
@@ -128,13 +129,6 @@ static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, con
         hi = 0.0;
         if (lo > hi) lo = hi;
     }
-    /* Newton on ψ(s) = Q(s)^(-1/2) − 1, Q = G + 1: ψ is a power mean with exponent −2 of
-     * the affine (r_i + s)/(r_i z_i), hence concave and increasing, and exactly linear
-     * for a sphere; Newton from the left (ψ <= 0) climbs monotonically and converges in a
-     * few steps where Newton on G itself would crawl. Near the root (the correction below
-     * under a quarter of the step) each Newton step δ = −ψ/ψ' gets Chebyshev's correction
-     * −(ψ''/(2ψ'))·δ², third order instead of second for a few more multiplications: a
-     * start 1e-6 off (a warm start after a 0.1 mm move) then ends in one evaluation. */
     double s = g0 == 0.0 ? 0.0 : lo; /* exactly on the surface: t = 0 */
     /* Warm start: the multiplier at the previous point of the same bladder, moved to this
      * point to first order, s_w + ∂s/∂y·(y − y_w). The points a fit or an SQP evaluates one
@@ -149,56 +143,76 @@ static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, con
         if (sp > lo && sp < hi) s = sp;
         else if (ws->s > lo && ws->s < hi) s = ws->s;
     }
-    int evals = 0;
-    if (g0 != 0.0) {
-        for (int it = 0; it < 200; ++it) {
-            double Q = 0.0, dQ = 0.0, d2Q = 0.0, d3Q = 0.0;
-            ++evals;
-            for (int i = 0; i < 3; ++i) {
-                double inv = 1.0 / (r[i] + s); /* one division a term, not two */
-                double q2 = rz[i] * inv * (rz[i] * inv), q2i = q2 * inv, q2ii = q2i * inv;
-                Q += q2;
-                dQ -= 2.0 * q2i;
-                d2Q += 6.0 * q2ii;
-                d3Q -= 24.0 * q2ii * inv;
-            }
-            if (Q == 1.0) break;
-            if (Q > 1.0) lo = s; else hi = s;
-            /* est: the step's own error, Newton's |c|·δ² or Chebyshev's |2c² − c3|·|δ|³
-             * with c = ψ''/(2ψ') and c3 = ψ'''/(6ψ'), where ψ''/ψ' = Q''/Q' − 1.5·Q'/Q and
-             * ψ'''/ψ' = 3.75·(Q'/Q)² − 4.5·Q''/Q + Q'''/Q'. One division, 1/(Q'·Q), serves
-             * all of them and runs beside the square root. */
-            double sn, est = INFINITY;
-            if (dQ < 0) {
-                double R = 1.0 / (dQ * Q), qq = dQ * dQ * R; /* qq = Q'/Q */
-                double dn = -2.0 * (Q * Q) * (sqrt(Q) - 1.0) * R;
-                double c = 0.5 * (d2Q * Q - 1.5 * dQ * dQ) * R, cd = c * dn;
-                if (fabs(cd) <= 0.25) {
-                    double c3 = (3.75 * qq * qq - 4.5 * d2Q * dQ * R + d3Q * Q * R) * (1.0 / 6.0);
-                    sn = s + (dn - cd * dn);
-                    est = fabs((2.0 * c * c - c3) * dn * dn * dn);
-                } else {
-                    sn = s + dn;
-                    est = fabs(cd * dn);
-                }
-            } else {
-                sn = 0.5 * (lo + hi);
-            }
-            /* s enters only as r_i + s with r_i >= 1: absolute resolution 2ε·max(1,|s|). */
-            double res = 2.0 * DBL_EPSILON * hp_max2(1.0, fabs(s)), step = fabs(sn - s);
-            if (step <= res) break;
-            if (!(sn > lo && sn < hi)) {
-                sn = 0.5 * (lo + hi);
-                if (sn == lo || sn == hi) break; /* bracket down to adjacent doubles */
-            } else if (est <= 0.25 * res) {
-                /* When the step's error is below the resolution its result is the root to
-                 * rounding and the next evaluation would only confirm it. */
-                s = sn;
-                break;
-            }
-            s = sn;
-        }
+    p->lo = lo;
+    p->hi = hi;
+    p->s = s;
+    p->evals = 0;
+    p->running = g0 != 0.0;
+    return HP_OK;
+}
+
+/* One step of the root find (see ellipsoid_distance); clears p->running when it ends. */
+static inline void ell_step(const hp_kin_head_k *k, ell_pt *p)
+{
+    const double *r = k->r, *rz = p->rz;
+    double s = p->s, lo = p->lo, hi = p->hi;
+    double Q = 0.0, dQ = 0.0, d2Q = 0.0, d3Q = 0.0;
+    ++p->evals;
+    p->running = 0;
+    for (int i = 0; i < 3; ++i) {
+        double inv = 1.0 / (r[i] + s); /* one division a term, not two */
+        double q2 = rz[i] * inv * (rz[i] * inv), q2i = q2 * inv, q2ii = q2i * inv;
+        Q += q2;
+        dQ -= 2.0 * q2i;
+        d2Q += 6.0 * q2ii;
+        d3Q -= 24.0 * q2ii * inv;
     }
+    if (Q == 1.0) return;
+    if (Q > 1.0) p->lo = lo = s;
+    else p->hi = hi = s;
+    /* est: the step's own error, Newton's |c|·δ² or Chebyshev's |2c² − c3|·|δ|³ with
+     * c = ψ''/(2ψ') and c3 = ψ'''/(6ψ'), where ψ''/ψ' = Q''/Q' − 1.5·Q'/Q and
+     * ψ'''/ψ' = 3.75·(Q'/Q)² − 4.5·Q''/Q + Q'''/Q'. One division, 1/(Q'·Q), serves all of
+     * them and runs beside the square root. */
+    double sn, est = INFINITY;
+    if (dQ < 0) {
+        double R = 1.0 / (dQ * Q), qq = dQ * dQ * R; /* qq = Q'/Q */
+        double dn = -2.0 * (Q * Q) * (sqrt(Q) - 1.0) * R;
+        double c = 0.5 * (d2Q * Q - 1.5 * dQ * dQ) * R, cd = c * dn;
+        if (fabs(cd) <= 0.25) {
+            double c3 = (3.75 * qq * qq - 4.5 * d2Q * dQ * R + d3Q * Q * R) * (1.0 / 6.0);
+            sn = s + (dn - cd * dn);
+            est = fabs((2.0 * c * c - c3) * dn * dn * dn);
+        } else {
+            sn = s + dn;
+            est = fabs(cd * dn);
+        }
+    } else {
+        sn = 0.5 * (lo + hi);
+    }
+    /* s enters only as r_i + s with r_i >= 1: absolute resolution 2ε·max(1,|s|). */
+    double res = 2.0 * DBL_EPSILON * hp_max2(1.0, fabs(s)), step = fabs(sn - s);
+    if (step <= res) return;
+    if (!(sn > lo && sn < hi)) {
+        sn = 0.5 * (lo + hi);
+        if (sn == lo || sn == hi) return; /* bracket down to adjacent doubles */
+    } else if (est <= 0.25 * res) {
+        /* When the step's error is below the resolution its result is the root to
+         * rounding and the next evaluation would only confirm it. */
+        p->s = sn;
+        return;
+    }
+    p->s = sn;
+    p->running = p->evals < ELL_MAX_STEPS;
+}
+
+/* The distance and what was asked for at the root p->s (see ellipsoid_distance). */
+static hp_error ell_finish(const hp_head *h, const hp_kin_head_k *k, const ell_pt *p,
+                           hp_kin_dist_warm *ws, double *d, double grad[3], double hess[9],
+                           double foot[3])
+{
+    const double *r = k->r, *y = p->y;
+    double e = k->e, e2 = k->e2, s = p->s;
     double t = s * e * e;
     double m[3];
     for (int i = 0; i < 3; ++i)
@@ -226,7 +240,7 @@ static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, con
          * r∘v/S. Off the answer's path: only the next evaluation waits for it. An S that
          * underflowed leaves a non-finite gradient, and the next start falls back to s. */
         ws->s = s;
-        ws->evals = evals;
+        ws->evals = p->evals;
         for (int i = 0; i < 3; ++i) {
             ws->y[i] = y[i];
             ws->ds[i] = r[i] * v[i] * iS;
@@ -248,6 +262,33 @@ static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, con
         project_hessian(n, 1.0 / mn, Dm, hess);
     }
     return HP_OK;
+}
+
+/* The ellipsoid sum(x_i²/a_i²) = 1. The closest point is x_i = a_i² y_i/(a_i² + t) where t
+ * is the root of G(t) = Σ (a_i y_i/(a_i² + t))² − 1 with t > −a_min² (Lagrange multiplier;
+ * the signed distance is t·|x/a²|). In the scaled variable s = t/e², e = a_min,
+ * r_i = (a_i/e)² >= 1 and z_i = |y_i|/a_i (the first octant; symmetry restores the signs),
+ * G(s) = Σ (r_i z_i/(r_i + s))² − 1 is decreasing on s > −1 with one root there; a
+ * bracket [lo, hi] guards the Newton iteration against rounding (ell_setup).
+ * Left bound: the term j alone reaches 1 at s = r_j(z_j − 1), so G >= 0 at the largest of
+ * these (and at 0 outside). Right bound outside: G <= |r∘z|²/(1 + s)² − 1 <= 0 at
+ * s = |r∘z| − 1. Inside, s <= 0. Points on an axis or on equal axes need no special case.
+ * Newton on ψ(s) = Q(s)^(-1/2) − 1, Q = G + 1 (ell_step): ψ is a power mean with exponent
+ * −2 of the affine (r_i + s)/(r_i z_i), hence concave and increasing, and exactly linear
+ * for a sphere; Newton from the left (ψ <= 0) climbs monotonically and converges in a few
+ * steps where Newton on G itself would crawl. Near the root (the correction below under a
+ * quarter of the step) each Newton step δ = −ψ/ψ' gets Chebyshev's correction
+ * −(ψ''/(2ψ'))·δ², third order instead of second for a few more multiplications: a start
+ * 1e-6 off (a warm start after a 0.1 mm move) then ends in one evaluation. */
+static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, const double y[3],
+                                   hp_kin_dist_warm *ws, double *d, double grad[3], double hess[9],
+                                   double foot[3])
+{
+    ell_pt p;
+    hp_error e = ell_setup(h, k, y, ws, &p);
+    if (e != HP_OK) return e;
+    while (p.running) ell_step(k, &p);
+    return ell_finish(h, k, &p, ws, d, grad, hess, foot);
 }
 
 void hp_kin_head_consts(const hp_head *h, hp_kin_head_k *k)
@@ -275,17 +316,74 @@ hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], hp_kin_d
     return hp_kin_head_distance_k(h, &k, q, w, d, grad, hess, foot);
 }
 
+/* y = q − centre, or the error for a point no head question is about: beyond 1000 km
+ * (where squares could overflow; the one comparison per coordinate also fails for NaN and
+ * inf, told apart only then). */
+static hp_error head_point(const hp_head *h, const double q[3], double y[3])
+{
+    for (int i = 0; i < 3; ++i) y[i] = q[i] - h->center[i];
+    if (!(fabs(y[0]) <= 1e6 && fabs(y[1]) <= 1e6 && fabs(y[2]) <= 1e6))
+        return hp_kin_finite3(y) ? HP_ERR_DOMAIN : HP_ERR_INVALID;
+    return HP_OK;
+}
+
 hp_error hp_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
                                 hp_kin_dist_warm *w, double *d, double grad[3], double hess[9],
                                 double foot[3])
 {
-    double y[3] = {q[0] - h->center[0], q[1] - h->center[1], q[2] - h->center[2]};
-    /* Beyond 1000 km the question is not about a head (and squares could overflow); the
-     * one comparison per coordinate also fails for NaN and inf, told apart only then. */
-    if (!(fabs(y[0]) <= 1e6 && fabs(y[1]) <= 1e6 && fabs(y[2]) <= 1e6))
-        return hp_kin_finite3(y) ? HP_ERR_DOMAIN : HP_ERR_INVALID;
+    double y[3];
+    hp_error e = head_point(h, q, y);
+    if (e != HP_OK) return e;
     if (h->shape == HP_HEAD_SPHERE) return sphere_distance(h, y, d, grad, hess, foot);
     return ellipsoid_distance(h, k, y, w, d, grad, hess, foot);
+}
+
+hp_error hp_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
+                               const double (*q)[3], hp_kin_dist_warm *w, double *d,
+                               double (*grad)[3], double (*hess)[9],
+                               const unsigned char *want_h, int *bad)
+{
+    if (n < 0 || n > HP_MAX_BLADDERS) return HP_ERR_INVALID;
+    *bad = -1;
+    double y[HP_MAX_BLADDERS][3];
+    hp_error e[HP_MAX_BLADDERS];
+    if (h->shape == HP_HEAD_SPHERE) {
+        for (int j = 0; j < n; ++j) {
+            hp_error ej = head_point(h, q[j], y[j]);
+            if (ej == HP_OK)
+                ej = sphere_distance(h, y[j], &d[j], grad[j], hess && want_h[j] ? hess[j] : NULL,
+                                     NULL);
+            if (ej != HP_OK) return *bad = j, ej;
+        }
+        return HP_OK;
+    }
+    /* The points' root finds side by side, one step of each in turn: every step is a short
+     * chain of divisions and a square root, and with the other points' steps between them
+     * the processor overlaps the chains (one point after another, each waits for its own).
+     * Each point takes exactly the steps, and so gives the bits, it would alone. */
+    ell_pt p[HP_MAX_BLADDERS];
+    int running = 0;
+    for (int j = 0; j < n; ++j) {
+        e[j] = head_point(h, q[j], y[j]);
+        if (e[j] == HP_OK) e[j] = ell_setup(h, k, y[j], w ? &w[j] : NULL, &p[j]);
+        if (e[j] != HP_OK) p[j].running = 0;
+        running |= p[j].running;
+    }
+    while (running) {
+        running = 0;
+        for (int j = 0; j < n; ++j)
+            if (p[j].running) {
+                ell_step(k, &p[j]);
+                running |= p[j].running;
+            }
+    }
+    for (int j = 0; j < n; ++j)
+        if (e[j] == HP_OK)
+            e[j] = ell_finish(h, k, &p[j], w ? &w[j] : NULL, &d[j], grad[j],
+                              hess && want_h[j] ? hess[j] : NULL, NULL);
+    for (int j = 0; j < n; ++j)
+        if (e[j] != HP_OK) return *bad = j, e[j];
+    return HP_OK;
 }
 
 hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro,

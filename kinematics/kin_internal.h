@@ -72,6 +72,17 @@ hp_error hp_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const 
                                 hp_kin_dist_warm *w, double *d, double grad[3], double hess[9],
                                 double foot[3]);
 
+/* hp_kin_head_distance_k at the n points q (n <= HP_MAX_BLADDERS), each with its own warm
+ * state w[j] (w may be NULL), distance d[j], gradient grad[j] and, when hess is not NULL
+ * and want_h[j], Hessian hess[j]: the same bits as n calls, faster for an ellipsoid (the
+ * root finds run side by side). HP_OK, or the error of the first point (index order) that
+ * fails, with its index in *bad; the points after it may have been evaluated (their
+ * outputs and warm states written), its own outputs are not meaningful. */
+hp_error hp_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
+                               const double (*q)[3], hp_kin_dist_warm *w, double *d,
+                               double (*grad)[3], double (*hess)[9],
+                               const unsigned char *want_h, int *bad);
+
 /* Smallest radius of curvature of the head surface [m] (a_min²/a_max for an ellipsoid). */
 double hp_kin_head_min_curvature_radius(const hp_head *h);
 

@@ -408,6 +408,104 @@ static long double ref_G(const long double a[3], const long double y[3], long do
     return g;
 }
 
+/* hp_kin_head_distances (the root finds side by side) against one hp_kin_head_distance_k
+ * call per point, in index order, on the same warm states: every distance, gradient,
+ * Hessian asked for and warm state the same bits, and on failure the same error at the same
+ * (first) point with every point before it the same. Heads: 1:1.5 and 1:10 ellipsoids and
+ * a sphere; 300 seeded sets of 1 to 16 points each, outside, inside, on an axis, deep inside
+ * (no smooth distance: an error), NaN and far away (errors), with cold, nearby (one
+ * evaluation), stale and garbage warm states and a random Hessian mask. */
+static void fill_point(kin_rng *rng, const hp_head *h, double q[3])
+{
+    const double *a = h->semi_axes;
+    double u = kin_rng_uniform(rng, 0.0, 1.0), f = kin_rng_uniform(rng, 0.5, 1.6);
+    kin_rng_vec3(rng, 1.0, q);
+    for (int i = 0; i < 3; ++i) q[i] = h->center[i] + q[i] * a[h->shape == HP_HEAD_SPHERE ? 0 : i] * f;
+    if (u < 0.03) q[1] = NAN;
+    else if (u < 0.06) q[0] = 2e6;
+    else if (u < 0.09)
+        for (int i = 0; i < 3; ++i) q[i] = h->center[i] + 1e-6 * (q[i] - h->center[i]);
+    else if (u < 0.15) q[2] = h->center[2]; /* on a coordinate plane */
+}
+
+static void test_batch(void **state)
+{
+    (void)state;
+    hp_head heads[3] = {ellipsoid(0.0775, 0.115, 0.0975), ellipsoid(0.02, 0.2, 0.09),
+                        ellipsoid(0.09, 0.09, 0.09)};
+    heads[1].center[0] = 0.01;
+    heads[2].shape = HP_HEAD_SPHERE;
+    kin_rng rng = {90210};
+    int errors = 0, compared = 0;
+    for (int hi = 0; hi < 3; ++hi) {
+        const hp_head *h = &heads[hi];
+        hp_kin_head_k k = {0};
+        if (h->shape != HP_HEAD_SPHERE) hp_kin_head_consts(h, &k);
+        for (int set = 0; set < 300; ++set) {
+            int n = 1 + (int)kin_rng_uniform(&rng, 0.0, HP_MAX_BLADDERS);
+            double q[HP_MAX_BLADDERS][3];
+            hp_kin_dist_warm w0[HP_MAX_BLADDERS];
+            unsigned char want[HP_MAX_BLADDERS];
+            for (int j = 0; j < n; ++j) {
+                fill_point(&rng, h, q[j]);
+                want[j] = kin_rng_uniform(&rng, 0.0, 1.0) < 0.5;
+                hp_kin_dist_warm_cold(&w0[j], 1);
+                double kind = kin_rng_uniform(&rng, 0.0, 1.0);
+                if (kind < 0.6) { /* a state from a point up to 1 mm away */
+                    double qn[3], dir[3], dd, gg[3];
+                    kin_rng_vec3(&rng, kin_rng_uniform(&rng, 0.0, 1e-3), dir);
+                    for (int i = 0; i < 3; ++i) qn[i] = q[j][i] + dir[i];
+                    (void)hp_kin_head_distance_k(h, &k, qn, &w0[j], &dd, gg, NULL, NULL);
+                } else if (kind < 0.8) { /* garbage */
+                    w0[j].s = kin_rng_uniform(&rng, -2.0, 1e3);
+                    for (int i = 0; i < 3; ++i) {
+                        w0[j].y[i] = kin_rng_uniform(&rng, -1.0, 1.0);
+                        w0[j].ds[i] = kin_rng_uniform(&rng, -1e3, 1e3);
+                    }
+                }
+            }
+            /* the reference: one call per point, stopping at the first error */
+            hp_kin_dist_warm wr[HP_MAX_BLADDERS], wb[HP_MAX_BLADDERS];
+            memcpy(wr, w0, sizeof wr);
+            memcpy(wb, w0, sizeof wb);
+            double dr[HP_MAX_BLADDERS], gr[HP_MAX_BLADDERS][3], Hr[HP_MAX_BLADDERS][9];
+            double db[HP_MAX_BLADDERS], gb[HP_MAX_BLADDERS][3], Hb[HP_MAX_BLADDERS][9];
+            memset(Hr, 0, sizeof Hr);
+            memset(Hb, 0, sizeof Hb);
+            hp_error er = HP_OK;
+            int first = -1;
+            for (int j = 0; j < n && er == HP_OK; ++j) {
+                er = hp_kin_head_distance_k(h, &k, q[j], &wr[j], &dr[j], gr[j],
+                                            want[j] ? Hr[j] : NULL, NULL);
+                if (er != HP_OK) first = j;
+            }
+            int bad = -2;
+            hp_error eb = hp_kin_head_distances(h, &k, n, (const double(*)[3])q, wb, db, gb, Hb,
+                                                want, &bad);
+            assert_int_equal(eb, er);
+            assert_int_equal(bad, first);
+            errors += er != HP_OK;
+            int upto = er == HP_OK ? n : first;
+            for (int j = 0; j < upto; ++j) {
+                assert_memory_equal(&db[j], &dr[j], sizeof db[j]);
+                assert_memory_equal(gb[j], gr[j], sizeof gb[j]);
+                assert_memory_equal(Hb[j], Hr[j], sizeof Hb[j]);
+                assert_memory_equal(&wb[j], &wr[j], sizeof wb[j]);
+                ++compared;
+            }
+        }
+    }
+    /* the draw reaches both outcomes, and most points are compared */
+    assert_true(errors > 50 && errors < 600);
+    assert_true(compared > 2000);
+    /* more points than the batch holds: refused */
+    double q1[HP_MAX_BLADDERS + 1][3] = {{0}}, d1[HP_MAX_BLADDERS + 1], g1[HP_MAX_BLADDERS + 1][3];
+    int bad = 0;
+    assert_int_equal(hp_kin_head_distances(&heads[0], &(hp_kin_head_k){0}, HP_MAX_BLADDERS + 1,
+                                           (const double(*)[3])q1, NULL, d1, g1, NULL, NULL, &bad),
+                     HP_ERR_INVALID);
+}
+
 static void test_long_double_reference(void **state)
 {
     (void)state;
@@ -525,6 +623,7 @@ int main(void)
         cmocka_unit_test(test_derivatives),
         cmocka_unit_test(test_warm_start),
         cmocka_unit_test(test_long_double_reference),
+        cmocka_unit_test(test_batch),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
