@@ -43,6 +43,10 @@ void hp_test_nlopt_force_result(int code);
 /* Fault in the realtime backend's contact evaluations (HP_TEST_FAULT_NAN_CONTACT*). */
 void hp_test_realtime_fault(int fault);
 
+/* 1 when a realtime backend created with this max_time reads its time budget on the coarse
+ * monotonic clock (its tick at most 1 % of max_time), 0 when on the precise one. */
+int hp_test_realtime_coarse_clock(double max_time);
+
 /* Counts of the realtime backend's less travelled paths, summed over every solve in the
  * process while counting is on (so a test can assert that its targets walk them through the
  * planner): solves, QPs solved, SQP steps whose QP's warm start was accepted, second-order-correction

@@ -3,6 +3,7 @@
  * constrained optimum for unreachable ones (checked against a brute-force enumeration of
  * active sets, an independent method), degenerate vertices, rate limits, a sphere head's
  * uncommanded rotations and a soft material's limit point. */
+#define _POSIX_C_SOURCE 200809L /* clock_getres */
 #include "test_util.h"
 
 #include <float.h>
@@ -11,6 +12,7 @@
 #include "planner/backend_testing.h"
 
 #include <stdlib.h>
+#include <time.h>
 
 #define DEG (3.14159265358979323846 / 180.0)
 
@@ -520,6 +522,46 @@ static void test_soft_limit_point(void **s)
 
 /* Rate limits around pressures that no pose produces (eight independent values, six
  * degrees of freedom) leave no feasible pose: INFEASIBLE_START, holding those pressures. */
+/* The time budget's clock (backend_realtime.c, budget_clock): the coarse monotonic clock
+ * exactly when one of its ticks is at most 1 % of max_time, else the precise one; and a
+ * budget far below one SQP step still stops a binding plan after its first step with a
+ * safe, labelled answer (read on the precise clock: a step of microseconds always exceeds
+ * a nanosecond budget, however busy the machine). */
+static void test_budget_clock(void **s)
+{
+    (void)s;
+    struct timespec res;
+    if (clock_getres(CLOCK_MONOTONIC_COARSE, &res) == 0) {
+        double tick = (double)res.tv_sec + 1e-9 * (double)res.tv_nsec;
+        assert_true(tick > 0);
+        assert_int_equal(hp_test_realtime_coarse_clock(200.0 * tick), 1);
+        assert_int_equal(hp_test_realtime_coarse_clock(100.0 * tick), 1);
+        assert_int_equal(hp_test_realtime_coarse_clock(50.0 * tick), 0);
+        assert_int_equal(hp_test_realtime_coarse_clock(1e-9), tick <= 1e-11);
+    } else {
+        assert_int_equal(hp_test_realtime_coarse_clock(1e9), 0);
+    }
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    const double budgets[2] = {1e-9, 60.0};
+    for (int b = 0; b < 2; ++b) {
+        hp_settings st;
+        hp_settings_default(&st);
+        st.level = HP_LEVEL_SURFACE;
+        st.max_time = budgets[b];
+        hp_planner *p = NULL;
+        hp_diag d = {{0}};
+        assert_int_equal(hp_planner_create(&L, &st, &p, &d), HP_OK);
+        /* 15 mm along x: beyond reach, a limit binds and the SQP needs several steps */
+        const double xi[6] = {0.015, 0, 0, 0, 0, 0};
+        hp_result r;
+        assert_int_equal(hp_plan(p, xi, &r), HP_OK);
+        assert_int_equal(r.status, b == 0 ? HP_STATUS_TIME_LIMIT : HP_STATUS_CLOSEST);
+        check_limits(&L, &r);
+        hp_planner_destroy(p);
+    }
+}
+
 static void test_rate_infeasible(void **s)
 {
     (void)s;
@@ -553,6 +595,7 @@ int main(void)
         cmocka_unit_test(test_sphere_uncommanded),
         cmocka_unit_test(test_soft_limit_point),
         cmocka_unit_test(test_rate_infeasible),
+        cmocka_unit_test(test_budget_clock),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
