@@ -7,13 +7,20 @@
 #      achieved poses (mm or deg);
 #   2. time: PAIRS runs of the time mode in alternation, so a slow spell of the host hits
 #      both; prints both medians and the median of the per-pair ratios B/A.
+#   3. interleaved: both libraries in one process (bench/plan_ab_inproc.c), ROUNDS_IN
+#      rounds of 80 cold plans of each in alternating order; the median of the round
+#      ratios B/A resolves ~1 % where part 2 does not (the host drifts by ±10 % over
+#      seconds). A build against itself gave 0.985 to 1.006 in five runs of 1000 to 2000
+#      rounds: differences under ~2 % need repeated runs in both orders.
 # To keep a build for later: cp -a build/libheadplan.so* DIR
 #
-#   bench/plan_ab.sh LIBDIR_A LIBDIR_B [LEVEL MM DEG [PAIRS [ROUNDS]]]
-#     defaults: LEVEL 2 (surface), MM 6, DEG 4 (binding targets), PAIRS 16, ROUNDS 30
+#   bench/plan_ab.sh LIBDIR_A LIBDIR_B [LEVEL MM DEG [PAIRS [ROUNDS [ROUNDS_IN]]]]
+#     defaults: LEVEL 2 (surface), MM 6, DEG 4 (binding targets), PAIRS 16, ROUNDS 30,
+#     ROUNDS_IN 2000 (0 skips part 3; PAIRS 0 skips part 2)
 set -euo pipefail
-[ $# -ge 2 ] || { sed -n 2,14p "$0" >&2; exit 64; }
+[ $# -ge 2 ] || { sed -n 2,19p "$0" >&2; exit 64; }
 A=$1; B=$2; LEVEL=${3:-2}; MM=${4:-6}; DEG=${5:-4}; PAIRS=${6:-16}; ROUNDS=${7:-30}
+ROUNDS_IN=${8:-2000}
 for d in "$A" "$B"; do
   [ -e "$d/libheadplan.so" ] || { echo "plan_ab: no libheadplan.so in $d" >&2; exit 66; }
 done
@@ -37,6 +44,7 @@ print("answers (%s, %d targets): %d differ in status or steps, largest pose diff
       % ("warm" if sys.argv[3] == "1" else "cold", len(a), diff, worst))
 PY
 done
+if [ "$PAIRS" -gt 0 ]; then
 for i in $(seq "$PAIRS"); do
   echo "$(run "$A" time "$LEVEL" "$MM" "$DEG" "$ROUNDS") $(run "$B" time "$LEVEL" "$MM" "$DEG" "$ROUNDS")"
 done | python3 -c '
@@ -45,3 +53,12 @@ r = [tuple(map(float, l.split())) for l in sys.stdin]
 a = [x for x, _ in r]; b = [y for _, y in r]
 print("time: A median %.0f ns, B median %.0f ns, B/A %.3f, median of pair ratios %.3f (%d pairs)"
       % (s.median(a), s.median(b), s.median(b) / s.median(a), s.median([y / x for x, y in r]), len(r)))'
+fi
+if [ "$ROUNDS_IN" -gt 0 ]; then
+  cc -O2 -std=c11 -I "$here/include" -I "$here/build/include" "$here/bench/plan_ab_inproc.c" \
+    -o "$tmp/inproc" -ldl -lm
+  # two files, so the loader maps two copies even when A and B are the same build
+  cp "$A/libheadplan.so" "$tmp/a.so"
+  cp "$B/libheadplan.so" "$tmp/b.so"
+  "$tmp/inproc" "$tmp/a.so" "$tmp/b.so" "$scene" "$LEVEL" "$MM" "$DEG" "$ROUNDS_IN"
+fi
