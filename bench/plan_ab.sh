@@ -10,7 +10,7 @@
 #   3. interleaved: both libraries in one process (bench/plan_ab_inproc.c), ROUNDS_IN
 #      rounds of 80 cold plans of each in alternating order; the median of the round
 #      ratios B/A resolves ~1 % where part 2 does not (the host drifts by ±10 % over
-#      seconds). A build against itself gave 0.985 to 1.006 in five runs of 1000 to 2000
+#      seconds). A build against itself gave 0.985 to 1.006 in three runs of 400 to 2000
 #      rounds: differences under ~2 % need repeated runs in both orders.
 # To keep a build for later: cp -a build/libheadplan.so* DIR
 #

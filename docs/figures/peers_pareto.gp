@@ -12,32 +12,32 @@ set title "Peers on the same NLP (linear contact level, default layout, binding 
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 7.87e-05]
-set xrange [* : 7.13437e+07]
+set xrange [* : 7.34529e+07]
 
 $front << EOD
-1223,3.161592e-10,realtime-linear
-5.29822e+06,1.000000e-17,ipopt-exact-linear
-7.13437e+07,1.000000e-17,end
+1091,3.161592e-10,realtime-linear
+5.31704e+06,1.000000e-17,ipopt-exact-linear
+7.34529e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-5.29822e+06,1.000000e-17,ipopt-exact-linear
-7.13437e+07,1.000000e-17,end
+5.31704e+06,1.000000e-17,ipopt-exact-linear
+7.34529e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-2.36696e+07,9.654773e-10,ipopt-lbfgs-linear
-7.13437e+07,9.654773e-10,end
+2.39901e+07,9.654773e-10,ipopt-lbfgs-linear
+7.34529e+07,9.654773e-10,end
 EOD
 
 $front3 << EOD
-1223,3.161592e-10,realtime-linear
-7.13437e+07,3.161592e-10,end
+1091,3.161592e-10,realtime-linear
+7.34529e+07,3.161592e-10,end
 EOD
 
 $front4 << EOD
-636086,3.948884e-07,scipy-slsqp
-7.13437e+07,3.948884e-07,end
+700990,3.948884e-07,scipy-slsqp
+7.34529e+07,3.948884e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {

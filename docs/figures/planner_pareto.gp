@@ -12,51 +12,50 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 1.58904e+07]
+set xrange [* : 1.68694e+07]
 
 $front << EOD
-1116.56,4.646568e-01,realtime-linear-1e-09
-4819,1.355203e-10,realtime-surface-1e-09
-4.93615e+06,1.000000e-17,ipopt-surface-1e-04
-1.58904e+07,1.000000e-17,end
+1025.22,4.646568e-01,realtime-linear-1e-04
+4614,1.355203e-10,realtime-surface-1e-04
+5.43571e+06,1.000000e-17,ipopt-surface-1e-04
+1.68694e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-514,4.936830e-03,fastpath-linear
-3206,1.000000e-17,fastpath-surface
-1.58904e+07,1.000000e-17,end
+461.773,4.936830e-03,fastpath-linear
+2535,1.000000e-17,fastpath-surface
+1.68694e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-1106.38,9.238732e-02,trace-realtime-linear
-3600.8,3.417474e-08,trace-realtime-surface
-1.58904e+07,3.417474e-08,end
+1013.73,9.238732e-02,trace-realtime-linear
+3514.5,3.417474e-08,trace-realtime-surface
+1.68694e+07,3.417474e-08,end
 EOD
 
 $front3 << EOD
-1116.56,4.646568e-01,realtime-linear-1e-09
-4819,1.355203e-10,realtime-surface-1e-09
-1.58904e+07,1.355203e-10,end
+1025.22,4.646568e-01,realtime-linear-1e-04
+4614,1.355203e-10,realtime-surface-1e-04
+1.68694e+07,1.355203e-10,end
 EOD
 
 $front4 << EOD
-4.85595e+06,1.571590e+00,ipopt-plane-1e-09
-4.90576e+06,4.646568e-01,ipopt-linear-1e-09
-4.93615e+06,1.000000e-17,ipopt-surface-1e-04
-1.58904e+07,1.000000e-17,end
+5.26895e+06,4.646568e-01,ipopt-linear-1e-09
+5.43571e+06,1.000000e-17,ipopt-surface-1e-04
+1.68694e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-57469,4.646546e-01,nlopt-slsqp-linear-1e-04
-89229,1.324757e-05,nlopt-slsqp-surface-1e-09
-1.58904e+07,1.324757e-05,end
+63151,4.646546e-01,nlopt-slsqp-linear-1e-04
+95041,1.324757e-05,nlopt-slsqp-surface-1e-09
+1.68694e+07,1.324757e-05,end
 EOD
 
 $front6 << EOD
-160952,4.646880e-01,nlopt-cobyla-linear-1e-04
-290879,1.441641e-04,nlopt-cobyla-surface-1e-04
-529368,5.181534e-07,nlopt-cobyla-surface-1e-09
-1.58904e+07,5.181534e-07,end
+174222,4.646880e-01,nlopt-cobyla-linear-1e-04
+277929,1.441641e-04,nlopt-cobyla-surface-1e-04
+513317,5.181534e-07,nlopt-cobyla-surface-1e-09
+1.68694e+07,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
