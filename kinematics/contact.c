@@ -346,8 +346,6 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
     backmap bm[HP_MAX_BLADDERS];
     double g[HP_MAX_BLADDERS][3], hf[HP_MAX_BLADDERS][9];
     if (split) {
-        /* Every bladder's back transform, then the distances side by side
-         * (hp_kin_head_distances), then the derivative rows. */
         double cp[HP_MAX_BLADDERS][3], f[HP_MAX_BLADDERS];
         unsigned char want[HP_MAX_BLADDERS];
         int bad;

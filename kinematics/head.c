@@ -7,7 +7,8 @@
 #include <math.h>
 #include <string.h>
 
-/* The root find's budget of steps (it ends in one to four; the bracket bounds it). */
+/* The root find's budget of steps (it usually ends in one to four; the bracket's halvings,
+ * its fallback, take more). */
 #define ELL_MAX_STEPS 200
 
 const char *hp_head_shape_name(hp_head_shape s)
@@ -351,8 +352,8 @@ hp_error hp_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
         for (int j = 0; j < n; ++j) {
             hp_error ej = head_point(h, q[j], y[j]);
             if (ej == HP_OK)
-                ej = sphere_distance(h, y[j], &d[j], grad[j], hess && want_h[j] ? hess[j] : NULL,
-                                     NULL);
+                ej = sphere_distance(h, y[j], &d[j], grad[j],
+                                     hess && (!want_h || want_h[j]) ? hess[j] : NULL, NULL);
             if (ej != HP_OK) return *bad = j, ej;
         }
         return HP_OK;
@@ -380,7 +381,7 @@ hp_error hp_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
     for (int j = 0; j < n; ++j)
         if (e[j] == HP_OK)
             e[j] = ell_finish(h, k, &p[j], w ? &w[j] : NULL, &d[j], grad[j],
-                              hess && want_h[j] ? hess[j] : NULL, NULL);
+                              hess && (!want_h || want_h[j]) ? hess[j] : NULL, NULL);
     for (int j = 0; j < n; ++j)
         if (e[j] != HP_OK) return *bad = j, e[j];
     return HP_OK;

@@ -74,7 +74,7 @@ hp_error hp_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const 
 
 /* hp_kin_head_distance_k at the n points q (n <= HP_MAX_BLADDERS), each with its own warm
  * state w[j] (w may be NULL), distance d[j], gradient grad[j] and, when hess is not NULL
- * and want_h[j], Hessian hess[j]: the same bits as n calls, faster for an ellipsoid (the
+ * and want_h[j] (want_h NULL: every point), Hessian hess[j]: the same bits as n calls, faster for an ellipsoid (the
  * root finds run side by side). HP_OK, or the error of the first point (index order) that
  * fails, with its index in *bad; the points after it may have been evaluated (their
  * outputs and warm states written), its own outputs are not meaningful. */

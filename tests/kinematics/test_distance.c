@@ -498,6 +498,27 @@ static void test_batch(void **state)
     /* the draw reaches both outcomes, and most points are compared */
     assert_true(errors > 50 && errors < 600);
     assert_true(compared > 2000);
+    /* want_h NULL: every point's Hessian, the bits of one call each */
+    {
+        double q8[8][3], d8[8], g8[8][3], H8[8][9], dr1, gr1[3], Hr1[9];
+        for (int j = 0; j < 8; ++j) {
+            kin_rng_vec3(&rng, 0.12 + 0.01 * j, q8[j]);
+        }
+        hp_kin_head_k k0;
+        hp_kin_head_consts(&heads[0], &k0);
+        int bad8 = 0;
+        assert_int_equal(hp_kin_head_distances(&heads[0], &k0, 8, (const double(*)[3])q8, NULL,
+                                               d8, g8, H8, NULL, &bad8),
+                         HP_OK);
+        assert_int_equal(bad8, -1);
+        for (int j = 0; j < 8; ++j) {
+            assert_int_equal(hp_kin_head_distance_k(&heads[0], &k0, q8[j], NULL, &dr1, gr1, Hr1,
+                                                    NULL),
+                             HP_OK);
+            assert_memory_equal(&d8[j], &dr1, sizeof dr1);
+            assert_memory_equal(H8[j], Hr1, sizeof Hr1);
+        }
+    }
     /* more points than the batch holds: refused */
     double q1[HP_MAX_BLADDERS + 1][3] = {{0}}, d1[HP_MAX_BLADDERS + 1], g1[HP_MAX_BLADDERS + 1][3];
     int bad = 0;
