@@ -8,6 +8,7 @@
  * solves' wall time (CLOCK_MONOTONIC). */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/headplan.h"
+#include "standalone.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -15,24 +16,11 @@
 #include <string.h>
 #include <time.h>
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 static double cpu_s(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
 }
 
 static int load(const char *scene, const char *trace, hp_scene *sc, hp_settings *s,
@@ -91,7 +79,7 @@ static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row
                 times[t] = cpu_s() - t0;
             }
             hp_horizon_rh_destroy(rh);
-            qsort(times, T, sizeof *times, cmp);
+            qsort(times, T, sizeof *times, sa_by_value);
             printf("%d,%s,%zu,%.1f,%.1f,%.1f\n", Ns[a], hp_prediction_name(hs.prediction), T,
                    1e6 * times[T / 2], 1e6 * times[(T * 99) / 100], 1e6 * times[T - 1]);
             fflush(stdout);
@@ -109,20 +97,20 @@ static int bench_windows(const hp_scene *sc, const hp_settings *s, const hp_trac
     hp_horizon_row *whole = malloc(T * sizeof *whole), *win = malloc(T * sizeof *win);
     hp_horizon_info iw, iv;
     hp_diag d = {{0}};
-    double t0 = now_s();
+    double t0 = sa_now();
     if (hp_horizon_offline(&sc->layout, s, &hs, rows, T, NULL, whole, &iw, &d) != HP_OK) {
         fprintf(stderr, "whole: %s\n", d.text);
         return 1;
     }
-    double tw = now_s() - t0;
+    double tw = sa_now() - t0;
     hs.window = window;
     hs.overlap = overlap;
-    t0 = now_s();
+    t0 = sa_now();
     if (hp_horizon_offline(&sc->layout, s, &hs, rows, T, NULL, win, &iv, &d) != HP_OK) {
         fprintf(stderr, "windows: %s\n", d.text);
         return 1;
     }
-    double tv = now_s() - t0;
+    double tv = sa_now() - t0;
     double worst = 0;
     for (size_t t = 0; t < T; ++t)
         for (int i = 0; i < 6; ++i)

@@ -13,6 +13,7 @@
 #include <headplan/headplan.h>
 #include <headplan/hp_planner.h>
 #include <headplan/hp_scene.h>
+#include "standalone.h"
 
 #include <dlfcn.h>
 #include <math.h>
@@ -22,7 +23,6 @@
 #include <time.h>
 
 #define N_TARGETS 40
-#define PI 3.14159265358979323846
 
 typedef struct lib {
     hp_error (*load)(const char *, hp_scene *, hp_diag *);
@@ -33,26 +33,6 @@ typedef struct lib {
     hp_planner *p;
     hp_scene sc;
 } lib;
-
-static uint64_t rng = 12345; /* headplan-bench-count's generator and seed: its targets */
-static double urand(void)
-{
-    rng = rng * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int by_value(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
 
 static int open_lib(lib *L, const char *path, const char *scene, int level)
 {
@@ -93,14 +73,14 @@ static int open_lib(lib *L, const char *path, const char *scene, int level)
 /* ns per plan over reps passes of the targets, each plan cold */
 static double block(lib *L, double (*t)[6], int reps)
 {
-    double t0 = now_s();
+    double t0 = sa_now();
     for (int r = 0; r < reps; ++r)
         for (int k = 0; k < N_TARGETS; ++k) {
             hp_result res;
             L->reset(L->p);
             L->plan(L->p, t[k], &res);
         }
-    return (now_s() - t0) / (reps * N_TARGETS) * 1e9;
+    return (sa_now() - t0) / (reps * N_TARGETS) * 1e9;
 }
 
 int main(int argc, char **argv)
@@ -113,11 +93,7 @@ int main(int argc, char **argv)
     double mm = atof(argv[5]), deg = atof(argv[6]);
     if (level < 0 || level > 2 || rounds < 1 || rounds > 100000) return 64;
     static double t[N_TARGETS][6];
-    for (int k = 0; k < N_TARGETS; ++k)
-        for (int i = 0; i < 6; ++i) {
-            double u = 2 * urand() - 1;
-            t[k][i] = i < 3 ? u * mm * 1e-3 : u * deg * PI / 180;
-        }
+    sa_targets(mm, deg, N_TARGETS, t); /* headplan-bench-count's targets */
     static lib A, B;
     if (!open_lib(&A, argv[1], argv[3], level) || !open_lib(&B, argv[2], argv[3], level))
         return 66;
@@ -136,9 +112,9 @@ int main(int argc, char **argv)
         }
         q[r] = b[r] / a[r];
     }
-    qsort(a, (size_t)rounds, sizeof *a, by_value);
-    qsort(b, (size_t)rounds, sizeof *b, by_value);
-    qsort(q, (size_t)rounds, sizeof *q, by_value);
+    qsort(a, (size_t)rounds, sizeof *a, sa_by_value);
+    qsort(b, (size_t)rounds, sizeof *b, sa_by_value);
+    qsort(q, (size_t)rounds, sizeof *q, sa_by_value);
     printf("interleaved: A median %.0f ns, B median %.0f ns, median of round ratios B/A %.4f "
            "(quartiles %.4f, %.4f; %d rounds)\n",
            a[rounds / 2], b[rounds / 2], q[rounds / 2], q[rounds / 4], q[3 * rounds / 4], rounds);

@@ -17,12 +17,17 @@
  *       400 seeded targets of the same generator, cold (WARM 0) or in order with the warm
  *       start (WARM 1); prints per plan the status, the active-set steps and the achieved
  *       pose (%a, exact) instead of the statuses.
+ *   headplan-bench-count clocks ROUNDS
+ *       the cost of one read of the precise and of the coarse monotonic clock (the realtime
+ *       backend's time budget reads the coarse one when max_time spans 100 of its ticks):
+ *       the median over ROUNDS of 100 000 reads' mean, ns, and each clock's tick.
  * LEVEL: 0 linear, 1 plane, 2 surface. cold and trace print the statuses and the mean
  * active-set steps (hp_result.iterations) of one pass on stdout. */
 #define _POSIX_C_SOURCE 200809L
 #include <headplan/headplan.h>
 #include <headplan/hp_planner.h>
 #include <headplan/hp_scene.h>
+#include "standalone.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -34,43 +39,14 @@
 #define N_TARGETS 40
 #define PI 3.14159265358979323846
 
-static uint64_t rng = 12345;
-static double urand(void) /* 64-bit LCG: seeded, the same on every machine */
-{
-    rng = rng * 6364136223846793005ULL + 1442695040888963407ULL;
-    return (double)(rng >> 11) / 9007199254740992.0;
-}
-
 static int usage(void)
 {
     fprintf(stderr, "usage: headplan-bench-count SCENE cold LEVEL MM DEG REPS\n"
                     "       headplan-bench-count SCENE trace LEVEL AMP_MM ROWS\n"
                     "       headplan-bench-count SCENE time LEVEL MM DEG ROUNDS\n"
-                    "       headplan-bench-count SCENE answers LEVEL MM DEG WARM\n");
+                    "       headplan-bench-count SCENE answers LEVEL MM DEG WARM\n"
+                    "       headplan-bench-count clocks ROUNDS\n");
     return 64;
-}
-
-/* n targets uniform in ±mm mm and ±deg deg per axis (SI), from the seeded generator. */
-static void targets(double mm, double deg, int n, double (*t)[6])
-{
-    for (int k = 0; k < n; ++k)
-        for (int i = 0; i < 6; ++i) {
-            double u = 2 * urand() - 1;
-            t[k][i] = i < 3 ? u * mm * 1e-3 : u * deg * PI / 180;
-        }
-}
-
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-static int by_value(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
 }
 
 /* The time mode: median over rounds of a round's time per cold plan (ns). */
@@ -78,18 +54,18 @@ static int time_plans(hp_planner *p, double mm, double deg, long rounds)
 {
     static double t[N_TARGETS][6], per[10000];
     if (rounds < 1 || rounds > 10000) return usage();
-    targets(mm, deg, N_TARGETS, t);
+    sa_targets(mm, deg, N_TARGETS, t);
     for (long r = 0; r < rounds; ++r) {
-        double t0 = now_s();
+        double t0 = sa_now();
         for (int rep = 0; rep < 10; ++rep)
             for (int k = 0; k < N_TARGETS; ++k) {
                 hp_result res;
                 hp_planner_reset(p);
                 hp_plan(p, t[k], &res);
             }
-        per[r] = (now_s() - t0) / (10.0 * N_TARGETS) * 1e9;
+        per[r] = (sa_now() - t0) / (10.0 * N_TARGETS) * 1e9;
     }
-    qsort(per, (size_t)rounds, sizeof *per, by_value);
+    qsort(per, (size_t)rounds, sizeof *per, sa_by_value);
     printf("%.1f\n", per[rounds / 2]);
     return 0;
 }
@@ -98,7 +74,7 @@ static int time_plans(hp_planner *p, double mm, double deg, long rounds)
 static int print_answers(hp_planner *p, double mm, double deg, int warm)
 {
     static double t[400][6];
-    targets(mm, deg, 400, t);
+    sa_targets(mm, deg, 400, t);
     for (int k = 0; k < 400; ++k) {
         hp_result res;
         if (!warm) hp_planner_reset(p);
@@ -110,8 +86,40 @@ static int print_answers(hp_planner *p, double mm, double deg, int warm)
     return 0;
 }
 
+/* The clocks mode: ns per read of each monotonic clock, and its tick. */
+static int time_clocks(long rounds)
+{
+    static double per[1000];
+    if (rounds < 1 || rounds > 1000) return usage();
+#ifdef CLOCK_MONOTONIC_COARSE
+    const clockid_t id[2] = {CLOCK_MONOTONIC, CLOCK_MONOTONIC_COARSE};
+#else
+    const clockid_t id[2] = {CLOCK_MONOTONIC, CLOCK_MONOTONIC};
+#endif
+    const char *name[2] = {"precise (CLOCK_MONOTONIC)", "coarse (CLOCK_MONOTONIC_COARSE)"};
+    for (int c = 0; c < 2; ++c) {
+        volatile long sink = 0; /* the reads are kept */
+        for (long r = 0; r < rounds; ++r) {
+            struct timespec ts;
+            double t0 = sa_now();
+            for (int i = 0; i < 100000; ++i) {
+                clock_gettime(id[c], &ts);
+                sink += ts.tv_nsec;
+            }
+            per[r] = (sa_now() - t0) / 100000 * 1e9;
+        }
+        qsort(per, (size_t)rounds, sizeof *per, sa_by_value);
+        struct timespec res = {0, 0};
+        clock_getres(id[c], &res);
+        printf("%s: %.1f ns a read, tick %.9f s\n", name[c], per[rounds / 2],
+               (double)res.tv_sec + 1e-9 * (double)res.tv_nsec);
+    }
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
+    if (argc == 3 && strcmp(argv[1], "clocks") == 0) return time_clocks(atol(argv[2]));
     if (argc != 7 && argc != 6) return usage();
     const char *mode = argv[2];
     int cold = strcmp(mode, "cold") == 0, timed = strcmp(mode, "time") == 0,
@@ -149,7 +157,7 @@ int main(int argc, char **argv)
     if (cold) {
         double mm = atof(argv[4]), deg = atof(argv[5]), t[N_TARGETS][6];
         long reps = atol(argv[6]);
-        targets(mm, deg, N_TARGETS, t);
+        sa_targets(mm, deg, N_TARGETS, t);
         for (long r = 0; r < reps; ++r)
             for (int k = 0; k < N_TARGETS; ++k) {
                 hp_result res;

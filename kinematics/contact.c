@@ -342,10 +342,9 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
      * then the derivative rows. The same bits as one bladder after another; binding
      * surface plans ~3 % faster for the passes, ~2 % more for the root finds side by
      * side. A plane distance is a dot product with nothing to overlap: one pass. */
-    int split = level == HP_LEVEL_SURFACE;
-    backmap bm[HP_MAX_BLADDERS];
-    double g[HP_MAX_BLADDERS][3], hf[HP_MAX_BLADDERS][9];
-    if (split) {
+    if (level == HP_LEVEL_SURFACE) {
+        backmap bm[HP_MAX_BLADDERS];
+        double g[HP_MAX_BLADDERS][3], hf[HP_MAX_BLADDERS][9];
         double cp[HP_MAX_BLADDERS][3], f[HP_MAX_BLADDERS];
         unsigned char want[HP_MAX_BLADDERS];
         int bad;
@@ -366,17 +365,16 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
                 derivative_rows(&rd, &bm[k], g[k], hf[k], k, J, want[k] ? H : NULL);
         return HP_OK;
     }
-    for (int k = 0; k < L->n; ++k) {
-        int want_h = H && (!hmask || hmask[k]);
-        double f;
-        e = bladder_distance(L, G, level, xi, &rd, derivs, k, warm ? &warm[k] : NULL, &bm[k],
-                             &f, g[k], want_h ? hf[k] : NULL);
+    for (int k = 0; k < L->n; ++k) { /* the plane level: no Hessian of its own */
+        backmap bm;
+        double f, g[3];
+        e = bladder_distance(L, G, level, xi, &rd, derivs, k, NULL, &bm, &f, g, NULL);
         if (e) {
             fill_nan(L->n, rho, J, H);
             return e;
         }
         if (rho) rho[k] = f;
-        derivative_rows(&rd, &bm[k], g[k], NULL, k, J, want_h ? H : NULL);
+        derivative_rows(&rd, &bm, g, NULL, k, J, H && (!hmask || hmask[k]) ? H : NULL);
     }
     return HP_OK;
 }

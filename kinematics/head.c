@@ -100,9 +100,9 @@ static hp_error sphere_distance(const hp_head *h, const double y[3], double *d,
 }
 
 /* One point's root find in progress (ellipsoid_distance; hp_kin_head_distances runs several
- * side by side): the point y (head frame), z = |y|/a, r∘z, the bracket and the iterate. */
+ * side by side): the point y (head frame), r∘z with z = |y|/a, the bracket and the iterate. */
 typedef struct ell_pt {
-    double y[3], z[3], rz[3], lo, hi, s;
+    double y[3], rz[3], lo, hi, s;
     int evals, running;
 } ell_pt;
 
@@ -111,15 +111,15 @@ static hp_error ell_setup(const hp_head *h, const hp_kin_head_k *k, const double
                           const hp_kin_dist_warm *ws, ell_pt *p)
 {
     const double *a = h->semi_axes, *r = k->r;
-    double g0 = -1.0;
+    double z[3], g0 = -1.0;
     for (int i = 0; i < 3; ++i) {
         p->y[i] = y[i];
-        p->z[i] = fabs(y[i]) / a[i];
-        p->rz[i] = r[i] * p->z[i];
-        g0 += p->z[i] * p->z[i];
+        z[i] = fabs(y[i]) / a[i];
+        p->rz[i] = r[i] * z[i];
+        g0 += z[i] * z[i];
     }
     double lo = -1.0, hi;
-    for (int i = 0; i < 3; ++i) lo = hp_max2(lo, r[i] * (p->z[i] - 1.0));
+    for (int i = 0; i < 3; ++i) lo = hp_max2(lo, r[i] * (z[i] - 1.0));
     if (g0 > 0) {
         lo = hp_max2(lo, 0.0);
         hi = sqrt(p->rz[0] * p->rz[0] + p->rz[1] * p->rz[1] + p->rz[2] * p->rz[2]) - 1.0;
@@ -344,8 +344,8 @@ hp_error hp_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
                                double (*grad)[3], double (*hess)[9],
                                const unsigned char *want_h, int *bad)
 {
-    if (n < 0 || n > HP_MAX_BLADDERS) return HP_ERR_INVALID;
     *bad = -1;
+    if (n < 0 || n > HP_MAX_BLADDERS) return HP_ERR_INVALID;
     double y[HP_MAX_BLADDERS][3];
     hp_error e[HP_MAX_BLADDERS];
     if (h->shape == HP_HEAD_SPHERE) {

@@ -44,7 +44,7 @@ void hp_test_nlopt_force_result(int code);
 void hp_test_realtime_fault(int fault);
 
 /* 1 when a realtime backend created with this max_time reads its time budget on the coarse
- * monotonic clock (its tick at most 1 % of max_time), 0 when on the precise one. */
+ * monotonic clock (max_time at least 100 of its ticks), 0 when on the precise one. */
 int hp_test_realtime_coarse_clock(double max_time);
 
 /* Counts of the realtime backend's less travelled paths, summed over every solve in the

@@ -523,7 +523,8 @@ static void test_soft_limit_point(void **s)
 /* Rate limits around pressures that no pose produces (eight independent values, six
  * degrees of freedom) leave no feasible pose: INFEASIBLE_START, holding those pressures. */
 /* The time budget's clock (backend_realtime.c, budget_clock): the coarse monotonic clock
- * exactly when one of its ticks is at most 1 % of max_time, else the precise one; and a
+ * exactly when max_time spans at least 100 of its ticks (100 × tick itself included: the
+ * same product the backend forms), else the precise one; and a
  * budget far below one SQP step still stops a binding plan after its first step with a
  * safe, labelled answer (read on the precise clock: a step of microseconds always exceeds
  * a nanosecond budget, however busy the machine). */
@@ -536,6 +537,7 @@ static void test_budget_clock(void **s)
         assert_true(tick > 0);
         assert_int_equal(hp_test_realtime_coarse_clock(200.0 * tick), 1);
         assert_int_equal(hp_test_realtime_coarse_clock(100.0 * tick), 1);
+        assert_int_equal(hp_test_realtime_coarse_clock(nextafter(100.0 * tick, 0.0)), 0);
         assert_int_equal(hp_test_realtime_coarse_clock(50.0 * tick), 0);
         assert_int_equal(hp_test_realtime_coarse_clock(1e-9), tick <= 1e-11);
     } else {
