@@ -3,6 +3,7 @@
 #include "hpy.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -212,22 +213,29 @@ static hp_error plan_rows(hp_planner *p, const double *poses, hpy_block *b)
     return HP_OK;
 }
 
-/* Plans an N×6 float64 array into a dict of arrays. */
-static PyObject *plan_array(hpy_planner *self, PyArrayObject *poses)
+/* Plans an N×6 float64 array into a dict of arrays. msg (HP_DIAG_MAX chars, or NULL)
+ * receives the last plan's message. It is copied before the planner's lock is released:
+ * once it is, building the dict can run a finalizer that lets another thread plan on this
+ * planner, and the texts would then be that plan's. */
+static PyObject *plan_array(hpy_planner *self, PyArrayObject *poses, char *msg)
 {
     hpy_block b;
     if (hpy_block_alloc(&b, PyArray_DIM(poses, 0), hp_planner_layout(self->p)->n) < 0)
         return PyErr_NoMemory();
     const double *x = PyArray_DATA(poses);
     hp_error e;
+    char err[HP_DIAG_MAX];
     hpy_planner_lock(self);
     Py_BEGIN_ALLOW_THREADS
     e = plan_rows(self->p, x, &b);
+    /* An answer (closest, uncommanded) explains itself in the note; a failure in the
+     * error. The note is composed on demand, so it is asked for here, under the lock. */
+    snprintf(err, sizeof err, "%s", hp_planner_error(self->p));
+    if (msg) snprintf(msg, HP_DIAG_MAX, "%s", *err ? err : hp_planner_note(self->p));
     Py_END_ALLOW_THREADS
     PyThread_release_lock(self->lock);
     PyObject *d = e == HP_OK ? hpy_block_dict(&b)
-                             : hpy_fail("plan: %s: %s", hp_error_message(e),
-                                        hp_planner_error(self->p));
+                             : hpy_fail("plan: %s: %s", hp_error_message(e), err);
     hpy_block_free(&b);
     return d;
 }
@@ -238,7 +246,7 @@ static PyObject *planner_plan_many(PyObject *o, PyObject *arg)
     if (!built(self)) return NULL;
     PyArrayObject *poses = hpy_rows(arg, "poses", 6, 0);
     if (!poses) return NULL;
-    PyObject *d = plan_array(self, poses);
+    PyObject *d = plan_array(self, poses, NULL);
     Py_DECREF(poses);
     return d;
 }
@@ -281,14 +289,12 @@ static PyObject *planner_plan(PyObject *o, PyObject *args, PyObject *kwargs)
     PyArrayObject *one = (PyArrayObject *)PyArray_Newshape(pose, &shape, NPY_CORDER);
     Py_DECREF(pose);
     if (!one) return NULL;
-    PyObject *block = plan_array(self, one);
+    char msg[HP_DIAG_MAX];
+    PyObject *block = plan_array(self, one, msg);
     Py_DECREF(one);
     if (!block) return NULL;
     PyObject *d = first_row(block);
     Py_DECREF(block);
-    /* An answer (closest, uncommanded) explains itself in the note; a failure in the error. */
-    const char *msg = *hp_planner_error(self->p) ? hp_planner_error(self->p)
-                                                 : hp_planner_note(self->p);
     if (d && hpy_put(d, "message", PyUnicode_FromString(msg)) < 0)
         Py_CLEAR(d);
     return d;

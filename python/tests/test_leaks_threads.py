@@ -148,3 +148,45 @@ def test_one_planner_shared_by_threads_is_serialised(default_planner):
     for o in outs[:3]:
         assert np.array_equal(o["pressure_pa"], ref["pressure_pa"])
     assert np.array_equal(outs[3]["pressure_pa"], outs[4]["pressure_pa"])
+
+
+def test_plan_message_is_its_own_plans_when_another_thread_plans_in_between(default_scene):
+    # Building plan()'s dict allocates, and a collection there may run a finalizer that
+    # lets another thread plan on the same planner before plan() returns. Here one always
+    # does: the finalizer waits (without the GIL) until the other thread has planned a
+    # reachable correction, whose note is "". The closest answer must still carry its own
+    # note, read while the planner was its own.
+    p = headplan.Planner(default_scene, level="linear")
+    far, near = np.array([15.0, 0, 0, 0, 0, 10]), np.array([0.1, 0, 0, 0, 0, 0])
+    go, done = threading.Event(), threading.Event()
+
+    def other():
+        go.wait(10)
+        p.plan(near)
+        done.set()
+
+    class Cycle:
+        def __init__(self):
+            self.me = self
+
+        def __del__(self):
+            if not go.is_set():
+                go.set()
+                done.wait(10)
+
+    t = threading.Thread(target=other)
+    t.start()
+    expected = p.plan(far)["message"]
+    threshold = gc.get_threshold()
+    gc.collect()
+    try:
+        gc.set_threshold(1)
+        Cycle()
+        r = p.plan(far)
+    finally:
+        gc.set_threshold(*threshold)
+        go.set()
+        t.join()
+    assert done.is_set()  # the other plan did run while plan(far) was building its dict
+    assert r["status"] == "closest"
+    assert expected.startswith("closest: binding") and r["message"] == expected
