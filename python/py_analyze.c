@@ -34,7 +34,7 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
     if (rc < 0) return NULL;
     const hp_layout *L = &sc->layout;
     double bl = 0, bp = 0;
-    hp_level autolevel = HP_LEVEL_SURFACE, used;
+    hp_level autolevel = HP_LEVEL_SURFACE, used, requested;
     hp_layout_analysis an;
     double rr[6][2];
     hp_error e;
@@ -42,6 +42,7 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
     e = hp_contact_error_bound(L, HP_LEVEL_LINEAR, s.auto_trans, s.auto_rot, &bl);
     if (e == HP_OK) e = hp_contact_error_bound(L, HP_LEVEL_PLANE, s.auto_trans, s.auto_rot, &bp);
     if (e == HP_OK) e = hp_contact_auto(L, s.level_tolerance, s.auto_trans, s.auto_rot, &autolevel);
+    requested = s.level;
     used = s.level == HP_LEVEL_AUTO ? autolevel : s.level;
     if (e == HP_OK) e = hp_layout_analyze(L, used, &an);
     /* The reach a plan sees (the planner's caps and commanded components), as the CLI. */
@@ -75,7 +76,7 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
     Py_INCREF(b);
     if (hpy_put(d, "scene", PyUnicode_FromString(sc->name)) ||
         hpy_put(d, "level", PyUnicode_FromString(hp_level_name(used))) ||
-        hpy_put(d, "level_requested", PyUnicode_FromString(hp_level_name(s.level))) ||
+        hpy_put(d, "level_requested", PyUnicode_FromString(hp_level_name(requested))) ||
         hpy_put(d, "singular_values", array(an.singular_values, 6, 0, 1.0)) ||
         hpy_put(d, "rank", PyLong_FromLong(an.rank)) ||
         hpy_put(d, "condition", PyFloat_FromDouble(an.condition)) ||

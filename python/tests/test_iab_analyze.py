@@ -64,6 +64,8 @@ def test_analyze_equals_cli(default_scene):
     a = headplan.analyze(default_scene)
     j = cli_json("analyze", DEFAULT)
     assert a["level"] == j["level"] == "surface"
+    # The scene asks for auto, which resolves to surface: the request is reported as asked.
+    assert a["level_requested"] == j["level_requested"] == "auto"
     assert a["singular_values"].tolist() == j["singular_values"]
     assert a["rank"] == j["rank"] == 6 and a["condition"] == j["condition"]
     assert a["weakest_direction"]["vector"].tolist() == j["weakest_direction"]["vector"]
