@@ -145,7 +145,11 @@ int hpy_put(PyObject *d, const char *key, PyObject *value)
 PyObject *hpy_binding_names(PyObject *self, PyObject *arg)
 {
     (void)self;
-    unsigned long flags = PyLong_AsUnsignedLong(arg);
+    /* Through __index__: the flags usually come as NumPy uint32 scalars from a result. */
+    PyObject *index = PyNumber_Index(arg);
+    if (!index) return NULL;
+    unsigned long flags = PyLong_AsUnsignedLong(index);
+    Py_DECREF(index);
     if (flags == (unsigned long)-1 && PyErr_Occurred()) return NULL;
     PyObject *list = PyList_New(0);
     for (int b = 0; list && b < HP_BIND_COUNT; ++b)

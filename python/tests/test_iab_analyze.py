@@ -94,3 +94,9 @@ def test_binding_names():
     assert headplan.binding_names(1 | 8 | 64) == ["pressure_min", "stretch_max", "limit_point"]
     with pytest.raises(TypeError):
         headplan.binding_names("x")
+    # An element of a result's binding array (a NumPy uint32), as the docs say to pass.
+    sat = headplan.load_scene(scenario("saturation.yaml"))
+    r = headplan.Planner(sat, backend="realtime").plan(sat.correction)
+    k = int(np.argmax(r["binding"]))
+    assert headplan.binding_names(r["binding"][k]) == ["pressure_min"]
+    assert headplan.binding_names(np.int64(2)) == ["pressure_max"]
