@@ -263,7 +263,7 @@ static int closest_verified(const hp_planner *p, const double *x)
            m.wrong_sign <= stat;
 }
 
-/* 1 when the strict round trip of answer r gives xc back (HP_IDENT_FK_TOL): its pressures
+/* 1 when the strict round trip of answer r gives its pose xc back (HP_IDENT_FK_TOL): its pressures
  * -> stable radii -> outer radii -> forward contact kinematics in the commanded components
  * started from the NOMINAL pose. Else 0 with the other pose's distance in p->err. On a
  * near-degenerate layout at the plane level the fit from the nominal pose can end in a
@@ -391,7 +391,10 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
     int unc_any = uncommanded_beyond(p, c->unc);
     if (r->pose_error <= p->s.tolerance) {
         r->status = unc_any ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED;
-        if (!recovered_from_nominal(p, r, c->xc, c)) {
+        /* What is verified is the answer's own pose: with a tolerance above the round
+         * trip's HP_IDENT_FK_TOL a REACHED answer may lie up to the tolerance from xc, and
+         * the fit then rightly ends there, not at xc; that is no second pose. */
+        if (!recovered_from_nominal(p, r, r->achieved, c)) {
             fail_safe(p, r, HP_STATUS_INVALID_INPUT, c);
             return 0;
         }

@@ -301,6 +301,65 @@ static void sphere_off_centre_pivot(void **st)
     hp_planner_destroy(p);
 }
 
+/* A tolerance looser than the strict round trip's 1e-7 mm/deg: a correction just beyond
+ * reach, whose closest answer lies within the tolerance, is REACHED (as at the linear
+ * level), never refused as outside the identifiable range. The round trip verifies the
+ * answer's own pose: the pressures, inverted here by hp_iab_fk -> hp_iab_ro ->
+ * hp_contact_fk from the nominal pose, give the achieved pose back, and that lies within
+ * the tolerance of the desired one. Failed before: INVALID_INPUT, "another pose 0.0096
+ * mm/deg away", the nominal pressures held. */
+static void loose_tolerance_reached_beyond_reach(void **st)
+{
+    (void)st;
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    const hp_level levels[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    for (int li = 0; li < 3; ++li) {
+        hp_settings s;
+        hp_settings_default(&s);
+        s.level = levels[li];
+        s.tolerance = 0.05; /* mm and degrees: a tenth of the clinical 0.5 */
+        s.max_time = 60.0;
+        hp_planner *p = NULL, *strict = NULL;
+        assert_int_equal(hp_planner_create(&L, &s, &p, NULL), HP_OK);
+        s.tolerance = HP_DEFAULT_TOLERANCE;
+        assert_int_equal(hp_planner_create(&L, &s, &strict, NULL), HP_OK);
+        double reach[6][2];
+        assert_int_equal(hp_planner_reach(strict, reach), HP_OK);
+        for (int axis = 0; axis < 6; ++axis) {
+            double cl[6] = {0}, xi[6];
+            cl[axis] = reach[axis][1] * 1.002;
+            lf_pose(cl, xi);
+            hp_result r, rs;
+            assert_int_equal(hp_plan(strict, xi, &rs), HP_OK);
+            assert_int_equal(rs.status, HP_STATUS_CLOSEST);
+            if (!(rs.pose_error < 0.05)) continue; /* the closest is not within tolerance */
+            assert_int_equal(hp_plan(p, xi, &r), HP_OK);
+            if (r.status != HP_STATUS_REACHED)
+                print_error("%s axis %d: %s: %s\n", hp_level_name(levels[li]), axis,
+                            hp_status_name(r.status), hp_planner_error(p));
+            assert_int_equal(r.status, HP_STATUS_REACHED);
+            assert_true(r.pose_error > 1e-7 && r.pose_error <= 0.05);
+            double ro[HP_MAX_BLADDERS], back[6], resid;
+            for (int k = 0; k < L.n; ++k) {
+                double ri;
+                assert_int_equal(hp_iab_fk(&L.bladders[k].iab, r.bladders[k].pressure, &ri),
+                                 HP_OK);
+                assert_int_equal(hp_iab_ro(&L.bladders[k].iab, ri, &ro[k]), HP_OK);
+            }
+            assert_int_equal(hp_contact_fk(&L, levels[li], ro, NULL, back, &resid, NULL),
+                             HP_OK);
+            for (int i = 0; i < 6; ++i) {
+                double sc = i < 3 ? 1e3 : 180.0 / PI;
+                hp_assert_close(back[i] * sc, r.achieved[i] * sc, 0, 1e-6);
+                assert_true(fabs(back[i] - xi[i]) * sc <= 0.05 + 1e-6);
+            }
+        }
+        hp_planner_destroy(p);
+        hp_planner_destroy(strict);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -309,6 +368,7 @@ int main(void)
         cmocka_unit_test(deficient_layouts_never_reached),
         cmocka_unit_test(far_pivot_commands_everything),
         cmocka_unit_test(sphere_off_centre_pivot),
+        cmocka_unit_test(loose_tolerance_reached_beyond_reach),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
