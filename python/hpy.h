@@ -37,9 +37,13 @@ PyArrayObject *hpy_doubles(PyObject *obj, const char *name, int finite);
  * set, taken as 1×cols). Returns a new reference or NULL. */
 PyArrayObject *hpy_rows(PyObject *obj, const char *name, int cols, int one_row);
 
-/* Reads a float argument (an int or a float; finite). Returns 0 or -1 with the exception
- * set. */
+/* Reads a float argument (an int or a float, NumPy scalars too; finite). Returns 0 or -1
+ * with the exception set. */
 int hpy_double(PyObject *obj, const char *name, double *out);
+
+/* Reads an int argument (a Python or NumPy integer that fits an int; the range is the
+ * validator's). Returns 0 or -1 with the exception set. */
+int hpy_int(PyObject *obj, const char *name, int *out);
 
 /* A new 1-D or 2-D float64 / int32 / uint32 array, zero-filled. */
 PyArrayObject *hpy_new(int nd, npy_intp d0, npy_intp d1, int typenum);

@@ -3,6 +3,7 @@
 #define HPY_IMPORT_ARRAY
 #include "hpy.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdio.h>
@@ -87,7 +88,8 @@ PyArrayObject *hpy_rows(PyObject *obj, const char *name, int cols, int one_row)
 
 int hpy_double(PyObject *obj, const char *name, double *out)
 {
-    if (!PyFloat_Check(obj) && !PyLong_Check(obj)) {
+    if (!PyFloat_Check(obj) && !PyLong_Check(obj) && !PyArray_IsScalar(obj, Integer) &&
+        !PyArray_IsScalar(obj, Floating)) {
         PyErr_Format(PyExc_TypeError, "%s: expected a number", name);
         return -1;
     }
@@ -98,6 +100,30 @@ int hpy_double(PyObject *obj, const char *name, double *out)
         return -1;
     }
     *out = v;
+    return 0;
+}
+
+int hpy_int(PyObject *obj, const char *name, int *out)
+{
+    if (!PyLong_Check(obj) && !PyArray_IsScalar(obj, Integer)) {
+        PyErr_Format(PyExc_TypeError, "%s: expected an int", name);
+        return -1;
+    }
+    PyObject *i = PyNumber_Index(obj);
+    if (!i) return -1;
+    int overflow = 0;
+    long v = PyLong_AsLongAndOverflow(i, &overflow);
+    if (!overflow && v == -1 && PyErr_Occurred()) {
+        Py_DECREF(i);
+        return -1;
+    }
+    if (overflow || v < INT_MIN || v > INT_MAX) {
+        PyErr_Format(hpy_error, "%s: %S is out of range", name, i);
+        Py_DECREF(i);
+        return -1;
+    }
+    Py_DECREF(i);
+    *out = (int)v;
     return 0;
 }
 

@@ -30,17 +30,13 @@ static int kw_int(PyObject *kw, const char *key, int lo, int hi, int *out)
 {
     PyObject *v = kw ? PyDict_GetItemString(kw, key) : NULL;
     if (!v || v == Py_None) return 0;
-    if (!PyLong_Check(v)) {
-        PyErr_Format(PyExc_TypeError, "%s: expected an int", key);
-        return -1;
-    }
-    long x = PyLong_AsLong(v);
-    if (x == -1 && PyErr_Occurred()) return -1;
+    int x;
+    if (hpy_int(v, key, &x) < 0) return -1;
     if (x < lo || x > hi) {
-        hpy_fail("%s: must be in %d..%d (got %ld)", key, lo, hi, x);
+        hpy_fail("%s: must be in %d..%d (got %d)", key, lo, hi, x);
         return -1;
     }
-    *out = (int)x;
+    *out = x;
     return 0;
 }
 

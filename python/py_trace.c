@@ -195,12 +195,23 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     static char *kw[] = {"trace", "t", "rows", "rate_limits", "mode", "horizon", "prediction",
                          "rate_kpa_per_s", "window", "overlap", NULL};
     PyObject *trace = Py_None, *t = Py_None;
+    PyObject *horizon_o = Py_None, *rate_o = Py_None, *window_o = Py_None,
+             *overlap_o = Py_None;
     const char *rows = NULL, *mode_s = "batch", *pred = NULL;
     int rate_limits = 1, horizon = -1, window = -1, overlap = -1;
     double rate_kpa_s = NAN;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "|OOzpsizdii:run_trace", kw, &trace, &t,
-                                     &rows, &rate_limits, &mode_s, &horizon, &pred,
-                                     &rate_kpa_s, &window, &overlap))
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "|OOzpsOzOOO:run_trace", kw, &trace, &t,
+                                     &rows, &rate_limits, &mode_s, &horizon_o, &pred,
+                                     &rate_o, &window_o, &overlap_o))
+        return NULL;
+    /* None is "not given"; any value given goes to the validator as it is (NaN, -1 and
+     * infinity included, which no sentinel may swallow). */
+    int given = horizon_o != Py_None || rate_o != Py_None || window_o != Py_None ||
+                overlap_o != Py_None;
+    if ((horizon_o != Py_None && hpy_int(horizon_o, "horizon", &horizon) < 0) ||
+        (window_o != Py_None && hpy_int(window_o, "window", &window) < 0) ||
+        (overlap_o != Py_None && hpy_int(overlap_o, "overlap", &overlap) < 0) ||
+        (rate_o != Py_None && hpy_double(rate_o, "rate_kpa_per_s", &rate_kpa_s) < 0))
         return NULL;
     /* mode: 0 as batch; over a horizon (hp_horizon.h) 1 greedy, 2 receding, 3 offline. */
     static const char *const modes[4] = {"batch", "greedy", "receding", "offline"};
@@ -211,17 +222,16 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
         return hpy_fail("mode: '%s' is none of batch, greedy, receding, offline", mode_s);
     hp_horizon_settings hs;
     hp_horizon_settings_default(&hs);
-    if (horizon != -1) hs.horizon = horizon;
-    if (window != -1) hs.window = window;
-    if (overlap != -1) hs.overlap = overlap;
-    if (!isnan(rate_kpa_s)) hs.rate_max_per_s = rate_kpa_s * 1e3;
+    if (horizon_o != Py_None) hs.horizon = horizon;
+    if (window_o != Py_None) hs.window = window;
+    if (overlap_o != Py_None) hs.overlap = overlap;
+    if (rate_o != Py_None) hs.rate_max_per_s = rate_kpa_s * 1e3;
     if (pred && hp_prediction_parse(pred, &hs.prediction) != HP_OK)
         return hpy_fail("prediction: '%s' is neither 'hold' nor 'velocity'", pred);
     hp_diag hd = {{0}};
     if (mode > 0 && hp_horizon_settings_validate(&hs, &hd) != HP_OK)
         return hpy_fail("%s", hd.text);
-    if (mode == 0 && (horizon != -1 || window != -1 || overlap != -1 || pred ||
-                      !isnan(rate_kpa_s)))
+    if (mode == 0 && (given || pred))
         return hpy_fail("horizon, prediction, rate_kpa_per_s, window, overlap: only with "
                         "mode greedy, receding or offline");
     if (!self->p) {

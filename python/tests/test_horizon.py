@@ -68,3 +68,27 @@ def test_horizon_arguments(step, default_planner):
         default_planner.run_trace(step, rows="deviation", mode="receding", prediction="psychic")
     with pytest.raises(headplan.Error, match="horizon"):
         default_planner.run_trace(step, rows="deviation", mode="receding", horizon=0)
+    # Every value given reaches the validator, the ones an argument parser could take for
+    # "not given" too (they were planned with the defaults), as `headplan horizon` refuses
+    # them; None is "not given".
+    for mode, kw, msg in [("receding", {"horizon": -1}, "horizon: must be in"),
+                          ("offline", {"window": -1}, "window: must be"),
+                          ("greedy", {"rate_kpa_per_s": float("nan")}, "rate_kpa_per_s"),
+                          ("greedy", {"rate_kpa_per_s": float("inf")}, "rate_kpa_per_s"),
+                          ("batch", {"horizon": -1}, "only with mode"),
+                          ("receding", {"horizon": 2**40}, "horizon: .* out of range")]:
+        with pytest.raises(headplan.Error, match=msg):
+            default_planner.run_trace(step, rows="deviation", mode=mode, **kw)
+    with pytest.raises(TypeError, match="horizon"):
+        default_planner.run_trace(step, rows="deviation", mode="receding", horizon=2.5)
+    none = default_planner.run_trace(step, rows="deviation", mode="greedy", horizon=None,
+                                     rate_kpa_per_s=None)
+    assert np.array_equal(none["pressure_pa"],
+                          default_planner.run_trace(step, rows="deviation",
+                                                    mode="greedy")["pressure_pa"])
+    # NumPy integers and floats are numbers like Python's (a sweep's values come from arrays).
+    a = default_planner.run_trace(step, rows="deviation", mode="receding", horizon=np.int64(3),
+                                  rate_kpa_per_s=np.float32(20))
+    b = default_planner.run_trace(step, rows="deviation", mode="receding", horizon=3,
+                                  rate_kpa_per_s=float(np.float32(20)))
+    assert np.array_equal(a["pressure_pa"], b["pressure_pa"])

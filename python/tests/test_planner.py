@@ -166,6 +166,13 @@ def test_settings_overrides_and_errors(default_scene):
         headplan.Planner(default_scene, tolerance=float("nan"))
     with pytest.raises(headplan.Error, match="max_iter"):
         headplan.Planner(default_scene, max_iter=0)
+    with pytest.raises(headplan.Error, match="max_iter"):  # not an OverflowError
+        headplan.Planner(default_scene, max_iter=2**70)
+    with pytest.raises(TypeError, match="max_iter"):
+        headplan.Planner(default_scene, max_iter=50.0)
+    # NumPy scalars are numbers like Python's.
+    s = headplan.Planner(default_scene, max_iter=np.int32(50), tolerance=np.float32(0.5)).settings
+    assert s["max_iter"] == 50 and s["tolerance"] == 0.5
     with pytest.raises(TypeError, match="unknown keyword 'speed'"):
         headplan.Planner(default_scene, speed=3)
     with pytest.raises(TypeError):
