@@ -19,6 +19,13 @@ static PyArrayObject *bladder_args(const char *fn, const char *what, PyObject *a
     if (hpy_double(Ri, "Ri_mm", &Ri_mm) || hpy_double(Ro, "Ro_mm", &Ro_mm) ||
         hpy_double(c1, "c1_pa", &C1) || hpy_double(c2, "c2_pa", &C2))
         return NULL;
+    /* The radii in the caller's units and names, as headplan ik says them; the library's
+     * check below says them in m. */
+    if (!(Ri_mm > 0))
+        return (PyArrayObject *)hpy_fail("%s: Ri_mm: must be > 0 mm (got %g)", fn, Ri_mm);
+    if (!(Ro_mm > Ri_mm))
+        return (PyArrayObject *)hpy_fail(
+            "%s: Ro_mm: must be greater than Ri_mm (got Ro_mm %g, Ri_mm %g)", fn, Ro_mm, Ri_mm);
     *b = (hp_iab){Ri_mm * 1e-3, Ro_mm * 1e-3, C1, C2};
     hp_diag d = {{0}};
     if (hp_iab_validate(b, &d) != HP_OK)

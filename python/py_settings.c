@@ -1,6 +1,7 @@
 /* Planner settings for the Python module: the scene's model and solver sections, then the
  * keyword overrides a Planner is built with. */
 #include "hpy.h"
+#include "planner/settings_check.h"
 
 #include <string.h>
 
@@ -40,6 +41,17 @@ static int kw_int(PyObject *kw, const char *key, int lo, int hi, int *out)
     return 0;
 }
 
+/* The keyword is in mm, the library's field in m: its check, said in the keyword's units
+ * (as the scene reader says it for model.tolerance_mm). */
+static int level_tolerance_mm(PyObject *kw, double level_tolerance)
+{
+    PyObject *v = kw ? PyDict_GetItemString(kw, "level_tolerance_mm") : NULL;
+    const char *why = v && v != Py_None ? hp_check_level_tolerance(level_tolerance) : NULL;
+    if (!why) return 0;
+    hpy_fail("level_tolerance_mm: %s mm (got %g)", why, level_tolerance * 1e3);
+    return -1;
+}
+
 int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
 {
     static const char *const known[] = {"backend",           "level",      "tolerance",
@@ -72,6 +84,7 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
         kw_double(kw, "max_time_s", 1.0, &s->max_time) ||
         kw_double(kw, "weight_mm_per_deg", 1.0, &s->weight_mm_per_deg) ||
         kw_double(kw, "level_tolerance_mm", 1e-3, &s->level_tolerance) ||
+        level_tolerance_mm(kw, s->level_tolerance) ||
         kw_int(kw, "warm_start", 0, 1, &warm))
         return -1;
     s->warm_start = warm;

@@ -226,6 +226,8 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     if (window_o != Py_None) hs.window = window;
     if (overlap_o != Py_None) hs.overlap = overlap;
     if (rate_o != Py_None) hs.rate_max_per_s = rate_kpa_s * 1e3;
+    if (rate_o != Py_None && !(rate_kpa_s > 0)) /* the validator would say it in Pa/s */
+        return hpy_fail("rate_kpa_per_s: must be > 0 kPa/s (got %g)", rate_kpa_s);
     if (pred && hp_prediction_parse(pred, &hs.prediction) != HP_OK)
         return hpy_fail("prediction: '%s' is neither 'hold' nor 'velocity'", pred);
     hp_diag hd = {{0}};

@@ -76,6 +76,8 @@ def test_horizon_arguments(step, default_planner):
                           ("greedy", {"rate_kpa_per_s": float("nan")}, "rate_kpa_per_s"),
                           ("greedy", {"rate_kpa_per_s": float("inf")}, "rate_kpa_per_s"),
                           ("batch", {"horizon": -1}, "only with mode"),
+                          ("greedy", {"rate_kpa_per_s": -1},
+                           r"^rate_kpa_per_s: must be > 0 kPa/s \(got -1\)$"),
                           ("receding", {"horizon": 2**40}, "horizon: .* out of range")]:
         with pytest.raises(headplan.Error, match=msg):
             default_planner.run_trace(step, rows="deviation", mode=mode, **kw)

@@ -45,8 +45,12 @@ def test_ik_fk_bad_input():
         headplan.ik(["a"], **B)
     with pytest.raises(TypeError):
         headplan.ik([25.0], Ri_mm=27, Ro_mm=30, c1_pa=1e4)  # c2_pa missing
-    with pytest.raises(headplan.Error, match="bladder: .*Ro"):
+    # In the caller's names and mm, as headplan ik says it (the library's check says m).
+    with pytest.raises(headplan.Error, match=r"^ik: Ro_mm: must be greater than Ri_mm "
+                                             r"\(got Ro_mm 20, Ri_mm 27\)$"):
         headplan.ik([25.0], Ri_mm=27, Ro_mm=20, c1_pa=1e4, c2_pa=0)
+    with pytest.raises(headplan.Error, match=r"^fk: Ri_mm: must be > 0 mm \(got 0\)$"):
+        headplan.fk([25.0], Ri_mm=0, Ro_mm=20, c1_pa=1e4, c2_pa=0)
     with pytest.raises(headplan.Error, match="Ri_mm: must be finite"):
         headplan.ik([25.0], Ri_mm=float("inf"), Ro_mm=20, c1_pa=1e4, c2_pa=0)
     # a neo-Hookean bladder has an inflation limit point: no stable radius above it

@@ -166,6 +166,9 @@ def test_settings_overrides_and_errors(default_scene):
         headplan.Planner(default_scene, tolerance=float("nan"))
     with pytest.raises(headplan.Error, match="max_iter"):
         headplan.Planner(default_scene, max_iter=0)
+    with pytest.raises(headplan.Error,
+                       match=r"^level_tolerance_mm: must be finite and > 0 mm \(got -1\)$"):
+        headplan.Planner(default_scene, level_tolerance_mm=-1)  # not "-0.001 m"
     with pytest.raises(headplan.Error, match="max_iter"):  # not an OverflowError
         headplan.Planner(default_scene, max_iter=2**70)
     with pytest.raises(TypeError, match="max_iter"):
