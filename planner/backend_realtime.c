@@ -698,6 +698,12 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     double xa[6];
     hp_qp_status qs = HP_QP_OPTIMAL;
     hp_status st_out = HP_STATUS_CLOSEST;
+    /* The stopping steps scale with the pose tolerance, but no further than RT_FULL_STEP:
+     * a stop after a longer, line-searched step leaves the curved limits violated by its
+     * linearisation error (~½κ·step², above RT_MARGIN_MM from ~1e-5 mm on), which the
+     * restoration then tightens into a point not proven closest: ITERATION_LIMIT after a
+     * handful of steps whenever the tolerance is clinical (0.05 to 0.5 mm). */
+    const double stop_tol = fmin(st->tolerance, RT_FULL_STEP);
     for (;;) {
         /* The previous step's active set as the guess; none for a cold solve's first QP
          * (st->act is then the last solve's, for another target: measured on the default
@@ -755,10 +761,10 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
          * conditions under which Newton-SQP converges quadratically near a regular
          * solution; the QP saved would only confirm digits far below the tolerance. */
         double next = step * (step / prev_step) * (step / prev_step);
-        if (step <= 1e-3 * st->tolerance ||
-            (step <= 0.1 * st->tolerance && step >= 0.5 * prev_step) ||
+        if (step <= 1e-3 * stop_tol ||
+            (step <= 0.1 * stop_tol && step >= 0.5 * prev_step) ||
             (whole && whole_prev && same_active && inside && st->exact && exact_prev &&
-             step <= 0.01 * prev_step && next <= fmin(1e-3 * st->tolerance, 0.1 * RT_MARGIN_MM))) {
+             step <= 0.01 * prev_step && next <= fmin(1e-3 * stop_tol, 0.1 * RT_MARGIN_MM))) {
             r->converged = 1;
             break;
         }
