@@ -33,6 +33,13 @@
 #define SLSQP_EVALS_PER_ITER 4
 /* Smallest per-constraint tolerance handed to NLopt [mm] (see create_common). */
 #define HP_NLOPT_CONTACT_TOL_MIN 1e-10
+/* Largest solver tolerance [mm, deg] handed to NLopt, whatever the pose tolerance: its
+ * contacts, steps and objective changes are the solve's precision, not the clinical
+ * acceptance. A pose tolerance of 0.05 mm used as the contact tolerance let SLSQP return
+ * radii 0.05 mm off their contacts, which then held no pose (SOLVER_ERROR); from 1e-8 on,
+ * SLSQP's curved-level answers stopped short and came back ITERATION_LIMIT. So a looser
+ * tolerance is solved as the default one (measured clean: 60 binding targets per level). */
+#define HP_NLOPT_SOLVE_TOL_MAX HP_DEFAULT_TOLERANCE
 #define COBYLA_EVALS_PER_ITER 7
 /* COBYLA's initial trust radius: 1 mm / 1 degree, the size of a typical correction. */
 #define COBYLA_INITIAL_STEP 1.0
@@ -201,16 +208,17 @@ static hp_error create_common(void **state, const hp_problem *pb, const hp_setti
      * below ~1e-10 mm (3 ulp-ish of rounding in ρ and ro near 30 mm, amplified by the
      * linearisation error of each step) no iterate may qualify and it hands back the start
      * point. Hence the floor. */
+    const double stol = fmin(s->tolerance, HP_NLOPT_SOLVE_TOL_MAX);
     double tol[2 * HP_MAX_BLADDERS];
     for (int k = 0; k < 2 * HP_MAX_BLADDERS; k++)
-        tol[k] = fmax(s->tolerance, HP_NLOPT_CONTACT_TOL_MIN);
+        tol[k] = fmax(stol, HP_NLOPT_CONTACT_TOL_MIN);
     double xtol[HP_PROBLEM_NX_MAX];
-    for (int i = 0; i < HP_PROBLEM_NX_MAX; i++) xtol[i] = s->tolerance;
+    for (int i = 0; i < HP_PROBLEM_NX_MAX; i++) xtol[i] = stol;
     int evals_per_iter = reduced ? COBYLA_EVALS_PER_ITER : SLSQP_EVALS_PER_ITER;
     int maxeval = s->max_iter > 100000000 / evals_per_iter ? 100000000
                                                             : s->max_iter * evals_per_iter;
     /* f = Σ w (x − d)²: a change below tolerance² in f is a change below tolerance in x. */
-    double ftol = s->tolerance * s->tolerance;
+    double ftol = stol * stol;
     if ((e = nl(reduced ? nlopt_set_min_objective(st->opt, reduced_objective, st)
                         : nlopt_set_min_objective(st->opt, full_objective, st),
                 "set_min_objective", d)) ||
@@ -331,7 +339,9 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
         /* Ambiguous (docs/solver-facts.md): accept the point only if it is feasible and stationary.
          * Feasibility to 10× the constraint tolerance (1e-9 mm at least): SLSQP's last step
          * is limited by rounding at about that level. */
-        if (hp_backend_kkt_ok(pb, v, fmax(10.0 * st->s.tolerance, 1e-9))) {
+        double stol = st->s.tolerance < HP_NLOPT_SOLVE_TOL_MAX ? st->s.tolerance
+                                                              : HP_NLOPT_SOLVE_TOL_MAX;
+        if (hp_backend_kkt_ok(pb, v, fmax(10.0 * stol, 1e-9))) {
             r->converged = 1;
             r->status = HP_STATUS_REACHED;
         }
