@@ -5,6 +5,7 @@
 #include "cli/batch_output.h"
 #include "cli/cli_output.h"
 #include "cli/cli_scene.h"
+#include "cli/cmd_solve_load.h"
 #include "cli/commands.h"
 #include "cli/sha256.h"
 
@@ -309,15 +310,21 @@ int cmd_batch(int argc, char **argv)
     if ((rc = batch_output_format(a.format, a.out, &fmt))) return rc;
 
     hp_scene *sc = NULL;
-    if ((rc = cli_load_scene(CMD, a.scene, NULL, &sc))) return rc;
+    char scene_sha[65], *scene_text = NULL;
+    size_t scene_len = 0;
+    if ((rc = cli_load_scene_text(CMD, a.scene, NULL, &sc, &scene_text, &scene_len))) return rc;
+    sha256_bytes(scene_text, scene_len, scene_sha);
+    free(scene_text);
     hp_settings s;
-    char scene_sha[65];
     struct stat scene_st;
-    if ((rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
+    if ((rc = cli_kinematic_only(CMD, sc, a.level,
+                                 "give --level surface (or plane, linear) to plan it so, or "
+                                 "plan single corrections with headplan solve")) ||
+        (rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
         free(sc);
         return rc;
     }
-    if (sha256_file(a.scene, scene_sha) != 0 || stat(a.scene, &scene_st) != 0) {
+    if (stat(a.scene, &scene_st) != 0) {
         free(sc);
         return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", a.scene, strerror(errno));
     }

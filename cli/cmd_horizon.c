@@ -4,9 +4,11 @@
 #include "cli/cli_args.h"
 #include "cli/cli_outfile.h"
 #include "cli/cli_scene.h"
+#include "cli/cmd_solve_load.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 
+#include <errno.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
@@ -113,13 +115,19 @@ static int settings_from_args(const hz_args *a, hp_horizon_settings *hs, double 
 }
 
 /* Reads every row of a trace; a bad row stops (a horizon plan needs every row). */
-static int read_trace(const char *path, const hp_trace_rows *ovr, hp_trace_row **out, size_t *T)
+static int read_trace(const char *path, const hp_trace_rows *ovr, const char *from,
+                      hp_trace_row **out, size_t *T)
 {
     hp_trace_reader *r = NULL;
     hp_diag d = {{0}};
-    hp_error e = hp_trace_open(path, ovr, &r, &d);
-    if (e != HP_OK)
+    FILE *f = fopen(path, "rb");
+    if (!f) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    /* The stream form names where the kind of rows came from in its messages. */
+    hp_error e = hp_trace_open_stream(f, path, ovr, from, &r, &d);
+    if (e != HP_OK) {
+        fclose(f);
         return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, CMD, "%s", d.text);
+    }
     size_t n = 0, cap = 1024;
     hp_trace_row *rows = malloc(cap * sizeof *rows);
     int rc = 0;
@@ -144,6 +152,7 @@ static int read_trace(const char *path, const hp_trace_rows *ovr, hp_trace_row *
         ++n;
     }
     hp_trace_close(r);
+    fclose(f);
     if (rc == 0 && n == 0) rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: no rows", path);
     if (rc) {
         free(rows);
@@ -283,16 +292,30 @@ int cmd_horizon(int argc, char **argv)
     size_t T = 0;
     const char *trace = a.trace;
     const hp_trace_rows *use_ovr = a.rows ? &ovr : NULL;
+    const char *from = "--rows";
     if (!trace) {
         if (!sc->has_trace) {
             rc = cli_fail(CLI_EXIT_USAGE, CMD, "no TRACE given and the scene names none");
             goto done;
         }
         trace = sc->trace_path;
-        if (!a.rows) use_ovr = &sc->trace_rows;
+        /* The scene's trace.rows describes its own trace: --rows must agree with it, as in
+         * batch (planning a deviation trace as corrections flips every sign). */
+        if (a.rows && ovr != sc->trace_rows) {
+            rc = cli_fail(CLI_EXIT_DATAERR, CMD,
+                          "--rows says %s but the scene's trace.rows says %s: they must agree",
+                          hp_trace_rows_name(ovr), hp_trace_rows_name(sc->trace_rows));
+            goto done;
+        }
+        use_ovr = &sc->trace_rows;
+        from = a.rows ? "--rows" : "the scene's trace.rows";
     }
-    if ((rc = cli_settings(CMD, sc, NULL, NULL, &s))) goto done;
-    if ((rc = read_trace(trace, use_ovr, &rows, &T))) goto done;
+    if ((rc = cli_kinematic_only(CMD, sc, NULL,
+                                 "set model.level to surface (or plane, linear) to plan "
+                                 "the trace without it")) ||
+        (rc = cli_settings(CMD, sc, NULL, NULL, &s)))
+        goto done;
+    if ((rc = read_trace(trace, use_ovr, from, &rows, &T))) goto done;
     /* The output is checked and created before any planning: a refused -o costs nothing and
      * can name no input. */
     if (a.out) {

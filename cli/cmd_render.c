@@ -6,6 +6,7 @@
 #include "cli/cli_args.h"
 #include "common/units.h"
 #include "cli/cli_scene.h"
+#include "cli/cmd_solve_load.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/gnuplot_out.h"
@@ -313,7 +314,10 @@ int cmd_render(int argc, char **argv)
     if (a.correction) hp_pose_from_clinical(clin, desired);
     else if (sc->has_correction) memcpy(desired, sc->correction, sizeof desired);
     hp_settings s;
-    if ((rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
+    if ((rc = cli_kinematic_only(CMD, sc, a.level,
+                                 "give --level surface (or plane, linear) to draw the plan "
+                                 "without it")) ||
+        (rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
         free(sc);
         return rc;
     }

@@ -1,0 +1,65 @@
+# The same scene and trace must give the same answer whichever way they reach the program:
+# a scene on a pipe, the kind of rows stated in two places, a scene that asks for the load
+# level. Each case here was once answered differently by two paths (see the commit).
+source "$2/tests/cli_lib.sh"
+S="$HP_SRC/scenarios"
+
+printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,1,0,-0.5,0.3,0,-0.2\n' \
+    > "$TMP/c.csv"
+
+# A scene on a pipe is read once: it used to be read for its kind, then found empty.
+run solve "$S/default.yaml" --json; cp "$TMP/out" "$TMP/file.json"
+"$HP_BIN" solve /dev/stdin --json < <(cat "$S/default.yaml") > "$TMP/out" 2> "$TMP/err"; rc=$?
+expect_exit 0 "solve, scene on a pipe"
+python3 - "$TMP/file.json" "$TMP/out" <<'PY' && ok || bad "pipe scene plans as the file"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["status"] == b["status"] == "reached"
+assert [x["pressure_pa"] for x in a["bladders"]] == [x["pressure_pa"] for x in b["bladders"]]
+PY
+"$HP_BIN" batch <(cat "$S/default.yaml") "$TMP/c.csv" --format csv --no-times \
+    > "$TMP/out" 2> "$TMP/err"; rc=$?
+expect_exit 0 "batch, scene on a pipe"
+want=$(sha256sum < "$S/default.yaml" | cut -d' ' -f1)
+expect_stdout_has "# scene_sha256: $want" "pipe scene's hash is of its bytes"
+run solve /dev/null
+expect_exit 65 "empty scene"; expect_stderr_has "/dev/null:1:1: headplan_scene: empty file" "empty"
+
+# horizon: --rows against the scene's own trace.rows is refused, as in batch (it planned the
+# deviation trace as corrections, every sign flipped, exit 0), and messages name --rows.
+run horizon "$S/horizon/step.yaml" --mode greedy --rows correction
+expect_exit 65 "horizon --rows against trace.rows"
+expect_stderr_has "--rows says correction but the scene's trace.rows says deviation" "horizon rows"
+expect_stdout_empty "horizon rows"
+run batch "$S/horizon/step.yaml" --rows correction --format csv
+expect_exit 65 "batch --rows against trace.rows"
+run horizon "$S/horizon/step.yaml" --mode greedy --rows deviation
+expect_exit 0 "horizon --rows agreeing with trace.rows"
+run horizon "$S/horizon/step.yaml" "$S/traces/step.csv" --mode greedy
+expect_exit 65 "horizon, trace states no kind"; expect_stderr_has "or give --rows" "names --rows"
+grep -q "the caller" "$TMP/err" && bad "horizon message says 'the caller'" || ok
+run horizon "$S/horizon/step.yaml" "$S/traces/nodding.csv" --mode greedy --rows correction
+expect_exit 65 "horizon, trace against --rows"
+expect_stderr_has "states rows=deviation but --rows says correction" "horizon names --rows"
+
+# A scene planned at the load level (auto picks it for load_supine; model.level: load) is
+# solve's alone: batch, horizon and render planned it kinematically, other pressures than
+# solve's for the same correction, with exit 0. They refuse it; --level surface plans it so.
+sed 's/model: {level: auto/model: {level: load/' "$S/load_supine.yaml" > "$TMP/load.yaml"
+for sc in "$S/load_supine.yaml" "$TMP/load.yaml"; do
+    run batch "$sc" "$TMP/c.csv" --format csv
+    expect_exit 65 "batch, load scene $sc"; expect_stdout_empty "batch load"
+    expect_stderr_has "is planned at the load level" "batch load"
+    run horizon "$sc" "$TMP/c.csv" --mode greedy
+    expect_exit 65 "horizon, load scene $sc"; expect_stdout_empty "horizon load"
+    run render "$sc" --dry-run -o "$TMP/r.svg"
+    expect_exit 65 "render, load scene $sc"
+    run solve "$sc" --correction 1,0,-0.5,0.3,0,-0.2
+    expect_exit 0 "solve plans the load scene"; expect_stdout_has "level       load" "solve load"
+done
+run batch "$S/load_supine.yaml" "$TMP/c.csv" --format csv --level surface --no-times
+expect_exit 0 "batch, load scene, --level surface"
+expect_stdout_has "# level: surface" "batch states the level it planned"
+run batch "$S/default.yaml" "$TMP/c.csv" --format csv --level load
+expect_exit 64 "batch --level load"; expect_stderr_has "load is planned by headplan solve only" "l"
+finish
