@@ -62,4 +62,28 @@ expect_exit 0 "batch, load scene, --level surface"
 expect_stdout_has "# level: surface" "batch states the level it planned"
 run batch "$S/default.yaml" "$TMP/c.csv" --format csv --level load
 expect_exit 64 "batch --level load"; expect_stderr_has "load is planned by headplan solve only" "l"
+
+# A refused correction in batch says why and where (file:line), as solve does; it said
+# "line 4: invalid correction". --jobs 2 gives the same lines.
+printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,1,0,0,0,0,0\n1,0,0,0,200,0,0\n2,1,0,0,0,0,0\n' \
+    > "$TMP/inv.csv"
+for j in 1 2; do
+    run batch "$S/default.yaml" "$TMP/inv.csv" --format csv --no-times --jobs $j
+    expect_exit 65 "batch invalid row, --jobs $j"
+    expect_stderr_has "inv.csv:4: desired pitch: out of range" "batch invalid row names file, line, field"
+done
+
+# horizon: times that do not increase are named with the file; the kind of rows (and who
+# stated it) is in the CSV header and the JSON, as in batch's metadata.
+printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,0,0,0,0,0,0\n0,1,0,0,0,0,0\n' \
+    > "$TMP/same_t.csv"
+run horizon "$S/default.yaml" "$TMP/same_t.csv" --mode greedy
+expect_exit 65 "horizon, repeated time"
+expect_stderr_has "same_t.csv:4: t_s: 0 s is not after the previous row's 0 s" "horizon time"
+head -41 "$S/traces/step.csv" > "$TMP/step40.csv"
+run horizon "$S/horizon/step.yaml" "$TMP/step40.csv" --rows deviation --mode greedy --json \
+    -o "$TMP/h.csv"
+expect_exit 0 "horizon rows kind"
+expect_stdout_has '"rows_kind": "deviation", "rows_from": "--rows"' "horizon JSON rows kind"
+grep -qx "# rows: deviation, rows_from: --rows" "$TMP/h.csv" && ok || bad "horizon CSV rows kind"
 finish
