@@ -86,4 +86,25 @@ run horizon "$S/horizon/step.yaml" "$TMP/step40.csv" --rows deviation --mode gre
 expect_exit 0 "horizon rows kind"
 expect_stdout_has '"rows_kind": "deviation", "rows_from": "--rows"' "horizon JSON rows kind"
 grep -qx "# rows: deviation, rows_from: --rows" "$TMP/h.csv" && ok || bad "horizon CSV rows kind"
+
+# plot: --scene and --trace are checked against the hashes in the result's metadata. A
+# result of one trace, drawn with a scene that names another, used to take its "errors"
+# from that other trace (matched by line numbers alone) and exit 0.
+"$HP_BIN" batch "$S/default.yaml" "$S/traces/nodding.csv" -o "$TMP/nod.csv" 2>/dev/null
+run plot "$TMP/nod.csv" --scene "$S/default.yaml" --dry-run
+expect_exit 0 "plot, scene naming another trace"
+awk '/^\$rows/{f=1;next} /^EOD/{f=0} f && !/^#/' "$TMP/out" | python3 -c '
+import sys
+for l in sys.stdin:
+    assert all(float(v) == 0 for v in l.split()[1:7]), l
+' && ok || bad "plot draws the result's own errors (all 0: every row reached)"
+run plot "$TMP/nod.csv" --scene "$S/saturation.yaml" --dry-run
+expect_exit 65 "plot, another scene"; expect_stderr_has "not the scene" "plot scene hash"
+run plot "$TMP/nod.csv" --trace "$S/traces/drift_10hz.csv" --dry-run
+expect_exit 65 "plot, another trace"; expect_stderr_has "not the trace" "plot trace hash"
+run plot "$TMP/nod.csv" --trace "$S/traces/nodding.csv" --rows correction --dry-run
+expect_exit 65 "plot, --rows against the trace"
+expect_stderr_has "states rows=deviation but --rows says correction" "plot names --rows"
+run plot "$TMP/nod.csv" --scene "$S/default.yaml" --trace "$S/traces/nodding.csv" --dry-run
+expect_exit 0 "plot, the right scene and trace"
 finish
