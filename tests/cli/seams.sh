@@ -57,6 +57,17 @@ for sc in "$S/load_supine.yaml" "$TMP/load.yaml"; do
     run solve "$sc" --correction 1,0,-0.5,0.3,0,-0.2
     expect_exit 0 "solve plans the load scene"; expect_stdout_has "level       load" "solve load"
 done
+# analyze said its reach was "as solve plans" for a scene solve plans at the load level.
+run analyze "$S/load_supine.yaml"
+expect_exit 0 "analyze load scene"; expect_stdout_has "solve plans this scene at the load level" "note"
+expect_stdout_has "as a kinematic plan (level surface)" "analyze reach is kinematic"
+grep -q "as solve plans" "$TMP/out" && bad "analyze: reach 'as solve plans' on a load scene" || ok
+run analyze "$S/load_supine.yaml" --json
+python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["solve_level"] == "load"' \
+    "$TMP/out" && ok || bad "analyze JSON solve_level"
+run analyze "$S/default.yaml" --json
+python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["solve_level"] == "surface"' \
+    "$TMP/out" && ok || bad "analyze JSON solve_level, kinematic scene"
 run batch "$S/load_supine.yaml" "$TMP/c.csv" --format csv --level surface --no-times
 expect_exit 0 "batch, load scene, --level surface"
 expect_stdout_has "# level: surface" "batch states the level it planned"
