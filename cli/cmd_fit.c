@@ -577,6 +577,7 @@ static int run_layout(int argc, char **argv)
     hp_diag d = {{0}};
     hp_error e = HP_OK;
     const char *inputs[2] = {a.scene, a.data};
+    if (!rc && a.out && !*a.out) rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "-o '': an empty file name");
     if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, 2, &d)) != HP_OK)
         rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
     if (!rc) {

@@ -3,6 +3,7 @@
 # level. Each case here was once answered differently by two paths (see the commit).
 source "$2/tests/cli_lib.sh"
 S="$HP_SRC/scenarios"
+HP_BIN=$(realpath "$HP_BIN") # the empty-name cases run in $TMP
 
 printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,1,0,-0.5,0.3,0,-0.2\n' \
     > "$TMP/c.csv"
@@ -118,4 +119,18 @@ expect_exit 65 "plot, --rows against the trace"
 expect_stderr_has "states rows=deviation but --rows says correction" "plot names --rows"
 run plot "$TMP/nod.csv" --scene "$S/default.yaml" --trace "$S/traces/nodding.csv" --dry-run
 expect_exit 0 "plot, the right scene and trace"
+
+# An empty output name (an unset variable in "-o $OUT") is refused before any work; it ran
+# the whole job and failed renaming "OUT.partial-XXXXXX" to "", exit 74 with four lines.
+cd "$TMP"
+for cmd in "batch $S/default.yaml $TMP/c.csv --format csv -o" "horizon $S/default.yaml $TMP/c.csv -o" \
+           "fit layout $S/default.yaml $HP_SRC/examples/calibration/layout_rows.csv -o" \
+           "render $S/default.yaml -o $TMP/r.svg --script-out" \
+           "fit material $HP_SRC/examples/calibration/material_ri.csv --Ri-mm 27 --Ro-mm 30 --plot"; do
+    run $cmd ''
+    expect_exit 73 "$cmd ''"; expect_stderr_has "'': an empty file name" "$cmd ''"
+    [ "$(wc -l < "$TMP/err")" -eq 1 ] && ok || bad "$cmd '': one line"
+done
+ls -a "$TMP" | grep -q '^\.partial-' && bad "a temporary file was left" || ok
+cd - > /dev/null
 finish
