@@ -331,7 +331,9 @@ int cmd_render(int argc, char **argv)
     }
     picture pic = {hp_planner_layout(p), sc->name, {0}, ""};
     hp_error e = hp_plan(p, desired, &pic.r);
-    if (e != HP_OK && pic.r.status == HP_STATUS_INVALID_INPUT) {
+    /* hp_plan answers a refused correction with HP_OK and status invalid-input: refused
+     * here as in solve (65), not drawn as a picture of the safe output. */
+    if (pic.r.status == HP_STATUS_INVALID_INPUT) {
         rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s", a.correction ? "--correction" : "correction",
                          hp_planner_error(p));
     } else if (e != HP_OK) {

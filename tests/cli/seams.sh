@@ -133,4 +133,12 @@ for cmd in "batch $S/default.yaml $TMP/c.csv --format csv -o" "horizon $S/defaul
 done
 ls -a "$TMP" | grep -q '^\.partial-' && bad "a temporary file was left" || ok
 cd - > /dev/null
+
+# render refuses a correction solve refuses (it drew the safe output, labelled, exit 0).
+run render "$S/default.yaml" --correction 0,0,0,100,0,0 -o "$TMP/r.svg"
+expect_exit 65 "render, correction outside the identifiable range"
+expect_stderr_has "--correction: desired rotation: angle 100.0 deg is outside" "render names it"
+[ ! -e "$TMP/r.svg" ] && ok || bad "render wrote a picture of a refused correction"
+run solve "$S/default.yaml" --correction 0,0,0,100,0,0
+expect_exit 65 "solve, the same correction"
 finish
