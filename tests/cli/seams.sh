@@ -141,4 +141,20 @@ expect_stderr_has "--correction: desired rotation: angle 100.0 deg is outside" "
 [ ! -e "$TMP/r.svg" ] && ok || bad "render wrote a picture of a refused correction"
 run solve "$S/default.yaml" --correction 0,0,0,100,0,0
 expect_exit 65 "solve, the same correction"
+
+# gnuplot exits 0 when writing its picture fails (full disk, file-size limit): the cut
+# picture was renamed into place, exit 0. With XFSZ ignored, a 64 KiB limit makes its
+# writes fail with EFBIG as a full disk would.
+for ext in svg png; do
+    (trap '' XFSZ; ulimit -f 64; "$HP_BIN" render "$S/default.yaml" -o "$TMP/cut.$ext" \
+        --size 3000x3000 > "$TMP/out" 2> "$TMP/err"); rc=$?
+    expect_exit 74 "render .$ext past a file-size limit"
+    expect_stderr_has "cannot write $TMP/cut.$ext: gnuplot's picture is cut short" "cut $ext"
+    [ ! -e "$TMP/cut.$ext" ] && ok || bad "a cut .$ext picture was left as complete"
+done
+(trap '' XFSZ; ulimit -f 64; "$HP_BIN" plot "$TMP/nod.csv" -o "$TMP/cut.svg" \
+    > "$TMP/out" 2> "$TMP/err"); rc=$?
+expect_exit 74 "plot past a file-size limit"
+run render "$S/default.yaml" -o "$TMP/whole.png"
+expect_exit 0 "render, a whole picture passes the check"
 finish
