@@ -495,10 +495,12 @@ int cmd_plot(int argc, char **argv)
                 break;
             }
         }
-        /* The scene's own trace only when it is the one the result was planned from (a
-         * result of another trace carries its own errors: nothing to take from it). */
+        /* The scene's own trace only when it is provably the one the result was planned
+         * from: a result carries its own errors, and one of another trace, or of a stream
+         * (no hash), must not get that trace's. */
         if (rc < 0 && !trace && sc->has_trace &&
-            !(res.have_err_cols && not_the_one(res.trace_sha, sc->trace_path))) {
+            !(res.have_err_cols &&
+              (!res.trace_sha[0] || not_the_one(res.trace_sha, sc->trace_path)))) {
             trace = sc->trace_path;
             scene_rows = sc->trace_rows;
             if (!override) {

@@ -110,6 +110,14 @@ import sys
 for l in sys.stdin:
     assert all(float(v) == 0 for v in l.split()[1:7]), l
 ' && ok || bad "plot draws the result's own errors (all 0: every row reached)"
+"$HP_BIN" batch "$S/default.yaml" - --format csv < "$S/traces/nodding.csv" > "$TMP/nod_stdin.csv" 2>/dev/null
+run plot "$TMP/nod_stdin.csv" --scene "$S/default.yaml" --dry-run
+expect_exit 0 "plot, a result of a stream, with a scene naming another trace"
+awk '/^\$rows/{f=1;next} /^EOD/{f=0} f && !/^#/' "$TMP/out" | python3 -c '
+import sys
+for l in sys.stdin:
+    assert all(float(v) == 0 for v in l.split()[1:7]), l
+' && ok || bad "plot of a stream's result keeps its own errors"
 run plot "$TMP/nod.csv" --scene "$S/saturation.yaml" --dry-run
 expect_exit 65 "plot, another scene"; expect_stderr_has "not the scene" "plot scene hash"
 run plot "$TMP/nod.csv" --trace "$S/traces/drift_10hz.csv" --dry-run
