@@ -165,4 +165,16 @@ done
 expect_exit 74 "plot past a file-size limit"
 run render "$S/default.yaml" -o "$TMP/whole.png"
 expect_exit 0 "render, a whole picture passes the check"
+
+# The same number is refused by the CSV and the JSON Lines reader alike: jansson read
+# 1e-400 as 0 and kept subnormals, where CSV says "too small for a double".
+printf '{"headplan_trace": 1, "rows": "correction"}\n{"t_s":0,"x_mm":0,"y_mm":0,"z_mm":0,"pitch_deg":0,"roll_deg":0,"yaw_deg":-1e-310}\n{"t_s":1,"x_mm":1e-400,"y_mm":0,"z_mm":0,"pitch_deg":0,"roll_deg":0,"yaw_deg":0}\n' \
+    > "$TMP/under.jsonl"
+run batch "$S/default.yaml" "$TMP/under.jsonl" --format csv --no-times
+expect_exit 65 "JSON Lines underflow"
+expect_stderr_has "under.jsonl:2:74: yaw_deg: too small for a double" "JSON subnormal"
+expect_stderr_has "under.jsonl:3:17: x_mm: too small for a double" "JSON underflow to 0"
+printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,0,0,0,0,0,-1e-310\n' > "$TMP/under.csv"
+run batch "$S/default.yaml" "$TMP/under.csv" --format csv --no-times
+expect_exit 65 "CSV subnormal"; expect_stderr_has "yaw_deg: too small for a double" "CSV subnormal"
 finish
