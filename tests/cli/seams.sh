@@ -177,4 +177,11 @@ expect_stderr_has "under.jsonl:3:17: x_mm: too small for a double" "JSON underfl
 printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,0,0,0,0,0,-1e-310\n' > "$TMP/under.csv"
 run batch "$S/default.yaml" "$TMP/under.csv" --format csv --no-times
 expect_exit 65 "CSV subnormal"; expect_stderr_has "yaw_deg: too small for a double" "CSV subnormal"
+
+# fit layout -o: a write that fails (full disk, file-size limit) is 74 like every output's;
+# it was 73, the status of an output refused or that cannot be created.
+(trap '' XFSZ; ulimit -f 1; cd "$TMP" && "$HP_BIN" fit layout "$S/default.yaml" \
+    "$HP_SRC/examples/calibration/layout_rows.csv" -o "$TMP/cal.yaml" > "$TMP/out" 2> "$TMP/err"); rc=$?
+expect_exit 74 "fit layout -o past a file-size limit"; expect_stderr_has "cannot write" "fit -o"
+[ ! -e "$TMP/cal.yaml" ] && ok || bad "fit layout left a cut scene"
 finish
