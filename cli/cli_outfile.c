@@ -57,6 +57,10 @@ int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cl
                     int n)
 {
     struct stat st;
+    /* An empty name (an unset shell variable) used to pass here as "does not exist", run the
+     * whole job into "OUT.partial-XXXXXX" beside the current directory and fail at the
+     * rename. */
+    if (!*path) return cli_fail(CLI_EXIT_CANTCREAT, cmd, "%s '': an empty file name", opt);
     if (lstat(path, &st) != 0) {
         if (errno == ENOENT) return 0;
         return cli_fail(CLI_EXIT_CANTCREAT, cmd, "%s %s: %s", opt, path, strerror(errno));

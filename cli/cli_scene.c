@@ -3,18 +3,58 @@
 #include "cli/cli_args.h"
 #include "cli/exit_codes.h"
 
+#include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
-int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_scene **out)
+/* The file's bytes, read once (at most HP_SCENE_MAX_BYTES; *buf malloc'd): the kind, the
+ * parse and the hash all see the same bytes, so a scene on a pipe or a process substitution
+ * (/dev/stdin, <(...)) is read like a file instead of coming out empty on the second read.
+ * The messages are the library's (hp_scene_load). */
+static int read_scene(const char *cmd, const char *path, char **buf, size_t *len)
+{
+    *buf = NULL;
+    FILE *f = fopen(path, "rb");
+    if (!f) return cli_fail(CLI_EXIT_NOINPUT, cmd, "%s: cannot open: %s", path, strerror(errno));
+    char *b = malloc(HP_SCENE_MAX_BYTES + 1);
+    if (!b) {
+        fclose(f);
+        return cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
+    }
+    errno = 0;
+    size_t n = fread(b, 1, HP_SCENE_MAX_BYTES + 1, f);
+    int failed = ferror(f), why = errno;
+    fclose(f);
+    int rc = 0;
+    if (failed)
+        rc = cli_fail(CLI_EXIT_NOINPUT, cmd, "%s: cannot read: %s", path,
+                      why ? strerror(why) : "read error");
+    else if (n > HP_SCENE_MAX_BYTES)
+        rc = cli_fail(CLI_EXIT_DATAERR, cmd, "%s: larger than the 1 MiB limit", path);
+    if (rc) {
+        free(b);
+        return rc;
+    }
+    *buf = b;
+    *len = n;
+    return 0;
+}
+
+int cli_load_scene_text(const char *cmd, const char *path, const char *study_msg,
+                        hp_scene **out, char **bytes, size_t *nbytes)
 {
     *out = NULL;
+    char *text = NULL;
+    size_t len = 0;
+    int rc = read_scene(cmd, path, &text, &len);
+    if (rc) return rc;
     hp_diag d = {{0}};
-    if (hp_scene_file_kind(path) == HP_SCENE_BLADDER) {
+    if (hp_scene_kind_of(text, len) == HP_SCENE_BLADDER) {
         hp_bladder_study st;
-        hp_error e = hp_study_load(path, &st, &d);
-        if (e != HP_OK)
-            return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, cmd, "%s",
-                            d.text);
+        hp_error e = hp_study_parse(text, len, path, &st, &d);
+        free(text);
+        if (e != HP_OK) return cli_fail(CLI_EXIT_DATAERR, cmd, "%s", d.text);
         return cli_fail(CLI_EXIT_DATAERR, cmd,
                         study_msg ? study_msg
                                   : "%s: a single-bladder study has no layout (see headplan "
@@ -22,15 +62,29 @@ int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_
                         path);
     }
     hp_scene *sc = calloc(1, sizeof *sc);
-    if (!sc) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
-    hp_error e = hp_scene_load(path, sc, &d);
+    if (!sc) {
+        free(text);
+        return cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
+    }
+    hp_error e = hp_scene_parse(text, len, path, sc, &d);
     if (e != HP_OK) {
+        free(text);
         free(sc);
-        return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, cmd, "%s",
-                           d.text);
+        return cli_fail(CLI_EXIT_DATAERR, cmd, "%s", d.text);
+    }
+    if (bytes) {
+        *bytes = text;
+        *nbytes = len;
+    } else {
+        free(text);
     }
     *out = sc;
     return 0;
+}
+
+int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_scene **out)
+{
+    return cli_load_scene_text(cmd, path, study_msg, out, NULL, NULL);
 }
 
 int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,

@@ -6,12 +6,20 @@
 #include "headplan/headplan.h"
 #include "headplan/hp_planner.h"
 
+#include <stddef.h>
+
 /* Loads the layout scene SCENE (allocated into *out; free() it). Prints the parser's message
  * and returns 66 (cannot open) or 65 (malformed) on failure. A single-bladder study is read
  * as one (its own errors first), then refused with 65 and study_msg (a format with one %s,
  * the path; NULL: "a single-bladder study has no layout (see headplan ik/fk)"). Returns 0
  * on success. */
 int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_scene **out);
+
+/* The same, and (when bytes is not NULL) the very bytes parsed in *bytes (malloc'd; the
+ * caller frees it) and their count in *nbytes: the file is read once, so a scene on a pipe
+ * parses like a file, and a hash of *bytes is of what was planned. */
+int cli_load_scene_text(const char *cmd, const char *path, const char *study_msg,
+                        hp_scene **out, char **bytes, size_t *nbytes);
 
 /* Settings from the scene's model and solver sections, then the command-line overrides
  * (backend/level: NULL = keep the scene's). Prints and returns 64 for an unknown name given

@@ -6,6 +6,7 @@
 #include "common/units.h"
 #include "cli/cli_args.h"
 #include "cli/cli_scene.h"
+#include "cli/cmd_solve_load.h"
 #include "cli/json_out.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
@@ -69,6 +70,8 @@ typedef struct analysis {
     hp_level auto_level;    /* what auto picks for the scene's tolerance and that size */
     hp_layout_analysis an;
     hp_identifiable id;     /* what the contact model can tell apart */
+    int solve_load;         /* 1: solve plans this scene at the load level, not at level */
+    char load_why[256];     /* why (cli_load_level) */
 } analysis;
 
 /* Resolves the level and the auto range from the planner settings the scene gives (the same
@@ -80,6 +83,10 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
     hp_settings s;
     int rc = cli_settings(CMD, sc, NULL, a->level, &s);
     if (rc) return rc;
+    /* A load scene's kinematic level is its contact geometry; solve plans the load level. */
+    if ((rc = cli_load_level(CMD, sc, a->level, &r->solve_load, r->load_why,
+                             sizeof r->load_why)))
+        return rc;
     r->from_option = a->level != NULL;
     r->requested = s.level;
     r->range_from_scene = sc->has_auto_range;
@@ -213,6 +220,8 @@ static int print_json(const hp_scene *sc, const analysis *r)
     json_object_set_new(o, "level", json_string(hp_level_name(r->level)));
     json_object_set_new(o, "level_requested", json_string(hp_level_name(r->requested)));
     json_object_set_new(o, "level_source", json_string(r->from_option ? "option" : "scene"));
+    json_object_set_new(o, "solve_level",
+                        json_string(r->solve_load ? "load" : hp_level_name(r->level)));
     json_object_set_new(o, "singular_values", cli_json_vec(an->singular_values, 6, 1.0));
     json_object_set_new(o, "rank", json_integer(an->rank));
     json_object_set_new(o, "condition", isfinite(an->condition) ? json_real(an->condition)
@@ -281,6 +290,10 @@ static void print_text(const hp_scene *sc, const analysis *r)
     printf("%-13s %s", "level", hp_level_name(r->level));
     if (r->requested == HP_LEVEL_AUTO) printf(" (auto)");
     printf(", from the %s\n", r->from_option ? "--level option" : "scene");
+    if (r->solve_load)
+        printf("%-13s solve plans this scene at the load level (%s); the reach below is "
+               "kinematic, the load section at the end is what solve holds\n",
+               "note", r->load_why);
 
     printf("\ncontact Jacobian at the nominal pose (mm of radius per mm and per degree)\n");
     printf("%-13s", "singular");
@@ -321,8 +334,8 @@ static void print_text(const hp_scene *sc, const analysis *r)
     printf("%-13s |(x, y, z)| up to %.4f mm (the head's smallest semi-axis)\n", "translation",
            id->trans_limit * 1e3);
 
-    printf("\nreach inside every bladder's limits, as solve plans (level %s)\n",
-           hp_level_name(r->level));
+    printf("\nreach inside every bladder's limits, as %s (level %s)\n",
+           r->solve_load ? "a kinematic plan" : "solve plans", hp_level_name(r->level));
     printf("%-13s %12s %12s\n", "axis", "negative", "positive");
     for (int i = 0; i < 6; ++i) {
         if (isnan(an->reach[i][0])) {

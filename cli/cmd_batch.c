@@ -5,6 +5,7 @@
 #include "cli/batch_output.h"
 #include "cli/cli_output.h"
 #include "cli/cli_scene.h"
+#include "cli/cmd_solve_load.h"
 #include "cli/commands.h"
 #include "cli/sha256.h"
 
@@ -89,7 +90,19 @@ typedef struct {
     size_t time_bin[TIME_BINS], timed;
 } summary;
 
-static void tally(summary *S, const batch_in *in, const batch_out *out, size_t rows)
+/* Why hp_plan refused a correction: the request check runs before any state is used, so
+ * planning the row again on the parent's planner gives the message the worker saw (the
+ * planner's state is set before every plan, so this plan changes no other row). */
+static const char *invalid_reason(hp_planner *p, const double correction[6])
+{
+    hp_result r;
+    if (!p || hp_plan(p, correction, &r) == HP_ERR_NULL || !*hp_planner_error(p))
+        return "invalid correction";
+    return hp_planner_error(p);
+}
+
+static void tally(summary *S, const batch_in *in, const batch_out *out, size_t rows,
+                  const char *trace, hp_planner *p)
 {
     for (size_t i = 0; i < rows; ++i) {
         const batch_out *o = &out[i];
@@ -110,12 +123,13 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
         case HP_STATUS_UNCOMMANDED: S->uncommanded++; which = 0; break;
         case HP_STATUS_INVALID_INPUT:
             S->invalid++;
-            fprintf(stderr, "headplan batch: line %ld: invalid correction\n", in[i].line);
+            fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in[i].line,
+                    invalid_reason(p, in[i].correction));
             break;
         default:
             S->failed++;
             if (o->status == HP_STATUS_TIME_LIMIT) S->time_limit++;
-            fprintf(stderr, "headplan batch: line %ld: %s\n", in[i].line,
+            fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in[i].line,
                     hp_status_name(o->status));
             break;
         }
@@ -274,8 +288,8 @@ static int read_block(hp_trace_reader *r, batch_in *in, size_t cap, size_t *n, i
 }
 
 /* Plans the whole trace block by block into the sink. */
-static int run_blocks(const batch_args *a, hp_trace_reader *r, batch_engine *eng,
-                      batch_sink *sink, summary *S)
+static int run_blocks(const batch_args *a, hp_trace_reader *r, const char *r_name,
+                      batch_engine *eng, batch_sink *sink, summary *S)
 {
     size_t cap = (size_t)BLOCK_PER_JOB * (size_t)a->jobs;
     batch_in *in = calloc(cap, sizeof *in);
@@ -288,7 +302,7 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, batch_engine *eng
         if (rc == 0 && n > 0 && batch_engine_run(eng, in, out, n) != 0)
             rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "the run failed; no output written");
         if (rc == 0) {
-            tally(S, in, out, n);
+            tally(S, in, out, n, r_name, eng->p);
             if (batch_sink_rows(sink, in, out, n) != 0) rc = CLI_EXIT_IOERR;
         }
         for (size_t i = 0; i < n; ++i) free(in[i].msg);
@@ -309,15 +323,21 @@ int cmd_batch(int argc, char **argv)
     if ((rc = batch_output_format(a.format, a.out, &fmt))) return rc;
 
     hp_scene *sc = NULL;
-    if ((rc = cli_load_scene(CMD, a.scene, NULL, &sc))) return rc;
+    char scene_sha[65], *scene_text = NULL;
+    size_t scene_len = 0;
+    if ((rc = cli_load_scene_text(CMD, a.scene, NULL, &sc, &scene_text, &scene_len))) return rc;
+    sha256_bytes(scene_text, scene_len, scene_sha);
+    free(scene_text);
     hp_settings s;
-    char scene_sha[65];
     struct stat scene_st;
-    if ((rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
+    if ((rc = cli_kinematic_only(CMD, sc, a.level,
+                                 "give --level surface (or plane, linear) to plan it so, or "
+                                 "plan single corrections with headplan solve")) ||
+        (rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
         free(sc);
         return rc;
     }
-    if (sha256_file(a.scene, scene_sha) != 0 || stat(a.scene, &scene_st) != 0) {
+    if (stat(a.scene, &scene_st) != 0) {
         free(sc);
         return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", a.scene, strerror(errno));
     }
@@ -352,7 +372,7 @@ int cmd_batch(int argc, char **argv)
                                  hp_trace_form_name(hp_trace_form_of(r)),
                                  hp_level_name(hp_planner_level(eng.p)), &s};
         batch_sink_meta(&sink, &meta);
-        rc = run_blocks(&a, r, &eng, &sink, S);
+        rc = run_blocks(&a, r, t.name, &eng, &sink, S);
     }
     if (rc == 0) {
         int status = summarise(S, (int)a.jobs, eng.repaired, a.strict);

@@ -577,6 +577,7 @@ static int run_layout(int argc, char **argv)
     hp_diag d = {{0}};
     hp_error e = HP_OK;
     const char *inputs[2] = {a.scene, a.data};
+    if (!rc && a.out && !*a.out) rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "-o '': an empty file name");
     if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, 2, &d)) != HP_OK)
         rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
     if (!rc) {
@@ -621,10 +622,15 @@ static int run_layout(int argc, char **argv)
             if (f->mass > f->fitted.head.mass) f->fitted.head.mass = f->mass;
         }
         e = hp_calib_write_scene(a.out, &f->fitted, sc->level, sc, name, inputs, 2, &d);
-        /* Every refusal here is about the output's name (an input, a link, a FIFO or
-         * device, a folder that cannot be written): the "cannot create" status. */
-        if (e) rc = cli_fail(e == HP_ERR_NOMEM ? CLI_EXIT_SOFTWARE : CLI_EXIT_CANTCREAT, CMD,
-                             "%s", d.text);
+        /* A refusal is about the output's name (an input, a link, a FIFO or device, a
+         * folder that cannot be written): the "cannot create" status; a write that failed
+         * once the file was made (full disk, file-size limit; the library says "cannot
+         * write" and leaves nothing) is 74, as for every other output. */
+        if (e)
+            rc = cli_fail(e == HP_ERR_NOMEM                                ? CLI_EXIT_SOFTWARE
+                          : e == HP_ERR_IO && strstr(d.text, ": cannot write") ? CLI_EXIT_IOERR
+                                                                           : CLI_EXIT_CANTCREAT,
+                          CMD, "%s", d.text);
     }
     if (!rc) {
         if (a.json) rc = print_json(layout_json(&a, f, rows, gain, o.level));

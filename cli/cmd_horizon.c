@@ -4,9 +4,11 @@
 #include "cli/cli_args.h"
 #include "cli/cli_outfile.h"
 #include "cli/cli_scene.h"
+#include "cli/cmd_solve_load.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 
+#include <errno.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
@@ -113,13 +115,23 @@ static int settings_from_args(const hz_args *a, hp_horizon_settings *hs, double 
 }
 
 /* Reads every row of a trace; a bad row stops (a horizon plan needs every row). */
-static int read_trace(const char *path, const hp_trace_rows *ovr, hp_trace_row **out, size_t *T)
+typedef struct {
+    const char *kind, *from; /* what the rows are, and who said so */
+} rows_kind;
+
+static int read_trace(const char *path, const hp_trace_rows *ovr, const char *from,
+                      hp_trace_row **out, size_t *T, rows_kind *kind)
 {
     hp_trace_reader *r = NULL;
     hp_diag d = {{0}};
-    hp_error e = hp_trace_open(path, ovr, &r, &d);
-    if (e != HP_OK)
+    FILE *f = fopen(path, "rb");
+    if (!f) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    /* The stream form names where the kind of rows came from in its messages. */
+    hp_error e = hp_trace_open_stream(f, path, ovr, from, &r, &d);
+    if (e != HP_OK) {
+        fclose(f);
         return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, CMD, "%s", d.text);
+    }
     size_t n = 0, cap = 1024;
     hp_trace_row *rows = malloc(cap * sizeof *rows);
     int rc = 0;
@@ -141,9 +153,24 @@ static int read_trace(const char *path, const hp_trace_rows *ovr, hp_trace_row *
             rc = cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, CMD, "%s", d.text);
             break;
         }
+        /* Rate limits per second need increasing times; the planners check it too, but
+         * their message cannot name the file. */
+        if (n > 0 && !(rows[n].t > rows[n - 1].t)) {
+            char now[CLI_FMT_MAX], before[CLI_FMT_MAX];
+            rc = cli_fail(CLI_EXIT_DATAERR, CMD,
+                          "%s:%ld: t_s: %s s is not after the previous row's %s s", path,
+                          rows[n].line, cli_fmt(now, rows[n].t), cli_fmt(before, rows[n - 1].t));
+            break;
+        }
         ++n;
     }
+    kind->kind = hp_trace_rows_name(hp_trace_rows_of(r));
+    /* batch's words for the same fact (its metadata key rows_from) */
+    kind->from = hp_trace_states_rows(r)     ? "trace"
+                 : strcmp(from, "--rows") == 0 ? "--rows"
+                                               : "scene trace.rows";
     hp_trace_close(r);
+    fclose(f);
     if (rc == 0 && n == 0) rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: no rows", path);
     if (rc) {
         free(rows);
@@ -187,10 +214,13 @@ static void write_summary_text(FILE *f, const char *prefix, const int *modes,
 
 static void write_csv(FILE *f, const hp_layout *L, const int *modes,
                       hp_horizon_row *const *plans, size_t T, const hp_horizon_metrics *m,
-                      const char *scene, const char *trace, double tol_mm, double tol_deg)
+                      const char *scene, const char *trace, const rows_kind *kind,
+                      double tol_mm, double tol_deg)
 {
     char b[CLI_FMT_MAX];
     fprintf(f, "# headplan horizon: scene %s, trace %s, %zu rows\n", scene, trace, T);
+    /* desired_* is the correction asked of the planner: a deviation row's inverse. */
+    fprintf(f, "# rows: %s, rows_from: %s\n", kind->kind, kind->from);
     fprintf(f, "# tolerance_mm %s", cli_fmt(b, tol_mm));
     fprintf(f, ", tolerance_deg %s\n", cli_fmt(b, tol_deg));
     write_summary_text(f, "# ", modes, m);
@@ -227,10 +257,12 @@ static json_t *vec6(const double *v)
 
 static void print_json(const int *modes, const hp_horizon_metrics *m, size_t T,
                        const hp_horizon_settings *hs, const hp_horizon_info *info,
-                       double tol_mm, double tol_deg)
+                       const rows_kind *kind, double tol_mm, double tol_deg)
 {
     json_t *o = json_object();
     json_object_set_new(o, "rows", json_integer((json_int_t)T));
+    json_object_set_new(o, "rows_kind", json_string(kind->kind));
+    json_object_set_new(o, "rows_from", json_string(kind->from));
     json_object_set_new(o, "tolerance_mm", json_real(tol_mm));
     json_object_set_new(o, "tolerance_deg", json_real(tol_deg));
     json_object_set_new(o, "horizon", json_integer(hs->horizon));
@@ -283,16 +315,31 @@ int cmd_horizon(int argc, char **argv)
     size_t T = 0;
     const char *trace = a.trace;
     const hp_trace_rows *use_ovr = a.rows ? &ovr : NULL;
+    const char *from = "--rows";
     if (!trace) {
         if (!sc->has_trace) {
             rc = cli_fail(CLI_EXIT_USAGE, CMD, "no TRACE given and the scene names none");
             goto done;
         }
         trace = sc->trace_path;
-        if (!a.rows) use_ovr = &sc->trace_rows;
+        /* The scene's trace.rows describes its own trace: --rows must agree with it, as in
+         * batch (planning a deviation trace as corrections flips every sign). */
+        if (a.rows && ovr != sc->trace_rows) {
+            rc = cli_fail(CLI_EXIT_DATAERR, CMD,
+                          "--rows says %s but the scene's trace.rows says %s: they must agree",
+                          hp_trace_rows_name(ovr), hp_trace_rows_name(sc->trace_rows));
+            goto done;
+        }
+        use_ovr = &sc->trace_rows;
+        from = a.rows ? "--rows" : "the scene's trace.rows";
     }
-    if ((rc = cli_settings(CMD, sc, NULL, NULL, &s))) goto done;
-    if ((rc = read_trace(trace, use_ovr, &rows, &T))) goto done;
+    if ((rc = cli_kinematic_only(CMD, sc, NULL,
+                                 "set model.level to surface (or plane, linear) to plan "
+                                 "the trace without it")) ||
+        (rc = cli_settings(CMD, sc, NULL, NULL, &s)))
+        goto done;
+    rows_kind kind = {"", ""};
+    if ((rc = read_trace(trace, use_ovr, from, &rows, &T, &kind))) goto done;
     /* The output is checked and created before any planning: a refused -o costs nothing and
      * can name no input. */
     if (a.out) {
@@ -331,10 +378,11 @@ int cmd_horizon(int argc, char **argv)
         hp_horizon_measure(plans[p], T, sc->layout.n, p0, &s, &hs, tol_mm, tol_deg, &m[p]);
     }
     if (a.out) {
-        write_csv(out.f, &sc->layout, modes, plans, T, m, a.scene, trace, tol_mm, tol_deg);
+        write_csv(out.f, &sc->layout, modes, plans, T, m, a.scene, trace, &kind, tol_mm,
+                  tol_deg);
         if ((rc = cli_out_commit(&out, CMD))) goto done;
     }
-    if (a.json) print_json(modes, m, T, &hs, &info, tol_mm, tol_deg);
+    if (a.json) print_json(modes, m, T, &hs, &info, &kind, tol_mm, tol_deg);
     else write_summary_text(stdout, "", modes, m);
 done:
     if (rc) cli_out_abandon(&out);

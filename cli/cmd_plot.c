@@ -9,6 +9,7 @@
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/gnuplot_out.h"
+#include "cli/sha256.h"
 #include "headplan/hp_scene.h"
 #include "headplan/hp_trace.h"
 
@@ -36,7 +37,9 @@ static void help(void)
            "panels, failed rows by red crosses (uncommanded rows with the closest ones). The\n"
            "errors are the result's error_* columns; a trace (--trace, else the scene's), when\n"
            "given, is matched to the result by line and must be the one it was planned from.\n"
-           "The limits come from --scene.\n\n"
+           "The limits come from --scene. --scene and --trace must be the files whose\n"
+           "SHA-256 the result's metadata states (the scene's own trace is left out when it\n"
+           "is not the result's).\n\n"
            "  --scene SCENE  the scene the result was planned with (limits, trace)\n"
            "  --trace TRACE  the trace it was planned from (default: the scene's)\n"
            "  --rows KIND    deviation or correction (default: the trace's or the scene's)\n"
@@ -85,6 +88,7 @@ typedef struct result {
     double pmin[HP_MAX_BLADDERS], pmax[HP_MAX_BLADDERS]; /* kPa */
     int have_desired;
     int have_err_cols;                  /* the error_* columns are in the result */
+    char scene_sha[65], trace_sha[65];  /* from its metadata; "" when not stated */
 } result;
 
 /* Splits a CSV line in place (no quoting in batch output). Returns the field count. */
@@ -155,6 +159,28 @@ static int header(const char *path, char **f, int nf, int *col, result *res)
     return -1;
 }
 
+/* Copies the 64 hex digits after key into sha when line is that metadata line (a stream's
+ * "none (not a regular file)" is no hash: sha stays ""). */
+static void meta_sha(const char *line, const char *key, char sha[65])
+{
+    size_t k = strlen(key);
+    if (strncmp(line, key, k) != 0) return;
+    line += k;
+    if (strspn(line, "0123456789abcdef") != 64 || (line[64] != '\n' && line[64] != '\r' &&
+                                                   line[64] != '\0'))
+        return;
+    memcpy(sha, line, 64);
+    sha[64] = '\0';
+}
+
+/* 1 when the file at path is not the one whose hash the result states (0 when the result
+ * states none: a stream cannot be checked, the line match still is). */
+static int not_the_one(const char *stated, const char *path)
+{
+    char sha[65];
+    return stated[0] && (sha256_file(path, sha) != 0 || strcmp(sha, stated) != 0);
+}
+
 static int read_result(const char *path, result *res)
 {
     FILE *in = fopen(path, "r");
@@ -167,6 +193,10 @@ static int read_result(const char *path, result *res)
     int have_header = 0;
     while (rc < 0 && fgets(buf, sizeof buf, in)) {
         ++lineno;
+        if (!have_header) { /* batch's metadata: which scene and trace made the result */
+            meta_sha(buf, "# scene_sha256: ", res->scene_sha);
+            meta_sha(buf, "# trace_sha256: ", res->trace_sha);
+        }
         if (buf[0] == '#' || buf[0] == '\n') continue;
         nf = split(buf, f, MAXF);
         if (nf < 0) {
@@ -235,13 +265,18 @@ static int read_result(const char *path, result *res)
 }
 
 /* Desired poses from the trace, matched to the result's rows by line (both in file order). */
-static int read_desired(const char *path, const hp_trace_rows *rows, result *res)
+static int read_desired(const char *path, const hp_trace_rows *rows, const char *from,
+                        result *res)
 {
     hp_trace_reader *r = NULL;
     hp_diag d = {{0}};
-    hp_error e = hp_trace_open(path, rows, &r, &d);
-    if (e != HP_OK)
+    FILE *tf = fopen(path, "rb");
+    if (!tf) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    hp_error e = hp_trace_open_stream(tf, path, rows, from, &r, &d);
+    if (e != HP_OK) {
+        fclose(tf);
         return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, CMD, "%s", d.text);
+    }
     size_t i = 0;
     for (size_t k = 0; k < res->n; ++k) res->rows[k].has_desired = 0; /* matched anew */
     for (;;) {
@@ -250,6 +285,7 @@ static int read_desired(const char *path, const hp_trace_rows *rows, result *res
         if (e == HP_END) break;
         if (e == HP_ERR_IO) {
             hp_trace_close(r);
+            fclose(tf);
             return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s", d.text);
         }
         if (e != HP_OK) continue; /* a bad trace row is a bad-row in the result */
@@ -262,6 +298,7 @@ static int read_desired(const char *path, const hp_trace_rows *rows, result *res
         }
     }
     hp_trace_close(r);
+    fclose(tf);
     size_t matched = 0;
     for (size_t k = 0; k < res->n; ++k) matched += res->rows[k].has_desired;
     size_t good = 0;
@@ -425,9 +462,20 @@ int cmd_plot(int argc, char **argv)
     const char *trace = a.trace;
     const hp_trace_rows *override = a.rows ? &kind : NULL;
     hp_trace_rows scene_rows;
+    const char *from = "--rows";
     if (a.scene) {
-        int lrc = cli_load_scene(CMD, a.scene, NULL, &sc);
+        char *text = NULL, sha[65];
+        size_t len = 0;
+        int lrc = cli_load_scene_text(CMD, a.scene, NULL, &sc, &text, &len);
+        if (!lrc) sha256_bytes(text, len, sha);
+        free(text);
+        if (!lrc && res.scene_sha[0] && strcmp(sha, res.scene_sha) != 0)
+            lrc = cli_fail(CLI_EXIT_DATAERR, CMD,
+                           "--scene %s: not the scene %s was planned with (its scene_sha256 "
+                           "is another file's)",
+                           a.scene, a.result);
         if (lrc) {
+            free(sc);
             free(res.rows);
             return lrc;
         }
@@ -447,16 +495,29 @@ int cmd_plot(int argc, char **argv)
                 break;
             }
         }
-        if (rc < 0 && !trace && sc->has_trace) {
+        /* The scene's own trace only when it is provably the one the result was planned
+         * from: a result carries its own errors, and one of another trace, or of a stream
+         * (no hash), must not get that trace's. */
+        if (rc < 0 && !trace && sc->has_trace &&
+            !(res.have_err_cols &&
+              (!res.trace_sha[0] || not_the_one(res.trace_sha, sc->trace_path)))) {
             trace = sc->trace_path;
             scene_rows = sc->trace_rows;
-            if (!override) override = &scene_rows;
+            if (!override) {
+                override = &scene_rows;
+                from = "the scene's trace.rows";
+            }
         }
     }
+    if (rc < 0 && a.trace && not_the_one(res.trace_sha, a.trace))
+        rc = cli_fail(CLI_EXIT_DATAERR, CMD,
+                      "--trace %s: not the trace %s was planned from (its trace_sha256 is "
+                      "another file's)",
+                      a.trace, a.result);
     /* The result carries its own per-axis errors; a trace, when given, is checked against it
      * (same lines) and supplies the same numbers. */
     if (rc < 0 && res.have_err_cols) res.have_desired = 1;
-    if (rc < 0 && trace) rc = read_desired(trace, override, &res);
+    if (rc < 0 && trace) rc = read_desired(trace, override, from, &res);
     if (rc < 0) {
         const char *slash = strrchr(a.result, '/');
         char title[HP_SCENE_TEXT_MAX + 512];

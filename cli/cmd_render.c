@@ -6,6 +6,7 @@
 #include "cli/cli_args.h"
 #include "common/units.h"
 #include "cli/cli_scene.h"
+#include "cli/cmd_solve_load.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/gnuplot_out.h"
@@ -313,7 +314,10 @@ int cmd_render(int argc, char **argv)
     if (a.correction) hp_pose_from_clinical(clin, desired);
     else if (sc->has_correction) memcpy(desired, sc->correction, sizeof desired);
     hp_settings s;
-    if ((rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
+    if ((rc = cli_kinematic_only(CMD, sc, a.level,
+                                 "give --level surface (or plane, linear) to draw the plan "
+                                 "without it")) ||
+        (rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
         free(sc);
         return rc;
     }
@@ -327,7 +331,9 @@ int cmd_render(int argc, char **argv)
     }
     picture pic = {hp_planner_layout(p), sc->name, {0}, ""};
     hp_error e = hp_plan(p, desired, &pic.r);
-    if (e != HP_OK && pic.r.status == HP_STATUS_INVALID_INPUT) {
+    /* hp_plan answers a refused correction with HP_OK and status invalid-input: refused
+     * here as in solve (65), not drawn as a picture of the safe output. */
+    if (pic.r.status == HP_STATUS_INVALID_INPUT) {
         rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s", a.correction ? "--correction" : "correction",
                          hp_planner_error(p));
     } else if (e != HP_OK) {

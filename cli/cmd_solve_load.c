@@ -40,6 +40,25 @@ int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
     return 0;
 }
 
+int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_arg,
+                       const char *instead)
+{
+    if (level_arg && strcmp(level_arg, "load") == 0)
+        return cli_fail(CLI_EXIT_USAGE, cmd,
+                        "--level: load is planned by headplan solve only; %s plans the "
+                        "kinematic levels (linear, plane, surface, auto)",
+                        cmd);
+    int use_load = 0;
+    char why[256];
+    int rc = cli_load_level(cmd, sc, level_arg, &use_load, why, sizeof why);
+    if (rc || !use_load) return rc;
+    return cli_fail(CLI_EXIT_DATAERR, cmd,
+                    "%s: the scene is planned at the load level (%s), which only headplan "
+                    "solve plans; %s would plan without the head's weight and disagree with "
+                    "solve: %s",
+                    sc->file, why, cmd, instead);
+}
+
 static void binding_text(unsigned flags, char *buf, size_t len)
 {
     size_t n = 0;

@@ -15,6 +15,15 @@
 int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
                       int *use_load, char *why, size_t len);
 
+/* For the subcommands that plan at the kinematic levels only (batch, horizon): 0 when the
+ * scene with level_arg (--level; NULL: the scene's model.level) is planned kinematically,
+ * else prints and returns 64 (--level load) or 65 (the scene's model.level: load, or auto
+ * choosing load for its predicted sag), with instead (what the user can do) in the
+ * message. headplan solve plans such a scene with the head's weight: planning it
+ * kinematically instead would give other pressures for the same scene and correction. */
+int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_arg,
+                       const char *instead);
+
 /* Plans desired[6] (SI) with the load planner and prints the answer (table or JSON):
  * pressures, forces, binding limits, equilibrium residual, compliance, forward statics'
  * round trip. Returns the exit status (0 reached, 1 closest). */

@@ -172,6 +172,24 @@ static int run_gnuplot(int (*writer)(const void *, FILE *), const void *arg)
     return st >= 0 && WIFEXITED(st) ? WEXITSTATUS(st) : -1;
 }
 
+/* 1 when the picture at path ends as a whole one does: a PNG with its IEND chunk, an SVG
+ * with its closing tag. gnuplot exits 0 when a write of its output fails (a full disk left
+ * a 64 KiB SVG prefix, exit 0), so its status and a non-empty file prove nothing. */
+static int picture_complete(const char *path, int svg)
+{
+    static const unsigned char iend[12] = {0, 0, 0, 0, 'I', 'E', 'N', 'D', 0xae, 0x42, 0x60, 0x82};
+    unsigned char tail[64];
+    FILE *f = fopen(path, "rb");
+    if (!f) return 0;
+    long want = svg ? (long)sizeof tail : (long)sizeof iend;
+    size_t n = 0;
+    if (fseek(f, -want, SEEK_END) == 0) n = fread(tail, 1, (size_t)want, f);
+    fclose(f);
+    if (!svg) return n == sizeof iend && memcmp(tail, iend, sizeof iend) == 0;
+    while (n > 0 && (tail[n - 1] == '\n' || tail[n - 1] == '\r' || tail[n - 1] == ' ')) --n;
+    return n >= 6 && memcmp(tail + n - 6, "</svg>", 6) == 0;
+}
+
 int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f),
             const void *arg)
 {
@@ -203,6 +221,10 @@ int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f),
                           o->path);
         else if (stat(cli_out_temp(&picture), &sb) != 0 || sb.st_size == 0)
             rc = cli_fail(CLI_EXIT_CANTCREAT, cmd, "-o: %s was not written", o->path);
+        else if (!picture_complete(cli_out_temp(&picture), o->svg))
+            rc = cli_fail(CLI_EXIT_IOERR, cmd,
+                          "cannot write %s: gnuplot's picture is cut short (a full disk?)",
+                          o->path);
     }
     if (rc == 0 && o->script_out) rc = cli_out_commit(&script, cmd);
     if (rc == 0 && !o->dry_run) rc = cli_out_commit(&picture, cmd);

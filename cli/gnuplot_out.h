@@ -42,10 +42,11 @@ void gp_quote(FILE *f, const char *s);
 
 /* Writes the script with writer(arg, f) to --script-out (if given) or, for --dry-run alone,
  * to stdout; then (unless --dry-run) pipes it into gnuplot (found on PATH) and checks that the
- * picture was written and is not empty. The files go through cli_outfile.h: never over one of
- * o->inputs, a link or a device, and under their names only when complete. Returns 0, 69
- * (gnuplot missing), 70 (gnuplot failed) or 73 (script or picture cannot be written), after
- * one line on stderr. */
+ * picture was written, is not empty and ends as a whole PNG or SVG does. The files go through
+ * cli_outfile.h: never over one of o->inputs, a link or a device, and under their names only
+ * when complete. Returns 0, 69 (gnuplot missing), 70 (gnuplot failed), 73 (script or picture
+ * cannot be created) or 74 (a picture cut short, a failed write of the script), after one
+ * line on stderr. */
 int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f),
             const void *arg);
 

@@ -36,10 +36,10 @@ static void usage(FILE *out)
     for (size_t i = 0; i < n_commands; ++i)
         fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
     fprintf(out, "\n  --version  print the version\n  --help     this text\n"
-                 "\nexit status: 0 ok, 1 closest reachable only, 64 usage, 65 bad data,\n"
-                 "66 cannot open input, 69 gnuplot missing (render, plot), 70 solver or internal\n"
-                 "failure, 73 output refused or cannot be created, 74 a write to stdout or a file\n"
-                 "failed\n");
+                 "\nexit status: 0 ok, 1 closest reachable only, 2 uncommanded (solve, batch\n"
+                 "--strict), 64 usage, 65 bad data, 66 cannot open input, 69 gnuplot missing\n"
+                 "(render, plot), 70 solver or internal failure, 73 output refused or cannot be\n"
+                 "created, 74 a write to stdout or a file failed\n");
 }
 
 int main(int argc, char **argv)

@@ -254,6 +254,11 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     size_t len = 0;
     if (trace == Py_None) {
         if (!self->has_trace) return hpy_fail("run_trace: the scene names no trace");
+        /* The scene's trace.rows describes its own trace: rows must agree, as in headplan
+         * batch and horizon (planning a deviation trace as corrections flips every sign). */
+        if (override && *override != self->trace_rows)
+            return hpy_fail("rows: '%s' but the scene's trace.rows says %s: they must agree",
+                            rows, hp_trace_rows_name(self->trace_rows));
         if (!override) {
             kind = self->trace_rows;
             override = &kind;

@@ -121,9 +121,8 @@ hp_error sr_number_text(const sr_ctx *c, const yt_node *node, const char *path, 
 {
     if (node->type != YT_SCALAR || !node->plain || !hp_decimal_syntax(node->value, node->len))
         return not_number(c, node, path);
-    errno = 0;
     char *end = NULL;
-    double v = strtod(node->value, &end);
+    double v = hp_c_strtod(node->value, &end);
     if (end != node->value + node->len)
         return sr_fail(c, node, path, HP_ERR_PARSE, "'%.40s' is not a number", node->value);
     if (errno == ERANGE && fabs(v) > 1.0)

@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <float.h>
+#include <locale.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -101,6 +102,23 @@ static int plain_decimal(const char *s, size_t len, double *out)
     return 1;
 }
 
+double hp_c_strtod(const char *s, char **end)
+{
+    /* The program's LC_NUMERIC is not ours to change (a Python or GUI host may set it), and
+     * under a comma locale strtod stops at the '.' of "77.5". uselocale is per thread. */
+    locale_t c = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0);
+    locale_t old = c ? uselocale(c) : (locale_t)0;
+    errno = 0;
+    double v = strtod(s, end);
+    int er = errno;
+    if (c) {
+        uselocale(old);
+        freelocale(c);
+    }
+    errno = er;
+    return v;
+}
+
 const char *hp_strict_double(const char *s, size_t len, double *out)
 {
     char buf[128];
@@ -110,9 +128,8 @@ const char *hp_strict_double(const char *s, size_t len, double *out)
     if (fast_decimal(s, len, out)) return NULL;
     memcpy(buf, s, len);
     buf[len] = '\0';
-    errno = 0;
     char *end = NULL;
-    double v = strtod(buf, &end);
+    double v = hp_c_strtod(buf, &end);
     if (end != buf + len) return "not a number";
     if (errno == ERANGE && fabs(v) > 1.0) return "overflows a double";
     if (errno == ERANGE || (v != 0.0 && fabs(v) < DBL_MIN)) return "too small for a double";

@@ -14,4 +14,8 @@ int hp_decimal_syntax(const char *s, size_t len);
  * "overflows a double", ...). */
 const char *hp_strict_double(const char *s, size_t len, double *out);
 
+/* strtod in the C locale, whatever the calling thread's LC_NUMERIC ('.' is the decimal
+ * point of every file format here); errno as strtod leaves it. */
+double hp_c_strtod(const char *s, char **end);
+
 #endif

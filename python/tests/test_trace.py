@@ -212,3 +212,14 @@ def test_every_path_gives_the_same_answer(tmp_path):
     r = headplan.Planner(headplan.load_scene(scene)).run_trace(str(fifo))
     t.join()
     assert_same_as_batch(r, rows, p.bladder_names)
+
+
+def test_rows_must_agree_with_the_scenes_trace_rows():
+    """rows= against the scene's own trace.rows is refused, as batch and horizon refuse
+    --rows: step.csv states nothing, and rows='correction' planned its deviations with every
+    sign flipped."""
+    p = headplan.Planner(headplan.load_scene(scenario("horizon/step.yaml")))
+    with pytest.raises(headplan.Error, match="trace.rows says deviation"):
+        p.run_trace(None, rows="correction")
+    a, b = p.run_trace(None), p.run_trace(None, rows="deviation")
+    assert np.array_equal(a["achieved"], b["achieved"])

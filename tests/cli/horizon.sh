@@ -68,7 +68,7 @@ run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --bogus; expect_exit 64 "unkn
 run horizon "$S/horizon/step.yaml" "$TMP/missing.csv"; expect_exit 66 "missing trace"
 printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0.0,0,0,0,0,0,0\n0.1,1,0,0,0,0,0\n0.1,2,0,0,0,0,0\n' > "$TMP/dup.csv"
 run horizon "$S/horizon/step.yaml" "$TMP/dup.csv" --rows deviation --mode greedy
-expect_exit 65 "time not increasing"; expect_stderr_has "line 4: t_s" "time line named"
+expect_exit 65 "time not increasing"; expect_stderr_has "dup.csv:4: t_s: 0.1 s is not after the previous row's 0.1 s" "time line named"
 printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0.0,0,0,0,0,0,0\n0.1,abc,0,0,0,0,0\n' > "$TMP/badrow.csv"
 run horizon "$S/horizon/step.yaml" "$TMP/badrow.csv" --rows deviation; expect_exit 65 "bad row"
 printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n' > "$TMP/empty.csv"

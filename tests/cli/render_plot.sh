@@ -117,9 +117,16 @@ run plot "$TMP/none.csv" -o "$TMP/x.png";       expect_exit 66 "plot missing res
 run plot "$S/default.yaml" -o "$TMP/x.png";     expect_exit 65 "plot not a CSV"; expect_stderr_has "not a headplan batch CSV" "plot yaml"
 sed 's/base_neck_left/neck_l/' "$S/saturation.yaml" >"$TMP/renamed.yaml"
 run plot "$TMP/jumps.csv" --scene "$TMP/renamed.yaml" -o "$TMP/x.png"; expect_exit 65 "plot wrong scene"
-expect_stderr_has "has no bladder 'base_neck_left'" "wrong scene"
+expect_stderr_has "not the scene $TMP/jumps.csv was planned with" "wrong scene by hash"
 head -n 10 "$HP_SRC/tests/cli/render_plot_jumps.csv" >"$TMP/short.csv"
 run plot "$TMP/jumps.csv" --trace "$TMP/short.csv" -o "$TMP/x.png"; expect_exit 65 "plot wrong trace"
+expect_stderr_has "not the trace $TMP/jumps.csv was planned from" "wrong trace by hash"
+# A result that states no hashes (a trace on a pipe; edited by hand) is still matched by
+# bladder names and lines.
+grep -v '_sha256: ' "$TMP/jumps.csv" > "$TMP/nohash.csv"
+run plot "$TMP/nohash.csv" --scene "$TMP/renamed.yaml" -o "$TMP/x.png"; expect_exit 65 "plot wrong scene"
+expect_stderr_has "has no bladder 'base_neck_left'" "wrong scene"
+run plot "$TMP/nohash.csv" --trace "$TMP/short.csv" -o "$TMP/x.png"; expect_exit 65 "plot wrong trace"
 expect_stderr_has "is it the trace the result was planned from" "wrong trace"
 
 # ---- without gnuplot: 69 for render and plot, nothing else affected ------------------------
