@@ -343,6 +343,10 @@ int cmd_render(int argc, char **argv)
         pic.message = hp_planner_error(p);
         cli_input_of(&a.out.inputs[0], "scene", a.scene);
         a.out.ninputs = 1;
+        /* render does not read the scene's trace, but it is the user's data all the same:
+         * never written over by --script-out or -o. */
+        if (sc->has_trace)
+            cli_input_of(&a.out.inputs[a.out.ninputs++], "scene's trace", sc->trace_path);
         full_script fs = {&pic, &a.out};
         rc = gp_draw(CMD, &a.out, write_full, &fs);
     }

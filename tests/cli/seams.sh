@@ -184,4 +184,14 @@ expect_exit 65 "CSV subnormal"; expect_stderr_has "yaw_deg: too small for a doub
     "$HP_SRC/examples/calibration/layout_rows.csv" -o "$TMP/cal.yaml" > "$TMP/out" 2> "$TMP/err"); rc=$?
 expect_exit 74 "fit layout -o past a file-size limit"; expect_stderr_has "cannot write" "fit -o"
 [ ! -e "$TMP/cal.yaml" ] && ok || bad "fit layout left a cut scene"
+# render does not read the scene's trace, but --script-out or -o never write over it (the
+# script replaced the trace file, exit 0).
+mkdir -p "$TMP/rt/traces"; cp "$S/nodding.yaml" "$TMP/rt/"; cp "$S/traces/nodding.csv" "$TMP/rt/traces/"
+before=$(sha256sum < "$TMP/rt/traces/nodding.csv")
+run render "$TMP/rt/nodding.yaml" --dry-run --script-out "$TMP/rt/traces/nodding.csv"
+expect_exit 73 "render --script-out onto the scene's trace"
+expect_stderr_has "is the scene's trace" "render names the trace"
+[ "$(sha256sum < "$TMP/rt/traces/nodding.csv")" = "$before" ] && ok || bad "render wrote over the scene's trace"
+run render "$TMP/rt/nodding.yaml" --dry-run --script-out "$TMP/rt/r.gp"
+expect_exit 0 "render --script-out elsewhere"
 finish
