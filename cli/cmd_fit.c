@@ -576,9 +576,11 @@ static int run_layout(int argc, char **argv)
     int n = 0;
     hp_diag d = {{0}};
     hp_error e = HP_OK;
-    const char *inputs[2] = {a.scene, a.data};
+    /* The scene's trace is the user's data too, though the fit does not read it. */
+    const char *inputs[3] = {a.scene, a.data, sc && sc->has_trace ? sc->trace_path : NULL};
+    const int n_inputs = inputs[2] ? 3 : 2;
     if (!rc && a.out && !*a.out) rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "-o '': an empty file name");
-    if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, 2, &d)) != HP_OK)
+    if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, n_inputs, &d)) != HP_OK)
         rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
     if (!rc) {
         e = hp_calib_read_layout(a.data, &sc->layout, rows, HP_CALIB_MAX_ROWS, &n, &d);
@@ -600,11 +602,12 @@ static int run_layout(int argc, char **argv)
         long *lines = rc ? NULL : malloc(sizeof *lines * (size_t)n);
         if (!rc && !lines) rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
         for (int i = 0; !rc && i < n; ++i) lines[i] = rows[i].line;
-        cli_input in[2];
+        cli_input in[3];
         cli_input_of(&in[0], "scene", a.scene);
         cli_input_of(&in[1], "data", a.data);
+        if (n_inputs == 3) cli_input_of(&in[2], "scene's trace", inputs[2]);
         if (!rc)
-            rc = fit_layout_plot(CMD, a.plot, a.plot_script, in, 2,
+            rc = fit_layout_plot(CMD, a.plot, a.plot_script, in, n_inputs,
                                  "headplan fit layout: residuals (measured - model) per axis", n,
                                  sc->layout.head.shape == HP_HEAD_SPHERE ? 3 : 6, lines, before,
                                  after);
@@ -621,7 +624,7 @@ static int run_layout(int argc, char **argv)
             sc->load.mass = f->mass;
             if (f->mass > f->fitted.head.mass) f->fitted.head.mass = f->mass;
         }
-        e = hp_calib_write_scene(a.out, &f->fitted, sc->level, sc, name, inputs, 2, &d);
+        e = hp_calib_write_scene(a.out, &f->fitted, sc->level, sc, name, inputs, n_inputs, &d);
         /* A refusal is about the output's name (an input, a link, a FIFO or device, a
          * folder that cannot be written): the "cannot create" status; a write that failed
          * once the file was made (full disk, file-size limit; the library says "cannot

@@ -194,4 +194,12 @@ expect_stderr_has "is the scene's trace" "render names the trace"
 [ "$(sha256sum < "$TMP/rt/traces/nodding.csv")" = "$before" ] && ok || bad "render wrote over the scene's trace"
 run render "$TMP/rt/nodding.yaml" --dry-run --script-out "$TMP/rt/r.gp"
 expect_exit 0 "render --script-out elsewhere"
+(cd "$TMP/rt" && "$HP_BIN" fit layout nodding.yaml "$HP_SRC/examples/calibration/layout_rows.csv" \
+    -o traces/nodding.csv > "$TMP/out" 2> "$TMP/err"); rc=$?
+expect_exit 73 "fit layout -o onto the scene's trace"
+[ "$(sha256sum < "$TMP/rt/traces/nodding.csv")" = "$before" ] && ok || bad "fit layout wrote over the scene's trace"
+(cd "$TMP/rt" && "$HP_BIN" fit layout nodding.yaml "$HP_SRC/examples/calibration/layout_rows.csv" \
+    --plot r.svg --plot-script traces/nodding.csv > "$TMP/out" 2> "$TMP/err"); rc=$?
+expect_exit 73 "fit layout --plot-script onto the scene's trace"
+[ "$(sha256sum < "$TMP/rt/traces/nodding.csv")" = "$before" ] && ok || bad "fit layout --plot-script wrote over the scene's trace"
 finish
