@@ -357,9 +357,12 @@ int cmd_batch(int argc, char **argv)
     if (rc == 0) {
         /* The trace by the identity of what was opened: standard input redirected from a
          * file protects that file too. */
-        const cli_input ids[2] = {{"scene", a.scene, scene_st.st_dev, scene_st.st_ino, 1},
-                                  {"trace", t.name, t.st.st_dev, t.st.st_ino, 1}};
-        rc = batch_sink_open(&sink, a.out, fmt, &sc->layout, a.times, ids, 2);
+        cli_input ids[3] = {{"scene", a.scene, scene_st.st_dev, scene_st.st_ino, 1},
+                            {"trace", t.name, t.st.st_dev, t.st.st_ino, 1}};
+        /* The scene's own trace when another one is planned: the user's data all the same. */
+        int nid = 2;
+        if (sc->has_trace) cli_input_of(&ids[nid++], "scene's trace", sc->trace_path);
+        rc = batch_sink_open(&sink, a.out, fmt, &sc->layout, a.times, ids, nid);
     }
     if (rc == 0 && batch_engine_init(&eng, &sc->layout, &s, (int)a.jobs) != 0)
         rc = CLI_EXIT_SOFTWARE;

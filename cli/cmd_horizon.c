@@ -343,10 +343,13 @@ int cmd_horizon(int argc, char **argv)
     /* The output is checked and created before any planning: a refused -o costs nothing and
      * can name no input. */
     if (a.out) {
-        cli_input in[2];
+        cli_input in[3];
+        int nin = 2;
         cli_input_of(&in[0], "scene", a.scene);
         cli_input_of(&in[1], "trace", trace);
-        if ((rc = cli_out_open(&out, CMD, "-o", a.out, in, 2))) goto done;
+        /* The scene's own trace when another one is planned: the user's data all the same. */
+        if (sc->has_trace) cli_input_of(&in[nin++], "scene's trace", sc->trace_path);
+        if ((rc = cli_out_open(&out, CMD, "-o", a.out, in, nin))) goto done;
     }
     hp_diag d = {{0}};
     double p0[HP_MAX_BLADDERS];

@@ -202,4 +202,12 @@ expect_exit 73 "fit layout -o onto the scene's trace"
     --plot r.svg --plot-script traces/nodding.csv > "$TMP/out" 2> "$TMP/err"); rc=$?
 expect_exit 73 "fit layout --plot-script onto the scene's trace"
 [ "$(sha256sum < "$TMP/rt/traces/nodding.csv")" = "$before" ] && ok || bad "fit layout --plot-script wrote over the scene's trace"
+# batch and horizon planning another trace: the scene's own trace is still never written over.
+cp "$S/traces/nodding.csv" "$TMP/rt/other.csv"
+run batch "$TMP/rt/nodding.yaml" "$TMP/rt/other.csv" -o "$TMP/rt/traces/nodding.csv" --format csv
+expect_exit 73 "batch -o onto the scene's trace, another trace planned"
+expect_stderr_has "is the scene's trace" "batch names the scene's trace"
+run horizon "$TMP/rt/nodding.yaml" "$TMP/rt/other.csv" --rows deviation -o "$TMP/rt/traces/nodding.csv"
+expect_exit 73 "horizon -o onto the scene's trace, another trace planned"
+[ "$(sha256sum < "$TMP/rt/traces/nodding.csv")" = "$before" ] && ok || bad "batch or horizon wrote over the scene's trace"
 finish
