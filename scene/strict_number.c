@@ -1,10 +1,10 @@
 /* Strict decimal number parsing (see strict_number.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "scene/strict_number.h"
+#include "common/c_locale.h"
 
 #include <errno.h>
 #include <float.h>
-#include <locale.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -105,17 +105,12 @@ static int plain_decimal(const char *s, size_t len, double *out)
 double hp_c_strtod(const char *s, char **end)
 {
     /* The program's LC_NUMERIC is not ours to change (a Python or GUI host may set it), and
-     * under a comma locale strtod stops at the '.' of "77.5". uselocale is per thread. */
-    locale_t c = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0);
-    locale_t old = c ? uselocale(c) : (locale_t)0;
+     * under a comma locale strtod stops at the '.' of "77.5". */
+    hp_c_numeric c;
+    hp_c_numeric_begin(&c);
     errno = 0;
     double v = strtod(s, end);
-    int er = errno;
-    if (c) {
-        uselocale(old);
-        freelocale(c);
-    }
-    errno = er;
+    hp_c_numeric_end(&c);
     return v;
 }
 
