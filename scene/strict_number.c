@@ -132,3 +132,39 @@ const char *hp_strict_double(const char *s, size_t len, double *out)
     *out = v;
     return NULL;
 }
+
+/* A scan of the JSON text, not of jansson's values: by then 1e-400 is 0, indistinguishable
+ * from a written 0. */
+long hp_json_underflow(const char *s, size_t len, const char **key, size_t *klen)
+{
+    const char *last = "", *str = NULL;
+    size_t last_len = 0;
+    for (size_t i = 0; i < len; ++i) {
+        char c = s[i];
+        if (str) { /* inside a string */
+            if (c == '\\') ++i;
+            else if (c == '"') {
+                last = str;
+                last_len = (size_t)(s + i - str);
+                str = NULL;
+            }
+        } else if (c == '"') {
+            str = s + i + 1;
+        } else if (c == '-' || (c >= '0' && c <= '9')) {
+            size_t j = i;
+            while (j < len && strchr("0123456789+-.eE", s[j]) && s[j]) ++j;
+            double v;
+            const char *why = hp_strict_double(s + i, j - i, &v);
+            if (why && strcmp(why, "too small for a double") == 0) {
+                int plain = last_len > 0 && last_len <= 64; /* echoed: printable only */
+                for (size_t k = 0; k < last_len && plain; ++k)
+                    plain = last[k] >= 0x20 && last[k] < 0x7f;
+                *key = plain ? last : "value";
+                *klen = plain ? last_len : 5;
+                return (long)i;
+            }
+            i = j - 1;
+        }
+    }
+    return -1;
+}

@@ -219,6 +219,17 @@ static void test_layout_jsonl(void **state)
     snprintf(t, sizeof t, "{%s, \"yaw_deg\": 0, \"yaw_deg\": 1}\n", keys);
     jsonl_case(L, t, "1:", "duplicate");
     jsonl_case(L, "{\"x_mm\": NaN}\n", "1:", "");
+    /* Underflow is refused as in CSV (jansson read 1e-400 as 0 and kept subnormals): the
+     * column is the number's, 1-based. */
+    snprintf(t, sizeof t, "{%s, \"yaw_deg\": 1e-400}\n", keys);
+    char want[128];
+    snprintf(want, sizeof want, "1:%zu: yaw_deg: too small for a double",
+             strlen(t) - strlen("1e-400}\n") + 1);
+    jsonl_case(L, t, want, "");
+    snprintf(t, sizeof t, "{%s, \"yaw_deg\": -1e-310}\n", keys);
+    snprintf(want, sizeof want, "1:%zu: yaw_deg: too small for a double",
+             strlen(t) - strlen("-1e-310}\n") + 1);
+    jsonl_case(L, t, want, "");
     jsonl_case(L, "[1, 2]\n", "1:1: expected one object per line", "");
     free(sc);
 }
