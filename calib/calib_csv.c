@@ -60,8 +60,17 @@ static int next_line(csv_file *f, const char **line, size_t *len, hp_diag *d)
         const char *s = f->text + f->pos;
         size_t n = 0;
         while (f->pos + n < f->len && s[n] != '\n') ++n;
-        f->pos += n + (f->pos + n < f->len);
+        int noeol = f->pos + n == f->len;
+        f->pos += n + !noeol;
         f->line++;
+        /* As the trace reader: a file cut short mid-number ("36" cut to "3") must not read
+         * as a different data point. */
+        if (noeol) {
+            hp_diag_set(d, HP_ERR_PARSE,
+                        "%s:%ld:%zu: truncated: the last line has no end of line", f->path,
+                        f->line, n + 1);
+            return -1;
+        }
         size_t e = n;
         if (e > 0 && s[e - 1] == '\r') --e;
         if (memchr(s, '\0', e)) {
