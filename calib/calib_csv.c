@@ -60,8 +60,17 @@ static int next_line(csv_file *f, const char **line, size_t *len, hp_diag *d)
         const char *s = f->text + f->pos;
         size_t n = 0;
         while (f->pos + n < f->len && s[n] != '\n') ++n;
-        f->pos += n + (f->pos + n < f->len);
+        int noeol = f->pos + n == f->len;
+        f->pos += n + !noeol;
         f->line++;
+        /* As the trace reader: a file cut short mid-number ("36" cut to "3") must not read
+         * as a different data point. */
+        if (noeol) {
+            hp_diag_set(d, HP_ERR_PARSE,
+                        "%s:%ld:%zu: truncated: the last line has no end of line", f->path,
+                        f->line, n + 1);
+            return -1;
+        }
         size_t e = n;
         if (e > 0 && s[e - 1] == '\r') --e;
         if (memchr(s, '\0', e)) {
@@ -284,6 +293,12 @@ static int key_column(const char *s, size_t len, const char *key)
 static hp_error jsonl_row(const csv_file *f, const hp_layout *L, const hp_iab_limit *lp,
                           const char *s, size_t len, hp_calib_row *row, hp_diag *d)
 {
+    const char *ukey;
+    size_t uklen;
+    long at = hp_json_underflow(s, len, &ukey, &uklen);
+    if (at >= 0)
+        return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: too small for a double", f->path,
+                           f->line, at + 1, (int)uklen, ukey);
     json_error_t je;
     json_t *o = json_loadb(s, len, JSON_REJECT_DUPLICATES, &je);
     if (!o)

@@ -190,6 +190,12 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
             goto done;
         }
         row_from_result(rows + t, &r, PL->n, out + t);
+        /* As headplan batch: the next plan starts from this row's result alone (cold), not
+         * from the backend's own last point and multipliers. */
+        if ((e = hp_planner_set_previous_result(p, &r)) != HP_OK) {
+            hp_diag_set(d, e, "line %ld: %s", rows[t].line, hp_planner_error(p));
+            goto done;
+        }
     }
 done:
     hp_planner_destroy(p);

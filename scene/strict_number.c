@@ -1,10 +1,10 @@
 /* Strict decimal number parsing (see strict_number.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "scene/strict_number.h"
+#include "common/c_locale.h"
 
 #include <errno.h>
 #include <float.h>
-#include <locale.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -105,17 +105,12 @@ static int plain_decimal(const char *s, size_t len, double *out)
 double hp_c_strtod(const char *s, char **end)
 {
     /* The program's LC_NUMERIC is not ours to change (a Python or GUI host may set it), and
-     * under a comma locale strtod stops at the '.' of "77.5". uselocale is per thread. */
-    locale_t c = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0);
-    locale_t old = c ? uselocale(c) : (locale_t)0;
+     * under a comma locale strtod stops at the '.' of "77.5". */
+    hp_c_numeric c;
+    hp_c_numeric_begin(&c);
     errno = 0;
     double v = strtod(s, end);
-    int er = errno;
-    if (c) {
-        uselocale(old);
-        freelocale(c);
-    }
-    errno = er;
+    hp_c_numeric_end(&c);
     return v;
 }
 
@@ -136,4 +131,40 @@ const char *hp_strict_double(const char *s, size_t len, double *out)
     if (!isfinite(v)) return "not finite";
     *out = v;
     return NULL;
+}
+
+/* A scan of the JSON text, not of jansson's values: by then 1e-400 is 0, indistinguishable
+ * from a written 0. */
+long hp_json_underflow(const char *s, size_t len, const char **key, size_t *klen)
+{
+    const char *last = "", *str = NULL;
+    size_t last_len = 0;
+    for (size_t i = 0; i < len; ++i) {
+        char c = s[i];
+        if (str) { /* inside a string */
+            if (c == '\\') ++i;
+            else if (c == '"') {
+                last = str;
+                last_len = (size_t)(s + i - str);
+                str = NULL;
+            }
+        } else if (c == '"') {
+            str = s + i + 1;
+        } else if (c == '-' || (c >= '0' && c <= '9')) {
+            size_t j = i;
+            while (j < len && strchr("0123456789+-.eE", s[j]) && s[j]) ++j;
+            double v;
+            const char *why = hp_strict_double(s + i, j - i, &v);
+            if (why && strcmp(why, "too small for a double") == 0) {
+                int plain = last_len > 0 && last_len <= 64; /* echoed: printable only */
+                for (size_t k = 0; k < last_len && plain; ++k)
+                    plain = last[k] >= 0x20 && last[k] < 0x7f;
+                *key = plain ? last : "value";
+                *klen = plain ? last_len : 5;
+                return (long)i;
+            }
+            i = j - 1;
+        }
+    }
+    return -1;
 }

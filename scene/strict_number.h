@@ -18,4 +18,10 @@ const char *hp_strict_double(const char *s, size_t len, double *out);
  * point of every file format here); errno as strtod leaves it. */
 double hp_c_strtod(const char *s, char **end);
 
+/* The first number in the JSON text s[0..len) that underflows (jansson reads 1e-400 as 0
+ * and keeps subnormals, where hp_strict_double refuses both as "too small for a double"):
+ * its 0-based offset, and in *key / *klen the key before it ("value" when that key is not
+ * short printable text, so it can be echoed). -1 when there is none. */
+long hp_json_underflow(const char *s, size_t len, const char **key, size_t *klen);
+
 #endif

@@ -467,50 +467,13 @@ static int json_form(json_t *obj)
     return -1;
 }
 
-/* The first number in the JSON text s[0..len) that underflows (jansson reads 1e-400 as 0
- * and keeps subnormals, where the CSV reader refuses both as "too small for a double"):
- * its 0-based offset, and in *key / *klen the key before it. -1 when there is none. */
-static long json_underflow(const char *s, size_t len, const char **key, size_t *klen)
-{
-    const char *last = "", *str = NULL;
-    size_t last_len = 0;
-    for (size_t i = 0; i < len; ++i) {
-        char c = s[i];
-        if (str) { /* inside a string */
-            if (c == '\\') ++i;
-            else if (c == '"') {
-                last = str;
-                last_len = (size_t)(s + i - str);
-                str = NULL;
-            }
-        } else if (c == '"') {
-            str = s + i + 1;
-        } else if (c == '-' || (c >= '0' && c <= '9')) {
-            size_t j = i;
-            while (j < len && strchr("0123456789+-.eE", s[j]) && s[j]) ++j;
-            double v;
-            const char *why = hp_strict_double(s + i, j - i, &v);
-            if (why && strcmp(why, "too small for a double") == 0) {
-                int plain = last_len > 0 && last_len <= 64; /* echoed: printable only */
-                for (size_t k = 0; k < last_len && plain; ++k)
-                    plain = last[k] >= 0x20 && last[k] < 0x7f;
-                *key = plain ? last : "value";
-                *klen = plain ? last_len : 5;
-                return (long)i;
-            }
-            i = j - 1;
-        }
-    }
-    return -1;
-}
-
 static hp_error jsonl_row(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
 {
     json_error_t jerr;
     long ln = r->lineno;
     const char *ukey;
     size_t uklen;
-    long at = json_underflow(r->line, r->len, &ukey, &uklen);
+    long at = hp_json_underflow(r->line, r->len, &ukey, &uklen);
     if (at >= 0)
         return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: too small for a double",
                            r->name, ln, at + 1, (int)uklen, ukey);

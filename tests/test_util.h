@@ -8,6 +8,7 @@
 #include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <cmocka.h>
 
 /* Fails unless |got − want| <= abs_tol + rel_tol·|want|, printing both and the excess. */
@@ -37,6 +38,18 @@ static inline void hp_test_solve6(double A[36], double b[6])
         for (int j = r + 1; j < 6; ++j) b[r] -= A[r * 6 + j] * b[j];
         b[r] /= A[r * 6 + r];
     }
+}
+
+/* A whole small file (below 64 KiB) in a malloc'ed buffer, its length in *len. */
+static inline char *hp_test_read_all(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    assert_non_null(f);
+    char *buf = malloc(1 << 16);
+    assert_non_null(buf);
+    *len = fread(buf, 1, (1 << 16) - 1, f);
+    fclose(f);
+    return buf;
 }
 
 #endif

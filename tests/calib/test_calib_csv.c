@@ -71,6 +71,14 @@ static void test_material_bad(void **state)
     material_case("pressure_pa,ri_mm,sigma_mm\n1e999,27.5,1\n", "2:1: pressure: '1e999': overflows");
     material_case("pressure_pa,ri_mm,sigma_mm\n1,27.5,0\n", "2:8: sigma_mm: must be > 0 (got 0)");
     material_case("pressure_pa,ri_mm\n 0x10 ,27.5\n", "2:2: pressure: '0x10': not a number");
+    /* A file cut short: "36" cut to "3" would be another data point; a last line without
+     * its end of line is refused, as the trace reader does, whatever it holds. */
+    material_case("pressure_pa,ri_mm\n1000,27.5\n2000,28\n3000,3",
+                  "4:7: truncated: the last line has no end of line");
+    material_case("pressure_pa,ri_mm\n1000,27.5\n2000,28\n3000,30\n# end",
+                  "5:6: truncated: the last line has no end of line");
+    material_case("pressure_pa,ri_mm\r\n1000,27.5\r\n2000,28\r\n3000,30\r",
+                  "4:9: truncated: the last line has no end of line");
     hp_calib_point pts[2];
     int n;
     hp_calib_radius kind;
@@ -136,6 +144,8 @@ static void test_layout(void **state)
     layout_case(L, "0,0,0,0,0,0,0,0,0,0,0,0,0\n", "2:1: 13 columns, the header has 14");
     layout_case(L, "0,0,0,0,0,0,0,0,0,0,0,0,0,20\n0,0,0,0,0,0,0,0,0,0,0,0,0,0\n", "2:");
     layout_case(L, "0,0,0,0,0,0,0,0,0,0,0,0,0,0\n", "3:1: 1 data rows");
+    layout_case(L, "0,0,0,0,0,0,0,0,0,0,0,0,0,0\n0,0,0,0,0,0,0,0,0,0,0,0,0,3",
+                "3:28: truncated: the last line has no end of line");
     /* Header faults. */
     char save[1024];
     memcpy(save, header, sizeof save);
@@ -219,7 +229,22 @@ static void test_layout_jsonl(void **state)
     snprintf(t, sizeof t, "{%s, \"yaw_deg\": 0, \"yaw_deg\": 1}\n", keys);
     jsonl_case(L, t, "1:", "duplicate");
     jsonl_case(L, "{\"x_mm\": NaN}\n", "1:", "");
+    /* Underflow is refused as in CSV (jansson read 1e-400 as 0 and kept subnormals): the
+     * column is the number's, 1-based. */
+    snprintf(t, sizeof t, "{%s, \"yaw_deg\": 1e-400}\n", keys);
+    char want[128];
+    snprintf(want, sizeof want, "1:%zu: yaw_deg: too small for a double",
+             strlen(t) - strlen("1e-400}\n") + 1);
+    jsonl_case(L, t, want, "");
+    snprintf(t, sizeof t, "{%s, \"yaw_deg\": -1e-310}\n", keys);
+    snprintf(want, sizeof want, "1:%zu: yaw_deg: too small for a double",
+             strlen(t) - strlen("-1e-310}\n") + 1);
+    jsonl_case(L, t, want, "");
     jsonl_case(L, "[1, 2]\n", "1:1: expected one object per line", "");
+    snprintf(t, sizeof t, "{%s, \"yaw_deg\": 0}\n{%s, \"yaw_deg\": 1}", keys, keys);
+    snprintf(want, sizeof want, "2:%zu: truncated: the last line has no end of line",
+             strlen(strchr(t, '\n') + 1) + 1);
+    jsonl_case(L, t, want, "");
     free(sc);
 }
 

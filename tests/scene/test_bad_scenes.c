@@ -80,17 +80,6 @@ static void test_catalogue(void **state)
     closedir(dir);
 }
 
-static char *read_all(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
-    char *buf = malloc(1 << 16);
-    assert_non_null(buf);
-    *len = fread(buf, 1, (1 << 16) - 1, f);
-    fclose(f);
-    return buf;
-}
-
 static void test_size_limit_and_arguments(void **state)
 {
     (void)state;
@@ -136,7 +125,7 @@ static void test_parse_equals_load(void **state)
     hp_diag d = {{0}};
     const char *path = HP_SOURCE_DIR "/scenarios/default.yaml";
     size_t len;
-    char *text = read_all(path, &len);
+    char *text = hp_test_read_all(path, &len);
     char *exact = malloc(len);
     assert_non_null(exact);
     memcpy(exact, text, len);
@@ -154,7 +143,7 @@ static void test_truncation_and_mutation(void **state)
 {
     (void)state;
     size_t len;
-    char *text = read_all(HP_SOURCE_DIR "/scenarios/default.yaml", &len);
+    char *text = hp_test_read_all(HP_SOURCE_DIR "/scenarios/default.yaml", &len);
     hp_diag d;
     int refused = 0;
     for (size_t n = 0; n < len; ++n) {

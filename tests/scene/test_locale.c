@@ -1,11 +1,10 @@
 /* Scenes, traces and calibration data read the same numbers whatever LC_NUMERIC the host
  * program set (a Python or GUI host calling setlocale(LC_ALL, "") in Germany): under a comma
  * locale strtod stopped at the '.' of "77.5" and every scene was refused ("'77.5' is not a
- * number"), and a trace's exponent numbers (the strtod path) were bad rows. The comma locale
- * is the system's when installed, else built with localedef into a temporary LOCPATH; the
- * test is skipped only when neither works. */
+ * number"), and a trace's exponent numbers (the strtod path) were bad rows. */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
+#include "comma_locale.h"
 
 #include "headplan/hp_scene.h"
 #include "headplan/hp_trace.h"
@@ -16,27 +15,6 @@
 #include <string.h>
 
 static hp_scene in_c, in_comma; /* large: off the stack */
-
-static int is_comma(void) { return strcmp(localeconv()->decimal_point, ",") == 0; }
-
-/* Switches LC_NUMERIC to a locale whose decimal point is ','; 1 on success. */
-static int comma_locale(void)
-{
-    static const char *const names[] = {"de_DE.UTF-8", "de_DE.utf8", "fr_FR.UTF-8", "de_DE"};
-    for (int i = 0; i < 4; ++i)
-        if (setlocale(LC_NUMERIC, names[i]) && is_comma()) return 1;
-    static char dir[] = "/tmp/hp_locale_XXXXXX";
-    if (!mkdtemp(dir)) return 0;
-    char cmd[256];
-    snprintf(cmd, sizeof cmd, "localedef -i de_DE -f UTF-8 %s/de_DE.UTF-8 >/dev/null 2>&1",
-             dir);
-    int built = system(cmd) == 0;
-    if (built) setenv("LOCPATH", dir, 1); /* glibc reads it at every setlocale */
-    int ok = built && setlocale(LC_NUMERIC, "de_DE.UTF-8") && is_comma();
-    snprintf(cmd, sizeof cmd, "rm -rf %s", dir);
-    if (system(cmd) != 0) print_message("could not remove %s\n", dir);
-    return ok;
-}
 
 static void read_trace(const char *text, hp_trace_row *row)
 {
