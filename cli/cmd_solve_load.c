@@ -181,7 +181,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
 }
 
 int cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
-                      const double desired[6], int json, const char *why)
+                      const double desired[6], const char *from, int json, const char *why)
 {
     hp_settings set = *s;
     set.level = sc->load_geometry;
@@ -201,7 +201,7 @@ int cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
         status = cli_fail(CLI_EXIT_SOFTWARE, cmd, "%s: load planner failed: %s", sc->file,
                              hp_error_message(e));
     } else if (r.status == HP_STATUS_INVALID_INPUT) {
-        status = cli_fail(CLI_EXIT_DATAERR, cmd, "correction: %s", hp_load_planner_error(p));
+        status = cli_fail(CLI_EXIT_DATAERR, cmd, "%s: %s", from, hp_load_planner_error(p));
     } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) {
         status = cli_fail(CLI_EXIT_SOFTWARE, cmd, "%s: %s: %s", sc->file,
                              hp_status_name(r.status), hp_load_planner_error(p));
