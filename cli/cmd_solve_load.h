@@ -7,11 +7,11 @@
 
 #include <stddef.h>
 
-/* Which level a scene gets: --level load or `model.level: load` (needs a `load` section),
- * or auto on a scene with a `load` section, decided by the predicted sag against
- * model.tolerance_mm. *use_load gets 1 for the load level; why (len bytes) the reason ("" when
- * the scene has no load and auto was not involved). Prints and returns an exit status on
- * error, 0 otherwise. level_arg is --level (NULL: the scene's). */
+/* Which level a scene gets: the library's decision (hp_scene_plan_level, shared with the
+ * Python module) with level_arg = --level (NULL: the scene's). *use_load gets 1 for the
+ * load level; why (len bytes) the reason. Prints and returns an exit status on error (64:
+ * --level load on a scene without a `load` section; 65: its load cannot be modelled), 0
+ * otherwise (an unknown --level is left to cli_settings to name). */
 int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
                       int *use_load, char *why, size_t len);
 
