@@ -15,29 +15,20 @@
 int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
                       int *use_load, char *why, size_t len)
 {
+    hp_diag d = {{0}};
+    hp_error e = hp_scene_plan_level(sc, level_arg, use_load, why, len, &d);
+    if (!e) return 0;
     *use_load = 0;
-    why[0] = '\0';
-    int asked = level_arg ? strcmp(level_arg, "load") == 0 : sc->level_load;
-    int automatic = level_arg ? strcmp(level_arg, "auto") == 0 : sc->level == HP_LEVEL_AUTO;
-    if (asked && !sc->has_load)
+    if (level_arg && strcmp(level_arg, "load") == 0 && !sc->has_load)
         return cli_fail(CLI_EXIT_USAGE, cmd,
                            "--level: load needs a scene with a 'load' section (%s has none)",
                            sc->file);
-    if (asked) {
-        *use_load = 1;
-        snprintf(why, len, "load: asked for by %s", level_arg ? "--level" : "model.level");
+    hp_level lv;
+    /* An unknown --level is the settings' to name (cli_settings), as for any scene. */
+    if (level_arg && strcmp(level_arg, "load") != 0 && hp_level_parse(level_arg, &lv) != HP_OK)
         return 0;
-    }
-    if (!automatic || !sc->has_load) return 0;
-    hp_load_model *M = NULL;
-    hp_diag d = {{0}};
-    hp_error e = hp_load_model_create(&sc->layout, &sc->load, sc->load_geometry, &M, &d);
-    if (!e) e = hp_load_auto_choose(M, sc->level_tolerance, use_load, NULL, why, len);
-    hp_load_model_destroy(M);
-    if (e)
-        return cli_fail(CLI_EXIT_DATAERR, cmd, "%s: load: %s", sc->file,
-                           d.text[0] ? d.text : hp_error_message(e));
-    return 0;
+    return cli_fail(CLI_EXIT_DATAERR, cmd, "%s: load: %s", sc->file,
+                       d.text[0] ? d.text : hp_error_message(e));
 }
 
 int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_arg,
@@ -181,7 +172,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
 }
 
 int cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
-                      const double desired[6], int json, const char *why)
+                      const double desired[6], const char *from, int json, const char *why)
 {
     hp_settings set = *s;
     set.level = sc->load_geometry;
@@ -201,7 +192,7 @@ int cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
         status = cli_fail(CLI_EXIT_SOFTWARE, cmd, "%s: load planner failed: %s", sc->file,
                              hp_error_message(e));
     } else if (r.status == HP_STATUS_INVALID_INPUT) {
-        status = cli_fail(CLI_EXIT_DATAERR, cmd, "correction: %s", hp_load_planner_error(p));
+        status = cli_fail(CLI_EXIT_DATAERR, cmd, "%s: %s", from, hp_load_planner_error(p));
     } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) {
         status = cli_fail(CLI_EXIT_SOFTWARE, cmd, "%s: %s: %s", sc->file,
                              hp_status_name(r.status), hp_load_planner_error(p));

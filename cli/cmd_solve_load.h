@@ -7,11 +7,11 @@
 
 #include <stddef.h>
 
-/* Which level a scene gets: --level load or `model.level: load` (needs a `load` section),
- * or auto on a scene with a `load` section, decided by the predicted sag against
- * model.tolerance_mm. *use_load gets 1 for the load level; why (len bytes) the reason ("" when
- * the scene has no load and auto was not involved). Prints and returns an exit status on
- * error, 0 otherwise. level_arg is --level (NULL: the scene's). */
+/* Which level a scene gets: the library's decision (hp_scene_plan_level, shared with the
+ * Python module) with level_arg = --level (NULL: the scene's). *use_load gets 1 for the
+ * load level; why (len bytes) the reason. Prints and returns an exit status on error (64:
+ * --level load on a scene without a `load` section; 65: its load cannot be modelled), 0
+ * otherwise (an unknown --level is left to cli_settings to name). */
 int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
                       int *use_load, char *why, size_t len);
 
@@ -26,9 +26,11 @@ int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_ar
 
 /* Plans desired[6] (SI) with the load planner and prints the answer (table or JSON):
  * pressures, forces, binding limits, equilibrium residual, compliance, forward statics'
- * round trip. Returns the exit status (0 reached, 1 closest). */
+ * round trip. from names where desired came from ("--correction" or "correction") in the
+ * message of a refused one. Returns the exit status (0 reached, 1 closest, 65 a correction
+ * outside the identifiable range, 70 no confirmed answer). */
 int cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
-                      const double desired[6], int json, const char *why);
+                      const double desired[6], const char *from, int json, const char *why);
 
 /* When a bladder of L has a stress limit: a table of every bladder's hoop stress at the
  * inner surface (kPa) beside its limit. Prints nothing otherwise. */

@@ -7,6 +7,7 @@
 #include "kinematics/kin_geom.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_solve.h"
+#include "planner/planner_internal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -16,6 +17,7 @@
 
 struct hp_load_planner {
     hp_load_model M;     /* embedded: create stays the planner's only allocation */
+    hp_identifiable id;  /* the range of corrections hp_plan accepts, accepted here too */
     hp_settings set;
     hp_load_tiebreak tie;
     double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
@@ -164,6 +166,9 @@ hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *spec,
     if (!p) return hp_diag_set(diag, HP_ERR_NOMEM, "load planner: out of memory");
     hp_level geom = set.level == HP_LEVEL_AUTO ? HP_LEVEL_SURFACE : set.level;
     err = hp_load_model_setup(&p->M, L, spec, geom, diag);
+    if (!err && (err = hp_layout_identify(&p->M.layout, &p->id)) != HP_OK)
+        hp_diag_set(diag, err, "layout: the contact Jacobian at the nominal pose: %s",
+                    hp_error_message(err));
     for (int k = 0; !err && k < p->M.layout.n; ++k) err = bladder_bounds(p, k, diag);
     if (!err) err = check_carry(p, diag);
     if (err) {
@@ -343,8 +348,8 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
     memcpy(r->desired, desired, sizeof r->desired);
     for (int i = 0; i < 6; ++i) r->commanded[i] = 1;
     p->err[0] = '\0';
-    int bad = 0;
-    for (int i = 0; i < 6; ++i) bad |= !isfinite(desired[i]);
+    /* The request check of hp_plan: the same corrections refused with the same words. */
+    int bad = !hp_plan_desired_ok(&p->id, desired, p->err);
     plan_bounds(p);
     double target[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], xi[6];
     for (int k = 0; k < n; ++k) target[k] = p->tie == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
@@ -398,9 +403,9 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
     r->iterations = it1 + it2 + it3;
     if (bad || st != HP_LOAD_SOLVE_OK) {
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
-        snprintf(p->err, sizeof p->err, "%s",
-                 bad ? "desired: must be finite"
-                     : "load planner: no pose near the desired one is held inside the limits");
+        if (!bad)
+            hp_text_set(p->err, "load planner: no pose near the desired one is held inside the "
+                                "limits");
         /* Safe output: the previous pressures at the previous pose. */
         memcpy(xi, p->prev_xi, sizeof xi);
         memcpy(P, p->prev_P, (size_t)n * sizeof *P);

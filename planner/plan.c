@@ -56,55 +56,13 @@ static void err_backend(hp_planner *p, hp_status st, int raw)
     hp_text_add(p->err, ")");
 }
 
-/* 1 when desired lies in the identifiable range (hp_identifiable): translation norm up to
- * trans_limit, rotation angle below rot_limit; else 0 with the limit named in p->err. */
-static int in_identifiable_range(hp_planner *p, const double desired[6])
-{
-    const hp_identifiable *id = &p->id;
-    double size;
-    int out = hp_plan_range_check(p, desired, &size);
-    if (out == 1) {
-        double tn = size;
-        hp_text_set(p->err, "desired translation: |(x, y, z)| = ");
-        hp_text_add_num(p->err, tn * HP_MM_PER_M, 1);
-        hp_text_add(p->err, " mm is outside the identifiable range (<= ");
-        hp_text_add_num(p->err, id->trans_limit * HP_MM_PER_M, 1);
-        hp_text_add(p->err, " mm, the head's smallest semi-axis)");
-        return 0;
-    }
-    if (out == 2) {
-        double ang = size;
-        hp_text_set(p->err, "desired rotation: angle ");
-        hp_text_add_num(p->err, ang * HP_DEG_PER_RAD, 1);
-        hp_text_add(p->err, " deg is outside the identifiable range (below ");
-        hp_text_add_num(p->err, id->rot_limit * HP_DEG_PER_RAD, 0);
-        hp_text_add(p->err, " deg: the head looks the same after ");
-        hp_text_add(p->err, id->symmetry);
-        hp_text_add(p->err, ", so the contact distances confuse such a turn with a smaller one)");
-        return 0;
-    }
-    return 1;
-}
-
 /* Step 1: the request. Checks desired (finite, in range, identifiable), splits it into the
  * commanded part and the rest, and sets this cycle's bounds. Returns 1 to go on, else 0
  * with res labelled (safe output). */
 static int validate(hp_planner *p, const double desired[6], hp_result *res, plan_ctx *c)
 {
     for (int i = 0; i < 6; ++i) res->desired[i] = desired[i];
-    for (int i = 0; i < 6; ++i) {
-        double lim = i < 3 ? HP_PLAN_MAX_TRANS : HP_PLAN_MAX_ROT;
-        if (!isfinite(desired[i]) || !(fabs(desired[i]) <= lim)) {
-            hp_text_set(p->err, "desired ");
-            hp_text_add(p->err, pose_names[i]);
-            hp_text_add(p->err, isfinite(desired[i]) ? ": out of range (|translation| <= 1 m, "
-                                                        "|rotation| <= pi rad)"
-                                                      : ": not finite");
-            fail_safe(p, res, HP_STATUS_INVALID_INPUT, c);
-            return 0;
-        }
-    }
-    if (!in_identifiable_range(p, desired)) {
+    if (!hp_plan_desired_ok(&p->id, desired, p->err)) {
         fail_safe(p, res, HP_STATUS_INVALID_INPUT, c);
         return 0;
     }

@@ -101,28 +101,6 @@ static hp_error build_nominal(hp_planner *p, hp_diag *d)
     return HP_OK;
 }
 
-int hp_plan_range_check(const hp_planner *p, const double xi[6], double *size)
-{
-    const hp_identifiable *id = &p->id;
-    /* Every plan passes here, and most corrections are far inside both limits: a bound that
-     * is cheap and provably no smaller than the exact quantity decides those without hypot
-     * or building R (~1 000 instructions of a ~10 000-instruction direct chain). The
-     * Euclidean norm is at most the sum of the magnitudes; the rotation angle, a metric on
-     * rotations invariant under products, is at most the sum of the three elementary
-     * angles. Half the limit leaves the exact values' rounding (a few ulps) far from it, so
-     * the verdict is the exact one. NaN fails every comparison and falls through. */
-    double t1 = fabs(xi[0]) + fabs(xi[1]) + fabs(xi[2]);
-    double r1 = fabs(xi[3]) + fabs(xi[4]) + fabs(xi[5]);
-    if (t1 <= 0.5 * id->trans_limit && (id->centre_only || r1 <= 0.5 * id->rot_limit)) return 0;
-    double tn = hypot(hypot(xi[0], xi[1]), xi[2]);
-    if (size) *size = tn;
-    if (!(tn <= id->trans_limit)) return 1;
-    if (id->centre_only) return 0;
-    double ang = hp_pose_rotation_angle(xi);
-    if (size) *size = ang;
-    return ang < id->rot_limit ? 0 : 2;
-}
-
 hp_error hp_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
                                   const hp_kin_fit_near *near, double xi[6],
                                   double *residual_rms)
@@ -360,7 +338,7 @@ static hp_error prev_pose_ok(hp_planner *p, const double xi[6])
             return prev_refused(p, "achieved: not 0 in a component the planner does not command",
                                 axis[i]);
     }
-    int out = hp_plan_range_check(p, xi, NULL);
+    int out = hp_plan_range_check(&p->id, xi, NULL);
     if (out == 1)
         return prev_refused(p, "achieved: translation outside the identifiable range", NULL);
     if (out == 2)

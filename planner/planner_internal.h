@@ -6,13 +6,10 @@
 #define HP_PLANNER_INTERNAL_H
 
 #include "planner/backend_common.h"
+#include "planner/plan_range.h"
 #include "planner/problem_setup.h"
 #include "kinematics/fit_internal.h"
 
-/* Largest correction hp_plan accepts: far beyond any bladder's reach, small enough that
- * every contact model stays well defined. */
-#define HP_PLAN_MAX_TRANS 1.0   /* [m] */
-#define HP_PLAN_MAX_ROT HP_PI   /* [rad] */
 /* A reached pose counts as identified when forward contact kinematics started from the
  * nominal pose recovers it to HP_IDENT_FK_TOL (mm and degrees): far above the fit's own
  * precision on a well-posed layout (~1e-12), far below the distance of any second fit seen
@@ -72,12 +69,6 @@ struct hp_planner {
      * placement effect; here the fields before it keep their offsets. */
     hp_kin_fit_start nom;
 };
-
-/* Where pose xi (SI) lies against the layout's identifiable range (hp_identifiable): 0
- * inside; 1 its translation norm is beyond trans_limit; 2 its rotation angle is not below
- * rot_limit (never for a layout that sees only the centre). *size (may be NULL) gets that
- * norm [m] or angle [rad]. The one test the plan, the reach and the previous answer share. */
-int hp_plan_range_check(const hp_planner *p, const double xi[6], double *size);
 
 /* hp_contact_fit of the outer radii ro in the components free_ from the nominal pose,
  * taking its first model evaluation from p->nom: the same steps, one evaluation fewer.

@@ -19,7 +19,7 @@ static int direct_reached(void *ctx, const double xi[6])
     reach_ctx *c = ctx;
     const hp_planner *p = c->p;
     const hp_identifiable *id = &p->id;
-    if (hp_plan_range_check(p, xi, NULL) != 0) return 0;
+    if (hp_plan_range_check(id, xi, NULL) != 0) return 0;
     double xc[6], x[6], rho[HP_MAX_BLADDERS];
     if (hp_pose_commanded_part(&p->L, id, p->level, xi, xc) != HP_OK) return 0;
     hp_plan_to_scaled(xc, x);

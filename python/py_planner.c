@@ -148,7 +148,10 @@ static int planner_init(PyObject *o, PyObject *args, PyObject *kwargs)
     PyObject *scene;
     if (!PyArg_ParseTuple(args, "O:Planner", &scene)) return -1;
     const hp_scene *sc = hpy_layout_scene(scene);
-    if (!sc || hpy_settings(sc, kwargs, &self->s) < 0) return -1;
+    /* The settings first (an unknown keyword or level is named as before), then the level
+     * decision headplan solve makes: a scene it plans at the load level is refused. */
+    if (!sc || hpy_settings(sc, kwargs, &self->s) < 0 || hpy_kinematic_only(sc, kwargs) < 0)
+        return -1;
     /* One solve from the nominal pose at a time, like headplan solve: no previous cycle. */
     self->s.use_rate_limits = 0;
     self->layout = sc->layout;

@@ -282,6 +282,8 @@ static PyObject *get_level(PyObject *o, void *c)
     const hp_scene *sc = ((hpy_scene *)o)->sc;
     hp_settings def; /* a study has no model section: the planner's defaults */
     hp_settings_default(&def);
+    /* model.level: load is a planner of its own (hp_scene_plan_level), not a contact level. */
+    if (sc && sc->level_load) return PyUnicode_FromString("load");
     return PyUnicode_FromString(hp_level_name(sc ? sc->level : def.level));
 }
 
@@ -307,7 +309,7 @@ static PyGetSetDef scene_getset[] = {
     {"trace_rows", get_trace_rows, NULL, "'deviation' or 'correction': what the trace holds",
      NULL},
     {"backend", get_backend, NULL, "the scene's solver backend name", NULL},
-    {"level", get_level, NULL, "the scene's contact level (may be 'auto')", NULL},
+    {"level", get_level, NULL, "the scene's model.level: 'linear', 'plane', 'surface', 'auto' or 'load'", NULL},
     {"layout", get_layout, NULL,
      "dict: head (shape, center_mm, semi_axes_mm, mass_kg), pivot_mm, and bladders (a list of\n"
      "dicts: name, center_mm, Ri_mm, Ro_mm, c1_pa, c2_pa, pressure_min_pa, pressure_max_pa,\n"

@@ -93,6 +93,11 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
                  backend);
         return -1;
     }
+    if (level && strcmp(level, "load") == 0) { /* as batch's --level load */
+        hpy_fail("level: load is planned by headplan solve only; the Python module plans the "
+                 "kinematic levels (linear, plane, surface, auto)");
+        return -1;
+    }
     if (level && hp_level_parse(level, &s->level) != HP_OK) {
         hpy_fail("level: unknown level '%s' (linear, plane, surface, auto)", level);
         return -1;
@@ -102,4 +107,25 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
         return -1;
     }
     return 0;
+}
+
+int hpy_kinematic_only(const hp_scene *sc, PyObject *kw)
+{
+    const char *level = NULL;
+    if (kw_text(kw, "level", &level)) return -1; /* hpy_settings refused "load" already */
+    int use_load = 0;
+    char why[256];
+    hp_diag d = {{0}};
+    hp_error e = hp_scene_plan_level(sc, level, &use_load, why, sizeof why, &d);
+    if (e != HP_OK) {
+        hpy_fail("%s: load: %s", sc->file, d.text[0] ? d.text : hp_error_message(e));
+        return -1;
+    }
+    if (!use_load) return 0;
+    hpy_fail("%s: the scene is planned at the load level (%s), which only headplan solve "
+             "plans; Planner would plan without the head's weight and disagree with solve: "
+             "give level='surface' (or 'plane', 'linear') to plan it so, or plan single "
+             "corrections with headplan solve",
+             sc->file, why);
+    return -1;
 }

@@ -53,7 +53,12 @@ HP_API hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *s
                                 const hp_settings *s, hp_load_tiebreak tie,
                                 hp_load_planner **out, hp_diag *diag);
 
-/* Plans the pressures that hold the head at desired[6] (SI). REACHED: the equilibrium
+/* Plans the pressures that hold the head at desired[6] (SI). The request is checked as
+ * hp_plan checks it, by the same code and with the same message (hp_load_planner_error):
+ * a correction that is not finite, beyond hp_plan's caps or outside the layout's
+ * identifiable range (hp_identifiable: a rotation angle of 90 degrees or more, a
+ * translation beyond the head's smallest semi-axis) is INVALID_INPUT with the safe output
+ * (the previous answer's pressures and pose, pose_error +inf). REACHED: the equilibrium
  * holds at the desired pose (the pose error is 0 by construction); CLOSEST: no pressures
  * inside the limits hold it there, and the answer is the pose nearest to it (weighted as
  * the settings say) at which some do, with the binding limits flagged. info (may be NULL)

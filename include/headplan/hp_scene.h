@@ -148,8 +148,33 @@ HP_API hp_error hp_scene_parse(const char *text, size_t len, const char *filenam
  * call it too, so a scene plans the same whichever entry point loads it. Returns HP_OK;
  * HP_ERR_NULL for NULL arguments; HP_ERR_INVALID for settings that hp_settings_validate
  * refuses (only possible for an hp_scene that was not filled by hp_scene_load/parse). out
- * is filled only on HP_OK. */
+ * is filled only on HP_OK.
+ *
+ * These are the KINEMATIC planner's settings (hp_planner_create). For a scene that says
+ * `model.level: load`, out->level is HP_LEVEL_SURFACE, the level a kinematic planner of the
+ * scene uses; a scene with `model.level: auto` and a `load` section may also be planned at
+ * the load level. Neither is planned so by hp_planner: whether the scene is planned at the
+ * load level (hp_load_planner.h, as `headplan solve` plans it) is hp_scene_plan_level's
+ * answer, and a caller that plans such a scene with these settings plans it without the
+ * head's weight. */
 HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag);
+
+/* Whether scene sc is planned at the load level (docs/load.md): the one decision `headplan
+ * solve`, `batch`, `horizon`, `render`, `analyze` and the Python module share. level is the
+ * caller's override of the scene's model.level ("linear", "plane", "surface", "auto" or
+ * "load"; the command line's --level), NULL for the scene's own. *use_load gets 1 when:
+ * the level is "load" (the scene's `model.level: load`, or the override); or it is "auto"
+ * and the scene has a `load` section and the sag a kinematic plan would leave exceeds
+ * model.tolerance_mm (hp_load_auto_choose). Otherwise 0: a kinematic level plans it.
+ * why (may be NULL, len bytes) gets the reason in one line ("load: asked for by
+ * model.level", "load: predicted sag ... > tolerance ...", "kinematic: ..."; "" when the
+ * scene has no load and auto was not involved). Returns HP_OK; HP_ERR_NULL;
+ * HP_ERR_INVALID for an unknown override or "load" on a scene without a `load` section
+ * (message in diag); or the load model's error (hp_load_model_create: the layout cannot
+ * carry the load), message in diag. Allocates (the load model) only for auto on a scene
+ * with a `load` section. */
+HP_API hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_load,
+                                    char *why, size_t len, hp_diag *diag);
 
 /* Reads and validates the single-bladder study file at path; the same contract as
  * hp_scene_load (a layout scene: its own errors, else HP_ERR_INVALID). */

@@ -79,6 +79,18 @@ expect_exit 0 "analyze default"
 expect_stdout_has "kinematic sag unbounded" "analyze reports the sag it ignores"
 expect_stdout_has "plans stay kinematic" "and that the plans stay kinematic"
 
+# A correction outside the identifiable range is refused at the load level as at the
+# kinematic ones, with the same message (it was "reached" beside "rest inf mm/deg").
+for lv in "" "--level surface"; do
+    run solve "$S/load_supine.yaml" --correction 0,0,0,100,0,0 $lv
+    expect_exit 65 "100 deg pitch refused ${lv:-at the load level}"
+    expect_stdout_empty "100 deg pitch ${lv:-at the load level}: no answer"
+    expect_stderr_has "headplan solve: --correction: desired rotation: angle 100.0 deg is outside the identifiable range" "names the limit ${lv:-at the load level}"
+done
+run solve "$S/load_heavy.yaml" --correction 0,0,80,0,0,0
+expect_exit 65 "80 mm lift refused at the load level"
+expect_stderr_has "80.0 mm is outside the identifiable range (<= 77.5 mm" "names the semi-axis"
+
 run analyze "$S/load_tilted.yaml"
 expect_exit 0 "analyze tilted"
 expect_stdout_has "holding       stable" "analyze reports the holding"

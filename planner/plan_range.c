@@ -1,0 +1,70 @@
+/* The request check of every planner (plan_range.h): what hp_plan and hp_load_plan accept as
+ * a desired correction, and the words of a refusal. */
+#include "planner/planner_internal.h"
+
+#include <math.h>
+
+int hp_plan_range_check(const hp_identifiable *id, const double xi[6], double *size)
+{
+    /* Every plan passes here, and most corrections are far inside both limits: a bound that
+     * is cheap and provably no smaller than the exact quantity decides those without hypot
+     * or building R (~1 000 instructions of a ~10 000-instruction direct chain). The
+     * Euclidean norm is at most the sum of the magnitudes; the rotation angle, a metric on
+     * rotations invariant under products, is at most the sum of the three elementary
+     * angles. Half the limit leaves the exact values' rounding (a few ulps) far from it, so
+     * the verdict is the exact one. NaN fails every comparison and falls through. */
+    double t1 = fabs(xi[0]) + fabs(xi[1]) + fabs(xi[2]);
+    double r1 = fabs(xi[3]) + fabs(xi[4]) + fabs(xi[5]);
+    if (t1 <= 0.5 * id->trans_limit && (id->centre_only || r1 <= 0.5 * id->rot_limit)) return 0;
+    double tn = hypot(hypot(xi[0], xi[1]), xi[2]);
+    if (size) *size = tn;
+    if (!(tn <= id->trans_limit)) return 1;
+    if (id->centre_only) return 0;
+    double ang = hp_pose_rotation_angle(xi);
+    if (size) *size = ang;
+    return ang < id->rot_limit ? 0 : 2;
+}
+
+/* 1 when desired lies in the identifiable range (hp_identifiable): translation norm up to
+ * trans_limit, rotation angle below rot_limit; else 0 with the limit named in err. */
+static int in_identifiable_range(const hp_identifiable *id, const double desired[6], char *err)
+{
+    double size;
+    int out = hp_plan_range_check(id, desired, &size);
+    if (out == 1) {
+        hp_text_set(err, "desired translation: |(x, y, z)| = ");
+        hp_text_add_num(err, size * HP_MM_PER_M, 1);
+        hp_text_add(err, " mm is outside the identifiable range (<= ");
+        hp_text_add_num(err, id->trans_limit * HP_MM_PER_M, 1);
+        hp_text_add(err, " mm, the head's smallest semi-axis)");
+        return 0;
+    }
+    if (out == 2) {
+        hp_text_set(err, "desired rotation: angle ");
+        hp_text_add_num(err, size * HP_DEG_PER_RAD, 1);
+        hp_text_add(err, " deg is outside the identifiable range (below ");
+        hp_text_add_num(err, id->rot_limit * HP_DEG_PER_RAD, 0);
+        hp_text_add(err, " deg: the head looks the same after ");
+        hp_text_add(err, id->symmetry);
+        hp_text_add(err, ", so the contact distances confuse such a turn with a smaller one)");
+        return 0;
+    }
+    return 1;
+}
+
+int hp_plan_desired_ok(const hp_identifiable *id, const double desired[6], char *err)
+{
+    static const char *const pose_names[6] = {"x", "y", "z", "pitch", "roll", "yaw"};
+    for (int i = 0; i < 6; ++i) {
+        double lim = i < 3 ? HP_PLAN_MAX_TRANS : HP_PLAN_MAX_ROT;
+        if (!isfinite(desired[i]) || !(fabs(desired[i]) <= lim)) {
+            hp_text_set(err, "desired ");
+            hp_text_add(err, pose_names[i]);
+            hp_text_add(err, isfinite(desired[i]) ? ": out of range (|translation| <= 1 m, "
+                                                    "|rotation| <= pi rad)"
+                                                  : ": not finite");
+            return 0;
+        }
+    }
+    return in_identifiable_range(id, desired, err);
+}

@@ -1,0 +1,43 @@
+/* Which planner a scene is planned with (hp_scene.h, hp_scene_plan_level): the one decision
+ * the command line and the Python module share, so a scene plans at the same level
+ * whichever entry point loads it. */
+#include "headplan/hp_scene.h"
+
+#include <stdio.h>
+#include <string.h>
+
+hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_load, char *why,
+                             size_t len, hp_diag *diag)
+{
+    if (!sc || !use_load) return hp_diag_set(diag, HP_ERR_NULL, "scene level: NULL argument");
+    *use_load = 0;
+    if (why && len) why[0] = '\0';
+    hp_level parsed = HP_LEVEL_AUTO;
+    int asked = level ? strcmp(level, "load") == 0 : sc->level_load;
+    if (level && !asked && hp_level_parse(level, &parsed) != HP_OK)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "level: unknown level '%s' (linear, plane, surface, auto, load)",
+                           level);
+    int automatic = level ? parsed == HP_LEVEL_AUTO : sc->level == HP_LEVEL_AUTO;
+    if (asked && !sc->has_load)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "level: load needs a scene with a 'load' section (%s has none)",
+                           sc->file);
+    if (asked) {
+        *use_load = 1;
+        if (why && len)
+            snprintf(why, len, "load: asked for by %s", level ? "--level" : "model.level");
+        return HP_OK;
+    }
+    if (!automatic || !sc->has_load) return HP_OK;
+    /* auto on a scene that states its load: the load level when the sag a kinematic plan
+     * would leave exceeds model.tolerance_mm (hp_load_auto_choose). */
+    hp_load_model *M = NULL;
+    hp_error e = hp_load_model_create(&sc->layout, &sc->load, sc->load_geometry, &M, diag);
+    if (!e) {
+        e = hp_load_auto_choose(M, sc->level_tolerance, use_load, NULL, why, len);
+        if (e) hp_diag_set(diag, e, "%s", hp_error_message(e));
+    }
+    hp_load_model_destroy(M);
+    return e;
+}

@@ -1,0 +1,132 @@
+/* hp_scene_plan_level: the one decision of which planner plans a scene (the command line
+ * and the Python module both call it). References: hp_load_auto_choose on a load model
+ * built here from the scene's own fields, and the scene files' stated model.level. */
+#include "test_util.h"
+
+#include "headplan/hp_scene.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#define SCN HP_SOURCE_DIR "/scenarios/"
+
+static void load(const char *name, hp_scene *sc)
+{
+    hp_diag d = {{0}};
+    hp_error e = hp_scene_load(name, sc, &d);
+    if (e) print_error("%s: %s\n", name, d.text);
+    assert_int_equal(e, HP_OK);
+}
+
+/* load_supine.yaml with its `model: {level: auto, ...}` line rewritten to level: load. */
+static void supine_level_load(hp_scene *sc)
+{
+    FILE *f = fopen(SCN "load_supine.yaml", "rb");
+    assert_non_null(f);
+    static char text[1 << 16];
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    fclose(f);
+    text[n] = '\0';
+    char *at = strstr(text, "level: auto");
+    assert_non_null(at);
+    memcpy(at, "level: load", 11);
+    hp_diag d = {{0}};
+    assert_int_equal(hp_scene_parse(text, n, SCN "load_supine.yaml", sc, &d), HP_OK);
+}
+
+static void test_auto_follows_the_predicted_sag(void **state)
+{
+    (void)state;
+    hp_scene *sc = malloc(sizeof *sc);
+    assert_non_null(sc);
+    load(SCN "load_supine.yaml", sc);
+    assert_int_equal(sc->level, HP_LEVEL_AUTO);
+    /* The reference: auto's criterion on the scene's own load model. */
+    hp_load_model *M = NULL;
+    int ref = -1;
+    char ref_why[256];
+    assert_int_equal(hp_load_model_create(&sc->layout, &sc->load, sc->load_geometry, &M, NULL),
+                     HP_OK);
+    assert_int_equal(hp_load_auto_choose(M, sc->level_tolerance, &ref, NULL, ref_why,
+                                         sizeof ref_why), HP_OK);
+    hp_load_model_destroy(M);
+    int use = -1;
+    char why[256];
+    assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(use, ref);
+    assert_int_equal(use, 1); /* no preload: the sag is unbounded */
+    assert_string_equal(why, ref_why);
+    assert_int_equal(hp_scene_plan_level(sc, "auto", &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(use, 1);
+    /* A kinematic level named by the caller plans it kinematically. */
+    const char *kin[3] = {"linear", "plane", "surface"};
+    for (int i = 0; i < 3; ++i) {
+        assert_int_equal(hp_scene_plan_level(sc, kin[i], &use, why, sizeof why, NULL), HP_OK);
+        assert_int_equal(use, 0);
+        assert_string_equal(why, "");
+    }
+    assert_int_equal(hp_scene_plan_level(sc, "load", &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(use, 1);
+    assert_string_equal(why, "load: asked for by --level");
+    hp_diag d = {{0}};
+    assert_int_equal(hp_scene_plan_level(sc, "cubic", &use, why, sizeof why, &d),
+                     HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "unknown level 'cubic'"));
+    free(sc);
+}
+
+/* model.level: load: the load level, and hp_scene_settings says what it documents (the
+ * kinematic planner's surface level), never "load". */
+static void test_level_load_scene(void **state)
+{
+    (void)state;
+    hp_scene *sc = malloc(sizeof *sc);
+    assert_non_null(sc);
+    supine_level_load(sc);
+    assert_int_equal(sc->level_load, 1);
+    int use = -1;
+    char why[256];
+    assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(use, 1);
+    assert_string_equal(why, "load: asked for by model.level");
+    assert_int_equal(hp_scene_plan_level(sc, "surface", &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(use, 0);
+    hp_settings s;
+    assert_int_equal(hp_scene_settings(sc, &s, NULL), HP_OK);
+    assert_int_equal(s.level, HP_LEVEL_SURFACE);
+    free(sc);
+}
+
+/* A scene without a `load` section stays kinematic whatever its level, and "load" asked
+ * of it is refused with the reason. */
+static void test_no_load_section(void **state)
+{
+    (void)state;
+    hp_scene *sc = malloc(sizeof *sc);
+    assert_non_null(sc);
+    load(SCN "default.yaml", sc);
+    assert_int_equal(sc->has_load, 0);
+    int use = -1;
+    char why[256] = "x";
+    assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(use, 0);
+    assert_string_equal(why, "");
+    assert_int_equal(hp_scene_plan_level(sc, "auto", &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(use, 0);
+    hp_diag d = {{0}};
+    assert_int_equal(hp_scene_plan_level(sc, "load", &use, why, sizeof why, &d), HP_ERR_INVALID);
+    assert_int_equal(use, 0);
+    assert_non_null(strstr(d.text, "load needs a scene with a 'load' section"));
+    assert_int_equal(hp_scene_plan_level(NULL, NULL, &use, why, sizeof why, NULL), HP_ERR_NULL);
+    free(sc);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_auto_follows_the_predicted_sag),
+        cmocka_unit_test(test_level_load_scene),
+        cmocka_unit_test(test_no_load_section),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
