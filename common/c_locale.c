@@ -3,10 +3,19 @@
 #include "common/c_locale.h"
 
 #include <errno.h>
+#include <pthread.h>
+
+/* One C locale object for the process, made at first use: a trace's numbers are parsed one
+ * by one, and a newlocale/freelocale pair per number was an allocation per number. */
+static locale_t c_numeric;
+static pthread_once_t c_numeric_once = PTHREAD_ONCE_INIT;
+
+static void make_c_numeric(void) { c_numeric = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0); }
 
 void hp_c_numeric_begin(hp_c_numeric *s)
 {
-    s->c = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0);
+    pthread_once(&c_numeric_once, make_c_numeric);
+    s->c = c_numeric;
     s->old = s->c ? uselocale(s->c) : (locale_t)0;
 }
 
@@ -15,7 +24,6 @@ void hp_c_numeric_end(hp_c_numeric *s)
     if (!s->c) return;
     int er = errno;
     uselocale(s->old);
-    freelocale(s->c);
     s->c = (locale_t)0;
     errno = er;
 }
