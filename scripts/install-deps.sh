@@ -18,6 +18,7 @@ PACKAGES=(
   python3 python3-numpy python3-scipy  # peer benchmark (SciPy SLSQP)
   python3-dev python3-pytest python3-matplotlib  # Python module, its tests, its pictures
   parallel              # the GNU parallel sharding recipe is run by the tests
+  locales               # de_DE locale source: the comma-locale tests build it with localedef
 )
 
 missing=()
