@@ -17,7 +17,12 @@ int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
 {
     hp_diag d = {{0}};
     hp_error e = hp_scene_plan_level(sc, level_arg, use_load, why, len, &d);
-    if (!e) return 0;
+    if (!e) {
+        /* the library says "the caller's level": here the caller is --level */
+        if (*use_load && why && len && level_arg && strcmp(level_arg, "load") == 0)
+            snprintf(why, len, "load: asked for by --level");
+        return 0;
+    }
     *use_load = 0;
     if (level_arg && strcmp(level_arg, "load") == 0 && !sc->has_load)
         return cli_fail(CLI_EXIT_USAGE, cmd,

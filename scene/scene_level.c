@@ -26,7 +26,8 @@ hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_loa
     if (asked) {
         *use_load = 1;
         if (why && len)
-            snprintf(why, len, "load: asked for by %s", level ? "--level" : "model.level");
+            snprintf(why, len, "load: asked for by %s",
+                     level ? "the caller's level" : "model.level");
         return HP_OK;
     }
     if (!automatic || !sc->has_load) return HP_OK;

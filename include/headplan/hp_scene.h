@@ -167,8 +167,10 @@ HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag 
  * and the scene has a `load` section and the sag a kinematic plan would leave exceeds
  * model.tolerance_mm (hp_load_auto_choose). Otherwise 0: a kinematic level plans it.
  * why (may be NULL, len bytes) gets the reason in one line ("load: asked for by
- * model.level", "load: predicted sag ... > tolerance ...", "kinematic: ..."; "" when the
- * scene has no load and auto was not involved). Returns HP_OK; HP_ERR_NULL;
+ * model.level", "load: asked for by the caller's level" for the override, "load: predicted
+ * sag ... > tolerance ...", "kinematic: ..."; "" when the scene has no load and auto was not
+ * involved; a caller may word the override's reason in its own terms, as the command line's
+ * "--level"). Returns HP_OK; HP_ERR_NULL;
  * HP_ERR_INVALID for an unknown override or "load" on a scene without a `load` section
  * (message in diag); or the load model's error (hp_load_model_create: the layout cannot
  * carry the load), message in diag. Allocates (the load model) only for auto on a scene
