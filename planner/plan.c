@@ -221,13 +221,15 @@ static int closest_verified(const hp_planner *p, const double *x)
            m.wrong_sign <= stat;
 }
 
-/* 1 when the strict round trip of answer r gives its pose xc back (HP_IDENT_FK_TOL): its pressures
- * -> stable radii -> outer radii -> forward contact kinematics in the commanded components
- * started from the NOMINAL pose. Else 0 with the other pose's distance in p->err. On a
+/* 1 when the strict round trip of answer r gives back achieved, its achieved pose
+ * (r->achieved; not the commanded target c->xc, from which a REACHED answer may lie up to the
+ * tolerance), to HP_IDENT_FK_TOL: its pressures -> stable radii -> outer radii -> forward
+ * contact kinematics in the commanded components started from the NOMINAL pose. Else 0
+ * with the other pose's distance in p->err. On a
  * near-degenerate layout at the plane level the fit from the nominal pose can end in a
  * second local fit; then the correction is not identified by this layout. Allocates
  * nothing. */
-static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double xc[6],
+static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double achieved[6],
                                   const plan_ctx *c)
 {
     /* The linear model is linear in the pose and the commanded columns have full column
@@ -245,12 +247,12 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
             ro[k] = r->bladders[k].ro;
     }
     double resid = INFINITY;
-    /* The fit may stop once it has provably arrived at xc (hp_kin_fit): the last two or
+    /* The fit may stop once it has provably arrived at achieved (hp_kin_fit): the last two or
      * three of its ~5 steps only polish digits far below HP_IDENT_FK_TOL. A fit that heads
      * anywhere else runs to its end exactly as before. */
     hp_kin_fit_near near;
     for (int i = 0; i < 6; ++i) {
-        near.pose[i] = xc[i];
+        near.pose[i] = achieved[i];
         near.tol[i] = HP_IDENT_FK_TOL / (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
     }
     /* The answer's point and the distances evaluated there (the direct chain's, or the
@@ -264,7 +266,7 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
         for (int k = 0; k < p->L.n; ++k) near.anchor_rho[k] = c->rho[k] / HP_MM_PER_M;
     }
     hp_error e = hp_plan_fit_from_nominal(p, ro, p->commanded, &near, xf, &resid);
-    hp_plan_to_scaled(xc, a);
+    hp_plan_to_scaled(achieved, a);
     hp_plan_to_scaled(xf, b);
     double worst = e == HP_OK ? 0.0 : INFINITY;
     for (int i = 0; i < 6; ++i) worst = fmax(worst, fabs(a[i] - b[i]));
@@ -350,8 +352,8 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
     if (r->pose_error <= p->s.tolerance) {
         r->status = unc_any ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED;
         /* What is verified is the answer's own pose: with a tolerance above the round
-         * trip's HP_IDENT_FK_TOL a REACHED answer may lie up to the tolerance from xc, and
-         * the fit then rightly ends there, not at xc; that is no second pose. */
+         * trip's HP_IDENT_FK_TOL a REACHED answer may lie up to the tolerance from c->xc, and
+         * the fit then rightly ends there, not at c->xc; that is no second pose. */
         if (!recovered_from_nominal(p, r, r->achieved, c)) {
             fail_safe(p, r, HP_STATUS_INVALID_INPUT, c);
             return 0;
