@@ -1,5 +1,6 @@
 /* headplan solve: a scene file -> every bladder's pressure for one desired correction, the
  * achieved pose and the status. Command-line units: mm and degrees; the library speaks SI. */
+#include "cli/cli_output.h"
 #include "cli/cli_args.h"
 #include "cli/cli_scene.h"
 #include "cli/json_out.h"
@@ -118,7 +119,7 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
     if (!s) return cli_fail(CLI_EXIT_SOFTWARE, CMD, "cannot format JSON output");
-    puts(s);
+    cli_put_line(s);
     free(s);
     return 0;
 }

@@ -1,6 +1,7 @@
 /* headplan solve at the load level: which level a scene with a `load` section gets, and
  * the load planner's answer with its equilibrium residual, holding compliance, the forward
  * statics' round trip and the binding limits. */
+#include "cli/cli_output.h"
 #include "cli/cmd_solve_load.h"
 #include "cli/json_out.h"
 #include "cli/exit_codes.h"
@@ -169,7 +170,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
     if (!s) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "cannot format JSON output");
-    puts(s);
+    cli_put_line(s);
     free(s);
     return 0;
 }
