@@ -45,12 +45,45 @@ static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, const pla
     return HP_OK;
 }
 
-/* "BACKEND: STATUS (raw code N)" into p->err, the start of every backend failure. */
+/* "STATUS: the BACKEND backend did not converge within solver.max_iter = N iterations" (or
+ * max_time_s = T s): the budget that stopped it, so that a caller knows what to raise; the
+ * command line, batch and Python all print this one text. */
+static void add_budget(const hp_planner *p, char *buf, hp_status st)
+{
+    hp_text_set(buf, hp_status_name(st));
+    hp_text_add(buf, ": the ");
+    hp_text_add(buf, hp_backend_name(p->s.backend));
+    hp_text_add(buf, " backend did not converge within solver.");
+    if (st == HP_STATUS_TIME_LIMIT) {
+        /* The fewest decimals that give the budget back (0.05 as "0.05"), at most 9. */
+        int dec = 0;
+        double scale = 1.0;
+        while (dec < 9 && fabs(nearbyint(p->s.max_time * scale) - p->s.max_time * scale) >
+                              1e-9 * p->s.max_time * scale) {
+            ++dec;
+            scale *= 10.0;
+        }
+        hp_text_add(buf, "max_time_s = ");
+        hp_text_add_num(buf, p->s.max_time, dec);
+        hp_text_add(buf, " s");
+    } else {
+        hp_text_add(buf, "max_iter = ");
+        hp_text_add_int(buf, p->s.max_iter);
+        hp_text_add(buf, " iterations");
+    }
+}
+
+/* "BACKEND: STATUS (raw code N)" into p->err, the start of every backend failure; for a
+ * budget that ran out, add_budget's text in place of "BACKEND: STATUS". */
 static void err_backend(hp_planner *p, hp_status st, int raw)
 {
-    hp_text_set(p->err, p->ops->name);
-    hp_text_add(p->err, ": ");
-    hp_text_add(p->err, hp_status_name(st));
+    if (st == HP_STATUS_ITERATION_LIMIT || st == HP_STATUS_TIME_LIMIT) {
+        add_budget(p, p->err, st);
+    } else {
+        hp_text_set(p->err, p->ops->name);
+        hp_text_add(p->err, ": ");
+        hp_text_add(p->err, hp_status_name(st));
+    }
     hp_text_add(p->err, " (raw code ");
     hp_text_add_int(p->err, raw);
     hp_text_add(p->err, ")");
@@ -398,7 +431,8 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
             return 1;
         }
         char *buf = r->status == HP_STATUS_CLOSEST ? p->note : p->err;
-        add_binding(p, buf, r->status, binding);
+        if (r->status == HP_STATUS_CLOSEST) add_binding(p, buf, r->status, binding);
+        else add_budget(p, buf, r->status);
         if (unc_any) {
             hp_text_add(buf, "; ");
             add_uncommanded(p, buf, c->unc);
