@@ -19,6 +19,19 @@ void cli_guard_std_fds(void)
     }
 }
 
+/* Why a write by cli_put_line to stdout failed (0: none did): a text larger than stdio's
+ * buffer is written out during the call, and the stream then drops what it held, so the
+ * final flush succeeds with no errno to name. */
+static int stdout_errno;
+
+void cli_put_line(const char *s)
+{
+    size_t n = strlen(s);
+    errno = 0;
+    if ((fwrite(s, 1, n, stdout) < n || putchar('\n') == EOF) && !stdout_errno)
+        stdout_errno = errno;
+}
+
 static int failed(const char *what, const char *cmd, int err)
 {
     fprintf(stderr, "headplan %s: cannot write %s: %s\n", cmd, what,
@@ -30,8 +43,9 @@ int cli_flush_output(FILE *f, const char *what, const char *cmd)
 {
     errno = 0;
     int bad = fflush(f) != 0;
-    int err = errno;
-    if (bad || ferror(f)) return failed(what, cmd, bad ? err : 0);
+    int err = bad ? errno : 0;
+    if (!err && f == stdout) err = stdout_errno;
+    if (bad || ferror(f)) return failed(what, cmd, err);
     return 0;
 }
 

@@ -19,6 +19,10 @@ int cli_close_output(FILE *f, const char *what, const char *cmd);
 /* Flushes and checks f without closing it: 0, or CLI_EXIT_IOERR after the same line. */
 int cli_flush_output(FILE *f, const char *what, const char *cmd);
 
+/* Writes s and a newline to stdout (a whole --json answer), keeping the reason of a failed
+ * write for the final check's message (cli_finish_stdout). */
+void cli_put_line(const char *s);
+
 /* The last step of main: checks and closes stdout after the command; a failure turns a
  * status 0 or 1 (a result was printed) into CLI_EXIT_IOERR. Returns the final status. */
 int cli_finish_stdout(const char *cmd, int status);

@@ -2,6 +2,7 @@
  * (mm of radius change per mm and per degree), the weakest direction, the reach of each axis
  * inside the bladders' limits, the contact models' error bounds and the resolved geometry.
  * Command-line units: mm, degrees, Pa; the library speaks SI. */
+#include "cli/cli_output.h"
 #include "cli/analyze_load.h"
 #include "common/units.h"
 #include "cli/cli_args.h"
@@ -263,7 +264,7 @@ static int print_json(const hp_scene *sc, const analysis *r)
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
     if (!s) return cli_fail(CLI_EXIT_SOFTWARE, CMD, "cannot format JSON output");
-    puts(s);
+    cli_put_line(s);
     free(s);
     return CLI_EXIT_OK;
 }

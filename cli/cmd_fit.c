@@ -3,6 +3,7 @@
  *   fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit offsets,axes]
  *                         [--sigma-mm S] [--sigma-deg S] [--plot OUT.png|svg]
  *                         [--plot-script FILE.gp] [--json] */
+#include "cli/cli_output.h"
 #include "cli/cli_args.h"
 #include "common/units.h"
 #include "cli/cli_scene.h"
@@ -74,7 +75,7 @@ static int print_json(json_t *o)
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
     if (!s) return cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
-    printf("%s\n", s);
+    cli_put_line(s);
     free(s);
     return CLI_EXIT_OK;
 }

@@ -1,6 +1,7 @@
 /* headplan horizon: greedy, receding-horizon and offline plans of one trace, and their
  * comparison (docs/horizon.md). */
 #define _POSIX_C_SOURCE 200809L
+#include "cli/cli_output.h"
 #include "cli/cli_args.h"
 #include "cli/cli_outfile.h"
 #include "cli/cli_scene.h"
@@ -287,7 +288,7 @@ static void print_json(const int *modes, const hp_horizon_metrics *m, size_t T,
     }
     json_object_set_new(o, "plans", plans);
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
-    if (s) printf("%s\n", s);
+    if (s) cli_put_line(s);
     free(s);
     json_decref(o);
 }

@@ -1,5 +1,6 @@
 /* headplan ik / headplan fk: one bladder, inner radius <-> pressure (closed form, stable
  * branch). Command-line units: mm and Pa; the library works in m and Pa. */
+#include "cli/cli_output.h"
 #include "cli/cli_args.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
@@ -180,7 +181,7 @@ static int print_json(const ik_values *v, const ik_result *r, const char *cmd)
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
     if (!s) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "cannot format JSON output");
-    puts(s);
+    cli_put_line(s);
     free(s);
     return CLI_EXIT_OK;
 }

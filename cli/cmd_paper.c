@@ -2,6 +2,7 @@
  * the volume law, the closed-form pressure and quadrature of both of the paper's integrals,
  * side by side with the values the paper printed, each marked "agrees" or "DIFFERS: why".
  * See docs/paper.md. */
+#include "cli/cli_output.h"
 #include "cli/cli_args.h"
 #include "common/units.h"
 #include "cli/commands.h"
@@ -410,7 +411,7 @@ int cmd_paper(int argc, char **argv)
                                                  JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION))
                           : NULL;
         if (!text) status = cli_fail(CLI_EXIT_SOFTWARE, "paper", "JSON output failed");
-        else printf("%s\n", text);
+        else cli_put_line(text);
         free(text);
         json_decref(root);
     } else if (status == 0) {

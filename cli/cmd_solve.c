@@ -1,5 +1,6 @@
 /* headplan solve: a scene file -> every bladder's pressure for one desired correction, the
  * achieved pose and the status. Command-line units: mm and degrees; the library speaks SI. */
+#include "cli/cli_output.h"
 #include "cli/cli_args.h"
 #include "cli/cli_scene.h"
 #include "cli/json_out.h"
@@ -118,7 +119,7 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
     if (!s) return cli_fail(CLI_EXIT_SOFTWARE, CMD, "cannot format JSON output");
-    puts(s);
+    cli_put_line(s);
     free(s);
     return 0;
 }
@@ -218,14 +219,9 @@ int cmd_solve(int argc, char **argv)
         status = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s",
                              a.correction ? "--correction" : "correction", msg);
     } else if (r.status == HP_STATUS_TIME_LIMIT || r.status == HP_STATUS_ITERATION_LIMIT) {
-        /* Name the budget that stopped the backend, so the user knows what to raise. */
-        int t = r.status == HP_STATUS_TIME_LIMIT;
-        status = cli_fail(CLI_EXIT_SOFTWARE, CMD,
-                             "%s: %s: the %s backend did not converge within solver.%s = %g%s "
-                             "(no answer printed)",
-                             a.scene, hp_status_name(r.status), hp_backend_name(s.backend),
-                             t ? "max_time_s" : "max_iter", t ? s.max_time : (double)s.max_iter,
-                             t ? " s" : " iterations");
+        /* The planner's message names the budget that stopped the backend (the same text
+         * Python's result carries), so the user knows what to raise. */
+        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %s (no answer printed)", a.scene, msg);
     } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST &&
                r.status != HP_STATUS_UNCOMMANDED) {
         /* The planner's message starts with the status name already. */

@@ -1,6 +1,7 @@
 /* headplan solve at the load level: which level a scene with a `load` section gets, and
  * the load planner's answer with its equilibrium residual, holding compliance, the forward
  * statics' round trip and the binding limits. */
+#include "cli/cli_output.h"
 #include "cli/cmd_solve_load.h"
 #include "cli/json_out.h"
 #include "cli/exit_codes.h"
@@ -16,17 +17,21 @@ int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
                       int *use_load, char *why, size_t len)
 {
     hp_diag d = {{0}};
-    hp_error e = hp_scene_plan_level(sc, level_arg, use_load, why, len, &d);
-    if (!e) return 0;
+    hp_level_refusal refused;
+    hp_error e = hp_scene_plan_level(sc, level_arg, use_load, why, len, &refused, &d);
+    if (!e) {
+        /* the library says "the caller's level": here the caller is --level */
+        if (*use_load && why && len && level_arg && strcmp(level_arg, "load") == 0)
+            snprintf(why, len, "load: asked for by --level");
+        return 0;
+    }
     *use_load = 0;
-    if (level_arg && strcmp(level_arg, "load") == 0 && !sc->has_load)
+    if (refused == HP_LEVEL_REFUSED_NO_LOAD)
         return cli_fail(CLI_EXIT_USAGE, cmd,
                            "--level: load needs a scene with a 'load' section (%s has none)",
                            sc->file);
-    hp_level lv;
     /* An unknown --level is the settings' to name (cli_settings), as for any scene. */
-    if (level_arg && strcmp(level_arg, "load") != 0 && hp_level_parse(level_arg, &lv) != HP_OK)
-        return 0;
+    if (refused == HP_LEVEL_REFUSED_UNKNOWN) return 0;
     return cli_fail(CLI_EXIT_DATAERR, cmd, "%s: load: %s", sc->file,
                        d.text[0] ? d.text : hp_error_message(e));
 }
@@ -39,15 +44,14 @@ int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_ar
                         "--level: load is planned by headplan solve only; %s plans the "
                         "kinematic levels (linear, plane, surface, auto)",
                         cmd);
-    int use_load = 0;
-    char why[256];
-    int rc = cli_load_level(cmd, sc, level_arg, &use_load, why, sizeof why);
-    if (rc || !use_load) return rc;
-    return cli_fail(CLI_EXIT_DATAERR, cmd,
-                    "%s: the scene is planned at the load level (%s), which only headplan "
-                    "solve plans; %s would plan without the head's weight and disagree with "
-                    "solve: %s",
-                    sc->file, why, cmd, instead);
+    hp_diag d = {{0}};
+    hp_level_refusal refused;
+    hp_error e = hp_scene_kinematic_only(sc, level_arg, cmd, &refused, &d);
+    /* An unknown --level is the settings' to name (cli_settings), as for any scene. */
+    if (!e || refused == HP_LEVEL_REFUSED_UNKNOWN) return 0;
+    if (refused == HP_LEVEL_REFUSED_LOAD)
+        return cli_fail(CLI_EXIT_DATAERR, cmd, "%s: %s", d.text, instead);
+    return cli_fail(CLI_EXIT_DATAERR, cmd, "%s", d.text);
 }
 
 static void binding_text(unsigned flags, char *buf, size_t len)
@@ -166,7 +170,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
     if (!s) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "cannot format JSON output");
-    puts(s);
+    cli_put_line(s);
     free(s);
     return 0;
 }

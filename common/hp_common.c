@@ -1,7 +1,11 @@
 /* Error names, diagnostics and the version string (shared by every module). */
+#define _POSIX_C_SOURCE 200809L
 #include "headplan/hp_common.h"
 #include "headplan/hp_version.h"
 
+#include "common/c_locale.h"
+
+#include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 
@@ -41,10 +45,17 @@ const char *hp_error_message(hp_error e)
 hp_error hp_diag_set(hp_diag *diag, hp_error code, const char *fmt, ...)
 {
     if (diag) {
+        /* The C numeric locale: a host that set LC_NUMERIC to de_DE would otherwise read
+         * "0,5" where the command line (which runs in C) reads "0.5" for the same failure. */
+        int er = errno; /* a caller may still report errno after setting the message */
+        hp_c_numeric c;
+        hp_c_numeric_begin(&c);
         va_list ap;
         va_start(ap, fmt);
         vsnprintf(diag->text, sizeof diag->text, fmt, ap);
         va_end(ap);
+        hp_c_numeric_end(&c);
+        errno = er;
     }
     return code;
 }

@@ -45,12 +45,45 @@ static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, const pla
     return HP_OK;
 }
 
-/* "BACKEND: STATUS (raw code N)" into p->err, the start of every backend failure. */
+/* "STATUS: the BACKEND backend did not converge within solver.max_iter = N iterations" (or
+ * max_time_s = T s): the budget that stopped it, so that a caller knows what to raise; the
+ * command line, batch and Python all print this one text. */
+static void add_budget(const hp_planner *p, char *buf, hp_status st)
+{
+    hp_text_set(buf, hp_status_name(st));
+    hp_text_add(buf, ": the ");
+    hp_text_add(buf, hp_backend_name(p->s.backend));
+    hp_text_add(buf, " backend did not converge within solver.");
+    if (st == HP_STATUS_TIME_LIMIT) {
+        /* The fewest decimals that give the budget back (0.05 as "0.05"), at most 9. */
+        int dec = 0;
+        double scale = 1.0;
+        while (dec < 9 && fabs(nearbyint(p->s.max_time * scale) - p->s.max_time * scale) >
+                              1e-9 * p->s.max_time * scale) {
+            ++dec;
+            scale *= 10.0;
+        }
+        hp_text_add(buf, "max_time_s = ");
+        hp_text_add_num(buf, p->s.max_time, dec);
+        hp_text_add(buf, " s");
+    } else {
+        hp_text_add(buf, "max_iter = ");
+        hp_text_add_int(buf, p->s.max_iter);
+        hp_text_add(buf, " iterations");
+    }
+}
+
+/* "BACKEND: STATUS (raw code N)" into p->err, the start of every backend failure; for a
+ * budget that ran out, add_budget's text in place of "BACKEND: STATUS". */
 static void err_backend(hp_planner *p, hp_status st, int raw)
 {
-    hp_text_set(p->err, p->ops->name);
-    hp_text_add(p->err, ": ");
-    hp_text_add(p->err, hp_status_name(st));
+    if (st == HP_STATUS_ITERATION_LIMIT || st == HP_STATUS_TIME_LIMIT) {
+        add_budget(p, p->err, st);
+    } else {
+        hp_text_set(p->err, p->ops->name);
+        hp_text_add(p->err, ": ");
+        hp_text_add(p->err, hp_status_name(st));
+    }
     hp_text_add(p->err, " (raw code ");
     hp_text_add_int(p->err, raw);
     hp_text_add(p->err, ")");
@@ -221,13 +254,15 @@ static int closest_verified(const hp_planner *p, const double *x)
            m.wrong_sign <= stat;
 }
 
-/* 1 when the strict round trip of answer r gives its pose xc back (HP_IDENT_FK_TOL): its pressures
- * -> stable radii -> outer radii -> forward contact kinematics in the commanded components
- * started from the NOMINAL pose. Else 0 with the other pose's distance in p->err. On a
+/* 1 when the strict round trip of answer r gives back achieved, its achieved pose
+ * (r->achieved; not the commanded target c->xc, from which a REACHED answer may lie up to the
+ * tolerance), to HP_IDENT_FK_TOL: its pressures -> stable radii -> outer radii -> forward
+ * contact kinematics in the commanded components started from the NOMINAL pose. Else 0
+ * with the other pose's distance in p->err. On a
  * near-degenerate layout at the plane level the fit from the nominal pose can end in a
  * second local fit; then the correction is not identified by this layout. Allocates
  * nothing. */
-static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double xc[6],
+static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double achieved[6],
                                   const plan_ctx *c)
 {
     /* The linear model is linear in the pose and the commanded columns have full column
@@ -245,12 +280,12 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
             ro[k] = r->bladders[k].ro;
     }
     double resid = INFINITY;
-    /* The fit may stop once it has provably arrived at xc (hp_kin_fit): the last two or
+    /* The fit may stop once it has provably arrived at achieved (hp_kin_fit): the last two or
      * three of its ~5 steps only polish digits far below HP_IDENT_FK_TOL. A fit that heads
      * anywhere else runs to its end exactly as before. */
     hp_kin_fit_near near;
     for (int i = 0; i < 6; ++i) {
-        near.pose[i] = xc[i];
+        near.pose[i] = achieved[i];
         near.tol[i] = HP_IDENT_FK_TOL / (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
     }
     /* The answer's point and the distances evaluated there (the direct chain's, or the
@@ -264,7 +299,7 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
         for (int k = 0; k < p->L.n; ++k) near.anchor_rho[k] = c->rho[k] / HP_MM_PER_M;
     }
     hp_error e = hp_plan_fit_from_nominal(p, ro, p->commanded, &near, xf, &resid);
-    hp_plan_to_scaled(xc, a);
+    hp_plan_to_scaled(achieved, a);
     hp_plan_to_scaled(xf, b);
     double worst = e == HP_OK ? 0.0 : INFINITY;
     for (int i = 0; i < 6; ++i) worst = fmax(worst, fabs(a[i] - b[i]));
@@ -350,8 +385,8 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
     if (r->pose_error <= p->s.tolerance) {
         r->status = unc_any ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED;
         /* What is verified is the answer's own pose: with a tolerance above the round
-         * trip's HP_IDENT_FK_TOL a REACHED answer may lie up to the tolerance from xc, and
-         * the fit then rightly ends there, not at xc; that is no second pose. */
+         * trip's HP_IDENT_FK_TOL a REACHED answer may lie up to the tolerance from c->xc, and
+         * the fit then rightly ends there, not at c->xc; that is no second pose. */
         if (!recovered_from_nominal(p, r, r->achieved, c)) {
             fail_safe(p, r, HP_STATUS_INVALID_INPUT, c);
             return 0;
@@ -396,7 +431,8 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
             return 1;
         }
         char *buf = r->status == HP_STATUS_CLOSEST ? p->note : p->err;
-        add_binding(p, buf, r->status, binding);
+        if (r->status == HP_STATUS_CLOSEST) add_binding(p, buf, r->status, binding);
+        else add_budget(p, buf, r->status);
         if (unc_any) {
             hp_text_add(buf, "; ");
             add_uncommanded(p, buf, c->unc);

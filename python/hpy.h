@@ -73,7 +73,7 @@ const hp_scene *hpy_layout_scene(PyObject *obj);
 int hpy_settings(const hp_scene *sc, PyObject *kwargs, hp_settings *s);
 /* A Planner plans the kinematic levels only (hpy_settings refuses level='load' as batch
  * refuses --level load): 0 when scene sc with the keyword level (None: the scene's
- * model.level) is planned so (hp_scene_plan_level, the decision `headplan solve` and
+ * model.level) is planned so (hp_scene_kinematic_only: the decision `headplan solve` and
  * `batch` make), else -1 with headplan.Error set in batch's words: a scene solve plans at
  * the load level (model.level: load, or auto choosing it for the predicted sag) unless
  * level names a kinematic level. Call after hpy_settings (which names a bad level). */

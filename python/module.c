@@ -174,9 +174,23 @@ PyObject *hpy_binding_names(PyObject *self, PyObject *arg)
     /* Through __index__: the flags usually come as NumPy uint32 scalars from a result. */
     PyObject *index = PyNumber_Index(arg);
     if (!index) return NULL;
-    unsigned long flags = PyLong_AsUnsignedLong(index);
+    int overflow = 0;
+    long long v = PyLong_AsLongLongAndOverflow(index, &overflow);
+    if (v == -1 && PyErr_Occurred()) {
+        Py_DECREF(index);
+        return NULL;
+    }
+    /* A bit beyond the defined flags (or a negative value) is no binding: naming none of it
+     * would read as "binds nothing". */
+    if (overflow || v < 0 || v >= (1ll << HP_BIND_COUNT)) {
+        PyErr_Format(PyExc_ValueError,
+                     "binding_names: flags must be in 0..%d (the HP_BIND_* bits), got %S",
+                     (1 << HP_BIND_COUNT) - 1, index);
+        Py_DECREF(index);
+        return NULL;
+    }
     Py_DECREF(index);
-    if (flags == (unsigned long)-1 && PyErr_Occurred()) return NULL;
+    unsigned long flags = (unsigned long)v;
     PyObject *list = PyList_New(0);
     for (int b = 0; list && b < HP_BIND_COUNT; ++b)
         if (flags & (1ul << b)) {
@@ -225,7 +239,8 @@ static PyMethodDef functions[] = {
      "binding_names(flags) -> list of str\n\n"
      "The limits named by one bladder's binding flags (an int from a result's 'binding'\n"
      "array): 'pressure_min', 'pressure_max', 'stretch_min', 'stretch_max', 'rate_down',\n"
-     "'rate_up', 'limit_point'."},
+     "'rate_up', 'limit_point', 'stress_max'. Raises ValueError for a negative value or a\n"
+     "bit beyond these."},
     {NULL, NULL, 0, NULL},
 };
 

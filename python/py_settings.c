@@ -113,19 +113,14 @@ int hpy_kinematic_only(const hp_scene *sc, PyObject *kw)
 {
     const char *level = NULL;
     if (kw_text(kw, "level", &level)) return -1; /* hpy_settings refused "load" already */
-    int use_load = 0;
-    char why[256];
     hp_diag d = {{0}};
-    hp_error e = hp_scene_plan_level(sc, level, &use_load, why, sizeof why, &d);
-    if (e != HP_OK) {
-        hpy_fail("%s: load: %s", sc->file, d.text[0] ? d.text : hp_error_message(e));
-        return -1;
-    }
-    if (!use_load) return 0;
-    hpy_fail("%s: the scene is planned at the load level (%s), which only headplan solve "
-             "plans; Planner would plan without the head's weight and disagree with solve: "
-             "give level='surface' (or 'plane', 'linear') to plan it so, or plan single "
-             "corrections with headplan solve",
-             sc->file, why);
+    hp_level_refusal refused;
+    if (hp_scene_kinematic_only(sc, level, "Planner", &refused, &d) == HP_OK) return 0;
+    if (refused == HP_LEVEL_REFUSED_LOAD)
+        hpy_fail("%s: give level='surface' (or 'plane', 'linear') to plan it so, or plan "
+                 "single corrections with headplan solve",
+                 d.text);
+    else
+        hpy_fail("%s", d.text);
     return -1;
 }

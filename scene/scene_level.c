@@ -7,26 +7,32 @@
 #include <string.h>
 
 hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_load, char *why,
-                             size_t len, hp_diag *diag)
+                             size_t len, hp_level_refusal *refused, hp_diag *diag)
 {
+    if (refused) *refused = HP_LEVEL_REFUSED_NONE;
     if (!sc || !use_load) return hp_diag_set(diag, HP_ERR_NULL, "scene level: NULL argument");
     *use_load = 0;
     if (why && len) why[0] = '\0';
     hp_level parsed = HP_LEVEL_AUTO;
     int asked = level ? strcmp(level, "load") == 0 : sc->level_load;
-    if (level && !asked && hp_level_parse(level, &parsed) != HP_OK)
+    if (level && !asked && hp_level_parse(level, &parsed) != HP_OK) {
+        if (refused) *refused = HP_LEVEL_REFUSED_UNKNOWN;
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "level: unknown level '%s' (linear, plane, surface, auto, load)",
                            level);
+    }
     int automatic = level ? parsed == HP_LEVEL_AUTO : sc->level == HP_LEVEL_AUTO;
-    if (asked && !sc->has_load)
+    if (asked && !sc->has_load) {
+        if (refused) *refused = HP_LEVEL_REFUSED_NO_LOAD;
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "level: load needs a scene with a 'load' section (%s has none)",
                            sc->file);
+    }
     if (asked) {
         *use_load = 1;
         if (why && len)
-            snprintf(why, len, "load: asked for by %s", level ? "--level" : "model.level");
+            snprintf(why, len, "load: asked for by %s",
+                     level ? "the caller's level" : "model.level");
         return HP_OK;
     }
     if (!automatic || !sc->has_load) return HP_OK;
@@ -40,4 +46,30 @@ hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_loa
     }
     hp_load_model_destroy(M);
     return e;
+}
+
+hp_error hp_scene_kinematic_only(const hp_scene *sc, const char *level, const char *who,
+                                 hp_level_refusal *refused, hp_diag *diag)
+{
+    if (refused) *refused = HP_LEVEL_REFUSED_NONE;
+    if (!sc || !who) return hp_diag_set(diag, HP_ERR_NULL, "scene level: NULL argument");
+    int use_load = 0;
+    char why[256];
+    hp_level_refusal r = HP_LEVEL_REFUSED_NONE;
+    hp_diag d = {{0}};
+    hp_error e = hp_scene_plan_level(sc, level, &use_load, why, sizeof why, &r, &d);
+    if (refused) *refused = r;
+    if (e && r != HP_LEVEL_REFUSED_NONE) return hp_diag_set(diag, e, "%s", d.text);
+    if (e)
+        return hp_diag_set(diag, e, "%s: load: %s", sc->file,
+                           d.text[0] ? d.text : hp_error_message(e));
+    if (!use_load) return HP_OK;
+    if (refused) *refused = HP_LEVEL_REFUSED_LOAD;
+    /* What to do instead is the caller's to append: the diag's fixed size keeps room for a
+     * long path. */
+    return hp_diag_set(diag, HP_ERR_DOMAIN,
+                       "%s: the scene is planned at the load level (%s), which only headplan "
+                       "solve plans; %s would plan without the head's weight and disagree with "
+                       "solve",
+                       sc->file, why, who);
 }

@@ -37,6 +37,7 @@ struct hp_trace_reader {
     char *mem;            /* copy of an in-memory trace (fmemopen does not copy) */
     char line[HP_TRACE_LINE_MAX + 1];
     size_t len;
+    size_t noeol_col;     /* a last line without its end of line: where that would begin */
     long lineno;
     hp_trace_format format;
     hp_trace_rows rows;
@@ -138,6 +139,9 @@ static int read_line(hp_trace_reader *r)
         memmove(r->line, r->line + 3, n - 3); /* a UTF-8 byte-order mark is skipped */
         n -= 3;
     }
+    /* Counted before a '\r' is dropped, as the other columns count the line's bytes (and
+     * as the calibration reader counts them). */
+    r->noeol_col = n + 1;
     if (n > 0 && r->line[n - 1] == '\r') --n;
     r->line[n] = '\0';
     r->len = n;
@@ -156,8 +160,8 @@ static hp_error line_problem(const hp_trace_reader *r, int code, hp_diag *diag)
                            r->lineno, HP_TRACE_LINE_MAX);
     if (code == LINE_NOEOL)
         return hp_diag_set(diag, HP_ERR_PARSE,
-                           "%s:%ld: truncated: the last line has no end of line", r->name,
-                           r->lineno);
+                           "%s:%ld:%zu: truncated: the last line has no end of line",
+                           r->name, r->lineno, r->noeol_col);
     int nul = 0;
     long at = hp_text_bad_byte(r->line, r->len, &nul);
     if (at >= 0)

@@ -55,7 +55,9 @@ HP_API const char *hp_error_name(hp_error e);
 HP_API const char *hp_error_message(hp_error e);
 
 /* Writes a printf-style message into diag (if diag is not NULL) and returns code, so that
- * a failing path reads `return hp_diag_set(d, HP_ERR_INVALID, "Ri_mm: must be > 0");`. */
+ * a failing path reads `return hp_diag_set(d, HP_ERR_INVALID, "Ri_mm: must be > 0");`.
+ * Numbers are written in the C locale ("0.5"), whatever LC_NUMERIC the host set; the
+ * calling thread's locale is restored before it returns. */
 HP_API hp_error hp_diag_set(hp_diag *diag, hp_error code, const char *fmt, ...)
 #if defined(__GNUC__)
     __attribute__((format(printf, 3, 4)))

@@ -159,6 +159,15 @@ HP_API hp_error hp_scene_parse(const char *text, size_t len, const char *filenam
  * head's weight. */
 HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag);
 
+/* What hp_scene_plan_level or hp_scene_kinematic_only refused, so that a caller words (and
+ * classes) each refusal in its own terms without reading the message. */
+typedef enum hp_level_refusal {
+    HP_LEVEL_REFUSED_NONE = 0, /* none refused: HP_OK, HP_ERR_NULL or the load model's error */
+    HP_LEVEL_REFUSED_UNKNOWN,  /* the override names no level */
+    HP_LEVEL_REFUSED_NO_LOAD,  /* "load" asked of a scene without a `load` section */
+    HP_LEVEL_REFUSED_LOAD      /* hp_scene_kinematic_only: the scene is planned at load level */
+} hp_level_refusal;
+
 /* Whether scene sc is planned at the load level (docs/load.md): the one decision `headplan
  * solve`, `batch`, `horizon`, `render`, `analyze` and the Python module share. level is the
  * caller's override of the scene's model.level ("linear", "plane", "surface", "auto" or
@@ -167,14 +176,26 @@ HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag 
  * and the scene has a `load` section and the sag a kinematic plan would leave exceeds
  * model.tolerance_mm (hp_load_auto_choose). Otherwise 0: a kinematic level plans it.
  * why (may be NULL, len bytes) gets the reason in one line ("load: asked for by
- * model.level", "load: predicted sag ... > tolerance ...", "kinematic: ..."; "" when the
- * scene has no load and auto was not involved). Returns HP_OK; HP_ERR_NULL;
- * HP_ERR_INVALID for an unknown override or "load" on a scene without a `load` section
- * (message in diag); or the load model's error (hp_load_model_create: the layout cannot
- * carry the load), message in diag. Allocates (the load model) only for auto on a scene
- * with a `load` section. */
+ * model.level", "load: asked for by the caller's level" for the override, "load: predicted
+ * sag ... > tolerance ...", "kinematic: ..."; "" when the scene has no load and auto was not
+ * involved; a caller may word the override's reason in its own terms, as the command line's
+ * "--level"). Returns HP_OK; HP_ERR_NULL; HP_ERR_INVALID for an unknown override or
+ * "load" on a scene without a `load` section (message in diag; *refused says which); or the
+ * load model's error (hp_load_model_create: the layout cannot carry the load), message in
+ * diag. refused (may be NULL) gets HP_LEVEL_REFUSED_NONE unless the level argument itself
+ * was refused. Allocates (the load model) only for auto on a scene with a `load` section. */
 HP_API hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_load,
-                                    char *why, size_t len, hp_diag *diag);
+                                    char *why, size_t len, hp_level_refusal *refused,
+                                    hp_diag *diag);
+
+/* For a caller that plans the kinematic levels only (batch, horizon, render, Python's
+ * Planner): HP_OK when hp_scene_plan_level(sc, level) plans sc kinematically. Else
+ * HP_ERR_DOMAIN, *refused = HP_LEVEL_REFUSED_LOAD and diag "FILE: the scene is planned at the
+ * load level (WHY), which only headplan solve plans; WHO would plan without the head's weight
+ * and disagree with solve" (the caller appends what to do instead); or hp_scene_plan_level's
+ * error and refusal (the load model's message prefixed "FILE: load: "). */
+HP_API hp_error hp_scene_kinematic_only(const hp_scene *sc, const char *level, const char *who,
+                                        hp_level_refusal *refused, hp_diag *diag);
 
 /* Reads and validates the single-bladder study file at path; the same contract as
  * hp_scene_load (a layout scene: its own errors, else HP_ERR_INVALID). */

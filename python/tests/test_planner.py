@@ -188,3 +188,27 @@ def test_unbuilt_planner_refuses():
         p.plan([0] * 6)
     with pytest.raises(RuntimeError):
         p.level
+
+
+@pytest.mark.parametrize("name,backend,c", [
+    ("saturation.yaml", None, None),  # ipopt: its last radii hold no pose
+    ("default.yaml", "nlopt-slsqp", [4, 3, 2, 3, 2, 1]),  # the budget's last feasible iterate
+    ("default.yaml", "realtime", [4, 3, 2, 3, 2, 1]),
+])
+def test_iteration_limit_message_is_the_clis(tmp_path, name, backend, c):
+    """A plan stopped by its iteration budget carries the text `headplan solve` prints for
+    it (one text, the planner's): before, Python said 'iteration-limit: binding none' where
+    the command line named the backend and the budget."""
+    text = open(scenario(name)).read()
+    path = tmp_path / name
+    path.write_text(text.replace(text[text.index("max_iter: "):].split(",")[0], "max_iter: 1"))
+    sc = headplan.load_scene(str(path))
+    c = list(sc.correction) if c is None else c
+    r = headplan.Planner(sc, **({"backend": backend} if backend else {})).plan(c)
+    assert r["status"] == "iteration-limit"
+    args = ["solve", str(path), "--correction", ",".join(repr(float(v)) for v in c)]
+    rc, _, err = cli(*(args + (["--backend", backend] if backend else [])), check=False)
+    assert rc == 70
+    assert err == f"headplan solve: {path}: {r['message']} (no answer printed)\n"
+    assert r["message"].startswith("iteration-limit: the ")
+    assert "backend did not converge within solver.max_iter = 1 iterations" in r["message"]

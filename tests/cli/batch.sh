@@ -250,7 +250,7 @@ run batch --format csv "$S/default.yaml" "$TMP/a:b/bad.csv" --no-times
 expect_exit 65 "bad rows exit"
 expect_stderr_has "bad.csv:4:5: x_mm: not a number" "bad row 4 named"
 expect_stderr_has "bad.csv:5: 6 fields, expected 7" "bad row 5 named"
-expect_stderr_has "bad.csv:7: truncated" "truncated last line named"
+expect_stderr_has "bad.csv:7:16: truncated" "truncated last line named"
 [ "$(grep -c ',reached,' "$TMP/out")" -eq 2 ] && ok || bad "good rows planned"
 [ "$(grep -c ',bad-row,' "$TMP/out")" -eq 3 ] && ok || bad "bad rows labelled"
 [ "$(grep ',bad-row,' "$TMP/out" | cut -d, -f1 | tr '\n' ' ')" = "4 5 7 " ] && ok \

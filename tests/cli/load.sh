@@ -70,6 +70,10 @@ expect_exit 65 "prone: refused"
 expect_stderr_has "along -z" "names the unsupported direction"
 expect_stdout_empty "prone: nothing on stdout"
 
+run solve "$S/load_supine.yaml" --level load
+expect_exit 0 "--level load on a load scene"
+expect_stdout_has "why         load: asked for by --level" "the command line names its flag"
+
 run solve "$S/default.yaml" --level load
 expect_exit 64 "--level load without a load section"
 expect_stderr_has "needs a scene with a 'load' section" "says what is missing"

@@ -5,6 +5,7 @@
 
 #include "headplan/hp_scene.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -52,26 +53,32 @@ static void test_auto_follows_the_predicted_sag(void **state)
     hp_load_model_destroy(M);
     int use = -1;
     char why[256];
-    assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, NULL), HP_OK);
+    hp_level_refusal refused = HP_LEVEL_REFUSED_LOAD;
+    assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, &refused, NULL), HP_OK);
+    assert_int_equal(refused, HP_LEVEL_REFUSED_NONE);
     assert_int_equal(use, ref);
     assert_int_equal(use, 1); /* no preload: the sag is unbounded */
     assert_string_equal(why, ref_why);
-    assert_int_equal(hp_scene_plan_level(sc, "auto", &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(hp_scene_plan_level(sc, "auto", &use, why, sizeof why, &refused, NULL), HP_OK);
     assert_int_equal(use, 1);
     /* A kinematic level named by the caller plans it kinematically. */
     const char *kin[3] = {"linear", "plane", "surface"};
     for (int i = 0; i < 3; ++i) {
-        assert_int_equal(hp_scene_plan_level(sc, kin[i], &use, why, sizeof why, NULL), HP_OK);
+        assert_int_equal(hp_scene_plan_level(sc, kin[i], &use, why, sizeof why, &refused, NULL),
+                         HP_OK);
         assert_int_equal(use, 0);
         assert_string_equal(why, "");
     }
-    assert_int_equal(hp_scene_plan_level(sc, "load", &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(hp_scene_plan_level(sc, "load", &use, why, sizeof why, &refused, NULL), HP_OK);
     assert_int_equal(use, 1);
-    assert_string_equal(why, "load: asked for by --level");
+    /* the library's reason names no command-line flag: a C caller has none */
+    assert_string_equal(why, "load: asked for by the caller's level");
     hp_diag d = {{0}};
-    assert_int_equal(hp_scene_plan_level(sc, "cubic", &use, why, sizeof why, &d),
+    assert_int_equal(hp_scene_plan_level(sc, "cubic", &use, why, sizeof why, &refused, &d),
                      HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "unknown level 'cubic'"));
+    /* which refusal it is, without reading the message */
+    assert_int_equal(refused, HP_LEVEL_REFUSED_UNKNOWN);
     free(sc);
 }
 
@@ -86,10 +93,12 @@ static void test_level_load_scene(void **state)
     assert_int_equal(sc->level_load, 1);
     int use = -1;
     char why[256];
-    assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, NULL), HP_OK);
+    hp_level_refusal refused = HP_LEVEL_REFUSED_LOAD;
+    assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, &refused, NULL), HP_OK);
     assert_int_equal(use, 1);
     assert_string_equal(why, "load: asked for by model.level");
-    assert_int_equal(hp_scene_plan_level(sc, "surface", &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(hp_scene_plan_level(sc, "surface", &use, why, sizeof why, &refused, NULL),
+                     HP_OK);
     assert_int_equal(use, 0);
     hp_settings s;
     assert_int_equal(hp_scene_settings(sc, &s, NULL), HP_OK);
@@ -108,16 +117,54 @@ static void test_no_load_section(void **state)
     assert_int_equal(sc->has_load, 0);
     int use = -1;
     char why[256] = "x";
-    assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, NULL), HP_OK);
+    hp_level_refusal refused = HP_LEVEL_REFUSED_LOAD;
+    assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, &refused, NULL), HP_OK);
     assert_int_equal(use, 0);
     assert_string_equal(why, "");
-    assert_int_equal(hp_scene_plan_level(sc, "auto", &use, why, sizeof why, NULL), HP_OK);
+    assert_int_equal(hp_scene_plan_level(sc, "auto", &use, why, sizeof why, &refused, NULL), HP_OK);
     assert_int_equal(use, 0);
     hp_diag d = {{0}};
-    assert_int_equal(hp_scene_plan_level(sc, "load", &use, why, sizeof why, &d), HP_ERR_INVALID);
+    assert_int_equal(hp_scene_plan_level(sc, "load", &use, why, sizeof why, &refused, &d),
+                     HP_ERR_INVALID);
     assert_int_equal(use, 0);
     assert_non_null(strstr(d.text, "load needs a scene with a 'load' section"));
-    assert_int_equal(hp_scene_plan_level(NULL, NULL, &use, why, sizeof why, NULL), HP_ERR_NULL);
+    assert_int_equal(refused, HP_LEVEL_REFUSED_NO_LOAD);
+    assert_int_equal(hp_scene_plan_level(NULL, NULL, &use, why, sizeof why, &refused, NULL),
+                     HP_ERR_NULL);
+    free(sc);
+}
+
+/* The refusal a kinematic-only caller gives (batch, horizon, render, Python's Planner):
+ * one sentence from the library, the reason being hp_scene_plan_level's own. */
+static void test_kinematic_only(void **state)
+{
+    (void)state;
+    hp_scene *sc = malloc(sizeof *sc);
+    assert_non_null(sc);
+    load(SCN "load_supine.yaml", sc);
+    int use = -1;
+    char why[256], want[2048];
+    assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, NULL, NULL), HP_OK);
+    snprintf(want, sizeof want,
+             "%s: the scene is planned at the load level (%s), which only headplan solve "
+             "plans; batch would plan without the head's weight and disagree with solve",
+             sc->file, why);
+    hp_diag d = {{0}};
+    hp_level_refusal refused = HP_LEVEL_REFUSED_NONE;
+    assert_int_equal(hp_scene_kinematic_only(sc, NULL, "batch", &refused, &d), HP_ERR_DOMAIN);
+    assert_int_equal(refused, HP_LEVEL_REFUSED_LOAD);
+    assert_string_equal(d.text, want);
+    assert_int_equal(hp_scene_kinematic_only(sc, "surface", "batch", &refused, NULL), HP_OK);
+    assert_int_equal(refused, HP_LEVEL_REFUSED_NONE);
+    assert_int_equal(hp_scene_kinematic_only(sc, "cubic", "batch", &refused, &d),
+                     HP_ERR_INVALID);
+    assert_int_equal(refused, HP_LEVEL_REFUSED_UNKNOWN);
+    assert_int_equal(hp_scene_kinematic_only(sc, NULL, NULL, &refused, NULL), HP_ERR_NULL);
+    load(SCN "default.yaml", sc);
+    assert_int_equal(hp_scene_kinematic_only(sc, NULL, "batch", &refused, &d), HP_OK);
+    assert_int_equal(hp_scene_kinematic_only(sc, "load", "batch", &refused, &d),
+                     HP_ERR_INVALID);
+    assert_int_equal(refused, HP_LEVEL_REFUSED_NO_LOAD);
     free(sc);
 }
 
@@ -127,6 +174,7 @@ int main(void)
         cmocka_unit_test(test_auto_follows_the_predicted_sag),
         cmocka_unit_test(test_level_load_scene),
         cmocka_unit_test(test_no_load_section),
+        cmocka_unit_test(test_kinematic_only),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

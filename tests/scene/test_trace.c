@@ -137,9 +137,33 @@ static void csv_bad_rows_continue(void **state)
     expect_bad(r, "t:6:3: x_mm: overflows a double");
     expect_bad(r, "t:7:3: x_mm: empty");
     expect_row(r, 8, 1.0, (const double[6]){0, 0, 0, 0, 0, 0});
-    expect_bad(r, "t:9: truncated");
+    expect_bad(r, "t:9:14: truncated: the last line has no end of line");
     expect_end(r);
     hp_trace_close(r);
+}
+
+/* A last line without its end of line is named FILE:LINE:COL like every other bad line,
+ * the column where its end of line would begin (a '\r' kept counts, as in the calibration
+ * reader): the whole message, so that a missing column cannot pass as a prefix. */
+#define TRUNC "truncated: the last line has no end of line"
+static void truncated_line_column(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *text, *want;
+    } cases[] = {
+        {COR HDR "1,0,0,0,0,0,0\n0.1,0,0", "t:4:8: " TRUNC},
+        {COR HDR "0.1,0,0,0,0,0,0\r", "t:3:17: " TRUNC},
+        {COR HDR "# end", "t:3:6: " TRUNC},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
+        hp_trace_reader *r = open_text(cases[i].text, HP_TRACE_CSV);
+        hp_trace_row row;
+        hp_diag d = {{0}};
+        while (hp_trace_next(r, &row, &d) == HP_OK) {}
+        assert_string_equal(d.text, cases[i].want);
+        hp_trace_close(r);
+    }
 }
 
 static void csv_bad_header(void **state)
@@ -387,7 +411,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(csv_corrections),       cmocka_unit_test(csv_deviation_inverted),
-        cmocka_unit_test(csv_bad_rows_continue), cmocka_unit_test(csv_bad_header),
+        cmocka_unit_test(csv_bad_rows_continue),
+        cmocka_unit_test(truncated_line_column), cmocka_unit_test(csv_bad_header),
         cmocka_unit_test(jsonl_rows),            cmocka_unit_test(jsonl_first_line_is_data),
         cmocka_unit_test(rows_kind_rules),       cmocka_unit_test(pose_forms),
         cmocka_unit_test(bytes_and_bom),         cmocka_unit_test(pipe_reads_sequentially),
