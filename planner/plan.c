@@ -23,6 +23,8 @@ typedef struct plan_ctx {
     /* The distances at c->x [mm]: the direct chain's, or the backend's own (has_rho). */
     double rho[HP_MAX_BLADDERS];
     int has_rho;
+    int warm;        /* the backend started from the previous answer */
+    int unconfirmed; /* label refused a CLOSEST answer its round trip did not confirm */
 } plan_ctx;
 
 /* The safe output: the previous valid answer, labelled with a failure status (the message
@@ -138,16 +140,17 @@ static int direct_chain(hp_planner *p, plan_ctx *c)
 
 /* Step 3: the backend, through its table, from the previous answer (warm) or a cold point.
  * Returns 1 with c->x set, or 0 with res labelled (the backend failed: safe output). */
-static int solve(hp_planner *p, hp_result *res, plan_ctx *c)
+static int solve(hp_planner *p, hp_result *res, plan_ctx *c, int cold)
 {
     hp_backend_result br = {.status = HP_STATUS_SOLVER_ERROR};
     const double *x0 = p->x_prev;
     double xcold[HP_PROBLEM_NX_MAX];
-    if (!p->s.warm_start) {
+    if (!p->s.warm_start || cold) {
         for (int i = 0; i < 6; ++i) xcold[i] = 0.0;
         for (int k = 0; k < p->L.n; ++k) xcold[6 + k] = p->L.bladders[k].iab.Ri * HP_MM_PER_M;
         x0 = xcold;
     }
+    c->warm = x0 == p->x_prev;
     p->diag.text[0] = '\0';
     hp_error e = p->ops->solve(p->bstate, &p->pb, x0, p->x_work, &br, &p->diag);
     if (br.status == HP_STATUS_INFEASIBLE_START && x0 != p->x_prev) {
@@ -305,7 +308,10 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
     for (int i = 0; i < 6; ++i) worst = fmax(worst, fabs(a[i] - b[i]));
     if (worst <= HP_IDENT_FK_TOL) return 1;
     if (worst <= HP_IDENT_SAME && resid * HP_MM_PER_M <= HP_IDENT_FIT_MM) return 1;
-    hp_text_set(p->err, "desired: outside the identifiable range of this layout at the ");
+    hp_text_set(p->err, r->status == HP_STATUS_CLOSEST
+                            ? "desired: its closest reachable pose lies outside the identifiable "
+                              "range of this layout at the "
+                            : "desired: outside the identifiable range of this layout at the ");
     hp_text_add(p->err, hp_level_name(p->level));
     hp_text_add(p->err, " level: forward contact kinematics from the nominal pose finds "
                         "another pose ");
@@ -376,7 +382,8 @@ static void add_binding(const hp_planner *p, char *buf, hp_status st, const unsi
 }
 
 /* Step 5: the label. REACHED / UNCOMMANDED when the commanded part is met and the strict
- * round trip confirms it; CLOSEST when a certified or verified optimum binds a limit;
+ * round trip confirms it; CLOSEST when a certified or verified optimum binds a limit and
+ * the same round trip confirms its pose;
  * ITERATION_LIMIT / TIME_LIMIT for a budget's last feasible iterate. Returns 1, or 0 with
  * res labelled (a claim the checks refute: safe output). */
 static int label(hp_planner *p, hp_result *r, plan_ctx *c)
@@ -412,7 +419,17 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
         return 0;
     } else if (c->converged) {
+        /* The answer's pose is a claim about where these pressures hold the head, so it is
+         * verified as a reached one is: at the edge of a near-degenerate layout's
+         * identifiable range the closest pose can be one of two with the same contact
+         * distances, and the fit from the nominal pose (the forward model hp_planner_set_
+         * previous and every reached answer use) ends at the other. */
         r->status = HP_STATUS_CLOSEST;
+        if (!recovered_from_nominal(p, r, r->achieved, c)) {
+            c->unconfirmed = 1;
+            fail_safe(p, r, HP_STATUS_INVALID_INPUT, c);
+            return 0;
+        }
     } else {
         r->status = (c->st == HP_STATUS_TIME_LIMIT) ? HP_STATUS_TIME_LIMIT
                                                      : HP_STATUS_ITERATION_LIMIT;
@@ -472,26 +489,41 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     }
     if (!validate(p, desired, res, &c)) return HP_OK;
 
-    res->backend = p->s.backend;
-    res->level = p->level;
-    res->n = p->L.n;
-    res->raw_code = 0;
-    res->iterations = 0;
-    for (int i = 0; i < 6; ++i) res->commanded[i] = p->commanded[i];
-    memcpy(res->uncommanded, c.unc, sizeof c.unc);
-
     c.direct = direct_chain(p, &c);
-    c.x = p->pb.d;
-    if (!c.direct && !solve(p, res, &c)) return HP_OK;
-    res->raw_code = c.raw;
-    res->iterations = c.iters;
-    if (!accept(p, res, &c)) return HP_OK;
-    double a[6];
-    hp_plan_to_scaled(res->achieved, a);
-    res->pose_error = 0;
-    for (int i = 0; i < 6; ++i)
-        if (p->commanded[i]) res->pose_error = fmax(res->pose_error, fabs(a[i] - p->pb.d[i]));
-    if (!label(p, res, &c)) return HP_OK;
+    /* A second pass only after a warm solve's CLOSEST answer that the round trip from the
+     * nominal pose does not confirm: local optima depend on the start, and the backend
+     * started from the nominal pose, where the round trip starts too, may find one it
+     * confirms. Without it a warm and a cold planner given the same previous pressures
+     * could answer the same request differently. */
+    for (int pass = 0;; ++pass) {
+        res->backend = p->s.backend;
+        res->level = p->level;
+        res->n = p->L.n;
+        res->raw_code = 0;
+        res->iterations = 0;
+        for (int i = 0; i < 6; ++i) res->commanded[i] = p->commanded[i];
+        memcpy(res->uncommanded, c.unc, sizeof c.unc);
+        c.x = p->pb.d;
+        c.unconfirmed = 0;
+        int iters0 = c.iters;
+        if (!c.direct && !solve(p, res, &c, pass > 0)) return HP_OK;
+        c.iters += pass > 0 ? iters0 : 0;
+        res->raw_code = c.raw;
+        res->iterations = c.iters;
+        if (!accept(p, res, &c)) return HP_OK;
+        double a[6];
+        hp_plan_to_scaled(res->achieved, a);
+        res->pose_error = 0;
+        for (int i = 0; i < 6; ++i)
+            if (p->commanded[i]) res->pose_error = fmax(res->pose_error, fabs(a[i] - p->pb.d[i]));
+        if (label(p, res, &c)) break;
+        if (!(c.unconfirmed && c.warm && pass == 0)) return HP_OK;
+        p->err[0] = '\0';
+        c.converged = 1;
+        c.st = HP_STATUS_REACHED;
+        c.clamp_mm = 0;
+        c.has_rho = 0;
+    }
 
     hp_plan_set_previous_answer(p, res);
     /* A backend's own answer, unmoved, is the next start: tell the backend (warm start with
