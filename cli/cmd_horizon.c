@@ -375,8 +375,11 @@ int cmd_horizon(int argc, char **argv)
         else if (p == 1) e = hp_horizon_receding(&sc->layout, &s, &hs, rows, T, p0, plans[p], &d);
         else e = hp_horizon_offline(&sc->layout, &s, &hs, rows, T, p0, plans[p], &info, &d);
         if (e != HP_OK) {
+            /* The library's horizon messages mostly name their plan already. */
+            size_t nl = strlen(PLAN_NAMES[p]);
+            int named = strncmp(d.text, PLAN_NAMES[p], nl) == 0 && d.text[nl] == ':';
             rc = cli_fail(e == HP_ERR_INVALID ? CLI_EXIT_DATAERR : CLI_EXIT_SOFTWARE, CMD,
-                             "%s: %s", PLAN_NAMES[p], d.text);
+                          "%s%s%s", named ? "" : PLAN_NAMES[p], named ? "" : ": ", d.text);
             goto done;
         }
         hp_horizon_measure(plans[p], T, sc->layout.n, p0, &s, &hs, tol_mm, tol_deg, &m[p]);

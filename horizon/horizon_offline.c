@@ -17,6 +17,7 @@
  *   diagonal, and the (ri_t,k, ri_t−1,k) entry of the smoothness term — block-banded. */
 #include "horizon/horizon_internal.h"
 #include "planner/ipopt_shared.h"
+#include "planner/planner_internal.h"
 #include "planner/problem_setup.h"
 
 #include <math.h>
@@ -252,6 +253,7 @@ typedef struct offline_ctx {
     hp_static_bounds sb;
     const hp_horizon_settings *hs;
     const hp_settings *s;
+    hp_planner *p; /* for the strict round trip of every row's answer */
 } offline_ctx;
 
 /* The planner (for its validated layout and geometry, level and the greedy start) and everything the
@@ -268,6 +270,7 @@ static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
     hp_error e = hp_planner_create(L, s, p, d);
     if (e != HP_OK) return e;
     c->L = hp_planner_layout(*p);
+    c->p = *p;
     c->hs = hs;
     c->s = s;
     int commanded[6];
@@ -421,6 +424,26 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
             o->ri[k] = ri;
             o->pressure[k] = P;
         }
+        /* The row's pose is a claim about where its pressures hold the head: the same strict
+         * round trip as hp_plan's answers (from the nominal pose), so offline never states a
+         * pose that the forward model puts elsewhere. */
+        hp_result rr;
+        double worst;
+        rr.n = n;
+        for (int k = 0; k < n && e == HP_OK; ++k) {
+            rr.bladders[k].pressure = o->pressure[k];
+            rr.bladders[k].ri = o->ri[k];
+            if (hp_iab_ro(&c->L->bladders[k].iab, o->ri[k], &rr.bladders[k].ro) != HP_OK)
+                rr.bladders[k].ro = NAN;
+        }
+        /* INVALID, as hp_plan refuses such an answer (INVALID_INPUT): the trace asks for a
+         * pose this layout cannot identify, not the solver failing. */
+        if (e == HP_OK && !hp_plan_round_trip(c->p, &rr, o->achieved, NULL, &worst))
+            e = hp_diag_set(d, HP_ERR_INVALID,
+                            "offline: line %ld: the planned pose is not where its pressures "
+                            "hold the head: forward contact kinematics from the nominal pose "
+                            "finds another pose %.6g mm/deg away",
+                            rows[t].line, worst);
     }
     free(buf);
     return e;

@@ -260,14 +260,14 @@ static int closest_verified(const hp_planner *p, const double *x)
 /* 1 when the strict round trip of answer r gives back achieved, its achieved pose
  * (r->achieved; not the commanded target c->xc, from which a REACHED answer may lie up to the
  * tolerance), to HP_IDENT_FK_TOL: its pressures -> stable radii -> outer radii -> forward
- * contact kinematics in the commanded components started from the NOMINAL pose. Else 0
- * with the other pose's distance in p->err. On a
- * near-degenerate layout at the plane level the fit from the nominal pose can end in a
- * second local fit; then the correction is not identified by this layout. Allocates
- * nothing. */
-static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double achieved[6],
-                                  const plan_ctx *c)
+ * contact kinematics in the commanded components started from the NOMINAL pose. *worst is
+ * the distance (mm/deg) to where the fit ends (inf when it fails). On a near-degenerate
+ * layout at the plane level the fit from the nominal pose can end in a second local fit;
+ * then the answer is not identified by this layout. Allocates nothing. */
+int hp_plan_round_trip(hp_planner *p, const hp_result *r, const double achieved[6],
+                       const hp_plan_anchor *anchor, double *worst)
 {
+    *worst = 0.0;
     /* The linear model is linear in the pose and the commanded columns have full column
      * rank (hp_layout_identify keeps exactly `rank` of them): the least-squares fit is
      * unique, so the fit from the nominal pose is the commanded part itself, to rounding.
@@ -295,19 +295,30 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
      * backend's own), and for the direct chain its Jacobian there: with them the fit may
      * stop as soon as a certificate proves where it ends (hp_kin_fit_certified), with the
      * Jacobian usually before it evaluates its first step. */
-    near.has_anchor = c->direct || c->has_rho;
-    near.anchor_J = c->direct ? p->chain_J : NULL;
-    if (near.has_anchor) {
-        hp_plan_from_scaled(c->x, near.anchor);
-        for (int k = 0; k < p->L.n; ++k) near.anchor_rho[k] = c->rho[k] / HP_MM_PER_M;
+    near.has_anchor = anchor != NULL;
+    near.anchor_J = anchor ? anchor->J : NULL;
+    if (anchor) {
+        hp_plan_from_scaled(anchor->x, near.anchor);
+        for (int k = 0; k < p->L.n; ++k) near.anchor_rho[k] = anchor->rho_mm[k] / HP_MM_PER_M;
     }
     hp_error e = hp_plan_fit_from_nominal(p, ro, p->commanded, &near, xf, &resid);
     hp_plan_to_scaled(achieved, a);
     hp_plan_to_scaled(xf, b);
-    double worst = e == HP_OK ? 0.0 : INFINITY;
-    for (int i = 0; i < 6; ++i) worst = fmax(worst, fabs(a[i] - b[i]));
-    if (worst <= HP_IDENT_FK_TOL) return 1;
-    if (worst <= HP_IDENT_SAME && resid * HP_MM_PER_M <= HP_IDENT_FIT_MM) return 1;
+    double w = e == HP_OK ? 0.0 : INFINITY;
+    for (int i = 0; i < 6; ++i) w = fmax(w, fabs(a[i] - b[i]));
+    *worst = w;
+    if (w <= HP_IDENT_FK_TOL) return 1;
+    return w <= HP_IDENT_SAME && resid * HP_MM_PER_M <= HP_IDENT_FIT_MM;
+}
+
+/* hp_plan_round_trip of answer r from plan c, with its message in p->err when it fails. */
+static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double achieved[6],
+                                  const plan_ctx *c)
+{
+    hp_plan_anchor an = {c->x, c->rho, c->direct ? p->chain_J : NULL};
+    double worst;
+    if (hp_plan_round_trip(p, r, achieved, c->direct || c->has_rho ? &an : NULL, &worst))
+        return 1;
     hp_text_set(p->err, r->status == HP_STATUS_CLOSEST
                             ? "desired: its closest reachable pose lies outside the identifiable "
                               "range of this layout at the "

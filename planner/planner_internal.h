@@ -70,6 +70,15 @@ struct hp_planner {
     hp_kin_fit_start nom;
 };
 
+/* What a plan knows at its answer for the round trip's certificate: the scaled point x,
+ * the distances there [mm], and (the direct chain) their Jacobian (SI; may be NULL). */
+typedef struct hp_plan_anchor {
+    const double *x, *rho_mm, *J;
+} hp_plan_anchor;
+/* The strict round trip of r's pressures (plan.c): 1 when the fit from the nominal pose ends
+ * at achieved (SI), with the distance to where it ends in *worst (mm/deg, inf on failure). */
+int hp_plan_round_trip(hp_planner *p, const hp_result *r, const double achieved[6],
+                       const hp_plan_anchor *anchor, double *worst);
 /* hp_contact_fit of the outer radii ro in the components free_ from the nominal pose,
  * taking its first model evaluation from p->nom: the same steps, one evaluation fewer.
  * near (may be NULL): hp_kin_fit's early stop at an expected pose. */
