@@ -111,23 +111,15 @@ static int run_material(int argc, char **argv)
 {
     const char *data = NULL, *ri_t = NULL, *ro_t = NULL, *plot = NULL, *ref_t = NULL;
     int json = 0;
+    /* One matcher for both fits: a value given twice is refused, not silently replaced. */
+    const char *const names[] = {"--Ri-mm", "--Ro-mm", "--plot", "--fit-ref"};
+    const char **slots[] = {&ri_t, &ro_t, &plot, &ref_t};
     for (int i = 0; i < argc; ++i) {
-        const char *v;
         int m;
         if (strcmp(argv[i], "--json") == 0) {
             json = 1;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--Ri-mm", &v)) != 0) {
+        } else if ((m = cli_named_opt(CMD, argc, argv, &i, names, slots, 4)) != 0) {
             if (m < 0) return CLI_EXIT_USAGE;
-            ri_t = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--Ro-mm", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            ro_t = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--plot", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            plot = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--fit-ref", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            ref_t = v;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
             return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         } else if (data) {
