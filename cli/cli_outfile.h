@@ -30,6 +30,13 @@ void cli_input_of(cli_input *in, const char *what, const char *path);
 int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cli_input *in,
                     int n);
 
+/* 0 when the outputs a and b (named by options opt_a and opt_b) are different files;
+ * otherwise CLI_EXIT_USAGE after one line. The same file is the same name in the same
+ * directory however either is spelled ("x.svg", "./x.svg", "../d/x.svg", a link to the
+ * directory): the second rename would replace the first output with exit 0. */
+int cli_outputs_distinct(const char *cmd, const char *opt_a, const char *a, const char *opt_b,
+                         const char *b);
+
 typedef struct cli_out {
     FILE *f;          /* the temporary file, open for writing */
     const char *path; /* where it goes on commit */

@@ -4,6 +4,7 @@
  *                         [--sigma-mm S] [--sigma-deg S] [--plot OUT.png|svg]
  *                         [--plot-script FILE.gp] [--json] */
 #include "cli/cli_args.h"
+#include "cli/cli_outfile.h"
 #include "common/units.h"
 #include "cli/cli_scene.h"
 #include "cli/commands.h"
@@ -351,6 +352,11 @@ static int parse_layout(int argc, char **argv, layout_args *a)
             return cli_fail(CLI_EXIT_USAGE, CMD, "--plot: '%s' must end in .png or .svg",
                             a->plot);
     }
+    int rc;
+    if ((rc = cli_outputs_distinct(CMD, "-o", a->out, "--plot", a->plot)) ||
+        (rc = cli_outputs_distinct(CMD, "-o", a->out, "--plot-script", a->plot_script)) ||
+        (rc = cli_outputs_distinct(CMD, "--plot-script", a->plot_script, "--plot", a->plot)))
+        return rc;
     return -1;
 }
 

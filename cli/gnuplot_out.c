@@ -85,9 +85,8 @@ int gp_check(const char *cmd, gp_out *o)
         if (o->dry_run) return -1;
         return cli_fail(CLI_EXIT_USAGE, cmd, "-o: missing (FILE.png or FILE.svg)");
     }
-    if (o->script_out && strcmp(o->script_out, o->path) == 0)
-        return cli_fail(CLI_EXIT_USAGE, cmd, "--script-out and -o name the same file '%s'",
-                        o->path);
+    int rc = cli_outputs_distinct(cmd, "--script-out", o->script_out, "-o", o->path);
+    if (rc) return rc;
     if (ends_with(o->path, ".svg")) o->svg = 1;
     else if (!ends_with(o->path, ".png"))
         return cli_fail(CLI_EXIT_USAGE, cmd, "-o: '%s' must end in .png or .svg", o->path);

@@ -2,6 +2,7 @@
 # given twice, two outputs naming one file, a byte-order mark, a result cut short) must get
 # the same honest answer. Each case here was once answered wrongly (see the commit).
 source "$2/tests/cli_lib.sh"
+HP_BIN=$(realpath "$HP_BIN"); HP_SRC=$(realpath "$HP_SRC") # some cases run in $TMP
 S="$HP_SRC/scenarios"
 E="$HP_SRC/examples/calibration"
 
@@ -12,4 +13,24 @@ for o in "--Ri-mm 28" "--Ro-mm 31" "--fit-ref Ri --fit-ref Ro" "--plot $TMP/a.sv
     expect_exit 64 "fit material $o"; expect_stderr_has "given more than once" "fit material $o"
     expect_stdout_empty "fit material $o"
 done
+
+# Two outputs naming one file by two spellings ("x.svg" and "./x.svg", a link to the folder):
+# the second rename replaced the first output, exit 0 (render kept the picture and lost the
+# script; fit layout's calibrated scene replaced its plot). Refused before any work.
+"$HP_BIN" batch "$S/default.yaml" "$S/traces/nodding.csv" -o "$TMP/nod.csv" 2>/dev/null
+mkdir -p "$TMP/d"; ln -s "$TMP/d" "$TMP/dl"
+cd "$TMP/d"
+for cmd in "render $S/default.yaml -o x.svg --script-out ./x.svg" \
+           "render $S/default.yaml -o $TMP/dl/x.svg --script-out x.svg" \
+           "plot $TMP/nod.csv -o x.svg --script-out ../d/x.svg" \
+           "fit layout $S/default.yaml $E/layout_rows.csv -o x.svg --plot ./x.svg" \
+           "fit layout $S/default.yaml $E/layout_rows.csv -o x.gp --plot y.svg --plot-script $TMP/d/x.gp" \
+           "fit layout $S/default.yaml $E/layout_rows.csv --plot x.svg --plot-script $TMP/dl/x.svg"; do
+    run $cmd
+    expect_exit 64 "$cmd"; expect_stderr_has "name the same file" "$cmd"
+    [ -z "$(ls -A "$TMP/d")" ] && ok || bad "$cmd: wrote $(ls "$TMP/d")"
+done
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --plot x.svg --plot-script x.svg
+expect_stderr_has "--plot-script x.svg and --plot x.svg" "fit layout names its own options"
+cd - > /dev/null
 finish
