@@ -47,6 +47,9 @@ static hp_error csv_open(csv_file *f, const char *path, hp_diag *d)
     if (f->len > (size_t)CSV_MAX_BYTES)
         return hp_diag_set(d, HP_ERR_PARSE, "%s: larger than %ld bytes", path, CSV_MAX_BYTES);
     f->text[f->len] = '\0';
+    /* A UTF-8 byte-order mark (a spreadsheet's export may start with one) is skipped, as the
+     * scene and trace readers skip it; columns count from after it. */
+    if (f->len >= 3 && memcmp(f->text, "\xEF\xBB\xBF", 3) == 0) f->pos = 3;
     return HP_OK;
 }
 
@@ -357,7 +360,7 @@ static int is_jsonl(const csv_file *f)
         (n >= 7 && strcmp(f->path + n - 7, ".ndjson") == 0))
         return 1;
     if (n >= 4 && strcmp(f->path + n - 4, ".csv") == 0) return 0;
-    for (size_t i = 0; i < f->len; ++i) {
+    for (size_t i = f->pos; i < f->len; ++i) {
         char c = f->text[i];
         if (c == '#') {
             while (i < f->len && f->text[i] != '\n') ++i;
