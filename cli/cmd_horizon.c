@@ -340,6 +340,19 @@ int cmd_horizon(int argc, char **argv)
         goto done;
     rows_kind kind = {"", ""};
     if ((rc = read_trace(trace, use_ovr, from, &rows, &T, &kind))) goto done;
+    /* A correction solve and batch refuse is refused here too, with the file named, before
+     * any planning (the planners refuse it as well, but cannot name the file). */
+    {
+        hp_diag d = {{0}};
+        size_t bad = 0;
+        hp_error e = hp_horizon_check_rows(&sc->layout, rows, T, &bad, &d);
+        if (e != HP_OK) {
+            rc = e == HP_ERR_INVALID
+                     ? cli_fail(CLI_EXIT_DATAERR, CMD, "%s:%ld: %s", trace, rows[bad].line, d.text)
+                     : cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s", d.text);
+            goto done;
+        }
+    }
     /* The output is checked and created before any planning: a refused -o costs nothing and
      * can name no input. */
     if (a.out) {

@@ -54,4 +54,20 @@ expect_exit 0 "plot, result with a byte-order mark"
 grep -v "bom.csv" "$TMP/out" > "$TMP/a.gp"
 "$HP_BIN" plot "$TMP/nod.csv" --dry-run | grep -v "nod.csv" > "$TMP/b.gp"
 cmp -s "$TMP/a.gp" "$TMP/b.gp" && ok || bad "plot with a byte-order mark draws the same"
+# horizon planned a correction solve and batch refuse (a 100 deg pitch: outside the
+# identifiable range) with exit 0: greedy and receding as invalid-input rows, offline as
+# closest. Refused before any planning, with batch's words and the trace's line.
+printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,1,0,0,0,0,0\n1,0,0,0,100,0,0\n2,1,0,0,0,0,0\n' \
+    > "$TMP/inv.csv"
+run batch "$S/default.yaml" "$TMP/inv.csv" --format csv --no-times
+expect_exit 65 "batch, a row outside the identifiable range"
+want=$(grep -m1 "inv.csv:4: desired rotation" "$TMP/err" | sed 's/^headplan batch: //')
+[ -n "$want" ] && ok || bad "batch names the row"
+for m in greedy receding offline compare; do
+    run horizon "$S/default.yaml" "$TMP/inv.csv" --mode $m -o "$TMP/h.csv"
+    expect_exit 65 "horizon --mode $m, a row outside the identifiable range"
+    expect_stderr_has "headplan horizon: $want" "horizon --mode $m says what batch says"
+    expect_stdout_empty "horizon --mode $m"
+    [ ! -e "$TMP/h.csv" ] && ok || bad "horizon --mode $m wrote a result"
+done
 finish
