@@ -37,7 +37,7 @@ static void help(void)
            "prints it as JSON. -o writes every plan's rows as CSV, the summary in its\n"
            "'# ' header lines. --smooth is the pressure-change weight (mm^2 per kPa^2).\n\n"
            "exit: 0 ok, 64 usage, 65 bad scene, trace or value, 66 no input, 70 solver\n"
-           "failure, 73 cannot write OUT\n");
+           "failure or a row stopped by its budget (outputs written), 73 cannot write OUT\n");
 }
 
 typedef struct {
@@ -292,6 +292,30 @@ static void print_json(const int *modes, const hp_horizon_metrics *m, size_t T,
     json_decref(o);
 }
 
+/* A row a plan could not answer (stopped by its budget, a solver failure) is in the
+ * results with its status, as in batch; as in batch the run then exits 70, naming the first
+ * such row of each plan and how many there were. */
+static int failed_rows(const int *modes, hp_horizon_row *const *plans, const hp_trace_row *rows,
+                       size_t T, const char *trace)
+{
+    int rc = 0;
+    for (int p = 0; p < 3; ++p) {
+        if (!modes[p]) continue;
+        size_t n = 0, first = 0;
+        for (size_t t = 0; t < T; ++t) {
+            hp_status st = plans[p][t].status;
+            if (st == HP_STATUS_REACHED || st == HP_STATUS_CLOSEST || st == HP_STATUS_UNCOMMANDED)
+                continue;
+            if (!n++) first = t;
+        }
+        if (n)
+            rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %zu of %zu rows failed (first %s:%ld: %s)",
+                          PLAN_NAMES[p], n, T, trace, rows[first].line,
+                          hp_status_name(plans[p][first].status));
+    }
+    return rc;
+}
+
 int cmd_horizon(int argc, char **argv)
 {
     hz_args a;
@@ -400,6 +424,7 @@ int cmd_horizon(int argc, char **argv)
     }
     if (a.json) print_json(modes, m, T, &hs, &info, &kind, tol_mm, tol_deg);
     else write_summary_text(stdout, "", modes, m);
+    rc = failed_rows(modes, plans, rows, T, trace);
 done:
     if (rc) cli_out_abandon(&out);
     for (int p = 0; p < 3; ++p) free(plans[p]);

@@ -70,4 +70,17 @@ for m in greedy receding offline compare; do
     expect_stdout_empty "horizon --mode $m"
     [ ! -e "$TMP/h.csv" ] && ok || bad "horizon --mode $m wrote a result"
 done
+# A row stopped by its budget (iteration-limit) is a failure in batch (70) but horizon exited
+# 0 with it inside the summary. Now 70 after the outputs, naming the first such row.
+sed 's/backend: realtime, tolerance: 1e-9, max_iter: 200/backend: ipopt, tolerance: 1e-9, max_iter: 3/' \
+    "$S/default.yaml" > "$TMP/it.yaml"
+printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,1,0,0,0,0,0\n1,5,5,5,3,3,3\n2,1,0,0,0,0,0\n' \
+    > "$TMP/big.csv"
+run batch "$TMP/it.yaml" "$TMP/big.csv" --format csv --no-times
+expect_exit 70 "batch, a row at the iteration limit"
+grep -q "^4,1,iteration-limit," "$TMP/out" && ok || bad "batch: row 4 at the iteration limit"
+run horizon "$TMP/it.yaml" "$TMP/big.csv" --mode greedy -o "$TMP/hf.csv"
+expect_exit 70 "horizon, a row at the iteration limit"
+expect_stderr_has "greedy: 1 of 3 rows failed (first $TMP/big.csv:4: iteration-limit)" "horizon names it"
+grep -q "^greedy,1,.*,iteration-limit," "$TMP/hf.csv" && ok || bad "horizon -o states the row's status"
 finish
