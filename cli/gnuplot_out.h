@@ -17,6 +17,8 @@ typedef struct gp_out {
     cli_input inputs[3];    /* files the command reads: never written over */
     int ninputs;
     const char *drawing;    /* set by gp_draw while gnuplot draws: the temporary picture */
+    const char *path_opt;   /* the options' names in messages (NULL: "-o", "--script-out"; */
+    const char *script_opt; /* fit layout's are --plot and --plot-script) */
 } gp_out;
 
 /* Matches one of the shared options at argv[*i] (-o, --size, --script-out, --dry-run) and

@@ -83,4 +83,17 @@ run horizon "$TMP/it.yaml" "$TMP/big.csv" --mode greedy -o "$TMP/hf.csv"
 expect_exit 70 "horizon, a row at the iteration limit"
 expect_stderr_has "greedy: 1 of 3 rows failed (first $TMP/big.csv:4: iteration-limit)" "horizon names it"
 grep -q "^greedy,1,.*,iteration-limit," "$TMP/hf.csv" && ok || bad "horizon -o states the row's status"
+# fit layout's --plot and --plot-script refusals named -o and --script-out, options the user
+# did not give (fit layout's -o is the calibrated scene).
+cp "$S/default.yaml" "$TMP/fl.yaml"; ln -s "$TMP/none.svg" "$TMP/lnk.svg"
+run fit layout "$TMP/fl.yaml" "$E/layout_rows.csv" --plot "$TMP/lnk.svg"
+expect_exit 73 "fit layout --plot onto a link"
+expect_stderr_has "headplan fit: --plot $TMP/lnk.svg is a symbolic link" "fit layout names --plot"
+run fit layout "$TMP/fl.yaml" "$E/layout_rows.csv" --plot "$TMP/p.svg" --plot-script "$TMP/fl.yaml"
+expect_exit 73 "fit layout --plot-script onto the scene"
+expect_stderr_has "headplan fit: --plot-script $TMP/fl.yaml is the scene" "fit layout names --plot-script"
+cmp -s "$TMP/fl.yaml" "$S/default.yaml" && ok || bad "fit layout wrote over its scene"
+run fit layout "$TMP/fl.yaml" "$E/layout_rows.csv" --plot "$TMP/no/p.svg"
+expect_exit 73 "fit layout --plot into a missing folder"
+expect_stderr_has "headplan fit: --plot $TMP/no/p.svg: cannot create" "fit layout names --plot"
 finish
