@@ -45,6 +45,8 @@ int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o)
     }
     if ((m = cli_opt(cmd, argc, argv, i, "--size", &v)) != 0) {
         if (m < 0) return CLI_EXIT_USAGE;
+        if (o->size_given) return cli_fail(CLI_EXIT_USAGE, cmd, "--size: given more than once");
+        o->size_given = 1;
         char *end;
         errno = 0;
         long w = strtol(v, &end, 10), h = 0;

@@ -96,4 +96,11 @@ cmp -s "$TMP/fl.yaml" "$S/default.yaml" && ok || bad "fit layout wrote over its 
 run fit layout "$TMP/fl.yaml" "$E/layout_rows.csv" --plot "$TMP/no/p.svg"
 expect_exit 73 "fit layout --plot into a missing folder"
 expect_stderr_has "headplan fit: --plot $TMP/no/p.svg: cannot create" "fit layout names --plot"
+# render and plot took the last of two --size silently (every other option given twice is
+# refused).
+run render "$S/default.yaml" --size 300x300 --size 400x400 --dry-run
+expect_exit 64 "render --size twice"; expect_stderr_has "--size: given more than once" "render --size"
+run plot "$TMP/nod.csv" --size 300x300 --size 400x400 --dry-run
+expect_exit 64 "plot --size twice"; expect_stderr_has "--size: given more than once" "plot --size"
+expect_stdout_empty "plot --size twice"
 finish
