@@ -18,7 +18,7 @@
 
 const char GP_HELP[] =
     "  -o FILE        the picture: FILE.png or FILE.svg (required unless --dry-run)\n"
-    "  --size WxH     picture size in pixels (default 1500x700)\n"
+    "  --size WxH     picture size in pixels (default: render 1500x700, plot 1400x900)\n"
     "  --script-out F also keep the gnuplot script, data inline (redraw: gnuplot F)\n"
     "  --dry-run      write the script (to stdout, or to --script-out) and do not draw\n";
 

@@ -103,4 +103,10 @@ expect_exit 64 "render --size twice"; expect_stderr_has "--size: given more than
 run plot "$TMP/nod.csv" --size 300x300 --size 400x400 --dry-run
 expect_exit 64 "plot --size twice"; expect_stderr_has "--size: given more than once" "plot --size"
 expect_stdout_empty "plot --size twice"
+# plot's --help said its default size was 1500x700 (render's); it draws 1400x900.
+for c in render plot; do
+    if [ $c = plot ]; then run plot "$TMP/nod.csv" --dry-run; else run render "$S/default.yaml" --dry-run; fi
+    size=$(grep -m1 -o "size [0-9]*,[0-9]*" "$TMP/out" | sed 's/size //; s/,/x/')
+    "$HP_BIN" $c --help | grep -q -- "--size .*$c $size" && ok || bad "$c --help states the default size $size"
+done
 finish
