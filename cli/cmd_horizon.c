@@ -13,19 +13,20 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static const char *const CMD = "horizon";
 
 static void help(void)
 {
-    printf("usage: headplan horizon SCENE [TRACE] [--mode greedy|receding|offline|compare]\n"
+    printf("usage: headplan horizon SCENE [TRACE|-] [--mode greedy|receding|offline|compare]\n"
            "           [--horizon N] [--prediction hold|velocity] [--window ROWS]\n"
            "           [--overlap ROWS] [--rate-kpa-per-s R] [--smooth S]\n"
            "           [--rows deviation|correction] [--tolerance-mm MM] [--tolerance-deg DEG]\n"
            "           [-o OUT.csv] [--json]\n\n"
-           "Plans every row of TRACE (default: the scene's trace) under the scene's limits\n"
-           "and the rate limits between rows (each bladder's rate_max_kpa per row and\n"
-           "--rate-kpa-per-s times the row interval, whichever is smaller):\n"
+           "Plans every row of TRACE (default: the scene's trace; '-': standard input) under\n"
+           "the scene's limits and the rate limits between rows (each bladder's rate_max_kpa\n"
+           "per row and --rate-kpa-per-s times the row interval, whichever is smaller):\n"
            "  greedy    each row on its own, from the previous row's pressures\n"
            "  receding  each row planned N rows ahead (--horizon, default 10) with a\n"
            "            predicted desired pose (--prediction, default hold)\n"
@@ -119,17 +120,24 @@ typedef struct {
     const char *kind, *from; /* what the rows are, and who said so */
 } rows_kind;
 
+/* Reads TRACE ("-": standard input, named <stdin> as batch names it); *id is the file it
+ * read, so that -o cannot replace it under any name. */
 static int read_trace(const char *path, const hp_trace_rows *ovr, const char *from,
-                      hp_trace_row **out, size_t *T, rows_kind *kind)
+                      hp_trace_row **out, size_t *T, rows_kind *kind, cli_input *id)
 {
     hp_trace_reader *r = NULL;
     hp_diag d = {{0}};
-    FILE *f = fopen(path, "rb");
+    const int std = strcmp(path, "-") == 0;
+    if (std) path = "<stdin>";
+    FILE *f = std ? stdin : fopen(path, "rb");
     if (!f) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    *id = (cli_input){"trace", path, 0, 0, 0};
+    if (fstat(fileno(f), &st) == 0) *id = (cli_input){"trace", path, st.st_dev, st.st_ino, 1};
     /* The stream form names where the kind of rows came from in its messages. */
     hp_error e = hp_trace_open_stream(f, path, ovr, from, &r, &d);
     if (e != HP_OK) {
-        fclose(f);
+        if (!std) fclose(f);
         return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, CMD, "%s", d.text);
     }
     size_t n = 0, cap = 1024;
@@ -170,7 +178,7 @@ static int read_trace(const char *path, const hp_trace_rows *ovr, const char *fr
                  : strcmp(from, "--rows") == 0 ? "--rows"
                                                : "scene trace.rows";
     hp_trace_close(r);
-    fclose(f);
+    if (!std) fclose(f);
     if (rc == 0 && n == 0) rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: no rows", path);
     if (rc) {
         free(rows);
@@ -363,7 +371,9 @@ int cmd_horizon(int argc, char **argv)
         (rc = cli_settings(CMD, sc, NULL, NULL, &s)))
         goto done;
     rows_kind kind = {"", ""};
-    if ((rc = read_trace(trace, use_ovr, from, &rows, &T, &kind))) goto done;
+    cli_input trace_id;
+    if ((rc = read_trace(trace, use_ovr, from, &rows, &T, &kind, &trace_id))) goto done;
+    trace = trace_id.path; /* "<stdin>" for "-" */
     /* A correction solve and batch refuse is refused here too, with the file named, before
      * any planning (the planners refuse it as well, but cannot name the file). */
     {
@@ -383,7 +393,7 @@ int cmd_horizon(int argc, char **argv)
         cli_input in[3];
         int nin = 2;
         cli_input_of(&in[0], "scene", a.scene);
-        cli_input_of(&in[1], "trace", trace);
+        in[1] = trace_id;
         /* The scene's own trace when another one is planned: the user's data all the same. */
         if (sc->has_trace) cli_input_of(&in[nin++], "scene's trace", sc->trace_path);
         if ((rc = cli_out_open(&out, CMD, "-o", a.out, in, nin))) goto done;

@@ -109,4 +109,16 @@ for c in render plot; do
     size=$(grep -m1 -o "size [0-9]*,[0-9]*" "$TMP/out" | sed 's/size //; s/,/x/')
     "$HP_BIN" $c --help | grep -q -- "--size .*$c $size" && ok || bad "$c --help states the default size $size"
 done
+# '-' is standard input for batch's TRACE; horizon said "-: cannot open: No such file".
+printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,1,0,-0.5,0.3,0,-0.2\n0.1,1.2,0,-0.5,0.3,0,-0.2\n' \
+    > "$TMP/c.csv"
+"$HP_BIN" horizon "$S/default.yaml" "$TMP/c.csv" -o "$TMP/h_file.csv" > "$TMP/file_out" 2>/dev/null
+"$HP_BIN" horizon "$S/default.yaml" - -o "$TMP/h_pipe.csv" < <(cat "$TMP/c.csv") > "$TMP/out" 2> "$TMP/err"; rc=$?
+expect_exit 0 "horizon, trace on standard input"
+cmp -s "$TMP/out" "$TMP/file_out" && ok || bad "horizon from standard input prints what the file gives"
+diff <(sed 1d "$TMP/h_file.csv") <(sed 1d "$TMP/h_pipe.csv") > /dev/null && ok || bad "horizon -o from standard input"
+cp "$TMP/c.csv" "$TMP/c2.csv"
+"$HP_BIN" horizon "$S/default.yaml" - -o "$TMP/c2.csv" < "$TMP/c2.csv" > "$TMP/out" 2> "$TMP/err"; rc=$?
+expect_exit 73 "horizon -o onto the file on standard input"
+cmp -s "$TMP/c.csv" "$TMP/c2.csv" && ok || bad "horizon replaced the trace it read from standard input"
 finish
