@@ -82,6 +82,18 @@ int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cl
     return 0;
 }
 
+int cli_stdout_not_input(const char *cmd, const char *what, const char *name, int fd,
+                         const char *path)
+{
+    struct stat in, out;
+    if (fstat(STDOUT_FILENO, &out) != 0 || !S_ISREG(out.st_mode)) return 0;
+    if ((fd >= 0 ? fstat(fd, &in) : path ? stat(path, &in) : -1) != 0) return 0;
+    if (in.st_dev != out.st_dev || in.st_ino != out.st_ino) return 0;
+    return cli_fail(CLI_EXIT_CANTCREAT, cmd,
+                    "standard output is the %s %s: refused (it would be written into)", what,
+                    name);
+}
+
 /* The directory part of path ("." when it has none) into buf, and the name after it. */
 static const char *split_dir(const char *path, char *buf, size_t cap)
 {

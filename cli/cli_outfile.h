@@ -37,6 +37,12 @@ int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cl
 int cli_outputs_distinct(const char *cmd, const char *opt_a, const char *a, const char *opt_b,
                          const char *b);
 
+/* 0 when standard output is not the input `what` NAME (open as fd, or at path when fd < 0);
+ * otherwise CLI_EXIT_CANTCREAT after one line. `headplan solve s.yaml >> s.yaml` appended
+ * the result to the scene, exit 0; `batch s.yaml t.csv >> t.csv` to the trace. */
+int cli_stdout_not_input(const char *cmd, const char *what, const char *name, int fd,
+                         const char *path);
+
 typedef struct cli_out {
     FILE *f;          /* the temporary file, open for writing */
     const char *path; /* where it goes on commit */

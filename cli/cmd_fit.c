@@ -130,6 +130,8 @@ static int run_material(int argc, char **argv)
         }
     }
     if (!data) return cli_fail(CLI_EXIT_USAGE, CMD, "material: missing DATA file");
+    int out_rc = cli_stdout_not_input(CMD, "data", data, -1, data);
+    if (out_rc) return out_rc;
     if (!ri_t || !ro_t)
         return cli_fail(CLI_EXIT_USAGE, CMD, "material: --Ri-mm and --Ro-mm are required");
     double Ri, Ro;
@@ -580,6 +582,7 @@ static int run_layout(int argc, char **argv)
     if (!rc && a.out && !*a.out) rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "-o '': an empty file name");
     if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, n_inputs, &d)) != HP_OK)
         rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
+    if (!rc) rc = cli_stdout_not_input(CMD, "data", a.data, -1, a.data);
     if (!rc) {
         e = hp_calib_read_layout(a.data, &sc->layout, rows, HP_CALIB_MAX_ROWS, &n, &d);
         if (e) rc = cli_fail(status_of(e), CMD, "%s", d.text);

@@ -131,6 +131,11 @@ static int read_trace(const char *path, const hp_trace_rows *ovr, const char *fr
     if (std) path = "<stdin>";
     FILE *f = std ? stdin : fopen(path, "rb");
     if (!f) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    int rc = cli_stdout_not_input(CMD, "trace", path, fileno(f), NULL);
+    if (rc) {
+        if (!std) fclose(f);
+        return rc;
+    }
     struct stat st;
     *id = (cli_input){"trace", path, 0, 0, 0};
     if (fstat(fileno(f), &st) == 0) *id = (cli_input){"trace", path, st.st_dev, st.st_ino, 1};
@@ -142,7 +147,6 @@ static int read_trace(const char *path, const hp_trace_rows *ovr, const char *fr
     }
     size_t n = 0, cap = 1024;
     hp_trace_row *rows = malloc(cap * sizeof *rows);
-    int rc = 0;
     for (;;) {
         if (!rows) {
             rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");

@@ -186,6 +186,11 @@ static int read_result(const char *path, result *res)
     FILE *in = fopen(path, "r");
     if (!in)
         return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    int bad_out = cli_stdout_not_input(CMD, "result", path, fileno(in), NULL);
+    if (bad_out) {
+        fclose(in);
+        return bad_out;
+    }
     char buf[8192];
     char *f[MAXF];
     int col[10 + 6 + 2 * HP_MAX_BLADDERS], nf = 0, rc = -1;
@@ -286,6 +291,11 @@ static int read_desired(const char *path, const hp_trace_rows *rows, const char 
     hp_diag d = {{0}};
     FILE *tf = fopen(path, "rb");
     if (!tf) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    int bad_out = cli_stdout_not_input(CMD, "trace", path, fileno(tf), NULL);
+    if (bad_out) {
+        fclose(tf);
+        return bad_out;
+    }
     hp_error e = hp_trace_open_stream(tf, path, rows, from, &r, &d);
     if (e != HP_OK) {
         fclose(tf);

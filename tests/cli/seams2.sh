@@ -121,4 +121,21 @@ cp "$TMP/c.csv" "$TMP/c2.csv"
 "$HP_BIN" horizon "$S/default.yaml" - -o "$TMP/c2.csv" < "$TMP/c2.csv" > "$TMP/out" 2> "$TMP/err"; rc=$?
 expect_exit 73 "horizon -o onto the file on standard input"
 cmp -s "$TMP/c.csv" "$TMP/c2.csv" && ok || bad "horizon replaced the trace it read from standard input"
+# Standard output appended to an input (">> scene.yaml"): the result was written into the
+# scene, the trace, the result or the data file, exit 0. Refused before anything is written.
+mkdir -p "$TMP/app"; cd "$TMP/app"
+cp "$S/default.yaml" s.yaml; cp "$TMP/c.csv" t.csv; cp "$TMP/nod.csv" r.csv
+cp "$E/material_ri.csv" m.csv; cp "$E/layout_rows.csv" l.csv
+cp s.yaml s.orig; cp t.csv t.orig; cp r.csv r.orig; cp m.csv m.orig; cp l.csv l.orig
+for c in "solve s.yaml >> s.yaml" "analyze s.yaml >> s.yaml" "render s.yaml --dry-run >> s.yaml" \
+         "batch s.yaml t.csv --format csv >> t.csv" "batch s.yaml - --format csv < t.csv >> t.csv" \
+         "horizon s.yaml t.csv >> t.csv" "plot r.csv --dry-run >> r.csv" \
+         "fit material m.csv --Ri-mm 27 --Ro-mm 30 >> m.csv" "fit layout s.yaml l.csv >> l.csv"; do
+    eval "\"\$HP_BIN\" $c" 2> "$TMP/err"; rc=$?
+    expect_exit 73 "$c"; expect_stderr_has "standard output is the" "$c"
+done
+for f in s.yaml t.csv r.csv m.csv l.csv; do cmp -s "$f" "${f%.*}.orig" && ok || bad "$f was written into"; done
+"$HP_BIN" solve s.yaml >> other.txt 2> "$TMP/err"; rc=$?
+expect_exit 0 "solve appending to another file"
+cd - > /dev/null
 finish
