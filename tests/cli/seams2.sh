@@ -138,4 +138,14 @@ for f in s.yaml t.csv r.csv m.csv l.csv; do cmp -s "$f" "${f%.*}.orig" && ok || 
 "$HP_BIN" solve s.yaml >> other.txt 2> "$TMP/err"; rc=$?
 expect_exit 0 "solve appending to another file"
 cd - > /dev/null
+# solve --backend nlopt-cobyla on a scene planned at the load level blamed the scene (65,
+# 'load_supine.yaml: load planner: backend ...'); the scene is fine, the option is not: 64.
+run solve "$S/load_supine.yaml" --backend nlopt-cobyla
+expect_exit 64 "solve --backend cobyla at the load level"
+expect_stderr_has "headplan solve: --backend nlopt-cobyla: load planner: backend nlopt-cobyla is not available" "names --backend"
+sed "s/backend: [a-z-]*/backend: nlopt-cobyla/; s#file: traces/#file: $S/traces/#" "$S/load_supine.yaml" > "$TMP/lc.yaml"
+run solve "$TMP/lc.yaml"
+expect_exit 65 "a load scene that asks for cobyla itself"; expect_stderr_has "lc.yaml: load planner" "names the scene"
+run solve "$TMP/lc.yaml" --backend realtime
+expect_exit 0 "--backend realtime overrides the scene's cobyla"
 finish
