@@ -303,7 +303,7 @@ static hp_error jsonl_row(const csv_file *f, const hp_layout *L, const hp_iab_li
         return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: too small for a double", f->path,
                            f->line, at + 1, (int)uklen, ukey);
     json_error_t je;
-    json_t *o = json_loadb(s, len, JSON_REJECT_DUPLICATES, &je);
+    json_t *o = json_loadb(s, len, JSON_REJECT_DUPLICATES | JSON_DECODE_INT_AS_REAL, &je); /* as CSV */
     if (!o)
         return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s", f->path, f->line,
                            je.column > 0 ? je.column : 1, je.text);
