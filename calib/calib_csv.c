@@ -47,6 +47,9 @@ static hp_error csv_open(csv_file *f, const char *path, hp_diag *d)
     if (f->len > (size_t)CSV_MAX_BYTES)
         return hp_diag_set(d, HP_ERR_PARSE, "%s: larger than %ld bytes", path, CSV_MAX_BYTES);
     f->text[f->len] = '\0';
+    /* A UTF-8 byte-order mark (a spreadsheet's export may start with one) is skipped, as the
+     * scene and trace readers skip it; columns count from after it. */
+    if (f->len >= 3 && memcmp(f->text, "\xEF\xBB\xBF", 3) == 0) f->pos = 3;
     return HP_OK;
 }
 
@@ -300,7 +303,7 @@ static hp_error jsonl_row(const csv_file *f, const hp_layout *L, const hp_iab_li
         return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: too small for a double", f->path,
                            f->line, at + 1, (int)uklen, ukey);
     json_error_t je;
-    json_t *o = json_loadb(s, len, JSON_REJECT_DUPLICATES, &je);
+    json_t *o = json_loadb(s, len, JSON_REJECT_DUPLICATES | JSON_DECODE_INT_AS_REAL, &je); /* as CSV */
     if (!o)
         return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s", f->path, f->line,
                            je.column > 0 ? je.column : 1, je.text);
@@ -357,7 +360,7 @@ static int is_jsonl(const csv_file *f)
         (n >= 7 && strcmp(f->path + n - 7, ".ndjson") == 0))
         return 1;
     if (n >= 4 && strcmp(f->path + n - 4, ".csv") == 0) return 0;
-    for (size_t i = 0; i < f->len; ++i) {
+    for (size_t i = f->pos; i < f->len; ++i) {
         char c = f->text[i];
         if (c == '#') {
             while (i < f->len && f->text[i] != '\n') ++i;

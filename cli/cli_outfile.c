@@ -82,6 +82,48 @@ int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cl
     return 0;
 }
 
+int cli_stdout_not_input(const char *cmd, const char *what, const char *name, int fd,
+                         const char *path)
+{
+    struct stat in, out;
+    if (fstat(STDOUT_FILENO, &out) != 0 || !S_ISREG(out.st_mode)) return 0;
+    if ((fd >= 0 ? fstat(fd, &in) : path ? stat(path, &in) : -1) != 0) return 0;
+    if (in.st_dev != out.st_dev || in.st_ino != out.st_ino) return 0;
+    return cli_fail(CLI_EXIT_CANTCREAT, cmd,
+                    "standard output is the %s %s: refused (it would be written into)", what,
+                    name);
+}
+
+/* The directory part of path ("." when it has none) into buf, and the name after it. */
+static const char *split_dir(const char *path, char *buf, size_t cap)
+{
+    const char *slash = strrchr(path, '/');
+    if (!slash) {
+        snprintf(buf, cap, ".");
+        return path;
+    }
+    size_t n = slash == path ? 1 : (size_t)(slash - path);
+    snprintf(buf, cap, "%.*s", n < cap ? (int)n : (int)cap - 1, path);
+    return slash + 1;
+}
+
+int cli_outputs_distinct(const char *cmd, const char *opt_a, const char *a, const char *opt_b,
+                         const char *b)
+{
+    if (!a || !b) return 0;
+    int same = strcmp(a, b) == 0;
+    if (!same) {
+        char da[TMP_PATH_MAX], db[TMP_PATH_MAX];
+        const char *na = split_dir(a, da, sizeof da), *nb = split_dir(b, db, sizeof db);
+        struct stat sa, sb;
+        same = strcmp(na, nb) == 0 && stat(da, &sa) == 0 && stat(db, &sb) == 0 &&
+               sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+    }
+    if (!same) return 0;
+    return cli_fail(CLI_EXIT_USAGE, cmd, "%s %s and %s %s name the same file: give two names",
+                    opt_a, a, opt_b, b);
+}
+
 int cli_out_open(cli_out *o, const char *cmd, const char *opt, const char *path,
                  const cli_input *in, int n)
 {

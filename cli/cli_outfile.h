@@ -30,6 +30,19 @@ void cli_input_of(cli_input *in, const char *what, const char *path);
 int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cli_input *in,
                     int n);
 
+/* 0 when the outputs a and b (named by options opt_a and opt_b) are different files;
+ * otherwise CLI_EXIT_USAGE after one line. The same file is the same name in the same
+ * directory however either is spelled ("x.svg", "./x.svg", "../d/x.svg", a link to the
+ * directory): the second rename would replace the first output with exit 0. */
+int cli_outputs_distinct(const char *cmd, const char *opt_a, const char *a, const char *opt_b,
+                         const char *b);
+
+/* 0 when standard output is not the input `what` NAME (open as fd, or at path when fd < 0);
+ * otherwise CLI_EXIT_CANTCREAT after one line. `headplan solve s.yaml >> s.yaml` appended
+ * the result to the scene, exit 0; `batch s.yaml t.csv >> t.csv` to the trace. */
+int cli_stdout_not_input(const char *cmd, const char *what, const char *name, int fd,
+                         const char *path);
+
 typedef struct cli_out {
     FILE *f;          /* the temporary file, open for writing */
     const char *path; /* where it goes on commit */

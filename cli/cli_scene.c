@@ -1,6 +1,8 @@
 /* Scene loading and planner settings for the subcommands (see cli_scene.h). */
+#define _POSIX_C_SOURCE 200809L
 #include "cli/cli_scene.h"
 #include "cli/cli_args.h"
+#include "cli/cli_outfile.h"
 #include "cli/exit_codes.h"
 
 #include <errno.h>
@@ -17,6 +19,11 @@ static int read_scene(const char *cmd, const char *path, char **buf, size_t *len
     *buf = NULL;
     FILE *f = fopen(path, "rb");
     if (!f) return cli_fail(CLI_EXIT_NOINPUT, cmd, "%s: cannot open: %s", path, strerror(errno));
+    int rc = cli_stdout_not_input(cmd, "scene", path, fileno(f), NULL);
+    if (rc) {
+        fclose(f);
+        return rc;
+    }
     char *b = malloc(HP_SCENE_MAX_BYTES + 1);
     if (!b) {
         fclose(f);
@@ -26,7 +33,6 @@ static int read_scene(const char *cmd, const char *path, char **buf, size_t *len
     size_t n = fread(b, 1, HP_SCENE_MAX_BYTES + 1, f);
     int failed = ferror(f), why = errno;
     fclose(f);
-    int rc = 0;
     if (failed)
         rc = cli_fail(CLI_EXIT_NOINPUT, cmd, "%s: cannot read: %s", path,
                       why ? strerror(why) : "read error");

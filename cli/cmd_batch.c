@@ -218,6 +218,8 @@ static int open_trace(const char *path, trace_input *t)
         if (!(t->f = fopen(path, "rb")))
             return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
     }
+    int rc = cli_stdout_not_input(CMD, "trace", t->name, fileno(t->f), NULL);
+    if (rc) return rc;
     if (fstat(fileno(t->f), &t->st) != 0 || S_ISDIR(t->st.st_mode))
         return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", t->name,
                            strerror(S_ISDIR(t->st.st_mode) ? EISDIR : errno));

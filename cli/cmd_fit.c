@@ -5,6 +5,7 @@
  *                         [--plot-script FILE.gp] [--json] */
 #include "cli/cli_output.h"
 #include "cli/cli_args.h"
+#include "cli/cli_outfile.h"
 #include "common/units.h"
 #include "cli/cli_scene.h"
 #include "cli/commands.h"
@@ -112,23 +113,15 @@ static int run_material(int argc, char **argv)
 {
     const char *data = NULL, *ri_t = NULL, *ro_t = NULL, *plot = NULL, *ref_t = NULL;
     int json = 0;
+    /* One matcher for both fits: a value given twice is refused, not silently replaced. */
+    const char *const names[] = {"--Ri-mm", "--Ro-mm", "--plot", "--fit-ref"};
+    const char **slots[] = {&ri_t, &ro_t, &plot, &ref_t};
     for (int i = 0; i < argc; ++i) {
-        const char *v;
         int m;
         if (strcmp(argv[i], "--json") == 0) {
             json = 1;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--Ri-mm", &v)) != 0) {
+        } else if ((m = cli_named_opt(CMD, argc, argv, &i, names, slots, 4)) != 0) {
             if (m < 0) return CLI_EXIT_USAGE;
-            ri_t = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--Ro-mm", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            ro_t = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--plot", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            plot = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--fit-ref", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            ref_t = v;
         } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
             return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         } else if (data) {
@@ -138,6 +131,8 @@ static int run_material(int argc, char **argv)
         }
     }
     if (!data) return cli_fail(CLI_EXIT_USAGE, CMD, "material: missing DATA file");
+    int out_rc = cli_stdout_not_input(CMD, "data", data, -1, data);
+    if (out_rc) return out_rc;
     if (!ri_t || !ro_t)
         return cli_fail(CLI_EXIT_USAGE, CMD, "material: --Ri-mm and --Ro-mm are required");
     double Ri, Ro;
@@ -360,6 +355,11 @@ static int parse_layout(int argc, char **argv, layout_args *a)
             return cli_fail(CLI_EXIT_USAGE, CMD, "--plot: '%s' must end in .png or .svg",
                             a->plot);
     }
+    int rc;
+    if ((rc = cli_outputs_distinct(CMD, "-o", a->out, "--plot", a->plot)) ||
+        (rc = cli_outputs_distinct(CMD, "-o", a->out, "--plot-script", a->plot_script)) ||
+        (rc = cli_outputs_distinct(CMD, "--plot-script", a->plot_script, "--plot", a->plot)))
+        return rc;
     return -1;
 }
 
@@ -583,6 +583,7 @@ static int run_layout(int argc, char **argv)
     if (!rc && a.out && !*a.out) rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "-o '': an empty file name");
     if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, n_inputs, &d)) != HP_OK)
         rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
+    if (!rc) rc = cli_stdout_not_input(CMD, "data", a.data, -1, a.data);
     if (!rc) {
         e = hp_calib_read_layout(a.data, &sc->layout, rows, HP_CALIB_MAX_ROWS, &n, &d);
         if (e) rc = cli_fail(status_of(e), CMD, "%s", d.text);

@@ -14,19 +14,20 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static const char *const CMD = "horizon";
 
 static void help(void)
 {
-    printf("usage: headplan horizon SCENE [TRACE] [--mode greedy|receding|offline|compare]\n"
+    printf("usage: headplan horizon SCENE [TRACE|-] [--mode greedy|receding|offline|compare]\n"
            "           [--horizon N] [--prediction hold|velocity] [--window ROWS]\n"
            "           [--overlap ROWS] [--rate-kpa-per-s R] [--smooth S]\n"
            "           [--rows deviation|correction] [--tolerance-mm MM] [--tolerance-deg DEG]\n"
            "           [-o OUT.csv] [--json]\n\n"
-           "Plans every row of TRACE (default: the scene's trace) under the scene's limits\n"
-           "and the rate limits between rows (each bladder's rate_max_kpa per row and\n"
-           "--rate-kpa-per-s times the row interval, whichever is smaller):\n"
+           "Plans every row of TRACE (default: the scene's trace; '-': standard input) under\n"
+           "the scene's limits and the rate limits between rows (each bladder's rate_max_kpa\n"
+           "per row and --rate-kpa-per-s times the row interval, whichever is smaller):\n"
            "  greedy    each row on its own, from the previous row's pressures\n"
            "  receding  each row planned N rows ahead (--horizon, default 10) with a\n"
            "            predicted desired pose (--prediction, default hold)\n"
@@ -38,7 +39,7 @@ static void help(void)
            "prints it as JSON. -o writes every plan's rows as CSV, the summary in its\n"
            "'# ' header lines. --smooth is the pressure-change weight (mm^2 per kPa^2).\n\n"
            "exit: 0 ok, 64 usage, 65 bad scene, trace or value, 66 no input, 70 solver\n"
-           "failure, 73 cannot write OUT\n");
+           "failure or a row stopped by its budget (outputs written), 73 cannot write OUT\n");
 }
 
 typedef struct {
@@ -120,22 +121,33 @@ typedef struct {
     const char *kind, *from; /* what the rows are, and who said so */
 } rows_kind;
 
+/* Reads TRACE ("-": standard input, named <stdin> as batch names it); *id is the file it
+ * read, so that -o cannot replace it under any name. */
 static int read_trace(const char *path, const hp_trace_rows *ovr, const char *from,
-                      hp_trace_row **out, size_t *T, rows_kind *kind)
+                      hp_trace_row **out, size_t *T, rows_kind *kind, cli_input *id)
 {
     hp_trace_reader *r = NULL;
     hp_diag d = {{0}};
-    FILE *f = fopen(path, "rb");
+    const int std = strcmp(path, "-") == 0;
+    if (std) path = "<stdin>";
+    FILE *f = std ? stdin : fopen(path, "rb");
     if (!f) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    int rc = cli_stdout_not_input(CMD, "trace", path, fileno(f), NULL);
+    if (rc) {
+        if (!std) fclose(f);
+        return rc;
+    }
+    struct stat st;
+    *id = (cli_input){"trace", path, 0, 0, 0};
+    if (fstat(fileno(f), &st) == 0) *id = (cli_input){"trace", path, st.st_dev, st.st_ino, 1};
     /* The stream form names where the kind of rows came from in its messages. */
     hp_error e = hp_trace_open_stream(f, path, ovr, from, &r, &d);
     if (e != HP_OK) {
-        fclose(f);
+        if (!std) fclose(f);
         return cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, CMD, "%s", d.text);
     }
     size_t n = 0, cap = 1024;
     hp_trace_row *rows = malloc(cap * sizeof *rows);
-    int rc = 0;
     for (;;) {
         if (!rows) {
             rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
@@ -171,7 +183,7 @@ static int read_trace(const char *path, const hp_trace_rows *ovr, const char *fr
                  : strcmp(from, "--rows") == 0 ? "--rows"
                                                : "scene trace.rows";
     hp_trace_close(r);
-    fclose(f);
+    if (!std) fclose(f);
     if (rc == 0 && n == 0) rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: no rows", path);
     if (rc) {
         free(rows);
@@ -293,6 +305,30 @@ static void print_json(const int *modes, const hp_horizon_metrics *m, size_t T,
     json_decref(o);
 }
 
+/* A row a plan could not answer (stopped by its budget, a solver failure) is in the
+ * results with its status, as in batch; as in batch the run then exits 70, naming the first
+ * such row of each plan and how many there were. */
+static int failed_rows(const int *modes, hp_horizon_row *const *plans, const hp_trace_row *rows,
+                       size_t T, const char *trace)
+{
+    int rc = 0;
+    for (int p = 0; p < 3; ++p) {
+        if (!modes[p]) continue;
+        size_t n = 0, first = 0;
+        for (size_t t = 0; t < T; ++t) {
+            hp_status st = plans[p][t].status;
+            if (st == HP_STATUS_REACHED || st == HP_STATUS_CLOSEST || st == HP_STATUS_UNCOMMANDED)
+                continue;
+            if (!n++) first = t;
+        }
+        if (n)
+            rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %zu of %zu rows failed (first %s:%ld: %s)",
+                          PLAN_NAMES[p], n, T, trace, rows[first].line,
+                          hp_status_name(plans[p][first].status));
+    }
+    return rc;
+}
+
 int cmd_horizon(int argc, char **argv)
 {
     hz_args a;
@@ -340,14 +376,29 @@ int cmd_horizon(int argc, char **argv)
         (rc = cli_settings(CMD, sc, NULL, NULL, &s)))
         goto done;
     rows_kind kind = {"", ""};
-    if ((rc = read_trace(trace, use_ovr, from, &rows, &T, &kind))) goto done;
+    cli_input trace_id;
+    if ((rc = read_trace(trace, use_ovr, from, &rows, &T, &kind, &trace_id))) goto done;
+    trace = trace_id.path; /* "<stdin>" for "-" */
+    /* A correction solve and batch refuse is refused here too, with the file named, before
+     * any planning (the planners refuse it as well, but cannot name the file). */
+    {
+        hp_diag d = {{0}};
+        size_t bad = 0;
+        hp_error e = hp_horizon_check_rows(&sc->layout, rows, T, &bad, &d);
+        if (e != HP_OK) {
+            rc = e == HP_ERR_INVALID
+                     ? cli_fail(CLI_EXIT_DATAERR, CMD, "%s:%ld: %s", trace, rows[bad].line, d.text)
+                     : cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s", d.text);
+            goto done;
+        }
+    }
     /* The output is checked and created before any planning: a refused -o costs nothing and
      * can name no input. */
     if (a.out) {
         cli_input in[3];
         int nin = 2;
         cli_input_of(&in[0], "scene", a.scene);
-        cli_input_of(&in[1], "trace", trace);
+        in[1] = trace_id;
         /* The scene's own trace when another one is planned: the user's data all the same. */
         if (sc->has_trace) cli_input_of(&in[nin++], "scene's trace", sc->trace_path);
         if ((rc = cli_out_open(&out, CMD, "-o", a.out, in, nin))) goto done;
@@ -391,6 +442,7 @@ int cmd_horizon(int argc, char **argv)
     }
     if (a.json) print_json(modes, m, T, &hs, &info, &kind, tol_mm, tol_deg);
     else write_summary_text(stdout, "", modes, m);
+    rc = failed_rows(modes, plans, rows, T, trace);
 done:
     if (rc) cli_out_abandon(&out);
     for (int p = 0; p < 3; ++p) free(plans[p]);

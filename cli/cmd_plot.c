@@ -186,6 +186,11 @@ static int read_result(const char *path, result *res)
     FILE *in = fopen(path, "r");
     if (!in)
         return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    int bad_out = cli_stdout_not_input(CMD, "result", path, fileno(in), NULL);
+    if (bad_out) {
+        fclose(in);
+        return bad_out;
+    }
     char buf[8192];
     char *f[MAXF];
     int col[10 + 6 + 2 * HP_MAX_BLADDERS], nf = 0, rc = -1;
@@ -193,6 +198,20 @@ static int read_result(const char *path, result *res)
     int have_header = 0;
     while (rc < 0 && fgets(buf, sizeof buf, in)) {
         ++lineno;
+        /* A result cut short (a killed `headplan batch > r.csv`, a partial copy) must not be
+         * drawn with its last number cut ("-38.09" read as "-3"), nor a line longer than buf
+         * read as two: refused as the trace reader refuses them. */
+        size_t len = strlen(buf);
+        if (len == 0 || buf[len - 1] != '\n') {
+            rc = cli_fail(CLI_EXIT_DATAERR, CMD,
+                          feof(in) && len > 0      ? "%s:%ld: truncated: the last line has no end of line"
+                          : len == sizeof buf - 1 ? "%s:%ld: line longer than 8190 bytes"
+                                                  : "%s:%ld: NUL byte",
+                          path, lineno);
+            break;
+        }
+        /* A UTF-8 byte-order mark is skipped, as the scene and trace readers skip it. */
+        if (lineno == 1 && memcmp(buf, "\xEF\xBB\xBF", 3) == 0) memmove(buf, buf + 3, len - 2);
         if (!have_header) { /* batch's metadata: which scene and trace made the result */
             meta_sha(buf, "# scene_sha256: ", res->scene_sha);
             meta_sha(buf, "# trace_sha256: ", res->trace_sha);
@@ -272,6 +291,11 @@ static int read_desired(const char *path, const hp_trace_rows *rows, const char 
     hp_diag d = {{0}};
     FILE *tf = fopen(path, "rb");
     if (!tf) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    int bad_out = cli_stdout_not_input(CMD, "trace", path, fileno(tf), NULL);
+    if (bad_out) {
+        fclose(tf);
+        return bad_out;
+    }
     hp_error e = hp_trace_open_stream(tf, path, rows, from, &r, &d);
     if (e != HP_OK) {
         fclose(tf);

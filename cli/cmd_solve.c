@@ -192,7 +192,7 @@ int cmd_solve(int argc, char **argv)
     s.use_rate_limits = 0; /* one solve from the nominal pose: no previous cycle */
     if (use_load) {
         rc = cli_solve_load(CMD, sc, &s, desired, a.correction ? "--correction" : "correction",
-                            a.json, why);
+                            a.json, why, a.backend);
         free(sc);
         return rc;
     }

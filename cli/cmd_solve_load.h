@@ -27,10 +27,12 @@ int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_ar
 /* Plans desired[6] (SI) with the load planner and prints the answer (table or JSON):
  * pressures, forces, binding limits, equilibrium residual, compliance, forward statics'
  * round trip. from names where desired came from ("--correction" or "correction") in the
- * message of a refused one. Returns the exit status (0 reached, 1 closest, 65 a correction
- * outside the identifiable range, 70 no confirmed answer). */
+ * message of a refused one; backend_opt is --backend's value when given (a backend the
+ * load level refuses is then a usage error, 64). Returns the exit status (0 reached, 1
+ * closest, 65 a correction outside the identifiable range, 70 no confirmed answer). */
 int cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
-                      const double desired[6], const char *from, int json, const char *why);
+                   const double desired[6], const char *from, int json, const char *why,
+                   const char *backend_opt);
 
 /* When a bladder of L has a stress limit: a table of every bladder's hoop stress at the
  * inner surface (kPa) beside its limit. Prints nothing otherwise. */

@@ -52,6 +52,8 @@ int fit_layout_plot(const char *cmd, const char *path, const char *script, const
     for (int i = 0; i < nin && i < 3; ++i) o.inputs[o.ninputs++] = in[i];
     o.path = path;
     o.script_out = script;
+    o.path_opt = "--plot";
+    o.script_opt = "--plot-script";
     o.width = 1500;
     o.height = naxes > 3 ? 900 : 500;
     int rc = gp_check(cmd, &o);

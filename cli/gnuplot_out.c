@@ -18,7 +18,7 @@
 
 const char GP_HELP[] =
     "  -o FILE        the picture: FILE.png or FILE.svg (required unless --dry-run)\n"
-    "  --size WxH     picture size in pixels (default 1500x700)\n"
+    "  --size WxH     picture size in pixels (default: render 1500x700, plot 1400x900)\n"
     "  --script-out F also keep the gnuplot script, data inline (redraw: gnuplot F)\n"
     "  --dry-run      write the script (to stdout, or to --script-out) and do not draw\n";
 
@@ -45,6 +45,8 @@ int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o)
     }
     if ((m = cli_opt(cmd, argc, argv, i, "--size", &v)) != 0) {
         if (m < 0) return CLI_EXIT_USAGE;
+        if (o->size_given) return cli_fail(CLI_EXIT_USAGE, cmd, "--size: given more than once");
+        o->size_given = 1;
         char *end;
         errno = 0;
         long w = strtol(v, &end, 10), h = 0;
@@ -75,6 +77,13 @@ static int ends_with(const char *s, const char *suffix)
     return n > k && strcmp(s + n - k, suffix) == 0;
 }
 
+/* The names the user gave the two outputs. */
+static const char *path_opt(const gp_out *o) { return o->path_opt ? o->path_opt : "-o"; }
+static const char *script_opt(const gp_out *o)
+{
+    return o->script_opt ? o->script_opt : "--script-out";
+}
+
 int gp_check(const char *cmd, gp_out *o)
 {
     if (!o->width) {
@@ -85,12 +94,12 @@ int gp_check(const char *cmd, gp_out *o)
         if (o->dry_run) return -1;
         return cli_fail(CLI_EXIT_USAGE, cmd, "-o: missing (FILE.png or FILE.svg)");
     }
-    if (o->script_out && strcmp(o->script_out, o->path) == 0)
-        return cli_fail(CLI_EXIT_USAGE, cmd, "--script-out and -o name the same file '%s'",
-                        o->path);
+    int rc = cli_outputs_distinct(cmd, script_opt(o), o->script_out, path_opt(o), o->path);
+    if (rc) return rc;
     if (ends_with(o->path, ".svg")) o->svg = 1;
     else if (!ends_with(o->path, ".png"))
-        return cli_fail(CLI_EXIT_USAGE, cmd, "-o: '%s' must end in .png or .svg", o->path);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' must end in .png or .svg", path_opt(o),
+                        o->path);
     return -1;
 }
 
@@ -203,9 +212,9 @@ int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f),
     cli_out script = {.slot = -1}, picture = {.slot = -1};
     int rc = 0;
     if (o->script_out)
-        rc = cli_out_open(&script, cmd, "--script-out", o->script_out, o->inputs, o->ninputs);
+        rc = cli_out_open(&script, cmd, script_opt(o), o->script_out, o->inputs, o->ninputs);
     if (rc == 0 && !o->dry_run)
-        rc = cli_out_open(&picture, cmd, "-o", o->path, o->inputs, o->ninputs);
+        rc = cli_out_open(&picture, cmd, path_opt(o), o->path, o->inputs, o->ninputs);
     if (rc == 0 && o->script_out) rc = write_script(cmd, o->script_out, script.f, writer, arg);
     if (rc == 0 && !o->dry_run) {
         /* gnuplot writes the picture to the temporary name itself; the kept script names
@@ -220,7 +229,7 @@ int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f),
             rc = cli_fail(CLI_EXIT_SOFTWARE, cmd, "gnuplot failed (exit %d) drawing %s", st,
                           o->path);
         else if (stat(cli_out_temp(&picture), &sb) != 0 || sb.st_size == 0)
-            rc = cli_fail(CLI_EXIT_CANTCREAT, cmd, "-o: %s was not written", o->path);
+            rc = cli_fail(CLI_EXIT_CANTCREAT, cmd, "%s: %s was not written", path_opt(o), o->path);
         else if (!picture_complete(cli_out_temp(&picture), o->svg))
             rc = cli_fail(CLI_EXIT_IOERR, cmd,
                           "cannot write %s: gnuplot's picture is cut short (a full disk?)",

@@ -11,12 +11,15 @@
 typedef struct gp_out {
     const char *path;       /* -o FILE.png | FILE.svg */
     int svg;                /* 1 for .svg */
-    long width, height;     /* --size WxH in pixels */
+    long width, height;     /* --size WxH in pixels (a command's default until given) */
+    int size_given;         /* --size seen: a second one is refused */
     const char *script_out; /* --script-out FILE: keep the gnuplot script (data inline) */
     int dry_run;            /* --dry-run: write the script (stdout unless --script-out) only */
     cli_input inputs[3];    /* files the command reads: never written over */
     int ninputs;
     const char *drawing;    /* set by gp_draw while gnuplot draws: the temporary picture */
+    const char *path_opt;   /* the options' names in messages (NULL: "-o", "--script-out"; */
+    const char *script_opt; /* fit layout's are --plot and --plot-script) */
 } gp_out;
 
 /* Matches one of the shared options at argv[*i] (-o, --size, --script-out, --dry-run) and

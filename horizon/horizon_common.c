@@ -1,6 +1,7 @@
 /* Horizon settings, per-row rate limits from time stamps, the greedy plan, study metrics. */
 #include "horizon/horizon_internal.h"
 #include "planner/nominal.h"
+#include "planner/plan_range.h"
 #include "planner/problem_setup.h"
 
 #include <math.h>
@@ -144,6 +145,33 @@ hp_error hp_horizon_nominal_pressures(const hp_layout *L, double *p_start, hp_di
     return HP_OK;
 }
 
+hp_error hp_horizon_check_rows(const hp_layout *L, const hp_trace_row *rows, size_t T,
+                               size_t *bad, hp_diag *d)
+{
+    if (!L || (T && !rows)) return hp_diag_set(d, HP_ERR_NULL, "horizon rows: NULL argument");
+    hp_identifiable id;
+    hp_error e = hp_layout_identify(L, &id);
+    if (e != HP_OK) return hp_diag_set(d, e, "layout: %s", hp_error_message(e));
+    char why[HP_DIAG_MAX];
+    for (size_t t = 0; t < T; ++t)
+        if (!hp_plan_desired_ok(&id, rows[t].correction, why)) {
+            if (bad) *bad = t;
+            return hp_diag_set(d, HP_ERR_INVALID, "%s", why);
+        }
+    return HP_OK;
+}
+
+/* hp_horizon_check_rows with the refused row's line in the message. */
+static hp_error check_rows(const hp_layout *L, const hp_trace_row *rows, size_t T, hp_diag *d)
+{
+    size_t bad = 0;
+    hp_diag sub = {{0}};
+    hp_error e = hp_horizon_check_rows(L, rows, T, &bad, &sub);
+    if (e == HP_ERR_INVALID) return hp_diag_set(d, e, "line %ld: %s", rows[bad].line, sub.text);
+    if (e != HP_OK) return hp_diag_set(d, e, "%s", sub.text);
+    return HP_OK;
+}
+
 static void row_from_result(const hp_trace_row *in, const hp_result *r, int n,
                             hp_horizon_row *o)
 {
@@ -164,6 +192,7 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
     if (!L || !hs || (T && (!rows || !out)))
         return hp_diag_set(d, HP_ERR_NULL, "greedy: NULL argument");
     hp_error e = hp_horizon_settings_validate(hs, d);
+    if (e == HP_OK) e = check_rows(L, rows, T, d);
     if (e != HP_OK) return e;
     hp_planner *p = NULL;
     if ((e = hp_planner_create(L, settings, &p, d)) != HP_OK) return e;
@@ -247,7 +276,9 @@ hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
 {
     if (!L || (T && (!rows || !out))) return hp_diag_set(d, HP_ERR_NULL, "receding: NULL argument");
     hp_horizon_rh *rh = NULL;
-    hp_error e = hp_horizon_rh_create(L, settings, hs, p_start, &rh, d);
+    hp_error e = check_rows(L, rows, T, d);
+    if (e != HP_OK) return e;
+    e = hp_horizon_rh_create(L, settings, hs, p_start, &rh, d);
     if (e != HP_OK) return e;
     for (size_t t = 0; t < T; ++t) {
         hp_result r;

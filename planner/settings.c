@@ -39,7 +39,7 @@ const char *hp_check_auto_rot(double v)
 
 const char *hp_check_tolerance(double v)
 {
-    return (v > 0 && isfinite(v)) ? NULL : "must be finite and > 0";
+    return (v > 0 && v <= HP_TOLERANCE_MAX) ? NULL : "must be > 0 and at most 1 (mm and degrees)";
 }
 
 const char *hp_check_max_iter(long v)

@@ -9,6 +9,10 @@
  * range 1/W² overflows or underflows to 0 and the closest answer loses a whole axis. */
 #define HP_WEIGHT_MM_PER_DEG_MIN 1e-6
 #define HP_WEIGHT_MM_PER_DEG_MAX 1e6
+/* Largest pose tolerance (mm and degrees). The tolerance decides REACHED: beyond a
+ * millimetre (twice the clinical 0.5) an answer that far from its correction would be called
+ * reached (with 1e300, one 17.7 mm short). */
+#define HP_TOLERANCE_MAX 1.0
 /* Longest iteration budget and time budget a plan may be given. */
 #define HP_MAX_ITER_MAX 1000000
 #define HP_MAX_TIME_MAX 3600.0

@@ -44,8 +44,31 @@ static int trace_grow(trace_in *in)
     return 0;
 }
 
-/* Reads every row (bad rows keep their message). No GIL needed. */
-static hp_error read_all(hp_trace_reader *r, trace_in *in, hp_diag *d)
+/* An array's bad row named by its index, as the result's `line` names it: the reader's
+ * "<array>:LINE:COL: why" counts lines and columns of the CSV text the array was written as
+ * (a NaN in row 1 was "<array>:3:23"). Returns a malloc'd message or NULL. */
+static char *array_message(const char *msg, size_t row)
+{
+    const char *why = msg;
+    if (strncmp(msg, "<array>:", 8) == 0) {
+        why = msg + 8;
+        while (*why >= '0' && *why <= '9') ++why; /* line */
+        if (*why == ':' && why[1] >= '0' && why[1] <= '9') {
+            ++why;
+            while (*why >= '0' && *why <= '9') ++why; /* column */
+        }
+        if (*why == ':') ++why;
+        if (*why == ' ') ++why;
+    }
+    size_t n = strlen(why) + 48;
+    char *out = malloc(n);
+    if (out) snprintf(out, n, "<array> row %zu: %s", row, why);
+    return out;
+}
+
+/* Reads every row (bad rows keep their message); an array's rows are numbered by index.
+ * No GIL needed. */
+static hp_error read_all(hp_trace_reader *r, trace_in *in, int array, hp_diag *d)
 {
     for (;;) {
         hp_trace_row row;
@@ -58,15 +81,15 @@ static hp_error read_all(hp_trace_reader *r, trace_in *in, hp_diag *d)
         size_t i = in->n++;
         in->msg[i] = NULL;
         if (e == HP_OK) {
-            in->line[i] = row.line;
+            in->line[i] = array ? (long)i : row.line;
             in->t[i] = row.t;
             memcpy(&in->corr[i * 6], row.correction, sizeof row.correction);
         } else {
             /* The message starts "NAME:LINE:" (hp_trace.h). */
             const char *colon = strchr(rd.text, ':');
-            in->line[i] = colon ? strtol(colon + 1, NULL, 10) : 0;
+            in->line[i] = array ? (long)i : colon ? strtol(colon + 1, NULL, 10) : 0;
             in->t[i] = NAN;
-            in->msg[i] = strdup(rd.text);
+            in->msg[i] = array ? array_message(rd.text, i) : strdup(rd.text);
             if (!in->msg[i]) return hp_diag_set(d, HP_ERR_NOMEM, "trace: out of memory");
         }
     }
@@ -294,7 +317,7 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     hp_trace_reader *r = NULL;
     e = cpath ? hp_trace_open(cpath, override, &r, &d)
               : hp_trace_open_mem(text, len, "<array>", HP_TRACE_CSV, override, &r, &d);
-    if (e == HP_OK) e = read_all(r, &in, &d);
+    if (e == HP_OK) e = read_all(r, &in, text != NULL, &d);
     hp_trace_close(r);
     if (e == HP_OK && mode > 0) {
         nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n) < 0;
@@ -311,7 +334,6 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     }
     hp_planner_destroy(p);
     Py_END_ALLOW_THREADS
-    int from_array = text != NULL;
     free(text);
     Py_XDECREF(path);
 
@@ -326,7 +348,7 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
         npy_int64 *l = PyArray_DATA((PyArrayObject *)lines);
         double *tv = PyArray_DATA((PyArrayObject *)ts);
         for (size_t i = 0; i < in.n; ++i) {
-            l[i] = from_array ? (npy_int64)i : in.line[i];
+            l[i] = in.line[i];
             tv[i] = in.t[i];
             if (in.msg[i]) {
                 PyObject *m = PyUnicode_FromString(in.msg[i]);

@@ -481,7 +481,10 @@ static hp_error jsonl_row(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
     if (at >= 0)
         return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: too small for a double",
                            r->name, ln, at + 1, (int)uklen, ukey);
-    json_t *obj = json_loadb(r->line, r->len, JSON_REJECT_DUPLICATES, &jerr);
+    /* Every number as a double, as the CSV reader reads it: an integer beyond 64 bits was
+     * "too big integer" here and a number (then out of range) in CSV. */
+    json_t *obj = json_loadb(r->line, r->len, JSON_REJECT_DUPLICATES | JSON_DECODE_INT_AS_REAL,
+                             &jerr);
     if (!obj)
         return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%d: %s", r->name, ln, jerr.column,
                            jerr.text);

@@ -89,13 +89,23 @@ typedef struct hp_horizon_row {
 HP_API hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
                           const hp_trace_row *rows, size_t T, double *delta, hp_diag *diag);
 
+/* The request check hp_plan applies to a desired correction (finite, within its caps and
+ * inside the layout's identifiable range: hp_planner.h), over every row: HP_OK, or
+ * HP_ERR_INVALID with hp_plan's one-line reason in diag (without the line) and the first
+ * refused row's index in *bad (may be NULL). Greedy, receding and offline plans refuse such a
+ * trace before planning (diag "line N: reason"): a plan over a horizon has no row to leave
+ * out. Allocates nothing. */
+HP_API hp_error hp_horizon_check_rows(const hp_layout *L, const hp_trace_row *rows, size_t T,
+                                      size_t *bad, hp_diag *diag);
+
 /* The pressures of the nominal pose (every bladder at its reference contact), the default
  * start of every plan. */
 HP_API hp_error hp_horizon_nominal_pressures(const hp_layout *L, double *p_start, hp_diag *diag);
 
 /* Greedy plan of T rows: hp_plan with `settings` (NULL: defaults) row by row, each row's rate
  * limits Δ_t set before its plan, from p_start (NULL: the nominal pressures). out has T rows.
- * A row hp_plan cannot answer keeps its safe output (status says so). Allocates. */
+ * A row hp_plan refuses is refused first (hp_horizon_check_rows); a row it cannot answer
+ * keeps its safe output (status says so). Allocates. */
 HP_API hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
                            const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
                            const double *p_start, hp_horizon_row *out, hp_diag *diag);

@@ -140,7 +140,7 @@ typedef struct hp_settings {
     double level_tolerance;   /* [m] for HP_LEVEL_AUTO (> 0) */
     double auto_trans;        /* [m] largest translation auto must cover (>= 0) */
     double auto_rot;          /* [rad] largest rotation auto must cover (>= 0) */
-    double tolerance;         /* pose tolerance in mm and degrees (> 0) */
+    double tolerance;         /* pose tolerance in mm and degrees, in (0, 1] */
     int max_iter;             /* iteration budget per plan (> 0) */
     double max_time;          /* time budget per plan [s] (> 0) */
     double weight_mm_per_deg; /* W: 1 mm of error weighs as much as this many degrees (> 0) */

@@ -94,3 +94,18 @@ def test_horizon_arguments(step, default_planner):
     b = default_planner.run_trace(step, rows="deviation", mode="receding", horizon=3,
                                   rate_kpa_per_s=float(np.float32(20)))
     assert np.array_equal(a["pressure_pa"], b["pressure_pa"])
+
+
+@pytest.mark.parametrize("mode", ["greedy", "receding", "offline"])
+def test_horizon_refuses_a_row_plan_refuses(tmp_path, default_planner, mode):
+    # A 100 deg pitch is outside the identifiable range: plan() and batch mode give it
+    # invalid-input, headplan horizon refuses it (65). The horizon modes planned it (greedy
+    # and receding as invalid-input, offline as closest).
+    path = tmp_path / "inv.csv"
+    path.write_text("# headplan-trace: rows=correction\n"
+                    "t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n"
+                    "0,1,0,0,0,0,0\n1,0,0,0,100,0,0\n2,1,0,0,0,0,0\n")
+    assert default_planner.plan([0, 0, 0, 100, 0, 0])["status"] == "invalid-input"
+    assert list(default_planner.run_trace(str(path))["status"])[1] == "invalid-input"
+    with pytest.raises(headplan.Error, match=r"^line 4: desired rotation: angle 100\.0 deg"):
+        default_planner.run_trace(str(path), mode=mode)

@@ -223,3 +223,20 @@ def test_rows_must_agree_with_the_scenes_trace_rows():
         p.run_trace(None, rows="correction")
     a, b = p.run_trace(None), p.run_trace(None, rows="deviation")
     assert np.array_equal(a["achieved"], b["achieved"])
+
+
+def test_array_bad_rows_named_by_their_index(default_planner):
+    # An array's `line` is its row index; a bad row's message named the line and column of
+    # the CSV text the array is written as ('<array>:3:23' for row 1), another row.
+    rows = np.tile([1, 0, -0.5, 0.3, 0, -0.2], (4, 1))
+    rows[1, 1] = np.nan
+    rows[3, 0] = 1e-310
+    r = default_planner.run_trace(rows, rows="correction")
+    assert list(r["line"]) == [0, 1, 2, 3]
+    assert list(r["status"]) == ["reached", "bad-row", "reached", "bad-row"]
+    assert r["messages"] == ["<array> row 1: y_mm: not a number",
+                             "<array> row 3: x_mm: too small for a double"]
+    # Over a horizon the refusal names the same number as `line`.
+    with pytest.raises(headplan.Error, match=r"^line 2: t_s: 1 s is not after"):
+        default_planner.run_trace(rows[[0, 2, 2, 0]], t=[0, 2, 1, 3], rows="correction",
+                                  mode="greedy")

@@ -272,6 +272,53 @@ static void test_time_stamps_checked(void **st)
     free(c);
 }
 
+/* A correction hp_plan refuses (outside the identifiable range, or beyond its caps) is refused
+ * by every horizon planner before planning, with its line and hp_plan's words: greedy and
+ * receding planned the trace with that row as invalid-input, and offline planned it as
+ * closest (a 200 deg pitch), while solve and batch refuse it. */
+static void test_rows_outside_the_request_range(void **st)
+{
+    (void)st;
+    hf_case *c = hf_load("horizon/step.yaml", "step.csv", 10);
+    assert_non_null(c);
+    hp_horizon_settings hs = defaults();
+    hp_horizon_row out[10];
+    hp_diag d = {{0}};
+    char want[96];
+    /* hp_plan's own words for the row, from a planner of the same scene */
+    hp_planner *p = NULL;
+    assert_int_equal(hp_planner_create(&c->sc.layout, &c->s, &p, NULL), HP_OK);
+    const double pitched[6] = {0, 0, 0, 200.0 * 3.14159265358979323846 / 180, 0, 0};
+    const double far[6] = {0.2, 0, 0, 0, 0, 0};
+    const double *bad[2] = {pitched, far};
+    for (int b = 0; b < 2; ++b) {
+        memcpy(c->rows[4].correction, bad[b], sizeof c->rows[4].correction);
+        hp_result r;
+        assert_int_equal(hp_plan(p, bad[b], &r), HP_OK);
+        assert_int_equal(r.status, HP_STATUS_INVALID_INPUT);
+        snprintf(want, sizeof want, "line %ld: %.40s", c->rows[4].line, hp_planner_error(p));
+        size_t at = 99;
+        assert_int_equal(hp_horizon_check_rows(&c->sc.layout, c->rows, c->T, &at, &d),
+                         HP_ERR_INVALID);
+        assert_int_equal(at, 4);
+        assert_string_equal(d.text, hp_planner_error(p));
+        for (int m = 0; m < 3; ++m) {
+            hp_error e = m == 0 ? hp_horizon_greedy(&c->sc.layout, &c->s, &hs, c->rows, c->T,
+                                                    c->p0, out, &d)
+                         : m == 1 ? hp_horizon_receding(&c->sc.layout, &c->s, &hs, c->rows,
+                                                        c->T, c->p0, out, &d)
+                                  : hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows,
+                                                       c->T, c->p0, out, NULL, &d);
+            if (e != HP_ERR_INVALID || strncmp(d.text, want, strlen(want)) != 0) {
+                print_error("plan %d: %d '%s', want '%s'\n", m, e, d.text, want);
+                fail();
+            }
+        }
+    }
+    hp_planner_destroy(p);
+    free(c);
+}
+
 /* hp_planner_set_rate_max (horizon_internal.h) lifting every limit after a tight one: the
  * next plan is the plan of a planner created without rate limits, to the bit (hp_plan no
  * longer sets the bounds of a rate-free planner, so lifting the limits must restore them).
@@ -325,6 +372,7 @@ int main(void)
         cmocka_unit_test(test_settings_checked),
         cmocka_unit_test(test_time_stamps_checked),
         cmocka_unit_test(test_rate_max_lifted),
+        cmocka_unit_test(test_rows_outside_the_request_range),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

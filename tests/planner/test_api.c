@@ -62,6 +62,8 @@ static void b_atrans(hp_settings *s) { s->auto_trans = -1e-3; }
 static void b_arot(hp_settings *s) { s->auto_rot = INFINITY; }
 static void b_tol(hp_settings *s) { s->tolerance = NAN; }
 static void b_tol0(hp_settings *s) { s->tolerance = 0.0; }
+/* A pose tolerance of 1e300 mm called an answer 17.7 mm short of its correction 'reached'. */
+static void b_tol_huge(hp_settings *s) { s->tolerance = 1.0000001; }
 static void b_iter(hp_settings *s) { s->max_iter = 0; }
 static void b_time(hp_settings *s) { s->max_time = NAN; }
 static void b_weight(hp_settings *s) { s->weight_mm_per_deg = -1.0; }
@@ -75,7 +77,8 @@ static void test_settings_validator(void **st)
     const bad_case cases[] = {
         {"backend", b_backend},   {"level", b_level},       {"level_tolerance", b_ltol},
         {"level_tolerance", b_ltol0}, {"auto_trans", b_atrans}, {"auto_rot", b_arot},
-        {"tolerance", b_tol},     {"tolerance", b_tol0},    {"max_iter", b_iter},
+        {"tolerance", b_tol},     {"tolerance", b_tol0},    {"tolerance", b_tol_huge},
+        {"max_iter", b_iter},
         {"max_time", b_time},     {"weight_mm_per_deg", b_weight}, {"mu", b_mu},
         {"use_rate_limits", b_rate}, {"warm_start", b_warm},
     };
