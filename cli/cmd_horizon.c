@@ -10,6 +10,7 @@
 #include "cli/exit_codes.h"
 
 #include <errno.h>
+#include <float.h>
 #include <jansson.h>
 #include <math.h>
 #include <stdlib.h>
@@ -100,11 +101,13 @@ static int settings_from_args(const hz_args *a, hp_horizon_settings *hs, double 
     *tol_mm = *tol_deg = 0.5;
     if (a->tol_mm) {
         if ((rc = cli_double(CMD, "--tolerance-mm", a->tol_mm, tol_mm))) return rc;
-        if (!(*tol_mm > 0)) return cli_fail(CLI_EXIT_USAGE, CMD, "--tolerance-mm: must be > 0");
+        if (!(*tol_mm >= DBL_MIN))
+            return cli_fail(CLI_EXIT_USAGE, CMD, "--tolerance-mm: must be > 0 (and not subnormal)");
     }
     if (a->tol_deg) {
         if ((rc = cli_double(CMD, "--tolerance-deg", a->tol_deg, tol_deg))) return rc;
-        if (!(*tol_deg > 0)) return cli_fail(CLI_EXIT_USAGE, CMD, "--tolerance-deg: must be > 0");
+        if (!(*tol_deg >= DBL_MIN))
+            return cli_fail(CLI_EXIT_USAGE, CMD, "--tolerance-deg: must be > 0 (and not subnormal)");
     }
     static const char *const names[3] = {"greedy", "receding", "offline"};
     const char *mode = a->mode ? a->mode : "compare";
@@ -113,6 +116,17 @@ static int settings_from_args(const hz_args *a, hp_horizon_settings *hs, double 
     if (!modes[0] && !modes[1] && !modes[2])
         return cli_fail(CLI_EXIT_USAGE, CMD,
                            "--mode: '%s' is not greedy, receding, offline or compare", mode);
+    /* An option no selected plan reads would be ignored without a word: refused. */
+    const char *recv = a->horizon ? "--horizon" : a->prediction ? "--prediction" : NULL;
+    const char *offl = a->window ? "--window" : a->overlap ? "--overlap" : NULL;
+    if (recv && !modes[1])
+        return cli_fail(CLI_EXIT_USAGE, CMD,
+                        "%s: only the receding plan reads it (--mode receding or compare), "
+                        "not --mode %s", recv, mode);
+    if (offl && !modes[2])
+        return cli_fail(CLI_EXIT_USAGE, CMD,
+                        "%s: only the offline plan reads it (--mode offline or compare), "
+                        "not --mode %s", offl, mode);
     return 0;
 }
 

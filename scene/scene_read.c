@@ -197,9 +197,15 @@ hp_error sr_text(const sr_ctx *c, const yt_node *node, const char *path, char *b
     if (node->len >= size)
         return sr_fail(c, node, path, HP_ERR_PARSE, "text longer than %zu characters",
                        size - 1);
-    for (size_t i = 0; i < node->len; ++i)
+    size_t blank = 0;
+    for (size_t i = 0; i < node->len; ++i) {
         if ((unsigned char)node->value[i] < 0x20 || node->value[i] == 0x7f)
             return sr_fail(c, node, path, HP_ERR_PARSE, "text holds a control character");
+        blank += node->value[i] == ' ';
+    }
+    /* A name, title or file of spaces only names nothing (and prints as nothing). */
+    if (blank == node->len)
+        return sr_fail(c, node, path, HP_ERR_PARSE, "blank text (only spaces)");
     memcpy(buf, node->value, node->len + 1);
     return HP_OK;
 }

@@ -98,6 +98,18 @@ printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n' > "$TMP/empty.csv"
 run horizon "$S/horizon/step.yaml" "$TMP/empty.csv" --rows deviation; expect_exit 65 "no rows"
 run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode greedy -o /nonexistent/dir/x.csv
 expect_exit 73 "cannot write"
+# Options no selected plan reads are refused, not ignored (the window of a greedy plan, the
+# horizon of an offline one); subnormal tolerances are refused like zero.
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode greedy --window 10
+expect_exit 64 "window in greedy"; expect_stderr_has "--window: only the offline plan reads it (--mode offline or compare), not --mode greedy" "window named"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode receding --window 10 --overlap 2
+expect_exit 64 "window in receding"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode offline --horizon 3
+expect_exit 64 "horizon in offline"; expect_stderr_has "--horizon: only the receding plan reads it" "horizon named"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode greedy --prediction velocity
+expect_exit 64 "prediction in greedy"; expect_stderr_has "--prediction: only the receding plan reads it" "prediction named"
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode greedy --tolerance-deg 1e-310
+expect_exit 64 "subnormal tolerance"; expect_stderr_has "--tolerance-deg: must be > 0 (and not subnormal)" "subnormal named"
 # An offline row whose planned pose its pressures do not hold (the fit from the nominal pose,
 # the strict round trip every hp_plan answer passes, ends elsewhere): a pitch ramped to
 # 89.9 deg with the rate limit lifted. Before, offline stated those poses, exit 0.
