@@ -90,19 +90,8 @@ typedef struct {
     size_t time_bin[TIME_BINS], timed;
 } summary;
 
-/* Why hp_plan refused a correction: the request check runs before any state is used, so
- * planning the row again on the parent's planner gives the message the worker saw (the
- * planner's state is set before every plan, so this plan changes no other row). */
-static const char *invalid_reason(hp_planner *p, const double correction[6])
-{
-    hp_result r;
-    if (!p || hp_plan(p, correction, &r) == HP_ERR_NULL || !*hp_planner_error(p))
-        return "invalid correction";
-    return hp_planner_error(p);
-}
-
 static void tally(summary *S, const batch_in *in, const batch_out *out, size_t rows,
-                  const char *trace, hp_planner *p)
+                  const char *trace, batch_engine *eng)
 {
     for (size_t i = 0; i < rows; ++i) {
         const batch_out *o = &out[i];
@@ -124,7 +113,7 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
         case HP_STATUS_INVALID_INPUT:
             S->invalid++;
             fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in[i].line,
-                    invalid_reason(p, in[i].correction));
+                    batch_engine_reason(eng, in, out, i));
             break;
         default:
             S->failed++;
@@ -304,7 +293,7 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, const char *r_nam
         if (rc == 0 && n > 0 && batch_engine_run(eng, in, out, n) != 0)
             rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "the run failed; no output written");
         if (rc == 0) {
-            tally(S, in, out, n, r_name, eng->p);
+            tally(S, in, out, n, r_name, eng);
             if (batch_sink_rows(sink, in, out, n) != 0) rc = CLI_EXIT_IOERR;
         }
         for (size_t i = 0; i < n; ++i) free(in[i].msg);
