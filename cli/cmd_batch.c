@@ -49,9 +49,10 @@ static void help(void)
            "machine load: their output is not reproducible run to run; the summary on\n"
            "stderr counts them.\n\n"
            "exit: 0 finished (rows reached, closest or uncommanded), 1 some only closest\n"
-           "with --strict, 2 some uncommanded with --strict, 64 usage, 65 bad rows, bad scene or rows kind, 66 no input, 70 solver\n"
-           "failure or time/iteration limit, 73 OUT refused or cannot be created, 74 a write\n"
-           "failed\n");
+           "with --strict, 2 some uncommanded with --strict, 64 usage, 65 bad rows, rows\n"
+           "the planner refused (invalid-input, the reason on stderr), bad scene or rows\n"
+           "kind, 66 no input, 70 solver failure or time/iteration limit, 73 OUT refused or\n"
+           "cannot be created, 74 a write failed\n");
 }
 
 typedef struct {
