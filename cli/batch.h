@@ -55,6 +55,8 @@ typedef struct batch_engine {
     hp_planner *p;                 /* in-process: every row when jobs == 1, repairs else */
     batch_out last;                /* the last good row so far (when has_last) */
     int has_last;                  /* 0: no good row yet: the nominal answer is the state */
+    batch_out block_start;         /* the state the last block started from ... */
+    int has_block_start;           /* ... (0: the start of the trace) */
     size_t repaired;               /* rows re-planned at shard joins, over all blocks */
 } batch_engine;
 
@@ -70,6 +72,11 @@ int batch_engine_init(batch_engine *e, const hp_layout *L, const hp_settings *s,
  * single sequential run, bit for bit. Returns 0, or non-zero after a line on stderr. */
 int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t rows);
 
+/* Plans row i of the last block run again from its own previous state, on the engine's
+ * planner, and returns the planner's message (why an invalid-input row was refused: since a
+ * CLOSEST answer must pass the round trip, that depends on the state, not the row alone). */
+const char *batch_engine_reason(batch_engine *e, const batch_in *in, const batch_out *out,
+                                size_t i);
 void batch_engine_free(batch_engine *e);
 
 #endif

@@ -138,6 +138,8 @@ int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t
 {
     const int n = e->L->n;
     int jobs = e->jobs;
+    e->block_start = e->last;
+    e->has_block_start = e->has_last;
     const batch_out *start = e->has_last ? &e->last : NULL;
     if ((size_t)jobs > rows) jobs = rows > 0 ? (int)rows : 1;
     if (jobs == 1) {
@@ -225,4 +227,15 @@ int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t
     }
     munmap(shared, out_bytes);
     return rc;
+}
+
+const char *batch_engine_reason(batch_engine *e, const batch_in *in, const batch_out *out,
+                                size_t i)
+{
+    batch_out fresh[1];
+    const batch_out *st = state_before(out, i, e->has_block_start ? &e->block_start : NULL);
+    if (batch_plan_range(e->p, in + i, fresh, 0, 1, &st, NULL) != HP_OK ||
+        !*hp_planner_error(e->p))
+        return "invalid correction";
+    return hp_planner_error(e->p);
 }

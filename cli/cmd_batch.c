@@ -49,9 +49,10 @@ static void help(void)
            "machine load: their output is not reproducible run to run; the summary on\n"
            "stderr counts them.\n\n"
            "exit: 0 finished (rows reached, closest or uncommanded), 1 some only closest\n"
-           "with --strict, 2 some uncommanded with --strict, 64 usage, 65 bad rows, bad scene or rows kind, 66 no input, 70 solver\n"
-           "failure or time/iteration limit, 73 OUT refused or cannot be created, 74 a write\n"
-           "failed\n");
+           "with --strict, 2 some uncommanded with --strict, 64 usage, 65 bad rows, rows\n"
+           "the planner refused (invalid-input, the reason on stderr), bad scene or rows\n"
+           "kind, 66 no input, 70 solver failure or time/iteration limit, 73 OUT refused or\n"
+           "cannot be created, 74 a write failed\n");
 }
 
 typedef struct {
@@ -90,19 +91,8 @@ typedef struct {
     size_t time_bin[TIME_BINS], timed;
 } summary;
 
-/* Why hp_plan refused a correction: the request check runs before any state is used, so
- * planning the row again on the parent's planner gives the message the worker saw (the
- * planner's state is set before every plan, so this plan changes no other row). */
-static const char *invalid_reason(hp_planner *p, const double correction[6])
-{
-    hp_result r;
-    if (!p || hp_plan(p, correction, &r) == HP_ERR_NULL || !*hp_planner_error(p))
-        return "invalid correction";
-    return hp_planner_error(p);
-}
-
 static void tally(summary *S, const batch_in *in, const batch_out *out, size_t rows,
-                  const char *trace, hp_planner *p)
+                  const char *trace, batch_engine *eng)
 {
     for (size_t i = 0; i < rows; ++i) {
         const batch_out *o = &out[i];
@@ -124,7 +114,7 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
         case HP_STATUS_INVALID_INPUT:
             S->invalid++;
             fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in[i].line,
-                    invalid_reason(p, in[i].correction));
+                    batch_engine_reason(eng, in, out, i));
             break;
         default:
             S->failed++;
@@ -304,7 +294,7 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, const char *r_nam
         if (rc == 0 && n > 0 && batch_engine_run(eng, in, out, n) != 0)
             rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "the run failed; no output written");
         if (rc == 0) {
-            tally(S, in, out, n, r_name, eng->p);
+            tally(S, in, out, n, r_name, eng);
             if (batch_sink_rows(sink, in, out, n) != 0) rc = CLI_EXIT_IOERR;
         }
         for (size_t i = 0; i < n; ++i) free(in[i].msg);

@@ -39,8 +39,9 @@ static void help(void)
            "tolerance (default 0.5 mm / 0.5 deg), the pressure travel and the cost; --json\n"
            "prints it as JSON. -o writes every plan's rows as CSV, the summary in its\n"
            "'# ' header lines. --smooth is the pressure-change weight (mm^2 per kPa^2).\n\n"
-           "exit: 0 ok, 64 usage, 65 bad scene, trace or value, 66 no input, 70 solver\n"
-           "failure or a row stopped by its budget (outputs written), 73 cannot write OUT\n");
+           "exit: 0 ok, 64 usage, 65 bad scene, trace or value, or a row the planner refused\n"
+           "(outputs written), 66 no input, 70 solver failure or a row stopped by its budget\n"
+           "(outputs written), 73 cannot write OUT\n");
 }
 
 typedef struct {
@@ -321,24 +322,31 @@ static void print_json(const int *modes, const hp_horizon_metrics *m, size_t T,
 
 /* A row a plan could not answer (stopped by its budget, a solver failure) is in the
  * results with its status, as in batch; as in batch the run then exits 70, naming the first
- * such row of each plan and how many there were. */
+ * such row of each plan and how many there were. A row hp_plan refused (invalid-input: its
+ * closest pose is one the round trip from the nominal pose does not confirm) is a data
+ * error, 65, as in batch and solve, unless some row also failed. */
 static int failed_rows(const int *modes, hp_horizon_row *const *plans, const hp_trace_row *rows,
                        size_t T, const char *trace)
 {
     int rc = 0;
     for (int p = 0; p < 3; ++p) {
         if (!modes[p]) continue;
-        size_t n = 0, first = 0;
-        for (size_t t = 0; t < T; ++t) {
-            hp_status st = plans[p][t].status;
-            if (st == HP_STATUS_REACHED || st == HP_STATUS_CLOSEST || st == HP_STATUS_UNCOMMANDED)
-                continue;
-            if (!n++) first = t;
+        for (int refused = 0; refused < 2; ++refused) {
+            size_t n = 0, first = 0;
+            for (size_t t = 0; t < T; ++t) {
+                hp_status st = plans[p][t].status;
+                if (st == HP_STATUS_REACHED || st == HP_STATUS_CLOSEST ||
+                    st == HP_STATUS_UNCOMMANDED || (st == HP_STATUS_INVALID_INPUT) != refused)
+                    continue;
+                if (!n++) first = t;
+            }
+            if (!n) continue;
+            int code = cli_fail(refused ? CLI_EXIT_DATAERR : CLI_EXIT_SOFTWARE, CMD,
+                                "%s: %zu of %zu rows %s (first %s:%ld: %s)", PLAN_NAMES[p], n,
+                                T, refused ? "refused" : "failed", trace, rows[first].line,
+                                hp_status_name(plans[p][first].status));
+            if (rc != CLI_EXIT_SOFTWARE) rc = code;
         }
-        if (n)
-            rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %zu of %zu rows failed (first %s:%ld: %s)",
-                          PLAN_NAMES[p], n, T, trace, rows[first].line,
-                          hp_status_name(plans[p][first].status));
     }
     return rc;
 }

@@ -209,10 +209,11 @@ HP_API hp_error hp_planner_create(const hp_layout *layout, const hp_settings *se
  *     correction is not commanded; 0 iterations).
  *   - Otherwise the backend finds the closest reachable pose (CLOSEST, binding flags set).
  *   - achieved[] is the pose at the planner's level for which the returned outer radii are
- *     exactly the contact distances (the model-level round trip). Before REACHED or
- *     UNCOMMANDED the planner runs the strict round trip itself (pressures -> radii ->
- *     hp_contact_fit from the nominal pose); a correction it does not recover is not
- *     identified by this layout: INVALID_INPUT.
+ *     exactly the contact distances (the model-level round trip). Before REACHED,
+ *     UNCOMMANDED or CLOSEST the planner runs the strict round trip itself (pressures ->
+ *     radii -> hp_contact_fit from the nominal pose); a pose it does not recover is not
+ *     identified by this layout: INVALID_INPUT (a CLOSEST answer of a warm solve is first
+ *     solved once more from the nominal pose).
  *   - On INVALID_INPUT, INFEASIBLE_START or SOLVER_ERROR the result holds the SAFE OUTPUT:
  *     the previous valid answer's bladders and pose (after create or hp_planner_reset: the
  *     nominal pose's radii and pressures, clamped into the limits), so a controller that
