@@ -399,6 +399,9 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
                             rows[t].line);
             break;
         }
+        /* The row's bladders as an answer, for the round trip below. */
+        hp_result rr;
+        rr.n = n;
         for (int k = 0; k < n && e == HP_OK; ++k) {
             const hp_bladder *B = &c->L->bladders[k];
             double ri = fmin(fmax(xt[6 + k], c->pb.ri_lo[k]), c->pb.ri_hi[k]) / HP_MM_PER_M;
@@ -421,21 +424,14 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
                                 delta[(size_t)t * (size_t)n + (size_t)k]);
                 break;
             }
-            o->ri[k] = ri;
-            o->pressure[k] = P;
+            o->ri[k] = rr.bladders[k].ri = ri;
+            o->pressure[k] = rr.bladders[k].pressure = P;
+            rr.bladders[k].ro = ro;
         }
         /* The row's pose is a claim about where its pressures hold the head: the same strict
          * round trip as hp_plan's answers (from the nominal pose), so offline never states a
          * pose that the forward model puts elsewhere. */
-        hp_result rr;
         double worst;
-        rr.n = n;
-        for (int k = 0; k < n && e == HP_OK; ++k) {
-            rr.bladders[k].pressure = o->pressure[k];
-            rr.bladders[k].ri = o->ri[k];
-            if (hp_iab_ro(&c->L->bladders[k].iab, o->ri[k], &rr.bladders[k].ro) != HP_OK)
-                rr.bladders[k].ro = NAN;
-        }
         /* INVALID, as hp_plan refuses such an answer (INVALID_INPUT): the trace asks for a
          * pose this layout cannot identify, not the solver failing. */
         if (e == HP_OK && !hp_plan_round_trip(c->p, &rr, o->achieved, NULL, &worst))
