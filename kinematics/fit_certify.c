@@ -234,7 +234,8 @@ int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, i
 int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
                                const int *col, const double xt[6], const double *A6,
                                double cost, double lambda_next, const double *target,
-                               int iters_left, const hp_kin_fit_near *near)
+                               int iters_left, const hp_kin_fit_near *near,
+                               hp_kin_trial_cache *cache)
 {
     if (!near || !near->has_anchor || !near->anchor_J || nf < 1 ||
         level == HP_LEVEL_LINEAR)
@@ -242,24 +243,85 @@ int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level le
     int n = L->n;
     cert_ctx cx = {.L = L, .G = G, .level = level, .nf = nf, .col = col, .near = near,
                    .centre = near->anchor};
-    if (!noise_and_r0(&cx, xt, near->anchor_rho, target)) return 0;
-    scaled_normal(&cx, A6, 6);
-    double sig = sqrt(lambda_min_lower(cx.Ah, nf));
+    /* The true Jacobian at the anchor lies within err of the given one (spectral norm): its
+     * column norms and smallest singular value within err of theirs (Weyl). */
+    double err = near->anchor_J_err, sig = -1.0;
+    if (!(err >= 0) || !isfinite(err)) return 0;
+    if (cache && cache->ready) {
+        memcpy(cx.Ah, cache->Ah, sizeof cx.Ah);
+        memcpy(cx.rho_c, cache->rho_c, sizeof cx.rho_c);
+        cx.cmin = cache->cmin;
+        cx.cmax = cache->cmax;
+        cx.r0 = cache->r0;
+        cx.snu = cache->snu;
+        sig = cache->sig;
+    } else {
+        if (!noise_and_r0(&cx, xt, near->anchor_rho, target)) return 0;
+        scaled_normal(&cx, A6, 6);
+        cx.cmin -= err;
+        cx.cmax += err;
+        if (cache) {
+            memcpy(cache->Ah, cx.Ah, sizeof cx.Ah);
+            memcpy(cache->rho_c, cx.rho_c, sizeof cx.rho_c);
+            cache->cmin = cx.cmin;
+            cache->cmax = cx.cmax;
+            cache->r0 = cx.r0;
+            cache->snu = cx.snu;
+            cache->sig = -1.0; /* not yet derived */
+            cache->ready = 1;
+        }
+    }
     /* The trial's residual through the anchor, by Taylor's theorem on the segment:
      * |ρ(xt) − ρ*| <= |J(a)·(xt − a)| + ½η|xt − a|² + r0, and ½η e² <= ½(σ̂/4)·e once
-     * certify has checked ηR <= σ̂/4 with e <= R. J(a)·(xt − a) in mm, exactly as summed. */
-    double e = scaled_dist(&cx, xt, near->anchor), jd2 = 0.0;
+     * certify has checked ηR <= σ̂/4 with e <= R. J(a)·(xt − a) in mm, exactly as summed
+     * with the given Jacobian, whose error adds at most err·e. */
+    double e = scaled_dist(&cx, xt, near->anchor), jd2 = 0.0, dv[6] = {0};
+    /* The fixed columns enter as exact zeros (a finite J times +0 adds nothing). */
+    for (int j = 0; j < nf; ++j) dv[col[j]] = xt[col[j]] - near->anchor[col[j]];
     for (int k = 0; k < n; ++k) {
+        const double *Jk = &near->anchor_J[k * 6];
         double v = 0.0;
-        for (int j = 0; j < nf; ++j) {
-            int i = col[j];
-            v += near->anchor_J[k * 6 + i] * (xt[i] - near->anchor[i]);
-        }
+#pragma GCC unroll 6
+        for (int i = 0; i < 6; ++i) v += Jk[i] * dv[i];
         v *= HP_MM_PER_M;
         jd2 += v * v;
     }
-    double tt = sqrt(jd2) * (1.0 + 1e-12) + 0.5 * CERT_Q * sig * e + cx.r0, tc = tt + cx.snu;
+    double jd = sqrt(jd2) * (1.0 + 1e-12);
+    /* Cheap necessary conditions first (a trial far from the anchor fails them): accepted
+     * needs jd² < cost; certify needs e <= R and η(R)·R <= ¼σ̂, where R >= 2·jd/σ_B and
+     * σ_B = ¾σ̂ <= ¾·c_min, and the curvature bound η grows with the radius. Taken on a
+     * ball of 4·R_lo, the bound serves certify for any R up to that. */
+    if (!(jd2 < cost * HP_MM_PER_M * HP_MM_PER_M) || !isfinite(e)) return 0;
+    double R_lo = fmax(e, 2.0 * jd / ((1.0 - CERT_Q) * cx.cmin)), R_up = 4.0 * R_lo;
+    double eta = ball_eta(&cx, R_up);
+    if (!(eta >= 0) || !(eta * R_lo <= CERT_Q * cx.cmin)) return 0;
+    if (!(sig >= 0)) {
+        sig = sqrt(lambda_min_lower(cx.Ah, nf)) - err;
+        if (!(sig > 0)) sig = 0.0;
+    }
+    if (cache) cache->sig = sig;
+    if (!(sig > 0)) return 0;
+    double tt = jd + err * e + 0.5 * CERT_Q * sig * e + cx.r0;
+    double tc = tt + cx.snu;
     /* Accepted: its computed squared residual is below the start's (cost, m²). */
     if (!(tc * tc * (1.0 + 1e-14) < cost * HP_MM_PER_M * HP_MM_PER_M)) return 0;
-    return certify(&cx, sig, 0.0, e, tt, tc, lambda_next, iters_left, 0.0, 0.0);
+    return certify(&cx, sig, 0.0, e, tt, tc, lambda_next, iters_left, eta, R_up);
+}
+
+double hp_kin_jacobian_drift(const hp_layout *L, const hp_geom *G, hp_level level,
+                             const double xa[6], const double *rho_a, const double *J, double d)
+{
+    double h[HP_MAX_BLADDERS], eta2 = 0.0, jf2 = 0.0;
+    if (!(d >= 0) || !isfinite(d) ||
+        hp_kin_contact_ball_curvature(L, G, level, xa, d, rho_a, h) != HP_OK)
+        return INFINITY;
+    for (int k = 0; k < L->n; ++k) {
+        eta2 += h[k] * h[k];
+        for (int i = 0; i < 6; ++i) {
+            double v = J[k * 6 + i] * HP_MM_PER_M * hp_pose_si_per_scaled(i);
+            jf2 += v * v;
+        }
+    }
+    double err = (sqrt(eta2) * d + 4.0 * DBL_EPSILON * sqrt(jf2)) * (1.0 + 1e-9);
+    return isfinite(err) ? err : INFINITY;
 }

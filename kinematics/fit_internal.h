@@ -74,7 +74,20 @@ typedef struct hp_kin_fit_near {
      * hp_contact_eval_g gives it), read in place: then the certificate may hold before the
      * fit evaluates its first step (hp_kin_fit_certified_trial). */
     const double *anchor_J;
+    /* A bound on ‖J(anchor) − anchor_J‖₂ in the solvers' scaled units (mm per mm or
+     * degree): 0 when anchor_J is the model's own Jacobian at the anchor, else e.g.
+     * hp_kin_jacobian_drift's for a Jacobian taken a short step away. */
+    double anchor_J_err;
 } hp_kin_fit_near;
+
+/* A bound on ‖J(xb) − J̃‖₂ (scaled units, as hp_kin_fit_near's anchor_J_err) for J̃ (n×6,
+ * SI) the model's Jacobian at xa (SI pose, distances rho_a [m] there) up to a few ulps
+ * per entry, and xb the pose d scaled units (mm, degrees) from xa: each row moves by at
+ * most its Hessian's bound times d on the ball of radius d around xa
+ * (hp_kin_contact_ball_curvature), and 4ε of J̃'s Frobenius norm covers the ulps. +inf
+ * when a bound fails. */
+double hp_kin_jacobian_drift(const hp_layout *L, const hp_geom *G, hp_level level,
+                             const double xa[6], const double *rho_a, const double *J, double d);
 
 /* 1 when the rest of a fit (hp_kin_fit) from its iterate x provably ends within near->tol/4
  * of near->pose, within iters_left more iterations: x (SI pose), the normal matrix A6 =
@@ -89,17 +102,25 @@ int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, i
                          double lambda, const double *target, int iters_left,
                          const hp_kin_fit_near *near);
 
-/* The same proof before the fit evaluates its first trial point xt (a step from the start,
- * whose computed squared residual is cost): on a ball around the anchor, with the anchor's
+/* The same proof before the fit evaluates a trial point xt (a step from its current
+ * iterate, whose computed squared residual is cost): on a ball around the anchor, with the anchor's
  * Jacobian (near->anchor_J) and its free columns' normal matrix A6 (6×6, leading dimension
  * 6). It proves that the trial is accepted (its residual, bounded through the anchor, is
  * below the start's), after which the damping is lambda_next, and that the rest of the fit
  * then ends within near->tol/4 of near->pose, within iters_left more iterations. 0 whenever
- * a condition fails. Allocates nothing. */
+ * a condition fails. cache (may be NULL; ready = 0 before the first try): what depends only
+ * on the anchor, the target and A6 (σ̂, the column norms, r0, the noise), kept between the
+ * tries of one fit, whose trials share them. Allocates nothing. */
+typedef struct hp_kin_trial_cache {
+    int ready; /* 0 before the first try; the rest is hp_kin_fit_certified_trial's */
+    double Ah[36], cmin, cmax, r0, snu, sig;
+    double rho_c[HP_MAX_BLADDERS];
+} hp_kin_trial_cache;
 int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
                                const int *col, const double xt[6], const double *A6,
                                double cost, double lambda_next, const double *target,
-                               int iters_left, const hp_kin_fit_near *near);
+                               int iters_left, const hp_kin_fit_near *near,
+                               hp_kin_trial_cache *cache);
 
 /* hp_contact_fit, started from st (computed at x0 for the same layout and level) when st
  * is not NULL. With near, the iteration may stop early at an iterate x (an accepted step,
@@ -110,7 +131,7 @@ int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level le
  * residual_rms the RMS at x. With near's anchor it may also stop at any iterate after the
  * first where hp_kin_fit_certified proves the rest of the fit ends within tol/4 of
  * near->pose (both early stops only with at least HP_KIN_FIT_STOP_MARGIN iterations of the
- * budget left), or, with the anchor's Jacobian too, at its first trial point before evaluating
+ * budget left), or, with the anchor's Jacobian too, at any trial point before evaluating
  * it (hp_kin_fit_certified_trial); xi is then the anchor and residual_rms the RMS of its
  * distances' residual.
  * Allocates nothing. */

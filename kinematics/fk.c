@@ -239,24 +239,36 @@ static int arrived(int n, int nf, const int *col, const double *x, const double 
     return 1;
 }
 
-/* hp_kin_fit_certified_trial with the normal matrix of the anchor's Jacobian in the free
- * columns, formed as the fit forms its own (gram_of). */
+/* What a fit's trial certificates share: the anchor's Jacobian in the free columns and its
+ * normal matrix (formed as the fit forms its own, gram_of), and the bound σ̂ derived from
+ * it; formed at the first try, once a fit. */
+typedef struct trial_cache {
+    int have;
+    fk_gram q;
+    hp_kin_trial_cache c;
+} trial_cache;
+
+/* hp_kin_fit_certified_trial with the anchor's normal matrix in the free columns. */
 static int certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
                            const int *col, const double *xt, double cost, double lambda_next,
-                           const double *target, int iters_left, const hp_kin_fit_near *near)
+                           const double *target, int iters_left, const hp_kin_fit_near *near,
+                           trial_cache *tc)
 {
     int n = L->n;
-    double Ja[HP_MAX_BLADDERS * 6], r0[HP_MAX_BLADDERS] = {0};
-    const double *J = near->anchor_J;
-    if (nf < 6) {
-        for (int k = 0; k < n; ++k)
-            for (int j = 0; j < nf; ++j) Ja[k * nf + j] = near->anchor_J[k * 6 + col[j]];
-        J = Ja;
+    if (!tc->have) {
+        double Ja[HP_MAX_BLADDERS * 6], r0[HP_MAX_BLADDERS] = {0};
+        const double *J = near->anchor_J;
+        if (nf < 6) {
+            for (int k = 0; k < n; ++k)
+                for (int j = 0; j < nf; ++j) Ja[k * nf + j] = near->anchor_J[k * 6 + col[j]];
+            J = Ja;
+        }
+        gram_of(n, nf, J, r0, &tc->q);
+        tc->c.ready = 0;
+        tc->have = 1;
     }
-    fk_gram q;
-    gram_of(n, nf, J, r0, &q);
-    return hp_kin_fit_certified_trial(L, G, level, nf, col, xt, &q.A[0][0], cost, lambda_next,
-                                      target, iters_left, near);
+    return hp_kin_fit_certified_trial(L, G, level, nf, col, xt, &tc->q.A[0][0], cost,
+                                      lambda_next, target, iters_left, near, &tc->c);
 }
 
 hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
@@ -302,6 +314,8 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
     double cost = sumsq(n, r), lambda = level == HP_LEVEL_LINEAR ? 1e-15 : 1e-3;
     int it = 0, done = 0, have_gram = 0, certified = 0;
     fk_gram gram;
+    trial_cache tcache;
+    tcache.have = 0;
     if (st) {
         gram_from_start(n, nf, col, st, Jr, r, &gram);
         have_gram = 1;
@@ -327,7 +341,9 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
             done = 1;
             break;
         }
-        if (near && it > 1 &&
+        /* With the anchor's Jacobian the proof is tried at each trial instead (below): a
+         * step closer, and before the evaluation it would save. */
+        if (near && it > 1 && !near->anchor_J &&
             hp_kin_fit_certified(L, G, level, nf, col, x, &gram.A[0][0], r, lambda, target,
                                  FK_MAX_ITERS - it, near)) {
             certified = 1;
@@ -340,12 +356,13 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
         for (int j = 0; j < nf; ++j) stepsize = fmax(stepsize, fabs(D[j] * dx[j]));
         memcpy(xt, x, sizeof xt);
         for (int j = 0; j < nf; ++j) xt[col[j]] += dx[j];
-        /* The first trial, before it is evaluated: with the anchor's Jacobian the proof may
-         * already hold (it then also proves the trial accepted, after which the damping is
-         * a tenth and the step too long to end the fit). */
-        if (near && it == 1 && near->has_anchor && near->anchor_J && stepsize > FK_STEP_TOL &&
+        /* A trial, before it is evaluated: with the anchor's Jacobian the proof may already
+         * hold (it then also proves the trial accepted, after which the damping is a tenth
+         * and the step too long to end the fit). From a far start it fails at the first
+         * trial and holds at the second, which then costs no evaluation of the model. */
+        if (near && near->has_anchor && near->anchor_J && stepsize > FK_STEP_TOL &&
             certified_trial(L, G, level, nf, col, xt, cost, fmax(lambda * 0.1, 1e-15), target,
-                            FK_MAX_ITERS - it, near)) {
+                            FK_MAX_ITERS - it, near, &tcache)) {
             certified = 1;
             break;
         }

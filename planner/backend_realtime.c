@@ -543,6 +543,21 @@ static int rho_by_step(rt_state *st, const hp_problem *pb, const double *xa, con
     return 1;
 }
 
+/* The model at xa, the last QP's linearisation point, for the core's round trip (problem.h):
+ * its distances and, back in SI units, its Jacobian (the scaling's powers of ten cost the
+ * entries an ulp or two, far inside the certificate's slack). */
+static void lin_point(const rt_state *st, const hp_problem *pb, const double *xa,
+                      hp_backend_result *r)
+{
+    memcpy(r->lin_x, xa, sizeof r->lin_x);
+    memcpy(r->lin_rho, st->rho_k, sizeof r->lin_rho);
+    for (int k = 0; k < pb->n; ++k)
+        for (int i = 0; i < 6; ++i)
+            r->lin_J[k * 6 + i] =
+                st->J[k * 6 + i] / (HP_MM_PER_M * hp_pose_si_per_scaled(i));
+    r->has_lin = 1;
+}
+
 /* The l1 merit function ½Σw(x − d)² + nu·Σ violation(x) (mm), which the SQP step decreases
  * for nu above the largest multiplier, from the radii rho at x. */
 static double merit_of(const rt_state *st, const hp_problem *pb, const double *x,
@@ -674,6 +689,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     r->converged = 0;
     r->raw_code = 0;
     r->has_rho = 0;
+    r->has_lin = 0;
     for (int i = 0; i < 6; ++i) xk[i] = (pb->w[i] > 0 && x0 && isfinite(x0[i])) ? x0[i] : 0.0;
     if (pb->level == HP_LEVEL_LINEAR) for (int i = 0; i < 6; ++i) xk[i] = 0.0;
 
@@ -792,6 +808,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     if (short_last && rho_by_step(st, pb, xa, xk)) {
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
         ++st->cnt.rho_step;
+        lin_point(st, pb, xa, r);
     } else {
         st->cnt.rho_refused += short_last;
         v = violation(st, pb, xk, viol);

@@ -23,6 +23,10 @@ typedef struct plan_ctx {
     /* The distances at c->x [mm]: the direct chain's, or the backend's own (has_rho). */
     double rho[HP_MAX_BLADDERS];
     int has_rho;
+    /* The backend's last linearisation point, a rounding-level step from c->x, with the
+     * model there (hp_backend_result's lin_*): the round trip's anchor with a Jacobian. */
+    int has_lin;
+    double lin_x[6], lin_rho[HP_MAX_BLADDERS], lin_J[HP_MAX_BLADDERS * 6];
     int warm;        /* the backend started from the previous answer */
     int unconfirmed; /* label refused a CLOSEST answer its round trip did not confirm */
 } plan_ctx;
@@ -195,6 +199,14 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c, int cold)
     c->has_rho = br.has_rho;
     for (int i = 0; i < 6; ++i) c->has_rho &= p->commanded[i] || x_backend[i] == 0.0;
     if (c->has_rho) memcpy(c->rho, br.rho, sizeof c->rho);
+    /* Only in the fit's space (the components not commanded at the nominal pose's 0). */
+    c->has_lin = c->has_rho && br.has_lin;
+    for (int i = 0; i < 6; ++i) c->has_lin &= p->commanded[i] || br.lin_x[i] == 0.0;
+    if (c->has_lin) {
+        memcpy(c->lin_x, br.lin_x, sizeof c->lin_x);
+        memcpy(c->lin_rho, br.lin_rho, sizeof c->lin_rho);
+        memcpy(c->lin_J, br.lin_J, sizeof c->lin_J);
+    }
     return 1;
 }
 
@@ -297,6 +309,7 @@ int hp_plan_round_trip(hp_planner *p, const hp_result *r, const double achieved[
      * Jacobian usually before it evaluates its first step. */
     near.has_anchor = anchor != NULL;
     near.anchor_J = anchor ? anchor->J : NULL;
+    near.anchor_J_err = anchor ? anchor->J_err : 0.0;
     if (anchor) {
         hp_plan_from_scaled(anchor->x, near.anchor);
         for (int k = 0; k < p->L.n; ++k) near.anchor_rho[k] = anchor->rho_mm[k] / HP_MM_PER_M;
@@ -315,7 +328,17 @@ int hp_plan_round_trip(hp_planner *p, const hp_result *r, const double achieved[
 static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double achieved[6],
                                   const plan_ctx *c)
 {
-    hp_plan_anchor an = {c->x, c->rho, c->direct ? p->chain_J : NULL};
+    hp_plan_anchor an = {c->x, c->rho, c->direct ? p->chain_J : NULL, 0.0};
+    if (!c->direct && c->has_lin) {
+        /* The backend's Jacobian is a rounding-level step old: its drift to c->x bounded. */
+        double xa[6], rho_m[HP_MAX_BLADDERS], d2 = 0.0;
+        hp_plan_from_scaled(c->lin_x, xa);
+        for (int k = 0; k < p->L.n; ++k) rho_m[k] = c->lin_rho[k] / HP_MM_PER_M;
+        for (int i = 0; i < 6; ++i) d2 += (c->x[i] - c->lin_x[i]) * (c->x[i] - c->lin_x[i]);
+        an.J = c->lin_J;
+        an.J_err = hp_kin_jacobian_drift(&p->L, &p->G, p->level, xa, rho_m, c->lin_J,
+                                         sqrt(d2) * (1.0 + 1e-12));
+    }
     double worst;
     if (hp_plan_round_trip(p, r, achieved, c->direct || c->has_rho ? &an : NULL, &worst))
         return 1;
@@ -534,6 +557,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         c.st = HP_STATUS_REACHED;
         c.clamp_mm = 0;
         c.has_rho = 0;
+        c.has_lin = 0;
     }
 
     hp_plan_set_previous_answer(p, res);

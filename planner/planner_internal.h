@@ -71,9 +71,11 @@ struct hp_planner {
 };
 
 /* What a plan knows at its answer for the round trip's certificate: the scaled point x,
- * the distances there [mm], and (the direct chain) their Jacobian (SI; may be NULL). */
+ * the distances there [mm], and (may be NULL) their Jacobian (SI) with a bound J_err on
+ * its error (hp_kin_fit_near's anchor_J_err: 0 for the direct chain's own). */
 typedef struct hp_plan_anchor {
     const double *x, *rho_mm, *J;
+    double J_err;
 } hp_plan_anchor;
 /* The strict round trip of r's pressures (plan.c): 1 when the fit from the nominal pose ends
  * at achieved (SI), with the distance to where it ends in *worst (mm/deg, inf on failure). */

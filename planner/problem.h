@@ -63,6 +63,12 @@ typedef struct hp_backend_result {
      * the inner radii from them (the backend may then leave x[6 + k] NAN). */
     int has_rho;
     double rho[HP_MAX_BLADDERS];
+    /* 1 when the backend's answer is a step so short from its last linearisation point
+     * lin_x (scaled pose) that rho was extrapolated from there: lin_rho [mm] and lin_J
+     * (n×6, SI: per m and per rad, as hp_contact_eval_g gives it) are the model at lin_x.
+     * The round trip's certificate then may hold before the fit's second evaluation. */
+    int has_lin;
+    double lin_x[6], lin_rho[HP_MAX_BLADDERS], lin_J[HP_MAX_BLADDERS * 6];
 } hp_backend_result;
 
 /* What a backend is, so the core asks for a property instead of testing the enum. */
