@@ -298,8 +298,14 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
         r.bladders[k].binding = 0;
     }
     double xi[6], resid;
-    if (hp_plan_fit_from_nominal(p, ro, p->fk_free, NULL, xi, &resid) == HP_OK)
-        for (int i = 0; i < 6; ++i) r.achieved[i] = p->commanded[i] ? xi[i] : 0.0;
+    /* The pose becomes the safe output's achieved: one the fit from the nominal pose does not
+     * find would be stated for pressures that do not hold it (before, the nominal pose). */
+    if (hp_plan_fit_from_nominal(p, ro, p->fk_free, NULL, xi, &resid) != HP_OK) {
+        hp_text_set(p->err, "set_previous: forward contact kinematics from the nominal pose "
+                            "finds no pose these pressures hold (it did not converge)");
+        return HP_ERR_INVALID;
+    }
+    for (int i = 0; i < 6; ++i) r.achieved[i] = p->commanded[i] ? xi[i] : 0.0;
     hp_plan_set_previous_answer(p, &r);
     /* The radii solve P to the FK's precision, not to set_previous_result's tolerance. */
     p->prev_checked = 0;

@@ -264,8 +264,10 @@ HP_API const hp_identifiable *hp_planner_identifiable(const hp_planner *p);
 HP_API hp_error hp_planner_reach(const hp_planner *p, double reach[6][2]);
 
 /* Sets the pressures the bladders hold now [Pa] (n values): the rate limits of the next plan
- * start from them and they become the safe output. Each must be finite, inside its limits
- * and on the stable branch; otherwise HP_ERR_INVALID and nothing changes. */
+ * start from them and they become the safe output, with the pose the forward contact
+ * kinematics from the nominal pose fits to them. Each must be finite, inside its limits and
+ * on the stable branch, and that fit must converge; otherwise HP_ERR_INVALID and nothing
+ * changes. */
 HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
 
 /* Makes a result the previous answer, as if hp_plan had just returned it, from its fields

@@ -360,6 +360,57 @@ static void test_every_result_is_accepted(void **st)
     assert_true(budget >= 30 && answers >= 300);
 }
 
+/* hp_planner_set_previous states the pose its pressures hold (the safe output's achieved):
+ * it must be the pose hp_contact_fk fits to their outer radii, computed here from the
+ * bladder laws and the public FK. Before, pressures whose fit from the nominal pose did not
+ * converge (a few in a hundred at the plane level) were accepted with the nominal pose. */
+static void test_set_previous_states_a_fitted_pose(void **st)
+{
+    (void)st;
+    hp_planner *p = make(HP_LEVEL_PLANE, INFINITY);
+    const hp_layout *PL = hp_planner_layout(p);
+    uint64_t seed = 7;
+    int refused = 0, accepted = 0;
+    double P0[8];
+    assert_int_equal(hp_planner_nominal_pressures(p, P0), HP_OK);
+    for (int t = 0; t < 3000; ++t) {
+        double P[8];
+        for (int k = 0; k < 8; ++k) {
+            seed = seed * 6364136223846793005u + 1442695040888963407u;
+            double u = (double)(seed >> 11) / 9007199254740992.0;
+            /* Around the nominal pressures: most stay inside the stretch limits. */
+            P[k] = P0[k] + (u - 0.5) * (PL->bladders[k].p_max - PL->bladders[k].p_min);
+        }
+        hp_result before, r;
+        const double nan6[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
+        assert_int_equal(hp_plan(p, nan6, &before), HP_OK);
+        hp_error e = hp_planner_set_previous(p, P);
+        if (e != HP_OK) {
+            assert_int_equal(e, HP_ERR_INVALID);
+            /* A pressure outside the stretch limits is refused too: not counted. */
+            refused += strstr(hp_planner_error(p), "forward contact kinematics") != NULL;
+            expect_state(p, &before); /* nothing changed */
+            continue;
+        }
+        ++accepted;
+        assert_int_equal(hp_plan(p, nan6, &r), HP_OK);
+        double ro[8], xi[6], resid;
+        for (int k = 0; k < 8; ++k) {
+            double ri;
+            assert_int_equal(hp_iab_fk(&PL->bladders[k].iab, P[k], &ri), HP_OK);
+            assert_int_equal(hp_iab_ro(&PL->bladders[k].iab, ri, &ro[k]), HP_OK);
+        }
+        /* Tolerance 1e-6 mm/deg: the planner's reached claim (hp_planner.h); both fits
+         * converge to ~1e-12. */
+        assert_int_equal(hp_contact_fk(PL, HP_LEVEL_PLANE, ro, NULL, xi, &resid, NULL), HP_OK);
+        for (int i = 0; i < 6; ++i)
+            assert_true(fabs(xi[i] - r.achieved[i]) * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD) <= 1e-6);
+    }
+    print_message("set_previous: %d accepted, %d refused\n", accepted, refused);
+    assert_true(refused >= 1 && accepted >= 100);
+    hp_planner_destroy(p);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -369,6 +420,7 @@ int main(void)
         cmocka_unit_test(test_every_result_is_accepted),
         cmocka_unit_test(test_linear),
         cmocka_unit_test(test_surface),
+        cmocka_unit_test(test_set_previous_states_a_fitted_pose),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
