@@ -199,6 +199,47 @@ static hp_settings method_settings(hp_backend b, hp_level l, double tol, int war
     return bench_settings(b, l, tol, warm);
 }
 
+/* Draws of extreme_pressures tried for one target before the case gives up. */
+#define BAD_START_DRAWS 64
+
+/* Keeps each target's extreme pressures only where hp_planner_set_previous accepts them at
+ * every level (the acceptance does not depend on the backend): it refuses pressures whose
+ * contact fit from the nominal pose finds no pose, and a refused start exercises nothing.
+ * Refused sets are redrawn from the same seeded stream (so the run stays reproducible) and
+ * counted on stderr. Returns 0 or an exit status. */
+static int accepted_bad_starts(const hp_layout *L, const bench_bounds *b, uint64_t *sp,
+                               int n_t, double (*prev)[HP_MAX_BLADDERS])
+{
+    hp_planner *p[3] = {NULL, NULL, NULL};
+    int rc = 0, refused = 0;
+    for (int l = 0; l < 3 && !rc; ++l) {
+        hp_settings st = method_settings(HP_BACKEND_REALTIME, levels[l], 1e-9, 1);
+        rc = bench_planner_new(L, &st, &p[l]);
+    }
+    for (int t = 0; t < n_t && !rc; ++t) {
+        int ok = 0;
+        for (int draw = 0; draw < BAD_START_DRAWS && !ok; ++draw) {
+            if (draw > 0) {
+                extreme_pressures(L, b, sp, prev[t]);
+                ++refused;
+            }
+            ok = 1;
+            for (int l = 0; l < 3 && ok; ++l) ok = hp_planner_set_previous(p[l], prev[t]) == HP_OK;
+        }
+        if (!ok) {
+            fprintf(stderr, "headplan-bench: stability: bad-start: %d draws of extreme pressures "
+                            "all refused by set_previous: %s\n", BAD_START_DRAWS,
+                    hp_planner_error(p[0]));
+            rc = CLI_EXIT_SOFTWARE;
+        }
+    }
+    if (!rc)
+        fprintf(stderr, "bench stability: bad-start: %d extreme pressure sets refused by "
+                        "set_previous (no pose fits them) and redrawn, %d kept\n", refused, n_t);
+    for (int l = 0; l < 3; ++l) hp_planner_destroy(p[l]);
+    return rc;
+}
+
 typedef struct {
     int n_size, n_dir, n_t;
     double sizes[N_SIZE_FULL];
@@ -242,6 +283,7 @@ static int run_case(const bench_options *o, const stab_case *c, stab_run *run, c
             extreme_pressures(L, &b, &sp, cd->prev[k * cd->n_dir + d]);
         }
     }
+    if (c->bad_start && (rc = accepted_bad_starts(L, &b, &sp, cd->n_t, cd->prev))) return rc;
     /* References: Ipopt, cold, tight. */
     for (int l = 0; l < 3; ++l) {
         hp_settings st = method_settings(HP_BACKEND_IPOPT, levels[l], REF_TOLERANCE, 0);
