@@ -1,0 +1,20 @@
+# Third round of seams: the same request reaching the program by another path (a JSON Lines
+# trace instead of CSV, a result in the other format, standard input, '--') must get the
+# same honest answer. Each case here was once answered wrongly (see the commit).
+source "$2/tests/cli_lib.sh"
+HP_BIN=$(realpath "$HP_BIN"); HP_SRC=$(realpath "$HP_SRC")
+S="$HP_SRC/scenarios"
+E="$HP_SRC/examples/calibration"
+
+# A JSON Lines number beyond a double's range was refused in jansson's words, naming no key
+# ("o.jsonl:2:21: real number overflow near '1e400'"); CSV names the column. Now the key at
+# the number's own line and column, as an underflow already was.
+printf '{"headplan_trace": 1, "rows": "correction"}\n{"t_s":0,"x_mm":1e400,"y_mm":0,"z_mm":0,"pitch_deg":0,"roll_deg":0,"yaw_deg":0}\n' > "$TMP/o.jsonl"
+run batch "$S/default.yaml" "$TMP/o.jsonl" --format csv --no-times
+expect_exit 65 "batch, a JSON Lines number that overflows"
+expect_stderr_has "o.jsonl:2:17: x_mm: overflows a double" "JSON Lines overflow names the key"
+printf '{"headplan_trace": 1, "rows": "correction"}\n{"t_s":0,"x_mm":0,"y_mm":0,"z_mm":0,"pitch_deg":0,"roll_deg":0,"yaw_deg":-1e999}\n' > "$TMP/o2.jsonl"
+run horizon "$S/default.yaml" "$TMP/o2.jsonl"
+expect_exit 65 "horizon, a JSON Lines number that overflows"
+expect_stderr_has "o2.jsonl:2:74: yaw_deg: overflows a double" "horizon names the key"
+finish
