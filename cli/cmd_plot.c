@@ -217,6 +217,13 @@ static int read_result(const char *path, result *res)
             meta_sha(buf, "# trace_sha256: ", res->trace_sha);
         }
         if (buf[0] == '#' || buf[0] == '\n') continue;
+        /* batch --format jsonl: refused by name, not as a CSV without a column 'line'. */
+        if (!have_header && buf[0] == '{') {
+            rc = cli_fail(CLI_EXIT_DATAERR, CMD,
+                          "%s:%ld:1: a JSON Lines result; plot reads the CSV result (headplan "
+                          "batch --format csv)", path, lineno);
+            break;
+        }
         nf = split(buf, f, MAXF);
         if (nf < 0) {
             rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s:%ld: more than %d columns", path, lineno,

@@ -17,4 +17,13 @@ printf '{"headplan_trace": 1, "rows": "correction"}\n{"t_s":0,"x_mm":0,"y_mm":0,
 run horizon "$S/default.yaml" "$TMP/o2.jsonl"
 expect_exit 65 "horizon, a JSON Lines number that overflows"
 expect_stderr_has "o2.jsonl:2:74: yaw_deg: overflows a double" "horizon names the key"
+# plot given batch's JSON Lines result said "not a headplan batch CSV: no column 'line'";
+# now it says which format it was given and which it reads. Nothing is drawn.
+"$HP_BIN" batch "$S/default.yaml" "$S/traces/nodding.csv" --format jsonl -o "$TMP/nod.jsonl" 2>/dev/null
+for extra in "--dry-run" "-o $TMP/p.svg"; do
+    run plot "$TMP/nod.jsonl" $extra
+    expect_exit 65 "plot, a JSON Lines result ($extra)"; expect_stdout_empty "plot jsonl $extra"
+    expect_stderr_has "nod.jsonl:1:1: a JSON Lines result; plot reads the CSV result" "plot names the format"
+done
+[ ! -e "$TMP/p.svg" ] && ok || bad "plot drew a JSON Lines result"
 finish
