@@ -83,6 +83,18 @@ static int print_json(json_t *o)
 
 static json_t *real_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
 
+/* The data's own millimetres back from the reader's metres (mm * 1e-3): m * 1e3 can be a
+ * neighbour of the number written (25.5303 came back as 25.530300000000004). The number of
+ * 15 significant digits nearest m * 1e3 is the one written whenever the data has at most 15
+ * digits; it is taken only when the reader's conversion of it gives m again. */
+static double data_mm(double m)
+{
+    char buf[32];
+    snprintf(buf, sizeof buf, "%.15g", m * 1e3);
+    double mm = strtod(buf, NULL);
+    return mm * 1e-3 == m ? mm : m * 1e3;
+}
+
 /* ---------------------------------------------------------------- material */
 
 /* Candidate pressures for the planning table: from the lowest measured pressure minus half
@@ -248,7 +260,7 @@ static int run_material(int argc, char **argv)
             json_array_append_new(rs, json_pack("{s:I,s:f,s:f,s:f}", "line",
                                                 (json_int_t)pts[i].line, "pressure_pa",
                                                 pts[i].pressure, "measured_mm",
-                                                pts[i].radius * 1e3, "residual_mm", res[i] * 1e3));
+                                                data_mm(pts[i].radius), "residual_mm", res[i] * 1e3));
         json_object_set_new(o, "residuals", rs);
         json_t *nx = json_array();
         for (int j = 0; j < N_CAND; ++j) {

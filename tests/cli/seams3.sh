@@ -26,4 +26,19 @@ for extra in "--dry-run" "-o $TMP/p.svg"; do
     expect_stderr_has "nod.jsonl:1:1: a JSON Lines result; plot reads the CSV result" "plot names the format"
 done
 [ ! -e "$TMP/p.svg" ] && ok || bad "plot drew a JSON Lines result"
+# fit material --json printed measured_mm 25.530300000000004 for the data's 25.5303 (the
+# reader's metres times 1e3); every --json prints %.17g of the double, so a number echoed
+# from the data must be the data's own double. Compared with the file's numbers as Python
+# reads them.
+run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --json
+expect_exit 0 "fit material --json"
+python3 - "$TMP/out" "$E/material_ri.csv" <<'PY' && ok || bad "fit material --json measured_mm is not the data's number"
+import csv, json, sys
+got = [r["measured_mm"] for r in json.load(open(sys.argv[1]))["residuals"]]
+rows = [l for l in open(sys.argv[2]) if not l.startswith("#")]
+want = [float(r["ri_mm"]) for r in csv.DictReader(rows)]
+bad = [(g, w) for g, w in zip(got, want) if g != w]
+if bad or len(got) != len(want):
+    sys.exit("measured_mm differs from the data: %s %d %d" % (bad[:3], len(got), len(want)))
+PY
 finish
