@@ -41,4 +41,20 @@ bad = [(g, w) for g, w in zip(got, want) if g != w]
 if bad or len(got) != len(want):
     sys.exit("measured_mm differs from the data: %s %d %d" % (bad[:3], len(got), len(want)))
 PY
+# horizon named a row the planner refused by its status alone ("first t.csv:4:
+# invalid-input)"), where batch prints the planner's reason; greedy plans what batch plans,
+# so its reason is batch's word for word. Receding plans another target: the planner's
+# reason all the same.
+H='# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n'
+printf "$H"'0,1,0,0,0,0,0\n1,0,0,0,89.9,0,0\n2,1,0,0,0,0,0\n3,0,0,0,20,0,0\n' > "$TMP/t.csv"
+run batch "$S/default.yaml" "$TMP/t.csv" --format csv --no-times
+expect_exit 65 "batch, a refused row"
+want=$(grep -m1 "t.csv:4: " "$TMP/err" | sed "s#^headplan batch: $TMP/t.csv:4: ##")
+case "$want" in desired:*identifiable*) ok ;; *) bad "batch's reason is '$want'" ;; esac
+run horizon "$S/default.yaml" "$TMP/t.csv" --mode greedy
+expect_exit 65 "horizon greedy, a refused row"
+expect_stderr_has "greedy: 1 of 4 rows refused (first $TMP/t.csv:4: invalid-input: $want)" "horizon greedy gives batch's reason"
+run horizon "$S/default.yaml" "$TMP/t.csv" --mode receding
+expect_exit 65 "horizon receding, a refused row"
+expect_stderr_has "receding: 1 of 4 rows refused (first $TMP/t.csv:4: invalid-input: desired: outside the identifiable range" "horizon receding gives the planner's reason"
 finish
