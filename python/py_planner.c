@@ -375,7 +375,7 @@ static PyMethodDef planner_methods[] = {
      "states; an array must say (the kind is never guessed). Returns the keys of plan_many\n"
      "plus line (the input line, 0 for arrays) and t_s. A bad file row gets status\n"
      "'bad-row' and NaN values, and its message is in 'messages' (a list), as batch reports\n"
-     "it.\n\n"
+     "it; so is the planner's reason for a row it refused (invalid-input).\n\n"
      "mode plans over a horizon instead, as `headplan horizon` does (every row must be\n"
      "good): 'greedy' (row by row with the per-row and per-second rate limits), 'receding'\n"
      "(horizon rows ahead, prediction 'hold' or 'velocity'), 'offline' (the whole trace in\n"
