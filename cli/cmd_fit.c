@@ -128,13 +128,15 @@ static int run_material(int argc, char **argv)
     /* One matcher for both fits: a value given twice is refused, not silently replaced. */
     const char *const names[] = {"--Ri-mm", "--Ro-mm", "--plot", "--fit-ref"};
     const char **slots[] = {&ri_t, &ro_t, &plot, &ref_t};
-    for (int i = 0; i < argc; ++i) {
+    for (int i = 0, operands = 0; i < argc; ++i) {
         int m;
-        if (strcmp(argv[i], "--json") == 0) {
+        if (!operands && strcmp(argv[i], "--") == 0) {
+            operands = 1;
+        } else if (!operands && strcmp(argv[i], "--json") == 0) {
             json = 1;
-        } else if ((m = cli_named_opt(CMD, argc, argv, &i, names, slots, 4)) != 0) {
+        } else if (!operands && (m = cli_named_opt(CMD, argc, argv, &i, names, slots, 4)) != 0) {
             if (m < 0) return CLI_EXIT_USAGE;
-        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
+        } else if (!operands && argv[i][0] == '-' && argv[i][1] != '\0') {
             return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         } else if (data) {
             return cli_fail(CLI_EXIT_USAGE, CMD, "material: one DATA file only");
@@ -343,15 +345,19 @@ static int parse_layout(int argc, char **argv, layout_args *a)
                                  "--sigma-deg", "--plot",  "--plot-script"};
     const char **slots[] = {&a->out,     &a->level, &a->what,       &a->sig_mm,
                             &a->sig_deg, &a->plot,  &a->plot_script};
-    for (int i = 0; i < argc; ++i) {
-        if (strcmp(argv[i], "--json") == 0) {
+    for (int i = 0, operands = 0; i < argc; ++i) {
+        if (!operands && strcmp(argv[i], "--") == 0) {
+            operands = 1;
+            continue;
+        }
+        if (!operands && strcmp(argv[i], "--json") == 0) {
             a->json = 1;
             continue;
         }
-        int matched = cli_named_opt(CMD, argc, argv, &i, names, slots, 7);
+        int matched = operands ? 0 : cli_named_opt(CMD, argc, argv, &i, names, slots, 7);
         if (matched < 0) return CLI_EXIT_USAGE;
         if (matched) continue;
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
+        if (!operands && argv[i][0] == '-' && argv[i][1] != '\0')
             return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         if (!a->scene) a->scene = argv[i];
         else if (!a->data) a->data = argv[i];
@@ -667,11 +673,10 @@ static int run_layout(int argc, char **argv)
 
 int cmd_fit(int argc, char **argv)
 {
-    for (int i = 1; i < argc; ++i)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            help();
-            return CLI_EXIT_OK;
-        }
+    if (cli_wants_help(argc, argv, 1)) {
+        help();
+        return CLI_EXIT_OK;
+    }
     if (argc < 2) {
         fprintf(stderr, "headplan fit: missing what to fit (material or layout; see headplan "
                         "fit --help)\n");

@@ -57,4 +57,43 @@ expect_stderr_has "greedy: 1 of 4 rows refused (first $TMP/t.csv:4: invalid-inpu
 run horizon "$S/default.yaml" "$TMP/t.csv" --mode receding
 expect_exit 65 "horizon receding, a refused row"
 expect_stderr_has "receding: 1 of 4 rows refused (first $TMP/t.csv:4: invalid-input: desired: outside the identifiable range" "horizon receding gives the planner's reason"
+# '--' (end of options, POSIX) was an unknown option for every subcommand, so a file whose
+# name starts with '-' could not be given. Now every subcommand reads each argument after the
+# first '--' as a file, and the same bytes give the same answer by either name.
+mkdir -p "$TMP/dd"; cd "$TMP/dd"
+cp "$S/default.yaml" ./-s.yaml; cp "$S/default.yaml" s.yaml
+cp "$S/traces/nodding.csv" ./-t.csv; cp "$E/material_ri.csv" ./-m.csv; cp "$E/layout_rows.csv" ./-l.csv
+"$HP_BIN" batch s.yaml -t.csv 2>/dev/null; [ $? -eq 64 ] && ok || bad "-t.csv was taken for an option before"
+"$HP_BIN" batch s.yaml -- -t.csv -o r.csv 2>/dev/null; [ $? -eq 64 ] && ok || bad "-o after -- is a file"
+cp ./-t.csv t.csv; "$HP_BIN" batch s.yaml t.csv --no-times -o r.csv 2>/dev/null
+cp r.csv ./-r.csv
+cp "$S/paper_expansion.yaml" ./-p.yaml; cp "$S/paper_expansion.yaml" p.yaml
+for pair in "solve --json -- -s.yaml|solve --json s.yaml" \
+            "analyze -- -s.yaml|analyze s.yaml" \
+            "batch --format csv --no-times -- -s.yaml -t.csv|batch --format csv --no-times s.yaml t.csv" \
+            "horizon --mode greedy -- -s.yaml -t.csv|horizon --mode greedy s.yaml t.csv" \
+            "render --dry-run -- -s.yaml|render --dry-run s.yaml" \
+            "plot --dry-run -- -r.csv|plot --dry-run r.csv" \
+            "fit material --Ri-mm 27 --Ro-mm 30 --json -- -m.csv|fit material --Ri-mm 27 --Ro-mm 30 --json m.csv" \
+            "fit layout --json -- -s.yaml -l.csv|fit layout --json s.yaml l.csv" \
+            "paper -- -p.yaml|paper p.yaml"; do
+    dashed=${pair%%|*}; plain=${pair#*|}
+    [ -e m.csv ] || cp ./-m.csv m.csv; [ -e l.csv ] || cp ./-l.csv l.csv
+    run $dashed; rc_d=$rc; sed 's/-\([strmlp]\)\.\(yaml\|csv\)/\1.\2/g; s/"solve_time_us": [-0-9.e]*//' "$TMP/out" > "$TMP/dashed"
+    run $plain
+    [ "$rc_d" -eq "$rc" ] && [ "$rc" -le 1 ] && ok || bad "$dashed: exit $rc_d, '$plain' exits $rc"
+    sed 's/-\([strmlp]\)\.\(yaml\|csv\)/\1.\2/g; s/"solve_time_us": [-0-9.e]*//' "$TMP/out" | grep -v '^# trace\|^# scene\|"trace\|"scene\|^# result\|sha256' > "$TMP/plain"
+    grep -v '^# trace\|^# scene\|"trace\|"scene\|^# result\|sha256' "$TMP/dashed" > "$TMP/dashed2"
+    cmp -s "$TMP/dashed2" "$TMP/plain" && ok || bad "$dashed prints otherwise than $plain: $(diff "$TMP/dashed2" "$TMP/plain" | head -3)"
+done
+# After '--' nothing is an option: --help is a file name, --json a second scene.
+run solve -- --help
+expect_exit 66 "solve -- --help"; expect_stderr_has "headplan solve: --help: cannot open" "--help after -- is a file"
+run solve s.yaml -- --json
+expect_exit 64 "solve s.yaml -- --json"; expect_stderr_has "'--json': only one scene file may be given" "--json after -- is a file"
+run ik -- --json
+expect_exit 64 "ik -- --json"; expect_stderr_has "unexpected argument '--json'" "ik takes no files"
+run fit -- material
+expect_exit 64 "fit -- material"
+cd - > /dev/null
 finish
