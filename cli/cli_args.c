@@ -149,6 +149,11 @@ int cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *co
     return 0;
 }
 
+const char *cli_name(const char *path)
+{
+    return path && strcmp(path, "-") == 0 ? "<stdin>" : path;
+}
+
 int cli_wants_help(int argc, char **argv, int from)
 {
     for (int i = from; i < argc && strcmp(argv[i], "--") != 0; ++i)
@@ -195,6 +200,10 @@ int cli_parse(const char *cmd, int argc, char **argv, const cli_grammar *g)
         *g->pos[npos++] = argv[i];
     }
     if (npos == 0) return cli_fail(CLI_EXIT_USAGE, cmd, "missing %s (see --help)", g->first_name);
+    /* SCENE - and TRACE -: the second would read what the first left (nothing). */
+    if (npos == 2 && strcmp(*g->pos[0], "-") == 0 && strcmp(*g->pos[1], "-") == 0)
+        return cli_fail(CLI_EXIT_USAGE, cmd,
+                        "'-' given twice: standard input can be read only once");
     return -1;
 }
 

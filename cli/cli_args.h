@@ -70,6 +70,10 @@ int cli_wants_help(int argc, char **argv, int from);
  * "missing FIRST (see --help)", a missing value or an option given twice. */
 int cli_parse(const char *cmd, int argc, char **argv, const cli_grammar *g);
 
+/* The name of an input file in messages: "<stdin>" for "-" (standard input, as every
+ * subcommand reads it), else path itself. */
+const char *cli_name(const char *path);
+
 /* Writes s to f with control characters (and DEL) as \xNN, and every byte that is not
  * part of well-formed UTF-8 as \xNN: echoed text cannot break a message's one line. */
 void cli_put_escaped(FILE *f, const char *s);

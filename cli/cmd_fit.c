@@ -428,7 +428,8 @@ static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fi
     }
     if (o->level == HP_LEVEL_AUTO &&
         hp_contact_auto(&sc->layout, s.level_tolerance, s.auto_trans, s.auto_rot, &o->level))
-        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: auto could not choose a level", a->scene);
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: auto could not choose a level",
+                        cli_name(a->scene));
     return 0;
 }
 
@@ -437,7 +438,7 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
                         const double *gain, hp_level level)
 {
     int held = 0;
-    printf("layout fit: %s with %s, %d rows, %s %s\n", a->scene, a->data, f->n_rows,
+    printf("layout fit: %s with %s, %d rows, %s %s\n", cli_name(a->scene), a->data, f->n_rows,
            f->mass_index >= 0 && !isnan(f->mass) ? "forward statics (load level), geometry"
                                                  : "level",
            hp_level_name(level));
@@ -506,7 +507,7 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
                            const hp_calib_row *rows, const double *gain, hp_level level)
 {
     json_t *o = json_object();
-    json_object_set_new(o, "scene", json_string(a->scene));
+    json_object_set_new(o, "scene", json_string(cli_name(a->scene)));
     json_object_set_new(o, "data", json_string(a->data));
     json_object_set_new(o, "rows", json_integer(f->n_rows));
     json_object_set_new(o, "level", json_string(hp_level_name(level)));
@@ -601,6 +602,11 @@ static int run_layout(int argc, char **argv)
     if (!rc && a.out && !*a.out) rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "-o '': an empty file name");
     if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, n_inputs, &d)) != HP_OK)
         rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
+    if (!rc && a.out && strcmp(a.scene, "-") == 0) { /* the file on standard input, by identity */
+        cli_input std;
+        cli_input_of(&std, "scene", a.scene);
+        rc = cli_out_allowed(CMD, "-o", a.out, &std, 1);
+    }
     if (!rc) rc = cli_stdout_not_input(CMD, "data", a.data, -1, a.data);
     if (!rc) {
         e = hp_calib_read_layout(a.data, &sc->layout, rows, HP_CALIB_MAX_ROWS, &n, &d);

@@ -463,7 +463,7 @@ int cmd_horizon(int argc, char **argv)
         hp_horizon_measure(plans[p], T, sc->layout.n, p0, &s, &hs, tol_mm, tol_deg, &m[p]);
     }
     if (a.out) {
-        write_csv(out.f, &sc->layout, modes, plans, T, m, a.scene, trace, &kind, tol_mm,
+        write_csv(out.f, &sc->layout, modes, plans, T, m, cli_name(a.scene), trace, &kind, tol_mm,
                   tol_deg);
         if ((rc = cli_out_commit(&out, CMD))) goto done;
     }

@@ -504,7 +504,7 @@ int cmd_plot(int argc, char **argv)
             lrc = cli_fail(CLI_EXIT_DATAERR, CMD,
                            "--scene %s: not the scene %s was planned with (its scene_sha256 "
                            "is another file's)",
-                           a.scene, a.result);
+                           cli_name(a.scene), a.result);
         if (lrc) {
             free(sc);
             free(res.rows);
@@ -522,7 +522,7 @@ int cmd_plot(int argc, char **argv)
                 }
             if (!found) {
                 rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: the scene %s has no bladder '%s'",
-                                 a.result, a.scene, res.names[k]);
+                                 a.result, cli_name(a.scene), res.names[k]);
                 break;
             }
         }

@@ -96,4 +96,41 @@ expect_exit 64 "ik -- --json"; expect_stderr_has "unexpected argument '--json'" 
 run fit -- material
 expect_exit 64 "fit -- material"
 cd - > /dev/null
+# SCENE '-' was a file named '-' ("-: cannot open") while TRACE '-' is standard input. Now
+# every subcommand that reads a scene reads '-' from standard input, with the file's answer;
+# the parser's messages name it <stdin>, as the trace reader names its standard input.
+mkdir -p "$TMP/si"; cd "$TMP/si"
+cp "$S/default.yaml" s.yaml; cp s.yaml s.orig; cp "$S/traces/nodding.csv" t.csv
+cp "$E/layout_rows.csv" l.csv
+"$HP_BIN" batch s.yaml t.csv --no-times -o r.csv 2>/dev/null
+mask() { sed 's/"solve_time_us": [-0-9.e]*//; s/<stdin>/s.yaml/g' "$1" | grep -v '^# scene_sha256\|^# trace_sha256'; }
+for c in "solve --json" "analyze --json" "batch --format csv --no-times SCENE t.csv" \
+         "horizon --mode greedy SCENE t.csv" "render --dry-run" "fit layout --json SCENE l.csv" \
+         "plot r.csv --dry-run --scene"; do
+    case "$c" in *SCENE*) file=${c/SCENE/s.yaml}; std=${c/SCENE/-} ;; *) file="$c s.yaml"; std="$c -" ;; esac
+    run $file; rc_f=$rc; mask "$TMP/out" > "$TMP/file_out"
+    "$HP_BIN" $std < s.yaml > "$TMP/out" 2> "$TMP/err"; rc=$?
+    [ "$rc" -eq "$rc_f" ] && [ "$rc" -le 1 ] && ok || bad "$std < s.yaml: exit $rc, the file's $rc_f"
+    mask "$TMP/out" > "$TMP/std_out"
+    [ -s "$TMP/std_out" ] && cmp -s "$TMP/std_out" "$TMP/file_out" && ok || bad "$std < s.yaml prints otherwise: $(diff "$TMP/std_out" "$TMP/file_out" | head -4)"
+done
+printf 'headplan_scene: 1\nlayout:\n  bogus: 1\n' > bad.yaml
+run solve bad.yaml; want=$(sed "s#bad.yaml#<stdin>#" "$TMP/err")
+"$HP_BIN" solve - < bad.yaml > "$TMP/out" 2> "$TMP/err"; rc=$?
+expect_exit 65 "solve -, a bad scene"; expect_stderr_has "$want" "the parser names <stdin>"
+expect_stderr_has "headplan solve: <stdin>:" "the parser names <stdin>"
+for c in "batch - - --format csv" "horizon - -"; do
+    "$HP_BIN" $c < s.yaml > "$TMP/out" 2> "$TMP/err"; rc=$?
+    expect_exit 64 "$c"; expect_stderr_has "'-' given twice: standard input can be read only once" "$c"
+done
+# The scene on standard input is an input like any other: no output may replace it.
+for c in "batch - t.csv --format csv -o s.yaml" "fit layout - l.csv -o s.yaml" \
+         "horizon - t.csv -o s.yaml" "render - -o x.svg --script-out s.yaml"; do
+    "$HP_BIN" $c < s.yaml > "$TMP/out" 2> "$TMP/err"; rc=$?
+    expect_exit 73 "$c < s.yaml"; expect_stderr_has "s.yaml" "$c names the file"
+    cmp -s s.yaml s.orig && ok || bad "$c replaced the scene it read from standard input"
+done
+"$HP_BIN" solve - < s.yaml >> s.yaml 2> "$TMP/err"; rc=$?
+expect_exit 73 "solve - < s.yaml >> s.yaml"; cmp -s s.yaml s.orig && ok || bad "solve - appended to its scene"
+cd - > /dev/null
 finish
