@@ -130,6 +130,15 @@ for c in "batch - t.csv --format csv -o s.yaml" "fit layout - l.csv -o s.yaml" \
     expect_exit 73 "$c < s.yaml"; expect_stderr_has "s.yaml" "$c names the file"
     cmp -s s.yaml s.orig && ok || bad "$c replaced the scene it read from standard input"
 done
+# plot's RESULT '-' was a file named '-' too: now standard input (batch ... | plot -); its
+# --trace is read twice (hash, then rows), so '-' there is refused by name, not "cannot open".
+run plot r.csv --dry-run; sed 's/r\.csv/<stdin>/g' "$TMP/out" > "$TMP/file_out"
+"$HP_BIN" plot - --dry-run < r.csv > "$TMP/out" 2> "$TMP/err"; rc=$?
+expect_exit 0 "plot - < r.csv"; cmp -s "$TMP/out" "$TMP/file_out" && ok || bad "plot - draws otherwise"
+"$HP_BIN" plot - --scene - --dry-run < r.csv > "$TMP/out" 2> "$TMP/err"; rc=$?
+expect_exit 64 "plot - --scene -"; expect_stderr_has "'-' given twice" "plot - --scene -"
+run plot r.csv --trace - --dry-run
+expect_exit 64 "plot --trace -"; expect_stderr_has "--trace -: the trace must be a file" "plot --trace -"
 "$HP_BIN" solve - < s.yaml >> s.yaml 2> "$TMP/err"; rc=$?
 expect_exit 73 "solve - < s.yaml >> s.yaml"; cmp -s s.yaml s.orig && ok || bad "solve - appended to its scene"
 cd - > /dev/null
