@@ -296,12 +296,12 @@ static int key_column(const char *s, size_t len, const char *key)
 static hp_error jsonl_row(const csv_file *f, const hp_layout *L, const hp_iab_limit *lp,
                           const char *s, size_t len, hp_calib_row *row, hp_diag *d)
 {
-    const char *ukey;
+    const char *ukey, *uwhy;
     size_t uklen;
-    long at = hp_json_underflow(s, len, &ukey, &uklen);
+    long at = hp_json_out_of_range(s, len, &ukey, &uklen, &uwhy);
     if (at >= 0)
-        return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: too small for a double", f->path,
-                           f->line, at + 1, (int)uklen, ukey);
+        return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: %s", f->path,
+                           f->line, at + 1, (int)uklen, ukey, uwhy);
     json_error_t je;
     json_t *o = json_loadb(s, len, JSON_REJECT_DUPLICATES | JSON_DECODE_INT_AS_REAL, &je); /* as CSV */
     if (!o)

@@ -149,34 +149,61 @@ int cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *co
     return 0;
 }
 
+const char *cli_name(const char *path)
+{
+    return path && strcmp(path, "-") == 0 ? "<stdin>" : path;
+}
+
+int cli_wants_help(int argc, char **argv, int from)
+{
+    for (int i = from; i < argc && strcmp(argv[i], "--") != 0; ++i)
+        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) return 1;
+    return 0;
+}
+
+/* argv[*i] as one of g's options: 1 matched (*i past its value), 0 not an option (a
+ * positional argument), else the exit status after one line. */
+static int grammar_option(const char *cmd, int argc, char **argv, int *i, const cli_grammar *g)
+{
+    if (g->extra) {
+        int m = g->extra(cmd, argc, argv, i, g->extra_ctx);
+        if (m != 0) return m;
+    }
+    for (int f = 0; f < g->nflags; ++f)
+        if (strcmp(argv[*i], g->flags[f]) == 0) return *g->flag_slots[f] = 1;
+    int matched = cli_named_opt(cmd, argc, argv, i, g->names, g->slots, g->nopts);
+    if (matched != 0) return matched < 0 ? CLI_EXIT_USAGE : 1;
+    if (argv[*i][0] == '-' && argv[*i][1] != '\0')
+        return cli_fail(CLI_EXIT_USAGE, cmd, "unknown option '%s' (see --help)", argv[*i]);
+    return 0;
+}
+
 int cli_parse(const char *cmd, int argc, char **argv, const cli_grammar *g)
 {
-    for (int i = 1; i < argc; ++i)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            g->help();
-            return CLI_EXIT_OK;
-        }
+    if (cli_wants_help(argc, argv, 1)) {
+        g->help();
+        return CLI_EXIT_OK;
+    }
     int npos = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (g->extra) {
-            int m = g->extra(cmd, argc, argv, &i, g->extra_ctx);
+    for (int i = 1, operands = 0; i < argc; ++i) {
+        if (!operands && strcmp(argv[i], "--") == 0) {
+            operands = 1;
+            continue;
+        }
+        if (!operands) {
+            int m = grammar_option(cmd, argc, argv, &i, g);
             if (m == 1) continue;
             if (m != 0) return m;
         }
-        int is_flag = 0;
-        for (int f = 0; f < g->nflags && !is_flag; ++f)
-            if (strcmp(argv[i], g->flags[f]) == 0) *g->flag_slots[f] = is_flag = 1;
-        if (is_flag) continue;
-        int matched = cli_named_opt(cmd, argc, argv, &i, g->names, g->slots, g->nopts);
-        if (matched < 0) return CLI_EXIT_USAGE;
-        if (matched) continue;
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
-            return cli_fail(CLI_EXIT_USAGE, cmd, "unknown option '%s' (see --help)", argv[i]);
         if (npos >= g->npos)
             return cli_fail(CLI_EXIT_USAGE, cmd, "unexpected argument '%s'", argv[i]);
         *g->pos[npos++] = argv[i];
     }
     if (npos == 0) return cli_fail(CLI_EXIT_USAGE, cmd, "missing %s (see --help)", g->first_name);
+    /* SCENE - and TRACE -: the second would read what the first left (nothing). */
+    if (npos == 2 && strcmp(*g->pos[0], "-") == 0 && strcmp(*g->pos[1], "-") == 0)
+        return cli_fail(CLI_EXIT_USAGE, cmd,
+                        "'-' given twice: standard input can be read only once");
     return -1;
 }
 
@@ -184,20 +211,23 @@ int cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
                       const char *const *names, const char **const *slots, int nopts,
                       int *json, const char **scene)
 {
-    for (int i = 1; i < argc; ++i)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            help();
-            return CLI_EXIT_OK;
+    if (cli_wants_help(argc, argv, 1)) {
+        help();
+        return CLI_EXIT_OK;
+    }
+    for (int i = 1, operands = 0; i < argc; ++i) {
+        if (!operands && strcmp(argv[i], "--") == 0) {
+            operands = 1;
+            continue;
         }
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--json") == 0) {
+        if (!operands && strcmp(argv[i], "--json") == 0) {
             *json = 1;
             continue;
         }
-        int matched = cli_named_opt(cmd, argc, argv, &i, names, slots, nopts);
+        int matched = operands ? 0 : cli_named_opt(cmd, argc, argv, &i, names, slots, nopts);
         if (matched < 0) return CLI_EXIT_USAGE;
         if (matched) continue;
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
+        if (!operands && argv[i][0] == '-' && argv[i][1] != '\0')
             return cli_fail(CLI_EXIT_USAGE, cmd, "unknown option '%s' (see headplan %s --help)",
                                argv[i], cmd);
         if (*scene)

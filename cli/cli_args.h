@@ -59,10 +59,20 @@ typedef struct cli_grammar {
     const char *first_name; /* "SCENE", "RESULT" */
 } cli_grammar;
 
-/* Parses argv by g: --help or -h anywhere prints help() and returns 0. Returns -1 to go on,
+/* End of options (POSIX): every subcommand reads each argument after the first "--" as a
+ * file or value, never as an option ("headplan solve -- -x.yaml"). cli_wants_help says
+ * whether argv[from..argc) holds --help or -h before any "--". */
+int cli_wants_help(int argc, char **argv, int from);
+
+/* Parses argv by g: --help or -h anywhere (before "--") prints help() and returns 0. An
+ * argument after "--" is positional. Returns -1 to go on,
  * or 64 after one line: "unknown option 'X' (see --help)", "unexpected argument 'X'",
  * "missing FIRST (see --help)", a missing value or an option given twice. */
 int cli_parse(const char *cmd, int argc, char **argv, const cli_grammar *g);
+
+/* The name of an input file in messages: "<stdin>" for "-" (standard input, as every
+ * subcommand reads it), else path itself. */
+const char *cli_name(const char *path);
 
 /* Writes s to f with control characters (and DEL) as \xNN, and every byte that is not
  * part of well-formed UTF-8 as \xNN: echoed text cannot break a message's one line. */

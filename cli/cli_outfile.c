@@ -46,7 +46,14 @@ void cli_input_of(cli_input *in, const char *what, const char *path)
     memset(in, 0, sizeof *in);
     in->what = what;
     in->path = path;
-    if (path && strcmp(path, "-") != 0 && stat(path, &st) == 0) {
+    if (path && strcmp(path, "-") == 0) {
+        in->path = "<stdin>";
+        if (fstat(STDIN_FILENO, &st) == 0 && S_ISREG(st.st_mode)) {
+            in->dev = st.st_dev;
+            in->ino = st.st_ino;
+            in->known = 1;
+        }
+    } else if (path && stat(path, &st) == 0) {
         in->dev = st.st_dev;
         in->ino = st.st_ino;
         in->known = 1;

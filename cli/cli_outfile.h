@@ -20,8 +20,8 @@ typedef struct cli_input {
     int known;        /* 0: not a file we could stat (standard input, missing) */
 } cli_input;
 
-/* Records path as an input; "-" and paths that cannot be stat'ed are recorded as unknown
- * (nothing to protect). */
+/* Records path as an input; "-" is standard input, recorded by what it is open on (named
+ * "<stdin>"); paths that cannot be stat'ed are recorded as unknown (nothing to protect). */
 void cli_input_of(cli_input *in, const char *what, const char *path);
 
 /* 0 when path may be written by option opt of cmd; otherwise CLI_EXIT_CANTCREAT after one

@@ -17,22 +17,21 @@
 static int read_scene(const char *cmd, const char *path, char **buf, size_t *len)
 {
     *buf = NULL;
-    FILE *f = fopen(path, "rb");
+    const int std = strcmp(path, "-") == 0; /* standard input, as batch and horizon read TRACE */
+    path = cli_name(path);
+    FILE *f = std ? stdin : fopen(path, "rb");
     if (!f) return cli_fail(CLI_EXIT_NOINPUT, cmd, "%s: cannot open: %s", path, strerror(errno));
     int rc = cli_stdout_not_input(cmd, "scene", path, fileno(f), NULL);
+    char *b = rc ? NULL : malloc(HP_SCENE_MAX_BYTES + 1);
+    if (!rc && !b) rc = cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
     if (rc) {
-        fclose(f);
+        if (!std) fclose(f);
         return rc;
-    }
-    char *b = malloc(HP_SCENE_MAX_BYTES + 1);
-    if (!b) {
-        fclose(f);
-        return cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
     }
     errno = 0;
     size_t n = fread(b, 1, HP_SCENE_MAX_BYTES + 1, f);
     int failed = ferror(f), why = errno;
-    fclose(f);
+    if (!std) fclose(f);
     if (failed)
         rc = cli_fail(CLI_EXIT_NOINPUT, cmd, "%s: cannot read: %s", path,
                       why ? strerror(why) : "read error");
@@ -55,6 +54,7 @@ int cli_load_scene_text(const char *cmd, const char *path, const char *study_msg
     size_t len = 0;
     int rc = read_scene(cmd, path, &text, &len);
     if (rc) return rc;
+    path = cli_name(path);
     hp_diag d = {{0}};
     if (hp_scene_kind_of(text, len) == HP_SCENE_BLADDER) {
         hp_bladder_study st;

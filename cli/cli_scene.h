@@ -8,7 +8,8 @@
 
 #include <stddef.h>
 
-/* Loads the layout scene SCENE (allocated into *out; free() it). Prints the parser's message
+/* Loads the layout scene SCENE ("-": standard input, named <stdin> in messages; allocated
+ * into *out; free() it). Prints the parser's message
  * and returns 66 (cannot open) or 65 (malformed) on failure. A single-bladder study is read
  * as one (its own errors first), then refused with 65 and study_msg (a format with one %s,
  * the path; NULL: "a single-bladder study has no layout (see headplan ik/fk)"). Returns 0

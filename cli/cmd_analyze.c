@@ -97,16 +97,16 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
     if (!e) e = hp_contact_error_bound(L, HP_LEVEL_PLANE, r->trans, r->rot, &r->bound_plane);
     if (!e) e = hp_contact_auto(L, s.level_tolerance, r->trans, r->rot, &r->auto_level);
     if (e)
-        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: error bounds: %s", a->scene,
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: error bounds: %s", cli_name(a->scene),
                            hp_error_message(e));
     r->level = r->requested == HP_LEVEL_AUTO ? r->auto_level : r->requested;
     e = hp_layout_identify(L, &r->id);
     if (e)
-        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: identifiable range: %s", a->scene,
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: identifiable range: %s", cli_name(a->scene),
                            hp_error_message(e));
     e = hp_layout_analyze(L, r->level, &r->an);
     if (e)
-        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: layout analysis: %s", a->scene,
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: layout analysis: %s", cli_name(a->scene),
                            hp_error_message(e));
     /* The reach reported is the planner's (its caps, its commanded components), so that
      * `headplan solve` at 99 % of it reaches and at 101 % binds a limit. */
@@ -117,7 +117,7 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
     if (!e) e = hp_planner_reach(p, r->an.reach);
     hp_planner_destroy(p);
     if (e)
-        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: reach: %s", a->scene,
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: reach: %s", cli_name(a->scene),
                         d.text[0] ? d.text : hp_error_message(e));
     return -1;
 }

@@ -329,14 +329,15 @@ int cmd_batch(int argc, char **argv)
         free(sc);
         return rc;
     }
-    if (stat(a.scene, &scene_st) != 0) {
+    if ((strcmp(a.scene, "-") == 0 ? fstat(STDIN_FILENO, &scene_st) : stat(a.scene, &scene_st)) !=
+        0) {
         free(sc);
         return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", a.scene, strerror(errno));
     }
     if (!a.trace && !sc->has_trace) {
         free(sc);
         return cli_fail(CLI_EXIT_USAGE, CMD, "missing TRACE (the scene %s names no trace)",
-                           a.scene);
+                           cli_name(a.scene));
     }
     const char *trace_path = a.trace ? a.trace : sc->trace_path;
     trace_input t = {0};
@@ -349,7 +350,8 @@ int cmd_batch(int argc, char **argv)
     if (rc == 0) {
         /* The trace by the identity of what was opened: standard input redirected from a
          * file protects that file too. */
-        cli_input ids[3] = {{"scene", a.scene, scene_st.st_dev, scene_st.st_ino, 1},
+        cli_input ids[3] = {{"scene", cli_name(a.scene), scene_st.st_dev, scene_st.st_ino,
+                             S_ISREG(scene_st.st_mode)},
                             {"trace", t.name, t.st.st_dev, t.st.st_ino, 1}};
         /* The scene's own trace when another one is planned: the user's data all the same. */
         int nid = 2;
@@ -361,7 +363,7 @@ int cmd_batch(int argc, char **argv)
     if (rc == 0) {
         const char *from = hp_trace_states_rows(r) ? "trace" : a.rows ? "--rows"
                                                                       : "scene trace.rows";
-        const batch_meta meta = {a.scene, scene_sha, a.trace ? a.trace : trace_path,
+        const batch_meta meta = {cli_name(a.scene), scene_sha, a.trace ? a.trace : trace_path,
                                  t.hashed ? t.sha : NULL,
                                  hp_trace_rows_name(hp_trace_rows_of(r)), from,
                                  hp_trace_form_name(hp_trace_form_of(r)),

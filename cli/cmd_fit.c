@@ -83,6 +83,18 @@ static int print_json(json_t *o)
 
 static json_t *real_or_null(double v) { return isfinite(v) ? json_real(v) : json_null(); }
 
+/* The data's own millimetres back from the reader's metres (mm * 1e-3): m * 1e3 can be a
+ * neighbour of the number written (25.5303 came back as 25.530300000000004). The number of
+ * 15 significant digits nearest m * 1e3 is the one written whenever the data has at most 15
+ * digits; it is taken only when the reader's conversion of it gives m again. */
+static double data_mm(double m)
+{
+    char buf[32];
+    snprintf(buf, sizeof buf, "%.15g", m * 1e3);
+    double mm = strtod(buf, NULL);
+    return mm * 1e-3 == m ? mm : m * 1e3;
+}
+
 /* ---------------------------------------------------------------- material */
 
 /* Candidate pressures for the planning table: from the lowest measured pressure minus half
@@ -116,13 +128,15 @@ static int run_material(int argc, char **argv)
     /* One matcher for both fits: a value given twice is refused, not silently replaced. */
     const char *const names[] = {"--Ri-mm", "--Ro-mm", "--plot", "--fit-ref"};
     const char **slots[] = {&ri_t, &ro_t, &plot, &ref_t};
-    for (int i = 0; i < argc; ++i) {
+    for (int i = 0, operands = 0; i < argc; ++i) {
         int m;
-        if (strcmp(argv[i], "--json") == 0) {
+        if (!operands && strcmp(argv[i], "--") == 0) {
+            operands = 1;
+        } else if (!operands && strcmp(argv[i], "--json") == 0) {
             json = 1;
-        } else if ((m = cli_named_opt(CMD, argc, argv, &i, names, slots, 4)) != 0) {
+        } else if (!operands && (m = cli_named_opt(CMD, argc, argv, &i, names, slots, 4)) != 0) {
             if (m < 0) return CLI_EXIT_USAGE;
-        } else if (argv[i][0] == '-' && argv[i][1] != '\0') {
+        } else if (!operands && argv[i][0] == '-' && argv[i][1] != '\0') {
             return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         } else if (data) {
             return cli_fail(CLI_EXIT_USAGE, CMD, "material: one DATA file only");
@@ -248,7 +262,7 @@ static int run_material(int argc, char **argv)
             json_array_append_new(rs, json_pack("{s:I,s:f,s:f,s:f}", "line",
                                                 (json_int_t)pts[i].line, "pressure_pa",
                                                 pts[i].pressure, "measured_mm",
-                                                pts[i].radius * 1e3, "residual_mm", res[i] * 1e3));
+                                                data_mm(pts[i].radius), "residual_mm", res[i] * 1e3));
         json_object_set_new(o, "residuals", rs);
         json_t *nx = json_array();
         for (int j = 0; j < N_CAND; ++j) {
@@ -331,15 +345,19 @@ static int parse_layout(int argc, char **argv, layout_args *a)
                                  "--sigma-deg", "--plot",  "--plot-script"};
     const char **slots[] = {&a->out,     &a->level, &a->what,       &a->sig_mm,
                             &a->sig_deg, &a->plot,  &a->plot_script};
-    for (int i = 0; i < argc; ++i) {
-        if (strcmp(argv[i], "--json") == 0) {
+    for (int i = 0, operands = 0; i < argc; ++i) {
+        if (!operands && strcmp(argv[i], "--") == 0) {
+            operands = 1;
+            continue;
+        }
+        if (!operands && strcmp(argv[i], "--json") == 0) {
             a->json = 1;
             continue;
         }
-        int matched = cli_named_opt(CMD, argc, argv, &i, names, slots, 7);
+        int matched = operands ? 0 : cli_named_opt(CMD, argc, argv, &i, names, slots, 7);
         if (matched < 0) return CLI_EXIT_USAGE;
         if (matched) continue;
-        if (argv[i][0] == '-' && argv[i][1] != '\0')
+        if (!operands && argv[i][0] == '-' && argv[i][1] != '\0')
             return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s'", argv[i]);
         if (!a->scene) a->scene = argv[i];
         else if (!a->data) a->data = argv[i];
@@ -410,7 +428,8 @@ static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fi
     }
     if (o->level == HP_LEVEL_AUTO &&
         hp_contact_auto(&sc->layout, s.level_tolerance, s.auto_trans, s.auto_rot, &o->level))
-        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: auto could not choose a level", a->scene);
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: auto could not choose a level",
+                        cli_name(a->scene));
     return 0;
 }
 
@@ -419,7 +438,7 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
                         const double *gain, hp_level level)
 {
     int held = 0;
-    printf("layout fit: %s with %s, %d rows, %s %s\n", a->scene, a->data, f->n_rows,
+    printf("layout fit: %s with %s, %d rows, %s %s\n", cli_name(a->scene), a->data, f->n_rows,
            f->mass_index >= 0 && !isnan(f->mass) ? "forward statics (load level), geometry"
                                                  : "level",
            hp_level_name(level));
@@ -488,7 +507,7 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
                            const hp_calib_row *rows, const double *gain, hp_level level)
 {
     json_t *o = json_object();
-    json_object_set_new(o, "scene", json_string(a->scene));
+    json_object_set_new(o, "scene", json_string(cli_name(a->scene)));
     json_object_set_new(o, "data", json_string(a->data));
     json_object_set_new(o, "rows", json_integer(f->n_rows));
     json_object_set_new(o, "level", json_string(hp_level_name(level)));
@@ -583,6 +602,11 @@ static int run_layout(int argc, char **argv)
     if (!rc && a.out && !*a.out) rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "-o '': an empty file name");
     if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, n_inputs, &d)) != HP_OK)
         rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
+    if (!rc && a.out && strcmp(a.scene, "-") == 0) { /* the file on standard input, by identity */
+        cli_input std;
+        cli_input_of(&std, "scene", a.scene);
+        rc = cli_out_allowed(CMD, "-o", a.out, &std, 1);
+    }
     if (!rc) rc = cli_stdout_not_input(CMD, "data", a.data, -1, a.data);
     if (!rc) {
         e = hp_calib_read_layout(a.data, &sc->layout, rows, HP_CALIB_MAX_ROWS, &n, &d);
@@ -655,11 +679,10 @@ static int run_layout(int argc, char **argv)
 
 int cmd_fit(int argc, char **argv)
 {
-    for (int i = 1; i < argc; ++i)
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            help();
-            return CLI_EXIT_OK;
-        }
+    if (cli_wants_help(argc, argv, 1)) {
+        help();
+        return CLI_EXIT_OK;
+    }
     if (argc < 2) {
         fprintf(stderr, "headplan fit: missing what to fit (material or layout; see headplan "
                         "fit --help)\n");

@@ -326,7 +326,7 @@ static void print_json(const int *modes, const hp_horizon_metrics *m, size_t T,
  * closest pose is one the round trip from the nominal pose does not confirm) is a data
  * error, 65, as in batch and solve, unless some row also failed. */
 static int failed_rows(const int *modes, hp_horizon_row *const *plans, const hp_trace_row *rows,
-                       size_t T, const char *trace)
+                       size_t T, const char *trace, char (*const why)[HP_DIAG_MAX])
 {
     int rc = 0;
     for (int p = 0; p < 3; ++p) {
@@ -341,10 +341,13 @@ static int failed_rows(const int *modes, hp_horizon_row *const *plans, const hp_
                 if (!n++) first = t;
             }
             if (!n) continue;
+            /* A refused row's reason is the planner's, as batch prints it ("line N: ..."
+             * from the plan, the line named here with the file). */
+            const char *reason = refused ? strchr(why[p], ':') : NULL;
             int code = cli_fail(refused ? CLI_EXIT_DATAERR : CLI_EXIT_SOFTWARE, CMD,
-                                "%s: %zu of %zu rows %s (first %s:%ld: %s)", PLAN_NAMES[p], n,
+                                "%s: %zu of %zu rows %s (first %s:%ld: %s%s)", PLAN_NAMES[p], n,
                                 T, refused ? "refused" : "failed", trace, rows[first].line,
-                                hp_status_name(plans[p][first].status));
+                                hp_status_name(plans[p][first].status), reason ? reason : "");
             if (rc != CLI_EXIT_SOFTWARE) rc = code;
         }
     }
@@ -434,6 +437,7 @@ int cmd_horizon(int argc, char **argv)
     /* The start pressures are held one sampling interval before row 0. */
     if (T > 1 && rows[1].t > rows[0].t) hs.start_interval_s = rows[1].t - rows[0].t;
     hp_horizon_metrics m[3];
+    char why[3][HP_DIAG_MAX] = {"", "", ""}; /* each plan's first refused row */
     hp_horizon_info info;
     memset(&info, 0, sizeof info);
     for (int p = 0; p < 3; ++p) {
@@ -455,16 +459,17 @@ int cmd_horizon(int argc, char **argv)
                           "%s%s%s", named ? "" : PLAN_NAMES[p], named ? "" : ": ", d.text);
             goto done;
         }
+        if (p < 2) snprintf(why[p], sizeof why[p], "%s", d.text);
         hp_horizon_measure(plans[p], T, sc->layout.n, p0, &s, &hs, tol_mm, tol_deg, &m[p]);
     }
     if (a.out) {
-        write_csv(out.f, &sc->layout, modes, plans, T, m, a.scene, trace, &kind, tol_mm,
+        write_csv(out.f, &sc->layout, modes, plans, T, m, cli_name(a.scene), trace, &kind, tol_mm,
                   tol_deg);
         if ((rc = cli_out_commit(&out, CMD))) goto done;
     }
     if (a.json) print_json(modes, m, T, &hs, &info, &kind, tol_mm, tol_deg);
     else write_summary_text(stdout, "", modes, m);
-    rc = failed_rows(modes, plans, rows, T, trace);
+    rc = failed_rows(modes, plans, rows, T, trace, why);
 done:
     if (rc) cli_out_abandon(&out);
     for (int p = 0; p < 3; ++p) free(plans[p]);

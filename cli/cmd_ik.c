@@ -59,13 +59,20 @@ static void help(const char *cmd)
 /* Parses argv into a. Returns -1 to continue, or the exit status (0 after --help). */
 static int parse(int argc, char **argv, ik_args *a)
 {
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            help(a->cmd);
-            return CLI_EXIT_OK;
-        }
+    if (cli_wants_help(argc, argv, 1)) {
+        help(a->cmd);
+        return CLI_EXIT_OK;
     }
-    for (int i = 1; i < argc; ++i) {
+    for (int i = 1, operands = 0; i < argc; ++i) {
+        if (!operands && strcmp(argv[i], "--") == 0) {
+            operands = 1;
+            continue;
+        }
+        if (operands)
+            return cli_fail(CLI_EXIT_USAGE, a->cmd,
+                            "unexpected argument '%s' (%s takes options only; see headplan "
+                            "%s --help)",
+                            argv[i], a->cmd, a->cmd);
         if (strcmp(argv[i], "--json") == 0) {
             a->json = 1;
             continue;

@@ -360,16 +360,21 @@ static int not_a_study(const char *path)
 int cmd_paper(int argc, char **argv)
 {
     int json = 0, n_files = 0;
-    for (int i = 1; i < argc; ++i) {
-        if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
-            help();
-            return CLI_EXIT_OK;
-        }
-        if (strcmp(argv[i], "--json") == 0) json = 1;
-        else if (argv[i][0] == '-' && argv[i][1] != '\0')
+    if (cli_wants_help(argc, argv, 1)) {
+        help();
+        return CLI_EXIT_OK;
+    }
+    /* The files in order, at most argc - 1 of them (after "--" every argument is one). */
+    const char **files = calloc((size_t)argc, sizeof *files);
+    if (!files) return cli_fail(CLI_EXIT_SOFTWARE, "paper", "out of memory");
+    for (int i = 1, operands = 0; i < argc; ++i) {
+        if (!operands && strcmp(argv[i], "--") == 0) operands = 1;
+        else if (!operands && strcmp(argv[i], "--json") == 0) json = 1;
+        else if (!operands && argv[i][0] == '-' && argv[i][1] != '\0') {
+            free(files);
             return cli_fail(CLI_EXIT_USAGE, "paper", "%s: unknown option (see --help)",
-                               argv[i]);
-        else ++n_files;
+                            argv[i]);
+        } else files[n_files++] = argv[i];
     }
     int n = n_files ? n_files : 2;
     hp_bladder_study *scenes = calloc((size_t)n, sizeof *scenes);
@@ -377,12 +382,11 @@ int cmd_paper(int argc, char **argv)
     const char **labels = calloc((size_t)n, sizeof *labels);
     int status = 0;
     if (!scenes || !res || !labels) status = cli_fail(CLI_EXIT_SOFTWARE, "paper", "out of memory");
-    for (int i = 1, k = 0; status == 0 && k < n; ++k) {
+    for (int k = 0; status == 0 && k < n; ++k) {
         hp_diag d = {{0}};
         hp_error e;
         if (n_files) {
-            while (strcmp(argv[i], "--json") == 0) ++i;
-            labels[k] = argv[i++];
+            labels[k] = files[k];
             if (hp_scene_file_kind(labels[k]) == HP_SCENE_LAYOUT) {
                 /* A layout scene: its own errors first, else the wrong kind. */
                 status = not_a_study(labels[k]);
@@ -423,5 +427,6 @@ int cmd_paper(int argc, char **argv)
     free(scenes);
     free(res);
     free(labels);
+    free(files);
     return status;
 }

@@ -183,12 +183,14 @@ static int not_the_one(const char *stated, const char *path)
 
 static int read_result(const char *path, result *res)
 {
-    FILE *in = fopen(path, "r");
+    const int std = strcmp(path, "-") == 0; /* `headplan batch ... | headplan plot -` */
+    path = cli_name(path);
+    FILE *in = std ? stdin : fopen(path, "r");
     if (!in)
         return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
     int bad_out = cli_stdout_not_input(CMD, "result", path, fileno(in), NULL);
     if (bad_out) {
-        fclose(in);
+        if (!std) fclose(in);
         return bad_out;
     }
     char buf[8192];
@@ -217,6 +219,13 @@ static int read_result(const char *path, result *res)
             meta_sha(buf, "# trace_sha256: ", res->trace_sha);
         }
         if (buf[0] == '#' || buf[0] == '\n') continue;
+        /* batch --format jsonl: refused by name, not as a CSV without a column 'line'. */
+        if (!have_header && buf[0] == '{') {
+            rc = cli_fail(CLI_EXIT_DATAERR, CMD,
+                          "%s:%ld:1: a JSON Lines result; plot reads the CSV result (headplan "
+                          "batch --format csv)", path, lineno);
+            break;
+        }
         nf = split(buf, f, MAXF);
         if (nf < 0) {
             rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s:%ld: more than %d columns", path, lineno,
@@ -279,7 +288,7 @@ static int read_result(const char *path, result *res)
     if (rc < 0 && !have_header)
         rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: empty (no header)", path);
     if (rc < 0 && ferror(in)) rc = cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: read error", path);
-    fclose(in);
+    if (!std) fclose(in);
     return rc;
 }
 
@@ -477,6 +486,15 @@ int cmd_plot(int argc, char **argv)
     if (a.rows && hp_trace_rows_parse(a.rows, &kind) != HP_OK)
         return cli_fail(CLI_EXIT_USAGE, CMD,
                            "--rows: '%s' is neither 'deviation' nor 'correction'", a.rows);
+    /* One standard input: for the result or the scene. The trace is read twice (its hash
+     * against the result's, then its rows), so it must be a file. */
+    if (a.scene && strcmp(a.scene, "-") == 0 && strcmp(a.result, "-") == 0)
+        return cli_fail(CLI_EXIT_USAGE, CMD,
+                        "'-' given twice: standard input can be read only once");
+    if (a.trace && strcmp(a.trace, "-") == 0)
+        return cli_fail(CLI_EXIT_USAGE, CMD,
+                        "--trace -: the trace must be a file (it is checked against the "
+                        "result's trace_sha256, then read)");
     result res = {0};
     if ((rc = read_result(a.result, &res)) >= 0) {
         free(res.rows);
@@ -497,7 +515,7 @@ int cmd_plot(int argc, char **argv)
             lrc = cli_fail(CLI_EXIT_DATAERR, CMD,
                            "--scene %s: not the scene %s was planned with (its scene_sha256 "
                            "is another file's)",
-                           a.scene, a.result);
+                           cli_name(a.scene), cli_name(a.result));
         if (lrc) {
             free(sc);
             free(res.rows);
@@ -515,7 +533,7 @@ int cmd_plot(int argc, char **argv)
                 }
             if (!found) {
                 rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: the scene %s has no bladder '%s'",
-                                 a.result, a.scene, res.names[k]);
+                                 cli_name(a.result), cli_name(a.scene), res.names[k]);
                 break;
             }
         }
@@ -537,7 +555,7 @@ int cmd_plot(int argc, char **argv)
         rc = cli_fail(CLI_EXIT_DATAERR, CMD,
                       "--trace %s: not the trace %s was planned from (its trace_sha256 is "
                       "another file's)",
-                      a.trace, a.result);
+                      a.trace, cli_name(a.result));
     /* The result carries its own per-axis errors; a trace, when given, is checked against it
      * (same lines) and supplies the same numbers. */
     if (rc < 0 && res.have_err_cols) res.have_desired = 1;
@@ -545,7 +563,8 @@ int cmd_plot(int argc, char **argv)
     if (rc < 0) {
         const char *slash = strrchr(a.result, '/');
         char title[HP_SCENE_TEXT_MAX + 512];
-        snprintf(title, sizeof title, "%s%s%s", slash ? slash + 1 : a.result, sc ? ": " : "",
+        snprintf(title, sizeof title, "%s%s%s", slash ? slash + 1 : cli_name(a.result),
+                 sc ? ": " : "",
                  sc ? sc->name : "");
         cli_input_of(&a.out.inputs[0], "result", a.result);
         cli_input_of(&a.out.inputs[1], "scene", a.scene);

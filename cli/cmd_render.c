@@ -325,7 +325,7 @@ int cmd_render(int argc, char **argv)
     hp_diag d = {{0}};
     hp_planner *p = NULL;
     if (hp_planner_create(&sc->layout, &s, &p, &d) != HP_OK) {
-        rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s", a.scene, d.text);
+        rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s", cli_name(a.scene), d.text);
         free(sc);
         return rc;
     }
@@ -337,7 +337,7 @@ int cmd_render(int argc, char **argv)
         rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s", a.correction ? "--correction" : "correction",
                          hp_planner_error(p));
     } else if (e != HP_OK) {
-        rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", a.scene,
+        rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", cli_name(a.scene),
                          hp_error_message(e));
     } else {
         pic.message = hp_planner_error(p);

@@ -175,7 +175,8 @@ int cmd_solve(int argc, char **argv)
     } else {
         free(sc);
         return cli_fail(CLI_EXIT_USAGE, CMD,
-                           "--correction: missing (the scene %s states no correction)", a.scene);
+                           "--correction: missing (the scene %s states no correction)",
+                           cli_name(a.scene));
     }
     int use_load;
     char why[256];
@@ -204,7 +205,7 @@ int cmd_solve(int argc, char **argv)
     if (e != HP_OK) {
         int r2 = cli_fail(e == HP_ERR_INVALID || e == HP_ERR_DOMAIN ? CLI_EXIT_DATAERR
                                                                        : CLI_EXIT_SOFTWARE,
-                             CMD, "%s: %s", a.scene, d.text);
+                             CMD, "%s: %s", cli_name(a.scene), d.text);
         free(sc);
         return r2;
     }
@@ -213,7 +214,7 @@ int cmd_solve(int argc, char **argv)
     const char *msg = *hp_planner_error(p) ? hp_planner_error(p) : hp_planner_note(p);
     int status;
     if (e != HP_OK) {
-        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", a.scene,
+        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", cli_name(a.scene),
                              hp_error_message(e));
     } else if (r.status == HP_STATUS_INVALID_INPUT) {
         status = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s",
@@ -221,14 +222,15 @@ int cmd_solve(int argc, char **argv)
     } else if (r.status == HP_STATUS_TIME_LIMIT || r.status == HP_STATUS_ITERATION_LIMIT) {
         /* The planner's message names the budget that stopped the backend (the same text
          * Python's result carries), so the user knows what to raise. */
-        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %s (no answer printed)", a.scene, msg);
+        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %s (no answer printed)",
+                          cli_name(a.scene), msg);
     } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST &&
                r.status != HP_STATUS_UNCOMMANDED) {
         /* The planner's message starts with the status name already. */
         const char *name = hp_status_name(r.status);
         int named = strncmp(msg, name, strlen(name)) == 0;
-        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %s%s%s", a.scene, named ? "" : name,
-                             named ? "" : ": ", msg);
+        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %s%s%s", cli_name(a.scene),
+                          named ? "" : name, named ? "" : ": ", msg);
     } else {
         status = r.status == HP_STATUS_REACHED       ? CLI_EXIT_OK
                  : r.status == HP_STATUS_UNCOMMANDED ? CLI_EXIT_UNCOMMANDED

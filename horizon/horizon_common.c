@@ -185,6 +185,14 @@ static void row_from_result(const hp_trace_row *in, const hp_result *r, int n,
     o->status = r->status;
 }
 
+void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
+                             const char *reason)
+{
+    if (*noted || r->status != HP_STATUS_INVALID_INPUT) return;
+    *noted = 1;
+    hp_diag_set(d, HP_OK, "line %ld: %s", line, *reason ? reason : "invalid correction");
+}
+
 hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
                            const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
                            const double *p_start, hp_horizon_row *out, hp_diag *d)
@@ -196,6 +204,8 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
     if (e != HP_OK) return e;
     hp_planner *p = NULL;
     if ((e = hp_planner_create(L, settings, &p, d)) != HP_OK) return e;
+    if (d) d->text[0] = '\0';
+    int refused = 0;
     const hp_layout *PL = hp_planner_layout(p);
     double start[HP_MAX_BLADDERS], delta[HP_MAX_BLADDERS];
     if (p_start) memcpy(start, p_start, sizeof(double) * (size_t)PL->n);
@@ -218,6 +228,8 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
             hp_diag_set(d, e, "line %ld: %s", rows[t].line, hp_planner_error(p));
             goto done;
         }
+        const char *why = hp_planner_error(p);
+        hp_horizon_note_refusal(d, &refused, &r, rows[t].line, *why ? why : hp_planner_note(p));
         row_from_result(rows + t, &r, PL->n, out + t);
         /* As headplan batch: the next plan starts from this row's result alone (cold), not
          * from the backend's own last point and multipliers. */
@@ -280,6 +292,8 @@ hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
     if (e != HP_OK) return e;
     e = hp_horizon_rh_create(L, settings, hs, p_start, &rh, d);
     if (e != HP_OK) return e;
+    if (d) d->text[0] = '\0';
+    int refused = 0;
     for (size_t t = 0; t < T; ++t) {
         hp_result r;
         e = hp_horizon_rh_step(rh, rows[t].t, rows[t].correction, &r);
@@ -287,6 +301,7 @@ hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
             hp_diag_set(d, e, "line %ld: t_s: not after the previous row", rows[t].line);
             break;
         }
+        hp_horizon_note_refusal(d, &refused, &r, rows[t].line, hp_horizon_rh_reason(rh));
         row_from_result(rows + t, &r, L->n, out + t);
     }
     hp_horizon_rh_destroy(rh);

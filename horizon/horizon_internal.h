@@ -12,6 +12,14 @@ hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max);
 
 /* Objective weight of pose component i (mm², deg² / weight_mm_per_deg²), 0 when the layout
  * does not command it. */
+/* The planner's own words for its last hp_plan (its error, else its note), or "". */
+const char *hp_horizon_rh_reason(const hp_horizon_rh *rh);
+
+/* Puts "line N: reason" of the first row hp_plan refused (status INVALID_INPUT) into d, the
+ * planner's own words as batch prints them: *noted says whether one already is. */
+void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
+                             const char *reason);
+
 double hp_horizon_weight(const hp_settings *s, const int commanded[6], int i);
 
 /* Δ [Pa] of every bladder for a row interval dt [s]. */

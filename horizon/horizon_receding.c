@@ -467,3 +467,9 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     }
     return HP_OK;
 }
+
+const char *hp_horizon_rh_reason(const hp_horizon_rh *rh)
+{
+    const char *e = hp_planner_error(rh->p);
+    return *e ? e : hp_planner_note(rh->p);
+}

@@ -90,6 +90,7 @@ typedef struct {
     int has_trace;          /* the scene's trace, for run_trace() without one */
     hp_trace_rows trace_rows;
     char trace_path[HP_SCENE_PATH_MAX];
+    int building;           /* an __init__ is creating p with the GIL released */
 } hpy_planner;
 extern PyTypeObject hpy_planner_type;
 /* Takes the planner's lock, waiting without the GIL if another thread holds it. */

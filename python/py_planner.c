@@ -141,19 +141,42 @@ void hpy_planner_lock(hpy_planner *self)
 static int planner_init(PyObject *o, PyObject *args, PyObject *kwargs)
 {
     hpy_planner *self = (hpy_planner *)o;
-    if (self->p) {
-        PyErr_SetString(PyExc_RuntimeError, "Planner: already built");
+    /* Built once. The planner is created with the GIL released, so a second __init__ from
+     * another thread found p still NULL and built one too: the first planner, lock and
+     * names were overwritten and leaked. `building` is set and p stored under the GIL. */
+    if (self->p || self->building) {
+        PyErr_SetString(PyExc_RuntimeError,
+                        self->p ? "Planner: already built" : "Planner: already being built");
         return -1;
     }
     PyObject *scene;
     if (!PyArg_ParseTuple(args, "O:Planner", &scene)) return -1;
     const hp_scene *sc = hpy_layout_scene(scene);
+    hp_settings s;
     /* The settings first (an unknown keyword or level is named as before), then the level
      * decision headplan solve makes: a scene it plans at the load level is refused. */
-    if (!sc || hpy_settings(sc, kwargs, &self->s) < 0 || hpy_kinematic_only(sc, kwargs) < 0)
+    if (!sc || hpy_settings(sc, kwargs, &s) < 0 || hpy_kinematic_only(sc, kwargs) < 0)
         return -1;
     /* One solve from the nominal pose at a time, like headplan solve: no previous cycle. */
-    self->s.use_rate_limits = 0;
+    s.use_rate_limits = 0;
+    PyThread_type_lock lock = PyThread_allocate_lock();
+    PyObject *names = PyTuple_New(sc->layout.n);
+    if (!lock || !names) {
+        if (lock) PyThread_free_lock(lock);
+        Py_XDECREF(names);
+        PyErr_NoMemory();
+        return -1;
+    }
+    for (int k = 0; k < sc->layout.n; ++k) {
+        PyObject *nm = PyUnicode_FromString(sc->layout.bladders[k].name);
+        if (!nm) {
+            PyThread_free_lock(lock);
+            Py_DECREF(names);
+            return -1;
+        }
+        PyTuple_SET_ITEM(names, k, nm);
+    }
+    self->s = s;
     self->layout = sc->layout;
     self->has_trace = sc->has_trace;
     self->trace_rows = sc->trace_rows;
@@ -161,25 +184,20 @@ static int planner_init(PyObject *o, PyObject *args, PyObject *kwargs)
     hp_diag d = {{0}};
     hp_error e;
     hp_planner *p = NULL;
+    self->building = 1;
     Py_BEGIN_ALLOW_THREADS
     e = hp_planner_create(&self->layout, &self->s, &p, &d);
     Py_END_ALLOW_THREADS
+    self->building = 0;
     if (e != HP_OK) {
+        PyThread_free_lock(lock);
+        Py_DECREF(names);
         hpy_fail("%s: %s", sc->file, d.text);
         return -1;
     }
     self->p = p;
-    self->lock = PyThread_allocate_lock();
-    self->names = PyTuple_New(sc->layout.n);
-    if (!self->lock || !self->names) {
-        PyErr_NoMemory();
-        return -1;
-    }
-    for (int k = 0; k < sc->layout.n; ++k) {
-        PyObject *s = PyUnicode_FromString(sc->layout.bladders[k].name);
-        if (!s) return -1;
-        PyTuple_SET_ITEM(self->names, k, s);
-    }
+    self->lock = lock;
+    self->names = names;
     return 0;
 }
 
@@ -375,7 +393,7 @@ static PyMethodDef planner_methods[] = {
      "states; an array must say (the kind is never guessed). Returns the keys of plan_many\n"
      "plus line (the input line, 0 for arrays) and t_s. A bad file row gets status\n"
      "'bad-row' and NaN values, and its message is in 'messages' (a list), as batch reports\n"
-     "it.\n\n"
+     "it; so is the planner's reason for a row it refused (invalid-input).\n\n"
      "mode plans over a horizon instead, as `headplan horizon` does (every row must be\n"
      "good): 'greedy' (row by row with the per-row and per-second rate limits), 'receding'\n"
      "(horizon rows ahead, prediction 'hold' or 'velocity'), 'offline' (the whole trace in\n"

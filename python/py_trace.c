@@ -16,11 +16,16 @@ typedef struct {
     double *t;
     double *corr; /* n×6, SI */
     char **msg;   /* NULL for a good row */
+    char **why;   /* the planner's reason for a row it refused (invalid-input), else NULL */
 } trace_in;
 
 static void trace_free(trace_in *in)
 {
-    for (size_t i = 0; i < in->n; ++i) free(in->msg[i]);
+    for (size_t i = 0; i < in->n; ++i) {
+        free(in->msg[i]);
+        if (in->why) free(in->why[i]);
+    }
+    free(in->why);
     free(in->line);
     free(in->t);
     free(in->corr);
@@ -97,9 +102,13 @@ static hp_error read_all(hp_trace_reader *r, trace_in *in, int array, hp_diag *d
 
 /* Plans the rows greedily into the block: every plan starts from the previous good row's
  * result (the nominal answer before the first), set with hp_planner_set_previous_result, so
- * the state of each plan is a function of that row alone, as in headplan batch. */
-static hp_error plan_all(hp_planner *p, const trace_in *in, hpy_block *b)
+ * the state of each plan is a function of that row alone, as in headplan batch. A row the
+ * planner refuses keeps its reason, named as batch names it ("NAME:LINE: reason"; an
+ * array's "<array> row I: reason"); name is NULL for an array. */
+static hp_error plan_all(hp_planner *p, trace_in *in, hpy_block *b, const char *name)
 {
+    in->why = calloc(in->n ? in->n : 1, sizeof *in->why);
+    if (!in->why) return HP_ERR_NOMEM;
     hp_result prev;
     int have_prev = 0;
     hp_error e = HP_OK;
@@ -115,6 +124,13 @@ static hp_error plan_all(hp_planner *p, const trace_in *in, hpy_block *b)
         e = hp_plan(p, &in->corr[i * 6], &r);
         if (e != HP_OK && r.status != HP_STATUS_INVALID_INPUT) break;
         e = HP_OK;
+        if (r.status == HP_STATUS_INVALID_INPUT) {
+            const char *why = *hp_planner_error(p) ? hp_planner_error(p) : hp_planner_note(p);
+            size_t len = strlen(why) + (name ? strlen(name) : 0) + 48;
+            if (!(in->why[i] = malloc(len))) return HP_ERR_NOMEM;
+            if (name) snprintf(in->why[i], len, "%s:%ld: %s", name, in->line[i], why);
+            else snprintf(in->why[i], len, "<array> row %zu: %s", i, why);
+        }
         hpy_block_store(b, (npy_intp)i, &r);
         prev = r;
         have_prev = 1;
@@ -328,8 +344,9 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     if (e == HP_OK && mode == 0) {
         nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n) < 0;
         if (!nomem) {
-            e = plan_all(p, &in, &b);
-            if (e != HP_OK) hp_diag_set(&d, e, "run_trace: %s", hp_planner_error(p));
+            e = plan_all(p, &in, &b, cpath);
+            if (e == HP_ERR_NOMEM) nomem = 1;
+            else if (e != HP_OK) hp_diag_set(&d, e, "run_trace: %s", hp_planner_error(p));
         }
     }
     hp_planner_destroy(p);
@@ -350,8 +367,9 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
         for (size_t i = 0; i < in.n; ++i) {
             l[i] = in.line[i];
             tv[i] = in.t[i];
-            if (in.msg[i]) {
-                PyObject *m = PyUnicode_FromString(in.msg[i]);
+            const char *said = in.msg[i] ? in.msg[i] : in.why ? in.why[i] : NULL;
+            if (said) {
+                PyObject *m = PyUnicode_FromString(said);
                 if (!m || PyList_Append(msgs, m) < 0) Py_CLEAR(out);
                 Py_XDECREF(m);
             }

@@ -134,8 +134,9 @@ const char *hp_strict_double(const char *s, size_t len, double *out)
 }
 
 /* A scan of the JSON text, not of jansson's values: by then 1e-400 is 0, indistinguishable
- * from a written 0. */
-long hp_json_underflow(const char *s, size_t len, const char **key, size_t *klen)
+ * from a written 0, and jansson's own overflow message names no key. */
+long hp_json_out_of_range(const char *s, size_t len, const char **key, size_t *klen,
+                          const char **why)
 {
     const char *last = "", *str = NULL;
     size_t last_len = 0;
@@ -154,8 +155,10 @@ long hp_json_underflow(const char *s, size_t len, const char **key, size_t *klen
             size_t j = i;
             while (j < len && strchr("0123456789+-.eE", s[j]) && s[j]) ++j;
             double v;
-            const char *why = hp_strict_double(s + i, j - i, &v);
-            if (why && strcmp(why, "too small for a double") == 0) {
+            const char *r = hp_strict_double(s + i, j - i, &v);
+            if (r && (strcmp(r, "too small for a double") == 0 ||
+                      strcmp(r, "overflows a double") == 0)) {
+                *why = r;
                 int plain = last_len > 0 && last_len <= 64; /* echoed: printable only */
                 for (size_t k = 0; k < last_len && plain; ++k)
                     plain = last[k] >= 0x20 && last[k] < 0x7f;

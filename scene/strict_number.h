@@ -18,10 +18,13 @@ const char *hp_strict_double(const char *s, size_t len, double *out);
  * point of every file format here); errno as strtod leaves it. */
 double hp_c_strtod(const char *s, char **end);
 
-/* The first number in the JSON text s[0..len) that underflows (jansson reads 1e-400 as 0
- * and keeps subnormals, where hp_strict_double refuses both as "too small for a double"):
- * its 0-based offset, and in *key / *klen the key before it ("value" when that key is not
- * short printable text, so it can be echoed). -1 when there is none. */
-long hp_json_underflow(const char *s, size_t len, const char **key, size_t *klen);
+/* The first number in the JSON text s[0..len) outside a double's normal range (jansson
+ * reads 1e-400 as 0 and keeps subnormals, where hp_strict_double refuses both as "too small
+ * for a double"; jansson refuses 1e400 without naming the key): its 0-based offset, the
+ * reason in *why (hp_strict_double's: "too small for a double" or "overflows a double"), and
+ * in *key / *klen the key before it ("value" when that key is not short printable text, so
+ * it can be echoed). -1 when there is none. */
+long hp_json_out_of_range(const char *s, size_t len, const char **key, size_t *klen,
+                          const char **why);
 
 #endif

@@ -475,12 +475,12 @@ static hp_error jsonl_row(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
 {
     json_error_t jerr;
     long ln = r->lineno;
-    const char *ukey;
+    const char *ukey, *uwhy;
     size_t uklen;
-    long at = hp_json_underflow(r->line, r->len, &ukey, &uklen);
+    long at = hp_json_out_of_range(r->line, r->len, &ukey, &uklen, &uwhy);
     if (at >= 0)
-        return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: too small for a double",
-                           r->name, ln, at + 1, (int)uklen, ukey);
+        return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: %s",
+                           r->name, ln, at + 1, (int)uklen, ukey, uwhy);
     /* Every number as a double, as the CSV reader reads it: an integer beyond 64 bits was
      * "too big integer" here and a number (then out of range) in CSV. */
     json_t *obj = json_loadb(r->line, r->len, JSON_REJECT_DUPLICATES | JSON_DECODE_INT_AS_REAL,

@@ -105,7 +105,9 @@ HP_API hp_error hp_horizon_nominal_pressures(const hp_layout *L, double *p_start
 /* Greedy plan of T rows: hp_plan with `settings` (NULL: defaults) row by row, each row's rate
  * limits Δ_t set before its plan, from p_start (NULL: the nominal pressures). out has T rows.
  * A row hp_plan refuses is refused first (hp_horizon_check_rows); a row it cannot answer
- * keeps its safe output (status says so). Allocates. */
+ * keeps its safe output (status says so). On HP_OK, diag holds "line N: reason" for the first
+ * row whose answer hp_plan refused (status INVALID_INPUT; the reason is the planner's, as
+ * headplan batch prints it), else "". Allocates. */
 HP_API hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
                            const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
                            const double *p_start, hp_horizon_row *out, hp_diag *diag);
@@ -153,7 +155,8 @@ HP_API hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double des
 /* Frees it; safe on NULL. */
 HP_API void hp_horizon_rh_destroy(hp_horizon_rh *rh);
 
-/* Receding-horizon plan of a whole trace (create, one step per row, destroy). */
+/* Receding-horizon plan of a whole trace (create, one step per row, destroy). diag on
+ * HP_OK: as hp_horizon_greedy's. */
 HP_API hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
                              const hp_horizon_settings *hs, const hp_trace_row *rows,
                              size_t T, const double *p_start, hp_horizon_row *out,

@@ -240,3 +240,33 @@ def test_array_bad_rows_named_by_their_index(default_planner):
     with pytest.raises(headplan.Error, match=r"^line 2: t_s: 1 s is not after"):
         default_planner.run_trace(rows[[0, 2, 2, 0]], t=[0, 2, 1, 3], rows="correction",
                                   mode="greedy")
+
+
+def test_refused_rows_carry_the_planners_reason(tmp_path, default_planner):
+    # A row the planner refused (invalid-input: an 89.9 deg pitch, whose closest pose the
+    # round trip refutes) had no message, where batch prints the planner's reason for it
+    # ("FILE:LINE: reason") and plan() returns it. Now in `messages`, in row order with the
+    # bad rows' messages, word for word batch's.
+    f = tmp_path / "t.csv"
+    f.write_text("# headplan-trace: rows=correction\n"
+                 "t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n"
+                 "0,1,0,0,0,0,0\n1,0,0,0,89.9,0,0\n2,zzz,0,0,0,0,0\n3,0,0,0,20,0,0\n")
+    r = default_planner.run_trace(str(f))
+    assert r["status"].tolist() == ["reached", "invalid-input", "bad-row", "closest"]
+    rc, _, err = cli("batch", DEFAULT, str(f), "--format", "csv", "--no-times",
+                     "--no-progress", check=False)
+    assert rc == 65
+    said = [l[len("headplan batch: "):] for l in err.splitlines()
+            if l.startswith(f"headplan batch: {f}:")]
+    refusal = [m for m in said if m.startswith(f"{f}:4: ")]
+    assert len(said) == 2 and len(refusal) == 1 and "identifiable range" in refusal[0], err
+    # batch prints a bad row when it reads it and a refusal after planning: compared as sets,
+    # and messages is in row order.
+    assert sorted(r["messages"]) == sorted(said) and r["messages"][0] == refusal[0]
+    one = default_planner.plan([0, 0, 0, 89.9, 0, 0])
+    assert one["status"] == "invalid-input" and "identifiable range" in one["message"]
+    # An array's refused row is named by its index, as its bad rows are.
+    a = default_planner.run_trace(np.array([[1, 0, 0, 0, 0, 0], [0, 0, 0, 89.9, 0, 0]]),
+                                  rows="correction")
+    assert a["status"].tolist() == ["reached", "invalid-input"]
+    assert a["messages"] == ["<array> row 1: " + refusal[0].split(": ", 1)[1]]
