@@ -398,12 +398,12 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
     double target[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], xi[6];
     for (int k = 0; k < n; ++k) target[k] = p->tie == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
     hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
-    int it1 = 0, it2 = 0, it3 = 0;
+    int it1 = 0, it2 = 0, it3 = 0, held = 0; /* held: holds(M, xi, P) already checked */
     if (!bad) {
         /* HOLD at the desired pose, accepted only when its equilibrium checks out. */
         memcpy(xi, desired, sizeof xi);
         st = hold(p, xi, target, p->prev_P, P, F, &it1, &r->raw_code);
-        if (st == HP_LOAD_SOLVE_OK && !holds(M, xi, P)) st = HP_LOAD_SOLVE_UNREACHABLE;
+        if (st == HP_LOAD_SOLVE_OK && !(held = holds(M, xi, P))) st = HP_LOAD_SOLVE_UNREACHABLE;
         r->status = HP_STATUS_REACHED;
         if (st != HP_LOAD_SOLVE_OK) {
             /* POSE: the nearest held pose (the desired one itself when HOLD's tie-breaking
@@ -427,15 +427,22 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
                 for (int i = 0; i < 6; ++i)
                     err = fmax(err, fabs(xi[i] - desired[i]) / hp_load_unit(i));
                 int reached = err <= p->set.tolerance;
+                double xp[6]; /* POSE's pose, which its pressures Pa hold */
+                memcpy(xp, xi, sizeof xp);
                 if (reached) memcpy(xi, desired, sizeof xi);
                 hp_load_solve_status s2 = hold(p, xi, target, Pa, P, F, &it3, &r->raw_code);
                 /* POSE's pressures hold the head at xi by construction (a forward-statics
                  * rest); HOLD only tie-breaks among the holding pressures, and where it
                  * finds no verified answer (a family squeezed against the limits) POSE's
                  * pressures stand. */
-                if (s2 != HP_LOAD_SOLVE_OK || !holds(M, xi, P)) {
+                held = s2 == HP_LOAD_SOLVE_OK && holds(M, xi, P);
+                if (!held) {
                     memcpy(P, Pa, (size_t)n * sizeof *P);
-                    if (reached && !holds(M, xi, P)) reached = 0;
+                    /* Pa holds xp, not necessarily the desired pose within the tolerance. */
+                    if (reached && !holds(M, xi, P)) {
+                        reached = 0;
+                        memcpy(xi, xp, sizeof xi);
+                    }
                 }
                 r->status = reached ? HP_STATUS_REACHED
                                     : st == HP_LOAD_SOLVE_OK ? HP_STATUS_CLOSEST
@@ -448,7 +455,7 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
     /* Whichever path gave it (HOLD, the sinking search, the 6-D refinement from the previous
      * pose), an answer is returned only when it is an equilibrium by both checks. */
     int unverified = !bad && st == HP_LOAD_SOLVE_OK &&
-                     !(holds(M, xi, P) && newton_euler_holds(M, xi, P));
+                     !((held || holds(M, xi, P)) && newton_euler_holds(M, xi, P));
     if (bad || st != HP_LOAD_SOLVE_OK || unverified) {
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
         if (unverified)
