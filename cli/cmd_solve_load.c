@@ -116,7 +116,13 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
     const hp_load_holding *h = &info->holding;
     printf("\nequilibrium residual  %.3g N, %.3g N*m (Newton-Euler, from the contact points)\n",
            info->residual_force, info->residual_moment);
-    printf("forward statics       rest %.3g mm/deg from the achieved pose\n", info->rest_error);
+    /* An unstable hold (a saddle) is left by the forward statics' descent: it finds no rest,
+     * which is a fact about the hold, not a distance. */
+    if (isfinite(info->rest_error))
+        printf("forward statics       rest %.3g mm/deg from the achieved pose\n", info->rest_error);
+    else
+        printf("forward statics       no rest found from the achieved pose (the head does not "
+               "settle there: see holding)\n");
     printf("holding               %s; weakest %s, %.4g %s\n",
            h->stable ? "stable" : "NOT stable (the stiffness is not positive definite)",
            h->weakest_words, h->weakest_compliance, h->weakest_is_rotation ? "deg/(N*m)" : "mm/N");

@@ -196,6 +196,13 @@ static void fill_nan(double *v, int n)
         for (int i = 0; i < n; ++i) v[i] = NAN;
 }
 
+hp_error hp_load_domain(const hp_load_model *M, const double *rho)
+{
+    for (int k = 0; k < M->layout.n; ++k)
+        if (!(rho[k] > 0.0)) return HP_ERR_DOMAIN; /* NaN too */
+    return HP_OK;
+}
+
 hp_error hp_load_eval_radii(const hp_load_model *M, const double xi[6], const double *P,
                             const double *ro, const double *dro, int right, double Q[6],
                             double *dQ_dxi, double *dQ_dP, double *force, double *energy)
@@ -204,6 +211,7 @@ hp_error hp_load_eval_radii(const hp_load_model *M, const double xi[6], const do
     int n = L->n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
     hp_error err = hp_contact_eval_g(L, &M->geom, M->level, xi, rho, J, dQ_dxi ? H : NULL);
+    if (!err) err = hp_load_domain(M, rho);
     if (err) return err;
     double e = 0.0;
     hp_load_gravity(M, xi, Q, dQ_dxi, energy ? &e : NULL);
@@ -310,6 +318,7 @@ hp_error hp_load_newton_euler(const hp_load_model *M, const double xi[6], const 
     double ro[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS], R[9], com[3];
     if ((err = hp_load_radii(M, P, ro, NULL))) return err;
     if ((err = hp_contact_eval_g(L, &M->geom, M->level, xi, rho, NULL, NULL))) return err;
+    if ((err = hp_load_domain(M, rho))) return err;
     hp_rotation(xi[3], xi[4], xi[5], R);
     move_point(L, R, xi, M->spec.com, com);
     for (int a = 0; a < 3; ++a) {

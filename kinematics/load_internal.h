@@ -45,6 +45,14 @@ void hp_load_gravity(const hp_load_model *M, const double xi[6], double Q[6], do
 /* Outer radii (and dro/dP when dro is not NULL) of every bladder at pressures P. */
 hp_error hp_load_radii(const hp_load_model *M, const double *P, double *ro, double *dro);
 
+/* The load model's domain: every bladder centre strictly outside the moved head (rho_k > 0
+ * for all k, whatever the pressures). A centre sits on its rigid panel, so rho_k <= 0 puts
+ * the head through that panel, which the membrane law does not describe: there the
+ * potential's gradient (Q, along dRho/dxi, continued through rho = 0) and the force along
+ * the contact point's direction (p − c)/|p − c| point opposite ways. HP_ERR_DOMAIN outside
+ * (a NaN distance too), else HP_OK. */
+hp_error hp_load_domain(const hp_load_model *M, const double *rho);
+
 /* hp_load_eval with the radii already known (no input checks, no NaN fill): the cheap
  * inner evaluation of Newton and SQP loops. */
 hp_error hp_load_eval_radii(const hp_load_model *M, const double xi[6], const double *P,

@@ -195,8 +195,13 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
         int full = big < 1e-4;
         double t = 1.0, xn[6], Qn[6], dQn[36], En = 0.0;
         for (int tries = 0;; ++tries) {
+            /* Every length down to 2^-50 of the step leaving the domain: x lies on its edge
+             * (a bladder centre on the head surface) and the descent goes through the
+             * panel. That is no rest of the model, whereas no decrease at any length inside
+             * the domain is rounding level: x is the rest. */
+            if (tries > 50 && err == HP_ERR_DOMAIN) return HP_ERR_NO_CONVERGENCE;
             if (tries > 50) {
-                done = 1; /* no decrease at any length: rounding level, x is the rest */
+                done = 1;
                 break;
             }
             for (int i = 0; i < 6; ++i) xn[i] = x[i] + t * ds[i] * hp_load_unit(i);

@@ -198,6 +198,24 @@ static int holds(const hp_load_model *M, const double xi[6], const double *P)
     return 1;
 }
 
+/* The independent check a returned answer must also meet at the plane and surface levels,
+ * where Q's translation rows are exactly the net force and its rotation rows the net moment
+ * through the Euler angles' Jacobian (docs/load.md): the Newton–Euler residual from the
+ * contact points. An equilibrium to HOLD_TOL has it below 1e-9 N and, with that Jacobian's
+ * conditioning 1/cos(roll), below 6e-11 N·m / cos(roll) (3e-8 N·m at roll 89.9°); a
+ * disagreement of the two models is newtons. At the linear level the geometry is
+ * linearised and the two differ at second order, so only Q is checked there. */
+#define NEWTON_EULER_TOL 1e-6
+
+static int newton_euler_holds(const hp_load_model *M, const double xi[6], const double *P)
+{
+    if (M->level == HP_LEVEL_LINEAR) return 1;
+    double f[3], m[3];
+    if (hp_load_newton_euler(M, xi, P, f, m) != HP_OK) return 0;
+    return sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]) <= NEWTON_EULER_TOL &&
+           sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]) <= NEWTON_EULER_TOL;
+}
+
 static double pose_err(const double xi[6], const double desired[6], const double W[6])
 {
     double e = 0.0;
@@ -210,47 +228,73 @@ static double pose_err(const double xi[6], const double desired[6], const double
 
 /* Is the pose `depth` metres below desired (along gravity) held inside this plan's bounds?
  * Feasibility only: HOLD's exact phase 1 (max_iter 0 skips the tie-breaker), checked by
- * the equilibrium. x gets the pose, Pt the pressures. */
+ * the equilibrium. 1: held (x gets the pose, Pt the pressures); 0: not held with every
+ * bladder centre outside the head; -1: some centre inside it, past its panel, where the
+ * load model is not defined (hp_load_domain): the head has sunk too far. */
 static int held_at(const hp_load_planner *p, const double desired[6], double depth,
                    const double *target, double x[6], double *Pt)
 {
     const hp_load_model *M = &p->M;
-    double g = 0.0, F[HP_MAX_BLADDERS];
+    double g = 0.0, F[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
     for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];
     g = sqrt(g);
     memcpy(x, desired, 6 * sizeof *x);
     for (int a = 0; a < 3; ++a) x[a] += depth * M->spec.gravity[a] / g;
+    if (hp_contact_eval_g(&M->layout, &M->geom, M->level, x, rho, NULL, NULL) != HP_OK ||
+        hp_load_domain(M, rho) != HP_OK)
+        return -1;
     return hp_load_hold(M, x, p->elo, p->ehi, target, NULL, 0, Pt, F, NULL) ==
                HP_LOAD_SOLVE_OK && holds(M, x, Pt);
 }
 
 /* The held pose nearest to the desired one along gravity: the head sinks (translation along
  * ĝ) until some pressures inside the limits hold it, found by doubling the depth from
- * 1/16 mm to 64 mm and bisecting the boundary to 1e-9 mm. This is where a head too heavy
- * for the limits comes to rest, and the start of the 6-D refinement. Returns 1 with the
- * pose and its pressures (feasible, not tie-broken: the caller's HOLD at the final pose
- * does that), 0 when no depth up to 64 mm is held. At most 11 + 36 feasibility checks,
- * each one HOLD phase 1 (one contact evaluation and one bounded QP), most of them
- * unreachable depths that the row-interval test of HOLD rejects without a QP. */
+ * 1/16 mm to 64 mm and bisecting the boundary to 1e-9 mm. The panels below the head bound
+ * the held depths from below: a doubling that jumps past every held depth into a panel
+ * (held_at −1) is followed by a bisection between the last shallow depth and that one,
+ * until a held depth is found. This is where a head too heavy for the limits comes to
+ * rest, and the start of the 6-D refinement. Returns 1 with the pose and its pressures
+ * (feasible, not tie-broken: the caller's HOLD at the final pose does that), 0 when no
+ * depth up to 64 mm is held. At most 11 + 2·36 feasibility checks, each one HOLD phase 1
+ * (one contact evaluation and one bounded QP), most of them unreachable depths that the
+ * row-interval test of HOLD (or the domain check) rejects without a QP. */
 static int sink(const hp_load_planner *p, const double desired[6], const double *target,
                 double xs[6], double *Ps)
 {
     const int n = p->M.layout.n;
     double Pt[HP_MAX_BLADDERS], x[6];
-    double lo = 0.0, hi = -1.0;
+    double lo = 0.0, hi = -1.0, deep = -1.0;
     for (double depth = 6.25e-5; depth <= 0.0641; depth *= 2.0) {
-        if (held_at(p, desired, depth, target, x, Pt)) {
+        int h = held_at(p, desired, depth, target, x, Pt);
+        if (h > 0) {
             hi = depth;
             memcpy(xs, x, sizeof x);
             memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
             break;
         }
+        if (h < 0) {
+            deep = depth;
+            break;
+        }
         lo = depth;
+    }
+    while (hi < 0 && deep > 0 && deep - lo > 1e-12) {
+        double mid = 0.5 * (lo + deep);
+        int h = held_at(p, desired, mid, target, x, Pt);
+        if (h > 0) {
+            hi = mid;
+            memcpy(xs, x, sizeof x);
+            memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
+        } else if (h < 0) {
+            deep = mid;
+        } else {
+            lo = mid;
+        }
     }
     if (hi < 0) return 0;
     while (hi - lo > 1e-12) {
         double mid = 0.5 * (lo + hi);
-        if (held_at(p, desired, mid, target, x, Pt)) {
+        if (held_at(p, desired, mid, target, x, Pt) > 0) {
             hi = mid;
             memcpy(xs, x, sizeof x);
             memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
@@ -354,12 +398,12 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
     double target[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], xi[6];
     for (int k = 0; k < n; ++k) target[k] = p->tie == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
     hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
-    int it1 = 0, it2 = 0, it3 = 0;
+    int it1 = 0, it2 = 0, it3 = 0, held = 0; /* held: holds(M, xi, P) already checked */
     if (!bad) {
         /* HOLD at the desired pose, accepted only when its equilibrium checks out. */
         memcpy(xi, desired, sizeof xi);
         st = hold(p, xi, target, p->prev_P, P, F, &it1, &r->raw_code);
-        if (st == HP_LOAD_SOLVE_OK && !holds(M, xi, P)) st = HP_LOAD_SOLVE_UNREACHABLE;
+        if (st == HP_LOAD_SOLVE_OK && !(held = holds(M, xi, P))) st = HP_LOAD_SOLVE_UNREACHABLE;
         r->status = HP_STATUS_REACHED;
         if (st != HP_LOAD_SOLVE_OK) {
             /* POSE: the nearest held pose (the desired one itself when HOLD's tie-breaking
@@ -383,15 +427,22 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
                 for (int i = 0; i < 6; ++i)
                     err = fmax(err, fabs(xi[i] - desired[i]) / hp_load_unit(i));
                 int reached = err <= p->set.tolerance;
+                double xp[6]; /* POSE's pose, which its pressures Pa hold */
+                memcpy(xp, xi, sizeof xp);
                 if (reached) memcpy(xi, desired, sizeof xi);
                 hp_load_solve_status s2 = hold(p, xi, target, Pa, P, F, &it3, &r->raw_code);
                 /* POSE's pressures hold the head at xi by construction (a forward-statics
                  * rest); HOLD only tie-breaks among the holding pressures, and where it
                  * finds no verified answer (a family squeezed against the limits) POSE's
                  * pressures stand. */
-                if (s2 != HP_LOAD_SOLVE_OK || !holds(M, xi, P)) {
+                held = s2 == HP_LOAD_SOLVE_OK && holds(M, xi, P);
+                if (!held) {
                     memcpy(P, Pa, (size_t)n * sizeof *P);
-                    if (reached && !holds(M, xi, P)) reached = 0;
+                    /* Pa holds xp, not necessarily the desired pose within the tolerance. */
+                    if (reached && !holds(M, xi, P)) {
+                        reached = 0;
+                        memcpy(xi, xp, sizeof xi);
+                    }
                 }
                 r->status = reached ? HP_STATUS_REACHED
                                     : st == HP_LOAD_SOLVE_OK ? HP_STATUS_CLOSEST
@@ -401,9 +452,17 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
         }
     }
     r->iterations = it1 + it2 + it3;
-    if (bad || st != HP_LOAD_SOLVE_OK) {
+    /* Whichever path gave it (HOLD, the sinking search, the 6-D refinement from the previous
+     * pose), an answer is returned only when it is an equilibrium by both checks. */
+    int unverified = !bad && st == HP_LOAD_SOLVE_OK &&
+                     !((held || holds(M, xi, P)) && newton_euler_holds(M, xi, P));
+    if (bad || st != HP_LOAD_SOLVE_OK || unverified) {
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
-        if (!bad)
+        if (unverified)
+            hp_text_set(p->err, "load planner: the pose found near the desired one is not an "
+                                "equilibrium of the load model (its residual exceeds 1e-9 N), "
+                                "so it is not returned");
+        else if (!bad)
             hp_text_set(p->err, "load planner: no pose near the desired one is held inside the "
                                 "limits");
         /* Safe output: the previous pressures at the previous pose. */

@@ -122,6 +122,8 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
     if (hp_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, NULL) != HP_OK)
         return HP_LOAD_SOLVE_ERROR;
+    /* A pose with a bladder centre inside the head (through its panel) is held by nothing. */
+    if (hp_load_domain(M, rho) != HP_OK) return HP_LOAD_SOLVE_UNREACHABLE;
     hp_load_gravity(M, xi, Qg, NULL, NULL);
     double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS],
         Fhi[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];

@@ -85,7 +85,9 @@ HP_API hp_error hp_load_radius(const hp_load_model *M, int k, double P, double *
  *   energy      the potential Pi [J] (0 at the nominal pose with no contact), may be NULL.
  * Off contact (delta <= 0 or P <= 0) a bladder contributes nothing and its derivatives are
  * 0 (the law has a kink there). HP_ERR_INVALID for NaN/Inf inputs, HP_ERR_DOMAIN when the
- * geometry fails (surface, deep inside the head), HP_ERR_NO_STABLE for a pressure past a
+ * geometry fails (surface, deep inside the head) or a bladder centre lies inside or on the
+ * moved head (rho_k <= 0 for any k, whatever its pressure: the head through that bladder's
+ * panel, where the membrane law describes nothing), HP_ERR_NO_STABLE for a pressure past a
  * limit point; outputs NaN on error. */
 HP_API hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const double *P,
                       double Q[6], double *dQ_dxi, double *dQ_dP, double *force,
@@ -95,7 +97,8 @@ HP_API hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const d
  * force sum_k F_k·u_k + m·g [N] and the net moment sum_k (p_k − x_com) × F_k·u_k about the
  * moved centre of mass [N·m]. p_k is the moved head's surface point nearest to c_k
  * (surface), the moved tangent-plane foot (plane) or c_k − rho_k·n_k (linear, whose
- * geometry is the linearised one: there Q and this check differ at second order). */
+ * geometry is the linearised one: there Q and this check differ at second order). Same
+ * domain as hp_load_eval (HP_ERR_DOMAIN when a centre lies inside or on the moved head). */
 HP_API hp_error hp_load_newton_euler(const hp_load_model *M, const double xi[6], const double *P,
                               double force[3], double moment[3]);
 
@@ -133,8 +136,9 @@ typedef struct hp_load_rest_info {
  * Armijo backtracking on Pi, steps capped at 5 mm / 5°), from xi0 (NULL = nominal). Stops
  * when the step is below 1e-12 mm / degree or Q vanishes to rounding. xi gets the rest
  * pose; info (may be NULL) the residuals and the holding. HP_ERR_NO_CONVERGENCE when no
- * rest is found in 100 steps (e.g. the head falls: nothing pushes against gravity) or the
- * pose leaves 100 mm / 60°. A rest with K not positive definite is returned with
+ * rest is found in 100 steps (e.g. the head falls: nothing pushes against gravity), the
+ * pose leaves 100 mm / 60°, or the descent runs into a bladder's panel (every step, down to
+ * 2^-50 of it, leaves hp_load_eval's domain); HP_ERR_DOMAIN when xi0 lies outside it. A rest with K not positive definite is returned with
  * info->holding.stable = 0. */
 HP_API hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0,
                       double xi[6], hp_load_rest_info *info);

@@ -64,7 +64,11 @@ HP_API hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *s
  * the settings say) at which some do, with the binding limits flagged. info (may be NULL)
  * gets the residuals, forces, the forward statics' rest of the answer and the holding. With
  * the realtime backend nothing is allocated. Every pressure is inside its limits, whatever
- * the status. */
+ * the status. A REACHED or CLOSEST answer is an equilibrium by two checks: Q below 1e-9 N
+ * (hp_load_eval, which also requires every bladder centre outside the moved head) and, at
+ * the plane and surface levels, the Newton–Euler residual from the contact points below
+ * 1e-6 N and 1e-6 N·m; a pose found that fails either is not returned (SOLVER_ERROR with
+ * the safe output and the reason in hp_load_planner_error). */
 HP_API hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *result,
                       hp_load_info *info);
 

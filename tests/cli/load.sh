@@ -93,6 +93,17 @@ for lv in "" "--level surface"; do
     expect_stdout_empty "100 deg pitch ${lv:-at the load level}: no answer"
     expect_stderr_has "headplan solve: --correction: desired rotation: angle 100.0 deg is outside the identifiable range" "names the limit ${lv:-at the load level}"
 done
+# 89.9 deg pitch is inside the range and held, at a saddle: the forward statics started at
+# the answer rolls away, which is said in words (it printed "rest inf mm/deg").
+run solve "$S/load_supine.yaml" --correction 0,0,0,89.9,0,0
+expect_exit 0 "89.9 deg pitch held"
+expect_stdout_has "no rest found from the achieved pose" "no rest, said in words"
+expect_stdout_has "NOT stable" "the saddle named"
+# Through a panel (side_chin_left's centre 11.6 mm inside the head) it was CLOSEST with
+# a Newton-Euler residual of 2.74 N; now no held pose is found from a fresh planner.
+run solve "$S/load_supine.yaml" --correction 20,0,0,0,0,40
+expect_exit 70 "20 mm + 40 deg yaw: no equilibrium returned"
+expect_stdout_empty "20 mm + 40 deg yaw: no answer printed"
 run solve "$S/load_heavy.yaml" --correction 0,0,80,0,0,0
 expect_exit 65 "80 mm lift refused at the load level"
 expect_stderr_has "80.0 mm is outside the identifiable range (<= 77.5 mm" "names the semi-axis"
