@@ -9,6 +9,7 @@
 #include "tests/reliability/rel_common.h"
 #include "planner/planner_internal.h"
 #include "iab/iab_internal.h"
+#include "headplan/hp_scene.h"
 
 #define PI 3.14159265358979323846
 
@@ -70,15 +71,15 @@ static void check_answer(hp_planner *p, const hp_layout *L, hp_level level, cons
     }
 }
 
-static void one(int kind, hp_backend b, hp_level level, double rate, uint64_t seed)
+static void one_on(const hp_layout *Lin, const char *name, hp_backend b, hp_level level,
+                   double rate, uint64_t seed)
 {
-    hp_layout L;
-    assert_int_equal(rel_layout(&L, kind), HP_OK);
+    hp_layout L = *Lin;
     hp_planner *p = rel_planner(&L, b, level, rate, 0);
     assert_non_null(p);
     const hp_layout *PL = hp_planner_layout(p);
     char what[96];
-    snprintf(what, sizeof what, "%s/%s/%s/rate %g", rel_kind_names[kind], hp_backend_name(b),
+    snprintf(what, sizeof what, "%s/%s/%s/rate %g", name, hp_backend_name(b),
              hp_level_name(level), rate);
     hp_result r;
     for (int i = 0; i < 60; ++i) {
@@ -106,6 +107,13 @@ static void one(int kind, hp_backend b, hp_level level, double rate, uint64_t se
     hp_planner_destroy(p);
 }
 
+static void one(int kind, hp_backend b, hp_level level, double rate, uint64_t seed)
+{
+    hp_layout L;
+    assert_int_equal(rel_layout(&L, kind), HP_OK);
+    one_on(&L, rel_kind_names[kind], b, level, rate, seed);
+}
+
 static void verdict_kept(void **st)
 {
     (void)st;
@@ -118,6 +126,18 @@ static void verdict_kept(void **st)
             for (int l = 0; l < 2; ++l)
                 for (int rt = 0; rt < 2; ++rt)
                     one(kinds[k], bs[b], levels[l], rt ? 400.0 : INFINITY, seed + 7u * (unsigned)(k * 8 + b * 4 + l * 2 + rt));
+    /* The shipped scenes' layouts (all commanding six components). */
+    const char *scenes[4] = {"near_degenerate.yaml", "large_rotation.yaml", "soft_material.yaml",
+                             "saturation.yaml"};
+    for (int k = 0; k < 4; ++k) {
+        static hp_scene sc;
+        char path[512];
+        hp_diag d = {{0}};
+        snprintf(path, sizeof path, "%s/scenarios/%s", HP_SOURCE_DIR, scenes[k]);
+        if (hp_scene_load(path, &sc, &d) != HP_OK) fail_msg("%s: %s", path, d.text);
+        for (int l = 0; l < 2; ++l)
+            one_on(&sc.layout, scenes[k], HP_BACKEND_REALTIME, levels[l], INFINITY, seed + 99u * (unsigned)k);
+    }
     print_message("%ld answers confirmed, %ld disagree, full fit within %.3g\n", confirmed,
                   disagree, worst_full);
     assert_true(confirmed > 100);
