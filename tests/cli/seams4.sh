@@ -75,4 +75,18 @@ run horizon "$TMP/five.yaml"
 expect_exit 0 "horizon, a five-bladder scene"; expect_stdout_has "receding,max" "horizon five"
 run batch "$TMP/five.yaml" --format csv --no-times
 expect_exit 0 "batch, a five-bladder scene"
+# '-o -' is standard output in batch only; horizon, fit layout and fit --plot created a file
+# named '-' in the current folder (exit 0, nothing said), and fit layout with its scene on
+# standard input called '-o -' "an input of the fit". Now each is refused by name (64).
+mkdir "$TMP/cwd"; cd "$TMP/cwd"
+run horizon "$S/nodding.yaml" -o -
+expect_exit 64 "horizon -o -"; expect_stderr_has "-o -: this output cannot be standard output" "horizon -o -"
+run fit layout "$S/default.yaml" "$HP_SRC/examples/calibration/layout_rows.csv" -o -
+expect_exit 64 "fit layout -o -"; expect_stderr_has "-o -: this output cannot be standard output" "fit -o -"
+"$HP_BIN" fit layout - "$HP_SRC/examples/calibration/layout_rows.csv" -o - < "$S/default.yaml" > "$TMP/out" 2> "$TMP/err"; rc=$?
+expect_exit 64 "fit layout - -o -"; expect_stderr_has "-o -: this output cannot be standard output" "fit - -o -"
+run fit material "$HP_SRC/examples/calibration/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --plot -
+expect_exit 64 "fit material --plot -"; expect_stderr_has "--plot -: this output cannot be standard output" "fit --plot -"
+[ ! -e ./- ] && ok || bad "a file named '-' was written"
+cd - > /dev/null
 finish
