@@ -68,6 +68,11 @@ int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cl
      * whole job into "OUT.partial-XXXXXX" beside the current directory and fail at the
      * rename. */
     if (!*path) return cli_fail(CLI_EXIT_CANTCREAT, cmd, "%s '': an empty file name", opt);
+    /* '-' is standard output only where a command says so (batch); here it was created as a
+     * file named '-' in the current directory, and the run said nothing. */
+    if (strcmp(path, "-") == 0)
+        return cli_fail(CLI_EXIT_USAGE, cmd,
+                        "%s -: this output cannot be standard output; name a file", opt);
     if (lstat(path, &st) != 0) {
         if (errno == ENOENT) return 0;
         return cli_fail(CLI_EXIT_CANTCREAT, cmd, "%s %s: %s", opt, path, strerror(errno));

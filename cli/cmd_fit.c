@@ -600,6 +600,8 @@ static int run_layout(int argc, char **argv)
     const char *inputs[3] = {a.scene, a.data, sc && sc->has_trace ? sc->trace_path : NULL};
     const int n_inputs = inputs[2] ? 3 : 2;
     if (!rc && a.out && !*a.out) rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "-o '': an empty file name");
+    /* As every file output (cli_out_allowed): not a file named '-' in the current folder. */
+    if (!rc && a.out && strcmp(a.out, "-") == 0) rc = cli_out_allowed(CMD, "-o", a.out, NULL, 0);
     if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, n_inputs, &d)) != HP_OK)
         rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
     if (!rc && a.out && strcmp(a.scene, "-") == 0) { /* the file on standard input, by identity */

@@ -285,9 +285,11 @@ static int read_result(const char *path, result *res)
         }
         res->n++;
     }
+    /* A read that failed (a directory, an I/O error) is not an empty result. */
+    if (rc < 0 && ferror(in))
+        rc = cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", path, strerror(errno));
     if (rc < 0 && !have_header)
         rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: empty (no header)", path);
-    if (rc < 0 && ferror(in)) rc = cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: read error", path);
     if (!std) fclose(in);
     return rc;
 }

@@ -384,8 +384,12 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
         e = hp_iab_fk_limit(&rh->L->bladders[k].iab, &sb.limit[k], rh->p_now[k], &ri);
         if (e == HP_OK) e = hp_iab_ro(&rh->L->bladders[k].iab, ri, &ro[k]);
     }
-    if (e == HP_OK) e = hp_contact_fk_g(rh->L, rh->G, rh->level, ro, NULL, rh->applied.achieved,
-                                         NULL, NULL);
+    /* In the commanded components, as the planner's set_previous fits them: a layout that
+     * cannot observe all six (five bladders) has no fit in all six. */
+    const double zero[6] = {0};
+    if (e == HP_OK)
+        e = hp_contact_fit(rh->L, rh->level, ro, rh->commanded, zero, rh->applied.achieved, NULL,
+                           NULL);
     if (e != HP_OK) {
         hp_diag_set(d, e, "start pressures: no pose holds them (%s)", hp_error_message(e));
         goto fail;

@@ -299,8 +299,11 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
     }
     double xi[6], resid;
     /* The pose becomes the safe output's achieved: one the fit from the nominal pose does not
-     * find would be stated for pressures that do not hold it (before, the nominal pose). */
-    if (hp_plan_fit_from_nominal(p, ro, p->fk_free, NULL, xi, &resid) != HP_OK) {
+     * find would be stated for pressures that do not hold it (before, the nominal pose). The
+     * fit is in the commanded components, as the round trip's: the others are stated as 0,
+     * and a layout that cannot observe them (five bladders, a flat ring) has no fit in all
+     * six, which refused even its own nominal pressures. */
+    if (hp_plan_fit_from_nominal(p, ro, p->commanded, NULL, xi, &resid) != HP_OK) {
         hp_text_set(p->err, "set_previous: forward contact kinematics from the nominal pose "
                             "finds no pose these pressures hold (it did not converge)");
         return HP_ERR_INVALID;

@@ -12,6 +12,7 @@
 #include "test_util.h"
 #include "tests/planner/layout_fixture.h"
 #include "common/units.h"
+#include "tests/kinematics/ident_layouts.h"
 
 /* Every field of a result that hp_plan computes, solve_time excluded (a measurement). */
 static void same_result(const hp_result *a, const hp_result *b, int row)
@@ -411,6 +412,47 @@ static void test_set_previous_states_a_fitted_pose(void **st)
     hp_planner_destroy(p);
 }
 
+/* A layout that cannot observe every component (five bladders; eight in a plane) is planned
+ * (the others are uncommanded), so its own nominal pressures are a valid start: the horizon
+ * starts every plan from them with hp_planner_set_previous. Refused before (HP_ERR_INVALID,
+ * "did not converge"): the fit was asked for all six components, which five distances
+ * cannot give, and `headplan horizon` exited 65 on such a scene that batch plans. */
+static void test_set_previous_rank_deficient(void **st)
+{
+    (void)st;
+    double flat[8][3];
+    il_flat_rays(flat);
+    for (int c = 0; c < 2; ++c) {
+        hp_layout L;
+        assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin, il_origin,
+                                   c ? 8 : 5, c ? (const double(*)[3])flat : il_default_rays, 1.0),
+                         HP_OK);
+        for (int lv = 0; lv < 2; ++lv) {
+            hp_settings s;
+            hp_settings_default(&s);
+            s.level = lv ? HP_LEVEL_SURFACE : HP_LEVEL_PLANE;
+            s.max_time = 60.0;
+            hp_planner *p = NULL;
+            hp_diag d = {{0}};
+            assert_int_equal(hp_planner_create(&L, &s, &p, &d), HP_OK);
+            double P0[HP_MAX_BLADDERS];
+            hp_result nominal, r;
+            const double nan6[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
+            assert_int_equal(hp_plan(p, nan6, &nominal), HP_OK);
+            assert_int_equal(hp_planner_nominal_pressures(p, P0), HP_OK);
+            hp_error e = hp_planner_set_previous(p, P0);
+            if (e != HP_OK) print_error("layout %d level %d: %s\n", c, lv, hp_planner_error(p));
+            assert_int_equal(e, HP_OK);
+            assert_int_equal(hp_plan(p, nan6, &r), HP_OK);
+            /* Its own nominal pressures hold the nominal answer's pose (1e-9 mm/deg). */
+            for (int i = 0; i < 6; ++i)
+                assert_true(fabs(r.achieved[i] - nominal.achieved[i]) *
+                                (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD) <= 1e-9);
+            hp_planner_destroy(p);
+        }
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -421,6 +463,7 @@ int main(void)
         cmocka_unit_test(test_linear),
         cmocka_unit_test(test_surface),
         cmocka_unit_test(test_set_previous_states_a_fitted_pose),
+        cmocka_unit_test(test_set_previous_rank_deficient),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
