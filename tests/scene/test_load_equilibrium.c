@@ -128,7 +128,7 @@ static void sweep(const char *file, hp_backend backend, int ncorr, tally *t)
         hp_result r;
         hp_load_info info;
         assert_int_equal(hp_load_plan(p, xi, &r, &info), HP_OK);
-        char what[256];
+        char what[1024];
         snprintf(what, sizeof what, "%s, %s, correction %g,%g,%g,%g,%g,%g: %s", file,
                  hp_backend_name(backend), CORR[c][0], CORR[c][1], CORR[c][2], CORR[c][3],
                  CORR[c][4], CORR[c][5], hp_status_name(r.status));
