@@ -75,10 +75,7 @@ typedef struct cert_ctx {
     const int *col;
     const hp_kin_fit_near *near;
     const double *centre;            /* SI pose */
-    double rho_c[HP_MAX_BLADDERS];   /* distances at the centre less their noise [m] */
-    double Ah[36];                   /* scaled normal matrix of the Jacobian there */
-    double cmin, cmax;               /* the range of its column norms */
-    double r0, snu;                  /* |ρ(a) − ρ*| plus noise, and the noise ν√n [mm] */
+    hp_kin_cert_model m;             /* the model there */
 } cert_ctx;
 
 /* Fills the scaled normal matrix Â = S·A·S (A nf×nf with leading dimension lda, SI) and its
@@ -89,13 +86,13 @@ static void scaled_normal(cert_ctx *cx, const double *A, int lda)
     double sc[6];
     for (int j = 0; j < nf; ++j) sc[j] = HP_MM_PER_M * hp_pose_si_per_scaled(cx->col[j]);
     for (int j = 0; j < nf; ++j)
-        for (int k = 0; k < nf; ++k) cx->Ah[j * nf + k] = A[j * lda + k] * sc[j] * sc[k];
-    cx->cmin = INFINITY;
-    cx->cmax = 0.0;
+        for (int k = 0; k < nf; ++k) cx->m.Ah[j * nf + k] = A[j * lda + k] * sc[j] * sc[k];
+    cx->m.cmin = INFINITY;
+    cx->m.cmax = 0.0;
     for (int j = 0; j < nf; ++j) {
-        double c = sqrt(cx->Ah[j * nf + j]);
-        cx->cmin = hp_min2(cx->cmin, c);
-        cx->cmax = hp_max2(cx->cmax, c);
+        double c = sqrt(cx->m.Ah[j * nf + j]);
+        cx->m.cmin = hp_min2(cx->m.cmin, c);
+        cx->m.cmax = hp_max2(cx->m.cmax, c);
     }
 }
 
@@ -120,10 +117,10 @@ static int noise_and_r0(cert_ctx *cx, const double *x0, const double *rho_m,
         r02 += d * d;
     }
     double nu = 64.0 * DBL_EPSILON * rmax; /* m */
-    for (int k = 0; k < n; ++k) cx->rho_c[k] = rho_m[k] - nu;
-    cx->snu = sqrt((double)n) * nu * HP_MM_PER_M;
-    cx->r0 = sqrt(r02) * HP_MM_PER_M + cx->snu;
-    return isfinite(cx->r0) && isfinite(cx->snu);
+    for (int k = 0; k < n; ++k) cx->m.rho_c[k] = rho_m[k] - nu;
+    cx->m.snu = sqrt((double)n) * nu * HP_MM_PER_M;
+    cx->m.r0 = sqrt(r02) * HP_MM_PER_M + cx->m.snu;
+    return isfinite(cx->m.r0) && isfinite(cx->m.snu);
 }
 
 /* |p − q| over the free components, scaled (mm, degrees). */
@@ -143,7 +140,7 @@ static double scaled_dist(const cert_ctx *cx, const double *p, const double *q)
 static double ball_eta(const cert_ctx *cx, double R)
 {
     double h[HP_MAX_BLADDERS], eta2 = 0.0;
-    if (hp_kin_contact_ball_curvature(cx->L, cx->G, cx->level, cx->centre, R, cx->rho_c, h) !=
+    if (hp_kin_contact_ball_curvature(cx->L, cx->G, cx->level, cx->centre, R, cx->m.rho_c, h) !=
         HP_OK)
         return -1.0;
     for (int k = 0; k < cx->L->n; ++k) eta2 += h[k] * h[k];
@@ -159,16 +156,16 @@ static int certify(const cert_ctx *cx, double sig, double e_ca, double e_xc, dou
                    double tc, double lambda, int iters_left, double eta, double R_eta)
 {
     const hp_kin_fit_near *near = cx->near;
-    double sigB = (1.0 - CERT_Q) * sig, r0 = cx->r0, snu = cx->snu;
-    if (!(sig > 0) || !(cx->cmin > CERT_Q * sig) || !isfinite(tt) || !isfinite(tc)) return 0;
-    double cD = (cx->cmax + CERT_Q * sig) / (cx->cmin - CERT_Q * sig);
+    double sigB = (1.0 - CERT_Q) * sig, r0 = cx->m.r0, snu = cx->m.snu;
+    if (!(sig > 0) || !(cx->m.cmin > CERT_Q * sig) || !isfinite(tt) || !isfinite(tc)) return 0;
+    double cD = (cx->m.cmax + CERT_Q * sig) / (cx->m.cmin - CERT_Q * sig);
     double tstop = hp_max2(100.0 * (r0 + snu), 1.1e-12 * cx->nf);
     /* The damped step dx differs from the Gauss–Newton step g (|g| <= t/σ_B) by
      * (JᵀJ + λC²)⁻¹λC²g, so |dx| <= (1 + κ)|g| and |J(dx − g)| <= κ|Jg| <= κt with
      * κ = λ·c_max²/σ_B² (c_max the largest column norm on the ball); λ only decreases
      * while every step is accepted. Below tstop a step of any damping is at most
      * c_D·tstop/σ_B long. */
-    double cm = cx->cmax + CERT_Q * sig;
+    double cm = cx->m.cmax + CERT_Q * sig;
     double kap = lambda * cm * cm / (sigB * sigB);
     if (!(kap <= 0.5)) return 0;
     double R = (e_ca + (tt + r0 + (1.0 + kap) * tc * (1.0 + 1e-6) + cD * tstop) / sigB) *
@@ -218,16 +215,16 @@ int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, i
     scaled_normal(&cx, A6, 6);
     double e = scaled_dist(&cx, x, near->anchor);
     double tc = sqrt(t2) * HP_MM_PER_M * (1.0 + 1e-14); /* the computed residual */
-    double tt = tc + cx.snu;                             /* the true one */
-    if (!isfinite(tt) || !isfinite(e) || !(cx.cmin > 0)) return 0;
+    double tt = tc + cx.m.snu;                             /* the true one */
+    if (!isfinite(tt) || !isfinite(e) || !(cx.m.cmin > 0)) return 0;
     /* A cheap necessary condition first (most iterates far from the answer fail it): σ̂ is
      * at most the smallest column norm, so R is at least R_lo. The curvature bound grows
      * with the radius: taken on a ball of radius R_up = 4·R_lo it serves any R up to R_up
      * (the usual case: σ̂ is rarely below a quarter of the smallest column norm). */
-    double R_lo = e + (tt + tc) / ((1.0 - CERT_Q) * cx.cmin), R_up = 4.0 * R_lo;
+    double R_lo = e + (tt + tc) / ((1.0 - CERT_Q) * cx.m.cmin), R_up = 4.0 * R_lo;
     double eta = ball_eta(&cx, R_up);
-    if (!(eta >= 0) || !(eta * R_lo <= CERT_Q * cx.cmin)) return 0;
-    double sig = sqrt(lambda_min_lower(cx.Ah, nf));
+    if (!(eta >= 0) || !(eta * R_lo <= CERT_Q * cx.m.cmin)) return 0;
+    double sig = sqrt(lambda_min_lower(cx.m.Ah, nf));
     return certify(&cx, sig, e, 0.0, tt, tc, lambda, iters_left, eta, R_up);
 }
 
@@ -248,26 +245,16 @@ int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level le
     double err = near->anchor_J_err, sig = -1.0;
     if (!(err >= 0) || !isfinite(err)) return 0;
     if (cache && cache->ready) {
-        memcpy(cx.Ah, cache->Ah, sizeof cx.Ah);
-        memcpy(cx.rho_c, cache->rho_c, sizeof cx.rho_c);
-        cx.cmin = cache->cmin;
-        cx.cmax = cache->cmax;
-        cx.r0 = cache->r0;
-        cx.snu = cache->snu;
+        cx.m = cache->m;
         sig = cache->sig;
     } else {
         if (!noise_and_r0(&cx, xt, near->anchor_rho, target)) return 0;
         scaled_normal(&cx, A6, 6);
-        cx.cmin -= err;
-        cx.cmax += err;
+        cx.m.cmin -= err;
+        cx.m.cmax += err;
         if (cache) {
-            memcpy(cache->Ah, cx.Ah, sizeof cx.Ah);
-            memcpy(cache->rho_c, cx.rho_c, sizeof cx.rho_c);
-            cache->cmin = cx.cmin;
-            cache->cmax = cx.cmax;
-            cache->r0 = cx.r0;
-            cache->snu = cx.snu;
-            cache->sig = -1.0; /* not yet derived */
+            cache->m = cx.m;
+            cache->sig = -1.0;
             cache->ready = 1;
         }
     }
@@ -292,17 +279,17 @@ int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level le
      * σ_B = ¾σ̂ <= ¾·c_min, and the curvature bound η grows with the radius. Taken on a
      * ball of 4·R_lo, the bound serves certify for any R up to that. */
     if (!(jd2 < cost * HP_MM_PER_M * HP_MM_PER_M) || !isfinite(e)) return 0;
-    double R_lo = fmax(e, 2.0 * jd / ((1.0 - CERT_Q) * cx.cmin)), R_up = 4.0 * R_lo;
+    double R_lo = fmax(e, 2.0 * jd / ((1.0 - CERT_Q) * cx.m.cmin)), R_up = 4.0 * R_lo;
     double eta = ball_eta(&cx, R_up);
-    if (!(eta >= 0) || !(eta * R_lo <= CERT_Q * cx.cmin)) return 0;
+    if (!(eta >= 0) || !(eta * R_lo <= CERT_Q * cx.m.cmin)) return 0;
     if (!(sig >= 0)) {
-        sig = sqrt(lambda_min_lower(cx.Ah, nf)) - err;
+        sig = sqrt(lambda_min_lower(cx.m.Ah, nf)) - err;
         if (!(sig > 0)) sig = 0.0;
     }
     if (cache) cache->sig = sig;
     if (!(sig > 0)) return 0;
-    double tt = jd + err * e + 0.5 * CERT_Q * sig * e + cx.r0;
-    double tc = tt + cx.snu;
+    double tt = jd + err * e + 0.5 * CERT_Q * sig * e + cx.m.r0;
+    double tc = tt + cx.m.snu;
     /* Accepted: its computed squared residual is below the start's (cost, m²). */
     if (!(tc * tc * (1.0 + 1e-14) < cost * HP_MM_PER_M * HP_MM_PER_M)) return 0;
     return certify(&cx, sig, 0.0, e, tt, tc, lambda_next, iters_left, eta, R_up);

@@ -111,10 +111,17 @@ int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, i
  * a condition fails. cache (may be NULL; ready = 0 before the first try): what depends only
  * on the anchor, the target and A6 (σ̂, the column norms, r0, the noise), kept between the
  * tries of one fit, whose trials share them. Allocates nothing. */
+/* The model a certificate reasons with, at its ball's centre (fit_certify.c). */
+typedef struct hp_kin_cert_model {
+    double rho_c[HP_MAX_BLADDERS];   /* distances at the centre less their noise [m] */
+    double Ah[36];                   /* scaled normal matrix of the Jacobian there */
+    double cmin, cmax;               /* the range of its column norms */
+    double r0, snu;                  /* |ρ(a) − ρ*| plus noise, and the noise ν√n [mm] */
+} hp_kin_cert_model;
 typedef struct hp_kin_trial_cache {
     int ready; /* 0 before the first try; the rest is hp_kin_fit_certified_trial's */
-    double Ah[36], cmin, cmax, r0, snu, sig;
-    double rho_c[HP_MAX_BLADDERS];
+    hp_kin_cert_model m;
+    double sig; /* σ̂, or −1 while not yet derived */
 } hp_kin_trial_cache;
 int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
                                const int *col, const double xt[6], const double *A6,
