@@ -247,6 +247,13 @@ static int held_at(const hp_load_planner *p, const double desired[6], double dep
                HP_LOAD_SOLVE_OK && holds(M, x, Pt);
 }
 
+/* The sinking search's best held depth so far: its pose and pressures. */
+static void keep_held(double xs[6], double *Ps, const double x[6], const double *Pt, int n)
+{
+    memcpy(xs, x, 6 * sizeof *xs);
+    memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
+}
+
 /* The held pose nearest to the desired one along gravity: the head sinks (translation along
  * ĝ) until some pressures inside the limits hold it, found by doubling the depth from
  * 1/16 mm to 64 mm and bisecting the boundary to 1e-9 mm. The panels below the head bound
@@ -268,8 +275,7 @@ static int sink(const hp_load_planner *p, const double desired[6], const double 
         int h = held_at(p, desired, depth, target, x, Pt);
         if (h > 0) {
             hi = depth;
-            memcpy(xs, x, sizeof x);
-            memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
+            keep_held(xs, Ps, x, Pt, n);
             break;
         }
         if (h < 0) {
@@ -283,8 +289,7 @@ static int sink(const hp_load_planner *p, const double desired[6], const double 
         int h = held_at(p, desired, mid, target, x, Pt);
         if (h > 0) {
             hi = mid;
-            memcpy(xs, x, sizeof x);
-            memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
+            keep_held(xs, Ps, x, Pt, n);
         } else if (h < 0) {
             deep = mid;
         } else {
@@ -296,8 +301,7 @@ static int sink(const hp_load_planner *p, const double desired[6], const double 
         double mid = 0.5 * (lo + hi);
         if (held_at(p, desired, mid, target, x, Pt) > 0) {
             hi = mid;
-            memcpy(xs, x, sizeof x);
-            memcpy(Ps, Pt, (size_t)n * sizeof *Ps);
+            keep_held(xs, Ps, x, Pt, n);
         } else {
             lo = mid;
         }
