@@ -347,25 +347,60 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         for (int k = 0; k < n; ++k) {
             gl[c0 + (size_t)k] = gu[c0 + (size_t)k] = 0.0;
             double D = delta[(size_t)t * (size_t)n + (size_t)k];
-            double lim = isfinite(D) ? fmax(D - HP_HORIZON_RATE_MARGIN, 0.5 * D) * 1e-3 : IPOPT_INF;
+            double lim = D <= HP_HORIZON_HOLD_PA ? 0.0 /* held: see below */
+                         : isfinite(D) ? (D - HP_HORIZON_RATE_MARGIN) * 1e-3
+                                       : IPOPT_INF;
             gl[c0 + (size_t)n + (size_t)k] = -lim;
             gu[c0 + (size_t)n + (size_t)k] = lim;
         }
+    }
+    /* Every allowance of the window below HP_HORIZON_HOLD_PA: every pressure is held, so the
+     * plan is fixed and needs no NLP (posed to Ipopt, its equalities outnumber its free
+     * variables): every row is the pose the held pressures hold, from the nominal pose. */
+    int all_held = 1;
+    for (size_t j = 0; j < (size_t)T * (size_t)n; ++j) all_held &= delta[j] <= HP_HORIZON_HOLD_PA;
+    if (all_held) {
+        double ro[HP_MAX_BLADDERS], xi[6];
+        hp_error he = HP_OK;
+        for (int k = 0; k < n && he == HP_OK; ++k) {
+            const hp_iab *b = &c->L->bladders[k].iab;
+            double ri = NAN;
+            he = hp_iab_fk_limit(b, &c->sb.limit[k], p0[k], &ri);
+            if (he == HP_OK) he = hp_iab_ro(b, ri, &ro[k]);
+            for (int t = 0; t < T; ++t)
+                x[(size_t)t * (size_t)nx + 6 + (size_t)k] = ri * HP_MM_PER_M;
+        }
+        if (he == HP_OK)
+            he = hp_plan_fit_from_nominal(c->p, ro, hp_planner_identifiable(c->p)->commanded,
+                                          NULL, xi, NULL);
+        if (he != HP_OK) {
+            free(buf);
+            return hp_diag_set(d, HP_ERR_SOLVER,
+                               "offline: line %ld: no pose holds the held pressures (%s)",
+                               rows[0].line, hp_error_message(he));
+        }
+        for (int t = 0; t < T; ++t)
+            for (int i = 0; i < 6; ++i)
+                x[(size_t)t * (size_t)nx + (size_t)i] =
+                    c->pb.w[i] > 0 ? xi[i] * hp_pose_scaled_per_si(i) : 0.0;
     }
     Index nnz_j = T * 7 * n + T * 2 * n - n;
     Index nnz_h = T * (21 + n) + (T - 1) * n;
     hp_error e = HP_OK;
     enum ApplicationReturnStatus rc = Internal_Error;
     hp_ipopt_lock();
-    IpoptProblem app = CreateIpoptProblem((Index)NV, xl, xu, (Index)NC, gl, gu, nnz_j, nnz_h, 0,
-                                          eval_f, eval_g, eval_grad_f, eval_jac_g, eval_h);
-    if (!app) e = hp_diag_set(d, HP_ERR_SOLVER, "offline: CreateIpoptProblem failed");
-    if (e == HP_OK)
+    IpoptProblem app = all_held ? NULL
+                                : CreateIpoptProblem((Index)NV, xl, xu, (Index)NC, gl, gu, nnz_j,
+                                                     nnz_h, 0, eval_f, eval_g, eval_grad_f,
+                                                     eval_jac_g, eval_h);
+    if (all_held) rc = Solve_Succeeded;
+    else if (!app) e = hp_diag_set(d, HP_ERR_SOLVER, "offline: CreateIpoptProblem failed");
+    if (e == HP_OK && app)
         e = hp_ipopt_base_options(app, c->hs->offline_tol, c->hs->offline_max_iter,
                                   c->hs->offline_max_time, d);
-    if (e == HP_OK && !SetIntermediateCallback(app, intermediate))
+    if (e == HP_OK && app && !SetIntermediateCallback(app, intermediate))
         e = hp_diag_set(d, HP_ERR_SOLVER, "offline: SetIntermediateCallback failed");
-    if (e == HP_OK) {
+    if (e == HP_OK && app) {
         double obj;
         rc = IpoptSolve(app, x, NULL, &obj, NULL, NULL, NULL, &q);
     }
@@ -406,7 +441,15 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
             const hp_bladder *B = &c->L->bladders[k];
             double ri = fmin(fmax(xt[6 + k], c->pb.ri_lo[k]), c->pb.ri_hi[k]) / HP_MM_PER_M;
             double ro, P;
-            if (hp_iab_ro(&B->iab, ri, &ro) != HP_OK || hp_iab_ik(&B->iab, ri, &P) != HP_OK ||
+            hp_error he = HP_OK;
+            if (delta[(size_t)t * (size_t)n + (size_t)k] <= HP_HORIZON_HOLD_PA) {
+                /* Held: the previous row's pressure and radius, exactly (row 0: the start
+                 * pressure and its stable radius). */
+                if (t) ri = out[t - 1].ri[k];
+                else he = hp_iab_fk_limit(&B->iab, &c->sb.limit[k], p0[k], &ri);
+            }
+            if (he != HP_OK || hp_iab_ro(&B->iab, ri, &ro) != HP_OK ||
+                hp_iab_ik(&B->iab, ri, &P) != HP_OK ||
                 !(fabs(ro * HP_MM_PER_M - rho[k]) <= OFFLINE_CONTACT_TOL) ||
                 !(P >= B->p_min && P <= B->p_max)) {
                 e = hp_diag_set(d, HP_ERR_SOLVER,
@@ -416,6 +459,7 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
                 break;
             }
             double prev = t ? out[t - 1].pressure[k] : p0[k];
+            if (delta[(size_t)t * (size_t)n + (size_t)k] <= HP_HORIZON_HOLD_PA) P = prev;
             if (!(fabs(P - prev) <= delta[(size_t)t * (size_t)n + (size_t)k])) {
                 e = hp_diag_set(d, HP_ERR_SOLVER,
                                 "offline: line %ld: bladder %s: the solver's answer breaks the "

@@ -45,6 +45,8 @@ struct hp_horizon_rh {
     int commanded[6];
     double w[6];                     /* pose weights (1 where not commanded) */
     double ro_lo[HP_MAX_BLADDERS], ro_hi[HP_MAX_BLADDERS]; /* [mm] static box */
+    double rate_scene[HP_MAX_BLADDERS]; /* [Pa] the scene's per-row limits (the planner's
+                                           copy holds the last row's allowance) */
     double p_now[HP_MAX_BLADDERS];   /* pressures the bladders hold [Pa] */
     double last_t;
     int started;
@@ -331,7 +333,8 @@ static void predict(hp_horizon_rh *rh, double dt0)
             rh->d[6 * j + i] =
                 rh->commanded[i] ? (rh->hist_d[h][i] + v[i] * dtp * j) * s : 0.0;
         }
-        hp_horizon_row_rates(rh->L, &rh->hs, j ? dtp : dt0, rh->delta + rh->n * j);
+        hp_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, j ? dtp : dt0,
+                             rh->delta + rh->n * j);
     }
 }
 
@@ -356,6 +359,7 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
     rh->level = hp_planner_level(rh->p);
     rh->n = rh->L->n;
     rh->N = rh->hs.horizon;
+    hp_horizon_scene_rates(rh->L, rh->rate_scene);
     hp_static_bounds sb;
     hp_problem pb;
     memset(&pb, 0, sizeof pb);
@@ -442,7 +446,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
                             : desired[i];
     }
     double delta[HP_MAX_BLADDERS];
-    hp_horizon_row_rates(rh->L, &rh->hs, dt0, delta);
+    hp_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, dt0, delta);
     hp_error e = hp_planner_set_rate_max(rh->p, delta);
     if (e == HP_OK) e = hp_plan(rh->p, target, result);
     if (e != HP_OK) return e;
