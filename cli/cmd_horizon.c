@@ -435,7 +435,7 @@ int cmd_horizon(int argc, char **argv)
         goto done;
     }
     /* The start pressures are held one sampling interval before row 0. */
-    if (T > 1 && rows[1].t > rows[0].t) hs.start_interval_s = rows[1].t - rows[0].t;
+    hs.start_interval_s = hp_horizon_start_interval(rows, T, hs.start_interval_s);
     hp_horizon_metrics m[3];
     char why[3][HP_DIAG_MAX] = {"", "", ""}; /* each plan's first refused row */
     hp_horizon_info info;

@@ -103,6 +103,13 @@ void hp_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settin
     for (int k = 0; k < n; ++k) delta[k] = fmin(rate_max[k], per_s);
 }
 
+double hp_horizon_start_interval(const hp_trace_row *rows, size_t T, double fallback)
+{
+    if (!rows || T < 2) return fallback;
+    double dt = rows[1].t - rows[0].t;
+    return dt > 0 && isfinite(dt) ? dt : fallback;
+}
+
 /* The interval before row t (the start interval for row 0), checked. */
 static hp_error row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
                        double *dt, hp_diag *d)

@@ -89,6 +89,12 @@ typedef struct hp_horizon_row {
 HP_API hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
                           const hp_trace_row *rows, size_t T, double *delta, hp_diag *diag);
 
+/* How long the start pressures are taken to have been held before row 0 when a whole trace
+ * is planned: the trace's first interval (rows[1].t − rows[0].t, when T >= 2 and it is finite
+ * and > 0), else fallback. headplan horizon and Python's run_trace set start_interval_s from
+ * it, so both plan row 0 under the same allowance. Allocates nothing. */
+HP_API double hp_horizon_start_interval(const hp_trace_row *rows, size_t T, double fallback);
+
 /* The request check hp_plan applies to a desired correction (finite, within its caps and
  * inside the layout's identifiable range: hp_planner.h), over every row: HP_OK, or
  * HP_ERR_INVALID with hp_plan's one-line reason in diag (without the line) and the first
