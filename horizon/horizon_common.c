@@ -91,6 +91,20 @@ double hp_horizon_weight(const hp_settings *s, const int commanded[6], int i)
     return i < 3 ? 1.0 : 1.0 / (s->weight_mm_per_deg * s->weight_mm_per_deg);
 }
 
+hp_status hp_horizon_label(const int commanded[6], const double desired[6], const double xc[6],
+                           const double achieved[6], double tol, double *err)
+{
+    double e = 0;
+    int unc = 0;
+    for (int i = 0; i < 6; ++i) {
+        double s = i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD;
+        if (commanded[i]) e = fmax(e, fabs(achieved[i] - xc[i]) * s);
+        unc |= fabs(desired[i] - xc[i]) * s > tol;
+    }
+    *err = e;
+    return e <= tol ? (unc ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED) : HP_STATUS_CLOSEST;
+}
+
 void hp_horizon_scene_rates(const hp_layout *L, double *rate_max)
 {
     for (int k = 0; k < L->n; ++k) rate_max[k] = L->bladders[k].rate_max;

@@ -20,6 +20,21 @@ const char *hp_horizon_rh_reason(const hp_horizon_rh *rh);
 void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
                              const char *reason);
 
+/* The status of a planned row as hp_plan labels an answer, from the row's own desired pose
+ * (SI), its commanded part xc (hp_pose_commanded_part) and the achieved pose: REACHED when
+ * every commanded component is within tol (mm or degrees) of xc, UNCOMMANDED when it is but
+ * desired − xc (the part the layout cannot observe) exceeds tol somewhere, CLOSEST otherwise.
+ * *err: the largest commanded error (mm or degrees). */
+hp_status hp_horizon_label(const int commanded[6], const double desired[6], const double xc[6],
+                           const double achieved[6], double tol, double *err);
+
+/* An iterate of the receding horizon's interior point this close (mm or degrees, every
+ * commanded component) to the commanded part of the row's desired pose aims at the desired
+ * pose itself: the difference is the solver's stopping accuracy (steps of 1e-9, a smoothness
+ * weight of 1e-6 mm² per kPa²), not a choice of the plan, and hp_plan then meets the pose
+ * to its own tolerance when no limit binds. */
+#define HP_HORIZON_AIM_TOL 1e-6
+
 double hp_horizon_weight(const hp_settings *s, const int commanded[6], int i);
 
 /* The scene's per-row rate limits rate_max[k] [Pa] of a layout, copied before a planner is

@@ -36,6 +36,8 @@ typedef struct nlp {
     int n, nx;
     int T;                      /* rows in this window */
     const hp_trace_row *rows;   /* this window's rows */
+    double *xc;                 /* T×6: commanded part of each row's desired pose (SI), the
+                                   pose the row aims at, as hp_plan aims at it */
     const double *delta;        /* T×n rate limits [Pa] */
     double p0[HP_MAX_BLADDERS]; /* pressures before the window's first row [Pa] */
     double smooth;
@@ -46,11 +48,12 @@ typedef struct nlp {
 } nlp;
 
 
-/* Sets pb.d to row t's desired correction (scaled; 0 where not commanded). */
+/* Sets pb.d to the commanded part of row t's desired correction (scaled; 0 where not
+ * commanded). */
 static void set_row(nlp *q, int t)
 {
     for (int i = 0; i < 6; ++i)
-        q->pb.d[i] = q->pb.w[i] > 0 ? q->rows[t].correction[i] * hp_pose_scaled_per_si(i) : 0.0;
+        q->pb.d[i] = q->pb.w[i] > 0 ? q->xc[6 * t + i] * hp_pose_scaled_per_si(i) : 0.0;
 }
 
 /* P, dP/dri, d²P/dri² of every bladder of every row at x (mm units). */
@@ -256,6 +259,20 @@ typedef struct offline_ctx {
     hp_planner *p; /* for the strict round trip of every row's answer */
 } offline_ctx;
 
+/* The commanded part of every row's desired pose into xc (T×6, SI). */
+static hp_error commanded_parts(const offline_ctx *c, const hp_trace_row *rows, int T,
+                                double *xc, hp_diag *d)
+{
+    for (int t = 0; t < T; ++t) {
+        hp_error e = hp_pose_commanded_part(c->L, hp_planner_identifiable(c->p), c->pb.level,
+                                            rows[t].correction, xc + 6 * t);
+        if (e != HP_OK)
+            return hp_diag_set(d, HP_ERR_INVALID, "offline: line %ld: commanded part: %s",
+                               rows[t].line, hp_error_message(e));
+    }
+    return HP_OK;
+}
+
 /* The planner (for its validated layout and geometry, level and the greedy start) and everything the
  * windows share. *p is the caller's to destroy, also on failure. */
 static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
@@ -290,7 +307,7 @@ static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
 static size_t nlp_doubles(int T, int n)
 {
     const size_t nx = 6 + (size_t)n, NV = (size_t)T * nx, NC = (size_t)T * 2u * (size_t)n;
-    return 3 * (size_t)T * (size_t)n + nx * nx + (size_t)n * nx + 3 * NV + 2 * NC;
+    return 3 * (size_t)T * (size_t)n + 6 * (size_t)T + nx * nx + (size_t)n * nx + 3 * NV + 2 * NC;
 }
 
 /* One window's NLP on top of buf (nlp_doubles(T, n) doubles; x, bounds follow q->jac). */
@@ -310,7 +327,8 @@ static void nlp_init(nlp *q, const offline_ctx *c, const hp_trace_row *rows,
     q->P = buf;
     q->dP = q->P + (size_t)T * (size_t)n;
     q->d2P = q->dP + (size_t)T * (size_t)n;
-    q->h = q->d2P + (size_t)T * (size_t)n;
+    q->xc = q->d2P + (size_t)T * (size_t)n;
+    q->h = q->xc + 6 * (size_t)T;
     q->jac = q->h + (size_t)nx * (size_t)nx;
 }
 
@@ -326,6 +344,11 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
     double *buf = malloc(sizeof(double) * nlp_doubles(T, n));
     if (!buf) return hp_diag_set(d, HP_ERR_NOMEM, "offline: out of memory (%d rows)", T);
     nlp_init(&q, c, rows, delta, T, p0, buf);
+    hp_error ce = commanded_parts(c, rows, T, q.xc, d);
+    if (ce != HP_OK) {
+        free(buf);
+        return ce;
+    }
     double *x = q.jac + (size_t)n * (size_t)nx, *xl = x + NV, *xu = xl + NV;
     double *gl = xu + NV, *gu = gl + NC;
 
@@ -423,12 +446,12 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         double rho[HP_MAX_BLADDERS];
         o->t = rows[t].t;
         memcpy(o->desired, rows[t].correction, sizeof o->desired);
-        double err = 0;
-        for (int i = 0; i < 6; ++i) {
-            o->achieved[i] = xt[i] / hp_pose_scaled_per_si(i);
-            if (c->pb.w[i] > 0) err = fmax(err, fabs(xt[i] - rows[t].correction[i] * hp_pose_scaled_per_si(i)));
-        }
-        o->status = err <= OFFLINE_REACHED_TOL ? HP_STATUS_REACHED : HP_STATUS_CLOSEST;
+        double err;
+        for (int i = 0; i < 6; ++i) o->achieved[i] = xt[i] / hp_pose_scaled_per_si(i);
+        /* hp_plan's labels, to the offline solve's own accuracy where it is coarser */
+        o->status = hp_horizon_label(hp_planner_identifiable(c->p)->commanded, o->desired,
+                                     q.xc + 6 * t, o->achieved,
+                                     fmax(c->s->tolerance, OFFLINE_REACHED_TOL), &err);
         if (hp_setup_contact_scaled(c->L, c->pb.geom, c->pb.level, xt, rho, NULL) != HP_OK) {
             e = hp_diag_set(d, HP_ERR_SOLVER, "offline: line %ld: contact model failed",
                             rows[t].line);
@@ -561,9 +584,12 @@ hp_error hp_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
     double *v = malloc(sizeof(double) * cap);
     if (e == HP_OK && (!delta || !buf || !iR || !jC || !v)) e = HP_ERR_NOMEM;
     if (e == HP_OK) e = hp_horizon_rates(c.L, hs, rows, (size_t)T, delta, NULL);
+    nlp q;
     if (e == HP_OK) {
-        nlp q;
         nlp_init(&q, &c, rows, delta, T, p0, buf);
+        e = commanded_parts(&c, rows, T, q.xc, NULL);
+    }
+    if (e == HP_OK) {
         double *xx = (double *)x; /* Ipopt's callbacks take non-const pointers */
         double *ll = (double *)lambda;
         Index nj = T * 7 * n + T * 2 * n - n, nh = T * (21 + n) + (T - 1) * n;

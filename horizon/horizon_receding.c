@@ -50,7 +50,8 @@ struct hp_horizon_rh {
     double p_now[HP_MAX_BLADDERS];   /* pressures the bladders hold [Pa] */
     double last_t;
     int started;
-    int hist_n;                      /* desired poses kept for the velocity prediction */
+    int hist_n;                      /* commanded parts of the desired poses, kept for the
+                                        velocity prediction */
     double hist_t[HP_HORIZON_MAX], hist_d[HP_HORIZON_MAX][6];
     double z[HP_HORIZON_MAX * 6], zt[HP_HORIZON_MAX * 6], dz[HP_HORIZON_MAX * 6];
     double d[HP_HORIZON_MAX * 6];
@@ -420,8 +421,14 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     double dt0 = rh->started ? t - rh->last_t : rh->hs.start_interval_s;
     int finite = 1;
     for (int i = 0; i < 6; ++i) finite = finite && isfinite(desired[i]);
-    double target[6];
+    double target[6], xc[6];
     memcpy(target, desired, sizeof target);
+    memcpy(xc, desired, sizeof xc);
+    /* The horizon plans the commanded part of each desired pose (what hp_plan aims at): the
+     * raw components of a pose with a part the layout cannot observe are another pose. */
+    if (finite && hp_pose_commanded_part(rh->L, hp_planner_identifiable(rh->p), rh->level,
+                                         desired, xc) != HP_OK)
+        finite = 0; /* hp_plan refuses such a row itself */
     if (finite) {
         if (rh->hist_n == HP_HORIZON_MAX) {
             memmove(rh->hist_t, rh->hist_t + 1, sizeof(double) * (HP_HORIZON_MAX - 1));
@@ -429,7 +436,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
             rh->hist_n--;
         }
         rh->hist_t[rh->hist_n] = t;
-        memcpy(rh->hist_d[rh->hist_n], desired, sizeof rh->hist_d[0]);
+        memcpy(rh->hist_d[rh->hist_n], xc, sizeof rh->hist_d[0]);
         rh->hist_n++;
         predict(rh, dt0);
         if (!rh->started) {
@@ -440,10 +447,13 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
                         rh->applied.achieved[i] * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
         }
         interior_point(rh);
-        for (int i = 0; i < 6; ++i)
-            target[i] = rh->commanded[i]
-                            ? rh->z[i] / (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD)
-                            : desired[i];
+        int aim_desired = 1;
+        for (int i = 0; i < 6; ++i) {
+            double s = i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD;
+            target[i] = rh->commanded[i] ? rh->z[i] / s : 0.0;
+            aim_desired &= !rh->commanded[i] || fabs(rh->z[i] - xc[i] * s) <= HP_HORIZON_AIM_TOL;
+        }
+        if (aim_desired) memcpy(target, desired, sizeof target);
     }
     double delta[HP_MAX_BLADDERS];
     hp_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, dt0, delta);
@@ -454,16 +464,14 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     rh->last_t = t;
     for (int k = 0; k < rh->n; ++k) rh->p_now[k] = result->bladders[k].pressure;
     rh->applied = *result;
-    /* The row's own desired pose and error, not the planned target's. */
+    /* The row's own desired pose, error and label, not the planned target's: a row off its
+     * desired pose is held there by a limit (now, or on the rows planned ahead). */
     memcpy(result->desired, desired, sizeof result->desired);
-    if (result->status == HP_STATUS_REACHED || result->status == HP_STATUS_CLOSEST) {
-        double err = 0;
-        for (int i = 0; i < 6; ++i)
-            if (result->commanded[i])
-                err = fmax(err, fabs(result->achieved[i] - desired[i]) *
-                                    (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD));
-        result->pose_error = err;
-        result->status = err <= rh->s.tolerance ? HP_STATUS_REACHED : HP_STATUS_CLOSEST;
+    if (result->status == HP_STATUS_REACHED || result->status == HP_STATUS_CLOSEST ||
+        result->status == HP_STATUS_UNCOMMANDED) {
+        result->status = hp_horizon_label(rh->commanded, desired, xc, result->achieved,
+                                          rh->s.tolerance, &result->pose_error);
+        for (int i = 0; i < 6; ++i) result->uncommanded[i] = desired[i] - xc[i];
     }
     /* Shift the plan by one row and start the next call from it (the new last row repeats
      * the old one); with N = 1 the applied pose is the start. */
