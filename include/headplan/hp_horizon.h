@@ -151,7 +151,9 @@ HP_API hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *sett
  * desired[6] (SI): predicts the next N−1 desired poses, solves the N-row problem started from
  * the previous call's plan shifted by one row (at most rh_max_iter interior-point iterations)
  * and applies its first row through hp_plan (realtime) with this row's rate limits. result
- * is hp_plan's, its desired[] and pose_error those of this row's own desired correction.
+ * is hp_plan's, its desired[], pose_error and status those of this row's own desired
+ * correction (docs/horizon.md, Row statuses); HP_STATUS_TIME_LIMIT when the time budget
+ * stopped the horizon solve early (the answer then depends on the machine's speed).
  * Allocates nothing, prints nothing, takes no lock; bounded: no iteration begins after half
  * of the settings' max_time, and hp_plan keeps its own bounds.
  * HP_ERR_NULL / HP_ERR_INVALID (t not finite or not increasing: result holds nothing new). */
