@@ -512,6 +512,17 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
     return e;
 }
 
+void hp_horizon_offline_windows(const hp_horizon_settings *hs, size_t T, int *window,
+                                int *overlap)
+{
+    *window = hs->window;
+    *overlap = hs->overlap;
+    if (hs->window == 0 && T > HP_HORIZON_WHOLE_MAX) {
+        *window = HP_HORIZON_AUTO_WINDOW;
+        *overlap = HP_HORIZON_AUTO_OVERLAP;
+    }
+}
+
 hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
                             const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
                             const double *p_start, hp_horizon_row *out, hp_horizon_info *info,
@@ -522,8 +533,10 @@ hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
     if (info) memset(info, 0, sizeof *info);
     hp_error e = hp_horizon_settings_validate(hs, d);
     if (e != HP_OK || T == 0) return e;
-    if (T > (size_t)(1 << 20))
-        return hp_diag_set(d, HP_ERR_INVALID, "offline: %zu rows; window the trace", T);
+    int window, overlap;
+    hp_horizon_offline_windows(hs, T, &window, &overlap);
+    if (T > (size_t)(1 << 20) && (window == 0 || (size_t)window >= T))
+        return hp_diag_set(d, HP_ERR_INVALID, "offline: %zu rows in one NLP; window the trace", T);
     hp_settings s;
     hp_planner *p = NULL;
     offline_ctx c;
@@ -546,9 +559,10 @@ hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
 
     size_t a = 0;
     while (a < T) {
-        size_t b = hs->window > 0 ? a + (size_t)hs->window : T;
+        size_t b = window > 0 ? a + (size_t)window : T;
         if (b > T) b = T;
-        size_t commit = b == T ? T : b - (size_t)hs->overlap;
+        size_t commit = b == T ? T : b - (size_t)overlap;
+        if (info && (int)(b - a) > info->largest_window) info->largest_window = (int)(b - a);
         const double *p0 = a ? out[a - 1].pressure : start;
         e = solve_window(&c, rows + a, delta + a * (size_t)n, (int)(b - a), p0, greedy + a,
                          out + a, info, d);
