@@ -93,10 +93,11 @@ static int bench_windows(const hp_scene *sc, const hp_settings *s, const hp_trac
 {
     hp_horizon_settings hs;
     hp_horizon_settings_default(&hs);
-    if (T > 1) hs.start_interval_s = rows[1].t - rows[0].t;
+    hs.start_interval_s = hp_horizon_start_interval(rows, T, hs.start_interval_s);
     hp_horizon_row *whole = malloc(T * sizeof *whole), *win = malloc(T * sizeof *win);
     hp_horizon_info iw, iv;
     hp_diag d = {{0}};
+    hs.window = (int)T; /* the whole trace at once, however long */
     double t0 = sa_now();
     if (hp_horizon_offline(&sc->layout, s, &hs, rows, T, NULL, whole, &iw, &d) != HP_OK) {
         fprintf(stderr, "whole: %s\n", d.text);

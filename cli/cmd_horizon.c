@@ -34,6 +34,7 @@ static void help(void)
            "            predicted desired pose (--prediction, default hold)\n"
            "  offline   all rows in one NLP (Ipopt): the best tracking the limits allow;\n"
            "            --window ROWS --overlap ROWS solves long traces in windows\n"
+           "            (default: a trace of more than %d rows in %d overlapping by %d)\n"
            "  compare   all three (the default)\n"
            "Prints per plan the RMS and largest error per axis, the time outside the\n"
            "tolerance (default 0.5 mm / 0.5 deg), the pressure travel and the cost; --json\n"
@@ -41,7 +42,8 @@ static void help(void)
            "'# ' header lines. --smooth is the pressure-change weight (mm^2 per kPa^2).\n\n"
            "exit: 0 ok, 64 usage, 65 bad scene, trace or value, or a row the planner refused\n"
            "(outputs written), 66 no input, 70 solver failure or a row stopped by its budget\n"
-           "(outputs written), 73 cannot write OUT\n");
+           "(outputs written), 73 cannot write OUT\n",
+           HP_HORIZON_WHOLE_MAX, HP_HORIZON_AUTO_WINDOW, HP_HORIZON_AUTO_OVERLAP);
 }
 
 typedef struct {
@@ -310,6 +312,7 @@ static void print_json(const int *modes, const hp_horizon_metrics *m, size_t T,
         if (p == 2) {
             json_object_set_new(e, "windows", json_integer(info->windows));
             json_object_set_new(e, "iterations", json_integer(info->iterations));
+            json_object_set_new(e, "largest_window", json_integer(info->largest_window));
         }
         json_object_set_new(plans, PLAN_NAMES[p], e);
     }
@@ -435,7 +438,7 @@ int cmd_horizon(int argc, char **argv)
         goto done;
     }
     /* The start pressures are held one sampling interval before row 0. */
-    if (T > 1 && rows[1].t > rows[0].t) hs.start_interval_s = rows[1].t - rows[0].t;
+    hs.start_interval_s = hp_horizon_start_interval(rows, T, hs.start_interval_s);
     hp_horizon_metrics m[3];
     char why[3][HP_DIAG_MAX] = {"", "", ""}; /* each plan's first refused row */
     hp_horizon_info info;

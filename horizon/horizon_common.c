@@ -91,11 +91,37 @@ double hp_horizon_weight(const hp_settings *s, const int commanded[6], int i)
     return i < 3 ? 1.0 : 1.0 / (s->weight_mm_per_deg * s->weight_mm_per_deg);
 }
 
-void hp_horizon_row_rates(const hp_layout *L, const hp_horizon_settings *hs, double dt,
-                          double *delta)
+hp_status hp_horizon_label(const int commanded[6], const double desired[6], const double xc[6],
+                           const double achieved[6], double tol, double *err)
+{
+    double e = 0;
+    int unc = 0;
+    for (int i = 0; i < 6; ++i) {
+        double s = i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD;
+        if (commanded[i]) e = fmax(e, fabs(achieved[i] - xc[i]) * s);
+        unc |= fabs(desired[i] - xc[i]) * s > tol;
+    }
+    *err = e;
+    return e <= tol ? (unc ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED) : HP_STATUS_CLOSEST;
+}
+
+void hp_horizon_scene_rates(const hp_layout *L, double *rate_max)
+{
+    for (int k = 0; k < L->n; ++k) rate_max[k] = L->bladders[k].rate_max;
+}
+
+void hp_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settings *hs,
+                          double dt, double *delta)
 {
     double per_s = isfinite(hs->rate_max_per_s) ? hs->rate_max_per_s * dt : INFINITY;
-    for (int k = 0; k < L->n; ++k) delta[k] = fmin(L->bladders[k].rate_max, per_s);
+    for (int k = 0; k < n; ++k) delta[k] = fmin(rate_max[k], per_s);
+}
+
+double hp_horizon_start_interval(const hp_trace_row *rows, size_t T, double fallback)
+{
+    if (!rows || T < 2) return fallback;
+    double dt = rows[1].t - rows[0].t;
+    return dt > 0 && isfinite(dt) ? dt : fallback;
 }
 
 /* The interval before row t (the start interval for row 0), checked. */
@@ -120,11 +146,13 @@ hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
 {
     if (!L || !hs || (!rows && T) || (!delta && T))
         return hp_diag_set(d, HP_ERR_NULL, "horizon rates: NULL argument");
+    double scene[HP_MAX_BLADDERS];
+    hp_horizon_scene_rates(L, scene);
     for (size_t t = 0; t < T; ++t) {
         double dt = NAN; /* row_dt writes it on HP_OK; set for -O3's flow analysis */
         hp_error e = row_dt(hs, rows, t, &dt, d);
         if (e != HP_OK) return e;
-        hp_horizon_row_rates(L, hs, dt, delta + t * (size_t)L->n);
+        hp_horizon_row_rates(scene, L->n, hs, dt, delta + t * (size_t)L->n);
     }
     return HP_OK;
 }
@@ -207,7 +235,8 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
     if (d) d->text[0] = '\0';
     int refused = 0;
     const hp_layout *PL = hp_planner_layout(p);
-    double start[HP_MAX_BLADDERS], delta[HP_MAX_BLADDERS];
+    double start[HP_MAX_BLADDERS], delta[HP_MAX_BLADDERS], scene[HP_MAX_BLADDERS];
+    hp_horizon_scene_rates(PL, scene); /* before the first row's allowance replaces them */
     if (p_start) memcpy(start, p_start, sizeof(double) * (size_t)PL->n);
     else if ((e = hp_horizon_nominal_pressures(PL, start, d)) != HP_OK) goto done;
     if ((e = hp_planner_set_previous(p, start)) != HP_OK) {
@@ -217,7 +246,7 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
     for (size_t t = 0; t < T; ++t) {
         double dt = NAN; /* as in hp_horizon_rates */
         if ((e = row_dt(hs, rows, t, &dt, d)) != HP_OK) goto done;
-        hp_horizon_row_rates(PL, hs, dt, delta);
+        hp_horizon_row_rates(scene, PL->n, hs, dt, delta);
         if ((e = hp_planner_set_rate_max(p, delta)) != HP_OK) {
             hp_diag_set(d, e, "line %ld: rate limit", rows[t].line);
             goto done;

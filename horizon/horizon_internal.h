@@ -20,15 +20,43 @@ const char *hp_horizon_rh_reason(const hp_horizon_rh *rh);
 void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
                              const char *reason);
 
+/* The status of a planned row as hp_plan labels an answer, from the row's own desired pose
+ * (SI), its commanded part xc (hp_pose_commanded_part) and the achieved pose: REACHED when
+ * every commanded component is within tol (mm or degrees) of xc, UNCOMMANDED when it is but
+ * desired − xc (the part the layout cannot observe) exceeds tol somewhere, CLOSEST otherwise.
+ * *err: the largest commanded error (mm or degrees). */
+hp_status hp_horizon_label(const int commanded[6], const double desired[6], const double xc[6],
+                           const double achieved[6], double tol, double *err);
+
+/* An iterate of the receding horizon's interior point this close (mm or degrees, every
+ * commanded component) to the commanded part of the row's desired pose aims at the desired
+ * pose itself: the difference is the solver's stopping accuracy (steps of 1e-9, a smoothness
+ * weight of 1e-6 mm² per kPa²), not a choice of the plan, and hp_plan then meets the pose
+ * to its own tolerance when no limit binds. */
+#define HP_HORIZON_AIM_TOL 1e-6
+
 double hp_horizon_weight(const hp_settings *s, const int commanded[6], int i);
 
-/* Δ [Pa] of every bladder for a row interval dt [s]. */
-void hp_horizon_row_rates(const hp_layout *L, const hp_horizon_settings *hs, double dt,
-                          double *delta);
+/* The scene's per-row rate limits rate_max[k] [Pa] of a layout, copied before a planner is
+ * given any row's allowance: hp_planner_set_rate_max overwrites the planner's own copy, so
+ * its layout no longer holds the scene's limits after the first row. */
+void hp_horizon_scene_rates(const hp_layout *L, double *rate_max);
+
+/* Δ [Pa] of each of n bladders for a row interval dt [s]: min(rate_max[k], per-second limit
+ * · dt), rate_max the scene's limits (hp_horizon_scene_rates). */
+void hp_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settings *hs,
+                          double dt, double *delta);
 
 /* The rate limits are met by at most this much less than Δ in the offline NLP [Pa], so the
  * returned pressures satisfy |ΔP| <= Δ exactly despite Ipopt's constraint tolerance. */
 #define HP_HORIZON_RATE_MARGIN 1e-3
+
+/* An allowance of at most this [Pa] holds the bladder's pressure in the offline plan: a rate
+ * row that narrow (at most twice the margin) cannot be kept by an inequality Ipopt meets only
+ * to its constraint tolerance, and a 1e-300 kPa/s limit made its bounds ±5e-302 kPa, which
+ * Ipopt could not solve. The row is posed as an equality and the answer copies the previous
+ * row's pressure and radius exactly (then checked like every row: contact, limits, pose). */
+#define HP_HORIZON_HOLD_PA (2 * HP_HORIZON_RATE_MARGIN)
 
 /* Test access to the offline NLP of T rows (horizon_offline.c): at x (T·(6+n), scaled) its
  * objective f, gradient grad (T·nx), constraints g (T·2n), dense Jacobian jac (T·2n × T·nx,

@@ -36,6 +36,8 @@ typedef struct nlp {
     int n, nx;
     int T;                      /* rows in this window */
     const hp_trace_row *rows;   /* this window's rows */
+    double *xc;                 /* T×6: commanded part of each row's desired pose (SI), the
+                                   pose the row aims at, as hp_plan aims at it */
     const double *delta;        /* T×n rate limits [Pa] */
     double p0[HP_MAX_BLADDERS]; /* pressures before the window's first row [Pa] */
     double smooth;
@@ -46,11 +48,12 @@ typedef struct nlp {
 } nlp;
 
 
-/* Sets pb.d to row t's desired correction (scaled; 0 where not commanded). */
+/* Sets pb.d to the commanded part of row t's desired correction (scaled; 0 where not
+ * commanded). */
 static void set_row(nlp *q, int t)
 {
     for (int i = 0; i < 6; ++i)
-        q->pb.d[i] = q->pb.w[i] > 0 ? q->rows[t].correction[i] * hp_pose_scaled_per_si(i) : 0.0;
+        q->pb.d[i] = q->pb.w[i] > 0 ? q->xc[6 * t + i] * hp_pose_scaled_per_si(i) : 0.0;
 }
 
 /* P, dP/dri, d²P/dri² of every bladder of every row at x (mm units). */
@@ -256,6 +259,20 @@ typedef struct offline_ctx {
     hp_planner *p; /* for the strict round trip of every row's answer */
 } offline_ctx;
 
+/* The commanded part of every row's desired pose into xc (T×6, SI). */
+static hp_error commanded_parts(const offline_ctx *c, const hp_trace_row *rows, int T,
+                                double *xc, hp_diag *d)
+{
+    for (int t = 0; t < T; ++t) {
+        hp_error e = hp_pose_commanded_part(c->L, hp_planner_identifiable(c->p), c->pb.level,
+                                            rows[t].correction, xc + 6 * t);
+        if (e != HP_OK)
+            return hp_diag_set(d, HP_ERR_INVALID, "offline: line %ld: commanded part: %s",
+                               rows[t].line, hp_error_message(e));
+    }
+    return HP_OK;
+}
+
 /* The planner (for its validated layout and geometry, level and the greedy start) and everything the
  * windows share. *p is the caller's to destroy, also on failure. */
 static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
@@ -290,7 +307,7 @@ static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
 static size_t nlp_doubles(int T, int n)
 {
     const size_t nx = 6 + (size_t)n, NV = (size_t)T * nx, NC = (size_t)T * 2u * (size_t)n;
-    return 3 * (size_t)T * (size_t)n + nx * nx + (size_t)n * nx + 3 * NV + 2 * NC;
+    return 3 * (size_t)T * (size_t)n + 6 * (size_t)T + nx * nx + (size_t)n * nx + 3 * NV + 2 * NC;
 }
 
 /* One window's NLP on top of buf (nlp_doubles(T, n) doubles; x, bounds follow q->jac). */
@@ -310,7 +327,8 @@ static void nlp_init(nlp *q, const offline_ctx *c, const hp_trace_row *rows,
     q->P = buf;
     q->dP = q->P + (size_t)T * (size_t)n;
     q->d2P = q->dP + (size_t)T * (size_t)n;
-    q->h = q->d2P + (size_t)T * (size_t)n;
+    q->xc = q->d2P + (size_t)T * (size_t)n;
+    q->h = q->xc + 6 * (size_t)T;
     q->jac = q->h + (size_t)nx * (size_t)nx;
 }
 
@@ -326,6 +344,11 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
     double *buf = malloc(sizeof(double) * nlp_doubles(T, n));
     if (!buf) return hp_diag_set(d, HP_ERR_NOMEM, "offline: out of memory (%d rows)", T);
     nlp_init(&q, c, rows, delta, T, p0, buf);
+    hp_error ce = commanded_parts(c, rows, T, q.xc, d);
+    if (ce != HP_OK) {
+        free(buf);
+        return ce;
+    }
     double *x = q.jac + (size_t)n * (size_t)nx, *xl = x + NV, *xu = xl + NV;
     double *gl = xu + NV, *gu = gl + NC;
 
@@ -347,25 +370,60 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         for (int k = 0; k < n; ++k) {
             gl[c0 + (size_t)k] = gu[c0 + (size_t)k] = 0.0;
             double D = delta[(size_t)t * (size_t)n + (size_t)k];
-            double lim = isfinite(D) ? fmax(D - HP_HORIZON_RATE_MARGIN, 0.5 * D) * 1e-3 : IPOPT_INF;
+            double lim = D <= HP_HORIZON_HOLD_PA ? 0.0 /* held: see below */
+                         : isfinite(D) ? (D - HP_HORIZON_RATE_MARGIN) * 1e-3
+                                       : IPOPT_INF;
             gl[c0 + (size_t)n + (size_t)k] = -lim;
             gu[c0 + (size_t)n + (size_t)k] = lim;
         }
+    }
+    /* Every allowance of the window below HP_HORIZON_HOLD_PA: every pressure is held, so the
+     * plan is fixed and needs no NLP (posed to Ipopt, its equalities outnumber its free
+     * variables): every row is the pose the held pressures hold, from the nominal pose. */
+    int all_held = 1;
+    for (size_t j = 0; j < (size_t)T * (size_t)n; ++j) all_held &= delta[j] <= HP_HORIZON_HOLD_PA;
+    if (all_held) {
+        double ro[HP_MAX_BLADDERS], xi[6];
+        hp_error he = HP_OK;
+        for (int k = 0; k < n && he == HP_OK; ++k) {
+            const hp_iab *b = &c->L->bladders[k].iab;
+            double ri = NAN;
+            he = hp_iab_fk_limit(b, &c->sb.limit[k], p0[k], &ri);
+            if (he == HP_OK) he = hp_iab_ro(b, ri, &ro[k]);
+            for (int t = 0; t < T; ++t)
+                x[(size_t)t * (size_t)nx + 6 + (size_t)k] = ri * HP_MM_PER_M;
+        }
+        if (he == HP_OK)
+            he = hp_plan_fit_from_nominal(c->p, ro, hp_planner_identifiable(c->p)->commanded,
+                                          NULL, xi, NULL);
+        if (he != HP_OK) {
+            free(buf);
+            return hp_diag_set(d, HP_ERR_SOLVER,
+                               "offline: line %ld: no pose holds the held pressures (%s)",
+                               rows[0].line, hp_error_message(he));
+        }
+        for (int t = 0; t < T; ++t)
+            for (int i = 0; i < 6; ++i)
+                x[(size_t)t * (size_t)nx + (size_t)i] =
+                    c->pb.w[i] > 0 ? xi[i] * hp_pose_scaled_per_si(i) : 0.0;
     }
     Index nnz_j = T * 7 * n + T * 2 * n - n;
     Index nnz_h = T * (21 + n) + (T - 1) * n;
     hp_error e = HP_OK;
     enum ApplicationReturnStatus rc = Internal_Error;
     hp_ipopt_lock();
-    IpoptProblem app = CreateIpoptProblem((Index)NV, xl, xu, (Index)NC, gl, gu, nnz_j, nnz_h, 0,
-                                          eval_f, eval_g, eval_grad_f, eval_jac_g, eval_h);
-    if (!app) e = hp_diag_set(d, HP_ERR_SOLVER, "offline: CreateIpoptProblem failed");
-    if (e == HP_OK)
+    IpoptProblem app = all_held ? NULL
+                                : CreateIpoptProblem((Index)NV, xl, xu, (Index)NC, gl, gu, nnz_j,
+                                                     nnz_h, 0, eval_f, eval_g, eval_grad_f,
+                                                     eval_jac_g, eval_h);
+    if (all_held) rc = Solve_Succeeded;
+    else if (!app) e = hp_diag_set(d, HP_ERR_SOLVER, "offline: CreateIpoptProblem failed");
+    if (e == HP_OK && app)
         e = hp_ipopt_base_options(app, c->hs->offline_tol, c->hs->offline_max_iter,
                                   c->hs->offline_max_time, d);
-    if (e == HP_OK && !SetIntermediateCallback(app, intermediate))
+    if (e == HP_OK && app && !SetIntermediateCallback(app, intermediate))
         e = hp_diag_set(d, HP_ERR_SOLVER, "offline: SetIntermediateCallback failed");
-    if (e == HP_OK) {
+    if (e == HP_OK && app) {
         double obj;
         rc = IpoptSolve(app, x, NULL, &obj, NULL, NULL, NULL, &q);
     }
@@ -388,12 +446,12 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         double rho[HP_MAX_BLADDERS];
         o->t = rows[t].t;
         memcpy(o->desired, rows[t].correction, sizeof o->desired);
-        double err = 0;
-        for (int i = 0; i < 6; ++i) {
-            o->achieved[i] = xt[i] / hp_pose_scaled_per_si(i);
-            if (c->pb.w[i] > 0) err = fmax(err, fabs(xt[i] - rows[t].correction[i] * hp_pose_scaled_per_si(i)));
-        }
-        o->status = err <= OFFLINE_REACHED_TOL ? HP_STATUS_REACHED : HP_STATUS_CLOSEST;
+        double err;
+        for (int i = 0; i < 6; ++i) o->achieved[i] = xt[i] / hp_pose_scaled_per_si(i);
+        /* hp_plan's labels, to the offline solve's own accuracy where it is coarser */
+        o->status = hp_horizon_label(hp_planner_identifiable(c->p)->commanded, o->desired,
+                                     q.xc + 6 * t, o->achieved,
+                                     fmax(c->s->tolerance, OFFLINE_REACHED_TOL), &err);
         if (hp_setup_contact_scaled(c->L, c->pb.geom, c->pb.level, xt, rho, NULL) != HP_OK) {
             e = hp_diag_set(d, HP_ERR_SOLVER, "offline: line %ld: contact model failed",
                             rows[t].line);
@@ -406,7 +464,15 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
             const hp_bladder *B = &c->L->bladders[k];
             double ri = fmin(fmax(xt[6 + k], c->pb.ri_lo[k]), c->pb.ri_hi[k]) / HP_MM_PER_M;
             double ro, P;
-            if (hp_iab_ro(&B->iab, ri, &ro) != HP_OK || hp_iab_ik(&B->iab, ri, &P) != HP_OK ||
+            hp_error he = HP_OK;
+            if (delta[(size_t)t * (size_t)n + (size_t)k] <= HP_HORIZON_HOLD_PA) {
+                /* Held: the previous row's pressure and radius, exactly (row 0: the start
+                 * pressure and its stable radius). */
+                if (t) ri = out[t - 1].ri[k];
+                else he = hp_iab_fk_limit(&B->iab, &c->sb.limit[k], p0[k], &ri);
+            }
+            if (he != HP_OK || hp_iab_ro(&B->iab, ri, &ro) != HP_OK ||
+                hp_iab_ik(&B->iab, ri, &P) != HP_OK ||
                 !(fabs(ro * HP_MM_PER_M - rho[k]) <= OFFLINE_CONTACT_TOL) ||
                 !(P >= B->p_min && P <= B->p_max)) {
                 e = hp_diag_set(d, HP_ERR_SOLVER,
@@ -416,6 +482,7 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
                 break;
             }
             double prev = t ? out[t - 1].pressure[k] : p0[k];
+            if (delta[(size_t)t * (size_t)n + (size_t)k] <= HP_HORIZON_HOLD_PA) P = prev;
             if (!(fabs(P - prev) <= delta[(size_t)t * (size_t)n + (size_t)k])) {
                 e = hp_diag_set(d, HP_ERR_SOLVER,
                                 "offline: line %ld: bladder %s: the solver's answer breaks the "
@@ -445,6 +512,17 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
     return e;
 }
 
+void hp_horizon_offline_windows(const hp_horizon_settings *hs, size_t T, int *window,
+                                int *overlap)
+{
+    *window = hs->window;
+    *overlap = hs->overlap;
+    if (hs->window == 0 && T > HP_HORIZON_WHOLE_MAX) {
+        *window = HP_HORIZON_AUTO_WINDOW;
+        *overlap = HP_HORIZON_AUTO_OVERLAP;
+    }
+}
+
 hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
                             const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
                             const double *p_start, hp_horizon_row *out, hp_horizon_info *info,
@@ -455,8 +533,10 @@ hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
     if (info) memset(info, 0, sizeof *info);
     hp_error e = hp_horizon_settings_validate(hs, d);
     if (e != HP_OK || T == 0) return e;
-    if (T > (size_t)(1 << 20))
-        return hp_diag_set(d, HP_ERR_INVALID, "offline: %zu rows; window the trace", T);
+    int window, overlap;
+    hp_horizon_offline_windows(hs, T, &window, &overlap);
+    if (T > (size_t)(1 << 20) && (window == 0 || (size_t)window >= T))
+        return hp_diag_set(d, HP_ERR_INVALID, "offline: %zu rows in one NLP; window the trace", T);
     hp_settings s;
     hp_planner *p = NULL;
     offline_ctx c;
@@ -479,9 +559,10 @@ hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
 
     size_t a = 0;
     while (a < T) {
-        size_t b = hs->window > 0 ? a + (size_t)hs->window : T;
+        size_t b = window > 0 ? a + (size_t)window : T;
         if (b > T) b = T;
-        size_t commit = b == T ? T : b - (size_t)hs->overlap;
+        size_t commit = b == T ? T : b - (size_t)overlap;
+        if (info && (int)(b - a) > info->largest_window) info->largest_window = (int)(b - a);
         const double *p0 = a ? out[a - 1].pressure : start;
         e = solve_window(&c, rows + a, delta + a * (size_t)n, (int)(b - a), p0, greedy + a,
                          out + a, info, d);
@@ -517,9 +598,12 @@ hp_error hp_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
     double *v = malloc(sizeof(double) * cap);
     if (e == HP_OK && (!delta || !buf || !iR || !jC || !v)) e = HP_ERR_NOMEM;
     if (e == HP_OK) e = hp_horizon_rates(c.L, hs, rows, (size_t)T, delta, NULL);
+    nlp q;
     if (e == HP_OK) {
-        nlp q;
         nlp_init(&q, &c, rows, delta, T, p0, buf);
+        e = commanded_parts(&c, rows, T, q.xc, NULL);
+    }
+    if (e == HP_OK) {
         double *xx = (double *)x; /* Ipopt's callbacks take non-const pointers */
         double *ll = (double *)lambda;
         Index nj = T * 7 * n + T * 2 * n - n, nh = T * (21 + n) + (T - 1) * n;

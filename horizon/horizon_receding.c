@@ -22,6 +22,7 @@
 #include "planner/problem_setup.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
@@ -45,10 +46,13 @@ struct hp_horizon_rh {
     int commanded[6];
     double w[6];                     /* pose weights (1 where not commanded) */
     double ro_lo[HP_MAX_BLADDERS], ro_hi[HP_MAX_BLADDERS]; /* [mm] static box */
+    double rate_scene[HP_MAX_BLADDERS]; /* [Pa] the scene's per-row limits (the planner's
+                                           copy holds the last row's allowance) */
     double p_now[HP_MAX_BLADDERS];   /* pressures the bladders hold [Pa] */
     double last_t;
     int started;
-    int hist_n;                      /* desired poses kept for the velocity prediction */
+    int hist_n;                      /* commanded parts of the desired poses, kept for the
+                                        velocity prediction */
     double hist_t[HP_HORIZON_MAX], hist_d[HP_HORIZON_MAX][6];
     double z[HP_HORIZON_MAX * 6], zt[HP_HORIZON_MAX * 6], dz[HP_HORIZON_MAX * 6];
     double d[HP_HORIZON_MAX * 6];
@@ -58,6 +62,8 @@ struct hp_horizon_rh {
     double g[HP_HORIZON_MAX * 6];
     double A[HP_HORIZON_MAX * 36], B[HP_HORIZON_MAX * 36]; /* diagonal / sub-diagonal blocks */
     hp_result applied; /* the last applied answer (its pose starts a cold plan) */
+    int budget_stopped;             /* the last call's horizon solve stopped at its time budget */
+    char why[HP_DIAG_MAX];          /* ... and what it says about it */
     double c[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];   /* constraint values (>= 0 wanted) */
     double sl[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];  /* slacks */
     double lam[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* multipliers */
@@ -259,22 +265,26 @@ static double now_s(void)
 }
 
 /* At most rh_max_iter primal-dual interior-point iterations from rh->z, and none started
- * after the planner's max_time (half of it: hp_plan gets the rest). */
-static void interior_point(hp_horizon_rh *rh)
+ * after the planner's max_time (half of it: hp_plan gets the rest). Returns how many ran when
+ * the time budget stopped it before it converged or used them all, else -1: its plan then
+ * depends on the machine's speed, and the row says so. A budget below a nanosecond (the
+ * clock's resolution) stops it before the first iteration, always. */
+static int interior_point(hp_horizon_rh *rh)
 {
     const int n = rh->n, m = RH_NC * n * rh->N;
-    const double t_end = now_s() + 0.5 * rh->s.max_time;
-    if (!evaluate(rh, rh->z)) return;
+    const double budget = 0.5 * rh->s.max_time, t_end = now_s() + budget;
+    if (!evaluate(rh, rh->z)) return -1;
     for (int i = 0; i < m; ++i) {
         rh->sl[i] = fmax(rh->c[i], RH_S_MIN);
         rh->lam[i] = RH_MU0 / rh->sl[i];
     }
-    for (int it = 0; it < rh->hs.rh_max_iter && now_s() < t_end; ++it) {
+    for (int it = 0; it < rh->hs.rh_max_iter; ++it) {
+        if (budget < 1e-9 || now_s() >= t_end) return it;
         double gap = 0;
         for (int i = 0; i < m; ++i) gap += rh->sl[i] * rh->lam[i];
         double mu = RH_SIGMA * gap / m;
         normal_equations(rh, rh->z, mu);
-        if (!solve_banded(rh)) return;
+        if (!solve_banded(rh)) return -1;
         /* ds = ∇cᵀdz + (c − s), dλ = (mu − sλ − λ ds)/s */
         for (int j = 0; j < rh->N; ++j)
             for (int k = 0; k < n; ++k) {
@@ -298,7 +308,7 @@ static void interior_point(hp_horizon_rh *rh)
         for (int i = 0; i < 6 * rh->N; ++i) rh->zt[i] = rh->z[i] + ap * rh->dz[i];
         if (!evaluate(rh, rh->zt)) {
             evaluate(rh, rh->z); /* keep the last point that evaluated */
-            return;
+            return -1;
         }
         memcpy(rh->z, rh->zt, sizeof(double) * 6 * (size_t)rh->N);
         double step = 0;
@@ -309,8 +319,9 @@ static void interior_point(hp_horizon_rh *rh)
             rh->lam[i] += ad * rh->dl[i];
             gap += rh->sl[i] * rh->lam[i];
         }
-        if (gap / m < RH_GAP_TOL && step < RH_STEP_TOL) return;
+        if (gap / m < RH_GAP_TOL && step < RH_STEP_TOL) return -1;
     }
+    return -1;
 }
 
 /* The predicted desired poses of rows 0..N−1 and their rate limits (row 0: dt0). */
@@ -331,7 +342,8 @@ static void predict(hp_horizon_rh *rh, double dt0)
             rh->d[6 * j + i] =
                 rh->commanded[i] ? (rh->hist_d[h][i] + v[i] * dtp * j) * s : 0.0;
         }
-        hp_horizon_row_rates(rh->L, &rh->hs, j ? dtp : dt0, rh->delta + rh->n * j);
+        hp_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, j ? dtp : dt0,
+                             rh->delta + rh->n * j);
     }
 }
 
@@ -356,6 +368,7 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
     rh->level = hp_planner_level(rh->p);
     rh->n = rh->L->n;
     rh->N = rh->hs.horizon;
+    hp_horizon_scene_rates(rh->L, rh->rate_scene);
     hp_static_bounds sb;
     hp_problem pb;
     memset(&pb, 0, sizeof pb);
@@ -416,8 +429,15 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     double dt0 = rh->started ? t - rh->last_t : rh->hs.start_interval_s;
     int finite = 1;
     for (int i = 0; i < 6; ++i) finite = finite && isfinite(desired[i]);
-    double target[6];
+    double target[6], xc[6];
+    rh->budget_stopped = 0;
     memcpy(target, desired, sizeof target);
+    memcpy(xc, desired, sizeof xc);
+    /* The horizon plans the commanded part of each desired pose (what hp_plan aims at): the
+     * raw components of a pose with a part the layout cannot observe are another pose. */
+    if (finite && hp_pose_commanded_part(rh->L, hp_planner_identifiable(rh->p), rh->level,
+                                         desired, xc) != HP_OK)
+        finite = 0; /* hp_plan refuses such a row itself */
     if (finite) {
         if (rh->hist_n == HP_HORIZON_MAX) {
             memmove(rh->hist_t, rh->hist_t + 1, sizeof(double) * (HP_HORIZON_MAX - 1));
@@ -425,7 +445,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
             rh->hist_n--;
         }
         rh->hist_t[rh->hist_n] = t;
-        memcpy(rh->hist_d[rh->hist_n], desired, sizeof rh->hist_d[0]);
+        memcpy(rh->hist_d[rh->hist_n], xc, sizeof rh->hist_d[0]);
         rh->hist_n++;
         predict(rh, dt0);
         if (!rh->started) {
@@ -435,14 +455,24 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
                     rh->z[6 * j + i] =
                         rh->applied.achieved[i] * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
         }
-        interior_point(rh);
-        for (int i = 0; i < 6; ++i)
-            target[i] = rh->commanded[i]
-                            ? rh->z[i] / (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD)
-                            : desired[i];
+        int done = interior_point(rh);
+        rh->budget_stopped = done >= 0;
+        if (done >= 0)
+            snprintf(rh->why, sizeof rh->why,
+                     "time-limit: the receding horizon's solve stopped at its time budget (half "
+                     "of solver.max_time_s = %g s) after %d of at most %d iterations; the row "
+                     "depends on the machine's speed",
+                     rh->s.max_time, done, rh->hs.rh_max_iter);
+        int aim_desired = 1;
+        for (int i = 0; i < 6; ++i) {
+            double s = i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD;
+            target[i] = rh->commanded[i] ? rh->z[i] / s : 0.0;
+            aim_desired &= !rh->commanded[i] || fabs(rh->z[i] - xc[i] * s) <= HP_HORIZON_AIM_TOL;
+        }
+        if (aim_desired) memcpy(target, desired, sizeof target);
     }
     double delta[HP_MAX_BLADDERS];
-    hp_horizon_row_rates(rh->L, &rh->hs, dt0, delta);
+    hp_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, dt0, delta);
     hp_error e = hp_planner_set_rate_max(rh->p, delta);
     if (e == HP_OK) e = hp_plan(rh->p, target, result);
     if (e != HP_OK) return e;
@@ -450,16 +480,17 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     rh->last_t = t;
     for (int k = 0; k < rh->n; ++k) rh->p_now[k] = result->bladders[k].pressure;
     rh->applied = *result;
-    /* The row's own desired pose and error, not the planned target's. */
+    /* The row's own desired pose, error and label, not the planned target's: a row off its
+     * desired pose is held there by a limit (now, or on the rows planned ahead). */
     memcpy(result->desired, desired, sizeof result->desired);
-    if (result->status == HP_STATUS_REACHED || result->status == HP_STATUS_CLOSEST) {
-        double err = 0;
-        for (int i = 0; i < 6; ++i)
-            if (result->commanded[i])
-                err = fmax(err, fabs(result->achieved[i] - desired[i]) *
-                                    (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD));
-        result->pose_error = err;
-        result->status = err <= rh->s.tolerance ? HP_STATUS_REACHED : HP_STATUS_CLOSEST;
+    if (result->status == HP_STATUS_REACHED || result->status == HP_STATUS_CLOSEST ||
+        result->status == HP_STATUS_UNCOMMANDED) {
+        result->status = hp_horizon_label(rh->commanded, desired, xc, result->achieved,
+                                          rh->s.tolerance, &result->pose_error);
+        for (int i = 0; i < 6; ++i) result->uncommanded[i] = desired[i] - xc[i];
+        /* A plan the time budget cut short is not reproducible: labelled as batch labels a
+         * row its budget stopped (the pressures are hp_plan's, inside every limit). */
+        if (rh->budget_stopped) result->status = HP_STATUS_TIME_LIMIT;
     }
     /* Shift the plan by one row and start the next call from it (the new last row repeats
      * the old one); with N = 1 the applied pose is the start. */
@@ -474,6 +505,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
 
 const char *hp_horizon_rh_reason(const hp_horizon_rh *rh)
 {
+    if (rh->budget_stopped) return rh->why;
     const char *e = hp_planner_error(rh->p);
     return *e ? e : hp_planner_note(rh->p);
 }

@@ -158,6 +158,11 @@ static hp_error plan_horizon(const hp_layout *L, const hp_settings *s,
         rows[i].t = in->t[i];
         memcpy(rows[i].correction, &in->corr[i * 6], sizeof rows[i].correction);
     }
+    /* The start pressures are held one sampling interval before row 0, as headplan horizon
+     * takes it (the trace's first interval). */
+    hp_horizon_settings h = *hs;
+    h.start_interval_s = hp_horizon_start_interval(rows, in->n, hs->start_interval_s);
+    hs = &h;
     if (e == HP_OK) {
         if (mode == 1) e = hp_horizon_greedy(L, s, hs, rows, in->n, NULL, out, d);
         else if (mode == 2) e = hp_horizon_receding(L, s, hs, rows, in->n, NULL, out, d);
@@ -280,6 +285,16 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     if (mode == 0 && (given || pred))
         return hpy_fail("horizon, prediction, rate_kpa_per_s, window, overlap: only with "
                         "mode greedy, receding or offline");
+    /* An option its mode does not read would be ignored without a word: refused, by the rule
+     * of headplan horizon. */
+    const char *recv = horizon_o != Py_None ? "horizon" : pred ? "prediction" : NULL;
+    const char *offl = window_o != Py_None ? "window" : overlap_o != Py_None ? "overlap" : NULL;
+    if (recv && mode != 2 && mode != 0)
+        return hpy_fail("%s: only the receding plan reads it (mode 'receding'), not mode '%s'",
+                        recv, mode_s);
+    if (offl && mode != 3 && mode != 0)
+        return hpy_fail("%s: only the offline plan reads it (mode 'offline'), not mode '%s'",
+                        offl, mode_s);
     if (!self->p) {
         PyErr_SetString(PyExc_RuntimeError, "Planner: not built");
         return NULL;

@@ -51,6 +51,14 @@ HP_API hp_error hp_prediction_parse(const char *s, hp_prediction *out);
 #define HP_DEFAULT_OFFLINE_TOL 1e-8
 #define HP_DEFAULT_OFFLINE_MAX_ITER 3000
 #define HP_DEFAULT_OFFLINE_MAX_TIME 600.0 /* [s] CPU time of one window */
+/* window = 0 solves a trace of at most HP_HORIZON_WHOLE_MAX rows at once, a longer one in
+ * windows of HP_HORIZON_AUTO_WINDOW rows overlapping by HP_HORIZON_AUTO_OVERLAP, so that the
+ * NLP (about 27 kB of Ipopt's memory per row) stays the same size however long the trace:
+ * 600/100 costs 1.3e-9 of the whole optimum on drift_long.csv (docs/horizon.md). A window of
+ * at least T rows solves the whole trace at once. */
+#define HP_HORIZON_WHOLE_MAX 1200
+#define HP_HORIZON_AUTO_WINDOW 600
+#define HP_HORIZON_AUTO_OVERLAP 100
 
 typedef struct hp_horizon_settings {
     double rate_max_per_s;   /* [Pa/s] every bladder's pressure rate limit, > 0 (+inf: none) */
@@ -60,7 +68,7 @@ typedef struct hp_horizon_settings {
     hp_prediction prediction;
     int velocity_rows;       /* rows the velocity is estimated from, 2..HP_HORIZON_MAX */
     int rh_max_iter;         /* interior-point iterations per receding-horizon call, 1..100 */
-    int window;              /* offline: rows per window (0: the whole trace at once) */
+    int window;              /* offline: rows per window (0: HP_HORIZON_WHOLE_MAX above) */
     int overlap;             /* offline: rows shared by consecutive windows, < window */
     double offline_tol;      /* Ipopt tolerance of the offline NLP, in (0, 1e-2] */
     int offline_max_iter;    /* Ipopt iterations per window, > 0 */
@@ -88,6 +96,12 @@ typedef struct hp_horizon_row {
  * Allocates nothing. */
 HP_API hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
                           const hp_trace_row *rows, size_t T, double *delta, hp_diag *diag);
+
+/* How long the start pressures are taken to have been held before row 0 when a whole trace
+ * is planned: the trace's first interval (rows[1].t − rows[0].t, when T >= 2 and it is finite
+ * and > 0), else fallback. headplan horizon and Python's run_trace set start_interval_s from
+ * it, so both plan row 0 under the same allowance. Allocates nothing. */
+HP_API double hp_horizon_start_interval(const hp_trace_row *rows, size_t T, double fallback);
 
 /* The request check hp_plan applies to a desired correction (finite, within its caps and
  * inside the layout's identifiable range: hp_planner.h), over every row: HP_OK, or
@@ -117,12 +131,18 @@ typedef struct hp_horizon_info {
     int windows;       /* Ipopt solves */
     int iterations;    /* summed over windows */
     int raw_code;      /* Ipopt's status of the last window that did not succeed, else 0 */
+    int largest_window; /* rows of the largest NLP solved (its size, whatever T) */
     double cost;       /* the objective of the returned plan (pose + smoothness) */
 } hp_horizon_info;
 
+/* The window and overlap (rows) an offline plan of T rows uses with settings hs: hs's own,
+ * or for window = 0 the defaults above. */
+HP_API void hp_horizon_offline_windows(const hp_horizon_settings *hs, size_t T, int *window,
+                                       int *overlap);
+
 /* Offline plan of T rows: the sparse NLP above on Ipopt (exact first and second derivatives,
  * block-banded sparsity), started from the greedy plan, with hs->window rows per solve and
- * hs->overlap rows shared (0: one solve). Every returned row is inside every limit (checked
+ * hs->overlap rows shared (hp_horizon_offline_windows). Every returned row is inside every limit (checked
  * after the solve; a window whose answer fails the check is an HP_ERR_SOLVER). Serialised
  * with every other Ipopt call of the process. info may be NULL. Allocates. */
 HP_API hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
@@ -145,7 +165,9 @@ HP_API hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *sett
  * desired[6] (SI): predicts the next N−1 desired poses, solves the N-row problem started from
  * the previous call's plan shifted by one row (at most rh_max_iter interior-point iterations)
  * and applies its first row through hp_plan (realtime) with this row's rate limits. result
- * is hp_plan's, its desired[] and pose_error those of this row's own desired correction.
+ * is hp_plan's, its desired[], pose_error and status those of this row's own desired
+ * correction (docs/horizon.md, Row statuses); HP_STATUS_TIME_LIMIT when the time budget
+ * stopped the horizon solve early (the answer then depends on the machine's speed).
  * Allocates nothing, prints nothing, takes no lock; bounded: no iteration begins after half
  * of the settings' max_time, and hp_plan keeps its own bounds.
  * HP_ERR_NULL / HP_ERR_INVALID (t not finite or not increasing: result holds nothing new). */

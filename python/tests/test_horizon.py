@@ -109,3 +109,48 @@ def test_horizon_refuses_a_row_plan_refuses(tmp_path, default_planner, mode):
     assert list(default_planner.run_trace(str(path))["status"])[1] == "invalid-input"
     with pytest.raises(headplan.Error, match=r"^line 4: desired rotation: angle 100\.0 deg"):
         default_planner.run_trace(str(path), mode=mode)
+
+
+def test_first_interval_as_cli(tmp_path):
+    # A trace sampled every 50 ms whose first row asks for a 2 mm shift at once: with a
+    # per-second limit (2.5 kPa/s) row 0 may move what the start pressures held for one
+    # interval allow, the trace's first interval (125 Pa), as headplan horizon plans it.
+    # Python assumed 0.1 s (250 Pa) before row 0 and planned another trace.
+    path = tmp_path / "fast.csv"
+    path.write_text("# headplan-trace: rows=correction\n"
+                    "t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n" +
+                    "".join(f"{0.05 * i:.2f},2,0,1,0,0,0\n" for i in range(24)))
+    scene = scenario("horizon/step.yaml")
+    sc = headplan.load_scene(scene)
+    planner, names = headplan.Planner(sc), sc.bladder_names
+    for mode in ("greedy", "receding", "offline"):
+        out = str(tmp_path / (mode + ".csv"))
+        rc, _, err = cli("horizon", scene, str(path), "--mode", mode, "--rate-kpa-per-s", "2.5",
+                         "-o", out, check=False)
+        assert rc == 0, err
+        body = "".join(l for l in open(out) if not l.startswith("#"))
+        rows = list(csv.DictReader(io.StringIO(body)))
+        r = planner.run_trace(str(path), mode=mode, rate_kpa_per_s=2.5)
+        assert len(rows) == len(r["status"]) == 24
+        for i, row in enumerate(rows):
+            assert r["status"][i] == row["status"], (mode, i)
+            for c, k in enumerate(KEYS):
+                assert r["achieved"][i, c] == float(row["achieved_" + k]), (mode, i, k)
+            for b, n in enumerate(names):
+                # the CLI prints pressure * 1e-3 with 17 digits: the same double, bit for bit
+                assert r["pressure_pa"][i, b] * 1e-3 == float(row[n + "_kpa"]), (mode, i, n)
+
+
+@pytest.mark.parametrize("mode,kw", [("greedy", {"horizon": 5}),
+                                     ("greedy", {"prediction": "velocity"}),
+                                     ("greedy", {"window": 20}),
+                                     ("offline", {"horizon": 5}),
+                                     ("offline", {"prediction": "hold"}),
+                                     ("receding", {"window": 20}),
+                                     ("receding", {"window": 20, "overlap": 5})])
+def test_option_its_mode_does_not_read(step, default_planner, mode, kw):
+    # As headplan horizon refuses --horizon/--prediction outside receding and --window/
+    # --overlap outside offline, run_trace refuses them (they were ignored without a word).
+    name = next(iter(kw))
+    with pytest.raises(ValueError, match=rf"^{name}: only the .* mode"):
+        default_planner.run_trace(step, rows="deviation", mode=mode, **kw)
