@@ -183,6 +183,6 @@ if [ -x "$BENCH" ]; then
     no_canary "bench, --out name $i, scripts redrawn by hand" "$out"
   done
 else
-  echo "note: $BENCH not built (HP_BUILD_BENCH=OFF): the lab's charts are not checked"
+  echo "note: no $BENCH (HP_BUILD_BENCH=OFF, or not built): the lab's charts are not checked"
 fi
 finish
