@@ -13,29 +13,35 @@ long gp_control_byte(const char *s)
     return -1;
 }
 
-/* s[0..n) inside quotes: a quote doubled, a control character shown as '?'. */
+/* s[0..n) inside the quotes: an inert byte as it is, any other as "\0ooo"; a control
+ * character as '?' (gp_quote has refused it already; gp_label shows it so). */
 static void put_bytes(FILE *f, const char *s, size_t n)
 {
+    static const char inert[] = " _-.,:;+=/()[]<>#%&*~^|?";
     for (size_t k = 0; k < n; ++k) {
         unsigned char c = (unsigned char)s[k];
-        if (c == '\'') fputc('\'', f);
-        fputc(is_control(c) ? '?' : c, f);
+        if (is_control(c)) fputc('?', f);
+        else if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                 (c < 0x80 && strchr(inert, c)))
+            fputc(c, f);
+        else
+            fprintf(f, "\\0%03o", c);
     }
 }
 
 int gp_quote(FILE *f, const char *s)
 {
     if (gp_control_byte(s) >= 0) return -1;
-    fputc('\'', f);
+    fputc('"', f);
     put_bytes(f, s, strlen(s));
-    fputc('\'', f);
+    fputc('"', f);
     return 0;
 }
 
 void gp_label(FILE *f, const char *s)
 {
     size_t len = strlen(s);
-    fputc('\'', f);
+    fputc('"', f);
     for (size_t i = 0; i < len;) {
         int nul = 0;
         long bad = hp_text_bad_byte(s + i, len - i, &nul);
@@ -47,5 +53,5 @@ void gp_label(FILE *f, const char *s)
             ++i;
         }
     }
-    fputc('\'', f);
+    fputc('"', f);
 }

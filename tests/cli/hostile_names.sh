@@ -30,6 +30,8 @@ names=(
   $'bytes\xff\xfe\xc3('
   $'tab\tdel\x7f'
   'trail\'
+  "''.system('touch CANARY').''"
+  "'lead {brace}"
 )
 
 has_ctl() { [[ $1 == *[[:cntrl:]]* ]]; }
