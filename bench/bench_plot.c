@@ -3,6 +3,7 @@
  * output folder, which makes the generated script re-runnable there by hand. */
 #define _POSIX_C_SOURCE 200809L
 #include "cli/cli_args.h"
+#include "cli/cli_gptext.h"
 #include "cli/cli_output.h"
 #include "bench/bench_report.h"
 #include "cli/exit_codes.h"
@@ -234,25 +235,40 @@ static int write_script(const void *arg, FILE *f)
             "} else {\n"
             "  set terminal png size 1400,900\n"
             "}\n"
-            "set output \"%s_pareto.png\"\n"
-            "plot \\\n",
-            c->family);
-    for (int k = 0; k < nv; ++k)
-        fprintf(f,
-                "  '%s.csv' skip 1 using %d:(strcol(%d) eq \"%s\" ? fl($%d) : NaN) with points "
-                "pt %d ps 1.5 lc %d title \"%s\", \\\n"
-                "  $front%d using 1:2 with steps dt 3 lw 1 lc %d notitle, \\\n",
-                c->family, c_time, c_var, v[k], c_err, pts[k % 10], k + 1, v[k], k + 1, k + 1);
+            "set output ");
+    /* The file names and the series (variants) reach the script through cli_gptext.h: the
+     * CSV's name as a quoted string, a variant as quoted text compared with the CSV's
+     * column and shown in the key. */
+    char csv[64], png[64], svg[64];
+    snprintf(csv, sizeof csv, "%s.csv", c->family);
+    snprintf(png, sizeof png, "%s_pareto.png", c->family);
+    snprintf(svg, sizeof svg, "%s_pareto.svg", c->family);
+    if (gp_quote(f, png) != 0) return -1;
+    fprintf(f, "\nplot \\\n");
+    for (int k = 0; k < nv; ++k) {
+        fprintf(f, "  ");
+        if (gp_quote(f, csv) != 0) return -1;
+        fprintf(f, " skip 1 using %d:(strcol(%d) eq ", c_time, c_var);
+        gp_label(f, v[k]);
+        fprintf(f, " ? fl($%d) : NaN) with points pt %d ps 1.5 lc %d title ", c_err,
+                pts[k % 10], k + 1);
+        gp_label(f, v[k]);
+        fprintf(f, ", \\\n  $front%d using 1:2 with steps dt 3 lw 1 lc %d notitle, \\\n",
+                k + 1, k + 1);
+    }
     fprintf(f,
             "  $front using 1:2 with steps dt 2 lw 2.5 lc rgb \"#303030\" title \"Pareto front\", \\\n"
             "  floor with lines dt 4 lc rgb \"#909090\" title sprintf(\"floor %%g\", floor), \\\n"
-            "  '%s.csv' skip 1 using %d:(fl($%d)):%d with labels noenhanced font \",7\" left rotate by 25 "
+            "  ");
+    if (gp_quote(f, csv) != 0) return -1;
+    fprintf(f,
+            " skip 1 using %d:(fl($%d)):%d with labels noenhanced font \",7\" left rotate by 25 "
             "offset char 0.7, char 0.3 tc rgb \"#202020\" notitle\n"
             "set terminal svg size 1400,900 dynamic enhanced font \"Sans,11\"\n"
-            "set output \"%s_pareto.svg\"\n"
-            "replot\n"
-            "unset output\n",
-            c->family, c_time, c_err, c_name, c->family);
+            "set output ",
+            c_time, c_err, c_name);
+    if (gp_quote(f, svg) != 0) return -1;
+    fprintf(f, "\nreplot\nunset output\n");
     return ferror(f) ? -1 : 0;
 }
 

@@ -24,6 +24,7 @@
  * of the reference). CLOSEST without an Ipopt answer to compare is "unverified" (not a
  * success). Every other outcome is a failure with its status. */
 #include "cli/cli_args.h"
+#include "cli/cli_gptext.h"
 #include "cli/cli_output.h"
 #include "bench/bench.h"
 #include "bench/bench_report.h"
@@ -435,7 +436,9 @@ static int chart_writer(const void *arg, FILE *f)
                            "max |ro(P) - rho(achieved)| [mm]"};
     for (int row = 0; row < 3; ++row)
         for (int c = 0; c < N_CASES; ++c) {
-            fprintf(f, "set title \"%s\"\n", cases[c].name);
+            fprintf(f, "set title ");
+            gp_label(f, cases[c].name); /* names reach the script as quoted text only */
+            fprintf(f, "\n");
             if (row == 0) fprintf(f, "unset logscale y\nset yrange [-0.05:1.05]\nset format y \"%%g\"\n");
             else fprintf(f, "set logscale y\nset yrange [*:*]\nset format y \"10^{%%L}\"\n");
             if (row == 2) fprintf(f, "set yrange [floor/4:*]\n");
@@ -452,8 +455,10 @@ static int chart_writer(const void *arg, FILE *f)
                 method_name(name, sizeof name, m);
                 fprintf(f,
                         "  $c%dm%d using 1:%d with linespoints dt %d pt %d ps 0.8 lw 1.5 "
-                        "lc rgb \"%s\" title \"%s\", \\\n",
-                        c, m, row + 2, dash[m % 3], pt[m % 3], colour[m / 3], name);
+                        "lc rgb \"%s\" title ",
+                        c, m, row + 2, dash[m % 3], pt[m % 3], colour[m / 3]);
+                gp_label(f, name);
+                fprintf(f, ", \\\n");
             }
             if (row == 0) {
                 for (int m = 0; m < N_METHODS; ++m)

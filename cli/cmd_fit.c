@@ -11,6 +11,7 @@
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
 #include "cli/fit_plot.h"
+#include "cli/gnuplot_out.h"
 #include "headplan/headplan.h"
 
 #include <jansson.h>
@@ -145,6 +146,13 @@ static int run_material(int argc, char **argv)
         }
     }
     if (!data) return cli_fail(CLI_EXIT_USAGE, CMD, "material: missing DATA file");
+    /* The chart is written as SVG by fit_plot_svg (no gnuplot): any other name would get
+     * SVG bytes under it. An empty name or '-' is refused as every output refuses it. */
+    int plot_rc = plot ? cli_out_allowed(CMD, "--plot", plot, NULL, 0) : 0;
+    if (plot_rc) return plot_rc;
+    if (plot && !(strlen(plot) > 4 && strcmp(plot + strlen(plot) - 4, ".svg") == 0))
+        return cli_fail(CLI_EXIT_USAGE, CMD,
+                        "--plot: '%s' must end in .svg (fit material draws an SVG chart)", plot);
     int out_rc = cli_stdout_not_input(CMD, "data", data, -1, data);
     if (out_rc) return out_rc;
     if (!ri_t || !ro_t)
@@ -368,10 +376,8 @@ static int parse_layout(int argc, char **argv, layout_args *a)
     if (a->plot_script && !a->plot)
         return cli_fail(CLI_EXIT_USAGE, CMD, "--plot-script: needs --plot");
     if (a->plot) {
-        size_t k = strlen(a->plot);
-        if (k < 5 || (strcmp(a->plot + k - 4, ".png") != 0 && strcmp(a->plot + k - 4, ".svg") != 0))
-            return cli_fail(CLI_EXIT_USAGE, CMD, "--plot: '%s' must end in .png or .svg",
-                            a->plot);
+        int rc = gp_check_name(CMD, "--plot", a->plot, NULL);
+        if (rc >= 0) return rc;
     }
     int rc;
     if ((rc = cli_outputs_distinct(CMD, "-o", a->out, "--plot", a->plot)) ||

@@ -18,6 +18,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 static const char *const CMD = "plot";
 
@@ -179,6 +180,20 @@ static int not_the_one(const char *stated, const char *path)
 {
     char sha[65];
     return stated[0] && (sha256_file(path, sha) != 0 || strcmp(sha, stated) != 0);
+}
+
+/* A trace is hashed (against the result's trace_sha256) and then read: only a regular file
+ * is sure to end (/dev/zero, a FIFO nobody writes would be read forever). stat follows a
+ * link, so a link to a file is a file. Returns -1 to go on (a name that cannot be opened is
+ * reported where it is opened), or 66 after one line naming what. */
+static int regular_trace(const char *what, const char *path)
+{
+    struct stat st;
+    if (stat(path, &st) != 0 || S_ISREG(st.st_mode)) return -1;
+    return cli_fail(CLI_EXIT_NOINPUT, CMD,
+                    "%s %s: not a regular file (a FIFO, device or folder); a trace is hashed, "
+                    "then read",
+                    what, path);
 }
 
 static int read_result(const char *path, result *res)
@@ -353,9 +368,11 @@ static int write_script(const void *arg, FILE *f)
     const result *res = pa[0];
     const gp_out *out = pa[1];
     const char *title = pa[2];
-    fprintf(f, "# headplan plot: %s. Units: s, mm and degrees, kPa. Redraw: gnuplot THIS_FILE\n",
-            title);
-    gp_terminal(f, out);
+    /* Names (the result's, its scene's, its columns') appear only as quoted titles
+     * (cli_gptext.h), never in a comment. */
+    fprintf(f, "# headplan plot: a batch result over time. Units: s, mm and degrees, kPa.\n"
+               "# Redraw: gnuplot THIS_FILE\n");
+    if (gp_terminal(f, out) != 0) return -1;
     /* $rows: t, six axis errors (or pose_error), pressures in kPa. */
     double emin = -TOLERANCE_BAND, emax = TOLERANCE_BAND, pmin = INFINITY, pmax = -INFINITY;
     fprintf(f, "$rows << EOD\n# t_s");
@@ -363,8 +380,7 @@ static int write_script(const void *arg, FILE *f)
         for (int i = 0; i < 6; ++i) fprintf(f, " err_%s", hp_pose_key(i));
     else
         fprintf(f, " pose_error");
-    for (int k = 0; k < res->nb; ++k) fprintf(f, " %s_kpa", res->names[k]);
-    fprintf(f, "\n");
+    fprintf(f, ", then the pressure in kPa of each bladder in the key's order\n");
     double tmin = INFINITY, tmax = -INFINITY;
     for (size_t i = 0; i < res->n; ++i) {
         const row *r = &res->rows[i];
@@ -417,7 +433,7 @@ static int write_script(const void *arg, FILE *f)
         bad += res->rows[i].bad;
     }
     fprintf(f, "set multiplot layout 2,1 title ");
-    gp_quote(f, title);
+    gp_label(f, title);
     fprintf(f, " noenhanced font ',14'\n");
     fprintf(f, "set key outside right top noenhanced\nset grid\nset xrange [%.10g:%.10g]\n", tmin, tmax);
     fprintf(f, "set lmargin 12\nset rmargin 30\n");
@@ -453,9 +469,11 @@ static int write_script(const void *arg, FILE *f)
             res->have_limits ? " and their limits (dashed)" : " (no --scene: limits unknown)",
             pmin - ppad, pmax + ppad);
     fprintf(f, "plot ");
-    for (int k = 0; k < res->nb; ++k)
-        fprintf(f, "$rows using 1:%d with lines lw 1.2 lc %d title '%s', ", ecol + k, k + 1,
-                res->names[k]);
+    for (int k = 0; k < res->nb; ++k) {
+        fprintf(f, "$rows using 1:%d with lines lw 1.2 lc %d title ", ecol + k, k + 1);
+        gp_label(f, res->names[k]);
+        fprintf(f, ", ");
+    }
     if (res->have_limits) {
         /* One dashed pair for limits shared by every bladder, else one pair per bladder. */
         int same = 1;
@@ -497,6 +515,7 @@ int cmd_plot(int argc, char **argv)
         return cli_fail(CLI_EXIT_USAGE, CMD,
                         "--trace -: the trace must be a file (it is checked against the "
                         "result's trace_sha256, then read)");
+    if (a.trace && (rc = regular_trace("--trace", a.trace)) >= 0) return rc;
     result res = {0};
     if ((rc = read_result(a.result, &res)) >= 0) {
         free(res.rows);
@@ -542,6 +561,8 @@ int cmd_plot(int argc, char **argv)
         /* The scene's own trace only when it is provably the one the result was planned
          * from: a result carries its own errors, and one of another trace, or of a stream
          * (no hash), must not get that trace's. */
+        if (rc < 0 && !trace && sc->has_trace && !(res.have_err_cols && !res.trace_sha[0]))
+            rc = regular_trace("the scene's trace", sc->trace_path);
         if (rc < 0 && !trace && sc->has_trace &&
             !(res.have_err_cols &&
               (!res.trace_sha[0] || not_the_one(res.trace_sha, sc->trace_path)))) {

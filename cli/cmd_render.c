@@ -138,8 +138,11 @@ static void write_data(const picture *p, FILE *f)
     for (int k = 0; k < p->L->n; ++k) {
         const double *c = p->L->bladders[k].center;
         double ro = p->r.bladders[k].ro * 1e3, kpa = p->r.bladders[k].pressure * 1e-3;
+        /* The scene reader allows letters, digits, '_' and '-' only in a bladder's name;
+         * the name never ends the line (a comment ending in '\\' would go on). */
         fprintf(f, "# %d %s: pressure %.6g kPa, outer radius %.6g mm\n", k + 1,
-                p->L->bladders[k].name, kpa, ro);
+                gp_control_byte(p->L->bladders[k].name) < 0 ? p->L->bladders[k].name : "?",
+                kpa, ro);
         for (int i = 0; i <= 12; ++i) {
             double th = HP_PI * i / 12.0;
             for (int j = 0; j <= 24; ++j) {
@@ -204,13 +207,15 @@ static void write_table(const picture *p, FILE *f, double mag, double left)
             left, y);
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
-        char bind[160];
+        char bind[160], text[256];
         binding_text(p->r.bladders[k].binding, bind, sizeof bind);
         y -= step;
-        fprintf(f, "set label %d '%d %-18.18s %7.3f  [%g, %g] %s' at screen %.3f,%.3f "
-                   "font 'Mono,10' tc rgb '%s' noenhanced\n",
-                102 + k, k + 1, B->name, p->r.bladders[k].pressure * 1e-3, B->p_min * 1e-3,
-                B->p_max * 1e-3, bind, left, y, *bind ? "#d00000" : "#202020");
+        snprintf(text, sizeof text, "%d %-18.18s %7.3f  [%g, %g] %s", k + 1, B->name,
+                 p->r.bladders[k].pressure * 1e-3, B->p_min * 1e-3, B->p_max * 1e-3, bind);
+        fprintf(f, "set label %d ", 102 + k);
+        gp_label(f, text);
+        fprintf(f, " at screen %.3f,%.3f font 'Mono,10' tc rgb '%s' noenhanced\n", left, y,
+                *bind ? "#d00000" : "#202020");
     }
     double d[6], a[6];
     hp_pose_to_clinical(p->r.desired, d);
@@ -244,7 +249,7 @@ static void write_table(const picture *p, FILE *f, double mag, double left)
         fprintf(f, "set label 143 ");
         char text[72];
         snprintf(text, sizeof text, "%s", p->message);
-        gp_quote(f, text);
+        gp_label(f, text);
         fprintf(f, " at screen %.3f,%.3f font 'Sans,9' noenhanced\n", left, y);
     }
 }
@@ -267,10 +272,10 @@ static int write_full(const void *arg, FILE *f)
         hi = fmax(hi, L->bladders[k].p_max * 1e-3);
     }
     double mag = magnification(p);
-    fprintf(f, "# headplan render: scene '%s'. Units: mm; colour: pressure in kPa.\n"
-               "# Redraw with: gnuplot THIS_FILE\n",
-            p->scene_name);
-    gp_terminal(f, s->out);
+    /* The scene's name appears only as the quoted title (cli_gptext.h). */
+    fprintf(f, "# headplan render: a scene and one plan. Units: mm; colour: pressure in kPa.\n"
+               "# Redraw with: gnuplot THIS_FILE\n");
+    if (gp_terminal(f, s->out) != 0) return -1;
     write_data(p, f);
     fprintf(f, "set view equal xyz\nset xyplane 0\nset border 0\nunset tics\nunset key\n"
                "set pm3d depthorder border lc rgb '#606060' lw 0.3\n"
@@ -284,7 +289,7 @@ static int write_full(const void *arg, FILE *f)
         fprintf(f, "set palette defined (%.6g '#f7f7f7', %.6g '#b2182b')\n", lo, hi);
     write_marks(p, f, mag);
     fprintf(f, "set multiplot title ");
-    gp_quote(f, p->scene_name);
+    gp_label(f, p->scene_name);
     fprintf(f, " noenhanced font ',14'\n"
                "set size 0.36,0.92\nset origin 0.0,0.02\n"
                "set view 90,0,1.3\nset title 'from the feet (+Z anterior up, +X left to the right)'\n"

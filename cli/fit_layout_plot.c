@@ -19,7 +19,7 @@ typedef struct layout_plot {
 static int write_script(const void *arg, FILE *f)
 {
     const layout_plot *p = arg;
-    gp_terminal(f, p->out);
+    if (gp_terminal(f, p->out) != 0) return -1;
     for (int j = 0; j < p->naxes; ++j) {
         double k = j < 3 ? 1e3 : HP_DEG_PER_RAD;
         fprintf(f, "$axis%d << EOD\n# line before after\n", j);
@@ -29,7 +29,7 @@ static int write_script(const void *arg, FILE *f)
         fprintf(f, "EOD\n");
     }
     fprintf(f, "set multiplot layout %d,3 title ", p->naxes > 3 ? 2 : 1);
-    gp_quote(f, p->title);
+    gp_label(f, p->title);
     fprintf(f, "\nset grid\nset key top right\nset xlabel 'data line'\n");
     for (int j = 0; j < p->naxes; ++j) {
         static const char *const AXIS[6] = {"x [mm]", "y [mm]", "z [mm]",

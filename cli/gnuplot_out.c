@@ -84,6 +84,21 @@ static const char *script_opt(const gp_out *o)
     return o->script_opt ? o->script_opt : "--script-out";
 }
 
+int gp_check_name(const char *cmd, const char *opt, const char *path, int *svg)
+{
+    int is_svg = ends_with(path, ".svg");
+    if (!is_svg && !ends_with(path, ".png"))
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' must end in .png or .svg", opt, path);
+    long at = gp_control_byte(path);
+    if (at >= 0)
+        return cli_fail(CLI_EXIT_USAGE, cmd,
+                        "%s: '%s' holds a control character (byte %ld): a picture's name is "
+                        "written into its gnuplot script",
+                        opt, path, at + 1);
+    if (svg) *svg = is_svg;
+    return -1;
+}
+
 int gp_check(const char *cmd, gp_out *o)
 {
     if (!o->width) {
@@ -96,24 +111,10 @@ int gp_check(const char *cmd, gp_out *o)
     }
     int rc = cli_outputs_distinct(cmd, script_opt(o), o->script_out, path_opt(o), o->path);
     if (rc) return rc;
-    if (ends_with(o->path, ".svg")) o->svg = 1;
-    else if (!ends_with(o->path, ".png"))
-        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' must end in .png or .svg", path_opt(o),
-                        o->path);
-    return -1;
+    return gp_check_name(cmd, path_opt(o), o->path, &o->svg);
 }
 
-void gp_quote(FILE *f, const char *s)
-{
-    fputc('\'', f);
-    for (; *s; ++s) {
-        if (*s == '\'') fputc('\'', f);
-        fputc(*s, f);
-    }
-    fputc('\'', f);
-}
-
-void gp_terminal(FILE *f, const gp_out *o)
+int gp_terminal(FILE *f, const gp_out *o)
 {
     if (o->svg) {
         fprintf(f, "set terminal svg size %ld,%ld enhanced font 'Sans,12' background 'white'\n",
@@ -126,8 +127,9 @@ void gp_terminal(FILE *f, const gp_out *o)
                 o->width, o->height, o->width, o->height);
     }
     fprintf(f, "set output ");
-    gp_quote(f, o->drawing ? o->drawing : o->path ? o->path : "/dev/null");
+    if (gp_quote(f, o->drawing ? o->drawing : o->path ? o->path : "/dev/null") != 0) return -1;
     fprintf(f, "\nset encoding utf8\n");
+    return 0;
 }
 
 /* Writes the script into f; 0, or 74 after one line naming what. Standard output is left

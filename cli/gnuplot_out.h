@@ -4,6 +4,7 @@
 #ifndef CLI_GNUPLOT_OUT_H
 #define CLI_GNUPLOT_OUT_H
 
+#include "cli/cli_gptext.h"
 #include "cli/cli_outfile.h"
 
 #include <stdio.h>
@@ -29,19 +30,22 @@ int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o);
 /* gp_option for cli_grammar's extra matcher (ctx is the gp_out). */
 int gp_option_of(const char *cmd, int argc, char **argv, int *i, void *ctx);
 
-/* Checks the options once parsed: -o given (unless --dry-run) with a .png or .svg name.
- * Returns -1 to go on, or 64 after a message. */
+/* Checks the options once parsed: -o given (unless --dry-run) with a name gp_check_name
+ * accepts. Returns -1 to go on, or 64 after a message. */
 int gp_check(const char *cmd, gp_out *o);
+
+/* Checks a picture's name given to option opt: it ends in .png or .svg (*svg says which;
+ * svg may be NULL) and holds no control character (the name is written into the script,
+ * see cli_gptext.h). Returns -1 to go on, or 64 after one line naming opt. */
+int gp_check_name(const char *cmd, const char *opt, const char *path, int *svg);
 
 /* Help text lines of the shared options, for a subcommand's --help. */
 extern const char GP_HELP[];
 
 /* Writes "set terminal ...; set output '...'" for o (pngcairo when this gnuplot has it, else
- * png; svg). */
-void gp_terminal(FILE *f, const gp_out *o);
-
-/* Writes s as a gnuplot single-quoted string (a quote inside is doubled). */
-void gp_quote(FILE *f, const char *s);
+ * png; svg). Returns 0, or -1 when the picture's name cannot be quoted (gp_check refuses
+ * such a name first). */
+int gp_terminal(FILE *f, const gp_out *o);
 
 /* Writes the script with writer(arg, f) to --script-out (if given) or, for --dry-run alone,
  * to stdout; then (unless --dry-run) pipes it into gnuplot (found on PATH) and checks that the

@@ -50,6 +50,15 @@ assert len(d.getElementsByTagName("circle")) == 12
 PY
 run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --plot "$TMP/no/dir/res.svg"
 expect_exit 73 "--plot unwritable"; expect_stdout_empty "--plot unwritable"
+# The chart is SVG (written without gnuplot): its file starts as one, and another name is
+# refused by name (64) instead of getting SVG bytes under a .png name.
+[ "$(head -c 4 "$TMP/res.svg")" = "<svg" ] && ok || bad "material --plot: SVG magic"
+for name in res.png res.PNG res res.svg.txt; do
+  run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --plot "$TMP/$name"
+  expect_exit 64 "material --plot $name"
+  expect_stderr_has "--plot: '$TMP/$name' must end in .svg" "material --plot $name"
+  [ ! -e "$TMP/$name" ] && ok || bad "material --plot $name: a file was written"
+done
 
 # ---- material with a reference radius fitted (--fit-ref) ------------------------------------
 run fit material "$E/material_ro.csv" --Ri-mm 27 --Ro-mm 29.5 --fit-ref Ro --json

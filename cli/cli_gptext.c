@@ -1,0 +1,57 @@
+/* Text in a gnuplot script (see cli_gptext.h). */
+#include "cli/cli_gptext.h"
+#include "scene/text_check.h"
+
+#include <string.h>
+
+static int is_control(unsigned char c) { return c < 0x20 || c == 0x7f; }
+
+long gp_control_byte(const char *s)
+{
+    for (long i = 0; s[i]; ++i)
+        if (is_control((unsigned char)s[i])) return i;
+    return -1;
+}
+
+/* s[0..n) inside the quotes: an inert byte as it is, any other as "\0ooo"; a control
+ * character as '?' (gp_quote has refused it already; gp_label shows it so). */
+static void put_bytes(FILE *f, const char *s, size_t n)
+{
+    static const char inert[] = " _-.,:;+=/()[]<>#%&*~^|?";
+    for (size_t k = 0; k < n; ++k) {
+        unsigned char c = (unsigned char)s[k];
+        if (is_control(c)) fputc('?', f);
+        else if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
+                 (c < 0x80 && strchr(inert, c)))
+            fputc(c, f);
+        else
+            fprintf(f, "\\0%03o", c);
+    }
+}
+
+int gp_quote(FILE *f, const char *s)
+{
+    if (gp_control_byte(s) >= 0) return -1;
+    fputc('"', f);
+    put_bytes(f, s, strlen(s));
+    fputc('"', f);
+    return 0;
+}
+
+void gp_label(FILE *f, const char *s)
+{
+    size_t len = strlen(s);
+    fputc('"', f);
+    for (size_t i = 0; i < len;) {
+        int nul = 0;
+        long bad = hp_text_bad_byte(s + i, len - i, &nul);
+        size_t clean = bad < 0 ? len - i : (size_t)bad;
+        put_bytes(f, s + i, clean);
+        i += clean;
+        if (i < len) { /* a byte that is not part of well-formed UTF-8 */
+            fputc('?', f);
+            ++i;
+        }
+    }
+    fputc('"', f);
+}
