@@ -1,0 +1,62 @@
+# The docs runner itself (run_doc_blocks.py): on a small markdown file it runs the ```sh
+# blocks and the `$ ` lines of ```console blocks, names the block that fails by FILE:LINE,
+# stops one that runs too long, lists a no-run block with its reason, and refuses blocks that
+# do not say what they are. Run as: bash selftest.sh RUNNER BUILD_DIR SOURCE_DIR.
+RUNNER=$1 BUILD=$2 SRC=$3
+T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
+fails=0
+check() { grep -qF -- "$1" "$T/log" || { echo "FAIL: output lacks '$1'"; fails=$((fails+1)); }; }
+cat > "$T/good.md" <<'MD'
+# good
+```sh
+headplan --version > v.txt
+test "$HP_DOC_SMALL" = 1
+```
+```console
+$ grep -q headplan v.txt && \
+    test -f build/headplan
+output not compared
+```
+```sh no-run: needs a cluster
+sbatch job.sh
+```
+MD
+python3 "$RUNNER" --src "$SRC" --bin "$BUILD" "$T/good.md" > "$T/log" 2>&1
+rc=$?
+[ "$rc" -eq 0 ] || { echo "FAIL: good.md: exit $rc"; cat "$T/log"; fails=$((fails+1)); }
+check "2 blocks run, 0 failed; 1 not run"
+check "skip $T/good.md:11: needs a cluster"
+
+cat > "$T/bad.md" <<'MD'
+# bad
+```sh
+true
+```
+
+```sh
+headplan solve scenarios/no_such_scene.yaml
+```
+```sh
+sleep 30
+```
+```
+untyped
+```
+```sh no-run
+x
+```
+
+    headplan solve scenarios/default.yaml
+MD
+python3 "$RUNNER" --src "$SRC" --bin "$BUILD" --timeout 2 "$T/bad.md" > "$T/log" 2>&1
+rc=$?
+[ "$rc" -eq 1 ] || { echo "FAIL: bad.md: exit $rc, want 1"; fails=$((fails+1)); }
+check "FAIL $T/bad.md:6: exit 66"
+check "no_such_scene.yaml"
+check "FAIL $T/bad.md:9: timed out after 2 s"
+check "FAIL $T/bad.md:12: a fenced block without a kind"
+check "FAIL $T/bad.md:15: \`\`\`sh takes only 'no-run: REASON'"
+check "FAIL $T/bad.md:19: a command in an indented block"
+check "3 blocks run, 2 failed"
+[ "$fails" -eq 0 ] || { cat "$T/log"; exit 1; }
+echo "selftest passed"
