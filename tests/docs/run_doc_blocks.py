@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
 """Runs the commands the documentation shows, so a stale command fails the test suite.
 
-    run_doc_blocks.py --src SOURCE_DIR --bin BUILD_DIR [--timeout S] [FILE.md ...]
+    run_doc_blocks.py --src SOURCE_DIR --bin BUILD_DIR [--python PY] [--timeout S] [MARKDOWN...]
 
-Without files: SOURCE_DIR/README.md and SOURCE_DIR/docs/*.md. How a block is marked (the
+Without files: the README and every Markdown file of docs/ in SOURCE_DIR. How a block is marked (the
 fence's info string, whose first word is the language a renderer shows):
 
   ```sh                      commands, run as written
@@ -19,7 +19,8 @@ A fenced block without a kind, and an indented code block that starts with a com
 The blocks of one file run in order, each with `bash -e -o pipefail`, in one scratch copy of
 the source tree per file (so a walk-through's later blocks see the files its earlier ones
 wrote, and nothing is written into the sources). BUILD_DIR's programs are on PATH and in the
-copy's `build/` (`headplan`, `headplan-bench*`, `build/python`). HP_DOC_SMALL=1 is set: a
+copy's `build/` (`headplan`, `headplan-bench*`, `build/python`), and --python, the python3
+the module was built for, is `python3`. HP_DOC_SMALL=1 is set: a
 command that takes long at full size asks for a small one with it, as in
 `headplan-bench --out docs/figures ${HP_DOC_SMALL:+--quick}`. A block that fails, or runs
 longer than --timeout seconds, is reported as FILE:LINE with its status and the end of its
@@ -167,6 +168,7 @@ def main():
     ap.add_argument("--src", required=True)
     ap.add_argument("--bin", required=True)
     ap.add_argument("--timeout", type=float, default=120)
+    ap.add_argument("--python", help="the python3 the build's module is for (first on PATH)")
     ap.add_argument("--list", action="store_true", help="list the blocks, run nothing")
     ap.add_argument("files", nargs="*")
     a = ap.parse_args()
@@ -195,8 +197,14 @@ def main():
         with tempfile.TemporaryDirectory(prefix="hp_docs_") as tmp:
             root = os.path.join(tmp, "src")
             b_dir = scratch_copy(src, bindir, root)
-            env = dict(os.environ, HP_DOC_SMALL="1", PATH=b_dir + os.pathsep + os.environ["PATH"],
-                       LC_ALL="C", TMPDIR=tmp)
+            path = [b_dir]
+            if a.python:  # `python3` in a block is the one the module was built for
+                py_dir = os.path.join(tmp, "python3-bin")
+                os.mkdir(py_dir)
+                os.symlink(a.python, os.path.join(py_dir, "python3"))
+                path.append(py_dir)
+            env = dict(os.environ, HP_DOC_SMALL="1", LC_ALL="C", TMPDIR=tmp,
+                       PATH=os.pathsep.join(path + [os.environ["PATH"]]))
             for b in runnable:
                 rc, secs, tail = run_block(b, root, env, a.timeout)
                 ran += 1

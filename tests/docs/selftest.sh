@@ -6,7 +6,7 @@ RUNNER=$1 BUILD=$2 SRC=$3
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fails=0
 check() { grep -qF -- "$1" "$T/log" || { echo "FAIL: output lacks '$1'"; fails=$((fails+1)); }; }
-cat > "$T/good.md" <<'MD'
+cat > "$T/good.txt" <<'MD'
 # good
 ```sh
 headplan --version > v.txt
@@ -21,13 +21,13 @@ output not compared
 sbatch job.sh
 ```
 MD
-python3 "$RUNNER" --src "$SRC" --bin "$BUILD" "$T/good.md" > "$T/log" 2>&1
+python3 "$RUNNER" --src "$SRC" --bin "$BUILD" "$T/good.txt" > "$T/log" 2>&1
 rc=$?
-[ "$rc" -eq 0 ] || { echo "FAIL: good.md: exit $rc"; cat "$T/log"; fails=$((fails+1)); }
+[ "$rc" -eq 0 ] || { echo "FAIL: good.txt: exit $rc"; cat "$T/log"; fails=$((fails+1)); }
 check "2 blocks run, 0 failed; 1 not run"
-check "skip $T/good.md:11: needs a cluster"
+check "skip $T/good.txt:11: needs a cluster"
 
-cat > "$T/bad.md" <<'MD'
+cat > "$T/bad.txt" <<'MD'
 # bad
 ```sh
 true
@@ -48,15 +48,15 @@ x
 
     headplan solve scenarios/default.yaml
 MD
-python3 "$RUNNER" --src "$SRC" --bin "$BUILD" --timeout 2 "$T/bad.md" > "$T/log" 2>&1
+python3 "$RUNNER" --src "$SRC" --bin "$BUILD" --timeout 2 "$T/bad.txt" > "$T/log" 2>&1
 rc=$?
-[ "$rc" -eq 1 ] || { echo "FAIL: bad.md: exit $rc, want 1"; fails=$((fails+1)); }
-check "FAIL $T/bad.md:6: exit 66"
+[ "$rc" -eq 1 ] || { echo "FAIL: bad.txt: exit $rc, want 1"; fails=$((fails+1)); }
+check "FAIL $T/bad.txt:6: exit 66"
 check "no_such_scene.yaml"
-check "FAIL $T/bad.md:9: timed out after 2 s"
-check "FAIL $T/bad.md:12: a fenced block without a kind"
-check "FAIL $T/bad.md:15: \`\`\`sh takes only 'no-run: REASON'"
-check "FAIL $T/bad.md:19: a command in an indented block"
+check "FAIL $T/bad.txt:9: timed out after 2 s"
+check "FAIL $T/bad.txt:12: a fenced block without a kind"
+check "FAIL $T/bad.txt:15: \`\`\`sh takes only 'no-run: REASON'"
+check "FAIL $T/bad.txt:19: a command in an indented block"
 check "3 blocks run, 2 failed"
 [ "$fails" -eq 0 ] || { cat "$T/log"; exit 1; }
 echo "selftest passed"
