@@ -9,6 +9,8 @@ fence's info string, whose first word is the language a renderer shows):
   ```sh                      commands, run as written
   ```console                 a transcript: every `$ ` line (with its `\\` continuations) is
                              run as a command; the output shown is not compared
+  ```python                  run in one Python session per file, the file's python blocks
+                             in order (a later block uses the names an earlier one made)
   ```sh no-run: REASON       shown, never run (root, a package or machine not here, a second
   ```console no-run: REASON  build tree, minutes of work); REASON is required and listed
   ```text, ```yaml, ```c, ```python, ...   not commands: never run
@@ -92,7 +94,7 @@ def parse(path, shown):
                 errors.append(f"{shown}:{start}: a fenced block without a kind "
                               "(```sh to run, ```text or ```console for output)")
                 continue
-            if kind not in ("sh", "console"):
+            if kind not in ("sh", "console", "python"):
                 continue
             reason = None
             if rest:
@@ -102,7 +104,7 @@ def parse(path, shown):
                                   f"'no-run: REASON' after it, not '{rest}'")
                     continue
                 reason = r.group(1)
-            text = "\n".join(body) + "\n" if kind == "sh" else console_commands(body)
+            text = console_commands(body) if kind == "console" else "\n".join(body) + "\n"
             if not text.strip():
                 errors.append(f"{shown}:{start}: ```{kind} block with no command in it")
                 continue
@@ -146,10 +148,27 @@ def scratch_copy(src, bindir, dest):
     return b
 
 
-def run_block(block, cwd, env, timeout):
+# One Python session for a file's python blocks: each is compiled under its FILE:LINE (so a
+# traceback names it) and run in one namespace; the first that raises is named and stops it.
+PY_SESSION = """
+import sys, traceback
+ns = {"__name__": "__main__"}
+for where, code in BLOCKS:
+    try:
+        exec(compile(code, where, "exec"), ns)
+    except BaseException:
+        traceback.print_exc()
+        print("failed in " + where)
+        sys.exit(1)
+    print("ran " + where)
+"""
+
+
+def run_block(block, cwd, env, timeout, argv=None):
     """(status or None on timeout, seconds, tail of the output)."""
     t0 = time.monotonic()
-    p = subprocess.Popen(["bash", "-e", "-o", "pipefail", "-c", block.text], cwd=cwd, env=env,
+    argv = argv or ["bash", "-e", "-o", "pipefail", "-c", block.text]
+    p = subprocess.Popen(argv, cwd=cwd, env=env,
                          stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
                          stderr=subprocess.STDOUT, start_new_session=True)
     try:
@@ -205,11 +224,25 @@ def main():
                 path.append(py_dir)
             env = dict(os.environ, HP_DOC_SMALL="1", LC_ALL="C", TMPDIR=tmp,
                        PATH=os.pathsep.join(path + [os.environ["PATH"]]))
-            for b in runnable:
-                rc, secs, tail = run_block(b, root, env, a.timeout)
-                ran += 1
+            pys = [b for b in runnable if b.kind == "python"]
+            if pys:  # after the shell blocks, in one session with the module on its path
+                py = a.python or "python3"
+                code = "BLOCKS = %r\n%s" % ([(b.where(), b.text) for b in pys], PY_SESSION)
+                env_py = dict(env, PYTHONPATH=os.path.join(b_dir, "python"))
+            for b in [b for b in runnable if b.kind != "python"] + pys[:1]:
+                if b.kind == "python":
+                    rc, secs, tail = run_block(b, root, env_py, a.timeout * len(pys),
+                                               [py, "-c", code])
+                    ran += len(pys)
+                    m = [t for t in tail if t.startswith("failed in ")]
+                    label = " ".join(x.where() for x in pys)
+                    b = next((x for x in pys if m and x.where() == m[0][10:]), b)
+                else:
+                    rc, secs, tail = run_block(b, root, env, a.timeout)
+                    ran += 1
+                    label = b.where()
                 if rc == 0:
-                    print(f"ok   {b.where()} ({secs:.1f} s)")
+                    print(f"ok   {label} ({secs:.1f} s)")
                     continue
                 why = f"timed out after {a.timeout:g} s" if rc is None else f"exit {rc}"
                 failed.append(b.where())

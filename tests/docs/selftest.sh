@@ -1,7 +1,8 @@
 # The docs runner itself (run_doc_blocks.py): on a small markdown file it runs the ```sh
 # blocks and the `$ ` lines of ```console blocks, names the block that fails by FILE:LINE,
 # stops one that runs too long, lists a no-run block with its reason, and refuses blocks that
-# do not say what they are. Run as: bash selftest.sh RUNNER BUILD_DIR SOURCE_DIR.
+# do not say what they are; python blocks share one session with the build's module folder
+# on their path. Run as: bash selftest.sh RUNNER BUILD_DIR SOURCE_DIR.
 RUNNER=$1 BUILD=$2 SRC=$3
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
 fails=0
@@ -20,11 +21,18 @@ output not compared
 ```sh no-run: needs a cluster
 sbatch job.sh
 ```
+```python
+import os
+x = os.environ["PYTHONPATH"]
+```
+```python
+assert x.endswith("/build/python"), x
+```
 MD
 python3 "$RUNNER" --src "$SRC" --bin "$BUILD" "$T/good.txt" > "$T/log" 2>&1
 rc=$?
 [ "$rc" -eq 0 ] || { echo "FAIL: good.txt: exit $rc"; cat "$T/log"; fails=$((fails+1)); }
-check "2 blocks run, 0 failed; 1 not run"
+check "4 blocks run, 0 failed; 1 not run"
 check "skip $T/good.txt:11: needs a cluster"
 
 cat > "$T/bad.txt" <<'MD'
@@ -47,6 +55,13 @@ x
 ```
 
     headplan solve scenarios/default.yaml
+
+```python
+y = 1
+```
+```python
+assert y == 2, "y is not 2"
+```
 MD
 python3 "$RUNNER" --src "$SRC" --bin "$BUILD" --timeout 2 "$T/bad.txt" > "$T/log" 2>&1
 rc=$?
@@ -57,6 +72,8 @@ check "FAIL $T/bad.txt:9: timed out after 2 s"
 check "FAIL $T/bad.txt:12: a fenced block without a kind"
 check "FAIL $T/bad.txt:15: \`\`\`sh takes only 'no-run: REASON'"
 check "FAIL $T/bad.txt:19: a command in an indented block"
-check "3 blocks run, 2 failed"
+check "FAIL $T/bad.txt:24: exit 1"
+check "y is not 2"
+check "5 blocks run, 3 failed"
 [ "$fails" -eq 0 ] || { cat "$T/log"; exit 1; }
 echo "selftest passed"
