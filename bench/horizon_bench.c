@@ -23,42 +23,89 @@ static double cpu_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* Exit statuses (sysexits, as headplan's): a bad command line, bad data, an input that cannot
+ * be opened, an internal failure. Every refusal prints one line on stderr first. */
+enum { EX_USAGE_ = 64, EX_DATA_ = 65, EX_NOINPUT_ = 66, EX_SOFTWARE_ = 70 };
+
+/* The exit status of a failed load: a file that cannot be read is 66, anything else 65. */
+static int load_status(hp_error e)
+{
+    return e == HP_ERR_IO ? EX_NOINPUT_ : e == HP_ERR_NOMEM ? EX_SOFTWARE_ : EX_DATA_;
+}
+
+/* A refused or failed horizon call: one line, and 65 for values the library refuses (a window
+ * the trace cannot hold), 70 for anything else. */
+static int call_failed(const char *what, hp_error e, const hp_diag *d)
+{
+    fprintf(stderr, "headplan-bench-horizon: %s: %s\n", what, d->text);
+    return e == HP_ERR_INVALID ? EX_DATA_ : EX_SOFTWARE_;
+}
+
+/* Out of memory for what: one line, 70. */
+static int no_memory(const char *what)
+{
+    fprintf(stderr, "headplan-bench-horizon: out of memory for %s\n", what);
+    return EX_SOFTWARE_;
+}
+
+/* Loads the scene and every row of the trace (rows stated by the caller: deviations).
+ * Returns 0, or an exit status after printing why on one line. */
 static int load(const char *scene, const char *trace, hp_scene *sc, hp_settings *s,
                 hp_trace_row **rows, size_t *T)
 {
     hp_diag d = {{0}};
-    if (hp_scene_load(scene, sc, &d) != HP_OK || hp_scene_settings(sc, s, &d) != HP_OK) {
-        fprintf(stderr, "%s\n", d.text);
-        return 1;
+    hp_error e = hp_scene_load(scene, sc, &d);
+    if (e == HP_OK) e = hp_scene_settings(sc, s, &d);
+    if (e != HP_OK) {
+        fprintf(stderr, "headplan-bench-horizon: %s\n", d.text);
+        return load_status(e);
     }
     hp_trace_rows dev = HP_TRACE_DEVIATION;
     hp_trace_reader *r = NULL;
-    if (hp_trace_open(trace, &dev, &r, &d) != HP_OK) {
-        fprintf(stderr, "%s\n", d.text);
-        return 1;
+    if ((e = hp_trace_open(trace, &dev, &r, &d)) != HP_OK) {
+        fprintf(stderr, "headplan-bench-horizon: %s\n", d.text);
+        return load_status(e);
     }
     size_t cap = 1024;
     *rows = malloc(cap * sizeof **rows);
     *T = 0;
+    int rc = 0;
     for (;;) {
-        if (*T == cap) *rows = realloc(*rows, (cap *= 2) * sizeof **rows);
-        if (!*rows) return 1;
-        hp_error e = hp_trace_next(r, &(*rows)[*T], &d);
-        if (e == HP_ERR_STATE) break;
+        if (*rows && *T == cap) {
+            hp_trace_row *more = realloc(*rows, (cap *= 2) * sizeof **rows);
+            if (!more) free(*rows);
+            *rows = more;
+        }
+        if (!*rows) {
+            fprintf(stderr, "headplan-bench-horizon: %s: out of memory at row %zu\n", trace,
+                    *T + 1);
+            rc = EX_SOFTWARE_;
+            break;
+        }
+        e = hp_trace_next(r, &(*rows)[*T], &d);
+        if (e == HP_END) break; /* the end of the trace, not a failure */
         if (e != HP_OK) {
-            fprintf(stderr, "%s\n", d.text);
-            return 1;
+            fprintf(stderr, "headplan-bench-horizon: %s\n", d.text);
+            rc = load_status(e);
+            break;
         }
         ++*T;
     }
     hp_trace_close(r);
-    return 0;
+    if (rc == 0 && *T < 2) {
+        /* One row has no interval for a rate limit and no horizon to plan over. */
+        fprintf(stderr, "headplan-bench-horizon: %s: %zu row%s; the benchmark needs at least 2\n",
+                trace, *T, *T == 1 ? "" : "s");
+        rc = EX_DATA_;
+    }
+    return rc;
 }
 
 static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row *rows, size_t T)
 {
     static const int Ns[] = {1, 2, 5, 10, 20, 40, 64};
     double *times = malloc(T * sizeof *times);
+    if (!times) return no_memory("the times");
     printf("N,prediction,calls,median_us,p99_us,max_us\n");
     for (int p = 0; p < 2; ++p)
         for (size_t a = 0; a < sizeof Ns / sizeof Ns[0]; ++a) {
@@ -68,9 +115,10 @@ static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row
             hs.prediction = p ? HP_PREDICT_VELOCITY : HP_PREDICT_HOLD;
             hp_horizon_rh *rh = NULL;
             hp_diag d = {{0}};
-            if (hp_horizon_rh_create(&sc->layout, s, &hs, NULL, &rh, &d) != HP_OK) {
-                fprintf(stderr, "%s\n", d.text);
-                return 1;
+            hp_error e = hp_horizon_rh_create(&sc->layout, s, &hs, NULL, &rh, &d);
+            if (e != HP_OK) {
+                free(times);
+                return call_failed("receding horizon", e, &d);
             }
             for (size_t t = 0; t < T; ++t) {
                 hp_result r;
@@ -95,21 +143,27 @@ static int bench_windows(const hp_scene *sc, const hp_settings *s, const hp_trac
     hp_horizon_settings_default(&hs);
     hs.start_interval_s = hp_horizon_start_interval(rows, T, hs.start_interval_s);
     hp_horizon_row *whole = malloc(T * sizeof *whole), *win = malloc(T * sizeof *win);
+    int rc = 0;
+    if (!whole || !win) {
+        rc = no_memory("the plans");
+        goto done;
+    }
     hp_horizon_info iw, iv;
     hp_diag d = {{0}};
     hs.window = (int)T; /* the whole trace at once, however long */
     double t0 = sa_now();
-    if (hp_horizon_offline(&sc->layout, s, &hs, rows, T, NULL, whole, &iw, &d) != HP_OK) {
-        fprintf(stderr, "whole: %s\n", d.text);
-        return 1;
+    hp_error e = hp_horizon_offline(&sc->layout, s, &hs, rows, T, NULL, whole, &iw, &d);
+    if (e != HP_OK) {
+        rc = call_failed("whole trace", e, &d);
+        goto done;
     }
     double tw = sa_now() - t0;
     hs.window = window;
     hs.overlap = overlap;
     t0 = sa_now();
-    if (hp_horizon_offline(&sc->layout, s, &hs, rows, T, NULL, win, &iv, &d) != HP_OK) {
-        fprintf(stderr, "windows: %s\n", d.text);
-        return 1;
+    if ((e = hp_horizon_offline(&sc->layout, s, &hs, rows, T, NULL, win, &iv, &d)) != HP_OK) {
+        rc = call_failed("windows", e, &d);
+        goto done;
     }
     double tv = sa_now() - t0;
     double worst = 0;
@@ -121,27 +175,58 @@ static int bench_windows(const hp_scene *sc, const hp_settings *s, const hp_trac
     printf("%zu,whole,%zu,0,%d,%d,%.2f,%.10g,0\n", T, T, iw.windows, iw.iterations, tw, iw.cost);
     printf("%zu,windows,%d,%d,%d,%d,%.2f,%.10g,%.3g\n", T, window, overlap, iv.windows,
            iv.iterations, tv, iv.cost, worst);
+done:
     free(whole);
     free(win);
-    return 0;
+    return rc;
+}
+
+/* A whole number >= min from a command-line argument, or -1 after printing why. */
+static int count_arg(const char *name, const char *arg, int min)
+{
+    char *end = NULL;
+    long v = strtol(arg, &end, 10);
+    if (end == arg || *end != '\0' || v < min || v > 1000000000L) {
+        fprintf(stderr, "headplan-bench-horizon: %s '%s': want a whole number >= %d\n", name,
+                arg, min);
+        return -1;
+    }
+    return (int)v;
 }
 
 int main(int argc, char **argv)
 {
-    if (argc < 4 || (strcmp(argv[1], "rh") != 0 && strcmp(argv[1], "windows") != 0) ||
-        (strcmp(argv[1], "windows") == 0 && argc != 6)) {
-        fprintf(stderr, "usage: headplan-bench-horizon rh SCENE TRACE\n"
-                        "       headplan-bench-horizon windows SCENE TRACE WINDOW OVERLAP\n");
-        return 64;
+    static const char usage[] = "usage: headplan-bench-horizon rh SCENE TRACE | "
+                                "headplan-bench-horizon windows SCENE TRACE WINDOW OVERLAP\n";
+    if (argc < 2) {
+        fputs(usage, stderr);
+        return EX_USAGE_;
     }
+    int rh = strcmp(argv[1], "rh") == 0;
+    if (!rh && strcmp(argv[1], "windows") != 0) {
+        fprintf(stderr, "headplan-bench-horizon: unknown mode '%s' (rh or windows); %s", argv[1],
+                usage);
+        return EX_USAGE_;
+    }
+    if (argc != (rh ? 4 : 6)) {
+        fputs(usage, stderr);
+        return EX_USAGE_;
+    }
+    int window = 0, overlap = 0;
+    if (!rh && ((window = count_arg("WINDOW", argv[4], 1)) < 0 ||
+                (overlap = count_arg("OVERLAP", argv[5], 0)) < 0))
+        return EX_USAGE_;
     hp_scene *sc = calloc(1, sizeof *sc);
+    if (!sc) {
+        fprintf(stderr, "headplan-bench-horizon: out of memory for the scene\n");
+        return EX_SOFTWARE_;
+    }
     hp_settings s;
     hp_trace_row *rows = NULL;
     size_t T = 0;
-    if (!sc || load(argv[2], argv[3], sc, &s, &rows, &T) || T < 2) return 65;
-    int rc = strcmp(argv[1], "rh") == 0
-                 ? bench_rh(sc, &s, rows, T)
-                 : bench_windows(sc, &s, rows, T, atoi(argv[4]), atoi(argv[5]));
+    int rc = load(argv[2], argv[3], sc, &s, &rows, &T);
+    if (rc == 0)
+        rc = rh ? bench_rh(sc, &s, rows, T) : bench_windows(sc, &s, rows, T, window, overlap);
     free(rows);
     free(sc);
     return rc;

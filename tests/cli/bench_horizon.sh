@@ -1,0 +1,45 @@
+# headplan-bench-horizon (docs/horizon.md): the receding-horizon benchmark runs on a trace
+# and prints one CSV line per horizon and prediction, and every refusal says why on one line
+# with a non-zero status. Timing is printed, never checked. Skipped when the bench programs
+# are not built (they sit beside headplan).
+source "$2/tests/cli_lib.sh"
+B="$(dirname "$HP_BIN")/headplan-bench-horizon"
+[ -x "$B" ] || { echo "SKIP: $B not built"; exit 0; }
+S="$HP_SRC/scenarios"
+brun() { "$B" "$@" >"$TMP/out" 2>"$TMP/err"; rc=$?; }
+expect_one_line_stderr() { [ "$(wc -l < "$TMP/err")" -eq 1 ] && ok || bad "$1: stderr is not one line"; }
+
+# The docs' command on the first 20 rows of the step trace (the full trace only takes longer).
+head -n 21 "$S/traces/step.csv" > "$TMP/step20.csv"
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv"
+expect_exit 0 "rh on the step trace"
+expect_stdout_has "N,prediction,calls,median_us,p99_us,max_us" "rh header"
+[ "$(grep -c ',20,' "$TMP/out")" -eq 14 ] && ok || bad "rh: want 14 lines of 20 calls"
+grep -q '^64,velocity,20,' "$TMP/out" && ok || bad "rh: no line for N = 64, velocity"
+
+# Every refusal: one line on stderr, naming what is wrong, and a non-zero status.
+brun
+expect_exit 64 "no arguments"; expect_stderr_has "usage: headplan-bench-horizon rh" "usage"
+brun sideways "$S/horizon/step.yaml" "$TMP/step20.csv"
+expect_exit 64 "unknown mode"; expect_stderr_has "unknown mode 'sideways'" "unknown mode"
+brun windows "$S/horizon/step.yaml" "$TMP/step20.csv" 10
+expect_exit 64 "windows without OVERLAP"; expect_stderr_has "usage:" "windows usage"
+brun windows "$S/horizon/step.yaml" "$TMP/step20.csv" ten 2
+expect_exit 64 "WINDOW not a number"; expect_stderr_has "WINDOW 'ten'" "WINDOW named"
+expect_one_line_stderr "WINDOW not a number"
+brun windows "$S/horizon/step.yaml" "$TMP/step20.csv" 10 -1
+expect_exit 64 "negative OVERLAP"; expect_stderr_has "OVERLAP '-1'" "OVERLAP named"
+brun rh "$TMP/missing.yaml" "$TMP/step20.csv"
+expect_exit 66 "missing scene"; expect_stderr_has "missing.yaml" "missing scene named"
+expect_one_line_stderr "missing scene"
+brun rh "$S/horizon/step.yaml" "$TMP/missing.csv"
+expect_exit 66 "missing trace"; expect_stderr_has "missing.csv" "missing trace named"
+head -n 2 "$S/traces/step.csv" > "$TMP/one_row.csv"
+brun rh "$S/horizon/step.yaml" "$TMP/one_row.csv"
+expect_exit 65 "one-row trace"; expect_stderr_has "one_row.csv: 1 row" "short trace named"
+expect_one_line_stderr "one-row trace"
+printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,0,0,0,0,0,0\n0.1,zero,0,0,0,0,0\n' \
+  > "$TMP/bad_row.csv"
+brun rh "$S/horizon/step.yaml" "$TMP/bad_row.csv"
+expect_exit 65 "bad row"; expect_stderr_has "bad_row.csv:3" "bad row located"
+finish
