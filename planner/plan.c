@@ -27,6 +27,7 @@ typedef struct plan_ctx {
      * model there (hp_backend_result's lin_*): the round trip's anchor with a Jacobian. */
     int has_lin;
     double lin_x[6], lin_rho[HP_MAX_BLADDERS], lin_J[HP_MAX_BLADDERS * 6];
+    int held;        /* every bladder's window is a point: the previous answer, held */
     int warm;        /* the backend started from the previous answer */
     int unconfirmed; /* label refused a CLOSEST answer its round trip did not confirm */
 } plan_ctx;
@@ -140,6 +141,58 @@ static int direct_chain(hp_planner *p, plan_ctx *c)
     double *J = p->level == HP_LEVEL_LINEAR ? NULL : p->chain_J;
     return hp_setup_contact_inside(&p->L, &p->G, p->level, pb->d, pb->ro_lo, pb->ro_hi, c->rho,
                                    J, &inside) == HP_OK && inside;
+}
+
+/* Step 3a: 1 when the rate limits leave every bladder a window of outer radii no wider than
+ * HP_BINDING_TOL_MM (a limit of about 1 mPa per plan or less): any answer binds every
+ * bladder, and holding the previous pressures, around which the windows are centred, is
+ * one. No backend resolves such windows (n contact equalities in 6 pose unknowns, each
+ * to within the window: Ipopt's restoration and the realtime QP find no feasible point,
+ * NLopt's answers hold no pose), so none runs. */
+static int rate_pinned(const hp_planner *p)
+{
+    if (p->rate_free) return 0;
+    for (int k = 0; k < p->L.n; ++k)
+        if (!(p->pb.ro_hi[k] - p->pb.ro_lo[k] <= HP_BINDING_TOL_MM)) return 0;
+    return 1;
+}
+
+/* Step 3b: the answer of a pinned plan: the previous answer's pose and outer radii, which
+ * accept turns into pressures inside this cycle's windows (the previous ones, to within
+ * the allowance) and label calls reached or closest (binding the rate limits) after the
+ * round trip every answer passes. Pressures that hold no pose (hp_planner_set_previous
+ * takes any inside the limits; its pose is a least-squares fit) are held by no answer
+ * either: refused as accept refuses clamped radii, by the residual HP_CLAMP_RESID_MM.
+ * Returns 1 with c set, or 0 with res labelled (safe output). */
+static int hold(hp_planner *p, hp_result *res, plan_ctx *c)
+{
+    double rho[HP_MAX_BLADDERS], ss = 0.0;
+    if (hp_setup_contact_scaled(&p->L, &p->G, p->level, p->x_prev, rho, NULL) != HP_OK)
+        ss = INFINITY;
+    for (int k = 0; k < p->L.n; ++k) {
+        c->rho[k] = p->prev.bladders[k].ro * HP_MM_PER_M;
+        ss += (rho[k] - c->rho[k]) * (rho[k] - c->rho[k]);
+    }
+    double resid = sqrt(ss / p->L.n);
+    if (!(resid <= HP_CLAMP_RESID_MM)) {
+        hp_text_set(p->err, "the rate limits hold every bladder at its previous pressure, and "
+                            "those pressures hold no pose at the ");
+        hp_text_add(p->err, hp_level_name(p->level));
+        hp_text_add(p->err, " level (contact residual ");
+        hp_text_add_num(p->err, resid, 9);
+        hp_text_add(p->err, " mm RMS); holding the previous pressures");
+        fail_safe(p, res, HP_STATUS_INFEASIBLE_START, c);
+        return 0;
+    }
+    memcpy(p->x_work, p->x_prev, sizeof(double) * (size_t)p->pb.nx);
+    c->x = p->x_work;
+    c->has_rho = 1;
+    c->has_lin = 0;
+    c->converged = 1;
+    c->st = HP_STATUS_REACHED;
+    c->raw = 0;
+    c->iters = 0;
+    return 1;
 }
 
 /* Step 3: the backend, through its table, from the previous answer (warm) or a cold point.
@@ -432,7 +485,7 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
             fail_safe(p, r, HP_STATUS_INVALID_INPUT, c);
             return 0;
         }
-    } else if (c->converged && !closest_verified(p, c->x)) {
+    } else if (c->converged && !c->held && !closest_verified(p, c->x)) {
         /* A backend that claims an optimum the first-order conditions refute (NLopt SLSQP
          * far beyond reach handed back its start point with XTOL_REACHED) gives no answer:
          * label it and hold, never report it as the closest correction. */
@@ -524,6 +577,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     if (!validate(p, desired, res, &c)) return HP_OK;
 
     c.direct = direct_chain(p, &c);
+    c.held = !c.direct && rate_pinned(p);
     /* A second pass only after a warm solve's CLOSEST answer that the round trip from the
      * nominal pose does not confirm: local optima depend on the start, and the backend
      * started from the nominal pose, where the round trip starts too, may find one it
@@ -540,7 +594,8 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         c.x = p->pb.d;
         c.unconfirmed = 0;
         int iters0 = c.iters;
-        if (!c.direct && !solve(p, res, &c, pass > 0)) return HP_OK;
+        if (c.held ? !hold(p, res, &c) : !c.direct && !solve(p, res, &c, pass > 0))
+            return HP_OK;
         c.iters += pass > 0 ? iters0 : 0;
         res->raw_code = c.raw;
         res->iterations = c.iters;
@@ -563,7 +618,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     hp_plan_set_previous_answer(p, res);
     /* A backend's own answer, unmoved, is the next start: tell the backend (warm start with
      * its multipliers). */
-    if (!c.direct && c.clamp_mm == 0) {
+    if (!c.direct && !c.held && c.clamp_mm == 0) {
         /* The backend's own point; radii it left out (has_rho: NAN) stay the answer's. */
         memcpy(p->x_prev, p->x_work, 6 * sizeof *p->x_work);
         for (int k = 0; k < p->L.n; ++k)

@@ -148,6 +148,15 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                        "bladder %s: rate limit: no stable radius at %.6g Pa",
                                        B->name, ph);
             }
+            /* A window narrower than the pressure step of one ulp of radius (about 4e-12 Pa;
+             * a limit of 1e-300 kPa): no radius need have its pressure inside it, and the
+             * two roots, each moved inward until its pressure is, pass each other by ulps.
+             * The previous pressure lies in the window and in [p_lo, p_hi], so its own root
+             * (within those ulps) is the one radius: the bladder holds its pressure, which
+             * the plan reports clamped into the window (hp_setup_bladder_from_ri_s). A gap
+             * beyond 1e-12 of the radius (27 fm at 27 mm) would be no rounding: refused. */
+            if (lo > hi && lo - hi <= 1e-12 * lo)
+                lo = hi = fmin(fmax(hi, b->ri_lo[k]), b->ri_hi[k]);
         }
         /* The static bounds' outer radii when the rate limits left them as they were. */
         double rol = lo == b->ri_lo[k] ? b->ro_lo[k] : NAN;

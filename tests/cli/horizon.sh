@@ -71,6 +71,21 @@ for r, s in zip(g, b):
     for n in names:
         assert float(r[n + "_kpa"]) == float(s[n + "_pressure_pa"]) * 1e-3, (r["t_s"], n)
 PY
+# A per-second limit of 1e-300 kPa/s allows no change: every plan holds the start pressures
+# and answers every row (the realtime backend left greedy and receding rows solver-error,
+# exit 70, when its window was a point).
+run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --rate-kpa-per-s 1e-300 \
+    -o "$TMP/hold.csv"
+expect_exit 0 "1e-300 kPa/s"
+python3 - "$TMP/hold.csv" <<'PY' && ok || bad "1e-300 kPa/s holds"
+import csv, sys
+rows = list(csv.DictReader(l for l in open(sys.argv[1]) if not l.startswith("#")))
+assert len(rows) == 3 * 80, len(rows)
+kpa = [k for k in rows[0] if k.endswith("_kpa")]
+for r in rows:
+    assert r["status"] in ("reached", "closest"), (r["plan"], r["t_s"], r["status"])
+    assert [r[k] for k in kpa] == [rows[0][k] for k in kpa], (r["plan"], r["t_s"])
+PY
 
 # Bad inputs: usage 64, data 65, no input 66.
 run horizon; expect_exit 64 "no scene"
