@@ -276,7 +276,7 @@ static int closest_verified(const hp_planner *p, const double *x)
  * where the fit ended (hp_plan_trip). On a near-degenerate layout the fit from the nominal
  * pose can end at another pose with the same distances, or stall in a second local fit;
  * then the answer is not identified by this layout. Allocates nothing. */
-int hp_plan_round_trip(hp_planner *p, const hp_result *r, const double achieved[6],
+int hp_plan_round_trip(const hp_planner *p, const hp_result *r, const double achieved[6],
                        const hp_plan_anchor *anchor, hp_plan_trip *t)
 {
     t->worst = 0.0;

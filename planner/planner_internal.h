@@ -94,7 +94,7 @@ typedef struct hp_plan_trip {
 #define HP_IDENT_NAME_MM 1e-6
 /* The strict round trip of r's pressures (plan.c): 1 when the fit from the nominal pose ends
  * at achieved (SI); t says where it ended. Allocates nothing. */
-int hp_plan_round_trip(hp_planner *p, const hp_result *r, const double achieved[6],
+int hp_plan_round_trip(const hp_planner *p, const hp_result *r, const double achieved[6],
                        const hp_plan_anchor *anchor, hp_plan_trip *t);
 /* The text of a failed round trip t into buf (hp_text_add): "forward contact kinematics from
  * the nominal pose finds another pose, (x, y, z) mm (pitch, roll, yaw) deg, D mm/deg away,
