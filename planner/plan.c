@@ -431,6 +431,31 @@ static void add_binding(const hp_planner *p, char *buf, hp_status st, const unsi
 static int label(hp_planner *p, hp_result *r, plan_ctx *c)
 {
     int unc_any = uncommanded_beyond(p, c->unc);
+    /* No answer leaves the identifiable range: a pose there is one the layout cannot tell
+     * from another (a five-direction layout's closest answers reached 107 mm, beyond the
+     * head's smallest semi-axis). A converged answer there is refused, as a desired pose
+     * there is (a warm solve's is first tried again from the nominal pose); a budget's
+     * iterate there is no usable iterate. */
+    int budget = !(r->pose_error <= p->s.tolerance) && !c->converged;
+    if (!hp_plan_range_ok(&p->id, r->achieved,
+                          budget ? "the last iterate's" : "desired: its closest reachable pose's",
+                          p->err)) {
+        if (budget) {
+            char why[HP_DIAG_MAX];
+            hp_text_set(why, p->err);
+            hp_status fs = c->st == HP_STATUS_TIME_LIMIT ? HP_STATUS_TIME_LIMIT
+                                                         : HP_STATUS_ITERATION_LIMIT;
+            add_budget(p, p->err, fs);
+            hp_text_add(p->err, "; ");
+            hp_text_add(p->err, why);
+            hp_text_add(p->err, "; holding the previous pressures");
+            fail_safe(p, r, fs, c);
+            return 0;
+        }
+        c->unconfirmed = 1;
+        fail_safe(p, r, HP_STATUS_INVALID_INPUT, c);
+        return 0;
+    }
     if (r->pose_error <= p->s.tolerance) {
         r->status = unc_any ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED;
         /* What is verified is the answer's own pose: with a tolerance above the round
