@@ -26,6 +26,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 static pthread_mutex_t ipopt_lock = PTHREAD_MUTEX_INITIALIZER;
 
@@ -61,6 +62,7 @@ typedef struct ipopt_state {
     int have_prev;          /* the last solve converged: its multipliers are usable */
     int accepted;           /* the core starts the next solve from that answer (warm_point) */
     int lbfgs;              /* option "hessian_approximation" = 1 */
+    clock_t cpu0;           /* CPU clock at the start of this solve (the polish's budget) */
     int rebuild;            /* an option changed: rebuild the app before the next solve */
     double mult_g[HP_MAX_BLADDERS];
     double mult_xl[HP_PROBLEM_NX_MAX], mult_xu[HP_PROBLEM_NX_MAX];
@@ -324,7 +326,8 @@ static hp_status map_status(enum ApplicationReturnStatus r, int *converged)
  * the answer only if it passes the first-order test (hp_backend_kkt_ok, signs of the fixed
  * bounds' multipliers included) and its objective is no worse than the interior point's (a
  * feasible point, so the optimum's objective is at most its own). Otherwise the answer is
- * left as it was, and the core labels it. */
+ * left as it was, and the core labels it. The polish's solves share the plan's budgets: at
+ * most max_iter iterations and max_time s of CPU time in all. */
 
 /* z / slack of the bounds taken as active must exceed every other bound's by this factor. */
 #define POLISH_GAP 1e4
@@ -419,7 +422,11 @@ static int solve_fixed(ipopt_state *st, const hp_problem *pb, const double *x,
     int iters0 = st->iters;
     enum ApplicationReturnStatus rc = Internal_Error;
     double obj;
-    if (hp_ipopt_base_options(app, s->tolerance, s->max_iter, s->max_time, NULL) == HP_OK &&
+    /* What is left of the plan's budgets (CPU time, as Ipopt's max_cpu_time counts it). */
+    int iters_left = s->max_iter - iters0;
+    double time_left = s->max_time - (double)(clock() - st->cpu0) / CLOCKS_PER_SEC;
+    if (iters_left > 0 && time_left > 0.0 &&
+        hp_ipopt_base_options(app, s->tolerance, iters_left, time_left, NULL) == HP_OK &&
         SetIntermediateCallback(app, intermediate))
         rc = IpoptSolve(app, xp, NULL, &obj, mg, ml, mu_, st);
     FreeIpoptProblem(app);
@@ -507,6 +514,7 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
     if (e == HP_OK) {
         st->pb = pb;
         st->iters = 0;
+        st->cpu0 = clock();
         double obj;
         memcpy(x, xs, (size_t)st->nx * sizeof *x);
         rc = IpoptSolve(st->app, x, NULL, &obj, st->mult_g, st->mult_xl, st->mult_xu, st);
