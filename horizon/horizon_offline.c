@@ -498,15 +498,18 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         /* The row's pose is a claim about where its pressures hold the head: the same strict
          * round trip as hp_plan's answers (from the nominal pose), so offline never states a
          * pose that the forward model puts elsewhere. */
-        double worst;
+        hp_plan_trip trip;
         /* INVALID, as hp_plan refuses such an answer (INVALID_INPUT): the trace asks for a
          * pose this layout cannot identify, not the solver failing. */
-        if (e == HP_OK && !hp_plan_round_trip(c->p, &rr, o->achieved, NULL, &worst))
+        if (e == HP_OK && !hp_plan_round_trip(c->p, &rr, o->achieved, NULL, &trip)) {
+            char why[HP_DIAG_MAX];
+            why[0] = '\0';
+            hp_plan_trip_text(why, &trip);
             e = hp_diag_set(d, HP_ERR_INVALID,
                             "offline: line %ld: the planned pose is not where its pressures "
-                            "hold the head: forward contact kinematics from the nominal pose "
-                            "finds another pose %.6g mm/deg away",
-                            rows[t].line, worst);
+                            "hold the head: %s",
+                            rows[t].line, why);
+        }
     }
     free(buf);
     return e;

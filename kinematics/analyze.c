@@ -40,15 +40,15 @@ static int feasible(void *ctx, const double xi[6])
 }
 
 double hp_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, int axis,
-                         double sign)
+                         double sign, int scan)
 {
     double cap = axis < 3 ? HP_REACH_CAP_MM : HP_REACH_CAP_DEG;
     double unit = axis < 3 ? 1e-3 : RAD_PER_DEG;
     double xi[6] = {0};
     if (!ok(ctx, xi)) return 0.0;
     double good = 0.0, bad = -1.0;
-    for (int i = 1; i <= REACH_SCAN; ++i) {
-        double s = cap * i / REACH_SCAN;
+    for (int i = 1; i <= scan; ++i) {
+        double s = cap * i / scan;
         xi[axis] = sign * s * unit;
         if (!ok(ctx, xi)) {
             bad = s;
@@ -119,8 +119,8 @@ hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysi
     hp_kin_reach_ctx ctx = {L, level};
     for (int i = 0; i < 6; ++i) {
         if (!id.commanded[i]) continue;
-        out->reach[i][0] = -hp_kin_reach_axis(feasible, &ctx, i, -1.0);
-        out->reach[i][1] = hp_kin_reach_axis(feasible, &ctx, i, 1.0);
+        out->reach[i][0] = -hp_kin_reach_axis(feasible, &ctx, i, -1.0, REACH_SCAN);
+        out->reach[i][1] = hp_kin_reach_axis(feasible, &ctx, i, 1.0, REACH_SCAN);
     }
     return HP_OK;
 }

@@ -99,12 +99,14 @@ typedef struct hp_kin_reach_ctx {
 } hp_kin_reach_ctx;
 
 /* Largest s in [0, cap] (HP_REACH_CAP_MM for axis < 3, else HP_REACH_CAP_DEG) such that
- * ok(ctx, xi) holds at every pose sign·s'·e_axis, s' <= s (xi SI): a scan in 1/100 of the
- * cap, so that a feasible set that is not an interval still yields its first boundary, then
- * bisection to ~1e-15 of the cap. 0 when ok fails at the nominal pose; the cap when it never
- * fails. Shared by hp_layout_analyze and the planner's reach (hp_planner_reach), so the two
- * differ only in their predicate. */
+ * ok(ctx, xi) holds at every pose sign·s'·e_axis, s' <= s (xi SI): a scan in 1/scan of the
+ * cap, so that a feasible set that is not an interval still yields its first boundary (any
+ * gap narrower than a scan step can be missed), then bisection to ~1e-15 of the cap. 0 when
+ * ok fails at the nominal pose; the cap when it never fails. Shared by hp_layout_analyze
+ * (scan 100: the limits give intervals) and the planner's reach (hp_planner_reach, finer:
+ * its round trip can fail in short gaps), so the two differ only in their predicate and
+ * resolution. */
 double hp_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, int axis,
-                         double sign);
+                         double sign, int scan);
 
 #endif

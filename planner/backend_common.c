@@ -4,6 +4,7 @@
 #include "common/units.h"
 #include "common/dense.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -90,6 +91,69 @@ static int cholesky_solve(double *A, double *b, int m)
     return 1;
 }
 
+/* When the active contacts' pose gradients are linearly dependent (four bladders binding
+ * on a sphere's three translations, say), their multipliers are not unique and the minimum-
+ * norm ones can carry a wrong sign while others of the right sign cancel the gradient as
+ * well: the first-order conditions ask only that some exist. Searches for them: the
+ * multipliers of the active radii, each held on its right side (z_k >= 0 at a lower bound,
+ * <= 0 at an upper one), that minimise the pose rows of the Lagrangian's gradient, by
+ * projected coordinate descent on that convex least-squares problem (at most 8 unknowns,
+ * 6 rows). b0 is the gradient with the free radii's multipliers in. Replaces m_out's
+ * stationarity, wrong sign (then 0) and bound multipliers when its residual is below
+ * max(stationarity, wrong sign) of the minimum-norm ones. Allocates nothing. */
+static void signed_multipliers(const hp_problem *pb, const double *g, const double *jac,
+                               const int free_[6], const double b0[6], const int *lo,
+                               const int *hi, const int *act, int m, hp_kkt_measure *m_out)
+{
+    const int nx = pb->nx;
+    double lam[HP_MAX_BLADDERS], bnd[HP_MAX_BLADDERS], aa[HP_MAX_BLADDERS], r[6];
+    int sgn[HP_MAX_BLADDERS]; /* +1: lam >= bnd, −1: lam <= bnd, 0: free */
+    for (int i = 0; i < 6; i++) r[i] = free_[i] ? b0[i] : 0.0;
+    for (int p = 0; p < m; p++) {
+        int k = act[p];
+        double ro1 = jac[k * nx + 6 + k];
+        bnd[p] = -g[6 + k] / ro1; /* z_k = g_{6+k} + lam·ro1 changes sign here */
+        sgn[p] = lo[k] && !hi[k] ? 1 : hi[k] && !lo[k] ? -1 : 0;
+        lam[p] = bnd[p];
+        aa[p] = 0.0;
+        for (int i = 0; i < 6; i++)
+            if (free_[i]) {
+                aa[p] += jac[k * nx + i] * jac[k * nx + i];
+                r[i] += lam[p] * jac[k * nx + i];
+            }
+    }
+    for (int sweep = 0; sweep < 4000; sweep++) {
+        double moved = 0.0;
+        for (int p = 0; p < m; p++) {
+            if (!(aa[p] > 0.0)) continue;
+            const double *a = &jac[act[p] * nx];
+            double ar = 0.0;
+            for (int i = 0; i < 6; i++)
+                if (free_[i]) ar += a[i] * r[i];
+            double v = lam[p] - ar / aa[p];
+            if (sgn[p] > 0 && v < bnd[p]) v = bnd[p];
+            if (sgn[p] < 0 && v > bnd[p]) v = bnd[p];
+            double dv = v - lam[p];
+            if (dv == 0.0) continue;
+            for (int i = 0; i < 6; i++)
+                if (free_[i]) r[i] += dv * a[i];
+            lam[p] = v;
+            moved = fmax(moved, fabs(dv) * sqrt(aa[p]));
+        }
+        if (!(moved > 1e-3 * DBL_EPSILON * (1.0 + m_out->grad_max))) break;
+    }
+    double stat = 0.0;
+    for (int i = 0; i < 6; i++)
+        if (free_[i]) stat = fmax(stat, fabs(r[i]));
+    if (!(stat < fmax(m_out->stationarity, m_out->wrong_sign))) return;
+    m_out->stationarity = stat;
+    m_out->wrong_sign = 0.0;
+    for (int p = 0; p < m; p++) {
+        int k = act[p];
+        m_out->bound_mult[k] = g[6 + k] + lam[p] * jac[k * nx + 6 + k];
+    }
+}
+
 hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_measure *m_out)
 {
     const int n = pb->n, nx = pb->nx;
@@ -137,6 +201,8 @@ hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_me
         lam[k] = -g[6 + k] / jac[k * nx + 6 + k];
         for (int i = 0; i < 6; i++) b[i] += lam[k] * jac[k * nx + i];
     }
+    double b0[6];
+    for (int i = 0; i < 6; i++) b0[i] = b[i];
     if (m > 0) {
         double A[HP_MAX_BLADDERS * HP_MAX_BLADDERS], rhs[HP_MAX_BLADDERS];
         double tr = 0.0;
@@ -165,13 +231,17 @@ hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_me
     for (int i = 0; i < 6; i++)
         if (free_[i]) m_out->stationarity = fmax(m_out->stationarity, fabs(b[i]));
     m_out->wrong_sign = 0.0;
+    for (int k = 0; k < n; k++) m_out->bound_mult[k] = 0.0;
     for (int p = 0; p < m; p++) {
         int k = act[p];
         /* Bound multiplier z = ∂L/∂ri_k: >= 0 at a lower bound, <= 0 at an upper one. */
         double z = g[6 + k] + lam[k] * jac[k * nx + 6 + k];
+        m_out->bound_mult[k] = z;
         if (lo[k] && !hi[k]) m_out->wrong_sign = fmax(m_out->wrong_sign, -z);
         if (hi[k] && !lo[k]) m_out->wrong_sign = fmax(m_out->wrong_sign, z);
     }
+    if (m_out->wrong_sign > 0.0)
+        signed_multipliers(pb, g, jac, free_, b0, lo, hi, act, m, m_out);
     return HP_OK;
 }
 

@@ -37,6 +37,9 @@ typedef struct hp_kkt_measure {
     double wrong_sign;   /* largest wrong-signed bound multiplier (0 when all are right) */
     double grad_max;     /* |∇f|∞, the scale of the two above */
     int in_bounds;       /* 1 when every ri_k is inside [ri_lo_k, ri_hi_k] */
+    /* Each radius's bound multiplier z_k = ∂L/∂ri_k (>= 0 right at a lower bound, <= 0 at
+     * an upper one; 0 for a radius on neither bound). */
+    double bound_mult[HP_MAX_BLADDERS];
 } hp_kkt_measure;
 
 /* Fills m for x (+inf stationarity when no multipliers can be computed). Allocates nothing. */

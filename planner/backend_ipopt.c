@@ -20,11 +20,13 @@
 #include "planner/ipopt_shared.h"
 
 #include <IpStdCInterface.h>
+#include <float.h>
 #include <math.h>
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 static pthread_mutex_t ipopt_lock = PTHREAD_MUTEX_INITIALIZER;
 
@@ -60,6 +62,7 @@ typedef struct ipopt_state {
     int have_prev;          /* the last solve converged: its multipliers are usable */
     int accepted;           /* the core starts the next solve from that answer (warm_point) */
     int lbfgs;              /* option "hessian_approximation" = 1 */
+    clock_t cpu0;           /* CPU clock at the start of this solve (the polish's budget) */
     int rebuild;            /* an option changed: rebuild the app before the next solve */
     double mult_g[HP_MAX_BLADDERS];
     double mult_xl[HP_PROBLEM_NX_MAX], mult_xu[HP_PROBLEM_NX_MAX];
@@ -310,6 +313,173 @@ static hp_status map_status(enum ApplicationReturnStatus r, int *converged)
     }
 }
 
+/* The active-set polish of a converged answer that binds nothing.
+ *
+ * Just beyond reach the remaining pose error, and with it the binding bound's multiplier z,
+ * can be as small as the tolerance (1e-9 mm). Ipopt's complementarity test (slack · z <=
+ * compl_inf_tol) then lets its interior point stop micrometres inside that bound, where the
+ * planner's one binding threshold (HP_BINDING_TOL_MM) sees no limit and must refuse the
+ * claim: on the default layout Ipopt gave solver-error in 42 of 44 directions 1e-6 beyond
+ * reach. The final iterate still tells which bounds are active: on the central path every
+ * slack · z is about mu, so z / slack is of order one at an active bound and ~1e-12 at an
+ * inactive one. Those bounds are fixed and Ipopt solves again; the polished point replaces
+ * the answer only if it passes the first-order test (hp_backend_kkt_ok, signs of the fixed
+ * bounds' multipliers included) and its objective is no worse than the interior point's (a
+ * feasible point, so the optimum's objective is at most its own). Otherwise the answer is
+ * left as it was, and the core labels it. The polish's solves share the plan's budgets: at
+ * most max_iter iterations and max_time s of CPU time in all. */
+
+/* z / slack of the bounds taken as active must exceed every other bound's by this factor. */
+#define POLISH_GAP 1e4
+/* A released bound is moved this fraction of its radius's range outward: at a degenerate
+ * vertex (more active contacts than pose directions) a bound whose multiplier has the wrong
+ * sign can still be optimal within a nanometre, where an interior point would stop
+ * micrometres inside it again; without the bound the optimum is found, and lies inside. */
+#define POLISH_RELAX 0.1
+
+/* 1 when a converged answer x misses the target by more than the tolerance while every
+ * radius is farther than half the binding threshold from its bounds. */
+static int needs_polish(const ipopt_state *st, const hp_problem *pb, const double *x)
+{
+    double err = 0.0;
+    for (int i = 0; i < 6; i++)
+        if (pb->w[i] > 0.0) err = fmax(err, fabs(x[i] - pb->d[i]));
+    if (!(err > st->s.tolerance)) return 0;
+    for (int k = 0; k < st->n; k++)
+        if (!(x[6 + k] - pb->ri_lo[k] > 0.5 * HP_BINDING_TOL_MM &&
+              pb->ri_hi[k] - x[6 + k] > 0.5 * HP_BINDING_TOL_MM))
+            return 0;
+    return 1;
+}
+
+/* The bounds Ipopt's last iterate marks active: side[k] = −1 (lower), +1 (upper), 0 (free).
+ * 0 when no clear gap (POLISH_GAP) separates them from the rest. */
+static int pick_active(const ipopt_state *st, const hp_problem *pb, const double *x,
+                       int side[HP_MAX_BLADDERS])
+{
+    double ratio[2 * HP_MAX_BLADDERS];
+    int ord[2 * HP_MAX_BLADDERS], m = 2 * st->n;
+    for (int k = 0; k < st->n; k++) {
+        ratio[2 * k] = st->mult_xl[6 + k] / fmax(x[6 + k] - pb->ri_lo[k], DBL_MIN);
+        ratio[2 * k + 1] = st->mult_xu[6 + k] / fmax(pb->ri_hi[k] - x[6 + k], DBL_MIN);
+        side[k] = 0;
+    }
+    for (int j = 0; j < m; j++) { /* insertion sort, descending */
+        int v = j;
+        while (v > 0 && ratio[ord[v - 1]] < ratio[j]) {
+            ord[v] = ord[v - 1];
+            --v;
+        }
+        ord[v] = j;
+    }
+    int cut = -1;
+    double best = POLISH_GAP;
+    for (int j = 0; j + 1 < m; j++) {
+        double a = ratio[ord[j]], b = ratio[ord[j + 1]];
+        if (!(a > 0.0) || !isfinite(a)) break;
+        double gap = b > 0.0 ? a / b : INFINITY;
+        if (gap >= best) {
+            best = gap;
+            cut = j;
+        }
+    }
+    if (cut < 0) return 0;
+    for (int j = 0; j <= cut; j++) {
+        int k = ord[j] / 2;
+        if (side[k]) return 0; /* both bounds of one radius: no clear answer */
+        side[k] = ord[j] % 2 ? 1 : -1;
+    }
+    return 1;
+}
+
+/* One solve with the bounds side[] = ±1 fixed (−1 lower, +1 upper), from x with those radii
+ * moved onto them, and the bound on the side of side[] = ±2 (released) moved POLISH_RELAX of
+ * the radius's range outward (caller holds the lock). 1 with xp converged, finite and
+ * clipped into the bounds (the first-order test then sees any violation as a broken
+ * contact), else 0. */
+static int solve_fixed(ipopt_state *st, const hp_problem *pb, const double *x,
+                       const int side[HP_MAX_BLADDERS], double *xp)
+{
+    double xl[HP_PROBLEM_NX_MAX], xu[HP_PROBLEM_NX_MAX];
+    double gz[HP_MAX_BLADDERS] = {0}, mg[HP_MAX_BLADDERS];
+    double ml[HP_PROBLEM_NX_MAX], mu_[HP_PROBLEM_NX_MAX];
+    for (int i = 0; i < 6; i++) {
+        double b = pb->w[i] > 0.0 ? IPOPT_INF : 0.0;
+        xl[i] = -b, xu[i] = b;
+    }
+    memcpy(xp, x, (size_t)st->nx * sizeof *x);
+    for (int k = 0; k < st->n; k++) {
+        double lo = pb->ri_lo[k], hi = pb->ri_hi[k], relax = POLISH_RELAX * (hi - lo);
+        xl[6 + k] = side[k] == 1 ? hi : side[k] == -2 ? lo - relax : lo;
+        xu[6 + k] = side[k] == -1 ? lo : side[k] == 2 ? hi + relax : hi;
+        if (side[k] == 1 || side[k] == -1) xp[6 + k] = xl[6 + k];
+    }
+    IpoptProblem app = CreateIpoptProblem(st->nx, xl, xu, st->n, gz, gz, 7 * st->n,
+                                          21 + st->n, 0, eval_f, eval_g, eval_grad_f,
+                                          eval_jac_g, eval_h);
+    if (!app) return 0;
+    const hp_settings *s = &st->s;
+    int iters0 = st->iters;
+    enum ApplicationReturnStatus rc = Internal_Error;
+    double obj;
+    /* What is left of the plan's budgets (CPU time, as Ipopt's max_cpu_time counts it). */
+    int iters_left = s->max_iter - iters0;
+    double time_left = s->max_time - (double)(clock() - st->cpu0) / CLOCKS_PER_SEC;
+    if (iters_left > 0 && time_left > 0.0 &&
+        hp_ipopt_base_options(app, s->tolerance, iters_left, time_left, NULL) == HP_OK &&
+        SetIntermediateCallback(app, intermediate))
+        rc = IpoptSolve(app, xp, NULL, &obj, mg, ml, mu_, st);
+    FreeIpoptProblem(app);
+    st->iters += iters0;
+    int conv;
+    map_status(rc, &conv);
+    for (int i = 0; i < st->nx; i++) conv = conv && isfinite(xp[i]);
+    if (conv) hp_backend_clip(pb, xp);
+    return conv;
+}
+
+/* The polish (above): fixes the bounds Ipopt's iterate marks active and solves again; a fixed
+ * bound whose multiplier comes out with the wrong sign is released and the rest solved
+ * again (an active-set step), at most once per bladder. Replaces x and returns 1 when a
+ * polished point passes the checks, else leaves x and returns 0. */
+static int polish(ipopt_state *st, const hp_problem *pb, double *x)
+{
+    int side[HP_MAX_BLADDERS];
+    if (!pick_active(st, pb, x, side)) return 0;
+    double f_ip;
+    if (hp_problem_objective(pb, x, &f_ip, NULL, NULL) != HP_OK) return 0;
+    const double feas = fmax(10.0 * st->s.tolerance, 1e-9);
+    for (int round = 0; round < st->n; round++) {
+        double xp[HP_PROBLEM_NX_MAX], f_pol;
+        hp_kkt_measure m;
+        if (!solve_fixed(st, pb, x, side, xp) ||
+            hp_problem_objective(pb, xp, &f_pol, NULL, NULL) != HP_OK ||
+            !(f_pol <= f_ip * (1.0 + 1e-9)) || hp_backend_kkt_measure(pb, xp, &m) != HP_OK)
+            return 0;
+        if (hp_backend_kkt_ok(pb, xp, feas)) {
+            memcpy(x, xp, (size_t)st->nx * sizeof *x);
+            return 1;
+        }
+        /* Release the fixed bound with the most wrong-signed multiplier, if any. */
+        int worst = -1;
+        double wz = 0.0;
+        for (int k = 0; k < st->n; k++) {
+            double z = m.bound_mult[k];
+            double wrong = side[k] == -1 ? -z : side[k] == 1 ? z : 0.0;
+            if (wrong > wz) {
+                wz = wrong;
+                worst = k;
+            }
+        }
+        if (worst < 0) return 0;
+        side[worst] *= 2;
+        int any = 0;
+        for (int k = 0; k < st->n; k++) any |= side[k] == 1 || side[k] == -1;
+        if (!any) return 0;
+    }
+    return 0;
+}
+
 static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0, double *x,
                             hp_backend_result *r, hp_diag *d)
 {
@@ -340,15 +510,23 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
     if (e == HP_OK) e = opt_str(st->app, "warm_start_init_point", warm ? "yes" : "no", d);
     if (e == HP_OK) e = opt_num(st->app, "mu_init", warm ? MU_INIT_WARM : MU_INIT_COLD, d);
     enum ApplicationReturnStatus rc = Internal_Error;
+    int polished = 0;
     if (e == HP_OK) {
         st->pb = pb;
         st->iters = 0;
+        st->cpu0 = clock();
         double obj;
         memcpy(x, xs, (size_t)st->nx * sizeof *x);
         rc = IpoptSolve(st->app, x, NULL, &obj, st->mult_g, st->mult_xl, st->mult_xu, st);
-        st->pb = NULL;
         int forced = atomic_load(&ipopt_forced);
         if (forced != HP_TEST_NO_FORCE) rc = (enum ApplicationReturnStatus)forced;
+        int conv;
+        map_status(rc, &conv);
+        int fin = 1;
+        for (int i = 0; i < st->nx; i++) fin = fin && isfinite(x[i]);
+        if (conv && fin && needs_polish(st, pb, x) && polish(st, pb, x))
+            polished = 1;
+        st->pb = NULL;
     }
     pthread_mutex_unlock(&ipopt_lock);
     if (e != HP_OK) {
@@ -368,7 +546,8 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
         r->status = HP_STATUS_SOLVER_ERROR;
     }
     hp_backend_clip(pb, x);
-    st->have_prev = r->converged;
+    /* The stored multipliers belong to the unpolished point: the next solve starts cold. */
+    st->have_prev = r->converged && !polished;
     return HP_OK;
 }
 

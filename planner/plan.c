@@ -325,14 +325,16 @@ static int closest_verified(const hp_planner *p, const double *x)
 /* 1 when the strict round trip of answer r gives back achieved, its achieved pose
  * (r->achieved; not the commanded target c->xc, from which a REACHED answer may lie up to the
  * tolerance), to HP_IDENT_FK_TOL: its pressures -> stable radii -> outer radii -> forward
- * contact kinematics in the commanded components started from the NOMINAL pose. *worst is
- * the distance (mm/deg) to where the fit ends (inf when it fails). On a near-degenerate
- * layout at the plane level the fit from the nominal pose can end in a second local fit;
+ * contact kinematics in the commanded components started from the NOMINAL pose. t says
+ * where the fit ended (hp_plan_trip). On a near-degenerate layout the fit from the nominal
+ * pose can end at another pose with the same distances, or stall in a second local fit;
  * then the answer is not identified by this layout. Allocates nothing. */
-int hp_plan_round_trip(hp_planner *p, const hp_result *r, const double achieved[6],
-                       const hp_plan_anchor *anchor, double *worst)
+int hp_plan_round_trip(const hp_planner *p, const hp_result *r, const double achieved[6],
+                       const hp_plan_anchor *anchor, hp_plan_trip *t)
 {
-    *worst = 0.0;
+    t->worst = 0.0;
+    t->gap_mm = 0.0;
+    memcpy(t->end, achieved, sizeof t->end);
     /* The linear model is linear in the pose and the commanded columns have full column
      * rank (hp_layout_identify keeps exactly `rank` of them): the least-squares fit is
      * unique, so the fit from the nominal pose is the commanded part itself, to rounding.
@@ -372,9 +374,21 @@ int hp_plan_round_trip(hp_planner *p, const hp_result *r, const double achieved[
     hp_plan_to_scaled(xf, b);
     double w = e == HP_OK ? 0.0 : INFINITY;
     for (int i = 0; i < 6; ++i) w = fmax(w, fabs(a[i] - b[i]));
-    *worst = w;
+    t->worst = w;
+    memcpy(t->end, xf, sizeof t->end);
     if (w <= HP_IDENT_FK_TOL) return 1;
-    return w <= HP_IDENT_SAME && resid * HP_MM_PER_M <= HP_IDENT_FIT_MM;
+    if (w <= HP_IDENT_SAME && resid * HP_MM_PER_M <= HP_IDENT_FIT_MM) return 1;
+    /* A refusal names the pose only after checking it: the distances there, evaluated
+     * afresh (not the fit's residual, an RMS), against the answer's outer radii. */
+    double rho[HP_MAX_BLADDERS];
+    t->gap_mm = INFINITY;
+    if (e == HP_OK && hp_contact_eval_g(&p->L, &p->G, p->level, xf, rho, NULL, NULL) == HP_OK) {
+        t->gap_mm = 0.0;
+        for (int k = 0; k < p->L.n; ++k)
+            t->gap_mm = fmax(t->gap_mm, fabs(rho[k] - ro[k]) * HP_MM_PER_M);
+        if (!isfinite(t->gap_mm)) t->gap_mm = INFINITY;
+    }
+    return 0;
 }
 
 /* hp_plan_round_trip of answer r from plan c, with its message in p->err when it fails. */
@@ -392,22 +406,16 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
         an.J_err = hp_kin_jacobian_drift(&p->L, &p->G, p->level, xa, rho_m, c->lin_J,
                                          sqrt(d2) * (1.0 + 1e-12));
     }
-    double worst;
-    if (hp_plan_round_trip(p, r, achieved, c->direct || c->has_rho ? &an : NULL, &worst))
+    hp_plan_trip t;
+    if (hp_plan_round_trip(p, r, achieved, c->direct || c->has_rho ? &an : NULL, &t))
         return 1;
     hp_text_set(p->err, r->status == HP_STATUS_CLOSEST
                             ? "desired: its closest reachable pose lies outside the identifiable "
                               "range of this layout at the "
                             : "desired: outside the identifiable range of this layout at the ");
     hp_text_add(p->err, hp_level_name(p->level));
-    hp_text_add(p->err, " level: forward contact kinematics from the nominal pose finds "
-                        "another pose ");
-    if (isfinite(worst)) {
-        hp_text_add_num(p->err, worst, 6);
-        hp_text_add(p->err, " mm/deg away with nearly the same contact distances");
-    } else {
-        hp_text_add(p->err, "(it did not converge)");
-    }
+    hp_text_add(p->err, " level: ");
+    hp_plan_trip_text(p->err, &t);
     return 0;
 }
 
@@ -476,6 +484,31 @@ static void add_binding(const hp_planner *p, char *buf, hp_status st, const unsi
 static int label(hp_planner *p, hp_result *r, plan_ctx *c)
 {
     int unc_any = uncommanded_beyond(p, c->unc);
+    /* No answer leaves the identifiable range: a pose there is one the layout cannot tell
+     * from another (a five-direction layout's closest answers reached 107 mm, beyond the
+     * head's smallest semi-axis). A converged answer there is refused, as a desired pose
+     * there is (a warm solve's is first tried again from the nominal pose); a budget's
+     * iterate there is no usable iterate. */
+    int budget = !(r->pose_error <= p->s.tolerance) && !c->converged;
+    if (!hp_plan_range_ok(&p->id, r->achieved,
+                          budget ? "the last iterate's" : "desired: its closest reachable pose's",
+                          p->err)) {
+        if (budget) {
+            char why[HP_DIAG_MAX];
+            hp_text_set(why, p->err);
+            hp_status fs = c->st == HP_STATUS_TIME_LIMIT ? HP_STATUS_TIME_LIMIT
+                                                         : HP_STATUS_ITERATION_LIMIT;
+            add_budget(p, p->err, fs);
+            hp_text_add(p->err, "; ");
+            hp_text_add(p->err, why);
+            hp_text_add(p->err, "; holding the previous pressures");
+            fail_safe(p, r, fs, c);
+            return 0;
+        }
+        c->unconfirmed = 1;
+        fail_safe(p, r, HP_STATUS_INVALID_INPUT, c);
+        return 0;
+    }
     if (r->pose_error <= p->s.tolerance) {
         r->status = unc_any ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED;
         /* What is verified is the answer's own pose: with a tolerance above the round

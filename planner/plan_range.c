@@ -25,14 +25,14 @@ int hp_plan_range_check(const hp_identifiable *id, const double xi[6], double *s
     return ang < id->rot_limit ? 0 : 2;
 }
 
-/* 1 when desired lies in the identifiable range (hp_identifiable): translation norm up to
- * trans_limit, rotation angle below rot_limit; else 0 with the limit named in err. */
-static int in_identifiable_range(const hp_identifiable *id, const double desired[6], char *err)
+int hp_plan_range_ok(const hp_identifiable *id, const double xi[6], const char *what,
+                     char *err)
 {
     double size;
-    int out = hp_plan_range_check(id, desired, &size);
+    int out = hp_plan_range_check(id, xi, &size);
     if (out == 1) {
-        hp_text_set(err, "desired translation: |(x, y, z)| = ");
+        hp_text_set(err, what);
+        hp_text_add(err, " translation: |(x, y, z)| = ");
         hp_text_add_num(err, size * HP_MM_PER_M, 1);
         hp_text_add(err, " mm is outside the identifiable range (<= ");
         hp_text_add_num(err, id->trans_limit * HP_MM_PER_M, 1);
@@ -40,7 +40,8 @@ static int in_identifiable_range(const hp_identifiable *id, const double desired
         return 0;
     }
     if (out == 2) {
-        hp_text_set(err, "desired rotation: angle ");
+        hp_text_set(err, what);
+        hp_text_add(err, " rotation: angle ");
         hp_text_add_num(err, size * HP_DEG_PER_RAD, 1);
         hp_text_add(err, " deg is outside the identifiable range (below ");
         hp_text_add_num(err, id->rot_limit * HP_DEG_PER_RAD, 0);
@@ -66,5 +67,5 @@ int hp_plan_desired_ok(const hp_identifiable *id, const double desired[6], char 
             return 0;
         }
     }
-    return in_identifiable_range(id, desired, err);
+    return hp_plan_range_ok(id, desired, "desired", err);
 }

@@ -18,6 +18,11 @@
  * norm [m] or angle [rad]. The one test the plans, the reach and the previous answer share. */
 int hp_plan_range_check(const hp_identifiable *id, const double xi[6], double *size);
 
+/* 1 when pose xi (SI) lies in the identifiable range id; else 0 with "WHAT translation: ..."
+ * or "WHAT rotation: ..." in err (HP_DIAG_MAX bytes), the size and the limit named. */
+int hp_plan_range_ok(const hp_identifiable *id, const double xi[6], const char *what,
+                     char *err);
+
 /* The request: desired finite, each translation within HP_PLAN_MAX_TRANS and rotation
  * within HP_PLAN_MAX_ROT, and inside the identifiable range id. 1 when it passes, else 0
  * with the one-line reason (the component or the limit named) in err (HP_DIAG_MAX bytes). */

@@ -77,10 +77,31 @@ typedef struct hp_plan_anchor {
     const double *x, *rho_mm, *J;
     double J_err;
 } hp_plan_anchor;
+/* Where a round trip's fit from the nominal pose ended, for its verdict and message. */
+typedef struct hp_plan_trip {
+    double worst;  /* mm/deg from the answer's pose to end (inf when the fit failed) */
+    double end[6]; /* the fit's last pose (SI) */
+    /* Only when the round trip fails: the largest difference [mm] between the contact
+     * distances evaluated afresh at end and the answer's outer radii (inf when the fit or
+     * the evaluation failed). At most HP_IDENT_NAME_MM: end is another pose that holds these
+     * pressures; above: the fit stalled there. */
+    double gap_mm;
+} hp_plan_trip;
+/* A pose whose contact distances match an answer's to this [mm] holds its pressures as far as
+ * the planner can tell (its binding threshold HP_BINDING_TOL_MM and its clamp residual
+ * HP_CLAMP_RESID_MM are the same 1e-6 mm); another pose with the same distances matches
+ * them to rounding (~1e-12 mm), a stalled fit misses them by 1e-5..1 mm. */
+#define HP_IDENT_NAME_MM 1e-6
 /* The strict round trip of r's pressures (plan.c): 1 when the fit from the nominal pose ends
- * at achieved (SI), with the distance to where it ends in *worst (mm/deg, inf on failure). */
-int hp_plan_round_trip(hp_planner *p, const hp_result *r, const double achieved[6],
-                       const hp_plan_anchor *anchor, double *worst);
+ * at achieved (SI); t says where it ended. Allocates nothing. */
+int hp_plan_round_trip(const hp_planner *p, const hp_result *r, const double achieved[6],
+                       const hp_plan_anchor *anchor, hp_plan_trip *t);
+/* The text of a failed round trip t into buf (hp_text_add): "forward contact kinematics from
+ * the nominal pose finds another pose, (x, y, z) mm (pitch, roll, yaw) deg, D mm/deg away,
+ * whose contact distances match ..." when its end really holds the answer's distances
+ * (HP_IDENT_NAME_MM), else that the fit stalled (or did not converge) and how far its
+ * distances are from the answer's. */
+void hp_plan_trip_text(char *buf, const hp_plan_trip *t);
 /* hp_contact_fit of the outer radii ro in the components free_ from the nominal pose,
  * taking its first model evaluation from p->nom: the same steps, one evaluation fewer.
  * near (may be NULL): hp_kin_fit's early stop at an expected pose. */

@@ -1,5 +1,6 @@
 /* Limits as radius bounds, commanded directions, scaled contact evaluation. */
 #include "planner/problem_setup.h"
+#include "common/exact_prod.h"
 
 #include <math.h>
 #include <string.h>
@@ -69,7 +70,10 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
         if (e != HP_OK)
             return hp_diag_set(d, e, "bladder %s: limit point: %s", B->name,
                                hp_error_message(e));
-        double lo = B->stretch_min * m->Ri, hi = B->stretch_max * m->Ri;
+        /* The stretch limits as radii that keep them in exact arithmetic (the rounded
+         * product can lie an ulp outside): every backend's answer is clamped into these. */
+        double lo = hp_prod_up(B->stretch_min, m->Ri);
+        double hi = hp_prod_down(B->stretch_max, m->Ri);
         unsigned lof = HP_BIND_STRETCH_MIN, hif = HP_BIND_STRETCH_MAX;
         if (lp.exists) take_min(&hi, &hif, lp.ri * (1.0 - HP_STABLE_MARGIN), HP_BIND_LIMIT_POINT);
         double rs; /* the hoop-stress limit as a radius bound (monotone: iab/iab_stress.c) */
@@ -96,12 +100,9 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
             return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_min bound", B->name);
         if ((hif & HP_BIND_PRESSURE_MAX) && !nudge_hi(m, &hi, B->p_max))
             return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max bound", B->name);
-        /* The stretch is reported as ri / Ri in double precision: move each bound inward
-         * by ulps until that quotient sits inside [stretch_min, stretch_max] (0.944 · Ri
-         * rounded can divide back to 1 ulp below 0.944). Inward moves only raise the
-         * pressure at lo and lower it at hi, so the pressure bounds keep holding. */
-        for (int i = 0; i < 8 && lo / m->Ri < B->stretch_min; ++i) lo = nextafter(lo, INFINITY);
-        for (int i = 0; i < 8 && hi / m->Ri > B->stretch_max; ++i) hi = nextafter(hi, 0.0);
+        /* lo >= stretch_min · Ri exactly, so the reported stretch ri / Ri (the exact
+         * quotient rounded, a monotone map) is >= stretch_min too; the same for hi. The
+         * pressure nudges only moved the bounds inward. */
         double plo, phi;
         if (!(lo < hi) || lo / m->Ri < B->stretch_min || hi / m->Ri > B->stretch_max || hp_iab_ik(m, lo, &plo) != HP_OK || hp_iab_ik(m, hi, &phi) != HP_OK)
             return hp_diag_set(d, HP_ERR_INVALID,

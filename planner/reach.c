@@ -5,29 +5,60 @@
 
 #include <math.h>
 
+/* Scan steps per cap (0.025 mm, 0.015 deg): the round trip of a layout that barely
+ * identifies rotations fails in gaps of ~0.03 mm along an axis (near-spherical head on six
+ * bladders, plane level), which the limits' scan of 1/100 of the cap stepped over. */
+#define PLAN_REACH_SCAN 2000
+
 /* What the predicate needs: the planner and this search's bounds (no rate limits). */
 typedef struct reach_ctx {
     const hp_planner *p;
     hp_problem pb;
 } reach_ctx;
 
-/* 1 when a single solve of desired xi would be answered by the direct chain: xi inside the
- * identifiable range, and the contact distances of its commanded part (plan.c, steps 1-2)
- * inside every bladder's outer-radius bounds. */
+/* 1 when a single solve of desired xi from rest would be answered REACHED by the direct
+ * chain: xi inside the identifiable range, the contact distances of its commanded part
+ * (plan.c, steps 1-2) inside every bladder's outer-radius bounds, and the answer's strict
+ * round trip (its pressures' forward contact kinematics from the nominal pose, plan.c)
+ * giving its pose back. Without the last, a layout that barely identifies rotations (a
+ * near-spherical head on six bladders) had reaches at 99 % of which solve refused the
+ * answer as outside the identifiable range. */
 static int direct_reached(void *ctx, const double xi[6])
 {
     reach_ctx *c = ctx;
     const hp_planner *p = c->p;
     const hp_identifiable *id = &p->id;
     if (hp_plan_range_check(id, xi, NULL) != 0) return 0;
-    double xc[6], x[6], rho[HP_MAX_BLADDERS];
+    double xc[6], x[6], rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6];
     if (hp_pose_commanded_part(&p->L, id, p->level, xi, xc) != HP_OK) return 0;
     hp_plan_to_scaled(xc, x);
     for (int i = 0; i < 6; ++i)
         if (!p->commanded[i]) x[i] = 0.0;
     int inside = 0;
-    return hp_setup_contact_inside(&p->L, &p->G, p->level, x, c->pb.ro_lo, c->pb.ro_hi, rho, NULL,
-                                   &inside) == HP_OK && inside;
+    double *Jp = p->level == HP_LEVEL_LINEAR ? NULL : J;
+    if (hp_setup_contact_inside(&p->L, &p->G, p->level, x, c->pb.ro_lo, c->pb.ro_hi, rho, Jp,
+                                &inside) != HP_OK || !inside)
+        return 0;
+    /* The answer hp_plan builds from these distances (planner.c, hp_plan_answer_from_pose,
+     * without rate limits), then its round trip with the direct chain's anchor, as hp_plan
+     * runs it. */
+    hp_result r;
+    r.n = p->L.n;
+    for (int k = 0; k < p->L.n; ++k) {
+        double ri;
+        int cl;
+        if (hp_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, c->pb.ri_lo_si[k],
+                                  c->pb.ri_hi_si[k], &ri, &cl) != HP_OK ||
+            hp_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k],
+                                       rho[k] / HP_MM_PER_M, ri, cl, p->sb.p_lo[k],
+                                       p->sb.p_hi[k], &r.bladders[k]) != HP_OK)
+            return 0;
+    }
+    double achieved[6];
+    hp_plan_from_scaled(x, achieved);
+    hp_plan_anchor an = {x, rho, Jp, 0.0};
+    hp_plan_trip t;
+    return hp_plan_round_trip(p, &r, achieved, &an, &t);
 }
 
 hp_error hp_planner_reach(const hp_planner *p, double reach[6][2])
@@ -43,8 +74,8 @@ hp_error hp_planner_reach(const hp_planner *p, double reach[6][2])
             reach[i][0] = reach[i][1] = NAN;
             continue;
         }
-        reach[i][0] = -hp_kin_reach_axis(direct_reached, &c, i, -1.0);
-        reach[i][1] = hp_kin_reach_axis(direct_reached, &c, i, 1.0);
+        reach[i][0] = -hp_kin_reach_axis(direct_reached, &c, i, -1.0, PLAN_REACH_SCAN);
+        reach[i][1] = hp_kin_reach_axis(direct_reached, &c, i, 1.0, PLAN_REACH_SCAN);
     }
     return HP_OK;
 }

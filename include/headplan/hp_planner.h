@@ -51,7 +51,9 @@
  *     (desired − uncommanded) back the same way. REACHED never has an uncommanded component
  *     beyond the tolerance. A correction outside the identifiable range (hp_kinematics.h,
  *     hp_identifiable: rotation angle >= 90 degrees for a head that is not a sphere,
- *     translation beyond the smallest semi-axis) is INVALID_INPUT, the limit named.
+ *     translation beyond the smallest semi-axis) is INVALID_INPUT, the limit named. No
+ *     result carries an achieved pose outside that range either: a converged answer there is
+ *     INVALID_INPUT, a budget's iterate there is replaced by the safe output.
  *   closest_names_binding: a CLOSEST answer has at least one bladder with binding flags
  *     (HP_BINDING_TOL_MM, the same for every backend) named in hp_planner_error; a claimed
  *     optimum with nothing binding is SOLVER_ERROR with the safe output. */

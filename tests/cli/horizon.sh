@@ -126,13 +126,15 @@ expect_exit 64 "prediction in greedy"; expect_stderr_has "--prediction: only the
 run horizon "$S/horizon/step.yaml" "$TMP/step.csv" --rows deviation --mode greedy --tolerance-deg 1e-310
 expect_exit 64 "subnormal tolerance"; expect_stderr_has "--tolerance-deg: must be > 0 (and not subnormal)" "subnormal named"
 # An offline row whose planned pose its pressures do not hold (the fit from the nominal pose,
-# the strict round trip every hp_plan answer passes, ends elsewhere): a pitch ramped to
+# the strict round trip every hp_plan answer passes, stalls 43 mm/deg away with distances
+# 1.2 mm off the pressures'): a pitch ramped to
 # 89.9 deg with the rate limit lifted. Before, offline stated those poses, exit 0.
 { printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n'
   for i in $(seq 0 30); do p=$((i * 6)); [ $p -gt 89 ] && p=89.9; echo "$((i * 10)).0,0,0,0,$p,0,0"; done
 } > "$TMP/pitch.csv"
 run horizon "$S/default.yaml" "$TMP/pitch.csv" --mode offline --rate-kpa-per-s 1000
 expect_exit 65 "offline pose not confirmed"
-expect_stderr_has "headplan horizon: offline: line 15: the planned pose is not where its pressures hold the head: forward contact kinematics from the nominal pose finds another pose" "offline round trip named"
+expect_stderr_has "headplan horizon: offline: line 15: the planned pose is not where its pressures hold the head: forward contact kinematics from the nominal pose stalled at (" "offline round trip named"
+expect_stderr_has "mm/deg away, where its contact distances miss these pressures' by 1.2" "offline stall measured"
 [ "$(wc -l < "$TMP/err")" -eq 1 ] && ok || bad "offline round trip: one line"
 finish

@@ -85,6 +85,22 @@ static inline hp_error lf_planner(hp_level level, double rate_max, hp_planner **
     return hp_planner_create(&L, &s, p, NULL);
 }
 
+/* A planner on layout L with backend b at a level, default settings otherwise and a time
+ * budget of 60 s, so that no outcome depends on the machine's speed. NULL (the message
+ * printed) when create fails. */
+static inline hp_planner *lf_planner_on(const hp_layout *L, hp_backend b, hp_level level)
+{
+    hp_settings s;
+    hp_settings_default(&s);
+    s.backend = b;
+    s.level = level;
+    s.max_time = 60.0;
+    hp_planner *p = NULL;
+    hp_diag d = {{0}};
+    if (hp_planner_create(L, &s, &p, &d) != HP_OK) fprintf(stderr, "create: %s\n", d.text);
+    return p;
+}
+
 /* The default layout in neo-Hookean rubber (C2 = 0, which has an inflation limit point) with
  * every stretch_max just below the limit point (closer than the planner's stable margin)
  * and p_max = p_max_factor × the peak pressure, so that the planner's stable-branch cap is

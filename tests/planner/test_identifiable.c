@@ -19,15 +19,7 @@ static const hp_backend backends[4] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT,
 
 static hp_planner *make(const hp_layout *L, hp_backend b, hp_level level)
 {
-    hp_settings s;
-    hp_settings_default(&s);
-    s.backend = b;
-    s.level = level;
-    s.max_time = 60.0; /* outcomes must not depend on the machine's speed */
-    hp_planner *p = NULL;
-    hp_diag d = {{0}};
-    if (hp_planner_create(L, &s, &p, &d) != HP_OK) print_error("create: %s\n", d.text);
-    return p;
+    return lf_planner_on(L, b, level);
 }
 
 /* R = Rz(yaw)·Ry(roll)·Rx(pitch), written out here (not the library's). */
