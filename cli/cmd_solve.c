@@ -211,7 +211,7 @@ int cmd_solve(int argc, char **argv)
     }
     hp_result r;
     e = hp_plan(p, desired, &r);
-    const char *msg = *hp_planner_error(p) ? hp_planner_error(p) : hp_planner_note(p);
+    const char *msg = hp_planner_message(p);
     int status;
     if (e != HP_OK) {
         status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", cli_name(a.scene),
