@@ -10,4 +10,16 @@ run render "$S/default.yaml" --correction 30,0,0,0,0,0 --dry-run
 expect_exit 0 "render --dry-run of a closest plan"
 expect_stdout_has "closest: binding side_fore_left pressure_min" "render shows the closest note"
 
+# A trace of quaternions as a tracker prints them (five decimals: a 1 degree pitch is
+# 0.99996, 0.00873) was refused by a 1e-6 norm check. Accepted within 1e-3 and normalised;
+# a quaternion off by more (0.5, 0.5, 0, 0: norm 0.71) is still no rotation.
+DIR='# headplan-trace: rows=deviation'
+printf '%s\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n0,0,0,0,0.99996,0.00873,0,0\n' "$DIR" >"$TMP/q5.csv"
+run batch "$S/default.yaml" "$TMP/q5.csv" --format csv --no-progress
+expect_exit 0 "batch, a five-decimal quaternion"
+printf '%s\nt_s,x_mm,y_mm,z_mm,qw,qx,qy,qz\n0,0,0,0,0.5,0.5,0,0\n' "$DIR" >"$TMP/qbad.csv"
+run batch "$S/default.yaml" "$TMP/qbad.csv" --format csv --no-progress
+expect_exit 65 "batch, a quaternion of norm 0.71"
+expect_stderr_has "qbad.csv:3: quaternion: norm 0.707106781 is not 1 (within 0.001): not a rotation" "quaternion refused by name"
+
 finish
