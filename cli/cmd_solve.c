@@ -65,6 +65,10 @@ static json_t *binding_json(unsigned flags)
     return a;
 }
 
+/* Component i of the correction is (partly) outside what the layout commands: its error is
+ * the uncommanded part, not a miss. u is clinical (mm, deg). */
+static int uncommanded_axis(const double u[6], int i) { return fabs(u[i]) > HP_DEFAULT_TOLERANCE; }
+
 static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
 {
     json_t *o = json_object();
@@ -73,6 +77,9 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
     json_object_set_new(o, "level", json_string(hp_level_name(r->level)));
     json_object_set_new(o, "desired", cli_json_pose(r->desired));
     json_object_set_new(o, "achieved", cli_json_pose(r->achieved));
+    double err[6];
+    for (int i = 0; i < 6; ++i) err[i] = r->achieved[i] - r->desired[i];
+    json_object_set_new(o, "error", cli_json_pose(err)); /* achieved − desired, as the table */
     json_t *cmd = json_object();
     for (int i = 0; i < 6; ++i)
         json_object_set_new(cmd, hp_pose_key(i), json_boolean(r->commanded[i]));
@@ -82,7 +89,7 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
     double u[6];
     hp_pose_to_clinical(r->uncommanded, u);
     for (int i = 0; i < 6; ++i)
-        if (fabs(u[i]) > HP_DEFAULT_TOLERANCE) json_array_append_new(ud, json_string(hp_pose_key(i)));
+        if (uncommanded_axis(u, i)) json_array_append_new(ud, json_string(hp_pose_key(i)));
     json_object_set_new(o, "uncommanded_directions", ud);
     json_t *bl = json_array();
     for (int k = 0; k < L->n; ++k) {
@@ -148,12 +155,16 @@ static void print_table(const hp_layout *L, const hp_result *r, const char *msg)
             }
         printf("%s\n", any ? "" : "-");
     }
-    /* error: achieved − the commanded part of desired (desired − uncommanded). */
+    /* error: achieved − desired, whatever its cause; where it is the part of the correction
+     * the layout cannot command (the uncommanded column) the row says so. */
     printf("\n%-10s %12s %12s %12s %14s\n", "pose", "desired", "achieved", "error",
            "uncommanded");
     for (int i = 0; i < 6; ++i)
-        printf("%-10s %12.6f %12.6f %12.3g %14.6f%s\n", hp_pose_key(i), d[i], a[i],
-               a[i] - (d[i] - u[i]), u[i], r->commanded[i] ? "" : "  (not commanded)");
+        printf("%-10s %12.6f %12.6f %12.3g %14.6f%s\n", hp_pose_key(i), d[i], a[i], a[i] - d[i],
+               u[i],
+               uncommanded_axis(u, i) ? "  (uncommanded)"
+               : r->commanded[i]      ? ""
+                                      : "  (not commanded)");
 }
 
 int cmd_solve(int argc, char **argv)

@@ -22,4 +22,22 @@ run batch "$S/default.yaml" "$TMP/qbad.csv" --format csv --no-progress
 expect_exit 65 "batch, a quaternion of norm 0.71"
 expect_stderr_has "qbad.csv:3: quaternion: norm 0.707106781 is not 1 (within 0.001): not a rotation" "quaternion refused by name"
 
+# solve printed an error of 0 on an axis the layout cannot command (a sphere head nodding):
+# achieved 0, desired 2 deg. The error is achieved - desired, marked uncommanded; --json
+# carries the same error.
+run solve "$S/sphere_head.yaml" --correction 1,0,0,2,0,0
+expect_exit 2 "solve, an uncommanded pitch"
+grep -Eq '^pitch_deg +2\.000000 +0\.000000 +-2 +2\.000000  \(uncommanded\)$' "$TMP/out" && ok || bad "solve: the pitch row shows error -2, marked uncommanded"
+grep -Eq '^x_mm +1\.000000 +1\.000000 +0 +0\.000000$' "$TMP/out" && ok || bad "solve: a met axis has no mark"
+run solve "$S/sphere_head.yaml" --correction 1,0,0,2,0,0 --json
+expect_exit 2 "solve --json, an uncommanded pitch"
+python3 - "$TMP/out" <<'PY' && ok || bad "solve --json: error = achieved - desired"
+import json, sys
+o = json.load(open(sys.argv[1]))
+for k in o["desired"]:
+    assert abs(o["error"][k] - (o["achieved"][k] - o["desired"][k])) < 1e-12, k
+assert abs(o["error"]["pitch_deg"] + 2) < 1e-12, o["error"]
+assert o["uncommanded_directions"] == ["pitch_deg"], o
+PY
+
 finish
