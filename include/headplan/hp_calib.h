@@ -79,12 +79,17 @@ typedef struct hp_material_fit {
  *   - fewer than two distinct non-zero pressures (each pressure is one equation in the two
  *     moduli; P = 0 gives r = Ri whatever the moduli), or fewer than three points (no degree
  *     of freedom left to estimate the scatter);
- *   - a condition number of the scaled Jacobian above 1e4 (all points so close to λ = 1
- *     that the data only see C1 + C2; points on one side of λ = 1 are ill-conditioned, not
- *     unidentifiable: the number grows like 0.7/max|λi − 1|, 0.18/max|λi − 1| on both sides);
+ *   - a condition number of the scaled Jacobian above 1e4 (columns scaled by the moduli, a
+ *     modulus below 0.1·(C1 + C2) by that; all points so close to λ = 1 that the data only
+ *     see C1 + C2; points on one side of λ = 1 are ill-conditioned, not unidentifiable: the
+ *     number grows like 0.7/max|λi − 1|, 0.18/max|λi − 1| on both sides), also when the
+ *     search on such data stalled or ran into a bound or the limit point;
+ *   - a fit that does not fit: the residual RMS above 5 % of the mean measured radius (a wrong
+ *     unit, wrong reference radii; the message compares the data with Ri or Ro);
  *   - a fit that runs into the limit point: a measured pressure at or above the fitted
  *     bladder's limit-point pressure, or a measured radius past its limit-point radius;
- *   - moduli outside the model (C1 <= 0 or C2 < 0 at the optimum).
+ *   - C1 <= 0 at the optimum. C2 is held at the model's bound 0 when the data prefer less
+ *     (neo-Hookean data, C2 = 0, are fitted with C2 = 0; its interval then reaches 0).
  * resid (may be NULL) receives the n residuals r_meas − r_fit [m]. */
 HP_API hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_calib_point *pts,
                          int n, hp_material_fit *out, double *resid, hp_diag *diag);

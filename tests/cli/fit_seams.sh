@@ -40,4 +40,28 @@ assert abs(o["error"]["pitch_deg"] + 2) < 1e-12, o["error"]
 assert o["uncommanded_directions"] == ["pitch_deg"], o
 PY
 
+# fit layout --plot without gnuplot hinted at --dry-run, an option fit refuses: the hint
+# names only what fit has.
+E="$HP_SRC/examples/calibration"
+mkdir -p "$TMP/nognuplot"
+PATH="$TMP/nognuplot" "$HP_BIN" fit layout "$S/default.yaml" "$E/layout_rows.csv" \
+    --plot "$TMP/n.png" >"$TMP/out" 2>"$TMP/err"; rc=$?
+expect_exit 69 "fit layout --plot without gnuplot"
+expect_stderr_has "gnuplot not found on PATH (install gnuplot-nox)" "fit: gnuplot named"
+grep -q -- '--dry-run' "$TMP/err" && bad "fit's message names --dry-run, which fit refuses" || ok
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --dry-run
+expect_exit 64 "fit has no --dry-run"
+# render and plot have --dry-run, and their hint still names it.
+PATH="$TMP/nognuplot" "$HP_BIN" render "$S/default.yaml" -o "$TMP/r.png" >"$TMP/out" 2>"$TMP/err"; rc=$?
+expect_exit 69 "render without gnuplot"; expect_stderr_has "--dry-run writes the script without it" "render's hint"
+
+# fit material on radii written in cm under an ri_mm header answered exit 0 with a fit
+# 1.28 m RMS off the data. A fit that does not fit is refused (65), naming the unit.
+awk -F, '/^#/ || /^pressure/ {next} {printf "%s,%.5f\n", $1, $2 / 10}' "$E/material_ri.csv" > "$TMP/body"
+{ echo "pressure_pa,ri_mm"; cat "$TMP/body"; } > "$TMP/cm.csv"
+run fit material "$TMP/cm.csv" --Ri-mm 27 --Ro-mm 30
+expect_exit 65 "fit material, radii in cm"; expect_stdout_empty "fit material, radii in cm"
+expect_stderr_has "the fit misses the data: residual RMS" "misfit named"
+expect_stderr_has "check their unit (mm; a radius in cm reads 10x too small)" "unit hinted"
+
 finish
