@@ -10,33 +10,34 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The file's bytes, read once (at most HP_SCENE_MAX_BYTES; *buf malloc'd): the kind, the
- * parse and the hash all see the same bytes, so a scene on a pipe or a process substitution
- * (/dev/stdin, <(...)) is read like a file instead of coming out empty on the second read.
- * The messages are the library's (hp_scene_load). */
-static int read_scene(const char *cmd, const char *path, char **buf, size_t *len)
+/* The file's bytes, read once (at most max; *buf malloc'd): the kind, the parse and the hash
+ * all see the same bytes, so an input on a pipe or a process substitution (/dev/stdin,
+ * <(...)) is read like a file instead of coming out empty on the second read. "-" is
+ * standard input, named <stdin>. */
+int cli_read_input(const char *cmd, const char *what, const char *path, size_t max,
+                   const char *limit, char **buf, size_t *len)
 {
     *buf = NULL;
-    const int std = strcmp(path, "-") == 0; /* standard input, as batch and horizon read TRACE */
+    const int std = strcmp(path, "-") == 0;
     path = cli_name(path);
     FILE *f = std ? stdin : fopen(path, "rb");
     if (!f) return cli_fail(CLI_EXIT_NOINPUT, cmd, "%s: cannot open: %s", path, strerror(errno));
-    int rc = cli_stdout_not_input(cmd, "scene", path, fileno(f), NULL);
-    char *b = rc ? NULL : malloc(HP_SCENE_MAX_BYTES + 1);
+    int rc = cli_stdout_not_input(cmd, what, path, fileno(f), NULL);
+    char *b = rc ? NULL : malloc(max + 1);
     if (!rc && !b) rc = cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
     if (rc) {
         if (!std) fclose(f);
         return rc;
     }
     errno = 0;
-    size_t n = fread(b, 1, HP_SCENE_MAX_BYTES + 1, f);
+    size_t n = fread(b, 1, max + 1, f);
     int failed = ferror(f), why = errno;
     if (!std) fclose(f);
     if (failed)
         rc = cli_fail(CLI_EXIT_NOINPUT, cmd, "%s: cannot read: %s", path,
                       why ? strerror(why) : "read error");
-    else if (n > HP_SCENE_MAX_BYTES)
-        rc = cli_fail(CLI_EXIT_DATAERR, cmd, "%s: larger than the 1 MiB limit", path);
+    else if (n > max)
+        rc = cli_fail(CLI_EXIT_DATAERR, cmd, "%s: larger than the %s limit", path, limit);
     if (rc) {
         free(b);
         return rc;
@@ -52,7 +53,7 @@ int cli_load_scene_text(const char *cmd, const char *path, const char *study_msg
     *out = NULL;
     char *text = NULL;
     size_t len = 0;
-    int rc = read_scene(cmd, path, &text, &len);
+    int rc = cli_read_input(cmd, "scene", path, HP_SCENE_MAX_BYTES, "1 MiB", &text, &len);
     if (rc) return rc;
     path = cli_name(path);
     hp_diag d = {{0}};

@@ -8,6 +8,13 @@
 
 #include <stddef.h>
 
+/* Reads the whole input `what` at path ("-": standard input, <stdin> in messages) into *buf
+ * (malloc'd; the caller frees it) and its length into *len, at most max bytes (beyond: 65,
+ * "larger than the LIMIT limit"). 66 when it cannot be opened or read, 73 when standard
+ * output is that input; 0 on success. */
+int cli_read_input(const char *cmd, const char *what, const char *path, size_t max,
+                   const char *limit, char **buf, size_t *len);
+
 /* Loads the layout scene SCENE ("-": standard input, named <stdin> in messages; allocated
  * into *out; free() it). Prints the parser's message
  * and returns 66 (cannot open) or 65 (malformed) on failure. A single-bladder study is read

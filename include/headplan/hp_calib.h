@@ -240,6 +240,9 @@ HP_API hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_le
 
 /* ---- data files ---- */
 
+/* The largest data file the readers take [bytes]. */
+#define HP_CALIB_MAX_BYTES (16L * 1024 * 1024)
+
 /* Reads a material data CSV: header `pressure_pa,ri_mm` or `pressure_pa,ro_mm` (or kpa),
  * optionally a third column `sigma_mm`; '#' comment and blank lines skipped. Fills up to
  * max points (SI) and *kind; every bad field is refused with "FILE:LINE:COL: why".
@@ -255,6 +258,16 @@ HP_API hp_error hp_calib_read_material(const char *path, hp_calib_point *pts, in
  * column is that of the key at fault). */
 HP_API hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row *rows,
                               int max, int *n, hp_diag *diag);
+
+/* The same two readers on len bytes at text (a file read elsewhere, e.g. a command's standard
+ * input), named `name` in messages ("NAME:LINE:COL: why"); the bytes are copied, not kept.
+ * Same limits and refusals as the readers of files, without HP_ERR_IO. */
+HP_API hp_error hp_calib_parse_material(const char *text, size_t len, const char *name,
+                                        hp_calib_point *pts, int max, int *n,
+                                        hp_calib_radius *kind, hp_diag *diag);
+HP_API hp_error hp_calib_parse_layout(const char *text, size_t len, const char *name,
+                                      const hp_layout *L, hp_calib_row *rows, int max, int *n,
+                                      hp_diag *diag);
 
 #ifdef __cplusplus
 }

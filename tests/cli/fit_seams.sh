@@ -64,4 +64,33 @@ expect_exit 65 "fit material, radii in cm"; expect_stdout_empty "fit material, r
 expect_stderr_has "the fit misses the data: residual RMS" "misfit named"
 expect_stderr_has "check their unit (mm; a radius in cm reads 10x too small)" "unit hinted"
 
+# fit material - and fit layout SCENE - did not read DATA from standard input ("-: cannot
+# open"). They do now, as the other commands read '-', naming it <stdin>; the answers equal
+# those from the file, and both of layout's inputs cannot be standard input at once.
+run fit material "$E/material_ri.csv" --Ri-mm 27 --Ro-mm 30 --json
+expect_exit 0 "fit material FILE"; cp "$TMP/out" "$TMP/mat_file.json"
+"$HP_BIN" fit material - --Ri-mm 27 --Ro-mm 30 --json < "$E/material_ri.csv" >"$TMP/out" 2>"$TMP/err"; rc=$?
+expect_exit 0 "fit material -"
+python3 - "$TMP/mat_file.json" "$TMP/out" <<'PY' && ok || bad "fit material - differs from the file's fit"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:])
+assert b["data"] == "<stdin>", b["data"]
+for k in ("C1_pa", "C2_pa"):
+    assert a[k] == b[k], (k, a[k], b[k])
+PY
+printf 'pressure_pa,ri_mm\n1000,27.5\n2000,x\n' | "$HP_BIN" fit material - --Ri-mm 27 --Ro-mm 30 >"$TMP/out" 2>"$TMP/err"; rc=$?
+expect_exit 65 "fit material - with a bad row"; expect_stderr_has "<stdin>:3:" "bad row named on <stdin>"
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --json
+expect_exit 0 "fit layout FILE"; cp "$TMP/out" "$TMP/lay_file.json"
+"$HP_BIN" fit layout "$S/default.yaml" - --json < "$E/layout_rows.csv" >"$TMP/out" 2>"$TMP/err"; rc=$?
+expect_exit 0 "fit layout SCENE -"
+python3 - "$TMP/lay_file.json" "$TMP/out" <<'PY' && ok || bad "fit layout - differs from the file's fit"
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:])
+assert b["data"] == "<stdin>", b["data"]
+assert a["parameters"] == b["parameters"]
+PY
+"$HP_BIN" fit layout - - < "$S/default.yaml" >"$TMP/out" 2>"$TMP/err"; rc=$?
+expect_exit 64 "fit layout - -"; expect_stdout_empty "fit layout - -"
+
 finish
