@@ -462,7 +462,21 @@ static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fi
     return 0;
 }
 
-/* Unit and scale of parameter j for printing: every parameter is a length in mm. */
+/* The unit of the standard error along the weakest combination: the direction is a unit
+ * vector in the parameters' SI units, so its SE is in mm (x1e3) when it holds lengths only,
+ * in kg when it is the carried mass alone, and in SI units (m and kg) when it mixes both. */
+static const char *weakest_unit(const hp_layout_fit *f, double *scale)
+{
+    double w = f->mass_index >= 0 ? fabs(f->weakest[f->mass_index]) : 0.0;
+    *scale = 1.0;
+    if (w >= 0.999) return "kg";
+    if (w <= 1e-3) {
+        *scale = 1e3;
+        return "mm";
+    }
+    return "m,kg";
+}
+
 static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_calib_row *rows,
                         const double *gain, hp_level level)
 {
@@ -504,7 +518,10 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
             printf("  mass: the scene has no load section, so the forward model (contact "
                    "kinematics) does not depend on it\n");
     }
-    printf("\n  weakest combination (SE %.4g mm along it):", f->weakest_se * 1e3);
+    double wk;
+    const char *wu = weakest_unit(f, &wk);
+    printf("\n  weakest combination (SE %.4g %s along it):", f->weakest_se * wk,
+           strcmp(wu, "m,kg") == 0 ? "in m and kg" : wu);
     for (int j = 0; j < f->np; ++j)
         if (fabs(f->weakest[j]) >= 0.2) printf(" %+.2f %s", f->weakest[j], f->name[j]);
     printf("\n");
@@ -590,7 +607,10 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
     json_t *wk = json_array();
     for (int j = 0; j < f->np; ++j) json_array_append_new(wk, json_real(f->weakest[j]));
     json_object_set_new(o, "weakest_direction", wk);
-    json_object_set_new(o, "weakest_se_mm", real_or_null(f->weakest_se * 1e3));
+    double wscale;
+    const char *wu = weakest_unit(f, &wscale);
+    json_object_set_new(o, "weakest_se", real_or_null(f->weakest_se * wscale));
+    json_object_set_new(o, "weakest_se_unit", json_string(wu));
     json_t *rb = json_object(), *ra = json_object();
     for (int j = 0; j < 6; ++j) {
         double k = j < 3 ? 1e3 : DEG;

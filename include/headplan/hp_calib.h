@@ -164,7 +164,8 @@ typedef struct hp_layout_fit {
     double condition;                        /* of the fitted (determined) columns */
     double weakest[HP_CALIB_MAX_PARAMS];     /* unit direction in parameter space (held: 0)
                                                 the data determine worst */
-    double weakest_se;                       /* standard error along it [m] */
+    double weakest_se;                       /* standard error along it, in the SI units of
+                                                its components: m, kg when it is the mass */
     int n_rows, n_res, dof;                  /* rows, residual components, n_res − fitted */
     double t, s;                             /* t(0.975, dof); residual SD for unit weight */
     double rms_before[6], rms_after[6];      /* per pose axis [m or rad] */

@@ -93,4 +93,24 @@ PY
 "$HP_BIN" fit layout - - < "$S/default.yaml" >"$TMP/out" 2>"$TMP/err"; rc=$?
 expect_exit 64 "fit layout - -"; expect_stdout_empty "fit layout - -"
 
+# fit layout printed the standard error along the weakest combination in "mm" when that
+# combination is the carried mass: 1.899 "mm" for 0.0019 kg. The unit follows the direction.
+sed 's/carried_fraction: 0.8/carried_fraction: 0.68/' "$S/load_supine.yaml" > "$TMP/load.yaml"
+run fit layout "$TMP/load.yaml" "$E/load_rows.csv" --fit mass --sigma-mm 0.05 --sigma-deg 0.05
+expect_exit 0 "fit layout, the mass alone"
+grep -Eq 'weakest combination \(SE 0\.00[0-9]+ kg along it\): \+1\.00 mass' "$TMP/out" && ok || bad "the mass's SE in kg"
+run fit layout "$TMP/load.yaml" "$E/load_rows.csv" --fit mass --sigma-mm 0.05 --sigma-deg 0.05 --json
+python3 - "$TMP/out" <<'PY' && ok || bad "JSON: weakest SE in kg equals the mass's SE"
+import json, sys
+o = json.load(open(sys.argv[1]))
+assert o["weakest_se_unit"] == "kg", o["weakest_se_unit"]
+assert abs(o["weakest_se"] - o["carried_mass"]["se_kg"]) <= 1e-9 * o["weakest_se"], o
+PY
+run fit layout "$S/default.yaml" "$E/layout_rows.csv" --json
+python3 - "$TMP/out" <<'PY' && ok || bad "JSON: a direction of lengths keeps mm"
+import json, sys
+o = json.load(open(sys.argv[1]))
+assert o["weakest_se_unit"] == "mm" and o["weakest_se"] > 0, o
+PY
+
 finish
