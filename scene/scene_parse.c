@@ -281,10 +281,11 @@ static hp_error layout_tree(const sr_ctx *c, const yt_node *root, hp_scene *s)
         return wrong_kind(c, root, sizeof(hp_bladder_study), study_tree_v,
                           "a single-bladder study, not a layout scene (read it with "
                           "hp_study_load)");
-    /* One set of defaults: the planner's. */
+    /* One set of defaults: the planner's, except the level: a scene that states none is
+     * planned at the fidelity it needs (auto), not silently at the cheapest level. */
     hp_settings def;
     hp_settings_default(&def);
-    s->level = def.level;
+    s->level = HP_SCENE_DEFAULT_LEVEL;
     s->level_tolerance = def.level_tolerance;
     s->auto_trans = def.auto_trans;
     s->auto_rot = def.auto_rot;

@@ -45,8 +45,11 @@ extern "C" {
 /* Longest path kept (trace file, resolved against the scene's folder), including the NUL. */
 #define HP_SCENE_PATH_MAX 1024
 /* The optional `model` and `solver` sections default to the planner's own HP_DEFAULT_*
- * values (hp_planner.h): a scene that leaves them out plans exactly as
- * hp_settings_default() does. */
+ * values (hp_planner.h), except `model.level`: a scene that states none is planned at `auto`
+ * (the cheapest level whose error bound meets model.tolerance_mm over the auto range; with a
+ * `load` section, the load level when the sag calls for it), not at hp_settings_default()'s
+ * linear level, which a scene would otherwise get without saying so. */
+#define HP_SCENE_DEFAULT_LEVEL HP_LEVEL_AUTO
 
 typedef enum hp_scene_kind {
     HP_SCENE_LAYOUT = 0, /* key `bladders`: a head and its bladders (hp_scene) */
