@@ -69,12 +69,14 @@ static json_t *binding_json(unsigned flags)
  * the uncommanded part, not a miss. u is clinical (mm, deg). */
 static int uncommanded_axis(const double u[6], int i) { return fabs(u[i]) > HP_DEFAULT_TOLERANCE; }
 
-static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
+static int print_json(const hp_layout *L, const hp_result *r, const char *msg,
+                      const char *level_why)
 {
     json_t *o = json_object();
     json_object_set_new(o, "status", json_string(hp_status_name(r->status)));
     json_object_set_new(o, "backend", json_string(hp_backend_name(r->backend)));
     json_object_set_new(o, "level", json_string(hp_level_name(r->level)));
+    json_object_set_new(o, "level_choice", *level_why ? json_string(level_why) : json_null());
     json_object_set_new(o, "desired", cli_json_pose(r->desired));
     json_object_set_new(o, "achieved", cli_json_pose(r->achieved));
     double err[6];
@@ -220,6 +222,8 @@ int cmd_solve(int argc, char **argv)
         free(sc);
         return r2;
     }
+    char level_why[320];
+    cli_level_reason(&sc->layout, &s, hp_planner_level(p), level_why, sizeof level_why);
     hp_result r;
     e = hp_plan(p, desired, &r);
     const char *msg = hp_planner_message(p);
@@ -247,11 +251,12 @@ int cmd_solve(int argc, char **argv)
                  : r.status == HP_STATUS_UNCOMMANDED ? CLI_EXIT_UNCOMMANDED
                                                      : CLI_EXIT_CLOSEST;
         if (a.json) {
-            if (print_json(hp_planner_layout(p), &r, msg)) status = CLI_EXIT_SOFTWARE;
+            if (print_json(hp_planner_layout(p), &r, msg, level_why)) status = CLI_EXIT_SOFTWARE;
         } else {
             print_table(hp_planner_layout(p), &r, msg);
             cli_print_hoop(hp_planner_layout(p), &r);
             if (why[0]) printf("\nlevel choice: %s\n", why); /* a load scene kept kinematic */
+            if (level_why[0]) printf("%slevel choice: %s\n", why[0] ? "" : "\n", level_why);
         }
     }
     hp_planner_destroy(p);

@@ -113,4 +113,23 @@ o = json.load(open(sys.argv[1]))
 assert o["weakest_se_unit"] == "mm" and o["weakest_se"] > 0, o
 PY
 
+# A scene without model: planned at linear, saying nothing. It is planned at auto, and
+# solve says which level auto chose and why (the error bounds against the tolerance); a
+# stated level gets no such line.
+grep -v '^model:' "$S/default.yaml" | sed "s#traces/#$S/traces/#" > "$TMP/nomodel.yaml"
+run solve "$TMP/nomodel.yaml"
+expect_exit 0 "solve, a scene without model"
+expect_stdout_has "(contact level surface)" "planned at auto's level"
+expect_stdout_has "level choice: auto chose surface: the error bounds of linear (" "the choice and why"
+expect_stdout_has "exceed model.tolerance_mm 0.01 for corrections up to 10 mm, 5 deg" "the tolerance and range named"
+run solve "$TMP/nomodel.yaml" --json
+python3 - "$TMP/out" <<'PY' && ok || bad "solve --json: level_choice"
+import json, sys
+o = json.load(open(sys.argv[1]))
+assert o["level"] == "surface" and o["level_choice"].startswith("auto chose surface"), o["level_choice"]
+PY
+run solve "$TMP/nomodel.yaml" --level plane
+expect_exit 0 "solve --level plane"
+grep -q 'level choice' "$TMP/out" && bad "a stated level explained as auto's choice" || ok
+
 finish
