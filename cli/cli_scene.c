@@ -108,9 +108,10 @@ int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
                            "--backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, "
                            "nlopt-cobyla)",
                            backend);
+    char names[96];
     if (level && hp_level_parse(level, &s->level) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, cmd,
-                           "--level: unknown level '%s' (linear, plane, surface, auto)", level);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "--level: unknown level '%s' (%s)", level,
+                        hp_scene_level_names(0, ", ", names, sizeof names));
     return 0;
 }
 

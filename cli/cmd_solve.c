@@ -20,6 +20,7 @@ static const char *const CMD = "solve";
 
 static void help(void)
 {
+    char names[96];
     printf("usage: headplan solve SCENE [--correction X,Y,Z,PITCH,ROLL,YAW] [--backend NAME]\n"
            "                      [--level NAME] [--json]\n\n"
            "Plans the bladder pressures that produce one desired head correction for the\n"
@@ -31,7 +32,7 @@ static void help(void)
            "                 about X, roll about Y, yaw about Z); default: the scene's\n"
            "  --backend NAME realtime (default unless the scene says), ipopt, nlopt-slsqp,\n"
            "                 nlopt-cobyla\n"
-           "  --level NAME   contact model: linear, plane, surface, auto or load (the head's\n"
+           "  --level NAME   contact model: %s (the head's\n"
            "                 weight, docs/load.md); default: the scene's\n"
            "  --json         one JSON object on stdout instead of the tables\n"
            "  --help         this text\n\n"
@@ -41,7 +42,8 @@ static void help(void)
            "exit status: 0 reached, 1 only the closest reachable correction, 2 uncommanded\n"
            "(the commanded part reached, the rest not observable), 64 bad command line, 65 bad\n"
            "scene or correction (also outside the identifiable range), 66 scene cannot be\n"
-           "read, 70 solver failure\n");
+           "read, 70 solver failure\n",
+           hp_scene_level_names(1, " or ", names, sizeof names));
 }
 
 typedef struct solve_args {
@@ -174,6 +176,11 @@ int cmd_solve(int argc, char **argv)
     solve_args a = {0};
     int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;
+    hp_level lv;
+    char names[96];
+    if (a.level && strcmp(a.level, HP_SCENE_LEVEL_LOAD) != 0 && hp_level_parse(a.level, &lv))
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--level: unknown level '%s' (%s)", a.level,
+                        hp_scene_level_names(1, ", ", names, sizeof names));
 
     double corr_clin[6];
     if (a.correction && (rc = cli_doubles(CMD, "--correction", a.correction, 6, corr_clin)))
@@ -197,7 +204,7 @@ int cmd_solve(int argc, char **argv)
         free(sc);
         return rc;
     }
-    int level_is_load = a.level && strcmp(a.level, "load") == 0;
+    int level_is_load = a.level && strcmp(a.level, HP_SCENE_LEVEL_LOAD) == 0;
     hp_settings s;
     if ((rc = cli_settings(CMD, sc, a.backend, level_is_load ? NULL : a.level, &s))) {
         free(sc);

@@ -6,15 +6,14 @@
 #include <stdio.h>
 #include <string.h>
 
+/* The one table of the contact levels' names, in enum order: parsing, messages and the
+ * command line's help all read it (hp_scene_level_names adds the scene's "load"). */
+static const char *const level_names[HP_LEVEL_AUTO + 1] = {"linear", "plane", "surface",
+                                                           "auto"};
+
 const char *hp_level_name(hp_level l)
 {
-    switch (l) {
-    case HP_LEVEL_LINEAR: return "linear";
-    case HP_LEVEL_PLANE: return "plane";
-    case HP_LEVEL_SURFACE: return "surface";
-    case HP_LEVEL_AUTO: return "auto";
-    }
-    return "unknown";
+    return (int)l >= 0 && l <= HP_LEVEL_AUTO ? level_names[l] : "unknown";
 }
 
 hp_error hp_level_parse(const char *s, hp_level *out)

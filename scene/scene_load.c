@@ -48,7 +48,9 @@ hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
     }
     s->load_geometry = HP_LEVEL_SURFACE;
     if ((n = yt_map_get(node, "geometry"))) {
-        static const char *const GEOMS[] = {"linear", "plane", "surface", NULL};
+        const char *GEOMS[HP_LEVEL_AUTO + 1]; /* the contact levels but auto, NULL */
+        for (int l = HP_LEVEL_LINEAR; l < HP_LEVEL_AUTO; ++l) GEOMS[l] = hp_level_name((hp_level)l);
+        GEOMS[HP_LEVEL_AUTO] = NULL;
         char name[16];
         if ((e = sr_word(c, n, "load.geometry", "geometry", GEOMS, name, sizeof name)))
             return e;

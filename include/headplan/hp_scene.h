@@ -187,6 +187,16 @@ typedef enum hp_level_refusal {
  * load model's error (hp_load_model_create: the layout cannot carry the load), message in
  * diag. refused (may be NULL) gets HP_LEVEL_REFUSED_NONE unless the level argument itself
  * was refused. Allocates (the load model) only for auto on a scene with a `load` section. */
+/* The level a scene's model.level (and the command line's --level) may name besides the
+ * contact levels: the load level (docs/load.md), a planner of its own. */
+#define HP_SCENE_LEVEL_LOAD "load"
+
+/* The names of every level, from the one table (hp_level_name, then HP_SCENE_LEVEL_LOAD when
+ * with_load), joined by ", " with `last` before the final one (", " or " or "), into buf
+ * (len bytes, truncated if short; "linear, plane, surface, auto or load"). Returns buf, for
+ * messages and help texts. */
+HP_API const char *hp_scene_level_names(int with_load, const char *last, char *buf, size_t len);
+
 HP_API hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_load,
                                     char *why, size_t len, hp_level_refusal *refused,
                                     hp_diag *diag);
