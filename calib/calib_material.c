@@ -367,7 +367,8 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
     double *work = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1) * 5);
     if (!work) return hp_diag_set(diag, HP_ERR_NOMEM, "out of memory");
     double *ri_meas = work, *e = work + n, *et = work + 2 * n, *J = work + 3 * n;
-    hp_iab m = {Ri, Ro, NAN, NAN}; /* the moduli of the search, NaN before it starts */
+    hp_iab m = {Ri, Ro, NAN, NAN}; /* the moduli of the search */
+    int searching = 0;             /* 1 from the start point until the search has converged */
     hp_error err = check_points(Ri, Ro, kind, pts, n, ri_meas, diag);
     if (err) goto done;
 
@@ -375,6 +376,7 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
     start_point(Ri, Ro, pts, ri_meas, n, &C[0], &C[1]);
     m.C1 = C[0];
     m.C2 = C[1];
+    searching = 1;
     /* The fit in pressure can follow a falling branch, the fit in radius cannot: when the
      * moduli the pressures suggest put the largest measured radius past their own limit
      * point, the bladder was measured beyond it (under volume control) and the
@@ -421,7 +423,8 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
             break;
         }
         double step[2] = {-(inv[0] * g[0] + inv[1] * g[1]), -(inv[1] * g[0] + inv[2] * g[1])};
-        if (m.C2 + step[1] < 0) {
+        int at_bound = m.C2 + step[1] < 0;
+        if (at_bound) {
             /* The model's bound C2 >= 0 (neo-Hookean data sit on it): C2 stops at 0 and C1
              * takes the minimiser of the same damped quadratic model along C2 = 0. */
             step[1] = -m.C2;
@@ -429,7 +432,7 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
         }
         hp_iab t = m;
         t.C1 += step[0];
-        t.C2 = step[1] == -m.C2 ? 0.0 : m.C2 + step[1];
+        t.C2 = at_bound ? 0.0 : m.C2 + step[1];
         double ct = INFINITY;
         int tbad = -1;
         if (t.C1 > 0) { /* t.C2 >= 0: held at 0 above */
@@ -487,6 +490,7 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
         goto done;
     }
 
+    searching = 0;
     hp_iab_limit lp;
     bad = -1;
     err = residuals(&m, kind, pts, n, e, J, &bad, &lp);
@@ -523,7 +527,7 @@ done:
     /* A search that failed (no convergence, a bound, a limit point) on data that see only
      * one combination of the moduli failed because of that: the noise decides where such a
      * search wanders. Refused for the reason that holds whatever the noise. */
-    if (err && !isnan(m.C1)) {
+    if (err && searching) {
         double c = cond_at(&m, kind, pts, n, et, J);
         if (c > MAT_COND_MAX) err = refuse_ill(diag, c, ri_meas, n, Ri);
     }
