@@ -13,7 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define CSV_MAX_BYTES (16L * 1024 * 1024)
+#define CSV_MAX_BYTES HP_CALIB_MAX_BYTES
 #define CSV_MAX_FIELDS (HP_MAX_BLADDERS + 8)
 
 typedef struct csv_field {
@@ -29,20 +29,29 @@ typedef struct csv_file {
     long line;
 } csv_file;
 
-static hp_error csv_open(csv_file *f, const char *path, hp_diag *d)
+/* The file at path, or (text not NULL) a copy of the len bytes at text named path in
+ * messages: the readers of files and of memory (a command's standard input) are one. */
+static hp_error csv_open(csv_file *f, const char *path, const char *text, size_t len,
+                         hp_diag *d)
 {
     memset(f, 0, sizeof *f);
     f->path = path;
-    FILE *fp = fopen(path, "rb");
-    if (!fp) return hp_diag_set(d, HP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    FILE *fp = text ? NULL : fopen(path, "rb");
+    if (!text && !fp) return hp_diag_set(d, HP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     f->text = malloc((size_t)CSV_MAX_BYTES + 1);
     if (!f->text) {
-        fclose(fp);
+        if (fp) fclose(fp);
         return hp_diag_set(d, HP_ERR_NOMEM, "%s: out of memory", path);
     }
-    f->len = fread(f->text, 1, (size_t)CSV_MAX_BYTES + 1, fp);
-    int bad = ferror(fp);
-    fclose(fp);
+    int bad = 0;
+    if (text) {
+        f->len = len > (size_t)CSV_MAX_BYTES ? (size_t)CSV_MAX_BYTES + 1 : len;
+        memcpy(f->text, text, f->len > (size_t)CSV_MAX_BYTES ? (size_t)CSV_MAX_BYTES : f->len);
+    } else {
+        f->len = fread(f->text, 1, (size_t)CSV_MAX_BYTES + 1, fp);
+        bad = ferror(fp);
+        fclose(fp);
+    }
     if (bad) return hp_diag_set(d, HP_ERR_IO, "%s: cannot read", path);
     if (f->len > (size_t)CSV_MAX_BYTES)
         return hp_diag_set(d, HP_ERR_PARSE, "%s: larger than %ld bytes", path, CSV_MAX_BYTES);
@@ -139,13 +148,14 @@ static hp_error wrong_count(const csv_file *f, int got, int want, hp_diag *d)
                        f->line, got, want);
 }
 
-hp_error hp_calib_read_material(const char *path, hp_calib_point *pts, int max, int *n,
-                                hp_calib_radius *kind, hp_diag *d)
+static hp_error read_material(const char *path, const char *text, size_t tlen,
+                              hp_calib_point *pts, int max, int *n, hp_calib_radius *kind,
+                              hp_diag *d)
 {
     if (!path || !pts || !n || !kind) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
     *n = 0;
     csv_file f;
-    hp_error err = csv_open(&f, path, d);
+    hp_error err = csv_open(&f, path, text, tlen, d);
     if (err) {
         csv_close(&f);
         return err;
@@ -227,6 +237,20 @@ hp_error hp_calib_read_material(const char *path, hp_calib_point *pts, int max, 
     csv_close(&f);
     if (err) *n = 0;
     return err;
+}
+
+hp_error hp_calib_read_material(const char *path, hp_calib_point *pts, int max, int *n,
+                                hp_calib_radius *kind, hp_diag *d)
+{
+    return read_material(path, NULL, 0, pts, max, n, kind, d);
+}
+
+hp_error hp_calib_parse_material(const char *text, size_t len, const char *name,
+                                 hp_calib_point *pts, int max, int *n, hp_calib_radius *kind,
+                                 hp_diag *d)
+{
+    if (!text) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
+    return read_material(name, text, len, pts, max, n, kind, d);
 }
 
 /* What a layout data column (or JSON key) holds: a bladder's pressure (role = its index,
@@ -401,13 +425,14 @@ static hp_error csv_header(const csv_file *f, const hp_layout *L, const csv_fiel
     return HP_OK;
 }
 
-hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row *rows,
-                              int max, int *n, hp_diag *d)
+static hp_error read_layout(const char *path, const char *text, size_t tlen,
+                            const hp_layout *L, hp_calib_row *rows, int max, int *n,
+                            hp_diag *d)
 {
     if (!path || !L || !rows || !n) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
     *n = 0;
     csv_file f;
-    hp_error err = csv_open(&f, path, d);
+    hp_error err = csv_open(&f, path, text, tlen, d);
     hp_iab_limit lp[HP_MAX_BLADDERS];
     for (int k = 0; !err && k < L->n; ++k)
         if (hp_iab_limit_point(&L->bladders[k].iab, &lp[k]))
@@ -460,4 +485,18 @@ hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row
     csv_close(&f);
     if (err) *n = 0;
     return err;
+}
+
+hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row *rows,
+                              int max, int *n, hp_diag *d)
+{
+    return read_layout(path, NULL, 0, L, rows, max, n, d);
+}
+
+hp_error hp_calib_parse_layout(const char *text, size_t len, const char *name,
+                               const hp_layout *L, hp_calib_row *rows, int max, int *n,
+                               hp_diag *d)
+{
+    if (!text) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
+    return read_layout(name, text, len, L, rows, max, n, d);
 }

@@ -7,6 +7,7 @@
 #include "calib/calib_internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -18,6 +19,10 @@
  * like 0.7/max|λi − 1| for points on one side of λ = 1 and 0.18/max|λi − 1| on both sides
  * (docs/calibration.md). */
 #define MAT_COND_MAX 1e4
+/* A fit whose radii miss the measured ones by more than this fraction of their mean (RMS)
+ * does not fit: 5 % is 1.35 mm on a 27 mm bladder, ~70x a caliper's 0.02 mm, while a wrong
+ * unit (cm read as mm: 10x) or wrong reference radii miss by tens of percent or more. */
+#define MAT_RMS_REL_MAX 0.05
 
 /* a(ri) = ∂P/∂C1 and b(ri) = ∂P/∂C2 at inner radius ri: the closed form with unit moduli. */
 static hp_error basis(double Ri, double Ro, double ri, double *a, double *b)
@@ -148,6 +153,74 @@ static double cond2(const double S[3])
     double lmax = tr + dd, lmin = (S[0] * S[2] - S[1] * S[1]) / lmax;
     if (!(lmin > 0)) return INFINITY;
     return sqrt(lmax / lmin);
+}
+
+/* Condition number of the Jacobian whose normal matrix is A, with columns scaled by the
+ * moduli of m, a modulus below a tenth of their sum by that tenth: the question for C2 = 0
+ * (neo-Hookean) is whether the data tell it from C2 = 0.1·C1, not from 1e-12 Pa, and a column
+ * scaled by C2 -> 0 would make any data "unidentifiable". */
+static double scaled_cond(const hp_iab *m, const double A[3])
+{
+    double floor_c = 0.1 * (m->C1 + m->C2), sc1 = fmax(m->C1, floor_c),
+           sc2 = fmax(m->C2, floor_c);
+    double S[3] = {A[0] * sc1 * sc1, A[1] * sc1 * sc2, A[2] * sc2 * sc2};
+    return cond2(S);
+}
+
+/* scaled_cond at moduli m for the points (e, J: n and 2n of scratch); NaN when m leaves a
+ * point without a stable radius (nothing is known then). */
+static double cond_at(const hp_iab *m, hp_calib_radius kind, const hp_calib_point *pts, int n,
+                      double *e, double *J)
+{
+    double A[3];
+    if (residuals(m, kind, pts, n, e, J, NULL, NULL) != HP_OK) return NAN;
+    normal_eq(n, J, e, A, NULL);
+    return scaled_cond(m, A);
+}
+
+static hp_error refuse_ill(hp_diag *diag, double cond, const double *ri_meas, int n, double Ri)
+{
+    double lo = INFINITY, hi = -INFINITY;
+    for (int i = 0; i < n; ++i) {
+        lo = fmin(lo, ri_meas[i] / Ri);
+        hi = fmax(hi, ri_meas[i] / Ri);
+    }
+    return hp_diag_set(diag, HP_ERR_INVALID,
+                       "cannot determine both moduli: the Jacobian's condition number is "
+                       "%.3g (> %.0e; 1e-4 relative error in a radius could move the moduli by "
+                       "100 %%): the measured stretches lambda_i = %.4f..%.4f only see one "
+                       "combination of C1 and C2; measure further from lambda = 1, on both sides",
+                       cond, MAT_COND_MAX, lo, hi);
+}
+
+/* HP_ERR_INVALID when the fitted radii (weighted residuals e) miss the measured ones by more
+ * than MAT_RMS_REL_MAX of their mean; the message compares the data with the reference
+ * radius R they should lie near, to point at a wrong unit. */
+static hp_error refuse_misfit(hp_diag *diag, hp_calib_radius kind, const hp_calib_point *pts,
+                              int n, const double *e, double R)
+{
+    double ss = 0.0, mean = 0.0;
+    for (int i = 0; i < n; ++i) {
+        double r = e[i] * pts[i].sigma;
+        ss += r * r;
+        mean += pts[i].radius / n;
+    }
+    double rms = sqrt(ss / n);
+    if (rms <= MAT_RMS_REL_MAX * mean) return HP_OK;
+    const char *name = kind == HP_CALIB_INNER ? "Ri" : "Ro";
+    double ratio = mean / R;
+    char unit[160] = "";
+    if (ratio < 0.5 || ratio > 2.0)
+        snprintf(unit, sizeof unit,
+                 "; the measured radii average %.4g mm against %s %.4g mm: check their unit "
+                 "(mm; a radius in cm reads 10x too small)",
+                 mean * 1e3, name, R * 1e3);
+    return hp_diag_set(diag, HP_ERR_INVALID,
+                       "the fit misses the data: residual RMS %.4g mm is %.3g %% of the mean "
+                       "measured radius %.4g mm (more than %g %%); no moduli of this bladder "
+                       "reproduce these radii%s",
+                       rms * 1e3, 100.0 * rms / mean, mean * 1e3, 100.0 * MAT_RMS_REL_MAX,
+                       unit);
 }
 
 void calib_material_invalidate(hp_material_fit *out)
@@ -294,12 +367,16 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
     double *work = malloc(sizeof(double) * (size_t)(n > 0 ? n : 1) * 5);
     if (!work) return hp_diag_set(diag, HP_ERR_NOMEM, "out of memory");
     double *ri_meas = work, *e = work + n, *et = work + 2 * n, *J = work + 3 * n;
+    hp_iab m = {Ri, Ro, NAN, NAN}; /* the moduli of the search */
+    int searching = 0;             /* 1 from the start point until the search has converged */
     hp_error err = check_points(Ri, Ro, kind, pts, n, ri_meas, diag);
     if (err) goto done;
 
     double C[2];
     start_point(Ri, Ro, pts, ri_meas, n, &C[0], &C[1]);
-    hp_iab m = {Ri, Ro, C[0], C[1]};
+    m.C1 = C[0];
+    m.C2 = C[1];
+    searching = 1;
     /* The fit in pressure can follow a falling branch, the fit in radius cannot: when the
      * moduli the pressures suggest put the largest measured radius past their own limit
      * point, the bladder was measured beyond it (under volume control) and the
@@ -346,12 +423,19 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
             break;
         }
         double step[2] = {-(inv[0] * g[0] + inv[1] * g[1]), -(inv[1] * g[0] + inv[2] * g[1])};
+        int at_bound = m.C2 + step[1] < 0;
+        if (at_bound) {
+            /* The model's bound C2 >= 0 (neo-Hookean data sit on it): C2 stops at 0 and C1
+             * takes the minimiser of the same damped quadratic model along C2 = 0. */
+            step[1] = -m.C2;
+            step[0] = -(g[0] + A[1] * step[1]) / Ad[0];
+        }
         hp_iab t = m;
         t.C1 += step[0];
-        t.C2 += step[1];
+        t.C2 = at_bound ? 0.0 : m.C2 + step[1];
         double ct = INFINITY;
         int tbad = -1;
-        if (t.C1 > 0 && t.C2 >= 0) {
+        if (t.C1 > 0) { /* t.C2 >= 0: held at 0 above */
             hp_error te = residuals(&t, kind, pts, n, et, NULL, &tbad, NULL);
             if (te == HP_OK) ct = sumsq(n, et);
             last_reject_limit = te == HP_ERR_NO_STABLE ? tbad : -1;
@@ -394,8 +478,9 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
     }
     if (!converged && last_reject_limit == -2) {
         err = hp_diag_set(diag, HP_ERR_INVALID,
-                          "the fit runs into the model's bound C2 >= 0 (C1 %.6g Pa, C2 %.6g "
-                          "Pa): the data prefer moduli the Mooney-Rivlin shell cannot have",
+                          "the fit runs into the model's bound C1 > 0 (C1 %.6g Pa, C2 %.6g "
+                          "Pa): the data prefer moduli the Mooney-Rivlin shell cannot have "
+                          "(it requires C1 > 0, C2 >= 0)",
                           m.C1, m.C2);
         goto done;
     }
@@ -405,7 +490,9 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
         goto done;
     }
 
+    searching = 0;
     hp_iab_limit lp;
+    bad = -1;
     err = residuals(&m, kind, pts, n, e, J, &bad, &lp);
     if (err) {
         err = hp_diag_set(diag, HP_ERR_INVALID, "the fit failed at point %ld",
@@ -422,21 +509,13 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
                               line_of(&pts[i], i), ri_meas[i] * 1e3, lp.ri * 1e3);
             goto done;
         }
+    err = refuse_misfit(diag, kind, pts, n, e, kind == HP_CALIB_INNER ? Ri : Ro);
+    if (err) goto done;
     double A[3], inv[3];
     normal_eq(n, J, e, A, NULL);
-    double S[3] = {A[0] * m.C1 * m.C1, A[1] * m.C1 * m.C2, A[2] * m.C2 * m.C2};
-    double cond = m.C2 > 0 ? cond2(S) : cond2(A);
+    double cond = scaled_cond(&m, A);
     if (!(cond <= MAT_COND_MAX) || !inv2(A, inv)) {
-        double lo = INFINITY, hi = -INFINITY;
-        for (int i = 0; i < n; ++i) {
-            lo = fmin(lo, ri_meas[i] / Ri);
-            hi = fmax(hi, ri_meas[i] / Ri);
-        }
-        err = hp_diag_set(diag, HP_ERR_INVALID,
-                          "cannot determine both moduli: the Jacobian's condition number is "
-                          "%.3g (> %.0e; 1e-4 relative error in a radius could move the moduli by 100 %%): the measured stretches lambda_i = %.4f..%.4f only see one "
-                          "combination of C1 and C2; measure further from lambda = 1, on both sides",
-                          cond, MAT_COND_MAX, lo, hi);
+        err = refuse_ill(diag, cond, ri_meas, n, Ri);
         goto done;
     }
     int dof = n - 2;
@@ -445,6 +524,13 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
     calib_material_result(out, th, se, inv[1] / sqrt(inv[0] * inv[2]), cond, dof, s2, e, pts,
                           n, resid, it, &lp);
 done:
+    /* A search that failed (no convergence, a bound, a limit point) on data that see only
+     * one combination of the moduli failed because of that: the noise decides where such a
+     * search wanders. Refused for the reason that holds whatever the noise. */
+    if (err && searching) {
+        double c = cond_at(&m, kind, pts, n, et, J);
+        if (c > MAT_COND_MAX) err = refuse_ill(diag, c, ri_meas, n, Ri);
+    }
     free(work);
     if (err) calib_material_invalidate(out);
     return err;

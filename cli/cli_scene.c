@@ -5,38 +5,42 @@
 #include "cli/cli_outfile.h"
 #include "cli/exit_codes.h"
 
+#include "common/units.h"
+
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* The file's bytes, read once (at most HP_SCENE_MAX_BYTES; *buf malloc'd): the kind, the
- * parse and the hash all see the same bytes, so a scene on a pipe or a process substitution
- * (/dev/stdin, <(...)) is read like a file instead of coming out empty on the second read.
- * The messages are the library's (hp_scene_load). */
-static int read_scene(const char *cmd, const char *path, char **buf, size_t *len)
+/* The file's bytes, read once (at most max; *buf malloc'd): the kind, the parse and the hash
+ * all see the same bytes, so an input on a pipe or a process substitution (/dev/stdin,
+ * <(...)) is read like a file instead of coming out empty on the second read. "-" is
+ * standard input, named <stdin>. */
+int cli_read_input(const char *cmd, const char *what, const char *path, size_t max,
+                   const char *limit, char **buf, size_t *len)
 {
     *buf = NULL;
-    const int std = strcmp(path, "-") == 0; /* standard input, as batch and horizon read TRACE */
+    const int std = strcmp(path, "-") == 0;
     path = cli_name(path);
     FILE *f = std ? stdin : fopen(path, "rb");
     if (!f) return cli_fail(CLI_EXIT_NOINPUT, cmd, "%s: cannot open: %s", path, strerror(errno));
-    int rc = cli_stdout_not_input(cmd, "scene", path, fileno(f), NULL);
-    char *b = rc ? NULL : malloc(HP_SCENE_MAX_BYTES + 1);
+    int rc = cli_stdout_not_input(cmd, what, path, fileno(f), NULL);
+    char *b = rc ? NULL : malloc(max + 1);
     if (!rc && !b) rc = cli_fail(CLI_EXIT_SOFTWARE, cmd, "out of memory");
     if (rc) {
         if (!std) fclose(f);
         return rc;
     }
     errno = 0;
-    size_t n = fread(b, 1, HP_SCENE_MAX_BYTES + 1, f);
+    size_t n = fread(b, 1, max + 1, f);
     int failed = ferror(f), why = errno;
     if (!std) fclose(f);
     if (failed)
         rc = cli_fail(CLI_EXIT_NOINPUT, cmd, "%s: cannot read: %s", path,
                       why ? strerror(why) : "read error");
-    else if (n > HP_SCENE_MAX_BYTES)
-        rc = cli_fail(CLI_EXIT_DATAERR, cmd, "%s: larger than the 1 MiB limit", path);
+    else if (n > max)
+        rc = cli_fail(CLI_EXIT_DATAERR, cmd, "%s: larger than the %s limit", path, limit);
     if (rc) {
         free(b);
         return rc;
@@ -52,7 +56,7 @@ int cli_load_scene_text(const char *cmd, const char *path, const char *study_msg
     *out = NULL;
     char *text = NULL;
     size_t len = 0;
-    int rc = read_scene(cmd, path, &text, &len);
+    int rc = cli_read_input(cmd, "scene", path, HP_SCENE_MAX_BYTES, "1 MiB", &text, &len);
     if (rc) return rc;
     path = cli_name(path);
     hp_diag d = {{0}};
@@ -104,8 +108,35 @@ int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
                            "--backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, "
                            "nlopt-cobyla)",
                            backend);
+    char names[96];
     if (level && hp_level_parse(level, &s->level) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, cmd,
-                           "--level: unknown level '%s' (linear, plane, surface, auto)", level);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "--level: unknown level '%s' (%s)", level,
+                        hp_scene_level_names(0, ", ", names, sizeof names));
     return 0;
+}
+
+void cli_level_reason(const hp_layout *L, const hp_settings *s, hp_level chosen, char *why,
+                      size_t len)
+{
+    if (!len) return;
+    why[0] = '\0';
+    if (s->level != HP_LEVEL_AUTO) return;
+    /* The bounds auto compared (hp_contact_auto): every cheaper level's exceeds the
+     * tolerance, the chosen one's (0 for surface) meets it. */
+    char range[96];
+    snprintf(range, sizeof range, "model.tolerance_mm %g for corrections up to %g mm, %g deg",
+             s->level_tolerance * 1e3, s->auto_trans * 1e3, s->auto_rot * HP_DEG_PER_RAD);
+    double b[2] = {NAN, NAN};
+    for (int l = HP_LEVEL_LINEAR; l < (int)chosen && l <= HP_LEVEL_PLANE; ++l)
+        if (hp_contact_error_bound(L, (hp_level)l, s->auto_trans, s->auto_rot, &b[l]) != HP_OK)
+            b[l] = NAN;
+    const char *name = hp_level_name(chosen);
+    if (chosen == HP_LEVEL_SURFACE)
+        snprintf(why, len, "auto chose %s: the error bounds of linear (%.3g mm) and plane "
+                 "(%.3g mm) exceed %s", name, b[0] * 1e3, b[1] * 1e3, range);
+    else if (chosen == HP_LEVEL_PLANE)
+        snprintf(why, len, "auto chose %s: the error bound of linear (%.3g mm) exceeds %s; "
+                 "plane's meets it", name, b[0] * 1e3, range);
+    else
+        snprintf(why, len, "auto chose %s: its error bound meets %s", name, range);
 }

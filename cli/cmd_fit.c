@@ -34,7 +34,8 @@ static void help(void)
            "                           [--plot-script FILE.gp] [--json]\n\n"
            "material: fit one bladder's moduli C1, C2 (paper convention) to free-inflation\n"
            "  measurements. DATA is CSV with the header pressure_pa,ri_mm (or ro_mm; pressure_kpa\n"
-           "  allowed) and an optional third column sigma_mm (the radius's standard deviation).\n"
+           "  allowed) and an optional third column sigma_mm (the radius's standard deviation);\n"
+           "  DATA - reads standard input (for layout: SCENE or DATA, not both).\n"
            "  --Ri-mm, --Ro-mm   the bladder's reference inner and outer radius (required)\n"
            "  --fit-ref Ri|Ro    also fit that reference radius (its option is then the start);\n"
            "                     refused by name when the data cannot tell it from the moduli\n"
@@ -96,6 +97,33 @@ static double data_mm(double m)
     return mm * 1e-3 == m ? mm : m * 1e3;
 }
 
+/* DATA ("-": standard input, read whole and parsed from memory as <stdin>, as the other
+ * commands read '-') through the material or (L not NULL) the layout reader. Returns 0, or
+ * the exit status after one line. */
+static int read_data(const char *data, const hp_layout *L, hp_calib_point *pts,
+                     hp_calib_row *rows, int *n, hp_calib_radius *kind)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    hp_diag d = {{0}};
+    hp_error e;
+    if (strcmp(data, "-") == 0) {
+        int rc = cli_read_input(CMD, "data", data, (size_t)HP_CALIB_MAX_BYTES, "16 MiB", &buf,
+                                &len);
+        if (rc) return rc;
+        e = L ? hp_calib_parse_layout(buf, len, cli_name(data), L, rows, HP_CALIB_MAX_ROWS, n, &d)
+              : hp_calib_parse_material(buf, len, cli_name(data), pts, HP_CALIB_MAX_ROWS, n,
+                                        kind, &d);
+        free(buf);
+    } else {
+        int rc = cli_stdout_not_input(CMD, "data", data, -1, data);
+        if (rc) return rc;
+        e = L ? hp_calib_read_layout(data, L, rows, HP_CALIB_MAX_ROWS, n, &d)
+              : hp_calib_read_material(data, pts, HP_CALIB_MAX_ROWS, n, kind, &d);
+    }
+    return e ? cli_fail(status_of(e), CMD, "%s", d.text) : 0;
+}
+
 /* ---------------------------------------------------------------- material */
 
 /* Candidate pressures for the planning table: from the lowest measured pressure minus half
@@ -153,8 +181,6 @@ static int run_material(int argc, char **argv)
     if (plot && !(strlen(plot) > 4 && strcmp(plot + strlen(plot) - 4, ".svg") == 0))
         return cli_fail(CLI_EXIT_USAGE, CMD,
                         "--plot: '%s' must end in .svg (fit material draws an SVG chart)", plot);
-    int out_rc = cli_stdout_not_input(CMD, "data", data, -1, data);
-    if (out_rc) return out_rc;
     if (!ri_t || !ro_t)
         return cli_fail(CLI_EXIT_USAGE, CMD, "material: --Ri-mm and --Ro-mm are required");
     double Ri, Ro;
@@ -183,11 +209,11 @@ static int run_material(int argc, char **argv)
     hp_calib_radius kind;
     hp_diag d = {{0}};
     hp_material_fit f;
-    hp_error e = hp_calib_read_material(data, pts, HP_CALIB_MAX_ROWS, &n, &kind, &d);
-    if (e) rc = cli_fail(status_of(e), CMD, "%s", d.text);
-    else if ((e = fit_ref ? hp_fit_material_ref(Ri, Ro, kind, ref, pts, n, &f, res, &d)
-                          : hp_fit_material(Ri, Ro, kind, pts, n, &f, res, &d)) != HP_OK)
-        rc = cli_fail(status_of(e), CMD, "%s: %s", data, d.text);
+    hp_error e;
+    rc = read_data(data, NULL, pts, NULL, &n, &kind);
+    if (!rc && (e = fit_ref ? hp_fit_material_ref(Ri, Ro, kind, ref, pts, n, &f, res, &d)
+                            : hp_fit_material(Ri, Ro, kind, pts, n, &f, res, &d)) != HP_OK)
+        rc = cli_fail(status_of(e), CMD, "%s: %s", cli_name(data), d.text);
     if (!rc && f.ref_fitted) {
         /* From here on the bladder is the fitted one. */
         if (ref == HP_CALIB_INNER) Ri = f.ref;
@@ -233,7 +259,7 @@ static int run_material(int argc, char **argv)
 
     if (json) {
         json_t *o = json_object();
-        json_object_set_new(o, "data", json_string(data));
+        json_object_set_new(o, "data", json_string(cli_name(data)));
         json_object_set_new(o, "radius", json_string(kind == HP_CALIB_INNER ? "inner" : "outer"));
         json_object_set_new(o, "points", json_integer(n));
         json_object_set_new(o, "Ri_mm", json_real(Ri * 1e3));
@@ -288,7 +314,7 @@ static int run_material(int argc, char **argv)
         free(res);
         return print_json(o);
     }
-    printf("material fit: %s, %d points (%s radius), Ri %g mm, Ro %g mm\n", data, n,
+    printf("material fit: %s, %d points (%s radius), Ri %g mm, Ro %g mm\n", cli_name(data), n,
            kind == HP_CALIB_INNER ? "inner" : "outer", Ri * 1e3, Ro * 1e3);
     printf("  C1  = %-12.6g Pa  SE %-10.4g 95%% [%.6g, %.6g]\n", f.C1, f.se[0], f.ci[0][0],
            f.ci[0][1]);
@@ -373,6 +399,9 @@ static int parse_layout(int argc, char **argv, layout_args *a)
     }
     if (!a->scene || !a->data)
         return cli_fail(CLI_EXIT_USAGE, CMD, "layout: needs SCENE and DATA");
+    if (strcmp(a->scene, "-") == 0 && strcmp(a->data, "-") == 0)
+        return cli_fail(CLI_EXIT_USAGE, CMD,
+                        "layout: SCENE and DATA cannot both be standard input ('-')");
     if (a->plot_script && !a->plot)
         return cli_fail(CLI_EXIT_USAGE, CMD, "--plot-script: needs --plot");
     if (a->plot) {
@@ -439,12 +468,26 @@ static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fi
     return 0;
 }
 
-/* Unit and scale of parameter j for printing: every parameter is a length in mm. */
+/* The unit of the standard error along the weakest combination: the direction is a unit
+ * vector in the parameters' SI units, so its SE is in mm (x1e3) when it holds lengths only,
+ * in kg when it is the carried mass alone, and in SI units (m and kg) when it mixes both. */
+static const char *weakest_unit(const hp_layout_fit *f, double *scale)
+{
+    double w = f->mass_index >= 0 ? fabs(f->weakest[f->mass_index]) : 0.0;
+    *scale = 1.0;
+    if (w >= 0.999) return "kg";
+    if (w <= 1e-3) {
+        *scale = 1e3;
+        return "mm";
+    }
+    return "m,kg";
+}
+
 static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_calib_row *rows,
                         const double *gain, hp_level level)
 {
     int held = 0;
-    printf("layout fit: %s with %s, %d rows, %s %s\n", cli_name(a->scene), a->data, f->n_rows,
+    printf("layout fit: %s with %s, %d rows, %s %s\n", cli_name(a->scene), cli_name(a->data), f->n_rows,
            f->mass_index >= 0 && !isnan(f->mass) ? "forward statics (load level), geometry"
                                                  : "level",
            hp_level_name(level));
@@ -481,7 +524,10 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
             printf("  mass: the scene has no load section, so the forward model (contact "
                    "kinematics) does not depend on it\n");
     }
-    printf("\n  weakest combination (SE %.4g mm along it):", f->weakest_se * 1e3);
+    double wk;
+    const char *wu = weakest_unit(f, &wk);
+    printf("\n  weakest combination (SE %.4g %s along it):", f->weakest_se * wk,
+           strcmp(wu, "m,kg") == 0 ? "in m and kg" : wu);
     for (int j = 0; j < f->np; ++j)
         if (fabs(f->weakest[j]) >= 0.2) printf(" %+.2f %s", f->weakest[j], f->name[j]);
     printf("\n");
@@ -514,7 +560,7 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
 {
     json_t *o = json_object();
     json_object_set_new(o, "scene", json_string(cli_name(a->scene)));
-    json_object_set_new(o, "data", json_string(a->data));
+    json_object_set_new(o, "data", json_string(cli_name(a->data)));
     json_object_set_new(o, "rows", json_integer(f->n_rows));
     json_object_set_new(o, "level", json_string(hp_level_name(level)));
     json_object_set_new(o, "model", json_string(f->mass_index >= 0 && !isnan(f->mass)
@@ -567,7 +613,10 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
     json_t *wk = json_array();
     for (int j = 0; j < f->np; ++j) json_array_append_new(wk, json_real(f->weakest[j]));
     json_object_set_new(o, "weakest_direction", wk);
-    json_object_set_new(o, "weakest_se_mm", real_or_null(f->weakest_se * 1e3));
+    double wscale;
+    const char *wu = weakest_unit(f, &wscale);
+    json_object_set_new(o, "weakest_se", real_or_null(f->weakest_se * wscale));
+    json_object_set_new(o, "weakest_se_unit", json_string(wu));
     json_t *rb = json_object(), *ra = json_object();
     for (int j = 0; j < 6; ++j) {
         double k = j < 3 ? 1e3 : DEG;
@@ -610,16 +659,13 @@ static int run_layout(int argc, char **argv)
     if (!rc && a.out && strcmp(a.out, "-") == 0) rc = cli_out_allowed(CMD, "-o", a.out, NULL, 0);
     if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, n_inputs, &d)) != HP_OK)
         rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "%s", d.text);
-    if (!rc && a.out && strcmp(a.scene, "-") == 0) { /* the file on standard input, by identity */
-        cli_input std;
-        cli_input_of(&std, "scene", a.scene);
+    const int scene_std = strcmp(a.scene, "-") == 0;
+    if (!rc && a.out && (scene_std || strcmp(a.data, "-") == 0)) {
+        cli_input std; /* the file on standard input, by identity */
+        cli_input_of(&std, scene_std ? "scene" : "data", "-");
         rc = cli_out_allowed(CMD, "-o", a.out, &std, 1);
     }
-    if (!rc) rc = cli_stdout_not_input(CMD, "data", a.data, -1, a.data);
-    if (!rc) {
-        e = hp_calib_read_layout(a.data, &sc->layout, rows, HP_CALIB_MAX_ROWS, &n, &d);
-        if (e) rc = cli_fail(status_of(e), CMD, "%s", d.text);
-    }
+    if (!rc) rc = read_data(a.data, &sc->layout, NULL, rows, &n, NULL);
     double *before = NULL, *after = NULL;
     if (!rc && a.plot) {
         before = malloc(sizeof *before * (size_t)n * 6);
@@ -628,11 +674,11 @@ static int run_layout(int argc, char **argv)
     }
     if (!rc) {
         e = hp_fit_layout(&sc->layout, rows, n, &o, f, after, &d);
-        if (e) rc = cli_fail(status_of(e), CMD, "%s: %s", a.data, d.text);
+        if (e) rc = cli_fail(status_of(e), CMD, "%s: %s", cli_name(a.data), d.text);
     }
     if (!rc && a.plot) {
         e = hp_fit_layout_residuals(&sc->layout, rows, n, &o, before, &d);
-        if (e) rc = cli_fail(status_of(e), CMD, "%s: %s", a.data, d.text);
+        if (e) rc = cli_fail(status_of(e), CMD, "%s: %s", cli_name(a.data), d.text);
         long *lines = rc ? NULL : malloc(sizeof *lines * (size_t)n);
         if (!rc && !lines) rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
         for (int i = 0; !rc && i < n; ++i) lines[i] = rows[i].line;

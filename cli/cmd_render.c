@@ -345,7 +345,7 @@ int cmd_render(int argc, char **argv)
         rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", cli_name(a.scene),
                          hp_error_message(e));
     } else {
-        pic.message = hp_planner_error(p);
+        pic.message = hp_planner_message(p); /* a closest answer explains itself too */
         cli_input_of(&a.out.inputs[0], "scene", a.scene);
         a.out.ninputs = 1;
         /* render does not read the scene's trace, but it is the user's data all the same:

@@ -20,6 +20,7 @@ static const char *const CMD = "solve";
 
 static void help(void)
 {
+    char names[96];
     printf("usage: headplan solve SCENE [--correction X,Y,Z,PITCH,ROLL,YAW] [--backend NAME]\n"
            "                      [--level NAME] [--json]\n\n"
            "Plans the bladder pressures that produce one desired head correction for the\n"
@@ -31,7 +32,7 @@ static void help(void)
            "                 about X, roll about Y, yaw about Z); default: the scene's\n"
            "  --backend NAME realtime (default unless the scene says), ipopt, nlopt-slsqp,\n"
            "                 nlopt-cobyla\n"
-           "  --level NAME   contact model: linear, plane, surface, auto or load (the head's\n"
+           "  --level NAME   contact model: %s (the head's\n"
            "                 weight, docs/load.md); default: the scene's\n"
            "  --json         one JSON object on stdout instead of the tables\n"
            "  --help         this text\n\n"
@@ -41,7 +42,8 @@ static void help(void)
            "exit status: 0 reached, 1 only the closest reachable correction, 2 uncommanded\n"
            "(the commanded part reached, the rest not observable), 64 bad command line, 65 bad\n"
            "scene or correction (also outside the identifiable range), 66 scene cannot be\n"
-           "read, 70 solver failure\n");
+           "read, 70 solver failure\n",
+           hp_scene_level_names(1, " or ", names, sizeof names));
 }
 
 typedef struct solve_args {
@@ -65,14 +67,23 @@ static json_t *binding_json(unsigned flags)
     return a;
 }
 
-static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
+/* Component i of the correction is (partly) outside what the layout commands: its error is
+ * the uncommanded part, not a miss. u is clinical (mm, deg). */
+static int uncommanded_axis(const double u[6], int i) { return fabs(u[i]) > HP_DEFAULT_TOLERANCE; }
+
+static int print_json(const hp_layout *L, const hp_result *r, const char *msg,
+                      const char *level_why)
 {
     json_t *o = json_object();
     json_object_set_new(o, "status", json_string(hp_status_name(r->status)));
     json_object_set_new(o, "backend", json_string(hp_backend_name(r->backend)));
     json_object_set_new(o, "level", json_string(hp_level_name(r->level)));
+    json_object_set_new(o, "level_choice", *level_why ? json_string(level_why) : json_null());
     json_object_set_new(o, "desired", cli_json_pose(r->desired));
     json_object_set_new(o, "achieved", cli_json_pose(r->achieved));
+    double err[6];
+    for (int i = 0; i < 6; ++i) err[i] = r->achieved[i] - r->desired[i];
+    json_object_set_new(o, "error", cli_json_pose(err)); /* achieved − desired, as the table */
     json_t *cmd = json_object();
     for (int i = 0; i < 6; ++i)
         json_object_set_new(cmd, hp_pose_key(i), json_boolean(r->commanded[i]));
@@ -82,7 +93,7 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg)
     double u[6];
     hp_pose_to_clinical(r->uncommanded, u);
     for (int i = 0; i < 6; ++i)
-        if (fabs(u[i]) > HP_DEFAULT_TOLERANCE) json_array_append_new(ud, json_string(hp_pose_key(i)));
+        if (uncommanded_axis(u, i)) json_array_append_new(ud, json_string(hp_pose_key(i)));
     json_object_set_new(o, "uncommanded_directions", ud);
     json_t *bl = json_array();
     for (int k = 0; k < L->n; ++k) {
@@ -148,12 +159,16 @@ static void print_table(const hp_layout *L, const hp_result *r, const char *msg)
             }
         printf("%s\n", any ? "" : "-");
     }
-    /* error: achieved − the commanded part of desired (desired − uncommanded). */
+    /* error: achieved − desired, whatever its cause; where it is the part of the correction
+     * the layout cannot command (the uncommanded column) the row says so. */
     printf("\n%-10s %12s %12s %12s %14s\n", "pose", "desired", "achieved", "error",
            "uncommanded");
     for (int i = 0; i < 6; ++i)
-        printf("%-10s %12.6f %12.6f %12.3g %14.6f%s\n", hp_pose_key(i), d[i], a[i],
-               a[i] - (d[i] - u[i]), u[i], r->commanded[i] ? "" : "  (not commanded)");
+        printf("%-10s %12.6f %12.6f %12.3g %14.6f%s\n", hp_pose_key(i), d[i], a[i], a[i] - d[i],
+               u[i],
+               uncommanded_axis(u, i) ? "  (uncommanded)"
+               : r->commanded[i]      ? ""
+                                      : "  (not commanded)");
 }
 
 int cmd_solve(int argc, char **argv)
@@ -161,6 +176,11 @@ int cmd_solve(int argc, char **argv)
     solve_args a = {0};
     int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;
+    hp_level lv;
+    char names[96];
+    if (a.level && strcmp(a.level, HP_SCENE_LEVEL_LOAD) != 0 && hp_level_parse(a.level, &lv))
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--level: unknown level '%s' (%s)", a.level,
+                        hp_scene_level_names(1, ", ", names, sizeof names));
 
     double corr_clin[6];
     if (a.correction && (rc = cli_doubles(CMD, "--correction", a.correction, 6, corr_clin)))
@@ -184,7 +204,7 @@ int cmd_solve(int argc, char **argv)
         free(sc);
         return rc;
     }
-    int level_is_load = a.level && strcmp(a.level, "load") == 0;
+    int level_is_load = a.level && strcmp(a.level, HP_SCENE_LEVEL_LOAD) == 0;
     hp_settings s;
     if ((rc = cli_settings(CMD, sc, a.backend, level_is_load ? NULL : a.level, &s))) {
         free(sc);
@@ -209,9 +229,11 @@ int cmd_solve(int argc, char **argv)
         free(sc);
         return r2;
     }
+    char level_why[320];
+    cli_level_reason(&sc->layout, &s, hp_planner_level(p), level_why, sizeof level_why);
     hp_result r;
     e = hp_plan(p, desired, &r);
-    const char *msg = *hp_planner_error(p) ? hp_planner_error(p) : hp_planner_note(p);
+    const char *msg = hp_planner_message(p);
     int status;
     if (e != HP_OK) {
         status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", cli_name(a.scene),
@@ -236,11 +258,12 @@ int cmd_solve(int argc, char **argv)
                  : r.status == HP_STATUS_UNCOMMANDED ? CLI_EXIT_UNCOMMANDED
                                                      : CLI_EXIT_CLOSEST;
         if (a.json) {
-            if (print_json(hp_planner_layout(p), &r, msg)) status = CLI_EXIT_SOFTWARE;
+            if (print_json(hp_planner_layout(p), &r, msg, level_why)) status = CLI_EXIT_SOFTWARE;
         } else {
             print_table(hp_planner_layout(p), &r, msg);
             cli_print_hoop(hp_planner_layout(p), &r);
             if (why[0]) printf("\nlevel choice: %s\n", why); /* a load scene kept kinematic */
+            if (level_why[0]) printf("%slevel choice: %s\n", why[0] ? "" : "\n", level_why);
         }
     }
     hp_planner_destroy(p);

@@ -204,10 +204,10 @@ static int picture_complete(const char *path, int svg)
 int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f),
             const void *arg)
 {
+    /* Only render and plot (the default option names) have --dry-run to point at. */
     if (!o->dry_run && !gnuplot_on_path())
-        return cli_fail(CLI_EXIT_UNAVAILABLE, cmd,
-                           "gnuplot not found on PATH (install gnuplot-nox; --dry-run writes "
-                           "the script without it)");
+        return cli_fail(CLI_EXIT_UNAVAILABLE, cmd, "gnuplot not found on PATH (install gnuplot-nox%s)",
+                        o->path_opt ? "" : "; --dry-run writes the script without it");
     if (!o->script_out && o->dry_run) return write_script(cmd, "(stdout)", stdout, writer, arg);
     /* Both files are created (and checked against the inputs) before either is written, and
      * appear under their names only when both are complete. */

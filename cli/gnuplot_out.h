@@ -20,7 +20,8 @@ typedef struct gp_out {
     int ninputs;
     const char *drawing;    /* set by gp_draw while gnuplot draws: the temporary picture */
     const char *path_opt;   /* the options' names in messages (NULL: "-o", "--script-out"; */
-    const char *script_opt; /* fit layout's are --plot and --plot-script) */
+    const char *script_opt; /* fit layout's are --plot and --plot-script, and it has no
+                               --dry-run for a message to suggest) */
 } gp_out;
 
 /* Matches one of the shared options at argv[*i] (-o, --size, --script-out, --dry-run) and

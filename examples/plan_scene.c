@@ -42,7 +42,7 @@ int main(int argc, char **argv)
     }
     printf("status %s\n", hp_status_name(r.status));
     if (r.status != HP_STATUS_REACHED) /* an answer explains itself, a failure says why */
-        printf("message %s\n", *hp_planner_note(p) ? hp_planner_note(p) : hp_planner_error(p));
+        printf("message %s\n", hp_planner_message(p));
     for (int k = 0; k < r.n; ++k)
         printf("%s %.17g\n", sc.layout.bladders[k].name, r.bladders[k].pressure);
     rc = r.status == HP_STATUS_REACHED ? 0 : 1;

@@ -3,17 +3,17 @@
 #include "kin_geom.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
+
+/* The one table of the contact levels' names, in enum order: parsing, messages and the
+ * command line's help all read it (hp_scene_level_names adds the scene's "load"). */
+static const char *const level_names[HP_LEVEL_AUTO + 1] = {"linear", "plane", "surface",
+                                                           "auto"};
 
 const char *hp_level_name(hp_level l)
 {
-    switch (l) {
-    case HP_LEVEL_LINEAR: return "linear";
-    case HP_LEVEL_PLANE: return "plane";
-    case HP_LEVEL_SURFACE: return "surface";
-    case HP_LEVEL_AUTO: return "auto";
-    }
-    return "unknown";
+    return (int)l >= 0 && l <= HP_LEVEL_AUTO ? level_names[l] : "unknown";
 }
 
 hp_error hp_level_parse(const char *s, hp_level *out)
@@ -93,15 +93,37 @@ static hp_error check_bladder(const hp_layout *L, int k, hp_diag *diag)
  * preload) must fail whichever way the rounding falls. */
 #define NOMINAL_STRETCH_MARGIN 1e-9
 
+/* A bladder whose centre lies closer to the head than its outer radius overlaps the head:
+ * at rest the head squeezes it to the contact distance. When that is too much (a collapsed
+ * cavity, lam = NaN, or a stretch below stretch_min) the fault is the placement, not the
+ * limit: the message says by how much to move the bladder out, to the distance at which
+ * its inner radius is stretch_min·Ri (volume law ro³ = Ro³ + ri³ − Ri³). */
+static hp_error overlap_fail(const hp_bladder *b, double rho0, double lam, hp_diag *diag)
+{
+    const hp_iab *m = &b->iab;
+    double ri = b->stretch_min * m->Ri, ro = rho0;
+    if (hp_iab_ro(m, ri, &ro) != HP_OK || !(ro > rho0)) ro = m->Ro;
+    char squeeze[96];
+    if (isnan(lam))
+        snprintf(squeeze, sizeof squeeze, "would collapse its cavity at rest");
+    else
+        snprintf(squeeze, sizeof squeeze, "compresses it to stretch %.6g at rest (stretch_min %g)",
+                 lam, b->stretch_min);
+    return hp_diag_set(diag, HP_ERR_INVALID,
+                       "bladder '%s': center: the bladder overlaps the head: its centre is "
+                       "%.6g mm from the head surface, less than its outer radius %.6g mm, so "
+                       "the head %s: move it at least %.3g mm further from the head",
+                       b->name, rho0 * 1e3, m->Ro * 1e3, squeeze, (ro - rho0) * 1e3);
+}
+
 /* The nominal pose must hold: stretch strictly inside its limits, pressure inside its own. */
 static hp_error check_nominal(const hp_bladder *b, double rho0, hp_diag *diag)
 {
     double ri, P;
-    if (hp_iab_ri(&b->iab, rho0, &ri) != HP_OK)
-        return hp_diag_set(diag, HP_ERR_INVALID,
-                           "bladder '%s': center: the nominal contact distance %.6g mm "
-                           "collapses the bladder's cavity", b->name, rho0 * 1e3);
+    if (hp_iab_ri(&b->iab, rho0, &ri) != HP_OK) return overlap_fail(b, rho0, NAN, diag);
     double lam = ri / b->iab.Ri;
+    if (!(b->stretch_min < lam - NOMINAL_STRETCH_MARGIN) && rho0 < b->iab.Ro)
+        return overlap_fail(b, rho0, lam, diag);
     if (!(b->stretch_min < lam - NOMINAL_STRETCH_MARGIN))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "bladder '%s': stretch_min: must be below the nominal stretch %.6g "

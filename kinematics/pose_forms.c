@@ -6,10 +6,17 @@
 #include <math.h>
 #include <string.h>
 
-/* How far a given quaternion's norm or a given matrix may be from exact, before we refuse
- * it: trackers print 6-9 significant digits, so 1e-6 accepts their rounding and still
- * rejects a wrong column order or a missing normalisation. */
+/* How far a given matrix may be from orthonormal before we refuse it: trackers print 6-9
+ * significant digits, so 1e-6 accepts their rounding and still rejects a wrong column order
+ * or a scaled block. */
 #define FORM_TOL 1e-6
+/* A quaternion's norm is checked more loosely: trackers print quaternions with 4-5
+ * decimals, which puts the norm up to 2e-4 (4 decimals: 4 components off by 5e-5, |q|_1 <= 2)
+ * from 1. The norm only says whether q is meant as a rotation (what is not: an unnormalised
+ * or mis-ordered quaternion, a rotation vector, is off by far more than 1e-3); the
+ * normalisation that follows removes its size exactly, so accepting 1e-3 costs no accuracy
+ * beyond the digits given. */
+#define QUAT_NORM_TOL 1e-3
 
 void hp_rotation_angles(const double R[9], double *pitch, double *roll, double *yaw)
 {
@@ -52,10 +59,10 @@ hp_error hp_pose_from_quaternion(const double t[3], const double q[4], double xi
         if (!isfinite(q[i])) return hp_diag_set(diag, HP_ERR_INVALID, "quaternion: not finite");
     if (!hp_kin_finite3(t)) return hp_diag_set(diag, HP_ERR_INVALID, "translation: not finite");
     double norm = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (!(fabs(norm - 1.0) <= FORM_TOL))
+    if (!(fabs(norm - 1.0) <= QUAT_NORM_TOL))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "quaternion: norm %.9g is not 1 (within %g): not a rotation", norm,
-                           FORM_TOL);
+                           QUAT_NORM_TOL);
     double w = q[0] / norm, x = q[1] / norm, y = q[2] / norm, z = q[3] / norm;
     const double R[9] = {1 - 2 * (y * y + z * z), 2 * (x * y - w * z),     2 * (x * z + w * y),
                          2 * (x * y + w * z),     1 - 2 * (x * x + z * z), 2 * (y * z - w * x),

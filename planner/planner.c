@@ -227,6 +227,13 @@ const char *hp_planner_note(const hp_planner *p)
     return p->note;
 }
 
+const char *hp_planner_message(const hp_planner *p)
+{
+    if (!p) return hp_planner_error(p);
+    /* A failure clears the note and an answer clears the error, so at most one is set. */
+    return *p->err ? p->err : hp_planner_note(p);
+}
+
 hp_level hp_planner_level(const hp_planner *p) { return p ? p->level : HP_LEVEL_AUTO; }
 
 const hp_layout *hp_planner_layout(const hp_planner *p) { return p ? &p->L : NULL; }

@@ -6,6 +6,22 @@
 #include <stdio.h>
 #include <string.h>
 
+const char *hp_scene_level_names(int with_load, const char *last, char *buf, size_t len)
+{
+    if (!buf || !len) return buf;
+    buf[0] = '\0';
+    const int n = HP_LEVEL_AUTO + 1 + (with_load != 0);
+    size_t at = 0;
+    for (int i = 0; i < n && at < len; ++i) {
+        const char *name = i <= HP_LEVEL_AUTO ? hp_level_name((hp_level)i) : HP_SCENE_LEVEL_LOAD;
+        const char *sep = i == 0 ? "" : i == n - 1 ? (last ? last : ", ") : ", ";
+        int w = snprintf(buf + at, len - at, "%s%s", sep, name);
+        if (w < 0) break;
+        at += (size_t)w;
+    }
+    return buf;
+}
+
 hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_load, char *why,
                              size_t len, hp_level_refusal *refused, hp_diag *diag)
 {
@@ -14,12 +30,12 @@ hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_loa
     *use_load = 0;
     if (why && len) why[0] = '\0';
     hp_level parsed = HP_LEVEL_AUTO;
-    int asked = level ? strcmp(level, "load") == 0 : sc->level_load;
+    int asked = level ? strcmp(level, HP_SCENE_LEVEL_LOAD) == 0 : sc->level_load;
     if (level && !asked && hp_level_parse(level, &parsed) != HP_OK) {
         if (refused) *refused = HP_LEVEL_REFUSED_UNKNOWN;
-        return hp_diag_set(diag, HP_ERR_INVALID,
-                           "level: unknown level '%s' (linear, plane, surface, auto, load)",
-                           level);
+        char names[96];
+        return hp_diag_set(diag, HP_ERR_INVALID, "level: unknown level '%s' (%s)", level,
+                           hp_scene_level_names(1, ", ", names, sizeof names));
     }
     int automatic = level ? parsed == HP_LEVEL_AUTO : sc->level == HP_LEVEL_AUTO;
     if (asked && !sc->has_load) {

@@ -35,15 +35,22 @@ hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if ((n = yt_map_get(node, "gravity_dir"))) {
         double g[3];
         if ((e = sr_vector(c, n, "load.gravity_dir", 3, g))) return e;
-        double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
-        if (!(len > 1e-9) || !isfinite(len))
+        /* Only the direction counts: divided by its largest component first, so that the
+         * squares of 1e308 (overflow) or of 1e-200 (underflow) do not make a direction
+         * "zero". */
+        double big = fmax(fabs(g[0]), fmax(fabs(g[1]), fabs(g[2])));
+        if (!(big > 0))
             return sr_fail(c, n, "load.gravity_dir", HP_ERR_INVALID,
                            "must be a non-zero direction (unitless; scaled to 9.80665 m/s^2)");
+        for (int i = 0; i < 3; ++i) g[i] /= big;
+        double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]); /* in [1, √3] */
         for (int i = 0; i < 3; ++i) s->load.gravity[i] = HP_GRAVITY * g[i] / len;
     }
     s->load_geometry = HP_LEVEL_SURFACE;
     if ((n = yt_map_get(node, "geometry"))) {
-        static const char *const GEOMS[] = {"linear", "plane", "surface", NULL};
+        const char *GEOMS[HP_LEVEL_AUTO + 1]; /* the contact levels but auto, NULL */
+        for (int l = HP_LEVEL_LINEAR; l < HP_LEVEL_AUTO; ++l) GEOMS[l] = hp_level_name((hp_level)l);
+        GEOMS[HP_LEVEL_AUTO] = NULL;
         char name[16];
         if ((e = sr_word(c, n, "load.geometry", "geometry", GEOMS, name, sizeof name)))
             return e;

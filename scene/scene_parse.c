@@ -61,14 +61,16 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if (e) return e;
     const yt_node *n;
     if ((n = yt_map_get(node, "level"))) {
-        static const char *const LEVELS[] = {"linear", "plane", "surface", "auto", "load",
-                                             NULL};
+        const char *LEVELS[HP_LEVEL_AUTO + 3]; /* the contact levels, "load", NULL */
+        for (int l = HP_LEVEL_LINEAR; l <= HP_LEVEL_AUTO; ++l) LEVELS[l] = hp_level_name((hp_level)l);
+        LEVELS[HP_LEVEL_AUTO + 1] = HP_SCENE_LEVEL_LOAD;
+        LEVELS[HP_LEVEL_AUTO + 2] = NULL;
         char name[16];
         if ((e = sr_word(c, n, "model.level", "level", LEVELS, name, sizeof name))) return e;
         /* "load" is the load level (a planner of its own, docs/load.md); its contact
          * geometry is `load.geometry`, and a kinematic planner built from the same scene
          * uses the surface level. */
-        s->level_load = strcmp(name, "load") == 0;
+        s->level_load = strcmp(name, HP_SCENE_LEVEL_LOAD) == 0;
         if (s->level_load && !s->has_load)
             return sr_fail(c, n, "model.level", HP_ERR_INVALID,
                            "'load' needs a 'load' section (what the bladders carry)");
@@ -281,10 +283,11 @@ static hp_error layout_tree(const sr_ctx *c, const yt_node *root, hp_scene *s)
         return wrong_kind(c, root, sizeof(hp_bladder_study), study_tree_v,
                           "a single-bladder study, not a layout scene (read it with "
                           "hp_study_load)");
-    /* One set of defaults: the planner's. */
+    /* One set of defaults: the planner's, except the level: a scene that states none is
+     * planned at the fidelity it needs (auto), not silently at the cheapest level. */
     hp_settings def;
     hp_settings_default(&def);
-    s->level = def.level;
+    s->level = HP_SCENE_DEFAULT_LEVEL;
     s->level_tolerance = def.level_tolerance;
     s->auto_trans = def.auto_trans;
     s->auto_rot = def.auto_rot;

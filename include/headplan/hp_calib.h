@@ -79,12 +79,17 @@ typedef struct hp_material_fit {
  *   - fewer than two distinct non-zero pressures (each pressure is one equation in the two
  *     moduli; P = 0 gives r = Ri whatever the moduli), or fewer than three points (no degree
  *     of freedom left to estimate the scatter);
- *   - a condition number of the scaled Jacobian above 1e4 (all points so close to λ = 1
- *     that the data only see C1 + C2; points on one side of λ = 1 are ill-conditioned, not
- *     unidentifiable: the number grows like 0.7/max|λi − 1|, 0.18/max|λi − 1| on both sides);
+ *   - a condition number of the scaled Jacobian above 1e4 (columns scaled by the moduli, a
+ *     modulus below 0.1·(C1 + C2) by that; all points so close to λ = 1 that the data only
+ *     see C1 + C2; points on one side of λ = 1 are ill-conditioned, not unidentifiable: the
+ *     number grows like 0.7/max|λi − 1|, 0.18/max|λi − 1| on both sides), also when the
+ *     search on such data stalled or ran into a bound or the limit point;
+ *   - a fit that does not fit: the residual RMS above 5 % of the mean measured radius (a wrong
+ *     unit, wrong reference radii; the message compares the data with Ri or Ro);
  *   - a fit that runs into the limit point: a measured pressure at or above the fitted
  *     bladder's limit-point pressure, or a measured radius past its limit-point radius;
- *   - moduli outside the model (C1 <= 0 or C2 < 0 at the optimum).
+ *   - C1 <= 0 at the optimum. C2 is held at the model's bound 0 when the data prefer less
+ *     (neo-Hookean data, C2 = 0, are fitted with C2 = 0; its interval then reaches 0).
  * resid (may be NULL) receives the n residuals r_meas − r_fit [m]. */
 HP_API hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_calib_point *pts,
                          int n, hp_material_fit *out, double *resid, hp_diag *diag);
@@ -159,7 +164,8 @@ typedef struct hp_layout_fit {
     double condition;                        /* of the fitted (determined) columns */
     double weakest[HP_CALIB_MAX_PARAMS];     /* unit direction in parameter space (held: 0)
                                                 the data determine worst */
-    double weakest_se;                       /* standard error along it [m] */
+    double weakest_se;                       /* standard error along it, in the SI units of
+                                                its components: m, kg when it is the mass */
     int n_rows, n_res, dof;                  /* rows, residual components, n_res − fitted */
     double t, s;                             /* t(0.975, dof); residual SD for unit weight */
     double rms_before[6], rms_after[6];      /* per pose axis [m or rad] */
@@ -235,6 +241,9 @@ HP_API hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_le
 
 /* ---- data files ---- */
 
+/* The largest data file the readers take [bytes]. */
+#define HP_CALIB_MAX_BYTES (16L * 1024 * 1024)
+
 /* Reads a material data CSV: header `pressure_pa,ri_mm` or `pressure_pa,ro_mm` (or kpa),
  * optionally a third column `sigma_mm`; '#' comment and blank lines skipped. Fills up to
  * max points (SI) and *kind; every bad field is refused with "FILE:LINE:COL: why".
@@ -250,6 +259,16 @@ HP_API hp_error hp_calib_read_material(const char *path, hp_calib_point *pts, in
  * column is that of the key at fault). */
 HP_API hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row *rows,
                               int max, int *n, hp_diag *diag);
+
+/* The same two readers on len bytes at text (a file read elsewhere, e.g. a command's standard
+ * input), named `name` in messages ("NAME:LINE:COL: why"); the bytes are copied, not kept.
+ * Same limits and refusals as the readers of files, without HP_ERR_IO. */
+HP_API hp_error hp_calib_parse_material(const char *text, size_t len, const char *name,
+                                        hp_calib_point *pts, int max, int *n,
+                                        hp_calib_radius *kind, hp_diag *diag);
+HP_API hp_error hp_calib_parse_layout(const char *text, size_t len, const char *name,
+                                      const hp_layout *L, hp_calib_row *rows, int max, int *n,
+                                      hp_diag *diag);
 
 #ifdef __cplusplus
 }

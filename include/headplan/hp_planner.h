@@ -238,6 +238,13 @@ HP_API const char *hp_planner_error(const hp_planner *p);
  * another call on the same planner. */
 HP_API const char *hp_planner_note(const hp_planner *p);
 
+/* The message of the last plan whatever its status, for a caller that shows one text with
+ * a result: the failure's (hp_planner_error) when the plan failed or was refused, else the
+ * answer's (hp_planner_note: the binding limits of CLOSEST, the uncommanded components of
+ * UNCOMMANDED); "" after REACHED. Never NULL. Writes into the planner as hp_planner_note
+ * does: not concurrently with another call on the same planner. */
+HP_API const char *hp_planner_message(const hp_planner *p);
+
 /* Sets a backend-specific option by name, NLopt style, so that one backend's switch is not
  * a field every caller sees. Known: for Ipopt, "hessian_approximation" 0 (the exact
  * Hessian, default) or 1 (Ipopt's limited-memory quasi-Newton approximation, a benchmark

@@ -45,8 +45,11 @@ extern "C" {
 /* Longest path kept (trace file, resolved against the scene's folder), including the NUL. */
 #define HP_SCENE_PATH_MAX 1024
 /* The optional `model` and `solver` sections default to the planner's own HP_DEFAULT_*
- * values (hp_planner.h): a scene that leaves them out plans exactly as
- * hp_settings_default() does. */
+ * values (hp_planner.h), except `model.level`: a scene that states none is planned at `auto`
+ * (the cheapest level whose error bound meets model.tolerance_mm over the auto range; with a
+ * `load` section, the load level when the sag calls for it), not at hp_settings_default()'s
+ * linear level, which a scene would otherwise get without saying so. */
+#define HP_SCENE_DEFAULT_LEVEL HP_LEVEL_AUTO
 
 typedef enum hp_scene_kind {
     HP_SCENE_LAYOUT = 0, /* key `bladders`: a head and its bladders (hp_scene) */
@@ -184,6 +187,16 @@ typedef enum hp_level_refusal {
  * load model's error (hp_load_model_create: the layout cannot carry the load), message in
  * diag. refused (may be NULL) gets HP_LEVEL_REFUSED_NONE unless the level argument itself
  * was refused. Allocates (the load model) only for auto on a scene with a `load` section. */
+/* The level a scene's model.level (and the command line's --level) may name besides the
+ * contact levels: the load level (docs/load.md), a planner of its own. */
+#define HP_SCENE_LEVEL_LOAD "load"
+
+/* The names of every level, from the one table (hp_level_name, then HP_SCENE_LEVEL_LOAD when
+ * with_load), joined by ", " with `last` before the final one (", " or " or "), into buf
+ * (len bytes, truncated if short; "linear, plane, surface, auto or load"). Returns buf, for
+ * messages and help texts. */
+HP_API const char *hp_scene_level_names(int with_load, const char *last, char *buf, size_t len);
+
 HP_API hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_load,
                                     char *why, size_t len, hp_level_refusal *refused,
                                     hp_diag *diag);

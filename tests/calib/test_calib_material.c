@@ -2,7 +2,9 @@
  * recovery from noise-free data (inner and outer radius); the Jacobian behind the standard
  * errors against central differences of the forward kinematics; coverage of the 95 %
  * intervals over 400 seeded trials; refusal of designs that cannot determine both moduli;
- * the information gain of one more point. */
+ * the information gain of one more point; neo-Hookean data (C2 = 0, on the model's bound),
+ * radii in the wrong unit (a fit that does not fit), data too close to lambda = 1 to
+ * separate the moduli whatever the noise. */
 #include "test_util.h"
 #include "calib_rng.h"
 #include "headplan/hp_calib.h"
@@ -189,15 +191,22 @@ static void test_unidentifiable_designs(void **state)
     assert_true(f.condition > 50 && f.condition < 200);
 }
 
+/* The limit point of a soft bladder (small C2/C1), which must have one. */
+static hp_iab_limit soft_limit(const hp_iab *b)
+{
+    hp_iab_limit lp;
+    assert_int_equal(hp_iab_limit_point(b, &lp), HP_OK);
+    assert_true(lp.exists);
+    return lp;
+}
+
 /* Radii measured past the limit point of a neo-Hookean-like bladder (C2 small): the
  * stable-branch model cannot reproduce them; the fit says it runs into the limit point. */
 static void test_limit_point_refused(void **state)
 {
     (void)state;
     hp_iab b = {RI, RO, 1.1e4, 200};
-    hp_iab_limit lp;
-    assert_int_equal(hp_iab_limit_point(&b, &lp), HP_OK);
-    assert_true(lp.exists);
+    soft_limit(&b);
     hp_calib_point pts[12];
     for (int i = 0; i < 12; ++i) {
         double lam = 1.05 + 0.07 * i, P; /* up to 1.82, past the limit (~1.43) */
@@ -260,6 +269,85 @@ static void test_information_gain(void **state)
     assert_true(shrink[4] < shrink[2]);
 }
 
+/* Noise-free neo-Hookean data (C2 = 0) lie on the model's bound C2 >= 0: the fit gives
+ * C1 back and C2 = 0 (to the rounding of the data), not a refusal. Noisy ones may prefer
+ * C2 < 0; then the fit answers at the bound too (C2 = 0, the best fit the model allows). */
+static void test_neo_hookean(void **state)
+{
+    (void)state;
+    hp_iab b = {RI, RO, 1.1e4, 0.0};
+    hp_iab_limit lp = soft_limit(&b);
+    hp_calib_point pts[12];
+    synth(HP_CALIB_INNER, 1.1e4, 0.0, -4000, 0.9 * lp.pressure, 12, 0, NULL, pts);
+    hp_material_fit f;
+    hp_diag d = {{0}};
+    hp_error e = hp_fit_material(RI, RO, HP_CALIB_INNER, pts, 12, &f, NULL, &d);
+    if (e) print_error("%s\n", d.text);
+    assert_int_equal(e, HP_OK);
+    /* Rounding of the synthesised radii (1e-16 relative) through a condition number of ~100:
+     * 1e-8 relative on C1 and 1e-8·C1 absolute on C2 are wide margins. */
+    hp_assert_close(f.C1, 1.1e4, 1e-8, 0);
+    assert_true(f.C2 >= 0 && f.C2 < 1e-8 * 1.1e4);
+    assert_true(f.rms < 1e-12);
+    /* With noise: every one of 40 seeded data sets gives an answer with C2 >= 0 and C1
+     * within 5 standard errors of the truth. */
+    calib_rng r = {20261204};
+    for (int t = 0; t < 40; ++t) {
+        synth(HP_CALIB_INNER, 1.1e4, 0.0, -4000, 0.9 * lp.pressure, 12, 2e-5, &r, pts);
+        e = hp_fit_material(RI, RO, HP_CALIB_INNER, pts, 12, &f, NULL, &d);
+        if (e) print_error("trial %d: %s\n", t, d.text);
+        assert_int_equal(e, HP_OK);
+        assert_true(f.C2 >= 0);
+        assert_true(fabs(f.C1 - 1.1e4) < 5 * f.se[0]);
+    }
+}
+
+/* All points within 1e-4 of lambda = 1 see only C1 + C2: with noise too, every data set is
+ * refused by name ("cannot determine both moduli"), never "did not converge" (70) nor an
+ * answer. 60 seeds at each of four noise levels, from far below to far above the span of
+ * the radii (2.7 um). */
+static void test_near_one_refused(void **state)
+{
+    (void)state;
+    const double sig[4] = {1e-8, 1e-7, 1e-6, 2e-5};
+    int counts[4][3] = {{0}};
+    for (int k = 0; k < 4; ++k) {
+        calib_rng r = {1000 + (uint64_t)k};
+        for (int t = 0; t < 60; ++t) {
+            hp_calib_point pts[12];
+            synth(HP_CALIB_INNER, 1.1e4, 2.2e4, 0.5, 5.5, 12, sig[k], &r, pts);
+            hp_material_fit f;
+            hp_diag d = {{0}};
+            hp_error e = hp_fit_material(RI, RO, HP_CALIB_INNER, pts, 12, &f, NULL, &d);
+            int named = e == HP_ERR_INVALID && strstr(d.text, "cannot determine both moduli");
+            counts[k][e == HP_OK ? 0 : named ? 1 : 2]++;
+            if (!named) print_error("sigma %g trial %d: %d %s\n", sig[k], t, e, d.text);
+        }
+    }
+    for (int k = 0; k < 4; ++k) assert_int_equal(counts[k][1], 60);
+}
+
+/* Radii written in cm under an ri_mm header read ten times too small: no moduli reproduce
+ * them (the fit's radii miss by ~1 m). A fit that does not fit is refused, naming the
+ * residual against the data's size and the unit to check; the data in the right unit fit. */
+static void test_misfit_refused(void **state)
+{
+    (void)state;
+    calib_rng r = {7};
+    hp_calib_point pts[12];
+    synth(HP_CALIB_INNER, 1.25e4, 1.9e4, -4000, 6000, 12, 2e-5, &r, pts);
+    hp_material_fit f;
+    hp_diag d = {{0}};
+    assert_int_equal(hp_fit_material(RI, RO, HP_CALIB_INNER, pts, 12, &f, NULL, &d), HP_OK);
+    assert_true(f.rms < 1e-4);
+    for (int i = 0; i < 12; ++i) pts[i].radius *= 0.1, pts[i].sigma = 1e-3;
+    hp_error e = hp_fit_material(RI, RO, HP_CALIB_INNER, pts, 12, &f, NULL, &d);
+    assert_int_equal(e, HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "the fit misses the data"));
+    assert_non_null(strstr(d.text, "10x too small"));
+    assert_true(isnan(f.C1));
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -271,6 +359,9 @@ int main(void)
         cmocka_unit_test(test_limit_point_refused),
         cmocka_unit_test(test_bad_points),
         cmocka_unit_test(test_information_gain),
+        cmocka_unit_test(test_neo_hookean),
+        cmocka_unit_test(test_near_one_refused),
+        cmocka_unit_test(test_misfit_refused),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

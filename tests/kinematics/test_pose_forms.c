@@ -114,10 +114,25 @@ static void test_quaternion(void **state)
     assert_true(q[0] >= 0);
     assert_int_equal(hp_pose_from_quaternion(tq, q, back, NULL), HP_OK);
     for (int i = 0; i < 6; ++i) hp_assert_close(back[i], pose[i], 0, 1e-13);
+    /* A tracker's five decimals: each component off by up to 5e-6, the norm by up to
+     * 2e-5 (|q|_1 <= 2). Accepted and normalised: the pose equals the exact quaternion's to
+     * the rounding's own size (an angle error of about 2·5e-6 rad per component). */
+    double q5[4], x5[6];
+    for (int i = 0; i < 4; ++i) q5[i] = round(q[i] * 1e5) * 1e-5;
+    assert_int_equal(hp_pose_from_quaternion(tq, q5, x5, NULL), HP_OK);
+    for (int i = 3; i < 6; ++i) hp_assert_close(x5[i], pose[i], 0, 4e-5);
+    /* Four decimals off in the norm by up to 2e-4 (the tolerance is 1e-3): accepted. */
+    const double q4[4] = {0.9998, 0.0175, 0, 0}; /* 2° about x, four decimals */
+    assert_int_equal(hp_pose_from_quaternion(t, q4, xi, NULL), HP_OK);
+    hp_assert_close(xi[3], rad(2), 0, 2e-4);
+    /* Beyond 1e-3 it is not a rotation (an unnormalised or mis-ordered quaternion). */
     hp_diag d = {{0}};
-    const double bad[4] = {1, 0.01, 0, 0};
+    const double bad[4] = {1, 0.05, 0, 0}; /* norm 1.00125 */
     assert_int_equal(hp_pose_from_quaternion(t, bad, xi, &d), HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "norm"));
+    assert_non_null(strstr(d.text, "0.001"));
+    const double half[4] = {0.5, 0.5, 0, 0}; /* norm 0.707 */
+    assert_int_equal(hp_pose_from_quaternion(t, half, xi, &d), HP_ERR_INVALID);
     const double nan_q[4] = {NAN, 0, 0, 0};
     assert_int_equal(hp_pose_from_quaternion(t, nan_q, xi, NULL), HP_ERR_INVALID);
 }
