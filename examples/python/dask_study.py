@@ -4,7 +4,8 @@ Plans many traces, or one long trace in chunks, with `Planner.run_trace` on the 
 cluster: a `LocalCluster` on one machine, or a scheduler's address in production. Each
 worker builds its planner once per (scene, planner options) and reuses it for every task it
 runs (`run_trace` starts every trace from the nominal answer, so a reused planner plans a
-trace exactly as a fresh one). Results come back as the NumPy arrays of `run_trace`.
+trace exactly as a fresh one). Results come back as the NumPy arrays of `run_trace`, or,
+with batch_files, as the result files `headplan batch` writes on every other route.
 
     from distributed import Client
     import dask_study
@@ -12,6 +13,7 @@ trace exactly as a fresh one). Results come back as the NumPy arrays of `run_tra
     runs = dask_study.plan_traces(client, "study.yaml", ["traces/a.csv", "traces/b.csv"])
     run = dask_study.plan_chunks(client, "study.yaml", poses, t=t, rows="deviation",
                                  chunk_rows=500)
+    files = dask_study.batch_files(client, "study.yaml", ["traces/a.csv"], "results")
 
 Paths are read by the workers, so they must name the same files there (a shared folder).
 Both helpers need this module importable on the workers (on their PYTHONPATH, or sent with
@@ -23,6 +25,9 @@ bind (a scene without `rate_max_kpa`, as scenarios/default.yaml). A worker that 
 mid-study costs nothing but time: Dask runs its tasks again on another worker, and a task's
 result depends on its inputs alone.
 """
+import os
+import subprocess
+
 import numpy as np
 
 import headplan
@@ -85,3 +90,24 @@ def plan_chunks(client, scene, poses, t=None, rows=None, chunk_rows=1000,
                              t=t[s:s + chunk_rows], rows=rows, pure=False, **run_options)
                for s in starts]
     return join_chunks(client.gather(futures), starts)
+
+
+def batch_file(scene, trace, results, headplan="headplan", args=()):
+    """One task on a worker: `headplan batch SCENE TRACE -o RESULTS/NAME.csv` (NAME the
+    trace's file name without .csv), the file every other route writes (one process, --jobs,
+    GNU parallel, Slurm). Returns its path; raises with batch's message if batch fails."""
+    out = os.path.join(results, os.path.basename(trace).removesuffix(".csv") + ".csv")
+    os.makedirs(results, exist_ok=True)
+    p = subprocess.run([headplan, "batch", scene, trace, "--no-progress", *args, "-o", out],
+                       capture_output=True, text=True)
+    if p.returncode not in (0, 1):  # 1: some rows only closest, with --strict
+        raise RuntimeError(f"headplan batch {scene} {trace}: exit {p.returncode}: "
+                           f"{p.stderr.strip()}")
+    return out
+
+
+def batch_files(client, scene, traces, results, headplan="headplan", args=()):
+    """Plans every trace with `headplan batch` on the cluster into RESULTS (a folder the
+    workers share); returns the result paths, in order."""
+    return client.gather([client.submit(batch_file, scene, tr, results, headplan, tuple(args),
+                                        pure=False) for tr in traces])

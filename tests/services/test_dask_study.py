@@ -6,6 +6,7 @@ Skipped, saying why, without Debian's python3-distributed. Waits are generous an
 (the CI machine is loaded on purpose); nothing asserts a time."""
 import os
 import signal
+import subprocess
 import sys
 import time
 
@@ -90,6 +91,37 @@ def test_chunks_equal_one_process(client):
     got = dask_study.plan_chunks(client, SCENE, poses, t=t, rows="deviation", chunk_rows=250)
     assert len(got["line"]) == 1800
     assert_same(got, want)
+
+
+def blank_times(path):
+    """The file's lines with the solve_time_us column blanked (a measurement)."""
+    out, col = [], None
+    with open(path) as f:
+        for line in f:
+            if line.startswith("#"):
+                out.append(line)
+            elif col is None:
+                col = line.rstrip("\n").split(",").index("solve_time_us")
+                out.append(line)
+            else:
+                fields = line.split(",")
+                fields[col] = ""
+                out.append(",".join(fields))
+    return out
+
+
+def test_batch_files_equal_one_process(client, tmp_path):
+    hp = os.environ.get("HEADPLAN_BIN", os.path.join(SRC, "build", "headplan"))
+    env = dict(os.environ)
+    env.pop("LD_PRELOAD", None)  # the program is a plain (or fully instrumented) binary
+    files = dask_study.batch_files(client, SCENE, TRACES[:2], str(tmp_path / "results"), hp,
+                                   ("--rows", "deviation"))
+    assert [os.path.basename(f) for f in files] == ["drift_10hz.csv", "nodding.csv"]
+    for tr, f in zip(TRACES[:2], files):
+        one = str(tmp_path / "one.csv")
+        subprocess.run([hp, "batch", SCENE, tr, "--no-progress", "--rows", "deviation",
+                        "-o", one], check=True, capture_output=True, env=env)
+        assert blank_times(f) == blank_times(one)
 
 
 def test_worker_killed_mid_study(client, one_process, tmp_path):
