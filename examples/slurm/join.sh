@@ -50,5 +50,7 @@ for p in "${pieces[@]}"; do
     off=$((off + $(wc -l < "$p") - h))
     first=0
 done
+# mktemp made it private; the result gets the modes batch's results get (the umask's).
+chmod "$(printf '%o' $(( 0666 & ~8#$(umask) )))" -- "$tmp"
 mv -f -- "$tmp" "$joined" || { echo "$me: $joined: cannot rename into place" >&2; exit 74; }
 trap - EXIT
