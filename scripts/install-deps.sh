@@ -18,6 +18,8 @@ PACKAGES=(
   python3 python3-numpy python3-scipy  # peer benchmark (SciPy SLSQP)
   python3-dev python3-pytest python3-matplotlib  # Python module, its tests, its pictures
   parallel              # the GNU parallel sharding recipe is run by the tests
+  slurm-wlm munge       # the Slurm recipe runs on a single-node Slurm its test starts
+  python3-distributed   # Dask: the Python study recipe runs on a LocalCluster in its test
   locales               # de_DE locale source: the comma-locale tests build it with localedef
 )
 
