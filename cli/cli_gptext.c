@@ -38,6 +38,17 @@ int gp_quote(FILE *f, const char *s)
     return 0;
 }
 
+int gp_path(FILE *f, const char *path)
+{
+    if (gp_control_byte(path) >= 0) return -1;
+    if (path[0] == '/') return gp_quote(f, path);
+    /* "./" inside the quotes: gnuplot looks only at the name's first bytes. */
+    fputs("\"./", f);
+    put_bytes(f, path, strlen(path));
+    fputc('"', f);
+    return 0;
+}
+
 void gp_label(FILE *f, const char *s)
 {
     size_t len = strlen(s);

@@ -162,6 +162,33 @@ PY
   rm -f "$W/$n.svg"
 done
 
+# Picture names that gnuplot opens its own way when written as they are: a relative name
+# starting with '|' is a pipe into a shell, '~/' the home folder, '-', '<' and '+' special
+# files of `plot`. Each must give the file of exactly that name in W (drawn live and by the
+# kept script redrawn by hand), run nothing and write nothing in HOME.
+mkdir -p "$W/~" "$W/home"
+export HOME="$W/home" # where gnuplot would put a '~/' name
+rel=('|touch CANARY;x' '~/tilde' '-dash' '<touch CANARY;y' '+')
+for i in "${!rel[@]}"; do
+  n="${rel[$i]}"
+  t="relative name $i"
+  run plot r.csv -o "$n.png" --size 400x300 --script-out "k$i.gp"
+  drawn "$t: plot -o" "$W/$n.png" png
+  no_canary "$t: plot -o"
+  rm -f "$W/$n.png"
+  redraw "$t: plot -o, kept" "k$i.gp"
+  is_png "$W/$n.png" && ok || bad "$t: plot -o, kept: no PNG under its name"
+  run render "$S/default.yaml" -o "$n.svg" --size 400x300
+  drawn "$t: render -o" "$W/$n.svg" svg
+  no_canary "$t: render -o"
+  run fit layout "$S/default.yaml" "$E/layout_rows.csv" --sigma-mm 0.05 --sigma-deg 0.05 \
+      --plot "$n-fit.png"
+  drawn "$t: fit layout --plot" "$W/$n-fit.png" png report
+  no_canary "$t: fit layout --plot"
+  [ -z "$(ls -A "$W/home")" ] && ok || bad "$t: a file was written in HOME"
+  rm -f "$W/$n.png" "$W/$n.svg" "$W/$n-fit.png" "$W/k$i.gp" "$W/home/"*
+done
+
 # The benchmark lab: a hostile --out folder (gnuplot runs in it) and catalogue scene files
 # with hostile names (the load chart labels its scenes by file name).
 if [ -x "$BENCH" ]; then
