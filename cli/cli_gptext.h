@@ -36,7 +36,9 @@ int gp_path(FILE *f, const char *path);
 
 /* Writes s as a gnuplot string to show (a title, a label, a key entry) that is never
  * refused: every control character and every byte that is not part of well-formed UTF-8
- * is shown as '?' (gnuplot would warn on our stderr that it cannot convert the text). */
+ * is shown as '?' (gnuplot would warn on our stderr that it cannot convert the text), and
+ * so are U+FFFE, U+FFFF and the '>' of "]]>", which gnuplot would write into an SVG picture
+ * as they are, leaving it no well-formed XML. */
 void gp_label(FILE *f, const char *s);
 
 #endif

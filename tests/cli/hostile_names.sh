@@ -189,6 +189,28 @@ for i in "${!rel[@]}"; do
   rm -f "$W/$n.png" "$W/$n.svg" "$W/$n-fit.png" "$W/k$i.gp" "$W/home/"*
 done
 
+# An SVG picture stays well-formed XML whatever text it shows: gnuplot escapes '<' and '&'
+# in its SVG text but not "]]>", and writes U+FFFE and U+FFFF (no XML characters) as they are.
+svg_ok() { python3 -c 'import sys, xml.dom.minidom as m; m.parse(sys.argv[1])' "$2" 2>/dev/null &&
+  ok || bad "$1: the SVG is not well-formed XML"; }
+n=$'x]]>y\xef\xbf\xbe\xef\xbf\xbf<z>&amp;'
+cp "$W/r.csv" "$W/$n.csv"
+run plot "$W/$n.csv" -o "$W/xml_title.svg" --size 400x300
+drawn "xml text: plot RESULT" "$W/xml_title.svg" svg; svg_ok "xml text: plot RESULT" "$W/xml_title.svg"
+python3 - "$n" "$W/r.csv" "$W/xml_col.csv" <<'PY2'
+import os, sys
+name, src, out = os.fsencode(sys.argv[1]), sys.argv[2], sys.argv[3]
+open(out, "wb").write(open(src, "rb").read().replace(b"base_neck_left_pressure_pa",
+                                                       name + b"_pressure_pa"))
+PY2
+run plot "$W/xml_col.csv" -o "$W/xml_col.svg" --size 400x300
+drawn "xml text: plot, column name" "$W/xml_col.svg" svg
+svg_ok "xml text: plot, column name" "$W/xml_col.svg"
+scene_named 'x]]>y<z>&amp;' "$S/default.yaml" "$W/xml.yaml" # YAML refuses U+FFFE, U+FFFF
+run render "$W/xml.yaml" -o "$W/xml_scene.svg" --size 400x300
+drawn "xml text: render, scene name" "$W/xml_scene.svg" svg
+svg_ok "xml text: render, scene name" "$W/xml_scene.svg"
+
 # The benchmark lab: a hostile --out folder (gnuplot runs in it) and catalogue scene files
 # with hostile names (the load chart labels its scenes by file name).
 if [ -x "$BENCH" ]; then

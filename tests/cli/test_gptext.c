@@ -143,6 +143,18 @@ static void test_label(void **state)
         {"caf\xc3\xa9", "\"caf\\0303\\0251\""},           /* é: well-formed, kept */
         {"\xc3(", "\"?(\""},                                 /* a cut sequence */
         {"\xed\xa0\x80", "\"?" "?" "?\""},                   /* a surrogate is not well formed */
+        {"\xc0\xaf", "\"?" "?\""},                              /* overlong '/' */
+        {"\xe0\x80\xaf", "\"?" "?" "?\""},                     /* overlong, 3 bytes */
+        {"\xf4\x90\x80\x80", "\"?" "?" "?" "?\""},            /* beyond U+10FFFF */
+        {"\xf8\x88\x80\x80\x80", "\"?" "?" "?" "?" "?\""},    /* a 5-byte form */
+        {"\xf0\x9f\x98\x80!", "\"\\0360\\0237\\0230\\0200\\0041\""}, /* U+1F600, kept */
+        {"EOD", "\"EOD\""}, /* only ever inside quotes, never a line of a data block */
+        /* What an SVG cannot hold (gnuplot escapes only '<' and '&' there): "]]>", U+FFFE
+         * and U+FFFF are shown as '?'; U+FFFD and a lone "]>" are kept. */
+        {"a]]>b", "\"a]]?b\""},
+        {"]>]]]>", "\"]>]]]?\""},
+        {"x\xef\xbf\xbfy\xef\xbf\xbe", "\"x?y?\""},
+        {"\xef\xbf\xbd", "\"\\0357\\0277\\0275\""},
         {"back\\slash`x`@y!z\"$", "\"back\\0134slash\\0140x\\0140\\0100y\\0041z\\0042\\0044\""},
         {"{}", "\"\\0173\\0175\""},
         {"", "\"\""},
