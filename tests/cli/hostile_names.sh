@@ -6,7 +6,9 @@
 # material --plot; the benchmark lab's --out folder and catalogue scene names. Each payload
 # would `touch CANARY` in the folder gnuplot runs in; CANARY must never appear, and each
 # command either draws its picture (exit 0, a whole PNG/SVG) or refuses with its documented
-# status and a message naming the option. Every kept script is also run by hand.
+# status and a message naming the option. Every kept script is also run by hand. Relative
+# picture names that gnuplot opens its own way ('|...' a pipe, '~/...' in HOME), and text an
+# SVG cannot hold ("]]>", U+FFFE, U+FFFF), have their own cases below.
 source "$2/tests/cli_lib.sh"
 export LC_ALL=C # [[:cntrl:]] below: bytes 0x01-0x1f and 0x7f
 S="$HP_SRC/scenarios"
