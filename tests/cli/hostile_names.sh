@@ -213,6 +213,25 @@ run render "$W/xml.yaml" -o "$W/xml_scene.svg" --size 400x300
 drawn "xml text: render, scene name" "$W/xml_scene.svg" svg
 svg_ok "xml text: render, scene name" "$W/xml_scene.svg"
 
+# A NUL byte inside a column name is refused by file:line before anything is drawn; a
+# picture name of 15 folders of 120 'é' and '@`' each (about 1850 bytes, 9 KB escaped) draws
+# under that name, live and redrawn by hand.
+python3 - "$W/r.csv" "$W/nul.csv" <<'PY2'
+import sys
+open(sys.argv[2], "wb").write(open(sys.argv[1], "rb").read().replace(
+    b"base_neck_left_pressure_pa", b"a\x00b_pressure_pa"))
+PY2
+run plot "$W/nul.csv" -o "$W/nul.png" --size 400x300
+expect_exit 65 "NUL in a column name"; expect_stderr_has "nul.csv:" "NUL in a column name"
+deep=""
+for i in $(seq 15); do deep="$deep$(printf 'é%.0s' $(seq 120))@\`/"; done
+mkdir -p "$W/$deep"
+run plot r.csv -o "$deep/long.png" --size 400x300 --script-out long.gp
+drawn "long name: plot -o" "$W/$deep/long.png" png
+rm -f "$W/$deep/long.png"
+redraw "long name: plot -o, kept" long.gp
+is_png "$W/$deep/long.png" && ok || bad "long name: kept script: no PNG under its name"
+
 # The benchmark lab: a hostile --out folder (gnuplot runs in it) and catalogue scene files
 # with hostile names (the load chart labels its scenes by file name).
 if [ -x "$BENCH" ]; then
