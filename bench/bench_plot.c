@@ -243,11 +243,11 @@ static int write_script(const void *arg, FILE *f)
     snprintf(csv, sizeof csv, "%s.csv", c->family);
     snprintf(png, sizeof png, "%s_pareto.png", c->family);
     snprintf(svg, sizeof svg, "%s_pareto.svg", c->family);
-    if (gp_quote(f, png) != 0) return -1;
+    if (gp_path(f, png) != 0) return -1;
     fprintf(f, "\nplot \\\n");
     for (int k = 0; k < nv; ++k) {
         fprintf(f, "  ");
-        if (gp_quote(f, csv) != 0) return -1;
+        if (gp_path(f, csv) != 0) return -1;
         fprintf(f, " skip 1 using %d:(strcol(%d) eq ", c_time, c_var);
         gp_label(f, v[k]);
         fprintf(f, " ? fl($%d) : NaN) with points pt %d ps 1.5 lc %d title ", c_err,
@@ -260,14 +260,14 @@ static int write_script(const void *arg, FILE *f)
             "  $front using 1:2 with steps dt 2 lw 2.5 lc rgb \"#303030\" title \"Pareto front\", \\\n"
             "  floor with lines dt 4 lc rgb \"#909090\" title sprintf(\"floor %%g\", floor), \\\n"
             "  ");
-    if (gp_quote(f, csv) != 0) return -1;
+    if (gp_path(f, csv) != 0) return -1;
     fprintf(f,
             " skip 1 using %d:(fl($%d)):%d with labels noenhanced font \",7\" left rotate by 25 "
             "offset char 0.7, char 0.3 tc rgb \"#202020\" notitle\n"
             "set terminal svg size 1400,900 dynamic enhanced font \"Sans,11\"\n"
             "set output ",
             c_time, c_err, c_name);
-    if (gp_quote(f, svg) != 0) return -1;
+    if (gp_path(f, svg) != 0) return -1;
     fprintf(f, "\nreplot\nunset output\n");
     return ferror(f) ? -1 : 0;
 }

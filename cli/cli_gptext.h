@@ -13,7 +13,8 @@
  * character, so a text that starts with a quote or holds two ('''x', 'a''''b') splits
  * into tokens (tests/cli/test_gptext.c prints every form back through gnuplot itself).
  * A control character (a byte below 0x20, or 0x7f) is never written at all: a name that
- * must be exact (a picture's) holding one is refused, a text to show has it shown as '?'. */
+ * must be exact (a picture's) holding one is refused, a text to show has it shown as '?'.
+ * A file name gnuplot opens goes through gp_path, never gp_quote alone. */
 #ifndef CLI_GPTEXT_H
 #define CLI_GPTEXT_H
 
@@ -27,9 +28,17 @@ long gp_control_byte(const char *s);
  * caller refuses such a name before it draws (gp_check_name). */
 int gp_quote(FILE *f, const char *s);
 
+/* Writes the file name path as a gnuplot string (gp_quote) for `set output` or `plot`, which
+ * open some names their own way: a name starting with '|' is a pipe into a shell, '<' a
+ * shell command's output, "~/" the home folder, '-' and '+' special files. A relative name
+ * is written "./path", the same file, so none of that applies. Returns gp_quote's value. */
+int gp_path(FILE *f, const char *path);
+
 /* Writes s as a gnuplot string to show (a title, a label, a key entry) that is never
  * refused: every control character and every byte that is not part of well-formed UTF-8
- * is shown as '?' (gnuplot would warn on our stderr that it cannot convert the text). */
+ * is shown as '?' (gnuplot would warn on our stderr that it cannot convert the text), and
+ * so are U+FFFE, U+FFFF and the '>' of "]]>", which gnuplot would write into an SVG picture
+ * as they are, leaving it no well-formed XML. */
 void gp_label(FILE *f, const char *s);
 
 #endif

@@ -107,12 +107,20 @@ static int split(char *s, char **f, int max)
     }
 }
 
+/* Numbers beyond this magnitude are refused: the axis ranges (a span, plus 12 % margins)
+ * of numbers near DBL_MAX overflow to inf, which a script cannot hold ("inf" is no number
+ * to gnuplot). 1e300 leaves a factor 1e8 of room. */
+#define DRAWABLE_MAX 1e300
+
+/* 0 for a number, 1 for a malformed one, 2 for one beyond DRAWABLE_MAX (flags: a row's
+ * results are or-ed together). */
 static int number(const char *text, double *v)
 {
     char *end;
     errno = 0;
     *v = strtod(text, &end);
-    return end != text && *end == '\0' && errno == 0 && isfinite(*v) ? 0 : -1;
+    if (end == text || *end != '\0' || errno != 0 || !isfinite(*v)) return 1;
+    return fabs(*v) > DRAWABLE_MAX ? 2 : 0;
 }
 
 enum { MAXF = 256 }; /* columns: 8 bladders give about 80 */
@@ -271,7 +279,8 @@ static int read_result(const char *path, result *res)
             maxcol = col[10 + HP_MAX_BLADDERS + k] > maxcol ? col[10 + HP_MAX_BLADDERS + k] : maxcol;
         for (int k = 0; res->have_err_cols && k < 6; ++k)
             maxcol = col[10 + k] > maxcol ? col[10 + k] : maxcol;
-        if (nf <= maxcol || number(f[col[0]], &v)) {
+        /* A line number is a whole number a long holds ((long) of 1e20 is undefined). */
+        if (nf <= maxcol || number(f[col[0]], &v) || !(fabs(v) < 1e15)) {
             rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s:%ld: malformed row", path, lineno);
             break;
         }
@@ -283,7 +292,7 @@ static int read_result(const char *path, result *res)
                     : strcmp(st, "closest") == 0 || strcmp(st, "uncommanded") == 0 ? 1
                                                                                     : 2;
         if (!r->bad) {
-            int bad = number(f[col[1]], &r->t) || number(f[col[9]], &r->pose_error);
+            int bad = number(f[col[1]], &r->t) | number(f[col[9]], &r->pose_error);
             for (int i = 0; i < 6; ++i) bad |= number(f[col[3 + i]], &r->achieved[i]);
             for (int k = 0; k < res->nb; ++k) {
                 bad |= number(f[col[10 + HP_MAX_BLADDERS + k]], &r->p[k]);
@@ -293,8 +302,11 @@ static int read_result(const char *path, result *res)
                 bad |= number(f[col[10 + k]], &r->err[k]);
             r->has_desired = res->have_err_cols;
             if (bad) {
-                rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s:%ld: a number is malformed", path,
-                                 lineno);
+                rc = cli_fail(CLI_EXIT_DATAERR, CMD,
+                              bad & 1 ? "%s:%ld: a number is malformed"
+                                      : "%s:%ld: a number beyond 1e300 in magnitude (too large "
+                                        "to draw)",
+                              path, lineno);
                 break;
             }
         }

@@ -127,7 +127,7 @@ int gp_terminal(FILE *f, const gp_out *o)
                 o->width, o->height, o->width, o->height);
     }
     fprintf(f, "set output ");
-    if (gp_quote(f, o->drawing ? o->drawing : o->path ? o->path : "/dev/null") != 0) return -1;
+    if (gp_path(f, o->drawing ? o->drawing : o->path ? o->path : "/dev/null") != 0) return -1;
     fprintf(f, "\nset encoding utf8\n");
     return 0;
 }

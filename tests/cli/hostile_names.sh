@@ -6,7 +6,9 @@
 # material --plot; the benchmark lab's --out folder and catalogue scene names. Each payload
 # would `touch CANARY` in the folder gnuplot runs in; CANARY must never appear, and each
 # command either draws its picture (exit 0, a whole PNG/SVG) or refuses with its documented
-# status and a message naming the option. Every kept script is also run by hand.
+# status and a message naming the option. Every kept script is also run by hand. Relative
+# picture names that gnuplot opens its own way ('|...' a pipe, '~/...' in HOME), and text an
+# SVG cannot hold ("]]>", U+FFFE, U+FFFF), have their own cases below.
 source "$2/tests/cli_lib.sh"
 export LC_ALL=C # [[:cntrl:]] below: bytes 0x01-0x1f and 0x7f
 S="$HP_SRC/scenarios"
@@ -161,6 +163,74 @@ PY
   no_canary "$t: fit material --plot"
   rm -f "$W/$n.svg"
 done
+
+# Picture names that gnuplot opens its own way when written as they are: a relative name
+# starting with '|' is a pipe into a shell, '~/' the home folder, '-', '<' and '+' special
+# files of `plot`. Each must give the file of exactly that name in W (drawn live and by the
+# kept script redrawn by hand), run nothing and write nothing in HOME.
+mkdir -p "$W/~" "$W/home"
+export HOME="$W/home" # where gnuplot would put a '~/' name
+rel=('|touch CANARY;x' '~/tilde' '-dash' '<touch CANARY;y' '+')
+for i in "${!rel[@]}"; do
+  n="${rel[$i]}"
+  t="relative name $i"
+  run plot r.csv -o "$n.png" --size 400x300 --script-out "k$i.gp"
+  drawn "$t: plot -o" "$W/$n.png" png
+  no_canary "$t: plot -o"
+  rm -f "$W/$n.png"
+  redraw "$t: plot -o, kept" "k$i.gp"
+  is_png "$W/$n.png" && ok || bad "$t: plot -o, kept: no PNG under its name"
+  run render "$S/default.yaml" -o "$n.svg" --size 400x300
+  drawn "$t: render -o" "$W/$n.svg" svg
+  no_canary "$t: render -o"
+  run fit layout "$S/default.yaml" "$E/layout_rows.csv" --sigma-mm 0.05 --sigma-deg 0.05 \
+      --plot "$n-fit.png"
+  drawn "$t: fit layout --plot" "$W/$n-fit.png" png report
+  no_canary "$t: fit layout --plot"
+  [ -z "$(ls -A "$W/home")" ] && ok || bad "$t: a file was written in HOME"
+  rm -f "$W/$n.png" "$W/$n.svg" "$W/$n-fit.png" "$W/k$i.gp" "$W/home/"*
+done
+
+# An SVG picture stays well-formed XML whatever text it shows: gnuplot escapes '<' and '&'
+# in its SVG text but not "]]>", and writes U+FFFE and U+FFFF (no XML characters) as they are.
+svg_ok() { python3 -c 'import sys, xml.dom.minidom as m; m.parse(sys.argv[1])' "$2" 2>/dev/null &&
+  ok || bad "$1: the SVG is not well-formed XML"; }
+n=$'x]]>y\xef\xbf\xbe\xef\xbf\xbf<z>&amp;'
+cp "$W/r.csv" "$W/$n.csv"
+run plot "$W/$n.csv" -o "$W/xml_title.svg" --size 400x300
+drawn "xml text: plot RESULT" "$W/xml_title.svg" svg; svg_ok "xml text: plot RESULT" "$W/xml_title.svg"
+python3 - "$n" "$W/r.csv" "$W/xml_col.csv" <<'PY2'
+import os, sys
+name, src, out = os.fsencode(sys.argv[1]), sys.argv[2], sys.argv[3]
+open(out, "wb").write(open(src, "rb").read().replace(b"base_neck_left_pressure_pa",
+                                                       name + b"_pressure_pa"))
+PY2
+run plot "$W/xml_col.csv" -o "$W/xml_col.svg" --size 400x300
+drawn "xml text: plot, column name" "$W/xml_col.svg" svg
+svg_ok "xml text: plot, column name" "$W/xml_col.svg"
+scene_named 'x]]>y<z>&amp;' "$S/default.yaml" "$W/xml.yaml" # YAML refuses U+FFFE, U+FFFF
+run render "$W/xml.yaml" -o "$W/xml_scene.svg" --size 400x300
+drawn "xml text: render, scene name" "$W/xml_scene.svg" svg
+svg_ok "xml text: render, scene name" "$W/xml_scene.svg"
+
+# A NUL byte inside a column name is refused by file:line before anything is drawn; a
+# picture name of 15 folders of 120 'é' and '@`' each (about 1850 bytes, 9 KB escaped) draws
+# under that name, live and redrawn by hand.
+python3 - "$W/r.csv" "$W/nul.csv" <<'PY2'
+import sys
+open(sys.argv[2], "wb").write(open(sys.argv[1], "rb").read().replace(
+    b"base_neck_left_pressure_pa", b"a\x00b_pressure_pa"))
+PY2
+run plot "$W/nul.csv" -o "$W/nul.png" --size 400x300
+expect_exit 65 "NUL in a column name"; expect_stderr_has "nul.csv:" "NUL in a column name"
+deep=""
+for i in $(seq 15); do deep="$deep$(printf 'é%.0s' $(seq 120))@\`/"; done
+mkdir -p "$W/$deep"
+run plot r.csv -o "$deep/long.png" --size 400x300 --script-out long.gp
+drawn "long name: plot -o" "$W/$deep/long.png" png
+rm -f "$W/$deep/long.png"
+redraw "long name: plot -o, kept" long.gp
+is_png "$W/$deep/long.png" && ok || bad "long name: kept script: no PNG under its name"
 
 # The benchmark lab: a hostile --out folder (gnuplot runs in it) and catalogue scene files
 # with hostile names (the load chart labels its scenes by file name).

@@ -129,6 +129,39 @@ expect_stderr_has "has no bladder 'base_neck_left'" "wrong scene"
 run plot "$TMP/nohash.csv" --trace "$TMP/short.csv" -o "$TMP/x.png"; expect_exit 65 "plot wrong trace"
 expect_stderr_has "is it the trace the result was planned from" "wrong trace"
 
+# ---- numbers at the ends of double: never "inf" in a script ---------------------------------
+# A finite error of 1e308 and one of -1e308 made the axis range overflow to inf, written as
+# "set yrange [-inf:inf]" (gnuplot: undefined variable, exit 70). Numbers beyond 1e300 in
+# magnitude are refused by file:line; 1e300 itself draws.
+edge() { # edge VALUE OUT: the first two rows' error_x_mm and error_y_mm set to VALUE, -VALUE
+  python3 - "$1" "$TMP/jumps.csv" "$2" <<'PY2'
+import sys
+v, src, out = sys.argv[1:]
+lines = open(src).read().split("\n")
+h = next(i for i, l in enumerate(lines) if l and not l.startswith("#"))
+cols = lines[h].split(",")
+for k, (c, x) in enumerate([("error_x_mm", v), ("error_y_mm", "-" + v), ("t_s", v)]):
+    row = lines[h + 1 + k].split(",")
+    row[cols.index(c)] = x
+    lines[h + 1 + k] = ",".join(row)
+open(out, "w").write("\n".join(lines))
+PY2
+}
+if command -v gnuplot >/dev/null; then
+  edge 1e308 "$TMP/huge.csv"
+  run plot "$TMP/huge.csv" -o "$TMP/huge.png" --size 400x300; expect_exit 65 "plot 1e308"
+  expect_stderr_has "huge.csv:" "plot 1e308 names the file"
+  expect_stderr_has "beyond 1e300" "plot 1e308 says why"
+  [ ! -e "$TMP/huge.png" ] && ok || bad "plot 1e308: a picture was written"
+  # a line number no long holds ((long)1e20 is undefined behaviour): refused, not cast
+  python3 -c 'import sys; l = open(sys.argv[1]).read().split("\n"); h = next(i for i, x in enumerate(l) if x and x[0] != "#"); l[h + 1] = "1e20" + l[h + 1][l[h + 1].index(","):]; open(sys.argv[2], "w").write("\n".join(l))' "$TMP/jumps.csv" "$TMP/line.csv"
+  run plot "$TMP/line.csv" -o "$TMP/line.png" --size 400x300; expect_exit 65 "plot line 1e20"
+  expect_stderr_has "malformed row" "plot line 1e20"
+  edge 1e300 "$TMP/edge.csv"
+  run plot "$TMP/edge.csv" -o "$TMP/edge.png" --size 400x300; expect_exit 0 "plot 1e300"
+  [ ! -s "$TMP/err" ] && ok || bad "plot 1e300 wrote to stderr"
+fi
+
 # ---- without gnuplot: 69 for render and plot, nothing else affected ------------------------
 mkdir -p "$TMP/nognuplot"
 PATH="$TMP/nognuplot" "$HP_BIN" render "$S/default.yaml" -o "$TMP/n.png" >"$TMP/out" 2>"$TMP/err"; rc=$?

@@ -7,7 +7,8 @@
  * when gnuplot is not installed, as the command-line tests of render and plot are.
  * test_quote_refuses_control: every control byte at every place of a string is refused, and
  * nothing is written. test_label: every single byte and a few sequences against the
- * expected script text, written out here by hand. */
+ * expected script text, written out here by hand. test_path: file names, relative ones
+ * behind "./". */
 #define _POSIX_C_SOURCE 200809L
 #include "test_util.h"
 
@@ -142,6 +143,18 @@ static void test_label(void **state)
         {"caf\xc3\xa9", "\"caf\\0303\\0251\""},           /* é: well-formed, kept */
         {"\xc3(", "\"?(\""},                                 /* a cut sequence */
         {"\xed\xa0\x80", "\"?" "?" "?\""},                   /* a surrogate is not well formed */
+        {"\xc0\xaf", "\"?" "?\""},                              /* overlong '/' */
+        {"\xe0\x80\xaf", "\"?" "?" "?\""},                     /* overlong, 3 bytes */
+        {"\xf4\x90\x80\x80", "\"?" "?" "?" "?\""},            /* beyond U+10FFFF */
+        {"\xf8\x88\x80\x80\x80", "\"?" "?" "?" "?" "?\""},    /* a 5-byte form */
+        {"\xf0\x9f\x98\x80!", "\"\\0360\\0237\\0230\\0200\\0041\""}, /* U+1F600, kept */
+        {"EOD", "\"EOD\""}, /* only ever inside quotes, never a line of a data block */
+        /* What an SVG cannot hold (gnuplot escapes only '<' and '&' there): "]]>", U+FFFE
+         * and U+FFFF are shown as '?'; U+FFFD and a lone "]>" are kept. */
+        {"a]]>b", "\"a]]?b\""},
+        {"]>]]]>", "\"]>]]]?\""},
+        {"x\xef\xbf\xbfy\xef\xbf\xbe", "\"x?y?\""},
+        {"\xef\xbf\xbd", "\"\\0357\\0277\\0275\""},
         {"back\\slash`x`@y!z\"$", "\"back\\0134slash\\0140x\\0140\\0100y\\0041z\\0042\\0044\""},
         {"{}", "\"\\0173\\0175\""},
         {"", "\"\""},
@@ -167,12 +180,44 @@ static void test_label(void **state)
     }
 }
 
+/* A file name: relative ones get "./" (gnuplot opens "|...", "<...", "~/...", "-" and "+"
+ * its own way), absolute ones are left as they are, control characters are refused. */
+static void test_path(void **state)
+{
+    (void)state;
+    static const struct {
+        const char *in, *out;
+    } cases[] = {
+        {"|touch CANARY;x.png", "\"./|touch CANARY;x.png\""},
+        {"<y.png", "\"./<y.png\""},
+        {"~/h.png", "\"./~/h.png\""},
+        {"-", "\"./-\""},
+        {"+", "\"./+\""},
+        {"a/b.svg", "\"./a/b.svg\""},
+        {"/abs/|x.png", "\"/abs/|x.png\""},
+        {"it's.png", "\"./it\\0047s.png\""},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof *cases; ++i) {
+        int rc;
+        char *w = written(NULL, gp_path, cases[i].in, &rc);
+        assert_int_equal(rc, 0);
+        assert_string_equal(w, cases[i].out);
+        free(w);
+    }
+    int rc;
+    char *w = written(NULL, gp_path, "|a\nb.png", &rc);
+    assert_int_equal(rc, -1);
+    assert_string_equal(w, "");
+    free(w);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_quote_round_trip),
         cmocka_unit_test(test_quote_refuses_control),
         cmocka_unit_test(test_label),
+        cmocka_unit_test(test_path),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
