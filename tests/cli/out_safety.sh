@@ -94,7 +94,7 @@ if [ "$have_gnuplot" = 1 ]; then
   run render scene.yaml -o new.png --script-out new_r.gp
   expect_exit 0 "render -o new file"; [ -s new.png ] && [ -s new_r.gp ] && ok || bad "render files"
   # The kept script names the final picture, not the temporary one it was drawn to.
-  grep -q 'set output "new.png"' new_r.gp && ok || bad "render script names $(grep 'set output' new_r.gp)"
+  grep -q 'set output "./new.png"' new_r.gp && ok || bad "render script names $(grep 'set output' new_r.gp)"
 fi
 ls ./*partial* >/dev/null 2>&1 && bad "a temporary file was left" || ok
 finish
