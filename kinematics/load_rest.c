@@ -231,6 +231,12 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
         if ((err = hp_load_newton_euler(M, x, P, f, m))) return err;
         info->residual_force = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
         info->residual_moment = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+        /* Where the head rests is only as good as the contact law there: flag a rest that
+         * indents a carrying bladder beyond the range the law was checked on. */
+        double ratio[HP_MAX_BLADDERS];
+        if ((err = hp_load_indentation(M, x, P, ratio))) return err;
+        for (int k = 0; k < M->layout.n; ++k) info->indent_max = fmax(info->indent_max, ratio[k]);
+        info->beyond_indent = info->indent_max > HP_LOAD_INDENT_MAX;
     }
     return HP_OK;
 }

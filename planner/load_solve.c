@@ -24,11 +24,14 @@
 
 static const double PI = HP_PI;
 
-/* Row weights of the equilibrium equations: N for the force rows, and N·m/rad times
- * (1°/1 mm) for the moment rows, so both read as "force per unit of pose". */
-static double row_w(int r)
+double hp_load_row_weight(int r)
 {
     return r < 3 ? 1.0 : hp_load_unit(r) / 1e-3;
+}
+
+static double row_w(int r)
+{
+    return hp_load_row_weight(r);
 }
 
 /* One bladder at pressure P against contact distance rho: F and its first two pressure
@@ -57,7 +60,7 @@ static hp_error bladder_state(const hp_load_model *M, int k, double P, double rh
 
 /* The touching pressure: the one whose free radius equals rho (−inf when rho is below the
  * smallest radius the cavity allows, +inf past the limit point). */
-static double touch_pressure(const hp_load_model *M, int k, double rho)
+double hp_load_touch_pressure(const hp_load_model *M, int k, double rho)
 {
     const hp_iab *b = &M->layout.bladders[k].iab;
     double ri, P;
@@ -65,6 +68,11 @@ static double touch_pressure(const hp_load_model *M, int k, double rho)
     if (M->limit[k].exists && !(ri < M->limit[k].ri)) return INFINITY;
     if (hp_iab_ik(b, ri, &P) != HP_OK) return ri > b->Ri ? INFINITY : -INFINITY;
     return P;
+}
+
+double hp_load_indent_pressure(const hp_load_model *M, int k, double rho)
+{
+    return hp_load_touch_pressure(M, k, rho / (1.0 - HP_LOAD_INDENT_MAX));
 }
 
 /* The pressure in [lo, hi] whose force against rho is F (F increasing in P there). Solved in
@@ -128,9 +136,14 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
     double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS],
         Fhi[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
     for (int k = 0; k < n; ++k) {
-        Pt[k] = touch_pressure(M, k, rho[k]);
+        Pt[k] = hp_load_touch_pressure(M, k, rho[k]);
         L[k] = fmax(lo[k], fmax(0.0, Pt[k]));
-        U[k] = hi[k];
+        /* The indentation range where the contact law is trusted caps a carrying bladder's
+         * pressure at this pose: ro(P) <= rho/(1 − HP_LOAD_INDENT_MAX). A bladder whose
+         * lowest pressure already carries beyond it cannot hold the pose. */
+        double Pi = hp_load_indent_pressure(M, k, rho[k]);
+        if (lo[k] > 0 && lo[k] > Pt[k] && lo[k] > Pi) return HP_LOAD_SOLVE_UNREACHABLE;
+        U[k] = fmin(hi[k], Pi);
         bstate s;
         Flo[k] = Fhi[k] = 0.0;
         if (L[k] < U[k]) {

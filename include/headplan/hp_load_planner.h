@@ -38,7 +38,10 @@ typedef struct hp_load_info {
     double rest[6];                /* the forward statics' rest of the returned pressures,
                                       started at the answer [m, rad] */
     double rest_error;             /* max |rest − achieved| in mm / degrees */
-    hp_load_holding holding;       /* stiffness and compliance at the answer */
+    double indent[HP_MAX_BLADDERS];/* each bladder's delta/ro at the answer (hp_load_indentation) */
+    hp_load_holding holding;       /* stiffness, stability and compliance of the answer: at
+                                      the achieved pose with the returned pressures (not at
+                                      the forward statics' rest) */
 } hp_load_info;
 
 typedef struct hp_load_planner hp_load_planner;
