@@ -220,6 +220,13 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
                 return HP_ERR_NO_CONVERGENCE; /* falls: nothing holds it */
         if (full && big * t <= REST_STEP_TOL) break;
     }
+    /* A descent that stopped without a decrease at any step length inside the domain
+     * (pressed against a panel's edge, where every longer step leaves it) is no rest unless
+     * the generalized force vanishes there: 1e-6 N (moment rows per 1°/1 mm) is far above
+     * a converged rest's rounding (1e-9 N) and far below any force that moves the head. */
+    for (int i = 0; i < 6; ++i)
+        if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hp_load_unit(i) / 1e-3) <= 1e-6))
+            return HP_ERR_NO_CONVERGENCE;
     memcpy(xi, x, sizeof x);
     if (info) {
         memset(info, 0, sizeof *info);

@@ -30,6 +30,10 @@
 /* Initial and smallest trust region of the pose step [mm, degrees]. */
 #define TRUST0 2.0
 #define TRUST_MIN 1e-9
+/* The l1 merit's smallest weight on the rows [mm² per N]: large, so that from a start that
+ * does not hold the head the restoration steps (which move away from the desired pose) are
+ * accepted; at a held start it only makes the line search stricter about the rows. */
+#define NU0 1e3
 
 typedef struct frange {
     double lo, hi;   /* [N] the force range at this rho */
@@ -149,7 +153,7 @@ hp_load_solve_status hp_load_closest(const hp_load_model *M, const double desire
     if (cl_eval(&C, y, s, c, NULL, NULL, NULL) != 0) return HP_LOAD_SOLVE_ERROR;
     /* Rounding of the weighted rows: forces of ~10 N summed over eight bladders. */
     const double tol = 1e-11;
-    double lam[6] = {0}, nu = 1.0, trust = TRUST0;
+    double lam[6] = {0}, nu = NU0, trust = TRUST0;
     int it = 0, converged = 0;
     for (; it < max_iter && !converged; ++it) {
         if (cl_eval(&C, y, s, c, Cy, Cs, NULL) != 0) return HP_LOAD_SOLVE_ERROR;
@@ -174,11 +178,11 @@ hp_load_solve_status hp_load_closest(const hp_load_model *M, const double desire
         /* The linearised rows, asked to vanish; where they cannot inside the box (a start
          * that does not hold the head, or a trust region too small), asked only to shrink
          * to a fraction of the residual (a restoration step), then the trust region shrinks. */
-        double lam_new[6], theta = 0.0, ce[6];
+        double lam_new[6], red = 1.0, ce[6];
         int solved = 0;
-        for (int relax = 0; relax < 6 && !solved; ++relax) {
-            theta = relax == 0 ? 0.0 : 1.0 - 1.0 / (double)(1 << relax); /* 0, ½, ¾, ... */
-            for (int r = 0; r < 6; ++r) ce[r] = (1.0 - theta) * c[r];
+        for (int relax = 0; relax < 8 && !solved; ++relax) {
+            red = 1.0 / (double)(1 << relax); /* the part of the residual removed: 1, ½, ¼, ... */
+            for (int r = 0; r < 6; ++r) ce[r] = red * c[r];
             memcpy(lam_new, lam, sizeof lam);
             solved = hp_load_qp_solve(nv, A, ce, h, g, l, u, 1e-13, 200, lam_new, d, NULL) ==
                      HP_LOAD_QP_OPTIMAL;
@@ -189,7 +193,7 @@ hp_load_solve_status hp_load_closest(const hp_load_model *M, const double desire
             continue;
         }
         for (int r = 0; r < 6; ++r) nu = fmax(nu, 2.0 * fabs(lam_new[r]));
-        double f0 = objective(y, yd, W), m0 = f0 + nu * l1(c), slope = -(1.0 - theta) * nu * l1(c),
+        double f0 = objective(y, yd, W), m0 = f0 + nu * l1(c), slope = -red * nu * l1(c),
                dmax = 0.0;
         for (int j = 0; j < 6; ++j) slope += W[j] * (y[j] - yd[j]) * d[j];
         for (int v = 0; v < nv; ++v) dmax = fmax(dmax, fabs(d[v]));

@@ -359,29 +359,58 @@ static int closest_from(const hp_load_planner *p, const double desired[6], const
     return moved;
 }
 
-/* The closest held pose as a program (hp_load_closest), from two starts: the held pose
- * (xi, P) the search found, when have, and the desired pose itself with every bladder at
- * the middle of its force range (the program's restoration steps find a held pose from
- * there when the search along gravity found none, e.g. where the indentation range caps
- * the forces). The nearest held pose wins; (xi, P) gets it. Returns 1 when there is one. */
+#define RESTARTS 4
+
+/* The closest held pose as a program (hp_load_closest), from several starts: the desired
+ * pose itself with every bladder at the middle of its force range (the program's
+ * restoration steps find a held pose from a start that is not held), the held pose (xi, P)
+ * the search found, when have, and the held pose nearest to the nominal one (the same
+ * program asked for the nominal pose, where a layout is meant to hold the head). Like any
+ * SQP, the restoration can stall where the rows' residual is locally least; a held start
+ * does not need it. The nearest held pose wins; (xi, P) gets it. Returns 1 when there is
+ * one. */
 static int closest_program(const hp_load_planner *p, const double desired[6],
                            const double W[6], const double *target, int have, double xi[6],
                            double *P, int *iters)
 {
     const hp_load_model *M = &p->M;
     const int n = M->layout.n;
+    static const double nominal[6] = {0, 0, 0, 0, 0, 0};
     double F0[HP_MAX_BLADDERS], Q[6], x[6], Px[HP_MAX_BLADDERS], x0[6];
-    if (have && hp_load_eval(M, xi, P, Q, NULL, NULL, F0, NULL) != HP_OK) have = 0;
-    memcpy(x0, xi, sizeof x0);
-    for (int start = 0; start < 2; ++start) {
-        if (start == 1 && !have) continue;
-        if (!closest_from(p, desired, W, target, start ? x0 : desired, start ? F0 : NULL, x,
-                          Px, iters))
+    for (int start = 0; start < 3; ++start) {
+        if (start == 0 && !closest_from(p, desired, W, target, desired, NULL, x, Px, iters))
             continue;
+        if (start == 1) { /* from the held pose found so far (the search's, or start 0's) */
+            if (!have || hp_load_eval(M, xi, P, Q, NULL, NULL, F0, NULL) != HP_OK) continue;
+            memcpy(x0, xi, sizeof x0);
+            if (!closest_from(p, desired, W, target, x0, F0, x, Px, iters)) continue;
+        }
+        if (start == 2) { /* from the held pose nearest to the nominal one */
+            if (!closest_from(p, nominal, W, target, nominal, NULL, x0, Px, iters) ||
+                hp_load_eval(M, x0, Px, Q, NULL, NULL, F0, NULL) != HP_OK)
+                continue;
+            double P0[HP_MAX_BLADDERS];
+            memcpy(P0, Px, (size_t)n * sizeof *P0);
+            if (!closest_from(p, desired, W, target, x0, F0, x, Px, iters)) {
+                memcpy(x, x0, sizeof x); /* the nominal's held pose itself */
+                memcpy(Px, P0, (size_t)n * sizeof *Px);
+            }
+        }
         if (have && !(pose_err(x, desired, W) < pose_err(xi, desired, W))) continue;
         memcpy(xi, x, 6 * sizeof *xi);
         memcpy(P, Px, (size_t)n * sizeof *P);
         have = 1;
+    }
+    /* Restarted from the winner (fresh trust region and multipliers) while that helps, at
+     * most RESTARTS times: a run that ended on its trust region's floor can go on. */
+    for (int again = 0; again < RESTARTS && have; ++again) {
+        if (hp_load_eval(M, xi, P, Q, NULL, NULL, F0, NULL) != HP_OK) break;
+        memcpy(x0, xi, sizeof x0);
+        if (!closest_from(p, desired, W, target, x0, F0, x, Px, iters) ||
+            !(pose_err(x, desired, W) < pose_err(xi, desired, W)))
+            break;
+        memcpy(xi, x, 6 * sizeof *xi);
+        memcpy(P, Px, (size_t)n * sizeof *P);
     }
     return have;
 }

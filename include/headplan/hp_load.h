@@ -156,7 +156,8 @@ typedef struct hp_load_rest_info {
  * pose; info (may be NULL) the residuals and the holding. HP_ERR_NO_CONVERGENCE when no
  * rest is found in 100 steps (e.g. the head falls: nothing pushes against gravity), the
  * pose leaves 100 mm / 60°, or the descent runs into a bladder's panel (every step, down to
- * 2^-50 of it, leaves hp_load_eval's domain); HP_ERR_DOMAIN when xi0 lies outside it. A rest with K not positive definite is returned with
+ * 2^-50 of it, leaves hp_load_eval's domain) or stops where Q is above 1e-6 N (moment
+ * rows per 1°/1 mm); HP_ERR_DOMAIN when xi0 lies outside it. A rest with K not positive definite is returned with
  * info->holding.stable = 0. */
 HP_API hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0,
                       double xi[6], hp_load_rest_info *info);

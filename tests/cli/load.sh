@@ -111,10 +111,16 @@ expect_exit 1 "89.9 deg pitch: closest"
 expect_stdout_has "indent_max" "the indentation range binds"
 expect_stdout_has "NOT stable" "the saddle named"
 # Through a panel (side_chin_left's centre 11.6 mm inside the head) it was CLOSEST with
-# a Newton-Euler residual of 2.74 N; now no held pose is found from a fresh planner.
-run solve "$S/load_supine.yaml" --correction 20,0,0,0,0,40
-expect_exit 70 "20 mm + 40 deg yaw: no equilibrium returned"
-expect_stdout_empty "20 mm + 40 deg yaw: no answer printed"
+# a Newton-Euler residual of 2.74 N; the closest-pose program (started from the held pose
+# nearest the nominal one) answers a held pose with every centre outside the head.
+run solve "$S/load_supine.yaml" --correction 20,0,0,0,0,40 --json
+expect_exit 1 "20 mm + 40 deg yaw: closest"
+python3 - "$TMP/out" <<'PY' && ok || bad "20 mm + 40 deg yaw: an equilibrium"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["status"] == "closest"
+assert d["residual_force_n"] < 1e-9 and d["residual_moment_nm"] < 1e-9
+PY"
 run solve "$S/load_heavy.yaml" --correction 0,0,80,0,0,0
 expect_exit 65 "80 mm lift refused at the load level"
 expect_stderr_has "80.0 mm is outside the identifiable range (<= 77.5 mm" "names the semi-axis"

@@ -343,6 +343,11 @@ static void test_closest_held_pose(void **state)
         {SCN "load_tilted.yaml", {6.264, 7.0991, -2.4693, 3.2596, -0.5412, 2.9385}},
         {SCN "load_tilted.yaml", {0, 0, 0, 0, 0, 0}},
         {SCN "load_supine.yaml", {0, 0, -4, 0, 0, 0}},
+        /* refused ("no pose near the desired one is held"), 1 mm/deg from a pose the
+         * planner reached (z −10 mm, pitch −4°) */
+        {SCN "load_heavy.yaml", {0, 0, -10, -5, 0, 0}},
+        /* Not here: load_heavy at y +10 mm is answered 7.831 mm/deg away while a sampled
+         * pose 7.789 away is reached (another basin of the program: docs/load.md). */
     };
     unsigned long long seed = 20261204ull;
     for (size_t c = 0; c < sizeof CASES / sizeof CASES[0]; ++c) {
