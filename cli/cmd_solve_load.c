@@ -100,15 +100,15 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
            hp_level_name(r->level), hp_load_tiebreak_name(tie), hp_backend_name(r->backend),
            r->solve_time * 1e6);
     printf("why         %s\n\n", why);
-    printf("%-18s %10s %10s %12s %8s %10s %10s  %s\n", "bladder", "ri_mm", "ro_mm",
-           "pressure_pa", "stretch", "force_n", "hoop_kpa", "binding");
+    printf("%-18s %10s %10s %12s %8s %10s %10s %8s  %s\n", "bladder", "ri_mm", "ro_mm",
+           "pressure_pa", "stretch", "force_n", "hoop_kpa", "indent", "binding");
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder_result *b = &r->bladders[k];
         char bind[128];
         binding_text(b->binding, bind, sizeof bind);
-        printf("%-18s %10.4f %10.4f %12.2f %8.4f %10.4f %10.4f  %s\n", L->bladders[k].name,
-               b->ri * 1e3, b->ro * 1e3, b->pressure, b->stretch, info->force[k],
-               hoop_kpa(&L->bladders[k], b), bind);
+        printf("%-18s %10.4f %10.4f %12.2f %8.4f %10.4f %10.4f %8.4f  %s\n",
+               L->bladders[k].name, b->ri * 1e3, b->ro * 1e3, b->pressure, b->stretch,
+               info->force[k], hoop_kpa(&L->bladders[k], b), info->indent[k], bind);
     }
     printf("\n%-10s %12s %12s %12s\n", "pose", "desired", "achieved", "error");
     for (int i = 0; i < 6; ++i)
@@ -123,7 +123,7 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
     else
         printf("forward statics       no rest found from the achieved pose (the head does not "
                "settle there: see holding)\n");
-    printf("holding               %s; weakest %s, %.4g %s\n",
+    printf("holding               at the answer: %s; weakest %s, %.4g %s\n",
            h->stable ? "stable" : "NOT stable (the stiffness is not positive definite)",
            h->weakest_words, h->weakest_compliance, h->weakest_is_rotation ? "deg/(N*m)" : "mm/N");
     printf("compliance            x %.4g, y %.4g, z %.4g mm/N; pitch %.4g, roll %.4g, yaw %.4g "
@@ -153,6 +153,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
         json_object_set_new(e, "pressure_pa", json_real(b->pressure));
         json_object_set_new(e, "force_n", json_real(info->force[k]));
         json_object_set_new(e, "hoop_stress_kpa", cli_json_num(hoop_kpa(&L->bladders[k], b)));
+        json_object_set_new(e, "indent", cli_json_num(info->indent[k]));
         for (int f = 0; f < HP_BIND_COUNT; ++f)
             if (b->binding & (1u << f))
                 json_array_append_new(bind, json_string(hp_binding_name(1u << f)));

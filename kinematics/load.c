@@ -265,6 +265,23 @@ hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const double *
     return err;
 }
 
+hp_error hp_load_indentation(const hp_load_model *M, const double xi[6], const double *P,
+                             double *ratio)
+{
+    if (!ratio) return HP_ERR_NULL;
+    hp_error err = check_inputs(M, xi, P);
+    double ro[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
+    if (!err) err = hp_load_radii(M, P, ro, NULL);
+    if (!err) err = hp_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, NULL, NULL);
+    if (!err) err = hp_load_domain(M, rho);
+    if (err) {
+        fill_nan(ratio, M ? M->layout.n : 0);
+        return err;
+    }
+    for (int k = 0; k < M->layout.n; ++k) ratio[k] = P[k] > 0 ? (ro[k] - rho[k]) / ro[k] : 0.0;
+    return HP_OK;
+}
+
 static void cross(const double a[3], const double b[3], double c[3])
 {
     c[0] = a[1] * b[2] - a[2] * b[1];

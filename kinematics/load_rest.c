@@ -220,6 +220,13 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
                 return HP_ERR_NO_CONVERGENCE; /* falls: nothing holds it */
         if (full && big * t <= REST_STEP_TOL) break;
     }
+    /* A descent that stopped without a decrease at any step length inside the domain
+     * (pressed against a panel's edge, where every longer step leaves it) is no rest unless
+     * the generalized force vanishes there: 1e-6 N (moment rows per 1°/1 mm) is far above
+     * a converged rest's rounding (1e-9 N) and far below any force that moves the head. */
+    for (int i = 0; i < 6; ++i)
+        if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hp_load_unit(i) / 1e-3) <= 1e-6))
+            return HP_ERR_NO_CONVERGENCE;
     memcpy(xi, x, sizeof x);
     if (info) {
         memset(info, 0, sizeof *info);
@@ -231,6 +238,12 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
         if ((err = hp_load_newton_euler(M, x, P, f, m))) return err;
         info->residual_force = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
         info->residual_moment = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+        /* Where the head rests is only as good as the contact law there: flag a rest that
+         * indents a carrying bladder beyond the range the law was checked on. */
+        double ratio[HP_MAX_BLADDERS];
+        if ((err = hp_load_indentation(M, x, P, ratio))) return err;
+        for (int k = 0; k < M->layout.n; ++k) info->indent_max = fmax(info->indent_max, ratio[k]);
+        info->beyond_indent = info->indent_max > HP_LOAD_INDENT_MAX;
     }
     return HP_OK;
 }

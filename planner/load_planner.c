@@ -100,8 +100,9 @@ static const char *direction_words(const double v[3], char *buf, size_t len)
 }
 
 /* Can the bladders push against gravity at all, and hard enough? Each bladder pushes the
- * head along u_k = −n_k (into the head) with at most p_hi·pi·ro(p_hi)² (the whole cap
- * flattened), so the support along −g is at most sum_k max(0, −ĝ·u_k)·that. */
+ * head along u_k = −n_k (into the head) with at most p_hi·pi·(ro² − rho²) at ro = ro(p_hi)
+ * and rho >= (1 − HP_LOAD_INDENT_MAX)·ro (the indentation range where the contact law is
+ * trusted), so the support along −g is at most sum_k max(0, −ĝ·u_k)·that. */
 static hp_error check_carry(hp_load_planner *p, hp_diag *diag)
 {
     const hp_load_model *M = &p->M;
@@ -118,7 +119,8 @@ static hp_error check_carry(hp_load_planner *p, hp_diag *diag)
         any = 1;
         double ro;
         if (hp_load_radius(M, k, p->hi[k], &ro, NULL) == HP_OK)
-            cap += s * p->hi[k] * HP_PI * ro * ro;
+            cap += s * p->hi[k] * HP_PI * ro * ro *
+                   (1.0 - (1.0 - HP_LOAD_INDENT_MAX) * (1.0 - HP_LOAD_INDENT_MAX));
     }
     char w[8];
     if (!any)
@@ -129,8 +131,9 @@ static hp_error check_carry(hp_load_planner *p, hp_diag *diag)
     if (!(cap >= weight))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load: the bladders can carry at most %.4g N along %s at their "
-                           "largest pressures; the load weighs %.4g N",
-                           cap, direction_words(up, w, sizeof w), weight);
+                           "largest pressures (indented at most %g of their radius, "
+                           "indent_max); the load weighs %.4g N",
+                           cap, direction_words(up, w, sizeof w), HP_LOAD_INDENT_MAX, weight);
     return HP_OK;
 }
 
@@ -231,20 +234,28 @@ static double pose_err(const double xi[6], const double desired[6], const double
  * the equilibrium. 1: held (x gets the pose, Pt the pressures); 0: not held with every
  * bladder centre outside the head; -1: some centre inside it, past its panel, where the
  * load model is not defined (hp_load_domain): the head has sunk too far. */
-static int held_at(const hp_load_planner *p, const double desired[6], double depth,
-                   const double *target, double x[6], double *Pt)
+static int held_pose(const hp_load_planner *p, const double x[6], const double *target,
+                     double *Pt)
 {
     const hp_load_model *M = &p->M;
-    double g = 0.0, F[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
-    for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];
-    g = sqrt(g);
-    memcpy(x, desired, 6 * sizeof *x);
-    for (int a = 0; a < 3; ++a) x[a] += depth * M->spec.gravity[a] / g;
+    double F[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
     if (hp_contact_eval_g(&M->layout, &M->geom, M->level, x, rho, NULL, NULL) != HP_OK ||
         hp_load_domain(M, rho) != HP_OK)
         return -1;
     return hp_load_hold(M, x, p->elo, p->ehi, target, NULL, 0, Pt, F, NULL) ==
                HP_LOAD_SOLVE_OK && holds(M, x, Pt);
+}
+
+static int held_at(const hp_load_planner *p, const double desired[6], double depth,
+                   const double *target, double x[6], double *Pt)
+{
+    const hp_load_model *M = &p->M;
+    double g = 0.0;
+    for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];
+    g = sqrt(g);
+    memcpy(x, desired, 6 * sizeof *x);
+    for (int a = 0; a < 3; ++a) x[a] += depth * M->spec.gravity[a] / g;
+    return held_pose(p, x, target, Pt);
 }
 
 /* The sinking search's best held depth so far: its pose and pressures. */
@@ -266,13 +277,13 @@ static void keep_held(double xs[6], double *Ps, const double x[6], const double 
  * (one contact evaluation and one bounded QP), most of them unreachable depths that the
  * row-interval test of HOLD (or the domain check) rejects without a QP. */
 static int sink(const hp_load_planner *p, const double desired[6], const double *target,
-                double xs[6], double *Ps)
+                double sign, double xs[6], double *Ps)
 {
     const int n = p->M.layout.n;
     double Pt[HP_MAX_BLADDERS], x[6];
     double lo = 0.0, hi = -1.0, deep = -1.0;
     for (double depth = 6.25e-5; depth <= 0.0641; depth *= 2.0) {
-        int h = held_at(p, desired, depth, target, x, Pt);
+        int h = held_at(p, desired, sign * depth, target, x, Pt);
         if (h > 0) {
             hi = depth;
             keep_held(xs, Ps, x, Pt, n);
@@ -286,7 +297,7 @@ static int sink(const hp_load_planner *p, const double desired[6], const double 
     }
     while (hi < 0 && deep > 0 && deep - lo > 1e-12) {
         double mid = 0.5 * (lo + deep);
-        int h = held_at(p, desired, mid, target, x, Pt);
+        int h = held_at(p, desired, sign * mid, target, x, Pt);
         if (h > 0) {
             hi = mid;
             keep_held(xs, Ps, x, Pt, n);
@@ -299,7 +310,7 @@ static int sink(const hp_load_planner *p, const double desired[6], const double 
     if (hi < 0) return 0;
     while (hi - lo > 1e-12) {
         double mid = 0.5 * (lo + hi);
-        if (held_at(p, desired, mid, target, x, Pt) > 0) {
+        if (held_at(p, desired, sign * mid, target, x, Pt) > 0) {
             hi = mid;
             keep_held(xs, Ps, x, Pt, n);
         } else {
@@ -307,6 +318,101 @@ static int sink(const hp_load_planner *p, const double desired[6], const double 
         }
     }
     return 1;
+}
+
+/* hp_load_closest from (x0, F0), then HOLD's exact feasibility at the pose it stops at.
+ * When that pose is not held to the checks' tolerance (the SQP meets the rows to its
+ * rounding, HOLD asks them exactly) and x0 is held, the held pose nearest to it on the
+ * segment from x0 is taken (bisection to 2^-30 of the segment): never farther than x0, as
+ * the distance is convex. 1 with (x, P) a held pose, else 0. */
+static int closest_from(const hp_load_planner *p, const double desired[6], const double W[6],
+                        const double *target, const double x0[6], const double *F0,
+                        double x[6], double *P, int *iters)
+{
+    const hp_load_model *M = &p->M;
+    const int n = M->layout.n;
+    double xc[6], Pt[HP_MAX_BLADDERS], xt[6];
+    int it = 0;
+    hp_load_solve_status st =
+        hp_load_closest(M, desired, W, p->elo, p->ehi, x0, F0, p->set.max_iter, xc, &it);
+    *iters += it;
+    if (st != HP_LOAD_SOLVE_OK && st != HP_LOAD_SOLVE_ITERATION_LIMIT) return 0;
+    if (held_pose(p, xc, target, P) > 0) {
+        memcpy(x, xc, 6 * sizeof *x);
+        return 1;
+    }
+    if (!F0) return 0;
+    double a = 0.0, b = 1.0;
+    int moved = 0;
+    for (int step = 0; step < 30; ++step) {
+        double t = 0.5 * (a + b);
+        for (int i = 0; i < 6; ++i) xt[i] = x0[i] + t * (xc[i] - x0[i]);
+        if (held_pose(p, xt, target, Pt) > 0) {
+            a = t;
+            memcpy(x, xt, 6 * sizeof *x);
+            memcpy(P, Pt, (size_t)n * sizeof *P);
+            moved = 1;
+        } else {
+            b = t;
+        }
+    }
+    return moved;
+}
+
+#define RESTARTS 4
+
+/* The closest held pose as a program (hp_load_closest), from several starts: the desired
+ * pose itself with every bladder at the middle of its force range (the program's
+ * restoration steps find a held pose from a start that is not held), the held pose (xi, P)
+ * the search found, when have, and the held pose nearest to the nominal one (the same
+ * program asked for the nominal pose, where a layout is meant to hold the head). Like any
+ * SQP, the restoration can stall where the rows' residual is locally least; a held start
+ * does not need it. The nearest held pose wins; (xi, P) gets it. Returns 1 when there is
+ * one. */
+static int closest_program(const hp_load_planner *p, const double desired[6],
+                           const double W[6], const double *target, int have, double xi[6],
+                           double *P, int *iters)
+{
+    const hp_load_model *M = &p->M;
+    const int n = M->layout.n;
+    static const double nominal[6] = {0, 0, 0, 0, 0, 0};
+    double F0[HP_MAX_BLADDERS], Q[6], x[6], Px[HP_MAX_BLADDERS], x0[6];
+    for (int start = 0; start < 3; ++start) {
+        if (start == 0 && !closest_from(p, desired, W, target, desired, NULL, x, Px, iters))
+            continue;
+        if (start == 1) { /* from the held pose found so far (the search's, or start 0's) */
+            if (!have || hp_load_eval(M, xi, P, Q, NULL, NULL, F0, NULL) != HP_OK) continue;
+            memcpy(x0, xi, sizeof x0);
+            if (!closest_from(p, desired, W, target, x0, F0, x, Px, iters)) continue;
+        }
+        if (start == 2) { /* from the held pose nearest to the nominal one */
+            if (!closest_from(p, nominal, W, target, nominal, NULL, x0, Px, iters) ||
+                hp_load_eval(M, x0, Px, Q, NULL, NULL, F0, NULL) != HP_OK)
+                continue;
+            double P0[HP_MAX_BLADDERS];
+            memcpy(P0, Px, (size_t)n * sizeof *P0);
+            if (!closest_from(p, desired, W, target, x0, F0, x, Px, iters)) {
+                memcpy(x, x0, sizeof x); /* the nominal's held pose itself */
+                memcpy(Px, P0, (size_t)n * sizeof *Px);
+            }
+        }
+        if (have && !(pose_err(x, desired, W) < pose_err(xi, desired, W))) continue;
+        memcpy(xi, x, 6 * sizeof *xi);
+        memcpy(P, Px, (size_t)n * sizeof *P);
+        have = 1;
+    }
+    /* Restarted from the winner (fresh trust region and multipliers) while that helps, at
+     * most RESTARTS times: a run that ended on its trust region's floor can go on. */
+    for (int again = 0; again < RESTARTS && have; ++again) {
+        if (hp_load_eval(M, xi, P, Q, NULL, NULL, F0, NULL) != HP_OK) break;
+        memcpy(x0, xi, sizeof x0);
+        if (!closest_from(p, desired, W, target, x0, F0, x, Px, iters) ||
+            !(pose_err(x, desired, W) < pose_err(xi, desired, W)))
+            break;
+        memcpy(xi, x, 6 * sizeof *xi);
+        memcpy(P, Px, (size_t)n * sizeof *P);
+    }
+    return have;
 }
 
 /* This plan's bounds: the pressure, stretch and limit-point bounds, cut by each bladder's
@@ -356,12 +462,35 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* Fills the per-bladder part of r from pressures P. */
-static hp_error fill_bladders(const hp_load_planner *p, const double *P, int closest,
-                              hp_result *r)
+/* The indentation check a returned answer must meet: every carrying bladder inside the
+ * range where the contact law is trusted (HOLD caps the pressures there; the 6-D
+ * refinement's forward statics does not know the range). INDENT_TOL covers the round trip
+ * pressure -> radius of the cap (~1e-13 in the ratio). */
+#define INDENT_TOL 1e-9
+
+static int indent_ok(const hp_load_model *M, const double xi[6], const double *P)
+{
+    double ratio[HP_MAX_BLADDERS];
+    if (hp_load_indentation(M, xi, P, ratio) != HP_OK) return 0;
+    for (int k = 0; k < M->layout.n; ++k)
+        if (!(ratio[k] <= HP_LOAD_INDENT_MAX + INDENT_TOL)) return 0;
+    return 1;
+}
+
+/* Fills the per-bladder part of r from pressures P held at pose xi. A CLOSEST answer names
+ * what binds: the pressure bounds each bladder sits on, the indentation range, and a
+ * bladder carrying nothing (it cannot pull the head toward the desired pose). */
+static hp_error fill_bladders(const hp_load_planner *p, const double xi[6], const double *P,
+                              int closest, hp_result *r)
 {
     const hp_load_model *M = &p->M;
     r->n = M->layout.n;
+    double force[HP_MAX_BLADDERS], ratio[HP_MAX_BLADDERS], Q[6];
+    if (closest) {
+        hp_error err = hp_load_eval(M, xi, P, Q, NULL, NULL, force, NULL);
+        if (!err) err = hp_load_indentation(M, xi, P, ratio);
+        if (err) return err;
+    }
     for (int k = 0; k < M->layout.n; ++k) {
         const hp_iab *b = &M->layout.bladders[k].iab;
         hp_bladder_result *o = &r->bladders[k];
@@ -378,6 +507,8 @@ static hp_error fill_bladders(const hp_load_planner *p, const double *P, int clo
             double eps = 1e-9 * (p->hi[k] - p->lo[k]);
             if (P[k] <= p->elo[k] + eps) o->binding |= p->elo_bind[k];
             if (P[k] >= p->ehi[k] - eps) o->binding |= p->ehi_bind[k];
+            if (ratio[k] >= HP_LOAD_INDENT_MAX - INDENT_TOL) o->binding |= HP_BIND_INDENT_MAX;
+            if (force[k] == 0.0) o->binding |= HP_BIND_CANNOT_PULL;
         }
     }
     return HP_OK;
@@ -415,17 +546,37 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
             double W[6];
             for (int i = 0; i < 6; ++i)
                 W[i] = i < 3 ? 1.0 : 1.0 / (p->set.weight_mm_per_deg * p->set.weight_mm_per_deg);
-            double Pa[HP_MAX_BLADDERS], xs[6], Ps[HP_MAX_BLADDERS];
-            int sunk = sink(p, desired, target, xs, Ps);
+            double Pa[HP_MAX_BLADDERS], xs[6], Ps[HP_MAX_BLADDERS], xu[6], Pu[HP_MAX_BLADDERS];
+            int sunk = sink(p, desired, target, 1.0, xs, Ps);
+            /* Lifted against gravity: where the indentation range caps the forces, a
+             * shallower pose may be held where a deeper one is not. */
+            if (sink(p, desired, target, -1.0, xu, Pu) &&
+                (!sunk || pose_err(xu, desired, W) < pose_err(xs, desired, W))) {
+                memcpy(xs, xu, sizeof xs);
+                memcpy(Ps, Pu, (size_t)n * sizeof *Ps);
+                sunk = 1;
+            }
             st = hp_load_pose(M, desired, W, p->elo, p->ehi, sunk ? xs : p->prev_xi,
                               sunk ? Ps : p->prev_P, p->set.max_iter, xi, Pa, &it2);
             /* The 6-D refinement must end on a held pose nearer than the sunk one. */
-            if (sunk && (st != HP_LOAD_SOLVE_OK || !holds(M, xi, Pa) ||
-                         pose_err(xi, desired, W) > pose_err(xs, desired, W))) {
+            if (st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT) {
+                int ok = holds(M, xi, Pa) && indent_ok(M, xi, Pa);
+                if (sunk && (!ok || pose_err(xi, desired, W) > pose_err(xs, desired, W))) {
+                    memcpy(xi, xs, sizeof xi);
+                    memcpy(Pa, Ps, (size_t)n * sizeof *Pa);
+                    st = HP_LOAD_SOLVE_OK;
+                } else if (!ok) {
+                    st = HP_LOAD_SOLVE_UNREACHABLE;
+                }
+            } else if (sunk) {
                 memcpy(xi, xs, sizeof xi);
                 memcpy(Pa, Ps, (size_t)n * sizeof *Pa);
                 st = HP_LOAD_SOLVE_OK;
             }
+            /* The closest held pose as a program, warm-started at the held pose found. */
+            int have = st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT;
+            if (closest_program(p, desired, W, target, have, xi, Pa, &it2))
+                st = HP_LOAD_SOLVE_OK;
             if (st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT) {
                 double err = 0.0;
                 for (int i = 0; i < 6; ++i)
@@ -460,9 +611,14 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
      * pose), an answer is returned only when it is an equilibrium by both checks. */
     int unverified = !bad && st == HP_LOAD_SOLVE_OK &&
                      !((held || holds(M, xi, P)) && newton_euler_holds(M, xi, P));
-    if (bad || st != HP_LOAD_SOLVE_OK || unverified) {
+    int beyond = !bad && st == HP_LOAD_SOLVE_OK && !unverified && !indent_ok(M, xi, P);
+    if (bad || st != HP_LOAD_SOLVE_OK || unverified || beyond) {
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
-        if (unverified)
+        if (beyond)
+            hp_text_set(p->err, "load planner: the pose found near the desired one indents a "
+                                "bladder beyond the range where the contact law is trusted "
+                                "(indent_max), so it is not returned");
+        else if (unverified)
             hp_text_set(p->err, "load planner: the pose found near the desired one is not an "
                                 "equilibrium of the load model (its residual exceeds 1e-9 N), "
                                 "so it is not returned");
@@ -473,7 +629,7 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
         memcpy(xi, p->prev_xi, sizeof xi);
         memcpy(P, p->prev_P, (size_t)n * sizeof *P);
     }
-    hp_error err = fill_bladders(p, P, r->status == HP_STATUS_CLOSEST, r);
+    hp_error err = fill_bladders(p, xi, P, r->status == HP_STATUS_CLOSEST, r);
     if (err) return err;
     memcpy(r->achieved, xi, sizeof xi);
     r->pose_error = 0.0;
@@ -494,9 +650,13 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
         if (err) return err;
         info->residual_force = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
         info->residual_moment = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-        hp_load_rest_info ri;
-        if (hp_load_rest(M, P, xi, info->rest, &ri) == HP_OK) {
-            info->holding = ri.holding;
+        /* The holding describes the answer: the stiffness at the achieved pose with the
+         * returned pressures. The rest of those pressures may lie elsewhere (a saddle's
+         * descent leaves it), and its stiffness is not the answer's. */
+        if (!err) err = hp_load_holding_at(M, xi, P, &info->holding);
+        if (!err) err = hp_load_indentation(M, xi, P, info->indent);
+        if (err) return err;
+        if (hp_load_rest(M, P, xi, info->rest, NULL) == HP_OK) {
             info->rest_error = 0.0;
             for (int i = 0; i < 6; ++i)
                 info->rest_error =
@@ -504,7 +664,6 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
         } else {
             for (int i = 0; i < 6; ++i) info->rest[i] = NAN;
             info->rest_error = INFINITY;
-            (void)hp_load_holding_at(M, xi, P, &info->holding);
         }
     }
     r->solve_time = now() - t0;

@@ -61,7 +61,7 @@ hp_load_qp_status hp_load_qp_solve(int nv, const double *M, const double c[6],
 int hp_load_box_qp(int nv, const double *H, const double *g, const double *l,
                    const double *u, int max_iter, double *d)
 {
-    int state[HP_MAX_BLADDERS]; /* 0 free, -1 at lower, +1 at upper */
+    int state[HP_LOAD_QP_NMAX]; /* 0 free, -1 at lower, +1 at upper */
     for (int i = 0; i < nv; ++i) {
         d[i] = 0.0;
         state[i] = l[i] >= 0.0 ? -1 : (u[i] <= 0.0 ? 1 : 0);
@@ -69,10 +69,10 @@ int hp_load_box_qp(int nv, const double *H, const double *g, const double *l,
     }
     for (int it = 0; it < max_iter; ++it) {
         /* Minimise over the free variables with the others held at their bounds. */
-        int F[HP_MAX_BLADDERS], nf = 0;
+        int F[HP_LOAD_QP_NMAX], nf = 0;
         for (int i = 0; i < nv; ++i)
             if (!state[i]) F[nf++] = i;
-        double A[HP_MAX_BLADDERS * HP_MAX_BLADDERS], x[HP_MAX_BLADDERS];
+        double A[HP_LOAD_QP_NMAX * HP_LOAD_QP_NMAX], x[HP_LOAD_QP_NMAX];
         for (int a = 0; a < nf; ++a) {
             double r = -g[F[a]];
             for (int j = 0; j < nv; ++j)

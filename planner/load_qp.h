@@ -7,7 +7,8 @@
 
 #include "headplan/hp_common.h"
 
-#define HP_LOAD_QP_NMAX HP_MAX_BLADDERS
+/* Up to one variable per bladder and six for the pose (the closest-pose program). */
+#define HP_LOAD_QP_NMAX (HP_MAX_BLADDERS + 6)
 
 typedef enum hp_load_qp_status {
     HP_LOAD_QP_OPTIMAL = 0,

@@ -18,17 +18,21 @@
 #include "common/units.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_qp.h"
+#include "kinematics/linalg.h"
 
 #include <math.h>
 #include <string.h>
 
 static const double PI = HP_PI;
 
-/* Row weights of the equilibrium equations: N for the force rows, and N·m/rad times
- * (1°/1 mm) for the moment rows, so both read as "force per unit of pose". */
-static double row_w(int r)
+double hp_load_row_weight(int r)
 {
     return r < 3 ? 1.0 : hp_load_unit(r) / 1e-3;
+}
+
+static double row_w(int r)
+{
+    return hp_load_row_weight(r);
 }
 
 /* One bladder at pressure P against contact distance rho: F and its first two pressure
@@ -57,7 +61,7 @@ static hp_error bladder_state(const hp_load_model *M, int k, double P, double rh
 
 /* The touching pressure: the one whose free radius equals rho (−inf when rho is below the
  * smallest radius the cavity allows, +inf past the limit point). */
-static double touch_pressure(const hp_load_model *M, int k, double rho)
+double hp_load_touch_pressure(const hp_load_model *M, int k, double rho)
 {
     const hp_iab *b = &M->layout.bladders[k].iab;
     double ri, P;
@@ -67,11 +71,20 @@ static double touch_pressure(const hp_load_model *M, int k, double rho)
     return P;
 }
 
+double hp_load_indent_pressure(const hp_load_model *M, int k, double rho)
+{
+    return hp_load_touch_pressure(M, k, rho / (1.0 - HP_LOAD_INDENT_MAX));
+}
+
 /* The pressure in [lo, hi] whose force against rho is F (F increasing in P there). Solved in
  * the inner radius ri, where the pressure (the bladder model's IK) and the outer radius (the
  * volume law) are closed forms: only the bracket's two ends need the bladder's forward
  * kinematics, not every Newton step (it was half of an unreachable plan's time).
  * Safeguarded Newton with bisection, to two ulps of ri. */
+static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
+                                     double hi, double a, double c, double Fhi, double F,
+                                     double *P);
+
 static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, double lo,
                                   double hi, double Fhi, double F, double *P)
 {
@@ -83,11 +96,28 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
         *P = hi;
         return HP_OK;
     }
-    const hp_iab *b = &M->layout.bladders[k].iab;
     double a, c;
-    hp_error err = hp_iab_fk_limit(b, &M->limit[k], lo, &a);
-    if (!err) err = hp_iab_fk_limit(b, &M->limit[k], hi, &c);
+    hp_error err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], lo, &a);
+    if (!err) err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], hi, &c);
     if (err) return err;
+    return pressure_of_force_in(M, k, rho, lo, hi, a, c, Fhi, F, P);
+}
+
+/* pressure_of_force with the inner radii at lo and hi (a, c) known. */
+static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
+                                     double hi, double a, double c, double Fhi, double F,
+                                     double *P)
+{
+    if (F <= 0.0) {
+        *P = lo;
+        return HP_OK;
+    }
+    if (F >= Fhi) {
+        *P = hi;
+        return HP_OK;
+    }
+    const hp_iab *b = &M->layout.bladders[k].iab;
+    hp_error err;
     double x = a + (c - a) * (F / Fhi), Px = lo;
     for (int it = 0; it < 200; ++it) {
         double Pr, ro;
@@ -112,12 +142,181 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
     return HP_OK;
 }
 
-static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
+/* Adds bladder k's share of the tie-breaker sum at force x[k] to *e: (P(F) − t)² for a
+ * carrying bladder, and for one at zero force the best pressure that carries nothing (any in
+ * [lo, L], L the bottom of its carrying range), as HOLD's answer gives it. Non-zero when the
+ * model fails. ra, rc: the inner radii at L and U. */
+static int tie_cost(const hp_load_model *M, int k, const double *rho, const double *lo,
+                    const double *L, const double *U, const double *ra, const double *rc,
+                    const double *Flo, const double *Fhi, const double *target, const double *x,
+                    double *e)
+{
+    double Pk;
+    if (x[k] <= 0.0 && Flo[k] <= 0.0) {
+        Pk = fmin(fmax(target[k], lo[k]), L[k]);
+    } else if (pressure_of_force_in(M, k, rho[k], L[k], U[k], ra[k], rc[k], Fhi[k], x[k], &Pk)) {
+        return -1;
+    }
+    *e += (Pk - target[k]) * (Pk - target[k]);
+    return 0;
+}
+
+/* Grid points per free coordinate of the holding set (at most two coordinates): the ends
+ * and the middle of each free bladder's pressure range. The vertices below carry the
+ * search; the grid adds interior starts at little cost (3 x 3 points). */
+#define GRID_N 3
+
+/* The holding set {A·F = b, Flo <= F <= Fhi} (A 6×n, weighted rows) written in at most two
+ * free forces: Gauss–Jordan elimination with partial pivoting over the bladders that can
+ * carry; the free ones are scanned on a GRID_N-point grid of their pressures, the others
+ * follow (checked against their ranges); then every vertex of the set (the free count of
+ * bladders at an end of their force range, the six others solved for). f gets the point
+ * with the least tie-breaker sum (tie_cost: a bladder at zero force takes its best
+ * pressure that carries nothing). 0 on success, -1 when no point is in the set or the set
+ * has more than two free coordinates (more than eight carrying bladders: not scanned). */
+static int grid_forces(const hp_load_model *M, int n, const double *rho, const double *A,
+                       const double *b, const double *lo, const double *L, const double *U,
+                       const double *Flo, const double *Fhi, const double *target, double tol,
+                       double *f)
+{
+    int col[HP_MAX_BLADDERS], m = 0;
+    for (int k = 0; k < n; ++k)
+        if (L[k] < U[k]) col[m++] = k;
+    double E[6][HP_MAX_BLADDERS + 1];
+    for (int r = 0; r < 6; ++r) {
+        for (int j = 0; j < m; ++j) E[r][j] = A[r * n + col[j]];
+        E[r][m] = b[r];
+    }
+    int pivcol[6], rank = 0, isfree[HP_MAX_BLADDERS] = {0};
+    for (int j = 0; j < m && rank < 6; ++j) {
+        int pr = rank;
+        for (int r = rank + 1; r < 6; ++r)
+            if (fabs(E[r][j]) > fabs(E[pr][j])) pr = r;
+        if (!(fabs(E[pr][j]) > 1e-12)) { /* no pivot in this column: a free force */
+            isfree[j] = 1;
+            continue;
+        }
+        for (int c = 0; c <= m; ++c) {
+            double t = E[rank][c];
+            E[rank][c] = E[pr][c];
+            E[pr][c] = t;
+        }
+        for (int r = 0; r < 6; ++r) {
+            if (r == rank) continue;
+            double q = E[r][j] / E[rank][j];
+            for (int c = 0; c <= m; ++c) E[r][c] -= q * E[rank][c];
+        }
+        pivcol[rank++] = j;
+    }
+    for (int j = 0; j < m; ++j)
+        if (!isfree[j]) {
+            int piv = 0;
+            for (int r = 0; r < rank; ++r) piv |= pivcol[r] == j;
+            isfree[j] = !piv;
+        }
+    int fr[2], nfree = 0;
+    for (int j = 0; j < m; ++j)
+        if (isfree[j]) {
+            if (nfree == 2) return -1;
+            fr[nfree++] = j;
+        }
+    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
+    for (int k = 0; k < n; ++k) {
+        ra[k] = rc[k] = 0.0;
+        if (L[k] < U[k] &&
+            (hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], L[k], &ra[k]) ||
+             hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], U[k], &rc[k])))
+            return -1;
+    }
+    const int g0 = nfree > 0 ? GRID_N : 1, g1 = nfree > 1 ? GRID_N : 1;
+    double best = INFINITY, x[HP_MAX_BLADDERS];
+    for (int i0 = 0; i0 < g0; ++i0)
+        for (int i1 = 0; i1 < g1; ++i1) {
+            for (int k = 0; k < n; ++k) x[k] = 0.0;
+            /* Free bladders on a grid of their pressures, both ends included: the force
+             * rises from 0 like (P − P_touch)², so a grid in the forces would leave the
+             * cheap pressures near the bottom unvisited. */
+            int ok = 1;
+            for (int q = 0; q < nfree && ok; ++q) {
+                int k = col[fr[q]], i = q ? i1 : i0;
+                bstate st;
+                double Pq = L[k] + (double)i / (GRID_N - 1) * (U[k] - L[k]);
+                ok = bladder_state(M, k, Pq, rho[k], &st) == HP_OK;
+                x[k] = fmin(fmax(st.F, Flo[k]), Fhi[k]);
+            }
+            for (int r = 0; r < rank && ok; ++r) {
+                int j = pivcol[r], k = col[j];
+                double v = E[r][m];
+                for (int q = 0; q < nfree; ++q) v -= E[r][fr[q]] * x[col[fr[q]]];
+                v /= E[r][j];
+                ok = v >= Flo[k] - tol && v <= Fhi[k] + tol;
+                x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
+            }
+            for (int r = rank; r < 6 && ok; ++r) ok = fabs(E[r][m]) <= tol; /* consistent */
+            if (!ok) continue;
+            double e = 0.0;
+            for (int j = 0; j < m && e < best; ++j)
+                if (tie_cost(M, col[j], rho, lo, L, U, ra, rc, Flo, Fhi, target, x, &e)) return -1;
+            if (e < best) {
+                best = e;
+                memcpy(f, x, (size_t)n * sizeof *f);
+            }
+        }
+    /* The polytope's vertices too (nfree of the carrying bladders at an end of their range,
+     * the six others solved for): where the tie-breaker is concave the least sum lies on
+     * the boundary, and a dependent force reaching its end is a line the grid only comes
+     * near. */
+    if (rank == 6 && nfree > 0) {
+        const double one[6] = {1, 1, 1, 1, 1, 1};
+        for (int a = 0; a < m; ++a)
+            for (int bb = nfree > 1 ? a + 1 : m; bb < (nfree > 1 ? m : m + 1); ++bb)
+                for (int sides = 0; sides < (nfree > 1 ? 4 : 2); ++sides) {
+                    int fix[2] = {a, bb}, nfix = nfree > 1 ? 2 : 1, rest[6], nr = 0;
+                    for (int k = 0; k < n; ++k) x[k] = 0.0;
+                    for (int q = 0; q < nfix; ++q) {
+                        int k = col[fix[q]];
+                        x[k] = (sides >> q) & 1 ? Fhi[k] : Flo[k];
+                    }
+                    for (int j = 0; j < m; ++j)
+                        if (j != a && (nfix < 2 || j != bb)) rest[nr++] = col[j];
+                    double Ar[36], r[6], sol[6];
+                    for (int row = 0; row < 6; ++row) {
+                        r[row] = -b[row];
+                        for (int q = 0; q < nfix; ++q) r[row] += A[row * n + col[fix[q]]] * x[col[fix[q]]];
+                        for (int j = 0; j < 6; ++j) Ar[row * 6 + j] = A[row * n + rest[j]];
+                    }
+                    if (nr != 6 || hp_kin_damped_lstsq(6, 6, Ar, r, one, 0.0, sol) != 0) continue;
+                    int ok = 1;
+                    for (int j = 0; j < 6 && ok; ++j) {
+                        int k = rest[j];
+                        ok = sol[j] >= Flo[k] - tol && sol[j] <= Fhi[k] + tol;
+                        x[k] = fmin(fmax(sol[j], Flo[k]), Fhi[k]);
+                    }
+                    if (!ok) continue;
+                    double e = 0.0;
+                    for (int j = 0; j < m && e < best; ++j)
+                        if (tie_cost(M, col[j], rho, lo, L, U, ra, rc, Flo, Fhi, target, x, &e))
+                            return -1;
+                    if (e < best) {
+                        best = e;
+                        memcpy(f, x, (size_t)n * sizeof *f);
+                    }
+                }
+    }
+    return isfinite(best) ? 0 : -1;
+}
+
+/* HOLD from one start: phase 1 projects the start's forces (grid: the best point of
+ * grid_forces instead) onto the holding set, phase 2 tie-breaks from there. *cost
+ * gets the tie-breaker's sum (P − t)² [Pa²] of the answer when its rows are met (to
+ * 1e-11 of the weight), +inf otherwise. */
+static hp_load_solve_status hold_from(const hp_load_model *M, const double xi[6],
                                       const double *lo, const double *hi,
                                       const double *target, const double *start, int max_iter,
-                                      int use_ipopt, int stiffness, double *P, double *F,
-                                      int *iterations, int *raw)
+                                      int use_ipopt, int stiffness, int grid, double *P,
+                                      double *F, int *iterations, int *raw, double *cost)
 {
+    *cost = INFINITY;
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
     if (hp_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, NULL) != HP_OK)
@@ -128,9 +327,14 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
     double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS],
         Fhi[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
     for (int k = 0; k < n; ++k) {
-        Pt[k] = touch_pressure(M, k, rho[k]);
+        Pt[k] = hp_load_touch_pressure(M, k, rho[k]);
         L[k] = fmax(lo[k], fmax(0.0, Pt[k]));
-        U[k] = hi[k];
+        /* The indentation range where the contact law is trusted caps a carrying bladder's
+         * pressure at this pose: ro(P) <= rho/(1 − HP_LOAD_INDENT_MAX). A bladder whose
+         * lowest pressure already carries beyond it cannot hold the pose. */
+        double Pi = hp_load_indent_pressure(M, k, rho[k]);
+        if (lo[k] > 0 && lo[k] > Pt[k] && lo[k] > Pi) return HP_LOAD_SOLVE_UNREACHABLE;
+        U[k] = fmin(hi[k], Pi);
         bstate s;
         Flo[k] = Fhi[k] = 0.0;
         if (L[k] < U[k]) {
@@ -176,6 +380,12 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
             double Fs = fmax(Fhi[k], 1e-6);
             h[k] = 1.0 / (Fs * Fs);
             g[k] = 0.0;
+            l[k] = Flo[k] - f[k];
+            u[k] = Fhi[k] - f[k];
+        }
+        if (grid && grid_forces(M, n, rho, A, b, lo, L, U, Flo, Fhi, target, tol, f) != 0)
+            return HP_LOAD_SOLVE_UNREACHABLE;
+        for (int k = 0; k < n; ++k) {
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
         }
@@ -301,7 +511,57 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
             F[k] = 0.0;
         }
     }
+    double cm = 0.0, e = 0.0;
+    for (int r = 0; r < 6; ++r) {
+        double v = -b[r];
+        for (int k = 0; k < n; ++k) v += A[r * n + k] * F[k];
+        cm = fmax(cm, fabs(v));
+    }
+    for (int k = 0; k < n; ++k) e += (P[k] - target[k]) * (P[k] - target[k]);
+    if (cm <= 1e-11 * fmax(1.0, fscale)) *cost = e;
     return HP_LOAD_SOLVE_OK;
+}
+
+/* HOLD for the distance tie-breakers, global. At a fixed pose the holding forces form a
+ * polytope (six rows on n boxes) and sum (P(F) − t)² is separable but not convex in F:
+ * P(F)² curves down near a bladder's touching pressure (d²/dF² has the sign of
+ * F' − P·F'', negative where the contact area starts from 0), so an SQP can stop in a
+ * local minimum that differs from the global one in which bladders carry. Worse, a bladder
+ * whose touching pressure is positive costs at least that pressure squared while it carries
+ * and (almost) nothing once it stops (any pressure below touching holds nothing): the sum
+ * jumps where a force reaches 0, which no SQP step in the carrying range sees. With at
+ * most eight bladders and six rows the polytope is at most two-dimensional, so it is
+ * scanned: grid_forces evaluates the true sum at its vertices (where forces reach 0 or
+ * their top) and on a small grid, and HOLD runs from the best of those points as well as
+ * from the caller's start; the smaller sum wins (only answers whose rows are met compete).
+ * Reachability is decided by the first start's exact phase 1. */
+static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
+                                      const double *lo, const double *hi,
+                                      const double *target, const double *start, int max_iter,
+                                      int use_ipopt, int stiffness, double *P, double *F,
+                                      int *iterations, int *raw)
+{
+    double cost;
+    int it = 0;
+    hp_load_solve_status st = hold_from(M, xi, lo, hi, target, start, max_iter, use_ipopt,
+                                        stiffness, 0, P, F, &it, raw, &cost);
+    int total = it;
+    if (st == HP_LOAD_SOLVE_OK && max_iter > 0 && !stiffness) {
+        const int n = M->layout.n;
+        double Pk[HP_MAX_BLADDERS], Fk[HP_MAX_BLADDERS], ck;
+        int rk = 0;
+        it = 0;
+        if (hold_from(M, xi, lo, hi, target, start, max_iter, use_ipopt, 0, 1, Pk, Fk, &it,
+                      &rk, &ck) == HP_LOAD_SOLVE_OK &&
+            ck < cost * (1.0 - 1e-12)) {
+            memcpy(P, Pk, (size_t)n * sizeof *P);
+            memcpy(F, Fk, (size_t)n * sizeof *F);
+            if (raw) *raw = rk;
+        }
+        total += it;
+    }
+    if (iterations) *iterations = total;
+    return st;
 }
 
 hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],

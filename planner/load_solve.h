@@ -97,11 +97,39 @@ hp_load_solve_status hp_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p, 
 hp_error hp_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
                                double *F, double *dF, double *d2F);
 
+/* Row weights of the equilibrium equations: N for the force rows, and N·m/rad times
+ * (1°/1 mm) for the moment rows, so both read as "force per unit of pose". */
+double hp_load_row_weight(int r);
+
+/* The touching pressure of bladder k at contact distance rho: the one whose free radius is
+ * rho (−inf when rho is below the smallest radius the cavity allows, +inf past the limit
+ * point). */
+double hp_load_touch_pressure(const hp_load_model *M, int k, double rho);
+
+/* The pressure at which bladder k, at contact distance rho, reaches the edge of the
+ * indentation range (delta/ro = HP_LOAD_INDENT_MAX): the largest a carrying bladder may
+ * hold there. +inf past the limit point, −inf below the smallest radius. */
+double hp_load_indent_pressure(const hp_load_model *M, int k, double rho);
+
 /* POSE: the pose nearest to desired (weights W per mm² and degree²) at which pressures in
  * [lo, hi] hold the head, from (xi0, P0); P gets those pressures (not tie-broken). */
 hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6],
                                   const double W[6], const double *lo, const double *hi,
                                   const double xi0[6], const double *P0, int max_iter,
                                   double xi[6], double *P, int *iterations);
+
+/* CLOSEST: the held pose nearest to desired (weights W per mm² and degree²) as one program
+ * in the pose and the contact forces,
+ *     minimise ½·sum_i W_i·(xi_i − desired_i)²  subject to
+ *     sum_k F_k·J_k(xi) + Q_grav(xi) = 0,   Flo_k(xi) <= F_k <= Fhi_k(xi),
+ * where [Flo_k, Fhi_k] are the forces bladder k can carry at pose xi inside [lo_k, hi_k]
+ * and the indentation range (load_closest.c). Started from pose xi0 with forces F0 (a held
+ * pose and its forces; F0 NULL: every bladder at the middle of its force range, a start
+ * that need not hold the head); xi gets the pose where it stops (feasible to the
+ * equilibrium's rounding, not yet verified: the caller holds it with HOLD). */
+hp_load_solve_status hp_load_closest(const hp_load_model *M, const double desired[6],
+                                     const double W[6], const double *lo, const double *hi,
+                                     const double xi0[6], const double *F0, int max_iter,
+                                     double xi[6], int *iterations);
 
 #endif

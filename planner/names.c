@@ -12,7 +12,7 @@ static const char *const status_names[HP_STATUS_COUNT_] = {
 
 static const char *const binding_names[HP_BIND_COUNT] = {
     "pressure_min", "pressure_max", "stretch_min", "stretch_max",
-    "rate_down", "rate_up", "limit_point", "stress_max"};
+    "rate_down", "rate_up", "limit_point", "stress_max", "indent_max", "cannot_pull"};
 
 const char *hp_backend_name(hp_backend b)
 {

@@ -239,8 +239,8 @@ static PyMethodDef functions[] = {
      "binding_names(flags) -> list of str\n\n"
      "The limits named by one bladder's binding flags (an int from a result's 'binding'\n"
      "array): 'pressure_min', 'pressure_max', 'stretch_min', 'stretch_max', 'rate_down',\n"
-     "'rate_up', 'limit_point', 'stress_max'. Raises ValueError for a negative value or a\n"
-     "bit beyond these."},
+     "'rate_up', 'limit_point', 'stress_max', 'indent_max', 'cannot_pull' (the last two at\n"
+     "the load level). Raises ValueError for a negative value or a bit beyond these."},
     {NULL, NULL, 0, NULL},
 };
 

@@ -35,6 +35,13 @@ extern "C" {
 /* Standard gravity [m/s²]. */
 #define HP_GRAVITY 9.80665
 
+/* The indentation range where the contact law is trusted: a carrying bladder (P > 0, in
+ * contact) with delta/ro at most this. docs/load.md checks the law against a membrane
+ * solution up to delta/ro = 0.26 and no further; the load planner treats it as a limit
+ * (bound by the name "indent_max", HP_BIND_INDENT_MAX) and the forward statics flags a
+ * rest beyond it (hp_load_rest_info.beyond_indent). */
+#define HP_LOAD_INDENT_MAX 0.26
+
 /* What the bladders carry. */
 typedef struct hp_load_spec {
     double mass;       /* [kg] the mass whose weight the bladders carry (> 0) */
@@ -102,6 +109,13 @@ HP_API hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const d
 HP_API hp_error hp_load_newton_euler(const hp_load_model *M, const double xi[6], const double *P,
                               double force[3], double moment[3]);
 
+/* Each bladder's indentation ratio delta_k/ro_k = (ro_k(P_k) − rho_k)/ro_k at pose xi with
+ * pressures P[n] (ratio[n]; negative when the bladder is clear of the head; 0 for a bladder
+ * that carries nothing, P_k <= 0, whose law says nothing about its shape). Same errors and
+ * domain as hp_load_eval. The contact law is trusted up to HP_LOAD_INDENT_MAX. */
+HP_API hp_error hp_load_indentation(const hp_load_model *M, const double xi[6], const double *P,
+                                    double *ratio);
+
 /* How firmly the head is held at a pose. */
 typedef struct hp_load_holding {
     double K[36];             /* stiffness −dQ/dxi, SI (N/m, N/rad, N·m/m, N·m/rad) */
@@ -128,6 +142,10 @@ typedef struct hp_load_rest_info {
     double residual_force;  /* |sum f + m g| [N] at the rest (Newton–Euler check) */
     double residual_moment; /* |net moment about the centre of mass| [N·m] */
     double q_norm;          /* max |Q_i| [N, N·m] at the rest */
+    double indent_max;      /* the largest delta_k/ro_k of a carrying bladder at the rest (0
+                               when none carries) */
+    int beyond_indent;      /* 1 when indent_max > HP_LOAD_INDENT_MAX: the rest lies outside
+                               the range where the contact law is trusted */
     hp_load_holding holding;
 } hp_load_rest_info;
 
@@ -138,7 +156,8 @@ typedef struct hp_load_rest_info {
  * pose; info (may be NULL) the residuals and the holding. HP_ERR_NO_CONVERGENCE when no
  * rest is found in 100 steps (e.g. the head falls: nothing pushes against gravity), the
  * pose leaves 100 mm / 60°, or the descent runs into a bladder's panel (every step, down to
- * 2^-50 of it, leaves hp_load_eval's domain); HP_ERR_DOMAIN when xi0 lies outside it. A rest with K not positive definite is returned with
+ * 2^-50 of it, leaves hp_load_eval's domain) or stops where Q is above 1e-6 N (moment
+ * rows per 1°/1 mm); HP_ERR_DOMAIN when xi0 lies outside it. A rest with K not positive definite is returned with
  * info->holding.stable = 0. */
 HP_API hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0,
                       double xi[6], hp_load_rest_info *info);

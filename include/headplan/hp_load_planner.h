@@ -38,7 +38,10 @@ typedef struct hp_load_info {
     double rest[6];                /* the forward statics' rest of the returned pressures,
                                       started at the answer [m, rad] */
     double rest_error;             /* max |rest − achieved| in mm / degrees */
-    hp_load_holding holding;       /* stiffness and compliance at the answer */
+    double indent[HP_MAX_BLADDERS];/* each bladder's delta/ro at the answer (hp_load_indentation) */
+    hp_load_holding holding;       /* stiffness, stability and compliance of the answer: at
+                                      the achieved pose with the returned pressures (not at
+                                      the forward statics' rest) */
 } hp_load_info;
 
 typedef struct hp_load_planner hp_load_planner;
@@ -60,8 +63,11 @@ HP_API hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *s
  * translation beyond the head's smallest semi-axis) is INVALID_INPUT with the safe output
  * (the previous answer's pressures and pose, pose_error +inf). REACHED: the equilibrium
  * holds at the desired pose (the pose error is 0 by construction); CLOSEST: no pressures
- * inside the limits hold it there, and the answer is the pose nearest to it (weighted as
- * the settings say) at which some do, with the binding limits flagged. info (may be NULL)
+ * inside the limits hold it there, and the answer is the nearest pose (weighted as the
+ * settings say) at which some do that the closest-pose program finds (a local method from
+ * several starts: docs/load.md), with the binding limits flagged, among them indent_max
+ * (the indentation range, HP_LOAD_INDENT_MAX) and cannot_pull (a bladder carrying
+ * nothing). "Limits" include the indentation range throughout. info (may be NULL)
  * gets the residuals, forces, the forward statics' rest of the answer and the holding. With
  * the realtime backend nothing is allocated. Every pressure is inside its limits, whatever
  * the status. A REACHED or CLOSEST answer is an equilibrium by two checks: Q below 1e-9 N

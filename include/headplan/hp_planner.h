@@ -111,16 +111,22 @@ enum {
     HP_BIND_RATE_DOWN = 1u << 4,
     HP_BIND_RATE_UP = 1u << 5,
     HP_BIND_LIMIT_POINT = 1u << 6, /* the stable-branch cap below the inflation limit point */
-    HP_BIND_STRESS_MAX = 1u << 7   /* the bladder's inner hoop-stress limit (stress_max) */
+    HP_BIND_STRESS_MAX = 1u << 7,  /* the bladder's inner hoop-stress limit (stress_max) */
+    HP_BIND_INDENT_MAX = 1u << 8,  /* load level: the indentation range where the contact law
+                                      is trusted (delta/ro <= HP_LOAD_INDENT_MAX, hp_load.h) */
+    HP_BIND_CANNOT_PULL = 1u << 9  /* load level: the bladder carries no load (it cannot pull
+                                      the head: zero force at zero gauge pressure or out of
+                                      contact), and more would be needed the other way */
 };
-#define HP_BIND_COUNT 8
+#define HP_BIND_COUNT 10
 /* A bladder is reported as sitting on a limit when its outer radius is within this many mm
  * of the bound, the one threshold for every backend and level: above the solvers' stopping
  * slack at a bound (Ipopt's interior point keeps ~1e-8 of the bound, the realtime QP
  * 1e-11 mm), far below any clinical meaning. A CLOSEST answer names at least one. */
 #define HP_BINDING_TOL_MM 1e-6
 /* "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
- * "limit_point", "stress_max" for one flag bit; "unknown" otherwise. */
+ * "limit_point", "stress_max", "indent_max", "cannot_pull" for one flag bit; "unknown"
+ * otherwise. */
 HP_API const char *hp_binding_name(unsigned flag);
 
 #define HP_DEFAULT_BACKEND HP_BACKEND_REALTIME

@@ -254,22 +254,24 @@ static void test_backends_agree(void **state)
     for (int b = 0; b < 3; ++b) hp_load_planner_destroy(p[b]);
 }
 
-/* With stretch_max 1.3 the base cannot hold the head at the nominal pose: CLOSEST, lower
- * (z < 0), every bladder at its stretch cap with the stretch_max flag, and still an
- * equilibrium (residual below 1e-9 N) whose forward statics is the returned pose. */
+/* With stretch_max 1.3 the base cannot hold 80 % of the head at the nominal pose: CLOSEST,
+ * lower (z < 0), every bladder at its stretch cap with the stretch_max flag, and still an
+ * equilibrium (residual below 1e-9 N) whose forward statics is the returned pose. (The
+ * whole head is beyond these limits inside the indentation range: no pose holds it.) */
 static void test_unreachable(void **state)
 {
     (void)state;
     hp_layout L;
     hp_load_spec s;
     loaded(&L, &s, 1.3);
+    s.mass *= 0.8;
     hp_load_planner *p = make(&L, &s);
     double d[6] = {0};
     hp_result r;
     hp_load_info info;
     assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
     assert_int_equal(r.status, HP_STATUS_CLOSEST);
-    assert_true(r.achieved[2] < -1e-3);
+    assert_true(r.achieved[2] < -1e-4); /* 0.42 mm lower */
     assert_in_bounds(p, &r);
     for (int k = 0; k < 4; ++k) assert_true(r.bladders[k].binding & HP_BIND_STRETCH_MAX);
     assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
@@ -294,6 +296,7 @@ static void test_stress_binding(void **state)
     assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
     hp_load_spec s;
     hp_load_spec_default(&L.head, &s);
+    s.mass *= 0.8; /* the whole head is beyond the indentation range at this stress limit */
     hp_load_planner *p = make(&L, &s);
     double d[6] = {0};
     hp_result r;

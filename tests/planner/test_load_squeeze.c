@@ -1,0 +1,137 @@
+/* Least squeeze is the least: at a reachable pose the load planner's answer has the
+ * smallest sum of squared pressures among the pressures that hold the head there inside
+ * every limit. The reference is a multi-start: HOLD (realtime SQP and Ipopt) started from 24
+ * seeded random pressures in each bladder's range, each result kept only when it holds the
+ * pose (Q below 1e-9 N), lies inside the bounds and inside the indentation range. Before
+ * HOLD scanned the holding set's vertices, the planner's answer was beaten on 2 of these 21
+ * reached targets (by 0.96 % and 1.81 %: a bladder kept carrying where dropping it and
+ * adding another was cheaper). HOLD's own scan now runs inside every reference start too,
+ * so the reference is the planner's method from 24 other starts. docs/load.md. */
+#include "test_util.h"
+
+#include "../kinematics/default_layout.h"
+#include "common/units.h"
+#include "headplan/hp_load_planner.h"
+#include "kinematics/load_internal.h"
+#include "planner/load_solve.h"
+
+#include <string.h>
+
+static double lcg(unsigned long long *st)
+{
+    *st = *st * 6364136223846793005ull + 1442695040888963407ull;
+    return (double)(*st >> 11) / 9007199254740992.0;
+}
+
+static double squeeze(const double *P, int n)
+{
+    double s = 0.0;
+    for (int k = 0; k < n; ++k) s += P[k] * P[k];
+    return s;
+}
+
+/* Does P hold the head at xi inside [lo, hi] and the indentation range? */
+static int valid(const hp_load_model *M, const double xi[6], const double *P, const double *lo,
+                 const double *hi)
+{
+    double Q[6], ratio[HP_MAX_BLADDERS];
+    if (hp_load_eval(M, xi, P, Q, NULL, NULL, NULL, NULL) != HP_OK ||
+        hp_load_indentation(M, xi, P, ratio) != HP_OK)
+        return 0;
+    for (int i = 0; i < 6; ++i)
+        if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hp_load_unit(i) / 1e-3) <= 1e-9)) return 0;
+    for (int k = 0; k < M->layout.n; ++k)
+        if (!(P[k] >= lo[k] && P[k] <= hi[k] && ratio[k] <= HP_LOAD_INDENT_MAX + 1e-9)) return 0;
+    return 1;
+}
+
+/* The two layouts: the default one at stretch_max 1.6 carrying 80 % of the head along −Z,
+ * and the same under gravity tilted 10° head-up. */
+static void layout(int which, hp_layout *L, hp_load_spec *s)
+{
+    assert_int_equal(default_layout(L), 0);
+    for (int k = 0; k < L->n; ++k) L->bladders[k].stretch_max = 1.6;
+    assert_int_equal(hp_layout_prepare(L, NULL), HP_OK);
+    hp_load_spec_default(&L->head, s);
+    s->mass *= 0.8;
+    if (which == 1) {
+        double g = HP_GRAVITY, a = 10.0 * HP_PI / 180.0;
+        s->gravity[0] = 0.0;
+        s->gravity[1] = -g * sin(a);
+        s->gravity[2] = -g * cos(a);
+    }
+}
+
+static void test_least_squeeze_is_least(void **state)
+{
+    (void)state;
+    /* Targets (mm, degrees): small corrections in every axis and some combinations. */
+    static const double T[][6] = {
+        {0, 0, 0, 0, 0, 0},    {1, 0, -0.5, 0.3, 0, -0.2}, {0, 0, 3, 0, 0, 0},
+        {0, 0, 6, 0, 0, 0},    {2, 0, 0, 0, 0, 0},         {0, 2, 1, 0, 0, 0},
+        {0, -2, 1, 0, 0, 0},   {0, 0, 1, 2, 0, 0},         {0, 0, 1, 0, 2, 0},
+        {0, 0, 1, 0, 0, 2},    {-3, 1, 2, 1, -1, 2},       {3, -1, 4, -1, 1, -2},
+    };
+    unsigned long long seed = 77ull;
+    int reached = 0, beaten = 0;
+    double worst = 0.0;
+    for (int which = 0; which < 2; ++which) {
+        hp_layout L;
+        hp_load_spec s;
+        layout(which, &L, &s);
+        hp_settings set;
+        hp_settings_default(&set);
+        set.level = HP_LEVEL_SURFACE;
+        set.use_rate_limits = 0;
+        for (size_t t = 0; t < sizeof T / sizeof T[0]; ++t) {
+            hp_load_planner *p = NULL;
+            assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p, NULL),
+                             HP_OK);
+            const hp_load_model *M = hp_load_planner_model(p);
+            const int n = L.n;
+            double xi[6], lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
+            hp_pose_from_clinical(T[t], xi);
+            hp_result r;
+            assert_int_equal(hp_load_plan(p, xi, &r, NULL), HP_OK);
+            assert_int_equal(hp_load_planner_bounds(p, lo, hi), HP_OK);
+            if (r.status != HP_STATUS_REACHED) {
+                hp_load_planner_destroy(p);
+                continue;
+            }
+            ++reached;
+            for (int k = 0; k < n; ++k) P[k] = r.bladders[k].pressure;
+            assert_true(valid(M, xi, P, lo, hi));
+            double mine = squeeze(P, n), best = INFINITY, zero[HP_MAX_BLADDERS] = {0};
+            for (int start = 0; start < 24; ++start) {
+                double P0[HP_MAX_BLADDERS], Pr[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS];
+                for (int k = 0; k < n; ++k) P0[k] = fmax(lo[k], 0.0) + lcg(&seed) * (hi[k] - fmax(lo[k], 0.0));
+                hp_load_solve_status st =
+                    start % 2 ? hp_load_hold_on_ipopt(M, xi, lo, hi, zero, P0, 200, 0, Pr, F, NULL, NULL)
+                              : hp_load_hold(M, xi, lo, hi, zero, P0, 200, Pr, F, NULL);
+                if (st == HP_LOAD_SOLVE_OK && valid(M, xi, Pr, lo, hi))
+                    best = fmin(best, squeeze(Pr, n));
+            }
+            /* 1e-9 relative: the SQP stops at 1e-9 kPa steps, ΣP² ~ 1e8 Pa². */
+            double excess = (mine - best) / best;
+            if (excess > 1e-9) {
+                ++beaten;
+                print_message("layout %d, target %zu: sum P^2 %.9g, multi-start %.9g (+%.3g %%)\n",
+                              which, t, mine, best, 100.0 * excess);
+            }
+            worst = fmax(worst, excess);
+            hp_load_planner_destroy(p);
+        }
+    }
+    print_message("reached %d, beaten by the multi-start %d, worst excess %.3g\n", reached,
+                  beaten, worst);
+    assert_true(reached >= 12);
+    assert_int_equal(beaten, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_least_squeeze_is_least),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
