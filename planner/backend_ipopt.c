@@ -63,6 +63,7 @@ typedef struct ipopt_state {
     int accepted;           /* the core starts the next solve from that answer (warm_point) */
     int lbfgs;              /* option "hessian_approximation" = 1 */
     clock_t cpu0;           /* CPU clock at the start of this solve (the polish's budget) */
+    int timed_out;          /* the intermediate callback stopped the solve: max_time spent */
     int rebuild;            /* an option changed: rebuild the app before the next solve */
     double mult_g[HP_MAX_BLADDERS];
     double mult_xl[HP_PROBLEM_NX_MAX], mult_xu[HP_PROBLEM_NX_MAX];
@@ -155,6 +156,14 @@ static Bool intermediate(Index alg_mod, Index iter, Number obj, Number inf_pr, N
     (void)alpha_du, (void)alpha_pr, (void)ls;
     ipopt_state *st = u;
     st->iters = iter;
+    /* Ipopt 3.11 reads max_cpu_time on a clock that can stand still over a short solve, so a
+     * budget far below a solve's cost was met or missed by chance. The plan's own CPU clock
+     * (clock(): the process's CPU time, microseconds) is read here at every iteration, the
+     * first included: the budget stops a solve whatever Ipopt's clock says. */
+    if ((double)(clock() - st->cpu0) / CLOCKS_PER_SEC > st->s.max_time) {
+        st->timed_out = 1;
+        return FALSE;
+    }
     return atomic_load(&ipopt_fault) == HP_TEST_FAULT_STOP ? FALSE : TRUE;
 }
 
@@ -294,9 +303,10 @@ static void ipopt_destroy(void *state)
     free(st);
 }
 
-static hp_status map_status(enum ApplicationReturnStatus r, int *converged)
+static hp_status map_status(enum ApplicationReturnStatus r, int timed_out, int *converged)
 {
     *converged = 0;
+    if (r == User_Requested_Stop && timed_out) return HP_STATUS_TIME_LIMIT;
     switch (r) {
     case Solve_Succeeded:
     case Solved_To_Acceptable_Level:
@@ -432,7 +442,7 @@ static int solve_fixed(ipopt_state *st, const hp_problem *pb, const double *x,
     FreeIpoptProblem(app);
     st->iters += iters0;
     int conv;
-    map_status(rc, &conv);
+    map_status(rc, st->timed_out, &conv);
     for (int i = 0; i < st->nx; i++) conv = conv && isfinite(xp[i]);
     if (conv) hp_backend_clip(pb, xp);
     return conv;
@@ -515,13 +525,14 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
         st->pb = pb;
         st->iters = 0;
         st->cpu0 = clock();
+        st->timed_out = 0;
         double obj;
         memcpy(x, xs, (size_t)st->nx * sizeof *x);
         rc = IpoptSolve(st->app, x, NULL, &obj, st->mult_g, st->mult_xl, st->mult_xu, st);
         int forced = atomic_load(&ipopt_forced);
         if (forced != HP_TEST_NO_FORCE) rc = (enum ApplicationReturnStatus)forced;
         int conv;
-        map_status(rc, &conv);
+        map_status(rc, st->timed_out, &conv);
         int fin = 1;
         for (int i = 0; i < st->nx; i++) fin = fin && isfinite(x[i]);
         if (conv && fin && needs_polish(st, pb, x) && polish(st, pb, x))
@@ -536,7 +547,7 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
 
     r->raw_code = (int)rc;
     r->iterations = st->iters;
-    r->status = map_status(rc, &r->converged);
+    r->status = map_status(rc, st->timed_out, &r->converged);
     int finite = 1;
     for (int i = 0; i < st->nx; i++) finite = finite && isfinite(x[i]);
     if (!finite) {
