@@ -3,6 +3,7 @@
  * forward statics when the caller asks for the details. */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/hp_load_planner.h"
+#include "common/exact_prod.h"
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
 #include "kinematics/load_internal.h"
@@ -59,13 +60,13 @@ static hp_error bladder_bounds(hp_load_planner *p, int k, hp_diag *diag)
     double P;
     p->lo[k] = b->p_min;
     p->lo_bind[k] = HP_BIND_PRESSURE_MIN;
-    if (hp_iab_ik(&b->iab, b->stretch_min * b->iab.Ri, &P) == HP_OK && P > p->lo[k]) {
+    if (hp_iab_ik(&b->iab, hp_prod_up(b->stretch_min, b->iab.Ri), &P) == HP_OK && P > p->lo[k]) {
         p->lo[k] = P;
         p->lo_bind[k] = HP_BIND_STRETCH_MIN;
     }
     p->hi[k] = b->p_max;
     p->hi_bind[k] = HP_BIND_PRESSURE_MAX;
-    double cap = b->stretch_max * b->iab.Ri;
+    double cap = hp_prod_down(b->stretch_max, b->iab.Ri);
     unsigned cap_bind = HP_BIND_STRETCH_MAX;
     const hp_iab_limit *lp = &p->M.limit[k];
     if (lp->exists && (1.0 - 1e-3) * lp->ri < cap) {
