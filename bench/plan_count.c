@@ -2,7 +2,7 @@
  * (bench/plan_instructions.sh runs it under valgrind's callgrind; counts, unlike times, do
  * not depend on how busy the machine is), for timing and for comparing two builds
  * (bench/plan_ab.sh runs it against two shared libraries). Public API only, so the same
- * file also builds against an older commit's library (docs/benchmarks.md, section 6).
+ * file also builds against an older commit's library (CHANGELOG.md, realtime backend speed work).
  *
  *   headplan-bench-count SCENE cold LEVEL MM DEG REPS
  *       40 seeded targets uniform in ±MM mm and ±DEG deg per axis, each planned cold

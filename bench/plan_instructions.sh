@@ -3,7 +3,7 @@
 # counts depend on the compiler and the code, not on how busy the machine is). Runs
 # headplan-bench-count (bench/plan_count.c) on the default scene: 40 seeded targets of
 # ±6 mm, ±4° (most bind a limit) and of ±0.5 mm, ±0.3° (the direct chain), cold, 3 passes,
-# at each level. docs/benchmarks.md (section 6) quotes a run.
+# at each level. CHANGELOG.md (realtime backend speed work) quotes runs.
 #
 #   bench/plan_instructions.sh [COUNT_PROGRAM] [SCENE]
 #     COUNT_PROGRAM  default build/headplan-bench-count; to measure another commit, build its
