@@ -48,6 +48,13 @@ python3 -c 'import json,sys; d=json.loads(open(sys.argv[1]).readline()); assert 
     && ok || bad "batch --level plane jsonl: level_choice not null"
 run batch "$S/default.yaml" --level plane --format csv --no-progress -o "$TMP/p.csv"
 grep -qxF "# level_choice: none (the level is stated, not auto)" "$TMP/p.csv" && ok || bad "batch --level plane csv: level_choice"
+# render's picture carries the same text under the panels (its script, --dry-run); none for
+# a stated level.
+run render "$S/default.yaml" --dry-run
+expect_exit 0 "render --dry-run"
+grep -qF "\"level choice: $want\"" "$TMP/out" && ok || bad "render: the picture lacks solve's level choice"
+run render "$S/default.yaml" --level surface --dry-run
+grep -qF "level choice" "$TMP/out" && bad "render --level surface: a level choice for a stated level" || ok
 # The result stays readable by plot (plot reads CSV results, metadata comments included).
 if command -v gnuplot > /dev/null; then
     for f in b.csv; do
