@@ -341,32 +341,36 @@ void batch_sink_meta(batch_sink *k, const batch_meta *m)
     cli_fmt(tol, m->s->tolerance);
     cli_fmt(tmax, m->s->max_time);
     cli_fmt(w, m->s->weight_mm_per_deg);
-    /* key, value, 1 when the value is a number (JSON) */
-    const struct { const char *key, *value; int number; } meta[] = {
-        {"headplan_batch", "1", 1},
-        {"program", ver, 0},
-        {"scene", m->scene, 0},
-        {"scene_sha256", m->scene_sha256, 0},
-        {"trace", m->trace, 0},
-        {"trace_sha256", m->trace_sha256, 0},
-        {"rows", m->rows, 0},
-        {"rows_from", m->rows_from, 0},
-        {"pose_form", m->pose_form, 0},
-        {"backend", hp_backend_name(m->s->backend), 0},
-        {"level", m->level, 0},
-        {"tolerance_mm_deg", tol, 1},
-        {"max_iter", iters, 1},
-        {"max_time_s", tmax, 1},
-        {"weight_mm_per_deg", w, 1},
-        {"rate_limits", m->s->use_rate_limits ? "true" : "false", 1},
-        {"warm_start", m->s->warm_start ? "true" : "false", 1},
+    /* key, value, 1 when the value is a number (JSON); a NULL value is JSON null and, in a
+     * CSV comment, the entry's `none` text */
+    static const char *const not_file = "none (not a regular file)";
+    const struct { const char *key, *value; int number; const char *none; } meta[] = {
+        {"headplan_batch", "1", 1, NULL},
+        {"program", ver, 0, NULL},
+        {"scene", m->scene, 0, NULL},
+        {"scene_sha256", m->scene_sha256, 0, not_file},
+        {"trace", m->trace, 0, NULL},
+        {"trace_sha256", m->trace_sha256, 0, not_file},
+        {"rows", m->rows, 0, NULL},
+        {"rows_from", m->rows_from, 0, NULL},
+        {"pose_form", m->pose_form, 0, NULL},
+        {"backend", hp_backend_name(m->s->backend), 0, NULL},
+        {"level", m->level, 0, NULL},
+        {"level_choice", m->level_choice, 0, "none (the level is stated, not auto)"},
+        {"tolerance_mm_deg", tol, 1, NULL},
+        {"max_iter", iters, 1, NULL},
+        {"max_time_s", tmax, 1, NULL},
+        {"weight_mm_per_deg", w, 1, NULL},
+        {"rate_limits", m->s->use_rate_limits ? "true" : "false", 1, NULL},
+        {"warm_start", m->s->warm_start ? "true" : "false", 1, NULL},
     };
     const size_t nm = sizeof meta / sizeof meta[0];
     FILE *f = k->f;
     if (k->fmt == HP_TRACE_CSV) {
         for (size_t i = 0; i < nm; ++i) {
             fprintf(f, "# %s: ", meta[i].key);
-            cli_put_escaped(f, meta[i].value ? meta[i].value : "none (not a regular file)");
+            cli_put_escaped(f, meta[i].value ? meta[i].value
+                               : meta[i].none ? meta[i].none : "none");
             fputc('\n', f);
         }
         for (int c = 0; c < k->ncols; ++c) {

@@ -17,6 +17,7 @@ typedef struct batch_meta {
     const char *scene, *scene_sha256, *trace, *trace_sha256; /* trace_sha256 NULL: a stream */
     const char *rows, *rows_from, *pose_form;
     const char *level; /* the resolved contact level */
+    const char *level_choice; /* why auto chose it (hp_planner_level_choice); NULL: stated */
     const hp_settings *s;
 } batch_meta;
 

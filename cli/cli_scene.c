@@ -114,29 +114,3 @@ int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
                         hp_scene_level_names(0, ", ", names, sizeof names));
     return 0;
 }
-
-void cli_level_reason(const hp_layout *L, const hp_settings *s, hp_level chosen, char *why,
-                      size_t len)
-{
-    if (!len) return;
-    why[0] = '\0';
-    if (s->level != HP_LEVEL_AUTO) return;
-    /* The bounds auto compared (hp_contact_auto): every cheaper level's exceeds the
-     * tolerance, the chosen one's (0 for surface) meets it. */
-    char range[96];
-    snprintf(range, sizeof range, "model.tolerance_mm %g for corrections up to %g mm, %g deg",
-             s->level_tolerance * 1e3, s->auto_trans * 1e3, s->auto_rot * HP_DEG_PER_RAD);
-    double b[2] = {NAN, NAN};
-    for (int l = HP_LEVEL_LINEAR; l < (int)chosen && l <= HP_LEVEL_PLANE; ++l)
-        if (hp_contact_error_bound(L, (hp_level)l, s->auto_trans, s->auto_rot, &b[l]) != HP_OK)
-            b[l] = NAN;
-    const char *name = hp_level_name(chosen);
-    if (chosen == HP_LEVEL_SURFACE)
-        snprintf(why, len, "auto chose %s: the error bounds of linear (%.3g mm) and plane "
-                 "(%.3g mm) exceed %s", name, b[0] * 1e3, b[1] * 1e3, range);
-    else if (chosen == HP_LEVEL_PLANE)
-        snprintf(why, len, "auto chose %s: the error bound of linear (%.3g mm) exceeds %s; "
-                 "plane's meets it", name, b[0] * 1e3, range);
-    else
-        snprintf(why, len, "auto chose %s: its error bound meets %s", name, range);
-}

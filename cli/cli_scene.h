@@ -15,13 +15,6 @@
 int cli_read_input(const char *cmd, const char *what, const char *path, size_t max,
                    const char *limit, char **buf, size_t *len);
 
-/* Why the planner plans at level `chosen` (hp_planner_level) when settings s ask for auto:
- * the error bounds auto compared against the tolerance, in one line ("auto chose surface:
- * the error bounds of linear (...) and plane (...) exceed model.tolerance_mm ..."). "" when
- * s asks for a level by name. */
-void cli_level_reason(const hp_layout *L, const hp_settings *s, hp_level chosen, char *why,
-                      size_t len);
-
 /* Loads the layout scene SCENE ("-": standard input, named <stdin> in messages; allocated
  * into *out; free() it). Prints the parser's message
  * and returns 66 (cannot open) or 65 (malformed) on failure. A single-bladder study is read

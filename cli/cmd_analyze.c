@@ -31,6 +31,7 @@ static const char *const SPHERE_NOTE =
 
 static void help(void)
 {
+    char names[96];
     printf("usage: headplan analyze SCENE [--level NAME] [--json]\n\n"
            "Analyses the bladder layout in SCENE (a YAML layout scene, see docs/scenes.md) at\n"
            "its nominal pose: singular values, rank and condition number of the contact\n"
@@ -39,12 +40,15 @@ static void help(void)
            "limits (searched up to 50 mm and 30 deg), the error bounds of the linear and\n"
            "plane contact models and the level auto picks, and the resolved geometry\n"
            "(bladder centres, nominal contact points and normals). See docs/kinematics.md.\n\n"
-           "  --level NAME   contact model for the reach: linear, plane, surface or auto;\n"
-           "                 default: the scene's (auto resolves with the scene's tolerance)\n"
+           "  --level NAME   contact model for the reach: %s;\n"
+           "                 default: the scene's (auto resolves with the scene's tolerance);\n"
+           "                 load (as solve plans it, docs/load.md): the reach at the scene's\n"
+           "                 kinematic level and the load section for the head's weight\n"
            "  --json         one JSON object on stdout instead of the text\n"
            "  --help         this text\n\n"
            "exit status: 0 ok, 64 bad command line, 65 bad scene or not a layout scene,\n"
-           "66 scene cannot be read, 70 internal failure\n");
+           "66 scene cannot be read, 70 internal failure\n",
+           hp_scene_level_names(1, " or ", names, sizeof names));
 }
 
 typedef struct analyze_args {
@@ -82,13 +86,18 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
 {
     const hp_layout *L = &sc->layout;
     hp_settings s;
-    int rc = cli_settings(CMD, sc, NULL, a->level, &s);
+    /* --level load (as solve takes it) names the load level, not a contact level: the
+     * reach is then analysed at the scene's kinematic level, as for a scene that says
+     * model.level: load, and cli_load_level refuses it with solve's words on a scene
+     * without a load section. */
+    const int level_is_load = a->level && strcmp(a->level, HP_SCENE_LEVEL_LOAD) == 0;
+    const char *kin_level = level_is_load ? NULL : a->level;
+    int rc = cli_load_level(CMD, sc, a->level, &r->solve_load, r->load_why,
+                            sizeof r->load_why);
     if (rc) return rc;
+    if ((rc = cli_settings(CMD, sc, NULL, kin_level, &s))) return rc;
     /* A load scene's kinematic level is its contact geometry; solve plans the load level. */
-    if ((rc = cli_load_level(CMD, sc, a->level, &r->solve_load, r->load_why,
-                             sizeof r->load_why)))
-        return rc;
-    r->from_option = a->level != NULL;
+    r->from_option = kin_level != NULL;
     r->requested = s.level;
     r->range_from_scene = sc->has_auto_range;
     r->trans = s.auto_trans;
@@ -384,9 +393,10 @@ int cmd_analyze(int argc, char **argv)
     if (rc >= 0) return rc;
     /* An unknown --level is a usage error even when the scene is also bad: check it first. */
     hp_level lv;
-    if (a.level && hp_level_parse(a.level, &lv) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, CMD,
-                           "--level: unknown level '%s' (linear, plane, surface, auto)", a.level);
+    char names[96];
+    if (a.level && strcmp(a.level, HP_SCENE_LEVEL_LOAD) != 0 && hp_level_parse(a.level, &lv))
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--level: unknown level '%s' (%s)", a.level,
+                        hp_scene_level_names(1, ", ", names, sizeof names));
 
     hp_scene *sc = NULL;
     if ((rc = cli_load_scene(CMD, a.scene,

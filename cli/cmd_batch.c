@@ -363,11 +363,14 @@ int cmd_batch(int argc, char **argv)
     if (rc == 0) {
         const char *from = hp_trace_states_rows(r) ? "trace" : a.rows ? "--rows"
                                                                       : "scene trace.rows";
+        char level_why[320];
+        hp_planner_level_choice(eng.p, level_why, sizeof level_why); /* built: HP_OK */
         const batch_meta meta = {cli_name(a.scene), scene_sha, a.trace ? a.trace : trace_path,
                                  t.hashed ? t.sha : NULL,
                                  hp_trace_rows_name(hp_trace_rows_of(r)), from,
                                  hp_trace_form_name(hp_trace_form_of(r)),
-                                 hp_level_name(hp_planner_level(eng.p)), &s};
+                                 hp_level_name(hp_planner_level(eng.p)),
+                                 level_why[0] ? level_why : NULL, &s};
         batch_sink_meta(&sink, &meta);
         rc = run_blocks(&a, r, t.name, &eng, &sink, S);
     }

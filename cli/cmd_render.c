@@ -63,6 +63,7 @@ typedef struct picture {
     const char *scene_name;
     hp_result r;
     const char *message;
+    const char *level_choice; /* hp_planner_level_choice: "" for a stated level */
 } picture;
 
 /* A head point q (m) moved by pose xi (SI), in mm. */
@@ -252,6 +253,14 @@ static void write_table(const picture *p, FILE *f, double mag, double left)
         gp_label(f, text);
         fprintf(f, " at screen %.3f,%.3f font 'Sans,9' noenhanced\n", left, y);
     }
+    if (*p->level_choice) {
+        /* Too long for the panel: one line along the bottom of the whole picture. */
+        char text[400];
+        snprintf(text, sizeof text, "level choice: %s", p->level_choice);
+        fprintf(f, "set label 144 ");
+        gp_label(f, text);
+        fprintf(f, " at screen 0.010,0.012 font 'Sans,8' noenhanced\n");
+    }
 }
 
 /* The whole gnuplot script: terminal, data, settings, then the two views in a multiplot;
@@ -334,7 +343,9 @@ int cmd_render(int argc, char **argv)
         free(sc);
         return rc;
     }
-    picture pic = {hp_planner_layout(p), sc->name, {0}, ""};
+    char level_why[320];
+    hp_planner_level_choice(p, level_why, sizeof level_why); /* built: HP_OK */
+    picture pic = {hp_planner_layout(p), sc->name, {0}, "", level_why};
     hp_error e = hp_plan(p, desired, &pic.r);
     /* hp_plan answers a refused correction with HP_OK and status invalid-input: refused
      * here as in solve (65), not drawn as a picture of the safe output. */

@@ -230,7 +230,7 @@ int cmd_solve(int argc, char **argv)
         return r2;
     }
     char level_why[320];
-    cli_level_reason(&sc->layout, &s, hp_planner_level(p), level_why, sizeof level_why);
+    hp_planner_level_choice(p, level_why, sizeof level_why); /* p is built: HP_OK */
     hp_result r;
     e = hp_plan(p, desired, &r);
     const char *msg = hp_planner_message(p);

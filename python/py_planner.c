@@ -328,6 +328,17 @@ static PyObject *get_level(PyObject *o, void *c)
     return built(self) ? PyUnicode_FromString(hp_level_name(hp_planner_level(self->p))) : NULL;
 }
 
+static PyObject *get_level_choice(PyObject *o, void *c)
+{
+    (void)c;
+    hpy_planner *self = (hpy_planner *)o;
+    if (!built(self)) return NULL;
+    char why[320];
+    hp_planner_level_choice(self->p, why, sizeof why); /* built: HP_OK */
+    if (!why[0]) Py_RETURN_NONE;
+    return PyUnicode_FromString(why);
+}
+
 static PyObject *get_backend(PyObject *o, void *c)
 {
     (void)c;
@@ -404,6 +415,9 @@ static PyMethodDef planner_methods[] = {
 
 static PyGetSetDef planner_getset[] = {
     {"level", get_level, NULL, "the resolved contact level ('auto' resolved at build)", NULL},
+    {"level_choice", get_level_choice, NULL,
+     "why auto chose the level, in the words of `headplan solve`'s 'level choice'; None when\n"
+     "the level is named (by the scene or the level keyword)", NULL},
     {"backend", get_backend, NULL, "the backend name", NULL},
     {"bladder_names", get_names, NULL, "tuple of the bladders' names (column order)", NULL},
     {"settings", get_settings, NULL,

@@ -266,6 +266,16 @@ HP_API const hp_layout *hp_planner_layout(const hp_planner *p);
  * identifiable range hp_plan enforces and the commanded components. NULL for NULL. */
 HP_API const hp_identifiable *hp_planner_identifiable(const hp_planner *p);
 
+/* Why planner p plans at its level (hp_planner_level) when its settings asked for auto: the
+ * error bounds auto compared against the tolerance, in one line ("auto chose surface: the
+ * error bounds of linear (1.56 mm) and plane (0.969 mm) exceed model.tolerance_mm 0.01 for
+ * corrections up to 5 mm, 3 deg"), into why (len bytes, truncated if short); "" when the
+ * settings name a level. The text `headplan solve` prints as "level choice", batch writes
+ * as the metadata record's level_choice and the Python Planner gives as level_choice.
+ * Returns HP_OK; HP_ERR_NULL (p, why NULL or len 0; why gets "" when it can);
+ * HP_ERR_STATE for a planner not built. Does not allocate; thread-safe on a const planner. */
+HP_API hp_error hp_planner_level_choice(const hp_planner *p, char *why, size_t len);
+
 /* The reach of planner p along each pose axis, as a single solve (from the nominal pose,
  * no rate limits) sees it: reach[i][1] >= 0 (reach[i][0] <= 0) is the largest correction
  * [mm or deg] along +e_i (−e_i) such that every correction up to it along that ray is

@@ -212,3 +212,24 @@ def test_iteration_limit_message_is_the_clis(tmp_path, name, backend, c):
     assert err == f"headplan solve: {path}: {r['message']} (no answer printed)\n"
     assert r["message"].startswith("iteration-limit: the ")
     assert "backend did not converge within solver.max_iter = 1 iterations" in r["message"]
+
+
+def test_level_choice_is_solves_text(default_scene):
+    # The default scene asks for auto: the planner says what auto chose and why, in the words
+    # `headplan solve` prints ("level choice: ...") and batch writes (level_choice).
+    rc, out, err = cli("solve", DEFAULT, "--json", check=False)
+    assert rc == 0, err
+    want = json.loads(out)["level_choice"]
+    assert want.startswith("auto chose surface: ")
+    assert headplan.Planner(default_scene).level_choice == want
+    # A level named (by the caller or the scene) has no choice to explain.
+    assert headplan.Planner(default_scene, level="plane").level_choice is None
+    assert headplan.Planner(headplan.load_scene(scenario("saturation.yaml"))).level_choice is None
+    # A tolerance of 1 mm lies between plane's bound and linear's (analyze's error bounds):
+    # auto chooses plane and names linear's bound, as analyze computes it.
+    bounds = json.loads(cli("analyze", DEFAULT, "--json")[1])["error_bounds"]
+    assert bounds["plane_mm"] < 1.0 < bounds["linear_mm"]
+    p = headplan.Planner(default_scene, level="auto", level_tolerance_mm=1.0)
+    assert p.level == "plane"
+    assert p.level_choice.startswith("auto chose plane: the error bound of linear (%.3g mm) "
+                                     "exceeds model.tolerance_mm 1 " % bounds["linear_mm"])

@@ -67,6 +67,19 @@ sed 's#^trace:.*#trace: {file: missing_trace.csv, rows: deviation}#' "$S/default
 sed 's/max_iter: [0-9]*/max_iter: 1/' "$S/saturation.yaml" >"$T/one_iteration.yaml"
 head -c 200 "$S/default.yaml" >"$T/truncated.yaml"
 sed 's/^  shape: ellipsoid/  shape: cube/; s/$/\r/' "$S/default.yaml" >"$T/crlf_bad_shape.yaml"
+# Batch results (headplan plot): the default scene's first three planned rows, then one
+# number beyond 1e300 in magnitude (an error, a pressure) or a line number of 1e15.
+"$HP_BIN" batch "$S/default.yaml" --format csv --no-progress --no-times -o "$T/result_all.csv" \
+  2>/dev/null
+edit_result() { # edit_result COLUMN VALUE OUT: the first row's COLUMN set to VALUE
+  awk -F, -v OFS=, -v c="$1" -v v="$2" '
+    /^#/ { print; next }
+    !h { h = 1; for (i = 1; i <= NF; ++i) if ($i == c) k = i; print; next }
+    { if (++r == 1) $k = v; if (r <= 3) print }' "$T/result_all.csv" >"$3"
+}
+edit_result error_x_mm 1e301 "$T/huge_error.csv"
+edit_result side_chin_left_pressure_pa -1e301 "$T/huge_pressure.csv"
+edit_result line 1e15 "$T/huge_line_number.csv"
 
 # ---- the catalogue ----
 report=${BAD_INPUTS_REPORT:-}

@@ -165,6 +165,48 @@ static void test_create_bad_input(void **st)
     hp_planner_destroy(p);
 }
 
+/* hp_planner_level_choice: for auto, the level chosen and the bounds auto compared, each as
+ * hp_contact_error_bound gives it for the planner's auto range (%.3g, the text's format);
+ * "" for a stated level; NULL and short buffers handled. */
+static void test_level_choice(void **st)
+{
+    (void)st;
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    hp_settings s;
+    hp_settings_default(&s);
+    s.level = HP_LEVEL_AUTO;
+    hp_planner *p = NULL;
+    hp_diag d = {{0}};
+    assert_int_equal(hp_planner_create(&L, &s, &p, &d), HP_OK);
+    char why[400], want[64];
+    assert_int_equal(hp_planner_level_choice(p, why, sizeof why), HP_OK);
+    snprintf(want, sizeof want, "auto chose %s: ", hp_level_name(hp_planner_level(p)));
+    assert_true(strncmp(why, want, strlen(want)) == 0);
+    /* the fixture's layout needs more than linear at the default tolerance and range */
+    assert_int_not_equal(hp_planner_level(p), HP_LEVEL_LINEAR);
+    {
+        double b;
+        assert_int_equal(hp_contact_error_bound(&L, HP_LEVEL_LINEAR, s.auto_trans, s.auto_rot, &b),
+                         HP_OK);
+        snprintf(want, sizeof want, "linear (%.3g mm)", b * 1e3);
+        assert_non_null(strstr(why, want));
+    }
+    char small[8];
+    assert_int_equal(hp_planner_level_choice(p, small, sizeof small), HP_OK);
+    assert_int_equal(strlen(small), 7); /* truncated, terminated */
+    hp_planner_destroy(p);
+    s.level = HP_LEVEL_PLANE;
+    assert_int_equal(hp_planner_create(&L, &s, &p, &d), HP_OK);
+    assert_int_equal(hp_planner_level_choice(p, why, sizeof why), HP_OK);
+    assert_string_equal(why, "");
+    hp_planner_destroy(p);
+    strcpy(why, "x");
+    assert_int_equal(hp_planner_level_choice(NULL, why, sizeof why), HP_ERR_NULL);
+    assert_string_equal(why, "");
+    assert_int_equal(hp_planner_level_choice(NULL, NULL, 0), HP_ERR_NULL);
+}
+
 static void same_bladders(const hp_result *a, const hp_result *b)
 {
     assert_int_equal(a->n, b->n);
@@ -265,6 +307,7 @@ int main(void)
         cmocka_unit_test(test_settings_validator),
         cmocka_unit_test(test_names),
         cmocka_unit_test(test_create_bad_input),
+        cmocka_unit_test(test_level_choice),
         cmocka_unit_test(test_safe_output),
         cmocka_unit_test(test_every_backend_direct_chain),
     };
