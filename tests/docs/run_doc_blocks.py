@@ -21,7 +21,8 @@ A fenced block without a kind, and an indented code block that starts with a com
 The blocks of one file run in order, each with `bash -e -o pipefail`, in one scratch copy of
 the source tree per file (so a walk-through's later blocks see the files its earlier ones
 wrote, and nothing is written into the sources). BUILD_DIR's programs are on PATH and in the
-copy's `build/` (`headplan`, `headplan-bench*`, `build/python`), and --python, the python3
+copy's `build/` (`headplan`, `headplan-bench*`, `build/python`; `cmake --install build`
+installs that build), and --python, the python3
 the module was built for, is `python3`. HP_DOC_SMALL=1 is set: a
 command that takes long at full size asks for a small one with it, as in
 `headplan-bench --out docs/figures ${HP_DOC_SMALL:+--quick}`. A block that fails, or runs
@@ -145,6 +146,12 @@ def scratch_copy(src, bindir, dest):
         if (name.startswith("headplan") and os.path.isfile(p) and os.access(p, os.X_OK)) or \
                 (name == "python" and os.path.isdir(p)):
             os.symlink(p, os.path.join(b, name))
+    # The build's install script (its paths are absolute), so `cmake --install build
+    # --prefix DIR` installs this build, as the README's Install section shows, with no
+    # second build.
+    script = os.path.join(bindir, "cmake_install.cmake")
+    if os.path.isfile(script):
+        os.symlink(script, os.path.join(b, "cmake_install.cmake"))
     return b
 
 
