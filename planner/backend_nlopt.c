@@ -41,7 +41,9 @@
  * tolerance is solved as the default one (measured clean: 60 binding targets per level). */
 #define HP_NLOPT_SOLVE_TOL_MAX HP_DEFAULT_TOLERANCE
 #define COBYLA_EVALS_PER_ITER 7
-/* COBYLA's initial trust radius: 1 mm / 1 degree, the size of a typical correction. */
+/* COBYLA's largest initial trust radius: 1 mm / 1 degree, the size of a typical correction.
+ * A solve whose every outer-radius window is narrower starts from the widest window
+ * instead (cobyla_step). */
 #define COBYLA_INITIAL_STEP 1.0
 
 typedef struct nlopt_state {
@@ -230,9 +232,7 @@ static hp_error create_common(void **state, const hp_problem *pb, const hp_setti
         (e = nl(nlopt_set_xtol_abs(st->opt, xtol), "set_xtol_abs", d)) ||
         (e = nl(nlopt_set_ftol_abs(st->opt, ftol), "set_ftol_abs", d)) ||
         (e = nl(nlopt_set_maxeval(st->opt, maxeval), "set_maxeval", d)) ||
-        (e = nl(nlopt_set_maxtime(st->opt, s->max_time), "set_maxtime", d)) ||
-        (reduced && (e = nl(nlopt_set_initial_step1(st->opt, COBYLA_INITIAL_STEP),
-                            "set_initial_step", d)))) {
+        (e = nl(nlopt_set_maxtime(st->opt, s->max_time), "set_maxtime", d))) {
         nlopt_destroy(st->opt);
         free(st);
         return e;
@@ -259,6 +259,19 @@ static void nlopt_state_destroy(void *state)
     if (!st) return;
     nlopt_destroy(st->opt);
     free(st);
+}
+
+/* COBYLA's initial trust radius [mm, deg] for pb. Each ρ_k moves about as far as the pose
+ * (unit-scale contact Jacobian rows), so under rate limits the pose can move about as far
+ * as the widest outer-radius window allows. A first simplex of 1 mm around windows of
+ * 1e-3 mm (rate limits of about 1 Pa) lies almost wholly outside them: COBYLA then spent
+ * its budget shrinking it (iteration-limit) or stopped at a vertex still 2e-5 mm from the
+ * bounds it should bind (its answer failed the planner's first-order check). */
+static double cobyla_step(const hp_problem *pb)
+{
+    double widest = 0.0;
+    for (int k = 0; k < pb->n; k++) widest = fmax(widest, pb->ro_hi[k] - pb->ro_lo[k]);
+    return widest > 0.0 ? fmin(COBYLA_INITIAL_STEP, widest) : COBYLA_INITIAL_STEP;
 }
 
 static hp_status map_result(nlopt_result r, int *converged)
@@ -302,7 +315,9 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
         for (int k = 0; !st->reduced && k < pb->n; k++)
             lb[6 + k] = pb->ri_lo[k], ub[6 + k] = pb->ri_hi[k];
         if ((e = nl(nlopt_set_lower_bounds(st->opt, lb), "set_lower_bounds", d)) ||
-            (e = nl(nlopt_set_upper_bounds(st->opt, ub), "set_upper_bounds", d)))
+            (e = nl(nlopt_set_upper_bounds(st->opt, ub), "set_upper_bounds", d)) ||
+            (st->reduced && (e = nl(nlopt_set_initial_step1(st->opt, cobyla_step(pb)),
+                                    "set_initial_step", d))))
             return e;
     }
     double v[HP_PROBLEM_NX_MAX];

@@ -70,9 +70,10 @@ static inline hp_error lf_layout_ex(hp_layout *L, int sphere, double C2)
 
 static inline hp_error lf_layout(hp_layout *L) { return lf_layout_ex(L, 0, 2.2e4); }
 
-/* A planner on the default layout with default settings at a level, every bladder's
- * rate_max set (INFINITY: none). Returns HP_OK or the error (*p NULL). */
-static inline hp_error lf_planner(hp_level level, double rate_max, hp_planner **p)
+/* A planner on the default layout with backend b and default settings at a level, every
+ * bladder's rate_max set (INFINITY: none). Returns HP_OK or the error (*p NULL). */
+static inline hp_error lf_planner_backend(hp_backend b, hp_level level, double rate_max,
+                                          hp_planner **p)
 {
     hp_layout L;
     hp_error e = lf_layout(&L);
@@ -81,8 +82,17 @@ static inline hp_error lf_planner(hp_level level, double rate_max, hp_planner **
     for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = rate_max;
     hp_settings s;
     hp_settings_default(&s);
+    s.backend = b;
     s.level = level;
     return hp_planner_create(&L, &s, p, NULL);
+}
+
+/* The same with the default backend. */
+static inline hp_error lf_planner(hp_level level, double rate_max, hp_planner **p)
+{
+    hp_settings s;
+    hp_settings_default(&s);
+    return lf_planner_backend(s.backend, level, rate_max, p);
 }
 
 /* A planner on layout L with backend b at a level, default settings otherwise and a time

@@ -48,15 +48,8 @@ static void pressures_of(hp_level level, const double mm_deg[6], double P[HP_MAX
 /* A planner on the default layout with every rate_max = rate. */
 static hp_planner *limited(hp_backend bk, hp_level level, double rate)
 {
-    hp_layout L;
-    assert_int_equal(lf_layout(&L), HP_OK);
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = rate;
-    hp_settings s;
-    hp_settings_default(&s);
-    s.backend = bk;
-    s.level = level;
     hp_planner *p = NULL;
-    assert_int_equal(hp_planner_create(&L, &s, &p, NULL), HP_OK);
+    assert_int_equal(lf_planner_backend(bk, level, rate, &p), HP_OK);
     return p;
 }
 

@@ -1,0 +1,112 @@
+/* Rate limits of 1 mPa to 1 Pa per plan (log-uniform; radius windows of about 1e-6 to
+ * 1e-3 mm: wider than the pinned windows plan.c holds without a solver, narrower than any
+ * a correction needs). Holding or nearly holding the previous pressures is feasible, so
+ * every backend must answer every plan: reached, uncommanded or closest (a closest answer
+ * naming the rate limit), with every pressure inside its allowance. Anything else counts
+ * as a failure (a solver-error, i.e. an answer refused by the planner's first-order check,
+ * is counted apart). Seeded: per backend, 4 levels x 10 starts x a chain of 4 corrections
+ * (each from the planner's own previous answer) = 160 plans. */
+#include "test_util.h"
+#include "tests/planner/layout_fixture.h"
+
+#define N_PLANS 10
+#define N_CHAIN 4
+#define SEED 0x5EEDu
+
+/* A planner on the default layout with every rate_max = rate [Pa]. */
+static hp_planner *limited(hp_backend bk, hp_level level, double rate)
+{
+    hp_planner *p = NULL;
+    assert_int_equal(lf_planner_backend(bk, level, rate, &p), HP_OK);
+    return p;
+}
+
+/* The pressures of a plan of pose xi without rate limits at level (realtime, reached). */
+static void pressures_of(hp_level level, const double xi[6], double P[HP_MAX_BLADDERS])
+{
+    hp_planner *p = NULL;
+    assert_int_equal(lf_planner(level, INFINITY, &p), HP_OK);
+    hp_result r;
+    assert_int_equal(hp_plan(p, xi, &r), HP_OK);
+    if (r.status != HP_STATUS_REACHED) print_error("start: %s\n", hp_status_name(r.status));
+    assert_int_equal(r.status, HP_STATUS_REACHED);
+    for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
+    hp_planner_destroy(p);
+}
+
+/* A pose within ±amp mm / deg on every axis, in SI. */
+static void random_pose(uint64_t *s, double amp, double xi[6])
+{
+    double mm_deg[6];
+    for (int i = 0; i < 6; ++i) mm_deg[i] = amp * lf_uniform(s);
+    lf_pose(mm_deg, xi);
+}
+
+/* Plans of one backend at one level; returns how many were not answered as they must be
+ * (printing each), and adds the solver-errors to *n_err. */
+static int run(hp_backend bk, hp_level level, int *n_err)
+{
+    uint64_t s = SEED + 7919u * (uint64_t)level; /* the same plans for every backend */
+    int failed = 0;
+    for (int t = 0; t < N_PLANS; ++t) {
+        /* Rate log-uniform in [1e-3, 1] Pa. */
+        double rate = pow(10.0, -1.5 + 1.5 * lf_uniform(&s));
+        double x0[6], d[6], P0[HP_MAX_BLADDERS];
+        random_pose(&s, 1.0, x0);
+        pressures_of(level, x0, P0);
+        hp_planner *p = limited(bk, level, rate);
+        assert_int_equal(hp_planner_set_previous(p, P0), HP_OK);
+        for (int c = 0; c < N_CHAIN; ++c) {
+            /* The correction: the start pose moved by up to 1e-3 .. 2 mm / deg
+             * (log-uniform), so that some bladders end inside their windows and some at
+             * an edge. */
+            double amp = pow(10.0, -1.35 + 1.65 * lf_uniform(&s));
+            random_pose(&s, amp, d);
+            for (int i = 0; i < 6; ++i) d[i] += x0[i];
+            hp_result r;
+            assert_int_equal(hp_plan(p, d, &r), HP_OK);
+            int ok = r.status == HP_STATUS_REACHED || r.status == HP_STATUS_CLOSEST ||
+                     r.status == HP_STATUS_UNCOMMANDED;
+            unsigned rate_flags = 0;
+            for (int k = 0; ok && k < r.n; ++k) {
+                double P = r.bladders[k].pressure;
+                ok = P >= P0[k] - rate && P <= P0[k] + rate;
+                rate_flags |= r.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP);
+            }
+            if (ok && r.status == HP_STATUS_CLOSEST && !rate_flags) ok = 0;
+            if (!ok) {
+                ++failed;
+                *n_err += r.status == HP_STATUS_SOLVER_ERROR;
+                print_error("%s, %s level, plan %d.%d, rate %.3g Pa: %s: %s\n",
+                            hp_backend_name(bk), hp_level_name(level), t, c, rate,
+                            hp_status_name(r.status), hp_planner_error(p));
+            }
+            for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
+        }
+        hp_planner_destroy(p);
+    }
+    return failed;
+}
+
+static void test_every_backend_answers(void **st)
+{
+    (void)st;
+    const hp_level levels[4] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE, HP_LEVEL_AUTO};
+    int failed = 0;
+    for (int b = 0; b < HP_BACKEND_COUNT_; ++b) {
+        int f = 0, n_err = 0;
+        for (int l = 0; l < 4; ++l) f += run((hp_backend)b, levels[l], &n_err);
+        print_message("%s: %d of %d plans unanswered (%d solver-error)\n",
+                      hp_backend_name((hp_backend)b), f, 4 * N_PLANS * N_CHAIN, n_err);
+        failed += f;
+    }
+    assert_int_equal(failed, 0);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_every_backend_answers),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
