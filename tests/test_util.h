@@ -9,6 +9,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <cmocka.h>
 
 /* Fails unless |got − want| <= abs_tol + rel_tol·|want|, printing both and the excess. */
@@ -50,6 +51,35 @@ static inline char *hp_test_read_all(const char *path, size_t *len)
     *len = fread(buf, 1, (1 << 16) - 1, f);
     fclose(f);
     return buf;
+}
+
+/* A small text file (below 64 KiB) with the first occurrence of `from` replaced by `to`
+ * (`to` NULL: the line holding `from` removed; a `from` starting with a newline matches at
+ * a line's start), NUL-terminated in a malloc'ed buffer: a
+ * shipped scene changed in one place, so a test states only what it changes. */
+static inline char *hp_test_edit_file(const char *path, const char *from, const char *to)
+{
+    size_t n;
+    char *text = hp_test_read_all(path, &n);
+    text[n] = '\0';
+    char *at = strstr(text, from);
+    assert_non_null(at);
+    size_t cut = strlen(from);
+    if (!to) { /* the whole line */
+        if (*at == '\n') ++at;
+        while (at > text && at[-1] != '\n') --at;
+        char *eol = strchr(at, '\n');
+        cut = eol ? (size_t)(eol + 1 - at) : strlen(at);
+        to = "";
+    }
+    size_t head = (size_t)(at - text), tail = strlen(at + cut);
+    char *out = malloc(head + strlen(to) + tail + 1);
+    assert_non_null(out);
+    memcpy(out, text, head);
+    memcpy(out + head, to, strlen(to));
+    memcpy(out + head + strlen(to), at + cut, tail + 1);
+    free(text);
+    return out;
 }
 
 #endif

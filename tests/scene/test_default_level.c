@@ -5,27 +5,19 @@
 
 #include "headplan/headplan.h"
 
-#include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static void test_no_model_section_is_auto(void **st)
 {
     (void)st;
-    char path[512], text[8192];
-    snprintf(path, sizeof path, "%s/scenarios/default.yaml", HP_SOURCE_DIR);
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    fclose(f);
-    text[n] = '\0';
-    /* Drop the model line: the scene then states no level. */
-    char *m = strstr(text, "\nmodel:");
-    assert_non_null(m);
-    char *end = strchr(m + 1, '\n');
-    memmove(m, end, strlen(end) + 1);
+    /* The default scene without its model line: it then states no level. */
+    char *text = hp_test_edit_file(HP_SOURCE_DIR "/scenarios/default.yaml", "\nmodel:", NULL);
+    assert_null(strstr(text, "model:"));
     static hp_scene sc;
     hp_diag d = {{0}};
     assert_int_equal(hp_scene_parse(text, strlen(text), "nomodel.yaml", &sc, &d), HP_OK);
+    free(text);
     assert_int_equal(sc.level, HP_LEVEL_AUTO);
     hp_settings s;
     assert_int_equal(hp_scene_settings(&sc, &s, &d), HP_OK);

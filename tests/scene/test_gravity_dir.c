@@ -11,19 +11,11 @@
 /* The load scene with gravity_dir replaced by `dir`; returns hp_scene_parse's code. */
 static hp_error load_with(const char *dir, hp_scene *sc, hp_diag *d)
 {
-    char path[512], text[8192];
-    snprintf(path, sizeof path, "%s/scenarios/load_supine.yaml", HP_SOURCE_DIR);
-    FILE *f = fopen(path, "rb");
-    assert_non_null(f);
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    fclose(f);
-    text[n] = '\0';
-    const char *key = "gravity_dir: [0, 0, -1]";
-    char *at = strstr(text, key);
-    assert_non_null(at);
-    char out[8192];
-    snprintf(out, sizeof out, "%.*s%s%s", (int)(at - text), text, dir, at + strlen(key));
-    return hp_scene_parse(out, strlen(out), "g.yaml", sc, d);
+    char *out = hp_test_edit_file(HP_SOURCE_DIR "/scenarios/load_supine.yaml",
+                                  "gravity_dir: [0, 0, -1]", dir);
+    hp_error e = hp_scene_parse(out, strlen(out), "g.yaml", sc, d);
+    free(out);
+    return e;
 }
 
 static void test_huge_and_tiny_directions(void **st)

@@ -22,17 +22,10 @@ static void load(const char *name, hp_scene *sc)
 /* load_supine.yaml with its `model: {level: auto, ...}` line rewritten to level: load. */
 static void supine_level_load(hp_scene *sc)
 {
-    FILE *f = fopen(SCN "load_supine.yaml", "rb");
-    assert_non_null(f);
-    static char text[1 << 16];
-    size_t n = fread(text, 1, sizeof text - 1, f);
-    fclose(f);
-    text[n] = '\0';
-    char *at = strstr(text, "level: auto");
-    assert_non_null(at);
-    memcpy(at, "level: load", 11);
+    char *text = hp_test_edit_file(SCN "load_supine.yaml", "level: auto", "level: load");
     hp_diag d = {{0}};
-    assert_int_equal(hp_scene_parse(text, n, SCN "load_supine.yaml", sc, &d), HP_OK);
+    assert_int_equal(hp_scene_parse(text, strlen(text), SCN "load_supine.yaml", sc, &d), HP_OK);
+    free(text);
 }
 
 static void test_auto_follows_the_predicted_sag(void **state)
