@@ -6,6 +6,7 @@
 #include "cli/analyze_load.h"
 #include "common/units.h"
 #include "cli/cli_args.h"
+#include "cli/cli_paths.h"
 #include "cli/cli_scene.h"
 #include "cli/cmd_solve_load.h"
 #include "cli/json_out.h"
@@ -33,22 +34,24 @@ static void help(void)
 {
     char names[96];
     printf("usage: headplan analyze SCENE [--level NAME] [--json]\n\n"
-           "Analyses the bladder layout in SCENE (a YAML layout scene, see docs/scenes.md) at\n"
-           "its nominal pose: singular values, rank and condition number of the contact\n"
-           "Jacobian (translation per mm, rotation per degree), the weakest direction, the\n"
-           "largest correction along each axis inside every bladder's pressure and stretch\n"
-           "limits (searched up to 50 mm and 30 deg), the error bounds of the linear and\n"
-           "plane contact models and the level auto picks, and the resolved geometry\n"
-           "(bladder centres, nominal contact points and normals). See docs/kinematics.md.\n\n"
+           "Analyses the bladder layout in SCENE (a YAML layout scene, scenes.md in the\n"
+           "documentation) at its nominal pose: singular values, rank and condition number\n"
+           "of the contact Jacobian (translation per mm, rotation per degree), the weakest\n"
+           "direction, the largest correction along each axis inside every bladder's\n"
+           "pressure and stretch limits (searched up to 50 mm and 30 deg), the error bounds\n"
+           "of the linear and plane contact models and the level auto picks, and the\n"
+           "resolved geometry (bladder centres, nominal contact points and normals). See\n"
+           "kinematics.md in the documentation.\n\n"
            "  --level NAME   contact model for the reach: %s;\n"
            "                 default: the scene's (auto resolves with the scene's tolerance);\n"
-           "                 load (as solve plans it, docs/load.md): the reach at the scene's\n"
+           "                 load (as solve plans it, load.md): the reach at the scene's\n"
            "                 kinematic level and the load section for the head's weight\n"
            "  --json         one JSON object on stdout instead of the text\n"
            "  --help         this text\n\n"
            "exit status: 0 ok, 64 bad command line, 65 bad scene or not a layout scene,\n"
-           "66 scene cannot be read, 70 internal failure\n",
-           hp_scene_level_names(1, " or ", names, sizeof names));
+           "66 scene cannot be read, 70 internal failure\n\n"
+           "documentation: %s\n",
+           hp_scene_level_names(1, " or ", names, sizeof names), cli_doc_dir());
 }
 
 typedef struct analyze_args {

@@ -4,6 +4,7 @@
  * See docs/paper.md. */
 #include "cli/cli_output.h"
 #include "cli/cli_args.h"
+#include "cli/cli_paths.h"
 #include "common/units.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
@@ -334,11 +335,14 @@ static void help(void)
            "the current and the reference radius), the volume change, and the values the\n"
            "paper printed, each marked 'agrees' or 'DIFFERS: why' (a printed value agrees when\n"
            "it is within half a unit of its last printed digit). Without SCENE: the built-in\n"
-           "copies of scenarios/paper_expansion.yaml and scenarios/paper_compression.yaml.\n\n"
+           "copies of paper_expansion.yaml and paper_compression.yaml, in the example scenes\n"
+           "(%s).\n\n"
            "  --json   one JSON object {\"tables\": [...]} on stdout instead of the text\n"
            "  --help   this text\n\n"
            "exit status: 0 ok, 64 bad command line, 65 malformed or unsuitable scene,\n"
-           "66 scene file cannot be opened\n");
+           "66 scene file cannot be opened\n\n"
+           "documentation: %s/paper.md\n",
+           cli_scene_dir(), cli_doc_dir());
 }
 
 /* A file that is a layout scene: the layout reader's message when it is malformed, else

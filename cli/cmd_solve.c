@@ -2,6 +2,7 @@
  * achieved pose and the status. Command-line units: mm and degrees; the library speaks SI. */
 #include "cli/cli_output.h"
 #include "cli/cli_args.h"
+#include "cli/cli_paths.h"
 #include "cli/cli_scene.h"
 #include "cli/json_out.h"
 #include "cli/cmd_solve_load.h"
@@ -24,16 +25,17 @@ static void help(void)
     printf("usage: headplan solve SCENE [--correction X,Y,Z,PITCH,ROLL,YAW] [--backend NAME]\n"
            "                      [--level NAME] [--json]\n\n"
            "Plans the bladder pressures that produce one desired head correction for the\n"
-           "layout in SCENE (a YAML scene file, see docs/scenes.md), inside every bladder's\n"
-           "pressure and stretch limits. When the correction is out of reach the answer is the\n"
-           "closest reachable one, and the limits that bind are named. A single solve starts\n"
-           "from the nominal pose: per-cycle rate limits do not apply (see headplan batch).\n\n"
+           "layout in SCENE (a YAML scene file, scenes.md in the documentation), inside every\n"
+           "bladder's pressure and stretch limits. When the correction is out of reach the\n"
+           "answer is the closest reachable one, and the limits that bind are named. A single\n"
+           "solve starts from the nominal pose: per-cycle rate limits do not apply (see\n"
+           "headplan batch).\n\n"
            "  --correction X,Y,Z,PITCH,ROLL,YAW  desired correction, mm and degrees (pitch\n"
            "                 about X, roll about Y, yaw about Z); default: the scene's\n"
            "  --backend NAME realtime (default unless the scene says), ipopt, nlopt-slsqp,\n"
            "                 nlopt-cobyla\n"
            "  --level NAME   contact model: %s (the head's\n"
-           "                 weight, docs/load.md); default: the scene's\n"
+           "                 weight, load.md); default: the scene's\n"
            "  --json         one JSON object on stdout instead of the tables\n"
            "  --help         this text\n\n"
            "A correction outside the layout's identifiable range (headplan analyze) is refused.\n"
@@ -42,8 +44,10 @@ static void help(void)
            "exit status: 0 reached, 1 only the closest reachable correction, 2 uncommanded\n"
            "(the commanded part reached, the rest not observable), 64 bad command line, 65 bad\n"
            "scene or correction (also outside the identifiable range), 66 scene cannot be\n"
-           "read, 70 solver failure\n",
-           hp_scene_level_names(1, " or ", names, sizeof names));
+           "read, 70 solver failure\n\n"
+           "documentation: %s\n"
+           "example scenes: %s\n",
+           hp_scene_level_names(1, " or ", names, sizeof names), cli_doc_dir(), cli_scene_dir());
 }
 
 typedef struct solve_args {

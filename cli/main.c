@@ -1,6 +1,7 @@
 /* headplan: the command-line program. Dispatches to one subcommand; stdout carries only
  * results, every diagnostic goes to stderr. */
 #include "cli/cli_args.h"
+#include "cli/cli_paths.h"
 #include "cli/cli_output.h"
 #include "cli/commands.h"
 #include "cli/exit_codes.h"
@@ -30,6 +31,7 @@ static const command commands[] = {
 };
 static const size_t n_commands = sizeof commands / sizeof commands[0];
 
+/* The full text for --help; the mistake's reply (on stderr) leaves out where the files are. */
 static void usage(FILE *out)
 {
     fprintf(out, "usage: headplan COMMAND [OPTIONS]   (headplan COMMAND --help)\n\ncommands:\n");
@@ -40,6 +42,8 @@ static void usage(FILE *out)
                  "--strict), 64 usage, 65 bad data, 66 cannot open input, 69 gnuplot missing\n"
                  "(render, plot), 70 solver or internal failure, 73 output refused or cannot be\n"
                  "created, 74 a write to stdout or a file failed\n");
+    if (out == stdout)
+        printf("\ndocumentation: %s\nexample scenes: %s\n", cli_doc_dir(), cli_scene_dir());
 }
 
 int main(int argc, char **argv)

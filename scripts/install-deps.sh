@@ -21,6 +21,9 @@ PACKAGES=(
   slurm-wlm munge       # the Slurm recipe runs on a single-node Slurm its test starts
   python3-distributed   # Dask: the Python study recipe runs on a LocalCluster in its test
   locales               # de_DE locale source: the comma-locale tests build it with localedef
+  help2man man-db       # man pages generated from --help at build time; `man headplan`
+  python3-venv python3-pip python3-setuptools python3-wheel  # pip install ./python, offline
+  debootstrap           # the package test's clean Debian 12 root (tests/package/)
 )
 
 missing=()
