@@ -68,6 +68,9 @@ done
 "$prefix/bin/headplan" solve --help >"$tmp/help"
 grep -qx "documentation: $prefix/share/doc/headplan/docs" "$tmp/help" || fail "solve --help: no installed docs"
 grep -qx "example scenes: $prefix/share/headplan/scenarios" "$tmp/help" || fail "solve --help: no installed scenes"
+# From a build tree (not installed) the help names the checkout's folders instead.
+"$build/headplan" --help >"$tmp/help_build"
+grep -qx "documentation: docs" "$tmp/help_build" || fail "build tree's --help: not the checkout's docs"
 for f in docs/scenes.md docs/load.md README.md LICENSE; do
   [ -f "$prefix/share/doc/headplan/$f" ] || fail "share/doc/headplan/$f not installed"
 done
