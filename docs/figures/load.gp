@@ -3,10 +3,10 @@
 ceiling = 1000
 # index, kinematic us, load us (realtime, ipopt, nlopt-slsqp), sag mm, unbounded
 $d << EOD
-0 1.2895 1767.51 17184.5 1091.76 1000 1
-1 2.764 nan nan nan 1000 1
-2 2.804 251.648 4649.27 253.206 1000 1
-3 2.765 15203.4 28632.9 15691 1000 1
+0 1.24438 7369.09 43789.2 1134.6 1000 1
+1 2.844 nan nan nan 1000 1
+2 2.854 257.357 8595.87 266.189 1000 1
+3 2.874 49959.1 90481.4 48011.2 1000 1
 EOD
 set xtics ("load_heavy" 0, "load_prone" 1, "load_supine" 2, "load_tilted" 3)
 
