@@ -188,6 +188,8 @@ def machine(src, binary, wall):
     ipopt = sh(["pkg-config", "--modversion", "ipopt"])
     nlopt = sh(["dpkg-query", "-W", "-f=${Version}", "libnlopt0"])
     rev = sh(["git", "-C", src, "rev-parse", "--short", "HEAD"])
+    if rev and sh(["git", "-C", src, "status", "--porcelain", "--untracked-files=no"]):
+        rev += " plus the working tree's changes"
     load = open("/proc/loadavg").read().split()[:3] if os.path.exists("/proc/loadavg") else []
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     lines = [
@@ -200,7 +202,7 @@ def machine(src, binary, wall):
         "| build | `%s` (%s) |" % (os.path.relpath(binary, src) if binary.startswith(src) else binary,
                                   build_type),
         "| Ipopt, NLopt | %s, %s |" % (ipopt, nlopt),
-        "| source | %s |" % (rev + " plus the working tree's changes" if rev else "not a git checkout"),
+        "| source | %s |" % (rev or "not a git checkout"),
         "| wall time | %s |" % ", ".join("%s %.0f s" % kv for kv in wall),
     ]
     return block("\n".join(lines))

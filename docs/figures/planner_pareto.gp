@@ -12,48 +12,48 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 7.5012e+07]
+set xrange [* : 3.14764e+07]
 
 $front << EOD
-850.417,4.646568e-01,realtime-linear-1e-09
-5649,1.355203e-10,realtime-surface-1e-04
-2.22564e+07,1.000000e-17,ipopt-surface-1e-09
-7.5012e+07,1.000000e-17,end
+845.417,4.646568e-01,realtime-linear-1e-09
+5609,1.355203e-10,realtime-surface-1e-04
+9.18389e+06,1.000000e-17,ipopt-surface-1e-04
+3.14764e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-374.385,4.936830e-03,fastpath-linear
-2205.75,1.000000e-17,fastpath-surface
-7.5012e+07,1.000000e-17,end
+371.667,4.936830e-03,fastpath-linear
+2183.25,1.000000e-17,fastpath-surface
+3.14764e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-827.148,9.238732e-02,trace-realtime-linear
-4919.4,3.417474e-08,trace-realtime-surface
-7.5012e+07,3.417474e-08,end
+834.963,9.238732e-02,trace-realtime-linear
+4917.4,3.417474e-08,trace-realtime-surface
+3.14764e+07,3.417474e-08,end
 EOD
 
 $front3 << EOD
-850.417,4.646568e-01,realtime-linear-1e-09
-5649,1.355203e-10,realtime-surface-1e-04
-7.5012e+07,1.355203e-10,end
+845.417,4.646568e-01,realtime-linear-1e-09
+5609,1.355203e-10,realtime-surface-1e-04
+3.14764e+07,1.355203e-10,end
 EOD
 
 $front4 << EOD
-2.22564e+07,1.000000e-17,ipopt-surface-1e-09
-7.5012e+07,1.000000e-17,end
+9.18389e+06,1.000000e-17,ipopt-surface-1e-04
+3.14764e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-67892,4.646568e-01,nlopt-slsqp-linear-1e-09
-78618,1.324757e-05,nlopt-slsqp-surface-1e-04
-7.5012e+07,1.324757e-05,end
+66710,4.646568e-01,nlopt-slsqp-linear-1e-09
+76896,1.324757e-05,nlopt-slsqp-surface-1e-04
+3.14764e+07,1.324757e-05,end
 EOD
 
 $front6 << EOD
-269194,4.646567e-01,nlopt-cobyla-linear-1e-09
-406190,5.181534e-07,nlopt-cobyla-surface-1e-09
-7.5012e+07,5.181534e-07,end
+264307,4.646567e-01,nlopt-cobyla-linear-1e-09
+404538,5.181534e-07,nlopt-cobyla-surface-1e-04
+3.14764e+07,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
