@@ -7,6 +7,7 @@
 #include "cli/cli_output.h"
 #include "bench/bench_report.h"
 #include "cli/exit_codes.h"
+#include "common/unconst.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -282,7 +283,7 @@ static int nonempty(const char *dir, const char *family, const char *suffix)
 
 int bench_gnuplot_run(const char *dir, const char *script, const char *const *outputs)
 {
-    char *const argv[] = {"gnuplot", (char *)script, NULL};
+    char *const argv[] = {"gnuplot", hp_unconst(script), NULL};
     int st = bench_run_child(argv, dir, 0);
     if (st != 0) {
         cli_fail(0, "bench", "gnuplot failed on '%s/%s' (%s %d)", dir, script,

@@ -530,8 +530,9 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
      * back in parameter units (m), and the standard error along it. */
     {
         int k = c.nsel;
-        double sv[HP_CALIB_MAX_PARAMS], u[HP_CALIB_MAX_PARAMS], norm = 0.0, var = 0.0;
+        double sv[HP_CALIB_MAX_PARAMS], u[HP_CALIB_MAX_PARAMS] = {0};
         if (hp_kin_svd(m, k, S, sv, V) == 0) {
+            double norm = 0.0, var = 0.0;
             for (int q = 0; q < k; ++q) {
                 u[q] = V[q * k + (k - 1)] / scale[q];
                 norm += u[q] * u[q];

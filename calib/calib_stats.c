@@ -10,6 +10,9 @@ static double beta_cf(double a, double b, double x)
 {
     const double tiny = 1e-300;
     double qab = a + b, qap = a + 1.0, qam = a - 1.0;
+    /* c and d carry from one iteration to the next (Lentz's method), so their scope is
+     * the function's. */
+    // cppcheck-suppress variableScope
     double c = 1.0, d = 1.0 - qab * x / qap;
     if (fabs(d) < tiny) d = tiny;
     d = 1.0 / d;

@@ -15,6 +15,7 @@
  *   touches ri_t,k and ri_t−1,k.
  *   Hessian of the Lagrangian (lower triangle): per row the dense 6×6 pose block, the ri
  *   diagonal, and the (ri_t,k, ri_t−1,k) entry of the smoothness term — block-banded. */
+#include "common/unconst.h"
 #include "horizon/horizon_internal.h"
 #include "planner/ipopt_shared.h"
 #include "planner/planner_internal.h"
@@ -149,6 +150,8 @@ static Bool eval_jac_g(Index nv, Number *x, Bool new_x, Index m, Index nele, Ind
     nlp *q = u;
     const int n = q->n, nx = q->nx;
     if (!v) {
+        /* Ipopt asks for the structure with both index arrays; anything else is refused. */
+        if (!iRow || !jCol) return FALSE;
         Index e = 0;
         for (int t = 0; t < q->T; ++t) {
             Index c0 = t * 2 * n, x0 = t * nx;
@@ -190,6 +193,7 @@ static Bool eval_h(Index nv, Number *x, Bool new_x, Number of, Index m, Number *
     nlp *q = u;
     const int n = q->n, nx = q->nx;
     if (!v) {
+        if (!iRow || !jCol) return FALSE; /* as in eval_jac_g */
         Index e = 0;
         for (int t = 0; t < q->T; ++t) {
             Index x0 = t * nx;
@@ -607,8 +611,8 @@ hp_error hp_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
         e = commanded_parts(&c, rows, T, q.xc, NULL);
     }
     if (e == HP_OK) {
-        double *xx = (double *)x; /* Ipopt's callbacks take non-const pointers */
-        double *ll = (double *)lambda;
+        double *xx = hp_unconst(x); /* Ipopt's callbacks take non-const pointers */
+        double *ll = hp_unconst(lambda);
         Index nj = T * 7 * n + T * 2 * n - n, nh = T * (21 + n) + (T - 1) * n;
         if (!eval_f(NV, xx, 1, f, &q) || !eval_grad_f(NV, xx, 1, grad, &q) ||
             !eval_g(NV, xx, 1, NC, g, &q) || !eval_jac_g(NV, xx, 1, NC, nj, iR, jC, NULL, &q) ||

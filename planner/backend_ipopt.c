@@ -15,6 +15,7 @@
  * - Warm start (previous point and multipliers, warm_start_init_point, tiny bound pushes and
  *   mu_init) is used when the core has said (warm_point) that x0 is the answer this object's
  *   last solve returned and that solve converged: then the stored multipliers belong to x0. */
+#include "common/unconst.h"
 #include "planner/backend_common.h"
 #include "planner/backend_testing.h"
 #include "planner/ipopt_shared.h"
@@ -171,19 +172,19 @@ static Bool intermediate(Index alg_mod, Index iter, Number obj, Number inf_pr, N
  * lock. */
 static hp_error opt_str(IpoptProblem a, const char *k, const char *v, hp_diag *d)
 {
-    if (!AddIpoptStrOption(a, (char *)k, (char *)v))
+    if (!AddIpoptStrOption(a, hp_unconst(k), hp_unconst(v)))
         return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %s rejected", k, v);
     return HP_OK;
 }
 static hp_error opt_num(IpoptProblem a, const char *k, double v, hp_diag *d)
 {
-    if (!AddIpoptNumOption(a, (char *)k, v))
+    if (!AddIpoptNumOption(a, hp_unconst(k), v))
         return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %g rejected", k, v);
     return HP_OK;
 }
 static hp_error opt_int(IpoptProblem a, const char *k, int v, hp_diag *d)
 {
-    if (!AddIpoptIntOption(a, (char *)k, v))
+    if (!AddIpoptIntOption(a, hp_unconst(k), v))
         return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %d rejected", k, v);
     return HP_OK;
 }

@@ -41,8 +41,9 @@ static void rows(unsigned m, double *result, unsigned n, const double *x, double
             F = d1 = 0.0;
         }
         for (unsigned r = 0; r < m; ++r) {
-            result[r] += q->A[r * q->n + k] * F;
-            if (grad) grad[r * n + j] = q->A[r * q->n + k] * d1 * 1e3;
+            double a = q->A[(size_t)r * (size_t)q->n + (size_t)k];
+            result[r] += a * F;
+            if (grad) grad[r * n + j] = a * d1 * 1e3;
         }
     }
 }

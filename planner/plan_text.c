@@ -36,6 +36,9 @@ void hp_text_add_int(char *buf, long long v)
 
 void hp_text_add_num(char *buf, double v, int dec)
 {
+    /* The fraction's digits go into a 16-byte buffer below; no double has more than 15
+     * significant decimals to print there anyway. */
+    if (dec > 15) dec = 15;
     double scale = 1.0;
     for (int i = 0; i < dec; ++i) scale *= 10.0;
     if (!(fabs(v) * scale < 1e15)) {
@@ -54,6 +57,8 @@ void hp_text_add_num(char *buf, double v, int dec)
             frac[i] = (char)('0' + f % 10);
             f /= 10;
         }
+        /* dec <= 15 (clamped above), which cppcheck does not follow. */
+        // cppcheck-suppress arrayIndexOutOfBoundsCond
         frac[dec] = '\0';
         hp_text_add(buf, ".");
         hp_text_add(buf, frac);

@@ -2,6 +2,8 @@
  * (reset, set_previous), options, accessors, destroy. The plan itself is in plan.c. */
 #define _POSIX_C_SOURCE 200809L
 #include "planner/planner_internal.h"
+#include "planner/planner_rate.h"
+#include "common/unconst.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -223,7 +225,7 @@ const char *hp_planner_note(const hp_planner *p)
     if (!p) return "";
     /* The planner is the caller's own, never a const object: the pending text is written
      * here (hp_plan_note_flush), as hp_plan would have. */
-    if (p->note_pending) hp_plan_note_flush((hp_planner *)p);
+    if (p->note_pending) hp_plan_note_flush(hp_unconst(p));
     return p->note;
 }
 

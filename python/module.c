@@ -259,6 +259,9 @@ static struct PyModuleDef module = {
     NULL, NULL, NULL, NULL,
 };
 
+/* Declared for -Wmissing-prototypes: Python finds it by name in the shared object. */
+PyMODINIT_FUNC PyInit_headplan(void);
+
 PyMODINIT_FUNC PyInit_headplan(void)
 {
     import_array();

@@ -3,10 +3,10 @@
 ceiling = 1000
 # index, kinematic us, load us (realtime, ipopt, nlopt-slsqp), sag mm, unbounded
 $d << EOD
-0 1.2895 1767.51 17184.5 1091.76 1000 1
-1 2.764 nan nan nan 1000 1
-2 2.804 251.648 4649.27 253.206 1000 1
-3 2.765 15203.4 28632.9 15691 1000 1
+0 1.24189 9420.93 52941.6 1065.55 1000 1
+1 2.634 nan nan nan 1000 1
+2 2.634 243.445 12262.5 248.718 1000 1
+3 2.644 38218.4 82445.8 45760.9 1000 1
 EOD
 set xtics ("load_heavy" 0, "load_prone" 1, "load_supine" 2, "load_tilted" 3)
 

@@ -12,32 +12,33 @@ set title "Peers on the same NLP (linear contact level, default layout, binding 
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 7.87e-05]
-set xrange [* : 7.34529e+07]
+set xrange [* : 1.52977e+08]
 
 $front << EOD
-1091,3.161592e-10,realtime-linear
-5.31704e+06,1.000000e-17,ipopt-exact-linear
-7.34529e+07,1.000000e-17,end
+911,3.161592e-10,realtime-linear
+7.54262e+06,1.000000e-17,ipopt-exact-linear
+1.52977e+08,1.000000e-17,end
 EOD
 
 $front1 << EOD
-5.31704e+06,1.000000e-17,ipopt-exact-linear
-7.34529e+07,1.000000e-17,end
+7.54262e+06,1.000000e-17,ipopt-exact-linear
+1.52977e+08,1.000000e-17,end
 EOD
 
 $front2 << EOD
-2.39901e+07,9.654773e-10,ipopt-lbfgs-linear
-7.34529e+07,9.654773e-10,end
+4.60388e+07,1.335116e-09,ipopt-lbfgs-surface
+5.09924e+07,9.654773e-10,ipopt-lbfgs-linear
+1.52977e+08,9.654773e-10,end
 EOD
 
 $front3 << EOD
-1091,3.161592e-10,realtime-linear
-7.34529e+07,3.161592e-10,end
+911,3.161592e-10,realtime-linear
+1.52977e+08,3.161592e-10,end
 EOD
 
 $front4 << EOD
-700990,3.948884e-07,scipy-slsqp
-7.34529e+07,3.948884e-07,end
+530572,3.948884e-07,scipy-slsqp
+1.52977e+08,3.948884e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -45,20 +46,20 @@ if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
 } else {
   set terminal png size 1400,900
 }
-set output "peers_pareto.png"
+set output "./peers_pareto.png"
 plot \
-  'peers.csv' skip 1 using 6:(strcol(3) eq "ipopt-exact" ? fl($8) : NaN) with points pt 7 ps 1.5 lc 1 title "ipopt-exact", \
+  "./peers.csv" skip 1 using 6:(strcol(3) eq "ipopt-exact" ? fl($8) : NaN) with points pt 7 ps 1.5 lc 1 title "ipopt-exact", \
   $front1 using 1:2 with steps dt 3 lw 1 lc 1 notitle, \
-  'peers.csv' skip 1 using 6:(strcol(3) eq "ipopt-lbfgs" ? fl($8) : NaN) with points pt 5 ps 1.5 lc 2 title "ipopt-lbfgs", \
+  "./peers.csv" skip 1 using 6:(strcol(3) eq "ipopt-lbfgs" ? fl($8) : NaN) with points pt 5 ps 1.5 lc 2 title "ipopt-lbfgs", \
   $front2 using 1:2 with steps dt 3 lw 1 lc 2 notitle, \
-  'peers.csv' skip 1 using 6:(strcol(3) eq "headplan-other" ? fl($8) : NaN) with points pt 9 ps 1.5 lc 3 title "headplan-other", \
+  "./peers.csv" skip 1 using 6:(strcol(3) eq "headplan-other" ? fl($8) : NaN) with points pt 9 ps 1.5 lc 3 title "headplan-other", \
   $front3 using 1:2 with steps dt 3 lw 1 lc 3 notitle, \
-  'peers.csv' skip 1 using 6:(strcol(3) eq "scipy-slsqp" ? fl($8) : NaN) with points pt 11 ps 1.5 lc 4 title "scipy-slsqp", \
+  "./peers.csv" skip 1 using 6:(strcol(3) eq "scipy-slsqp" ? fl($8) : NaN) with points pt 11 ps 1.5 lc 4 title "scipy-slsqp", \
   $front4 using 1:2 with steps dt 3 lw 1 lc 4 notitle, \
   $front using 1:2 with steps dt 2 lw 2.5 lc rgb "#303030" title "Pareto front", \
   floor with lines dt 4 lc rgb "#909090" title sprintf("floor %g", floor), \
-  'peers.csv' skip 1 using 6:(fl($8)):1 with labels noenhanced font ",7" left rotate by 25 offset char 0.7, char 0.3 tc rgb "#202020" notitle
+  "./peers.csv" skip 1 using 6:(fl($8)):1 with labels noenhanced font ",7" left rotate by 25 offset char 0.7, char 0.3 tc rgb "#202020" notitle
 set terminal svg size 1400,900 dynamic enhanced font "Sans,11"
-set output "peers_pareto.svg"
+set output "./peers_pareto.svg"
 replot
 unset output

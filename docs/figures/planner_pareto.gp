@@ -12,50 +12,48 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 1.68694e+07]
+set xrange [* : 3.14764e+07]
 
 $front << EOD
-1025.22,4.646568e-01,realtime-linear-1e-04
-4614,1.355203e-10,realtime-surface-1e-04
-5.43571e+06,1.000000e-17,ipopt-surface-1e-04
-1.68694e+07,1.000000e-17,end
+845.417,4.646568e-01,realtime-linear-1e-09
+5609,1.355203e-10,realtime-surface-1e-04
+9.18389e+06,1.000000e-17,ipopt-surface-1e-04
+3.14764e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-461.773,4.936830e-03,fastpath-linear
-2535,1.000000e-17,fastpath-surface
-1.68694e+07,1.000000e-17,end
+371.667,4.936830e-03,fastpath-linear
+2183.25,1.000000e-17,fastpath-surface
+3.14764e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-1013.73,9.238732e-02,trace-realtime-linear
-3514.5,3.417474e-08,trace-realtime-surface
-1.68694e+07,3.417474e-08,end
+834.963,9.238732e-02,trace-realtime-linear
+4917.4,3.417474e-08,trace-realtime-surface
+3.14764e+07,3.417474e-08,end
 EOD
 
 $front3 << EOD
-1025.22,4.646568e-01,realtime-linear-1e-04
-4614,1.355203e-10,realtime-surface-1e-04
-1.68694e+07,1.355203e-10,end
+845.417,4.646568e-01,realtime-linear-1e-09
+5609,1.355203e-10,realtime-surface-1e-04
+3.14764e+07,1.355203e-10,end
 EOD
 
 $front4 << EOD
-5.26895e+06,4.646568e-01,ipopt-linear-1e-09
-5.43571e+06,1.000000e-17,ipopt-surface-1e-04
-1.68694e+07,1.000000e-17,end
+9.18389e+06,1.000000e-17,ipopt-surface-1e-04
+3.14764e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-63151,4.646546e-01,nlopt-slsqp-linear-1e-04
-95041,1.324757e-05,nlopt-slsqp-surface-1e-09
-1.68694e+07,1.324757e-05,end
+66710,4.646568e-01,nlopt-slsqp-linear-1e-09
+76896,1.324757e-05,nlopt-slsqp-surface-1e-04
+3.14764e+07,1.324757e-05,end
 EOD
 
 $front6 << EOD
-174222,4.646880e-01,nlopt-cobyla-linear-1e-04
-277929,1.441641e-04,nlopt-cobyla-surface-1e-04
-513317,5.181534e-07,nlopt-cobyla-surface-1e-09
-1.68694e+07,5.181534e-07,end
+264307,4.646567e-01,nlopt-cobyla-linear-1e-09
+404538,5.181534e-07,nlopt-cobyla-surface-1e-04
+3.14764e+07,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -63,24 +61,24 @@ if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
 } else {
   set terminal png size 1400,900
 }
-set output "planner_pareto.png"
+set output "./planner_pareto.png"
 plot \
-  'planner.csv' skip 1 using 6:(strcol(3) eq "fast-path" ? fl($8) : NaN) with points pt 7 ps 1.5 lc 1 title "fast-path", \
+  "./planner.csv" skip 1 using 6:(strcol(3) eq "fast-path" ? fl($8) : NaN) with points pt 7 ps 1.5 lc 1 title "fast-path", \
   $front1 using 1:2 with steps dt 3 lw 1 lc 1 notitle, \
-  'planner.csv' skip 1 using 6:(strcol(3) eq "warm-trace" ? fl($8) : NaN) with points pt 5 ps 1.5 lc 2 title "warm-trace", \
+  "./planner.csv" skip 1 using 6:(strcol(3) eq "warm-trace" ? fl($8) : NaN) with points pt 5 ps 1.5 lc 2 title "warm-trace", \
   $front2 using 1:2 with steps dt 3 lw 1 lc 2 notitle, \
-  'planner.csv' skip 1 using 6:(strcol(3) eq "realtime" ? fl($8) : NaN) with points pt 9 ps 1.5 lc 3 title "realtime", \
+  "./planner.csv" skip 1 using 6:(strcol(3) eq "realtime" ? fl($8) : NaN) with points pt 9 ps 1.5 lc 3 title "realtime", \
   $front3 using 1:2 with steps dt 3 lw 1 lc 3 notitle, \
-  'planner.csv' skip 1 using 6:(strcol(3) eq "ipopt" ? fl($8) : NaN) with points pt 11 ps 1.5 lc 4 title "ipopt", \
+  "./planner.csv" skip 1 using 6:(strcol(3) eq "ipopt" ? fl($8) : NaN) with points pt 11 ps 1.5 lc 4 title "ipopt", \
   $front4 using 1:2 with steps dt 3 lw 1 lc 4 notitle, \
-  'planner.csv' skip 1 using 6:(strcol(3) eq "nlopt-slsqp" ? fl($8) : NaN) with points pt 13 ps 1.5 lc 5 title "nlopt-slsqp", \
+  "./planner.csv" skip 1 using 6:(strcol(3) eq "nlopt-slsqp" ? fl($8) : NaN) with points pt 13 ps 1.5 lc 5 title "nlopt-slsqp", \
   $front5 using 1:2 with steps dt 3 lw 1 lc 5 notitle, \
-  'planner.csv' skip 1 using 6:(strcol(3) eq "nlopt-cobyla" ? fl($8) : NaN) with points pt 15 ps 1.5 lc 6 title "nlopt-cobyla", \
+  "./planner.csv" skip 1 using 6:(strcol(3) eq "nlopt-cobyla" ? fl($8) : NaN) with points pt 15 ps 1.5 lc 6 title "nlopt-cobyla", \
   $front6 using 1:2 with steps dt 3 lw 1 lc 6 notitle, \
   $front using 1:2 with steps dt 2 lw 2.5 lc rgb "#303030" title "Pareto front", \
   floor with lines dt 4 lc rgb "#909090" title sprintf("floor %g", floor), \
-  'planner.csv' skip 1 using 6:(fl($8)):1 with labels noenhanced font ",7" left rotate by 25 offset char 0.7, char 0.3 tc rgb "#202020" notitle
+  "./planner.csv" skip 1 using 6:(fl($8)):1 with labels noenhanced font ",7" left rotate by 25 offset char 0.7, char 0.3 tc rgb "#202020" notitle
 set terminal svg size 1400,900 dynamic enhanced font "Sans,11"
-set output "planner_pareto.svg"
+set output "./planner_pareto.svg"
 replot
 unset output

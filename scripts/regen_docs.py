@@ -1,0 +1,261 @@
+#!/usr/bin/python3
+"""Regenerate every measured number the docs show, from one run, and say where it ran.
+
+Usage:
+  regen_docs.py [--src DIR] [--bin BUILD] [--quick]     run everything, rewrite the regions
+  regen_docs.py --check-readme [--src DIR] [--bin BUILD] compare README's sample output with
+                                                         a fresh run (exit 1 when stale)
+
+A generated part of a doc sits between two marks, `<!-- regen:NAME -->` and
+`<!-- /regen:NAME -->` (inline or on their own lines); only the text between them is rewritten,
+and a doc whose marks are missing or unbalanced stops the run before anything is written. The
+date, machine and build of the run go to docs/measurements.md, which the other docs cite. What
+runs (the fixed configuration, in this order):
+  readme-solve      headplan solve scenarios/default.yaml                  README.md
+  bench-*, speed-*  headplan-bench --out docs/figures (all families), then
+                    bench/csv_tables.py docs/figures                        docs/benchmarks.md,
+                                                                            README.md
+  backends-table    headplan-bench-backends                                 docs/backends.md
+  horizon-rh        headplan-bench-horizon rh scenarios/horizon/step.yaml
+                    scenarios/traces/step.csv                               docs/horizon.md
+  python-row        Planner(default scene).run_trace() of its drift trace,
+                    median solve_time_us                                    docs/python.md
+  batch-throughput  bench/batch_throughput.sh 200000 200                    docs/batch.md
+  run               date, host, compiler, build type, library versions      docs/measurements.md
+--quick runs the benchmark lab at its test size (seconds, noisy): for trying the script, never
+for a commit. Standard library only; the C locale for every program it runs.
+"""
+import argparse
+import csv
+import datetime
+import os
+import platform
+import re
+import subprocess
+import sys
+import time
+
+MARK = re.compile(r"<!-- regen:([a-z0-9-]+) -->(.*?)<!-- /regen:\1 -->", re.S)
+# The one field of `headplan solve` that is a time: compared by its shape only.
+TIME = re.compile(r"\b\d+(\.\d+)? (us|ms|s)\b")
+
+
+def run(cmd, cwd, env=None, stdout=subprocess.PIPE):
+    e = dict(os.environ, LC_ALL="C")
+    e.update(env or {})
+    t0 = time.monotonic()
+    r = subprocess.run(cmd, cwd=cwd, env=e, stdout=stdout, stderr=subprocess.PIPE, text=True)
+    if r.returncode not in (0,):
+        sys.exit("regen_docs: %s: exit %d: %s" % (" ".join(cmd), r.returncode, r.stderr[-400:]))
+    return r.stdout, time.monotonic() - t0
+
+
+def regions(text):
+    return {m.group(1): m.group(2) for m in MARK.finditer(text)}
+
+
+def replace(path, new):
+    """Rewrites the named regions of one file; every name must be there exactly once."""
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    if text.count("<!-- regen:") != text.count("<!-- /regen:"):
+        sys.exit("regen_docs: %s: unbalanced regen marks" % path)
+    for name in new:
+        if len(re.findall(r"<!-- regen:%s -->" % re.escape(name), text)) != 1:
+            sys.exit("regen_docs: %s: region %s missing or repeated" % (path, name))
+
+    def sub(m):
+        return "<!-- regen:%s -->%s<!-- /regen:%s -->" % (
+            m.group(1), new.get(m.group(1), m.group(2)), m.group(1))
+
+    return path, MARK.sub(sub, text)
+
+
+def block(body):
+    """A fenced region body on lines of its own."""
+    return "\n" + body.rstrip("\n") + "\n"
+
+
+def readme_solve(src, binary):
+    out, _ = run([os.path.join(binary, "headplan"), "solve", "scenarios/default.yaml"], src)
+    return block("```text\n" + out.rstrip("\n") + "\n```")
+
+
+def check_readme(src, binary):
+    with open(os.path.join(src, "README.md"), encoding="utf-8") as f:
+        have = regions(f.read()).get("readme-solve")
+    if have is None:
+        print("README.md: no <!-- regen:readme-solve --> region")
+        return 1
+    want = readme_solve(src, binary)
+    if not TIME.search(have):
+        print("README.md: the sample output's time field is missing or malformed")
+        return 1
+    a, b = TIME.sub("<time>", have).splitlines(), TIME.sub("<time>", want).splitlines()
+    if a == b:
+        print("README.md: sample output matches `headplan solve scenarios/default.yaml`")
+        return 0
+    import difflib
+    print("README.md: sample output is stale (regenerate: bash scripts/regen-docs.sh):")
+    sys.stdout.writelines(l + "\n" for l in difflib.unified_diff(a, b, "README.md", "headplan solve", lineterm=""))
+    return 1
+
+
+# Times are written as the benchmark tables write them (one home: bench/csv_tables.py).
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
+                                "bench"))
+import csv_tables  # noqa: E402
+
+
+def fmt_us(us):
+    return csv_tables.t(float(us) * 1e3)
+
+
+def bench_tables(src, figures):
+    out, _ = run(["/usr/bin/python3", "bench/csv_tables.py", figures], src)
+    parts = re.split(r"^### (\S+)\n", out, flags=re.M)
+    return {"bench-" + parts[i].replace("_", "-"): block(parts[i + 1].strip("\n"))
+            for i in range(1, len(parts), 2)}
+
+
+def speed(src, figures):
+    """The few figures the README and the advice at the top of benchmarks.md quote, all from
+    planner.csv of this run: medians, and ratios of medians of the same run."""
+    with open(os.path.join(figures, "planner.csv"), newline="") as f:
+        rows = {r["method"]: r for r in csv.DictReader(f)}
+
+    def ns(m):
+        return float(rows[m]["median_ns"])
+
+    lines = ["| contact level | direct chain (no limit binds) | realtime, a limit binds "
+             "| NLopt SLSQP | Ipopt | SLSQP / realtime | Ipopt / realtime |",
+             "|---|---|---|---|---|---|---|"]
+    for lv in ("linear", "plane", "surface"):
+        rt, sq, ip = ns("realtime-%s-1e-09" % lv), ns("nlopt-slsqp-%s-1e-09" % lv), \
+            ns("ipopt-%s-1e-09" % lv)
+        lines.append("| %s | %s | %s | %s | %s | %.0f× | %.0f× |" % (
+            lv, fmt_us(ns("fastpath-" + lv) / 1e3), fmt_us(rt / 1e3), fmt_us(sq / 1e3),
+            fmt_us(ip / 1e3), sq / rt, ip / rt))
+    trace = ns("trace-realtime-surface")
+    lines.append("")
+    lines.append("Medians of cold plans on the default scene at tolerance 1e-9: the direct "
+                 "chain on reachable targets, the rest on binding ones (`docs/benchmarks.md`, "
+                 "section 2); along a warm trace the surface level takes %s a row. The run: "
+                 "`docs/measurements.md`." % fmt_us(trace / 1e3))
+    return block("\n".join(lines))
+
+
+def horizon_table(out):
+    rows = list(csv.DictReader(out.splitlines()))
+    by = {(r["N"], r["prediction"]): r for r in rows}
+    ns = sorted({int(r["N"]) for r in rows})
+    lines = ["| N | hold median | hold p99 | velocity median | velocity p99 |",
+             "|---|---|---|---|---|"]
+    for n in ns:
+        h, v = by[(str(n), "hold")], by[(str(n), "velocity")]
+        lines.append("| %d | %s | %s | %s | %s |" % (n, fmt_us(h["median_us"]), fmt_us(h["p99_us"]),
+                                                  fmt_us(v["median_us"]), fmt_us(v["p99_us"])))
+    return block("\n".join(lines))
+
+
+PY_ROW = """
+import numpy as np, headplan
+scene = headplan.load_scene("scenarios/default.yaml")
+run = headplan.Planner(scene).run_trace()
+assert (run["status"] == "reached").all(), "drift trace: not every row reached"
+print(float(np.median(run["solve_time_us"])))
+"""
+
+
+def machine(src, binary, wall):
+    def sh(cmd):
+        try:
+            return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
+                                  text=True, env=dict(os.environ, LC_ALL="C")).stdout.strip()
+        except OSError:
+            return ""
+    cpu = ""
+    for line in sh(["lscpu"]).splitlines():
+        if line.startswith("Model name:"):
+            cpu = line.split(":", 1)[1].strip()
+    build_type = ""
+    cache = os.path.join(binary, "CMakeCache.txt")
+    if os.path.exists(cache):
+        for line in open(cache):
+            if line.startswith("CMAKE_BUILD_TYPE:"):
+                build_type = line.split("=", 1)[1].strip()
+    gcc = sh(["gcc", "-dumpfullversion"])
+    ipopt = sh(["pkg-config", "--modversion", "ipopt"])
+    nlopt = sh(["dpkg-query", "-W", "-f=${Version}", "libnlopt0"])
+    rev = sh(["git", "-C", src, "rev-parse", "--short", "HEAD"])
+    if rev and sh(["git", "-C", src, "status", "--porcelain", "--untracked-files=no"]):
+        rev += " plus the working tree's changes"
+    load = open("/proc/loadavg").read().split()[:3] if os.path.exists("/proc/loadavg") else []
+    now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
+    lines = [
+        "| | |", "|---|---|",
+        "| date | %s |" % now,
+        "| processor | %s, %d logical cores |" % (cpu or platform.processor(), os.cpu_count() or 0),
+        "| system | %s %s |" % (platform.system(), platform.release()),
+        "| load average at the end | %s |" % " ".join(load),
+        "| compiler | gcc %s |" % gcc,
+        "| build | `%s` (%s) |" % (os.path.relpath(binary, src) if binary.startswith(src) else binary,
+                                  build_type),
+        "| Ipopt, NLopt | %s, %s |" % (ipopt, nlopt),
+        "| source | %s |" % (rev or "not a git checkout"),
+        "| wall time | %s |" % ", ".join("%s %.0f s" % kv for kv in wall),
+    ]
+    return block("\n".join(lines))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--src", default=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+    ap.add_argument("--bin")
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--check-readme", action="store_true")
+    a = ap.parse_args()
+    src = os.path.abspath(a.src)
+    binary = os.path.abspath(a.bin or os.path.join(src, "build"))
+    if a.check_readme:
+        return check_readme(src, binary)
+
+    figures = os.path.join(src, "docs", "figures")
+    wall, new = [], {}
+    new["README.md"] = {"readme-solve": readme_solve(src, binary)}
+    bench = [os.path.join(binary, "headplan-bench"), "--out", figures] + (["--quick"] if a.quick else [])
+    _, w = run(bench, src)
+    wall.append(("headplan-bench", w))
+    tables = bench_tables(src, figures)
+    sp = speed(src, figures)
+    new["README.md"]["speed-readme"] = sp
+    new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp})
+    out, w = run([os.path.join(binary, "headplan-bench-backends")], src)
+    wall.append(("headplan-bench-backends", w))
+    new["docs/backends.md"] = {"backends-table": block(out.strip("\n"))}
+    out, w = run([os.path.join(binary, "headplan-bench-horizon"), "rh",
+                  "scenarios/horizon/step.yaml", "scenarios/traces/step.csv"], src)
+    wall.append(("headplan-bench-horizon", w))
+    new["docs/horizon.md"] = {"horizon-rh": horizon_table(out)}
+    out, w = run(["/usr/bin/python3", "-c", PY_ROW], src,
+                 env={"PYTHONPATH": os.path.join(binary, "python")})
+    wall.append(("python", w))
+    new["docs/python.md"] = {"python-row": fmt_us(out.strip())}
+    out, w = run(["bash", "bench/batch_throughput.sh", "20000" if a.quick else "200000",
+                  "20" if a.quick else "200", os.path.join(binary, "headplan")], src)
+    wall.append(("batch_throughput.sh", w))
+    new["docs/batch.md"] = {"batch-throughput": block("```text\n" + out.strip("\n") + "\n```")}
+    new["docs/measurements.md"] = {"run": machine(src, binary, wall)}
+
+    # Every file's marks are checked before any file is written.
+    done = [replace(os.path.join(src, p), r) for p, r in new.items()]
+    for path, text in done:
+        with open(path + ".tmp", "w", encoding="utf-8") as f:
+            f.write(text)
+        os.replace(path + ".tmp", path)
+        print("regen_docs: %s" % os.path.relpath(path, src))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
