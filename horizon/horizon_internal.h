@@ -15,6 +15,14 @@ hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max);
 /* The planner's own words for its last hp_plan (its error, else its note), or "". */
 const char *hp_horizon_rh_reason(const hp_horizon_rh *rh);
 
+/* hp_horizon_check_rows with the refused row's line in the message. */
+hp_error hp_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
+                                  hp_diag *d);
+
+/* The output row o of trace row in planned as r (n bladders). */
+void hp_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int n,
+                                hp_horizon_row *o);
+
 /* Puts "line N: reason" of the first row hp_plan refused (status INVALID_INPUT) into d, the
  * planner's own words as batch prints them: *noted says whether one already is. */
 void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
