@@ -3,7 +3,7 @@
  * row of every plan inside every limit (recomputed here from the radii with the public bladder
  * model, not taken from the planner), windows against the whole solve, receding with N = 1
  * against greedy, and the checks on settings and time stamps. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "tests/horizon/horizon_fixture.h"
 #include "horizon/horizon_internal.h"
 

@@ -1,5 +1,5 @@
 /* Pose units and the rotation convention R = Rz(yaw)·Ry(roll)·Rx(pitch). */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "headplan/hp_kinematics.h"
 #include "kinematics/kin_internal.h"
