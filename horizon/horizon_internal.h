@@ -4,12 +4,6 @@
 
 #include "headplan/hp_horizon.h"
 
-/* Sets the per-plan rate limit [Pa] of every bladder for the next hp_plan calls (planner.c;
- * each > 0, +inf for none). HP_ERR_NULL / HP_ERR_INVALID (nothing changes). When none is
- * left finite the cycle bounds return to the static ones at once (hp_plan then leaves them).
- * HP_ERR_STATE if they could not (not for a planner hp_planner_create accepted). */
-hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max);
-
 /* Objective weight of pose component i (mm², deg² / weight_mm_per_deg²), 0 when the layout
  * does not command it. */
 /* The planner's own words for its last hp_plan (its error, else its note), or "". */

@@ -421,7 +421,6 @@ hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *r)
 }
 
 
-/* Internal (horizon/horizon_internal.h): the rate limits of the next plans. */
 hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
 {
     if (!p || !rate_max) return HP_ERR_NULL;

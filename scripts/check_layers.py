@@ -24,7 +24,8 @@ import sys
 
 PUBLIC = {  # include/headplan/<header> -> the module that implements it
     "hp_common.h": "common", "hp_version.h": "common", "hp_iab.h": "iab",
-    "hp_kinematics.h": "kinematics", "hp_load.h": "kinematics", "hp_planner.h": "planner",
+    "hp_pose.h": "kinematics", "hp_layout.h": "kinematics", "hp_contact.h": "kinematics",
+    "hp_load.h": "kinematics", "hp_planner.h": "planner",
     "hp_horizon.h": "horizon", "hp_load_planner.h": "planner", "hp_scene.h": "scene", "hp_trace.h": "scene",
     "hp_calib.h": "calib", "headplan.h": None,  # the umbrella: programs only
 }

@@ -319,7 +319,7 @@ static void test_rows_outside_the_request_range(void **st)
     free(c);
 }
 
-/* hp_planner_set_rate_max (horizon_internal.h) lifting every limit after a tight one: the
+/* hp_planner_set_rate_max (hp_planner.h) lifting every limit after a tight one: the
  * next plan is the plan of a planner created without rate limits, to the bit (hp_plan no
  * longer sets the bounds of a rate-free planner, so lifting the limits must restore them).
  * Cold plans, so the previous answer enters only through the rate limits. */

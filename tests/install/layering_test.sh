@@ -16,6 +16,14 @@ for t in "$build"/tests/iab_test_*; do
   fi
 done
 [ "$n" -ge 3 ] || { echo "FAIL: only $n bladder-module test programs found in $build/tests"; fails=$((fails + 1)); }
+# The umbrella is complete: headplan.h includes every public header (hp_load_planner.h aside,
+# whose load planner becomes a level of hp_planner).
+for h in "$src"/include/headplan/hp_*.h "$src"/include/headplan/hp_version.h.in; do
+  h=$(basename "$h" .in)
+  [ "$h" = hp_load_planner.h ] && continue
+  grep -q "#include \"headplan/$h\"" "$src/include/headplan/headplan.h" ||
+    { echo "FAIL: headplan.h does not include $h"; fails=$((fails + 1)); }
+done
 # The checker is not vacuous: an upward include in a scratch tree is found.
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 mkdir -p "$tmp/iab" "$tmp/include/headplan" "$tmp/cmake"

@@ -2,7 +2,7 @@
  * ROS REP 103 angles. References are hand derivations and point-by-point rigid motions. */
 #include "support/test_util.h"
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_pose.h"
 
 #include <math.h>
 #include <string.h>

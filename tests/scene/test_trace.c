@@ -6,7 +6,7 @@
  * against hand derivations). */
 #define _POSIX_C_SOURCE 200809L
 #include "support/test_util.h"
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_pose.h"
 #include "headplan/hp_trace.h"
 
 #include <stdio.h>

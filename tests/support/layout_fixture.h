@@ -14,7 +14,7 @@
 #ifndef HP_TEST_PLANNER_LAYOUT_FIXTURE_H
 #define HP_TEST_PLANNER_LAYOUT_FIXTURE_H
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 #include "headplan/hp_planner.h"
 #include "support/rng.h"
 
