@@ -1,7 +1,7 @@
 /* Streaming reader of correction/deviation traces in CSV or JSON Lines (see hp_trace.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/hp_trace.h"
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_pose.h"
 #include "scene/strict_number.h"
 #include "scene/text_check.h"
 
