@@ -8,24 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *hp_prediction_name(hp_prediction p)
-{
-    switch (p) {
-    case HP_PREDICT_HOLD: return "hold";
-    case HP_PREDICT_VELOCITY: return "velocity";
-    default: return "unknown";
-    }
-}
-
-hp_error hp_prediction_parse(const char *s, hp_prediction *out)
-{
-    if (!s || !out) return HP_ERR_NULL;
-    if (strcmp(s, "hold") == 0) *out = HP_PREDICT_HOLD;
-    else if (strcmp(s, "velocity") == 0) *out = HP_PREDICT_VELOCITY;
-    else return HP_ERR_INVALID;
-    return HP_OK;
-}
-
 void hp_horizon_settings_default(hp_horizon_settings *s)
 {
     if (!s) return;
