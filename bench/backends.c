@@ -6,7 +6,7 @@
  * difference from Ipopt's cold answer (mm or deg). */
 #define _POSIX_C_SOURCE 199309L
 #include "planner/backend_common.h"
-#include "planner/backend_fixture.h"
+#include "tests/support/backend_fixture.h"
 #include "bench/bench_settings.h"
 
 #include <stdio.h>

@@ -61,7 +61,7 @@ typedef struct lay_ctx {
 } lay_ctx;
 
 /* The layout with parameters theta (np changes from the scene, in the parameter order),
- * and its contact geometry G; validate = 1 runs the full hp_layout_prepare checks. */
+ * and its contact geometry G (calib_layout_param.c); validate = 1 runs the full hp_layout_prepare checks. */
 hp_error calib_layout_apply(const lay_ctx *c, const double *theta, hp_layout *L, hp_geom *G,
                             int validate, hp_diag *d);
 

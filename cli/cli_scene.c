@@ -5,7 +5,9 @@
 #include "cli/cli_outfile.h"
 #include "cli/exit_codes.h"
 
+#include "common/names.h"
 #include "common/units.h"
+#include "planner/names.h"
 
 #include <errno.h>
 #include <math.h>
@@ -103,12 +105,10 @@ int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
     hp_diag d = {{0}};
     if (hp_scene_settings(sc, s, &d) != HP_OK)
         return cli_fail(CLI_EXIT_DATAERR, cmd, "%s", d.text);
-    if (backend && hp_backend_parse(backend, &s->backend) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, cmd,
-                           "--backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, "
-                           "nlopt-cobyla)",
-                           backend);
     char names[96];
+    if (backend && hp_backend_parse(backend, &s->backend) != HP_OK)
+        return cli_fail(CLI_EXIT_USAGE, cmd, "--backend: unknown backend '%s' (%s)", backend,
+                        hp_names_join(hp_backend_words, NULL, names, sizeof names));
     if (level && hp_level_parse(level, &s->level) != HP_OK)
         return cli_fail(CLI_EXIT_USAGE, cmd, "--level: unknown level '%s' (%s)", level,
                         hp_scene_level_names(0, ", ", names, sizeof names));

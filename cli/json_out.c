@@ -1,6 +1,6 @@
 /* JSON values shared by the --json outputs (see json_out.h). */
 #include "cli/json_out.h"
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_pose.h"
 
 #include <math.h>
 

@@ -8,24 +8,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-const char *hp_prediction_name(hp_prediction p)
-{
-    switch (p) {
-    case HP_PREDICT_HOLD: return "hold";
-    case HP_PREDICT_VELOCITY: return "velocity";
-    default: return "unknown";
-    }
-}
-
-hp_error hp_prediction_parse(const char *s, hp_prediction *out)
-{
-    if (!s || !out) return HP_ERR_NULL;
-    if (strcmp(s, "hold") == 0) *out = HP_PREDICT_HOLD;
-    else if (strcmp(s, "velocity") == 0) *out = HP_PREDICT_VELOCITY;
-    else return HP_ERR_INVALID;
-    return HP_OK;
-}
-
 void hp_horizon_settings_default(hp_horizon_settings *s)
 {
     if (!s) return;
@@ -189,8 +171,8 @@ hp_error hp_horizon_check_rows(const hp_layout *L, const hp_trace_row *rows, siz
     return HP_OK;
 }
 
-/* hp_horizon_check_rows with the refused row's line in the message. */
-static hp_error check_rows(const hp_layout *L, const hp_trace_row *rows, size_t T, hp_diag *d)
+hp_error hp_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
+                                  hp_diag *d)
 {
     size_t bad = 0;
     hp_diag sub = {{0}};
@@ -200,8 +182,8 @@ static hp_error check_rows(const hp_layout *L, const hp_trace_row *rows, size_t 
     return HP_OK;
 }
 
-static void row_from_result(const hp_trace_row *in, const hp_result *r, int n,
-                            hp_horizon_row *o)
+void hp_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int n,
+                                hp_horizon_row *o)
 {
     o->t = in->t;
     memcpy(o->desired, in->correction, sizeof o->desired);
@@ -228,7 +210,7 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
     if (!L || !hs || (T && (!rows || !out)))
         return hp_diag_set(d, HP_ERR_NULL, "greedy: NULL argument");
     hp_error e = hp_horizon_settings_validate(hs, d);
-    if (e == HP_OK) e = check_rows(L, rows, T, d);
+    if (e == HP_OK) e = hp_horizon_check_rows_at(L, rows, T, d);
     if (e != HP_OK) return e;
     hp_planner *p = NULL;
     if ((e = hp_planner_create(L, settings, &p, d)) != HP_OK) return e;
@@ -259,7 +241,7 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
         }
         const char *why = hp_planner_error(p);
         hp_horizon_note_refusal(d, &refused, &r, rows[t].line, *why ? why : hp_planner_note(p));
-        row_from_result(rows + t, &r, PL->n, out + t);
+        hp_horizon_row_from_result(rows + t, &r, PL->n, out + t);
         /* As headplan batch: the next plan starts from this row's result alone (cold), not
          * from the backend's own last point and multipliers. */
         if ((e = hp_planner_set_previous_result(p, &r)) != HP_OK) {
@@ -308,31 +290,4 @@ hp_error hp_horizon_measure(const hp_horizon_row *out, size_t T, int n, const do
     m->cost += m->pose_cost;
     m->rows_outside = outside_rows / (double)T;
     return HP_OK;
-}
-
-hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
-                             const hp_horizon_settings *hs, const hp_trace_row *rows,
-                             size_t T, const double *p_start, hp_horizon_row *out,
-                             hp_diag *d)
-{
-    if (!L || (T && (!rows || !out))) return hp_diag_set(d, HP_ERR_NULL, "receding: NULL argument");
-    hp_horizon_rh *rh = NULL;
-    hp_error e = check_rows(L, rows, T, d);
-    if (e != HP_OK) return e;
-    e = hp_horizon_rh_create(L, settings, hs, p_start, &rh, d);
-    if (e != HP_OK) return e;
-    if (d) d->text[0] = '\0';
-    int refused = 0;
-    for (size_t t = 0; t < T; ++t) {
-        hp_result r;
-        e = hp_horizon_rh_step(rh, rows[t].t, rows[t].correction, &r);
-        if (e != HP_OK) {
-            hp_diag_set(d, e, "line %ld: t_s: not after the previous row", rows[t].line);
-            break;
-        }
-        hp_horizon_note_refusal(d, &refused, &r, rows[t].line, hp_horizon_rh_reason(rh));
-        row_from_result(rows + t, &r, L->n, out + t);
-    }
-    hp_horizon_rh_destroy(rh);
-    return e;
 }

@@ -4,14 +4,18 @@
 
 #include "headplan/hp_horizon.h"
 
-/* hp_planner_set_rate_max, which the horizon planners call, is declared with the planner
- * it belongs to (planner/planner_rate.h). */
-#include "planner/planner_rate.h"
-
 /* Objective weight of pose component i (mm², deg² / weight_mm_per_deg²), 0 when the layout
  * does not command it. */
 /* The planner's own words for its last hp_plan (its error, else its note), or "". */
 const char *hp_horizon_rh_reason(const hp_horizon_rh *rh);
+
+/* hp_horizon_check_rows with the refused row's line in the message. */
+hp_error hp_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
+                                  hp_diag *d);
+
+/* The output row o of trace row in planned as r (n bladders). */
+void hp_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int n,
+                                hp_horizon_row *o);
 
 /* Puts "line N: reason" of the first row hp_plan refused (status INVALID_INPUT) into d, the
  * planner's own words as batch prints them: *noted says whether one already is. */

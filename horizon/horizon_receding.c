@@ -509,3 +509,31 @@ const char *hp_horizon_rh_reason(const hp_horizon_rh *rh)
     const char *e = hp_planner_error(rh->p);
     return *e ? e : hp_planner_note(rh->p);
 }
+
+/* The receding-horizon plan of a whole trace: one hp_horizon_rh_step per row. */
+hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
+                             const hp_horizon_settings *hs, const hp_trace_row *rows,
+                             size_t T, const double *p_start, hp_horizon_row *out,
+                             hp_diag *d)
+{
+    if (!L || (T && (!rows || !out))) return hp_diag_set(d, HP_ERR_NULL, "receding: NULL argument");
+    hp_horizon_rh *rh = NULL;
+    hp_error e = hp_horizon_check_rows_at(L, rows, T, d);
+    if (e != HP_OK) return e;
+    e = hp_horizon_rh_create(L, settings, hs, p_start, &rh, d);
+    if (e != HP_OK) return e;
+    if (d) d->text[0] = '\0';
+    int refused = 0;
+    for (size_t t = 0; t < T; ++t) {
+        hp_result r;
+        e = hp_horizon_rh_step(rh, rows[t].t, rows[t].correction, &r);
+        if (e != HP_OK) {
+            hp_diag_set(d, e, "line %ld: t_s: not after the previous row", rows[t].line);
+            break;
+        }
+        hp_horizon_note_refusal(d, &refused, &r, rows[t].line, hp_horizon_rh_reason(rh));
+        hp_horizon_row_from_result(rows + t, &r, L->n, out + t);
+    }
+    hp_horizon_rh_destroy(rh);
+    return e;
+}

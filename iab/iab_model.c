@@ -10,29 +10,6 @@
  * scaled radius that the model forms (up to the eighth) inside the double range. */
 #define HP_IAB_MIN_RI_OVER_RO 1e-9
 
-const char *hp_material_convention_name(hp_material_convention c)
-{
-    switch (c) {
-    case HP_MATERIAL_PAPER: return "paper";
-    case HP_MATERIAL_FE: return "fe";
-    }
-    return "unknown";
-}
-
-hp_error hp_material_convention_parse(const char *s, hp_material_convention *out)
-{
-    if (!s || !out) return HP_ERR_NULL;
-    if (strcmp(s, "paper") == 0) {
-        *out = HP_MATERIAL_PAPER;
-        return HP_OK;
-    }
-    if (strcmp(s, "fe") == 0) {
-        *out = HP_MATERIAL_FE;
-        return HP_OK;
-    }
-    return HP_ERR_INVALID;
-}
-
 hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, double b, double *C1,
                                 double *C2)
 {

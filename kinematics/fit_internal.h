@@ -5,7 +5,7 @@
 #ifndef HP_FIT_INTERNAL_H
 #define HP_FIT_INTERNAL_H
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 #include "kin_geom.h"
 
 /* The contact model at a fit's start point x0, as hp_kin_contact_eval_warm computes it

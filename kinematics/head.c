@@ -11,24 +11,6 @@
  * its fallback, take more). */
 #define ELL_MAX_STEPS 200
 
-const char *hp_head_shape_name(hp_head_shape s)
-{
-    switch (s) {
-    case HP_HEAD_SPHERE: return "sphere";
-    case HP_HEAD_ELLIPSOID: return "ellipsoid";
-    }
-    return "unknown";
-}
-
-hp_error hp_head_shape_parse(const char *s, hp_head_shape *out)
-{
-    if (!s || !out) return HP_ERR_NULL;
-    if (strcmp(s, "sphere") == 0) *out = HP_HEAD_SPHERE;
-    else if (strcmp(s, "ellipsoid") == 0) *out = HP_HEAD_ELLIPSOID;
-    else return HP_ERR_INVALID;
-    return HP_OK;
-}
-
 hp_error hp_kin_head_validate(const hp_head *h, hp_diag *diag)
 {
     if (h->shape != HP_HEAD_SPHERE && h->shape != HP_HEAD_ELLIPSOID)

@@ -1,4 +1,4 @@
-/* What the contact model can tell apart (hp_identifiable in hp_kinematics.h): the rank of
+/* What the contact model can tell apart (hp_identifiable in hp_contact.h): the rank of
  * the contact Jacobian in a dimensionless head-centred frame, the commanded pose components,
  * the unobservable motions, the rotation and translation range, and the commanded part of a
  * desired correction. */

@@ -11,7 +11,7 @@
 #ifndef HP_KIN_GEOM_H
 #define HP_KIN_GEOM_H
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 #include "kin_internal.h"
 
 typedef struct hp_geom {

@@ -3,7 +3,7 @@
 #ifndef HP_KIN_INTERNAL_H
 #define HP_KIN_INTERNAL_H
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 #include <math.h>
 
 /* R = Rz(yaw)·Ry(roll)·Rx(pitch) for th = (pitch, roll, yaw), with its first derivatives

@@ -1,5 +1,5 @@
 /* Other forms of a pose: rotation matrix angles, the exact inverse rigid motion, quaternions,
- * 4×4 rigid transforms and ROS REP 103 roll/pitch/yaw (see hp_kinematics.h and
+ * 4×4 rigid transforms and ROS REP 103 roll/pitch/yaw (see hp_pose.h and
  * docs/kinematics.md, "Other pose forms"). */
 #include "kin_internal.h"
 

@@ -1,45 +1,31 @@
-/* Enum <-> string for the planner's public enums. */
+/* The planner's name tables and the name/parse calls made from them. */
 #include "headplan/hp_planner.h"
+#include "common/names.h"
+#include "planner/names.h"
 
-#include <string.h>
+const char *const hp_backend_words[] = {"realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla", NULL};
+_Static_assert(sizeof hp_backend_words / sizeof *hp_backend_words == HP_BACKEND_COUNT_ + 1,
+               "one word per backend");
 
-static const char *const backend_names[HP_BACKEND_COUNT_] = {
-    "realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla"};
-
-static const char *const status_names[HP_STATUS_COUNT_] = {
+const char *const hp_status_words[] = {
     "reached", "closest", "iteration-limit", "time-limit",
-    "infeasible-start", "invalid-input", "solver-error", "uncommanded"};
+    "infeasible-start", "invalid-input", "solver-error", "uncommanded", NULL};
+_Static_assert(sizeof hp_status_words / sizeof *hp_status_words == HP_STATUS_COUNT_ + 1,
+               "one word per status");
 
-static const char *const binding_names[HP_BIND_COUNT] = {
-    "pressure_min", "pressure_max", "stretch_min", "stretch_max",
-    "rate_down", "rate_up", "limit_point", "stress_max", "indent_max", "cannot_pull"};
-
-const char *hp_backend_name(hp_backend b)
-{
-    if ((int)b < 0 || b >= HP_BACKEND_COUNT_) return "unknown";
-    return backend_names[b];
-}
-
-hp_error hp_backend_parse(const char *s, hp_backend *out)
-{
-    if (!s || !out) return HP_ERR_NULL;
-    for (int i = 0; i < HP_BACKEND_COUNT_; ++i)
-        if (strcmp(s, backend_names[i]) == 0) {
-            *out = (hp_backend)i;
-            return HP_OK;
-        }
-    return HP_ERR_INVALID;
-}
-
-const char *hp_status_name(hp_status s)
-{
-    if ((int)s < 0 || s >= HP_STATUS_COUNT_) return "unknown";
-    return status_names[s];
-}
+const char *const hp_binding_words[] = {
+    "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
+    "limit_point",  "stress_max",   "indent_max",  "cannot_pull", NULL};
+_Static_assert(sizeof hp_binding_words / sizeof *hp_binding_words == HP_BIND_COUNT + 1,
+               "one word per binding reason");
 
 const char *hp_binding_name(unsigned flag)
 {
     for (int i = 0; i < HP_BIND_COUNT; ++i)
-        if (flag == (1u << i)) return binding_names[i];
+        if (flag == (1u << i)) return hp_binding_words[i];
     return "unknown";
 }
+
+HP_NAMES_CALLS(hp_backend, hp_backend_words, hp_backend_name, hp_backend_parse)
+
+HP_NAMES_NAME_CALL(hp_status, hp_status_words, hp_status_name)

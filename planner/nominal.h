@@ -3,7 +3,7 @@
 #ifndef HP_PLANNER_NOMINAL_H
 #define HP_PLANNER_NOMINAL_H
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_layout.h"
 #include "kinematics/kin_geom.h"
 
 /* Every bladder's pressure at its nominal contact distance (G derived from L). Returns HP_OK,

@@ -5,7 +5,7 @@
 #define HP_PLANNER_PLAN_RANGE_H
 
 #include "common/units.h"
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 
 /* Largest correction hp_plan accepts: far beyond any bladder's reach, small enough that
  * every contact model stays well defined. */

@@ -2,7 +2,6 @@
  * (reset, set_previous), options, accessors, destroy. The plan itself is in plan.c. */
 #define _POSIX_C_SOURCE 200809L
 #include "planner/planner_internal.h"
-#include "planner/planner_rate.h"
 #include "common/unconst.h"
 
 #include <math.h>
@@ -423,7 +422,6 @@ hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *r)
 }
 
 
-/* Internal (horizon/horizon_internal.h): the rate limits of the next plans. */
 hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
 {
     if (!p || !rate_max) return HP_ERR_NULL;

@@ -1,6 +1,9 @@
 /* Planner settings for the Python module: the scene's model and solver sections, then the
  * keyword overrides a Planner is built with. */
 #include "hpy.h"
+#include "common/names.h"
+#include "kinematics/names.h"
+#include "planner/names.h"
 #include "planner/settings_check.h"
 
 #include <string.h>
@@ -88,18 +91,20 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
         kw_int(kw, "warm_start", 0, 1, &warm))
         return -1;
     s->warm_start = warm;
+    char names[96];
     if (backend && hp_backend_parse(backend, &s->backend) != HP_OK) {
-        hpy_fail("backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, nlopt-cobyla)",
-                 backend);
+        hpy_fail("backend: unknown backend '%s' (%s)", backend,
+                 hp_names_join(hp_backend_words, NULL, names, sizeof names));
         return -1;
     }
+    hp_names_join(hp_level_words, NULL, names, sizeof names);
     if (level && strcmp(level, "load") == 0) { /* as batch's --level load */
         hpy_fail("level: load is planned by headplan solve only; the Python module plans the "
-                 "kinematic levels (linear, plane, surface, auto)");
+                 "kinematic levels (%s)", names);
         return -1;
     }
     if (level && hp_level_parse(level, &s->level) != HP_OK) {
-        hpy_fail("level: unknown level '%s' (linear, plane, surface, auto)", level);
+        hpy_fail("level: unknown level '%s' (%s)", level, names);
         return -1;
     }
     if (hp_settings_validate(s, &d) != HP_OK) {

@@ -1,6 +1,7 @@
 /* Bladder sections of a scene: material, radii and limits (with bladder_defaults), the
  * single-bladder study and the values a paper printed. */
 #include "scene/scene_parts.h"
+#include "iab/names.h"
 
 #include <math.h>
 #include <string.h>
@@ -19,10 +20,9 @@ hp_error sp_material(const sr_ctx *c, const yt_node *node, const char *path, hp_
     char p[SR_PATH_MAX], name[16];
     if ((e = sr_require(c, node, path, "convention", &cv))) return e;
     sr_join(p, sizeof p, path, "convention");
-    static const char *const CONVENTIONS[] = {"paper", "fe", NULL};
-    if ((e = sr_word(c, cv, p, "convention", CONVENTIONS, name, sizeof name))) return e;
+    if ((e = sr_word(c, cv, p, "convention", hp_material_convention_words, name, sizeof name))) return e;
     hp_material_convention mc = HP_MATERIAL_PAPER;
-    (void)hp_material_convention_parse(name, &mc); /* cannot fail: name is in CONVENTIONS */
+    (void)hp_material_convention_parse(name, &mc); /* cannot fail: name is in the table */
     const char *const *keys = mc == HP_MATERIAL_PAPER ? PAPER_KEYS : FE_KEYS;
     if ((e = sr_map(c, node, path, keys,
                     mc == HP_MATERIAL_PAPER ? "with convention paper" : "with convention fe")))

@@ -1,5 +1,6 @@
 /* Layout sections of a scene: the head and the bladders' placement. */
 #include "scene/scene_parts.h"
+#include "kinematics/names.h"
 
 #include <math.h>
 #include <string.h>
@@ -17,9 +18,8 @@ hp_error sp_head(const sr_ctx *c, const yt_node *node, const char *path, hp_head
     char p[SR_PATH_MAX], name[32];
     if ((e = sr_require(c, node, path, "shape", &sh))) return e;
     sr_join(p, sizeof p, path, "shape");
-    static const char *const SHAPES[] = {"sphere", "ellipsoid", NULL};
-    if ((e = sr_word(c, sh, p, "shape", SHAPES, name, sizeof name))) return e;
-    (void)hp_head_shape_parse(name, &h->shape); /* cannot fail: name is in SHAPES */
+    if ((e = sr_word(c, sh, p, "shape", hp_head_shape_words, name, sizeof name))) return e;
+    (void)hp_head_shape_parse(name, &h->shape); /* cannot fail: name is in the table */
     int sphere = h->shape == HP_HEAD_SPHERE;
     if ((e = sr_map(c, node, path, sphere ? SPHERE : ELLIPSOID,
                     sphere ? "for a sphere head" : "for an ellipsoid head")))

@@ -4,6 +4,8 @@
 #include "common/units.h"
 #include "planner/settings_check.h"
 #include "scene/scene_parts.h"
+#include "planner/names.h"
+#include "scene/names.h"
 
 #include <errno.h>
 #include <math.h>
@@ -18,15 +20,6 @@ static const char *const LAYOUT_KEYS[] = {"headplan_scene", "name",     "head",
                                           NULL};
 static const char *const BLADDER_KEYS[] = {"headplan_scene", "name", "bladder", "paper_printed",
                                            NULL};
-
-const char *hp_scene_kind_name(hp_scene_kind k)
-{
-    switch (k) {
-    case HP_SCENE_LAYOUT: return "layout";
-    case HP_SCENE_BLADDER: return "bladder";
-    }
-    return "unknown";
-}
 
 /* `headplan_scene: 1` must be the first key, so a reader knows the format before anything
  * else is interpreted. */
@@ -115,16 +108,14 @@ static hp_error solver(const sr_ctx *c, const yt_node *node, hp_scene *s)
 {
     static const char *const KEYS[] = {"backend", "tolerance", "max_iter", "max_time_s",
                                        "weight_mm_per_deg", NULL};
-    static const char *const BACKENDS[] = {"realtime", "ipopt", "nlopt-slsqp", "nlopt-cobyla",
-                                           NULL};
     hp_error e = sr_map(c, node, "solver", KEYS, NULL);
     if (e) return e;
     const yt_node *n;
     if ((n = yt_map_get(node, "backend"))) {
         char name[16];
-        if ((e = sr_word(c, n, "solver.backend", "backend", BACKENDS, name, sizeof name)))
+        if ((e = sr_word(c, n, "solver.backend", "backend", hp_backend_words, name, sizeof name)))
             return e;
-        (void)hp_backend_parse(name, &s->backend); /* cannot fail: name is in BACKENDS */
+        (void)hp_backend_parse(name, &s->backend); /* cannot fail: name is in the table */
     }
     /* The planner's own per-field checks (planner/settings_check.h), so a value the
      * planner would refuse is refused here, at its line and column. */
@@ -180,9 +171,8 @@ static hp_error trace(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if ((e = sr_require(c, node, "trace", "file", &f))) return e;
     if ((e = sr_text(c, f, "trace.file", file, sizeof file))) return e;
     if ((e = sr_require(c, node, "trace", "rows", &r))) return e;
-    static const char *const ROWS[] = {"deviation", "correction", NULL};
-    if ((e = sr_word(c, r, "trace.rows", "rows", ROWS, rows, sizeof rows))) return e;
-    (void)hp_trace_rows_parse(rows, &s->trace_rows); /* cannot fail: rows is in ROWS */
+    if ((e = sr_word(c, r, "trace.rows", "rows", hp_trace_rows_words, rows, sizeof rows))) return e;
+    (void)hp_trace_rows_parse(rows, &s->trace_rows); /* cannot fail: rows is in the table */
     const char *slash = strrchr(c->file, '/');
     int n;
     if (file[0] == '/' || !slash)

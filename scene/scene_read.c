@@ -1,6 +1,7 @@
 /* Strict typed reading of scene values (see scene_read.h). */
 #include "scene/scene_read.h"
 #include "scene/strict_number.h"
+#include "common/names.h"
 
 #include <errno.h>
 #include <float.h>
@@ -219,11 +220,8 @@ hp_error sr_word(const sr_ctx *c, const yt_node *node, const char *path, const c
     if (sr_text(c, node, path, buf, size) == HP_OK)
         for (int i = 0; known[i]; ++i)
             if (strcmp(buf, known[i]) == 0) return HP_OK;
-    char list[256] = "";
-    for (int i = 0; known[i]; ++i) {
-        size_t used = strlen(list);
-        snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "", known[i]);
-    }
+    char list[256];
+    hp_names_join(known, NULL, list, sizeof list);
     return sr_fail(c, node, path, HP_ERR_PARSE, "unknown %s '%.40s' (known: %s)", what,
                    node->value, list);
 }

@@ -1,7 +1,7 @@
 /* Streaming reader of correction/deviation traces in CSV or JSON Lines (see hp_trace.h). */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/hp_trace.h"
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_pose.h"
 #include "scene/strict_number.h"
 #include "scene/text_check.h"
 
@@ -49,52 +49,6 @@ struct hp_trace_reader {
     int stated;           /* the file states the kind of its rows */
     int read_errno;
 };
-
-const char *hp_trace_rows_name(hp_trace_rows r)
-{
-    switch (r) {
-    case HP_TRACE_CORRECTION: return "correction";
-    case HP_TRACE_DEVIATION: return "deviation";
-    }
-    return "unknown";
-}
-
-hp_error hp_trace_rows_parse(const char *s, hp_trace_rows *out)
-{
-    if (!s || !out) return HP_ERR_NULL;
-    if (strcmp(s, "correction") == 0) *out = HP_TRACE_CORRECTION;
-    else if (strcmp(s, "deviation") == 0) *out = HP_TRACE_DEVIATION;
-    else return HP_ERR_INVALID;
-    return HP_OK;
-}
-
-const char *hp_trace_format_name(hp_trace_format f)
-{
-    switch (f) {
-    case HP_TRACE_CSV: return "csv";
-    case HP_TRACE_JSONL: return "jsonl";
-    }
-    return "unknown";
-}
-
-hp_error hp_trace_format_parse(const char *s, hp_trace_format *out)
-{
-    if (!s || !out) return HP_ERR_NULL;
-    if (strcmp(s, "csv") == 0) *out = HP_TRACE_CSV;
-    else if (strcmp(s, "jsonl") == 0) *out = HP_TRACE_JSONL;
-    else return HP_ERR_INVALID;
-    return HP_OK;
-}
-
-const char *hp_trace_form_name(hp_trace_form f)
-{
-    switch (f) {
-    case HP_TRACE_ANGLES: return "angles";
-    case HP_TRACE_QUATERNION: return "quaternion";
-    case HP_TRACE_MATRIX: return "matrix";
-    }
-    return "unknown";
-}
 
 hp_trace_rows hp_trace_rows_of(const hp_trace_reader *r) { return r->rows; }
 hp_trace_form hp_trace_form_of(const hp_trace_reader *r) { return r->form; }

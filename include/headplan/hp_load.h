@@ -26,7 +26,7 @@
 #define HP_LOAD_H
 
 #include "headplan/hp_common.h"
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 
 #ifdef __cplusplus
 extern "C" {

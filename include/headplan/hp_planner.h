@@ -4,7 +4,7 @@
  * Lifecycle: hp_settings_default -> (edit) -> hp_planner_create (the only call that
  * allocates) -> hp_plan, as often as needed -> hp_planner_destroy.
  *
- * Units: the API speaks SI (m, rad, Pa) like hp_kinematics.h; the tolerance and the weight
+ * Units: the API speaks SI (m, rad, Pa) like hp_pose.h; the tolerance and the weight
  * speak mm and degrees, the units the solvers work in.
  *
  * Thread-safety: one planner per thread. Distinct planners may run in different threads at
@@ -49,7 +49,7 @@
  *     from the answer), give the desired pose in every component within 1e-6 mm / degree
  *     (measured: below 1e-9); UNCOMMANDED means they give its commanded part
  *     (desired − uncommanded) back the same way. REACHED never has an uncommanded component
- *     beyond the tolerance. A correction outside the identifiable range (hp_kinematics.h,
+ *     beyond the tolerance. A correction outside the identifiable range (hp_contact.h,
  *     hp_identifiable: rotation angle >= 90 degrees for a head that is not a sphere,
  *     translation beyond the smallest semi-axis) is INVALID_INPUT, the limit named. No
  *     result carries an achieved pose outside that range either: a converged answer there is
@@ -61,7 +61,7 @@
 #define HP_PLANNER_H
 
 #include "headplan/hp_common.h"
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -313,6 +313,15 @@ HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
  * checked against ro: the caller vouches that it is the pose of those radii, as hp_plan's
  * achieved is. */
 HP_API hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *result);
+
+/* Replaces the per-plan rate limit [Pa] of every bladder (the layout's rate_max, one per
+ * bladder: each > 0, +inf for none) for the next hp_plan calls: a caller planning rows of
+ * varying intervals gives each row its own allowance (the horizon planners do). The
+ * planner's own copy of the layout changes, not the caller's. HP_ERR_NULL, HP_ERR_INVALID
+ * (a limit NaN, 0 or negative; nothing changes). When none is left finite the cycle bounds
+ * return to the static ones at once; HP_ERR_STATE if they could not (not for a planner
+ * hp_planner_create accepted). Allocates nothing. */
+HP_API hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max);
 
 /* Forgets the previous plan: the nominal pose becomes the previous answer again. */
 HP_API void hp_planner_reset(hp_planner *p);

@@ -28,7 +28,7 @@
 
 #include "headplan/hp_common.h"
 #include "headplan/hp_iab.h"
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 #include "headplan/hp_load.h"
 #include "headplan/hp_planner.h"
 

@@ -2,7 +2,7 @@
 array trace as in the C locale: run_trace prints the array as CSV for the library's trace
 reader, and "%.17g" wrote "0,1" under the comma locale, so every row split into extra
 columns. The comma locale is the system's when installed, else built with localedef into a
-temporary LOCPATH (as tests/comma_locale.h); skipped only when neither works."""
+temporary LOCPATH (as tests/support/comma_locale.h); skipped only when neither works."""
 import locale
 import os
 import subprocess

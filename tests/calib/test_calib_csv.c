@@ -3,7 +3,7 @@
  * wrong column count, unknown or missing header columns, too few rows), and good files read
  * in SI units. */
 #define _POSIX_C_SOURCE 200809L
-#include "test_util.h"
+#include "support/test_util.h"
 #include "headplan/headplan.h"
 
 #include <stdlib.h>

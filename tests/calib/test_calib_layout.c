@@ -4,8 +4,8 @@
  * unidentifiable designs named; the calibrated scene written atomically, loaded and planned;
  * the information gain of repeating a row. */
 #define _POSIX_C_SOURCE 200809L
-#include "test_util.h"
-#include "calib_rng.h"
+#include "support/test_util.h"
+#include "support/rng.h"
 #include "headplan/headplan.h"
 
 #include <stdlib.h>
@@ -51,11 +51,11 @@ static hp_layout truth_layout(const hp_layout *L, const double da[3], const doub
  * measured with normal noise (sig_t m, sig_r rad). Poses needing pressures outside the
  * limits are drawn again. */
 static void make_rows(const hp_layout *T, hp_level level, int n, double trans, double rot,
-                      double sig_t, double sig_r, calib_rng *r, hp_calib_row *rows)
+                      double sig_t, double sig_r, uint64_t *r, hp_calib_row *rows)
 {
     for (int i = 0; i < n;) {
         double xi[6], rho[HP_MAX_BLADDERS];
-        for (int j = 0; j < 6; ++j) xi[j] = (2 * rng_uniform(r) - 1) * (j < 3 ? trans : rot);
+        for (int j = 0; j < 6; ++j) xi[j] = (2 * test_rng_unit(r) - 1) * (j < 3 ? trans : rot);
         assert_int_equal(hp_contact_eval(T, level, xi, rho, NULL, NULL), HP_OK);
         int ok = 1;
         for (int k = 0; k < T->n && ok; ++k) {
@@ -67,7 +67,7 @@ static void make_rows(const hp_layout *T, hp_level level, int n, double trans, d
         }
         if (!ok) continue;
         for (int j = 0; j < 6; ++j)
-            rows[i].pose[j] = xi[j] + (j < 3 ? sig_t : sig_r) * rng_normal(r);
+            rows[i].pose[j] = xi[j] + (j < 3 ? sig_t : sig_r) * test_rng_normal(r);
         rows[i].line = i + 2;
         ++i;
     }
@@ -93,7 +93,7 @@ static void test_recovery_surface(void **state)
     const double da[3] = {0.6e-3, -0.8e-3, 0.5e-3};
     const double off[8] = {0.3e-3, -0.2e-3, 0, 0.2e-3, -0.3e-3, 0.25e-3, 0, -0.2e-3};
     hp_layout T = truth_layout(&sc->layout, da, off);
-    calib_rng r = {42};
+    uint64_t r = 42;
     static hp_calib_row rows[40];
     make_rows(&T, HP_LEVEL_SURFACE, 40, 1.5e-3, 3 * DEG, 2e-5, 0.02 * DEG, &r, rows);
     hp_layout_fit_options o = opts(HP_LEVEL_SURFACE, 2e-5, 0.02 * DEG);
@@ -173,7 +173,7 @@ static void test_jacobian_vs_closed_form(void **state)
     const hp_layout *L = &sc->layout;
     const double da[3] = {0}, off[8] = {0.2e-3, -0.1e-3, 0.1e-3, 0.15e-3, -0.2e-3, 0.1e-3, 0, 0};
     hp_layout T = truth_layout(L, da, off);
-    calib_rng r = {5};
+    uint64_t r = 5;
     static hp_calib_row rows[20];
     make_rows(&T, HP_LEVEL_LINEAR, 20, 1.5e-3, 2 * DEG, 3e-5, 0.03 * DEG, &r, rows);
     hp_layout_fit_options o = opts(HP_LEVEL_LINEAR, 3e-5, 0.03 * DEG);
@@ -228,7 +228,7 @@ static void test_jacobian_vs_fk_differences(void **state)
     const double da[3] = {0.3e-3, -0.2e-3, 0.1e-3};
     const double off[8] = {0.1e-3, -0.1e-3, 0.05e-3, 0.1e-3, -0.1e-3, 0.1e-3, 0, -0.05e-3};
     hp_layout T = truth_layout(L, da, off);
-    calib_rng r = {21};
+    uint64_t r = 21;
     enum { NR = 12 };
     static hp_calib_row rows[NR];
     make_rows(&T, HP_LEVEL_SURFACE, NR, 1.5e-3, 3 * DEG, 5e-5, 0.05 * DEG, &r, rows);
@@ -300,7 +300,7 @@ static void test_coverage(void **state)
     const double da[3] = {0};
     const double off[8] = {0.3e-3, -0.2e-3, 0.1e-3, 0.2e-3, -0.3e-3, 0.25e-3, -0.1e-3, -0.2e-3};
     hp_layout T = truth_layout(&sc->layout, da, off);
-    calib_rng r = {1};
+    uint64_t r = 1;
     static hp_calib_row rows[10];
     hp_layout_fit_options o = opts(HP_LEVEL_SURFACE, 5e-5, 0.05 * DEG);
     o.fit_axes = 0;
@@ -339,7 +339,7 @@ static void test_unidentifiable_designs(void **state)
     hp_scene *sc = load_default();
     const double da[3] = {0}, off[8] = {0};
     hp_layout T = truth_layout(&sc->layout, da, off);
-    calib_rng r = {9};
+    uint64_t r = 9;
     static hp_calib_row rows[12];
     static hp_layout_fit f;
     /* Linear level: a radial offset shifts every row's pose by the same M·e_k, so only six
@@ -356,7 +356,7 @@ static void test_unidentifiable_designs(void **state)
      * parameters; the semi-axes, admitted last, are held at the scene's values. */
     for (int i = 1; i < 12; ++i) memcpy(rows[i].pressure, rows[0].pressure, sizeof rows[0].pressure);
     for (int i = 0; i < 12; ++i)
-        for (int j = 0; j < 6; ++j) rows[i].pose[j] = rows[0].pose[j] + (j < 3 ? 5e-5 : 0.05 * DEG) * rng_normal(&r);
+        for (int j = 0; j < 6; ++j) rows[i].pose[j] = rows[0].pose[j] + (j < 3 ? 5e-5 : 0.05 * DEG) * test_rng_normal(&r);
     o.level = HP_LEVEL_SURFACE;
     assert_int_equal(hp_fit_layout(&sc->layout, rows, 12, &o, &f, NULL, NULL), HP_OK);
     assert_int_equal(f.rank, 6);
@@ -386,7 +386,7 @@ static void test_calibrated_scene(void **state)
     hp_scene *sc = load_default();
     const double da[3] = {0.4e-3, -0.3e-3, 0.2e-3}, off[8] = {0.1e-3, 0, -0.1e-3, 0, 0.2e-3, 0, 0, -0.1e-3};
     hp_layout T = truth_layout(&sc->layout, da, off);
-    calib_rng r = {77};
+    uint64_t r = 77;
     static hp_calib_row rows[20];
     make_rows(&T, HP_LEVEL_SURFACE, 20, 1.5e-3, 3 * DEG, 2e-5, 0.02 * DEG, &r, rows);
     hp_layout_fit_options o = opts(HP_LEVEL_SURFACE, 2e-5, 0.02 * DEG);
@@ -460,7 +460,7 @@ static void test_information_gain(void **state)
     hp_scene *sc = load_default();
     const double da[3] = {0}, off[8] = {0};
     hp_layout T = truth_layout(&sc->layout, da, off);
-    calib_rng r = {13};
+    uint64_t r = 13;
     static hp_calib_row rows[15];
     make_rows(&T, HP_LEVEL_LINEAR, 15, 1.5e-3, 2 * DEG, 5e-5, 0.05 * DEG, &r, rows);
     hp_layout_fit_options o = opts(HP_LEVEL_LINEAR, 5e-5, 0.05 * DEG);

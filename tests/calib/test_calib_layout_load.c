@@ -2,8 +2,8 @@
  * from synthetic rests of the forward statics (with the offsets too: refused as stalled), its standard
  * error against central differences of whole rest solves, coverage of its 95 % interval
  * over seeded trials, and the mass named as undetermined without a load. */
-#include "test_util.h"
-#include "calib_rng.h"
+#include "support/test_util.h"
+#include "support/rng.h"
 #include "headplan/headplan.h"
 #include "headplan/hp_load_planner.h"
 
@@ -33,7 +33,7 @@ static hp_scene *load_supine(void)
  * again. (The statics find a rest reliably only for nearly symmetric pressures on this
  * scene: asymmetric sets, or the least-squeeze planner's, which leaves the side bladders
  * empty, mostly end without one; docs/calibration.md.) */
-static void make_rows(const hp_scene *sc, int n, double sig_t, double sig_r, calib_rng *r,
+static void make_rows(const hp_scene *sc, int n, double sig_t, double sig_r, uint64_t *r,
                       hp_calib_row *rows)
 {
     hp_load_spec spec = sc->load;
@@ -49,7 +49,7 @@ static void make_rows(const hp_scene *sc, int n, double sig_t, double sig_r, cal
         double xi[6], other[6];
         for (int k = 0; k < sc->layout.n; k += 2)
             rows[i].pressure[k] = rows[i].pressure[k + 1] =
-                (k < 4 ? 5000.0 : 1500.0) * (1.0 + 0.02 * (2.0 * rng_uniform(r) - 1.0));
+                (k < 4 ? 5000.0 : 1500.0) * (1.0 + 0.02 * (2.0 * test_rng_unit(r) - 1.0));
         /* Kept only when the statics also find a rest 60 g either side (the fit starts at
          * MASS_START): a property of the pressures alone, not of the noise, so the coverage
          * below is not biased by it. */
@@ -58,7 +58,7 @@ static void make_rows(const hp_scene *sc, int n, double sig_t, double sig_r, cal
             hp_load_rest(M[2], rows[i].pressure, NULL, other, NULL) != HP_OK)
             continue;
         for (int j = 0; j < 6; ++j)
-            rows[i].pose[j] = xi[j] + (j < 3 ? sig_t : sig_r) * rng_normal(r);
+            rows[i].pose[j] = xi[j] + (j < 3 ? sig_t : sig_r) * test_rng_normal(r);
         rows[i].line = i + 2;
         ++i;
     }
@@ -83,7 +83,7 @@ static void test_recovery(void **state)
 {
     (void)state;
     hp_scene *sc = load_supine();
-    calib_rng r = {3};
+    uint64_t r = 3;
     hp_calib_row rows[16];
     hp_layout_fit_options o = opts(sc, 0);
     make_rows(sc, 16, o.sigma_trans, o.sigma_rot, &r, rows);
@@ -127,7 +127,7 @@ static void test_se_vs_rest_differences(void **state)
 {
     (void)state;
     hp_scene *sc = load_supine();
-    calib_rng r = {4};
+    uint64_t r = 4;
     hp_calib_row rows[10];
     hp_layout_fit_options o = opts(sc, 0);
     make_rows(sc, 10, o.sigma_trans, o.sigma_rot, &r, rows);
@@ -173,7 +173,7 @@ static void test_coverage(void **state)
 {
     (void)state;
     hp_scene *sc = load_supine();
-    calib_rng r = {20261201};
+    uint64_t r = 20261201;
     hp_layout_fit_options o = opts(sc, 0);
     hp_layout_fit *f = malloc(sizeof *f);
     int cover = 0;
@@ -203,7 +203,7 @@ static void test_no_load_names_mass(void **state)
 {
     (void)state;
     hp_scene *sc = load_supine();
-    calib_rng r = {6};
+    uint64_t r = 6;
     hp_calib_row rows[12];
     hp_layout_fit_options o = opts(sc, 1);
     make_rows(sc, 12, o.sigma_trans, o.sigma_rot, &r, rows);

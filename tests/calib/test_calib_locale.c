@@ -3,8 +3,8 @@
  * "77,5" into the scene file, which the C-locale reader then refused or misread. The file
  * must be the one written in the C locale, byte for byte. */
 #define _POSIX_C_SOURCE 200809L
-#include "test_util.h"
-#include "comma_locale.h"
+#include "support/test_util.h"
+#include "support/comma_locale.h"
 #include "headplan/headplan.h"
 
 #include <math.h>

@@ -5,8 +5,8 @@
  * the information gain of one more point; neo-Hookean data (C2 = 0, on the model's bound),
  * radii in the wrong unit (a fit that does not fit), data too close to lambda = 1 to
  * separate the moduli whatever the noise. */
-#include "test_util.h"
-#include "calib_rng.h"
+#include "support/test_util.h"
+#include "support/rng.h"
 #include "headplan/hp_calib.h"
 
 #include <string.h>
@@ -17,7 +17,7 @@
 /* n points at pressures evenly spaced over [plo, phi] from a bladder with moduli C1, C2,
  * radius (inner or outer) with normal noise sigma (0: exact). */
 static void synth(hp_calib_radius kind, double C1, double C2, double plo, double phi, int n,
-                  double sigma, calib_rng *r, hp_calib_point *pts)
+                  double sigma, uint64_t *r, hp_calib_point *pts)
 {
     hp_iab b = {RI, RO, C1, C2};
     for (int i = 0; i < n; ++i) {
@@ -26,7 +26,7 @@ static void synth(hp_calib_radius kind, double C1, double C2, double plo, double
         rad = ri;
         if (kind == HP_CALIB_OUTER) assert_int_equal(hp_iab_ro(&b, ri, &rad), HP_OK);
         pts[i].pressure = P;
-        pts[i].radius = rad + (sigma > 0 ? sigma * rng_normal(r) : 0.0);
+        pts[i].radius = rad + (sigma > 0 ? sigma * test_rng_normal(r) : 0.0);
         pts[i].sigma = sigma > 0 ? sigma : 2e-5;
         pts[i].line = i + 2;
     }
@@ -83,7 +83,7 @@ static void test_exact_recovery(void **state)
 static void test_jacobian_vs_finite_differences(void **state)
 {
     (void)state;
-    calib_rng r = {7};
+    uint64_t r = 7;
     hp_calib_point pts[10];
     for (int kind = 0; kind < 2; ++kind) {
         synth((hp_calib_radius)kind, 1.2e4, 2.0e4, -3000, 5000, 10, 2e-5, &r, pts);
@@ -128,7 +128,7 @@ static void test_jacobian_vs_finite_differences(void **state)
 static void test_coverage(void **state)
 {
     (void)state;
-    calib_rng r = {20261201};
+    uint64_t r = 20261201;
     const int trials = 400;
     int cover[2][2] = {{0}};
     hp_calib_point pts[12];
@@ -165,7 +165,7 @@ static void expect_refusal(const hp_calib_point *pts, int n, const char *words)
 static void test_unidentifiable_designs(void **state)
 {
     (void)state;
-    calib_rng r = {3};
+    uint64_t r = 3;
     hp_calib_point pts[12];
     /* One pressure, many repeats: one equation for two moduli. */
     synth(HP_CALIB_INNER, 1.1e4, 2.2e4, 2000, 2000.0000001, 12, 2e-5, &r, pts);
@@ -243,7 +243,7 @@ static void test_bad_points(void **state)
 static void test_information_gain(void **state)
 {
     (void)state;
-    calib_rng r = {11};
+    uint64_t r = 11;
     hp_calib_point pts[13];
     synth(HP_CALIB_INNER, 1.2e4, 2.0e4, -3000, 3000, 12, 2e-5, &r, pts);
     hp_material_fit f;
@@ -291,7 +291,7 @@ static void test_neo_hookean(void **state)
     assert_true(f.rms < 1e-12);
     /* With noise: every one of 40 seeded data sets gives an answer with C2 >= 0 and C1
      * within 5 standard errors of the truth. */
-    calib_rng r = {20261204};
+    uint64_t r = 20261204;
     for (int t = 0; t < 40; ++t) {
         synth(HP_CALIB_INNER, 1.1e4, 0.0, -4000, 0.9 * lp.pressure, 12, 2e-5, &r, pts);
         e = hp_fit_material(RI, RO, HP_CALIB_INNER, pts, 12, &f, NULL, &d);
@@ -312,7 +312,7 @@ static void test_near_one_refused(void **state)
     const double sig[4] = {1e-8, 1e-7, 1e-6, 2e-5};
     int counts[4][3] = {{0}};
     for (int k = 0; k < 4; ++k) {
-        calib_rng r = {1000 + (uint64_t)k};
+        uint64_t r = 1000 + (uint64_t)k;
         for (int t = 0; t < 60; ++t) {
             hp_calib_point pts[12];
             synth(HP_CALIB_INNER, 1.1e4, 2.2e4, 0.5, 5.5, 12, sig[k], &r, pts);
@@ -333,7 +333,7 @@ static void test_near_one_refused(void **state)
 static void test_misfit_refused(void **state)
 {
     (void)state;
-    calib_rng r = {7};
+    uint64_t r = 7;
     hp_calib_point pts[12];
     synth(HP_CALIB_INNER, 1.25e4, 1.9e4, -4000, 6000, 12, 2e-5, &r, pts);
     hp_material_fit f;

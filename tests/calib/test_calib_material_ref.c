@@ -3,8 +3,8 @@
  * against an information matrix built from central differences of the forward kinematics
  * (independent of the closed-form dP/dR); coverage of the radius's 95 % interval over seeded
  * trials; designs that cannot determine the radius refused by name. */
-#include "test_util.h"
-#include "calib_rng.h"
+#include "support/test_util.h"
+#include "support/rng.h"
 #include "headplan/hp_calib.h"
 
 #include <string.h>
@@ -15,7 +15,7 @@
 /* n points at pressures evenly spaced over [plo, phi] from bladder b, radius kind, normal
  * noise sigma (0: exact; the stated sigma is then 2e-5 m). */
 static void synth(const hp_iab *b, hp_calib_radius kind, double plo, double phi, int n,
-                  double sigma, calib_rng *r, hp_calib_point *pts)
+                  double sigma, uint64_t *r, hp_calib_point *pts)
 {
     for (int i = 0; i < n; ++i) {
         double P = plo + (phi - plo) * i / (n - 1), ri, rad;
@@ -23,7 +23,7 @@ static void synth(const hp_iab *b, hp_calib_radius kind, double plo, double phi,
         rad = ri;
         if (kind == HP_CALIB_OUTER) assert_int_equal(hp_iab_ro(b, ri, &rad), HP_OK);
         pts[i].pressure = P;
-        pts[i].radius = rad + (sigma > 0 ? sigma * rng_normal(r) : 0.0);
+        pts[i].radius = rad + (sigma > 0 ? sigma * test_rng_normal(r) : 0.0);
         pts[i].sigma = sigma > 0 ? sigma : 2e-5;
         pts[i].line = i + 2;
     }
@@ -40,7 +40,7 @@ static void truth(hp_calib_radius ref, hp_iab *b, double *Ri0, double *Ro0)
 }
 
 /* Twelve points over -4..6 kPa of the truth for radius ref, measured as kind. */
-static void make_case(int kind, int ref, double sigma, calib_rng *r, hp_iab *b, double *Ri0,
+static void make_case(int kind, int ref, double sigma, uint64_t *r, hp_iab *b, double *Ri0,
                       double *Ro0, hp_calib_point pts[12])
 {
     truth((hp_calib_radius)ref, b, Ri0, Ro0);
@@ -101,7 +101,7 @@ static void inv3(const double A[9], double C[9])
 static void test_jacobian_vs_finite_differences(void **state)
 {
     (void)state;
-    calib_rng r = {11};
+    uint64_t r = 11;
     for (int kind = 0; kind < 2; ++kind)
         for (int ref = 0; ref < 2; ++ref) {
             hp_iab b;
@@ -161,7 +161,7 @@ static void test_jacobian_vs_finite_differences(void **state)
 static void test_coverage(void **state)
 {
     (void)state;
-    calib_rng r = {20261201};
+    uint64_t r = 20261201;
     const double margin = 3.0 * sqrt(0.95 * 0.05 / TRIALS);
     for (int kind = 0; kind < 2; ++kind) {
         hp_iab b;
@@ -209,7 +209,7 @@ static void test_unidentifiable_designs(void **state)
 {
     (void)state;
     hp_iab b = {0.027, 0.030, C1T, C2T};
-    calib_rng r = {5};
+    uint64_t r = 5;
     /* Pressures 0, 2 and 5 kPa, each three times, inner radii: zero pressure returns Ri, so
      * Ri has its three equations; Ro has two (zero pressure says nothing about it). */
     hp_calib_point pts[12];
@@ -217,7 +217,7 @@ static void test_unidentifiable_designs(void **state)
     for (int i = 0; i < 9; ++i) {
         double ri;
         assert_int_equal(hp_iab_fk(&b, P3[i % 3], &ri), HP_OK);
-        pts[i] = (hp_calib_point){P3[i % 3], ri + 2e-5 * rng_normal(&r), 2e-5, i + 2};
+        pts[i] = (hp_calib_point){P3[i % 3], ri + 2e-5 * test_rng_normal(&r), 2e-5, i + 2};
     }
     hp_material_fit f;
     assert_int_equal(hp_fit_material_ref(0.027, 0.030, HP_CALIB_INNER, HP_CALIB_INNER, pts, 9,

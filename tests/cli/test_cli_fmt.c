@@ -11,7 +11,8 @@
  * test_decimal_ties: doubles that are exactly half-way between two 15- or 16-digit
  * decimals (so the round-half-to-even rule decides the digits) and their neighbours a few
  * ulps away (the read-back test decides between p = 15, 16, 17 there). */
-#include "test_util.h"
+#include "support/test_util.h"
+#include "support/rng.h"
 
 #include "cli/cli_args.h"
 
@@ -21,14 +22,6 @@
 #include <string.h>
 
 static uint64_t rng = 0x9E3779B97F4A7C15u;
-static uint64_t next(void)
-{
-    uint64_t z = (rng += 0x9E3779B97F4A7C15u);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
-    return z ^ (z >> 31);
-}
-static double unit(void) { return (double)(next() >> 11) * 0x1p-53; }
 
 static long checked;
 
@@ -66,7 +59,8 @@ static void check_around(double v, int n)
 /* nd random decimal digits, the first not 0, into s; returns nd. */
 static int random_digits(char *s, int nd)
 {
-    for (int d = 0; d < nd; ++d) s[d] = (char)('0' + (d == 0 ? 1 + next() % 9 : next() % 10));
+    for (int d = 0; d < nd; ++d)
+        s[d] = (char)('0' + (d == 0 ? 1 + test_rng_next(&rng) % 9 : test_rng_next(&rng) % 10));
     return nd;
 }
 
@@ -74,11 +68,11 @@ static void test_against_printf(void **state)
 {
     (void)state;
     for (int i = 0; i < 600000; ++i) { /* log-uniform, 1e-8 .. 1e18 */
-        double v = pow(10.0, -8.0 + 26.0 * unit());
-        check(next() & 1 ? v : -v);
+        double v = pow(10.0, -8.0 + 26.0 * test_rng_unit(&rng));
+        check(test_rng_next(&rng) & 1 ? v : -v);
     }
     for (int i = 0; i < 300000; ++i) { /* any bit pattern (NaN, inf, subnormal included) */
-        uint64_t u = next();
+        uint64_t u = test_rng_next(&rng);
         double v;
         memcpy(&v, &u, sizeof v);
         check(v);
@@ -87,7 +81,7 @@ static void test_against_printf(void **state)
         for (int h = 0; h < 2; ++h) check_around(h ? 5.0 * pow(10.0, e - 1) : pow(10.0, e), 2000);
     for (int i = 0; i < 600000; ++i) { /* short decimals, ties of rounding */
         char s[64];
-        int nd = 1 + (int)(next() % 17), e = (int)(next() % 24) - 8;
+        int nd = 1 + (int)(test_rng_next(&rng) % 17), e = (int)(test_rng_next(&rng) % 24) - 8;
         int n = random_digits(s, nd);
         snprintf(s + n, sizeof s - (size_t)n, "e%d", e - nd + 1);
         check(strtod(s, NULL));
@@ -104,8 +98,8 @@ static void test_against_printf(void **state)
             check(nextafter(v, INFINITY));
         }
     for (int i = 0; i < 100000; ++i) { /* whole numbers up to 1e15, both signs */
-        double v = floor(pow(10.0, 15.0 * unit()));
-        check(next() & 1 ? v : -v);
+        double v = floor(pow(10.0, 15.0 * test_rng_unit(&rng)));
+        check(test_rng_next(&rng) & 1 ? v : -v);
     }
     check(0.0);
     check(-0.0);
@@ -125,7 +119,7 @@ static void test_every_exponent(void **state)
             uint64_t m = (uint64_t)1 << 52;
             if (i == 1) m = ((uint64_t)1 << 53) - 1;
             else if (i == 2) m += 1;
-            else if (i > 2) m |= next() >> 12;
+            else if (i > 2) m |= test_rng_next(&rng) >> 12;
             double v = dyadic(m, n2 - 52);
             for (int sgn = 0; sgn < 2; ++sgn) {
                 double w = sgn ? -v : v;
@@ -180,10 +174,10 @@ static void test_decimal_ties(void **state)
      * is 5: with 16 or 17 significant digits it is a tie of "%.15g" or "%.16g". */
     long ties = 0;
     for (int i = 0; i < 120000; ++i) {
-        int bits = 20 + (int)(next() % 34); /* 20 .. 53 */
-        uint64_t N = (next() >> (64 - bits)) | ((uint64_t)1 << (bits - 1)) | 1u;
+        int bits = 20 + (int)(test_rng_next(&rng) % 34); /* 20 .. 53 */
+        uint64_t N = (test_rng_next(&rng) >> (64 - bits)) | ((uint64_t)1 << (bits - 1)) | 1u;
         /* j near where N·5^j has 16 or 17 digits (0.301·bits + 0.699·j of them). */
-        int j = (int)lround((16.2 - 0.30103 * bits) / 0.69897) + (int)(next() % 3) - 1;
+        int j = (int)lround((16.2 - 0.30103 * bits) / 0.69897) + (int)(test_rng_next(&rng) % 3) - 1;
         if (j < 1) j = 1;
         u128 dec = N; /* < 2^53·5^20 < 2^100 */
         for (int t = 0; t < j; ++t) dec *= 5u;
@@ -199,7 +193,7 @@ static void test_decimal_ties(void **state)
      * digit 5 at digit 16 or 17), and their neighbours. */
     for (int i = 0; i < 100000; ++i) {
         char s[64];
-        int p = 15 + (int)(next() % 2), e = (int)(next() % 22) - 6, n = random_digits(s, p);
+        int p = 15 + (int)(test_rng_next(&rng) % 2), e = (int)(test_rng_next(&rng) % 22) - 6, n = random_digits(s, p);
         s[n++] = '5';
         snprintf(s + n, sizeof s - (size_t)n, "e%d", e - p);
         check_around(strtod(s, NULL), 2);

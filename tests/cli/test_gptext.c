@@ -10,7 +10,7 @@
  * expected script text, written out here by hand. test_path: file names, relative ones
  * behind "./". */
 #define _POSIX_C_SOURCE 200809L
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "cli/cli_gptext.h"
 

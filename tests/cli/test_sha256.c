@@ -3,7 +3,7 @@
  * through files, the file of a million bytes read in several chunks; and a file that
  * cannot be read. The batch metadata against Python's hashlib: tests/cli/batch.sh. */
 #define _POSIX_C_SOURCE 200809L /* mkstemp */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "cli/sha256.h"
 

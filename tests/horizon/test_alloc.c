@@ -2,10 +2,10 @@
  * predictions, horizons 1..HP_HORIZON_MAX, binding rate limits, a NaN row and a refused time
  * stamp. Linked with -Wl,--wrap for every allocation function (tests/CMakeLists.txt); a
  * self-check proves the wrapping is active. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "tests/horizon/horizon_fixture.h"
 
-#include "alloc_counter.h"
+#include "support/alloc_counter.h"
 
 static void test_wrap_active(void **st)
 {

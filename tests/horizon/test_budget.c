@@ -3,7 +3,7 @@
  * before its first iteration, whatever the load, so two runs give the same output, and every
  * row says that its budget stopped it (time-limit, as headplan batch labels such a row),
  * with pressures inside every limit. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "tests/horizon/horizon_fixture.h"
 #include "horizon/horizon_internal.h"
 

@@ -3,7 +3,7 @@
  * row of every plan inside every limit (recomputed here from the radii with the public bladder
  * model, not taken from the planner), windows against the whole solve, receding with N = 1
  * against greedy, and the checks on settings and time stamps. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "tests/horizon/horizon_fixture.h"
 #include "horizon/horizon_internal.h"
 
@@ -319,7 +319,7 @@ static void test_rows_outside_the_request_range(void **st)
     free(c);
 }
 
-/* hp_planner_set_rate_max (horizon_internal.h) lifting every limit after a tight one: the
+/* hp_planner_set_rate_max (hp_planner.h) lifting every limit after a tight one: the
  * next plan is the plan of a planner created without rate limits, to the bit (hp_plan no
  * longer sets the bounds of a rate-free planner, so lifting the limits must restore them).
  * Cold plans, so the previous answer enters only through the rate limits. */

@@ -3,7 +3,7 @@
  * uncommanded = only the part the layout cannot observe is missed. Each row is classified
  * here from the plan's output alone: its pose against the commanded part of its desired
  * pose (hp_pose_commanded_part), and the limits recomputed from its pressures. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "tests/horizon/horizon_fixture.h"
 #include "horizon/horizon_internal.h"
 

@@ -4,7 +4,7 @@
  * obj_factor·∇²f + Σ λ_i ∇²g_i (lower triangle, filled out by symmetry), on four rows around
  * the step of the step trace, at the surface contact level, with a large smoothness weight so
  * its cross-row terms count. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "tests/horizon/horizon_fixture.h"
 
 #include "horizon/horizon_internal.h"

@@ -2,7 +2,7 @@
  * interval, in every plan: a short interval early in the trace must not shrink the allowance
  * of the rows after it. And an allowance so small that the pressures can only be held (a
  * per-second limit of 1e-300 kPa/s) still gets an answer from every plan, holding them. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "tests/horizon/horizon_fixture.h"
 #include "horizon/horizon_internal.h"
 

@@ -3,7 +3,7 @@
  * the trace: the same window for 2,000 and 20,000 rows. Checked on the sizes the code itself
  * reports (no timing, no large solve): hp_horizon_offline_windows, and the largest NLP an
  * actual offline solve reports in hp_horizon_info.largest_window. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "tests/horizon/horizon_fixture.h"
 
 static void test_default_window_is_flat(void **st)

@@ -1,7 +1,7 @@
 /* Closed-form IK: docs/model.md §3 reference values, accuracy against a __float128 reference
  * over λi in [0.5, 3] × wall thicknesses × C2/C1, exact derivatives, the volume law and the
  * wall stresses. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "headplan/hp_iab.h"
 #include "iab_quadref.h"
 #include "iab/iab_internal.h"

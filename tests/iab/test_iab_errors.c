@@ -1,7 +1,7 @@
 /* Every domain and argument error of the bladder API: a specific code, a message naming the
  * field (hp_iab_validate), outputs untouched, never NaN returned as a result. Also the
  * material-convention strings and conversion. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "headplan/hp_iab.h"
 #include "iab/iab_internal.h"
 

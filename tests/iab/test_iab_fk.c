@@ -1,7 +1,7 @@
 /* Forward kinematics and the inflation limit point: against a hand derivation of
  * dP/dλi = 0 solved in quad precision, the thin-shell limit 7^(1/6), FK∘IK round trips,
  * and HP_ERR_NO_STABLE at and above the limit-point pressure. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "headplan/hp_iab.h"
 #include "iab_quadref.h"
 #include "iab/iab_internal.h"

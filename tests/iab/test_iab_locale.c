@@ -2,8 +2,8 @@
  * its %g in the thread's LC_NUMERIC, so a host that had set de_DE read "got -0,5" where the
  * command line (which runs in C) read "got -0.5" for the same refused bladder. */
 #define _POSIX_C_SOURCE 200809L
-#include "test_util.h"
-#include "comma_locale.h"
+#include "support/test_util.h"
+#include "support/comma_locale.h"
 
 #include "headplan/hp_iab.h"
 

@@ -1,7 +1,7 @@
 /* The paper's two integrals P(r) and P(R), by fixed Gauss–Legendre and adaptive
  * Gauss–Kronrod quadrature, against the closed form; and the rules themselves against
  * exact integrals of monomials. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "headplan/hp_iab.h"
 #include "iab/iab_internal.h"
 

@@ -1,7 +1,7 @@
 /* Wall stress as a limit: the inner hoop stress in closed form against the paper's stress
  * components written out here, its monotonicity on the stable branch (which is what makes
  * a stress bound a radius bound), and the radius the bound maps to. */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "headplan/hp_iab.h"
 

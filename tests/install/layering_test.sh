@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# The layering holds: no include runs back up the data flow (scripts/check_layers.py), and
-# the bladder module's tests were linked with no Ipopt, NLopt or YAML library (what the
-# dynamic loader would load for them, ldd). Usage: layering_test.sh BUILD_DIR SOURCE_DIR
+# The layering holds: no include runs back up the data flow or sideways to a module not used
+# (scripts/check_layers.py, against cmake/layers.txt), no two files of a folder depend on each
+# other, and the bladder module's tests were linked with no Ipopt, NLopt or YAML library (what
+# the dynamic loader would load for them, ldd). Usage: layering_test.sh BUILD_DIR SOURCE_DIR
 set -uo pipefail
 build="$1"; src="$2"; fails=0
 python3 "$src/scripts/check_layers.py" "$src" || { echo "FAIL: an include runs back up"; fails=$((fails + 1)); }
@@ -15,10 +16,33 @@ for t in "$build"/tests/iab_test_*; do
   fi
 done
 [ "$n" -ge 3 ] || { echo "FAIL: only $n bladder-module test programs found in $build/tests"; fails=$((fails + 1)); }
+# The umbrella is complete: headplan.h includes every public header (hp_load_planner.h aside,
+# whose load planner becomes a level of hp_planner).
+for h in "$src"/include/headplan/hp_*.h "$src"/include/headplan/hp_version.h.in; do
+  h=$(basename "$h" .in)
+  [ "$h" = hp_load_planner.h ] && continue
+  grep -q "#include \"headplan/$h\"" "$src/include/headplan/headplan.h" ||
+    { echo "FAIL: headplan.h does not include $h"; fails=$((fails + 1)); }
+done
 # The checker is not vacuous: an upward include in a scratch tree is found.
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-mkdir -p "$tmp/iab" "$tmp/include/headplan"
+mkdir -p "$tmp/iab" "$tmp/include/headplan" "$tmp/cmake"
+cp "$src/cmake/layers.txt" "$tmp/cmake/layers.txt"
 printf '#include "planner/problem.h"\n' >"$tmp/iab/x.c"
 python3 "$src/scripts/check_layers.py" "$tmp" >/dev/null && { echo "FAIL: the checker missed iab -> planner"; fails=$((fails + 1)); }
-echo "$((n + 2 - fails)) passed, $fails failed"
+# Nor blind to a cycle between two files of one folder (a.c calls b.c, which calls a.c back),
+# while a one-way call is fine.
+mkdir -p "$tmp/calib"
+rm "$tmp/iab/x.c"
+printf 'int hp_b(int x);\nint hp_a(int x)\n{\n    return x > 0 ? hp_b(x - 1) : 0;\n}\n' >"$tmp/calib/a.c"
+printf 'int hp_b(int x)\n{\n    return x + 1;\n}\n' >"$tmp/calib/b.c"
+python3 "$src/scripts/check_layers.py" "$tmp" >/dev/null || { echo "FAIL: the checker refused a one-way call"; fails=$((fails + 1)); }
+printf 'int hp_a(int x);\nint hp_b(int x)\n{\n    return hp_a(x) + 1; /* hp_c() */\n}\n' >"$tmp/calib/b.c"
+out=$(python3 "$src/scripts/check_layers.py" "$tmp")
+grep -q 'calib/: the files a.c, b.c depend on each other' <<<"$out" || { echo "FAIL: the checker missed the cycle calib/a.c <-> calib/b.c"; fails=$((fails + 1)); }
+# Nor blind to a sideways include: horizon does not use calib (cmake/layers.txt).
+rm "$tmp/calib/"*.c; mkdir -p "$tmp/horizon"
+printf '#include "calib/calib_internal.h"\n' >"$tmp/horizon/x.c"
+python3 "$src/scripts/check_layers.py" "$tmp" >/dev/null && { echo "FAIL: the checker missed horizon -> calib"; fails=$((fails + 1)); }
+echo "$((n + 5 - fails)) passed, $fails failed"
 [ "$fails" -eq 0 ]

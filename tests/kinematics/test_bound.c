@@ -1,8 +1,8 @@
 /* Error bounds of the linear and plane levels against the surface level, and the choice of
  * level by tolerance. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "default_layout.h"
+#include "support/default_layout.h"
 #include "kin_test_util.h"
 #include "kinematics/kin_geom.h"
 #include "common/units.h"
@@ -20,7 +20,7 @@ static int setup(void **state)
 static double sampled_worst(const hp_layout *L, hp_level lv, double T, double rot, int count,
                             uint64_t seed)
 {
-    kin_rng rng = {seed};
+    uint64_t rng = seed;
     double worst = 0.0;
     for (int it = 0; it < count; ++it) {
         double xi[6], rs[HP_MAX_BLADDERS], rl[HP_MAX_BLADDERS];
@@ -140,7 +140,7 @@ static void test_step_bound(void **state)
 {
     (void)state;
     const double hs[3] = {1e-2, 1e-3, 1e-4};
-    kin_rng rng = {4711};
+    uint64_t rng = 4711;
     for (int c = 0; c < 3; ++c) {
         hp_layout L;
         hp_geom G;
@@ -216,7 +216,7 @@ static void test_ball_curvature(void **state)
 {
     (void)state;
     const double radii[4] = {0.01, 0.3, 1.0, 5.0};
-    kin_rng rng = {977};
+    uint64_t rng = 977;
     for (int c = 0; c < 3; ++c) {
         hp_layout L;
         hp_geom G;
@@ -235,10 +235,10 @@ static void test_ball_curvature(void **state)
                     /* a point of the ball: a random scaled offset of length <= r */
                     double off[6], n2 = 0, p[6];
                     for (int i = 0; i < 6; ++i) {
-                        off[i] = kin_rng_normal(&rng);
+                        off[i] = test_rng_normal(&rng);
                         n2 += off[i] * off[i];
                     }
-                    double len = r * kin_rng_uniform(&rng, 0.0, 1.0) / sqrt(n2);
+                    double len = r * test_rng_uniform(&rng, 0.0, 1.0) / sqrt(n2);
                     if (s == 0) len = r / sqrt(n2); /* on its boundary */
                     for (int i = 0; i < 6; ++i)
                         p[i] = xc[i] + off[i] * len * (i < 3 ? 1e-3 : HP_PI / 180.0);
@@ -281,7 +281,7 @@ static void test_ball_curvature(void **state)
                         /* and one random direction's quadratic form */
                         double u[6], un = 0, q = 0;
                         for (int a = 0; a < 6; ++a) {
-                            u[a] = kin_rng_normal(&rng);
+                            u[a] = test_rng_normal(&rng);
                             un += u[a] * u[a];
                         }
                         for (int a = 0; a < 6; ++a)

@@ -1,8 +1,8 @@
 /* Contact distances at the three levels: values against independent formulas, exact J and
  * H against central differences and Richardson-extrapolated differences. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "default_layout.h"
+#include "support/default_layout.h"
 #include "kin_test_util.h"
 #include "kinematics/kin_geom.h"
 #include "kinematics/kin_internal.h"
@@ -92,7 +92,7 @@ static void check_level_derivs(const hp_layout *L, hp_level lv, const double xi[
 static void test_derivatives_all_levels(void **state)
 {
     (void)state;
-    kin_rng rng = {2024};
+    uint64_t rng = 2024;
     const double zero[6] = {0};
     for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_SURFACE; ++lv) {
         check_level_derivs(&LAY, (hp_level)lv, zero);
@@ -144,7 +144,7 @@ static void test_levels_agree_at_zero(void **state)
 static void test_plane_formula(void **state)
 {
     (void)state;
-    kin_rng rng = {99};
+    uint64_t rng = 99;
     for (int it = 0; it < 200; ++it) {
         double xi[6], R[9], rho[HP_MAX_BLADDERS];
         kin_rng_pose(&rng, 0.03, 0.5, 0, xi);
@@ -282,7 +282,7 @@ static void ref_contact(const hp_layout *L, hp_level lv, const double xi[6], dou
 static void test_generic_form(void **state)
 {
     (void)state;
-    kin_rng rng = {404};
+    uint64_t rng = 404;
     const double PI = 3.14159265358979323846;
     for (int it = 0; it < 400; ++it) {
         double xi[6];
@@ -384,7 +384,7 @@ static void test_inside(void **state)
     (void)state;
     hp_geom G;
     assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
-    kin_rng rng = {505};
+    uint64_t rng = 505;
     int outs = 0, ins = 0, skips = 0;
     for (int it = 0; it < 900; ++it) {
         double xi[6];
@@ -397,10 +397,10 @@ static void test_inside(void **state)
             /* mostly inside; in a third of the poses one bladder in eight at or one ulp past
              * a bound, in another third one in four well past a bound (0.01..3 mm) */
             int mode = (it / 3) % 3;
-            int pick = mode == 0 ? (int)kin_rng_uniform(&rng, 0, 32)
-                     : mode == 1 ? 4 + (int)kin_rng_uniform(&rng, 0, 4)
-                                 : kin_rng_uniform(&rng, 0, 4) < 1 ? 8 : 4;
-            double past = kin_rng_uniform(&rng, 0.01, 3.0);
+            int pick = mode == 0 ? (int)test_rng_uniform(&rng, 0, 32)
+                     : mode == 1 ? 4 + (int)test_rng_uniform(&rng, 0, 4)
+                                 : test_rng_uniform(&rng, 0, 4) < 1 ? 8 : 4;
+            double past = test_rng_uniform(&rng, 0.01, 3.0);
             lo[k] = pick == 0 ? mm : pick == 1 ? nextafter(mm, INFINITY) : mm - 1.0;
             hi[k] = pick == 2 ? mm : pick == 3 ? nextafter(mm, -INFINITY) : mm + 1.0;
             if (pick == 8 && it % 2) lo[k] = mm + past;
@@ -448,7 +448,7 @@ static void test_inside_prediction_wrong(void **state)
     (void)state;
     hp_geom G;
     assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
-    kin_rng rng = {606};
+    uint64_t rng = 606;
     for (int it = 0; it < 40; ++it) {
         double xi[6], rl[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
         kin_rng_pose(&rng, 0.01, 0.2, 1, xi);
@@ -499,7 +499,7 @@ static void test_eval_mask(void **state)
     (void)state;
     hp_geom G;
     assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
-    kin_rng rng = {9090};
+    uint64_t rng = 9090;
     const double sentinel = 12345.0;
     for (int it = 0; it < 300; ++it) {
         hp_level lv = it % 2 ? HP_LEVEL_SURFACE : HP_LEVEL_PLANE;
@@ -507,7 +507,7 @@ static void test_eval_mask(void **state)
         double rm[HP_MAX_BLADDERS], Jm[HP_MAX_BLADDERS * 6], Hm[HP_MAX_BLADDERS * 36];
         unsigned char mask[HP_MAX_BLADDERS];
         kin_rng_pose(&rng, 0.01, 0.2, 0, xi);
-        for (int k = 0; k < LAY.n; ++k) mask[k] = kin_rng_uniform(&rng, 0, 1) < 0.3;
+        for (int k = 0; k < LAY.n; ++k) mask[k] = test_rng_uniform(&rng, 0, 1) < 0.3;
         if (it % 7 == 0) memset(mask, 0, sizeof mask);
         for (int i = 0; i < LAY.n * 36; ++i) Hm[i] = sentinel;
         assert_int_equal(hp_contact_eval_g(&LAY, &G, lv, xi, rf, Jf, Hf), HP_OK);

@@ -1,5 +1,5 @@
 /* The point-to-head distance: robust root find and its exact derivatives. */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "kin_test_util.h"
 #include "kinematics/kin_internal.h"
@@ -90,7 +90,7 @@ static void test_axes_and_far(void **state)
     /* Points on coordinate planes and exactly on the surface. */
     const double plane_pts[3][3] = {{0.11, 0.05, 0.005}, {0.01, -0.02, 0.2}, {0.09, -0.02, 0.01}};
     for (int i = 0; i < 3; ++i) check_closest(&h, plane_pts[i]);
-    kin_rng rng = {7};
+    uint64_t rng = 7;
     for (int i = 0; i < 200; ++i) {
         double u[3], s[3];
         kin_rng_vec3(&rng, 1.0, u);
@@ -101,7 +101,7 @@ static void test_axes_and_far(void **state)
     }
     for (int i = 0; i < 20; ++i) {
         double q[3];
-        kin_rng_vec3(&rng, kin_rng_uniform(&rng, 0.09, 0.3), q);
+        kin_rng_vec3(&rng, test_rng_uniform(&rng, 0.09, 0.3), q);
         for (int k = 0; k < 3; ++k) q[k] += h.center[k];
         check_closest(&h, q);
     }
@@ -118,11 +118,11 @@ static void test_near_sphere(void **state)
     const double e1 = 1.0 + 1e-12;
     hp_head cases[4] = {ellipsoid(r * e1, r * e1, r), ellipsoid(r, r, r),
                         ellipsoid(r, r * e1, r * e1), ellipsoid(r * e1, r, r * (1 - 1e-12))};
-    kin_rng rng = {11};
+    uint64_t rng = 11;
     for (int c = 0; c < 4; ++c)
         for (int i = 0; i < 100; ++i) {
             double q[3];
-            kin_rng_vec3(&rng, kin_rng_uniform(&rng, 0.05, 0.4), q);
+            kin_rng_vec3(&rng, test_rng_uniform(&rng, 0.05, 0.4), q);
             if (i % 10 == 0) q[0] = q[1] = 0.0; /* on the z axis */
             if (i % 10 == 1) q[1] = 0.0;        /* on a coordinate plane */
             double d1, d2, g1[3], g2[3], H1[9], H2[9];
@@ -178,7 +178,7 @@ static void test_derivatives(void **state)
 {
     (void)state;
     hp_head h = ellipsoid(0.0775, 0.115, 0.0975);
-    kin_rng rng = {3};
+    uint64_t rng = 3;
     for (int i = 0; i < 100; ++i) {
         double q[3];
         kin_rng_vec3(&rng, 1.0, q);
@@ -190,7 +190,7 @@ static void test_derivatives(void **state)
             kin_rng_vec3(&rng, 1.0, n);
             double d0, g0[3];
             assert_int_equal(hp_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
-            double off = kin_rng_uniform(&rng, 0.001, 0.06);
+            double off = test_rng_uniform(&rng, 0.001, 0.06);
             for (int k = 0; k < 3; ++k) q[k] += off * g0[k];
         }
         check_derivs(&h, q);
@@ -218,7 +218,7 @@ static void test_warm_start(void **state)
 {
     (void)state;
     hp_head h = ellipsoid(0.0775, 0.115, 0.0975);
-    kin_rng rng = {11};
+    uint64_t rng = 11;
     for (int i = 0; i < 400; ++i) {
         double q[3], dir[3];
         kin_rng_vec3(&rng, 1.0, q);
@@ -227,7 +227,7 @@ static void test_warm_start(void **state)
         if (i < 360) {
             double d0, g0[3];
             assert_int_equal(hp_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
-            double off = kin_rng_uniform(&rng, 1e-4, 0.06);
+            double off = test_rng_uniform(&rng, 1e-4, 0.06);
             for (int k = 0; k < 3; ++k) q[k] += off * g0[k];
         }
         double d, g[3], H[9], foot[3];
@@ -326,7 +326,7 @@ static void test_warm_predictor(void **state)
 {
     (void)state;
     const double heads[2][3] = {{0.0775, 0.115, 0.0975}, {0.02, 0.2, 0.1}};
-    kin_rng rng = {404};
+    uint64_t rng = 404;
     long ev_pred = 0, ev_mult = 0, small = 0;
     double worst[2] = {0, 0};
     for (int hc = 0; hc < 2; ++hc) {
@@ -341,7 +341,7 @@ static void test_warm_predictor(void **state)
             double sc = i % 10 == 9 ? 0.9 : 1.0;
             for (int k = 0; k < 3; ++k) q[k] = h.center[k] + q[k] * h.semi_axes[k] * sc;
             if (sc == 1.0) {
-                double d0, g0[3], off = exp(kin_rng_uniform(&rng, log(1e-4), log(0.06)));
+                double d0, g0[3], off = exp(test_rng_uniform(&rng, log(1e-4), log(0.06)));
                 assert_int_equal(hp_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
                 for (int k = 0; k < 3; ++k) q[k] += off * g0[k];
             }
@@ -349,7 +349,7 @@ static void test_warm_predictor(void **state)
             check_warm_vs_cold(&h, q, &w, worst);
             wm = w;
             for (int st = 0; st < 40; ++st) {
-                double dir[3], len = exp(kin_rng_uniform(&rng, log(1e-10), log(1e-3)));
+                double dir[3], len = exp(test_rng_uniform(&rng, log(1e-10), log(1e-3)));
                 kin_rng_vec3(&rng, 1.0, dir);
                 for (int k = 0; k < 3; ++k) q[k] += len * dir[k];
                 check_warm_vs_cold(&h, q, &w, worst);
@@ -415,10 +415,10 @@ static long double ref_G(const long double a[3], const long double y[3], long do
  * a sphere; 300 seeded sets of 1 to 16 points each, outside, inside, on an axis, deep inside
  * (no smooth distance: an error), NaN and far away (errors), with cold, nearby (one
  * evaluation), stale and garbage warm states and a random Hessian mask. */
-static void fill_point(kin_rng *rng, const hp_head *h, double q[3])
+static void fill_point(uint64_t *rng, const hp_head *h, double q[3])
 {
     const double *a = h->semi_axes;
-    double u = kin_rng_uniform(rng, 0.0, 1.0), f = kin_rng_uniform(rng, 0.5, 1.6);
+    double u = test_rng_uniform(rng, 0.0, 1.0), f = test_rng_uniform(rng, 0.5, 1.6);
     kin_rng_vec3(rng, 1.0, q);
     for (int i = 0; i < 3; ++i) q[i] = h->center[i] + q[i] * a[h->shape == HP_HEAD_SPHERE ? 0 : i] * f;
     if (u < 0.03) q[1] = NAN;
@@ -435,32 +435,32 @@ static void test_batch(void **state)
                         ellipsoid(0.09, 0.09, 0.09)};
     heads[1].center[0] = 0.01;
     heads[2].shape = HP_HEAD_SPHERE;
-    kin_rng rng = {90210};
+    uint64_t rng = 90210;
     int errors = 0, compared = 0;
     for (int hi = 0; hi < 3; ++hi) {
         const hp_head *h = &heads[hi];
         hp_kin_head_k k = {0};
         if (h->shape != HP_HEAD_SPHERE) hp_kin_head_consts(h, &k);
         for (int set = 0; set < 300; ++set) {
-            int n = 1 + (int)kin_rng_uniform(&rng, 0.0, HP_MAX_BLADDERS);
+            int n = 1 + (int)test_rng_uniform(&rng, 0.0, HP_MAX_BLADDERS);
             double q[HP_MAX_BLADDERS][3];
             hp_kin_dist_warm w0[HP_MAX_BLADDERS];
             unsigned char want[HP_MAX_BLADDERS];
             for (int j = 0; j < n; ++j) {
                 fill_point(&rng, h, q[j]);
-                want[j] = kin_rng_uniform(&rng, 0.0, 1.0) < 0.5;
+                want[j] = test_rng_uniform(&rng, 0.0, 1.0) < 0.5;
                 hp_kin_dist_warm_cold(&w0[j], 1);
-                double kind = kin_rng_uniform(&rng, 0.0, 1.0);
+                double kind = test_rng_uniform(&rng, 0.0, 1.0);
                 if (kind < 0.6) { /* a state from a point up to 1 mm away */
                     double qn[3], dir[3], dd, gg[3];
-                    kin_rng_vec3(&rng, kin_rng_uniform(&rng, 0.0, 1e-3), dir);
+                    kin_rng_vec3(&rng, test_rng_uniform(&rng, 0.0, 1e-3), dir);
                     for (int i = 0; i < 3; ++i) qn[i] = q[j][i] + dir[i];
                     (void)hp_kin_head_distance_k(h, &k, qn, &w0[j], &dd, gg, NULL, NULL);
                 } else if (kind < 0.8) { /* garbage */
-                    w0[j].s = kin_rng_uniform(&rng, -2.0, 1e3);
+                    w0[j].s = test_rng_uniform(&rng, -2.0, 1e3);
                     for (int i = 0; i < 3; ++i) {
-                        w0[j].y[i] = kin_rng_uniform(&rng, -1.0, 1.0);
-                        w0[j].ds[i] = kin_rng_uniform(&rng, -1e3, 1e3);
+                        w0[j].y[i] = test_rng_uniform(&rng, -1.0, 1.0);
+                        w0[j].ds[i] = test_rng_uniform(&rng, -1e3, 1e3);
                     }
                 }
             }
@@ -533,7 +533,7 @@ static void test_long_double_reference(void **state)
     const double heads[6][3] = {{0.0775, 0.115, 0.0975}, {0.01, 0.1, 0.05}, {0.1, 0.01, 0.1},
                                 {0.1, 0.1, 0.01},        {0.02, 0.2, 0.2},  {0.09, 0.09, 0.09}};
     const double eps = 2.220446049250313e-16;
-    kin_rng rng = {2026};
+    uint64_t rng = 2026;
     int n_checked = 0, n_domain = 0;
     for (int hc = 0; hc < 6; ++hc) {
         hp_head h = ellipsoid(heads[hc][0], heads[hc][1], heads[hc][2]);
@@ -548,12 +548,12 @@ static void test_long_double_reference(void **state)
             double u[3], y[3];
             kin_rng_vec3(&rng, 1.0, u);
             int kind = it % 4; /* 0, 1: outside; 2: inside; 3: near an axis plane */
-            double f = kind == 2 ? kin_rng_uniform(&rng, 0.1, 0.99) : 1.0;
+            double f = kind == 2 ? test_rng_uniform(&rng, 0.1, 0.99) : 1.0;
             for (int k = 0; k < 3; ++k) y[k] = a[k] * u[k] * f; /* on (or inside) the surface */
             if (kind == 3) {
                 int ax = it % 3;
-                y[ax] = a[ax] * 1e-6 * kin_rng_uniform(&rng, -1.0, 1.0);
-                f = kin_rng_uniform(&rng, 0.3, 1.5); /* inside or outside */
+                y[ax] = a[ax] * 1e-6 * test_rng_uniform(&rng, -1.0, 1.0);
+                f = test_rng_uniform(&rng, 0.3, 1.5); /* inside or outside */
                 for (int k = 0; k < 3; ++k) y[k] *= f;
             }
             if (kind <= 1) {
@@ -564,7 +564,7 @@ static void test_long_double_reference(void **state)
                     nl += nrm[k] * nrm[k];
                 }
                 nl = sqrt(nl);
-                double off = exp(kin_rng_uniform(&rng, log(1e-4), log(0.3)));
+                double off = exp(test_rng_uniform(&rng, log(1e-4), log(0.3)));
                 for (int k = 0; k < 3; ++k) y[k] += off * nrm[k] / nl;
             }
             double q[3];

@@ -19,10 +19,10 @@
  * the floor + 2, which this attack found short (up to 16 more measured in 7e5 certified
  * states); it now leaves HP_KIN_FIT_STOP_MARGIN (fit_internal.h), and the test prints the
  * most iterations a certified fit took. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "default_layout.h"
-#include "ident_layouts.h"
+#include "support/default_layout.h"
+#include "support/ident_layouts.h"
 #include "kin_test_util.h"
 #include "kinematics/fit_internal.h"
 #include "kinematics/linalg.h"
@@ -51,9 +51,9 @@ static double tol_of(int i) { return i < 3 ? 1e-10 : 1e-7 * PI / 180.0; }
 /* Scaled unit (1 mm, 1 deg) of pose component i in SI. */
 static double unit_of(int i) { return i < 3 ? 1e-3 : PI / 180.0; }
 
-static double logu(kin_rng *r, double lo, double hi)
+static double logu(uint64_t *r, double lo, double hi)
 {
-    return exp(kin_rng_uniform(r, log(lo), log(hi)));
+    return exp(test_rng_uniform(r, log(lo), log(hi)));
 }
 
 enum { FA_DEFAULT, FA_SPHERE, FA_GENERATED, FA_EXTREME, FA_DEGENERATE, FA_KINDS };
@@ -65,7 +65,7 @@ static const char *const fa_kind_names[FA_KINDS] = {"default, pivot off", "spher
  * generator (head up to 10 mm off the origin, pivot off it, rays tilted by up to ±0.15,
  * scale 0.85..1.15); the extreme kind has semi-axes 40..160 mm, pivots up to 80 mm sideways
  * and 300 mm below, rays tilted by up to ±0.3. */
-static int fa_layout(int i, kin_rng *rng, hp_layout *L, hp_geom *G, hp_identifiable *id)
+static int fa_layout(int i, uint64_t *rng, hp_layout *L, hp_geom *G, hp_identifiable *id)
 {
     int kind = i % FA_KINDS;
     hp_head h = default_head();
@@ -80,27 +80,27 @@ static int fa_layout(int i, kin_rng *rng, hp_layout *L, hp_geom *G, hp_identifia
         }
         if (default_layout_on(L, &h, 0.0) != 0) return -1;
         if (kind == FA_DEFAULT) {
-            L->pivot[0] = kin_rng_uniform(rng, -0.05, 0.05);
-            L->pivot[1] = kin_rng_uniform(rng, -0.05, 0.05);
-            L->pivot[2] = kin_rng_uniform(rng, -0.2, 0.02);
+            L->pivot[0] = test_rng_uniform(rng, -0.05, 0.05);
+            L->pivot[1] = test_rng_uniform(rng, -0.05, 0.05);
+            L->pivot[2] = test_rng_uniform(rng, -0.2, 0.02);
         }
     } else {
-        int ext = kind == FA_EXTREME, sphere = kin_rng_uniform(rng, 0, 1) < 0.25;
+        int ext = kind == FA_EXTREME, sphere = test_rng_uniform(rng, 0, 1) < 0.25;
         double ax[3], c[3], pv[3], rays[8][3];
-        ax[0] = ext ? kin_rng_uniform(rng, 0.04, 0.09) : kin_rng_uniform(rng, 0.070, 0.090);
-        ax[1] = ext ? kin_rng_uniform(rng, 0.09, 0.16) : kin_rng_uniform(rng, 0.100, 0.125);
-        ax[2] = ext ? kin_rng_uniform(rng, 0.05, 0.12) : kin_rng_uniform(rng, 0.085, 0.105);
-        if (sphere) ax[0] = kin_rng_uniform(rng, 0.080, 0.100);
+        ax[0] = ext ? test_rng_uniform(rng, 0.04, 0.09) : test_rng_uniform(rng, 0.070, 0.090);
+        ax[1] = ext ? test_rng_uniform(rng, 0.09, 0.16) : test_rng_uniform(rng, 0.100, 0.125);
+        ax[2] = ext ? test_rng_uniform(rng, 0.05, 0.12) : test_rng_uniform(rng, 0.085, 0.105);
+        if (sphere) ax[0] = test_rng_uniform(rng, 0.080, 0.100);
         double side = ext ? 0.08 : 0.03, below = ext ? 0.3 : 0.12, tilt = ext ? 0.3 : 0.15;
-        for (int k = 0; k < 3; ++k) c[k] = kin_rng_uniform(rng, -0.010, 0.010);
-        pv[0] = c[0] + kin_rng_uniform(rng, -side, side);
-        pv[1] = c[1] + kin_rng_uniform(rng, -side, side);
-        pv[2] = c[2] - kin_rng_uniform(rng, 0.0, below);
+        for (int k = 0; k < 3; ++k) c[k] = test_rng_uniform(rng, -0.010, 0.010);
+        pv[0] = c[0] + test_rng_uniform(rng, -side, side);
+        pv[1] = c[1] + test_rng_uniform(rng, -side, side);
+        pv[2] = c[2] - test_rng_uniform(rng, 0.0, below);
         for (int k = 0; k < 8; ++k)
             for (int m = 0; m < 3; ++m)
-                rays[k][m] = il_default_rays[k][m] + kin_rng_uniform(rng, -tilt, tilt);
+                rays[k][m] = il_default_rays[k][m] + test_rng_uniform(rng, -tilt, tilt);
         if (il_layout(L, sphere ? HP_HEAD_SPHERE : HP_HEAD_ELLIPSOID, ax, c, pv, 8,
-                      (const double(*)[3])rays, kin_rng_uniform(rng, 0.85, 1.15)) != HP_OK)
+                      (const double(*)[3])rays, test_rng_uniform(rng, 0.85, 1.15)) != HP_OK)
             return -1;
     }
     if (hp_layout_prepare(L, NULL) != HP_OK || hp_geom_derive(L, G, NULL) != HP_OK) return -1;
@@ -108,13 +108,13 @@ static int fa_layout(int i, kin_rng *rng, hp_layout *L, hp_geom *G, hp_identifia
 }
 
 /* The free components: all identifiable ones, or (one in four) a random non-empty subset. */
-static int fa_free(kin_rng *rng, const hp_identifiable *id, int fr[6], int col[6])
+static int fa_free(uint64_t *rng, const hp_identifiable *id, int fr[6], int col[6])
 {
     for (int i = 0; i < 6; ++i) fr[i] = id->centre_only ? i < 3 : 1;
-    if (kin_rng_uniform(rng, 0, 1) < 0.25) {
+    if (test_rng_uniform(rng, 0, 1) < 0.25) {
         int any = 0;
         for (int i = 0; i < 6; ++i) {
-            fr[i] = fr[i] && kin_rng_uniform(rng, 0, 1) < 0.6;
+            fr[i] = fr[i] && test_rng_uniform(rng, 0, 1) < 0.6;
             any |= fr[i];
         }
         if (!any) fr[id->centre_only ? 0 : 5] = 1;
@@ -132,7 +132,7 @@ static const char *const fa_target_names[FT_KINDS] = {"tiny", "mid", "large", "s
 /* A target pose of kind tk (zero in the components not free): tiny (1e-6 mm, 1e-6 deg),
  * mid (0.5 mm/0.3 deg or 3 mm/2 deg), large (up to 0.95 of the identifiable range), one
  * component (1e-6 mm or deg up to that range), or a rotation about a random axis. */
-static void fa_target(kin_rng *r, int tk, const hp_identifiable *id, const int fr[6],
+static void fa_target(uint64_t *r, int tk, const hp_identifiable *id, const int fr[6],
                       double xi[6])
 {
     double tl = 0.95 * id->trans_limit, rl = id->centre_only ? 1e-7 : 0.95 * id->rot_limit;
@@ -140,13 +140,13 @@ static void fa_target(kin_rng *r, int tk, const hp_identifiable *id, const int f
     if (tk == FT_TINY) {
         kin_rng_pose(r, 1e-9, 1e-6 * PI / 180.0, 0, xi);
     } else if (tk == FT_MID) {
-        int small = kin_rng_uniform(r, 0, 1) < 0.5;
+        int small = test_rng_uniform(r, 0, 1) < 0.5;
         kin_rng_pose(r, small ? 5e-4 : 3e-3, (small ? 0.3 : 2.0) * PI / 180.0, 0, xi);
     } else if (tk == FT_LARGE) {
-        kin_rng_pose(r, tl, rl, kin_rng_uniform(r, 0, 1) < 0.3, xi);
+        kin_rng_pose(r, tl, rl, test_rng_uniform(r, 0, 1) < 0.3, xi);
     } else if (tk == FT_AXIS) {
-        int i = (int)kin_rng_uniform(r, 0, 6);
-        double s = kin_rng_uniform(r, 0, 1) < 0.5 ? -1.0 : 1.0;
+        int i = (int)test_rng_uniform(r, 0, 6);
+        double s = test_rng_uniform(r, 0, 1) < 0.5 ? -1.0 : 1.0;
         xi[i] = s * (i < 3 ? logu(r, 1e-9, tl) : logu(r, 1e-8, fmax(rl, 2e-8)));
     } else {
         double a[3];
@@ -255,7 +255,7 @@ static double fa_off(const double p[6], const double q[6])
 static void test_certificate_promise(void **state)
 {
     (void)state;
-    kin_rng rng = {12345};
+    uint64_t rng = 12345;
     long tried[2] = {0}, fired[2] = {0}, same = 0, drifted = 0, fired_drifted = 0;
     int most_iters = 0; /* the most iterations the fit took after a certificate */
     double worst[2] = {0};
@@ -285,16 +285,16 @@ static void test_certificate_promise(void **state)
                     continue;
                 double tg[HP_MAX_BLADDERS], noise = (t / 2) % 3 == 0 ? 0.0 : (t / 2) % 3 == 1 ? 1e-15 : 1e-14;
                 for (int k = 0; k < n; ++k)
-                    tg[k] = nr.anchor_rho[k] + noise * kin_rng_uniform(&rng, -1, 1);
+                    tg[k] = nr.anchor_rho[k] + noise * test_rng_uniform(&rng, -1, 1);
                 double x[6], d[6], dn = 0.0, e = logu(&rng, 1e-10, 3.0), lam = logu(&rng, 1e-15, 10.0);
                 for (int i = 0; i < 6; ++i) {
-                    d[i] = fr[i] ? kin_rng_normal(&rng) : 0.0;
+                    d[i] = fr[i] ? test_rng_normal(&rng) : 0.0;
                     dn += d[i] * d[i];
                 }
                 for (int i = 0; i < 6; ++i) x[i] = a[i] + d[i] / sqrt(dn) * e * unit_of(i);
                 /* any budget: the certificate itself must refuse one too short for the rest
                  * of the fit, noise-floor phase included (HP_KIN_FIT_STOP_MARGIN) */
-                int left = (int)kin_rng_uniform(&rng, 1, 200), form = t % 4 < 2;
+                int left = (int)test_rng_uniform(&rng, 1, 200), form = t % 4 < 2;
                 double r[HP_MAX_BLADDERS], Jr[HP_MAX_BLADDERS * 6], A[36];
                 hp_kin_dist_warm sw[HP_MAX_BLADDERS];
                 hp_kin_dist_warm_cold(sw, n);
@@ -314,7 +314,7 @@ static void test_certificate_promise(void **state)
                         double ap[6], rp[HP_MAX_BLADDERS], dd[6], dn2 = 0.0;
                         double dj = logu(&rng, 1e-9, 3.0);
                         for (int i = 0; i < 6; ++i) {
-                            dd[i] = fr[i] ? kin_rng_normal(&rng) : 0.0;
+                            dd[i] = fr[i] ? test_rng_normal(&rng) : 0.0;
                             dn2 += dd[i] * dd[i];
                         }
                         for (int i = 0; i < 6; ++i) ap[i] = a[i] + dd[i] / sqrt(dn2) * dj * unit_of(i);
@@ -403,7 +403,7 @@ static const char *const fa_anchor_names[FN_KINDS] = {
 static void test_certified_fit_verdict(void **state)
 {
     (void)state;
-    kin_rng rng = {2027};
+    uint64_t rng = 2027;
     const double zero[6] = {0}, noise[6] = {0, 4e-16, 1e-15, 1e-14, 1e-13, 1e-12};
     long cases[FA_KINDS] = {0}, cert[FA_KINDS] = {0}, early = 0, by_target[FT_KINDS] = {0},
          by_anchor[FN_KINDS] = {0}, total = 0, total_cert = 0;
@@ -428,15 +428,15 @@ static void test_certified_fit_verdict(void **state)
                  * pose of the target distances, or both (the expected pose is then off) */
                 if (ak == FN_OFF || ak == FN_SHIFTED || ak == FN_POSE_OFF)
                     for (int i = 0; i < 6; ++i)
-                        if (fr[i] && kin_rng_uniform(&rng, 0, 1) < 0.5) {
-                            double o = (kin_rng_uniform(&rng, 0, 1) < 0.5 ? -1 : 1) *
-                                       kin_rng_uniform(&rng, 0.1, 0.3) * tol_of(i);
+                        if (fr[i] && test_rng_uniform(&rng, 0, 1) < 0.5) {
+                            double o = (test_rng_uniform(&rng, 0, 1) < 0.5 ? -1 : 1) *
+                                       test_rng_uniform(&rng, 0.1, 0.3) * tol_of(i);
                             if (ak != FN_SHIFTED) an[i] += o;
                             if (ak != FN_OFF) src[i] += o;
                         }
                 if (hp_contact_eval_g(&L, &G, (hp_level)lv, src, rs, NULL, NULL) != HP_OK) continue;
-                double nz = noise[(int)kin_rng_uniform(&rng, 0, 6)];
-                for (int k = 0; k < L.n; ++k) ro[k] = rs[k] + nz * kin_rng_uniform(&rng, -1, 1);
+                double nz = noise[(int)test_rng_uniform(&rng, 0, 6)];
+                for (int k = 0; k < L.n; ++k) ro[k] = rs[k] + nz * test_rng_uniform(&rng, -1, 1);
                 hp_kin_fit_near nr;
                 memset(&nr, 0, sizeof nr);
                 for (int i = 0; i < 6; ++i) {
@@ -446,18 +446,18 @@ static void test_certified_fit_verdict(void **state)
                 hp_kin_fit_near plain = nr; /* the expected pose without the anchor */
                 double aJ[HP_MAX_BLADDERS * 6];
                 nr.has_anchor = 1;
-                nr.anchor_J = kin_rng_uniform(&rng, 0, 1) < 0.5 ? aJ : NULL;
+                nr.anchor_J = test_rng_uniform(&rng, 0, 1) < 0.5 ? aJ : NULL;
                 memcpy(nr.anchor, an, sizeof an);
                 if (hp_contact_eval_g(&L, &G, (hp_level)lv, an, nr.anchor_rho, aJ, NULL) !=
                     HP_OK)
                     continue;
                 if (ak == FN_ULPS)
                     for (int k = 0; k < L.n; ++k) {
-                        int u = (int)kin_rng_uniform(&rng, -4, 5);
+                        int u = (int)test_rng_uniform(&rng, -4, 5);
                         for (int q = 0; q < abs(u); ++q)
                             nr.anchor_rho[k] = nextafter(nr.anchor_rho[k], u > 0 ? 1.0 : -1.0);
                     }
-                double x0[6] = {0}, u = kin_rng_uniform(&rng, 0, 1);
+                double x0[6] = {0}, u = test_rng_uniform(&rng, 0, 1);
                 const hp_kin_fit_start *sp = u < 0.15 ? NULL : &st;
                 if (u >= 0.15 && u < 0.3) {
                     double dd[6];
@@ -547,7 +547,7 @@ static double fa_spectral_norm(const double *Ain)
 static void test_ball_curvature_generated(void **state)
 {
     (void)state;
-    kin_rng rng = {3};
+    uint64_t rng = 3;
     double worst[2] = {0};
     long checked = 0;
     for (int li = 0; li < FA_LAYOUTS; ++li) {
@@ -567,10 +567,10 @@ static void test_ball_curvature_generated(void **state)
                                  HP_OK);
                 for (int s = 0; s < 6; ++s) {
                     double off[6], n2 = 0.0, p[6];
-                    for (int i = 0; i < 6; ++i) off[i] = kin_rng_normal(&rng);
+                    for (int i = 0; i < 6; ++i) off[i] = test_rng_normal(&rng);
                     if (s % 2) off[0] = off[1] = off[2] = 0.0;
                     for (int i = 0; i < 6; ++i) n2 += off[i] * off[i];
-                    double len = (s < 4 ? 1.0 : kin_rng_uniform(&rng, 0, 1)) * rad / sqrt(n2);
+                    double len = (s < 4 ? 1.0 : test_rng_uniform(&rng, 0, 1)) * rad / sqrt(n2);
                     for (int i = 0; i < 6; ++i) p[i] = xc[i] + off[i] * len * unit_of(i);
                     double rp[HP_MAX_BLADDERS], H[HP_MAX_BLADDERS * 36];
                     if (hp_contact_eval_g(&L, &G, (hp_level)lv, p, rp, NULL, H) != HP_OK) continue;

@@ -1,7 +1,7 @@
 /* Forward contact kinematics: pose -> radii -> pose round trips. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "default_layout.h"
+#include "support/default_layout.h"
 #include "kin_test_util.h"
 #include "kinematics/fit_internal.h"
 #include "kinematics/linalg.h"
@@ -24,7 +24,7 @@ static int setup(void **state)
 static void test_round_trip(void **state)
 {
     (void)state;
-    kin_rng rng = {5};
+    uint64_t rng = 5;
     double worst[3] = {0};
     for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_SURFACE; ++lv)
         for (int it = 0; it < 200; ++it) {
@@ -68,13 +68,13 @@ static double cosine(const double *J, const double *rho, const double *ro, int j
 static void test_noisy(void **state)
 {
     (void)state;
-    kin_rng rng = {8};
+    uint64_t rng = 8;
     const double zero[6] = {0};
     double ro[HP_MAX_BLADDERS], xi[6], res, J[HP_MAX_BLADDERS * 6];
     assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_LINEAR, zero, ro, J, NULL), HP_OK);
     double noise[HP_MAX_BLADDERS];
     for (int k = 0; k < LAY.n; ++k) {
-        noise[k] = 1e-4 * kin_rng_normal(&rng);
+        noise[k] = 1e-4 * test_rng_normal(&rng);
         ro[k] += noise[k];
     }
     assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_LINEAR, ro, NULL, xi, &res, NULL), HP_OK);
@@ -147,7 +147,7 @@ static void test_bad_input(void **state)
 static void test_fit_start_and_near(void **state)
 {
     (void)state;
-    kin_rng rng = {17};
+    uint64_t rng = 17;
     const double zero[6] = {0};
     hp_geom G;
     assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
@@ -223,7 +223,7 @@ static void test_fit_certificate(void **state)
     const double zero[6] = {0};
     double tol[6];
     for (int i = 0; i < 6; ++i) tol[i] = i < 3 ? 1e-10 : 1e-7 * 3.14159265358979323846 / 180.0;
-    kin_rng rng = {2026};
+    uint64_t rng = 2026;
     int total_cert = 0, total_elsewhere = 0, total_early = 0;
     for (int c = 0; c < 4; ++c) {
         hp_layout L;
@@ -251,7 +251,7 @@ static void test_fit_certificate(void **state)
                     }
                 if (hp_contact_eval_g(&L, &G, (hp_level)lv, xi, rho, NULL, NULL) != HP_OK) continue;
                 for (int k = 0; k < L.n; ++k)
-                    ro[k] = rho[k] * (1.0 + 4e-16 * kin_rng_uniform(&rng, -1.0, 1.0));
+                    ro[k] = rho[k] * (1.0 + 4e-16 * test_rng_uniform(&rng, -1.0, 1.0));
                 hp_kin_fit_near nr;
                 memset(&nr, 0, sizeof nr);
                 for (int i = 0; i < 6; ++i) {
@@ -351,13 +351,13 @@ static void test_cholesky_condition_bound(void **state)
     double A2[4] = {4, 2, 2, 5}, L2[4];
     assert_int_equal(hp_cholesky(A2, 2, 2, 0.0, L2, 2), 1);
     assert_true(hp_cholesky_inv_frob2(L2, 2, 2) == 9.0 / 16.0);
-    kin_rng rng = {23};
+    uint64_t rng = 23;
     for (int it = 0; it < 300; ++it) {
         int n = 1 + it % 6;
         double J[8 * 6], S[36] = {0}, L[36], lam[6], V[36];
-        double tilt = pow(10.0, -kin_rng_uniform(&rng, 0, 4.5)); /* near-collinear pair */
+        double tilt = pow(10.0, -test_rng_uniform(&rng, 0, 4.5)); /* near-collinear pair */
         for (int i = 0; i < 8; ++i)
-            for (int j = 0; j < n; ++j) J[i * n + j] = kin_rng_normal(&rng);
+            for (int j = 0; j < n; ++j) J[i * n + j] = test_rng_normal(&rng);
         if (n > 1)
             for (int i = 0; i < 8; ++i) J[i * n + n - 1] = J[i * n] + tilt * J[i * n + n - 1];
         for (int j = 0; j < n; ++j)
@@ -397,15 +397,15 @@ static void test_cholesky_condition_bound(void **state)
 static void test_damped_solvers(void **state)
 {
     (void)state;
-    kin_rng rng = {29};
+    uint64_t rng = 29;
     const double lams[4] = {0.0, 1e-3, 1.0, 1e3};
     double worst_n = 0, worst_q = 0;
     for (int it = 0; it < 200; ++it) {
         int nf = 1 + it % 6, n = 8;
         double J[8 * 6], r[8], D[6], a[6], b[6], c[6];
         for (int i = 0; i < n; ++i) {
-            for (int j = 0; j < nf; ++j) J[i * nf + j] = kin_rng_normal(&rng) * (1.0 + j);
-            r[i] = kin_rng_normal(&rng);
+            for (int j = 0; j < nf; ++j) J[i * nf + j] = test_rng_normal(&rng) * (1.0 + j);
+            r[i] = test_rng_normal(&rng);
         }
         col_norms(n, nf, J, D);
         double lambda = lams[it % 4];
@@ -422,9 +422,9 @@ static void test_damped_solvers(void **state)
         int nf = 6, n = 8;
         double J[8 * 6], r[8], D[6], x[6], a[6], b[6], c[6];
         for (int i = 0; i < n; ++i)
-            for (int j = 0; j < nf; ++j) J[i * nf + j] = kin_rng_normal(&rng);
+            for (int j = 0; j < nf; ++j) J[i * nf + j] = test_rng_normal(&rng);
         for (int i = 0; i < n; ++i) J[i * nf + 5] = J[i * nf + 4] + 1e-7 * J[i * nf + 5];
-        for (int j = 0; j < nf; ++j) x[j] = kin_rng_normal(&rng);
+        for (int j = 0; j < nf; ++j) x[j] = test_rng_normal(&rng);
         for (int i = 0; i < n; ++i) {
             r[i] = 0;
             for (int j = 0; j < nf; ++j) r[i] -= J[i * nf + j] * x[j];
@@ -444,7 +444,7 @@ static void test_damped_solvers(void **state)
         double a[6], b[6];
         kin_rng_pose(&rng, 0.01, 0.16, 0, xi);
         assert_int_equal(hp_contact_eval(&LAY, HP_LEVEL_SURFACE, xi, rho, J, NULL), HP_OK);
-        for (int k = 0; k < LAY.n; ++k) r[k] = 1e-4 * kin_rng_normal(&rng);
+        for (int k = 0; k < LAY.n; ++k) r[k] = 1e-4 * test_rng_normal(&rng);
         col_norms(LAY.n, 6, J, D);
         double lambda = lams[it % 4];
         assert_int_equal(hp_kin_damped_normal(LAY.n, 6, J, r, D, lambda, a), 0);

@@ -2,9 +2,9 @@
  * hp_pose_commanded_part): rank and commanded components per head shape and layout, their
  * independence of units, scale and pivot, the rotation bound below the head's half-turn
  * symmetry, and the commanded part of a correction checked against geometry written here. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "kin_test_util.h"
-#include "tests/kinematics/ident_layouts.h"
+#include "support/ident_layouts.h"
 
 #include <string.h>
 
@@ -194,11 +194,11 @@ static void rank_independent_of_scale_and_pivot(void **st)
 static void rotation_angle(void **st)
 {
     (void)st;
-    kin_rng rng = {42};
+    uint64_t rng = 42;
     for (int t = 0; t < 2000; ++t) {
         double u[3], xi[6];
         kin_rng_vec3(&rng, 1.0, u);
-        double th = kin_rng_uniform(&rng, 0.0, PI);
+        double th = test_rng_uniform(&rng, 0.0, PI);
         axis_angle_pose(u, th, xi);
         hp_assert_close(hp_pose_rotation_angle(xi), th, 0, 1e-12);
     }
@@ -212,7 +212,7 @@ static void rotation_angle(void **st)
 static void commanded_part_same_distances(void **st)
 {
     (void)st;
-    kin_rng rng = {7};
+    uint64_t rng = 7;
     for (int n = 1; n <= 5; ++n) {
         hp_layout L;
         assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin,
@@ -245,7 +245,7 @@ static void commanded_part_sphere_centre(void **st)
                                1.0), HP_OK);
     hp_identifiable id;
     assert_int_equal(hp_layout_identify(&L, &id), HP_OK);
-    kin_rng rng = {11};
+    uint64_t rng = 11;
     for (int t = 0; t < 200; ++t) {
         double xd[6], xc[6], R[9];
         kin_rng_pose(&rng, 0.01, 0.5, 0, xd);

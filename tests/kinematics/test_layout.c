@@ -1,8 +1,8 @@
 /* Layout validation (every bad field gives a message naming the bladder and the field),
  * placement by touch point, and the layout analysis. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "default_layout.h"
+#include "support/default_layout.h"
 
 #include <string.h>
 

@@ -2,9 +2,9 @@
  * generalized force against Richardson-extrapolated central differences and against the
  * potential, the forward statics' rest against the Newton–Euler equations computed from
  * the contact points, and the compliance against the rest's response to a small weight. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "default_layout.h"
+#include "support/default_layout.h"
 #include "headplan/hp_load.h"
 
 #include <string.h>

@@ -22,7 +22,7 @@
  * equator vertical (phi = pi/2 at s0 = pi·R/2); then rho = z(s0_a) − z(equator).
  * Fixed-step RK4 (1000 steps per part); doubling the steps changes F by < 1e-6 relative
  * (asserted below), far under the errors compared. */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include <string.h>
 

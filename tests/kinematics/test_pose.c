@@ -1,7 +1,7 @@
 /* Pose units and the rotation convention R = Rz(yaw)·Ry(roll)·Rx(pitch). */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 #include "kinematics/kin_internal.h"
 
 #include <string.h>

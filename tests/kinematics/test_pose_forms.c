@@ -1,8 +1,8 @@
 /* Pose forms: the exact inverse (deviation -> correction), quaternions, 4x4 transforms and
  * ROS REP 103 angles. References are hand derivations and point-by-point rigid motions. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_pose.h"
 
 #include <math.h>
 #include <string.h>

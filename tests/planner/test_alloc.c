@@ -5,12 +5,12 @@
  * posix_memalign and C++ operator new/new[] (tests/CMakeLists.txt), so every call from the
  * statically linked library lands in the counters below while they are armed. A self-check
  * proves the wrapping is active. */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 
 #include <stdlib.h>
 
-#include "alloc_counter.h"
+#include "support/alloc_counter.h"
 
 /* The wrapping is active for the library's own calls: hp_planner_create allocates (its
  * planner and the backend's workspace) and each allocation must be counted, in any build

@@ -11,9 +11,9 @@
  * the range: translation norm <= trans_limit, rotation angle < rot_limit, both computed here
  * from the pose (the rotation written out, not the library's). A correction whose closest
  * pose lies outside is refused (INVALID_INPUT, the range named) with the safe output. */
-#include "test_util.h"
-#include "tests/kinematics/ident_layouts.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/ident_layouts.h"
+#include "support/layout_fixture.h"
 
 #include <string.h>
 

@@ -1,8 +1,8 @@
 /* The public planner API: settings defaults and validator messages, enum names, the
  * lifecycle on bad input, the safe output on failure, reset / set_previous, and the backend
  * table. */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 
 #include <stdlib.h>
 

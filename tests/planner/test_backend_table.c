@@ -2,7 +2,7 @@
  * hp_backend_name says, with the capabilities the core relies on instead of enum tests;
  * backend-only options go through hp_planner_set_option. */
 #include "planner/planner_internal.h"
-#include "planner/layout_fixture.h"
+#include "support/layout_fixture.h"
 
 #include <setjmp.h>
 #include <stdarg.h>

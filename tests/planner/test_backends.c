@@ -2,12 +2,12 @@
  * the default layout: exact answers for reachable targets, agreement on the closest answer
  * for an unreachable one, limits kept, status mapping, determinism, and Ipopt from two
  * threads at once (the process-wide mutex). */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "planner/backend_common.h"
 #include "planner/backend_testing.h"
 #include "planner/problem.h"
-#include "planner/backend_fixture.h"
+#include "support/backend_fixture.h"
 
 #include <pthread.h>
 #include <stdlib.h>

@@ -10,8 +10,8 @@
  * distances -> inner radii by the volume law -> stretch and pressure), by bisection, not from
  * the planner: 12 axis directions and 32 seeded random directions of the 6-D (mm, deg)
  * space. */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 
 #define N_RANDOM 32
 

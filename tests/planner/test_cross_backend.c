@@ -17,8 +17,8 @@
  * Issue: "reachable corrections met to 1e-9 mm / 1e-9 deg after the round trip through FK
  * on every backend; unreachable ones agree across backends on the closest correction (to the
  * backends' tolerances) and never violate a limit". */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 
 #include <stdlib.h>
 

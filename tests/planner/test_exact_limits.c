@@ -10,8 +10,8 @@
  * correction far beyond reach along ±Z, so that the base (or the side) bladders end on a
  * stretch limit. Every returned radius is compared in exact arithmetic, whatever the status,
  * and at least some answers must sit on the limit (else the test would show nothing). */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 
 #include "common/exact_prod.h"
 

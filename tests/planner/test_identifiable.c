@@ -6,9 +6,9 @@
  *   - a sphere turned about an off-centre pivot: the turn moves the centre, which the layout
  *     observes, but the whole turn was dropped (checked here against contact distances
  *     computed from the geometry in this file, not the library's). */
-#include "test_util.h"
-#include "tests/kinematics/ident_layouts.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/ident_layouts.h"
+#include "support/layout_fixture.h"
 
 #include <string.h>
 

@@ -2,14 +2,14 @@
  * poses, unreachable ones (the sinking search and the 6-D refinement), invalid input, with
  * and without the details (hp_load_info, which runs the forward statics). Linked with
  * -Wl,--wrap for every allocator (tests/CMakeLists.txt); a self-check proves the wrapping. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "../kinematics/default_layout.h"
+#include "support/default_layout.h"
 #include "headplan/hp_load_planner.h"
 
 #include <stdlib.h>
 
-#include "alloc_counter.h"
+#include "support/alloc_counter.h"
 
 static void test_load_plan_no_alloc(void **st)
 {

@@ -2,9 +2,9 @@
  * 1e-9 N, round trip through the forward statics), an unreachable pose gives the nearest
  * held one with the binding limits named, every pressure stays inside its bounds, and
  * layouts that cannot carry the head are refused at create with the direction named. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "../kinematics/default_layout.h"
+#include "support/default_layout.h"
 #include "headplan/hp_load_planner.h"
 #include "kinematics/linalg.h"
 #include "kinematics/load_internal.h"

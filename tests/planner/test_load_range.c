@@ -3,9 +3,9 @@
  * smallest semi-axis, a component beyond hp_plan's caps) is INVALID_INPUT with hp_plan's
  * own message and the safe output, never an answer. The reference is a kinematic planner
  * built on the same layout. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "../kinematics/default_layout.h"
+#include "support/default_layout.h"
 #include "headplan/hp_load_planner.h"
 
 #include <string.h>

@@ -7,9 +7,9 @@
  * reached targets (by 0.96 % and 1.81 %: a bladder kept carrying where dropping it and
  * adding another was cheaper). HOLD's own scan now runs inside every reference start too,
  * so the reference is the planner's method from 24 other starts. docs/load.md. */
-#include "test_util.h"
+#include "support/test_util.h"
 
-#include "../kinematics/default_layout.h"
+#include "support/default_layout.h"
 #include "common/units.h"
 #include "headplan/hp_load_planner.h"
 #include "kinematics/load_internal.h"

@@ -1,8 +1,8 @@
 /* hp_planner_message: the one call that gives the last plan's message whatever its status
  * (the failure's text, the answer's note, "" after REACHED), so a caller that shows "the
  * message" does not have to know which of the two channels a status writes. */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 
 static void test_message_follows_status(void **st)
 {

@@ -1,7 +1,7 @@
 /* The planner's printf-free number formatting (planner/plan_text.c): a request for more
  * decimals than its 16-byte fraction buffer holds is clamped to 15, not written past it. The
  * reference is the digit string itself: 0 to 15 decimals is "0." and fifteen zeros. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "planner/planner_internal.h"
 
 #include <string.h>

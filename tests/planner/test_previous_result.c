@@ -9,10 +9,10 @@
  *     tolerance after a backend's answer (whose multipliers the sequential run keeps);
  *   - every answer of hp_plan passes the full checks, which the call skips for the
  *     planner's own last answer. */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 #include "common/units.h"
-#include "tests/kinematics/ident_layouts.h"
+#include "support/ident_layouts.h"
 
 /* Every field of a result that hp_plan computes, solve_time excluded (a measurement). */
 static void same_result(const hp_result *a, const hp_result *b, int row)

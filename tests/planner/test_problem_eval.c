@@ -1,10 +1,10 @@
 /* The planner's program in scaled units: values against independent formulas (the nominal
  * pose touches every bladder; the linear Jacobian from the contact normals), and every
  * derivative against central finite differences at all three contact levels. */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "planner/problem.h"
-#include "planner/backend_fixture.h"
+#include "support/backend_fixture.h"
 
 #include <stdlib.h>
 

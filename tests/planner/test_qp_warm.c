@@ -5,8 +5,8 @@
  * is the cold solve bit for bit; guessed empty, either the unconstrained minimum or the
  * fallback. Plus its refusals one by one, and bad input and infeasibility still reported
  * as such whatever the guess. */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 #include "planner/qp.h"
 #include "common/dense.h"
 
@@ -25,12 +25,12 @@
 static void realtime_qp(hp_qp *q, uint64_t *seed)
 {
     memset(q, 0, sizeof *q);
-    int n = 1 + (int)(lf_next(seed) % NM);
+    int n = 1 + (int)(test_rng_next(seed) % NM);
     /* up to 8 pairs and 16 rows (the default layouts' 8 bladders); one QP in eight up to
      * the solver's 32 rows (16 bladders) */
-    int mmax = lf_next(seed) % 8 == 0 ? HP_QP_MMAX : 16;
-    int pairs = (int)(lf_next(seed) % (unsigned)(mmax / 2 + 1));
-    int single = (int)(lf_next(seed) % (unsigned)(mmax - 2 * pairs + 1));
+    int mmax = test_rng_next(seed) % 8 == 0 ? HP_QP_MMAX : 16;
+    int pairs = (int)(test_rng_next(seed) % (unsigned)(mmax / 2 + 1));
+    int single = (int)(test_rng_next(seed) % (unsigned)(mmax - 2 * pairs + 1));
     if (single > 4) single = 4;
     q->n = n;
     q->m = 2 * pairs + single;
@@ -54,7 +54,7 @@ static void realtime_qp(hp_qp *q, uint64_t *seed)
         /* one row in five nearly parallel to an earlier leading row, 1e-9..1e-2 off:
          * active together they make the Gram matrix ill-conditioned */
         int lead = j >= 2 * pairs ? j - 1 : j - 2;
-        if (!twin && lead >= 0 && lf_next(seed) % 5 == 0) {
+        if (!twin && lead >= 0 && test_rng_next(seed) % 5 == 0) {
             double off = pow(10.0, -5.5 + 3.5 * lf_uniform(seed));
             for (int i = 0; i < n; ++i)
                 c[i] = scale * (q->C[lead * NM + i] + off * lf_uniform(seed));
@@ -63,7 +63,7 @@ static void realtime_qp(hp_qp *q, uint64_t *seed)
         for (int i = 0; i < n; ++i) norm += c[i] * c[i];
         q->b[j] = -(0.05 + 0.5 * (lf_uniform(seed) + 1.0)) * sqrt(norm);
     }
-    if (lf_next(seed) % 4 == 0) {
+    if (test_rng_next(seed) % 4 == 0) {
         /* a vertex: every leading row through the point v (its twin's bound beyond), the
          * unconstrained minimum pulled 5 away: many rows active at once, often more than
          * n (degenerate), nearly parallel ones among them */
@@ -215,7 +215,7 @@ static void test_warm_vs_cold(void **st)
             ++cold_fail;
             for (int v = 0; v < 20; ++v) {
                 int g[HP_QP_MMAX];
-                for (int j = 0; j < m; ++j) g[j] = v == 0 ? 0 : lf_next(&seed) % 3 == 0;
+                for (int j = 0; j < m; ++j) g[j] = v == 0 ? 0 : test_rng_next(&seed) % 3 == 0;
                 w = base;
                 assert_int_equal(hp_qp_solve_warm(&w, NULL, g, 200, 1e-12), cs);
                 assert_int_not_equal(w.warm, HP_QP_WARM_ACCEPTED);
@@ -254,12 +254,12 @@ static void test_warm_vs_cold(void **st)
             int g[HP_QP_MMAX];
             memcpy(g, cold.active, sizeof g);
             if (v == 0) {
-                int j = (int)(lf_next(&seed) % (unsigned)m);
+                int j = (int)(test_rng_next(&seed) % (unsigned)m);
                 g[j] = !g[j];
             } else if (v == 1) {
-                for (int j = 0; j < m; ++j) g[j] = lf_next(&seed) % 3 == 0;
+                for (int j = 0; j < m; ++j) g[j] = test_rng_next(&seed) % 3 == 0;
             } else {
-                int j = (int)(lf_next(&seed) % (unsigned)m) | 1; /* odd: a twin if paired */
+                int j = (int)(test_rng_next(&seed) % (unsigned)m) | 1; /* odd: a twin if paired */
                 int is_twin = j < m;
                 for (int i = 0; i < n && is_twin; ++i)
                     is_twin = base.C[j * NM + i] == -base.C[(j - 1) * NM + i];

@@ -7,8 +7,8 @@
  * without rate limits at the same level (hp_planner_set_previous), the same moved a few
  * ulps (no radius need have exactly such a pressure), or the planner's own last answer.
  * Pressures that hold no pose at the planner's level are no answer: refused, and held. */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 #include "common/units.h"
 
 #define N_CORR 5

@@ -6,8 +6,8 @@
  * as a failure (a solver-error, i.e. an answer refused by the planner's first-order check,
  * is counted apart). Seeded: per backend, 4 levels x 10 starts x a chain of 4 corrections
  * (each from the planner's own previous answer) = 160 plans. */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 
 #define N_PLANS 10
 #define N_CHAIN 4

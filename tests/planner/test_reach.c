@@ -7,8 +7,8 @@
  * planner's reach: plans at 99 % of it are REACHED, at 101 % CLOSEST. 1 % is far above the
  * search's resolution (bisection to ~1e-15 of the cap) and far below the reaches (> 1 mm).
  * A sphere head's rotations are not commanded: no reach (NaN). */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 
 static hp_planner *planner(const hp_layout *L, hp_level level)
 {

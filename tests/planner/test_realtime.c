@@ -4,11 +4,11 @@
  * active sets, an independent method), degenerate vertices, rate limits, a sphere head's
  * uncommanded rotations and a soft material's limit point. */
 #define _POSIX_C_SOURCE 200809L /* clock_getres */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include <float.h>
 #include <string.h>
-#include "tests/planner/layout_fixture.h"
+#include "support/layout_fixture.h"
 #include "planner/backend_testing.h"
 
 #include <stdlib.h>

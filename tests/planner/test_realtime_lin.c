@@ -5,11 +5,11 @@
  * the answer's own distances are handed over too. Cold and warm solves (each target
  * started from the last answer), reachable and binding targets, plane and surface levels,
  * and with NaN faults injected (what is handed over is still the clean model). */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "planner/backend_testing.h"
 #include "planner/problem.h"
 #include "planner/problem_setup.h"
-#include "planner/backend_fixture.h"
+#include "support/backend_fixture.h"
 #include "kinematics/kin_geom.h"
 
 static long handed, checked;

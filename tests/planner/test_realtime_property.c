@@ -2,8 +2,8 @@
  * huge, NaN, infinities, exactly at the limits, a soft material near its limit point, rate
  * limits, every contact level) it always returns a labelled status, never a pressure or
  * stretch outside the limits, never a NaN, and holds the previous answer on failure. */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 
 #include <stdlib.h>
 
@@ -92,7 +92,7 @@ static void run(const hp_layout *L, hp_level level, double rate, uint64_t seed, 
             else
                 xi[i] = 0.0;
         }
-        if (kind == 3) xi[lf_next(&seed) % 6] = special[lf_next(&seed) % (uint64_t)nspecial];
+        if (kind == 3) xi[test_rng_next(&seed) % 6] = special[test_rng_next(&seed) % (uint64_t)nspecial];
         if (kind == 4) { /* exactly at the edge of the reachable set along a random ray */
             double u[6], lo = 0, hi = 1.0;
             for (int i = 0; i < 6; ++i) u[i] = (i < 3 ? 0.05 : 0.5) * lf_uniform(&seed);

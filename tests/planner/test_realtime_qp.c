@@ -2,8 +2,8 @@
  * the KKT conditions checked independently and against an exhaustive enumeration of active
  * sets, degenerate vertices (many constraints through one point, duplicated rows),
  * infeasibility detection, and the refusal of non-finite input wherever it sits. */
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 #include "planner/qp.h"
 #include "common/dense.h"
 
@@ -53,7 +53,7 @@ static void test_random_kkt(void **st)
     uint64_t seed = 2024;
     hp_qp q;
     for (int t = 0; t < 2000; ++t) {
-        int n = 1 + (int)(lf_next(&seed) % 6), m = (int)(lf_next(&seed) % (HP_QP_MMAX + 1));
+        int n = 1 + (int)(test_rng_next(&seed) % 6), m = (int)(test_rng_next(&seed) % (HP_QP_MMAX + 1));
         random_qp(&q, &seed, n, m);
         assert_int_equal(hp_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
         /* 1e-9: the data are O(10), the factorisations well conditioned (G >= I). */
@@ -70,7 +70,7 @@ static void test_factored_same_bits(void **st)
     uint64_t seed = 77;
     hp_qp q, r;
     for (int t = 0; t < 2000; ++t) {
-        int n = 1 + (int)(lf_next(&seed) % 6), m = (int)(lf_next(&seed) % (HP_QP_MMAX + 1));
+        int n = 1 + (int)(test_rng_next(&seed) % 6), m = (int)(test_rng_next(&seed) % (HP_QP_MMAX + 1));
         random_qp(&q, &seed, n, m);
         double L[HP_QP_NMAX * HP_QP_NMAX];
         for (int i = 0; i < n * n; ++i) L[i] = NAN; /* entries above the diagonal: not read */
@@ -244,12 +244,12 @@ static void test_random_vs_enumeration(void **st)
     for (int t = 0; t < 1500; ++t) {
         hp_qp q;
         memset(&q, 0, sizeof q);
-        int n = 1 + (int)(lf_next(&seed) % 4), m = (int)(lf_next(&seed) % 11);
+        int n = 1 + (int)(test_rng_next(&seed) % 4), m = (int)(test_rng_next(&seed) % 11);
         random_qp(&q, &seed, n, m);
         for (int c = 0; c < m; ++c)
             for (int i = n; i < HP_QP_NMAX; ++i) q.C[c * HP_QP_NMAX + i] = NAN;
         for (int i = n; i < HP_QP_NMAX; ++i) q.a[i] = NAN;
-        int style = (int)(lf_next(&seed) % 3); /* 0 unpaired, 1 pairs, 2 pairs + a zero row */
+        int style = (int)(test_rng_next(&seed) % 3); /* 0 unpaired, 1 pairs, 2 pairs + a zero row */
         if (style > 0) {
             for (int c = 1; c < m; c += 2) {
                 for (int i = 0; i < n; ++i) q.C[c * HP_QP_NMAX + i] = -q.C[(c - 1) * HP_QP_NMAX + i];

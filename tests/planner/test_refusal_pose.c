@@ -14,9 +14,9 @@
  * beyond it (and as far as the message says, to 1e-6 mm) when "stalled at". A closest
  * answer's distances are not returned, so its refusal is checked for its form only (the
  * fits that stall here all stall on closest answers). */
-#include "test_util.h"
-#include "tests/kinematics/ident_layouts.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/ident_layouts.h"
+#include "support/layout_fixture.h"
 
 #include <string.h>
 

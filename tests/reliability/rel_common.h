@@ -17,8 +17,8 @@
 #ifndef HP_TEST_RELIABILITY_COMMON_H
 #define HP_TEST_RELIABILITY_COMMON_H
 
-#include "test_util.h"
-#include "tests/planner/layout_fixture.h"
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -19,7 +19,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "alloc_counter.h"
+#include "support/alloc_counter.h"
 
 /* Targets per backend × level × planner: Ipopt ~3–5 ms a plan, COBYLA ~10× more. */
 static int campaign_size(hp_backend b)

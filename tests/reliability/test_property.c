@@ -102,9 +102,9 @@ static void one_plan(prop_planner *pp, uint64_t *seed, long t, const char *tag)
     }
     case 9: {
         double P[HP_MAX_BLADDERS];
-        int mix = (int)(lf_next(seed) % 2), j0 = (int)(lf_next(seed) % 6);
+        int mix = (int)(test_rng_next(seed) % 2), j0 = (int)(test_rng_next(seed) % 6);
         for (int k = 0; k < pp->L.n; ++k) /* mixed: each bladder from another far answer */
-            P[k] = pp->extreme[mix ? (int)(lf_next(seed) % 6) : j0][k];
+            P[k] = pp->extreme[mix ? (int)(test_rng_next(seed) % 6) : j0][k];
         if (hp_planner_set_previous(pp->p, P) == HP_OK) rel_ctx_capture_safe(&pp->c, pp->p);
         if (pp->lp_k >= 0) { /* the limit-point pressure itself: above the stable cap */
             double Q[HP_MAX_BLADDERS];

@@ -19,8 +19,9 @@
  * small band (0-10 mm, 0-10 deg, mostly reachable). A translation beyond the head's smallest
  * semi-axis is outside the identifiable range (invalid input): it is shortened to 0.95 of it.
  * Counts are cut under AddressSanitizer (a loaded 2-core machine runs it there too). */
-#include "test_util.h"
-#include "tests/kinematics/ident_layouts.h"
+#include "support/test_util.h"
+#include "support/rng.h"
+#include "support/ident_layouts.h"
 #include "headplan/headplan.h"
 
 #include <stdint.h>
@@ -69,25 +70,11 @@
 
 static const double PI = 3.14159265358979323846;
 
-static uint64_t sw_next(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
-/* Uniform in [lo, hi). */
-static double sw_uni(uint64_t *s, double lo, double hi)
-{
-    return lo + (hi - lo) * (double)(sw_next(s) >> 11) * 0x1.0p-53;
-}
-
 static void sw_unit3(uint64_t *s, double u[3])
 {
     double n;
     do {
-        for (int i = 0; i < 3; ++i) u[i] = sw_uni(s, -1, 1);
+        for (int i = 0; i < 3; ++i) u[i] = test_rng_uniform(s, -1, 1);
         n = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
     } while (n < 0.1 || n > 1.0);
     for (int i = 0; i < 3; ++i) u[i] /= n;
@@ -100,21 +87,21 @@ static void sw_unit3(uint64_t *s, double u[3])
  * three with a rate limit of 0.5-3 kPa per plan. kind receives a short description. */
 static hp_error sw_layout(uint64_t *s, hp_layout *L, char *kind, size_t kn)
 {
-    int sphere = sw_next(s) % 4 == 0;
-    double ax[3] = {sw_uni(s, 0.070, 0.090), sw_uni(s, 0.100, 0.125), sw_uni(s, 0.085, 0.105)};
-    if (sphere) ax[0] = sw_uni(s, 0.080, 0.100);
+    int sphere = test_rng_next(s) % 4 == 0;
+    double ax[3] = {test_rng_uniform(s, 0.070, 0.090), test_rng_uniform(s, 0.100, 0.125), test_rng_uniform(s, 0.085, 0.105)};
+    if (sphere) ax[0] = test_rng_uniform(s, 0.080, 0.100);
     double c[3], pv[3], rays[8][3];
-    for (int i = 0; i < 3; ++i) c[i] = sw_uni(s, -0.010, 0.010);
-    pv[0] = c[0] + sw_uni(s, -0.030, 0.030);
-    pv[1] = c[1] + sw_uni(s, -0.030, 0.030);
-    pv[2] = c[2] - sw_uni(s, 0.0, 0.120);
+    for (int i = 0; i < 3; ++i) c[i] = test_rng_uniform(s, -0.010, 0.010);
+    pv[0] = c[0] + test_rng_uniform(s, -0.030, 0.030);
+    pv[1] = c[1] + test_rng_uniform(s, -0.030, 0.030);
+    pv[2] = c[2] - test_rng_uniform(s, 0.0, 0.120);
     for (int k = 0; k < 8; ++k)
-        for (int i = 0; i < 3; ++i) rays[k][i] = il_default_rays[k][i] + sw_uni(s, -0.15, 0.15);
+        for (int i = 0; i < 3; ++i) rays[k][i] = il_default_rays[k][i] + test_rng_uniform(s, -0.15, 0.15);
     hp_error e = il_layout(L, sphere ? HP_HEAD_SPHERE : HP_HEAD_ELLIPSOID, ax, c, pv, 8,
-                           (const double(*)[3])rays, sw_uni(s, 0.85, 1.15));
+                           (const double(*)[3])rays, test_rng_uniform(s, 0.85, 1.15));
     if (e != HP_OK) return e;
-    int mat = (int)(sw_next(s) % 3), rate = sw_next(s) % 3 == 0;
-    double rmax = sw_uni(s, 500.0, 3000.0);
+    int mat = (int)(test_rng_next(s) % 3), rate = test_rng_next(s) % 3 == 0;
+    double rmax = test_rng_uniform(s, 500.0, 3000.0);
     for (int k = 0; k < L->n; ++k) {
         hp_bladder *B = &L->bladders[k];
         if (mat == 1) {
@@ -140,8 +127,8 @@ static void sw_target(uint64_t *s, int band, const hp_identifiable *id, double x
     double u[3], v[3];
     sw_unit3(s, u);
     sw_unit3(s, v);
-    double t = sw_uni(s, tmin[band], tmax[band]) * 1e-3;
-    double a = sw_uni(s, amin[band], amax[band]) * PI / 180.0;
+    double t = test_rng_uniform(s, tmin[band], tmax[band]) * 1e-3;
+    double a = test_rng_uniform(s, amin[band], amax[band]) * PI / 180.0;
     if (t > 0.95 * id->trans_limit) t = 0.95 * id->trans_limit;
     for (int i = 0; i < 3; ++i) {
         xi[i] = t * u[i];
@@ -333,7 +320,7 @@ static void trace_layout(const hp_layout *L, const char *what, uint64_t *s, sw_t
     hp_identifiable id;
     assert_int_equal(hp_layout_identify(L, &id), HP_OK);
     double target[6];
-    sw_target(s, (int)(sw_next(s) % 2), &id, target);
+    sw_target(s, (int)(test_rng_next(s) % 2), &id, target);
     for (int l = 0; l < 2; ++l) {
         double prev[HP_MAX_BLADDERS];
         hp_planner *rt = sw_planner(L, HP_BACKEND_REALTIME, sw_levels[l], 1, prev);
@@ -522,7 +509,7 @@ static void walk_scene(const char *scene, hp_level level, uint64_t *s)
     long plans = 0, differ = 0;
     double worst = 0.0;
     for (int it = 0; it < SW_WALK_STEPS; ++it) {
-        double r = sw_uni(s, 0, 1);
+        double r = test_rng_uniform(s, 0, 1);
         if (r < 0.03) {
             hp_planner_reset(w);
             assert_int_equal(hp_planner_nominal_pressures(w, prev), HP_OK);
@@ -531,7 +518,7 @@ static void walk_scene(const char *scene, hp_level level, uint64_t *s)
         if (r < 0.06) { /* the previous pressures of another plan */
             double t[6];
             hp_result o;
-            for (int i = 0; i < 6; ++i) t[i] = sw_uni(s, -0.5, 0.5) * (i < 3 ? 0.012 : 0.1);
+            for (int i = 0; i < 6; ++i) t[i] = test_rng_uniform(s, -0.5, 0.5) * (i < 3 ? 0.012 : 0.1);
             hp_planner_reset(c);
             assert_int_equal(hp_plan(c, t, &o), HP_OK);
             if (o.status == HP_STATUS_REACHED || o.status == HP_STATUS_CLOSEST) {
@@ -543,7 +530,7 @@ static void walk_scene(const char *scene, hp_level level, uint64_t *s)
         for (int i = 0; i < 6; ++i) {
             double big = i < 3 ? 0.004 : 0.05, small = i < 3 ? 0.0003 : 0.003;
             double lim = i < 3 ? 0.015 : 0.15;
-            cur[i] += sw_uni(s, -0.5, 0.5) * (r < 0.2 ? big : small);
+            cur[i] += test_rng_uniform(s, -0.5, 0.5) * (r < 0.2 ? big : small);
             cur[i] = fmin(lim, fmax(-lim, cur[i]));
         }
         hp_result a, b;

@@ -2,7 +2,7 @@
  * every malformed file is refused with its exact message — file, line, column, key path —
  * and leaves the output scene all zero. Plus what a file cannot express: the size limit,
  * NULL arguments, missing files, and robustness against truncated and mutated scenes. */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "headplan/hp_scene.h"
 

@@ -1,7 +1,7 @@
 /* A scene that states no model.level is planned at auto (the fidelity it needs), and its
  * settings resolve to the level hp_contact_auto picks for its layout and auto range, not
  * silently to linear. */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "headplan/headplan.h"
 

@@ -1,7 +1,7 @@
 /* load.gravity_dir is a direction: any finite non-zero vector is scaled to 9.80665 m/s^2,
  * however large or small its components (their squares may overflow or underflow), and
  * the zero vector is refused as such. */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "headplan/headplan.h"
 

@@ -2,7 +2,7 @@
  * level): `headplan solve --help` lists exactly those names, and the messages for an
  * unknown level (solve's --level, a scene's model.level) list the same ones. */
 #define _POSIX_C_SOURCE 200809L /* popen */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "headplan/headplan.h"
 

@@ -12,7 +12,7 @@
  *
  * The references are computed here from the public model (hp_contact_eval, hp_load_radius,
  * hp_load_eval), not from the planner's own bookkeeping. */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "headplan/hp_load_planner.h"
 #include "headplan/hp_scene.h"

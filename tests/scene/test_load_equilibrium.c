@@ -8,7 +8,7 @@
  * through rho = 0 while the contact point's direction flips there, and the planner returned
  * such poses (20 mm + 40° yaw: 2.74 N; 30° pitch: 87.9 N, the head 63 mm down through the
  * base panels). docs/load.md. */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "headplan/hp_load_planner.h"
 #include "headplan/hp_scene.h"

@@ -3,8 +3,8 @@
  * locale strtod stopped at the '.' of "77.5" and every scene was refused ("'77.5' is not a
  * number"), and a trace's exponent numbers (the strtod path) were bad rows. */
 #define _POSIX_C_SOURCE 200809L
-#include "test_util.h"
-#include "comma_locale.h"
+#include "support/test_util.h"
+#include "support/comma_locale.h"
 
 #include "headplan/hp_scene.h"
 #include "headplan/hp_trace.h"

@@ -1,7 +1,7 @@
 /* hp_scene_plan_level: the one decision of which planner plans a scene (the command line
  * and the Python module both call it). References: hp_load_auto_choose on a load model
  * built here from the scene's own fields, and the scene files' stated model.level. */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "headplan/hp_scene.h"
 

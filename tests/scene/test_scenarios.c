@@ -3,7 +3,7 @@
  * References are independent of the parser: numbers typed from the files by hand, unit
  * conversions written out here, and the geometry of touch placement recomputed from the
  * ellipsoid's implicit equation (outward normal ∝ (x/a², y/b², z/c²)). */
-#include "test_util.h"
+#include "support/test_util.h"
 
 #include "headplan/hp_scene.h"
 

@@ -5,7 +5,8 @@
  * cases, with and without sign), the fast path's edges (2^53 and its neighbours, 10^±22 and
  * 10^±23), and strings it must refuse (some of them shaped like the one-pass path's plain
  * decimals until a late character). */
-#include "test_util.h"
+#include "support/test_util.h"
+#include "support/rng.h"
 #include "scene/strict_number.h"
 
 #include <stdint.h>
@@ -14,13 +15,6 @@
 #include <string.h>
 
 static uint64_t rng = 0x2545F4914F6CDD1Du;
-static uint64_t next(void)
-{
-    uint64_t z = (rng += 0x9E3779B97F4A7C15u);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9u;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBu;
-    return z ^ (z >> 31);
-}
 
 static void same_as_strtod(const char *s)
 {
@@ -36,20 +30,21 @@ static void test_random_decimals(void **st)
     (void)st;
     char s[64];
     for (int t = 0; t < 700000; ++t) {
-        int nd = 1 + (int)(next() % 20), point = (int)(next() % (uint64_t)(nd + 2)), n = 0;
-        if (next() % 3 == 0) s[n++] = next() & 1 ? '-' : '+';
-        int zeros = (int)(next() % 4); /* leading zeros */
+        int nd = 1 + (int)(test_rng_next(&rng) % 20);
+        int point = (int)(test_rng_next(&rng) % (uint64_t)(nd + 2)), n = 0;
+        if (test_rng_next(&rng) % 3 == 0) s[n++] = test_rng_next(&rng) & 1 ? '-' : '+';
+        int zeros = (int)(test_rng_next(&rng) % 4); /* leading zeros */
         for (int i = 0; i < zeros; ++i) s[n++] = '0';
         for (int i = 0; i < nd; ++i) {
             if (i == point) s[n++] = '.';
-            uint64_t r = next() % 10;
+            uint64_t r = test_rng_next(&rng) % 10;
             s[n++] = (char)('0' + (t % 7 == 0 && i > nd / 2 ? 0 : (int)r)); /* trailing 0s */
         }
-        if (point == nd && next() & 1) s[n++] = '.';
-        if (next() % 3 == 0) {
-            s[n++] = next() & 1 ? 'e' : 'E';
-            int e = (int)(next() % 81) - 40;
-            if (e >= 0 && next() & 1) s[n++] = '+';
+        if (point == nd && test_rng_next(&rng) & 1) s[n++] = '.';
+        if (test_rng_next(&rng) % 3 == 0) {
+            s[n++] = test_rng_next(&rng) & 1 ? 'e' : 'E';
+            int e = (int)(test_rng_next(&rng) % 81) - 40;
+            if (e >= 0 && test_rng_next(&rng) & 1) s[n++] = '+';
             n += snprintf(s + n, sizeof s - (size_t)n, "%d", e);
         }
         s[n] = '\0';

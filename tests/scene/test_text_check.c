@@ -3,7 +3,7 @@
  * several words (first, inside and last byte of a word, in the tail after the last whole
  * word) is found at its own offset with its kind; well-formed multi-byte characters at every
  * offset are not. */
-#include "test_util.h"
+#include "support/test_util.h"
 #include "scene/text_check.h"
 
 #include <string.h>

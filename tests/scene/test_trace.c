@@ -5,8 +5,8 @@
  * checked against the same library conversions done here, which test_pose_forms checks
  * against hand derivations). */
 #define _POSIX_C_SOURCE 200809L
-#include "test_util.h"
-#include "headplan/hp_kinematics.h"
+#include "support/test_util.h"
+#include "headplan/hp_pose.h"
 #include "headplan/hp_trace.h"
 
 #include <stdio.h>

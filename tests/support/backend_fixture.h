@@ -10,7 +10,7 @@
 #define HP_TEST_BACKEND_FIXTURE_H
 
 #include "headplan/hp_iab.h"
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 #include "planner/problem.h"
 
 #include <math.h>

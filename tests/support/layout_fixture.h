@@ -14,8 +14,9 @@
 #ifndef HP_TEST_PLANNER_LAYOUT_FIXTURE_H
 #define HP_TEST_PLANNER_LAYOUT_FIXTURE_H
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 #include "headplan/hp_planner.h"
+#include "support/rng.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -128,19 +129,10 @@ static inline hp_error lf_soft_layout(hp_layout *L, double p_max_factor, hp_iab_
     return hp_layout_prepare(L, NULL);
 }
 
-/* Deterministic generator (splitmix64) for seeded property tests. */
-static inline uint64_t lf_next(uint64_t *s)
-{
-    uint64_t z = (*s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-}
-
 /* Uniform in [−1, 1). */
 static inline double lf_uniform(uint64_t *s)
 {
-    return (double)(lf_next(s) >> 11) * 0x1.0p-52 - 1.0;
+    return test_rng_uniform(s, -1.0, 1.0);
 }
 
 /* A correction in clinical units (mm, deg) -> SI. */

@@ -11,7 +11,7 @@
 #ifndef HP_TEST_IDENT_LAYOUTS_H
 #define HP_TEST_IDENT_LAYOUTS_H
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 
 #include <math.h>
 #include <stdio.h>

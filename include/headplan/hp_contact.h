@@ -1,139 +1,18 @@
-/* Head, bladder layout and contact kinematics.
- *
- * Frame: IEC 61217 patient-support axes, head-first supine: +X lateral (patient's left),
- * +Y longitudinal (superior), +Z vertical (anterior, up). A correction (pose) is the vector
- * xi = [x, y, z, pitch, roll, yaw] in metres and radians: pitch about X, roll about Y, yaw
- * about Z, right-hand positive, applied about the layout's pivot, with
- * R = Rz(yaw)·Ry(roll)·Rx(pitch) (pitch applied first). A head point q moves to
- * pivot + R·(q − pivot) + t.
+/* Contact kinematics: the contact distances of a layout's bladders to the moved head at each
+ * fidelity level (hp_level), their inverse (forward contact fit), and what a layout can
+ * observe and reach (analysis, the identifiable range, the commanded part of a pose).
  *
  * Functions are reentrant and allocate nothing unless they say so. */
-#ifndef HP_KINEMATICS_H
-#define HP_KINEMATICS_H
+#ifndef HP_CONTACT_H
+#define HP_CONTACT_H
 
 #include "headplan/hp_common.h"
-#include "headplan/hp_iab.h"
+#include "headplan/hp_layout.h"
+#include "headplan/hp_pose.h"
 
 #ifdef __cplusplus
 extern "C" {
 #endif
-
-/* Index of each component of a pose vector. */
-enum { HP_X = 0, HP_Y, HP_Z, HP_PITCH, HP_ROLL, HP_YAW, HP_DOF };
-
-/* Clinical units (mm, degrees) <-> SI (m, rad), the one place these conversions live. */
-HP_API void hp_pose_from_clinical(const double mm_deg[6], double xi[6]);
-HP_API void hp_pose_to_clinical(const double xi[6], double mm_deg[6]);
-/* Names of the pose components as a user types them: "x_mm" ... "yaw_deg". */
-HP_API const char *hp_pose_key(int i);
-
-/* Rotation matrix R = Rz(yaw)·Ry(roll)·Rx(pitch), row-major 3×3. */
-HP_API void hp_rotation(double pitch, double roll, double yaw, double R[9]);
-
-/* The angles (rad) of a rotation matrix R (row-major, orthonormal) in the convention above:
- * pitch and yaw in (−π, π], roll in [−π/2, π/2]. At roll = ±π/2 (gimbal lock) any split of
- * pitch and yaw that gives R is returned. */
-HP_API void hp_rotation_angles(const double R[9], double *pitch, double *roll, double *yaw);
-
-/* The exact inverse of a pose about the pivot: the rotation Rᵀ and translation −Rᵀ·t, in
- * the angle convention above. A measured deviation's correction is its inverse (not its
- * negation: −xi leaves 0.26 mm of a 5 mm / 3° yaw deviation uncorrected). inv may be xi. */
-HP_API void hp_pose_inverse(const double xi[6], double inv[6]);
-
-/* A pose from translation t [m] and a unit quaternion q = (w, x, y, z) (Hamilton, active:
- * the same rotation R as the pose's). |q| must be 1 within 1e-6 (it is normalised); else
- * HP_ERR_INVALID, as for non-finite input. q and −q give the same pose. */
-HP_API hp_error hp_pose_from_quaternion(const double t[3], const double q[4], double xi[6],
-                                 hp_diag *diag);
-/* The pose's translation t [m] and its unit quaternion (w >= 0). */
-HP_API void hp_pose_to_quaternion(const double xi[6], double t[3], double q[4]);
-
-/* A pose from a 4×4 rigid transform M (row-major, translation column in metres) in the
- * frame centred on the pivot: M maps q − pivot to R·(q − pivot) + t. The last row must be
- * exactly 0 0 0 1 and the 3×3 block a rotation (RᵀR = I within 1e-6, det +1); else
- * HP_ERR_INVALID naming what is wrong. */
-HP_API hp_error hp_pose_from_matrix(const double M[16], double xi[6], hp_diag *diag);
-/* The pose as a 4×4 rigid transform (same layout). */
-HP_API void hp_pose_to_matrix(const double xi[6], double M[16]);
-
-/* ROS REP 103: the pose in the head's body frame x anterior (IEC +Z), y patient's left
- * (IEC +X), z superior (IEC +Y), origin at the pivot, as ros = [x, y, z (m), roll, pitch,
- * yaw (rad)] with R = Rz(yaw)·Ry(pitch)·Rx(roll). Exact (through the rotation matrix), so
- * the two calls invert each other; the mapping of single angles is tabled in
- * docs/kinematics.md. */
-HP_API void hp_pose_to_rep103(const double xi[6], double ros[6]);
-HP_API void hp_pose_from_rep103(const double ros[6], double xi[6]);
-
-typedef enum hp_head_shape { HP_HEAD_SPHERE = 0, HP_HEAD_ELLIPSOID } hp_head_shape;
-HP_API const char *hp_head_shape_name(hp_head_shape s);            /* "sphere", "ellipsoid" */
-HP_API hp_error hp_head_shape_parse(const char *s, hp_head_shape *out);
-
-/* A rigid head. A sphere uses semi_axes[0] as its radius (all three equal). */
-typedef struct hp_head {
-    hp_head_shape shape;
-    double center[3];    /* [m] at the nominal pose */
-    double semi_axes[3]; /* [m] along X, Y, Z */
-    double mass;         /* [kg]; 0 when the scene does not state it (no load model) */
-} hp_head;
-
-/* Default adult head: ellipsoid 77.5 × 115 × 97.5 mm semi-axes, 4.5 kg, at the origin. */
-#define HP_HEAD_DEFAULT_A 0.0775
-#define HP_HEAD_DEFAULT_B 0.115
-#define HP_HEAD_DEFAULT_C 0.0975
-#define HP_HEAD_DEFAULT_MASS 4.5
-
-/* One bladder of a layout: where it sits and what it may do. */
-typedef struct hp_bladder {
-    char name[HP_NAME_MAX];
-    double center[3];     /* fixed centre on its panel [m] */
-    hp_iab iab;           /* reference radii and material */
-    double p_min, p_max;  /* safe pressure [Pa], p_min < p_max */
-    double stretch_min;   /* safe inner stretch λi = ri/Ri, lower bound (> 0) */
-    double stretch_max;   /* upper bound, below any limit point */
-    double rate_max;      /* largest pressure change per cycle [Pa]; +inf when unlimited */
-    double stress_max;    /* largest hoop stress at the inner surface [Pa] (> 0); 0 or
-                             +inf: no stress limit (hp_iab_hoop_stress_inner) */
-} hp_bladder;
-
-/* The head and its bladders at the nominal pose: inputs only. Nothing in it is derived, so
- * a layout may be edited at any time; every call that takes a layout reads it as it is
- * then (the contact geometry is derived on each call, or once by an object that keeps its
- * own private copy, such as the planner). */
-typedef struct hp_layout {
-    hp_head head;
-    double pivot[3];                     /* [m] */
-    int n;                               /* number of bladders, 1..HP_MAX_BLADDERS */
-    hp_bladder bladders[HP_MAX_BLADDERS];
-} hp_layout;
-
-/* Validates the layout; derives and keeps nothing (the name is kept from when it did).
- * The one change it makes: a sphere's radius semi_axes[0] is copied to the other two
- * semi-axes. Checks: finite head centre and
- * pivot, semi-axes finite > 0 (a sphere reads semi_axes[0]), mass finite >= 0, n in
- * 1..HP_MAX_BLADDERS, names non-empty, NUL-terminated
- * and unique, centres finite and outside the head, hp_iab_validate, finite p_min < p_max,
- * 0 < stretch_min < stretch_max, stretch_max below any inflation limit point, rate_max > 0
- * (+inf allowed), and the nominal pose holdable: the stretch at ro = rho0 (the nominal
- * contact distance, hp_layout_contact) strictly inside
- * (stretch_min, stretch_max) by at least 1e-9 and its pressure inside [p_min, p_max].
- * HP_ERR_INVALID (or the bladder model's code) with a message naming the bladder and
- * field at fault, e.g. "bladder 'side_fore_left': stretch_max: ...". Uses the bladder
- * model; allocates nothing. */
-HP_API hp_error hp_layout_prepare(hp_layout *L, hp_diag *diag);
-
-/* The nominal contact of bladder k (0-based): the head-surface point nearest its centre
- * (point, m), the outward unit head normal there (normal) and the nominal contact distance
- * rho0 = |centre − point| (m). Any output may be NULL. Derived from L as it is now on
- * every call. HP_ERR_INVALID when the head, the pivot or n is invalid, k is out of range
- * or the centre is not finite and outside the head. Allocates nothing. */
-HP_API hp_error hp_layout_contact(const hp_layout *L, int k, double point[3], double normal[3],
-                                  double *rho0);
-
-/* Point of the head surface a bladder touches placed by "touch": returns the bladder centre
- * c = p + (Ro + preload)·n(p) for surface point p (which must lie on the surface to within
- * 1e-9 relative of its implicit function; otherwise HP_ERR_INVALID). */
-HP_API hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro,
-                                   double preload, double center[3], hp_diag *diag);
 
 /* Layout calls. Every call below that takes a const hp_layout derives the nominal contact
  * geometry it needs from the layout as it is, on its own stack, on every call (for eight
@@ -286,10 +165,6 @@ typedef struct hp_identifiable {
  * geometry is invalid, or the Jacobian is zero), HP_ERR_NO_CONVERGENCE (SVD). Allocates
  * nothing. */
 HP_API hp_error hp_layout_identify(const hp_layout *L, hp_identifiable *out);
-
-/* Angle [rad] of the rotation of pose xi (pitch, roll, yaw in xi[3..5]) about its own axis,
- * in [0, pi]: the quantity hp_identifiable.rot_limit bounds. */
-HP_API double hp_pose_rotation_angle(const double xi[6]);
 
 /* The commanded part xc of a desired pose xd for a layout (see hp_identifiable): zeros in
  * the components id->commanded[] drops, and the contact distances of xd. For a centre_only

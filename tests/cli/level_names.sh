@@ -1,4 +1,4 @@
-# Fifth round of seams: every path names its level honestly. analyze takes the level names
+# Level names: every path names its level honestly. analyze takes the level names
 # solve takes (one table, hp_scene_level_names), and batch states what auto chose and why in
 # its metadata record, in the words solve prints ("level choice: ...").
 source "$2/tests/cli_lib.sh"

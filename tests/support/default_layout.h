@@ -13,7 +13,7 @@
 #ifndef HP_TEST_DEFAULT_LAYOUT_H
 #define HP_TEST_DEFAULT_LAYOUT_H
 
-#include "headplan/hp_kinematics.h"
+#include "headplan/hp_contact.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -1,5 +1,5 @@
-# Third round of seams: the same request reaching the program by another path (a JSON Lines
-# trace instead of CSV, a result in the other format, standard input, '--') must get the
+# Trace and result formats: the same request reaching the program by another path (a JSON
+# Lines trace instead of CSV, a result in the other format, standard input, '--') must get the
 # same honest answer. Each case here was once answered wrongly (see the commit).
 source "$2/tests/cli_lib.sh"
 HP_BIN=$(realpath "$HP_BIN"); HP_SRC=$(realpath "$HP_SRC")

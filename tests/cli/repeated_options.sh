@@ -1,6 +1,6 @@
-# Second round of seams: the same request reaching the program by another path (an option
-# given twice, two outputs naming one file, a byte-order mark, a result cut short) must get
-# the same honest answer. Each case here was once answered wrongly (see the commit).
+# Options given twice and outputs that collide: the same request reaching the program by
+# another path (an option given twice, two outputs naming one file, a byte-order mark, a
+# result cut short) must get the same honest answer. Each case here was once answered wrongly (see the commit).
 source "$2/tests/cli_lib.sh"
 HP_BIN=$(realpath "$HP_BIN"); HP_SRC=$(realpath "$HP_SRC") # some cases run in $TMP
 S="$HP_SRC/scenarios"

@@ -1,4 +1,4 @@
-# Fourth round of seams: standard input and '--' attacked (empty, a directory, closed,
+# Standard input and '--' attacked (empty, a directory, closed,
 # garbage, given twice, the output on the input). Every refusal is one line naming the file
 # (FILE:LINE:COL for its content) with its own exit code, and writes nothing.
 source "$2/tests/cli_lib.sh"
