@@ -8,8 +8,9 @@ SRC=$1
 fails=0
 bad() { fails=$((fails + 1)); echo "FAIL: $*"; }
 T=$(mktemp -d); trap 'rm -rf "$T"' EXIT
-mkdir -p "$T/scripts" "$T/common" "$T/planner" "$T/build" "$T/include/headplan"
+mkdir -p "$T/cmake" "$T/scripts" "$T/common" "$T/planner" "$T/build" "$T/include/headplan"
 cp "$SRC/.clang-format" "$T/"
+cp "$SRC/cmake/layers.txt" "$T/cmake/"
 cp "$SRC/scripts/pre-commit" "$SRC/scripts/check_format.sh" "$SRC/scripts/check_layers.py" "$T/scripts/"
 cd "$T" || exit 1
 git init -q . && git config user.email t@t && git config user.name t
