@@ -398,10 +398,7 @@ int cmd_horizon(int argc, char **argv)
         use_ovr = &sc->trace_rows;
         from = a.rows ? "--rows" : "the scene's trace.rows";
     }
-    if ((rc = cli_kinematic_only(CMD, sc, NULL,
-                                 "set model.level to surface (or plane, linear) to plan "
-                                 "the trace without it")) ||
-        (rc = cli_settings(CMD, sc, NULL, NULL, &s)))
+    if ((rc = cli_settings(CMD, sc, NULL, NULL, &s)))
         goto done;
     rows_kind kind = {"", ""};
     cli_input trace_id;

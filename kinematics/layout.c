@@ -6,20 +6,20 @@
 #include <stdio.h>
 #include <string.h>
 
-/* The one table of the contact levels' names, in enum order: parsing, messages and the
- * command line's help all read it (hp_scene_level_names adds the scene's "load"). */
-static const char *const level_names[HP_LEVEL_AUTO + 1] = {"linear", "plane", "surface",
-                                                           "auto"};
+/* The one table of the levels' names, in enum order: parsing, messages and the command
+ * line's help all read it. */
+static const char *const level_names[HP_LEVEL_LOAD + 1] = {"linear", "plane", "surface",
+                                                           "auto", "load"};
 
 const char *hp_level_name(hp_level l)
 {
-    return (int)l >= 0 && l <= HP_LEVEL_AUTO ? level_names[l] : "unknown";
+    return (int)l >= 0 && l <= HP_LEVEL_LOAD ? level_names[l] : "unknown";
 }
 
 hp_error hp_level_parse(const char *s, hp_level *out)
 {
     if (!s || !out) return HP_ERR_NULL;
-    for (int l = HP_LEVEL_LINEAR; l <= HP_LEVEL_AUTO; ++l)
+    for (int l = HP_LEVEL_LINEAR; l <= HP_LEVEL_LOAD; ++l)
         if (strcmp(s, hp_level_name((hp_level)l)) == 0) {
             *out = (hp_level)l;
             return HP_OK;

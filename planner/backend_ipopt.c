@@ -589,9 +589,22 @@ static hp_error ipopt_set_option(void *state, const char *name, double value, hp
                        "ipopt: unknown option '%s' (known: hessian_approximation)", name);
 }
 
+/* The load level's HOLD with its tie-breaker on Ipopt (load_ipopt.c). */
+static hp_load_solve_status ipopt_load_hold(const hp_load_model *M, const double xi[6],
+                                            const double *lo, const double *hi,
+                                            const double *target, const double *start,
+                                            int max_iter, int stiffness, double *P, double *F,
+                                            int *iterations, int *raw)
+{
+    return hp_load_hold_on_ipopt(M, xi, lo, hi, target, start, max_iter, stiffness, P, F,
+                                 iterations, raw);
+}
+
 const hp_backend_ops hp_backend_ipopt_ops = {
     .name = "ipopt",
-    .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_WARM_STARTS,
+    .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_WARM_STARTS | HP_BACKEND_LOAD |
+            HP_BACKEND_LOAD_STIFFNESS,
+    .load_hold = ipopt_load_hold,
     .create = ipopt_create,
     .solve = ipopt_solve,
     .destroy = ipopt_destroy,

@@ -37,6 +37,25 @@ const char *hp_status_name(hp_status s)
     return status_names[s];
 }
 
+static const char *const tie_names[HP_TIE_COUNT_] = {"least-squeeze", "previous",
+                                                      "stiffness"};
+
+const char *hp_load_tiebreak_name(hp_load_tiebreak t)
+{
+    return (int)t >= 0 && t < HP_TIE_COUNT_ ? tie_names[t] : "unknown";
+}
+
+hp_error hp_load_tiebreak_parse(const char *s, hp_load_tiebreak *out)
+{
+    if (!s || !out) return HP_ERR_NULL;
+    for (int i = 0; i < HP_TIE_COUNT_; ++i)
+        if (strcmp(s, tie_names[i]) == 0) {
+            *out = (hp_load_tiebreak)i;
+            return HP_OK;
+        }
+    return HP_ERR_INVALID;
+}
+
 const char *hp_binding_name(unsigned flag)
 {
     for (int i = 0; i < HP_BIND_COUNT; ++i)

@@ -598,6 +598,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         res->status = HP_STATUS_SOLVER_ERROR;
         return HP_ERR_STATE;
     }
+    if (p->load) return hp_load_level_plan(p->load, desired, res);
     p->err[0] = '\0';
     p->note[0] = '\0';
     p->note_pending = 0;

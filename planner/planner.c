@@ -1,19 +1,10 @@
 /* The planner's lifecycle: create (the only call that allocates), the previous answer
  * (reset, set_previous), options, accessors, destroy. The plan itself is in plan.c. */
-#define _POSIX_C_SOURCE 200809L
 #include "planner/planner_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-double hp_plan_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
 
 void hp_plan_to_scaled(const double xi[6], double x[6])
 {
@@ -132,6 +123,10 @@ void hp_plan_set_previous_answer(hp_planner *p, const hp_result *r)
 void hp_planner_reset(hp_planner *p)
 {
     if (!p || !p->built) return;
+    if (p->load) {
+        hp_load_level_reset(p->load);
+        return;
+    }
     hp_plan_set_previous_answer(p, &p->nominal);
 }
 
@@ -157,21 +152,22 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     e = hp_layout_prepare(&p->L, d);
     if (e == HP_OK) e = hp_geom_derive(&p->L, &p->G, d);
     if (e != HP_OK) goto fail;
-    p->level = s.level;
-    if (p->level == HP_LEVEL_AUTO) {
-        e = hp_contact_auto_g(&p->L, &p->G, s.level_tolerance, s.auto_trans, s.auto_rot, &p->level);
-        if (e != HP_OK) {
-            hp_diag_set(d, e, "level: auto could not choose a contact level (%s)",
-                        hp_error_message(e));
-            goto fail;
-        }
-    }
+    if ((e = hp_planner_resolve_level(p, layout, d)) != HP_OK) goto fail;
     if ((e = hp_layout_identify_g(&p->L, &p->G, &p->id)) != HP_OK) {
         hp_diag_set(d, e, "layout: the contact Jacobian at the nominal pose: %s",
                     hp_error_message(e));
         goto fail;
     }
     memcpy(p->commanded, p->id.commanded, sizeof p->commanded);
+    p->ops = ops;
+    if (p->level == HP_LEVEL_LOAD) {
+        /* The load level plans with its own model and bounds (load_level.c) and the
+         * backend's load_hold; the contact levels' problem and solver state are not built. */
+        if ((e = hp_load_level_build(p->load, &s, ops, p->err, d)) != HP_OK) goto fail;
+        p->built = 1;
+        *out = p;
+        return HP_OK;
+    }
     {
         /* The round-trip fits all start at the nominal pose: its model once, here. */
         const double zero[6] = {0};
@@ -198,7 +194,6 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
                               p->hi_flags, d);
     if (e != HP_OK) goto fail;
     set_rate_free(p);
-    p->ops = ops;
     e = ops->create(&p->bstate, pb, &s, d);
     if (e != HP_OK) goto fail;
     p->built = 1;
@@ -213,6 +208,7 @@ void hp_planner_destroy(hp_planner *p)
 {
     if (!p) return;
     if (p->ops && p->ops->destroy && p->bstate) p->ops->destroy(p->bstate);
+    free(p->load);
     free(p);
 }
 
@@ -250,6 +246,12 @@ hp_error hp_planner_set_option(hp_planner *p, const char *name, double value)
         return HP_ERR_NULL;
     }
     if (!p->built) return HP_ERR_STATE;
+    if (p->load) {
+        hp_text_set(p->err, "set_option: the load level has no backend options ('");
+        hp_text_add(p->err, name);
+        hp_text_add(p->err, "')");
+        return HP_ERR_INVALID;
+    }
     if (!p->ops->set_option) {
         hp_text_set(p->err, "set_option: the ");
         hp_text_add(p->err, p->ops->name);
@@ -275,6 +277,7 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
         return HP_ERR_NULL;
     }
     if (!p->built) return HP_ERR_STATE;
+    if (p->load) return hp_load_level_set_previous(p->load, pressures);
     hp_result r = p->nominal;
     double ro[HP_MAX_BLADDERS];
     for (int k = 0; k < p->L.n; ++k) {
@@ -388,6 +391,7 @@ hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *r)
         return HP_ERR_NULL;
     }
     if (!p->built) return HP_ERR_STATE;
+    if (p->load) return hp_load_level_set_previous_result(p->load, r);
     if (r->n != p->L.n) return prev_refused(p, "n is not the layout's number of bladders", NULL);
     hp_error e = prev_pose_ok(p, r->achieved);
     if (e != HP_OK) return e;
@@ -428,6 +432,10 @@ hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
     for (int k = 0; k < p->L.n; ++k)
         if (!(rate_max[k] > 0.0)) return HP_ERR_INVALID; /* NaN, 0 and negatives */
     for (int k = 0; k < p->L.n; ++k) p->L.bladders[k].rate_max = rate_max[k];
+    if (p->load) { /* the load level reads them from its model's copy of the layout */
+        for (int k = 0; k < p->L.n; ++k) p->load->M.layout.bladders[k].rate_max = rate_max[k];
+        return HP_OK;
+    }
     set_rate_free(p);
     /* Rate-free now: hp_plan no longer sets the cycle's bounds, so they return to the
      * static ones here (what it would set; they held at create). */
@@ -436,4 +444,29 @@ hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
                               p->lo_flags, p->hi_flags, NULL) != HP_OK)
         return HP_ERR_STATE;
     return HP_OK;
+}
+
+hp_error hp_planner_pressure_bounds(const hp_planner *p, double *lo, double *hi)
+{
+    if (!p || !lo || !hi) return HP_ERR_NULL;
+    if (!p->built) return HP_ERR_STATE;
+    if (p->load) {
+        hp_load_level_bounds(p->load, lo, hi);
+        return HP_OK;
+    }
+    memcpy(lo, p->sb.p_lo, (size_t)p->L.n * sizeof *lo);
+    memcpy(hi, p->sb.p_hi, (size_t)p->L.n * sizeof *hi);
+    return HP_OK;
+}
+
+hp_error hp_planner_load_info(const hp_planner *p, hp_load_info *info)
+{
+    if (!p || !info) return HP_ERR_NULL;
+    if (!p->built || !p->load) return HP_ERR_STATE;
+    return hp_load_level_info(p->load, info);
+}
+
+const hp_load_model *hp_planner_load_model(const hp_planner *p)
+{
+    return p && p->load ? &p->load->M : NULL;
 }

@@ -93,13 +93,14 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
                  backend);
         return -1;
     }
-    if (level && strcmp(level, "load") == 0) { /* as batch's --level load */
-        hpy_fail("level: load is planned by headplan solve only; the Python module plans the "
-                 "kinematic levels (linear, plane, surface, auto)");
+    char names[96];
+    if (level && hp_level_parse(level, &s->level) != HP_OK) {
+        hpy_fail("level: unknown level '%s' (%s)", level,
+                 hp_scene_level_names(1, ", ", names, sizeof names));
         return -1;
     }
-    if (level && hp_level_parse(level, &s->level) != HP_OK) {
-        hpy_fail("level: unknown level '%s' (linear, plane, surface, auto)", level);
+    if (s->level == HP_LEVEL_LOAD && !sc->has_load) { /* as the command line's --level load */
+        hpy_fail("level: load needs a scene with a 'load' section (%s has none)", sc->file);
         return -1;
     }
     if (hp_settings_validate(s, &d) != HP_OK) {
@@ -107,20 +108,4 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
         return -1;
     }
     return 0;
-}
-
-int hpy_kinematic_only(const hp_scene *sc, PyObject *kw)
-{
-    const char *level = NULL;
-    if (kw_text(kw, "level", &level)) return -1; /* hpy_settings refused "load" already */
-    hp_diag d = {{0}};
-    hp_level_refusal refused;
-    if (hp_scene_kinematic_only(sc, level, "Planner", &refused, &d) == HP_OK) return 0;
-    if (refused == HP_LEVEL_REFUSED_LOAD)
-        hpy_fail("%s: give level='surface' (or 'plane', 'linear') to plan it so, or plan "
-                 "single corrections with headplan solve",
-                 d.text);
-    else
-        hpy_fail("%s", d.text);
-    return -1;
 }

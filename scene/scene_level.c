@@ -10,10 +10,10 @@ const char *hp_scene_level_names(int with_load, const char *last, char *buf, siz
 {
     if (!buf || !len) return buf;
     buf[0] = '\0';
-    const int n = HP_LEVEL_AUTO + 1 + (with_load != 0);
+    const int n = with_load ? HP_LEVEL_LOAD + 1 : HP_LEVEL_AUTO + 1;
     size_t at = 0;
     for (int i = 0; i < n && at < len; ++i) {
-        const char *name = i <= HP_LEVEL_AUTO ? hp_level_name((hp_level)i) : HP_SCENE_LEVEL_LOAD;
+        const char *name = hp_level_name((hp_level)i);
         const char *sep = i == 0 ? "" : i == n - 1 ? (last ? last : ", ") : ", ";
         int w = snprintf(buf + at, len - at, "%s%s", sep, name);
         if (w < 0) break;

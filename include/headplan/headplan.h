@@ -7,6 +7,7 @@
 #include "headplan/hp_common.h"
 #include "headplan/hp_iab.h"
 #include "headplan/hp_kinematics.h"
+#include "headplan/hp_load.h"
 #include "headplan/hp_scene.h"
 #include "headplan/hp_trace.h"
 #include "headplan/hp_planner.h"

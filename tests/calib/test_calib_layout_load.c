@@ -5,7 +5,8 @@
 #include "test_util.h"
 #include "calib_rng.h"
 #include "headplan/headplan.h"
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
+#include "tests/planner/load_fixture.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -95,7 +95,8 @@ static void test_level_load_scene(void **state)
     assert_int_equal(use, 0);
     hp_settings s;
     assert_int_equal(hp_scene_settings(sc, &s, NULL), HP_OK);
-    assert_int_equal(s.level, HP_LEVEL_SURFACE);
+    assert_int_equal(s.level, HP_LEVEL_LOAD);
+    assert_true(s.load.mass == sc->load.mass);
     free(sc);
 }
 
