@@ -448,7 +448,9 @@ int cmd_horizon(int argc, char **argv)
             goto done;
         }
         hp_error e;
-        if (p == 0) e = hp_horizon_greedy(&sc->layout, &s, &hs, rows, T, p0, plans[p], &d);
+        /* greedy from its planner's own start (p0 at the contact levels; at the load level
+         * its state after create, as solve's and batch's first row) */
+        if (p == 0) e = hp_horizon_greedy(&sc->layout, &s, &hs, rows, T, NULL, plans[p], &d);
         else if (p == 1) e = hp_horizon_receding(&sc->layout, &s, &hs, rows, T, p0, plans[p], &d);
         else e = hp_horizon_offline(&sc->layout, &s, &hs, rows, T, p0, plans[p], &info, &d);
         if (e != HP_OK) {

@@ -41,8 +41,8 @@ int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_ar
 {
     if (level_arg && strcmp(level_arg, "load") == 0)
         return cli_fail(CLI_EXIT_USAGE, cmd,
-                        "--level: load is planned by headplan solve only; %s plans the "
-                        "kinematic levels (linear, plane, surface, auto)",
+                        "--level: load is not planned by %s; it plans the contact levels "
+                        "(linear, plane, surface, auto)",
                         cmd);
     hp_diag d = {{0}};
     hp_level_refusal refused;

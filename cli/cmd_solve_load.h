@@ -7,15 +7,15 @@
 
 #include <stddef.h>
 
-/* Which level a scene gets: the library's decision (hp_scene_plan_level, shared with the
- * Python module) with level_arg = --level (NULL: the scene's). *use_load gets 1 for the
+/* Which level a scene gets, for analyze's note: the library's decision (hp_scene_plan_level)
+ * with level_arg = --level (NULL: the scene's). *use_load gets 1 for the
  * load level; why (len bytes) the reason. Prints and returns an exit status on error (64:
  * --level load on a scene without a `load` section; 65: its load cannot be modelled), 0
  * otherwise (an unknown --level is left to cli_settings to name). */
 int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
                       int *use_load, char *why, size_t len);
 
-/* For the subcommands that plan at the kinematic levels only (batch, horizon): 0 when the
+/* For the subcommands that plan at the kinematic levels only (render): 0 when the
  * scene with level_arg (--level; NULL: the scene's model.level) is planned kinematically,
  * else prints and returns 64 (--level load) or 65 (the scene's model.level: load, or auto
  * choosing load for its predicted sag), with instead (what the user can do) in the

@@ -15,6 +15,11 @@ hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max);
 /* The planner's own words for its last hp_plan (its error, else its note), or "". */
 const char *hp_horizon_rh_reason(const hp_horizon_rh *rh);
 
+/* The refusal of a receding or offline plan at the load level (HP_ERR_INVALID, the plan
+ * named in d): those plans solve the contact levels' program over many rows; the load level
+ * is planned greedy, one row at a time. */
+hp_error hp_horizon_load_refused(const char *plan, hp_diag *d);
+
 /* Puts "line N: reason" of the first row hp_plan refused (status INVALID_INPUT) into d, the
  * planner's own words as batch prints them: *noted says whether one already is. */
 void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,

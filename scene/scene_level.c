@@ -84,8 +84,7 @@ hp_error hp_scene_kinematic_only(const hp_scene *sc, const char *level, const ch
     /* What to do instead is the caller's to append: the diag's fixed size keeps room for a
      * long path. */
     return hp_diag_set(diag, HP_ERR_DOMAIN,
-                       "%s: the scene is planned at the load level (%s), which only headplan "
-                       "solve plans; %s would plan without the head's weight and disagree with "
-                       "solve",
+                       "%s: the scene is planned at the load level (%s), which %s does not "
+                       "plan: it would plan without the head's weight and disagree with solve",
                        sc->file, why, who);
 }

@@ -200,8 +200,8 @@ HP_API hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *
 
 /* For a caller that plans the kinematic levels only (`headplan render`): HP_OK when hp_scene_plan_level(sc, level) plans sc kinematically. Else
  * HP_ERR_DOMAIN, *refused = HP_LEVEL_REFUSED_LOAD and diag "FILE: the scene is planned at the
- * load level (WHY), which only headplan solve plans; WHO would plan without the head's weight
- * and disagree with solve" (the caller appends what to do instead); or hp_scene_plan_level's
+ * load level (WHY), which WHO does not plan: it would plan without the head's weight and
+ * disagree with solve" (the caller appends what to do instead); or hp_scene_plan_level's
  * error and refusal (the load model's message prefixed "FILE: load: "). */
 HP_API hp_error hp_scene_kinematic_only(const hp_scene *sc, const char *level, const char *who,
                                         hp_level_refusal *refused, hp_diag *diag);

@@ -140,8 +140,8 @@ static void test_kinematic_only(void **state)
     char why[256], want[2048];
     assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, NULL, NULL), HP_OK);
     snprintf(want, sizeof want,
-             "%s: the scene is planned at the load level (%s), which only headplan solve "
-             "plans; batch would plan without the head's weight and disagree with solve",
+             "%s: the scene is planned at the load level (%s), which batch does not plan: "
+             "it would plan without the head's weight and disagree with solve",
              sc->file, why);
     hp_diag d = {{0}};
     hp_level_refusal refused = HP_LEVEL_REFUSED_NONE;
