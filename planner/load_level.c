@@ -557,6 +557,10 @@ hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result
         }
     }
     r->iterations = it1 + it2 + it3;
+    if (r->status == HP_STATUS_ITERATION_LIMIT)
+        hp_text_set(p->err, "load planner: iteration-limit: the closest-pose search ran out of "
+                            "solver.max_iter; the pose returned is held inside the limits "
+                            "but not proven the closest");
     /* Whichever path gave it (HOLD, the sinking search, the 6-D refinement from the previous
      * pose), an answer is returned only when it is an equilibrium by both checks. */
     int unverified = !bad && st == HP_LOAD_SOLVE_OK &&

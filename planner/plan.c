@@ -598,10 +598,19 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         res->status = HP_STATUS_SOLVER_ERROR;
         return HP_ERR_STATE;
     }
-    if (p->load) return hp_load_level_plan(p->load, desired, res);
     p->err[0] = '\0';
     p->note[0] = '\0';
     p->note_pending = 0;
+    if (p->load) {
+        /* The load level's plan; a CLOSEST answer's note names its binding limits as the
+         * contact levels' does (composed when asked for, hp_planner_note). */
+        hp_error e = hp_load_level_plan(p->load, desired, res);
+        if (e == HP_OK && res->status == HP_STATUS_CLOSEST) {
+            for (int k = 0; k < res->n; ++k) p->note_binding[k] = res->bladders[k].binding;
+            p->note_pending = 1;
+        }
+        return e;
+    }
     if (!desired) {
         for (int i = 0; i < 6; ++i) res->desired[i] = NAN;
         hp_text_set(p->err, "desired: NULL");
