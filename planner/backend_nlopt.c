@@ -375,7 +375,8 @@ static hp_load_solve_status slsqp_load_hold(const hp_load_model *M, const double
                                             int *iterations, int *raw)
 {
     (void)stiffness; /* not in caps: hp_planner_create refuses it */
-    return hp_load_hold_on_nlopt(M, xi, lo, hi, target, start, max_iter, P, F, iterations, raw);
+    return hp_load_hold_with(hp_load_hold_nlopt, M, xi, lo, hi, target, start, max_iter, 0, P,
+                             F, iterations, raw);
 }
 
 const hp_backend_ops hp_backend_nlopt_slsqp_ops = {

@@ -41,6 +41,8 @@ static hp_error bladder_bounds(hp_load_level *p, int k, hp_diag *diag)
         cap = rs;
         cap_bind = HP_BIND_STRESS_MAX;
     }
+    p->ri_lo[k] = hp_prod_up(b->stretch_min, b->iab.Ri);
+    p->ri_hi[k] = cap;
     if (hp_iab_ik(&b->iab, cap, &P) == HP_OK && P < p->hi[k]) {
         p->hi[k] = P;
         p->hi_bind[k] = cap_bind;
@@ -444,6 +446,10 @@ static hp_error fill_bladders(const hp_load_level *p, const double xi[6], const 
         hp_bladder_result *o = &r->bladders[k];
         double ri, ro;
         hp_error err = hp_iab_fk_limit(b, &M->limit[k], P[k], &ri);
+        /* The root of a pressure inside the bounds lies inside [ri_lo, ri_hi] up to an ulp or
+         * two (a pressure at the stretch cap's bound gave stretch 1.3000000000000003 against
+         * stretch_max 1.3): keep the stretch inside its limits to the last bit. */
+        ri = fmin(fmax(ri, p->ri_lo[k]), p->ri_hi[k]);
         if (!err) err = hp_iab_ro(b, ri, &ro);
         if (err) return err;
         o->pressure = P[k];

@@ -16,6 +16,9 @@ typedef struct hp_load_level {
     const hp_backend_ops *ops; /* the configured backend: its load_hold tie-breaks HOLD */
     double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
     unsigned lo_bind[HP_MAX_BLADDERS], hi_bind[HP_MAX_BLADDERS];
+    /* The inner radii [m] of the stretch limits and of the cap (limit point, stress):
+     * a returned ri is kept inside them to the last bit. */
+    double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];
     /* This plan's bounds: the above cut by the rate limits around prev_P (plan_bounds). */
     double elo[HP_MAX_BLADDERS], ehi[HP_MAX_BLADDERS];
     unsigned elo_bind[HP_MAX_BLADDERS], ehi_bind[HP_MAX_BLADDERS];

@@ -672,3 +672,19 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     p->prev.solve_time = res->solve_time;
     return HP_OK;
 }
+
+const char *hp_planner_note(const hp_planner *p)
+{
+    if (!p) return "";
+    /* The planner is the caller's own, never a const object: the pending text is written
+     * here (hp_plan_note_flush), as hp_plan would have. */
+    if (p->note_pending) hp_plan_note_flush((hp_planner *)p);
+    return p->note;
+}
+
+const char *hp_planner_message(const hp_planner *p)
+{
+    if (!p) return hp_planner_error(p);
+    /* A failure clears the note and an answer clears the error, so at most one is set. */
+    return *p->err ? p->err : hp_planner_note(p);
+}

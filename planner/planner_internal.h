@@ -1,7 +1,10 @@
 /* Internal: the planner object and the pieces its files share. planner.c holds the
- * lifecycle (create, reset, set_previous, destroy, accessors), plan.c the plan pipeline
- * (validate -> direct chain -> solve -> accept -> label), plan_text.c the allocation-free
- * message builders, backends.c the backend table. */
+ * lifecycle (create, reset, set_previous, destroy, accessors), level_choice.c the level's
+ * resolution at create, plan.c the plan pipeline (validate -> direct chain -> solve ->
+ * accept -> label) and its messages, plan_state.c the state between plans (scaling, the
+ * answer of a pose, the previous answer), plan_text.c the round trip's message, text.c the
+ * allocation-free message builders, backends.c the backend table, load_level.c the load
+ * level (hp_plan hands a planner at HP_LEVEL_LOAD to it). */
 #ifndef HP_PLANNER_INTERNAL_H
 #define HP_PLANNER_INTERNAL_H
 

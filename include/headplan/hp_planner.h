@@ -18,7 +18,8 @@
  * libraries allocate inside their own solve calls.
  *
  * Safety invariants (docs/safety.md; each is one test of the same name in
- * tests/reliability/test_invariants.c, run through every backend and contact level):
+ * tests/reliability/test_invariants.c, run through every backend and every level, the load
+ * level included where the backend plans it):
  *   pressure_within_limits: every returned pressure is finite and inside the bladder's
  *     [p_min, p_max], whatever the status.
  *   stretch_within_limits: every returned stretch (= ri / Ri) is inside
@@ -54,6 +55,9 @@
  *     translation beyond the smallest semi-axis) is INVALID_INPUT, the limit named. No
  *     result carries an achieved pose outside that range either: a converged answer there is
  *     INVALID_INPUT, a budget's iterate there is replaced by the safe output.
+ *   At the load level REACHED means held instead: achieved is the desired pose and the load
+ *     model's generalized force there with the returned pressures vanishes (below 1e-9 N,
+ *     hp_plan's load-level paragraph); its CLOSEST answers name their binding limits too.
  *   closest_names_binding: a CLOSEST answer has at least one bladder with binding flags
  *     (HP_BINDING_TOL_MM, the same for every backend) named in hp_planner_error; a claimed
  *     optimum with nothing binding is SOLVER_ERROR with the safe output. */

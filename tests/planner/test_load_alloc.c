@@ -1,4 +1,4 @@
-/* hp_load_plan (realtime backend) allocates nothing after hp_load_planner_create: reachable
+/* A plan at the load level (realtime backend) allocates nothing after hp_planner_create: reachable
  * poses, unreachable ones (the sinking search and the 6-D refinement), invalid input, with
  * and without the details (hp_load_info, which runs the forward statics). Linked with
  * -Wl,--wrap for every allocator (tests/CMakeLists.txt); a self-check proves the wrapping. */

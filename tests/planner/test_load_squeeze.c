@@ -107,7 +107,7 @@ static void test_least_squeeze_is_least(void **state)
                 double P0[HP_MAX_BLADDERS], Pr[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS];
                 for (int k = 0; k < n; ++k) P0[k] = fmax(lo[k], 0.0) + lcg(&seed) * (hi[k] - fmax(lo[k], 0.0));
                 hp_load_solve_status st =
-                    start % 2 ? hp_load_hold_on_ipopt(M, xi, lo, hi, zero, P0, 200, 0, Pr, F, NULL, NULL)
+                    start % 2 ? hp_load_hold_with(hp_load_hold_ipopt, M, xi, lo, hi, zero, P0, 200, 0, Pr, F, NULL, NULL)
                               : hp_load_hold(M, xi, lo, hi, zero, P0, 200, Pr, F, NULL);
                 if (st == HP_LOAD_SOLVE_OK && valid(M, xi, Pr, lo, hi))
                     best = fmin(best, squeeze(Pr, n));
