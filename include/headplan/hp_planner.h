@@ -347,7 +347,10 @@ HP_API hp_error hp_planner_reach(const hp_planner *p, double reach[6][2]);
  * start from them and they become the safe output, with the pose the forward contact
  * kinematics from the nominal pose fits to them. Each must be finite, inside its limits and
  * on the stable branch, and that fit must converge; otherwise HP_ERR_INVALID and nothing
- * changes. */
+ * changes. At the load level each must be inside its bounds (hp_planner_pressure_bounds);
+ * the pose stays the previous one, and they are also the `previous` tie-breaker's target.
+ * Before the first plan or this call the load level has no previous pressure and its first
+ * plan is not rate-limited. */
 HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
 
 /* Makes a result the previous answer, as if hp_plan had just returned it, from its fields
@@ -366,7 +369,10 @@ HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
  * none when the bladders are bit for bit those of this planner's last answer (which pass
  * the checks by construction: the same results are accepted either way). The pose is not
  * checked against ro: the caller vouches that it is the pose of those radii, as hp_plan's
- * achieved is. */
+ * achieved is. At the load level n, achieved (finite, inside the identifiable range) and
+ * each pressure (inside its bounds, hp_planner_pressure_bounds) are read, and they become
+ * the previous pressures and pose (the rate limits' origin, the `previous` tie-breaker's
+ * target, the safe output). */
 HP_API hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *result);
 
 /* Forgets the previous plan: the nominal pose becomes the previous answer again. */
