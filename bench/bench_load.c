@@ -16,7 +16,6 @@
 #include "cli/cli_gptext.h"
 #include "cli/exit_codes.h"
 #include "headplan/headplan.h"
-#include "headplan/hp_load_planner.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -37,7 +36,7 @@ static const hp_backend BACKENDS[3] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT,
 
 typedef struct ctx {
     hp_planner *kin;
-    hp_load_planner *load;
+    hp_planner *load;       /* at the load level */
     const double *desired;
 } ctx;
 
@@ -54,7 +53,7 @@ static void load_batch(void *c, long first, long count)
     ctx *x = c;
     (void)first;
     hp_result r;
-    for (long i = 0; i < count; ++i) (void)hp_load_plan(x->load, x->desired, &r, NULL);
+    for (long i = 0; i < count; ++i) (void)hp_plan(x->load, x->desired, &r);
 }
 
 /* 0 with the row filled, 1 when the scene is not a load scene, else an exit status. */
@@ -78,7 +77,12 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     ctx c = {NULL, NULL, sc->correction};
     bench_timing t;
     row->kin_ns = row->sag_mm = NAN;
-    if (hp_planner_create(&sc->layout, &s, &c.kin, &d) == HP_OK) {
+    /* The kinematic plan: the scene's contact level (auto among the contact levels), the
+     * head's weight left out. */
+    hp_settings kin = s;
+    kin.level = sc->level;
+    memset(&kin.load, 0, sizeof kin.load);
+    if (hp_planner_create(&sc->layout, &kin, &c.kin, &d) == HP_OK) {
         hp_result r;
         if (bench_time(o, kin_batch, &c, &t) == 0) row->kin_ns = t.median_ns;
         if (hp_plan(c.kin, sc->correction, &r) == HP_OK) {
@@ -100,17 +104,15 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     }
     for (int b = 0; b < 3; ++b) {
         s.backend = BACKENDS[b];
-        s.level = sc->load_geometry;
+        s.level = HP_LEVEL_LOAD;
         row->load_ns[b] = NAN;
         snprintf(row->status[b], sizeof row->status[b], "refused");
-        if (hp_load_planner_create(&sc->layout, &sc->load, &s,
-                                   (hp_load_tiebreak)sc->load_tiebreak, &c.load, &d) != HP_OK)
-            continue;
+        if (hp_planner_create(&sc->layout, &s, &c.load, &d) != HP_OK) continue;
         hp_result r;
-        if (hp_load_plan(c.load, sc->correction, &r, NULL) == HP_OK)
+        if (hp_plan(c.load, sc->correction, &r) == HP_OK)
             snprintf(row->status[b], sizeof row->status[b], "%s", hp_status_name(r.status));
         if (bench_time(o, load_batch, &c, &t) == 0) row->load_ns[b] = t.median_ns;
-        hp_load_planner_destroy(c.load);
+        hp_planner_destroy(c.load);
         c.load = NULL;
     }
     rc = 0;

@@ -3,7 +3,7 @@
  * target, so a reader sees the old file or the whole new one, never half. */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/hp_calib.h"
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
 #include "common/c_locale.h"
 #include "common/units.h"
 

@@ -1,7 +1,7 @@
 /* headplan analyze: the load at the nominal pose. */
 #include "cli/analyze_load.h"
 #include "cli/json_out.h"
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -28,34 +28,42 @@ static int compute(const hp_scene *sc, load_report *rep)
     rep->assumed = !sc->has_load;
     if (sc->has_load) rep->spec = sc->load;
     else hp_load_spec_default(&sc->layout.head, &rep->spec);
-    hp_level geom = sc->has_load ? sc->load_geometry : HP_LEVEL_SURFACE;
-    hp_load_model *M = NULL;
-    hp_diag d = {{0}};
-    if (hp_load_model_create(&sc->layout, &rep->spec, geom, &M, &d) != HP_OK ||
-        hp_load_predicted_sag(M, &rep->sag, &rep->k_gravity) != HP_OK ||
-        hp_load_auto_choose(M, sc->level_tolerance, &rep->use_load, NULL, rep->why,
-                            sizeof rep->why) != HP_OK) {
-        snprintf(rep->refused, sizeof rep->refused, "%s", d.text);
-        hp_load_model_destroy(M);
-        return 0;
-    }
-    hp_load_model_destroy(M);
     hp_settings s;
     hp_settings_default(&s);
-    s.level = geom;
-    /* The stiffness tie-breaker is solved on Ipopt only (hp_load_planner_create). */
-    if (sc->has_load && sc->load_tiebreak == HP_TIE_STIFFNESS) s.backend = HP_BACKEND_IPOPT;
-    hp_load_planner *p = NULL;
-    if (hp_load_planner_create(&sc->layout, &rep->spec, &s,
-                               (hp_load_tiebreak)(sc->has_load ? sc->load_tiebreak : 0), &p,
-                               &d) != HP_OK) {
+    s.level = HP_LEVEL_LOAD;
+    s.load = rep->spec;
+    s.load_geometry = sc->has_load ? sc->load_geometry : HP_LEVEL_SURFACE;
+    s.load_tiebreak = sc->has_load ? (hp_load_tiebreak)sc->load_tiebreak : HP_TIE_LEAST_SQUEEZE;
+    /* The stiffness tie-breaker is solved on Ipopt only (hp_planner_create). */
+    if (s.load_tiebreak == HP_TIE_STIFFNESS) s.backend = HP_BACKEND_IPOPT;
+    hp_planner *p = NULL;
+    hp_diag d = {{0}};
+    hp_error e = hp_planner_create(&sc->layout, &s, &p, &d);
+    /* The sag and auto's verdict from the planner's load model; a layout the load level
+     * refuses still has them (its own model), with the refusal beside them. */
+    hp_load_model *own = NULL;
+    const hp_load_model *M = hp_planner_load_model(p);
+    if (e != HP_OK) {
         snprintf(rep->refused, sizeof rep->refused, "%s", d.text);
+        if (hp_load_model_create(&sc->layout, &rep->spec, s.load_geometry, &own, &d) == HP_OK)
+            M = own;
+    }
+    if (!M || hp_load_predicted_sag(M, &rep->sag, &rep->k_gravity) != HP_OK ||
+        hp_load_auto_choose(M, sc->level_tolerance, &rep->use_load, NULL, rep->why,
+                            sizeof rep->why) != HP_OK) {
+        if (!M) snprintf(rep->refused, sizeof rep->refused, "%s", d.text);
+        hp_load_model_destroy(own);
+        hp_planner_destroy(p);
         return 0;
     }
-    double zero[6] = {0};
-    rep->held = hp_load_plan(p, zero, &rep->r, &rep->info) == HP_OK &&
-                (rep->r.status == HP_STATUS_REACHED || rep->r.status == HP_STATUS_CLOSEST);
-    hp_load_planner_destroy(p);
+    hp_load_model_destroy(own);
+    if (p) {
+        double zero[6] = {0};
+        rep->held = hp_plan(p, zero, &rep->r) == HP_OK &&
+                    (rep->r.status == HP_STATUS_REACHED || rep->r.status == HP_STATUS_CLOSEST) &&
+                    hp_planner_load_info(p, &rep->info) == HP_OK;
+    }
+    hp_planner_destroy(p);
     return 0;
 }
 

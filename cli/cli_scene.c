@@ -111,6 +111,10 @@ int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
                         hp_names_join(hp_backend_words, NULL, names, sizeof names));
     if (level && hp_level_parse(level, &s->level) != HP_OK)
         return cli_fail(CLI_EXIT_USAGE, cmd, "--level: unknown level '%s' (%s)", level,
-                        hp_scene_level_names(0, ", ", names, sizeof names));
+                        hp_scene_level_names(1, ", ", names, sizeof names));
+    if (s->level == HP_LEVEL_LOAD && !sc->has_load)
+        return cli_fail(CLI_EXIT_USAGE, cmd,
+                        "--level: load needs a scene with a 'load' section (%s has none)",
+                        sc->file);
     return 0;
 }

@@ -100,6 +100,7 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
     if (rc) return rc;
     if ((rc = cli_settings(CMD, sc, NULL, kin_level, &s))) return rc;
     /* A load scene's kinematic level is its contact geometry; solve plans the load level. */
+    if (s.level == HP_LEVEL_LOAD) s.level = sc->level;
     r->from_option = kin_level != NULL;
     r->requested = s.level;
     r->range_from_scene = sc->has_auto_range;

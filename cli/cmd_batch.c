@@ -322,10 +322,7 @@ int cmd_batch(int argc, char **argv)
     free(scene_text);
     hp_settings s;
     struct stat scene_st;
-    if ((rc = cli_kinematic_only(CMD, sc, a.level,
-                                 "give --level surface (or plane, linear) to plan it so, or "
-                                 "plan single corrections with headplan solve")) ||
-        (rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
+    if ((rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
         free(sc);
         return rc;
     }

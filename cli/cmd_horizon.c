@@ -398,10 +398,7 @@ int cmd_horizon(int argc, char **argv)
         use_ovr = &sc->trace_rows;
         from = a.rows ? "--rows" : "the scene's trace.rows";
     }
-    if ((rc = cli_kinematic_only(CMD, sc, NULL,
-                                 "set model.level to surface (or plane, linear) to plan "
-                                 "the trace without it")) ||
-        (rc = cli_settings(CMD, sc, NULL, NULL, &s)))
+    if ((rc = cli_settings(CMD, sc, NULL, NULL, &s)))
         goto done;
     rows_kind kind = {"", ""};
     cli_input trace_id;
@@ -451,7 +448,9 @@ int cmd_horizon(int argc, char **argv)
             goto done;
         }
         hp_error e;
-        if (p == 0) e = hp_horizon_greedy(&sc->layout, &s, &hs, rows, T, p0, plans[p], &d);
+        /* greedy from its planner's own start (p0 at the contact levels; at the load level
+         * its state after create, as solve's and batch's first row) */
+        if (p == 0) e = hp_horizon_greedy(&sc->layout, &s, &hs, rows, T, NULL, plans[p], &d);
         else if (p == 1) e = hp_horizon_receding(&sc->layout, &s, &hs, rows, T, p0, plans[p], &d);
         else e = hp_horizon_offline(&sc->layout, &s, &hs, rows, T, p0, plans[p], &info, &d);
         if (e != HP_OK) {

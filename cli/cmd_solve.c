@@ -182,7 +182,7 @@ int cmd_solve(int argc, char **argv)
     if (rc >= 0) return rc;
     hp_level lv;
     char names[96];
-    if (a.level && strcmp(a.level, HP_SCENE_LEVEL_LOAD) != 0 && hp_level_parse(a.level, &lv))
+    if (a.level && hp_level_parse(a.level, &lv))
         return cli_fail(CLI_EXIT_USAGE, CMD, "--level: unknown level '%s' (%s)", a.level,
                         hp_scene_level_names(1, ", ", names, sizeof names));
 
@@ -202,39 +202,34 @@ int cmd_solve(int argc, char **argv)
                            "--correction: missing (the scene %s states no correction)",
                            cli_name(a.scene));
     }
-    int use_load;
-    char why[256];
-    if ((rc = cli_load_level(CMD, sc, a.level, &use_load, why, sizeof why))) {
-        free(sc);
-        return rc;
-    }
-    int level_is_load = a.level && strcmp(a.level, HP_SCENE_LEVEL_LOAD) == 0;
     hp_settings s;
-    if ((rc = cli_settings(CMD, sc, a.backend, level_is_load ? NULL : a.level, &s))) {
+    if ((rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
         free(sc);
         return rc;
     }
     s.use_rate_limits = 0; /* one solve from the nominal pose: no previous cycle */
-    if (use_load) {
-        rc = cli_solve_load(CMD, sc, &s, desired, a.correction ? "--correction" : "correction",
-                            a.json, why, a.backend);
-        free(sc);
-        return rc;
-    }
 
     hp_diag d = {{0}};
     hp_error e;
     hp_planner *p = NULL;
     e = hp_planner_create(&sc->layout, &s, &p, &d);
     if (e != HP_OK) {
-        int r2 = cli_fail(e == HP_ERR_INVALID || e == HP_ERR_DOMAIN ? CLI_EXIT_DATAERR
-                                                                       : CLI_EXIT_SOFTWARE,
-                             CMD, "%s: %s", cli_name(a.scene), d.text);
+        int r2 = cli_planner_refused(CMD, cli_name(a.scene), a.backend, e, &d);
         free(sc);
         return r2;
     }
-    char level_why[320];
+    char level_why[HP_DIAG_MAX];
     hp_planner_level_choice(p, level_why, sizeof level_why); /* p is built: HP_OK */
+    if (hp_planner_level(p) == HP_LEVEL_LOAD) {
+        char why[HP_DIAG_MAX];
+        snprintf(why, sizeof why, "%s", level_why);
+        if (!*why) snprintf(why, sizeof why, "load: asked for by %s", a.level ? "--level" : "model.level");
+        rc = cli_solve_load(CMD, cli_name(a.scene), p, &s, desired,
+                            a.correction ? "--correction" : "correction", a.json, why);
+        hp_planner_destroy(p);
+        free(sc);
+        return rc;
+    }
     hp_result r;
     e = hp_plan(p, desired, &r);
     const char *msg = hp_planner_message(p);
@@ -266,8 +261,7 @@ int cmd_solve(int argc, char **argv)
         } else {
             print_table(hp_planner_layout(p), &r, msg);
             cli_print_hoop(hp_planner_layout(p), &r);
-            if (why[0]) printf("\nlevel choice: %s\n", why); /* a load scene kept kinematic */
-            if (level_why[0]) printf("%slevel choice: %s\n", why[0] ? "" : "\n", level_why);
+            if (level_why[0]) printf("\nlevel choice: %s\n", level_why);
         }
     }
     hp_planner_destroy(p);

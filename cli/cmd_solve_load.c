@@ -5,7 +5,7 @@
 #include "cli/cmd_solve_load.h"
 #include "cli/json_out.h"
 #include "cli/exit_codes.h"
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
 
 #include <jansson.h>
 #include <math.h>
@@ -41,8 +41,8 @@ int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_ar
 {
     if (level_arg && strcmp(level_arg, "load") == 0)
         return cli_fail(CLI_EXIT_USAGE, cmd,
-                        "--level: load is planned by headplan solve only; %s plans the "
-                        "kinematic levels (linear, plane, surface, auto)",
+                        "--level: load is not planned by %s; it plans the contact levels "
+                        "(linear, plane, surface, auto)",
                         cmd);
     hp_diag d = {{0}};
     hp_level_refusal refused;
@@ -90,14 +90,14 @@ void cli_print_hoop(const hp_layout *L, const hp_result *r)
 }
 
 static void print_table(const hp_layout *L, const hp_result *r, const hp_load_info *info,
-                        const char *why, hp_load_tiebreak tie)
+                        const char *why, hp_level geom, hp_load_tiebreak tie)
 {
     double d[6], a[6];
     hp_pose_to_clinical(r->desired, d);
     hp_pose_to_clinical(r->achieved, a);
     printf("status      %s\n", hp_status_name(r->status));
     printf("level       load (contact geometry %s, tie-breaker %s), backend %s, %.1f us\n",
-           hp_level_name(r->level), hp_load_tiebreak_name(tie), hp_backend_name(r->backend),
+           hp_level_name(geom), hp_load_tiebreak_name(tie), hp_backend_name(r->backend),
            r->solve_time * 1e6);
     printf("why         %s\n\n", why);
     printf("%-18s %10s %10s %12s %8s %10s %10s %8s  %s\n", "bladder", "ri_mm", "ro_mm",
@@ -132,13 +132,14 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
 }
 
 static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
-                      const hp_load_info *info, const char *why, hp_load_tiebreak tie)
+                      const hp_load_info *info, const char *why, hp_level geom,
+                      hp_load_tiebreak tie)
 {
     json_t *o = json_object();
     json_object_set_new(o, "status", json_string(hp_status_name(r->status)));
     json_object_set_new(o, "backend", json_string(hp_backend_name(r->backend)));
     json_object_set_new(o, "level", json_string("load"));
-    json_object_set_new(o, "geometry", json_string(hp_level_name(r->level)));
+    json_object_set_new(o, "geometry", json_string(hp_level_name(geom)));
     json_object_set_new(o, "tiebreak", json_string(hp_load_tiebreak_name(tie)));
     json_object_set_new(o, "why", json_string(why));
     json_object_set_new(o, "desired", cli_json_pose(r->desired));
@@ -182,57 +183,49 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
     return 0;
 }
 
-/* 1 when the load planner accepts the scene with its own backend instead of set's. */
-static int scene_backend_accepted(const hp_scene *sc, hp_settings set, hp_load_tiebreak tie)
+int cli_planner_refused(const char *cmd, const char *name, const char *backend_opt,
+                        hp_error e, const hp_diag *d)
 {
-    hp_settings own;
-    if (hp_scene_settings(sc, &own, NULL) != HP_OK || own.backend == set.backend) return 0;
-    set.backend = own.backend;
-    hp_load_planner *q = NULL;
-    int ok = hp_load_planner_create(&sc->layout, &sc->load, &set, tie, &q, NULL) == HP_OK;
-    hp_load_planner_destroy(q);
-    return ok;
+    /* Refused for the backend (one that does not plan the load level, or does not solve the
+     * scene's tie-breaker) that --backend chose: the command line's fault, 64 naming the
+     * option, as an unknown --backend is. */
+    static const char BACKEND[] = "backend: ";
+    if (e == HP_ERR_INVALID && backend_opt &&
+        (strncmp(d->text, BACKEND, sizeof BACKEND - 1) == 0 ||
+         strncmp(d->text, "load_tiebreak: ", 15) == 0)) {
+        const char *why = d->text;
+        if (strncmp(why, BACKEND, sizeof BACKEND - 1) == 0) why += sizeof BACKEND - 1;
+        return cli_fail(CLI_EXIT_USAGE, cmd, "--backend %s: %s", backend_opt, why);
+    }
+    return cli_fail(e == HP_ERR_INVALID || e == HP_ERR_DOMAIN ? CLI_EXIT_DATAERR
+                                                              : CLI_EXIT_SOFTWARE,
+                    cmd, "%s: %s", name, d->text);
 }
 
-int cli_solve_load(const char *cmd, const hp_scene *sc, const hp_settings *s,
-                   const double desired[6], const char *from, int json, const char *why,
-                   const char *backend_opt)
+int cli_solve_load(const char *cmd, const char *name, hp_planner *p, const hp_settings *s,
+                   const double desired[6], const char *from, int json, const char *why)
 {
-    hp_settings set = *s;
-    set.level = sc->load_geometry;
-    hp_load_tiebreak tie = (hp_load_tiebreak)sc->load_tiebreak;
-    hp_load_planner *p = NULL;
-    hp_diag d = {{0}};
-    hp_error e = hp_load_planner_create(&sc->layout, &sc->load, &set, tie, &p, &d);
-    /* Refused for --backend alone (the scene's own backend is accepted): the command line's
-     * fault, 64 naming the option, as an unknown --backend is; it was 65 naming the scene. */
-    if (e == HP_ERR_INVALID && backend_opt && scene_backend_accepted(sc, set, tie))
-        return cli_fail(CLI_EXIT_USAGE, cmd, "--backend %s: %s", backend_opt, d.text);
-    if (e)
-        return cli_fail(e == HP_ERR_INVALID || e == HP_ERR_DOMAIN ? CLI_EXIT_DATAERR
-                                                                     : CLI_EXIT_SOFTWARE,
-                           cmd, "%s: %s", sc->file, d.text);
+    const hp_layout *L = hp_planner_layout(p);
+    const hp_level geom = hp_load_model_level(hp_planner_load_model(p));
     hp_result r;
     hp_load_info info;
-    e = hp_load_plan(p, desired, &r, &info);
-    int status;
-    if (e) {
-        status = cli_fail(CLI_EXIT_SOFTWARE, cmd, "%s: load planner failed: %s", sc->file,
-                             hp_error_message(e));
-    } else if (r.status == HP_STATUS_INVALID_INPUT) {
-        status = cli_fail(CLI_EXIT_DATAERR, cmd, "%s: %s", from, hp_load_planner_error(p));
-    } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) {
-        status = cli_fail(CLI_EXIT_SOFTWARE, cmd, "%s: %s: %s", sc->file,
-                             hp_status_name(r.status), hp_load_planner_error(p));
+    hp_error e = hp_plan(p, desired, &r);
+    if (e == HP_OK && (r.status == HP_STATUS_REACHED || r.status == HP_STATUS_CLOSEST))
+        e = hp_planner_load_info(p, &info);
+    if (e)
+        return cli_fail(CLI_EXIT_SOFTWARE, cmd, "%s: load planner failed: %s", name,
+                        hp_error_message(e));
+    if (r.status == HP_STATUS_INVALID_INPUT)
+        return cli_fail(CLI_EXIT_DATAERR, cmd, "%s: %s", from, hp_planner_error(p));
+    if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST)
+        return cli_fail(CLI_EXIT_SOFTWARE, cmd, "%s: %s: %s", name, hp_status_name(r.status),
+                        hp_planner_error(p));
+    int status = r.status == HP_STATUS_REACHED ? CLI_EXIT_OK : CLI_EXIT_CLOSEST;
+    const hp_load_tiebreak tie = s->load_tiebreak;
+    if (json) {
+        if (print_json(cmd, L, &r, &info, why, geom, tie)) status = CLI_EXIT_SOFTWARE;
     } else {
-        status = r.status == HP_STATUS_REACHED ? CLI_EXIT_OK : CLI_EXIT_CLOSEST;
-        const hp_layout *L = hp_load_model_layout(hp_load_planner_model(p));
-        if (json) {
-            if (print_json(cmd, L, &r, &info, why, tie)) status = CLI_EXIT_SOFTWARE;
-        } else {
-            print_table(L, &r, &info, why, tie);
-        }
+        print_table(L, &r, &info, why, geom, tie);
     }
-    hp_load_planner_destroy(p);
     return status;
 }

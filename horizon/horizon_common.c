@@ -195,6 +195,15 @@ void hp_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int 
     o->status = r->status;
 }
 
+hp_error hp_horizon_load_refused(const char *plan, hp_diag *d)
+{
+    return hp_diag_set(d, HP_ERR_INVALID,
+                       "%s: the scene is planned at the load level, whose plans hold the head's "
+                       "weight one row at a time: plan it with --mode greedy (or give "
+                       "model.level surface, plane or linear to plan it without the weight)",
+                       plan);
+}
+
 void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
                              const char *reason)
 {
@@ -219,9 +228,12 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
     const hp_layout *PL = hp_planner_layout(p);
     double start[HP_MAX_BLADDERS], delta[HP_MAX_BLADDERS], scene[HP_MAX_BLADDERS];
     hp_horizon_scene_rates(PL, scene); /* before the first row's allowance replaces them */
+    /* The load level without start pressures starts where its planner does after create
+     * (no previous plan: headplan solve's and batch's first row). */
+    const int own_start = !p_start && hp_planner_level(p) == HP_LEVEL_LOAD;
     if (p_start) memcpy(start, p_start, sizeof(double) * (size_t)PL->n);
-    else if ((e = hp_horizon_nominal_pressures(PL, start, d)) != HP_OK) goto done;
-    if ((e = hp_planner_set_previous(p, start)) != HP_OK) {
+    else if (!own_start && (e = hp_horizon_nominal_pressures(PL, start, d)) != HP_OK) goto done;
+    if (!own_start && (e = hp_planner_set_previous(p, start)) != HP_OK) {
         hp_diag_set(d, e, "start pressures: %s", hp_planner_error(p));
         goto done;
     }

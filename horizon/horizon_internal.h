@@ -16,6 +16,10 @@ hp_error hp_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, 
 /* The output row o of trace row in planned as r (n bladders). */
 void hp_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int n,
                                 hp_horizon_row *o);
+/* The refusal of a receding or offline plan at the load level (HP_ERR_INVALID, the plan
+ * named in d): those plans solve the contact levels' program over many rows; the load level
+ * is planned greedy, one row at a time. */
+hp_error hp_horizon_load_refused(const char *plan, hp_diag *d);
 
 /* Puts "line N: reason" of the first row hp_plan refused (status INVALID_INPUT) into d, the
  * planner's own words as batch prints them: *noted says whether one already is. */

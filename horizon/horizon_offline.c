@@ -289,6 +289,7 @@ static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
     *p = NULL;
     memset(c, 0, sizeof *c);
     hp_error e = hp_planner_create(L, s, p, d);
+    if (e == HP_OK && hp_planner_level(*p) == HP_LEVEL_LOAD) e = hp_horizon_load_refused("offline", d);
     if (e != HP_OK) return e;
     c->L = hp_planner_layout(*p);
     c->p = *p;

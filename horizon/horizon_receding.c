@@ -362,6 +362,7 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
     else hp_horizon_settings_default(&rh->hs);
     hp_error e = hp_horizon_settings_validate(&rh->hs, d);
     if (e == HP_OK) e = hp_planner_create(L, &rh->s, &rh->p, d);
+    if (e == HP_OK && hp_planner_level(rh->p) == HP_LEVEL_LOAD) e = hp_horizon_load_refused("receding", d);
     if (e != HP_OK) goto fail;
     rh->L = hp_planner_layout(rh->p);
     rh->G = hp_planner_geom(rh->p);

@@ -5,9 +5,9 @@
 #include "common/names.h"
 #include "kinematics/names.h"
 
-const char *const hp_level_words[] = {"linear", "plane", "surface", "auto", NULL};
-_Static_assert(sizeof hp_level_words / sizeof *hp_level_words == HP_LEVEL_AUTO + 2,
-               "one word per contact level");
+const char *const hp_level_words[] = {"linear", "plane", "surface", "auto", "load", NULL};
+_Static_assert(sizeof hp_level_words / sizeof *hp_level_words == HP_LEVEL_LOAD + 2,
+               "one word per level");
 
 const char *const hp_head_shape_words[] = {"sphere", "ellipsoid", NULL};
 

@@ -23,16 +23,11 @@
 #include <IpStdCInterface.h>
 #include <float.h>
 #include <math.h>
-#include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
 
-static pthread_mutex_t ipopt_lock = PTHREAD_MUTEX_INITIALIZER;
-
-void hp_ipopt_lock(void) { pthread_mutex_lock(&ipopt_lock); }
-void hp_ipopt_unlock(void) { pthread_mutex_unlock(&ipopt_lock); }
 /* Test-only hooks (planner/backend_testing.h): inert unless a test sets them. */
 static atomic_int ipopt_fault = HP_TEST_FAULT_NONE;
 static atomic_int ipopt_forced = HP_TEST_NO_FORCE;
@@ -40,18 +35,11 @@ static atomic_int ipopt_forced = HP_TEST_NO_FORCE;
 void hp_test_ipopt_fault(int fault) { atomic_store(&ipopt_fault, fault); }
 void hp_backend_ipopt_test_hook(int fault) { hp_test_ipopt_fault(fault); }
 void hp_test_ipopt_force_status(int code) { atomic_store(&ipopt_forced, code); }
-void hp_test_ipopt_lock(int hold)
-{
-    if (hold) pthread_mutex_lock(&ipopt_lock);
-    else pthread_mutex_unlock(&ipopt_lock);
-}
-
 /* Ipopt reads bounds beyond ±1e19 as infinite. */
 #define IPOPT_INF 1e19
 /* mu_init for a cold start (Ipopt's default) and for a warm start near the solution. */
 #define MU_INIT_COLD 0.1
 #define MU_INIT_WARM 1e-9
-#define WARM_PUSH 1e-9
 
 typedef struct ipopt_state {
     IpoptProblem app;
@@ -168,67 +156,6 @@ static Bool intermediate(Index alg_mod, Index iter, Number obj, Number inf_pr, N
     return atomic_load(&ipopt_fault) == HP_TEST_FAULT_STOP ? FALSE : TRUE;
 }
 
-/* Option setters that fail loudly (in the diagnostic) instead of printing. Caller holds the
- * lock. */
-static hp_error opt_str(IpoptProblem a, const char *k, const char *v, hp_diag *d)
-{
-    if (!AddIpoptStrOption(a, hp_unconst(k), hp_unconst(v)))
-        return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %s rejected", k, v);
-    return HP_OK;
-}
-static hp_error opt_num(IpoptProblem a, const char *k, double v, hp_diag *d)
-{
-    if (!AddIpoptNumOption(a, hp_unconst(k), v))
-        return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %g rejected", k, v);
-    return HP_OK;
-}
-static hp_error opt_int(IpoptProblem a, const char *k, int v, hp_diag *d)
-{
-    if (!AddIpoptIntOption(a, hp_unconst(k), v))
-        return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %d rejected", k, v);
-    return HP_OK;
-}
-
-/* Complementarity (a bound's slack in mm times its multiplier) at which an
- * active bound's slack is far below HP_BINDING_TOL_MM for any multiplier above 1e-3. */
-#define IPOPT_COMPL_TOL 1e-10
-
-hp_error hp_ipopt_base_options(IpoptProblem app, double tol, int max_iter, double max_time,
-                               hp_diag *d)
-{
-    /* bound_relax_factor 0: by default Ipopt relaxes each bound by 1e-8 relative (3e-7 mm
-     * here) and then projects the answer back onto it, which breaks the contact equality by
-     * that much at every binding bladder. Ipopt's acceptable-level heuristic would stop with a contact violation up to 1e-2 mm
-     * (acceptable_constr_viol_tol): keep it off, and its tolerances tight where it can still
-     * be reached (restoration). */
-    double acc = fmax(10.0 * tol, 1e-9);
-    /* compl_inf_tol: the slack·multiplier products must vanish to IPOPT_COMPL_TOL whatever
-     * the tolerance. With only the overall tolerance (1e-4, say) the interior point stops
-     * up to ~1e-5 mm inside an active bound, where the planner's one binding threshold
-     * (HP_BINDING_TOL_MM, 1e-6 mm) sees no limit and must refuse a CLOSEST claim: a loose
-     * tolerance then gave solver-error on 35 of the bench's 40 binding targets. */
-    hp_error e;
-    if ((e = opt_str(app, "sb", "yes", d)) ||
-        (e = opt_int(app, "print_level", 0, d)) ||
-        (e = opt_str(app, "option_file_name", "", d)) ||
-        (e = opt_num(app, "tol", tol, d)) ||
-        (e = opt_num(app, "constr_viol_tol", tol, d)) ||
-        (e = opt_num(app, "compl_inf_tol", fmin(tol, IPOPT_COMPL_TOL), d)) ||
-        (e = opt_num(app, "bound_relax_factor", 0.0, d)) ||
-        (e = opt_int(app, "acceptable_iter", 0, d)) ||
-        (e = opt_num(app, "acceptable_tol", acc, d)) ||
-        (e = opt_num(app, "acceptable_constr_viol_tol", acc, d)) ||
-        (e = opt_int(app, "max_iter", max_iter, d)) ||
-        (e = opt_num(app, "max_cpu_time", max_time, d)) ||
-        (e = opt_num(app, "warm_start_bound_push", WARM_PUSH, d)) ||
-        (e = opt_num(app, "warm_start_bound_frac", WARM_PUSH, d)) ||
-        (e = opt_num(app, "warm_start_slack_bound_push", WARM_PUSH, d)) ||
-        (e = opt_num(app, "warm_start_slack_bound_frac", WARM_PUSH, d)) ||
-        (e = opt_num(app, "warm_start_mult_bound_push", WARM_PUSH, d)))
-        return e;
-    return HP_OK;
-}
-
 /* Builds st->app for bounds pb->ri_lo/ri_hi with every fixed option. Caller holds the lock
  * and has freed any previous app. */
 static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
@@ -255,7 +182,7 @@ static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
     if (e != HP_OK) return e;
     /* The quasi-Newton peer of the benchmarks: Ipopt then never calls eval_h. */
     if (st->lbfgs &&
-        (e = opt_str(st->app, "hessian_approximation", "limited-memory", d)))
+        (e = hp_ipopt_opt_str(st->app, "hessian_approximation", "limited-memory", d)))
         return e;
     if (!SetIntermediateCallback(st->app, intermediate))
         return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: SetIntermediateCallback failed");
@@ -280,10 +207,10 @@ static hp_error ipopt_create(void **state, const hp_problem *pb, const hp_settin
     hp_problem tmp = *pb;
     for (int k = 0; k < pb->n; k++)
         if (!(tmp.ri_lo[k] <= tmp.ri_hi[k])) tmp.ri_hi[k] = tmp.ri_lo[k];
-    pthread_mutex_lock(&ipopt_lock);
+    hp_ipopt_lock();
     e = build_app(st, &tmp, d);
     if (e != HP_OK && st->app) FreeIpoptProblem(st->app);
-    pthread_mutex_unlock(&ipopt_lock);
+    hp_ipopt_unlock();
     if (e != HP_OK) {
         free(st);
         return e;
@@ -297,9 +224,9 @@ static void ipopt_destroy(void *state)
     ipopt_state *st = state;
     if (!st) return;
     if (st->app) {
-        pthread_mutex_lock(&ipopt_lock);
+        hp_ipopt_lock();
         FreeIpoptProblem(st->app);
-        pthread_mutex_unlock(&ipopt_lock);
+        hp_ipopt_unlock();
     }
     free(st);
 }
@@ -507,7 +434,7 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
     int same_bounds = memcmp(st->ri_lo, pb->ri_lo, (size_t)st->n * sizeof(double)) == 0 &&
                       memcmp(st->ri_hi, pb->ri_hi, (size_t)st->n * sizeof(double)) == 0;
 
-    pthread_mutex_lock(&ipopt_lock);
+    hp_ipopt_lock();
     if (!same_bounds || !st->app || st->rebuild) { /* also retries after a failed rebuild */
         st->rebuild = 0;
         if (st->app) FreeIpoptProblem(st->app);
@@ -518,8 +445,10 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
             st->app = NULL;
         }
     }
-    if (e == HP_OK) e = opt_str(st->app, "warm_start_init_point", warm ? "yes" : "no", d);
-    if (e == HP_OK) e = opt_num(st->app, "mu_init", warm ? MU_INIT_WARM : MU_INIT_COLD, d);
+    if (e == HP_OK)
+        e = hp_ipopt_opt_str(st->app, "warm_start_init_point", warm ? "yes" : "no", d);
+    if (e == HP_OK)
+        e = hp_ipopt_opt_num(st->app, "mu_init", warm ? MU_INIT_WARM : MU_INIT_COLD, d);
     enum ApplicationReturnStatus rc = Internal_Error;
     int polished = 0;
     if (e == HP_OK) {
@@ -540,7 +469,7 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
             polished = 1;
         st->pb = NULL;
     }
-    pthread_mutex_unlock(&ipopt_lock);
+    hp_ipopt_unlock();
     if (e != HP_OK) {
         st->have_prev = 0;
         return e;
@@ -590,9 +519,22 @@ static hp_error ipopt_set_option(void *state, const char *name, double value, hp
                        "ipopt: unknown option '%s' (known: hessian_approximation)", name);
 }
 
+/* The load level's HOLD with its tie-breaker on Ipopt (load_ipopt.c). */
+static hp_load_solve_status ipopt_load_hold(const hp_load_model *M, const double xi[6],
+                                            const double *lo, const double *hi,
+                                            const double *target, const double *start,
+                                            int max_iter, int stiffness, double *P, double *F,
+                                            int *iterations, int *raw)
+{
+    return hp_load_hold_with(hp_load_hold_ipopt, M, xi, lo, hi, target, start, max_iter,
+                             stiffness, P, F, iterations, raw);
+}
+
 const hp_backend_ops hp_backend_ipopt_ops = {
     .name = "ipopt",
-    .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_WARM_STARTS,
+    .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_WARM_STARTS | HP_BACKEND_LOAD |
+            HP_BACKEND_LOAD_STIFFNESS,
+    .load_hold = ipopt_load_hold,
     .create = ipopt_create,
     .solve = ipopt_solve,
     .destroy = ipopt_destroy,

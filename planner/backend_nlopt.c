@@ -366,9 +366,23 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
     return HP_OK;
 }
 
+/* The load level's HOLD with its tie-breaker on NLopt SLSQP (load_nlopt.c); the
+ * derivative-free COBYLA has no load_hold. */
+static hp_load_solve_status slsqp_load_hold(const hp_load_model *M, const double xi[6],
+                                            const double *lo, const double *hi,
+                                            const double *target, const double *start,
+                                            int max_iter, int stiffness, double *P, double *F,
+                                            int *iterations, int *raw)
+{
+    (void)stiffness; /* not in caps: hp_planner_create refuses it */
+    return hp_load_hold_with(hp_load_hold_nlopt, M, xi, lo, hi, target, start, max_iter, 0, P,
+                             F, iterations, raw);
+}
+
 const hp_backend_ops hp_backend_nlopt_slsqp_ops = {
     .name = "nlopt-slsqp",
-    .caps = HP_BACKEND_THREAD_SAFE,
+    .caps = HP_BACKEND_THREAD_SAFE | HP_BACKEND_LOAD,
+    .load_hold = slsqp_load_hold,
     .create = slsqp_create,
     .solve = nlopt_solve,
     .destroy = nlopt_state_destroy,

@@ -880,10 +880,24 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     return HP_OK;
 }
 
+/* The load level's HOLD with its own bounded SQP tie-breaker (load_solve.c); no solver code
+ * of its own, so raw is left alone. */
+static hp_load_solve_status rt_load_hold(const hp_load_model *M, const double xi[6],
+                                         const double *lo, const double *hi,
+                                         const double *target, const double *start,
+                                         int max_iter, int stiffness, double *P, double *F,
+                                         int *iterations, int *raw)
+{
+    (void)stiffness; /* not in caps: hp_planner_create refuses it */
+    (void)raw;
+    return hp_load_hold(M, xi, lo, hi, target, start, max_iter, P, F, iterations);
+}
+
 const hp_backend_ops hp_backend_realtime_ops = {
     .name = "realtime",
     .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_THREAD_SAFE | HP_BACKEND_REAL_TIME |
-            HP_BACKEND_WARM_STARTS,
+            HP_BACKEND_WARM_STARTS | HP_BACKEND_LOAD,
+    .load_hold = rt_load_hold,
     .create = rt_create,
     .solve = rt_solve,
     .destroy = rt_destroy,

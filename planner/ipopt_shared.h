@@ -1,5 +1,6 @@
-/* Internal: what every Ipopt user in the library shares with the per-row backend
- * (backend_ipopt.c): the one process-wide solver mutex and the fixed option set. */
+/* Internal: what every Ipopt user in the library (the per-row backend backend_ipopt.c, the
+ * load level's HOLD load_ipopt.c) shares: the one process-wide solver mutex and the fixed
+ * option set (ipopt_shared.c). */
 #ifndef HP_PLANNER_IPOPT_SHARED_H
 #define HP_PLANNER_IPOPT_SHARED_H
 
@@ -11,6 +12,11 @@
  * call (create, options, solve, free) anywhere in the library runs between these two. */
 void hp_ipopt_lock(void);
 void hp_ipopt_unlock(void);
+
+/* An Ipopt string (number) option that fails loudly (HP_ERR_SOLVER naming it, in d) instead of
+ * printing. Caller holds the lock. */
+hp_error hp_ipopt_opt_str(IpoptProblem a, const char *k, const char *v, hp_diag *d);
+hp_error hp_ipopt_opt_num(IpoptProblem a, const char *k, double v, hp_diag *d);
 
 /* The options every solve of the library sets (caller holds the lock): silent (`sb`,
  * print_level 0), no option file, tolerances tol (also on the constraint violation), bounds

@@ -17,6 +17,7 @@
 
 typedef struct ud {
     const hp_load_hold_nlp *nlp;
+    const hp_load_stiff *stiff;   /* the stiffness objective, NULL: the distance */
     int nf, idx[HP_MAX_BLADDERS]; /* variable j is bladder idx[j] */
     double fixedF[6];             /* the fixed bladders' share of each row (0: they carry 0) */
     int failed;
@@ -42,8 +43,8 @@ static Bool eval_f(Index n, Number *x, Bool new_x, Number *obj, UserDataPtr p)
 {
     (void)new_x;
     ud *u = p;
-    if (u->nlp->stiff) {
-        if (hp_load_stiff_eval(u->nlp->stiff, n, u->idx, x, obj, NULL, NULL, NULL) != 0) {
+    if (u->stiff) {
+        if (hp_load_stiff_eval(u->stiff, n, u->idx, x, obj, NULL, NULL, NULL) != 0) {
             u->failed = 1;
             return FALSE;
         }
@@ -62,8 +63,8 @@ static Bool eval_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr p
 {
     (void)new_x;
     ud *u = p;
-    if (u->nlp->stiff) {
-        if (hp_load_stiff_eval(u->nlp->stiff, n, u->idx, x, NULL, g, NULL, NULL) != 0) {
+    if (u->stiff) {
+        if (hp_load_stiff_eval(u->stiff, n, u->idx, x, NULL, g, NULL, NULL) != 0) {
             u->failed = 1;
             return FALSE;
         }
@@ -123,14 +124,14 @@ static Bool eval_h(Index n, Number *x, Bool new_x, Number obj_factor, Index m, N
      * (entry of (j, l), l <= j, at j(j+1)/2 + l). */
     if (!values) {
         for (int j = 0, e = 0; j < n; ++j)
-            for (int l = q->stiff ? 0 : j; l <= j; ++l, ++e) {
+            for (int l = u->stiff ? 0 : j; l <= j; ++l, ++e) {
                 iRow[e] = j;
                 jCol[e] = l;
             }
         return TRUE;
     }
     double Hs[HP_MAX_BLADDERS * HP_MAX_BLADDERS];
-    if (q->stiff && hp_load_stiff_eval(q->stiff, n, u->idx, x, NULL, NULL, Hs, NULL) != 0) {
+    if (u->stiff && hp_load_stiff_eval(u->stiff, n, u->idx, x, NULL, NULL, Hs, NULL) != 0) {
         u->failed = 1;
         return FALSE;
     }
@@ -138,7 +139,7 @@ static Bool eval_h(Index n, Number *x, Bool new_x, Number obj_factor, Index m, N
         double F, F1, F2, s = 0.0;
         if (!force(u, j, x[j], &F, &F1, &F2)) return FALSE;
         for (int r = 0; r < m; ++r) s += lambda[r] * q->A[r * q->n + u->idx[j]];
-        if (q->stiff) {
+        if (u->stiff) {
             for (int l = 0; l < j; ++l) values[e++] = obj_factor * Hs[j * n + l];
             values[e++] = obj_factor * Hs[j * n + j] + s * F2;
         } else {
@@ -164,17 +165,23 @@ hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, 
     ud u;
     memset(&u, 0, sizeof u);
     u.nlp = nlp;
+    hp_load_stiff S;
+    if (nlp->stiffness) {
+        if (hp_load_stiff_init(&S, nlp->M, nlp->xi, nlp->target) != HP_OK)
+            return HP_LOAD_SOLVE_ERROR;
+        u.stiff = &S;
+    }
     double xl[HP_MAX_BLADDERS], xu[HP_MAX_BLADDERS], x[HP_MAX_BLADDERS], gl[6], gu[6];
     u.nf = hp_load_hold_vars(nlp, p, u.idx, xl, xu, x);
     for (int r = 0; r < 6; ++r) gl[r] = gu[r] = nlp->b[r];
     if (iterations) *iterations = 0;
     if (u.nf == 0) return HP_LOAD_SOLVE_OK; /* nothing to choose */
     hp_ipopt_lock();
-    int nh = nlp->stiff ? u.nf * (u.nf + 1) / 2 : u.nf;
+    int nh = u.stiff ? u.nf * (u.nf + 1) / 2 : u.nf;
     IpoptProblem a = CreateIpoptProblem(u.nf, xl, xu, 6, gl, gu, 6 * u.nf, nh, 0, eval_f,
                                         eval_g, eval_grad_f, eval_jac_g, eval_h);
     hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
-    if (a && options(a, max_iter, nlp->stiff != NULL)) {
+    if (a && options(a, max_iter, u.stiff != NULL)) {
         double g[6], obj, mg[6] = {0}, ml[HP_MAX_BLADDERS] = {0}, mu[HP_MAX_BLADDERS] = {0};
         enum ApplicationReturnStatus rs = IpoptSolve(a, x, g, &obj, mg, ml, mu, &u);
         if (raw) *raw = (int)rs;
@@ -184,7 +191,7 @@ hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, 
         /* The stiffness objective is not convex: a budget-limited iterate is still a
          * candidate, and the caller's equilibrium check decides whether it holds. */
         else if (rs == Maximum_Iterations_Exceeded)
-            st = nlp->stiff ? HP_LOAD_SOLVE_OK : HP_LOAD_SOLVE_ITERATION_LIMIT;
+            st = u.stiff ? HP_LOAD_SOLVE_OK : HP_LOAD_SOLVE_ITERATION_LIMIT;
     }
     if (a) FreeIpoptProblem(a);
     hp_ipopt_unlock();

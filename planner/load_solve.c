@@ -313,8 +313,9 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
 static hp_load_solve_status hold_from(const hp_load_model *M, const double xi[6],
                                       const double *lo, const double *hi,
                                       const double *target, const double *start, int max_iter,
-                                      int use_ipopt, int stiffness, int grid, double *P,
-                                      double *F, int *iterations, int *raw, double *cost)
+                                      hp_load_nlp_solver nlp_solve, int stiffness, int grid,
+                                      double *P, double *F, int *iterations, int *raw,
+                                      double *cost)
 {
     *cost = INFINITY;
     const int n = M->layout.n;
@@ -409,16 +410,12 @@ static hp_load_solve_status hold_from(const hp_load_model *M, const double xi[6]
     memset(lam, 0, sizeof lam);
     int it = 0;
     double Fk[HP_MAX_BLADDERS], F1[HP_MAX_BLADDERS], F2[HP_MAX_BLADDERS], c[6];
-    if (use_ipopt) { /* 1: Ipopt, 2: NLopt SLSQP */
-        hp_load_stiff S;
-        if (stiffness && hp_load_stiff_init(&S, M, xi, target) != HP_OK)
-            return HP_LOAD_SOLVE_ERROR;
-        hp_load_hold_nlp nlp = {M, n, rho, A, b, L, U, target, stiffness ? &S : NULL};
-        hp_load_solve_status st = use_ipopt == 1 ? hp_load_hold_ipopt(&nlp, p, max_iter, &it, raw)
-                                                 : hp_load_hold_nlopt(&nlp, p, max_iter, &it, raw);
+    if (nlp_solve) { /* a general-purpose solver's tie-breaker (the backend's) */
+        hp_load_hold_nlp nlp = {M, n, rho, A, b, L, U, target, xi, stiffness};
+        hp_load_solve_status st = nlp_solve(&nlp, p, max_iter, &it, raw);
         if (st != HP_LOAD_SOLVE_OK) return st;
     }
-    for (; !use_ipopt; ++it) {
+    for (; !nlp_solve; ++it) {
         for (int k = 0; k < n; ++k) {
             bstate s;
             Fk[k] = F1[k] = F2[k] = 0.0;
@@ -538,12 +535,12 @@ static hp_load_solve_status hold_from(const hp_load_model *M, const double xi[6]
 static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
                                       const double *lo, const double *hi,
                                       const double *target, const double *start, int max_iter,
-                                      int use_ipopt, int stiffness, double *P, double *F,
-                                      int *iterations, int *raw)
+                                      hp_load_nlp_solver nlp_solve, int stiffness, double *P,
+                                      double *F, int *iterations, int *raw)
 {
     double cost;
     int it = 0;
-    hp_load_solve_status st = hold_from(M, xi, lo, hi, target, start, max_iter, use_ipopt,
+    hp_load_solve_status st = hold_from(M, xi, lo, hi, target, start, max_iter, nlp_solve,
                                         stiffness, 0, P, F, &it, raw, &cost);
     int total = it;
     if (st == HP_LOAD_SOLVE_OK && max_iter > 0 && !stiffness) {
@@ -551,7 +548,7 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
         double Pk[HP_MAX_BLADDERS], Fk[HP_MAX_BLADDERS], ck;
         int rk = 0;
         it = 0;
-        if (hold_from(M, xi, lo, hi, target, start, max_iter, use_ipopt, 0, 1, Pk, Fk, &it,
+        if (hold_from(M, xi, lo, hi, target, start, max_iter, nlp_solve, 0, 1, Pk, Fk, &it,
                       &rk, &ck) == HP_LOAD_SOLVE_OK &&
             ck < cost * (1.0 - 1e-12)) {
             memcpy(P, Pk, (size_t)n * sizeof *P);
@@ -569,26 +566,17 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
                                   const double *start, int max_iter, double *P, double *F,
                                   int *iterations)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, 0, 0, P, F, iterations, NULL);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL);
 }
 
-hp_load_solve_status hp_load_hold_on_ipopt(const hp_load_model *M, const double xi[6],
-                                           const double *lo, const double *hi,
-                                           const double *target, const double *start,
-                                           int max_iter, int stiffness, double *P, double *F,
-                                           int *iterations, int *raw)
+hp_load_solve_status hp_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_load_model *M,
+                                       const double xi[6], const double *lo, const double *hi,
+                                       const double *target, const double *start, int max_iter,
+                                       int stiffness, double *P, double *F, int *iterations,
+                                       int *raw)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, 1, stiffness, P, F, iterations,
-                     raw);
-}
-
-hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double xi[6],
-                                           const double *lo, const double *hi,
-                                           const double *target, const double *start,
-                                           int max_iter, double *P, double *F,
-                                           int *iterations, int *raw)
-{
-    return hold_core(M, xi, lo, hi, target, start, max_iter, 2, 0, P, F, iterations, raw);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, nlp_solve, stiffness, P, F,
+                     iterations, raw);
 }
 
 hp_error hp_load_bladder_force(const hp_load_model *M, int k, double P, double rho,

@@ -19,23 +19,6 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
                                   const double *start, int max_iter, double *P, double *F,
                                   int *iterations);
 
-/* HOLD with its second phase (the tie-breaker) solved by Ipopt with exact first and second
- * derivatives (load_ipopt.c); the first phase (reachability) is the same exact one. raw
- * gets Ipopt's return code. stiffness = 1 replaces the distance to target by the
- * minimum-holding-stiffness objective (load_stiffness.c; target then only breaks its ties).
- * Allocates (inside Ipopt) and takes the process-wide Ipopt lock. */
-hp_load_solve_status hp_load_hold_on_ipopt(const hp_load_model *M, const double xi[6],
-                                           const double *lo, const double *hi,
-                                           const double *target, const double *start,
-                                           int max_iter, int stiffness, double *P, double *F,
-                                           int *iterations, int *raw);
-/* The same with NLopt SLSQP for the second phase. */
-hp_load_solve_status hp_load_hold_on_nlopt(const hp_load_model *M, const double xi[6],
-                                           const double *lo, const double *hi,
-                                           const double *target, const double *start,
-                                           int max_iter, double *P, double *F,
-                                           int *iterations, int *raw);
-
 /* The minimum-holding-stiffness objective at a fixed pose (load_stiffness.c): the soft
  * minimum of the eigenvalues of the holding stiffness K(P) in N/mm (mm/degree units),
  * negated, plus squeeze·½·sum (P − t)² (kPa) to break its own ties. */
@@ -64,14 +47,32 @@ int hp_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const dou
 
 /* The tie-breaker NLP of HOLD at a fixed pose, for a general-purpose solver: variables the
  * pressures (kPa) of the bladders with L_k < U_k (the others fixed at L_k), objective
- * ½·sum (P − t)² (or, with stiff, the stiffness objective above), constraints
+ * ½·sum (P − t)² (or, with stiffness, the stiffness objective above), constraints
  * sum_k A[r][k]·F_k(P_k) = b[r] (six). */
 typedef struct hp_load_hold_nlp {
     const hp_load_model *M;
     int n;
     const double *rho, *A, *b, *L, *U, *target; /* A 6×n row-major; L, U, target in Pa */
-    const hp_load_stiff *stiff;                   /* NULL: the distance to target */
+    const double *xi;                             /* the pose [m, rad] */
+    int stiffness;                                /* 1: the stiffness objective at xi
+                                                     (load_stiffness.c), 0: the distance */
 } hp_load_hold_nlp;
+
+/* A general-purpose solver of that NLP from p (Pa, feasible); p gets the answer, raw the
+ * solver's own code. */
+typedef hp_load_solve_status (*hp_load_nlp_solver)(const hp_load_hold_nlp *nlp, double *p,
+                                                   int max_iter, int *iterations, int *raw);
+
+/* HOLD (hp_load_hold) with its second phase, the tie-breaker, solved by nlp_solve (a
+ * backend's: hp_load_hold_ipopt, hp_load_hold_nlopt); the first phase (reachability) is the
+ * same exact one. stiffness = 1 replaces the distance to target by the minimum-holding-
+ * stiffness objective (target then only breaks its ties; Ipopt only). Allocates (inside the
+ * solver); Ipopt takes the process-wide Ipopt lock. */
+hp_load_solve_status hp_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_load_model *M,
+                                       const double xi[6], const double *lo, const double *hi,
+                                       const double *target, const double *start, int max_iter,
+                                       int stiffness, double *P, double *F, int *iterations,
+                                       int *raw);
 
 /* The NLP's variables for a solver: the bladders whose bounds leave room (L < U), in kPa
  * (the solvers' scale), started from p clamped into the bounds. Fills idx (variable j is
@@ -84,7 +85,7 @@ int hp_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, do
 void hp_load_hold_answer(const hp_load_hold_nlp *nlp, const double *x, const int *idx, int nf,
                          double *p);
 
-/* Solves that NLP from p (Pa, feasible) with Ipopt; p gets the answer. */
+/* Solves that NLP from p (Pa, feasible) with Ipopt (load_ipopt.c); p gets the answer. */
 hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
                                         int *iterations, int *raw);
 

@@ -19,6 +19,10 @@ const char *const hp_binding_words[] = {
 _Static_assert(sizeof hp_binding_words / sizeof *hp_binding_words == HP_BIND_COUNT + 1,
                "one word per binding reason");
 
+const char *const hp_load_tiebreak_words[] = {"least-squeeze", "previous", "stiffness", NULL};
+_Static_assert(sizeof hp_load_tiebreak_words / sizeof *hp_load_tiebreak_words == HP_TIE_COUNT_ + 1,
+               "one word per load tie-breaker");
+
 const char *hp_binding_name(unsigned flag)
 {
     for (int i = 0; i < HP_BIND_COUNT; ++i)
@@ -27,5 +31,8 @@ const char *hp_binding_name(unsigned flag)
 }
 
 HP_NAMES_CALLS(hp_backend, hp_backend_words, hp_backend_name, hp_backend_parse)
+
+HP_NAMES_CALLS(hp_load_tiebreak, hp_load_tiebreak_words, hp_load_tiebreak_name,
+               hp_load_tiebreak_parse)
 
 HP_NAMES_NAME_CALL(hp_status, hp_status_words, hp_status_name)

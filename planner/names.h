@@ -5,5 +5,6 @@
 extern const char *const hp_backend_words[];
 extern const char *const hp_status_words[];
 extern const char *const hp_binding_words[];
+extern const char *const hp_load_tiebreak_words[];
 
 #endif

@@ -3,6 +3,7 @@
  * labelled and carries the safe output. Allocation-free (messages via plan_text.c). */
 #include "planner/planner_internal.h"
 #include "iab/iab_internal.h"
+#include "common/unconst.h"
 
 #include <math.h>
 #include <string.h>
@@ -601,6 +602,16 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     p->err[0] = '\0';
     p->note[0] = '\0';
     p->note_pending = 0;
+    if (p->load) {
+        /* The load level's plan; a CLOSEST answer's note names its binding limits as the
+         * contact levels' does (composed when asked for, hp_planner_note). */
+        hp_error e = hp_load_level_plan(p->load, desired, res);
+        if (e == HP_OK && res->status == HP_STATUS_CLOSEST) {
+            for (int k = 0; k < res->n; ++k) p->note_binding[k] = res->bladders[k].binding;
+            p->note_pending = 1;
+        }
+        return e;
+    }
     if (!desired) {
         for (int i = 0; i < 6; ++i) res->desired[i] = NAN;
         hp_text_set(p->err, "desired: NULL");
@@ -661,4 +672,20 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     res->solve_time = hp_plan_now() - c.t0;
     p->prev.solve_time = res->solve_time;
     return HP_OK;
+}
+
+const char *hp_planner_note(const hp_planner *p)
+{
+    if (!p) return "";
+    /* The planner is the caller's own, never a const object: the pending text is written
+     * here (hp_plan_note_flush), as hp_plan would have. */
+    if (p->note_pending) hp_plan_note_flush(hp_unconst(p));
+    return p->note;
+}
+
+const char *hp_planner_message(const hp_planner *p)
+{
+    if (!p) return hp_planner_error(p);
+    /* A failure clears the note and an answer clears the error, so at most one is set. */
+    return *p->err ? p->err : hp_planner_note(p);
 }

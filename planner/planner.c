@@ -1,67 +1,11 @@
 /* The planner's lifecycle: create (the only call that allocates), the previous answer
- * (reset, set_previous), options, accessors, destroy. The plan itself is in plan.c. */
-#define _POSIX_C_SOURCE 200809L
+ * (reset, set_previous), options, accessors, destroy. The plan itself is in plan.c, the
+ * load level's in load_level.c. */
 #include "planner/planner_internal.h"
-#include "common/unconst.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-double hp_plan_now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-void hp_plan_to_scaled(const double xi[6], double x[6])
-{
-    for (int i = 0; i < 6; ++i) x[i] = xi[i] * hp_pose_scaled_per_si(i);
-}
-
-void hp_plan_from_scaled(const double x[6], double xi[6]) { hp_setup_pose_from_scaled(x, xi); }
-
-int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
-                             hp_result *res, double *clamp_mm)
-{
-    double rho[HP_MAX_BLADDERS];
-    *clamp_mm = 0;
-    if (rho_known) memcpy(rho, rho_known, sizeof(double) * (size_t)p->L.n);
-    else if (hp_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
-    /* Every bladder's inner radius first, then the pressures: each half is a chain of
-     * roots and divisions, and back to back the processor overlaps one bladder's chain with
-     * the next one's (the same bits as one pass). */
-    double ri[HP_MAX_BLADDERS];
-    int clamped[HP_MAX_BLADDERS];
-    for (int k = 0; k < p->L.n; ++k)
-        if (hp_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
-                                  p->pb.ri_hi_si[k], &ri[k], &clamped[k]) != HP_OK)
-            return 0;
-    for (int k = 0; k < p->L.n; ++k) {
-        const hp_bladder *B = &p->L.bladders[k];
-        double plo = p->sb.p_lo[k], phi = p->sb.p_hi[k];
-        if (p->s.use_rate_limits && isfinite(B->rate_max)) {
-            plo = fmax(plo, p->prev.bladders[k].pressure - B->rate_max);
-            phi = fmin(phi, p->prev.bladders[k].pressure + B->rate_max);
-        }
-        int c = clamped[k];
-        hp_bladder_result *br = &res->bladders[k];
-        if (hp_setup_bladder_from_ri_s(B, &p->sb.iab_s[k], rho[k] / HP_MM_PER_M, ri[k], c, plo,
-                                       phi, br) != HP_OK)
-            return 0;
-        if (c) *clamp_mm = fmax(*clamp_mm, fabs(br->ro * HP_MM_PER_M - rho[k]));
-        double ro_mm = br->ro * HP_MM_PER_M;
-        if (ro_mm <= p->pb.ro_lo[k] + HP_BINDING_TOL_MM) br->binding |= p->lo_flags[k];
-        if (ro_mm >= p->pb.ro_hi[k] - HP_BINDING_TOL_MM) br->binding |= p->hi_flags[k];
-        if (!(br->pressure >= B->p_min && br->pressure <= B->p_max) || !isfinite(br->ri) ||
-            !isfinite(br->ro))
-            return 0;
-    }
-    hp_plan_from_scaled(x, res->achieved);
-    return 1;
-}
 
 /* rate_free (planner_internal.h) from the settings and the bladders' rate limits. */
 static void set_rate_free(hp_planner *p)
@@ -102,37 +46,13 @@ static hp_error build_nominal(hp_planner *p, hp_diag *d)
     return HP_OK;
 }
 
-hp_error hp_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
-                                  const hp_kin_fit_near *near, double xi[6],
-                                  double *residual_rms)
-{
-    /* With fk_free: hp_contact_fk's own checks, so this is a drop-in for it. */
-    if (free_ == p->fk_free) {
-        int nf = 0;
-        for (int i = 0; i < 6; ++i) nf += free_[i] != 0;
-        if (p->L.n < nf) return HP_ERR_INVALID;
-        for (int k = 0; k < p->L.n; ++k)
-            if (!(ro[k] > 0) || !isfinite(ro[k])) return HP_ERR_INVALID;
-    }
-    const double zero[6] = {0};
-    return hp_kin_fit(&p->L, &p->G, p->level, ro, free_, zero, p->nom_ok ? &p->nom : NULL, near, xi,
-                      residual_rms, NULL);
-}
-
-void hp_plan_set_previous_answer(hp_planner *p, const hp_result *r)
-{
-    if (r != &p->prev) p->prev = *r;
-    p->prev_checked = 1; /* hp_planner_set_previous clears it after this call */
-    hp_plan_to_scaled(r->achieved, p->x_prev);
-    for (int k = 0; k < p->L.n; ++k) p->x_prev[6 + k] = r->bladders[k].ri * HP_MM_PER_M;
-    for (int k = 0; k < p->L.n; ++k) p->pb.p_prev[k] = r->bladders[k].pressure;
-    /* The next start is this answer's pose and radii, not a backend's own last point. */
-    if (p->ops && p->ops->warm_point && p->bstate) p->ops->warm_point(p->bstate, 0);
-}
-
 void hp_planner_reset(hp_planner *p)
 {
     if (!p || !p->built) return;
+    if (p->load) {
+        hp_load_level_reset(p->load);
+        return;
+    }
     hp_plan_set_previous_answer(p, &p->nominal);
 }
 
@@ -158,21 +78,22 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     e = hp_layout_prepare(&p->L, d);
     if (e == HP_OK) e = hp_geom_derive(&p->L, &p->G, d);
     if (e != HP_OK) goto fail;
-    p->level = s.level;
-    if (p->level == HP_LEVEL_AUTO) {
-        e = hp_contact_auto_g(&p->L, &p->G, s.level_tolerance, s.auto_trans, s.auto_rot, &p->level);
-        if (e != HP_OK) {
-            hp_diag_set(d, e, "level: auto could not choose a contact level (%s)",
-                        hp_error_message(e));
-            goto fail;
-        }
-    }
+    if ((e = hp_planner_resolve_level(p, layout, d)) != HP_OK) goto fail;
     if ((e = hp_layout_identify_g(&p->L, &p->G, &p->id)) != HP_OK) {
         hp_diag_set(d, e, "layout: the contact Jacobian at the nominal pose: %s",
                     hp_error_message(e));
         goto fail;
     }
     memcpy(p->commanded, p->id.commanded, sizeof p->commanded);
+    p->ops = ops;
+    if (p->level == HP_LEVEL_LOAD) {
+        /* The load level plans with its own model and bounds (load_level.c) and the
+         * backend's load_hold; the contact levels' problem and solver state are not built. */
+        if ((e = hp_load_level_build(p->load, &s, ops, p->err, d)) != HP_OK) goto fail;
+        p->built = 1;
+        *out = p;
+        return HP_OK;
+    }
     {
         /* The round-trip fits all start at the nominal pose: its model once, here. */
         const double zero[6] = {0};
@@ -199,7 +120,6 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
                               p->hi_flags, d);
     if (e != HP_OK) goto fail;
     set_rate_free(p);
-    p->ops = ops;
     e = ops->create(&p->bstate, pb, &s, d);
     if (e != HP_OK) goto fail;
     p->built = 1;
@@ -214,26 +134,11 @@ void hp_planner_destroy(hp_planner *p)
 {
     if (!p) return;
     if (p->ops && p->ops->destroy && p->bstate) p->ops->destroy(p->bstate);
+    free(p->load);
     free(p);
 }
 
 const char *hp_planner_error(const hp_planner *p) { return p ? p->err : "planner is NULL"; }
-
-const char *hp_planner_note(const hp_planner *p)
-{
-    if (!p) return "";
-    /* The planner is the caller's own, never a const object: the pending text is written
-     * here (hp_plan_note_flush), as hp_plan would have. */
-    if (p->note_pending) hp_plan_note_flush(hp_unconst(p));
-    return p->note;
-}
-
-const char *hp_planner_message(const hp_planner *p)
-{
-    if (!p) return hp_planner_error(p);
-    /* A failure clears the note and an answer clears the error, so at most one is set. */
-    return *p->err ? p->err : hp_planner_note(p);
-}
 
 hp_level hp_planner_level(const hp_planner *p) { return p ? p->level : HP_LEVEL_AUTO; }
 
@@ -251,6 +156,12 @@ hp_error hp_planner_set_option(hp_planner *p, const char *name, double value)
         return HP_ERR_NULL;
     }
     if (!p->built) return HP_ERR_STATE;
+    if (p->load) {
+        hp_text_set(p->err, "set_option: the load level has no backend options ('");
+        hp_text_add(p->err, name);
+        hp_text_add(p->err, "')");
+        return HP_ERR_INVALID;
+    }
     if (!p->ops->set_option) {
         hp_text_set(p->err, "set_option: the ");
         hp_text_add(p->err, p->ops->name);
@@ -276,6 +187,7 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
         return HP_ERR_NULL;
     }
     if (!p->built) return HP_ERR_STATE;
+    if (p->load) return hp_load_level_set_previous(p->load, pressures);
     hp_result r = p->nominal;
     double ro[HP_MAX_BLADDERS];
     for (int k = 0; k < p->L.n; ++k) {
@@ -389,6 +301,7 @@ hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *r)
         return HP_ERR_NULL;
     }
     if (!p->built) return HP_ERR_STATE;
+    if (p->load) return hp_load_level_set_previous_result(p->load, r);
     if (r->n != p->L.n) return prev_refused(p, "n is not the layout's number of bladders", NULL);
     hp_error e = prev_pose_ok(p, r->achieved);
     if (e != HP_OK) return e;
@@ -428,6 +341,10 @@ hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
     for (int k = 0; k < p->L.n; ++k)
         if (!(rate_max[k] > 0.0)) return HP_ERR_INVALID; /* NaN, 0 and negatives */
     for (int k = 0; k < p->L.n; ++k) p->L.bladders[k].rate_max = rate_max[k];
+    if (p->load) { /* the load level reads them from its model's copy of the layout */
+        for (int k = 0; k < p->L.n; ++k) p->load->M.layout.bladders[k].rate_max = rate_max[k];
+        return HP_OK;
+    }
     set_rate_free(p);
     /* Rate-free now: hp_plan no longer sets the cycle's bounds, so they return to the
      * static ones here (what it would set; they held at create). */
@@ -436,4 +353,29 @@ hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
                               p->lo_flags, p->hi_flags, NULL) != HP_OK)
         return HP_ERR_STATE;
     return HP_OK;
+}
+
+hp_error hp_planner_pressure_bounds(const hp_planner *p, double *lo, double *hi)
+{
+    if (!p || !lo || !hi) return HP_ERR_NULL;
+    if (!p->built) return HP_ERR_STATE;
+    if (p->load) {
+        hp_load_level_bounds(p->load, lo, hi);
+        return HP_OK;
+    }
+    memcpy(lo, p->sb.p_lo, (size_t)p->L.n * sizeof *lo);
+    memcpy(hi, p->sb.p_hi, (size_t)p->L.n * sizeof *hi);
+    return HP_OK;
+}
+
+hp_error hp_planner_load_info(const hp_planner *p, hp_load_info *info)
+{
+    if (!p || !info) return HP_ERR_NULL;
+    if (!p->built || !p->load) return HP_ERR_STATE;
+    return hp_load_level_info(p->load, info);
+}
+
+const hp_load_model *hp_planner_load_model(const hp_planner *p)
+{
+    return p && p->load ? &p->load->M : NULL;
 }

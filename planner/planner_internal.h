@@ -1,11 +1,17 @@
 /* Internal: the planner object and the pieces its files share. planner.c holds the
- * lifecycle (create, reset, set_previous, destroy, accessors), plan.c the plan pipeline
- * (validate -> direct chain -> solve -> accept -> label), plan_text.c the allocation-free
- * message builders, backends.c the backend table. */
+ * lifecycle (create, reset, set_previous, destroy, accessors), level_choice.c the level's
+ * resolution at create, plan.c the plan pipeline (validate -> direct chain -> solve ->
+ * accept -> label) and its messages, plan_state.c the state between plans (scaling, the
+ * answer of a pose, the previous answer), plan_text.c the round trip's message, text.c the
+ * allocation-free message builders, backends.c the backend table, load_level.c the load
+ * level (hp_plan hands a planner at HP_LEVEL_LOAD to it). */
 #ifndef HP_PLANNER_INTERNAL_H
 #define HP_PLANNER_INTERNAL_H
 
 #include "planner/backend_common.h"
+#include "planner/clock.h"
+#include "planner/load_level.h"
+#include "planner/text.h"
 #include "planner/plan_range.h"
 #include "planner/problem_setup.h"
 #include "kinematics/fit_internal.h"
@@ -63,6 +69,12 @@ struct hp_planner {
     int prev_checked;            /* prev's bladders pass hp_planner_set_previous_result's
                                     checks by construction (an answer of hp_plan, the
                                     nominal answer, or a result those checks passed) */
+    /* The load level (level HP_LEVEL_LOAD; NULL at the contact levels): hp_plan and the
+     * previous-answer calls are its. */
+    hp_load_level *load;
+    /* Why auto chose the level (hp_planner_level_choice), written once by create; "" when
+     * the settings name the level. */
+    char level_why[HP_DIAG_MAX];
     /* The contact model at the nominal pose (fit starts). Last, and its warm states last
      * in it: when they grew from 64 to 512 bytes in the middle, padding main's structs the
      * same way (a placebo, no code change) made plans 2.5 % slower at every level, a
@@ -109,18 +121,14 @@ hp_error hp_plan_fit_from_nominal(const hp_planner *p, const double *ro, const i
                                   const hp_kin_fit_near *near, double xi[6],
                                   double *residual_rms);
 
+/* Resolves p->s.level into p->level once, over all four levels (level_choice.c), and writes
+ * why into p->level_why. For the load level (asked for, or chosen by auto) p->load gets its
+ * model, built from layout (the caller's) with p->s. Needs p->L, p->G. */
+hp_error hp_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_diag *d);
+
 /* The backend of an enum value (backends.c); NULL for a value with no backend. */
 const hp_backend_ops *hp_backend_table(hp_backend b);
 
-/* CLOCK_MONOTONIC in seconds. */
-double hp_plan_now(void);
-
-/* Message building without printf (hp_plan must not allocate; printf's float formatting
- * may), into a buffer of HP_DIAG_MAX bytes (plan_text.c). */
-void hp_text_set(char *buf, const char *s);
-void hp_text_add(char *buf, const char *s);
-void hp_text_add_int(char *buf, long long v);
-void hp_text_add_num(char *buf, double v, int dec); /* |v| to dec decimals, with its sign */
 
 /* Pose scaling of hp_problem: SI -> mm and degrees, and back. */
 void hp_plan_to_scaled(const double xi[6], double x[6]);

@@ -17,6 +17,7 @@
 
 #include "headplan/hp_planner.h"
 #include "kinematics/kin_geom.h"
+#include "planner/load_solve.h"
 
 typedef struct hp_problem {
     const hp_layout *layout;
@@ -81,7 +82,11 @@ enum {
     /* solve allocates nothing and is bounded by max_iter (the control loop's path). */
     HP_BACKEND_REAL_TIME = 1u << 2,
     /* Uses warm_point: warm-starts from its own last answer (points and multipliers). */
-    HP_BACKEND_WARM_STARTS = 1u << 3
+    HP_BACKEND_WARM_STARTS = 1u << 3,
+    /* Plans the load level: load_hold is set (load_level.c). */
+    HP_BACKEND_LOAD = 1u << 4,
+    /* Its load_hold solves the stiffness tie-breaker (HP_TIE_STIFFNESS). */
+    HP_BACKEND_LOAD_STIFFNESS = 1u << 5
 };
 
 typedef struct hp_backend_ops {
@@ -98,6 +103,15 @@ typedef struct hp_backend_ops {
     /* Optional (NULL: no options). A backend-specific option by name; HP_ERR_INVALID for a
      * name it does not know or a bad value (message in d). Takes effect at the next solve. */
     hp_error (*set_option)(void *state, const char *name, double value, hp_diag *d);
+    /* Optional (NULL: the backend does not plan the load level). HOLD at the load level
+     * (load_solve.h, hp_load_hold): pressures P[n] inside [lo, hi] holding the head at xi,
+     * the one nearest to target (stiffness = 1: the stiffest, with HP_BACKEND_LOAD_STIFFNESS)
+     * among all that do, from start (may be NULL); F their forces. raw gets the solver's own
+     * code when it has one (left alone otherwise). */
+    hp_load_solve_status (*load_hold)(const hp_load_model *M, const double xi[6],
+                                      const double *lo, const double *hi, const double *target,
+                                      const double *start, int max_iter, int stiffness,
+                                      double *P, double *F, int *iterations, int *raw);
 } hp_backend_ops;
 
 extern const hp_backend_ops hp_backend_realtime_ops;

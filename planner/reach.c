@@ -65,6 +65,7 @@ hp_error hp_planner_reach(const hp_planner *p, double reach[6][2])
 {
     if (!p || !reach) return HP_ERR_NULL;
     if (!p->built) return HP_ERR_STATE;
+    if (p->load) return HP_ERR_INVALID; /* the load level's reach is not a contact range */
     reach_ctx c = {p, p->pb};
     unsigned lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
     hp_error e = hp_setup_cycle_bounds(&p->L, &p->sb, NULL, 0, &c.pb, lo, hi, NULL);

@@ -3,6 +3,7 @@
 #include "planner/settings_check.h"
 
 #include <math.h>
+#include <string.h>
 
 void hp_settings_default(hp_settings *s)
 {
@@ -19,6 +20,9 @@ void hp_settings_default(hp_settings *s)
     s->mu = HP_DEFAULT_MU;
     s->use_rate_limits = HP_DEFAULT_USE_RATE_LIMITS;
     s->warm_start = HP_DEFAULT_WARM_START;
+    memset(&s->load, 0, sizeof s->load); /* no load */
+    s->load_geometry = HP_DEFAULT_LOAD_GEOMETRY;
+    s->load_tiebreak = HP_DEFAULT_LOAD_TIEBREAK;
 }
 
 /* Each check accepts only finite values in range; written as !(v > x) so NaN fails. */
@@ -64,7 +68,7 @@ hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
     if (!s) return hp_diag_set(d, HP_ERR_NULL, "settings: NULL");
     if ((int)s->backend < 0 || s->backend >= HP_BACKEND_COUNT_)
         return hp_diag_set(d, HP_ERR_INVALID, "backend: unknown value %d", (int)s->backend);
-    if ((int)s->level < 0 || s->level > HP_LEVEL_AUTO)
+    if ((int)s->level < 0 || s->level > HP_LEVEL_LOAD)
         return hp_diag_set(d, HP_ERR_INVALID, "level: unknown value %d", (int)s->level);
     const char *why;
     if ((why = hp_check_level_tolerance(s->level_tolerance)))
@@ -91,5 +95,24 @@ hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
     if (s->warm_start != 0 && s->warm_start != 1)
         return hp_diag_set(d, HP_ERR_INVALID, "warm_start: must be 0 or 1 (got %d)",
                            s->warm_start);
+    /* The load: none (mass exactly 0, the default) or one that hp_load_spec_validate
+     * accepts; the load level needs one. */
+    int has_load = !(s->load.mass == 0.0);
+    if (has_load) {
+        hp_error e = hp_load_spec_validate(&s->load, d);
+        if (e != HP_OK) return e;
+    } else if (s->level == HP_LEVEL_LOAD) {
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "level: load needs a load (settings load.mass > 0: what the "
+                           "bladders carry)");
+    }
+    if (s->load_geometry != HP_LEVEL_LINEAR && s->load_geometry != HP_LEVEL_PLANE &&
+        s->load_geometry != HP_LEVEL_SURFACE)
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "load_geometry: must be linear, plane or surface (got %d)",
+                           (int)s->load_geometry);
+    if ((int)s->load_tiebreak < 0 || s->load_tiebreak >= HP_TIE_COUNT_)
+        return hp_diag_set(d, HP_ERR_INVALID, "load_tiebreak: unknown value %d",
+                           (int)s->load_tiebreak);
     return HP_OK;
 }

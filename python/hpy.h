@@ -71,13 +71,6 @@ const hp_scene *hpy_layout_scene(PyObject *obj);
 /* Planner settings from a scene and keyword overrides (backend, level, tolerance, max_iter,
  * max_time_s, weight_mm_per_deg, level_tolerance_mm, warm_start). Returns 0 or -1. */
 int hpy_settings(const hp_scene *sc, PyObject *kwargs, hp_settings *s);
-/* A Planner plans the kinematic levels only (hpy_settings refuses level='load' as batch
- * refuses --level load): 0 when scene sc with the keyword level (None: the scene's
- * model.level) is planned so (hp_scene_kinematic_only: the decision `headplan solve` and
- * `batch` make), else -1 with headplan.Error set in batch's words: a scene solve plans at
- * the load level (model.level: load, or auto choosing it for the predicted sag) unless
- * level names a kinematic level. Call after hpy_settings (which names a bad level). */
-int hpy_kinematic_only(const hp_scene *sc, PyObject *kwargs);
 
 /* ---- the Planner type (py_planner.c, py_trace.c) ---- */
 typedef struct {

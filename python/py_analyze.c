@@ -42,6 +42,8 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
     e = hp_contact_error_bound(L, HP_LEVEL_LINEAR, s.auto_trans, s.auto_rot, &bl);
     if (e == HP_OK) e = hp_contact_error_bound(L, HP_LEVEL_PLANE, s.auto_trans, s.auto_rot, &bp);
     if (e == HP_OK) e = hp_contact_auto(L, s.level_tolerance, s.auto_trans, s.auto_rot, &autolevel);
+    /* The load level's contact geometry is analysed at the scene's own kinematic level. */
+    if (s.level == HP_LEVEL_LOAD) s.level = sc->level;
     requested = s.level;
     used = s.level == HP_LEVEL_AUTO ? autolevel : s.level;
     if (e == HP_OK) e = hp_layout_analyze(L, used, &an);

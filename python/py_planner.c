@@ -153,10 +153,9 @@ static int planner_init(PyObject *o, PyObject *args, PyObject *kwargs)
     if (!PyArg_ParseTuple(args, "O:Planner", &scene)) return -1;
     const hp_scene *sc = hpy_layout_scene(scene);
     hp_settings s;
-    /* The settings first (an unknown keyword or level is named as before), then the level
-     * decision headplan solve makes: a scene it plans at the load level is refused. */
-    if (!sc || hpy_settings(sc, kwargs, &s) < 0 || hpy_kinematic_only(sc, kwargs) < 0)
-        return -1;
+    /* The scene's settings with the keywords' overrides; the planner resolves the level
+     * (the load level included) as headplan solve's does. */
+    if (!sc || hpy_settings(sc, kwargs, &s) < 0) return -1;
     /* One solve from the nominal pose at a time, like headplan solve: no previous cycle. */
     s.use_rate_limits = 0;
     PyThread_type_lock lock = PyThread_allocate_lock();

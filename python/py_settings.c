@@ -97,14 +97,13 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
                  hp_names_join(hp_backend_words, NULL, names, sizeof names));
         return -1;
     }
-    hp_names_join(hp_level_words, NULL, names, sizeof names);
-    if (level && strcmp(level, "load") == 0) { /* as batch's --level load */
-        hpy_fail("level: load is planned by headplan solve only; the Python module plans the "
-                 "kinematic levels (%s)", names);
+    if (level && hp_level_parse(level, &s->level) != HP_OK) {
+        hpy_fail("level: unknown level '%s' (%s)", level,
+                 hp_scene_level_names(1, ", ", names, sizeof names));
         return -1;
     }
-    if (level && hp_level_parse(level, &s->level) != HP_OK) {
-        hpy_fail("level: unknown level '%s' (%s)", level, names);
+    if (s->level == HP_LEVEL_LOAD && !sc->has_load) { /* as the command line's --level load */
+        hpy_fail("level: load needs a scene with a 'load' section (%s has none)", sc->file);
         return -1;
     }
     if (hp_settings_validate(s, &d) != HP_OK) {
@@ -112,20 +111,4 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
         return -1;
     }
     return 0;
-}
-
-int hpy_kinematic_only(const hp_scene *sc, PyObject *kw)
-{
-    const char *level = NULL;
-    if (kw_text(kw, "level", &level)) return -1; /* hpy_settings refused "load" already */
-    hp_diag d = {{0}};
-    hp_level_refusal refused;
-    if (hp_scene_kinematic_only(sc, level, "Planner", &refused, &d) == HP_OK) return 0;
-    if (refused == HP_LEVEL_REFUSED_LOAD)
-        hpy_fail("%s: give level='surface' (or 'plane', 'linear') to plan it so, or plan "
-                 "single corrections with headplan solve",
-                 d.text);
-    else
-        hpy_fail("%s", d.text);
-    return -1;
 }

@@ -10,10 +10,10 @@ const char *hp_scene_level_names(int with_load, const char *last, char *buf, siz
 {
     if (!buf || !len) return buf;
     buf[0] = '\0';
-    const int n = HP_LEVEL_AUTO + 1 + (with_load != 0);
+    const int n = with_load ? HP_LEVEL_LOAD + 1 : HP_LEVEL_AUTO + 1;
     size_t at = 0;
     for (int i = 0; i < n && at < len; ++i) {
-        const char *name = i <= HP_LEVEL_AUTO ? hp_level_name((hp_level)i) : HP_SCENE_LEVEL_LOAD;
+        const char *name = hp_level_name((hp_level)i);
         const char *sep = i == 0 ? "" : i == n - 1 ? (last ? last : ", ") : ", ";
         int w = snprintf(buf + at, len - at, "%s%s", sep, name);
         if (w < 0) break;
@@ -84,8 +84,7 @@ hp_error hp_scene_kinematic_only(const hp_scene *sc, const char *level, const ch
     /* What to do instead is the caller's to append: the diag's fixed size keeps room for a
      * long path. */
     return hp_diag_set(diag, HP_ERR_DOMAIN,
-                       "%s: the scene is planned at the load level (%s), which only headplan "
-                       "solve plans; %s would plan without the head's weight and disagree with "
-                       "solve",
+                       "%s: the scene is planned at the load level (%s), which %s does not "
+                       "plan: it would plan without the head's weight and disagree with solve",
                        sc->file, why, who);
 }

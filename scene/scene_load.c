@@ -1,6 +1,6 @@
 /* The `load` section of a layout scene: what part of the head's weight the bladders carry,
  * where its centre of mass is, which way gravity points, and the load planner's choices. */
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
 #include "scene/scene_parts.h"
 
 #include <math.h>

@@ -54,15 +54,14 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if (e) return e;
     const yt_node *n;
     if ((n = yt_map_get(node, "level"))) {
-        const char *LEVELS[HP_LEVEL_AUTO + 3]; /* the contact levels, "load", NULL */
-        for (int l = HP_LEVEL_LINEAR; l <= HP_LEVEL_AUTO; ++l) LEVELS[l] = hp_level_name((hp_level)l);
-        LEVELS[HP_LEVEL_AUTO + 1] = HP_SCENE_LEVEL_LOAD;
-        LEVELS[HP_LEVEL_AUTO + 2] = NULL;
+        const char *LEVELS[HP_LEVEL_LOAD + 2]; /* every level, "load" last, NULL */
+        for (int l = HP_LEVEL_LINEAR; l <= HP_LEVEL_LOAD; ++l) LEVELS[l] = hp_level_name((hp_level)l);
+        LEVELS[HP_LEVEL_LOAD + 1] = NULL;
         char name[16];
         if ((e = sr_word(c, n, "model.level", "level", LEVELS, name, sizeof name))) return e;
-        /* "load" is the load level (a planner of its own, docs/load.md); its contact
-         * geometry is `load.geometry`, and a kinematic planner built from the same scene
-         * uses the surface level. */
+        /* "load" is the load level (docs/load.md; hp_scene_settings gives HP_LEVEL_LOAD);
+         * its contact geometry is `load.geometry`, and s->level keeps the surface level
+         * for a caller that analyses the scene's contact geometry. */
         s->level_load = strcmp(name, HP_SCENE_LEVEL_LOAD) == 0;
         if (s->level_load && !s->has_load)
             return sr_fail(c, n, "model.level", HP_ERR_INVALID,

@@ -7,7 +7,14 @@ hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag)
     hp_settings s;
     hp_settings_default(&s);
     s.backend = sc->backend;
-    s.level = sc->level;
+    /* `model.level: load` plans the load level; sc->level is then the surface level a
+     * caller analysing the scene's contact geometry uses. */
+    s.level = sc->level_load ? HP_LEVEL_LOAD : sc->level;
+    if (sc->has_load) {
+        s.load = sc->load;
+        s.load_geometry = sc->load_geometry;
+        s.load_tiebreak = (hp_load_tiebreak)sc->load_tiebreak;
+    }
     s.level_tolerance = sc->level_tolerance;
     if (sc->has_auto_range) {
         s.auto_trans = sc->auto_trans;

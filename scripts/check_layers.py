@@ -26,16 +26,12 @@ PUBLIC = {  # include/headplan/<header> -> the module that implements it
     "hp_common.h": "common", "hp_version.h": "common", "hp_iab.h": "iab",
     "hp_pose.h": "kinematics", "hp_layout.h": "kinematics", "hp_contact.h": "kinematics",
     "hp_load.h": "kinematics", "hp_planner.h": "planner",
-    "hp_horizon.h": "horizon", "hp_load_planner.h": "planner", "hp_scene.h": "scene", "hp_trace.h": "scene",
+    "hp_horizon.h": "horizon", "hp_scene.h": "scene", "hp_trace.h": "scene",
     "hp_calib.h": "calib", "headplan.h": None,  # the umbrella: programs only
 }
-# Cycles known and being removed elsewhere (the load planner's files and the planner core move
-# into one planner for every level). Each is tolerated only while it is exactly as listed: a
-# changed or vanished one fails the check, so its entry goes when the cycle does.
-PENDING_CYCLES = {
-    ("planner", ("load_ipopt.c", "load_nlopt.c", "load_solve.c", "load_stiffness.c")),
-    ("planner", ("plan.c", "plan_range.c", "plan_text.c", "planner.c")),
-}
+# Cycles tolerated while being removed (none now). Each is tolerated only while it is exactly
+# as listed: a changed or vanished one fails the check, so its entry goes when the cycle does.
+PENDING_CYCLES = set()
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
 # Comments, string and character literals, and preprocessor lines: removed before names
 # are collected, so that a name in a comment or a message makes no dependency.

@@ -28,9 +28,13 @@ typedef enum hp_level {
     HP_LEVEL_LINEAR = 0, /* rho(0) + J·xi */
     HP_LEVEL_PLANE,      /* tangent plane at the nominal contact, moving with the head */
     HP_LEVEL_SURFACE,    /* exact distance to the moved sphere or ellipsoid */
-    HP_LEVEL_AUTO        /* the cheapest level whose error bound meets a tolerance */
+    HP_LEVEL_AUTO,       /* the cheapest level whose error bound meets a tolerance */
+    HP_LEVEL_LOAD        /* a planner level, not a contact geometry: the head's weight held by
+                            the bladders' contact forces (hp_load.h, hp_planner.h). The
+                            contact functions below refuse it (HP_ERR_INVALID) */
 } hp_level;
-HP_API const char *hp_level_name(hp_level l); /* "linear", "plane", "surface", "auto" */
+/* "linear", "plane", "surface", "auto", "load"; "unknown" for other values. */
+HP_API const char *hp_level_name(hp_level l);
 HP_API hp_error hp_level_parse(const char *s, hp_level *out);
 
 /* Contact distances rho[k] (m) from each bladder centre to the head surface at pose xi,

@@ -117,7 +117,9 @@ HP_API hp_error hp_horizon_check_rows(const hp_layout *L, const hp_trace_row *ro
 HP_API hp_error hp_horizon_nominal_pressures(const hp_layout *L, double *p_start, hp_diag *diag);
 
 /* Greedy plan of T rows: hp_plan with `settings` (NULL: defaults) row by row, each row's rate
- * limits Δ_t set before its plan, from p_start (NULL: the nominal pressures). out has T rows.
+ * limits Δ_t set before its plan, from p_start (NULL: the nominal pressures; at the load
+ * level NULL starts from the planner's state after create, no previous pressures, so the
+ * first row is planned as headplan solve and batch plan it). out has T rows.
  * A row hp_plan refuses is refused first (hp_horizon_check_rows); a row it cannot answer
  * keeps its safe output (status says so). On HP_OK, diag holds "line N: reason" for the first
  * row whose answer hp_plan refused (status INVALID_INPUT; the reason is the planner's, as

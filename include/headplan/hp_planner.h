@@ -18,7 +18,8 @@
  * libraries allocate inside their own solve calls.
  *
  * Safety invariants (docs/safety.md; each is one test of the same name in
- * tests/reliability/test_invariants.c, run through every backend and contact level):
+ * tests/reliability/test_invariants.c, run through every backend and every level, the load
+ * level included where the backend plans it):
  *   pressure_within_limits: every returned pressure is finite and inside the bladder's
  *     [p_min, p_max], whatever the status.
  *   stretch_within_limits: every returned stretch (= ri / Ri) is inside
@@ -54,6 +55,9 @@
  *     translation beyond the smallest semi-axis) is INVALID_INPUT, the limit named. No
  *     result carries an achieved pose outside that range either: a converged answer there is
  *     INVALID_INPUT, a budget's iterate there is replaced by the safe output.
+ *   At the load level REACHED means held instead: achieved is the desired pose and the load
+ *     model's generalized force there with the returned pressures vanishes (below 1e-9 N,
+ *     hp_plan's load-level paragraph); its CLOSEST answers name their binding limits too.
  *   closest_names_binding: a CLOSEST answer has at least one bladder with binding flags
  *     (HP_BINDING_TOL_MM, the same for every backend) named in hp_planner_error; a claimed
  *     optimum with nothing binding is SOLVER_ERROR with the safe output. */
@@ -62,6 +66,7 @@
 
 #include "headplan/hp_common.h"
 #include "headplan/hp_contact.h"
+#include "headplan/hp_load.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -141,6 +146,22 @@ HP_API const char *hp_binding_name(unsigned flag);
 #define HP_DEFAULT_MU 0.0
 #define HP_DEFAULT_USE_RATE_LIMITS 1
 #define HP_DEFAULT_WARM_START 1
+#define HP_DEFAULT_LOAD_GEOMETRY HP_LEVEL_SURFACE
+#define HP_DEFAULT_LOAD_TIEBREAK HP_TIE_LEAST_SQUEEZE
+
+/* The load level (HP_LEVEL_LOAD, docs/load.md): a desired pose -> the pressures that HOLD the
+ * head there against its weight. At a pose the six equilibrium equations are linear in the
+ * contact forces, and n pressures leave an (n − 6)-dimensional family that holds a
+ * reachable pose, from which the tie-breaker picks one. */
+typedef enum hp_load_tiebreak {
+    HP_TIE_LEAST_SQUEEZE = 0, /* "least-squeeze": minimise sum_k P_k² */
+    HP_TIE_PREVIOUS,          /* "previous": minimise sum_k (P_k − P_prev,k)² */
+    HP_TIE_STIFFNESS,         /* "stiffness": maximise the holding stiffness's smallest
+                                 eigenvalue (a smooth soft minimum of it; ipopt only) */
+    HP_TIE_COUNT_
+} hp_load_tiebreak;
+HP_API const char *hp_load_tiebreak_name(hp_load_tiebreak t); /* "unknown" for other values */
+HP_API hp_error hp_load_tiebreak_parse(const char *s, hp_load_tiebreak *out);
 
 typedef struct hp_settings {
     hp_backend backend;       /* which solver runs when a limit binds */
@@ -156,9 +177,18 @@ typedef struct hp_settings {
                                  the realtime backend needs none and ignores it */
     int use_rate_limits;      /* 1: apply each bladder's rate_max from the previous plan */
     int warm_start;           /* 1: start each solve from the previous result */
+    /* The load level. load.mass 0 (the default) states no load: HP_LEVEL_LOAD is refused
+     * and auto chooses among the contact levels. With a load (hp_load_spec_validate), auto
+     * chooses the load level when the sag a kinematic plan would leave exceeds
+     * level_tolerance (hp_load_auto_choose), once, in hp_planner_create. */
+    hp_load_spec load;        /* what the bladders carry (hp_load.h) */
+    hp_level load_geometry;   /* the load level's contact geometry: linear, plane, surface */
+    hp_load_tiebreak load_tiebreak; /* which holding pressures a reachable pose gets;
+                                 HP_TIE_STIFFNESS needs a backend that solves it (ipopt) */
 } hp_settings;
 
-/* Fills every field with its HP_DEFAULT_* value. s may be NULL (nothing happens). */
+/* Fills every field with its HP_DEFAULT_* value (load: all zero, no load). s may be NULL
+ * (nothing happens). */
 HP_API void hp_settings_default(hp_settings *s);
 /* Checks every field (finite, in range); the first bad one is named in diag (may be NULL).
  * Returns HP_OK, HP_ERR_NULL or HP_ERR_INVALID. */
@@ -202,7 +232,16 @@ typedef struct hp_planner hp_planner;
  * layout can tell apart and the commanded components (hp_layout_identify), maps every pressure and stretch limit to
  * bounds on the bladders' radii (clipped below any inflation limit point) and creates the
  * backend. The only call that allocates. On failure returns the error, sets *out = NULL,
- * frees everything, and puts the message in diag (may be NULL). */
+ * frees everything, and puts the message in diag (may be NULL).
+ * At the load level (settings level HP_LEVEL_LOAD, or auto choosing it) it builds the load
+ * model once (settings load and load_geometry) and maps every pressure, stretch, stress and
+ * limit-point limit to pressure bounds. It refuses (HP_ERR_INVALID, message in diag) a
+ * backend that does not plan the load level ("backend: nlopt-cobyla is not available at the
+ * load level ..."), the stiffness tie-breaker on a backend that does not solve it, a sphere
+ * head (its contact forces all pass through its centre, so nothing holds its rotation), a
+ * layout in which no bladder pushes against gravity ("no bladder pushes against gravity
+ * (+z)"), and a weight larger than the bladders can carry along gravity at their largest
+ * pressures. */
 HP_API hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
                            hp_planner **out, hp_diag *diag);
 
@@ -230,6 +269,21 @@ HP_API hp_error hp_planner_create(const hp_layout *layout, const hp_settings *se
  * Realtime backend: allocates nothing, prints nothing, takes no lock, bounded time. The text
  * of the last failure is kept (hp_planner_error). */
 HP_API hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *result);
+
+/* hp_plan at the load level plans the pressures that hold the head at desired[6]. The
+ * request is checked by the same code and with the same message as at the other levels.
+ * REACHED: the equilibrium holds at the desired pose (the pose error is 0 by construction);
+ * CLOSEST: no pressures inside the limits hold it there, and the answer is the nearest pose
+ * (weighted as the settings say) at which some do that the closest-pose program finds (a
+ * local method from several starts: docs/load.md), with the binding limits flagged, among
+ * them indent_max (HP_LOAD_INDENT_MAX) and cannot_pull (a bladder carrying nothing).
+ * "Limits" include the indentation range throughout. A REACHED or CLOSEST answer is an
+ * equilibrium by two checks: Q below 1e-9 N (hp_load_eval, which also requires every
+ * bladder centre outside the moved head) and, at the plane and surface geometries, the
+ * Newton–Euler residual from the contact points below 1e-6 N and 1e-6 N·m; a pose found
+ * that fails either is not returned (SOLVER_ERROR with the safe output: the previous
+ * pressures at the previous pose). result.level is HP_LEVEL_LOAD, commanded[] all 1,
+ * uncommanded[] 0. With the realtime backend nothing is allocated. */
 
 /* The message of the last failure: a plan whose status is not REACHED, CLOSEST or
  * UNCOMMANDED (ITERATION_LIMIT and TIME_LIMIT included: the budget ran out), or a refused
@@ -283,8 +337,9 @@ HP_API hp_error hp_planner_level_choice(const hp_planner *p, char *why, size_t l
  * hoop stress and the cap below an inflation limit point) at its level. So hp_plan of
  * 0.99·reach gives REACHED, and just beyond it a limit binds (CLOSEST), unless the reach
  * equals the search cap HP_REACH_CAP_MM / HP_REACH_CAP_DEG ("at least"). A component the planner does not command
- * (hp_identifiable.commanded) gets NAN in both entries. Returns HP_OK, HP_ERR_NULL or
- * HP_ERR_STATE (planner not built). Allocates nothing; not real time (~10^4 contact
+ * (hp_identifiable.commanded) gets NAN in both entries. Returns HP_OK, HP_ERR_NULL,
+ * HP_ERR_STATE (planner not built) or HP_ERR_INVALID (a planner at the load level, whose
+ * reach is not defined this way). Allocates nothing; not real time (~10^4 contact
  * evaluations). */
 HP_API hp_error hp_planner_reach(const hp_planner *p, double reach[6][2]);
 
@@ -292,7 +347,10 @@ HP_API hp_error hp_planner_reach(const hp_planner *p, double reach[6][2]);
  * start from them and they become the safe output, with the pose the forward contact
  * kinematics from the nominal pose fits to them. Each must be finite, inside its limits and
  * on the stable branch, and that fit must converge; otherwise HP_ERR_INVALID and nothing
- * changes. */
+ * changes. At the load level each must be inside its bounds (hp_planner_pressure_bounds);
+ * the pose stays the previous one, and they are also the `previous` tie-breaker's target.
+ * Before the first plan or this call the load level has no previous pressure and its first
+ * plan is not rate-limited. */
 HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
 
 /* Makes a result the previous answer, as if hp_plan had just returned it, from its fields
@@ -311,7 +369,10 @@ HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
  * none when the bladders are bit for bit those of this planner's last answer (which pass
  * the checks by construction: the same results are accepted either way). The pose is not
  * checked against ro: the caller vouches that it is the pose of those radii, as hp_plan's
- * achieved is. */
+ * achieved is. At the load level n, achieved (finite, inside the identifiable range) and
+ * each pressure (inside its bounds, hp_planner_pressure_bounds) are read, and they become
+ * the previous pressures and pose (the rate limits' origin, the `previous` tie-breaker's
+ * target, the safe output). */
 HP_API hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *result);
 
 /* Replaces the per-plan rate limit [Pa] of every bladder (the layout's rate_max, one per
@@ -331,6 +392,39 @@ HP_API void hp_planner_reset(hp_planner *p);
  * the Python module's run_trace) starts from them with hp_planner_set_previous. Returns
  * HP_OK, HP_ERR_NULL, or the bladder model's error (pressures then NaN). Allocates nothing. */
 HP_API hp_error hp_planner_nominal_pressures(const hp_planner *p, double *pressures);
+
+/* Each bladder's static pressure bounds [Pa] (n values each): the pressure, stretch, stress
+ * and limit-point limits; a plan's rate limits cut them further (and at the load level the
+ * indentation range, which depends on the pose). Returns HP_OK,
+ * HP_ERR_NULL or HP_ERR_STATE (planner not built). Allocates nothing. */
+HP_API hp_error hp_planner_pressure_bounds(const hp_planner *p, double *lo, double *hi);
+
+/* What the load level reports beyond hp_result, for the last plan's returned pressures at
+ * its returned pose (its answer, or the safe output). */
+typedef struct hp_load_info {
+    double force[HP_MAX_BLADDERS]; /* contact force of each bladder [N] */
+    double residual_force;         /* |sum f + m g| at the answer [N] (Newton–Euler) */
+    double residual_moment;        /* |net moment about the centre of mass| [N·m] */
+    double rest[6];                /* the forward statics' rest of the returned pressures,
+                                      started at the answer [m, rad] */
+    double rest_error;             /* max |rest − achieved| in mm / degrees */
+    double indent[HP_MAX_BLADDERS];/* each bladder's delta/ro at the answer (hp_load_indentation) */
+    hp_load_holding holding;       /* stiffness, stability and compliance of the answer: at
+                                      the achieved pose with the returned pressures (not at
+                                      the forward statics' rest) */
+} hp_load_info;
+
+/* The holding forces, residuals, forward-statics rest and holding stiffness of the last
+ * plan's answer (before any plan: of the safe output, the planner's starting pressures at
+ * the nominal pose). Returns HP_OK; HP_ERR_NULL; HP_ERR_STATE when the planner does not
+ * plan at the load level or was not built; the load model's error when the answer cannot be
+ * evaluated. Not real time (a forward-statics solve); allocates nothing. */
+HP_API hp_error hp_planner_load_info(const hp_planner *p, hp_load_info *info);
+
+/* The load model of a planner at the load level (its layout, carried load and contact
+ * geometry), owned by the planner: valid until hp_planner_destroy, never to be passed to
+ * hp_load_model_destroy. NULL for NULL p and for a planner at a contact level. */
+HP_API const hp_load_model *hp_planner_load_model(const hp_planner *p);
 
 /* Frees a planner; safe on NULL and on a half-built planner. */
 HP_API void hp_planner_destroy(hp_planner *p);

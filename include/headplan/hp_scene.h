@@ -153,13 +153,9 @@ HP_API hp_error hp_scene_parse(const char *text, size_t len, const char *filenam
  * refuses (only possible for an hp_scene that was not filled by hp_scene_load/parse). out
  * is filled only on HP_OK.
  *
- * These are the KINEMATIC planner's settings (hp_planner_create). For a scene that says
- * `model.level: load`, out->level is HP_LEVEL_SURFACE, the level a kinematic planner of the
- * scene uses; a scene with `model.level: auto` and a `load` section may also be planned at
- * the load level. Neither is planned so by hp_planner: whether the scene is planned at the
- * load level (hp_load_planner.h, as `headplan solve` plans it) is hp_scene_plan_level's
- * answer, and a caller that plans such a scene with these settings plans it without the
- * head's weight. */
+ * A scene with a `load` section gives its load (load, load_geometry, load_tiebreak); one
+ * that says `model.level: load` gives HP_LEVEL_LOAD, and one at `auto` lets
+ * hp_planner_create choose the load level when the sag calls for it (hp_planner.h). */
 HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag);
 
 /* What hp_scene_plan_level or hp_scene_kinematic_only refused, so that a caller words (and
@@ -171,8 +167,9 @@ typedef enum hp_level_refusal {
     HP_LEVEL_REFUSED_LOAD      /* hp_scene_kinematic_only: the scene is planned at load level */
 } hp_level_refusal;
 
-/* Whether scene sc is planned at the load level (docs/load.md): the one decision `headplan
- * solve`, `batch`, `horizon`, `render`, `analyze` and the Python module share. level is the
+/* Whether scene sc is planned at the load level (docs/load.md), for a caller that draws or
+ * analyses the contact levels only (`headplan render`, `analyze`); a planner built from
+ * hp_scene_settings decides the same itself (hp_planner_level). level is the
  * caller's override of the scene's model.level ("linear", "plane", "surface", "auto" or
  * "load"; the command line's --level), NULL for the scene's own. *use_load gets 1 when:
  * the level is "load" (the scene's `model.level: load`, or the override); or it is "auto"
@@ -187,11 +184,11 @@ typedef enum hp_level_refusal {
  * load model's error (hp_load_model_create: the layout cannot carry the load), message in
  * diag. refused (may be NULL) gets HP_LEVEL_REFUSED_NONE unless the level argument itself
  * was refused. Allocates (the load model) only for auto on a scene with a `load` section. */
-/* The level a scene's model.level (and the command line's --level) may name besides the
- * contact levels: the load level (docs/load.md), a planner of its own. */
+/* The name of HP_LEVEL_LOAD (hp_level_name), which a scene's model.level and the command
+ * line's --level may name besides the contact levels (docs/load.md). */
 #define HP_SCENE_LEVEL_LOAD "load"
 
-/* The names of every level, from the one table (hp_level_name, then HP_SCENE_LEVEL_LOAD when
+/* The names of every level, from the one table (hp_level_name; "load" only when
  * with_load), joined by ", " with `last` before the final one (", " or " or "), into buf
  * (len bytes, truncated if short; "linear, plane, surface, auto or load"). Returns buf, for
  * messages and help texts. */
@@ -201,11 +198,10 @@ HP_API hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *
                                     char *why, size_t len, hp_level_refusal *refused,
                                     hp_diag *diag);
 
-/* For a caller that plans the kinematic levels only (batch, horizon, render, Python's
- * Planner): HP_OK when hp_scene_plan_level(sc, level) plans sc kinematically. Else
+/* For a caller that plans the kinematic levels only (`headplan render`): HP_OK when hp_scene_plan_level(sc, level) plans sc kinematically. Else
  * HP_ERR_DOMAIN, *refused = HP_LEVEL_REFUSED_LOAD and diag "FILE: the scene is planned at the
- * load level (WHY), which only headplan solve plans; WHO would plan without the head's weight
- * and disagree with solve" (the caller appends what to do instead); or hp_scene_plan_level's
+ * load level (WHY), which WHO does not plan: it would plan without the head's weight and
+ * disagree with solve" (the caller appends what to do instead); or hp_scene_plan_level's
  * error and refusal (the load model's message prefixed "FILE: load: "). */
 HP_API hp_error hp_scene_kinematic_only(const hp_scene *sc, const char *level, const char *who,
                                         hp_level_refusal *refused, hp_diag *diag);

@@ -1,8 +1,12 @@
-"""A scene `headplan solve` plans at the load level (hp_scene_plan_level): a Planner refuses
-it in batch's words unless level= names a kinematic level, as batch refuses it unless
---level does; Scene.level says 'load' when the scene does. Before, Planner(load scene)
-planned it kinematically without a word (-1664 Pa where solve gives ~6 kPa)."""
-import re
+"""The load level is a level of the planner like any other: a scene `headplan solve` plans at
+the load level (model.level: load, or auto choosing it for the predicted sag) is planned so by
+`headplan batch`, `headplan horizon --mode greedy`, Planner.plan and Planner.run_trace (both
+modes), and every one of them gives the same pressures bit for bit. Before, batch, horizon
+and the Planner refused such a scene (or, earlier still, planned it without the head's
+weight: -1664 Pa where solve gives ~6 kPa)."""
+import csv
+import json
+import io
 
 import numpy as np
 import pytest
@@ -10,7 +14,8 @@ import pytest
 import headplan
 from conftest import cli, cli_json, scenario
 
-SUPINE = scenario("load_supine.yaml")
+SUPINE = scenario("load_supine.yaml")    # auto chooses the load level: reached
+TILTED = scenario("load_tilted.yaml")    # auto chooses the load level: closest (indent_max)
 
 
 def level_load_scene(tmp_path):
@@ -20,31 +25,80 @@ def level_load_scene(tmp_path):
     return str(p)
 
 
-def reason(msg):
-    """The '(why)' of 'the scene is planned at the load level (why), which only ...'."""
-    m = re.search(r"planned at the load level \((.*)\), which only headplan solve plans", msg)
-    assert m, msg
-    return m.group(1)
+def one_row_trace(tmp_path, c):
+    """A trace of one correction row: the scene's correction (mm, degrees)."""
+    p = tmp_path / "one.csv"
+    p.write_text("# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n"
+                 "0," + ",".join(repr(v) for v in c) + "\n")
+    return str(p)
 
 
-@pytest.mark.parametrize("make", [lambda t: SUPINE, level_load_scene])
-def test_planner_refuses_what_solve_plans_at_the_load_level(tmp_path, make):
+def hexes(values):
+    return [float(v).hex() for v in values]
+
+
+@pytest.mark.parametrize("make", [lambda t: SUPINE, lambda t: TILTED, level_load_scene])
+def test_every_front_end_plans_the_load_level_bit_for_bit(tmp_path, make):
     path = make(tmp_path)
-    rc, _, err = cli("batch", path, "--format", "csv", check=False)
-    assert rc == 65, err
     sc = headplan.load_scene(path)
-    for kw in ({}, {"level": None}) + (({"level": "auto"},) if "auto" in open(path).read() else ()):
-        with pytest.raises(headplan.Error) as e:
-            headplan.Planner(sc, **kw)
-        assert reason(str(e.value)) == reason(err)
-        assert "level='surface'" in str(e.value)
+    c = list(sc.correction)
+    trace = one_row_trace(tmp_path, c)
+    corr = ",".join(repr(v) for v in c)
+
+    solve = cli_json("solve", path, "--correction", corr)
+    assert solve["level"] == "load"
+    want = [b["pressure_pa"] for b in solve["bladders"]]
+
+    rc, out, err = cli("batch", path, trace, "--format", "jsonl", "--no-progress", "--no-times")
+    assert rc == 0, err
+    lines = out.splitlines()
+    meta, row = json.loads(lines[0]), json.loads(lines[1])
+    assert meta["level"] == "load"
+    assert row["status"] == solve["status"]
+    names = [b["name"] for b in solve["bladders"]]
+    assert hexes(row[f"{n}_pressure_pa"] for n in names) == hexes(want)
+
+    rc, _, err = cli("horizon", path, trace, "--mode", "greedy", "-o", tmp_path / "h.csv")
+    assert rc == 0, err
+    body = [l for l in open(tmp_path / "h.csv") if not l.startswith("#")]
+    rows = [r for r in csv.DictReader(io.StringIO("".join(body))) if r["plan"] == "greedy"]
+    assert rows[0]["status"] == solve["status"]
+    # horizon writes kPa: the solve's pressures times 1e-3, to the last bit
+    assert hexes(float(rows[0][f"{n}_kpa"]) for n in names) == hexes(p * 1e-3 for p in want)
+
+    planner = headplan.Planner(sc)
+    one = planner.plan(c)
+    assert one["status"] == solve["status"]
+    assert hexes(one["pressure_pa"]) == hexes(want)
+    for mode in ("batch", "greedy"):
+        run = planner.run_trace(trace, mode=mode)
+        assert hexes(run["pressure_pa"][0]) == hexes(want), mode
 
 
-def test_level_load_is_refused_as_batch_refuses_it():
-    with pytest.raises(headplan.Error, match=r"^level: load is planned by headplan solve only"):
-        headplan.Planner(headplan.load_scene(SUPINE), level="load")
-    rc, _, err = cli("batch", SUPINE, "--level", "load", "--format", "csv", check=False)
-    assert rc == 64 and "load is planned by headplan solve only" in err
+def test_run_trace_equals_batch_at_the_load_level(tmp_path):
+    """Along a trace, rate limits and the previous row carried: batch and run_trace agree row
+    for row, bit for bit (the state is the previous row's result alone)."""
+    trace = tmp_path / "walk.csv"
+    rows = ["0,1,0,-0.5,0.3,0,-0.2", "0.1,0.5,0.2,-0.2,0.1,0.1,0", "0.2,0,0,0,0,0,0",
+            "0.3,-0.5,0.1,0.4,-0.2,0,0.1"]
+    trace.write_text("# headplan-trace: rows=correction\n"
+                     "t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n" + "\n".join(rows) + "\n")
+    rc, out, err = cli("batch", SUPINE, trace, "--format", "jsonl", "--no-progress", "--no-times")
+    assert rc == 0, err
+    recs = [json.loads(l) for l in out.splitlines()[1:]]
+    names = [b["name"] for b in cli_json("solve", SUPINE)["bladders"]]
+    run = headplan.Planner(headplan.load_scene(SUPINE)).run_trace(str(trace))
+    assert list(run["status"]) == [r["status"] for r in recs]
+    for i, r in enumerate(recs):
+        assert hexes(run["pressure_pa"][i]) == hexes(r[f"{n}_pressure_pa"] for n in names), i
+
+
+def test_level_load_needs_a_load_section_in_the_command_lines_words():
+    with pytest.raises(headplan.Error, match=r"^level: load needs a scene with a 'load' section"):
+        headplan.Planner(headplan.load_scene(scenario("default.yaml")), level="load")
+    rc, _, err = cli("batch", scenario("default.yaml"), "--level", "load", "--format", "csv",
+                     check=False)
+    assert rc == 64 and "--level: load needs a scene with a 'load' section" in err
 
 
 def test_kinematic_level_plans_as_batch_and_solve_with_that_level():

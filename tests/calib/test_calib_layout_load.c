@@ -5,7 +5,8 @@
 #include "support/test_util.h"
 #include "support/rng.h"
 #include "headplan/headplan.h"
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
+#include "support/load_fixture.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -142,10 +142,10 @@ cd - > /dev/null
 # 'load_supine.yaml: load planner: backend ...'); the scene is fine, the option is not: 64.
 run solve "$S/load_supine.yaml" --backend nlopt-cobyla
 expect_exit 64 "solve --backend cobyla at the load level"
-expect_stderr_has "headplan solve: --backend nlopt-cobyla: load planner: backend nlopt-cobyla is not available" "names --backend"
+expect_stderr_has "headplan solve: --backend nlopt-cobyla: nlopt-cobyla is not available at the load level" "names --backend"
 sed "s/backend: [a-z-]*/backend: nlopt-cobyla/; s#file: traces/#file: $S/traces/#" "$S/load_supine.yaml" > "$TMP/lc.yaml"
 run solve "$TMP/lc.yaml"
-expect_exit 65 "a load scene that asks for cobyla itself"; expect_stderr_has "lc.yaml: load planner" "names the scene"
+expect_exit 65 "a load scene that asks for cobyla itself"; expect_stderr_has "lc.yaml: backend: nlopt-cobyla" "names the scene"
 run solve "$TMP/lc.yaml" --backend realtime
 expect_exit 0 "--backend realtime overrides the scene's cobyla"
 # A JSON Lines trace reads every number as the CSV reader does: an integer beyond 64 bits was a

@@ -44,15 +44,18 @@ expect_exit 65 "horizon, trace against --rows"
 expect_stderr_has "states rows=deviation but --rows says correction" "horizon names --rows"
 
 # A scene planned at the load level (auto picks it for load_supine; model.level: load) is
-# solve's alone: batch, horizon and render planned it kinematically, other pressures than
-# solve's for the same correction, with exit 0. They refuse it; --level surface plans it so.
+# planned at the load level by batch and horizon's greedy mode as by solve (the same
+# pressures bit for bit: python/tests/test_load_level.py); horizon's receding and offline
+# plans refuse it by name, and render (which draws the contact levels) refuses it.
 sed 's/model: {level: auto/model: {level: load/' "$S/load_supine.yaml" > "$TMP/load.yaml"
 for sc in "$S/load_supine.yaml" "$TMP/load.yaml"; do
     run batch "$sc" "$TMP/c.csv" --format csv
-    expect_exit 65 "batch, load scene $sc"; expect_stdout_empty "batch load"
-    expect_stderr_has "is planned at the load level" "batch load"
+    expect_exit 0 "batch, load scene $sc"; expect_stdout_has "# level: load" "batch load"
     run horizon "$sc" "$TMP/c.csv" --mode greedy
-    expect_exit 65 "horizon, load scene $sc"; expect_stdout_empty "horizon load"
+    expect_exit 0 "horizon greedy, load scene $sc"
+    run horizon "$sc" "$TMP/c.csv" --mode receding
+    expect_exit 65 "horizon receding, load scene $sc"; expect_stdout_empty "horizon receding load"
+    expect_stderr_has "receding: the scene is planned at the load level" "horizon receding load"
     run render "$sc" --dry-run -o "$TMP/r.svg"
     expect_exit 65 "render, load scene $sc"
     run solve "$sc" --correction 1,0,-0.5,0.3,0,-0.2
@@ -73,7 +76,7 @@ run batch "$S/load_supine.yaml" "$TMP/c.csv" --format csv --level surface --no-t
 expect_exit 0 "batch, load scene, --level surface"
 expect_stdout_has "# level: surface" "batch states the level it planned"
 run batch "$S/default.yaml" "$TMP/c.csv" --format csv --level load
-expect_exit 64 "batch --level load"; expect_stderr_has "load is planned by headplan solve only" "l"
+expect_exit 64 "batch --level load"; expect_stderr_has "--level: load needs a scene with a 'load' section" "batch --level load without a load section"
 
 # A refused correction in batch says why and where (file:line), as solve does; it said
 # "line 4: invalid correction". --jobs 2 gives the same lines.

@@ -111,7 +111,8 @@ static void test_round_trip(void **st)
     assert_int_equal(hp_names_count(hp_backend_words), HP_BACKEND_COUNT_);
     assert_int_equal(hp_names_count(hp_status_words), HP_STATUS_COUNT_);
     assert_int_equal(hp_names_count(hp_binding_words), HP_BIND_COUNT);
-    assert_int_equal(hp_names_count(hp_level_words), HP_LEVEL_AUTO + 1);
+    assert_int_equal(hp_names_count(hp_level_words), HP_LEVEL_LOAD + 1);
+    assert_int_equal(hp_names_count(hp_load_tiebreak_words), HP_TIE_COUNT_);
 }
 
 /* The table's words joined as "a, b, c". */

@@ -35,18 +35,63 @@ static void test_settings_defaults(void **st)
     assert_false(FIELD_KEPT_SENTINEL(s, mu));
     assert_false(FIELD_KEPT_SENTINEL(s, use_rate_limits));
     assert_false(FIELD_KEPT_SENTINEL(s, warm_start));
-    /* warm_start is the last field (the struct ends there, up to alignment), so a field
+    assert_false(FIELD_KEPT_SENTINEL(s, load.mass));
+    assert_false(FIELD_KEPT_SENTINEL(s, load.com));
+    assert_false(FIELD_KEPT_SENTINEL(s, load.gravity));
+    assert_false(FIELD_KEPT_SENTINEL(s, load_geometry));
+    assert_false(FIELD_KEPT_SENTINEL(s, load_tiebreak));
+    /* load_tiebreak is the last field (the struct ends there, up to alignment), so a field
      * appended without a line above fails this test. (Backend-only switches are options of
      * the backend, hp_planner_set_option, not fields.) */
-    size_t end = offsetof(hp_settings, warm_start) + sizeof s.warm_start;
+    size_t end = offsetof(hp_settings, load_tiebreak) + sizeof s.load_tiebreak;
     assert_int_equal(sizeof s, (end + _Alignof(hp_settings) - 1) / _Alignof(hp_settings) *
                                    _Alignof(hp_settings));
     assert_int_equal(s.backend, HP_DEFAULT_BACKEND);
     assert_int_equal(s.level, HP_DEFAULT_LEVEL);
     assert_true(s.tolerance == HP_DEFAULT_TOLERANCE);
     assert_int_equal(s.max_iter, HP_DEFAULT_MAX_ITER);
+    assert_true(s.load.mass == 0.0); /* no load */
+    assert_int_equal(s.load_geometry, HP_DEFAULT_LOAD_GEOMETRY);
+    assert_int_equal(s.load_tiebreak, HP_DEFAULT_LOAD_TIEBREAK);
     assert_int_equal(hp_settings_validate(&s, NULL), HP_OK);
     hp_settings_default(NULL); /* no crash */
+}
+
+/* The load level's settings: the load level needs a load; a stated load is checked by
+ * hp_load_spec_validate; the geometry is a contact level; the tie-breaker one of the enum.
+ * Each refusal names its field. */
+static void test_settings_load(void **st)
+{
+    (void)st;
+    hp_settings s;
+    hp_diag d = {{0}};
+    hp_settings_default(&s);
+    s.level = HP_LEVEL_LOAD;
+    assert_int_equal(hp_settings_validate(&s, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "level: load needs a load"));
+    s.load.mass = 3.6;
+    s.load.gravity[2] = -HP_GRAVITY;
+    assert_int_equal(hp_settings_validate(&s, NULL), HP_OK);
+    s.load.mass = NAN;
+    assert_int_equal(hp_settings_validate(&s, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "mass"));
+    s.load.mass = 3.6;
+    s.load.gravity[2] = 0.0;
+    assert_int_equal(hp_settings_validate(&s, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "gravity"));
+    s.load.gravity[2] = -HP_GRAVITY;
+    s.load_geometry = HP_LEVEL_AUTO;
+    assert_int_equal(hp_settings_validate(&s, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "load_geometry"));
+    s.load_geometry = HP_LEVEL_PLANE;
+    s.load_tiebreak = HP_TIE_COUNT_;
+    assert_int_equal(hp_settings_validate(&s, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "load_tiebreak"));
+    s.load_tiebreak = HP_TIE_PREVIOUS;
+    assert_int_equal(hp_settings_validate(&s, NULL), HP_OK);
+    s.level = 99;
+    assert_int_equal(hp_settings_validate(&s, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "level"));
 }
 
 typedef struct bad_case {
@@ -308,6 +353,7 @@ int main(void)
         cmocka_unit_test(test_names),
         cmocka_unit_test(test_create_bad_input),
         cmocka_unit_test(test_level_choice),
+        cmocka_unit_test(test_settings_load),
         cmocka_unit_test(test_safe_output),
         cmocka_unit_test(test_every_backend_direct_chain),
     };

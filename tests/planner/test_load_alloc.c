@@ -1,11 +1,12 @@
-/* hp_load_plan (realtime backend) allocates nothing after hp_load_planner_create: reachable
+/* A plan at the load level (realtime backend) allocates nothing after hp_planner_create: reachable
  * poses, unreachable ones (the sinking search and the 6-D refinement), invalid input, with
  * and without the details (hp_load_info, which runs the forward statics). Linked with
  * -Wl,--wrap for every allocator (tests/CMakeLists.txt); a self-check proves the wrapping. */
 #include "support/test_util.h"
 
 #include "support/default_layout.h"
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
+#include "support/load_fixture.h"
 
 #include <stdlib.h>
 
@@ -22,10 +23,10 @@ static void test_load_plan_no_alloc(void **st)
     hp_settings set;
     hp_settings_default(&set);
     set.level = HP_LEVEL_SURFACE;
-    hp_load_planner *p = NULL;
+    hp_planner *p = NULL;
     alloc_armed = 1;
     alloc_count = 0;
-    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p, NULL),
+    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p, NULL),
                      HP_OK);
     alloc_armed = 0;
     assert_true(alloc_count >= 1); /* the wrapping is active */
@@ -41,13 +42,13 @@ static void test_load_plan_no_alloc(void **st)
             hp_load_info info;
             alloc_armed = 1;
             alloc_count = 0;
-            hp_error e = hp_load_plan(p, ds[q], &r, details ? &info : NULL);
+            hp_error e = load_plan(p, ds[q], &r, details ? &info : NULL);
             alloc_armed = 0;
             assert_int_equal(e, HP_OK);
             assert_int_equal(r.status, want[q]);
             assert_int_equal(alloc_count, 0);
         }
-    hp_load_planner_destroy(p);
+    hp_planner_destroy(p);
 }
 
 int main(void)

@@ -5,7 +5,8 @@
 #include "support/test_util.h"
 
 #include "support/default_layout.h"
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
+#include "support/load_fixture.h"
 #include "kinematics/linalg.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_solve.h"
@@ -29,29 +30,29 @@ static void loaded(hp_layout *L, hp_load_spec *s, double stretch_max)
     hp_load_spec_default(&L->head, s);
 }
 
-static hp_load_planner *make_at(const hp_layout *L, const hp_load_spec *s, hp_level level)
+static hp_planner *make_at(const hp_layout *L, const hp_load_spec *s, hp_level level)
 {
-    hp_load_planner *p = NULL;
+    hp_planner *p = NULL;
     hp_diag d;
     d.text[0] = '\0';
     hp_settings set;
     hp_settings_default(&set);
     set.level = level;
-    hp_error e = hp_load_planner_create(L, s, &set, HP_TIE_LEAST_SQUEEZE, &p, &d);
+    hp_error e = load_create(L, s, &set, HP_TIE_LEAST_SQUEEZE, &p, &d);
     if (e) print_error("create: %s\n", d.text);
     assert_int_equal(e, HP_OK);
     return p;
 }
 
-static hp_load_planner *make(const hp_layout *L, const hp_load_spec *s)
+static hp_planner *make(const hp_layout *L, const hp_load_spec *s)
 {
     return make_at(L, s, HP_LEVEL_SURFACE);
 }
 
-static void assert_in_bounds(const hp_load_planner *p, const hp_result *r)
+static void assert_in_bounds(const hp_planner *p, const hp_result *r)
 {
     double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
-    assert_int_equal(hp_load_planner_bounds(p, lo, hi), HP_OK);
+    assert_int_equal(hp_planner_pressure_bounds(p, lo, hi), HP_OK);
     for (int k = 0; k < r->n; ++k) {
         assert_true(isfinite(r->bladders[k].pressure));
         assert_true(r->bladders[k].pressure >= lo[k] && r->bladders[k].pressure <= hi[k]);
@@ -92,16 +93,16 @@ static void test_reached_nominal(void **state)
     hp_layout L;
     hp_load_spec s;
     loaded(&L, &s, 1.6);
-    hp_load_planner *p = make(&L, &s);
+    hp_planner *p = make(&L, &s);
     double d[6] = {0}, Q[6], P[HP_MAX_BLADDERS];
     hp_result r;
     hp_load_info info;
-    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(load_plan(p, d, &r, &info), HP_OK);
     assert_int_equal(r.status, HP_STATUS_REACHED);
     assert_true(r.pose_error == 0.0);
     assert_in_bounds(p, &r);
     for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
-    assert_int_equal(hp_load_eval(hp_load_planner_model(p), r.achieved, P, Q, NULL, NULL, NULL,
+    assert_int_equal(hp_load_eval(hp_planner_load_model(p), r.achieved, P, Q, NULL, NULL, NULL,
                                   NULL), HP_OK);
     for (int i = 0; i < 6; ++i) assert_true(fabs(Q[i]) < 1e-9);
     assert_true(info.residual_force < 1e-9);
@@ -109,9 +110,9 @@ static void test_reached_nominal(void **state)
     /* The base carries the weight; by symmetry the four base forces are equal. */
     for (int k = 1; k < 4; ++k) hp_assert_close(info.force[k], info.force[0], 1e-9, 0.0);
     double rest[6];
-    assert_int_equal(hp_load_rest(hp_load_planner_model(p), P, NULL, rest, NULL), HP_OK);
+    assert_int_equal(hp_load_rest(hp_planner_load_model(p), P, NULL, rest, NULL), HP_OK);
     for (int i = 0; i < 6; ++i) assert_true(fabs(rest[i] - d[i]) / (i < 3 ? 1e-3 : 0.0174532925199) < 1e-8);
-    hp_load_planner_destroy(p);
+    hp_planner_destroy(p);
 }
 
 /* A vertical lift of 10 mm is held too (higher pressures, sides joining in); the rest
@@ -122,11 +123,11 @@ static void test_reached_lift(void **state)
     hp_layout L;
     hp_load_spec s;
     loaded(&L, &s, 1.6);
-    hp_load_planner *p = make(&L, &s);
+    hp_planner *p = make(&L, &s);
     double d[6] = {0, 0, 10e-3, 0, 0, 0};
     hp_result r;
     hp_load_info info;
-    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(load_plan(p, d, &r, &info), HP_OK);
     assert_int_equal(r.status, HP_STATUS_REACHED);
     assert_in_bounds(p, &r);
     assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
@@ -136,7 +137,7 @@ static void test_reached_lift(void **state)
      * definite, infinite compliance along the weakest direction). */
     assert_int_equal(info.holding.stable, 0);
     assert_true(isinf(info.holding.weakest_compliance));
-    hp_load_planner_destroy(p);
+    hp_planner_destroy(p);
 }
 
 /* An asymmetric correction at every contact level: REACHED, generalized force below 1e-9
@@ -151,20 +152,21 @@ static void test_levels(void **state)
     const hp_level lv[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
     const double d[6] = {1e-3, 0, -0.5e-3, 0.3 * 0.0174532925199, 0, -0.2 * 0.0174532925199};
     for (int l = 0; l < 3; ++l) {
-        hp_load_planner *p = make_at(&L, &s, lv[l]);
+        hp_planner *p = make_at(&L, &s, lv[l]);
         hp_result r;
         hp_load_info info;
         double Q[6], P[HP_MAX_BLADDERS];
-        assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+        assert_int_equal(load_plan(p, d, &r, &info), HP_OK);
         assert_int_equal(r.status, HP_STATUS_REACHED);
-        assert_int_equal(r.level, lv[l]);
+        assert_int_equal(r.level, HP_LEVEL_LOAD);
+        assert_int_equal(hp_load_model_level(hp_planner_load_model(p)), lv[l]);
         assert_in_bounds(p, &r);
         for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
-        assert_int_equal(hp_load_eval(hp_load_planner_model(p), r.achieved, P, Q, NULL, NULL,
+        assert_int_equal(hp_load_eval(hp_planner_load_model(p), r.achieved, P, Q, NULL, NULL,
                                       NULL, NULL), HP_OK);
         for (int i = 0; i < 6; ++i) assert_true(fabs(Q[i]) < 1e-9);
         if (l > 0) assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
-        hp_load_planner_destroy(p);
+        hp_planner_destroy(p);
     }
 }
 
@@ -173,13 +175,13 @@ static void test_levels(void **state)
  * the columns of dQ/dP (the gradient of sum P² is a combination of the constraints'
  * gradients). Least squares for the six multipliers; the residual must be below 1e-6 of
  * |P| (the solvers stop at micropascal steps). */
-static int assert_kkt(const hp_load_planner *p, const hp_result *r, const hp_load_info *info)
+static int assert_kkt(const hp_planner *p, const hp_result *r, const hp_load_info *info)
 {
-    const hp_load_model *M = hp_load_planner_model(p);
+    const hp_load_model *M = hp_planner_load_model(p);
     double P[HP_MAX_BLADDERS], Q[6], G[6 * HP_MAX_BLADDERS], lo[HP_MAX_BLADDERS],
         hi[HP_MAX_BLADDERS];
     int n = r->n, free_[HP_MAX_BLADDERS], nf = 0;
-    assert_int_equal(hp_load_planner_bounds(p, lo, hi), HP_OK);
+    assert_int_equal(hp_planner_pressure_bounds(p, lo, hi), HP_OK);
     for (int k = 0; k < n; ++k) P[k] = r->bladders[k].pressure;
     assert_int_equal(hp_load_eval(M, r->achieved, P, Q, NULL, G, NULL, NULL), HP_OK);
     for (int k = 0; k < n; ++k)
@@ -221,13 +223,13 @@ static void test_backends_agree(void **state)
     hp_settings set;
     hp_settings_default(&set);
     set.level = HP_LEVEL_SURFACE;
-    hp_load_planner *p[3];
+    hp_planner *p[3];
     hp_diag d;
     const hp_backend backends[3] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT,
                                     HP_BACKEND_NLOPT_SLSQP};
     for (int b = 0; b < 3; ++b) {
         set.backend = backends[b];
-        assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p[b], &d),
+        assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p[b], &d),
                          HP_OK);
     }
     const double deg = 0.0174532925199;
@@ -239,7 +241,7 @@ static void test_backends_agree(void **state)
         hp_result r[3];
         hp_load_info in[3];
         for (int b = 0; b < 3; ++b) {
-            assert_int_equal(hp_load_plan(p[b], ds[q], &r[b], &in[b]), HP_OK);
+            assert_int_equal(load_plan(p[b], ds[q], &r[b], &in[b]), HP_OK);
             assert_int_equal(r[b].status, HP_STATUS_REACHED);
             assert_true(in[b].residual_force < 1e-9 && in[b].residual_moment < 1e-10);
             chosen += assert_kkt(p[b], &r[b], &in[b]) > 6;
@@ -251,7 +253,7 @@ static void test_backends_agree(void **state)
     }
     (void)chosen; /* least squeeze mostly ends with six carrying bladders: a vertex, where
                    * this check has nothing to test; the agreement below still does */
-    for (int b = 0; b < 3; ++b) hp_load_planner_destroy(p[b]);
+    for (int b = 0; b < 3; ++b) hp_planner_destroy(p[b]);
 }
 
 /* With stretch_max 1.3 the base cannot hold 80 % of the head at the nominal pose: CLOSEST,
@@ -265,18 +267,18 @@ static void test_unreachable(void **state)
     hp_load_spec s;
     loaded(&L, &s, 1.3);
     s.mass *= 0.8;
-    hp_load_planner *p = make(&L, &s);
+    hp_planner *p = make(&L, &s);
     double d[6] = {0};
     hp_result r;
     hp_load_info info;
-    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(load_plan(p, d, &r, &info), HP_OK);
     assert_int_equal(r.status, HP_STATUS_CLOSEST);
     assert_true(r.achieved[2] < -1e-4); /* 0.42 mm lower */
     assert_in_bounds(p, &r);
     for (int k = 0; k < 4; ++k) assert_true(r.bladders[k].binding & HP_BIND_STRETCH_MAX);
     assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
     assert_true(info.rest_error < 1e-9);
-    hp_load_planner_destroy(p);
+    hp_planner_destroy(p);
 }
 
 /* A hoop-stress limit below the stretch cap's stress binds by the name stress_max, at the
@@ -297,11 +299,11 @@ static void test_stress_binding(void **state)
     hp_load_spec s;
     hp_load_spec_default(&L.head, &s);
     s.mass *= 0.8; /* the whole head is beyond the indentation range at this stress limit */
-    hp_load_planner *p = make(&L, &s);
+    hp_planner *p = make(&L, &s);
     double d[6] = {0};
     hp_result r;
     hp_load_info info;
-    assert_int_equal(hp_load_plan(p, d, &r, &info), HP_OK);
+    assert_int_equal(load_plan(p, d, &r, &info), HP_OK);
     assert_int_equal(r.status, HP_STATUS_CLOSEST);
     int bound = 0;
     for (int k = 0; k < r.n; ++k) {
@@ -313,7 +315,7 @@ static void test_stress_binding(void **state)
     }
     assert_true(bound >= 1);
     assert_string_equal(hp_binding_name(HP_BIND_STRESS_MAX), "stress_max");
-    hp_load_planner_destroy(p);
+    hp_planner_destroy(p);
 
     hp_planner *kp = NULL;
     assert_int_equal(hp_planner_create(&L, NULL, &kp, NULL), HP_OK);
@@ -345,16 +347,16 @@ static void test_refused(void **state)
     hp_load_spec s;
     hp_load_spec_default(&L.head, &s);
     s.gravity[2] = +HP_GRAVITY;
-    hp_load_planner *p = (hp_load_planner *)1;
+    hp_planner *p = (hp_planner *)1;
     hp_diag d;
-    assert_int_equal(hp_load_planner_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
+    assert_int_equal(load_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
                      HP_ERR_INVALID);
     assert_null(p);
     assert_non_null(strstr(d.text, "no bladder pushes against gravity"));
     assert_non_null(strstr(d.text, "-z"));
     s.gravity[2] = -HP_GRAVITY;
     s.mass = 100.0;
-    assert_int_equal(hp_load_planner_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
+    assert_int_equal(load_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
                      HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "can carry at most"));
     /* A sphere head cannot be held at the load level. */
@@ -364,7 +366,7 @@ static void test_refused(void **state)
     h.semi_axes[0] = h.semi_axes[1] = h.semi_axes[2] = 0.09;
     assert_int_equal(default_layout_on(&S, &h, 0.0), 0);
     s.mass = 4.5;
-    assert_int_equal(hp_load_planner_create(&S, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
+    assert_int_equal(load_create(&S, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
                      HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "sphere"));
 }
@@ -381,18 +383,18 @@ static void test_tiebreak_previous(void **state)
     hp_settings set;
     hp_settings_default(&set);
     set.level = HP_LEVEL_SURFACE;
-    hp_load_planner *prev = NULL, *ls = NULL;
-    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_PREVIOUS, &prev, NULL), HP_OK);
-    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &ls, NULL),
+    hp_planner *prev = NULL, *ls = NULL;
+    assert_int_equal(load_create(&L, &s, &set, HP_TIE_PREVIOUS, &prev, NULL), HP_OK);
+    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &ls, NULL),
                      HP_OK);
     const double a[6] = {0, 0, 5e-3, 0, 0, 0}, b[6] = {0.5e-3, 0, 5.5e-3, 0, 0, 0};
     hp_result r0, r1, r2, q;
-    assert_int_equal(hp_load_plan(prev, a, &r0, NULL), HP_OK);
-    assert_int_equal(hp_load_plan(prev, a, &r1, NULL), HP_OK);
+    assert_int_equal(load_plan(prev, a, &r0, NULL), HP_OK);
+    assert_int_equal(load_plan(prev, a, &r1, NULL), HP_OK);
     for (int k = 0; k < r0.n; ++k)
         hp_assert_close(r1.bladders[k].pressure, r0.bladders[k].pressure, 0.0, 1e-6);
-    assert_int_equal(hp_load_plan(prev, b, &r2, NULL), HP_OK);
-    assert_int_equal(hp_load_plan(ls, b, &q, NULL), HP_OK);
+    assert_int_equal(load_plan(prev, b, &r2, NULL), HP_OK);
+    assert_int_equal(load_plan(ls, b, &q, NULL), HP_OK);
     assert_int_equal(r2.status, HP_STATUS_REACHED);
     double dp = 0.0, dl = 0.0;
     for (int k = 0; k < r0.n; ++k) {
@@ -407,8 +409,8 @@ static void test_tiebreak_previous(void **state)
     assert_int_equal(hp_load_tiebreak_parse("least-squeeze", &t), HP_OK);
     assert_int_equal(t, HP_TIE_LEAST_SQUEEZE);
     assert_int_equal(hp_load_tiebreak_parse("stiff", &t), HP_ERR_INVALID);
-    hp_load_planner_destroy(prev);
-    hp_load_planner_destroy(ls);
+    hp_planner_destroy(prev);
+    hp_planner_destroy(ls);
 }
 
 /* The minimum-holding-stiffness tie-breaker (Ipopt) at the 10 mm lift, where least squeeze
@@ -425,27 +427,27 @@ static void test_tiebreak_stiffness(void **state)
     hp_load_spec s;
     hp_settings set;
     supine(&L, &s, &set);
-    hp_load_planner *ls = NULL, *st = NULL;
+    hp_planner *ls = NULL, *st = NULL;
     hp_diag d;
     d.text[0] = '\0';
-    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &ls, &d), HP_OK);
+    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &ls, &d), HP_OK);
     for (int b = 0; b < 2; ++b) {
         set.backend = b ? HP_BACKEND_NLOPT_SLSQP : HP_BACKEND_REALTIME;
-        assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_STIFFNESS, &st, &d),
+        assert_int_equal(load_create(&L, &s, &set, HP_TIE_STIFFNESS, &st, &d),
                          HP_ERR_INVALID);
         assert_null(st);
         assert_non_null(strstr(d.text, "stiffness"));
         assert_non_null(strstr(d.text, "ipopt"));
     }
     set.backend = HP_BACKEND_IPOPT;
-    hp_error e = hp_load_planner_create(&L, &s, &set, HP_TIE_STIFFNESS, &st, &d);
+    hp_error e = load_create(&L, &s, &set, HP_TIE_STIFFNESS, &st, &d);
     if (e) print_error("create: %s\n", d.text);
     assert_int_equal(e, HP_OK);
     const double lift[6] = {0, 0, 10e-3, 0, 0, 0};
     hp_result r0, r1;
     hp_load_info i0, i1;
-    assert_int_equal(hp_load_plan(ls, lift, &r0, &i0), HP_OK);
-    assert_int_equal(hp_load_plan(st, lift, &r1, &i1), HP_OK);
+    assert_int_equal(load_plan(ls, lift, &r0, &i0), HP_OK);
+    assert_int_equal(load_plan(st, lift, &r1, &i1), HP_OK);
     assert_int_equal(r0.status, HP_STATUS_REACHED);
     assert_int_equal(i0.holding.stable, 0);
     assert_int_equal(r1.status, HP_STATUS_REACHED);
@@ -454,7 +456,7 @@ static void test_tiebreak_stiffness(void **state)
     if (!i1.holding.stable) print_error("stiffness hold not stable: %s\n", i1.holding.weakest_words);
     assert_int_equal(i1.holding.stable, 1);
     assert_true(i1.holding.weakest_compliance < 1e3);
-    const hp_load_model *M = hp_load_planner_model(st);
+    const hp_load_model *M = hp_planner_load_model(st);
     double P[HP_MAX_BLADDERS], x0[6], rest[6], lam[2];
     for (int k = 0; k < r1.n; ++k) P[k] = r1.bladders[k].pressure;
     for (int i = 0; i < 6; ++i) x0[i] = lift[i] + 0.5 * hp_load_unit(i);
@@ -467,8 +469,8 @@ static void test_tiebreak_stiffness(void **state)
     print_message("smallest stiffness eigenvalue: least squeeze %.4g, stiffness %.4g N/mm\n",
                   lam[0], lam[1]);
     assert_true(lam[0] < 0 && lam[1] > 0);
-    hp_load_planner_destroy(ls);
-    hp_load_planner_destroy(st);
+    hp_planner_destroy(ls);
+    hp_planner_destroy(st);
 }
 
 /* The stiffness objective's exact gradient and Hessian (load_stiffness.c) against central
@@ -551,21 +553,21 @@ static void test_rate_limits(void **state)
     supine(&L, &s, &set);
     for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
     assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
-    hp_load_planner *free_ = make(&L, &s), *lim = make(&L, &s);
+    hp_planner *free_ = make(&L, &s), *lim = make(&L, &s);
     hp_result r0, r1, r2;
     hp_load_info info;
     const double zero[6] = {0}, lift[6] = {0, 0, 10e-3, 0, 0, 0};
-    assert_int_equal(hp_load_plan(free_, zero, &r0, NULL), HP_OK);
+    assert_int_equal(load_plan(free_, zero, &r0, NULL), HP_OK);
     assert_int_equal(r0.status, HP_STATUS_REACHED);
     double prev[HP_MAX_BLADDERS], bad[HP_MAX_BLADDERS];
     for (int k = 0; k < r0.n; ++k) prev[k] = bad[k] = r0.bladders[k].pressure;
     bad[2] = NAN;
-    assert_int_equal(hp_load_planner_set_previous(lim, bad), HP_ERR_INVALID);
-    assert_non_null(strstr(hp_load_planner_error(lim), "previous pressure"));
+    assert_int_equal(hp_planner_set_previous(lim, bad), HP_ERR_INVALID);
+    assert_non_null(strstr(hp_planner_error(lim), "previous pressure"));
     bad[2] = 1e9;
-    assert_int_equal(hp_load_planner_set_previous(lim, bad), HP_ERR_INVALID);
-    assert_int_equal(hp_load_planner_set_previous(lim, prev), HP_OK);
-    assert_int_equal(hp_load_plan(lim, lift, &r1, &info), HP_OK);
+    assert_int_equal(hp_planner_set_previous(lim, bad), HP_ERR_INVALID);
+    assert_int_equal(hp_planner_set_previous(lim, prev), HP_OK);
+    assert_int_equal(load_plan(lim, lift, &r1, &info), HP_OK);
     assert_int_equal(r1.status, HP_STATUS_CLOSEST);
     assert_in_bounds(lim, &r1);
     int up = 0;
@@ -581,15 +583,15 @@ static void test_rate_limits(void **state)
     assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
     /* Without rate limits in the settings: reached. */
     set.use_rate_limits = 0;
-    hp_load_planner *off = NULL;
-    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &off, NULL),
+    hp_planner *off = NULL;
+    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &off, NULL),
                      HP_OK);
-    assert_int_equal(hp_load_planner_set_previous(off, prev), HP_OK);
-    assert_int_equal(hp_load_plan(off, lift, &r2, NULL), HP_OK);
+    assert_int_equal(hp_planner_set_previous(off, prev), HP_OK);
+    assert_int_equal(load_plan(off, lift, &r2, NULL), HP_OK);
     assert_int_equal(r2.status, HP_STATUS_REACHED);
-    hp_load_planner_destroy(free_);
-    hp_load_planner_destroy(lim);
-    hp_load_planner_destroy(off);
+    hp_planner_destroy(free_);
+    hp_planner_destroy(lim);
+    hp_planner_destroy(off);
 }
 
 /* NaN input: INVALID_INPUT with the safe output (pressures inside bounds, finite). */
@@ -599,14 +601,14 @@ static void test_invalid_input(void **state)
     hp_layout L;
     hp_load_spec s;
     loaded(&L, &s, 1.6);
-    hp_load_planner *p = make(&L, &s);
+    hp_planner *p = make(&L, &s);
     double d[6] = {NAN, 0, 0, 0, 0, 0};
     hp_result r;
-    assert_int_equal(hp_load_plan(p, d, &r, NULL), HP_OK);
+    assert_int_equal(load_plan(p, d, &r, NULL), HP_OK);
     assert_int_equal(r.status, HP_STATUS_INVALID_INPUT);
     assert_in_bounds(p, &r);
     assert_true(isinf(r.pose_error));
-    hp_load_planner_destroy(p);
+    hp_planner_destroy(p);
 }
 
 int main(void)

@@ -6,7 +6,8 @@
 #include "support/test_util.h"
 
 #include "support/default_layout.h"
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
+#include "support/load_fixture.h"
 
 #include <string.h>
 
@@ -25,12 +26,12 @@ static void test_same_refusals_as_hp_plan(void **state)
     hp_settings_default(&set);
     set.level = HP_LEVEL_SURFACE;
     hp_diag d = {{0}};
-    hp_load_planner *lp = NULL;
+    hp_planner *lp = NULL;
     hp_planner *kp = NULL;
-    assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &lp, &d), HP_OK);
+    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &lp, &d), HP_OK);
     assert_int_equal(hp_planner_create(&L, &set, &kp, &d), HP_OK);
     double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
-    assert_int_equal(hp_load_planner_bounds(lp, lo, hi), HP_OK);
+    assert_int_equal(hp_planner_pressure_bounds(lp, lo, hi), HP_OK);
     /* The smallest semi-axis of the default head is 77.5 mm. */
     const double bad[][6] = {
         {0, 0, 0, 100 * DEG, 0, 0},   /* the adversarial case: REACHED before, rest inf */
@@ -44,7 +45,7 @@ static void test_same_refusals_as_hp_plan(void **state)
     const int nb = (int)(sizeof bad / sizeof bad[0]);
     hp_result ok, r, kr;
     const double zero[6] = {0};
-    assert_int_equal(hp_load_plan(lp, zero, &ok, NULL), HP_OK);
+    assert_int_equal(load_plan(lp, zero, &ok, NULL), HP_OK);
     assert_int_equal(ok.status, HP_STATUS_REACHED);
     int refused = 0;
     for (int i = 0; i < nb; ++i) {
@@ -52,9 +53,9 @@ static void test_same_refusals_as_hp_plan(void **state)
         if (kr.status != HP_STATUS_INVALID_INPUT) continue; /* hp_plan accepts it: not here */
         ++refused;
         hp_load_info info;
-        assert_int_equal(hp_load_plan(lp, bad[i], &r, &info), HP_OK);
+        assert_int_equal(load_plan(lp, bad[i], &r, &info), HP_OK);
         assert_int_equal(r.status, HP_STATUS_INVALID_INPUT);
-        assert_string_equal(hp_load_planner_error(lp), hp_planner_error(kp));
+        assert_string_equal(hp_planner_error(lp), hp_planner_error(kp));
         /* The safe output: the last answer's pressures at its pose, every one in bounds. */
         assert_true(isinf(r.pose_error));
         for (int k = 0; k < r.n; ++k) {
@@ -66,10 +67,10 @@ static void test_same_refusals_as_hp_plan(void **state)
     assert_int_equal(refused, nb - 1); /* all but the 60/60 deg turn (82.8 deg) */
     /* Inside the range the request is not refused (89 deg about one axis). */
     const double in[6] = {0, 0, 0, 89 * DEG, 0, 0};
-    assert_int_equal(hp_load_plan(lp, in, &r, NULL), HP_OK);
+    assert_int_equal(load_plan(lp, in, &r, NULL), HP_OK);
     assert_int_not_equal(r.status, HP_STATUS_INVALID_INPUT);
     hp_planner_destroy(kp);
-    hp_load_planner_destroy(lp);
+    hp_planner_destroy(lp);
 }
 
 int main(void)

@@ -11,7 +11,8 @@
 
 #include "support/default_layout.h"
 #include "common/units.h"
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
+#include "support/load_fixture.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_solve.h"
 
@@ -84,18 +85,18 @@ static void test_least_squeeze_is_least(void **state)
         set.level = HP_LEVEL_SURFACE;
         set.use_rate_limits = 0;
         for (size_t t = 0; t < sizeof T / sizeof T[0]; ++t) {
-            hp_load_planner *p = NULL;
-            assert_int_equal(hp_load_planner_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p, NULL),
+            hp_planner *p = NULL;
+            assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p, NULL),
                              HP_OK);
-            const hp_load_model *M = hp_load_planner_model(p);
+            const hp_load_model *M = hp_planner_load_model(p);
             const int n = L.n;
             double xi[6], lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
             hp_pose_from_clinical(T[t], xi);
             hp_result r;
-            assert_int_equal(hp_load_plan(p, xi, &r, NULL), HP_OK);
-            assert_int_equal(hp_load_planner_bounds(p, lo, hi), HP_OK);
+            assert_int_equal(load_plan(p, xi, &r, NULL), HP_OK);
+            assert_int_equal(hp_planner_pressure_bounds(p, lo, hi), HP_OK);
             if (r.status != HP_STATUS_REACHED) {
-                hp_load_planner_destroy(p);
+                hp_planner_destroy(p);
                 continue;
             }
             ++reached;
@@ -106,7 +107,7 @@ static void test_least_squeeze_is_least(void **state)
                 double P0[HP_MAX_BLADDERS], Pr[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS];
                 for (int k = 0; k < n; ++k) P0[k] = fmax(lo[k], 0.0) + lcg(&seed) * (hi[k] - fmax(lo[k], 0.0));
                 hp_load_solve_status st =
-                    start % 2 ? hp_load_hold_on_ipopt(M, xi, lo, hi, zero, P0, 200, 0, Pr, F, NULL, NULL)
+                    start % 2 ? hp_load_hold_with(hp_load_hold_ipopt, M, xi, lo, hi, zero, P0, 200, 0, Pr, F, NULL, NULL)
                               : hp_load_hold(M, xi, lo, hi, zero, P0, 200, Pr, F, NULL);
                 if (st == HP_LOAD_SOLVE_OK && valid(M, xi, Pr, lo, hi))
                     best = fmin(best, squeeze(Pr, n));
@@ -119,7 +120,7 @@ static void test_least_squeeze_is_least(void **state)
                               which, t, mine, best, 100.0 * excess);
             }
             worst = fmax(worst, excess);
-            hp_load_planner_destroy(p);
+            hp_planner_destroy(p);
         }
     }
     print_message("reached %d, beaten by the multi-start %d, worst excess %.3g\n", reached,

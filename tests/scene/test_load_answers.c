@@ -14,7 +14,8 @@
  * hp_load_eval), not from the planner's own bookkeeping. */
 #include "support/test_util.h"
 
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
+#include "support/load_fixture.h"
 #include "headplan/hp_scene.h"
 #include "common/units.h"
 
@@ -31,7 +32,7 @@ static const hp_backend BACKENDS[3] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT,
  * tie-breaker, the given backend, no rate limits. */
 typedef struct ctx {
     hp_scene *sc;
-    hp_load_planner *p;
+    hp_planner *p;
 } ctx;
 
 static ctx open_scene(const char *file, hp_backend backend)
@@ -45,7 +46,7 @@ static ctx open_scene(const char *file, hp_backend backend)
     set.level = c.sc->load_geometry;
     set.backend = backend;
     set.use_rate_limits = 0;
-    assert_int_equal(hp_load_planner_create(&c.sc->layout, &c.sc->load, &set,
+    assert_int_equal(load_create(&c.sc->layout, &c.sc->load, &set,
                                             (hp_load_tiebreak)c.sc->load_tiebreak, &c.p, &d),
                      HP_OK);
     return c;
@@ -53,7 +54,7 @@ static ctx open_scene(const char *file, hp_backend backend)
 
 static void close_scene(ctx *c)
 {
-    hp_load_planner_destroy(c->p);
+    hp_planner_destroy(c->p);
     free(c->sc);
 }
 
@@ -63,7 +64,7 @@ static hp_status plan(const char *file, hp_backend backend, const double corr[6]
     ctx c = open_scene(file, backend);
     double xi[6];
     hp_pose_from_clinical(corr, xi);
-    assert_int_equal(hp_load_plan(c.p, xi, r, info), HP_OK);
+    assert_int_equal(load_plan(c.p, xi, r, info), HP_OK);
     close_scene(&c);
     return r->status;
 }
@@ -128,7 +129,7 @@ static void test_indent_range(void **state)
                 ++answers;
                 ctx x = open_scene(SCENES[s], BACKENDS[b]);
                 double ratio[HP_MAX_BLADDERS];
-                indentation(hp_load_planner_model(x.p), &r, ratio);
+                indentation(hp_planner_load_model(x.p), &r, ratio);
                 for (int k = 0; k < r.n; ++k) {
                     if (!(ratio[k] <= HP_LOAD_INDENT_MAX + RATIO_TOL)) {
                         print_error("%s, correction %d, %s: bladder %d indented to "
@@ -168,8 +169,8 @@ static void test_heavy_refused(void **state)
     hp_settings set;
     assert_int_equal(hp_scene_settings(sc, &set, NULL), HP_OK);
     set.level = sc->load_geometry;
-    hp_load_planner *p = NULL;
-    assert_int_equal(hp_load_planner_create(&sc->layout, &sc->load, &set, HP_TIE_LEAST_SQUEEZE,
+    hp_planner *p = NULL;
+    assert_int_equal(load_create(&sc->layout, &sc->load, &set, HP_TIE_LEAST_SQUEEZE,
                                             &p, &d),
                      HP_ERR_INVALID);
     assert_null(p);
@@ -186,9 +187,9 @@ static void test_rest_flags_indent(void **state)
     int flagged = 0, clear = 0;
     for (int s = 0; s < NSCENE; ++s) {
     ctx x = open_scene(SCENES[s], HP_BACKEND_REALTIME);
-    const hp_load_model *M = hp_load_planner_model(x.p);
+    const hp_load_model *M = hp_planner_load_model(x.p);
     double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
-    assert_int_equal(hp_load_planner_bounds(x.p, lo, hi), HP_OK);
+    assert_int_equal(hp_planner_pressure_bounds(x.p, lo, hi), HP_OK);
     for (int trial = 0; trial < 6; ++trial) {
         for (int k = 0; k < 8; ++k) P[k] = k < 4 ? hi[k] * (0.3 + 0.14 * trial) : 0.0;
         double xi[6];
@@ -276,7 +277,7 @@ static void test_holding_of_answer(void **state)
                 ctx x = open_scene(SCENES[s], BACKENDS[b]);
                 double P[HP_MAX_BLADDERS], Q[6], dQ[36], K[36], scale = 0.0;
                 for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
-                assert_int_equal(hp_load_eval(hp_load_planner_model(x.p), r.achieved, P, Q, dQ,
+                assert_int_equal(hp_load_eval(hp_planner_load_model(x.p), r.achieved, P, Q, dQ,
                                               NULL, NULL, NULL),
                                  HP_OK);
                 for (int i = 0; i < 36; ++i) scale = fmax(scale, fabs(dQ[i]));

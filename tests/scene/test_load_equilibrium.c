@@ -10,7 +10,8 @@
  * base panels). docs/load.md. */
 #include "support/test_util.h"
 
-#include "headplan/hp_load_planner.h"
+#include "headplan/hp_planner.h"
+#include "support/load_fixture.h"
 #include "headplan/hp_scene.h"
 #include "common/units.h"
 
@@ -54,12 +55,12 @@ static double norm3(const double v[3])
  * residual below NE_TOL (when the forward statics of the answer's pressures reports a rest,
  * that rest too), and every bladder centre outside the moved head (the public contact
  * distance, not the load model's). */
-static void check_answer(const hp_load_planner *p, const hp_result *r, const char *what)
+static void check_answer(const hp_planner *p, const hp_result *r, const char *what)
 {
-    const hp_load_model *M = hp_load_planner_model(p);
+    const hp_load_model *M = hp_planner_load_model(p);
     const hp_layout *L = hp_load_model_layout(M);
     double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
-    assert_int_equal(hp_load_planner_bounds(p, lo, hi), HP_OK);
+    assert_int_equal(hp_planner_pressure_bounds(p, lo, hi), HP_OK);
     for (int k = 0; k < r->n; ++k) {
         P[k] = r->bladders[k].pressure;
         assert_true(P[k] >= lo[k] && P[k] <= hi[k]);
@@ -112,8 +113,8 @@ static void sweep(const char *file, hp_backend backend, int ncorr, tally *t)
     assert_int_equal(hp_scene_settings(sc, &set, NULL), HP_OK);
     set.level = sc->load_geometry;
     set.backend = backend;
-    hp_load_planner *p = NULL;
-    hp_error e = hp_load_planner_create(&sc->layout, &sc->load, &set,
+    hp_planner *p = NULL;
+    hp_error e = load_create(&sc->layout, &sc->load, &set,
                                         (hp_load_tiebreak)sc->load_tiebreak, &p, &d);
     if (e) {
         /* The only catalogue scene refused: the prone head, too heavy (docs/load.md). */
@@ -127,7 +128,7 @@ static void sweep(const char *file, hp_backend backend, int ncorr, tally *t)
         hp_pose_from_clinical(CORR[c], xi);
         hp_result r;
         hp_load_info info;
-        assert_int_equal(hp_load_plan(p, xi, &r, &info), HP_OK);
+        assert_int_equal(load_plan(p, xi, &r, &info), HP_OK);
         char what[1024];
         snprintf(what, sizeof what, "%s, %s, correction %g,%g,%g,%g,%g,%g: %s", file,
                  hp_backend_name(backend), CORR[c][0], CORR[c][1], CORR[c][2], CORR[c][3],
@@ -137,7 +138,7 @@ static void sweep(const char *file, hp_backend backend, int ncorr, tally *t)
         if (r.status == HP_STATUS_SOLVER_ERROR) ++t->refused;
         else ++t->answers;
     }
-    hp_load_planner_destroy(p);
+    hp_planner_destroy(p);
     free(sc);
 }
 

@@ -95,7 +95,8 @@ static void test_level_load_scene(void **state)
     assert_int_equal(use, 0);
     hp_settings s;
     assert_int_equal(hp_scene_settings(sc, &s, NULL), HP_OK);
-    assert_int_equal(s.level, HP_LEVEL_SURFACE);
+    assert_int_equal(s.level, HP_LEVEL_LOAD);
+    assert_true(s.load.mass == sc->load.mass);
     free(sc);
 }
 
@@ -139,8 +140,8 @@ static void test_kinematic_only(void **state)
     char why[256], want[2048];
     assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, NULL, NULL), HP_OK);
     snprintf(want, sizeof want,
-             "%s: the scene is planned at the load level (%s), which only headplan solve "
-             "plans; batch would plan without the head's weight and disagree with solve",
+             "%s: the scene is planned at the load level (%s), which batch does not plan: "
+             "it would plan without the head's weight and disagree with solve",
              sc->file, why);
     hp_diag d = {{0}};
     hp_level_refusal refused = HP_LEVEL_REFUSED_NONE;

@@ -1,60 +1,22 @@
-/* The load-level planner object: bounds, the layout's ability to carry the load, and the
- * plan (HOLD at the desired pose; when unreachable POSE then HOLD), verified by the
- * forward statics when the caller asks for the details. */
-#define _POSIX_C_SOURCE 200809L
-#include "headplan/hp_load_planner.h"
+/* The load level of hp_planner (load_level.h): bounds, the layout's ability to carry the
+ * load, and the plan (HOLD at the desired pose; when unreachable POSE then HOLD), with the
+ * details (forces, residuals, the forward statics' rest, the holding) on request. */
+#include "planner/load_level.h"
 #include "common/exact_prod.h"
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
-#include "kinematics/load_internal.h"
-#include "planner/load_solve.h"
-#include "planner/planner_internal.h"
+#include "planner/clock.h"
+#include "planner/plan_range.h"
+#include "planner/text.h"
 
 #include <math.h>
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <time.h>
-
-struct hp_load_planner {
-    hp_load_model M;     /* embedded: create stays the planner's only allocation */
-    hp_identifiable id;  /* the range of corrections hp_plan accepts, accepted here too */
-    hp_settings set;
-    hp_load_tiebreak tie;
-    double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
-    unsigned lo_bind[HP_MAX_BLADDERS], hi_bind[HP_MAX_BLADDERS];
-    /* This plan's bounds: the above cut by the rate limits around prev_P (plan_bounds). */
-    double elo[HP_MAX_BLADDERS], ehi[HP_MAX_BLADDERS];
-    unsigned elo_bind[HP_MAX_BLADDERS], ehi_bind[HP_MAX_BLADDERS];
-    double prev_P[HP_MAX_BLADDERS];
-    double prev_xi[6];
-    int have_prev; /* prev_P came from a plan or hp_load_planner_set_previous */
-    char err[HP_DIAG_MAX];
-};
-
-static const char *const TIE_NAMES[HP_TIE_COUNT_] = {"least-squeeze", "previous",
-                                                      "stiffness"};
-
-const char *hp_load_tiebreak_name(hp_load_tiebreak t)
-{
-    return (int)t >= 0 && t < HP_TIE_COUNT_ ? TIE_NAMES[t] : "unknown";
-}
-
-hp_error hp_load_tiebreak_parse(const char *s, hp_load_tiebreak *out)
-{
-    if (!s || !out) return HP_ERR_NULL;
-    for (int i = 0; i < HP_TIE_COUNT_; ++i)
-        if (strcmp(s, TIE_NAMES[i]) == 0) {
-            *out = (hp_load_tiebreak)i;
-            return HP_OK;
-        }
-    return HP_ERR_INVALID;
-}
 
 /* Pressure bounds of bladder k: [p_min, p_max] cut by the pressures of the stretch limits
  * and of the stable-branch cap (1 − 1e-3 of the limit point's radius, as the kinematic
  * planner). Each bound remembers which limit set it. */
-static hp_error bladder_bounds(hp_load_planner *p, int k, hp_diag *diag)
+static hp_error bladder_bounds(hp_load_level *p, int k, hp_diag *diag)
 {
     const hp_bladder *b = &p->M.layout.bladders[k];
     double P;
@@ -79,6 +41,8 @@ static hp_error bladder_bounds(hp_load_planner *p, int k, hp_diag *diag)
         cap = rs;
         cap_bind = HP_BIND_STRESS_MAX;
     }
+    p->ri_lo[k] = hp_prod_up(b->stretch_min, b->iab.Ri);
+    p->ri_hi[k] = cap;
     if (hp_iab_ik(&b->iab, cap, &P) == HP_OK && P < p->hi[k]) {
         p->hi[k] = P;
         p->hi_bind[k] = cap_bind;
@@ -104,7 +68,7 @@ static const char *direction_words(const double v[3], char *buf, size_t len)
  * head along u_k = −n_k (into the head) with at most p_hi·pi·(ro² − rho²) at ro = ro(p_hi)
  * and rho >= (1 − HP_LOAD_INDENT_MAX)·ro (the indentation range where the contact law is
  * trusted), so the support along −g is at most sum_k max(0, −ĝ·u_k)·that. */
-static hp_error check_carry(hp_load_planner *p, hp_diag *diag)
+static hp_error check_carry(hp_load_level *p, hp_diag *diag)
 {
     const hp_load_model *M = &p->M;
     double g = 0.0, up[3];
@@ -138,54 +102,52 @@ static hp_error check_carry(hp_load_planner *p, hp_diag *diag)
     return HP_OK;
 }
 
-hp_error hp_load_planner_create(const hp_layout *L, const hp_load_spec *spec,
-                                const hp_settings *s, hp_load_tiebreak tie,
-                                hp_load_planner **out, hp_diag *diag)
+hp_error hp_load_level_model(hp_load_level *p, const hp_layout *L, const hp_settings *s,
+                             hp_diag *diag)
 {
-    if (!out) return hp_diag_set(diag, HP_ERR_NULL, "load planner: NULL output");
-    *out = NULL;
-    if (!L || !spec) return hp_diag_set(diag, HP_ERR_NULL, "load planner: NULL argument");
-    hp_settings set;
-    hp_settings_default(&set);
-    if (s) set = *s;
-    hp_error err = hp_settings_validate(&set, diag);
-    if (err) return err;
-    if ((int)tie < 0 || tie >= HP_TIE_COUNT_)
-        return hp_diag_set(diag, HP_ERR_INVALID, "load planner: tie-breaker: unknown value %d",
-                           (int)tie);
-    if (tie == HP_TIE_STIFFNESS && set.backend != HP_BACKEND_IPOPT)
-        return hp_diag_set(diag, HP_ERR_INVALID,
-                           "load planner: tie-breaker stiffness needs the ipopt backend (%s "
-                           "solves the distance tie-breakers only)", hp_backend_name(set.backend));
-    if (set.backend == HP_BACKEND_NLOPT_COBYLA)
-        return hp_diag_set(diag, HP_ERR_INVALID,
-                           "load planner: backend %s is not available at the load level "
-                           "(use realtime, ipopt or nlopt-slsqp)", hp_backend_name(set.backend));
-    if (L->head.shape == HP_HEAD_SPHERE)
+    return hp_load_model_setup(&p->M, L, &s->load, s->load_geometry, diag);
+}
+
+hp_error hp_load_level_build(hp_load_level *p, const hp_settings *s, const hp_backend_ops *ops,
+                             char *err, hp_diag *diag)
+{
+    if (p->M.layout.head.shape == HP_HEAD_SPHERE)
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load: a sphere head cannot be held at the load level (its contact "
                            "forces all pass through its centre, so nothing holds its "
                            "rotation): use an ellipsoid head");
-    hp_load_planner *p = calloc(1, sizeof *p);
-    if (!p) return hp_diag_set(diag, HP_ERR_NOMEM, "load planner: out of memory");
-    hp_level geom = set.level == HP_LEVEL_AUTO ? HP_LEVEL_SURFACE : set.level;
-    err = hp_load_model_setup(&p->M, L, spec, geom, diag);
-    if (!err && (err = hp_layout_identify(&p->M.layout, &p->id)) != HP_OK)
-        hp_diag_set(diag, err, "layout: the contact Jacobian at the nominal pose: %s",
-                    hp_error_message(err));
-    for (int k = 0; !err && k < p->M.layout.n; ++k) err = bladder_bounds(p, k, diag);
-    if (!err) err = check_carry(p, diag);
-    if (err) {
-        free(p);
-        return err;
-    }
-    p->set = set;
-    p->set.level = geom;
-    p->tie = tie;
+    if (!(ops->caps & HP_BACKEND_LOAD) || !ops->load_hold)
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "backend: %s is not available at the load level (use a backend "
+                           "that plans it: realtime, ipopt or nlopt-slsqp)", ops->name);
+    if (s->load_tiebreak == HP_TIE_STIFFNESS && !(ops->caps & HP_BACKEND_LOAD_STIFFNESS))
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "load_tiebreak: tie-breaker stiffness needs the ipopt backend (%s "
+                           "solves the distance tie-breakers only)", ops->name);
+    hp_error e = hp_layout_identify(&p->M.layout, &p->id);
+    if (e != HP_OK)
+        return hp_diag_set(diag, e, "layout: the contact Jacobian at the nominal pose: %s",
+                           hp_error_message(e));
     for (int k = 0; k < p->M.layout.n; ++k)
-        p->prev_P[k] = fmin(fmax(0.0, p->lo[k]), p->hi[k]);
-    *out = p;
+        if ((e = bladder_bounds(p, k, diag)) != HP_OK) return e;
+    if ((e = check_carry(p, diag)) != HP_OK) return e;
+    p->set = *s;
+    p->ops = ops;
+    p->err = err;
+    for (int k = 0; k < p->M.layout.n; ++k)
+        p->start_P[k] = fmin(fmax(0.0, p->lo[k]), p->hi[k]);
+    hp_load_level_reset(p);
     return HP_OK;
+}
+
+void hp_load_level_reset(hp_load_level *p)
+{
+    const int n = p->M.layout.n;
+    memcpy(p->prev_P, p->start_P, (size_t)n * sizeof *p->prev_P);
+    memset(p->prev_xi, 0, sizeof p->prev_xi);
+    memcpy(p->last_P, p->start_P, (size_t)n * sizeof *p->last_P);
+    memset(p->last_xi, 0, sizeof p->last_xi);
+    p->have_prev = 0;
 }
 
 /* The equilibrium residual a returned answer must meet: every generalized force below
@@ -235,7 +197,7 @@ static double pose_err(const double xi[6], const double desired[6], const double
  * the equilibrium. 1: held (x gets the pose, Pt the pressures); 0: not held with every
  * bladder centre outside the head; -1: some centre inside it, past its panel, where the
  * load model is not defined (hp_load_domain): the head has sunk too far. */
-static int held_pose(const hp_load_planner *p, const double x[6], const double *target,
+static int held_pose(const hp_load_level *p, const double x[6], const double *target,
                      double *Pt)
 {
     const hp_load_model *M = &p->M;
@@ -247,7 +209,7 @@ static int held_pose(const hp_load_planner *p, const double x[6], const double *
                HP_LOAD_SOLVE_OK && holds(M, x, Pt);
 }
 
-static int held_at(const hp_load_planner *p, const double desired[6], double depth,
+static int held_at(const hp_load_level *p, const double desired[6], double depth,
                    const double *target, double x[6], double *Pt)
 {
     const hp_load_model *M = &p->M;
@@ -277,7 +239,7 @@ static void keep_held(double xs[6], double *Ps, const double x[6], const double 
  * depth up to 64 mm is held. At most 11 + 2·36 feasibility checks, each one HOLD phase 1
  * (one contact evaluation and one bounded QP), most of them unreachable depths that the
  * row-interval test of HOLD (or the domain check) rejects without a QP. */
-static int sink(const hp_load_planner *p, const double desired[6], const double *target,
+static int sink(const hp_load_level *p, const double desired[6], const double *target,
                 double sign, double xs[6], double *Ps)
 {
     const int n = p->M.layout.n;
@@ -326,7 +288,7 @@ static int sink(const hp_load_planner *p, const double desired[6], const double 
  * rounding, HOLD asks them exactly) and x0 is held, the held pose nearest to it on the
  * segment from x0 is taken (bisection to 2^-30 of the segment): never farther than x0, as
  * the distance is convex. 1 with (x, P) a held pose, else 0. */
-static int closest_from(const hp_load_planner *p, const double desired[6], const double W[6],
+static int closest_from(const hp_load_level *p, const double desired[6], const double W[6],
                         const double *target, const double x0[6], const double *F0,
                         double x[6], double *P, int *iters)
 {
@@ -370,7 +332,7 @@ static int closest_from(const hp_load_planner *p, const double desired[6], const
  * SQP, the restoration can stall where the rows' residual is locally least; a held start
  * does not need it. The nearest held pose wins; (xi, P) gets it. Returns 1 when there is
  * one. */
-static int closest_program(const hp_load_planner *p, const double desired[6],
+static int closest_program(const hp_load_level *p, const double desired[6],
                            const double W[6], const double *target, int have, double xi[6],
                            double *P, int *iters)
 {
@@ -418,9 +380,9 @@ static int closest_program(const hp_load_planner *p, const double desired[6],
 
 /* This plan's bounds: the pressure, stretch and limit-point bounds, cut by each bladder's
  * rate_max around the previous pressures when the settings use rate limits and a previous
- * pressure is known (a plan or hp_load_planner_set_previous gave one). prev_P is always
+ * pressure is known (a plan, hp_planner_set_previous or hp_planner_set_previous_result gave one). prev_P is always
  * inside the static bounds, so the cut box is never empty. */
-static void plan_bounds(hp_load_planner *p)
+static void plan_bounds(hp_load_level *p)
 {
     for (int k = 0; k < p->M.layout.n; ++k) {
         const hp_bladder *b = &p->M.layout.bladders[k];
@@ -440,27 +402,14 @@ static void plan_bounds(hp_load_planner *p)
     }
 }
 
-/* HOLD with the configured backend's tie-breaker (Ipopt: its raw code in *raw). */
-static hp_load_solve_status hold(const hp_load_planner *p, const double xi[6],
+/* HOLD with the configured backend's tie-breaker (its load_hold: Ipopt's and NLopt's raw
+ * code in *raw). */
+static hp_load_solve_status hold(const hp_load_level *p, const double xi[6],
                                  const double *target, const double *start, double *P,
                                  double *F, int *iters, int *raw)
 {
-    if (p->set.backend == HP_BACKEND_IPOPT)
-        return hp_load_hold_on_ipopt(&p->M, xi, p->elo, p->ehi, target, start,
-                                     p->set.max_iter, p->tie == HP_TIE_STIFFNESS, P, F, iters,
-                                     raw);
-    if (p->set.backend == HP_BACKEND_NLOPT_SLSQP)
-        return hp_load_hold_on_nlopt(&p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter,
-                                     P, F, iters, raw);
-    return hp_load_hold(&p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter, P, F,
-                        iters);
-}
-
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+    return p->ops->load_hold(&p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter,
+                             p->set.load_tiebreak == HP_TIE_STIFFNESS, P, F, iters, raw);
 }
 
 /* The indentation check a returned answer must meet: every carrying bladder inside the
@@ -481,7 +430,7 @@ static int indent_ok(const hp_load_model *M, const double xi[6], const double *P
 /* Fills the per-bladder part of r from pressures P held at pose xi. A CLOSEST answer names
  * what binds: the pressure bounds each bladder sits on, the indentation range, and a
  * bladder carrying nothing (it cannot pull the head toward the desired pose). */
-static hp_error fill_bladders(const hp_load_planner *p, const double xi[6], const double *P,
+static hp_error fill_bladders(const hp_load_level *p, const double xi[6], const double *P,
                               int closest, hp_result *r)
 {
     const hp_load_model *M = &p->M;
@@ -497,6 +446,10 @@ static hp_error fill_bladders(const hp_load_planner *p, const double xi[6], cons
         hp_bladder_result *o = &r->bladders[k];
         double ri, ro;
         hp_error err = hp_iab_fk_limit(b, &M->limit[k], P[k], &ri);
+        /* The root of a pressure inside the bounds lies inside [ri_lo, ri_hi] up to an ulp or
+         * two (a pressure at the stretch cap's bound gave stretch 1.3000000000000003 against
+         * stretch_max 1.3): keep the stretch inside its limits to the last bit. */
+        ri = fmin(fmax(ri, p->ri_lo[k]), p->ri_hi[k]);
         if (!err) err = hp_iab_ro(b, ri, &ro);
         if (err) return err;
         o->pressure = P[k];
@@ -515,16 +468,18 @@ static hp_error fill_bladders(const hp_load_planner *p, const double xi[6], cons
     return HP_OK;
 }
 
-hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
-                      hp_load_info *info)
+hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result *r)
 {
-    if (!p || !desired || !r) return HP_ERR_NULL;
-    double t0 = now();
+    if (!desired) {
+        hp_text_set(p->err, "desired: NULL");
+        return HP_ERR_NULL;
+    }
+    double t0 = hp_plan_now();
     memset(r, 0, sizeof *r);
     const hp_load_model *M = &p->M;
     const int n = M->layout.n;
     r->backend = p->set.backend;
-    r->level = M->level;
+    r->level = HP_LEVEL_LOAD;
     memcpy(r->desired, desired, sizeof r->desired);
     for (int i = 0; i < 6; ++i) r->commanded[i] = 1;
     p->err[0] = '\0';
@@ -532,7 +487,7 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
     int bad = !hp_plan_desired_ok(&p->id, desired, p->err);
     plan_bounds(p);
     double target[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], xi[6];
-    for (int k = 0; k < n; ++k) target[k] = p->tie == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
+    for (int k = 0; k < n; ++k) target[k] = p->set.load_tiebreak == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
     hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
     int it1 = 0, it2 = 0, it3 = 0, held = 0; /* held: holds(M, xi, P) already checked */
     if (!bad) {
@@ -608,6 +563,10 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
         }
     }
     r->iterations = it1 + it2 + it3;
+    if (r->status == HP_STATUS_ITERATION_LIMIT)
+        hp_text_set(p->err, "load planner: iteration-limit: the closest-pose search ran out of "
+                            "solver.max_iter; the pose returned is held inside the limits "
+                            "but not proven the closest");
     /* Whichever path gave it (HOLD, the sinking search, the 6-D refinement from the previous
      * pose), an answer is returned only when it is an equilibrium by both checks. */
     int unverified = !bad && st == HP_LOAD_SOLVE_OK &&
@@ -643,69 +602,101 @@ hp_error hp_load_plan(hp_load_planner *p, const double desired[6], hp_result *r,
         memcpy(p->prev_xi, xi, sizeof xi);
         p->have_prev = 1;
     }
-    if (info) {
-        memset(info, 0, sizeof *info);
-        double Q[6], f[3], m[3];
-        err = hp_load_eval(M, xi, P, Q, NULL, NULL, info->force, NULL);
-        if (!err) err = hp_load_newton_euler(M, xi, P, f, m);
-        if (err) return err;
-        info->residual_force = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
-        info->residual_moment = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-        /* The holding describes the answer: the stiffness at the achieved pose with the
-         * returned pressures. The rest of those pressures may lie elsewhere (a saddle's
-         * descent leaves it), and its stiffness is not the answer's. */
-        if (!err) err = hp_load_holding_at(M, xi, P, &info->holding);
-        if (!err) err = hp_load_indentation(M, xi, P, info->indent);
-        if (err) return err;
-        if (hp_load_rest(M, P, xi, info->rest, NULL) == HP_OK) {
-            info->rest_error = 0.0;
-            for (int i = 0; i < 6; ++i)
-                info->rest_error =
-                    fmax(info->rest_error, fabs(info->rest[i] - xi[i]) / hp_load_unit(i));
-        } else {
-            for (int i = 0; i < 6; ++i) info->rest[i] = NAN;
-            info->rest_error = INFINITY;
-        }
-    }
-    r->solve_time = now() - t0;
+    /* What hp_planner_load_info describes: the returned pressures at the returned pose. */
+    memcpy(p->last_P, P, (size_t)n * sizeof *P);
+    memcpy(p->last_xi, xi, sizeof xi);
+    r->solve_time = hp_plan_now() - t0;
     return HP_OK;
 }
 
-const char *hp_load_planner_error(const hp_load_planner *p)
+hp_error hp_load_level_info(const hp_load_level *p, hp_load_info *info)
 {
-    return p ? p->err : "";
+    const hp_load_model *M = &p->M;
+    const double *xi = p->last_xi, *P = p->last_P;
+    memset(info, 0, sizeof *info);
+    double Q[6], f[3], m[3];
+    hp_error err = hp_load_eval(M, xi, P, Q, NULL, NULL, info->force, NULL);
+    if (!err) err = hp_load_newton_euler(M, xi, P, f, m);
+    if (err) return err;
+    info->residual_force = sqrt(f[0] * f[0] + f[1] * f[1] + f[2] * f[2]);
+    info->residual_moment = sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    /* The holding describes the answer: the stiffness at the achieved pose with the
+     * returned pressures. The rest of those pressures may lie elsewhere (a saddle's
+     * descent leaves it), and its stiffness is not the answer's. */
+    err = hp_load_holding_at(M, xi, P, &info->holding);
+    if (!err) err = hp_load_indentation(M, xi, P, info->indent);
+    if (err) return err;
+    if (hp_load_rest(M, P, xi, info->rest, NULL) == HP_OK) {
+        info->rest_error = 0.0;
+        for (int i = 0; i < 6; ++i)
+            info->rest_error =
+                fmax(info->rest_error, fabs(info->rest[i] - xi[i]) / hp_load_unit(i));
+    } else {
+        for (int i = 0; i < 6; ++i) info->rest[i] = NAN;
+        info->rest_error = INFINITY;
+    }
+    return HP_OK;
 }
 
-const hp_load_model *hp_load_planner_model(const hp_load_planner *p)
+void hp_load_level_bounds(const hp_load_level *p, double *lo, double *hi)
 {
-    return p ? &p->M : NULL;
-}
-
-hp_error hp_load_planner_bounds(const hp_load_planner *p, double *lo, double *hi)
-{
-    if (!p || !lo || !hi) return HP_ERR_NULL;
     memcpy(lo, p->lo, (size_t)p->M.layout.n * sizeof *lo);
     memcpy(hi, p->hi, (size_t)p->M.layout.n * sizeof *hi);
+}
+
+/* Pressures a previous answer may hold: each inside its bladder's static bounds. HP_OK, or
+ * HP_ERR_INVALID naming the bladder (who: the call, for the message). */
+static hp_error previous_ok(hp_load_level *p, const char *who, const double *pressures)
+{
+    for (int k = 0; k < p->M.layout.n; ++k) {
+        double P = pressures[k];
+        if (!(P >= p->lo[k] && P <= p->hi[k])) { /* NaN too */
+            snprintf(p->err, HP_DIAG_MAX,
+                     "%s: previous pressure of bladder '%s': %.6g Pa is outside [%.6g, %.6g] Pa",
+                     who, p->M.layout.bladders[k].name, P, p->lo[k], p->hi[k]);
+            return HP_ERR_INVALID;
+        }
+    }
     return HP_OK;
 }
 
-hp_error hp_load_planner_set_previous(hp_load_planner *p, const double *pressures)
+hp_error hp_load_level_set_previous(hp_load_level *p, const double *pressures)
 {
-    if (!p || !pressures) return HP_ERR_NULL;
-    for (int k = 0; k < p->M.layout.n; ++k)
-        if (!(pressures[k] >= p->lo[k] && pressures[k] <= p->hi[k])) { /* NaN too */
-            snprintf(p->err, sizeof p->err,
-                     "previous pressure of bladder '%s': %.6g Pa is outside [%.6g, %.6g] Pa",
-                     p->M.layout.bladders[k].name, pressures[k], p->lo[k], p->hi[k]);
-            return HP_ERR_INVALID;
-        }
+    hp_error e = previous_ok(p, "set_previous", pressures);
+    if (e != HP_OK) return e;
     memcpy(p->prev_P, pressures, (size_t)p->M.layout.n * sizeof *pressures);
+    memcpy(p->last_P, pressures, (size_t)p->M.layout.n * sizeof *pressures);
+    memcpy(p->last_xi, p->prev_xi, sizeof p->last_xi);
     p->have_prev = 1;
     p->err[0] = '\0';
     return HP_OK;
 }
 
-void hp_load_planner_destroy(hp_load_planner *p)
+hp_error hp_load_level_set_previous_result(hp_load_level *p, const hp_result *r)
 {
-    free(p);
+    const int n = p->M.layout.n;
+    if (r->n != n) {
+        hp_text_set(p->err, "set_previous_result: n is not the layout's number of bladders");
+        return HP_ERR_INVALID;
+    }
+    for (int i = 0; i < 6; ++i)
+        if (!isfinite(r->achieved[i])) {
+            hp_text_set(p->err, "set_previous_result: achieved: not finite");
+            return HP_ERR_INVALID;
+        }
+    if (hp_plan_range_check(&p->id, r->achieved, NULL) != 0) {
+        hp_text_set(p->err, "set_previous_result: achieved: outside the identifiable range");
+        return HP_ERR_INVALID;
+    }
+    double P[HP_MAX_BLADDERS];
+    for (int k = 0; k < n; ++k) P[k] = r->bladders[k].pressure;
+    hp_error e = previous_ok(p, "set_previous_result", P);
+    if (e != HP_OK) return e;
+    /* The state a plan that returned r leaves: its pressures at its pose. */
+    memcpy(p->prev_P, P, (size_t)n * sizeof *P);
+    memcpy(p->prev_xi, r->achieved, sizeof p->prev_xi);
+    memcpy(p->last_P, p->prev_P, (size_t)n * sizeof *p->last_P);
+    memcpy(p->last_xi, p->prev_xi, sizeof p->last_xi);
+    p->have_prev = 1;
+    return HP_OK;
 }

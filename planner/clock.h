@@ -1,0 +1,8 @@
+/* Internal: the clock a plan's solve_time is measured with (clock.c). */
+#ifndef HP_PLANNER_CLOCK_H
+#define HP_PLANNER_CLOCK_H
+
+/* CLOCK_MONOTONIC in seconds. */
+double hp_plan_now(void);
+
+#endif
