@@ -127,8 +127,8 @@ static void binding_text(const hp_layout *L, const batch_out *o, char *buf, size
 /* The one list of output columns: the cells of one row in column order, and (names != 0)
  * the column names into col_names. Add a column here and both formats and the header
  * follow. A bad row fills only line, status and error. */
-static int row_cells(const batch_sink *k, const batch_in *in, const batch_out *o, cell *c,
-                     char *bind, size_t bind_size, int names)
+static int row_cells(const batch_sink *k, const hp_trace_row *in, const char *msg,
+                     const batch_out *o, cell *c, char *bind, size_t bind_size, int names)
 {
     int n = 0;
 #define NAME(...) (names ? (void)snprintf(col_names[n], COL_NAME_MAX, __VA_ARGS__) : (void)0)
@@ -141,7 +141,7 @@ static int row_cells(const batch_sink *k, const batch_in *in, const batch_out *o
         NONE("t_s");
         TEXT("bad-row", "status");
         while (n < k->ncols - 1) NONE("-");
-        TEXT(in->msg ? in->msg : "bad row", "error");
+        TEXT(msg ? msg : "bad row", "error");
         return n;
     }
     NUM(in->t, "t_s");
@@ -191,11 +191,11 @@ static void name_columns(batch_sink *k)
 {
     cell cells[MAX_COLS];
     char bind[8];
-    batch_in in;
+    hp_trace_row in;
     batch_out out;
     memset(&in, 0, sizeof in);
     memset(&out, 0, sizeof out);
-    k->ncols = row_cells(k, &in, &out, cells, bind, sizeof bind, 1);
+    k->ncols = row_cells(k, &in, NULL, &out, cells, bind, sizeof bind, 1);
 }
 
 /* Text with control characters and broken UTF-8 escaped (\xNN), then quoted as the format
@@ -401,7 +401,7 @@ int batch_sink_rows(batch_sink *k, const batch_in *in, const batch_out *out, siz
     rb.n = 0;
     const int json = k->fmt == HP_TRACE_JSONL;
     for (size_t r = 0; r < rows; ++r) {
-        int n = row_cells(k, &in[r], &out[r], cells, bind, sizeof bind, 0);
+        int n = row_cells(k, &in->row[r], in->msg[r], &out[r], cells, bind, sizeof bind, 0);
         if (json) rb_putc(&rb, '{');
         for (int c = 0; c < n; ++c) {
             if (c) rb_putc(&rb, ',');

@@ -113,13 +113,13 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
         case HP_STATUS_UNCOMMANDED: S->uncommanded++; which = 0; break;
         case HP_STATUS_INVALID_INPUT:
             S->invalid++;
-            fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in[i].line,
+            fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in->row[i].line,
                     batch_engine_reason(eng, in, out, i));
             break;
         default:
             S->failed++;
             if (o->status == HP_STATUS_TIME_LIMIT) S->time_limit++;
-            fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in[i].line,
+            fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in->row[i].line,
                     hp_status_name(o->status));
             break;
         }
@@ -128,7 +128,7 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
         hp_pose_to_clinical(o->uncommanded, unc);
         for (int k = 0; k < 6; ++k)
             if (fabs(unc[k]) > S->unc_max[k]) S->unc_max[k] = fabs(unc[k]);
-        hp_pose_to_clinical(in[i].correction, want);
+        hp_pose_to_clinical(in->row[i].correction, want);
         hp_pose_to_clinical(o->achieved, got);
         for (int k = 0; k < 6; ++k) {
             if (!o->commanded[k]) continue;
@@ -264,15 +264,15 @@ static int read_block(hp_trace_reader *r, batch_in *in, size_t cap, size_t *n, i
         }
         if (e == HP_ERR_IO) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s", d.text);
         if (e != HP_OK && e != HP_ERR_PARSE) return cli_fail(CLI_EXIT_DATAERR, CMD, "%s", d.text);
-        batch_in *b = &in[(*n)++];
-        memset(b, 0, sizeof *b);
-        b->line = row.line;
+        size_t i = (*n)++;
+        memset(&in->row[i], 0, sizeof in->row[i]);
+        in->row[i].line = row.line;
+        in->bad[i] = e != HP_OK;
+        in->msg[i] = NULL;
         if (e == HP_OK) {
-            b->t = row.t;
-            memcpy(b->correction, row.correction, sizeof b->correction);
+            in->row[i] = row;
         } else {
-            b->bad = 1;
-            b->msg = strdup(d.text);
+            in->msg[i] = strdup(d.text);
             cli_fail(0, CMD, "%s", d.text);
         }
     }
@@ -284,9 +284,11 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, const char *r_nam
                       batch_engine *eng, batch_sink *sink, summary *S)
 {
     size_t cap = (size_t)BLOCK_PER_JOB * (size_t)a->jobs;
-    batch_in *in = calloc(cap, sizeof *in);
+    batch_in block = {calloc(cap, sizeof *block.row), calloc(cap, sizeof *block.bad),
+                      calloc(cap, sizeof *block.msg)}, *in = &block;
     batch_out *out = calloc(cap, sizeof *out);
-    int rc = in && out ? 0 : cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
+    int rc = in->row && in->bad && in->msg && out ? 0
+                                                  : cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
     int end = 0, show = a->progress && isatty(2);
     while (rc == 0 && !end) {
         size_t n = 0;
@@ -297,11 +299,13 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, const char *r_nam
             tally(S, in, out, n, r_name, eng);
             if (batch_sink_rows(sink, in, out, n) != 0) rc = CLI_EXIT_IOERR;
         }
-        for (size_t i = 0; i < n; ++i) free(in[i].msg);
+        for (size_t i = 0; i < n; ++i) free(in->msg[i]);
         if (show) fprintf(stderr, "\r%zu rows", S->rows);
     }
     if (show) fputc('\n', stderr);
-    free(in);
+    free(in->row);
+    free(in->bad);
+    free(in->msg);
     free(out);
     return rc;
 }

@@ -1,4 +1,5 @@
 /* Horizon settings, per-row rate limits from time stamps, the greedy plan, study metrics. */
+#include "headplan/hp_trace_plan.h"
 #include "horizon/horizon_internal.h"
 #include "planner/nominal.h"
 #include "planner/plan_range.h"
@@ -124,8 +125,7 @@ double hp_horizon_start_interval(const hp_trace_row *rows, size_t T, double fall
     return dt > 0 && isfinite(dt) ? dt : fallback;
 }
 
-/* The interval before row t (the start interval for row 0), checked. */
-static hp_error row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
+hp_error hp_horizon_row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
                        double *dt, hp_diag *d)
 {
     if (!isfinite(rows[t].t))
@@ -149,8 +149,8 @@ hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
     double scene[HP_MAX_BLADDERS];
     hp_horizon_scene_rates(L, scene);
     for (size_t t = 0; t < T; ++t) {
-        double dt = NAN; /* row_dt writes it on HP_OK; set for -O3's flow analysis */
-        hp_error e = row_dt(hs, rows, t, &dt, d);
+        double dt = NAN; /* hp_horizon_row_dt writes it on HP_OK; set for -O3's flow analysis */
+        hp_error e = hp_horizon_row_dt(hs, rows, t, &dt, d);
         if (e != HP_OK) return e;
         hp_horizon_row_rates(scene, L->n, hs, dt, delta + t * (size_t)L->n);
     }
@@ -221,6 +221,25 @@ void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long li
     hp_diag_set(d, HP_OK, "line %ld: %s", line, *reason ? reason : "invalid correction");
 }
 
+/* Greedy's sink: each planned row into the horizon's output, the first refusal noted. */
+typedef struct greedy_ctx {
+    const hp_trace_row *rows;
+    hp_horizon_row *out;
+    hp_planner *p;
+    hp_diag *d;
+    int refused;
+} greedy_ctx;
+
+static hp_error greedy_row(void *ctx, size_t t, const hp_result *r)
+{
+    greedy_ctx *g = ctx;
+    const char *why = hp_planner_error(g->p);
+    hp_horizon_note_refusal(g->d, &g->refused, r, g->rows[t].line,
+                            *why ? why : hp_planner_note(g->p));
+    row_from_result(g->rows + t, r, r->n, g->out + t);
+    return HP_OK;
+}
+
 hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
                            const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
                            const double *p_start, hp_horizon_row *out, hp_diag *d)
@@ -231,43 +250,18 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
     if (e == HP_OK) e = check_rows(L, rows, T, d);
     if (e != HP_OK) return e;
     hp_planner *p = NULL;
+    hp_trace_plan *tp = NULL;
     if ((e = hp_planner_create(L, settings, &p, d)) != HP_OK) return e;
     if (d) d->text[0] = '\0';
-    int refused = 0;
+    double start[HP_MAX_BLADDERS];
     const hp_layout *PL = hp_planner_layout(p);
-    double start[HP_MAX_BLADDERS], delta[HP_MAX_BLADDERS], scene[HP_MAX_BLADDERS];
-    hp_horizon_scene_rates(PL, scene); /* before the first row's allowance replaces them */
     if (p_start) memcpy(start, p_start, sizeof(double) * (size_t)PL->n);
-    else if ((e = hp_horizon_nominal_pressures(PL, start, d)) != HP_OK) goto done;
-    if ((e = hp_planner_set_previous(p, start)) != HP_OK) {
-        hp_diag_set(d, e, "start pressures: %s", hp_planner_error(p));
-        goto done;
-    }
-    for (size_t t = 0; t < T; ++t) {
-        double dt = NAN; /* as in hp_horizon_rates */
-        if ((e = row_dt(hs, rows, t, &dt, d)) != HP_OK) goto done;
-        hp_horizon_row_rates(scene, PL->n, hs, dt, delta);
-        if ((e = hp_planner_set_rate_max(p, delta)) != HP_OK) {
-            hp_diag_set(d, e, "line %ld: rate limit", rows[t].line);
-            goto done;
-        }
-        hp_result r;
-        e = hp_plan(p, rows[t].correction, &r);
-        if (e != HP_OK) {
-            hp_diag_set(d, e, "line %ld: %s", rows[t].line, hp_planner_error(p));
-            goto done;
-        }
-        const char *why = hp_planner_error(p);
-        hp_horizon_note_refusal(d, &refused, &r, rows[t].line, *why ? why : hp_planner_note(p));
-        row_from_result(rows + t, &r, PL->n, out + t);
-        /* As headplan batch: the next plan starts from this row's result alone (cold), not
-         * from the backend's own last point and multipliers. */
-        if ((e = hp_planner_set_previous_result(p, &r)) != HP_OK) {
-            hp_diag_set(d, e, "line %ld: %s", rows[t].line, hp_planner_error(p));
-            goto done;
-        }
-    }
-done:
+    else e = hp_horizon_nominal_pressures(PL, start, d);
+    if (e == HP_OK) e = hp_trace_plan_create(p, hs, &tp, d);
+    if (e == HP_OK) e = hp_trace_plan_set_start(tp, start, d);
+    greedy_ctx g = {rows, out, p, d, 0};
+    if (e == HP_OK) e = hp_trace_plan_run(tp, rows, NULL, T, greedy_row, &g, NULL, d);
+    hp_trace_plan_destroy(tp);
     hp_planner_destroy(p);
     return e;
 }

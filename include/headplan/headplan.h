@@ -11,6 +11,7 @@
 #include "headplan/hp_trace.h"
 #include "headplan/hp_planner.h"
 #include "headplan/hp_horizon.h"
+#include "headplan/hp_trace_plan.h"
 #include "headplan/hp_calib.h"
 
 #endif
