@@ -103,14 +103,9 @@ int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
     hp_diag d = {{0}};
     if (hp_scene_settings(sc, s, &d) != HP_OK)
         return cli_fail(CLI_EXIT_DATAERR, cmd, "%s", d.text);
-    if (backend && hp_backend_parse(backend, &s->backend) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, cmd,
-                           "--backend: unknown backend '%s' (realtime, ipopt, nlopt-slsqp, "
-                           "nlopt-cobyla)",
-                           backend);
-    char names[96];
-    if (level && hp_level_parse(level, &s->level) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, cmd, "--level: unknown level '%s' (%s)", level,
-                        hp_scene_level_names(0, ", ", names, sizeof names));
+    /* The library's overrides; its message starts with the option's name. */
+    if ((backend && hp_scene_settings_override(s, "backend", backend, 0, &d) != HP_OK) ||
+        (level && hp_scene_settings_override(s, "level", level, 0, &d) != HP_OK))
+        return cli_fail(CLI_EXIT_USAGE, cmd, "--%s", d.text);
     return 0;
 }

@@ -162,6 +162,22 @@ HP_API hp_error hp_scene_parse(const char *text, size_t len, const char *filenam
  * head's weight. */
 HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag);
 
+/* Applies one named override to planner settings s, as the command line's options and the
+ * Python module's keywords give them: "backend" and "level" (a name: hp_backend_parse,
+ * hp_level_parse; the load level is not one of them), "tolerance" (mm and degrees),
+ * "max_iter", "max_time_s", "weight_mm_per_deg", "level_tolerance_mm" and "warm_start" (0 or
+ * 1). The value is text (parsed strictly, as a scene's numbers are), or with text NULL the
+ * number. Each value is checked by the planner's own check of its field, in the override's
+ * units. Returns HP_OK; HP_ERR_NULL; HP_ERR_INVALID (s unchanged) with "NAME: reason" in diag
+ * ("level: unknown level 'x' (linear, plane, surface, auto)", "max_time_s: must be > 0 and at
+ * most 3600 s (got 0)"), also for a name that is none of these. Allocates nothing. */
+HP_API hp_error hp_scene_settings_override(hp_settings *s, const char *name, const char *text,
+                                           double number, hp_diag *diag);
+
+/* The name of override i (0-based, in the order above), NULL past the last: the list a
+ * front-end offers (the Python module's keywords). */
+HP_API const char *hp_scene_override_name(size_t i);
+
 /* What hp_scene_plan_level or hp_scene_kinematic_only refused, so that a caller words (and
  * classes) each refusal in its own terms without reading the message. */
 typedef enum hp_level_refusal {
