@@ -18,20 +18,11 @@ typedef struct batch_in {
     char **msg;
 } batch_in;
 
-/* One output row: everything the output files show, except the per-row time, is a
- * deterministic function of (previous good output row, input row). */
+/* One output row: everything the output files show (hp_trace_columns.h), except the
+ * measured time, is a deterministic function of (previous good output row, input row). */
 typedef struct batch_out {
-    int bad;
-    hp_status status;
-    int raw_code;
-    double achieved[6];   /* SI */
-    int commanded[6];
-    double uncommanded[6]; /* SI: the part of the correction the layout cannot command */
-    double pressure[HP_MAX_BLADDERS];
-    double ri[HP_MAX_BLADDERS], ro[HP_MAX_BLADDERS], stretch[HP_MAX_BLADDERS];
-    unsigned binding[HP_MAX_BLADDERS];
-    int iterations;
-    double solve_time; /* [s]: a measurement, excluded from comparisons */
+    int bad;     /* the row could not be read: r is unset */
+    hp_result r; /* the planned result */
 } batch_out;
 
 /* Plans rows [from, to) in order through the trace plan (hp_trace_plan_run: the state

@@ -17,18 +17,9 @@
 /* The state before a row: the previous good row's output (its answer, or the safe output
  * it carried), or, with row NULL, the start of the trace (the nominal answer). A function of
  * that row alone, so equal rows mean equal states. */
-static hp_error set_state(hp_trace_plan *tp, const batch_out *row, int n)
+static hp_error set_state(hp_trace_plan *tp, const batch_out *row)
 {
-    if (!row) return hp_trace_plan_set_state(tp, NULL);
-    hp_result r;
-    r.n = n;
-    memcpy(r.achieved, row->achieved, sizeof r.achieved);
-    for (int k = 0; k < n; ++k) {
-        r.bladders[k].ri = row->ri[k];
-        r.bladders[k].ro = row->ro[k];
-        r.bladders[k].pressure = row->pressure[k];
-    }
-    return hp_trace_plan_set_state(tp, &r);
+    return hp_trace_plan_set_state(tp, row ? &row->r : NULL);
 }
 
 /* The sink of batch_plan_range: row `from + i` of out from its result. */
@@ -41,21 +32,8 @@ static hp_error put_row(void *ctx, size_t i, const hp_result *r)
 {
     range_ctx *c = ctx;
     batch_out *o = &c->out[i];
-    memset(o, 0, sizeof *o);
-    o->status = r->status;
-    o->raw_code = r->raw_code;
-    memcpy(o->achieved, r->achieved, sizeof o->achieved);
-    memcpy(o->commanded, r->commanded, sizeof o->commanded);
-    memcpy(o->uncommanded, r->uncommanded, sizeof o->uncommanded);
-    for (int k = 0; k < r->n; ++k) {
-        o->pressure[k] = r->bladders[k].pressure;
-        o->ri[k] = r->bladders[k].ri;
-        o->ro[k] = r->bladders[k].ro;
-        o->stretch[k] = r->bladders[k].stretch;
-        o->binding[k] = r->bladders[k].binding;
-    }
-    o->iterations = r->iterations;
-    o->solve_time = r->solve_time;
+    o->bad = 0;
+    o->r = *r;
     c->last = o;
     return HP_OK;
 }
@@ -65,7 +43,7 @@ hp_error batch_plan_range(hp_trace_plan *tp, const batch_in *in, batch_out *out,
 {
     /* The state of every plan is the previous good row alone, so any shard that starts
      * from an equal row continues identically. */
-    hp_error e = set_state(tp, *state, hp_planner_layout(hp_trace_plan_planner(tp))->n);
+    hp_error e = set_state(tp, *state);
     if (e != HP_OK) return e;
     for (size_t i = from; i < to; ++i)
         if (in->bad[i]) {
@@ -82,19 +60,26 @@ int batch_same(const batch_out *a, const batch_out *b, int n)
 {
     if (a->bad != b->bad) return 0;
     if (a->bad) return 1;
-    if (a->status != b->status || a->raw_code != b->raw_code ||
-        a->iterations != b->iterations)
+    /* Every column the files show, bit for bit (NaN equal to NaN), the measured ones left
+     * out; and, unscaled, what the next row's state is made of (hp_trace_plan_set_state:
+     * the pose and the bladders' radii and pressures), and the raw code. */
+    if (a->r.raw_code != b->r.raw_code ||
+        memcmp(a->r.achieved, b->r.achieved, sizeof a->r.achieved) != 0)
         return 0;
-    if (memcmp(a->achieved, b->achieved, sizeof a->achieved) != 0) return 0;
-    if (memcmp(a->commanded, b->commanded, sizeof a->commanded) != 0) return 0;
-    if (memcmp(a->uncommanded, b->uncommanded, sizeof a->uncommanded) != 0) return 0;
     for (int k = 0; k < n; ++k)
-        if (memcmp(&a->pressure[k], &b->pressure[k], sizeof(double)) != 0 ||
-            memcmp(&a->ri[k], &b->ri[k], sizeof(double)) != 0 ||
-            memcmp(&a->ro[k], &b->ro[k], sizeof(double)) != 0 ||
-            memcmp(&a->stretch[k], &b->stretch[k], sizeof(double)) != 0 ||
-            a->binding[k] != b->binding[k])
+        if (memcmp(&a->r.bladders[k].ri, &b->r.bladders[k].ri, sizeof(double)) != 0 ||
+            memcmp(&a->r.bladders[k].ro, &b->r.bladders[k].ro, sizeof(double)) != 0 ||
+            memcmp(&a->r.bladders[k].pressure, &b->r.bladders[k].pressure, sizeof(double)) != 0)
             return 0;
+    size_t nc;
+    const hp_column *c = hp_columns(&nc);
+    double va[HP_COLUMN_WIDTH_MAX], vb[HP_COLUMN_WIDTH_MAX];
+    for (size_t j = 0; j < nc; ++j) {
+        if (!c[j].in_rows || c[j].measured || c[j].source != HP_COLUMN_FROM_RESULT) continue;
+        int w = hp_column_values(&c[j], n, NULL, &a->r, va);
+        hp_column_values(&c[j], n, NULL, &b->r, vb);
+        if (memcmp(va, vb, (size_t)w * sizeof va[0]) != 0) return 0;
+    }
     return 1;
 }
 

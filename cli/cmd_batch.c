@@ -26,7 +26,8 @@ static void help(void)
 {
     printf("usage: headplan batch SCENE [TRACE|-] [-o OUT|-] [--format csv|jsonl]\n"
            "                      [--rows deviation|correction] [--backend NAME] [--level NAME]\n"
-           "                      [--jobs N] [--strict] [--no-progress] [--no-times]\n\n"
+           "                      [--jobs N] [--strict] [--no-progress] [--no-times]\n"
+           "       headplan batch --columns\n\n"
            "Plans every row of TRACE (default: the scene's trace; '-': standard input, read\n"
            "as a stream) with the scene's layout and writes one output row per input row, in\n"
            "order, after a metadata record: desired, achieved and error pose (mm, deg), the\n"
@@ -44,6 +45,8 @@ static void help(void)
            "standard output. The format is --format, else OUT's extension (.csv, .jsonl),\n"
            "else an error (standard output has no extension: give --format). --jobs N runs\n"
            "N processes and gives the same output as one job.\n"
+           "--columns lists the output's columns (name, unit, format, shape, in the rows,\n"
+           "Python key, measured) as tab-separated lines, for scripts.\n"
            "--no-times drops solve_time_us (a measurement) so two runs' outputs are\n"
            "byte-identical. Rows stopped by the time budget (solver.max_time_s) depend on\n"
            "machine load: their output is not reproducible run to run; the summary on\n"
@@ -101,13 +104,13 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
             S->bad++;
             continue;
         }
-        double us = o->solve_time * 1e6;
+        double us = o->r.solve_time * 1e6;
         double at = us > 0 ? floor((log10(us) + 2.0) * 100.0) : 0.0;
         int bin = at < 0 ? 0 : at >= TIME_BINS ? TIME_BINS - 1 : (int)at; /* clamp, then cast */
         S->time_bin[bin]++;
         S->timed++;
         int which = -1;
-        switch (o->status) {
+        switch (o->r.status) {
         case HP_STATUS_REACHED: S->reached++; which = 0; break;
         case HP_STATUS_CLOSEST: S->closest++; which = 1; break;
         case HP_STATUS_UNCOMMANDED: S->uncommanded++; which = 0; break;
@@ -118,20 +121,20 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
             break;
         default:
             S->failed++;
-            if (o->status == HP_STATUS_TIME_LIMIT) S->time_limit++;
+            if (o->r.status == HP_STATUS_TIME_LIMIT) S->time_limit++;
             fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in->row[i].line,
-                    hp_status_name(o->status));
+                    hp_status_name(o->r.status));
             break;
         }
         if (which < 0) continue;
         double want[6], got[6], unc[6];
-        hp_pose_to_clinical(o->uncommanded, unc);
+        hp_pose_to_clinical(o->r.uncommanded, unc);
         for (int k = 0; k < 6; ++k)
             if (fabs(unc[k]) > S->unc_max[k]) S->unc_max[k] = fabs(unc[k]);
         hp_pose_to_clinical(in->row[i].correction, want);
-        hp_pose_to_clinical(o->achieved, got);
+        hp_pose_to_clinical(o->r.achieved, got);
         for (int k = 0; k < 6; ++k) {
-            if (!o->commanded[k]) continue;
+            if (!o->r.commanded[k]) continue;
             double e = fabs(got[k] - (want[k] - unc[k])); /* against the commanded part */
             double *w = k < 3 ? &S->worst_mm[which] : &S->worst_deg[which];
             if (e > *w) *w = e;
@@ -312,6 +315,14 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, const char *r_nam
 
 int cmd_batch(int argc, char **argv)
 {
+    for (int i = 1; i < argc && strcmp(argv[i], "--") != 0; ++i)
+        if (strcmp(argv[i], "--columns") == 0 && !cli_wants_help(argc, argv, 1)) {
+            if (argc != 2)
+                return cli_fail(CLI_EXIT_USAGE, CMD,
+                                "--columns: lists the columns and takes no other argument");
+            batch_columns_print(stdout);
+            return 0;
+        }
     batch_args a = {0};
     int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;

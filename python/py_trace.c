@@ -119,7 +119,7 @@ static hp_error store_row(void *ctx, size_t i, const hp_result *r)
         if (c->name) snprintf(*said, len, "%s:%ld: %s", c->name, c->in->row[i].line, why);
         else snprintf(*said, len, "<array> row %zu: %s", i, why);
     }
-    hpy_block_store(c->b, (npy_intp)i, r);
+    hpy_block_store(c->b, (npy_intp)i, &c->in->row[i], r);
     return HP_OK;
 }
 
@@ -131,7 +131,7 @@ static hp_error plan_all(hp_planner *p, trace_in *in, hpy_block *b, const char *
     in->why = calloc(in->n ? in->n : 1, sizeof *in->why);
     if (!in->why) return HP_ERR_NOMEM;
     for (size_t i = 0; i < in->n; ++i)
-        if (in->bad[i]) hpy_block_bad(b, (npy_intp)i);
+        if (in->bad[i]) hpy_block_store(b, (npy_intp)i, &in->row[i], NULL);
     hp_trace_plan *tp = NULL;
     hp_error e = hp_trace_plan_create(p, NULL, &tp, NULL);
     plan_ctx c = {in, b, name, p};
@@ -183,7 +183,7 @@ static hp_error plan_horizon(const hp_layout *L, const hp_settings *s,
             br->stretch = br->ri / L->bladders[k].iab.Ri;
             if (hp_iab_ro(&L->bladders[k].iab, br->ri, &br->ro) != HP_OK) br->ro = NAN;
         }
-        hpy_block_store(b, (npy_intp)i, &r);
+        hpy_block_store(b, (npy_intp)i, &rows[i], &r);
     }
     free(out);
     return e;
@@ -347,13 +347,13 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     if (e == HP_OK) e = read_all(r, &in, text != NULL, &d);
     hp_trace_close(r);
     if (e == HP_OK && mode > 0) {
-        nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n) < 0;
+        nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n, 1) < 0;
         if (!nomem) e = plan_horizon(&self->layout, &s, &hs, mode, &in, &b, &d);
     } else if (e == HP_OK) {
         e = hp_planner_create(&self->layout, &s, &p, &d);
     }
     if (e == HP_OK && mode == 0) {
-        nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n) < 0;
+        nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n, 1) < 0;
         if (!nomem) {
             e = plan_all(p, &in, &b, cpath);
             if (e == HP_ERR_NOMEM) nomem = 1;
@@ -369,33 +369,18 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     if (nomem) PyErr_NoMemory();
     else if (e != HP_OK) hpy_fail("%s", d.text);
     else out = hpy_block_dict(&b);
-    PyObject *lines = out ? (PyObject *)hpy_new(1, (npy_intp)in.n, 0, NPY_INT64) : NULL;
-    PyObject *ts = out ? (PyObject *)hpy_new(1, (npy_intp)in.n, 0, NPY_DOUBLE) : NULL;
+    /* Beside the table's arrays: the messages of the rows not planned or refused. */
     PyObject *msgs = out ? PyList_New(0) : NULL;
-    if (lines && ts && msgs) {
-        npy_int64 *l = PyArray_DATA((PyArrayObject *)lines);
-        double *tv = PyArray_DATA((PyArrayObject *)ts);
-        for (size_t i = 0; i < in.n; ++i) {
-            l[i] = in.row[i].line;
-            tv[i] = in.row[i].t;
-            const char *said = in.msg[i] ? in.msg[i] : in.why ? in.why[i] : NULL;
-            if (said) {
-                PyObject *m = PyUnicode_FromString(said);
-                if (!m || PyList_Append(msgs, m) < 0) Py_CLEAR(out);
-                Py_XDECREF(m);
-            }
+    for (size_t i = 0; msgs && i < in.n; ++i) {
+        const char *said = in.msg[i] ? in.msg[i] : in.why ? in.why[i] : NULL;
+        if (said) {
+            PyObject *m = PyUnicode_FromString(said);
+            if (!m || PyList_Append(msgs, m) < 0) Py_CLEAR(out);
+            Py_XDECREF(m);
         }
     }
-    if (out) {
-        int bad = hpy_put(out, "line", lines);
-        bad |= hpy_put(out, "t_s", ts);
-        bad |= hpy_put(out, "messages", msgs);
-        if (bad) Py_CLEAR(out);
-    } else {
-        Py_XDECREF(lines);
-        Py_XDECREF(ts);
-        Py_XDECREF(msgs);
-    }
+    if (out && hpy_put(out, "messages", msgs)) Py_CLEAR(out);
+    if (!out) Py_XDECREF(msgs);
     hpy_block_free(&b);
     trace_free(&in);
     return out;

@@ -12,6 +12,7 @@
 #include "headplan/hp_planner.h"
 #include "headplan/hp_horizon.h"
 #include "headplan/hp_trace_plan.h"
+#include "headplan/hp_trace_columns.h"
 #include "headplan/hp_calib.h"
 
 #endif
