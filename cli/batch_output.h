@@ -27,7 +27,7 @@ typedef struct batch_sink {
     const char *path;  /* final path; NULL for stdout */
     hp_trace_format fmt;
     const hp_layout *L;
-    int times;         /* the solve_time_us column */
+    int times;         /* the measured columns (solve_time_us) */
     int ncols;
 } batch_sink;
 

@@ -250,11 +250,10 @@ static PyMethodDef planner_methods[] = {
     {"plan", (PyCFunction)(void (*)(void))planner_plan, METH_VARARGS | METH_KEYWORDS,
      "plan(correction) -> dict\n\n"
      "Plans one correction [x_mm, y_mm, z_mm, pitch_deg, roll_deg, yaw_deg] from the nominal\n"
-     "pose, like `headplan solve` (no rate limits). Returns a dict: status (str), status_code,\n"
-     "pressure_pa, ri_mm, ro_mm, stretch, binding (n arrays; binding holds flags, see\n"
-     "binding_names), desired, achieved, error (achieved - desired; 6 arrays, mm and\n"
-     "degrees), pose_error (max over commanded axes, mm or degrees), iterations,\n"
-     "solve_time_us, message (the planner's text for a non-reached status). A status other\n"
+     "pose, like `headplan solve` (no rate limits). Returns a dict: the result columns of\n"
+     "headplan.columns() that have a key (status, the poses in mm and degrees, the\n"
+     "bladders' pressures in Pa, radii, stretches and binding flags, see binding_names, ...)\n"
+     "and message (the planner's text for a non-reached status). A status other\n"
      "than 'reached'/'closest' carries the safe output (the nominal pressures). NaN in the\n"
      "correction gives status 'invalid-input'."},
     {"plan_many", planner_plan_many, METH_O,
@@ -262,9 +261,8 @@ static PyMethodDef planner_methods[] = {
      "Plans every row of an N×6 array of corrections (mm and degrees), each independently\n"
      "from the nominal pose (as plan does, bit for bit). The loop runs in C with the GIL\n"
      "released, so threads with their own planners run at once. Returns the keys of plan\n"
-     "with a leading axis N: status (str array), status_code (int32), pressure_pa, ri_mm,\n"
-     "ro_mm, stretch (N×n), binding (N×n uint32), desired, achieved, error (N×6), pose_error,\n"
-     "solve_time_us (N), iterations (N int32). Any numeric dtype and any strides are\n"
+     "with a leading axis N (dtypes and shapes from headplan.columns(): N, N×6 or N×n).\n"
+     "Any numeric dtype and any strides are\n"
      "accepted (converted to float64); other dtypes raise TypeError, other shapes\n"
      "headplan.Error. Rows with NaN get status 'invalid-input'."},
     {"run_trace", (PyCFunction)(void (*)(void))hpy_planner_run_trace,
@@ -279,7 +277,7 @@ static PyMethodDef planner_methods[] = {
      "scene's own trace. rows is 'deviation' (the head's measured offset; the correction is\n"
      "its exact inverse rigid motion) or 'correction'; None keeps what the file or scene\n"
      "states; an array must say (the kind is never guessed). Returns the keys of plan_many\n"
-     "plus line (the input line, 0 for arrays) and t_s. A bad file row gets status\n"
+     "plus line (the input line, the row index for arrays) and t_s. A bad file row gets status\n"
      "'bad-row' and NaN values, and its message is in 'messages' (a list), as batch reports\n"
      "it; so is the planner's reason for a row it refused (invalid-input).\n\n"
      "mode plans over a horizon instead, as `headplan horizon` does (every row must be\n"

@@ -1,8 +1,8 @@
 # The one table of a planned row's columns (hp_trace_columns.h) and its consumers agree:
 # `headplan batch --columns` lists it; batch's CSV header and JSON Lines keys are its rows
-# columns expanded for the scene's bladders, in order; Python's run_trace keys, dtypes and
-# shapes are its NumPy columns (python/tests/test_columns.py); the plot reader's columns are among its numeric ones; the
-# jobs comparisons blank exactly its measured columns. Python's arrays: test_columns.py.
+# columns expanded for the scene's bladders, in order; the plot reader's columns are among
+# its numeric ones; the jobs comparisons blank exactly its measured columns; docs/batch.md
+# documents every column. Python's arrays against it: python/tests/test_columns.py.
 source "$2/tests/cli_lib.sh"
 S="$HP_SRC/scenarios"
 TRACE="$TMP/trace.csv"
@@ -77,6 +77,16 @@ for drop in names:
         needed.append(drop)
 assert "line" in needed and "achieved_yaw_deg" in needed, needed
 assert set(needed) - {"status"} <= numeric, set(needed) - numeric
+
+# docs/batch.md's "Columns" table lists the table: name, unit, in the files, Python key.
+doc = open(os.path.join(src, "docs", "batch.md")).read()
+body = doc[doc.index("**Columns**"):]
+body = body[body.index("\n|"):].strip().split("\n\n")[0].splitlines()[2:]
+cells = [[c.strip().replace("\\|", "|") for c in l.strip("|").split(" | ")] for l in body]
+documented = [(c[0].strip("`"), c[1], c[2], c[3].strip("`")) for c in cells]
+listed = [(c["name"], c["unit"], c["rows"], c["numpy"]) for c in table]
+assert documented == listed, "\n".join(map(str, [x for x in documented if x not in listed] +
+                                                ["--"] + [x for x in listed if x not in documented]))
 
 # The jobs comparisons blank the table's measured columns, read from the program.
 measured = [c["name"] for c in table if c["measured"] == "yes"]
