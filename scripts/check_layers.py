@@ -16,7 +16,8 @@ LAYERS = ["common", "iab", "kinematics", "planner", "scene", "calib", "horizon",
 PUBLIC = {  # include/headplan/<header> -> the module that implements it
     "hp_common.h": "common", "hp_version.h": "common", "hp_iab.h": "iab",
     "hp_kinematics.h": "kinematics", "hp_load.h": "kinematics", "hp_planner.h": "planner",
-    "hp_horizon.h": "horizon", "hp_trace_plan.h": "horizon", "hp_load_planner.h": "planner", "hp_scene.h": "scene", "hp_trace.h": "scene",
+    "hp_horizon.h": "horizon", "hp_trace_plan.h": "horizon", "hp_trace_columns.h": "horizon",
+    "hp_load_planner.h": "planner", "hp_scene.h": "scene", "hp_trace.h": "scene",
     "hp_calib.h": "calib", "headplan.h": "horizon",  # the umbrella: the top of the library
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
