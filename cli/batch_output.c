@@ -11,11 +11,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#define MAX_COLS (40 + 4 * HP_MAX_BLADDERS)
-#define COL_NAME_MAX (HP_NAME_MAX + 24)
+/* Every column of the table at its widest: a column added to the table always fits. */
+#define MAX_COLS (HP_COLUMNS_MAX * HP_COLUMN_WIDTH_MAX)
 
-/* The output cells in order: cell c is value k of table column col[c]. */
-static char col_names[MAX_COLS][COL_NAME_MAX];
+/* The output cells in order: cell n is value val_of[n] of table column col_of[n]. */
+static char col_names[MAX_COLS][HP_COLUMN_NAME_MAX];
 static int col_of[MAX_COLS], val_of[MAX_COLS];
 
 static int ext_format(const char *path, hp_trace_format *fmt)
@@ -142,19 +142,19 @@ static void name_columns(batch_sink *k)
                    t[end].format != HP_COLUMN_FLAGS)
                 ++end;
             for (int b = 0; b < k->L->n; ++b)
-                for (size_t g = j; g < end && n < MAX_COLS; ++g, ++n) {
+                for (size_t g = j; g < end; ++g, ++n) {
                     col_of[n] = (int)g;
                     val_of[n] = b;
-                    hp_column_name(&t[g], b, k->L, col_names[n], COL_NAME_MAX);
+                    hp_column_name(&t[g], b, k->L, col_names[n], HP_COLUMN_NAME_MAX);
                 }
             j = end - 1;
             continue;
         }
         int w = c->shape == HP_COLUMN_AXES ? 6 : 1;
-        for (int v = 0; v < w && n < MAX_COLS; ++v, ++n) {
+        for (int v = 0; v < w; ++v, ++n) {
             col_of[n] = (int)j;
             val_of[n] = v;
-            hp_column_name(c, v, k->L, col_names[n], COL_NAME_MAX);
+            hp_column_name(c, v, k->L, col_names[n], HP_COLUMN_NAME_MAX);
         }
     }
     k->ncols = n;

@@ -143,7 +143,7 @@ static int header(const char *path, char **f, int nf, int *col, result *res)
     /* line, t_s, status, the achieved pose (6), pose_error_mm */
     static const char *const need[] = {"line", "t_s", "status", "achieved_{axis}_{unit}",
                                        "pose_error_mm"};
-    char name[HP_NAME_MAX + 32];
+    char name[HP_COLUMN_NAME_MAX];
     for (int k = 0, j = 0; j < 5; ++j) {
         int w = hp_column_width(hp_column_find(need[j]), 0);
         for (int v = 0; v < w; ++v, ++k) {

@@ -23,10 +23,12 @@
 extern "C" {
 #endif
 
-/* Bounds a consumer may size its arrays by: the table's length, and the values of one
- * column in one row (6 axes or up to HP_MAX_BLADDERS bladders). */
+/* Bounds a consumer may size its arrays by: the table's length, the values of one column
+ * in one row (6 axes or up to HP_MAX_BLADDERS bladders), and a column's name with its
+ * terminating NUL (for any bladder name of up to HP_NAME_MAX - 1 characters). */
 #define HP_COLUMNS_MAX 64
 #define HP_COLUMN_WIDTH_MAX (HP_MAX_BLADDERS > 6 ? HP_MAX_BLADDERS : 6)
+#define HP_COLUMN_NAME_MAX (HP_NAME_MAX + 32)
 
 typedef enum hp_column_format {
     HP_COLUMN_NUMBER,  /* a double: the shortest text that reads back to it; NaN: empty/null */

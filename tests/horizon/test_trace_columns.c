@@ -30,7 +30,7 @@ static void test_names(void **state)
     size_t nt;
     const hp_column *t = hp_columns(&nt);
     assert_true(nt > 0 && nt <= HP_COLUMNS_MAX);
-    char buf[HP_NAME_MAX + 32];
+    char buf[HP_COLUMN_NAME_MAX];
     /* Spelled out here: the patterns are the documented file format. */
     assert_int_equal(hp_column_name(hp_column_find("desired_{axis}_{unit}"), 3, L, buf,
                                     sizeof buf), HP_OK);
@@ -40,11 +40,11 @@ static void test_names(void **state)
     assert_string_equal(buf, "commanded_z");
     assert_int_equal(hp_column_name(hp_column_find("{bladder}_pressure_pa"), 1, L, buf,
                                     sizeof buf), HP_OK);
-    char want[HP_NAME_MAX + 32];
+    char want[HP_COLUMN_NAME_MAX];
     snprintf(want, sizeof want, "%s_pressure_pa", L->bladders[1].name);
     assert_string_equal(buf, want);
     /* Every expanded name is unique (a flags column is one cell: its name alone). */
-    static char names[HP_COLUMNS_MAX * HP_COLUMN_WIDTH_MAX][HP_NAME_MAX + 32];
+    static char names[HP_COLUMNS_MAX * HP_COLUMN_WIDTH_MAX][HP_COLUMN_NAME_MAX];
     int n = 0;
     for (size_t j = 0; j < nt; ++j) {
         int w = t[j].format == HP_COLUMN_FLAGS ? 1 : hp_column_width(&t[j], L->n);
@@ -67,6 +67,14 @@ static void test_names(void **state)
     assert_int_equal(hp_column_name(p, 0, L, buf, 5), HP_ERR_INVALID);
     assert_int_equal(strlen(buf), 4);
     assert_null(hp_column_find("no_such_column"));
+    /* Every name fits HP_COLUMN_NAME_MAX for the longest bladder name a layout may hold. */
+    hp_layout *big = &c->sc.layout;
+    memset(big->bladders[0].name, 'b', HP_NAME_MAX - 1);
+    big->bladders[0].name[HP_NAME_MAX - 1] = '\0';
+    for (size_t j = 0; j < nt; ++j)
+        for (int k = 0; k < (t[j].shape == HP_COLUMN_ONE ? 1 : 6); ++k)
+            assert_int_equal(hp_column_name(&t[j], t[j].shape == HP_COLUMN_BLADDERS ? 0 : k,
+                                            big, buf, sizeof buf), HP_OK);
     free(c);
 }
 
