@@ -6,42 +6,32 @@
 
 #include "headplan/headplan.h"
 #include "headplan/hp_planner.h"
+#include "headplan/hp_trace_plan.h"
 
 #include <stddef.h>
 
-/* One input row of the trace (bad rows keep their message). */
+/* A block of input rows of the trace, as columns (the rows are what hp_trace_plan_run
+ * plans; bad rows keep their message). */
 typedef struct batch_in {
-    long line;
-    double t;
-    double correction[6]; /* SI: the desired correction */
-    int bad;              /* 1: the row could not be read; msg says why */
-    char *msg;
+    hp_trace_row *row;  /* line, t, the desired correction (SI); a bad row's line only */
+    unsigned char *bad; /* 1: the row could not be read; msg says why */
+    char **msg;
 } batch_in;
 
-/* One output row: everything the output files show, except the per-row time, is a
- * deterministic function of (previous good output row, input row). */
+/* One output row: everything the output files show (hp_trace_columns.h), except the
+ * measured time, is a deterministic function of (previous good output row, input row). */
 typedef struct batch_out {
-    int bad;
-    hp_status status;
-    int raw_code;
-    double achieved[6];   /* SI */
-    int commanded[6];
-    double uncommanded[6]; /* SI: the part of the correction the layout cannot command */
-    double pressure[HP_MAX_BLADDERS];
-    double ri[HP_MAX_BLADDERS], ro[HP_MAX_BLADDERS], stretch[HP_MAX_BLADDERS];
-    unsigned binding[HP_MAX_BLADDERS];
-    int iterations;
-    double solve_time; /* [s]: a measurement, excluded from comparisons */
+    int bad;     /* the row could not be read: r is unset */
+    hp_result r; /* the planned result */
 } batch_out;
 
-/* Plans rows [from, to) in order with one planner. The state before each row is set from
- * the previous good output row alone (hp_planner_set_previous_result); *state is the row
- * the first plan starts from (NULL: the start of the trace, the nominal answer) and is
- * updated to the last good row planned (a pointer into out). Bad rows pass the state
- * through. progress (may be NULL) is incremented after every row. Returns HP_OK or the
- * planner's call error. */
-hp_error batch_plan_range(hp_planner *p, const batch_in *in, batch_out *out, size_t from,
-                          size_t to, const batch_out **state, volatile size_t *progress);
+/* Plans rows [from, to) in order through the trace plan (hp_trace_plan_run: the state
+ * before each row is the previous good output row alone); *state is the row the first plan
+ * starts from (NULL: the start of the trace, the nominal answer) and is updated to the last
+ * good row planned (a pointer into out). Bad rows pass the state through. Returns HP_OK or
+ * the planner's call error. */
+hp_error batch_plan_range(hp_trace_plan *tp, const batch_in *in, batch_out *out, size_t from,
+                          size_t to, const batch_out **state);
 
 /* 1 when two output rows are equal in every field that the files show (time excluded). */
 int batch_same(const batch_out *a, const batch_out *b, int n);
@@ -53,6 +43,7 @@ typedef struct batch_engine {
     const hp_settings *s;
     int jobs;
     hp_planner *p;                 /* in-process: every row when jobs == 1, repairs else */
+    hp_trace_plan *tp;             /* over p */
     batch_out last;                /* the last good row so far (when has_last) */
     int has_last;                  /* 0: no good row yet: the nominal answer is the state */
     batch_out block_start;         /* the state the last block started from ... */

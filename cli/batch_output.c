@@ -11,13 +11,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static const char *const AXES[6] = {"x", "y", "z", "pitch", "roll", "yaw"};
-static const char *const AXIS_UNITS[6] = {"mm", "mm", "mm", "deg", "deg", "deg"};
+/* Every column of the table at its widest: a column added to the table always fits. */
+#define MAX_COLS (HP_COLUMNS_MAX * HP_COLUMN_WIDTH_MAX)
 
-#define MAX_COLS (40 + 4 * HP_MAX_BLADDERS)
-#define COL_NAME_MAX (HP_NAME_MAX + 24)
-
-static char col_names[MAX_COLS][COL_NAME_MAX];
+/* The output cells in order: cell n is value val_of[n] of table column col_of[n]. */
+static char col_names[MAX_COLS][HP_COLUMN_NAME_MAX];
+static int col_of[MAX_COLS], val_of[MAX_COLS];
 
 static int ext_format(const char *path, hp_trace_format *fmt)
 {
@@ -80,7 +79,7 @@ int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const h
     return 0;
 }
 
-/* ---- cells: one function lists a row's columns; CSV and JSON Lines print the same ---- */
+/* ---- cells: a row's columns from the one table; CSV and JSON Lines print the same ---- */
 
 typedef enum { CELL_NUM, CELL_INT, CELL_TEXT, CELL_NONE } cell_kind;
 typedef struct cell {
@@ -101,21 +100,22 @@ static int add_text(char *buf, size_t size, size_t *used, const char *s)
     return c == len;
 }
 
-/* "name:limit|limit;..." of the bladders on a limit (without printf: its format machinery
- * cost more than the rest of writing a row). */
-static void binding_text(const hp_layout *L, const batch_out *o, char *buf, size_t size)
+/* "name:limit|limit;..." of the bladders on a limit, from a flags column's values
+ * (without printf: its format machinery cost more than the rest of writing a row). */
+static void binding_text(const hp_layout *L, const double *flags, char *buf, size_t size)
 {
     size_t used = 0;
     buf[0] = '\0';
     for (int k = 0; k < L->n; ++k) {
-        if (!o->binding[k]) continue;
+        unsigned f = (unsigned)flags[k];
+        if (!f) continue;
         if ((used && !add_text(buf, size, &used, ";")) ||
             !add_text(buf, size, &used, L->bladders[k].name) ||
             !add_text(buf, size, &used, ":"))
             return;
         int first = 1;
         for (int b = 0; b < HP_BIND_COUNT; ++b) {
-            if (!(o->binding[k] & (1u << b))) continue;
+            if (!(f & (1u << b))) continue;
             if ((!first && !add_text(buf, size, &used, "|")) ||
                 !add_text(buf, size, &used, hp_binding_name(1u << b)))
                 return;
@@ -124,78 +124,83 @@ static void binding_text(const hp_layout *L, const batch_out *o, char *buf, size
     }
 }
 
-/* The one list of output columns: the cells of one row in column order, and (names != 0)
- * the column names into col_names. Add a column here and both formats and the header
- * follow. A bad row fills only line, status and error. */
-static int row_cells(const batch_sink *k, const batch_in *in, const batch_out *o, cell *c,
-                     char *bind, size_t bind_size, int names)
-{
-    int n = 0;
-#define NAME(...) (names ? (void)snprintf(col_names[n], COL_NAME_MAX, __VA_ARGS__) : (void)0)
-#define NUM(v, ...) (NAME(__VA_ARGS__), c[n].kind = CELL_NUM, c[n++].num = (v))
-#define INT(v, ...) (NAME(__VA_ARGS__), c[n].kind = CELL_INT, c[n++].i = (v))
-#define TEXT(v, ...) (NAME(__VA_ARGS__), c[n].kind = CELL_TEXT, c[n++].text = (v))
-#define NONE(...) (NAME(__VA_ARGS__), c[n++].kind = CELL_NONE)
-    INT(in->line, "line");
-    if (o->bad) {
-        NONE("t_s");
-        TEXT("bad-row", "status");
-        while (n < k->ncols - 1) NONE("-");
-        TEXT(in->msg ? in->msg : "bad row", "error");
-        return n;
-    }
-    NUM(in->t, "t_s");
-    TEXT(hp_status_name(o->status), "status");
-    double want[6], got[6], err_mm = 0.0, err_deg = 0.0;
-    hp_pose_to_clinical(in->correction, want);
-    hp_pose_to_clinical(o->achieved, got);
-    for (int i = 0; i < 6; ++i) NUM(want[i], "desired_%s_%s", AXES[i], AXIS_UNITS[i]);
-    for (int i = 0; i < 6; ++i) NUM(got[i], "achieved_%s_%s", AXES[i], AXIS_UNITS[i]);
-    for (int i = 0; i < 6; ++i) {
-        double e = got[i] - want[i];
-        NUM(e, "error_%s_%s", AXES[i], AXIS_UNITS[i]);
-        if (!o->commanded[i]) continue;
-        double *worst = i < 3 ? &err_mm : &err_deg;
-        if (!(fabs(e) <= *worst)) *worst = fabs(e); /* NaN propagates */
-    }
-    for (int i = 0; i < 6; ++i) INT(o->commanded[i] ? 1 : 0, "commanded_%s", AXES[i]);
-    /* The part of the desired correction the layout cannot observe (status uncommanded when
-     * beyond the tolerance): never silently dropped. */
-    double unc[6];
-    hp_pose_to_clinical(o->uncommanded, unc);
-    for (int i = 0; i < 6; ++i) NUM(unc[i], "uncommanded_%s_%s", AXES[i], AXIS_UNITS[i]);
-    NUM(err_mm, "pose_error_mm");
-    NUM(err_deg, "pose_error_deg");
-    for (int b = 0; b < k->L->n; ++b) {
-        const char *nm = k->L->bladders[b].name;
-        NUM(o->pressure[b], "%s_pressure_pa", nm);
-        NUM(o->ri[b] * 1e3, "%s_ri_mm", nm);
-        NUM(o->ro[b] * 1e3, "%s_ro_mm", nm);
-        NUM(o->stretch[b], "%s_stretch", nm);
-    }
-    binding_text(k->L, o, bind, bind_size);
-    TEXT(bind, "binding");
-    INT(o->iterations, "iterations");
-    if (k->times) NUM(round(o->solve_time * 1e9) / 1e3, "solve_time_us"); /* whole ns */
-    NONE("error");
-#undef NAME
-#undef NUM
-#undef INT
-#undef TEXT
-#undef NONE
-    return n;
-}
-
-/* Names the columns from row_cells on a placeholder good row. */
+/* The rows' cells from the one column table (hp_trace_columns.h): its columns in the rows
+ * (without the measured ones under --no-times), an axes column as six cells, a run of
+ * per-bladder number columns bladder by bladder (NAME_pressure_pa, NAME_ri_mm, ... of one
+ * bladder together), a flags column as one text cell. */
 static void name_columns(batch_sink *k)
 {
-    cell cells[MAX_COLS];
-    char bind[8];
-    batch_in in;
-    batch_out out;
-    memset(&in, 0, sizeof in);
-    memset(&out, 0, sizeof out);
-    k->ncols = row_cells(k, &in, &out, cells, bind, sizeof bind, 1);
+    size_t nt;
+    const hp_column *t = hp_columns(&nt);
+    int n = 0;
+    for (size_t j = 0; j < nt; ++j) {
+        const hp_column *c = &t[j];
+        if (!c->in_rows || (c->measured && !k->times)) continue;
+        if (c->shape == HP_COLUMN_BLADDERS && c->format != HP_COLUMN_FLAGS) {
+            size_t end = j;
+            while (end < nt && t[end].in_rows && t[end].shape == HP_COLUMN_BLADDERS &&
+                   t[end].format != HP_COLUMN_FLAGS)
+                ++end;
+            for (int b = 0; b < k->L->n; ++b)
+                for (size_t g = j; g < end; ++g, ++n) {
+                    col_of[n] = (int)g;
+                    val_of[n] = b;
+                    hp_column_name(&t[g], b, k->L, col_names[n], HP_COLUMN_NAME_MAX);
+                }
+            j = end - 1;
+            continue;
+        }
+        int w = c->shape == HP_COLUMN_AXES ? 6 : 1;
+        for (int v = 0; v < w; ++v, ++n) {
+            col_of[n] = (int)j;
+            val_of[n] = v;
+            hp_column_name(c, v, k->L, col_names[n], HP_COLUMN_NAME_MAX);
+        }
+    }
+    k->ncols = n;
+}
+
+/* The cells of one row. A bad row fills only its integer trace-row columns (line), its
+ * status (bad-row) and its message. */
+static void row_cells(const batch_sink *k, const hp_trace_row *in, const char *msg,
+                      const batch_out *o, cell *cells, char *bind, size_t bind_size)
+{
+    size_t nt;
+    const hp_column *t = hp_columns(&nt);
+    double vals[HP_COLUMNS_MAX][HP_COLUMN_WIDTH_MAX];
+    int done[HP_COLUMNS_MAX] = {0};
+    for (int n = 0; n < k->ncols; ++n) {
+        const int j = col_of[n];
+        const hp_column *c = &t[j];
+        cell *x = &cells[n];
+        if (!done[j]) {
+            hp_column_values(c, k->L->n, in, o->bad ? NULL : &o->r, vals[j]);
+            done[j] = 1;
+        }
+        const double v = vals[j][val_of[n]];
+        x->kind = CELL_NONE;
+        if (c->source == HP_COLUMN_FROM_MESSAGE) {
+            if (o->bad) {
+                x->kind = CELL_TEXT;
+                x->text = msg ? msg : "bad row";
+            }
+        } else if (c->format == HP_COLUMN_TEXT) {
+            x->kind = CELL_TEXT;
+            x->text = hp_column_text(c, v);
+        } else if (o->bad && !(c->source == HP_COLUMN_FROM_ROW && c->format == HP_COLUMN_INTEGER)) {
+            /* nothing planned */
+        } else if (c->format == HP_COLUMN_FLAGS) {
+            binding_text(k->L, vals[j], bind, bind_size);
+            x->kind = CELL_TEXT;
+            x->text = bind;
+        } else if (c->format == HP_COLUMN_INTEGER) {
+            x->kind = CELL_INT;
+            x->i = (long)v;
+        } else {
+            x->kind = CELL_NUM;
+            x->num = v;
+        }
+    }
 }
 
 /* Text with control characters and broken UTF-8 escaped (\xNN), then quoted as the format
@@ -333,6 +338,18 @@ static void put_cell(row_buf *r, const cell *c, hp_trace_format fmt)
     }
 }
 
+void batch_columns_print(FILE *f)
+{
+    size_t nt;
+    const hp_column *t = hp_columns(&nt);
+    fputs("name\tunit\tformat\tshape\trows\tnumpy\tmeasured\n", f);
+    for (size_t j = 0; j < nt; ++j)
+        fprintf(f, "%s\t%s\t%s\t%s\t%s\t%s\t%s\n", t[j].name, t[j].unit,
+                hp_column_format_name(t[j].format), hp_column_shape_name(t[j].shape),
+                t[j].in_rows ? "yes" : "no", t[j].numpy ? t[j].numpy : "-",
+                t[j].measured ? "yes" : "no");
+}
+
 void batch_sink_meta(batch_sink *k, const batch_meta *m)
 {
     char ver[64], tol[CLI_FMT_MAX], tmax[CLI_FMT_MAX], w[CLI_FMT_MAX], iters[24];
@@ -401,7 +418,8 @@ int batch_sink_rows(batch_sink *k, const batch_in *in, const batch_out *out, siz
     rb.n = 0;
     const int json = k->fmt == HP_TRACE_JSONL;
     for (size_t r = 0; r < rows; ++r) {
-        int n = row_cells(k, &in[r], &out[r], cells, bind, sizeof bind, 0);
+        row_cells(k, &in->row[r], in->msg[r], &out[r], cells, bind, sizeof bind);
+        const int n = k->ncols;
         if (json) rb_putc(&rb, '{');
         for (int c = 0; c < n; ++c) {
             if (c) rb_putc(&rb, ',');

@@ -27,7 +27,7 @@ typedef struct batch_sink {
     const char *path;  /* final path; NULL for stdout */
     hp_trace_format fmt;
     const hp_layout *L;
-    int times;         /* the solve_time_us column */
+    int times;         /* the measured columns (solve_time_us) */
     int ncols;
 } batch_sink;
 
@@ -44,6 +44,11 @@ int batch_output_format(const char *format, const char *out, hp_trace_format *fm
  * ignored. Returns 0 or an exit status after one line. */
 int batch_sink_open(batch_sink *k, const char *out, hp_trace_format fmt, const hp_layout *L,
                     int times, const cli_input *inputs, int ninputs);
+
+/* Lists the column table (hp_trace_columns.h) for scripts: a header line, then one
+ * tab-separated line per column: name pattern, unit, format, shape, yes/no in the rows,
+ * NumPy key (- for none), yes/no measured. */
+void batch_columns_print(FILE *f);
 
 /* Writes the metadata record and the column header. */
 void batch_sink_meta(batch_sink *k, const batch_meta *m);

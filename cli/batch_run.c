@@ -17,87 +17,83 @@
 /* The state before a row: the previous good row's output (its answer, or the safe output
  * it carried), or, with row NULL, the start of the trace (the nominal answer). A function of
  * that row alone, so equal rows mean equal states. */
-static hp_error set_state(hp_planner *p, const batch_out *row, int n)
+static hp_error set_state(hp_trace_plan *tp, const batch_out *row)
 {
-    if (!row) {
-        hp_planner_reset(p);
-        return HP_OK;
-    }
-    hp_result r;
-    r.n = n;
-    memcpy(r.achieved, row->achieved, sizeof r.achieved);
-    for (int k = 0; k < n; ++k) {
-        r.bladders[k].ri = row->ri[k];
-        r.bladders[k].ro = row->ro[k];
-        r.bladders[k].pressure = row->pressure[k];
-    }
-    return hp_planner_set_previous_result(p, &r);
+    return hp_trace_plan_set_state(tp, row ? &row->r : NULL);
 }
 
-hp_error batch_plan_range(hp_planner *p, const batch_in *in, batch_out *out, size_t from,
-                          size_t to, const batch_out **state, volatile size_t *progress)
+/* The sink of batch_plan_range: row `from + i` of out from its result. */
+typedef struct range_ctx {
+    batch_out *out;
+    const batch_out *last;
+} range_ctx;
+
+static hp_error put_row(void *ctx, size_t i, const hp_result *r)
 {
-    const int n = hp_planner_layout(p)->n;
-    for (size_t i = from; i < to; ++i) {
-        batch_out *o = &out[i];
-        if (in[i].bad) {
-            memset(o, 0, sizeof *o);
-            o->bad = 1;
-        } else {
-            /* The state of every plan is set from the previous good row alone, so any shard
-             * that starts from an equal row continues identically. */
-            hp_error e = set_state(p, *state, n);
-            if (e != HP_OK) return e;
-            hp_result r;
-            e = hp_plan(p, in[i].correction, &r);
-            if (e != HP_OK && r.status != HP_STATUS_INVALID_INPUT) return e;
-            memset(o, 0, sizeof *o);
-            o->status = r.status;
-            o->raw_code = r.raw_code;
-            memcpy(o->achieved, r.achieved, sizeof o->achieved);
-            memcpy(o->commanded, r.commanded, sizeof o->commanded);
-            memcpy(o->uncommanded, r.uncommanded, sizeof o->uncommanded);
-            for (int k = 0; k < n; ++k) {
-                o->pressure[k] = r.bladders[k].pressure;
-                o->ri[k] = r.bladders[k].ri;
-                o->ro[k] = r.bladders[k].ro;
-                o->stretch[k] = r.bladders[k].stretch;
-                o->binding[k] = r.bladders[k].binding;
-            }
-            o->iterations = r.iterations;
-            o->solve_time = r.solve_time;
-            *state = o;
-        }
-        if (progress) *progress += 1;
-    }
+    range_ctx *c = ctx;
+    batch_out *o = &c->out[i];
+    o->bad = 0;
+    o->r = *r;
+    c->last = o;
     return HP_OK;
+}
+
+hp_error batch_plan_range(hp_trace_plan *tp, const batch_in *in, batch_out *out, size_t from,
+                          size_t to, const batch_out **state)
+{
+    /* The state of every plan is the previous good row alone, so any shard that starts
+     * from an equal row continues identically. */
+    hp_error e = set_state(tp, *state);
+    if (e != HP_OK) return e;
+    for (size_t i = from; i < to; ++i)
+        if (in->bad[i]) {
+            memset(&out[i], 0, sizeof out[i]);
+            out[i].bad = 1;
+        }
+    range_ctx c = {out + from, *state};
+    e = hp_trace_plan_run(tp, in->row + from, in->bad + from, to - from, put_row, &c, NULL, NULL);
+    *state = c.last;
+    return e;
 }
 
 int batch_same(const batch_out *a, const batch_out *b, int n)
 {
     if (a->bad != b->bad) return 0;
     if (a->bad) return 1;
-    if (a->status != b->status || a->raw_code != b->raw_code ||
-        a->iterations != b->iterations)
+    /* Every column the files show, bit for bit (NaN equal to NaN), the measured ones left
+     * out; and, unscaled, what the next row's state is made of (hp_trace_plan_set_state:
+     * the pose and the bladders' radii and pressures), and the raw code. */
+    if (a->r.raw_code != b->r.raw_code ||
+        memcmp(a->r.achieved, b->r.achieved, sizeof a->r.achieved) != 0)
         return 0;
-    if (memcmp(a->achieved, b->achieved, sizeof a->achieved) != 0) return 0;
-    if (memcmp(a->commanded, b->commanded, sizeof a->commanded) != 0) return 0;
-    if (memcmp(a->uncommanded, b->uncommanded, sizeof a->uncommanded) != 0) return 0;
     for (int k = 0; k < n; ++k)
-        if (memcmp(&a->pressure[k], &b->pressure[k], sizeof(double)) != 0 ||
-            memcmp(&a->ri[k], &b->ri[k], sizeof(double)) != 0 ||
-            memcmp(&a->ro[k], &b->ro[k], sizeof(double)) != 0 ||
-            memcmp(&a->stretch[k], &b->stretch[k], sizeof(double)) != 0 ||
-            a->binding[k] != b->binding[k])
+        if (memcmp(&a->r.bladders[k].ri, &b->r.bladders[k].ri, sizeof(double)) != 0 ||
+            memcmp(&a->r.bladders[k].ro, &b->r.bladders[k].ro, sizeof(double)) != 0 ||
+            memcmp(&a->r.bladders[k].pressure, &b->r.bladders[k].pressure, sizeof(double)) != 0)
             return 0;
+    size_t nc;
+    const hp_column *c = hp_columns(&nc);
+    double va[HP_COLUMN_WIDTH_MAX], vb[HP_COLUMN_WIDTH_MAX];
+    for (size_t j = 0; j < nc; ++j) {
+        if (!c[j].in_rows || c[j].measured || c[j].source != HP_COLUMN_FROM_RESULT) continue;
+        int w = hp_column_values(&c[j], n, NULL, &a->r, va);
+        hp_column_values(&c[j], n, NULL, &b->r, vb);
+        if (memcmp(va, vb, (size_t)w * sizeof va[0]) != 0) return 0;
+    }
     return 1;
 }
 
-static int make_planner(const hp_layout *L, const hp_settings *s, hp_planner **p)
+/* A planner and the trace plan over it (rates: the planner's own per-plan limits). */
+static int make_planner(const hp_layout *L, const hp_settings *s, hp_planner **p,
+                        hp_trace_plan **tp)
 {
     hp_diag d = {{0}};
     if (hp_planner_create(L, s, p, &d) != HP_OK) {
         fprintf(stderr, "headplan batch: planner: %s\n", d.text);
+        return 1;
+    }
+    if (hp_trace_plan_create(*p, NULL, tp, &d) != HP_OK) {
+        fprintf(stderr, "headplan batch: %s\n", d.text);
         return 1;
     }
     return 0;
@@ -109,11 +105,13 @@ int batch_engine_init(batch_engine *e, const hp_layout *L, const hp_settings *s,
     e->L = L;
     e->s = s;
     e->jobs = jobs < 1 ? 1 : jobs;
-    return make_planner(L, s, &e->p);
+    return make_planner(L, s, &e->p, &e->tp);
 }
 
 void batch_engine_free(batch_engine *e)
 {
+    hp_trace_plan_destroy(e->tp);
+    e->tp = NULL;
     hp_planner_destroy(e->p);
     e->p = NULL;
 }
@@ -125,6 +123,14 @@ static const batch_out *state_before(const batch_out *out, size_t i, const batch
     size_t j = i;
     while (j > 0 && out[j - 1].bad) --j;
     return j > 0 ? &out[j - 1] : start;
+}
+
+/* Row i alone into fresh[0], from state st, on the engine's planner. */
+static hp_error replan(batch_engine *e, const batch_in *in, size_t i, batch_out *fresh,
+                       const batch_out *st)
+{
+    batch_in one = {in->row + i, in->bad + i, in->msg + i};
+    return batch_plan_range(e->tp, &one, fresh, 0, 1, &st);
 }
 
 /* Keeps the state after a block for the next one. */
@@ -144,7 +150,7 @@ int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t
     if ((size_t)jobs > rows) jobs = rows > 0 ? (int)rows : 1;
     if (jobs == 1) {
         const batch_out *st = start;
-        if (batch_plan_range(e->p, in, out, 0, rows, &st, NULL) != HP_OK) {
+        if (batch_plan_range(e->tp, in, out, 0, rows, &st) != HP_OK) {
             fprintf(stderr, "headplan batch: %s\n", hp_planner_error(e->p));
             return 1;
         }
@@ -178,12 +184,14 @@ int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t
             prctl(PR_SET_PDEATHSIG, SIGKILL);
             if (getppid() == 1) _exit(1);
             hp_planner *p = NULL;
+            hp_trace_plan *tp = NULL;
             /* Shard 0 starts from the true state, the others from the start of the trace
              * (a guess the parent repairs). */
             const batch_out *st = k == 0 ? start : NULL;
-            int bad = make_planner(e->L, e->s, &p);
-            bad = bad || batch_plan_range(p, in, shared, from, to, &st, NULL) != HP_OK;
+            int bad = make_planner(e->L, e->s, &p, &tp);
+            bad = bad || batch_plan_range(tp, in, shared, from, to, &st) != HP_OK;
             if (bad && p) fprintf(stderr, "headplan batch: %s\n", hp_planner_error(p));
+            hp_trace_plan_destroy(tp);
             hp_planner_destroy(p);
             _exit(bad ? 1 : 0);
         }
@@ -207,7 +215,7 @@ int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t
         for (size_t i = from; i < to; ++i) {
             batch_out fresh[1];
             const batch_out *st = state_before(shared, i, start);
-            if (batch_plan_range(e->p, in + i, fresh, 0, 1, &st, NULL) != HP_OK) {
+            if (replan(e, in, i, fresh, st) != HP_OK) {
                 fprintf(stderr, "headplan batch: %s\n", hp_planner_error(e->p));
                 rc = 1;
                 break;
@@ -234,7 +242,7 @@ const char *batch_engine_reason(batch_engine *e, const batch_in *in, const batch
 {
     batch_out fresh[1];
     const batch_out *st = state_before(out, i, e->has_block_start ? &e->block_start : NULL);
-    if (batch_plan_range(e->p, in + i, fresh, 0, 1, &st, NULL) != HP_OK ||
+    if (replan(e, in, i, fresh, st) != HP_OK ||
         !*hp_planner_error(e->p))
         return "invalid correction";
     return hp_planner_error(e->p);

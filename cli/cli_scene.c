@@ -105,13 +105,10 @@ int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
     hp_diag d = {{0}};
     if (hp_scene_settings(sc, s, &d) != HP_OK)
         return cli_fail(CLI_EXIT_DATAERR, cmd, "%s", d.text);
-    char names[96];
-    if (backend && hp_backend_parse(backend, &s->backend) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, cmd, "--backend: unknown backend '%s' (%s)", backend,
-                        hp_names_join(hp_backend_words, NULL, names, sizeof names));
-    if (level && hp_level_parse(level, &s->level) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, cmd, "--level: unknown level '%s' (%s)", level,
-                        hp_scene_level_names(1, ", ", names, sizeof names));
+    /* The library's overrides; its message starts with the option's name. */
+    if ((backend && hp_scene_settings_override(s, "backend", backend, 0, &d) != HP_OK) ||
+        (level && hp_scene_settings_override(s, "level", level, 0, &d) != HP_OK))
+        return cli_fail(CLI_EXIT_USAGE, cmd, "--%s", d.text);
     if (s->level == HP_LEVEL_LOAD && !sc->has_load)
         return cli_fail(CLI_EXIT_USAGE, cmd,
                         "--level: load needs a scene with a 'load' section (%s has none)",

@@ -69,25 +69,18 @@ static int parse(int argc, char **argv, analyze_args *a)
 
 /* Everything one run reports besides the scene itself. */
 typedef struct analysis {
-    hp_level requested;     /* the option's or the scene's level (may be auto) */
+    hp_scene_analysis x;    /* the library's analysis at the resolved level */
     int from_option;        /* 1 when --level gave it */
-    hp_level level;         /* resolved: the level the reach used */
-    double trans, rot;      /* correction size the bounds cover [m], [rad] */
     int range_from_scene;   /* 1: model.auto_*; 0: the planner's defaults (as solve uses) */
-    double bound_linear, bound_plane; /* [m] */
-    hp_level auto_level;    /* what auto picks for the scene's tolerance and that size */
-    hp_layout_analysis an;
-    hp_identifiable id;     /* what the contact model can tell apart */
     int solve_load;         /* 1: solve plans this scene at the load level, not at level */
     char load_why[256];     /* why (cli_load_level) */
 } analysis;
 
 /* Resolves the level and the auto range from the planner settings the scene gives (the same
  * settings solve uses, so the level named here is the one a solve of this scene runs), then
- * runs the bounds and the analysis. Returns -1 to continue, or the exit status. */
+ * runs the library's analysis. Returns -1 to continue, or the exit status. */
 static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
 {
-    const hp_layout *L = &sc->layout;
     hp_settings s;
     /* --level load (as solve takes it) names the load level, not a contact level: the
      * reach is then analysed at the scene's kinematic level, as for a scene that says
@@ -102,36 +95,10 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
     /* A load scene's kinematic level is its contact geometry; solve plans the load level. */
     if (s.level == HP_LEVEL_LOAD) s.level = sc->level;
     r->from_option = kin_level != NULL;
-    r->requested = s.level;
     r->range_from_scene = sc->has_auto_range;
-    r->trans = s.auto_trans;
-    r->rot = s.auto_rot;
-    hp_error e = hp_contact_error_bound(L, HP_LEVEL_LINEAR, r->trans, r->rot, &r->bound_linear);
-    if (!e) e = hp_contact_error_bound(L, HP_LEVEL_PLANE, r->trans, r->rot, &r->bound_plane);
-    if (!e) e = hp_contact_auto(L, s.level_tolerance, r->trans, r->rot, &r->auto_level);
-    if (e)
-        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: error bounds: %s", cli_name(a->scene),
-                           hp_error_message(e));
-    r->level = r->requested == HP_LEVEL_AUTO ? r->auto_level : r->requested;
-    e = hp_layout_identify(L, &r->id);
-    if (e)
-        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: identifiable range: %s", cli_name(a->scene),
-                           hp_error_message(e));
-    e = hp_layout_analyze(L, r->level, &r->an);
-    if (e)
-        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: layout analysis: %s", cli_name(a->scene),
-                           hp_error_message(e));
-    /* The reach reported is the planner's (its caps, its commanded components), so that
-     * `headplan solve` at 99 % of it reaches and at 101 % binds a limit. */
-    s.level = r->level;
-    hp_planner *p = NULL;
     hp_diag d = {{0}};
-    e = hp_planner_create(L, &s, &p, &d);
-    if (!e) e = hp_planner_reach(p, r->an.reach);
-    hp_planner_destroy(p);
-    if (e)
-        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: reach: %s", cli_name(a->scene),
-                        d.text[0] ? d.text : hp_error_message(e));
+    if (hp_scene_analyze(&sc->layout, &s, &r->x, &d) != HP_OK)
+        return cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %s", cli_name(a->scene), d.text);
     return -1;
 }
 
@@ -228,14 +195,14 @@ static json_t *identifiable_json(const hp_identifiable *id)
 static int print_json(const hp_scene *sc, const analysis *r)
 {
     const hp_layout *L = &sc->layout;
-    const hp_layout_analysis *an = &r->an;
+    const hp_layout_analysis *an = &r->x.an;
     json_t *o = json_object();
     json_object_set_new(o, "scene", json_string(sc->name));
-    json_object_set_new(o, "level", json_string(hp_level_name(r->level)));
-    json_object_set_new(o, "level_requested", json_string(hp_level_name(r->requested)));
+    json_object_set_new(o, "level", json_string(hp_level_name(r->x.level)));
+    json_object_set_new(o, "level_requested", json_string(hp_level_name(r->x.requested)));
     json_object_set_new(o, "level_source", json_string(r->from_option ? "option" : "scene"));
     json_object_set_new(o, "solve_level",
-                        json_string(r->solve_load ? "load" : hp_level_name(r->level)));
+                        json_string(r->solve_load ? "load" : hp_level_name(r->x.level)));
     json_object_set_new(o, "singular_values", cli_json_vec(an->singular_values, 6, 1.0));
     json_object_set_new(o, "rank", json_integer(an->rank));
     json_object_set_new(o, "condition", isfinite(an->condition) ? json_real(an->condition)
@@ -257,17 +224,17 @@ static int print_json(const hp_scene *sc, const analysis *r)
         json_object_set_new(reach, hp_pose_key(i), cli_json_vec(an->reach[i], 2, 1.0));
     }
     json_object_set_new(o, "reach", reach);
-    json_object_set_new(o, "identifiable", identifiable_json(&r->id));
+    json_object_set_new(o, "identifiable", identifiable_json(&r->x.id));
     json_t *b = json_object();
     json_object_set_new(b, "tolerance_mm", json_real(sc->level_tolerance * 1e3));
-    json_object_set_new(b, "translation_mm", json_real(r->trans * 1e3));
-    json_object_set_new(b, "rotation_deg", json_real(r->rot * 180.0 / HP_PI));
+    json_object_set_new(b, "translation_mm", json_real(r->x.trans * 1e3));
+    json_object_set_new(b, "rotation_deg", json_real(r->x.rot * 180.0 / HP_PI));
     json_object_set_new(b, "range_source", json_string(r->range_from_scene ? "scene"
                                                                            : "default"));
-    json_object_set_new(b, "linear_mm", json_real(r->bound_linear * 1e3));
-    json_object_set_new(b, "plane_mm", json_real(r->bound_plane * 1e3));
+    json_object_set_new(b, "linear_mm", json_real(r->x.bound_linear * 1e3));
+    json_object_set_new(b, "plane_mm", json_real(r->x.bound_plane * 1e3));
     json_object_set_new(b, "surface_mm", json_real(0.0));
-    json_object_set_new(b, "auto_level", json_string(hp_level_name(r->auto_level)));
+    json_object_set_new(b, "auto_level", json_string(hp_level_name(r->x.auto_level)));
     json_object_set_new(o, "error_bounds", b);
     json_object_set_new(o, "head", head_json(&L->head));
     json_object_set_new(o, "pivot_mm", cli_json_vec(L->pivot, 3, 1e3));
@@ -292,7 +259,7 @@ static void print_text(const hp_scene *sc, const analysis *r)
 {
     const hp_layout *L = &sc->layout;
     const hp_head *h = &L->head;
-    const hp_layout_analysis *an = &r->an;
+    const hp_layout_analysis *an = &r->x.an;
     printf("%-13s %s\n", "scene", sc->name);
     if (h->shape == HP_HEAD_SPHERE)
         printf("%-13s sphere, radius %.4f mm\n", "head", h->semi_axes[0] * 1e3);
@@ -301,8 +268,8 @@ static void print_text(const hp_scene *sc, const analysis *r)
                h->semi_axes[0] * 1e3, h->semi_axes[1] * 1e3, h->semi_axes[2] * 1e3);
     print_vec3("head centre", h->center, 1e3, "mm");
     print_vec3("pivot", L->pivot, 1e3, "mm");
-    printf("%-13s %s", "level", hp_level_name(r->level));
-    if (r->requested == HP_LEVEL_AUTO) printf(" (auto)");
+    printf("%-13s %s", "level", hp_level_name(r->x.level));
+    if (r->x.requested == HP_LEVEL_AUTO) printf(" (auto)");
     printf(", from the %s\n", r->from_option ? "--level option" : "scene");
     if (r->solve_load)
         printf("%-13s solve plans this scene at the load level (%s); the reach below is "
@@ -324,7 +291,7 @@ static void print_text(const hp_scene *sc, const analysis *r)
     printf("\n");
     if (!an->rotation_commandable) printf("%-13s %s\n", "note", SPHERE_NOTE);
 
-    const hp_identifiable *id = &r->id;
+    const hp_identifiable *id = &r->x.id;
     printf("\nidentifiable range: the corrections the contact distances tell apart\n");
     printf("%-13s %d of 6 (dimensionless, head-centred: independent of units, scale, pivot)\n",
            "rank", id->rank);
@@ -349,7 +316,7 @@ static void print_text(const hp_scene *sc, const analysis *r)
            id->trans_limit * 1e3);
 
     printf("\nreach inside every bladder's limits, as %s (level %s)\n",
-           r->solve_load ? "a kinematic plan" : "solve plans", hp_level_name(r->level));
+           r->solve_load ? "a kinematic plan" : "solve plans", hp_level_name(r->x.level));
     printf("%-13s %12s %12s\n", "axis", "negative", "positive");
     for (int i = 0; i < 6; ++i) {
         if (isnan(an->reach[i][0])) {
@@ -364,13 +331,13 @@ static void print_text(const hp_scene *sc, const analysis *r)
 
     printf("\nerror bounds against the exact surface, corrections up to %.4g mm and %.4g deg"
            " (%s)\n",
-           r->trans * 1e3, r->rot * 180.0 / HP_PI,
+           r->x.trans * 1e3, r->x.rot * 180.0 / HP_PI,
            r->range_from_scene ? "model.auto_translation_mm/auto_rotation_deg"
                                : "default range: the scene states none");
-    printf("%-13s %.6g mm\n", "linear", r->bound_linear * 1e3);
-    printf("%-13s %.6g mm\n", "plane", r->bound_plane * 1e3);
+    printf("%-13s %.6g mm\n", "linear", r->x.bound_linear * 1e3);
+    printf("%-13s %.6g mm\n", "plane", r->x.bound_plane * 1e3);
     printf("%-13s 0 (exact)\n", "surface");
-    printf("%-13s %s (tolerance %.6g mm)\n", "auto picks", hp_level_name(r->auto_level),
+    printf("%-13s %s (tolerance %.6g mm)\n", "auto picks", hp_level_name(r->x.auto_level),
            sc->level_tolerance * 1e3);
 
     printf("\n%-18s %-30s %-30s %-28s %6s %6s %8s %8s %8s %8s\n", "bladder", "centre_mm",

@@ -26,12 +26,14 @@ static void help(void)
 {
     printf("usage: headplan batch SCENE [TRACE|-] [-o OUT|-] [--format csv|jsonl]\n"
            "                      [--rows deviation|correction] [--backend NAME] [--level NAME]\n"
-           "                      [--jobs N] [--strict] [--no-progress] [--no-times]\n\n"
+           "                      [--jobs N] [--strict] [--no-progress] [--no-times]\n"
+           "       headplan batch --columns\n\n"
            "Plans every row of TRACE (default: the scene's trace; '-': standard input, read\n"
            "as a stream) with the scene's layout and writes one output row per input row, in\n"
            "order, after a metadata record: desired, achieved and error pose (mm, deg), the\n"
            "commanded directions, pose_error_mm and _deg, each bladder's pressure (Pa), radii\n"
-           "(mm) and stretch, binding limits, iterations and solve_time_us. Rate limits carry\n"
+           "(mm) and stretch, binding limits, iterations and solve_time_us (all of them:\n"
+           "--columns). Rate limits carry\n"
            "from row to row. A bad row is reported on stderr with its line and gets status\n"
            "bad-row; the others go on.\n\n"
            "The kind of rows is never guessed: the trace's first line\n"
@@ -44,7 +46,9 @@ static void help(void)
            "standard output. The format is --format, else OUT's extension (.csv, .jsonl),\n"
            "else an error (standard output has no extension: give --format). --jobs N runs\n"
            "N processes and gives the same output as one job.\n"
-           "--no-times drops solve_time_us (a measurement) so two runs' outputs are\n"
+           "--columns lists the output's columns (name, unit, format, shape, in the rows,\n"
+           "Python key, measured) as tab-separated lines, for scripts.\n"
+           "--no-times drops the measured columns (solve_time_us) so two runs' outputs are\n"
            "byte-identical. Rows stopped by the time budget (solver.max_time_s) depend on\n"
            "machine load: their output is not reproducible run to run; the summary on\n"
            "stderr counts them.\n\n"
@@ -101,37 +105,37 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
             S->bad++;
             continue;
         }
-        double us = o->solve_time * 1e6;
+        double us = o->r.solve_time * 1e6;
         double at = us > 0 ? floor((log10(us) + 2.0) * 100.0) : 0.0;
         int bin = at < 0 ? 0 : at >= TIME_BINS ? TIME_BINS - 1 : (int)at; /* clamp, then cast */
         S->time_bin[bin]++;
         S->timed++;
         int which = -1;
-        switch (o->status) {
+        switch (o->r.status) {
         case HP_STATUS_REACHED: S->reached++; which = 0; break;
         case HP_STATUS_CLOSEST: S->closest++; which = 1; break;
         case HP_STATUS_UNCOMMANDED: S->uncommanded++; which = 0; break;
         case HP_STATUS_INVALID_INPUT:
             S->invalid++;
-            fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in[i].line,
+            fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in->row[i].line,
                     batch_engine_reason(eng, in, out, i));
             break;
         default:
             S->failed++;
-            if (o->status == HP_STATUS_TIME_LIMIT) S->time_limit++;
-            fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in[i].line,
-                    hp_status_name(o->status));
+            if (o->r.status == HP_STATUS_TIME_LIMIT) S->time_limit++;
+            fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in->row[i].line,
+                    hp_status_name(o->r.status));
             break;
         }
         if (which < 0) continue;
         double want[6], got[6], unc[6];
-        hp_pose_to_clinical(o->uncommanded, unc);
+        hp_pose_to_clinical(o->r.uncommanded, unc);
         for (int k = 0; k < 6; ++k)
             if (fabs(unc[k]) > S->unc_max[k]) S->unc_max[k] = fabs(unc[k]);
-        hp_pose_to_clinical(in[i].correction, want);
-        hp_pose_to_clinical(o->achieved, got);
+        hp_pose_to_clinical(in->row[i].correction, want);
+        hp_pose_to_clinical(o->r.achieved, got);
         for (int k = 0; k < 6; ++k) {
-            if (!o->commanded[k]) continue;
+            if (!o->r.commanded[k]) continue;
             double e = fabs(got[k] - (want[k] - unc[k])); /* against the commanded part */
             double *w = k < 3 ? &S->worst_mm[which] : &S->worst_deg[which];
             if (e > *w) *w = e;
@@ -264,15 +268,15 @@ static int read_block(hp_trace_reader *r, batch_in *in, size_t cap, size_t *n, i
         }
         if (e == HP_ERR_IO) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s", d.text);
         if (e != HP_OK && e != HP_ERR_PARSE) return cli_fail(CLI_EXIT_DATAERR, CMD, "%s", d.text);
-        batch_in *b = &in[(*n)++];
-        memset(b, 0, sizeof *b);
-        b->line = row.line;
+        size_t i = (*n)++;
+        memset(&in->row[i], 0, sizeof in->row[i]);
+        in->row[i].line = row.line;
+        in->bad[i] = e != HP_OK;
+        in->msg[i] = NULL;
         if (e == HP_OK) {
-            b->t = row.t;
-            memcpy(b->correction, row.correction, sizeof b->correction);
+            in->row[i] = row;
         } else {
-            b->bad = 1;
-            b->msg = strdup(d.text);
+            in->msg[i] = strdup(d.text);
             cli_fail(0, CMD, "%s", d.text);
         }
     }
@@ -284,9 +288,11 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, const char *r_nam
                       batch_engine *eng, batch_sink *sink, summary *S)
 {
     size_t cap = (size_t)BLOCK_PER_JOB * (size_t)a->jobs;
-    batch_in *in = calloc(cap, sizeof *in);
+    batch_in block = {calloc(cap, sizeof *block.row), calloc(cap, sizeof *block.bad),
+                      calloc(cap, sizeof *block.msg)}, *in = &block;
     batch_out *out = calloc(cap, sizeof *out);
-    int rc = in && out ? 0 : cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
+    int rc = in->row && in->bad && in->msg && out ? 0
+                                                  : cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
     int end = 0, show = a->progress && isatty(2);
     while (rc == 0 && !end) {
         size_t n = 0;
@@ -297,17 +303,27 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, const char *r_nam
             tally(S, in, out, n, r_name, eng);
             if (batch_sink_rows(sink, in, out, n) != 0) rc = CLI_EXIT_IOERR;
         }
-        for (size_t i = 0; i < n; ++i) free(in[i].msg);
+        for (size_t i = 0; i < n; ++i) free(in->msg[i]);
         if (show) fprintf(stderr, "\r%zu rows", S->rows);
     }
     if (show) fputc('\n', stderr);
-    free(in);
+    free(in->row);
+    free(in->bad);
+    free(in->msg);
     free(out);
     return rc;
 }
 
 int cmd_batch(int argc, char **argv)
 {
+    for (int i = 1; i < argc && strcmp(argv[i], "--") != 0; ++i)
+        if (strcmp(argv[i], "--columns") == 0 && !cli_wants_help(argc, argv, 1)) {
+            if (argc != 2)
+                return cli_fail(CLI_EXIT_USAGE, CMD,
+                                "--columns: lists the columns and takes no other argument");
+            batch_columns_print(stdout);
+            return 0;
+        }
     batch_args a = {0};
     int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;

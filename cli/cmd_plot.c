@@ -12,6 +12,7 @@
 #include "cli/sha256.h"
 #include "headplan/hp_scene.h"
 #include "headplan/hp_trace.h"
+#include "headplan/hp_trace_columns.h"
 
 #include <errno.h>
 #include <math.h>
@@ -125,23 +126,37 @@ static int number(const char *text, double *v)
 
 enum { MAXF = 256 }; /* columns: 8 bladders give about 80 */
 
+/* The index of column c's value k (axis; NULL layout: not a bladders column) in the
+ * header f, or -1. The names come from the one column table (hp_trace_columns.h). */
+static int find_column(const char *pattern, int k, char **f, int nf, char *name, size_t size)
+{
+    const hp_column *c = hp_column_find(pattern);
+    if (!c || hp_column_name(c, k, NULL, name, size) != HP_OK) return -1;
+    for (int i = 0; i < nf; ++i)
+        if (strcmp(f[i], name) == 0) return i;
+    return -1;
+}
+
 /* Column indices from the header. Returns -1 to go on, or the exit status. */
 static int header(const char *path, char **f, int nf, int *col, result *res)
 {
-    static const char *const need[] = {
-        "line", "t_s", "status", "achieved_x_mm", "achieved_y_mm", "achieved_z_mm",
-        "achieved_pitch_deg", "achieved_roll_deg", "achieved_yaw_deg", "pose_error_mm"};
-    for (int k = 0; k < 10; ++k) {
-        col[k] = -1;
-        for (int i = 0; i < nf; ++i)
-            if (strcmp(f[i], need[k]) == 0) col[k] = i;
-        if (col[k] < 0)
-            return cli_fail(CLI_EXIT_DATAERR, CMD,
-                               "%s:1: not a headplan batch CSV: no column '%s'", path, need[k]);
+    /* line, t_s, status, the achieved pose (6), pose_error_mm */
+    static const char *const need[] = {"line", "t_s", "status", "achieved_{axis}_{unit}",
+                                       "pose_error_mm"};
+    char name[HP_COLUMN_NAME_MAX];
+    for (int k = 0, j = 0; j < 5; ++j) {
+        int w = hp_column_width(hp_column_find(need[j]), 0);
+        for (int v = 0; v < w; ++v, ++k) {
+            col[k] = find_column(need[j], v, f, nf, name, sizeof name);
+            if (col[k] < 0)
+                return cli_fail(CLI_EXIT_DATAERR, CMD,
+                                "%s:1: not a headplan batch CSV: no column '%s'", path, name);
+        }
     }
+    /* The pressures: every column named by the pressure pattern, "{bladder}" any name. */
     res->nb = 0;
-    static const char suffix[] = "_pressure_pa";
-    const size_t sl = sizeof suffix - 1;
+    const char *suffix = strstr(hp_column_find("{bladder}_pressure_pa")->name, "}") + 1;
+    const size_t sl = strlen(suffix);
     for (int i = 0; i < nf; ++i) {
         size_t len = strlen(f[i]);
         if (len > sl && strcmp(f[i] + len - sl, suffix) == 0 && res->nb < HP_MAX_BLADDERS &&
@@ -153,16 +168,12 @@ static int header(const char *path, char **f, int nf, int *col, result *res)
         }
     }
     if (res->nb == 0)
-        return cli_fail(CLI_EXIT_DATAERR, CMD, "%s:1: no pressure columns (NAME_pressure_pa)",
-                           path);
+        return cli_fail(CLI_EXIT_DATAERR, CMD, "%s:1: no pressure columns (NAME%s)", path,
+                        suffix);
     /* The per-axis errors (achieved − desired) are in the result itself. */
-    static const char *const errs[6] = {"error_x_mm", "error_y_mm", "error_z_mm",
-                                        "error_pitch_deg", "error_roll_deg", "error_yaw_deg"};
     res->have_err_cols = 1;
     for (int k = 0; k < 6; ++k) {
-        col[10 + k] = -1;
-        for (int i = 0; i < nf; ++i)
-            if (strcmp(f[i], errs[k]) == 0) col[10 + k] = i;
+        col[10 + k] = find_column("error_{axis}_{unit}", k, f, nf, name, sizeof name);
         if (col[10 + k] < 0) res->have_err_cols = 0;
     }
     return -1;

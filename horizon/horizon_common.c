@@ -1,4 +1,4 @@
-/* Horizon settings, per-row rate limits from time stamps, the greedy plan, study metrics. */
+/* Horizon settings, per-row rate limits from time stamps, study metrics. */
 #include "horizon/horizon_internal.h"
 #include "planner/nominal.h"
 #include "planner/plan_range.h"
@@ -106,8 +106,7 @@ double hp_horizon_start_interval(const hp_trace_row *rows, size_t T, double fall
     return dt > 0 && isfinite(dt) ? dt : fallback;
 }
 
-/* The interval before row t (the start interval for row 0), checked. */
-static hp_error row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
+hp_error hp_horizon_row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
                        double *dt, hp_diag *d)
 {
     if (!isfinite(rows[t].t))
@@ -131,8 +130,8 @@ hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
     double scene[HP_MAX_BLADDERS];
     hp_horizon_scene_rates(L, scene);
     for (size_t t = 0; t < T; ++t) {
-        double dt = NAN; /* row_dt writes it on HP_OK; set for -O3's flow analysis */
-        hp_error e = row_dt(hs, rows, t, &dt, d);
+        double dt = NAN; /* hp_horizon_row_dt writes it on HP_OK; set for -O3's flow analysis */
+        hp_error e = hp_horizon_row_dt(hs, rows, t, &dt, d);
         if (e != HP_OK) return e;
         hp_horizon_row_rates(scene, L->n, hs, dt, delta + t * (size_t)L->n);
     }
@@ -210,60 +209,6 @@ void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long li
     if (*noted || r->status != HP_STATUS_INVALID_INPUT) return;
     *noted = 1;
     hp_diag_set(d, HP_OK, "line %ld: %s", line, *reason ? reason : "invalid correction");
-}
-
-hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
-                           const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
-                           const double *p_start, hp_horizon_row *out, hp_diag *d)
-{
-    if (!L || !hs || (T && (!rows || !out)))
-        return hp_diag_set(d, HP_ERR_NULL, "greedy: NULL argument");
-    hp_error e = hp_horizon_settings_validate(hs, d);
-    if (e == HP_OK) e = hp_horizon_check_rows_at(L, rows, T, d);
-    if (e != HP_OK) return e;
-    hp_planner *p = NULL;
-    if ((e = hp_planner_create(L, settings, &p, d)) != HP_OK) return e;
-    if (d) d->text[0] = '\0';
-    int refused = 0;
-    const hp_layout *PL = hp_planner_layout(p);
-    double start[HP_MAX_BLADDERS], delta[HP_MAX_BLADDERS], scene[HP_MAX_BLADDERS];
-    hp_horizon_scene_rates(PL, scene); /* before the first row's allowance replaces them */
-    /* The load level without start pressures starts where its planner does after create
-     * (no previous plan: headplan solve's and batch's first row). */
-    const int own_start = !p_start && hp_planner_level(p) == HP_LEVEL_LOAD;
-    if (p_start) memcpy(start, p_start, sizeof(double) * (size_t)PL->n);
-    else if (!own_start && (e = hp_horizon_nominal_pressures(PL, start, d)) != HP_OK) goto done;
-    if (!own_start && (e = hp_planner_set_previous(p, start)) != HP_OK) {
-        hp_diag_set(d, e, "start pressures: %s", hp_planner_error(p));
-        goto done;
-    }
-    for (size_t t = 0; t < T; ++t) {
-        double dt = NAN; /* as in hp_horizon_rates */
-        if ((e = row_dt(hs, rows, t, &dt, d)) != HP_OK) goto done;
-        hp_horizon_row_rates(scene, PL->n, hs, dt, delta);
-        if ((e = hp_planner_set_rate_max(p, delta)) != HP_OK) {
-            hp_diag_set(d, e, "line %ld: rate limit", rows[t].line);
-            goto done;
-        }
-        hp_result r;
-        e = hp_plan(p, rows[t].correction, &r);
-        if (e != HP_OK) {
-            hp_diag_set(d, e, "line %ld: %s", rows[t].line, hp_planner_error(p));
-            goto done;
-        }
-        const char *why = hp_planner_error(p);
-        hp_horizon_note_refusal(d, &refused, &r, rows[t].line, *why ? why : hp_planner_note(p));
-        hp_horizon_row_from_result(rows + t, &r, PL->n, out + t);
-        /* As headplan batch: the next plan starts from this row's result alone (cold), not
-         * from the backend's own last point and multipliers. */
-        if ((e = hp_planner_set_previous_result(p, &r)) != HP_OK) {
-            hp_diag_set(d, e, "line %ld: %s", rows[t].line, hp_planner_error(p));
-            goto done;
-        }
-    }
-done:
-    hp_planner_destroy(p);
-    return e;
 }
 
 hp_error hp_horizon_measure(const hp_horizon_row *out, size_t T, int n, const double *p_start,

@@ -4,6 +4,11 @@
 
 #include "headplan/hp_horizon.h"
 
+/* The interval before row t [s] (hs->start_interval_s for row 0), checked: the row's time
+ * stamp finite and after the previous row's. HP_ERR_INVALID with "line N: t_s: ..." in d. */
+hp_error hp_horizon_row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
+                           double *dt, hp_diag *d);
+
 /* Objective weight of pose component i (mm², deg² / weight_mm_per_deg²), 0 when the layout
  * does not command it. */
 /* The planner's own words for its last hp_plan (its error, else its note), or "". */

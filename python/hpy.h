@@ -90,24 +90,22 @@ extern PyTypeObject hpy_planner_type;
 void hpy_planner_lock(hpy_planner *self);
 PyObject *hpy_planner_run_trace(PyObject *self, PyObject *args, PyObject *kwargs);
 
-/* A block of plan outputs in clinical units, filled without the GIL, turned into a dict of
- * arrays with it (py_planner.c). */
+/* A block of planned rows (py_block.c): one array per column of the library's column table
+ * (hp_trace_columns.h) that has a NumPy key, filled without the GIL, turned into a dict of
+ * arrays with it (the key, dtype and shape the table gives, in its order). */
 typedef struct {
     npy_intp rows;
     int n;
-    double *pressure, *ri, *ro, *stretch; /* rows×n */
-    unsigned *binding;                     /* rows×n */
-    double *achieved, *desired;            /* rows×6, mm and degrees */
-    double *pose_error, *solve_time_us;    /* rows */
-    int *iterations, *status;              /* rows; status -1: a bad trace row */
+    int with_rows;                  /* the trace-row columns (line, t_s) too: run_trace */
+    size_t ncols;                   /* the table's length */
+    double *v[HP_COLUMNS_MAX];      /* column j: rows × its width, NULL: not in the block */
 } hpy_block;
 /* Allocates the block (malloc); 0 or -1 (no exception set). */
-int hpy_block_alloc(hpy_block *b, npy_intp rows, int n);
+int hpy_block_alloc(hpy_block *b, npy_intp rows, int n, int with_rows);
 void hpy_block_free(hpy_block *b);
-/* Stores result r as row i. */
-void hpy_block_store(hpy_block *b, npy_intp i, const hp_result *r);
-/* Marks row i as a bad trace row: status "bad-row", every number NaN. */
-void hpy_block_bad(hpy_block *b, npy_intp i);
+/* Stores row i: the trace row (NULL for a block without trace rows) and its result, r NULL
+ * for a row the trace reader refused (status "bad-row", every number NaN). */
+void hpy_block_store(hpy_block *b, npy_intp i, const hp_trace_row *row, const hp_result *r);
 /* The dict of arrays; the block is left to the caller to free. NULL on failure. */
 PyObject *hpy_block_dict(const hpy_block *b);
 
@@ -116,5 +114,7 @@ PyObject *hpy_iab_ik(PyObject *self, PyObject *args, PyObject *kwargs);
 PyObject *hpy_iab_fk(PyObject *self, PyObject *args, PyObject *kwargs);
 PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs);
 PyObject *hpy_binding_names(PyObject *self, PyObject *arg);
+/* headplan.columns() (py_block.c) */
+PyObject *hpy_columns(PyObject *self, PyObject *unused);
 
 #endif

@@ -241,6 +241,13 @@ static PyMethodDef functions[] = {
      "array): 'pressure_min', 'pressure_max', 'stretch_min', 'stretch_max', 'rate_down',\n"
      "'rate_up', 'limit_point', 'stress_max', 'indent_max', 'cannot_pull' (the last two at\n"
      "the load level). Raises ValueError for a negative value or a bit beyond these."},
+    {"columns", hpy_columns, METH_NOARGS,
+     "columns() -> list of dict\n\n"
+     "The table of a planned row's columns that batch's files, the arrays of plan_many and\n"
+     "run_trace and `headplan batch --columns` share: one dict per column with its name\n"
+     "(pattern: {axis}, {unit}, {bladder}), unit, format, shape ('one', 'axes', 'bladders'),\n"
+     "rows (in batch's files), numpy (its key in the dicts, or None), dtype and measured (a\n"
+     "time, left out when two runs are compared)."},
     {NULL, NULL, 0, NULL},
 };
 

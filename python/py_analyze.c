@@ -1,6 +1,5 @@
-/* headplan.analyze: the layout analysis (hp_layout_analyze, with the planner's reach:
- * hp_planner_reach) and the contact models' error
- * bounds as a dict, with the keys of `headplan analyze --json`. Units: mm and degrees. */
+/* headplan.analyze: the layout analysis (hp_scene_analyze: hp_layout_analyze with the
+ * planner's reach, and the contact models' error bounds) as a dict, with the keys of `headplan analyze --json`. Units: mm and degrees. */
 #include "hpy.h"
 #include "common/units.h"
 
@@ -32,29 +31,16 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
     int rc = hpy_settings(sc, over, &s);
     Py_XDECREF(over);
     if (rc < 0) return NULL;
-    const hp_layout *L = &sc->layout;
-    double bl = 0, bp = 0;
-    hp_level autolevel = HP_LEVEL_SURFACE, used, requested;
-    hp_layout_analysis an;
-    double rr[6][2];
-    hp_error e;
-    Py_BEGIN_ALLOW_THREADS
-    e = hp_contact_error_bound(L, HP_LEVEL_LINEAR, s.auto_trans, s.auto_rot, &bl);
-    if (e == HP_OK) e = hp_contact_error_bound(L, HP_LEVEL_PLANE, s.auto_trans, s.auto_rot, &bp);
-    if (e == HP_OK) e = hp_contact_auto(L, s.level_tolerance, s.auto_trans, s.auto_rot, &autolevel);
     /* The load level's contact geometry is analysed at the scene's own kinematic level. */
     if (s.level == HP_LEVEL_LOAD) s.level = sc->level;
-    requested = s.level;
-    used = s.level == HP_LEVEL_AUTO ? autolevel : s.level;
-    if (e == HP_OK) e = hp_layout_analyze(L, used, &an);
-    /* The reach a plan sees (the planner's caps and commanded components), as the CLI. */
-    s.level = used;
-    hp_planner *p = NULL;
-    if (e == HP_OK) e = hp_planner_create(L, &s, &p, NULL);
-    if (e == HP_OK) e = hp_planner_reach(p, rr);
-    hp_planner_destroy(p);
+    hp_scene_analysis x;
+    hp_diag dg = {{0}};
+    hp_error e;
+    Py_BEGIN_ALLOW_THREADS
+    e = hp_scene_analyze(&sc->layout, &s, &x, &dg);
     Py_END_ALLOW_THREADS
-    if (e != HP_OK) return hpy_fail("%s: layout analysis: %s", sc->file, hp_error_message(e));
+    if (e != HP_OK) return hpy_fail("%s: %s", sc->file, dg.text);
+    const hp_layout_analysis an = x.an;
 
     PyObject *d = PyDict_New(), *w = PyDict_New(), *b = PyDict_New();
     if (!d || !w || !b) goto fail;
@@ -63,22 +49,22 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
         hpy_put(w, "singular_value", PyFloat_FromDouble(an.singular_values[5])))
         goto fail;
     if (hpy_put(b, "tolerance_mm", PyFloat_FromDouble(s.level_tolerance * 1e3)) ||
-        hpy_put(b, "translation_mm", PyFloat_FromDouble(s.auto_trans * 1e3)) ||
-        hpy_put(b, "rotation_deg", PyFloat_FromDouble(s.auto_rot * 180.0 / HP_PI)) ||
-        hpy_put(b, "linear_mm", PyFloat_FromDouble(bl * 1e3)) ||
-        hpy_put(b, "plane_mm", PyFloat_FromDouble(bp * 1e3)) ||
+        hpy_put(b, "translation_mm", PyFloat_FromDouble(x.trans * 1e3)) ||
+        hpy_put(b, "rotation_deg", PyFloat_FromDouble(x.rot * 180.0 / HP_PI)) ||
+        hpy_put(b, "linear_mm", PyFloat_FromDouble(x.bound_linear * 1e3)) ||
+        hpy_put(b, "plane_mm", PyFloat_FromDouble(x.bound_plane * 1e3)) ||
         hpy_put(b, "surface_mm", PyFloat_FromDouble(0.0)) ||
-        hpy_put(b, "auto_level", PyUnicode_FromString(hp_level_name(autolevel))))
+        hpy_put(b, "auto_level", PyUnicode_FromString(hp_level_name(x.auto_level))))
         goto fail;
     /* Reach: 6×2, negative then positive direction; NaN where the planner commands none. */
     double reach[12];
     for (int i = 0; i < 6; ++i)
-        for (int j = 0; j < 2; ++j) reach[i * 2 + j] = rr[i][j];
+        for (int j = 0; j < 2; ++j) reach[i * 2 + j] = an.reach[i][j];
     Py_INCREF(w);
     Py_INCREF(b);
     if (hpy_put(d, "scene", PyUnicode_FromString(sc->name)) ||
-        hpy_put(d, "level", PyUnicode_FromString(hp_level_name(used))) ||
-        hpy_put(d, "level_requested", PyUnicode_FromString(hp_level_name(requested))) ||
+        hpy_put(d, "level", PyUnicode_FromString(hp_level_name(x.level))) ||
+        hpy_put(d, "level_requested", PyUnicode_FromString(hp_level_name(x.requested))) ||
         hpy_put(d, "singular_values", array(an.singular_values, 6, 0, 1.0)) ||
         hpy_put(d, "rank", PyLong_FromLong(an.rank)) ||
         hpy_put(d, "condition", PyFloat_FromDouble(an.condition)) ||

@@ -7,129 +7,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-int hpy_block_alloc(hpy_block *b, npy_intp rows, int n)
-{
-    memset(b, 0, sizeof *b);
-    b->rows = rows;
-    b->n = n;
-    size_t r = rows > 0 ? (size_t)rows : 1, rn = r * (size_t)n;
-    b->pressure = malloc(rn * sizeof(double));
-    b->ri = malloc(rn * sizeof(double));
-    b->ro = malloc(rn * sizeof(double));
-    b->stretch = malloc(rn * sizeof(double));
-    b->binding = malloc(rn * sizeof(unsigned));
-    b->achieved = malloc(r * 6 * sizeof(double));
-    b->desired = malloc(r * 6 * sizeof(double));
-    b->pose_error = malloc(r * sizeof(double));
-    b->solve_time_us = malloc(r * sizeof(double));
-    b->iterations = malloc(r * sizeof(int));
-    b->status = malloc(r * sizeof(int));
-    if (!b->pressure || !b->ri || !b->ro || !b->stretch || !b->binding || !b->achieved ||
-        !b->desired || !b->pose_error || !b->solve_time_us || !b->iterations || !b->status) {
-        hpy_block_free(b);
-        return -1;
-    }
-    return 0;
-}
-
-void hpy_block_free(hpy_block *b)
-{
-    free(b->pressure);
-    free(b->ri);
-    free(b->ro);
-    free(b->stretch);
-    free(b->binding);
-    free(b->achieved);
-    free(b->desired);
-    free(b->pose_error);
-    free(b->solve_time_us);
-    free(b->iterations);
-    free(b->status);
-    memset(b, 0, sizeof *b);
-}
-
-void hpy_block_store(hpy_block *b, npy_intp i, const hp_result *r)
-{
-    const int n = b->n;
-    for (int k = 0; k < n; ++k) {
-        const hp_bladder_result *x = &r->bladders[k];
-        b->pressure[i * n + k] = x->pressure;
-        b->ri[i * n + k] = x->ri * 1e3; /* as the command line prints ri_mm */
-        b->ro[i * n + k] = x->ro * 1e3;
-        b->stretch[i * n + k] = x->stretch;
-        b->binding[i * n + k] = x->binding;
-    }
-    hp_pose_to_clinical(r->achieved, &b->achieved[i * 6]);
-    hp_pose_to_clinical(r->desired, &b->desired[i * 6]);
-    b->pose_error[i] = r->pose_error;
-    b->solve_time_us[i] = r->solve_time * 1e6;
-    b->iterations[i] = r->iterations;
-    b->status[i] = (int)r->status;
-}
-
-void hpy_block_bad(hpy_block *b, npy_intp i)
-{
-    const int n = b->n;
-    for (int k = 0; k < n; ++k) {
-        b->pressure[i * n + k] = b->ri[i * n + k] = b->ro[i * n + k] = NAN;
-        b->stretch[i * n + k] = NAN;
-        b->binding[i * n + k] = 0;
-    }
-    for (int c = 0; c < 6; ++c) b->achieved[i * 6 + c] = b->desired[i * 6 + c] = NAN;
-    b->pose_error[i] = b->solve_time_us[i] = NAN;
-    b->iterations[i] = 0;
-    b->status[i] = -1;
-}
-
-static PyObject *block_array(const void *src, npy_intp rows, npy_intp cols, int typenum,
-                             size_t elsize)
-{
-    PyArrayObject *a = hpy_new(cols ? 2 : 1, rows, cols, typenum);
-    if (a && rows) memcpy(PyArray_DATA(a), src, (size_t)rows * (cols ? (size_t)cols : 1) * elsize);
-    return (PyObject *)a;
-}
-
-PyObject *hpy_block_dict(const hpy_block *b)
-{
-    const npy_intp N = b->rows, n = b->n;
-    const char **names = malloc((N > 0 ? (size_t)N : 1) * sizeof *names);
-    PyArrayObject *code = hpy_new(1, N, 0, NPY_INT32);
-    PyObject *d = PyDict_New();
-    if (!names || !code || !d) {
-        free(names);
-        Py_XDECREF(code);
-        Py_XDECREF(d);
-        return PyErr_NoMemory();
-    }
-    npy_int32 *c = PyArray_DATA(code);
-    for (npy_intp i = 0; i < N; ++i) {
-        names[i] = b->status[i] < 0 ? "bad-row" : hp_status_name((hp_status)b->status[i]);
-        c[i] = b->status[i];
-    }
-    PyObject *status = hpy_str_array(names, N);
-    free(names);
-    PyArrayObject *err = hpy_new(2, N, 6, NPY_DOUBLE);
-    if (err) {
-        double *e = PyArray_DATA(err);
-        for (npy_intp i = 0; i < N * 6; ++i) e[i] = b->achieved[i] - b->desired[i];
-    }
-    int bad = hpy_put(d, "status", status) || hpy_put(d, "status_code", (PyObject *)code) ||
-              hpy_put(d, "pressure_pa", block_array(b->pressure, N, n, NPY_DOUBLE, sizeof(double))) ||
-              hpy_put(d, "ri_mm", block_array(b->ri, N, n, NPY_DOUBLE, sizeof(double))) ||
-              hpy_put(d, "ro_mm", block_array(b->ro, N, n, NPY_DOUBLE, sizeof(double))) ||
-              hpy_put(d, "stretch", block_array(b->stretch, N, n, NPY_DOUBLE, sizeof(double))) ||
-              hpy_put(d, "binding", block_array(b->binding, N, n, NPY_UINT32, sizeof(unsigned))) ||
-              hpy_put(d, "desired", block_array(b->desired, N, 6, NPY_DOUBLE, sizeof(double))) ||
-              hpy_put(d, "achieved", block_array(b->achieved, N, 6, NPY_DOUBLE, sizeof(double))) ||
-              hpy_put(d, "error", (PyObject *)err) ||
-              hpy_put(d, "pose_error", block_array(b->pose_error, N, 0, NPY_DOUBLE, sizeof(double))) ||
-              hpy_put(d, "iterations", block_array(b->iterations, N, 0, NPY_INT32, sizeof(int))) ||
-              hpy_put(d, "solve_time_us",
-                      block_array(b->solve_time_us, N, 0, NPY_DOUBLE, sizeof(double)));
-    if (bad) Py_CLEAR(d);
-    return d;
-}
-
 void hpy_planner_lock(hpy_planner *self)
 {
     if (PyThread_acquire_lock(self->lock, NOWAIT_LOCK)) return;
@@ -228,7 +105,7 @@ static hp_error plan_rows(hp_planner *p, const double *poses, hpy_block *b)
         hp_error e = hp_plan(p, xi, &r);
         /* A NaN or out-of-range row is a status of its own, as in headplan batch. */
         if (e != HP_OK && r.status != HP_STATUS_INVALID_INPUT) return e;
-        hpy_block_store(b, i, &r);
+        hpy_block_store(b, i, NULL, &r);
     }
     return HP_OK;
 }
@@ -240,7 +117,7 @@ static hp_error plan_rows(hp_planner *p, const double *poses, hpy_block *b)
 static PyObject *plan_array(hpy_planner *self, PyArrayObject *poses, char *msg)
 {
     hpy_block b;
-    if (hpy_block_alloc(&b, PyArray_DIM(poses, 0), hp_planner_layout(self->p)->n) < 0)
+    if (hpy_block_alloc(&b, PyArray_DIM(poses, 0), hp_planner_layout(self->p)->n, 0) < 0)
         return PyErr_NoMemory();
     const double *x = PyArray_DATA(poses);
     hp_error e;
@@ -372,11 +249,10 @@ static PyMethodDef planner_methods[] = {
     {"plan", (PyCFunction)(void (*)(void))planner_plan, METH_VARARGS | METH_KEYWORDS,
      "plan(correction) -> dict\n\n"
      "Plans one correction [x_mm, y_mm, z_mm, pitch_deg, roll_deg, yaw_deg] from the nominal\n"
-     "pose, like `headplan solve` (no rate limits). Returns a dict: status (str), status_code,\n"
-     "pressure_pa, ri_mm, ro_mm, stretch, binding (n arrays; binding holds flags, see\n"
-     "binding_names), desired, achieved, error (achieved - desired; 6 arrays, mm and\n"
-     "degrees), pose_error (max over commanded axes, mm or degrees), iterations,\n"
-     "solve_time_us, message (the planner's text for a non-reached status). A status other\n"
+     "pose, like `headplan solve` (no rate limits). Returns a dict: the result columns of\n"
+     "headplan.columns() that have a key (status, the poses in mm and degrees, the\n"
+     "bladders' pressures in Pa, radii, stretches and binding flags, see binding_names, ...)\n"
+     "and message (the planner's text for a non-reached status). A status other\n"
      "than 'reached'/'closest' carries the safe output (the nominal pressures). NaN in the\n"
      "correction gives status 'invalid-input'."},
     {"plan_many", planner_plan_many, METH_O,
@@ -384,9 +260,8 @@ static PyMethodDef planner_methods[] = {
      "Plans every row of an N×6 array of corrections (mm and degrees), each independently\n"
      "from the nominal pose (as plan does, bit for bit). The loop runs in C with the GIL\n"
      "released, so threads with their own planners run at once. Returns the keys of plan\n"
-     "with a leading axis N: status (str array), status_code (int32), pressure_pa, ri_mm,\n"
-     "ro_mm, stretch (N×n), binding (N×n uint32), desired, achieved, error (N×6), pose_error,\n"
-     "solve_time_us (N), iterations (N int32). Any numeric dtype and any strides are\n"
+     "with a leading axis N (dtypes and shapes from headplan.columns(): N, N×6 or N×n).\n"
+     "Any numeric dtype and any strides are\n"
      "accepted (converted to float64); other dtypes raise TypeError, other shapes\n"
      "headplan.Error. Rows with NaN get status 'invalid-input'."},
     {"run_trace", (PyCFunction)(void (*)(void))hpy_planner_run_trace,
@@ -401,7 +276,7 @@ static PyMethodDef planner_methods[] = {
      "scene's own trace. rows is 'deviation' (the head's measured offset; the correction is\n"
      "its exact inverse rigid motion) or 'correction'; None keeps what the file or scene\n"
      "states; an array must say (the kind is never guessed). Returns the keys of plan_many\n"
-     "plus line (the input line, 0 for arrays) and t_s. A bad file row gets status\n"
+     "plus line (the input line, the row index for arrays) and t_s. A bad file row gets status\n"
      "'bad-row' and NaN values, and its message is in 'messages' (a list), as batch reports\n"
      "it; so is the planner's reason for a row it refused (invalid-input).\n\n"
      "mode plans over a horizon instead, as `headplan horizon` does (every row must be\n"

@@ -12,11 +12,10 @@
 
 typedef struct {
     size_t n, cap;
-    long *line;
-    double *t;
-    double *corr; /* n×6, SI */
-    char **msg;   /* NULL for a good row */
-    char **why;   /* the planner's reason for a row it refused (invalid-input), else NULL */
+    hp_trace_row *row;  /* line (an array's: its index), t, the correction (SI) */
+    unsigned char *bad; /* 1: the row could not be read */
+    char **msg;         /* NULL for a good row */
+    char **why;         /* the planner's reason for a row it refused (invalid-input), else NULL */
 } trace_in;
 
 static void trace_free(trace_in *in)
@@ -26,9 +25,8 @@ static void trace_free(trace_in *in)
         if (in->why) free(in->why[i]);
     }
     free(in->why);
-    free(in->line);
-    free(in->t);
-    free(in->corr);
+    free(in->row);
+    free(in->bad);
     free(in->msg);
     memset(in, 0, sizeof *in);
 }
@@ -36,15 +34,13 @@ static void trace_free(trace_in *in)
 static int trace_grow(trace_in *in)
 {
     size_t cap = in->cap ? in->cap * 2 : 1024;
-    long *line = realloc(in->line, cap * sizeof *line);
-    if (line) in->line = line;
-    double *t = realloc(in->t, cap * sizeof *t);
-    if (t) in->t = t;
-    double *corr = realloc(in->corr, cap * 6 * sizeof *corr);
-    if (corr) in->corr = corr;
+    hp_trace_row *row = realloc(in->row, cap * sizeof *row);
+    if (row) in->row = row;
+    unsigned char *bad = realloc(in->bad, cap * sizeof *bad);
+    if (bad) in->bad = bad;
     char **msg = realloc(in->msg, cap * sizeof *msg);
     if (msg) in->msg = msg;
-    if (!line || !t || !corr || !msg) return -1;
+    if (!row || !bad || !msg) return -1;
     in->cap = cap;
     return 0;
 }
@@ -85,56 +81,62 @@ static hp_error read_all(hp_trace_reader *r, trace_in *in, int array, hp_diag *d
             return hp_diag_set(d, HP_ERR_NOMEM, "trace: out of memory");
         size_t i = in->n++;
         in->msg[i] = NULL;
+        in->bad[i] = e != HP_OK;
         if (e == HP_OK) {
-            in->line[i] = array ? (long)i : row.line;
-            in->t[i] = row.t;
-            memcpy(&in->corr[i * 6], row.correction, sizeof row.correction);
+            in->row[i] = row;
+            if (array) in->row[i].line = (long)i;
         } else {
             /* The message starts "NAME:LINE:" (hp_trace.h). */
             const char *colon = strchr(rd.text, ':');
-            in->line[i] = array ? (long)i : colon ? strtol(colon + 1, NULL, 10) : 0;
-            in->t[i] = NAN;
+            memset(&in->row[i], 0, sizeof in->row[i]);
+            in->row[i].line = array ? (long)i : colon ? strtol(colon + 1, NULL, 10) : 0;
+            in->row[i].t = NAN;
             in->msg[i] = array ? array_message(rd.text, i) : strdup(rd.text);
             if (!in->msg[i]) return hp_diag_set(d, HP_ERR_NOMEM, "trace: out of memory");
         }
     }
 }
 
-/* Plans the rows greedily into the block: every plan starts from the previous good row's
- * result (the nominal answer before the first), set with hp_planner_set_previous_result, so
- * the state of each plan is a function of that row alone, as in headplan batch. A row the
- * planner refuses keeps its reason, named as batch names it ("NAME:LINE: reason"; an
- * array's "<array> row I: reason"); name is NULL for an array. */
+/* run_trace's sink: a planned row into the block, with the reason of a row the planner
+ * refused, named as batch names it ("NAME:LINE: reason"; an array's "<array> row I:
+ * reason"); name is NULL for an array. */
+typedef struct plan_ctx {
+    trace_in *in;
+    hpy_block *b;
+    const char *name;
+    hp_planner *p;
+} plan_ctx;
+
+static hp_error store_row(void *ctx, size_t i, const hp_result *r)
+{
+    plan_ctx *c = ctx;
+    if (r->status == HP_STATUS_INVALID_INPUT) {
+        const char *err = hp_planner_error(c->p);
+        const char *why = *err ? err : hp_planner_note(c->p);
+        size_t len = strlen(why) + (c->name ? strlen(c->name) : 0) + 48;
+        char **said = &c->in->why[i];
+        if (!(*said = malloc(len))) return HP_ERR_NOMEM;
+        if (c->name) snprintf(*said, len, "%s:%ld: %s", c->name, c->in->row[i].line, why);
+        else snprintf(*said, len, "<array> row %zu: %s", i, why);
+    }
+    hpy_block_store(c->b, (npy_intp)i, &c->in->row[i], r);
+    return HP_OK;
+}
+
+/* Plans the rows greedily into the block, as headplan batch does (hp_trace_plan_run: every
+ * plan starts from the previous good row's result, the nominal answer before the first;
+ * the planner's own per-plan rate limits). */
 static hp_error plan_all(hp_planner *p, trace_in *in, hpy_block *b, const char *name)
 {
     in->why = calloc(in->n ? in->n : 1, sizeof *in->why);
     if (!in->why) return HP_ERR_NOMEM;
-    hp_result prev;
-    int have_prev = 0;
-    hp_error e = HP_OK;
-    for (size_t i = 0; e == HP_OK && i < in->n; ++i) {
-        if (in->msg[i]) {
-            hpy_block_bad(b, (npy_intp)i);
-            continue;
-        }
-        if (have_prev) e = hp_planner_set_previous_result(p, &prev);
-        else hp_planner_reset(p);
-        if (e != HP_OK) break;
-        hp_result r;
-        e = hp_plan(p, &in->corr[i * 6], &r);
-        if (e != HP_OK && r.status != HP_STATUS_INVALID_INPUT) break;
-        e = HP_OK;
-        if (r.status == HP_STATUS_INVALID_INPUT) {
-            const char *why = *hp_planner_error(p) ? hp_planner_error(p) : hp_planner_note(p);
-            size_t len = strlen(why) + (name ? strlen(name) : 0) + 48;
-            if (!(in->why[i] = malloc(len))) return HP_ERR_NOMEM;
-            if (name) snprintf(in->why[i], len, "%s:%ld: %s", name, in->line[i], why);
-            else snprintf(in->why[i], len, "<array> row %zu: %s", i, why);
-        }
-        hpy_block_store(b, (npy_intp)i, &r);
-        prev = r;
-        have_prev = 1;
-    }
+    for (size_t i = 0; i < in->n; ++i)
+        if (in->bad[i]) hpy_block_store(b, (npy_intp)i, &in->row[i], NULL);
+    hp_trace_plan *tp = NULL;
+    hp_error e = hp_trace_plan_create(p, NULL, &tp, NULL);
+    plan_ctx c = {in, b, name, p};
+    if (e == HP_OK) e = hp_trace_plan_run(tp, in->row, in->bad, in->n, store_row, &c, NULL, NULL);
+    hp_trace_plan_destroy(tp);
     return e;
 }
 
@@ -150,14 +152,9 @@ static hp_error plan_horizon(const hp_layout *L, const hp_settings *s,
 {
     for (size_t i = 0; i < in->n; ++i)
         if (in->msg[i]) return hp_diag_set(d, HP_ERR_PARSE, "%s", in->msg[i]);
-    hp_trace_row *rows = calloc(in->n ? in->n : 1, sizeof *rows);
+    const hp_trace_row *rows = in->row;
     hp_horizon_row *out = calloc(in->n ? in->n : 1, sizeof *out);
-    hp_error e = rows && out ? HP_OK : hp_diag_set(d, HP_ERR_NOMEM, "trace: out of memory");
-    for (size_t i = 0; e == HP_OK && i < in->n; ++i) {
-        rows[i].line = in->line[i];
-        rows[i].t = in->t[i];
-        memcpy(rows[i].correction, &in->corr[i * 6], sizeof rows[i].correction);
-    }
+    hp_error e = out ? HP_OK : hp_diag_set(d, HP_ERR_NOMEM, "trace: out of memory");
     /* The start pressures are held one sampling interval before row 0, as headplan horizon
      * takes it (the trace's first interval). */
     hp_horizon_settings h = *hs;
@@ -186,9 +183,8 @@ static hp_error plan_horizon(const hp_layout *L, const hp_settings *s,
             br->stretch = br->ri / L->bladders[k].iab.Ri;
             if (hp_iab_ro(&L->bladders[k].iab, br->ri, &br->ro) != HP_OK) br->ro = NAN;
         }
-        hpy_block_store(b, (npy_intp)i, &r);
+        hpy_block_store(b, (npy_intp)i, &rows[i], &r);
     }
-    free(rows);
     free(out);
     return e;
 }
@@ -351,13 +347,13 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     if (e == HP_OK) e = read_all(r, &in, text != NULL, &d);
     hp_trace_close(r);
     if (e == HP_OK && mode > 0) {
-        nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n) < 0;
+        nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n, 1) < 0;
         if (!nomem) e = plan_horizon(&self->layout, &s, &hs, mode, &in, &b, &d);
     } else if (e == HP_OK) {
         e = hp_planner_create(&self->layout, &s, &p, &d);
     }
     if (e == HP_OK && mode == 0) {
-        nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n) < 0;
+        nomem = hpy_block_alloc(&b, (npy_intp)in.n, self->layout.n, 1) < 0;
         if (!nomem) {
             e = plan_all(p, &in, &b, cpath);
             if (e == HP_ERR_NOMEM) nomem = 1;
@@ -373,33 +369,18 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     if (nomem) PyErr_NoMemory();
     else if (e != HP_OK) hpy_fail("%s", d.text);
     else out = hpy_block_dict(&b);
-    PyObject *lines = out ? (PyObject *)hpy_new(1, (npy_intp)in.n, 0, NPY_INT64) : NULL;
-    PyObject *ts = out ? (PyObject *)hpy_new(1, (npy_intp)in.n, 0, NPY_DOUBLE) : NULL;
+    /* Beside the table's arrays: the messages of the rows not planned or refused. */
     PyObject *msgs = out ? PyList_New(0) : NULL;
-    if (lines && ts && msgs) {
-        npy_int64 *l = PyArray_DATA((PyArrayObject *)lines);
-        double *tv = PyArray_DATA((PyArrayObject *)ts);
-        for (size_t i = 0; i < in.n; ++i) {
-            l[i] = in.line[i];
-            tv[i] = in.t[i];
-            const char *said = in.msg[i] ? in.msg[i] : in.why ? in.why[i] : NULL;
-            if (said) {
-                PyObject *m = PyUnicode_FromString(said);
-                if (!m || PyList_Append(msgs, m) < 0) Py_CLEAR(out);
-                Py_XDECREF(m);
-            }
+    for (size_t i = 0; msgs && i < in.n; ++i) {
+        const char *said = in.msg[i] ? in.msg[i] : in.why ? in.why[i] : NULL;
+        if (said) {
+            PyObject *m = PyUnicode_FromString(said);
+            if (!m || PyList_Append(msgs, m) < 0) Py_CLEAR(out);
+            Py_XDECREF(m);
         }
     }
-    if (out) {
-        int bad = hpy_put(out, "line", lines);
-        bad |= hpy_put(out, "t_s", ts);
-        bad |= hpy_put(out, "messages", msgs);
-        if (bad) Py_CLEAR(out);
-    } else {
-        Py_XDECREF(lines);
-        Py_XDECREF(ts);
-        Py_XDECREF(msgs);
-    }
+    if (out && hpy_put(out, "messages", msgs)) Py_CLEAR(out);
+    if (!out) Py_XDECREF(msgs);
     hpy_block_free(&b);
     trace_free(&in);
     return out;

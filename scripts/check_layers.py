@@ -26,7 +26,8 @@ PUBLIC = {  # include/headplan/<header> -> the module that implements it
     "hp_common.h": "common", "hp_version.h": "common", "hp_iab.h": "iab",
     "hp_pose.h": "kinematics", "hp_layout.h": "kinematics", "hp_contact.h": "kinematics",
     "hp_load.h": "kinematics", "hp_planner.h": "planner",
-    "hp_horizon.h": "horizon", "hp_scene.h": "scene", "hp_trace.h": "scene",
+    "hp_horizon.h": "horizon", "hp_trace_plan.h": "horizon", "hp_trace_columns.h": "horizon",
+    "hp_scene.h": "scene", "hp_trace.h": "scene",
     "hp_calib.h": "calib", "headplan.h": None,  # the umbrella: programs only
 }
 # Cycles tolerated while being removed (none now). Each is tolerated only while it is exactly

@@ -11,3 +11,13 @@ expect_stdout_empty() { [ ! -s "$TMP/out" ] && ok || bad "$1: stdout not empty";
 expect_stderr_has() { grep -qF -- "$1" "$TMP/err" && ok || bad "$2: stderr lacks '$1'"; }
 expect_stdout_has() { grep -qF -- "$1" "$TMP/out" && ok || bad "$2: stdout lacks '$1'"; }
 finish() { echo "$passes passed, $fails failed"; [ "$fails" -eq 0 ]; }
+# drop_measured FILE: a batch CSV result with its measured columns (the solve time: not a
+# function of the inputs) blanked, its metadata and header kept, for comparing two runs.
+# Which columns are measured is the program's column table (`headplan batch --columns`).
+drop_measured() {
+    awk -F, -v OFS=, -v measured="$("$HP_BIN" batch --columns | awk -F'\t' 'NR > 1 && $7 == "yes" { print $1 }')" '
+        BEGIN { n = split(measured, m, "\n"); for (i = 1; i <= n; i++) drop[m[i]] = 1 }
+        /^#/ { print; next }
+        !h { for (i = 1; i <= NF; i++) if ($i in drop) c[i] = 1; h = 1; print; next }
+        { for (i in c) $i = ""; print }' "$1"
+}

@@ -14,6 +14,8 @@
 #include "headplan/hp_trace.h"
 #include "headplan/hp_planner.h"
 #include "headplan/hp_horizon.h"
+#include "headplan/hp_trace_plan.h"
+#include "headplan/hp_trace_columns.h"
 #include "headplan/hp_calib.h"
 
 #endif

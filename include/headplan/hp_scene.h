@@ -158,6 +158,44 @@ HP_API hp_error hp_scene_parse(const char *text, size_t len, const char *filenam
  * hp_planner_create choose the load level when the sag calls for it (hp_planner.h). */
 HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag);
 
+/* The layout analysis of a scene, as `headplan analyze` and the Python analyze() report it.
+ * Units SI. */
+typedef struct hp_scene_analysis {
+    hp_level requested;          /* the settings' level (may be auto) */
+    hp_level level;              /* resolved: the level of the analysis and the reach */
+    hp_level auto_level;         /* what auto picks for level_tolerance over the range below */
+    double trans, rot;           /* [m], [rad] correction size the error bounds cover
+                                    (the settings' auto_trans, auto_rot) */
+    double bound_linear, bound_plane; /* [m] error bounds of the linear and plane models */
+    hp_identifiable id;          /* what the contact model can tell apart */
+    hp_layout_analysis an;       /* at level; an.reach is the planner's (hp_planner_reach) */
+} hp_scene_analysis;
+
+/* Analyses layout L under settings s (hp_scene_settings, with any override): the contact
+ * models' error bounds and auto's choice (hp_contact_error_bound, hp_contact_auto), the
+ * level resolved, hp_layout_identify, hp_layout_analyze at that level, and the reach of a
+ * planner at that level (hp_planner_reach). Returns HP_OK, HP_ERR_NULL, or the first step's
+ * error with "STEP: reason" in diag (STEP: error bounds, identifiable range, layout
+ * analysis, reach). Allocates (a planner, freed before it returns); not real time. */
+HP_API hp_error hp_scene_analyze(const hp_layout *L, const hp_settings *s,
+                                 hp_scene_analysis *out, hp_diag *diag);
+
+/* Applies one named override to planner settings s, as the command line's options and the
+ * Python module's keywords give them: "backend" and "level" (a name: hp_backend_parse,
+ * hp_level_parse; the load level is not one of them), "tolerance" (mm and degrees),
+ * "max_iter", "max_time_s", "weight_mm_per_deg", "level_tolerance_mm" and "warm_start" (0 or
+ * 1). The value is text (parsed strictly, as a scene's numbers are), or with text NULL the
+ * number. Each value is checked by the planner's own check of its field, in the override's
+ * units. Returns HP_OK; HP_ERR_NULL; HP_ERR_INVALID (s unchanged) with "NAME: reason" in diag
+ * ("level: unknown level 'x' (linear, plane, surface, auto)", "max_time_s: must be > 0 and at
+ * most 3600 s (got 0)"), also for a name that is none of these. Allocates nothing. */
+HP_API hp_error hp_scene_settings_override(hp_settings *s, const char *name, const char *text,
+                                           double number, hp_diag *diag);
+
+/* The name of override i (0-based, in the order above), NULL past the last: the list a
+ * front-end offers (the Python module's keywords). */
+HP_API const char *hp_scene_override_name(size_t i);
+
 /* What hp_scene_plan_level or hp_scene_kinematic_only refused, so that a caller words (and
  * classes) each refusal in its own terms without reading the message. */
 typedef enum hp_level_refusal {

@@ -178,6 +178,24 @@ def test_settings_overrides_and_errors(default_scene):
     assert s["max_iter"] == 50 and s["tolerance"] == 0.5
     with pytest.raises(TypeError, match="unknown keyword 'speed'"):
         headplan.Planner(default_scene, speed=3)
+
+
+
+def test_overrides_say_what_the_cli_says(default_scene):
+    """Keywords and --backend / --level are one library call (hp_scene_settings_override):
+    the same refusal word for word, the keyword named in its own units (max_time_s, not the
+    field max_time)."""
+    with pytest.raises(headplan.Error) as e:
+        headplan.Planner(default_scene, max_time_s=0)
+    assert str(e.value) == "max_time_s: must be > 0 and at most 3600 s (got 0)"
+    for key, value in (("backend", "fast"), ("level", "exact")):
+        with pytest.raises(headplan.Error) as e:
+            headplan.Planner(default_scene, **{key: value})
+        rc, _, err = cli("batch", DEFAULT, scenario("traces/step.csv"), "--rows",
+                         "deviation", "--format", "csv", "--" + key, value, check=False)
+        assert rc == 64, err
+        said = err.strip().removeprefix("headplan batch: --")
+        assert str(e.value) == said, (str(e.value), said)
     with pytest.raises(TypeError):
         headplan.Planner("scenarios/default.yaml")
 

@@ -270,3 +270,36 @@ def test_refused_rows_carry_the_planners_reason(tmp_path, default_planner):
                                   rows="correction")
     assert a["status"].tolist() == ["reached", "invalid-input"]
     assert a["messages"] == ["<array> row 1: " + refusal[0].split(": ", 1)[1]]
+
+
+def test_three_front_ends_agree(tmp_path):
+    """One trace through the three front-ends of the library's trace call (hp_trace_plan_run):
+    `headplan batch`, `headplan horizon --mode greedy` and run_trace in batch and greedy mode.
+    Without a per-second limit greedy is batch's plan, so all four agree bit for bit: the
+    pressures of the horizon CSV are printed in kPa, compared as batch's Pa * 1e-3."""
+    trace = tmp_path / "step80.csv"
+    with open(scenario("traces/step.csv")) as f:
+        trace.write_text("".join(f.readlines()[:81]))  # header + 80 rows
+    scene = scenario("horizon/step.yaml")
+    p = headplan.Planner(headplan.load_scene(scene))
+    names = p.bladder_names
+    rows = batch_csv(scene, str(trace), "--rows", "deviation")
+    batch = p.run_trace(str(trace), rows="deviation")
+    greedy = p.run_trace(str(trace), rows="deviation", mode="greedy")
+    assert_same_as_batch(batch, rows, names)
+    for k in ("pressure_pa", "ri_mm", "achieved", "desired"):
+        assert np.array_equal(batch[k], greedy[k]), k
+    assert list(batch["status"]) == list(greedy["status"])
+    out = tmp_path / "greedy.csv"
+    rc, _, err = cli("horizon", scene, str(trace), "--rows", "deviation", "--mode", "greedy",
+                     "-o", str(out), check=False)
+    assert rc in (0, 1), err
+    body = "".join(l for l in open(out) if not l.startswith("#"))
+    hz = list(csv.DictReader(io.StringIO(body)))
+    assert len(hz) == len(rows) == 80
+    for i, (h, b) in enumerate(zip(hz, rows)):
+        assert h["status"] == b["status"], i
+        for k in KEYS:
+            assert h["achieved_" + k] == b["achieved_" + k], (i, k)
+        for n in names:
+            assert float(h[n + "_kpa"]) == float(b[n + "_pressure_pa"]) * 1e-3, (i, n)

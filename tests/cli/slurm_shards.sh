@@ -3,8 +3,8 @@
 # tasks run by hand, sbatch a stand-in that records its arguments. What counts as missing or
 # incomplete (no file, no end of line, another shard's result, rows missing), that resume
 # submits exactly those and join refuses naming them, every refused input named with its
-# exit status, and the joined result equal to one run byte for byte (solve_time_us blanked)
-# with the modes batch gives its results.
+# exit status, and the joined result equal to one run byte for byte (the measured columns
+# blanked, as `headplan batch --columns` names them) with the modes batch gives its results.
 source "$2/tests/cli_lib.sh"
 HP_BIN=$(realpath "$HP_BIN"); HP_SRC=$(realpath "$HP_SRC")
 E="$HP_SRC/examples/slurm"
@@ -17,11 +17,6 @@ cp "$HP_SRC/scenarios/default.yaml" study.yaml
 cp "$HP_SRC/scenarios/traces/drift_10hz.csv" recording.csv
 sh_run() { "$@" >"$TMP/out" 2>"$TMP/err"; rc=$?; }
 task() { SLURM_ARRAY_TASK_ID=$1 bash "$E/batch_array.sh" study.yaml shards.txt res 2>/dev/null; }
-drop_times() {
-    awk -F, -v OFS=, '/^#/ { print; next }
-        !h { for (i = 1; i <= NF; i++) if ($i == "solve_time_us") c = i; h = 1; print; next }
-        { $c = ""; print }' "$1"
-}
 
 sh_run "$E/split_trace.sh" recording.csv 0 shards
 expect_exit 64 "ROWS 0"; expect_stderr_has "ROWS '0' is not a whole number" "ROWS named"
@@ -73,7 +68,7 @@ expect_exit 73 "join onto an input"; expect_stderr_has "is one of the inputs" "i
 expect_exit 0 "join"
 [ "$(stat -c %a joined.csv)" = 644 ] && ok || bad "joined.csv mode $(stat -c %a joined.csv), want 644"
 "$HP_BIN" batch study.yaml recording.csv --no-progress -o one.csv 2>/dev/null
-cmp -s <(drop_times joined.csv) <(drop_times one.csv) && ok || bad "joined differs from one run"
+cmp -s <(drop_measured joined.csv) <(drop_measured one.csv) && ok || bad "joined differs from one run"
 sh_run "$E/join.sh" recording.csv shards.txt
 expect_exit 64 "join usage"
 printf 'shards/part_0000.csv\nshards/gone.csv\n' > bad.txt

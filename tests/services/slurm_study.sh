@@ -4,8 +4,8 @@
 # is cancelled with scancel while headplan plans its shard, another task's result is cut
 # short; the join refuses and names both, resume re-submits exactly those two and nothing
 # else, and the joined result equals one process's `headplan batch` byte for byte (the
-# solve_time_us column blanked in both). Skipped, saying why, where the services cannot
-# start (not root, packages missing). Every wait polls with a generous bound: the CI machine
+# measured columns, as `headplan batch --columns` names them, blanked in both). Skipped,
+# saying why, where the services cannot start (not root, packages missing). Every wait polls with a generous bound: the CI machine
 # is loaded on purpose, and nothing here asserts a time.
 source "$2/tests/cli_lib.sh"
 source "$2/tests/services/slurm_lib.sh"
@@ -56,12 +56,6 @@ doc_run() {   # doc_run TEXT: runs that block here; status in $rc, output in $TM
     local blk; blk=$(doc_block "$1")
     [ -n "$blk" ] || { rc=99; echo "no block with '$1' in docs/batch.md" > "$TMP/err"; return; }
     bash -e -c "$blk" >"$TMP/out" 2>"$TMP/err"; rc=$?
-}
-# drop_times FILE: the file with the solve_time_us column blanked (its header kept).
-drop_times() {
-    awk -F, -v OFS=, '/^#/ { print; next }
-        !h { for (i = 1; i <= NF; i++) if ($i == "solve_time_us") c = i; h = 1; print; next }
-        { $c = ""; print }' "$1"
 }
 array_done() { [ -z "$(squeue -h -j "$1" -o %i 2>/dev/null)" ] && squeue >/dev/null 2>&1; }
 job_of() { sed -n 's/^Submitted batch job \([0-9][0-9]*\).*/\1/p' "$TMP/out"; }
@@ -116,6 +110,6 @@ expect_exit 0 "join block (plot reading the joined result)"
 "$HP_BIN" batch study.yaml recording.csv --no-progress -o one.csv 2>/dev/null
 [ "$(grep -vc '^#' joined_slurm.csv)" -eq 1801 ] && ok || bad "joined: want a header and 1800 rows"
 [ "$(grep -c '^# headplan_batch:' joined_slurm.csv)" -eq 1 ] && ok || bad "joined: want one metadata record"
-cmp -s <(drop_times joined_slurm.csv) <(drop_times one.csv) && ok \
-    || bad "joined differs from one run: $(diff <(drop_times joined_slurm.csv) <(drop_times one.csv) | head -c 300)"
+cmp -s <(drop_measured joined_slurm.csv) <(drop_measured one.csv) && ok \
+    || bad "joined differs from one run: $(diff <(drop_measured joined_slurm.csv) <(drop_measured one.csv) | head -c 300)"
 finish
