@@ -268,6 +268,15 @@ hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
     return e != HP_OK ? e : fk_scaled(&s, r_lp, p_lp, P, ri_guess, ri, &ro_s);
 }
 
+hp_error hp_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+                                double ri_guess, double *ri)
+{
+    if (!ri || !lp) return HP_ERR_NULL;
+    double r_lp, p_lp, ro_s;
+    hp_error e = limit_init(s, lp, P, &r_lp, &p_lp);
+    return e != HP_OK ? e : fk_scaled(s, r_lp, p_lp, P, ri_guess, ri, &ro_s);
+}
+
 hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
                                    double ri_guess, double *ri, double *ro)
 {

@@ -3,38 +3,48 @@
 #include "common/exact_prod.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <string.h>
 
-/* Moves ri up (dir > 0) or down until pred holds; FK roots sit within a few ulps of the
- * exact radius, so a few widening steps always suffice. Returns 0 when it could not. */
-static int nudge_lo(const hp_iab *b, double *ri, double p_min)
+static atomic_ulong rate_solves;
+static atomic_int rate_eager;
+
+unsigned long hp_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
+void hp_test_rate_lazy(int on) { atomic_store(&rate_eager, !on); }
+int hp_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory_order_relaxed); }
+
+/* Moves ri up (up) or down until its pressure is >= p (up) or <= p; FK roots sit within a
+ * few ulps of the exact radius, so a few widening steps always suffice. The bladder as
+ * validated once (hp_iab_s_ik_m: the bits of hp_iab_ik). Returns 0 when it could not. */
+static int nudge(const hp_iab_s *s, double *ri, double p, int up)
 {
     double r = *ri, step = fabs(r) * 1e-16;
     for (int i = 0; i < 80; ++i) {
         double P;
-        if (hp_iab_ik(b, r, &P) == HP_OK && P >= p_min) {
+        if (hp_iab_s_ik_m(s, r, &P) == HP_OK && (up ? P >= p : P <= p)) {
             *ri = r;
             return 1;
         }
-        r += step;
+        r += up ? step : -step;
         step *= 2.0;
     }
     return 0;
 }
 
-static int nudge_hi(const hp_iab *b, double *ri, double p_max)
+/* The largest dP/dro [Pa/m] of a bladder over [lo, hi] (m), twice the largest of 257 even
+ * samples (the slope is smooth there and varies by a small factor across the interval: the
+ * factor 2 covers what falls between samples). dP/dro = dP/dri · ri²/ro² (ro³ − ri³ is
+ * constant). NAN when the model fails at a sample. */
+static double slope_max(const hp_iab_s *s, double lo, double hi)
 {
-    double r = *ri, step = fabs(r) * 1e-16;
-    for (int i = 0; i < 80; ++i) {
-        double P;
-        if (hp_iab_ik(b, r, &P) == HP_OK && P <= p_max) {
-            *ri = r;
-            return 1;
-        }
-        r -= step;
-        step *= 2.0;
+    double m = 0.0;
+    for (int i = 0; i <= 256; ++i) {
+        double ri = (lo + (hi - lo) * i / 256.0) * s->scale, P, d1;
+        if (hp_iab_s_ik(s, ri, &P, &d1, NULL) != HP_OK) return NAN;
+        double ro = hp_iab_s_ro(s, ri);
+        m = fmax(m, d1 * s->scale * (ri * ri) / (ro * ro));
     }
-    return 0;
+    return 2.0 * m;
 }
 
 /* Tightest of two bounds with their flags; equal bounds keep both flags. */
@@ -96,9 +106,9 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
                                    B->name, B->p_max, hp_error_message(e));
         }
         /* FK roots are exact to a few ulps; make the pressure bounds hold exactly. */
-        if ((lof & HP_BIND_PRESSURE_MIN) && !nudge_lo(m, &lo, B->p_min))
+        if ((lof & HP_BIND_PRESSURE_MIN) && !nudge(&b->iab_s[k], &lo, B->p_min, 1))
             return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_min bound", B->name);
-        if ((hif & HP_BIND_PRESSURE_MAX) && !nudge_hi(m, &hi, B->p_max))
+        if ((hif & HP_BIND_PRESSURE_MAX) && !nudge(&b->iab_s[k], &hi, B->p_max, 0))
             return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max bound", B->name);
         /* lo >= stretch_min · Ri exactly, so the reported stretch ri / Ri (the exact
          * quotient rounded, a monotone map) is >= stretch_min too; the same for hi. The
@@ -119,6 +129,7 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
         b->p_hi[k] = phi < B->p_max ? phi : B->p_max;
         if (hp_iab_ro(m, lo, &b->ro_lo[k]) != HP_OK) b->ro_lo[k] = NAN;
         if (hp_iab_ro(m, hi, &b->ro_hi[k]) != HP_OK) b->ro_hi[k] = NAN;
+        b->rate_slack[k] = hp_setup_rate_slack(slope_max(&b->iab_s[k], lo, hi));
     }
     return HP_OK;
 }
@@ -134,7 +145,9 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
         if (use_rate && p_prev && isfinite(B->rate_max)) {
             double r, pl = p_prev[k] - B->rate_max, ph = p_prev[k] + B->rate_max;
             if (pl > b->p_lo[k]) {
-                if (hp_iab_fk_limit(&B->iab, &b->limit[k], pl, &r) == HP_OK && nudge_lo(&B->iab, &r, pl))
+                atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
+                if (hp_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], pl, NAN, &r) == HP_OK &&
+                    nudge(&b->iab_s[k], &r, pl, 1))
                     take_max(&lo, &lof, r, HP_BIND_RATE_DOWN);
                 else
                     return hp_diag_set(d, HP_ERR_INVALID,
@@ -142,7 +155,9 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                        B->name, pl);
             }
             if (ph < b->p_hi[k]) {
-                if (hp_iab_fk_limit(&B->iab, &b->limit[k], ph, &r) == HP_OK && nudge_hi(&B->iab, &r, ph))
+                atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
+                if (hp_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], ph, NAN, &r) == HP_OK &&
+                    nudge(&b->iab_s[k], &r, ph, 0))
                     take_min(&hi, &hif, r, HP_BIND_RATE_UP);
                 else
                     return hp_diag_set(d, HP_ERR_INVALID,
@@ -178,6 +193,20 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
         if (hi_flags) hi_flags[k] = hif;
     }
     return HP_OK;
+}
+
+int hp_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+                        const hp_bladder_result *br)
+{
+    for (int k = 0; k < L->n; ++k) {
+        double rate = L->bladders[k].rate_max, P = br[k].pressure, m = b->rate_slack[k];
+        if (!isfinite(rate)) continue;
+        double pl = p_prev[k] - rate, ph = p_prev[k] + rate;
+        /* The same tests as hp_setup_cycle_bounds for whether a window end is a bound. */
+        if (pl > b->p_lo[k] && !(P >= pl + m)) return 0;
+        if (ph < b->p_hi[k] && !(P <= ph - m)) return 0;
+    }
+    return 1;
 }
 
 void hp_setup_pose_from_scaled(const double x[6], double xi[6])
