@@ -102,8 +102,9 @@ static void err_backend(hp_planner *p, hp_status st, int raw)
 static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
 {
     c->rate_deferred = 0;
-    if (hp_setup_cycle_bounds(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits, &p->pb,
-                              p->lo_flags, p->hi_flags, NULL) != HP_OK) {
+    if (hp_setup_cycle_bounds_memo(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits,
+                                   &p->rate_memo, &p->pb, p->lo_flags, p->hi_flags,
+                                   NULL) != HP_OK) {
         hp_text_set(p->err, "the rate limits leave no radius inside the pressure and stretch "
                             "limits");
         fail_safe(p, res, HP_STATUS_INFEASIBLE_START, c);

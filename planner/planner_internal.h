@@ -35,6 +35,7 @@ struct hp_planner {
     hp_identifiable id;          /* what the layout can tell apart (hp_layout_identify) */
     int commanded[6];            /* = id.commanded */
     hp_static_bounds sb;
+    hp_rate_memo rate_memo; /* the last rate bounds solved (plan.c), keyed by pressure */
     hp_problem pb;
     unsigned lo_flags[HP_MAX_BLADDERS], hi_flags[HP_MAX_BLADDERS];
     const hp_backend_ops *ops;

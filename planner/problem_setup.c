@@ -134,9 +134,46 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
     return HP_OK;
 }
 
+/* The radius bound of one rate window end at pressure pw (up: a lower bound, whose
+ * pressure must be >= pw), from the memo when it holds pw, else solved and memoised.
+ * Returns 0 when no stable radius has it. */
+static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_rate_memo *memo,
+                      double *r)
+{
+    double *mp = NULL, *mr = NULL;
+    unsigned char *ok = NULL;
+    if (memo) {
+        mp = up ? &memo->p_down[k] : &memo->p_up[k];
+        mr = up ? &memo->r_down[k] : &memo->r_up[k];
+        ok = up ? &memo->down_ok[k] : &memo->up_ok[k];
+        if (*ok && memcmp(mp, &pw, sizeof pw) == 0) {
+            *r = *mr;
+            return 1;
+        }
+    }
+    atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
+    if (!(hp_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], pw, NAN, r) == HP_OK &&
+          nudge(&b->iab_s[k], r, pw, up)))
+        return 0;
+    if (memo) {
+        *mp = pw;
+        *mr = *r;
+        *ok = 1;
+    }
+    return 1;
+}
+
 hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                const double *p_prev, int use_rate, hp_problem *pb,
                                unsigned *lo_flags, unsigned *hi_flags, hp_diag *d)
+{
+    return hp_setup_cycle_bounds_memo(L, b, p_prev, use_rate, NULL, pb, lo_flags, hi_flags, d);
+}
+
+hp_error hp_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
+                                    const double *p_prev, int use_rate, hp_rate_memo *memo,
+                                    hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
+                                    hp_diag *d)
 {
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
@@ -145,9 +182,7 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
         if (use_rate && p_prev && isfinite(B->rate_max)) {
             double r, pl = p_prev[k] - B->rate_max, ph = p_prev[k] + B->rate_max;
             if (pl > b->p_lo[k]) {
-                atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
-                if (hp_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], pl, NAN, &r) == HP_OK &&
-                    nudge(&b->iab_s[k], &r, pl, 1))
+                if (rate_bound(b, k, pl, 1, memo, &r))
                     take_max(&lo, &lof, r, HP_BIND_RATE_DOWN);
                 else
                     return hp_diag_set(d, HP_ERR_INVALID,
@@ -155,9 +190,7 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                        B->name, pl);
             }
             if (ph < b->p_hi[k]) {
-                atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
-                if (hp_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], ph, NAN, &r) == HP_OK &&
-                    nudge(&b->iab_s[k], &r, ph, 0))
+                if (rate_bound(b, k, ph, 0, memo, &r))
                     take_min(&hi, &hif, r, HP_BIND_RATE_UP);
                 else
                     return hp_diag_set(d, HP_ERR_INVALID,

@@ -60,6 +60,24 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                const double *p_prev, int use_rate, hp_problem *pb,
                                unsigned *lo_flags, unsigned *hi_flags, hp_diag *d);
 
+/* The last radius bound solved for each end of each bladder's rate window, keyed by the
+ * window end's pressure: the solve (FK from no start, then the nudge) is a function of that
+ * pressure alone, so the same pressure, bit for bit, gives the same bound without a solve
+ * (a plan holding a closest answer under rate limits sets the same windows cycle after
+ * cycle). Zeroed: empty. */
+typedef struct hp_rate_memo {
+    double p_down[HP_MAX_BLADDERS], r_down[HP_MAX_BLADDERS];
+    double p_up[HP_MAX_BLADDERS], r_up[HP_MAX_BLADDERS];
+    unsigned char down_ok[HP_MAX_BLADDERS], up_ok[HP_MAX_BLADDERS];
+} hp_rate_memo;
+
+/* hp_setup_cycle_bounds with a memo (may be NULL) read and filled: the same bounds, bits
+ * and errors. */
+hp_error hp_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
+                                    const double *p_prev, int use_rate, hp_rate_memo *memo,
+                                    hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
+                                    hp_diag *d);
+
 /* TEST-ONLY hooks (not installed, no public header; inert until a test sets them):
  * the number of rate-limit window ends solved into radius bounds in this process so far
  * (an atomic count), and whether hp_plan defers the rate bounds until a plan needs them

@@ -194,11 +194,49 @@ static void test_plans_defer_the_bounds(void **state)
     }
 }
 
+/* A target beyond reach held under rate limits: the plans walk to the closest answer at
+ * the rate, then repeat it, and its pressures (bit for bit the same) set the same windows:
+ * the memo of the last solved bounds answers them, so the held plans solve no rate bound.
+ * At the linear level the held answer repeats bit for bit; at the plane and surface levels
+ * the warm-started solver's answer moves by ulps from cycle to cycle (printed, not
+ * asserted), so its windows are new pressures and are solved. */
+static void test_held_answer_reuses_its_bounds(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    for (int l = 0; l < 3; ++l) {
+        hp_planner *p = NULL;
+        assert_int_equal(lf_planner(levels[l], 2000.0, &p), HP_OK);
+        unsigned long solves = 0;
+        double d[6];
+        lf_pose((const double[6]){25, 0, 6, 0, 4, 0}, d);
+        hp_result r, last;
+        unsigned long held = 0;
+        int same = 0;
+        for (int t = 0; t < 60; ++t) {
+            unsigned long before = hp_test_rate_bound_solves();
+            assert_int_equal(hp_plan(p, d, &r), HP_OK);
+            assert_int_equal(r.status, HP_STATUS_CLOSEST);
+            int repeat = t > 0 && same_result(&r, &last);
+            if (t >= 40) solves += hp_test_rate_bound_solves() - before;
+            if (repeat && t >= 40) held += hp_test_rate_bound_solves() - before, ++same;
+            last = r;
+        }
+        print_message("%s: %d of the last 20 plans repeated the answer, %lu rate bounds "
+                      "solved in them, %lu in all 20\n", hp_level_name(levels[l]), same, held,
+                      solves);
+        assert_int_equal(held, 0);
+        if (levels[l] == HP_LEVEL_LINEAR) assert_int_equal(same, 20);
+        hp_planner_destroy(p);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bounds_equal_cold_reference),
         cmocka_unit_test(test_plans_defer_the_bounds),
+        cmocka_unit_test(test_held_answer_reuses_its_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
