@@ -137,16 +137,14 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
          * this stop a Newton iteration that converged from one side (P is concave on most
          * of the stable branch, so it does) had its last, sub-ulp step rejected as not
          * inside the bracket, and ~45 bisection steps then closed the bracket's far side
-         * to its last ulps. Its neighbours are looked at instead (the bisection ended on
-         * the two doubles around the root: the same candidates). */
+         * to its last ulps. The neighbour on the root's side (P increases with ri) is
+         * looked at instead: the bisection ended on the two doubles around the root, the
+         * same candidates. */
         if (d > 0 && fabs(f / d) <= 0.5 * DBL_EPSILON * x) {
-            for (int side = -1; side <= 1; side += 2) {
-                double xs = nextafter(x, side < 0 ? 0.0 : INFINITY);
-                if (hp_iab_s_ik(s, xs, &p, NULL, NULL) == HP_OK &&
-                    fabs(p - target) < best_f) {
-                    best_f = fabs(p - target);
-                    best = xs;
-                }
+            double xs = nextafter(x, f < 0 ? INFINITY : 0.0);
+            if (hp_iab_s_ik(s, xs, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f) {
+                best_f = fabs(p - target);
+                best = xs;
             }
             break;
         }
