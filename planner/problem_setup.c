@@ -68,68 +68,87 @@ static void take_min(double *v, unsigned *f, double cand, unsigned cf)
     }
 }
 
+hp_error hp_bladder_envelope(const hp_bladder *B, hp_envelope *out, hp_diag *d)
+{
+    if (!B || !out) return hp_diag_set(d, HP_ERR_NULL, "bladder or envelope is NULL");
+    const hp_iab *m = &B->iab;
+    hp_iab_limit lp;
+    hp_iab_s s = {0};
+    hp_error e = hp_iab_limit_point(m, &lp);
+    if (e == HP_OK) e = hp_iab_scaled_init(m, &s, NULL);
+    if (e != HP_OK)
+        return hp_diag_set(d, e, "bladder %s: limit point: %s", B->name, hp_error_message(e));
+    /* The stretch limits as radii that keep them in exact arithmetic (the rounded
+     * product can lie an ulp outside): every backend's answer is clamped into these. */
+    double lo = hp_prod_up(B->stretch_min, m->Ri);
+    double hi = hp_prod_down(B->stretch_max, m->Ri);
+    unsigned lof = HP_BIND_STRETCH_MIN, hif = HP_BIND_STRETCH_MAX;
+    if (lp.exists) take_min(&hi, &hif, lp.ri * (1.0 - HP_STABLE_MARGIN), HP_BIND_LIMIT_POINT);
+    double rs; /* the hoop-stress limit as a radius bound (monotone: iab/iab_stress.c) */
+    if (B->stress_max > 0 && isfinite(B->stress_max) && hi > m->Ri &&
+        hp_iab_stress_radius(m, B->stress_max, hi, &rs) == HP_OK)
+        take_min(&hi, &hif, rs, HP_BIND_STRESS_MAX);
+
+    double r;
+    e = hp_iab_fk(m, B->p_min, &r);
+    if (e != HP_OK)
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "bladder %s: pressure_min %.6g Pa has no stable radius (%s)",
+                           B->name, B->p_min, hp_error_message(e));
+    take_max(&lo, &lof, r, HP_BIND_PRESSURE_MIN);
+    if (!lp.exists || B->p_max < lp.pressure) {
+        e = hp_iab_fk(m, B->p_max, &r);
+        if (e == HP_OK) take_min(&hi, &hif, r, HP_BIND_PRESSURE_MAX);
+        else if (e != HP_ERR_NO_STABLE)
+            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max %.6g Pa: %s",
+                               B->name, B->p_max, hp_error_message(e));
+    }
+    /* FK roots are exact to a few ulps; make the pressure bounds hold exactly. */
+    if ((lof & HP_BIND_PRESSURE_MIN) && !nudge(&s, &lo, B->p_min, 1))
+        return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_min bound", B->name);
+    if ((hif & HP_BIND_PRESSURE_MAX) && !nudge(&s, &hi, B->p_max, 0))
+        return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max bound", B->name);
+    /* lo >= stretch_min · Ri exactly, so the reported stretch ri / Ri (the exact
+     * quotient rounded, a monotone map) is >= stretch_min too; the same for hi. The
+     * pressure nudges only moved the bounds inward. */
+    double plo, phi;
+    if (!(lo < hi) || lo / m->Ri < B->stretch_min || hi / m->Ri > B->stretch_max ||
+        hp_iab_ik(m, lo, &plo) != HP_OK || hp_iab_ik(m, hi, &phi) != HP_OK)
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "bladder %s: the pressure and stretch limits leave no stable "
+                           "radius (ri %.6g..%.6g mm)",
+                           B->name, lo * HP_MM_PER_M, hi * HP_MM_PER_M);
+    /* Pressures are returned clamped into [p_lo, p_hi] c [p_min, p_max]. */
+    out->limit = lp;
+    out->ri_lo = lo;
+    out->ri_hi = hi;
+    out->lo_flags = lof;
+    out->hi_flags = hif;
+    out->p_lo = plo > B->p_min ? plo : B->p_min;
+    out->p_hi = phi < B->p_max ? phi : B->p_max;
+    if (hp_iab_ro(m, lo, &out->ro_lo) != HP_OK) out->ro_lo = NAN;
+    if (hp_iab_ro(m, hi, &out->ro_hi) != HP_OK) out->ro_hi = NAN;
+    return HP_OK;
+}
+
 hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag *d)
 {
     if (!L || !b) return hp_diag_set(d, HP_ERR_NULL, "layout or bounds is NULL");
     for (int k = 0; k < L->n; ++k) {
-        const hp_bladder *B = &L->bladders[k];
-        const hp_iab *m = &B->iab;
-        hp_iab_limit lp;
-        hp_error e = hp_iab_limit_point(m, &lp);
-        if (e == HP_OK) e = hp_iab_scaled_init(m, &b->iab_s[k], NULL);
-        if (e != HP_OK)
-            return hp_diag_set(d, e, "bladder %s: limit point: %s", B->name,
-                               hp_error_message(e));
-        /* The stretch limits as radii that keep them in exact arithmetic (the rounded
-         * product can lie an ulp outside): every backend's answer is clamped into these. */
-        double lo = hp_prod_up(B->stretch_min, m->Ri);
-        double hi = hp_prod_down(B->stretch_max, m->Ri);
-        unsigned lof = HP_BIND_STRETCH_MIN, hif = HP_BIND_STRETCH_MAX;
-        if (lp.exists) take_min(&hi, &hif, lp.ri * (1.0 - HP_STABLE_MARGIN), HP_BIND_LIMIT_POINT);
-        double rs; /* the hoop-stress limit as a radius bound (monotone: iab/iab_stress.c) */
-        if (B->stress_max > 0 && isfinite(B->stress_max) && hi > m->Ri &&
-            hp_iab_stress_radius(m, B->stress_max, hi, &rs) == HP_OK)
-            take_min(&hi, &hif, rs, HP_BIND_STRESS_MAX);
-
-        double r;
-        e = hp_iab_fk(m, B->p_min, &r);
-        if (e != HP_OK)
-            return hp_diag_set(d, HP_ERR_INVALID,
-                               "bladder %s: pressure_min %.6g Pa has no stable radius (%s)",
-                               B->name, B->p_min, hp_error_message(e));
-        take_max(&lo, &lof, r, HP_BIND_PRESSURE_MIN);
-        if (!lp.exists || B->p_max < lp.pressure) {
-            e = hp_iab_fk(m, B->p_max, &r);
-            if (e == HP_OK) take_min(&hi, &hif, r, HP_BIND_PRESSURE_MAX);
-            else if (e != HP_ERR_NO_STABLE)
-                return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max %.6g Pa: %s",
-                                   B->name, B->p_max, hp_error_message(e));
-        }
-        /* FK roots are exact to a few ulps; make the pressure bounds hold exactly. */
-        if ((lof & HP_BIND_PRESSURE_MIN) && !nudge(&b->iab_s[k], &lo, B->p_min, 1))
-            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_min bound", B->name);
-        if ((hif & HP_BIND_PRESSURE_MAX) && !nudge(&b->iab_s[k], &hi, B->p_max, 0))
-            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max bound", B->name);
-        /* lo >= stretch_min · Ri exactly, so the reported stretch ri / Ri (the exact
-         * quotient rounded, a monotone map) is >= stretch_min too; the same for hi. The
-         * pressure nudges only moved the bounds inward. */
-        double plo, phi;
-        if (!(lo < hi) || lo / m->Ri < B->stretch_min || hi / m->Ri > B->stretch_max || hp_iab_ik(m, lo, &plo) != HP_OK || hp_iab_ik(m, hi, &phi) != HP_OK)
-            return hp_diag_set(d, HP_ERR_INVALID,
-                               "bladder %s: the pressure and stretch limits leave no stable "
-                               "radius (ri %.6g..%.6g mm)",
-                               B->name, lo * HP_MM_PER_M, hi * HP_MM_PER_M);
-        /* Pressures are returned clamped into [p_lo, p_hi] c [p_min, p_max]. */
-        b->limit[k] = lp;
-        b->ri_lo[k] = lo;
-        b->ri_hi[k] = hi;
-        b->lo_flags[k] = lof;
-        b->hi_flags[k] = hif;
-        b->p_lo[k] = plo > B->p_min ? plo : B->p_min;
-        b->p_hi[k] = phi < B->p_max ? phi : B->p_max;
-        if (hp_iab_ro(m, lo, &b->ro_lo[k]) != HP_OK) b->ro_lo[k] = NAN;
-        if (hp_iab_ro(m, hi, &b->ro_hi[k]) != HP_OK) b->ro_hi[k] = NAN;
-        b->rate_slack[k] = hp_setup_rate_slack(slope_max(&b->iab_s[k], lo, hi));
+        hp_envelope env;
+        hp_error e = hp_bladder_envelope(&L->bladders[k], &env, d);
+        if (e == HP_OK) e = hp_iab_scaled_init(&L->bladders[k].iab, &b->iab_s[k], NULL);
+        if (e != HP_OK) return e;
+        b->limit[k] = env.limit;
+        b->ri_lo[k] = env.ri_lo;
+        b->ri_hi[k] = env.ri_hi;
+        b->lo_flags[k] = env.lo_flags;
+        b->hi_flags[k] = env.hi_flags;
+        b->p_lo[k] = env.p_lo;
+        b->p_hi[k] = env.p_hi;
+        b->ro_lo[k] = env.ro_lo;
+        b->ro_hi[k] = env.ro_hi;
+        b->rate_slack[k] = hp_setup_rate_slack(slope_max(&b->iab_s[k], env.ri_lo, env.ri_hi));
     }
     return HP_OK;
 }

@@ -49,8 +49,28 @@ static inline double hp_setup_rate_slack(double slope)
 int hp_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
                         const hp_bladder_result *br);
 
-/* Pressure, stretch and limit-point limits as inner-radius bounds, so that IK(ri_lo) >=
- * p_min and IK(ri_hi) <= p_max hold exactly in floating point. Errors name the bladder. */
+/* One bladder's safe envelope: the one home of its pressure, stretch, hoop-stress and
+ * limit-point limits as bounds on its inner radius, so that IK(ri_lo) >= p_min and
+ * IK(ri_hi) <= p_max hold in floating point (FK roots moved inward ulp by ulp), ri_lo >=
+ * stretch_min·Ri and ri_hi <= stretch_max·Ri in exact arithmetic (common/exact_prod.h), ri_hi
+ * at most HP_STABLE_MARGIN below any inflation limit point and within the hoop-stress
+ * limit; with the pressures there (cut to [p_min, p_max]) and the HP_BIND_* flags of what
+ * set each bound (equal bounds keep both). Every planner (the kinematic levels, the load
+ * level) and the benchmark lab take a bladder's limits from here. */
+typedef struct hp_envelope {
+    double ri_lo, ri_hi;       /* [m] */
+    double p_lo, p_hi;         /* [Pa] IK at ri_lo, ri_hi, inside [p_min, p_max] */
+    double ro_lo, ro_hi;       /* [m] the volume law there (NaN if it failed) */
+    unsigned lo_flags, hi_flags;
+    hp_iab_limit limit;        /* the inflation limit point */
+} hp_envelope;
+
+/* Fills e for bladder B. HP_ERR_INVALID (the bladder named in d) when the limits leave no
+ * stable radius. */
+hp_error hp_bladder_envelope(const hp_bladder *B, hp_envelope *e, hp_diag *d);
+
+/* Every bladder's envelope (hp_bladder_envelope) into b, with what the per-plan evaluations
+ * keep (the validated model, the rate slack). Errors name the bladder. */
 hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag *d);
 
 /* One plan's bounds: the static ones intersected with the rate limits around p_prev (when
