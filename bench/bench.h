@@ -124,5 +124,10 @@ int bench_levels(const bench_options *o, const char *dir);
  * of the load planner on each backend, and the sag error of the kinematic plan measured
  * through the forward statics. Writes DIR/load.csv (bench/bench_load.c). */
 int bench_load(const bench_options *o, const char *dir);
+/* The control loop as it is run: traces planned cycle by cycle with rate limits, measured
+ * pressures fed back and a deadline, against the same plan without rate limits, per level
+ * and backend (realtime, nlopt-slsqp). Writes DIR/loop.csv (bench/bench_loop.c). Needs
+ * o->scene. */
+int bench_loop(const bench_options *o, const char *dir);
 
 #endif

@@ -47,6 +47,7 @@ static const family families[] = {
      bench_peers, NULL, 1},
     {{"levels", NULL, NULL, NULL}, NULL, bench_levels, 0},
     {{"load", NULL, NULL, NULL}, NULL, bench_load, 0},
+    {{"loop", NULL, NULL, NULL}, NULL, bench_loop, 1},
 };
 #define N_FAMILIES (sizeof families / sizeof families[0])
 
@@ -66,7 +67,9 @@ static void help(void)
            "correction size);\n"
            "the levels family writes DIR/levels.csv (what each contact level costs and errs);\n"
            "the load family writes DIR/load.csv (the load level's cost on each backend and\n"
-           "the sag a kinematic plan leaves on the load scenes) and the chart load.png/.svg.\n\n"
+           "the sag a kinematic plan leaves on the load scenes) and the chart load.png/.svg;\n"
+           "the loop family writes DIR/loop.csv (traces planned cycle by cycle with rate\n"
+           "limits, measured pressures and a deadline, against the plan without rate limits).\n\n"
            "  --out DIR      output folder, created if missing (default %s)\n"
            "  --quick        a test run: few timing samples; the IK's accuracy is still measured\n"
            "                 on every input, the planner's on 4 targets per group (not 40)\n"
@@ -100,7 +103,7 @@ static int parse_only(const char *list, int *on)
         while (k < N_FAMILIES && strcmp(families[k].chart.family, p) != 0) ++k;
         if (k == N_FAMILIES)
             return cli_fail(CLI_EXIT_USAGE, CMD, "--only: unknown family '%s' (known: ik, "
-                               "planner, stability, peers, levels, load)", p);
+                               "planner, stability, peers, levels, load, loop)", p);
         on[k] = 1;
         if (!comma) break;
         p = comma + 1;

@@ -4,6 +4,7 @@
 #include "bench/bench_util.h"
 #include "bench/bench_report.h"
 #include "cli/exit_codes.h"
+#include "planner/problem_setup.h"
 
 #include <dirent.h>
 #include <math.h>
@@ -39,20 +40,12 @@ int bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p)
 int bench_bounds_of(const hp_layout *L, bench_bounds *b)
 {
     for (int k = 0; k < L->n; ++k) {
-        const hp_bladder *B = &L->bladders[k];
-        hp_iab_limit lp;
-        double lo = B->stretch_min * B->iab.Ri, hi = B->stretch_max * B->iab.Ri, r;
-        if (hp_iab_limit_point(&B->iab, &lp) != HP_OK) return -1;
-        if (lp.exists) hi = fmin(hi, lp.ri * (1.0 - 1e-3));
-        if (hp_iab_fk(&B->iab, B->p_min, &r) != HP_OK) return -1;
-        lo = fmax(lo, r);
-        if ((!lp.exists || B->p_max < lp.pressure) && hp_iab_fk(&B->iab, B->p_max, &r) == HP_OK)
-            hi = fmin(hi, r);
-        if (!(lo < hi) || hp_iab_ik(&B->iab, lo, &b->p_lo[k]) != HP_OK ||
-            hp_iab_ik(&B->iab, hi, &b->p_hi[k]) != HP_OK)
-            return -1;
-        b->ri_lo[k] = lo;
-        b->ri_hi[k] = hi;
+        hp_envelope e;
+        if (hp_bladder_envelope(&L->bladders[k], &e, NULL) != HP_OK) return -1;
+        b->ri_lo[k] = e.ri_lo;
+        b->ri_hi[k] = e.ri_hi;
+        b->p_lo[k] = e.p_lo;
+        b->p_hi[k] = e.p_hi;
     }
     return 0;
 }

@@ -22,10 +22,9 @@ int bench_load_layout(const char *path, hp_scene *scene);
 /* Creates a planner; on failure one line on stderr naming the settings, CLI_EXIT_SOFTWARE. */
 int bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p);
 
-/* Every bladder's inner-radius bounds [m] and the pressures there [Pa], as the planner
- * derives them from the pressure, stretch and limit-point limits (planner/problem_setup.c:
- * stretch limits, FK of p_min and p_max, 1e-3 below any limit point), recomputed here from
- * the public API. Returns 0, or -1 when a bladder has no valid interval. */
+/* Every bladder's inner-radius bounds [m] and the pressures there [Pa]: the planner's own
+ * envelope (hp_bladder_envelope: pressure, stretch, stress and limit-point limits).
+ * Returns 0, or -1 when a bladder has no valid interval. */
 typedef struct bench_bounds {
     double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];
     double p_lo[HP_MAX_BLADDERS], p_hi[HP_MAX_BLADDERS];

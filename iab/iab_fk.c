@@ -133,6 +133,21 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             lo = x;
         else
             hi = x;
+        /* A Newton correction below the rounding of x: x is the root to rounding. Without
+         * this stop a Newton iteration that converged from one side (P is concave on most
+         * of the stable branch, so it does) had its last, sub-ulp step rejected as not
+         * inside the bracket, and ~45 bisection steps then closed the bracket's far side
+         * to its last ulps. The neighbour on the root's side (P increases with ri) is
+         * looked at instead: the bisection ended on the two doubles around the root, the
+         * same candidates. */
+        if (d > 0 && fabs(f / d) <= 0.5 * DBL_EPSILON * x) {
+            double xs = nextafter(x, f < 0 ? INFINITY : 0.0);
+            if (hp_iab_s_ik(s, xs, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f) {
+                best_f = fabs(p - target);
+                best = xs;
+            }
+            break;
+        }
         if (!(hi - lo > 2.0 * DBL_EPSILON * hi)) break;
         double xn = x - f / d;
         if (d > 0 && xn > lo && xn < hi && fabs(2.0 * (xn - x)) < fabs(dx_old)) {
@@ -266,6 +281,15 @@ hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
     hp_error e = hp_iab_scaled_init(b, &s, NULL);
     if (e == HP_OK) e = limit_init(&s, lp, P, &r_lp, &p_lp);
     return e != HP_OK ? e : fk_scaled(&s, r_lp, p_lp, P, ri_guess, ri, &ro_s);
+}
+
+hp_error hp_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+                                double ri_guess, double *ri)
+{
+    if (!ri || !lp) return HP_ERR_NULL;
+    double r_lp, p_lp, ro_s;
+    hp_error e = limit_init(s, lp, P, &r_lp, &p_lp);
+    return e != HP_OK ? e : fk_scaled(s, r_lp, p_lp, P, ri_guess, ri, &ro_s);
 }
 
 hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,

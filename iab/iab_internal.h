@@ -114,6 +114,10 @@ hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
  * evaluation at the guess already formed, so the pair costs one evaluation of the IK. */
 hp_error hp_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
                                  double ri_guess, double *ri, double *ro);
+/* hp_iab_fk_limit_warm on a bladder already validated into s: the same codes after the
+ * validation, the same bits. */
+hp_error hp_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+                                double ri_guess, double *ri);
 /* The same on a bladder already validated into s (hp_iab_scaled_init): the same codes after
  * the validation, the same bits. */
 hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,

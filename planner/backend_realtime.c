@@ -55,6 +55,8 @@ typedef struct rt_state {
     int max_iter;
     double max_time, tolerance;
     clockid_t clk; /* the clock max_time is checked on (budget_clock) */
+    double t_end;  /* this solve's deadline on clk: its start + max_time */
+    int late;      /* the clock was read past t_end in this solve (rt_late) */
     /* rho, J and the Hessians at the point the last QP was linearised at; J and H point into
      * Jb and Hb, whose other halves c_J and c_H take the line search's trial evaluation:
      * when that point is accepted the halves swap instead of being copied. */
@@ -107,32 +109,42 @@ static atomic_int rt_fault = HP_TEST_FAULT_NONE;
 
 void hp_test_realtime_fault(int fault) { atomic_store(&rt_fault, fault); }
 
+static double now_s(clockid_t clk);
+
 /* Test-only path counts (backend_testing.h): each solve counts in st->cnt with plain
  * increments and adds them here at its end, only while a test has counting on. */
 static atomic_int rt_counting;
-static atomic_long rt_counts[8];
+static atomic_long rt_counts[9];
 
 void hp_test_realtime_count(int on)
 {
     if (on)
-        for (int i = 0; i < 8; ++i) atomic_store(&rt_counts[i], 0);
+        for (int i = 0; i < 9; ++i) atomic_store(&rt_counts[i], 0);
     atomic_store(&rt_counting, on != 0);
 }
 
 void hp_test_realtime_counts(hp_test_rt_counts *out)
 {
-    long *f[8] = {&out->solves, &out->qps,    &out->qp_warm,  &out->soc,
-                  &out->soc_warm, &out->h_kept, &out->rho_step, &out->rho_refused};
-    for (int i = 0; i < 8; ++i) *f[i] = atomic_load(&rt_counts[i]);
+    long *f[9] = {&out->solves,   &out->qps,    &out->qp_warm,  &out->soc,        &out->soc_warm,
+                  &out->h_kept, &out->rho_step, &out->rho_refused, &out->late};
+    for (int i = 0; i < 9; ++i) *f[i] = atomic_load(&rt_counts[i]);
 }
 
 static void rt_count_flush(const rt_state *st)
 {
     if (!atomic_load_explicit(&rt_counting, memory_order_relaxed)) return;
     const hp_test_rt_counts *c = &st->cnt;
-    const long v[8] = {1, st->qps, c->qp_warm, c->soc, c->soc_warm, c->h_kept, c->rho_step,
-                       c->rho_refused};
-    for (int i = 0; i < 8; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
+    const long v[9] = {1, st->qps, c->qp_warm, c->soc, c->soc_warm, c->h_kept, c->rho_step,
+                       c->rho_refused, c->late};
+    for (int i = 0; i < 9; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
+}
+
+/* Test-only: one more piece of work (a contact evaluation or a QP) begun after the budget
+ * ran out, counted only while a test counts (one relaxed atomic read otherwise). */
+static void rt_count_late(rt_state *st)
+{
+    if (atomic_load_explicit(&rt_counting, memory_order_relaxed) && now_s(st->clk) > st->t_end)
+        ++st->cnt.late;
 }
 
 static void rt_inject(const rt_state *st, int n, double *rho)
@@ -195,6 +207,16 @@ int hp_test_realtime_coarse_clock(double max_time)
     return budget_clock(max_time) != CLOCK_MONOTONIC;
 }
 
+/* 1 once this solve's budget has run out (the clock read past t_end, and from then on
+ * without reading it again). Read before every QP, every line-search trial, every
+ * restoration round and every few bisection steps: the work a solve begins after its
+ * deadline is the few evaluations that find a feasible point to stop at. */
+static int rt_late(rt_state *st)
+{
+    if (!st->late && now_s(st->clk) > st->t_end) st->late = 1;
+    return st->late;
+}
+
 /* rho (mm), J (mm per mm/deg, may be NULL) and, if H is not NULL, the SI Hessians of rho
  * (per m², m·rad, rad²; scaled by the caller) at scaled pose x. The surface level's
  * point-to-ellipsoid distances start from the previous evaluation's in this solve (st->sw,
@@ -210,6 +232,7 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
         for (int k = 0; k < pb->n; ++k) mask[k] = st->u[2 * k] - st->u[2 * k + 1] != 0.0;
     double xi[6], Jsi[HP_MAX_BLADDERS * 6];
     for (int i = 0; i < 6; ++i) xi[i] = x[i] * hp_pose_si_per_scaled(i);
+    rt_count_late(st);
     hp_error e = hp_kin_contact_eval_mask(pb->layout, pb->geom, pb->level, xi, st->sw,
                                           H ? mask : NULL, rho, J ? Jsi : NULL, H);
     if (e != HP_OK) return e;
@@ -481,6 +504,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
         *iters += q->iterations;
     }
     ++st->qps;
+    rt_count_late(st);
     if (qs == HP_QP_OPTIMAL) {
         memcpy(st->u, q->u, sizeof st->u);
         st->have_u = 1;
@@ -626,6 +650,7 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     for (int i = 0; i < 6; ++i) slope += pb->w[i] * (xk[i] - pb->d[i]) * (xn[i] - xk[i]);
     slope -= nu * viol0; /* directional derivative bound of the l1 merit along a QP step */
     slope = fmin(slope, 0.0);
+    if (rt_late(st)) return 0; /* out of time: xk stays (the caller stops) */
     int kept = keep_h(st, pb, xk, xn);
     st->cnt.h_kept += kept;
     if (merit_full(st, pb, xn, nu, !kept) <= phi0 + RT_ARMIJO * slope) {
@@ -649,6 +674,7 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     memcpy(guess, q->active, sizeof guess);
     for (int k = 0; k < pb->n; ++k) soc_ok &= isfinite(st->c_rho[k]) != 0;
     const double *Lg = st->Lg_ok ? st->Lg : NULL;
+    if (rt_late(st)) return 0;
     if (soc_ok && isfinite(phi0) &&
         hp_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
         *iters += q->iterations;
@@ -663,6 +689,7 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     }
     double alpha = 0.5;
     for (int it = 0; it < 30; ++it, alpha *= 0.5) {
+        if (rt_late(st)) return 0;
         for (int i = 0; i < 6; ++i) xt[i] = xk[i] + alpha * (xn[i] - xk[i]);
         if (merit(st, pb, xt, nu) <= phi0 + RT_ARMIJO * alpha * slope) break;
     }
@@ -685,6 +712,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
 {
     rt_state *st = state;
     double t0 = now_s(st->clk), xk[6], xn[6];
+    st->t_end = t0 + st->max_time;
+    st->late = 0;
     r->iterations = 0;
     r->converged = 0;
     r->raw_code = 0;
@@ -725,6 +754,14 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
          * (st->act is then the last solve's, for another target: measured on the default
          * scene's binding targets, right 2 times in 37). */
         const int *guess = sqp > 0 || warm ? st->act : NULL;
+        /* Out of time (before the first QP too: a budget already spent by the core): stop
+         * at the current iterate, which the restoration below makes feasible or replaces
+         * by the warm start or the nominal pose. */
+        if (rt_late(st)) {
+            st_out = HP_STATUS_TIME_LIMIT;
+            r->converged = 0;
+            break;
+        }
         qs = qp_at(st, pb, xk, NULL, guess, xn, st->max_iter, &iters);
         ++sqp;
         st->cnt.qp_warm += st->qp.warm == HP_QP_WARM_ACCEPTED;
@@ -755,6 +792,11 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         else {
             memcpy(xa, xk, sizeof xa); /* where rho_k and J were evaluated */
             memcpy(xk, xn, sizeof xk);
+        }
+        if (st->late) { /* the line search stopped for time: no convergence test */
+            st_out = HP_STATUS_TIME_LIMIT;
+            r->converged = 0;
+            break;
         }
         int same_active = same_set(st->act, st->qp.active);
         memcpy(st->act, st->qp.active, sizeof st->act);
@@ -788,7 +830,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         whole_prev = whole;
         exact_prev = st->exact;
         if (sqp >= st->max_iter) { st_out = HP_STATUS_ITERATION_LIMIT; break; }
-        if (now_s(st->clk) - t0 > st->max_time) { st_out = HP_STATUS_TIME_LIMIT; break; }
+
     }
     r->raw_code = (int)qs;
     r->iterations = iters;
@@ -815,7 +857,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     }
     int rho_at_xk = v == 0.0; /* st->rho holds rho(xk) until a restoration moves on */
     /* Restoration tightens finite violations; a non-finite one has nothing to tighten. */
-    for (int round = 0; v > 0 && isfinite(v) && round < RT_RESTORE_ROUNDS; ++round) {
+    for (int round = 0; v > 0 && isfinite(v) && round < RT_RESTORE_ROUNDS && !rt_late(st);
+         ++round) {
         for (int k = 0; k < pb->n; ++k) extra[k] += 2.0 * viol[k];
         if (qp_at(st, pb, xk, extra, st->act, xn, st->max_iter, &iters) != HP_QP_OPTIMAL) break;
         double vn = violation(st, pb, xn, viol);
@@ -842,6 +885,9 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         }
         double lo = 0, hi = 1, xt[6];
         for (int it = 0; it < RT_BISECT_STEPS; ++it) {
+            /* Every 4 steps (each a contact evaluation) the clock: lo is feasible at every
+             * step, so stopping anywhere is safe. */
+            if (it % 4 == 0 && rt_late(st)) break;
             double mid = 0.5 * (lo + hi);
             for (int i = 0; i < 6; ++i) xt[i] = anchor[i] + mid * (xk[i] - anchor[i]);
             if (violation(st, pb, xt, NULL) == 0) lo = mid;
@@ -851,6 +897,10 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         r->converged = 0;
     }
     r->iterations = iters;
+    if (st->late) { /* the budget stopped some step: the answer is the feasible point reached */
+        st_out = HP_STATUS_TIME_LIMIT;
+        r->converged = 0;
+    }
     if (!r->converged && st_out == HP_STATUS_CLOSEST && pb->level != HP_LEVEL_LINEAR)
         st_out = HP_STATUS_ITERATION_LIMIT;
     r->status = st_out;

@@ -53,10 +53,11 @@ int hp_test_realtime_coarse_clock(double max_time);
  * re-solves and those of them whose warm start was accepted, line-search trials that kept
  * the previous point's Hessians, answers whose radii were extrapolated over the last step,
  * and answers after a short last step whose extrapolation the step bound refused (their
- * radii evaluated instead). Off by default: a solve then reads one atomic int and adds
- * nothing. */
+ * radii evaluated instead), and the contact evaluations and QPs a solve began after its
+ * time budget had run out (late: what a deadline overshoots by). Off by default: a solve
+ * then reads one atomic int and adds nothing. */
 typedef struct hp_test_rt_counts {
-    long solves, qps, qp_warm, soc, soc_warm, h_kept, rho_step, rho_refused;
+    long solves, qps, qp_warm, soc, soc_warm, h_kept, rho_step, rho_refused, late;
 } hp_test_rt_counts;
 /* on = 1: zero the counts and count from now on; on = 0: stop counting (counts kept). */
 void hp_test_realtime_count(int on);

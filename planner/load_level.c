@@ -2,55 +2,31 @@
  * load, and the plan (HOLD at the desired pose; when unreachable POSE then HOLD), with the
  * details (forces, residuals, the forward statics' rest, the holding) on request. */
 #include "planner/load_level.h"
-#include "common/exact_prod.h"
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
 #include "planner/clock.h"
 #include "planner/plan_range.h"
+#include "planner/problem_setup.h"
 #include "planner/text.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-/* Pressure bounds of bladder k: [p_min, p_max] cut by the pressures of the stretch limits
- * and of the stable-branch cap (1 − 1e-3 of the limit point's radius, as the kinematic
- * planner). Each bound remembers which limit set it. */
+/* Pressure bounds of bladder k: the pressures of its envelope (hp_bladder_envelope, the one
+ * home of the pressure, stretch, stress and limit-point limits, as the kinematic levels),
+ * and the radii the answer is kept inside. Each bound remembers which limits set it. */
 static hp_error bladder_bounds(hp_load_level *p, int k, hp_diag *diag)
 {
-    const hp_bladder *b = &p->M.layout.bladders[k];
-    double P;
-    p->lo[k] = b->p_min;
-    p->lo_bind[k] = HP_BIND_PRESSURE_MIN;
-    if (hp_iab_ik(&b->iab, hp_prod_up(b->stretch_min, b->iab.Ri), &P) == HP_OK && P > p->lo[k]) {
-        p->lo[k] = P;
-        p->lo_bind[k] = HP_BIND_STRETCH_MIN;
-    }
-    p->hi[k] = b->p_max;
-    p->hi_bind[k] = HP_BIND_PRESSURE_MAX;
-    double cap = hp_prod_down(b->stretch_max, b->iab.Ri);
-    unsigned cap_bind = HP_BIND_STRETCH_MAX;
-    const hp_iab_limit *lp = &p->M.limit[k];
-    if (lp->exists && (1.0 - 1e-3) * lp->ri < cap) {
-        cap = (1.0 - 1e-3) * lp->ri;
-        cap_bind = HP_BIND_LIMIT_POINT;
-    }
-    double rs;
-    if (b->stress_max > 0 && isfinite(b->stress_max) &&
-        hp_iab_stress_radius(&b->iab, b->stress_max, cap, &rs) == HP_OK && rs < cap) {
-        cap = rs;
-        cap_bind = HP_BIND_STRESS_MAX;
-    }
-    p->ri_lo[k] = hp_prod_up(b->stretch_min, b->iab.Ri);
-    p->ri_hi[k] = cap;
-    if (hp_iab_ik(&b->iab, cap, &P) == HP_OK && P < p->hi[k]) {
-        p->hi[k] = P;
-        p->hi_bind[k] = cap_bind;
-    }
-    if (!(p->lo[k] < p->hi[k]))
-        return hp_diag_set(diag, HP_ERR_INVALID,
-                           "bladder '%s': its pressure and stretch limits leave no pressure "
-                           "(%.6g Pa > %.6g Pa)", b->name, p->lo[k], p->hi[k]);
+    hp_envelope env;
+    hp_error e = hp_bladder_envelope(&p->M.layout.bladders[k], &env, diag);
+    if (e != HP_OK) return e;
+    p->lo[k] = env.p_lo;
+    p->lo_bind[k] = env.lo_flags;
+    p->hi[k] = env.p_hi;
+    p->hi_bind[k] = env.hi_flags;
+    p->ri_lo[k] = env.ri_lo;
+    p->ri_hi[k] = env.ri_hi;
     return HP_OK;
 }
 

@@ -31,6 +31,7 @@ typedef struct plan_ctx {
     int held;        /* every bladder's window is a point: the previous answer, held */
     int warm;        /* the backend started from the previous answer */
     int unconfirmed; /* label refused a CLOSEST answer its round trip did not confirm */
+    int rate_deferred; /* the bounds are the static ones; the rate bounds are not solved yet */
 } plan_ctx;
 
 /* The safe output: the previous valid answer, labelled with a failure status (the message
@@ -97,6 +98,22 @@ static void err_backend(hp_planner *p, hp_status st, int raw)
     hp_text_add(p->err, ")");
 }
 
+/* This cycle's exact bounds: the static ones intersected with the rate windows around the
+ * previous pressures. Returns 1, or 0 with res labelled (safe output). */
+static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
+{
+    c->rate_deferred = 0;
+    if (hp_setup_cycle_bounds_memo(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits,
+                                   &p->rate_memo, &p->pb, p->lo_flags, p->hi_flags,
+                                   NULL) != HP_OK) {
+        hp_text_set(p->err, "the rate limits leave no radius inside the pressure and stretch "
+                            "limits");
+        fail_safe(p, res, HP_STATUS_INFEASIBLE_START, c);
+        return 0;
+    }
+    return 1;
+}
+
 /* Step 1: the request. Checks desired (finite, in range, identifiable), splits it into the
  * commanded part and the rest, and sets this cycle's bounds. Returns 1 to go on, else 0
  * with res labelled (safe output). */
@@ -120,15 +137,14 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
     hp_plan_to_scaled(c->xc, pb->d);
     for (int i = 0; i < 6; ++i)
         if (!p->commanded[i]) pb->d[i] = 0.0;
-    /* Without a rate limit the bounds are those create set (rate_free). */
-    if (!p->rate_free &&
-        hp_setup_cycle_bounds(&p->L, &p->sb, pb->p_prev, p->s.use_rate_limits, pb, p->lo_flags,
-                              p->hi_flags, NULL) != HP_OK) {
-        hp_text_set(p->err, "the rate limits leave no radius inside the pressure and stretch "
-                            "limits");
-        fail_safe(p, res, HP_STATUS_INFEASIBLE_START, c);
-        return 0;
-    }
+    /* Without a rate limit the bounds are those create set (rate_free). With one, the
+     * static bounds first: most plans of a control loop end in the direct chain with every
+     * pressure well inside its rate window, and then the rate limits' radius bounds (two
+     * pressure -> radius solves a bladder) change nothing (rate_bounds). */
+    if (p->rate_free) return 1;
+    if (!hp_setup_rate_lazy()) return rate_bounds(p, res, c);
+    hp_setup_cycle_bounds(&p->L, &p->sb, NULL, 0, pb, p->lo_flags, p->hi_flags, NULL);
+    c->rate_deferred = 1;
     return 1;
 }
 
@@ -621,6 +637,8 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     if (!validate(p, desired, res, &c)) return HP_OK;
 
     c.direct = direct_chain(p, &c);
+    /* Outside the static bounds the exact ones are tighter: no direct answer either. */
+    if (c.rate_deferred && !c.direct && !rate_bounds(p, res, &c)) return HP_OK;
     c.held = !c.direct && rate_pinned(p);
     /* A second pass only after a warm solve's CLOSEST answer that the round trip from the
      * nominal pose does not confirm: local optima depend on the start, and the backend
@@ -644,6 +662,20 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         res->raw_code = c.raw;
         res->iterations = c.iters;
         if (!accept(p, res, &c)) return HP_OK;
+        if (c.rate_deferred) {
+            /* A direct answer inside the static bounds: the plan's own unless a pressure
+             * comes near a rate window's end. Then the exact bounds, and the plan again. */
+            if (hp_setup_rate_clear(&p->L, &p->sb, p->pb.p_prev, res->bladders)) {
+                c.rate_deferred = 0;
+            } else {
+                if (!rate_bounds(p, res, &c)) return HP_OK;
+                c.direct = direct_chain(p, &c);
+                c.held = !c.direct && rate_pinned(p);
+                c.clamp_mm = 0;
+                --pass;
+                continue;
+            }
+        }
         double a[6];
         hp_plan_to_scaled(res->achieved, a);
         res->pose_error = 0;

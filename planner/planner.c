@@ -188,51 +188,13 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
     }
     if (!p->built) return HP_ERR_STATE;
     if (p->load) return hp_load_level_set_previous(p->load, pressures);
-    hp_result r = p->nominal;
-    double ro[HP_MAX_BLADDERS];
-    for (int k = 0; k < p->L.n; ++k) {
-        const hp_bladder *B = &p->L.bladders[k];
-        double P = pressures[k], ri;
-        if (!(P >= p->sb.p_lo[k] && P <= p->sb.p_hi[k])) {
+    for (int k = 0; k < p->L.n; ++k)
+        if (!(pressures[k] >= p->sb.p_lo[k] && pressures[k] <= p->sb.p_hi[k])) {
             hp_text_set(p->err, "set_previous: a pressure is outside its limits or not finite: ");
-            hp_text_add(p->err, B->name);
+            hp_text_add(p->err, p->L.bladders[k].name);
             return HP_ERR_INVALID;
         }
-        if (hp_iab_fk_limit(&B->iab, &p->sb.limit[k], P, &ri) != HP_OK) {
-            hp_text_set(p->err, "set_previous: no stable radius for the pressure of ");
-            hp_text_add(p->err, B->name);
-            return HP_ERR_INVALID;
-        }
-        /* The root of a pressure inside [p_lo, p_hi] lies inside [ri_lo, ri_hi] up to an
-         * ulp or two: keep the stretch inside its limits to the last bit. */
-        ri = fmin(fmax(ri, p->sb.ri_lo[k]), p->sb.ri_hi[k]);
-        if (hp_iab_ro(&B->iab, ri, &ro[k]) != HP_OK) {
-            hp_text_set(p->err, "set_previous: no stable radius for the pressure of ");
-            hp_text_add(p->err, B->name);
-            return HP_ERR_INVALID;
-        }
-        r.bladders[k].ri = ri;
-        r.bladders[k].ro = ro[k];
-        r.bladders[k].pressure = P;
-        r.bladders[k].stretch = ri / B->iab.Ri;
-        r.bladders[k].binding = 0;
-    }
-    double xi[6], resid;
-    /* The pose becomes the safe output's achieved: one the fit from the nominal pose does not
-     * find would be stated for pressures that do not hold it (before, the nominal pose). The
-     * fit is in the commanded components, as the round trip's: the others are stated as 0,
-     * and a layout that cannot observe them (five bladders, a flat ring) has no fit in all
-     * six, which refused even its own nominal pressures. */
-    if (hp_plan_fit_from_nominal(p, ro, p->commanded, NULL, xi, &resid) != HP_OK) {
-        hp_text_set(p->err, "set_previous: forward contact kinematics from the nominal pose "
-                            "finds no pose these pressures hold (it did not converge)");
-        return HP_ERR_INVALID;
-    }
-    for (int i = 0; i < 6; ++i) r.achieved[i] = p->commanded[i] ? xi[i] : 0.0;
-    hp_plan_set_previous_answer(p, &r);
-    /* The radii solve P to the FK's precision, not to set_previous_result's tolerance. */
-    p->prev_checked = 0;
-    return HP_OK;
+    return hp_plan_previous_from(p, pressures, 0, "set_previous");
 }
 
 /* The consistency hp_planner_set_previous_result asks of a result's bladders. ro against the

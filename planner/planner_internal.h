@@ -41,6 +41,7 @@ struct hp_planner {
     hp_identifiable id;          /* what the layout can tell apart (hp_layout_identify) */
     int commanded[6];            /* = id.commanded */
     hp_static_bounds sb;
+    hp_rate_memo rate_memo; /* the last rate bounds solved (plan.c), keyed by pressure */
     hp_problem pb;
     unsigned lo_flags[HP_MAX_BLADDERS], hi_flags[HP_MAX_BLADDERS];
     const hp_backend_ops *ops;
@@ -144,6 +145,11 @@ int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho
 /* Makes r the previous answer: the safe output, the rate limits' origin and the next
  * solve's start point. */
 void hp_plan_set_previous_answer(hp_planner *p, const hp_result *r);
+/* The previous answer from pressures P inside [p_lo, p_hi] (measured.c): radii by the FK
+ * (started at the previous answer's radii when warm), the pose by a fit from the nominal
+ * pose (cold) or from the previous answer's pose (warm; the nominal one when that does not
+ * converge). who starts the message of a refusal. HP_OK or HP_ERR_INVALID. */
+hp_error hp_plan_previous_from(hp_planner *p, const double *P, int warm, const char *who);
 
 /* Writes a pending CLOSEST note (note_pending) into p->note; nothing otherwise. */
 void hp_plan_note_flush(hp_planner *p);

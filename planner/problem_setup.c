@@ -3,38 +3,48 @@
 #include "common/exact_prod.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <string.h>
 
-/* Moves ri up (dir > 0) or down until pred holds; FK roots sit within a few ulps of the
- * exact radius, so a few widening steps always suffice. Returns 0 when it could not. */
-static int nudge_lo(const hp_iab *b, double *ri, double p_min)
+static atomic_ulong rate_solves;
+static atomic_int rate_eager;
+
+unsigned long hp_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
+void hp_test_rate_lazy(int on) { atomic_store(&rate_eager, !on); }
+int hp_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory_order_relaxed); }
+
+/* Moves ri up (up) or down until its pressure is >= p (up) or <= p; FK roots sit within a
+ * few ulps of the exact radius, so a few widening steps always suffice. The bladder as
+ * validated once (hp_iab_s_ik_m: the bits of hp_iab_ik). Returns 0 when it could not. */
+static int nudge(const hp_iab_s *s, double *ri, double p, int up)
 {
     double r = *ri, step = fabs(r) * 1e-16;
     for (int i = 0; i < 80; ++i) {
         double P;
-        if (hp_iab_ik(b, r, &P) == HP_OK && P >= p_min) {
+        if (hp_iab_s_ik_m(s, r, &P) == HP_OK && (up ? P >= p : P <= p)) {
             *ri = r;
             return 1;
         }
-        r += step;
+        r += up ? step : -step;
         step *= 2.0;
     }
     return 0;
 }
 
-static int nudge_hi(const hp_iab *b, double *ri, double p_max)
+/* The largest dP/dro [Pa/m] of a bladder over [lo, hi] (m), twice the largest of 257 even
+ * samples (the slope is smooth there and varies by a small factor across the interval: the
+ * factor 2 covers what falls between samples). dP/dro = dP/dri · ri²/ro² (ro³ − ri³ is
+ * constant). NAN when the model fails at a sample. */
+static double slope_max(const hp_iab_s *s, double lo, double hi)
 {
-    double r = *ri, step = fabs(r) * 1e-16;
-    for (int i = 0; i < 80; ++i) {
-        double P;
-        if (hp_iab_ik(b, r, &P) == HP_OK && P <= p_max) {
-            *ri = r;
-            return 1;
-        }
-        r -= step;
-        step *= 2.0;
+    double m = 0.0;
+    for (int i = 0; i <= 256; ++i) {
+        double ri = (lo + (hi - lo) * i / 256.0) * s->scale, P, d1;
+        if (hp_iab_s_ik(s, ri, &P, &d1, NULL) != HP_OK) return NAN;
+        double ro = hp_iab_s_ro(s, ri);
+        m = fmax(m, d1 * s->scale * (ri * ri) / (ro * ro));
     }
-    return 0;
+    return 2.0 * m;
 }
 
 /* Tightest of two bounds with their flags; equal bounds keep both flags. */
@@ -58,74 +68,131 @@ static void take_min(double *v, unsigned *f, double cand, unsigned cf)
     }
 }
 
+hp_error hp_bladder_envelope(const hp_bladder *B, hp_envelope *out, hp_diag *d)
+{
+    if (!B || !out) return hp_diag_set(d, HP_ERR_NULL, "bladder or envelope is NULL");
+    const hp_iab *m = &B->iab;
+    hp_iab_limit lp;
+    hp_iab_s s = {0};
+    hp_error e = hp_iab_limit_point(m, &lp);
+    if (e == HP_OK) e = hp_iab_scaled_init(m, &s, NULL);
+    if (e != HP_OK)
+        return hp_diag_set(d, e, "bladder %s: limit point: %s", B->name, hp_error_message(e));
+    /* The stretch limits as radii that keep them in exact arithmetic (the rounded
+     * product can lie an ulp outside): every backend's answer is clamped into these. */
+    double lo = hp_prod_up(B->stretch_min, m->Ri);
+    double hi = hp_prod_down(B->stretch_max, m->Ri);
+    unsigned lof = HP_BIND_STRETCH_MIN, hif = HP_BIND_STRETCH_MAX;
+    if (lp.exists) take_min(&hi, &hif, lp.ri * (1.0 - HP_STABLE_MARGIN), HP_BIND_LIMIT_POINT);
+    double rs; /* the hoop-stress limit as a radius bound (monotone: iab/iab_stress.c) */
+    if (B->stress_max > 0 && isfinite(B->stress_max) && hi > m->Ri &&
+        hp_iab_stress_radius(m, B->stress_max, hi, &rs) == HP_OK)
+        take_min(&hi, &hif, rs, HP_BIND_STRESS_MAX);
+
+    double r;
+    e = hp_iab_fk(m, B->p_min, &r);
+    if (e != HP_OK)
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "bladder %s: pressure_min %.6g Pa has no stable radius (%s)",
+                           B->name, B->p_min, hp_error_message(e));
+    take_max(&lo, &lof, r, HP_BIND_PRESSURE_MIN);
+    if (!lp.exists || B->p_max < lp.pressure) {
+        e = hp_iab_fk(m, B->p_max, &r);
+        if (e == HP_OK) take_min(&hi, &hif, r, HP_BIND_PRESSURE_MAX);
+        else if (e != HP_ERR_NO_STABLE)
+            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max %.6g Pa: %s",
+                               B->name, B->p_max, hp_error_message(e));
+    }
+    /* FK roots are exact to a few ulps; make the pressure bounds hold exactly. */
+    if ((lof & HP_BIND_PRESSURE_MIN) && !nudge(&s, &lo, B->p_min, 1))
+        return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_min bound", B->name);
+    if ((hif & HP_BIND_PRESSURE_MAX) && !nudge(&s, &hi, B->p_max, 0))
+        return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max bound", B->name);
+    /* lo >= stretch_min · Ri exactly, so the reported stretch ri / Ri (the exact
+     * quotient rounded, a monotone map) is >= stretch_min too; the same for hi. The
+     * pressure nudges only moved the bounds inward. */
+    double plo, phi;
+    if (!(lo < hi) || lo / m->Ri < B->stretch_min || hi / m->Ri > B->stretch_max ||
+        hp_iab_ik(m, lo, &plo) != HP_OK || hp_iab_ik(m, hi, &phi) != HP_OK)
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "bladder %s: the pressure and stretch limits leave no stable "
+                           "radius (ri %.6g..%.6g mm)",
+                           B->name, lo * HP_MM_PER_M, hi * HP_MM_PER_M);
+    /* Pressures are returned clamped into [p_lo, p_hi] c [p_min, p_max]. */
+    out->limit = lp;
+    out->ri_lo = lo;
+    out->ri_hi = hi;
+    out->lo_flags = lof;
+    out->hi_flags = hif;
+    out->p_lo = plo > B->p_min ? plo : B->p_min;
+    out->p_hi = phi < B->p_max ? phi : B->p_max;
+    if (hp_iab_ro(m, lo, &out->ro_lo) != HP_OK) out->ro_lo = NAN;
+    if (hp_iab_ro(m, hi, &out->ro_hi) != HP_OK) out->ro_hi = NAN;
+    return HP_OK;
+}
+
 hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag *d)
 {
     if (!L || !b) return hp_diag_set(d, HP_ERR_NULL, "layout or bounds is NULL");
     for (int k = 0; k < L->n; ++k) {
-        const hp_bladder *B = &L->bladders[k];
-        const hp_iab *m = &B->iab;
-        hp_iab_limit lp;
-        hp_error e = hp_iab_limit_point(m, &lp);
-        if (e == HP_OK) e = hp_iab_scaled_init(m, &b->iab_s[k], NULL);
-        if (e != HP_OK)
-            return hp_diag_set(d, e, "bladder %s: limit point: %s", B->name,
-                               hp_error_message(e));
-        /* The stretch limits as radii that keep them in exact arithmetic (the rounded
-         * product can lie an ulp outside): every backend's answer is clamped into these. */
-        double lo = hp_prod_up(B->stretch_min, m->Ri);
-        double hi = hp_prod_down(B->stretch_max, m->Ri);
-        unsigned lof = HP_BIND_STRETCH_MIN, hif = HP_BIND_STRETCH_MAX;
-        if (lp.exists) take_min(&hi, &hif, lp.ri * (1.0 - HP_STABLE_MARGIN), HP_BIND_LIMIT_POINT);
-        double rs; /* the hoop-stress limit as a radius bound (monotone: iab/iab_stress.c) */
-        if (B->stress_max > 0 && isfinite(B->stress_max) && hi > m->Ri &&
-            hp_iab_stress_radius(m, B->stress_max, hi, &rs) == HP_OK)
-            take_min(&hi, &hif, rs, HP_BIND_STRESS_MAX);
-
-        double r;
-        e = hp_iab_fk(m, B->p_min, &r);
-        if (e != HP_OK)
-            return hp_diag_set(d, HP_ERR_INVALID,
-                               "bladder %s: pressure_min %.6g Pa has no stable radius (%s)",
-                               B->name, B->p_min, hp_error_message(e));
-        take_max(&lo, &lof, r, HP_BIND_PRESSURE_MIN);
-        if (!lp.exists || B->p_max < lp.pressure) {
-            e = hp_iab_fk(m, B->p_max, &r);
-            if (e == HP_OK) take_min(&hi, &hif, r, HP_BIND_PRESSURE_MAX);
-            else if (e != HP_ERR_NO_STABLE)
-                return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max %.6g Pa: %s",
-                                   B->name, B->p_max, hp_error_message(e));
-        }
-        /* FK roots are exact to a few ulps; make the pressure bounds hold exactly. */
-        if ((lof & HP_BIND_PRESSURE_MIN) && !nudge_lo(m, &lo, B->p_min))
-            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_min bound", B->name);
-        if ((hif & HP_BIND_PRESSURE_MAX) && !nudge_hi(m, &hi, B->p_max))
-            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max bound", B->name);
-        /* lo >= stretch_min · Ri exactly, so the reported stretch ri / Ri (the exact
-         * quotient rounded, a monotone map) is >= stretch_min too; the same for hi. The
-         * pressure nudges only moved the bounds inward. */
-        double plo, phi;
-        if (!(lo < hi) || lo / m->Ri < B->stretch_min || hi / m->Ri > B->stretch_max || hp_iab_ik(m, lo, &plo) != HP_OK || hp_iab_ik(m, hi, &phi) != HP_OK)
-            return hp_diag_set(d, HP_ERR_INVALID,
-                               "bladder %s: the pressure and stretch limits leave no stable "
-                               "radius (ri %.6g..%.6g mm)",
-                               B->name, lo * HP_MM_PER_M, hi * HP_MM_PER_M);
-        /* Pressures are returned clamped into [p_lo, p_hi] c [p_min, p_max]. */
-        b->limit[k] = lp;
-        b->ri_lo[k] = lo;
-        b->ri_hi[k] = hi;
-        b->lo_flags[k] = lof;
-        b->hi_flags[k] = hif;
-        b->p_lo[k] = plo > B->p_min ? plo : B->p_min;
-        b->p_hi[k] = phi < B->p_max ? phi : B->p_max;
-        if (hp_iab_ro(m, lo, &b->ro_lo[k]) != HP_OK) b->ro_lo[k] = NAN;
-        if (hp_iab_ro(m, hi, &b->ro_hi[k]) != HP_OK) b->ro_hi[k] = NAN;
+        hp_envelope env;
+        hp_error e = hp_bladder_envelope(&L->bladders[k], &env, d);
+        if (e == HP_OK) e = hp_iab_scaled_init(&L->bladders[k].iab, &b->iab_s[k], NULL);
+        if (e != HP_OK) return e;
+        b->limit[k] = env.limit;
+        b->ri_lo[k] = env.ri_lo;
+        b->ri_hi[k] = env.ri_hi;
+        b->lo_flags[k] = env.lo_flags;
+        b->hi_flags[k] = env.hi_flags;
+        b->p_lo[k] = env.p_lo;
+        b->p_hi[k] = env.p_hi;
+        b->ro_lo[k] = env.ro_lo;
+        b->ro_hi[k] = env.ro_hi;
+        b->rate_slack[k] = hp_setup_rate_slack(slope_max(&b->iab_s[k], env.ri_lo, env.ri_hi));
     }
     return HP_OK;
+}
+
+/* The radius bound of one rate window end at pressure pw (up: a lower bound, whose
+ * pressure must be >= pw), from the memo when it holds pw, else solved and memoised.
+ * Returns 0 when no stable radius has it. */
+static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_rate_memo *memo,
+                      double *r)
+{
+    double *mp = NULL, *mr = NULL;
+    unsigned char *ok = NULL;
+    if (memo) {
+        mp = up ? &memo->p_down[k] : &memo->p_up[k];
+        mr = up ? &memo->r_down[k] : &memo->r_up[k];
+        ok = up ? &memo->down_ok[k] : &memo->up_ok[k];
+        if (*ok && memcmp(mp, &pw, sizeof pw) == 0) {
+            *r = *mr;
+            return 1;
+        }
+    }
+    atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
+    if (!(hp_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], pw, NAN, r) == HP_OK &&
+          nudge(&b->iab_s[k], r, pw, up)))
+        return 0;
+    if (memo) {
+        *mp = pw;
+        *mr = *r;
+        *ok = 1;
+    }
+    return 1;
 }
 
 hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                const double *p_prev, int use_rate, hp_problem *pb,
                                unsigned *lo_flags, unsigned *hi_flags, hp_diag *d)
+{
+    return hp_setup_cycle_bounds_memo(L, b, p_prev, use_rate, NULL, pb, lo_flags, hi_flags, d);
+}
+
+hp_error hp_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
+                                    const double *p_prev, int use_rate, hp_rate_memo *memo,
+                                    hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
+                                    hp_diag *d)
 {
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
@@ -134,7 +201,7 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
         if (use_rate && p_prev && isfinite(B->rate_max)) {
             double r, pl = p_prev[k] - B->rate_max, ph = p_prev[k] + B->rate_max;
             if (pl > b->p_lo[k]) {
-                if (hp_iab_fk_limit(&B->iab, &b->limit[k], pl, &r) == HP_OK && nudge_lo(&B->iab, &r, pl))
+                if (rate_bound(b, k, pl, 1, memo, &r))
                     take_max(&lo, &lof, r, HP_BIND_RATE_DOWN);
                 else
                     return hp_diag_set(d, HP_ERR_INVALID,
@@ -142,7 +209,7 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                        B->name, pl);
             }
             if (ph < b->p_hi[k]) {
-                if (hp_iab_fk_limit(&B->iab, &b->limit[k], ph, &r) == HP_OK && nudge_hi(&B->iab, &r, ph))
+                if (rate_bound(b, k, ph, 0, memo, &r))
                     take_min(&hi, &hif, r, HP_BIND_RATE_UP);
                 else
                     return hp_diag_set(d, HP_ERR_INVALID,
@@ -178,6 +245,20 @@ hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
         if (hi_flags) hi_flags[k] = hif;
     }
     return HP_OK;
+}
+
+int hp_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+                        const hp_bladder_result *br)
+{
+    for (int k = 0; k < L->n; ++k) {
+        double rate = L->bladders[k].rate_max, P = br[k].pressure, m = b->rate_slack[k];
+        if (!isfinite(rate)) continue;
+        double pl = p_prev[k] - rate, ph = p_prev[k] + rate;
+        /* The same tests as hp_setup_cycle_bounds for whether a window end is a bound. */
+        if (pl > b->p_lo[k] && !(P >= pl + m)) return 0;
+        if (ph < b->p_hi[k] && !(P <= ph - m)) return 0;
+    }
+    return 1;
 }
 
 void hp_setup_pose_from_scaled(const double x[6], double xi[6])

@@ -26,10 +26,51 @@ typedef struct hp_static_bounds {
     /* Each bladder validated and scaled once (hp_iab_scaled_init), for the per-plan model
      * evaluations (hp_setup_bladder_from_ro_s, hp_iab_s_fk_limit_warm_ro). */
     hp_iab_s iab_s[HP_MAX_BLADDERS];
+    /* hp_setup_rate_slack of the bladder: how far inside a rate window [Pa] a pressure
+     * must lie for the window's radius bound not to matter (hp_setup_rate_clear). */
+    double rate_slack[HP_MAX_BLADDERS];
 } hp_static_bounds;
 
-/* Pressure, stretch and limit-point limits as inner-radius bounds, so that IK(ri_lo) >=
- * p_min and IK(ri_hi) <= p_max hold exactly in floating point. Errors name the bladder. */
+/* The rate slack of a bladder whose dP/dro is at most slope [Pa/m] on its static bounds:
+ * a pressure that far inside a rate window lies on a radius more than 2·HP_BINDING_TOL_MM
+ * inside that window's radius bound (an outer radius more than the binding tolerance
+ * inside, with room for the bound's own few ulps and the pressure's rounding, ~1e-11 Pa).
+ * A non-finite slope gives +inf: never clear, the bounds are always solved. */
+static inline double hp_setup_rate_slack(double slope)
+{
+    return isfinite(slope) ? slope * 2e-3 * HP_BINDING_TOL_MM + 1e-6 : INFINITY;
+}
+
+/* 1 when every bladder's pressure br[k].pressure lies more than its rate slack inside the rate window
+ * around p_prev[k] on each side where that window is tighter than the static pressure
+ * bounds: then the answer those pressures came from (a direct chain inside the static
+ * bounds) is, bit for bit, the one the exact rate bounds would give (no radius clamped by
+ * them, no rate limit binding within the tolerance), and hp_plan need not solve them. */
+int hp_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+                        const hp_bladder_result *br);
+
+/* One bladder's safe envelope: the one home of its pressure, stretch, hoop-stress and
+ * limit-point limits as bounds on its inner radius, so that IK(ri_lo) >= p_min and
+ * IK(ri_hi) <= p_max hold in floating point (FK roots moved inward ulp by ulp), ri_lo >=
+ * stretch_min·Ri and ri_hi <= stretch_max·Ri in exact arithmetic (common/exact_prod.h), ri_hi
+ * at most HP_STABLE_MARGIN below any inflation limit point and within the hoop-stress
+ * limit; with the pressures there (cut to [p_min, p_max]) and the HP_BIND_* flags of what
+ * set each bound (equal bounds keep both). Every planner (the kinematic levels, the load
+ * level) and the benchmark lab take a bladder's limits from here. */
+typedef struct hp_envelope {
+    double ri_lo, ri_hi;       /* [m] */
+    double p_lo, p_hi;         /* [Pa] IK at ri_lo, ri_hi, inside [p_min, p_max] */
+    double ro_lo, ro_hi;       /* [m] the volume law there (NaN if it failed) */
+    unsigned lo_flags, hi_flags;
+    hp_iab_limit limit;        /* the inflation limit point */
+} hp_envelope;
+
+/* Fills e for bladder B. HP_ERR_INVALID (the bladder named in d) when the limits leave no
+ * stable radius. */
+hp_error hp_bladder_envelope(const hp_bladder *B, hp_envelope *e, hp_diag *d);
+
+/* Every bladder's envelope (hp_bladder_envelope) into b, with what the per-plan evaluations
+ * keep (the validated model, the rate slack). Errors name the bladder. */
 hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag *d);
 
 /* One plan's bounds: the static ones intersected with the rate limits around p_prev (when
@@ -38,6 +79,32 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
 hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                const double *p_prev, int use_rate, hp_problem *pb,
                                unsigned *lo_flags, unsigned *hi_flags, hp_diag *d);
+
+/* The last radius bound solved for each end of each bladder's rate window, keyed by the
+ * window end's pressure: the solve (FK from no start, then the nudge) is a function of that
+ * pressure alone, so the same pressure, bit for bit, gives the same bound without a solve
+ * (a plan holding a closest answer under rate limits sets the same windows cycle after
+ * cycle). Zeroed: empty. */
+typedef struct hp_rate_memo {
+    double p_down[HP_MAX_BLADDERS], r_down[HP_MAX_BLADDERS];
+    double p_up[HP_MAX_BLADDERS], r_up[HP_MAX_BLADDERS];
+    unsigned char down_ok[HP_MAX_BLADDERS], up_ok[HP_MAX_BLADDERS];
+} hp_rate_memo;
+
+/* hp_setup_cycle_bounds with a memo (may be NULL) read and filled: the same bounds, bits
+ * and errors. */
+hp_error hp_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
+                                    const double *p_prev, int use_rate, hp_rate_memo *memo,
+                                    hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
+                                    hp_diag *d);
+
+/* TEST-ONLY hooks (not installed, no public header; inert until a test sets them):
+ * the number of rate-limit window ends solved into radius bounds in this process so far
+ * (an atomic count), and whether hp_plan defers the rate bounds until a plan needs them
+ * (1, the default) or solves them first (0). */
+unsigned long hp_test_rate_bound_solves(void);
+void hp_test_rate_lazy(int on);
+int hp_setup_rate_lazy(void);
 
 /* The planner's contact geometry (of hp_planner_layout(p)), derived once at create: for
  * the horizon planners that run on its layout. */

@@ -353,6 +353,24 @@ HP_API hp_error hp_planner_reach(const hp_planner *p, double reach[6][2]);
  * plan is not rate-limited. */
 HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
 
+/* How far beyond the pressures its limits allow a measured pressure may lie and still be
+ * taken (clamped onto the limit): this fraction of the bladder's p_max − p_min (15 Pa for
+ * −5..+10 kPa), a pressure sensor's noise, far below any clinical effect. */
+#define HP_MEASURED_TOL_REL 1e-3
+
+/* The control loop's feedback: the pressures the bladders were measured to hold [Pa] (n
+ * values), as hp_planner_set_previous takes them, for a reading with noise: one beyond the
+ * pressures a bladder's limits allow (pressure and stretch limits) by at most
+ * HP_MEASURED_TOL_REL·(p_max − p_min) is clamped onto that limit and reported in *clamped
+ * (bit k for bladder k; clamped may be NULL), not refused. One farther beyond, or not
+ * finite: HP_ERR_INVALID naming the bladder in hp_planner_error, and nothing changes. The
+ * pose stated for them is the forward contact kinematics' fit started from the previous
+ * answer's pose (a few steps for a reading near the last plan; from the nominal pose when
+ * that start does not converge), the radii solved from the previous answer's. Allocates
+ * nothing. */
+HP_API hp_error hp_planner_set_measured(hp_planner *p, const double *pressures,
+                                        unsigned *clamped);
+
 /* Makes a result the previous answer, as if hp_plan had just returned it, from its fields
  * alone: the rate limits of the next plan start from its pressures, the next solve starts
  * from its pose and inner radii (cold: the backend's own warm point, e.g. the realtime

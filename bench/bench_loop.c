@@ -1,0 +1,231 @@
+/* headplan-bench, family "loop": the control loop as it is run. On the layout of o->scene,
+ * for each level (linear, plane, surface) and backend (realtime, nlopt-slsqp), three traces
+ * of corrections, one plan a cycle:
+ *   smooth  breathing: sinusoids of 200 cycles (2 mm in z, 0.8 mm in y, 0.6 deg pitch) over
+ *           a slow drift in x;
+ *   noisy   the same with uniform noise of +-0.1 mm / +-0.05 deg on every axis each cycle;
+ *   step    a new seeded target (within +-3 mm, +-2 deg) every 300 cycles, held between.
+ * Four planners run every trace, taking turns on each cycle (so a slow spell of the host
+ * hits all four alike):
+ *   free      rate limits off, each plan from the last answer (the headline numbers' plan);
+ *   rate      every bladder's rate_max LOOP_RATE_PA per plan;
+ *   measured  rate, and after each plan the pressures read back with +-LOOP_NOISE_PA noise
+ *             through hp_planner_set_measured (its own time kept apart);
+ *   deadline  measured, with max_time LOOP_BUDGET_US: overshoots are plans that took longer
+ *             than the budget + LOOP_OVERSHOOT_US.
+ * Per row: median, p99, p99.9 and max of the plan time (CLOCK_MONOTONIC around hp_plan), the
+ * ratios of median and p99.9 to the free planner's on the same trace in the same run, the
+ * statuses, and set_measured's median. Writes DIR/loop.csv; prints a summary. */
+#include "bench/bench.h"
+#include "bench/bench_timing.h"
+#include "bench/bench_util.h"
+#include "cli/exit_codes.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define LOOP_RATE_PA 500.0
+#define LOOP_NOISE_PA 3.0
+#define LOOP_BUDGET_US 20.0
+#define LOOP_OVERSHOOT_US 5.0
+#define LOOP_CYCLES_FULL 3000
+#define LOOP_CYCLES_QUICK 120
+#define N_MODES 4
+#define N_TRACES 3
+#define N_LEVELS 3
+#define N_BACKENDS 2
+#define N_ROWS (N_LEVELS * N_BACKENDS * N_TRACES * N_MODES)
+
+static const char *const mode_names[N_MODES] = {"free", "rate", "measured", "deadline"};
+static const char *const trace_names[N_TRACES] = {"smooth", "noisy", "step"};
+static const hp_level levels[N_LEVELS] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+static const hp_backend backends[N_BACKENDS] = {HP_BACKEND_REALTIME, HP_BACKEND_NLOPT_SLSQP};
+
+typedef struct {
+    hp_level level;
+    hp_backend backend;
+    int trace, mode;
+    long cycles;
+    double med_us, p99_us, p999_us, max_us, ratio_med, ratio_p999, set_med_us;
+    long reached, closest, time_limit, other, rate_binding, overshoots, clamped;
+} loop_row;
+
+/* The trace's correction at cycle j [SI]. */
+static void trace_at(int trace, long j, uint64_t *s, double step_tgt[6], double xi[6])
+{
+    double mm_deg[6] = {0};
+    if (trace == 2) {
+        if (j % 300 == 0)
+            for (int i = 0; i < 6; ++i)
+                step_tgt[i] = (2.0 * bench_urand(s) - 1.0) * (i < 3 ? 3.0 : 2.0);
+        memcpy(mm_deg, step_tgt, sizeof mm_deg);
+    } else {
+        double ph = 2.0 * BENCH_PI * (double)j / 200.0;
+        mm_deg[0] = 1.0 * sin(2.0 * BENCH_PI * (double)j / 2000.0);
+        mm_deg[1] = 0.8 * sin(ph + 0.3);
+        mm_deg[2] = 2.0 * sin(ph);
+        mm_deg[3] = 0.6 * sin(ph + 0.1);
+        if (trace == 1)
+            for (int i = 0; i < 6; ++i)
+                mm_deg[i] += (2.0 * bench_urand(s) - 1.0) * (i < 3 ? 0.1 : 0.05);
+    }
+    bench_to_si(mm_deg, xi);
+}
+
+static int cmp_d(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Sorts t[0..n-1] and fills the row's percentiles [us]. */
+static void summarise(double *t, long n, loop_row *r)
+{
+    qsort(t, (size_t)n, sizeof *t, cmp_d);
+    r->med_us = bench_percentile(t, n, 0.5) * 1e-3;
+    r->p99_us = bench_percentile(t, n, 0.99) * 1e-3;
+    r->p999_us = bench_percentile(t, n, 0.999) * 1e-3;
+    r->max_us = t[n - 1] * 1e-3;
+}
+
+/* One level × backend × trace: the four planners in turn on every cycle. */
+static int run_trace(const bench_options *o, const hp_layout *L0, const hp_settings *s0,
+                     hp_level level, hp_backend bk, int trace, loop_row *rows, double *times,
+                     double *set_times)
+{
+    long n = o->quick ? LOOP_CYCLES_QUICK : LOOP_CYCLES_FULL;
+    hp_planner *p[N_MODES] = {0};
+    hp_layout L = *L0;
+    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = LOOP_RATE_PA;
+    int rc = 0;
+    for (int m = 0; m < N_MODES && rc == 0; ++m) {
+        hp_settings s = *s0;
+        s.backend = bk;
+        s.level = level;
+        s.use_rate_limits = m > 0;
+        s.max_time = m == 3 ? LOOP_BUDGET_US * 1e-6 : 10.0;
+        rc = bench_planner_new(&L, &s, &p[m]);
+        loop_row *r = &rows[m];
+        memset(r, 0, sizeof *r);
+        r->level = level;
+        r->backend = bk;
+        r->trace = trace;
+        r->mode = m;
+        r->cycles = n;
+    }
+    uint64_t seed = 0x100b + (uint64_t)trace, noise = 0x5e7 + (uint64_t)trace;
+    double tgt[6] = {0};
+    for (long j = 0; j < n && rc == 0; ++j) {
+        double xi[6];
+        trace_at(trace, j, &seed, tgt, xi);
+        for (int mm = 0; mm < N_MODES; ++mm) {
+            int m = j % 2 ? N_MODES - 1 - mm : mm; /* forwards, then backwards */
+            loop_row *r = &rows[m];
+            hp_result res;
+            double t0 = bench_now_ns();
+            hp_error e = hp_plan(p[m], xi, &res);
+            double dt = bench_now_ns() - t0;
+            times[m * n + j] = dt;
+            if (e != HP_OK) ++r->other;
+            else if (res.status == HP_STATUS_REACHED || res.status == HP_STATUS_UNCOMMANDED)
+                ++r->reached;
+            else if (res.status == HP_STATUS_CLOSEST) ++r->closest;
+            else if (res.status == HP_STATUS_TIME_LIMIT) ++r->time_limit;
+            else ++r->other;
+            for (int k = 0; k < res.n; ++k)
+                if (res.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP)) {
+                    ++r->rate_binding;
+                    break;
+                }
+            if (m == 3 && dt > (LOOP_BUDGET_US + LOOP_OVERSHOOT_US) * 1e3) ++r->overshoots;
+            if (m >= 2) {
+                double P[HP_MAX_BLADDERS];
+                unsigned cl = 0;
+                for (int k = 0; k < res.n; ++k)
+                    P[k] = res.bladders[k].pressure + LOOP_NOISE_PA * (2.0 * bench_urand(&noise) - 1.0);
+                t0 = bench_now_ns();
+                hp_error es = hp_planner_set_measured(p[m], P, &cl);
+                double ds = bench_now_ns() - t0;
+                if (m == 2) set_times[j] = ds;
+                if (es != HP_OK) ++r->other;
+                r->clamped += cl != 0;
+            }
+        }
+    }
+    for (int m = 0; m < N_MODES; ++m) hp_planner_destroy(p[m]);
+    if (rc != 0) return rc;
+    for (int m = 0; m < N_MODES; ++m) summarise(times + m * n, n, &rows[m]);
+    for (int m = 0; m < N_MODES; ++m) {
+        rows[m].ratio_med = rows[m].med_us / rows[0].med_us;
+        rows[m].ratio_p999 = rows[m].p999_us / rows[0].p999_us;
+    }
+    qsort(set_times, (size_t)n, sizeof *set_times, cmp_d);
+    double sm = bench_percentile(set_times, n, 0.5) * 1e-3;
+    rows[2].set_med_us = rows[3].set_med_us = sm;
+    rows[0].set_med_us = rows[1].set_med_us = NAN;
+    return 0;
+}
+
+static void csv_row(const void *arg, int i, FILE *f)
+{
+    const loop_row *r = (const loop_row *)arg + i;
+    fprintf(f, "%s,%s,%s,%s,%ld,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%g\n",
+            hp_level_name(r->level), hp_backend_name(r->backend), trace_names[r->trace],
+            mode_names[r->mode], r->cycles, r->med_us, r->p99_us, r->p999_us, r->max_us,
+            r->ratio_med, r->ratio_p999, r->set_med_us, r->reached, r->closest, r->time_limit,
+            r->other, r->rate_binding, r->clamped, r->overshoots,
+            r->mode == 3 ? LOOP_BUDGET_US : NAN);
+}
+
+int bench_loop(const bench_options *o, const char *dir)
+{
+    hp_scene scene;
+    int rc = bench_load_layout(o->scene, &scene);
+    if (rc != 0) return rc;
+    hp_settings s;
+    hp_settings_default(&s);
+    long n = o->quick ? LOOP_CYCLES_QUICK : LOOP_CYCLES_FULL;
+    static loop_row rows[N_ROWS];
+    double *times = malloc(sizeof(double) * (size_t)(N_MODES * n));
+    double *set_times = malloc(sizeof(double) * (size_t)n);
+    if (!times || !set_times) {
+        free(times);
+        free(set_times);
+        fprintf(stderr, "headplan-bench: loop: out of memory\n");
+        return CLI_EXIT_SOFTWARE;
+    }
+    int nr = 0;
+    for (int b = 0; b < N_BACKENDS && rc == 0; ++b)
+        for (int l = 0; l < N_LEVELS && rc == 0; ++l)
+            for (int t = 0; t < N_TRACES && rc == 0; ++t) {
+                fprintf(stderr, "bench loop: %s %s %s\n", hp_backend_name(backends[b]),
+                        hp_level_name(levels[l]), trace_names[t]);
+                rc = run_trace(o, &scene.layout, &s, levels[l], backends[b], t, rows + nr,
+                               times, set_times);
+                nr += N_MODES;
+            }
+    free(times);
+    free(set_times);
+    if (rc != 0) return rc;
+    rc = bench_save_csv(dir, "loop.csv",
+                        "level,backend,trace,mode,cycles,median_us,p99_us,p999_us,max_us,"
+                        "ratio_median,ratio_p999,set_measured_median_us,reached,closest,"
+                        "time_limit,other,rate_binding,clamped,overshoots,budget_us",
+                        csv_row, rows, nr);
+    printf("loop (rate %g Pa/plan, measured noise +-%g Pa, deadline %g us; ratios to the "
+           "free plan of the same trace):\n",
+           LOOP_RATE_PA, LOOP_NOISE_PA, LOOP_BUDGET_US);
+    printf("%-8s %-12s %-7s %-9s %8s %8s %8s %8s %6s %6s %7s %5s %5s\n", "level", "backend",
+           "trace", "mode", "med_us", "p99_us", "p999_us", "max_us", "x_med", "x_p999",
+           "set_us", "tlim", "over");
+    for (int i = 0; i < nr; ++i) {
+        const loop_row *r = &rows[i];
+        printf("%-8s %-12s %-7s %-9s %8.2f %8.2f %8.2f %8.1f %6.2f %6.2f %7.2f %5ld %5ld\n",
+               hp_level_name(r->level), hp_backend_name(r->backend), trace_names[r->trace],
+               mode_names[r->mode], r->med_us, r->p99_us, r->p999_us, r->max_us, r->ratio_med,
+               r->ratio_p999, r->set_med_us, r->time_limit, r->overshoots);
+    }
+    return rc;
+}

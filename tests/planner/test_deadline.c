@@ -1,0 +1,133 @@
+/* A time budget that must expire (max_time 1 ns: the clock has moved past it by the first
+ * time the realtime backend reads it) on plans whose solver runs: targets beyond reach and
+ * chains of large steps under rate limits, at the plane and surface levels. No timing is
+ * asserted; what is asserted:
+ * - the status is TIME_LIMIT (the budget stopped the solve), never a solver error;
+ * - the output is safe: every pressure inside [p_min, p_max] and inside its rate window,
+ *   and the pressures' forward model (hp_iab_fk, the volume law, hp_contact_fk from the
+ *   nominal pose) gives back the pose the result states as achieved;
+ * - the work after the budget ran out is bounded: counted by the backend's test counts
+ *   (contact evaluations and QPs begun after the deadline), at most RT_LATE_MAX a solve
+ *   (the evaluations that find the feasible point to stop at: the previous answer, else the
+ *   nominal pose). Before the clock was read inside the line search, the restoration and its
+ *   bisection, a solve stopped by time went on through all three (tens of evaluations). */
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
+#include "planner/backend_testing.h"
+
+#define RT_LATE_MAX 3
+
+static const double beyond[][6] = {
+    {30, 0, 0, 0, 0, 0},  {0, -25, 0, 0, 0, 0}, {0, 0, 20, 10, 0, 0},
+    {12, 8, -9, 6, -7, 5}, {0, 0, 0, 0, 0, 20}, {-20, 15, 0, 0, 8, 0},
+};
+#define N_BEYOND (int)(sizeof beyond / sizeof beyond[0])
+
+static hp_planner *budget_planner(hp_level level, double rate, double max_time)
+{
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = rate;
+    hp_settings s;
+    hp_settings_default(&s);
+    s.backend = HP_BACKEND_REALTIME;
+    s.level = level;
+    s.max_time = max_time;
+    hp_planner *p = NULL;
+    assert_int_equal(hp_planner_create(&L, &s, &p, NULL), HP_OK);
+    return p;
+}
+
+/* The safety checks of one result; P0 the previous pressures (the rate windows' centres). */
+static void check_safe(const hp_planner *p, const hp_result *r, const double *P0, double rate,
+                       const char *what)
+{
+    const hp_layout *L = hp_planner_layout(p);
+    for (int k = 0; k < r->n; ++k) {
+        const hp_bladder *B = &L->bladders[k];
+        double P = r->bladders[k].pressure;
+        if (!(P >= B->p_min && P <= B->p_max && P >= P0[k] - rate && P <= P0[k] + rate)) {
+            print_error("%s: bladder %d pressure %.17g outside its limits or rate window\n",
+                        what, k, P);
+            fail();
+        }
+    }
+    double xi[6];
+    assert_int_equal(lf_round_trip(L, hp_planner_level(p), r, xi), HP_OK);
+    for (int i = 0; i < 6; ++i) {
+        /* 1e-7 m and 1e-6 rad: far above the forward fit's convergence (~1e-12), far below
+         * anything a head can feel. */
+        double tol = i < 3 ? 1e-7 : 1e-6;
+        if (!(fabs(xi[i] - r->achieved[i]) <= tol)) {
+            print_error("%s: component %d: forward model %.12g, stated achieved %.12g\n", what,
+                        i, xi[i], r->achieved[i]);
+            fail();
+        }
+    }
+}
+
+static void test_expired_budget(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    long solves = 0, late = 0, stopped = 0;
+    for (int l = 0; l < 2; ++l) {
+        for (int rl = 0; rl < 2; ++rl) {
+            double rate = rl ? 400.0 : INFINITY;
+            hp_planner *p = budget_planner(levels[l], rate, 1e-9);
+            uint64_t seed = 0xdead + (uint64_t)(2 * l + rl);
+            /* The previous pressures: the nominal ones (the zero correction, answered by the
+             * direct chain), then each result's own (a stopped solve's iterate, or the safe
+             * output, which is the previous answer). */
+            double P0[HP_MAX_BLADDERS], zero[6] = {0};
+            hp_result r0;
+            assert_int_equal(hp_plan(p, zero, &r0), HP_OK);
+            assert_int_equal(r0.status, HP_STATUS_REACHED);
+            for (int k = 0; k < r0.n; ++k) P0[k] = r0.bladders[k].pressure;
+            for (int t = 0; t < 3 * N_BEYOND; ++t) {
+                double d[6], mm_deg[6];
+                for (int i = 0; i < 6; ++i)
+                    mm_deg[i] = beyond[t % N_BEYOND][i] * (1.0 + 0.2 * lf_uniform(&seed));
+                lf_pose(mm_deg, d);
+                hp_result r;
+                hp_test_realtime_count(1);
+                assert_int_equal(hp_plan(p, d, &r), HP_OK);
+                hp_test_realtime_count(0);
+                hp_test_rt_counts c;
+                hp_test_realtime_counts(&c);
+                char what[80];
+                snprintf(what, sizeof what, "%s rate %g plan %d (%s)",
+                         hp_level_name(levels[l]), rate, t, hp_status_name(r.status));
+                if (c.solves > 0) {
+                    if (r.status != HP_STATUS_TIME_LIMIT) {
+                        print_error("%s: the solver ran; want time-limit: %s\n", what,
+                                    hp_planner_error(p));
+                        fail();
+                    }
+                    ++stopped;
+                }
+                check_safe(p, &r, P0, rate, what);
+                for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
+                solves += c.solves;
+                late += c.late;
+                if (c.late > RT_LATE_MAX * c.solves) {
+                    print_error("%s: %ld pieces of work begun after the deadline in %ld "
+                                "solves\n", what, c.late, c.solves);
+                    fail();
+                }
+            }
+            hp_planner_destroy(p);
+        }
+    }
+    print_message("expired budget: %ld plans stopped by time, %ld solves, %ld late pieces "
+                  "of work\n", stopped, solves, late);
+    assert_true(stopped >= 36); /* the solver ran on most of the 72 plans */
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_expired_budget),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

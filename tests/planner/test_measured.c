@@ -1,0 +1,146 @@
+/* Measured pressures fed back into a planner (hp_planner_set_measured):
+ * - a noisy reading inside the limits is taken as it is (no bladder reported), and the
+ *   planner's previous answer then holds exactly those pressures at the pose their forward
+ *   model gives (hp_iab_fk, the volume law, hp_contact_fk from the nominal pose, within
+ *   1e-7 m / 1e-6 rad);
+ * - a reading beyond the pressures its bladder's limits allow (pressure and stretch) by at
+ *   most HP_MEASURED_TOL_REL of p_max − p_min (a sensor's noise at a limit) is clamped onto
+ *   the limit and reported in the mask, not refused;
+ * - a reading beyond that, or not finite, is refused (HP_ERR_INVALID) with the bladder named
+ *   in hp_planner_error, and nothing changes;
+ * - the next plan's rate windows are centred on the taken pressures. */
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
+
+static hp_planner *planner(hp_level level, double rate)
+{
+    hp_planner *p = NULL;
+    assert_int_equal(lf_planner(level, rate, &p), HP_OK);
+    return p;
+}
+
+/* The pressures of a plan of mm_deg (reached or closest); returns 1 when no limit binds. */
+static int pressures_of(hp_planner *p, const double mm_deg[6], double *P)
+{
+    double d[6];
+    hp_result r;
+    lf_pose(mm_deg, d);
+    assert_int_equal(hp_plan(p, d, &r), HP_OK);
+    assert_true(r.status == HP_STATUS_REACHED || r.status == HP_STATUS_CLOSEST);
+    unsigned any = 0;
+    for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure, any |= r.bladders[k].binding;
+    return any == 0;
+}
+
+/* The previous answer (the safe output of a plan refused at once: a NaN request). */
+static void previous(hp_planner *p, hp_result *r)
+{
+    double bad[6] = {NAN, 0, 0, 0, 0, 0};
+    assert_int_equal(hp_plan(p, bad, r), HP_OK);
+    assert_int_equal(r->status, HP_STATUS_INVALID_INPUT);
+}
+
+static void test_noisy_readings(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    uint64_t seed = 0x3ea5;
+    for (int l = 0; l < 3; ++l) {
+        hp_planner *p = planner(levels[l], INFINITY);
+        const hp_layout *L = hp_planner_layout(p);
+        int noisy = 0;
+        for (int t = 0; t < 20; ++t) {
+            double mm_deg[6], P[HP_MAX_BLADDERS];
+            for (int i = 0; i < 6; ++i) mm_deg[i] = 1.5 * lf_uniform(&seed);
+            if (!pressures_of(p, mm_deg, P)) continue; /* noise at a limit: the next test */
+            ++noisy;
+            for (int k = 0; k < L->n; ++k) P[k] += 5.0 * lf_uniform(&seed); /* ±5 Pa noise */
+            unsigned clamped = 99;
+            assert_int_equal(hp_planner_set_measured(p, P, &clamped), HP_OK);
+            assert_int_equal(clamped, 0);
+            hp_result r;
+            previous(p, &r);
+            for (int k = 0; k < L->n; ++k) assert_true(r.bladders[k].pressure == P[k]);
+            double xi[6];
+            assert_int_equal(lf_round_trip(L, levels[l], &r, xi), HP_OK);
+            for (int i = 0; i < 6; ++i)
+                hp_assert_close(xi[i], r.achieved[i], 0, i < 3 ? 1e-7 : 1e-6);
+        }
+        assert_true(noisy >= 10);
+        hp_planner_destroy(p);
+    }
+}
+
+static void test_readings_at_and_beyond_limits(void **state)
+{
+    (void)state;
+    hp_planner *p = planner(HP_LEVEL_SURFACE, 500.0);
+    const hp_layout *L = hp_planner_layout(p);
+    double P[HP_MAX_BLADDERS];
+    const double zero[6] = {0};
+    pressures_of(p, zero, P);
+    const hp_bladder *B = &L->bladders[2];
+    double tol = HP_MEASURED_TOL_REL * (B->p_max - B->p_min);
+    /* The highest pressure the bladder's limits allow: here its stretch limit's (5.8 kPa,
+     * below p_max 10 kPa), the pressure of stretch_max·Ri. */
+    double p_top;
+    assert_int_equal(hp_iab_ik(&B->iab, B->stretch_max * B->iab.Ri, &p_top), HP_OK);
+    p_top = fmin(p_top, B->p_max);
+
+    /* A hair above it (half the tolerance): clamped onto the limit, reported. */
+    double Q[HP_MAX_BLADDERS];
+    memcpy(Q, P, sizeof Q);
+    Q[2] = p_top + 0.5 * tol;
+    unsigned clamped = 0;
+    /* The reading's pose need not be near the nominal: the limit is far from it. */
+    hp_error e = hp_planner_set_measured(p, Q, &clamped);
+    assert_int_equal(e, HP_OK);
+    assert_int_equal(clamped, 1u << 2);
+    hp_result r;
+    previous(p, &r);
+    assert_true(r.bladders[2].pressure <= p_top);
+    hp_assert_close(r.bladders[2].pressure, p_top, 1e-9, 0);
+    assert_true(r.bladders[3].pressure == Q[3]);
+
+    /* The next plan's windows are centred there: no pressure moves more than the rate. */
+    double d[6];
+    lf_pose((const double[6]){0.5, 0, 0, 0, 0, 0}, d);
+    hp_result a;
+    assert_int_equal(hp_plan(p, d, &a), HP_OK);
+    for (int k = 0; k < a.n; ++k)
+        assert_true(fabs(a.bladders[k].pressure - r.bladders[k].pressure) <= 500.0);
+
+    /* A hair below p_min on another bladder: clamped too. */
+    memcpy(Q, P, sizeof Q);
+    Q[5] = L->bladders[5].p_min - 0.9 * tol;
+    assert_int_equal(hp_planner_set_measured(p, Q, &clamped), HP_OK);
+    assert_int_equal(clamped, 1u << 5);
+
+    /* Beyond the tolerance, or not finite: refused, the bladder named, nothing changed. */
+    hp_result before;
+    previous(p, &before);
+    const double far[3] = {p_top + 2.0 * tol, NAN, INFINITY};
+    for (int j = 0; j < 3; ++j) {
+        memcpy(Q, P, sizeof Q);
+        Q[2] = far[j];
+        clamped = 7;
+        assert_int_equal(hp_planner_set_measured(p, Q, &clamped), HP_ERR_INVALID);
+        assert_non_null(strstr(hp_planner_error(p), B->name));
+        assert_non_null(strstr(hp_planner_error(p), "set_measured"));
+        hp_result after;
+        previous(p, &after);
+        for (int k = 0; k < after.n; ++k)
+            assert_true(after.bladders[k].pressure == before.bladders[k].pressure);
+    }
+    assert_int_equal(hp_planner_set_measured(p, NULL, &clamped), HP_ERR_NULL);
+    hp_planner_destroy(p);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_noisy_readings),
+        cmocka_unit_test(test_readings_at_and_beyond_limits),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

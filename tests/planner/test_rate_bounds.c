@@ -1,0 +1,242 @@
+/* The rate limits' radius bounds, and what a plan pays for them.
+ *
+ * 1. hp_setup_cycle_bounds gives, bit for bit, the bounds of the cold reference written out
+ *    here from the public bladder API alone: each window end's radius by hp_iab_fk_limit
+ *    from no start, then moved inward by the nudge (steps of 1e-16 of the radius, doubling)
+ *    until hp_iab_ik puts its pressure inside the window, intersected with the static
+ *    bounds (the tighter wins, equal ones keep both flags). A seeded sweep of previous
+ *    pressures (uniform inside the limits, and exactly at p_lo, p_hi, 0) and rates
+ *    (log-uniform 1e-3 Pa .. 20 kPa).
+ * 2. hp_plan defers those bounds: a plan whose direct chain answers with every pressure
+ *    clear of its rate window (by the margin of problem_setup.h) solves none of them (the
+ *    counter of problem_setup.h), and every plan, deferred or not, equals bit for bit the
+ *    plan of a planner that solves the bounds first (hp_test_rate_lazy(0)), over seeded
+ *    chains of corrections at every level, small steps (nothing binds) and large ones (the
+ *    rate limits bind). */
+#include "support/test_util.h"
+#include "support/layout_fixture.h"
+#include "planner/problem_setup.h"
+#include "common/units.h"
+
+/* The reference nudges: the cold path hp_setup_cycle_bounds had before it was made cheap. */
+static int ref_nudge(const hp_iab *b, double *ri, double p, int up)
+{
+    double r = *ri, step = fabs(r) * 1e-16;
+    for (int i = 0; i < 80; ++i) {
+        double P;
+        if (hp_iab_ik(b, r, &P) == HP_OK && (up ? P >= p : P <= p)) {
+            *ri = r;
+            return 1;
+        }
+        r += up ? step : -step;
+        step *= 2.0;
+    }
+    return 0;
+}
+
+/* The reference bounds of bladder k around p_prev: lo, hi [m] and their flags. 0 when the
+ * reference finds no radius (the function under test must refuse too). */
+static int ref_bounds(const hp_layout *L, const hp_static_bounds *sb, int k, double p_prev,
+                      double *lo, double *hi, unsigned *lof, unsigned *hif)
+{
+    const hp_bladder *B = &L->bladders[k];
+    double rate = B->rate_max, r;
+    *lo = sb->ri_lo[k];
+    *hi = sb->ri_hi[k];
+    *lof = sb->lo_flags[k];
+    *hif = sb->hi_flags[k];
+    double pl = p_prev - rate, ph = p_prev + rate;
+    if (pl > sb->p_lo[k]) {
+        if (hp_iab_fk_limit(&B->iab, &sb->limit[k], pl, &r) != HP_OK ||
+            !ref_nudge(&B->iab, &r, pl, 1))
+            return 0;
+        if (r > *lo) *lo = r, *lof = HP_BIND_RATE_DOWN;
+        else if (r == *lo) *lof |= HP_BIND_RATE_DOWN;
+    }
+    if (ph < sb->p_hi[k]) {
+        if (hp_iab_fk_limit(&B->iab, &sb->limit[k], ph, &r) != HP_OK ||
+            !ref_nudge(&B->iab, &r, ph, 0))
+            return 0;
+        if (r < *hi) *hi = r, *hif = HP_BIND_RATE_UP;
+        else if (r == *hi) *hif |= HP_BIND_RATE_UP;
+    }
+    if (*lo > *hi && *lo - *hi <= 1e-12 * *lo)
+        *lo = *hi = fmin(fmax(*hi, sb->ri_lo[k]), sb->ri_hi[k]);
+    return *lo <= *hi;
+}
+
+static void test_bounds_equal_cold_reference(void **state)
+{
+    (void)state;
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    hp_static_bounds sb;
+    assert_int_equal(hp_setup_static_bounds(&L, &sb, NULL), HP_OK);
+    uint64_t seed = 0x5eed32;
+    long checked = 0, refused = 0, rate_bound = 0;
+    for (int t = 0; t < 3000; ++t) {
+        double P[HP_MAX_BLADDERS];
+        for (int k = 0; k < L.n; ++k) {
+            double u = 0.5 * (lf_uniform(&seed) + 1.0);
+            int pick = (int)(test_rng_next(&seed) % 8);
+            P[k] = pick == 0 ? sb.p_lo[k] : pick == 1 ? sb.p_hi[k] : pick == 2 ? 0.0
+                 : sb.p_lo[k] + u * (sb.p_hi[k] - sb.p_lo[k]);
+            /* log-uniform 1e-3 .. 2e4 Pa */
+            L.bladders[k].rate_max = pow(10.0, -3.0 + 7.3 * 0.5 * (lf_uniform(&seed) + 1.0));
+        }
+        hp_problem pb;
+        unsigned lof[HP_MAX_BLADDERS], hif[HP_MAX_BLADDERS];
+        hp_error e = hp_setup_cycle_bounds(&L, &sb, P, 1, &pb, lof, hif, NULL);
+        int all_ok = 1;
+        for (int k = 0; k < L.n; ++k) {
+            double lo, hi;
+            unsigned rl, rh;
+            if (!ref_bounds(&L, &sb, k, P[k], &lo, &hi, &rl, &rh)) {
+                all_ok = 0;
+                continue;
+            }
+            if (e != HP_OK) continue;
+            rate_bound += (rl | rh) & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP) ? 1 : 0;
+            if (memcmp(&pb.ri_lo_si[k], &lo, sizeof lo) || memcmp(&pb.ri_hi_si[k], &hi, sizeof hi) ||
+                lof[k] != rl || hif[k] != rh) {
+                print_error("draw %d bladder %d (P %.17g, rate %.17g): lo %.17g/%u want "
+                            "%.17g/%u, hi %.17g/%u want %.17g/%u\n",
+                            t, k, P[k], L.bladders[k].rate_max, pb.ri_lo_si[k], lof[k], lo, rl,
+                            pb.ri_hi_si[k], hif[k], hi, rh);
+                fail();
+            }
+            ++checked;
+        }
+        /* Refused exactly when the reference finds no radius for some bladder. */
+        assert_int_equal(e == HP_OK, all_ok);
+        refused += !all_ok;
+    }
+    print_message("rate bounds: %ld bladders checked bit for bit (%ld with a rate bound), "
+                  "%ld draws refused by both\n", checked, rate_bound, refused);
+    assert_true(rate_bound > 10000); /* the sweep exercised the rate bounds */
+}
+
+/* 1 when two results carry the same bits in every field a caller reads (solve_time aside;
+ * memcmp of the whole struct would compare padding). */
+static int same_result(const hp_result *a, const hp_result *b)
+{
+#define SAME(f) (memcmp(&a->f, &b->f, sizeof a->f) == 0)
+    if (!(SAME(status) && SAME(raw_code) && SAME(backend) && SAME(level) && SAME(desired) &&
+          SAME(achieved) && SAME(commanded) && SAME(uncommanded) && SAME(pose_error) &&
+          SAME(n) && SAME(iterations)))
+        return 0;
+    for (int k = 0; k < a->n; ++k)
+        if (!(SAME(bladders[k].ri) && SAME(bladders[k].ro) && SAME(bladders[k].pressure) &&
+              SAME(bladders[k].stretch) && SAME(bladders[k].binding)))
+            return 0;
+#undef SAME
+    return 1;
+}
+
+/* A chain of seeded corrections at one level: step_mm / step_deg the largest change per
+ * axis from one to the next. Plans with a deferring planner and with one that solves the
+ * bounds first; returns the plans that solved no rate bound. */
+static int chain(hp_level level, double rate, double step_mm, double step_deg, int n,
+                 uint64_t seed, int *binding)
+{
+    hp_planner *a = NULL, *b = NULL;
+    assert_int_equal(lf_planner(level, rate, &a), HP_OK);
+    assert_int_equal(lf_planner(level, rate, &b), HP_OK);
+    double mm_deg[6] = {0}, d[6];
+    int free_plans = 0;
+    *binding = 0;
+    for (int t = 0; t < n; ++t) {
+        for (int i = 0; i < 6; ++i) {
+            double s = i < 3 ? step_mm : step_deg, lim = i < 3 ? 4.0 : 3.0;
+            mm_deg[i] = fmin(fmax(mm_deg[i] + s * lf_uniform(&seed), -lim), lim);
+        }
+        lf_pose(mm_deg, d);
+        hp_result ra, rb;
+        hp_test_rate_lazy(1);
+        unsigned long before = hp_test_rate_bound_solves();
+        assert_int_equal(hp_plan(a, d, &ra), HP_OK);
+        free_plans += hp_test_rate_bound_solves() == before;
+        hp_test_rate_lazy(0);
+        assert_int_equal(hp_plan(b, d, &rb), HP_OK);
+        hp_test_rate_lazy(1);
+        for (int k = 0; k < ra.n; ++k)
+            *binding += (ra.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP)) != 0;
+        if (!same_result(&ra, &rb)) {
+            print_error("%s plan %d: deferred and eager bounds answer differently (%s / %s)\n",
+                        hp_level_name(level), t, hp_status_name(ra.status),
+                        hp_status_name(rb.status));
+            fail();
+        }
+        assert_string_equal(hp_planner_error(a), hp_planner_error(b));
+    }
+    hp_planner_destroy(a);
+    hp_planner_destroy(b);
+    return free_plans;
+}
+
+static void test_plans_defer_the_bounds(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    for (int i = 0; i < 3; ++i) {
+        int bind;
+        /* Small steps under a 2 kPa rate: nothing binds, so no plan solves a bound. */
+        int free_plans = chain(levels[i], 2e3, 0.05, 0.03, 60, 0xabc + (uint64_t)i, &bind);
+        print_message("%s, small steps: %d/60 plans solved no rate bound, %d bindings\n",
+                      hp_level_name(levels[i]), free_plans, bind);
+        assert_int_equal(bind, 0);
+        assert_int_equal(free_plans, 60);
+        /* Large steps under a 300 Pa rate: the rate limits bind; the answers still equal. */
+        free_plans = chain(levels[i], 300.0, 1.5, 1.0, 40, 0xdef + (uint64_t)i, &bind);
+        print_message("%s, large steps: %d/40 plans solved no rate bound, %d bindings\n",
+                      hp_level_name(levels[i]), free_plans, bind);
+        assert_true(bind > 0);
+    }
+}
+
+/* A target beyond reach held under rate limits: the plans walk to the closest answer at
+ * the rate, then repeat it, and its pressures (bit for bit the same) set the same windows:
+ * the memo of the last solved bounds answers them, so the held plans solve no rate bound.
+ * At the linear level the held answer repeats bit for bit; at the plane and surface levels
+ * the warm-started solver's answer moves by ulps from cycle to cycle (printed, not
+ * asserted), so its windows are new pressures and are solved. */
+static void test_held_answer_reuses_its_bounds(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    for (int l = 0; l < 3; ++l) {
+        hp_planner *p = NULL;
+        assert_int_equal(lf_planner(levels[l], 2000.0, &p), HP_OK);
+        unsigned long solves = 0;
+        double d[6];
+        lf_pose((const double[6]){25, 0, 6, 0, 4, 0}, d);
+        hp_result r, last;
+        unsigned long held = 0;
+        int same = 0;
+        for (int t = 0; t < 60; ++t) {
+            unsigned long before = hp_test_rate_bound_solves();
+            assert_int_equal(hp_plan(p, d, &r), HP_OK);
+            assert_int_equal(r.status, HP_STATUS_CLOSEST);
+            int repeat = t > 0 && same_result(&r, &last);
+            if (t >= 40) solves += hp_test_rate_bound_solves() - before;
+            if (repeat && t >= 40) held += hp_test_rate_bound_solves() - before, ++same;
+            last = r;
+        }
+        print_message("%s: %d of the last 20 plans repeated the answer, %lu rate bounds "
+                      "solved in them, %lu in all 20\n", hp_level_name(levels[l]), same, held,
+                      solves);
+        assert_int_equal(held, 0);
+        if (levels[l] == HP_LEVEL_LINEAR) assert_int_equal(same, 20);
+        hp_planner_destroy(p);
+    }
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_bounds_equal_cold_reference),
+        cmocka_unit_test(test_plans_defer_the_bounds),
+        cmocka_unit_test(test_held_answer_reuses_its_bounds),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
