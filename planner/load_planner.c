@@ -6,6 +6,7 @@
 #include "common/exact_prod.h"
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
+#include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_solve.h"
 #include "planner/planner_internal.h"
@@ -119,9 +120,11 @@ static hp_error check_carry(hp_load_planner *p, hp_diag *diag)
         if (s <= 1e-9 || p->hi[k] <= 0) continue;
         any = 1;
         double ro;
-        if (hp_load_radius(M, k, p->hi[k], &ro, NULL) == HP_OK)
-            cap += s * p->hi[k] * HP_PI * ro * ro *
-                   (1.0 - (1.0 - HP_LOAD_INDENT_MAX) * (1.0 - HP_LOAD_INDENT_MAX));
+        hp_claw c;
+        if (hp_load_radius(M, k, p->hi[k], &ro, NULL) == HP_OK) {
+            hp_claw_cap(p->hi[k], ro, (1.0 - HP_LOAD_INDENT_MAX) * ro, &c);
+            cap += s * c.F;
+        }
     }
     char w[8];
     if (!any)
