@@ -21,6 +21,7 @@ PACKAGES=(
   slurm-wlm munge       # the Slurm recipe runs on a single-node Slurm its test starts
   python3-distributed   # Dask: the Python study recipe runs on a LocalCluster in its test
   locales               # de_DE locale source: the comma-locale tests build it with localedef
+  calculix-ccx          # CalculiX: the finite-element reference of fem/ (ctest -L fem)
 )
 
 missing=()
