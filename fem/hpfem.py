@@ -66,7 +66,7 @@ class Case:
     def __init__(self, Ri=0.027, Ro=0.030, C1=1.1e4, C2=2.2e4, P=5e3, nr=4, nt=40,
                  grade=3.0, bulk_ratio=1e4, indenter=None, support="centre",
                  delta=0.0, penalty=100.0, inc=0.05, contact="NODE TO SURFACE",
-                 controls=None):
+                 controls=None, gap=1.0):
         self.__dict__.update(locals())
         del self.__dict__["self"]
 
@@ -183,7 +183,7 @@ class Case:
     def indenter_mesh(self, n0, e0):
         ro = self.free_radius()[1]
         # start above the free top (the clamped rim lets the pole rise further than ro - Ro)
-        self.z_start = ro + 0.3 * (self.Ro - self.Ri) + 0.02 * ro
+        self.z_start = ro + self.gap * (0.3 * (self.Ro - self.Ri) + 0.02 * ro)
         w, h, n = 1.4 * ro, 0.2 * ro, 24
         Rh = None if self.indenter == "plane" else float(self.indenter)
         nodes, els, face = [], [], []

@@ -107,24 +107,47 @@ def verify(exe, quick):
 
 def contact_run(kw):
     """One contact run (a worker of the pool): the case's parameters -> a result row dict."""
+    key = json.dumps(kw, sort_keys=True)
+    if key in CACHE:
+        return CACHE[key]
     t0 = time.time()
-    # CalculiX's contact iterations fail now and then at first touch; a smaller first
-    # increment usually gets through. A run that never converges is a row that says so.
-    for inc in (0.02, 0.01, 0.05):
-        c = hpfem.Case(**{k: v for k, v in dict(kw, inc=inc).items() if k != "tag"})
+    # CalculiX's contact iterations fail now and then where the bladder first touches; a
+    # smaller first increment or another starting clearance (so that touch happens at
+    # another point of the path) usually gets through. The end state does not depend on
+    # either. A run that never converges is a row that says so.
+    for inc, gap in ((0.02, 1.0), (0.01, 1.0), (0.02, 0.5), (0.02, 2.0), (0.05, 1.0)):
+        c = hpfem.Case(**{k: v for k, v in dict(kw, inc=inc, gap=gap).items() if k != "tag"})
         try:
             r = hpfem.contact_result(c, hpfem.run(c))
             break
         except Exception as e:
             r = {"force": float("nan"), "patch": float("nan"), "dvol": float("nan"),
                  "error": "no convergence: " + str(e).splitlines()[-1].strip()[-60:]}
-    kw = dict(kw, inc=inc)
+    kw = dict(kw, inc=inc, gap=gap)
     ri, ro = c.free_radius()
     r.update(kw)
     r.update(ro=ro, seconds=time.time() - t0)
     print("contact", kw.get("tag", ""), kw["delta"], r["force"] / (c.P * math.pi * ro * ro),
           "%.0fs" % r["seconds"], flush=True)
+    if CACHE_FILE and "error" not in r:
+        with open(CACHE_FILE, "a") as fh:
+            fh.write(json.dumps({"key": key, "result": r}) + "\n")
     return r
+
+
+# --cache FILE: converged runs are appended there and reused by a later run with the same
+# parameters (an interrupted regeneration resumes instead of starting over).
+CACHE_FILE, CACHE = None, {}
+
+
+def load_cache(path):
+    global CACHE_FILE
+    CACHE_FILE = path
+    if path and os.path.exists(path):
+        with open(path) as fh:
+            for line in fh:
+                e = json.loads(line)
+                CACHE[e["key"]] = e["result"]
 
 
 def pool(jobs, workers, done):
@@ -227,8 +250,10 @@ def main():
     ap.add_argument("--only", default="verify,contact,sweep")
     ap.add_argument("--quick", action="store_true")
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--cache", default=None)
     a = ap.parse_args()
     t0 = time.time()
+    load_cache(a.cache)
     parts = a.only.split(",")
     if "verify" in parts:
         verify(a.headplan, a.quick)

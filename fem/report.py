@@ -90,6 +90,22 @@ def contact(name, tags):
                                      f(r["patch_over_ro"], 3), f(r["volume_change"], 3)]))
 
 
+def sweep():
+    law = {(r["tag"], r["delta_over_ro"]): r for r in table("law_error.csv")}
+    print("| case | δ/ro | wall/ro | P/C1 | C2/C1 | ro/Rh | F/(P·π·ro²) | cap/FEM | fitted law − FEM | patch/ro | ΔV/V |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in table("sweep.csv"):
+        g, cap = float(r["F_over_P_pi_ro2"]), float(r["cap_law"])
+        e = law.get((r["tag"], r["delta_over_ro"]))
+        print("| %s |" % " | ".join([
+            r["tag"], f(r["delta_over_ro"]), f(r["thickness_over_ro"], 3), f(r["P_over_C1"], 3),
+            f(r["C2_over_C1"]), f(r["ro_over_head_radius"], 3),
+            f(g) if not math.isnan(g) else "no convergence",
+            "—" if math.isnan(g) else "%.2f" % (cap / g),
+            "—" if e is None else "%+.1f %%" % (100 * float(e["law_error"])),
+            f(r["patch_over_ro"], 3), f(r["volume_change"], 3)]))
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "all"
     if what in ("all", "inflation"):
@@ -101,4 +117,4 @@ if __name__ == "__main__":
     if what in ("all", "checks"):
         contact("contact_checks.csv", None)
     if what in ("all", "sweep"):
-        contact("sweep.csv", None)
+        sweep()
