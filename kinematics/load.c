@@ -6,19 +6,19 @@
  *     Q      = sum_k F_k J_k + Q_grav,
  *     dQ/dxi = sum_k (F_k H_k + dF_k/drho · J_k J_kᵀ) + dQ_grav/dxi,
  *     dQ/dP_k = dF_k/dP · J_k,
- * with F = P·pi·(ro² − rho²), dF/drho = −2·pi·P·rho, dF/dP = pi·(ro² − rho²) + 2·pi·P·ro·ro'.
+ * with F(P, ro, rho) and its derivatives from the contact law (contact_law.h, the one
+ * home of the formula) and dF/dP taken through ro(P) as well: F_P + F_ro·ro'.
  * The bladder radius ro(P) comes from the bladder model's forward kinematics, and
  * ro'(P) = (dro/dri)/(dP/dri) = (ri/ro)² / (dP/dri). */
 #include "headplan/hp_load.h"
 #include "common/units.h"
+#include "contact_law.h"
 #include "load_internal.h"
 #include "kin_internal.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-
-static const double PI = HP_PI;
 
 void hp_load_spec_default(const hp_head *h, hp_load_spec *s)
 {
@@ -138,17 +138,17 @@ hp_error hp_load_radii(const hp_load_model *M, const double *P, double *ro, doub
 
 void hp_load_law(double P, double ro, double dro, double rho, int right, hp_load_force *f)
 {
-    double a = PI * (ro - rho) * (ro + rho); /* flattened area pi(ro² − rho²) */
+    hp_claw c;
+    hp_claw_cap(P, ro, rho, &c);
     int on = P > 0 && ro > rho;
     /* right: the derivatives of the contact branch also where the bladder just touches
      * (the one-sided derivative a planner needs to bring a bladder into contact). */
     int d_on = on || (right && P >= 0 && ro >= rho);
-    f->F = on ? P * a : 0.0;
-    f->dF_drho = d_on ? -2.0 * PI * P * rho : 0.0;
-    f->dF_dP = d_on ? a + 2.0 * PI * P * ro * dro : 0.0;
-    f->dF_dro = d_on ? 2.0 * PI * P * ro : 0.0;
-    double d = ro - rho;
-    f->E = on ? P * PI * d * d * (ro - d / 3.0) : 0.0; /* P times the cap's volume */
+    f->F = on ? c.F : 0.0;
+    f->dF_drho = d_on ? c.d[HP_CLAW_RHO] : 0.0;
+    f->dF_dP = d_on ? c.d[HP_CLAW_P] + c.d[HP_CLAW_RO] * dro : 0.0;
+    f->dF_dro = d_on ? c.d[HP_CLAW_RO] : 0.0;
+    f->E = on ? c.W : 0.0;
 }
 
 void hp_load_gravity(const hp_load_model *M, const double xi[6], double Q[6], double *dQ,

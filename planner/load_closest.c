@@ -18,6 +18,7 @@
 #include "planner/load_solve.h"
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
+#include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_qp.h"
 
@@ -55,18 +56,24 @@ static int force_range(const hp_load_model *M, int k, double rho, double plo, do
     double ro, dro;
     if (plo > 0 && plo > Pt) { /* the lowest pressure already carries */
         if (hp_load_radius(M, k, plo, &ro, NULL) != HP_OK) return -1;
-        r->lo = plo * HP_PI * (ro - rho) * (ro + rho);
-        r->dlo = -2.0 * HP_PI * plo * rho;
+        hp_claw lo;
+        hp_claw_cap(plo, ro, rho, &lo);
+        r->lo = lo.F;
+        r->dlo = lo.d[HP_CLAW_RHO];
     }
     if (U == phi) {
         if (hp_load_radius(M, k, phi, &ro, NULL) != HP_OK) return -1;
-        r->hi = phi * HP_PI * (ro - rho) * (ro + rho);
-        r->dhi = -2.0 * HP_PI * phi * rho;
-    } else { /* at the indentation edge: ro = rho/c, so F = Pi(rho)·pi·rho²·(1/c² − 1) */
+        hp_claw hi;
+        hp_claw_cap(phi, ro, rho, &hi);
+        r->hi = hi.F;
+        r->dhi = hi.d[HP_CLAW_RHO];
+    } else { /* at the indentation edge: ro = rho/c and P = Pi(rho), both moving with rho */
         if (hp_load_radius(M, k, U, &ro, &dro) != HP_OK || !(dro > 0)) return -1;
-        double a = HP_PI * (1.0 / (c * c) - 1.0), dPi = 1.0 / (c * dro);
-        r->hi = U * a * rho * rho;
-        r->dhi = a * (dPi * rho * rho + 2.0 * rho * U);
+        double dPi = 1.0 / (c * dro);
+        hp_claw e;
+        hp_claw_cap(U, rho / c, rho, &e);
+        r->hi = e.F;
+        r->dhi = e.d[HP_CLAW_P] * dPi + e.d[HP_CLAW_RO] / c + e.d[HP_CLAW_RHO];
     }
     if (r->hi < r->lo) r->hi = r->lo;
     return 0;

@@ -3,6 +3,7 @@
  * details (forces, residuals, the forward statics' rest, the holding) on request. */
 #include "planner/load_level.h"
 #include "common/units.h"
+#include "kinematics/contact_law.h"
 #include "kinematics/kin_geom.h"
 #include "planner/clock.h"
 #include "planner/plan_range.h"
@@ -59,9 +60,11 @@ static hp_error check_carry(hp_load_level *p, hp_diag *diag)
         if (s <= 1e-9 || p->hi[k] <= 0) continue;
         any = 1;
         double ro;
-        if (hp_load_radius(M, k, p->hi[k], &ro, NULL) == HP_OK)
-            cap += s * p->hi[k] * HP_PI * ro * ro *
-                   (1.0 - (1.0 - HP_LOAD_INDENT_MAX) * (1.0 - HP_LOAD_INDENT_MAX));
+        hp_claw c;
+        if (hp_load_radius(M, k, p->hi[k], &ro, NULL) == HP_OK) {
+            hp_claw_cap(p->hi[k], ro, (1.0 - HP_LOAD_INDENT_MAX) * ro, &c);
+            cap += s * c.F;
+        }
     }
     char w[8];
     if (!any)

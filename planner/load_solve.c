@@ -16,6 +16,7 @@
  * Each QP is load_qp.c's 6-dimensional dual. No allocation. */
 #include "planner/load_solve.h"
 #include "common/units.h"
+#include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_qp.h"
 #include "kinematics/linalg.h"
@@ -23,7 +24,6 @@
 #include <math.h>
 #include <string.h>
 
-static const double PI = HP_PI;
 
 double hp_load_row_weight(int r)
 {
@@ -53,9 +53,12 @@ static hp_error bladder_state(const hp_load_model *M, int k, double P, double rh
     double q = ri * ri / (ro * ro);                           /* dro/dri */
     double q2 = 2.0 * ri / (ro * ro) - 2.0 * q * q / ro;      /* d²ro/dri² */
     double o1 = q * r1, o2 = q2 * r1 * r1 + q * r2;           /* ro', ro'' */
-    s->F = P * PI * (ro - rho) * (ro + rho);
-    s->FP = PI * (ro - rho) * (ro + rho) + 2.0 * PI * P * ro * o1;
-    s->FPP = 4.0 * PI * ro * o1 + 2.0 * PI * P * (o1 * o1 + ro * o2);
+    hp_claw c; /* F(P, ro(P), rho) and its total derivatives along P */
+    hp_claw_cap(P, ro, rho, &c);
+    s->F = c.F;
+    s->FP = c.d[HP_CLAW_P] + c.d[HP_CLAW_RO] * o1;
+    s->FPP = c.d2[HP_CLAW_P][HP_CLAW_P] + 2.0 * c.d2[HP_CLAW_P][HP_CLAW_RO] * o1 +
+             c.d2[HP_CLAW_RO][HP_CLAW_RO] * o1 * o1 + c.d[HP_CLAW_RO] * o2;
     return HP_OK;
 }
 
@@ -124,11 +127,13 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL);
         if (!err) err = hp_iab_ro(b, x, &ro);
         if (err) return err;
-        double area = PI * (ro - rho) * (ro + rho);
-        double r = Px * area - F;
+        hp_claw law;
+        hp_claw_cap(Px, ro, rho, &law);
+        double r = law.F - F;
         if (r > 0) c = x; else a = x;
         if (r == 0.0) break;
-        double dF = Pr * area + Px * 2.0 * PI * ro * (x * x) / (ro * ro); /* dro/dri = ri²/ro² */
+        /* dF/dri along the bladder: F_P·dP/dri + F_ro·dro/dri, dro/dri = ri²/ro² */
+        double dF = law.d[HP_CLAW_P] * Pr + law.d[HP_CLAW_RO] * (x * x) / (ro * ro);
         double xn = dF > 0 ? x - r / dF : 0.5 * (a + c);
         if (!(xn > a && xn < c)) xn = 0.5 * (a + c);
         int done = fabs(xn - x) <= 4e-16 * x || c - a <= 4e-16 * x;

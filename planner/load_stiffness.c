@@ -12,6 +12,7 @@
 #include "planner/load_solve.h"
 #include "common/units.h"
 #include "kinematics/linalg.h"
+#include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
 
 #include <math.h>
@@ -40,9 +41,13 @@ hp_error hp_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const doub
             S->K0[i * 6 + j] = -0.5 * (dQ[i * 6 + j] + dQ[j * 6 + i]) * kscale(i, j);
     for (int k = 0; k < n; ++k) {
         S->rho[k] = rho[k];
+        /* dK/dP_k's J·Jᵀ weight: −d²F/(dP·drho) of the contact law, which for the cap law is
+         * 2·pi·rho at every P and ro (F is linear in P), so K stays affine in P. */
+        hp_claw c;
+        hp_claw_cap(0.0, rho[k], rho[k], &c);
         for (int i = 0; i < 6; ++i)
             for (int j = 0; j < 6; ++j) {
-                S->JJ[k][i * 6 + j] = 2.0 * HP_PI * rho[k] * J[6 * k + i] * J[6 * k + j] *
+                S->JJ[k][i * 6 + j] = -c.d2[HP_CLAW_P][HP_CLAW_RHO] * J[6 * k + i] * J[6 * k + j] *
                                       kscale(i, j);
                 S->H[k][i * 6 + j] = 0.5 * (H[k * 36 + i * 6 + j] + H[k * 36 + j * 6 + i]) *
                                      kscale(i, j);

@@ -24,6 +24,7 @@ PACKAGES=(
   help2man man-db       # man pages generated from --help at build time; `man headplan`
   python3-venv python3-pip python3-setuptools python3-wheel  # pip install ./python, offline
   debootstrap           # the package test's clean Debian 12 root (tests/package/)
+  calculix-ccx          # CalculiX: the finite-element reference of fem/ (ctest -L fem)
 )
 
 missing=()

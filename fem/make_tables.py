@@ -1,0 +1,270 @@
+#!/usr/bin/python3
+"""Regenerate every table of fem/tables/ with CalculiX (the one command; docs/accuracy.md).
+
+    fem/make_tables.py [--headplan build/headplan] [--only verify,contact,sweep] [--quick]
+
+verify   free inflation against the closed-form IK (`headplan ik`): three meshes, the
+         observed rate of convergence, the compressibility study; the thin-wall limit
+contact  one contact case: penalty stiffness, mesh and D1 studies; the two supports
+sweep    F/(P pi ro^2) against delta/ro over wall thickness/ro, P/C1, C2/C1, ro/head radius
+
+Each CSV starts with '#' lines of provenance (engine version, mesh, command, date). Runs are
+nice'd and single-threaded; the whole set takes about the time docs/accuracy.md states.
+"""
+import argparse
+import datetime
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+import hpfem  # noqa: E402
+
+TABLES = os.path.join(HERE, "tables")
+
+
+def headplan_ik(exe, Ri, Ro, ri, C1, C2):
+    """The project's closed-form IK (iab_ik through the CLI): pressure at inner radius ri."""
+    out = subprocess.run([exe, "ik", "--Ri", repr(Ri * 1e3), "--Ro", repr(Ro * 1e3),
+                          "--ri", repr(ri * 1e3), "--c1", repr(C1), "--c2", repr(C2), "--json"],
+                         capture_output=True, text=True, check=True).stdout
+    return json.loads(out)["pressure_pa"]
+
+
+def write_csv(name, header, rows, notes):
+    os.makedirs(TABLES, exist_ok=True)
+    path = os.path.join(TABLES, name)
+    with open(path, "w") as fh:
+        fh.write("# engine: CalculiX ccx %s\n" % hpfem.ccx_version())
+        fh.write("# command: fem/make_tables.py %s\n" % " ".join(sys.argv[1:]))
+        fh.write("# date: %s\n" % datetime.datetime.now(datetime.timezone.utc)
+                 .strftime("%Y-%m-%d %H:%M UTC"))
+        for n in notes:
+            fh.write("# %s\n" % n)
+        fh.write(",".join(header) + "\n")
+        for r in rows:
+            fh.write(",".join(x if isinstance(x, str) else "%.7g" % x for x in r) + "\n")
+    print("wrote", path, flush=True)
+
+
+def inflate(case):
+    """Inner radius at the equator and at the pole after free inflation."""
+    res = hpfem.run(case)
+    t, U = res[("displacements", "INNER")][-1]
+    if abs(t - 1.0) > 1e-9:
+        raise RuntimeError("inflation stopped at t = %g" % t)
+    eq, pole = case.inner_nodes[0], case.inner_nodes[-1]
+    return case.Ri + U[eq][0], case.Ri + U[pole][1]
+
+
+MESHES = [(2, 10), (4, 20), (8, 40)]  # elements through the wall, along the quarter meridian
+
+
+def verify(exe, quick):
+    rows = []
+    shells = [(0.027, 0.030, 1.1e4, 2.2e4, (1.05, 1.15, 1.3)),
+              (0.025, 0.030, 1.1e4, 2.2e4, (1.05, 1.3)),
+              (0.027, 0.030, 1.1e4, 0.0, (1.05, 1.15, 1.3))]
+    if quick:
+        shells = shells[:1]
+    for Ri, Ro, C1, C2, lams in shells:
+        for lam in lams:
+            P = headplan_ik(exe, Ri, Ro, lam * Ri, C1, C2)
+            ris = []
+            for nr, nt in MESHES:
+                c = hpfem.Case(Ri=Ri, Ro=Ro, C1=C1, C2=C2, P=P, nr=nr, nt=nt, grade=1.0,
+                               bulk_ratio=1e4)
+                ri, rp = inflate(c)
+                ris.append(ri)
+                e = headplan_ik(exe, Ri, Ro, ri, C1, C2) / P - 1.0
+                rows.append([Ri * 1e3, Ro * 1e3, C1, C2, P, lam, "%dx%d" % (nr, nt), 1e4,
+                             ri * 1e3, rp * 1e3, e, (ri - lam * Ri) / (lam * Ri - Ri)])
+            d1, d2 = abs(ris[0] - ris[1]), abs(ris[1] - ris[2])
+            rate = math.log(d1 / d2) / math.log(2.0) if d1 > 0 and d2 > 0 else float("nan")
+            rows.append([Ri * 1e3, Ro * 1e3, C1, C2, P, lam, "rate", 1e4, rate, 0, 0, 0])
+            print("verify", Ri, Ro, C2, lam, rows[-2][-2], "rate", rate, flush=True)
+    # compressibility: the answer must not move with D1 (bulk/shear 1e3, 3e3, 1e4)
+    for br in (1e3, 3e3, 1e4):
+        Ri, Ro, C1, C2, lam = 0.027, 0.030, 1.1e4, 2.2e4, 1.3
+        P = headplan_ik(exe, Ri, Ro, lam * Ri, C1, C2)
+        c = hpfem.Case(Ri=Ri, Ro=Ro, C1=C1, C2=C2, P=P, nr=8, nt=40, grade=1.0, bulk_ratio=br)
+        ri, rp = inflate(c)
+        rows.append([Ri * 1e3, Ro * 1e3, C1, C2, P, lam, "8x40", br, ri * 1e3, rp * 1e3,
+                     headplan_ik(exe, Ri, Ro, ri, C1, C2) / P - 1.0,
+                     (ri - lam * Ri) / (lam * Ri - Ri)])
+    write_csv("inflation.csv",
+              ["Ri_mm", "Ro_mm", "C1_pa", "C2_pa", "P_pa", "lambda_i_ik", "mesh", "bulk_over_shear",
+               "ri_fem_mm", "ri_pole_fem_mm", "P_ik_at_ri_fem_over_P_minus_1",
+               "ri_error_over_ri_minus_Ri"],
+              rows, ["free inflation of the centre-held shell (CAX8R, uniform mesh, MESHES "
+                     "nr x nt); P from `headplan ik` at lambda_i_ik*Ri; rows 'rate': the observed "
+                     "order of convergence of ri_fem, log2(|r1-r2|/|r2-r3|) in ri_fem_mm"])
+
+
+def contact_run(kw):
+    """One contact run (a worker of the pool): the case's parameters -> a result row dict."""
+    key = json.dumps(kw, sort_keys=True)
+    if key in CACHE:
+        return CACHE[key]
+    t0 = time.time()
+    # CalculiX's contact iterations fail now and then where the bladder first touches; a
+    # smaller first increment or another starting clearance (so that touch happens at
+    # another point of the path) usually gets through. The end state does not depend on
+    # either. A run that never converges is a row that says so.
+    for inc, gap in ((0.02, 1.0), (0.01, 1.0), (0.02, 0.5), (0.02, 2.0), (0.05, 1.0)):
+        c = hpfem.Case(**{k: v for k, v in dict(kw, inc=inc, gap=gap).items() if k != "tag"})
+        try:
+            r = hpfem.contact_result(c, hpfem.run(c))
+            break
+        except Exception as e:
+            r = {"force": float("nan"), "patch": float("nan"), "dvol": float("nan"),
+                 "error": "no convergence: " + str(e).splitlines()[-1].strip()[-60:]}
+    kw = dict(kw, inc=inc, gap=gap)
+    ri, ro = c.free_radius()
+    r.update(kw)
+    r.update(ro=ro, seconds=time.time() - t0)
+    print("contact", kw.get("tag", ""), kw["delta"], r["force"] / (c.P * math.pi * ro * ro),
+          "%.0fs" % r["seconds"], flush=True)
+    if CACHE_FILE and "error" not in r:
+        with open(CACHE_FILE, "a") as fh:
+            fh.write(json.dumps({"key": key, "result": r}) + "\n")
+    return r
+
+
+# --cache FILE: converged runs are appended there and reused by a later run with the same
+# parameters (an interrupted regeneration resumes instead of starting over).
+CACHE_FILE, CACHE = None, {}
+
+
+def load_cache(path):
+    global CACHE_FILE
+    CACHE_FILE = path
+    if path and os.path.exists(path):
+        with open(path) as fh:
+            for line in fh:
+                e = json.loads(line)
+                CACHE[e["key"]] = e["result"]
+
+
+def pool(jobs, workers, done):
+    """Run the jobs on `workers` processes; done(results so far, in job order) is called
+    after each, so an interrupted run keeps what it finished."""
+    import multiprocessing
+    out = [None] * len(jobs)
+    with multiprocessing.Pool(workers) as p:
+        for i, r in p.imap_unordered(_indexed, list(enumerate(jobs))):
+            out[i] = r
+            done([x for x in out if x is not None])
+    return out
+
+
+def _indexed(ij):
+    return ij[0], contact_run(ij[1])
+
+
+BASE = dict(Ri=0.027, Ro=0.030, C1=1.1e4, C2=2.2e4, P=5e3, nr=4, nt=40, grade=4.0,
+            bulk_ratio=1e4, indenter="plane", support="centre", penalty=100.0, inc=0.05)
+DELTAS = (0.02, 0.05, 0.1, 0.18, 0.26)
+MEMBRANE_DELTAS = (0.0238, 0.0601, 0.1048, 0.1547, 0.2082, 0.2638)
+
+CONTACT_HEADER = ["tag", "Ri_mm", "Ro_mm", "C1_pa", "C2_pa", "P_pa", "indenter", "support",
+                  "mesh", "penalty", "bulk_over_shear", "ro_mm", "delta_over_ro",
+                  "thickness_over_ro", "P_over_C1", "C2_over_C1", "ro_over_head_radius",
+                  "F_over_P_pi_ro2", "cap_law", "patch_over_ro", "volume_change", "seconds",
+                  "note"]
+
+
+def contact_rows(results):
+    rows = []
+    for r in results:
+        ro, d = r["ro"], r["delta"]
+        Rh = r["indenter"]
+        curv = 0.0 if Rh == "plane" else ro / float(Rh)
+        rows.append([r.get("tag", ""), r["Ri"] * 1e3, r["Ro"] * 1e3, r["C1"], r["C2"], r["P"],
+                     "plane" if Rh == "plane" else "sphere_%gmm" % (float(Rh) * 1e3),
+                     r["support"], "%dx%d" % (r["nr"], r["nt"]), r["penalty"],
+                     r["bulk_ratio"], ro * 1e3, d, (r["Ro"] - r["Ri"]) / ro, r["P"] / r["C1"],
+                     r["C2"] / r["C1"], curv, r["force"] / (r["P"] * math.pi * ro * ro),
+                     2 * d - d * d, r["patch"] / ro, r["dvol"], r["seconds"],
+                     r.get("error", "")])
+    return rows
+
+
+def contact(exe, quick, workers):
+    # cheapest and most telling first: an interrupted run keeps what it finished
+    Ri, Ro = 0.0294, 0.030  # thin-wall limit: the membrane check's shell, wall 2 % of Ro
+    P = headplan_ik(exe, Ri, Ro, 1.1 * Ri, BASE["C1"], BASE["C2"])
+    thin = dict(BASE, Ri=Ri, Ro=Ro, P=P, nt=80, tag="thin")
+    jobs = [dict(BASE, delta=0.1, penalty=300.0, tag="penalty"),
+            dict(BASE, delta=0.1, nr=4, nt=20, tag="mesh"),
+            dict(BASE, delta=0.1, support="panel", tag="panel"),
+            dict(thin, delta=MEMBRANE_DELTAS[2]),
+            dict(BASE, delta=0.1, bulk_ratio=1e3, tag="bulk"),
+            dict(BASE, delta=0.26, support="panel", tag="panel"),
+            dict(thin, delta=MEMBRANE_DELTAS[5]),
+            dict(BASE, delta=0.1, penalty=30.0, tag="penalty"),
+            dict(BASE, delta=0.02, support="panel", tag="panel"),
+            dict(thin, delta=MEMBRANE_DELTAS[0]),
+            dict(BASE, delta=0.1, nr=8, nt=80, tag="mesh")]
+    jobs += [dict(BASE, delta=d, support="panel", tag="panel") for d in (0.05, 0.18)]
+    jobs += [dict(thin, delta=d) for d in MEMBRANE_DELTAS[1:5] if d != MEMBRANE_DELTAS[2]]
+    if quick:
+        jobs = jobs[:1]
+    pool(jobs, workers, lambda res: write_csv("contact_checks.csv", CONTACT_HEADER,
+                                              contact_rows(res), CHECK_NOTES))
+
+
+CHECK_NOTES = ["studies on one contact case (plane, centre held, delta/ro = 0.1): penalty "
+               "(contact pressure per overclosure = penalty*(C1+C2)/wall), mesh (nr x nt, "
+               "graded 4:1 toward the pole), bulk/shear; the panel support over the sweep's "
+               "indentations; the thin-wall limit (wall 2 % of Ro, stretch 1.1) at the "
+               "membrane check's indentations", "the sweep's base case is penalty 100, mesh "
+               "4x40, bulk/shear 1e4 (rows with an empty note converged)"]
+
+
+def sweep(exe, quick, workers):
+    cases = [("base", {}), ("P2k", dict(P=2e3)), ("P1k", dict(P=1e3)),
+             ("P1k_C2_0", dict(P=1e3, C2=0.0)), ("wall5", dict(Ri=0.025)),
+             ("head90", dict(indenter=0.090)), ("head52", dict(indenter=0.052))]
+    jobs = [dict(BASE, delta=d, tag=t, **kw) for t, kw in cases for d in DELTAS]
+    if quick:
+        jobs = jobs[:1]
+    pool(jobs, workers, lambda res: write_csv("sweep.csv", CONTACT_HEADER, contact_rows(res),
+                                              SWEEP_NOTES))
+
+
+SWEEP_NOTES = ["F/(P pi ro^2) of one bladder, centre held, pressure held, pressed by a rigid "
+               "frictionless plane or sphere (the head's radius of curvature) along its "
+               "axis; one group varied at a time from the base case (wall 3 mm of Ro 30 mm, "
+               "C2/C1 = 2, P = 5 kPa, plane); cap_law = 2 d - d^2 is the cap law's "
+               "F/(P pi ro^2)"]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--headplan", default=os.path.join(HERE, "..", "build", "headplan"))
+    ap.add_argument("--only", default="verify,contact,sweep")
+    ap.add_argument("--quick", action="store_true")
+    ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--cache", default=None)
+    a = ap.parse_args()
+    t0 = time.time()
+    load_cache(a.cache)
+    parts = a.only.split(",")
+    if "verify" in parts:
+        verify(a.headplan, a.quick)
+    if "contact" in parts:
+        contact(a.headplan, a.quick, a.workers)
+    if "sweep" in parts:
+        sweep(a.headplan, a.quick, a.workers)
+        import fit_law
+        fit_law.main()
+    print("done in %.0f s" % (time.time() - t0))
+
+
+if __name__ == "__main__":
+    main()

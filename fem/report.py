@@ -1,0 +1,120 @@
+#!/usr/bin/python3
+"""Print the Markdown tables of docs/accuracy.md section 5 from fem/tables/*.csv."""
+import csv
+import math
+import os
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def table(name):
+    path = os.path.join(HERE, "tables", name)
+    if not os.path.exists(path):
+        return []
+    with open(path) as fh:
+        return list(csv.DictReader(l for l in fh if not l.startswith("#")))
+
+
+def f(x, n=4):
+    try:
+        v = float(x)
+    except ValueError:
+        return x
+    return "—" if math.isnan(v) else "%.*g" % (n, v)
+
+
+def inflation():
+    print("| Ri/Ro | C2/C1 | λi | P (Pa) | P_IK(ri)/P − 1, meshes 2×10 / 4×20 / 8×40 | observed order |")
+    print("|---|---|---|---|---|---|")
+    rows = [r for r in table("inflation.csv") if r["bulk_over_shear"] == "10000"]
+    for i in range(0, len(rows), 4):
+        g = rows[i:i + 4]
+        if len(g) < 4 or g[3]["mesh"] != "rate":
+            continue
+        print("| %s/%s | %s | %s | %s | %s | %s |" % (
+            f(g[0]["Ri_mm"]), f(g[0]["Ro_mm"]), f(float(g[0]["C2_pa"]) / float(g[0]["C1_pa"])),
+            g[0]["lambda_i_ik"], f(g[0]["P_pa"], 5),
+            " / ".join("%.1e" % float(r["P_ik_at_ri_fem_over_P_minus_1"]) for r in g[:3]),
+            f(g[3]["ri_fem_mm"], 2)))
+
+
+def d1():
+    print("| bulk/shear | P_IK(ri)/P − 1 |")
+    print("|---|---|")
+    seen = set()
+    for r in table("inflation.csv"):
+        if (r["mesh"] == "8x40" and r["lambda_i_ik"] == "1.3" and r["Ri_mm"] == "27"
+                and r["C2_pa"] == "22000" and r["bulk_over_shear"] not in seen):
+            seen.add(r["bulk_over_shear"])
+            print("| %s | %.1e |" % (f(r["bulk_over_shear"]),
+                                     float(r["P_ik_at_ri_fem_over_P_minus_1"])))
+
+
+def membrane():
+    """docs/load.md's table of the thin-membrane shooting check: {delta/ro: F/(P pi ro^2)}."""
+    out = {}
+    with open(os.path.join(HERE, "..", "docs", "load.md")) as fh:
+        for line in fh:
+            p = [x.strip() for x in line.strip().strip("|").split("|")]
+            if len(p) == 4 and p[3].endswith("%") and p[0][:1].isdigit():
+                out[p[0]] = float(p[1])
+    return out
+
+
+def thin():
+    m = membrane()
+    print("| δ/ro | F/(P·π·ro²) FEM, wall 2 % | membrane (docs/load.md) | FEM/membrane − 1 | cap law |")
+    print("|---|---|---|---|---|")
+    rows = sorted((r for r in table("contact_checks.csv") if r["tag"] == "thin"),
+                  key=lambda r: float(r["delta_over_ro"]))
+    for r in rows:
+        g, mm = float(r["F_over_P_pi_ro2"]), m.get(r["delta_over_ro"], float("nan"))
+        print("| %s | %s | %s | %+.1f %% | %s |" % (r["delta_over_ro"], f(g), f(mm),
+                                                  100 * (g / mm - 1), f(r["cap_law"])))
+
+
+def contact(name, tags):
+    print("| tag | indenter | support | mesh | penalty | bulk/shear | δ/ro | wall/ro | P/C1 | C2/C1 | ro/Rh | F/(P·π·ro²) | cap law | cap/FEM | patch/ro | ΔV/V |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in table(name):
+        if tags and r["tag"] not in tags:
+            continue
+        g, cap = float(r["F_over_P_pi_ro2"]), float(r["cap_law"])
+        print("| %s |" % " | ".join([r["tag"], r["indenter"], r["support"], r["mesh"],
+                                     f(r["penalty"]), f(r["bulk_over_shear"]),
+                                     f(r["delta_over_ro"]), f(r["thickness_over_ro"], 3),
+                                     f(r["P_over_C1"], 3), f(r["C2_over_C1"]),
+                                     f(r["ro_over_head_radius"], 3), f(g), f(cap),
+                                     "—" if math.isnan(g) else "%.2f" % (cap / g),
+                                     f(r["patch_over_ro"], 3), f(r["volume_change"], 3)]))
+
+
+def sweep():
+    law = {(r["tag"], r["delta_over_ro"]): r for r in table("law_error.csv")}
+    print("| case | δ/ro | wall/ro | P/C1 | C2/C1 | ro/Rh | F/(P·π·ro²) | cap/FEM | fitted law − FEM | patch/ro | ΔV/V |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in table("sweep.csv"):
+        g, cap = float(r["F_over_P_pi_ro2"]), float(r["cap_law"])
+        e = law.get((r["tag"], r["delta_over_ro"]))
+        print("| %s |" % " | ".join([
+            r["tag"], f(r["delta_over_ro"]), f(r["thickness_over_ro"], 3), f(r["P_over_C1"], 3),
+            f(r["C2_over_C1"]), f(r["ro_over_head_radius"], 3),
+            f(g) if not math.isnan(g) else "no convergence",
+            "—" if math.isnan(g) else "%.2f" % (cap / g),
+            "—" if e is None else "%+.1f %%" % (100 * float(e["law_error"])),
+            f(r["patch_over_ro"], 3), f(r["volume_change"], 3)]))
+
+
+if __name__ == "__main__":
+    what = sys.argv[1] if len(sys.argv) > 1 else "all"
+    if what in ("all", "inflation"):
+        inflation()
+    if what in ("all", "d1"):
+        d1()
+    if what in ("all", "thin"):
+        thin()
+    if what in ("all", "checks"):
+        contact("contact_checks.csv", None)
+    if what in ("all", "sweep"):
+        sweep()

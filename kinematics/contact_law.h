@@ -1,0 +1,66 @@
+/* The contact law: the one home of the force a pressurised bladder presses on the head
+ * with, and its exact first and second derivatives. Internal (not installed).
+ *
+ * Variables: gauge pressure P [Pa], the bladder's free outer radius ro [m] (from the
+ * bladder model at P) and the contact distance rho [m] from the bladder's centre to the
+ * head (indentation delta = ro − rho). The laws here are the bare formulas: whether a
+ * bladder touches (P > 0, rho < ro) is the caller's decision, and derivatives through
+ * ro(P) are the caller's chain rule (dF/dP total = F_P + F_ro·ro'). */
+#ifndef HP_CONTACT_LAW_H
+#define HP_CONTACT_LAW_H
+
+/* Indices of the law's variables in hp_claw.d and hp_claw.d2. */
+enum { HP_CLAW_P = 0, HP_CLAW_RO = 1, HP_CLAW_RHO = 2 };
+
+typedef struct hp_claw {
+    double F;        /* [N] force along the contact normal */
+    double d[3];     /* dF/dP [m²], dF/dro [N/m], dF/drho [N/m] */
+    double d2[3][3]; /* second derivatives, symmetric, in the same order */
+    double W;        /* [J] the work of F from first touch: integral of F over the contact
+                      * distance from rho to ro (the load level's potential) */
+} hp_claw;
+
+/* The cap law: the head flattens the spherical cap of height delta, whose base disc
+ * (area pi·(2·ro·delta − delta²) = pi·(ro² − rho²)) carries the pressure:
+ *     F = P·pi·(ro² − rho²),  W = P·pi·delta²·(ro − delta/3) (P times the cap's volume).
+ * Exact for a rigid sphere cut by a plane; against a thin membrane it overestimates the
+ * force (docs/load.md), and against the finite-element reference too (docs/accuracy.md). */
+void hp_claw_cap(double P, double ro, double rho, hp_claw *c);
+
+/* The law fitted to the finite-element reference (fem/, docs/accuracy.md): a thick,
+ * nearly incompressible Mooney–Rivlin bladder with its centre held, pressure held, pressed
+ * along its axis by a rigid frictionless plane or sphere. With d = delta/ro,
+ *     F = P·pi·ro²·g,   g = d·(a1 + a2·d + a3·d²)·s,
+ *     s = 1 + b_w·(wall/ro − w0) + b_p·(C1/P − 1/p0) + b_c·(C2/C1 − c0) + b_k·ro/Rh,
+ * and W = P·pi·ro³·s·(a1·d²/2 + a2·d³/3 + a3·d⁴/4) (s does not depend on rho). C1/P, not
+ * P/C1: the wall's own stiffness adds a force that does not scale with the pressure, so
+ * F/(P·pi·ro²) grows like 1/P at low pressure. The coefficients and the domain they were
+ * fitted over are generated into contact_law_fit.h by fem/fit_law.py. */
+typedef struct hp_claw_bladder {
+    double C1, C2; /* [Pa] moduli, paper convention */
+    double wall;   /* [m] reference wall thickness Ro − Ri */
+    double curv;   /* [1/m] the head's curvature at the contact, 1/Rh (0: a plane) */
+} hp_claw_bladder;
+
+/* Which part of the fitted law's domain a state leaves (0 = inside). */
+typedef enum hp_claw_domain {
+    HP_CLAW_IN = 0,
+    HP_CLAW_INDENT,    /* delta/ro beyond the largest indentation of the tables */
+    HP_CLAW_WALL,      /* wall/ro outside the tables' range */
+    HP_CLAW_PRESSURE,  /* P/C1 outside the tables' range */
+    HP_CLAW_MODULI,    /* C2/C1 outside the tables' range */
+    HP_CLAW_CURVATURE  /* ro/Rh outside the tables' range (or a concave head) */
+} hp_claw_domain;
+
+/* The fitted law's value, exact first and second derivatives in (P, ro, rho) (through
+ * d, wall/ro, P/C1 and ro/Rh) and its work W. No domain check: see hp_claw_fem_domain. */
+void hp_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c);
+
+/* HP_CLAW_IN when (P, ro, rho) and the bladder lie in the domain the law was fitted over,
+ * else the first group that leaves it (a caller refuses or flags the state by that name). */
+hp_claw_domain hp_claw_fem_domain(const hp_claw_bladder *b, double P, double ro, double rho);
+
+/* The group's name for messages ("indent", "wall", "pressure", "moduli", "curvature"). */
+const char *hp_claw_domain_name(hp_claw_domain d);
+
+#endif
