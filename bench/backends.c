@@ -84,10 +84,10 @@ static void run(const hp_backend_ops *ops, hp_level level, const char *set, doub
 
 static void suite(hp_level level, const char *set)
 {
-    run(&hp_backend_ipopt_ops, level, set, 1e-9, 0, 1);
-    run(&hp_backend_ipopt_ops, level, set, 1e-9, 1, 0);
-    run(&hp_backend_nlopt_slsqp_ops, level, set, 1e-9, 0, 0);
-    run(&hp_backend_nlopt_cobyla_ops, level, set, 1e-7, 0, 0);
+    run(&hpi_backend_ipopt_ops, level, set, 1e-9, 0, 1);
+    run(&hpi_backend_ipopt_ops, level, set, 1e-9, 1, 0);
+    run(&hpi_backend_nlopt_slsqp_ops, level, set, 1e-9, 0, 0);
+    run(&hpi_backend_nlopt_cobyla_ops, level, set, 1e-7, 0, 0);
 }
 
 int main(void)

@@ -206,7 +206,7 @@ int bench_run_cli(int argc, char **argv)
             return cli_fail(CLI_EXIT_NOINPUT, CMD, "--peer-script: cannot open '%s'",
                                peer_script);
         fclose(f);
-        char *const chk[] = {hp_unconst(python), "-c", "import scipy.optimize, numpy", NULL};
+        char *const chk[] = {hpi_unconst(python), "-c", "import scipy.optimize, numpy", NULL};
         if (bench_run_child(chk, NULL, 1) != 0)
             return cli_fail(CLI_EXIT_SOFTWARE, CMD, "--python: '%s' cannot import scipy "
                                "(install Debian's python3-scipy, or name a Python that has "

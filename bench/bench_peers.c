@@ -285,7 +285,7 @@ int bench_peers(const bench_options *o, bench_table *t)
         return CLI_EXIT_CANTCREAT;
     }
     fprintf(stderr, "bench peers: %s %s (%ld targets)\n", o->python, o->peer_script, n);
-    char *const argv[] = {hp_unconst(o->python), hp_unconst(o->peer_script), jpath, cpath, NULL};
+    char *const argv[] = {hpi_unconst(o->python), hpi_unconst(o->peer_script), jpath, cpath, NULL};
     int st = bench_run_child(argv, NULL, 0);
     if (st != 0) {
         cli_fail(0, "bench", "peers: '%s %s' failed (exit status %d)%s", o->python,

@@ -283,7 +283,7 @@ static int nonempty(const char *dir, const char *family, const char *suffix)
 
 int bench_gnuplot_run(const char *dir, const char *script, const char *const *outputs)
 {
-    char *const argv[] = {"gnuplot", hp_unconst(script), NULL};
+    char *const argv[] = {"gnuplot", hpi_unconst(script), NULL};
     int st = bench_run_child(argv, dir, 0);
     if (st != 0) {
         cli_fail(0, "bench", "gnuplot failed on '%s/%s' (%s %d)", dir, script,

@@ -41,7 +41,7 @@ int bench_bounds_of(const hp_layout *L, bench_bounds *b)
 {
     for (int k = 0; k < L->n; ++k) {
         hp_envelope e;
-        if (hp_bladder_envelope(&L->bladders[k], &e, NULL) != HP_OK) return -1;
+        if (hpi_bladder_envelope(&L->bladders[k], &e, NULL) != HP_OK) return -1;
         b->ri_lo[k] = e.ri_lo;
         b->ri_hi[k] = e.ri_hi;
         b->p_lo[k] = e.p_lo;

@@ -23,7 +23,7 @@ int bench_load_layout(const char *path, hp_scene *scene);
 int bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p);
 
 /* Every bladder's inner-radius bounds [m] and the pressures there [Pa]: the planner's own
- * envelope (hp_bladder_envelope: pressure, stretch, stress and limit-point limits).
+ * envelope (hpi_bladder_envelope: pressure, stretch, stress and limit-point limits).
  * Returns 0, or -1 when a bladder has no valid interval. */
 typedef struct bench_bounds {
     double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];

@@ -135,7 +135,7 @@ static int field_is(const csv_field *f, const char *name)
 static hp_error number(const csv_file *f, const csv_field *fl, const char *what, double *v,
                        hp_diag *d)
 {
-    const char *why = hp_strict_double(fl->s, fl->len, v);
+    const char *why = hpi_strict_double(fl->s, fl->len, v);
     if (why)
         return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s: '%.*s': %s", f->path, f->line,
                            fl->col, what, (int)(fl->len > 40 ? 40 : fl->len), fl->s, why);
@@ -322,7 +322,7 @@ static hp_error jsonl_row(const csv_file *f, const hp_layout *L, const hp_iab_li
 {
     const char *ukey, *uwhy;
     size_t uklen;
-    long at = hp_json_out_of_range(s, len, &ukey, &uklen, &uwhy);
+    long at = hpi_json_out_of_range(s, len, &ukey, &uklen, &uwhy);
     if (at >= 0)
         return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: %s", f->path,
                            f->line, at + 1, (int)uklen, ukey, uwhy);

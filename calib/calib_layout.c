@@ -48,7 +48,7 @@ static hp_error resid(const lay_ctx *c, const hp_layout *L, const hp_geom *G, co
     if (c->load) return calib_load_resid(c, L, theta, e, start, poses);
     for (int i = 0; i < c->n; ++i) {
         double xi[6];
-        hp_error err = hp_contact_fk_g(L, G, c->level, c->ro[i],
+        hp_error err = hpi_contact_fk_g(L, G, c->level, c->ro[i],
                                        start ? start[i] : c->rows[i].pose, xi, NULL, NULL);
         if (err) return err;
         if (poses) memcpy(poses[i], xi, sizeof xi);
@@ -88,7 +88,7 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     hp_geom G;
     if (!err) err = calib_layout_apply(c, theta, &L, &G, 0, NULL);
     for (int i = 0; !err && i < n; ++i)
-        err = hp_contact_fk_g(&L, &G, c->level, c->ro[i], c->rows[i].pose, xi[i], NULL, NULL);
+        err = hpi_contact_fk_g(&L, &G, c->level, c->ro[i], c->rows[i].pose, xi[i], NULL, NULL);
     double th[HP_CALIB_MAX_PARAMS];
     for (int j = 0; !err && j < np; ++j) {
         hp_layout Lp, Lm;
@@ -101,8 +101,8 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
         for (int i = 0; !err && i < n; ++i) {
             double rp[HP_MAX_BLADDERS], rm[HP_MAX_BLADDERS];
             double Jp[HP_MAX_BLADDERS * 6], Jm[HP_MAX_BLADDERS * 6];
-            err = hp_contact_eval_g(&Lp, &Gp, c->level, xi[i], rp, Jp, NULL);
-            if (!err) err = hp_contact_eval_g(&Lm, &Gm, c->level, xi[i], rm, Jm, NULL);
+            err = hpi_contact_eval_g(&Lp, &Gp, c->level, xi[i], rp, Jp, NULL);
+            if (!err) err = hpi_contact_eval_g(&Lm, &Gm, c->level, xi[i], rm, Jm, NULL);
             if (err) break;
             for (int k = 0; k < nb; ++k)
                 drho[((size_t)i * np + j) * nb + k] = (rp[k] - rm[k]) / (2.0 * LAY_FD_STEP);
@@ -112,7 +112,7 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     }
     for (int i = 0; !err && i < n; ++i) {
         double rho[HP_MAX_BLADDERS], Jc[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
-        err = hp_contact_eval_g(&L, &G, c->level, xi[i], rho, Jc, H);
+        err = hpi_contact_eval_g(&L, &G, c->level, xi[i], rho, Jc, H);
         if (err) break;
         double A[36], r[HP_MAX_BLADDERS];
         for (int k = 0; k < nb; ++k) r[k] = rho[k] - c->ro[i][k];
@@ -133,7 +133,7 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
                 rhs[a] = sum;
             }
             /* A·dx = −rhs, by the kinematics' QR least squares (no damping). */
-            if (hp_kin_damped_lstsq(dp, dp, A, rhs, ones, 0.0, dx) != 0) {
+            if (hpi_kin_damped_lstsq(dp, dp, A, rhs, ones, 0.0, dx) != 0) {
                 err = HP_ERR_NO_CONVERGENCE;
                 break;
             }
@@ -211,7 +211,7 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
     hp_layout chk = *L; /* the full checks, on a copy: L is the caller's */
     hp_geom G0;
     hp_error e0 = hp_layout_prepare(&chk, d);
-    if (e0 == HP_OK) e0 = hp_geom_derive(&chk, &G0, d);
+    if (e0 == HP_OK) e0 = hpi_geom_derive(&chk, &G0, d);
     if (e0 != HP_OK) return e0;
     if (n < 1 || n > HP_CALIB_MAX_ROWS)
         return hp_diag_set(d, HP_ERR_INVALID, "rows: %d (need 1..%d)", n, HP_CALIB_MAX_ROWS);
@@ -277,7 +277,7 @@ hp_error calib_lm_step(int m, int k, const double *S, const double *scale, const
 {
     double sv[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
     double g[HP_CALIB_MAX_PARAMS] = {0}, y[HP_CALIB_MAX_PARAMS];
-    if (hp_kin_svd(m, k, S, sv, V)) return HP_ERR_NO_CONVERGENCE;
+    if (hpi_kin_svd(m, k, S, sv, V)) return HP_ERR_NO_CONVERGENCE;
     for (int i = 0; i < m; ++i)
         for (int q = 0; q < k; ++q) g[q] += S[i * k + q] * e[i];
     for (int q = 0; q < k; ++q) {
@@ -318,7 +318,7 @@ static void rms_axes(const lay_ctx *c, const double *e, double rms[6])
 static hp_error sym_inverse(int k, const double *A, double *C)
 {
     double sv[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
-    if (hp_kin_svd(k, k, A, sv, V) || !(sv[k - 1] > 0)) return HP_ERR_INVALID;
+    if (hpi_kin_svd(k, k, A, sv, V) || !(sv[k - 1] > 0)) return HP_ERR_INVALID;
     for (int a = 0; a < k; ++a)
         for (int b = 0; b < k; ++b) {
             double s = 0.0;
@@ -334,7 +334,7 @@ hp_error calib_covariance(int m, int k, const double *S, const double *scale, do
                            double *cond)
 {
     double sv[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
-    if (hp_kin_svd(m, k, S, sv, V) || !(sv[k - 1] > 0)) return HP_ERR_INVALID;
+    if (hpi_kin_svd(m, k, S, sv, V) || !(sv[k - 1] > 0)) return HP_ERR_INVALID;
     if (cond) *cond = sv[0] / sv[k - 1];
     for (int a = 0; a < k; ++a)
         for (int b = 0; b < k; ++b) {
@@ -393,7 +393,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     int all[HP_CALIB_MAX_PARAMS];
     for (int j = 0; j < np; ++j) all[j] = j;
     calib_columns(m, np, J, all, np, S, scale);
-    if (hp_kin_svd(m, np, S, svall, V)) {
+    if (hpi_kin_svd(m, np, S, svall, V)) {
         err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE, "SVD of the Jacobian failed");
         goto done;
     }
@@ -417,7 +417,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
         c.sel[c.nsel] = j;
         calib_columns(m, np, J, c.sel, c.nsel + 1, S, scale);
         double sv[HP_CALIB_MAX_PARAMS];
-        if (hp_kin_svd(m, c.nsel + 1, S, sv, V)) {
+        if (hpi_kin_svd(m, c.nsel + 1, S, sv, V)) {
             err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE, "SVD of the Jacobian failed");
             goto done;
         }
@@ -511,7 +511,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
     {
         int k = c.nsel;
         double sv[HP_CALIB_MAX_PARAMS], u[HP_CALIB_MAX_PARAMS] = {0};
-        if (hp_kin_svd(m, k, S, sv, V) == 0) {
+        if (hpi_kin_svd(m, k, S, sv, V) == 0) {
             double norm = 0.0, var = 0.0;
             for (int q = 0; q < k; ++q) {
                 u[q] = V[q * k + (k - 1)] / scale[q];

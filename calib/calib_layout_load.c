@@ -24,7 +24,7 @@ static hp_error model_at(const lay_ctx *c, const hp_layout *L, const double *the
     hp_load_spec s = *c->load;
     if (c->mass_j >= 0) s.mass += theta[c->mass_j];
     if (!(s.mass > 0)) return HP_ERR_DOMAIN;
-    return hp_load_model_setup(M, L, &s, c->level, NULL);
+    return hpi_load_model_setup(M, L, &s, c->level, NULL);
 }
 
 hp_error calib_load_resid(const lay_ctx *c, const hp_layout *L, const double *theta, double *e,
@@ -83,7 +83,7 @@ hp_error calib_load_jacobian(const lay_ctx *c, const double *theta, double *J)
         for (int j = 0; !err && j < np; ++j) {
             double dx[6];
             /* (∂Q/∂ξ)·dx = −∂Q/∂θ, i.e. dx = dξ/dθ, by the kinematics' QR least squares. */
-            if (hp_kin_damped_lstsq(6, 6, K, &dQ[((size_t)i * np + j) * 6], ones, 0.0, dx)) {
+            if (hpi_kin_damped_lstsq(6, 6, K, &dQ[((size_t)i * np + j) * 6], ones, 0.0, dx)) {
                 err = HP_ERR_NO_CONVERGENCE;
                 break;
             }

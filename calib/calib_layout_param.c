@@ -17,9 +17,9 @@ hp_error calib_layout_apply(const lay_ctx *c, const double *theta, hp_layout *L,
                 L->bladders[k].center[i] += theta[c->n_axes + k] * c->G0.normal[k][i];
     if (validate) {
         hp_error e = hp_layout_prepare(L, d);
-        return e ? e : hp_geom_derive(L, G, d);
+        return e ? e : hpi_geom_derive(L, G, d);
     }
     for (int j = 0; j < 3; ++j)
         if (!(L->head.semi_axes[j] > 0)) return HP_ERR_DOMAIN;
-    return hp_geom_derive(L, G, NULL) == HP_OK ? HP_OK : HP_ERR_DOMAIN;
+    return hpi_geom_derive(L, G, NULL) == HP_OK ? HP_OK : HP_ERR_DOMAIN;
 }

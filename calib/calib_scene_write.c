@@ -174,9 +174,9 @@ hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level lev
     }
     /* A scene is read in the C locale: under the host's comma locale "%.17g" wrote "1,5". */
     hp_c_numeric c;
-    hp_c_numeric_begin(&c);
+    hpi_c_numeric_begin(&c);
     write_body(f, L, level, base, name);
-    hp_c_numeric_end(&c);
+    hpi_c_numeric_end(&c);
     int bad = fflush(f) != 0 || ferror(f) || fsync(fileno(f)) != 0;
     bad |= fclose(f) != 0;
     /* mkstemp makes the file 0600; a scene is an ordinary document. */

@@ -14,7 +14,7 @@ void cli_put_escaped(FILE *f, const char *s)
     size_t len = strlen(s);
     for (size_t i = 0; i < len;) {
         int nul = 0;
-        long bad = hp_text_bad_byte(s + i, len - i, &nul);
+        long bad = hpi_text_bad_byte(s + i, len - i, &nul);
         size_t clean = bad < 0 ? len - i : (size_t)bad;
         for (size_t k = 0; k < clean; ++k) {
             unsigned char c = (unsigned char)s[i + k];

@@ -67,7 +67,7 @@ void gp_label(FILE *f, const char *s)
     fputc('"', f);
     for (size_t i = 0; i < len;) {
         int nul = 0;
-        long bad = hp_text_bad_byte(s + i, len - i, &nul);
+        long bad = hpi_text_bad_byte(s + i, len - i, &nul);
         size_t end = bad < 0 ? len : i + (size_t)bad;
         while (i < end) {
             size_t k = i, n = 0;

@@ -12,14 +12,14 @@ static pthread_once_t c_numeric_once = PTHREAD_ONCE_INIT;
 
 static void make_c_numeric(void) { c_numeric = newlocale(LC_NUMERIC_MASK, "C", (locale_t)0); }
 
-void hp_c_numeric_begin(hp_c_numeric *s)
+void hpi_c_numeric_begin(hp_c_numeric *s)
 {
     pthread_once(&c_numeric_once, make_c_numeric);
     s->c = c_numeric;
     s->old = s->c ? uselocale(s->c) : (locale_t)0;
 }
 
-void hp_c_numeric_end(hp_c_numeric *s)
+void hpi_c_numeric_end(hp_c_numeric *s)
 {
     if (!s->c) return;
     int er = errno;

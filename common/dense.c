@@ -50,7 +50,7 @@ UNROLL6
     return 1;
 }
 
-int hp_cholesky(const double *A, int lda, int n, double min_frac, double *L, int ldl)
+int hpi_cholesky(const double *A, int lda, int n, double min_frac, double *L, int ldl)
 {
     switch (n) {
     case 1: return cholesky_n(A, lda, 1, min_frac, L, ldl);
@@ -81,7 +81,7 @@ UNROLL6
     }
 }
 
-void hp_cholesky_solve(const double *L, int ldl, int n, double *b)
+void hpi_cholesky_solve(const double *L, int ldl, int n, double *b)
 {
     switch (n) {
     case 1: cholesky_solve_n(L, ldl, 1, b); break;
@@ -112,7 +112,7 @@ UNROLL6
     return s;
 }
 
-double hp_cholesky_inv_frob2(const double *L, int ldl, int n)
+double hpi_cholesky_inv_frob2(const double *L, int ldl, int n)
 {
     if (n > 64) return INFINITY;
     switch (n) {

@@ -10,14 +10,14 @@
  * pivot s_j exceeds min_frac·A_jj (min_frac = 0: A is positive definite), else 0 (L then
  * holds a partial factor). Allocation-free; the same operations in the same order for
  * every caller, so results agree to the bit. */
-int hp_cholesky(const double *A, int lda, int n, double min_frac, double *L, int ldl);
+int hpi_cholesky(const double *A, int lda, int n, double min_frac, double *L, int ldl);
 
-/* Solves L·Lᵀ·y = b in place for the factor of hp_cholesky. */
-void hp_cholesky_solve(const double *L, int ldl, int n, double *b);
+/* Solves L·Lᵀ·y = b in place for the factor of hpi_cholesky. */
+void hpi_cholesky_solve(const double *L, int ldl, int n, double *b);
 
-/* ‖L⁻¹‖_F² for the factor of hp_cholesky (nonzero diagonal): an upper bound on ‖A⁻¹‖₂,
- * so trace(A)·hp_cholesky_inv_frob2 bounds A's 2-norm condition number from above (to
+/* ‖L⁻¹‖_F² for the factor of hpi_cholesky (nonzero diagonal): an upper bound on ‖A⁻¹‖₂,
+ * so trace(A)·hpi_cholesky_inv_frob2 bounds A's 2-norm condition number from above (to
  * rounding). About n³/6 multiply-adds; allocation-free; n <= 64 (else +inf). */
-double hp_cholesky_inv_frob2(const double *L, int ldl, int n);
+double hpi_cholesky_inv_frob2(const double *L, int ldl, int n);
 
 #endif

@@ -13,7 +13,7 @@
 #include <math.h>
 
 /* a·b − p exactly, for p = a·b rounded to nearest. */
-static inline double hp_prod_err(double a, double b, double p)
+static inline double hpi_prod_err(double a, double b, double p)
 {
     const double split = 134217729.0; /* 2^27 + 1 */
     double ca = split * a, cb = split * b;
@@ -23,17 +23,17 @@ static inline double hp_prod_err(double a, double b, double p)
 }
 
 /* The smallest double r with r >= a·b exactly. */
-static inline double hp_prod_up(double a, double b)
+static inline double hpi_prod_up(double a, double b)
 {
     double p = a * b;
-    return hp_prod_err(a, b, p) > 0.0 ? nextafter(p, INFINITY) : p;
+    return hpi_prod_err(a, b, p) > 0.0 ? nextafter(p, INFINITY) : p;
 }
 
 /* The largest double r with r <= a·b exactly. */
-static inline double hp_prod_down(double a, double b)
+static inline double hpi_prod_down(double a, double b)
 {
     double p = a * b;
-    return hp_prod_err(a, b, p) < 0.0 ? nextafter(p, -INFINITY) : p;
+    return hpi_prod_err(a, b, p) < 0.0 ? nextafter(p, -INFINITY) : p;
 }
 
 #endif

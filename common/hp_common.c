@@ -49,12 +49,12 @@ hp_error hp_diag_set(hp_diag *diag, hp_error code, const char *fmt, ...)
          * "0,5" where the command line (which runs in C) reads "0.5" for the same failure. */
         int er = errno; /* a caller may still report errno after setting the message */
         hp_c_numeric c;
-        hp_c_numeric_begin(&c);
+        hpi_c_numeric_begin(&c);
         va_list ap;
         va_start(ap, fmt);
         vsnprintf(diag->text, sizeof diag->text, fmt, ap);
         va_end(ap);
-        hp_c_numeric_end(&c);
+        hpi_c_numeric_end(&c);
         errno = er;
     }
     return code;

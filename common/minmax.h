@@ -4,7 +4,7 @@
 #ifndef HP_COMMON_MINMAX_H
 #define HP_COMMON_MINMAX_H
 
-static inline double hp_max2(double a, double b) { return a > b ? a : b; }
-static inline double hp_min2(double a, double b) { return a < b ? a : b; }
+static inline double hpi_max2(double a, double b) { return a > b ? a : b; }
+static inline double hpi_min2(double a, double b) { return a < b ? a : b; }
 
 #endif

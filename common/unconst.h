@@ -6,7 +6,7 @@
 #ifndef HP_COMMON_UNCONST_H
 #define HP_COMMON_UNCONST_H
 
-static inline void *hp_unconst(const void *p)
+static inline void *hpi_unconst(const void *p)
 {
     union {
         const void *c;

@@ -67,13 +67,13 @@ hp_error hp_horizon_settings_validate(const hp_horizon_settings *s, hp_diag *d)
     return HP_OK;
 }
 
-double hp_horizon_weight(const hp_settings *s, const int commanded[6], int i)
+double hpi_horizon_weight(const hp_settings *s, const int commanded[6], int i)
 {
     if (commanded && !commanded[i]) return 0.0;
     return i < 3 ? 1.0 : 1.0 / (s->weight_mm_per_deg * s->weight_mm_per_deg);
 }
 
-hp_status hp_horizon_label(const int commanded[6], const double desired[6], const double xc[6],
+hp_status hpi_horizon_label(const int commanded[6], const double desired[6], const double xc[6],
                            const double achieved[6], double tol, double *err)
 {
     double e = 0;
@@ -87,12 +87,12 @@ hp_status hp_horizon_label(const int commanded[6], const double desired[6], cons
     return e <= tol ? (unc ? HP_STATUS_UNCOMMANDED : HP_STATUS_REACHED) : HP_STATUS_CLOSEST;
 }
 
-void hp_horizon_scene_rates(const hp_layout *L, double *rate_max)
+void hpi_horizon_scene_rates(const hp_layout *L, double *rate_max)
 {
     for (int k = 0; k < L->n; ++k) rate_max[k] = L->bladders[k].rate_max;
 }
 
-void hp_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settings *hs,
+void hpi_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settings *hs,
                           double dt, double *delta)
 {
     double per_s = isfinite(hs->rate_max_per_s) ? hs->rate_max_per_s * dt : INFINITY;
@@ -106,7 +106,7 @@ double hp_horizon_start_interval(const hp_trace_row *rows, size_t T, double fall
     return dt > 0 && isfinite(dt) ? dt : fallback;
 }
 
-hp_error hp_horizon_row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
+hp_error hpi_horizon_row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
                        double *dt, hp_diag *d)
 {
     if (!isfinite(rows[t].t))
@@ -128,12 +128,12 @@ hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
     if (!L || !hs || (!rows && T) || (!delta && T))
         return hp_diag_set(d, HP_ERR_NULL, "horizon rates: NULL argument");
     double scene[HP_MAX_BLADDERS];
-    hp_horizon_scene_rates(L, scene);
+    hpi_horizon_scene_rates(L, scene);
     for (size_t t = 0; t < T; ++t) {
-        double dt = NAN; /* hp_horizon_row_dt writes it on HP_OK; set for -O3's flow analysis */
-        hp_error e = hp_horizon_row_dt(hs, rows, t, &dt, d);
+        double dt = NAN; /* hpi_horizon_row_dt writes it on HP_OK; set for -O3's flow analysis */
+        hp_error e = hpi_horizon_row_dt(hs, rows, t, &dt, d);
         if (e != HP_OK) return e;
-        hp_horizon_row_rates(scene, L->n, hs, dt, delta + t * (size_t)L->n);
+        hpi_horizon_row_rates(scene, L->n, hs, dt, delta + t * (size_t)L->n);
     }
     return HP_OK;
 }
@@ -144,10 +144,10 @@ hp_error hp_horizon_nominal_pressures(const hp_layout *L, double *p_start, hp_di
     hp_geom G;
     hp_diag sub;
     sub.text[0] = '\0';
-    hp_error e = hp_geom_derive(L, &G, &sub);
+    hp_error e = hpi_geom_derive(L, &G, &sub);
     if (e != HP_OK) return hp_diag_set(d, e, "nominal pressures: %s", sub.text);
     int bad = 0;
-    e = hp_nominal_pressures_of(L, &G, p_start, &bad);
+    e = hpi_nominal_pressures_of(L, &G, p_start, &bad);
     if (e != HP_OK)
         return hp_diag_set(d, e, "bladder %s: nominal pressure: %s", L->bladders[bad].name,
                            hp_error_message(e));
@@ -163,14 +163,14 @@ hp_error hp_horizon_check_rows(const hp_layout *L, const hp_trace_row *rows, siz
     if (e != HP_OK) return hp_diag_set(d, e, "layout: %s", hp_error_message(e));
     char why[HP_DIAG_MAX];
     for (size_t t = 0; t < T; ++t)
-        if (!hp_plan_desired_ok(&id, rows[t].correction, why)) {
+        if (!hpi_plan_desired_ok(&id, rows[t].correction, why)) {
             if (bad) *bad = t;
             return hp_diag_set(d, HP_ERR_INVALID, "%s", why);
         }
     return HP_OK;
 }
 
-hp_error hp_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
+hp_error hpi_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
                                   hp_diag *d)
 {
     size_t bad = 0;
@@ -181,7 +181,7 @@ hp_error hp_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, 
     return HP_OK;
 }
 
-void hp_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int n,
+void hpi_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int n,
                                 hp_horizon_row *o)
 {
     o->t = in->t;
@@ -194,7 +194,7 @@ void hp_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int 
     o->status = r->status;
 }
 
-hp_error hp_horizon_load_refused(const char *plan, hp_diag *d)
+hp_error hpi_horizon_load_refused(const char *plan, hp_diag *d)
 {
     return hp_diag_set(d, HP_ERR_INVALID,
                        "%s: the scene is planned at the load level, whose plans hold the head's "
@@ -203,7 +203,7 @@ hp_error hp_horizon_load_refused(const char *plan, hp_diag *d)
                        plan);
 }
 
-void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
+void hpi_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
                              const char *reason)
 {
     if (*noted || r->status != HP_STATUS_INVALID_INPUT) return;
@@ -228,7 +228,7 @@ hp_error hp_horizon_measure(const hp_horizon_row *out, size_t T, int n, const do
             double e = (o->achieved[i] - o->desired[i]) * s;
             sq[i] += e * e;
             m->max[i] = fmax(m->max[i], fabs(e));
-            m->pose_cost += hp_horizon_weight(settings, NULL, i) * e * e;
+            m->pose_cost += hpi_horizon_weight(settings, NULL, i) * e * e;
             outside |= fabs(e) > (i < 3 ? tol_mm : tol_deg);
         }
         double dt = t ? o->t - out[t - 1].t : hs->start_interval_s;

@@ -19,9 +19,9 @@ static hp_error greedy_row(void *ctx, size_t t, const hp_result *r)
 {
     greedy_ctx *g = ctx;
     const char *why = hp_planner_error(g->p);
-    hp_horizon_note_refusal(g->d, &g->refused, r, g->rows[t].line,
+    hpi_horizon_note_refusal(g->d, &g->refused, r, g->rows[t].line,
                             *why ? why : hp_planner_note(g->p));
-    hp_horizon_row_from_result(g->rows + t, r, r->n, g->out + t);
+    hpi_horizon_row_from_result(g->rows + t, r, r->n, g->out + t);
     return HP_OK;
 }
 
@@ -32,7 +32,7 @@ hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
     if (!L || !hs || (T && (!rows || !out)))
         return hp_diag_set(d, HP_ERR_NULL, "greedy: NULL argument");
     hp_error e = hp_horizon_settings_validate(hs, d);
-    if (e == HP_OK) e = hp_horizon_check_rows_at(L, rows, T, d);
+    if (e == HP_OK) e = hpi_horizon_check_rows_at(L, rows, T, d);
     if (e != HP_OK) return e;
     hp_planner *p = NULL;
     hp_trace_plan *tp = NULL;

@@ -6,29 +6,29 @@
 
 /* The interval before row t [s] (hs->start_interval_s for row 0), checked: the row's time
  * stamp finite and after the previous row's. HP_ERR_INVALID with "line N: t_s: ..." in d. */
-hp_error hp_horizon_row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
+hp_error hpi_horizon_row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
                            double *dt, hp_diag *d);
 
 /* Objective weight of pose component i (mm², deg² / weight_mm_per_deg²), 0 when the layout
  * does not command it. */
 /* The planner's own words for its last hp_plan (its error, else its note), or "". */
-const char *hp_horizon_rh_reason(const hp_horizon_rh *rh);
+const char *hpi_horizon_rh_reason(const hp_horizon_rh *rh);
 
 /* hp_horizon_check_rows with the refused row's line in the message. */
-hp_error hp_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
+hp_error hpi_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
                                   hp_diag *d);
 
 /* The output row o of trace row in planned as r (n bladders). */
-void hp_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int n,
+void hpi_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int n,
                                 hp_horizon_row *o);
 /* The refusal of a receding or offline plan at the load level (HP_ERR_INVALID, the plan
  * named in d): those plans solve the contact levels' program over many rows; the load level
  * is planned greedy, one row at a time. */
-hp_error hp_horizon_load_refused(const char *plan, hp_diag *d);
+hp_error hpi_horizon_load_refused(const char *plan, hp_diag *d);
 
 /* Puts "line N: reason" of the first row hp_plan refused (status INVALID_INPUT) into d, the
  * planner's own words as batch prints them: *noted says whether one already is. */
-void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
+void hpi_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
                              const char *reason);
 
 /* The status of a planned row as hp_plan labels an answer, from the row's own desired pose
@@ -36,7 +36,7 @@ void hp_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long li
  * every commanded component is within tol (mm or degrees) of xc, UNCOMMANDED when it is but
  * desired − xc (the part the layout cannot observe) exceeds tol somewhere, CLOSEST otherwise.
  * *err: the largest commanded error (mm or degrees). */
-hp_status hp_horizon_label(const int commanded[6], const double desired[6], const double xc[6],
+hp_status hpi_horizon_label(const int commanded[6], const double desired[6], const double xc[6],
                            const double achieved[6], double tol, double *err);
 
 /* An iterate of the receding horizon's interior point this close (mm or degrees, every
@@ -46,16 +46,16 @@ hp_status hp_horizon_label(const int commanded[6], const double desired[6], cons
  * to its own tolerance when no limit binds. */
 #define HP_HORIZON_AIM_TOL 1e-6
 
-double hp_horizon_weight(const hp_settings *s, const int commanded[6], int i);
+double hpi_horizon_weight(const hp_settings *s, const int commanded[6], int i);
 
 /* The scene's per-row rate limits rate_max[k] [Pa] of a layout, copied before a planner is
  * given any row's allowance: hp_planner_set_rate_max overwrites the planner's own copy, so
  * its layout no longer holds the scene's limits after the first row. */
-void hp_horizon_scene_rates(const hp_layout *L, double *rate_max);
+void hpi_horizon_scene_rates(const hp_layout *L, double *rate_max);
 
 /* Δ [Pa] of each of n bladders for a row interval dt [s]: min(rate_max[k], per-second limit
- * · dt), rate_max the scene's limits (hp_horizon_scene_rates). */
-void hp_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settings *hs,
+ * · dt), rate_max the scene's limits (hpi_horizon_scene_rates). */
+void hpi_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settings *hs,
                           double dt, double *delta);
 
 /* The rate limits are met by at most this much less than Δ in the offline NLP [Pa], so the
@@ -74,7 +74,7 @@ void hp_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settin
  * row-major) and the dense lower triangle of the Lagrangian's Hessian
  * obj_factor·∇²f + Σ lambda_i ∇²g_i (T·nx × T·nx), all from the callbacks Ipopt gets and
  * their sparsity patterns. Allocates. */
-hp_error hp_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
+hp_error hpi_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
                               const hp_horizon_settings *hs, const hp_trace_row *rows, int T,
                               const double *p0, const double *x, double obj_factor,
                               const double *lambda, double *f, double *grad, double *g,

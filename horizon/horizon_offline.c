@@ -54,7 +54,7 @@ typedef struct nlp {
 static void set_row(nlp *q, int t)
 {
     for (int i = 0; i < 6; ++i)
-        q->pb.d[i] = q->pb.w[i] > 0 ? q->xc[6 * t + i] * hp_pose_scaled_per_si(i) : 0.0;
+        q->pb.d[i] = q->pb.w[i] > 0 ? q->xc[6 * t + i] * hpi_pose_scaled_per_si(i) : 0.0;
 }
 
 /* P, dP/dri, d²P/dri² of every bladder of every row at x (mm units). */
@@ -91,7 +91,7 @@ static Bool eval_f(Index nv, Number *x, Bool new_x, Number *f, UserDataPtr u)
     for (int t = 0; t < q->T; ++t) {
         double ft;
         set_row(q, t);
-        if (hp_problem_objective(&q->pb, x + (size_t)t * (size_t)q->nx, &ft, NULL, NULL) != HP_OK)
+        if (hpi_problem_objective(&q->pb, x + (size_t)t * (size_t)q->nx, &ft, NULL, NULL) != HP_OK)
             return FALSE;
         sum += ft;
         for (int k = 0; k < q->n; ++k) {
@@ -112,7 +112,7 @@ static Bool eval_grad_f(Index nv, Number *x, Bool new_x, Number *g, UserDataPtr 
         double ft;
         size_t base = (size_t)t * (size_t)q->nx;
         set_row(q, t);
-        if (hp_problem_objective(&q->pb, x + base, &ft, g + base, NULL) != HP_OK) return FALSE;
+        if (hpi_problem_objective(&q->pb, x + base, &ft, g + base, NULL) != HP_OK) return FALSE;
     }
     for (int t = 0; t < q->T; ++t)
         for (int k = 0; k < q->n; ++k) {
@@ -133,7 +133,7 @@ static Bool eval_g(Index nv, Number *x, Bool new_x, Index m, Number *g, UserData
     if (!eval_pressures(q, x)) return FALSE;
     for (int t = 0; t < q->T; ++t) {
         size_t c0 = (size_t)t * 2u * (size_t)q->n;
-        if (hp_problem_constraints(&q->pb, x + (size_t)t * (size_t)q->nx, g + c0, NULL, NULL,
+        if (hpi_problem_constraints(&q->pb, x + (size_t)t * (size_t)q->nx, g + c0, NULL, NULL,
                                    NULL) != HP_OK)
             return FALSE;
         for (int k = 0; k < q->n; ++k)
@@ -169,7 +169,7 @@ static Bool eval_jac_g(Index nv, Number *x, Bool new_x, Index m, Index nele, Ind
     if (!eval_pressures(q, x)) return FALSE;
     size_t e = 0;
     for (int t = 0; t < q->T; ++t) {
-        if (hp_problem_constraints(&q->pb, x + (size_t)t * (size_t)nx, NULL, q->jac, NULL,
+        if (hpi_problem_constraints(&q->pb, x + (size_t)t * (size_t)nx, NULL, q->jac, NULL,
                                    NULL) != HP_OK)
             return FALSE;
         for (int k = 0; k < n; ++k) {
@@ -213,9 +213,9 @@ static Bool eval_h(Index nv, Number *x, Bool new_x, Number of, Index m, Number *
         const double *xt = x + (size_t)t * (size_t)nx;
         const double *lc = lambda + (size_t)t * 2u * (size_t)n;
         set_row(q, t);
-        if (hp_problem_objective(&q->pb, xt, &ft, NULL, q->h) != HP_OK) return FALSE;
+        if (hpi_problem_objective(&q->pb, xt, &ft, NULL, q->h) != HP_OK) return FALSE;
         for (int i = 0; i < nx * nx; ++i) q->h[i] *= of;
-        if (hp_problem_constraints(&q->pb, xt, NULL, NULL, lc, q->h) != HP_OK) return FALSE;
+        if (hpi_problem_constraints(&q->pb, xt, NULL, NULL, lc, q->h) != HP_OK) return FALSE;
         for (int i = 0; i < 6; ++i)
             for (int j = 0; j <= i; ++j) v[e++] = q->h[i * nx + j];
         for (int k = 0; k < n; ++k) {
@@ -289,7 +289,7 @@ static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
     *p = NULL;
     memset(c, 0, sizeof *c);
     hp_error e = hp_planner_create(L, s, p, d);
-    if (e == HP_OK && hp_planner_level(*p) == HP_LEVEL_LOAD) e = hp_horizon_load_refused("offline", d);
+    if (e == HP_OK && hp_planner_level(*p) == HP_LEVEL_LOAD) e = hpi_horizon_load_refused("offline", d);
     if (e != HP_OK) return e;
     c->L = hp_planner_layout(*p);
     c->p = *p;
@@ -297,15 +297,15 @@ static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
     c->s = s;
     int commanded[6];
     memcpy(commanded, hp_planner_identifiable(*p)->commanded, sizeof commanded);
-    if ((e = hp_setup_static_bounds(c->L, &c->sb, d)) != HP_OK) return e;
+    if ((e = hpi_setup_static_bounds(c->L, &c->sb, d)) != HP_OK) return e;
     c->pb.layout = c->L;
-    c->pb.geom = hp_planner_geom(*p);
+    c->pb.geom = hpi_planner_geom(*p);
     c->pb.level = hp_planner_level(*p);
     c->pb.n = c->L->n;
     c->pb.nx = 6 + c->L->n;
     c->pb.mu = 0.0;
-    for (int i = 0; i < 6; ++i) c->pb.w[i] = hp_horizon_weight(s, commanded, i);
-    return hp_setup_cycle_bounds(c->L, &c->sb, NULL, 0, &c->pb, NULL, NULL, d);
+    for (int i = 0; i < 6; ++i) c->pb.w[i] = hpi_horizon_weight(s, commanded, i);
+    return hpi_setup_cycle_bounds(c->L, &c->sb, NULL, 0, &c->pb, NULL, NULL, d);
 }
 
 /* Doubles one window's NLP needs (nlp_init's buf). */
@@ -363,7 +363,7 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
             double lim = c->pb.w[i] > 0 ? IPOPT_INF : 0.0;
             xl[b + (size_t)i] = -lim;
             xu[b + (size_t)i] = lim;
-            x[b + (size_t)i] = c->pb.w[i] > 0 ? start[t].achieved[i] * hp_pose_scaled_per_si(i) : 0.0;
+            x[b + (size_t)i] = c->pb.w[i] > 0 ? start[t].achieved[i] * hpi_pose_scaled_per_si(i) : 0.0;
         }
         for (int k = 0; k < n; ++k) {
             size_t j = b + 6 + (size_t)k;
@@ -399,7 +399,7 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
                 x[(size_t)t * (size_t)nx + 6 + (size_t)k] = ri * HP_MM_PER_M;
         }
         if (he == HP_OK)
-            he = hp_plan_fit_from_nominal(c->p, ro, hp_planner_identifiable(c->p)->commanded,
+            he = hpi_plan_fit_from_nominal(c->p, ro, hp_planner_identifiable(c->p)->commanded,
                                           NULL, xi, NULL);
         if (he != HP_OK) {
             free(buf);
@@ -410,13 +410,13 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         for (int t = 0; t < T; ++t)
             for (int i = 0; i < 6; ++i)
                 x[(size_t)t * (size_t)nx + (size_t)i] =
-                    c->pb.w[i] > 0 ? xi[i] * hp_pose_scaled_per_si(i) : 0.0;
+                    c->pb.w[i] > 0 ? xi[i] * hpi_pose_scaled_per_si(i) : 0.0;
     }
     Index nnz_j = T * 7 * n + T * 2 * n - n;
     Index nnz_h = T * (21 + n) + (T - 1) * n;
     hp_error e = HP_OK;
     enum ApplicationReturnStatus rc = Internal_Error;
-    hp_ipopt_lock();
+    hpi_ipopt_lock();
     IpoptProblem app = all_held ? NULL
                                 : CreateIpoptProblem((Index)NV, xl, xu, (Index)NC, gl, gu, nnz_j,
                                                      nnz_h, 0, eval_f, eval_g, eval_grad_f,
@@ -424,7 +424,7 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
     if (all_held) rc = Solve_Succeeded;
     else if (!app) e = hp_diag_set(d, HP_ERR_SOLVER, "offline: CreateIpoptProblem failed");
     if (e == HP_OK && app)
-        e = hp_ipopt_base_options(app, c->hs->offline_tol, c->hs->offline_max_iter,
+        e = hpi_ipopt_base_options(app, c->hs->offline_tol, c->hs->offline_max_iter,
                                   c->hs->offline_max_time, d);
     if (e == HP_OK && app && !SetIntermediateCallback(app, intermediate))
         e = hp_diag_set(d, HP_ERR_SOLVER, "offline: SetIntermediateCallback failed");
@@ -433,7 +433,7 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         rc = IpoptSolve(app, x, NULL, &obj, NULL, NULL, NULL, &q);
     }
     if (app) FreeIpoptProblem(app);
-    hp_ipopt_unlock();
+    hpi_ipopt_unlock();
     if (info) {
         info->windows += 1;
         info->iterations += q.iters;
@@ -452,12 +452,12 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         o->t = rows[t].t;
         memcpy(o->desired, rows[t].correction, sizeof o->desired);
         double err;
-        for (int i = 0; i < 6; ++i) o->achieved[i] = xt[i] / hp_pose_scaled_per_si(i);
+        for (int i = 0; i < 6; ++i) o->achieved[i] = xt[i] / hpi_pose_scaled_per_si(i);
         /* hp_plan's labels, to the offline solve's own accuracy where it is coarser */
-        o->status = hp_horizon_label(hp_planner_identifiable(c->p)->commanded, o->desired,
+        o->status = hpi_horizon_label(hp_planner_identifiable(c->p)->commanded, o->desired,
                                      q.xc + 6 * t, o->achieved,
                                      fmax(c->s->tolerance, OFFLINE_REACHED_TOL), &err);
-        if (hp_setup_contact_scaled(c->L, c->pb.geom, c->pb.level, xt, rho, NULL) != HP_OK) {
+        if (hpi_setup_contact_scaled(c->L, c->pb.geom, c->pb.level, xt, rho, NULL) != HP_OK) {
             e = hp_diag_set(d, HP_ERR_SOLVER, "offline: line %ld: contact model failed",
                             rows[t].line);
             break;
@@ -506,10 +506,10 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         hp_plan_trip trip;
         /* INVALID, as hp_plan refuses such an answer (INVALID_INPUT): the trace asks for a
          * pose this layout cannot identify, not the solver failing. */
-        if (e == HP_OK && !hp_plan_round_trip(c->p, &rr, o->achieved, NULL, &trip)) {
+        if (e == HP_OK && !hpi_plan_round_trip(c->p, &rr, o->achieved, NULL, &trip)) {
             char why[HP_DIAG_MAX];
             why[0] = '\0';
-            hp_plan_trip_text(why, &trip);
+            hpi_plan_trip_text(why, &trip);
             e = hp_diag_set(d, HP_ERR_INVALID,
                             "offline: line %ld: the planned pose is not where its pressures "
                             "hold the head: %s",
@@ -588,7 +588,7 @@ done:
     return e;
 }
 
-hp_error hp_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
+hp_error hpi_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
                               const hp_horizon_settings *hs, const hp_trace_row *rows, int T,
                               const double *p0, const double *x, double obj_factor,
                               const double *lambda, double *f, double *grad, double *g,
@@ -612,8 +612,8 @@ hp_error hp_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
         e = commanded_parts(&c, rows, T, q.xc, NULL);
     }
     if (e == HP_OK) {
-        double *xx = hp_unconst(x); /* Ipopt's callbacks take non-const pointers */
-        double *ll = hp_unconst(lambda);
+        double *xx = hpi_unconst(x); /* Ipopt's callbacks take non-const pointers */
+        double *ll = hpi_unconst(lambda);
         Index nj = T * 7 * n + T * 2 * n - n, nh = T * (21 + n) + (T - 1) * n;
         if (!eval_f(NV, xx, 1, f, &q) || !eval_grad_f(NV, xx, 1, grad, &q) ||
             !eval_g(NV, xx, 1, NC, g, &q) || !eval_jac_g(NV, xx, 1, NC, nj, iR, jC, NULL, &q) ||

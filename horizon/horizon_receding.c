@@ -92,7 +92,7 @@ static int evaluate(hp_horizon_rh *rh, const double *z)
 {
     const int n = rh->n;
     for (int j = 0; j < rh->N; ++j) {
-        if (hp_setup_contact_scaled(rh->L, rh->G, rh->level, z + 6 * j, rh->rho + n * j,
+        if (hpi_setup_contact_scaled(rh->L, rh->G, rh->level, z + 6 * j, rh->rho + n * j,
                                     rh->J + 6 * n * j) != HP_OK)
             return 0;
         for (int k = 0; k < n; ++k) {
@@ -342,7 +342,7 @@ static void predict(hp_horizon_rh *rh, double dt0)
             rh->d[6 * j + i] =
                 rh->commanded[i] ? (rh->hist_d[h][i] + v[i] * dtp * j) * s : 0.0;
         }
-        hp_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, j ? dtp : dt0,
+        hpi_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, j ? dtp : dt0,
                              rh->delta + rh->n * j);
     }
 }
@@ -362,27 +362,27 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
     else hp_horizon_settings_default(&rh->hs);
     hp_error e = hp_horizon_settings_validate(&rh->hs, d);
     if (e == HP_OK) e = hp_planner_create(L, &rh->s, &rh->p, d);
-    if (e == HP_OK && hp_planner_level(rh->p) == HP_LEVEL_LOAD) e = hp_horizon_load_refused("receding", d);
+    if (e == HP_OK && hp_planner_level(rh->p) == HP_LEVEL_LOAD) e = hpi_horizon_load_refused("receding", d);
     if (e != HP_OK) goto fail;
     rh->L = hp_planner_layout(rh->p);
-    rh->G = hp_planner_geom(rh->p);
+    rh->G = hpi_planner_geom(rh->p);
     rh->level = hp_planner_level(rh->p);
     rh->n = rh->L->n;
     rh->N = rh->hs.horizon;
-    hp_horizon_scene_rates(rh->L, rh->rate_scene);
+    hpi_horizon_scene_rates(rh->L, rh->rate_scene);
     hp_static_bounds sb;
     hp_problem pb;
     memset(&pb, 0, sizeof pb);
     memcpy(rh->commanded, hp_planner_identifiable(rh->p)->commanded, sizeof rh->commanded);
-    if ((e = hp_setup_static_bounds(rh->L, &sb, d)) != HP_OK ||
-        (e = hp_setup_cycle_bounds(rh->L, &sb, NULL, 0, &pb, NULL, NULL, d)) != HP_OK)
+    if ((e = hpi_setup_static_bounds(rh->L, &sb, d)) != HP_OK ||
+        (e = hpi_setup_cycle_bounds(rh->L, &sb, NULL, 0, &pb, NULL, NULL, d)) != HP_OK)
         goto fail;
     for (int k = 0; k < rh->n; ++k) {
         rh->ro_lo[k] = pb.ro_lo[k];
         rh->ro_hi[k] = pb.ro_hi[k];
     }
     for (int i = 0; i < 6; ++i) {
-        double w = hp_horizon_weight(&rh->s, rh->commanded, i);
+        double w = hpi_horizon_weight(&rh->s, rh->commanded, i);
         rh->w[i] = w > 0 ? w : 1.0;
     }
     if (p_start) memcpy(rh->p_now, p_start, sizeof(double) * (size_t)rh->n);
@@ -473,7 +473,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
         if (aim_desired) memcpy(target, desired, sizeof target);
     }
     double delta[HP_MAX_BLADDERS];
-    hp_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, dt0, delta);
+    hpi_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, dt0, delta);
     hp_error e = hp_planner_set_rate_max(rh->p, delta);
     if (e == HP_OK) e = hp_plan(rh->p, target, result);
     if (e != HP_OK) return e;
@@ -486,7 +486,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     memcpy(result->desired, desired, sizeof result->desired);
     if (result->status == HP_STATUS_REACHED || result->status == HP_STATUS_CLOSEST ||
         result->status == HP_STATUS_UNCOMMANDED) {
-        result->status = hp_horizon_label(rh->commanded, desired, xc, result->achieved,
+        result->status = hpi_horizon_label(rh->commanded, desired, xc, result->achieved,
                                           rh->s.tolerance, &result->pose_error);
         for (int i = 0; i < 6; ++i) result->uncommanded[i] = desired[i] - xc[i];
         /* A plan the time budget cut short is not reproducible: labelled as batch labels a
@@ -504,7 +504,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     return HP_OK;
 }
 
-const char *hp_horizon_rh_reason(const hp_horizon_rh *rh)
+const char *hpi_horizon_rh_reason(const hp_horizon_rh *rh)
 {
     if (rh->budget_stopped) return rh->why;
     const char *e = hp_planner_error(rh->p);
@@ -519,7 +519,7 @@ hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
 {
     if (!L || (T && (!rows || !out))) return hp_diag_set(d, HP_ERR_NULL, "receding: NULL argument");
     hp_horizon_rh *rh = NULL;
-    hp_error e = hp_horizon_check_rows_at(L, rows, T, d);
+    hp_error e = hpi_horizon_check_rows_at(L, rows, T, d);
     if (e != HP_OK) return e;
     e = hp_horizon_rh_create(L, settings, hs, p_start, &rh, d);
     if (e != HP_OK) return e;
@@ -532,8 +532,8 @@ hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
             hp_diag_set(d, e, "line %ld: t_s: not after the previous row", rows[t].line);
             break;
         }
-        hp_horizon_note_refusal(d, &refused, &r, rows[t].line, hp_horizon_rh_reason(rh));
-        hp_horizon_row_from_result(rows + t, &r, L->n, out + t);
+        hpi_horizon_note_refusal(d, &refused, &r, rows[t].line, hpi_horizon_rh_reason(rh));
+        hpi_horizon_row_from_result(rows + t, &r, L->n, out + t);
     }
     hp_horizon_rh_destroy(rh);
     return e;

@@ -2,6 +2,6 @@
 #ifndef HP_HORIZON_NAMES_H
 #define HP_HORIZON_NAMES_H
 
-extern const char *const hp_prediction_words[];
+extern const char *const hpi_prediction_words[];
 
 #endif

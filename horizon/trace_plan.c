@@ -40,7 +40,7 @@ hp_error hp_trace_plan_create(hp_planner *p, const hp_horizon_settings *hs, hp_t
     tp->row_rates = hs != NULL;
     if (hs) tp->hs = *hs;
     /* Copied before the first row's allowance replaces the planner's own copy. */
-    hp_horizon_scene_rates(L, tp->scene);
+    hpi_horizon_scene_rates(L, tp->scene);
     tp->kind = STATE_START;
     tp->pending = 1;
     *out = tp;
@@ -95,12 +95,12 @@ static hp_error apply_state(hp_trace_plan *tp, hp_diag *d)
 static hp_error apply_rates(hp_trace_plan *tp, const hp_trace_row *rows, size_t t, hp_diag *d)
 {
     if (!tp->row_rates) return HP_OK;
-    double dt = NAN; /* hp_horizon_row_dt writes it on HP_OK */
-    hp_error e = hp_horizon_row_dt(&tp->hs, rows, t, &dt, d);
+    double dt = NAN; /* hpi_horizon_row_dt writes it on HP_OK */
+    hp_error e = hpi_horizon_row_dt(&tp->hs, rows, t, &dt, d);
     if (e != HP_OK) return e;
     const int n = hp_planner_layout(tp->p)->n;
     double delta[HP_MAX_BLADDERS];
-    hp_horizon_row_rates(tp->scene, n, &tp->hs, dt, delta);
+    hpi_horizon_row_rates(tp->scene, n, &tp->hs, dt, delta);
     e = hp_planner_set_rate_max(tp->p, delta);
     if (e != HP_OK) return hp_diag_set(d, e, "line %ld: rate limit", rows[t].line);
     return HP_OK;

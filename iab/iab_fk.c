@@ -13,7 +13,7 @@
 static double dP(const hp_iab_s *s, double ri)
 {
     double p, d1;
-    if (hp_iab_s_ik(s, ri, &p, &d1, NULL) != HP_OK) return NAN;
+    if (hpi_iab_s_ik(s, ri, &p, &d1, NULL) != HP_OK) return NAN;
     return d1;
 }
 
@@ -72,7 +72,7 @@ static hp_error limit_scaled(const hp_iab_s *s, double *ri_lp, double *p_lp)
         if (!(d > 0)) {
             double r_lp = bisect_dp(s, prev_r, r);
             *ri_lp = r_lp;
-            return hp_iab_s_ik(s, r_lp, p_lp, NULL, NULL);
+            return hpi_iab_s_ik(s, r_lp, p_lp, NULL, NULL);
         }
         /* A local minimum of dP/dri at the previous grid point: the slope may dip below zero
          * and recover between grid points (C2/C1 just below the threshold for a limit
@@ -82,7 +82,7 @@ static hp_error limit_scaled(const hp_iab_s *s, double *ri_lp, double *p_lp)
             if (!(golden_min_dp(s, lo, r, &at) > 0)) {
                 double r_lp = bisect_dp(s, lo, at);
                 *ri_lp = r_lp;
-                return hp_iab_s_ik(s, r_lp, p_lp, NULL, NULL);
+                return hpi_iab_s_ik(s, r_lp, p_lp, NULL, NULL);
             }
         }
         pprev_d = prev_d;
@@ -97,8 +97,8 @@ static hp_error limit_scaled(const hp_iab_s *s, double *ri_lp, double *p_lp)
 hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp)
 {
     if (!lp) return HP_ERR_NULL;
-    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
-    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_error e = hpi_iab_scaled_init(b, &s, NULL);
     double r, p;
     if (e == HP_OK) e = limit_scaled(&s, &r, &p);
     if (e != HP_OK) return e;
@@ -122,7 +122,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
     double best = x, best_f = INFINITY;
     for (int it = 0; it < 300; ++it) {
         double p, d;
-        if (hp_iab_s_ik(s, x, &p, &d, NULL) != HP_OK) return HP_ERR_DOMAIN;
+        if (hpi_iab_s_ik(s, x, &p, &d, NULL) != HP_OK) return HP_ERR_DOMAIN;
         double f = p - target;
         if (fabs(f) < best_f) {
             best_f = fabs(f);
@@ -142,7 +142,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
          * same candidates. */
         if (d > 0 && fabs(f / d) <= 0.5 * DBL_EPSILON * x) {
             double xs = nextafter(x, f < 0 ? INFINITY : 0.0);
-            if (hp_iab_s_ik(s, xs, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f) {
+            if (hpi_iab_s_ik(s, xs, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f) {
                 best_f = fabs(p - target);
                 best = xs;
             }
@@ -154,7 +154,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             dx_old = dx;
             dx = xn - x;
             if (fabs(dx) <= DBL_EPSILON * x) { /* converged: one last look at xn */
-                if (hp_iab_s_ik(s, xn, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f)
+                if (hpi_iab_s_ik(s, xn, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f)
                     best = xn;
                 break;
             }
@@ -194,7 +194,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
     double g = guess * s.scale;
     double rg;
     if ((P > 0 ? g > s.Ri && g < r_lp : g > 0 && g < s.Ri) &&
-        hp_iab_s_pressure_ro(&s, g, &p, &rg) == HP_OK && p == P) {
+        hpi_iab_s_pressure_ro(&s, g, &p, &rg) == HP_OK && p == P) {
         *ri = g * s.inv_scale;
         *ro_s = rg;
         return HP_OK;
@@ -203,14 +203,14 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
         lo = s.Ri;
         if (isfinite(r_lp)) {
             /* P at r_lp is p_lp > P (the caller's limit point, computed there by the same
-             * hp_iab_s_ik): r_lp is the upper end, with no evaluation. */
+             * hpi_iab_s_ik): r_lp is the upper end, with no evaluation. */
             hi = r_lp;
         } else {
             /* No limit point: P grows without bound (like 2C2(1 − Ri/Ro)λi), so doubling
              * finds an upper end, or leaves the range of the model. */
             hi = 2.0 * s.Ri;
             for (;;) {
-                if (hp_iab_s_ik(&s, hi, &p, NULL, NULL) != HP_OK || hi > 1e30)
+                if (hpi_iab_s_ik(&s, hi, &p, NULL, NULL) != HP_OK || hi > 1e30)
                     return HP_ERR_DOMAIN;
                 if (p >= P) break;
                 lo = hi;
@@ -226,7 +226,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
         hi = s.Ri;
         lo = 0.5 * s.Ri;
         for (;;) {
-            if (lo < 1e-30 || hp_iab_s_ik(&s, lo, &p, NULL, NULL) != HP_OK) return HP_ERR_DOMAIN;
+            if (lo < 1e-30 || hpi_iab_s_ik(&s, lo, &p, NULL, NULL) != HP_OK) return HP_ERR_DOMAIN;
             if (p <= P) break;
             hi = lo;
             lo *= 0.5;
@@ -246,8 +246,8 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
 hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
 {
     if (!ri) return HP_ERR_NULL;
-    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
-    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_error e = hpi_iab_scaled_init(b, &s, NULL);
     if (e != HP_OK) return e;
     if (!isfinite(P)) return HP_ERR_INVALID;
     double r_lp = INFINITY, p_lp = INFINITY;
@@ -258,10 +258,10 @@ hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
 
 hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, double *ri)
 {
-    return hp_iab_fk_limit_warm(b, lp, P, NAN, ri);
+    return hpi_iab_fk_limit_warm(b, lp, P, NAN, ri);
 }
 
-/* The limit point of hp_iab_fk_limit_warm in scaled units, checked against the bladder. */
+/* The limit point of hpi_iab_fk_limit_warm in scaled units, checked against the bladder. */
 static hp_error limit_init(const hp_iab_s *s, const hp_iab_limit *lp, double P, double *r_lp,
                            double *p_lp)
 {
@@ -272,18 +272,18 @@ static hp_error limit_init(const hp_iab_s *s, const hp_iab_limit *lp, double P, 
     return HP_OK;
 }
 
-hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
+hp_error hpi_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
                               double ri_guess, double *ri)
 {
     if (!ri || !lp) return HP_ERR_NULL;
-    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
     double r_lp, p_lp, ro_s;
-    hp_error e = hp_iab_scaled_init(b, &s, NULL);
+    hp_error e = hpi_iab_scaled_init(b, &s, NULL);
     if (e == HP_OK) e = limit_init(&s, lp, P, &r_lp, &p_lp);
     return e != HP_OK ? e : fk_scaled(&s, r_lp, p_lp, P, ri_guess, ri, &ro_s);
 }
 
-hp_error hp_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+hp_error hpi_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, double P,
                                 double ri_guess, double *ri)
 {
     if (!ri || !lp) return HP_ERR_NULL;
@@ -292,7 +292,7 @@ hp_error hp_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, doubl
     return e != HP_OK ? e : fk_scaled(s, r_lp, p_lp, P, ri_guess, ri, &ro_s);
 }
 
-hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+hp_error hpi_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
                                    double ri_guess, double *ri, double *ro)
 {
     if (!ri || !ro || !lp) return HP_ERR_NULL;
@@ -305,18 +305,18 @@ hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, do
     double rs = r * s->scale;
     if (isfinite(ro_s) && rs >= 1e-30 && rs <= 1e30) {
         *ro = ro_s * s->inv_scale;
-    } else if ((e = hp_iab_s_ro_m(s, r, ro)) != HP_OK) {
+    } else if ((e = hpi_iab_s_ro_m(s, r, ro)) != HP_OK) {
         return e;
     }
     *ri = r;
     return HP_OK;
 }
 
-hp_error hp_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
+hp_error hpi_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
                                  double ri_guess, double *ri, double *ro)
 {
     if (!ri || !ro || !lp) return HP_ERR_NULL;
-    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
-    hp_error e = hp_iab_scaled_init(b, &s, NULL);
-    return e != HP_OK ? e : hp_iab_s_fk_limit_warm_ro(&s, lp, P, ri_guess, ri, ro);
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_error e = hpi_iab_scaled_init(b, &s, NULL);
+    return e != HP_OK ? e : hpi_iab_s_fk_limit_warm_ro(&s, lp, P, ri_guess, ri, ro);
 }

@@ -20,7 +20,7 @@ static void legendre(int n, double x, double *p, double *dp)
     *dp = n * (p0 - x * p1) / (1.0 - x * x);
 }
 
-hp_error hp_iab_gl_rule(int n, double *x, double *w)
+hp_error hpi_iab_gl_rule(int n, double *x, double *w)
 {
     if (!x || !w) return HP_ERR_NULL;
     if (n < 1 || n > HP_IAB_GL_MAX) return HP_ERR_INVALID;
@@ -56,10 +56,10 @@ static pthread_once_t cache_once = PTHREAD_ONCE_INIT;
 
 static void fill_cache(void)
 {
-    for (int n = 1; n <= HP_IAB_GL_MAX; ++n) (void)hp_iab_gl_rule(n, cache_x[n], cache_w[n]);
+    for (int n = 1; n <= HP_IAB_GL_MAX; ++n) (void)hpi_iab_gl_rule(n, cache_x[n], cache_w[n]);
 }
 
-hp_error hp_iab_gl_cached(int n, const double **x, const double **w)
+hp_error hpi_iab_gl_cached(int n, const double **x, const double **w)
 {
     if (!x || !w) return HP_ERR_NULL;
     if (n < 1 || n > HP_IAB_GL_MAX) return HP_ERR_INVALID;

@@ -4,7 +4,7 @@
 
 #include <math.h>
 
-double hp_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, double R2,
+double hpi_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, double R2,
                             double a, double c21)
 {
     double x = r1 * R2, y = r2 * R1;
@@ -29,25 +29,25 @@ static double gpp(double l) { return -3.0 / (l * l * l * l); }
 /* The pressure at scaled inner radius ri whose scaled outer radius is r. */
 static hp_error pressure_at(const hp_iab_s *s, double ri, double r, double *P)
 {
-    double a = hp_iab_cube_diff(ri, s->Ri); /* ri³ − Ri³ */
-    double p = hp_iab_s_energy_diff(s, ri, s->Ri, r, s->Ro, a, s->W);
+    double a = hpi_iab_cube_diff(ri, s->Ri); /* ri³ − Ri³ */
+    double p = hpi_iab_s_energy_diff(s, ri, s->Ri, r, s->Ro, a, s->W);
     if (!isfinite(p)) return HP_ERR_DOMAIN;
     *P = p;
     return HP_OK;
 }
 
-hp_error hp_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro)
+hp_error hpi_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro)
 {
-    double r = hp_iab_s_ro(s, ri);
+    double r = hpi_iab_s_ro(s, ri);
     if (pressure_at(s, ri, r, P) != HP_OK) return HP_ERR_DOMAIN;
     *ro = r;
     return HP_OK;
 }
 
-hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2)
+hp_error hpi_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2)
 {
     double p, ro;
-    if (hp_iab_s_pressure_ro(s, ri, &p, &ro) != HP_OK) return HP_ERR_DOMAIN;
+    if (hpi_iab_s_pressure_ro(s, ri, &p, &ro) != HP_OK) return HP_ERR_DOMAIN;
     double dp = 0, ddp = 0;
     if (d1 || d2) {
         double li = ri / s->Ri, lo = ro / s->Ro;
@@ -69,57 +69,57 @@ hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double
 /* Validates the bladder and the radius, and scales the radius. */
 static hp_error prepare(const hp_iab *b, double ri, hp_iab_s *s, double *ris)
 {
-    hp_error e = hp_iab_scaled_init(b, s, NULL);
-    return e != HP_OK ? e : hp_iab_s_radius(s, ri, ris);
+    hp_error e = hpi_iab_scaled_init(b, s, NULL);
+    return e != HP_OK ? e : hpi_iab_s_radius(s, ri, ris);
 }
 
-hp_error hp_iab_s_ik_m(const hp_iab_s *s, double ri, double *P)
+hp_error hpi_iab_s_ik_m(const hp_iab_s *s, double ri, double *P)
 {
     double ris, p;
-    hp_error e = hp_iab_s_radius(s, ri, &ris);
-    if (e == HP_OK) e = hp_iab_s_ik(s, ris, &p, NULL, NULL);
+    hp_error e = hpi_iab_s_radius(s, ri, &ris);
+    if (e == HP_OK) e = hpi_iab_s_ik(s, ris, &p, NULL, NULL);
     if (e != HP_OK) return e;
     *P = p;
     return HP_OK;
 }
 
-hp_error hp_iab_s_ik_ro_m(const hp_iab_s *s, double ri, double *P, double *ro)
+hp_error hpi_iab_s_ik_ro_m(const hp_iab_s *s, double ri, double *P, double *ro)
 {
     double ris, r;
-    hp_error e = hp_iab_s_radius(s, ri, &ris);
-    if (e == HP_OK) e = hp_iab_s_pressure_ro(s, ris, P, &r);
+    hp_error e = hpi_iab_s_radius(s, ri, &ris);
+    if (e == HP_OK) e = hpi_iab_s_pressure_ro(s, ris, P, &r);
     if (e != HP_OK) return e;
-    *ro = r * s->inv_scale; /* hp_iab_s_ro_m's bits: the same root, the same exact scaling */
+    *ro = r * s->inv_scale; /* hpi_iab_s_ro_m's bits: the same root, the same exact scaling */
     return HP_OK;
 }
 
-hp_error hp_iab_s_ik_near_m(const hp_iab_s *s, double ri, double ro_near, double *P)
+hp_error hpi_iab_s_ik_near_m(const hp_iab_s *s, double ri, double ro_near, double *P)
 {
     double ris;
-    hp_error e = hp_iab_s_radius(s, ri, &ris);
+    hp_error e = hpi_iab_s_radius(s, ri, &ris);
     if (e != HP_OK) return e;
-    /* hp_iab_s_ro's cube root, from the nearby radius (NaN or far off: from scratch). */
-    double r = hp_iab_cbrt_near(s->W + ris * ris * ris, ro_near * s->scale);
+    /* hpi_iab_s_ro's cube root, from the nearby radius (NaN or far off: from scratch). */
+    double r = hpi_iab_cbrt_near(s->W + ris * ris * ris, ro_near * s->scale);
     return pressure_at(s, ris, r, P);
 }
 
 hp_error hp_iab_ik(const hp_iab *b, double ri, double *P)
 {
     if (!P) return HP_ERR_NULL;
-    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
-    hp_error e = hp_iab_scaled_init(b, &s, NULL);
-    return e != HP_OK ? e : hp_iab_s_ik_m(&s, ri, P);
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_error e = hpi_iab_scaled_init(b, &s, NULL);
+    return e != HP_OK ? e : hpi_iab_s_ik_m(&s, ri, P);
 }
 
 hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri,
                           double *d2P_dri2)
 {
     if (!P) return HP_ERR_NULL;
-    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
     double ris, p, d1, d2;
     hp_error e = prepare(b, ri, &s, &ris);
     if (e == HP_OK)
-        e = hp_iab_s_ik(&s, ris, &p, dP_dri ? &d1 : NULL, d2P_dri2 ? &d2 : NULL);
+        e = hpi_iab_s_ik(&s, ris, &p, dP_dri ? &d1 : NULL, d2P_dri2 ? &d2 : NULL);
     if (e != HP_OK) return e;
     *P = p;
     /* Scaled length = length × scale, so d/dri = scale · d/dri_scaled. */
@@ -131,25 +131,25 @@ hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri,
 hp_error hp_iab_wall_stress(const hp_iab *b, double ri, double r, double *s_rr, double *s_tt)
 {
     if (!s_rr || !s_tt) return HP_ERR_NULL;
-    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
     double ris;
     hp_error e = prepare(b, ri, &s, &ris);
     if (e != HP_OK) return e;
     if (!isfinite(r)) return HP_ERR_INVALID;
     double rs = r * s.scale;
-    double ro = hp_iab_s_ro(&s, ris);
+    double ro = hpi_iab_s_ro(&s, ris);
     /* Accept r a few ulps outside [ri, ro]: a caller's ro from hp_iab_ro is bit-identical,
      * but one formed another way may differ by rounding. */
     double slack = 8.0 * 0x1p-52;
     if (!(rs >= ris * (1.0 - slack) && rs <= ro * (1.0 + slack))) return HP_ERR_DOMAIN;
     if (rs < ris) rs = ris;
     if (rs > ro) rs = ro;
-    double a = hp_iab_cube_diff(ris, s.Ri);
+    double a = hpi_iab_cube_diff(ris, s.Ri);
     /* R(r)³ = Ri³ + (r³ − ri³): positive terms only. */
-    double R = rs == ro ? s.Ro : rs == ris ? s.Ri : cbrt(s.Ri * s.Ri * s.Ri + hp_iab_cube_diff(rs, ris));
+    double R = rs == ro ? s.Ro : rs == ris ? s.Ri : cbrt(s.Ri * s.Ri * s.Ri + hpi_iab_cube_diff(rs, ris));
     /* σrr(r) = −∫_r^ro (dσrr/dr) dr: the closed form between r and the outer surface. */
-    double c21 = rs == ris ? s.W : hp_iab_cube_diff(ro, rs); /* ro³ − r³ */
-    double srr = rs == ro ? 0.0 : -hp_iab_s_energy_diff(&s, rs, R, ro, s.Ro, a, c21);
+    double c21 = rs == ris ? s.W : hpi_iab_cube_diff(ro, rs); /* ro³ − r³ */
+    double srr = rs == ro ? 0.0 : -hpi_iab_s_energy_diff(&s, rs, R, ro, s.Ro, a, c21);
     /* σθθ − σrr = C1(λ² − λ⁻⁴) + C2(λ⁴ − λ⁻²) = (λ³ − 1)(λ³ + 1)(C1λ⁻⁴ + C2λ⁻²), with
      * λ³ − 1 = a/R³ formed without cancellation. */
     double l = rs / R, l2 = l * l;

@@ -24,17 +24,17 @@ typedef struct hp_iab_s {
 
 /* x³ − y³ without cancellation beyond the one rounding of x − y (exact by Sterbenz's lemma
  * when x and y are within a factor of two). */
-static inline double hp_iab_cube_diff(double x, double y)
+static inline double hpi_iab_cube_diff(double x, double y)
 {
     return (x - y) * (x * x + x * y + y * y);
 }
 
 /* Validates b and fills s. Same codes and messages as hp_iab_validate. */
-hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag);
+hp_error hpi_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag);
 
 /* A scaled radius from a radius r in metres: HP_ERR_INVALID for NaN/Inf, HP_ERR_DOMAIN for
  * r <= 0 or a radius so far from the bladder's size that its cube leaves the range. */
-static inline hp_error hp_iab_s_radius(const hp_iab_s *s, double r, double *out)
+static inline hp_error hpi_iab_s_radius(const hp_iab_s *s, double r, double *out)
 {
     if (!isfinite(r)) return HP_ERR_INVALID;
     if (!(r > 0)) return HP_ERR_DOMAIN;
@@ -45,31 +45,31 @@ static inline hp_error hp_iab_s_radius(const hp_iab_s *s, double r, double *out)
 }
 
 /* The volume law, its inverse and the closed-form IK of a bladder already validated into s
- * (hp_iab_scaled_init), in metres and pascals: the same codes and the same bits as hp_iab_ro,
+ * (hpi_iab_scaled_init), in metres and pascals: the same codes and the same bits as hp_iab_ro,
  * hp_iab_ri and hp_iab_ik (which are these after the validation). For a caller that
  * evaluates one bladder several times, the validation (about a third of a call) once. */
-hp_error hp_iab_s_ro_m(const hp_iab_s *s, double ri, double *ro);
-hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri);
-hp_error hp_iab_s_ik_m(const hp_iab_s *s, double ri, double *P);
+hp_error hpi_iab_s_ro_m(const hp_iab_s *s, double ri, double *ro);
+hp_error hpi_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri);
+hp_error hpi_iab_s_ik_m(const hp_iab_s *s, double ri, double *P);
 
 /* The cube root of x, correctly rounded for a normal positive x except where the exact root
  * lies within ~1e-7 ulp of a midpoint between doubles (then within 0.5 ulp + 1e-7 ulp);
  * libm's cbrt for every other x (0, subnormal, negative, inf, NaN) and on a platform that
  * evaluates double expressions in wider precision. Several per bladder and plan, and
  * about half the price of libm's (which is within 1 ulp). */
-double hp_iab_cbrt(double x);
+double hpi_iab_cbrt(double x);
 
-/* hp_iab_cbrt(x) from a start y0 that is already close (a nearby root: the outer radius the
+/* hpi_iab_cbrt(x) from a start y0 that is already close (a nearby root: the outer radius the
  * inner one was solved from): one exact-residual Newton step when it moves y0 by at most
- * 2^-40 relative, else hp_iab_cbrt(x). The same guarantee as hp_iab_cbrt (correctly rounded
+ * 2^-40 relative, else hpi_iab_cbrt(x). The same guarantee as hpi_iab_cbrt (correctly rounded
  * but within ~1e-7 ulp of a midpoint), so the same bits except there, for about a third of
  * its latency (no polynomial, no first Newton division). Any y0 is safe (NaN, 0, far off:
  * the full cube root). */
-double hp_iab_cbrt_near(double x, double y0);
+double hpi_iab_cbrt_near(double x, double y0);
 
-/* Scaled outer radius for scaled inner radius ri > 0: ro = cbrt(W + ri³) (hp_iab_cbrt), a
+/* Scaled outer radius for scaled inner radius ri > 0: ro = cbrt(W + ri³) (hpi_iab_cbrt), a
  * sum of two positive terms (no cancellation). */
-double hp_iab_s_ro(const hp_iab_s *s, double ri);
+double hpi_iab_s_ro(const hp_iab_s *s, double ri);
 
 /* 2C1[f(λ1) − f(λ2)] + 2C2[g(λ1) − g(λ2)] for two radii r1 < r2 of the same deformed wall
  * (λk = rk/Rk), in a cancellation-free form:
@@ -79,61 +79,61 @@ double hp_iab_s_ro(const hp_iab_s *s, double ri);
  * with x = r1R2, y = r2R1, a = r³ − R³ (the same everywhere in the wall, = ri³ − Ri³),
  * c21 = r2³ − r1³ > 0. Every bracket is a sum of positive terms, so the relative error is a
  * few ulps, including at λ → 1 where the naive difference cancels. */
-double hp_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, double R2,
+double hpi_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, double R2,
                             double a, double c21);
 
 /* Closed-form pressure and exact derivatives in scaled units (dP/dri per scaled length).
  * Requires ri > 0 finite; returns HP_ERR_DOMAIN when the result is not finite (ri so small
  * or so large that the pressure overflows). d1, d2 may be NULL. */
-hp_error hp_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2);
+hp_error hpi_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2);
 
-/* hp_iab_s_ik_m for an inner radius ri [m] whose outer radius is known to be close to
- * ro_near [m] (the one ri was solved from by hp_iab_s_ri_m): the outer radius the pressure
- * uses comes from hp_iab_cbrt_near, so the same bits as hp_iab_s_ik_m but within ~1e-7 ulp
+/* hpi_iab_s_ik_m for an inner radius ri [m] whose outer radius is known to be close to
+ * ro_near [m] (the one ri was solved from by hpi_iab_s_ri_m): the outer radius the pressure
+ * uses comes from hpi_iab_cbrt_near, so the same bits as hpi_iab_s_ik_m but within ~1e-7 ulp
  * of a rounding midpoint of that radius; any ro_near is safe. */
-hp_error hp_iab_s_ik_near_m(const hp_iab_s *s, double ri, double ro_near, double *P);
+hp_error hpi_iab_s_ik_near_m(const hp_iab_s *s, double ri, double ro_near, double *P);
 
-/* hp_iab_s_ik_m and hp_iab_s_ro_m of one inner radius ri [m] in one evaluation (the pressure
- * forms the outer radius anyway): the same codes as hp_iab_s_ik_m, the same bits of *P and
+/* hpi_iab_s_ik_m and hpi_iab_s_ro_m of one inner radius ri [m] in one evaluation (the pressure
+ * forms the outer radius anyway): the same codes as hpi_iab_s_ik_m, the same bits of *P and
  * *ro [m] as the two calls. */
-hp_error hp_iab_s_ik_ro_m(const hp_iab_s *s, double ri, double *P, double *ro);
+hp_error hpi_iab_s_ik_ro_m(const hp_iab_s *s, double ri, double *P, double *ro);
 
-/* hp_iab_s_ik's pressure without derivatives, and the scaled outer radius it used
- * (hp_iab_s_ro(s, ri), the same bits). */
-hp_error hp_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro);
+/* hpi_iab_s_ik's pressure without derivatives, and the scaled outer radius it used
+ * (hpi_iab_s_ro(s, ri), the same bits). */
+hp_error hpi_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro);
 
 /* hp_iab_fk_limit with a start for its safeguarded Newton iteration: ri_guess [m] (a
  * nearby answer; NAN or outside the bracket: the bracket's midpoint). The same root to
  * rounding whatever the guess. */
-hp_error hp_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
+hp_error hpi_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
                               double ri_guess, double *ri);
 
-/* hp_iab_fk_limit_warm, then hp_iab_ro of its root: the same codes and the same bits of *ri
+/* hpi_iab_fk_limit_warm, then hp_iab_ro of its root: the same codes and the same bits of *ri
  * and *ro as the two calls, with the bladder validated once. When the guess is the root
  * (the planner's round trip of its own answer), the outer radius is the one the pressure's
  * evaluation at the guess already formed, so the pair costs one evaluation of the IK. */
-hp_error hp_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
+hp_error hpi_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
                                  double ri_guess, double *ri, double *ro);
-/* hp_iab_fk_limit_warm on a bladder already validated into s: the same codes after the
+/* hpi_iab_fk_limit_warm on a bladder already validated into s: the same codes after the
  * validation, the same bits. */
-hp_error hp_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+hp_error hpi_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, double P,
                                 double ri_guess, double *ri);
-/* The same on a bladder already validated into s (hp_iab_scaled_init): the same codes after
+/* The same on a bladder already validated into s (hpi_iab_scaled_init): the same codes after
  * the validation, the same bits. */
-hp_error hp_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+hp_error hpi_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
                                    double ri_guess, double *ri, double *ro);
 
 /* Gauss–Legendre rule of n points on [-1, 1] (1 <= n <= HP_IAB_GL_MAX): nodes x[k] >= 0 and
  * weights w[k] for k < (n + 1)/2 (the rule is symmetric; x[k] = 0 only for the middle node
  * of an odd rule). Computed by Newton's method on the Legendre recurrence; no allocation. */
 #define HP_IAB_GL_MAX 64
-hp_error hp_iab_gl_rule(int n, double *x, double *w);
+hp_error hpi_iab_gl_rule(int n, double *x, double *w);
 /* The same rule from a table filled once per process (thread-safe); the pointers stay valid
  * for the life of the process. */
-hp_error hp_iab_gl_cached(int n, const double **x, const double **w);
+hp_error hpi_iab_gl_cached(int n, const double **x, const double **w);
 
 /* The Gauss–Kronrod 7–15 tables: x[0..7] Kronrod nodes >= 0 (descending, x[7] = 0), wk[0..7]
  * their weights, wg[0..3] the weights of the embedded Gauss rule on x[1], x[3], x[5], x[7]. */
-void hp_iab_gk15_rule(const double **x, const double **wk, const double **wg);
+void hpi_iab_gk15_rule(const double **x, const double **wk, const double **wg);
 
 #endif

@@ -49,7 +49,7 @@ static double scale_for(double Ro)
     return ldexp(1.0, 1 - e);
 }
 
-/* The checks of hp_iab_scaled_init one by one, for the message naming the first field that
+/* The checks of hpi_iab_scaled_init one by one, for the message naming the first field that
  * fails; only called when one does. */
 static hp_error invalid_bladder(const hp_iab *b, hp_diag *diag)
 {
@@ -76,7 +76,7 @@ static hp_error invalid_bladder(const hp_iab *b, hp_diag *diag)
     return hp_diag_set(diag, HP_ERR_INVALID, "C2: must be >= 0 Pa (got %g)", b->C2);
 }
 
-hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
+hp_error hpi_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
 {
     /* Every model call starts here (several per bladder and plan), so a valid bladder passes
      * in one chain of comparisons, each false for NaN: 0 < Ri < Ro <= DBL_MAX makes Ri and Ro
@@ -93,7 +93,7 @@ hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
         s->Ro = b->Ro * s->scale;
         s->C1 = b->C1;
         s->C2 = b->C2;
-        s->W = hp_iab_cube_diff(s->Ro, s->Ri);
+        s->W = hpi_iab_cube_diff(s->Ro, s->Ri);
         s->Ri_m = b->Ri;
     }
     return HP_OK;
@@ -101,11 +101,11 @@ hp_error hp_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
 
 hp_error hp_iab_validate(const hp_iab *b, hp_diag *diag)
 {
-    return hp_iab_scaled_init(b, NULL, diag);
+    return hpi_iab_scaled_init(b, NULL, diag);
 }
 
 /* Dekker's exact product without FMA: a·b = p + e exactly (no overflow and normal low parts
- * here: the arguments of hp_iab_cbrt are reduced to [1, 8), hp_iab_cbrt_near's range is
+ * here: the arguments of hpi_iab_cbrt are reduced to [1, 8), hpi_iab_cbrt_near's range is
  * bounded). */
 static void two_prod(double a, double b, double *p, double *e)
 {
@@ -155,7 +155,7 @@ static inline double cbrt_start(double m, int k, double a)
     return y - (y * y * y - a) / (3.0 * y * y);
 }
 
-/* The argument reduction of hp_iab_cbrt for a normal positive x = m·2^e, m in [1, 2),
+/* The argument reduction of hpi_iab_cbrt for a normal positive x = m·2^e, m in [1, 2),
  * e = 3q + k, k in {0, 1, 2}: cbrt(x) = cbrt(m·2^k)·2^q. Returns 0 for any other x. */
 static inline int cbrt_reduce(double x, double *m, int *k, double *a, double *sc)
 {
@@ -174,7 +174,7 @@ static inline int cbrt_reduce(double x, double *m, int *k, double *a, double *sc
     return 1;
 }
 
-double hp_iab_cbrt(double x)
+double hpi_iab_cbrt(double x)
 {
 #if FLT_EVAL_METHOD != 0
     return cbrt(x); /* Dekker's product needs plain double arithmetic */
@@ -189,7 +189,7 @@ double hp_iab_cbrt(double x)
 #endif
 }
 
-double hp_iab_cbrt_near(double x, double y0)
+double hpi_iab_cbrt_near(double x, double y0)
 {
 #if FLT_EVAL_METHOD != 0
     (void)y0;
@@ -197,34 +197,34 @@ double hp_iab_cbrt_near(double x, double y0)
 #else
     /* The range keeps Dekker's products and their low parts normal; a start within 2^-40
      * leaves at most 2^-80 + 2^-92 + 2^-105 relative before the last rounding, below the
-     * 1e-23 that hp_iab_cbrt's own start leaves: the same guarantee. */
+     * 1e-23 that hpi_iab_cbrt's own start leaves: the same guarantee. */
     if (x >= 0x1p-300 && x <= 0x1p300 && y0 > 0 && y0 <= 0x1p101) {
         double corr, y = cbrt_refine(x, y0, &corr);
         if (fabs(corr) <= 0x1p-40 * y0) return y;
     }
-    return hp_iab_cbrt(x);
+    return hpi_iab_cbrt(x);
 #endif
 }
 
-double hp_iab_s_ro(const hp_iab_s *s, double ri) { return hp_iab_cbrt(s->W + ri * ri * ri); }
+double hpi_iab_s_ro(const hp_iab_s *s, double ri) { return hpi_iab_cbrt(s->W + ri * ri * ri); }
 
-hp_error hp_iab_s_ro_m(const hp_iab_s *s, double ri, double *ro)
+hp_error hpi_iab_s_ro_m(const hp_iab_s *s, double ri, double *ro)
 {
     double ris;
-    hp_error e = hp_iab_s_radius(s, ri, &ris);
+    hp_error e = hpi_iab_s_radius(s, ri, &ris);
     if (e != HP_OK) return e;
-    *ro = hp_iab_s_ro(s, ris) * s->inv_scale;
+    *ro = hpi_iab_s_ro(s, ris) * s->inv_scale;
     return HP_OK;
 }
 
-hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri)
+hp_error hpi_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri)
 {
     double ros;
-    hp_error e = hp_iab_s_radius(s, ro, &ros);
+    hp_error e = hpi_iab_s_radius(s, ro, &ros);
     if (e != HP_OK) return e;
     double c = ros * ros * ros - s->W; /* ri³; cancels for thick walls and near collapse */
     if (!(c > 0)) return HP_ERR_DOMAIN;
-    /* The start: cbrt(c) to 1.8e-6 relative (hp_iab_cbrt's polynomial alone), or worse when
+    /* The start: cbrt(c) to 1.8e-6 relative (hpi_iab_cbrt's polynomial alone), or worse when
      * c cancelled (then libm's cbrt of the rounded c where the polynomial does not apply). */
     double m, a, sc;
     int k;
@@ -233,10 +233,10 @@ hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri)
      * 1.8e-6 -> 3e-12 -> 1e-23 relative, and the residual is known to ~ulp(|ro³ − Ro³|), so
      * ri ends within a few ulps wherever the law itself is well conditioned
      * (dri/dro = ro²/ri²). The slope's division runs beside the residual, off the chain. */
-    double rhs = hp_iab_cube_diff(ros, s->Ro);
+    double rhs = hpi_iab_cube_diff(ros, s->Ro);
     for (int it = 0; it < 2; ++it) {
         double inv_slope = 1.0 / (3.0 * r * r);
-        r -= (hp_iab_cube_diff(r, s->Ri) - rhs) * inv_slope;
+        r -= (hpi_iab_cube_diff(r, s->Ri) - rhs) * inv_slope;
     }
     if (!(r > 0) || !isfinite(r)) return HP_ERR_DOMAIN;
     *ri = r * s->inv_scale; /* = r / scale exactly, without a division on the chain */
@@ -246,15 +246,15 @@ hp_error hp_iab_s_ri_m(const hp_iab_s *s, double ro, double *ri)
 hp_error hp_iab_ro(const hp_iab *b, double ri, double *ro)
 {
     if (!ro) return HP_ERR_NULL;
-    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
-    hp_error e = hp_iab_scaled_init(b, &s, NULL);
-    return e != HP_OK ? e : hp_iab_s_ro_m(&s, ri, ro);
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_error e = hpi_iab_scaled_init(b, &s, NULL);
+    return e != HP_OK ? e : hpi_iab_s_ro_m(&s, ri, ro);
 }
 
 hp_error hp_iab_ri(const hp_iab *b, double ro, double *ri)
 {
     if (!ri) return HP_ERR_NULL;
-    hp_iab_s s = {0}; /* written by hp_iab_scaled_init; zeroed for -O3's flow analysis */
-    hp_error e = hp_iab_scaled_init(b, &s, NULL);
-    return e != HP_OK ? e : hp_iab_s_ri_m(&s, ro, ri);
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_error e = hpi_iab_scaled_init(b, &s, NULL);
+    return e != HP_OK ? e : hpi_iab_s_ri_m(&s, ro, ri);
 }

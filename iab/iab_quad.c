@@ -49,7 +49,7 @@ static double eval(const integrand *q, double t, double *mag)
 static hp_error setup(const hp_iab *b, double ri, hp_quad_form form, hp_iab_s *s,
                       integrand *q, double *lo, double *hi)
 {
-    hp_error e = hp_iab_scaled_init(b, s, NULL);
+    hp_error e = hpi_iab_scaled_init(b, s, NULL);
     if (e != HP_OK) return e;
     if (form != HP_QUAD_CURRENT && form != HP_QUAD_REFERENCE) return HP_ERR_INVALID;
     if (!isfinite(ri)) return HP_ERR_INVALID;
@@ -61,7 +61,7 @@ static hp_error setup(const hp_iab *b, double ri, hp_quad_form form, hp_iab_s *s
     q->form = form;
     *lo = 0.0;
     if (form == HP_QUAD_CURRENT) {
-        double ro = hp_iab_s_ro(s, ris);
+        double ro = hpi_iab_s_ro(s, ris);
         *hi = s->W / (ro * ro + ro * ris + ris * ris); /* ro − ri */
     } else {
         *hi = s->Ro - s->Ri;
@@ -77,7 +77,7 @@ hp_error hp_iab_ik_gauss(const hp_iab *b, double ri, hp_quad_form form, int n, d
     double lo, hi;
     const double *x = NULL, *w = NULL;
     hp_error e = setup(b, ri, form, &s, &q, &lo, &hi);
-    if (e == HP_OK) e = hp_iab_gl_cached(n, &x, &w);
+    if (e == HP_OK) e = hpi_iab_gl_cached(n, &x, &w);
     if (e != HP_OK) return e;
     double c = 0.5 * (lo + hi), h = 0.5 * (hi - lo), sum = 0, mag;
     for (int k = 0; k < (n + 1) / 2; ++k) {
@@ -109,7 +109,7 @@ static const double wg[4] = {
     0.129484966168869693270611432679082, 0.279705391489276667901467771423780,
     0.381830050505118944950369775488975, 0.417959183673469387755102040816327};
 
-void hp_iab_gk15_rule(const double **x, const double **wk, const double **wgauss)
+void hpi_iab_gk15_rule(const double **x, const double **wk, const double **wgauss)
 {
     *x = xgk;
     *wk = wgk;

@@ -3,6 +3,6 @@
 #include "common/names.h"
 #include "iab/names.h"
 
-const char *const hp_material_convention_words[] = {"paper", "fe", NULL};
+const char *const hpi_material_convention_words[] = {"paper", "fe", NULL};
 
-HP_NAMES_CALLS(hp_material_convention, hp_material_convention_words, hp_material_convention_name, hp_material_convention_parse)
+HP_NAMES_CALLS(hp_material_convention, hpi_material_convention_words, hp_material_convention_name, hp_material_convention_parse)

@@ -2,6 +2,6 @@
 #ifndef HP_IAB_NAMES_H
 #define HP_IAB_NAMES_H
 
-extern const char *const hp_material_convention_words[];
+extern const char *const hpi_material_convention_words[];
 
 #endif

@@ -39,7 +39,7 @@ static int feasible(void *ctx, const double xi[6])
     return 1;
 }
 
-double hp_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, int axis,
+double hpi_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, int axis,
                          double sign, int scan)
 {
     double cap = axis < 3 ? HP_REACH_CAP_MM : HP_REACH_CAP_DEG;
@@ -85,7 +85,7 @@ hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysi
 {
     if (!L || !out) return HP_ERR_NULL;
     hp_geom G;
-    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    if (hpi_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
         return HP_ERR_INVALID;
     double xi0[6] = {0}, J[HP_MAX_BLADDERS * 6];
@@ -95,7 +95,7 @@ hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysi
     for (int k = 0; k < L->n; ++k)
         for (int j = 3; j < 6; ++j) J[k * 6 + j] *= 1e3 * RAD_PER_DEG;
     double sv[6], V[36];
-    if (hp_kin_svd6(L->n, J, sv, V) != 0) return HP_ERR_NO_CONVERGENCE;
+    if (hpi_kin_svd6(L->n, J, sv, V) != 0) return HP_ERR_NO_CONVERGENCE;
     memset(out, 0, sizeof *out);
     for (int j = 0; j < 6; ++j) out->singular_values[j] = sv[j];
     /* The rank is the one decision of hp_layout_identify (dimensionless, head-centred): the
@@ -119,8 +119,8 @@ hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysi
     hp_kin_reach_ctx ctx = {L, level};
     for (int i = 0; i < 6; ++i) {
         if (!id.commanded[i]) continue;
-        out->reach[i][0] = -hp_kin_reach_axis(feasible, &ctx, i, -1.0, REACH_SCAN);
-        out->reach[i][1] = hp_kin_reach_axis(feasible, &ctx, i, 1.0, REACH_SCAN);
+        out->reach[i][0] = -hpi_kin_reach_axis(feasible, &ctx, i, -1.0, REACH_SCAN);
+        out->reach[i][1] = hpi_kin_reach_axis(feasible, &ctx, i, 1.0, REACH_SCAN);
     }
     return HP_OK;
 }

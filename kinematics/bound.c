@@ -21,7 +21,7 @@
  * and always |plane − surface| <= 2δ (both sides 1-Lipschitz in c'). The linear bound is
  * the smaller of the direct one and plane + ½A. The bound is the maximum over bladders.
  *
- * The same sizes bound one step of a solver, τ ↦ ξa + τΔ (hp_kin_contact_step_bound):
+ * The same sizes bound one step of a solver, τ ↦ ξa + τΔ (hpi_kin_contact_step_bound):
  * |t| <= |ta| + |Δt| on the way, so |u| = |c − pivot − t| <= L + |ta| + |Δt| =: U; the
  * rates are constant, |ω| <= √2|Δθ| and |ω̇| <= (1 + √5)/4·|Δθ|²; then
  * |v| <= |ω|U + |Δt| =: V, |a| <= (|ω|² + |ω̇|)U + 2|ω||Δt| =: A, the path stays within V
@@ -61,7 +61,7 @@ static sizes path_sizes(const hp_geom *G, int k, double T, double rot)
     double om = rot * sqrt(1.0 + 2.0 * rot / (3.0 * sqrt(3.0)));
     double omd = 0.25 * (1.0 + sqrt(5.0)) * rot * rot;
     return sizes_along(G, k, hypot(hypot(w[0], w[1]), w[2]), 0.0, T, om, omd,
-                       hp_kin_head_min_curvature_radius(&G->head));
+                       hpi_kin_head_min_curvature_radius(&G->head));
 }
 
 /* ½·max|f''| for f(τ) = d(c'(τ)), d the distance to the convex head, when the path stays
@@ -85,7 +85,7 @@ static double linear_bound(const sizes *s)
     return fmin(plane_bound(s) + 0.5 * s->A, surface_remainder(s));
 }
 
-hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
                                   double trans, double rot, double *bound)
 {
     if (!L || !G || !bound) return HP_ERR_NULL;
@@ -103,7 +103,7 @@ hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level
     return HP_OK;
 }
 
-hp_error hp_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,
+hp_error hpi_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,
                            double rot, hp_level *level)
 {
     if (!L || !G || !level) return HP_ERR_NULL;
@@ -111,7 +111,7 @@ hp_error hp_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, dou
     static const hp_level order[2] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE};
     for (int i = 0; i < 2; ++i) {
         double b;
-        hp_error err = hp_contact_error_bound_g(L, G, order[i], trans, rot, &b);
+        hp_error err = hpi_contact_error_bound_g(L, G, order[i], trans, rot, &b);
         if (err) return err;
         if (b <= tol) {
             *level = order[i];
@@ -127,8 +127,8 @@ hp_error hp_contact_error_bound(const hp_layout *L, hp_level level, double trans
 {
     if (!L || !bound) return HP_ERR_NULL;
     hp_geom G;
-    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
-    return hp_contact_error_bound_g(L, &G, level, trans, rot, bound);
+    if (hpi_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hpi_contact_error_bound_g(L, &G, level, trans, rot, bound);
 }
 
 hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double rot,
@@ -136,13 +136,13 @@ hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double ro
 {
     if (!L || !level) return HP_ERR_NULL;
     hp_geom G;
-    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
-    return hp_contact_auto_g(L, &G, tol, trans, rot, level);
+    if (hpi_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hpi_contact_auto_g(L, &G, tol, trans, rot, level);
 }
 
 static double l1(const double v[3]) { return fabs(v[0]) + fabs(v[1]) + fabs(v[2]); }
 
-hp_error hp_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_level level,
                                    const double xi[6], const double dxi[6], const double *rho,
                                    double *bound)
 {
@@ -160,7 +160,7 @@ hp_error hp_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_leve
      * solver asks this of steps whose remainder is far below any rounding. */
     double ta = l1(xi), dt = l1(dxi), dth = l1(dxi + 3);
     double om = sqrt(2.0) * dth, omd = 0.25 * (1.0 + sqrt(5.0)) * dth * dth;
-    double rmin = hp_kin_head_min_curvature_radius(&G->head);
+    double rmin = hpi_kin_head_min_curvature_radius(&G->head);
     for (int k = 0; k < L->n; ++k) {
         if (level == HP_LEVEL_LINEAR) {
             bound[k] = 0.0; /* rho is affine in the pose */
@@ -180,7 +180,7 @@ hp_error hp_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_leve
     return HP_OK;
 }
 
-/* The curvature of each distance over a ball of poses (hp_kin_contact_ball_curvature, the
+/* The curvature of each distance over a ball of poses (hpi_kin_contact_ball_curvature, the
  * fit's certificate). At a pose p and along a unit scaled direction v (translation part
  * v_t in mm, rotation part v_θ in degrees, |v_t|² + |v_θ|² = 1) the path τ ↦ p + τv has
  * the constant rates |ṫ| = a|v_t| (a = 1 mm in m) and |θ̇| = b|v_θ| (b = 1° in rad), so
@@ -193,7 +193,7 @@ hp_error hp_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_leve
  * distance on the ball is at least ρ(centre) − V1·r (d is 1-Lipschitz and c' moves at most
  * V1 per unit of scaled path). A symmetric matrix's spectral norm is its largest |vᵀHv|,
  * so h_k bounds ‖∇²ρ_k‖ in mm per scaled unit² everywhere on the ball. */
-hp_error hp_kin_contact_ball_curvature(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_kin_contact_ball_curvature(const hp_layout *L, const hp_geom *G, hp_level level,
                                        const double xc[6], double r, const double *rho,
                                        double *h)
 {
@@ -207,7 +207,7 @@ hp_error hp_kin_contact_ball_curvature(const hp_layout *L, const hp_geom *G, hp_
     const double phi = 0.25 * (1.0 + sqrt(5.0));
     /* |t| on the ball: the centre's translation plus r mm. */
     double T = sqrt(xc[0] * xc[0] + xc[1] * xc[1] + xc[2] * xc[2]) + r * a;
-    double rmin = hp_kin_head_min_curvature_radius(&G->head);
+    double rmin = hpi_kin_head_min_curvature_radius(&G->head);
     for (int k = 0; k < L->n; ++k) {
         if (level == HP_LEVEL_LINEAR) {
             h[k] = 0.0;

@@ -19,13 +19,13 @@ typedef struct backmap {
     double Cr[3][3];
 } backmap;
 
-/* R with its derivatives in roll (hp_kin_rotation_roll); every other derivative is a
+/* R with its derivatives in roll (hpi_kin_rotation_roll); every other derivative is a
  * signed copy of their entries, used where it is needed. */
 typedef struct rotd {
     double R[9], Dr[9], Drr[9];
 } rotd;
 
-/* The columns of Cr use the structure of the rotation derivatives (hp_kin_rotation_derivs):
+/* The columns of Cr use the structure of the rotation derivatives (hpi_kin_rotation_derivs):
  * ∂R/∂pitch = R·[e_x]× has the columns 0, R₂, −R₁, so its column of Cr is (0, w₂, −w₁)
  * with w = Rᵀu; ∂R/∂yaw = [e_z]×·R has the rows −R₁, R₀, 0, so its column is
  * R₀ᵀ·u₁ − R₁ᵀ·u₀ entrywise. Each is the sum the full 3-term product forms, less its exact
@@ -56,7 +56,7 @@ static void back_transform(const hp_layout *L, const double arm[3], const double
  * a and rotation b, (∂²_ab Rᵀ u)_m between rotations. Contracted with g they are the
  * vectors ∂_b R g and the numbers uᵀ ∂²_ab R g, so the 3×6×6 array of ∂²c' is never
  * formed. Of the nine derivative matrices only ∂R/∂roll and ∂²R/∂roll² are not signed
- * copies of entries of R or of each other (hp_kin_rotation_roll): with the pitch factor
+ * copies of entries of R or of each other (hpi_kin_rotation_roll): with the pitch factor
  * [e_x]× on the right and the yaw factor [e_z]× on the left, every other contraction is a
  * two-term sum or a signed copy of Rg = R·g, Dg = ∂R/∂roll·g or P = ∂R/∂pitch·g, each the
  * sum the full 3-term contraction forms less its exact zero terms (the same bits, up to
@@ -120,7 +120,7 @@ static void contact_hessian(const rotd *rd, const backmap *bm, const double g[3]
 #undef HS
 }
 
-/* Bounds of hp_kin_contact_inside: stop at the first bladder outside them. */
+/* Bounds of hpi_kin_contact_inside: stop at the first bladder outside them. */
 typedef struct contact_stop {
     const double *lo, *hi;
     double scale;
@@ -149,7 +149,7 @@ static int predicted_worst(const hp_geom *G, int n, const double xi[6], const co
     int worst = 0;
     double most = -INFINITY;
     for (int k = 0; k < n; ++k) {
-        double v = hp_geom_linear(G, k, xi) * stop->scale;
+        double v = hpi_geom_linear(G, k, xi) * stop->scale;
         double below = stop->lo[k] - v, above = v - stop->hi[k];
         double over = below > above ? below : above;
         if (over > most) {
@@ -171,17 +171,17 @@ static void fill_nan(int n, double *rho, double *J, double *H)
     }
 }
 
-hp_error hp_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
                            const double xi[6], double *rho, double *J, double *H)
 {
-    return hp_kin_contact_eval_warm(L, G, level, xi, NULL, rho, J, H);
+    return hpi_kin_contact_eval_warm(L, G, level, xi, NULL, rho, J, H);
 }
 
-hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level level,
                                   const double xi[6], hp_kin_dist_warm *warm, double *rho,
                                   double *J, double *H)
 {
-    return hp_kin_contact_eval_mask(L, G, level, xi, warm, NULL, rho, J, H);
+    return hpi_kin_contact_eval_mask(L, G, level, xi, warm, NULL, rho, J, H);
 }
 
 /* The checks every evaluation starts with: L, G, xi not NULL (HP_ERR_NULL), a concrete
@@ -203,7 +203,7 @@ static hp_error eval_args(const hp_layout *L, const hp_geom *G, hp_level level,
 /* Distance f of bladder k at pose xi (plane or surface level) and its gradient g in c',
  * with the back transform bm it was computed from (derivs: also ∂c'/∂θ). hf (surface
  * level, may be NULL): ∇²f; w: the distance's warm state (may be NULL). The distance
- * error of hp_kin_head_distance_k, nothing written elsewhere. */
+ * error of hpi_kin_head_distance_k, nothing written elsewhere. */
 static inline hp_error bladder_distance(const hp_layout *L, const hp_geom *G, hp_level level,
                                         const double xi[6], const rotd *rd, int derivs, int k,
                                         hp_kin_dist_warm *w, backmap *bm, double *f, double g[3],
@@ -211,7 +211,7 @@ static inline hp_error bladder_distance(const hp_layout *L, const hp_geom *G, hp
 {
     back_transform(L, G->arm[k], xi, rd, derivs, bm);
     if (level == HP_LEVEL_SURFACE)
-        return hp_kin_head_distance_k(&G->head, &G->headk, bm->cp, w, f, g, hf, NULL);
+        return hpi_kin_head_distance_k(&G->head, &G->headk, bm->cp, w, f, g, hf, NULL);
     const double *n = G->normal[k], *p = G->contact[k];
     *f = n[0] * (bm->cp[0] - p[0]) + n[1] * (bm->cp[1] - p[1]) + n[2] * (bm->cp[2] - p[2]);
     memcpy(g, n, 3 * sizeof *g);
@@ -248,7 +248,7 @@ static inline void derivative_rows(const rotd *rd, const backmap *bm, const doub
     if (H) contact_hessian(rd, bm, g, Rg, hf, H + k * 36);
 }
 
-/* The direct chain's evaluation (hp_kin_contact_inside): distances only, stopping at the
+/* The direct chain's evaluation (hpi_kin_contact_inside): distances only, stopping at the
  * first bladder outside stop's bounds (stop->inside = 0). At the linear level in index
  * order (the evaluation is the prediction); at the plane level too (a plane distance costs
  * about what the prediction would); at the surface level the bladder the linear level
@@ -261,7 +261,7 @@ static hp_error inside_eval(const hp_layout *L, const hp_geom *G, hp_level level
     if (e) return e;
     if (level == HP_LEVEL_LINEAR) {
         for (int k = 0; k < L->n; ++k) {
-            rho[k] = hp_geom_linear(G, k, xi);
+            rho[k] = hpi_geom_linear(G, k, xi);
             if (J) memcpy(J + 6 * k, G->row[k], sizeof G->row[k]);
             if (outside(stop, k, rho[k])) break;
         }
@@ -269,7 +269,7 @@ static hp_error inside_eval(const hp_layout *L, const hp_geom *G, hp_level level
     }
     rotd rd;
     int derivs = J != NULL;
-    hp_kin_rotation_roll(xi + 3, rd.R, derivs ? rd.Dr : NULL, NULL);
+    hpi_kin_rotation_roll(xi + 3, rd.R, derivs ? rd.Dr : NULL, NULL);
     /* j = −1: the predicted bladder (surface level); j = 0..n−1: the others, index order. */
     int first = level == HP_LEVEL_SURFACE ? predicted_worst(G, L->n, xi, stop) : -1;
     for (int j = first < 0 ? 0 : -1; j < L->n; ++j) {
@@ -292,14 +292,14 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
                              const double xi[6], hp_kin_dist_warm *warm,
                              const unsigned char *hmask, double *rho, double *J, double *H);
 
-hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
                                   const double xi[6], hp_kin_dist_warm *warm,
                                   const unsigned char *hmask, double *rho, double *J, double *H)
 {
     return contact_eval(L, G, level, xi, warm, hmask, rho, J, H);
 }
 
-hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                const double xi[6], double scale, const double *lo,
                                const double *hi, double *rho, double *J, int *inside)
 {
@@ -320,7 +320,7 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
     if (e) return e;
     if (level == HP_LEVEL_LINEAR) {
         for (int k = 0; k < L->n; ++k) {
-            if (rho) rho[k] = hp_geom_linear(G, k, xi);
+            if (rho) rho[k] = hpi_geom_linear(G, k, xi);
             if (J) memcpy(J + 6 * k, G->row[k], sizeof G->row[k]);
             if (H)
                 for (int i = 0; i < 36; ++i) H[k * 36 + i] = 0.0;
@@ -335,9 +335,9 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
     /* Distances alone (the end of a solve, a line search's trial, the direct chain) need
      * neither the rotation's derivatives nor ∂c'/∂θ. */
     int derivs = J || H;
-    hp_kin_rotation_roll(xi + 3, rd.R, derivs ? rd.Dr : NULL, any_h ? rd.Drr : NULL);
+    hpi_kin_rotation_roll(xi + 3, rd.R, derivs ? rd.Dr : NULL, any_h ? rd.Drr : NULL);
     /* At the surface level, in passes: every bladder's back transform, then the distances
-     * with their root finds side by side (hp_kin_head_distances: a step of each bladder's
+     * with their root finds side by side (hpi_kin_head_distances: a step of each bladder's
      * chain of divisions and square roots in turn, so the processor overlaps the chains),
      * then the derivative rows. The same bits as one bladder after another; binding
      * surface plans ~3 % faster for the passes, ~2 % more for the root finds side by
@@ -353,7 +353,7 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
             memcpy(cp[k], bm[k].cp, sizeof cp[k]);
             want[k] = H && (!hmask || hmask[k]);
         }
-        e = hp_kin_head_distances(&G->head, &G->headk, L->n, (const double(*)[3])cp, warm, f, g,
+        e = hpi_kin_head_distances(&G->head, &G->headk, L->n, (const double(*)[3])cp, warm, f, g,
                                   H ? hf : NULL, want, &bad);
         if (e) {
             fill_nan(L->n, rho, J, H);
@@ -384,9 +384,9 @@ hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
 {
     if (!L || !xi) return HP_ERR_NULL;
     hp_geom G;
-    if (hp_geom_derive(L, &G, NULL) != HP_OK) {
+    if (hpi_geom_derive(L, &G, NULL) != HP_OK) {
         if (L->n >= 1 && L->n <= HP_MAX_BLADDERS) fill_nan(L->n, rho, J, H);
         return HP_ERR_INVALID;
     }
-    return hp_contact_eval_g(L, &G, level, xi, rho, J, H);
+    return hpi_contact_eval_g(L, &G, level, xi, rho, J, H);
 }

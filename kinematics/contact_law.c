@@ -7,7 +7,7 @@
 
 #include <string.h>
 
-void hp_claw_cap(double P, double ro, double rho, hp_claw *c)
+void hpi_claw_cap(double P, double ro, double rho, hp_claw *c)
 {
     const double pi = HP_PI;
     double a = pi * (ro - rho) * (ro + rho); /* the cap's base area; (ro − rho)(ro + rho)
@@ -93,7 +93,7 @@ static hd hd_poly(hd x, const double *c, int n) /* c[0] + c[1]·x + ... + c[n−
     return r;
 }
 
-void hp_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
+void hpi_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
 {
     hd p = hd_var(P, HP_CLAW_P), r = hd_var(ro, HP_CLAW_RO), q = hd_var(rho, HP_CLAW_RHO);
     hd inv_r = hd_inv(r);
@@ -120,7 +120,7 @@ void hp_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_c
     c->W = W.v;
 }
 
-hp_claw_domain hp_claw_fem_domain(const hp_claw_bladder *b, double P, double ro, double rho)
+hp_claw_domain hpi_claw_fem_domain(const hp_claw_bladder *b, double P, double ro, double rho)
 {
     double d = 1.0 - rho / ro, w = b->wall / ro, p = P / b->C1, m = b->C2 / b->C1,
            k = ro * b->curv;
@@ -133,7 +133,7 @@ hp_claw_domain hp_claw_fem_domain(const hp_claw_bladder *b, double P, double ro,
     return HP_CLAW_IN;
 }
 
-const char *hp_claw_domain_name(hp_claw_domain d)
+const char *hpi_claw_domain_name(hp_claw_domain d)
 {
     static const char *const names[] = {"in", "indent", "wall", "pressure", "moduli",
                                         "curvature"};

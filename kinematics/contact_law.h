@@ -25,7 +25,7 @@ typedef struct hp_claw {
  *     F = P·pi·(ro² − rho²),  W = P·pi·delta²·(ro − delta/3) (P times the cap's volume).
  * Exact for a rigid sphere cut by a plane; against a thin membrane it overestimates the
  * force (docs/load.md), and against the finite-element reference too (docs/accuracy.md). */
-void hp_claw_cap(double P, double ro, double rho, hp_claw *c);
+void hpi_claw_cap(double P, double ro, double rho, hp_claw *c);
 
 /* The law fitted to the finite-element reference (fem/, docs/accuracy.md): a thick,
  * nearly incompressible Mooney–Rivlin bladder with its centre held, pressure held, pressed
@@ -53,14 +53,14 @@ typedef enum hp_claw_domain {
 } hp_claw_domain;
 
 /* The fitted law's value, exact first and second derivatives in (P, ro, rho) (through
- * d, wall/ro, P/C1 and ro/Rh) and its work W. No domain check: see hp_claw_fem_domain. */
-void hp_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c);
+ * d, wall/ro, P/C1 and ro/Rh) and its work W. No domain check: see hpi_claw_fem_domain. */
+void hpi_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c);
 
 /* HP_CLAW_IN when (P, ro, rho) and the bladder lie in the domain the law was fitted over,
  * else the first group that leaves it (a caller refuses or flags the state by that name). */
-hp_claw_domain hp_claw_fem_domain(const hp_claw_bladder *b, double P, double ro, double rho);
+hp_claw_domain hpi_claw_fem_domain(const hp_claw_bladder *b, double P, double ro, double rho);
 
 /* The group's name for messages ("indent", "wall", "pressure", "moduli", "curvature"). */
-const char *hp_claw_domain_name(hp_claw_domain d);
+const char *hpi_claw_domain_name(hp_claw_domain d);
 
 #endif

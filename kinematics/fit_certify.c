@@ -1,11 +1,11 @@
-/* The fit's certificate (hp_kin_fit_certified): a proof, from the iterate the fit has reached
+/* The fit's certificate (hpi_kin_fit_certified): a proof, from the iterate the fit has reached
  * and what its caller knows, that the rest of the fit ends where the caller expects, so the
  * fit can stop there. docs/kinematics.md (section 5) has the argument in full; in short, in
  * the solvers' scaled units (pose in mm and degrees over the free components, distances in
  * mm), with x the iterate, J its Jacobian (σ >= the lower bound σ̂ of its smallest singular
  * value, column norms ĉ), a the anchor (a pose whose distances ρ(a) are known), ρ* the
  * fit's target, t = |ρ(x) − ρ*|, r0 = |ρ(a) − ρ*|, e = |x − a|, and B the ball of radius R
- * around x on which every distance's Hessian is bounded by h_k (hp_kin_contact_ball_curvature,
+ * around x on which every distance's Hessian is bounded by h_k (hpi_kin_contact_ball_curvature,
  * η = |h|₂):
  *   - on B, ‖J(p) − J(x)‖ <= ηR <= σ̂/4, so σ_min(J(p)) >= σ_B = ¾σ̂ and, by the mean value
  *     theorem, |ρ(p) − ρ(q)| >= σ_B|p − q|: an iterate with residual <= t is within
@@ -45,11 +45,11 @@ static double lambda_min_lower(const double *A, int nf)
 {
     double L[36], M[36], v[6], tr = 0.0;
     for (int j = 0; j < nf; ++j) tr += A[j * nf + j];
-    if (!hp_cholesky(A, nf, nf, 0.0, L, nf)) return 0.0;
+    if (!hpi_cholesky(A, nf, nf, 0.0, L, nf)) return 0.0;
     for (int j = 0; j < nf; ++j) v[j] = 1.0 + 0.01 * j; /* not orthogonal to any axis */
     double mu = 0.0;
     for (int it = 0; it < 3; ++it) {
-        hp_cholesky_solve(L, nf, nf, v); /* v <- A⁻¹v */
+        hpi_cholesky_solve(L, nf, nf, v); /* v <- A⁻¹v */
         double nv = 0.0;
         for (int j = 0; j < nf; ++j) nv += v[j] * v[j];
         nv = sqrt(nv);
@@ -61,9 +61,9 @@ static double lambda_min_lower(const double *A, int nf)
     double s = 0.8 / mu, lb;
     memcpy(M, A, sizeof(double) * (size_t)(nf * nf));
     for (int j = 0; j < nf; ++j) M[j * nf + j] -= s;
-    if (hp_cholesky(M, nf, nf, 0.0, M, nf)) lb = s;
-    else lb = 1.0 / hp_cholesky_inv_frob2(L, nf, nf);
-    return hp_max2(0.0, lb - 1e-12 * tr);
+    if (hpi_cholesky(M, nf, nf, 0.0, M, nf)) lb = s;
+    else lb = 1.0 / hpi_cholesky_inv_frob2(L, nf, nf);
+    return hpi_max2(0.0, lb - 1e-12 * tr);
 }
 
 /* What every form of the proof shares: the ball's centre and the model there. */
@@ -84,15 +84,15 @@ static void scaled_normal(cert_ctx *cx, const double *A, int lda)
 {
     int nf = cx->nf;
     double sc[6];
-    for (int j = 0; j < nf; ++j) sc[j] = HP_MM_PER_M * hp_pose_si_per_scaled(cx->col[j]);
+    for (int j = 0; j < nf; ++j) sc[j] = HP_MM_PER_M * hpi_pose_si_per_scaled(cx->col[j]);
     for (int j = 0; j < nf; ++j)
         for (int k = 0; k < nf; ++k) cx->m.Ah[j * nf + k] = A[j * lda + k] * sc[j] * sc[k];
     cx->m.cmin = INFINITY;
     cx->m.cmax = 0.0;
     for (int j = 0; j < nf; ++j) {
         double c = sqrt(cx->m.Ah[j * nf + j]);
-        cx->m.cmin = hp_min2(cx->m.cmin, c);
-        cx->m.cmax = hp_max2(cx->m.cmax, c);
+        cx->m.cmin = hpi_min2(cx->m.cmin, c);
+        cx->m.cmax = hpi_max2(cx->m.cmax, c);
     }
 }
 
@@ -111,8 +111,8 @@ static int noise_and_r0(cert_ctx *cx, const double *x0, const double *rho_m,
      * backend's extrapolated distances are within one ulp) with room to spare. */
     double rmax = 0.0, r02 = 0.0;
     for (int k = 0; k < n; ++k) {
-        rmax = hp_max2(rmax, hp_max2(fabs(target[k]), fabs(near->anchor_rho[k])));
-        rmax = hp_max2(rmax, fabs(rho_m[k]));
+        rmax = hpi_max2(rmax, hpi_max2(fabs(target[k]), fabs(near->anchor_rho[k])));
+        rmax = hpi_max2(rmax, fabs(rho_m[k]));
         double d = near->anchor_rho[k] - target[k];
         r02 += d * d;
     }
@@ -129,7 +129,7 @@ static double scaled_dist(const cert_ctx *cx, const double *p, const double *q)
     double e2 = 0.0;
     for (int j = 0; j < cx->nf; ++j) {
         int i = cx->col[j];
-        double d = (p[i] - q[i]) / hp_pose_si_per_scaled(i);
+        double d = (p[i] - q[i]) / hpi_pose_si_per_scaled(i);
         e2 += d * d;
     }
     return sqrt(e2);
@@ -140,7 +140,7 @@ static double scaled_dist(const cert_ctx *cx, const double *p, const double *q)
 static double ball_eta(const cert_ctx *cx, double R)
 {
     double h[HP_MAX_BLADDERS], eta2 = 0.0;
-    if (hp_kin_contact_ball_curvature(cx->L, cx->G, cx->level, cx->centre, R, cx->m.rho_c, h) !=
+    if (hpi_kin_contact_ball_curvature(cx->L, cx->G, cx->level, cx->centre, R, cx->m.rho_c, h) !=
         HP_OK)
         return -1.0;
     for (int k = 0; k < cx->L->n; ++k) eta2 += h[k] * h[k];
@@ -159,7 +159,7 @@ static int certify(const cert_ctx *cx, double sig, double e_ca, double e_xc, dou
     double sigB = (1.0 - CERT_Q) * sig, r0 = cx->m.r0, snu = cx->m.snu;
     if (!(sig > 0) || !(cx->m.cmin > CERT_Q * sig) || !isfinite(tt) || !isfinite(tc)) return 0;
     double cD = (cx->m.cmax + CERT_Q * sig) / (cx->m.cmin - CERT_Q * sig);
-    double tstop = hp_max2(100.0 * (r0 + snu), 1.1e-12 * cx->nf);
+    double tstop = hpi_max2(100.0 * (r0 + snu), 1.1e-12 * cx->nf);
     /* The damped step dx differs from the Gauss–Newton step g (|g| <= t/σ_B) by
      * (JᵀJ + λC²)⁻¹λC²g, so |dx| <= (1 + κ)|g| and |J(dx − g)| <= κ|Jg| <= κt with
      * κ = λ·c_max²/σ_B² (c_max the largest column norm on the ball); λ only decreases
@@ -190,14 +190,14 @@ static int certify(const cert_ctx *cx, double sig, double e_ca, double e_xc, dou
     double delta = (tstop + snu + r0) / sigB;
     for (int j = 0; j < cx->nf; ++j) {
         int i = cx->col[j];
-        double s = hp_pose_si_per_scaled(i);
+        double s = hpi_pose_si_per_scaled(i);
         double off = fabs(near->anchor[i] - near->pose[i]) / s;
         if (!(off + delta <= 0.25 * near->tol[i] / s)) return 0;
     }
     return 1;
 }
 
-int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
+int hpi_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
                          const int *col, const double x[6], const double *A6, const double *r,
                          double lambda, const double *target, int iters_left,
                          const hp_kin_fit_near *near)
@@ -228,7 +228,7 @@ int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, i
     return certify(&cx, sig, e, 0.0, tt, tc, lambda, iters_left, eta, R_up);
 }
 
-int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
+int hpi_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
                                const int *col, const double xt[6], const double *A6,
                                double cost, double lambda_next, const double *target,
                                int iters_left, const hp_kin_fit_near *near,
@@ -295,17 +295,17 @@ int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level le
     return certify(&cx, sig, 0.0, e, tt, tc, lambda_next, iters_left, eta, R_up);
 }
 
-double hp_kin_jacobian_drift(const hp_layout *L, const hp_geom *G, hp_level level,
+double hpi_kin_jacobian_drift(const hp_layout *L, const hp_geom *G, hp_level level,
                              const double xa[6], const double *rho_a, const double *J, double d)
 {
     double h[HP_MAX_BLADDERS], eta2 = 0.0, jf2 = 0.0;
     if (!(d >= 0) || !isfinite(d) ||
-        hp_kin_contact_ball_curvature(L, G, level, xa, d, rho_a, h) != HP_OK)
+        hpi_kin_contact_ball_curvature(L, G, level, xa, d, rho_a, h) != HP_OK)
         return INFINITY;
     for (int k = 0; k < L->n; ++k) {
         eta2 += h[k] * h[k];
         for (int i = 0; i < 6; ++i) {
-            double v = J[k * 6 + i] * HP_MM_PER_M * hp_pose_si_per_scaled(i);
+            double v = J[k * 6 + i] * HP_MM_PER_M * hpi_pose_si_per_scaled(i);
             jf2 += v * v;
         }
     }

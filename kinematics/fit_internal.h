@@ -8,7 +8,7 @@
 #include "headplan/hp_contact.h"
 #include "kin_geom.h"
 
-/* The contact model at a fit's start point x0, as hp_kin_contact_eval_warm computes it
+/* The contact model at a fit's start point x0, as hpi_kin_contact_eval_warm computes it
  * there from a cold start (so a fit given it takes the very same steps as one without). */
 typedef struct hp_kin_fit_start {
     double rho[HP_MAX_BLADDERS];     /* contact distances at x0 [m] */
@@ -20,7 +20,7 @@ typedef struct hp_kin_fit_start {
 } hp_kin_fit_start;
 
 /* Fills st at pose x0 (finite) for level. HP_OK or hp_contact_eval's error. */
-hp_error hp_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level level,
                              const double x0[6], hp_kin_fit_start *st);
 
 /* The fit's damped least-squares step, min |J·dx + r|² + lambda·|diag(D)·dx|² (J n×nf
@@ -30,10 +30,10 @@ hp_error hp_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level leve
 
 /* Householder QR of the stacked system [J; sqrt(lambda)·diag(D)], no pivoting. -1 for a
  * zero column or a result that is not finite. */
-int hp_kin_damped_qr(int n, int nf, const double *J, const double *r, const double *D,
+int hpi_kin_damped_qr(int n, int nf, const double *J, const double *r, const double *D,
                      double lambda, double *dx);
 
-/* Largest condition number of the column-scaled normal matrix that hp_kin_damped_normal
+/* Largest condition number of the column-scaled normal matrix that hpi_kin_damped_normal
  * accepts. The normal equations' solution carries a relative error of about
  * nf·eps·(that condition number), at most 6·1.1e-16·1e6 ≈ 7e-10 of the scaled step here: a
  * Levenberg–Marquardt step that inexact still descends, each step is recomputed from an
@@ -43,16 +43,16 @@ int hp_kin_damped_qr(int n, int nf, const double *J, const double *r, const doub
 #define HP_KIN_NORMAL_MAX_COND 1e6
 
 /* The same step from the normal equations (JᵀJ + lambda·diag(D)²)·dx = −Jᵀr, scaled
- * symmetrically to unit diagonal S and solved by Cholesky (hp_cholesky): about 3 200
+ * symmetrically to unit diagonal S and solved by Cholesky (hpi_cholesky): about 3 200
  * instructions for an 8×6 J against the QR's 4 800, and in the fit JᵀJ also yields the
  * column scales. -1 when S is not positive definite, when the rigorous bound
- * trace(S)·‖L⁻¹‖_F² >= λmax/λmin (hp_cholesky_inv_frob2) exceeds HP_KIN_NORMAL_MAX_COND, or
+ * trace(S)·‖L⁻¹‖_F² >= λmax/λmin (hpi_cholesky_inv_frob2) exceeds HP_KIN_NORMAL_MAX_COND, or
  * when the result is not finite. Not bit-identical to the QR step (equal to ~1e-9 of it at
  * worst; 2e-14 measured on the default layout's, whose scaled condition is ~30). */
-int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
+int hpi_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
                          double lambda, double *dx);
 
-/* Iterations an early stop of hp_kin_fit (its arrived test, its certificate) leaves in the
+/* Iterations an early stop of hpi_kin_fit (its arrived test, its certificate) leaves in the
  * budget for the steps the full fit would still take at the rounding floor: there steps just
  * above the step tolerance alternate between acceptance and rejection, for up to 16
  * iterations measured (tests/kinematics/test_fit_attack.c) before the fit's own stop. Without
@@ -71,12 +71,12 @@ typedef struct hp_kin_fit_near {
     double anchor[6];
     double anchor_rho[HP_MAX_BLADDERS];
     /* Optionally (NULL: none) the Jacobian at the anchor (n×6, per m and per rad, as
-     * hp_contact_eval_g gives it), read in place: then the certificate may hold before the
-     * fit evaluates its first step (hp_kin_fit_certified_trial). */
+     * hpi_contact_eval_g gives it), read in place: then the certificate may hold before the
+     * fit evaluates its first step (hpi_kin_fit_certified_trial). */
     const double *anchor_J;
     /* A bound on ‖J(anchor) − anchor_J‖₂ in the solvers' scaled units (mm per mm or
      * degree): 0 when anchor_J is the model's own Jacobian at the anchor, else e.g.
-     * hp_kin_jacobian_drift's for a Jacobian taken a short step away. */
+     * hpi_kin_jacobian_drift's for a Jacobian taken a short step away. */
     double anchor_J_err;
 } hp_kin_fit_near;
 
@@ -84,12 +84,12 @@ typedef struct hp_kin_fit_near {
  * SI) the model's Jacobian at xa (SI pose, distances rho_a [m] there) up to a few ulps
  * per entry, and xb the pose d scaled units (mm, degrees) from xa: each row moves by at
  * most its Hessian's bound times d on the ball of radius d around xa
- * (hp_kin_contact_ball_curvature), and 4ε of J̃'s Frobenius norm covers the ulps. +inf
+ * (hpi_kin_contact_ball_curvature), and 4ε of J̃'s Frobenius norm covers the ulps. +inf
  * when a bound fails. */
-double hp_kin_jacobian_drift(const hp_layout *L, const hp_geom *G, hp_level level,
+double hpi_kin_jacobian_drift(const hp_layout *L, const hp_geom *G, hp_level level,
                              const double xa[6], const double *rho_a, const double *J, double d);
 
-/* 1 when the rest of a fit (hp_kin_fit) from its iterate x provably ends within near->tol/4
+/* 1 when the rest of a fit (hpi_kin_fit) from its iterate x provably ends within near->tol/4
  * of near->pose, within iters_left more iterations: x (SI pose), the normal matrix A6 =
  * JᵀJ of its Jacobian's nf free columns col[] (6×6, leading dimension 6), its residual r =
  * rho(x) − target (m), the current damping lambda; it needs near's anchor. The proof
@@ -97,7 +97,7 @@ double hp_kin_jacobian_drift(const hp_layout *L, const hp_geom *G, hp_level leve
  * ball around x that the fit cannot leave and on which the distances determine the pose;
  * there the fit converges at a proven rate to within the noise of the anchor. 0 whenever a
  * condition fails (then the fit simply goes on). Allocates nothing. */
-int hp_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
+int hpi_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
                          const int *col, const double x[6], const double *A6, const double *r,
                          double lambda, const double *target, int iters_left,
                          const hp_kin_fit_near *near);
@@ -119,11 +119,11 @@ typedef struct hp_kin_cert_model {
     double r0, snu;                  /* |ρ(a) − ρ*| plus noise, and the noise ν√n [mm] */
 } hp_kin_cert_model;
 typedef struct hp_kin_trial_cache {
-    int ready; /* 0 before the first try; the rest is hp_kin_fit_certified_trial's */
+    int ready; /* 0 before the first try; the rest is hpi_kin_fit_certified_trial's */
     hp_kin_cert_model m;
     double sig; /* σ̂, or −1 while not yet derived */
 } hp_kin_trial_cache;
-int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
+int hpi_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
                                const int *col, const double xt[6], const double *A6,
                                double cost, double lambda_next, const double *target,
                                int iters_left, const hp_kin_fit_near *near,
@@ -136,13 +136,13 @@ int hp_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level le
  * converges quadratically from x to a fit about one such step away, so the fit it would
  * end in lies within tol/2 (plus that step squared) of near->pose; xi is then x and
  * residual_rms the RMS at x. With near's anchor it may also stop at any iterate after the
- * first where hp_kin_fit_certified proves the rest of the fit ends within tol/4 of
+ * first where hpi_kin_fit_certified proves the rest of the fit ends within tol/4 of
  * near->pose (both early stops only with at least HP_KIN_FIT_STOP_MARGIN iterations of the
  * budget left), or, with the anchor's Jacobian too, at any trial point before evaluating
- * it (hp_kin_fit_certified_trial); xi is then the anchor and residual_rms the RMS of its
+ * it (hpi_kin_fit_certified_trial); xi is then the anchor and residual_rms the RMS of its
  * distances' residual.
  * Allocates nothing. */
-hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
+hp_error hpi_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
                     const int free_[6], const double x0[6], const hp_kin_fit_start *st,
                     const hp_kin_fit_near *near, double xi[6], double *residual_rms,
                     int *iters);

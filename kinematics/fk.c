@@ -1,7 +1,7 @@
 /* Forward contact kinematics: the pose whose contact distances best fit measured outer
  * radii, by Levenberg–Marquardt with Marquardt's column scaling. Each step is a damped
  * least-squares solve: by the normal equations where their column-scaled matrix is
- * provably well conditioned (hp_kin_damped_normal), else by QR (hp_kin_damped_qr; Eigen's
+ * provably well conditioned (hpi_kin_damped_normal), else by QR (hpi_kin_damped_qr; Eigen's
  * pivoting QR in linalg_eigen.cpp where that fails), so an ill-conditioned Jacobian (a
  * pitch column with a small lever arm, a distant pivot) never has its conditioning
  * squared. */
@@ -23,7 +23,7 @@
 /* Stacked Householder QR (fit_internal.h). The damping rows give the system full column
  * rank, where QR without pivoting is backward stable, so the fit's small system needs
  * neither pivoting nor Eigen's dynamic-size machinery. */
-int hp_kin_damped_qr(int n, int nf, const double *J, const double *r, const double *D,
+int hpi_kin_damped_qr(int n, int nf, const double *J, const double *r, const double *D,
                      double lambda, double *dx)
 {
     enum { MR = HP_MAX_BLADDERS + 6 };
@@ -135,7 +135,7 @@ static void gram_from_start(int n, int nf, const int *col, const hp_kin_fit_star
     memcpy(q->g, g, sizeof g);
 }
 
-/* The damped step from the normal equations of q (see hp_kin_damped_normal). */
+/* The damped step from the normal equations of q (see hpi_kin_damped_normal). */
 static int normal_step(const fk_gram *q, int nf, const double *D, double lambda, double *dx)
 {
     double A[6][6], g[6], d[6];
@@ -154,10 +154,10 @@ static int normal_step(const fk_gram *q, int nf, const double *D, double lambda,
         A[j][j] = 1.0;
         g[j] = q->g[j] * d[j];
     }
-    if (!hp_cholesky(&A[0][0], 6, nf, 0.0, &A[0][0], 6)) return -1;
+    if (!hpi_cholesky(&A[0][0], 6, nf, 0.0, &A[0][0], 6)) return -1;
     /* trace = nf (unit diagonal) */
-    if (!(nf * hp_cholesky_inv_frob2(&A[0][0], 6, nf) <= HP_KIN_NORMAL_MAX_COND)) return -1;
-    hp_cholesky_solve(&A[0][0], 6, nf, g);
+    if (!(nf * hpi_cholesky_inv_frob2(&A[0][0], 6, nf) <= HP_KIN_NORMAL_MAX_COND)) return -1;
+    hpi_cholesky_solve(&A[0][0], 6, nf, g);
     for (int j = 0; j < nf; ++j) {
         dx[j] = g[j] * d[j];
         if (!isfinite(dx[j])) return -1;
@@ -167,7 +167,7 @@ static int normal_step(const fk_gram *q, int nf, const double *D, double lambda,
 
 /* Normal equations, scaled to unit diagonal, by Cholesky (fit_internal.h). Accepted only
  * under the condition bound HP_KIN_NORMAL_MAX_COND. */
-int hp_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
+int hpi_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
                          double lambda, double *dx)
 {
     fk_gram q;
@@ -181,7 +181,7 @@ static int damped_step(int n, int nf, const double *J, const double *r, const fk
                        const double *D, double lambda, double *dx)
 {
     if (normal_step(q, nf, D, lambda, dx) == 0) return 0;
-    return hp_kin_damped_qr(n, nf, J, r, D, lambda, dx);
+    return hpi_kin_damped_qr(n, nf, J, r, D, lambda, dx);
 }
 
 static double sumsq(int n, const double *v)
@@ -200,7 +200,7 @@ static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, c
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6];
     /* All six columns free (col is then 0..5): the model writes the Jacobian in place. */
     int all = nf == 6;
-    hp_error err = hp_kin_contact_eval_warm(L, G, level, xi, sw, rho, Jr ? (all ? Jr : J) : NULL,
+    hp_error err = hpi_kin_contact_eval_warm(L, G, level, xi, sw, rho, Jr ? (all ? Jr : J) : NULL,
                                             NULL);
     if (err) return err;
     for (int k = 0; k < L->n; ++k) {
@@ -211,11 +211,11 @@ static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, c
     return HP_OK;
 }
 
-hp_error hp_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level level,
                              const double x0[6], hp_kin_fit_start *st)
 {
-    hp_kin_dist_warm_cold(st->w, HP_MAX_BLADDERS);
-    hp_error err = hp_kin_contact_eval_warm(L, G, level, x0, st->w, st->rho, st->J, NULL);
+    hpi_kin_dist_warm_cold(st->w, HP_MAX_BLADDERS);
+    hp_error err = hpi_kin_contact_eval_warm(L, G, level, x0, st->w, st->rho, st->J, NULL);
     if (err) return err;
     fk_gram q;
     gram_of(L->n, 6, st->J, st->rho, &q); /* its −Jᵀr is not used */
@@ -223,7 +223,7 @@ hp_error hp_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level leve
     return HP_OK;
 }
 
-/* 1 when the fit has provably arrived at near (see hp_kin_fit): x within near->tol/4 of
+/* 1 when the fit has provably arrived at near (see hpi_kin_fit): x within near->tol/4 of
  * near->pose and the undamped Gauss–Newton step at x (its Jacobian Jr, residual r) below
  * near->tol/4 in every free component. */
 static int arrived(int n, int nf, const int *col, const double *x, const double *Jr,
@@ -248,7 +248,7 @@ typedef struct trial_cache {
     hp_kin_trial_cache c;
 } trial_cache;
 
-/* hp_kin_fit_certified_trial with the anchor's normal matrix in the free columns. */
+/* hpi_kin_fit_certified_trial with the anchor's normal matrix in the free columns. */
 static int certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
                            const int *col, const double *xt, double cost, double lambda_next,
                            const double *target, int iters_left, const hp_kin_fit_near *near,
@@ -267,11 +267,11 @@ static int certified_trial(const hp_layout *L, const hp_geom *G, hp_level level,
         tc->c.ready = 0;
         tc->have = 1;
     }
-    return hp_kin_fit_certified_trial(L, G, level, nf, col, xt, &tc->q.A[0][0], cost,
+    return hpi_kin_fit_certified_trial(L, G, level, nf, col, xt, &tc->q.A[0][0], cost,
                                       lambda_next, target, iters_left, near, &tc->c);
 }
 
-hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
+hp_error hpi_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
                     const int free_[6], const double x0[6], const hp_kin_fit_start *st,
                     const hp_kin_fit_near *near, double xi[6], double *residual_rms, int *iters)
 {
@@ -304,7 +304,7 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
             for (int j = 0; j < nf; ++j) Jr[k * nf + j] = st->J[k * 6 + col[j]];
         }
     } else {
-        hp_kin_dist_warm_cold(sw, n);
+        hpi_kin_dist_warm_cold(sw, n);
         err = residual(L, G, level, target, x, nf, col, sw, r, Jr);
     }
     if (err) return err;
@@ -344,13 +344,13 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
         /* With the anchor's Jacobian the proof is tried at each trial instead (below): a
          * step closer, and before the evaluation it would save. */
         if (near && it > 1 && !near->anchor_J &&
-            hp_kin_fit_certified(L, G, level, nf, col, x, &gram.A[0][0], r, lambda, target,
+            hpi_kin_fit_certified(L, G, level, nf, col, x, &gram.A[0][0], r, lambda, target,
                                  FK_MAX_ITERS - it, near)) {
             certified = 1;
             break;
         }
         if (damped_step(n, nf, Jr, r, &gram, D, lambda, dx) != 0 &&
-            hp_kin_damped_lstsq(n, nf, Jr, r, D, lambda, dx) != 0)
+            hpi_kin_damped_lstsq(n, nf, Jr, r, D, lambda, dx) != 0)
             return HP_ERR_NO_CONVERGENCE;
         double stepsize = 0.0;
         for (int j = 0; j < nf; ++j) stepsize = fmax(stepsize, fabs(D[j] * dx[j]));
@@ -404,14 +404,14 @@ hp_error hp_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const 
     return HP_OK;
 }
 
-hp_error hp_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
                           const double *target, const int free_[6], const double x0[6],
                           double xi[6], double *residual_rms, int *iters)
 {
-    return hp_kin_fit(L, G, level, target, free_, x0, NULL, NULL, xi, residual_rms, iters);
+    return hpi_kin_fit(L, G, level, target, free_, x0, NULL, NULL, xi, residual_rms, iters);
 }
 
-hp_error hp_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,
+hp_error hpi_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,
                          const double *xi0, double xi[6], double *residual_rms, int *iters)
 {
     if (!L || !G || !ro || !xi) return HP_ERR_NULL;
@@ -431,7 +431,7 @@ hp_error hp_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, c
     }
     int free_[6];
     for (int i = 0; i < 6; ++i) free_[i] = i < dof;
-    return hp_contact_fit_g(L, G, level, ro, free_, x, xi, residual_rms, iters);
+    return hpi_contact_fit_g(L, G, level, ro, free_, x, xi, residual_rms, iters);
 }
 
 hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target,
@@ -440,8 +440,8 @@ hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target
 {
     if (!L || !target || !free_ || !x0 || !xi) return HP_ERR_NULL;
     hp_geom G;
-    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
-    return hp_contact_fit_g(L, &G, level, target, free_, x0, xi, residual_rms, iters);
+    if (hpi_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hpi_contact_fit_g(L, &G, level, target, free_, x0, xi, residual_rms, iters);
 }
 
 hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
@@ -449,6 +449,6 @@ hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
 {
     if (!L || !ro || !xi) return HP_ERR_NULL;
     hp_geom G;
-    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
-    return hp_contact_fk_g(L, &G, level, ro, xi0, xi, residual_rms, iters);
+    if (hpi_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hpi_contact_fk_g(L, &G, level, ro, xi0, xi, residual_rms, iters);
 }

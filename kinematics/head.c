@@ -11,11 +11,11 @@
  * its fallback, take more). */
 #define ELL_MAX_STEPS 200
 
-hp_error hp_kin_head_validate(const hp_head *h, hp_diag *diag)
+hp_error hpi_kin_head_validate(const hp_head *h, hp_diag *diag)
 {
     if (h->shape != HP_HEAD_SPHERE && h->shape != HP_HEAD_ELLIPSOID)
         return hp_diag_set(diag, HP_ERR_INVALID, "head: shape: must be sphere or ellipsoid");
-    if (!hp_kin_finite3(h->center))
+    if (!hpi_kin_finite3(h->center))
         return hp_diag_set(diag, HP_ERR_INVALID, "head: center: must be finite");
     static const char *const axis[3] = {"x", "y", "z"};
     int na = h->shape == HP_HEAD_SPHERE ? 1 : 3;
@@ -36,7 +36,7 @@ hp_error hp_kin_head_validate(const hp_head *h, hp_diag *diag)
     return HP_OK;
 }
 
-double hp_kin_head_min_curvature_radius(const hp_head *h)
+double hpi_kin_head_min_curvature_radius(const hp_head *h)
 {
     if (h->shape == HP_HEAD_SPHERE) return h->semi_axes[0];
     double amin = fmin(h->semi_axes[0], fmin(h->semi_axes[1], h->semi_axes[2]));
@@ -81,7 +81,7 @@ static hp_error sphere_distance(const hp_head *h, const double y[3], double *d,
     return HP_OK;
 }
 
-/* One point's root find in progress (ellipsoid_distance; hp_kin_head_distances runs several
+/* One point's root find in progress (ellipsoid_distance; hpi_kin_head_distances runs several
  * side by side): the point y (head frame), r∘z with z = |y|/a, the bracket and the iterate. */
 typedef struct ell_pt {
     double y[3], rz[3], lo, hi, s;
@@ -101,9 +101,9 @@ static hp_error ell_setup(const hp_head *h, const hp_kin_head_k *k, const double
         g0 += z[i] * z[i];
     }
     double lo = -1.0, hi;
-    for (int i = 0; i < 3; ++i) lo = hp_max2(lo, r[i] * (z[i] - 1.0));
+    for (int i = 0; i < 3; ++i) lo = hpi_max2(lo, r[i] * (z[i] - 1.0));
     if (g0 > 0) {
-        lo = hp_max2(lo, 0.0);
+        lo = hpi_max2(lo, 0.0);
         hi = sqrt(p->rz[0] * p->rz[0] + p->rz[1] * p->rz[1] + p->rz[2] * p->rz[2]) - 1.0;
         if (hi < lo) hi = lo;
     } else {
@@ -174,7 +174,7 @@ static inline void ell_step(const hp_kin_head_k *k, ell_pt *p)
         sn = 0.5 * (lo + hi);
     }
     /* s enters only as r_i + s with r_i >= 1: absolute resolution 2ε·max(1,|s|). */
-    double res = 2.0 * DBL_EPSILON * hp_max2(1.0, fabs(s)), step = fabs(sn - s);
+    double res = 2.0 * DBL_EPSILON * hpi_max2(1.0, fabs(s)), step = fabs(sn - s);
     if (step <= res) return;
     if (!(sn > lo && sn < hi)) {
         sn = 0.5 * (lo + hi);
@@ -274,10 +274,10 @@ static hp_error ellipsoid_distance(const hp_head *h, const hp_kin_head_k *k, con
     return ell_finish(h, k, &p, ws, d, grad, hess, foot);
 }
 
-void hp_kin_head_consts(const hp_head *h, hp_kin_head_k *k)
+void hpi_kin_head_consts(const hp_head *h, hp_kin_head_k *k)
 {
     const double *a = h->semi_axes;
-    double e = hp_min2(a[0], hp_min2(a[1], a[2]));
+    double e = hpi_min2(a[0], hpi_min2(a[1], a[2]));
     k->e = e;
     k->e2 = e * e;
     for (int i = 0; i < 3; ++i) {
@@ -285,18 +285,18 @@ void hp_kin_head_consts(const hp_head *h, hp_kin_head_k *k)
     }
 }
 
-hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
+hp_error hpi_kin_head_distance(const hp_head *h, const double q[3], double *d,
                               double grad[3], double hess[9], double foot[3])
 {
-    return hp_kin_head_distance_warm(h, q, NULL, d, grad, hess, foot);
+    return hpi_kin_head_distance_warm(h, q, NULL, d, grad, hess, foot);
 }
 
-hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], hp_kin_dist_warm *w,
+hp_error hpi_kin_head_distance_warm(const hp_head *h, const double q[3], hp_kin_dist_warm *w,
                                    double *d, double grad[3], double hess[9], double foot[3])
 {
     hp_kin_head_k k = {0}; /* a sphere reads none of it */
-    if (h->shape != HP_HEAD_SPHERE) hp_kin_head_consts(h, &k);
-    return hp_kin_head_distance_k(h, &k, q, w, d, grad, hess, foot);
+    if (h->shape != HP_HEAD_SPHERE) hpi_kin_head_consts(h, &k);
+    return hpi_kin_head_distance_k(h, &k, q, w, d, grad, hess, foot);
 }
 
 /* y = q − centre, or the error for a point no head question is about: beyond 1000 km
@@ -306,11 +306,11 @@ static hp_error head_point(const hp_head *h, const double q[3], double y[3])
 {
     for (int i = 0; i < 3; ++i) y[i] = q[i] - h->center[i];
     if (!(fabs(y[0]) <= 1e6 && fabs(y[1]) <= 1e6 && fabs(y[2]) <= 1e6))
-        return hp_kin_finite3(y) ? HP_ERR_DOMAIN : HP_ERR_INVALID;
+        return hpi_kin_finite3(y) ? HP_ERR_DOMAIN : HP_ERR_INVALID;
     return HP_OK;
 }
 
-hp_error hp_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
+hp_error hpi_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
                                 hp_kin_dist_warm *w, double *d, double grad[3], double hess[9],
                                 double foot[3])
 {
@@ -321,7 +321,7 @@ hp_error hp_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const 
     return ellipsoid_distance(h, k, y, w, d, grad, hess, foot);
 }
 
-hp_error hp_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
+hp_error hpi_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
                                const double (*q)[3], hp_kin_dist_warm *w, double *d,
                                double (*grad)[3], double (*hess)[9],
                                const unsigned char *want_h, int *bad)
@@ -373,9 +373,9 @@ hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double R
                                    double preload, double center[3], hp_diag *diag)
 {
     if (!h || !p || !center) return hp_diag_set(diag, HP_ERR_NULL, "touch: NULL argument");
-    hp_error err = hp_kin_head_validate(h, diag);
+    hp_error err = hpi_kin_head_validate(h, diag);
     if (err) return err;
-    if (!hp_kin_finite3(p)) return hp_diag_set(diag, HP_ERR_INVALID, "touch: must be finite");
+    if (!hpi_kin_finite3(p)) return hp_diag_set(diag, HP_ERR_INVALID, "touch: must be finite");
     if (!(Ro > 0) || !isfinite(Ro))
         return hp_diag_set(diag, HP_ERR_INVALID, "Ro: must be finite and > 0 (got %g m)", Ro);
     if (!isfinite(preload) || !(Ro + preload > 0))

@@ -90,7 +90,7 @@ static int subset_rank(int n, const double *Jc, const double A[6][6], const int 
                 for (int i = 0; i < 6; ++i) v += Jc[k * 6 + i] * Q[j][i];
             M[k * 6 + j] = v;
         }
-    if (hp_kin_svd6(n, M, sv, V) != 0) return -1;
+    if (hpi_kin_svd6(n, M, sv, V) != 0) return -1;
     int r = 0;
     for (int j = 0; j < 6; ++j) r += sv[j] > HP_IDENT_RANK_TOL * sv[0];
     return r;
@@ -116,7 +116,7 @@ static void describe_symmetry(const hp_head *h, int centre_only, char *out, size
     snprintf(out, size, "half-turns about its X, Y and Z axes");
 }
 
-hp_error hp_layout_identify_g(const hp_layout *L, const hp_geom *G, hp_identifiable *out)
+hp_error hpi_layout_identify_g(const hp_layout *L, const hp_geom *G, hp_identifiable *out)
 {
     if (!L || !G || !out) return HP_ERR_NULL;
     memset(out, 0, sizeof *out);
@@ -127,7 +127,7 @@ hp_error hp_layout_identify_g(const hp_layout *L, const hp_geom *G, hp_identifia
     int n = L->n;
     double Jc[HP_MAX_BLADDERS * 6], sv[6], V[36];
     for (int k = 0; k < n; ++k) centred_row(G, k, ell, Jc + 6 * k);
-    if (hp_kin_svd6(n, Jc, sv, V) != 0) return HP_ERR_NO_CONVERGENCE;
+    if (hpi_kin_svd6(n, Jc, sv, V) != 0) return HP_ERR_NO_CONVERGENCE;
     if (!(sv[0] > 0)) return HP_ERR_INVALID;
     int rank = 0;
     for (int j = 0; j < 6; ++j) {
@@ -176,7 +176,7 @@ hp_error hp_layout_identify_g(const hp_layout *L, const hp_geom *G, hp_identifia
 double hp_pose_rotation_angle(const double xi[6])
 {
     double R[9];
-    hp_kin_rotation_derivs(xi + 3, R, NULL, NULL);
+    hpi_kin_rotation_derivs(xi + 3, R, NULL, NULL);
     /* atan2 of |axis·sin| and cos: accurate at every angle, unlike acos near 0 and pi. */
     double s = 0.5 * hypot(hypot(R[7] - R[5], R[2] - R[6]), R[3] - R[1]);
     double c = 0.5 * (R[0] + R[4] + R[8] - 1.0);
@@ -214,7 +214,7 @@ static int solve_small(int m, double M[6][6], double b[6], double x[6])
     return 1;
 }
 
-hp_error hp_pose_commanded_part_g(const hp_layout *L, const hp_geom *G,
+hp_error hpi_pose_commanded_part_g(const hp_layout *L, const hp_geom *G,
                                   const hp_identifiable *id, hp_level level, const double xd[6],
                                   double xc[6])
 {
@@ -232,7 +232,7 @@ hp_error hp_pose_commanded_part_g(const hp_layout *L, const hp_geom *G,
          * centre motion as a pure translation. R = I exactly at zero rotation, so a
          * translation-only xd comes back bit for bit. */
         double R[9], w[3];
-        hp_kin_rotation_derivs(xd + 3, R, NULL, NULL);
+        hpi_kin_rotation_derivs(xd + 3, R, NULL, NULL);
         for (int i = 0; i < 3; ++i) w[i] = L->head.center[i] - L->pivot[i];
         for (int i = 0; i < 3; ++i) {
             double Rw = R[i * 3] * w[0] + R[i * 3 + 1] * w[1] + R[i * 3 + 2] * w[2];
@@ -266,17 +266,17 @@ hp_error hp_pose_commanded_part_g(const hp_layout *L, const hp_geom *G,
         return HP_OK;
     }
     double rho[HP_MAX_BLADDERS];
-    hp_error e = hp_contact_eval_g(L, G, level, xd, rho, NULL, NULL);
+    hp_error e = hpi_contact_eval_g(L, G, level, xd, rho, NULL, NULL);
     if (e != HP_OK) return e;
-    return hp_contact_fit_g(L, G, level, rho, id->commanded, x0, xc, NULL, NULL);
+    return hpi_contact_fit_g(L, G, level, rho, id->commanded, x0, xc, NULL, NULL);
 }
 
 hp_error hp_layout_identify(const hp_layout *L, hp_identifiable *out)
 {
     if (!L || !out) return HP_ERR_NULL;
     hp_geom G;
-    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
-    return hp_layout_identify_g(L, &G, out);
+    if (hpi_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hpi_layout_identify_g(L, &G, out);
 }
 
 hp_error hp_pose_commanded_part(const hp_layout *L, const hp_identifiable *id, hp_level level,
@@ -284,6 +284,6 @@ hp_error hp_pose_commanded_part(const hp_layout *L, const hp_identifiable *id, h
 {
     if (!L || !id || !xd || !xc) return HP_ERR_NULL;
     hp_geom G;
-    if (hp_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
-    return hp_pose_commanded_part_g(L, &G, id, level, xd, xc);
+    if (hpi_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
+    return hpi_pose_commanded_part_g(L, &G, id, level, xd, xc);
 }

@@ -25,18 +25,18 @@ typedef struct hp_geom {
                                             back transform's u = c − pivot − t */
     double row[HP_MAX_BLADDERS][6];      /* the linear level's Jacobian row ∂ρ_k/∂ξ at the
                                             nominal pose (−n, −(contact − pivot) × n):
-                                            ρ_lin,k = rho0[k] + row[k]·ξ (hp_geom_linear) */
+                                            ρ_lin,k = rho0[k] + row[k]·ξ (hpi_geom_linear) */
 } hp_geom;
 
 /* Derives G from L. Checks only what the geometry needs: a valid head, a finite pivot,
  * n in 1..HP_MAX_BLADDERS, every centre finite and outside the head. HP_ERR_NULL or
  * HP_ERR_INVALID (message in diag, may be NULL) otherwise. Allocates nothing. */
-hp_error hp_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag);
+hp_error hpi_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag);
 
 /* The linear level's distance of bladder k at pose xi (SI): rho0[k] + row[k]·xi, summed
  * left to right from rho0[k]. The one formula of the linear level's evaluation and of the
- * direct chain's prediction (hp_kin_contact_inside), so both give the same bits. */
-static inline double hp_geom_linear(const hp_geom *G, int k, const double xi[6])
+ * direct chain's prediction (hpi_kin_contact_inside), so both give the same bits. */
+static inline double hpi_geom_linear(const hp_geom *G, int k, const double xi[6])
 {
     double v = G->rho0[k];
     for (int i = 0; i < 6; ++i) v += G->row[k][i] * xi[i];
@@ -44,29 +44,29 @@ static inline double hp_geom_linear(const hp_geom *G, int k, const double xi[6])
 }
 
 /* The public calls of the same name without the _g, for a geometry G derived from L
- * (hp_geom_derive or hp_layout_prepare's checks, then hp_geom_derive) and not changed
+ * (hpi_geom_derive or hp_layout_prepare's checks, then hpi_geom_derive) and not changed
  * since. Same contracts otherwise. */
-hp_error hp_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
                            const double xi[6], double *rho, double *J, double *H);
-/* hp_contact_eval_g with one warm state per bladder for the surface level's distances
- * (warm[0..n-1], see hp_kin_head_distance_warm; NULL: cold). Same answers to rounding. */
-hp_error hp_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level level,
+/* hpi_contact_eval_g with one warm state per bladder for the surface level's distances
+ * (warm[0..n-1], see hpi_kin_head_distance_warm; NULL: cold). Same answers to rounding. */
+hp_error hpi_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level level,
                                   const double xi[6], hp_kin_dist_warm *warm, double *rho,
                                   double *J, double *H);
-/* hp_kin_contact_eval_warm computing the Hessian only of the bladders k with hmask[k] != 0
+/* hpi_kin_contact_eval_warm computing the Hessian only of the bladders k with hmask[k] != 0
  * (NULL: all), the same bits as a full evaluation's; the other bladders' 36 entries of H
  * are not written (they keep what the caller left there, except after an error, which
  * writes NaN everywhere). A solver needs the Hessian of a distance only where its
  * multiplier is not zero, and reads no other. */
-hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
                                   const double xi[6], hp_kin_dist_warm *warm,
                                   const unsigned char *hmask, double *rho, double *J, double *H);
 /* Whether every contact distance at xi lies inside its limits: distance_k · scale in
  * [lo[k], hi[k]] (the caller's units, e.g. scale 1000 for mm). The distances are evaluated
- * bladder by bladder, each the same bits as hp_contact_eval_g's, and the evaluation stops
+ * bladder by bladder, each the same bits as hpi_contact_eval_g's, and the evaluation stops
  * at the first one outside (a NaN is outside): a target beyond reach usually costs a
  * fraction of a full evaluation. At the surface level the first bladder evaluated is the
- * one the linear level (hp_geom_linear · scale) predicts furthest outside its bounds, the
+ * one the linear level (hpi_geom_linear · scale) predicts furthest outside its bounds, the
  * largest max(lo[k] − v, v − hi[k]) (lowest index on a tie), then the others in index
  * order; at the linear and plane levels, index order (there a distance costs about what
  * the prediction does). The verdict does not depend on the order.
@@ -77,8 +77,8 @@ hp_error hp_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level
  * defined at xi). Where a distance is not defined at xi, whether its bladder is reached
  * before one outside depends on the order: HP_OK with *inside 0, or the error. J (may be
  * NULL): the Jacobian rows (n×6, per m and per rad) of the bladders evaluated, the same bits
- * as hp_contact_eval_g's (the fit's certificate needs them at a reached answer). */
-hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
+ * as hpi_contact_eval_g's (the fit's certificate needs them at a reached answer). */
+hp_error hpi_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                const double xi[6], double scale, const double *lo,
                                const double *hi, double *rho, double *J, int *inside);
 /* A bound (m) on the second-order remainder |rho_k(xi + dxi) − rho_k(xi) − J_k(xi)·dxi| of
@@ -87,7 +87,7 @@ hp_error hp_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level le
  * the others) and is infinity where the step could come within reach of the head.
  * Derivation in bound.c. HP_ERR_NULL, or HP_ERR_INVALID for a bad level or a non-finite
  * pose. Allocates nothing. */
-hp_error hp_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_level level,
                                    const double xi[6], const double dxi[6], const double *rho,
                                    double *bound);
 /* A bound on the curvature of each bladder's contact distance over a ball of poses: for
@@ -98,20 +98,20 @@ hp_error hp_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_leve
  * rho_k(xc) (m) and h[k] is infinity where the ball may reach the head; 0 at the linear
  * level. Derivation in bound.c. HP_ERR_NULL, or HP_ERR_INVALID for a bad level, a
  * non-finite pose or r not in [0, inf). Allocates nothing. */
-hp_error hp_kin_contact_ball_curvature(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_kin_contact_ball_curvature(const hp_layout *L, const hp_geom *G, hp_level level,
                                        const double xc[6], double r, const double *rho,
                                        double *h);
-hp_error hp_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
                                   double trans, double rot, double *bound);
-hp_error hp_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,
+hp_error hpi_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,
                            double rot, hp_level *level);
-hp_error hp_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
                           const double *target, const int free_[6], const double x0[6],
                           double xi[6], double *residual, int *iters);
-hp_error hp_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,
+hp_error hpi_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,
                          const double *xi0, double xi[6], double *residual, int *iters);
-hp_error hp_layout_identify_g(const hp_layout *L, const hp_geom *G, hp_identifiable *out);
-hp_error hp_pose_commanded_part_g(const hp_layout *L, const hp_geom *G,
+hp_error hpi_layout_identify_g(const hp_layout *L, const hp_geom *G, hp_identifiable *out);
+hp_error hpi_pose_commanded_part_g(const hp_layout *L, const hp_geom *G,
                                   const hp_identifiable *id, hp_level level, const double xd[6],
                                   double xc[6]);
 

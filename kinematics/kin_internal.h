@@ -9,14 +9,14 @@
 /* R = Rz(yaw)·Ry(roll)·Rx(pitch) for th = (pitch, roll, yaw), with its first derivatives
  * dR[j] = ∂R/∂th_j and second derivatives d2R[j][k] = ∂²R/∂th_j∂th_k (all row-major 3×3).
  * dR and d2R may be NULL. */
-void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
+void hpi_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
                             double d2R[3][3][9]);
 
 /* R with its first and second derivatives in roll alone, Dr = dR[1] and Drr = d2R[1][1] of
- * hp_kin_rotation_derivs (the same bits; Dr and Drr may be NULL): every other derivative
+ * hpi_kin_rotation_derivs (the same bits; Dr and Drr may be NULL): every other derivative
  * is a signed copy of entries of these (pitch: R·[e_x]×, yaw: [e_z]×·R), which a caller
  * that contracts them can form where it needs them. */
-void hp_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double Drr[9]);
+void hpi_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double Drr[9]);
 
 /* Signed distance d from point q to the head surface at the nominal pose (> 0 outside),
  * its gradient (the outward unit normal at the closest surface point), its Hessian (3×3,
@@ -24,7 +24,7 @@ void hp_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double 
  * HP_ERR_DOMAIN when q lies so deep inside the head that the closest point is not unique
  * or the distance is not smooth there (within 1e-3 of the centre-curvature set).
  * Allocates nothing. */
-hp_error hp_kin_head_distance(const hp_head *h, const double q[3], double *d,
+hp_error hpi_kin_head_distance(const hp_head *h, const double q[3], double *d,
                               double grad[3], double hess[9], double foot[3]);
 
 /* What a warm start of the ellipsoid's root find keeps from one evaluation to the next of
@@ -38,7 +38,7 @@ typedef struct hp_kin_dist_warm {
 } hp_kin_dist_warm;
 
 /* Marks w[0..n-1] cold. */
-static inline void hp_kin_dist_warm_cold(hp_kin_dist_warm *w, int n)
+static inline void hpi_kin_dist_warm_cold(hp_kin_dist_warm *w, int n)
 {
     for (int k = 0; k < n; ++k) {
         w[k].s = NAN;
@@ -46,16 +46,16 @@ static inline void hp_kin_dist_warm_cold(hp_kin_dist_warm *w, int n)
     }
 }
 
-/* hp_kin_head_distance with a warm start for the ellipsoid's multiplier: w (may be NULL)
+/* hpi_kin_head_distance with a warm start for the ellipsoid's multiplier: w (may be NULL)
  * supplies the start when its prediction lies inside the safeguarding bracket (else the
  * bracket's own start) and receives this point's state, for the next evaluation of a
  * nearby point. The answer is the same to rounding whatever w holds; a sphere leaves w
  * alone. */
-hp_error hp_kin_head_distance_warm(const hp_head *h, const double q[3], hp_kin_dist_warm *w,
+hp_error hpi_kin_head_distance_warm(const hp_head *h, const double q[3], hp_kin_dist_warm *w,
                                    double *d, double grad[3], double hess[9], double foot[3]);
 
 /* What the ellipsoid distance needs of a head beyond its inputs, derived once per head
- * (hp_kin_head_consts) instead of on every call: the smallest semi-axis e, e², the ratios
+ * (hpi_kin_head_consts) instead of on every call: the smallest semi-axis e, e², the ratios
  * r_i = (a_i/e)² >= 1 (each computed exactly as the distance used to compute
  * it per call, so the answers are the same bits). Unused for a sphere. */
 typedef struct hp_kin_head_k {
@@ -63,34 +63,34 @@ typedef struct hp_kin_head_k {
     double r[3];
 } hp_kin_head_k;
 
-/* Fills k for head h (valid: hp_kin_head_validate). */
-void hp_kin_head_consts(const hp_head *h, hp_kin_head_k *k);
+/* Fills k for head h (valid: hpi_kin_head_validate). */
+void hpi_kin_head_consts(const hp_head *h, hp_kin_head_k *k);
 
-/* hp_kin_head_distance_warm for a head h whose constants k were derived from it by
- * hp_kin_head_consts (and h not changed since). */
-hp_error hp_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
+/* hpi_kin_head_distance_warm for a head h whose constants k were derived from it by
+ * hpi_kin_head_consts (and h not changed since). */
+hp_error hpi_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
                                 hp_kin_dist_warm *w, double *d, double grad[3], double hess[9],
                                 double foot[3]);
 
-/* hp_kin_head_distance_k at the n points q (n <= HP_MAX_BLADDERS), each with its own warm
+/* hpi_kin_head_distance_k at the n points q (n <= HP_MAX_BLADDERS), each with its own warm
  * state w[j] (w may be NULL), distance d[j], gradient grad[j] and, when hess is not NULL
  * and want_h[j] (want_h NULL: every point), Hessian hess[j]: the same bits as n calls, faster for an ellipsoid (the
  * root finds run side by side). HP_OK, or the error of the first point (index order) that
  * fails, with its index in *bad; the points after it may have been evaluated (their
  * outputs and warm states written), its own outputs are not meaningful. */
-hp_error hp_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
+hp_error hpi_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
                                const double (*q)[3], hp_kin_dist_warm *w, double *d,
                                double (*grad)[3], double (*hess)[9],
                                const unsigned char *want_h, int *bad);
 
 /* Smallest radius of curvature of the head surface [m] (a_min²/a_max for an ellipsoid). */
-double hp_kin_head_min_curvature_radius(const hp_head *h);
+double hpi_kin_head_min_curvature_radius(const hp_head *h);
 
 /* Checks the head: shape, finite centre, positive finite semi-axes, mass >= 0. */
-hp_error hp_kin_head_validate(const hp_head *h, hp_diag *diag);
+hp_error hpi_kin_head_validate(const hp_head *h, hp_diag *diag);
 
 /* 1 when all three components are finite. */
-int hp_kin_finite3(const double v[3]);
+int hpi_kin_finite3(const double v[3]);
 
 /* What the kinematic reach predicate of hp_layout_analyze needs. */
 typedef struct hp_kin_reach_ctx {
@@ -106,7 +106,7 @@ typedef struct hp_kin_reach_ctx {
  * (scan 100: the limits give intervals) and the planner's reach (hp_planner_reach, finer:
  * its round trip can fail in short gaps), so the two differ only in their predicate and
  * resolution. */
-double hp_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, int axis,
+double hpi_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, int axis,
                          double sign, int scan);
 
 #endif

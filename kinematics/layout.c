@@ -23,7 +23,7 @@ static hp_error check_bladder(const hp_layout *L, int k, hp_diag *diag)
             return hp_diag_set(diag, HP_ERR_INVALID,
                                "bladder '%s' (#%d): name: used twice (also #%d)", b->name, k + 1,
                                j + 1);
-    if (!hp_kin_finite3(b->center))
+    if (!hpi_kin_finite3(b->center))
         return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%s': center: must be finite",
                            b->name);
     hp_diag sub;
@@ -128,7 +128,7 @@ static hp_error check_nominal(const hp_bladder *b, double rho0, hp_diag *diag)
 /* The head as the geometry reads it: a sphere's three semi-axes all its radius. */
 static hp_error head_of(const hp_layout *L, hp_head *h, hp_diag *diag)
 {
-    hp_error err = hp_kin_head_validate(&L->head, diag);
+    hp_error err = hpi_kin_head_validate(&L->head, diag);
     if (err) return err;
     *h = L->head;
     if (h->shape == HP_HEAD_SPHERE) h->semi_axes[1] = h->semi_axes[2] = h->semi_axes[0];
@@ -137,7 +137,7 @@ static hp_error head_of(const hp_layout *L, hp_head *h, hp_diag *diag)
 
 static hp_error check_frame(const hp_layout *L, hp_diag *diag)
 {
-    if (!hp_kin_finite3(L->pivot))
+    if (!hpi_kin_finite3(L->pivot))
         return hp_diag_set(diag, HP_ERR_INVALID, "pivot: must be finite");
     if (!(L->n >= 1 && L->n <= HP_MAX_BLADDERS))
         return hp_diag_set(diag, HP_ERR_INVALID, "bladders: count must be 1..%d (got %d)",
@@ -150,10 +150,10 @@ static hp_error check_frame(const hp_layout *L, hp_diag *diag)
 static hp_error bladder_contact(const hp_head *h, const hp_bladder *b, int k, double *d,
                                 double n[3], double p[3], hp_diag *diag)
 {
-    if (!hp_kin_finite3(b->center))
+    if (!hpi_kin_finite3(b->center))
         return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%.*s' (#%d): center: must be finite",
                            HP_NAME_MAX - 1, b->name, k + 1);
-    hp_error err = hp_kin_head_distance(h, b->center, d, n, NULL, p);
+    hp_error err = hpi_kin_head_distance(h, b->center, d, n, NULL, p);
     if (err != HP_OK || !(*d > 0))
         return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%.*s': center: must lie outside the head",
                            HP_NAME_MAX - 1, b->name);
@@ -174,11 +174,11 @@ static void linear_row(const hp_layout *L, const double p[3], const double n[3],
     row[5] = -(lv[0] * n[1] - lv[1] * n[0]);
 }
 
-hp_error hp_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag)
+hp_error hpi_geom_derive(const hp_layout *L, hp_geom *G, hp_diag *diag)
 {
     if (!L || !G) return hp_diag_set(diag, HP_ERR_NULL, "layout: NULL");
     hp_error err = head_of(L, &G->head, diag);
-    if (!err) hp_kin_head_consts(&G->head, &G->headk);
+    if (!err) hpi_kin_head_consts(&G->head, &G->headk);
     if (!err) err = check_frame(L, diag);
     for (int k = 0; !err && k < L->n; ++k) {
         err = bladder_contact(&G->head, &L->bladders[k], k, &G->rho0[k], G->normal[k],

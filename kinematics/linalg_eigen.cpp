@@ -12,7 +12,7 @@ using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMax, 1>;
 using Mat6 = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::ColMajor, kMax, 6>;
 }  // namespace
 
-extern "C" int hp_kin_damped_lstsq(int m, int ncol, const double *J, const double *r,
+extern "C" int hpi_kin_damped_lstsq(int m, int ncol, const double *J, const double *r,
                                    const double *D, double lambda, double *dx)
 {
     if (m < 0 || ncol < 1 || ncol > 6 || m + ncol > kMax || !(lambda >= 0)) return -1;
@@ -35,7 +35,7 @@ extern "C" int hp_kin_damped_lstsq(int m, int ncol, const double *J, const doubl
     return 0;
 }
 
-extern "C" int hp_kin_svd6(int m, const double *A, double sv[6], double V[36])
+extern "C" int hpi_kin_svd6(int m, const double *A, double sv[6], double V[36])
 {
     if (m < 1 || m > kMax) return -1;
     Mat6 M(m, 6);
@@ -52,7 +52,7 @@ extern "C" int hp_kin_svd6(int m, const double *A, double sv[6], double V[36])
     return 0;
 }
 
-extern "C" int hp_kin_symeig6(const double *A, double lam[6], double V[36])
+extern "C" int hpi_kin_symeig6(const double *A, double lam[6], double V[36])
 {
     Eigen::Matrix<double, 6, 6> M;
     for (int i = 0; i < 6; ++i)

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <new>
 
-extern "C" int hp_kin_svd(int m, int n, const double *A, double *sv, double *V)
+extern "C" int hpi_kin_svd(int m, int n, const double *A, double *sv, double *V)
 {
     if (m < 1 || n < 1 || !A || !sv || !V) return -1;
     try {

@@ -1,6 +1,6 @@
 /* The load model: contact forces of the membrane law, the generalized force on the head
  * with its exact derivatives, the potential, and a Newton–Euler check from the contact
- * points. The geometry (rho, its Jacobian J and Hessian H) comes from hp_contact_eval_g on
+ * points. The geometry (rho, its Jacobian J and Hessian H) comes from hpi_contact_eval_g on
  * the model's own geometry (derived once at setup), so every contact level has exact
  * derivatives:
  *     Q      = sum_k F_k J_k + Q_grav,
@@ -37,9 +37,9 @@ hp_error hp_load_spec_validate(const hp_load_spec *s, hp_diag *diag)
     if (!(s->mass > 0) || !isfinite(s->mass))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load: mass: must be finite and > 0 (got %g kg)", s->mass);
-    if (!hp_kin_finite3(s->com))
+    if (!hpi_kin_finite3(s->com))
         return hp_diag_set(diag, HP_ERR_INVALID, "load: com: must be finite");
-    if (!hp_kin_finite3(s->gravity))
+    if (!hpi_kin_finite3(s->gravity))
         return hp_diag_set(diag, HP_ERR_INVALID, "load: gravity: must be finite");
     double g = sqrt(s->gravity[0] * s->gravity[0] + s->gravity[1] * s->gravity[1] +
                     s->gravity[2] * s->gravity[2]);
@@ -49,7 +49,7 @@ hp_error hp_load_spec_validate(const hp_load_spec *s, hp_diag *diag)
     return HP_OK;
 }
 
-hp_error hp_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
+hp_error hpi_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
                              hp_level level, hp_diag *diag)
 {
     if (!M || !L || !spec) return hp_diag_set(diag, HP_ERR_NULL, "load model: NULL argument");
@@ -62,7 +62,7 @@ hp_error hp_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_load
     if (err) return err;
     M->layout = *L;
     if ((err = hp_layout_prepare(&M->layout, diag))) return err;
-    if ((err = hp_geom_derive(&M->layout, &M->geom, diag))) return err;
+    if ((err = hpi_geom_derive(&M->layout, &M->geom, diag))) return err;
     for (int k = 0; k < M->layout.n; ++k)
         if ((err = hp_iab_limit_point(&M->layout.bladders[k].iab, &M->limit[k])))
             return hp_diag_set(diag, err, "bladder '%s': limit point: %s",
@@ -80,7 +80,7 @@ hp_error hp_load_model_create(const hp_layout *L, const hp_load_spec *spec, hp_l
     if (!L || !spec) return hp_diag_set(diag, HP_ERR_NULL, "load model: NULL argument");
     hp_load_model *M = malloc(sizeof *M);
     if (!M) return hp_diag_set(diag, HP_ERR_NOMEM, "load model: out of memory");
-    hp_error err = hp_load_model_setup(M, L, spec, level, diag);
+    hp_error err = hpi_load_model_setup(M, L, spec, level, diag);
     if (err) {
         free(M);
         return err;
@@ -127,7 +127,7 @@ hp_error hp_load_radius(const hp_load_model *M, int k, double P, double *ro, dou
     return HP_OK;
 }
 
-hp_error hp_load_radii(const hp_load_model *M, const double *P, double *ro, double *dro)
+hp_error hpi_load_radii(const hp_load_model *M, const double *P, double *ro, double *dro)
 {
     for (int k = 0; k < M->layout.n; ++k) {
         hp_error err = hp_load_radius(M, k, P[k], &ro[k], dro ? &dro[k] : NULL);
@@ -136,10 +136,10 @@ hp_error hp_load_radii(const hp_load_model *M, const double *P, double *ro, doub
     return HP_OK;
 }
 
-void hp_load_law(double P, double ro, double dro, double rho, int right, hp_load_force *f)
+void hpi_load_law(double P, double ro, double dro, double rho, int right, hp_load_force *f)
 {
     hp_claw c;
-    hp_claw_cap(P, ro, rho, &c);
+    hpi_claw_cap(P, ro, rho, &c);
     int on = P > 0 && ro > rho;
     /* right: the derivatives of the contact branch also where the bladder just touches
      * (the one-sided derivative a planner needs to bring a bladder into contact). */
@@ -151,12 +151,12 @@ void hp_load_law(double P, double ro, double dro, double rho, int right, hp_load
     f->E = on ? c.W : 0.0;
 }
 
-void hp_load_gravity(const hp_load_model *M, const double xi[6], double Q[6], double *dQ,
+void hpi_load_gravity(const hp_load_model *M, const double xi[6], double Q[6], double *dQ,
                      double *energy)
 {
     const hp_layout *L = &M->layout;
     double R[9], dR[3][9], d2R[3][3][9], v[3], mg[3];
-    hp_kin_rotation_derivs(xi + 3, R, dR, dQ ? d2R : NULL);
+    hpi_kin_rotation_derivs(xi + 3, R, dR, dQ ? d2R : NULL);
     for (int i = 0; i < 3; ++i) {
         v[i] = M->spec.com[i] - L->pivot[i];
         mg[i] = M->spec.mass * M->spec.gravity[i];
@@ -196,28 +196,28 @@ static void fill_nan(double *v, int n)
         for (int i = 0; i < n; ++i) v[i] = NAN;
 }
 
-hp_error hp_load_domain(const hp_load_model *M, const double *rho)
+hp_error hpi_load_domain(const hp_load_model *M, const double *rho)
 {
     for (int k = 0; k < M->layout.n; ++k)
         if (!(rho[k] > 0.0)) return HP_ERR_DOMAIN; /* NaN too */
     return HP_OK;
 }
 
-hp_error hp_load_eval_radii(const hp_load_model *M, const double xi[6], const double *P,
+hp_error hpi_load_eval_radii(const hp_load_model *M, const double xi[6], const double *P,
                             const double *ro, const double *dro, int right, double Q[6],
                             double *dQ_dxi, double *dQ_dP, double *force, double *energy)
 {
     const hp_layout *L = &M->layout;
     int n = L->n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
-    hp_error err = hp_contact_eval_g(L, &M->geom, M->level, xi, rho, J, dQ_dxi ? H : NULL);
-    if (!err) err = hp_load_domain(M, rho);
+    hp_error err = hpi_contact_eval_g(L, &M->geom, M->level, xi, rho, J, dQ_dxi ? H : NULL);
+    if (!err) err = hpi_load_domain(M, rho);
     if (err) return err;
     double e = 0.0;
-    hp_load_gravity(M, xi, Q, dQ_dxi, energy ? &e : NULL);
+    hpi_load_gravity(M, xi, Q, dQ_dxi, energy ? &e : NULL);
     for (int k = 0; k < n; ++k) {
         hp_load_force f;
-        hp_load_law(P[k], ro[k], dro ? dro[k] : 0.0, rho[k], right, &f);
+        hpi_load_law(P[k], ro[k], dro ? dro[k] : 0.0, rho[k], right, &f);
         const double *Jk = J + 6 * k;
         for (int i = 0; i < 6; ++i) Q[i] += f.F * Jk[i];
         if (dQ_dxi && (f.F != 0.0 || f.dF_drho != 0.0))
@@ -250,9 +250,9 @@ hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const double *
     if (!Q) return HP_ERR_NULL;
     hp_error err = check_inputs(M, xi, P);
     double ro[HP_MAX_BLADDERS], dro[HP_MAX_BLADDERS];
-    if (!err) err = hp_load_radii(M, P, ro, dQ_dP ? dro : NULL);
+    if (!err) err = hpi_load_radii(M, P, ro, dQ_dP ? dro : NULL);
     if (!err)
-        err = hp_load_eval_radii(M, xi, P, ro, dQ_dP ? dro : NULL, 0, Q, dQ_dxi, dQ_dP, force,
+        err = hpi_load_eval_radii(M, xi, P, ro, dQ_dP ? dro : NULL, 0, Q, dQ_dxi, dQ_dP, force,
                                  energy);
     if (err) {
         int n = M ? M->layout.n : 0;
@@ -271,9 +271,9 @@ hp_error hp_load_indentation(const hp_load_model *M, const double xi[6], const d
     if (!ratio) return HP_ERR_NULL;
     hp_error err = check_inputs(M, xi, P);
     double ro[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
-    if (!err) err = hp_load_radii(M, P, ro, NULL);
-    if (!err) err = hp_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, NULL, NULL);
-    if (!err) err = hp_load_domain(M, rho);
+    if (!err) err = hpi_load_radii(M, P, ro, NULL);
+    if (!err) err = hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, NULL, NULL);
+    if (!err) err = hpi_load_domain(M, rho);
     if (err) {
         fill_nan(ratio, M ? M->layout.n : 0);
         return err;
@@ -316,7 +316,7 @@ static hp_error contact_point(const hp_load_model *M, int k, const double R[9],
         cp[a] = R[a] * u[0] + R[3 + a] * u[1] + R[6 + a] * u[2] + L->pivot[a];
     if (M->level == HP_LEVEL_SURFACE) {
         double d;
-        hp_error err = hp_kin_head_distance(&L->head, cp, &d, NULL, NULL, foot);
+        hp_error err = hpi_kin_head_distance(&L->head, cp, &d, NULL, NULL, foot);
         if (err) return err;
     } else {
         for (int a = 0; a < 3; ++a) foot[a] = cp[a] - rho * nk[a];
@@ -333,9 +333,9 @@ hp_error hp_load_newton_euler(const hp_load_model *M, const double xi[6], const 
     if (err) return err;
     const hp_layout *L = &M->layout;
     double ro[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS], R[9], com[3];
-    if ((err = hp_load_radii(M, P, ro, NULL))) return err;
-    if ((err = hp_contact_eval_g(L, &M->geom, M->level, xi, rho, NULL, NULL))) return err;
-    if ((err = hp_load_domain(M, rho))) return err;
+    if ((err = hpi_load_radii(M, P, ro, NULL))) return err;
+    if ((err = hpi_contact_eval_g(L, &M->geom, M->level, xi, rho, NULL, NULL))) return err;
+    if ((err = hpi_load_domain(M, rho))) return err;
     hp_rotation(xi[3], xi[4], xi[5], R);
     move_point(L, R, xi, M->spec.com, com);
     for (int a = 0; a < 3; ++a) {
@@ -344,7 +344,7 @@ hp_error hp_load_newton_euler(const hp_load_model *M, const double xi[6], const 
     }
     for (int k = 0; k < L->n; ++k) {
         hp_load_force f;
-        hp_load_law(P[k], ro[k], 0.0, rho[k], 0, &f);
+        hpi_load_law(P[k], ro[k], 0.0, rho[k], 0, &f);
         if (f.F == 0.0) continue;
         double p[3], u[3], fk[3], arm[3], m[3];
         if ((err = contact_point(M, k, R, xi, rho[k], p))) return err;

@@ -18,7 +18,7 @@ hp_error hp_load_predicted_sag(const hp_load_model *M, double *sag, double *k_gr
         ro[k] = rho0; /* touching: the free radius is the contact distance */
     }
     /* right = 1: the stiffness of the contact branch at delta = 0. */
-    hp_error err = hp_load_eval_radii(M, xi, P, ro, NULL, 1, Q, dQ, NULL, NULL, NULL);
+    hp_error err = hpi_load_eval_radii(M, xi, P, ro, NULL, 1, Q, dQ, NULL, NULL, NULL);
     if (err) return err;
     double g = 0.0, kg = 0.0;
     for (int a = 0; a < 3; ++a) g += M->spec.gravity[a] * M->spec.gravity[a];

@@ -6,7 +6,7 @@
 #include "headplan/hp_load.h"
 #include "kin_geom.h"
 
-/* The load model behind the public handle. Every field is derived by hp_load_model_setup
+/* The load model behind the public handle. Every field is derived by hpi_load_model_setup
  * from its arguments and never changed afterwards, so the limits and the geometry always
  * belong to this layout. Objects that own a model embed it (the load planner) so that
  * their create is their only allocation. */
@@ -19,7 +19,7 @@ struct hp_load_model {
 };
 
 /* hp_load_model_create without the allocation: fills *M (same checks, same messages). */
-hp_error hp_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
+hp_error hpi_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
                              hp_level level, hp_diag *diag);
 
 /* One bladder's contact force and its partial derivatives. */
@@ -34,16 +34,16 @@ typedef struct hp_load_force {
 /* The membrane law for pressure P, free outer radius ro (with dro = dro/dP) and contact
  * distance rho. right = 1 gives the contact branch's derivatives also where the bladder
  * just touches (delta = 0 or P = 0), the one-sided derivative a planner needs. */
-void hp_load_law(double P, double ro, double dro, double rho, int right, hp_load_force *f);
+void hpi_load_law(double P, double ro, double dro, double rho, int right, hp_load_force *f);
 
 /* Gravity's generalized force m·(dx_com/dxi)ᵀ·g at xi, its Jacobian dQ (36, row-major; may
  * be NULL) and its potential (may be NULL): Q of a head that no bladder touches, without
  * the contact geometry's cost. */
-void hp_load_gravity(const hp_load_model *M, const double xi[6], double Q[6], double *dQ,
+void hpi_load_gravity(const hp_load_model *M, const double xi[6], double Q[6], double *dQ,
                      double *energy);
 
 /* Outer radii (and dro/dP when dro is not NULL) of every bladder at pressures P. */
-hp_error hp_load_radii(const hp_load_model *M, const double *P, double *ro, double *dro);
+hp_error hpi_load_radii(const hp_load_model *M, const double *P, double *ro, double *dro);
 
 /* The load model's domain: every bladder centre strictly outside the moved head (rho_k > 0
  * for all k, whatever the pressures). A centre sits on its rigid panel, so rho_k <= 0 puts
@@ -51,21 +51,21 @@ hp_error hp_load_radii(const hp_load_model *M, const double *P, double *ro, doub
  * potential's gradient (Q, along dRho/dxi, continued through rho = 0) and the force along
  * the contact point's direction (p − c)/|p − c| point opposite ways. HP_ERR_DOMAIN outside
  * (a NaN distance too), else HP_OK. */
-hp_error hp_load_domain(const hp_load_model *M, const double *rho);
+hp_error hpi_load_domain(const hp_load_model *M, const double *rho);
 
 /* hp_load_eval with the radii already known (no input checks, no NaN fill): the cheap
  * inner evaluation of Newton and SQP loops. */
-hp_error hp_load_eval_radii(const hp_load_model *M, const double xi[6], const double *P,
+hp_error hpi_load_eval_radii(const hp_load_model *M, const double xi[6], const double *P,
                             const double *ro, const double *dro, int right, double Q[6],
                             double *dQ_dxi, double *dQ_dP, double *force, double *energy);
 
 /* Cholesky factor of a symmetric n×n matrix A (row-major) in place (lower triangle);
  * returns 0 when A is positive definite, -1 otherwise. */
-int hp_load_cholesky(int n, double *A);
-/* Solves L Lᵀ x = b with the factor of hp_load_cholesky (b overwritten by x). */
-void hp_load_cholesky_solve(int n, const double *Lf, double *b);
+int hpi_load_cholesky(int n, double *A);
+/* Solves L Lᵀ x = b with the factor of hpi_load_cholesky (b overwritten by x). */
+void hpi_load_cholesky_solve(int n, const double *Lf, double *b);
 
 /* Scale of pose component i: 1 mm in m, 1 degree in rad. */
-double hp_load_unit(int i);
+double hpi_load_unit(int i);
 
 #endif

@@ -16,12 +16,12 @@
 #define REST_BOX_MM 100.0      /* a rest further than this is no rest of a held head */
 #define REST_BOX_DEG 60.0
 
-double hp_load_unit(int i)
+double hpi_load_unit(int i)
 {
     return i < 3 ? 1e-3 : HP_RAD_PER_DEG;
 }
 
-int hp_load_cholesky(int n, double *A)
+int hpi_load_cholesky(int n, double *A)
 {
     for (int j = 0; j < n; ++j) {
         double d = A[j * n + j];
@@ -38,7 +38,7 @@ int hp_load_cholesky(int n, double *A)
     return 0;
 }
 
-void hp_load_cholesky_solve(int n, const double *Lf, double *b)
+void hpi_load_cholesky_solve(int n, const double *Lf, double *b)
 {
     for (int i = 0; i < n; ++i) {
         double s = b[i];
@@ -57,8 +57,8 @@ static void scaled_stiffness(const double *K, double *Ks)
 {
     for (int i = 0; i < 6; ++i)
         for (int j = 0; j < 6; ++j)
-            Ks[i * 6 + j] = 0.5 * (K[i * 6 + j] + K[j * 6 + i]) * hp_load_unit(i) *
-                            hp_load_unit(j);
+            Ks[i * 6 + j] = 0.5 * (K[i * 6 + j] + K[j * 6 + i]) * hpi_load_unit(i) *
+                            hpi_load_unit(j);
 }
 
 static const char *const AXIS_WORDS[6] = {"lateral (x)", "longitudinal (y)", "vertical (z)",
@@ -84,13 +84,13 @@ static void holding_from_K(const hp_load_model *M, const double *K, hp_load_hold
     double Ks[36], F[36];
     scaled_stiffness(K, Ks);
     memcpy(F, Ks, sizeof F);
-    h->stable = hp_load_cholesky(6, F) == 0;
+    h->stable = hpi_load_cholesky(6, F) == 0;
     for (int i = 0; i < 6; ++i) {
         if (h->stable) {
             double e[6] = {0};
             e[i] = 1.0;
-            hp_load_cholesky_solve(6, F, e); /* column i of Ks⁻¹ */
-            h->compliance[i] = e[i] * hp_load_unit(i); /* (K⁻¹)_ii / unit: mm/N, deg/(N·m) */
+            hpi_load_cholesky_solve(6, F, e); /* column i of Ks⁻¹ */
+            h->compliance[i] = e[i] * hpi_load_unit(i); /* (K⁻¹)_ii / unit: mm/N, deg/(N·m) */
         } else {
             h->compliance[i] = INFINITY;
         }
@@ -98,7 +98,7 @@ static void holding_from_K(const hp_load_model *M, const double *K, hp_load_hold
     /* Along a unit direction of Ks with eigenvalue lam a generalized force F (N or N·m)
      * moves the head by F·unit/lam units: the compliance is unit/lam. */
     double sv[6], V[36];
-    if (hp_kin_svd6(6, Ks, sv, V) == 0) {
+    if (hpi_kin_svd6(6, Ks, sv, V) == 0) {
         for (int i = 0; i < 6; ++i) h->weakest[i] = V[i * 6 + 5];
         int d = 0;
         for (int i = 1; i < 6; ++i)
@@ -106,7 +106,7 @@ static void holding_from_K(const hp_load_model *M, const double *K, hp_load_hold
         if (h->weakest[d] < 0)
             for (int i = 0; i < 6; ++i) h->weakest[i] = -h->weakest[i];
         h->weakest_is_rotation = d >= 3;
-        h->weakest_compliance = h->stable && sv[5] > 0 ? hp_load_unit(d) / sv[5] : INFINITY;
+        h->weakest_compliance = h->stable && sv[5] > 0 ? hpi_load_unit(d) / sv[5] : INFINITY;
         describe(h->weakest, h->weakest_words, sizeof h->weakest_words);
     } else {
         for (int i = 0; i < 6; ++i) h->weakest[i] = NAN;
@@ -143,18 +143,18 @@ static void newton_step(const double *K, const double Q[6], double ds[6])
     double Ks[36], F[36], Qs[6], dmax = 0.0;
     scaled_stiffness(K, Ks);
     for (int i = 0; i < 6; ++i) {
-        Qs[i] = Q[i] * hp_load_unit(i);
+        Qs[i] = Q[i] * hpi_load_unit(i);
         dmax = fmax(dmax, fabs(Ks[i * 6 + i]));
     }
     double tau = 0.0;
     for (int attempt = 0; attempt < 40; ++attempt) {
         memcpy(F, Ks, sizeof F);
         for (int i = 0; i < 6; ++i) F[i * 6 + i] += tau;
-        if (hp_load_cholesky(6, F) == 0) break;
+        if (hpi_load_cholesky(6, F) == 0) break;
         tau = tau == 0.0 ? fmax(1e-6 * dmax, 1e-9) : 10.0 * tau;
     }
     memcpy(ds, Qs, sizeof Qs);
-    hp_load_cholesky_solve(6, F, ds);
+    hpi_load_cholesky_solve(6, F, ds);
     double big = 0.0;
     for (int i = 0; i < 6; ++i) big = fmax(big, fabs(ds[i]));
     if (!(big <= REST_STEP_CAP))
@@ -174,10 +174,10 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
     for (int k = 0; k < M->layout.n; ++k)
         if (!isfinite(P[k])) return HP_ERR_INVALID;
     double ro[HP_MAX_BLADDERS];
-    hp_error err = hp_load_radii(M, P, ro, NULL);
+    hp_error err = hpi_load_radii(M, P, ro, NULL);
     if (err) return err;
     double Q[6], dQ[36], K[36], E;
-    if ((err = hp_load_eval_radii(M, x, P, ro, NULL, 0, Q, dQ, NULL, NULL, &E))) return err;
+    if ((err = hpi_load_eval_radii(M, x, P, ro, NULL, 0, Q, dQ, NULL, NULL, &E))) return err;
     int it = 0, done = 0;
     while (!done) {
         if (it >= REST_MAX_ITERS) return HP_ERR_NO_CONVERGENCE;
@@ -186,7 +186,7 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
         double ds[6], slope = 0.0, big = 0.0;
         newton_step(K, Q, ds);
         for (int i = 0; i < 6; ++i) {
-            slope -= Q[i] * hp_load_unit(i) * ds[i]; /* dPi along ds, <= 0 */
+            slope -= Q[i] * hpi_load_unit(i) * ds[i]; /* dPi along ds, <= 0 */
             big = fmax(big, fabs(ds[i]));
         }
         if (big <= REST_STEP_TOL) break;
@@ -204,8 +204,8 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
                 done = 1;
                 break;
             }
-            for (int i = 0; i < 6; ++i) xn[i] = x[i] + t * ds[i] * hp_load_unit(i);
-            err = hp_load_eval_radii(M, xn, P, ro, NULL, 0, Qn, dQn, NULL, NULL, &En);
+            for (int i = 0; i < 6; ++i) xn[i] = x[i] + t * ds[i] * hpi_load_unit(i);
+            err = hpi_load_eval_radii(M, xn, P, ro, NULL, 0, Qn, dQn, NULL, NULL, &En);
             if (err == HP_OK && (full || En <= E + 1e-4 * t * slope)) break;
             if (err != HP_OK && err != HP_ERR_DOMAIN) return err;
             t *= 0.5;
@@ -216,7 +216,7 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
         memcpy(dQ, dQn, sizeof dQ);
         E = En;
         for (int i = 0; i < 6; ++i)
-            if (!(fabs(x[i]) / hp_load_unit(i) <= (i < 3 ? REST_BOX_MM : REST_BOX_DEG)))
+            if (!(fabs(x[i]) / hpi_load_unit(i) <= (i < 3 ? REST_BOX_MM : REST_BOX_DEG)))
                 return HP_ERR_NO_CONVERGENCE; /* falls: nothing holds it */
         if (full && big * t <= REST_STEP_TOL) break;
     }
@@ -225,7 +225,7 @@ hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0
      * the generalized force vanishes there: 1e-6 N (moment rows per 1°/1 mm) is far above
      * a converged rest's rounding (1e-9 N) and far below any force that moves the head. */
     for (int i = 0; i < 6; ++i)
-        if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hp_load_unit(i) / 1e-3) <= 1e-6))
+        if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hpi_load_unit(i) / 1e-3) <= 1e-6))
             return HP_ERR_NO_CONVERGENCE;
     memcpy(xi, x, sizeof x);
     if (info) {

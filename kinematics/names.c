@@ -5,12 +5,12 @@
 #include "common/names.h"
 #include "kinematics/names.h"
 
-const char *const hp_level_words[] = {"linear", "plane", "surface", "auto", "load", NULL};
-_Static_assert(sizeof hp_level_words / sizeof *hp_level_words == HP_LEVEL_LOAD + 2,
+const char *const hpi_level_words[] = {"linear", "plane", "surface", "auto", "load", NULL};
+_Static_assert(sizeof hpi_level_words / sizeof *hpi_level_words == HP_LEVEL_LOAD + 2,
                "one word per level");
 
-const char *const hp_head_shape_words[] = {"sphere", "ellipsoid", NULL};
+const char *const hpi_head_shape_words[] = {"sphere", "ellipsoid", NULL};
 
-HP_NAMES_CALLS(hp_level, hp_level_words, hp_level_name, hp_level_parse)
+HP_NAMES_CALLS(hp_level, hpi_level_words, hp_level_name, hp_level_parse)
 
-HP_NAMES_CALLS(hp_head_shape, hp_head_shape_words, hp_head_shape_name, hp_head_shape_parse)
+HP_NAMES_CALLS(hp_head_shape, hpi_head_shape_words, hp_head_shape_name, hp_head_shape_parse)

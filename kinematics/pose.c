@@ -30,7 +30,7 @@ const char *hp_pose_key(int i)
     return keys[i];
 }
 
-int hp_kin_finite3(const double v[3])
+int hpi_kin_finite3(const double v[3])
 {
     return isfinite(v[0]) && isfinite(v[1]) && isfinite(v[2]);
 }
@@ -71,7 +71,7 @@ static void left_z(const double A[9], double C[9])
     }
 }
 
-void hp_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double Drr[9])
+void hpi_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double Drr[9])
 {
     double sx = sin(th[0]), cx = cos(th[0]);
     double sy = sin(th[1]), cy = cos(th[1]);
@@ -111,15 +111,15 @@ void hp_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double 
     }
 }
 
-void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
+void hpi_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
                             double d2R[3][3][9])
 {
     if (!dR) {
-        hp_kin_rotation_roll(th, R, NULL, NULL);
+        hpi_kin_rotation_roll(th, R, NULL, NULL);
         return;
     }
     double *Dr = dR[1];
-    hp_kin_rotation_roll(th, R, Dr, d2R ? d2R[1][1] : NULL);
+    hpi_kin_rotation_roll(th, R, Dr, d2R ? d2R[1][1] : NULL);
     right_x(R, dR[0]);
     left_z(R, dR[2]);
     if (!d2R) return;
@@ -141,5 +141,5 @@ void hp_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
 void hp_rotation(double pitch, double roll, double yaw, double R[9])
 {
     const double th[3] = {pitch, roll, yaw};
-    hp_kin_rotation_derivs(th, R, NULL, NULL);
+    hpi_kin_rotation_derivs(th, R, NULL, NULL);
 }

@@ -57,7 +57,7 @@ hp_error hp_pose_from_quaternion(const double t[3], const double q[4], double xi
 {
     for (int i = 0; i < 4; ++i)
         if (!isfinite(q[i])) return hp_diag_set(diag, HP_ERR_INVALID, "quaternion: not finite");
-    if (!hp_kin_finite3(t)) return hp_diag_set(diag, HP_ERR_INVALID, "translation: not finite");
+    if (!hpi_kin_finite3(t)) return hp_diag_set(diag, HP_ERR_INVALID, "translation: not finite");
     double norm = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     if (!(fabs(norm - 1.0) <= QUAT_NORM_TOL))
         return hp_diag_set(diag, HP_ERR_INVALID,

@@ -9,7 +9,7 @@
 #include <string.h>
 
 
-hp_error hp_backend_check_problem(const hp_problem *pb, hp_diag *d)
+hp_error hpi_backend_check_problem(const hp_problem *pb, hp_diag *d)
 {
     if (!pb || !pb->layout || !pb->geom) return hp_diag_set(d, HP_ERR_NULL, "problem: NULL");
     if (pb->n < 1 || pb->n > HP_MAX_BLADDERS || pb->n != pb->layout->n || pb->nx != 6 + pb->n)
@@ -42,7 +42,7 @@ hp_error hp_backend_check_problem(const hp_problem *pb, hp_diag *d)
     return HP_OK;
 }
 
-void hp_backend_clip(const hp_problem *pb, double *x)
+void hpi_backend_clip(const hp_problem *pb, double *x)
 {
     for (int k = 0; k < pb->n; k++) {
         double *r = &x[6 + k];
@@ -51,14 +51,14 @@ void hp_backend_clip(const hp_problem *pb, double *x)
     }
 }
 
-hp_error hp_backend_default_start(const hp_problem *pb, double *x)
+hp_error hpi_backend_default_start(const hp_problem *pb, double *x)
 {
     double xi[6], rho[HP_MAX_BLADDERS];
     for (int i = 0; i < 6; i++) {
         x[i] = pb->d[i];
         xi[i] = pb->d[i] * (i < 3 ? 1e-3 : HP_RAD_PER_DEG);
     }
-    hp_error e = hp_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho, NULL, NULL);
+    hp_error e = hpi_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho, NULL, NULL);
     if (e != HP_OK) return e;
     for (int k = 0; k < pb->n; k++) {
         double ri;
@@ -67,18 +67,18 @@ hp_error hp_backend_default_start(const hp_problem *pb, double *x)
         else
             x[6 + k] = pb->ri_lo[k];
     }
-    hp_backend_clip(pb, x);
+    hpi_backend_clip(pb, x);
     return HP_OK;
 }
 
-hp_error hp_backend_start(const hp_problem *pb, const double *x0, double *x)
+hp_error hpi_backend_start(const hp_problem *pb, const double *x0, double *x)
 {
-    if (!x0) return hp_backend_default_start(pb, x);
+    if (!x0) return hpi_backend_default_start(pb, x);
     for (int i = 0; i < pb->nx; i++) {
         if (!isfinite(x0[i])) return HP_ERR_INVALID;
         x[i] = x0[i];
     }
-    hp_backend_clip(pb, x);
+    hpi_backend_clip(pb, x);
     return HP_OK;
 }
 
@@ -86,8 +86,8 @@ hp_error hp_backend_start(const hp_problem *pb, const double *x0, double *x)
  * factor); 0 when not SPD. */
 static int cholesky_solve(double *A, double *b, int m)
 {
-    if (!hp_cholesky(A, m, m, 0.0, A, m)) return 0;
-    hp_cholesky_solve(A, m, m, b);
+    if (!hpi_cholesky(A, m, m, 0.0, A, m)) return 0;
+    hpi_cholesky_solve(A, m, m, b);
     return 1;
 }
 
@@ -154,14 +154,14 @@ static void signed_multipliers(const hp_problem *pb, const double *g, const doub
     }
 }
 
-hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_measure *m_out)
+hp_error hpi_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_measure *m_out)
 {
     const int n = pb->n, nx = pb->nx;
     double f, g[HP_PROBLEM_NX_MAX], c[HP_MAX_BLADDERS];
     double jac[HP_MAX_BLADDERS * HP_PROBLEM_NX_MAX];
-    hp_error e = hp_problem_objective(pb, x, &f, g, NULL);
+    hp_error e = hpi_problem_objective(pb, x, &f, g, NULL);
     if (e != HP_OK) return e;
-    e = hp_problem_constraints(pb, x, c, jac, NULL, NULL);
+    e = hpi_problem_constraints(pb, x, c, jac, NULL, NULL);
     if (e != HP_OK) return e;
     m_out->grad_max = 0.0;
     m_out->feasibility = 0.0;
@@ -245,16 +245,16 @@ hp_error hp_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_me
     return HP_OK;
 }
 
-int hp_backend_kkt_ok(const hp_problem *pb, const double *x, double feas_tol)
+int hpi_backend_kkt_ok(const hp_problem *pb, const double *x, double feas_tol)
 {
     hp_kkt_measure m;
-    if (hp_backend_kkt_measure(pb, x, &m) != HP_OK) return 0;
+    if (hpi_backend_kkt_measure(pb, x, &m) != HP_OK) return 0;
     const double stat_tol = 1e-6 * (1.0 + m.grad_max);
     return m.in_bounds && m.feasibility <= feas_tol && m.stationarity <= stat_tol &&
            m.wrong_sign <= stat_tol;
 }
 
-hp_error hp_backend_begin(const char *name, const hp_problem *pb, int n, int nx,
+hp_error hpi_backend_begin(const char *name, const hp_problem *pb, int n, int nx,
                           const double *x0, double *xs, hp_backend_result *r, int *go,
                           hp_diag *d)
 {
@@ -265,13 +265,13 @@ hp_error hp_backend_begin(const char *name, const hp_problem *pb, int n, int nx,
     r->converged = 0;
     if (pb->n != n || pb->nx != nx)
         return hp_diag_set(d, HP_ERR_INVALID, "%s: problem size changed since create", name);
-    hp_error e = hp_backend_check_problem(pb, d);
+    hp_error e = hpi_backend_check_problem(pb, d);
     if (e == HP_ERR_DOMAIN) {
         r->status = HP_STATUS_INFEASIBLE_START;
         return HP_OK;
     }
     if (e != HP_OK) return e;
-    e = hp_backend_start(pb, x0, xs);
+    e = hpi_backend_start(pb, x0, xs);
     if (e != HP_OK)
         return hp_diag_set(d, e, "%s: starting point not finite or not valid", name);
     *go = 1;

@@ -32,9 +32,9 @@
 static atomic_int ipopt_fault = HP_TEST_FAULT_NONE;
 static atomic_int ipopt_forced = HP_TEST_NO_FORCE;
 
-void hp_test_ipopt_fault(int fault) { atomic_store(&ipopt_fault, fault); }
-void hp_backend_ipopt_test_hook(int fault) { hp_test_ipopt_fault(fault); }
-void hp_test_ipopt_force_status(int code) { atomic_store(&ipopt_forced, code); }
+void hpi_test_ipopt_fault(int fault) { atomic_store(&ipopt_fault, fault); }
+void hpi_backend_ipopt_test_hook(int fault) { hpi_test_ipopt_fault(fault); }
+void hpi_test_ipopt_force_status(int code) { atomic_store(&ipopt_forced, code); }
 /* Ipopt reads bounds beyond ±1e19 as infinite. */
 #define IPOPT_INF 1e19
 /* mu_init for a cold start (Ipopt's default) and for a warm start near the solution. */
@@ -67,7 +67,7 @@ static Bool eval_f(Index n, Number *x, Bool new_x, Number *f, UserDataPtr u)
         *f = NAN;
         return TRUE;
     }
-    return hp_problem_objective(st->pb, x, f, NULL, NULL) == HP_OK;
+    return hpi_problem_objective(st->pb, x, f, NULL, NULL) == HP_OK;
 }
 
 static Bool eval_grad_f(Index n, Number *x, Bool new_x, Number *grad, UserDataPtr u)
@@ -75,7 +75,7 @@ static Bool eval_grad_f(Index n, Number *x, Bool new_x, Number *grad, UserDataPt
     (void)n, (void)new_x;
     const ipopt_state *st = u;
     double f;
-    return hp_problem_objective(st->pb, x, &f, grad, NULL) == HP_OK;
+    return hpi_problem_objective(st->pb, x, &f, grad, NULL) == HP_OK;
 }
 
 static Bool eval_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataPtr u)
@@ -83,7 +83,7 @@ static Bool eval_g(Index n, Number *x, Bool new_x, Index m, Number *g, UserDataP
     (void)n, (void)new_x, (void)m;
     const ipopt_state *st = u;
     if (atomic_load(&ipopt_fault) == HP_TEST_FAULT_FAIL_CONSTRAINTS) return FALSE;
-    return hp_problem_constraints(st->pb, x, g, NULL, NULL, NULL) == HP_OK;
+    return hpi_problem_constraints(st->pb, x, g, NULL, NULL, NULL) == HP_OK;
 }
 
 /* Row k of the Jacobian touches the six pose columns and its own ri column. */
@@ -101,7 +101,7 @@ static Bool eval_jac_g(Index n, Number *x, Bool new_x, Index m, Index nele, Inde
         return TRUE;
     }
     if (atomic_load(&ipopt_fault) == HP_TEST_FAULT_FAIL_CONSTRAINTS) return FALSE;
-    if (hp_problem_constraints(st->pb, x, NULL, st->dense, NULL, NULL) != HP_OK) return FALSE;
+    if (hpi_problem_constraints(st->pb, x, NULL, st->dense, NULL, NULL) != HP_OK) return FALSE;
     int e = 0;
     for (int k = 0; k < m; k++) {
         for (int i = 0; i < 6; i++) values[e++] = st->dense[k * st->nx + i];
@@ -127,9 +127,9 @@ static Bool eval_h(Index n, Number *x, Bool new_x, Number obj_factor, Index m, N
     }
     double *h = st->dense;
     double f;
-    if (hp_problem_objective(st->pb, x, &f, NULL, h) != HP_OK) return FALSE;
+    if (hpi_problem_objective(st->pb, x, &f, NULL, h) != HP_OK) return FALSE;
     for (int i = 0; i < n * n; i++) h[i] *= obj_factor;
-    if (hp_problem_constraints(st->pb, x, NULL, NULL, lambda, h) != HP_OK) return FALSE;
+    if (hpi_problem_constraints(st->pb, x, NULL, NULL, lambda, h) != HP_OK) return FALSE;
     int e = 0;
     for (int i = 0; i < 6; i++)
         for (int j = 0; j <= i; j++) values[e++] = h[i * n + j];
@@ -178,11 +178,11 @@ static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
                                  eval_f, eval_g, eval_grad_f, eval_jac_g, eval_h);
     if (!st->app) return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: CreateIpoptProblem failed");
     const hp_settings *s = &st->s;
-    hp_error e = hp_ipopt_base_options(st->app, s->tolerance, s->max_iter, s->max_time, d);
+    hp_error e = hpi_ipopt_base_options(st->app, s->tolerance, s->max_iter, s->max_time, d);
     if (e != HP_OK) return e;
     /* The quasi-Newton peer of the benchmarks: Ipopt then never calls eval_h. */
     if (st->lbfgs &&
-        (e = hp_ipopt_opt_str(st->app, "hessian_approximation", "limited-memory", d)))
+        (e = hpi_ipopt_opt_str(st->app, "hessian_approximation", "limited-memory", d)))
         return e;
     if (!SetIntermediateCallback(st->app, intermediate))
         return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: SetIntermediateCallback failed");
@@ -194,7 +194,7 @@ static hp_error ipopt_create(void **state, const hp_problem *pb, const hp_settin
 {
     if (!state || !pb || !s) return hp_diag_set(d, HP_ERR_NULL, "ipopt: NULL argument");
     *state = NULL;
-    hp_error e = hp_backend_check_problem(pb, d);
+    hp_error e = hpi_backend_check_problem(pb, d);
     if (e != HP_OK && e != HP_ERR_DOMAIN) return e;
     if (!(s->tolerance > 0.0) || !(s->max_iter > 0) || !(s->max_time > 0.0))
         return hp_diag_set(d, HP_ERR_INVALID, "ipopt: tolerance, max_iter, max_time must be > 0");
@@ -207,10 +207,10 @@ static hp_error ipopt_create(void **state, const hp_problem *pb, const hp_settin
     hp_problem tmp = *pb;
     for (int k = 0; k < pb->n; k++)
         if (!(tmp.ri_lo[k] <= tmp.ri_hi[k])) tmp.ri_hi[k] = tmp.ri_lo[k];
-    hp_ipopt_lock();
+    hpi_ipopt_lock();
     e = build_app(st, &tmp, d);
     if (e != HP_OK && st->app) FreeIpoptProblem(st->app);
-    hp_ipopt_unlock();
+    hpi_ipopt_unlock();
     if (e != HP_OK) {
         free(st);
         return e;
@@ -224,9 +224,9 @@ static void ipopt_destroy(void *state)
     ipopt_state *st = state;
     if (!st) return;
     if (st->app) {
-        hp_ipopt_lock();
+        hpi_ipopt_lock();
         FreeIpoptProblem(st->app);
-        hp_ipopt_unlock();
+        hpi_ipopt_unlock();
     }
     free(st);
 }
@@ -261,7 +261,7 @@ static hp_status map_status(enum ApplicationReturnStatus r, int timed_out, int *
  * reach. The final iterate still tells which bounds are active: on the central path every
  * slack · z is about mu, so z / slack is of order one at an active bound and ~1e-12 at an
  * inactive one. Those bounds are fixed and Ipopt solves again; the polished point replaces
- * the answer only if it passes the first-order test (hp_backend_kkt_ok, signs of the fixed
+ * the answer only if it passes the first-order test (hpi_backend_kkt_ok, signs of the fixed
  * bounds' multipliers included) and its objective is no worse than the interior point's (a
  * feasible point, so the optimum's objective is at most its own). Otherwise the answer is
  * left as it was, and the core labels it. The polish's solves share the plan's budgets: at
@@ -364,7 +364,7 @@ static int solve_fixed(ipopt_state *st, const hp_problem *pb, const double *x,
     int iters_left = s->max_iter - iters0;
     double time_left = s->max_time - (double)(clock() - st->cpu0) / CLOCKS_PER_SEC;
     if (iters_left > 0 && time_left > 0.0 &&
-        hp_ipopt_base_options(app, s->tolerance, iters_left, time_left, NULL) == HP_OK &&
+        hpi_ipopt_base_options(app, s->tolerance, iters_left, time_left, NULL) == HP_OK &&
         SetIntermediateCallback(app, intermediate))
         rc = IpoptSolve(app, xp, NULL, &obj, mg, ml, mu_, st);
     FreeIpoptProblem(app);
@@ -372,7 +372,7 @@ static int solve_fixed(ipopt_state *st, const hp_problem *pb, const double *x,
     int conv;
     map_status(rc, st->timed_out, &conv);
     for (int i = 0; i < st->nx; i++) conv = conv && isfinite(xp[i]);
-    if (conv) hp_backend_clip(pb, xp);
+    if (conv) hpi_backend_clip(pb, xp);
     return conv;
 }
 
@@ -385,16 +385,16 @@ static int polish(ipopt_state *st, const hp_problem *pb, double *x)
     int side[HP_MAX_BLADDERS];
     if (!pick_active(st, pb, x, side)) return 0;
     double f_ip;
-    if (hp_problem_objective(pb, x, &f_ip, NULL, NULL) != HP_OK) return 0;
+    if (hpi_problem_objective(pb, x, &f_ip, NULL, NULL) != HP_OK) return 0;
     const double feas = fmax(10.0 * st->s.tolerance, 1e-9);
     for (int round = 0; round < st->n; round++) {
         double xp[HP_PROBLEM_NX_MAX], f_pol;
         hp_kkt_measure m;
         if (!solve_fixed(st, pb, x, side, xp) ||
-            hp_problem_objective(pb, xp, &f_pol, NULL, NULL) != HP_OK ||
-            !(f_pol <= f_ip * (1.0 + 1e-9)) || hp_backend_kkt_measure(pb, xp, &m) != HP_OK)
+            hpi_problem_objective(pb, xp, &f_pol, NULL, NULL) != HP_OK ||
+            !(f_pol <= f_ip * (1.0 + 1e-9)) || hpi_backend_kkt_measure(pb, xp, &m) != HP_OK)
             return 0;
-        if (hp_backend_kkt_ok(pb, xp, feas)) {
+        if (hpi_backend_kkt_ok(pb, xp, feas)) {
             memcpy(x, xp, (size_t)st->nx * sizeof *x);
             return 1;
         }
@@ -425,7 +425,7 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
     if (!st || !pb || !x || !r) return hp_diag_set(d, HP_ERR_NULL, "ipopt: NULL argument");
     double xs[HP_PROBLEM_NX_MAX];
     int go;
-    hp_error e = hp_backend_begin("ipopt", pb, st->n, st->nx, x0, xs, r, &go, d);
+    hp_error e = hpi_backend_begin("ipopt", pb, st->n, st->nx, x0, xs, r, &go, d);
     if (e != HP_OK || !go) return e;
     /* Warm (previous multipliers, small bound pushes) only when the core said that x0 is
      * this backend's own last converged answer (warm_point). */
@@ -434,7 +434,7 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
     int same_bounds = memcmp(st->ri_lo, pb->ri_lo, (size_t)st->n * sizeof(double)) == 0 &&
                       memcmp(st->ri_hi, pb->ri_hi, (size_t)st->n * sizeof(double)) == 0;
 
-    hp_ipopt_lock();
+    hpi_ipopt_lock();
     if (!same_bounds || !st->app || st->rebuild) { /* also retries after a failed rebuild */
         st->rebuild = 0;
         if (st->app) FreeIpoptProblem(st->app);
@@ -446,9 +446,9 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
         }
     }
     if (e == HP_OK)
-        e = hp_ipopt_opt_str(st->app, "warm_start_init_point", warm ? "yes" : "no", d);
+        e = hpi_ipopt_opt_str(st->app, "warm_start_init_point", warm ? "yes" : "no", d);
     if (e == HP_OK)
-        e = hp_ipopt_opt_num(st->app, "mu_init", warm ? MU_INIT_WARM : MU_INIT_COLD, d);
+        e = hpi_ipopt_opt_num(st->app, "mu_init", warm ? MU_INIT_WARM : MU_INIT_COLD, d);
     enum ApplicationReturnStatus rc = Internal_Error;
     int polished = 0;
     if (e == HP_OK) {
@@ -469,7 +469,7 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
             polished = 1;
         st->pb = NULL;
     }
-    hp_ipopt_unlock();
+    hpi_ipopt_unlock();
     if (e != HP_OK) {
         st->have_prev = 0;
         return e;
@@ -486,7 +486,7 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
         r->converged = 0;
         r->status = HP_STATUS_SOLVER_ERROR;
     }
-    hp_backend_clip(pb, x);
+    hpi_backend_clip(pb, x);
     /* The stored multipliers belong to the unpolished point: the next solve starts cold. */
     st->have_prev = r->converged && !polished;
     return HP_OK;
@@ -520,17 +520,17 @@ static hp_error ipopt_set_option(void *state, const char *name, double value, hp
 }
 
 /* The load level's HOLD with its tie-breaker on Ipopt (load_ipopt.c). */
-static hp_load_solve_status ipopt_load_hold(const hp_load_model *M, const double xi[6],
+static hpi_load_solve_status ipopt_load_hold(const hp_load_model *M, const double xi[6],
                                             const double *lo, const double *hi,
                                             const double *target, const double *start,
                                             int max_iter, int stiffness, double *P, double *F,
                                             int *iterations, int *raw)
 {
-    return hp_load_hold_with(hp_load_hold_ipopt, M, xi, lo, hi, target, start, max_iter,
+    return hpi_load_hold_with(hpi_load_hold_ipopt, M, xi, lo, hi, target, start, max_iter,
                              stiffness, P, F, iterations, raw);
 }
 
-const hp_backend_ops hp_backend_ipopt_ops = {
+const hp_backend_ops hpi_backend_ipopt_ops = {
     .name = "ipopt",
     .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_WARM_STARTS | HP_BACKEND_LOAD |
             HP_BACKEND_LOAD_STIFFNESS,

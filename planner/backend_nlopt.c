@@ -59,8 +59,8 @@ typedef struct nlopt_state {
 static atomic_int nlopt_fault = HP_TEST_FAULT_NONE;
 static atomic_int nlopt_forced = HP_TEST_NO_FORCE;
 
-void hp_test_nlopt_fault(int fault) { atomic_store(&nlopt_fault, fault); }
-void hp_test_nlopt_force_result(int code) { atomic_store(&nlopt_forced, code); }
+void hpi_test_nlopt_fault(int fault) { atomic_store(&nlopt_fault, fault); }
+void hpi_test_nlopt_force_result(int code) { atomic_store(&nlopt_forced, code); }
 
 
 static void eval_fail(nlopt_state *st)
@@ -78,7 +78,7 @@ static double full_objective(unsigned nx, const double *x, double *grad, void *d
     nlopt_state *st = data;
     double f;
     int nan_fault = atomic_load(&nlopt_fault) == HP_TEST_FAULT_NAN_OBJECTIVE;
-    if (nan_fault || hp_problem_objective(st->pb, x, &f, grad, NULL) != HP_OK ||
+    if (nan_fault || hpi_problem_objective(st->pb, x, &f, grad, NULL) != HP_OK ||
         !isfinite(f)) {
         if (grad)
             for (unsigned i = 0; i < nx; i++) grad[i] = 0.0;
@@ -95,7 +95,7 @@ static void full_constraints(unsigned m, double *c, unsigned nx, const double *x
 {
     nlopt_state *st = data;
     if (atomic_load(&nlopt_fault) == HP_TEST_FAULT_FAIL_CONSTRAINTS ||
-        hp_problem_constraints(st->pb, x, c, grad, NULL, NULL) != HP_OK) {
+        hpi_problem_constraints(st->pb, x, c, grad, NULL, NULL) != HP_OK) {
         for (unsigned k = 0; k < m; k++) c[k] = HUGE_VAL;
         if (grad)
             for (unsigned i = 0; i < m * nx; i++) grad[i] = 0.0;
@@ -109,8 +109,8 @@ static void full_constraints(unsigned m, double *c, unsigned nx, const double *x
 static hp_error reduced_rho(const hp_problem *pb, const double *x, double *rho_mm)
 {
     double xi[6];
-    for (int i = 0; i < 6; i++) xi[i] = x[i] * hp_pose_si_per_scaled(i);
-    hp_error e = hp_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho_mm, NULL, NULL);
+    for (int i = 0; i < 6; i++) xi[i] = x[i] * hpi_pose_si_per_scaled(i);
+    hp_error e = hpi_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho_mm, NULL, NULL);
     if (e != HP_OK) return e;
     for (int k = 0; k < pb->n; k++) rho_mm[k] *= 1e3;
     return HP_OK;
@@ -130,7 +130,7 @@ static hp_error reduced_expand(const hp_problem *pb, const double *xi6, double *
         if (e != HP_OK) return e;
         x[6 + k] = ri * 1e3;
     }
-    hp_backend_clip(pb, x);
+    hpi_backend_clip(pb, x);
     return HP_OK;
 }
 
@@ -149,7 +149,7 @@ static double reduced_objective(unsigned n6, const double *x, double *grad, void
         double full[HP_PROBLEM_NX_MAX];
         double fo;
         if (reduced_expand(pb, x, full) != HP_OK ||
-            hp_problem_objective(pb, full, &fo, NULL, NULL) != HP_OK) {
+            hpi_problem_objective(pb, full, &fo, NULL, NULL) != HP_OK) {
             eval_fail(st);
             return HUGE_VAL;
         }
@@ -190,7 +190,7 @@ static hp_error create_common(void **state, const hp_problem *pb, const hp_setti
 {
     if (!state || !pb || !s) return hp_diag_set(d, HP_ERR_NULL, "nlopt: NULL argument");
     *state = NULL;
-    hp_error e = hp_backend_check_problem(pb, d);
+    hp_error e = hpi_backend_check_problem(pb, d);
     if (e != HP_OK && e != HP_ERR_DOMAIN) return e;
     if (!(s->tolerance > 0.0) || !(s->max_iter > 0) || !(s->max_time > 0.0))
         return hp_diag_set(d, HP_ERR_INVALID, "nlopt: tolerance, max_iter, max_time must be > 0");
@@ -300,7 +300,7 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
     if (!st || !pb || !x || !r) return hp_diag_set(d, HP_ERR_NULL, "nlopt: NULL argument");
     double xs[HP_PROBLEM_NX_MAX];
     int go;
-    hp_error e = hp_backend_begin("nlopt", pb, st->n, st->nx, x0, xs, r, &go, d);
+    hp_error e = hpi_backend_begin("nlopt", pb, st->n, st->nx, x0, xs, r, &go, d);
     if (e != HP_OK || !go) return e;
 
     {
@@ -356,30 +356,30 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
          * is limited by rounding at about that level. */
         double stol = st->s.tolerance < HP_NLOPT_SOLVE_TOL_MAX ? st->s.tolerance
                                                               : HP_NLOPT_SOLVE_TOL_MAX;
-        if (hp_backend_kkt_ok(pb, v, fmax(10.0 * stol, 1e-9))) {
+        if (hpi_backend_kkt_ok(pb, v, fmax(10.0 * stol, 1e-9))) {
             r->converged = 1;
             r->status = HP_STATUS_REACHED;
         }
     }
-    hp_backend_clip(pb, v);
+    hpi_backend_clip(pb, v);
     memcpy(x, v, (size_t)st->nx * sizeof *x);
     return HP_OK;
 }
 
 /* The load level's HOLD with its tie-breaker on NLopt SLSQP (load_nlopt.c); the
  * derivative-free COBYLA has no load_hold. */
-static hp_load_solve_status slsqp_load_hold(const hp_load_model *M, const double xi[6],
+static hpi_load_solve_status slsqp_load_hold(const hp_load_model *M, const double xi[6],
                                             const double *lo, const double *hi,
                                             const double *target, const double *start,
                                             int max_iter, int stiffness, double *P, double *F,
                                             int *iterations, int *raw)
 {
     (void)stiffness; /* not in caps: hp_planner_create refuses it */
-    return hp_load_hold_with(hp_load_hold_nlopt, M, xi, lo, hi, target, start, max_iter, 0, P,
+    return hpi_load_hold_with(hpi_load_hold_nlopt, M, xi, lo, hi, target, start, max_iter, 0, P,
                              F, iterations, raw);
 }
 
-const hp_backend_ops hp_backend_nlopt_slsqp_ops = {
+const hp_backend_ops hpi_backend_nlopt_slsqp_ops = {
     .name = "nlopt-slsqp",
     .caps = HP_BACKEND_THREAD_SAFE | HP_BACKEND_LOAD,
     .load_hold = slsqp_load_hold,
@@ -388,7 +388,7 @@ const hp_backend_ops hp_backend_nlopt_slsqp_ops = {
     .destroy = nlopt_state_destroy,
 };
 
-const hp_backend_ops hp_backend_nlopt_cobyla_ops = {
+const hp_backend_ops hpi_backend_nlopt_cobyla_ops = {
     .name = "nlopt-cobyla",
     .caps = HP_BACKEND_THREAD_SAFE,
     .create = cobyla_create,

@@ -66,7 +66,7 @@ typedef struct rt_state {
     double u[HP_QP_MMAX]; /* multipliers of the last QP: the Lagrangian's curvature */
     int have_u;
     int qps; /* QPs solved in this solve (for the test hook) */
-    hp_test_rt_counts cnt; /* this solve's paths (hp_test_realtime_count) */
+    hp_test_rt_counts cnt; /* this solve's paths (hpi_test_realtime_count) */
     hp_kin_dist_warm sw[HP_MAX_BLADDERS]; /* surface level: the last distances' warm states */
     int act[HP_QP_MMAX]; /* active set of the previous SQP step's QP */
     int exact;           /* the last QP's Hessian was the Lagrangian's own (Newton) */
@@ -107,7 +107,7 @@ typedef struct rt_state {
  * the worst case — everywhere in this backend (the core's own evaluations are not hooked). */
 static atomic_int rt_fault = HP_TEST_FAULT_NONE;
 
-void hp_test_realtime_fault(int fault) { atomic_store(&rt_fault, fault); }
+void hpi_test_realtime_fault(int fault) { atomic_store(&rt_fault, fault); }
 
 static double now_s(clockid_t clk);
 
@@ -116,14 +116,14 @@ static double now_s(clockid_t clk);
 static atomic_int rt_counting;
 static atomic_long rt_counts[9];
 
-void hp_test_realtime_count(int on)
+void hpi_test_realtime_count(int on)
 {
     if (on)
         for (int i = 0; i < 9; ++i) atomic_store(&rt_counts[i], 0);
     atomic_store(&rt_counting, on != 0);
 }
 
-void hp_test_realtime_counts(hp_test_rt_counts *out)
+void hpi_test_realtime_counts(hp_test_rt_counts *out)
 {
     long *f[9] = {&out->solves,   &out->qps,    &out->qp_warm,  &out->soc,        &out->soc_warm,
                   &out->h_kept, &out->rho_step, &out->rho_refused, &out->late};
@@ -202,7 +202,7 @@ static clockid_t budget_clock(double max_time)
     return CLOCK_MONOTONIC;
 }
 
-int hp_test_realtime_coarse_clock(double max_time)
+int hpi_test_realtime_coarse_clock(double max_time)
 {
     return budget_clock(max_time) != CLOCK_MONOTONIC;
 }
@@ -231,9 +231,9 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
     if (H)
         for (int k = 0; k < pb->n; ++k) mask[k] = st->u[2 * k] - st->u[2 * k + 1] != 0.0;
     double xi[6], Jsi[HP_MAX_BLADDERS * 6];
-    for (int i = 0; i < 6; ++i) xi[i] = x[i] * hp_pose_si_per_scaled(i);
+    for (int i = 0; i < 6; ++i) xi[i] = x[i] * hpi_pose_si_per_scaled(i);
     rt_count_late(st);
-    hp_error e = hp_kin_contact_eval_mask(pb->layout, pb->geom, pb->level, xi, st->sw,
+    hp_error e = hpi_kin_contact_eval_mask(pb->layout, pb->geom, pb->level, xi, st->sw,
                                           H ? mask : NULL, rho, J ? Jsi : NULL, H);
     if (e != HP_OK) return e;
     for (int k = 0; k < pb->n; ++k) {
@@ -241,7 +241,7 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
         if (!isfinite(rho[k])) return HP_ERR_DOMAIN;
         if (J)
             for (int i = 0; i < 6; ++i)
-                J[k * 6 + i] = Jsi[k * 6 + i] * HP_MM_PER_M * hp_pose_si_per_scaled(i);
+                J[k * 6 + i] = Jsi[k * 6 + i] * HP_MM_PER_M * hpi_pose_si_per_scaled(i);
         if (H && mask[k]) { /* the others are not written, and never read (build_objective) */
             /* h − h is +0 for a finite h and NaN for a NaN or an infinity, so the sums are
              * 0 exactly when every entry is finite: one check, no branch per entry. */
@@ -260,7 +260,7 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
 /* The margin (mm) by which the QP moves bladder k's limits inward. */
 static double rt_margin(const hp_problem *pb, int k)
 {
-    return hp_min2(RT_MARGIN_MM, 0.25 * (pb->ro_hi[k] - pb->ro_lo[k]));
+    return hpi_min2(RT_MARGIN_MM, 0.25 * (pb->ro_hi[k] - pb->ro_lo[k]));
 }
 
 /* Violation (mm, summed) of the limits the QP sees: moved inward by the margin. The merit
@@ -274,7 +274,7 @@ static double qp_violation(const rt_state *st, const hp_problem *pb, const doubl
     for (int k = 0; k < pb->n; ++k) {
         if (!isfinite(rho[k])) return INFINITY;
         double mg = st->mg[k];
-        v += hp_max2(0.0, hp_max2(pb->ro_lo[k] + mg - rho[k], rho[k] - (pb->ro_hi[k] - mg)));
+        v += hpi_max2(0.0, hpi_max2(pb->ro_lo[k] + mg - rho[k], rho[k] - (pb->ro_hi[k] - mg)));
     }
     return v;
 }
@@ -293,7 +293,7 @@ static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings 
     st->H = st->Hb[0];
     st->c_H = st->Hb[1];
     const double zero[6] = {0};
-    hp_kin_dist_warm_cold(st->sw, HP_MAX_BLADDERS);
+    hpi_kin_dist_warm_cold(st->sw, HP_MAX_BLADDERS);
     st->z_ok = rt_contact(st, pb, zero, st->z_rho, st->z_J, NULL, NULL) == HP_OK;
     memcpy(st->z_sw, st->sw, sizeof st->z_sw);
     *state = st;
@@ -312,8 +312,8 @@ static void rt_begin(rt_state *st, const hp_problem *pb)
     /* mm/m · (si/scaled)_a · (si/scaled)_b: one product per entry instead of a division */
     for (int a = 0; a < nv; ++a)
         for (int b = 0; b < nv; ++b)
-            st->hsc[a * nv + b] = HP_MM_PER_M * hp_pose_si_per_scaled(st->map[a]) *
-                                  hp_pose_si_per_scaled(st->map[b]);
+            st->hsc[a * nv + b] = HP_MM_PER_M * hpi_pose_si_per_scaled(st->map[a]) *
+                                  hpi_pose_si_per_scaled(st->map[b]);
     for (int k = 0; k < pb->n; ++k) st->mg[k] = rt_margin(pb, k);
 }
 
@@ -324,7 +324,7 @@ static void rt_warm_point(void *state, int accepted) { ((rt_state *)state)->acce
  * curvature make the Lagrangian nearly singular and the Newton step wild. */
 static int well_convex(const double *G, int nv, double frac, double *L)
 {
-    return hp_cholesky(G, nv, nv, frac, L, nv);
+    return hpi_cholesky(G, nv, nv, frac, L, nv);
 }
 
 /* 1 when G − frac·W is positive definite (W the objective's diagonal weights): every
@@ -334,7 +334,7 @@ static int above_w(const double *G, const hp_problem *pb, const int *map, int nv
     double M[HP_QP_NMAX * HP_QP_NMAX], L[HP_QP_NMAX * HP_QP_NMAX] = {0};
     memcpy(M, G, sizeof M);
     for (int v = 0; v < nv; ++v) M[v * nv + v] -= frac * pb->w[map[v]];
-    return hp_cholesky(M, nv, nv, 0.0, L, nv);
+    return hpi_cholesky(M, nv, nv, 0.0, L, nv);
 }
 
 /* Hessian of the Lagrangian in the commanded variables, W − Σ (u_lo,k − u_hi,k)·∇²rho_k
@@ -400,7 +400,7 @@ static void build_objective(rt_state *st, const hp_problem *pb, const double *xk
         }
     }
     if (!curved || (!st->Lg_ok && sigma == 0.0)) {
-        /* G = W, diagonal: its Cholesky factor is diag(√w), the very bits hp_cholesky
+        /* G = W, diagonal: its Cholesky factor is diag(√w), the very bits hpi_cholesky
          * gives (each pivot w − 0, each entry below it 0/√w), so the QP need not factor */
         memset(st->Lg, 0, sizeof st->Lg);
         for (int v = 0; v < nv; ++v) st->Lg[v * nv + v] = sqrt(pb->w[map[v]]);
@@ -422,7 +422,7 @@ static void build_objective(rt_state *st, const hp_problem *pb, const double *xk
 
 /* Builds and solves the QP linearised at xk (scaled pose; uncommanded entries 0), with the
  * limits tightened by extra[k] (mm, may be NULL). Writes the new pose into x. guess (may
- * be NULL) is the active set the QP is warm-started from (hp_qp_solve_warm): successive
+ * be NULL) is the active set the QP is warm-started from (hpi_qp_solve_warm): successive
  * SQP steps' QPs mostly share theirs, and a wrong guess only costs the attempt. */
 static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
                           const double *extra, const int *guess, double *x, int budget,
@@ -496,11 +496,11 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
     }
     build_objective(st, pb, xk, curved);
     hp_qp_status qs =
-        hp_qp_solve_warm(q, st->Lg_ok ? st->Lg : NULL, guess, budget, RT_FEAS_TOL);
+        hpi_qp_solve_warm(q, st->Lg_ok ? st->Lg : NULL, guess, budget, RT_FEAS_TOL);
     *iters += q->iterations;
     if (qs == HP_QP_BAD_INPUT && curved) { /* Lagrangian not convex here: plain W */
         build_objective(st, pb, xk, 0);
-        qs = hp_qp_solve_warm(q, st->Lg, guess, budget, RT_FEAS_TOL);
+        qs = hpi_qp_solve_warm(q, st->Lg, guess, budget, RT_FEAS_TOL);
         *iters += q->iterations;
     }
     ++st->qps;
@@ -530,16 +530,16 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
     double worst = 0;
     for (int k = 0; k < pb->n; ++k) {
         if (!isfinite(st->rho[k])) return INFINITY; /* a max would drop a NaN */
-        double v = hp_max2(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]);
-        v = hp_max2(v, 0.0);
+        double v = hpi_max2(pb->ro_lo[k] - st->rho[k], st->rho[k] - pb->ro_hi[k]);
+        v = hpi_max2(v, 0.0);
         if (viol) viol[k] = v;
-        worst = hp_max2(worst, v);
+        worst = hpi_max2(worst, v);
     }
     return worst;
 }
 
 /* rho at xk (st->rho) from the last QP's linearisation at xa, rho_k + J·(xk − xa), when
- * the step xa -> xk is so short that its second-order remainder (hp_kin_contact_step_bound,
+ * the step xa -> xk is so short that its second-order remainder (hpi_kin_contact_step_bound,
  * a bound derived for the layout's geometry, not an estimate) is below one rounding of
  * each radius: then these are the numbers a fresh evaluation would give, to its own
  * rounding, for 48 multiply-adds instead of eight distances. A converged solve's last
@@ -549,11 +549,11 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
 static int rho_by_step(rt_state *st, const hp_problem *pb, const double *xa, const double *xk)
 {
     double xia[6], xib[6], dxi[6], ra[HP_MAX_BLADDERS], b[HP_MAX_BLADDERS], r[HP_MAX_BLADDERS];
-    hp_setup_pose_from_scaled(xa, xia);
-    hp_setup_pose_from_scaled(xk, xib);
+    hpi_setup_pose_from_scaled(xa, xia);
+    hpi_setup_pose_from_scaled(xk, xib);
     for (int i = 0; i < 6; ++i) dxi[i] = xib[i] - xia[i];
     for (int k = 0; k < pb->n; ++k) ra[k] = st->rho_k[k] / HP_MM_PER_M;
-    if (hp_kin_contact_step_bound(pb->layout, pb->geom, pb->level, xia, dxi, ra, b) != HP_OK)
+    if (hpi_kin_contact_step_bound(pb->layout, pb->geom, pb->level, xia, dxi, ra, b) != HP_OK)
         return 0;
     for (int k = 0; k < pb->n; ++k) {
         double v = st->rho_k[k];
@@ -578,7 +578,7 @@ static void lin_point(const rt_state *st, const hp_problem *pb, const double *xa
     for (int k = 0; k < pb->n; ++k)
         for (int i = 0; i < 6; ++i)
             r->lin_J[k * 6 + i] =
-                st->J[k * 6 + i] / (HP_MM_PER_M * hp_pose_si_per_scaled(i));
+                st->J[k * 6 + i] / (HP_MM_PER_M * hpi_pose_si_per_scaled(i));
     r->has_lin = 1;
 }
 
@@ -676,7 +676,7 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     const double *Lg = st->Lg_ok ? st->Lg : NULL;
     if (rt_late(st)) return 0;
     if (soc_ok && isfinite(phi0) &&
-        hp_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
+        hpi_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
         *iters += q->iterations;
         ++st->cnt.soc;
         st->cnt.soc_warm += q->warm == HP_QP_WARM_ACCEPTED;
@@ -732,7 +732,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     st->accepted = 0;
     if (!warm) {
         st->have_u = 0;
-        hp_kin_dist_warm_cold(st->sw, HP_MAX_BLADDERS); /* a cold first distance */
+        hpi_kin_dist_warm_cold(st->sw, HP_MAX_BLADDERS); /* a cold first distance */
     }
     st->qps = 0;
     memset(&st->cnt, 0, sizeof st->cnt); /* its solves and qps fields stay unused here */
@@ -932,7 +932,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
 
 /* The load level's HOLD with its own bounded SQP tie-breaker (load_solve.c); no solver code
  * of its own, so raw is left alone. */
-static hp_load_solve_status rt_load_hold(const hp_load_model *M, const double xi[6],
+static hpi_load_solve_status rt_load_hold(const hp_load_model *M, const double xi[6],
                                          const double *lo, const double *hi,
                                          const double *target, const double *start,
                                          int max_iter, int stiffness, double *P, double *F,
@@ -940,10 +940,10 @@ static hp_load_solve_status rt_load_hold(const hp_load_model *M, const double xi
 {
     (void)stiffness; /* not in caps: hp_planner_create refuses it */
     (void)raw;
-    return hp_load_hold(M, xi, lo, hi, target, start, max_iter, P, F, iterations);
+    return hpi_load_hold(M, xi, lo, hi, target, start, max_iter, P, F, iterations);
 }
 
-const hp_backend_ops hp_backend_realtime_ops = {
+const hp_backend_ops hpi_backend_realtime_ops = {
     .name = "realtime",
     .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_THREAD_SAFE | HP_BACKEND_REAL_TIME |
             HP_BACKEND_WARM_STARTS | HP_BACKEND_LOAD,

@@ -26,26 +26,26 @@ enum hp_test_fault {
 #define HP_TEST_NO_FORCE (-1000000)
 
 /* Sets the fault every Ipopt backend in the process injects from now on (an atomic store;
- * HP_TEST_FAULT_NONE switches it off). hp_backend_ipopt_test_hook is the older name. */
-void hp_test_ipopt_fault(int fault);
-void hp_backend_ipopt_test_hook(int fault);
+ * HP_TEST_FAULT_NONE switches it off). hpi_backend_ipopt_test_hook is the older name. */
+void hpi_test_ipopt_fault(int fault);
+void hpi_backend_ipopt_test_hook(int fault);
 
 /* After the next IpoptSolve calls, report this ApplicationReturnStatus instead of the real
  * one (the solve still runs; its point is kept). HP_TEST_NO_FORCE switches it off. For codes
  * a test cannot provoke honestly (restoration failure, internal error, ...). */
-void hp_test_ipopt_force_status(int code);
+void hpi_test_ipopt_force_status(int code);
 
 /* The same two hooks for the NLopt backends (SLSQP and COBYLA): the fault in the
  * evaluations, and an nlopt_result to report instead of nlopt_optimize's own. */
-void hp_test_nlopt_fault(int fault);
-void hp_test_nlopt_force_result(int code);
+void hpi_test_nlopt_fault(int fault);
+void hpi_test_nlopt_force_result(int code);
 
 /* Fault in the realtime backend's contact evaluations (HP_TEST_FAULT_NAN_CONTACT*). */
-void hp_test_realtime_fault(int fault);
+void hpi_test_realtime_fault(int fault);
 
 /* 1 when a realtime backend created with this max_time reads its time budget on the coarse
  * monotonic clock (max_time at least 100 of its ticks), 0 when on the precise one. */
-int hp_test_realtime_coarse_clock(double max_time);
+int hpi_test_realtime_coarse_clock(double max_time);
 
 /* Counts of the realtime backend's less travelled paths, summed over every solve in the
  * process while counting is on (so a test can assert that its targets walk them through the
@@ -60,11 +60,11 @@ typedef struct hp_test_rt_counts {
     long solves, qps, qp_warm, soc, soc_warm, h_kept, rho_step, rho_refused, late;
 } hp_test_rt_counts;
 /* on = 1: zero the counts and count from now on; on = 0: stop counting (counts kept). */
-void hp_test_realtime_count(int on);
-void hp_test_realtime_counts(hp_test_rt_counts *out);
+void hpi_test_realtime_count(int on);
+void hpi_test_realtime_counts(hp_test_rt_counts *out);
 
 /* Takes (hold = 1) or releases (hold = 0) the process-wide Ipopt mutex from the calling
  * thread, so a test can prove that the realtime and NLopt backends never wait on it. */
-void hp_test_ipopt_lock(int hold);
+void hpi_test_ipopt_lock(int hold);
 
 #endif

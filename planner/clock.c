@@ -4,7 +4,7 @@
 
 #include <time.h>
 
-double hp_plan_now(void)
+double hpi_plan_now(void)
 {
     struct timespec ts;
     clock_gettime(CLOCK_MONOTONIC, &ts);

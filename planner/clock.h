@@ -3,6 +3,6 @@
 #define HP_PLANNER_CLOCK_H
 
 /* CLOCK_MONOTONIC in seconds. */
-double hp_plan_now(void);
+double hpi_plan_now(void);
 
 #endif

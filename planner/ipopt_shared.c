@@ -9,10 +9,10 @@
 
 static pthread_mutex_t ipopt_lock = PTHREAD_MUTEX_INITIALIZER;
 
-void hp_ipopt_lock(void) { pthread_mutex_lock(&ipopt_lock); }
-void hp_ipopt_unlock(void) { pthread_mutex_unlock(&ipopt_lock); }
+void hpi_ipopt_lock(void) { pthread_mutex_lock(&ipopt_lock); }
+void hpi_ipopt_unlock(void) { pthread_mutex_unlock(&ipopt_lock); }
 /* Test-only (planner/backend_testing.h): holds the solver mutex from outside. */
-void hp_test_ipopt_lock(int hold)
+void hpi_test_ipopt_lock(int hold)
 {
     if (hold) pthread_mutex_lock(&ipopt_lock);
     else pthread_mutex_unlock(&ipopt_lock);
@@ -23,21 +23,21 @@ void hp_test_ipopt_lock(int hold)
 
 /* Option setters that fail loudly (in the diagnostic) instead of printing. Caller holds the
  * lock. */
-hp_error hp_ipopt_opt_str(IpoptProblem a, const char *k, const char *v, hp_diag *d)
+hp_error hpi_ipopt_opt_str(IpoptProblem a, const char *k, const char *v, hp_diag *d)
 {
-    if (!AddIpoptStrOption(a, hp_unconst(k), hp_unconst(v)))
+    if (!AddIpoptStrOption(a, hpi_unconst(k), hpi_unconst(v)))
         return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %s rejected", k, v);
     return HP_OK;
 }
-hp_error hp_ipopt_opt_num(IpoptProblem a, const char *k, double v, hp_diag *d)
+hp_error hpi_ipopt_opt_num(IpoptProblem a, const char *k, double v, hp_diag *d)
 {
-    if (!AddIpoptNumOption(a, hp_unconst(k), v))
+    if (!AddIpoptNumOption(a, hpi_unconst(k), v))
         return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %g rejected", k, v);
     return HP_OK;
 }
 static hp_error opt_int(IpoptProblem a, const char *k, int v, hp_diag *d)
 {
-    if (!AddIpoptIntOption(a, hp_unconst(k), v))
+    if (!AddIpoptIntOption(a, hpi_unconst(k), v))
         return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: option %s = %d rejected", k, v);
     return HP_OK;
 }
@@ -46,7 +46,7 @@ static hp_error opt_int(IpoptProblem a, const char *k, int v, hp_diag *d)
  * active bound's slack is far below HP_BINDING_TOL_MM for any multiplier above 1e-3. */
 #define IPOPT_COMPL_TOL 1e-10
 
-hp_error hp_ipopt_base_options(IpoptProblem app, double tol, int max_iter, double max_time,
+hp_error hpi_ipopt_base_options(IpoptProblem app, double tol, int max_iter, double max_time,
                                hp_diag *d)
 {
     /* bound_relax_factor 0: by default Ipopt relaxes each bound by 1e-8 relative (3e-7 mm
@@ -61,23 +61,23 @@ hp_error hp_ipopt_base_options(IpoptProblem app, double tol, int max_iter, doubl
      * (HP_BINDING_TOL_MM, 1e-6 mm) sees no limit and must refuse a CLOSEST claim: a loose
      * tolerance then gave solver-error on 35 of the bench's 40 binding targets. */
     hp_error e;
-    if ((e = hp_ipopt_opt_str(app, "sb", "yes", d)) ||
+    if ((e = hpi_ipopt_opt_str(app, "sb", "yes", d)) ||
         (e = opt_int(app, "print_level", 0, d)) ||
-        (e = hp_ipopt_opt_str(app, "option_file_name", "", d)) ||
-        (e = hp_ipopt_opt_num(app, "tol", tol, d)) ||
-        (e = hp_ipopt_opt_num(app, "constr_viol_tol", tol, d)) ||
-        (e = hp_ipopt_opt_num(app, "compl_inf_tol", fmin(tol, IPOPT_COMPL_TOL), d)) ||
-        (e = hp_ipopt_opt_num(app, "bound_relax_factor", 0.0, d)) ||
+        (e = hpi_ipopt_opt_str(app, "option_file_name", "", d)) ||
+        (e = hpi_ipopt_opt_num(app, "tol", tol, d)) ||
+        (e = hpi_ipopt_opt_num(app, "constr_viol_tol", tol, d)) ||
+        (e = hpi_ipopt_opt_num(app, "compl_inf_tol", fmin(tol, IPOPT_COMPL_TOL), d)) ||
+        (e = hpi_ipopt_opt_num(app, "bound_relax_factor", 0.0, d)) ||
         (e = opt_int(app, "acceptable_iter", 0, d)) ||
-        (e = hp_ipopt_opt_num(app, "acceptable_tol", acc, d)) ||
-        (e = hp_ipopt_opt_num(app, "acceptable_constr_viol_tol", acc, d)) ||
+        (e = hpi_ipopt_opt_num(app, "acceptable_tol", acc, d)) ||
+        (e = hpi_ipopt_opt_num(app, "acceptable_constr_viol_tol", acc, d)) ||
         (e = opt_int(app, "max_iter", max_iter, d)) ||
-        (e = hp_ipopt_opt_num(app, "max_cpu_time", max_time, d)) ||
-        (e = hp_ipopt_opt_num(app, "warm_start_bound_push", WARM_PUSH, d)) ||
-        (e = hp_ipopt_opt_num(app, "warm_start_bound_frac", WARM_PUSH, d)) ||
-        (e = hp_ipopt_opt_num(app, "warm_start_slack_bound_push", WARM_PUSH, d)) ||
-        (e = hp_ipopt_opt_num(app, "warm_start_slack_bound_frac", WARM_PUSH, d)) ||
-        (e = hp_ipopt_opt_num(app, "warm_start_mult_bound_push", WARM_PUSH, d)))
+        (e = hpi_ipopt_opt_num(app, "max_cpu_time", max_time, d)) ||
+        (e = hpi_ipopt_opt_num(app, "warm_start_bound_push", WARM_PUSH, d)) ||
+        (e = hpi_ipopt_opt_num(app, "warm_start_bound_frac", WARM_PUSH, d)) ||
+        (e = hpi_ipopt_opt_num(app, "warm_start_slack_bound_push", WARM_PUSH, d)) ||
+        (e = hpi_ipopt_opt_num(app, "warm_start_slack_bound_frac", WARM_PUSH, d)) ||
+        (e = hpi_ipopt_opt_num(app, "warm_start_mult_bound_push", WARM_PUSH, d)))
         return e;
     return HP_OK;
 }

@@ -20,7 +20,7 @@ static void contact_why(const hp_planner *p, hp_level chosen, char *why, size_t 
              s->level_tolerance * 1e3, s->auto_trans * 1e3, s->auto_rot * HP_DEG_PER_RAD);
     double b[2] = {NAN, NAN};
     for (int l = HP_LEVEL_LINEAR; l < (int)chosen && l <= HP_LEVEL_PLANE; ++l)
-        if (hp_contact_error_bound_g(&p->L, &p->G, (hp_level)l, s->auto_trans, s->auto_rot,
+        if (hpi_contact_error_bound_g(&p->L, &p->G, (hp_level)l, s->auto_trans, s->auto_rot,
                                      &b[l]) != HP_OK)
             b[l] = NAN;
     const char *name = hp_level_name(chosen);
@@ -34,7 +34,7 @@ static void contact_why(const hp_planner *p, hp_level chosen, char *why, size_t 
         snprintf(why, len, "auto chose %s: its error bound meets %s", name, range);
 }
 
-hp_error hp_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_diag *d)
+hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_diag *d)
 {
     const hp_settings *s = &p->s;
     p->level = s->level;
@@ -45,7 +45,7 @@ hp_error hp_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_dia
         /* The load model, built once: auto decides on it, the load level plans with it. */
         p->load = calloc(1, sizeof *p->load);
         if (!p->load) return hp_diag_set(d, HP_ERR_NOMEM, "planner: out of memory");
-        hp_error e = hp_load_level_model(p->load, layout, s, d);
+        hp_error e = hpi_load_level_model(p->load, layout, s, d);
         if (e != HP_OK) return e;
         if (s->level == HP_LEVEL_AUTO) {
             /* The load level when the sag a kinematic plan would leave exceeds the
@@ -66,7 +66,7 @@ hp_error hp_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_dia
         }
     }
     if (p->level != HP_LEVEL_AUTO) return HP_OK;
-    hp_error e = hp_contact_auto_g(&p->L, &p->G, s->level_tolerance, s->auto_trans, s->auto_rot,
+    hp_error e = hpi_contact_auto_g(&p->L, &p->G, s->level_tolerance, s->auto_trans, s->auto_rot,
                                    &p->level);
     if (e != HP_OK)
         return hp_diag_set(d, e, "level: auto could not choose a contact level (%s)",

@@ -49,7 +49,7 @@ static int force_range(const hp_load_model *M, int k, double rho, double plo, do
 {
     memset(r, 0, sizeof *r);
     const double c = 1.0 - HP_LOAD_INDENT_MAX;
-    double Pt = hp_load_touch_pressure(M, k, rho), Pi = hp_load_indent_pressure(M, k, rho);
+    double Pt = hpi_load_touch_pressure(M, k, rho), Pi = hpi_load_indent_pressure(M, k, rho);
     if (plo > 0 && plo > Pt && plo > Pi) return 1;
     double L = fmax(plo, fmax(0.0, Pt)), U = fmin(phi, Pi);
     if (!(L < U)) return 0;
@@ -57,21 +57,21 @@ static int force_range(const hp_load_model *M, int k, double rho, double plo, do
     if (plo > 0 && plo > Pt) { /* the lowest pressure already carries */
         if (hp_load_radius(M, k, plo, &ro, NULL) != HP_OK) return -1;
         hp_claw lo;
-        hp_claw_cap(plo, ro, rho, &lo);
+        hpi_claw_cap(plo, ro, rho, &lo);
         r->lo = lo.F;
         r->dlo = lo.d[HP_CLAW_RHO];
     }
     if (U == phi) {
         if (hp_load_radius(M, k, phi, &ro, NULL) != HP_OK) return -1;
         hp_claw hi;
-        hp_claw_cap(phi, ro, rho, &hi);
+        hpi_claw_cap(phi, ro, rho, &hi);
         r->hi = hi.F;
         r->dhi = hi.d[HP_CLAW_RHO];
     } else { /* at the indentation edge: ro = rho/c and P = Pi(rho), both moving with rho */
         if (hp_load_radius(M, k, U, &ro, &dro) != HP_OK || !(dro > 0)) return -1;
         double dPi = 1.0 / (c * dro);
         hp_claw e;
-        hp_claw_cap(U, rho / c, rho, &e);
+        hpi_claw_cap(U, rho / c, rho, &e);
         r->hi = e.F;
         r->dhi = e.d[HP_CLAW_P] * dPi + e.d[HP_CLAW_RO] / c + e.d[HP_CLAW_RHO];
     }
@@ -94,12 +94,12 @@ static int cl_eval(const cl_ctx *C, const double y[6], const double *s, double c
     const hp_load_model *M = C->M;
     const int n = C->n;
     double xi[6], rho[HP_MAX_BLADDERS], J[6 * HP_MAX_BLADDERS], H[36 * HP_MAX_BLADDERS];
-    for (int i = 0; i < 6; ++i) xi[i] = y[i] * hp_load_unit(i);
-    if (hp_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, Cy ? H : NULL) != HP_OK ||
-        hp_load_domain(M, rho) != HP_OK)
+    for (int i = 0; i < 6; ++i) xi[i] = y[i] * hpi_load_unit(i);
+    if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, Cy ? H : NULL) != HP_OK ||
+        hpi_load_domain(M, rho) != HP_OK)
         return -1;
     double Qg[6], dQg[36];
-    hp_load_gravity(M, xi, Qg, Cy ? dQg : NULL, NULL);
+    hpi_load_gravity(M, xi, Qg, Cy ? dQg : NULL, NULL);
     double q[6], D[36];
     memcpy(q, Qg, sizeof q);
     if (Cy) memcpy(D, dQg, sizeof D);
@@ -113,14 +113,14 @@ static int cl_eval(const cl_ctx *C, const double y[6], const double *s, double c
         if (Cy) {
             for (int i = 0; i < 6; ++i) {
                 for (int j = 0; j < 6; ++j) D[i * 6 + j] += Fk * H[k * 36 + i * 6 + j] + dF * Jk[i] * Jk[j];
-                Cs[i * n + k] = (r.hi - r.lo) * Jk[i] * hp_load_row_weight(i);
+                Cs[i * n + k] = (r.hi - r.lo) * Jk[i] * hpi_load_row_weight(i);
             }
         }
     }
     for (int i = 0; i < 6; ++i) {
-        c[i] = q[i] * hp_load_row_weight(i);
+        c[i] = q[i] * hpi_load_row_weight(i);
         if (Cy)
-            for (int j = 0; j < 6; ++j) Cy[i * 6 + j] = D[i * 6 + j] * hp_load_row_weight(i) * hp_load_unit(j);
+            for (int j = 0; j < 6; ++j) Cy[i * 6 + j] = D[i * 6 + j] * hpi_load_row_weight(i) * hpi_load_unit(j);
     }
     return 0;
 }
@@ -137,7 +137,7 @@ static double l1(const double c[6])
     return fabs(c[0]) + fabs(c[1]) + fabs(c[2]) + fabs(c[3]) + fabs(c[4]) + fabs(c[5]);
 }
 
-hp_load_solve_status hp_load_closest(const hp_load_model *M, const double desired[6],
+hpi_load_solve_status hpi_load_closest(const hp_load_model *M, const double desired[6],
                                      const double W[6], const double *lo, const double *hi,
                                      const double xi0[6], const double *F0, int max_iter,
                                      double xi[6], int *iterations)
@@ -146,10 +146,10 @@ hp_load_solve_status hp_load_closest(const hp_load_model *M, const double desire
     cl_ctx C = {M, lo, hi, n};
     double y[6], yd[6], s[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
     for (int i = 0; i < 6; ++i) {
-        y[i] = xi0[i] / hp_load_unit(i);
-        yd[i] = desired[i] / hp_load_unit(i);
+        y[i] = xi0[i] / hpi_load_unit(i);
+        yd[i] = desired[i] / hpi_load_unit(i);
     }
-    if (hp_contact_eval_g(&M->layout, &M->geom, M->level, xi0, rho, NULL, NULL) != HP_OK)
+    if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi0, rho, NULL, NULL) != HP_OK)
         return HP_LOAD_SOLVE_ERROR;
     for (int k = 0; k < n; ++k) {
         frange r;
@@ -191,7 +191,7 @@ hp_load_solve_status hp_load_closest(const hp_load_model *M, const double desire
             red = 1.0 / (double)(1 << relax); /* the part of the residual removed: 1, ½, ¼, ... */
             for (int r = 0; r < 6; ++r) ce[r] = red * c[r];
             memcpy(lam_new, lam, sizeof lam);
-            solved = hp_load_qp_solve(nv, A, ce, h, g, l, u, 1e-13, 200, lam_new, d, NULL) ==
+            solved = hpi_load_qp_solve(nv, A, ce, h, g, l, u, 1e-13, 200, lam_new, d, NULL) ==
                      HP_LOAD_QP_OPTIMAL;
         }
         if (!solved) {
@@ -233,6 +233,6 @@ hp_load_solve_status hp_load_closest(const hp_load_model *M, const double desire
         if (t * dmax <= 1e-10 && l1(c) <= tol) converged = 1;
     }
     if (iterations) *iterations = it;
-    for (int i = 0; i < 6; ++i) xi[i] = y[i] * hp_load_unit(i);
+    for (int i = 0; i < 6; ++i) xi[i] = y[i] * hpi_load_unit(i);
     return converged ? HP_LOAD_SOLVE_OK : HP_LOAD_SOLVE_ITERATION_LIMIT;
 }

@@ -29,7 +29,7 @@ static int force(ud *u, int j, double x, double *F, double *F1, double *F2)
     const hp_load_hold_nlp *q = u->nlp;
     int k = u->idx[j];
     double f, d1, d2;
-    if (hp_load_bladder_force(q->M, k, x * 1e3, q->rho[k], &f, &d1, &d2) != HP_OK) {
+    if (hpi_load_bladder_force(q->M, k, x * 1e3, q->rho[k], &f, &d1, &d2) != HP_OK) {
         u->failed = 1;
         return 0;
     }
@@ -44,7 +44,7 @@ static Bool eval_f(Index n, Number *x, Bool new_x, Number *obj, UserDataPtr p)
     (void)new_x;
     ud *u = p;
     if (u->stiff) {
-        if (hp_load_stiff_eval(u->stiff, n, u->idx, x, obj, NULL, NULL, NULL) != 0) {
+        if (hpi_load_stiff_eval(u->stiff, n, u->idx, x, obj, NULL, NULL, NULL) != 0) {
             u->failed = 1;
             return FALSE;
         }
@@ -64,7 +64,7 @@ static Bool eval_grad_f(Index n, Number *x, Bool new_x, Number *g, UserDataPtr p
     (void)new_x;
     ud *u = p;
     if (u->stiff) {
-        if (hp_load_stiff_eval(u->stiff, n, u->idx, x, NULL, g, NULL, NULL) != 0) {
+        if (hpi_load_stiff_eval(u->stiff, n, u->idx, x, NULL, g, NULL, NULL) != 0) {
             u->failed = 1;
             return FALSE;
         }
@@ -131,7 +131,7 @@ static Bool eval_h(Index n, Number *x, Bool new_x, Number obj_factor, Index m, N
         return TRUE;
     }
     double Hs[HP_MAX_BLADDERS * HP_MAX_BLADDERS];
-    if (u->stiff && hp_load_stiff_eval(u->stiff, n, u->idx, x, NULL, NULL, Hs, NULL) != 0) {
+    if (u->stiff && hpi_load_stiff_eval(u->stiff, n, u->idx, x, NULL, NULL, Hs, NULL) != 0) {
         u->failed = 1;
         return FALSE;
     }
@@ -155,11 +155,11 @@ static Bool eval_h(Index n, Number *x, Bool new_x, Number obj_factor, Index m, N
  * budget is Ipopt's own generous one: the iteration budget bounds the solve. */
 static int options(IpoptProblem a, int max_iter, int stiff)
 {
-    return hp_ipopt_base_options(a, stiff ? 1e-9 : 1e-12, max_iter, 1e6, NULL) == HP_OK &&
+    return hpi_ipopt_base_options(a, stiff ? 1e-9 : 1e-12, max_iter, 1e6, NULL) == HP_OK &&
            AddIpoptNumOption(a, "constr_viol_tol", 1e-12);
 }
 
-hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
+hpi_load_solve_status hpi_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
                                         int *iterations, int *raw)
 {
     ud u;
@@ -167,20 +167,20 @@ hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, 
     u.nlp = nlp;
     hp_load_stiff S;
     if (nlp->stiffness) {
-        if (hp_load_stiff_init(&S, nlp->M, nlp->xi, nlp->target) != HP_OK)
+        if (hpi_load_stiff_init(&S, nlp->M, nlp->xi, nlp->target) != HP_OK)
             return HP_LOAD_SOLVE_ERROR;
         u.stiff = &S;
     }
     double xl[HP_MAX_BLADDERS], xu[HP_MAX_BLADDERS], x[HP_MAX_BLADDERS], gl[6], gu[6];
-    u.nf = hp_load_hold_vars(nlp, p, u.idx, xl, xu, x);
+    u.nf = hpi_load_hold_vars(nlp, p, u.idx, xl, xu, x);
     for (int r = 0; r < 6; ++r) gl[r] = gu[r] = nlp->b[r];
     if (iterations) *iterations = 0;
     if (u.nf == 0) return HP_LOAD_SOLVE_OK; /* nothing to choose */
-    hp_ipopt_lock();
+    hpi_ipopt_lock();
     int nh = u.stiff ? u.nf * (u.nf + 1) / 2 : u.nf;
     IpoptProblem a = CreateIpoptProblem(u.nf, xl, xu, 6, gl, gu, 6 * u.nf, nh, 0, eval_f,
                                         eval_g, eval_grad_f, eval_jac_g, eval_h);
-    hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
+    hpi_load_solve_status st = HP_LOAD_SOLVE_ERROR;
     if (a && options(a, max_iter, u.stiff != NULL)) {
         double g[6], obj, mg[6] = {0}, ml[HP_MAX_BLADDERS] = {0}, mu[HP_MAX_BLADDERS] = {0};
         enum ApplicationReturnStatus rs = IpoptSolve(a, x, g, &obj, mg, ml, mu, &u);
@@ -194,7 +194,7 @@ hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, 
             st = u.stiff ? HP_LOAD_SOLVE_OK : HP_LOAD_SOLVE_ITERATION_LIMIT;
     }
     if (a) FreeIpoptProblem(a);
-    hp_ipopt_unlock();
-    if (st == HP_LOAD_SOLVE_OK) hp_load_hold_answer(nlp, x, u.idx, u.nf, p);
+    hpi_ipopt_unlock();
+    if (st == HP_LOAD_SOLVE_OK) hpi_load_hold_answer(nlp, x, u.idx, u.nf, p);
     return st;
 }

@@ -14,13 +14,13 @@
 #include <stdio.h>
 #include <string.h>
 
-/* Pressure bounds of bladder k: the pressures of its envelope (hp_bladder_envelope, the one
+/* Pressure bounds of bladder k: the pressures of its envelope (hpi_bladder_envelope, the one
  * home of the pressure, stretch, stress and limit-point limits, as the kinematic levels),
  * and the radii the answer is kept inside. Each bound remembers which limits set it. */
 static hp_error bladder_bounds(hp_load_level *p, int k, hp_diag *diag)
 {
     hp_envelope env;
-    hp_error e = hp_bladder_envelope(&p->M.layout.bladders[k], &env, diag);
+    hp_error e = hpi_bladder_envelope(&p->M.layout.bladders[k], &env, diag);
     if (e != HP_OK) return e;
     p->lo[k] = env.p_lo;
     p->lo_bind[k] = env.lo_flags;
@@ -62,7 +62,7 @@ static hp_error check_carry(hp_load_level *p, hp_diag *diag)
         double ro;
         hp_claw c;
         if (hp_load_radius(M, k, p->hi[k], &ro, NULL) == HP_OK) {
-            hp_claw_cap(p->hi[k], ro, (1.0 - HP_LOAD_INDENT_MAX) * ro, &c);
+            hpi_claw_cap(p->hi[k], ro, (1.0 - HP_LOAD_INDENT_MAX) * ro, &c);
             cap += s * c.F;
         }
     }
@@ -81,13 +81,13 @@ static hp_error check_carry(hp_load_level *p, hp_diag *diag)
     return HP_OK;
 }
 
-hp_error hp_load_level_model(hp_load_level *p, const hp_layout *L, const hp_settings *s,
+hp_error hpi_load_level_model(hp_load_level *p, const hp_layout *L, const hp_settings *s,
                              hp_diag *diag)
 {
-    return hp_load_model_setup(&p->M, L, &s->load, s->load_geometry, diag);
+    return hpi_load_model_setup(&p->M, L, &s->load, s->load_geometry, diag);
 }
 
-hp_error hp_load_level_build(hp_load_level *p, const hp_settings *s, const hp_backend_ops *ops,
+hp_error hpi_load_level_build(hp_load_level *p, const hp_settings *s, const hp_backend_ops *ops,
                              char *err, hp_diag *diag)
 {
     if (p->M.layout.head.shape == HP_HEAD_SPHERE)
@@ -115,11 +115,11 @@ hp_error hp_load_level_build(hp_load_level *p, const hp_settings *s, const hp_ba
     p->err = err;
     for (int k = 0; k < p->M.layout.n; ++k)
         p->start_P[k] = fmin(fmax(0.0, p->lo[k]), p->hi[k]);
-    hp_load_level_reset(p);
+    hpi_load_level_reset(p);
     return HP_OK;
 }
 
-void hp_load_level_reset(hp_load_level *p)
+void hpi_load_level_reset(hp_load_level *p)
 {
     const int n = p->M.layout.n;
     memcpy(p->prev_P, p->start_P, (size_t)n * sizeof *p->prev_P);
@@ -139,7 +139,7 @@ static int holds(const hp_load_model *M, const double xi[6], const double *P)
     double Q[6];
     if (hp_load_eval(M, xi, P, Q, NULL, NULL, NULL, NULL) != HP_OK) return 0;
     for (int i = 0; i < 6; ++i)
-        if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hp_load_unit(i) / 1e-3) <= HOLD_TOL)) return 0;
+        if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hpi_load_unit(i) / 1e-3) <= HOLD_TOL)) return 0;
     return 1;
 }
 
@@ -165,7 +165,7 @@ static double pose_err(const double xi[6], const double desired[6], const double
 {
     double e = 0.0;
     for (int i = 0; i < 6; ++i) {
-        double v = (xi[i] - desired[i]) / hp_load_unit(i);
+        double v = (xi[i] - desired[i]) / hpi_load_unit(i);
         e += W[i] * v * v;
     }
     return e;
@@ -175,16 +175,16 @@ static double pose_err(const double xi[6], const double desired[6], const double
  * Feasibility only: HOLD's exact phase 1 (max_iter 0 skips the tie-breaker), checked by
  * the equilibrium. 1: held (x gets the pose, Pt the pressures); 0: not held with every
  * bladder centre outside the head; -1: some centre inside it, past its panel, where the
- * load model is not defined (hp_load_domain): the head has sunk too far. */
+ * load model is not defined (hpi_load_domain): the head has sunk too far. */
 static int held_pose(const hp_load_level *p, const double x[6], const double *target,
                      double *Pt)
 {
     const hp_load_model *M = &p->M;
     double F[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
-    if (hp_contact_eval_g(&M->layout, &M->geom, M->level, x, rho, NULL, NULL) != HP_OK ||
-        hp_load_domain(M, rho) != HP_OK)
+    if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, x, rho, NULL, NULL) != HP_OK ||
+        hpi_load_domain(M, rho) != HP_OK)
         return -1;
-    return hp_load_hold(M, x, p->elo, p->ehi, target, NULL, 0, Pt, F, NULL) ==
+    return hpi_load_hold(M, x, p->elo, p->ehi, target, NULL, 0, Pt, F, NULL) ==
                HP_LOAD_SOLVE_OK && holds(M, x, Pt);
 }
 
@@ -262,7 +262,7 @@ static int sink(const hp_load_level *p, const double desired[6], const double *t
     return 1;
 }
 
-/* hp_load_closest from (x0, F0), then HOLD's exact feasibility at the pose it stops at.
+/* hpi_load_closest from (x0, F0), then HOLD's exact feasibility at the pose it stops at.
  * When that pose is not held to the checks' tolerance (the SQP meets the rows to its
  * rounding, HOLD asks them exactly) and x0 is held, the held pose nearest to it on the
  * segment from x0 is taken (bisection to 2^-30 of the segment): never farther than x0, as
@@ -275,8 +275,8 @@ static int closest_from(const hp_load_level *p, const double desired[6], const d
     const int n = M->layout.n;
     double xc[6], Pt[HP_MAX_BLADDERS], xt[6];
     int it = 0;
-    hp_load_solve_status st =
-        hp_load_closest(M, desired, W, p->elo, p->ehi, x0, F0, p->set.max_iter, xc, &it);
+    hpi_load_solve_status st =
+        hpi_load_closest(M, desired, W, p->elo, p->ehi, x0, F0, p->set.max_iter, xc, &it);
     *iters += it;
     if (st != HP_LOAD_SOLVE_OK && st != HP_LOAD_SOLVE_ITERATION_LIMIT) return 0;
     if (held_pose(p, xc, target, P) > 0) {
@@ -303,7 +303,7 @@ static int closest_from(const hp_load_level *p, const double desired[6], const d
 
 #define RESTARTS 4
 
-/* The closest held pose as a program (hp_load_closest), from several starts: the desired
+/* The closest held pose as a program (hpi_load_closest), from several starts: the desired
  * pose itself with every bladder at the middle of its force range (the program's
  * restoration steps find a held pose from a start that is not held), the held pose (xi, P)
  * the search found, when have, and the held pose nearest to the nominal one (the same
@@ -383,7 +383,7 @@ static void plan_bounds(hp_load_level *p)
 
 /* HOLD with the configured backend's tie-breaker (its load_hold: Ipopt's and NLopt's raw
  * code in *raw). */
-static hp_load_solve_status hold(const hp_load_level *p, const double xi[6],
+static hpi_load_solve_status hold(const hp_load_level *p, const double xi[6],
                                  const double *target, const double *start, double *P,
                                  double *F, int *iters, int *raw)
 {
@@ -447,13 +447,13 @@ static hp_error fill_bladders(const hp_load_level *p, const double xi[6], const 
     return HP_OK;
 }
 
-hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result *r)
+hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_result *r)
 {
     if (!desired) {
-        hp_text_set(p->err, "desired: NULL");
+        hpi_text_set(p->err, "desired: NULL");
         return HP_ERR_NULL;
     }
-    double t0 = hp_plan_now();
+    double t0 = hpi_plan_now();
     memset(r, 0, sizeof *r);
     const hp_load_model *M = &p->M;
     const int n = M->layout.n;
@@ -463,11 +463,11 @@ hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result
     for (int i = 0; i < 6; ++i) r->commanded[i] = 1;
     p->err[0] = '\0';
     /* The request check of hp_plan: the same corrections refused with the same words. */
-    int bad = !hp_plan_desired_ok(&p->id, desired, p->err);
+    int bad = !hpi_plan_desired_ok(&p->id, desired, p->err);
     plan_bounds(p);
     double target[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], xi[6];
     for (int k = 0; k < n; ++k) target[k] = p->set.load_tiebreak == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
-    hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
+    hpi_load_solve_status st = HP_LOAD_SOLVE_ERROR;
     int it1 = 0, it2 = 0, it3 = 0, held = 0; /* held: holds(M, xi, P) already checked */
     if (!bad) {
         /* HOLD at the desired pose, accepted only when its equilibrium checks out. */
@@ -491,7 +491,7 @@ hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result
                 memcpy(Ps, Pu, (size_t)n * sizeof *Ps);
                 sunk = 1;
             }
-            st = hp_load_pose(M, desired, W, p->elo, p->ehi, sunk ? xs : p->prev_xi,
+            st = hpi_load_pose(M, desired, W, p->elo, p->ehi, sunk ? xs : p->prev_xi,
                               sunk ? Ps : p->prev_P, p->set.max_iter, xi, Pa, &it2);
             /* The 6-D refinement must end on a held pose nearer than the sunk one. */
             if (st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT) {
@@ -515,12 +515,12 @@ hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result
             if (st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT) {
                 double err = 0.0;
                 for (int i = 0; i < 6; ++i)
-                    err = fmax(err, fabs(xi[i] - desired[i]) / hp_load_unit(i));
+                    err = fmax(err, fabs(xi[i] - desired[i]) / hpi_load_unit(i));
                 int reached = err <= p->set.tolerance;
                 double xp[6]; /* POSE's pose, which its pressures Pa hold */
                 memcpy(xp, xi, sizeof xp);
                 if (reached) memcpy(xi, desired, sizeof xi);
-                hp_load_solve_status s2 = hold(p, xi, target, Pa, P, F, &it3, &r->raw_code);
+                hpi_load_solve_status s2 = hold(p, xi, target, Pa, P, F, &it3, &r->raw_code);
                 /* POSE's pressures hold the head at xi by construction (a forward-statics
                  * rest); HOLD only tie-breaks among the holding pressures, and where it
                  * finds no verified answer (a family squeezed against the limits) POSE's
@@ -543,7 +543,7 @@ hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result
     }
     r->iterations = it1 + it2 + it3;
     if (r->status == HP_STATUS_ITERATION_LIMIT)
-        hp_text_set(p->err, "load planner: iteration-limit: the closest-pose search ran out of "
+        hpi_text_set(p->err, "load planner: iteration-limit: the closest-pose search ran out of "
                             "solver.max_iter; the pose returned is held inside the limits "
                             "but not proven the closest");
     /* Whichever path gave it (HOLD, the sinking search, the 6-D refinement from the previous
@@ -554,15 +554,15 @@ hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result
     if (bad || st != HP_LOAD_SOLVE_OK || unverified || beyond) {
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
         if (beyond)
-            hp_text_set(p->err, "load planner: the pose found near the desired one indents a "
+            hpi_text_set(p->err, "load planner: the pose found near the desired one indents a "
                                 "bladder beyond the range where the contact law is trusted "
                                 "(indent_max), so it is not returned");
         else if (unverified)
-            hp_text_set(p->err, "load planner: the pose found near the desired one is not an "
+            hpi_text_set(p->err, "load planner: the pose found near the desired one is not an "
                                 "equilibrium of the load model (its residual exceeds 1e-9 N), "
                                 "so it is not returned");
         else if (!bad)
-            hp_text_set(p->err, "load planner: no pose near the desired one is held inside the "
+            hpi_text_set(p->err, "load planner: no pose near the desired one is held inside the "
                                 "limits");
         /* Safe output: the previous pressures at the previous pose. */
         memcpy(xi, p->prev_xi, sizeof xi);
@@ -573,7 +573,7 @@ hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result
     memcpy(r->achieved, xi, sizeof xi);
     r->pose_error = 0.0;
     for (int i = 0; i < 6; ++i)
-        r->pose_error = fmax(r->pose_error, fabs(xi[i] - desired[i]) / hp_load_unit(i));
+        r->pose_error = fmax(r->pose_error, fabs(xi[i] - desired[i]) / hpi_load_unit(i));
     if (r->status == HP_STATUS_INVALID_INPUT || r->status == HP_STATUS_SOLVER_ERROR)
         r->pose_error = INFINITY;
     else {
@@ -584,11 +584,11 @@ hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result
     /* What hp_planner_load_info describes: the returned pressures at the returned pose. */
     memcpy(p->last_P, P, (size_t)n * sizeof *P);
     memcpy(p->last_xi, xi, sizeof xi);
-    r->solve_time = hp_plan_now() - t0;
+    r->solve_time = hpi_plan_now() - t0;
     return HP_OK;
 }
 
-hp_error hp_load_level_info(const hp_load_level *p, hp_load_info *info)
+hp_error hpi_load_level_info(const hp_load_level *p, hp_load_info *info)
 {
     const hp_load_model *M = &p->M;
     const double *xi = p->last_xi, *P = p->last_P;
@@ -609,7 +609,7 @@ hp_error hp_load_level_info(const hp_load_level *p, hp_load_info *info)
         info->rest_error = 0.0;
         for (int i = 0; i < 6; ++i)
             info->rest_error =
-                fmax(info->rest_error, fabs(info->rest[i] - xi[i]) / hp_load_unit(i));
+                fmax(info->rest_error, fabs(info->rest[i] - xi[i]) / hpi_load_unit(i));
     } else {
         for (int i = 0; i < 6; ++i) info->rest[i] = NAN;
         info->rest_error = INFINITY;
@@ -617,7 +617,7 @@ hp_error hp_load_level_info(const hp_load_level *p, hp_load_info *info)
     return HP_OK;
 }
 
-void hp_load_level_bounds(const hp_load_level *p, double *lo, double *hi)
+void hpi_load_level_bounds(const hp_load_level *p, double *lo, double *hi)
 {
     memcpy(lo, p->lo, (size_t)p->M.layout.n * sizeof *lo);
     memcpy(hi, p->hi, (size_t)p->M.layout.n * sizeof *hi);
@@ -639,7 +639,7 @@ static hp_error previous_ok(hp_load_level *p, const char *who, const double *pre
     return HP_OK;
 }
 
-hp_error hp_load_level_set_previous(hp_load_level *p, const double *pressures)
+hp_error hpi_load_level_set_previous(hp_load_level *p, const double *pressures)
 {
     hp_error e = previous_ok(p, "set_previous", pressures);
     if (e != HP_OK) return e;
@@ -651,20 +651,20 @@ hp_error hp_load_level_set_previous(hp_load_level *p, const double *pressures)
     return HP_OK;
 }
 
-hp_error hp_load_level_set_previous_result(hp_load_level *p, const hp_result *r)
+hp_error hpi_load_level_set_previous_result(hp_load_level *p, const hp_result *r)
 {
     const int n = p->M.layout.n;
     if (r->n != n) {
-        hp_text_set(p->err, "set_previous_result: n is not the layout's number of bladders");
+        hpi_text_set(p->err, "set_previous_result: n is not the layout's number of bladders");
         return HP_ERR_INVALID;
     }
     for (int i = 0; i < 6; ++i)
         if (!isfinite(r->achieved[i])) {
-            hp_text_set(p->err, "set_previous_result: achieved: not finite");
+            hpi_text_set(p->err, "set_previous_result: achieved: not finite");
             return HP_ERR_INVALID;
         }
-    if (hp_plan_range_check(&p->id, r->achieved, NULL) != 0) {
-        hp_text_set(p->err, "set_previous_result: achieved: outside the identifiable range");
+    if (hpi_plan_range_check(&p->id, r->achieved, NULL) != 0) {
+        hpi_text_set(p->err, "set_previous_result: achieved: outside the identifiable range");
         return HP_ERR_INVALID;
     }
     double P[HP_MAX_BLADDERS];

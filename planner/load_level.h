@@ -35,24 +35,24 @@ typedef struct hp_load_level {
 
 /* The load model of layout L at settings s (load, load_geometry) into p (zeroed by the
  * caller): what auto needs to decide (hp_load_auto_choose). */
-hp_error hp_load_level_model(hp_load_level *p, const hp_layout *L, const hp_settings *s,
+hp_error hpi_load_level_model(hp_load_level *p, const hp_layout *L, const hp_settings *s,
                              hp_diag *diag);
-/* The rest of the load level on a model from hp_load_level_model: a head that is not a
+/* The rest of the load level on a model from hpi_load_level_model: a head that is not a
  * sphere, the backend's load capability, the bounds, the layout's ability to carry the load; err is where the
  * messages of plans go. */
-hp_error hp_load_level_build(hp_load_level *p, const hp_settings *s, const hp_backend_ops *ops,
+hp_error hpi_load_level_build(hp_load_level *p, const hp_settings *s, const hp_backend_ops *ops,
                              char *err, hp_diag *diag);
 /* hp_plan at the load level (hp_planner.h). */
-hp_error hp_load_level_plan(hp_load_level *p, const double desired[6], hp_result *r);
+hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_result *r);
 /* hp_planner_load_info of the last returned pressures and pose. */
-hp_error hp_load_level_info(const hp_load_level *p, hp_load_info *info);
+hp_error hpi_load_level_info(const hp_load_level *p, hp_load_info *info);
 /* The static pressure bounds (n values each). */
-void hp_load_level_bounds(const hp_load_level *p, double *lo, double *hi);
+void hpi_load_level_bounds(const hp_load_level *p, double *lo, double *hi);
 /* The previous-answer calls of hp_planner.h at the load level: pressures inside the static
  * bounds (else HP_ERR_INVALID, message in err, nothing changes). */
-hp_error hp_load_level_set_previous(hp_load_level *p, const double *pressures);
-hp_error hp_load_level_set_previous_result(hp_load_level *p, const hp_result *r);
+hp_error hpi_load_level_set_previous(hp_load_level *p, const double *pressures);
+hp_error hpi_load_level_set_previous_result(hp_load_level *p, const hp_result *r);
 /* The state after create: start_P at the nominal pose, no previous plan. */
-void hp_load_level_reset(hp_load_level *p);
+void hpi_load_level_reset(hp_load_level *p);
 
 #endif

@@ -36,7 +36,7 @@ static void rows(unsigned m, double *result, unsigned n, const double *x, double
     for (unsigned j = 0; j < n; ++j) {
         int k = u->idx[j];
         double F, d1, d2;
-        if (hp_load_bladder_force(q->M, k, x[j] * 1e3, q->rho[k], &F, &d1, &d2) != HP_OK) {
+        if (hpi_load_bladder_force(q->M, k, x[j] * 1e3, q->rho[k], &F, &d1, &d2) != HP_OK) {
             u->failed = 1;
             F = d1 = 0.0;
         }
@@ -48,20 +48,20 @@ static void rows(unsigned m, double *result, unsigned n, const double *x, double
     }
 }
 
-hp_load_solve_status hp_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
+hpi_load_solve_status hpi_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
                                         int *iterations, int *raw)
 {
     nl_ud u;
     memset(&u, 0, sizeof u);
     u.nlp = nlp;
     double xl[HP_MAX_BLADDERS], xu[HP_MAX_BLADDERS], x[HP_MAX_BLADDERS], tol[6];
-    u.nf = hp_load_hold_vars(nlp, p, u.idx, xl, xu, x);
+    u.nf = hpi_load_hold_vars(nlp, p, u.idx, xl, xu, x);
     if (iterations) *iterations = 0;
     if (u.nf == 0) return HP_LOAD_SOLVE_OK;
     for (int r = 0; r < 6; ++r) tol[r] = 1e-12;
     nlopt_opt o = nlopt_create(NLOPT_LD_SLSQP, (unsigned)u.nf);
     if (!o) return HP_LOAD_SOLVE_ERROR;
-    hp_load_solve_status st = HP_LOAD_SOLVE_ERROR;
+    hpi_load_solve_status st = HP_LOAD_SOLVE_ERROR;
     double fmin_ = 0.0;
     if (nlopt_set_lower_bounds(o, xl) > 0 && nlopt_set_upper_bounds(o, xu) > 0 &&
         nlopt_set_min_objective(o, objective, &u) > 0 &&
@@ -76,6 +76,6 @@ hp_load_solve_status hp_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p, 
         else st = HP_LOAD_SOLVE_ERROR;
     }
     nlopt_destroy(o);
-    if (st == HP_LOAD_SOLVE_OK) hp_load_hold_answer(nlp, x, u.idx, u.nf, p);
+    if (st == HP_LOAD_SOLVE_OK) hpi_load_hold_answer(nlp, x, u.idx, u.nf, p);
     return st;
 }

@@ -5,10 +5,10 @@
 #include <math.h>
 #include <string.h>
 
-int hp_load_box_qp(int nv, const double *H, const double *g, const double *l,
+int hpi_load_box_qp(int nv, const double *H, const double *g, const double *l,
                    const double *u, int max_iter, double *d);
 
-hp_load_qp_status hp_load_qp_solve(int nv, const double *M, const double c[6],
+hp_load_qp_status hpi_load_qp_solve(int nv, const double *M, const double c[6],
                                    const double *h, const double *g, const double *l,
                                    const double *u, double tol, int max_iter,
                                    double lambda[6], double *d, int *iterations)
@@ -41,7 +41,7 @@ hp_load_qp_status hp_load_qp_solve(int nv, const double *M, const double c[6],
                 H[i * nv + j] = a;
             }
         }
-        if (hp_load_box_qp(nv, H, q, l, u, 4 * nv + 40, d) != 0)
+        if (hpi_load_box_qp(nv, H, q, l, u, 4 * nv + 40, d) != 0)
             return rho > 1e6 * rho0 ? HP_LOAD_QP_INFEASIBLE : HP_LOAD_QP_ITERATION_LIMIT;
         double res[6], err = 0.0;
         for (int r = 0; r < 6; ++r) {
@@ -58,7 +58,7 @@ hp_load_qp_status hp_load_qp_solve(int nv, const double *M, const double c[6],
     return HP_LOAD_QP_ITERATION_LIMIT;
 }
 
-int hp_load_box_qp(int nv, const double *H, const double *g, const double *l,
+int hpi_load_box_qp(int nv, const double *H, const double *g, const double *l,
                    const double *u, int max_iter, double *d)
 {
     int state[HP_LOAD_QP_NMAX]; /* 0 free, -1 at lower, +1 at upper */
@@ -80,8 +80,8 @@ int hp_load_box_qp(int nv, const double *H, const double *g, const double *l,
             x[a] = r;
             for (int b = 0; b < nf; ++b) A[a * nf + b] = H[F[a] * nv + F[b]];
         }
-        if (nf && hp_load_cholesky(nf, A) != 0) return -1;
-        if (nf) hp_load_cholesky_solve(nf, A, x);
+        if (nf && hpi_load_cholesky(nf, A) != 0) return -1;
+        if (nf) hpi_load_cholesky_solve(nf, A, x);
         /* Move towards the free minimiser until the first bound. */
         double t = 1.0;
         int hit = -1, hit_side = 0;

@@ -25,14 +25,14 @@
 #include <string.h>
 
 
-double hp_load_row_weight(int r)
+double hpi_load_row_weight(int r)
 {
-    return r < 3 ? 1.0 : hp_load_unit(r) / 1e-3;
+    return r < 3 ? 1.0 : hpi_load_unit(r) / 1e-3;
 }
 
 static double row_w(int r)
 {
-    return hp_load_row_weight(r);
+    return hpi_load_row_weight(r);
 }
 
 /* One bladder at pressure P against contact distance rho: F and its first two pressure
@@ -54,7 +54,7 @@ static hp_error bladder_state(const hp_load_model *M, int k, double P, double rh
     double q2 = 2.0 * ri / (ro * ro) - 2.0 * q * q / ro;      /* d²ro/dri² */
     double o1 = q * r1, o2 = q2 * r1 * r1 + q * r2;           /* ro', ro'' */
     hp_claw c; /* F(P, ro(P), rho) and its total derivatives along P */
-    hp_claw_cap(P, ro, rho, &c);
+    hpi_claw_cap(P, ro, rho, &c);
     s->F = c.F;
     s->FP = c.d[HP_CLAW_P] + c.d[HP_CLAW_RO] * o1;
     s->FPP = c.d2[HP_CLAW_P][HP_CLAW_P] + 2.0 * c.d2[HP_CLAW_P][HP_CLAW_RO] * o1 +
@@ -64,7 +64,7 @@ static hp_error bladder_state(const hp_load_model *M, int k, double P, double rh
 
 /* The touching pressure: the one whose free radius equals rho (−inf when rho is below the
  * smallest radius the cavity allows, +inf past the limit point). */
-double hp_load_touch_pressure(const hp_load_model *M, int k, double rho)
+double hpi_load_touch_pressure(const hp_load_model *M, int k, double rho)
 {
     const hp_iab *b = &M->layout.bladders[k].iab;
     double ri, P;
@@ -74,9 +74,9 @@ double hp_load_touch_pressure(const hp_load_model *M, int k, double rho)
     return P;
 }
 
-double hp_load_indent_pressure(const hp_load_model *M, int k, double rho)
+double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho)
 {
-    return hp_load_touch_pressure(M, k, rho / (1.0 - HP_LOAD_INDENT_MAX));
+    return hpi_load_touch_pressure(M, k, rho / (1.0 - HP_LOAD_INDENT_MAX));
 }
 
 /* The pressure in [lo, hi] whose force against rho is F (F increasing in P there). Solved in
@@ -128,7 +128,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         if (!err) err = hp_iab_ro(b, x, &ro);
         if (err) return err;
         hp_claw law;
-        hp_claw_cap(Px, ro, rho, &law);
+        hpi_claw_cap(Px, ro, rho, &law);
         double r = law.F - F;
         if (r > 0) c = x; else a = x;
         if (r == 0.0) break;
@@ -290,7 +290,7 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
                         for (int q = 0; q < nfix; ++q) r[row] += A[row * n + col[fix[q]]] * x[col[fix[q]]];
                         for (int j = 0; j < 6; ++j) Ar[row * 6 + j] = A[row * n + rest[j]];
                     }
-                    if (nr != 6 || hp_kin_damped_lstsq(6, 6, Ar, r, one, 0.0, sol) != 0) continue;
+                    if (nr != 6 || hpi_kin_damped_lstsq(6, 6, Ar, r, one, 0.0, sol) != 0) continue;
                     int ok = 1;
                     for (int j = 0; j < 6 && ok; ++j) {
                         int k = rest[j];
@@ -315,7 +315,7 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
  * grid_forces instead) onto the holding set, phase 2 tie-breaks from there. *cost
  * gets the tie-breaker's sum (P − t)² [Pa²] of the answer when its rows are met (to
  * 1e-11 of the weight), +inf otherwise. */
-static hp_load_solve_status hold_from(const hp_load_model *M, const double xi[6],
+static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6],
                                       const double *lo, const double *hi,
                                       const double *target, const double *start, int max_iter,
                                       hp_load_nlp_solver nlp_solve, int stiffness, int grid,
@@ -325,20 +325,20 @@ static hp_load_solve_status hold_from(const hp_load_model *M, const double xi[6]
     *cost = INFINITY;
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
-    if (hp_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, NULL) != HP_OK)
+    if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, NULL) != HP_OK)
         return HP_LOAD_SOLVE_ERROR;
     /* A pose with a bladder centre inside the head (through its panel) is held by nothing. */
-    if (hp_load_domain(M, rho) != HP_OK) return HP_LOAD_SOLVE_UNREACHABLE;
-    hp_load_gravity(M, xi, Qg, NULL, NULL);
+    if (hpi_load_domain(M, rho) != HP_OK) return HP_LOAD_SOLVE_UNREACHABLE;
+    hpi_load_gravity(M, xi, Qg, NULL, NULL);
     double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS],
         Fhi[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
     for (int k = 0; k < n; ++k) {
-        Pt[k] = hp_load_touch_pressure(M, k, rho[k]);
+        Pt[k] = hpi_load_touch_pressure(M, k, rho[k]);
         L[k] = fmax(lo[k], fmax(0.0, Pt[k]));
         /* The indentation range where the contact law is trusted caps a carrying bladder's
          * pressure at this pose: ro(P) <= rho/(1 − HP_LOAD_INDENT_MAX). A bladder whose
          * lowest pressure already carries beyond it cannot hold the pose. */
-        double Pi = hp_load_indent_pressure(M, k, rho[k]);
+        double Pi = hpi_load_indent_pressure(M, k, rho[k]);
         if (lo[k] > 0 && lo[k] > Pt[k] && lo[k] > Pi) return HP_LOAD_SOLVE_UNREACHABLE;
         U[k] = fmin(hi[k], Pi);
         bstate s;
@@ -399,7 +399,7 @@ static hp_load_solve_status hold_from(const hp_load_model *M, const double xi[6]
             c[r] = -b[r];
             for (int k = 0; k < n; ++k) c[r] += A[r * n + k] * f[k];
         }
-        if (hp_load_qp_solve(n, A, c, h, g, l, u, tol, 200, lam, d, NULL) != HP_LOAD_QP_OPTIMAL)
+        if (hpi_load_qp_solve(n, A, c, h, g, l, u, tol, 200, lam, d, NULL) != HP_LOAD_QP_OPTIMAL)
             return HP_LOAD_SOLVE_UNREACHABLE;
         for (int k = 0; k < n; ++k) f[k] = fmin(fmax(f[k] + d[k], Flo[k]), Fhi[k]);
     }
@@ -417,7 +417,7 @@ static hp_load_solve_status hold_from(const hp_load_model *M, const double xi[6]
     double Fk[HP_MAX_BLADDERS], F1[HP_MAX_BLADDERS], F2[HP_MAX_BLADDERS], c[6];
     if (nlp_solve) { /* a general-purpose solver's tie-breaker (the backend's) */
         hp_load_hold_nlp nlp = {M, n, rho, A, b, L, U, target, xi, stiffness};
-        hp_load_solve_status st = nlp_solve(&nlp, p, max_iter, &it, raw);
+        hpi_load_solve_status st = nlp_solve(&nlp, p, max_iter, &it, raw);
         if (st != HP_LOAD_SOLVE_OK) return st;
     }
     for (; !nlp_solve; ++it) {
@@ -451,7 +451,7 @@ static hp_load_solve_status hold_from(const hp_load_model *M, const double xi[6]
         }
         double lam_new[6];
         memcpy(lam_new, lam, sizeof lam_new);
-        if (hp_load_qp_solve(n, Mx, c, h, g, l, u, tol, 200, lam_new, d, NULL) !=
+        if (hpi_load_qp_solve(n, Mx, c, h, g, l, u, tol, 200, lam_new, d, NULL) !=
             HP_LOAD_QP_OPTIMAL)
             break; /* keep the current point: the planner checks its equilibrium */
         double dmax = 0.0, nu = 1.0, phi = 0.0, slope = 0.0;
@@ -537,7 +537,7 @@ static hp_load_solve_status hold_from(const hp_load_model *M, const double xi[6]
  * their top) and on a small grid, and HOLD runs from the best of those points as well as
  * from the caller's start; the smaller sum wins (only answers whose rows are met compete).
  * Reachability is decided by the first start's exact phase 1. */
-static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
+static hpi_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
                                       const double *lo, const double *hi,
                                       const double *target, const double *start, int max_iter,
                                       hp_load_nlp_solver nlp_solve, int stiffness, double *P,
@@ -545,7 +545,7 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
 {
     double cost;
     int it = 0;
-    hp_load_solve_status st = hold_from(M, xi, lo, hi, target, start, max_iter, nlp_solve,
+    hpi_load_solve_status st = hold_from(M, xi, lo, hi, target, start, max_iter, nlp_solve,
                                         stiffness, 0, P, F, &it, raw, &cost);
     int total = it;
     if (st == HP_LOAD_SOLVE_OK && max_iter > 0 && !stiffness) {
@@ -566,7 +566,7 @@ static hp_load_solve_status hold_core(const hp_load_model *M, const double xi[6]
     return st;
 }
 
-hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
+hpi_load_solve_status hpi_load_hold(const hp_load_model *M, const double xi[6],
                                   const double *lo, const double *hi, const double *target,
                                   const double *start, int max_iter, double *P, double *F,
                                   int *iterations)
@@ -574,7 +574,7 @@ hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
     return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL);
 }
 
-hp_load_solve_status hp_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_load_model *M,
+hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_load_model *M,
                                        const double xi[6], const double *lo, const double *hi,
                                        const double *target, const double *start, int max_iter,
                                        int stiffness, double *P, double *F, int *iterations,
@@ -584,7 +584,7 @@ hp_load_solve_status hp_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_lo
                      iterations, raw);
 }
 
-hp_error hp_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
+hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
                                double *F, double *dF, double *d2F)
 {
     bstate s;
@@ -604,21 +604,21 @@ static int rest_and_sensitivity(const hp_load_model *M, const double *p, double 
     const int n = M->layout.n;
     if (hp_load_rest(M, p, xi, xi, NULL) != HP_OK) return -1;
     double ro[HP_MAX_BLADDERS], dro[HP_MAX_BLADDERS], Q[6], dX[36], dP[6 * HP_MAX_BLADDERS];
-    if (hp_load_radii(M, p, ro, dro) != HP_OK ||
-        hp_load_eval_radii(M, xi, p, ro, dro, 1, Q, dX, dP, NULL, NULL) != HP_OK)
+    if (hpi_load_radii(M, p, ro, dro) != HP_OK ||
+        hpi_load_eval_radii(M, xi, p, ro, dro, 1, Q, dX, dP, NULL, NULL) != HP_OK)
         return -1;
     /* K_s = −S dQ/dxi S (scaled, symmetric); K_s·dxi_s = S·dQ/dP·dP. */
     double K[36];
     for (int i = 0; i < 6; ++i)
         for (int j = 0; j < 6; ++j)
-            K[i * 6 + j] = -0.5 * (dX[i * 6 + j] + dX[j * 6 + i]) * hp_load_unit(i) * hp_load_unit(j);
+            K[i * 6 + j] = -0.5 * (dX[i * 6 + j] + dX[j * 6 + i]) * hpi_load_unit(i) * hpi_load_unit(j);
     double F[36];
     memcpy(F, K, sizeof F);
     /* A saddle (K indefinite) still has a well-defined sensitivity: solve by Gaussian
      * elimination with partial pivoting rather than Cholesky. */
     double B[6 * HP_MAX_BLADDERS];
     for (int i = 0; i < 6; ++i)
-        for (int k = 0; k < n; ++k) B[i * n + k] = dP[i * n + k] * hp_load_unit(i) * 1e3;
+        for (int k = 0; k < n; ++k) B[i * n + k] = dP[i * n + k] * hpi_load_unit(i) * 1e3;
     for (int c = 0; c < 6; ++c) {
         int piv = c;
         for (int r = c + 1; r < 6; ++r)
@@ -651,13 +651,13 @@ static double pose_cost(const double xi[6], const double desired[6], const doubl
 {
     double c = 0.0;
     for (int j = 0; j < 6; ++j) {
-        double e = (xi[j] - desired[j]) / hp_load_unit(j);
+        double e = (xi[j] - desired[j]) / hpi_load_unit(j);
         c += 0.5 * W[j] * e * e;
     }
     return c;
 }
 
-hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6],
+hpi_load_solve_status hpi_load_pose(const hp_load_model *M, const double desired[6],
                                   const double W[6], const double *lo, const double *hi,
                                   const double xi0[6], const double *P0, int max_iter,
                                   double xi[6], double *P, int *iterations)
@@ -684,12 +684,12 @@ hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6
     }
     double cost = pose_cost(x, desired, W), mu = 1e-6;
     int it = 0;
-    hp_load_solve_status st = HP_LOAD_SOLVE_ITERATION_LIMIT;
+    hpi_load_solve_status st = HP_LOAD_SOLVE_ITERATION_LIMIT;
     for (; it < max_iter; ++it) {
         /* The step's QP in dP alone (kPa): e = (xi − desired) + G·dP eliminated. */
         double H[HP_MAX_BLADDERS * HP_MAX_BLADDERS], g[HP_MAX_BLADDERS], l[HP_MAX_BLADDERS],
             u[HP_MAX_BLADDERS], d[HP_MAX_BLADDERS], r[6];
-        for (int j = 0; j < 6; ++j) r[j] = (x[j] - desired[j]) / hp_load_unit(j);
+        for (int j = 0; j < 6; ++j) r[j] = (x[j] - desired[j]) / hpi_load_unit(j);
         for (int a = 0; a < n; ++a) {
             g[a] = 0.0;
             for (int j = 0; j < 6; ++j) g[a] += G[j * n + a] * W[j] * r[j];
@@ -701,7 +701,7 @@ hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6
             l[a] = (lo[a] - p[a]) * 1e-3;
             u[a] = (hi[a] - p[a]) * 1e-3;
         }
-        if (hp_load_box_qp(n, H, g, l, u, 4 * n + 20, d) != 0) return HP_LOAD_SOLVE_ERROR;
+        if (hpi_load_box_qp(n, H, g, l, u, 4 * n + 20, d) != 0) return HP_LOAD_SOLVE_ERROR;
         double pn[HP_MAX_BLADDERS], xn[6], Gn[6 * HP_MAX_BLADDERS], dmax = 0.0;
         for (int k = 0; k < n; ++k) {
             pn[k] = fmin(fmax(p[k] + d[k] * 1e3, lo[k]), hi[k]);
@@ -740,7 +740,7 @@ hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6
     return st;
 }
 
-int hp_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, double *xl,
+int hpi_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, double *xl,
                       double *xu, double *x)
 {
     int nf = 0;
@@ -754,7 +754,7 @@ int hp_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, do
     return nf;
 }
 
-void hp_load_hold_answer(const hp_load_hold_nlp *nlp, const double *x, const int *idx, int nf,
+void hpi_load_hold_answer(const hp_load_hold_nlp *nlp, const double *x, const int *idx, int nf,
                          double *p)
 {
     for (int j = 0; j < nf; ++j) p[idx[j]] = fmin(fmax(x[j] * 1e3, nlp->L[idx[j]]), nlp->U[idx[j]]);

@@ -4,17 +4,17 @@
 
 #include "headplan/hp_load.h"
 
-typedef enum hp_load_solve_status {
+typedef enum hpi_load_solve_status {
     HP_LOAD_SOLVE_OK = 0,
     HP_LOAD_SOLVE_UNREACHABLE,     /* no pressures inside the bounds hold this pose */
     HP_LOAD_SOLVE_ITERATION_LIMIT,
     HP_LOAD_SOLVE_ERROR            /* the model failed (geometry or bladder domain) */
-} hp_load_solve_status;
+} hpi_load_solve_status;
 
 /* HOLD: pressures P[n] inside [lo, hi] holding the head at xi, nearest (sum of squares) to
  * target[n] among all that do; F[n] their contact forces. start (may be NULL) seeds the
  * forces. */
-hp_load_solve_status hp_load_hold(const hp_load_model *M, const double xi[6],
+hpi_load_solve_status hpi_load_hold(const hp_load_model *M, const double xi[6],
                                   const double *lo, const double *hi, const double *target,
                                   const double *start, int max_iter, double *P, double *F,
                                   int *iterations);
@@ -36,13 +36,13 @@ typedef struct hp_load_stiff {
 } hp_load_stiff;
 
 /* Prepares the objective at pose xi (target [Pa], kept by pointer). HP_ERR_* of the model. */
-hp_error hp_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const double xi[6],
+hp_error hpi_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const double xi[6],
                             const double *target);
 
 /* The objective at x[nv] (kPa; variable j is bladder idx[j]): f, its gradient (nv) and its
  * Hessian (nv×nv, row-major, both triangles), each may be NULL; lam_min (may be NULL) the
  * smallest eigenvalue of K [N/mm]. 0 on success, -1 when the model fails. */
-int hp_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x,
+int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x,
                        double *f, double *grad, double *hess, double *lam_min);
 
 /* The tie-breaker NLP of HOLD at a fixed pose, for a general-purpose solver: variables the
@@ -60,15 +60,15 @@ typedef struct hp_load_hold_nlp {
 
 /* A general-purpose solver of that NLP from p (Pa, feasible); p gets the answer, raw the
  * solver's own code. */
-typedef hp_load_solve_status (*hp_load_nlp_solver)(const hp_load_hold_nlp *nlp, double *p,
+typedef hpi_load_solve_status (*hp_load_nlp_solver)(const hp_load_hold_nlp *nlp, double *p,
                                                    int max_iter, int *iterations, int *raw);
 
-/* HOLD (hp_load_hold) with its second phase, the tie-breaker, solved by nlp_solve (a
- * backend's: hp_load_hold_ipopt, hp_load_hold_nlopt); the first phase (reachability) is the
+/* HOLD (hpi_load_hold) with its second phase, the tie-breaker, solved by nlp_solve (a
+ * backend's: hpi_load_hold_ipopt, hpi_load_hold_nlopt); the first phase (reachability) is the
  * same exact one. stiffness = 1 replaces the distance to target by the minimum-holding-
  * stiffness objective (target then only breaks its ties; Ipopt only). Allocates (inside the
  * solver); Ipopt takes the process-wide Ipopt lock. */
-hp_load_solve_status hp_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_load_model *M,
+hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_load_model *M,
                                        const double xi[6], const double *lo, const double *hi,
                                        const double *target, const double *start, int max_iter,
                                        int stiffness, double *P, double *F, int *iterations,
@@ -77,44 +77,44 @@ hp_load_solve_status hp_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_lo
 /* The NLP's variables for a solver: the bladders whose bounds leave room (L < U), in kPa
  * (the solvers' scale), started from p clamped into the bounds. Fills idx (variable j is
  * bladder idx[j]), xl, xu, x; returns how many. Shared by the Ipopt and NLopt hold. */
-int hp_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, double *xl,
+int hpi_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, double *xl,
                       double *xu, double *x);
 
 /* Writes the nf variables x (kPa) back into p (Pa) for bladders idx[], clamped into [L, U]
  * so rounding of the scale cannot leave a bound. */
-void hp_load_hold_answer(const hp_load_hold_nlp *nlp, const double *x, const int *idx, int nf,
+void hpi_load_hold_answer(const hp_load_hold_nlp *nlp, const double *x, const int *idx, int nf,
                          double *p);
 
 /* Solves that NLP from p (Pa, feasible) with Ipopt (load_ipopt.c); p gets the answer. */
-hp_load_solve_status hp_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
+hpi_load_solve_status hpi_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
                                         int *iterations, int *raw);
 
 /* The same NLP on NLopt SLSQP (load_nlopt.c); raw gets NLopt's result code. */
-hp_load_solve_status hp_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
+hpi_load_solve_status hpi_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
                                         int *iterations, int *raw);
 
 /* Bladder k's contact force at pressure P against contact distance rho (the contact branch's
  * formula, not clipped at 0) with dF/dP and d²F/dP². */
-hp_error hp_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
+hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
                                double *F, double *dF, double *d2F);
 
 /* Row weights of the equilibrium equations: N for the force rows, and N·m/rad times
  * (1°/1 mm) for the moment rows, so both read as "force per unit of pose". */
-double hp_load_row_weight(int r);
+double hpi_load_row_weight(int r);
 
 /* The touching pressure of bladder k at contact distance rho: the one whose free radius is
  * rho (−inf when rho is below the smallest radius the cavity allows, +inf past the limit
  * point). */
-double hp_load_touch_pressure(const hp_load_model *M, int k, double rho);
+double hpi_load_touch_pressure(const hp_load_model *M, int k, double rho);
 
 /* The pressure at which bladder k, at contact distance rho, reaches the edge of the
  * indentation range (delta/ro = HP_LOAD_INDENT_MAX): the largest a carrying bladder may
  * hold there. +inf past the limit point, −inf below the smallest radius. */
-double hp_load_indent_pressure(const hp_load_model *M, int k, double rho);
+double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho);
 
 /* POSE: the pose nearest to desired (weights W per mm² and degree²) at which pressures in
  * [lo, hi] hold the head, from (xi0, P0); P gets those pressures (not tie-broken). */
-hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6],
+hpi_load_solve_status hpi_load_pose(const hp_load_model *M, const double desired[6],
                                   const double W[6], const double *lo, const double *hi,
                                   const double xi0[6], const double *P0, int max_iter,
                                   double xi[6], double *P, int *iterations);
@@ -128,7 +128,7 @@ hp_load_solve_status hp_load_pose(const hp_load_model *M, const double desired[6
  * pose and its forces; F0 NULL: every bladder at the middle of its force range, a start
  * that need not hold the head); xi gets the pose where it stops (feasible to the
  * equilibrium's rounding, not yet verified: the caller holds it with HOLD). */
-hp_load_solve_status hp_load_closest(const hp_load_model *M, const double desired[6],
+hpi_load_solve_status hpi_load_closest(const hp_load_model *M, const double desired[6],
                                      const double W[6], const double *lo, const double *hi,
                                      const double xi0[6], const double *F0, int max_iter,
                                      double xi[6], int *iterations);

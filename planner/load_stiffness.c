@@ -21,18 +21,18 @@
 /* Stiffness in mm/degree units and N/mm: K·unit_i·unit_j·1e3 (1 mm weighs as 1°). */
 static double kscale(int i, int j)
 {
-    return hp_load_unit(i) * hp_load_unit(j) * 1e3;
+    return hpi_load_unit(i) * hpi_load_unit(j) * 1e3;
 }
 
-hp_error hp_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const double xi[6],
+hp_error hpi_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const double xi[6],
                             const double *target)
 {
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
     double Q[6], dQ[36];
-    hp_error err = hp_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, H);
+    hp_error err = hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, H);
     if (err) return err;
-    hp_load_gravity(M, xi, Q, dQ, NULL);
+    hpi_load_gravity(M, xi, Q, dQ, NULL);
     memset(S, 0, sizeof *S);
     S->M = M;
     S->n = n;
@@ -44,7 +44,7 @@ hp_error hp_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const doub
         /* dK/dP_k's J·Jᵀ weight: −d²F/(dP·drho) of the contact law, which for the cap law is
          * 2·pi·rho at every P and ro (F is linear in P), so K stays affine in P. */
         hp_claw c;
-        hp_claw_cap(0.0, rho[k], rho[k], &c);
+        hpi_claw_cap(0.0, rho[k], rho[k], &c);
         for (int i = 0; i < 6; ++i)
             for (int j = 0; j < 6; ++j) {
                 S->JJ[k][i * 6 + j] = -c.d2[HP_CLAW_P][HP_CLAW_RHO] * J[6 * k + i] * J[6 * k + j] *
@@ -68,7 +68,7 @@ static double ddiff(double beta, double a, double b, double l0)
     return -beta * exp(-beta * (b - l0)) * expm1(-beta * (a - b)) / (a - b);
 }
 
-int hp_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x,
+int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x,
                        double *f, double *grad, double *hess, double *lam_min)
 {
     const double beta = S->beta;
@@ -77,7 +77,7 @@ int hp_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const dou
     for (int j = 0; j < nv; ++j) {
         int k = idx[j];
         double F, F1, F2;
-        if (hp_load_bladder_force(S->M, k, x[j] * 1e3, S->rho[k], &F, &F1, &F2) != HP_OK)
+        if (hpi_load_bladder_force(S->M, k, x[j] * 1e3, S->rho[k], &F, &F1, &F2) != HP_OK)
             return -1;
         F1 *= 1e3; /* per kPa */
         F2 *= 1e6;
@@ -89,7 +89,7 @@ int hp_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const dou
         }
     }
     double lam[6], V[36];
-    if (hp_kin_symeig6(K, lam, V) != 0) return -1;
+    if (hpi_kin_symeig6(K, lam, V) != 0) return -1;
     /* Shifted by the smallest eigenvalue: no overflow, the same ratios. */
     double e[6], Z = 0.0;
     for (int i = 0; i < 6; ++i) Z += (e[i] = exp(-beta * (lam[i] - lam[0])));

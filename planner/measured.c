@@ -7,7 +7,7 @@
 #include <math.h>
 #include <string.h>
 
-hp_error hp_plan_previous_from(hp_planner *p, const double *P, int warm, const char *who)
+hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const char *who)
 {
     hp_result r = p->nominal;
     double ro[HP_MAX_BLADDERS];
@@ -16,16 +16,16 @@ hp_error hp_plan_previous_from(hp_planner *p, const double *P, int warm, const c
         const hp_iab_s *s = &p->sb.iab_s[k];
         /* From the previous answer's radius when warm: a reading near it takes a step or two
          * of the FK's Newton iteration instead of a search of the whole stable branch; the
-         * same root to rounding whatever the start (hp_iab_fk_limit_warm). */
+         * same root to rounding whatever the start (hpi_iab_fk_limit_warm). */
         double ri, guess = warm ? p->prev.bladders[k].ri : NAN;
-        hp_error e = hp_iab_s_fk_limit_warm(s, &p->sb.limit[k], P[k], guess, &ri);
+        hp_error e = hpi_iab_s_fk_limit_warm(s, &p->sb.limit[k], P[k], guess, &ri);
         /* The root of a pressure inside [p_lo, p_hi] lies inside [ri_lo, ri_hi] up to an
          * ulp or two: keep the stretch inside its limits to the last bit. */
         if (e == HP_OK) ri = fmin(fmax(ri, p->sb.ri_lo[k]), p->sb.ri_hi[k]);
-        if (e != HP_OK || hp_iab_s_ro_m(s, ri, &ro[k]) != HP_OK) {
-            hp_text_set(p->err, who);
-            hp_text_add(p->err, ": no stable radius for the pressure of ");
-            hp_text_add(p->err, B->name);
+        if (e != HP_OK || hpi_iab_s_ro_m(s, ri, &ro[k]) != HP_OK) {
+            hpi_text_set(p->err, who);
+            hpi_text_add(p->err, ": no stable radius for the pressure of ");
+            hpi_text_add(p->err, B->name);
             return HP_ERR_INVALID;
         }
         r.bladders[k].ri = ri;
@@ -46,17 +46,17 @@ hp_error hp_plan_previous_from(hp_planner *p, const double *P, int warm, const c
     if (warm) {
         double x0[6];
         for (int i = 0; i < 6; ++i) x0[i] = p->commanded[i] ? p->prev.achieved[i] : 0.0;
-        fitted = hp_kin_fit(&p->L, &p->G, p->level, ro, p->commanded, x0, NULL, NULL, xi,
+        fitted = hpi_kin_fit(&p->L, &p->G, p->level, ro, p->commanded, x0, NULL, NULL, xi,
                             &resid, NULL) == HP_OK;
     }
-    if (!fitted && hp_plan_fit_from_nominal(p, ro, p->commanded, NULL, xi, &resid) != HP_OK) {
-        hp_text_set(p->err, who);
-        hp_text_add(p->err, ": forward contact kinematics from the nominal pose finds no pose "
+    if (!fitted && hpi_plan_fit_from_nominal(p, ro, p->commanded, NULL, xi, &resid) != HP_OK) {
+        hpi_text_set(p->err, who);
+        hpi_text_add(p->err, ": forward contact kinematics from the nominal pose finds no pose "
                             "these pressures hold (it did not converge)");
         return HP_ERR_INVALID;
     }
     for (int i = 0; i < 6; ++i) r.achieved[i] = p->commanded[i] ? xi[i] : 0.0;
-    hp_plan_set_previous_answer(p, &r);
+    hpi_plan_set_previous_answer(p, &r);
     /* The radii solve P to the FK's precision, not to set_previous_result's tolerance. */
     p->prev_checked = 0;
     return HP_OK;
@@ -66,14 +66,14 @@ hp_error hp_planner_set_measured(hp_planner *p, const double *pressures, unsigne
 {
     if (!p) return HP_ERR_NULL;
     if (!pressures) {
-        hp_text_set(p->err, "set_measured: pressures is NULL");
+        hpi_text_set(p->err, "set_measured: pressures is NULL");
         return HP_ERR_NULL;
     }
     if (!p->built) return HP_ERR_STATE;
     double P[HP_MAX_BLADDERS], plo[HP_MAX_BLADDERS], phi[HP_MAX_BLADDERS];
     /* The level's own pressure bounds: the load level's differ from the kinematic ones. */
     if (p->load) {
-        hp_load_level_bounds(p->load, plo, phi);
+        hpi_load_level_bounds(p->load, plo, phi);
     } else {
         memcpy(plo, p->sb.p_lo, (size_t)p->L.n * sizeof *plo);
         memcpy(phi, p->sb.p_hi, (size_t)p->L.n * sizeof *phi);
@@ -84,26 +84,26 @@ hp_error hp_planner_set_measured(hp_planner *p, const double *pressures, unsigne
         double tol = HP_MEASURED_TOL_REL * (B->p_max - B->p_min), lo = plo[k], hi = phi[k],
                v = pressures[k];
         if (!(v >= lo - tol && v <= hi + tol)) {
-            hp_text_set(p->err, "set_measured: bladder ");
-            hp_text_add(p->err, B->name);
+            hpi_text_set(p->err, "set_measured: bladder ");
+            hpi_text_add(p->err, B->name);
             if (!isfinite(v)) {
-                hp_text_add(p->err, ": pressure not finite");
+                hpi_text_add(p->err, ": pressure not finite");
             } else {
-                hp_text_add(p->err, ": pressure ");
-                hp_text_add_num(p->err, v, 3);
-                hp_text_add(p->err, " Pa lies ");
-                hp_text_add_num(p->err, v < lo ? lo - v : v - hi, 3);
-                hp_text_add(p->err, " Pa beyond the pressures its limits allow (tolerance ");
-                hp_text_add_num(p->err, tol, 3);
-                hp_text_add(p->err, " Pa)");
+                hpi_text_add(p->err, ": pressure ");
+                hpi_text_add_num(p->err, v, 3);
+                hpi_text_add(p->err, " Pa lies ");
+                hpi_text_add_num(p->err, v < lo ? lo - v : v - hi, 3);
+                hpi_text_add(p->err, " Pa beyond the pressures its limits allow (tolerance ");
+                hpi_text_add_num(p->err, tol, 3);
+                hpi_text_add(p->err, " Pa)");
             }
             return HP_ERR_INVALID;
         }
         P[k] = fmin(fmax(v, lo), hi);
         if (P[k] != v) mask |= 1u << k;
     }
-    hp_error e = p->load ? hp_load_level_set_previous(p->load, P)
-                         : hp_plan_previous_from(p, P, 1, "set_measured");
+    hp_error e = p->load ? hpi_load_level_set_previous(p->load, P)
+                         : hpi_plan_previous_from(p, P, 1, "set_measured");
     if (e == HP_OK && clamped) *clamped = mask;
     return e;
 }

@@ -2,9 +2,9 @@
 #ifndef HP_PLANNER_NAMES_H
 #define HP_PLANNER_NAMES_H
 
-extern const char *const hp_backend_words[];
-extern const char *const hp_status_words[];
-extern const char *const hp_binding_words[];
-extern const char *const hp_load_tiebreak_words[];
+extern const char *const hpi_backend_words[];
+extern const char *const hpi_status_words[];
+extern const char *const hpi_binding_words[];
+extern const char *const hpi_load_tiebreak_words[];
 
 #endif

@@ -6,7 +6,7 @@
 
 #include <math.h>
 
-hp_error hp_nominal_pressures_of(const hp_layout *L, const hp_geom *G, double *pressures,
+hp_error hpi_nominal_pressures_of(const hp_layout *L, const hp_geom *G, double *pressures,
                                  int *bad)
 {
     for (int k = 0; k < L->n; ++k) {
@@ -29,7 +29,7 @@ hp_error hp_planner_nominal_pressures(const hp_planner *p, double *pressures)
     const hp_layout *L = hp_planner_layout(p);
     if (!L) return HP_ERR_STATE;
     int bad = 0;
-    hp_error e = hp_nominal_pressures_of(L, hp_planner_geom(p), pressures, &bad);
+    hp_error e = hpi_nominal_pressures_of(L, hpi_planner_geom(p), pressures, &bad);
     if (e != HP_OK)
         for (int j = 0; j < L->n; ++j) pressures[j] = NAN;
     return e;

@@ -9,7 +9,7 @@
 /* Every bladder's pressure at its nominal contact distance (G derived from L). Returns HP_OK,
  * or the bladder model's error with *bad set to the failing bladder (pressures before it
  * are written, the rest untouched). */
-hp_error hp_nominal_pressures_of(const hp_layout *L, const hp_geom *G, double *pressures,
+hp_error hpi_nominal_pressures_of(const hp_layout *L, const hp_geom *G, double *pressures,
                                  int *bad);
 
 #endif

@@ -50,7 +50,7 @@ static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, const pla
     for (int k = 0; k < res->n; ++k) res->bladders[k].binding = 0;
     p->note[0] = '\0';
     p->note_pending = 0;
-    res->solve_time = hp_plan_now() - (c ? c->t0 : res->solve_time);
+    res->solve_time = hpi_plan_now() - (c ? c->t0 : res->solve_time);
     return HP_OK;
 }
 
@@ -59,10 +59,10 @@ static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, const pla
  * command line, batch and Python all print this one text. */
 static void add_budget(const hp_planner *p, char *buf, hp_status st)
 {
-    hp_text_set(buf, hp_status_name(st));
-    hp_text_add(buf, ": the ");
-    hp_text_add(buf, hp_backend_name(p->s.backend));
-    hp_text_add(buf, " backend did not converge within solver.");
+    hpi_text_set(buf, hp_status_name(st));
+    hpi_text_add(buf, ": the ");
+    hpi_text_add(buf, hp_backend_name(p->s.backend));
+    hpi_text_add(buf, " backend did not converge within solver.");
     if (st == HP_STATUS_TIME_LIMIT) {
         /* The fewest decimals that give the budget back (0.05 as "0.05"), at most 9. */
         int dec = 0;
@@ -72,13 +72,13 @@ static void add_budget(const hp_planner *p, char *buf, hp_status st)
             ++dec;
             scale *= 10.0;
         }
-        hp_text_add(buf, "max_time_s = ");
-        hp_text_add_num(buf, p->s.max_time, dec);
-        hp_text_add(buf, " s");
+        hpi_text_add(buf, "max_time_s = ");
+        hpi_text_add_num(buf, p->s.max_time, dec);
+        hpi_text_add(buf, " s");
     } else {
-        hp_text_add(buf, "max_iter = ");
-        hp_text_add_int(buf, p->s.max_iter);
-        hp_text_add(buf, " iterations");
+        hpi_text_add(buf, "max_iter = ");
+        hpi_text_add_int(buf, p->s.max_iter);
+        hpi_text_add(buf, " iterations");
     }
 }
 
@@ -89,13 +89,13 @@ static void err_backend(hp_planner *p, hp_status st, int raw)
     if (st == HP_STATUS_ITERATION_LIMIT || st == HP_STATUS_TIME_LIMIT) {
         add_budget(p, p->err, st);
     } else {
-        hp_text_set(p->err, p->ops->name);
-        hp_text_add(p->err, ": ");
-        hp_text_add(p->err, hp_status_name(st));
+        hpi_text_set(p->err, p->ops->name);
+        hpi_text_add(p->err, ": ");
+        hpi_text_add(p->err, hp_status_name(st));
     }
-    hp_text_add(p->err, " (raw code ");
-    hp_text_add_int(p->err, raw);
-    hp_text_add(p->err, ")");
+    hpi_text_add(p->err, " (raw code ");
+    hpi_text_add_int(p->err, raw);
+    hpi_text_add(p->err, ")");
 }
 
 /* This cycle's exact bounds: the static ones intersected with the rate windows around the
@@ -103,10 +103,10 @@ static void err_backend(hp_planner *p, hp_status st, int raw)
 static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
 {
     c->rate_deferred = 0;
-    if (hp_setup_cycle_bounds_memo(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits,
+    if (hpi_setup_cycle_bounds_memo(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits,
                                    &p->rate_memo, &p->pb, p->lo_flags, p->hi_flags,
                                    NULL) != HP_OK) {
-        hp_text_set(p->err, "the rate limits leave no radius inside the pressure and stretch "
+        hpi_text_set(p->err, "the rate limits leave no radius inside the pressure and stretch "
                             "limits");
         fail_safe(p, res, HP_STATUS_INFEASIBLE_START, c);
         return 0;
@@ -120,21 +120,21 @@ static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
 static int validate(hp_planner *p, const double desired[6], hp_result *res, plan_ctx *c)
 {
     for (int i = 0; i < 6; ++i) res->desired[i] = desired[i];
-    if (!hp_plan_desired_ok(&p->id, desired, p->err)) {
+    if (!hpi_plan_desired_ok(&p->id, desired, p->err)) {
         fail_safe(p, res, HP_STATUS_INVALID_INPUT, c);
         return 0;
     }
     /* The commanded part: what the layout can observe of the desired correction, in the
      * commanded components; the rest is reported, never silently dropped. */
-    if (hp_pose_commanded_part_g(&p->L, &p->G, &p->id, p->level, desired, c->xc) != HP_OK) {
-        hp_text_set(p->err, "desired: the contact model cannot evaluate this correction (a "
+    if (hpi_pose_commanded_part_g(&p->L, &p->G, &p->id, p->level, desired, c->xc) != HP_OK) {
+        hpi_text_set(p->err, "desired: the contact model cannot evaluate this correction (a "
                             "bladder centre would lie deep inside the head)");
         fail_safe(p, res, HP_STATUS_INVALID_INPUT, c);
         return 0;
     }
     for (int i = 0; i < 6; ++i) c->unc[i] = desired[i] - c->xc[i];
     hp_problem *pb = &p->pb;
-    hp_plan_to_scaled(c->xc, pb->d);
+    hpi_plan_to_scaled(c->xc, pb->d);
     for (int i = 0; i < 6; ++i)
         if (!p->commanded[i]) pb->d[i] = 0.0;
     /* Without a rate limit the bounds are those create set (rate_free). With one, the
@@ -142,8 +142,8 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
      * pressure well inside its rate window, and then the rate limits' radius bounds (two
      * pressure -> radius solves a bladder) change nothing (rate_bounds). */
     if (p->rate_free) return 1;
-    if (!hp_setup_rate_lazy()) return rate_bounds(p, res, c);
-    hp_setup_cycle_bounds(&p->L, &p->sb, NULL, 0, pb, p->lo_flags, p->hi_flags, NULL);
+    if (!hpi_setup_rate_lazy()) return rate_bounds(p, res, c);
+    hpi_setup_cycle_bounds(&p->L, &p->sb, NULL, 0, pb, p->lo_flags, p->hi_flags, NULL);
     c->rate_deferred = 1;
     return 1;
 }
@@ -156,7 +156,7 @@ static int direct_chain(hp_planner *p, plan_ctx *c)
     int inside = 0;
     /* The Jacobian only where a round trip follows (the linear level skips it). */
     double *J = p->level == HP_LEVEL_LINEAR ? NULL : p->chain_J;
-    return hp_setup_contact_inside(&p->L, &p->G, p->level, pb->d, pb->ro_lo, pb->ro_hi, c->rho,
+    return hpi_setup_contact_inside(&p->L, &p->G, p->level, pb->d, pb->ro_lo, pb->ro_hi, c->rho,
                                    J, &inside) == HP_OK && inside;
 }
 
@@ -184,7 +184,7 @@ static int rate_pinned(const hp_planner *p)
 static int hold(hp_planner *p, hp_result *res, plan_ctx *c)
 {
     double rho[HP_MAX_BLADDERS], ss = 0.0;
-    if (hp_setup_contact_scaled(&p->L, &p->G, p->level, p->x_prev, rho, NULL) != HP_OK)
+    if (hpi_setup_contact_scaled(&p->L, &p->G, p->level, p->x_prev, rho, NULL) != HP_OK)
         ss = INFINITY;
     for (int k = 0; k < p->L.n; ++k) {
         c->rho[k] = p->prev.bladders[k].ro * HP_MM_PER_M;
@@ -192,12 +192,12 @@ static int hold(hp_planner *p, hp_result *res, plan_ctx *c)
     }
     double resid = sqrt(ss / p->L.n);
     if (!(resid <= HP_CLAMP_RESID_MM)) {
-        hp_text_set(p->err, "the rate limits hold every bladder at its previous pressure, and "
+        hpi_text_set(p->err, "the rate limits hold every bladder at its previous pressure, and "
                             "those pressures hold no pose at the ");
-        hp_text_add(p->err, hp_level_name(p->level));
-        hp_text_add(p->err, " level (contact residual ");
-        hp_text_add_num(p->err, resid, 9);
-        hp_text_add(p->err, " mm RMS); holding the previous pressures");
+        hpi_text_add(p->err, hp_level_name(p->level));
+        hpi_text_add(p->err, " level (contact residual ");
+        hpi_text_add_num(p->err, resid, 9);
+        hpi_text_add(p->err, " mm RMS); holding the previous pressures");
         fail_safe(p, res, HP_STATUS_INFEASIBLE_START, c);
         return 0;
     }
@@ -252,10 +252,10 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c, int cold)
             fs = HP_STATUS_SOLVER_ERROR;
         err_backend(p, fs, br.raw_code);
         if (e != HP_OK && p->diag.text[0]) {
-            hp_text_add(p->err, ": ");
-            hp_text_add(p->err, p->diag.text);
+            hpi_text_add(p->err, ": ");
+            hpi_text_add(p->err, p->diag.text);
         }
-        hp_text_add(p->err, "; holding the previous pressures");
+        hpi_text_add(p->err, "; holding the previous pressures");
         fail_safe(p, res, fs, c);
         return 0;
     }
@@ -287,9 +287,9 @@ static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
 {
     /* The direct chain's answer is the pose it just evaluated, and a backend may hand back
      * its distances at its answer: no second evaluation. */
-    if (!hp_plan_answer_from_pose(p, c->x, c->direct || c->has_rho ? c->rho : NULL, r,
+    if (!hpi_plan_answer_from_pose(p, c->x, c->direct || c->has_rho ? c->rho : NULL, r,
                                   &c->clamp_mm)) {
-        hp_text_set(p->err, "the answer was not finite or left a limit: holding the previous "
+        hpi_text_set(p->err, "the answer was not finite or left a limit: holding the previous "
                             "pressures");
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
         return 0;
@@ -297,18 +297,18 @@ static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
     if (!(c->clamp_mm > 1e-9)) return 1;
     double ro[HP_MAX_BLADDERS], xi[6], resid, xs[6];
     for (int k = 0; k < p->L.n; ++k) ro[k] = r->bladders[k].ro;
-    hp_plan_from_scaled(c->x, xs);
+    hpi_plan_from_scaled(c->x, xs);
     /* Radii that no pose holds (a backend that stopped at an infeasible point, e.g. under
      * rate limits that cannot all hold) are no answer: the fitted pose would not be where
      * the head goes. */
-    if (hp_contact_fk_g(&p->L, &p->G, p->level, ro, xs, xi, &resid, NULL) != HP_OK ||
+    if (hpi_contact_fk_g(&p->L, &p->G, p->level, ro, xs, xi, &resid, NULL) != HP_OK ||
         !(resid * HP_MM_PER_M <= HP_CLAMP_RESID_MM)) {
         /* A budget that ran out before a feasible iterate keeps its label. */
         hp_status fs = (c->st == HP_STATUS_ITERATION_LIMIT || c->st == HP_STATUS_TIME_LIMIT)
                            ? c->st
                            : HP_STATUS_SOLVER_ERROR;
         err_backend(p, fs, c->raw);
-        hp_text_add(p->err, ": the backend's radii, clamped into the limits, hold no pose; "
+        hpi_text_add(p->err, ": the backend's radii, clamped into the limits, hold no pose; "
                             "holding the previous pressures");
         fail_safe(p, r, fs, c);
         return 0;
@@ -329,7 +329,7 @@ static int closest_verified(const hp_planner *p, const double *x)
 {
     if (p->ops->caps & HP_BACKEND_CERTIFIES) return 1;
     hp_kkt_measure m;
-    if (hp_backend_kkt_measure(&p->pb, x, &m) != HP_OK) return 0;
+    if (hpi_backend_kkt_measure(&p->pb, x, &m) != HP_OK) return 0;
     /* Loose on purpose: SLSQP's answers stop up to ~1e-5 mm/deg short and its multipliers
      * are not exact, while a stalled start point misses stationarity by O(1) of the
      * gradient; 1e-3 of the gradient's scale separates the two. */
@@ -346,7 +346,7 @@ static int closest_verified(const hp_planner *p, const double *x)
  * where the fit ended (hp_plan_trip). On a near-degenerate layout the fit from the nominal
  * pose can end at another pose with the same distances, or stall in a second local fit;
  * then the answer is not identified by this layout. Allocates nothing. */
-int hp_plan_round_trip(const hp_planner *p, const hp_result *r, const double achieved[6],
+int hpi_plan_round_trip(const hp_planner *p, const hp_result *r, const double achieved[6],
                        const hp_plan_anchor *anchor, hp_plan_trip *t)
 {
     t->worst = 0.0;
@@ -362,12 +362,12 @@ int hp_plan_round_trip(const hp_planner *p, const hp_result *r, const double ach
         double ri;
         /* Started at the answer's own stable radius: the root of its pressure is unique on
          * the stable branch, so the start changes the steps, never what is verified. */
-        if (hp_iab_s_fk_limit_warm_ro(&p->sb.iab_s[k], &p->sb.limit[k], r->bladders[k].pressure,
+        if (hpi_iab_s_fk_limit_warm_ro(&p->sb.iab_s[k], &p->sb.limit[k], r->bladders[k].pressure,
                                       r->bladders[k].ri, &ri, &ro[k]) != HP_OK)
             ro[k] = r->bladders[k].ro;
     }
     double resid = INFINITY;
-    /* The fit may stop once it has provably arrived at achieved (hp_kin_fit): the last two or
+    /* The fit may stop once it has provably arrived at achieved (hpi_kin_fit): the last two or
      * three of its ~5 steps only polish digits far below HP_IDENT_FK_TOL. A fit that heads
      * anywhere else runs to its end exactly as before. */
     hp_kin_fit_near near;
@@ -377,18 +377,18 @@ int hp_plan_round_trip(const hp_planner *p, const hp_result *r, const double ach
     }
     /* The answer's point and the distances evaluated there (the direct chain's, or the
      * backend's own), and for the direct chain its Jacobian there: with them the fit may
-     * stop as soon as a certificate proves where it ends (hp_kin_fit_certified), with the
+     * stop as soon as a certificate proves where it ends (hpi_kin_fit_certified), with the
      * Jacobian usually before it evaluates its first step. */
     near.has_anchor = anchor != NULL;
     near.anchor_J = anchor ? anchor->J : NULL;
     near.anchor_J_err = anchor ? anchor->J_err : 0.0;
     if (anchor) {
-        hp_plan_from_scaled(anchor->x, near.anchor);
+        hpi_plan_from_scaled(anchor->x, near.anchor);
         for (int k = 0; k < p->L.n; ++k) near.anchor_rho[k] = anchor->rho_mm[k] / HP_MM_PER_M;
     }
-    hp_error e = hp_plan_fit_from_nominal(p, ro, p->commanded, &near, xf, &resid);
-    hp_plan_to_scaled(achieved, a);
-    hp_plan_to_scaled(xf, b);
+    hp_error e = hpi_plan_fit_from_nominal(p, ro, p->commanded, &near, xf, &resid);
+    hpi_plan_to_scaled(achieved, a);
+    hpi_plan_to_scaled(xf, b);
     double w = e == HP_OK ? 0.0 : INFINITY;
     for (int i = 0; i < 6; ++i) w = fmax(w, fabs(a[i] - b[i]));
     t->worst = w;
@@ -399,7 +399,7 @@ int hp_plan_round_trip(const hp_planner *p, const hp_result *r, const double ach
      * afresh (not the fit's residual, an RMS), against the answer's outer radii. */
     double rho[HP_MAX_BLADDERS];
     t->gap_mm = INFINITY;
-    if (e == HP_OK && hp_contact_eval_g(&p->L, &p->G, p->level, xf, rho, NULL, NULL) == HP_OK) {
+    if (e == HP_OK && hpi_contact_eval_g(&p->L, &p->G, p->level, xf, rho, NULL, NULL) == HP_OK) {
         t->gap_mm = 0.0;
         for (int k = 0; k < p->L.n; ++k)
             t->gap_mm = fmax(t->gap_mm, fabs(rho[k] - ro[k]) * HP_MM_PER_M);
@@ -408,7 +408,7 @@ int hp_plan_round_trip(const hp_planner *p, const hp_result *r, const double ach
     return 0;
 }
 
-/* hp_plan_round_trip of answer r from plan c, with its message in p->err when it fails. */
+/* hpi_plan_round_trip of answer r from plan c, with its message in p->err when it fails. */
 static int recovered_from_nominal(hp_planner *p, const hp_result *r, const double achieved[6],
                                   const plan_ctx *c)
 {
@@ -416,23 +416,23 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
     if (!c->direct && c->has_lin) {
         /* The backend's Jacobian is a rounding-level step old: its drift to c->x bounded. */
         double xa[6], rho_m[HP_MAX_BLADDERS], d2 = 0.0;
-        hp_plan_from_scaled(c->lin_x, xa);
+        hpi_plan_from_scaled(c->lin_x, xa);
         for (int k = 0; k < p->L.n; ++k) rho_m[k] = c->lin_rho[k] / HP_MM_PER_M;
         for (int i = 0; i < 6; ++i) d2 += (c->x[i] - c->lin_x[i]) * (c->x[i] - c->lin_x[i]);
         an.J = c->lin_J;
-        an.J_err = hp_kin_jacobian_drift(&p->L, &p->G, p->level, xa, rho_m, c->lin_J,
+        an.J_err = hpi_kin_jacobian_drift(&p->L, &p->G, p->level, xa, rho_m, c->lin_J,
                                          sqrt(d2) * (1.0 + 1e-12));
     }
     hp_plan_trip t;
-    if (hp_plan_round_trip(p, r, achieved, c->direct || c->has_rho ? &an : NULL, &t))
+    if (hpi_plan_round_trip(p, r, achieved, c->direct || c->has_rho ? &an : NULL, &t))
         return 1;
-    hp_text_set(p->err, r->status == HP_STATUS_CLOSEST
+    hpi_text_set(p->err, r->status == HP_STATUS_CLOSEST
                             ? "desired: its closest reachable pose lies outside the identifiable "
                               "range of this layout at the "
                             : "desired: outside the identifiable range of this layout at the ");
-    hp_text_add(p->err, hp_level_name(p->level));
-    hp_text_add(p->err, " level: ");
-    hp_plan_trip_text(p->err, &t);
+    hpi_text_add(p->err, hp_level_name(p->level));
+    hpi_text_add(p->err, " level: ");
+    hpi_plan_trip_text(p->err, &t);
     return 0;
 }
 
@@ -448,7 +448,7 @@ static int binds_any(const hp_result *r)
 static int uncommanded_beyond(const hp_planner *p, const double unc[6])
 {
     double u[6];
-    hp_plan_to_scaled(unc, u);
+    hpi_plan_to_scaled(unc, u);
     for (int i = 0; i < 6; ++i)
         if (fabs(u[i]) > p->s.tolerance) return 1;
     return 0;
@@ -458,16 +458,16 @@ static int uncommanded_beyond(const hp_planner *p, const double unc[6])
 static void add_uncommanded(const hp_planner *p, char *buf, const double unc[6])
 {
     double u[6];
-    hp_plan_to_scaled(unc, u);
-    hp_text_add(buf, "not commanded (the layout cannot observe it):");
+    hpi_plan_to_scaled(unc, u);
+    hpi_text_add(buf, "not commanded (the layout cannot observe it):");
     int first = 1;
     for (int i = 0; i < 6; ++i) {
         if (!(fabs(u[i]) > p->s.tolerance)) continue;
-        hp_text_add(buf, first ? " " : ", ");
-        hp_text_add(buf, pose_names[i]);
-        hp_text_add(buf, " ");
-        hp_text_add_num(buf, u[i], 6);
-        hp_text_add(buf, i < 3 ? " mm" : " deg");
+        hpi_text_add(buf, first ? " " : ", ");
+        hpi_text_add(buf, pose_names[i]);
+        hpi_text_add(buf, " ");
+        hpi_text_add_num(buf, u[i], 6);
+        hpi_text_add(buf, i < 3 ? " mm" : " deg");
         first = 0;
     }
 }
@@ -476,21 +476,21 @@ static void add_uncommanded(const hp_planner *p, char *buf, const double unc[6])
  * HP_BIND_* flags. */
 static void add_binding(const hp_planner *p, char *buf, hp_status st, const unsigned *binding)
 {
-    hp_text_set(buf, hp_status_name(st));
-    hp_text_add(buf, ": binding");
+    hpi_text_set(buf, hp_status_name(st));
+    hpi_text_add(buf, ": binding");
     int any = 0;
     for (int k = 0; k < p->L.n; ++k) {
         if (!binding[k]) continue;
-        hp_text_add(buf, any ? ", " : " ");
-        hp_text_add(buf, p->L.bladders[k].name);
+        hpi_text_add(buf, any ? ", " : " ");
+        hpi_text_add(buf, p->L.bladders[k].name);
         for (int b = 0; b < HP_BIND_COUNT; ++b)
             if (binding[k] & (1u << b)) {
-                hp_text_add(buf, " ");
-                hp_text_add(buf, hp_binding_name(1u << b));
+                hpi_text_add(buf, " ");
+                hpi_text_add(buf, hp_binding_name(1u << b));
             }
         any = 1;
     }
-    if (!any) hp_text_add(buf, " none");
+    if (!any) hpi_text_add(buf, " none");
 }
 
 /* Step 5: the label. REACHED / UNCOMMANDED when the commanded part is met and the strict
@@ -507,18 +507,18 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
      * there is (a warm solve's is first tried again from the nominal pose); a budget's
      * iterate there is no usable iterate. */
     int budget = !(r->pose_error <= p->s.tolerance) && !c->converged;
-    if (!hp_plan_range_ok(&p->id, r->achieved,
+    if (!hpi_plan_range_ok(&p->id, r->achieved,
                           budget ? "the last iterate's" : "desired: its closest reachable pose's",
                           p->err)) {
         if (budget) {
             char why[HP_DIAG_MAX];
-            hp_text_set(why, p->err);
+            hpi_text_set(why, p->err);
             hp_status fs = c->st == HP_STATUS_TIME_LIMIT ? HP_STATUS_TIME_LIMIT
                                                          : HP_STATUS_ITERATION_LIMIT;
             add_budget(p, p->err, fs);
-            hp_text_add(p->err, "; ");
-            hp_text_add(p->err, why);
-            hp_text_add(p->err, "; holding the previous pressures");
+            hpi_text_add(p->err, "; ");
+            hpi_text_add(p->err, why);
+            hpi_text_add(p->err, "; holding the previous pressures");
             fail_safe(p, r, fs, c);
             return 0;
         }
@@ -540,7 +540,7 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
          * far beyond reach handed back its start point with XTOL_REACHED) gives no answer:
          * label it and hold, never report it as the closest correction. */
         err_backend(p, HP_STATUS_SOLVER_ERROR, c->raw);
-        hp_text_add(p->err, ": its claimed optimum fails the first-order (KKT) check; "
+        hpi_text_add(p->err, ": its claimed optimum fails the first-order (KKT) check; "
                             "holding the previous pressures");
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
         return 0;
@@ -550,9 +550,9 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
          * few 1e-6 mm inside a bound when the remaining pose error is tiny, because its
          * complementarity test scales with the multiplier). Label it, never CLOSEST. */
         err_backend(p, HP_STATUS_SOLVER_ERROR, c->raw);
-        hp_text_add(p->err, ": its claimed optimum binds no limit (none within ");
-        hp_text_add_num(p->err, HP_BINDING_TOL_MM * 1e6, 0);
-        hp_text_add(p->err, " nm), so it is not the closest; holding the previous pressures");
+        hpi_text_add(p->err, ": its claimed optimum binds no limit (none within ");
+        hpi_text_add_num(p->err, HP_BINDING_TOL_MM * 1e6, 0);
+        hpi_text_add(p->err, " nm), so it is not the closest; holding the previous pressures");
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
         return 0;
     } else if (c->converged) {
@@ -574,7 +574,7 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
     /* The two text channels: an answer explains itself in the note, a budget that ran out
      * is a failure to finish (error). */
     if (r->status == HP_STATUS_UNCOMMANDED) {
-        hp_text_set(p->note, "uncommanded: the commanded part is reached; ");
+        hpi_text_set(p->note, "uncommanded: the commanded part is reached; ");
         add_uncommanded(p, p->note, c->unc);
     } else if (r->status != HP_STATUS_REACHED) {
         unsigned binding[HP_MAX_BLADDERS];
@@ -588,14 +588,14 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
         if (r->status == HP_STATUS_CLOSEST) add_binding(p, buf, r->status, binding);
         else add_budget(p, buf, r->status);
         if (unc_any) {
-            hp_text_add(buf, "; ");
+            hpi_text_add(buf, "; ");
             add_uncommanded(p, buf, c->unc);
         }
     }
     return 1;
 }
 
-void hp_plan_note_flush(hp_planner *p)
+void hpi_plan_note_flush(hp_planner *p)
 {
     if (!p->note_pending) return;
     p->note_pending = 0;
@@ -604,10 +604,10 @@ void hp_plan_note_flush(hp_planner *p)
 
 hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
 {
-    plan_ctx c = {.t0 = hp_plan_now(), .st = HP_STATUS_REACHED, .converged = 1};
+    plan_ctx c = {.t0 = hpi_plan_now(), .st = HP_STATUS_REACHED, .converged = 1};
     if (!p) return HP_ERR_NULL;
     if (!res) {
-        hp_text_set(p->err, "result: NULL");
+        hpi_text_set(p->err, "result: NULL");
         return HP_ERR_NULL;
     }
     if (!p->built) {
@@ -621,7 +621,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     if (p->load) {
         /* The load level's plan; a CLOSEST answer's note names its binding limits as the
          * contact levels' does (composed when asked for, hp_planner_note). */
-        hp_error e = hp_load_level_plan(p->load, desired, res);
+        hp_error e = hpi_load_level_plan(p->load, desired, res);
         if (e == HP_OK && res->status == HP_STATUS_CLOSEST) {
             for (int k = 0; k < res->n; ++k) p->note_binding[k] = res->bladders[k].binding;
             p->note_pending = 1;
@@ -630,7 +630,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     }
     if (!desired) {
         for (int i = 0; i < 6; ++i) res->desired[i] = NAN;
-        hp_text_set(p->err, "desired: NULL");
+        hpi_text_set(p->err, "desired: NULL");
         fail_safe(p, res, HP_STATUS_INVALID_INPUT, &c);
         return HP_ERR_NULL;
     }
@@ -665,7 +665,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         if (c.rate_deferred) {
             /* A direct answer inside the static bounds: the plan's own unless a pressure
              * comes near a rate window's end. Then the exact bounds, and the plan again. */
-            if (hp_setup_rate_clear(&p->L, &p->sb, p->pb.p_prev, res->bladders)) {
+            if (hpi_setup_rate_clear(&p->L, &p->sb, p->pb.p_prev, res->bladders)) {
                 c.rate_deferred = 0;
             } else {
                 if (!rate_bounds(p, res, &c)) return HP_OK;
@@ -677,7 +677,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
             }
         }
         double a[6];
-        hp_plan_to_scaled(res->achieved, a);
+        hpi_plan_to_scaled(res->achieved, a);
         res->pose_error = 0;
         for (int i = 0; i < 6; ++i)
             if (p->commanded[i]) res->pose_error = fmax(res->pose_error, fabs(a[i] - p->pb.d[i]));
@@ -691,7 +691,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         c.has_lin = 0;
     }
 
-    hp_plan_set_previous_answer(p, res);
+    hpi_plan_set_previous_answer(p, res);
     /* A backend's own answer, unmoved, is the next start: tell the backend (warm start with
      * its multipliers). */
     if (!c.direct && !c.held && c.clamp_mm == 0) {
@@ -701,7 +701,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
             if (isfinite(p->x_work[6 + k])) p->x_prev[6 + k] = p->x_work[6 + k];
         if (p->ops->warm_point) p->ops->warm_point(p->bstate, 1);
     }
-    res->solve_time = hp_plan_now() - c.t0;
+    res->solve_time = hpi_plan_now() - c.t0;
     p->prev.solve_time = res->solve_time;
     return HP_OK;
 }
@@ -710,8 +710,8 @@ const char *hp_planner_note(const hp_planner *p)
 {
     if (!p) return "";
     /* The planner is the caller's own, never a const object: the pending text is written
-     * here (hp_plan_note_flush), as hp_plan would have. */
-    if (p->note_pending) hp_plan_note_flush(hp_unconst(p));
+     * here (hpi_plan_note_flush), as hp_plan would have. */
+    if (p->note_pending) hpi_plan_note_flush(hpi_unconst(p));
     return p->note;
 }
 

@@ -4,7 +4,7 @@
 
 #include <math.h>
 
-int hp_plan_range_check(const hp_identifiable *id, const double xi[6], double *size)
+int hpi_plan_range_check(const hp_identifiable *id, const double xi[6], double *size)
 {
     /* Every plan passes here, and most corrections are far inside both limits: a bound that
      * is cheap and provably no smaller than the exact quantity decides those without hypot
@@ -25,47 +25,47 @@ int hp_plan_range_check(const hp_identifiable *id, const double xi[6], double *s
     return ang < id->rot_limit ? 0 : 2;
 }
 
-int hp_plan_range_ok(const hp_identifiable *id, const double xi[6], const char *what,
+int hpi_plan_range_ok(const hp_identifiable *id, const double xi[6], const char *what,
                      char *err)
 {
     double size;
-    int out = hp_plan_range_check(id, xi, &size);
+    int out = hpi_plan_range_check(id, xi, &size);
     if (out == 1) {
-        hp_text_set(err, what);
-        hp_text_add(err, " translation: |(x, y, z)| = ");
-        hp_text_add_num(err, size * HP_MM_PER_M, 1);
-        hp_text_add(err, " mm is outside the identifiable range (<= ");
-        hp_text_add_num(err, id->trans_limit * HP_MM_PER_M, 1);
-        hp_text_add(err, " mm, the head's smallest semi-axis)");
+        hpi_text_set(err, what);
+        hpi_text_add(err, " translation: |(x, y, z)| = ");
+        hpi_text_add_num(err, size * HP_MM_PER_M, 1);
+        hpi_text_add(err, " mm is outside the identifiable range (<= ");
+        hpi_text_add_num(err, id->trans_limit * HP_MM_PER_M, 1);
+        hpi_text_add(err, " mm, the head's smallest semi-axis)");
         return 0;
     }
     if (out == 2) {
-        hp_text_set(err, what);
-        hp_text_add(err, " rotation: angle ");
-        hp_text_add_num(err, size * HP_DEG_PER_RAD, 1);
-        hp_text_add(err, " deg is outside the identifiable range (below ");
-        hp_text_add_num(err, id->rot_limit * HP_DEG_PER_RAD, 0);
-        hp_text_add(err, " deg: the head looks the same after ");
-        hp_text_add(err, id->symmetry);
-        hp_text_add(err, ", so the contact distances confuse such a turn with a smaller one)");
+        hpi_text_set(err, what);
+        hpi_text_add(err, " rotation: angle ");
+        hpi_text_add_num(err, size * HP_DEG_PER_RAD, 1);
+        hpi_text_add(err, " deg is outside the identifiable range (below ");
+        hpi_text_add_num(err, id->rot_limit * HP_DEG_PER_RAD, 0);
+        hpi_text_add(err, " deg: the head looks the same after ");
+        hpi_text_add(err, id->symmetry);
+        hpi_text_add(err, ", so the contact distances confuse such a turn with a smaller one)");
         return 0;
     }
     return 1;
 }
 
-int hp_plan_desired_ok(const hp_identifiable *id, const double desired[6], char *err)
+int hpi_plan_desired_ok(const hp_identifiable *id, const double desired[6], char *err)
 {
     static const char *const pose_names[6] = {"x", "y", "z", "pitch", "roll", "yaw"};
     for (int i = 0; i < 6; ++i) {
         double lim = i < 3 ? HP_PLAN_MAX_TRANS : HP_PLAN_MAX_ROT;
         if (!isfinite(desired[i]) || !(fabs(desired[i]) <= lim)) {
-            hp_text_set(err, "desired ");
-            hp_text_add(err, pose_names[i]);
-            hp_text_add(err, isfinite(desired[i]) ? ": out of range (|translation| <= 1 m, "
+            hpi_text_set(err, "desired ");
+            hpi_text_add(err, pose_names[i]);
+            hpi_text_add(err, isfinite(desired[i]) ? ": out of range (|translation| <= 1 m, "
                                                     "|rotation| <= pi rad)"
                                                   : ": not finite");
             return 0;
         }
     }
-    return hp_plan_range_ok(id, desired, "desired", err);
+    return hpi_plan_range_ok(id, desired, "desired", err);
 }

@@ -16,16 +16,16 @@
  * inside; 1 its translation norm is beyond trans_limit; 2 its rotation angle is not below
  * rot_limit (never for a layout that sees only the centre). *size (may be NULL) gets that
  * norm [m] or angle [rad]. The one test the plans, the reach and the previous answer share. */
-int hp_plan_range_check(const hp_identifiable *id, const double xi[6], double *size);
+int hpi_plan_range_check(const hp_identifiable *id, const double xi[6], double *size);
 
 /* 1 when pose xi (SI) lies in the identifiable range id; else 0 with "WHAT translation: ..."
  * or "WHAT rotation: ..." in err (HP_DIAG_MAX bytes), the size and the limit named. */
-int hp_plan_range_ok(const hp_identifiable *id, const double xi[6], const char *what,
+int hpi_plan_range_ok(const hp_identifiable *id, const double xi[6], const char *what,
                      char *err);
 
 /* The request: desired finite, each translation within HP_PLAN_MAX_TRANS and rotation
  * within HP_PLAN_MAX_ROT, and inside the identifiable range id. 1 when it passes, else 0
  * with the one-line reason (the component or the limit named) in err (HP_DIAG_MAX bytes). */
-int hp_plan_desired_ok(const hp_identifiable *id, const double desired[6], char *err);
+int hpi_plan_desired_ok(const hp_identifiable *id, const double desired[6], char *err);
 
 #endif

@@ -6,27 +6,27 @@
 #include <math.h>
 #include <string.h>
 
-void hp_plan_to_scaled(const double xi[6], double x[6])
+void hpi_plan_to_scaled(const double xi[6], double x[6])
 {
-    for (int i = 0; i < 6; ++i) x[i] = xi[i] * hp_pose_scaled_per_si(i);
+    for (int i = 0; i < 6; ++i) x[i] = xi[i] * hpi_pose_scaled_per_si(i);
 }
 
-void hp_plan_from_scaled(const double x[6], double xi[6]) { hp_setup_pose_from_scaled(x, xi); }
+void hpi_plan_from_scaled(const double x[6], double xi[6]) { hpi_setup_pose_from_scaled(x, xi); }
 
-int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
+int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
                              hp_result *res, double *clamp_mm)
 {
     double rho[HP_MAX_BLADDERS];
     *clamp_mm = 0;
     if (rho_known) memcpy(rho, rho_known, sizeof(double) * (size_t)p->L.n);
-    else if (hp_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
+    else if (hpi_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
     /* Every bladder's inner radius first, then the pressures: each half is a chain of
      * roots and divisions, and back to back the processor overlaps one bladder's chain with
      * the next one's (the same bits as one pass). */
     double ri[HP_MAX_BLADDERS];
     int clamped[HP_MAX_BLADDERS];
     for (int k = 0; k < p->L.n; ++k)
-        if (hp_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
+        if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
                                   p->pb.ri_hi_si[k], &ri[k], &clamped[k]) != HP_OK)
             return 0;
     for (int k = 0; k < p->L.n; ++k) {
@@ -38,7 +38,7 @@ int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho
         }
         int c = clamped[k];
         hp_bladder_result *br = &res->bladders[k];
-        if (hp_setup_bladder_from_ri_s(B, &p->sb.iab_s[k], rho[k] / HP_MM_PER_M, ri[k], c, plo,
+        if (hpi_setup_bladder_from_ri_s(B, &p->sb.iab_s[k], rho[k] / HP_MM_PER_M, ri[k], c, plo,
                                        phi, br) != HP_OK)
             return 0;
         if (c) *clamp_mm = fmax(*clamp_mm, fabs(br->ro * HP_MM_PER_M - rho[k]));
@@ -49,11 +49,11 @@ int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho
             !isfinite(br->ro))
             return 0;
     }
-    hp_plan_from_scaled(x, res->achieved);
+    hpi_plan_from_scaled(x, res->achieved);
     return 1;
 }
 
-hp_error hp_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
+hp_error hpi_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
                                   const hp_kin_fit_near *near, double xi[6],
                                   double *residual_rms)
 {
@@ -66,15 +66,15 @@ hp_error hp_plan_fit_from_nominal(const hp_planner *p, const double *ro, const i
             if (!(ro[k] > 0) || !isfinite(ro[k])) return HP_ERR_INVALID;
     }
     const double zero[6] = {0};
-    return hp_kin_fit(&p->L, &p->G, p->level, ro, free_, zero, p->nom_ok ? &p->nom : NULL, near, xi,
+    return hpi_kin_fit(&p->L, &p->G, p->level, ro, free_, zero, p->nom_ok ? &p->nom : NULL, near, xi,
                       residual_rms, NULL);
 }
 
-void hp_plan_set_previous_answer(hp_planner *p, const hp_result *r)
+void hpi_plan_set_previous_answer(hp_planner *p, const hp_result *r)
 {
     if (r != &p->prev) p->prev = *r;
     p->prev_checked = 1; /* hp_planner_set_previous clears it after this call */
-    hp_plan_to_scaled(r->achieved, p->x_prev);
+    hpi_plan_to_scaled(r->achieved, p->x_prev);
     for (int k = 0; k < p->L.n; ++k) p->x_prev[6 + k] = r->bladders[k].ri * HP_MM_PER_M;
     for (int k = 0; k < p->L.n; ++k) p->pb.p_prev[k] = r->bladders[k].pressure;
     /* The next start is this answer's pose and radii, not a backend's own last point. */

@@ -1,4 +1,4 @@
-/* The round trip's message (hp_plan_trip_text), built without allocating (text.h). */
+/* The round trip's message (hpi_plan_trip_text), built without allocating (text.h). */
 #include "planner/planner_internal.h"
 
 #include <math.h>
@@ -9,37 +9,37 @@
 static void add_trip_end(char *buf, const hp_plan_trip *t)
 {
     double x[6];
-    hp_plan_to_scaled(t->end, x);
-    hp_text_add(buf, "(");
+    hpi_plan_to_scaled(t->end, x);
+    hpi_text_add(buf, "(");
     for (int i = 0; i < 6; ++i) {
-        hp_text_add_num(buf, x[i], 9);
-        hp_text_add(buf, i == 2 ? ") mm (" : i == 5 ? ") deg, " : ", ");
+        hpi_text_add_num(buf, x[i], 9);
+        hpi_text_add(buf, i == 2 ? ") mm (" : i == 5 ? ") deg, " : ", ");
     }
-    hp_text_add_num(buf, t->worst, 6);
-    hp_text_add(buf, " mm/deg away");
+    hpi_text_add_num(buf, t->worst, 6);
+    hpi_text_add(buf, " mm/deg away");
 }
 
-void hp_plan_trip_text(char *buf, const hp_plan_trip *t)
+void hpi_plan_trip_text(char *buf, const hp_plan_trip *t)
 {
-    hp_text_add(buf, "forward contact kinematics from the nominal pose ");
+    hpi_text_add(buf, "forward contact kinematics from the nominal pose ");
     if (!isfinite(t->worst)) {
-        hp_text_add(buf, "did not converge, so it cannot confirm these pressures' pose");
+        hpi_text_add(buf, "did not converge, so it cannot confirm these pressures' pose");
         return;
     }
     if (t->gap_mm <= HP_IDENT_NAME_MM) {
-        hp_text_add(buf, "finds another pose, ");
+        hpi_text_add(buf, "finds another pose, ");
         add_trip_end(buf, t);
-        hp_text_add(buf, ", whose contact distances match these pressures' to within 1 nm");
+        hpi_text_add(buf, ", whose contact distances match these pressures' to within 1 nm");
         return;
     }
-    hp_text_add(buf, "stalled at ");
+    hpi_text_add(buf, "stalled at ");
     add_trip_end(buf, t);
     if (isfinite(t->gap_mm)) {
-        hp_text_add(buf, ", where its contact distances miss these pressures' by ");
-        hp_text_add_num(buf, t->gap_mm, 6);
-        hp_text_add(buf, " mm");
+        hpi_text_add(buf, ", where its contact distances miss these pressures' by ");
+        hpi_text_add_num(buf, t->gap_mm, 6);
+        hpi_text_add(buf, " mm");
     } else {
-        hp_text_add(buf, ", where its contact distances cannot be evaluated");
+        hpi_text_add(buf, ", where its contact distances cannot be evaluated");
     }
-    hp_text_add(buf, ", so it cannot confirm their pose");
+    hpi_text_add(buf, ", so it cannot confirm their pose");
 }

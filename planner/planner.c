@@ -26,11 +26,11 @@ static hp_error build_nominal(hp_planner *p, hp_diag *d)
     r->n = p->L.n;
     for (int i = 0; i < 6; ++i) r->commanded[i] = p->commanded[i];
     double x0[6] = {0}, rho[HP_MAX_BLADDERS];
-    if (hp_setup_contact_scaled(&p->L, &p->G, p->level, x0, rho, NULL) != HP_OK)
+    if (hpi_setup_contact_scaled(&p->L, &p->G, p->level, x0, rho, NULL) != HP_OK)
         return hp_diag_set(d, HP_ERR_INVALID, "layout: contact model fails at the nominal pose");
     for (int k = 0; k < p->L.n; ++k) {
         int c = 0;
-        if (hp_setup_bladder_from_ro_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
+        if (hpi_setup_bladder_from_ro_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
                                        p->sb.ri_lo[k], p->sb.ri_hi[k], p->sb.p_lo[k],
                                        p->sb.p_hi[k], &r->bladders[k], &c) != HP_OK)
             return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: no valid state at the nominal pose",
@@ -39,7 +39,7 @@ static hp_error build_nominal(hp_planner *p, hp_diag *d)
     /* When a limit excludes the nominal radii, the clamped radii hold some other pose. */
     double ro[HP_MAX_BLADDERS], xi[6], resid;
     for (int k = 0; k < p->L.n; ++k) ro[k] = r->bladders[k].ro;
-    if (hp_plan_fit_from_nominal(p, ro, p->fk_free, NULL, xi, &resid) == HP_OK) {
+    if (hpi_plan_fit_from_nominal(p, ro, p->fk_free, NULL, xi, &resid) == HP_OK) {
         for (int i = 0; i < 6; ++i) r->achieved[i] = p->commanded[i] ? xi[i] : 0.0;
     }
     for (int k = 0; k < p->L.n; ++k) r->bladders[k].binding = 0;
@@ -50,10 +50,10 @@ void hp_planner_reset(hp_planner *p)
 {
     if (!p || !p->built) return;
     if (p->load) {
-        hp_load_level_reset(p->load);
+        hpi_load_level_reset(p->load);
         return;
     }
-    hp_plan_set_previous_answer(p, &p->nominal);
+    hpi_plan_set_previous_answer(p, &p->nominal);
 }
 
 hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
@@ -66,7 +66,7 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     else hp_settings_default(&s);
     hp_error e = hp_settings_validate(&s, d);
     if (e != HP_OK) return e;
-    const hp_backend_ops *ops = hp_backend_table(s.backend);
+    const hp_backend_ops *ops = hpi_backend_table(s.backend);
     if (!ops || !ops->create || !ops->solve)
         return hp_diag_set(d, HP_ERR_INVALID, "backend: '%s' is not built into this library",
                            hp_backend_name(s.backend));
@@ -76,10 +76,10 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     p->L = *layout;
     p->s = s;
     e = hp_layout_prepare(&p->L, d);
-    if (e == HP_OK) e = hp_geom_derive(&p->L, &p->G, d);
+    if (e == HP_OK) e = hpi_geom_derive(&p->L, &p->G, d);
     if (e != HP_OK) goto fail;
-    if ((e = hp_planner_resolve_level(p, layout, d)) != HP_OK) goto fail;
-    if ((e = hp_layout_identify_g(&p->L, &p->G, &p->id)) != HP_OK) {
+    if ((e = hpi_planner_resolve_level(p, layout, d)) != HP_OK) goto fail;
+    if ((e = hpi_layout_identify_g(&p->L, &p->G, &p->id)) != HP_OK) {
         hp_diag_set(d, e, "layout: the contact Jacobian at the nominal pose: %s",
                     hp_error_message(e));
         goto fail;
@@ -89,7 +89,7 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     if (p->level == HP_LEVEL_LOAD) {
         /* The load level plans with its own model and bounds (load_level.c) and the
          * backend's load_hold; the contact levels' problem and solver state are not built. */
-        if ((e = hp_load_level_build(p->load, &s, ops, p->err, d)) != HP_OK) goto fail;
+        if ((e = hpi_load_level_build(p->load, &s, ops, p->err, d)) != HP_OK) goto fail;
         p->built = 1;
         *out = p;
         return HP_OK;
@@ -97,11 +97,11 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     {
         /* The round-trip fits all start at the nominal pose: its model once, here. */
         const double zero[6] = {0};
-        p->nom_ok = hp_kin_fit_start_at(&p->L, &p->G, p->level, zero, &p->nom) == HP_OK;
+        p->nom_ok = hpi_kin_fit_start_at(&p->L, &p->G, p->level, zero, &p->nom) == HP_OK;
         int dof = p->L.head.shape == HP_HEAD_SPHERE ? 3 : 6;
         for (int i = 0; i < 6; ++i) p->fk_free[i] = i < dof;
     }
-    if ((e = hp_setup_static_bounds(&p->L, &p->sb, d)) != HP_OK) goto fail;
+    if ((e = hpi_setup_static_bounds(&p->L, &p->sb, d)) != HP_OK) goto fail;
 
     hp_problem *pb = &p->pb;
     pb->layout = &p->L;
@@ -115,8 +115,8 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     }
     pb->mu = s.mu;
     if ((e = build_nominal(p, d)) != HP_OK) goto fail;
-    hp_plan_set_previous_answer(p, &p->nominal);
-    e = hp_setup_cycle_bounds(&p->L, &p->sb, pb->p_prev, s.use_rate_limits, pb, p->lo_flags,
+    hpi_plan_set_previous_answer(p, &p->nominal);
+    e = hpi_setup_cycle_bounds(&p->L, &p->sb, pb->p_prev, s.use_rate_limits, pb, p->lo_flags,
                               p->hi_flags, d);
     if (e != HP_OK) goto fail;
     set_rate_free(p);
@@ -144,7 +144,7 @@ hp_level hp_planner_level(const hp_planner *p) { return p ? p->level : HP_LEVEL_
 
 const hp_layout *hp_planner_layout(const hp_planner *p) { return p ? &p->L : NULL; }
 
-const hp_geom *hp_planner_geom(const hp_planner *p) { return p ? &p->G : NULL; }
+const hp_geom *hpi_planner_geom(const hp_planner *p) { return p ? &p->G : NULL; }
 
 const hp_identifiable *hp_planner_identifiable(const hp_planner *p) { return p ? &p->id : NULL; }
 
@@ -152,29 +152,29 @@ hp_error hp_planner_set_option(hp_planner *p, const char *name, double value)
 {
     if (!p) return HP_ERR_NULL;
     if (!name) {
-        hp_text_set(p->err, "set_option: name is NULL");
+        hpi_text_set(p->err, "set_option: name is NULL");
         return HP_ERR_NULL;
     }
     if (!p->built) return HP_ERR_STATE;
     if (p->load) {
-        hp_text_set(p->err, "set_option: the load level has no backend options ('");
-        hp_text_add(p->err, name);
-        hp_text_add(p->err, "')");
+        hpi_text_set(p->err, "set_option: the load level has no backend options ('");
+        hpi_text_add(p->err, name);
+        hpi_text_add(p->err, "')");
         return HP_ERR_INVALID;
     }
     if (!p->ops->set_option) {
-        hp_text_set(p->err, "set_option: the ");
-        hp_text_add(p->err, p->ops->name);
-        hp_text_add(p->err, " backend has no options ('");
-        hp_text_add(p->err, name);
-        hp_text_add(p->err, "')");
+        hpi_text_set(p->err, "set_option: the ");
+        hpi_text_add(p->err, p->ops->name);
+        hpi_text_add(p->err, " backend has no options ('");
+        hpi_text_add(p->err, name);
+        hpi_text_add(p->err, "')");
         return HP_ERR_INVALID;
     }
     p->diag.text[0] = '\0';
     hp_error e = p->ops->set_option(p->bstate, name, value, &p->diag);
     if (e != HP_OK) {
-        hp_text_set(p->err, "set_option: ");
-        hp_text_add(p->err, p->diag.text);
+        hpi_text_set(p->err, "set_option: ");
+        hpi_text_add(p->err, p->diag.text);
     }
     return e;
 }
@@ -183,18 +183,18 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
 {
     if (!p) return HP_ERR_NULL;
     if (!pressures) {
-        hp_text_set(p->err, "set_previous: pressures is NULL");
+        hpi_text_set(p->err, "set_previous: pressures is NULL");
         return HP_ERR_NULL;
     }
     if (!p->built) return HP_ERR_STATE;
-    if (p->load) return hp_load_level_set_previous(p->load, pressures);
+    if (p->load) return hpi_load_level_set_previous(p->load, pressures);
     for (int k = 0; k < p->L.n; ++k)
         if (!(pressures[k] >= p->sb.p_lo[k] && pressures[k] <= p->sb.p_hi[k])) {
-            hp_text_set(p->err, "set_previous: a pressure is outside its limits or not finite: ");
-            hp_text_add(p->err, p->L.bladders[k].name);
+            hpi_text_set(p->err, "set_previous: a pressure is outside its limits or not finite: ");
+            hpi_text_add(p->err, p->L.bladders[k].name);
             return HP_ERR_INVALID;
         }
-    return hp_plan_previous_from(p, pressures, 0, "set_previous");
+    return hpi_plan_previous_from(p, pressures, 0, "set_previous");
 }
 
 /* The consistency hp_planner_set_previous_result asks of a result's bladders. ro against the
@@ -209,11 +209,11 @@ hp_error hp_planner_set_previous(hp_planner *p, const double *pressures)
 /* "set_previous_result: WHAT[: NAME]" into p->err; returns HP_ERR_INVALID. */
 static hp_error prev_refused(hp_planner *p, const char *what, const char *name)
 {
-    hp_text_set(p->err, "set_previous_result: ");
-    hp_text_add(p->err, what);
+    hpi_text_set(p->err, "set_previous_result: ");
+    hpi_text_add(p->err, what);
     if (name) {
-        hp_text_add(p->err, ": ");
-        hp_text_add(p->err, name);
+        hpi_text_add(p->err, ": ");
+        hpi_text_add(p->err, name);
     }
     return HP_ERR_INVALID;
 }
@@ -229,7 +229,7 @@ static hp_error prev_pose_ok(hp_planner *p, const double xi[6])
             return prev_refused(p, "achieved: not 0 in a component the planner does not command",
                                 axis[i]);
     }
-    int out = hp_plan_range_check(&p->id, xi, NULL);
+    int out = hpi_plan_range_check(&p->id, xi, NULL);
     if (out == 1)
         return prev_refused(p, "achieved: translation outside the identifiable range", NULL);
     if (out == 2)
@@ -259,11 +259,11 @@ hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *r)
 {
     if (!p) return HP_ERR_NULL;
     if (!r) {
-        hp_text_set(p->err, "set_previous_result: result is NULL");
+        hpi_text_set(p->err, "set_previous_result: result is NULL");
         return HP_ERR_NULL;
     }
     if (!p->built) return HP_ERR_STATE;
-    if (p->load) return hp_load_level_set_previous_result(p->load, r);
+    if (p->load) return hpi_load_level_set_previous_result(p->load, r);
     if (r->n != p->L.n) return prev_refused(p, "n is not the layout's number of bladders", NULL);
     hp_error e = prev_pose_ok(p, r->achieved);
     if (e != HP_OK) return e;
@@ -292,7 +292,7 @@ hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *r)
         s.bladders[k].binding = 0;
     }
     memcpy(s.achieved, r->achieved, sizeof s.achieved);
-    hp_plan_set_previous_answer(p, &s);
+    hpi_plan_set_previous_answer(p, &s);
     return HP_OK;
 }
 
@@ -311,7 +311,7 @@ hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
     /* Rate-free now: hp_plan no longer sets the cycle's bounds, so they return to the
      * static ones here (what it would set; they held at create). */
     if (p->rate_free &&
-        hp_setup_cycle_bounds(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits, &p->pb,
+        hpi_setup_cycle_bounds(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits, &p->pb,
                               p->lo_flags, p->hi_flags, NULL) != HP_OK)
         return HP_ERR_STATE;
     return HP_OK;
@@ -322,7 +322,7 @@ hp_error hp_planner_pressure_bounds(const hp_planner *p, double *lo, double *hi)
     if (!p || !lo || !hi) return HP_ERR_NULL;
     if (!p->built) return HP_ERR_STATE;
     if (p->load) {
-        hp_load_level_bounds(p->load, lo, hi);
+        hpi_load_level_bounds(p->load, lo, hi);
         return HP_OK;
     }
     memcpy(lo, p->sb.p_lo, (size_t)p->L.n * sizeof *lo);
@@ -334,7 +334,7 @@ hp_error hp_planner_load_info(const hp_planner *p, hp_load_info *info)
 {
     if (!p || !info) return HP_ERR_NULL;
     if (!p->built || !p->load) return HP_ERR_STATE;
-    return hp_load_level_info(p->load, info);
+    return hpi_load_level_info(p->load, info);
 }
 
 const hp_load_model *hp_planner_load_model(const hp_planner *p)

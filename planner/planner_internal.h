@@ -107,51 +107,51 @@ typedef struct hp_plan_trip {
 #define HP_IDENT_NAME_MM 1e-6
 /* The strict round trip of r's pressures (plan.c): 1 when the fit from the nominal pose ends
  * at achieved (SI); t says where it ended. Allocates nothing. */
-int hp_plan_round_trip(const hp_planner *p, const hp_result *r, const double achieved[6],
+int hpi_plan_round_trip(const hp_planner *p, const hp_result *r, const double achieved[6],
                        const hp_plan_anchor *anchor, hp_plan_trip *t);
-/* The text of a failed round trip t into buf (hp_text_add): "forward contact kinematics from
+/* The text of a failed round trip t into buf (hpi_text_add): "forward contact kinematics from
  * the nominal pose finds another pose, (x, y, z) mm (pitch, roll, yaw) deg, D mm/deg away,
  * whose contact distances match ..." when its end really holds the answer's distances
  * (HP_IDENT_NAME_MM), else that the fit stalled (or did not converge) and how far its
  * distances are from the answer's. */
-void hp_plan_trip_text(char *buf, const hp_plan_trip *t);
+void hpi_plan_trip_text(char *buf, const hp_plan_trip *t);
 /* hp_contact_fit of the outer radii ro in the components free_ from the nominal pose,
  * taking its first model evaluation from p->nom: the same steps, one evaluation fewer.
- * near (may be NULL): hp_kin_fit's early stop at an expected pose. */
-hp_error hp_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
+ * near (may be NULL): hpi_kin_fit's early stop at an expected pose. */
+hp_error hpi_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
                                   const hp_kin_fit_near *near, double xi[6],
                                   double *residual_rms);
 
 /* Resolves p->s.level into p->level once, over all four levels (level_choice.c), and writes
  * why into p->level_why. For the load level (asked for, or chosen by auto) p->load gets its
  * model, built from layout (the caller's) with p->s. Needs p->L, p->G. */
-hp_error hp_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_diag *d);
+hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_diag *d);
 
 /* The backend of an enum value (backends.c); NULL for a value with no backend. */
-const hp_backend_ops *hp_backend_table(hp_backend b);
+const hp_backend_ops *hpi_backend_table(hp_backend b);
 
 
 /* Pose scaling of hp_problem: SI -> mm and degrees, and back. */
-void hp_plan_to_scaled(const double xi[6], double x[6]);
-void hp_plan_from_scaled(const double x[6], double xi[6]);
+void hpi_plan_to_scaled(const double xi[6], double x[6]);
+void hpi_plan_from_scaled(const double x[6], double xi[6]);
 
 /* Fills res from a scaled pose x: contact distances at the planner's level (rho_known:
  * already evaluated at x [mm], else NULL), radii, pressures (clamped into this cycle's
  * limits), binding flags and achieved pose. Returns 0 when something was not finite.
  * clamp_mm receives the largest radius correction. */
-int hp_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
+int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
                              hp_result *res, double *clamp_mm);
 
 /* Makes r the previous answer: the safe output, the rate limits' origin and the next
  * solve's start point. */
-void hp_plan_set_previous_answer(hp_planner *p, const hp_result *r);
+void hpi_plan_set_previous_answer(hp_planner *p, const hp_result *r);
 /* The previous answer from pressures P inside [p_lo, p_hi] (measured.c): radii by the FK
  * (started at the previous answer's radii when warm), the pose by a fit from the nominal
  * pose (cold) or from the previous answer's pose (warm; the nominal one when that does not
  * converge). who starts the message of a refusal. HP_OK or HP_ERR_INVALID. */
-hp_error hp_plan_previous_from(hp_planner *p, const double *P, int warm, const char *who);
+hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const char *who);
 
 /* Writes a pending CLOSEST note (note_pending) into p->note; nothing otherwise. */
-void hp_plan_note_flush(hp_planner *p);
+void hpi_plan_note_flush(hp_planner *p);
 
 #endif

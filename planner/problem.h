@@ -40,12 +40,12 @@ typedef struct hp_problem {
 } hp_problem;
 
 /* Objective f(x); grad (nx) and hess (nx×nx dense, row-major) may be NULL. */
-hp_error hp_problem_objective(const hp_problem *pb, const double *x, double *f, double *grad,
+hp_error hpi_problem_objective(const hp_problem *pb, const double *x, double *f, double *grad,
                               double *hess);
 
 /* Equality constraints c_k(x) = ro(ri_k) − ρ_k(ξ) [mm], k < n; jac (n×nx row-major) may be
  * NULL; if lambda is not NULL, adds Σ_k lambda_k ∇²c_k into hess (nx×nx dense). */
-hp_error hp_problem_constraints(const hp_problem *pb, const double *x, double *c, double *jac,
+hp_error hpi_problem_constraints(const hp_problem *pb, const double *x, double *c, double *jac,
                                 const double *lambda, double *hess);
 
 /* Scratch an hp_plan call needs, sized for HP_MAX_BLADDERS, so no solve allocates. */
@@ -66,7 +66,7 @@ typedef struct hp_backend_result {
     double rho[HP_MAX_BLADDERS];
     /* 1 when the backend's answer is a step so short from its last linearisation point
      * lin_x (scaled pose) that rho was extrapolated from there: lin_rho [mm] and lin_J
-     * (n×6, SI: per m and per rad, as hp_contact_eval_g gives it) are the model at lin_x.
+     * (n×6, SI: per m and per rad, as hpi_contact_eval_g gives it) are the model at lin_x.
      * The round trip's certificate then may hold before the fit's second evaluation. */
     int has_lin;
     double lin_x[6], lin_rho[HP_MAX_BLADDERS], lin_J[HP_MAX_BLADDERS * 6];
@@ -104,19 +104,19 @@ typedef struct hp_backend_ops {
      * name it does not know or a bad value (message in d). Takes effect at the next solve. */
     hp_error (*set_option)(void *state, const char *name, double value, hp_diag *d);
     /* Optional (NULL: the backend does not plan the load level). HOLD at the load level
-     * (load_solve.h, hp_load_hold): pressures P[n] inside [lo, hi] holding the head at xi,
+     * (load_solve.h, hpi_load_hold): pressures P[n] inside [lo, hi] holding the head at xi,
      * the one nearest to target (stiffness = 1: the stiffest, with HP_BACKEND_LOAD_STIFFNESS)
      * among all that do, from start (may be NULL); F their forces. raw gets the solver's own
      * code when it has one (left alone otherwise). */
-    hp_load_solve_status (*load_hold)(const hp_load_model *M, const double xi[6],
+    hpi_load_solve_status (*load_hold)(const hp_load_model *M, const double xi[6],
                                       const double *lo, const double *hi, const double *target,
                                       const double *start, int max_iter, int stiffness,
                                       double *P, double *F, int *iterations, int *raw);
 } hp_backend_ops;
 
-extern const hp_backend_ops hp_backend_realtime_ops;
-extern const hp_backend_ops hp_backend_ipopt_ops;
-extern const hp_backend_ops hp_backend_nlopt_slsqp_ops;
-extern const hp_backend_ops hp_backend_nlopt_cobyla_ops;
+extern const hp_backend_ops hpi_backend_realtime_ops;
+extern const hp_backend_ops hpi_backend_ipopt_ops;
+extern const hp_backend_ops hpi_backend_nlopt_slsqp_ops;
+extern const hp_backend_ops hpi_backend_nlopt_cobyla_ops;
 
 #endif

@@ -9,19 +9,19 @@
 static atomic_ulong rate_solves;
 static atomic_int rate_eager;
 
-unsigned long hp_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
-void hp_test_rate_lazy(int on) { atomic_store(&rate_eager, !on); }
-int hp_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory_order_relaxed); }
+unsigned long hpi_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
+void hpi_test_rate_lazy(int on) { atomic_store(&rate_eager, !on); }
+int hpi_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory_order_relaxed); }
 
 /* Moves ri up (up) or down until its pressure is >= p (up) or <= p; FK roots sit within a
  * few ulps of the exact radius, so a few widening steps always suffice. The bladder as
- * validated once (hp_iab_s_ik_m: the bits of hp_iab_ik). Returns 0 when it could not. */
+ * validated once (hpi_iab_s_ik_m: the bits of hp_iab_ik). Returns 0 when it could not. */
 static int nudge(const hp_iab_s *s, double *ri, double p, int up)
 {
     double r = *ri, step = fabs(r) * 1e-16;
     for (int i = 0; i < 80; ++i) {
         double P;
-        if (hp_iab_s_ik_m(s, r, &P) == HP_OK && (up ? P >= p : P <= p)) {
+        if (hpi_iab_s_ik_m(s, r, &P) == HP_OK && (up ? P >= p : P <= p)) {
             *ri = r;
             return 1;
         }
@@ -40,8 +40,8 @@ static double slope_max(const hp_iab_s *s, double lo, double hi)
     double m = 0.0;
     for (int i = 0; i <= 256; ++i) {
         double ri = (lo + (hi - lo) * i / 256.0) * s->scale, P, d1;
-        if (hp_iab_s_ik(s, ri, &P, &d1, NULL) != HP_OK) return NAN;
-        double ro = hp_iab_s_ro(s, ri);
+        if (hpi_iab_s_ik(s, ri, &P, &d1, NULL) != HP_OK) return NAN;
+        double ro = hpi_iab_s_ro(s, ri);
         m = fmax(m, d1 * s->scale * (ri * ri) / (ro * ro));
     }
     return 2.0 * m;
@@ -68,20 +68,20 @@ static void take_min(double *v, unsigned *f, double cand, unsigned cf)
     }
 }
 
-hp_error hp_bladder_envelope(const hp_bladder *B, hp_envelope *out, hp_diag *d)
+hp_error hpi_bladder_envelope(const hp_bladder *B, hp_envelope *out, hp_diag *d)
 {
     if (!B || !out) return hp_diag_set(d, HP_ERR_NULL, "bladder or envelope is NULL");
     const hp_iab *m = &B->iab;
     hp_iab_limit lp;
     hp_iab_s s = {0};
     hp_error e = hp_iab_limit_point(m, &lp);
-    if (e == HP_OK) e = hp_iab_scaled_init(m, &s, NULL);
+    if (e == HP_OK) e = hpi_iab_scaled_init(m, &s, NULL);
     if (e != HP_OK)
         return hp_diag_set(d, e, "bladder %s: limit point: %s", B->name, hp_error_message(e));
     /* The stretch limits as radii that keep them in exact arithmetic (the rounded
      * product can lie an ulp outside): every backend's answer is clamped into these. */
-    double lo = hp_prod_up(B->stretch_min, m->Ri);
-    double hi = hp_prod_down(B->stretch_max, m->Ri);
+    double lo = hpi_prod_up(B->stretch_min, m->Ri);
+    double hi = hpi_prod_down(B->stretch_max, m->Ri);
     unsigned lof = HP_BIND_STRETCH_MIN, hif = HP_BIND_STRETCH_MAX;
     if (lp.exists) take_min(&hi, &hif, lp.ri * (1.0 - HP_STABLE_MARGIN), HP_BIND_LIMIT_POINT);
     double rs; /* the hoop-stress limit as a radius bound (monotone: iab/iab_stress.c) */
@@ -131,13 +131,13 @@ hp_error hp_bladder_envelope(const hp_bladder *B, hp_envelope *out, hp_diag *d)
     return HP_OK;
 }
 
-hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag *d)
+hp_error hpi_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag *d)
 {
     if (!L || !b) return hp_diag_set(d, HP_ERR_NULL, "layout or bounds is NULL");
     for (int k = 0; k < L->n; ++k) {
         hp_envelope env;
-        hp_error e = hp_bladder_envelope(&L->bladders[k], &env, d);
-        if (e == HP_OK) e = hp_iab_scaled_init(&L->bladders[k].iab, &b->iab_s[k], NULL);
+        hp_error e = hpi_bladder_envelope(&L->bladders[k], &env, d);
+        if (e == HP_OK) e = hpi_iab_scaled_init(&L->bladders[k].iab, &b->iab_s[k], NULL);
         if (e != HP_OK) return e;
         b->limit[k] = env.limit;
         b->ri_lo[k] = env.ri_lo;
@@ -148,7 +148,7 @@ hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag
         b->p_hi[k] = env.p_hi;
         b->ro_lo[k] = env.ro_lo;
         b->ro_hi[k] = env.ro_hi;
-        b->rate_slack[k] = hp_setup_rate_slack(slope_max(&b->iab_s[k], env.ri_lo, env.ri_hi));
+        b->rate_slack[k] = hpi_setup_rate_slack(slope_max(&b->iab_s[k], env.ri_lo, env.ri_hi));
     }
     return HP_OK;
 }
@@ -171,7 +171,7 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
         }
     }
     atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
-    if (!(hp_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], pw, NAN, r) == HP_OK &&
+    if (!(hpi_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], pw, NAN, r) == HP_OK &&
           nudge(&b->iab_s[k], r, pw, up)))
         return 0;
     if (memo) {
@@ -182,14 +182,14 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
     return 1;
 }
 
-hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
+hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                const double *p_prev, int use_rate, hp_problem *pb,
                                unsigned *lo_flags, unsigned *hi_flags, hp_diag *d)
 {
-    return hp_setup_cycle_bounds_memo(L, b, p_prev, use_rate, NULL, pb, lo_flags, hi_flags, d);
+    return hpi_setup_cycle_bounds_memo(L, b, p_prev, use_rate, NULL, pb, lo_flags, hi_flags, d);
 }
 
-hp_error hp_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
+hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
                                     const double *p_prev, int use_rate, hp_rate_memo *memo,
                                     hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
                                     hp_diag *d)
@@ -221,7 +221,7 @@ hp_error hp_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *
              * two roots, each moved inward until its pressure is, pass each other by ulps.
              * The previous pressure lies in the window and in [p_lo, p_hi], so its own root
              * (within those ulps) is the one radius: the bladder holds its pressure, which
-             * the plan reports clamped into the window (hp_setup_bladder_from_ri_s). A gap
+             * the plan reports clamped into the window (hpi_setup_bladder_from_ri_s). A gap
              * beyond 1e-12 of the radius (27 fm at 27 mm) would be no rounding: refused. */
             if (lo > hi && lo - hi <= 1e-12 * lo)
                 lo = hi = fmin(fmax(hi, b->ri_lo[k]), b->ri_hi[k]);
@@ -247,21 +247,21 @@ hp_error hp_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *
     return HP_OK;
 }
 
-int hp_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
                         const hp_bladder_result *br)
 {
     for (int k = 0; k < L->n; ++k) {
         double rate = L->bladders[k].rate_max, P = br[k].pressure, m = b->rate_slack[k];
         if (!isfinite(rate)) continue;
         double pl = p_prev[k] - rate, ph = p_prev[k] + rate;
-        /* The same tests as hp_setup_cycle_bounds for whether a window end is a bound. */
+        /* The same tests as hpi_setup_cycle_bounds for whether a window end is a bound. */
         if (pl > b->p_lo[k] && !(P >= pl + m)) return 0;
         if (ph < b->p_hi[k] && !(P <= ph - m)) return 0;
     }
     return 1;
 }
 
-void hp_setup_pose_from_scaled(const double x[6], double xi[6])
+void hpi_setup_pose_from_scaled(const double x[6], double xi[6])
 {
     for (int i = 0; i < 3; ++i) {
         xi[i] = x[i] / HP_MM_PER_M;
@@ -269,12 +269,12 @@ void hp_setup_pose_from_scaled(const double x[6], double xi[6])
     }
 }
 
-hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
                                  const double x[6], double *rho_mm, double *J_s)
 {
     double xi[6], J[HP_MAX_BLADDERS * 6];
-    hp_setup_pose_from_scaled(x, xi);
-    hp_error e = hp_contact_eval_g(L, G, level, xi, rho_mm, J_s ? J : NULL, NULL);
+    hpi_setup_pose_from_scaled(x, xi);
+    hp_error e = hpi_contact_eval_g(L, G, level, xi, rho_mm, J_s ? J : NULL, NULL);
     if (e != HP_OK) return e;
     for (int k = 0; k < L->n; ++k) {
         rho_mm[k] *= HP_MM_PER_M;
@@ -288,14 +288,14 @@ hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level 
     return HP_OK;
 }
 
-hp_error hp_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                  const double x[6], const double *lo_mm, const double *hi_mm,
                                  double *rho_mm, double *J_si, int *inside)
 {
     double xi[6];
-    hp_setup_pose_from_scaled(x, xi);
+    hpi_setup_pose_from_scaled(x, xi);
     hp_error e =
-        hp_kin_contact_inside(L, G, level, xi, HP_MM_PER_M, lo_mm, hi_mm, rho_mm, J_si, inside);
+        hpi_kin_contact_inside(L, G, level, xi, HP_MM_PER_M, lo_mm, hi_mm, rho_mm, J_si, inside);
     if (e != HP_OK || !*inside) {
         *inside = 0;
         return e;
@@ -304,17 +304,17 @@ hp_error hp_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level 
     return HP_OK;
 }
 
-hp_error hp_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, double ri_hi,
+hp_error hpi_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, double ri_hi,
                                   double p_lo, double p_hi, hp_bladder_result *out,
                                   int *clamped)
 {
     if (!isfinite(ro)) return HP_ERR_INVALID;
     hp_iab_s s;
-    if (hp_iab_scaled_init(&B->iab, &s, NULL) != HP_OK) return HP_ERR_DOMAIN;
-    return hp_setup_bladder_from_ro_s(B, &s, ro, ri_lo, ri_hi, p_lo, p_hi, out, clamped);
+    if (hpi_iab_scaled_init(&B->iab, &s, NULL) != HP_OK) return HP_ERR_DOMAIN;
+    return hpi_setup_bladder_from_ro_s(B, &s, ro, ri_lo, ri_hi, p_lo, p_hi, out, clamped);
 }
 
-hp_error hp_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, double ri_hi,
+hp_error hpi_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, double ri_hi,
                                double *ri_out, int *clamped)
 {
     double ri;
@@ -322,7 +322,7 @@ hp_error hp_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, doubl
     if (!isfinite(ro)) return HP_ERR_INVALID;
     /* The model on the bladder validated once (hp_iab_ri, hp_iab_ro and hp_iab_ik after
      * their validation: the same bits). */
-    if (hp_iab_s_ri_m(s, ro, &ri) != HP_OK) {
+    if (hpi_iab_s_ri_m(s, ro, &ri) != HP_OK) {
         ri = ri_lo; /* collapsed cavity: the lower bound is the nearest valid radius */
         c = 1;
     }
@@ -333,16 +333,16 @@ hp_error hp_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, doubl
     return HP_OK;
 }
 
-hp_error hp_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, double ro,
+hp_error hpi_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, double ro,
                                     double ri, int clamped, double p_lo, double p_hi,
                                     hp_bladder_result *out)
 {
     double P;
     /* A clamped ri: its pressure and outer radius from one evaluation. Else ro is the outer
      * radius of ri to a few ulps (ri was solved from it): the pressure's own outer radius
-     * starts there (the same bits as hp_iab_s_ik_m but within ~1e-7 ulp of a rounding
+     * starts there (the same bits as hpi_iab_s_ik_m but within ~1e-7 ulp of a rounding
      * midpoint). */
-    hp_error e = clamped ? hp_iab_s_ik_ro_m(s, ri, &P, &ro) : hp_iab_s_ik_near_m(s, ri, ro, &P);
+    hp_error e = clamped ? hpi_iab_s_ik_ro_m(s, ri, &P, &ro) : hpi_iab_s_ik_near_m(s, ri, ro, &P);
     if (e != HP_OK || !isfinite(P)) return HP_ERR_DOMAIN;
     if (P < p_lo) P = p_lo;
     if (P > p_hi) P = p_hi;
@@ -354,14 +354,14 @@ hp_error hp_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, doub
     return HP_OK;
 }
 
-hp_error hp_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
+hp_error hpi_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
                                     double ri_lo, double ri_hi, double p_lo, double p_hi,
                                     hp_bladder_result *out, int *clamped)
 {
     double ri;
     int c;
-    hp_error e = hp_setup_ri_from_ro_s(s, ro, ri_lo, ri_hi, &ri, &c);
-    if (e == HP_OK) e = hp_setup_bladder_from_ri_s(B, s, ro, ri, c, p_lo, p_hi, out);
+    hp_error e = hpi_setup_ri_from_ro_s(s, ro, ri_lo, ri_hi, &ri, &c);
+    if (e == HP_OK) e = hpi_setup_bladder_from_ri_s(B, s, ro, ri, c, p_lo, p_hi, out);
     if (e == HP_OK && clamped) *clamped = c;
     return e;
 }

@@ -23,11 +23,11 @@ typedef struct hp_static_bounds {
     double ro_lo[HP_MAX_BLADDERS], ro_hi[HP_MAX_BLADDERS];
     hp_iab_limit limit[HP_MAX_BLADDERS]; /* inflation limit points, for hp_iab_fk_limit:
                                             pressure -> radius every cycle without a scan */
-    /* Each bladder validated and scaled once (hp_iab_scaled_init), for the per-plan model
-     * evaluations (hp_setup_bladder_from_ro_s, hp_iab_s_fk_limit_warm_ro). */
+    /* Each bladder validated and scaled once (hpi_iab_scaled_init), for the per-plan model
+     * evaluations (hpi_setup_bladder_from_ro_s, hpi_iab_s_fk_limit_warm_ro). */
     hp_iab_s iab_s[HP_MAX_BLADDERS];
-    /* hp_setup_rate_slack of the bladder: how far inside a rate window [Pa] a pressure
-     * must lie for the window's radius bound not to matter (hp_setup_rate_clear). */
+    /* hpi_setup_rate_slack of the bladder: how far inside a rate window [Pa] a pressure
+     * must lie for the window's radius bound not to matter (hpi_setup_rate_clear). */
     double rate_slack[HP_MAX_BLADDERS];
 } hp_static_bounds;
 
@@ -36,7 +36,7 @@ typedef struct hp_static_bounds {
  * inside that window's radius bound (an outer radius more than the binding tolerance
  * inside, with room for the bound's own few ulps and the pressure's rounding, ~1e-11 Pa).
  * A non-finite slope gives +inf: never clear, the bounds are always solved. */
-static inline double hp_setup_rate_slack(double slope)
+static inline double hpi_setup_rate_slack(double slope)
 {
     return isfinite(slope) ? slope * 2e-3 * HP_BINDING_TOL_MM + 1e-6 : INFINITY;
 }
@@ -46,7 +46,7 @@ static inline double hp_setup_rate_slack(double slope)
  * bounds: then the answer those pressures came from (a direct chain inside the static
  * bounds) is, bit for bit, the one the exact rate bounds would give (no radius clamped by
  * them, no rate limit binding within the tolerance), and hp_plan need not solve them. */
-int hp_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
                         const hp_bladder_result *br);
 
 /* One bladder's safe envelope: the one home of its pressure, stretch, hoop-stress and
@@ -67,16 +67,16 @@ typedef struct hp_envelope {
 
 /* Fills e for bladder B. HP_ERR_INVALID (the bladder named in d) when the limits leave no
  * stable radius. */
-hp_error hp_bladder_envelope(const hp_bladder *B, hp_envelope *e, hp_diag *d);
+hp_error hpi_bladder_envelope(const hp_bladder *B, hp_envelope *e, hp_diag *d);
 
-/* Every bladder's envelope (hp_bladder_envelope) into b, with what the per-plan evaluations
+/* Every bladder's envelope (hpi_bladder_envelope) into b, with what the per-plan evaluations
  * keep (the validated model, the rate slack). Errors name the bladder. */
-hp_error hp_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag *d);
+hp_error hpi_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_diag *d);
 
 /* One plan's bounds: the static ones intersected with the rate limits around p_prev (when
  * use_rate), written into pb (mm) with the HP_BIND_* flags of each bound. Allocates nothing.
  * HP_ERR_INVALID with the bladder named when a bladder's interval is empty. */
-hp_error hp_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
+hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
                                const double *p_prev, int use_rate, hp_problem *pb,
                                unsigned *lo_flags, unsigned *hi_flags, hp_diag *d);
 
@@ -91,9 +91,9 @@ typedef struct hp_rate_memo {
     unsigned char down_ok[HP_MAX_BLADDERS], up_ok[HP_MAX_BLADDERS];
 } hp_rate_memo;
 
-/* hp_setup_cycle_bounds with a memo (may be NULL) read and filled: the same bounds, bits
+/* hpi_setup_cycle_bounds with a memo (may be NULL) read and filled: the same bounds, bits
  * and errors. */
-hp_error hp_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
+hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
                                     const double *p_prev, int use_rate, hp_rate_memo *memo,
                                     hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
                                     hp_diag *d);
@@ -102,48 +102,48 @@ hp_error hp_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *
  * the number of rate-limit window ends solved into radius bounds in this process so far
  * (an atomic count), and whether hp_plan defers the rate bounds until a plan needs them
  * (1, the default) or solves them first (0). */
-unsigned long hp_test_rate_bound_solves(void);
-void hp_test_rate_lazy(int on);
-int hp_setup_rate_lazy(void);
+unsigned long hpi_test_rate_bound_solves(void);
+void hpi_test_rate_lazy(int on);
+int hpi_setup_rate_lazy(void);
 
 /* The planner's contact geometry (of hp_planner_layout(p)), derived once at create: for
  * the horizon planners that run on its layout. */
-const hp_geom *hp_planner_geom(const hp_planner *p);
+const hp_geom *hpi_planner_geom(const hp_planner *p);
 
 /* Scaled pose (mm, deg) -> SI (m, rad), by division (the bits every evaluation of the
  * planner's pose has always had). */
-void hp_setup_pose_from_scaled(const double x[6], double xi[6]);
+void hpi_setup_pose_from_scaled(const double x[6], double xi[6]);
 
 /* Contact distances and Jacobian in scaled units: rho_mm[n], J_s[n×6] (mm per mm, mm per
  * degree); J_s may be NULL. x is scaled (mm, deg). Allocates nothing. */
-hp_error hp_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
                                  const double x[6], double *rho_mm, double *J_s);
 /* Whether every contact distance at scaled pose x lies inside [lo_mm[k], hi_mm[k]] (mm):
- * *inside 1 with rho_mm[0..n-1] the distances (mm, the bits hp_setup_contact_scaled gives),
+ * *inside 1 with rho_mm[0..n-1] the distances (mm, the bits hpi_setup_contact_scaled gives),
  * else *inside 0 (rho_mm partly written). The evaluation stops at the first bladder
  * outside, so a target beyond reach costs a fraction of a full evaluation. J_si (may be
  * NULL): when inside, the SI Jacobian there (n×6, per m and per rad). */
-hp_error hp_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
+hp_error hpi_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
                                  const double x[6], const double *lo_mm, const double *hi_mm,
                                  double *rho_mm, double *J_si, int *inside);
 
 /* A bladder's state from its outer radius ro [m]: ri, pressure (clamped into [p_lo, p_hi]
  * after the model is evaluated), stretch. HP_ERR_DOMAIN/INVALID on a non-finite result. */
-hp_error hp_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, double ri_hi,
+hp_error hpi_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, double ri_hi,
                                   double p_lo, double p_hi, hp_bladder_result *out,
                                   int *clamped);
 /* The same with B's model already validated into s (hp_static_bounds.iab_s): the same codes
  * and bits, without validating the bladder again. */
-hp_error hp_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
+hp_error hpi_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
                                     double ri_lo, double ri_hi, double p_lo, double p_hi,
                                     hp_bladder_result *out, int *clamped);
 /* Its two halves, for a caller that runs each over every bladder in turn (several
  * bladders' chains of divisions and roots then overlap): the inner radius ri of ro, moved
  * into [ri_lo, ri_hi] (*clamped 1 when moved; HP_ERR_INVALID for a non-finite ro), then
  * the state from ro, that ri and that flag. The same codes and bits as the whole. */
-hp_error hp_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, double ri_hi,
+hp_error hpi_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, double ri_hi,
                                double *ri, int *clamped);
-hp_error hp_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, double ro,
+hp_error hpi_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, double ro,
                                     double ri, int clamped, double p_lo, double p_hi,
                                     hp_bladder_result *out);
 

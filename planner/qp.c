@@ -11,7 +11,7 @@
  * it bit-for-bit the same. A row that is the exact negation of the row before it (a lower
  * and an upper limit on the same quantity) reuses that row's norm and product with x; the
  * caller may declare such pairs (hp_qp.pairs) so they are not compared on every call. The
- * factor of G is read in place (the caller's, or hp_cholesky's), lower triangle only; the
+ * factor of G is read in place (the caller's, or hpi_cholesky's), lower triangle only; the
  * substitutions with it are unrolled for n = NM and keep their vector in registers, and the
  * square root of a row's norm is taken only where a division by it is (a violated row).
  * Every one of these is arranged to give the bits of the plain formulation. */
@@ -48,7 +48,7 @@ static void axpy(double *y, double t, const double *v)
 static int cholesky_factor(const double *G, int n, const double *Lg, double *Lw,
                            const double **L, int *ldl)
 {
-    /* hp_cholesky reads only the lower triangle, and a NaN or infinity there fails a pivot
+    /* hpi_cholesky reads only the lower triangle, and a NaN or infinity there fails a pivot
      * test (it reaches that pivot's sum of squares), except +inf on the diagonal, which
      * gives an infinite L_jj; the upper triangle and that diagonal are checked by one sum:
      * g − g is +0 for a finite g and NaN otherwise, so z is 0 exactly when every entry is
@@ -60,7 +60,7 @@ static int cholesky_factor(const double *G, int n, const double *Lg, double *Lw,
         *L = Lg;
         *ldl = n;
     } else {
-        if (!hp_cholesky(G, n, n, 0.0, Lw, NM)) return 0;
+        if (!hpi_cholesky(G, n, n, 0.0, Lw, NM)) return 0;
         *L = Lw;
         *ldl = NM;
     }
@@ -291,7 +291,7 @@ static void back_subst(const double *L, int ldl, int n, double *y, double *x)
     else back_subst_n(L, ldl, n, y, x);
 }
 
-/* The warm start (qp.h, hp_qp_solve_warm): the equality-constrained QP on the guessed rows,
+/* The warm start (qp.h, hpi_qp_solve_warm): the equality-constrained QP on the guessed rows,
  * accepted as the answer only when it is the answer. With x = L⁻ᵀ(w + M u), w = −L⁻¹a and
  * the columns M_c = L⁻¹C_cᵀ of the k guessed rows, stationarity G x + a = Σ C_cᵀu_c holds
  * for any u, and the guessed rows hold as equalities when (MᵀM) u = b_A − Mᵀw. The Gram
@@ -334,12 +334,12 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr
         for (int e = 0; e <= c; ++e) S[c * k + e] = dot(&Mt[c * NM], &Mt[e * NM]);
         trace += S[c * k + c];
     }
-    if (k > 0 && !(hp_cholesky(S, k, k, 0.0, Rs, k) &&
-                   trace * hp_cholesky_inv_frob2(Rs, k, k) <= HP_QP_WARM_KAPPA))
+    if (k > 0 && !(hpi_cholesky(S, k, k, 0.0, Rs, k) &&
+                   trace * hpi_cholesky_inv_frob2(Rs, k, k) <= HP_QP_WARM_KAPPA))
         return HP_QP_WARM_CONDITION;
     /* scaled multipliers us_c = |M_c|·u_c: S us = (b_c − M_cᵀw)/|M_c| */
     for (int c = 0; c < k; ++c) us[c] = qp->b[A[c]] / D[c] - dot(&Mt[c * NM], w);
-    if (k > 0) hp_cholesky_solve(Rs, k, k, us);
+    if (k > 0) hpi_cholesky_solve(Rs, k, k, us);
     for (int c = 0; c < k; ++c)
         if (!(us[c] >= 0.0)) return HP_QP_WARM_SIGN;
     memcpy(y, w, sizeof y);
@@ -359,17 +359,17 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr
     return HP_QP_WARM_ACCEPTED;
 }
 
-hp_qp_status hp_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
+hp_qp_status hpi_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
 {
-    return hp_qp_solve_warm(qp, NULL, NULL, max_iter, feas_tol);
+    return hpi_qp_solve_warm(qp, NULL, NULL, max_iter, feas_tol);
 }
 
-hp_qp_status hp_qp_solve_factored(hp_qp *qp, const double *Lg, int max_iter, double feas_tol)
+hp_qp_status hpi_qp_solve_factored(hp_qp *qp, const double *Lg, int max_iter, double feas_tol)
 {
-    return hp_qp_solve_warm(qp, Lg, NULL, max_iter, feas_tol);
+    return hpi_qp_solve_warm(qp, Lg, NULL, max_iter, feas_tol);
 }
 
-hp_qp_status hp_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int max_iter,
+hp_qp_status hpi_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int max_iter,
                               double feas_tol)
 {
     int n = qp->n, m = qp->m;

@@ -19,9 +19,9 @@ typedef enum hp_qp_status {
     HP_QP_BAD_INPUT       /* G not positive definite, NaN, sizes out of range */
 } hp_qp_status;
 
-/* What the warm start of hp_qp_solve_warm did with its guessed active set. */
+/* What the warm start of hpi_qp_solve_warm did with its guessed active set. */
 typedef enum hp_qp_warm {
-    HP_QP_WARM_NONE = 0,  /* no guess given (hp_qp_solve, hp_qp_solve_factored) */
+    HP_QP_WARM_NONE = 0,  /* no guess given (hpi_qp_solve, hpi_qp_solve_factored) */
     HP_QP_WARM_ACCEPTED,  /* the guessed rows' equality-constrained QP is the answer */
     /* refused, the full Goldfarb–Idnani solve ran instead: */
     HP_QP_WARM_SHAPE,     /* more rows than n or the budget, a twin pair, a zero row */
@@ -77,26 +77,26 @@ typedef struct hp_qp {
  * meaningful (u and active may be partly zeroed). Allocation-free; a row that is the exact negation of the row before it (a lower
  * and an upper limit on one quantity) costs about half a row, a declared pair (q->pairs)
  * no comparison. */
-hp_qp_status hp_qp_solve(hp_qp *q, int max_iter, double feas_tol);
+hp_qp_status hpi_qp_solve(hp_qp *q, int max_iter, double feas_tol);
 
-/* hp_qp_solve with Lg the lower Cholesky factor of exactly this q->G from hp_cholesky
+/* hpi_qp_solve with Lg the lower Cholesky factor of exactly this q->G from hpi_cholesky
  * (leading dimension n; entries above the diagonal not read), when the caller has factored
  * G already (the realtime backend does, to test its convexity): G is not factored again.
- * Lg NULL: hp_qp_solve. The factor is the same bits either way. */
-hp_qp_status hp_qp_solve_factored(hp_qp *q, const double *Lg, int max_iter, double feas_tol);
+ * Lg NULL: hpi_qp_solve. The factor is the same bits either way. */
+hp_qp_status hpi_qp_solve_factored(hp_qp *q, const double *Lg, int max_iter, double feas_tol);
 
-/* hp_qp_solve_factored started from a guessed active set: guess[j] != 0 for the rows
+/* hpi_qp_solve_factored started from a guessed active set: guess[j] != 0 for the rows
  * guessed active (m entries; it may be q->active, read before it is overwritten; NULL: no
- * guess, exactly hp_qp_solve_factored). The guessed rows' equality-constrained QP is
+ * guess, exactly hpi_qp_solve_factored). The guessed rows' equality-constrained QP is
  * solved directly and returned when it meets the full QP's optimality conditions — rows
  * independent and well conditioned (HP_QP_WARM_KAPPA), every guessed multiplier >= 0,
  * every other row satisfied to feas_tol as the full solve measures it — which make it the
  * unique minimum; otherwise the full solve runs from scratch (q->warm says which). A guess
  * with both rows of a twin pair, more rows than n or than max_iter, or a zero row is
  * refused unsolved. Outputs, statuses and the refusal of bad input are those of
- * hp_qp_solve; the active set and multipliers can differ from the full solve's only where
+ * hpi_qp_solve; the active set and multipliers can differ from the full solve's only where
  * they are not unique (degenerate vertices); x agrees to rounding. */
-hp_qp_status hp_qp_solve_warm(hp_qp *q, const double *Lg, const int *guess, int max_iter,
+hp_qp_status hpi_qp_solve_warm(hp_qp *q, const double *Lg, const int *guess, int max_iter,
                               double feas_tol);
 
 #endif

@@ -28,18 +28,18 @@ static int direct_reached(void *ctx, const double xi[6])
     reach_ctx *c = ctx;
     const hp_planner *p = c->p;
     const hp_identifiable *id = &p->id;
-    if (hp_plan_range_check(id, xi, NULL) != 0) return 0;
+    if (hpi_plan_range_check(id, xi, NULL) != 0) return 0;
     double xc[6], x[6], rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6];
     if (hp_pose_commanded_part(&p->L, id, p->level, xi, xc) != HP_OK) return 0;
-    hp_plan_to_scaled(xc, x);
+    hpi_plan_to_scaled(xc, x);
     for (int i = 0; i < 6; ++i)
         if (!p->commanded[i]) x[i] = 0.0;
     int inside = 0;
     double *Jp = p->level == HP_LEVEL_LINEAR ? NULL : J;
-    if (hp_setup_contact_inside(&p->L, &p->G, p->level, x, c->pb.ro_lo, c->pb.ro_hi, rho, Jp,
+    if (hpi_setup_contact_inside(&p->L, &p->G, p->level, x, c->pb.ro_lo, c->pb.ro_hi, rho, Jp,
                                 &inside) != HP_OK || !inside)
         return 0;
-    /* The answer hp_plan builds from these distances (planner.c, hp_plan_answer_from_pose,
+    /* The answer hp_plan builds from these distances (planner.c, hpi_plan_answer_from_pose,
      * without rate limits), then its round trip with the direct chain's anchor, as hp_plan
      * runs it. */
     hp_result r;
@@ -47,18 +47,18 @@ static int direct_reached(void *ctx, const double xi[6])
     for (int k = 0; k < p->L.n; ++k) {
         double ri;
         int cl;
-        if (hp_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, c->pb.ri_lo_si[k],
+        if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, c->pb.ri_lo_si[k],
                                   c->pb.ri_hi_si[k], &ri, &cl) != HP_OK ||
-            hp_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k],
+            hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k],
                                        rho[k] / HP_MM_PER_M, ri, cl, p->sb.p_lo[k],
                                        p->sb.p_hi[k], &r.bladders[k]) != HP_OK)
             return 0;
     }
     double achieved[6];
-    hp_plan_from_scaled(x, achieved);
+    hpi_plan_from_scaled(x, achieved);
     hp_plan_anchor an = {x, rho, Jp, 0.0};
     hp_plan_trip t;
-    return hp_plan_round_trip(p, &r, achieved, &an, &t);
+    return hpi_plan_round_trip(p, &r, achieved, &an, &t);
 }
 
 hp_error hp_planner_reach(const hp_planner *p, double reach[6][2])
@@ -68,15 +68,15 @@ hp_error hp_planner_reach(const hp_planner *p, double reach[6][2])
     if (p->load) return HP_ERR_INVALID; /* the load level's reach is not a contact range */
     reach_ctx c = {p, p->pb};
     unsigned lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
-    hp_error e = hp_setup_cycle_bounds(&p->L, &p->sb, NULL, 0, &c.pb, lo, hi, NULL);
+    hp_error e = hpi_setup_cycle_bounds(&p->L, &p->sb, NULL, 0, &c.pb, lo, hi, NULL);
     if (e != HP_OK) return e;
     for (int i = 0; i < 6; ++i) {
         if (!p->commanded[i]) {
             reach[i][0] = reach[i][1] = NAN;
             continue;
         }
-        reach[i][0] = -hp_kin_reach_axis(direct_reached, &c, i, -1.0, PLAN_REACH_SCAN);
-        reach[i][1] = hp_kin_reach_axis(direct_reached, &c, i, 1.0, PLAN_REACH_SCAN);
+        reach[i][0] = -hpi_kin_reach_axis(direct_reached, &c, i, -1.0, PLAN_REACH_SCAN);
+        reach[i][1] = hpi_kin_reach_axis(direct_reached, &c, i, 1.0, PLAN_REACH_SCAN);
     }
     return HP_OK;
 }

@@ -26,37 +26,37 @@ void hp_settings_default(hp_settings *s)
 }
 
 /* Each check accepts only finite values in range; written as !(v > x) so NaN fails. */
-const char *hp_check_level_tolerance(double v)
+const char *hpi_check_level_tolerance(double v)
 {
     return (v > 0 && isfinite(v)) ? NULL : "must be finite and > 0";
 }
 
-const char *hp_check_auto_trans(double v)
+const char *hpi_check_auto_trans(double v)
 {
     return (v >= 0 && isfinite(v)) ? NULL : "must be finite and >= 0";
 }
 
-const char *hp_check_auto_rot(double v)
+const char *hpi_check_auto_rot(double v)
 {
     return (v >= 0 && isfinite(v)) ? NULL : "must be finite and >= 0";
 }
 
-const char *hp_check_tolerance(double v)
+const char *hpi_check_tolerance(double v)
 {
     return (v > 0 && v <= HP_TOLERANCE_MAX) ? NULL : "must be > 0 and at most 1 (mm and degrees)";
 }
 
-const char *hp_check_max_iter(long v)
+const char *hpi_check_max_iter(long v)
 {
     return (v > 0 && v <= HP_MAX_ITER_MAX) ? NULL : "must be an integer in 1..1000000";
 }
 
-const char *hp_check_max_time(double v)
+const char *hpi_check_max_time(double v)
 {
     return (v > 0 && v <= HP_MAX_TIME_MAX) ? NULL : "must be > 0 and at most 3600 s";
 }
 
-const char *hp_check_weight(double v)
+const char *hpi_check_weight(double v)
 {
     return (v >= HP_WEIGHT_MM_PER_DEG_MIN && v <= HP_WEIGHT_MM_PER_DEG_MAX)
                ? NULL
@@ -71,20 +71,20 @@ hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
     if ((int)s->level < 0 || s->level > HP_LEVEL_LOAD)
         return hp_diag_set(d, HP_ERR_INVALID, "level: unknown value %d", (int)s->level);
     const char *why;
-    if ((why = hp_check_level_tolerance(s->level_tolerance)))
+    if ((why = hpi_check_level_tolerance(s->level_tolerance)))
         return hp_diag_set(d, HP_ERR_INVALID, "level_tolerance: %s m (got %g)", why,
                            s->level_tolerance);
-    if ((why = hp_check_auto_trans(s->auto_trans)))
+    if ((why = hpi_check_auto_trans(s->auto_trans)))
         return hp_diag_set(d, HP_ERR_INVALID, "auto_trans: %s m (got %g)", why, s->auto_trans);
-    if ((why = hp_check_auto_rot(s->auto_rot)))
+    if ((why = hpi_check_auto_rot(s->auto_rot)))
         return hp_diag_set(d, HP_ERR_INVALID, "auto_rot: %s rad (got %g)", why, s->auto_rot);
-    if ((why = hp_check_tolerance(s->tolerance)))
+    if ((why = hpi_check_tolerance(s->tolerance)))
         return hp_diag_set(d, HP_ERR_INVALID, "tolerance: %s (got %g)", why, s->tolerance);
-    if ((why = hp_check_max_iter(s->max_iter)))
+    if ((why = hpi_check_max_iter(s->max_iter)))
         return hp_diag_set(d, HP_ERR_INVALID, "max_iter: %s (got %d)", why, s->max_iter);
-    if ((why = hp_check_max_time(s->max_time)))
+    if ((why = hpi_check_max_time(s->max_time)))
         return hp_diag_set(d, HP_ERR_INVALID, "max_time: %s (got %g)", why, s->max_time);
-    if ((why = hp_check_weight(s->weight_mm_per_deg)))
+    if ((why = hpi_check_weight(s->weight_mm_per_deg)))
         return hp_diag_set(d, HP_ERR_INVALID, "weight_mm_per_deg: %s (got %g)", why,
                            s->weight_mm_per_deg);
     if (!(s->mu >= 0) || !isfinite(s->mu))

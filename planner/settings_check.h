@@ -17,12 +17,12 @@
 #define HP_MAX_ITER_MAX 1000000
 #define HP_MAX_TIME_MAX 3600.0
 
-const char *hp_check_level_tolerance(double v); /* [m] */
-const char *hp_check_auto_trans(double v);      /* [m] */
-const char *hp_check_auto_rot(double v);        /* [rad] */
-const char *hp_check_tolerance(double v);       /* mm and degrees */
-const char *hp_check_max_iter(long v);
-const char *hp_check_max_time(double v);        /* [s] */
-const char *hp_check_weight(double v);          /* mm per degree */
+const char *hpi_check_level_tolerance(double v); /* [m] */
+const char *hpi_check_auto_trans(double v);      /* [m] */
+const char *hpi_check_auto_rot(double v);        /* [rad] */
+const char *hpi_check_tolerance(double v);       /* mm and degrees */
+const char *hpi_check_max_iter(long v);
+const char *hpi_check_max_time(double v);        /* [s] */
+const char *hpi_check_weight(double v);          /* mm per degree */
 
 #endif

@@ -5,7 +5,7 @@
 #include <math.h>
 #include <string.h>
 
-void hp_text_set(char *buf, const char *s)
+void hpi_text_set(char *buf, const char *s)
 {
     size_t n = strlen(s);
     if (n >= HP_DIAG_MAX) n = HP_DIAG_MAX - 1;
@@ -13,7 +13,7 @@ void hp_text_set(char *buf, const char *s)
     buf[n] = '\0';
 }
 
-void hp_text_add(char *buf, const char *s)
+void hpi_text_add(char *buf, const char *s)
 {
     size_t have = strlen(buf), n = strlen(s);
     if (have + n >= HP_DIAG_MAX) n = HP_DIAG_MAX - 1 - have;
@@ -21,7 +21,7 @@ void hp_text_add(char *buf, const char *s)
     buf[have + n] = '\0';
 }
 
-void hp_text_add_int(char *buf, long long v)
+void hpi_text_add_int(char *buf, long long v)
 {
     char tmp[32], *q = tmp + sizeof tmp - 1;
     unsigned long long u = v < 0 ? 0ull - (unsigned long long)v : (unsigned long long)v;
@@ -31,10 +31,10 @@ void hp_text_add_int(char *buf, long long v)
         u /= 10u;
     } while (u);
     if (v < 0) *--q = '-';
-    hp_text_add(buf, q);
+    hpi_text_add(buf, q);
 }
 
-void hp_text_add_num(char *buf, double v, int dec)
+void hpi_text_add_num(char *buf, double v, int dec)
 {
     /* The fraction's digits go into a 16-byte buffer below; no double has more than 15
      * significant decimals to print there anyway. */
@@ -42,14 +42,14 @@ void hp_text_add_num(char *buf, double v, int dec)
     double scale = 1.0;
     for (int i = 0; i < dec; ++i) scale *= 10.0;
     if (!(fabs(v) * scale < 1e15)) {
-        hp_text_add(buf, v != v ? "nan" : "huge");
+        hpi_text_add(buf, v != v ? "nan" : "huge");
         return;
     }
     long long q = llround(fabs(v) * scale);
-    if (v < 0 && q != 0) hp_text_add(buf, "-");
+    if (v < 0 && q != 0) hpi_text_add(buf, "-");
     long long ip = q;
     for (int i = 0; i < dec; ++i) ip /= 10;
-    hp_text_add_int(buf, ip);
+    hpi_text_add_int(buf, ip);
     if (dec > 0) {
         char frac[16];
         long long f = q;
@@ -60,7 +60,7 @@ void hp_text_add_num(char *buf, double v, int dec)
         /* dec <= 15 (clamped above), which cppcheck does not follow. */
         // cppcheck-suppress arrayIndexOutOfBoundsCond
         frac[dec] = '\0';
-        hp_text_add(buf, ".");
-        hp_text_add(buf, frac);
+        hpi_text_add(buf, ".");
+        hpi_text_add(buf, frac);
     }
 }

@@ -5,9 +5,9 @@
 
 #include "headplan/hp_common.h"
 
-void hp_text_set(char *buf, const char *s);
-void hp_text_add(char *buf, const char *s);
-void hp_text_add_int(char *buf, long long v);
-void hp_text_add_num(char *buf, double v, int dec); /* |v| to dec decimals, with its sign */
+void hpi_text_set(char *buf, const char *s);
+void hpi_text_add(char *buf, const char *s);
+void hpi_text_add_int(char *buf, long long v);
+void hpi_text_add_num(char *buf, double v, int dec); /* |v| to dec decimals, with its sign */
 
 #endif

@@ -219,7 +219,7 @@ static char *array_text(PyObject *poses_obj, PyObject *t_obj, size_t *len)
     size_t used = (size_t)snprintf(text, cap, "t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n");
     /* The trace reader reads '.': a host's comma locale (setlocale(LC_ALL, "")) made "0,1". */
     hp_c_numeric cl;
-    hp_c_numeric_begin(&cl);
+    hpi_c_numeric_begin(&cl);
     for (npy_intp i = 0; i < N; ++i) {
         double tv = ts ? ts[i] : 0.1 * (double)i;
         used += (size_t)snprintf(text + used, cap - used, "%.17g", tv);
@@ -227,7 +227,7 @@ static char *array_text(PyObject *poses_obj, PyObject *t_obj, size_t *len)
             used += (size_t)snprintf(text + used, cap - used, ",%.17g", x[i * 6 + c]);
         text[used++] = '\n';
     }
-    hp_c_numeric_end(&cl);
+    hpi_c_numeric_end(&cl);
     Py_DECREF(poses);
     Py_XDECREF(t);
     *len = used;

@@ -20,7 +20,7 @@ hp_error sp_material(const sr_ctx *c, const yt_node *node, const char *path, hp_
     char p[SR_PATH_MAX], name[16];
     if ((e = sr_require(c, node, path, "convention", &cv))) return e;
     sr_join(p, sizeof p, path, "convention");
-    if ((e = sr_word(c, cv, p, "convention", hp_material_convention_words, name, sizeof name))) return e;
+    if ((e = sr_word(c, cv, p, "convention", hpi_material_convention_words, name, sizeof name))) return e;
     hp_material_convention mc = HP_MATERIAL_PAPER;
     (void)hp_material_convention_parse(name, &mc); /* cannot fail: name is in the table */
     const char *const *keys = mc == HP_MATERIAL_PAPER ? PAPER_KEYS : FE_KEYS;

@@ -18,7 +18,7 @@ hp_error sp_head(const sr_ctx *c, const yt_node *node, const char *path, hp_head
     char p[SR_PATH_MAX], name[32];
     if ((e = sr_require(c, node, path, "shape", &sh))) return e;
     sr_join(p, sizeof p, path, "shape");
-    if ((e = sr_word(c, sh, p, "shape", hp_head_shape_words, name, sizeof name))) return e;
+    if ((e = sr_word(c, sh, p, "shape", hpi_head_shape_words, name, sizeof name))) return e;
     (void)hp_head_shape_parse(name, &h->shape); /* cannot fail: name is in the table */
     int sphere = h->shape == HP_HEAD_SPHERE;
     if ((e = sr_map(c, node, path, sphere ? SPHERE : ELLIPSOID,

@@ -73,7 +73,7 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
         double t;
         const char *why;
         if ((e = sr_number(c, n, "model.tolerance_mm", &t))) return e;
-        if ((why = hp_check_level_tolerance(t * 1e-3)))
+        if ((why = hpi_check_level_tolerance(t * 1e-3)))
             return sr_fail(c, n, "model.tolerance_mm", HP_ERR_INVALID, "%s mm (got %g)", why,
                            t);
         s->level_tolerance = t * 1e-3;
@@ -89,7 +89,7 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
         double a, b;
         const char *why;
         if ((e = sr_number(c, tr, "model.auto_translation_mm", &a))) return e;
-        if ((why = hp_check_auto_trans(a * 1e-3)))
+        if ((why = hpi_check_auto_trans(a * 1e-3)))
             return sr_fail(c, tr, "model.auto_translation_mm", HP_ERR_INVALID,
                            "%s mm (got %g)", why, a);
         if ((e = sr_number(c, ro, "model.auto_rotation_deg", &b))) return e;
@@ -112,15 +112,15 @@ static hp_error solver(const sr_ctx *c, const yt_node *node, hp_scene *s)
     const yt_node *n;
     if ((n = yt_map_get(node, "backend"))) {
         char name[16];
-        if ((e = sr_word(c, n, "solver.backend", "backend", hp_backend_words, name, sizeof name)))
+        if ((e = sr_word(c, n, "solver.backend", "backend", hpi_backend_words, name, sizeof name)))
             return e;
         (void)hp_backend_parse(name, &s->backend); /* cannot fail: name is in the table */
     }
     /* The planner's own per-field checks (planner/settings_check.h), so a value the
      * planner would refuse is refused here, at its line and column. */
     static const char *const POS[3] = {"tolerance", "max_time_s", "weight_mm_per_deg"};
-    const char *(*const check[3])(double) = {hp_check_tolerance, hp_check_max_time,
-                                             hp_check_weight};
+    const char *(*const check[3])(double) = {hpi_check_tolerance, hpi_check_max_time,
+                                             hpi_check_weight};
     double *dst[3] = {&s->tolerance, &s->max_time, &s->weight_mm_per_deg};
     for (int i = 0; i < 3; ++i) {
         if (!(n = yt_map_get(node, POS[i]))) continue;
@@ -170,7 +170,7 @@ static hp_error trace(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if ((e = sr_require(c, node, "trace", "file", &f))) return e;
     if ((e = sr_text(c, f, "trace.file", file, sizeof file))) return e;
     if ((e = sr_require(c, node, "trace", "rows", &r))) return e;
-    if ((e = sr_word(c, r, "trace.rows", "rows", hp_trace_rows_words, rows, sizeof rows))) return e;
+    if ((e = sr_word(c, r, "trace.rows", "rows", hpi_trace_rows_words, rows, sizeof rows))) return e;
     (void)hp_trace_rows_parse(rows, &s->trace_rows); /* cannot fail: rows is in the table */
     const char *slash = strrchr(c->file, '/');
     int n;

@@ -45,7 +45,7 @@ const char *sr_type_name(const yt_node *node)
     default: break;
     }
     if (node->plain && node->len == 0) return "nothing";
-    if (node->plain && hp_decimal_syntax(node->value, node->len)) return "a single number";
+    if (node->plain && hpi_decimal_syntax(node->value, node->len)) return "a single number";
     return "text";
 }
 
@@ -120,10 +120,10 @@ static hp_error not_number(const sr_ctx *c, const yt_node *node, const char *pat
 hp_error sr_number_text(const sr_ctx *c, const yt_node *node, const char *path, double *out,
                         char *text, size_t size)
 {
-    if (node->type != YT_SCALAR || !node->plain || !hp_decimal_syntax(node->value, node->len))
+    if (node->type != YT_SCALAR || !node->plain || !hpi_decimal_syntax(node->value, node->len))
         return not_number(c, node, path);
     char *end = NULL;
-    double v = hp_c_strtod(node->value, &end);
+    double v = hpi_c_strtod(node->value, &end);
     if (end != node->value + node->len)
         return sr_fail(c, node, path, HP_ERR_PARSE, "'%.40s' is not a number", node->value);
     if (errno == ERANGE && fabs(v) > 1.0)
@@ -221,7 +221,7 @@ hp_error sr_word(const sr_ctx *c, const yt_node *node, const char *path, const c
         for (int i = 0; known[i]; ++i)
             if (strcmp(buf, known[i]) == 0) return HP_OK;
     char list[256];
-    hp_names_join(known, NULL, list, sizeof list);
+    hpi_names_join(known, NULL, list, sizeof list);
     return sr_fail(c, node, path, HP_ERR_PARSE, "unknown %s '%.40s' (known: %s)", what,
                    node->value, list);
 }

@@ -24,21 +24,21 @@ typedef struct override {
 
 static const char *check_max_iter(double v)
 {
-    /* hp_check_max_iter takes a long: a value beyond one is out of range as it is. */
-    if (!(v >= 1 && v <= HP_MAX_ITER_MAX) || v != floor(v)) return hp_check_max_iter(0);
-    return hp_check_max_iter((long)v);
+    /* hpi_check_max_iter takes a long: a value beyond one is out of range as it is. */
+    if (!(v >= 1 && v <= HP_MAX_ITER_MAX) || v != floor(v)) return hpi_check_max_iter(0);
+    return hpi_check_max_iter((long)v);
 }
 
 static const override TABLE[] = {
     {"backend", OV_BACKEND, 0, 0, NULL, ""},
     {"level", OV_LEVEL, 0, 0, NULL, ""},
-    {"tolerance", OV_REAL, offsetof(hp_settings, tolerance), 1.0, hp_check_tolerance, ""},
+    {"tolerance", OV_REAL, offsetof(hp_settings, tolerance), 1.0, hpi_check_tolerance, ""},
     {"max_iter", OV_INT, offsetof(hp_settings, max_iter), 1.0, check_max_iter, ""},
-    {"max_time_s", OV_REAL, offsetof(hp_settings, max_time), 1.0, hp_check_max_time, ""},
+    {"max_time_s", OV_REAL, offsetof(hp_settings, max_time), 1.0, hpi_check_max_time, ""},
     {"weight_mm_per_deg", OV_REAL, offsetof(hp_settings, weight_mm_per_deg), 1.0,
-     hp_check_weight, ""},
+     hpi_check_weight, ""},
     {"level_tolerance_mm", OV_REAL, offsetof(hp_settings, level_tolerance), 1e-3,
-     hp_check_level_tolerance, " mm"},
+     hpi_check_level_tolerance, " mm"},
     {"warm_start", OV_BOOL, offsetof(hp_settings, warm_start), 1.0, NULL, ""},
 };
 #define N_OVERRIDES (sizeof TABLE / sizeof TABLE[0])
@@ -60,7 +60,7 @@ static hp_error number_of(const override *o, const char *text, double number, do
         *v = number;
         return HP_OK;
     }
-    const char *why = hp_strict_double(text, strlen(text), v);
+    const char *why = hpi_strict_double(text, strlen(text), v);
     if (why) return hp_diag_set(d, HP_ERR_INVALID, "%s: '%s': %s", o->name, text, why);
     return HP_OK;
 }
@@ -77,7 +77,7 @@ hp_error hp_scene_settings_override(hp_settings *s, const char *name, const char
             if (hp_backend_parse(text, &s->backend) == HP_OK) return HP_OK;
             char words[96];
             return hp_diag_set(d, HP_ERR_INVALID, "backend: unknown backend '%s' (%s)", text,
-                               hp_names_join(hp_backend_words, NULL, words, sizeof words));
+                               hpi_names_join(hpi_backend_words, NULL, words, sizeof words));
         }
         if (hp_level_parse(text, &s->level) == HP_OK) return HP_OK;
         char names[96];

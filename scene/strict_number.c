@@ -10,7 +10,7 @@
 #include <string.h>
 
 /* Grammar check first: strtod alone would accept "nan", "inf", "0x1p3" and leading spaces. */
-int hp_decimal_syntax(const char *s, size_t len)
+int hpi_decimal_syntax(const char *s, size_t len)
 {
     size_t i = 0, digits = 0;
     if (i < len && (s[i] == '+' || s[i] == '-')) ++i;
@@ -102,29 +102,29 @@ static int plain_decimal(const char *s, size_t len, double *out)
     return 1;
 }
 
-double hp_c_strtod(const char *s, char **end)
+double hpi_c_strtod(const char *s, char **end)
 {
     /* The program's LC_NUMERIC is not ours to change (a Python or GUI host may set it), and
      * under a comma locale strtod stops at the '.' of "77.5". */
     hp_c_numeric c;
-    hp_c_numeric_begin(&c);
+    hpi_c_numeric_begin(&c);
     errno = 0;
     double v = strtod(s, end);
-    hp_c_numeric_end(&c);
+    hpi_c_numeric_end(&c);
     return v;
 }
 
-const char *hp_strict_double(const char *s, size_t len, double *out)
+const char *hpi_strict_double(const char *s, size_t len, double *out)
 {
     char buf[128];
     if (!s || len == 0) return "empty where a number is expected";
     if (len < sizeof buf && plain_decimal(s, len, out)) return NULL;
-    if (len >= sizeof buf || !hp_decimal_syntax(s, len)) return "not a number";
+    if (len >= sizeof buf || !hpi_decimal_syntax(s, len)) return "not a number";
     if (fast_decimal(s, len, out)) return NULL;
     memcpy(buf, s, len);
     buf[len] = '\0';
     char *end = NULL;
-    double v = hp_c_strtod(buf, &end);
+    double v = hpi_c_strtod(buf, &end);
     if (end != buf + len) return "not a number";
     if (errno == ERANGE && fabs(v) > 1.0) return "overflows a double";
     if (errno == ERANGE || (v != 0.0 && fabs(v) < DBL_MIN)) return "too small for a double";
@@ -135,7 +135,7 @@ const char *hp_strict_double(const char *s, size_t len, double *out)
 
 /* A scan of the JSON text, not of jansson's values: by then 1e-400 is 0, indistinguishable
  * from a written 0, and jansson's own overflow message names no key. */
-long hp_json_out_of_range(const char *s, size_t len, const char **key, size_t *klen,
+long hpi_json_out_of_range(const char *s, size_t len, const char **key, size_t *klen,
                           const char **why)
 {
     const char *last = "", *str = NULL;
@@ -155,7 +155,7 @@ long hp_json_out_of_range(const char *s, size_t len, const char **key, size_t *k
             size_t j = i;
             while (j < len && strchr("0123456789+-.eE", s[j]) && s[j]) ++j;
             double v;
-            const char *r = hp_strict_double(s + i, j - i, &v);
+            const char *r = hpi_strict_double(s + i, j - i, &v);
             if (r && (strcmp(r, "too small for a double") == 0 ||
                       strcmp(r, "overflows a double") == 0)) {
                 *why = r;

@@ -28,7 +28,7 @@ static size_t utf8_seq(const unsigned char *s, size_t n)
     return len;
 }
 
-long hp_text_bad_byte(const char *s, size_t len, int *is_nul)
+long hpi_text_bad_byte(const char *s, size_t len, int *is_nul)
 {
     const unsigned char *u = (const unsigned char *)s;
     const uint64_t ones = 0x0101010101010101u, highs = 0x8080808080808080u;

@@ -7,6 +7,6 @@
 /* Offset of the first byte of s[0..len) that is a NUL or not part of well-formed UTF-8
  * (overlong forms, surrogates and code points above U+10FFFF are not well formed), or -1
  * when the text is clean. *is_nul says which of the two it was. */
-long hp_text_bad_byte(const char *s, size_t len, int *is_nul);
+long hpi_text_bad_byte(const char *s, size_t len, int *is_nul);
 
 #endif

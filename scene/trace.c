@@ -117,7 +117,7 @@ static hp_error line_problem(const hp_trace_reader *r, int code, hp_diag *diag)
                            "%s:%ld:%zu: truncated: the last line has no end of line",
                            r->name, r->lineno, r->noeol_col);
     int nul = 0;
-    long at = hp_text_bad_byte(r->line, r->len, &nul);
+    long at = hpi_text_bad_byte(r->line, r->len, &nul);
     if (at >= 0)
         return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %s", r->name, r->lineno, at + 1,
                            nul ? "NUL byte" : "invalid UTF-8");
@@ -404,7 +404,7 @@ static hp_error csv_row(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
         if (i == fc->n - 1 && comma)
             return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: more than %d fields", r->name,
                                r->lineno, fc->n);
-        const char *why = hp_strict_double(p, (size_t)(stop - p), &v[i]);
+        const char *why = hpi_strict_double(p, (size_t)(stop - p), &v[i]);
         if (why)
             return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %s: %s", r->name, r->lineno,
                                (long)(p - r->line) + 1, fc->key[i], why);
@@ -431,7 +431,7 @@ static hp_error jsonl_row(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
     long ln = r->lineno;
     const char *ukey, *uwhy;
     size_t uklen;
-    long at = hp_json_out_of_range(r->line, r->len, &ukey, &uklen, &uwhy);
+    long at = hpi_json_out_of_range(r->line, r->len, &ukey, &uklen, &uwhy);
     if (at >= 0)
         return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: %s",
                            r->name, ln, at + 1, (int)uklen, ukey, uwhy);

@@ -182,7 +182,7 @@ static hp_error parser_error(builder *b, const yaml_parser_t *p)
 static hp_error check_bytes(const char *text, size_t len, const char *filename, hp_diag *diag)
 {
     int nul = 0;
-    long at = hp_text_bad_byte(text, len, &nul);
+    long at = hpi_text_bad_byte(text, len, &nul);
     if (at < 0) return HP_OK;
     unsigned long line = 1, col = 1;
     for (long i = 0; i < at; ++i) {

@@ -28,7 +28,7 @@ SUPPRESS=(
   --suppress=uninitvar:planner/load_solve.c     # rest[]: the m − nfix = 6 free columns
   --suppress=uninitvar:planner/qp.c             # t[], r[] for every i < n, in order
   # Output arguments cppcheck reads as inputs (the callee writes before it reads):
-  --suppress=legacyUninitvar:planner/load_closest.c # H, written by hp_contact_eval_g
+  --suppress=legacyUninitvar:planner/load_closest.c # H, written by hpi_contact_eval_g
   --suppress=ctuuninitvar:kinematics/contact.c      # bm, written by back_transform
   # Style only, in files whose owners have not yet taken the change (docs/static-analysis.md):
   --suppress=variableScope:cli/cli_scene.c --suppress=variableScope:cli/cmd_analyze.c

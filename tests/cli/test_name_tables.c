@@ -55,18 +55,18 @@ NAME_OF(hp_scene_kind_name, hp_scene_kind)
 static const char *binding_i(int v) { return hp_binding_name(1u << v); }
 
 static const enum_case CASES[] = {
-    {"backend", hp_backend_words, hp_backend_name_i, hp_backend_parse_i},
-    {"status", hp_status_words, hp_status_name_i, NULL},
-    {"binding", hp_binding_words, binding_i, NULL},
-    {"level", hp_level_words, hp_level_name_i, hp_level_parse_i},
-    {"head shape", hp_head_shape_words, hp_head_shape_name_i, hp_head_shape_parse_i},
-    {"convention", hp_material_convention_words, hp_material_convention_name_i,
+    {"backend", hpi_backend_words, hp_backend_name_i, hp_backend_parse_i},
+    {"status", hpi_status_words, hp_status_name_i, NULL},
+    {"binding", hpi_binding_words, binding_i, NULL},
+    {"level", hpi_level_words, hp_level_name_i, hp_level_parse_i},
+    {"head shape", hpi_head_shape_words, hp_head_shape_name_i, hp_head_shape_parse_i},
+    {"convention", hpi_material_convention_words, hp_material_convention_name_i,
      hp_material_convention_parse_i},
-    {"prediction", hp_prediction_words, hp_prediction_name_i, hp_prediction_parse_i},
-    {"trace rows", hp_trace_rows_words, hp_trace_rows_name_i, hp_trace_rows_parse_i},
-    {"trace format", hp_trace_format_words, hp_trace_format_name_i, hp_trace_format_parse_i},
-    {"trace form", hp_trace_form_words, hp_trace_form_name_i, NULL},
-    {"scene kind", hp_scene_kind_words, hp_scene_kind_name_i, NULL},
+    {"prediction", hpi_prediction_words, hp_prediction_name_i, hp_prediction_parse_i},
+    {"trace rows", hpi_trace_rows_words, hp_trace_rows_name_i, hp_trace_rows_parse_i},
+    {"trace format", hpi_trace_format_words, hp_trace_format_name_i, hp_trace_format_parse_i},
+    {"trace form", hpi_trace_form_words, hp_trace_form_name_i, NULL},
+    {"scene kind", hpi_scene_kind_words, hp_scene_kind_name_i, NULL},
 };
 
 static void test_round_trip(void **st)
@@ -74,7 +74,7 @@ static void test_round_trip(void **st)
     (void)st;
     for (size_t c = 0; c < sizeof CASES / sizeof *CASES; ++c) {
         const enum_case *k = CASES + c;
-        int n = hp_names_count(k->words);
+        int n = hpi_names_count(k->words);
         assert_true(n >= 2);
         for (int v = 0; v < n; ++v) {
             if (strcmp(k->name(v), k->words[v]) != 0)
@@ -108,17 +108,17 @@ static void test_round_trip(void **st)
     assert_int_equal(hp_trace_rows_parse("deviation", NULL), HP_ERR_NULL);
     assert_int_equal(hp_trace_format_parse("csv", NULL), HP_ERR_NULL);
     /* One word per value the public headers count. */
-    assert_int_equal(hp_names_count(hp_backend_words), HP_BACKEND_COUNT_);
-    assert_int_equal(hp_names_count(hp_status_words), HP_STATUS_COUNT_);
-    assert_int_equal(hp_names_count(hp_binding_words), HP_BIND_COUNT);
-    assert_int_equal(hp_names_count(hp_level_words), HP_LEVEL_LOAD + 1);
-    assert_int_equal(hp_names_count(hp_load_tiebreak_words), HP_TIE_COUNT_);
+    assert_int_equal(hpi_names_count(hpi_backend_words), HP_BACKEND_COUNT_);
+    assert_int_equal(hpi_names_count(hpi_status_words), HP_STATUS_COUNT_);
+    assert_int_equal(hpi_names_count(hpi_binding_words), HP_BIND_COUNT);
+    assert_int_equal(hpi_names_count(hpi_level_words), HP_LEVEL_LOAD + 1);
+    assert_int_equal(hpi_names_count(hpi_load_tiebreak_words), HP_TIE_COUNT_);
 }
 
 /* The table's words joined as "a, b, c". */
 static const char *joined(const char *const *words, char *buf, size_t len)
 {
-    return hp_names_join(words, NULL, buf, len);
+    return hpi_names_join(words, NULL, buf, len);
 }
 
 /* The output of cmd (stdout and stderr) into out. */
@@ -139,7 +139,7 @@ static void test_cli_lists_the_backend_table(void **st)
              HP_BINARY_DIR, HP_SOURCE_DIR);
     run(cmd, out, sizeof out);
     snprintf(want, sizeof want, "unknown backend 'x' (%s)\n",
-             joined(hp_backend_words, list, sizeof list));
+             joined(hpi_backend_words, list, sizeof list));
     if (!strstr(out, want)) print_error("got: %swant: %s", out, want);
     assert_non_null(strstr(out, want));
     /* --help names every backend, and no word that is none ("--backend NAME ... " up to the
@@ -151,10 +151,10 @@ static void test_cli_lists_the_backend_table(void **st)
     char *to = strstr(from + 1, "\n  --");
     assert_non_null(to);
     *to = '\0';
-    for (int i = 0; hp_backend_words[i]; ++i) {
-        if (!strstr(from, hp_backend_words[i]))
-            print_error("solve --help does not name backend %s\n", hp_backend_words[i]);
-        assert_non_null(strstr(from, hp_backend_words[i]));
+    for (int i = 0; hpi_backend_words[i]; ++i) {
+        if (!strstr(from, hpi_backend_words[i]))
+            print_error("solve --help does not name backend %s\n", hpi_backend_words[i]);
+        assert_non_null(strstr(from, hpi_backend_words[i]));
     }
 }
 
@@ -181,13 +181,13 @@ static void test_scene_reader_uses_the_tables(void **st)
                        "pressure_max_kpa: 10, stretch_min: 0.8,\n     stretch_max: 1.3}\n";
     char a[1024], b[1024];
     snprintf(b, sizeof b, "%spaper%s", rest, tail);
-    scene_word(head, b, hp_head_shape_words);
+    scene_word(head, b, hpi_head_shape_words);
     snprintf(a, sizeof a, "%ssphere%s", head, rest);
-    scene_word(a, tail, hp_material_convention_words);
+    scene_word(a, tail, hpi_material_convention_words);
     snprintf(a, sizeof a, "%ssphere%spaper%ssolver: {backend: ", head, rest, tail);
-    scene_word(a, "}\n", hp_backend_words);
+    scene_word(a, "}\n", hpi_backend_words);
     snprintf(a, sizeof a, "%ssphere%spaper%strace: {file: t.csv, rows: ", head, rest, tail);
-    scene_word(a, "}\n", hp_trace_rows_words);
+    scene_word(a, "}\n", hpi_trace_rows_words);
 }
 
 int main(void)

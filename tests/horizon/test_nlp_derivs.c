@@ -27,7 +27,7 @@ typedef struct eval {
 static void run(const hf_case *c, const hp_horizon_settings *hs, const double *x,
                 const double *lam, eval *e)
 {
-    assert_int_equal(hp_horizon_nlp_dense(&c->sc.layout, &c->s, hs, c->rows + 48, T_ROWS, c->p0,
+    assert_int_equal(hpi_horizon_nlp_dense(&c->sc.layout, &c->s, hs, c->rows + 48, T_ROWS, c->p0,
                                           x, 0.7, lam, &e->f, e->grad, e->g, e->jac, e->hess),
                      HP_OK);
 }

@@ -245,7 +245,7 @@ static void test_scale_invariance(void **state)
     hp_assert_close(Pc, Pa, 16 * ULP, 0);
 }
 
-/* hp_iab_cbrt against quad cbrtq: within 0.5 ulp of the result (plus 1e-6 ulp for the
+/* hpi_iab_cbrt against quad cbrtq: within 0.5 ulp of the result (plus 1e-6 ulp for the
  * near-midpoint cases its header allows) on 200 000 seeded random doubles of every binade
  * of the normal range, exact on exact cubes (k³ -> k), and libm's cbrt on the values it
  * leaves to it (0, subnormal, negative, infinities, NaN). */
@@ -262,7 +262,7 @@ static void test_cbrt(void **state)
         uint64_t bits = (E << 52) | (st & 0x000fffffffffffffULL);
         double x;
         memcpy(&x, &bits, sizeof x);
-        double y = hp_iab_cbrt(x);
+        double y = hpi_iab_cbrt(x);
         int ex;
         frexp(y, &ex);
         double ulp = ldexp(1.0, ex - 53);
@@ -272,24 +272,24 @@ static void test_cbrt(void **state)
     }
     for (int k = 1; k <= 100000; ++k) {
         double c = (double)k * k * k;
-        assert_true(hp_iab_cbrt(c) == k);
-        assert_true(hp_iab_cbrt(c * 0x1p-600) == k * 0x1p-200);
+        assert_true(hpi_iab_cbrt(c) == k);
+        assert_true(hpi_iab_cbrt(c * 0x1p-600) == k * 0x1p-200);
     }
     const double special[] = {0.0, -0.0, 0x1p-1074, 0x1p-1030, -8.0, -1e-300, INFINITY,
                               -INFINITY};
     for (size_t i = 0; i < sizeof special / sizeof special[0]; ++i) {
-        double a = hp_iab_cbrt(special[i]), b = cbrt(special[i]);
+        double a = hpi_iab_cbrt(special[i]), b = cbrt(special[i]);
         assert_memory_equal(&a, &b, sizeof a);
     }
-    assert_true(isnan(hp_iab_cbrt(NAN)));
-    printf("hp_iab_cbrt vs quad: worst %.4f ulps\n", worst);
+    assert_true(isnan(hpi_iab_cbrt(NAN)));
+    printf("hpi_iab_cbrt vs quad: worst %.4f ulps\n", worst);
 }
 
-/* hp_iab_cbrt_near against quad cbrtq: the same bound as hp_iab_cbrt (0.5 ulp + 1e-6) from
+/* hpi_iab_cbrt_near against quad cbrtq: the same bound as hpi_iab_cbrt (0.5 ulp + 1e-6) from
  * starts a few ulps and up to 1e-13 (below its 2^-40 acceptance) off the root, on 100 000
- * seeded random x across its range [2^-300, 2^300]; hp_iab_cbrt's very bits from starts it
+ * seeded random x across its range [2^-300, 2^300]; hpi_iab_cbrt's very bits from starts it
  * must refuse (1e-9 off and farther, 0, negative, NaN, inf) and for x outside the range. The
- * number of near starts whose result differs from hp_iab_cbrt's is printed (the header
+ * number of near starts whose result differs from hpi_iab_cbrt's is printed (the header
  * allows it only within ~1e-7 ulp of a midpoint, so expect 0). */
 static void test_cbrt_near(void **state)
 {
@@ -309,20 +309,20 @@ static void test_cbrt_near(void **state)
         double x;
         memcpy(&x, &bits, sizeof x);
         if (x > 0x1p300) x = 0x1p300;
-        double ref = hp_iab_cbrt(x);
+        double ref = hpi_iab_cbrt(x);
         q128 exact = cbrtq((q128)x);
         int ex;
         frexp(ref, &ex);
         double ulp = ldexp(1.0, ex - 53);
         for (size_t j = 0; j < sizeof near / sizeof near[0]; ++j) {
-            double y = hp_iab_cbrt_near(x, ref * (1.0 + near[j]));
+            double y = hpi_iab_cbrt_near(x, ref * (1.0 + near[j]));
             double err = (double)fabsq((q128)y - exact) / ulp;
             worst = fmax(worst, err);
             assert_true(err <= 0.5 + 1e-6);
             differ += y != ref;
         }
         for (size_t j = 0; j < sizeof far / sizeof far[0]; ++j) {
-            double y = hp_iab_cbrt_near(x, ref * (1.0 + far[j]));
+            double y = hpi_iab_cbrt_near(x, ref * (1.0 + far[j]));
             assert_memory_equal(&y, &ref, sizeof y);
         }
     }
@@ -330,18 +330,18 @@ static void test_cbrt_near(void **state)
     const double xs[] = {0.5, 27.0, 0x1p-300, 0x1p300, 0x1p-301, 0x1p302, 1e-320, 1e308, 0.0,
                          -8.0, INFINITY};
     for (size_t i = 0; i < sizeof xs / sizeof xs[0]; ++i) {
-        double ref = hp_iab_cbrt(xs[i]);
+        double ref = hpi_iab_cbrt(xs[i]);
         for (size_t j = 0; j < sizeof bad_start / sizeof bad_start[0]; ++j) {
-            double y = hp_iab_cbrt_near(xs[i], bad_start[j]);
+            double y = hpi_iab_cbrt_near(xs[i], bad_start[j]);
             assert_memory_equal(&y, &ref, sizeof y);
         }
         if (!(xs[i] >= 0x1p-300 && xs[i] <= 0x1p300)) { /* outside the range: no refinement */
-            double y = hp_iab_cbrt_near(xs[i], ref);
+            double y = hpi_iab_cbrt_near(xs[i], ref);
             assert_memory_equal(&y, &ref, sizeof y);
         }
     }
-    assert_true(isnan(hp_iab_cbrt_near(NAN, 1.0)));
-    printf("hp_iab_cbrt_near vs quad: worst %.4f ulps; %ld of 800000 differ from hp_iab_cbrt\n",
+    assert_true(isnan(hpi_iab_cbrt_near(NAN, 1.0)));
+    printf("hpi_iab_cbrt_near vs quad: worst %.4f ulps; %ld of 800000 differ from hpi_iab_cbrt\n",
            worst, differ);
 }
 
@@ -357,7 +357,7 @@ static void test_scale_bits(void **state)
     for (size_t i = 0; i < sizeof ros / sizeof ros[0]; ++i) {
         hp_iab b = {ros[i] * 0.5, ros[i], 1e4, 0};
         hp_iab_s s;
-        assert_int_equal(hp_iab_scaled_init(&b, &s, NULL), HP_OK);
+        assert_int_equal(hpi_iab_scaled_init(&b, &s, NULL), HP_OK);
         int e;
         frexp(ros[i], &e);
         assert_true(s.scale == ldexp(1.0, 1 - e));
@@ -366,8 +366,8 @@ static void test_scale_bits(void **state)
     }
 }
 
-/* The per-plan entry points on a bladder validated once (hp_iab_s_ik_m, hp_iab_s_ro_m,
- * hp_iab_s_ri_m, what the planner calls) against the public functions: the same bits over
+/* The per-plan entry points on a bladder validated once (hpi_iab_s_ik_m, hpi_iab_s_ro_m,
+ * hpi_iab_s_ri_m, what the planner calls) against the public functions: the same bits over
  * the accuracy sweep's stretches and wall thicknesses, the same codes for bad radii (NaN,
  * inf, zero, negative, a cube outside the range) and for a collapsed cavity. */
 static void test_validated_once_same_bits(void **state)
@@ -380,27 +380,27 @@ static void test_validated_once_same_bits(void **state)
             const double Ro = 0.03, Ri = ratios[iq] * Ro;
             hp_iab b = {Ri, Ro, 1.1e4, c2c1[ic] * 1.1e4};
             hp_iab_s s;
-            assert_int_equal(hp_iab_scaled_init(&b, &s, NULL), HP_OK);
+            assert_int_equal(hpi_iab_scaled_init(&b, &s, NULL), HP_OK);
             for (int k = 0; k < n; ++k) {
                 double ri = l[k] * Ri, P1, P2, o1, o2, r1, r2;
                 assert_int_equal(hp_iab_ik(&b, ri, &P1), HP_OK);
-                assert_int_equal(hp_iab_s_ik_m(&s, ri, &P2), HP_OK);
+                assert_int_equal(hpi_iab_s_ik_m(&s, ri, &P2), HP_OK);
                 assert_memory_equal(&P1, &P2, sizeof P1);
                 assert_int_equal(hp_iab_ro(&b, ri, &o1), HP_OK);
-                assert_int_equal(hp_iab_s_ro_m(&s, ri, &o2), HP_OK);
+                assert_int_equal(hpi_iab_s_ro_m(&s, ri, &o2), HP_OK);
                 assert_memory_equal(&o1, &o2, sizeof o1);
                 /* the answer's path: the outer radius the pressure uses refined from a
                  * nearby one (the exact one, or one 4 ulps off) */
                 double P3, P4;
-                assert_int_equal(hp_iab_s_ik_near_m(&s, ri, o1, &P3), HP_OK);
-                assert_int_equal(hp_iab_s_ik_near_m(&s, ri, o1 * (1 + 4 * ULP), &P4), HP_OK);
+                assert_int_equal(hpi_iab_s_ik_near_m(&s, ri, o1, &P3), HP_OK);
+                assert_int_equal(hpi_iab_s_ik_near_m(&s, ri, o1 * (1 + 4 * ULP), &P4), HP_OK);
                 assert_memory_equal(&P1, &P3, sizeof P1);
                 assert_memory_equal(&P1, &P4, sizeof P1);
                 double P5, o5;
-                assert_int_equal(hp_iab_s_ik_ro_m(&s, ri, &P5, &o5), HP_OK);
+                assert_int_equal(hpi_iab_s_ik_ro_m(&s, ri, &P5, &o5), HP_OK);
                 assert_memory_equal(&P1, &P5, sizeof P1);
                 assert_memory_equal(&o1, &o5, sizeof o1);
-                hp_error e1 = hp_iab_ri(&b, o1, &r1), e2 = hp_iab_s_ri_m(&s, o1, &r2);
+                hp_error e1 = hp_iab_ri(&b, o1, &r1), e2 = hpi_iab_s_ri_m(&s, o1, &r2);
                 assert_int_equal(e1, e2);
                 if (e1 == HP_OK) assert_memory_equal(&r1, &r2, sizeof r1);
             }
@@ -408,12 +408,12 @@ static void test_validated_once_same_bits(void **state)
                                   0.5 * (Ro - Ri)};
             for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
                 double x = 5.0, y = 5.0;
-                assert_int_equal(hp_iab_s_ik_m(&s, bad[i], &x), hp_iab_ik(&b, bad[i], &y));
-                assert_int_equal(hp_iab_s_ro_m(&s, bad[i], &x), hp_iab_ro(&b, bad[i], &y));
-                assert_int_equal(hp_iab_s_ik_near_m(&s, bad[i], Ro, &x), hp_iab_ik(&b, bad[i], &y));
+                assert_int_equal(hpi_iab_s_ik_m(&s, bad[i], &x), hp_iab_ik(&b, bad[i], &y));
+                assert_int_equal(hpi_iab_s_ro_m(&s, bad[i], &x), hp_iab_ro(&b, bad[i], &y));
+                assert_int_equal(hpi_iab_s_ik_near_m(&s, bad[i], Ro, &x), hp_iab_ik(&b, bad[i], &y));
                 double z = 5.0;
-                assert_int_equal(hp_iab_s_ik_ro_m(&s, bad[i], &x, &z), hp_iab_ik(&b, bad[i], &y));
-                assert_int_equal(hp_iab_s_ri_m(&s, bad[i], &x), hp_iab_ri(&b, bad[i], &y));
+                assert_int_equal(hpi_iab_s_ik_ro_m(&s, bad[i], &x, &z), hp_iab_ik(&b, bad[i], &y));
+                assert_int_equal(hpi_iab_s_ri_m(&s, bad[i], &x), hp_iab_ri(&b, bad[i], &y));
             }
         }
 }

@@ -31,7 +31,7 @@ static void expect_invalid(hp_iab b, hp_error code, const char *field)
     assert_int_equal(hp_iab_ik_adaptive(&b, 0.03, HP_QUAD_REFERENCE, 1e-8, &out, &o2, &ev), code);
     assert_int_equal(hp_iab_wall_stress(&b, 0.03, 0.03, &out, &o2), code);
     assert_int_equal(hp_iab_limit_point(&b, &lp), code);
-    assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, 100.0, 0.03, &out, &o2), code);
+    assert_int_equal(hpi_iab_fk_limit_warm_ro(&b, &lp, 100.0, 0.03, &out, &o2), code);
     assert_true(out == 42.0 && o2 == 43.0 && o3 == 44.0 && ev == 7 && lp.exists == 5);
 }
 

@@ -233,11 +233,11 @@ static void test_fk_limit_same_as_fk(void **state)
     assert_int_equal(hp_iab_fk_limit(&b, NULL, 1.0, &r), HP_ERR_NULL);
 }
 
-/* The warm start (hp_iab_fk_limit_warm, the planner's round trip): given the radius a
+/* The warm start (hpi_iab_fk_limit_warm, the planner's round trip): given the radius a
  * pressure came from (P = hp_iab_ik(ri)), it returns that radius bit for bit, over
  * compression and expansion up to the limit point; a guess that cannot be the stable root
  * (on the other side of Ri, beyond the limit point, NaN) changes nothing: the same bits as
- * the cold call. hp_iab_fk_limit_warm_ro gives the same root and hp_iab_ro's bits at it. */
+ * the cold call. hpi_iab_fk_limit_warm_ro gives the same root and hp_iab_ro's bits at it. */
 static void test_fk_warm(void **state)
 {
     (void)state;
@@ -251,19 +251,19 @@ static void test_fk_warm(void **state)
             double ri = k < 0 ? b.Ri * (1.0 + 0.004 * k) : b.Ri + (top - b.Ri) * k / 101.0;
             double P, w, cold, w2;
             assert_int_equal(hp_iab_ik(&b, ri, &P), HP_OK);
-            assert_int_equal(hp_iab_fk_limit_warm(&b, &lp, P, ri, &w), HP_OK);
+            assert_int_equal(hpi_iab_fk_limit_warm(&b, &lp, P, ri, &w), HP_OK);
             assert_memory_equal(&w, &ri, sizeof w);
             assert_int_equal(hp_iab_fk_limit(&b, &lp, P, &cold), HP_OK);
             const double bad[] = {k < 0 ? 1.5 * b.Ri : 0.5 * b.Ri, lp.exists ? 1.5 * lp.ri : -1.0,
                                   NAN, ri};
             for (int i = 0; i < 4; ++i) {
-                assert_int_equal(hp_iab_fk_limit_warm(&b, &lp, P, bad[i], &w2), HP_OK);
+                assert_int_equal(hpi_iab_fk_limit_warm(&b, &lp, P, bad[i], &w2), HP_OK);
                 assert_memory_equal(&w2, i < 3 ? &cold : &ri, sizeof w2);
                 /* the round trip validated once: the same root, and hp_iab_ro's bits at it
                  * (for the exact guess, the outer radius the pressure's evaluation formed) */
                 double r2, o1, o2;
                 assert_int_equal(hp_iab_ro(&b, w2, &o1), HP_OK);
-                assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, P, bad[i], &r2, &o2), HP_OK);
+                assert_int_equal(hpi_iab_fk_limit_warm_ro(&b, &lp, P, bad[i], &r2, &o2), HP_OK);
                 assert_memory_equal(&r2, &w2, sizeof r2);
                 assert_memory_equal(&o2, &o1, sizeof o2);
             }
@@ -271,7 +271,7 @@ static void test_fk_warm(void **state)
     }
 }
 
-/* hp_iab_fk_limit_warm_ro's refusals (NaN pressure, above the limit point, NULL), outputs
+/* hpi_iab_fk_limit_warm_ro's refusals (NaN pressure, above the limit point, NULL), outputs
  * untouched, and P = 0 (the reference radii); its bits are checked in test_fk_warm. */
 static void test_fk_warm_ro(void **state)
 {
@@ -281,14 +281,14 @@ static void test_fk_warm_ro(void **state)
         hp_iab_limit lp;
         material(m, &b, &lp);
         double r = 7.0, o = 8.0;
-        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, NAN, b.Ri, &r, &o), HP_ERR_INVALID);
-        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, 1e4, b.Ri, NULL, &o), HP_ERR_NULL);
-        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, 1e4, b.Ri, &r, NULL), HP_ERR_NULL);
+        assert_int_equal(hpi_iab_fk_limit_warm_ro(&b, &lp, NAN, b.Ri, &r, &o), HP_ERR_INVALID);
+        assert_int_equal(hpi_iab_fk_limit_warm_ro(&b, &lp, 1e4, b.Ri, NULL, &o), HP_ERR_NULL);
+        assert_int_equal(hpi_iab_fk_limit_warm_ro(&b, &lp, 1e4, b.Ri, &r, NULL), HP_ERR_NULL);
         if (lp.exists)
-            assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, lp.pressure * 1.001, lp.ri, &r, &o),
+            assert_int_equal(hpi_iab_fk_limit_warm_ro(&b, &lp, lp.pressure * 1.001, lp.ri, &r, &o),
                              HP_ERR_NO_STABLE);
         assert_true(r == 7.0 && o == 8.0);
-        assert_int_equal(hp_iab_fk_limit_warm_ro(&b, &lp, 0.0, NAN, &r, &o), HP_OK);
+        assert_int_equal(hpi_iab_fk_limit_warm_ro(&b, &lp, 0.0, NAN, &r, &o), HP_OK);
         assert_true(r == b.Ri && o == b.Ro);
     }
 }

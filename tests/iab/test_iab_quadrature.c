@@ -18,7 +18,7 @@ static void test_gauss_legendre_rule(void **state)
     (void)state;
     double x[HP_IAB_GL_MAX], w[HP_IAB_GL_MAX];
     for (int n = 1; n <= HP_IAB_GL_MAX; ++n) {
-        assert_int_equal(hp_iab_gl_rule(n, x, w), HP_OK);
+        assert_int_equal(hpi_iab_gl_rule(n, x, w), HP_OK);
         for (int k = 0; k <= 2 * n - 1; k += 2) {
             double sum = 0;
             for (int i = 0; i < (n + 1) / 2; ++i)
@@ -38,17 +38,17 @@ static void test_gauss_legendre_rule(void **state)
     /* The cached table holds exactly what the rule computes. */
     for (int n = 1; n <= HP_IAB_GL_MAX; ++n) {
         const double *cx, *cw;
-        assert_int_equal(hp_iab_gl_rule(n, x, w), HP_OK);
-        assert_int_equal(hp_iab_gl_cached(n, &cx, &cw), HP_OK);
+        assert_int_equal(hpi_iab_gl_rule(n, x, w), HP_OK);
+        assert_int_equal(hpi_iab_gl_cached(n, &cx, &cw), HP_OK);
         assert_memory_equal(cx, x, (size_t)(n + 1) / 2 * sizeof *x);
         assert_memory_equal(cw, w, (size_t)(n + 1) / 2 * sizeof *w);
     }
     const double *cx, *cw;
-    assert_int_equal(hp_iab_gl_cached(0, &cx, &cw), HP_ERR_INVALID);
-    assert_int_equal(hp_iab_gl_cached(65, &cx, &cw), HP_ERR_INVALID);
-    assert_int_equal(hp_iab_gl_rule(0, x, w), HP_ERR_INVALID);
-    assert_int_equal(hp_iab_gl_rule(65, x, w), HP_ERR_INVALID);
-    assert_int_equal(hp_iab_gl_rule(5, NULL, w), HP_ERR_NULL);
+    assert_int_equal(hpi_iab_gl_cached(0, &cx, &cw), HP_ERR_INVALID);
+    assert_int_equal(hpi_iab_gl_cached(65, &cx, &cw), HP_ERR_INVALID);
+    assert_int_equal(hpi_iab_gl_rule(0, x, w), HP_ERR_INVALID);
+    assert_int_equal(hpi_iab_gl_rule(65, x, w), HP_ERR_INVALID);
+    assert_int_equal(hpi_iab_gl_rule(5, NULL, w), HP_ERR_NULL);
 }
 
 typedef struct {
@@ -195,7 +195,7 @@ static void test_kronrod_rule(void **state)
 {
     (void)state;
     const double *x, *wk, *wg;
-    hp_iab_gk15_rule(&x, &wk, &wg);
+    hpi_iab_gk15_rule(&x, &wk, &wg);
     for (int k = 0; k <= 22; k += 2) {
         double sk = wk[7] * (k == 0 ? 1.0 : 0.0), sg = wg[3] * (k == 0 ? 1.0 : 0.0);
         for (int j = 0; j < 7; ++j) sk += 2 * wk[j] * pow(x[j], k);
@@ -206,7 +206,7 @@ static void test_kronrod_rule(void **state)
     }
     /* the embedded nodes are the 7-point Gauss–Legendre nodes */
     double gx[HP_IAB_GL_MAX], gw[HP_IAB_GL_MAX];
-    assert_int_equal(hp_iab_gl_rule(7, gx, gw), HP_OK);
+    assert_int_equal(hpi_iab_gl_rule(7, gx, gw), HP_OK);
     for (int j = 0; j < 4; ++j) {
         hp_assert_close(x[2 * j + 1], gx[j], 4 * ULP, 1e-300);
         hp_assert_close(wg[j], gw[j], 8 * ULP, 0);

@@ -110,7 +110,7 @@ static void test_auto(void **state)
     assert_int_equal(hp_contact_auto(&LAY, NAN, T, rot, &lv), HP_ERR_INVALID);
 }
 
-/* hp_kin_contact_step_bound against the remainder itself: from random poses (|t| <= 20 mm,
+/* hpi_kin_contact_step_bound against the remainder itself: from random poses (|t| <= 20 mm,
  * |θ| <= 20°), steps of three sizes (translation <= 0.05·h m, rotation <= h rad, h = 1e-2,
  * 1e-3, 1e-4; a quarter pure translations, a quarter pure rotations), on the default head,
  * a sphere with an off-centre pivot and a flatter ellipsoid. The remainder
@@ -133,7 +133,7 @@ static void three_layouts(int c, hp_layout *L, hp_geom *G)
     assert_int_equal(default_layout_on(L, &h, 0.0), 0);
     for (int i = 0; i < 3; ++i) L->pivot[i] += pivots[c][i];
     assert_int_equal(hp_layout_prepare(L, NULL), HP_OK);
-    assert_int_equal(hp_geom_derive(L, G, NULL), HP_OK);
+    assert_int_equal(hpi_geom_derive(L, G, NULL), HP_OK);
 }
 
 static void test_step_bound(void **state)
@@ -157,9 +157,9 @@ static void test_step_bound(void **state)
                 for (int i = 0; i < 6; ++i) xb[i] = xa[i] + dx[i];
                 double ra[HP_MAX_BLADDERS], rb[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6],
                     b[HP_MAX_BLADDERS];
-                assert_int_equal(hp_contact_eval_g(&L, &G, (hp_level)lv, xa, ra, J, NULL), HP_OK);
-                assert_int_equal(hp_contact_eval_g(&L, &G, (hp_level)lv, xb, rb, NULL, NULL), HP_OK);
-                assert_int_equal(hp_kin_contact_step_bound(&L, &G, (hp_level)lv, xa, dx, ra, b),
+                assert_int_equal(hpi_contact_eval_g(&L, &G, (hp_level)lv, xa, ra, J, NULL), HP_OK);
+                assert_int_equal(hpi_contact_eval_g(&L, &G, (hp_level)lv, xb, rb, NULL, NULL), HP_OK);
+                assert_int_equal(hpi_kin_contact_step_bound(&L, &G, (hp_level)lv, xa, dx, ra, b),
                                  HP_OK);
                 for (int k = 0; k < L.n; ++k) {
                     double lin = ra[k];
@@ -184,30 +184,30 @@ static void test_step_bound(void **state)
         }
         /* A step long enough to reach the head: no finite bound at the surface level. */
         double xa[6] = {0}, dx[6] = {0.2, 0, 0, 0, 0, 0}, ra[HP_MAX_BLADDERS], b[HP_MAX_BLADDERS];
-        assert_int_equal(hp_contact_eval_g(&L, &G, HP_LEVEL_SURFACE, xa, ra, NULL, NULL), HP_OK);
-        assert_int_equal(hp_kin_contact_step_bound(&L, &G, HP_LEVEL_SURFACE, xa, dx, ra, b), HP_OK);
+        assert_int_equal(hpi_contact_eval_g(&L, &G, HP_LEVEL_SURFACE, xa, ra, NULL, NULL), HP_OK);
+        assert_int_equal(hpi_kin_contact_step_bound(&L, &G, HP_LEVEL_SURFACE, xa, dx, ra, b), HP_OK);
         for (int k = 0; k < L.n; ++k) assert_true(b[k] == INFINITY);
         /* Arguments */
         dx[0] = NAN;
-        assert_int_equal(hp_kin_contact_step_bound(&L, &G, HP_LEVEL_PLANE, xa, dx, ra, b),
+        assert_int_equal(hpi_kin_contact_step_bound(&L, &G, HP_LEVEL_PLANE, xa, dx, ra, b),
                          HP_ERR_INVALID);
         dx[0] = 0.0;
         xa[4] = INFINITY;
-        assert_int_equal(hp_kin_contact_step_bound(&L, &G, HP_LEVEL_PLANE, xa, dx, ra, b),
+        assert_int_equal(hpi_kin_contact_step_bound(&L, &G, HP_LEVEL_PLANE, xa, dx, ra, b),
                          HP_ERR_INVALID);
         xa[4] = 0.0;
-        assert_int_equal(hp_kin_contact_step_bound(&L, &G, HP_LEVEL_SURFACE, xa, dx, NULL, b),
+        assert_int_equal(hpi_kin_contact_step_bound(&L, &G, HP_LEVEL_SURFACE, xa, dx, NULL, b),
                          HP_ERR_NULL);
-        assert_int_equal(hp_kin_contact_step_bound(&L, &G, HP_LEVEL_PLANE, xa, dx, NULL, b),
+        assert_int_equal(hpi_kin_contact_step_bound(&L, &G, HP_LEVEL_PLANE, xa, dx, NULL, b),
                          HP_OK);
-        assert_int_equal(hp_kin_contact_step_bound(&L, &G, HP_LEVEL_AUTO, xa, dx, ra, b),
+        assert_int_equal(hpi_kin_contact_step_bound(&L, &G, HP_LEVEL_AUTO, xa, dx, ra, b),
                          HP_ERR_INVALID);
-        assert_int_equal(hp_kin_contact_step_bound(&L, NULL, HP_LEVEL_PLANE, xa, dx, ra, b),
+        assert_int_equal(hpi_kin_contact_step_bound(&L, NULL, HP_LEVEL_PLANE, xa, dx, ra, b),
                          HP_ERR_NULL);
     }
 }
 
-/* hp_kin_contact_ball_curvature against the model's exact Hessians: at random poses inside
+/* hpi_kin_contact_ball_curvature against the model's exact Hessians: at random poses inside
  * random balls (three heads, centres up to 20 mm / 20 deg, radii 0.01..5 scaled units) no
  * |vᵀHv| along random unit scaled directions, nor the largest eigenvalue magnitude of the
  * scaled Hessian, exceeds the bound; and the bound is not vacuous (the largest ratio is
@@ -227,9 +227,9 @@ static void test_ball_curvature(void **state)
             for (int it = 0; it < 400; ++it) {
                 double r = radii[it % 4], xc[6], rc[HP_MAX_BLADDERS], h[HP_MAX_BLADDERS];
                 kin_rng_pose(&rng, 0.02, 0.35, 0, xc);
-                assert_int_equal(hp_contact_eval_g(&L, &G, (hp_level)lv, xc, rc, NULL, NULL),
+                assert_int_equal(hpi_contact_eval_g(&L, &G, (hp_level)lv, xc, rc, NULL, NULL),
                                  HP_OK);
-                assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, (hp_level)lv, xc, r, rc, h),
+                assert_int_equal(hpi_kin_contact_ball_curvature(&L, &G, (hp_level)lv, xc, r, rc, h),
                                  HP_OK);
                 for (int s = 0; s < 4; ++s) {
                     /* a point of the ball: a random scaled offset of length <= r */
@@ -243,7 +243,7 @@ static void test_ball_curvature(void **state)
                     for (int i = 0; i < 6; ++i)
                         p[i] = xc[i] + off[i] * len * (i < 3 ? 1e-3 : HP_PI / 180.0);
                     double rp[HP_MAX_BLADDERS], H[HP_MAX_BLADDERS * 36];
-                    assert_int_equal(hp_contact_eval_g(&L, &G, (hp_level)lv, p, rp, NULL, H),
+                    assert_int_equal(hpi_contact_eval_g(&L, &G, (hp_level)lv, p, rp, NULL, H),
                                      HP_OK);
                     for (int k = 0; k < L.n; ++k) {
                         if (lv == HP_LEVEL_LINEAR) {
@@ -305,21 +305,21 @@ static void test_ball_curvature(void **state)
         }
         /* A ball that may reach the head: no finite bound at the surface level. */
         double x0[6] = {0}, r0[HP_MAX_BLADDERS], h[HP_MAX_BLADDERS];
-        assert_int_equal(hp_contact_eval_g(&L, &G, HP_LEVEL_SURFACE, x0, r0, NULL, NULL), HP_OK);
-        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_SURFACE, x0, 200.0, r0, h),
+        assert_int_equal(hpi_contact_eval_g(&L, &G, HP_LEVEL_SURFACE, x0, r0, NULL, NULL), HP_OK);
+        assert_int_equal(hpi_kin_contact_ball_curvature(&L, &G, HP_LEVEL_SURFACE, x0, 200.0, r0, h),
                          HP_OK);
         for (int k = 0; k < L.n; ++k) assert_true(h[k] == INFINITY);
         /* Arguments */
-        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_PLANE, x0, -1.0, r0, h),
+        assert_int_equal(hpi_kin_contact_ball_curvature(&L, &G, HP_LEVEL_PLANE, x0, -1.0, r0, h),
                          HP_ERR_INVALID);
-        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_PLANE, x0, NAN, r0, h),
+        assert_int_equal(hpi_kin_contact_ball_curvature(&L, &G, HP_LEVEL_PLANE, x0, NAN, r0, h),
                          HP_ERR_INVALID);
-        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_SURFACE, x0, 1.0, NULL, h),
+        assert_int_equal(hpi_kin_contact_ball_curvature(&L, &G, HP_LEVEL_SURFACE, x0, 1.0, NULL, h),
                          HP_ERR_NULL);
-        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_AUTO, x0, 1.0, r0, h),
+        assert_int_equal(hpi_kin_contact_ball_curvature(&L, &G, HP_LEVEL_AUTO, x0, 1.0, r0, h),
                          HP_ERR_INVALID);
         x0[3] = NAN;
-        assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, HP_LEVEL_PLANE, x0, 1.0, r0, h),
+        assert_int_equal(hpi_kin_contact_ball_curvature(&L, &G, HP_LEVEL_PLANE, x0, 1.0, r0, h),
                          HP_ERR_INVALID);
     }
 }

@@ -214,7 +214,7 @@ static void test_surface_brute_force(void **state)
 /* The contact model's closed-form assembly against the generic chain rule it replaced, kept
  * here as the reference: c' = Rᵀu + pivot, its derivatives ∂c'/∂θ_j = ∂R/∂θ_jᵀ u from all
  * three rotation derivatives, J = [−R g, (∂c'/∂θ)ᵀ g], and the Hessian Cᵀ ∇²f C plus the
- * gradient term from all nine second derivatives of R (hp_kin_rotation_derivs, itself
+ * gradient term from all nine second derivatives of R (hpi_kin_rotation_derivs, itself
  * checked against plain products in test_pose.c), all with full 3-term sums. The library
  * drops exact zero terms and moves exact negations out of the same sums, so every distance,
  * Jacobian and Hessian entry must be equal (==; only the sign of a zero may differ), at the
@@ -224,7 +224,7 @@ static void ref_contact(const hp_layout *L, hp_level lv, const double xi[6], dou
                         double *J, double *H)
 {
     double R[9], dR[3][9], d2R[3][3][9];
-    hp_kin_rotation_derivs(xi + 3, R, dR, d2R);
+    hpi_kin_rotation_derivs(xi + 3, R, dR, d2R);
     for (int k = 0; k < L->n; ++k) {
         const double *c = L->bladders[k].center;
         double u[3], cp[3], Cr[3][3], f, g[3], hf[9];
@@ -235,7 +235,7 @@ static void ref_contact(const hp_layout *L, hp_level lv, const double xi[6], dou
                 Cr[m][j] = dR[j][m] * u[0] + dR[j][3 + m] * u[1] + dR[j][6 + m] * u[2];
         }
         if (lv == HP_LEVEL_SURFACE) {
-            assert_int_equal(hp_kin_head_distance(&L->head, cp, &f, g, hf, NULL), HP_OK);
+            assert_int_equal(hpi_kin_head_distance(&L->head, cp, &f, g, hf, NULL), HP_OK);
         } else {
             double p[3], n[3];
             assert_int_equal(hp_layout_contact(L, k, p, n, NULL), HP_OK);
@@ -303,7 +303,7 @@ static void test_generic_form(void **state)
     }
 }
 
-/* The order hp_kin_contact_inside documents (kin_geom.h), computed here from the public
+/* The order hpi_kin_contact_inside documents (kin_geom.h), computed here from the public
  * linear-level evaluation: at the surface level the bladder whose linear distance (mm) lies
  * furthest outside its bounds, max(lo − v, v − hi), lowest index on a tie, then the others
  * in index order; at the linear and plane levels index order. order[0..n-1]. */
@@ -326,7 +326,7 @@ static void inside_order(const hp_layout *L, hp_level lv, const double xi[6], co
         if (k != first) order[j++] = k;
 }
 
-/* hp_kin_contact_inside against a full hp_contact_eval at the same pose: the verdict is
+/* hpi_kin_contact_inside against a full hp_contact_eval at the same pose: the verdict is
  * the exact one (every distance in mm inside its bounds, boundaries included); inside, all
  * n distances are the full evaluation's bits; outside, exactly the bladders of the documented
  * order up to the first one outside are written, with the full evaluation's bits, and the
@@ -344,11 +344,11 @@ static void check_inside(const hp_geom *G, hp_level lv, const double xi[6], cons
     for (int k = 0; k < LAY.n; ++k) got[k] = -1.0;
     for (int i = 0; i < LAY.n * 6; ++i) gJ[i] = -1.0;
     int inside = -1, inside2 = -1;
-    assert_int_equal(hp_kin_contact_inside(&LAY, G, lv, xi, 1000.0, lo, hi, got, NULL, &inside), HP_OK);
+    assert_int_equal(hpi_kin_contact_inside(&LAY, G, lv, xi, 1000.0, lo, hi, got, NULL, &inside), HP_OK);
     assert_int_equal(inside, want);
     /* With the Jacobian asked for: the same distances and verdict, and the full
      * evaluation's Jacobian rows (bit for bit) of exactly the bladders evaluated. */
-    assert_int_equal(hp_kin_contact_inside(&LAY, G, lv, xi, 1000.0, lo, hi, got2, gJ, &inside2),
+    assert_int_equal(hpi_kin_contact_inside(&LAY, G, lv, xi, 1000.0, lo, hi, got2, gJ, &inside2),
                      HP_OK);
     assert_int_equal(inside2, want);
     inside_order(&LAY, lv, xi, lo, hi, order);
@@ -383,7 +383,7 @@ static void test_inside(void **state)
 {
     (void)state;
     hp_geom G;
-    assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
+    assert_int_equal(hpi_geom_derive(&LAY, &G, NULL), HP_OK);
     uint64_t rng = 505;
     int outs = 0, ins = 0, skips = 0;
     for (int it = 0; it < 900; ++it) {
@@ -417,21 +417,21 @@ static void test_inside(void **state)
            hi[HP_MAX_BLADDERS];
     for (int k = 0; k < LAY.n; ++k) hi[k] = 1e9;
     int inside = 1;
-    assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, lo, hi, got,
+    assert_int_equal(hpi_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, lo, hi, got,
                                            NULL, &inside), HP_ERR_INVALID);
     assert_int_equal(inside, 0);
     for (int k = 0; k < LAY.n; ++k) assert_true(isnan(got[k]));
     xi[3] = 0.0;
     const double *bad[4][2] = {{NULL, hi}, {lo, NULL}, {lo, hi}, {lo, hi}};
     for (int c = 0; c < 4; ++c)
-        assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, bad[c][0],
+        assert_int_equal(hpi_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, bad[c][0],
                                                bad[c][1], c == 2 ? NULL : got, NULL,
                                                c == 3 ? NULL : &inside),
                          HP_ERR_NULL);
     /* A NaN bound is outside whatever the order (the comparison fails). */
     hi[LAY.n - 1] = NAN;
     inside = 1;
-    assert_int_equal(hp_kin_contact_inside(&LAY, &G, HP_LEVEL_PLANE, xi, 1000.0, lo, hi, got,
+    assert_int_equal(hpi_kin_contact_inside(&LAY, &G, HP_LEVEL_PLANE, xi, 1000.0, lo, hi, got,
                                            NULL, &inside), HP_OK);
     assert_int_equal(inside, 0);
 }
@@ -447,7 +447,7 @@ static void test_inside_prediction_wrong(void **state)
 {
     (void)state;
     hp_geom G;
-    assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
+    assert_int_equal(hpi_geom_derive(&LAY, &G, NULL), HP_OK);
     uint64_t rng = 606;
     for (int it = 0; it < 40; ++it) {
         double xi[6], rl[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
@@ -479,7 +479,7 @@ static void test_inside_prediction_wrong(void **state)
             if (lv == HP_LEVEL_SURFACE)
                 assert_int_equal(order[0], a); /* the construction makes a the predicted worst */
             int inside = -1;
-            assert_int_equal(hp_kin_contact_inside(&LAY, &G, lv, xi, 1000.0, lo, hi, got,
+            assert_int_equal(hpi_kin_contact_inside(&LAY, &G, lv, xi, 1000.0, lo, hi, got,
                                                    NULL, &inside), HP_OK);
             assert_int_equal(inside, 0);
             if (lv == HP_LEVEL_SURFACE) assert_true(got[a] == rho[a]);
@@ -491,14 +491,14 @@ static void test_inside_prediction_wrong(void **state)
     }
 }
 
-/* hp_kin_contact_eval_mask: rho, J and the masked bladders' Hessians are the bits of a full
+/* hpi_kin_contact_eval_mask: rho, J and the masked bladders' Hessians are the bits of a full
  * evaluation; the other bladders' 36 entries of H are not written (a sentinel survives);
  * an error writes NaN everywhere. 300 seeded poses and masks, plane and surface. */
 static void test_eval_mask(void **state)
 {
     (void)state;
     hp_geom G;
-    assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
+    assert_int_equal(hpi_geom_derive(&LAY, &G, NULL), HP_OK);
     uint64_t rng = 9090;
     const double sentinel = 12345.0;
     for (int it = 0; it < 300; ++it) {
@@ -510,8 +510,8 @@ static void test_eval_mask(void **state)
         for (int k = 0; k < LAY.n; ++k) mask[k] = test_rng_uniform(&rng, 0, 1) < 0.3;
         if (it % 7 == 0) memset(mask, 0, sizeof mask);
         for (int i = 0; i < LAY.n * 36; ++i) Hm[i] = sentinel;
-        assert_int_equal(hp_contact_eval_g(&LAY, &G, lv, xi, rf, Jf, Hf), HP_OK);
-        assert_int_equal(hp_kin_contact_eval_mask(&LAY, &G, lv, xi, NULL, mask, rm, Jm, Hm),
+        assert_int_equal(hpi_contact_eval_g(&LAY, &G, lv, xi, rf, Jf, Hf), HP_OK);
+        assert_int_equal(hpi_kin_contact_eval_mask(&LAY, &G, lv, xi, NULL, mask, rm, Jm, Hm),
                          HP_OK);
         assert_memory_equal(rf, rm, LAY.n * sizeof *rf);
         assert_memory_equal(Jf, Jm, LAY.n * 6 * sizeof *Jf);
@@ -525,7 +525,7 @@ static void test_eval_mask(void **state)
            H[HP_MAX_BLADDERS * 36];
     unsigned char none[HP_MAX_BLADDERS] = {0};
     for (int i = 0; i < LAY.n * 36; ++i) H[i] = sentinel;
-    assert_int_equal(hp_kin_contact_eval_mask(&LAY, &G, HP_LEVEL_SURFACE, bad, NULL, none, r, J, H),
+    assert_int_equal(hpi_kin_contact_eval_mask(&LAY, &G, HP_LEVEL_SURFACE, bad, NULL, none, r, J, H),
                      HP_ERR_INVALID);
     for (int i = 0; i < LAY.n * 36; ++i) assert_true(isnan(H[i]));
 }

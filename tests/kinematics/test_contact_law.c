@@ -1,8 +1,8 @@
 /* The contact law's one home (kinematics/contact_law.c): its value against an independent
  * evaluation of F = P·pi·(2·ro·delta − delta²) in __float128, its first and second
  * derivatives against central differences, its work W against F (dW/drho = −F, W = 0 at
- * touch), and the load model's law (hp_load_law) reading the same numbers. The fitted law
- * (hp_claw_fem): its derivatives against Richardson-extrapolated central differences, its
+ * touch), and the load model's law (hpi_load_law) reading the same numbers. The fitted law
+ * (hpi_claw_fem): its derivatives against Richardson-extrapolated central differences, its
  * work, its domain, and its force against every converged row of the finite-element
  * sweep (fem/tables/sweep.csv) within the error docs/accuracy.md states. */
 #include "support/test_util.h"
@@ -33,7 +33,7 @@ static void test_cap_value(void **st)
         double P, ro, rho;
         state(i, &P, &ro, &rho);
         hp_claw c;
-        hp_claw_cap(P, ro, rho, &c);
+        hpi_claw_cap(P, ro, rho, &c);
         __float128 d = (__float128)ro - rho;
         __float128 want = (__float128)P * qpi() * (2 * (__float128)ro * d - d * d);
         /* The double evaluation rounds a handful of times: 1e-14 relative is ~50 ulps. */
@@ -52,8 +52,8 @@ static void fd(double x[3], int j, double h, double *dF, double dd[3], double *d
     double xp[3] = {x[0], x[1], x[2]}, xm[3] = {x[0], x[1], x[2]};
     xp[j] += h;
     xm[j] -= h;
-    hp_claw_cap(xp[0], xp[1], xp[2], &a);
-    hp_claw_cap(xm[0], xm[1], xm[2], &b);
+    hpi_claw_cap(xp[0], xp[1], xp[2], &a);
+    hpi_claw_cap(xm[0], xm[1], xm[2], &b);
     *dF = (a.F - b.F) / (2 * h);
     for (int k = 0; k < 3; ++k) dd[k] = (a.d[k] - b.d[k]) / (2 * h);
     *dW = (a.W - b.W) / (2 * h);
@@ -66,7 +66,7 @@ static void test_cap_derivatives(void **st)
         double x[3];
         state(i, &x[0], &x[1], &x[2]);
         hp_claw c;
-        hp_claw_cap(x[0], x[1], x[2], &c);
+        hpi_claw_cap(x[0], x[1], x[2], &c);
         const double scale[3] = {x[0], x[1], x[1]};
         for (int j = 0; j < 3; ++j) {
             double dF, dd[3], dW;
@@ -83,7 +83,7 @@ static void test_cap_derivatives(void **st)
         }
     }
     hp_claw t;
-    hp_claw_cap(5e3, 0.03, 0.03, &t); /* at touch: no force, no work */
+    hpi_claw_cap(5e3, 0.03, 0.03, &t); /* at touch: no force, no work */
     assert_true(t.F == 0.0 && t.W == 0.0);
 }
 
@@ -97,8 +97,8 @@ static void test_load_law_reads_it(void **st)
         state(i, &P, &ro, &rho);
         hp_claw c;
         hp_load_force f;
-        hp_claw_cap(P, ro, rho, &c);
-        hp_load_law(P, ro, dro, rho, 0, &f);
+        hpi_claw_cap(P, ro, rho, &c);
+        hpi_load_law(P, ro, dro, rho, 0, &f);
         assert_true(f.F == c.F);
         assert_true(f.dF_drho == c.d[HP_CLAW_RHO]);
         assert_true(f.dF_dro == c.d[HP_CLAW_RO]);
@@ -124,7 +124,7 @@ static void fem_state(int i, hp_claw_bladder *b, double x[3])
 
 static void fem_at(const hp_claw_bladder *b, const double x[3], hp_claw *c)
 {
-    hp_claw_fem(b, x[0], x[1], x[2], c);
+    hpi_claw_fem(b, x[0], x[1], x[2], c);
 }
 
 /* Richardson-extrapolated central difference of the law's F (which = 0), d[k] (which = 1+k)
@@ -152,7 +152,7 @@ static void test_fem_derivatives(void **st)
         hp_claw_bladder bl, *b = &bl;
         double x[3];
         fem_state(i, b, x);
-        assert_int_equal(hp_claw_fem_domain(b, x[0], x[1], x[2]), HP_CLAW_IN);
+        assert_int_equal(hpi_claw_fem_domain(b, x[0], x[1], x[2]), HP_CLAW_IN);
         hp_claw c;
         fem_at(b, x, &c);
         const double scale[3] = {x[0], x[1], x[1]};
@@ -173,7 +173,7 @@ static void test_fem_derivatives(void **st)
     hp_claw_bladder b0;
     double x0[3];
     fem_state(0, &b0, x0);
-    hp_claw_fem(&b0, x0[0], x0[1], x0[1], &t);
+    hpi_claw_fem(&b0, x0[0], x0[1], x0[1], &t);
     assert_true(t.F == 0.0 && t.W == 0.0);
 }
 
@@ -184,23 +184,23 @@ static void test_fem_domain(void **st)
     double x0[3];
     fem_state(0, b, x0);
     double ro = x0[1];
-    assert_int_equal(hp_claw_fem_domain(b, x0[0], ro, ro * 0.9), HP_CLAW_IN);
-    assert_int_equal(hp_claw_fem_domain(b, x0[0], ro, ro * 0.5), HP_CLAW_INDENT);
-    assert_int_equal(hp_claw_fem_domain(b, x0[0], ro, NAN), HP_CLAW_INDENT);
-    assert_int_equal(hp_claw_fem_domain(b, x0[0], ro, ro * 1.01), HP_CLAW_INDENT);
+    assert_int_equal(hpi_claw_fem_domain(b, x0[0], ro, ro * 0.9), HP_CLAW_IN);
+    assert_int_equal(hpi_claw_fem_domain(b, x0[0], ro, ro * 0.5), HP_CLAW_INDENT);
+    assert_int_equal(hpi_claw_fem_domain(b, x0[0], ro, NAN), HP_CLAW_INDENT);
+    assert_int_equal(hpi_claw_fem_domain(b, x0[0], ro, ro * 1.01), HP_CLAW_INDENT);
     hp_claw_bladder w = *b;
     w.wall = 0.02;
-    assert_int_equal(hp_claw_fem_domain(&w, x0[0], ro, ro * 0.9), HP_CLAW_WALL);
-    assert_int_equal(hp_claw_fem_domain(b, 5e4, ro, ro * 0.9), HP_CLAW_PRESSURE);
+    assert_int_equal(hpi_claw_fem_domain(&w, x0[0], ro, ro * 0.9), HP_CLAW_WALL);
+    assert_int_equal(hpi_claw_fem_domain(b, 5e4, ro, ro * 0.9), HP_CLAW_PRESSURE);
     w = *b;
     w.C2 = 1e5;
-    assert_int_equal(hp_claw_fem_domain(&w, x0[0], ro, ro * 0.9), HP_CLAW_MODULI);
+    assert_int_equal(hpi_claw_fem_domain(&w, x0[0], ro, ro * 0.9), HP_CLAW_MODULI);
     w = *b;
     w.curv = 1.0 / 0.02;
-    assert_int_equal(hp_claw_fem_domain(&w, x0[0], ro, ro * 0.9), HP_CLAW_CURVATURE);
+    assert_int_equal(hpi_claw_fem_domain(&w, x0[0], ro, ro * 0.9), HP_CLAW_CURVATURE);
     w.curv = -1.0 / 0.09; /* a concave head is outside the tables */
-    assert_int_equal(hp_claw_fem_domain(&w, x0[0], ro, ro * 0.9), HP_CLAW_CURVATURE);
-    assert_string_equal(hp_claw_domain_name(HP_CLAW_CURVATURE), "curvature");
+    assert_int_equal(hpi_claw_fem_domain(&w, x0[0], ro, ro * 0.9), HP_CLAW_CURVATURE);
+    assert_string_equal(hpi_claw_domain_name(HP_CLAW_CURVATURE), "curvature");
 }
 
 /* Column index of name in a CSV header line. */
@@ -264,12 +264,12 @@ static void test_fem_against_tables(void **st)
         hp_claw_bladder b = {v[2], v[3], (v[1] - v[0]) * 1e-3, v[7] / ro};
         /* a case converged at too few indentations is outside the fit and its domain
          * (fem/fit_law.py, MIN_ROWS): the domain check must say so */
-        if (hp_claw_fem_domain(&b, v[4], ro, rho) != HP_CLAW_IN) {
+        if (hpi_claw_fem_domain(&b, v[4], ro, rho) != HP_CLAW_IN) {
             ++outside;
             continue;
         }
         hp_claw c;
-        hp_claw_fem(&b, v[4], ro, rho, &c);
+        hpi_claw_fem(&b, v[4], ro, rho, &c);
         double g = c.F / (v[4] * 3.14159265358979323846 * ro * ro);
         double e = fabs(g / v[8] - 1.0);
         if (e > worst) worst = e;

@@ -25,7 +25,7 @@ static hp_head ellipsoid(double a, double b, double c)
 static void check_closest(const hp_head *h, const double q[3])
 {
     double d, g[3], foot[3];
-    assert_int_equal(hp_kin_head_distance(h, q, &d, g, NULL, foot), HP_OK);
+    assert_int_equal(hpi_kin_head_distance(h, q, &d, g, NULL, foot), HP_OK);
     const double *a = h->semi_axes;
     double F = -1, m[3], mn = 0;
     for (int i = 0; i < 3; ++i) {
@@ -72,7 +72,7 @@ static void test_axes_and_far(void **state)
             double q[3] = {h.center[0], h.center[1], h.center[2]};
             q[ax] += sg * (h.semi_axes[ax] + 0.03);
             double d, g[3];
-            assert_int_equal(hp_kin_head_distance(&h, q, &d, g, NULL, NULL), HP_OK);
+            assert_int_equal(hpi_kin_head_distance(&h, q, &d, g, NULL, NULL), HP_OK);
             hp_assert_close(d, 0.03, 1e-13, 0);
             hp_assert_close(g[ax], (double)sg, 0, 1e-15);
             check_closest(&h, q);
@@ -80,10 +80,10 @@ static void test_axes_and_far(void **state)
     /* On the x axis inside (x semi-axis is the smallest: closest point is the x tip). */
     double qi[3] = {h.center[0] + 0.07, h.center[1], h.center[2]};
     double d;
-    assert_int_equal(hp_kin_head_distance(&h, qi, &d, NULL, NULL, NULL), HP_OK);
+    assert_int_equal(hpi_kin_head_distance(&h, qi, &d, NULL, NULL, NULL), HP_OK);
     hp_assert_close(d, -0.0075, 1e-12, 0);
     /* The centre itself: no unique closest point. */
-    assert_int_equal(hp_kin_head_distance(&h, h.center, &d, NULL, NULL, NULL), HP_ERR_DOMAIN);
+    assert_int_equal(hpi_kin_head_distance(&h, h.center, &d, NULL, NULL, NULL), HP_ERR_DOMAIN);
     /* Far points (1 m and 1 km away): the distance tends to |q − centre| − (support). */
     const double far[2][3] = {{0.3, 0.7, -0.6}, {400.0, -900.0, 100.0}};
     for (int i = 0; i < 2; ++i) check_closest(&h, far[i]);
@@ -95,7 +95,7 @@ static void test_axes_and_far(void **state)
         double u[3], s[3];
         kin_rng_vec3(&rng, 1.0, u);
         for (int k = 0; k < 3; ++k) s[k] = h.center[k] + h.semi_axes[k] * u[k];
-        assert_int_equal(hp_kin_head_distance(&h, s, &d, NULL, NULL, NULL), HP_OK);
+        assert_int_equal(hpi_kin_head_distance(&h, s, &d, NULL, NULL, NULL), HP_OK);
         /* On the surface to rounding of s: |d| within a few ulps of 0.1 m. */
         hp_assert_close(d, 0.0, 0, 1e-16);
     }
@@ -126,8 +126,8 @@ static void test_near_sphere(void **state)
             if (i % 10 == 0) q[0] = q[1] = 0.0; /* on the z axis */
             if (i % 10 == 1) q[1] = 0.0;        /* on a coordinate plane */
             double d1, d2, g1[3], g2[3], H1[9], H2[9];
-            assert_int_equal(hp_kin_head_distance(&cases[c], q, &d1, g1, H1, NULL), HP_OK);
-            assert_int_equal(hp_kin_head_distance(&s, q, &d2, g2, H2, NULL), HP_OK);
+            assert_int_equal(hpi_kin_head_distance(&cases[c], q, &d1, g1, H1, NULL), HP_OK);
+            assert_int_equal(hpi_kin_head_distance(&s, q, &d2, g2, H2, NULL), HP_OK);
             hp_assert_close(d1, d2, 0, 1e-12 * r * 3);
             for (int k = 0; k < 3; ++k) hp_assert_close(g1[k], g2[k], 0, 1e-10);
             /* Hessian (I − nnᵀ)/|q|: the 1e-12 relative perturbation of the axes is amplified
@@ -145,7 +145,7 @@ static void test_near_sphere(void **state)
 static void check_derivs(const hp_head *h, const double q[3])
 {
     double d, g[3], H[9];
-    assert_int_equal(hp_kin_head_distance(h, q, &d, g, H, NULL), HP_OK);
+    assert_int_equal(hpi_kin_head_distance(h, q, &d, g, H, NULL), HP_OK);
     for (int j = 0; j < 3; ++j) {
         double qp[3], qm[3], gp[3], gm[3], dp, dm;
         const double hh = 1e-6;
@@ -153,8 +153,8 @@ static void check_derivs(const hp_head *h, const double q[3])
         memcpy(qm, q, sizeof qm);
         qp[j] += hh;
         qm[j] -= hh;
-        assert_int_equal(hp_kin_head_distance(h, qp, &dp, gp, NULL, NULL), HP_OK);
-        assert_int_equal(hp_kin_head_distance(h, qm, &dm, gm, NULL, NULL), HP_OK);
+        assert_int_equal(hpi_kin_head_distance(h, qp, &dp, gp, NULL, NULL), HP_OK);
+        assert_int_equal(hpi_kin_head_distance(h, qm, &dm, gm, NULL, NULL), HP_OK);
         for (int i = 0; i < 3; ++i) hp_assert_close(H[i * 3 + j], (gp[i] - gm[i]) / (2 * hh), 0, 2e-8);
         /* Richardson on the value for the gradient. */
         double D[2];
@@ -164,8 +164,8 @@ static void check_derivs(const hp_head *h, const double q[3])
             memcpy(a2, q, sizeof a2);
             a1[j] += s;
             a2[j] -= s;
-            assert_int_equal(hp_kin_head_distance(h, a1, &v1, NULL, NULL, NULL), HP_OK);
-            assert_int_equal(hp_kin_head_distance(h, a2, &v2, NULL, NULL, NULL), HP_OK);
+            assert_int_equal(hpi_kin_head_distance(h, a1, &v1, NULL, NULL, NULL), HP_OK);
+            assert_int_equal(hpi_kin_head_distance(h, a2, &v2, NULL, NULL, NULL), HP_OK);
             D[l] = (v1 - v2) / (2 * s);
         }
         hp_assert_close(g[j], (4 * D[1] - D[0]) / 3, 0, 1e-8);
@@ -189,7 +189,7 @@ static void test_derivatives(void **state)
             double n[3];
             kin_rng_vec3(&rng, 1.0, n);
             double d0, g0[3];
-            assert_int_equal(hp_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
+            assert_int_equal(hpi_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
             double off = test_rng_uniform(&rng, 0.001, 0.06);
             for (int k = 0; k < 3; ++k) q[k] += off * g0[k];
         }
@@ -226,23 +226,23 @@ static void test_warm_start(void **state)
         for (int k = 0; k < 3; ++k) q[k] *= h.semi_axes[k] * sc;
         if (i < 360) {
             double d0, g0[3];
-            assert_int_equal(hp_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
+            assert_int_equal(hpi_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
             double off = test_rng_uniform(&rng, 1e-4, 0.06);
             for (int k = 0; k < 3; ++k) q[k] += off * g0[k];
         }
         double d, g[3], H[9], foot[3];
         hp_kin_dist_warm wc;
-        hp_kin_dist_warm_cold(&wc, 1);
-        assert_int_equal(hp_kin_head_distance_warm(&h, q, &wc, &d, g, H, foot), HP_OK);
+        hpi_kin_dist_warm_cold(&wc, 1);
+        assert_int_equal(hpi_kin_head_distance_warm(&h, q, &wc, &d, g, H, foot), HP_OK);
         double s_cold = wc.s;
         assert_true(isfinite(s_cold));
         /* A nearby point's multiplier: the point moved by up to 2 mm. */
         kin_rng_vec3(&rng, 1.0, dir);
         double qn[3], dn;
         hp_kin_dist_warm wn;
-        hp_kin_dist_warm_cold(&wn, 1);
+        hpi_kin_dist_warm_cold(&wn, 1);
         for (int k = 0; k < 3; ++k) qn[k] = q[k] + 0.002 * dir[k];
-        assert_int_equal(hp_kin_head_distance_warm(&h, qn, &wn, &dn, NULL, NULL, NULL), HP_OK);
+        assert_int_equal(hpi_kin_head_distance_warm(&h, qn, &wn, &dn, NULL, NULL, NULL), HP_OK);
         /* Multipliers alone (a zero gradient: the prediction is the multiplier itself), then
          * the nearby point's whole state (its prediction), then that state with gradients
          * that predict far off on either side or NaN. */
@@ -257,7 +257,7 @@ static void test_warm_start(void **state)
                 w.ds[gi % 3] = dsbad[gi - 8];
             }
             double dw, gw[3], Hw[9], fw[3];
-            assert_int_equal(hp_kin_head_distance_warm(&h, q, &w, &dw, gw, Hw, fw), HP_OK);
+            assert_int_equal(hpi_kin_head_distance_warm(&h, q, &w, &dw, gw, Hw, fw), HP_OK);
             double s = w.s;
             assert_true(fabs(dw - d) <= 1e-15);
             for (int k = 0; k < 3; ++k) {
@@ -305,10 +305,10 @@ static void check_warm_vs_cold(const hp_head *h, const double q[3], hp_kin_dist_
                                double *worst)
 {
     double d, g[3], H[9], dc, gc[3], Hc[9];
-    assert_int_equal(hp_kin_head_distance_warm(h, q, w, &d, g, H, NULL), HP_OK);
+    assert_int_equal(hpi_kin_head_distance_warm(h, q, w, &d, g, H, NULL), HP_OK);
     hp_kin_dist_warm c;
-    hp_kin_dist_warm_cold(&c, 1);
-    assert_int_equal(hp_kin_head_distance_warm(h, q, &c, &dc, gc, Hc, NULL), HP_OK);
+    hpi_kin_dist_warm_cold(&c, 1);
+    assert_int_equal(hpi_kin_head_distance_warm(h, q, &c, &dc, gc, Hc, NULL), HP_OK);
     const double eps = 2.220446049250313e-16, *a = h->semi_axes;
     double e = fmin(a[0], fmin(a[1], a[2])), sp = root_spread(h, q, c.s);
     double bd = sp * e * 1.7320508 * (1.0 + fabs(c.s) / (1.0 + c.s)) + 4.0 * eps * fabs(dc);
@@ -333,8 +333,8 @@ static void test_warm_predictor(void **state)
         hp_head h = ellipsoid(heads[hc][0], heads[hc][1], heads[hc][2]);
         h.center[0] = 0.004;
         hp_kin_dist_warm w, wm;
-        hp_kin_dist_warm_cold(&w, 1);
-        double hsmall = 2e-3 * hp_kin_head_min_curvature_radius(&h);
+        hpi_kin_dist_warm_cold(&w, 1);
+        double hsmall = 2e-3 * hpi_kin_head_min_curvature_radius(&h);
         for (int i = 0; i < 150; ++i) {
             double q[3];
             kin_rng_vec3(&rng, 1.0, q);
@@ -342,7 +342,7 @@ static void test_warm_predictor(void **state)
             for (int k = 0; k < 3; ++k) q[k] = h.center[k] + q[k] * h.semi_axes[k] * sc;
             if (sc == 1.0) {
                 double d0, g0[3], off = exp(test_rng_uniform(&rng, log(1e-4), log(0.06)));
-                assert_int_equal(hp_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
+                assert_int_equal(hpi_kin_head_distance(&h, q, &d0, g0, NULL, NULL), HP_OK);
                 for (int k = 0; k < 3; ++k) q[k] += off * g0[k];
             }
             /* The far jump: w still holds the last walk's end. */
@@ -362,7 +362,7 @@ static void test_warm_predictor(void **state)
                 }
                 double dm;
                 wm.ds[0] = wm.ds[1] = wm.ds[2] = 0.0; /* the multiplier alone */
-                assert_int_equal(hp_kin_head_distance_warm(&h, q, &wm, &dm, NULL, NULL, NULL),
+                assert_int_equal(hpi_kin_head_distance_warm(&h, q, &wm, &dm, NULL, NULL, NULL),
                                  HP_OK);
                 ev_mult += wm.evals;
             }
@@ -408,7 +408,7 @@ static long double ref_G(const long double a[3], const long double y[3], long do
     return g;
 }
 
-/* hp_kin_head_distances (the root finds side by side) against one hp_kin_head_distance_k
+/* hpi_kin_head_distances (the root finds side by side) against one hpi_kin_head_distance_k
  * call per point, in index order, on the same warm states: every distance, gradient,
  * Hessian asked for and warm state the same bits, and on failure the same error at the same
  * (first) point with every point before it the same. Heads: 1:1.5 and 1:10 ellipsoids and
@@ -440,7 +440,7 @@ static void test_batch(void **state)
     for (int hi = 0; hi < 3; ++hi) {
         const hp_head *h = &heads[hi];
         hp_kin_head_k k = {0};
-        if (h->shape != HP_HEAD_SPHERE) hp_kin_head_consts(h, &k);
+        if (h->shape != HP_HEAD_SPHERE) hpi_kin_head_consts(h, &k);
         for (int set = 0; set < 300; ++set) {
             int n = 1 + (int)test_rng_uniform(&rng, 0.0, HP_MAX_BLADDERS);
             double q[HP_MAX_BLADDERS][3];
@@ -449,13 +449,13 @@ static void test_batch(void **state)
             for (int j = 0; j < n; ++j) {
                 fill_point(&rng, h, q[j]);
                 want[j] = test_rng_uniform(&rng, 0.0, 1.0) < 0.5;
-                hp_kin_dist_warm_cold(&w0[j], 1);
+                hpi_kin_dist_warm_cold(&w0[j], 1);
                 double kind = test_rng_uniform(&rng, 0.0, 1.0);
                 if (kind < 0.6) { /* a state from a point up to 1 mm away */
                     double qn[3], dir[3], dd, gg[3];
                     kin_rng_vec3(&rng, test_rng_uniform(&rng, 0.0, 1e-3), dir);
                     for (int i = 0; i < 3; ++i) qn[i] = q[j][i] + dir[i];
-                    (void)hp_kin_head_distance_k(h, &k, qn, &w0[j], &dd, gg, NULL, NULL);
+                    (void)hpi_kin_head_distance_k(h, &k, qn, &w0[j], &dd, gg, NULL, NULL);
                 } else if (kind < 0.8) { /* garbage */
                     w0[j].s = test_rng_uniform(&rng, -2.0, 1e3);
                     for (int i = 0; i < 3; ++i) {
@@ -475,12 +475,12 @@ static void test_batch(void **state)
             hp_error er = HP_OK;
             int first = -1;
             for (int j = 0; j < n && er == HP_OK; ++j) {
-                er = hp_kin_head_distance_k(h, &k, q[j], &wr[j], &dr[j], gr[j],
+                er = hpi_kin_head_distance_k(h, &k, q[j], &wr[j], &dr[j], gr[j],
                                             want[j] ? Hr[j] : NULL, NULL);
                 if (er != HP_OK) first = j;
             }
             int bad = -2;
-            hp_error eb = hp_kin_head_distances(h, &k, n, (const double(*)[3])q, wb, db, gb, Hb,
+            hp_error eb = hpi_kin_head_distances(h, &k, n, (const double(*)[3])q, wb, db, gb, Hb,
                                                 want, &bad);
             assert_int_equal(eb, er);
             assert_int_equal(bad, first);
@@ -505,14 +505,14 @@ static void test_batch(void **state)
             kin_rng_vec3(&rng, 0.12 + 0.01 * j, q8[j]);
         }
         hp_kin_head_k k0;
-        hp_kin_head_consts(&heads[0], &k0);
+        hpi_kin_head_consts(&heads[0], &k0);
         int bad8 = 0;
-        assert_int_equal(hp_kin_head_distances(&heads[0], &k0, 8, (const double(*)[3])q8, NULL,
+        assert_int_equal(hpi_kin_head_distances(&heads[0], &k0, 8, (const double(*)[3])q8, NULL,
                                                d8, g8, H8, NULL, &bad8),
                          HP_OK);
         assert_int_equal(bad8, -1);
         for (int j = 0; j < 8; ++j) {
-            assert_int_equal(hp_kin_head_distance_k(&heads[0], &k0, q8[j], NULL, &dr1, gr1, Hr1,
+            assert_int_equal(hpi_kin_head_distance_k(&heads[0], &k0, q8[j], NULL, &dr1, gr1, Hr1,
                                                     NULL),
                              HP_OK);
             assert_memory_equal(&d8[j], &dr1, sizeof dr1);
@@ -522,7 +522,7 @@ static void test_batch(void **state)
     /* more points than the batch holds: refused */
     double q1[HP_MAX_BLADDERS + 1][3] = {{0}}, d1[HP_MAX_BLADDERS + 1], g1[HP_MAX_BLADDERS + 1][3];
     int bad = 0;
-    assert_int_equal(hp_kin_head_distances(&heads[0], &(hp_kin_head_k){0}, HP_MAX_BLADDERS + 1,
+    assert_int_equal(hpi_kin_head_distances(&heads[0], &(hp_kin_head_k){0}, HP_MAX_BLADDERS + 1,
                                            (const double(*)[3])q1, NULL, d1, g1, NULL, NULL, &bad),
                      HP_ERR_INVALID);
 }
@@ -594,8 +594,8 @@ static void test_long_double_reference(void **state)
             long double dref = t < 0 ? -sqrtl(dl) : sqrtl(dl);
             double d, g[3];
             hp_kin_dist_warm w_out;
-            hp_kin_dist_warm_cold(&w_out, 1);
-            hp_error err = hp_kin_head_distance_warm(&h, q, &w_out, &d, g, NULL, NULL);
+            hpi_kin_dist_warm_cold(&w_out, 1);
+            hp_error err = hpi_kin_head_distance_warm(&h, q, &w_out, &d, g, NULL, NULL);
             if (err == HP_ERR_DOMAIN) {
                 assert_true(t < 0 && fabs(y[imin]) < 1e-3 * e);
                 ++n_domain;

@@ -1,5 +1,5 @@
 /* Adversarial checks of the fit's certificate (kinematics/fit_certify.c) and of the curvature
- * bound it rests on (hp_kin_contact_ball_curvature), beyond test_fk's test_fit_certificate
+ * bound it rests on (hpi_kin_contact_ball_curvature), beyond test_fk's test_fit_certificate
  * and test_bound's test_ball_curvature: generated layouts (eccentric ellipsoid and sphere
  * heads of random size, heads and pivots off centre, tilted rays) besides the default, the
  * sphere and the near-degenerate 90/90.01/90.02 mm heads; targets from 1e-6 mm to the
@@ -10,8 +10,8 @@
  * The certificate's promise (fit_internal.h): from the fit's state (iterate x, damping λ)
  * the rest of the fit ends within tol/4 of the expected pose within iters_left iterations.
  * test_certificate_promise checks exactly that at arbitrary states, not only at those a fit
- * from the nominal pose passes through: a replica of hp_kin_fit's loop (the same exported
- * step solvers and model calls, checked bit for bit against hp_kin_fit itself) is run from
+ * from the nominal pose passes through: a replica of hpi_kin_fit's loop (the same exported
+ * step solvers and model calls, checked bit for bit against hpi_kin_fit itself) is run from
  * the certified state, with the budget the certificate was given (drawn from [1, 199]).
  * The replica has no early stop (as the user's hp_contact_fk), so it also spends the
  * iterations at the noise floor, where its steps stay just above 1e-15 m while acceptances
@@ -103,7 +103,7 @@ static int fa_layout(int i, uint64_t *rng, hp_layout *L, hp_geom *G, hp_identifi
                       (const double(*)[3])rays, test_rng_uniform(rng, 0.85, 1.15)) != HP_OK)
             return -1;
     }
-    if (hp_layout_prepare(L, NULL) != HP_OK || hp_geom_derive(L, G, NULL) != HP_OK) return -1;
+    if (hp_layout_prepare(L, NULL) != HP_OK || hpi_geom_derive(L, G, NULL) != HP_OK) return -1;
     return hp_layout_identify(L, id) == HP_OK ? kind : -1;
 }
 
@@ -159,7 +159,7 @@ static void fa_target(uint64_t *r, int tk, const hp_identifiable *id, const int 
 }
 
 /* JᵀJ of J (n×nf) into a 6×6 with leading dimension 6, each entry summed over the rows in
- * order from +0 as hp_kin_fit sums it. */
+ * order from +0 as hpi_kin_fit sums it. */
 static void fa_gram(int n, int nf, const double *J, double A[36])
 {
     memset(A, 0, 36 * sizeof *A);
@@ -177,7 +177,7 @@ static int fa_residual(const hp_layout *L, const hp_geom *G, hp_level lv, const 
                        double *Jr)
 {
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6];
-    if (hp_kin_contact_eval_warm(L, G, lv, x, sw, rho, J, NULL) != HP_OK) return -1;
+    if (hpi_kin_contact_eval_warm(L, G, lv, x, sw, rho, J, NULL) != HP_OK) return -1;
     for (int k = 0; k < L->n; ++k) {
         r[k] = rho[k] - tg[k];
         for (int j = 0; j < nf; ++j) Jr[k * nf + j] = J[k * 6 + col[j]];
@@ -185,7 +185,7 @@ static int fa_residual(const hp_layout *L, const hp_geom *G, hp_level lv, const 
     return 0;
 }
 
-/* The loop of hp_kin_fit (without near) run from the state (xs, lambda) for at most maxit
+/* The loop of hpi_kin_fit (without near) run from the state (xs, lambda) for at most maxit
  * iterations: the iterations it took and its end in xe when it stops, −1 when it does not
  * within maxit (or a solver fails). accepted (may be NULL): whether its first trial was
  * accepted. */
@@ -196,7 +196,7 @@ static int fa_replica(const hp_layout *L, const hp_geom *G, hp_level lv, const d
     int n = L->n, it = 0, done = 0;
     double x[6], r[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], cost = 0.0;
     hp_kin_dist_warm sw[HP_MAX_BLADDERS];
-    hp_kin_dist_warm_cold(sw, n);
+    hpi_kin_dist_warm_cold(sw, n);
     memcpy(x, xs, sizeof x);
     if (fa_residual(L, G, lv, tg, x, nf, col, sw, r, J) != 0) return -1;
     for (int k = 0; k < n; ++k) cost += r[k] * r[k];
@@ -209,9 +209,9 @@ static int fa_replica(const hp_layout *L, const hp_geom *G, hp_level lv, const d
             done = 1;
             break;
         }
-        if (hp_kin_damped_normal(n, nf, J, r, D, lambda, dx) != 0 &&
-            hp_kin_damped_qr(n, nf, J, r, D, lambda, dx) != 0 &&
-            hp_kin_damped_lstsq(n, nf, J, r, D, lambda, dx) != 0)
+        if (hpi_kin_damped_normal(n, nf, J, r, D, lambda, dx) != 0 &&
+            hpi_kin_damped_qr(n, nf, J, r, D, lambda, dx) != 0 &&
+            hpi_kin_damped_lstsq(n, nf, J, r, D, lambda, dx) != 0)
             return -1;
         double stepsize = 0.0, ct = 0.0;
         for (int j = 0; j < nf; ++j) stepsize = fmax(stepsize, fabs(D[j] * dx[j]));
@@ -246,12 +246,12 @@ static double fa_off(const double p[6], const double q[6])
     return d;
 }
 
-/* hp_kin_fit_certified and hp_kin_fit_certified_trial at arbitrary states: x at a scaled
+/* hpi_kin_fit_certified and hpi_kin_fit_certified_trial at arbitrary states: x at a scaled
  * distance of 1e-10..3 from the anchor a (the expected pose), damping 1e-15..10, target the
  * anchor's distances with 0, 1e-15 or 1e-14 m of noise, 32..199 iterations left. Wherever
  * either fires, the fit's loop from that state ends within tol/4 of a inside the budget,
  * and the trial it certifies is accepted. The replica of the loop is checked bit for bit
- * against hp_kin_fit from the nominal pose on the same targets. */
+ * against hpi_kin_fit from the nominal pose on the same targets. */
 static void test_certificate_promise(void **state)
 {
     (void)state;
@@ -280,7 +280,7 @@ static void test_certificate_promise(void **state)
                 nr.has_anchor = 1;
                 nr.anchor_J = aJ;
                 memcpy(nr.anchor, a, sizeof a);
-                if (hp_contact_eval_g(&L, &G, (hp_level)lv, a, nr.anchor_rho, aJ, NULL) !=
+                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, a, nr.anchor_rho, aJ, NULL) !=
                     HP_OK)
                     continue;
                 double tg[HP_MAX_BLADDERS], noise = (t / 2) % 3 == 0 ? 0.0 : (t / 2) % 3 == 1 ? 1e-15 : 1e-14;
@@ -297,14 +297,14 @@ static void test_certificate_promise(void **state)
                 int left = (int)test_rng_uniform(&rng, 1, 200), form = t % 4 < 2;
                 double r[HP_MAX_BLADDERS], Jr[HP_MAX_BLADDERS * 6], A[36];
                 hp_kin_dist_warm sw[HP_MAX_BLADDERS];
-                hp_kin_dist_warm_cold(sw, n);
+                hpi_kin_dist_warm_cold(sw, n);
                 if (fa_residual(&L, &G, (hp_level)lv, tg, x, nf, col, sw, r, Jr) != 0) continue;
                 fa_gram(n, nf, Jr, A);
                 double xs[6], lam_next = lam;
                 int ok;
                 memcpy(xs, x, sizeof xs);
                 if (form == 0) {
-                    ok = hp_kin_fit_certified(&L, &G, (hp_level)lv, nf, col, x, A, r, lam, tg, left,
+                    ok = hpi_kin_fit_certified(&L, &G, (hp_level)lv, nf, col, x, A, r, lam, tg, left,
                                               &nr);
                 } else {
                     /* Half of these with the Jacobian taken 1e-9..3 scaled units from the
@@ -318,9 +318,9 @@ static void test_certificate_promise(void **state)
                             dn2 += dd[i] * dd[i];
                         }
                         for (int i = 0; i < 6; ++i) ap[i] = a[i] + dd[i] / sqrt(dn2) * dj * unit_of(i);
-                        if (hp_contact_eval_g(&L, &G, (hp_level)lv, ap, rp, aJ, NULL) != HP_OK)
+                        if (hpi_contact_eval_g(&L, &G, (hp_level)lv, ap, rp, aJ, NULL) != HP_OK)
                             continue;
-                        nr.anchor_J_err = hp_kin_jacobian_drift(&L, &G, (hp_level)lv, ap, rp, aJ,
+                        nr.anchor_J_err = hpi_kin_jacobian_drift(&L, &G, (hp_level)lv, ap, rp, aJ,
                                                                 dj * (1.0 + 1e-12));
                         drifted++;
                     }
@@ -328,17 +328,17 @@ static void test_certificate_promise(void **state)
                     double D[6], dx[6], cost = 0.0, stepsize = 0.0, Ja[HP_MAX_BLADDERS * 6], Aa[36];
                     for (int j = 0; j < nf; ++j) D[j] = A[j * 7] > 0 ? sqrt(A[j * 7]) : 1.0;
                     for (int k = 0; k < n; ++k) cost += r[k] * r[k];
-                    if (hp_kin_damped_normal(n, nf, Jr, r, D, lam, dx) != 0 &&
-                        hp_kin_damped_qr(n, nf, Jr, r, D, lam, dx) != 0)
+                    if (hpi_kin_damped_normal(n, nf, Jr, r, D, lam, dx) != 0 &&
+                        hpi_kin_damped_qr(n, nf, Jr, r, D, lam, dx) != 0)
                         continue;
                     for (int j = 0; j < nf; ++j) stepsize = fmax(stepsize, fabs(D[j] * dx[j]));
-                    if (!(stepsize > 1e-15)) continue; /* hp_kin_fit asks only then */
+                    if (!(stepsize > 1e-15)) continue; /* hpi_kin_fit asks only then */
                     for (int j = 0; j < nf; ++j) xs[col[j]] += dx[j];
                     for (int k = 0; k < n; ++k)
                         for (int j = 0; j < nf; ++j) Ja[k * nf + j] = nr.anchor_J[k * 6 + col[j]];
                     fa_gram(n, nf, Ja, Aa);
                     lam_next = fmax(lam * 0.1, 1e-15);
-                    ok = hp_kin_fit_certified_trial(&L, &G, (hp_level)lv, nf, col, xs, Aa, cost,
+                    ok = hpi_kin_fit_certified_trial(&L, &G, (hp_level)lv, nf, col, xs, Aa, cost,
                                                     lam_next, tg, left, &nr, NULL);
                     if (ok) {
                         int acc = 0;
@@ -365,10 +365,10 @@ static void test_certificate_promise(void **state)
                                 rc >= 0 ? "ends" : "does not end:", off, e, lam, left);
                 assert_true(off <= 0.25);
                 worst[form] = fmax(worst[form], off);
-                /* the replica is hp_kin_fit's loop: the same bits from the nominal pose */
+                /* the replica is hpi_kin_fit's loop: the same bits from the nominal pose */
                 if (fired[form] % 16 == 1) {
                     double x1[6], x2[6];
-                    hp_error e1 = hp_kin_fit(&L, &G, (hp_level)lv, tg, fr, zero, NULL, NULL, x1, NULL, NULL);
+                    hp_error e1 = hpi_kin_fit(&L, &G, (hp_level)lv, tg, fr, zero, NULL, NULL, x1, NULL, NULL);
                     int e2 = fa_replica(&L, &G, (hp_level)lv, tg, nf, col, zero, 1e-3, 200, x2, NULL);
                     assert_int_equal(e1 == HP_OK, e2 >= 0);
                     if (e1 == HP_OK) assert_memory_equal(x1, x2, sizeof x1);
@@ -377,7 +377,7 @@ static void test_certificate_promise(void **state)
             }
     }
     print_message("at an iterate: certified %ld of %ld states (worst end %.2e tol); before the "
-                  "first trial: %ld of %ld (worst %.2e); replica = hp_kin_fit in %ld fits; the "
+                  "first trial: %ld of %ld (worst %.2e); replica = hpi_kin_fit in %ld fits; the "
                   "full fit took at most %d iterations after a certificate\n",
                   fired[0], tried[0], worst[0], fired[1], tried[1], worst[1], same, most_iters);
     print_message("with a drifted Jacobian: certified %ld of %ld trials\n", fired_drifted,
@@ -394,7 +394,7 @@ static const char *const fa_anchor_names[FN_KINDS] = {
     "anchor exact", "anchor 0.1-0.3 tol off", "anchor rho +-4 ulps", "target from a pose off",
     "expected pose off"};
 
-/* hp_kin_fit with the planner's anchor against the full fit (near = NULL, to its end) from
+/* hpi_kin_fit with the planner's anchor against the full fit (near = NULL, to its end) from
  * the nominal pose (with and without the start's model) or a start up to 2 mm / 2 deg from
  * the target: wherever the certificate fires (the fit returns the anchor bit for bit and the
  * fit without the anchor does not), the full fit ends within tol/4 of the expected pose; an
@@ -416,7 +416,7 @@ static void test_certified_fit_verdict(void **state)
         assert_true(kind >= 0);
         for (int lv = HP_LEVEL_PLANE; lv <= HP_LEVEL_SURFACE; ++lv) {
             hp_kin_fit_start st;
-            assert_int_equal(hp_kin_fit_start_at(&L, &G, (hp_level)lv, zero, &st), HP_OK);
+            assert_int_equal(hpi_kin_fit_start_at(&L, &G, (hp_level)lv, zero, &st), HP_OK);
             for (int t = 0; t < FA_FITS; ++t) {
                 int tk = t % FT_KINDS, ak = (t / FT_KINDS) % FN_KINDS, fr[6], col[6];
                 fa_free(&rng, &id, fr, col);
@@ -434,7 +434,7 @@ static void test_certified_fit_verdict(void **state)
                             if (ak != FN_SHIFTED) an[i] += o;
                             if (ak != FN_OFF) src[i] += o;
                         }
-                if (hp_contact_eval_g(&L, &G, (hp_level)lv, src, rs, NULL, NULL) != HP_OK) continue;
+                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, src, rs, NULL, NULL) != HP_OK) continue;
                 double nz = noise[(int)test_rng_uniform(&rng, 0, 6)];
                 for (int k = 0; k < L.n; ++k) ro[k] = rs[k] + nz * test_rng_uniform(&rng, -1, 1);
                 hp_kin_fit_near nr;
@@ -448,7 +448,7 @@ static void test_certified_fit_verdict(void **state)
                 nr.has_anchor = 1;
                 nr.anchor_J = test_rng_uniform(&rng, 0, 1) < 0.5 ? aJ : NULL;
                 memcpy(nr.anchor, an, sizeof an);
-                if (hp_contact_eval_g(&L, &G, (hp_level)lv, an, nr.anchor_rho, aJ, NULL) !=
+                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, an, nr.anchor_rho, aJ, NULL) !=
                     HP_OK)
                     continue;
                 if (ak == FN_ULPS)
@@ -467,9 +467,9 @@ static void test_certified_fit_verdict(void **state)
                 }
                 double xa[6], xb[6], xc[6];
                 int ia = 0;
-                hp_error ec = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, &plain, xc, NULL, NULL);
-                hp_error ea = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, &nr, xa, NULL, &ia);
-                hp_error eb = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, NULL, xb, NULL, NULL);
+                hp_error ec = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, &plain, xc, NULL, NULL);
+                hp_error ea = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, &nr, xa, NULL, &ia);
+                hp_error eb = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, NULL, xb, NULL, NULL);
                 int certified = ea == HP_OK && memcmp(xa, an, sizeof xa) == 0 &&
                                 !(ec == HP_OK && memcmp(xc, an, sizeof xc) == 0);
                 double db = eb == HP_OK ? fa_off(xb, xi) : INFINITY;
@@ -539,7 +539,7 @@ static double fa_spectral_norm(const double *Ain)
     return m;
 }
 
-/* hp_kin_contact_ball_curvature against the exact Hessians (hp_contact_eval_g) on the
+/* hpi_kin_contact_ball_curvature against the exact Hessians (hpi_contact_eval_g) on the
  * generated layouts, at centres up to 60 mm and 80 deg, radii 0.01..40 scaled units (up to
  * balls that reach the head), points on the boundary (half of them pure rotations) and
  * inside; the spectral norm by Jacobi's method. The bound is never exceeded, and it is not
@@ -561,9 +561,9 @@ static void test_ball_curvature_generated(void **state)
                 double xc[6], rc[HP_MAX_BLADDERS], h[HP_MAX_BLADDERS];
                 kin_rng_pose(&rng, tm[b % 3], rm[b % 3], 0, xc);
                 if (id.centre_only) xc[3] = xc[4] = xc[5] = 0.0;
-                if (hp_contact_eval_g(&L, &G, (hp_level)lv, xc, rc, NULL, NULL) != HP_OK) continue;
+                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, xc, rc, NULL, NULL) != HP_OK) continue;
                 double rad = logu(&rng, 0.01, 40.0);
-                assert_int_equal(hp_kin_contact_ball_curvature(&L, &G, (hp_level)lv, xc, rad, rc, h),
+                assert_int_equal(hpi_kin_contact_ball_curvature(&L, &G, (hp_level)lv, xc, rad, rc, h),
                                  HP_OK);
                 for (int s = 0; s < 6; ++s) {
                     double off[6], n2 = 0.0, p[6];
@@ -573,7 +573,7 @@ static void test_ball_curvature_generated(void **state)
                     double len = (s < 4 ? 1.0 : test_rng_uniform(&rng, 0, 1)) * rad / sqrt(n2);
                     for (int i = 0; i < 6; ++i) p[i] = xc[i] + off[i] * len * unit_of(i);
                     double rp[HP_MAX_BLADDERS], H[HP_MAX_BLADDERS * 36];
-                    if (hp_contact_eval_g(&L, &G, (hp_level)lv, p, rp, NULL, H) != HP_OK) continue;
+                    if (hpi_contact_eval_g(&L, &G, (hp_level)lv, p, rp, NULL, H) != HP_OK) continue;
                     for (int k = 0; k < L.n; ++k) {
                         if (!isfinite(h[k])) continue; /* a ball that may reach the head */
                         double Hs[36];

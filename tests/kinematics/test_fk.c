@@ -137,7 +137,7 @@ static void test_bad_input(void **state)
     assert_true(a.singular_values[5] == 0.0);
 }
 
-/* hp_kin_fit with the start point's model handed in takes the same steps as
+/* hpi_kin_fit with the start point's model handed in takes the same steps as
  * hp_contact_fit (bit for bit: the handed-in model is what the fit computes there); with
  * an expected pose it may stop early, and then within tol/2 of it and of the full fit;
  * expecting a wrong pose (0.1 mm or 0.1 degree off in one component) never stops early and
@@ -150,10 +150,10 @@ static void test_fit_start_and_near(void **state)
     uint64_t rng = 17;
     const double zero[6] = {0};
     hp_geom G;
-    assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
+    assert_int_equal(hpi_geom_derive(&LAY, &G, NULL), HP_OK);
     for (int lv = HP_LEVEL_PLANE; lv <= HP_LEVEL_SURFACE; ++lv) {
         hp_kin_fit_start st;
-        assert_int_equal(hp_kin_fit_start_at(&LAY, &G, (hp_level)lv, zero, &st), HP_OK);
+        assert_int_equal(hpi_kin_fit_start_at(&LAY, &G, (hp_level)lv, zero, &st), HP_OK);
         int stopped = 0;
         for (int it = 0; it < 100; ++it) {
             double xi[6], ro[HP_MAX_BLADDERS], a[6], b[6], c[6], e[6], ra, rb;
@@ -165,7 +165,7 @@ static void test_fit_start_and_near(void **state)
             }
             assert_int_equal(hp_contact_eval(&LAY, (hp_level)lv, xi, ro, NULL, NULL), HP_OK);
             assert_int_equal(hp_contact_fit(&LAY, (hp_level)lv, ro, fr, zero, a, &ra, &ia), HP_OK);
-            assert_int_equal(hp_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, NULL, b, &rb, &ib),
+            assert_int_equal(hpi_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, NULL, b, &rb, &ib),
                              HP_OK);
             assert_int_equal(ia, ib);
             assert_memory_equal(a, b, sizeof a);
@@ -176,7 +176,7 @@ static void test_fit_start_and_near(void **state)
                 nr.pose[i] = xi[i];
                 nr.tol[i] = 1e-10;
             }
-            assert_int_equal(hp_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, &nr, c, NULL, &ic),
+            assert_int_equal(hpi_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, &nr, c, NULL, &ic),
                              HP_OK);
             stopped += ic < ia;
             for (int i = 0; i < 6; ++i) {
@@ -186,7 +186,7 @@ static void test_fit_start_and_near(void **state)
             int k = it % 6;
             if (!fr[k]) k = (k + 1) % 6;
             nr.pose[k] += k < 3 ? 1e-4 : 1e-4 * 3.14159265358979323846 / 0.18;
-            assert_int_equal(hp_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, &nr, e, NULL, &ic),
+            assert_int_equal(hpi_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, &nr, e, NULL, &ic),
                              HP_OK);
             assert_int_equal(ic, ia);
             assert_memory_equal(e, a, sizeof a);
@@ -196,7 +196,7 @@ static void test_fit_start_and_near(void **state)
     }
 }
 
-/* The fit's certificate (hp_kin_fit_certified): a fit given the planned pose and its
+/* The fit's certificate (hpi_kin_fit_certified): a fit given the planned pose and its
  * distances as an anchor may stop as soon as the certificate proves where the rest of it
  * ends. Checked against the full fit (run to its end, no expected pose) on four heads
  * (the default ellipsoid, a sphere (translations only), an elongated ellipsoid, and the near-degenerate
@@ -230,10 +230,10 @@ static void test_fit_certificate(void **state)
         hp_geom G;
         assert_int_equal(default_layout_on(&L, &heads[c], 0.0), 0);
         assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
-        assert_int_equal(hp_geom_derive(&L, &G, NULL), HP_OK);
+        assert_int_equal(hpi_geom_derive(&L, &G, NULL), HP_OK);
         for (int lv = HP_LEVEL_PLANE; lv <= HP_LEVEL_SURFACE; ++lv) {
             hp_kin_fit_start st;
-            assert_int_equal(hp_kin_fit_start_at(&L, &G, (hp_level)lv, zero, &st), HP_OK);
+            assert_int_equal(hpi_kin_fit_start_at(&L, &G, (hp_level)lv, zero, &st), HP_OK);
             int cert = 0, elsewhere = 0, fits = 0, early = 0;
             for (int it = 0; it < 150; ++it) {
                 const double *bd = band[it % 3];
@@ -249,7 +249,7 @@ static void test_fit_certificate(void **state)
                         fr[i] = 0;
                         xi[i] = 0.0;
                     }
-                if (hp_contact_eval_g(&L, &G, (hp_level)lv, xi, rho, NULL, NULL) != HP_OK) continue;
+                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, xi, rho, NULL, NULL) != HP_OK) continue;
                 for (int k = 0; k < L.n; ++k)
                     ro[k] = rho[k] * (1.0 + 4e-16 * test_rng_uniform(&rng, -1.0, 1.0));
                 hp_kin_fit_near nr;
@@ -259,7 +259,7 @@ static void test_fit_certificate(void **state)
                     nr.tol[i] = tol[i];
                 }
                 /* without the anchor: the fit as before the certificate */
-                hp_error ec = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xc, NULL, &ic);
+                hp_error ec = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xc, NULL, &ic);
                 nr.has_anchor = 1;
                 memcpy(nr.anchor, xi, sizeof xi);
                 memcpy(nr.anchor_rho, rho, sizeof rho);
@@ -268,11 +268,11 @@ static void test_fit_certificate(void **state)
                 double Ja[HP_MAX_BLADDERS * 6];
                 nr.anchor_J = it % 2 ? Ja : NULL;
                 if (nr.anchor_J)
-                    assert_int_equal(hp_contact_eval_g(&L, &G, (hp_level)lv, xi, NULL, Ja, NULL),
+                    assert_int_equal(hpi_contact_eval_g(&L, &G, (hp_level)lv, xi, NULL, Ja, NULL),
                                      HP_OK);
-                hp_error ea = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xa, NULL, &ia);
+                hp_error ea = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xa, NULL, &ia);
                 /* the full fit, to its end */
-                hp_error eb = hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, NULL, xb, NULL, &ib);
+                hp_error eb = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, NULL, xb, NULL, &ib);
                 ++fits;
                 /* distances in units of the tolerance */
                 double da = ea == HP_OK ? 0.0 : INFINITY, db = eb == HP_OK ? 0.0 : INFINITY;
@@ -300,7 +300,7 @@ static void test_fit_certificate(void **state)
                 while (!fr[k]) k = (k + 1) % 6;
                 nr.pose[k] += 0.3 * tol[k];
                 double xo[6];
-                hp_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xo, NULL, NULL);
+                hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xo, NULL, NULL);
                 assert_true(memcmp(xo, xi, sizeof xo) != 0);
             }
             print_message("head %d %-7s: certified %d of %d fits (%d before evaluating a "
@@ -349,8 +349,8 @@ static void test_cholesky_condition_bound(void **state)
 {
     (void)state;
     double A2[4] = {4, 2, 2, 5}, L2[4];
-    assert_int_equal(hp_cholesky(A2, 2, 2, 0.0, L2, 2), 1);
-    assert_true(hp_cholesky_inv_frob2(L2, 2, 2) == 9.0 / 16.0);
+    assert_int_equal(hpi_cholesky(A2, 2, 2, 0.0, L2, 2), 1);
+    assert_true(hpi_cholesky_inv_frob2(L2, 2, 2) == 9.0 / 16.0);
     uint64_t rng = 23;
     for (int it = 0; it < 300; ++it) {
         int n = 1 + it % 6;
@@ -368,21 +368,21 @@ static void test_cholesky_condition_bound(void **state)
         for (int j = 0; j < n; ++j)
             for (int k = 0; k < n; ++k) S[j * 6 + k] *= d[j] * d[k];
         for (int j = 0; j < n; ++j) S[j * 6 + j] = 1.0;
-        assert_int_equal(hp_cholesky(S, 6, n, 0.0, L, 6), 1);
-        double bound = n * hp_cholesky_inv_frob2(L, 6, n);
+        assert_int_equal(hpi_cholesky(S, 6, n, 0.0, L, 6), 1);
+        double bound = n * hpi_cholesky_inv_frob2(L, 6, n);
         /* eigenvalues of the n×n block: pad to 6×6 with a unit diagonal (eigenvalue 1 lies
          * inside [λmin, λmax] of a unit-diagonal matrix, so it changes neither) */
         double P[36] = {0};
         for (int j = 0; j < 6; ++j)
             for (int k = 0; k < 6; ++k) P[j * 6 + k] = j < n && k < n ? S[j * 6 + k] : j == k;
-        assert_int_equal(hp_kin_symeig6(P, lam, V), 0);
+        assert_int_equal(hpi_kin_symeig6(P, lam, V), 0);
         assert_true(lam[0] > 0);
         assert_true(bound >= lam[5] / lam[0] * (1 - 1e-6));
     }
 }
 
 /* The fit's two damped least-squares solvers against Eigen's column-pivoting QR
- * (hp_kin_damped_lstsq), an independent factorisation, on seeded random 8×nf Jacobians
+ * (hpi_kin_damped_lstsq), an independent factorisation, on seeded random 8×nf Jacobians
  * with the fit's column-norm scales and damping 0, 1e-3, 1, 1e3:
  * - well conditioned (scaled condition of J ~ 1..30): the normal equations are accepted
  *   and agree to 1e-9 of the step in the scaled unknowns (the bound nf·eps·1e6 = 7e-10 of
@@ -409,9 +409,9 @@ static void test_damped_solvers(void **state)
         }
         col_norms(n, nf, J, D);
         double lambda = lams[it % 4];
-        assert_int_equal(hp_kin_damped_normal(n, nf, J, r, D, lambda, a), 0);
-        assert_int_equal(hp_kin_damped_qr(n, nf, J, r, D, lambda, b), 0);
-        assert_int_equal(hp_kin_damped_lstsq(n, nf, J, r, D, lambda, c), 0);
+        assert_int_equal(hpi_kin_damped_normal(n, nf, J, r, D, lambda, a), 0);
+        assert_int_equal(hpi_kin_damped_qr(n, nf, J, r, D, lambda, b), 0);
+        assert_int_equal(hpi_kin_damped_lstsq(n, nf, J, r, D, lambda, c), 0);
         worst_n = fmax(worst_n, scaled_err(nf, D, a, c));
         worst_q = fmax(worst_q, scaled_err(nf, D, b, c));
     }
@@ -430,14 +430,14 @@ static void test_damped_solvers(void **state)
             for (int j = 0; j < nf; ++j) r[i] -= J[i * nf + j] * x[j];
         }
         col_norms(n, nf, J, D);
-        assert_int_equal(hp_kin_damped_normal(n, nf, J, r, D, 0.0, a), -1);
-        assert_int_equal(hp_kin_damped_qr(n, nf, J, r, D, 0.0, b), 0);
-        assert_int_equal(hp_kin_damped_lstsq(n, nf, J, r, D, 0.0, c), 0);
+        assert_int_equal(hpi_kin_damped_normal(n, nf, J, r, D, 0.0, a), -1);
+        assert_int_equal(hpi_kin_damped_qr(n, nf, J, r, D, 0.0, b), 0);
+        assert_int_equal(hpi_kin_damped_lstsq(n, nf, J, r, D, 0.0, c), 0);
         worst_ill = fmax(worst_ill, scaled_err(nf, D, b, c));
     }
     assert_true(worst_ill <= 1e-6);
     hp_geom G;
-    assert_int_equal(hp_geom_derive(&LAY, &G, NULL), HP_OK);
+    assert_int_equal(hpi_geom_derive(&LAY, &G, NULL), HP_OK);
     double worst_lay = 0;
     for (int it = 0; it < 100; ++it) {
         double xi[6], rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], r[HP_MAX_BLADDERS], D[6];
@@ -447,8 +447,8 @@ static void test_damped_solvers(void **state)
         for (int k = 0; k < LAY.n; ++k) r[k] = 1e-4 * test_rng_normal(&rng);
         col_norms(LAY.n, 6, J, D);
         double lambda = lams[it % 4];
-        assert_int_equal(hp_kin_damped_normal(LAY.n, 6, J, r, D, lambda, a), 0);
-        assert_int_equal(hp_kin_damped_qr(LAY.n, 6, J, r, D, lambda, b), 0);
+        assert_int_equal(hpi_kin_damped_normal(LAY.n, 6, J, r, D, lambda, a), 0);
+        assert_int_equal(hpi_kin_damped_qr(LAY.n, 6, J, r, D, lambda, b), 0);
         worst_lay = fmax(worst_lay, scaled_err(6, D, a, b));
     }
     assert_true(worst_lay <= 1e-12);

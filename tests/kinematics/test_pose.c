@@ -114,7 +114,7 @@ static void test_rotation_derivs(void **state)
     (void)state;
     const double th[3] = {0.2, -0.4, 0.9};
     double R[9], dR[3][9], d2R[3][3][9];
-    hp_kin_rotation_derivs(th, R, dR, d2R);
+    hpi_kin_rotation_derivs(th, R, dR, d2R);
     const double h = 1e-5;
     for (int j = 0; j < 3; ++j) {
         double tp[3], tm[3], Rp[9], Rm[9], dRp[3][9], dRm[3][9];
@@ -122,8 +122,8 @@ static void test_rotation_derivs(void **state)
         memcpy(tm, th, sizeof tm);
         tp[j] += h;
         tm[j] -= h;
-        hp_kin_rotation_derivs(tp, Rp, dRp, NULL);
-        hp_kin_rotation_derivs(tm, Rm, dRm, NULL);
+        hpi_kin_rotation_derivs(tp, Rp, dRp, NULL);
+        hpi_kin_rotation_derivs(tm, Rm, dRm, NULL);
         for (int i = 0; i < 9; ++i) {
             hp_assert_close(dR[j][i], (Rp[i] - Rm[i]) / (2 * h), 0, 1e-9);
             for (int k = 0; k < 3; ++k)
@@ -190,7 +190,7 @@ static void test_rotation_derivs_closed_form(void **state)
             th[2] = special[c / 25];
         }
         double R[9], dR[3][9], d2R[3][3][9], P[9];
-        hp_kin_rotation_derivs(th, R, dR, d2R);
+        hpi_kin_rotation_derivs(th, R, dR, d2R);
         int ord[3] = {0, 0, 0};
         product_ref(th, ord, P);
         for (int i = 0; i < 9; ++i) assert_true(R[i] == P[i]);

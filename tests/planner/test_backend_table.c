@@ -14,7 +14,7 @@ static void test_every_backend_in_the_table(void **st)
 {
     (void)st;
     for (int b = 0; b < HP_BACKEND_COUNT_; ++b) {
-        const hp_backend_ops *ops = hp_backend_table((hp_backend)b);
+        const hp_backend_ops *ops = hpi_backend_table((hp_backend)b);
         assert_non_null(ops);
         assert_non_null(ops->create);
         assert_non_null(ops->solve);
@@ -26,8 +26,8 @@ static void test_every_backend_in_the_table(void **st)
         /* A backend that warm-starts itself says so and implements the call. */
         assert_int_equal((ops->caps & HP_BACKEND_WARM_STARTS) != 0, ops->warm_point != NULL);
     }
-    assert_null(hp_backend_table(HP_BACKEND_COUNT_));
-    assert_null(hp_backend_table((hp_backend)-1));
+    assert_null(hpi_backend_table(HP_BACKEND_COUNT_));
+    assert_null(hpi_backend_table((hp_backend)-1));
 }
 
 /* The documented capabilities: the control loop's path is real time and needs no lock,
@@ -36,16 +36,16 @@ static void test_every_backend_in_the_table(void **st)
 static void test_capabilities(void **st)
 {
     (void)st;
-    unsigned rt = hp_backend_table(HP_BACKEND_REALTIME)->caps;
-    unsigned ip = hp_backend_table(HP_BACKEND_IPOPT)->caps;
-    unsigned sq = hp_backend_table(HP_BACKEND_NLOPT_SLSQP)->caps;
-    unsigned cb = hp_backend_table(HP_BACKEND_NLOPT_COBYLA)->caps;
+    unsigned rt = hpi_backend_table(HP_BACKEND_REALTIME)->caps;
+    unsigned ip = hpi_backend_table(HP_BACKEND_IPOPT)->caps;
+    unsigned sq = hpi_backend_table(HP_BACKEND_NLOPT_SLSQP)->caps;
+    unsigned cb = hpi_backend_table(HP_BACKEND_NLOPT_COBYLA)->caps;
     assert_true(rt & HP_BACKEND_REAL_TIME && rt & HP_BACKEND_THREAD_SAFE && rt & HP_BACKEND_CERTIFIES);
     assert_true(ip & HP_BACKEND_CERTIFIES && !(ip & HP_BACKEND_THREAD_SAFE));
     assert_true(!(sq & HP_BACKEND_CERTIFIES) && !(cb & HP_BACKEND_CERTIFIES));
     for (int b = 0; b < HP_BACKEND_COUNT_; ++b)
         if (b != HP_BACKEND_REALTIME)
-            assert_false(hp_backend_table((hp_backend)b)->caps & HP_BACKEND_REAL_TIME);
+            assert_false(hpi_backend_table((hp_backend)b)->caps & HP_BACKEND_REAL_TIME);
 }
 
 /* Ipopt's limited-memory switch is an option of that backend: known there, refused by name

@@ -66,7 +66,7 @@ static void assert_in_bounds(const hp_problem *pb, const double *x)
 static double max_contact_violation(const hp_problem *pb, const double *x)
 {
     double c[HP_MAX_BLADDERS], worst = 0.0;
-    assert_int_equal(hp_problem_constraints(pb, x, c, NULL, NULL, NULL), HP_OK);
+    assert_int_equal(hpi_problem_constraints(pb, x, c, NULL, NULL, NULL), HP_OK);
     for (int k = 0; k < pb->n; k++) worst = fmax(worst, fabs(c[k]));
     return worst;
 }
@@ -97,10 +97,10 @@ static void reachable_exact(void **st)
 {
     (void)st;
     const case_spec cases[3] = {
-        {&hp_backend_ipopt_ops, 1e-12, 1e-9, 1e-9},
-        {&hp_backend_nlopt_slsqp_ops, 1e-12, 1e-8, 1e-9},
+        {&hpi_backend_ipopt_ops, 1e-12, 1e-9, 1e-9},
+        {&hpi_backend_nlopt_slsqp_ops, 1e-12, 1e-8, 1e-9},
         /* COBYLA's contacts hold by construction (ri from ρ): only rounding */
-        {&hp_backend_nlopt_cobyla_ops, 1e-7, 1e-6, 1e-9},
+        {&hpi_backend_nlopt_cobyla_ops, 1e-7, 1e-6, 1e-9},
     };
     for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_SURFACE; lv += 2)
         for (int t = 0; t < 3; t++) {
@@ -109,7 +109,7 @@ static void reachable_exact(void **st)
             assert_int_equal(fx_problem(&L, &G, (hp_level)lv, reachable[t], &pb), HP_OK);
             /* Precondition: the direct chain is inside every limit (strictly, by 0.1 mm). */
             double xs[HP_PROBLEM_NX_MAX];
-            assert_int_equal(hp_backend_default_start(&pb, xs), HP_OK);
+            assert_int_equal(hpi_backend_default_start(&pb, xs), HP_OK);
             for (int k = 0; k < pb.n; k++) {
                 assert_true(xs[6 + k] > pb.ri_lo[k] + 0.1);
                 assert_true(xs[6 + k] < pb.ri_hi[k] - 0.1);
@@ -141,7 +141,7 @@ static void reachable_exact(void **st)
 
 /* 30 mm lateral is far beyond the stretch and pressure limits (the side bladders can move
  * the head ~10 mm). Ipopt and SLSQP solve the same program with different methods: their
- * answers must agree, satisfy first-order optimality (hp_backend_kkt_ok), keep every limit,
+ * answers must agree, satisfy first-order optimality (hpi_backend_kkt_ok), keep every limit,
  * and bind the same bladders. */
 static void unreachable_closest(void **st)
 {
@@ -155,8 +155,8 @@ static void unreachable_closest(void **st)
     double x0[HP_PROBLEM_NX_MAX], xi[HP_PROBLEM_NX_MAX], xs[HP_PROBLEM_NX_MAX];
     nominal(&pb, x0);
     hp_backend_result ri, rs;
-    solve_with(&hp_backend_ipopt_ops, &pb, &s, x0, xi, &ri);
-    solve_with(&hp_backend_nlopt_slsqp_ops, &pb, &s, x0, xs, &rs);
+    solve_with(&hpi_backend_ipopt_ops, &pb, &s, x0, xi, &ri);
+    solve_with(&hpi_backend_nlopt_slsqp_ops, &pb, &s, x0, xs, &rs);
     assert_int_equal(ri.converged, 1);
     assert_int_equal(rs.converged, 1);
     assert_in_bounds(&pb, xi);
@@ -171,8 +171,8 @@ static void unreachable_closest(void **st)
      * residual moves x by ~7e-7: agreement within 1e-5 is SLSQP's accuracy with a 10× margin,
      * and still 4e-6 of the 2.3 mm answer. */
     hp_kkt_measure mi, ms;
-    assert_int_equal(hp_backend_kkt_measure(&pb, xi, &mi), HP_OK);
-    assert_int_equal(hp_backend_kkt_measure(&pb, xs, &ms), HP_OK);
+    assert_int_equal(hpi_backend_kkt_measure(&pb, xi, &mi), HP_OK);
+    assert_int_equal(hpi_backend_kkt_measure(&pb, xs, &ms), HP_OK);
     print_message("KKT residual: ipopt %.2e, slsqp %.2e; contact violation ipopt %.2e, slsqp "
                   "%.2e mm\n", mi.stationarity, ms.stationarity, mi.feasibility, ms.feasibility);
     assert_true(mi.stationarity <= 1e-9);
@@ -184,11 +184,11 @@ static void unreachable_closest(void **st)
     assert_true(worst <= 1e-5);
     assert_true(max_contact_violation(&pb, xi) <= 1e-9);
     assert_true(max_contact_violation(&pb, xs) <= 1e-9);
-    assert_true(hp_backend_kkt_ok(&pb, xi, 1e-9));
-    assert_true(hp_backend_kkt_ok(&pb, xs, 1e-9));
+    assert_true(hpi_backend_kkt_ok(&pb, xi, 1e-9));
+    assert_true(hpi_backend_kkt_ok(&pb, xs, 1e-9));
     /* ...and the test rejects the (feasible) nominal start, which is not stationary, and a
      * point with one binding bladder moved 0.01 mm off its bound (contact then broken). */
-    assert_false(hp_backend_kkt_ok(&pb, x0, 1e-9));
+    assert_false(hpi_backend_kkt_ok(&pb, x0, 1e-9));
     double xm[HP_PROBLEM_NX_MAX];
     memcpy(xm, xi, sizeof xm);
     for (int k = 0; k < pb.n; k++)
@@ -196,7 +196,7 @@ static void unreachable_closest(void **st)
             xm[6 + k] += 0.01;
             break;
         }
-    assert_false(hp_backend_kkt_ok(&pb, xm, 1e-9));
+    assert_false(hpi_backend_kkt_ok(&pb, xm, 1e-9));
     /* Binding bladders: those at a bound (1e-6 mm). Same set for both, and at least one. */
     int nbind = 0;
     for (int k = 0; k < pb.n; k++) {
@@ -216,10 +216,10 @@ static void unreachable_closest(void **st)
     }
     double xw[HP_PROBLEM_NX_MAX];
     hp_backend_result rw;
-    solve_with(&hp_backend_ipopt_ops, &wide, &s, x0, xw, &rw);
+    solve_with(&hpi_backend_ipopt_ops, &wide, &s, x0, xw, &rw);
     double fb, fw;
-    assert_int_equal(hp_problem_objective(&pb, xi, &fb, NULL, NULL), HP_OK);
-    assert_int_equal(hp_problem_objective(&wide, xw, &fw, NULL, NULL), HP_OK);
+    assert_int_equal(hpi_problem_objective(&pb, xi, &fb, NULL, NULL), HP_OK);
+    assert_int_equal(hpi_problem_objective(&wide, xw, &fw, NULL, NULL), HP_OK);
     assert_true(fw < fb);
 }
 
@@ -227,8 +227,8 @@ static void unreachable_closest(void **st)
 static void deterministic(void **st)
 {
     (void)st;
-    const hp_backend_ops *ops[3] = {&hp_backend_ipopt_ops, &hp_backend_nlopt_slsqp_ops,
-                                    &hp_backend_nlopt_cobyla_ops};
+    const hp_backend_ops *ops[3] = {&hpi_backend_ipopt_ops, &hpi_backend_nlopt_slsqp_ops,
+                                    &hpi_backend_nlopt_cobyla_ops};
     const double d[6] = {12.0, -4.0, 3.0, 2.0, -2.0, 3.0}; /* partly unreachable */
     hp_problem pb;
     hp_geom G;
@@ -284,18 +284,18 @@ static void *run_job(void *arg)
     hp_geom G;
     if (fx_problem(&L, &G, HP_LEVEL_SURFACE, d, &pb) != HP_OK) return jb->ok = 0, NULL;
     void *state;
-    if (hp_backend_ipopt_ops.create(&state, &pb, &s, NULL) != HP_OK) return jb->ok = 0, NULL;
+    if (hpi_backend_ipopt_ops.create(&state, &pb, &s, NULL) != HP_OK) return jb->ok = 0, NULL;
     for (int i = 0; i < THREAD_SOLVES; i++) {
         target(jb->first + i, d);
         memcpy(pb.d, d, sizeof d);
         hp_backend_result r;
         double x0[HP_PROBLEM_NX_MAX];
         nominal(&pb, x0);
-        if (hp_backend_ipopt_ops.solve(state, &pb, x0, jb->x[i], &r, NULL) != HP_OK ||
+        if (hpi_backend_ipopt_ops.solve(state, &pb, x0, jb->x[i], &r, NULL) != HP_OK ||
             !r.converged)
             jb->ok = 0;
     }
-    hp_backend_ipopt_ops.destroy(state);
+    hpi_backend_ipopt_ops.destroy(state);
     return NULL;
 }
 
@@ -332,7 +332,7 @@ static void ipopt_iteration_limit_and_faults(void **st)
     settings(&s, 1e-12);
     s.max_iter = 2;
     hp_backend_result r;
-    solve_with(&hp_backend_ipopt_ops, &pb, &s, x0, x, &r);
+    solve_with(&hpi_backend_ipopt_ops, &pb, &s, x0, x, &r);
     assert_int_equal(r.status, HP_STATUS_ITERATION_LIMIT);
     assert_int_equal(r.raw_code, -1); /* Maximum_Iterations_Exceeded */
     assert_int_equal(r.converged, 0);
@@ -341,9 +341,9 @@ static void ipopt_iteration_limit_and_faults(void **st)
     settings(&s, 1e-12);
     const int faults[2] = {HP_TEST_FAULT_NAN_OBJECTIVE, HP_TEST_FAULT_FAIL_CONSTRAINTS};
     for (int f = 0; f < 2; f++) {
-        hp_backend_ipopt_test_hook(faults[f]);
-        solve_with(&hp_backend_ipopt_ops, &pb, &s, x0, x, &r);
-        hp_backend_ipopt_test_hook(HP_TEST_FAULT_NONE);
+        hpi_backend_ipopt_test_hook(faults[f]);
+        solve_with(&hpi_backend_ipopt_ops, &pb, &s, x0, x, &r);
+        hpi_backend_ipopt_test_hook(HP_TEST_FAULT_NONE);
         print_message("fault %d: status %d raw %d\n", faults[f], r.status, r.raw_code);
         assert_int_equal(r.converged, 0);
         assert_int_equal(r.status, HP_STATUS_SOLVER_ERROR);
@@ -351,8 +351,8 @@ static void ipopt_iteration_limit_and_faults(void **st)
     }
     /* Empty bounds (e.g. contradictory rate limits): reported, solver not run. */
     pb.ri_lo[3] = pb.ri_hi[3] + 0.5;
-    const hp_backend_ops *ops[3] = {&hp_backend_ipopt_ops, &hp_backend_nlopt_slsqp_ops,
-                                    &hp_backend_nlopt_cobyla_ops};
+    const hp_backend_ops *ops[3] = {&hpi_backend_ipopt_ops, &hpi_backend_nlopt_slsqp_ops,
+                                    &hpi_backend_nlopt_cobyla_ops};
     for (int b = 0; b < 3; b++) {
         solve_with(ops[b], &pb, &s, x0, x, &r);
         assert_int_equal(r.status, HP_STATUS_INFEASIBLE_START);
@@ -373,11 +373,11 @@ static void nlopt_iteration_limit(void **st)
     settings(&s, 1e-12);
     s.max_iter = 1;
     hp_backend_result r;
-    solve_with(&hp_backend_nlopt_slsqp_ops, &pb, &s, x0, x, &r);
+    solve_with(&hpi_backend_nlopt_slsqp_ops, &pb, &s, x0, x, &r);
     assert_int_equal(r.status, HP_STATUS_ITERATION_LIMIT);
     assert_int_equal(r.raw_code, 5); /* NLOPT_MAXEVAL_REACHED */
     assert_in_bounds(&pb, x);
-    solve_with(&hp_backend_nlopt_cobyla_ops, &pb, &s, x0, x, &r);
+    solve_with(&hpi_backend_nlopt_cobyla_ops, &pb, &s, x0, x, &r);
     assert_int_equal(r.status, HP_STATUS_ITERATION_LIMIT);
     assert_in_bounds(&pb, x);
 }
@@ -396,18 +396,18 @@ static void ipopt_bounds_change(void **st)
     double x0[HP_PROBLEM_NX_MAX], x1[HP_PROBLEM_NX_MAX], x2[HP_PROBLEM_NX_MAX];
     nominal(&pb, x0);
     void *state;
-    assert_int_equal(hp_backend_ipopt_ops.create(&state, &pb, &s, NULL), HP_OK);
+    assert_int_equal(hpi_backend_ipopt_ops.create(&state, &pb, &s, NULL), HP_OK);
     hp_backend_result r1, r2;
-    assert_int_equal(hp_backend_ipopt_ops.solve(state, &pb, x0, x1, &r1, NULL), HP_OK);
+    assert_int_equal(hpi_backend_ipopt_ops.solve(state, &pb, x0, x1, &r1, NULL), HP_OK);
     assert_true(r1.converged);
     /* a rate limit: every radius within 0.5 mm of nominal, which makes d unreachable */
     for (int k = 0; k < pb.n; k++) {
         pb.ri_lo[k] = fmax(pb.ri_lo[k], 26.5);
         pb.ri_hi[k] = fmin(pb.ri_hi[k], 27.5);
     }
-    assert_int_equal(hp_backend_ipopt_ops.solve(state, &pb, x0, x1, &r1, NULL), HP_OK);
-    hp_backend_ipopt_ops.destroy(state);
-    solve_with(&hp_backend_ipopt_ops, &pb, &s, x0, x2, &r2);
+    assert_int_equal(hpi_backend_ipopt_ops.solve(state, &pb, x0, x1, &r1, NULL), HP_OK);
+    hpi_backend_ipopt_ops.destroy(state);
+    solve_with(&hpi_backend_ipopt_ops, &pb, &s, x0, x2, &r2);
     assert_true(r1.converged && r2.converged);
     assert_memory_equal(x1, x2, (size_t)pb.nx * sizeof *x1);
     assert_in_bounds(&pb, x1);
@@ -428,25 +428,25 @@ static void ipopt_warm_start(void **st)
     hp_settings s;
     settings(&s, 1e-12);
     void *state;
-    assert_int_equal(hp_backend_ipopt_ops.create(&state, &pb, &s, NULL), HP_OK);
+    assert_int_equal(hpi_backend_ipopt_ops.create(&state, &pb, &s, NULL), HP_OK);
     double x0[HP_PROBLEM_NX_MAX], x1[HP_PROBLEM_NX_MAX], x2[HP_PROBLEM_NX_MAX];
     nominal(&pb, x0);
     hp_backend_result r1, r2, rc;
-    assert_int_equal(hp_backend_ipopt_ops.solve(state, &pb, x0, x1, &r1, NULL), HP_OK);
+    assert_int_equal(hpi_backend_ipopt_ops.solve(state, &pb, x0, x1, &r1, NULL), HP_OK);
     assert_true(r1.converged);
     pb.d[0] += 0.1;
     pb.d[4] -= 0.05;
-    assert_int_equal(hp_backend_ipopt_ops.solve(state, &pb, x1, x2, &r2, NULL), HP_OK);
+    assert_int_equal(hpi_backend_ipopt_ops.solve(state, &pb, x1, x2, &r2, NULL), HP_OK);
     assert_true(r2.converged);
     for (int i = 0; i < 6; i++) hp_assert_close(x2[i], pb.d[i], 0.0, 1e-9);
     /* cold from the same point, for comparison */
     double x3[HP_PROBLEM_NX_MAX];
     s.warm_start = 0;
-    solve_with(&hp_backend_ipopt_ops, &pb, &s, x1, x3, &rc);
+    solve_with(&hpi_backend_ipopt_ops, &pb, &s, x1, x3, &rc);
     print_message("warm start: %d iterations; cold from the same point: %d\n", r2.iterations,
                   rc.iterations);
     assert_true(r2.iterations <= rc.iterations);
-    hp_backend_ipopt_ops.destroy(state);
+    hpi_backend_ipopt_ops.destroy(state);
 }
 
 int main(void)

@@ -90,11 +90,11 @@ static void test_expired_budget(void **state)
                     mm_deg[i] = beyond[t % N_BEYOND][i] * (1.0 + 0.2 * lf_uniform(&seed));
                 lf_pose(mm_deg, d);
                 hp_result r;
-                hp_test_realtime_count(1);
+                hpi_test_realtime_count(1);
                 assert_int_equal(hp_plan(p, d, &r), HP_OK);
-                hp_test_realtime_count(0);
+                hpi_test_realtime_count(0);
                 hp_test_rt_counts c;
-                hp_test_realtime_counts(&c);
+                hpi_test_realtime_counts(&c);
                 char what[80];
                 snprintf(what, sizeof what, "%s rate %g plan %d (%s)",
                          hp_level_name(levels[l]), rate, t, hp_status_name(r.status));

@@ -1,8 +1,8 @@
-/* One home for a bladder's safe envelope (hp_bladder_envelope, planner/problem_setup.h): the
+/* One home for a bladder's safe envelope (hpi_bladder_envelope, planner/problem_setup.h): the
  * pressure, stretch, hoop-stress and limit-point limits as inner-radius bounds that hold in
  * floating point, and the pressures there.
  * - Its bounds hold: IK(ri_lo) >= p_min, IK(ri_hi) <= p_max, ri_lo >= stretch_min·Ri and
- *   ri_hi <= stretch_max·Ri in exact arithmetic (hp_prod_up/down), the hoop stress at ri_hi
+ *   ri_hi <= stretch_max·Ri in exact arithmetic (hpi_prod_up/down), the hoop stress at ri_hi
  *   within stress_max (1e-9 relative: the stress radius's bisection side), the flags naming
  *   what set each bound.
  * - The kinematic planner's static bounds are its bounds, bit for bit.
@@ -21,18 +21,18 @@
 static void check_layout(const hp_layout *L, const char *what, unsigned want_hi_flag)
 {
     hp_static_bounds sb;
-    assert_int_equal(hp_setup_static_bounds(L, &sb, NULL), HP_OK);
+    assert_int_equal(hpi_setup_static_bounds(L, &sb, NULL), HP_OK);
     unsigned seen_hi = 0;
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
         hp_envelope e;
-        assert_int_equal(hp_bladder_envelope(B, &e, NULL), HP_OK);
+        assert_int_equal(hpi_bladder_envelope(B, &e, NULL), HP_OK);
         double plo, phi;
         assert_int_equal(hp_iab_ik(&B->iab, e.ri_lo, &plo), HP_OK);
         assert_int_equal(hp_iab_ik(&B->iab, e.ri_hi, &phi), HP_OK);
         assert_true(plo >= B->p_min && phi <= B->p_max);
-        assert_true(e.ri_lo >= hp_prod_up(B->stretch_min, B->iab.Ri));
-        assert_true(e.ri_hi <= hp_prod_down(B->stretch_max, B->iab.Ri));
+        assert_true(e.ri_lo >= hpi_prod_up(B->stretch_min, B->iab.Ri));
+        assert_true(e.ri_hi <= hpi_prod_down(B->stretch_max, B->iab.Ri));
         assert_true(e.p_lo >= B->p_min && e.p_hi <= B->p_max && e.p_lo < e.p_hi);
         if (B->stress_max > 0 && isfinite(B->stress_max)) {
             double h;

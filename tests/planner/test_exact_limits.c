@@ -97,7 +97,7 @@ static void stretch_limits_exact_every_backend(void **st)
 }
 
 /* The directed products themselves, against __float128 (exact for a product of two
- * doubles): hp_prod_up is the smallest double at or above the product, hp_prod_down the
+ * doubles): hpi_prod_up is the smallest double at or above the product, hpi_prod_down the
  * largest at or below, over seeded random pairs of the stretch and radius ranges and of
  * wider ones. */
 static void directed_products_exact(void **st)
@@ -110,11 +110,11 @@ static void directed_products_exact(void **st)
         double a = t % 2 ? 0.5 + 1.5 * (lf_uniform(&seed) + 1.0) : ldexp(lf_uniform(&seed), 40);
         double b = t % 2 ? 0.02 + 0.01 * lf_uniform(&seed) : ldexp(lf_uniform(&seed), -40);
         __float128 x = (__float128)a * b;
-        double u = hp_prod_up(a, b), dn = hp_prod_down(a, b);
+        double u = hpi_prod_up(a, b), dn = hpi_prod_down(a, b);
         if (!((__float128)u >= x && (__float128)nextafter(u, -INFINITY) < x))
-            fail_msg("hp_prod_up(%a, %a) = %a", a, b, u);
+            fail_msg("hpi_prod_up(%a, %a) = %a", a, b, u);
         if (!((__float128)dn <= x && (__float128)nextafter(dn, INFINITY) > x))
-            fail_msg("hp_prod_down(%a, %a) = %a", a, b, dn);
+            fail_msg("hpi_prod_down(%a, %a) = %a", a, b, dn);
         up_moved += u != a * b;
         down_moved += dn != a * b;
     }

@@ -76,9 +76,9 @@ static double smallest_stiffness(const hp_load_model *M, const double xi[6], con
     assert_int_equal(hp_load_eval(M, xi, P, Q, dQ, NULL, NULL, NULL), HP_OK);
     for (int i = 0; i < 6; ++i)
         for (int j = 0; j < 6; ++j)
-            K[i * 6 + j] = -0.5 * (dQ[i * 6 + j] + dQ[j * 6 + i]) * hp_load_unit(i) *
-                           hp_load_unit(j) * 1e3;
-    assert_int_equal(hp_kin_symeig6(K, ev, V), 0);
+            K[i * 6 + j] = -0.5 * (dQ[i * 6 + j] + dQ[j * 6 + i]) * hpi_load_unit(i) *
+                           hpi_load_unit(j) * 1e3;
+    assert_int_equal(hpi_kin_symeig6(K, ev, V), 0);
     return ev[0];
 }
 
@@ -459,9 +459,9 @@ static void test_tiebreak_stiffness(void **state)
     const hp_load_model *M = hp_planner_load_model(st);
     double P[HP_MAX_BLADDERS], x0[6], rest[6], lam[2];
     for (int k = 0; k < r1.n; ++k) P[k] = r1.bladders[k].pressure;
-    for (int i = 0; i < 6; ++i) x0[i] = lift[i] + 0.5 * hp_load_unit(i);
+    for (int i = 0; i < 6; ++i) x0[i] = lift[i] + 0.5 * hpi_load_unit(i);
     assert_int_equal(hp_load_rest(M, P, x0, rest, NULL), HP_OK);
-    for (int i = 0; i < 6; ++i) assert_true(fabs(rest[i] - lift[i]) / hp_load_unit(i) < 1e-8);
+    for (int i = 0; i < 6; ++i) assert_true(fabs(rest[i] - lift[i]) / hpi_load_unit(i) < 1e-8);
     double P0[HP_MAX_BLADDERS];
     for (int k = 0; k < r0.n; ++k) P0[k] = r0.bladders[k].pressure;
     lam[0] = smallest_stiffness(M, lift, P0);
@@ -489,7 +489,7 @@ static void test_stiffness_derivatives(void **state)
     const double xi[6] = {0.2e-3, -0.1e-3, 10e-3, 0.3 * 0.0174532925199, 0, 0};
     double target[HP_MAX_BLADDERS] = {0};
     hp_load_stiff S;
-    assert_int_equal(hp_load_stiff_init(&S, M, xi, target), HP_OK);
+    assert_int_equal(hpi_load_stiff_init(&S, M, xi, target), HP_OK);
     /* Every bladder pressed (above its touching pressure) at a spread of pressures. */
     int idx[HP_MAX_BLADDERS], nv = L.n;
     double x[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
@@ -499,15 +499,15 @@ static void test_stiffness_derivatives(void **state)
         P[k] = x[k] * 1e3;
     }
     double f, g[HP_MAX_BLADDERS], H[HP_MAX_BLADDERS * HP_MAX_BLADDERS], lmin;
-    assert_int_equal(hp_load_stiff_eval(&S, nv, idx, x, &f, g, H, &lmin), 0);
+    assert_int_equal(hpi_load_stiff_eval(&S, nv, idx, x, &f, g, H, &lmin), 0);
     double force[HP_MAX_BLADDERS], Q[6], dQ[36], K[36], ev[6], V[36];
     assert_int_equal(hp_load_eval(M, xi, P, Q, dQ, NULL, force, NULL), HP_OK);
     for (int k = 0; k < nv; ++k) assert_true(force[k] > 0);
     /* The soft minimum needs every eigenvalue: the test's own decomposition of K. */
     for (int i = 0; i < 6; ++i)
         for (int j = 0; j < 6; ++j)
-            K[i * 6 + j] = -dQ[i * 6 + j] * hp_load_unit(i) * hp_load_unit(j) * 1e3;
-    assert_int_equal(hp_kin_symeig6(K, ev, V), 0);
+            K[i * 6 + j] = -dQ[i * 6 + j] * hpi_load_unit(i) * hpi_load_unit(j) * 1e3;
+    assert_int_equal(hpi_kin_symeig6(K, ev, V), 0);
     double z = 0.0, sq = 0.0;
     for (int i = 0; i < 6; ++i) z += exp(-S.beta * ev[i]);
     for (int k = 0; k < nv; ++k) sq += 0.5 * S.squeeze * x[k] * x[k];
@@ -524,8 +524,8 @@ static void test_stiffness_derivatives(void **state)
         memcpy(xm, x, sizeof xm);
         xp[j] += h;
         xm[j] -= h;
-        assert_int_equal(hp_load_stiff_eval(&S, nv, idx, xp, &fp, gp, NULL, NULL), 0);
-        assert_int_equal(hp_load_stiff_eval(&S, nv, idx, xm, &fm, gm, NULL, NULL), 0);
+        assert_int_equal(hpi_load_stiff_eval(&S, nv, idx, xp, &fp, gp, NULL, NULL), 0);
+        assert_int_equal(hpi_load_stiff_eval(&S, nv, idx, xm, &fm, gm, NULL, NULL), 0);
         hp_assert_close(g[j], (fp - fm) / (2 * h), 0.0, 1e-6 * gs);
         eg = fmax(eg, fabs(g[j] - (fp - fm) / (2 * h)));
         for (int l = 0; l < nv; ++l) {

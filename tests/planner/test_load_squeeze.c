@@ -40,7 +40,7 @@ static int valid(const hp_load_model *M, const double xi[6], const double *P, co
         hp_load_indentation(M, xi, P, ratio) != HP_OK)
         return 0;
     for (int i = 0; i < 6; ++i)
-        if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hp_load_unit(i) / 1e-3) <= 1e-9)) return 0;
+        if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hpi_load_unit(i) / 1e-3) <= 1e-9)) return 0;
     for (int k = 0; k < M->layout.n; ++k)
         if (!(P[k] >= lo[k] && P[k] <= hi[k] && ratio[k] <= HP_LOAD_INDENT_MAX + 1e-9)) return 0;
     return 1;
@@ -106,9 +106,9 @@ static void test_least_squeeze_is_least(void **state)
             for (int start = 0; start < 24; ++start) {
                 double P0[HP_MAX_BLADDERS], Pr[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS];
                 for (int k = 0; k < n; ++k) P0[k] = fmax(lo[k], 0.0) + lcg(&seed) * (hi[k] - fmax(lo[k], 0.0));
-                hp_load_solve_status st =
-                    start % 2 ? hp_load_hold_with(hp_load_hold_ipopt, M, xi, lo, hi, zero, P0, 200, 0, Pr, F, NULL, NULL)
-                              : hp_load_hold(M, xi, lo, hi, zero, P0, 200, Pr, F, NULL);
+                hpi_load_solve_status st =
+                    start % 2 ? hpi_load_hold_with(hpi_load_hold_ipopt, M, xi, lo, hi, zero, P0, 200, 0, Pr, F, NULL, NULL)
+                              : hpi_load_hold(M, xi, lo, hi, zero, P0, 200, Pr, F, NULL);
                 if (st == HP_LOAD_SOLVE_OK && valid(M, xi, Pr, lo, hi))
                     best = fmin(best, squeeze(Pr, n));
             }

@@ -13,8 +13,8 @@ static void decimals_within_buffer(void **state)
     int decs[] = {15, 16, 17, 40};
     for (size_t i = 0; i < sizeof decs / sizeof decs[0]; ++i) {
         char buf[HP_DIAG_MAX];
-        hp_text_set(buf, "");
-        hp_text_add_num(buf, 0.0, decs[i]);
+        hpi_text_set(buf, "");
+        hpi_text_add_num(buf, 0.0, decs[i]);
         assert_string_equal(buf, zeros15);
     }
 }
@@ -23,11 +23,11 @@ static void ordinary_decimals(void **state)
 {
     (void)state;
     char buf[HP_DIAG_MAX];
-    hp_text_set(buf, "");
-    hp_text_add_num(buf, -1.25, 3);
+    hpi_text_set(buf, "");
+    hpi_text_add_num(buf, -1.25, 3);
     assert_string_equal(buf, "-1.250");
-    hp_text_set(buf, "");
-    hp_text_add_num(buf, 7.0, 0);
+    hpi_text_set(buf, "");
+    hpi_text_add_num(buf, 7.0, 0);
     assert_string_equal(buf, "7");
 }
 

@@ -37,7 +37,7 @@ static void nominal_touches(void **st)
     for (int k = 0; k < pb.n; k++) x[6 + k] = FX_RI * 1e3;
     for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_SURFACE; lv++) {
         pb.level = (hp_level)lv;
-        assert_int_equal(hp_problem_constraints(&pb, x, c, NULL, NULL, NULL), HP_OK);
+        assert_int_equal(hpi_problem_constraints(&pb, x, c, NULL, NULL, NULL), HP_OK);
         /* ri = Ri gives ro = Ro = 30 mm exactly and the bladders were placed touching at
          * Ro: c = 0 up to the rounding of 30 mm (1e-14) and of the contact root find. */
         for (int k = 0; k < pb.n; k++) hp_assert_close(c[k], 0.0, 0.0, 1e-9);
@@ -55,7 +55,7 @@ static void values_and_linear_jacobian(void **st)
     assert_int_equal(fx_problem(&L, &G, HP_LEVEL_LINEAR, d, &pb), HP_OK);
     double x[HP_PROBLEM_NX_MAX], c[HP_MAX_BLADDERS], jac[HP_MAX_BLADDERS * HP_PROBLEM_NX_MAX];
     test_point(&pb, x);
-    assert_int_equal(hp_problem_constraints(&pb, x, c, jac, NULL, NULL), HP_OK);
+    assert_int_equal(hpi_problem_constraints(&pb, x, c, jac, NULL, NULL), HP_OK);
     double xi[6] = {x[0] * 1e-3, x[1] * 1e-3, x[2] * 1e-3,
                     x[3] * PI / 180, x[4] * PI / 180, x[5] * PI / 180};
     double rho[HP_MAX_BLADDERS];
@@ -104,8 +104,8 @@ static void check_derivatives(hp_level level, double mu)
     double c[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * HP_PROBLEM_NX_MAX];
     double lam[HP_MAX_BLADDERS], HL[HP_PROBLEM_NX_MAX * HP_PROBLEM_NX_MAX] = {0};
     for (int k = 0; k < n; k++) lam[k] = 0.7 - 0.3 * k;
-    assert_int_equal(hp_problem_objective(&pb, x, &f, g, H), HP_OK);
-    assert_int_equal(hp_problem_constraints(&pb, x, c, J, lam, HL), HP_OK);
+    assert_int_equal(hpi_problem_objective(&pb, x, &f, g, H), HP_OK);
+    assert_int_equal(hpi_problem_constraints(&pb, x, c, J, lam, HL), HP_OK);
 
     double worst_g = 0, worst_h = 0, worst_j = 0, worst_hl = 0;
     for (int j = 0; j < nx; j++) {
@@ -117,10 +117,10 @@ static void check_derivatives(hp_level level, double mu)
         double fp, fm, gp[HP_PROBLEM_NX_MAX], gm[HP_PROBLEM_NX_MAX];
         double cp[HP_MAX_BLADDERS], cm[HP_MAX_BLADDERS];
         double Jp[HP_MAX_BLADDERS * HP_PROBLEM_NX_MAX], Jm[HP_MAX_BLADDERS * HP_PROBLEM_NX_MAX];
-        assert_int_equal(hp_problem_objective(&pb, xp, &fp, gp, NULL), HP_OK);
-        assert_int_equal(hp_problem_objective(&pb, xm, &fm, gm, NULL), HP_OK);
-        assert_int_equal(hp_problem_constraints(&pb, xp, cp, Jp, NULL, NULL), HP_OK);
-        assert_int_equal(hp_problem_constraints(&pb, xm, cm, Jm, NULL, NULL), HP_OK);
+        assert_int_equal(hpi_problem_objective(&pb, xp, &fp, gp, NULL), HP_OK);
+        assert_int_equal(hpi_problem_objective(&pb, xm, &fm, gm, NULL), HP_OK);
+        assert_int_equal(hpi_problem_constraints(&pb, xp, cp, Jp, NULL, NULL), HP_OK);
+        assert_int_equal(hpi_problem_constraints(&pb, xm, cm, Jm, NULL, NULL), HP_OK);
         double fd = (fp - fm) / (2 * FD_H);
         worst_g = fmax(worst_g, fabs(fd - g[j]));
         hp_assert_close(g[j], fd, FD_REL, FD_ABS);
@@ -177,8 +177,8 @@ static void constraints_hessian_adds(void **st)
     double h0[HP_PROBLEM_NX_MAX * HP_PROBLEM_NX_MAX] = {0};
     double h1[HP_PROBLEM_NX_MAX * HP_PROBLEM_NX_MAX];
     for (int i = 0; i < nx * nx; i++) h1[i] = 3.0;
-    assert_int_equal(hp_problem_constraints(&pb, x, NULL, NULL, lam, h0), HP_OK);
-    assert_int_equal(hp_problem_constraints(&pb, x, NULL, NULL, lam, h1), HP_OK);
+    assert_int_equal(hpi_problem_constraints(&pb, x, NULL, NULL, lam, h0), HP_OK);
+    assert_int_equal(hpi_problem_constraints(&pb, x, NULL, NULL, lam, h1), HP_OK);
     for (int i = 0; i < nx * nx; i++) hp_assert_close(h1[i], h0[i] + 3.0, 1e-15, 1e-14);
     /* pose–radius cross terms are zero (the structure Ipopt is given relies on it) */
     for (int i = 0; i < 6; i++)
@@ -195,16 +195,16 @@ static void rejects_bad_input(void **st)
     double x[HP_PROBLEM_NX_MAX], f, c[HP_MAX_BLADDERS];
     test_point(&pb, x);
     x[2] = NAN;
-    assert_int_equal(hp_problem_objective(&pb, x, &f, NULL, NULL), HP_ERR_INVALID);
-    assert_int_equal(hp_problem_constraints(&pb, x, c, NULL, NULL, NULL), HP_ERR_INVALID);
+    assert_int_equal(hpi_problem_objective(&pb, x, &f, NULL, NULL), HP_ERR_INVALID);
+    assert_int_equal(hpi_problem_constraints(&pb, x, c, NULL, NULL, NULL), HP_ERR_INVALID);
     test_point(&pb, x);
     x[7] = -1.0; /* ri <= 0: outside the bladder model */
-    assert_int_not_equal(hp_problem_constraints(&pb, x, c, NULL, NULL, NULL), HP_OK);
+    assert_int_not_equal(hpi_problem_constraints(&pb, x, c, NULL, NULL, NULL), HP_OK);
     pb.mu = 1e-8;
-    assert_int_not_equal(hp_problem_objective(&pb, x, &f, NULL, NULL), HP_OK);
-    assert_int_equal(hp_problem_objective(NULL, x, &f, NULL, NULL), HP_ERR_NULL);
+    assert_int_not_equal(hpi_problem_objective(&pb, x, &f, NULL, NULL), HP_OK);
+    assert_int_equal(hpi_problem_objective(NULL, x, &f, NULL, NULL), HP_ERR_NULL);
     pb.nx = 7;
-    assert_int_equal(hp_problem_constraints(&pb, x, c, NULL, NULL, NULL), HP_ERR_INVALID);
+    assert_int_equal(hpi_problem_constraints(&pb, x, c, NULL, NULL, NULL), HP_ERR_INVALID);
 }
 
 int main(void)

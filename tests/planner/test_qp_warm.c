@@ -1,4 +1,4 @@
-/* The QP's warm start (hp_qp_solve_warm, planner/qp.c) against the cold Goldfarb–Idnani
+/* The QP's warm start (hpi_qp_solve_warm, planner/qp.c) against the cold Goldfarb–Idnani
  * solve on thousands of seeded random QPs of the realtime backend's shape: guessed with the
  * true active set it gives the same answer to a tolerance derived from the conditioning;
  * guessed wrong (subsets, supersets, other sets, a twin pair) it falls back, and the fallback
@@ -93,14 +93,14 @@ static double cond_bound(const double *A, int k)
 {
     double L[NM * NM], tr = 0;
     if (k == 0) return 1.0;
-    if (!hp_cholesky(A, k, k, 0.0, L, k)) return INFINITY;
+    if (!hpi_cholesky(A, k, k, 0.0, L, k)) return INFINITY;
     for (int i = 0; i < k; ++i) tr += A[i * k + i];
-    return tr * hp_cholesky_inv_frob2(L, k, k);
+    return tr * hpi_cholesky_inv_frob2(L, k, k);
 }
 
 /* The conditioning the tolerances derive from: κ(G) and κ(S) of the scaled matrix
  * S_ij = C_i G⁻¹ C_jᵀ / (D_i D_j), D_i² = C_i G⁻¹ C_iᵀ, over the rows in set (computed here
- * with G⁻¹ by hp_cholesky_solve, not as the solver does). */
+ * with G⁻¹ by hpi_cholesky_solve, not as the solver does). */
 static void conditioning(const hp_qp *q, const int *set, double *kg, double *ks)
 {
     int n = q->n, idx[NM], k = 0;
@@ -108,10 +108,10 @@ static void conditioning(const hp_qp *q, const int *set, double *kg, double *ks)
         if (set[j] && k < NM) idx[k++] = j;
     double L[NM * NM], Gc[NM][NM], S[NM * NM], D[NM];
     *kg = cond_bound(q->G, n);
-    assert_int_equal(hp_cholesky(q->G, n, n, 0.0, L, n), 1);
+    assert_int_equal(hpi_cholesky(q->G, n, n, 0.0, L, n), 1);
     for (int c = 0; c < k; ++c) {
         for (int i = 0; i < n; ++i) Gc[c][i] = q->C[idx[c] * NM + i];
-        hp_cholesky_solve(L, n, n, Gc[c]);
+        hpi_cholesky_solve(L, n, n, Gc[c]);
         double s = 0;
         for (int i = 0; i < n; ++i) s += q->C[idx[c] * NM + i] * Gc[c][i];
         D[c] = sqrt(s);
@@ -181,8 +181,8 @@ static void compare(const hp_qp *w, const hp_qp *c)
     double xu[NM];
     double L[NM * NM];
     for (int i = 0; i < c->n; ++i) xu[i] = -c->a[i];
-    assert_int_equal(hp_cholesky(c->G, c->n, c->n, 0.0, L, c->n), 1);
-    hp_cholesky_solve(L, c->n, c->n, xu);
+    assert_int_equal(hpi_cholesky(c->G, c->n, c->n, 0.0, L, c->n), 1);
+    hpi_cholesky_solve(L, c->n, c->n, xu);
     double X = fmax(inf_norm(c->x, c->n), inf_norm(xu, c->n));
     double U = inf_norm(c->u, c->m) + inf_norm(c->a, c->n);
     double tx = 64 * EPS * kg * sqrt(ks) * X, tu = 64 * EPS * kg * ks * U;
@@ -208,7 +208,7 @@ static void test_warm_vs_cold(void **st)
         realtime_qp(&cold, &seed);
         int m = cold.m, n = cold.n;
         hp_qp base = cold;
-        hp_qp_status cs = hp_qp_solve(&cold, 200, 1e-12);
+        hp_qp_status cs = hpi_qp_solve(&cold, 200, 1e-12);
         if (cs != HP_QP_OPTIMAL) {
             /* a vertex whose feasible set is the point itself, emptied by the rounding of
              * b: the warm start, whatever the guess, must not find an answer either */
@@ -217,7 +217,7 @@ static void test_warm_vs_cold(void **st)
                 int g[HP_QP_MMAX];
                 for (int j = 0; j < m; ++j) g[j] = v == 0 ? 0 : test_rng_next(&seed) % 3 == 0;
                 w = base;
-                assert_int_equal(hp_qp_solve_warm(&w, NULL, g, 200, 1e-12), cs);
+                assert_int_equal(hpi_qp_solve_warm(&w, NULL, g, 200, 1e-12), cs);
                 assert_int_not_equal(w.warm, HP_QP_WARM_ACCEPTED);
             }
             continue;
@@ -228,7 +228,7 @@ static void test_warm_vs_cold(void **st)
 
         /* (i) the true active set */
         w = base;
-        assert_int_equal(hp_qp_solve_warm(&w, NULL, cold.active, 200, 1e-12), HP_QP_OPTIMAL);
+        assert_int_equal(hpi_qp_solve_warm(&w, NULL, cold.active, 200, 1e-12), HP_QP_OPTIMAL);
         if (w.warm == HP_QP_WARM_ACCEPTED) {
             ++accepted;
             compare(&w, &cold);
@@ -269,7 +269,7 @@ static void test_warm_vs_cold(void **st)
             }
             if (memcmp(g, cold.active, (size_t)m * sizeof *g) == 0) continue;
             w = base;
-            assert_int_equal(hp_qp_solve_warm(&w, NULL, g, 200, 1e-12), HP_QP_OPTIMAL);
+            assert_int_equal(hpi_qp_solve_warm(&w, NULL, g, 200, 1e-12), HP_QP_OPTIMAL);
             if (v == 2) assert_int_equal(w.warm, HP_QP_WARM_SHAPE);
             if (w.warm == HP_QP_WARM_ACCEPTED) {
                 /* a wrong set may pass only where the answer is degenerate (a row active
@@ -286,7 +286,7 @@ static void test_warm_vs_cold(void **st)
         int none[HP_QP_MMAX] = {0}, k = 0;
         for (int j = 0; j < m; ++j) k += cold.active[j];
         w = base;
-        assert_int_equal(hp_qp_solve_warm(&w, NULL, none, 200, 1e-12), HP_QP_OPTIMAL);
+        assert_int_equal(hpi_qp_solve_warm(&w, NULL, none, 200, 1e-12), HP_QP_OPTIMAL);
         if (k == 0) {
             assert_int_equal(w.warm, HP_QP_WARM_ACCEPTED);
             assert_int_equal(w.iterations, 0);
@@ -317,15 +317,15 @@ static void test_warm_factored_same_bits(void **st)
         hp_qp q, r;
         realtime_qp(&q, &seed);
         hp_qp cold = q;
-        hp_qp_status cs = hp_qp_solve(&cold, 200, 1e-12);
+        hp_qp_status cs = hpi_qp_solve(&cold, 200, 1e-12);
         int g[HP_QP_MMAX];
         memcpy(g, cold.active, sizeof g);
         if (t % 2 && q.m > 0) g[t % q.m] = !g[t % q.m];
         double L[NM * NM];
-        assert_int_equal(hp_cholesky(q.G, q.n, q.n, 0.0, L, q.n), 1);
+        assert_int_equal(hpi_cholesky(q.G, q.n, q.n, 0.0, L, q.n), 1);
         r = q;
-        assert_int_equal(hp_qp_solve_warm(&q, NULL, g, 200, 1e-12), cs);
-        assert_int_equal(hp_qp_solve_warm(&r, L, g, 200, 1e-12), cs);
+        assert_int_equal(hpi_qp_solve_warm(&q, NULL, g, 200, 1e-12), cs);
+        assert_int_equal(hpi_qp_solve_warm(&r, L, g, 200, 1e-12), cs);
         assert_int_equal(q.warm, r.warm);
         assert_same_bits(&q, &r);
     }
@@ -358,7 +358,7 @@ static void test_warm_refusals(void **st)
         q.b[j] = b[j];
     }
     hp_qp cold = q;
-    assert_int_equal(hp_qp_solve(&cold, 100, 1e-12), HP_QP_OPTIMAL);
+    assert_int_equal(hpi_qp_solve(&cold, 100, 1e-12), HP_QP_OPTIMAL);
     const int truth[8] = {1, 0, 1, 0, 0, 0, 0, 0};
     assert_memory_equal(cold.active, truth, sizeof truth);
     struct {
@@ -378,7 +378,7 @@ static void test_warm_refusals(void **st)
     };
     for (size_t c = 0; c < sizeof cases / sizeof *cases; ++c) {
         hp_qp w = q;
-        hp_qp_status s = hp_qp_solve_warm(&w, NULL, cases[c].g, cases[c].budget, 1e-12);
+        hp_qp_status s = hpi_qp_solve_warm(&w, NULL, cases[c].g, cases[c].budget, 1e-12);
         if (w.warm != cases[c].want) {
             print_error("case %zu: warm %d, want %d\n", c, w.warm, cases[c].want);
             fail();
@@ -393,7 +393,7 @@ static void test_warm_refusals(void **st)
     }
     /* the answer by hand: x = (1, 2, 10), multipliers of x0 <= 1 and x1 <= 2: 9 and 8 */
     hp_qp w = q;
-    assert_int_equal(hp_qp_solve_warm(&w, NULL, truth, 100, 1e-12), HP_QP_OPTIMAL);
+    assert_int_equal(hpi_qp_solve_warm(&w, NULL, truth, 100, 1e-12), HP_QP_OPTIMAL);
     assert_int_equal(w.iterations, 2);
     hp_assert_close(w.x[0], 1.0, 0, 1e-15);
     hp_assert_close(w.x[1], 2.0, 0, 1e-15);
@@ -402,7 +402,7 @@ static void test_warm_refusals(void **st)
     hp_assert_close(w.u[2], 8.0, 0, 1e-14);
     /* the guess may be the output array itself (the backend passes q->active) */
     w = cold;
-    assert_int_equal(hp_qp_solve_warm(&w, NULL, w.active, 100, 1e-12), HP_QP_OPTIMAL);
+    assert_int_equal(hpi_qp_solve_warm(&w, NULL, w.active, 100, 1e-12), HP_QP_OPTIMAL);
     assert_int_equal(w.warm, HP_QP_WARM_ACCEPTED);
     assert_memory_equal(w.active, truth, sizeof truth);
 }
@@ -420,7 +420,7 @@ static void test_warm_bad_input_and_infeasible(void **st)
     realtime_qp(&base, &seed);
     while (base.n < 3 || base.m < 4) realtime_qp(&base, &seed);
     hp_qp cold = base;
-    assert_int_equal(hp_qp_solve(&cold, 200, 1e-12), HP_QP_OPTIMAL);
+    assert_int_equal(hpi_qp_solve(&cold, 200, 1e-12), HP_QP_OPTIMAL);
     int g[HP_QP_MMAX] = {0};
     g[2] = 1; /* a guessed row, whatever the answer */
     for (int v = 0; v < 3; ++v) {
@@ -428,8 +428,8 @@ static void test_warm_bad_input_and_infeasible(void **st)
         for (size_t k = 0; k < sizeof where / sizeof *where; ++k) {
             hp_qp q = base;
             *(double *)((char *)&q + ((char *)where[k] - (char *)&base)) = bad[v];
-            assert_int_equal(hp_qp_solve_warm(&q, NULL, g, 200, 1e-12), HP_QP_BAD_INPUT);
-            assert_int_equal(hp_qp_solve_warm(&q, NULL, cold.active, 200, 1e-12),
+            assert_int_equal(hpi_qp_solve_warm(&q, NULL, g, 200, 1e-12), HP_QP_BAD_INPUT);
+            assert_int_equal(hpi_qp_solve_warm(&q, NULL, cold.active, 200, 1e-12),
                              HP_QP_BAD_INPUT);
         }
     }
@@ -446,7 +446,7 @@ static void test_warm_bad_input_and_infeasible(void **st)
     const int guesses[4][3] = {{1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 0}};
     for (int k = 0; k < 4; ++k) {
         hp_qp w = q;
-        assert_int_equal(hp_qp_solve_warm(&w, NULL, guesses[k], 100, 1e-12),
+        assert_int_equal(hpi_qp_solve_warm(&w, NULL, guesses[k], 100, 1e-12),
                          HP_QP_INFEASIBLE);
         assert_int_not_equal(w.warm, HP_QP_WARM_ACCEPTED);
     }
@@ -454,7 +454,7 @@ static void test_warm_bad_input_and_infeasible(void **st)
     q.b[2] = 1.0;
     for (int k = 0; k < 4; ++k) {
         hp_qp w = q;
-        assert_int_equal(hp_qp_solve_warm(&w, NULL, guesses[k], 100, 1e-12),
+        assert_int_equal(hpi_qp_solve_warm(&w, NULL, guesses[k], 100, 1e-12),
                          HP_QP_INFEASIBLE);
     }
 }
@@ -493,19 +493,19 @@ static void test_declared_pairs_same_bits(void **st)
         declared += p > 0;
         hp_qp cold = q, pc = q;
         pc.pairs = p;
-        hp_qp_status cs = hp_qp_solve(&cold, 200, 1e-12);
-        assert_int_equal(hp_qp_solve(&pc, 200, 1e-12), cs);
+        hp_qp_status cs = hpi_qp_solve(&cold, 200, 1e-12);
+        assert_int_equal(hpi_qp_solve(&pc, 200, 1e-12), cs);
         assert_same_bits(&pc, &cold);
         int g[HP_QP_MMAX];
         memcpy(g, cold.active, sizeof g);
         if (t % 2 && q.m > 0) g[t % q.m] = !g[t % q.m];
         double L[NM * NM];
-        assert_int_equal(hp_cholesky(q.G, q.n, q.n, 0.0, L, q.n), 1);
+        assert_int_equal(hpi_cholesky(q.G, q.n, q.n, 0.0, L, q.n), 1);
         for (int f = 0; f < 2; ++f) {
             hp_qp w0 = q, w1 = q;
             w1.pairs = p;
-            hp_qp_status ws = hp_qp_solve_warm(&w0, f ? L : NULL, g, 200, 1e-12);
-            assert_int_equal(hp_qp_solve_warm(&w1, f ? L : NULL, g, 200, 1e-12), ws);
+            hp_qp_status ws = hpi_qp_solve_warm(&w0, f ? L : NULL, g, 200, 1e-12);
+            assert_int_equal(hpi_qp_solve_warm(&w1, f ? L : NULL, g, 200, 1e-12), ws);
             assert_int_equal(w1.warm, w0.warm);
             assert_same_bits(&w1, &w0);
         }
@@ -517,17 +517,17 @@ static void test_declared_pairs_same_bits(void **st)
     for (int bad = 0; bad < 2; ++bad) {
         hp_qp w = q;
         w.pairs = bad ? -1 : w.m / 2 + 1;
-        assert_int_equal(hp_qp_solve(&w, 200, 1e-12), HP_QP_BAD_INPUT);
+        assert_int_equal(hpi_qp_solve(&w, 200, 1e-12), HP_QP_BAD_INPUT);
     }
     for (int r = 0; r < 2; ++r) {
         hp_qp w = q;
         w.pairs = 2;
         w.b[2 + r] = NAN;
-        assert_int_equal(hp_qp_solve(&w, 200, 1e-12), HP_QP_BAD_INPUT);
+        assert_int_equal(hpi_qp_solve(&w, 200, 1e-12), HP_QP_BAD_INPUT);
         w = q;
         w.pairs = 2;
         w.C[2 * NM] = INFINITY; /* the checked row of a declared pair */
-        assert_int_equal(hp_qp_solve(&w, 200, 1e-12), HP_QP_BAD_INPUT);
+        assert_int_equal(hpi_qp_solve(&w, 200, 1e-12), HP_QP_BAD_INPUT);
     }
 }
 
@@ -560,7 +560,7 @@ static void test_dense_fixed_sizes_same_bits(void **st)
                 Lr[i * ld + j] = u / Lr[j * ld + j];
             }
         }
-        assert_int_equal(hp_cholesky(A, ld, n, 0.0, L, ld), 1);
+        assert_int_equal(hpi_cholesky(A, ld, n, 0.0, L, ld), 1);
         for (int i = 0; i < n; ++i)
             assert_memory_equal(&L[i * ld], &Lr[i * ld], (size_t)(i + 1) * sizeof *L);
         for (int i = 0; i < n; ++i) b[i] = br[i] = lf_uniform(&seed);
@@ -572,7 +572,7 @@ static void test_dense_fixed_sizes_same_bits(void **st)
             for (int k = i + 1; k < n; ++k) br[i] -= Lr[k * ld + i] * br[k];
             br[i] /= Lr[i * ld + i];
         }
-        hp_cholesky_solve(L, ld, n, b);
+        hpi_cholesky_solve(L, ld, n, b);
         assert_memory_equal(b, br, (size_t)n * sizeof *b);
         double fr = 0, x[10];
         for (int j = 0; j < n; ++j)
@@ -582,7 +582,7 @@ static void test_dense_fixed_sizes_same_bits(void **st)
                 x[i] = u / Lr[i * ld + i];
                 fr += x[i] * x[i];
             }
-        double got = hp_cholesky_inv_frob2(L, ld, n);
+        double got = hpi_cholesky_inv_frob2(L, ld, n);
         assert_memory_equal(&got, &fr, sizeof fr);
     }
 }

@@ -1,6 +1,6 @@
 /* The rate limits' radius bounds, and what a plan pays for them.
  *
- * 1. hp_setup_cycle_bounds gives, bit for bit, the bounds of the cold reference written out
+ * 1. hpi_setup_cycle_bounds gives, bit for bit, the bounds of the cold reference written out
  *    here from the public bladder API alone: each window end's radius by hp_iab_fk_limit
  *    from no start, then moved inward by the nudge (steps of 1e-16 of the radius, doubling)
  *    until hp_iab_ik puts its pressure inside the window, intersected with the static
@@ -10,7 +10,7 @@
  * 2. hp_plan defers those bounds: a plan whose direct chain answers with every pressure
  *    clear of its rate window (by the margin of problem_setup.h) solves none of them (the
  *    counter of problem_setup.h), and every plan, deferred or not, equals bit for bit the
- *    plan of a planner that solves the bounds first (hp_test_rate_lazy(0)), over seeded
+ *    plan of a planner that solves the bounds first (hpi_test_rate_lazy(0)), over seeded
  *    chains of corrections at every level, small steps (nothing binds) and large ones (the
  *    rate limits bind). */
 #include "support/test_util.h"
@@ -18,7 +18,7 @@
 #include "planner/problem_setup.h"
 #include "common/units.h"
 
-/* The reference nudges: the cold path hp_setup_cycle_bounds had before it was made cheap. */
+/* The reference nudges: the cold path hpi_setup_cycle_bounds had before it was made cheap. */
 static int ref_nudge(const hp_iab *b, double *ri, double p, int up)
 {
     double r = *ri, step = fabs(r) * 1e-16;
@@ -71,7 +71,7 @@ static void test_bounds_equal_cold_reference(void **state)
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);
     hp_static_bounds sb;
-    assert_int_equal(hp_setup_static_bounds(&L, &sb, NULL), HP_OK);
+    assert_int_equal(hpi_setup_static_bounds(&L, &sb, NULL), HP_OK);
     uint64_t seed = 0x5eed32;
     long checked = 0, refused = 0, rate_bound = 0;
     for (int t = 0; t < 3000; ++t) {
@@ -86,7 +86,7 @@ static void test_bounds_equal_cold_reference(void **state)
         }
         hp_problem pb;
         unsigned lof[HP_MAX_BLADDERS], hif[HP_MAX_BLADDERS];
-        hp_error e = hp_setup_cycle_bounds(&L, &sb, P, 1, &pb, lof, hif, NULL);
+        hp_error e = hpi_setup_cycle_bounds(&L, &sb, P, 1, &pb, lof, hif, NULL);
         int all_ok = 1;
         for (int k = 0; k < L.n; ++k) {
             double lo, hi;
@@ -152,13 +152,13 @@ static int chain(hp_level level, double rate, double step_mm, double step_deg, i
         }
         lf_pose(mm_deg, d);
         hp_result ra, rb;
-        hp_test_rate_lazy(1);
-        unsigned long before = hp_test_rate_bound_solves();
+        hpi_test_rate_lazy(1);
+        unsigned long before = hpi_test_rate_bound_solves();
         assert_int_equal(hp_plan(a, d, &ra), HP_OK);
-        free_plans += hp_test_rate_bound_solves() == before;
-        hp_test_rate_lazy(0);
+        free_plans += hpi_test_rate_bound_solves() == before;
+        hpi_test_rate_lazy(0);
         assert_int_equal(hp_plan(b, d, &rb), HP_OK);
-        hp_test_rate_lazy(1);
+        hpi_test_rate_lazy(1);
         for (int k = 0; k < ra.n; ++k)
             *binding += (ra.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP)) != 0;
         if (!same_result(&ra, &rb)) {
@@ -214,12 +214,12 @@ static void test_held_answer_reuses_its_bounds(void **state)
         unsigned long held = 0;
         int same = 0;
         for (int t = 0; t < 60; ++t) {
-            unsigned long before = hp_test_rate_bound_solves();
+            unsigned long before = hpi_test_rate_bound_solves();
             assert_int_equal(hp_plan(p, d, &r), HP_OK);
             assert_int_equal(r.status, HP_STATUS_CLOSEST);
             int repeat = t > 0 && same_result(&r, &last);
-            if (t >= 40) solves += hp_test_rate_bound_solves() - before;
-            if (repeat && t >= 40) held += hp_test_rate_bound_solves() - before, ++same;
+            if (t >= 40) solves += hpi_test_rate_bound_solves() - before;
+            if (repeat && t >= 40) held += hpi_test_rate_bound_solves() - before, ++same;
             last = r;
         }
         print_message("%s: %d of the last 20 plans repeated the answer, %lu rate bounds "

@@ -365,12 +365,12 @@ static void test_closest_plane_far(void **s)
     /* The backend's less travelled paths, counted through the planner (backend_testing.h):
      * these targets must walk every one of them, and every answer above passes the KKT
      * check against brute force. */
-    hp_test_realtime_count(1);
+    hpi_test_realtime_count(1);
     nonlinear_closest_at(HP_LEVEL_PLANE, 30.0, 4242);
     nonlinear_closest_at(HP_LEVEL_SURFACE, 30.0, 4242);
-    hp_test_realtime_count(0);
+    hpi_test_realtime_count(0);
     hp_test_rt_counts c;
-    hp_test_realtime_counts(&c);
+    hpi_test_realtime_counts(&c);
     print_message("paths: %ld solves, %ld QPs (%ld warm starts accepted), %ld SOC re-solves "
                   "(%ld warm), %ld trials kept the Hessians, %ld answers' radii extrapolated "
                   "(%ld refused)\n", c.solves, c.qps, c.qp_warm, c.soc, c.soc_warm, c.h_kept,
@@ -393,7 +393,7 @@ static void test_rho_step_refused(void **s)
     (void)s;
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);
-    hp_test_realtime_count(1);
+    hpi_test_realtime_count(1);
     for (int lv = HP_LEVEL_PLANE; lv <= HP_LEVEL_SURFACE; ++lv) {
         hp_settings st;
         hp_settings_default(&st);
@@ -416,9 +416,9 @@ static void test_rho_step_refused(void **s)
         }
         hp_planner_destroy(p);
     }
-    hp_test_realtime_count(0);
+    hpi_test_realtime_count(0);
     hp_test_rt_counts c;
-    hp_test_realtime_counts(&c);
+    hpi_test_realtime_counts(&c);
     print_message("tolerance 1e-3: %ld solves, %ld answers extrapolated, %ld refused by the "
                   "step bound\n", c.solves, c.rho_step, c.rho_refused);
     assert_true(c.rho_refused > 0);
@@ -535,13 +535,13 @@ static void test_budget_clock(void **s)
     if (clock_getres(CLOCK_MONOTONIC_COARSE, &res) == 0) {
         double tick = (double)res.tv_sec + 1e-9 * (double)res.tv_nsec;
         assert_true(tick > 0);
-        assert_int_equal(hp_test_realtime_coarse_clock(200.0 * tick), 1);
-        assert_int_equal(hp_test_realtime_coarse_clock(100.0 * tick), 1);
-        assert_int_equal(hp_test_realtime_coarse_clock(nextafter(100.0 * tick, 0.0)), 0);
-        assert_int_equal(hp_test_realtime_coarse_clock(50.0 * tick), 0);
-        assert_int_equal(hp_test_realtime_coarse_clock(1e-9), tick <= 1e-11);
+        assert_int_equal(hpi_test_realtime_coarse_clock(200.0 * tick), 1);
+        assert_int_equal(hpi_test_realtime_coarse_clock(100.0 * tick), 1);
+        assert_int_equal(hpi_test_realtime_coarse_clock(nextafter(100.0 * tick, 0.0)), 0);
+        assert_int_equal(hpi_test_realtime_coarse_clock(50.0 * tick), 0);
+        assert_int_equal(hpi_test_realtime_coarse_clock(1e-9), tick <= 1e-11);
     } else {
-        assert_int_equal(hp_test_realtime_coarse_clock(1e9), 0);
+        assert_int_equal(hpi_test_realtime_coarse_clock(1e9), 0);
     }
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);

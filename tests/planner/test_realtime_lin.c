@@ -1,6 +1,6 @@
 /* The realtime backend's linearisation point (hp_backend_result's has_lin, lin_x, lin_rho,
  * lin_J), which the round trip's certificate takes as the model at lin_x: whenever it is
- * handed over, a fresh evaluation of the model at lin_x (hp_contact_eval_g) gives the same
+ * handed over, a fresh evaluation of the model at lin_x (hpi_contact_eval_g) gives the same
  * distances and Jacobian to rounding, lin_x is a rounding-level step from the answer, and
  * the answer's own distances are handed over too. Cold and warm solves (each target
  * started from the last answer), reachable and binding targets, plane and surface levels,
@@ -23,8 +23,8 @@ static void check_lin(const hp_problem *pb, const double *x, const hp_backend_re
      * point was clean: the core takes lin_* only with has_rho (plan.c). */
     if (fault == HP_TEST_FAULT_NONE) assert_true(r->has_rho);
     double xi[6], rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], step = 0.0, jmax = 0.0;
-    hp_setup_pose_from_scaled(r->lin_x, xi);
-    assert_int_equal(hp_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho, J, NULL), HP_OK);
+    hpi_setup_pose_from_scaled(r->lin_x, xi);
+    assert_int_equal(hpi_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho, J, NULL), HP_OK);
     for (int i = 0; i < 6; ++i) step = fmax(step, fabs(x[i] - r->lin_x[i]));
     /* "a rounding-level step": the backend's RT_FULL_STEP is far below 1e-3 mm/deg */
     assert_true(step <= 1e-3);
@@ -63,8 +63,8 @@ static void run(hp_level level, int fault)
     assert_int_equal(fx_problem(&L, &G, level, d0, &pb), HP_OK);
     void *state = NULL;
     hp_diag dg = {{0}};
-    assert_int_equal(hp_backend_realtime_ops.create(&state, &pb, &s, &dg), HP_OK);
-    hp_test_realtime_fault(fault);
+    assert_int_equal(hpi_backend_realtime_ops.create(&state, &pb, &s, &dg), HP_OK);
+    hpi_test_realtime_fault(fault);
     double x[HP_PROBLEM_NX_MAX] = {0}, xprev[HP_PROBLEM_NX_MAX] = {0};
     int have_prev = 0;
     for (int t = 0; t < 120; ++t) {
@@ -72,7 +72,7 @@ static void run(hp_level level, int fault)
         double a = 12.0 * sin(t / 19.0), dir[6] = {1.0, -0.6, 0.45, 0.3, -0.2, 0.15};
         for (int i = 0; i < 6; ++i) pb.d[i] = a * dir[i] * (t % 7 == 3 ? -1.0 : 1.0);
         hp_backend_result r;
-        hp_error e = hp_backend_realtime_ops.solve(state, &pb, have_prev && t % 5 ? xprev : NULL,
+        hp_error e = hpi_backend_realtime_ops.solve(state, &pb, have_prev && t % 5 ? xprev : NULL,
                                                    x, &r, &dg);
         if (fault != HP_TEST_FAULT_NONE) {
             check_lin(&pb, x, &r, fault); /* the model itself is clean */
@@ -83,8 +83,8 @@ static void run(hp_level level, int fault)
         memcpy(xprev, x, sizeof xprev);
         have_prev = 1;
     }
-    hp_test_realtime_fault(HP_TEST_FAULT_NONE);
-    hp_backend_realtime_ops.destroy(state);
+    hpi_test_realtime_fault(HP_TEST_FAULT_NONE);
+    hpi_backend_realtime_ops.destroy(state);
 }
 
 static void lin_point_is_the_model(void **st)

@@ -55,13 +55,13 @@ static void test_random_kkt(void **st)
     for (int t = 0; t < 2000; ++t) {
         int n = 1 + (int)(test_rng_next(&seed) % 6), m = (int)(test_rng_next(&seed) % (HP_QP_MMAX + 1));
         random_qp(&q, &seed, n, m);
-        assert_int_equal(hp_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
+        assert_int_equal(hpi_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
         /* 1e-9: the data are O(10), the factorisations well conditioned (G >= I). */
         check_kkt(&q, 1e-9);
     }
 }
 
-/* A caller's Cholesky factor of G (hp_qp_solve_factored, as the realtime backend passes
+/* A caller's Cholesky factor of G (hpi_qp_solve_factored, as the realtime backend passes
  * the factor of its convexity test) gives the same answer as the solver's own
  * factorisation, bit for bit: it is the same computation, done once instead of twice. */
 static void test_factored_same_bits(void **st)
@@ -74,10 +74,10 @@ static void test_factored_same_bits(void **st)
         random_qp(&q, &seed, n, m);
         double L[HP_QP_NMAX * HP_QP_NMAX];
         for (int i = 0; i < n * n; ++i) L[i] = NAN; /* entries above the diagonal: not read */
-        assert_int_equal(hp_cholesky(q.G, n, n, 0.1, L, n), 1);
+        assert_int_equal(hpi_cholesky(q.G, n, n, 0.1, L, n), 1);
         memcpy(&r, &q, sizeof r);
-        assert_int_equal(hp_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
-        assert_int_equal(hp_qp_solve_factored(&r, L, 200, 1e-12), HP_QP_OPTIMAL);
+        assert_int_equal(hpi_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
+        assert_int_equal(hpi_qp_solve_factored(&r, L, 200, 1e-12), HP_QP_OPTIMAL);
         assert_memory_equal(q.x, r.x, sizeof q.x);
         assert_memory_equal(q.u, r.u, sizeof q.u);
         assert_memory_equal(q.active, r.active, sizeof q.active);
@@ -110,7 +110,7 @@ static void test_degenerate(void **st)
     }
     memcpy(&q.C[12 * HP_QP_NMAX], &q.C[0], 3 * sizeof(double));
     q.b[12] = q.b[0];
-    assert_int_equal(hp_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
+    assert_int_equal(hpi_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
     check_kkt(&q, 1e-9);
     /* KKT above is the proof of optimality; as a second check, the shared vertex
      * (1, 1, 1) is feasible, so it cannot have a lower objective than the answer. */
@@ -134,17 +134,17 @@ static void test_infeasible(void **st)
     q.b[0] = 1.0;
     q.C[HP_QP_NMAX] = -1.0;   /* −x0 >= 0, i.e. x0 <= 0 */
     q.b[1] = 0.0;
-    assert_int_equal(hp_qp_solve(&q, 100, 1e-12), HP_QP_INFEASIBLE);
+    assert_int_equal(hpi_qp_solve(&q, 100, 1e-12), HP_QP_INFEASIBLE);
     /* bad input: G not positive definite, NaN in b, zero budget */
     q.b[1] = -5.0;
     q.G[3] = -1.0;
-    assert_int_equal(hp_qp_solve(&q, 100, 1e-12), HP_QP_BAD_INPUT);
+    assert_int_equal(hpi_qp_solve(&q, 100, 1e-12), HP_QP_BAD_INPUT);
     q.G[3] = 1.0;
     q.b[0] = NAN;
-    assert_int_equal(hp_qp_solve(&q, 100, 1e-12), HP_QP_BAD_INPUT);
+    assert_int_equal(hpi_qp_solve(&q, 100, 1e-12), HP_QP_BAD_INPUT);
     q.b[0] = 1.0;
-    assert_int_equal(hp_qp_solve(&q, 0, 1e-12), HP_QP_BAD_INPUT);
-    assert_int_equal(hp_qp_solve(&q, 100, 1e-12), HP_QP_OPTIMAL);
+    assert_int_equal(hpi_qp_solve(&q, 0, 1e-12), HP_QP_BAD_INPUT);
+    assert_int_equal(hpi_qp_solve(&q, 100, 1e-12), HP_QP_OPTIMAL);
     hp_assert_close(q.x[0], 1.0, 0, 1e-15);
 }
 
@@ -264,7 +264,7 @@ static void test_random_vs_enumeration(void **st)
         double xr[HP_QP_NMAX], ur[HP_QP_MMAX];
         int ar[HP_QP_MMAX];
         assert_true(enumerate_qp(&q, xr, ur, ar));
-        assert_int_equal(hp_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
+        assert_int_equal(hpi_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
         for (int i = 0; i < n; ++i) hp_assert_close(q.x[i], xr[i], 1e-8, 1e-8);
         for (int j = 0; j < m; ++j) {
             hp_assert_close(q.u[j], ur[j], 1e-8, 1e-8);
@@ -292,10 +292,10 @@ static void bad_input_at(int n, int factored)
     for (int c = 1; c < 6; c += 2)
         for (int i = 0; i < n; ++i) base.C[c * HP_QP_NMAX + i] = -base.C[(c - 1) * HP_QP_NMAX + i];
     double Lg[36] = {0};
-    assert_true(hp_cholesky(base.G, n, n, 0.0, Lg, n));
+    assert_true(hpi_cholesky(base.G, n, n, 0.0, Lg, n));
     const double *L = factored ? Lg : NULL;
     hp_qp q = base;
-    assert_int_equal(hp_qp_solve_factored(&q, L, 100, 1e-12), HP_QP_OPTIMAL);
+    assert_int_equal(hpi_qp_solve_factored(&q, L, 100, 1e-12), HP_QP_OPTIMAL);
     for (int v = 0; v < 3; ++v) {
         /* with a factor given, G's lower triangle is the factor's business (qp.h) */
         double *where[] = {&q.G[0 * n + 3], &q.G[2 * n + 3], &q.a[1], &q.b[4],
@@ -305,7 +305,7 @@ static void bad_input_at(int n, int factored)
         for (size_t w = 0; w < nw; ++w) {
             q = base;
             *where[w] = bad[v];
-            if (!(hp_qp_solve_factored(&q, L, 100, 1e-12) == HP_QP_BAD_INPUT)) {
+            if (!(hpi_qp_solve_factored(&q, L, 100, 1e-12) == HP_QP_BAD_INPUT)) {
                 print_error("n %d factored %d: value %g at input %zu not refused\n", n, factored,
                             bad[v], w);
                 fail();
@@ -316,12 +316,12 @@ static void bad_input_at(int n, int factored)
             memcpy(Lb, Lg, sizeof Lb);
             Lb[2 * n + 2] = bad[v] == -INFINITY ? INFINITY : bad[v];
             q = base;
-            assert_int_equal(hp_qp_solve_factored(&q, Lb, 100, 1e-12), HP_QP_BAD_INPUT);
+            assert_int_equal(hpi_qp_solve_factored(&q, Lb, 100, 1e-12), HP_QP_BAD_INPUT);
         }
     }
     q = base;
     q.C[2 * HP_QP_NMAX + 0] = 1e200; /* |row|² = 1e400 overflows */
-    assert_int_equal(hp_qp_solve_factored(&q, L, 100, 1e-12), HP_QP_BAD_INPUT);
+    assert_int_equal(hpi_qp_solve_factored(&q, L, 100, 1e-12), HP_QP_BAD_INPUT);
 }
 
 static void test_bad_input_everywhere(void **st)

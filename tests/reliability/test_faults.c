@@ -165,22 +165,22 @@ static const fault_case cases[] = {
 static void set_hook(enum hook h, int v)
 {
     switch (h) {
-    case H_IPOPT_FAULT: hp_test_ipopt_fault(v); break;
-    case H_IPOPT_FORCE: hp_test_ipopt_force_status(v); break;
-    case H_NLOPT_FAULT: hp_test_nlopt_fault(v); break;
-    case H_NLOPT_FORCE: hp_test_nlopt_force_result(v); break;
-    case H_RT_FAULT: hp_test_realtime_fault(v); break;
+    case H_IPOPT_FAULT: hpi_test_ipopt_fault(v); break;
+    case H_IPOPT_FORCE: hpi_test_ipopt_force_status(v); break;
+    case H_NLOPT_FAULT: hpi_test_nlopt_fault(v); break;
+    case H_NLOPT_FORCE: hpi_test_nlopt_force_result(v); break;
+    case H_RT_FAULT: hpi_test_realtime_fault(v); break;
     default: break;
     }
 }
 
 static void clear_hooks(void)
 {
-    hp_test_ipopt_fault(HP_TEST_FAULT_NONE);
-    hp_test_ipopt_force_status(HP_TEST_NO_FORCE);
-    hp_test_nlopt_fault(HP_TEST_FAULT_NONE);
-    hp_test_nlopt_force_result(HP_TEST_NO_FORCE);
-    hp_test_realtime_fault(HP_TEST_FAULT_NONE);
+    hpi_test_ipopt_fault(HP_TEST_FAULT_NONE);
+    hpi_test_ipopt_force_status(HP_TEST_NO_FORCE);
+    hpi_test_nlopt_fault(HP_TEST_FAULT_NONE);
+    hpi_test_nlopt_force_result(HP_TEST_NO_FORCE);
+    hpi_test_realtime_fault(HP_TEST_FAULT_NONE);
 }
 
 static int mismatches;
@@ -307,8 +307,8 @@ static void hooks_inert_by_default(void **st)
     hp_planner *a = rel_planner(&L, HP_BACKEND_REALTIME, HP_LEVEL_SURFACE, INFINITY, 0);
     hp_result r1, r2;
     assert_int_equal(hp_plan(a, far_target, &r1), HP_OK);
-    hp_test_realtime_fault(HP_TEST_FAULT_NAN_CONTACT);
-    hp_test_realtime_fault(HP_TEST_FAULT_NONE);
+    hpi_test_realtime_fault(HP_TEST_FAULT_NAN_CONTACT);
+    hpi_test_realtime_fault(HP_TEST_FAULT_NONE);
     hp_planner_reset(a);
     assert_int_equal(hp_plan(a, far_target, &r2), HP_OK);
     assert_int_equal(r1.status, HP_STATUS_CLOSEST);

@@ -373,7 +373,7 @@ static void plan_never_blocks(void **st)
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);
     signal(SIGALRM, on_alarm);
-    hp_test_ipopt_lock(1);
+    hpi_test_ipopt_lock(1);
     alarm(120);
     for (int bi = 0; bi < 4; ++bi) {
         if (rel_backends[bi] == HP_BACKEND_IPOPT) continue; /* documented: it waits */
@@ -395,7 +395,7 @@ static void plan_never_blocks(void **st)
         }
     }
     alarm(0);
-    hp_test_ipopt_lock(0);
+    hpi_test_ipopt_lock(0);
     signal(SIGALRM, SIG_DFL);
 }
 

@@ -30,18 +30,18 @@ static void check_answer(hp_planner *p, const hp_layout *L, hp_level level, cons
 {
     if (r->status != HP_STATUS_REACHED && r->status != HP_STATUS_CLOSEST) return;
     ++confirmed;
-    /* The planner's own radii (as hp_plan_round_trip inverts them), then the fit from the
+    /* The planner's own radii (as hpi_plan_round_trip inverts them), then the fit from the
      * nominal pose with no near at all: no certificate and no arrived test. */
     double ro[HP_MAX_BLADDERS], xf[6], xi[6], resid = INFINITY, a[6], b[6], w = 0.0;
     for (int k = 0; k < L->n; ++k) {
         double ri;
-        if (hp_iab_s_fk_limit_warm_ro(&p->sb.iab_s[k], &p->sb.limit[k], r->bladders[k].pressure,
+        if (hpi_iab_s_fk_limit_warm_ro(&p->sb.iab_s[k], &p->sb.limit[k], r->bladders[k].pressure,
                                       r->bladders[k].ri, &ri, &ro[k]) != HP_OK)
             ro[k] = r->bladders[k].ro;
     }
-    hp_error e = hp_plan_fit_from_nominal(p, ro, p->commanded, NULL, xf, &resid);
-    hp_plan_to_scaled(r->achieved, a);
-    hp_plan_to_scaled(xf, b);
+    hp_error e = hpi_plan_fit_from_nominal(p, ro, p->commanded, NULL, xf, &resid);
+    hpi_plan_to_scaled(r->achieved, a);
+    hpi_plan_to_scaled(xf, b);
     for (int j = 0; j < 6; ++j) w = fmax(w, fabs(a[j] - b[j]));
     int ok = e == HP_OK && (w <= HP_IDENT_FK_TOL ||
                             (w <= HP_IDENT_SAME && resid * HP_MM_PER_M <= HP_IDENT_FIT_MM));

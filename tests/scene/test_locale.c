@@ -40,8 +40,8 @@ static void test_comma_locale(void **state)
     hp_trace_row want, got;
     read_trace(trace, &want);
     double w1, w2, g1, g2;
-    assert_null(hp_strict_double("77.5", 4, &w1));
-    assert_null(hp_strict_double("1.0000000000000002e-300", 23, &w2));
+    assert_null(hpi_strict_double("77.5", 4, &w1));
+    assert_null(hpi_strict_double("1.0000000000000002e-300", 23, &w2));
 
     if (!comma_locale()) {
         print_message("no comma-decimal locale could be set or built: skipped\n");
@@ -54,8 +54,8 @@ static void test_comma_locale(void **state)
     assert_memory_equal(&in_c, &in_comma, sizeof in_c);
     read_trace(trace, &got);
     assert_memory_equal(&want, &got, sizeof want);
-    assert_null(hp_strict_double("77.5", 4, &g1));
-    assert_null(hp_strict_double("1.0000000000000002e-300", 23, &g2));
+    assert_null(hpi_strict_double("77.5", 4, &g1));
+    assert_null(hpi_strict_double("1.0000000000000002e-300", 23, &g2));
     assert_memory_equal(&w1, &g1, sizeof w1);
     assert_memory_equal(&w2, &g2, sizeof w2);
     /* the caller's locale is left as it was */

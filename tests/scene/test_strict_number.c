@@ -1,4 +1,4 @@
-/* hp_strict_double against strtod, its reference: on every string it accepts it returns
+/* hpi_strict_double against strtod, its reference: on every string it accepts it returns
  * strtod's double bit for bit, whether its own fast path (M·10^q with M <= 2^53, |q| <= 22)
  * or strtod decided. Inputs (seeded, 700 000): decimals of 1 to 20 digits with the point
  * anywhere or absent, leading and trailing zeros, signs, exponents from −40 to 40 (both
@@ -19,7 +19,7 @@ static uint64_t rng = 0x2545F4914F6CDD1Du;
 static void same_as_strtod(const char *s)
 {
     double got = 0.0;
-    const char *why = hp_strict_double(s, strlen(s), &got);
+    const char *why = hpi_strict_double(s, strlen(s), &got);
     if (why) fail_msg("'%s' refused: %s", s, why);
     double want = strtod(s, NULL);
     if (memcmp(&got, &want, sizeof got) != 0) fail_msg("'%s': %a, strtod %a", s, got, want);
@@ -68,7 +68,7 @@ static void test_edges(void **st)
                          "1,5", "-.", "0.5\xc2\xa0"};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
         double v = 42.0;
-        if (!hp_strict_double(bad[i], strlen(bad[i]), &v)) fail_msg("'%s' accepted", bad[i]);
+        if (!hpi_strict_double(bad[i], strlen(bad[i]), &v)) fail_msg("'%s' accepted", bad[i]);
         assert_true(v == 42.0);
     }
 }

@@ -1,4 +1,4 @@
-/* hp_text_bad_byte (scene/text_check.c), whose clean ASCII goes eight bytes at a time: a
+/* hpi_text_bad_byte (scene/text_check.c), whose clean ASCII goes eight bytes at a time: a
  * NUL, a stray byte, a broken or disallowed sequence at every offset of a line longer than
  * several words (first, inside and last byte of a word, in the tail after the last whole
  * word) is found at its own offset with its kind; well-formed multi-byte characters at every
@@ -21,7 +21,7 @@ static void expect(const char *buf, size_t len, long want, int want_nul, const c
                    size_t at)
 {
     int nul = -1;
-    long got = hp_text_bad_byte(buf, len, &nul);
+    long got = hpi_text_bad_byte(buf, len, &nul);
     if (got != want) fail_msg("%s at %zu: found at %ld, want %ld", what, at, got, want);
     if (want >= 0 && nul != want_nul) fail_msg("%s at %zu: is_nul %d", what, at, nul);
 }

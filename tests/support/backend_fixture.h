@@ -92,7 +92,7 @@ static inline hp_error fx_problem(const hp_layout *L, hp_geom *G, hp_level level
                                   const double d[6], hp_problem *pb)
 {
     memset(pb, 0, sizeof *pb);
-    hp_error eg = hp_geom_derive(L, G, NULL);
+    hp_error eg = hpi_geom_derive(L, G, NULL);
     if (eg != HP_OK) return eg;
     pb->layout = L;
     pb->geom = G;
