@@ -16,6 +16,16 @@ for t in "$build"/tests/iab_test_*; do
   fi
 done
 [ "$n" -ge 3 ] || { echo "FAIL: only $n bladder-module test programs found in $build/tests"; fails=$((fails + 1)); }
+# The private layer is visible: every hp_* symbol the library defines is a public function
+# (scripts/hp_api.py list); internal functions and tables are named hpi_*.
+if [ -f "$build/libheadplan.a" ]; then
+  extra=$(nm "$build/libheadplan.a" 2>/dev/null | awk '$2 ~ /^[TtDdRrBb]$/ && $3 ~ /^hp_/ {print $3}' |
+          sed 's/\..*$//' | sort -u |
+          comm -23 - <(python3 "$src/scripts/hp_api.py" list "$src"/include/headplan/*.h | sort -u))
+  [ -z "$extra" ] || { echo "FAIL: internal names with the public prefix hp_: $(tr '\n' ' ' <<<"$extra")"; fails=$((fails + 1)); }
+else
+  echo "FAIL: no $build/libheadplan.a"; fails=$((fails + 1))
+fi
 # The umbrella is complete: headplan.h includes every public header (hp_load_planner.h aside,
 # whose load planner becomes a level of hp_planner).
 for h in "$src"/include/headplan/hp_*.h "$src"/include/headplan/hp_version.h.in; do
