@@ -40,8 +40,8 @@ static int cmp(const void *a, const void *b)
 static double targets[N][6];
 static double ref[N][HP_PROBLEM_NX_MAX];
 
-static void run(const hp_backend_ops *ops, hp_level level, const char *set, double tol,
-                int warm, int is_ref)
+static void run(const hp_backend_ops *ops, hp_level level, const char *set, double tol, int warm,
+                int is_ref)
 {
     hp_layout L;
     if (fx_layout(&L) != HP_OK) exit(1);
@@ -68,8 +68,7 @@ static void run(const hp_backend_ops *ops, hp_level level, const char *set, doub
         if (e != HP_OK || !r.converged) fails++;
         iters += r.iterations;
         memcpy(prev, x, sizeof prev);
-        if (is_ref)
-            memcpy(ref[i], x, sizeof ref[i]);
+        if (is_ref) memcpy(ref[i], x, sizeof ref[i]);
         else
             for (int j = 0; j < 6; j++) worst = fmax(worst, fabs(x[j] - ref[i][j]));
     }
@@ -77,9 +76,8 @@ static void run(const hp_backend_ops *ops, hp_level level, const char *set, doub
     qsort(t, N, sizeof *t, cmp);
     qsort(cpu, N, sizeof *cpu, cmp);
     printf("| %s | %s | %s | %s | %.0e | %.0f | %.0f | %.0f | %.0f | %.1f | %d | %.1e |\n",
-           ops->name, hp_level_name(level), set, warm ? "warm" : "cold", tol,
-           1e6 * cpu[N / 2], 1e6 * t[N / 2], 1e6 * t[N * 9 / 10], 1e6 * t[N - 1],
-           (double)iters / N, fails, worst);
+           ops->name, hp_level_name(level), set, warm ? "warm" : "cold", tol, 1e6 * cpu[N / 2],
+           1e6 * t[N / 2], 1e6 * t[N * 9 / 10], 1e6 * t[N - 1], (double)iters / N, fails, worst);
 }
 
 static void suite(hp_level level, const char *set)

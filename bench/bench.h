@@ -19,21 +19,21 @@ int bench_run_cli(int argc, char **argv);
 
 /* How hard to measure. */
 typedef struct bench_options {
-    int quick;              /* 1: a test run: few samples; the IK's accuracy still on every
+    int quick;               /* 1: a test run: few samples; the IK's accuracy still on every
                                input, the planner's on fewer targets */
-    unsigned long seed;     /* order in which timed batches walk the inputs */
-    long samples;           /* timed batches per method */
-    long warmup_batches;    /* untimed batches first */
-    int rounds;             /* methods timed together report a median per round (1..
+    unsigned long seed;      /* order in which timed batches walk the inputs */
+    long samples;            /* timed batches per method */
+    long warmup_batches;     /* untimed batches first */
+    int rounds;              /* methods timed together report a median per round (1..
                                BENCH_MAX_ROUNDS) for per-round ratios */
-    int round_turns;        /* each round is this many turns; in a turn every method times
+    int round_turns;         /* each round is this many turns; in a turn every method times
                                its share, so a slow spell of the host hits them all */
-    double batch_target_ns; /* a batch lasts at least this long (clock resolution/overhead) */
-    const char *scene;      /* the layout scene of the planner and peers families */
-    const char *scenarios;  /* the scenario catalogue folder (stability, levels) */
-    const char *python;     /* the Python with SciPy (peers) */
-    const char *peer_script;/* bench/scipy_peer.py (peers) */
-    const char *out_dir;    /* the output folder (peers writes its exchange files there) */
+    double batch_target_ns;  /* a batch lasts at least this long (clock resolution/overhead) */
+    const char *scene;       /* the layout scene of the planner and peers families */
+    const char *scenarios;   /* the scenario catalogue folder (stability, levels) */
+    const char *python;      /* the Python with SciPy (peers) */
+    const char *peer_script; /* bench/scipy_peer.py (peers) */
+    const char *out_dir;     /* the output folder (peers writes its exchange files there) */
 } bench_options;
 
 /* Fills the sampling settings for a full (quick = 0) or quick run; the paths NULL. */
@@ -41,28 +41,28 @@ void bench_options_default(bench_options *o, int quick, unsigned long seed);
 
 /* One method's measurements: one CSV row. Text fields never hold commas or quotes. */
 typedef struct bench_row {
-    char method[48];    /* unique name, e.g. "gl-ref-16" */
-    char family[16];    /* "ik", "planner" */
-    char variant[32];   /* the chart's series, e.g. "gauss-reference" */
-    char parameter[24]; /* what varies along the series: order, tolerance, level... */
-    char input_set[16]; /* which inputs it ran on; only rows on the same inputs compete
+    char method[48];          /* unique name, e.g. "gl-ref-16" */
+    char family[16];          /* "ik", "planner" */
+    char variant[32];         /* the chart's series, e.g. "gauss-reference" */
+    char parameter[24];       /* what varies along the series: order, tolerance, level... */
+    char input_set[16];       /* which inputs it ran on; only rows on the same inputs compete
                            for the Pareto front ("grid", "binding", "reachable") */
-    double median_ns;   /* median time per evaluation over the timed batches [ns] */
-    double p99_ns;      /* 99th percentile (nearest rank) of the same [ns] */
-    double max_error;   /* IK: max relative error vs the __float128 reference;
+    double median_ns;         /* median time per evaluation over the timed batches [ns] */
+    double p99_ns;            /* 99th percentile (nearest rank) of the same [ns] */
+    double max_error;         /* IK: max relative error vs the __float128 reference;
                            planner: max pose error [mm or deg] */
-    char worst[64];     /* where max_error occurred, "key=value;key=value" */
-    double max_violation; /* worst constraint violation; NaN = not applicable */
-    double model_error; /* planner: max pose difference between the exact-model round trip
+    char worst[64];           /* where max_error occurred, "key=value;key=value" */
+    double max_violation;     /* worst constraint violation; NaN = not applicable */
+    double model_error;       /* planner: max pose difference between the exact-model round trip
                            and the method's own claim [mm or deg]; NaN = not applicable */
-    long failures;      /* inputs on which the method returned an error or failed status */
-    long inputs;        /* inputs the accuracy was measured on */
-    long samples;       /* timed batches */
-    long batch;         /* evaluations per timed batch */
+    long failures;            /* inputs on which the method returned an error or failed status */
+    long inputs;              /* inputs the accuracy was measured on */
+    long samples;             /* timed batches */
+    long batch;               /* evaluations per timed batch */
     double ratio_to_baseline; /* median_ns / the family baseline's median_ns */
-    int pareto;         /* 1 when no row on the same input set is both faster (or as fast)
+    int pareto;               /* 1 when no row on the same input set is both faster (or as fast)
                            and more accurate (or as accurate) */
-    int rounds;         /* timing rounds (0: not timed in rounds) */
+    int rounds;               /* timing rounds (0: not timed in rounds) */
     double round_ns[BENCH_MAX_ROUNDS]; /* median time per evaluation in each round [ns] */
     double round_ratio; /* median over rounds of round_ns / the baseline's round_ns: the
                            ratio with the host's slow spells cancelled; NaN = not measured */

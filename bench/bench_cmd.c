@@ -33,18 +33,23 @@ typedef struct {
 
 static const family families[] = {
     {{"ik", "Bladder inverse kinematics (radius to pressure): speed versus accuracy",
-      "median time per evaluation [ns]",
-      "max relative error vs float128 reference (1000 inputs)"},
-     bench_ik, NULL, 0},
+      "median time per evaluation [ns]", "max relative error vs float128 reference (1000 inputs)"},
+     bench_ik,
+     NULL,
+     0},
     {{"planner", "Planner: speed versus accuracy (default layout, targets where a limit binds)",
       "median time per plan [ns]",
       "max pose difference from the reference after the exact-model round trip [mm or deg]"},
-     bench_planner, NULL, 1},
+     bench_planner,
+     NULL,
+     1},
     {{"stability", NULL, NULL, NULL}, NULL, bench_stability, 0},
     {{"peers", "Peers on the same NLP (linear contact level, default layout, binding targets)",
       "median time per plan [ns]",
       "max pose difference from Ipopt (exact Hessian, tolerance 1e-10) [mm or deg]"},
-     bench_peers, NULL, 1},
+     bench_peers,
+     NULL,
+     1},
     {{"levels", NULL, NULL, NULL}, NULL, bench_levels, 0},
     {{"load", NULL, NULL, NULL}, NULL, bench_load, 0},
     {{"loop", NULL, NULL, NULL}, NULL, bench_loop, 1},
@@ -86,7 +91,8 @@ static void help(void)
            "  --help         this text\n\n"
            "exit status: 0 ok, 64 bad command line, 70 gnuplot or SciPy missing or failed,\n"
            "66 scene, catalogue or peer script cannot be read, 73 cannot write the output\n"
-           "folder\n", DEFAULT_SCENE);
+           "folder\n",
+           DEFAULT_SCENE);
 }
 
 /* Marks the families named in a comma-separated list. Returns 0 or CLI_EXIT_USAGE. */
@@ -102,8 +108,10 @@ static int parse_only(const char *list, int *on)
         size_t k = 0;
         while (k < N_FAMILIES && strcmp(families[k].chart.family, p) != 0) ++k;
         if (k == N_FAMILIES)
-            return cli_fail(CLI_EXIT_USAGE, CMD, "--only: unknown family '%s' (known: ik, "
-                               "planner, stability, peers, levels, load, loop)", p);
+            return cli_fail(CLI_EXIT_USAGE, CMD,
+                            "--only: unknown family '%s' (known: ik, "
+                            "planner, stability, peers, levels, load, loop)",
+                            p);
         on[k] = 1;
         if (!comma) break;
         p = comma + 1;
@@ -178,7 +186,7 @@ int bench_run_cli(int argc, char **argv)
                 return CLI_EXIT_USAGE;
         } else {
             return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s' (see headplan-bench --help)",
-                               argv[i]);
+                            argv[i]);
         }
     }
     if (!only_given)
@@ -187,30 +195,31 @@ int bench_run_cli(int argc, char **argv)
     /* Fail before minutes of measuring, not after. */
     if (bench_gnuplot_available() != 0)
         return cli_fail(CLI_EXIT_SOFTWARE, CMD,
-                           "gnuplot not found on PATH (it draws the charts; install the "
-                           "'gnuplot' package)");
+                        "gnuplot not found on PATH (it draws the charts; install the "
+                        "'gnuplot' package)");
     for (size_t k = 0; k < N_FAMILIES; ++k) {
         FILE *f;
         if (on[k] && families[k].needs_scene && !(f = fopen(scene, "r")))
-            return cli_fail(CLI_EXIT_NOINPUT, CMD, "--scene: cannot open '%s' (the %s "
-                               "family needs a layout scene)", scene, families[k].chart.family);
-        else if (on[k] && families[k].needs_scene)
-            fclose(f);
+            return cli_fail(CLI_EXIT_NOINPUT, CMD,
+                            "--scene: cannot open '%s' (the %s "
+                            "family needs a layout scene)",
+                            scene, families[k].chart.family);
+        else if (on[k] && families[k].needs_scene) fclose(f);
     }
     int peers_on = 0;
-    for (size_t k = 0; k < N_FAMILIES; ++k)
-        peers_on |= on[k] && families[k].run == bench_peers;
+    for (size_t k = 0; k < N_FAMILIES; ++k) peers_on |= on[k] && families[k].run == bench_peers;
     if (peers_on) { /* SciPy must be there before minutes of measuring */
         FILE *f = fopen(peer_script, "r");
         if (!f)
-            return cli_fail(CLI_EXIT_NOINPUT, CMD, "--peer-script: cannot open '%s'",
-                               peer_script);
+            return cli_fail(CLI_EXIT_NOINPUT, CMD, "--peer-script: cannot open '%s'", peer_script);
         fclose(f);
         char *const chk[] = {hpi_unconst(python), "-c", "import scipy.optimize, numpy", NULL};
         if (bench_run_child(chk, NULL, 1) != 0)
-            return cli_fail(CLI_EXIT_SOFTWARE, CMD, "--python: '%s' cannot import scipy "
-                               "(install Debian's python3-scipy, or name a Python that has "
-                               "SciPy)", python);
+            return cli_fail(CLI_EXIT_SOFTWARE, CMD,
+                            "--python: '%s' cannot import scipy "
+                            "(install Debian's python3-scipy, or name a Python that has "
+                            "SciPy)",
+                            python);
     }
     if ((rc = bench_mkdirs(out)) != 0) return rc;
 

@@ -41,8 +41,8 @@ enum { K_CLOSED, K_DERIVS, K_GAUSS, K_ADAPTIVE };
 typedef struct {
     int kind;
     hp_quad_form form;
-    int n;       /* Gauss–Legendre points */
-    double tol;  /* adaptive relative tolerance */
+    int n;      /* Gauss–Legendre points */
+    double tol; /* adaptive relative tolerance */
 } ik_method;
 
 typedef struct {
@@ -51,7 +51,6 @@ typedef struct {
     const long *perm;
     double sink;
 } ik_ctx;
-
 
 static q128 qabs(q128 x) { return x < 0 ? -x : x; }
 
@@ -154,8 +153,7 @@ static void accuracy(const ik_method *m, const ik_input *in, const q128 *ref, be
     }
     r->inputs = N_INPUTS;
     r->max_error = worst < 0 ? NAN : (double)worst;
-    snprintf(r->worst, sizeof r->worst, "lambda_i=%.5f;Ri/Ro=%.2f", in[wi].lambda,
-             in[wi].ratio);
+    snprintf(r->worst, sizeof r->worst, "lambda_i=%.5f;Ri/Ro=%.2f", in[wi].lambda, in[wi].ratio);
 }
 
 static int build_methods(ik_method *ms, int cap)

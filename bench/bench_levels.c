@@ -73,7 +73,7 @@ static int scene_targets(const hp_scene *sc, int quick, double (*t)[6])
         cli_fail(0, "bench", "levels: %s", d.text);
         return -1;
     }
-    double (*all)[6] = malloc(MAX_TRACE_READ * sizeof *all);
+    double(*all)[6] = malloc(MAX_TRACE_READ * sizeof *all);
     long m = 0;
     hp_trace_row row;
     hp_error e;
@@ -98,8 +98,7 @@ static int scene_targets(const hp_scene *sc, int quick, double (*t)[6])
 static const hp_level levels[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
 
 /* One scene: fills row. Returns 0, 1 when the scene is skipped, or an exit status. */
-static int run_scene(const bench_options *o, const char *path, const char *stem,
-                     void *vrow)
+static int run_scene(const bench_options *o, const char *path, const char *stem, void *vrow)
 {
     level_row *row = vrow;
     static hp_scene sc;
@@ -169,8 +168,8 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
         row->lv[li].max_error = worst;
         row->lv[li].failures = fails;
     }
-    fprintf(stderr, "bench levels: %-16s auto=%-7s (%.3g mm, %.3g deg, tolerance %g mm)\n",
-            stem, hp_level_name(row->auto_level), row->trans_mm, row->rot_deg, row->tol_mm);
+    fprintf(stderr, "bench levels: %-16s auto=%-7s (%.3g mm, %.3g deg, tolerance %g mm)\n", stem,
+            hp_level_name(row->auto_level), row->trans_mm, row->rot_deg, row->tol_mm);
     return 0;
 }
 
@@ -179,12 +178,11 @@ static void csv_row(const void *arg, int i, FILE *f)
     const level_row *r = (const level_row *)arg + i;
     double tauto = r->lv[r->auto_level].median_ns;
     for (int l = 0; l < 3; ++l)
-        fprintf(f, "%s,%s,%d,%.6g,%.6g,%g,%s,%s,%d,%.6e,%d,%.1f,%.1f,%.6e,%ld,%.4g\n",
-                r->scene, r->backend, r->targets, r->trans_mm, r->rot_deg, r->tol_mm,
-                hp_level_name(r->auto_level), hp_level_name(levels[l]),
-                levels[l] == r->auto_level, r->lv[l].bound_mm,
-                r->lv[l].bound_mm <= r->tol_mm, r->lv[l].median_ns, r->lv[l].p99_ns,
-                r->lv[l].max_error, r->lv[l].failures, r->lv[l].median_ns / tauto);
+        fprintf(f, "%s,%s,%d,%.6g,%.6g,%g,%s,%s,%d,%.6e,%d,%.1f,%.1f,%.6e,%ld,%.4g\n", r->scene,
+                r->backend, r->targets, r->trans_mm, r->rot_deg, r->tol_mm,
+                hp_level_name(r->auto_level), hp_level_name(levels[l]), levels[l] == r->auto_level,
+                r->lv[l].bound_mm, r->lv[l].bound_mm <= r->tol_mm, r->lv[l].median_ns,
+                r->lv[l].p99_ns, r->lv[l].max_error, r->lv[l].failures, r->lv[l].median_ns / tauto);
 }
 
 int bench_levels(const bench_options *o, const char *dir)
@@ -199,16 +197,16 @@ int bench_levels(const bench_options *o, const char *dir)
                              "max_error,failures,time_ratio_to_auto",
                              csv_row, rows, nr)) != 0)
         return rc;
-    printf("%-16s %-8s %7s %8s %7s %-8s %-8s %10s %12s %12s %8s\n", "scene", "backend",
-           "targets", "size_mm", "size_deg", "auto", "level", "bound_mm", "median_ns",
-           "max_error", "failures");
+    printf("%-16s %-8s %7s %8s %7s %-8s %-8s %10s %12s %12s %8s\n", "scene", "backend", "targets",
+           "size_mm", "size_deg", "auto", "level", "bound_mm", "median_ns", "max_error",
+           "failures");
     for (int i = 0; i < nr; ++i)
         for (int l = 0; l < 3; ++l) {
             const level_row *r = &rows[i];
-            printf("%-16s %-8s %7d %8.3g %7.3g %-8s %-8s %10.3e %12.0f %12.3e %8ld%s\n",
-                   r->scene, r->backend, r->targets, r->trans_mm, r->rot_deg,
-                   hp_level_name(r->auto_level), hp_level_name(levels[l]), r->lv[l].bound_mm,
-                   r->lv[l].median_ns, r->lv[l].max_error, r->lv[l].failures,
+            printf("%-16s %-8s %7d %8.3g %7.3g %-8s %-8s %10.3e %12.0f %12.3e %8ld%s\n", r->scene,
+                   r->backend, r->targets, r->trans_mm, r->rot_deg, hp_level_name(r->auto_level),
+                   hp_level_name(levels[l]), r->lv[l].bound_mm, r->lv[l].median_ns,
+                   r->lv[l].max_error, r->lv[l].failures,
                    levels[l] == r->auto_level ? "  <- auto" : "");
         }
     fprintf(stderr, "bench levels: wrote %s/levels.csv\n", dir);

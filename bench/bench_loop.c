@@ -144,7 +144,8 @@ static int run_trace(const bench_options *o, const hp_layout *L0, const hp_setti
                 double P[HP_MAX_BLADDERS];
                 unsigned cl = 0;
                 for (int k = 0; k < res.n; ++k)
-                    P[k] = res.bladders[k].pressure + LOOP_NOISE_PA * (2.0 * bench_urand(&noise) - 1.0);
+                    P[k] = res.bladders[k].pressure +
+                           LOOP_NOISE_PA * (2.0 * bench_urand(&noise) - 1.0);
                 t0 = bench_now_ns();
                 hp_error es = hp_planner_set_measured(p[m], P, &cl);
                 double ds = bench_now_ns() - t0;
@@ -171,12 +172,12 @@ static int run_trace(const bench_options *o, const hp_layout *L0, const hp_setti
 static void csv_row(const void *arg, int i, FILE *f)
 {
     const loop_row *r = (const loop_row *)arg + i;
-    fprintf(f, "%s,%s,%s,%s,%ld,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%g\n",
-            hp_level_name(r->level), hp_backend_name(r->backend), trace_names[r->trace],
-            mode_names[r->mode], r->cycles, r->med_us, r->p99_us, r->p999_us, r->max_us,
-            r->ratio_med, r->ratio_p999, r->set_med_us, r->reached, r->closest, r->time_limit,
-            r->other, r->rate_binding, r->clamped, r->overshoots,
-            r->mode == 3 ? LOOP_BUDGET_US : NAN);
+    fprintf(
+        f, "%s,%s,%s,%s,%ld,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%g\n",
+        hp_level_name(r->level), hp_backend_name(r->backend), trace_names[r->trace],
+        mode_names[r->mode], r->cycles, r->med_us, r->p99_us, r->p999_us, r->max_us, r->ratio_med,
+        r->ratio_p999, r->set_med_us, r->reached, r->closest, r->time_limit, r->other,
+        r->rate_binding, r->clamped, r->overshoots, r->mode == 3 ? LOOP_BUDGET_US : NAN);
 }
 
 int bench_loop(const bench_options *o, const char *dir)
@@ -202,8 +203,8 @@ int bench_loop(const bench_options *o, const char *dir)
             for (int t = 0; t < N_TRACES && rc == 0; ++t) {
                 fprintf(stderr, "bench loop: %s %s %s\n", hp_backend_name(backends[b]),
                         hp_level_name(levels[l]), trace_names[t]);
-                rc = run_trace(o, &scene.layout, &s, levels[l], backends[b], t, rows + nr,
-                               times, set_times);
+                rc = run_trace(o, &scene.layout, &s, levels[l], backends[b], t, rows + nr, times,
+                               set_times);
                 nr += N_MODES;
             }
     free(times);
@@ -218,8 +219,8 @@ int bench_loop(const bench_options *o, const char *dir)
            "free plan of the same trace):\n",
            LOOP_RATE_PA, LOOP_NOISE_PA, LOOP_BUDGET_US);
     printf("%-8s %-12s %-7s %-9s %8s %8s %8s %8s %6s %6s %7s %5s %5s\n", "level", "backend",
-           "trace", "mode", "med_us", "p99_us", "p999_us", "max_us", "x_med", "x_p999",
-           "set_us", "tlim", "over");
+           "trace", "mode", "med_us", "p99_us", "p999_us", "max_us", "x_med", "x_p999", "set_us",
+           "tlim", "over");
     for (int i = 0; i < nr; ++i) {
         const loop_row *r = &rows[i];
         printf("%-8s %-12s %-7s %-9s %8.2f %8.2f %8.2f %8.1f %6.2f %6.2f %7.2f %5ld %5ld\n",

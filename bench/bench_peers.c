@@ -46,7 +46,7 @@ static hp_settings settings_of(hp_backend b, hp_level l, double tol)
 }
 
 static bench_row *new_row(bench_table *t, const char *method, const char *variant,
-                             const char *param, const char *set)
+                          const char *param, const char *set)
 {
     bench_row *r = bench_table_add(t);
     if (!r) return NULL;
@@ -97,8 +97,8 @@ static int write_problem(const char *path, const hp_layout *L, const bench_bound
     for (int k = 0; k < L->n; ++k) {
         json_t *row = json_array();
         for (int i = 0; i < 6; ++i)
-            json_array_append_new(row, json_real(i < 3 ? J[k * 6 + i]
-                                                       : J[k * 6 + i] * 1e3 * BENCH_PI / 180));
+            json_array_append_new(
+                row, json_real(i < 3 ? J[k * 6 + i] : J[k * 6 + i] * 1e3 * BENCH_PI / 180));
         json_array_append_new(jj, row);
         json_array_append_new(r0, json_real(rho[k] * 1e3));
         json_array_append_new(Ri, json_real(L->bladders[k].iab.Ri * 1e3));
@@ -109,7 +109,8 @@ static int write_problem(const char *path, const hp_layout *L, const bench_bound
     for (long t = 0; t < n; ++t) {
         json_t *row = json_array();
         for (int i = 0; i < 6; ++i)
-            json_array_append_new(row, json_real(commanded[i] ? tg[t][i] * (i < 3 ? 1e3 : 180 / BENCH_PI) : 0.0));
+            json_array_append_new(
+                row, json_real(commanded[i] ? tg[t][i] * (i < 3 ? 1e3 : 180 / BENCH_PI) : 0.0));
         json_array_append_new(ts, row);
     }
     json_object_set_new(o, "n", json_integer(L->n));
@@ -124,7 +125,8 @@ static int write_problem(const char *path, const hp_layout *L, const bench_bound
     json_object_set_new(o, "maxiter", json_integer(500));
     json_object_set_new(o, "repeats", json_integer(repeats));
     json_object_set_new(o, "targets", ts);
-    int rc = json_dump_file(o, path, JSON_INDENT(1) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17));
+    int rc = json_dump_file(o, path,
+                            JSON_INDENT(1) | JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(17));
     json_decref(o);
     return rc == 0 ? 0 : -1;
 }
@@ -157,7 +159,10 @@ static int read_scipy(const char *path, const hp_layout *L, const bench_bounds *
     while (rc == 0 && fgets(line, sizeof line, f)) {
         char *p = line, *e;
         int v = strncmp(p, "analytic,", 9) == 0 ? 0 : strncmp(p, "fd,", 3) == 0 ? 1 : -1;
-        if (v < 0) { rc = CLI_EXIT_SOFTWARE; break; }
+        if (v < 0) {
+            rc = CLI_EXIT_SOFTWARE;
+            break;
+        }
         p = strchr(p, ',') + 1;
         long k = strtol(p, &e, 10), ok, nit;
         ok = strtol(e + 1, &e, 10);
@@ -165,7 +170,10 @@ static int read_scipy(const char *path, const hp_layout *L, const bench_bounds *
         (void)nit;
         double tns = strtod(e + 1, &e), x[6 + HP_MAX_BLADDERS];
         for (int i = 0; i < 6 + L->n; ++i) x[i] = strtod(e + 1, &e);
-        if (k < 0 || k >= n || !isfinite(tns)) { rc = CLI_EXIT_SOFTWARE; break; }
+        if (k < 0 || k >= n || !isfinite(tns)) {
+            rc = CLI_EXIT_SOFTWARE;
+            break;
+        }
         seen[v]++;
         times[v * n + nt[v]++] = tns;
         /* Contact equalities and bounds of the SciPy answer (mm). */
@@ -229,8 +237,7 @@ int bench_peers(const bench_options *o, bench_table *t)
     const hp_layout *L = &scene.layout;
     bench_bounds b;
     if (bench_bounds_of(L, &b) != 0) {
-        cli_fail(0, "bench", "peers: %s: a bladder has no valid radius interval",
-                o->scene);
+        cli_fail(0, "bench", "peers: %s: a bladder has no valid radius interval", o->scene);
         return CLI_EXIT_DATAERR;
     }
     long want = o->quick ? N_QUICK : N_FULL, n = 0;
@@ -288,8 +295,8 @@ int bench_peers(const bench_options *o, bench_table *t)
     char *const argv[] = {hpi_unconst(o->python), hpi_unconst(o->peer_script), jpath, cpath, NULL};
     int st = bench_run_child(argv, NULL, 0);
     if (st != 0) {
-        cli_fail(0, "bench", "peers: '%s %s' failed (exit status %d)%s", o->python,
-                o->peer_script, st, st == 3 ? ": SciPy is missing" : "");
+        cli_fail(0, "bench", "peers: '%s %s' failed (exit status %d)%s", o->python, o->peer_script,
+                 st, st == 3 ? ": SciPy is missing" : "");
         return CLI_EXIT_SOFTWARE;
     }
 
@@ -300,12 +307,18 @@ int bench_peers(const bench_options *o, bench_table *t)
         int lbfgs;
     } peer_method;
     static const peer_method ms[] = {
-        {"ipopt-exact-linear", "ipopt-exact", "linear", "linear-nlp", HP_BACKEND_IPOPT, HP_LEVEL_LINEAR, 0},
-        {"ipopt-lbfgs-linear", "ipopt-lbfgs", "linear", "linear-nlp", HP_BACKEND_IPOPT, HP_LEVEL_LINEAR, 1},
-        {"realtime-linear", "headplan-other", "linear", "linear-nlp", HP_BACKEND_REALTIME, HP_LEVEL_LINEAR, 0},
-        {"nlopt-slsqp-linear", "headplan-other", "linear", "linear-nlp", HP_BACKEND_NLOPT_SLSQP, HP_LEVEL_LINEAR, 0},
-        {"ipopt-exact-surface", "ipopt-exact", "surface", "surface-nlp", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, 0},
-        {"ipopt-lbfgs-surface", "ipopt-lbfgs", "surface", "surface-nlp", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, 1},
+        {"ipopt-exact-linear", "ipopt-exact", "linear", "linear-nlp", HP_BACKEND_IPOPT,
+         HP_LEVEL_LINEAR, 0},
+        {"ipopt-lbfgs-linear", "ipopt-lbfgs", "linear", "linear-nlp", HP_BACKEND_IPOPT,
+         HP_LEVEL_LINEAR, 1},
+        {"realtime-linear", "headplan-other", "linear", "linear-nlp", HP_BACKEND_REALTIME,
+         HP_LEVEL_LINEAR, 0},
+        {"nlopt-slsqp-linear", "headplan-other", "linear", "linear-nlp", HP_BACKEND_NLOPT_SLSQP,
+         HP_LEVEL_LINEAR, 0},
+        {"ipopt-exact-surface", "ipopt-exact", "surface", "surface-nlp", HP_BACKEND_IPOPT,
+         HP_LEVEL_SURFACE, 0},
+        {"ipopt-lbfgs-surface", "ipopt-lbfgs", "surface", "surface-nlp", HP_BACKEND_IPOPT,
+         HP_LEVEL_SURFACE, 1},
     };
     /* Every planner is created and checked first, then all are timed together in rounds
      * (bench_time_set), so a slow spell of the host falls on every method alike. */
@@ -344,12 +357,11 @@ int bench_peers(const bench_options *o, bench_table *t)
     for (size_t i = 0; i < NM && rc == 0; ++i) {
         bench_row *row = &t->rows[rowi[i]];
         bench_row_set_timing(row, &timed[i].out);
-        fprintf(stderr, "bench peers: %-22s %12.0f ns  max error %.2e  failures %ld\n",
-                ms[i].name, row->median_ns, row->max_error, row->failures);
+        fprintf(stderr, "bench peers: %-22s %12.0f ns  max error %.2e  failures %ld\n", ms[i].name,
+                row->median_ns, row->max_error, row->failures);
     }
     for (size_t i = 0; i < made; ++i) hp_planner_destroy(planners[i]);
-    if (rc == 0)
-        rc = read_scipy(cpath, L, &b, commanded, n, (const double(*)[6])ref_lin, t);
+    if (rc == 0) rc = read_scipy(cpath, L, &b, commanded, n, (const double(*)[6])ref_lin, t);
     t->baseline = "ipopt-exact-linear";
     return rc;
 }

@@ -67,8 +67,8 @@ static int create(const hp_layout *L, hp_backend b, hp_level level, double tol, 
     hp_settings s = bench_settings(b, level, tol, warm);
     hp_diag d;
     if (hp_planner_create(L, &s, p, &d) != HP_OK) {
-        cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s",
-                hp_backend_name(b), hp_level_name(level), tol, d.text);
+        cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s", hp_backend_name(b),
+                 hp_level_name(level), tol, d.text);
         return CLI_EXIT_SOFTWARE;
     }
     return 0;
@@ -85,8 +85,8 @@ static int reference(const hp_layout *L, const double (*t)[6], long n, double (*
         if (hp_plan(p, t[k], &r) != HP_OK ||
             (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) ||
             bench_round_trip(L, HP_LEVEL_SURFACE, &r, ref[k], NULL) != HP_OK) {
-            cli_fail(0, "bench", "the reference (ipopt, surface) failed on target %ld: %s",
-                    k, hp_planner_error(p));
+            cli_fail(0, "bench", "the reference (ipopt, surface) failed on target %ld: %s", k,
+                     hp_planner_error(p));
             rc = CLI_EXIT_SOFTWARE;
         }
     }
@@ -156,12 +156,11 @@ int bench_planner(const bench_options *o, bench_table *t)
     make_targets(targets, N_BIND_FULL, 6.0, 4.0, &s);
     make_targets(targets + N_BIND_FULL, N_REACH, 0.5, 0.3, &s);
     long n_trace = o->quick ? N_TRACE_QUICK : N_TRACE;
-    double (*trace)[6] = targets + N_BIND_FULL + N_REACH;
+    double(*trace)[6] = targets + N_BIND_FULL + N_REACH;
     static const double peak[6] = {6.0, 3.6, -4.5, 1.5, 0.6, -0.9}; /* mm, deg */
     for (long j = 0; j < n_trace; ++j) {
         double f = 0.5 * (1.0 - cos(2.0 * BENCH_PI * (double)j / (double)n_trace));
-        for (int i = 0; i < 6; ++i)
-            trace[j][i] = f * peak[i] * (i < 3 ? 1e-3 : BENCH_PI / 180.0);
+        for (int i = 0; i < 6; ++i) trace[j][i] = f * peak[i] * (i < 3 ? 1e-3 : BENCH_PI / 180.0);
     }
     bench_shuffle(perm_bind, n_bind, o->seed);
     bench_shuffle(perm_reach, n_reach, o->seed);
@@ -171,8 +170,7 @@ int bench_planner(const bench_options *o, bench_table *t)
     int rc = reference(L, (const double(*)[6])targets, n_bind, ref);
     if (rc == 0)
         rc = reference(L, (const double(*)[6])targets + N_BIND_FULL, n_reach, ref + N_BIND_FULL);
-    if (rc == 0)
-        rc = reference(L, (const double(*)[6])trace, n_trace, ref + N_BIND_FULL + N_REACH);
+    if (rc == 0) rc = reference(L, (const double(*)[6])trace, n_trace, ref + N_BIND_FULL + N_REACH);
     if (rc) return rc;
 
     plan_method ms[64];
@@ -206,7 +204,9 @@ int bench_planner(const bench_options *o, bench_table *t)
         rowi[i] = t->n - 1;
         snprintf(row->family, sizeof row->family, "planner");
         snprintf(row->input_set, sizeof row->input_set, "%s",
-                 fast ? "reachable" : tr ? "trace" : "binding");
+                 fast ? "reachable"
+                 : tr ? "trace"
+                      : "binding");
         if (tr) {
             snprintf(row->method, sizeof row->method, "trace-realtime-%s", hp_level_name(m->level));
             snprintf(row->variant, sizeof row->variant, "warm-trace");
@@ -233,7 +233,7 @@ int bench_planner(const bench_options *o, bench_table *t)
         measure_accuracy(planners[i], L, tg, (const double(*)[6])ref + off, n, tr, row,
                          &row->model_error);
         ctx[i] = (bench_plan_ctx){planners[i], tg, n, fast ? perm_reach : tr ? NULL : perm_bind,
-                                  0, tr};
+                                  0,           tr};
         timed[i] = (bench_timed){.fn = bench_plan_batch, .ctx = &ctx[i]};
         fprintf(stderr, "  max error %.2e  failures %ld\n", row->max_error, row->failures);
     }

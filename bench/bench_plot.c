@@ -33,8 +33,7 @@ int bench_mkdirs(const char *dir)
         if (*s == '/' || end) {
             *s = '\0';
             if (mkdir(p, 0777) != 0 && errno != EEXIST) {
-                cli_fail(0, "bench", "--out: cannot create folder '%s': %s", p,
-                        strerror(errno));
+                cli_fail(0, "bench", "--out: cannot create folder '%s': %s", p, strerror(errno));
                 return CLI_EXIT_CANTCREAT;
             }
             if (end) break;
@@ -55,8 +54,8 @@ static int join(char *out, size_t cap, const char *dir, const char *name, const 
     return n < 0 || (size_t)n >= cap ? -1 : 0;
 }
 
-int bench_save(const char *dir, const char *name,
-                  int (*writer)(const void *arg, FILE *f), const void *arg)
+int bench_save(const char *dir, const char *name, int (*writer)(const void *arg, FILE *f),
+               const void *arg)
 {
     char final[PATH_CAP], tmp[PATH_CAP];
     if (join(final, sizeof final, dir, name, "") || join(tmp, sizeof tmp, dir, name, ".tmp")) {
@@ -73,7 +72,7 @@ int bench_save(const char *dir, const char *name,
     if (rc == 0 && bad) rc = cli_fail(CLI_EXIT_IOERR, "bench", "cannot write %s", tmp);
     if (rc == 0 && rename(tmp, final) != 0)
         rc = cli_fail(CLI_EXIT_IOERR, "bench", "cannot rename %s to %s: %s", tmp, final,
-                         strerror(errno));
+                      strerror(errno));
     if (rc) remove(tmp);
     return rc;
 }
@@ -115,15 +114,13 @@ typedef struct {
     const bench_chart *c;
 } plot_args;
 
-static double floored(double e)
-{
-    return e > BENCH_ERROR_FLOOR ? e : BENCH_ERROR_FLOOR;
-}
+static double floored(double e) { return e > BENCH_ERROR_FLOOR ? e : BENCH_ERROR_FLOOR; }
 
 static int cmp_time_error(const void *a, const void *b)
 {
     const bench_row *x = *(const bench_row *const *)a, *y = *(const bench_row *const *)b;
-    if (x->median_ns != y->median_ns) return (x->median_ns > y->median_ns) - (x->median_ns < y->median_ns);
+    if (x->median_ns != y->median_ns)
+        return (x->median_ns > y->median_ns) - (x->median_ns < y->median_ns);
     return (x->max_error > y->max_error) - (x->max_error < y->max_error);
 }
 
@@ -131,8 +128,8 @@ static int cmp_time_error(const void *a, const void *b)
  * block $name: sorted by time, each point more accurate than every faster one. The last
  * error is repeated at x_end so the step line spans the chart: all that lies above and to
  * the right of it is dominated. Comma-separated, as the script's data separator says. */
-static int write_front(FILE *f, const bench_table *t, const char *variant,
-                       const char *input_set, const char *name, double x_end)
+static int write_front(FILE *f, const bench_table *t, const char *variant, const char *input_set,
+                       const char *name, double x_end)
 {
     const bench_row **rows = malloc((t->n ? t->n : 1) * sizeof *rows);
     if (!rows) return -1;
@@ -222,21 +219,20 @@ static int write_script(const void *arg, FILE *f)
             "set key outside right top box opaque noenhanced\n"
             "set yrange [floor / 4 : %.3g]\n"
             "set xrange [* : %.6g]\n\n",
-            c->family, bench_csv_header, c->family, BENCH_ERROR_FLOOR, c->xlabel,
-            c->ylabel, c->title, BENCH_ERROR_FLOOR, BENCH_ERROR_FLOOR, 100 * y_max, 3 * x_max);
+            c->family, bench_csv_header, c->family, BENCH_ERROR_FLOOR, c->xlabel, c->ylabel,
+            c->title, BENCH_ERROR_FLOOR, BENCH_ERROR_FLOOR, 100 * y_max, 3 * x_max);
     if (write_front(f, t, NULL, base_set, "front", 3 * x_max) != 0) return -1;
     for (int k = 0; k < nv; ++k) {
         char name[32];
         snprintf(name, sizeof name, "front%d", k + 1);
         if (write_front(f, t, v[k], NULL, name, 3 * x_max) != 0) return -1;
     }
-    fprintf(f,
-            "if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
-            "  set terminal pngcairo size 1400,900 enhanced font \"Sans,11\"\n"
-            "} else {\n"
-            "  set terminal png size 1400,900\n"
-            "}\n"
-            "set output ");
+    fprintf(f, "if (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
+               "  set terminal pngcairo size 1400,900 enhanced font \"Sans,11\"\n"
+               "} else {\n"
+               "  set terminal png size 1400,900\n"
+               "}\n"
+               "set output ");
     /* The file names and the series (variants) reach the script through cli_gptext.h: the
      * CSV's name as a quoted string, a variant as quoted text compared with the CSV's
      * column and shown in the key. */
@@ -251,16 +247,17 @@ static int write_script(const void *arg, FILE *f)
         if (gp_path(f, csv) != 0) return -1;
         fprintf(f, " skip 1 using %d:(strcol(%d) eq ", c_time, c_var);
         gp_label(f, v[k]);
-        fprintf(f, " ? fl($%d) : NaN) with points pt %d ps 1.5 lc %d title ", c_err,
-                pts[k % 10], k + 1);
+        fprintf(f, " ? fl($%d) : NaN) with points pt %d ps 1.5 lc %d title ", c_err, pts[k % 10],
+                k + 1);
         gp_label(f, v[k]);
-        fprintf(f, ", \\\n  $front%d using 1:2 with steps dt 3 lw 1 lc %d notitle, \\\n",
-                k + 1, k + 1);
+        fprintf(f, ", \\\n  $front%d using 1:2 with steps dt 3 lw 1 lc %d notitle, \\\n", k + 1,
+                k + 1);
     }
-    fprintf(f,
-            "  $front using 1:2 with steps dt 2 lw 2.5 lc rgb \"#303030\" title \"Pareto front\", \\\n"
-            "  floor with lines dt 4 lc rgb \"#909090\" title sprintf(\"floor %%g\", floor), \\\n"
-            "  ");
+    fprintf(
+        f,
+        "  $front using 1:2 with steps dt 2 lw 2.5 lc rgb \"#303030\" title \"Pareto front\", \\\n"
+        "  floor with lines dt 4 lc rgb \"#909090\" title sprintf(\"floor %%g\", floor), \\\n"
+        "  ");
     if (gp_path(f, csv) != 0) return -1;
     fprintf(f,
             " skip 1 using %d:(fl($%d)):%d with labels noenhanced font \",7\" left rotate by 25 "
@@ -287,13 +284,12 @@ int bench_gnuplot_run(const char *dir, const char *script, const char *const *ou
     int st = bench_run_child(argv, dir, 0);
     if (st != 0) {
         cli_fail(0, "bench", "gnuplot failed on '%s/%s' (%s %d)", dir, script,
-                st < 0 ? "could not run, status" : "exit status", st);
+                 st < 0 ? "could not run, status" : "exit status", st);
         return CLI_EXIT_SOFTWARE;
     }
     for (; outputs && *outputs; ++outputs)
         if (!nonempty(dir, *outputs, "")) {
-            cli_fail(0, "bench", "gnuplot left '%s/%s' missing or empty", dir,
-                    *outputs);
+            cli_fail(0, "bench", "gnuplot left '%s/%s' missing or empty", dir, *outputs);
             return CLI_EXIT_SOFTWARE;
         }
     return 0;
@@ -310,12 +306,12 @@ int bench_plot(const bench_table *t, const bench_chart *c, const char *dir)
     int st = bench_run_child(argv, dir, 0);
     if (st != 0) {
         cli_fail(0, "bench", "gnuplot failed on '%s/%s' (%s %d)", dir, script,
-                st < 0 ? "could not run, status" : "exit status", st);
+                 st < 0 ? "could not run, status" : "exit status", st);
         return CLI_EXIT_SOFTWARE;
     }
     if (!nonempty(dir, c->family, "_pareto.png") || !nonempty(dir, c->family, "_pareto.svg")) {
-        cli_fail(0, "bench", "gnuplot left '%s/%s_pareto.png' or .svg missing or empty",
-                dir, c->family);
+        cli_fail(0, "bench", "gnuplot left '%s/%s_pareto.png' or .svg missing or empty", dir,
+                 c->family);
         return CLI_EXIT_SOFTWARE;
     }
     return 0;

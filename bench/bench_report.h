@@ -30,8 +30,8 @@ int bench_mkdirs(const char *dir);
 /* Writes DIR/NAME through DIR/NAME.tmp and a rename, so that a failed run never leaves a
  * partial file under the final name. writer returns 0 or -1. Returns 0, or
  * CLI_EXIT_CANTCREAT after one line on stderr naming the file. */
-int bench_save(const char *dir, const char *name,
-                  int (*writer)(const void *arg, FILE *f), const void *arg);
+int bench_save(const char *dir, const char *name, int (*writer)(const void *arg, FILE *f),
+               const void *arg);
 
 /* Runs argv[0] from PATH (execvp, no shell) in folder cwd (NULL: here) with its stdout sent
  * to our stderr (our stdout carries results only) or, quiet, both to /dev/null. Returns its

@@ -116,8 +116,8 @@ static void log_wrong(stab_run *run, const char *cs, const char *method, double 
 
 /* Classifies one plan into the cell (see the file comment). */
 static void classify(stab_run *run, const hp_layout *L, const stab_case *c, const char *method,
-                     double size, int dir, hp_error pe, const hp_result *r,
-                     const ref_answer *ref, cell *ce)
+                     double size, int dir, hp_error pe, const hp_result *r, const ref_answer *ref,
+                     cell *ce)
 {
     ce->targets++;
     if (pe != HP_OK) {
@@ -186,8 +186,7 @@ static void classify(stab_run *run, const hp_layout *L, const stab_case *c, cons
 
 /* Extreme valid pressures for a bad start: each bladder at p_lo or p_hi (random), moved
  * 1e-6 of the span inwards so the stable-branch FK of set_previous accepts them. */
-static void extreme_pressures(const hp_layout *L, const bench_bounds *b, uint64_t *s,
-                              double *P)
+static void extreme_pressures(const hp_layout *L, const bench_bounds *b, uint64_t *s, double *P)
 {
     for (int k = 0; k < L->n; ++k) {
         double span = b->p_hi[k] - b->p_lo[k];
@@ -208,8 +207,8 @@ static hp_settings method_settings(hp_backend b, hp_level l, double tol, int war
  * contact fit from the nominal pose finds no pose, and a refused start exercises nothing.
  * Refused sets are redrawn from the same seeded stream (so the run stays reproducible) and
  * counted on stderr. Returns 0 or an exit status. */
-static int accepted_bad_starts(const hp_layout *L, const bench_bounds *b, uint64_t *sp,
-                               int n_t, double (*prev)[HP_MAX_BLADDERS])
+static int accepted_bad_starts(const hp_layout *L, const bench_bounds *b, uint64_t *sp, int n_t,
+                               double (*prev)[HP_MAX_BLADDERS])
 {
     hp_planner *p[3] = {NULL, NULL, NULL};
     int rc = 0, refused = 0;
@@ -228,15 +227,18 @@ static int accepted_bad_starts(const hp_layout *L, const bench_bounds *b, uint64
             for (int l = 0; l < 3 && ok; ++l) ok = hp_planner_set_previous(p[l], prev[t]) == HP_OK;
         }
         if (!ok) {
-            fprintf(stderr, "headplan-bench: stability: bad-start: %d draws of extreme pressures "
-                            "all refused by set_previous: %s\n", BAD_START_DRAWS,
-                    hp_planner_error(p[0]));
+            fprintf(stderr,
+                    "headplan-bench: stability: bad-start: %d draws of extreme pressures "
+                    "all refused by set_previous: %s\n",
+                    BAD_START_DRAWS, hp_planner_error(p[0]));
             rc = CLI_EXIT_SOFTWARE;
         }
     }
     if (!rc)
-        fprintf(stderr, "bench stability: bad-start: %d extreme pressure sets refused by "
-                        "set_previous (no pose fits them) and redrawn, %d kept\n", refused, n_t);
+        fprintf(stderr,
+                "bench stability: bad-start: %d extreme pressure sets refused by "
+                "set_previous (no pose fits them) and redrawn, %d kept\n",
+                refused, n_t);
     for (int l = 0; l < 3; ++l) hp_planner_destroy(p[l]);
     return rc;
 }
@@ -310,8 +312,10 @@ static int run_case(const bench_options *o, const stab_case *c, stab_run *run, c
             hp_result r;
             hp_planner_reset(p);
             if (c->bad_start && hp_planner_set_previous(p, cd->prev[t]) != HP_OK) {
-                fprintf(stderr, "headplan-bench: stability: set_previous refused an extreme "
-                                "pressure: %s\n", hp_planner_error(p));
+                fprintf(stderr,
+                        "headplan-bench: stability: set_previous refused an extreme "
+                        "pressure: %s\n",
+                        hp_planner_error(p));
                 hp_planner_destroy(p);
                 return CLI_EXIT_SOFTWARE;
             }
@@ -356,10 +360,11 @@ static void write_rows(FILE *f, const stab_case *c, const case_data *cd)
             memcpy(tm, ce->times, sizeof tm);
             qsort(it, (size_t)ce->n_iters, sizeof *it, cmp_int);
             qsort(tm, (size_t)ce->n_times, sizeof *tm, cmp_dbl);
-            double med_it = ce->n_iters ? (ce->n_iters % 2 ? it[ce->n_iters / 2]
-                                                           : 0.5 * (it[ce->n_iters / 2 - 1] +
-                                                                    it[ce->n_iters / 2]))
-                                        : NAN;
+            double med_it = ce->n_iters
+                                ? (ce->n_iters % 2
+                                       ? it[ce->n_iters / 2]
+                                       : 0.5 * (it[ce->n_iters / 2 - 1] + it[ce->n_iters / 2]))
+                                : NAN;
             double med_t = ce->n_times ? bench_percentile(tm, ce->n_times, 0.5) : NAN;
             fprintf(f, "%s,%s,%s,%s,%g,%d,%d,%d,%d,%d,%d,%d,%s,%.4f,", c->name, name,
                     hp_backend_name((hp_backend)(m / 3)), hp_level_name(levels[m % 3]),
@@ -398,8 +403,9 @@ static int chart_writer(const void *arg, FILE *f)
     static const char *const colour[HP_BACKEND_COUNT_] = {"#1b9e77", "#d95f02", "#7570b3",
                                                           "#e7298a"};
     static const int dash[3] = {3, 2, 1}, pt[3] = {6, 4, 7};
-    fprintf(f, "# Generated by headplan-bench (stability family); data inline, from "
-               "stability.csv.\n# Redraw: gnuplot stability.gp\nfloor = %g\n\n",
+    fprintf(f,
+            "# Generated by headplan-bench (stability family); data inline, from "
+            "stability.csv.\n# Redraw: gnuplot stability.gp\nfloor = %g\n\n",
             BENCH_ERROR_FLOOR);
     for (int c = 0; c < N_CASES; ++c)
         for (int m = 0; m < N_METHODS; ++m) {
@@ -439,7 +445,8 @@ static int chart_writer(const void *arg, FILE *f)
             fprintf(f, "set title ");
             gp_label(f, cases[c].name); /* names reach the script as quoted text only */
             fprintf(f, "\n");
-            if (row == 0) fprintf(f, "unset logscale y\nset yrange [-0.05:1.05]\nset format y \"%%g\"\n");
+            if (row == 0)
+                fprintf(f, "unset logscale y\nset yrange [-0.05:1.05]\nset format y \"%%g\"\n");
             else fprintf(f, "set logscale y\nset yrange [*:*]\nset format y \"10^{%%L}\"\n");
             if (row == 2) fprintf(f, "set yrange [floor/4:*]\n");
             fprintf(f, "set ylabel \"%s\"\n", c == 0 ? ylab[row] : "");
@@ -447,8 +454,7 @@ static int chart_writer(const void *arg, FILE *f)
                     row == 2 ? "correction size s [mm and deg along a unit 6-D direction]" : "");
             if (row == 0 && c == N_CASES - 1)
                 fprintf(f, "set key at screen 0.855,0.9 left top box opaque noenhanced\n");
-            else
-                fprintf(f, "unset key\n");
+            else fprintf(f, "unset key\n");
             fprintf(f, "plot \\\n");
             for (int m = 0; m < N_METHODS; ++m) {
                 char name[48];
@@ -462,8 +468,9 @@ static int chart_writer(const void *arg, FILE *f)
             }
             if (row == 0) {
                 for (int m = 0; m < N_METHODS; ++m)
-                    fprintf(f, "  $c%dm%d using 1:5 with points pt 14 ps 3 lw 3 lc rgb \"red\" "
-                               "%s, \\\n",
+                    fprintf(f,
+                            "  $c%dm%d using 1:5 with points pt 14 ps 3 lw 3 lc rgb \"red\" "
+                            "%s, \\\n",
                             c, m, m == 0 ? "title \"silent wrong answer\"" : "notitle");
             }
             if (row == 2) fprintf(f, "  floor with lines dt 4 lc rgb \"#909090\" notitle, \\\n");
@@ -498,8 +505,8 @@ static void summary(const all_cases *a, const stab_run *run)
                            fail[s]);
             printf("\n");
         }
-    printf("silent wrong answers: %ld; answers closer than Ipopt's reference: %ld\n",
-           run->n_wrong, run->n_ipopt_worse);
+    printf("silent wrong answers: %ld; answers closer than Ipopt's reference: %ld\n", run->n_wrong,
+           run->n_ipopt_worse);
 }
 
 int bench_stability(const bench_options *o, const char *dir)
@@ -536,8 +543,10 @@ int bench_stability(const bench_options *o, const char *dir)
     if (rc == 0) rc = bench_gnuplot_run(dir, "stability.gp", outs);
     if (rc == 0) {
         summary(&a, &run);
-        fprintf(stderr, "bench stability: wrote %s/stability.csv, stability_wrong.csv, "
-                        "stability.png, stability.svg\n", dir);
+        fprintf(stderr,
+                "bench stability: wrote %s/stability.csv, stability_wrong.csv, "
+                "stability.png, stability.svg\n",
+                dir);
     }
     for (int c = 0; c < N_CASES; ++c) free(cd[c]);
     return rc;

@@ -61,7 +61,8 @@ void bench_table_finish(bench_table *t)
 }
 
 const char *const bench_csv_header =
-    "method,family,variant,parameter,input_set,median_ns,p99_ns,max_error,worst_input,max_violation,"
+    "method,family,variant,parameter,input_set,median_ns,p99_ns,max_error,worst_input,max_"
+    "violation,"
     "model_error,failures,inputs,samples,batch,ratio_to_baseline,pareto,round_ratio,round_ns";
 
 /* NaN is written as an empty field ("not applicable" / "not measured"). */
@@ -76,8 +77,7 @@ int bench_write_csv(const bench_table *t, FILE *f)
     fprintf(f, "%s\n", bench_csv_header);
     for (size_t i = 0; i < t->n; ++i) {
         const bench_row *r = &t->rows[i];
-        fprintf(f, "%s,%s,%s,%s,%s", r->method, r->family, r->variant, r->parameter,
-                r->input_set);
+        fprintf(f, "%s,%s,%s,%s,%s", r->method, r->family, r->variant, r->parameter, r->input_set);
         num(f, "%.1f", r->median_ns);
         num(f, "%.1f", r->p99_ns);
         num(f, "%.6e", r->max_error);
@@ -102,8 +102,8 @@ void bench_print_summary(const bench_table *t, FILE *f)
             "p99_ns", "max_error", "vs_base", "rounds_vs", "failures", "pareto");
     for (size_t i = 0; i < t->n; ++i) {
         const bench_row *r = &t->rows[i];
-        fprintf(f, "%-8s %-24s %12.1f %12.1f %12.3e %9.3g %9.3g %8ld %s\n", r->family,
-                r->method, r->median_ns, r->p99_ns, r->max_error, r->ratio_to_baseline,
-                r->round_ratio, r->failures, r->pareto ? "*" : "");
+        fprintf(f, "%-8s %-24s %12.1f %12.1f %12.3e %9.3g %9.3g %8ld %s\n", r->family, r->method,
+                r->median_ns, r->p99_ns, r->max_error, r->ratio_to_baseline, r->round_ratio,
+                r->failures, r->pareto ? "*" : "");
     }
 }

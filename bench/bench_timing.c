@@ -115,10 +115,7 @@ static void calibrate(const bench_options *o, bench_timed *m, long *pos)
 /* First sample of turn j of T when a method has s in all: floor(s·j/T), so that the turns
  * share the samples evenly and round r (turns r·steps .. r·steps + steps − 1) holds samples
  * floor(s·r/R) .. floor(s·(r+1)/R) − 1. */
-static long turn_start(long s, long j, long T)
-{
-    return (long)((double)s * (double)j / (double)T);
-}
+static long turn_start(long s, long j, long T) { return (long)((double)s * (double)j / (double)T); }
 
 int bench_time_set(const bench_options *o, bench_timed *m, int n)
 {
@@ -169,8 +166,7 @@ int bench_time_set(const bench_options *o, bench_timed *m, int n)
     return rc;
 }
 
-int bench_time(const bench_options *o, bench_batch_fn fn, void *ctx,
-                  bench_timing *out)
+int bench_time(const bench_options *o, bench_batch_fn fn, void *ctx, bench_timing *out)
 {
     /* Alone, a method has nobody to take turns with: one round of one turn, i.e. its
      * batches back to back as before rounds existed. */

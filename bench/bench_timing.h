@@ -10,11 +10,11 @@
 typedef void (*bench_batch_fn)(void *ctx, long first, long count);
 
 typedef struct bench_timing {
-    double median_ns; /* median over samples of (batch time / batch) */
-    double p99_ns;    /* 99th percentile, nearest rank, of the same */
-    long samples;     /* timed batches */
-    long batch;       /* evaluations per batch */
-    int rounds;       /* rounds the samples were taken in */
+    double median_ns;                  /* median over samples of (batch time / batch) */
+    double p99_ns;                     /* 99th percentile, nearest rank, of the same */
+    long samples;                      /* timed batches */
+    long batch;                        /* evaluations per batch */
+    int rounds;                        /* rounds the samples were taken in */
     double round_ns[BENCH_MAX_ROUNDS]; /* median per evaluation of each round's samples */
 } bench_timing;
 
@@ -41,8 +41,7 @@ int bench_time_set(const bench_options *o, bench_timed *m, int n);
 
 /* One method alone, its batches back to back: bench_time_set with n = 1, one round of one
  * turn (out->rounds = 1). */
-int bench_time(const bench_options *o, bench_batch_fn fn, void *ctx,
-                  bench_timing *out);
+int bench_time(const bench_options *o, bench_batch_fn fn, void *ctx, bench_timing *out);
 
 /* Copies a timing into a method's row: median, p99, samples, batch and the rounds' medians. */
 void bench_row_set_timing(bench_row *row, const bench_timing *tm);

@@ -30,8 +30,8 @@ int bench_planner_new(const hp_layout *L, const hp_settings *s, hp_planner **p)
 {
     hp_diag d;
     if (hp_planner_create(L, s, p, &d) != HP_OK) {
-        cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s",
-                hp_backend_name(s->backend), hp_level_name(s->level), s->tolerance, d.text);
+        cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s", hp_backend_name(s->backend),
+                 hp_level_name(s->level), s->tolerance, d.text);
         return CLI_EXIT_SOFTWARE;
     }
     return 0;
@@ -61,8 +61,8 @@ static hp_error outer_radii(const hp_layout *L, const hp_result *r, double *ro)
     return HP_OK;
 }
 
-hp_error bench_round_trip(const hp_layout *L, hp_level level, const hp_result *r,
-                             double xi[6], double *ro_out)
+hp_error bench_round_trip(const hp_layout *L, hp_level level, const hp_result *r, double xi[6],
+                          double *ro_out)
 {
     double ro[HP_MAX_BLADDERS];
     hp_error e = outer_radii(L, r, ro);

@@ -34,8 +34,8 @@ int bench_bounds_of(const hp_layout *L, bench_bounds *b);
 /* The pose the head takes under r's pressures at `level`: bladder FK (pressure -> ri), the
  * volume law (-> ro) and the contact FK from r->achieved. ro_out (n, [m]) may be NULL.
  * Returns HP_OK or the first failing call's code. */
-hp_error bench_round_trip(const hp_layout *L, hp_level level, const hp_result *r,
-                             double xi[6], double *ro_out);
+hp_error bench_round_trip(const hp_layout *L, hp_level level, const hp_result *r, double xi[6],
+                          double *ro_out);
 
 /* Largest axis difference, mm (translation) or degrees (rotation), over the axes with
  * commanded[i] != 0 (commanded NULL: all six). */
@@ -59,8 +59,8 @@ typedef struct bench_plan_ctx {
     const double (*targets)[6];
     long n;
     const long *perm; /* order of the targets; NULL: in order */
-    double sink; /* keeps the compiler from dropping the plans */
-    int warm;    /* 1: a trace, each plan continuing from the previous answer (no reset) */
+    double sink;      /* keeps the compiler from dropping the plans */
+    int warm;         /* 1: a trace, each plan continuing from the previous answer (no reset) */
 } bench_plan_ctx;
 void bench_plan_batch(void *ctx, long first, long count);
 

@@ -187,8 +187,8 @@ static int count_arg(const char *name, const char *arg, int min)
     char *end = NULL;
     long v = strtol(arg, &end, 10);
     if (end == arg || *end != '\0' || v < min || v > 1000000000L) {
-        fprintf(stderr, "headplan-bench-horizon: %s '%s': want a whole number >= %d\n", name,
-                arg, min);
+        fprintf(stderr, "headplan-bench-horizon: %s '%s': want a whole number >= %d\n", name, arg,
+                min);
         return -1;
     }
     return (int)v;

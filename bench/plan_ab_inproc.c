@@ -95,8 +95,7 @@ int main(int argc, char **argv)
     static double t[N_TARGETS][6];
     sa_targets(mm, deg, N_TARGETS, t); /* headplan-bench-count's targets */
     static lib A, B;
-    if (!open_lib(&A, argv[1], argv[3], level) || !open_lib(&B, argv[2], argv[3], level))
-        return 66;
+    if (!open_lib(&A, argv[1], argv[3], level) || !open_lib(&B, argv[2], argv[3], level)) return 66;
     double *a = malloc(sizeof *a * (size_t)rounds), *b = malloc(sizeof *b * (size_t)rounds),
            *q = malloc(sizeof *q * (size_t)rounds);
     if (!a || !b || !q) return 71;

@@ -31,13 +31,13 @@ typedef struct csv_file {
 
 /* The file at path, or (text not NULL) a copy of the len bytes at text named path in
  * messages: the readers of files and of memory (a command's standard input) are one. */
-static hp_error csv_open(csv_file *f, const char *path, const char *text, size_t len,
-                         hp_diag *d)
+static hp_error csv_open(csv_file *f, const char *path, const char *text, size_t len, hp_diag *d)
 {
     memset(f, 0, sizeof *f);
     f->path = path;
     FILE *fp = text ? NULL : fopen(path, "rb");
-    if (!text && !fp) return hp_diag_set(d, HP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    if (!text && !fp)
+        return hp_diag_set(d, HP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     f->text = malloc((size_t)CSV_MAX_BYTES + 1);
     if (!f->text) {
         if (fp) fclose(fp);
@@ -78,9 +78,8 @@ static int next_line(csv_file *f, const char **line, size_t *len, hp_diag *d)
         /* As the trace reader: a file cut short mid-number ("36" cut to "3") must not read
          * as a different data point. */
         if (noeol) {
-            hp_diag_set(d, HP_ERR_PARSE,
-                        "%s:%ld:%zu: truncated: the last line has no end of line", f->path,
-                        f->line, n + 1);
+            hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%zu: truncated: the last line has no end of line",
+                        f->path, f->line, n + 1);
             return -1;
         }
         size_t e = n;
@@ -137,20 +136,19 @@ static hp_error number(const csv_file *f, const csv_field *fl, const char *what,
 {
     const char *why = hpi_strict_double(fl->s, fl->len, v);
     if (why)
-        return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s: '%.*s': %s", f->path, f->line,
-                           fl->col, what, (int)(fl->len > 40 ? 40 : fl->len), fl->s, why);
+        return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s: '%.*s': %s", f->path, f->line, fl->col,
+                           what, (int)(fl->len > 40 ? 40 : fl->len), fl->s, why);
     return HP_OK;
 }
 
 static hp_error wrong_count(const csv_file *f, int got, int want, hp_diag *d)
 {
-    return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: %d columns, the header has %d", f->path,
-                       f->line, got, want);
+    return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: %d columns, the header has %d", f->path, f->line,
+                       got, want);
 }
 
-static hp_error read_material(const char *path, const char *text, size_t tlen,
-                              hp_calib_point *pts, int max, int *n, hp_calib_radius *kind,
-                              hp_diag *d)
+static hp_error read_material(const char *path, const char *text, size_t tlen, hp_calib_point *pts,
+                              int max, int *n, hp_calib_radius *kind, hp_diag *d)
 {
     if (!path || !pts || !n || !kind) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
     *n = 0;
@@ -163,8 +161,11 @@ static hp_error read_material(const char *path, const char *text, size_t tlen,
     csv_field fl[CSV_MAX_FIELDS];
     int nf = 0, r = csv_next(&f, fl, &nf, d);
     double pscale = 1.0;
-    if (r == 0) err = hp_diag_set(d, HP_ERR_PARSE, "%s:1:1: empty file (expected the header "
-                                  "pressure_pa,ri_mm or pressure_pa,ro_mm)", path);
+    if (r == 0)
+        err = hp_diag_set(d, HP_ERR_PARSE,
+                          "%s:1:1: empty file (expected the header "
+                          "pressure_pa,ri_mm or pressure_pa,ro_mm)",
+                          path);
     else if (r < 0) err = HP_ERR_PARSE;
     if (!err) {
         if (nf != 2 && nf != 3)
@@ -205,8 +206,8 @@ static hp_error read_material(const char *path, const char *text, size_t tlen,
         hp_calib_point p = {0, 0, 1e-3, f.line};
         double sig = 1.0;
         err = number(&f, &fl[0], "pressure", &p.pressure, d);
-        if (!err) err = number(&f, &fl[1], *kind == HP_CALIB_INNER ? "ri_mm" : "ro_mm",
-                               &p.radius, d);
+        if (!err)
+            err = number(&f, &fl[1], *kind == HP_CALIB_INNER ? "ri_mm" : "ro_mm", &p.radius, d);
         if (!err && ncol == 3) err = number(&f, &fl[2], "sigma_mm", &sig, d);
         if (err) break;
         if (!(p.radius > 0)) {
@@ -216,8 +217,8 @@ static hp_error read_material(const char *path, const char *text, size_t tlen,
             break;
         }
         if (!(sig > 0)) {
-            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: sigma_mm: must be > 0 (got %g)",
-                              path, f.line, fl[2].col, sig);
+            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: sigma_mm: must be > 0 (got %g)", path,
+                              f.line, fl[2].col, sig);
             break;
         }
         p.pressure *= pscale;
@@ -232,8 +233,10 @@ static hp_error read_material(const char *path, const char *text, size_t tlen,
     }
     if (!err && r < 0) err = HP_ERR_PARSE;
     if (!err && *n < 3)
-        err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: %d data rows: a fit of two moduli needs "
-                          "at least 3", path, f.line + 1, *n);
+        err = hp_diag_set(d, HP_ERR_PARSE,
+                          "%s:%ld:1: %d data rows: a fit of two moduli needs "
+                          "at least 3",
+                          path, f.line + 1, *n);
     csv_close(&f);
     if (err) *n = 0;
     return err;
@@ -324,10 +327,11 @@ static hp_error jsonl_row(const csv_file *f, const hp_layout *L, const hp_iab_li
     size_t uklen;
     long at = hpi_json_out_of_range(s, len, &ukey, &uklen, &uwhy);
     if (at >= 0)
-        return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: %s", f->path,
-                           f->line, at + 1, (int)uklen, ukey, uwhy);
+        return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: %s", f->path, f->line, at + 1,
+                           (int)uklen, ukey, uwhy);
     json_error_t je;
-    json_t *o = json_loadb(s, len, JSON_REJECT_DUPLICATES | JSON_DECODE_INT_AS_REAL, &je); /* as CSV */
+    json_t *o = json_loadb(s, len, JSON_REJECT_DUPLICATES | JSON_DECODE_INT_AS_REAL,
+                           &je); /* as CSV */
     if (!o)
         return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s", f->path, f->line,
                            je.column > 0 ? je.column : 1, je.text);
@@ -358,16 +362,16 @@ static hp_error jsonl_row(const csv_file *f, const hp_layout *L, const hp_iab_li
             break;
         }
         if (!json_is_number(val)) {
-            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s: expected a number", f->path,
-                              f->line, col, key);
+            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: %s: expected a number", f->path, f->line,
+                              col, key);
             break;
         }
         err = store(f, L, lp, role, json_number_value(val) * scale, col, row, d);
     }
     for (int k = 0; !err && k < L->n; ++k)
         if (!seen_b[k])
-            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: missing key p_%s_pa", f->path,
-                              f->line, L->bladders[k].name);
+            err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: missing key p_%s_pa", f->path, f->line,
+                              L->bladders[k].name);
     for (int j = 0; !err && j < 6; ++j)
         if (!seen_p[j])
             err = hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: missing key %s", f->path, f->line,
@@ -407,17 +411,17 @@ static hp_error csv_header(const csv_file *f, const hp_layout *L, const csv_fiel
                                "%s:%ld:%d: header: unknown column '%.*s' (expected "
                                "p_<bladder>_pa or _kpa for the scene's bladders, x_mm, y_mm, "
                                "z_mm, pitch_deg, roll_deg, yaw_deg)",
-                               f->path, f->line, fl[c].col,
-                               (int)(fl[c].len > 60 ? 60 : fl[c].len), fl[c].s);
+                               f->path, f->line, fl[c].col, (int)(fl[c].len > 60 ? 60 : fl[c].len),
+                               fl[c].s);
         int *seen = role[c] >= 0 ? &seen_b[role[c]] : &seen_p[-1 - role[c]];
         if ((*seen)++)
-            return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: header: '%.*s' appears twice",
-                               f->path, f->line, fl[c].col, (int)fl[c].len, fl[c].s);
+            return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:%d: header: '%.*s' appears twice", f->path,
+                               f->line, fl[c].col, (int)fl[c].len, fl[c].s);
     }
     for (int k = 0; k < L->n; ++k)
         if (!seen_b[k])
-            return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: header: missing column p_%s_pa",
-                               f->path, f->line, L->bladders[k].name);
+            return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: header: missing column p_%s_pa", f->path,
+                               f->line, L->bladders[k].name);
     for (int j = 0; j < 6; ++j)
         if (!seen_p[j])
             return hp_diag_set(d, HP_ERR_PARSE, "%s:%ld:1: header: missing column %s", f->path,
@@ -425,9 +429,8 @@ static hp_error csv_header(const csv_file *f, const hp_layout *L, const csv_fiel
     return HP_OK;
 }
 
-static hp_error read_layout(const char *path, const char *text, size_t tlen,
-                            const hp_layout *L, hp_calib_row *rows, int max, int *n,
-                            hp_diag *d)
+static hp_error read_layout(const char *path, const char *text, size_t tlen, const hp_layout *L,
+                            hp_calib_row *rows, int max, int *n, hp_diag *d)
 {
     if (!path || !L || !rows || !n) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
     *n = 0;
@@ -445,8 +448,10 @@ static hp_error read_layout(const char *path, const char *text, size_t tlen,
     if (!err && !jsonl) {
         r = csv_next(&f, fl, &nf, d);
         if (r == 0)
-            err = hp_diag_set(d, HP_ERR_PARSE, "%s:1:1: empty file (expected the header "
-                              "p_<bladder>_pa...,x_mm,...,yaw_deg)", path);
+            err = hp_diag_set(d, HP_ERR_PARSE,
+                              "%s:1:1: empty file (expected the header "
+                              "p_<bladder>_pa...,x_mm,...,yaw_deg)",
+                              path);
         else if (r < 0) err = HP_ERR_PARSE;
         else err = csv_header(&f, L, fl, nf, role, scale, d);
         ncol = nf;
@@ -487,15 +492,14 @@ static hp_error read_layout(const char *path, const char *text, size_t tlen,
     return err;
 }
 
-hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row *rows,
-                              int max, int *n, hp_diag *d)
+hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row *rows, int max,
+                              int *n, hp_diag *d)
 {
     return read_layout(path, NULL, 0, L, rows, max, n, d);
 }
 
-hp_error hp_calib_parse_layout(const char *text, size_t len, const char *name,
-                               const hp_layout *L, hp_calib_row *rows, int max, int *n,
-                               hp_diag *d)
+hp_error hp_calib_parse_layout(const char *text, size_t len, const char *name, const hp_layout *L,
+                               hp_calib_row *rows, int max, int *n, hp_diag *d)
 {
     if (!text) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
     return read_layout(name, text, len, L, rows, max, n, d);

@@ -14,8 +14,8 @@ enum { CALIB_REF_NONE = 0, CALIB_REF_RI, CALIB_REF_RO };
  * (limit point lp) and its exact derivatives dr[0] = dr/dC1, dr[1] = dr/dC2 and, unless ref
  * is CALIB_REF_NONE, dr[2] = dr/dRi or dr/dRo (implicit function theorem on the closed form).
  * HP_ERR_NO_STABLE when P has no stable radius. */
-hp_error calib_model_radius(const hp_iab *m, const hp_iab_limit *lp, hp_calib_radius kind,
-                            double P, int ref, double *r, double dr[3]);
+hp_error calib_model_radius(const hp_iab *m, const hp_iab_limit *lp, hp_calib_radius kind, double P,
+                            int ref, double *r, double dr[3]);
 
 /* Sets every number of a material fit to NaN and its counts to 0 (a failed fit answers
  * nothing). */
@@ -24,8 +24,8 @@ void calib_material_invalidate(hp_material_fit *out);
 /* Fills a successful material fit: moduli C, standard errors se, their correlation, the
  * condition number, dof = n − parameters, unit-weight variance s2, weighted residuals e (resid,
  * may be NULL, gets them in metres), the iterations and the fitted limit point lp. */
-void calib_material_result(hp_material_fit *out, const double C[2], const double se[2],
-                           double corr, double cond, int dof, double s2, const double *e,
+void calib_material_result(hp_material_fit *out, const double C[2], const double se[2], double corr,
+                           double cond, int dof, double s2, const double *e,
                            const hp_calib_point *pts, int n, double *resid, int iterations,
                            const hp_iab_limit *lp);
 
@@ -48,15 +48,15 @@ hp_error calib_covariance(int m, int k, const double *S, const double *scale, do
 
 typedef struct lay_ctx {
     const hp_layout *L0;
-    hp_geom G0;                 /* L0's contact geometry: the offsets move along its normals */
+    hp_geom G0; /* L0's contact geometry: the offsets move along its normals */
     const hp_calib_row *rows;
     int n, dofp, np, nsel;
-    int n_axes;                 /* 0, 1 (sphere) or 3 */
-    int mass_j;                 /* index of the carried mass among the parameters, or -1 */
+    int n_axes; /* 0, 1 (sphere) or 3 */
+    int mass_j; /* index of the carried mass among the parameters, or -1 */
     int sel[HP_CALIB_MAX_PARAMS];
     hp_level level;
-    const hp_load_spec *load;   /* NULL: contact forward kinematics; else forward statics */
-    double w[6];                /* 1/σ per pose component */
+    const hp_load_spec *load; /* NULL: contact forward kinematics; else forward statics */
+    double w[6];              /* 1/σ per pose component */
     double (*ro)[HP_MAX_BLADDERS];
 } lay_ctx;
 

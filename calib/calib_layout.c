@@ -16,13 +16,13 @@
 #include <string.h>
 
 #define LAY_MAX_ITERS 200
-#define LAY_FD_STEP 1e-6     /* [m] central-difference step of the contact model: 1 µm */
+#define LAY_FD_STEP 1e-6 /* [m] central-difference step of the contact model: 1 µm */
 /* A singular value below this fraction of the largest (unit-norm columns) counts as zero:
  * the central differences carry ~1e-9 relative noise, so an exactly unidentifiable direction
  * shows up near 1e-8 (docs/calibration.md); weak but real directions stay, with their wide
  * intervals and the condition number as the warning. */
 #define LAY_RANK_TOL 1e-7
-#define LAY_STEP_TOL 1e-12   /* [m] a step this small ends the iteration */
+#define LAY_STEP_TOL 1e-12 /* [m] a step this small ends the iteration */
 
 void hp_layout_fit_options_default(hp_layout_fit_options *o)
 {
@@ -42,14 +42,13 @@ void hp_layout_fit_options_default(hp_layout_fit_options *o)
  * their difference smooth), else from the measured pose; poses (may be NULL) receives the
  * model's poses. */
 static hp_error resid(const lay_ctx *c, const hp_layout *L, const hp_geom *G, const double *theta,
-                      double *e,
-                      const double (*start)[6], double (*poses)[6])
+                      double *e, const double (*start)[6], double (*poses)[6])
 {
     if (c->load) return calib_load_resid(c, L, theta, e, start, poses);
     for (int i = 0; i < c->n; ++i) {
         double xi[6];
         hp_error err = hpi_contact_fk_g(L, G, c->level, c->ro[i],
-                                       start ? start[i] : c->rows[i].pose, xi, NULL, NULL);
+                                        start ? start[i] : c->rows[i].pose, xi, NULL, NULL);
         if (err) return err;
         if (poses) memcpy(poses[i], xi, sizeof xi);
         for (int j = 0; j < c->dofp; ++j)
@@ -80,7 +79,7 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     if (c->load) return calib_load_jacobian(c, theta, J);
     int n = c->n, nb = c->L0->n, dp = c->dofp, np = c->np;
     size_t per = (size_t)nb * 6;
-    double (*xi)[6] = malloc(sizeof *xi * (size_t)n);
+    double(*xi)[6] = malloc(sizeof *xi * (size_t)n);
     double *drho = malloc(sizeof(double) * (size_t)n * nb * np);
     double *dJc = malloc(sizeof(double) * (size_t)n * per * np);
     hp_error err = (!xi || !drho || !dJc) ? HP_ERR_NOMEM : HP_OK;
@@ -146,8 +145,7 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     return err;
 }
 
-void calib_columns(int m, int np, const double *J, const int *cols, int k, double *S,
-                    double *scale)
+void calib_columns(int m, int np, const double *J, const int *cols, int k, double *S, double *scale)
 {
     for (int q = 0; q < k; ++q) {
         double s = 0.0;
@@ -204,8 +202,7 @@ static hp_error check_rows(const hp_layout *L, const hp_calib_row *rows, int n,
 
 /* Builds the context: parameters, weights and every row's outer radii. */
 static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
-                      const hp_layout_fit_options *opt, lay_ctx *c, hp_layout_fit *out,
-                      hp_diag *d)
+                      const hp_layout_fit_options *opt, lay_ctx *c, hp_layout_fit *out, hp_diag *d)
 {
     if (!L || !rows || !opt || !out) return hp_diag_set(d, HP_ERR_NULL, "NULL argument");
     hp_layout chk = *L; /* the full checks, on a copy: L is the caller's */
@@ -252,8 +249,7 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
             snprintf(out->name[j], HP_CALIB_NAME_MAX, "%s", sphere ? "radius" : axis[j]);
             out->scene_value[j] = L->head.semi_axes[j];
         } else {
-            snprintf(out->name[j], HP_CALIB_NAME_MAX, "offset:%s",
-                     L->bladders[j - c->n_axes].name);
+            snprintf(out->name[j], HP_CALIB_NAME_MAX, "offset:%s", L->bladders[j - c->n_axes].name);
             out->scene_value[j] = 0.0;
         }
         out->value[j] = out->scene_value[j];
@@ -273,7 +269,7 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
  * unit norm: (SᵀS + λI)·y = −Sᵀe solved through the SVD S = UΣVᵀ as y = −V(Σ² + λ)⁻¹Vᵀ·Sᵀe,
  * then dx = y / scale. */
 hp_error calib_lm_step(int m, int k, const double *S, const double *scale, const double *e,
-                        double lambda, double *dx)
+                       double lambda, double *dx)
 {
     double sv[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
     double g[HP_CALIB_MAX_PARAMS] = {0}, y[HP_CALIB_MAX_PARAMS];
@@ -331,7 +327,7 @@ static hp_error sym_inverse(int k, const double *A, double *C)
 /* Inverse of the information matrix of the selected columns (k×k) through the SVD:
  * (JᵀJ)⁻¹ = V Σ⁻² Vᵀ in unit-column coordinates, unscaled. */
 hp_error calib_covariance(int m, int k, const double *S, const double *scale, double *C,
-                           double *cond)
+                          double *cond)
 {
     double sv[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
     if (hpi_kin_svd(m, k, S, sv, V) || !(sv[k - 1] > 0)) return HP_ERR_INVALID;
@@ -360,8 +356,8 @@ static void invalidate(hp_layout_fit *out)
 }
 
 hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
-                       const hp_layout_fit_options *opt, hp_layout_fit *out,
-                       double *resid_after, hp_diag *diag)
+                       const hp_layout_fit_options *opt, hp_layout_fit *out, double *resid_after,
+                       hp_diag *diag)
 {
     lay_ctx c;
     hp_error err = setup(L, rows, n, opt, &c, out, diag);
@@ -578,8 +574,10 @@ hp_error hp_fit_layout_gain(const hp_layout *L, const hp_calib_row *rows, int n,
     }
     err = jacobian(&c, theta, J);
     /* Information A = JᵀJ of the selected columns; each candidate adds its row's block. */
-    double A[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS], B[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
-    double Ci[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS], Cn[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
+    double A[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS],
+        B[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
+    double Ci[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS],
+        Cn[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
     for (int a = 0; !err && a < k; ++a)
         for (int b = 0; b < k; ++b) {
             double s = 0.0;

@@ -49,7 +49,7 @@ hp_error calib_load_jacobian(const lay_ctx *c, const double *theta, double *J)
 {
     int n = c->n, dp = c->dofp, np = c->np;
     hp_load_model *M = malloc(sizeof *M * 3); /* at theta, theta + h, theta − h */
-    double (*xi)[6] = malloc(sizeof *xi * (size_t)n);
+    double(*xi)[6] = malloc(sizeof *xi * (size_t)n);
     double *dQ = malloc(sizeof(double) * (size_t)n * 6 * (size_t)np);
     hp_error err = (!M || !xi || !dQ) ? HP_ERR_NOMEM : HP_OK;
     hp_layout L;

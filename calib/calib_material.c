@@ -52,8 +52,8 @@ static double dP_dref(const hp_iab *m, double ri, double ro, int ref)
     return Plo * (m->Ro / (ro * ro) - ro / (m->Ro * m->Ro));
 }
 
-hp_error calib_model_radius(const hp_iab *m, const hp_iab_limit *lp, hp_calib_radius kind,
-                            double P, int ref, double *r, double dr[3])
+hp_error calib_model_radius(const hp_iab *m, const hp_iab_limit *lp, hp_calib_radius kind, double P,
+                            int ref, double *r, double dr[3])
 {
     double ri, Pri, dP, a, b, ro;
     hp_error e = hp_iab_fk_limit(m, lp, P, &ri);
@@ -86,8 +86,8 @@ hp_error calib_model_radius(const hp_iab *m, const hp_iab_limit *lp, hp_calib_ra
 
 /* Weighted residuals e_i = (r_meas − r_model)/σ_i and, if J is not NULL, their Jacobian
  * (n×2, row-major). Returns the index of the point that failed through *bad. */
-static hp_error residuals(const hp_iab *m, hp_calib_radius kind, const hp_calib_point *pts,
-                          int n, double *e, double *J, int *bad, hp_iab_limit *lp_out)
+static hp_error residuals(const hp_iab *m, hp_calib_radius kind, const hp_calib_point *pts, int n,
+                          double *e, double *J, int *bad, hp_iab_limit *lp_out)
 {
     hp_iab_limit lp;
     hp_error err = hp_iab_limit_point(m, &lp);
@@ -161,8 +161,7 @@ static double cond2(const double S[3])
  * scaled by C2 -> 0 would make any data "unidentifiable". */
 static double scaled_cond(const hp_iab *m, const double A[3])
 {
-    double floor_c = 0.1 * (m->C1 + m->C2), sc1 = fmax(m->C1, floor_c),
-           sc2 = fmax(m->C2, floor_c);
+    double floor_c = 0.1 * (m->C1 + m->C2), sc1 = fmax(m->C1, floor_c), sc2 = fmax(m->C2, floor_c);
     double S[3] = {A[0] * sc1 * sc1, A[1] * sc1 * sc2, A[2] * sc2 * sc2};
     return cond2(S);
 }
@@ -196,8 +195,8 @@ static hp_error refuse_ill(hp_diag *diag, double cond, const double *ri_meas, in
 /* HP_ERR_INVALID when the fitted radii (weighted residuals e) miss the measured ones by more
  * than MAT_RMS_REL_MAX of their mean; the message compares the data with the reference
  * radius R they should lie near, to point at a wrong unit. */
-static hp_error refuse_misfit(hp_diag *diag, hp_calib_radius kind, const hp_calib_point *pts,
-                              int n, const double *e, double R)
+static hp_error refuse_misfit(hp_diag *diag, hp_calib_radius kind, const hp_calib_point *pts, int n,
+                              const double *e, double R)
 {
     double ss = 0.0, mean = 0.0;
     for (int i = 0; i < n; ++i) {
@@ -219,8 +218,7 @@ static hp_error refuse_misfit(hp_diag *diag, hp_calib_radius kind, const hp_cali
                        "the fit misses the data: residual RMS %.4g mm is %.3g %% of the mean "
                        "measured radius %.4g mm (more than %g %%); no moduli of this bladder "
                        "reproduce these radii%s",
-                       rms * 1e3, 100.0 * rms / mean, mean * 1e3, 100.0 * MAT_RMS_REL_MAX,
-                       unit);
+                       rms * 1e3, 100.0 * rms / mean, mean * 1e3, 100.0 * MAT_RMS_REL_MAX, unit);
 }
 
 void calib_material_invalidate(hp_material_fit *out)
@@ -241,8 +239,8 @@ static long line_of(const hp_calib_point *p, int i) { return p->line ? p->line :
 
 /* Checks the points and the design before any fitting; converts measured radii to inner
  * radii for the starting fit. */
-static hp_error check_points(double Ri, double Ro, hp_calib_radius kind,
-                             const hp_calib_point *pts, int n, double *ri_meas, hp_diag *d)
+static hp_error check_points(double Ri, double Ro, hp_calib_radius kind, const hp_calib_point *pts,
+                             int n, double *ri_meas, hp_diag *d)
 {
     hp_iab geo = {Ri, Ro, 1.0, 1.0};
     hp_diag sub = {{0}};
@@ -250,19 +248,16 @@ static hp_error check_points(double Ri, double Ro, hp_calib_radius kind,
     if (kind != HP_CALIB_INNER && kind != HP_CALIB_OUTER)
         return hp_diag_set(d, HP_ERR_INVALID, "kind: must be inner or outer radius");
     if (n < 0 || n > HP_CALIB_MAX_ROWS)
-        return hp_diag_set(d, HP_ERR_INVALID, "n: %d points (at most %d)", n,
-                           HP_CALIB_MAX_ROWS);
+        return hp_diag_set(d, HP_ERR_INVALID, "n: %d points (at most %d)", n, HP_CALIB_MAX_ROWS);
     for (int i = 0; i < n; ++i) {
         const hp_calib_point *p = &pts[i];
         long ln = line_of(p, i);
         if (!isfinite(p->pressure))
             return hp_diag_set(d, HP_ERR_INVALID, "point %ld: pressure: must be finite", ln);
         if (!(p->radius > 0) || !isfinite(p->radius))
-            return hp_diag_set(d, HP_ERR_INVALID, "point %ld: radius: must be finite and > 0",
-                               ln);
+            return hp_diag_set(d, HP_ERR_INVALID, "point %ld: radius: must be finite and > 0", ln);
         if (!(p->sigma > 0) || !isfinite(p->sigma))
-            return hp_diag_set(d, HP_ERR_INVALID, "point %ld: sigma: must be finite and > 0",
-                               ln);
+            return hp_diag_set(d, HP_ERR_INVALID, "point %ld: sigma: must be finite and > 0", ln);
         ri_meas[i] = p->radius;
         if (kind == HP_CALIB_OUTER && hp_iab_ri(&geo, p->radius, &ri_meas[i]) != HP_OK)
             return hp_diag_set(d, HP_ERR_INVALID,
@@ -298,8 +293,8 @@ static hp_error check_points(double Ri, double Ro, hp_calib_radius kind,
 
 /* Starting moduli: weighted linear least squares of P = C1·a(ri) + C2·b(ri) at the measured
  * radii, moved inside C1 > 0, C2 >= 0 when the data's noise pushes it out. */
-static void start_point(double Ri, double Ro, const hp_calib_point *pts, const double *ri,
-                        int n, double *C1, double *C2)
+static void start_point(double Ri, double Ro, const hp_calib_point *pts, const double *ri, int n,
+                        double *C1, double *C2)
 {
     double A[3] = {0}, g[2] = {0}, s11 = 0.0, s1p = 0.0;
     for (int i = 0; i < n; ++i) {
@@ -326,8 +321,8 @@ static void start_point(double Ri, double Ro, const hp_calib_point *pts, const d
     *C1 = *C2 = K;
 }
 
-void calib_material_result(hp_material_fit *out, const double C[2], const double se[2],
-                           double corr, double cond, int dof, double s2, const double *e,
+void calib_material_result(hp_material_fit *out, const double C[2], const double se[2], double corr,
+                           double cond, int dof, double s2, const double *e,
                            const hp_calib_point *pts, int n, double *resid, int iterations,
                            const hp_iab_limit *lp)
 {
@@ -387,12 +382,12 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
         for (int i = 1; i < n; ++i)
             if (ri_meas[i] > ri_meas[imax]) imax = i;
         if (!(ri_meas[imax] < lp0.ri)) {
-            err = hp_diag_set(diag, HP_ERR_INVALID,
-                              "the fit runs into the limit point: point %ld (ri %.6g mm) lies "
-                              "past the inflation limit point (lambda_i %.4f, %.6g Pa) of the moduli "
-                              "its pressures suggest; fit stable-branch points only",
-                              line_of(&pts[imax], imax), ri_meas[imax] * 1e3, lp0.lambda_i,
-                              lp0.pressure);
+            err = hp_diag_set(
+                diag, HP_ERR_INVALID,
+                "the fit runs into the limit point: point %ld (ri %.6g mm) lies "
+                "past the inflation limit point (lambda_i %.4f, %.6g Pa) of the moduli "
+                "its pressures suggest; fit stable-branch points only",
+                line_of(&pts[imax], imax), ri_meas[imax] * 1e3, lp0.lambda_i, lp0.pressure);
             goto done;
         }
     }
@@ -485,8 +480,8 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
         goto done;
     }
     if (!converged) {
-        err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE,
-                          "the fit did not converge in %d iterations", MAT_MAX_ITERS);
+        err = hp_diag_set(diag, HP_ERR_NO_CONVERGENCE, "the fit did not converge in %d iterations",
+                          MAT_MAX_ITERS);
         goto done;
     }
 
@@ -521,8 +516,8 @@ hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_ca
     int dof = n - 2;
     double s2 = cost / dof;
     double se[2] = {sqrt(s2 * inv[0]), sqrt(s2 * inv[2])}, th[2] = {m.C1, m.C2};
-    calib_material_result(out, th, se, inv[1] / sqrt(inv[0] * inv[2]), cond, dof, s2, e, pts,
-                          n, resid, it, &lp);
+    calib_material_result(out, th, se, inv[1] / sqrt(inv[0] * inv[2]), cond, dof, s2, e, pts, n,
+                          resid, it, &lp);
 done:
     /* A search that failed (no convergence, a bound, a limit point) on data that see only
      * one combination of the moduli failed because of that: the noise decides where such a
@@ -536,10 +531,9 @@ done:
     return err;
 }
 
-hp_error hp_fit_material_gain(double Ri, double Ro, hp_calib_radius kind,
-                              const hp_calib_point *pts, int n, const hp_material_fit *fit,
-                              const double *cand, int ncand, double sigma, double *shrink,
-                              hp_diag *diag)
+hp_error hp_fit_material_gain(double Ri, double Ro, hp_calib_radius kind, const hp_calib_point *pts,
+                              int n, const hp_material_fit *fit, const double *cand, int ncand,
+                              double sigma, double *shrink, hp_diag *diag)
 {
     if (!pts || !fit || !cand || !shrink) return HP_ERR_NULL;
     if (!(sigma > 0) || !isfinite(sigma) || ncand < 0 || n < 1 || n > HP_CALIB_MAX_ROWS)

@@ -74,8 +74,8 @@ static double sumsq(int n, const double *v)
 static long line_of(const hp_calib_point *p, int i) { return p->line ? p->line : i + 1; }
 
 hp_error hp_fit_material_ref(double Ri, double Ro, hp_calib_radius kind, hp_calib_radius ref,
-                             const hp_calib_point *pts, int n, hp_material_fit *out,
-                             double *resid, hp_diag *diag)
+                             const hp_calib_point *pts, int n, hp_material_fit *out, double *resid,
+                             hp_diag *diag)
 {
     if (!out) return HP_ERR_NULL;
     if (ref != HP_CALIB_INNER && ref != HP_CALIB_OUTER) {
@@ -148,8 +148,7 @@ hp_error hp_fit_material_ref(double Ri, double Ro, hp_calib_radius kind, hp_cali
     if (!err) err = eval(&c, th, e, J, &bad, &lp);
     if (err) {
         err = hp_diag_set(diag, HP_ERR_INVALID, "fitting %s: the model failed at point %ld (%s)",
-                          rname, bad >= 0 ? line_of(&pts[bad], bad) : 0L,
-                          hp_error_message(err));
+                          rname, bad >= 0 ? line_of(&pts[bad], bad) : 0L, hp_error_message(err));
         goto done;
     }
     calib_columns(n, 3, J, cols, 3, S, scale);
@@ -172,7 +171,8 @@ hp_error hp_fit_material_ref(double Ri, double Ro, hp_calib_radius kind, hp_cali
         bladder_of(&c, th, &m);
         for (int i = 0; lp.exists && i < n; ++i) {
             double ri = pts[i].radius;
-            if (kind == HP_CALIB_OUTER) ri = cbrt(ri * ri * ri - m.Ro * m.Ro * m.Ro + m.Ri * m.Ri * m.Ri);
+            if (kind == HP_CALIB_OUTER)
+                ri = cbrt(ri * ri * ri - m.Ro * m.Ro * m.Ro + m.Ri * m.Ri * m.Ri);
             if (!(ri < lp.ri)) {
                 err = hp_diag_set(diag, HP_ERR_INVALID,
                                   "the fit runs into the limit point: point %ld's radius lies "

@@ -94,18 +94,18 @@ static void write_body(FILE *f, const hp_layout *L, hp_level level, const hp_sce
     fprintf(f, "model: {level: %s, tolerance_mm: %.17g",
             base->level_load ? "load" : hp_level_name(level), base->level_tolerance * 1e3);
     if (base->has_auto_range)
-        fprintf(f, ", auto_translation_mm: %.17g, auto_rotation_deg: %.17g",
-                base->auto_trans * 1e3, base->auto_rot * HP_DEG_PER_RAD);
-    fprintf(f, "}\nsolver: {backend: %s, tolerance: %.17g, max_iter: %d, max_time_s: %.17g, "
-               "weight_mm_per_deg: %.17g}\n",
+        fprintf(f, ", auto_translation_mm: %.17g, auto_rotation_deg: %.17g", base->auto_trans * 1e3,
+                base->auto_rot * HP_DEG_PER_RAD);
+    fprintf(f,
+            "}\nsolver: {backend: %s, tolerance: %.17g, max_iter: %d, max_time_s: %.17g, "
+            "weight_mm_per_deg: %.17g}\n",
             hp_backend_name(base->backend), base->tolerance, base->max_iter, base->max_time,
             base->weight_mm_per_deg);
     if (base->has_correction) {
         double c[6];
         hp_pose_to_clinical(base->correction, c);
         fprintf(f, "correction: {");
-        for (int j = 0; j < 6; ++j)
-            fprintf(f, "%s%s: %.17g", j ? ", " : "", hp_pose_key(j), c[j]);
+        for (int j = 0; j < 6; ++j) fprintf(f, "%s%s: %.17g", j ? ", " : "", hp_pose_key(j), c[j]);
         fprintf(f, "}\n");
     }
 }
@@ -142,8 +142,8 @@ hp_error hp_calib_check_output(const char *path, const char *const *inputs, int 
 }
 
 hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level level,
-                              const hp_scene *base, const char *name,
-                              const char *const *inputs, int n_inputs, hp_diag *d)
+                              const hp_scene *base, const char *name, const char *const *inputs,
+                              int n_inputs, hp_diag *d)
 {
     if (!path || !L || !name || (n_inputs > 0 && !inputs))
         return hp_diag_set(d, HP_ERR_NULL, "NULL argument");

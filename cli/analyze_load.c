@@ -9,12 +9,12 @@
 #include <string.h>
 
 typedef struct load_report {
-    int assumed;           /* 1: no load section, whole head mass along −Z assumed */
+    int assumed; /* 1: no load section, whole head mass along −Z assumed */
     hp_load_spec spec;
     double sag, k_gravity; /* predicted sag of a kinematic plan [m], stiffness [N/m] */
     int use_load;
     char why[256];
-    int held;              /* 1: the load planner answered at the nominal pose */
+    int held; /* 1: the load planner answered at the nominal pose */
     char refused[HP_DIAG_MAX];
     hp_result r;
     hp_load_info info;
@@ -92,17 +92,17 @@ void cli_analyze_load_text(const hp_scene *sc)
         const hp_load_holding *h = &rep->info.holding;
         double a[6];
         hp_pose_to_clinical(rep->r.achieved, a);
-        printf("%-13s %s", "held", rep->r.status == HP_STATUS_REACHED ? "at the nominal pose"
-                                                                    : "only lower: closest");
+        printf("%-13s %s", "held",
+               rep->r.status == HP_STATUS_REACHED ? "at the nominal pose" : "only lower: closest");
         if (rep->r.status != HP_STATUS_REACHED)
-            printf(" (%.4f, %.4f, %.4f) mm, (%.4f, %.4f, %.4f) deg", a[0], a[1], a[2], a[3],
-                   a[4], a[5]);
-        printf("\n%-13s %s; weakest %s, %.4g %s\n", "holding",
-               h->stable ? "stable" : "NOT stable", h->weakest_words, h->weakest_compliance,
+            printf(" (%.4f, %.4f, %.4f) mm, (%.4f, %.4f, %.4f) deg", a[0], a[1], a[2], a[3], a[4],
+                   a[5]);
+        printf("\n%-13s %s; weakest %s, %.4g %s\n", "holding", h->stable ? "stable" : "NOT stable",
+               h->weakest_words, h->weakest_compliance,
                h->weakest_is_rotation ? "deg/(N*m)" : "mm/N");
         printf("%-13s x %.4g, y %.4g, z %.4g mm/N; pitch %.4g, roll %.4g, yaw %.4g deg/(N*m)\n",
-               "compliance", h->compliance[0], h->compliance[1], h->compliance[2],
-               h->compliance[3], h->compliance[4], h->compliance[5]);
+               "compliance", h->compliance[0], h->compliance[1], h->compliance[2], h->compliance[3],
+               h->compliance[4], h->compliance[5]);
         printf("%-13s", "pressures_pa");
         for (int k = 0; k < rep->r.n; ++k) printf(" %.1f", rep->r.bladders[k].pressure);
         printf("\n");

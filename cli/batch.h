@@ -42,13 +42,13 @@ typedef struct batch_engine {
     const hp_layout *L;
     const hp_settings *s;
     int jobs;
-    hp_planner *p;                 /* in-process: every row when jobs == 1, repairs else */
-    hp_trace_plan *tp;             /* over p */
-    batch_out last;                /* the last good row so far (when has_last) */
-    int has_last;                  /* 0: no good row yet: the nominal answer is the state */
-    batch_out block_start;         /* the state the last block started from ... */
-    int has_block_start;           /* ... (0: the start of the trace) */
-    size_t repaired;               /* rows re-planned at shard joins, over all blocks */
+    hp_planner *p;         /* in-process: every row when jobs == 1, repairs else */
+    hp_trace_plan *tp;     /* over p */
+    batch_out last;        /* the last good row so far (when has_last) */
+    int has_last;          /* 0: no good row yet: the nominal answer is the state */
+    batch_out block_start; /* the state the last block started from ... */
+    int has_block_start;   /* ... (0: the start of the trace) */
+    size_t repaired;       /* rows re-planned at shard joins, over all blocks */
 } batch_engine;
 
 /* Creates the planner; the state is the start of the trace. Returns 0, or 1 after a line

@@ -37,10 +37,10 @@ int batch_output_format(const char *format, const char *out, hp_trace_format *fm
     if (format) {
         if (hp_trace_format_parse(format, fmt) != HP_OK)
             return cli_fail(CLI_EXIT_USAGE, "batch", "--format: unknown format '%s' (csv, jsonl)",
-                               format);
+                            format);
         if (has_ext && by_ext != *fmt)
             return cli_fail(CLI_EXIT_USAGE, "batch",
-                               "--format %s contradicts the extension of -o %s", format, out);
+                            "--format %s contradicts the extension of -o %s", format, out);
         return 0;
     }
     if (has_ext) {
@@ -51,8 +51,9 @@ int batch_output_format(const char *format, const char *out, hp_trace_format *fm
      * where it expected JSON Lines is the guess this refuses. */
     if (to_file)
         return cli_fail(CLI_EXIT_USAGE, "batch",
-                           "-o %s: cannot tell the format: give --format csv|jsonl or name the "
-                           "file .csv or .jsonl", out);
+                        "-o %s: cannot tell the format: give --format csv|jsonl or name the "
+                        "file .csv or .jsonl",
+                        out);
     return cli_fail(CLI_EXIT_USAGE, "batch",
                     "standard output has no file name to tell the format: give --format "
                     "csv|jsonl (or -o FILE.csv|FILE.jsonl)");
@@ -110,8 +111,7 @@ static void binding_text(const hp_layout *L, const double *flags, char *buf, siz
         unsigned f = (unsigned)flags[k];
         if (!f) continue;
         if ((used && !add_text(buf, size, &used, ";")) ||
-            !add_text(buf, size, &used, L->bladders[k].name) ||
-            !add_text(buf, size, &used, ":"))
+            !add_text(buf, size, &used, L->bladders[k].name) || !add_text(buf, size, &used, ":"))
             return;
         int first = 1;
         for (int b = 0; b < HP_BIND_COUNT; ++b) {
@@ -334,7 +334,9 @@ static void put_cell(row_buf *r, const cell *c, hp_trace_format fmt)
         break;
     case CELL_INT: rb_put_long(r, c->i); break;
     case CELL_TEXT: rb_text(r, c->text, fmt); break;
-    case CELL_NONE: if (json) rb_put(r, "null", 4); break;
+    case CELL_NONE:
+        if (json) rb_put(r, "null", 4);
+        break;
     }
 }
 
@@ -361,7 +363,11 @@ void batch_sink_meta(batch_sink *k, const batch_meta *m)
     /* key, value, 1 when the value is a number (JSON); a NULL value is JSON null and, in a
      * CSV comment, the entry's `none` text */
     static const char *const not_file = "none (not a regular file)";
-    const struct { const char *key, *value; int number; const char *none; } meta[] = {
+    const struct {
+        const char *key, *value;
+        int number;
+        const char *none;
+    } meta[] = {
         {"headplan_batch", "1", 1, NULL},
         {"program", ver, 0, NULL},
         {"scene", m->scene, 0, NULL},
@@ -386,8 +392,9 @@ void batch_sink_meta(batch_sink *k, const batch_meta *m)
     if (k->fmt == HP_TRACE_CSV) {
         for (size_t i = 0; i < nm; ++i) {
             fprintf(f, "# %s: ", meta[i].key);
-            cli_put_escaped(f, meta[i].value ? meta[i].value
-                               : meta[i].none ? meta[i].none : "none");
+            cli_put_escaped(f, meta[i].value  ? meta[i].value
+                               : meta[i].none ? meta[i].none
+                                              : "none");
             fputc('\n', f);
         }
         for (int c = 0; c < k->ncols; ++c) {

@@ -16,18 +16,18 @@
 typedef struct batch_meta {
     const char *scene, *scene_sha256, *trace, *trace_sha256; /* trace_sha256 NULL: a stream */
     const char *rows, *rows_from, *pose_form;
-    const char *level; /* the resolved contact level */
+    const char *level;        /* the resolved contact level */
     const char *level_choice; /* why auto chose it (hp_planner_level_choice); NULL: stated */
     const hp_settings *s;
 } batch_meta;
 
 typedef struct batch_sink {
-    FILE *f;           /* stdout or file.f */
-    cli_out file;      /* the -o file */
-    const char *path;  /* final path; NULL for stdout */
+    FILE *f;          /* stdout or file.f */
+    cli_out file;     /* the -o file */
+    const char *path; /* final path; NULL for stdout */
     hp_trace_format fmt;
     const hp_layout *L;
-    int times;         /* the measured columns (solve_time_us) */
+    int times; /* the measured columns (solve_time_us) */
     int ncols;
 } batch_sink;
 

@@ -237,13 +237,11 @@ int batch_engine_run(batch_engine *e, const batch_in *in, batch_out *out, size_t
     return rc;
 }
 
-const char *batch_engine_reason(batch_engine *e, const batch_in *in, const batch_out *out,
-                                size_t i)
+const char *batch_engine_reason(batch_engine *e, const batch_in *in, const batch_out *out, size_t i)
 {
     batch_out fresh[1];
     const batch_out *st = state_before(out, i, e->has_block_start ? &e->block_start : NULL);
-    if (replan(e, in, i, fresh, st) != HP_OK ||
-        !*hp_planner_error(e->p))
+    if (replan(e, in, i, fresh, st) != HP_OK || !*hp_planner_error(e->p))
         return "invalid correction";
     return hp_planner_error(e->p);
 }

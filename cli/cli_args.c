@@ -54,8 +54,7 @@ static int plain_number_chars(const char *s)
 int cli_double(const char *cmd, const char *option, const char *text, double *out)
 {
     if (!text || !plain_number_chars(text))
-        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is not a number", option,
-                           text ? text : "");
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is not a number", option, text ? text : "");
     char *end = NULL;
     errno = 0;
     double v = strtod(text, &end);
@@ -63,8 +62,7 @@ int cli_double(const char *cmd, const char *option, const char *text, double *ou
         return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is not a number", option, text);
     if (errno == ERANGE && fabs(v) > 1.0)
         return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' overflows a double", option, text);
-    if (!isfinite(v))
-        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is not finite", option, text);
+    if (!isfinite(v)) return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is not finite", option, text);
     *out = v;
     return 0;
 }
@@ -73,8 +71,7 @@ int cli_doubles(const char *cmd, const char *option, const char *text, int n, do
 {
     char buf[512];
     if (!text || strlen(text) >= sizeof buf)
-        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: expected %d comma-separated numbers",
-                           option, n);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: expected %d comma-separated numbers", option, n);
     strcpy(buf, text);
     int count = 0;
     char *p = buf;
@@ -82,8 +79,8 @@ int cli_doubles(const char *cmd, const char *option, const char *text, int n, do
         char *comma = strchr(p, ',');
         if (comma) *comma = '\0';
         if (count >= n)
-            return cli_fail(CLI_EXIT_USAGE, cmd, "%s: more than %d numbers in '%s'",
-                               option, n, text);
+            return cli_fail(CLI_EXIT_USAGE, cmd, "%s: more than %d numbers in '%s'", option, n,
+                            text);
         int rc = cli_double(cmd, option, p, &out[count]);
         if (rc) return rc;
         ++count;
@@ -91,28 +88,26 @@ int cli_doubles(const char *cmd, const char *option, const char *text, int n, do
         p = comma + 1;
     }
     if (count != n)
-        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: %d numbers in '%s', expected %d", option,
-                           count, text, n);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: %d numbers in '%s', expected %d", option, count,
+                        text, n);
     return 0;
 }
 
-int cli_int(const char *cmd, const char *option, const char *text, long lo, long hi,
-               long *out)
+int cli_int(const char *cmd, const char *option, const char *text, long lo, long hi, long *out)
 {
     if (!text || *text == '\0' || strspn(text, "0123456789") != strlen(text))
         return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is not a whole number", option,
-                           text ? text : "");
+                        text ? text : "");
     errno = 0;
     long v = strtol(text, NULL, 10);
     if (errno == ERANGE || v < lo || v > hi)
-        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is outside [%ld, %ld]", option,
-                           text, lo, hi);
+        return cli_fail(CLI_EXIT_USAGE, cmd, "%s: '%s' is outside [%ld, %ld]", option, text, lo,
+                        hi);
     *out = v;
     return 0;
 }
 
-int cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
-               const char **value)
+int cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name, const char **value)
 {
     const char *a = argv[*i];
     size_t n = strlen(name);
@@ -132,7 +127,7 @@ int cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
 }
 
 int cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *const *names,
-                     const char **const *slots, int nopts)
+                  const char **const *slots, int nopts)
 {
     for (int o = 0; o < nopts; ++o) {
         const char *v = NULL;
@@ -149,10 +144,7 @@ int cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *co
     return 0;
 }
 
-const char *cli_name(const char *path)
-{
-    return path && strcmp(path, "-") == 0 ? "<stdin>" : path;
-}
+const char *cli_name(const char *path) { return path && strcmp(path, "-") == 0 ? "<stdin>" : path; }
 
 int cli_wants_help(int argc, char **argv, int from)
 {
@@ -208,8 +200,8 @@ int cli_parse(const char *cmd, int argc, char **argv, const cli_grammar *g)
 }
 
 int cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
-                      const char *const *names, const char **const *slots, int nopts,
-                      int *json, const char **scene)
+                   const char *const *names, const char **const *slots, int nopts, int *json,
+                   const char **scene)
 {
     if (cli_wants_help(argc, argv, 1)) {
         help();
@@ -229,10 +221,9 @@ int cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
         if (matched) continue;
         if (!operands && argv[i][0] == '-' && argv[i][1] != '\0')
             return cli_fail(CLI_EXIT_USAGE, cmd, "unknown option '%s' (see headplan %s --help)",
-                               argv[i], cmd);
+                            argv[i], cmd);
         if (*scene)
-            return cli_fail(CLI_EXIT_USAGE, cmd, "'%s': only one scene file may be given",
-                               argv[i]);
+            return cli_fail(CLI_EXIT_USAGE, cmd, "'%s': only one scene file may be given", argv[i]);
         *scene = argv[i];
     }
     if (!*scene)

@@ -14,15 +14,13 @@ int cli_double(const char *cmd, const char *option, const char *text, double *ou
 int cli_doubles(const char *cmd, const char *option, const char *text, int n, double *out);
 
 /* Parses a positive integer in [lo, hi]. Same contract. */
-int cli_int(const char *cmd, const char *option, const char *text, long lo, long hi,
-               long *out);
+int cli_int(const char *cmd, const char *option, const char *text, long lo, long hi, long *out);
 
 /* Option walker: matches argv[*i] against "--name" (value in the next argument) or
  * "--name=value". Returns 1 and sets *value (advancing *i past a separate value) when it
  * matches, 0 when it does not, and -1 (after printing "missing value") when the value is
  * missing. */
-int cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
-               const char **value);
+int cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name, const char **value);
 
 /* Parses the command line of a subcommand of the form `SCENE [--NAME VALUE]... [--json]`:
  * --help or -h anywhere prints help() and returns 0; each of the nopts value options
@@ -34,11 +32,11 @@ int cli_opt(const char *cmd, int argc, char **argv, int *i, const char *name,
  * past the value), 0 when argv[*i] is none of them, -1 after printing why (missing value,
  * an option given twice): the caller exits 64. */
 int cli_named_opt(const char *cmd, int argc, char **argv, int *i, const char *const *names,
-                     const char **const *slots, int nopts);
+                  const char **const *slots, int nopts);
 
 int cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
-                      const char *const *names, const char **const *slots, int nopts,
-                      int *json, const char **scene);
+                   const char *const *names, const char **const *slots, int nopts, int *json,
+                   const char **scene);
 
 /* The grammar of a subcommand's command line: value options (names[o] fills *slots[o]),
  * flags (flags[f] sets *flag_slots[f] to 1), options with their own syntax (extra, tried

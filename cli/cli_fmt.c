@@ -115,7 +115,7 @@ FMT_INLINE uint64_t round_at(const scaled *x, uint64_t pj, int *in)
     /* The part of T + r/2^s above t·pj, and pj, in units of 2^−s: below 1000·2^53. */
     uint64_t frac = (rem << x->s) + x->r, unit = pj << x->s;
     int up = 2 * frac > unit || (2 * frac == unit && (t & 1u));
-    uint64_t d = up ? unit - frac : frac; /* the distance to v, at most unit/2 */
+    uint64_t d = up ? unit - frac : frac;         /* the distance to v, at most unit/2 */
     uint64_t d2 = !up && x->pow2 ? 4 * d : 2 * d; /* 4d <= 2·unit < 2^64 */
     *in = d2 < x->W || (d2 == x->W && x->even);
     return t + (uint64_t)up;

@@ -24,8 +24,7 @@ static void put_bytes(FILE *f, const char *s, size_t n)
         else if ((c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') ||
                  (c < 0x80 && strchr(inert, c)))
             fputc(c, f);
-        else
-            fprintf(f, "\\0%03o", c);
+        else fprintf(f, "\\0%03o", c);
     }
 }
 

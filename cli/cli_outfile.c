@@ -60,8 +60,7 @@ void cli_input_of(cli_input *in, const char *what, const char *path)
     }
 }
 
-int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cli_input *in,
-                    int n)
+int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cli_input *in, int n)
 {
     struct stat st;
     /* An empty name (an unset shell variable) used to pass here as "does not exist", run the
@@ -102,8 +101,7 @@ int cli_stdout_not_input(const char *cmd, const char *what, const char *name, in
     if ((fd >= 0 ? fstat(fd, &in) : path ? stat(path, &in) : -1) != 0) return 0;
     if (in.st_dev != out.st_dev || in.st_ino != out.st_ino) return 0;
     return cli_fail(CLI_EXIT_CANTCREAT, cmd,
-                    "standard output is the %s %s: refused (it would be written into)", what,
-                    name);
+                    "standard output is the %s %s: refused (it would be written into)", what, name);
 }
 
 /* The directory part of path ("." when it has none) into buf, and the name after it. */
@@ -176,10 +174,7 @@ int cli_out_open(cli_out *o, const char *cmd, const char *opt, const char *path,
     return 0;
 }
 
-const char *cli_out_temp(const cli_out *o)
-{
-    return o->slot >= 0 ? tmp_paths[o->slot] : NULL;
-}
+const char *cli_out_temp(const cli_out *o) { return o->slot >= 0 ? tmp_paths[o->slot] : NULL; }
 
 static void release(cli_out *o)
 {

@@ -17,7 +17,7 @@ typedef struct cli_input {
     const char *path;
     dev_t dev;
     ino_t ino;
-    int known;        /* 0: not a file we could stat (standard input, missing) */
+    int known; /* 0: not a file we could stat (standard input, missing) */
 } cli_input;
 
 /* Records path as an input; "-" is standard input, recorded by what it is open on (named
@@ -27,8 +27,7 @@ void cli_input_of(cli_input *in, const char *what, const char *path);
 /* 0 when path may be written by option opt of cmd; otherwise CLI_EXIT_CANTCREAT after one
  * line: a symbolic link, a directory, an existing non-regular file (device, FIFO, socket),
  * or the same file as one of the n inputs. */
-int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cli_input *in,
-                    int n);
+int cli_out_allowed(const char *cmd, const char *opt, const char *path, const cli_input *in, int n);
 
 /* 0 when the outputs a and b (named by options opt_a and opt_b) are different files;
  * otherwise CLI_EXIT_USAGE after one line. The same file is the same name in the same

@@ -15,8 +15,7 @@
 
 /* out = PREFIX/rel when this program is PREFIX/bin/NAME and PREFIX/rel/probe is readable;
  * else out = fallback. */
-static void installed(const char *rel, const char *probe, const char *fallback, char *out,
-                      size_t n)
+static void installed(const char *rel, const char *probe, const char *fallback, char *out, size_t n)
 {
     char exe[PATH_MAX];
     ssize_t len = readlink("/proc/self/exe", exe, sizeof exe - 1);

@@ -52,8 +52,8 @@ int cli_read_input(const char *cmd, const char *what, const char *path, size_t m
     return 0;
 }
 
-int cli_load_scene_text(const char *cmd, const char *path, const char *study_msg,
-                        hp_scene **out, char **bytes, size_t *nbytes)
+int cli_load_scene_text(const char *cmd, const char *path, const char *study_msg, hp_scene **out,
+                        char **bytes, size_t *nbytes)
 {
     *out = NULL;
     char *text = NULL;
@@ -99,12 +99,11 @@ int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_
     return cli_load_scene_text(cmd, path, study_msg, out, NULL, NULL);
 }
 
-int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
-                    const char *level, hp_settings *s)
+int cli_settings(const char *cmd, const hp_scene *sc, const char *backend, const char *level,
+                 hp_settings *s)
 {
     hp_diag d = {{0}};
-    if (hp_scene_settings(sc, s, &d) != HP_OK)
-        return cli_fail(CLI_EXIT_DATAERR, cmd, "%s", d.text);
+    if (hp_scene_settings(sc, s, &d) != HP_OK) return cli_fail(CLI_EXIT_DATAERR, cmd, "%s", d.text);
     /* The library's overrides; its message starts with the option's name. */
     if ((backend && hp_scene_settings_override(s, "backend", backend, 0, &d) != HP_OK) ||
         (level && hp_scene_settings_override(s, "level", level, 0, &d) != HP_OK))

@@ -26,13 +26,13 @@ int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_
 /* The same, and (when bytes is not NULL) the very bytes parsed in *bytes (malloc'd; the
  * caller frees it) and their count in *nbytes: the file is read once, so a scene on a pipe
  * parses like a file, and a hash of *bytes is of what was planned. */
-int cli_load_scene_text(const char *cmd, const char *path, const char *study_msg,
-                        hp_scene **out, char **bytes, size_t *nbytes);
+int cli_load_scene_text(const char *cmd, const char *path, const char *study_msg, hp_scene **out,
+                        char **bytes, size_t *nbytes);
 
 /* Settings from the scene's model and solver sections, then the command-line overrides
  * (backend/level: NULL = keep the scene's). Prints and returns 64 for an unknown name given
  * on the command line, 65 for one in the scene; 0 on success. */
-int cli_settings(const char *cmd, const hp_scene *sc, const char *backend,
-                    const char *level, hp_settings *s);
+int cli_settings(const char *cmd, const hp_scene *sc, const char *backend, const char *level,
+                 hp_settings *s);
 
 #endif

@@ -69,11 +69,11 @@ static int parse(int argc, char **argv, analyze_args *a)
 
 /* Everything one run reports besides the scene itself. */
 typedef struct analysis {
-    hp_scene_analysis x;    /* the library's analysis at the resolved level */
-    int from_option;        /* 1 when --level gave it */
-    int range_from_scene;   /* 1: model.auto_*; 0: the planner's defaults (as solve uses) */
-    int solve_load;         /* 1: solve plans this scene at the load level, not at level */
-    char load_why[256];     /* why (cli_load_level) */
+    hp_scene_analysis x;  /* the library's analysis at the resolved level */
+    int from_option;      /* 1 when --level gave it */
+    int range_from_scene; /* 1: model.auto_*; 0: the planner's defaults (as solve uses) */
+    int solve_load;       /* 1: solve plans this scene at the load level, not at level */
+    char load_why[256];   /* why (cli_load_level) */
 } analysis;
 
 /* Resolves the level and the auto range from the planner settings the scene gives (the same
@@ -88,8 +88,7 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
      * without a load section. */
     const int level_is_load = a->level && strcmp(a->level, HP_SCENE_LEVEL_LOAD) == 0;
     const char *kin_level = level_is_load ? NULL : a->level;
-    int rc = cli_load_level(CMD, sc, a->level, &r->solve_load, r->load_why,
-                            sizeof r->load_why);
+    int rc = cli_load_level(CMD, sc, a->level, &r->solve_load, r->load_why, sizeof r->load_why);
     if (rc) return rc;
     if ((rc = cli_settings(CMD, sc, NULL, kin_level, &s))) return rc;
     /* A load scene's kinematic level is its contact geometry; solve plans the load level. */
@@ -104,8 +103,7 @@ static int compute(const hp_scene *sc, const analyze_args *a, analysis *r)
 
 /* Bladder k's nominal contact point, normal and distance, derived from the (validated)
  * scene layout; NaN should it fail. */
-static void nominal_contact(const hp_layout *L, int k, double pt[3], double nv[3],
-                            double *rho0)
+static void nominal_contact(const hp_layout *L, int k, double pt[3], double nv[3], double *rho0)
 {
     if (hp_layout_contact(L, k, pt, nv, rho0) == HP_OK) return;
     for (int i = 0; i < 3; ++i) pt[i] = nv[i] = NAN;
@@ -145,8 +143,7 @@ static json_t *head_json(const hp_head *h)
     json_object_set_new(o, "center_mm", cli_json_vec(h->center, 3, 1e3));
     if (h->shape == HP_HEAD_SPHERE)
         json_object_set_new(o, "radius_mm", json_real(h->semi_axes[0] * 1e3));
-    else
-        json_object_set_new(o, "semi_axes_mm", cli_json_vec(h->semi_axes, 3, 1e3));
+    else json_object_set_new(o, "semi_axes_mm", cli_json_vec(h->semi_axes, 3, 1e3));
     json_object_set_new(o, "mass_kg", h->mass > 0 ? json_real(h->mass) : json_null());
     return o;
 }
@@ -205,16 +202,16 @@ static int print_json(const hp_scene *sc, const analysis *r)
                         json_string(r->solve_load ? "load" : hp_level_name(r->x.level)));
     json_object_set_new(o, "singular_values", cli_json_vec(an->singular_values, 6, 1.0));
     json_object_set_new(o, "rank", json_integer(an->rank));
-    json_object_set_new(o, "condition", isfinite(an->condition) ? json_real(an->condition)
-                                                                : json_null());
+    json_object_set_new(o, "condition",
+                        isfinite(an->condition) ? json_real(an->condition) : json_null());
     json_t *w = json_object();
     json_object_set_new(w, "vector", cli_json_vec(an->weakest, 6, 1.0));
     json_object_set_new(w, "phrase", json_string(an->weakest_words));
     json_object_set_new(w, "singular_value", json_real(an->singular_values[5]));
     json_object_set_new(o, "weakest_direction", w);
     json_object_set_new(o, "rotation_commandable", json_boolean(an->rotation_commandable));
-    json_object_set_new(o, "note", an->rotation_commandable ? json_null()
-                                                            : json_string(SPHERE_NOTE));
+    json_object_set_new(o, "note",
+                        an->rotation_commandable ? json_null() : json_string(SPHERE_NOTE));
     json_t *reach = json_object();
     for (int i = 0; i < 6; ++i) {
         if (isnan(an->reach[i][0])) {
@@ -229,8 +226,7 @@ static int print_json(const hp_scene *sc, const analysis *r)
     json_object_set_new(b, "tolerance_mm", json_real(sc->level_tolerance * 1e3));
     json_object_set_new(b, "translation_mm", json_real(r->x.trans * 1e3));
     json_object_set_new(b, "rotation_deg", json_real(r->x.rot * 180.0 / HP_PI));
-    json_object_set_new(b, "range_source", json_string(r->range_from_scene ? "scene"
-                                                                           : "default"));
+    json_object_set_new(b, "range_source", json_string(r->range_from_scene ? "scene" : "default"));
     json_object_set_new(b, "linear_mm", json_real(r->x.bound_linear * 1e3));
     json_object_set_new(b, "plane_mm", json_real(r->x.bound_plane * 1e3));
     json_object_set_new(b, "surface_mm", json_real(0.0));
@@ -264,8 +260,8 @@ static void print_text(const hp_scene *sc, const analysis *r)
     if (h->shape == HP_HEAD_SPHERE)
         printf("%-13s sphere, radius %.4f mm\n", "head", h->semi_axes[0] * 1e3);
     else
-        printf("%-13s ellipsoid, semi-axes %.4f x %.4f x %.4f mm\n", "head",
-               h->semi_axes[0] * 1e3, h->semi_axes[1] * 1e3, h->semi_axes[2] * 1e3);
+        printf("%-13s ellipsoid, semi-axes %.4f x %.4f x %.4f mm\n", "head", h->semi_axes[0] * 1e3,
+               h->semi_axes[1] * 1e3, h->semi_axes[2] * 1e3);
     print_vec3("head centre", h->center, 1e3, "mm");
     print_vec3("pivot", L->pivot, 1e3, "mm");
     printf("%-13s %s", "level", hp_level_name(r->x.level));
@@ -280,10 +276,8 @@ static void print_text(const hp_scene *sc, const analysis *r)
     printf("%-13s", "singular");
     for (int j = 0; j < 6; ++j) printf(" %10.6f", an->singular_values[j]);
     printf("\n%-13s %d of 6\n", "rank", an->rank);
-    if (isfinite(an->condition))
-        printf("%-13s %.6g\n", "condition", an->condition);
-    else
-        printf("%-13s infinite (rank < 6)\n", "condition");
+    if (isfinite(an->condition)) printf("%-13s %.6g\n", "condition", an->condition);
+    else printf("%-13s infinite (rank < 6)\n", "condition");
     printf("%-13s %s%s\n", "weakest", an->weakest_words,
            an->rank < 6 ? " (not observable: singular value 0)" : "");
     printf("%-13s", "  vector");
@@ -308,10 +302,12 @@ static void print_text(const hp_scene *sc, const analysis *r)
     printf("%-13s %s\n", "symmetry", id->symmetry);
     if (id->centre_only)
         printf("%-13s none identified: only the motion of the head centre is seen; a turn "
-               "about the centre is reported as not commanded\n", "rotation");
+               "about the centre is reported as not commanded\n",
+               "rotation");
     else
         printf("%-13s angle below %.4g deg (any axis; a half-turn maps the head onto "
-               "itself)\n", "rotation", id->rot_limit * DEG_PER_RAD);
+               "itself)\n",
+               "rotation", id->rot_limit * DEG_PER_RAD);
     printf("%-13s |(x, y, z)| up to %.4f mm (the head's smallest semi-axis)\n", "translation",
            id->trans_limit * 1e3);
 
@@ -351,8 +347,8 @@ static void print_text(const hp_scene *sc, const analysis *r)
                  B->center[2] * 1e3);
         snprintf(p, sizeof p, "(%.3f, %.3f, %.3f)", pt[0] * 1e3, pt[1] * 1e3, pt[2] * 1e3);
         snprintf(n, sizeof n, "(%.4f, %.4f, %.4f)", nv[0], nv[1], nv[2]);
-        printf("%-18s %-30s %-30s %-28s %6.2f %6.2f %8.0f %8.0f %8.0f %8.0f\n", B->name, c, p,
-               n, B->iab.Ri * 1e3, B->iab.Ro * 1e3, B->iab.C1, B->iab.C2, B->p_min, B->p_max);
+        printf("%-18s %-30s %-30s %-28s %6.2f %6.2f %8.0f %8.0f %8.0f %8.0f\n", B->name, c, p, n,
+               B->iab.Ri * 1e3, B->iab.Ro * 1e3, B->iab.C1, B->iab.C2, B->p_min, B->p_max);
     }
     cli_analyze_load_text(sc);
 }
@@ -370,15 +366,14 @@ int cmd_analyze(int argc, char **argv)
                         hp_scene_level_names(1, ", ", names, sizeof names));
 
     hp_scene *sc = NULL;
-    if ((rc = cli_load_scene(CMD, a.scene,
-                             "%s: analyze needs a layout scene (head and bladders)", &sc)))
+    if ((rc = cli_load_scene(CMD, a.scene, "%s: analyze needs a layout scene (head and bladders)",
+                             &sc)))
         return rc;
     analysis r;
     memset(&r, 0, sizeof r);
     rc = compute(sc, &a, &r);
     if (rc < 0) {
-        if (a.json)
-            rc = print_json(sc, &r);
+        if (a.json) rc = print_json(sc, &r);
         else {
             print_text(sc, &r);
             rc = CLI_EXIT_OK;

@@ -73,8 +73,9 @@ static int parse(int argc, char **argv, batch_args *a)
     const char **slots[] = {&a->out, &a->format, &a->backend, &a->level, &a->rows, &jobs};
     const char *const flags[] = {"--no-progress", "--no-times", "--strict"};
     int *const flag_slots[] = {&no_progress, &no_times, &a->strict};
-    const cli_grammar g = {help, names, slots, 6, flags, flag_slots, 3, NULL, NULL,
-                           {&a->scene, &a->trace}, 2, "SCENE"};
+    const cli_grammar g = {help,       names,  slots, 6,    flags,
+                           flag_slots, 3,      NULL,  NULL, {&a->scene, &a->trace},
+                           2,          "SCENE"};
     int rc = cli_parse(CMD, argc, argv, &g);
     if (rc >= 0) return rc;
     a->progress = !no_progress;
@@ -90,7 +91,7 @@ static int parse(int argc, char **argv, batch_args *a)
 
 typedef struct {
     size_t rows, reached, closest, uncommanded, failed, time_limit, invalid, bad;
-    double unc_max[6]; /* largest |uncommanded part| per axis, mm or deg */
+    double unc_max[6];                /* largest |uncommanded part| per axis, mm or deg */
     double worst_mm[2], worst_deg[2]; /* [0] reached rows, [1] closest rows */
     size_t time_bin[TIME_BINS], timed;
 } summary;
@@ -112,9 +113,18 @@ static void tally(summary *S, const batch_in *in, const batch_out *out, size_t r
         S->timed++;
         int which = -1;
         switch (o->r.status) {
-        case HP_STATUS_REACHED: S->reached++; which = 0; break;
-        case HP_STATUS_CLOSEST: S->closest++; which = 1; break;
-        case HP_STATUS_UNCOMMANDED: S->uncommanded++; which = 0; break;
+        case HP_STATUS_REACHED:
+            S->reached++;
+            which = 0;
+            break;
+        case HP_STATUS_CLOSEST:
+            S->closest++;
+            which = 1;
+            break;
+        case HP_STATUS_UNCOMMANDED:
+            S->uncommanded++;
+            which = 0;
+            break;
         case HP_STATUS_INVALID_INPUT:
             S->invalid++;
             fprintf(stderr, "headplan batch: %s:%ld: %s\n", trace, in->row[i].line,
@@ -159,8 +169,8 @@ static int summarise(const summary *S, int jobs, size_t repaired, int strict)
     fprintf(stderr,
             "headplan batch: %zu rows: %zu reached, %zu closest, %zu uncommanded, %zu failed "
             "(%zu at the time budget), %zu invalid, %zu bad rows\n",
-            S->rows, S->reached, S->closest, S->uncommanded, S->failed, S->time_limit,
-            S->invalid, S->bad);
+            S->rows, S->reached, S->closest, S->uncommanded, S->failed, S->time_limit, S->invalid,
+            S->bad);
     if (S->uncommanded) {
         static const char *const axis[6] = {"x", "y", "z", "pitch", "roll", "yaw"};
         fprintf(stderr, "headplan batch: not commanded (the layout cannot observe it), largest:");
@@ -177,8 +187,8 @@ static int summarise(const summary *S, int jobs, size_t repaired, int strict)
         fprintf(stderr,
                 "headplan batch: time per plan: median %.3g us, p99 %.3g us (to 2.3%%); %d "
                 "job%s, %zu row%s re-planned at shard joins\n",
-                time_quantile(S, 0.5), time_quantile(S, 0.99), jobs, jobs == 1 ? "" : "s",
-                repaired, repaired == 1 ? "" : "s");
+                time_quantile(S, 0.5), time_quantile(S, 0.99), jobs, jobs == 1 ? "" : "s", repaired,
+                repaired == 1 ? "" : "s");
     if (S->time_limit)
         fprintf(stderr,
                 "headplan batch: %zu row%s stopped at the time budget: their output depends on "
@@ -194,9 +204,9 @@ static int summarise(const summary *S, int jobs, size_t repaired, int strict)
 
 typedef struct {
     FILE *f;
-    const char *name;     /* for messages */
+    const char *name; /* for messages */
     char sha[65];
-    int hashed;           /* a regular file, hashed before reading */
+    int hashed; /* a regular file, hashed before reading */
     struct stat st;
 } trace_input;
 
@@ -216,7 +226,7 @@ static int open_trace(const char *path, trace_input *t)
     if (rc) return rc;
     if (fstat(fileno(t->f), &t->st) != 0 || S_ISDIR(t->st.st_mode))
         return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", t->name,
-                           strerror(S_ISDIR(t->st.st_mode) ? EISDIR : errno));
+                        strerror(S_ISDIR(t->st.st_mode) ? EISDIR : errno));
     if (S_ISREG(t->st.st_mode) && t->f != stdin) {
         if (sha256_file(path, t->sha) != 0)
             return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", path, strerror(errno));
@@ -237,13 +247,13 @@ static int open_reader(const batch_args *a, const hp_scene *sc, const trace_inpu
 {
     hp_trace_rows opt = HP_TRACE_CORRECTION, scene_rows = sc->trace_rows;
     if (a->rows && hp_trace_rows_parse(a->rows, &opt) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, CMD,
-                           "--rows: '%s' is neither 'deviation' nor 'correction'", a->rows);
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--rows: '%s' is neither 'deviation' nor 'correction'",
+                        a->rows);
     int scene_trace = !a->trace; /* the scene's trace.rows speaks only for its own trace */
     if (a->rows && scene_trace && opt != scene_rows)
         return cli_fail(CLI_EXIT_DATAERR, CMD,
-                           "--rows says %s but the scene's trace.rows says %s: they must agree",
-                           hp_trace_rows_name(opt), hp_trace_rows_name(scene_rows));
+                        "--rows says %s but the scene's trace.rows says %s: they must agree",
+                        hp_trace_rows_name(opt), hp_trace_rows_name(scene_rows));
     const hp_trace_rows *given = a->rows ? &opt : scene_trace ? &scene_rows : NULL;
     const char *from = a->rows ? "--rows" : scene_trace ? "the scene's trace.rows" : "--rows";
     hp_diag d = {{0}};
@@ -289,10 +299,12 @@ static int run_blocks(const batch_args *a, hp_trace_reader *r, const char *r_nam
 {
     size_t cap = (size_t)BLOCK_PER_JOB * (size_t)a->jobs;
     batch_in block = {calloc(cap, sizeof *block.row), calloc(cap, sizeof *block.bad),
-                      calloc(cap, sizeof *block.msg)}, *in = &block;
+                      calloc(cap, sizeof *block.msg)},
+             *in = &block;
     batch_out *out = calloc(cap, sizeof *out);
-    int rc = in->row && in->bad && in->msg && out ? 0
-                                                  : cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
+    int rc = in->row && in->bad && in->msg && out
+                 ? 0
+                 : cli_fail(CLI_EXIT_SOFTWARE, CMD, "out of memory");
     int end = 0, show = a->progress && isatty(2);
     while (rc == 0 && !end) {
         size_t n = 0;
@@ -350,7 +362,7 @@ int cmd_batch(int argc, char **argv)
     if (!a.trace && !sc->has_trace) {
         free(sc);
         return cli_fail(CLI_EXIT_USAGE, CMD, "missing TRACE (the scene %s names no trace)",
-                           cli_name(a.scene));
+                        cli_name(a.scene));
     }
     const char *trace_path = a.trace ? a.trace : sc->trace_path;
     trace_input t = {0};
@@ -374,16 +386,21 @@ int cmd_batch(int argc, char **argv)
     if (rc == 0 && batch_engine_init(&eng, &sc->layout, &s, (int)a.jobs) != 0)
         rc = CLI_EXIT_SOFTWARE;
     if (rc == 0) {
-        const char *from = hp_trace_states_rows(r) ? "trace" : a.rows ? "--rows"
-                                                                      : "scene trace.rows";
+        const char *from = hp_trace_states_rows(r) ? "trace"
+                           : a.rows                ? "--rows"
+                                                   : "scene trace.rows";
         char level_why[320];
         hp_planner_level_choice(eng.p, level_why, sizeof level_why); /* built: HP_OK */
-        const batch_meta meta = {cli_name(a.scene), scene_sha, a.trace ? a.trace : trace_path,
+        const batch_meta meta = {cli_name(a.scene),
+                                 scene_sha,
+                                 a.trace ? a.trace : trace_path,
                                  t.hashed ? t.sha : NULL,
-                                 hp_trace_rows_name(hp_trace_rows_of(r)), from,
+                                 hp_trace_rows_name(hp_trace_rows_of(r)),
+                                 from,
                                  hp_trace_form_name(hp_trace_form_of(r)),
                                  hp_level_name(hp_planner_level(eng.p)),
-                                 level_why[0] ? level_why : NULL, &s};
+                                 level_why[0] ? level_why : NULL,
+                                 &s};
         batch_sink_meta(&sink, &meta);
         rc = run_blocks(&a, r, t.name, &eng, &sink, S);
     }

@@ -100,8 +100,8 @@ static double data_mm(double m)
 /* DATA ("-": standard input, read whole and parsed from memory as <stdin>, as the other
  * commands read '-') through the material or (L not NULL) the layout reader. Returns 0, or
  * the exit status after one line. */
-static int read_data(const char *data, const hp_layout *L, hp_calib_point *pts,
-                     hp_calib_row *rows, int *n, hp_calib_radius *kind)
+static int read_data(const char *data, const hp_layout *L, hp_calib_point *pts, hp_calib_row *rows,
+                     int *n, hp_calib_radius *kind)
 {
     char *buf = NULL;
     size_t len = 0;
@@ -112,8 +112,8 @@ static int read_data(const char *data, const hp_layout *L, hp_calib_point *pts,
                                 &len);
         if (rc) return rc;
         e = L ? hp_calib_parse_layout(buf, len, cli_name(data), L, rows, HP_CALIB_MAX_ROWS, n, &d)
-              : hp_calib_parse_material(buf, len, cli_name(data), pts, HP_CALIB_MAX_ROWS, n,
-                                        kind, &d);
+              : hp_calib_parse_material(buf, len, cli_name(data), pts, HP_CALIB_MAX_ROWS, n, kind,
+                                        &d);
         free(buf);
     } else {
         int rc = cli_stdout_not_input(CMD, "data", data, -1, data);
@@ -188,8 +188,8 @@ static int run_material(int argc, char **argv)
     if (!rc) rc = cli_double(CMD, "--Ro-mm", ro_t, &Ro);
     if (rc) return rc;
     if (!(Ri > 0) || !(Ro > Ri))
-        return cli_fail(CLI_EXIT_USAGE, CMD, "--Ri-mm, --Ro-mm: need 0 < Ri < Ro (got %g, %g)",
-                           Ri, Ro);
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--Ri-mm, --Ro-mm: need 0 < Ri < Ro (got %g, %g)", Ri,
+                        Ro);
     Ri *= 1e-3;
     Ro *= 1e-3;
     int fit_ref = ref_t != NULL;
@@ -237,9 +237,9 @@ static int run_material(int argc, char **argv)
         cli_input_of(&in, "data", data);
         if (!rc)
             rc = fit_plot_svg(CMD, plot, &in, 1,
-                              "headplan fit material: residuals (measured - fitted)", xs, ys, n, f.t * f.s * pts[0].sigma * 1e3, "pressure [kPa]",
-                                 kind == HP_CALIB_INNER ? "ri residual [mm]"
-                                                        : "ro residual [mm]");
+                              "headplan fit material: residuals (measured - fitted)", xs, ys, n,
+                              f.t * f.s * pts[0].sigma * 1e3, "pressure [kPa]",
+                              kind == HP_CALIB_INNER ? "ri residual [mm]" : "ro residual [mm]");
         free(xs);
         free(ys);
         if (rc) {
@@ -276,7 +276,8 @@ static int run_material(int argc, char **argv)
             json_t *p = json_object();
             json_object_set_new(p, "value", json_real(f.ref * 1e3));
             json_object_set_new(p, "se", json_real(f.ref_se * 1e3));
-            json_object_set_new(p, "ci95", json_pack("[f,f]", f.ref_ci[0] * 1e3, f.ref_ci[1] * 1e3));
+            json_object_set_new(p, "ci95",
+                                json_pack("[f,f]", f.ref_ci[0] * 1e3, f.ref_ci[1] * 1e3));
             json_object_set_new(p, "corr_C1", json_real(f.ref_corr[0]));
             json_object_set_new(p, "corr_C2", json_real(f.ref_corr[1]));
             json_object_set_new(o, ref == HP_CALIB_INNER ? "fitted_Ri_mm" : "fitted_Ro_mm", p);
@@ -293,10 +294,10 @@ static int run_material(int argc, char **argv)
         json_object_set_new(o, "limit_pressure_pa", real_or_null(f.limit_pressure));
         json_t *rs = json_array();
         for (int i = 0; i < n; ++i)
-            json_array_append_new(rs, json_pack("{s:I,s:f,s:f,s:f}", "line",
-                                                (json_int_t)pts[i].line, "pressure_pa",
-                                                pts[i].pressure, "measured_mm",
-                                                data_mm(pts[i].radius), "residual_mm", res[i] * 1e3));
+            json_array_append_new(rs,
+                                  json_pack("{s:I,s:f,s:f,s:f}", "line", (json_int_t)pts[i].line,
+                                            "pressure_pa", pts[i].pressure, "measured_mm",
+                                            data_mm(pts[i].radius), "residual_mm", res[i] * 1e3));
         json_object_set_new(o, "residuals", rs);
         json_t *nx = json_array();
         for (int j = 0; j < N_CAND; ++j) {
@@ -307,9 +308,9 @@ static int run_material(int argc, char **argv)
             json_array_append_new(nx, c);
         }
         json_object_set_new(o, "next_point", nx);
-        json_object_set_new(o, "scene_fragment",
-                            json_pack("{s:s,s:f,s:f}", "convention", "paper", "C1_pa", f.C1,
-                                      "C2_pa", f.C2));
+        json_object_set_new(
+            o, "scene_fragment",
+            json_pack("{s:s,s:f,s:f}", "convention", "paper", "C1_pa", f.C1, "C2_pa", f.C2));
         free(pts);
         free(res);
         return print_json(o);
@@ -323,8 +324,8 @@ static int run_material(int argc, char **argv)
     if (f.ref_fitted)
         printf("  %s  = %-12.6g mm  SE %-10.4g 95%% [%.6g, %.6g]  (fitted; correlation with "
                "C1 %.3f, C2 %.3f)\n",
-               ref == HP_CALIB_INNER ? "Ri" : "Ro", f.ref * 1e3, f.ref_se * 1e3,
-               f.ref_ci[0] * 1e3, f.ref_ci[1] * 1e3, f.ref_corr[0], f.ref_corr[1]);
+               ref == HP_CALIB_INNER ? "Ri" : "Ro", f.ref * 1e3, f.ref_se * 1e3, f.ref_ci[0] * 1e3,
+               f.ref_ci[1] * 1e3, f.ref_corr[0], f.ref_corr[1]);
     printf("  C10 = %-12.6g Pa  C01 = %.6g Pa (finite-element convention: C1/2, C2/2)\n", f.C10,
            f.C01);
     printf("  correlation(C1, C2) %.4f, condition number %.3g, %d iterations\n", f.corr,
@@ -338,11 +339,9 @@ static int run_material(int argc, char **argv)
                    j ? "C2" : "C1");
     if (isfinite(f.limit_pressure))
         printf("  limit point of the fitted bladder: %.6g Pa\n", f.limit_pressure);
-    else
-        printf("  the fitted bladder has no limit point (pressure rises monotonically)\n");
-    printf("\nresiduals (measured - fitted):\n  %6s %14s %14s %14s %14s\n", "line",
-           "pressure_pa", kind == HP_CALIB_INNER ? "ri_mm" : "ro_mm", "fitted_mm",
-           "residual_mm");
+    else printf("  the fitted bladder has no limit point (pressure rises monotonically)\n");
+    printf("\nresiduals (measured - fitted):\n  %6s %14s %14s %14s %14s\n", "line", "pressure_pa",
+           kind == HP_CALIB_INNER ? "ri_mm" : "ro_mm", "fitted_mm", "residual_mm");
     for (int i = 0; i < n; ++i)
         printf("  %6ld %14.6g %14.6f %14.6f %+14.6f\n", pts[i].line, pts[i].pressure,
                pts[i].radius * 1e3, (pts[i].radius - res[i]) * 1e3, res[i] * 1e3);
@@ -397,8 +396,7 @@ static int parse_layout(int argc, char **argv, layout_args *a)
         else if (!a->data) a->data = argv[i];
         else return cli_fail(CLI_EXIT_USAGE, CMD, "layout: unexpected argument '%s'", argv[i]);
     }
-    if (!a->scene || !a->data)
-        return cli_fail(CLI_EXIT_USAGE, CMD, "layout: needs SCENE and DATA");
+    if (!a->scene || !a->data) return cli_fail(CLI_EXIT_USAGE, CMD, "layout: needs SCENE and DATA");
     if (strcmp(a->scene, "-") == 0 && strcmp(a->data, "-") == 0)
         return cli_fail(CLI_EXIT_USAGE, CMD,
                         "layout: SCENE and DATA cannot both be standard input ('-')");
@@ -487,7 +485,8 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
                         const double *gain, hp_level level)
 {
     int held = 0;
-    printf("layout fit: %s with %s, %d rows, %s %s\n", cli_name(a->scene), cli_name(a->data), f->n_rows,
+    printf("layout fit: %s with %s, %d rows, %s %s\n", cli_name(a->scene), cli_name(a->data),
+           f->n_rows,
            f->mass_index >= 0 && !isnan(f->mass) ? "forward statics (load level), geometry"
                                                  : "level",
            hp_level_name(level));
@@ -512,8 +511,8 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
         }
         char iv[64];
         snprintf(iv, sizeof iv, "[%.4f, %.4f]", f->ci[j][0] * k, f->ci[j][1] * k);
-        printf("  %-30s %12.4f %12.4f %10.4f %25s\n", nm, f->scene_value[j] * k,
-               f->value[j] * k, f->se[j] * k, iv);
+        printf("  %-30s %12.4f %12.4f %10.4f %25s\n", nm, f->scene_value[j] * k, f->value[j] * k,
+               f->se[j] * k, iv);
     }
     if (held) {
         printf("\n  not determined by these data (held at the scene's value):");
@@ -555,17 +554,17 @@ static void layout_text(const layout_args *a, const hp_layout_fit *f, const hp_c
         printf("    line %ld: x %.4f\n", rows[order[q]].line, gain[order[q]]);
 }
 
-static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
-                           const hp_calib_row *rows, const double *gain, hp_level level)
+static json_t *layout_json(const layout_args *a, const hp_layout_fit *f, const hp_calib_row *rows,
+                           const double *gain, hp_level level)
 {
     json_t *o = json_object();
     json_object_set_new(o, "scene", json_string(cli_name(a->scene)));
     json_object_set_new(o, "data", json_string(cli_name(a->data)));
     json_object_set_new(o, "rows", json_integer(f->n_rows));
     json_object_set_new(o, "level", json_string(hp_level_name(level)));
-    json_object_set_new(o, "model", json_string(f->mass_index >= 0 && !isnan(f->mass)
-                                                    ? "forward statics"
-                                                    : "contact kinematics"));
+    json_object_set_new(o, "model",
+                        json_string(f->mass_index >= 0 && !isnan(f->mass) ? "forward statics"
+                                                                          : "contact kinematics"));
     json_object_set_new(o, "rank", json_integer(f->rank));
     json_object_set_new(o, "parameters_considered", json_integer(f->np));
     json_object_set_new(o, "condition", real_or_null(f->condition));
@@ -577,15 +576,16 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
         if (j == f->mass_index) {
             /* The carried mass has its own object (kg, not mm). */
             json_t *m = json_object();
-            json_object_set_new(m, "status", json_string(f->determined[j] == 1   ? "fitted"
-                                                         : f->determined[j] == 0 ? "undetermined"
-                                                                                 : "not_fitted"));
+            json_object_set_new(m, "status",
+                                json_string(f->determined[j] == 1   ? "fitted"
+                                            : f->determined[j] == 0 ? "undetermined"
+                                                                    : "not_fitted"));
             json_object_set_new(m, "scene_kg", real_or_null(f->scene_value[j]));
             json_object_set_new(m, "fitted_kg", real_or_null(f->mass));
             json_object_set_new(m, "se_kg", real_or_null(f->se[j]));
-            json_object_set_new(m, "ci95_kg", f->determined[j] == 1
-                                                  ? json_pack("[f,f]", f->ci[j][0], f->ci[j][1])
-                                                  : json_null());
+            json_object_set_new(m, "ci95_kg",
+                                f->determined[j] == 1 ? json_pack("[f,f]", f->ci[j][0], f->ci[j][1])
+                                                      : json_null());
             json_object_set_new(o, "carried_mass", m);
             if (f->determined[j] == 0) json_array_append_new(un, json_string(f->name[j]));
             json_array_append_new(sv, json_real(f->sv[j]));
@@ -593,16 +593,17 @@ static json_t *layout_json(const layout_args *a, const hp_layout_fit *f,
         }
         json_t *p = json_object();
         json_object_set_new(p, "name", json_string(f->name[j]));
-        json_object_set_new(p, "status", json_string(f->determined[j] == 1   ? "fitted"
-                                                     : f->determined[j] == 0 ? "undetermined"
-                                                                             : "not_fitted"));
+        json_object_set_new(p, "status",
+                            json_string(f->determined[j] == 1   ? "fitted"
+                                        : f->determined[j] == 0 ? "undetermined"
+                                                                : "not_fitted"));
         json_object_set_new(p, "scene_mm", json_real(f->scene_value[j] * 1e3));
         json_object_set_new(p, "fitted_mm", json_real(f->value[j] * 1e3));
         json_object_set_new(p, "se_mm", real_or_null(f->se[j] * 1e3));
-        json_object_set_new(p, "ci95_mm", f->determined[j] == 1
-                                              ? json_pack("[f,f]", f->ci[j][0] * 1e3,
-                                                          f->ci[j][1] * 1e3)
-                                              : json_null());
+        json_object_set_new(p, "ci95_mm",
+                            f->determined[j] == 1
+                                ? json_pack("[f,f]", f->ci[j][0] * 1e3, f->ci[j][1] * 1e3)
+                                : json_null());
         json_array_append_new(ps, p);
         if (f->determined[j] == 0) json_array_append_new(un, json_string(f->name[j]));
         json_array_append_new(sv, json_real(f->sv[j]));
@@ -654,7 +655,8 @@ static int run_layout(int argc, char **argv)
     /* The scene's trace is the user's data too, though the fit does not read it. */
     const char *inputs[3] = {a.scene, a.data, sc && sc->has_trace ? sc->trace_path : NULL};
     const int n_inputs = inputs[2] ? 3 : 2;
-    if (!rc && a.out && !*a.out) rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "-o '': an empty file name");
+    if (!rc && a.out && !*a.out)
+        rc = cli_fail(CLI_EXIT_CANTCREAT, CMD, "-o '': an empty file name");
     /* As every file output (cli_out_allowed): not a file named '-' in the current folder. */
     if (!rc && a.out && strcmp(a.out, "-") == 0) rc = cli_out_allowed(CMD, "-o", a.out, NULL, 0);
     if (!rc && a.out && (e = hp_calib_check_output(a.out, inputs, n_inputs, &d)) != HP_OK)
@@ -710,9 +712,9 @@ static int run_layout(int argc, char **argv)
          * once the file was made (full disk, file-size limit; the library says "cannot
          * write" and leaves nothing) is 74, as for every other output. */
         if (e)
-            rc = cli_fail(e == HP_ERR_NOMEM                                ? CLI_EXIT_SOFTWARE
+            rc = cli_fail(e == HP_ERR_NOMEM                                    ? CLI_EXIT_SOFTWARE
                           : e == HP_ERR_IO && strstr(d.text, ": cannot write") ? CLI_EXIT_IOERR
-                                                                           : CLI_EXIT_CANTCREAT,
+                                                                               : CLI_EXIT_CANTCREAT,
                           CMD, "%s", d.text);
     }
     if (!rc) {

@@ -54,16 +54,18 @@ typedef struct {
 
 static int parse(int argc, char **argv, hz_args *a)
 {
-    const char *const names[] = {"-o", "--mode", "--prediction", "--rows", "--horizon",
-                                 "--window", "--overlap", "--rate-kpa-per-s", "--smooth",
-                                 "--tolerance-mm", "--tolerance-deg"};
-    const char **slots[] = {&a->out, &a->mode, &a->prediction, &a->rows, &a->horizon,
-                            &a->window, &a->overlap, &a->rate, &a->smooth, &a->tol_mm,
-                            &a->tol_deg};
+    const char *const names[] = {
+        "-o",        "--mode",         "--prediction",   "--rows",
+        "--horizon", "--window",       "--overlap",      "--rate-kpa-per-s",
+        "--smooth",  "--tolerance-mm", "--tolerance-deg"};
+    const char **slots[] = {&a->out,     &a->mode,   &a->prediction, &a->rows,
+                            &a->horizon, &a->window, &a->overlap,    &a->rate,
+                            &a->smooth,  &a->tol_mm, &a->tol_deg};
     const char *const flags[] = {"--json"};
     int *const flag_slots[] = {&a->json};
-    const cli_grammar g = {help, names, slots, 11, flags, flag_slots, 1, NULL, NULL,
-                           {&a->scene, &a->trace}, 2, "SCENE"};
+    const cli_grammar g = {help,       names,  slots, 11,   flags,
+                           flag_slots, 1,      NULL,  NULL, {&a->scene, &a->trace},
+                           2,          "SCENE"};
     return cli_parse(CMD, argc, argv, &g);
 }
 
@@ -95,12 +97,13 @@ static int settings_from_args(const hz_args *a, hp_horizon_settings *hs, double 
     }
     if (a->smooth) {
         if ((rc = cli_double(CMD, "--smooth", a->smooth, &x))) return rc;
-        if (!(x >= 0 && x <= 1)) return cli_fail(CLI_EXIT_USAGE, CMD, "--smooth: must be in [0, 1]");
+        if (!(x >= 0 && x <= 1))
+            return cli_fail(CLI_EXIT_USAGE, CMD, "--smooth: must be in [0, 1]");
         hs->smooth = x;
     }
     if (a->prediction && hp_prediction_parse(a->prediction, &hs->prediction) != HP_OK)
         return cli_fail(CLI_EXIT_USAGE, CMD, "--prediction: '%s' is not hold or velocity",
-                           a->prediction);
+                        a->prediction);
     *tol_mm = *tol_deg = 0.5;
     if (a->tol_mm) {
         if ((rc = cli_double(CMD, "--tolerance-mm", a->tol_mm, tol_mm))) return rc;
@@ -110,7 +113,8 @@ static int settings_from_args(const hz_args *a, hp_horizon_settings *hs, double 
     if (a->tol_deg) {
         if ((rc = cli_double(CMD, "--tolerance-deg", a->tol_deg, tol_deg))) return rc;
         if (!(*tol_deg >= DBL_MIN))
-            return cli_fail(CLI_EXIT_USAGE, CMD, "--tolerance-deg: must be > 0 (and not subnormal)");
+            return cli_fail(CLI_EXIT_USAGE, CMD,
+                            "--tolerance-deg: must be > 0 (and not subnormal)");
     }
     static const char *const names[3] = {"greedy", "receding", "offline"};
     const char *mode = a->mode ? a->mode : "compare";
@@ -118,18 +122,20 @@ static int settings_from_args(const hz_args *a, hp_horizon_settings *hs, double 
     for (int p = 0; p < 3; ++p) modes[p] |= strcmp(mode, names[p]) == 0;
     if (!modes[0] && !modes[1] && !modes[2])
         return cli_fail(CLI_EXIT_USAGE, CMD,
-                           "--mode: '%s' is not greedy, receding, offline or compare", mode);
+                        "--mode: '%s' is not greedy, receding, offline or compare", mode);
     /* An option no selected plan reads would be ignored without a word: refused. */
     const char *recv = a->horizon ? "--horizon" : a->prediction ? "--prediction" : NULL;
     const char *offl = a->window ? "--window" : a->overlap ? "--overlap" : NULL;
     if (recv && !modes[1])
         return cli_fail(CLI_EXIT_USAGE, CMD,
                         "%s: only the receding plan reads it (--mode receding or compare), "
-                        "not --mode %s", recv, mode);
+                        "not --mode %s",
+                        recv, mode);
     if (offl && !modes[2])
         return cli_fail(CLI_EXIT_USAGE, CMD,
                         "%s: only the offline plan reads it (--mode offline or compare), "
-                        "not --mode %s", offl, mode);
+                        "not --mode %s",
+                        offl, mode);
     return 0;
 }
 
@@ -196,7 +202,7 @@ static int read_trace(const char *path, const hp_trace_rows *ovr, const char *fr
     }
     kind->kind = hp_trace_rows_name(hp_trace_rows_of(r));
     /* batch's words for the same fact (its metadata key rows_from) */
-    kind->from = hp_trace_states_rows(r)     ? "trace"
+    kind->from = hp_trace_states_rows(r)       ? "trace"
                  : strcmp(from, "--rows") == 0 ? "--rows"
                                                : "scene trace.rows";
     hp_trace_close(r);
@@ -242,10 +248,9 @@ static void write_summary_text(FILE *f, const char *prefix, const int *modes,
     }
 }
 
-static void write_csv(FILE *f, const hp_layout *L, const int *modes,
-                      hp_horizon_row *const *plans, size_t T, const hp_horizon_metrics *m,
-                      const char *scene, const char *trace, const rows_kind *kind,
-                      double tol_mm, double tol_deg)
+static void write_csv(FILE *f, const hp_layout *L, const int *modes, hp_horizon_row *const *plans,
+                      size_t T, const hp_horizon_metrics *m, const char *scene, const char *trace,
+                      const rows_kind *kind, double tol_mm, double tol_deg)
 {
     char b[CLI_FMT_MAX];
     fprintf(f, "# headplan horizon: scene %s, trace %s, %zu rows\n", scene, trace, T);
@@ -348,8 +353,8 @@ static int failed_rows(const int *modes, hp_horizon_row *const *plans, const hp_
              * from the plan, the line named here with the file). */
             const char *reason = refused ? strchr(why[p], ':') : NULL;
             int code = cli_fail(refused ? CLI_EXIT_DATAERR : CLI_EXIT_SOFTWARE, CMD,
-                                "%s: %zu of %zu rows %s (first %s:%ld: %s%s)", PLAN_NAMES[p], n,
-                                T, refused ? "refused" : "failed", trace, rows[first].line,
+                                "%s: %zu of %zu rows %s (first %s:%ld: %s%s)", PLAN_NAMES[p], n, T,
+                                refused ? "refused" : "failed", trace, rows[first].line,
                                 hp_status_name(plans[p][first].status), reason ? reason : "");
             if (rc != CLI_EXIT_SOFTWARE) rc = code;
         }
@@ -369,8 +374,7 @@ int cmd_horizon(int argc, char **argv)
     if ((rc = settings_from_args(&a, &hs, &tol_mm, &tol_deg, modes))) return rc;
     hp_trace_rows ovr;
     if (a.rows && hp_trace_rows_parse(a.rows, &ovr) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, CMD, "--rows: '%s' is not deviation or correction",
-                           a.rows);
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--rows: '%s' is not deviation or correction", a.rows);
     hp_scene *sc = NULL;
     if ((rc = cli_load_scene(CMD, a.scene, NULL, &sc))) return rc;
     hp_settings s;
@@ -398,8 +402,7 @@ int cmd_horizon(int argc, char **argv)
         use_ovr = &sc->trace_rows;
         from = a.rows ? "--rows" : "the scene's trace.rows";
     }
-    if ((rc = cli_settings(CMD, sc, NULL, NULL, &s)))
-        goto done;
+    if ((rc = cli_settings(CMD, sc, NULL, NULL, &s))) goto done;
     rows_kind kind = {"", ""};
     cli_input trace_id;
     if ((rc = read_trace(trace, use_ovr, from, &rows, &T, &kind, &trace_id))) goto done;
@@ -457,8 +460,8 @@ int cmd_horizon(int argc, char **argv)
             /* The library's horizon messages mostly name their plan already. */
             size_t nl = strlen(PLAN_NAMES[p]);
             int named = strncmp(d.text, PLAN_NAMES[p], nl) == 0 && d.text[nl] == ':';
-            rc = cli_fail(e == HP_ERR_INVALID ? CLI_EXIT_DATAERR : CLI_EXIT_SOFTWARE, CMD,
-                          "%s%s%s", named ? "" : PLAN_NAMES[p], named ? "" : ": ", d.text);
+            rc = cli_fail(e == HP_ERR_INVALID ? CLI_EXIT_DATAERR : CLI_EXIT_SOFTWARE, CMD, "%s%s%s",
+                          named ? "" : PLAN_NAMES[p], named ? "" : ": ", d.text);
             goto done;
         }
         if (p < 2) snprintf(why[p], sizeof why[p], "%s", d.text);

@@ -16,15 +16,16 @@
 enum { O_RI_BIG, O_RO_BIG, O_TARGET, O_C1, O_C2, O_C10, O_C01, O_COUNT };
 
 typedef struct {
-    const char *cmd;        /* "ik" or "fk" */
-    const char *target;     /* "--ri" or "--pressure" */
+    const char *cmd;    /* "ik" or "fk" */
+    const char *target; /* "--ri" or "--pressure" */
     const char *text[O_COUNT];
     int json;
 } ik_args;
 
 static const char *option_name(const ik_args *a, int o)
 {
-    static const char *const names[O_COUNT] = {"--Ri", "--Ro", NULL, "--c1", "--c2", "--c10", "--c01"};
+    static const char *const names[O_COUNT] = {"--Ri", "--Ro",  NULL,   "--c1",
+                                               "--c2", "--c10", "--c01"};
     return o == O_TARGET ? a->target : names[o];
 }
 
@@ -43,10 +44,8 @@ static void help(const char *cmd)
                "point; at or above it there is no stable radius and the command fails).\n\n");
     printf("  --Ri MM        reference (unpressurised) inner radius, mm\n"
            "  --Ro MM        reference outer radius, mm (> --Ri)\n");
-    if (ik)
-        printf("  --ri MM        current inner radius, mm (> 0)\n");
-    else
-        printf("  --pressure PA  internal pressure above ambient, Pa (negative: suction)\n");
+    if (ik) printf("  --ri MM        current inner radius, mm (> 0)\n");
+    else printf("  --pressure PA  internal pressure above ambient, Pa (negative: suction)\n");
     printf("  --c1, --c2 PA  moduli in the paper's convention W = C1(I1-3)/2 + C2(I2-3)/2\n"
            "  --c10, --c01   moduli in the finite-element convention W = C10(I1-3) + C01(I2-3)\n"
            "                 (C1 = 2 C10, C2 = 2 C01); give one pair, not both\n"
@@ -85,29 +84,30 @@ static int parse(int argc, char **argv, ik_args *a)
             if (m == 0) continue;
             if (a->text[o])
                 return cli_fail(CLI_EXIT_USAGE, a->cmd, "%s: given more than once",
-                                   option_name(a, o));
+                                option_name(a, o));
             a->text[o] = v;
             matched = 1;
         }
         if (!matched && argv[i][0] != '-')
             return cli_fail(CLI_EXIT_USAGE, a->cmd,
-                               "unexpected argument '%s' (%s takes options only; see headplan "
-                               "%s --help)",
-                               argv[i], a->cmd, a->cmd);
+                            "unexpected argument '%s' (%s takes options only; see headplan "
+                            "%s --help)",
+                            argv[i], a->cmd, a->cmd);
         if (!matched)
             return cli_fail(CLI_EXIT_USAGE, a->cmd, "unknown option '%s' (see headplan %s --help)",
-                               argv[i], a->cmd);
+                            argv[i], a->cmd);
     }
     int paper = a->text[O_C1] || a->text[O_C2], fe = a->text[O_C10] || a->text[O_C01];
     if (paper && fe)
         return cli_fail(CLI_EXIT_USAGE, a->cmd,
-                           "%s: cannot mix the paper's --c1/--c2 with the finite-element --c10/--c01",
-                           a->text[O_C10] ? "--c10" : "--c01");
+                        "%s: cannot mix the paper's --c1/--c2 with the finite-element --c10/--c01",
+                        a->text[O_C10] ? "--c10" : "--c01");
     const int need[] = {O_RI_BIG, O_RO_BIG, O_TARGET, fe ? O_C10 : O_C1, fe ? O_C01 : O_C2};
     for (size_t k = 0; k < sizeof need / sizeof need[0]; ++k)
         if (!a->text[need[k]])
-            return cli_fail(CLI_EXIT_USAGE, a->cmd, "%s: missing (required; see headplan %s --help)",
-                               option_name(a, need[k]), a->cmd);
+            return cli_fail(CLI_EXIT_USAGE, a->cmd,
+                            "%s: missing (required; see headplan %s --help)",
+                            option_name(a, need[k]), a->cmd);
     return -1;
 }
 
@@ -133,19 +133,20 @@ static int values(const ik_args *a, ik_values *v)
         return cli_fail(CLI_EXIT_DATAERR, a->cmd, "--Ri: must be > 0 mm (got %g)", v->Ri_mm);
     if (!(v->Ro_mm > v->Ri_mm))
         return cli_fail(CLI_EXIT_DATAERR, a->cmd,
-                           "--Ro: must be greater than --Ri (got --Ro %g mm, --Ri %g mm)",
-                           v->Ro_mm, v->Ri_mm);
+                        "--Ro: must be greater than --Ri (got --Ro %g mm, --Ri %g mm)", v->Ro_mm,
+                        v->Ri_mm);
     if (a->target[2] == 'r' && !(v->target > 0))
         return cli_fail(CLI_EXIT_DATAERR, a->cmd, "--ri: must be > 0 mm (got %g)", v->target);
     if (!(m1 > 0))
         return cli_fail(CLI_EXIT_DATAERR, a->cmd, "%s: must be > 0 Pa (got %g)",
-                           option_name(a, oc1), m1);
+                        option_name(a, oc1), m1);
     if (!(m2 >= 0))
         return cli_fail(CLI_EXIT_DATAERR, a->cmd, "%s: must be >= 0 Pa (got %g)",
-                           option_name(a, oc2), m2);
-    if (hp_iab_moduli_to_paper(fe ? HP_MATERIAL_FE : HP_MATERIAL_PAPER, m1, m2, &v->C1, &v->C2) != HP_OK)
-        return cli_fail(CLI_EXIT_DATAERR, a->cmd, "%s/%s: moduli out of range",
-                           option_name(a, oc1), option_name(a, oc2));
+                        option_name(a, oc2), m2);
+    if (hp_iab_moduli_to_paper(fe ? HP_MATERIAL_FE : HP_MATERIAL_PAPER, m1, m2, &v->C1, &v->C2) !=
+        HP_OK)
+        return cli_fail(CLI_EXIT_DATAERR, a->cmd, "%s/%s: moduli out of range", option_name(a, oc1),
+                        option_name(a, oc2));
     v->b = (hp_iab){v->Ri_mm * 1e-3, v->Ro_mm * 1e-3, v->C1, v->C2};
     hp_diag d;
     if (hp_iab_validate(&v->b, &d) != HP_OK)
@@ -195,10 +196,8 @@ static int print_json(const ik_values *v, const ik_result *r, const char *cmd)
 
 static void row(const char *name, double value, const char *unit)
 {
-    if (*unit)
-        printf("%-16s %-20.10g %s\n", name, value, unit);
-    else
-        printf("%-16s %.10g\n", name, value);
+    if (*unit) printf("%-16s %-20.10g %s\n", name, value, unit);
+    else printf("%-16s %.10g\n", name, value);
 }
 
 static void print_table(const ik_values *v, const ik_result *r)
@@ -239,12 +238,12 @@ static int run(int argc, char **argv, const char *cmd, const char *target)
     /* Moduli near DBL_MAX overflow the pressure: a bad value, not an internal failure. */
     if (le == HP_ERR_DOMAIN || le == HP_ERR_INVALID)
         return cli_fail(CLI_EXIT_DATAERR, cmd,
-                           "%s/%s: C1 %g Pa, C2 %g Pa: %s (the limit point cannot be located)",
-                           a.text[O_C10] ? "--c10" : "--c1", a.text[O_C10] ? "--c01" : "--c2",
-                           v.C1, v.C2, hp_error_message(le));
+                        "%s/%s: C1 %g Pa, C2 %g Pa: %s (the limit point cannot be located)",
+                        a.text[O_C10] ? "--c10" : "--c1", a.text[O_C10] ? "--c01" : "--c2", v.C1,
+                        v.C2, hp_error_message(le));
     if (le != HP_OK)
         return cli_fail(CLI_EXIT_SOFTWARE, cmd, "cannot locate the limit point: %s",
-                           hp_error_message(le));
+                        hp_error_message(le));
     hp_error e;
     if (strcmp(cmd, "ik") == 0) {
         r.ri_m = v.target * 1e-3;
@@ -253,18 +252,18 @@ static int run(int argc, char **argv, const char *cmd, const char *target)
         e = hp_iab_fk(&v.b, v.target, &r.ri_m);
         if (e == HP_ERR_NO_STABLE)
             return cli_fail(CLI_EXIT_DATAERR, cmd,
-                               "--pressure: %.10g Pa is at or above the limit-point pressure "
-                               "%.10g Pa (lambda_i %.10g, ri %.10g mm): no stable radius",
-                               v.target, r.lp.pressure, r.lp.lambda_i, r.lp.ri * 1e3);
+                            "--pressure: %.10g Pa is at or above the limit-point pressure "
+                            "%.10g Pa (lambda_i %.10g, ri %.10g mm): no stable radius",
+                            v.target, r.lp.pressure, r.lp.lambda_i, r.lp.ri * 1e3);
         if (e != HP_OK)
             return cli_fail(CLI_EXIT_DATAERR, cmd, "--pressure: %.10g Pa: %s", v.target,
-                               hp_error_message(e));
+                            hp_error_message(e));
     }
     e = hp_iab_ik_derivs(&v.b, r.ri_m, &r.P, &r.dP, &r.d2P);
     if (e == HP_OK) e = hp_iab_ro(&v.b, r.ri_m, &r.ro_m);
     if (e != HP_OK)
         return cli_fail(CLI_EXIT_DATAERR, cmd, "%s: %.10g: %s", target, v.target,
-                           hp_error_message(e));
+                        hp_error_message(e));
     if (strcmp(cmd, "fk") == 0) r.P = v.target; /* report the pressure asked for */
     if (a.json) return print_json(&v, &r, cmd);
     print_table(&v, &r);

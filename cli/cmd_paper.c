@@ -72,9 +72,15 @@ static const char COMPRESSION[] =
 static const struct {
     const char *name;
     double pa;
-} UNITS[] = {{"Pa", 1.0},        {"kPa", 1e3},       {"MPa", 1e6},      {"bar", 1e5},
-             {"atm", 101325.0},  {"psi", 6894.757293168}, {"mmHg", 133.322387415},
-             {"cmH2O", 98.0665}, {"inH2O", 249.08891}};
+} UNITS[] = {{"Pa", 1.0},
+             {"kPa", 1e3},
+             {"MPa", 1e6},
+             {"bar", 1e5},
+             {"atm", 101325.0},
+             {"psi", 6894.757293168},
+             {"mmHg", 133.322387415},
+             {"cmH2O", 98.0665},
+             {"inH2O", 249.08891}};
 #define N_UNITS (sizeof UNITS / sizeof UNITS[0])
 
 typedef struct result {
@@ -128,15 +134,15 @@ static int compute(const hp_bladder_study *s, result *r)
     r->shell = k * rest;
     for (int f = 0; f < 2; ++f) {
         r->gauss_e[f] = hp_iab_ik_gauss(b, r->ri, (hp_quad_form)f, PAPER_GAUSS_N, &r->gauss[f]);
-        r->adapt_e[f] = hp_iab_ik_adaptive(b, r->ri, (hp_quad_form)f, PAPER_ADAPT_TOL,
-                                           &r->adapt[f], &r->adapt_err[f], &r->adapt_evals[f]);
+        r->adapt_e[f] = hp_iab_ik_adaptive(b, r->ri, (hp_quad_form)f, PAPER_ADAPT_TOL, &r->adapt[f],
+                                           &r->adapt_err[f], &r->adapt_evals[f]);
     }
     return 0;
 }
 
 /* The check column for each printed value: "agrees" or "DIFFERS: why". */
-static void mark_radius(const result *r, const hp_scene_printed *p, double computed,
-                        int is_ri, char *out, size_t size)
+static void mark_radius(const result *r, const hp_scene_printed *p, double computed, int is_ri,
+                        char *out, size_t size)
 {
     if (!p->given) {
         snprintf(out, size, "(not printed)");
@@ -196,9 +202,10 @@ static void mark_dv(const result *r, char *out, size_t size)
     int zero = fabs(r->dV) <= PAPER_DV_REL * r->shell;
     if (!p->given) snprintf(out, size, "(not printed)");
     else if (p->value == 0.0)
-        snprintf(out, size, zero ? "agrees (printed as approx. 0; |dV| <= 1e-12 of the shell "
-                                   "volume)"
-                                 : "DIFFERS: the volume is not preserved");
+        snprintf(out, size,
+                 zero ? "agrees (printed as approx. 0; |dV| <= 1e-12 of the shell "
+                        "volume)"
+                      : "DIFFERS: the volume is not preserved");
     else mark_plain(p, r->dV, out, size);
 }
 
@@ -254,8 +261,7 @@ static void print_text(const result *r, const char *label)
         snprintf(name, sizeof name, "Gauss-Legendre %d pts, %s", PAPER_GAUSS_N, form[f]);
         if (r->gauss_e[f] == HP_OK)
             printf("%-36s %-14.4f %.1e\n", name, r->gauss[f], rel_diff(r->gauss[f], r->P));
-        else
-            printf("%-36s %-14s %s\n", name, "failed", hp_error_message(r->gauss_e[f]));
+        else printf("%-36s %-14s %s\n", name, "failed", hp_error_message(r->gauss_e[f]));
     }
     for (int f = 0; f < 2; ++f) {
         char name[64];
@@ -263,8 +269,7 @@ static void print_text(const result *r, const char *label)
         if (r->adapt_e[f] == HP_OK)
             printf("%-36s %-14.4f %.1e (%d evaluations)\n", name, r->adapt[f],
                    rel_diff(r->adapt[f], r->P), r->adapt_evals[f]);
-        else
-            printf("%-36s %-14s %s\n", name, "failed", hp_error_message(r->adapt_e[f]));
+        else printf("%-36s %-14s %s\n", name, "failed", hp_error_message(r->adapt_e[f]));
     }
     if (s->printed_note[0]) printf("\nnote: %s\n", s->printed_note);
 }
@@ -292,38 +297,34 @@ static json_t *to_json(const result *r, const char *label)
     for (int f = 0; f < 2; ++f) {
         const char *form = f == 0 ? "current" : "reference";
         json_array_append_new(
-            quad, json_pack("{s:s, s:s, s:i, s:o, s:o}", "method", "gauss-legendre", "form",
-                            form, "points", PAPER_GAUSS_N, "pressure_pa",
-                            r->gauss_e[f] == HP_OK ? json_real(r->gauss[f]) : json_null(),
-                            "rel_diff",
-                            r->gauss_e[f] == HP_OK ? json_real(rel_diff(r->gauss[f], r->P))
-                                                   : json_null()));
+            quad,
+            json_pack("{s:s, s:s, s:i, s:o, s:o}", "method", "gauss-legendre", "form", form,
+                      "points", PAPER_GAUSS_N, "pressure_pa",
+                      r->gauss_e[f] == HP_OK ? json_real(r->gauss[f]) : json_null(), "rel_diff",
+                      r->gauss_e[f] == HP_OK ? json_real(rel_diff(r->gauss[f], r->P))
+                                             : json_null()));
     }
     for (int f = 0; f < 2; ++f) {
         const char *form = f == 0 ? "current" : "reference";
         json_array_append_new(
-            quad, json_pack("{s:s, s:s, s:i, s:o, s:o}", "method", "adaptive-gauss-kronrod",
-                            "form", form, "evaluations", r->adapt_evals[f], "pressure_pa",
-                            r->adapt_e[f] == HP_OK ? json_real(r->adapt[f]) : json_null(),
-                            "rel_diff",
-                            r->adapt_e[f] == HP_OK ? json_real(rel_diff(r->adapt[f], r->P))
-                                                   : json_null()));
+            quad,
+            json_pack("{s:s, s:s, s:i, s:o, s:o}", "method", "adaptive-gauss-kronrod", "form", form,
+                      "evaluations", r->adapt_evals[f], "pressure_pa",
+                      r->adapt_e[f] == HP_OK ? json_real(r->adapt[f]) : json_null(), "rel_diff",
+                      r->adapt_e[f] == HP_OK ? json_real(rel_diff(r->adapt[f], r->P))
+                                             : json_null()));
     }
     return json_pack(
         "{s:s, s:s, s:s, s:{s:f, s:f, s:f, s:f, s:f}, s:{s:f, s:f, s:f, s:f}, s:o, "
         "s:{s:o, s:o, s:o, s:o, s:o, s:o, s:o, s:o}, s:s}",
-        "scene", label, "name", s->name, "title", s->printed_title,
-        "inputs", "C1_pa", s->iab.C1, "C2_pa", s->iab.C2, "Ri_m", s->iab.Ri, "Ro_m", s->iab.Ro,
-        "ri_m", r->ri,
-        "computed", "ro_m", r->ro, "pressure_pa", r->P, "dV_m3", r->dV, "shell_volume_m3",
-        r->shell,
-        "quadrature", quad,
+        "scene", label, "name", s->name, "title", s->printed_title, "inputs", "C1_pa", s->iab.C1,
+        "C2_pa", s->iab.C2, "Ri_m", s->iab.Ri, "Ro_m", s->iab.Ro, "ri_m", r->ri, "computed", "ro_m",
+        r->ro, "pressure_pa", r->P, "dV_m3", r->dV, "shell_volume_m3", r->shell, "quadrature", quad,
         "printed", "C1_pa", printed_json(&s->printed_C1, m[0]), "C2_pa",
         printed_json(&s->printed_C2, m[1]), "Ri_m", printed_json(&s->printed_Ri, m[2]), "ri_m",
         printed_json(&s->printed_ri, m[3]), "Ro_m", printed_json(&s->printed_Ro, m[4]), "ro_m",
-        printed_json(&s->printed_ro, m[5]), "pressure_pa",
-        printed_json(&s->printed_pressure, m[6]), "dV_m3", printed_json(&s->printed_dV, m[7]),
-        "note", s->printed_note);
+        printed_json(&s->printed_ro, m[5]), "pressure_pa", printed_json(&s->printed_pressure, m[6]),
+        "dV_m3", printed_json(&s->printed_dV, m[7]), "note", s->printed_note);
 }
 
 static void help(void)
@@ -376,8 +377,7 @@ int cmd_paper(int argc, char **argv)
         else if (!operands && strcmp(argv[i], "--json") == 0) json = 1;
         else if (!operands && argv[i][0] == '-' && argv[i][1] != '\0') {
             free(files);
-            return cli_fail(CLI_EXIT_USAGE, "paper", "%s: unknown option (see --help)",
-                            argv[i]);
+            return cli_fail(CLI_EXIT_USAGE, "paper", "%s: unknown option (see --help)", argv[i]);
         } else files[n_files++] = argv[i];
     }
     int n = n_files ? n_files : 2;
@@ -406,10 +406,9 @@ int cmd_paper(int argc, char **argv)
                                &scenes[k], &d);
         }
         if (e != HP_OK)
-            status = cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, "paper",
-                                 "%s", d.text);
-        else
-            status = compute(&scenes[k], &res[k]);
+            status = cli_fail(e == HP_ERR_IO ? CLI_EXIT_NOINPUT : CLI_EXIT_DATAERR, "paper", "%s",
+                              d.text);
+        else status = compute(&scenes[k], &res[k]);
     }
     if (status == 0 && json) {
         json_t *tables = json_array();

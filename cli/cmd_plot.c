@@ -64,8 +64,9 @@ static int parse(int argc, char **argv, plot_args *a)
     a->out.height = 900;
     const char *const names[] = {"--scene", "--trace", "--rows"};
     const char **slots[] = {&a->scene, &a->trace, &a->rows};
-    const cli_grammar g = {help, names, slots, 3, NULL, NULL, 0, gp_option_of, &a->out,
-                           {&a->result, NULL}, 1, "RESULT"};
+    const cli_grammar g = {help, names,   slots,        3,       NULL,
+                           NULL, 0,       gp_option_of, &a->out, {&a->result, NULL},
+                           1,    "RESULT"};
     int rc = cli_parse(CMD, argc, argv, &g);
     return rc >= 0 ? rc : gp_check(CMD, &a->out);
 }
@@ -84,13 +85,13 @@ typedef struct row {
 typedef struct result {
     size_t n, cap;
     row *rows;
-    int nb;                             /* bladders (the *_pa columns) */
+    int nb; /* bladders (the *_pa columns) */
     char names[HP_MAX_BLADDERS][HP_NAME_MAX];
     int have_limits;
     double pmin[HP_MAX_BLADDERS], pmax[HP_MAX_BLADDERS]; /* kPa */
     int have_desired;
-    int have_err_cols;                  /* the error_* columns are in the result */
-    char scene_sha[65], trace_sha[65];  /* from its metadata; "" when not stated */
+    int have_err_cols;                 /* the error_* columns are in the result */
+    char scene_sha[65], trace_sha[65]; /* from its metadata; "" when not stated */
 } result;
 
 /* Splits a CSV line in place (no quoting in batch output). Returns the field count. */
@@ -168,8 +169,7 @@ static int header(const char *path, char **f, int nf, int *col, result *res)
         }
     }
     if (res->nb == 0)
-        return cli_fail(CLI_EXIT_DATAERR, CMD, "%s:1: no pressure columns (NAME%s)", path,
-                        suffix);
+        return cli_fail(CLI_EXIT_DATAERR, CMD, "%s:1: no pressure columns (NAME%s)", path, suffix);
     /* The per-axis errors (achieved − desired) are in the result itself. */
     res->have_err_cols = 1;
     for (int k = 0; k < 6; ++k) {
@@ -186,8 +186,8 @@ static void meta_sha(const char *line, const char *key, char sha[65])
     size_t k = strlen(key);
     if (strncmp(line, key, k) != 0) return;
     line += k;
-    if (strspn(line, "0123456789abcdef") != 64 || (line[64] != '\n' && line[64] != '\r' &&
-                                                   line[64] != '\0'))
+    if (strspn(line, "0123456789abcdef") != 64 ||
+        (line[64] != '\n' && line[64] != '\r' && line[64] != '\0'))
         return;
     memcpy(sha, line, 64);
     sha[64] = '\0';
@@ -220,8 +220,7 @@ static int read_result(const char *path, result *res)
     const int std = strcmp(path, "-") == 0; /* `headplan batch ... | headplan plot -` */
     path = cli_name(path);
     FILE *in = std ? stdin : fopen(path, "r");
-    if (!in)
-        return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
+    if (!in) return cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot open: %s", path, strerror(errno));
     int bad_out = cli_stdout_not_input(CMD, "result", path, fileno(in), NULL);
     if (bad_out) {
         if (!std) fclose(in);
@@ -240,7 +239,8 @@ static int read_result(const char *path, result *res)
         size_t len = strlen(buf);
         if (len == 0 || buf[len - 1] != '\n') {
             rc = cli_fail(CLI_EXIT_DATAERR, CMD,
-                          feof(in) && len > 0      ? "%s:%ld: truncated: the last line has no end of line"
+                          feof(in) && len > 0
+                              ? "%s:%ld: truncated: the last line has no end of line"
                           : len == sizeof buf - 1 ? "%s:%ld: line longer than 8190 bytes"
                                                   : "%s:%ld: NUL byte",
                           path, lineno);
@@ -257,13 +257,14 @@ static int read_result(const char *path, result *res)
         if (!have_header && buf[0] == '{') {
             rc = cli_fail(CLI_EXIT_DATAERR, CMD,
                           "%s:%ld:1: a JSON Lines result; plot reads the CSV result (headplan "
-                          "batch --format csv)", path, lineno);
+                          "batch --format csv)",
+                          path, lineno);
             break;
         }
         nf = split(buf, f, MAXF);
         if (nf < 0) {
             rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s:%ld: more than %d columns", path, lineno,
-                             MAXF);
+                          MAXF);
             break;
         }
         if (!have_header) {
@@ -287,7 +288,8 @@ static int read_result(const char *path, result *res)
         int maxcol = 0;
         for (int k = 0; k < 10; ++k) maxcol = col[k] > maxcol ? col[k] : maxcol;
         for (int k = 0; k < res->nb; ++k)
-            maxcol = col[10 + HP_MAX_BLADDERS + k] > maxcol ? col[10 + HP_MAX_BLADDERS + k] : maxcol;
+            maxcol = col[10 + HP_MAX_BLADDERS + k] > maxcol ? col[10 + HP_MAX_BLADDERS + k]
+                                                            : maxcol;
         for (int k = 0; res->have_err_cols && k < 6; ++k)
             maxcol = col[10 + k] > maxcol ? col[10 + k] : maxcol;
         /* A line number is a whole number a long holds ((long) of 1e20 is undefined). */
@@ -299,9 +301,9 @@ static int read_result(const char *path, result *res)
         const char *st = f[col[2]];
         r->bad = strcmp(st, "bad-row") == 0;
         /* uncommanded is an answer, marked with the closest ones: neither met the request */
-        r->status = strcmp(st, "reached") == 0                                      ? 0
+        r->status = strcmp(st, "reached") == 0                                     ? 0
                     : strcmp(st, "closest") == 0 || strcmp(st, "uncommanded") == 0 ? 1
-                                                                                    : 2;
+                                                                                   : 2;
         if (!r->bad) {
             int bad = number(f[col[1]], &r->t) | number(f[col[9]], &r->pose_error);
             for (int i = 0; i < 6; ++i) bad |= number(f[col[3 + i]], &r->achieved[i]);
@@ -326,15 +328,13 @@ static int read_result(const char *path, result *res)
     /* A read that failed (a directory, an I/O error) is not an empty result. */
     if (rc < 0 && ferror(in))
         rc = cli_fail(CLI_EXIT_NOINPUT, CMD, "%s: cannot read: %s", path, strerror(errno));
-    if (rc < 0 && !have_header)
-        rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: empty (no header)", path);
+    if (rc < 0 && !have_header) rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: empty (no header)", path);
     if (!std) fclose(in);
     return rc;
 }
 
 /* Desired poses from the trace, matched to the result's rows by line (both in file order). */
-static int read_desired(const char *path, const hp_trace_rows *rows, const char *from,
-                        result *res)
+static int read_desired(const char *path, const hp_trace_rows *rows, const char *from, result *res)
 {
     hp_trace_reader *r = NULL;
     hp_diag d = {{0}};
@@ -378,9 +378,9 @@ static int read_desired(const char *path, const hp_trace_rows *rows, const char 
     for (size_t k = 0; k < res->n; ++k) good += !res->rows[k].bad;
     if (matched != good)
         return cli_fail(CLI_EXIT_DATAERR, CMD,
-                           "%s: %zu of the result's %zu rows have no row of the same line in "
-                           "the trace (is it the trace the result was planned from?)",
-                           path, good - matched, good);
+                        "%s: %zu of the result's %zu rows have no row of the same line in "
+                        "the trace (is it the trace the result was planned from?)",
+                        path, good - matched, good);
     res->have_desired = 1;
     return -1;
 }
@@ -401,8 +401,7 @@ static int write_script(const void *arg, FILE *f)
     fprintf(f, "$rows << EOD\n# t_s");
     if (res->have_desired)
         for (int i = 0; i < 6; ++i) fprintf(f, " err_%s", hp_pose_key(i));
-    else
-        fprintf(f, " pose_error");
+    else fprintf(f, " pose_error");
     fprintf(f, ", then the pressure in kPa of each bladder in the key's order\n");
     double tmin = INFINITY, tmax = -INFINITY;
     for (size_t i = 0; i < res->n; ++i) {
@@ -458,37 +457,41 @@ static int write_script(const void *arg, FILE *f)
     fprintf(f, "set multiplot layout 2,1 title ");
     gp_label(f, title);
     fprintf(f, " noenhanced font ',14'\n");
-    fprintf(f, "set key outside right top noenhanced\nset grid\nset xrange [%.10g:%.10g]\n", tmin, tmax);
+    fprintf(f, "set key outside right top noenhanced\nset grid\nset xrange [%.10g:%.10g]\n", tmin,
+            tmax);
     fprintf(f, "set lmargin 12\nset rmargin 30\n");
     fprintf(f, "set yrange [%.10g:%.10g]\n", emin - epad, emax + epad);
-    fprintf(f, "set ylabel '%s'\n", res->have_desired ? "pose error [mm or deg]"
-                                                       : "largest axis error [mm or deg]");
+    fprintf(f, "set ylabel '%s'\n",
+            res->have_desired ? "pose error [mm or deg]" : "largest axis error [mm or deg]");
     fprintf(f, "set title '%zu rows: %zu closest (orange), %zu failed (red), %zu bad rows'\n",
             res->n, closest, failed, bad);
-    fprintf(f, "set object 1 rect from graph 0, first %g to graph 1, first %g behind "
-               "fc rgb '#d9f0d3' fs solid 1.0 noborder\n",
+    fprintf(f,
+            "set object 1 rect from graph 0, first %g to graph 1, first %g behind "
+            "fc rgb '#d9f0d3' fs solid 1.0 noborder\n",
             -TOLERANCE_BAND, TOLERANCE_BAND);
     fprintf(f, "plot ");
     if (res->have_desired)
         for (int i = 0; i < 6; ++i)
             fprintf(f, "$rows using 1:%d with lines lw 1.5 title '%s', ", 2 + i, hp_pose_key(i));
-    else
-        fprintf(f, "$rows using 1:2 with lines lw 1.5 title 'pose\\_error', ");
+    else fprintf(f, "$rows using 1:2 with lines lw 1.5 title 'pose\\_error', ");
     fprintf(f, "NaN with filledcurves fc rgb '#d9f0d3' title 'tolerance +-0.5'");
     /* Empty marker blocks are left out (gnuplot warns about a plot with no points). */
     if (closest)
-        fprintf(f, ", $status1 using 1:(%.10g) with points pt 9 ps 1 lc rgb '#f08000' title "
-                   "'closest'",
+        fprintf(f,
+                ", $status1 using 1:(%.10g) with points pt 9 ps 1 lc rgb '#f08000' title "
+                "'closest'",
                 etop);
     if (failed)
-        fprintf(f, ", $status2 using 1:(%.10g) with points pt 2 ps 1.2 lc rgb '#d00000' "
-                   "title 'failed'",
+        fprintf(f,
+                ", $status2 using 1:(%.10g) with points pt 2 ps 1.2 lc rgb '#d00000' "
+                "title 'failed'",
                 etop);
     fprintf(f, "\n");
     int ecol = res->have_desired ? 8 : 3;
-    fprintf(f, "unset object 1\nset title 'pressures%s'\nset ylabel 'pressure [kPa]'\n"
-               "set xlabel 'time [s]'\nset yrange [%.10g:%.10g]\nset key outside right top "
-               "noenhanced\n",
+    fprintf(f,
+            "unset object 1\nset title 'pressures%s'\nset ylabel 'pressure [kPa]'\n"
+            "set xlabel 'time [s]'\nset yrange [%.10g:%.10g]\nset key outside right top "
+            "noenhanced\n",
             res->have_limits ? " and their limits (dashed)" : " (no --scene: limits unknown)",
             pmin - ppad, pmax + ppad);
     fprintf(f, "plot ");
@@ -505,8 +508,9 @@ static int write_script(const void *arg, FILE *f)
         for (int k = 0; k < (same ? 1 : res->nb); ++k) {
             char lc[32];
             snprintf(lc, sizeof lc, same ? "rgb '#000000'" : "%d", k + 1);
-            fprintf(f, "%.10g with lines dt 2 lw 1.5 lc %s title '%s', %.10g with lines dt 2 "
-                       "lw 1.5 lc %s notitle, ",
+            fprintf(f,
+                    "%.10g with lines dt 2 lw 1.5 lc %s title '%s', %.10g with lines dt 2 "
+                    "lw 1.5 lc %s notitle, ",
                     res->pmin[k], lc, same ? "limits" : "", res->pmax[k], lc);
         }
     }
@@ -527,8 +531,8 @@ int cmd_plot(int argc, char **argv)
     if (rc >= 0) return rc;
     hp_trace_rows kind;
     if (a.rows && hp_trace_rows_parse(a.rows, &kind) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, CMD,
-                           "--rows: '%s' is neither 'deviation' nor 'correction'", a.rows);
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--rows: '%s' is neither 'deviation' nor 'correction'",
+                        a.rows);
     /* One standard input: for the result or the scene. The trace is read twice (its hash
      * against the result's, then its rows), so it must be a file. */
     if (a.scene && strcmp(a.scene, "-") == 0 && strcmp(a.result, "-") == 0)
@@ -577,7 +581,7 @@ int cmd_plot(int argc, char **argv)
                 }
             if (!found) {
                 rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: the scene %s has no bladder '%s'",
-                                 cli_name(a.result), cli_name(a.scene), res.names[k]);
+                              cli_name(a.result), cli_name(a.scene), res.names[k]);
                 break;
             }
         }
@@ -610,8 +614,7 @@ int cmd_plot(int argc, char **argv)
         const char *slash = strrchr(a.result, '/');
         char title[HP_SCENE_TEXT_MAX + 512];
         snprintf(title, sizeof title, "%s%s%s", slash ? slash + 1 : cli_name(a.result),
-                 sc ? ": " : "",
-                 sc ? sc->name : "");
+                 sc ? ": " : "", sc ? sc->name : "");
         cli_input_of(&a.out.inputs[0], "result", a.result);
         cli_input_of(&a.out.inputs[1], "scene", a.scene);
         cli_input_of(&a.out.inputs[2], "trace", trace);

@@ -51,8 +51,8 @@ static int parse(int argc, char **argv, render_args *a)
 {
     const char *const names[] = {"--correction", "--backend", "--level"};
     const char **slots[] = {&a->correction, &a->backend, &a->level};
-    const cli_grammar g = {help, names, slots, 3, NULL, NULL, 0, gp_option_of, &a->out,
-                           {&a->scene, NULL}, 1, "SCENE"};
+    const cli_grammar g = {
+        help, names, slots, 3, NULL, NULL, 0, gp_option_of, &a->out, {&a->scene, NULL}, 1, "SCENE"};
     int rc = cli_parse(CMD, argc, argv, &g);
     return rc >= 0 ? rc : gp_check(CMD, &a->out);
 }
@@ -129,7 +129,8 @@ static void write_data(const picture *p, FILE *f)
         double th = HP_PI * i / 18.0;
         for (int j = 0; j <= 36; ++j) {
             double ph = 2 * HP_PI * j / 36.0;
-            fprintf(f, "%.4f %.4f %.4f\n", (h->center[0] + h->semi_axes[0] * sin(th) * cos(ph)) * 1e3,
+            fprintf(f, "%.4f %.4f %.4f\n",
+                    (h->center[0] + h->semi_axes[0] * sin(th) * cos(ph)) * 1e3,
                     (h->center[1] + h->semi_axes[1] * cos(th)) * 1e3,
                     (h->center[2] + h->semi_axes[2] * sin(th) * sin(ph)) * 1e3);
         }
@@ -142,15 +143,14 @@ static void write_data(const picture *p, FILE *f)
         /* The scene reader allows letters, digits, '_' and '-' only in a bladder's name;
          * the name never ends the line (a comment ending in '\\' would go on). */
         fprintf(f, "# %d %s: pressure %.6g kPa, outer radius %.6g mm\n", k + 1,
-                gp_control_byte(p->L->bladders[k].name) < 0 ? p->L->bladders[k].name : "?",
-                kpa, ro);
+                gp_control_byte(p->L->bladders[k].name) < 0 ? p->L->bladders[k].name : "?", kpa,
+                ro);
         for (int i = 0; i <= 12; ++i) {
             double th = HP_PI * i / 12.0;
             for (int j = 0; j <= 24; ++j) {
                 double ph = 2 * HP_PI * j / 24.0;
                 fprintf(f, "%.4f %.4f %.4f %.6g %d\n", c[0] * 1e3 + ro * sin(th) * cos(ph),
-                        c[1] * 1e3 + ro * sin(th) * sin(ph), c[2] * 1e3 + ro * cos(th), kpa,
-                        k + 1);
+                        c[1] * 1e3 + ro * sin(th) * sin(ph), c[2] * 1e3 + ro * cos(th), kpa, k + 1);
             }
             fprintf(f, "\n");
         }
@@ -177,8 +177,9 @@ static void write_marks(const picture *p, FILE *f, double mag)
         fprintf(f, "set label %d '%d' at %.3f,%.3f,%.3f center front font ',13' tc rgb '%s'\n",
                 k + 1, k + 1, at[0], at[1], at[2], b ? "#d00000" : "#202020");
         if (b)
-            fprintf(f, "set object %d circle at %.3f,%.3f,%.3f size char 1.6 front "
-                       "fs empty border lc rgb '#d00000' lw 2\n",
+            fprintf(f,
+                    "set object %d circle at %.3f,%.3f,%.3f size char 1.6 front "
+                    "fs empty border lc rgb '#d00000' lw 2\n",
                     k + 1, at[0], at[1], at[2]);
     }
     double zero[6] = {0};
@@ -188,12 +189,14 @@ static void write_marks(const picture *p, FILE *f, double mag)
         moved_mm(L, zero, q, a);
         moved_mm(L, p->r.desired, q, b);
         moved_mm(L, p->r.achieved, q, c);
-        fprintf(f, "set arrow %d from %.4f,%.4f,%.4f to %.4f,%.4f,%.4f front lw 6 "
-                   "lc rgb '#66bd63'\n",
+        fprintf(f,
+                "set arrow %d from %.4f,%.4f,%.4f to %.4f,%.4f,%.4f front lw 6 "
+                "lc rgb '#66bd63'\n",
                 10 + k, a[0], a[1], a[2], a[0] + mag * (b[0] - a[0]), a[1] + mag * (b[1] - a[1]),
                 a[2] + mag * (b[2] - a[2]));
-        fprintf(f, "set arrow %d from %.4f,%.4f,%.4f to %.4f,%.4f,%.4f front lw 2 "
-                   "lc rgb '#2166ac'\n",
+        fprintf(f,
+                "set arrow %d from %.4f,%.4f,%.4f to %.4f,%.4f,%.4f front lw 2 "
+                "lc rgb '#2166ac'\n",
                 20 + k, a[0], a[1], a[2], a[0] + mag * (c[0] - a[0]), a[1] + mag * (c[1] - a[1]),
                 a[2] + mag * (c[2] - a[2]));
     }
@@ -203,8 +206,9 @@ static void write_table(const picture *p, FILE *f, double mag, double left)
 {
     const hp_layout *L = p->L;
     double y = 0.93, step = 0.036;
-    fprintf(f, "set label 101 'bladder                      kPa   [min, max]' at screen %.3f,%.3f "
-               "font 'Mono,10'\n",
+    fprintf(f,
+            "set label 101 'bladder                      kPa   [min, max]' at screen %.3f,%.3f "
+            "font 'Mono,10'\n",
             left, y);
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
@@ -222,27 +226,32 @@ static void write_table(const picture *p, FILE *f, double mag, double left)
     hp_pose_to_clinical(p->r.desired, d);
     hp_pose_to_clinical(p->r.achieved, a);
     y -= 1.6 * step;
-    fprintf(f, "set label 130 'pose        desired    achieved' at screen %.3f,%.3f "
-               "font 'Mono,10' noenhanced\n",
+    fprintf(f,
+            "set label 130 'pose        desired    achieved' at screen %.3f,%.3f "
+            "font 'Mono,10' noenhanced\n",
             left, y);
     for (int i = 0; i < 6; ++i) {
         y -= step;
-        fprintf(f, "set label %d '%-10s %9.4f  %9.4f' at screen %.3f,%.3f font 'Mono,10' "
-                   "noenhanced\n",
+        fprintf(f,
+                "set label %d '%-10s %9.4f  %9.4f' at screen %.3f,%.3f font 'Mono,10' "
+                "noenhanced\n",
                 131 + i, hp_pose_key(i), d[i], a[i], left, y);
     }
     y -= 1.6 * step;
-    fprintf(f, "set label 140 'status %s, %s backend, %s contact' at screen %.3f,%.3f "
-               "font 'Sans,10' noenhanced\n",
-            hp_status_name(p->r.status), hp_backend_name(p->r.backend),
-            hp_level_name(p->r.level), left, y);
+    fprintf(f,
+            "set label 140 'status %s, %s backend, %s contact' at screen %.3f,%.3f "
+            "font 'Sans,10' noenhanced\n",
+            hp_status_name(p->r.status), hp_backend_name(p->r.backend), hp_level_name(p->r.level),
+            left, y);
     y -= step;
-    fprintf(f, "set label 141 'head motion x%g: desired (wide green), achieved (blue)' at "
-               "screen %.3f,%.3f font 'Sans,10' noenhanced\n",
+    fprintf(f,
+            "set label 141 'head motion x%g: desired (wide green), achieved (blue)' at "
+            "screen %.3f,%.3f font 'Sans,10' noenhanced\n",
             mag, left, y);
     y -= step;
-    fprintf(f, "set label 142 'red: a bladder on a limit' at screen %.3f,%.3f font 'Sans,10' "
-               "tc rgb '#d00000'\n",
+    fprintf(f,
+            "set label 142 'red: a bladder on a limit' at screen %.3f,%.3f font 'Sans,10' "
+            "tc rgb '#d00000'\n",
             left, y);
     if (*p->message) {
         /* The planner's own words for a status other than reached, cut to the panel. */
@@ -286,28 +295,28 @@ static int write_full(const void *arg, FILE *f)
                "# Redraw with: gnuplot THIS_FILE\n");
     if (gp_terminal(f, s->out) != 0) return -1;
     write_data(p, f);
-    fprintf(f, "set view equal xyz\nset xyplane 0\nset border 0\nunset tics\nunset key\n"
-               "set pm3d depthorder border lc rgb '#606060' lw 0.3\n"
-               "unset colorbox\nset cbrange [%.6g:%.6g]\n",
+    fprintf(f,
+            "set view equal xyz\nset xyplane 0\nset border 0\nunset tics\nunset key\n"
+            "set pm3d depthorder border lc rgb '#606060' lw 0.3\n"
+            "unset colorbox\nset cbrange [%.6g:%.6g]\n",
             lo, hi);
     /* White at 0 kPa when the limits straddle it: blue is suction, red inflation. */
     if (lo < 0 && hi > 0)
-        fprintf(f, "set palette defined (%.6g '#2166ac', 0 '#f7f7f7', %.6g '#b2182b')\n", lo,
-                hi);
-    else
-        fprintf(f, "set palette defined (%.6g '#f7f7f7', %.6g '#b2182b')\n", lo, hi);
+        fprintf(f, "set palette defined (%.6g '#2166ac', 0 '#f7f7f7', %.6g '#b2182b')\n", lo, hi);
+    else fprintf(f, "set palette defined (%.6g '#f7f7f7', %.6g '#b2182b')\n", lo, hi);
     write_marks(p, f, mag);
     fprintf(f, "set multiplot title ");
     gp_label(f, p->scene_name);
-    fprintf(f, " noenhanced font ',14'\n"
-               "set size 0.36,0.92\nset origin 0.0,0.02\n"
-               "set view 90,0,1.3\nset title 'from the feet (+Z anterior up, +X left to the right)'\n"
-               "splot $head using 1:2:3 with lines lc rgb '#b8b8b8' lw 0.5, \\\n"
-               "      $bladders using 1:2:3:4 with pm3d\n"
-               "set origin 0.33,0.02\n"
-               "set view 180,0,1.3\nset title 'from below (+X left to the right, +Y superior down)'\n"
-               "set colorbox user horizontal origin 0.70,0.10 size 0.27,0.03\n"
-               "set cblabel 'pressure [kPa]'\nset cbtics\n");
+    fprintf(f,
+            " noenhanced font ',14'\n"
+            "set size 0.36,0.92\nset origin 0.0,0.02\n"
+            "set view 90,0,1.3\nset title 'from the feet (+Z anterior up, +X left to the right)'\n"
+            "splot $head using 1:2:3 with lines lc rgb '#b8b8b8' lw 0.5, \\\n"
+            "      $bladders using 1:2:3:4 with pm3d\n"
+            "set origin 0.33,0.02\n"
+            "set view 180,0,1.3\nset title 'from below (+X left to the right, +Y superior down)'\n"
+            "set colorbox user horizontal origin 0.70,0.10 size 0.27,0.03\n"
+            "set cblabel 'pressure [kPa]'\nset cbtics\n");
     write_table(p, f, mag, 0.70);
     fprintf(f, "splot $head using 1:2:3 with lines lc rgb '#b8b8b8' lw 0.5, \\\n"
                "      $bladders using 1:2:3:4 with pm3d\n"
@@ -321,8 +330,7 @@ int cmd_render(int argc, char **argv)
     int rc = parse(argc, argv, &a);
     if (rc >= 0) return rc;
     double clin[6] = {0}, desired[6] = {0};
-    if (a.correction && (rc = cli_doubles(CMD, "--correction", a.correction, 6, clin)))
-        return rc;
+    if (a.correction && (rc = cli_doubles(CMD, "--correction", a.correction, 6, clin))) return rc;
     hp_scene *sc = NULL;
     if ((rc = cli_load_scene(CMD, a.scene, NULL, &sc))) return rc;
     if (a.correction) hp_pose_from_clinical(clin, desired);
@@ -351,10 +359,10 @@ int cmd_render(int argc, char **argv)
      * here as in solve (65), not drawn as a picture of the safe output. */
     if (pic.r.status == HP_STATUS_INVALID_INPUT) {
         rc = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s", a.correction ? "--correction" : "correction",
-                         hp_planner_error(p));
+                      hp_planner_error(p));
     } else if (e != HP_OK) {
         rc = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", cli_name(a.scene),
-                         hp_error_message(e));
+                      hp_error_message(e));
     } else {
         pic.message = hp_planner_message(p); /* a closest answer explains itself too */
         cli_input_of(&a.out.inputs[0], "scene", a.scene);

@@ -124,8 +124,7 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg,
     json_object_set_new(h, "center_mm", cli_json_vec(L->head.center, 3, 1e3));
     if (L->head.shape == HP_HEAD_SPHERE)
         json_object_set_new(h, "radius_mm", json_real(L->head.semi_axes[0] * 1e3));
-    else
-        json_object_set_new(h, "semi_axes_mm", cli_json_vec(L->head.semi_axes, 3, 1e3));
+    else json_object_set_new(h, "semi_axes_mm", cli_json_vec(L->head.semi_axes, 3, 1e3));
     json_object_set_new(o, "head", h);
     json_object_set_new(o, "pivot_mm", cli_json_vec(L->pivot, 3, 1e3));
     json_object_set_new(o, "iterations", json_integer(r->iterations));
@@ -149,12 +148,12 @@ static void print_table(const hp_layout *L, const hp_result *r, const char *msg)
     printf("backend     %s (contact level %s), %d iterations, %.1f us\n\n",
            hp_backend_name(r->backend), hp_level_name(r->level), r->iterations,
            r->solve_time * 1e6);
-    printf("%-18s %10s %10s %12s %8s  %s\n", "bladder", "ri_mm", "ro_mm", "pressure_pa",
-           "stretch", "binding");
+    printf("%-18s %10s %10s %12s %8s  %s\n", "bladder", "ri_mm", "ro_mm", "pressure_pa", "stretch",
+           "binding");
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder_result *b = &r->bladders[k];
-        printf("%-18s %10.4f %10.4f %12.2f %8.4f  ", L->bladders[k].name, b->ri * 1e3,
-               b->ro * 1e3, b->pressure, b->stretch);
+        printf("%-18s %10.4f %10.4f %12.2f %8.4f  ", L->bladders[k].name, b->ri * 1e3, b->ro * 1e3,
+               b->pressure, b->stretch);
         int any = 0;
         for (int f = 0; f < HP_BIND_COUNT; ++f)
             if (b->binding & (1u << f)) {
@@ -165,8 +164,7 @@ static void print_table(const hp_layout *L, const hp_result *r, const char *msg)
     }
     /* error: achieved − desired, whatever its cause; where it is the part of the correction
      * the layout cannot command (the uncommanded column) the row says so. */
-    printf("\n%-10s %12s %12s %12s %14s\n", "pose", "desired", "achieved", "error",
-           "uncommanded");
+    printf("\n%-10s %12s %12s %12s %14s\n", "pose", "desired", "achieved", "error", "uncommanded");
     for (int i = 0; i < 6; ++i)
         printf("%-10s %12.6f %12.6f %12.3g %14.6f%s\n", hp_pose_key(i), d[i], a[i], a[i] - d[i],
                u[i],
@@ -199,8 +197,8 @@ int cmd_solve(int argc, char **argv)
     } else {
         free(sc);
         return cli_fail(CLI_EXIT_USAGE, CMD,
-                           "--correction: missing (the scene %s states no correction)",
-                           cli_name(a.scene));
+                        "--correction: missing (the scene %s states no correction)",
+                        cli_name(a.scene));
     }
     hp_settings s;
     if ((rc = cli_settings(CMD, sc, a.backend, a.level, &s))) {
@@ -223,7 +221,8 @@ int cmd_solve(int argc, char **argv)
     if (hp_planner_level(p) == HP_LEVEL_LOAD) {
         char why[HP_DIAG_MAX];
         snprintf(why, sizeof why, "%s", level_why);
-        if (!*why) snprintf(why, sizeof why, "load: asked for by %s", a.level ? "--level" : "model.level");
+        if (!*why)
+            snprintf(why, sizeof why, "load: asked for by %s", a.level ? "--level" : "model.level");
         rc = cli_solve_load(CMD, cli_name(a.scene), p, &s, desired,
                             a.correction ? "--correction" : "correction", a.json, why);
         hp_planner_destroy(p);
@@ -236,15 +235,15 @@ int cmd_solve(int argc, char **argv)
     int status;
     if (e != HP_OK) {
         status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: planner call failed: %s", cli_name(a.scene),
-                             hp_error_message(e));
+                          hp_error_message(e));
     } else if (r.status == HP_STATUS_INVALID_INPUT) {
         status = cli_fail(CLI_EXIT_DATAERR, CMD, "%s: %s",
-                             a.correction ? "--correction" : "correction", msg);
+                          a.correction ? "--correction" : "correction", msg);
     } else if (r.status == HP_STATUS_TIME_LIMIT || r.status == HP_STATUS_ITERATION_LIMIT) {
         /* The planner's message names the budget that stopped the backend (the same text
          * Python's result carries), so the user knows what to raise. */
-        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %s (no answer printed)",
-                          cli_name(a.scene), msg);
+        status = cli_fail(CLI_EXIT_SOFTWARE, CMD, "%s: %s (no answer printed)", cli_name(a.scene),
+                          msg);
     } else if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST &&
                r.status != HP_STATUS_UNCOMMANDED) {
         /* The planner's message starts with the status name already. */

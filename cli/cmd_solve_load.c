@@ -13,8 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
-                      int *use_load, char *why, size_t len)
+int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg, int *use_load,
+                   char *why, size_t len)
 {
     hp_diag d = {{0}};
     hp_level_refusal refused;
@@ -28,12 +28,12 @@ int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
     *use_load = 0;
     if (refused == HP_LEVEL_REFUSED_NO_LOAD)
         return cli_fail(CLI_EXIT_USAGE, cmd,
-                           "--level: load needs a scene with a 'load' section (%s has none)",
-                           sc->file);
+                        "--level: load needs a scene with a 'load' section (%s has none)",
+                        sc->file);
     /* An unknown --level is the settings' to name (cli_settings), as for any scene. */
     if (refused == HP_LEVEL_REFUSED_UNKNOWN) return 0;
     return cli_fail(CLI_EXIT_DATAERR, cmd, "%s: load: %s", sc->file,
-                       d.text[0] ? d.text : hp_error_message(e));
+                    d.text[0] ? d.text : hp_error_message(e));
 }
 
 int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_arg,
@@ -60,8 +60,7 @@ static void binding_text(unsigned flags, char *buf, size_t len)
     buf[0] = '\0';
     for (int f = 0; f < HP_BIND_COUNT && n < len; ++f)
         if (flags & (1u << f))
-            n += (size_t)snprintf(buf + n, len - n, "%s%s", n ? "," : "",
-                                  hp_binding_name(1u << f));
+            n += (size_t)snprintf(buf + n, len - n, "%s%s", n ? "," : "", hp_binding_name(1u << f));
     if (!n) snprintf(buf, len, "-");
 }
 
@@ -84,8 +83,7 @@ void cli_print_hoop(const hp_layout *L, const hp_result *r)
         if (B->stress_max > 0 && isfinite(B->stress_max))
             printf("%-18s %12.4f %12.4f\n", B->name, hoop_kpa(B, &r->bladders[k]),
                    B->stress_max * 1e-3);
-        else
-            printf("%-18s %12.4f %12s\n", B->name, hoop_kpa(B, &r->bladders[k]), "-");
+        else printf("%-18s %12.4f %12s\n", B->name, hoop_kpa(B, &r->bladders[k]), "-");
     }
 }
 
@@ -106,9 +104,9 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
         const hp_bladder_result *b = &r->bladders[k];
         char bind[128];
         binding_text(b->binding, bind, sizeof bind);
-        printf("%-18s %10.4f %10.4f %12.2f %8.4f %10.4f %10.4f %8.4f  %s\n",
-               L->bladders[k].name, b->ri * 1e3, b->ro * 1e3, b->pressure, b->stretch,
-               info->force[k], hoop_kpa(&L->bladders[k], b), info->indent[k], bind);
+        printf("%-18s %10.4f %10.4f %12.2f %8.4f %10.4f %10.4f %8.4f  %s\n", L->bladders[k].name,
+               b->ri * 1e3, b->ro * 1e3, b->pressure, b->stretch, info->force[k],
+               hoop_kpa(&L->bladders[k], b), info->indent[k], bind);
     }
     printf("\n%-10s %12s %12s %12s\n", "pose", "desired", "achieved", "error");
     for (int i = 0; i < 6; ++i)
@@ -127,8 +125,9 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
            h->stable ? "stable" : "NOT stable (the stiffness is not positive definite)",
            h->weakest_words, h->weakest_compliance, h->weakest_is_rotation ? "deg/(N*m)" : "mm/N");
     printf("compliance            x %.4g, y %.4g, z %.4g mm/N; pitch %.4g, roll %.4g, yaw %.4g "
-           "deg/(N*m)\n", h->compliance[0], h->compliance[1], h->compliance[2],
-           h->compliance[3], h->compliance[4], h->compliance[5]);
+           "deg/(N*m)\n",
+           h->compliance[0], h->compliance[1], h->compliance[2], h->compliance[3], h->compliance[4],
+           h->compliance[5]);
 }
 
 static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
@@ -167,7 +166,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
     json_object_set_new(o, "rest_error", cli_json_num(info->rest_error));
     const hp_load_holding *h = &info->holding;
     json_t *c = json_object();
-    static const char *const keys[6] = {"x_mm_per_n", "y_mm_per_n", "z_mm_per_n",
+    static const char *const keys[6] = {"x_mm_per_n",       "y_mm_per_n",      "z_mm_per_n",
                                         "pitch_deg_per_nm", "roll_deg_per_nm", "yaw_deg_per_nm"};
     for (int i = 0; i < 6; ++i) json_object_set_new(c, keys[i], cli_json_num(h->compliance[i]));
     json_object_set_new(o, "compliance", c);
@@ -183,8 +182,8 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
     return 0;
 }
 
-int cli_planner_refused(const char *cmd, const char *name, const char *backend_opt,
-                        hp_error e, const hp_diag *d)
+int cli_planner_refused(const char *cmd, const char *name, const char *backend_opt, hp_error e,
+                        const hp_diag *d)
 {
     /* Refused for the backend (one that does not plan the load level, or does not solve the
      * scene's tie-breaker) that --backend chose: the command line's fault, 64 naming the

@@ -12,8 +12,8 @@
  * load level; why (len bytes) the reason. Prints and returns an exit status on error (64:
  * --level load on a scene without a `load` section; 65: its load cannot be modelled), 0
  * otherwise (an unknown --level is left to cli_settings to name). */
-int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg,
-                      int *use_load, char *why, size_t len);
+int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg, int *use_load,
+                   char *why, size_t len);
 
 /* For the subcommands that plan at the kinematic levels only (render): 0 when the
  * scene with level_arg (--level; NULL: the scene's model.level) is planned kinematically,
@@ -28,8 +28,8 @@ int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_ar
  * returns the exit status: 64 naming --backend when backend_opt (its value) chose a backend
  * the planner refused for the level (the load level's backends and tie-breakers), else 65
  * for bad data, 70 otherwise. */
-int cli_planner_refused(const char *cmd, const char *name, const char *backend_opt,
-                        hp_error e, const hp_diag *d);
+int cli_planner_refused(const char *cmd, const char *name, const char *backend_opt, hp_error e,
+                        const hp_diag *d);
 
 /* Plans desired[6] (SI) with planner p at the load level (built from settings s) and prints
  * the answer (table or JSON): pressures, forces, binding limits, equilibrium residual,

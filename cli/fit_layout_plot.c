@@ -32,12 +32,13 @@ static int write_script(const void *arg, FILE *f)
     gp_label(f, p->title);
     fprintf(f, "\nset grid\nset key top right\nset xlabel 'data line'\n");
     for (int j = 0; j < p->naxes; ++j) {
-        static const char *const AXIS[6] = {"x [mm]", "y [mm]", "z [mm]",
+        static const char *const AXIS[6] = {"x [mm]",      "y [mm]",     "z [mm]",
                                             "pitch [deg]", "roll [deg]", "yaw [deg]"};
         fprintf(f, "set ylabel '%s residual (measured - model)'\n", AXIS[j]);
-        fprintf(f, "plot $axis%d using 1:2 with points pt 6 lc rgb '#b0b0b0' title 'before', "
-                   "$axis%d using 1:3 with points pt 7 lc rgb '#1f5fa8' title 'after', "
-                   "0 with lines lc rgb 'black' notitle\n",
+        fprintf(f,
+                "plot $axis%d using 1:2 with points pt 6 lc rgb '#b0b0b0' title 'before', "
+                "$axis%d using 1:3 with points pt 7 lc rgb '#1f5fa8' title 'after', "
+                "0 with lines lc rgb 'black' notitle\n",
                 j, j);
     }
     fprintf(f, "unset multiplot\n");

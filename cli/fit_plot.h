@@ -7,9 +7,9 @@
 
 /* Writes an SVG scatter of y against x (n points) to path with a zero line and, when
  * band > 0, dashed lines at ±band. Returns 0, or 73 after one line on stderr. */
-int fit_plot_svg(const char *cmd, const char *path, const cli_input *in, int nin,
-                 const char *title, const double *x, const double *y, int n, double band,
-                 const char *xlabel, const char *ylabel);
+int fit_plot_svg(const char *cmd, const char *path, const cli_input *in, int nin, const char *title,
+                 const double *x, const double *y, int n, double band, const char *xlabel,
+                 const char *ylabel);
 
 /* headplan fit layout --plot: draws with gnuplot, into path (.png or .svg), one panel per
  * pose axis (naxes 3 or 6) of each row's residual before and after the fit against its data

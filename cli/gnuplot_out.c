@@ -58,7 +58,7 @@ int gp_option(const char *cmd, int argc, char **argv, int *i, gp_out *o)
         }
         if (!ok || w < 200 || w > 10000 || h < 200 || h > 10000)
             return cli_fail(CLI_EXIT_USAGE, cmd,
-                               "--size: expected WxH in pixels, each 200..10000 (got '%s')", v);
+                            "--size: expected WxH in pixels, each 200..10000 (got '%s')", v);
         o->width = w;
         o->height = h;
         return 1;
@@ -201,12 +201,12 @@ static int picture_complete(const char *path, int svg)
     return n >= 6 && memcmp(tail + n - 6, "</svg>", 6) == 0;
 }
 
-int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f),
-            const void *arg)
+int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f), const void *arg)
 {
     /* Only render and plot (the default option names) have --dry-run to point at. */
     if (!o->dry_run && !gnuplot_on_path())
-        return cli_fail(CLI_EXIT_UNAVAILABLE, cmd, "gnuplot not found on PATH (install gnuplot-nox%s)",
+        return cli_fail(CLI_EXIT_UNAVAILABLE, cmd,
+                        "gnuplot not found on PATH (install gnuplot-nox%s)",
                         o->path_opt ? "" : "; --dry-run writes the script without it");
     if (!o->script_out && o->dry_run) return write_script(cmd, "(stdout)", stdout, writer, arg);
     /* Both files are created (and checked against the inputs) before either is written, and

@@ -55,7 +55,6 @@ int gp_terminal(FILE *f, const gp_out *o);
  * when complete. Returns 0, 69 (gnuplot missing), 70 (gnuplot failed), 73 (script or picture
  * cannot be created) or 74 (a picture cut short, a failed write of the script), after one
  * line on stderr. */
-int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f),
-            const void *arg);
+int gp_draw(const char *cmd, gp_out *o, int (*writer)(const void *arg, FILE *f), const void *arg);
 
 #endif

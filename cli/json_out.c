@@ -20,7 +20,4 @@ json_t *cli_json_vec(const double *v, int n, double scale)
     return a;
 }
 
-json_t *cli_json_num(double v)
-{
-    return isfinite(v) ? json_real(v) : json_null();
-}
+json_t *cli_json_num(double v) { return isfinite(v) ? json_real(v) : json_null(); }

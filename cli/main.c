@@ -66,8 +66,7 @@ int main(int argc, char **argv)
      * be written in full is never exit 0. */
     for (size_t i = 0; i < n_commands; ++i)
         if (strcmp(argv[1], commands[i].name) == 0)
-            return cli_finish_stdout(commands[i].name,
-                                        commands[i].run(argc - 1, argv + 1));
+            return cli_finish_stdout(commands[i].name, commands[i].run(argc - 1, argv + 1));
     fprintf(stderr, "headplan: unknown command '");
     cli_put_escaped(stderr, argv[1]);
     fprintf(stderr, "' (see headplan --help)\n");

@@ -27,22 +27,21 @@
 #define FIXED_N_INLINE static inline
 #endif
 
-FIXED_N_INLINE int cholesky_n(const double *A, int lda, int n, double min_frac, double *L,
-                             int ldl)
+FIXED_N_INLINE int cholesky_n(const double *A, int lda, int n, double min_frac, double *L, int ldl)
 {
-UNROLL6
+    UNROLL6
     for (int j = 0; j < n; ++j) {
         double s = A[j * lda + j];
-UNROLL6
+        UNROLL6
         for (int k = 0; k < j; ++k) s -= L[j * ldl + k] * L[j * ldl + k];
         /* Written so that NaN fails. */
         if (!(s > (min_frac > 0 ? min_frac * A[j * lda + j] : 0.0))) return 0;
         double l = sqrt(s);
         L[j * ldl + j] = l;
-UNROLL6
+        UNROLL6
         for (int i = j + 1; i < n; ++i) {
             double t = A[i * lda + j];
-UNROLL6
+            UNROLL6
             for (int k = 0; k < j; ++k) t -= L[i * ldl + k] * L[j * ldl + k];
             L[i * ldl + j] = t / l;
         }
@@ -65,17 +64,17 @@ int hpi_cholesky(const double *A, int lda, int n, double min_frac, double *L, in
 
 FIXED_N_INLINE void cholesky_solve_n(const double *L, int ldl, int n, double *b)
 {
-UNROLL6
+    UNROLL6
     for (int i = 0; i < n; ++i) {
         double t = b[i];
-UNROLL6
+        UNROLL6
         for (int k = 0; k < i; ++k) t -= L[i * ldl + k] * b[k];
         b[i] = t / L[i * ldl + i];
     }
-UNROLL6
+    UNROLL6
     for (int i = n - 1; i >= 0; --i) {
         double t = b[i];
-UNROLL6
+        UNROLL6
         for (int k = i + 1; k < n; ++k) t -= L[k * ldl + i] * b[k];
         b[i] = t / L[i * ldl + i];
     }
@@ -98,12 +97,12 @@ FIXED_N_INLINE double inv_frob2_n(const double *L, int ldl, int n)
 {
     /* Column j of L⁻¹ by forward substitution on e_j (zero above row j). */
     double x[64], s = 0.0;
-UNROLL6
+    UNROLL6
     for (int j = 0; j < n; ++j) {
-UNROLL6
+        UNROLL6
         for (int i = j; i < n; ++i) {
             double t = i == j ? 1.0 : 0.0;
-UNROLL6
+            UNROLL6
             for (int k = j; k < i; ++k) t -= L[i * ldl + k] * x[k];
             x[i] = t / L[i * ldl + i];
             s += x[i] * x[i];

@@ -10,8 +10,17 @@
 #include <stdio.h>
 
 static const char *const error_names[HP_ERR_COUNT_] = {
-    "ok", "null-argument", "invalid-argument", "domain", "no-stable-radius",
-    "no-convergence", "parse", "io", "out-of-memory", "solver", "state",
+    "ok",
+    "null-argument",
+    "invalid-argument",
+    "domain",
+    "no-stable-radius",
+    "no-convergence",
+    "parse",
+    "io",
+    "out-of-memory",
+    "solver",
+    "state",
     "end",
 };
 

@@ -27,19 +27,19 @@ int hpi_names_count(const char *const *words);
 hp_error hpi_names_parse_to(const char *const *words, const char *s, int *out, int null_out);
 
 /* Defines an enum's public name call `const char *NAME(T)` from its table WORDS. */
-#define HP_NAMES_NAME_CALL(T, WORDS, NAME)                                                    \
+#define HP_NAMES_NAME_CALL(T, WORDS, NAME)                                                         \
     const char *NAME(T v) { return hpi_names_word(WORDS, (int)v); }
 
 /* Defines both its name call and its parse call `hp_error PARSE(const char *, T *)`
  * (HP_ERR_NULL, HP_ERR_INVALID; *out unchanged on error). */
-#define HP_NAMES_CALLS(T, WORDS, NAME, PARSE)                                                 \
-    HP_NAMES_NAME_CALL(T, WORDS, NAME)                                                        \
-    hp_error PARSE(const char *s, T *out)                                                     \
-    {                                                                                         \
-        int v = 0;                                                                            \
-        hp_error e = hpi_names_parse_to(WORDS, s, &v, out == NULL);                            \
-        if (e == HP_OK) *out = (T)v;                                                          \
-        return e;                                                                             \
+#define HP_NAMES_CALLS(T, WORDS, NAME, PARSE)                                                      \
+    HP_NAMES_NAME_CALL(T, WORDS, NAME)                                                             \
+    hp_error PARSE(const char *s, T *out)                                                          \
+    {                                                                                              \
+        int v = 0;                                                                                 \
+        hp_error e = hpi_names_parse_to(WORDS, s, &v, out == NULL);                                \
+        if (e == HP_OK) *out = (T)v;                                                               \
+        return e;                                                                                  \
     }
 
 #endif

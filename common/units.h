@@ -13,6 +13,9 @@
  * (mm, degrees) per SI unit, and its inverse: the scale every backend and the horizon
  * planner use for their variables. */
 static inline double hpi_pose_scaled_per_si(int i) { return i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD; }
-static inline double hpi_pose_si_per_scaled(int i) { return i < 3 ? 1.0 / HP_MM_PER_M : HP_RAD_PER_DEG; }
+static inline double hpi_pose_si_per_scaled(int i)
+{
+    return i < 3 ? 1.0 / HP_MM_PER_M : HP_RAD_PER_DEG;
+}
 
 #endif

@@ -17,12 +17,12 @@
 /* Touch points (unit-sphere directions scaled onto the ellipsoid) of the eight bladders. */
 static int build_layout(hp_layout *L)
 {
-    static const char *const names[8] = {
-        "base_neck_left", "base_neck_right", "base_skull_left", "base_skull_right",
-        "side_fore_left", "side_fore_right", "side_chin_left", "side_chin_right"};
-    static const double dir[8][3] = {
-        {0.35, -0.45, -1}, {-0.35, -0.45, -1}, {0.35, 0.45, -1}, {-0.35, 0.45, -1},
-        {1, 0.45, 0.15},   {-1, 0.45, 0.15},   {1, -0.45, -0.15}, {-1, -0.45, -0.15}};
+    static const char *const names[8] = {"base_neck_left",   "base_neck_right", "base_skull_left",
+                                         "base_skull_right", "side_fore_left",  "side_fore_right",
+                                         "side_chin_left",   "side_chin_right"};
+    static const double dir[8][3] = {{0.35, -0.45, -1}, {-0.35, -0.45, -1}, {0.35, 0.45, -1},
+                                     {-0.35, 0.45, -1}, {1, 0.45, 0.15},    {-1, 0.45, 0.15},
+                                     {1, -0.45, -0.15}, {-1, -0.45, -0.15}};
     memset(L, 0, sizeof *L);
     L->head.shape = HP_HEAD_ELLIPSOID;
     L->head.semi_axes[0] = HP_HEAD_DEFAULT_A;

@@ -74,7 +74,7 @@ double hpi_horizon_weight(const hp_settings *s, const int commanded[6], int i)
 }
 
 hp_status hpi_horizon_label(const int commanded[6], const double desired[6], const double xc[6],
-                           const double achieved[6], double tol, double *err)
+                            const double achieved[6], double tol, double *err)
 {
     double e = 0;
     int unc = 0;
@@ -92,8 +92,8 @@ void hpi_horizon_scene_rates(const hp_layout *L, double *rate_max)
     for (int k = 0; k < L->n; ++k) rate_max[k] = L->bladders[k].rate_max;
 }
 
-void hpi_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settings *hs,
-                          double dt, double *delta)
+void hpi_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settings *hs, double dt,
+                           double *delta)
 {
     double per_s = isfinite(hs->rate_max_per_s) ? hs->rate_max_per_s * dt : INFINITY;
     for (int k = 0; k < n; ++k) delta[k] = fmin(rate_max[k], per_s);
@@ -107,7 +107,7 @@ double hp_horizon_start_interval(const hp_trace_row *rows, size_t T, double fall
 }
 
 hp_error hpi_horizon_row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
-                       double *dt, hp_diag *d)
+                            double *dt, hp_diag *d)
 {
     if (!isfinite(rows[t].t))
         return hp_diag_set(d, HP_ERR_INVALID, "line %ld: t_s: not finite", rows[t].line);
@@ -154,8 +154,8 @@ hp_error hp_horizon_nominal_pressures(const hp_layout *L, double *p_start, hp_di
     return HP_OK;
 }
 
-hp_error hp_horizon_check_rows(const hp_layout *L, const hp_trace_row *rows, size_t T,
-                               size_t *bad, hp_diag *d)
+hp_error hp_horizon_check_rows(const hp_layout *L, const hp_trace_row *rows, size_t T, size_t *bad,
+                               hp_diag *d)
 {
     if (!L || (T && !rows)) return hp_diag_set(d, HP_ERR_NULL, "horizon rows: NULL argument");
     hp_identifiable id;
@@ -171,7 +171,7 @@ hp_error hp_horizon_check_rows(const hp_layout *L, const hp_trace_row *rows, siz
 }
 
 hp_error hpi_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
-                                  hp_diag *d)
+                                   hp_diag *d)
 {
     size_t bad = 0;
     hp_diag sub = {{0}};
@@ -182,7 +182,7 @@ hp_error hpi_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows,
 }
 
 void hpi_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int n,
-                                hp_horizon_row *o)
+                                 hp_horizon_row *o)
 {
     o->t = in->t;
     memcpy(o->desired, in->correction, sizeof o->desired);
@@ -204,7 +204,7 @@ hp_error hpi_horizon_load_refused(const char *plan, hp_diag *d)
 }
 
 void hpi_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
-                             const char *reason)
+                              const char *reason)
 {
     if (*noted || r->status != HP_STATUS_INVALID_INPUT) return;
     *noted = 1;

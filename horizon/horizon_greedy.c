@@ -20,7 +20,7 @@ static hp_error greedy_row(void *ctx, size_t t, const hp_result *r)
     greedy_ctx *g = ctx;
     const char *why = hp_planner_error(g->p);
     hpi_horizon_note_refusal(g->d, &g->refused, r, g->rows[t].line,
-                            *why ? why : hp_planner_note(g->p));
+                             *why ? why : hp_planner_note(g->p));
     hpi_horizon_row_from_result(g->rows + t, r, r->n, g->out + t);
     return HP_OK;
 }

@@ -7,7 +7,7 @@
 /* The interval before row t [s] (hs->start_interval_s for row 0), checked: the row's time
  * stamp finite and after the previous row's. HP_ERR_INVALID with "line N: t_s: ..." in d. */
 hp_error hpi_horizon_row_dt(const hp_horizon_settings *hs, const hp_trace_row *rows, size_t t,
-                           double *dt, hp_diag *d);
+                            double *dt, hp_diag *d);
 
 /* Objective weight of pose component i (mm², deg² / weight_mm_per_deg²), 0 when the layout
  * does not command it. */
@@ -16,11 +16,11 @@ const char *hpi_horizon_rh_reason(const hp_horizon_rh *rh);
 
 /* hp_horizon_check_rows with the refused row's line in the message. */
 hp_error hpi_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
-                                  hp_diag *d);
+                                   hp_diag *d);
 
 /* The output row o of trace row in planned as r (n bladders). */
 void hpi_horizon_row_from_result(const hp_trace_row *in, const hp_result *r, int n,
-                                hp_horizon_row *o);
+                                 hp_horizon_row *o);
 /* The refusal of a receding or offline plan at the load level (HP_ERR_INVALID, the plan
  * named in d): those plans solve the contact levels' program over many rows; the load level
  * is planned greedy, one row at a time. */
@@ -29,7 +29,7 @@ hp_error hpi_horizon_load_refused(const char *plan, hp_diag *d);
 /* Puts "line N: reason" of the first row hp_plan refused (status INVALID_INPUT) into d, the
  * planner's own words as batch prints them: *noted says whether one already is. */
 void hpi_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long line,
-                             const char *reason);
+                              const char *reason);
 
 /* The status of a planned row as hp_plan labels an answer, from the row's own desired pose
  * (SI), its commanded part xc (hp_pose_commanded_part) and the achieved pose: REACHED when
@@ -37,7 +37,7 @@ void hpi_horizon_note_refusal(hp_diag *d, int *noted, const hp_result *r, long l
  * desired − xc (the part the layout cannot observe) exceeds tol somewhere, CLOSEST otherwise.
  * *err: the largest commanded error (mm or degrees). */
 hp_status hpi_horizon_label(const int commanded[6], const double desired[6], const double xc[6],
-                           const double achieved[6], double tol, double *err);
+                            const double achieved[6], double tol, double *err);
 
 /* An iterate of the receding horizon's interior point this close (mm or degrees, every
  * commanded component) to the commanded part of the row's desired pose aims at the desired
@@ -55,8 +55,8 @@ void hpi_horizon_scene_rates(const hp_layout *L, double *rate_max);
 
 /* Δ [Pa] of each of n bladders for a row interval dt [s]: min(rate_max[k], per-second limit
  * · dt), rate_max the scene's limits (hpi_horizon_scene_rates). */
-void hpi_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settings *hs,
-                          double dt, double *delta);
+void hpi_horizon_row_rates(const double *rate_max, int n, const hp_horizon_settings *hs, double dt,
+                           double *delta);
 
 /* The rate limits are met by at most this much less than Δ in the offline NLP [Pa], so the
  * returned pressures satisfy |ΔP| <= Δ exactly despite Ipopt's constraint tolerance. */
@@ -75,9 +75,9 @@ void hpi_horizon_row_rates(const double *rate_max, int n, const hp_horizon_setti
  * obj_factor·∇²f + Σ lambda_i ∇²g_i (T·nx × T·nx), all from the callbacks Ipopt gets and
  * their sparsity patterns. Allocates. */
 hp_error hpi_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
-                              const hp_horizon_settings *hs, const hp_trace_row *rows, int T,
-                              const double *p0, const double *x, double obj_factor,
-                              const double *lambda, double *f, double *grad, double *g,
-                              double *jac, double *hess);
+                               const hp_horizon_settings *hs, const hp_trace_row *rows, int T,
+                               const double *p0, const double *x, double obj_factor,
+                               const double *lambda, double *f, double *grad, double *g,
+                               double *jac, double *hess);
 
 #endif

@@ -33,7 +33,7 @@
 #define OFFLINE_CONTACT_TOL 1e-6
 
 typedef struct nlp {
-    hp_problem pb;              /* one row's problem: layout, level, weights, box (mm) */
+    hp_problem pb; /* one row's problem: layout, level, weights, box (mm) */
     int n, nx;
     int T;                      /* rows in this window */
     const hp_trace_row *rows;   /* this window's rows */
@@ -42,12 +42,11 @@ typedef struct nlp {
     const double *delta;        /* T×n rate limits [Pa] */
     double p0[HP_MAX_BLADDERS]; /* pressures before the window's first row [Pa] */
     double smooth;
-    double *P, *dP, *d2P;       /* T×n: IK, per mm, per mm² at the current x */
-    double *h, *jac;            /* nx×nx and n×nx per-row scratch */
+    double *P, *dP, *d2P; /* T×n: IK, per mm, per mm² at the current x */
+    double *h, *jac;      /* nx×nx and n×nx per-row scratch */
     int iters;
     int failed;
 } nlp;
-
 
 /* Sets pb.d to the commanded part of row t's desired correction (scaled; 0 where not
  * commanded). */
@@ -120,8 +119,9 @@ static Bool eval_grad_f(Index nv, Number *x, Bool new_x, Number *g, UserDataPtr 
             double du = (q->P[j] - prev_p(q, t, k)) * 1e-3;
             g[(size_t)t * (size_t)q->nx + 6 + (size_t)k] += 2.0 * q->smooth * du * q->dP[j] * 1e-3;
             if (t > 0)
-                g[(size_t)(t - 1) * (size_t)q->nx + 6 + (size_t)k] -=
-                    2.0 * q->smooth * du * q->dP[j - (size_t)q->n] * 1e-3;
+                g[(size_t)(t - 1) * (size_t)q->nx + 6 + (size_t)k] -= 2.0 * q->smooth * du *
+                                                                      q->dP[j - (size_t)q->n] *
+                                                                      1e-3;
         }
     return TRUE;
 }
@@ -134,11 +134,12 @@ static Bool eval_g(Index nv, Number *x, Bool new_x, Index m, Number *g, UserData
     for (int t = 0; t < q->T; ++t) {
         size_t c0 = (size_t)t * 2u * (size_t)q->n;
         if (hpi_problem_constraints(&q->pb, x + (size_t)t * (size_t)q->nx, g + c0, NULL, NULL,
-                                   NULL) != HP_OK)
+                                    NULL) != HP_OK)
             return FALSE;
         for (int k = 0; k < q->n; ++k)
-            g[c0 + (size_t)q->n + (size_t)k] =
-                (q->P[(size_t)t * (size_t)q->n + (size_t)k] - prev_p(q, t, k)) * 1e-3;
+            g[c0 + (size_t)q->n + (size_t)k] = (q->P[(size_t)t * (size_t)q->n + (size_t)k] -
+                                                prev_p(q, t, k)) *
+                                               1e-3;
     }
     return TRUE;
 }
@@ -169,8 +170,8 @@ static Bool eval_jac_g(Index nv, Number *x, Bool new_x, Index m, Index nele, Ind
     if (!eval_pressures(q, x)) return FALSE;
     size_t e = 0;
     for (int t = 0; t < q->T; ++t) {
-        if (hpi_problem_constraints(&q->pb, x + (size_t)t * (size_t)nx, NULL, q->jac, NULL,
-                                   NULL) != HP_OK)
+        if (hpi_problem_constraints(&q->pb, x + (size_t)t * (size_t)nx, NULL, q->jac, NULL, NULL) !=
+            HP_OK)
             return FALSE;
         for (int k = 0; k < n; ++k) {
             for (int i = 0; i < 6; ++i) v[e++] = q->jac[k * nx + i];
@@ -186,8 +187,7 @@ static Bool eval_jac_g(Index nv, Number *x, Bool new_x, Index m, Index nele, Ind
 }
 
 static Bool eval_h(Index nv, Number *x, Bool new_x, Number of, Index m, Number *lambda,
-                   Bool new_lambda, Index nele, Index *iRow, Index *jCol, Number *v,
-                   UserDataPtr u)
+                   Bool new_lambda, Index nele, Index *iRow, Index *jCol, Number *v, UserDataPtr u)
 {
     (void)nv, (void)new_x, (void)m, (void)new_lambda, (void)nele;
     nlp *q = u;
@@ -264,8 +264,8 @@ typedef struct offline_ctx {
 } offline_ctx;
 
 /* The commanded part of every row's desired pose into xc (T×6, SI). */
-static hp_error commanded_parts(const offline_ctx *c, const hp_trace_row *rows, int T,
-                                double *xc, hp_diag *d)
+static hp_error commanded_parts(const offline_ctx *c, const hp_trace_row *rows, int T, double *xc,
+                                hp_diag *d)
 {
     for (int t = 0; t < T; ++t) {
         hp_error e = hp_pose_commanded_part(c->L, hp_planner_identifiable(c->p), c->pb.level,
@@ -289,7 +289,8 @@ static hp_error ctx_build(const hp_layout *L, const hp_settings *settings,
     *p = NULL;
     memset(c, 0, sizeof *c);
     hp_error e = hp_planner_create(L, s, p, d);
-    if (e == HP_OK && hp_planner_level(*p) == HP_LEVEL_LOAD) e = hpi_horizon_load_refused("offline", d);
+    if (e == HP_OK && hp_planner_level(*p) == HP_LEVEL_LOAD)
+        e = hpi_horizon_load_refused("offline", d);
     if (e != HP_OK) return e;
     c->L = hp_planner_layout(*p);
     c->p = *p;
@@ -316,8 +317,8 @@ static size_t nlp_doubles(int T, int n)
 }
 
 /* One window's NLP on top of buf (nlp_doubles(T, n) doubles; x, bounds follow q->jac). */
-static void nlp_init(nlp *q, const offline_ctx *c, const hp_trace_row *rows,
-                     const double *delta, int T, const double *p0, double *buf)
+static void nlp_init(nlp *q, const offline_ctx *c, const hp_trace_row *rows, const double *delta,
+                     int T, const double *p0, double *buf)
 {
     const int n = c->L->n, nx = 6 + n;
     memset(q, 0, sizeof *q);
@@ -363,7 +364,8 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
             double lim = c->pb.w[i] > 0 ? IPOPT_INF : 0.0;
             xl[b + (size_t)i] = -lim;
             xu[b + (size_t)i] = lim;
-            x[b + (size_t)i] = c->pb.w[i] > 0 ? start[t].achieved[i] * hpi_pose_scaled_per_si(i) : 0.0;
+            x[b + (size_t)i] = c->pb.w[i] > 0 ? start[t].achieved[i] * hpi_pose_scaled_per_si(i)
+                                              : 0.0;
         }
         for (int k = 0; k < n; ++k) {
             size_t j = b + 6 + (size_t)k;
@@ -376,8 +378,8 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
             gl[c0 + (size_t)k] = gu[c0 + (size_t)k] = 0.0;
             double D = delta[(size_t)t * (size_t)n + (size_t)k];
             double lim = D <= HP_HORIZON_HOLD_PA ? 0.0 /* held: see below */
-                         : isfinite(D) ? (D - HP_HORIZON_RATE_MARGIN) * 1e-3
-                                       : IPOPT_INF;
+                         : isfinite(D)           ? (D - HP_HORIZON_RATE_MARGIN) * 1e-3
+                                                 : IPOPT_INF;
             gl[c0 + (size_t)n + (size_t)k] = -lim;
             gu[c0 + (size_t)n + (size_t)k] = lim;
         }
@@ -399,8 +401,8 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
                 x[(size_t)t * (size_t)nx + 6 + (size_t)k] = ri * HP_MM_PER_M;
         }
         if (he == HP_OK)
-            he = hpi_plan_fit_from_nominal(c->p, ro, hp_planner_identifiable(c->p)->commanded,
-                                          NULL, xi, NULL);
+            he = hpi_plan_fit_from_nominal(c->p, ro, hp_planner_identifiable(c->p)->commanded, NULL,
+                                           xi, NULL);
         if (he != HP_OK) {
             free(buf);
             return hp_diag_set(d, HP_ERR_SOLVER,
@@ -409,23 +411,24 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         }
         for (int t = 0; t < T; ++t)
             for (int i = 0; i < 6; ++i)
-                x[(size_t)t * (size_t)nx + (size_t)i] =
-                    c->pb.w[i] > 0 ? xi[i] * hpi_pose_scaled_per_si(i) : 0.0;
+                x[(size_t)t * (size_t)nx + (size_t)i] = c->pb.w[i] > 0
+                                                            ? xi[i] * hpi_pose_scaled_per_si(i)
+                                                            : 0.0;
     }
     Index nnz_j = T * 7 * n + T * 2 * n - n;
     Index nnz_h = T * (21 + n) + (T - 1) * n;
     hp_error e = HP_OK;
     enum ApplicationReturnStatus rc = Internal_Error;
     hpi_ipopt_lock();
-    IpoptProblem app = all_held ? NULL
-                                : CreateIpoptProblem((Index)NV, xl, xu, (Index)NC, gl, gu, nnz_j,
-                                                     nnz_h, 0, eval_f, eval_g, eval_grad_f,
-                                                     eval_jac_g, eval_h);
+    IpoptProblem app = all_held
+                           ? NULL
+                           : CreateIpoptProblem((Index)NV, xl, xu, (Index)NC, gl, gu, nnz_j, nnz_h,
+                                                0, eval_f, eval_g, eval_grad_f, eval_jac_g, eval_h);
     if (all_held) rc = Solve_Succeeded;
     else if (!app) e = hp_diag_set(d, HP_ERR_SOLVER, "offline: CreateIpoptProblem failed");
     if (e == HP_OK && app)
         e = hpi_ipopt_base_options(app, c->hs->offline_tol, c->hs->offline_max_iter,
-                                  c->hs->offline_max_time, d);
+                                   c->hs->offline_max_time, d);
     if (e == HP_OK && app && !SetIntermediateCallback(app, intermediate))
         e = hp_diag_set(d, HP_ERR_SOLVER, "offline: SetIntermediateCallback failed");
     if (e == HP_OK && app) {
@@ -455,8 +458,8 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
         for (int i = 0; i < 6; ++i) o->achieved[i] = xt[i] / hpi_pose_scaled_per_si(i);
         /* hp_plan's labels, to the offline solve's own accuracy where it is coarser */
         o->status = hpi_horizon_label(hp_planner_identifiable(c->p)->commanded, o->desired,
-                                     q.xc + 6 * t, o->achieved,
-                                     fmax(c->s->tolerance, OFFLINE_REACHED_TOL), &err);
+                                      q.xc + 6 * t, o->achieved,
+                                      fmax(c->s->tolerance, OFFLINE_REACHED_TOL), &err);
         if (hpi_setup_contact_scaled(c->L, c->pb.geom, c->pb.level, xt, rho, NULL) != HP_OK) {
             e = hp_diag_set(d, HP_ERR_SOLVER, "offline: line %ld: contact model failed",
                             rows[t].line);
@@ -520,8 +523,7 @@ static hp_error solve_window(const offline_ctx *c, const hp_trace_row *rows, con
     return e;
 }
 
-void hp_horizon_offline_windows(const hp_horizon_settings *hs, size_t T, int *window,
-                                int *overlap)
+void hp_horizon_offline_windows(const hp_horizon_settings *hs, size_t T, int *window, int *overlap)
 {
     *window = hs->window;
     *overlap = hs->overlap;
@@ -572,14 +574,15 @@ hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
         size_t commit = b == T ? T : b - (size_t)overlap;
         if (info && (int)(b - a) > info->largest_window) info->largest_window = (int)(b - a);
         const double *p0 = a ? out[a - 1].pressure : start;
-        e = solve_window(&c, rows + a, delta + a * (size_t)n, (int)(b - a), p0, greedy + a,
-                         out + a, info, d);
+        e = solve_window(&c, rows + a, delta + a * (size_t)n, (int)(b - a), p0, greedy + a, out + a,
+                         info, d);
         if (e != HP_OK) goto done;
         a = commit;
     }
     if (info) {
         hp_horizon_metrics m;
-        if (hp_horizon_measure(out, T, n, start, &s, hs, 1.0, 1.0, &m) == HP_OK) info->cost = m.cost;
+        if (hp_horizon_measure(out, T, n, start, &s, hs, 1.0, 1.0, &m) == HP_OK)
+            info->cost = m.cost;
     }
 done:
     free(delta);
@@ -589,10 +592,10 @@ done:
 }
 
 hp_error hpi_horizon_nlp_dense(const hp_layout *L, const hp_settings *settings,
-                              const hp_horizon_settings *hs, const hp_trace_row *rows, int T,
-                              const double *p0, const double *x, double obj_factor,
-                              const double *lambda, double *f, double *grad, double *g,
-                              double *jac, double *hess)
+                               const hp_horizon_settings *hs, const hp_trace_row *rows, int T,
+                               const double *p0, const double *x, double obj_factor,
+                               const double *lambda, double *f, double *grad, double *g,
+                               double *jac, double *hess)
 {
     hp_settings s;
     hp_planner *p = NULL;

@@ -27,13 +27,13 @@
 #include <string.h>
 #include <time.h>
 
-#define RH_SIGMA 0.1       /* centring: the next barrier weight is this times the mean s·λ */
-#define RH_BOUNDARY 0.995  /* fraction-to-the-boundary of a step */
-#define RH_S_MIN 1e-3      /* smallest starting slack (mm or kPa) */
-#define RH_MU0 1e-3        /* starting complementarity s·λ */
-#define RH_GAP_TOL 1e-10   /* stop when the mean s·λ is below this ... */
-#define RH_STEP_TOL 1e-9   /* ... and the last step moved no pose by more (mm or degrees) */
-#define RH_NC 4            /* inequalities per bladder and row: ro >= lo, ro <= hi, ±u <= Δ */
+#define RH_SIGMA 0.1      /* centring: the next barrier weight is this times the mean s·λ */
+#define RH_BOUNDARY 0.995 /* fraction-to-the-boundary of a step */
+#define RH_S_MIN 1e-3     /* smallest starting slack (mm or kPa) */
+#define RH_MU0 1e-3       /* starting complementarity s·λ */
+#define RH_GAP_TOL 1e-10  /* stop when the mean s·λ is below this ... */
+#define RH_STEP_TOL 1e-9  /* ... and the last step moved no pose by more (mm or degrees) */
+#define RH_NC 4           /* inequalities per bladder and row: ro >= lo, ro <= hi, ±u <= Δ */
 
 struct hp_horizon_rh {
     hp_planner *p;
@@ -44,14 +44,14 @@ struct hp_horizon_rh {
     hp_level level;
     int n, N;
     int commanded[6];
-    double w[6];                     /* pose weights (1 where not commanded) */
+    double w[6]; /* pose weights (1 where not commanded) */
     double ro_lo[HP_MAX_BLADDERS], ro_hi[HP_MAX_BLADDERS]; /* [mm] static box */
     double rate_scene[HP_MAX_BLADDERS]; /* [Pa] the scene's per-row limits (the planner's
                                            copy holds the last row's allowance) */
-    double p_now[HP_MAX_BLADDERS];   /* pressures the bladders hold [Pa] */
+    double p_now[HP_MAX_BLADDERS];      /* pressures the bladders hold [Pa] */
     double last_t;
     int started;
-    int hist_n;                      /* commanded parts of the desired poses, kept for the
+    int hist_n; /* commanded parts of the desired poses, kept for the
                                         velocity prediction */
     double hist_t[HP_HORIZON_MAX], hist_d[HP_HORIZON_MAX][6];
     double z[HP_HORIZON_MAX * 6], zt[HP_HORIZON_MAX * 6], dz[HP_HORIZON_MAX * 6];
@@ -61,9 +61,9 @@ struct hp_horizon_rh {
     double P[HP_HORIZON_MAX * HP_MAX_BLADDERS], dP[HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double g[HP_HORIZON_MAX * 6];
     double A[HP_HORIZON_MAX * 36], B[HP_HORIZON_MAX * 36]; /* diagonal / sub-diagonal blocks */
-    hp_result applied; /* the last applied answer (its pose starts a cold plan) */
-    int budget_stopped;             /* the last call's horizon solve stopped at its time budget */
-    char why[HP_DIAG_MAX];          /* ... and what it says about it */
+    hp_result applied;     /* the last applied answer (its pose starts a cold plan) */
+    int budget_stopped;    /* the last call's horizon solve stopped at its time budget */
+    char why[HP_DIAG_MAX]; /* ... and what it says about it */
     double c[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];   /* constraint values (>= 0 wanted) */
     double sl[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];  /* slacks */
     double lam[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* multipliers */
@@ -93,7 +93,7 @@ static int evaluate(hp_horizon_rh *rh, const double *z)
     const int n = rh->n;
     for (int j = 0; j < rh->N; ++j) {
         if (hpi_setup_contact_scaled(rh->L, rh->G, rh->level, z + 6 * j, rh->rho + n * j,
-                                    rh->J + 6 * n * j) != HP_OK)
+                                     rh->J + 6 * n * j) != HP_OK)
             return 0;
         for (int k = 0; k < n; ++k) {
             double ro = rh->rho[n * j + k], *c = rh->c + RH_NC * (n * j + k);
@@ -234,13 +234,15 @@ static int solve_banded(hp_horizon_rh *rh)
         for (int i = 0; i < 6; ++i) y[6 * j + i] = -rh->g[6 * j + i];
         if (j)
             for (int r = 0; r < 6; ++r)
-                for (int q = 0; q < 6; ++q) y[6 * j + r] -= rh->B[36 * j + 6 * r + q] * y[6 * (j - 1) + q];
+                for (int q = 0; q < 6; ++q)
+                    y[6 * j + r] -= rh->B[36 * j + 6 * r + q] * y[6 * (j - 1) + q];
         tri6(rh->A + 36 * j, y + 6 * j, 0);
     }
     for (int j = N - 1; j >= 0; --j) {
         if (j + 1 < N)
             for (int r = 0; r < 6; ++r)
-                for (int q = 0; q < 6; ++q) y[6 * j + r] -= rh->B[36 * (j + 1) + 6 * q + r] * y[6 * (j + 1) + q];
+                for (int q = 0; q < 6; ++q)
+                    y[6 * j + r] -= rh->B[36 * (j + 1) + 6 * q + r] * y[6 * (j + 1) + q];
         tri6(rh->A + 36 * j, y + 6 * j, 1);
     }
     for (int i = 0; i < 6 * N; ++i)
@@ -301,7 +303,8 @@ static int interior_point(hp_horizon_rh *rh)
                 for (int c = 0; c < RH_NC; ++c) {
                     rh->ds[o + c] = dc[c] + rh->c[o + c] - rh->sl[o + c];
                     rh->dl[o + c] = (mu - rh->sl[o + c] * rh->lam[o + c] -
-                                     rh->lam[o + c] * rh->ds[o + c]) / rh->sl[o + c];
+                                     rh->lam[o + c] * rh->ds[o + c]) /
+                                    rh->sl[o + c];
                 }
             }
         double ap = to_boundary(rh->sl, rh->ds, m), ad = to_boundary(rh->lam, rh->dl, m);
@@ -339,11 +342,9 @@ static void predict(hp_horizon_rh *rh, double dt0)
     for (int j = 0; j < rh->N; ++j) {
         for (int i = 0; i < 6; ++i) {
             double s = i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD;
-            rh->d[6 * j + i] =
-                rh->commanded[i] ? (rh->hist_d[h][i] + v[i] * dtp * j) * s : 0.0;
+            rh->d[6 * j + i] = rh->commanded[i] ? (rh->hist_d[h][i] + v[i] * dtp * j) * s : 0.0;
         }
-        hpi_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, j ? dtp : dt0,
-                             rh->delta + rh->n * j);
+        hpi_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, j ? dtp : dt0, rh->delta + rh->n * j);
     }
 }
 
@@ -362,7 +363,8 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
     else hp_horizon_settings_default(&rh->hs);
     hp_error e = hp_horizon_settings_validate(&rh->hs, d);
     if (e == HP_OK) e = hp_planner_create(L, &rh->s, &rh->p, d);
-    if (e == HP_OK && hp_planner_level(rh->p) == HP_LEVEL_LOAD) e = hpi_horizon_load_refused("receding", d);
+    if (e == HP_OK && hp_planner_level(rh->p) == HP_LEVEL_LOAD)
+        e = hpi_horizon_load_refused("receding", d);
     if (e != HP_OK) goto fail;
     rh->L = hp_planner_layout(rh->p);
     rh->G = hpi_planner_geom(rh->p);
@@ -422,8 +424,7 @@ void hp_horizon_rh_destroy(hp_horizon_rh *rh)
     free(rh);
 }
 
-hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6],
-                            hp_result *result)
+hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6], hp_result *result)
 {
     if (!rh || !desired || !result) return HP_ERR_NULL;
     if (!isfinite(t) || (rh->started && !(t > rh->last_t))) return HP_ERR_INVALID;
@@ -436,8 +437,8 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     memcpy(xc, desired, sizeof xc);
     /* The horizon plans the commanded part of each desired pose (what hp_plan aims at): the
      * raw components of a pose with a part the layout cannot observe are another pose. */
-    if (finite && hp_pose_commanded_part(rh->L, hp_planner_identifiable(rh->p), rh->level,
-                                         desired, xc) != HP_OK)
+    if (finite && hp_pose_commanded_part(rh->L, hp_planner_identifiable(rh->p), rh->level, desired,
+                                         xc) != HP_OK)
         finite = 0; /* hp_plan refuses such a row itself */
     if (finite) {
         if (rh->hist_n == HP_HORIZON_MAX) {
@@ -453,8 +454,8 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
             /* the pose the start pressures hold, over the whole horizon */
             for (int j = 0; j < rh->N; ++j)
                 for (int i = 0; i < 6; ++i)
-                    rh->z[6 * j + i] =
-                        rh->applied.achieved[i] * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
+                    rh->z[6 * j + i] = rh->applied.achieved[i] *
+                                       (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
         }
         int done = interior_point(rh);
         rh->budget_stopped = done >= 0;
@@ -487,7 +488,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     if (result->status == HP_STATUS_REACHED || result->status == HP_STATUS_CLOSEST ||
         result->status == HP_STATUS_UNCOMMANDED) {
         result->status = hpi_horizon_label(rh->commanded, desired, xc, result->achieved,
-                                          rh->s.tolerance, &result->pose_error);
+                                           rh->s.tolerance, &result->pose_error);
         for (int i = 0; i < 6; ++i) result->uncommanded[i] = desired[i] - xc[i];
         /* A plan the time budget cut short is not reproducible: labelled as batch labels a
          * row its budget stopped (the pressures are hp_plan's, inside every limit). */
@@ -513,9 +514,8 @@ const char *hpi_horizon_rh_reason(const hp_horizon_rh *rh)
 
 /* The receding-horizon plan of a whole trace: one hp_horizon_rh_step per row. */
 hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
-                             const hp_horizon_settings *hs, const hp_trace_row *rows,
-                             size_t T, const double *p_start, hp_horizon_row *out,
-                             hp_diag *d)
+                             const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
+                             const double *p_start, hp_horizon_row *out, hp_diag *d)
 {
     if (!L || (T && (!rows || !out))) return hp_diag_set(d, HP_ERR_NULL, "receding: NULL argument");
     hp_horizon_rh *rh = NULL;

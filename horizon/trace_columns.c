@@ -124,26 +124,32 @@ static void get_solve_time(const hp_trace_row *row, const hp_result *r, double *
 /* ---- the table: the rows' column order; the NumPy dict follows it too ---- */
 
 /* name, unit, format, shape, source, in the rows, NumPy key and dtype, measured, value */
-#define C(name, unit, fmt, shape, src, rows, key, dtype, measured, get)                        \
-    {name, unit, HP_COLUMN_##fmt, HP_COLUMN_##shape, HP_COLUMN_FROM_##src, rows, key, dtype,   \
-     measured, get}
+#define C(name, unit, fmt, shape, src, rows, key, dtype, measured, get)                            \
+    {                                                                                              \
+        name, unit, HP_COLUMN_##fmt, HP_COLUMN_##shape, HP_COLUMN_FROM_##src, rows, key, dtype,    \
+            measured, get                                                                          \
+    }
 static const hp_column TABLE[] = {
     C("line", "1", INTEGER, ONE, ROW, 1, "line", "int64", 0, get_line),
     C("t_s", "s", NUMBER, ONE, ROW, 1, "t_s", "float64", 0, get_t),
     C("status", "-", TEXT, ONE, RESULT, 1, "status", "str", 0, get_status),
     C("status_code", "-", INTEGER, ONE, RESULT, 0, "status_code", "int32", 0, get_status),
-    C("desired_{axis}_{unit}", "mm|deg", NUMBER, AXES, RESULT, 1, "desired", "float64", 0, get_desired),
-    C("achieved_{axis}_{unit}", "mm|deg", NUMBER, AXES, RESULT, 1, "achieved", "float64", 0, get_achieved),
+    C("desired_{axis}_{unit}", "mm|deg", NUMBER, AXES, RESULT, 1, "desired", "float64", 0,
+      get_desired),
+    C("achieved_{axis}_{unit}", "mm|deg", NUMBER, AXES, RESULT, 1, "achieved", "float64", 0,
+      get_achieved),
     C("error_{axis}_{unit}", "mm|deg", NUMBER, AXES, RESULT, 1, "error", "float64", 0, get_error),
     C("commanded_{axis}", "1", INTEGER, AXES, RESULT, 1, NULL, NULL, 0, get_commanded),
     /* The part of the desired correction the layout cannot observe (status uncommanded when
      * beyond the tolerance): never silently dropped. */
-    C("uncommanded_{axis}_{unit}", "mm|deg", NUMBER, AXES, RESULT, 1, NULL, NULL, 0, get_uncommanded),
+    C("uncommanded_{axis}_{unit}", "mm|deg", NUMBER, AXES, RESULT, 1, NULL, NULL, 0,
+      get_uncommanded),
     C("pose_error_mm", "mm", NUMBER, ONE, RESULT, 1, NULL, NULL, 0, get_error_mm),
     C("pose_error_deg", "deg", NUMBER, ONE, RESULT, 1, NULL, NULL, 0, get_error_deg),
     /* The planner's own: against the commanded part of the desired correction. */
     C("pose_error", "mm|deg", NUMBER, ONE, RESULT, 0, "pose_error", "float64", 0, get_pose_error),
-    C("{bladder}_pressure_pa", "Pa", NUMBER, BLADDERS, RESULT, 1, "pressure_pa", "float64", 0, get_pressure),
+    C("{bladder}_pressure_pa", "Pa", NUMBER, BLADDERS, RESULT, 1, "pressure_pa", "float64", 0,
+      get_pressure),
     C("{bladder}_ri_mm", "mm", NUMBER, BLADDERS, RESULT, 1, "ri_mm", "float64", 0, get_ri),
     C("{bladder}_ro_mm", "mm", NUMBER, BLADDERS, RESULT, 1, "ro_mm", "float64", 0, get_ro),
     C("{bladder}_stretch", "1", NUMBER, BLADDERS, RESULT, 1, "stretch", "float64", 0, get_stretch),
@@ -227,10 +233,9 @@ int hp_column_values(const hp_column *c, int n, const hp_trace_row *row, const h
         c->get(row, r, out);
     } else {
         /* A row the reader refused: nothing planned. */
-        double none = c->format == HP_COLUMN_NUMBER || c->source == HP_COLUMN_FROM_MESSAGE
-                          ? NAN
-                      : c->get == get_status ? -1.0
-                                             : 0.0;
+        double none = c->format == HP_COLUMN_NUMBER || c->source == HP_COLUMN_FROM_MESSAGE ? NAN
+                      : c->get == get_status                                               ? -1.0
+                                                                                           : 0.0;
         for (int i = 0; i < w; ++i) out[i] = none;
     }
     return w;

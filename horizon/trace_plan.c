@@ -12,14 +12,14 @@ typedef enum { STATE_START, STATE_ROW } state_kind;
 
 struct hp_trace_plan {
     hp_planner *p;
-    int row_rates;                   /* per-row limits from the intervals */
-    hp_horizon_settings hs;          /* with row_rates: rate_max_per_s, start_interval_s */
-    double scene[HP_MAX_BLADDERS];   /* the bladders' rate_max before any row replaced it */
-    int have_start;                  /* the start is the pressures below, not the nominal */
+    int row_rates;                 /* per-row limits from the intervals */
+    hp_horizon_settings hs;        /* with row_rates: rate_max_per_s, start_interval_s */
+    double scene[HP_MAX_BLADDERS]; /* the bladders' rate_max before any row replaced it */
+    int have_start;                /* the start is the pressures below, not the nominal */
     double start[HP_MAX_BLADDERS];
     state_kind kind;
-    int pending;                     /* the state is not yet the planner's */
-    hp_result prev;                  /* with STATE_ROW: the previous planned row's result */
+    int pending;    /* the state is not yet the planner's */
+    hp_result prev; /* with STATE_ROW: the previous planned row's result */
     long prev_line;
 };
 
@@ -82,8 +82,7 @@ static hp_error apply_state(hp_trace_plan *tp, hp_diag *d)
             return hp_diag_set(d, e, "line %ld: %s", tp->prev_line, hp_planner_error(tp->p));
     } else if (tp->have_start) {
         e = hp_planner_set_previous(tp->p, tp->start);
-        if (e != HP_OK)
-            return hp_diag_set(d, e, "start pressures: %s", hp_planner_error(tp->p));
+        if (e != HP_OK) return hp_diag_set(d, e, "start pressures: %s", hp_planner_error(tp->p));
     } else {
         hp_planner_reset(tp->p);
     }
@@ -107,8 +106,7 @@ static hp_error apply_rates(hp_trace_plan *tp, const hp_trace_row *rows, size_t 
 }
 
 hp_error hp_trace_plan_run(hp_trace_plan *tp, const hp_trace_row *rows, const unsigned char *skip,
-                           size_t T, hp_trace_plan_sink sink, void *ctx, hp_result *out,
-                           hp_diag *d)
+                           size_t T, hp_trace_plan_sink sink, void *ctx, hp_result *out, hp_diag *d)
 {
     if (!tp || (T && !rows)) return hp_diag_set(d, HP_ERR_NULL, "trace plan: NULL argument");
     for (size_t t = 0; t < T; ++t) {

@@ -25,10 +25,8 @@ static double bisect_dp(const hp_iab_s *s, double lo, double hi)
     for (int it = 0; it < 200; ++it) {
         double mid = 0.5 * (lo + hi);
         if (!(mid > lo && mid < hi)) break;
-        if (dP(s, mid) > 0)
-            lo = mid;
-        else
-            hi = mid;
+        if (dP(s, mid) > 0) lo = mid;
+        else hi = mid;
     }
     return lo;
 }
@@ -112,8 +110,8 @@ hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp)
 /* Safeguarded Newton on P(ri) = target inside [lo, hi] with P(lo) < target < P(hi): every
  * iterate stays strictly inside the bracket, which shrinks at every step; a Newton step that
  * leaves it or fails to halve the step before last is replaced by bisection. */
-static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, double hi,
-                              double guess, double *out)
+static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, double hi, double guess,
+                              double *out)
 {
     /* A guess inside the bracket (a nearby answer) saves most steps; the bracket and the
      * bisection fallback make any start safe. */
@@ -129,10 +127,8 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             best = x;
         }
         if (f == 0) break;
-        if (f < 0)
-            lo = x;
-        else
-            hi = x;
+        if (f < 0) lo = x;
+        else hi = x;
         /* A Newton correction below the rounding of x: x is the root to rounding. Without
          * this stop a Newton iteration that converged from one side (P is concave on most
          * of the stable branch, so it does) had its last, sub-ulp step rejected as not
@@ -172,8 +168,8 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
 
 /* The root ri [m]; *ro_s the scaled outer radius at it when the guess was the root (the
  * pressure's evaluation there formed it), else NAN. */
-static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P,
-                          double guess, double *ri, double *ro_s)
+static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P, double guess,
+                          double *ri, double *ro_s)
 {
     const hp_iab_s s = *sp;
     hp_error e;
@@ -272,8 +268,8 @@ static hp_error limit_init(const hp_iab_s *s, const hp_iab_limit *lp, double P, 
     return HP_OK;
 }
 
-hp_error hpi_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
-                              double ri_guess, double *ri)
+hp_error hpi_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P, double ri_guess,
+                               double *ri)
 {
     if (!ri || !lp) return HP_ERR_NULL;
     hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
@@ -284,7 +280,7 @@ hp_error hpi_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P
 }
 
 hp_error hpi_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, double P,
-                                double ri_guess, double *ri)
+                                 double ri_guess, double *ri)
 {
     if (!ri || !lp) return HP_ERR_NULL;
     double r_lp, p_lp, ro_s;
@@ -293,7 +289,7 @@ hp_error hpi_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, doub
 }
 
 hp_error hpi_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
-                                   double ri_guess, double *ri, double *ro)
+                                    double ri_guess, double *ri, double *ro)
 {
     if (!ri || !ro || !lp) return HP_ERR_NULL;
     double r_lp, p_lp, ro_s, r;
@@ -313,7 +309,7 @@ hp_error hpi_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, d
 }
 
 hp_error hpi_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
-                                 double ri_guess, double *ri, double *ro)
+                                  double ri_guess, double *ri, double *ro)
 {
     if (!ri || !ro || !lp) return HP_ERR_NULL;
     hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */

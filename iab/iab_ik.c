@@ -5,7 +5,7 @@
 #include <math.h>
 
 double hpi_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, double R2,
-                            double a, double c21)
+                             double a, double c21)
 {
     double x = r1 * R2, y = r2 * R1;
     double dl = a * c21 / ((x * x + x * y + y * y) * (R1 * R2)); /* λ1 − λ2 */
@@ -52,8 +52,8 @@ hp_error hpi_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, doubl
     if (d1 || d2) {
         double li = ri / s->Ri, lo = ro / s->Ro;
         double ro2 = ro * ro;
-        double q = ri * ri / (s->Ro * ro2);                       /* dλo/dri */
-        double qp = 2.0 * ri * s->W / (s->Ro * ro2 * ro2 * ro);   /* d²λo/dri² */
+        double q = ri * ri / (s->Ro * ro2);                     /* dλo/dri */
+        double qp = 2.0 * ri * s->W / (s->Ro * ro2 * ro2 * ro); /* d²λo/dri² */
         double iRi = 1.0 / s->Ri;
         dp = 2.0 * s->C1 * (fp(li) * iRi - fp(lo) * q) + 2.0 * s->C2 * (gp(li) * iRi - gp(lo) * q);
         ddp = 2.0 * s->C1 * (fpp(li) * iRi * iRi - fpp(lo) * q * q - fp(lo) * qp) +
@@ -111,15 +111,13 @@ hp_error hp_iab_ik(const hp_iab *b, double ri, double *P)
     return e != HP_OK ? e : hpi_iab_s_ik_m(&s, ri, P);
 }
 
-hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri,
-                          double *d2P_dri2)
+hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri, double *d2P_dri2)
 {
     if (!P) return HP_ERR_NULL;
     hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
     double ris, p, d1, d2;
     hp_error e = prepare(b, ri, &s, &ris);
-    if (e == HP_OK)
-        e = hpi_iab_s_ik(&s, ris, &p, dP_dri ? &d1 : NULL, d2P_dri2 ? &d2 : NULL);
+    if (e == HP_OK) e = hpi_iab_s_ik(&s, ris, &p, dP_dri ? &d1 : NULL, d2P_dri2 ? &d2 : NULL);
     if (e != HP_OK) return e;
     *P = p;
     /* Scaled length = length × scale, so d/dri = scale · d/dri_scaled. */
@@ -146,7 +144,9 @@ hp_error hp_iab_wall_stress(const hp_iab *b, double ri, double r, double *s_rr, 
     if (rs > ro) rs = ro;
     double a = hpi_iab_cube_diff(ris, s.Ri);
     /* R(r)³ = Ri³ + (r³ − ri³): positive terms only. */
-    double R = rs == ro ? s.Ro : rs == ris ? s.Ri : cbrt(s.Ri * s.Ri * s.Ri + hpi_iab_cube_diff(rs, ris));
+    double R = rs == ro    ? s.Ro
+               : rs == ris ? s.Ri
+                           : cbrt(s.Ri * s.Ri * s.Ri + hpi_iab_cube_diff(rs, ris));
     /* σrr(r) = −∫_r^ro (dσrr/dr) dr: the closed form between r and the outer surface. */
     double c21 = rs == ris ? s.W : hpi_iab_cube_diff(ro, rs); /* ro³ − r³ */
     double srr = rs == ro ? 0.0 : -hpi_iab_s_energy_diff(&s, rs, R, ro, s.Ro, a, c21);

@@ -14,12 +14,12 @@
 
 /* A validated bladder in scaled lengths. */
 typedef struct hp_iab_s {
-    double Ri, Ro;  /* reference radii × scale */
-    double C1, C2;  /* moduli [Pa] */
-    double scale;   /* power of two: scaled length = length [m] × scale */
+    double Ri, Ro;    /* reference radii × scale */
+    double C1, C2;    /* moduli [Pa] */
+    double scale;     /* power of two: scaled length = length [m] × scale */
     double inv_scale; /* 1/scale, exact (a power of two): length [m] = scaled × inv_scale */
-    double W;       /* Ro³ − Ri³ (scaled), the wall's volume / (4π/3); ro³ − ri³ = W always */
-    double Ri_m;    /* Ri [m] as given: FK's exact answer at P = 0 */
+    double W;    /* Ro³ − Ri³ (scaled), the wall's volume / (4π/3); ro³ − ri³ = W always */
+    double Ri_m; /* Ri [m] as given: FK's exact answer at P = 0 */
 } hp_iab_s;
 
 /* x³ − y³ without cancellation beyond the one rounding of x − y (exact by Sterbenz's lemma
@@ -80,7 +80,7 @@ double hpi_iab_s_ro(const hp_iab_s *s, double ri);
  * c21 = r2³ − r1³ > 0. Every bracket is a sum of positive terms, so the relative error is a
  * few ulps, including at λ → 1 where the naive difference cancels. */
 double hpi_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, double R2,
-                            double a, double c21);
+                             double a, double c21);
 
 /* Closed-form pressure and exact derivatives in scaled units (dP/dri per scaled length).
  * Requires ri > 0 finite; returns HP_ERR_DOMAIN when the result is not finite (ri so small
@@ -105,23 +105,23 @@ hp_error hpi_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *
 /* hp_iab_fk_limit with a start for its safeguarded Newton iteration: ri_guess [m] (a
  * nearby answer; NAN or outside the bracket: the bracket's midpoint). The same root to
  * rounding whatever the guess. */
-hp_error hpi_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P,
-                              double ri_guess, double *ri);
+hp_error hpi_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P, double ri_guess,
+                               double *ri);
 
 /* hpi_iab_fk_limit_warm, then hp_iab_ro of its root: the same codes and the same bits of *ri
  * and *ro as the two calls, with the bladder validated once. When the guess is the root
  * (the planner's round trip of its own answer), the outer radius is the one the pressure's
  * evaluation at the guess already formed, so the pair costs one evaluation of the IK. */
 hp_error hpi_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,
-                                 double ri_guess, double *ri, double *ro);
+                                  double ri_guess, double *ri, double *ro);
 /* hpi_iab_fk_limit_warm on a bladder already validated into s: the same codes after the
  * validation, the same bits. */
 hp_error hpi_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, double P,
-                                double ri_guess, double *ri);
+                                 double ri_guess, double *ri);
 /* The same on a bladder already validated into s (hpi_iab_scaled_init): the same codes after
  * the validation, the same bits. */
 hp_error hpi_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
-                                   double ri_guess, double *ri, double *ro);
+                                    double ri_guess, double *ri, double *ro);
 
 /* Gauss–Legendre rule of n points on [-1, 1] (1 <= n <= HP_IAB_GL_MAX): nodes x[k] >= 0 and
  * weights w[k] for k < (n + 1)/2 (the rule is symmetric; x[k] = 0 only for the middle node

@@ -62,14 +62,12 @@ static hp_error invalid_bladder(const hp_iab *b, hp_diag *diag)
         return hp_diag_set(diag, HP_ERR_INVALID, "C1: must be a finite number (got %g)", b->C1);
     if (!isfinite(b->C2))
         return hp_diag_set(diag, HP_ERR_INVALID, "C2: must be a finite number (got %g)", b->C2);
-    if (!(b->Ri > 0))
-        return hp_diag_set(diag, HP_ERR_INVALID, "Ri: must be > 0 m (got %g)", b->Ri);
+    if (!(b->Ri > 0)) return hp_diag_set(diag, HP_ERR_INVALID, "Ri: must be > 0 m (got %g)", b->Ri);
     if (!(b->Ro > b->Ri))
         return hp_diag_set(diag, HP_ERR_DOMAIN, "Ro: must be greater than Ri (Ro %g m, Ri %g m)",
                            b->Ro, b->Ri);
     if (!(b->Ri >= HP_IAB_MIN_RI_OVER_RO * b->Ro))
-        return hp_diag_set(diag, HP_ERR_DOMAIN,
-                           "Ri: must be at least %g of Ro (Ri %g m, Ro %g m)",
+        return hp_diag_set(diag, HP_ERR_DOMAIN, "Ri: must be at least %g of Ro (Ri %g m, Ro %g m)",
                            HP_IAB_MIN_RI_OVER_RO, b->Ri, b->Ro);
     if (!(b->C1 > 0))
         return hp_diag_set(diag, HP_ERR_INVALID, "C1: must be > 0 Pa (got %g)", b->C1);
@@ -83,8 +81,8 @@ hp_error hpi_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
      * finite, and the bounds on C1 and C2 make them finite. That is exactly the conjunction
      * of invalid_bladder's checks, which names the field when one fails. */
     if (!(b && b->Ri > 0 && b->Ro > b->Ri && b->Ro <= DBL_MAX &&
-          b->Ri >= HP_IAB_MIN_RI_OVER_RO * b->Ro && b->C1 > 0 && b->C1 <= DBL_MAX &&
-          b->C2 >= 0 && b->C2 <= DBL_MAX))
+          b->Ri >= HP_IAB_MIN_RI_OVER_RO * b->Ro && b->C1 > 0 && b->C1 <= DBL_MAX && b->C2 >= 0 &&
+          b->C2 <= DBL_MAX))
         return invalid_bladder(b, diag);
     if (s) {
         s->scale = scale_for(b->Ro);
@@ -161,14 +159,14 @@ static inline int cbrt_reduce(double x, double *m, int *k, double *a, double *sc
 {
     uint64_t u;
     memcpy(&u, &x, sizeof u);
-    int E = (int)(u >> 52); /* the sign bit too: negative x has E >= 2048 */
+    int E = (int)(u >> 52);          /* the sign bit too: negative x has E >= 2048 */
     if (E < 1 || E > 2046) return 0; /* 0, subnormal, negative, inf, NaN */
     int e = E - 1023;
     int q = (e + 1200) / 3 - 400; /* floor(e/3): e + 1200 > 0 */
     *k = e - 3 * q;
     uint64_t mu = (u & 0x000fffffffffffffULL) | 0x3ff0000000000000ULL;
     memcpy(m, &mu, sizeof *m);
-    *a = *m * (double)(1 << *k); /* exact, in [1, 8) */
+    *a = *m * (double)(1 << *k);              /* exact, in [1, 8) */
     uint64_t su = (uint64_t)(1023 + q) << 52; /* 2^q, q in [-341, 341]: normal */
     memcpy(sc, &su, sizeof *sc);
     return 1;

@@ -15,7 +15,7 @@
 
 typedef struct {
     const hp_iab_s *s;
-    double ri;      /* scaled inner radius */
+    double ri; /* scaled inner radius */
     hp_quad_form form;
 } integrand;
 
@@ -46,8 +46,8 @@ static double eval(const integrand *q, double t, double *mag)
 }
 
 /* Validates and sets up the integrand and its interval of offsets [0, thickness]. */
-static hp_error setup(const hp_iab *b, double ri, hp_quad_form form, hp_iab_s *s,
-                      integrand *q, double *lo, double *hi)
+static hp_error setup(const hp_iab *b, double ri, hp_quad_form form, hp_iab_s *s, integrand *q,
+                      double *lo, double *hi)
 {
     hp_error e = hpi_iab_scaled_init(b, s, NULL);
     if (e != HP_OK) return e;
@@ -81,10 +81,8 @@ hp_error hp_iab_ik_gauss(const hp_iab *b, double ri, hp_quad_form form, int n, d
     if (e != HP_OK) return e;
     double c = 0.5 * (lo + hi), h = 0.5 * (hi - lo), sum = 0, mag;
     for (int k = 0; k < (n + 1) / 2; ++k) {
-        if (x[k] == 0.0)
-            sum += w[k] * eval(&q, c, &mag);
-        else
-            sum += w[k] * (eval(&q, c - h * x[k], &mag) + eval(&q, c + h * x[k], &mag));
+        if (x[k] == 0.0) sum += w[k] * eval(&q, c, &mag);
+        else sum += w[k] * (eval(&q, c - h * x[k], &mag) + eval(&q, c + h * x[k], &mag));
     }
     double p = h * sum;
     if (!isfinite(p)) return HP_ERR_DOMAIN;

@@ -5,4 +5,5 @@
 
 const char *const hpi_material_convention_words[] = {"paper", "fe", NULL};
 
-HP_NAMES_CALLS(hp_material_convention, hpi_material_convention_words, hp_material_convention_name, hp_material_convention_parse)
+HP_NAMES_CALLS(hp_material_convention, hpi_material_convention_words, hp_material_convention_name,
+               hp_material_convention_parse)

@@ -16,9 +16,8 @@
 #define REACH_SCAN 100
 #define REACH_BISECT 60
 
-static const char *const dir_words[6] = {"lateral shift",  "longitudinal shift",
-                                         "vertical shift", "pitch",
-                                         "roll",           "yaw"};
+static const char *const dir_words[6] = {
+    "lateral shift", "longitudinal shift", "vertical shift", "pitch", "roll", "yaw"};
 
 /* 1 when every bladder can hold contact at pose xi inside its stretch and pressure limits. */
 static int feasible(void *ctx, const double xi[6])
@@ -40,7 +39,7 @@ static int feasible(void *ctx, const double xi[6])
 }
 
 double hpi_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, int axis,
-                         double sign, int scan)
+                          double sign, int scan)
 {
     double cap = axis < 3 ? HP_REACH_CAP_MM : HP_REACH_CAP_DEG;
     double unit = axis < 3 ? 1e-3 : RAD_PER_DEG;
@@ -60,7 +59,8 @@ double hpi_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, i
     for (int i = 0; i < REACH_BISECT; ++i) {
         double mid = 0.5 * (good + bad);
         xi[axis] = sign * mid * unit;
-        if (ok(ctx, xi)) good = mid; else bad = mid;
+        if (ok(ctx, xi)) good = mid;
+        else bad = mid;
     }
     return good;
 }

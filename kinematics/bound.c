@@ -86,11 +86,10 @@ static double linear_bound(const sizes *s)
 }
 
 hp_error hpi_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_level level,
-                                  double trans, double rot, double *bound)
+                                   double trans, double rot, double *bound)
 {
     if (!L || !G || !bound) return HP_ERR_NULL;
-    if (!(trans >= 0) || !isfinite(trans) || !(rot >= 0) || !isfinite(rot))
-        return HP_ERR_INVALID;
+    if (!(trans >= 0) || !isfinite(trans) || !(rot >= 0) || !isfinite(rot)) return HP_ERR_INVALID;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
         return HP_ERR_INVALID;
     double worst = 0.0;
@@ -104,7 +103,7 @@ hp_error hpi_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_leve
 }
 
 hp_error hpi_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, double trans,
-                           double rot, hp_level *level)
+                            double rot, hp_level *level)
 {
     if (!L || !G || !level) return HP_ERR_NULL;
     if (!(tol >= 0) || !isfinite(tol)) return HP_ERR_INVALID;
@@ -131,8 +130,7 @@ hp_error hp_contact_error_bound(const hp_layout *L, hp_level level, double trans
     return hpi_contact_error_bound_g(L, &G, level, trans, rot, bound);
 }
 
-hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double rot,
-                         hp_level *level)
+hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double rot, hp_level *level)
 {
     if (!L || !level) return HP_ERR_NULL;
     hp_geom G;
@@ -143,8 +141,8 @@ hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double ro
 static double l1(const double v[3]) { return fabs(v[0]) + fabs(v[1]) + fabs(v[2]); }
 
 hp_error hpi_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_level level,
-                                   const double xi[6], const double dxi[6], const double *rho,
-                                   double *bound)
+                                    const double xi[6], const double dxi[6], const double *rho,
+                                    double *bound)
 {
     if (!L || !G || !xi || !dxi || !bound || (level == HP_LEVEL_SURFACE && !rho))
         return HP_ERR_NULL;
@@ -194,8 +192,7 @@ hp_error hpi_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_lev
  * V1 per unit of scaled path). A symmetric matrix's spectral norm is its largest |vᵀHv|,
  * so h_k bounds ‖∇²ρ_k‖ in mm per scaled unit² everywhere on the ball. */
 hp_error hpi_kin_contact_ball_curvature(const hp_layout *L, const hp_geom *G, hp_level level,
-                                       const double xc[6], double r, const double *rho,
-                                       double *h)
+                                        const double xc[6], double r, const double *rho, double *h)
 {
     if (!L || !G || !xc || !h || (level == HP_LEVEL_SURFACE && !rho)) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)

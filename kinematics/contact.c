@@ -66,7 +66,7 @@ static void contact_hessian(const rotd *rd, const backmap *bm, const double g[3]
                             const double Rg[3], const double hf[9], double *restrict H)
 {
     const double *u = bm->u, *R = rd->R, *Dr = rd->Dr, *Drr = rd->Drr;
-#define HS(i, j) H[(i) * 6 + (j)]
+#define HS(i, j) H[(i)*6 + (j)]
     if (hf) {
         /* The columns of C = ∂c'/∂ξ = [−Rᵀ | Cr]: c_i = −(row i of R), c_{3+i} = column i of
          * Cr; hc_i = ∇²f · c_i. The pitch column's first entry is an exact zero
@@ -94,10 +94,10 @@ static void contact_hessian(const rotd *rd, const backmap *bm, const double g[3]
     double P[3], Dg[3], q00[3], q01[3], q11[3];
     for (int a = 0; a < 3; ++a) {
         const double *r = R + 3 * a, *d = Dr + 3 * a, *dd = Drr + 3 * a;
-        P[a] = r[2] * g[1] - r[1] * g[2];         /* ∂R/∂pitch = R·[e_x]×: row (0, R_a2, −R_a1) */
+        P[a] = r[2] * g[1] - r[1] * g[2]; /* ∂R/∂pitch = R·[e_x]×: row (0, R_a2, −R_a1) */
         Dg[a] = d[0] * g[0] + d[1] * g[1] + d[2] * g[2];
-        q00[a] = -(r[1] * g[1] + r[2] * g[2]);    /* ∂²/∂pitch²: row (0, −R_a1, −R_a2) */
-        q01[a] = d[2] * g[1] - d[1] * g[2];       /* ∂²/∂pitch∂roll = ∂R/∂roll·[e_x]× */
+        q00[a] = -(r[1] * g[1] + r[2] * g[2]); /* ∂²/∂pitch²: row (0, −R_a1, −R_a2) */
+        q01[a] = d[2] * g[1] - d[1] * g[2];    /* ∂²/∂pitch∂roll = ∂R/∂roll·[e_x]× */
         q11[a] = dd[0] * g[0] + dd[1] * g[1] + dd[2] * g[2];
     }
     for (int a = 0; a < 3; ++a) {
@@ -172,22 +172,22 @@ static void fill_nan(int n, double *rho, double *J, double *H)
 }
 
 hp_error hpi_contact_eval_g(const hp_layout *L, const hp_geom *G, hp_level level,
-                           const double xi[6], double *rho, double *J, double *H)
+                            const double xi[6], double *rho, double *J, double *H)
 {
     return hpi_kin_contact_eval_warm(L, G, level, xi, NULL, rho, J, H);
 }
 
 hp_error hpi_kin_contact_eval_warm(const hp_layout *L, const hp_geom *G, hp_level level,
-                                  const double xi[6], hp_kin_dist_warm *warm, double *rho,
-                                  double *J, double *H)
+                                   const double xi[6], hp_kin_dist_warm *warm, double *rho,
+                                   double *J, double *H)
 {
     return hpi_kin_contact_eval_mask(L, G, level, xi, warm, NULL, rho, J, H);
 }
 
 /* The checks every evaluation starts with: L, G, xi not NULL (HP_ERR_NULL), a concrete
  * level, a finite pose (else HP_ERR_INVALID with the outputs given filled with NaN). */
-static hp_error eval_args(const hp_layout *L, const hp_geom *G, hp_level level,
-                          const double xi[6], double *rho, double *J, double *H)
+static hp_error eval_args(const hp_layout *L, const hp_geom *G, hp_level level, const double xi[6],
+                          double *rho, double *J, double *H)
 {
     if (!L || !G || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
@@ -221,8 +221,8 @@ static inline hp_error bladder_distance(const hp_layout *L, const hp_geom *G, hp
 /* Bladder k's row of the Jacobian from its distance's gradient g (in c') and the back
  * transform bm (computed with derivs): the translation columns −R·g (∂c'/∂t = −Rᵀ), the
  * rotation columns gᵀ∂c'/∂θ. Rg = R·g is returned for the Hessian's contractions. */
-static inline void jacobian_row(const rotd *rd, const backmap *bm, const double g[3],
-                                double Rg[3], double *Jk)
+static inline void jacobian_row(const rotd *rd, const backmap *bm, const double g[3], double Rg[3],
+                                double *Jk)
 {
     const double *R = rd->R;
     Rg[0] = g[0] * R[0] + g[1] * R[1] + g[2] * R[2];
@@ -289,19 +289,19 @@ static hp_error inside_eval(const hp_layout *L, const hp_geom *G, hp_level level
 }
 
 static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level level,
-                             const double xi[6], hp_kin_dist_warm *warm,
-                             const unsigned char *hmask, double *rho, double *J, double *H);
+                             const double xi[6], hp_kin_dist_warm *warm, const unsigned char *hmask,
+                             double *rho, double *J, double *H);
 
 hp_error hpi_kin_contact_eval_mask(const hp_layout *L, const hp_geom *G, hp_level level,
-                                  const double xi[6], hp_kin_dist_warm *warm,
-                                  const unsigned char *hmask, double *rho, double *J, double *H)
+                                   const double xi[6], hp_kin_dist_warm *warm,
+                                   const unsigned char *hmask, double *rho, double *J, double *H)
 {
     return contact_eval(L, G, level, xi, warm, hmask, rho, J, H);
 }
 
 hp_error hpi_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
-                               const double xi[6], double scale, const double *lo,
-                               const double *hi, double *rho, double *J, int *inside)
+                                const double xi[6], double scale, const double *lo,
+                                const double *hi, double *rho, double *J, int *inside)
 {
     if (!lo || !hi || !rho || !inside) return HP_ERR_NULL;
     contact_stop stop = {lo, hi, scale, 1};
@@ -313,8 +313,8 @@ hp_error hpi_kin_contact_inside(const hp_layout *L, const hp_geom *G, hp_level l
 
 /* The evaluation itself. */
 static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level level,
-                             const double xi[6], hp_kin_dist_warm *warm,
-                             const unsigned char *hmask, double *rho, double *J, double *H)
+                             const double xi[6], hp_kin_dist_warm *warm, const unsigned char *hmask,
+                             double *rho, double *J, double *H)
 {
     hp_error e = eval_args(L, G, level, xi, rho, J, H);
     if (e) return e;
@@ -354,7 +354,7 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
             want[k] = H && (!hmask || hmask[k]);
         }
         e = hpi_kin_head_distances(&G->head, &G->headk, L->n, (const double(*)[3])cp, warm, f, g,
-                                  H ? hf : NULL, want, &bad);
+                                   H ? hf : NULL, want, &bad);
         if (e) {
             fill_nan(L->n, rho, J, H);
             return e;
@@ -379,8 +379,8 @@ static hp_error contact_eval(const hp_layout *L, const hp_geom *G, hp_level leve
     return HP_OK;
 }
 
-hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
-                         double *rho, double *J, double *H)
+hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6], double *rho,
+                         double *J, double *H)
 {
     if (!L || !xi) return HP_ERR_NULL;
     hp_geom G;

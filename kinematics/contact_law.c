@@ -57,10 +57,7 @@ static hd hd_lin(double a, hd x, double b, hd y) /* a·x + b·y */
     return r;
 }
 
-static hd hd_scale(double a, hd x)
-{
-    return hd_lin(a, x, 0.0, x);
-}
+static hd hd_scale(double a, hd x) { return hd_lin(a, x, 0.0, x); }
 
 static hd hd_mul(hd x, hd y)
 {
@@ -98,9 +95,9 @@ void hpi_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_
     hd p = hd_var(P, HP_CLAW_P), r = hd_var(ro, HP_CLAW_RO), q = hd_var(rho, HP_CLAW_RHO);
     hd inv_r = hd_inv(r);
     hd d = hd_lin(1.0, hd_const(1.0), -1.0, hd_mul(q, inv_r)); /* delta/ro = 1 − rho/ro */
-    hd wall = hd_scale(b->wall, inv_r);                         /* wall/ro */
-    hd cp = hd_scale(b->C1, hd_inv(p));                         /* C1/P */
-    hd kap = hd_scale(b->curv, r);                              /* ro/Rh */
+    hd wall = hd_scale(b->wall, inv_r);                        /* wall/ro */
+    hd cp = hd_scale(b->C1, hd_inv(p));                        /* C1/P */
+    hd kap = hd_scale(b->curv, r);                             /* ro/Rh */
     hd s = hd_const(1.0 + HP_CLAW_FIT_BC * (b->C2 / b->C1 - HP_CLAW_FIT_C0) -
                     HP_CLAW_FIT_BW * HP_CLAW_FIT_W0 - HP_CLAW_FIT_BP / HP_CLAW_FIT_P0);
     s = hd_lin(1.0, s, HP_CLAW_FIT_BW, wall);
@@ -122,8 +119,7 @@ void hpi_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_
 
 hp_claw_domain hpi_claw_fem_domain(const hp_claw_bladder *b, double P, double ro, double rho)
 {
-    double d = 1.0 - rho / ro, w = b->wall / ro, p = P / b->C1, m = b->C2 / b->C1,
-           k = ro * b->curv;
+    double d = 1.0 - rho / ro, w = b->wall / ro, p = P / b->C1, m = b->C2 / b->C1, k = ro * b->curv;
     /* !(x <= hi) also refuses NaN */
     if (!(d >= 0.0 && d <= HP_CLAW_FIT_DMAX)) return HP_CLAW_INDENT;
     if (!(w >= HP_CLAW_FIT_WMIN && w <= HP_CLAW_FIT_WMAX)) return HP_CLAW_WALL;
@@ -135,7 +131,6 @@ hp_claw_domain hpi_claw_fem_domain(const hp_claw_bladder *b, double P, double ro
 
 const char *hpi_claw_domain_name(hp_claw_domain d)
 {
-    static const char *const names[] = {"in", "indent", "wall", "pressure", "moduli",
-                                        "curvature"};
+    static const char *const names[] = {"in", "indent", "wall", "pressure", "moduli", "curvature"};
     return (unsigned)d < sizeof names / sizeof names[0] ? names[d] : "?";
 }

@@ -45,11 +45,11 @@ typedef struct hp_claw_bladder {
 /* Which part of the fitted law's domain a state leaves (0 = inside). */
 typedef enum hp_claw_domain {
     HP_CLAW_IN = 0,
-    HP_CLAW_INDENT,    /* delta/ro beyond the largest indentation of the tables */
-    HP_CLAW_WALL,      /* wall/ro outside the tables' range */
-    HP_CLAW_PRESSURE,  /* P/C1 outside the tables' range */
-    HP_CLAW_MODULI,    /* C2/C1 outside the tables' range */
-    HP_CLAW_CURVATURE  /* ro/Rh outside the tables' range (or a concave head) */
+    HP_CLAW_INDENT,   /* delta/ro beyond the largest indentation of the tables */
+    HP_CLAW_WALL,     /* wall/ro outside the tables' range */
+    HP_CLAW_PRESSURE, /* P/C1 outside the tables' range */
+    HP_CLAW_MODULI,   /* C2/C1 outside the tables' range */
+    HP_CLAW_CURVATURE /* ro/Rh outside the tables' range (or a concave head) */
 } hp_claw_domain;
 
 /* The fitted law's value, exact first and second derivatives in (P, ro, rho) (through

@@ -74,8 +74,8 @@ typedef struct cert_ctx {
     int nf;
     const int *col;
     const hp_kin_fit_near *near;
-    const double *centre;            /* SI pose */
-    hp_kin_cert_model m;             /* the model there */
+    const double *centre; /* SI pose */
+    hp_kin_cert_model m;  /* the model there */
 } cert_ctx;
 
 /* Fills the scaled normal matrix Â = S·A·S (A nf×nf with leading dimension lda, SI) and its
@@ -99,8 +99,7 @@ static void scaled_normal(cert_ctx *cx, const double *A, int lda)
 /* The noise ν√n, r0 and the centre's distances (rho_m: the model's at the centre, m), and
  * 0 unless the anchor lies in the fit's space (the components it does not move equal the
  * start's, x0) and every number is finite. */
-static int noise_and_r0(cert_ctx *cx, const double *x0, const double *rho_m,
-                        const double *target)
+static int noise_and_r0(cert_ctx *cx, const double *x0, const double *rho_m, const double *target)
 {
     const hp_kin_fit_near *near = cx->near;
     int n = cx->L->n, freec[6] = {0};
@@ -152,8 +151,8 @@ static double ball_eta(const cert_ctx *cx, double R)
  * residual (mm), lambda the damping of x's steps, sig the lower bound σ̂ of the centre's
  * Jacobian's smallest singular value; eta a curvature bound valid up to radius R_eta (0:
  * none yet). */
-static int certify(const cert_ctx *cx, double sig, double e_ca, double e_xc, double tt,
-                   double tc, double lambda, int iters_left, double eta, double R_eta)
+static int certify(const cert_ctx *cx, double sig, double e_ca, double e_xc, double tt, double tc,
+                   double lambda, int iters_left, double eta, double R_eta)
 {
     const hp_kin_fit_near *near = cx->near;
     double sigB = (1.0 - CERT_Q) * sig, r0 = cx->m.r0, snu = cx->m.snu;
@@ -198,14 +197,13 @@ static int certify(const cert_ctx *cx, double sig, double e_ca, double e_xc, dou
 }
 
 int hpi_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
-                         const int *col, const double x[6], const double *A6, const double *r,
-                         double lambda, const double *target, int iters_left,
-                         const hp_kin_fit_near *near)
+                          const int *col, const double x[6], const double *A6, const double *r,
+                          double lambda, const double *target, int iters_left,
+                          const hp_kin_fit_near *near)
 {
     if (!near || !near->has_anchor || nf < 1 || level == HP_LEVEL_LINEAR) return 0;
     int n = L->n;
-    cert_ctx cx = {.L = L, .G = G, .level = level, .nf = nf, .col = col, .near = near,
-                   .centre = x};
+    cert_ctx cx = {.L = L, .G = G, .level = level, .nf = nf, .col = col, .near = near, .centre = x};
     double rho_x[HP_MAX_BLADDERS], t2 = 0.0;
     for (int k = 0; k < n; ++k) {
         rho_x[k] = target[k] + r[k];
@@ -215,7 +213,7 @@ int hpi_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, 
     scaled_normal(&cx, A6, 6);
     double e = scaled_dist(&cx, x, near->anchor);
     double tc = sqrt(t2) * HP_MM_PER_M * (1.0 + 1e-14); /* the computed residual */
-    double tt = tc + cx.m.snu;                             /* the true one */
+    double tt = tc + cx.m.snu;                          /* the true one */
     if (!isfinite(tt) || !isfinite(e) || !(cx.m.cmin > 0)) return 0;
     /* A cheap necessary condition first (most iterates far from the answer fail it): σ̂ is
      * at most the smallest column norm, so R is at least R_lo. The curvature bound grows
@@ -229,17 +227,15 @@ int hpi_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, 
 }
 
 int hpi_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
-                               const int *col, const double xt[6], const double *A6,
-                               double cost, double lambda_next, const double *target,
-                               int iters_left, const hp_kin_fit_near *near,
-                               hp_kin_trial_cache *cache)
+                                const int *col, const double xt[6], const double *A6, double cost,
+                                double lambda_next, const double *target, int iters_left,
+                                const hp_kin_fit_near *near, hp_kin_trial_cache *cache)
 {
-    if (!near || !near->has_anchor || !near->anchor_J || nf < 1 ||
-        level == HP_LEVEL_LINEAR)
+    if (!near || !near->has_anchor || !near->anchor_J || nf < 1 || level == HP_LEVEL_LINEAR)
         return 0;
     int n = L->n;
-    cert_ctx cx = {.L = L, .G = G, .level = level, .nf = nf, .col = col, .near = near,
-                   .centre = near->anchor};
+    cert_ctx cx = {
+        .L = L, .G = G, .level = level, .nf = nf, .col = col, .near = near, .centre = near->anchor};
     /* The true Jacobian at the anchor lies within err of the given one (spectral norm): its
      * column norms and smallest singular value within err of theirs (Weyl). */
     double err = near->anchor_J_err, sig = -1.0;
@@ -296,7 +292,7 @@ int hpi_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level l
 }
 
 double hpi_kin_jacobian_drift(const hp_layout *L, const hp_geom *G, hp_level level,
-                             const double xa[6], const double *rho_a, const double *J, double d)
+                              const double xa[6], const double *rho_a, const double *J, double d)
 {
     double h[HP_MAX_BLADDERS], eta2 = 0.0, jf2 = 0.0;
     if (!(d >= 0) || !isfinite(d) ||

@@ -11,9 +11,9 @@
 /* The contact model at a fit's start point x0, as hpi_kin_contact_eval_warm computes it
  * there from a cold start (so a fit given it takes the very same steps as one without). */
 typedef struct hp_kin_fit_start {
-    double rho[HP_MAX_BLADDERS];     /* contact distances at x0 [m] */
-    double J[HP_MAX_BLADDERS * 6];   /* their Jacobian (n×6, row-major) */
-    double A[6][6];                  /* JᵀJ of all six columns, each entry summed over the
+    double rho[HP_MAX_BLADDERS];         /* contact distances at x0 [m] */
+    double J[HP_MAX_BLADDERS * 6];       /* their Jacobian (n×6, row-major) */
+    double A[6][6];                      /* JᵀJ of all six columns, each entry summed over the
                                         rows in order as the fit sums it: any free subset's
                                         normal matrix is a sub-block of it, bit for bit */
     hp_kin_dist_warm w[HP_MAX_BLADDERS]; /* the surface level's distances' warm states at x0 */
@@ -21,7 +21,7 @@ typedef struct hp_kin_fit_start {
 
 /* Fills st at pose x0 (finite) for level. HP_OK or hp_contact_eval's error. */
 hp_error hpi_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level level,
-                             const double x0[6], hp_kin_fit_start *st);
+                              const double x0[6], hp_kin_fit_start *st);
 
 /* The fit's damped least-squares step, min |J·dx + r|² + lambda·|diag(D)·dx|² (J n×nf
  * row-major, 1 <= nf <= 6, n <= HP_MAX_BLADDERS, lambda >= 0, D > 0 where lambda > 0).
@@ -31,7 +31,7 @@ hp_error hpi_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level lev
 /* Householder QR of the stacked system [J; sqrt(lambda)·diag(D)], no pivoting. -1 for a
  * zero column or a result that is not finite. */
 int hpi_kin_damped_qr(int n, int nf, const double *J, const double *r, const double *D,
-                     double lambda, double *dx);
+                      double lambda, double *dx);
 
 /* Largest condition number of the column-scaled normal matrix that hpi_kin_damped_normal
  * accepts. The normal equations' solution carries a relative error of about
@@ -50,7 +50,7 @@ int hpi_kin_damped_qr(int n, int nf, const double *J, const double *r, const dou
  * when the result is not finite. Not bit-identical to the QR step (equal to ~1e-9 of it at
  * worst; 2e-14 measured on the default layout's, whose scaled condition is ~30). */
 int hpi_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
-                         double lambda, double *dx);
+                          double lambda, double *dx);
 
 /* Iterations an early stop of hpi_kin_fit (its arrived test, its certificate) leaves in the
  * budget for the steps the full fit would still take at the rounding floor: there steps just
@@ -87,7 +87,7 @@ typedef struct hp_kin_fit_near {
  * (hpi_kin_contact_ball_curvature), and 4ε of J̃'s Frobenius norm covers the ulps. +inf
  * when a bound fails. */
 double hpi_kin_jacobian_drift(const hp_layout *L, const hp_geom *G, hp_level level,
-                             const double xa[6], const double *rho_a, const double *J, double d);
+                              const double xa[6], const double *rho_a, const double *J, double d);
 
 /* 1 when the rest of a fit (hpi_kin_fit) from its iterate x provably ends within near->tol/4
  * of near->pose, within iters_left more iterations: x (SI pose), the normal matrix A6 =
@@ -98,9 +98,9 @@ double hpi_kin_jacobian_drift(const hp_layout *L, const hp_geom *G, hp_level lev
  * there the fit converges at a proven rate to within the noise of the anchor. 0 whenever a
  * condition fails (then the fit simply goes on). Allocates nothing. */
 int hpi_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
-                         const int *col, const double x[6], const double *A6, const double *r,
-                         double lambda, const double *target, int iters_left,
-                         const hp_kin_fit_near *near);
+                          const int *col, const double x[6], const double *A6, const double *r,
+                          double lambda, const double *target, int iters_left,
+                          const hp_kin_fit_near *near);
 
 /* The same proof before the fit evaluates a trial point xt (a step from its current
  * iterate, whose computed squared residual is cost): on a ball around the anchor, with the anchor's
@@ -113,10 +113,10 @@ int hpi_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, 
  * tries of one fit, whose trials share them. Allocates nothing. */
 /* The model a certificate reasons with, at its ball's centre (fit_certify.c). */
 typedef struct hp_kin_cert_model {
-    double rho_c[HP_MAX_BLADDERS];   /* distances at the centre less their noise [m] */
-    double Ah[36];                   /* scaled normal matrix of the Jacobian there */
-    double cmin, cmax;               /* the range of its column norms */
-    double r0, snu;                  /* |ρ(a) − ρ*| plus noise, and the noise ν√n [mm] */
+    double rho_c[HP_MAX_BLADDERS]; /* distances at the centre less their noise [m] */
+    double Ah[36];                 /* scaled normal matrix of the Jacobian there */
+    double cmin, cmax;             /* the range of its column norms */
+    double r0, snu;                /* |ρ(a) − ρ*| plus noise, and the noise ν√n [mm] */
 } hp_kin_cert_model;
 typedef struct hp_kin_trial_cache {
     int ready; /* 0 before the first try; the rest is hpi_kin_fit_certified_trial's */
@@ -124,10 +124,9 @@ typedef struct hp_kin_trial_cache {
     double sig; /* σ̂, or −1 while not yet derived */
 } hp_kin_trial_cache;
 int hpi_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level level, int nf,
-                               const int *col, const double xt[6], const double *A6,
-                               double cost, double lambda_next, const double *target,
-                               int iters_left, const hp_kin_fit_near *near,
-                               hp_kin_trial_cache *cache);
+                                const int *col, const double xt[6], const double *A6, double cost,
+                                double lambda_next, const double *target, int iters_left,
+                                const hp_kin_fit_near *near, hp_kin_trial_cache *cache);
 
 /* hp_contact_fit, started from st (computed at x0 for the same layout and level) when st
  * is not NULL. With near, the iteration may stop early at an iterate x (an accepted step,
@@ -143,8 +142,7 @@ int hpi_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level l
  * distances' residual.
  * Allocates nothing. */
 hp_error hpi_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
-                    const int free_[6], const double x0[6], const hp_kin_fit_start *st,
-                    const hp_kin_fit_near *near, double xi[6], double *residual_rms,
-                    int *iters);
+                     const int free_[6], const double x0[6], const hp_kin_fit_start *st,
+                     const hp_kin_fit_near *near, double xi[6], double *residual_rms, int *iters);
 
 #endif

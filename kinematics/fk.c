@@ -24,7 +24,7 @@
  * rank, where QR without pivoting is backward stable, so the fit's small system needs
  * neither pivoting nor Eigen's dynamic-size machinery. */
 int hpi_kin_damped_qr(int n, int nf, const double *J, const double *r, const double *D,
-                     double lambda, double *dx)
+                      double lambda, double *dx)
 {
     enum { MR = HP_MAX_BLADDERS + 6 };
     double A[MR][6], b[MR];
@@ -118,8 +118,7 @@ static void gram_from_start(int n, int nf, const int *col, const hp_kin_fit_star
         memcpy(q->A, st->A, sizeof q->A); /* col is 0..5 */
     } else {
         for (int j = 0; j < 6; ++j)
-            for (int k = 0; k < 6; ++k)
-                q->A[j][k] = j < nf && k < nf ? st->A[col[j]][col[k]] : 0.0;
+            for (int k = 0; k < 6; ++k) q->A[j][k] = j < nf && k < nf ? st->A[col[j]][col[k]] : 0.0;
     }
     /* −Jᵀr summed from +0 over the rows in order, as gram_of sums it (its padded entries
      * stay +0); all six columns free is the common case, with a loop of fixed length. */
@@ -146,7 +145,7 @@ static int normal_step(const fk_gram *q, int nf, const double *D, double lambda,
         d[j] = 1.0 / sqrt(A[j][j]);
     }
     for (int j = nf; j < 6; ++j) d[j] = 0.0;
-    /* Scaled to unit diagonal (fixed-length loops; the padded part is never read). */
+        /* Scaled to unit diagonal (fixed-length loops; the padded part is never read). */
 #pragma GCC unroll 6
     for (int j = 0; j < 6; ++j) {
 #pragma GCC unroll 6
@@ -168,7 +167,7 @@ static int normal_step(const fk_gram *q, int nf, const double *D, double lambda,
 /* Normal equations, scaled to unit diagonal, by Cholesky (fit_internal.h). Accepted only
  * under the condition bound HP_KIN_NORMAL_MAX_COND. */
 int hpi_kin_damped_normal(int n, int nf, const double *J, const double *r, const double *D,
-                         double lambda, double *dx)
+                          double lambda, double *dx)
 {
     fk_gram q;
     gram_of(n, nf, J, r, &q);
@@ -201,7 +200,7 @@ static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, c
     /* All six columns free (col is then 0..5): the model writes the Jacobian in place. */
     int all = nf == 6;
     hp_error err = hpi_kin_contact_eval_warm(L, G, level, xi, sw, rho, Jr ? (all ? Jr : J) : NULL,
-                                            NULL);
+                                             NULL);
     if (err) return err;
     for (int k = 0; k < L->n; ++k) {
         r[k] = rho[k] - ro[k];
@@ -212,7 +211,7 @@ static hp_error residual(const hp_layout *L, const hp_geom *G, hp_level level, c
 }
 
 hp_error hpi_kin_fit_start_at(const hp_layout *L, const hp_geom *G, hp_level level,
-                             const double x0[6], hp_kin_fit_start *st)
+                              const double x0[6], hp_kin_fit_start *st)
 {
     hpi_kin_dist_warm_cold(st->w, HP_MAX_BLADDERS);
     hp_error err = hpi_kin_contact_eval_warm(L, G, level, x0, st->w, st->rho, st->J, NULL);
@@ -267,13 +266,13 @@ static int certified_trial(const hp_layout *L, const hp_geom *G, hp_level level,
         tc->c.ready = 0;
         tc->have = 1;
     }
-    return hpi_kin_fit_certified_trial(L, G, level, nf, col, xt, &tc->q.A[0][0], cost,
-                                      lambda_next, target, iters_left, near, &tc->c);
+    return hpi_kin_fit_certified_trial(L, G, level, nf, col, xt, &tc->q.A[0][0], cost, lambda_next,
+                                       target, iters_left, near, &tc->c);
 }
 
 hp_error hpi_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const double *target,
-                    const int free_[6], const double x0[6], const hp_kin_fit_start *st,
-                    const hp_kin_fit_near *near, double xi[6], double *residual_rms, int *iters)
+                     const int free_[6], const double x0[6], const hp_kin_fit_start *st,
+                     const hp_kin_fit_near *near, double xi[6], double *residual_rms, int *iters)
 {
     if (!L || !G || !target || !free_ || !x0 || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
@@ -345,7 +344,7 @@ hp_error hpi_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const
          * step closer, and before the evaluation it would save. */
         if (near && it > 1 && !near->anchor_J &&
             hpi_kin_fit_certified(L, G, level, nf, col, x, &gram.A[0][0], r, lambda, target,
-                                 FK_MAX_ITERS - it, near)) {
+                                  FK_MAX_ITERS - it, near)) {
             certified = 1;
             break;
         }
@@ -405,14 +404,14 @@ hp_error hpi_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const
 }
 
 hp_error hpi_contact_fit_g(const hp_layout *L, const hp_geom *G, hp_level level,
-                          const double *target, const int free_[6], const double x0[6],
-                          double xi[6], double *residual_rms, int *iters)
+                           const double *target, const int free_[6], const double x0[6],
+                           double xi[6], double *residual_rms, int *iters)
 {
     return hpi_kin_fit(L, G, level, target, free_, x0, NULL, NULL, xi, residual_rms, iters);
 }
 
 hp_error hpi_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, const double *ro,
-                         const double *xi0, double xi[6], double *residual_rms, int *iters)
+                          const double *xi0, double xi[6], double *residual_rms, int *iters)
 {
     if (!L || !G || !ro || !xi) return HP_ERR_NULL;
     if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
@@ -435,8 +434,8 @@ hp_error hpi_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, 
 }
 
 hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target,
-                        const int free_[6], const double x0[6], double xi[6],
-                        double *residual_rms, int *iters)
+                        const int free_[6], const double x0[6], double xi[6], double *residual_rms,
+                        int *iters)
 {
     if (!L || !target || !free_ || !x0 || !xi) return HP_ERR_NULL;
     hp_geom G;
@@ -444,8 +443,8 @@ hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target
     return hpi_contact_fit_g(L, &G, level, target, free_, x0, xi, residual_rms, iters);
 }
 
-hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
-                       const double *xi0, double xi[6], double *residual_rms, int *iters)
+hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro, const double *xi0,
+                       double xi[6], double *residual_rms, int *iters)
 {
     if (!L || !ro || !xi) return HP_ERR_NULL;
     hp_geom G;

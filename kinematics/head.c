@@ -26,8 +26,8 @@ hp_error hpi_kin_head_validate(const hp_head *h, hp_diag *diag)
                                    "head: radius: must be finite and > 0 (got %g m)",
                                    h->semi_axes[0]);
             return hp_diag_set(diag, HP_ERR_INVALID,
-                               "head: semi_axes.%s: must be finite and > 0 (got %g m)",
-                               axis[i], h->semi_axes[i]);
+                               "head: semi_axes.%s: must be finite and > 0 (got %g m)", axis[i],
+                               h->semi_axes[i]);
         }
     }
     if (!(h->mass >= 0) || !isfinite(h->mass))
@@ -63,8 +63,8 @@ static void project_hessian(const double n[3], double im, const double Dm[9], do
     }
 }
 
-static hp_error sphere_distance(const hp_head *h, const double y[3], double *d,
-                                double grad[3], double hess[9], double foot[3])
+static hp_error sphere_distance(const hp_head *h, const double y[3], double *d, double grad[3],
+                                double hess[9], double foot[3])
 {
     double r = h->semi_axes[0];
     double len = sqrt(y[0] * y[0] + y[1] * y[1] + y[2] * y[2]);
@@ -122,7 +122,7 @@ static hp_error ell_setup(const hp_head *h, const hp_kin_head_k *k, const double
      * (a far jump, a stale state) costs steps, never the answer. */
     if (g0 != 0.0 && ws && ws->s == ws->s) {
         double sp = ws->s + (ws->ds[0] * (y[0] - ws->y[0]) + ws->ds[1] * (y[1] - ws->y[1]) +
-                            ws->ds[2] * (y[2] - ws->y[2]));
+                             ws->ds[2] * (y[2] - ws->y[2]));
         if (sp > lo && sp < hi) s = sp;
         else if (ws->s > lo && ws->s < hi) s = ws->s;
     }
@@ -240,8 +240,7 @@ static hp_error ell_finish(const hp_head *h, const hp_kin_head_k *k, const ell_p
          * ∂t/∂y = w/S, ∂x/∂y = diag(a²/(a²+t)) − w wᵀ/S. */
         double Dm[9];
         for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j)
-                Dm[i * 3 + j] = (i == j ? id[i] : 0.0) - v[i] * w[j] * iS;
+            for (int j = 0; j < 3; ++j) Dm[i * 3 + j] = (i == j ? id[i] : 0.0) - v[i] * w[j] * iS;
         project_hessian(n, 1.0 / mn, Dm, hess);
     }
     return HP_OK;
@@ -285,14 +284,14 @@ void hpi_kin_head_consts(const hp_head *h, hp_kin_head_k *k)
     }
 }
 
-hp_error hpi_kin_head_distance(const hp_head *h, const double q[3], double *d,
-                              double grad[3], double hess[9], double foot[3])
+hp_error hpi_kin_head_distance(const hp_head *h, const double q[3], double *d, double grad[3],
+                               double hess[9], double foot[3])
 {
     return hpi_kin_head_distance_warm(h, q, NULL, d, grad, hess, foot);
 }
 
 hp_error hpi_kin_head_distance_warm(const hp_head *h, const double q[3], hp_kin_dist_warm *w,
-                                   double *d, double grad[3], double hess[9], double foot[3])
+                                    double *d, double grad[3], double hess[9], double foot[3])
 {
     hp_kin_head_k k = {0}; /* a sphere reads none of it */
     if (h->shape != HP_HEAD_SPHERE) hpi_kin_head_consts(h, &k);
@@ -311,8 +310,8 @@ static hp_error head_point(const hp_head *h, const double q[3], double y[3])
 }
 
 hp_error hpi_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
-                                hp_kin_dist_warm *w, double *d, double grad[3], double hess[9],
-                                double foot[3])
+                                 hp_kin_dist_warm *w, double *d, double grad[3], double hess[9],
+                                 double foot[3])
 {
     double y[3];
     hp_error e = head_point(h, q, y);
@@ -322,9 +321,9 @@ hp_error hpi_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const
 }
 
 hp_error hpi_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
-                               const double (*q)[3], hp_kin_dist_warm *w, double *d,
-                               double (*grad)[3], double (*hess)[9],
-                               const unsigned char *want_h, int *bad)
+                                const double (*q)[3], hp_kin_dist_warm *w, double *d,
+                                double (*grad)[3], double (*hess)[9], const unsigned char *want_h,
+                                int *bad)
 {
     *bad = -1;
     if (n < 0 || n > HP_MAX_BLADDERS) return HP_ERR_INVALID;
@@ -369,8 +368,8 @@ hp_error hpi_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
     return HP_OK;
 }
 
-hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro,
-                                   double preload, double center[3], hp_diag *diag)
+hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro, double preload,
+                                   double center[3], hp_diag *diag)
 {
     if (!h || !p || !center) return hp_diag_set(diag, HP_ERR_NULL, "touch: NULL argument");
     hp_error err = hpi_kin_head_validate(h, diag);
@@ -379,8 +378,8 @@ hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double R
     if (!(Ro > 0) || !isfinite(Ro))
         return hp_diag_set(diag, HP_ERR_INVALID, "Ro: must be finite and > 0 (got %g m)", Ro);
     if (!isfinite(preload) || !(Ro + preload > 0))
-        return hp_diag_set(diag, HP_ERR_INVALID,
-                           "preload: must be finite and > -Ro (got %g m)", preload);
+        return hp_diag_set(diag, HP_ERR_INVALID, "preload: must be finite and > -Ro (got %g m)",
+                           preload);
     double m[3], F = -1.0;
     for (int i = 0; i < 3; ++i) {
         double a = h->shape == HP_HEAD_SPHERE ? h->semi_axes[0] : h->semi_axes[i];
@@ -391,9 +390,9 @@ hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double R
     if (!(fabs(F) <= 1e-9))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "touch: point is not on the head surface (implicit function %.3g, "
-                           "tolerance 1e-9)", F);
+                           "tolerance 1e-9)",
+                           F);
     double mn = hypot(hypot(m[0], m[1]), m[2]);
     for (int i = 0; i < 3; ++i) center[i] = p[i] + (Ro + preload) * (m[i] / mn);
     return HP_OK;
 }
-

@@ -101,15 +101,18 @@ static void describe_symmetry(const hp_head *h, int centre_only, char *out, size
     const double *a = h->semi_axes;
     static const char *const ax[3] = {"X", "Y", "Z"};
     if (centre_only) {
-        snprintf(out, size, "every rotation about its centre (only the centre's motion is "
-                            "observable)");
+        snprintf(out, size,
+                 "every rotation about its centre (only the centre's motion is "
+                 "observable)");
         return;
     }
     for (int i = 0; i < 3; ++i) {
         int j = (i + 1) % 3, k = (i + 2) % 3;
         if (a[j] == a[k]) {
-            snprintf(out, size, "every turn about its %s axis and half-turns about every axis "
-                                "across it", ax[i]);
+            snprintf(out, size,
+                     "every turn about its %s axis and half-turns about every axis "
+                     "across it",
+                     ax[i]);
             return;
         }
     }
@@ -214,9 +217,8 @@ static int solve_small(int m, double M[6][6], double b[6], double x[6])
     return 1;
 }
 
-hp_error hpi_pose_commanded_part_g(const hp_layout *L, const hp_geom *G,
-                                  const hp_identifiable *id, hp_level level, const double xd[6],
-                                  double xc[6])
+hp_error hpi_pose_commanded_part_g(const hp_layout *L, const hp_geom *G, const hp_identifiable *id,
+                                   hp_level level, const double xd[6], double xc[6])
 {
     if (!L || !G || !id || !xd || !xc) return HP_ERR_NULL;
     for (int i = 0; i < 6; ++i)

@@ -9,8 +9,7 @@
 /* R = Rz(yaw)·Ry(roll)·Rx(pitch) for th = (pitch, roll, yaw), with its first derivatives
  * dR[j] = ∂R/∂th_j and second derivatives d2R[j][k] = ∂²R/∂th_j∂th_k (all row-major 3×3).
  * dR and d2R may be NULL. */
-void hpi_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
-                            double d2R[3][3][9]);
+void hpi_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9], double d2R[3][3][9]);
 
 /* R with its first and second derivatives in roll alone, Dr = dR[1] and Drr = d2R[1][1] of
  * hpi_kin_rotation_derivs (the same bits; Dr and Drr may be NULL): every other derivative
@@ -24,8 +23,8 @@ void hpi_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double
  * HP_ERR_DOMAIN when q lies so deep inside the head that the closest point is not unique
  * or the distance is not smooth there (within 1e-3 of the centre-curvature set).
  * Allocates nothing. */
-hp_error hpi_kin_head_distance(const hp_head *h, const double q[3], double *d,
-                              double grad[3], double hess[9], double foot[3]);
+hp_error hpi_kin_head_distance(const hp_head *h, const double q[3], double *d, double grad[3],
+                               double hess[9], double foot[3]);
 
 /* What a warm start of the ellipsoid's root find keeps from one evaluation to the next of
  * the same bladder: the scaled Lagrange multiplier s at the point y (relative to the head
@@ -52,7 +51,7 @@ static inline void hpi_kin_dist_warm_cold(hp_kin_dist_warm *w, int n)
  * nearby point. The answer is the same to rounding whatever w holds; a sphere leaves w
  * alone. */
 hp_error hpi_kin_head_distance_warm(const hp_head *h, const double q[3], hp_kin_dist_warm *w,
-                                   double *d, double grad[3], double hess[9], double foot[3]);
+                                    double *d, double grad[3], double hess[9], double foot[3]);
 
 /* What the ellipsoid distance needs of a head beyond its inputs, derived once per head
  * (hpi_kin_head_consts) instead of on every call: the smallest semi-axis e, e², the ratios
@@ -69,8 +68,8 @@ void hpi_kin_head_consts(const hp_head *h, hp_kin_head_k *k);
 /* hpi_kin_head_distance_warm for a head h whose constants k were derived from it by
  * hpi_kin_head_consts (and h not changed since). */
 hp_error hpi_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const double q[3],
-                                hp_kin_dist_warm *w, double *d, double grad[3], double hess[9],
-                                double foot[3]);
+                                 hp_kin_dist_warm *w, double *d, double grad[3], double hess[9],
+                                 double foot[3]);
 
 /* hpi_kin_head_distance_k at the n points q (n <= HP_MAX_BLADDERS), each with its own warm
  * state w[j] (w may be NULL), distance d[j], gradient grad[j] and, when hess is not NULL
@@ -79,9 +78,9 @@ hp_error hpi_kin_head_distance_k(const hp_head *h, const hp_kin_head_k *k, const
  * fails, with its index in *bad; the points after it may have been evaluated (their
  * outputs and warm states written), its own outputs are not meaningful. */
 hp_error hpi_kin_head_distances(const hp_head *h, const hp_kin_head_k *k, int n,
-                               const double (*q)[3], hp_kin_dist_warm *w, double *d,
-                               double (*grad)[3], double (*hess)[9],
-                               const unsigned char *want_h, int *bad);
+                                const double (*q)[3], hp_kin_dist_warm *w, double *d,
+                                double (*grad)[3], double (*hess)[9], const unsigned char *want_h,
+                                int *bad);
 
 /* Smallest radius of curvature of the head surface [m] (a_min²/a_max for an ellipsoid). */
 double hpi_kin_head_min_curvature_radius(const hp_head *h);
@@ -107,6 +106,6 @@ typedef struct hp_kin_reach_ctx {
  * its round trip can fail in short gaps), so the two differ only in their predicate and
  * resolution. */
 double hpi_kin_reach_axis(int (*ok)(void *ctx, const double xi[6]), void *ctx, int axis,
-                         double sign, int scan);
+                          double sign, int scan);
 
 #endif

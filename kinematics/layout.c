@@ -15,27 +15,23 @@ static hp_error check_bladder(const hp_layout *L, int k, hp_diag *diag)
     if (len == 0)
         return hp_diag_set(diag, HP_ERR_INVALID, "bladder #%d: name: must not be empty", k + 1);
     if (len == HP_NAME_MAX)
-        return hp_diag_set(diag, HP_ERR_INVALID,
-                           "bladder #%d: name: longer than %d characters", k + 1,
-                           HP_NAME_MAX - 1);
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladder #%d: name: longer than %d characters",
+                           k + 1, HP_NAME_MAX - 1);
     for (int j = 0; j < k; ++j)
         if (strncmp(L->bladders[j].name, b->name, HP_NAME_MAX) == 0)
             return hp_diag_set(diag, HP_ERR_INVALID,
                                "bladder '%s' (#%d): name: used twice (also #%d)", b->name, k + 1,
                                j + 1);
     if (!hpi_kin_finite3(b->center))
-        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%s': center: must be finite",
-                           b->name);
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%s': center: must be finite", b->name);
     hp_diag sub;
     sub.text[0] = '\0';
     hp_error err = hp_iab_validate(&b->iab, &sub);
     if (err) return hp_diag_set(diag, err, "bladder '%s': %s", b->name, sub.text);
     if (!isfinite(b->p_min))
-        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%s': p_min: must be finite",
-                           b->name);
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%s': p_min: must be finite", b->name);
     if (!isfinite(b->p_max))
-        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%s': p_max: must be finite",
-                           b->name);
+        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%s': p_max: must be finite", b->name);
     if (!(b->p_min < b->p_max))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "bladder '%s': p_max: must be > p_min (got %g Pa <= %g Pa)", b->name,
@@ -47,7 +43,8 @@ static hp_error check_bladder(const hp_layout *L, int k, hp_diag *diag)
     if (!isfinite(b->stretch_max) || !(b->stretch_max > b->stretch_min))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "bladder '%s': stretch_max: must be finite and > stretch_min "
-                           "(got %g)", b->name, b->stretch_max);
+                           "(got %g)",
+                           b->name, b->stretch_max);
     if (!(b->rate_max > 0)) /* +inf allowed: unlimited */
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "bladder '%s': rate_max: must be > 0 or +inf (got %g Pa)", b->name,
@@ -58,12 +55,14 @@ static hp_error check_bladder(const hp_layout *L, int k, hp_diag *diag)
                            b->stress_max);
     hp_iab_limit lp;
     err = hp_iab_limit_point(&b->iab, &lp);
-    if (err) return hp_diag_set(diag, err, "bladder '%s': limit point: %s", b->name,
-                                hp_error_message(err));
+    if (err)
+        return hp_diag_set(diag, err, "bladder '%s': limit point: %s", b->name,
+                           hp_error_message(err));
     if (lp.exists && !(b->stretch_max < lp.lambda_i))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "bladder '%s': stretch_max: must be below the inflation limit point "
-                           "(got %g >= %g)", b->name, b->stretch_max, lp.lambda_i);
+                           "(got %g >= %g)",
+                           b->name, b->stretch_max, lp.lambda_i);
     return HP_OK;
 }
 
@@ -83,8 +82,7 @@ static hp_error overlap_fail(const hp_bladder *b, double rho0, double lam, hp_di
     double ri = b->stretch_min * m->Ri, ro = rho0;
     if (hp_iab_ro(m, ri, &ro) != HP_OK || !(ro > rho0)) ro = m->Ro;
     char squeeze[96];
-    if (isnan(lam))
-        snprintf(squeeze, sizeof squeeze, "would collapse its cavity at rest");
+    if (isnan(lam)) snprintf(squeeze, sizeof squeeze, "would collapse its cavity at rest");
     else
         snprintf(squeeze, sizeof squeeze, "compresses it to stretch %.6g at rest (stretch_min %g)",
                  lam, b->stretch_min);
@@ -106,22 +104,27 @@ static hp_error check_nominal(const hp_bladder *b, double rho0, hp_diag *diag)
     if (!(b->stretch_min < lam - NOMINAL_STRETCH_MARGIN))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "bladder '%s': stretch_min: must be below the nominal stretch %.6g "
-                           "(got %g)", b->name, lam, b->stretch_min);
+                           "(got %g)",
+                           b->name, lam, b->stretch_min);
     if (!(lam + NOMINAL_STRETCH_MARGIN < b->stretch_max))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "bladder '%s': stretch_max: must be above the nominal stretch %.6g "
-                           "(got %g)", b->name, lam, b->stretch_max);
+                           "(got %g)",
+                           b->name, lam, b->stretch_max);
     hp_error err = hp_iab_ik(&b->iab, ri, &P);
-    if (err) return hp_diag_set(diag, err, "bladder '%s': nominal pressure: %s", b->name,
-                                hp_error_message(err));
+    if (err)
+        return hp_diag_set(diag, err, "bladder '%s': nominal pressure: %s", b->name,
+                           hp_error_message(err));
     if (!(b->p_min <= P))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "bladder '%s': p_min: must be <= the nominal pressure %.6g Pa "
-                           "(got %g Pa)", b->name, P, b->p_min);
+                           "(got %g Pa)",
+                           b->name, P, b->p_min);
     if (!(P <= b->p_max))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "bladder '%s': p_max: must be >= the nominal pressure %.6g Pa "
-                           "(got %g Pa)", b->name, P, b->p_max);
+                           "(got %g Pa)",
+                           b->name, P, b->p_max);
     return HP_OK;
 }
 
@@ -155,8 +158,9 @@ static hp_error bladder_contact(const hp_head *h, const hp_bladder *b, int k, do
                            HP_NAME_MAX - 1, b->name, k + 1);
     hp_error err = hpi_kin_head_distance(h, b->center, d, n, NULL, p);
     if (err != HP_OK || !(*d > 0))
-        return hp_diag_set(diag, HP_ERR_INVALID, "bladder '%.*s': center: must lie outside the head",
-                           HP_NAME_MAX - 1, b->name);
+        return hp_diag_set(diag, HP_ERR_INVALID,
+                           "bladder '%.*s': center: must lie outside the head", HP_NAME_MAX - 1,
+                           b->name);
     return HP_OK;
 }
 

@@ -14,7 +14,7 @@ extern "C" {
  * m + ncol <= HP_KIN_LINALG_MAX_ROWS. Returns 0 on success, -1 on bad sizes or a
  * non-finite result. Allocates nothing. */
 int hpi_kin_damped_lstsq(int m, int ncol, const double *J, const double *r, const double *D,
-                        double lambda, double *dx);
+                         double lambda, double *dx);
 
 /* Singular value decomposition of A (m×6 row-major, 1 <= m <= HP_KIN_LINALG_MAX_ROWS):
  * sv[0..5] descending (zeros past min(m, 6)), V 6×6 row-major whose column j is the right

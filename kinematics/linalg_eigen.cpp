@@ -5,15 +5,16 @@
 #include <Eigen/Dense>
 #include <cmath>
 
-namespace {
+namespace
+{
 constexpr int kMax = HP_KIN_LINALG_MAX_ROWS;
 using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMax, 6>;
 using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMax, 1>;
 using Mat6 = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::ColMajor, kMax, 6>;
-}  // namespace
+} // namespace
 
 extern "C" int hpi_kin_damped_lstsq(int m, int ncol, const double *J, const double *r,
-                                   const double *D, double lambda, double *dx)
+                                    const double *D, double lambda, double *dx)
 {
     if (m < 0 || ncol < 1 || ncol > 6 || m + ncol > kMax || !(lambda >= 0)) return -1;
     Mat A(m + ncol, ncol);

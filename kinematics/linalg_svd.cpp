@@ -10,8 +10,8 @@ extern "C" int hpi_kin_svd(int m, int n, const double *A, double *sv, double *V)
 {
     if (m < 1 || n < 1 || !A || !sv || !V) return -1;
     try {
-        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>
-            M(A, m, n);
+        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> M(
+            A, m, n);
         Eigen::JacobiSVD<Eigen::MatrixXd> svd(M, Eigen::ComputeFullV);
         const Eigen::VectorXd &s = svd.singularValues();
         const Eigen::MatrixXd &v = svd.matrixV();

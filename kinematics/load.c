@@ -35,8 +35,8 @@ hp_error hp_load_spec_validate(const hp_load_spec *s, hp_diag *diag)
 {
     if (!s) return hp_diag_set(diag, HP_ERR_NULL, "load: NULL");
     if (!(s->mass > 0) || !isfinite(s->mass))
-        return hp_diag_set(diag, HP_ERR_INVALID,
-                           "load: mass: must be finite and > 0 (got %g kg)", s->mass);
+        return hp_diag_set(diag, HP_ERR_INVALID, "load: mass: must be finite and > 0 (got %g kg)",
+                           s->mass);
     if (!hpi_kin_finite3(s->com))
         return hp_diag_set(diag, HP_ERR_INVALID, "load: com: must be finite");
     if (!hpi_kin_finite3(s->gravity))
@@ -50,7 +50,7 @@ hp_error hp_load_spec_validate(const hp_load_spec *s, hp_diag *diag)
 }
 
 hp_error hpi_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
-                             hp_level level, hp_diag *diag)
+                              hp_level level, hp_diag *diag)
 {
     if (!M || !L || !spec) return hp_diag_set(diag, HP_ERR_NULL, "load model: NULL argument");
     memset(M, 0, sizeof *M);
@@ -89,25 +89,13 @@ hp_error hp_load_model_create(const hp_layout *L, const hp_load_spec *spec, hp_l
     return HP_OK;
 }
 
-void hp_load_model_destroy(hp_load_model *M)
-{
-    free(M);
-}
+void hp_load_model_destroy(hp_load_model *M) { free(M); }
 
-const hp_layout *hp_load_model_layout(const hp_load_model *M)
-{
-    return M ? &M->layout : NULL;
-}
+const hp_layout *hp_load_model_layout(const hp_load_model *M) { return M ? &M->layout : NULL; }
 
-const hp_load_spec *hp_load_model_spec(const hp_load_model *M)
-{
-    return M ? &M->spec : NULL;
-}
+const hp_load_spec *hp_load_model_spec(const hp_load_model *M) { return M ? &M->spec : NULL; }
 
-hp_level hp_load_model_level(const hp_load_model *M)
-{
-    return M ? M->level : HP_LEVEL_AUTO;
-}
+hp_level hp_load_model_level(const hp_load_model *M) { return M ? M->level : HP_LEVEL_AUTO; }
 
 hp_error hp_load_radius(const hp_load_model *M, int k, double P, double *ro, double *dro_dP)
 {
@@ -152,7 +140,7 @@ void hpi_load_law(double P, double ro, double dro, double rho, int right, hp_loa
 }
 
 void hpi_load_gravity(const hp_load_model *M, const double xi[6], double Q[6], double *dQ,
-                     double *energy)
+                      double *energy)
 {
     const hp_layout *L = &M->layout;
     double R[9], dR[3][9], d2R[3][3][9], v[3], mg[3];
@@ -204,8 +192,8 @@ hp_error hpi_load_domain(const hp_load_model *M, const double *rho)
 }
 
 hp_error hpi_load_eval_radii(const hp_load_model *M, const double xi[6], const double *P,
-                            const double *ro, const double *dro, int right, double Q[6],
-                            double *dQ_dxi, double *dQ_dP, double *force, double *energy)
+                             const double *ro, const double *dro, int right, double Q[6],
+                             double *dQ_dxi, double *dQ_dP, double *force, double *energy)
 {
     const hp_layout *L = &M->layout;
     int n = L->n;
@@ -243,9 +231,8 @@ static hp_error check_inputs(const hp_load_model *M, const double xi[6], const d
     return HP_OK;
 }
 
-hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const double *P,
-                      double Q[6], double *dQ_dxi, double *dQ_dP, double *force,
-                      double *energy)
+hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const double *P, double Q[6],
+                      double *dQ_dxi, double *dQ_dP, double *force, double *energy)
 {
     if (!Q) return HP_ERR_NULL;
     hp_error err = check_inputs(M, xi, P);
@@ -253,7 +240,7 @@ hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const double *
     if (!err) err = hpi_load_radii(M, P, ro, dQ_dP ? dro : NULL);
     if (!err)
         err = hpi_load_eval_radii(M, xi, P, ro, dQ_dP ? dro : NULL, 0, Q, dQ_dxi, dQ_dP, force,
-                                 energy);
+                                  energy);
     if (err) {
         int n = M ? M->layout.n : 0;
         fill_nan(Q, 6);
@@ -290,8 +277,8 @@ static void cross(const double a[3], const double b[3], double c[3])
 }
 
 /* x moved with the head: pivot + R (x0 − pivot) + t. */
-static void move_point(const hp_layout *L, const double R[9], const double t[3],
-                       const double x0[3], double x[3])
+static void move_point(const hp_layout *L, const double R[9], const double t[3], const double x0[3],
+                       double x[3])
 {
     double v[3] = {x0[0] - L->pivot[0], x0[1] - L->pivot[1], x0[2] - L->pivot[2]};
     for (int a = 0; a < 3; ++a)
@@ -299,8 +286,8 @@ static void move_point(const hp_layout *L, const double R[9], const double t[3],
 }
 
 /* The contact point p_k at pose xi (moved head), for the Newton–Euler check. */
-static hp_error contact_point(const hp_load_model *M, int k, const double R[9],
-                              const double xi[6], double rho, double p[3])
+static hp_error contact_point(const hp_load_model *M, int k, const double R[9], const double xi[6],
+                              double rho, double p[3])
 {
     const hp_layout *L = &M->layout;
     const double *c = L->bladders[k].center;

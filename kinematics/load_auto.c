@@ -45,14 +45,16 @@ hp_error hp_load_auto_choose(const hp_load_model *M, double tol, int *use_load, 
     if (sag) *sag = s;
     if (why && len) {
         if (isinf(s))
-            snprintf(why, len, "load: nothing is inflated at the nominal pose, so the head's "
+            snprintf(why, len,
+                     "load: nothing is inflated at the nominal pose, so the head's "
                      "%.3g N weight is held by no stiffness (predicted sag unbounded)",
                      M->spec.mass * HP_GRAVITY);
         else
-            snprintf(why, len, "%s: predicted sag %.4g mm (weight %.4g N over %.4g N/mm "
-                     "along gravity) %s tolerance %.4g mm", *use_load ? "load" : "kinematic",
-                     s * 1e3, M->spec.mass * HP_GRAVITY, kg * 1e-3,
-                     *use_load ? ">" : "<=", tol * 1e3);
+            snprintf(why, len,
+                     "%s: predicted sag %.4g mm (weight %.4g N over %.4g N/mm "
+                     "along gravity) %s tolerance %.4g mm",
+                     *use_load ? "load" : "kinematic", s * 1e3, M->spec.mass * HP_GRAVITY,
+                     kg * 1e-3, *use_load ? ">" : "<=", tol * 1e3);
     }
     return HP_OK;
 }

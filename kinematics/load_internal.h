@@ -20,7 +20,7 @@ struct hp_load_model {
 
 /* hp_load_model_create without the allocation: fills *M (same checks, same messages). */
 hp_error hpi_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
-                             hp_level level, hp_diag *diag);
+                              hp_level level, hp_diag *diag);
 
 /* One bladder's contact force and its partial derivatives. */
 typedef struct hp_load_force {
@@ -40,7 +40,7 @@ void hpi_load_law(double P, double ro, double dro, double rho, int right, hp_loa
  * be NULL) and its potential (may be NULL): Q of a head that no bladder touches, without
  * the contact geometry's cost. */
 void hpi_load_gravity(const hp_load_model *M, const double xi[6], double Q[6], double *dQ,
-                     double *energy);
+                      double *energy);
 
 /* Outer radii (and dro/dP when dro is not NULL) of every bladder at pressures P. */
 hp_error hpi_load_radii(const hp_load_model *M, const double *P, double *ro, double *dro);
@@ -56,8 +56,8 @@ hp_error hpi_load_domain(const hp_load_model *M, const double *rho);
 /* hp_load_eval with the radii already known (no input checks, no NaN fill): the cheap
  * inner evaluation of Newton and SQP loops. */
 hp_error hpi_load_eval_radii(const hp_load_model *M, const double xi[6], const double *P,
-                            const double *ro, const double *dro, int right, double Q[6],
-                            double *dQ_dxi, double *dQ_dP, double *force, double *energy);
+                             const double *ro, const double *dro, int right, double Q[6],
+                             double *dQ_dxi, double *dQ_dP, double *force, double *energy);
 
 /* Cholesky factor of a symmetric n×n matrix A (row-major) in place (lower triangle);
  * returns 0 when A is positive definite, -1 otherwise. */

@@ -11,15 +11,12 @@
 #include <string.h>
 
 #define REST_MAX_ITERS 100
-#define REST_STEP_CAP 5.0      /* mm or degrees per Newton step */
-#define REST_STEP_TOL 1e-12    /* mm or degrees: below this the rest is found */
-#define REST_BOX_MM 100.0      /* a rest further than this is no rest of a held head */
+#define REST_STEP_CAP 5.0   /* mm or degrees per Newton step */
+#define REST_STEP_TOL 1e-12 /* mm or degrees: below this the rest is found */
+#define REST_BOX_MM 100.0   /* a rest further than this is no rest of a held head */
 #define REST_BOX_DEG 60.0
 
-double hpi_load_unit(int i)
-{
-    return i < 3 ? 1e-3 : HP_RAD_PER_DEG;
-}
+double hpi_load_unit(int i) { return i < 3 ? 1e-3 : HP_RAD_PER_DEG; }
 
 int hpi_load_cholesky(int n, double *A)
 {
@@ -61,8 +58,8 @@ static void scaled_stiffness(const double *K, double *Ks)
                             hpi_load_unit(j);
 }
 
-static const char *const AXIS_WORDS[6] = {"lateral (x)", "longitudinal (y)", "vertical (z)",
-                                          "pitch", "roll", "yaw"};
+static const char *const AXIS_WORDS[6] = {
+    "lateral (x)", "longitudinal (y)", "vertical (z)", "pitch", "roll", "yaw"};
 
 static void describe(const double v[6], char *out, size_t len)
 {
@@ -89,7 +86,7 @@ static void holding_from_K(const hp_load_model *M, const double *K, hp_load_hold
         if (h->stable) {
             double e[6] = {0};
             e[i] = 1.0;
-            hpi_load_cholesky_solve(6, F, e); /* column i of Ks⁻¹ */
+            hpi_load_cholesky_solve(6, F, e);           /* column i of Ks⁻¹ */
             h->compliance[i] = e[i] * hpi_load_unit(i); /* (K⁻¹)_ii / unit: mm/N, deg/(N·m) */
         } else {
             h->compliance[i] = INFINITY;
@@ -163,8 +160,8 @@ static void newton_step(const double *K, const double Q[6], double ds[6])
         for (int i = 0; i < 6; ++i) ds[i] = 0.0;
 }
 
-hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0,
-                      double xi[6], hp_load_rest_info *info)
+hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0, double xi[6],
+                      hp_load_rest_info *info)
 {
     if (!M || !P || !xi) return HP_ERR_NULL;
     double x[6] = {0};

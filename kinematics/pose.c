@@ -111,8 +111,7 @@ void hpi_kin_rotation_roll(const double th[3], double R[9], double Dr[9], double
     }
 }
 
-void hpi_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9],
-                            double d2R[3][3][9])
+void hpi_kin_rotation_derivs(const double th[3], double R[9], double dR[3][9], double d2R[3][3][9])
 {
     if (!dR) {
         hpi_kin_rotation_roll(th, R, NULL, NULL);

@@ -52,8 +52,7 @@ void hp_pose_inverse(const double xi[6], double inv[6])
         if (inv[i] == 0.0) inv[i] = 0.0; /* no −0 in outputs */
 }
 
-hp_error hp_pose_from_quaternion(const double t[3], const double q[4], double xi[6],
-                                 hp_diag *diag)
+hp_error hp_pose_from_quaternion(const double t[3], const double q[4], double xi[6], hp_diag *diag)
 {
     for (int i = 0; i < 4; ++i)
         if (!isfinite(q[i])) return hp_diag_set(diag, HP_ERR_INVALID, "quaternion: not finite");

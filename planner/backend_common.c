@@ -8,7 +8,6 @@
 #include <math.h>
 #include <string.h>
 
-
 hp_error hpi_backend_check_problem(const hp_problem *pb, hp_diag *d)
 {
     if (!pb || !pb->layout || !pb->geom) return hp_diag_set(d, HP_ERR_NULL, "problem: NULL");
@@ -28,11 +27,9 @@ hp_error hpi_backend_check_problem(const hp_problem *pb, hp_diag *d)
     for (int k = 0; k < pb->n; k++) {
         const char *name = pb->layout->bladders[k].name;
         if (!isfinite(pb->ri_lo[k]) || !isfinite(pb->ri_hi[k]) || !(pb->ri_lo[k] > 0.0))
-            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: ri bounds not finite and > 0",
-                               name);
+            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: ri bounds not finite and > 0", name);
         if (!isfinite(pb->p_prev[k]))
-            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: previous pressure not finite",
-                               name);
+            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: previous pressure not finite", name);
         if (!(pb->ri_lo[k] <= pb->ri_hi[k]))
             return hp_diag_set(d, HP_ERR_DOMAIN,
                                "bladder %s: ri bounds empty (%.17g > %.17g mm): limits "
@@ -64,8 +61,7 @@ hp_error hpi_backend_default_start(const hp_problem *pb, double *x)
         double ri;
         if (hp_iab_ri(&pb->layout->bladders[k].iab, rho[k], &ri) == HP_OK && isfinite(ri))
             x[6 + k] = ri * 1e3;
-        else
-            x[6 + k] = pb->ri_lo[k];
+        else x[6 + k] = pb->ri_lo[k];
     }
     hpi_backend_clip(pb, x);
     return HP_OK;
@@ -102,8 +98,8 @@ static int cholesky_solve(double *A, double *b, int m)
  * stationarity, wrong sign (then 0) and bound multipliers when its residual is below
  * max(stationarity, wrong sign) of the minimum-norm ones. Allocates nothing. */
 static void signed_multipliers(const hp_problem *pb, const double *g, const double *jac,
-                               const int free_[6], const double b0[6], const int *lo,
-                               const int *hi, const int *act, int m, hp_kkt_measure *m_out)
+                               const int free_[6], const double b0[6], const int *lo, const int *hi,
+                               const int *act, int m, hp_kkt_measure *m_out)
 {
     const int nx = pb->nx;
     double lam[HP_MAX_BLADDERS], bnd[HP_MAX_BLADDERS], aa[HP_MAX_BLADDERS], r[6];
@@ -240,8 +236,7 @@ hp_error hpi_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_m
         if (lo[k] && !hi[k]) m_out->wrong_sign = fmax(m_out->wrong_sign, -z);
         if (hi[k] && !lo[k]) m_out->wrong_sign = fmax(m_out->wrong_sign, z);
     }
-    if (m_out->wrong_sign > 0.0)
-        signed_multipliers(pb, g, jac, free_, b0, lo, hi, act, m, m_out);
+    if (m_out->wrong_sign > 0.0) signed_multipliers(pb, g, jac, free_, b0, lo, hi, act, m, m_out);
     return HP_OK;
 }
 
@@ -254,9 +249,8 @@ int hpi_backend_kkt_ok(const hp_problem *pb, const double *x, double feas_tol)
            m.wrong_sign <= stat_tol;
 }
 
-hp_error hpi_backend_begin(const char *name, const hp_problem *pb, int n, int nx,
-                          const double *x0, double *xs, hp_backend_result *r, int *go,
-                          hp_diag *d)
+hp_error hpi_backend_begin(const char *name, const hp_problem *pb, int n, int nx, const double *x0,
+                           double *xs, hp_backend_result *r, int *go, hp_diag *d)
 {
     *go = 0;
     r->status = HP_STATUS_SOLVER_ERROR;
@@ -272,8 +266,7 @@ hp_error hpi_backend_begin(const char *name, const hp_problem *pb, int n, int nx
     }
     if (e != HP_OK) return e;
     e = hpi_backend_start(pb, x0, xs);
-    if (e != HP_OK)
-        return hp_diag_set(d, e, "%s: starting point not finite or not valid", name);
+    if (e != HP_OK) return hp_diag_set(d, e, "%s: starting point not finite or not valid", name);
     *go = 1;
     return HP_OK;
 }

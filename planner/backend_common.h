@@ -23,9 +23,8 @@ hp_error hpi_backend_start(const hp_problem *pb, const double *x0, double *x);
  * xs from x0. Returns HP_OK with *go = 1 to solve; HP_OK with *go = 0 when the bounds are
  * empty (r->status = INFEASIBLE_START, nothing to solve); an error (named after the backend
  * `name` in d) otherwise. */
-hp_error hpi_backend_begin(const char *name, const hp_problem *pb, int n, int nx,
-                          const double *x0, double *xs, hp_backend_result *r, int *go,
-                          hp_diag *d);
+hp_error hpi_backend_begin(const char *name, const hp_problem *pb, int n, int nx, const double *x0,
+                           double *xs, hp_backend_result *r, int *go, hp_diag *d);
 
 /* Moves every ri_k into [ri_lo_k, ri_hi_k] (solvers may leave them 1e-8 relative outside). */
 void hpi_backend_clip(const hp_problem *pb, double *x);

@@ -48,12 +48,12 @@ typedef struct ipopt_state {
     double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS]; /* bounds app was built with */
     const hp_problem *pb;                                  /* during a solve only */
     int iters;
-    int have_prev;          /* the last solve converged: its multipliers are usable */
-    int accepted;           /* the core starts the next solve from that answer (warm_point) */
-    int lbfgs;              /* option "hessian_approximation" = 1 */
-    clock_t cpu0;           /* CPU clock at the start of this solve (the polish's budget) */
-    int timed_out;          /* the intermediate callback stopped the solve: max_time spent */
-    int rebuild;            /* an option changed: rebuild the app before the next solve */
+    int have_prev; /* the last solve converged: its multipliers are usable */
+    int accepted;  /* the core starts the next solve from that answer (warm_point) */
+    int lbfgs;     /* option "hessian_approximation" = 1 */
+    clock_t cpu0;  /* CPU clock at the start of this solve (the polish's budget) */
+    int timed_out; /* the intermediate callback stopped the solve: max_time spent */
+    int rebuild;   /* an option changed: rebuild the app before the next solve */
     double mult_g[HP_MAX_BLADDERS];
     double mult_xl[HP_PROBLEM_NX_MAX], mult_xu[HP_PROBLEM_NX_MAX];
     double dense[HP_PROBLEM_NX_MAX * HP_PROBLEM_NX_MAX]; /* Hessian / Jacobian scratch */
@@ -174,23 +174,21 @@ static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
         st->ri_lo[k] = pb->ri_lo[k];
         st->ri_hi[k] = pb->ri_hi[k];
     }
-    st->app = CreateIpoptProblem(st->nx, xl, xu, st->n, gz, gz, 7 * st->n, 21 + st->n, 0,
-                                 eval_f, eval_g, eval_grad_f, eval_jac_g, eval_h);
+    st->app = CreateIpoptProblem(st->nx, xl, xu, st->n, gz, gz, 7 * st->n, 21 + st->n, 0, eval_f,
+                                 eval_g, eval_grad_f, eval_jac_g, eval_h);
     if (!st->app) return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: CreateIpoptProblem failed");
     const hp_settings *s = &st->s;
     hp_error e = hpi_ipopt_base_options(st->app, s->tolerance, s->max_iter, s->max_time, d);
     if (e != HP_OK) return e;
     /* The quasi-Newton peer of the benchmarks: Ipopt then never calls eval_h. */
-    if (st->lbfgs &&
-        (e = hpi_ipopt_opt_str(st->app, "hessian_approximation", "limited-memory", d)))
+    if (st->lbfgs && (e = hpi_ipopt_opt_str(st->app, "hessian_approximation", "limited-memory", d)))
         return e;
     if (!SetIntermediateCallback(st->app, intermediate))
         return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: SetIntermediateCallback failed");
     return HP_OK;
 }
 
-static hp_error ipopt_create(void **state, const hp_problem *pb, const hp_settings *s,
-                             hp_diag *d)
+static hp_error ipopt_create(void **state, const hp_problem *pb, const hp_settings *s, hp_diag *d)
 {
     if (!state || !pb || !s) return hp_diag_set(d, HP_ERR_NULL, "ipopt: NULL argument");
     *state = NULL;
@@ -240,14 +238,10 @@ static hp_status map_status(enum ApplicationReturnStatus r, int timed_out, int *
     case Solved_To_Acceptable_Level:
         *converged = 1;
         return HP_STATUS_REACHED; /* the core decides REACHED or CLOSEST */
-    case Maximum_Iterations_Exceeded:
-        return HP_STATUS_ITERATION_LIMIT;
-    case Maximum_CpuTime_Exceeded:
-        return HP_STATUS_TIME_LIMIT;
-    case Infeasible_Problem_Detected:
-        return HP_STATUS_INFEASIBLE_START;
-    default:
-        return HP_STATUS_SOLVER_ERROR;
+    case Maximum_Iterations_Exceeded: return HP_STATUS_ITERATION_LIMIT;
+    case Maximum_CpuTime_Exceeded: return HP_STATUS_TIME_LIMIT;
+    case Infeasible_Problem_Detected: return HP_STATUS_INFEASIBLE_START;
+    default: return HP_STATUS_SOLVER_ERROR;
     }
 }
 
@@ -352,9 +346,8 @@ static int solve_fixed(ipopt_state *st, const hp_problem *pb, const double *x,
         xu[6 + k] = side[k] == -1 ? lo : side[k] == 2 ? hi + relax : hi;
         if (side[k] == 1 || side[k] == -1) xp[6 + k] = xl[6 + k];
     }
-    IpoptProblem app = CreateIpoptProblem(st->nx, xl, xu, st->n, gz, gz, 7 * st->n,
-                                          21 + st->n, 0, eval_f, eval_g, eval_grad_f,
-                                          eval_jac_g, eval_h);
+    IpoptProblem app = CreateIpoptProblem(st->nx, xl, xu, st->n, gz, gz, 7 * st->n, 21 + st->n, 0,
+                                          eval_f, eval_g, eval_grad_f, eval_jac_g, eval_h);
     if (!app) return 0;
     const hp_settings *s = &st->s;
     int iters0 = st->iters;
@@ -445,8 +438,7 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
             st->app = NULL;
         }
     }
-    if (e == HP_OK)
-        e = hpi_ipopt_opt_str(st->app, "warm_start_init_point", warm ? "yes" : "no", d);
+    if (e == HP_OK) e = hpi_ipopt_opt_str(st->app, "warm_start_init_point", warm ? "yes" : "no", d);
     if (e == HP_OK)
         e = hpi_ipopt_opt_num(st->app, "mu_init", warm ? MU_INIT_WARM : MU_INIT_COLD, d);
     enum ApplicationReturnStatus rc = Internal_Error;
@@ -465,8 +457,7 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
         map_status(rc, st->timed_out, &conv);
         int fin = 1;
         for (int i = 0; i < st->nx; i++) fin = fin && isfinite(x[i]);
-        if (conv && fin && needs_polish(st, pb, x) && polish(st, pb, x))
-            polished = 1;
+        if (conv && fin && needs_polish(st, pb, x) && polish(st, pb, x)) polished = 1;
         st->pb = NULL;
     }
     hpi_ipopt_unlock();
@@ -521,13 +512,13 @@ static hp_error ipopt_set_option(void *state, const char *name, double value, hp
 
 /* The load level's HOLD with its tie-breaker on Ipopt (load_ipopt.c). */
 static hpi_load_solve_status ipopt_load_hold(const hp_load_model *M, const double xi[6],
-                                            const double *lo, const double *hi,
-                                            const double *target, const double *start,
-                                            int max_iter, int stiffness, double *P, double *F,
-                                            int *iterations, int *raw)
+                                             const double *lo, const double *hi,
+                                             const double *target, const double *start,
+                                             int max_iter, int stiffness, double *P, double *F,
+                                             int *iterations, int *raw)
 {
     return hpi_load_hold_with(hpi_load_hold_ipopt, M, xi, lo, hi, target, start, max_iter,
-                             stiffness, P, F, iterations, raw);
+                              stiffness, P, F, iterations, raw);
 }
 
 const hp_backend_ops hpi_backend_ipopt_ops = {

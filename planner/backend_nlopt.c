@@ -62,7 +62,6 @@ static atomic_int nlopt_forced = HP_TEST_NO_FORCE;
 void hpi_test_nlopt_fault(int fault) { atomic_store(&nlopt_fault, fault); }
 void hpi_test_nlopt_force_result(int code) { atomic_store(&nlopt_forced, code); }
 
-
 static void eval_fail(nlopt_state *st)
 {
     st->eval_failed = 1;
@@ -78,8 +77,7 @@ static double full_objective(unsigned nx, const double *x, double *grad, void *d
     nlopt_state *st = data;
     double f;
     int nan_fault = atomic_load(&nlopt_fault) == HP_TEST_FAULT_NAN_OBJECTIVE;
-    if (nan_fault || hpi_problem_objective(st->pb, x, &f, grad, NULL) != HP_OK ||
-        !isfinite(f)) {
+    if (nan_fault || hpi_problem_objective(st->pb, x, &f, grad, NULL) != HP_OK || !isfinite(f)) {
         if (grad)
             for (unsigned i = 0; i < nx; i++) grad[i] = 0.0;
         /* A NaN objective stops the solve as a failure: SLSQP would otherwise go on from
@@ -158,8 +156,8 @@ static double reduced_objective(unsigned n6, const double *x, double *grad, void
     return f;
 }
 
-static void reduced_constraints(unsigned m, double *c, unsigned n6, const double *x,
-                                double *grad, void *data)
+static void reduced_constraints(unsigned m, double *c, unsigned n6, const double *x, double *grad,
+                                void *data)
 {
     (void)n6, (void)grad;
     nlopt_state *st = data;
@@ -185,8 +183,8 @@ static hp_error nl(nlopt_result r, const char *what, hp_diag *d)
     return HP_OK;
 }
 
-static hp_error create_common(void **state, const hp_problem *pb, const hp_settings *s,
-                              hp_diag *d, int reduced)
+static hp_error create_common(void **state, const hp_problem *pb, const hp_settings *s, hp_diag *d,
+                              int reduced)
 {
     if (!state || !pb || !s) return hp_diag_set(d, HP_ERR_NULL, "nlopt: NULL argument");
     *state = NULL;
@@ -212,13 +210,12 @@ static hp_error create_common(void **state, const hp_problem *pb, const hp_setti
      * point. Hence the floor. */
     const double stol = fmin(s->tolerance, HP_NLOPT_SOLVE_TOL_MAX);
     double tol[2 * HP_MAX_BLADDERS];
-    for (int k = 0; k < 2 * HP_MAX_BLADDERS; k++)
-        tol[k] = fmax(stol, HP_NLOPT_CONTACT_TOL_MIN);
+    for (int k = 0; k < 2 * HP_MAX_BLADDERS; k++) tol[k] = fmax(stol, HP_NLOPT_CONTACT_TOL_MIN);
     double xtol[HP_PROBLEM_NX_MAX];
     for (int i = 0; i < HP_PROBLEM_NX_MAX; i++) xtol[i] = stol;
     int evals_per_iter = reduced ? COBYLA_EVALS_PER_ITER : SLSQP_EVALS_PER_ITER;
     int maxeval = s->max_iter > 100000000 / evals_per_iter ? 100000000
-                                                            : s->max_iter * evals_per_iter;
+                                                           : s->max_iter * evals_per_iter;
     /* f = Σ w (x − d)²: a change below tolerance² in f is a change below tolerance in x. */
     double ftol = stol * stol;
     if ((e = nl(reduced ? nlopt_set_min_objective(st->opt, reduced_objective, st)
@@ -226,8 +223,8 @@ static hp_error create_common(void **state, const hp_problem *pb, const hp_setti
                 "set_min_objective", d)) ||
         (e = nl(reduced ? nlopt_add_inequality_mconstraint(st->opt, 2u * (unsigned)pb->n,
                                                            reduced_constraints, st, tol)
-                        : nlopt_add_equality_mconstraint(st->opt, (unsigned)pb->n,
-                                                         full_constraints, st, tol),
+                        : nlopt_add_equality_mconstraint(st->opt, (unsigned)pb->n, full_constraints,
+                                                         st, tol),
                 "add constraints", d)) ||
         (e = nl(nlopt_set_xtol_abs(st->opt, xtol), "set_xtol_abs", d)) ||
         (e = nl(nlopt_set_ftol_abs(st->opt, ftol), "set_ftol_abs", d)) ||
@@ -241,14 +238,12 @@ static hp_error create_common(void **state, const hp_problem *pb, const hp_setti
     return HP_OK;
 }
 
-static hp_error slsqp_create(void **state, const hp_problem *pb, const hp_settings *s,
-                             hp_diag *d)
+static hp_error slsqp_create(void **state, const hp_problem *pb, const hp_settings *s, hp_diag *d)
 {
     return create_common(state, pb, s, d, 0);
 }
 
-static hp_error cobyla_create(void **state, const hp_problem *pb, const hp_settings *s,
-                              hp_diag *d)
+static hp_error cobyla_create(void **state, const hp_problem *pb, const hp_settings *s, hp_diag *d)
 {
     return create_common(state, pb, s, d, 1);
 }
@@ -284,10 +279,8 @@ static hp_status map_result(nlopt_result r, int *converged)
     case NLOPT_XTOL_REACHED:
         *converged = 1;
         return HP_STATUS_REACHED; /* the core decides REACHED or CLOSEST */
-    case NLOPT_MAXEVAL_REACHED:
-        return HP_STATUS_ITERATION_LIMIT;
-    case NLOPT_MAXTIME_REACHED:
-        return HP_STATUS_TIME_LIMIT;
+    case NLOPT_MAXEVAL_REACHED: return HP_STATUS_ITERATION_LIMIT;
+    case NLOPT_MAXTIME_REACHED: return HP_STATUS_TIME_LIMIT;
     default: /* FAILURE, INVALID_ARGS, OUT_OF_MEMORY, FORCED_STOP; ROUNDOFF checked by caller */
         return HP_STATUS_SOLVER_ERROR;
     }
@@ -316,8 +309,8 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
             lb[6 + k] = pb->ri_lo[k], ub[6 + k] = pb->ri_hi[k];
         if ((e = nl(nlopt_set_lower_bounds(st->opt, lb), "set_lower_bounds", d)) ||
             (e = nl(nlopt_set_upper_bounds(st->opt, ub), "set_upper_bounds", d)) ||
-            (st->reduced && (e = nl(nlopt_set_initial_step1(st->opt, cobyla_step(pb)),
-                                    "set_initial_step", d))))
+            (st->reduced &&
+             (e = nl(nlopt_set_initial_step1(st->opt, cobyla_step(pb)), "set_initial_step", d))))
             return e;
     }
     double v[HP_PROBLEM_NX_MAX];
@@ -341,10 +334,8 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
     for (int i = 0; finite && i < (st->reduced ? 6 : st->nx); i++) finite = isfinite(v[i]);
     if (finite && st->reduced) {
         double full[HP_PROBLEM_NX_MAX];
-        if (reduced_expand(pb, v, full) == HP_OK)
-            memcpy(v, full, (size_t)st->nx * sizeof *v);
-        else
-            finite = 0;
+        if (reduced_expand(pb, v, full) == HP_OK) memcpy(v, full, (size_t)st->nx * sizeof *v);
+        else finite = 0;
     }
     if (!finite || st->eval_failed) {
         memcpy(v, xs, (size_t)st->nx * sizeof *v);
@@ -355,7 +346,7 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
          * Feasibility to 10× the constraint tolerance (1e-9 mm at least): SLSQP's last step
          * is limited by rounding at about that level. */
         double stol = st->s.tolerance < HP_NLOPT_SOLVE_TOL_MAX ? st->s.tolerance
-                                                              : HP_NLOPT_SOLVE_TOL_MAX;
+                                                               : HP_NLOPT_SOLVE_TOL_MAX;
         if (hpi_backend_kkt_ok(pb, v, fmax(10.0 * stol, 1e-9))) {
             r->converged = 1;
             r->status = HP_STATUS_REACHED;
@@ -369,14 +360,14 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
 /* The load level's HOLD with its tie-breaker on NLopt SLSQP (load_nlopt.c); the
  * derivative-free COBYLA has no load_hold. */
 static hpi_load_solve_status slsqp_load_hold(const hp_load_model *M, const double xi[6],
-                                            const double *lo, const double *hi,
-                                            const double *target, const double *start,
-                                            int max_iter, int stiffness, double *P, double *F,
-                                            int *iterations, int *raw)
+                                             const double *lo, const double *hi,
+                                             const double *target, const double *start,
+                                             int max_iter, int stiffness, double *P, double *F,
+                                             int *iterations, int *raw)
 {
     (void)stiffness; /* not in caps: hp_planner_create refuses it */
-    return hpi_load_hold_with(hpi_load_hold_nlopt, M, xi, lo, hi, target, start, max_iter, 0, P,
-                             F, iterations, raw);
+    return hpi_load_hold_with(hpi_load_hold_nlopt, M, xi, lo, hi, target, start, max_iter, 0, P, F,
+                              iterations, raw);
 }
 
 const hp_backend_ops hpi_backend_nlopt_slsqp_ops = {

@@ -63,13 +63,13 @@ typedef struct rt_state {
     double rho[HP_MAX_BLADDERS], *J, *H;
     double Jb[2][HP_MAX_BLADDERS * 6], Hb[2][HP_MAX_BLADDERS * 36];
     double rho_k[HP_MAX_BLADDERS]; /* rho at the point the last QP was linearised at */
-    double u[HP_QP_MMAX]; /* multipliers of the last QP: the Lagrangian's curvature */
+    double u[HP_QP_MMAX];          /* multipliers of the last QP: the Lagrangian's curvature */
     int have_u;
-    int qps; /* QPs solved in this solve (for the test hook) */
-    hp_test_rt_counts cnt; /* this solve's paths (hpi_test_realtime_count) */
+    int qps;                              /* QPs solved in this solve (for the test hook) */
+    hp_test_rt_counts cnt;                /* this solve's paths (hpi_test_realtime_count) */
     hp_kin_dist_warm sw[HP_MAX_BLADDERS]; /* surface level: the last distances' warm states */
-    int act[HP_QP_MMAX]; /* active set of the previous SQP step's QP */
-    int exact;           /* the last QP's Hessian was the Lagrangian's own (Newton) */
+    int act[HP_QP_MMAX];                  /* active set of the previous SQP step's QP */
+    int exact; /* the last QP's Hessian was the Lagrangian's own (Newton) */
     /* The Cholesky factor of the QP's G from the convexity test (build_objective), when G
      * was not changed after it, or of G = W (diagonal): the QP solves then do not factor G
      * again. */
@@ -125,7 +125,7 @@ void hpi_test_realtime_count(int on)
 
 void hpi_test_realtime_counts(hp_test_rt_counts *out)
 {
-    long *f[9] = {&out->solves,   &out->qps,    &out->qp_warm,  &out->soc,        &out->soc_warm,
+    long *f[9] = {&out->solves, &out->qps,      &out->qp_warm,     &out->soc, &out->soc_warm,
                   &out->h_kept, &out->rho_step, &out->rho_refused, &out->late};
     for (int i = 0; i < 9; ++i) *f[i] = atomic_load(&rt_counts[i]);
 }
@@ -134,8 +134,8 @@ static void rt_count_flush(const rt_state *st)
 {
     if (!atomic_load_explicit(&rt_counting, memory_order_relaxed)) return;
     const hp_test_rt_counts *c = &st->cnt;
-    const long v[9] = {1, st->qps, c->qp_warm, c->soc, c->soc_warm, c->h_kept, c->rho_step,
-                       c->rho_refused, c->late};
+    const long v[9] = {1,         st->qps,     c->qp_warm,     c->soc, c->soc_warm,
+                       c->h_kept, c->rho_step, c->rho_refused, c->late};
     for (int i = 0; i < 9; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
 }
 
@@ -234,7 +234,7 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
     for (int i = 0; i < 6; ++i) xi[i] = x[i] * hpi_pose_si_per_scaled(i);
     rt_count_late(st);
     hp_error e = hpi_kin_contact_eval_mask(pb->layout, pb->geom, pb->level, xi, st->sw,
-                                          H ? mask : NULL, rho, J ? Jsi : NULL, H);
+                                           H ? mask : NULL, rho, J ? Jsi : NULL, H);
     if (e != HP_OK) return e;
     for (int k = 0; k < pb->n; ++k) {
         rho[k] *= HP_MM_PER_M;
@@ -279,8 +279,7 @@ static double qp_violation(const rt_state *st, const hp_problem *pb, const doubl
     return v;
 }
 
-static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings *s,
-                          hp_diag *d)
+static hp_error rt_create(void **state, const hp_problem *pb, const hp_settings *s, hp_diag *d)
 {
     rt_state *st = calloc(1, sizeof *st);
     if (!st) return hp_diag_set(d, HP_ERR_NOMEM, "realtime backend: out of memory");
@@ -424,9 +423,8 @@ static void build_objective(rt_state *st, const hp_problem *pb, const double *xk
  * limits tightened by extra[k] (mm, may be NULL). Writes the new pose into x. guess (may
  * be NULL) is the active set the QP is warm-started from (hpi_qp_solve_warm): successive
  * SQP steps' QPs mostly share theirs, and a wrong guess only costs the attempt. */
-static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
-                          const double *extra, const int *guess, double *x, int budget,
-                          int *iters)
+static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk, const double *extra,
+                          const int *guess, double *x, int budget, int *iters)
 {
     hp_qp *q = &st->qp;
     const int *map = st->map, nv = st->nv;
@@ -491,12 +489,11 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk,
             lo[v] = jr[v];
             hi[v] = -jr[v];
         }
-        q->b[2 * k] = pb->ro_lo[k] + mg - base;         /* J x >= lo − base */
-        q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base);  /* −J x >= −(hi − base) */
+        q->b[2 * k] = pb->ro_lo[k] + mg - base;        /* J x >= lo − base */
+        q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base); /* −J x >= −(hi − base) */
     }
     build_objective(st, pb, xk, curved);
-    hp_qp_status qs =
-        hpi_qp_solve_warm(q, st->Lg_ok ? st->Lg : NULL, guess, budget, RT_FEAS_TOL);
+    hp_qp_status qs = hpi_qp_solve_warm(q, st->Lg_ok ? st->Lg : NULL, guess, budget, RT_FEAS_TOL);
     *iters += q->iterations;
     if (qs == HP_QP_BAD_INPUT && curved) { /* Lagrangian not convex here: plain W */
         build_objective(st, pb, xk, 0);
@@ -523,10 +520,8 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
     if (st->c_ok && same_bits(st->c_x, x, 6)) /* the line search's point */
         memcpy(st->rho, st->c_rho, sizeof st->rho);
-    else if (rt_contact(st, pb, x, st->rho, NULL, NULL, NULL) != HP_OK)
-        return INFINITY;
-    else
-        rt_inject(st, pb->n, st->rho);
+    else if (rt_contact(st, pb, x, st->rho, NULL, NULL, NULL) != HP_OK) return INFINITY;
+    else rt_inject(st, pb->n, st->rho);
     double worst = 0;
     for (int k = 0; k < pb->n; ++k) {
         if (!isfinite(st->rho[k])) return INFINITY; /* a max would drop a NaN */
@@ -577,15 +572,14 @@ static void lin_point(const rt_state *st, const hp_problem *pb, const double *xa
     memcpy(r->lin_rho, st->rho_k, sizeof r->lin_rho);
     for (int k = 0; k < pb->n; ++k)
         for (int i = 0; i < 6; ++i)
-            r->lin_J[k * 6 + i] =
-                st->J[k * 6 + i] / (HP_MM_PER_M * hpi_pose_si_per_scaled(i));
+            r->lin_J[k * 6 + i] = st->J[k * 6 + i] / (HP_MM_PER_M * hpi_pose_si_per_scaled(i));
     r->has_lin = 1;
 }
 
 /* The l1 merit function ½Σw(x − d)² + nu·Σ violation(x) (mm), which the SQP step decreases
  * for nu above the largest multiplier, from the radii rho at x. */
-static double merit_of(const rt_state *st, const hp_problem *pb, const double *x,
-                       const double *rho, double nu)
+static double merit_of(const rt_state *st, const hp_problem *pb, const double *x, const double *rho,
+                       double nu)
 {
     double f = 0;
     for (int i = 0; i < 6; ++i) f += 0.5 * pb->w[i] * (x[i] - pb->d[i]) * (x[i] - pb->d[i]);
@@ -601,8 +595,7 @@ static double merit(rt_state *st, const hp_problem *pb, const double *x, double 
 
 /* The merit at a full SQP step's point x, evaluating the model there with the derivatives
  * the next QP needs (kept in st->c_*): near the answer every full step is accepted. */
-static double merit_full(rt_state *st, const hp_problem *pb, const double *x, double nu,
-                         int want_h)
+static double merit_full(rt_state *st, const hp_problem *pb, const double *x, double nu, int want_h)
 {
     st->c_ok = 0;
     /* Only the curved levels search lines, and only after a QP, so the Hessians (of the
@@ -637,8 +630,8 @@ static int keep_h(const rt_state *st, const hp_problem *pb, const double *xk, co
  * them on curved limits: the Maratos effect); otherwise backtracking along the step (at
  * most 30 halvings). Far from the answer a full step can overshoot the curved limits and
  * cycle; every accepted point here lowers the merit. xk becomes the accepted point. */
-static int line_search(rt_state *st, const hp_problem *pb, double *xk, const double *xn,
-                       int budget, int *iters)
+static int line_search(rt_state *st, const hp_problem *pb, double *xk, const double *xn, int budget,
+                       int *iters)
 {
     hp_qp *q = &st->qp;
     double nu = 1.0;
@@ -720,7 +713,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     r->has_rho = 0;
     r->has_lin = 0;
     for (int i = 0; i < 6; ++i) xk[i] = (pb->w[i] > 0 && x0 && isfinite(x0[i])) ? x0[i] : 0.0;
-    if (pb->level == HP_LEVEL_LINEAR) for (int i = 0; i < 6; ++i) xk[i] = 0.0;
+    if (pb->level == HP_LEVEL_LINEAR)
+        for (int i = 0; i < 6; ++i) xk[i] = 0.0;
 
     int iters = 0, sqp = 0;
     double prev_step = INFINITY;
@@ -819,8 +813,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
          * conditions under which Newton-SQP converges quadratically near a regular
          * solution; the QP saved would only confirm digits far below the tolerance. */
         double next = step * (step / prev_step) * (step / prev_step);
-        if (step <= 1e-3 * stop_tol ||
-            (step <= 0.1 * stop_tol && step >= 0.5 * prev_step) ||
+        if (step <= 1e-3 * stop_tol || (step <= 0.1 * stop_tol && step >= 0.5 * prev_step) ||
             (whole && whole_prev && same_active && inside && st->exact && exact_prev &&
              step <= 0.01 * prev_step && next <= fmin(1e-3 * stop_tol, 0.1 * RT_MARGIN_MM))) {
             r->converged = 1;
@@ -829,8 +822,10 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         prev_step = step;
         whole_prev = whole;
         exact_prev = st->exact;
-        if (sqp >= st->max_iter) { st_out = HP_STATUS_ITERATION_LIMIT; break; }
-
+        if (sqp >= st->max_iter) {
+            st_out = HP_STATUS_ITERATION_LIMIT;
+            break;
+        }
     }
     r->raw_code = (int)qs;
     r->iterations = iters;
@@ -838,7 +833,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         r->status = qp_status_map(qs);
         rt_count_flush(st);
         return hp_diag_set(d, HP_ERR_SOLVER, "realtime QP: %s",
-                           qs == HP_QP_INFEASIBLE ? "the limits cannot all hold at once"
+                           qs == HP_QP_INFEASIBLE        ? "the limits cannot all hold at once"
                            : qs == HP_QP_ITERATION_LIMIT ? "iteration budget exhausted"
                                                          : "bad numbers in the problem");
     }
@@ -862,7 +857,10 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         for (int k = 0; k < pb->n; ++k) extra[k] += 2.0 * viol[k];
         if (qp_at(st, pb, xk, extra, st->act, xn, st->max_iter, &iters) != HP_QP_OPTIMAL) break;
         double vn = violation(st, pb, xn, viol);
-        if (vn < v) { memcpy(xk, xn, sizeof xk); v = vn; }
+        if (vn < v) {
+            memcpy(xk, xn, sizeof xk);
+            v = vn;
+        }
         r->converged = 0; /* a tightened answer is feasible but not proven closest */
     }
     if (v > 0) {
@@ -933,10 +931,9 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
 /* The load level's HOLD with its own bounded SQP tie-breaker (load_solve.c); no solver code
  * of its own, so raw is left alone. */
 static hpi_load_solve_status rt_load_hold(const hp_load_model *M, const double xi[6],
-                                         const double *lo, const double *hi,
-                                         const double *target, const double *start,
-                                         int max_iter, int stiffness, double *P, double *F,
-                                         int *iterations, int *raw)
+                                          const double *lo, const double *hi, const double *target,
+                                          const double *start, int max_iter, int stiffness,
+                                          double *P, double *F, int *iterations, int *raw)
 {
     (void)stiffness; /* not in caps: hp_planner_create refuses it */
     (void)raw;

@@ -47,7 +47,7 @@ static hp_error opt_int(IpoptProblem a, const char *k, int v, hp_diag *d)
 #define IPOPT_COMPL_TOL 1e-10
 
 hp_error hpi_ipopt_base_options(IpoptProblem app, double tol, int max_iter, double max_time,
-                               hp_diag *d)
+                                hp_diag *d)
 {
     /* bound_relax_factor 0: by default Ipopt relaxes each bound by 1e-8 relative (3e-7 mm
      * here) and then projects the answer back onto it, which breaks the contact equality by
@@ -61,8 +61,7 @@ hp_error hpi_ipopt_base_options(IpoptProblem app, double tol, int max_iter, doub
      * (HP_BINDING_TOL_MM, 1e-6 mm) sees no limit and must refuse a CLOSEST claim: a loose
      * tolerance then gave solver-error on 35 of the bench's 40 binding targets. */
     hp_error e;
-    if ((e = hpi_ipopt_opt_str(app, "sb", "yes", d)) ||
-        (e = opt_int(app, "print_level", 0, d)) ||
+    if ((e = hpi_ipopt_opt_str(app, "sb", "yes", d)) || (e = opt_int(app, "print_level", 0, d)) ||
         (e = hpi_ipopt_opt_str(app, "option_file_name", "", d)) ||
         (e = hpi_ipopt_opt_num(app, "tol", tol, d)) ||
         (e = hpi_ipopt_opt_num(app, "constr_viol_tol", tol, d)) ||

@@ -23,6 +23,6 @@ hp_error hpi_ipopt_opt_num(IpoptProblem a, const char *k, double v, hp_diag *d);
  * never relaxed, no "acceptable" early stop, the iteration and CPU-time budgets, tiny
  * warm-start pushes. HP_ERR_SOLVER naming the option Ipopt rejected. */
 hp_error hpi_ipopt_base_options(IpoptProblem app, double tol, int max_iter, double max_time,
-                               hp_diag *d);
+                                hp_diag *d);
 
 #endif

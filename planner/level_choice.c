@@ -21,17 +21,20 @@ static void contact_why(const hp_planner *p, hp_level chosen, char *why, size_t 
     double b[2] = {NAN, NAN};
     for (int l = HP_LEVEL_LINEAR; l < (int)chosen && l <= HP_LEVEL_PLANE; ++l)
         if (hpi_contact_error_bound_g(&p->L, &p->G, (hp_level)l, s->auto_trans, s->auto_rot,
-                                     &b[l]) != HP_OK)
+                                      &b[l]) != HP_OK)
             b[l] = NAN;
     const char *name = hp_level_name(chosen);
     if (chosen == HP_LEVEL_SURFACE)
-        snprintf(why, len, "auto chose %s: the error bounds of linear (%.3g mm) and plane "
-                 "(%.3g mm) exceed %s", name, b[0] * 1e3, b[1] * 1e3, range);
+        snprintf(why, len,
+                 "auto chose %s: the error bounds of linear (%.3g mm) and plane "
+                 "(%.3g mm) exceed %s",
+                 name, b[0] * 1e3, b[1] * 1e3, range);
     else if (chosen == HP_LEVEL_PLANE)
-        snprintf(why, len, "auto chose %s: the error bound of linear (%.3g mm) exceeds %s; "
-                 "plane's meets it", name, b[0] * 1e3, range);
-    else
-        snprintf(why, len, "auto chose %s: its error bound meets %s", name, range);
+        snprintf(why, len,
+                 "auto chose %s: the error bound of linear (%.3g mm) exceeds %s; "
+                 "plane's meets it",
+                 name, b[0] * 1e3, range);
+    else snprintf(why, len, "auto chose %s: its error bound meets %s", name, range);
 }
 
 hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_diag *d)
@@ -67,7 +70,7 @@ hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_di
     }
     if (p->level != HP_LEVEL_AUTO) return HP_OK;
     hp_error e = hpi_contact_auto_g(&p->L, &p->G, s->level_tolerance, s->auto_trans, s->auto_rot,
-                                   &p->level);
+                                    &p->level);
     if (e != HP_OK)
         return hp_diag_set(d, e, "level: auto could not choose a contact level (%s)",
                            hp_error_message(e));

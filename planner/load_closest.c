@@ -44,8 +44,7 @@ typedef struct frange {
 /* Bladder k's carrying force range at contact distance rho inside [plo, phi] and the
  * indentation range. 0 on success, -1 when the model fails, 1 when no pressure in the
  * bounds is inside the indentation range (its lowest pressure already carries beyond it). */
-static int force_range(const hp_load_model *M, int k, double rho, double plo, double phi,
-                       frange *r)
+static int force_range(const hp_load_model *M, int k, double rho, double plo, double phi, frange *r)
 {
     memset(r, 0, sizeof *r);
     const double c = 1.0 - HP_LOAD_INDENT_MAX;
@@ -88,8 +87,8 @@ typedef struct cl_ctx {
 /* The equilibrium rows c (weighted, N) at scaled pose y (mm, degrees) and fractions s, and
  * when Cy is not NULL their Jacobians Cy (6×6, per mm or degree) and Cs (6×n). F gets the
  * forces (may be NULL). 0 on success, -1 outside the model's domain or when it fails. */
-static int cl_eval(const cl_ctx *C, const double y[6], const double *s, double c[6],
-                   double *Cy, double *Cs, double *F)
+static int cl_eval(const cl_ctx *C, const double y[6], const double *s, double c[6], double *Cy,
+                   double *Cs, double *F)
 {
     const hp_load_model *M = C->M;
     const int n = C->n;
@@ -112,7 +111,8 @@ static int cl_eval(const cl_ctx *C, const double y[6], const double *s, double c
         for (int i = 0; i < 6; ++i) q[i] += Fk * Jk[i];
         if (Cy) {
             for (int i = 0; i < 6; ++i) {
-                for (int j = 0; j < 6; ++j) D[i * 6 + j] += Fk * H[k * 36 + i * 6 + j] + dF * Jk[i] * Jk[j];
+                for (int j = 0; j < 6; ++j)
+                    D[i * 6 + j] += Fk * H[k * 36 + i * 6 + j] + dF * Jk[i] * Jk[j];
                 Cs[i * n + k] = (r.hi - r.lo) * Jk[i] * hpi_load_row_weight(i);
             }
         }
@@ -120,7 +120,8 @@ static int cl_eval(const cl_ctx *C, const double y[6], const double *s, double c
     for (int i = 0; i < 6; ++i) {
         c[i] = q[i] * hpi_load_row_weight(i);
         if (Cy)
-            for (int j = 0; j < 6; ++j) Cy[i * 6 + j] = D[i * 6 + j] * hpi_load_row_weight(i) * hpi_load_unit(j);
+            for (int j = 0; j < 6; ++j)
+                Cy[i * 6 + j] = D[i * 6 + j] * hpi_load_row_weight(i) * hpi_load_unit(j);
     }
     return 0;
 }
@@ -138,9 +139,9 @@ static double l1(const double c[6])
 }
 
 hpi_load_solve_status hpi_load_closest(const hp_load_model *M, const double desired[6],
-                                     const double W[6], const double *lo, const double *hi,
-                                     const double xi0[6], const double *F0, int max_iter,
-                                     double xi[6], int *iterations)
+                                       const double W[6], const double *lo, const double *hi,
+                                       const double xi0[6], const double *F0, int max_iter,
+                                       double xi[6], int *iterations)
 {
     const int n = M->layout.n, nv = 6 + n;
     cl_ctx C = {M, lo, hi, n};
@@ -164,8 +165,8 @@ hpi_load_solve_status hpi_load_closest(const hp_load_model *M, const double desi
     int it = 0, converged = 0;
     for (; it < max_iter && !converged; ++it) {
         if (cl_eval(&C, y, s, c, Cy, Cs, NULL) != 0) return HP_LOAD_SOLVE_ERROR;
-        double A[6 * HP_LOAD_QP_NMAX], h[HP_LOAD_QP_NMAX], g[HP_LOAD_QP_NMAX],
-            l[HP_LOAD_QP_NMAX], u[HP_LOAD_QP_NMAX], d[HP_LOAD_QP_NMAX];
+        double A[6 * HP_LOAD_QP_NMAX], h[HP_LOAD_QP_NMAX], g[HP_LOAD_QP_NMAX], l[HP_LOAD_QP_NMAX],
+            u[HP_LOAD_QP_NMAX], d[HP_LOAD_QP_NMAX];
         for (int r = 0; r < 6; ++r) {
             for (int j = 0; j < 6; ++j) A[r * nv + j] = Cy[r * 6 + j];
             for (int k = 0; k < n; ++k) A[r * nv + 6 + k] = Cs[r * n + k];

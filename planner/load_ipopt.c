@@ -160,7 +160,7 @@ static int options(IpoptProblem a, int max_iter, int stiff)
 }
 
 hpi_load_solve_status hpi_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
-                                        int *iterations, int *raw)
+                                          int *iterations, int *raw)
 {
     ud u;
     memset(&u, 0, sizeof u);
@@ -178,8 +178,8 @@ hpi_load_solve_status hpi_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p
     if (u.nf == 0) return HP_LOAD_SOLVE_OK; /* nothing to choose */
     hpi_ipopt_lock();
     int nh = u.stiff ? u.nf * (u.nf + 1) / 2 : u.nf;
-    IpoptProblem a = CreateIpoptProblem(u.nf, xl, xu, 6, gl, gu, 6 * u.nf, nh, 0, eval_f,
-                                        eval_g, eval_grad_f, eval_jac_g, eval_h);
+    IpoptProblem a = CreateIpoptProblem(u.nf, xl, xu, 6, gl, gu, 6 * u.nf, nh, 0, eval_f, eval_g,
+                                        eval_grad_f, eval_jac_g, eval_h);
     hpi_load_solve_status st = HP_LOAD_SOLVE_ERROR;
     if (a && options(a, max_iter, u.stiff != NULL)) {
         double g[6], obj, mg[6] = {0}, ml[HP_MAX_BLADDERS] = {0}, mu[HP_MAX_BLADDERS] = {0};

@@ -70,7 +70,8 @@ static hp_error check_carry(hp_load_level *p, hp_diag *diag)
     if (!any)
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load: no bladder pushes against gravity (the head needs support "
-                           "along %s)", direction_words(up, w, sizeof w));
+                           "along %s)",
+                           direction_words(up, w, sizeof w));
     double weight = M->spec.mass * g;
     if (!(cap >= weight))
         return hp_diag_set(diag, HP_ERR_INVALID,
@@ -82,13 +83,13 @@ static hp_error check_carry(hp_load_level *p, hp_diag *diag)
 }
 
 hp_error hpi_load_level_model(hp_load_level *p, const hp_layout *L, const hp_settings *s,
-                             hp_diag *diag)
+                              hp_diag *diag)
 {
     return hpi_load_model_setup(&p->M, L, &s->load, s->load_geometry, diag);
 }
 
 hp_error hpi_load_level_build(hp_load_level *p, const hp_settings *s, const hp_backend_ops *ops,
-                             char *err, hp_diag *diag)
+                              char *err, hp_diag *diag)
 {
     if (p->M.layout.head.shape == HP_HEAD_SPHERE)
         return hp_diag_set(diag, HP_ERR_INVALID,
@@ -98,11 +99,13 @@ hp_error hpi_load_level_build(hp_load_level *p, const hp_settings *s, const hp_b
     if (!(ops->caps & HP_BACKEND_LOAD) || !ops->load_hold)
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "backend: %s is not available at the load level (use a backend "
-                           "that plans it: realtime, ipopt or nlopt-slsqp)", ops->name);
+                           "that plans it: realtime, ipopt or nlopt-slsqp)",
+                           ops->name);
     if (s->load_tiebreak == HP_TIE_STIFFNESS && !(ops->caps & HP_BACKEND_LOAD_STIFFNESS))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load_tiebreak: tie-breaker stiffness needs the ipopt backend (%s "
-                           "solves the distance tie-breakers only)", ops->name);
+                           "solves the distance tie-breakers only)",
+                           ops->name);
     hp_error e = hp_layout_identify(&p->M.layout, &p->id);
     if (e != HP_OK)
         return hp_diag_set(diag, e, "layout: the contact Jacobian at the nominal pose: %s",
@@ -113,8 +116,7 @@ hp_error hpi_load_level_build(hp_load_level *p, const hp_settings *s, const hp_b
     p->set = *s;
     p->ops = ops;
     p->err = err;
-    for (int k = 0; k < p->M.layout.n; ++k)
-        p->start_P[k] = fmin(fmax(0.0, p->lo[k]), p->hi[k]);
+    for (int k = 0; k < p->M.layout.n; ++k) p->start_P[k] = fmin(fmax(0.0, p->lo[k]), p->hi[k]);
     hpi_load_level_reset(p);
     return HP_OK;
 }
@@ -176,16 +178,15 @@ static double pose_err(const double xi[6], const double desired[6], const double
  * the equilibrium. 1: held (x gets the pose, Pt the pressures); 0: not held with every
  * bladder centre outside the head; -1: some centre inside it, past its panel, where the
  * load model is not defined (hpi_load_domain): the head has sunk too far. */
-static int held_pose(const hp_load_level *p, const double x[6], const double *target,
-                     double *Pt)
+static int held_pose(const hp_load_level *p, const double x[6], const double *target, double *Pt)
 {
     const hp_load_model *M = &p->M;
     double F[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
     if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, x, rho, NULL, NULL) != HP_OK ||
         hpi_load_domain(M, rho) != HP_OK)
         return -1;
-    return hpi_load_hold(M, x, p->elo, p->ehi, target, NULL, 0, Pt, F, NULL) ==
-               HP_LOAD_SOLVE_OK && holds(M, x, Pt);
+    return hpi_load_hold(M, x, p->elo, p->ehi, target, NULL, 0, Pt, F, NULL) == HP_LOAD_SOLVE_OK &&
+           holds(M, x, Pt);
 }
 
 static int held_at(const hp_load_level *p, const double desired[6], double depth,
@@ -218,8 +219,8 @@ static void keep_held(double xs[6], double *Ps, const double x[6], const double 
  * depth up to 64 mm is held. At most 11 + 2·36 feasibility checks, each one HOLD phase 1
  * (one contact evaluation and one bounded QP), most of them unreachable depths that the
  * row-interval test of HOLD (or the domain check) rejects without a QP. */
-static int sink(const hp_load_level *p, const double desired[6], const double *target,
-                double sign, double xs[6], double *Ps)
+static int sink(const hp_load_level *p, const double desired[6], const double *target, double sign,
+                double xs[6], double *Ps)
 {
     const int n = p->M.layout.n;
     double Pt[HP_MAX_BLADDERS], x[6];
@@ -268,15 +269,15 @@ static int sink(const hp_load_level *p, const double desired[6], const double *t
  * segment from x0 is taken (bisection to 2^-30 of the segment): never farther than x0, as
  * the distance is convex. 1 with (x, P) a held pose, else 0. */
 static int closest_from(const hp_load_level *p, const double desired[6], const double W[6],
-                        const double *target, const double x0[6], const double *F0,
-                        double x[6], double *P, int *iters)
+                        const double *target, const double x0[6], const double *F0, double x[6],
+                        double *P, int *iters)
 {
     const hp_load_model *M = &p->M;
     const int n = M->layout.n;
     double xc[6], Pt[HP_MAX_BLADDERS], xt[6];
     int it = 0;
-    hpi_load_solve_status st =
-        hpi_load_closest(M, desired, W, p->elo, p->ehi, x0, F0, p->set.max_iter, xc, &it);
+    hpi_load_solve_status st = hpi_load_closest(M, desired, W, p->elo, p->ehi, x0, F0,
+                                                p->set.max_iter, xc, &it);
     *iters += it;
     if (st != HP_LOAD_SOLVE_OK && st != HP_LOAD_SOLVE_ITERATION_LIMIT) return 0;
     if (held_pose(p, xc, target, P) > 0) {
@@ -311,9 +312,8 @@ static int closest_from(const hp_load_level *p, const double desired[6], const d
  * SQP, the restoration can stall where the rows' residual is locally least; a held start
  * does not need it. The nearest held pose wins; (xi, P) gets it. Returns 1 when there is
  * one. */
-static int closest_program(const hp_load_level *p, const double desired[6],
-                           const double W[6], const double *target, int have, double xi[6],
-                           double *P, int *iters)
+static int closest_program(const hp_load_level *p, const double desired[6], const double W[6],
+                           const double *target, int have, double xi[6], double *P, int *iters)
 {
     const hp_load_model *M = &p->M;
     const int n = M->layout.n;
@@ -383,9 +383,8 @@ static void plan_bounds(hp_load_level *p)
 
 /* HOLD with the configured backend's tie-breaker (its load_hold: Ipopt's and NLopt's raw
  * code in *raw). */
-static hpi_load_solve_status hold(const hp_load_level *p, const double xi[6],
-                                 const double *target, const double *start, double *P,
-                                 double *F, int *iters, int *raw)
+static hpi_load_solve_status hold(const hp_load_level *p, const double xi[6], const double *target,
+                                  const double *start, double *P, double *F, int *iters, int *raw)
 {
     return p->ops->load_hold(&p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter,
                              p->set.load_tiebreak == HP_TIE_STIFFNESS, P, F, iters, raw);
@@ -466,7 +465,8 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
     int bad = !hpi_plan_desired_ok(&p->id, desired, p->err);
     plan_bounds(p);
     double target[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], xi[6];
-    for (int k = 0; k < n; ++k) target[k] = p->set.load_tiebreak == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
+    for (int k = 0; k < n; ++k)
+        target[k] = p->set.load_tiebreak == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
     hpi_load_solve_status st = HP_LOAD_SOLVE_ERROR;
     int it1 = 0, it2 = 0, it3 = 0, held = 0; /* held: holds(M, xi, P) already checked */
     if (!bad) {
@@ -492,7 +492,7 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
                 sunk = 1;
             }
             st = hpi_load_pose(M, desired, W, p->elo, p->ehi, sunk ? xs : p->prev_xi,
-                              sunk ? Ps : p->prev_P, p->set.max_iter, xi, Pa, &it2);
+                               sunk ? Ps : p->prev_P, p->set.max_iter, xi, Pa, &it2);
             /* The 6-D refinement must end on a held pose nearer than the sunk one. */
             if (st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT) {
                 int ok = holds(M, xi, Pa) && indent_ok(M, xi, Pa);
@@ -510,8 +510,7 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
             }
             /* The closest held pose as a program, warm-started at the held pose found. */
             int have = st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT;
-            if (closest_program(p, desired, W, target, have, xi, Pa, &it2))
-                st = HP_LOAD_SOLVE_OK;
+            if (closest_program(p, desired, W, target, have, xi, Pa, &it2)) st = HP_LOAD_SOLVE_OK;
             if (st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT) {
                 double err = 0.0;
                 for (int i = 0; i < 6; ++i)
@@ -534,9 +533,9 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
                         memcpy(xi, xp, sizeof xi);
                     }
                 }
-                r->status = reached ? HP_STATUS_REACHED
-                                    : st == HP_LOAD_SOLVE_OK ? HP_STATUS_CLOSEST
-                                                             : HP_STATUS_ITERATION_LIMIT;
+                r->status = reached                  ? HP_STATUS_REACHED
+                            : st == HP_LOAD_SOLVE_OK ? HP_STATUS_CLOSEST
+                                                     : HP_STATUS_ITERATION_LIMIT;
                 st = HP_LOAD_SOLVE_OK;
             }
         }
@@ -544,8 +543,8 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
     r->iterations = it1 + it2 + it3;
     if (r->status == HP_STATUS_ITERATION_LIMIT)
         hpi_text_set(p->err, "load planner: iteration-limit: the closest-pose search ran out of "
-                            "solver.max_iter; the pose returned is held inside the limits "
-                            "but not proven the closest");
+                             "solver.max_iter; the pose returned is held inside the limits "
+                             "but not proven the closest");
     /* Whichever path gave it (HOLD, the sinking search, the 6-D refinement from the previous
      * pose), an answer is returned only when it is an equilibrium by both checks. */
     int unverified = !bad && st == HP_LOAD_SOLVE_OK &&
@@ -555,15 +554,15 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
         if (beyond)
             hpi_text_set(p->err, "load planner: the pose found near the desired one indents a "
-                                "bladder beyond the range where the contact law is trusted "
-                                "(indent_max), so it is not returned");
+                                 "bladder beyond the range where the contact law is trusted "
+                                 "(indent_max), so it is not returned");
         else if (unverified)
             hpi_text_set(p->err, "load planner: the pose found near the desired one is not an "
-                                "equilibrium of the load model (its residual exceeds 1e-9 N), "
-                                "so it is not returned");
+                                 "equilibrium of the load model (its residual exceeds 1e-9 N), "
+                                 "so it is not returned");
         else if (!bad)
             hpi_text_set(p->err, "load planner: no pose near the desired one is held inside the "
-                                "limits");
+                                 "limits");
         /* Safe output: the previous pressures at the previous pose. */
         memcpy(xi, p->prev_xi, sizeof xi);
         memcpy(P, p->prev_P, (size_t)n * sizeof *P);
@@ -608,8 +607,8 @@ hp_error hpi_load_level_info(const hp_load_level *p, hp_load_info *info)
     if (hp_load_rest(M, P, xi, info->rest, NULL) == HP_OK) {
         info->rest_error = 0.0;
         for (int i = 0; i < 6; ++i)
-            info->rest_error =
-                fmax(info->rest_error, fabs(info->rest[i] - xi[i]) / hpi_load_unit(i));
+            info->rest_error = fmax(info->rest_error,
+                                    fabs(info->rest[i] - xi[i]) / hpi_load_unit(i));
     } else {
         for (int i = 0; i < 6; ++i) info->rest[i] = NAN;
         info->rest_error = INFINITY;

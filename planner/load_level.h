@@ -10,8 +10,8 @@
 #include "planner/problem.h"
 
 typedef struct hp_load_level {
-    hp_load_model M;     /* embedded: hp_planner_create stays the only allocation */
-    hp_identifiable id;  /* the range of corrections hp_plan accepts, accepted here too */
+    hp_load_model M;    /* embedded: hp_planner_create stays the only allocation */
+    hp_identifiable id; /* the range of corrections hp_plan accepts, accepted here too */
     hp_settings set;
     const hp_backend_ops *ops; /* the configured backend: its load_hold tie-breaks HOLD */
     double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
@@ -36,12 +36,12 @@ typedef struct hp_load_level {
 /* The load model of layout L at settings s (load, load_geometry) into p (zeroed by the
  * caller): what auto needs to decide (hp_load_auto_choose). */
 hp_error hpi_load_level_model(hp_load_level *p, const hp_layout *L, const hp_settings *s,
-                             hp_diag *diag);
+                              hp_diag *diag);
 /* The rest of the load level on a model from hpi_load_level_model: a head that is not a
  * sphere, the backend's load capability, the bounds, the layout's ability to carry the load; err is where the
  * messages of plans go. */
 hp_error hpi_load_level_build(hp_load_level *p, const hp_settings *s, const hp_backend_ops *ops,
-                             char *err, hp_diag *diag);
+                              char *err, hp_diag *diag);
 /* hp_plan at the load level (hp_planner.h). */
 hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_result *r);
 /* hp_planner_load_info of the last returned pressures and pose. */

@@ -27,8 +27,7 @@ static double objective(unsigned n, const double *x, double *grad, void *data)
     return v;
 }
 
-static void rows(unsigned m, double *result, unsigned n, const double *x, double *grad,
-                 void *data)
+static void rows(unsigned m, double *result, unsigned n, const double *x, double *grad, void *data)
 {
     nl_ud *u = data;
     const hp_load_hold_nlp *q = u->nlp;
@@ -49,7 +48,7 @@ static void rows(unsigned m, double *result, unsigned n, const double *x, double
 }
 
 hpi_load_solve_status hpi_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
-                                        int *iterations, int *raw)
+                                          int *iterations, int *raw)
 {
     nl_ud u;
     memset(&u, 0, sizeof u);

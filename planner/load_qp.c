@@ -5,13 +5,12 @@
 #include <math.h>
 #include <string.h>
 
-int hpi_load_box_qp(int nv, const double *H, const double *g, const double *l,
-                   const double *u, int max_iter, double *d);
+int hpi_load_box_qp(int nv, const double *H, const double *g, const double *l, const double *u,
+                    int max_iter, double *d);
 
-hp_load_qp_status hpi_load_qp_solve(int nv, const double *M, const double c[6],
-                                   const double *h, const double *g, const double *l,
-                                   const double *u, double tol, int max_iter,
-                                   double lambda[6], double *d, int *iterations)
+hp_load_qp_status hpi_load_qp_solve(int nv, const double *M, const double c[6], const double *h,
+                                    const double *g, const double *l, const double *u, double tol,
+                                    int max_iter, double lambda[6], double *d, int *iterations)
 {
     /* The method of multipliers: each outer step minimises the augmented Lagrangian
      * ½Σh(d−g)² + λᵀ(Md + c) + ½ρ|Md + c|² over the box (a finite active-set box QP),
@@ -58,8 +57,8 @@ hp_load_qp_status hpi_load_qp_solve(int nv, const double *M, const double c[6],
     return HP_LOAD_QP_ITERATION_LIMIT;
 }
 
-int hpi_load_box_qp(int nv, const double *H, const double *g, const double *l,
-                   const double *u, int max_iter, double *d)
+int hpi_load_box_qp(int nv, const double *H, const double *g, const double *l, const double *u,
+                    int max_iter, double *d)
 {
     int state[HP_LOAD_QP_NMAX]; /* 0 free, -1 at lower, +1 at upper */
     for (int i = 0; i < nv; ++i) {

@@ -19,10 +19,9 @@ typedef enum hp_load_qp_status {
 /* Solves the QP above with nv <= HP_LOAD_QP_NMAX variables; M is 6×nv row-major; lambda
  * (6) is the warm start in and the multipliers out (of λᵀ(c + M·d)); d receives the
  * solution. tol is the accepted |c + M·d|∞; max_iter bounds the multiplier updates. */
-hp_load_qp_status hpi_load_qp_solve(int nv, const double *M, const double c[6],
-                                   const double *h, const double *g, const double *l,
-                                   const double *u, double tol, int max_iter,
-                                   double lambda[6], double *d, int *iterations);
+hp_load_qp_status hpi_load_qp_solve(int nv, const double *M, const double c[6], const double *h,
+                                    const double *g, const double *l, const double *u, double tol,
+                                    int max_iter, double lambda[6], double *d, int *iterations);
 
 #endif
 
@@ -31,5 +30,5 @@ hp_load_qp_status hpi_load_qp_solve(int nv, const double *M, const double c[6],
  * definite, by a primal active-set method from d = 0 (finite; at most max_iter changes of
  * the active set). Returns 0 on success, -1 when H is not positive definite or the
  * budget runs out (d then holds the last feasible point). No allocation. */
-int hpi_load_box_qp(int nv, const double *H, const double *g, const double *l,
-                   const double *u, int max_iter, double *d);
+int hpi_load_box_qp(int nv, const double *H, const double *g, const double *l, const double *u,
+                    int max_iter, double *d);

@@ -24,16 +24,9 @@
 #include <math.h>
 #include <string.h>
 
+double hpi_load_row_weight(int r) { return r < 3 ? 1.0 : hpi_load_unit(r) / 1e-3; }
 
-double hpi_load_row_weight(int r)
-{
-    return r < 3 ? 1.0 : hpi_load_unit(r) / 1e-3;
-}
-
-static double row_w(int r)
-{
-    return hpi_load_row_weight(r);
-}
+static double row_w(int r) { return hpi_load_row_weight(r); }
 
 /* One bladder at pressure P against contact distance rho: F and its first two pressure
  * derivatives (ro'' from the bladder model's d²P/dri²). */
@@ -49,10 +42,10 @@ static hp_error bladder_state(const hp_load_model *M, int k, double P, double rh
     if (!err) err = hp_iab_ro(b, ri, &ro);
     if (!err) err = hp_iab_ik_derivs(b, ri, &Pc, &Pr, &Prr);
     if (err) return err;
-    double r1 = 1.0 / Pr, r2 = -Prr * r1 * r1 * r1;           /* ri', ri'' */
-    double q = ri * ri / (ro * ro);                           /* dro/dri */
-    double q2 = 2.0 * ri / (ro * ro) - 2.0 * q * q / ro;      /* d²ro/dri² */
-    double o1 = q * r1, o2 = q2 * r1 * r1 + q * r2;           /* ro', ro'' */
+    double r1 = 1.0 / Pr, r2 = -Prr * r1 * r1 * r1;      /* ri', ri'' */
+    double q = ri * ri / (ro * ro);                      /* dro/dri */
+    double q2 = 2.0 * ri / (ro * ro) - 2.0 * q * q / ro; /* d²ro/dri² */
+    double o1 = q * r1, o2 = q2 * r1 * r1 + q * r2;      /* ro', ro'' */
     hp_claw c; /* F(P, ro(P), rho) and its total derivatives along P */
     hpi_claw_cap(P, ro, rho, &c);
     s->F = c.F;
@@ -88,8 +81,8 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
                                      double hi, double a, double c, double Fhi, double F,
                                      double *P);
 
-static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, double lo,
-                                  double hi, double Fhi, double F, double *P)
+static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, double lo, double hi,
+                                  double Fhi, double F, double *P)
 {
     if (F <= 0.0) {
         *P = lo;
@@ -108,8 +101,7 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
 
 /* pressure_of_force with the inner radii at lo and hi (a, c) known. */
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
-                                     double hi, double a, double c, double Fhi, double F,
-                                     double *P)
+                                     double hi, double a, double c, double Fhi, double F, double *P)
 {
     if (F <= 0.0) {
         *P = lo;
@@ -130,7 +122,8 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         hp_claw law;
         hpi_claw_cap(Px, ro, rho, &law);
         double r = law.F - F;
-        if (r > 0) c = x; else a = x;
+        if (r > 0) c = x;
+        else a = x;
         if (r == 0.0) break;
         /* dF/dri along the bladder: F_P·dP/dri + F_ro·dro/dri, dro/dri = ri²/ro² */
         double dF = law.d[HP_CLAW_P] * Pr + law.d[HP_CLAW_RO] * (x * x) / (ro * ro);
@@ -287,7 +280,8 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
                     double Ar[36], r[6], sol[6];
                     for (int row = 0; row < 6; ++row) {
                         r[row] = -b[row];
-                        for (int q = 0; q < nfix; ++q) r[row] += A[row * n + col[fix[q]]] * x[col[fix[q]]];
+                        for (int q = 0; q < nfix; ++q)
+                            r[row] += A[row * n + col[fix[q]]] * x[col[fix[q]]];
                         for (int j = 0; j < 6; ++j) Ar[row * 6 + j] = A[row * n + rest[j]];
                     }
                     if (nr != 6 || hpi_kin_damped_lstsq(6, 6, Ar, r, one, 0.0, sol) != 0) continue;
@@ -315,12 +309,11 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
  * grid_forces instead) onto the holding set, phase 2 tie-breaks from there. *cost
  * gets the tie-breaker's sum (P − t)² [Pa²] of the answer when its rows are met (to
  * 1e-11 of the weight), +inf otherwise. */
-static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6],
-                                      const double *lo, const double *hi,
-                                      const double *target, const double *start, int max_iter,
-                                      hp_load_nlp_solver nlp_solve, int stiffness, int grid,
-                                      double *P, double *F, int *iterations, int *raw,
-                                      double *cost)
+static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6], const double *lo,
+                                       const double *hi, const double *target, const double *start,
+                                       int max_iter, hp_load_nlp_solver nlp_solve, int stiffness,
+                                       int grid, double *P, double *F, int *iterations, int *raw,
+                                       double *cost)
 {
     *cost = INFINITY;
     const int n = M->layout.n;
@@ -330,8 +323,8 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
     /* A pose with a bladder centre inside the head (through its panel) is held by nothing. */
     if (hpi_load_domain(M, rho) != HP_OK) return HP_LOAD_SOLVE_UNREACHABLE;
     hpi_load_gravity(M, xi, Qg, NULL, NULL);
-    double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS],
-        Fhi[HP_MAX_BLADDERS], Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
+    double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS], Fhi[HP_MAX_BLADDERS],
+        Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
     for (int k = 0; k < n; ++k) {
         Pt[k] = hpi_load_touch_pressure(M, k, rho[k]);
         L[k] = fmax(lo[k], fmax(0.0, Pt[k]));
@@ -537,24 +530,23 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
  * their top) and on a small grid, and HOLD runs from the best of those points as well as
  * from the caller's start; the smaller sum wins (only answers whose rows are met compete).
  * Reachability is decided by the first start's exact phase 1. */
-static hpi_load_solve_status hold_core(const hp_load_model *M, const double xi[6],
-                                      const double *lo, const double *hi,
-                                      const double *target, const double *start, int max_iter,
-                                      hp_load_nlp_solver nlp_solve, int stiffness, double *P,
-                                      double *F, int *iterations, int *raw)
+static hpi_load_solve_status hold_core(const hp_load_model *M, const double xi[6], const double *lo,
+                                       const double *hi, const double *target, const double *start,
+                                       int max_iter, hp_load_nlp_solver nlp_solve, int stiffness,
+                                       double *P, double *F, int *iterations, int *raw)
 {
     double cost;
     int it = 0;
     hpi_load_solve_status st = hold_from(M, xi, lo, hi, target, start, max_iter, nlp_solve,
-                                        stiffness, 0, P, F, &it, raw, &cost);
+                                         stiffness, 0, P, F, &it, raw, &cost);
     int total = it;
     if (st == HP_LOAD_SOLVE_OK && max_iter > 0 && !stiffness) {
         const int n = M->layout.n;
         double Pk[HP_MAX_BLADDERS], Fk[HP_MAX_BLADDERS], ck;
         int rk = 0;
         it = 0;
-        if (hold_from(M, xi, lo, hi, target, start, max_iter, nlp_solve, 0, 1, Pk, Fk, &it,
-                      &rk, &ck) == HP_LOAD_SOLVE_OK &&
+        if (hold_from(M, xi, lo, hi, target, start, max_iter, nlp_solve, 0, 1, Pk, Fk, &it, &rk,
+                      &ck) == HP_LOAD_SOLVE_OK &&
             ck < cost * (1.0 - 1e-12)) {
             memcpy(P, Pk, (size_t)n * sizeof *P);
             memcpy(F, Fk, (size_t)n * sizeof *F);
@@ -566,26 +558,25 @@ static hpi_load_solve_status hold_core(const hp_load_model *M, const double xi[6
     return st;
 }
 
-hpi_load_solve_status hpi_load_hold(const hp_load_model *M, const double xi[6],
-                                  const double *lo, const double *hi, const double *target,
-                                  const double *start, int max_iter, double *P, double *F,
-                                  int *iterations)
+hpi_load_solve_status hpi_load_hold(const hp_load_model *M, const double xi[6], const double *lo,
+                                    const double *hi, const double *target, const double *start,
+                                    int max_iter, double *P, double *F, int *iterations)
 {
     return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL);
 }
 
 hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_load_model *M,
-                                       const double xi[6], const double *lo, const double *hi,
-                                       const double *target, const double *start, int max_iter,
-                                       int stiffness, double *P, double *F, int *iterations,
-                                       int *raw)
+                                         const double xi[6], const double *lo, const double *hi,
+                                         const double *target, const double *start, int max_iter,
+                                         int stiffness, double *P, double *F, int *iterations,
+                                         int *raw)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, nlp_solve, stiffness, P, F,
-                     iterations, raw);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, nlp_solve, stiffness, P, F, iterations,
+                     raw);
 }
 
-hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
-                               double *F, double *dF, double *d2F)
+hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho, double *F,
+                                double *dF, double *d2F)
 {
     bstate s;
     hp_error err = bladder_state(M, k, P, rho, &s);
@@ -598,8 +589,7 @@ hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double 
 
 /* Rest of pressures p from xi (forward statics) and the rest's sensitivity G = dxi/dP
  * = K⁻¹·dQ/dP (6×n, scaled: mm or degrees per kPa), by the implicit function theorem. */
-static int rest_and_sensitivity(const hp_load_model *M, const double *p, double xi[6],
-                                double *G)
+static int rest_and_sensitivity(const hp_load_model *M, const double *p, double xi[6], double *G)
 {
     const int n = M->layout.n;
     if (hp_load_rest(M, p, xi, xi, NULL) != HP_OK) return -1;
@@ -611,7 +601,8 @@ static int rest_and_sensitivity(const hp_load_model *M, const double *p, double 
     double K[36];
     for (int i = 0; i < 6; ++i)
         for (int j = 0; j < 6; ++j)
-            K[i * 6 + j] = -0.5 * (dX[i * 6 + j] + dX[j * 6 + i]) * hpi_load_unit(i) * hpi_load_unit(j);
+            K[i * 6 + j] = -0.5 * (dX[i * 6 + j] + dX[j * 6 + i]) * hpi_load_unit(i) *
+                           hpi_load_unit(j);
     double F[36];
     memcpy(F, K, sizeof F);
     /* A saddle (K indefinite) still has a well-defined sensitivity: solve by Gaussian
@@ -626,10 +617,14 @@ static int rest_and_sensitivity(const hp_load_model *M, const double *p, double 
         if (!(fabs(F[piv * 6 + c]) > 0)) return -1;
         if (piv != c) {
             for (int j = 0; j < 6; ++j) {
-                double t = F[c * 6 + j]; F[c * 6 + j] = F[piv * 6 + j]; F[piv * 6 + j] = t;
+                double t = F[c * 6 + j];
+                F[c * 6 + j] = F[piv * 6 + j];
+                F[piv * 6 + j] = t;
             }
             for (int k = 0; k < n; ++k) {
-                double t = B[c * n + k]; B[c * n + k] = B[piv * n + k]; B[piv * n + k] = t;
+                double t = B[c * n + k];
+                B[c * n + k] = B[piv * n + k];
+                B[piv * n + k] = t;
             }
         }
         for (int r = c + 1; r < 6; ++r) {
@@ -658,9 +653,9 @@ static double pose_cost(const double xi[6], const double desired[6], const doubl
 }
 
 hpi_load_solve_status hpi_load_pose(const hp_load_model *M, const double desired[6],
-                                  const double W[6], const double *lo, const double *hi,
-                                  const double xi0[6], const double *P0, int max_iter,
-                                  double xi[6], double *P, int *iterations)
+                                    const double W[6], const double *lo, const double *hi,
+                                    const double xi0[6], const double *P0, int max_iter,
+                                    double xi[6], double *P, int *iterations)
 {
     /* Every iterate is an equilibrium: the pressures are the unknowns and the pose is their
      * rest (forward statics). Gauss–Newton on the weighted pose error with the box on the
@@ -741,7 +736,7 @@ hpi_load_solve_status hpi_load_pose(const hp_load_model *M, const double desired
 }
 
 int hpi_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, double *xl,
-                      double *xu, double *x)
+                       double *xu, double *x)
 {
     int nf = 0;
     for (int k = 0; k < nlp->n; ++k)
@@ -755,7 +750,7 @@ int hpi_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, d
 }
 
 void hpi_load_hold_answer(const hp_load_hold_nlp *nlp, const double *x, const int *idx, int nf,
-                         double *p)
+                          double *p)
 {
     for (int j = 0; j < nf; ++j) p[idx[j]] = fmin(fmax(x[j] * 1e3, nlp->L[idx[j]]), nlp->U[idx[j]]);
 }

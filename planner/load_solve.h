@@ -6,18 +6,17 @@
 
 typedef enum hpi_load_solve_status {
     HP_LOAD_SOLVE_OK = 0,
-    HP_LOAD_SOLVE_UNREACHABLE,     /* no pressures inside the bounds hold this pose */
+    HP_LOAD_SOLVE_UNREACHABLE, /* no pressures inside the bounds hold this pose */
     HP_LOAD_SOLVE_ITERATION_LIMIT,
-    HP_LOAD_SOLVE_ERROR            /* the model failed (geometry or bladder domain) */
+    HP_LOAD_SOLVE_ERROR /* the model failed (geometry or bladder domain) */
 } hpi_load_solve_status;
 
 /* HOLD: pressures P[n] inside [lo, hi] holding the head at xi, nearest (sum of squares) to
  * target[n] among all that do; F[n] their contact forces. start (may be NULL) seeds the
  * forces. */
-hpi_load_solve_status hpi_load_hold(const hp_load_model *M, const double xi[6],
-                                  const double *lo, const double *hi, const double *target,
-                                  const double *start, int max_iter, double *P, double *F,
-                                  int *iterations);
+hpi_load_solve_status hpi_load_hold(const hp_load_model *M, const double xi[6], const double *lo,
+                                    const double *hi, const double *target, const double *start,
+                                    int max_iter, double *P, double *F, int *iterations);
 
 /* The minimum-holding-stiffness objective at a fixed pose (load_stiffness.c): the soft
  * minimum of the eigenvalues of the holding stiffness K(P) in N/mm (mm/degree units),
@@ -27,23 +26,23 @@ hpi_load_solve_status hpi_load_hold(const hp_load_model *M, const double xi[6],
 typedef struct hp_load_stiff {
     const hp_load_model *M;
     int n;
-    double K0[36];                      /* gravity's stiffness, scaled */
-    double JJ[HP_MAX_BLADDERS][36];     /* 2·pi·rho_k·J_k J_kᵀ per Pa, scaled */
-    double H[HP_MAX_BLADDERS][36];      /* the contact distance's Hessian, scaled */
+    double K0[36];                  /* gravity's stiffness, scaled */
+    double JJ[HP_MAX_BLADDERS][36]; /* 2·pi·rho_k·J_k J_kᵀ per Pa, scaled */
+    double H[HP_MAX_BLADDERS][36];  /* the contact distance's Hessian, scaled */
     double rho[HP_MAX_BLADDERS];
-    const double *target;               /* [Pa] */
+    const double *target; /* [Pa] */
     double beta, squeeze;
 } hp_load_stiff;
 
 /* Prepares the objective at pose xi (target [Pa], kept by pointer). HP_ERR_* of the model. */
 hp_error hpi_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const double xi[6],
-                            const double *target);
+                             const double *target);
 
 /* The objective at x[nv] (kPa; variable j is bladder idx[j]): f, its gradient (nv) and its
  * Hessian (nv×nv, row-major, both triangles), each may be NULL; lam_min (may be NULL) the
  * smallest eigenvalue of K [N/mm]. 0 on success, -1 when the model fails. */
-int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x,
-                       double *f, double *grad, double *hess, double *lam_min);
+int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x, double *f,
+                        double *grad, double *hess, double *lam_min);
 
 /* The tie-breaker NLP of HOLD at a fixed pose, for a general-purpose solver: variables the
  * pressures (kPa) of the bladders with L_k < U_k (the others fixed at L_k), objective
@@ -53,15 +52,15 @@ typedef struct hp_load_hold_nlp {
     const hp_load_model *M;
     int n;
     const double *rho, *A, *b, *L, *U, *target; /* A 6×n row-major; L, U, target in Pa */
-    const double *xi;                             /* the pose [m, rad] */
-    int stiffness;                                /* 1: the stiffness objective at xi
+    const double *xi;                           /* the pose [m, rad] */
+    int stiffness;                              /* 1: the stiffness objective at xi
                                                      (load_stiffness.c), 0: the distance */
 } hp_load_hold_nlp;
 
 /* A general-purpose solver of that NLP from p (Pa, feasible); p gets the answer, raw the
  * solver's own code. */
 typedef hpi_load_solve_status (*hp_load_nlp_solver)(const hp_load_hold_nlp *nlp, double *p,
-                                                   int max_iter, int *iterations, int *raw);
+                                                    int max_iter, int *iterations, int *raw);
 
 /* HOLD (hpi_load_hold) with its second phase, the tie-breaker, solved by nlp_solve (a
  * backend's: hpi_load_hold_ipopt, hpi_load_hold_nlopt); the first phase (reachability) is the
@@ -69,34 +68,34 @@ typedef hpi_load_solve_status (*hp_load_nlp_solver)(const hp_load_hold_nlp *nlp,
  * stiffness objective (target then only breaks its ties; Ipopt only). Allocates (inside the
  * solver); Ipopt takes the process-wide Ipopt lock. */
 hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_load_model *M,
-                                       const double xi[6], const double *lo, const double *hi,
-                                       const double *target, const double *start, int max_iter,
-                                       int stiffness, double *P, double *F, int *iterations,
-                                       int *raw);
+                                         const double xi[6], const double *lo, const double *hi,
+                                         const double *target, const double *start, int max_iter,
+                                         int stiffness, double *P, double *F, int *iterations,
+                                         int *raw);
 
 /* The NLP's variables for a solver: the bladders whose bounds leave room (L < U), in kPa
  * (the solvers' scale), started from p clamped into the bounds. Fills idx (variable j is
  * bladder idx[j]), xl, xu, x; returns how many. Shared by the Ipopt and NLopt hold. */
 int hpi_load_hold_vars(const hp_load_hold_nlp *nlp, const double *p, int *idx, double *xl,
-                      double *xu, double *x);
+                       double *xu, double *x);
 
 /* Writes the nf variables x (kPa) back into p (Pa) for bladders idx[], clamped into [L, U]
  * so rounding of the scale cannot leave a bound. */
 void hpi_load_hold_answer(const hp_load_hold_nlp *nlp, const double *x, const int *idx, int nf,
-                         double *p);
+                          double *p);
 
 /* Solves that NLP from p (Pa, feasible) with Ipopt (load_ipopt.c); p gets the answer. */
 hpi_load_solve_status hpi_load_hold_ipopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
-                                        int *iterations, int *raw);
+                                          int *iterations, int *raw);
 
 /* The same NLP on NLopt SLSQP (load_nlopt.c); raw gets NLopt's result code. */
 hpi_load_solve_status hpi_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p, int max_iter,
-                                        int *iterations, int *raw);
+                                          int *iterations, int *raw);
 
 /* Bladder k's contact force at pressure P against contact distance rho (the contact branch's
  * formula, not clipped at 0) with dF/dP and d²F/dP². */
-hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho,
-                               double *F, double *dF, double *d2F);
+hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho, double *F,
+                                double *dF, double *d2F);
 
 /* Row weights of the equilibrium equations: N for the force rows, and N·m/rad times
  * (1°/1 mm) for the moment rows, so both read as "force per unit of pose". */
@@ -115,9 +114,9 @@ double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho);
 /* POSE: the pose nearest to desired (weights W per mm² and degree²) at which pressures in
  * [lo, hi] hold the head, from (xi0, P0); P gets those pressures (not tie-broken). */
 hpi_load_solve_status hpi_load_pose(const hp_load_model *M, const double desired[6],
-                                  const double W[6], const double *lo, const double *hi,
-                                  const double xi0[6], const double *P0, int max_iter,
-                                  double xi[6], double *P, int *iterations);
+                                    const double W[6], const double *lo, const double *hi,
+                                    const double xi0[6], const double *P0, int max_iter,
+                                    double xi[6], double *P, int *iterations);
 
 /* CLOSEST: the held pose nearest to desired (weights W per mm² and degree²) as one program
  * in the pose and the contact forces,
@@ -129,8 +128,8 @@ hpi_load_solve_status hpi_load_pose(const hp_load_model *M, const double desired
  * that need not hold the head); xi gets the pose where it stops (feasible to the
  * equilibrium's rounding, not yet verified: the caller holds it with HOLD). */
 hpi_load_solve_status hpi_load_closest(const hp_load_model *M, const double desired[6],
-                                     const double W[6], const double *lo, const double *hi,
-                                     const double xi0[6], const double *F0, int max_iter,
-                                     double xi[6], int *iterations);
+                                       const double W[6], const double *lo, const double *hi,
+                                       const double xi0[6], const double *F0, int max_iter,
+                                       double xi[6], int *iterations);
 
 #endif

@@ -19,13 +19,10 @@
 #include <string.h>
 
 /* Stiffness in mm/degree units and N/mm: K·unit_i·unit_j·1e3 (1 mm weighs as 1°). */
-static double kscale(int i, int j)
-{
-    return hpi_load_unit(i) * hpi_load_unit(j) * 1e3;
-}
+static double kscale(int i, int j) { return hpi_load_unit(i) * hpi_load_unit(j) * 1e3; }
 
 hp_error hpi_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const double xi[6],
-                            const double *target)
+                             const double *target)
 {
     const int n = M->layout.n;
     double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], H[HP_MAX_BLADDERS * 36];
@@ -68,8 +65,8 @@ static double ddiff(double beta, double a, double b, double l0)
     return -beta * exp(-beta * (b - l0)) * expm1(-beta * (a - b)) / (a - b);
 }
 
-int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x,
-                       double *f, double *grad, double *hess, double *lam_min)
+int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x, double *f,
+                        double *grad, double *hess, double *lam_min)
 {
     const double beta = S->beta;
     double K[36], dK[HP_MAX_BLADDERS][36], d2K[HP_MAX_BLADDERS][36];

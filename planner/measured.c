@@ -46,13 +46,13 @@ hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const 
     if (warm) {
         double x0[6];
         for (int i = 0; i < 6; ++i) x0[i] = p->commanded[i] ? p->prev.achieved[i] : 0.0;
-        fitted = hpi_kin_fit(&p->L, &p->G, p->level, ro, p->commanded, x0, NULL, NULL, xi,
-                            &resid, NULL) == HP_OK;
+        fitted = hpi_kin_fit(&p->L, &p->G, p->level, ro, p->commanded, x0, NULL, NULL, xi, &resid,
+                             NULL) == HP_OK;
     }
     if (!fitted && hpi_plan_fit_from_nominal(p, ro, p->commanded, NULL, xi, &resid) != HP_OK) {
         hpi_text_set(p->err, who);
         hpi_text_add(p->err, ": forward contact kinematics from the nominal pose finds no pose "
-                            "these pressures hold (it did not converge)");
+                             "these pressures hold (it did not converge)");
         return HP_ERR_INVALID;
     }
     for (int i = 0; i < 6; ++i) r.achieved[i] = p->commanded[i] ? xi[i] : 0.0;

@@ -7,9 +7,9 @@ const char *const hpi_backend_words[] = {"realtime", "ipopt", "nlopt-slsqp", "nl
 _Static_assert(sizeof hpi_backend_words / sizeof *hpi_backend_words == HP_BACKEND_COUNT_ + 1,
                "one word per backend");
 
-const char *const hpi_status_words[] = {
-    "reached", "closest", "iteration-limit", "time-limit",
-    "infeasible-start", "invalid-input", "solver-error", "uncommanded", NULL};
+const char *const hpi_status_words[] = {"reached",      "closest",          "iteration-limit",
+                                        "time-limit",   "infeasible-start", "invalid-input",
+                                        "solver-error", "uncommanded",      NULL};
 _Static_assert(sizeof hpi_status_words / sizeof *hpi_status_words == HP_STATUS_COUNT_ + 1,
                "one word per status");
 
@@ -20,7 +20,8 @@ _Static_assert(sizeof hpi_binding_words / sizeof *hpi_binding_words == HP_BIND_C
                "one word per binding reason");
 
 const char *const hpi_load_tiebreak_words[] = {"least-squeeze", "previous", "stiffness", NULL};
-_Static_assert(sizeof hpi_load_tiebreak_words / sizeof *hpi_load_tiebreak_words == HP_TIE_COUNT_ + 1,
+_Static_assert(sizeof hpi_load_tiebreak_words / sizeof *hpi_load_tiebreak_words ==
+                   HP_TIE_COUNT_ + 1,
                "one word per load tie-breaker");
 
 const char *hp_binding_name(unsigned flag)

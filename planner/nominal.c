@@ -6,8 +6,7 @@
 
 #include <math.h>
 
-hp_error hpi_nominal_pressures_of(const hp_layout *L, const hp_geom *G, double *pressures,
-                                 int *bad)
+hp_error hpi_nominal_pressures_of(const hp_layout *L, const hp_geom *G, double *pressures, int *bad)
 {
     for (int k = 0; k < L->n; ++k) {
         const hp_iab *b = &L->bladders[k].iab;

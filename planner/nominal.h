@@ -10,6 +10,6 @@
  * or the bladder model's error with *bad set to the failing bladder (pressures before it
  * are written, the rest untouched). */
 hp_error hpi_nominal_pressures_of(const hp_layout *L, const hp_geom *G, double *pressures,
-                                 int *bad);
+                                  int *bad);
 
 #endif

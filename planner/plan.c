@@ -12,15 +12,15 @@ static const char *const pose_names[6] = {"x", "y", "z", "pitch", "roll", "yaw"}
 
 /* One plan's working state, passed between the steps. */
 typedef struct plan_ctx {
-    double t0;        /* hp_plan's start [s] */
-    double xc[6];     /* the commanded part of the desired correction (SI) */
-    double unc[6];    /* the rest: what the layout cannot observe (SI) */
-    const double *x;  /* the answer's scaled point (pose, radii) */
-    int direct;       /* 1: the direct chain answered, no backend ran */
-    int converged;    /* the backend claims a (local) optimum */
-    hp_status st;     /* the backend's status */
-    int raw, iters;   /* the backend's raw code and iterations */
-    double clamp_mm;  /* largest radius moved back into its limits */
+    double t0;       /* hp_plan's start [s] */
+    double xc[6];    /* the commanded part of the desired correction (SI) */
+    double unc[6];   /* the rest: what the layout cannot observe (SI) */
+    const double *x; /* the answer's scaled point (pose, radii) */
+    int direct;      /* 1: the direct chain answered, no backend ran */
+    int converged;   /* the backend claims a (local) optimum */
+    hp_status st;    /* the backend's status */
+    int raw, iters;  /* the backend's raw code and iterations */
+    double clamp_mm; /* largest radius moved back into its limits */
     /* The distances at c->x [mm]: the direct chain's, or the backend's own (has_rho). */
     double rho[HP_MAX_BLADDERS];
     int has_rho;
@@ -28,9 +28,9 @@ typedef struct plan_ctx {
      * model there (hp_backend_result's lin_*): the round trip's anchor with a Jacobian. */
     int has_lin;
     double lin_x[6], lin_rho[HP_MAX_BLADDERS], lin_J[HP_MAX_BLADDERS * 6];
-    int held;        /* every bladder's window is a point: the previous answer, held */
-    int warm;        /* the backend started from the previous answer */
-    int unconfirmed; /* label refused a CLOSEST answer its round trip did not confirm */
+    int held;          /* every bladder's window is a point: the previous answer, held */
+    int warm;          /* the backend started from the previous answer */
+    int unconfirmed;   /* label refused a CLOSEST answer its round trip did not confirm */
     int rate_deferred; /* the bounds are the static ones; the rate bounds are not solved yet */
 } plan_ctx;
 
@@ -104,10 +104,10 @@ static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
 {
     c->rate_deferred = 0;
     if (hpi_setup_cycle_bounds_memo(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits,
-                                   &p->rate_memo, &p->pb, p->lo_flags, p->hi_flags,
-                                   NULL) != HP_OK) {
+                                    &p->rate_memo, &p->pb, p->lo_flags, p->hi_flags,
+                                    NULL) != HP_OK) {
         hpi_text_set(p->err, "the rate limits leave no radius inside the pressure and stretch "
-                            "limits");
+                             "limits");
         fail_safe(p, res, HP_STATUS_INFEASIBLE_START, c);
         return 0;
     }
@@ -128,7 +128,7 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
      * commanded components; the rest is reported, never silently dropped. */
     if (hpi_pose_commanded_part_g(&p->L, &p->G, &p->id, p->level, desired, c->xc) != HP_OK) {
         hpi_text_set(p->err, "desired: the contact model cannot evaluate this correction (a "
-                            "bladder centre would lie deep inside the head)");
+                             "bladder centre would lie deep inside the head)");
         fail_safe(p, res, HP_STATUS_INVALID_INPUT, c);
         return 0;
     }
@@ -156,8 +156,9 @@ static int direct_chain(hp_planner *p, plan_ctx *c)
     int inside = 0;
     /* The Jacobian only where a round trip follows (the linear level skips it). */
     double *J = p->level == HP_LEVEL_LINEAR ? NULL : p->chain_J;
-    return hpi_setup_contact_inside(&p->L, &p->G, p->level, pb->d, pb->ro_lo, pb->ro_hi, c->rho,
-                                   J, &inside) == HP_OK && inside;
+    return hpi_setup_contact_inside(&p->L, &p->G, p->level, pb->d, pb->ro_lo, pb->ro_hi, c->rho, J,
+                                    &inside) == HP_OK &&
+           inside;
 }
 
 /* Step 3a: 1 when the rate limits leave every bladder a window of outer radii no wider than
@@ -193,7 +194,7 @@ static int hold(hp_planner *p, hp_result *res, plan_ctx *c)
     double resid = sqrt(ss / p->L.n);
     if (!(resid <= HP_CLAMP_RESID_MM)) {
         hpi_text_set(p->err, "the rate limits hold every bladder at its previous pressure, and "
-                            "those pressures hold no pose at the ");
+                             "those pressures hold no pose at the ");
         hpi_text_add(p->err, hp_level_name(p->level));
         hpi_text_add(p->err, " level (contact residual ");
         hpi_text_add_num(p->err, resid, 9);
@@ -247,8 +248,8 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c, int cold)
         br.status == HP_STATUS_INFEASIBLE_START || br.status == HP_STATUS_INVALID_INPUT) {
         /* The backend's own label, except that a failed call never claims success. */
         hp_status fs = br.status;
-        if (fs == HP_STATUS_REACHED || fs == HP_STATUS_CLOSEST ||
-            fs == HP_STATUS_UNCOMMANDED || (int)fs < 0 || fs >= HP_STATUS_COUNT_)
+        if (fs == HP_STATUS_REACHED || fs == HP_STATUS_CLOSEST || fs == HP_STATUS_UNCOMMANDED ||
+            (int)fs < 0 || fs >= HP_STATUS_COUNT_)
             fs = HP_STATUS_SOLVER_ERROR;
         err_backend(p, fs, br.raw_code);
         if (e != HP_OK && p->diag.text[0]) {
@@ -288,9 +289,9 @@ static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
     /* The direct chain's answer is the pose it just evaluated, and a backend may hand back
      * its distances at its answer: no second evaluation. */
     if (!hpi_plan_answer_from_pose(p, c->x, c->direct || c->has_rho ? c->rho : NULL, r,
-                                  &c->clamp_mm)) {
+                                   &c->clamp_mm)) {
         hpi_text_set(p->err, "the answer was not finite or left a limit: holding the previous "
-                            "pressures");
+                             "pressures");
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
         return 0;
     }
@@ -309,7 +310,7 @@ static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
                            : HP_STATUS_SOLVER_ERROR;
         err_backend(p, fs, c->raw);
         hpi_text_add(p->err, ": the backend's radii, clamped into the limits, hold no pose; "
-                            "holding the previous pressures");
+                             "holding the previous pressures");
         fail_safe(p, r, fs, c);
         return 0;
     }
@@ -335,8 +336,7 @@ static int closest_verified(const hp_planner *p, const double *x)
      * gradient; 1e-3 of the gradient's scale separates the two. */
     double feas = 10.0 * p->s.tolerance > 1e-6 ? 10.0 * p->s.tolerance : 1e-6;
     double stat = 1e-3 * (1.0 + m.grad_max);
-    return m.in_bounds && m.feasibility <= feas && m.stationarity <= stat &&
-           m.wrong_sign <= stat;
+    return m.in_bounds && m.feasibility <= feas && m.stationarity <= stat && m.wrong_sign <= stat;
 }
 
 /* 1 when the strict round trip of answer r gives back achieved, its achieved pose
@@ -347,7 +347,7 @@ static int closest_verified(const hp_planner *p, const double *x)
  * pose can end at another pose with the same distances, or stall in a second local fit;
  * then the answer is not identified by this layout. Allocates nothing. */
 int hpi_plan_round_trip(const hp_planner *p, const hp_result *r, const double achieved[6],
-                       const hp_plan_anchor *anchor, hp_plan_trip *t)
+                        const hp_plan_anchor *anchor, hp_plan_trip *t)
 {
     t->worst = 0.0;
     t->gap_mm = 0.0;
@@ -363,7 +363,7 @@ int hpi_plan_round_trip(const hp_planner *p, const hp_result *r, const double ac
         /* Started at the answer's own stable radius: the root of its pressure is unique on
          * the stable branch, so the start changes the steps, never what is verified. */
         if (hpi_iab_s_fk_limit_warm_ro(&p->sb.iab_s[k], &p->sb.limit[k], r->bladders[k].pressure,
-                                      r->bladders[k].ri, &ri, &ro[k]) != HP_OK)
+                                       r->bladders[k].ri, &ri, &ro[k]) != HP_OK)
             ro[k] = r->bladders[k].ro;
     }
     double resid = INFINITY;
@@ -421,15 +421,14 @@ static int recovered_from_nominal(hp_planner *p, const hp_result *r, const doubl
         for (int i = 0; i < 6; ++i) d2 += (c->x[i] - c->lin_x[i]) * (c->x[i] - c->lin_x[i]);
         an.J = c->lin_J;
         an.J_err = hpi_kin_jacobian_drift(&p->L, &p->G, p->level, xa, rho_m, c->lin_J,
-                                         sqrt(d2) * (1.0 + 1e-12));
+                                          sqrt(d2) * (1.0 + 1e-12));
     }
     hp_plan_trip t;
-    if (hpi_plan_round_trip(p, r, achieved, c->direct || c->has_rho ? &an : NULL, &t))
-        return 1;
+    if (hpi_plan_round_trip(p, r, achieved, c->direct || c->has_rho ? &an : NULL, &t)) return 1;
     hpi_text_set(p->err, r->status == HP_STATUS_CLOSEST
-                            ? "desired: its closest reachable pose lies outside the identifiable "
-                              "range of this layout at the "
-                            : "desired: outside the identifiable range of this layout at the ");
+                             ? "desired: its closest reachable pose lies outside the identifiable "
+                               "range of this layout at the "
+                             : "desired: outside the identifiable range of this layout at the ");
     hpi_text_add(p->err, hp_level_name(p->level));
     hpi_text_add(p->err, " level: ");
     hpi_plan_trip_text(p->err, &t);
@@ -508,8 +507,8 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
      * iterate there is no usable iterate. */
     int budget = !(r->pose_error <= p->s.tolerance) && !c->converged;
     if (!hpi_plan_range_ok(&p->id, r->achieved,
-                          budget ? "the last iterate's" : "desired: its closest reachable pose's",
-                          p->err)) {
+                           budget ? "the last iterate's" : "desired: its closest reachable pose's",
+                           p->err)) {
         if (budget) {
             char why[HP_DIAG_MAX];
             hpi_text_set(why, p->err);
@@ -541,7 +540,7 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
          * label it and hold, never report it as the closest correction. */
         err_backend(p, HP_STATUS_SOLVER_ERROR, c->raw);
         hpi_text_add(p->err, ": its claimed optimum fails the first-order (KKT) check; "
-                            "holding the previous pressures");
+                             "holding the previous pressures");
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
         return 0;
     } else if (c->converged && !binds_any(r)) {
@@ -569,7 +568,7 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
         }
     } else {
         r->status = (c->st == HP_STATUS_TIME_LIMIT) ? HP_STATUS_TIME_LIMIT
-                                                     : HP_STATUS_ITERATION_LIMIT;
+                                                    : HP_STATUS_ITERATION_LIMIT;
     }
     /* The two text channels: an answer explains itself in the note, a budget that ran out
      * is a failure to finish (error). */
@@ -656,8 +655,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         c.x = p->pb.d;
         c.unconfirmed = 0;
         int iters0 = c.iters;
-        if (c.held ? !hold(p, res, &c) : !c.direct && !solve(p, res, &c, pass > 0))
-            return HP_OK;
+        if (c.held ? !hold(p, res, &c) : !c.direct && !solve(p, res, &c, pass > 0)) return HP_OK;
         c.iters += pass > 0 ? iters0 : 0;
         res->raw_code = c.raw;
         res->iterations = c.iters;

@@ -25,8 +25,7 @@ int hpi_plan_range_check(const hp_identifiable *id, const double xi[6], double *
     return ang < id->rot_limit ? 0 : 2;
 }
 
-int hpi_plan_range_ok(const hp_identifiable *id, const double xi[6], const char *what,
-                     char *err)
+int hpi_plan_range_ok(const hp_identifiable *id, const double xi[6], const char *what, char *err)
 {
     double size;
     int out = hpi_plan_range_check(id, xi, &size);
@@ -62,8 +61,8 @@ int hpi_plan_desired_ok(const hp_identifiable *id, const double desired[6], char
             hpi_text_set(err, "desired ");
             hpi_text_add(err, pose_names[i]);
             hpi_text_add(err, isfinite(desired[i]) ? ": out of range (|translation| <= 1 m, "
-                                                    "|rotation| <= pi rad)"
-                                                  : ": not finite");
+                                                     "|rotation| <= pi rad)"
+                                                   : ": not finite");
             return 0;
         }
     }

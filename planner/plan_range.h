@@ -9,8 +9,8 @@
 
 /* Largest correction hp_plan accepts: far beyond any bladder's reach, small enough that
  * every contact model stays well defined. */
-#define HP_PLAN_MAX_TRANS 1.0   /* [m] */
-#define HP_PLAN_MAX_ROT HP_PI   /* [rad] */
+#define HP_PLAN_MAX_TRANS 1.0 /* [m] */
+#define HP_PLAN_MAX_ROT HP_PI /* [rad] */
 
 /* Where pose xi (SI) lies against the layout's identifiable range id (hp_identifiable): 0
  * inside; 1 its translation norm is beyond trans_limit; 2 its rotation angle is not below
@@ -20,8 +20,7 @@ int hpi_plan_range_check(const hp_identifiable *id, const double xi[6], double *
 
 /* 1 when pose xi (SI) lies in the identifiable range id; else 0 with "WHAT translation: ..."
  * or "WHAT rotation: ..." in err (HP_DIAG_MAX bytes), the size and the limit named. */
-int hpi_plan_range_ok(const hp_identifiable *id, const double xi[6], const char *what,
-                     char *err);
+int hpi_plan_range_ok(const hp_identifiable *id, const double xi[6], const char *what, char *err);
 
 /* The request: desired finite, each translation within HP_PLAN_MAX_TRANS and rotation
  * within HP_PLAN_MAX_ROT, and inside the identifiable range id. 1 when it passes, else 0

@@ -14,7 +14,7 @@ void hpi_plan_to_scaled(const double xi[6], double x[6])
 void hpi_plan_from_scaled(const double x[6], double xi[6]) { hpi_setup_pose_from_scaled(x, xi); }
 
 int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
-                             hp_result *res, double *clamp_mm)
+                              hp_result *res, double *clamp_mm)
 {
     double rho[HP_MAX_BLADDERS];
     *clamp_mm = 0;
@@ -27,7 +27,7 @@ int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rh
     int clamped[HP_MAX_BLADDERS];
     for (int k = 0; k < p->L.n; ++k)
         if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
-                                  p->pb.ri_hi_si[k], &ri[k], &clamped[k]) != HP_OK)
+                                   p->pb.ri_hi_si[k], &ri[k], &clamped[k]) != HP_OK)
             return 0;
     for (int k = 0; k < p->L.n; ++k) {
         const hp_bladder *B = &p->L.bladders[k];
@@ -39,7 +39,7 @@ int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rh
         int c = clamped[k];
         hp_bladder_result *br = &res->bladders[k];
         if (hpi_setup_bladder_from_ri_s(B, &p->sb.iab_s[k], rho[k] / HP_MM_PER_M, ri[k], c, plo,
-                                       phi, br) != HP_OK)
+                                        phi, br) != HP_OK)
             return 0;
         if (c) *clamp_mm = fmax(*clamp_mm, fabs(br->ro * HP_MM_PER_M - rho[k]));
         double ro_mm = br->ro * HP_MM_PER_M;
@@ -54,8 +54,7 @@ int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rh
 }
 
 hp_error hpi_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
-                                  const hp_kin_fit_near *near, double xi[6],
-                                  double *residual_rms)
+                                   const hp_kin_fit_near *near, double xi[6], double *residual_rms)
 {
     /* With fk_free: hp_contact_fk's own checks, so this is a drop-in for it. */
     if (free_ == p->fk_free) {
@@ -66,8 +65,8 @@ hp_error hpi_plan_fit_from_nominal(const hp_planner *p, const double *ro, const 
             if (!(ro[k] > 0) || !isfinite(ro[k])) return HP_ERR_INVALID;
     }
     const double zero[6] = {0};
-    return hpi_kin_fit(&p->L, &p->G, p->level, ro, free_, zero, p->nom_ok ? &p->nom : NULL, near, xi,
-                      residual_rms, NULL);
+    return hpi_kin_fit(&p->L, &p->G, p->level, ro, free_, zero, p->nom_ok ? &p->nom : NULL, near,
+                       xi, residual_rms, NULL);
 }
 
 void hpi_plan_set_previous_answer(hp_planner *p, const hp_result *r)

@@ -31,8 +31,8 @@ static hp_error build_nominal(hp_planner *p, hp_diag *d)
     for (int k = 0; k < p->L.n; ++k) {
         int c = 0;
         if (hpi_setup_bladder_from_ro_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
-                                       p->sb.ri_lo[k], p->sb.ri_hi[k], p->sb.p_lo[k],
-                                       p->sb.p_hi[k], &r->bladders[k], &c) != HP_OK)
+                                        p->sb.ri_lo[k], p->sb.ri_hi[k], p->sb.p_lo[k],
+                                        p->sb.p_hi[k], &r->bladders[k], &c) != HP_OK)
             return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: no valid state at the nominal pose",
                                p->L.bladders[k].name);
     }
@@ -56,8 +56,8 @@ void hp_planner_reset(hp_planner *p)
     hpi_plan_set_previous_answer(p, &p->nominal);
 }
 
-hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
-                           hp_planner **out, hp_diag *d)
+hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings, hp_planner **out,
+                           hp_diag *d)
 {
     if (out) *out = NULL;
     if (!layout || !out) return hp_diag_set(d, HP_ERR_NULL, "layout or out is NULL");
@@ -117,7 +117,7 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     if ((e = build_nominal(p, d)) != HP_OK) goto fail;
     hpi_plan_set_previous_answer(p, &p->nominal);
     e = hpi_setup_cycle_bounds(&p->L, &p->sb, pb->p_prev, s.use_rate_limits, pb, p->lo_flags,
-                              p->hi_flags, d);
+                               p->hi_flags, d);
     if (e != HP_OK) goto fail;
     set_rate_free(p);
     e = ops->create(&p->bstate, pb, &s, d);
@@ -232,8 +232,7 @@ static hp_error prev_pose_ok(hp_planner *p, const double xi[6])
     int out = hpi_plan_range_check(&p->id, xi, NULL);
     if (out == 1)
         return prev_refused(p, "achieved: translation outside the identifiable range", NULL);
-    if (out == 2)
-        return prev_refused(p, "achieved: rotation outside the identifiable range", NULL);
+    if (out == 2) return prev_refused(p, "achieved: rotation outside the identifiable range", NULL);
     return HP_OK;
 }
 
@@ -296,7 +295,6 @@ hp_error hp_planner_set_previous_result(hp_planner *p, const hp_result *r)
     return HP_OK;
 }
 
-
 hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
 {
     if (!p || !rate_max) return HP_ERR_NULL;
@@ -310,9 +308,8 @@ hp_error hp_planner_set_rate_max(hp_planner *p, const double *rate_max)
     set_rate_free(p);
     /* Rate-free now: hp_plan no longer sets the cycle's bounds, so they return to the
      * static ones here (what it would set; they held at create). */
-    if (p->rate_free &&
-        hpi_setup_cycle_bounds(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits, &p->pb,
-                              p->lo_flags, p->hi_flags, NULL) != HP_OK)
+    if (p->rate_free && hpi_setup_cycle_bounds(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits,
+                                               &p->pb, p->lo_flags, p->hi_flags, NULL) != HP_OK)
         return HP_ERR_STATE;
     return HP_OK;
 }

@@ -25,7 +25,8 @@
  * the pose is the same pose: another pose with the same distances would be a symmetric
  * copy (>= 90 degrees away) or a second fit (0.8 degrees). */
 #define HP_IDENT_FK_TOL 1e-7
-#define HP_IDENT_FIT_MM 1e-8 /* 100x the rounding of distances computed with a 1 km lever;
+#define HP_IDENT_FIT_MM                                                                            \
+    1e-8 /* 100x the rounding of distances computed with a 1 km lever;
                                  the second fit above misses them by 5.6e-5 mm */
 #define HP_IDENT_SAME 1e-3
 /* Largest RMS contact residual [mm] of clamped radii that still counts as holding a pose:
@@ -34,12 +35,12 @@
 #define HP_CLAMP_RESID_MM 1e-6
 
 struct hp_planner {
-    hp_layout L;                 /* private, validated copy */
-    hp_geom G;                   /* its contact geometry, derived once at create */
+    hp_layout L; /* private, validated copy */
+    hp_geom G;   /* its contact geometry, derived once at create */
     hp_settings s;
     hp_level level;
-    hp_identifiable id;          /* what the layout can tell apart (hp_layout_identify) */
-    int commanded[6];            /* = id.commanded */
+    hp_identifiable id; /* what the layout can tell apart (hp_layout_identify) */
+    int commanded[6];   /* = id.commanded */
     hp_static_bounds sb;
     hp_rate_memo rate_memo; /* the last rate bounds solved (plan.c), keyed by pressure */
     hp_problem pb;
@@ -47,15 +48,15 @@ struct hp_planner {
     const hp_backend_ops *ops;
     void *bstate;
     int built;
-    hp_result nominal;           /* safe output after create / reset */
-    hp_result prev;              /* last valid answer: the safe output */
+    hp_result nominal; /* safe output after create / reset */
+    hp_result prev;    /* last valid answer: the safe output */
     double x_prev[HP_PROBLEM_NX_MAX];
     double x_work[HP_PROBLEM_NX_MAX];
     /* The direct chain's Jacobian at its answer (SI, n×6; curved levels): the strict round
      * trip's certificate starts from it. Scratch of one plan, not zeroed per plan. */
     double chain_J[HP_MAX_BLADDERS * 6];
-    char err[HP_DIAG_MAX];       /* the last failure (hp_planner_error) */
-    char note[HP_DIAG_MAX];      /* why the last answer is not REACHED (hp_planner_note) */
+    char err[HP_DIAG_MAX];  /* the last failure (hp_planner_error) */
+    char note[HP_DIAG_MAX]; /* why the last answer is not REACHED (hp_planner_note) */
     /* A CLOSEST answer's note ("closest: binding ...") is written when it is first asked
      * for (hp_planner_note), from these flags: a control loop that never reads it does not
      * pay for the text (about 1 % of a plan). */
@@ -65,9 +66,9 @@ struct hp_planner {
     int rate_free;
     unsigned note_binding[HP_MAX_BLADDERS];
     hp_diag diag;
-    int nom_ok;                  /* nom is valid (else fits evaluate it themselves) */
-    int fk_free[6];              /* hp_contact_fk's free components: 6, or 3 for a sphere */
-    int prev_checked;            /* prev's bladders pass hp_planner_set_previous_result's
+    int nom_ok;       /* nom is valid (else fits evaluate it themselves) */
+    int fk_free[6];   /* hp_contact_fk's free components: 6, or 3 for a sphere */
+    int prev_checked; /* prev's bladders pass hp_planner_set_previous_result's
                                     checks by construction (an answer of hp_plan, the
                                     nominal answer, or a result those checks passed) */
     /* The load level (level HP_LEVEL_LOAD; NULL at the contact levels): hp_plan and the
@@ -108,7 +109,7 @@ typedef struct hp_plan_trip {
 /* The strict round trip of r's pressures (plan.c): 1 when the fit from the nominal pose ends
  * at achieved (SI); t says where it ended. Allocates nothing. */
 int hpi_plan_round_trip(const hp_planner *p, const hp_result *r, const double achieved[6],
-                       const hp_plan_anchor *anchor, hp_plan_trip *t);
+                        const hp_plan_anchor *anchor, hp_plan_trip *t);
 /* The text of a failed round trip t into buf (hpi_text_add): "forward contact kinematics from
  * the nominal pose finds another pose, (x, y, z) mm (pitch, roll, yaw) deg, D mm/deg away,
  * whose contact distances match ..." when its end really holds the answer's distances
@@ -119,8 +120,7 @@ void hpi_plan_trip_text(char *buf, const hp_plan_trip *t);
  * taking its first model evaluation from p->nom: the same steps, one evaluation fewer.
  * near (may be NULL): hpi_kin_fit's early stop at an expected pose. */
 hp_error hpi_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
-                                  const hp_kin_fit_near *near, double xi[6],
-                                  double *residual_rms);
+                                   const hp_kin_fit_near *near, double xi[6], double *residual_rms);
 
 /* Resolves p->s.level into p->level once, over all four levels (level_choice.c), and writes
  * why into p->level_why. For the load level (asked for, or chosen by auto) p->load gets its
@@ -129,7 +129,6 @@ hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_di
 
 /* The backend of an enum value (backends.c); NULL for a value with no backend. */
 const hp_backend_ops *hpi_backend_table(hp_backend b);
-
 
 /* Pose scaling of hp_problem: SI -> mm and degrees, and back. */
 void hpi_plan_to_scaled(const double xi[6], double x[6]);
@@ -140,7 +139,7 @@ void hpi_plan_from_scaled(const double x[6], double xi[6]);
  * limits), binding flags and achieved pose. Returns 0 when something was not finite.
  * clamp_mm receives the largest radius correction. */
 int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
-                             hp_result *res, double *clamp_mm);
+                              hp_result *res, double *clamp_mm);
 
 /* Makes r the previous answer: the safe output, the rate limits' origin and the next
  * solve's start point. */

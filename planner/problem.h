@@ -21,18 +21,18 @@
 
 typedef struct hp_problem {
     const hp_layout *layout;
-    const hp_geom *geom;             /* layout's contact geometry, derived with it */
-    hp_level level;                  /* resolved: never HP_LEVEL_AUTO */
-    int n;                           /* bladders */
-    int nx;                          /* 6 + n */
-    double w[6];                     /* objective weights per scaled unit² (0: not commanded) */
-    double mu;                       /* [1/Pa²] */
-    double d[6];                     /* desired correction, scaled (mm, deg) */
-    double ri_lo[HP_MAX_BLADDERS];   /* [mm] bounds for this cycle */
+    const hp_geom *geom;           /* layout's contact geometry, derived with it */
+    hp_level level;                /* resolved: never HP_LEVEL_AUTO */
+    int n;                         /* bladders */
+    int nx;                        /* 6 + n */
+    double w[6];                   /* objective weights per scaled unit² (0: not commanded) */
+    double mu;                     /* [1/Pa²] */
+    double d[6];                   /* desired correction, scaled (mm, deg) */
+    double ri_lo[HP_MAX_BLADDERS]; /* [mm] bounds for this cycle */
     double ri_hi[HP_MAX_BLADDERS];
-    double ro_lo[HP_MAX_BLADDERS];   /* the same bounds as outer radius [mm] */
+    double ro_lo[HP_MAX_BLADDERS]; /* the same bounds as outer radius [mm] */
     double ro_hi[HP_MAX_BLADDERS];
-    double p_prev[HP_MAX_BLADDERS];  /* previous pressures [Pa] */
+    double p_prev[HP_MAX_BLADDERS];   /* previous pressures [Pa] */
     double ri_lo_si[HP_MAX_BLADDERS]; /* ri_lo, ri_hi in metres, exactly the radii whose
                                          stretch and pressure hold their limits in double
                                          precision (the mm copies may differ by an ulp) */
@@ -41,12 +41,12 @@ typedef struct hp_problem {
 
 /* Objective f(x); grad (nx) and hess (nx×nx dense, row-major) may be NULL. */
 hp_error hpi_problem_objective(const hp_problem *pb, const double *x, double *f, double *grad,
-                              double *hess);
+                               double *hess);
 
 /* Equality constraints c_k(x) = ro(ri_k) − ρ_k(ξ) [mm], k < n; jac (n×nx row-major) may be
  * NULL; if lambda is not NULL, adds Σ_k lambda_k ∇²c_k into hess (nx×nx dense). */
 hp_error hpi_problem_constraints(const hp_problem *pb, const double *x, double *c, double *jac,
-                                const double *lambda, double *hess);
+                                 const double *lambda, double *hess);
 
 /* Scratch an hp_plan call needs, sized for HP_MAX_BLADDERS, so no solve allocates. */
 #define HP_PROBLEM_NX_MAX (6 + HP_MAX_BLADDERS)
@@ -55,10 +55,10 @@ hp_error hpi_problem_constraints(const hp_problem *pb, const double *x, double *
  * create allocates everything the backend needs; solve allocates nothing it can avoid (Ipopt
  * and NLopt allocate internally: documented) and fills x (nx, scaled) and its own raw code. */
 typedef struct hp_backend_result {
-    hp_status status;   /* REACHED/CLOSEST decided by the core; backends set the rest */
+    hp_status status; /* REACHED/CLOSEST decided by the core; backends set the rest */
     int raw_code;
     int iterations;
-    int converged;      /* 1 when the backend reports a (locally) optimal point */
+    int converged; /* 1 when the backend reports a (locally) optimal point */
     /* 1 when rho holds the contact distances [mm] at the returned pose, evaluated by the
      * backend at exactly that pose: the core then need not evaluate them again, and derives
      * the inner radii from them (the backend may then leave x[6 + k] NAN). */
@@ -90,8 +90,8 @@ enum {
 };
 
 typedef struct hp_backend_ops {
-    const char *name;   /* = hp_backend_name of its enum value */
-    unsigned caps;      /* HP_BACKEND_* flags */
+    const char *name; /* = hp_backend_name of its enum value */
+    unsigned caps;    /* HP_BACKEND_* flags */
     hp_error (*create)(void **state, const hp_problem *pb, const hp_settings *s, hp_diag *d);
     hp_error (*solve)(void *state, const hp_problem *pb, const double *x0, double *x,
                       hp_backend_result *r, hp_diag *d);
@@ -108,10 +108,10 @@ typedef struct hp_backend_ops {
      * the one nearest to target (stiffness = 1: the stiffest, with HP_BACKEND_LOAD_STIFFNESS)
      * among all that do, from start (may be NULL); F their forces. raw gets the solver's own
      * code when it has one (left alone otherwise). */
-    hpi_load_solve_status (*load_hold)(const hp_load_model *M, const double xi[6],
-                                      const double *lo, const double *hi, const double *target,
-                                      const double *start, int max_iter, int stiffness,
-                                      double *P, double *F, int *iterations, int *raw);
+    hpi_load_solve_status (*load_hold)(const hp_load_model *M, const double xi[6], const double *lo,
+                                       const double *hi, const double *target, const double *start,
+                                       int max_iter, int stiffness, double *P, double *F,
+                                       int *iterations, int *raw);
 } hp_backend_ops;
 
 extern const hp_backend_ops hpi_backend_realtime_ops;

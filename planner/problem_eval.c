@@ -13,7 +13,6 @@
 #include <math.h>
 #include <string.h>
 
-
 /* SI per scaled unit of pose component i. */
 
 static hp_error check_problem(const hp_problem *pb, const double *x)
@@ -27,7 +26,7 @@ static hp_error check_problem(const hp_problem *pb, const double *x)
 }
 
 hp_error hpi_problem_objective(const hp_problem *pb, const double *x, double *f, double *grad,
-                              double *hess)
+                               double *hess)
 {
     hp_error e = check_problem(pb, x);
     if (e != HP_OK) return e;
@@ -64,7 +63,7 @@ hp_error hpi_problem_objective(const hp_problem *pb, const double *x, double *f,
 }
 
 hp_error hpi_problem_constraints(const hp_problem *pb, const double *x, double *c, double *jac,
-                                const double *lambda, double *hess)
+                                 const double *lambda, double *hess)
 {
     hp_error e = check_problem(pb, x);
     if (e != HP_OK) return e;
@@ -77,7 +76,8 @@ hp_error hpi_problem_constraints(const hp_problem *pb, const double *x, double *
     double rho[HP_MAX_BLADDERS];
     double J[HP_MAX_BLADDERS * 6];
     double H[HP_MAX_BLADDERS * 36];
-    e = hpi_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho, jac ? J : NULL, want_h ? H : NULL);
+    e = hpi_contact_eval_g(pb->layout, pb->geom, pb->level, xi, rho, jac ? J : NULL,
+                           want_h ? H : NULL);
     if (e != HP_OK) return e;
 
     if (jac) memset(jac, 0, (size_t)n * (size_t)nx * sizeof *jac);
@@ -92,15 +92,16 @@ hp_error hpi_problem_constraints(const hp_problem *pb, const double *x, double *
         if (!isfinite(ro) || !isfinite(rho[k])) return HP_ERR_DOMAIN;
         if (c) c[k] = ro - rho[k] * 1e3;
         if (jac) {
-            for (int i = 0; i < 6; i++) jac[k * nx + i] = -1e3 * hpi_pose_si_per_scaled(i) * J[k * 6 + i];
+            for (int i = 0; i < 6; i++)
+                jac[k * nx + i] = -1e3 * hpi_pose_si_per_scaled(i) * J[k * 6 + i];
             jac[k * nx + 6 + k] = q * q;
         }
         if (want_h) {
             double lk = lambda[k];
             for (int i = 0; i < 6; i++)
                 for (int j = 0; j < 6; j++)
-                    hess[i * nx + j] -=
-                        lk * 1e3 * hpi_pose_si_per_scaled(i) * hpi_pose_si_per_scaled(j) * H[k * 36 + i * 6 + j];
+                    hess[i * nx + j] -= lk * 1e3 * hpi_pose_si_per_scaled(i) *
+                                        hpi_pose_si_per_scaled(j) * H[k * 36 + i * 6 + j];
             hess[(6 + k) * nx + 6 + k] += lk * (2.0 * q / ro) * (1.0 - q * q * q);
         }
     }

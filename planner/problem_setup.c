@@ -93,15 +93,15 @@ hp_error hpi_bladder_envelope(const hp_bladder *B, hp_envelope *out, hp_diag *d)
     e = hp_iab_fk(m, B->p_min, &r);
     if (e != HP_OK)
         return hp_diag_set(d, HP_ERR_INVALID,
-                           "bladder %s: pressure_min %.6g Pa has no stable radius (%s)",
-                           B->name, B->p_min, hp_error_message(e));
+                           "bladder %s: pressure_min %.6g Pa has no stable radius (%s)", B->name,
+                           B->p_min, hp_error_message(e));
     take_max(&lo, &lof, r, HP_BIND_PRESSURE_MIN);
     if (!lp.exists || B->p_max < lp.pressure) {
         e = hp_iab_fk(m, B->p_max, &r);
         if (e == HP_OK) take_min(&hi, &hif, r, HP_BIND_PRESSURE_MAX);
         else if (e != HP_ERR_NO_STABLE)
-            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max %.6g Pa: %s",
-                               B->name, B->p_max, hp_error_message(e));
+            return hp_diag_set(d, HP_ERR_INVALID, "bladder %s: pressure_max %.6g Pa: %s", B->name,
+                               B->p_max, hp_error_message(e));
     }
     /* FK roots are exact to a few ulps; make the pressure bounds hold exactly. */
     if ((lof & HP_BIND_PRESSURE_MIN) && !nudge(&s, &lo, B->p_min, 1))
@@ -182,17 +182,17 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
     return 1;
 }
 
-hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
-                               const double *p_prev, int use_rate, hp_problem *pb,
-                               unsigned *lo_flags, unsigned *hi_flags, hp_diag *d)
+hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+                                int use_rate, hp_problem *pb, unsigned *lo_flags,
+                                unsigned *hi_flags, hp_diag *d)
 {
     return hpi_setup_cycle_bounds_memo(L, b, p_prev, use_rate, NULL, pb, lo_flags, hi_flags, d);
 }
 
 hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
-                                    const double *p_prev, int use_rate, hp_rate_memo *memo,
-                                    hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
-                                    hp_diag *d)
+                                     const double *p_prev, int use_rate, hp_rate_memo *memo,
+                                     hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
+                                     hp_diag *d)
 {
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
@@ -201,16 +201,14 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
         if (use_rate && p_prev && isfinite(B->rate_max)) {
             double r, pl = p_prev[k] - B->rate_max, ph = p_prev[k] + B->rate_max;
             if (pl > b->p_lo[k]) {
-                if (rate_bound(b, k, pl, 1, memo, &r))
-                    take_max(&lo, &lof, r, HP_BIND_RATE_DOWN);
+                if (rate_bound(b, k, pl, 1, memo, &r)) take_max(&lo, &lof, r, HP_BIND_RATE_DOWN);
                 else
                     return hp_diag_set(d, HP_ERR_INVALID,
                                        "bladder %s: rate limit: no stable radius at %.6g Pa",
                                        B->name, pl);
             }
             if (ph < b->p_hi[k]) {
-                if (rate_bound(b, k, ph, 0, memo, &r))
-                    take_min(&hi, &hif, r, HP_BIND_RATE_UP);
+                if (rate_bound(b, k, ph, 0, memo, &r)) take_min(&hi, &hif, r, HP_BIND_RATE_UP);
                 else
                     return hp_diag_set(d, HP_ERR_INVALID,
                                        "bladder %s: rate limit: no stable radius at %.6g Pa",
@@ -248,7 +246,7 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
 }
 
 int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
-                        const hp_bladder_result *br)
+                         const hp_bladder_result *br)
 {
     for (int k = 0; k < L->n; ++k) {
         double rate = L->bladders[k].rate_max, P = br[k].pressure, m = b->rate_slack[k];
@@ -270,7 +268,7 @@ void hpi_setup_pose_from_scaled(const double x[6], double xi[6])
 }
 
 hp_error hpi_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
-                                 const double x[6], double *rho_mm, double *J_s)
+                                  const double x[6], double *rho_mm, double *J_s)
 {
     double xi[6], J[HP_MAX_BLADDERS * 6];
     hpi_setup_pose_from_scaled(x, xi);
@@ -281,7 +279,7 @@ hp_error hpi_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level
         if (!isfinite(rho_mm[k])) return HP_ERR_DOMAIN;
         if (!J_s) continue;
         for (int i = 0; i < 3; ++i) {
-            J_s[k * 6 + i] = J[k * 6 + i];                                 /* mm/mm */
+            J_s[k * 6 + i] = J[k * 6 + i];                                        /* mm/mm */
             J_s[k * 6 + i + 3] = J[k * 6 + i + 3] * HP_MM_PER_M / HP_DEG_PER_RAD; /* mm/deg */
         }
     }
@@ -289,13 +287,13 @@ hp_error hpi_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level
 }
 
 hp_error hpi_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
-                                 const double x[6], const double *lo_mm, const double *hi_mm,
-                                 double *rho_mm, double *J_si, int *inside)
+                                  const double x[6], const double *lo_mm, const double *hi_mm,
+                                  double *rho_mm, double *J_si, int *inside)
 {
     double xi[6];
     hpi_setup_pose_from_scaled(x, xi);
-    hp_error e =
-        hpi_kin_contact_inside(L, G, level, xi, HP_MM_PER_M, lo_mm, hi_mm, rho_mm, J_si, inside);
+    hp_error e = hpi_kin_contact_inside(L, G, level, xi, HP_MM_PER_M, lo_mm, hi_mm, rho_mm, J_si,
+                                        inside);
     if (e != HP_OK || !*inside) {
         *inside = 0;
         return e;
@@ -305,8 +303,7 @@ hp_error hpi_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level
 }
 
 hp_error hpi_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, double ri_hi,
-                                  double p_lo, double p_hi, hp_bladder_result *out,
-                                  int *clamped)
+                                   double p_lo, double p_hi, hp_bladder_result *out, int *clamped)
 {
     if (!isfinite(ro)) return HP_ERR_INVALID;
     hp_iab_s s;
@@ -315,7 +312,7 @@ hp_error hpi_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo,
 }
 
 hp_error hpi_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, double ri_hi,
-                               double *ri_out, int *clamped)
+                                double *ri_out, int *clamped)
 {
     double ri;
     int c = 0;
@@ -326,16 +323,21 @@ hp_error hpi_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, doub
         ri = ri_lo; /* collapsed cavity: the lower bound is the nearest valid radius */
         c = 1;
     }
-    if (ri < ri_lo) { ri = ri_lo; c = 1; }
-    if (ri > ri_hi) { ri = ri_hi; c = 1; }
+    if (ri < ri_lo) {
+        ri = ri_lo;
+        c = 1;
+    }
+    if (ri > ri_hi) {
+        ri = ri_hi;
+        c = 1;
+    }
     *ri_out = ri;
     *clamped = c;
     return HP_OK;
 }
 
-hp_error hpi_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, double ro,
-                                    double ri, int clamped, double p_lo, double p_hi,
-                                    hp_bladder_result *out)
+hp_error hpi_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, double ro, double ri,
+                                     int clamped, double p_lo, double p_hi, hp_bladder_result *out)
 {
     double P;
     /* A clamped ri: its pressure and outer radius from one evaluation. Else ro is the outer
@@ -355,8 +357,8 @@ hp_error hpi_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, dou
 }
 
 hp_error hpi_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
-                                    double ri_lo, double ri_hi, double p_lo, double p_hi,
-                                    hp_bladder_result *out, int *clamped)
+                                     double ri_lo, double ri_hi, double p_lo, double p_hi,
+                                     hp_bladder_result *out, int *clamped)
 {
     double ri;
     int c;

@@ -15,9 +15,9 @@
 
 /* Limits of one layout that do not change from plan to plan, in SI. */
 typedef struct hp_static_bounds {
-    double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS]; /* [m] */
+    double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];         /* [m] */
     unsigned lo_flags[HP_MAX_BLADDERS], hi_flags[HP_MAX_BLADDERS]; /* HP_BIND_* at each */
-    double p_lo[HP_MAX_BLADDERS], p_hi[HP_MAX_BLADDERS];   /* IK at ri_lo, ri_hi [Pa] */
+    double p_lo[HP_MAX_BLADDERS], p_hi[HP_MAX_BLADDERS];           /* IK at ri_lo, ri_hi [Pa] */
     /* The volume law at ri_lo, ri_hi [m] (NaN if it failed): a plan without rate limits
      * uses these bounds as they are, and need not evaluate it 2n times a plan. */
     double ro_lo[HP_MAX_BLADDERS], ro_hi[HP_MAX_BLADDERS];
@@ -47,7 +47,7 @@ static inline double hpi_setup_rate_slack(double slope)
  * bounds) is, bit for bit, the one the exact rate bounds would give (no radius clamped by
  * them, no rate limit binding within the tolerance), and hp_plan need not solve them. */
 int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
-                        const hp_bladder_result *br);
+                         const hp_bladder_result *br);
 
 /* One bladder's safe envelope: the one home of its pressure, stretch, hoop-stress and
  * limit-point limits as bounds on its inner radius, so that IK(ri_lo) >= p_min and
@@ -58,11 +58,11 @@ int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const do
  * set each bound (equal bounds keep both). Every planner (the kinematic levels, the load
  * level) and the benchmark lab take a bladder's limits from here. */
 typedef struct hp_envelope {
-    double ri_lo, ri_hi;       /* [m] */
-    double p_lo, p_hi;         /* [Pa] IK at ri_lo, ri_hi, inside [p_min, p_max] */
-    double ro_lo, ro_hi;       /* [m] the volume law there (NaN if it failed) */
+    double ri_lo, ri_hi; /* [m] */
+    double p_lo, p_hi;   /* [Pa] IK at ri_lo, ri_hi, inside [p_min, p_max] */
+    double ro_lo, ro_hi; /* [m] the volume law there (NaN if it failed) */
     unsigned lo_flags, hi_flags;
-    hp_iab_limit limit;        /* the inflation limit point */
+    hp_iab_limit limit; /* the inflation limit point */
 } hp_envelope;
 
 /* Fills e for bladder B. HP_ERR_INVALID (the bladder named in d) when the limits leave no
@@ -76,9 +76,9 @@ hp_error hpi_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_dia
 /* One plan's bounds: the static ones intersected with the rate limits around p_prev (when
  * use_rate), written into pb (mm) with the HP_BIND_* flags of each bound. Allocates nothing.
  * HP_ERR_INVALID with the bladder named when a bladder's interval is empty. */
-hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b,
-                               const double *p_prev, int use_rate, hp_problem *pb,
-                               unsigned *lo_flags, unsigned *hi_flags, hp_diag *d);
+hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+                                int use_rate, hp_problem *pb, unsigned *lo_flags,
+                                unsigned *hi_flags, hp_diag *d);
 
 /* The last radius bound solved for each end of each bladder's rate window, keyed by the
  * window end's pressure: the solve (FK from no start, then the nudge) is a function of that
@@ -94,9 +94,9 @@ typedef struct hp_rate_memo {
 /* hpi_setup_cycle_bounds with a memo (may be NULL) read and filled: the same bounds, bits
  * and errors. */
 hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
-                                    const double *p_prev, int use_rate, hp_rate_memo *memo,
-                                    hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
-                                    hp_diag *d);
+                                     const double *p_prev, int use_rate, hp_rate_memo *memo,
+                                     hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
+                                     hp_diag *d);
 
 /* TEST-ONLY hooks (not installed, no public header; inert until a test sets them):
  * the number of rate-limit window ends solved into radius bounds in this process so far
@@ -117,34 +117,32 @@ void hpi_setup_pose_from_scaled(const double x[6], double xi[6]);
 /* Contact distances and Jacobian in scaled units: rho_mm[n], J_s[n×6] (mm per mm, mm per
  * degree); J_s may be NULL. x is scaled (mm, deg). Allocates nothing. */
 hp_error hpi_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
-                                 const double x[6], double *rho_mm, double *J_s);
+                                  const double x[6], double *rho_mm, double *J_s);
 /* Whether every contact distance at scaled pose x lies inside [lo_mm[k], hi_mm[k]] (mm):
  * *inside 1 with rho_mm[0..n-1] the distances (mm, the bits hpi_setup_contact_scaled gives),
  * else *inside 0 (rho_mm partly written). The evaluation stops at the first bladder
  * outside, so a target beyond reach costs a fraction of a full evaluation. J_si (may be
  * NULL): when inside, the SI Jacobian there (n×6, per m and per rad). */
 hp_error hpi_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level level,
-                                 const double x[6], const double *lo_mm, const double *hi_mm,
-                                 double *rho_mm, double *J_si, int *inside);
+                                  const double x[6], const double *lo_mm, const double *hi_mm,
+                                  double *rho_mm, double *J_si, int *inside);
 
 /* A bladder's state from its outer radius ro [m]: ri, pressure (clamped into [p_lo, p_hi]
  * after the model is evaluated), stretch. HP_ERR_DOMAIN/INVALID on a non-finite result. */
 hp_error hpi_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, double ri_hi,
-                                  double p_lo, double p_hi, hp_bladder_result *out,
-                                  int *clamped);
+                                   double p_lo, double p_hi, hp_bladder_result *out, int *clamped);
 /* The same with B's model already validated into s (hp_static_bounds.iab_s): the same codes
  * and bits, without validating the bladder again. */
 hp_error hpi_setup_bladder_from_ro_s(const hp_bladder *B, const hp_iab_s *s, double ro,
-                                    double ri_lo, double ri_hi, double p_lo, double p_hi,
-                                    hp_bladder_result *out, int *clamped);
+                                     double ri_lo, double ri_hi, double p_lo, double p_hi,
+                                     hp_bladder_result *out, int *clamped);
 /* Its two halves, for a caller that runs each over every bladder in turn (several
  * bladders' chains of divisions and roots then overlap): the inner radius ri of ro, moved
  * into [ri_lo, ri_hi] (*clamped 1 when moved; HP_ERR_INVALID for a non-finite ro), then
  * the state from ro, that ri and that flag. The same codes and bits as the whole. */
 hp_error hpi_setup_ri_from_ro_s(const hp_iab_s *s, double ro, double ri_lo, double ri_hi,
-                               double *ri, int *clamped);
-hp_error hpi_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, double ro,
-                                    double ri, int clamped, double p_lo, double p_hi,
-                                    hp_bladder_result *out);
+                                double *ri, int *clamped);
+hp_error hpi_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, double ro, double ri,
+                                     int clamped, double p_lo, double p_hi, hp_bladder_result *out);
 
 #endif

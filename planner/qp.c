@@ -22,7 +22,7 @@
 #include <string.h>
 
 #define NM HP_QP_NMAX
-#define IDX(i, j) ((i) * NM + (j))
+#define IDX(i, j) ((i)*NM + (j))
 
 /* uᵀv over the padded length, summed in index order (the pragma only unrolls) */
 static double dot(const double *u, const double *v)
@@ -45,8 +45,8 @@ static void axpy(double *y, double t, const double *v)
  * every reader of the factor reads its lower triangle only); else G (n×n, leading
  * dimension n) is factored into Lw (leading dimension NM, lower triangle written).
  * Returns 0 unless G is positive definite with finite entries. */
-static int cholesky_factor(const double *G, int n, const double *Lg, double *Lw,
-                           const double **L, int *ldl)
+static int cholesky_factor(const double *G, int n, const double *Lg, double *Lw, const double **L,
+                           int *ldl)
 {
     /* hpi_cholesky reads only the lower triangle, and a NaN or infinity there fails a pivot
      * test (it reaches that pivot's sum of squares), except +inf on the diagonal, which
@@ -177,8 +177,7 @@ static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm2, int *tw
     }
     *empty = 0;
     for (int j = 0; j < p2; j += 2) { /* declared pairs: the twin's norm is its partner's */
-        if (!load_row(qp, &Cr[j * NM], j, feas_tol, nrm2, skip, empty) ||
-            !isfinite(qp->b[j + 1]))
+        if (!load_row(qp, &Cr[j * NM], j, feas_tol, nrm2, skip, empty) || !isfinite(qp->b[j + 1]))
             return NULL;
         nrm2[j + 1] = nrm2[j];
         skip[j + 1] = skip[j];
@@ -306,9 +305,9 @@ static void back_subst(const double *L, int ldl, int n, double *y, double *x)
  * L⁻ᵀM δu, and |M δu| <= |E||u|/σ_min(M) — a factor √κ(S), as in the full solve's QR.
  * Writes the outputs u and active only on acceptance; x also on a refusal after the
  * equality solve, which the full solve then overwrites. */
-static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr,
-                           const int *A, int k, const double *a, const double *nrm2,
-                           const int *twin, int *skip, int max_iter, double feas_tol)
+static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr, const int *A,
+                           int k, const double *a, const double *nrm2, const int *twin, int *skip,
+                           int max_iter, double feas_tol)
 {
     int n = qp->n;
     if (k > n || k > max_iter) return HP_QP_WARM_SHAPE;
@@ -370,7 +369,7 @@ hp_qp_status hpi_qp_solve_factored(hp_qp *qp, const double *Lg, int max_iter, do
 }
 
 hp_qp_status hpi_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int max_iter,
-                              double feas_tol)
+                               double feas_tol)
 {
     int n = qp->n, m = qp->m;
     qp->warm = HP_QP_WARM_NONE;

@@ -14,15 +14,15 @@
 
 typedef enum hp_qp_status {
     HP_QP_OPTIMAL = 0,
-    HP_QP_INFEASIBLE,     /* no x satisfies C x >= b */
+    HP_QP_INFEASIBLE, /* no x satisfies C x >= b */
     HP_QP_ITERATION_LIMIT,
-    HP_QP_BAD_INPUT       /* G not positive definite, NaN, sizes out of range */
+    HP_QP_BAD_INPUT /* G not positive definite, NaN, sizes out of range */
 } hp_qp_status;
 
 /* What the warm start of hpi_qp_solve_warm did with its guessed active set. */
 typedef enum hp_qp_warm {
-    HP_QP_WARM_NONE = 0,  /* no guess given (hpi_qp_solve, hpi_qp_solve_factored) */
-    HP_QP_WARM_ACCEPTED,  /* the guessed rows' equality-constrained QP is the answer */
+    HP_QP_WARM_NONE = 0, /* no guess given (hpi_qp_solve, hpi_qp_solve_factored) */
+    HP_QP_WARM_ACCEPTED, /* the guessed rows' equality-constrained QP is the answer */
     /* refused, the full Goldfarb–Idnani solve ran instead: */
     HP_QP_WARM_SHAPE,     /* more rows than n or the budget, a twin pair, a zero row */
     HP_QP_WARM_CONDITION, /* the rows dependent or their Gram matrix too ill-conditioned */
@@ -97,6 +97,6 @@ hp_qp_status hpi_qp_solve_factored(hp_qp *q, const double *Lg, int max_iter, dou
  * hpi_qp_solve; the active set and multipliers can differ from the full solve's only where
  * they are not unique (degenerate vertices); x agrees to rounding. */
 hp_qp_status hpi_qp_solve_warm(hp_qp *q, const double *Lg, const int *guess, int max_iter,
-                              double feas_tol);
+                               double feas_tol);
 
 #endif

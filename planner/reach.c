@@ -37,7 +37,8 @@ static int direct_reached(void *ctx, const double xi[6])
     int inside = 0;
     double *Jp = p->level == HP_LEVEL_LINEAR ? NULL : J;
     if (hpi_setup_contact_inside(&p->L, &p->G, p->level, x, c->pb.ro_lo, c->pb.ro_hi, rho, Jp,
-                                &inside) != HP_OK || !inside)
+                                 &inside) != HP_OK ||
+        !inside)
         return 0;
     /* The answer hp_plan builds from these distances (planner.c, hpi_plan_answer_from_pose,
      * without rate limits), then its round trip with the direct chain's anchor, as hp_plan
@@ -48,10 +49,10 @@ static int direct_reached(void *ctx, const double xi[6])
         double ri;
         int cl;
         if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, c->pb.ri_lo_si[k],
-                                  c->pb.ri_hi_si[k], &ri, &cl) != HP_OK ||
-            hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k],
-                                       rho[k] / HP_MM_PER_M, ri, cl, p->sb.p_lo[k],
-                                       p->sb.p_hi[k], &r.bladders[k]) != HP_OK)
+                                   c->pb.ri_hi_si[k], &ri, &cl) != HP_OK ||
+            hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
+                                        ri, cl, p->sb.p_lo[k], p->sb.p_hi[k],
+                                        &r.bladders[k]) != HP_OK)
             return 0;
     }
     double achieved[6];

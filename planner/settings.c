@@ -93,8 +93,7 @@ hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
         return hp_diag_set(d, HP_ERR_INVALID, "use_rate_limits: must be 0 or 1 (got %d)",
                            s->use_rate_limits);
     if (s->warm_start != 0 && s->warm_start != 1)
-        return hp_diag_set(d, HP_ERR_INVALID, "warm_start: must be 0 or 1 (got %d)",
-                           s->warm_start);
+        return hp_diag_set(d, HP_ERR_INVALID, "warm_start: must be 0 or 1 (got %d)", s->warm_start);
     /* The load: none (mass exactly 0, the default) or one that hp_load_spec_validate
      * accepts; the load level needs one. */
     int has_load = !(s->load.mass == 0.0);

@@ -22,7 +22,7 @@ const char *hpi_check_auto_trans(double v);      /* [m] */
 const char *hpi_check_auto_rot(double v);        /* [rad] */
 const char *hpi_check_tolerance(double v);       /* mm and degrees */
 const char *hpi_check_max_iter(long v);
-const char *hpi_check_max_time(double v);        /* [s] */
-const char *hpi_check_weight(double v);          /* mm per degree */
+const char *hpi_check_max_time(double v); /* [s] */
+const char *hpi_check_weight(double v);   /* mm per degree */
 
 #endif

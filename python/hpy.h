@@ -57,9 +57,8 @@ int hpy_put(PyObject *d, const char *key, PyObject *value);
 
 /* ---- the Scene type (py_scene.c) ---- */
 typedef struct {
-    PyObject_HEAD
-    hp_scene *sc;          /* owned: a layout scene, or NULL */
-    hp_bladder_study *st;  /* owned: a single-bladder study, or NULL (exactly one is set) */
+    PyObject_HEAD hp_scene *sc; /* owned: a layout scene, or NULL */
+    hp_bladder_study *st;       /* owned: a single-bladder study, or NULL (exactly one is set) */
 } hpy_scene;
 extern PyTypeObject hpy_scene_type;
 /* headplan.load_scene(source) */
@@ -74,16 +73,15 @@ int hpy_settings(const hp_scene *sc, PyObject *kwargs, hp_settings *s);
 
 /* ---- the Planner type (py_planner.c, py_trace.c) ---- */
 typedef struct {
-    PyObject_HEAD
-    hp_planner *p;          /* owned: one solve at a time from the nominal pose */
-    hp_settings s;          /* as built (use_rate_limits = 0, like headplan solve) */
-    hp_layout layout;       /* the scene's layout, for run_trace's own planner */
-    PyThread_type_lock lock;/* one call at a time on this planner (GIL released inside) */
-    PyObject *names;        /* tuple of bladder names */
-    int has_trace;          /* the scene's trace, for run_trace() without one */
+    PyObject_HEAD hp_planner *p; /* owned: one solve at a time from the nominal pose */
+    hp_settings s;               /* as built (use_rate_limits = 0, like headplan solve) */
+    hp_layout layout;            /* the scene's layout, for run_trace's own planner */
+    PyThread_type_lock lock;     /* one call at a time on this planner (GIL released inside) */
+    PyObject *names;             /* tuple of bladder names */
+    int has_trace;               /* the scene's trace, for run_trace() without one */
     hp_trace_rows trace_rows;
     char trace_path[HP_SCENE_PATH_MAX];
-    int building;           /* an __init__ is creating p with the GIL released */
+    int building; /* an __init__ is creating p with the GIL released */
 } hpy_planner;
 extern PyTypeObject hpy_planner_type;
 /* Takes the planner's lock, waiting without the GIL if another thread holds it. */
@@ -96,9 +94,9 @@ PyObject *hpy_planner_run_trace(PyObject *self, PyObject *args, PyObject *kwargs
 typedef struct {
     npy_intp rows;
     int n;
-    int with_rows;                  /* the trace-row columns (line, t_s) too: run_trace */
-    size_t ncols;                   /* the table's length */
-    double *v[HP_COLUMNS_MAX];      /* column j: rows × its width, NULL: not in the block */
+    int with_rows;             /* the trace-row columns (line, t_s) too: run_trace */
+    size_t ncols;              /* the table's length */
+    double *v[HP_COLUMNS_MAX]; /* column j: rows × its width, NULL: not in the block */
 } hpy_block;
 /* Allocates the block (malloc); 0 or -1 (no exception set). */
 int hpy_block_alloc(hpy_block *b, npy_intp rows, int n, int with_rows);

@@ -34,13 +34,13 @@ PyArrayObject *hpy_doubles(PyObject *obj, const char *name, int finite)
     char kind = PyArray_DESCR(any)->kind;
     if (kind != 'i' && kind != 'u' && kind != 'f') {
         PyErr_Format(PyExc_TypeError,
-                     "%s: expected integers or floats (mm, degrees, Pa), got dtype kind '%c'",
-                     name, kind);
+                     "%s: expected integers or floats (mm, degrees, Pa), got dtype kind '%c'", name,
+                     kind);
         Py_DECREF(any);
         return NULL;
     }
-    PyArrayObject *a = (PyArrayObject *)PyArray_FROM_OTF(
-        (PyObject *)any, NPY_DOUBLE, NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
+    PyArrayObject *a = (PyArrayObject *)PyArray_FROM_OTF((PyObject *)any, NPY_DOUBLE,
+                                                         NPY_ARRAY_IN_ARRAY | NPY_ARRAY_FORCECAST);
     Py_DECREF(any);
     if (!a) return NULL;
     if (finite) {
@@ -50,7 +50,7 @@ PyArrayObject *hpy_doubles(PyObject *obj, const char *name, int finite)
             if (!isfinite(v[i])) {
                 Py_DECREF(a);
                 return (PyArrayObject *)hpy_fail("%s: element %zd is %s", name, (Py_ssize_t)i,
-                                                  isnan(v[i]) ? "NaN" : "infinite");
+                                                 isnan(v[i]) ? "NaN" : "infinite");
             }
     }
     return a;
@@ -71,10 +71,9 @@ PyArrayObject *hpy_rows(PyObject *obj, const char *name, int cols, int one_row)
                                      (Py_ssize_t)dims[i]);
         Py_DECREF(a);
         if (one_row)
-            return (PyArrayObject *)hpy_fail("%s: expected shape (N, %d) or (%d,), got (%s)",
-                                              name, cols, cols, shape);
-        return (PyArrayObject *)hpy_fail("%s: expected shape (N, %d), got (%s)", name, cols,
-                                          shape);
+            return (PyArrayObject *)hpy_fail("%s: expected shape (N, %d) or (%d,), got (%s)", name,
+                                             cols, cols, shape);
+        return (PyArrayObject *)hpy_fail("%s: expected shape (N, %d), got (%s)", name, cols, shape);
     }
     if (nd == 1) {
         npy_intp d2[2] = {1, cols};
@@ -263,7 +262,10 @@ static struct PyModuleDef module = {
     "  Error: every failure the library reports (a ValueError)",
     -1,
     functions,
-    NULL, NULL, NULL, NULL,
+    NULL,
+    NULL,
+    NULL,
+    NULL,
 };
 
 /* Declared for -Wmissing-prototypes: Python finds it by name in the shared object. */

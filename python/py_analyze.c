@@ -21,8 +21,7 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
     static char *kw[] = {"scene", "level", NULL};
     PyObject *scene;
     const char *level = NULL;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|z:analyze", kw, &scene, &level))
-        return NULL;
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "O|z:analyze", kw, &scene, &level)) return NULL;
     const hp_scene *sc = hpy_layout_scene(scene);
     if (!sc) return NULL;
     hp_settings s;
@@ -36,10 +35,8 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
     hp_scene_analysis x;
     hp_diag dg = {{0}};
     hp_error e;
-    Py_BEGIN_ALLOW_THREADS
-    e = hp_scene_analyze(&sc->layout, &s, &x, &dg);
-    Py_END_ALLOW_THREADS
-    if (e != HP_OK) return hpy_fail("%s: %s", sc->file, dg.text);
+    Py_BEGIN_ALLOW_THREADS e = hp_scene_analyze(&sc->layout, &s, &x, &dg);
+    Py_END_ALLOW_THREADS if (e != HP_OK) return hpy_fail("%s: %s", sc->file, dg.text);
     const hp_layout_analysis an = x.an;
 
     PyObject *d = PyDict_New(), *w = PyDict_New(), *b = PyDict_New();

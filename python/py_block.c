@@ -85,8 +85,7 @@ PyObject *hpy_block_dict(const hpy_block *b)
     const hp_column *t = hp_columns(NULL);
     PyObject *d = PyDict_New();
     for (size_t j = 0; d && j < b->ncols; ++j)
-        if (b->v[j] && hpy_put(d, t[j].numpy, column_array(b, &t[j], b->v[j])) < 0)
-            Py_CLEAR(d);
+        if (b->v[j] && hpy_put(d, t[j].numpy, column_array(b, &t[j], b->v[j])) < 0) Py_CLEAR(d);
     return d;
 }
 
@@ -99,11 +98,10 @@ PyObject *hpy_columns(PyObject *self, PyObject *unused)
     PyObject *list = PyList_New(0);
     for (size_t j = 0; list && j < nt; ++j) {
         PyObject *d = Py_BuildValue(
-            "{s:s,s:s,s:s,s:s,s:O,s:z,s:z,s:O}", "name", t[j].name, "unit", t[j].unit,
-            "format", hp_column_format_name(t[j].format), "shape",
-            hp_column_shape_name(t[j].shape), "rows", t[j].in_rows ? Py_True : Py_False,
-            "numpy", t[j].numpy, "dtype", t[j].numpy_dtype, "measured",
-            t[j].measured ? Py_True : Py_False);
+            "{s:s,s:s,s:s,s:s,s:O,s:z,s:z,s:O}", "name", t[j].name, "unit", t[j].unit, "format",
+            hp_column_format_name(t[j].format), "shape", hp_column_shape_name(t[j].shape), "rows",
+            t[j].in_rows ? Py_True : Py_False, "numpy", t[j].numpy, "dtype", t[j].numpy_dtype,
+            "measured", t[j].measured ? Py_True : Py_False);
         if (!d || PyList_Append(list, d) < 0) Py_CLEAR(list);
         Py_XDECREF(d);
     }

@@ -35,8 +35,7 @@ static PyArrayObject *bladder_args(const char *fn, const char *what, PyObject *a
 
 /* Fills out[i] for every in[i]; returns the index of the first failure (and its code in
  * *err), or -1. */
-static npy_intp ik_loop(const hp_iab *b, const double *in, double *out, npy_intp n,
-                        hp_error *err)
+static npy_intp ik_loop(const hp_iab *b, const double *in, double *out, npy_intp n, hp_error *err)
 {
     for (npy_intp i = 0; i < n; ++i) {
         hp_error e = hp_iab_ik(b, in[i] * 1e-3, &out[i]);
@@ -48,8 +47,8 @@ static npy_intp ik_loop(const hp_iab *b, const double *in, double *out, npy_intp
     return -1;
 }
 
-static npy_intp fk_loop(const hp_iab *b, const hp_iab_limit *lp, const double *in,
-                        double *out, npy_intp n, hp_error *err)
+static npy_intp fk_loop(const hp_iab *b, const hp_iab_limit *lp, const double *in, double *out,
+                        npy_intp n, hp_error *err)
 {
     for (npy_intp i = 0; i < n; ++i) {
         double ri;
@@ -79,19 +78,19 @@ static PyObject *run(int fk, PyObject *args, PyObject *kwargs)
     npy_intp n = PyArray_SIZE(in), bad = -1;
     hp_error e = HP_OK;
     hp_iab_limit lp;
-    Py_BEGIN_ALLOW_THREADS
-    if (fk) {
+    Py_BEGIN_ALLOW_THREADS if (fk)
+    {
         e = hp_iab_limit_point(&b, &lp);
         if (e == HP_OK) bad = fk_loop(&b, &lp, x, y, n, &e);
-    } else {
+    }
+    else
+    {
         bad = ik_loop(&b, x, y, n, &e);
     }
-    Py_END_ALLOW_THREADS
-    PyObject *result = (PyObject *)out;
+    Py_END_ALLOW_THREADS PyObject *result = (PyObject *)out;
     if (e != HP_OK) {
         Py_DECREF(out);
-        if (bad < 0)
-            result = hpy_fail("%s: limit point: %s", fn, hp_error_message(e));
+        if (bad < 0) result = hpy_fail("%s: limit point: %s", fn, hp_error_message(e));
         else if (fk && e == HP_ERR_NO_STABLE)
             result = hpy_fail("%s: %s[%zd] = %.17g Pa: no stable radius (at or above the "
                               "limit-point pressure %.17g Pa)",

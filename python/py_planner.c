@@ -10,8 +10,7 @@
 void hpy_planner_lock(hpy_planner *self)
 {
     if (PyThread_acquire_lock(self->lock, NOWAIT_LOCK)) return;
-    Py_BEGIN_ALLOW_THREADS
-    PyThread_acquire_lock(self->lock, WAIT_LOCK);
+    Py_BEGIN_ALLOW_THREADS PyThread_acquire_lock(self->lock, WAIT_LOCK);
     Py_END_ALLOW_THREADS
 }
 
@@ -61,10 +60,8 @@ static int planner_init(PyObject *o, PyObject *args, PyObject *kwargs)
     hp_error e;
     hp_planner *p = NULL;
     self->building = 1;
-    Py_BEGIN_ALLOW_THREADS
-    e = hp_planner_create(&self->layout, &self->s, &p, &d);
-    Py_END_ALLOW_THREADS
-    self->building = 0;
+    Py_BEGIN_ALLOW_THREADS e = hp_planner_create(&self->layout, &self->s, &p, &d);
+    Py_END_ALLOW_THREADS self->building = 0;
     if (e != HP_OK) {
         PyThread_free_lock(lock);
         Py_DECREF(names);
@@ -123,14 +120,12 @@ static PyObject *plan_array(hpy_planner *self, PyArrayObject *poses, char *msg)
     hp_error e;
     char err[HP_DIAG_MAX];
     hpy_planner_lock(self);
-    Py_BEGIN_ALLOW_THREADS
-    e = plan_rows(self->p, x, &b);
+    Py_BEGIN_ALLOW_THREADS e = plan_rows(self->p, x, &b);
     /* An answer (closest, uncommanded) explains itself in the note; a failure in the
      * error. The note is composed on demand, so it is asked for here, under the lock. */
     snprintf(err, sizeof err, "%s", hp_planner_error(self->p));
     if (msg) snprintf(msg, HP_DIAG_MAX, "%s", *err ? err : hp_planner_note(self->p));
-    Py_END_ALLOW_THREADS
-    PyThread_release_lock(self->lock);
+    Py_END_ALLOW_THREADS PyThread_release_lock(self->lock);
     PyObject *d = e == HP_OK ? hpy_block_dict(&b)
                              : hpy_fail("plan: %s: %s", hp_error_message(e), err);
     hpy_block_free(&b);
@@ -192,8 +187,7 @@ static PyObject *planner_plan(PyObject *o, PyObject *args, PyObject *kwargs)
     if (!block) return NULL;
     PyObject *d = first_row(block);
     Py_DECREF(block);
-    if (d && hpy_put(d, "message", PyUnicode_FromString(msg)) < 0)
-        Py_CLEAR(d);
+    if (d && hpy_put(d, "message", PyUnicode_FromString(msg)) < 0) Py_CLEAR(d);
     return d;
 }
 
@@ -239,10 +233,9 @@ static PyObject *get_settings(PyObject *o, void *c)
     const hp_settings *s = &self->s;
     return Py_BuildValue("{s:s,s:s,s:d,s:d,s:i,s:d,s:d,s:i}", "backend",
                          hp_backend_name(s->backend), "level", hp_level_name(s->level),
-                         "level_tolerance_mm", s->level_tolerance * 1e3, "tolerance",
-                         s->tolerance, "max_iter", s->max_iter, "max_time_s", s->max_time,
-                         "weight_mm_per_deg", s->weight_mm_per_deg, "warm_start",
-                         s->warm_start);
+                         "level_tolerance_mm", s->level_tolerance * 1e3, "tolerance", s->tolerance,
+                         "max_iter", s->max_iter, "max_time_s", s->max_time, "weight_mm_per_deg",
+                         s->weight_mm_per_deg, "warm_start", s->warm_start);
 }
 
 static PyMethodDef planner_methods[] = {
@@ -264,8 +257,7 @@ static PyMethodDef planner_methods[] = {
      "Any numeric dtype and any strides are\n"
      "accepted (converted to float64); other dtypes raise TypeError, other shapes\n"
      "headplan.Error. Rows with NaN get status 'invalid-input'."},
-    {"run_trace", (PyCFunction)(void (*)(void))hpy_planner_run_trace,
-     METH_VARARGS | METH_KEYWORDS,
+    {"run_trace", (PyCFunction)(void (*)(void))hpy_planner_run_trace, METH_VARARGS | METH_KEYWORDS,
      "run_trace(trace=None, t=None, rows=None, rate_limits=True, mode='batch', horizon=None,\n"
      "          prediction=None, rate_kpa_per_s=None, window=None, overlap=None)\n"
      "    -> dict of arrays\n\n"
@@ -291,7 +283,8 @@ static PyGetSetDef planner_getset[] = {
     {"level", get_level, NULL, "the resolved contact level ('auto' resolved at build)", NULL},
     {"level_choice", get_level_choice, NULL,
      "why auto chose the level, in the words of `headplan solve`'s 'level choice'; None when\n"
-     "the level is named (by the scene or the level keyword)", NULL},
+     "the level is named (by the scene or the level keyword)",
+     NULL},
     {"backend", get_backend, NULL, "the backend name", NULL},
     {"bladder_names", get_names, NULL, "tuple of the bladders' names (column order)", NULL},
     {"settings", get_settings, NULL,
@@ -300,8 +293,7 @@ static PyGetSetDef planner_getset[] = {
 };
 
 PyTypeObject hpy_planner_type = {
-    PyVarObject_HEAD_INIT(NULL, 0)
-    .tp_name = "headplan.Planner",
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "headplan.Planner",
     .tp_basicsize = sizeof(hpy_planner),
     .tp_dealloc = planner_dealloc,
     .tp_flags = Py_TPFLAGS_DEFAULT,

@@ -69,7 +69,7 @@ PyObject *hpy_load_scene(PyObject *self, PyObject *arg)
             Py_DECREF(obj);
             return PyErr_NoMemory();
         }
-        e = !utf8  ? HP_ERR_NOMEM
+        e = !utf8     ? HP_ERR_NOMEM
             : obj->st ? hp_study_parse(utf8, (size_t)len, "<dict>", obj->st, &d)
                       : hp_scene_parse(utf8, (size_t)len, "<dict>", obj->sc, &d);
         Py_DECREF(text);
@@ -82,24 +82,21 @@ PyObject *hpy_load_scene(PyObject *self, PyObject *arg)
         if (!PyUnicode_FSConverter(arg, &path)) {
             Py_DECREF(obj);
             PyErr_Clear();
-            return PyErr_Format(PyExc_TypeError,
-                                "load_scene: expected a path or a dict, got %s",
+            return PyErr_Format(PyExc_TypeError, "load_scene: expected a path or a dict, got %s",
                                 Py_TYPE(arg)->tp_name);
         }
         const char *p = PyBytes_AS_STRING(path);
         hp_scene_kind kind;
-        Py_BEGIN_ALLOW_THREADS
-        kind = hp_scene_file_kind(p);
-        Py_END_ALLOW_THREADS
-        if (alloc_kind(obj, kind) < 0) {
+        Py_BEGIN_ALLOW_THREADS kind = hp_scene_file_kind(p);
+        Py_END_ALLOW_THREADS if (alloc_kind(obj, kind) < 0)
+        {
             Py_DECREF(path);
             Py_DECREF(obj);
             return PyErr_NoMemory();
         }
-        Py_BEGIN_ALLOW_THREADS
-        e = obj->st ? hp_study_load(p, obj->st, &d) : hp_scene_load(p, obj->sc, &d);
-        Py_END_ALLOW_THREADS
-        Py_DECREF(path);
+        Py_BEGIN_ALLOW_THREADS e = obj->st ? hp_study_load(p, obj->st, &d)
+                                           : hp_scene_load(p, obj->sc, &d);
+        Py_END_ALLOW_THREADS Py_DECREF(path);
     }
     if (e != HP_OK) {
         Py_DECREF(obj);
@@ -111,8 +108,7 @@ PyObject *hpy_load_scene(PyObject *self, PyObject *arg)
 const hp_scene *hpy_layout_scene(PyObject *obj)
 {
     if (!PyObject_TypeCheck(obj, &hpy_scene_type)) {
-        PyErr_Format(PyExc_TypeError, "expected a headplan.Scene, got %s",
-                     Py_TYPE(obj)->tp_name);
+        PyErr_Format(PyExc_TypeError, "expected a headplan.Scene, got %s", Py_TYPE(obj)->tp_name);
         return NULL;
     }
     const hpy_scene *self = (const hpy_scene *)obj;
@@ -200,8 +196,8 @@ static PyObject *get_bladder(PyObject *o, void *c)
     (void)c;
     const hp_bladder_study *sc = ((hpy_scene *)o)->st;
     if (!sc) Py_RETURN_NONE;
-    return Py_BuildValue("{s:d,s:d,s:d,s:d}", "Ri_mm", sc->iab.Ri * 1e3, "Ro_mm",
-                         sc->iab.Ro * 1e3, "c1_pa", sc->iab.C1, "c2_pa", sc->iab.C2);
+    return Py_BuildValue("{s:d,s:d,s:d,s:d}", "Ri_mm", sc->iab.Ri * 1e3, "Ro_mm", sc->iab.Ro * 1e3,
+                         "c1_pa", sc->iab.C1, "c2_pa", sc->iab.C2);
 }
 
 static PyObject *get_name(PyObject *o, void *c)
@@ -303,27 +299,24 @@ static PyGetSetDef scene_getset[] = {
     {"kind", get_kind, NULL, "'layout' or 'bladder'", NULL},
     {"bladder_names", get_names, NULL, "tuple of the bladders' names (layout scenes)", NULL},
     {"correction", get_correction, NULL,
-     "the scene's correction as [x_mm, y_mm, z_mm, pitch_deg, roll_deg, yaw_deg], or None",
-     NULL},
+     "the scene's correction as [x_mm, y_mm, z_mm, pitch_deg, roll_deg, yaw_deg], or None", NULL},
     {"trace", get_trace, NULL, "the scene's trace path (resolved), or None", NULL},
-    {"trace_rows", get_trace_rows, NULL, "'deviation' or 'correction': what the trace holds",
-     NULL},
+    {"trace_rows", get_trace_rows, NULL, "'deviation' or 'correction': what the trace holds", NULL},
     {"backend", get_backend, NULL, "the scene's solver backend name", NULL},
-    {"level", get_level, NULL, "the scene's model.level: 'linear', 'plane', 'surface', 'auto' or 'load'", NULL},
+    {"level", get_level, NULL,
+     "the scene's model.level: 'linear', 'plane', 'surface', 'auto' or 'load'", NULL},
     {"layout", get_layout, NULL,
      "dict: head (shape, center_mm, semi_axes_mm, mass_kg), pivot_mm, and bladders (a list of\n"
      "dicts: name, center_mm, Ri_mm, Ro_mm, c1_pa, c2_pa, pressure_min_pa, pressure_max_pa,\n"
      "stretch_min, stretch_max, rate_max_pa, contact_mm, normal, rho0_mm). Layout scenes only.",
      NULL},
     {"bladder", get_bladder, NULL,
-     "single-bladder scenes: dict Ri_mm, Ro_mm, c1_pa, c2_pa (ready for ik/fk); else None",
-     NULL},
+     "single-bladder scenes: dict Ri_mm, Ro_mm, c1_pa, c2_pa (ready for ik/fk); else None", NULL},
     {NULL, NULL, NULL, NULL, NULL},
 };
 
 PyTypeObject hpy_scene_type = {
-    PyVarObject_HEAD_INIT(NULL, 0)
-    .tp_name = "headplan.Scene",
+    PyVarObject_HEAD_INIT(NULL, 0).tp_name = "headplan.Scene",
     .tp_basicsize = sizeof(hpy_scene),
     .tp_dealloc = scene_dealloc,
     .tp_repr = scene_repr,

@@ -237,17 +237,17 @@ static char *array_text(PyObject *poses_obj, PyObject *t_obj, size_t *len)
 PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
 {
     hpy_planner *self = (hpy_planner *)o;
-    static char *kw[] = {"trace", "t", "rows", "rate_limits", "mode", "horizon", "prediction",
-                         "rate_kpa_per_s", "window", "overlap", NULL};
+    static char *kw[] = {"trace",  "t",       "rows",       "rate_limits",
+                         "mode",   "horizon", "prediction", "rate_kpa_per_s",
+                         "window", "overlap", NULL};
     PyObject *trace = Py_None, *t = Py_None;
-    PyObject *horizon_o = Py_None, *rate_o = Py_None, *window_o = Py_None,
-             *overlap_o = Py_None;
+    PyObject *horizon_o = Py_None, *rate_o = Py_None, *window_o = Py_None, *overlap_o = Py_None;
     const char *rows = NULL, *mode_s = "batch", *pred = NULL;
     int rate_limits = 1, horizon = -1, window = -1, overlap = -1;
     double rate_kpa_s = NAN;
-    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "|OOzpsOzOOO:run_trace", kw, &trace, &t,
-                                     &rows, &rate_limits, &mode_s, &horizon_o, &pred,
-                                     &rate_o, &window_o, &overlap_o))
+    if (!PyArg_ParseTupleAndKeywords(args, kwargs, "|OOzpsOzOOO:run_trace", kw, &trace, &t, &rows,
+                                     &rate_limits, &mode_s, &horizon_o, &pred, &rate_o, &window_o,
+                                     &overlap_o))
         return NULL;
     /* None is "not given"; any value given goes to the validator as it is (NaN, -1 and
      * infinity included, which no sentinel may swallow). */
@@ -263,8 +263,7 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     int mode = -1;
     for (int m = 0; m < 4; ++m)
         if (strcmp(mode_s, modes[m]) == 0) mode = m;
-    if (mode < 0)
-        return hpy_fail("mode: '%s' is none of batch, greedy, receding, offline", mode_s);
+    if (mode < 0) return hpy_fail("mode: '%s' is none of batch, greedy, receding, offline", mode_s);
     hp_horizon_settings hs;
     hp_horizon_settings_default(&hs);
     if (horizon_o != Py_None) hs.horizon = horizon;
@@ -276,8 +275,7 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     if (pred && hp_prediction_parse(pred, &hs.prediction) != HP_OK)
         return hpy_fail("prediction: '%s' is neither 'hold' nor 'velocity'", pred);
     hp_diag hd = {{0}};
-    if (mode > 0 && hp_horizon_settings_validate(&hs, &hd) != HP_OK)
-        return hpy_fail("%s", hd.text);
+    if (mode > 0 && hp_horizon_settings_validate(&hs, &hd) != HP_OK) return hpy_fail("%s", hd.text);
     if (mode == 0 && (given || pred))
         return hpy_fail("horizon, prediction, rate_kpa_per_s, window, overlap: only with "
                         "mode greedy, receding or offline");
@@ -289,8 +287,8 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
         return hpy_fail("%s: only the receding plan reads it (mode 'receding'), not mode '%s'",
                         recv, mode_s);
     if (offl && mode != 3 && mode != 0)
-        return hpy_fail("%s: only the offline plan reads it (mode 'offline'), not mode '%s'",
-                        offl, mode_s);
+        return hpy_fail("%s: only the offline plan reads it (mode 'offline'), not mode '%s'", offl,
+                        mode_s);
     if (!self->p) {
         PyErr_SetString(PyExc_RuntimeError, "Planner: not built");
         return NULL;
@@ -312,8 +310,8 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
         /* The scene's trace.rows describes its own trace: rows must agree, as in headplan
          * batch and horizon (planning a deviation trace as corrections flips every sign). */
         if (override && *override != self->trace_rows)
-            return hpy_fail("rows: '%s' but the scene's trace.rows says %s: they must agree",
-                            rows, hp_trace_rows_name(self->trace_rows));
+            return hpy_fail("rows: '%s' but the scene's trace.rows says %s: they must agree", rows,
+                            hp_trace_rows_name(self->trace_rows));
         if (!override) {
             kind = self->trace_rows;
             override = &kind;
@@ -340,8 +338,7 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     int nomem = 0;
     hp_planner *p = NULL;
     const char *cpath = path ? PyBytes_AS_STRING(path) : NULL;
-    Py_BEGIN_ALLOW_THREADS
-    hp_trace_reader *r = NULL;
+    Py_BEGIN_ALLOW_THREADS hp_trace_reader *r = NULL;
     e = cpath ? hp_trace_open(cpath, override, &r, &d)
               : hp_trace_open_mem(text, len, "<array>", HP_TRACE_CSV, override, &r, &d);
     if (e == HP_OK) e = read_all(r, &in, text != NULL, &d);
@@ -361,8 +358,7 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
         }
     }
     hp_planner_destroy(p);
-    Py_END_ALLOW_THREADS
-    free(text);
+    Py_END_ALLOW_THREADS free(text);
     Py_XDECREF(path);
 
     PyObject *out = NULL;

@@ -11,8 +11,7 @@ const char *const hpi_scene_kind_words[] = {"layout", "bladder", NULL};
 
 HP_NAMES_CALLS(hp_trace_rows, hpi_trace_rows_words, hp_trace_rows_name, hp_trace_rows_parse)
 
-HP_NAMES_CALLS(hp_trace_format, hpi_trace_format_words, hp_trace_format_name,
-               hp_trace_format_parse)
+HP_NAMES_CALLS(hp_trace_format, hpi_trace_format_words, hp_trace_format_name, hp_trace_format_parse)
 
 HP_NAMES_NAME_CALL(hp_trace_form, hpi_trace_form_words, hp_trace_form_name)
 

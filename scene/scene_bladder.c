@@ -12,15 +12,16 @@ static const char *const FE_KEYS[] = {"convention", "C10_pa", "C01_pa", NULL};
 hp_error sp_material(const sr_ctx *c, const yt_node *node, const char *path, hp_iab *iab,
                      hp_material_convention *conv, double written[2])
 {
-    static const char *const ANY_KEYS[] = {"convention", "C1_pa", "C2_pa", "C10_pa", "C01_pa",
-                                           NULL};
+    static const char *const ANY_KEYS[] = {"convention", "C1_pa",  "C2_pa",
+                                           "C10_pa",     "C01_pa", NULL};
     hp_error e = sr_map(c, node, path, ANY_KEYS, NULL);
     if (e) return e;
     const yt_node *cv;
     char p[SR_PATH_MAX], name[16];
     if ((e = sr_require(c, node, path, "convention", &cv))) return e;
     sr_join(p, sizeof p, path, "convention");
-    if ((e = sr_word(c, cv, p, "convention", hpi_material_convention_words, name, sizeof name))) return e;
+    if ((e = sr_word(c, cv, p, "convention", hpi_material_convention_words, name, sizeof name)))
+        return e;
     hp_material_convention mc = HP_MATERIAL_PAPER;
     (void)hp_material_convention_parse(name, &mc); /* cannot fail: name is in the table */
     const char *const *keys = mc == HP_MATERIAL_PAPER ? PAPER_KEYS : FE_KEYS;
@@ -52,8 +53,8 @@ hp_error sp_material(const sr_ctx *c, const yt_node *node, const char *path, hp_
 }
 
 /* Looks key up in map, else in defaults; sets *node (NULL when absent in both) and path. */
-static void lookup(const yt_node *map, const char *path, const yt_node *defaults,
-                   const char *key, const yt_node **node, char *p, size_t size)
+static void lookup(const yt_node *map, const char *path, const yt_node *defaults, const char *key,
+                   const yt_node **node, char *p, size_t size)
 {
     *node = yt_map_get(map, key);
     if (*node) {
@@ -96,9 +97,9 @@ enum { P_RI, P_RO, P_PMIN, P_PMAX, P_SMIN, P_SMAX, P_RATE, P_STRESS, P_COUNT };
 hp_error sp_bladder_params(const sr_ctx *c, const yt_node *map, const char *path,
                            const yt_node *defaults, int require, hp_bladder *b)
 {
-    static const char *const key[P_COUNT] = {"Ri_mm", "Ro_mm", "pressure_min_kpa",
-                                             "pressure_max_kpa", "stretch_min", "stretch_max",
-                                             "rate_max_kpa", "stress_max_kpa"};
+    static const char *const key[P_COUNT] = {
+        "Ri_mm",       "Ro_mm",       "pressure_min_kpa", "pressure_max_kpa",
+        "stretch_min", "stretch_max", "rate_max_kpa",     "stress_max_kpa"};
     static const double scale[P_COUNT] = {1e-3, 1e-3, 1e3, 1e3, 1.0, 1.0, 1e3, 1e3};
     double v[P_COUNT] = {0};
     int given[P_COUNT] = {0};
@@ -120,8 +121,7 @@ hp_error sp_bladder_params(const sr_ctx *c, const yt_node *map, const char *path
         return sr_fail(c, at[P_RO], p[P_RO], HP_ERR_INVALID, "must be > 0 mm (got %g)",
                        v[P_RO] * 1e3);
     if (given[P_SMIN] && !(v[P_SMIN] > 0))
-        return sr_fail(c, at[P_SMIN], p[P_SMIN], HP_ERR_INVALID, "must be > 0 (got %g)",
-                       v[P_SMIN]);
+        return sr_fail(c, at[P_SMIN], p[P_SMIN], HP_ERR_INVALID, "must be > 0 (got %g)", v[P_SMIN]);
     if (given[P_RATE] && !(v[P_RATE] > 0))
         return sr_fail(c, at[P_RATE], p[P_RATE], HP_ERR_INVALID,
                        "must be > 0 kPa (got %g; omit the key for no rate limit)",
@@ -154,8 +154,7 @@ hp_error sp_bladder_params(const sr_ctx *c, const yt_node *map, const char *path
     }
     if (require) {
         hp_diag sub;
-        if ((e = hp_iab_validate(&iab, &sub)))
-            return sr_fail(c, map, path, e, "%s", sub.text);
+        if ((e = hp_iab_validate(&iab, &sub))) return sr_fail(c, map, path, e, "%s", sub.text);
         hp_iab_limit lp;
         if ((e = hp_iab_limit_point(&iab, &lp)))
             return sr_fail(c, map, path, e, "limit point: %s", hp_error_message(e));
@@ -177,8 +176,7 @@ hp_error sp_bladder_params(const sr_ctx *c, const yt_node *map, const char *path
 
 hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_bladder_study *s)
 {
-    static const char *const KEYS[] = {"Ri_mm", "Ro_mm", "material", "ri_mm", "pressure_pa",
-                                       NULL};
+    static const char *const KEYS[] = {"Ri_mm", "Ro_mm", "material", "ri_mm", "pressure_pa", NULL};
     const char *path = "bladder";
     hp_error e = sr_map(c, node, path, KEYS, "in a single-bladder study");
     if (e) return e;
@@ -200,8 +198,7 @@ hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_bladder_study *s)
     s->iab.Ro = v[1] * 1e-3;
     const yt_node *mat;
     if ((e = sr_require(c, node, path, "material", &mat))) return e;
-    if ((e = sp_material(c, mat, "bladder.material", &s->iab, &s->convention,
-                         s->moduli_written)))
+    if ((e = sp_material(c, mat, "bladder.material", &s->iab, &s->convention, s->moduli_written)))
         return e;
     hp_diag sub;
     if ((e = hp_iab_validate(&s->iab, &sub))) return sr_fail(c, node, path, e, "%s", sub.text);
@@ -218,8 +215,7 @@ hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_bladder_study *s)
         double x;
         if ((e = sr_number(c, ri, "bladder.ri_mm", &x))) return e;
         if (!(x > 0))
-            return sr_fail(c, ri, "bladder.ri_mm", HP_ERR_INVALID, "must be > 0 mm (got %g)",
-                           x);
+            return sr_fail(c, ri, "bladder.ri_mm", HP_ERR_INVALID, "must be > 0 mm (got %g)", x);
         s->study = HP_STUDY_IK;
         s->study_ri = x * 1e-3;
     } else {
@@ -233,32 +229,28 @@ hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_bladder_study *s)
 
 hp_error sp_printed(const sr_ctx *c, const yt_node *node, hp_bladder_study *s)
 {
-    static const char *const KEYS[] = {"title", "note",  "C1_pa", "C2_pa",       "Ri_m",
-                                       "ri_m",  "Ro_m",  "ro_m",  "pressure_pa", "dV_m3",
-                                       NULL};
+    static const char *const KEYS[] = {"title", "note", "C1_pa",       "C2_pa", "Ri_m", "ri_m",
+                                       "Ro_m",  "ro_m", "pressure_pa", "dV_m3", NULL};
     const char *path = "paper_printed";
     hp_error e = sr_map(c, node, path, KEYS, NULL);
     if (e) return e;
-    hp_scene_printed *slot[8] = {&s->printed_C1, &s->printed_C2, &s->printed_Ri,
-                                 &s->printed_ri, &s->printed_Ro, &s->printed_ro,
+    hp_scene_printed *slot[8] = {&s->printed_C1,       &s->printed_C2, &s->printed_Ri,
+                                 &s->printed_ri,       &s->printed_Ro, &s->printed_ro,
                                  &s->printed_pressure, &s->printed_dV};
     char p[SR_PATH_MAX];
     for (int i = 0; i < 8; ++i) {
         const yt_node *n = yt_map_get(node, KEYS[2 + i]);
         if (!n) continue;
         sr_join(p, sizeof p, path, KEYS[2 + i]);
-        if ((e = sr_number_text(c, n, p, &slot[i]->value, slot[i]->text,
-                                sizeof slot[i]->text)))
+        if ((e = sr_number_text(c, n, p, &slot[i]->value, slot[i]->text, sizeof slot[i]->text)))
             return e;
         slot[i]->given = 1;
     }
     const yt_node *t = yt_map_get(node, "title");
-    if (t && (e = sr_text(c, t, "paper_printed.title", s->printed_title,
-                          sizeof s->printed_title)))
+    if (t && (e = sr_text(c, t, "paper_printed.title", s->printed_title, sizeof s->printed_title)))
         return e;
     t = yt_map_get(node, "note");
-    if (t && (e = sr_text(c, t, "paper_printed.note", s->printed_note,
-                          sizeof s->printed_note)))
+    if (t && (e = sr_text(c, t, "paper_printed.note", s->printed_note, sizeof s->printed_note)))
         return e;
     s->has_printed = 1;
     return HP_OK;

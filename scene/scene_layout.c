@@ -7,11 +7,10 @@
 
 hp_error sp_head(const sr_ctx *c, const yt_node *node, const char *path, hp_head *h)
 {
-    static const char *const ANY[] = {"shape", "radius_mm", "semi_axes_mm", "center_mm",
-                                      "mass_kg", NULL};
+    static const char *const ANY[] = {"shape",     "radius_mm", "semi_axes_mm",
+                                      "center_mm", "mass_kg",   NULL};
     static const char *const SPHERE[] = {"shape", "radius_mm", "center_mm", "mass_kg", NULL};
-    static const char *const ELLIPSOID[] = {"shape", "semi_axes_mm", "center_mm", "mass_kg",
-                                            NULL};
+    static const char *const ELLIPSOID[] = {"shape", "semi_axes_mm", "center_mm", "mass_kg", NULL};
     hp_error e = sr_map(c, node, path, ANY, NULL);
     if (e) return e;
     const yt_node *sh;
@@ -41,8 +40,7 @@ hp_error sp_head(const sr_ctx *c, const yt_node *node, const char *path, hp_head
             if (!(a[i] > 0)) {
                 char ip[SR_PATH_MAX];
                 sr_index(ip, sizeof ip, p, (size_t)i);
-                return sr_fail(c, n->items[i], ip, HP_ERR_INVALID, "must be > 0 mm (got %g)",
-                               a[i]);
+                return sr_fail(c, n->items[i], ip, HP_ERR_INVALID, "must be > 0 mm (got %g)", a[i]);
             }
             h->semi_axes[i] = a[i] * 1e-3;
         }
@@ -71,8 +69,8 @@ static int good_name(const char *s)
 {
     if (!*s) return 0;
     for (; *s; ++s)
-        if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') ||
-              (*s >= '0' && *s <= '9') || *s == '_' || *s == '-'))
+        if (!((*s >= 'a' && *s <= 'z') || (*s >= 'A' && *s <= 'Z') || (*s >= '0' && *s <= '9') ||
+              *s == '_' || *s == '-'))
             return 0;
     return 1;
 }
@@ -149,14 +147,12 @@ static hp_error placement(const sr_ctx *c, const yt_node *map, const char *path,
     return HP_OK;
 }
 
-hp_error sp_bladders(const sr_ctx *c, const yt_node *list, const yt_node *defaults,
-                     hp_layout *L)
+hp_error sp_bladders(const sr_ctx *c, const yt_node *list, const yt_node *defaults, hp_layout *L)
 {
     static const char *const KEYS[] = {
-        "name",          "center_mm",        "touch_mm",         "touch_dir",
-        "preload_mm",    "Ri_mm",            "Ro_mm",            "material",
-        "pressure_min_kpa", "pressure_max_kpa", "stretch_min",   "stretch_max",
-        "rate_max_kpa",  "stress_max_kpa", NULL};
+        "name",        "center_mm",   "touch_mm",     "touch_dir",        "preload_mm",
+        "Ri_mm",       "Ro_mm",       "material",     "pressure_min_kpa", "pressure_max_kpa",
+        "stretch_min", "stretch_max", "rate_max_kpa", "stress_max_kpa",   NULL};
     if (list->type != YT_SEQUENCE)
         return sr_fail(c, list, "bladders", HP_ERR_PARSE, "expected a list of bladders, found %s",
                        sr_type_name(list));
@@ -175,8 +171,8 @@ hp_error sp_bladders(const sr_ctx *c, const yt_node *list, const yt_node *defaul
         sr_join(p, sizeof p, path, "name");
         if ((e = sr_text(c, nm, p, b->name, sizeof b->name))) return e;
         if (!good_name(b->name))
-            return sr_fail(c, nm, p, HP_ERR_INVALID,
-                           "'%s': use letters, digits, '_' and '-' only", b->name);
+            return sr_fail(c, nm, p, HP_ERR_INVALID, "'%s': use letters, digits, '_' and '-' only",
+                           b->name);
         for (size_t j = 0; j < k; ++j)
             if (strcmp(L->bladders[j].name, b->name) == 0)
                 return sr_fail(c, nm, p, HP_ERR_INVALID, "'%s' is used twice (also bladders[%zu])",

@@ -8,8 +8,8 @@
 
 hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
 {
-    static const char *const KEYS[] = {"carried_fraction", "com_mm", "gravity_dir",
-                                       "geometry", "tiebreak", NULL};
+    static const char *const KEYS[] = {"carried_fraction", "com_mm",   "gravity_dir",
+                                       "geometry",         "tiebreak", NULL};
     hp_error e = sr_map(c, node, "load", KEYS, NULL);
     if (e) return e;
     const hp_head *h = &s->layout.head;
@@ -23,7 +23,8 @@ hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if (!(f > 0 && f <= 1))
         return sr_fail(c, n, "load.carried_fraction", HP_ERR_INVALID,
                        "must be in (0, 1]: the part of the head's weight on the bladders "
-                       "(got %g)", f);
+                       "(got %g)",
+                       f);
     hp_load_spec_default(h, &s->load);
     s->load.mass = f * h->mass;
     s->load_fraction = f;
@@ -52,8 +53,7 @@ hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
         for (int l = HP_LEVEL_LINEAR; l < HP_LEVEL_AUTO; ++l) GEOMS[l] = hp_level_name((hp_level)l);
         GEOMS[HP_LEVEL_AUTO] = NULL;
         char name[16];
-        if ((e = sr_word(c, n, "load.geometry", "geometry", GEOMS, name, sizeof name)))
-            return e;
+        if ((e = sr_word(c, n, "load.geometry", "geometry", GEOMS, name, sizeof name))) return e;
         (void)hp_level_parse(name, &s->load_geometry); /* cannot fail: name is in GEOMS */
     }
     s->load_tiebreak = HP_TIE_LEAST_SQUEEZE;
@@ -61,8 +61,7 @@ hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
         static const char *const TIES[] = {"least-squeeze", "previous", "stiffness", NULL};
         char name[16];
         hp_load_tiebreak t;
-        if ((e = sr_word(c, n, "load.tiebreak", "tie-breaker", TIES, name, sizeof name)))
-            return e;
+        if ((e = sr_word(c, n, "load.tiebreak", "tie-breaker", TIES, name, sizeof name))) return e;
         (void)hp_load_tiebreak_parse(name, &t); /* cannot fail: name is in TIES */
         s->load_tiebreak = (int)t;
     }

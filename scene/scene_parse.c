@@ -13,11 +13,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const LAYOUT_KEYS[] = {"headplan_scene", "name",     "head",
-                                          "pivot_mm",       "bladder_defaults",
-                                          "bladders",       "model",    "solver",
-                                          "correction",     "trace",    "load",
-                                          NULL};
+static const char *const LAYOUT_KEYS[] = {"headplan_scene",   "name",     "head",  "pivot_mm",
+                                          "bladder_defaults", "bladders", "model", "solver",
+                                          "correction",       "trace",    "load",  NULL};
 static const char *const BLADDER_KEYS[] = {"headplan_scene", "name", "bladder", "paper_printed",
                                            NULL};
 
@@ -55,7 +53,8 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
     const yt_node *n;
     if ((n = yt_map_get(node, "level"))) {
         const char *LEVELS[HP_LEVEL_LOAD + 2]; /* every level, "load" last, NULL */
-        for (int l = HP_LEVEL_LINEAR; l <= HP_LEVEL_LOAD; ++l) LEVELS[l] = hp_level_name((hp_level)l);
+        for (int l = HP_LEVEL_LINEAR; l <= HP_LEVEL_LOAD; ++l)
+            LEVELS[l] = hp_level_name((hp_level)l);
         LEVELS[HP_LEVEL_LOAD + 1] = NULL;
         char name[16];
         if ((e = sr_word(c, n, "model.level", "level", LEVELS, name, sizeof name))) return e;
@@ -74,8 +73,7 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
         const char *why;
         if ((e = sr_number(c, n, "model.tolerance_mm", &t))) return e;
         if ((why = hpi_check_level_tolerance(t * 1e-3)))
-            return sr_fail(c, n, "model.tolerance_mm", HP_ERR_INVALID, "%s mm (got %g)", why,
-                           t);
+            return sr_fail(c, n, "model.tolerance_mm", HP_ERR_INVALID, "%s mm (got %g)", why, t);
         s->level_tolerance = t * 1e-3;
     }
     const yt_node *tr = yt_map_get(node, "auto_translation_mm");
@@ -90,8 +88,8 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
         const char *why;
         if ((e = sr_number(c, tr, "model.auto_translation_mm", &a))) return e;
         if ((why = hpi_check_auto_trans(a * 1e-3)))
-            return sr_fail(c, tr, "model.auto_translation_mm", HP_ERR_INVALID,
-                           "%s mm (got %g)", why, a);
+            return sr_fail(c, tr, "model.auto_translation_mm", HP_ERR_INVALID, "%s mm (got %g)",
+                           why, a);
         if ((e = sr_number(c, ro, "model.auto_rotation_deg", &b))) return e;
         if (!(b >= 0 && b <= 180))
             return sr_fail(c, ro, "model.auto_rotation_deg", HP_ERR_INVALID,
@@ -105,8 +103,8 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
 
 static hp_error solver(const sr_ctx *c, const yt_node *node, hp_scene *s)
 {
-    static const char *const KEYS[] = {"backend", "tolerance", "max_iter", "max_time_s",
-                                       "weight_mm_per_deg", NULL};
+    static const char *const KEYS[] = {"backend",    "tolerance",         "max_iter",
+                                       "max_time_s", "weight_mm_per_deg", NULL};
     hp_error e = sr_map(c, node, "solver", KEYS, NULL);
     if (e) return e;
     const yt_node *n;
@@ -142,8 +140,8 @@ static hp_error solver(const sr_ctx *c, const yt_node *node, hp_scene *s)
 
 static hp_error correction(const sr_ctx *c, const yt_node *node, hp_scene *s)
 {
-    static const char *const KEYS[] = {"x_mm", "y_mm", "z_mm", "pitch_deg", "roll_deg",
-                                       "yaw_deg", NULL};
+    static const char *const KEYS[] = {"x_mm",     "y_mm",    "z_mm", "pitch_deg",
+                                       "roll_deg", "yaw_deg", NULL};
     hp_error e = sr_map(c, node, "correction", KEYS, NULL);
     if (e) return e;
     double v[6];
@@ -170,15 +168,15 @@ static hp_error trace(const sr_ctx *c, const yt_node *node, hp_scene *s)
     if ((e = sr_require(c, node, "trace", "file", &f))) return e;
     if ((e = sr_text(c, f, "trace.file", file, sizeof file))) return e;
     if ((e = sr_require(c, node, "trace", "rows", &r))) return e;
-    if ((e = sr_word(c, r, "trace.rows", "rows", hpi_trace_rows_words, rows, sizeof rows))) return e;
+    if ((e = sr_word(c, r, "trace.rows", "rows", hpi_trace_rows_words, rows, sizeof rows)))
+        return e;
     (void)hp_trace_rows_parse(rows, &s->trace_rows); /* cannot fail: rows is in the table */
     const char *slash = strrchr(c->file, '/');
     int n;
-    if (file[0] == '/' || !slash)
-        n = snprintf(s->trace_path, sizeof s->trace_path, "%s", file);
+    if (file[0] == '/' || !slash) n = snprintf(s->trace_path, sizeof s->trace_path, "%s", file);
     else
-        n = snprintf(s->trace_path, sizeof s->trace_path, "%.*s/%s",
-                     (int)(slash - c->file), c->file, file);
+        n = snprintf(s->trace_path, sizeof s->trace_path, "%.*s/%s", (int)(slash - c->file),
+                     c->file, file);
     if (n < 0 || (size_t)n >= sizeof s->trace_path)
         return sr_fail(c, f, "trace.file", HP_ERR_INVALID, "path longer than %d characters",
                        HP_SCENE_PATH_MAX - 1);
@@ -200,13 +198,12 @@ static hp_error layout_scene(const sr_ctx *c, const yt_node *root, hp_scene *s)
     }
     const yt_node *defaults = yt_map_get(root, "bladder_defaults");
     if (defaults) {
-        static const char *const KEYS[] = {"Ri_mm", "Ro_mm", "material", "pressure_min_kpa",
-                                           "pressure_max_kpa", "stretch_min", "stretch_max",
-                                           "rate_max_kpa", "stress_max_kpa", NULL};
+        static const char *const KEYS[] = {
+            "Ri_mm",       "Ro_mm",       "material",     "pressure_min_kpa", "pressure_max_kpa",
+            "stretch_min", "stretch_max", "rate_max_kpa", "stress_max_kpa",   NULL};
         hp_bladder scratch;
         if ((e = sr_map(c, defaults, "bladder_defaults", KEYS, NULL))) return e;
-        if ((e = sp_bladder_params(c, defaults, "bladder_defaults", NULL, 0, &scratch)))
-            return e;
+        if ((e = sp_bladder_params(c, defaults, "bladder_defaults", NULL, 0, &scratch))) return e;
     }
     if ((e = sr_require(c, root, "", "bladders", &list))) return e;
     if ((e = sp_bladders(c, list, defaults, &s->layout))) return e;
@@ -233,8 +230,7 @@ static hp_error bladder_scene(const sr_ctx *c, const yt_node *root, hp_bladder_s
 }
 
 /* The first keys of either kind: `headplan_scene` and `name`. */
-static hp_error head_keys(const sr_ctx *c, const yt_node *root, int *ver, char *name,
-                          size_t size)
+static hp_error head_keys(const sr_ctx *c, const yt_node *root, int *ver, char *name, size_t size)
 {
     hp_error e = version(c, root, ver);
     if (e) return e;
@@ -323,15 +319,15 @@ static hp_error study_tree_v(const sr_ctx *c, const yt_node *root, void *out)
 }
 
 /* Parses text into r->out, which is all zero unless the whole file is valid. */
-static hp_error parse_with(const char *text, size_t len, const char *filename,
-                           const kind_reader *r, hp_diag *diag)
+static hp_error parse_with(const char *text, size_t len, const char *filename, const kind_reader *r,
+                           hp_diag *diag)
 {
     memset(r->out, 0, r->size);
     const char *file = filename ? filename : "<scene>";
     if (!text) return hp_diag_set(diag, HP_ERR_NULL, "%s: NULL text", file);
     if (len > HP_SCENE_MAX_BYTES)
-        return hp_diag_set(diag, HP_ERR_PARSE, "%s: larger than the 1 MiB limit (%zu bytes)",
-                           file, len);
+        return hp_diag_set(diag, HP_ERR_PARSE, "%s: larger than the 1 MiB limit (%zu bytes)", file,
+                           len);
     sr_ctx c = {.file = file, .diag = diag};
     yt_node *root = NULL;
     hp_error e = yt_parse(text, len, file, &root, diag);
@@ -352,8 +348,8 @@ hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_s
     return parse_with(text, len, filename, &r, diag);
 }
 
-hp_error hp_study_parse(const char *text, size_t len, const char *filename,
-                        hp_bladder_study *out, hp_diag *diag)
+hp_error hp_study_parse(const char *text, size_t len, const char *filename, hp_bladder_study *out,
+                        hp_diag *diag)
 {
     if (!out) return hp_diag_set(diag, HP_ERR_NULL, "study: NULL output");
     kind_reader r = {out, sizeof *out, out->file, study_tree_v};

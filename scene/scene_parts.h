@@ -22,8 +22,7 @@ hp_error sp_head(const sr_ctx *c, const yt_node *node, const char *path, hp_head
 
 /* The `bladders` list with `bladder_defaults` (may be NULL) into L->bladders, L->n; the head
  * must be set already (touch placement needs it). */
-hp_error sp_bladders(const sr_ctx *c, const yt_node *list, const yt_node *defaults,
-                     hp_layout *L);
+hp_error sp_bladders(const sr_ctx *c, const yt_node *list, const yt_node *defaults, hp_layout *L);
 
 /* The single-bladder study (`bladder`) and the printed values (`paper_printed`). */
 hp_error sp_study(const sr_ctx *c, const yt_node *node, hp_bladder_study *s);

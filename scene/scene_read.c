@@ -25,17 +25,14 @@ hp_error sr_fail(const sr_ctx *c, const yt_node *at, const char *path, hp_error 
 
 void sr_join(char *buf, size_t size, const char *path, const char *key)
 {
-    if (path && path[0])
-        snprintf(buf, size, "%s.%s", path, key);
-    else
-        snprintf(buf, size, "%s", key);
+    if (path && path[0]) snprintf(buf, size, "%s.%s", path, key);
+    else snprintf(buf, size, "%s", key);
 }
 
 void sr_index(char *buf, size_t size, const char *path, size_t i)
 {
     snprintf(buf, size, "%s[%zu]", path, i);
 }
-
 
 const char *sr_type_name(const yt_node *node)
 {
@@ -49,8 +46,8 @@ const char *sr_type_name(const yt_node *node)
     return "text";
 }
 
-hp_error sr_map(const sr_ctx *c, const yt_node *node, const char *path,
-                const char *const *allowed, const char *what)
+hp_error sr_map(const sr_ctx *c, const yt_node *node, const char *path, const char *const *allowed,
+                const char *what)
 {
     if (node->type != YT_MAPPING)
         return sr_fail(c, node, path, HP_ERR_PARSE, "expected a mapping of keys, found %s",
@@ -70,8 +67,8 @@ hp_error sr_map(const sr_ctx *c, const yt_node *node, const char *path,
         }
         char kpath[SR_PATH_MAX];
         sr_join(kpath, sizeof kpath, path, k->value);
-        return sr_fail(c, k, kpath, HP_ERR_PARSE, "unknown key%s%s (allowed: %s)",
-                       what ? " " : "", what ? what : "", list);
+        return sr_fail(c, k, kpath, HP_ERR_PARSE, "unknown key%s%s (allowed: %s)", what ? " " : "",
+                       what ? what : "", list);
     }
     return HP_OK;
 }
@@ -106,11 +103,10 @@ static hp_error not_number(const sr_ctx *c, const yt_node *node, const char *pat
     if (strcmp(u, ".inf") == 0 || strcmp(u, ".Inf") == 0 || strcmp(u, ".INF") == 0 ||
         strcmp(u, "inf") == 0 || strcmp(u, "infinity") == 0)
         return sr_fail(c, node, path, HP_ERR_INVALID,
-                       "'%s' is not a finite number (omit the key where a limit is optional)",
-                       v);
+                       "'%s' is not a finite number (omit the key where a limit is optional)", v);
     if (u[0] == '0' && (u[1] == 'x' || u[1] == 'X' || u[1] == 'o' || u[1] == 'b'))
-        return sr_fail(c, node, path, HP_ERR_PARSE,
-                       "'%.40s': only decimal numbers are accepted", v);
+        return sr_fail(c, node, path, HP_ERR_PARSE, "'%.40s': only decimal numbers are accepted",
+                       v);
     if (strcmp(v, "~") == 0 || strcmp(v, "null") == 0 || strcmp(v, "Null") == 0 ||
         strcmp(v, "NULL") == 0)
         return sr_fail(c, node, path, HP_ERR_PARSE, "missing value (expected a number)");
@@ -127,8 +123,7 @@ hp_error sr_number_text(const sr_ctx *c, const yt_node *node, const char *path, 
     if (end != node->value + node->len)
         return sr_fail(c, node, path, HP_ERR_PARSE, "'%.40s' is not a number", node->value);
     if (errno == ERANGE && fabs(v) > 1.0)
-        return sr_fail(c, node, path, HP_ERR_INVALID, "'%.40s' overflows a double",
-                       node->value);
+        return sr_fail(c, node, path, HP_ERR_INVALID, "'%.40s' overflows a double", node->value);
     if (errno == ERANGE || (v != 0.0 && fabs(v) < DBL_MIN))
         return sr_fail(c, node, path, HP_ERR_INVALID,
                        "'%.40s' is too small for a double (underflow)", node->value);
@@ -149,15 +144,14 @@ hp_error sr_number(const sr_ctx *c, const yt_node *node, const char *path, doubl
     return sr_number_text(c, node, path, out, NULL, 0);
 }
 
-hp_error sr_vector(const sr_ctx *c, const yt_node *node, const char *path, int n,
-                   double *out)
+hp_error sr_vector(const sr_ctx *c, const yt_node *node, const char *path, int n, double *out)
 {
     if (node->type != YT_SEQUENCE)
-        return sr_fail(c, node, path, HP_ERR_PARSE, "expected a list of %d numbers, found %s",
-                       n, sr_type_name(node));
+        return sr_fail(c, node, path, HP_ERR_PARSE, "expected a list of %d numbers, found %s", n,
+                       sr_type_name(node));
     if (node->n != (size_t)n)
-        return sr_fail(c, node, path, HP_ERR_PARSE,
-                       "expected a list of %d numbers, found %zu", n, node->n);
+        return sr_fail(c, node, path, HP_ERR_PARSE, "expected a list of %d numbers, found %zu", n,
+                       node->n);
     for (int i = 0; i < n; ++i) {
         char ipath[SR_PATH_MAX];
         sr_index(ipath, sizeof ipath, path, (size_t)i);
@@ -181,23 +175,20 @@ hp_error sr_integer(const sr_ctx *c, const yt_node *node, const char *path, long
     errno = 0;
     long x = strtol(v, NULL, 10);
     if (errno == ERANGE || x < lo || x > hi)
-        return sr_fail(c, node, path, HP_ERR_INVALID, "%.40s is out of range [%ld, %ld]", v,
-                       lo, hi);
+        return sr_fail(c, node, path, HP_ERR_INVALID, "%.40s is out of range [%ld, %ld]", v, lo,
+                       hi);
     *out = x;
     return HP_OK;
 }
 
-hp_error sr_text(const sr_ctx *c, const yt_node *node, const char *path, char *buf,
-                 size_t size)
+hp_error sr_text(const sr_ctx *c, const yt_node *node, const char *path, char *buf, size_t size)
 {
     if (node->type != YT_SCALAR)
-        return sr_fail(c, node, path, HP_ERR_PARSE, "expected text, found %s",
-                       sr_type_name(node));
+        return sr_fail(c, node, path, HP_ERR_PARSE, "expected text, found %s", sr_type_name(node));
     if (node->len == 0)
         return sr_fail(c, node, path, HP_ERR_PARSE, "missing value (expected text)");
     if (node->len >= size)
-        return sr_fail(c, node, path, HP_ERR_PARSE, "text longer than %zu characters",
-                       size - 1);
+        return sr_fail(c, node, path, HP_ERR_PARSE, "text longer than %zu characters", size - 1);
     size_t blank = 0;
     for (size_t i = 0; i < node->len; ++i) {
         if ((unsigned char)node->value[i] < 0x20 || node->value[i] == 0x7f)
@@ -205,8 +196,7 @@ hp_error sr_text(const sr_ctx *c, const yt_node *node, const char *path, char *b
         blank += node->value[i] == ' ';
     }
     /* A name, title or file of spaces only names nothing (and prints as nothing). */
-    if (blank == node->len)
-        return sr_fail(c, node, path, HP_ERR_PARSE, "blank text (only spaces)");
+    if (blank == node->len) return sr_fail(c, node, path, HP_ERR_PARSE, "blank text (only spaces)");
     memcpy(buf, node->value, node->len + 1);
     return HP_OK;
 }
@@ -215,13 +205,12 @@ hp_error sr_word(const sr_ctx *c, const yt_node *node, const char *path, const c
                  const char *const *known, char *buf, size_t size)
 {
     if (node->type != YT_SCALAR)
-        return sr_fail(c, node, path, HP_ERR_PARSE, "expected text, found %s",
-                       sr_type_name(node));
+        return sr_fail(c, node, path, HP_ERR_PARSE, "expected text, found %s", sr_type_name(node));
     if (sr_text(c, node, path, buf, size) == HP_OK)
         for (int i = 0; known[i]; ++i)
             if (strcmp(buf, known[i]) == 0) return HP_OK;
     char list[256];
     hpi_names_join(known, NULL, list, sizeof list);
-    return sr_fail(c, node, path, HP_ERR_PARSE, "unknown %s '%.40s' (known: %s)", what,
-                   node->value, list);
+    return sr_fail(c, node, path, HP_ERR_PARSE, "unknown %s '%.40s' (known: %s)", what, node->value,
+                   list);
 }

@@ -31,8 +31,8 @@ void sr_index(char *buf, size_t size, const char *path, size_t i);
 
 /* Checks that node is a mapping whose keys are all in allowed (NULL-terminated). `what`
  * qualifies the unknown-key message ("in a sphere head"); may be NULL. */
-hp_error sr_map(const sr_ctx *c, const yt_node *node, const char *path,
-                const char *const *allowed, const char *what);
+hp_error sr_map(const sr_ctx *c, const yt_node *node, const char *path, const char *const *allowed,
+                const char *what);
 
 /* The value under key in map, or an error "PATH.KEY: missing required key" pointing at the
  * enclosing mapping. */
@@ -48,16 +48,14 @@ hp_error sr_number_text(const sr_ctx *c, const yt_node *node, const char *path, 
                         char *text, size_t size);
 
 /* A flow or block sequence of exactly n numbers. */
-hp_error sr_vector(const sr_ctx *c, const yt_node *node, const char *path, int n,
-                   double *out);
+hp_error sr_vector(const sr_ctx *c, const yt_node *node, const char *path, int n, double *out);
 
 /* A plain decimal integer in [lo, hi]. */
 hp_error sr_integer(const sr_ctx *c, const yt_node *node, const char *path, long lo, long hi,
                     long *out);
 
 /* Text (plain or quoted scalar), 1..size-1 bytes, no control characters. */
-hp_error sr_text(const sr_ctx *c, const yt_node *node, const char *path, char *buf,
-                 size_t size);
+hp_error sr_text(const sr_ctx *c, const yt_node *node, const char *path, char *buf, size_t size);
 
 /* A word from a fixed set (`known`, NULL-terminated), copied into buf: "expected text, found
  * ..." for a node that is no scalar, and "unknown WHAT 'x' (known: a, b, ...)" for any other

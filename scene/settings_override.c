@@ -16,10 +16,10 @@ typedef enum { OV_BACKEND, OV_LEVEL, OV_REAL, OV_INT, OV_BOOL } ov_kind;
 typedef struct override {
     const char *name; /* with the unit of its value in the name where it has one */
     ov_kind kind;
-    size_t field;            /* offsetof in hp_settings (OV_REAL, OV_INT, OV_BOOL) */
-    double si_per_unit;      /* the field's SI value of one unit of the override (OV_REAL) */
+    size_t field;       /* offsetof in hp_settings (OV_REAL, OV_INT, OV_BOOL) */
+    double si_per_unit; /* the field's SI value of one unit of the override (OV_REAL) */
     const char *(*check)(double si); /* the planner's check of the field (OV_REAL) */
-    const char *unit;        /* said after the check's phrase, "" for none */
+    const char *unit;                /* said after the check's phrase, "" for none */
 } override;
 
 static const char *check_max_iter(double v)
@@ -35,8 +35,8 @@ static const override TABLE[] = {
     {"tolerance", OV_REAL, offsetof(hp_settings, tolerance), 1.0, hpi_check_tolerance, ""},
     {"max_iter", OV_INT, offsetof(hp_settings, max_iter), 1.0, check_max_iter, ""},
     {"max_time_s", OV_REAL, offsetof(hp_settings, max_time), 1.0, hpi_check_max_time, ""},
-    {"weight_mm_per_deg", OV_REAL, offsetof(hp_settings, weight_mm_per_deg), 1.0,
-     hpi_check_weight, ""},
+    {"weight_mm_per_deg", OV_REAL, offsetof(hp_settings, weight_mm_per_deg), 1.0, hpi_check_weight,
+     ""},
     {"level_tolerance_mm", OV_REAL, offsetof(hp_settings, level_tolerance), 1e-3,
      hpi_check_level_tolerance, " mm"},
     {"warm_start", OV_BOOL, offsetof(hp_settings, warm_start), 1.0, NULL, ""},
@@ -53,8 +53,7 @@ static const override *find(const char *name)
 }
 
 /* A number's text or the number given: the value of a numeric override. */
-static hp_error number_of(const override *o, const char *text, double number, double *v,
-                          hp_diag *d)
+static hp_error number_of(const override *o, const char *text, double number, double *v, hp_diag *d)
 {
     if (!text) {
         *v = number;

@@ -136,7 +136,7 @@ const char *hpi_strict_double(const char *s, size_t len, double *out)
 /* A scan of the JSON text, not of jansson's values: by then 1e-400 is 0, indistinguishable
  * from a written 0, and jansson's own overflow message names no key. */
 long hpi_json_out_of_range(const char *s, size_t len, const char **key, size_t *klen,
-                          const char **why)
+                           const char **why)
 {
     const char *last = "", *str = NULL;
     size_t last_len = 0;

@@ -25,6 +25,6 @@ double hpi_c_strtod(const char *s, char **end);
  * in *key / *klen the key before it ("value" when that key is not short printable text, so
  * it can be echoed). -1 when there is none. */
 long hpi_json_out_of_range(const char *s, size_t len, const char **key, size_t *klen,
-                          const char **why);
+                           const char **why);
 
 #endif

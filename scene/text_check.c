@@ -20,8 +20,7 @@ static size_t utf8_seq(const unsigned char *s, size_t n)
         len = 4;
         if (c == 0xF0) lo = 0x90;
         if (c == 0xF4) hi = 0x8F; /* nothing above U+10FFFF */
-    } else
-        return 0;
+    } else return 0;
     if (n < len || s[1] < lo || s[1] > hi) return 0;
     for (size_t i = 2; i < len; ++i)
         if (s[i] < 0x80 || s[i] > 0xBF) return 0;

@@ -27,26 +27,27 @@ typedef struct form_cols {
 static const form_cols FORMS[3] = {
     {7, {"t_s", "x_mm", "y_mm", "z_mm", "pitch_deg", "roll_deg", "yaw_deg"}},
     {8, {"t_s", "x_mm", "y_mm", "z_mm", "qw", "qx", "qy", "qz"}},
-    {17, {"t_s", "m00", "m01", "m02", "m03_mm", "m10", "m11", "m12", "m13_mm", "m20", "m21",
-          "m22", "m23_mm", "m30", "m31", "m32", "m33"}},
+    {17,
+     {"t_s", "m00", "m01", "m02", "m03_mm", "m10", "m11", "m12", "m13_mm", "m20", "m21", "m22",
+      "m23_mm", "m30", "m31", "m32", "m33"}},
 };
 
 struct hp_trace_reader {
     FILE *f;
     int owns_f;
-    char *mem;            /* copy of an in-memory trace (fmemopen does not copy) */
+    char *mem; /* copy of an in-memory trace (fmemopen does not copy) */
     char line[HP_TRACE_LINE_MAX + 1];
     size_t len;
-    size_t noeol_col;     /* a last line without its end of line: where that would begin */
+    size_t noeol_col; /* a last line without its end of line: where that would begin */
     long lineno;
     hp_trace_format format;
     hp_trace_rows rows;
     hp_trace_form form;
-    int form_known;       /* JSON Lines: set by the first data row */
+    int form_known; /* JSON Lines: set by the first data row */
     char name[TRACE_NAME_MAX];
-    int pending;          /* non-zero: `line` holds a line (this read_line code) not yet used */
-    int stopped;          /* a line passed the limit: the reader cannot go on */
-    int stated;           /* the file states the kind of its rows */
+    int pending; /* non-zero: `line` holds a line (this read_line code) not yet used */
+    int stopped; /* a line passed the limit: the reader cannot go on */
+    int stated;  /* the file states the kind of its rows */
     int read_errno;
 };
 
@@ -114,8 +115,8 @@ static hp_error line_problem(const hp_trace_reader *r, int code, hp_diag *diag)
                            r->lineno, HP_TRACE_LINE_MAX);
     if (code == LINE_NOEOL)
         return hp_diag_set(diag, HP_ERR_PARSE,
-                           "%s:%ld:%zu: truncated: the last line has no end of line",
-                           r->name, r->lineno, r->noeol_col);
+                           "%s:%ld:%zu: truncated: the last line has no end of line", r->name,
+                           r->lineno, r->noeol_col);
     int nul = 0;
     long at = hpi_text_bad_byte(r->line, r->len, &nul);
     if (at >= 0)
@@ -155,8 +156,7 @@ static hp_error csv_directive(const hp_trace_reader *r, hp_trace_rows *rows, hp_
     return HP_OK;
 }
 
-static hp_error csv_header(hp_trace_reader *r, int *stated, hp_trace_rows *rows,
-                           hp_diag *diag)
+static hp_error csv_header(hp_trace_reader *r, int *stated, hp_trace_rows *rows, hp_diag *diag)
 {
     for (;;) {
         int rc = r->pending ? r->pending : read_line(r);
@@ -195,8 +195,7 @@ static hp_error csv_header(hp_trace_reader *r, int *stated, hp_trace_rows *rows,
 
 /* A JSON Lines file may start with {"headplan_trace": 1, "rows": "..."}; a first line that
  * is anything else is kept as data. */
-static hp_error jsonl_header(hp_trace_reader *r, int *stated, hp_trace_rows *rows,
-                             hp_diag *diag)
+static hp_error jsonl_header(hp_trace_reader *r, int *stated, hp_trace_rows *rows, hp_diag *diag)
 {
     for (;;) {
         int rc = r->pending ? r->pending : read_line(r);
@@ -227,8 +226,7 @@ static hp_error jsonl_header(hp_trace_reader *r, int *stated, hp_trace_rows *row
                             "%s:%ld:1: header record must be exactly "
                             "{\"headplan_trace\": 1, \"rows\": \"deviation\"} (or \"correction\")",
                             r->name, r->lineno);
-        else
-            *stated = 1;
+        else *stated = 1;
     }
     json_decref(obj);
     return e;
@@ -241,9 +239,8 @@ static hp_error settle_rows(hp_trace_reader *r, int stated, hp_trace_rows file_r
     const char *from = rows_from ? rows_from : "the caller";
     if (stated && rows && *rows != file_rows)
         return hp_diag_set(diag, HP_ERR_INVALID,
-                           "%s: the trace states rows=%s but %s says %s: they must agree",
-                           r->name, hp_trace_rows_name(file_rows), from,
-                           hp_trace_rows_name(*rows));
+                           "%s: the trace states rows=%s but %s says %s: they must agree", r->name,
+                           hp_trace_rows_name(file_rows), from, hp_trace_rows_name(*rows));
     if (!stated && !rows)
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "%s: does not state what its rows are: start it with '" DIRECTIVE
@@ -281,7 +278,7 @@ static hp_error open_common(hp_trace_reader *r, int format, const hp_trace_rows 
             return e;
         }
         format = (r->pending && r->line[strspn(r->line, " \t")] == '{') ? HP_TRACE_JSONL
-                                                                              : HP_TRACE_CSV;
+                                                                        : HP_TRACE_CSV;
     }
     r->format = (hp_trace_format)format;
     int stated = 0;
@@ -331,9 +328,8 @@ hp_error hp_trace_open(const char *path, const hp_trace_rows *rows, hp_trace_rea
     return open_common(r, -1, rows, NULL, out, diag);
 }
 
-hp_error hp_trace_open_mem(const char *data, size_t len, const char *name,
-                           hp_trace_format format, const hp_trace_rows *rows,
-                           hp_trace_reader **out, hp_diag *diag)
+hp_error hp_trace_open_mem(const char *data, size_t len, const char *name, hp_trace_format format,
+                           const hp_trace_rows *rows, hp_trace_reader **out, hp_diag *diag)
 {
     if (!data || !out) return hp_diag_set(diag, HP_ERR_NULL, "trace: NULL argument");
     *out = NULL;
@@ -360,8 +356,8 @@ hp_error hp_trace_open_mem(const char *data, size_t len, const char *name,
 }
 
 /* The row's values (form columns after t_s, in file units) -> the desired correction. */
-static hp_error fill_row(const hp_trace_reader *r, long lineno, const double *v,
-                         hp_trace_row *row, hp_diag *diag)
+static hp_error fill_row(const hp_trace_reader *r, long lineno, const double *v, hp_trace_row *row,
+                         hp_diag *diag)
 {
     double pose[6];
     hp_diag d; /* only read when a conversion fails; not zeroed (512 bytes) for every row */
@@ -419,7 +415,8 @@ static int json_form(json_t *obj)
     for (int f = 0; f < 3; ++f) {
         if (json_object_size(obj) != (size_t)FORMS[f].n) continue;
         int all = 1;
-        for (int c = 0; c < FORMS[f].n && all; ++c) all = json_object_get(obj, FORMS[f].key[c]) != NULL;
+        for (int c = 0; c < FORMS[f].n && all; ++c)
+            all = json_object_get(obj, FORMS[f].key[c]) != NULL;
         if (all) return f;
     }
     return -1;
@@ -433,8 +430,8 @@ static hp_error jsonl_row(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
     size_t uklen;
     long at = hpi_json_out_of_range(r->line, r->len, &ukey, &uklen, &uwhy);
     if (at >= 0)
-        return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: %s",
-                           r->name, ln, at + 1, (int)uklen, ukey, uwhy);
+        return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:%ld: %.*s: %s", r->name, ln, at + 1,
+                           (int)uklen, ukey, uwhy);
     /* Every number as a double, as the CSV reader reads it: an integer beyond 64 bits was
      * "too big integer" here and a number (then out of range) in CSV. */
     json_t *obj = json_loadb(r->line, r->len, JSON_REJECT_DUPLICATES | JSON_DECODE_INT_AS_REAL,
@@ -448,14 +445,15 @@ static hp_error jsonl_row(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
     if (!json_is_object(obj)) {
         e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:1: expected a JSON object", r->name, ln);
     } else if (json_object_get(obj, "headplan_trace") || json_object_get(obj, "rows")) {
-        e = hp_diag_set(diag, HP_ERR_PARSE,
-                        "%s:%ld:1: a header record must be the first line", r->name, ln);
+        e = hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:1: a header record must be the first line",
+                        r->name, ln);
     } else if (f < 0 || (r->form_known && f != (int)r->form)) {
         const form_cols *want = &FORMS[r->form_known ? r->form : HP_TRACE_ANGLES];
         const char *key;
         json_t *val;
         const char *odd = NULL;
-        json_object_foreach(obj, key, val) {
+        json_object_foreach(obj, key, val)
+        {
             int known = 0;
             for (int c = 0; c < want->n; ++c) known |= strcmp(key, want->key[c]) == 0;
             if (!known && !odd) odd = key;
@@ -467,8 +465,7 @@ static hp_error jsonl_row(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
                 goto done;
             }
         e = odd ? hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: unknown key '%s'", r->name, ln, odd)
-                : hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: keys of another pose form", r->name,
-                              ln);
+                : hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld: keys of another pose form", r->name, ln);
     } else {
         r->form = (hp_trace_form)f;
         r->form_known = 1;
@@ -493,8 +490,10 @@ hp_error hp_trace_next(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
     if (!r || !row) return hp_diag_set(diag, HP_ERR_NULL, "trace: NULL argument");
     if (diag) diag->text[0] = '\0';
     if (r->stopped)
-        return hp_diag_set(diag, HP_ERR_STATE, "%s:%ld: line longer than %d bytes; the rest "
-                           "is not read", r->name, r->lineno, HP_TRACE_LINE_MAX);
+        return hp_diag_set(diag, HP_ERR_STATE,
+                           "%s:%ld: line longer than %d bytes; the rest "
+                           "is not read",
+                           r->name, r->lineno, HP_TRACE_LINE_MAX);
     for (;;) {
         int rc = r->pending ? r->pending : read_line(r);
         r->pending = 0;
@@ -506,8 +505,7 @@ hp_error hp_trace_next(hp_trace_reader *r, hp_trace_row *row, hp_diag *diag)
         if (r->format == HP_TRACE_JSONL) return jsonl_row(r, row, diag);
         if (r->line[0] != '#') return csv_row(r, row, diag);
         if (looks_like_directive(r->line))
-            return hp_diag_set(diag, HP_ERR_PARSE,
-                               "%s:%ld:1: a directive must be the first line", r->name,
-                               r->lineno);
+            return hp_diag_set(diag, HP_ERR_PARSE, "%s:%ld:1: a directive must be the first line",
+                               r->name, r->lineno);
     }
 }

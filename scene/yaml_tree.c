@@ -110,8 +110,8 @@ static hp_error attach(builder *b, yt_node *n, const yaml_mark_t *m)
                          k->line);
                 yt_free(n);
                 return hp_diag_set(b->diag, HP_ERR_PARSE, "%s:%lu:%lu: %s%s%s: %s", b->file,
-                                   (unsigned long)m->line + 1, (unsigned long)m->column + 1,
-                                   path, path[0] ? "." : "", k->value, msg);
+                                   (unsigned long)m->line + 1, (unsigned long)m->column + 1, path,
+                                   path[0] ? "." : "", k->value, msg);
             }
         }
     }
@@ -123,8 +123,7 @@ static hp_error attach(builder *b, yt_node *n, const yaml_mark_t *m)
 }
 
 static hp_error open_container(builder *b, yt_type type, const yaml_mark_t *m,
-                               const yaml_char_t *anchor, const yaml_char_t *tag,
-                               int implicit)
+                               const yaml_char_t *anchor, const yaml_char_t *tag, int implicit)
 {
     if (anchor) return fail_at(b, m, "anchors (&name) are not allowed in a scene");
     if (tag && !implicit) return fail_at(b, m, "tags (!name) are not allowed in a scene");
@@ -140,10 +139,8 @@ static hp_error open_container(builder *b, yt_type type, const yaml_mark_t *m,
 static hp_error scalar(builder *b, const yaml_event_t *ev)
 {
     const yaml_mark_t *m = &ev->start_mark;
-    if (ev->data.scalar.anchor)
-        return fail_at(b, m, "anchors (&name) are not allowed in a scene");
-    if (ev->data.scalar.tag && !ev->data.scalar.plain_implicit &&
-        !ev->data.scalar.quoted_implicit)
+    if (ev->data.scalar.anchor) return fail_at(b, m, "anchors (&name) are not allowed in a scene");
+    if (ev->data.scalar.tag && !ev->data.scalar.plain_implicit && !ev->data.scalar.quoted_implicit)
         return fail_at(b, m, "tags (!name) are not allowed in a scene");
     yt_node *n = node_new(YT_SCALAR, m);
     if (!n) return hp_diag_set(b->diag, HP_ERR_NOMEM, "%s: out of memory", b->file);
@@ -170,9 +167,9 @@ static hp_error parser_error(builder *b, const yaml_parser_t *p)
     const yaml_mark_t *m = &p->problem_mark;
     const char *problem = p->problem ? p->problem : "malformed YAML";
     if (p->context)
-        return hp_diag_set(b->diag, HP_ERR_PARSE, "%s:%lu:%lu: yaml: %s %s (line %lu)",
-                           b->file, (unsigned long)m->line + 1, (unsigned long)m->column + 1,
-                           problem, p->context, (unsigned long)p->context_mark.line + 1);
+        return hp_diag_set(b->diag, HP_ERR_PARSE, "%s:%lu:%lu: yaml: %s %s (line %lu)", b->file,
+                           (unsigned long)m->line + 1, (unsigned long)m->column + 1, problem,
+                           p->context, (unsigned long)p->context_mark.line + 1);
     return hp_diag_set(b->diag, HP_ERR_PARSE, "%s:%lu:%lu: yaml: %s", b->file,
                        (unsigned long)m->line + 1, (unsigned long)m->column + 1, problem);
 }
@@ -197,8 +194,7 @@ static hp_error check_bytes(const char *text, size_t len, const char *filename, 
                        nul ? "NUL byte" : "invalid UTF-8");
 }
 
-hp_error yt_parse(const char *text, size_t len, const char *filename, yt_node **root,
-                  hp_diag *diag)
+hp_error yt_parse(const char *text, size_t len, const char *filename, yt_node **root, hp_diag *diag)
 {
     *root = NULL;
     /* A UTF-8 byte-order mark is skipped (editors on Windows write one). */

@@ -14,11 +14,11 @@ typedef enum yt_type { YT_SCALAR = 0, YT_SEQUENCE, YT_MAPPING } yt_type;
 
 typedef struct yt_node {
     yt_type type;
-    unsigned long line, col;  /* 1-based start of the node */
-    char *value;              /* scalars: NUL-terminated text */
-    size_t len;               /* scalars: length of value (may hold NULs: refused later) */
-    int plain;                /* scalars: 1 when unquoted (plain style) */
-    struct yt_node **items;   /* sequences: n items; mappings: n/2 key,value pairs */
+    unsigned long line, col; /* 1-based start of the node */
+    char *value;             /* scalars: NUL-terminated text */
+    size_t len;              /* scalars: length of value (may hold NULs: refused later) */
+    int plain;               /* scalars: 1 when unquoted (plain style) */
+    struct yt_node **items;  /* sequences: n items; mappings: n/2 key,value pairs */
     size_t n, cap;
 } yt_node;
 

@@ -55,7 +55,8 @@ int main(void)
     }
     printf("# layout rows of the load level for scenarios/load_supine.yaml (make_load_rows.c)\n"
            "# truth: carried_mass_kg=%g (offsets 0, semi-axes as the scene's)\n"
-           "# pose noise sigma 0.05 mm, 0.05 deg\n", MASS);
+           "# pose noise sigma 0.05 mm, 0.05 deg\n",
+           MASS);
     for (int k = 0; k < sc.layout.n; ++k) printf("p_%s_pa,", sc.layout.bladders[k].name);
     printf("x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n");
     for (int i = 0; i < ROWS;) {
@@ -67,8 +68,8 @@ int main(void)
             continue;
         for (int k = 0; k < sc.layout.n; ++k) printf("%.3f,", P[k]);
         for (int j = 0; j < 6; ++j)
-            printf("%.5f%s", (j < 3 ? xi[j] * 1e3 : xi[j] * 180.0 / 3.14159265358979323846) +
-                                 0.05 * normal(),
+            printf("%.5f%s",
+                   (j < 3 ? xi[j] * 1e3 : xi[j] * 180.0 / 3.14159265358979323846) + 0.05 * normal(),
                    j < 5 ? "," : "\n");
         ++i;
     }

@@ -49,24 +49,24 @@ typedef struct hp_calib_point {
 
 /* A fit of C1, C2 (paper convention) to one bladder's free-inflation data. */
 typedef struct hp_material_fit {
-    double C1, C2;          /* [Pa] paper convention */
-    double C10, C01;        /* [Pa] finite-element convention: C1/2, C2/2 */
-    double se[2];           /* standard errors of C1, C2 [Pa] */
-    double ci[2][2];        /* 95 % intervals [lo, hi] of C1, C2 [Pa] */
-    double corr;            /* correlation of the C1 and C2 estimates */
-    double condition;       /* of the Jacobian with columns scaled by C1, C2 */
-    int n, dof;             /* points, n − 2 */
-    double t;               /* t(0.975, dof) used for the intervals */
-    double s;               /* residual standard deviation for unit weight (σ-scaled) */
-    double rms;             /* unweighted RMS of the radius residuals [m] */
-    int iterations;         /* Levenberg–Marquardt iterations */
-    double limit_pressure;  /* the fitted bladder's limit-point pressure [Pa] (+inf: none) */
+    double C1, C2;         /* [Pa] paper convention */
+    double C10, C01;       /* [Pa] finite-element convention: C1/2, C2/2 */
+    double se[2];          /* standard errors of C1, C2 [Pa] */
+    double ci[2][2];       /* 95 % intervals [lo, hi] of C1, C2 [Pa] */
+    double corr;           /* correlation of the C1 and C2 estimates */
+    double condition;      /* of the Jacobian with columns scaled by C1, C2 */
+    int n, dof;            /* points, n − 2 */
+    double t;              /* t(0.975, dof) used for the intervals */
+    double s;              /* residual standard deviation for unit weight (σ-scaled) */
+    double rms;            /* unweighted RMS of the radius residuals [m] */
+    int iterations;        /* Levenberg–Marquardt iterations */
+    double limit_pressure; /* the fitted bladder's limit-point pressure [Pa] (+inf: none) */
     /* hp_fit_material_ref only (hp_fit_material: ref_fitted 0, the rest NaN): */
-    int ref_fitted;             /* 1: a reference radius was fitted with the moduli */
-    hp_calib_radius ref_kind;   /* which: HP_CALIB_INNER (Ri) or HP_CALIB_OUTER (Ro) */
-    double ref, ref_se;         /* [m] its value and standard error */
-    double ref_ci[2];           /* [m] its 95 % interval */
-    double ref_corr[2];         /* its correlation with C1 and with C2 */
+    int ref_fitted;           /* 1: a reference radius was fitted with the moduli */
+    hp_calib_radius ref_kind; /* which: HP_CALIB_INNER (Ri) or HP_CALIB_OUTER (Ro) */
+    double ref, ref_se;       /* [m] its value and standard error */
+    double ref_ci[2];         /* [m] its 95 % interval */
+    double ref_corr[2];       /* its correlation with C1 and with C2 */
 } hp_material_fit;
 
 /* Fits C1, C2 (paper convention) of a bladder with reference radii Ri < Ro to n points
@@ -91,8 +91,9 @@ typedef struct hp_material_fit {
  *   - C1 <= 0 at the optimum. C2 is held at the model's bound 0 when the data prefer less
  *     (neo-Hookean data, C2 = 0, are fitted with C2 = 0; its interval then reaches 0).
  * resid (may be NULL) receives the n residuals r_meas − r_fit [m]. */
-HP_API hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, const hp_calib_point *pts,
-                         int n, hp_material_fit *out, double *resid, hp_diag *diag);
+HP_API hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind,
+                                const hp_calib_point *pts, int n, hp_material_fit *out,
+                                double *resid, hp_diag *diag);
 
 /* Like hp_fit_material, but also fits one reference radius: ref = HP_CALIB_INNER fits Ri
  * (Ri is then its starting value), HP_CALIB_OUTER fits Ro. Three parameters, so n − 3 degrees
@@ -106,18 +107,18 @@ HP_API hp_error hp_fit_material(double Ri, double Ro, hp_calib_radius kind, cons
  * radius from the moduli (docs/calibration.md) — a radius leaving 0 < Ri < Ro, and the
  * limit-point cases of hp_fit_material. On success out->ref_fitted = 1
  * and the ref fields hold the radius; C1, C2 and their intervals are those of the joint fit. */
-HP_API hp_error hp_fit_material_ref(double Ri, double Ro, hp_calib_radius kind,
-                                    hp_calib_radius ref, const hp_calib_point *pts, int n,
-                                    hp_material_fit *out, double *resid, hp_diag *diag);
+HP_API hp_error hp_fit_material_ref(double Ri, double Ro, hp_calib_radius kind, hp_calib_radius ref,
+                                    const hp_calib_point *pts, int n, hp_material_fit *out,
+                                    double *resid, hp_diag *diag);
 
 /* How much one more measurement at each candidate pressure cand[j] (with standard deviation
  * sigma [m]) would shrink the intervals of a fit: shrink[2j], shrink[2j+1] = new SE / old SE
  * of C1, C2 (in (0, 1]), from the information matrix JᵀWJ + j jᵀ/σ² with s² held fixed.
  * A candidate past the fitted limit point or giving no radius gets NaN. */
 HP_API hp_error hp_fit_material_gain(double Ri, double Ro, hp_calib_radius kind,
-                              const hp_calib_point *pts, int n, const hp_material_fit *fit,
-                              const double *cand, int ncand, double sigma, double *shrink,
-                              hp_diag *diag);
+                                     const hp_calib_point *pts, int n, const hp_material_fit *fit,
+                                     const double *cand, int ncand, double sigma, double *shrink,
+                                     hp_diag *diag);
 
 /* ---- layout ---- */
 
@@ -130,16 +131,16 @@ typedef struct hp_calib_row {
 
 /* What a layout fit may adjust. */
 typedef struct hp_layout_fit_options {
-    int fit_axes;        /* 1: the head's semi-axes (a sphere: its radius) */
-    int fit_offsets;     /* 1: every bladder's radial offset (centre moved along its normal) */
-    int fit_mass;        /* 1: the carried mass (determined only with load != NULL) */
-    hp_level level;      /* contact level of the forward model (linear, plane or surface);
+    int fit_axes;             /* 1: the head's semi-axes (a sphere: its radius) */
+    int fit_offsets;          /* 1: every bladder's radial offset (centre moved along its normal) */
+    int fit_mass;             /* 1: the carried mass (determined only with load != NULL) */
+    hp_level level;           /* contact level of the forward model (linear, plane or surface);
                             with a load, the contact geometry of the forward statics */
     const hp_load_spec *load; /* NULL: the forward model is the contact forward kinematics;
                             else the forward statics (hp_load_rest) carrying this load, whose
                             mass is the start (and scene value) of a fitted mass */
-    double sigma_trans;  /* [m] > 0: standard deviation of a measured translation */
-    double sigma_rot;    /* [rad] > 0: standard deviation of a measured rotation */
+    double sigma_trans;       /* [m] > 0: standard deviation of a measured translation */
+    double sigma_rot;         /* [rad] > 0: standard deviation of a measured rotation */
 } hp_layout_fit_options;
 
 /* Defaults: offsets and semi-axes fitted, no mass, no load, surface level, σ = 0.1 mm and
@@ -150,29 +151,29 @@ HP_API void hp_layout_fit_options_default(hp_layout_fit_options *o);
  * for a sphere), then one radial offset per bladder in layout order, then (only when
  * options.fit_mass) the carried mass "mass" [kg]; every other value is a length [m]. */
 typedef struct hp_layout_fit {
-    int np;                                  /* parameters considered */
+    int np;                                            /* parameters considered */
     char name[HP_CALIB_MAX_PARAMS][HP_CALIB_NAME_MAX]; /* "semi_axis_x", "offset:NAME" */
-    double scene_value[HP_CALIB_MAX_PARAMS]; /* semi-axis [m] or 0 (offset) before */
-    double value[HP_CALIB_MAX_PARAMS];       /* after [m] */
-    int determined[HP_CALIB_MAX_PARAMS];     /* 1: fitted; 0: held at its scene value
+    double scene_value[HP_CALIB_MAX_PARAMS];           /* semi-axis [m] or 0 (offset) before */
+    double value[HP_CALIB_MAX_PARAMS];                 /* after [m] */
+    int determined[HP_CALIB_MAX_PARAMS];               /* 1: fitted; 0: held at its scene value
                                                 because the data cannot determine it;
                                                 -1: not asked for (options) */
-    double se[HP_CALIB_MAX_PARAMS];          /* standard error [m] (NaN when held) */
-    double ci[HP_CALIB_MAX_PARAMS][2];       /* 95 % interval [m] (NaN when held) */
-    int rank;                                /* numerical rank of the full Jacobian */
-    double sv[HP_CALIB_MAX_PARAMS];          /* its singular values (unit-norm columns) */
-    double condition;                        /* of the fitted (determined) columns */
-    double weakest[HP_CALIB_MAX_PARAMS];     /* unit direction in parameter space (held: 0)
+    double se[HP_CALIB_MAX_PARAMS];                    /* standard error [m] (NaN when held) */
+    double ci[HP_CALIB_MAX_PARAMS][2];                 /* 95 % interval [m] (NaN when held) */
+    int rank;                                          /* numerical rank of the full Jacobian */
+    double sv[HP_CALIB_MAX_PARAMS];                    /* its singular values (unit-norm columns) */
+    double condition;                                  /* of the fitted (determined) columns */
+    double weakest[HP_CALIB_MAX_PARAMS]; /* unit direction in parameter space (held: 0)
                                                 the data determine worst */
-    double weakest_se;                       /* standard error along it, in the SI units of
+    double weakest_se;                   /* standard error along it, in the SI units of
                                                 its components: m, kg when it is the mass */
-    int n_rows, n_res, dof;                  /* rows, residual components, n_res − fitted */
-    double t, s;                             /* t(0.975, dof); residual SD for unit weight */
-    double rms_before[6], rms_after[6];      /* per pose axis [m or rad] */
+    int n_rows, n_res, dof;              /* rows, residual components, n_res − fitted */
+    double t, s;                         /* t(0.975, dof); residual SD for unit weight */
+    double rms_before[6], rms_after[6];  /* per pose axis [m or rad] */
     int iterations;
-    hp_layout fitted;                        /* the calibrated layout (validated) */
-    int mass_index;                          /* index of "mass" among the parameters; -1 */
-    double mass;                             /* [kg] carried mass after the fit (the load's
+    hp_layout fitted; /* the calibrated layout (validated) */
+    int mass_index;   /* index of "mass" among the parameters; -1 */
+    double mass;      /* [kg] carried mass after the fit (the load's
                                                 mass when held; NaN without a load) */
 } hp_layout_fit;
 
@@ -203,8 +204,8 @@ typedef struct hp_layout_fit {
  * residuals measured − model after the fit. On failure every number of out is NaN and
  * out->fitted has n = 0 (no bladders: every layout call refuses it). Allocates work memory; frees it. */
 HP_API hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
-                       const hp_layout_fit_options *opt, hp_layout_fit *out,
-                       double *resid_after, hp_diag *diag);
+                              const hp_layout_fit_options *opt, hp_layout_fit *out,
+                              double *resid_after, hp_diag *diag);
 
 /* The residuals measured − model (n×6, [m, rad]; a sphere head's rotations 0) of layout L
  * (prepared) on the rows, with the forward model opt selects: the "before" of a fit given the
@@ -217,8 +218,8 @@ HP_API hp_error hp_fit_layout_residuals(const hp_layout *L, const hp_calib_row *
  * over the fitted parameters of new SE / old SE (in (0, 1]) if row i were measured once
  * more, from the information matrix with s² held fixed. */
 HP_API hp_error hp_fit_layout_gain(const hp_layout *L, const hp_calib_row *rows, int n,
-                            const hp_layout_fit_options *opt, const hp_layout_fit *fit,
-                            double *gain, hp_diag *diag);
+                                   const hp_layout_fit_options *opt, const hp_layout_fit *fit,
+                                   double *gain, hp_diag *diag);
 
 /* Writes a layout scene file at path holding the layout L (every bladder by centre, with its
  * own parameters), contact level `level`, and the given name; when base is not NULL also its
@@ -236,8 +237,8 @@ HP_API hp_error hp_calib_check_output(const char *path, const char *const *input
                                       hp_diag *diag);
 
 HP_API hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level level,
-                              const hp_scene *base, const char *name,
-                              const char *const *inputs, int n_inputs, hp_diag *diag);
+                                     const hp_scene *base, const char *name,
+                                     const char *const *inputs, int n_inputs, hp_diag *diag);
 
 /* ---- data files ---- */
 
@@ -249,7 +250,7 @@ HP_API hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_le
  * max points (SI) and *kind; every bad field is refused with "FILE:LINE:COL: why".
  * HP_ERR_IO when the file cannot be read, HP_ERR_PARSE otherwise. */
 HP_API hp_error hp_calib_read_material(const char *path, hp_calib_point *pts, int max, int *n,
-                                hp_calib_radius *kind, hp_diag *diag);
+                                       hp_calib_radius *kind, hp_diag *diag);
 
 /* Reads layout data for layout L. CSV: header `p_<name>_pa` (or `_kpa`) for every bladder of
  * L and x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg, in any order. JSON Lines (extension
@@ -258,14 +259,14 @@ HP_API hp_error hp_calib_read_material(const char *path, hp_calib_point *pts, in
  * [p_min, p_max] and below its limit point. Same contract as above (for JSON Lines the
  * column is that of the key at fault). */
 HP_API hp_error hp_calib_read_layout(const char *path, const hp_layout *L, hp_calib_row *rows,
-                              int max, int *n, hp_diag *diag);
+                                     int max, int *n, hp_diag *diag);
 
 /* The same two readers on len bytes at text (a file read elsewhere, e.g. a command's standard
  * input), named `name` in messages ("NAME:LINE:COL: why"); the bytes are copied, not kept.
  * Same limits and refusals as the readers of files, without HP_ERR_IO. */
 HP_API hp_error hp_calib_parse_material(const char *text, size_t len, const char *name,
-                                        hp_calib_point *pts, int max, int *n,
-                                        hp_calib_radius *kind, hp_diag *diag);
+                                        hp_calib_point *pts, int max, int *n, hp_calib_radius *kind,
+                                        hp_diag *diag);
 HP_API hp_error hp_calib_parse_layout(const char *text, size_t len, const char *name,
                                       const hp_layout *L, hp_calib_row *rows, int max, int *n,
                                       hp_diag *diag);

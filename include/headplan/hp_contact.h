@@ -46,8 +46,8 @@ HP_API hp_error hp_level_parse(const char *s, hp_level *out);
  * the head that its closest surface point is not unique. On error the given outputs are
  * NaN. Allocates nothing; about 1–2 µs for eight bladders with J (surface, -O2), plus
  * the derivation of the geometry (above). */
-HP_API hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6],
-                         double *rho, double *J, double *H);
+HP_API hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double xi[6], double *rho,
+                                double *J, double *H);
 
 /* Upper bound on max_k |rho_k(level) − rho_k(surface)| over all poses with translation
  * norm |(x, y, z)|₂ <= trans (m) and angle-vector norm |(pitch, roll, yaw)|₂ <= rot (rad).
@@ -55,12 +55,12 @@ HP_API hp_error hp_contact_eval(const hp_layout *L, hp_level level, const double
  * rotation) is in kinematics/bound.c; for the default layout the bound is within ×1.2–1.6
  * (plane) and ×6–11 (linear) of sampled worst errors at 1–10 mm, 1–5°. */
 HP_API hp_error hp_contact_error_bound(const hp_layout *L, hp_level level, double trans, double rot,
-                                double *bound);
+                                       double *bound);
 
 /* The cheapest level (linear, then plane, else surface) whose error bound for corrections
  * up to (trans, rot) is <= tol (m). */
 HP_API hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, double rot,
-                         hp_level *level);
+                                hp_level *level);
 
 /* Forward contact kinematics: the pose whose contact distances best fit the given outer
  * radii ro[0..n-1] (finite, > 0) in least squares (Levenberg–Marquardt, QR steps through
@@ -70,7 +70,7 @@ HP_API hp_error hp_contact_auto(const hp_layout *L, double tol, double trans, do
  * HP_ERR_INVALID; HP_ERR_NO_CONVERGENCE after 200 iterations. Consistent radii give the
  * pose back to ~1e-14 m. Allocates nothing. */
 HP_API hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *ro,
-                       const double *xi0, double xi[6], double *residual, int *iters);
+                              const double *xi0, double xi[6], double *residual, int *iters);
 
 /* Forward contact kinematics in the pose components with free_[i] = 1 (the others held at
  * 0): Levenberg–Marquardt as in hp_contact_fk, fitting the contact distances at level to
@@ -79,8 +79,8 @@ HP_API hp_error hp_contact_fk(const hp_layout *L, hp_level level, const double *
  * check that a commanded pose is recovered from the nominal one. residual and iters may be
  * NULL. HP_ERR_NO_CONVERGENCE after 200 iterations. Allocates nothing. */
 HP_API hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double *target,
-                        const int free_[6], const double x0[6], double xi[6], double *residual,
-                        int *iters);
+                               const int free_[6], const double x0[6], double xi[6],
+                               double *residual, int *iters);
 
 /* The reach search stops at these (mm, degrees): a reach equal to one means "at least". */
 #define HP_REACH_CAP_MM 50.0
@@ -88,15 +88,15 @@ HP_API hp_error hp_contact_fit(const hp_layout *L, hp_level level, const double 
 
 /* Layout analysis at the nominal pose, translation per mm and rotation per degree. */
 typedef struct hp_layout_analysis {
-    double singular_values[6];  /* of J scaled to mm/mm and mm/deg, descending */
-    int rank;                   /* rank as decided by hp_layout_identify (dimensionless,
+    double singular_values[6]; /* of J scaled to mm/mm and mm/deg, descending */
+    int rank;                  /* rank as decided by hp_layout_identify (dimensionless,
                                    head-centred: independent of units, scale and pivot) */
-    double condition;           /* sv_max / sv_min (mm, degrees); +inf when rank < 6 */
-    double weakest[6];          /* right singular vector of the smallest sv (unit, mm/deg) */
-    char weakest_words[160];    /* e.g. "pitch with some longitudinal shift" */
-    double reach[6][2];         /* largest correction along each axis, [i][0] negative
+    double condition;          /* sv_max / sv_min (mm, degrees); +inf when rank < 6 */
+    double weakest[6];         /* right singular vector of the smallest sv (unit, mm/deg) */
+    char weakest_words[160];   /* e.g. "pitch with some longitudinal shift" */
+    double reach[6][2];        /* largest correction along each axis, [i][0] negative
                                    direction (<= 0), [i][1] positive (>= 0), mm or deg */
-    int rotation_commandable;   /* 0 for a sphere head: rotation about its centre */
+    int rotation_commandable;  /* 0 for a sphere head: rotation about its centre */
 } hp_layout_analysis;
 
 /* Analyses the conditioning of the layout (J at the nominal pose, Eigen JacobiSVD) and the
@@ -150,19 +150,19 @@ HP_API hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_
  * the head it faced at rest (the planner's strict round-trip tests sample this range; far
  * beyond any bladder's reach). */
 typedef struct hp_identifiable {
-    int rank;                  /* of the nondimensional Jacobian, 0..6 */
-    double rel_sv[6];          /* its singular values over the largest, descending */
-    int commanded[6];          /* 1: the planner moves this pose component; 0: holds it at 0 */
-    int n_null;                /* 6 − rank */
-    double null_space[6][6];   /* rows 0..n_null−1: unobservable motions, pose coordinates
+    int rank;                /* of the nondimensional Jacobian, 0..6 */
+    double rel_sv[6];        /* its singular values over the largest, descending */
+    int commanded[6];        /* 1: the planner moves this pose component; 0: holds it at 0 */
+    int n_null;              /* 6 − rank */
+    double null_space[6][6]; /* rows 0..n_null−1: unobservable motions, pose coordinates
                                   about the pivot (SI), unit length in the nondimensional
                                   metric */
-    int centre_only;           /* 1: all semi-axes equal: only the centre's motion is seen */
-    double length;             /* [m] characteristic length: the largest semi-axis */
-    double rot_limit;          /* [rad] rotation angle must be < this (pi/2), or pi when no
+    int centre_only;         /* 1: all semi-axes equal: only the centre's motion is seen */
+    double length;           /* [m] characteristic length: the largest semi-axis */
+    double rot_limit;        /* [rad] rotation angle must be < this (pi/2), or pi when no
                                   rotation is identified (centre_only) */
-    double trans_limit;        /* [m] translation norm must be <= this */
-    char symmetry[128];        /* the head's symmetries in words */
+    double trans_limit;      /* [m] translation norm must be <= this */
+    char symmetry[128];      /* the head's symmetries in words */
 } hp_identifiable;
 
 /* Fills out for a layout (see hp_identifiable). HP_ERR_NULL, HP_ERR_INVALID (the layout's
@@ -181,8 +181,8 @@ HP_API hp_error hp_layout_identify(const hp_layout *L, hp_identifiable *out);
  * layout sees the dropped directions at second order, e.g. a flat layout). xc = xd bit for
  * bit when rank is 6 or xd is already zero in the dropped components. Allocates nothing.
  * HP_ERR_INVALID for a non-finite xd; the contact model's errors otherwise. */
-HP_API hp_error hp_pose_commanded_part(const hp_layout *L, const hp_identifiable *id, hp_level level,
-                                const double xd[6], double xc[6]);
+HP_API hp_error hp_pose_commanded_part(const hp_layout *L, const hp_identifiable *id,
+                                       hp_level level, const double xd[6], double xc[6]);
 
 #ifdef __cplusplus
 }

@@ -83,19 +83,19 @@ HP_API hp_error hp_horizon_settings_validate(const hp_horizon_settings *s, hp_di
 
 /* One planned row. */
 typedef struct hp_horizon_row {
-    double t;                          /* [s] the row's time stamp */
-    double desired[6];                 /* SI, copied from the trace row */
-    double achieved[6];                /* SI, the planned pose */
-    double ri[HP_MAX_BLADDERS];        /* [m] inner radii */
-    double pressure[HP_MAX_BLADDERS];  /* [Pa], IK of ri, inside every limit */
-    hp_status status;                  /* REACHED / CLOSEST, or the per-row failure */
+    double t;                         /* [s] the row's time stamp */
+    double desired[6];                /* SI, copied from the trace row */
+    double achieved[6];               /* SI, the planned pose */
+    double ri[HP_MAX_BLADDERS];       /* [m] inner radii */
+    double pressure[HP_MAX_BLADDERS]; /* [Pa], IK of ri, inside every limit */
+    hp_status status;                 /* REACHED / CLOSEST, or the per-row failure */
 } hp_horizon_row;
 
 /* The rate limits Δ_t,k [Pa] of every row (T×n, row-major) for a trace: see above. Checks
  * the time stamps (finite, strictly increasing: else HP_ERR_INVALID naming the trace line).
  * Allocates nothing. */
 HP_API hp_error hp_horizon_rates(const hp_layout *L, const hp_horizon_settings *hs,
-                          const hp_trace_row *rows, size_t T, double *delta, hp_diag *diag);
+                                 const hp_trace_row *rows, size_t T, double *delta, hp_diag *diag);
 
 /* How long the start pressures are taken to have been held before row 0 when a whole trace
  * is planned: the trace's first interval (rows[1].t − rows[0].t, when T >= 2 and it is finite
@@ -125,16 +125,16 @@ HP_API hp_error hp_horizon_nominal_pressures(const hp_layout *L, double *p_start
  * row whose answer hp_plan refused (status INVALID_INPUT; the reason is the planner's, as
  * headplan batch prints it), else "". Allocates. */
 HP_API hp_error hp_horizon_greedy(const hp_layout *L, const hp_settings *settings,
-                           const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
-                           const double *p_start, hp_horizon_row *out, hp_diag *diag);
+                                  const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
+                                  const double *p_start, hp_horizon_row *out, hp_diag *diag);
 
 /* What an offline solve did. */
 typedef struct hp_horizon_info {
-    int windows;       /* Ipopt solves */
-    int iterations;    /* summed over windows */
-    int raw_code;      /* Ipopt's status of the last window that did not succeed, else 0 */
+    int windows;        /* Ipopt solves */
+    int iterations;     /* summed over windows */
+    int raw_code;       /* Ipopt's status of the last window that did not succeed, else 0 */
     int largest_window; /* rows of the largest NLP solved (its size, whatever T) */
-    double cost;       /* the objective of the returned plan (pose + smoothness) */
+    double cost;        /* the objective of the returned plan (pose + smoothness) */
 } hp_horizon_info;
 
 /* The window and overlap (rows) an offline plan of T rows uses with settings hs: hs's own,
@@ -148,9 +148,9 @@ HP_API void hp_horizon_offline_windows(const hp_horizon_settings *hs, size_t T, 
  * after the solve; a window whose answer fails the check is an HP_ERR_SOLVER). Serialised
  * with every other Ipopt call of the process. info may be NULL. Allocates. */
 HP_API hp_error hp_horizon_offline(const hp_layout *L, const hp_settings *settings,
-                            const hp_horizon_settings *hs, const hp_trace_row *rows, size_t T,
-                            const double *p_start, hp_horizon_row *out, hp_horizon_info *info,
-                            hp_diag *diag);
+                                   const hp_horizon_settings *hs, const hp_trace_row *rows,
+                                   size_t T, const double *p_start, hp_horizon_row *out,
+                                   hp_horizon_info *info, hp_diag *diag);
 
 /* The receding-horizon planner: create once (allocates), then one hp_horizon_rh_step per
  * row. */
@@ -160,8 +160,8 @@ typedef struct hp_horizon_rh hp_horizon_rh;
  * realtime) and horizon settings (NULL: defaults). p_start: pressures held before the first
  * row (NULL: nominal). */
 HP_API hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
-                              const hp_horizon_settings *hs, const double *p_start,
-                              hp_horizon_rh **out, hp_diag *diag);
+                                     const hp_horizon_settings *hs, const double *p_start,
+                                     hp_horizon_rh **out, hp_diag *diag);
 
 /* Plans the row at time t (s, later than the previous call's) with desired correction
  * desired[6] (SI): predicts the next N−1 desired poses, solves the N-row problem started from
@@ -174,7 +174,7 @@ HP_API hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *sett
  * of the settings' max_time, and hp_plan keeps its own bounds.
  * HP_ERR_NULL / HP_ERR_INVALID (t not finite or not increasing: result holds nothing new). */
 HP_API hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6],
-                            hp_result *result);
+                                   hp_result *result);
 
 /* Frees it; safe on NULL. */
 HP_API void hp_horizon_rh_destroy(hp_horizon_rh *rh);
@@ -182,27 +182,28 @@ HP_API void hp_horizon_rh_destroy(hp_horizon_rh *rh);
 /* Receding-horizon plan of a whole trace (create, one step per row, destroy). diag on
  * HP_OK: as hp_horizon_greedy's. */
 HP_API hp_error hp_horizon_receding(const hp_layout *L, const hp_settings *settings,
-                             const hp_horizon_settings *hs, const hp_trace_row *rows,
-                             size_t T, const double *p_start, hp_horizon_row *out,
-                             hp_diag *diag);
+                                    const hp_horizon_settings *hs, const hp_trace_row *rows,
+                                    size_t T, const double *p_start, hp_horizon_row *out,
+                                    hp_diag *diag);
 
 /* What a study compares. */
 typedef struct hp_horizon_metrics {
-    double rms[6];         /* RMS of achieved − desired per axis (mm, mm, mm, deg, deg, deg) */
-    double max[6];         /* largest |achieved − desired| per axis */
-    double time_outside;   /* [s] summed row intervals with a translation error > tol_mm or a
+    double rms[6];       /* RMS of achieved − desired per axis (mm, mm, mm, deg, deg, deg) */
+    double max[6];       /* largest |achieved − desired| per axis */
+    double time_outside; /* [s] summed row intervals with a translation error > tol_mm or a
                               rotation error > tol_deg (row t counts t_t − t_t−1; row 0 the
                               start interval) */
-    double rows_outside;   /* fraction of rows outside the tolerance */
-    double travel;         /* [Pa] Σ_t,k |P_t,k − P_t−1,k| (from the start pressures) */
-    double cost;           /* Σ_t ‖ξ_t − d_t‖²_W + smooth · Σ (ΔP / 1 kPa)² */
-    double pose_cost;      /* the first sum alone */
+    double rows_outside; /* fraction of rows outside the tolerance */
+    double travel;       /* [Pa] Σ_t,k |P_t,k − P_t−1,k| (from the start pressures) */
+    double cost;         /* Σ_t ‖ξ_t − d_t‖²_W + smooth · Σ (ΔP / 1 kPa)² */
+    double pose_cost;    /* the first sum alone */
 } hp_horizon_metrics;
 
 /* Metrics of a plan of n bladders (tolerances in mm and degrees, > 0). */
-HP_API hp_error hp_horizon_measure(const hp_horizon_row *out, size_t T, int n, const double *p_start,
-                            const hp_settings *settings, const hp_horizon_settings *hs,
-                            double tol_mm, double tol_deg, hp_horizon_metrics *m);
+HP_API hp_error hp_horizon_measure(const hp_horizon_row *out, size_t T, int n,
+                                   const double *p_start, const hp_settings *settings,
+                                   const hp_horizon_settings *hs, double tol_mm, double tol_deg,
+                                   hp_horizon_metrics *m);
 
 #ifdef __cplusplus
 }

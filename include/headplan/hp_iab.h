@@ -36,8 +36,8 @@ HP_API const char *hp_material_convention_name(hp_material_convention c);
 HP_API hp_error hp_material_convention_parse(const char *s, hp_material_convention *out);
 
 /* Converts moduli (a, b) given in convention conv to the paper's (C1, C2). */
-HP_API hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, double b,
-                                double *C1, double *C2);
+HP_API hp_error hp_iab_moduli_to_paper(hp_material_convention conv, double a, double b, double *C1,
+                                       double *C2);
 
 /* Checks a bladder: finite values, 0 < Ri < Ro, C1 > 0, C2 >= 0, and Ri >= 1e-9·Ro (a
  * thinner cavity is no bladder, and the bound keeps every power of a radius the model forms
@@ -71,12 +71,12 @@ HP_API hp_error hp_iab_ik(const hp_iab *b, double ri, double *P);
  * NULL. The derivative is a difference of two terms that cancel at a limit point, so its
  * error is a few ulps of the larger term, not of itself. */
 HP_API hp_error hp_iab_ik_derivs(const hp_iab *b, double ri, double *P, double *dP_dri,
-                          double *d2P_dri2);
+                                 double *d2P_dri2);
 
 /* The paper's two integral forms of the pressure. */
 typedef enum hp_quad_form {
-    HP_QUAD_CURRENT = 0,  /* P(r): integral over the current radius r in [ri, ro] */
-    HP_QUAD_REFERENCE     /* P(R): integral over the reference radius R in [Ri, Ro] */
+    HP_QUAD_CURRENT = 0, /* P(r): integral over the current radius r in [ri, ro] */
+    HP_QUAD_REFERENCE    /* P(R): integral over the reference radius R in [Ri, Ro] */
 } hp_quad_form;
 
 /* Pressure by a fixed n-point Gauss–Legendre rule on the chosen form (1 <= n <= 64); nodes
@@ -93,16 +93,16 @@ HP_API hp_error hp_iab_ik_gauss(const hp_iab *b, double ri, hp_quad_form form, i
  * HP_ERR_NO_CONVERGENCE (P set to NaN, err_est and evals still written) when the budget
  * runs out first. */
 HP_API hp_error hp_iab_ik_adaptive(const hp_iab *b, double ri, hp_quad_form form, double rel_tol,
-                            double *P, double *err_est, int *evals);
+                                   double *P, double *err_est, int *evals);
 
 /* The inflation limit point: the first maximum of P(λi) for λi > 1, where dP/dλi = 0.
  * Materials with a small C2/C1 have one; past it a pressure has two radii and the bladder
  * is unstable under pressure control. */
 typedef struct hp_iab_limit {
-    int exists;        /* 1 when P(λi) has a maximum; 0 when it rises monotonically */
-    double lambda_i;   /* stretch at the limit point (+inf when none) */
-    double ri;         /* inner radius there [m] (+inf when none) */
-    double pressure;   /* pressure there [Pa] (+inf when none) */
+    int exists;      /* 1 when P(λi) has a maximum; 0 when it rises monotonically */
+    double lambda_i; /* stretch at the limit point (+inf when none) */
+    double ri;       /* inner radius there [m] (+inf when none) */
+    double pressure; /* pressure there [Pa] (+inf when none) */
 } hp_iab_limit;
 
 /* Finds the limit point: a scan of dP/dri's sign on a geometric grid over λi ∈ [1, 64·Ro/Ri]
@@ -129,7 +129,7 @@ HP_API hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double 
  * radial σrr and hoop σθθ [Pa], closed form (σrr(ri) = −P, σrr(ro) = 0 exactly). r may lie
  * up to 8 ulps outside [ri, ro] (clamped); further out is HP_ERR_DOMAIN. */
 HP_API hp_error hp_iab_wall_stress(const hp_iab *b, double ri, double r, double *s_rr,
-                            double *s_tt);
+                                   double *s_tt);
 
 /* Hoop stress [Pa] at the inner surface of a bladder held at inner radius ri (closed form:
  * hp_iab_wall_stress at r = ri). The quantity of a bladder's optional `stress_max` limit. */

@@ -14,7 +14,7 @@ extern "C" {
 #endif
 
 typedef enum hp_head_shape { HP_HEAD_SPHERE = 0, HP_HEAD_ELLIPSOID } hp_head_shape;
-HP_API const char *hp_head_shape_name(hp_head_shape s);            /* "sphere", "ellipsoid" */
+HP_API const char *hp_head_shape_name(hp_head_shape s); /* "sphere", "ellipsoid" */
 HP_API hp_error hp_head_shape_parse(const char *s, hp_head_shape *out);
 
 /* A rigid head. A sphere uses semi_axes[0] as its radius (all three equal). */
@@ -34,13 +34,13 @@ typedef struct hp_head {
 /* One bladder of a layout: where it sits and what it may do. */
 typedef struct hp_bladder {
     char name[HP_NAME_MAX];
-    double center[3];     /* fixed centre on its panel [m] */
-    hp_iab iab;           /* reference radii and material */
-    double p_min, p_max;  /* safe pressure [Pa], p_min < p_max */
-    double stretch_min;   /* safe inner stretch λi = ri/Ri, lower bound (> 0) */
-    double stretch_max;   /* upper bound, below any limit point */
-    double rate_max;      /* largest pressure change per cycle [Pa]; +inf when unlimited */
-    double stress_max;    /* largest hoop stress at the inner surface [Pa] (> 0); 0 or
+    double center[3];    /* fixed centre on its panel [m] */
+    hp_iab iab;          /* reference radii and material */
+    double p_min, p_max; /* safe pressure [Pa], p_min < p_max */
+    double stretch_min;  /* safe inner stretch λi = ri/Ri, lower bound (> 0) */
+    double stretch_max;  /* upper bound, below any limit point */
+    double rate_max;     /* largest pressure change per cycle [Pa]; +inf when unlimited */
+    double stress_max;   /* largest hoop stress at the inner surface [Pa] (> 0); 0 or
                              +inf: no stress limit (hp_iab_hoop_stress_inner) */
 } hp_bladder;
 
@@ -50,8 +50,8 @@ typedef struct hp_bladder {
  * own private copy, such as the planner). */
 typedef struct hp_layout {
     hp_head head;
-    double pivot[3];                     /* [m] */
-    int n;                               /* number of bladders, 1..HP_MAX_BLADDERS */
+    double pivot[3]; /* [m] */
+    int n;           /* number of bladders, 1..HP_MAX_BLADDERS */
     hp_bladder bladders[HP_MAX_BLADDERS];
 } hp_layout;
 
@@ -82,7 +82,7 @@ HP_API hp_error hp_layout_contact(const hp_layout *L, int k, double point[3], do
  * c = p + (Ro + preload)·n(p) for surface point p (which must lie on the surface to within
  * 1e-9 relative of its implicit function; otherwise HP_ERR_INVALID). */
 HP_API hp_error hp_head_center_from_touch(const hp_head *h, const double p[3], double Ro,
-                                   double preload, double center[3], hp_diag *diag);
+                                          double preload, double center[3], hp_diag *diag);
 
 #ifdef __cplusplus
 }

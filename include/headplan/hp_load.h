@@ -68,8 +68,8 @@ typedef struct hp_load_model hp_load_model;
  * contact geometry once. *out gets the new model (NULL on error); the only allocation of
  * the load model, freed by hp_load_model_destroy. HP_ERR_* with the message in diag (may
  * be NULL). */
-HP_API hp_error hp_load_model_create(const hp_layout *L, const hp_load_spec *spec,
-                                     hp_level level, hp_load_model **out, hp_diag *diag);
+HP_API hp_error hp_load_model_create(const hp_layout *L, const hp_load_spec *spec, hp_level level,
+                                     hp_load_model **out, hp_diag *diag);
 /* Frees a model of hp_load_model_create (NULL is a no-op). */
 HP_API void hp_load_model_destroy(hp_load_model *M);
 
@@ -97,8 +97,8 @@ HP_API hp_error hp_load_radius(const hp_load_model *M, int k, double P, double *
  * panel, where the membrane law describes nothing), HP_ERR_NO_STABLE for a pressure past a
  * limit point; outputs NaN on error. */
 HP_API hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const double *P,
-                      double Q[6], double *dQ_dxi, double *dQ_dP, double *force,
-                      double *energy);
+                             double Q[6], double *dQ_dxi, double *dQ_dP, double *force,
+                             double *energy);
 
 /* Newton–Euler check, computed from the contact points themselves (not from Q): the net
  * force sum_k F_k·u_k + m·g [N] and the net moment sum_k (p_k − x_com) × F_k·u_k about the
@@ -107,7 +107,7 @@ HP_API hp_error hp_load_eval(const hp_load_model *M, const double xi[6], const d
  * geometry is the linearised one: there Q and this check differ at second order). Same
  * domain as hp_load_eval (HP_ERR_DOMAIN when a centre lies inside or on the moved head). */
 HP_API hp_error hp_load_newton_euler(const hp_load_model *M, const double xi[6], const double *P,
-                              double force[3], double moment[3]);
+                                     double force[3], double moment[3]);
 
 /* Each bladder's indentation ratio delta_k/ro_k = (ro_k(P_k) − rho_k)/ro_k at pose xi with
  * pressures P[n] (ratio[n]; negative when the bladder is clear of the head; 0 for a bladder
@@ -118,23 +118,23 @@ HP_API hp_error hp_load_indentation(const hp_load_model *M, const double xi[6], 
 
 /* How firmly the head is held at a pose. */
 typedef struct hp_load_holding {
-    double K[36];             /* stiffness −dQ/dxi, SI (N/m, N/rad, N·m/m, N·m/rad) */
-    int stable;               /* 1 when K is positive definite (a stable rest) */
-    double compliance[6];     /* diagonal of K⁻¹: mm/N (x, y, z) and deg/(N·m) (angles);
+    double K[36];              /* stiffness −dQ/dxi, SI (N/m, N/rad, N·m/m, N·m/rad) */
+    int stable;                /* 1 when K is positive definite (a stable rest) */
+    double compliance[6];      /* diagonal of K⁻¹: mm/N (x, y, z) and deg/(N·m) (angles);
                                  +inf when K is singular */
-    double weakest[6];        /* unit direction (in mm and degrees) of least stiffness */
-    double weakest_compliance;/* compliance along it: mm/N when it is mostly translation,
+    double weakest[6];         /* unit direction (in mm and degrees) of least stiffness */
+    double weakest_compliance; /* compliance along it: mm/N when it is mostly translation,
                                  deg/(N·m) when mostly rotation; +inf when singular */
-    int weakest_is_rotation;  /* 1 when the weakest direction is mostly rotation */
-    char weakest_words[160];  /* e.g. "longitudinal (y) with some pitch" */
-    double k_gravity;         /* translational stiffness along gravity ĝᵀ·K_tt·ĝ [N/m] */
-    double sag;               /* predicted sag m·|g| / k_gravity [m]; +inf when k <= 0 */
+    int weakest_is_rotation;   /* 1 when the weakest direction is mostly rotation */
+    char weakest_words[160];   /* e.g. "longitudinal (y) with some pitch" */
+    double k_gravity;          /* translational stiffness along gravity ĝᵀ·K_tt·ĝ [N/m] */
+    double sag;                /* predicted sag m·|g| / k_gravity [m]; +inf when k <= 0 */
 } hp_load_holding;
 
 /* Stiffness, stability and compliance at pose xi with pressures P (from hp_load_eval and
  * a symmetric eigen-decomposition in mm/degree units, where 1 mm weighs as 1 degree). */
 HP_API hp_error hp_load_holding_at(const hp_load_model *M, const double xi[6], const double *P,
-                            hp_load_holding *out);
+                                   hp_load_holding *out);
 
 /* Result of the forward statics. */
 typedef struct hp_load_rest_info {
@@ -160,7 +160,7 @@ typedef struct hp_load_rest_info {
  * rows per 1°/1 mm); HP_ERR_DOMAIN when xi0 lies outside it. A rest with K not positive definite is returned with
  * info->holding.stable = 0. */
 HP_API hp_error hp_load_rest(const hp_load_model *M, const double *P, const double *xi0,
-                      double xi[6], hp_load_rest_info *info);
+                             double xi[6], hp_load_rest_info *info);
 
 /* The sag the load would cause at the nominal pose if the bladders held the pressures a
  * kinematic plan gives there (each bladder at the pressure whose free radius is the
@@ -176,7 +176,7 @@ HP_API hp_error hp_load_predicted_sag(const hp_load_model *M, double *sag, doubl
  * NULL, len bytes) one line saying so with the numbers, e.g. "load: predicted sag
  * 12.3 mm > tolerance 0.01 mm". */
 HP_API hp_error hp_load_auto_choose(const hp_load_model *M, double tol, int *use_load, double *sag,
-                             char *why, size_t len);
+                                    char *why, size_t len);
 
 #ifdef __cplusplus
 }

@@ -90,14 +90,14 @@ HP_API hp_error hp_backend_parse(const char *s, hp_backend *out);
  * not proven closest), else the safe output; the other statuses carry the safe output (see
  * hp_plan). Whatever the status, every pressure is inside its limits. */
 typedef enum hp_status {
-    HP_STATUS_REACHED = 0,        /* the desired correction is met (to the tolerance) */
-    HP_STATUS_CLOSEST,            /* unreachable: the closest reachable correction */
-    HP_STATUS_ITERATION_LIMIT,    /* stopped by the iteration budget */
-    HP_STATUS_TIME_LIMIT,         /* stopped by the time budget */
-    HP_STATUS_INFEASIBLE_START,   /* the limits cannot all hold (e.g. rate limits) */
-    HP_STATUS_INVALID_INPUT,      /* NaN/Inf or out-of-range desired correction */
-    HP_STATUS_SOLVER_ERROR,       /* the backend failed */
-    HP_STATUS_UNCOMMANDED,        /* the commanded part is reached, but part of the desired
+    HP_STATUS_REACHED = 0,      /* the desired correction is met (to the tolerance) */
+    HP_STATUS_CLOSEST,          /* unreachable: the closest reachable correction */
+    HP_STATUS_ITERATION_LIMIT,  /* stopped by the iteration budget */
+    HP_STATUS_TIME_LIMIT,       /* stopped by the time budget */
+    HP_STATUS_INFEASIBLE_START, /* the limits cannot all hold (e.g. rate limits) */
+    HP_STATUS_INVALID_INPUT,    /* NaN/Inf or out-of-range desired correction */
+    HP_STATUS_SOLVER_ERROR,     /* the backend failed */
+    HP_STATUS_UNCOMMANDED,      /* the commanded part is reached, but part of the desired
                                      correction (beyond the tolerance) lies in directions the
                                      layout cannot observe: result.uncommanded, named in
                                      hp_planner_error; never REACHED */
@@ -139,9 +139,9 @@ HP_API const char *hp_binding_name(unsigned flag);
 #define HP_DEFAULT_LEVEL_TOLERANCE 1e-5 /* [m] (0.01 mm) contact-model error auto may accept */
 #define HP_DEFAULT_AUTO_TRANS 0.01      /* [m] translation auto must cover */
 #define HP_DEFAULT_AUTO_ROT 0.0872664625997164788 /* [rad] (5 degrees) rotation auto covers */
-#define HP_DEFAULT_TOLERANCE 1e-9       /* pose tolerance, mm and degrees */
+#define HP_DEFAULT_TOLERANCE 1e-9                 /* pose tolerance, mm and degrees */
 #define HP_DEFAULT_MAX_ITER 200
-#define HP_DEFAULT_MAX_TIME 1.0         /* seconds (Ipopt: CPU time) */
+#define HP_DEFAULT_MAX_TIME 1.0 /* seconds (Ipopt: CPU time) */
 #define HP_DEFAULT_WEIGHT_MM_PER_DEG 1.0
 #define HP_DEFAULT_MU 0.0
 #define HP_DEFAULT_USE_RATE_LIMITS 1
@@ -181,8 +181,8 @@ typedef struct hp_settings {
      * and auto chooses among the contact levels. With a load (hp_load_spec_validate), auto
      * chooses the load level when the sag a kinematic plan would leave exceeds
      * level_tolerance (hp_load_auto_choose), once, in hp_planner_create. */
-    hp_load_spec load;        /* what the bladders carry (hp_load.h) */
-    hp_level load_geometry;   /* the load level's contact geometry: linear, plane, surface */
+    hp_load_spec load;              /* what the bladders carry (hp_load.h) */
+    hp_level load_geometry;         /* the load level's contact geometry: linear, plane, surface */
     hp_load_tiebreak load_tiebreak; /* which holding pressures a reachable pose gets;
                                  HP_TIE_STIFFNESS needs a backend that solves it (ipopt) */
 } hp_settings;
@@ -195,33 +195,33 @@ HP_API void hp_settings_default(hp_settings *s);
 HP_API hp_error hp_settings_validate(const hp_settings *s, hp_diag *diag);
 
 typedef struct hp_bladder_result {
-    double ri, ro;       /* [m] */
-    double pressure;     /* [Pa], always inside [p_min, p_max] */
-    double stretch;      /* ri / Ri */
-    unsigned binding;    /* HP_BIND_* flags of the limits this bladder sits on */
+    double ri, ro;    /* [m] */
+    double pressure;  /* [Pa], always inside [p_min, p_max] */
+    double stretch;   /* ri / Ri */
+    unsigned binding; /* HP_BIND_* flags of the limits this bladder sits on */
 } hp_bladder_result;
 
 typedef struct hp_result {
     hp_status status;
-    int raw_code;             /* the backend's own return code (0 for the direct chain) */
-    hp_backend backend;       /* the backend that was configured */
-    hp_level level;           /* the resolved contact level the answer was computed at */
-    double desired[6];        /* SI, as passed */
-    double achieved[6];       /* SI; pose of the returned radii at `level` (see below) */
-    int commanded[6];         /* 1: the planner moves this pose component; 0: held at 0.
+    int raw_code;          /* the backend's own return code (0 for the direct chain) */
+    hp_backend backend;    /* the backend that was configured */
+    hp_level level;        /* the resolved contact level the answer was computed at */
+    double desired[6];     /* SI, as passed */
+    double achieved[6];    /* SI; pose of the returned radii at `level` (see below) */
+    int commanded[6];      /* 1: the planner moves this pose component; 0: held at 0.
                                  The commanded part of desired (hp_pose_commanded_part: the
                                  pose in these components alone with the same contact
                                  distances) is what the planner aims at; achieved[] is 0 in
                                  the components not commanded */
-    double uncommanded[6];    /* SI: desired − its commanded part, the part the layout cannot
+    double uncommanded[6]; /* SI: desired − its commanded part, the part the layout cannot
                                  observe (all 0 for a rank-6 layout and on the safe output);
                                  beyond the tolerance it makes REACHED into UNCOMMANDED */
-    double pose_error;        /* max over commanded i of |achieved − commanded part of
+    double pose_error;     /* max over commanded i of |achieved − commanded part of
                                  desired|, mm or deg */
     int n;
     hp_bladder_result bladders[HP_MAX_BLADDERS];
-    int iterations;           /* solver iterations (0: the direct chain answered) */
-    double solve_time;        /* [s], CLOCK_MONOTONIC, the whole hp_plan call */
+    int iterations;    /* solver iterations (0: the direct chain answered) */
+    double solve_time; /* [s], CLOCK_MONOTONIC, the whole hp_plan call */
 } hp_result;
 
 typedef struct hp_planner hp_planner;
@@ -243,7 +243,7 @@ typedef struct hp_planner hp_planner;
  * (+z)"), and a weight larger than the bladders can carry along gravity at their largest
  * pressures. */
 HP_API hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
-                           hp_planner **out, hp_diag *diag);
+                                  hp_planner **out, hp_diag *diag);
 
 /* Plans one correction desired[6] (SI: m, rad). Always fills *result; returns HP_OK when a
  * result was produced (look at result->status), HP_ERR_NULL for NULL arguments and
@@ -368,8 +368,7 @@ HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
  * answer's pose (a few steps for a reading near the last plan; from the nominal pose when
  * that start does not converge), the radii solved from the previous answer's. Allocates
  * nothing. */
-HP_API hp_error hp_planner_set_measured(hp_planner *p, const double *pressures,
-                                        unsigned *clamped);
+HP_API hp_error hp_planner_set_measured(hp_planner *p, const double *pressures, unsigned *clamped);
 
 /* Makes a result the previous answer, as if hp_plan had just returned it, from its fields
  * alone: the rate limits of the next plan start from its pressures, the next solve starts
@@ -426,8 +425,9 @@ typedef struct hp_load_info {
     double rest[6];                /* the forward statics' rest of the returned pressures,
                                       started at the answer [m, rad] */
     double rest_error;             /* max |rest − achieved| in mm / degrees */
-    double indent[HP_MAX_BLADDERS];/* each bladder's delta/ro at the answer (hp_load_indentation) */
-    hp_load_holding holding;       /* stiffness, stability and compliance of the answer: at
+    double
+        indent[HP_MAX_BLADDERS]; /* each bladder's delta/ro at the answer (hp_load_indentation) */
+    hp_load_holding holding;     /* stiffness, stability and compliance of the answer: at
                                       the achieved pose with the returned pressures (not at
                                       the forward statics' rest) */
 } hp_load_info;

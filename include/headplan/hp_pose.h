@@ -43,7 +43,7 @@ HP_API void hp_pose_inverse(const double xi[6], double inv[6]);
  * the same rotation R as the pose's). |q| must be 1 within 1e-6 (it is normalised); else
  * HP_ERR_INVALID, as for non-finite input. q and −q give the same pose. */
 HP_API hp_error hp_pose_from_quaternion(const double t[3], const double q[4], double xi[6],
-                                 hp_diag *diag);
+                                        hp_diag *diag);
 /* The pose's translation t [m] and its unit quaternion (w >= 0). */
 HP_API void hp_pose_to_quaternion(const double xi[6], double t[3], double q[4]);
 

@@ -79,33 +79,33 @@ typedef struct hp_scene_printed {
 
 /* A layout scene (a file whose top level has `bladders` and a `head`). */
 typedef struct hp_scene {
-    int version;                       /* HP_SCENE_VERSION */
-    char name[HP_SCENE_TEXT_MAX];      /* `name` */
-    char file[HP_SCENE_PATH_MAX];      /* the file name the scene was read from */
-    hp_layout layout;                  /* validated (hp_layout_prepare) */
-    hp_level level;                    /* `model.level` (may be HP_LEVEL_AUTO) */
-    double level_tolerance;            /* `model.tolerance_mm` [m], > 0 */
-    int has_auto_range;                /* `model.auto_translation_mm` and `_rotation_deg` */
-    double auto_trans;                 /* [m] largest translation auto must cover */
-    double auto_rot;                   /* [rad] largest rotation auto must cover */
-    hp_backend backend;                /* `solver.backend` */
-    double tolerance;                  /* `solver.tolerance` (mm and degrees), > 0 */
-    int max_iter;                      /* `solver.max_iter`, 1..1000000 */
-    double max_time;                   /* `solver.max_time_s` [s], > 0 */
-    double weight_mm_per_deg;          /* `solver.weight_mm_per_deg`, > 0 */
-    int has_correction;                /* `correction` given */
-    double correction[6];              /* [m, m, m, rad, rad, rad]: x y z pitch roll yaw */
-    int has_trace;                     /* `trace` given */
-    char trace_path[HP_SCENE_PATH_MAX];/* resolved against the scene file's folder */
+    int version;                        /* HP_SCENE_VERSION */
+    char name[HP_SCENE_TEXT_MAX];       /* `name` */
+    char file[HP_SCENE_PATH_MAX];       /* the file name the scene was read from */
+    hp_layout layout;                   /* validated (hp_layout_prepare) */
+    hp_level level;                     /* `model.level` (may be HP_LEVEL_AUTO) */
+    double level_tolerance;             /* `model.tolerance_mm` [m], > 0 */
+    int has_auto_range;                 /* `model.auto_translation_mm` and `_rotation_deg` */
+    double auto_trans;                  /* [m] largest translation auto must cover */
+    double auto_rot;                    /* [rad] largest rotation auto must cover */
+    hp_backend backend;                 /* `solver.backend` */
+    double tolerance;                   /* `solver.tolerance` (mm and degrees), > 0 */
+    int max_iter;                       /* `solver.max_iter`, 1..1000000 */
+    double max_time;                    /* `solver.max_time_s` [s], > 0 */
+    double weight_mm_per_deg;           /* `solver.weight_mm_per_deg`, > 0 */
+    int has_correction;                 /* `correction` given */
+    double correction[6];               /* [m, m, m, rad, rad, rad]: x y z pitch roll yaw */
+    int has_trace;                      /* `trace` given */
+    char trace_path[HP_SCENE_PATH_MAX]; /* resolved against the scene file's folder */
     hp_trace_rows trace_rows;
 
     /* ---- the load level (layout scenes with a `load` section; docs/load.md) ---- */
-    int has_load;                      /* `load` given */
-    double load_fraction;              /* `load.carried_fraction`, in (0, 1] */
-    hp_load_spec load;                 /* carried mass [kg], centre of mass [m], gravity */
-    hp_level load_geometry;            /* `load.geometry` (default surface) */
-    int load_tiebreak;                 /* `load.tiebreak` (an hp_load_tiebreak) */
-    int level_load;                    /* 1: `model.level: load` asks for the load level */
+    int has_load;           /* `load` given */
+    double load_fraction;   /* `load.carried_fraction`, in (0, 1] */
+    hp_load_spec load;      /* carried mass [kg], centre of mass [m], gravity */
+    hp_level load_geometry; /* `load.geometry` (default surface) */
+    int load_tiebreak;      /* `load.tiebreak` (an hp_load_tiebreak) */
+    int level_load;         /* 1: `model.level: load` asks for the load level */
 } hp_scene;
 
 /* A single-bladder study (a file whose top level has `bladder`). */
@@ -117,19 +117,19 @@ typedef struct hp_bladder_study {
     hp_material_convention convention; /* the convention the file wrote the moduli in */
     double moduli_written[2];          /* the moduli as written (C1,C2 or C10,C01) [Pa] */
     hp_study_input study;
-    double study_ri;                   /* [m] input for HP_STUDY_IK, else 0 */
-    double study_pressure;             /* [Pa] input for HP_STUDY_FK, else 0 */
-    int has_printed;                   /* `paper_printed` given */
+    double study_ri;                       /* [m] input for HP_STUDY_IK, else 0 */
+    double study_pressure;                 /* [Pa] input for HP_STUDY_FK, else 0 */
+    int has_printed;                       /* `paper_printed` given */
     char printed_title[HP_SCENE_TEXT_MAX]; /* `paper_printed.title` ("" when absent) */
     char printed_note[HP_SCENE_TEXT_MAX];  /* `paper_printed.note` ("" when absent) */
-    hp_scene_printed printed_C1;       /* `C1_pa` */
-    hp_scene_printed printed_C2;       /* `C2_pa` */
-    hp_scene_printed printed_Ri;       /* `Ri_m` */
-    hp_scene_printed printed_ri;       /* `ri_m` */
-    hp_scene_printed printed_Ro;       /* `Ro_m` */
-    hp_scene_printed printed_ro;       /* `ro_m` */
-    hp_scene_printed printed_pressure; /* `pressure_pa` (the paper says Pascals) */
-    hp_scene_printed printed_dV;       /* `dV_m3` (the paper prints "≈ 0") */
+    hp_scene_printed printed_C1;           /* `C1_pa` */
+    hp_scene_printed printed_C2;           /* `C2_pa` */
+    hp_scene_printed printed_Ri;           /* `Ri_m` */
+    hp_scene_printed printed_ri;           /* `ri_m` */
+    hp_scene_printed printed_Ro;           /* `Ro_m` */
+    hp_scene_printed printed_ro;           /* `ro_m` */
+    hp_scene_printed printed_pressure;     /* `pressure_pa` (the paper says Pascals) */
+    hp_scene_printed printed_dV;           /* `dV_m3` (the paper prints "≈ 0") */
 } hp_bladder_study;
 
 /* Reads and validates the layout scene file at path (at most HP_SCENE_MAX_BYTES). Returns
@@ -143,7 +143,7 @@ HP_API hp_error hp_scene_load(const char *path, hp_scene *out, hp_diag *diag);
  * messages and to resolve a relative trace path (NULL: "<scene>", relative to the current
  * directory). Same contract as hp_scene_load. */
 HP_API hp_error hp_scene_parse(const char *text, size_t len, const char *filename, hp_scene *out,
-                        hp_diag *diag);
+                               hp_diag *diag);
 
 /* The planner settings a layout scene asks for: hp_settings_default(), then the scene's
  * `model` (level, tolerance, auto range) and `solver` (backend, tolerance, budgets, weight)
@@ -161,14 +161,14 @@ HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag 
 /* The layout analysis of a scene, as `headplan analyze` and the Python analyze() report it.
  * Units SI. */
 typedef struct hp_scene_analysis {
-    hp_level requested;          /* the settings' level (may be auto) */
-    hp_level level;              /* resolved: the level of the analysis and the reach */
-    hp_level auto_level;         /* what auto picks for level_tolerance over the range below */
-    double trans, rot;           /* [m], [rad] correction size the error bounds cover
+    hp_level requested;               /* the settings' level (may be auto) */
+    hp_level level;                   /* resolved: the level of the analysis and the reach */
+    hp_level auto_level;              /* what auto picks for level_tolerance over the range below */
+    double trans, rot;                /* [m], [rad] correction size the error bounds cover
                                     (the settings' auto_trans, auto_rot) */
     double bound_linear, bound_plane; /* [m] error bounds of the linear and plane models */
-    hp_identifiable id;          /* what the contact model can tell apart */
-    hp_layout_analysis an;       /* at level; an.reach is the planner's (hp_planner_reach) */
+    hp_identifiable id;               /* what the contact model can tell apart */
+    hp_layout_analysis an;            /* at level; an.reach is the planner's (hp_planner_reach) */
 } hp_scene_analysis;
 
 /* Analyses layout L under settings s (hp_scene_settings, with any override): the contact
@@ -177,8 +177,8 @@ typedef struct hp_scene_analysis {
  * planner at that level (hp_planner_reach). Returns HP_OK, HP_ERR_NULL, or the first step's
  * error with "STEP: reason" in diag (STEP: error bounds, identifiable range, layout
  * analysis, reach). Allocates (a planner, freed before it returns); not real time. */
-HP_API hp_error hp_scene_analyze(const hp_layout *L, const hp_settings *s,
-                                 hp_scene_analysis *out, hp_diag *diag);
+HP_API hp_error hp_scene_analyze(const hp_layout *L, const hp_settings *s, hp_scene_analysis *out,
+                                 hp_diag *diag);
 
 /* Applies one named override to planner settings s, as the command line's options and the
  * Python module's keywords give them: "backend" and "level" (a name: hp_backend_parse,
@@ -232,9 +232,8 @@ typedef enum hp_level_refusal {
  * messages and help texts. */
 HP_API const char *hp_scene_level_names(int with_load, const char *last, char *buf, size_t len);
 
-HP_API hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_load,
-                                    char *why, size_t len, hp_level_refusal *refused,
-                                    hp_diag *diag);
+HP_API hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_load, char *why,
+                                    size_t len, hp_level_refusal *refused, hp_diag *diag);
 
 /* For a caller that plans the kinematic levels only (`headplan render`): HP_OK when hp_scene_plan_level(sc, level) plans sc kinematically. Else
  * HP_ERR_DOMAIN, *refused = HP_LEVEL_REFUSED_LOAD and diag "FILE: the scene is planned at the

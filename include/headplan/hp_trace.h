@@ -73,17 +73,17 @@ typedef struct hp_trace_reader hp_trace_reader;
  * HP_ERR_PARSE for a malformed directive or header; HP_ERR_IO for a read error. Allocates
  * the reader; free it with hp_trace_close. */
 HP_API hp_error hp_trace_open_stream(FILE *f, const char *name, const hp_trace_rows *rows,
-                              const char *rows_from, hp_trace_reader **out, hp_diag *diag);
+                                     const char *rows_from, hp_trace_reader **out, hp_diag *diag);
 
 /* Opens the trace file at path: as hp_trace_open_stream, with rows_from "the caller". */
 HP_API hp_error hp_trace_open(const char *path, const hp_trace_rows *rows, hp_trace_reader **out,
-                       hp_diag *diag);
+                              hp_diag *diag);
 
 /* Opens a trace held in memory (len bytes, not necessarily NUL-terminated); name is used in
  * messages. Same contract as hp_trace_open; the buffer is copied. */
 HP_API hp_error hp_trace_open_mem(const char *data, size_t len, const char *name,
-                           hp_trace_format format, const hp_trace_rows *rows,
-                           hp_trace_reader **out, hp_diag *diag);
+                                  hp_trace_format format, const hp_trace_rows *rows,
+                                  hp_trace_reader **out, hp_diag *diag);
 
 /* Reads the next sample. Returns HP_OK and fills row; HP_ERR_PARSE for a bad row (diag
  * says "NAME:LINE[:COL]: ...", row->line is set, and the reader moves on to the next line,

@@ -46,14 +46,14 @@ typedef enum hp_column_shape {
 } hp_column_shape;
 
 typedef enum hp_column_source {
-    HP_COLUMN_FROM_ROW,     /* the trace row (line, time stamp) */
-    HP_COLUMN_FROM_RESULT,  /* the row's planned hp_result */
-    HP_COLUMN_FROM_MESSAGE  /* why the row was not planned (a bad row's reader message) */
+    HP_COLUMN_FROM_ROW,    /* the trace row (line, time stamp) */
+    HP_COLUMN_FROM_RESULT, /* the row's planned hp_result */
+    HP_COLUMN_FROM_MESSAGE /* why the row was not planned (a bad row's reader message) */
 } hp_column_source;
 
 typedef struct hp_column {
-    const char *name;        /* pattern of the rows' column names (see above) */
-    const char *unit;        /* "mm|deg" (axes: mm for x, y, z, deg for the angles), "Pa",
+    const char *name; /* pattern of the rows' column names (see above) */
+    const char *unit; /* "mm|deg" (axes: mm for x, y, z, deg for the angles), "Pa",
                                 "s", "us", "1" (a number without unit), "-" (text, flags) */
     hp_column_format format;
     hp_column_shape shape;
@@ -88,8 +88,8 @@ HP_API hp_error hp_column_name(const hp_column *c, int k, const hp_layout *L, ch
  * which gives NaN numbers, 0 integers and flags, and status -1). In the units of the
  * column: clinical (mm, degrees), radii in mm, pressures in Pa, the solve time in us
  * rounded to whole nanoseconds. A FROM_MESSAGE column gives NaN. Returns the count. */
-HP_API int hp_column_values(const hp_column *c, int n, const hp_trace_row *row,
-                            const hp_result *r, double *out);
+HP_API int hp_column_values(const hp_column *c, int n, const hp_trace_row *row, const hp_result *r,
+                            double *out);
 
 /* The text of a TEXT column's value v (hp_column_values): the status name, "bad-row" for
  * -1. NULL for any other column. */

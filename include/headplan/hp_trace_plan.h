@@ -48,8 +48,7 @@ HP_API hp_error hp_trace_plan_create(hp_planner *p, const hp_horizon_settings *h
 /* Makes the start of the trace the state: the pressures the bladders hold before row 0 [Pa]
  * (hp_planner_set_previous, applied now), or with pressures NULL the nominal answer. On a
  * refusal diag says "start pressures: REASON" and the state is unchanged. */
-HP_API hp_error hp_trace_plan_set_start(hp_trace_plan *tp, const double *pressures,
-                                        hp_diag *diag);
+HP_API hp_error hp_trace_plan_set_start(hp_trace_plan *tp, const double *pressures, hp_diag *diag);
 
 /* Makes prev the previous planned row (a result hp_plan returned; n, achieved and the
  * bladders' ri, ro and pressure are read), or with prev NULL the start of the trace as last

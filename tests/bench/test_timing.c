@@ -19,8 +19,8 @@ static int n_calls;
 
 typedef struct {
     int id;
-    long next;  /* the position the next call must start at */
-    long gaps;  /* calls that did not continue where the previous one stopped */
+    long next; /* the position the next call must start at */
+    long gaps; /* calls that did not continue where the previous one stopped */
     long calls;
 } fake;
 

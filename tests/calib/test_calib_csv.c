@@ -68,7 +68,8 @@ static void test_material_bad(void **state)
     material_case("pressure_pa,ri_mm\n1000,27.5\n2000,-3\n", "3:6: ri_mm: must be > 0 mm");
     material_case("pressure_pa,ri_mm\n1000,27.5\n2000,28,1\n", "3:1: 3 columns, the header has 2");
     material_case("pressure_pa,ri_mm\n1000,27.5\n", "3:1: 1 data rows");
-    material_case("pressure_pa,ri_mm,sigma_mm\n1e999,27.5,1\n", "2:1: pressure: '1e999': overflows");
+    material_case("pressure_pa,ri_mm,sigma_mm\n1e999,27.5,1\n",
+                  "2:1: pressure: '1e999': overflows");
     material_case("pressure_pa,ri_mm,sigma_mm\n1,27.5,0\n", "2:8: sigma_mm: must be > 0 (got 0)");
     material_case("pressure_pa,ri_mm\n 0x10 ,27.5\n", "2:2: pressure: '0x10': not a number");
     /* A file cut short: "36" cut to "3" would be another data point; a last line without
@@ -136,11 +137,10 @@ static void test_layout(void **state)
     hp_diag d = {{0}};
     assert_int_equal(hp_calib_read_layout(p, L, rows, 4, &n, &d), HP_OK);
     assert_int_equal(n, 2);
-    hp_assert_close(rows[0].pressure[0], 1500, 0, 0);           /* kPa column */
+    hp_assert_close(rows[0].pressure[0], 1500, 0, 0); /* kPa column */
     hp_assert_close(rows[0].pose[HP_YAW], 1 * 3.14159265358979323846 / 180, 1e-15, 0);
     hp_assert_close(rows[0].pose[HP_X], 0.5e-3, 1e-15, 0);
-    layout_case(L, "0,0,0,0,0,0,0,0,0,0,0,0,0,nan\n0,0,0,0,0,0,0,0,0,0,0,0,0,0\n",
-                "2:");
+    layout_case(L, "0,0,0,0,0,0,0,0,0,0,0,0,0,nan\n0,0,0,0,0,0,0,0,0,0,0,0,0,0\n", "2:");
     layout_case(L, "0,0,0,0,0,0,0,0,0,0,0,0,0\n", "2:1: 13 columns, the header has 14");
     layout_case(L, "0,0,0,0,0,0,0,0,0,0,0,0,0,20\n0,0,0,0,0,0,0,0,0,0,0,0,0,0\n", "2:");
     layout_case(L, "0,0,0,0,0,0,0,0,0,0,0,0,0,0\n", "3:1: 1 data rows");
@@ -199,10 +199,12 @@ static void test_layout_jsonl(void **state)
     static hp_calib_row a[32], b[32];
     int na, nb;
     hp_diag d = {{0}};
-    assert_int_equal(hp_calib_read_layout(HP_SOURCE_DIR "/examples/calibration/layout_rows.csv",
-                                          L, a, 32, &na, &d), HP_OK);
+    assert_int_equal(hp_calib_read_layout(HP_SOURCE_DIR "/examples/calibration/layout_rows.csv", L,
+                                          a, 32, &na, &d),
+                     HP_OK);
     assert_int_equal(hp_calib_read_layout(HP_SOURCE_DIR "/examples/calibration/layout_rows.jsonl",
-                                          L, b, 32, &nb, &d), HP_OK);
+                                          L, b, 32, &nb, &d),
+                     HP_OK);
     assert_int_equal(na, 24);
     assert_int_equal(nb, 24);
     for (int i = 0; i < na; ++i) {
@@ -319,12 +321,9 @@ static int teardown(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_material_good),
-        cmocka_unit_test(test_material_bad),
-        cmocka_unit_test(test_layout),
-        cmocka_unit_test(test_layout_messages),
-        cmocka_unit_test(test_layout_jsonl),
-        cmocka_unit_test(test_byte_order_mark),
+        cmocka_unit_test(test_material_good), cmocka_unit_test(test_material_bad),
+        cmocka_unit_test(test_layout),        cmocka_unit_test(test_layout_messages),
+        cmocka_unit_test(test_layout_jsonl),  cmocka_unit_test(test_byte_order_mark),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -257,7 +257,8 @@ static void test_jacobian_vs_fk_differences(void **state)
             hp_layout P = truth_layout(L, a, o8);
             for (int i = 0; i < NR; ++i)
                 assert_int_equal(hp_contact_fk(&P, HP_LEVEL_SURFACE, ro[i], rows[i].pose,
-                                               sgn ? xm[i] : xp[i], NULL, NULL), HP_OK);
+                                               sgn ? xm[i] : xp[i], NULL, NULL),
+                                 HP_OK);
         }
         for (int i = 0; i < NR; ++i)
             for (int q = 0; q < 6; ++q) {
@@ -354,9 +355,11 @@ static void test_unidentifiable_designs(void **state)
     assert_true(isnan(f.se[9]) && f.value[9] == 0.0);
     /* One pressure set measured again and again: the rows hold six numbers, so at most six
      * parameters; the semi-axes, admitted last, are held at the scene's values. */
-    for (int i = 1; i < 12; ++i) memcpy(rows[i].pressure, rows[0].pressure, sizeof rows[0].pressure);
+    for (int i = 1; i < 12; ++i)
+        memcpy(rows[i].pressure, rows[0].pressure, sizeof rows[0].pressure);
     for (int i = 0; i < 12; ++i)
-        for (int j = 0; j < 6; ++j) rows[i].pose[j] = rows[0].pose[j] + (j < 3 ? 5e-5 : 0.05 * DEG) * test_rng_normal(&r);
+        for (int j = 0; j < 6; ++j)
+            rows[i].pose[j] = rows[0].pose[j] + (j < 3 ? 5e-5 : 0.05 * DEG) * test_rng_normal(&r);
     o.level = HP_LEVEL_SURFACE;
     assert_int_equal(hp_fit_layout(&sc->layout, rows, 12, &o, &f, NULL, NULL), HP_OK);
     assert_int_equal(f.rank, 6);
@@ -384,7 +387,8 @@ static void test_calibrated_scene(void **state)
 {
     (void)state;
     hp_scene *sc = load_default();
-    const double da[3] = {0.4e-3, -0.3e-3, 0.2e-3}, off[8] = {0.1e-3, 0, -0.1e-3, 0, 0.2e-3, 0, 0, -0.1e-3};
+    const double da[3] = {0.4e-3, -0.3e-3, 0.2e-3},
+                 off[8] = {0.1e-3, 0, -0.1e-3, 0, 0.2e-3, 0, 0, -0.1e-3};
     hp_layout T = truth_layout(&sc->layout, da, off);
     uint64_t r = 77;
     static hp_calib_row rows[20];
@@ -402,14 +406,17 @@ static void test_calibrated_scene(void **state)
     fclose(in);
     const char *inputs[1] = {input};
     hp_diag d = {{0}};
-    assert_int_equal(hp_calib_write_scene(input, &f.fitted, HP_LEVEL_SURFACE, NULL, "c", inputs, 1, &d),
-                     HP_ERR_INVALID);
+    assert_int_equal(
+        hp_calib_write_scene(input, &f.fitted, HP_LEVEL_SURFACE, NULL, "c", inputs, 1, &d),
+        HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "is an input"));
     assert_int_equal(hp_calib_write_scene(path, &f.fitted, HP_LEVEL_SURFACE, NULL,
-                                          "calibrated \"x\"", inputs, 1, &d), HP_OK);
+                                          "calibrated \"x\"", inputs, 1, &d),
+                     HP_OK);
     /* Written twice (the second replaces the first): still one file and no temporary. */
-    assert_int_equal(hp_calib_write_scene(path, &f.fitted, HP_LEVEL_AUTO, sc, "calibrated \"x\"",
-                                          inputs, 1, &d), HP_OK);
+    assert_int_equal(
+        hp_calib_write_scene(path, &f.fitted, HP_LEVEL_AUTO, sc, "calibrated \"x\"", inputs, 1, &d),
+        HP_OK);
     char cmd[256];
     snprintf(cmd, sizeof cmd, "test $(ls %s | wc -l) -eq 2", dir);
     assert_int_equal(system(cmd), 0);
@@ -427,7 +434,8 @@ static void test_calibrated_scene(void **state)
     assert_int_equal(back->backend, sc->backend);
     assert_int_equal(back->max_iter, sc->max_iter);
     assert_int_equal(back->has_correction, 1);
-    for (int j = 0; j < 6; ++j) hp_assert_close(back->correction[j], sc->correction[j], 1e-15, 1e-18);
+    for (int j = 0; j < 6; ++j)
+        hp_assert_close(back->correction[j], sc->correction[j], 1e-15, 1e-18);
     for (int j = 0; j < 3; ++j)
         hp_assert_close(back->layout.head.semi_axes[j], f.fitted.head.semi_axes[j], 1e-14, 0);
     for (int k = 0; k < 8; ++k) {

@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MASS_TRUE 3.0  /* [kg] */
+#define MASS_TRUE 3.0   /* [kg] */
 #define MASS_START 3.05 /* [kg] the load the fit starts from (the scene says 0.8 · 4.5) */
 
 static hp_scene *load_supine(void)
@@ -49,8 +49,9 @@ static void make_rows(const hp_scene *sc, int n, double sig_t, double sig_r, uin
     for (int i = 0; i < n;) {
         double xi[6], other[6];
         for (int k = 0; k < sc->layout.n; k += 2)
-            rows[i].pressure[k] = rows[i].pressure[k + 1] =
-                (k < 4 ? 5000.0 : 1500.0) * (1.0 + 0.02 * (2.0 * test_rng_unit(r) - 1.0));
+            rows[i].pressure[k] = rows[i].pressure[k + 1] = (k < 4 ? 5000.0 : 1500.0) *
+                                                            (1.0 +
+                                                             0.02 * (2.0 * test_rng_unit(r) - 1.0));
         /* Kept only when the statics also find a rest 60 g either side (the fit starts at
          * MASS_START): a property of the pressures alone, not of the noise, so the coverage
          * below is not biased by it. */
@@ -95,8 +96,7 @@ static void test_recovery(void **state)
      * no rest for (or only roughly) the steps the data ask for. Never answered with the
      * start's numbers: refused as stalled (a known limit; docs/calibration.md). */
     o.fit_offsets = 1;
-    assert_int_equal(hp_fit_layout(&sc->layout, rows, 16, &o, f, NULL, &d),
-                     HP_ERR_NO_CONVERGENCE);
+    assert_int_equal(hp_fit_layout(&sc->layout, rows, 16, &o, f, NULL, &d), HP_ERR_NO_CONVERGENCE);
     print_message("mass and offsets: %s\n", d.text);
     assert_non_null(strstr(d.text, "stalled"));
     assert_true(isnan(f->value[0]) && isnan(f->mass));

@@ -20,8 +20,7 @@ static hp_scene base, back_c, back_comma; /* large: off the stack */
 static void write_and_load(const char *path, const hp_layout *L, hp_scene *out)
 {
     hp_diag d = {{0}};
-    hp_error e = hp_calib_write_scene(path, L, HP_LEVEL_SURFACE, &base, "calibrated", NULL, 0,
-                                      &d);
+    hp_error e = hp_calib_write_scene(path, L, HP_LEVEL_SURFACE, &base, "calibrated", NULL, 0, &d);
     if (e != HP_OK) print_error("%s\n", d.text);
     assert_int_equal(e, HP_OK);
     e = hp_scene_load(path, out, &d);
@@ -34,8 +33,7 @@ static void test_written_under_comma_locale(void **state)
     (void)state;
     hp_diag d = {{0}};
     setlocale(LC_NUMERIC, "C");
-    assert_int_equal(hp_scene_load(HP_SOURCE_DIR "/scenarios/load_tilted.yaml", &base, &d),
-                     HP_OK);
+    assert_int_equal(hp_scene_load(HP_SOURCE_DIR "/scenarios/load_tilted.yaml", &base, &d), HP_OK);
     /* fitted-looking numbers: every digit of %.17g in use */
     hp_layout L = base.layout;
     for (int k = 0; k < L.n; ++k)

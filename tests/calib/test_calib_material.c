@@ -39,7 +39,8 @@ static void test_t_quantile(void **state)
     (void)state;
     const double dof[] = {1, 2, 5, 10, 30, 100};
     const double want[] = {12.706, 4.303, 2.571, 2.228, 2.042, 1.984};
-    for (int i = 0; i < 6; ++i) hp_assert_close(hp_calib_t_quantile(0.975, dof[i]), want[i], 0, 6e-4);
+    for (int i = 0; i < 6; ++i)
+        hp_assert_close(hp_calib_t_quantile(0.975, dof[i]), want[i], 0, 6e-4);
     /* dof = 1 is the Cauchy distribution: t = tan(π(p − 1/2)) exactly. */
     hp_assert_close(hp_calib_t_quantile(0.975, 1), tan(3.14159265358979323846 * 0.475), 1e-10, 0);
     hp_assert_close(hp_calib_t_quantile(0.9, 1), tan(3.14159265358979323846 * 0.4), 1e-10, 0);
@@ -249,8 +250,9 @@ static void test_information_gain(void **state)
     hp_material_fit f;
     assert_int_equal(hp_fit_material(RI, RO, HP_CALIB_INNER, pts, 12, &f, NULL, NULL), HP_OK);
     double cand[3] = {-5000, 500, 6000}, shrink[6];
-    assert_int_equal(hp_fit_material_gain(RI, RO, HP_CALIB_INNER, pts, 12, &f, cand, 3, 2e-5,
-                                          shrink, NULL), HP_OK);
+    assert_int_equal(
+        hp_fit_material_gain(RI, RO, HP_CALIB_INNER, pts, 12, &f, cand, 3, 2e-5, shrink, NULL),
+        HP_OK);
     for (int j = 0; j < 3; ++j) {
         assert_true(shrink[2 * j] > 0 && shrink[2 * j] <= 1);
         /* Add the point at the fitted model's radius: the optimum does not move. */

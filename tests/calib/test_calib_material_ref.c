@@ -58,8 +58,8 @@ static void test_exact_recovery(void **state)
             make_case(kind, ref, 0.0, NULL, &b, &Ri0, &Ro0, pts);
             hp_material_fit f;
             hp_diag d = {{0}};
-            hp_error e = hp_fit_material_ref(Ri0, Ro0, (hp_calib_radius)kind,
-                                             (hp_calib_radius)ref, pts, 12, &f, NULL, &d);
+            hp_error e = hp_fit_material_ref(Ri0, Ro0, (hp_calib_radius)kind, (hp_calib_radius)ref,
+                                             pts, 12, &f, NULL, &d);
             if (e) print_error("kind %d ref %d: %s\n", kind, ref, d.text);
             assert_int_equal(e, HP_OK);
             assert_int_equal(f.ref_fitted, 1);
@@ -76,8 +76,7 @@ static void test_exact_recovery(void **state)
     hp_calib_point pts[12];
     synth(&b, HP_CALIB_INNER, -4000, 6000, 12, 0.0, NULL, pts);
     hp_material_fit f;
-    assert_int_equal(hp_fit_material(0.027, 0.030, HP_CALIB_INNER, pts, 12, &f, NULL, NULL),
-                     HP_OK);
+    assert_int_equal(hp_fit_material(0.027, 0.030, HP_CALIB_INNER, pts, 12, &f, NULL, NULL), HP_OK);
     assert_int_equal(f.ref_fitted, 0);
     assert_true(isnan(f.ref) && isnan(f.ref_se));
 }
@@ -173,8 +172,8 @@ static void test_coverage(void **state)
             synth(&b, (hp_calib_radius)kind, -4000, 6000, 12, 2e-5, &r, pts);
             hp_material_fit f;
             hp_diag d = {{0}};
-            hp_error e = hp_fit_material_ref(Ri0, Ro0, (hp_calib_radius)kind,
-                                             (hp_calib_radius)kind, pts, 12, &f, NULL, &d);
+            hp_error e = hp_fit_material_ref(Ri0, Ro0, (hp_calib_radius)kind, (hp_calib_radius)kind,
+                                             pts, 12, &f, NULL, &d);
             if (e) print_error("trial %d: %s\n", t, d.text);
             assert_int_equal(e, HP_OK);
             double R = kind ? b.Ro : b.Ri;
@@ -186,7 +185,10 @@ static void test_coverage(void **state)
             double c = (double)cover[j] / TRIALS;
             print_message("coverage %s, %s: %.4f (95 %% +- %.4f)\n",
                           kind ? "Ro from outer radii" : "Ri from inner radii",
-                          j == 0 ? "radius" : j == 1 ? "C1" : "C2", c, margin);
+                          j == 0   ? "radius"
+                          : j == 1 ? "C1"
+                                   : "C2",
+                          c, margin);
             assert_true(c >= 0.95 - margin && c <= 0.95 + margin);
         }
     }
@@ -220,16 +222,15 @@ static void test_unidentifiable_designs(void **state)
         pts[i] = (hp_calib_point){P3[i % 3], ri + 2e-5 * test_rng_normal(&r), 2e-5, i + 2};
     }
     hp_material_fit f;
-    assert_int_equal(hp_fit_material_ref(0.027, 0.030, HP_CALIB_INNER, HP_CALIB_INNER, pts, 9,
-                                         &f, NULL, NULL),
-                     HP_OK);
+    assert_int_equal(
+        hp_fit_material_ref(0.027, 0.030, HP_CALIB_INNER, HP_CALIB_INNER, pts, 9, &f, NULL, NULL),
+        HP_OK);
     expect_refusal(0.027, 0.030, HP_CALIB_INNER, HP_CALIB_OUTER, pts, 9, "cannot determine Ro",
                    "2 equations for 3 unknowns");
     /* A narrow band of pressures far from zero: the moduli alone are determined (condition
      * below 1e4), the radius with them is not (9.9e4 measured). */
     synth(&b, HP_CALIB_INNER, 5000, 5100, 12, 2e-5, &r, pts);
-    assert_int_equal(hp_fit_material(0.027, 0.030, HP_CALIB_INNER, pts, 12, &f, NULL, NULL),
-                     HP_OK);
+    assert_int_equal(hp_fit_material(0.027, 0.030, HP_CALIB_INNER, pts, 12, &f, NULL, NULL), HP_OK);
     expect_refusal(0.027, 0.030, HP_CALIB_INNER, HP_CALIB_INNER, pts, 12, "cannot determine Ri",
                    "condition number");
     /* Three points: no degree of freedom for the scatter with three parameters. */

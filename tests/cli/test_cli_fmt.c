@@ -131,8 +131,7 @@ static void test_every_exponent(void **state)
                 if (got != in_range) fail_msg("%a: cli_fmt_exact returned %d", w, got);
                 if (got) {
                     cli_fmt(b, w);
-                    if (strcmp(a, b) != 0)
-                        fail_msg("%a: cli_fmt_exact %s, cli_fmt %s", w, a, b);
+                    if (strcmp(a, b) != 0) fail_msg("%a: cli_fmt_exact %s, cli_fmt %s", w, a, b);
                     ++taken;
                 } else if (a[0] != 'x') {
                     fail_msg("%a: cli_fmt_exact wrote outside its range", w);
@@ -193,7 +192,8 @@ static void test_decimal_ties(void **state)
      * digit 5 at digit 16 or 17), and their neighbours. */
     for (int i = 0; i < 100000; ++i) {
         char s[64];
-        int p = 15 + (int)(test_rng_next(&rng) % 2), e = (int)(test_rng_next(&rng) % 22) - 6, n = random_digits(s, p);
+        int p = 15 + (int)(test_rng_next(&rng) % 2), e = (int)(test_rng_next(&rng) % 22) - 6,
+            n = random_digits(s, p);
         s[n++] = '5';
         snprintf(s + n, sizeof s - (size_t)n, "e%d", e - p);
         check_around(strtod(s, NULL), 2);
@@ -213,9 +213,8 @@ static void test_lane_division(void **state)
 
 int main(void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(test_against_printf),
-                                       cmocka_unit_test(test_every_exponent),
-                                       cmocka_unit_test(test_decimal_ties),
-                                       cmocka_unit_test(test_lane_division)};
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_against_printf), cmocka_unit_test(test_every_exponent),
+        cmocka_unit_test(test_decimal_ties), cmocka_unit_test(test_lane_division)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -55,16 +55,26 @@ static void test_quote_round_trip(void **state)
         print_message("gnuplot not installed: the round trip is not checked\n");
         skip();
     }
-    static const char *const salt[] = {"'", "''", "\\", "`touch CANARY`", "@x", "!touch CANARY",
-                                       "system(\"touch CANARY\")", "EOD", "\"", "$(",
-                                       "'''x", "a''''b", "{}"};
+    static const char *const salt[] = {"'",
+                                       "''",
+                                       "\\",
+                                       "`touch CANARY`",
+                                       "@x",
+                                       "!touch CANARY",
+                                       "system(\"touch CANARY\")",
+                                       "EOD",
+                                       "\"",
+                                       "$(",
+                                       "'''x",
+                                       "a''''b",
+                                       "{}"};
     char dir[] = "/tmp/hp_gptext_XXXXXX";
     assert_non_null(mkdtemp(dir));
     char script[256], out[256], canary[256], cmd[1024];
     snprintf(script, sizeof script, "%s/q.gp", dir);
     snprintf(out, sizeof out, "%s/out", dir);
     snprintf(canary, sizeof canary, "%s/CANARY", dir);
-    char (*s)[64] = calloc(N_STRINGS, sizeof *s);
+    char(*s)[64] = calloc(N_STRINGS, sizeof *s);
     assert_non_null(s);
     FILE *f = fopen(script, "w");
     assert_non_null(f);
@@ -101,7 +111,8 @@ static void test_quote_round_trip(void **state)
     for (int i = 0; i < N_STRINGS; ++i) {
         assert_non_null(fgets(line, sizeof line, in));
         line[strcspn(line, "\n")] = '\0';
-        if (strcmp(line, s[i]) != 0) fail_msg("string %d printed back as '%s', not '%s'", i, line, s[i]);
+        if (strcmp(line, s[i]) != 0)
+            fail_msg("string %d printed back as '%s', not '%s'", i, line, s[i]);
     }
     assert_null(fgets(line, sizeof line, in)); /* nothing more */
     fclose(in);
@@ -138,15 +149,30 @@ static void test_label(void **state)
         {"plain_name-1.png", "\"plain_name-1.png\""},
         {"it's", "\"it\\0047s\""},
         {"'1", "\"\\00471\""}, /* a digit after an escape is not read into it */
-        {"a\nb\rc\td\x7f" "e", "\"a?b?c?d?e\""},
-        {"\xff\xfe", "\"?" "?\""},
-        {"caf\xc3\xa9", "\"caf\\0303\\0251\""},           /* é: well-formed, kept */
-        {"\xc3(", "\"?(\""},                                 /* a cut sequence */
-        {"\xed\xa0\x80", "\"?" "?" "?\""},                   /* a surrogate is not well formed */
-        {"\xc0\xaf", "\"?" "?\""},                              /* overlong '/' */
-        {"\xe0\x80\xaf", "\"?" "?" "?\""},                     /* overlong, 3 bytes */
-        {"\xf4\x90\x80\x80", "\"?" "?" "?" "?\""},            /* beyond U+10FFFF */
-        {"\xf8\x88\x80\x80\x80", "\"?" "?" "?" "?" "?\""},    /* a 5-byte form */
+        {"a\nb\rc\td\x7f"
+         "e",
+         "\"a?b?c?d?e\""},
+        {"\xff\xfe", "\"?"
+                     "?\""},
+        {"caf\xc3\xa9", "\"caf\\0303\\0251\""}, /* é: well-formed, kept */
+        {"\xc3(", "\"?(\""},                    /* a cut sequence */
+        {"\xed\xa0\x80", "\"?"
+                         "?"
+                         "?\""}, /* a surrogate is not well formed */
+        {"\xc0\xaf", "\"?"
+                     "?\""}, /* overlong '/' */
+        {"\xe0\x80\xaf", "\"?"
+                         "?"
+                         "?\""}, /* overlong, 3 bytes */
+        {"\xf4\x90\x80\x80", "\"?"
+                             "?"
+                             "?"
+                             "?\""}, /* beyond U+10FFFF */
+        {"\xf8\x88\x80\x80\x80", "\"?"
+                                 "?"
+                                 "?"
+                                 "?"
+                                 "?\""},                             /* a 5-byte form */
         {"\xf0\x9f\x98\x80!", "\"\\0360\\0237\\0230\\0200\\0041\""}, /* U+1F600, kept */
         {"EOD", "\"EOD\""}, /* only ever inside quotes, never a line of a data block */
         /* What an SVG cannot hold (gnuplot escapes only '<' and '&' there): "]]>", U+FFFE

@@ -26,14 +26,15 @@ typedef struct {
     hp_error (*parse)(const char *, int *); /* NULL: the enum has no parse call */
 } enum_case;
 
-#define NAME_OF(fn, type) static const char *fn##_i(int v) { return fn((type)v); }
-#define PARSE_OF(fn, type)                                                                    \
-    static hp_error fn##_i(const char *s, int *v)                                              \
-    {                                                                                          \
-        type t;                                                                                \
-        hp_error e = fn(s, &t);                                                                \
-        if (e == HP_OK) *v = (int)t;                                                           \
-        return e;                                                                              \
+#define NAME_OF(fn, type)                                                                          \
+    static const char *fn##_i(int v) { return fn((type)v); }
+#define PARSE_OF(fn, type)                                                                         \
+    static hp_error fn##_i(const char *s, int *v)                                                  \
+    {                                                                                              \
+        type t;                                                                                    \
+        hp_error e = fn(s, &t);                                                                    \
+        if (e == HP_OK) *v = (int)t;                                                               \
+        return e;                                                                                  \
     }
 NAME_OF(hp_backend_name, hp_backend)
 PARSE_OF(hp_backend_parse, hp_backend)

@@ -59,18 +59,38 @@ static void steps_without_allocation(hp_level level, hp_prediction pred, int N)
     free(c);
 }
 
-static void test_linear_hold(void **st) { (void)st; steps_without_allocation(HP_LEVEL_LINEAR, HP_PREDICT_HOLD, 10); }
-static void test_plane_velocity(void **st) { (void)st; steps_without_allocation(HP_LEVEL_PLANE, HP_PREDICT_VELOCITY, 5); }
-static void test_surface_velocity(void **st) { (void)st; steps_without_allocation(HP_LEVEL_SURFACE, HP_PREDICT_VELOCITY, 3); }
-static void test_one_row(void **st) { (void)st; steps_without_allocation(HP_LEVEL_LINEAR, HP_PREDICT_HOLD, 1); }
-static void test_longest(void **st) { (void)st; steps_without_allocation(HP_LEVEL_LINEAR, HP_PREDICT_VELOCITY, HP_HORIZON_MAX); }
+static void test_linear_hold(void **st)
+{
+    (void)st;
+    steps_without_allocation(HP_LEVEL_LINEAR, HP_PREDICT_HOLD, 10);
+}
+static void test_plane_velocity(void **st)
+{
+    (void)st;
+    steps_without_allocation(HP_LEVEL_PLANE, HP_PREDICT_VELOCITY, 5);
+}
+static void test_surface_velocity(void **st)
+{
+    (void)st;
+    steps_without_allocation(HP_LEVEL_SURFACE, HP_PREDICT_VELOCITY, 3);
+}
+static void test_one_row(void **st)
+{
+    (void)st;
+    steps_without_allocation(HP_LEVEL_LINEAR, HP_PREDICT_HOLD, 1);
+}
+static void test_longest(void **st)
+{
+    (void)st;
+    steps_without_allocation(HP_LEVEL_LINEAR, HP_PREDICT_VELOCITY, HP_HORIZON_MAX);
+}
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_wrap_active),   cmocka_unit_test(test_linear_hold),
+        cmocka_unit_test(test_wrap_active),    cmocka_unit_test(test_linear_hold),
         cmocka_unit_test(test_plane_velocity), cmocka_unit_test(test_surface_velocity),
-        cmocka_unit_test(test_one_row),       cmocka_unit_test(test_longest),
+        cmocka_unit_test(test_one_row),        cmocka_unit_test(test_longest),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -26,9 +26,12 @@ static void plan_all(const hf_case *c, const hp_horizon_settings *hs, plans *p)
     if (e != HP_OK) print_error("%s\n", d.text);
     assert_int_equal(e, HP_OK);
     assert_true(info.windows >= 1 && info.iterations > 0);
-    assert_int_equal(hp_horizon_measure(p->g, c->T, L->n, c->p0, &c->s, hs, 0.5, 0.5, &p->mg), HP_OK);
-    assert_int_equal(hp_horizon_measure(p->r, c->T, L->n, c->p0, &c->s, hs, 0.5, 0.5, &p->mr), HP_OK);
-    assert_int_equal(hp_horizon_measure(p->o, c->T, L->n, c->p0, &c->s, hs, 0.5, 0.5, &p->mo), HP_OK);
+    assert_int_equal(hp_horizon_measure(p->g, c->T, L->n, c->p0, &c->s, hs, 0.5, 0.5, &p->mg),
+                     HP_OK);
+    assert_int_equal(hp_horizon_measure(p->r, c->T, L->n, c->p0, &c->s, hs, 0.5, 0.5, &p->mr),
+                     HP_OK);
+    assert_int_equal(hp_horizon_measure(p->o, c->T, L->n, c->p0, &c->s, hs, 0.5, 0.5, &p->mo),
+                     HP_OK);
 }
 
 /* Every row inside every limit, from the radii alone: P = hp_iab_ik(ri) inside
@@ -65,8 +68,8 @@ static int check_limits(const hf_case *c, const hp_horizon_settings *hs, const h
             if (!ok) {
                 print_error("%s: line %ld bladder %s: P %.17g (%g..%g), stretch %.17g, "
                             "|dP| %.17g > %.17g?, contact %.3g m\n",
-                            name, c->rows[t].line, B->name, P, B->p_min, B->p_max,
-                            ri / B->iab.Ri, fabs(P - prev[k]), rate, fabs(ro - rho[k]));
+                            name, c->rows[t].line, B->name, P, B->p_min, B->p_max, ri / B->iab.Ri,
+                            fabs(P - prev[k]), rate, fabs(ro - rho[k]));
                 fail();
             }
             binds += fabs(P - prev[k]) >= rate - 1e-2;
@@ -151,12 +154,12 @@ static void test_windows_agree(void **st)
     hp_horizon_row *whole = calloc(c->T, sizeof *whole), *win = calloc(c->T, sizeof *win);
     hp_horizon_info iw, iv;
     hp_diag d = {{0}};
-    assert_int_equal(hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, whole,
-                                        &iw, &d), HP_OK);
+    assert_int_equal(
+        hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, whole, &iw, &d), HP_OK);
     hs.window = 60;
     hs.overlap = 20;
-    assert_int_equal(hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, win,
-                                        &iv, &d), HP_OK);
+    assert_int_equal(
+        hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, win, &iv, &d), HP_OK);
     assert_int_equal(iw.windows, 1);
     assert_int_equal(iv.windows, 4); /* rows 0-59, 40-99, 80-139, 120-149 */
     double worst = 0;
@@ -186,8 +189,10 @@ static void test_receding_one_row_is_greedy(void **st)
     hs.horizon = 1;
     hp_horizon_row *g = calloc(c->T, sizeof *g), *r = calloc(c->T, sizeof *r);
     hp_diag d = {{0}};
-    assert_int_equal(hp_horizon_greedy(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, g, &d), HP_OK);
-    assert_int_equal(hp_horizon_receding(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, r, &d), HP_OK);
+    assert_int_equal(hp_horizon_greedy(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, g, &d),
+                     HP_OK);
+    assert_int_equal(hp_horizon_receding(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, r, &d),
+                     HP_OK);
     double worst = 0;
     for (size_t t = 0; t < c->T; ++t)
         for (int i = 0; i < 6; ++i)
@@ -208,12 +213,12 @@ static void test_settings_checked(void **st)
     hp_horizon_settings_default(&hs);
     assert_int_equal(hp_horizon_settings_validate(&hs, &d), HP_OK);
     assert_int_equal(hp_horizon_settings_validate(NULL, &d), HP_ERR_NULL);
-#define BAD(field, value, name)                                                               \
-    do {                                                                                      \
-        hp_horizon_settings b_ = hs;                                                          \
-        b_.field = value;                                                                     \
-        assert_int_equal(hp_horizon_settings_validate(&b_, &d), HP_ERR_INVALID);              \
-        assert_non_null(strstr(d.text, name));                                                \
+#define BAD(field, value, name)                                                                    \
+    do {                                                                                           \
+        hp_horizon_settings b_ = hs;                                                               \
+        b_.field = value;                                                                          \
+        assert_int_equal(hp_horizon_settings_validate(&b_, &d), HP_ERR_INVALID);                   \
+        assert_non_null(strstr(d.text, name));                                                     \
     } while (0)
     BAD(rate_max_per_s, NAN, "rate_max_per_s");
     BAD(rate_max_per_s, 0.0, "rate_max_per_s");
@@ -256,19 +261,22 @@ static void test_time_stamps_checked(void **st)
     assert_int_equal(hp_horizon_rates(&c->sc.layout, &hs, c->rows, c->T, delta, &d), HP_OK);
     hp_assert_close(delta[5 * c->sc.layout.n], 100.0, 1e-9, 0); /* 1000 Pa/s · 0.1 s */
     c->rows[7].t = c->rows[6].t;
-    assert_int_equal(hp_horizon_rates(&c->sc.layout, &hs, c->rows, c->T, delta, &d), HP_ERR_INVALID);
+    assert_int_equal(hp_horizon_rates(&c->sc.layout, &hs, c->rows, c->T, delta, &d),
+                     HP_ERR_INVALID);
     char want[32];
     snprintf(want, sizeof want, "line %ld", c->rows[7].line);
     assert_non_null(strstr(d.text, want));
     hp_horizon_row out[20];
     assert_int_equal(hp_horizon_greedy(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, out, &d),
                      HP_ERR_INVALID);
-    assert_int_equal(hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, out,
-                                        NULL, &d), HP_ERR_INVALID);
+    assert_int_equal(
+        hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, out, NULL, &d),
+        HP_ERR_INVALID);
     assert_int_equal(hp_horizon_receding(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, out, &d),
                      HP_ERR_INVALID);
     c->rows[7].t = NAN;
-    assert_int_equal(hp_horizon_rates(&c->sc.layout, &hs, c->rows, c->T, delta, &d), HP_ERR_INVALID);
+    assert_int_equal(hp_horizon_rates(&c->sc.layout, &hs, c->rows, c->T, delta, &d),
+                     HP_ERR_INVALID);
     free(c);
 }
 
@@ -303,12 +311,12 @@ static void test_rows_outside_the_request_range(void **st)
         assert_int_equal(at, 4);
         assert_string_equal(d.text, hp_planner_error(p));
         for (int m = 0; m < 3; ++m) {
-            hp_error e = m == 0 ? hp_horizon_greedy(&c->sc.layout, &c->s, &hs, c->rows, c->T,
-                                                    c->p0, out, &d)
-                         : m == 1 ? hp_horizon_receding(&c->sc.layout, &c->s, &hs, c->rows,
-                                                        c->T, c->p0, out, &d)
-                                  : hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows,
-                                                       c->T, c->p0, out, NULL, &d);
+            hp_error e = m == 0 ? hp_horizon_greedy(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0,
+                                                    out, &d)
+                         : m == 1 ? hp_horizon_receding(&c->sc.layout, &c->s, &hs, c->rows, c->T,
+                                                        c->p0, out, &d)
+                                  : hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T,
+                                                       c->p0, out, NULL, &d);
             if (e != HP_ERR_INVALID || strncmp(d.text, want, strlen(want)) != 0) {
                 print_error("plan %d: %d '%s', want '%s'\n", m, e, d.text, want);
                 fail();
@@ -355,7 +363,8 @@ static void test_rate_max_lifted(void **st)
     for (int k = 0; k < L->n; ++k)
         assert_memory_equal(&r2.bladders[k].pressure, &rq.bladders[k].pressure, sizeof(double));
     int moved = 0; /* the lifted plan left the tight window somewhere */
-    for (int k = 0; k < L->n; ++k) moved |= fabs(r2.bladders[k].pressure - r1.bladders[k].pressure) > 10.0;
+    for (int k = 0; k < L->n; ++k)
+        moved |= fabs(r2.bladders[k].pressure - r1.bladders[k].pressure) > 10.0;
     assert_true(moved);
     hp_planner_destroy(p);
     hp_planner_destroy(q);

@@ -10,8 +10,7 @@
 /* 1 when some bladder of row t sits on a limit: a pressure bound, or a rate allowance
  * min(rate_max, rate_max_per_s·dt) used to within 1e-2 Pa (hp_plan's binding tolerance is
  * 1e-6 mm of outer radius, a few mPa of pressure here), or a stretch bound to 1e-9. */
-static int binds(const hf_case *c, const hp_horizon_settings *hs, const hp_horizon_row *o,
-                 size_t t)
+static int binds(const hf_case *c, const hp_horizon_settings *hs, const hp_horizon_row *o, size_t t)
 {
     double dt = t ? c->rows[t].t - c->rows[t - 1].t : hs->start_interval_s;
     for (int k = 0; k < c->sc.layout.n; ++k) {
@@ -40,7 +39,8 @@ static void check_labels(const hf_case *c, const hp_horizon_settings *hs, const 
     for (size_t t = 0; t < c->T; ++t) {
         double xc[6], err = 0, unc = 0;
         assert_int_equal(hp_pose_commanded_part(&c->sc.layout, id, hp_planner_level(p),
-                                                c->rows[t].correction, xc), HP_OK);
+                                                c->rows[t].correction, xc),
+                         HP_OK);
         for (int i = 0; i < 6; ++i) {
             double s = i < 3 ? 1e3 : 57.295779513082320877;
             if (id->commanded[i]) err = fmax(err, fabs(o[t].achieved[i] - xc[i]) * s);
@@ -52,9 +52,9 @@ static void check_labels(const hf_case *c, const hp_horizon_settings *hs, const 
                  (want != HP_STATUS_CLOSEST || !need_bind || binds(c, hs, o, t));
         if (!ok) {
             print_error("%s: line %ld: status %s, want %s (commanded error %.3g, uncommanded "
-                        "%.3g, a limit binds: %d)\n", name, c->rows[t].line,
-                        hp_status_name(o[t].status), hp_status_name(want), err, unc,
-                        binds(c, hs, o, t));
+                        "%.3g, a limit binds: %d)\n",
+                        name, c->rows[t].line, hp_status_name(o[t].status), hp_status_name(want),
+                        err, unc, binds(c, hs, o, t));
             fail();
         }
         n[want == HP_STATUS_REACHED ? 0 : want == HP_STATUS_CLOSEST ? 1 : 2]++;
@@ -75,8 +75,8 @@ static void test_receding_step(void **st)
     hp_diag d = {{0}};
     for (int pr = 0; pr < 2; ++pr) {
         hs.prediction = pr ? HP_PREDICT_VELOCITY : HP_PREDICT_HOLD;
-        assert_int_equal(hp_horizon_receding(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, o,
-                                             &d), HP_OK);
+        assert_int_equal(
+            hp_horizon_receding(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, o, &d), HP_OK);
         int n[3];
         check_labels(c, &hs, o, pr ? "receding velocity" : "receding hold", c->s.tolerance, 1, n);
         print_message("%s: %d reached, %d closest\n", pr ? "velocity" : "hold", n[0], n[1]);
@@ -116,8 +116,8 @@ static void test_receding_uncommanded(void **st)
      * its solve's accuracy (1e-6 mm / degree); before, it aimed at the raw components (a
      * pose 1.2 mm away from the commanded part here) and called its rows reached. */
     hp_horizon_info info;
-    assert_int_equal(hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, o,
-                                        &info, &d), HP_OK);
+    assert_int_equal(
+        hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, o, &info, &d), HP_OK);
     check_labels(c, &hs, o, "offline sphere", fmax(c->s.tolerance, 1e-6), 0, n);
     print_message("sphere, offline: %d closest, %d uncommanded\n", n[1], n[2]);
     assert_true(n[2] > 0);

@@ -24,11 +24,11 @@ typedef struct eval {
     double f, grad[NV], g[NC], jac[NC * NV], hess[NV * NV];
 } eval;
 
-static void run(const hf_case *c, const hp_horizon_settings *hs, const double *x,
-                const double *lam, eval *e)
+static void run(const hf_case *c, const hp_horizon_settings *hs, const double *x, const double *lam,
+                eval *e)
 {
-    assert_int_equal(hpi_horizon_nlp_dense(&c->sc.layout, &c->s, hs, c->rows + 48, T_ROWS, c->p0,
-                                          x, 0.7, lam, &e->f, e->grad, e->g, e->jac, e->hess),
+    assert_int_equal(hpi_horizon_nlp_dense(&c->sc.layout, &c->s, hs, c->rows + 48, T_ROWS, c->p0, x,
+                                           0.7, lam, &e->f, e->grad, e->g, e->jac, e->hess),
                      HP_OK);
 }
 
@@ -48,7 +48,8 @@ static void test_derivatives(void **st)
         for (int i = 0; i < 6; ++i) {
             double s = i < 3 ? 1e3 : 57.295779513082320877;
             seed = seed * 6364136223846793005ull + 1442695040888963407ull;
-            x[t * NX + i] = 0.6 * c->rows[48 + t].correction[i] * s + 0.1 * ((double)(seed >> 11) / 9007199254740992.0 - 0.5);
+            x[t * NX + i] = 0.6 * c->rows[48 + t].correction[i] * s +
+                            0.1 * ((double)(seed >> 11) / 9007199254740992.0 - 0.5);
         }
         for (int k = 0; k < N_B; ++k) {
             seed = seed * 6364136223846793005ull + 1442695040888963407ull;
@@ -77,7 +78,8 @@ static void test_derivatives(void **st)
         /* Jacobian column j */
         for (int r = 0; r < NC; ++r) {
             double fdj = (ep->g[r] - em->g[r]) / (2 * FD_H);
-            worst_j = fmax(worst_j, fabs(fdj - e0->jac[r * NV + j]) / (1.0 + fabs(e0->jac[r * NV + j])));
+            worst_j = fmax(worst_j,
+                           fabs(fdj - e0->jac[r * NV + j]) / (1.0 + fabs(e0->jac[r * NV + j])));
         }
         /* Hessian column j: d/dx_j of (0.7·∇f + Jᵀλ) */
         for (int i = 0; i < NV; ++i) {
@@ -91,8 +93,8 @@ static void test_derivatives(void **st)
             worst_h = fmax(worst_h, fabs(fdh - h) / (1.0 + fabs(h)));
         }
     }
-    print_message("largest relative error: gradient %.3g, Jacobian %.3g, Hessian %.3g\n",
-                  worst_g, worst_j, worst_h);
+    print_message("largest relative error: gradient %.3g, Jacobian %.3g, Hessian %.3g\n", worst_g,
+                  worst_j, worst_h);
     assert_true(worst_g <= FD_REL);
     assert_true(worst_j <= FD_REL);
     assert_true(worst_h <= FD_REL);

@@ -16,8 +16,8 @@ static double allowance(const hp_bladder *B, const hp_horizon_settings *hs, doub
 }
 
 /* Largest |ΔP| / allowance over bladders of row t (row 0 against the start pressures). */
-static double use_of_row(const hf_case *c, const hp_horizon_settings *hs,
-                         const hp_horizon_row *o, size_t t)
+static double use_of_row(const hf_case *c, const hp_horizon_settings *hs, const hp_horizon_row *o,
+                         size_t t)
 {
     double dt = t ? c->rows[t].t - c->rows[t - 1].t : hs->start_interval_s, worst = 0;
     for (int k = 0; k < c->sc.layout.n; ++k) {
@@ -67,7 +67,8 @@ static void test_short_interval_does_not_stick(void **st)
         }
     }
     print_message("largest use of the 100 ms allowance after the 1 ms row: greedy %.6f, "
-                  "receding %.6f, offline %.6f\n", used[0], used[1], used[2]);
+                  "receding %.6f, offline %.6f\n",
+                  used[0], used[1], used[2]);
     /* The offline plan (right before) binds to within its 1 mPa margin of 250 Pa; greedy and
      * receding bind exactly (hp_plan's bounds). 0.99: far above the 0.01 of the bug. */
     for (int m = 0; m < 3; ++m) assert_true(used[m] >= 0.99);

@@ -32,14 +32,14 @@ static void test_names(void **state)
     assert_true(nt > 0 && nt <= HP_COLUMNS_MAX);
     char buf[HP_COLUMN_NAME_MAX];
     /* Spelled out here: the patterns are the documented file format. */
-    assert_int_equal(hp_column_name(hp_column_find("desired_{axis}_{unit}"), 3, L, buf,
-                                    sizeof buf), HP_OK);
+    assert_int_equal(hp_column_name(hp_column_find("desired_{axis}_{unit}"), 3, L, buf, sizeof buf),
+                     HP_OK);
     assert_string_equal(buf, "desired_pitch_deg");
     assert_int_equal(hp_column_name(hp_column_find("commanded_{axis}"), 2, L, buf, sizeof buf),
                      HP_OK);
     assert_string_equal(buf, "commanded_z");
-    assert_int_equal(hp_column_name(hp_column_find("{bladder}_pressure_pa"), 1, L, buf,
-                                    sizeof buf), HP_OK);
+    assert_int_equal(hp_column_name(hp_column_find("{bladder}_pressure_pa"), 1, L, buf, sizeof buf),
+                     HP_OK);
     char want[HP_COLUMN_NAME_MAX];
     snprintf(want, sizeof want, "%s_pressure_pa", L->bladders[1].name);
     assert_string_equal(buf, want);
@@ -61,8 +61,8 @@ static void test_names(void **state)
     /* Refusals: an axis or bladder out of range; a name that does not fit (truncated). */
     const hp_column *p = hp_column_find("{bladder}_pressure_pa");
     assert_int_equal(hp_column_name(p, L->n, L, buf, sizeof buf), HP_ERR_INVALID);
-    assert_int_equal(hp_column_name(hp_column_find("error_{axis}_{unit}"), 6, L, buf,
-                                    sizeof buf), HP_ERR_INVALID);
+    assert_int_equal(hp_column_name(hp_column_find("error_{axis}_{unit}"), 6, L, buf, sizeof buf),
+                     HP_ERR_INVALID);
     assert_int_equal(hp_column_name(p, 0, NULL, buf, sizeof buf), HP_ERR_NULL);
     assert_int_equal(hp_column_name(p, 0, L, buf, 5), HP_ERR_INVALID);
     assert_int_equal(strlen(buf), 4);
@@ -73,8 +73,9 @@ static void test_names(void **state)
     big->bladders[0].name[HP_NAME_MAX - 1] = '\0';
     for (size_t j = 0; j < nt; ++j)
         for (int k = 0; k < (t[j].shape == HP_COLUMN_ONE ? 1 : 6); ++k)
-            assert_int_equal(hp_column_name(&t[j], t[j].shape == HP_COLUMN_BLADDERS ? 0 : k,
-                                            big, buf, sizeof buf), HP_OK);
+            assert_int_equal(hp_column_name(&t[j], t[j].shape == HP_COLUMN_BLADDERS ? 0 : k, big,
+                                            buf, sizeof buf),
+                             HP_OK);
     free(c);
 }
 

@@ -25,8 +25,7 @@ static int same_result(const hp_result *a, const hp_result *b)
         if (memcmp(&x->pressure, &y->pressure, sizeof x->pressure) != 0 ||
             memcmp(&x->ri, &y->ri, sizeof x->ri) != 0 ||
             memcmp(&x->ro, &y->ro, sizeof x->ro) != 0 ||
-            memcmp(&x->stretch, &y->stretch, sizeof x->stretch) != 0 ||
-            x->binding != y->binding)
+            memcmp(&x->stretch, &y->stretch, sizeof x->stretch) != 0 || x->binding != y->binding)
             return 0;
     }
     return 1;
@@ -162,9 +161,8 @@ static void test_split_run(void **state)
         prev.bladders[b].pressure = a[k - 1].bladders[b].pressure;
     }
     assert_int_equal(hp_trace_plan_set_state(tp, &prev), HP_OK);
-    assert_int_equal(hp_trace_plan_run(tp, c->rows + k, NULL, c->T - k, NULL, NULL,
-                                       a + c->T + k, NULL),
-                     HP_OK);
+    assert_int_equal(
+        hp_trace_plan_run(tp, c->rows + k, NULL, c->T - k, NULL, NULL, a + c->T + k, NULL), HP_OK);
     for (size_t t = k; t < c->T; ++t) assert_true(same_result(&a[t], &a[c->T + t]));
     hp_trace_plan_destroy(tp);
     hp_planner_destroy(p);

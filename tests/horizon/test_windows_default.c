@@ -44,14 +44,14 @@ static void test_reported_nlp_size(void **st)
     hp_horizon_row *o = calloc(c->T, sizeof *o);
     hp_horizon_info info;
     hp_diag d = {{0}};
-    assert_int_equal(hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, o,
-                                        &info, &d), HP_OK);
+    assert_int_equal(
+        hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, o, &info, &d), HP_OK);
     assert_int_equal(info.largest_window, 100);
     assert_int_equal(info.windows, 1);
     hs.window = 40;
     hs.overlap = 10;
-    assert_int_equal(hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, o,
-                                        &info, &d), HP_OK);
+    assert_int_equal(
+        hp_horizon_offline(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, o, &info, &d), HP_OK);
     assert_int_equal(info.largest_window, 40);
     assert_int_equal(info.windows, 3); /* rows 0-39, 30-69, 60-99 */
     free(o);

@@ -34,7 +34,8 @@ static q128 q_dik(double Ri, double Ro, double C1, double C2, q128 ri)
 {
     q128 ro = q_ro(Ri, Ro, ri);
     q128 li = ri / Ri, lo = ro / Ro, s = ri * ri / ((q128)Ro * ro * ro);
-    return 2 * (q128)C1 * (qfp(li) / Ri - qfp(lo) * s) + 2 * (q128)C2 * (qgp(li) / Ri - qgp(lo) * s);
+    return 2 * (q128)C1 * (qfp(li) / Ri - qfp(lo) * s) +
+           2 * (q128)C2 * (qgp(li) / Ri - qgp(lo) * s);
 }
 
 #endif

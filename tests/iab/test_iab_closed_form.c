@@ -17,7 +17,9 @@
 static void test_reference_values(void **state)
 {
     (void)state;
-    static const struct { double Ri, Ro, ri, ro, P, ro_tol, P_tol; } rows[] = {
+    static const struct {
+        double Ri, Ro, ri, ro, P, ro_tol, P_tol;
+    } rows[] = {
         {27, 30, 30, 32.49649, 3053.1854, 0.5e-5, 0.5e-4},
         {25, 30, 23, 28.66033, -5402.1338, 0.5e-5, 0.5e-4},
         {27.5, 30, 27.5, 30, 0, 0, 0},
@@ -32,7 +34,7 @@ static void test_reference_values(void **state)
     }
 }
 
-static const double ratios[] = {0.5, 0.7, 0.9, 0.95, 0.98};  /* Ri/Ro */
+static const double ratios[] = {0.5, 0.7, 0.9, 0.95, 0.98}; /* Ri/Ro */
 static const double c2c1[] = {0.0, 0.1, 2.0};
 #define N_SWEEP 2001
 
@@ -134,12 +136,16 @@ static void test_derivatives(void **state)
                 assert_true(P == Ponly && d1 == d1only);
                 double ro = cbrt(Ro * Ro * Ro + ri * ri * ri - Ri * Ri * Ri), lo = ro / Ro;
                 double s = ri * ri / (Ro * ro * ro);
-                double S1 = 2 * C1 * ((1 / (li * li) + pow(li, -5)) / Ri + (1 / (lo * lo) + pow(lo, -5)) * s) +
+                double S1 = 2 * C1 *
+                                ((1 / (li * li) + pow(li, -5)) / Ri +
+                                 (1 / (lo * lo) + pow(lo, -5)) * s) +
                             2 * C2 * ((1 + pow(li, -3)) / Ri + (1 + pow(lo, -3)) * s);
                 q128 qri = ri, h = 1e-10 * (q128)ri;
                 q128 a1 = q_dik(Ri, Ro, C1, C2, qri);
-                q128 fd1 = (q_ik(Ri, Ro, C1, C2, qri + h) - q_ik(Ri, Ro, C1, C2, qri - h)) / (2 * h);
-                q128 fd2 = (q_dik(Ri, Ro, C1, C2, qri + h) - q_dik(Ri, Ro, C1, C2, qri - h)) / (2 * h);
+                q128 fd1 = (q_ik(Ri, Ro, C1, C2, qri + h) - q_ik(Ri, Ro, C1, C2, qri - h)) /
+                           (2 * h);
+                q128 fd2 = (q_dik(Ri, Ro, C1, C2, qri + h) - q_dik(Ri, Ro, C1, C2, qri - h)) /
+                           (2 * h);
                 /* the two quad references agree far below the tolerance */
                 hp_assert_close((double)a1, (double)fd1, 0, 1e-18 * S1);
                 hp_assert_close(d1, (double)a1, 0, 32 * ULP * S1);
@@ -147,7 +153,8 @@ static void test_derivatives(void **state)
                  * over a length ~ri) */
                 hp_assert_close(d2, (double)fd2, 0, 64 * ULP * S1 / ri);
                 if (fabs(d1 - (double)a1) / S1 > worst1) worst1 = fabs(d1 - (double)a1) / S1;
-                if (fabs(d2 - (double)fd2) * ri / S1 > worst2) worst2 = fabs(d2 - (double)fd2) * ri / S1;
+                if (fabs(d2 - (double)fd2) * ri / S1 > worst2)
+                    worst2 = fabs(d2 - (double)fd2) * ri / S1;
                 /* and against each other: a double central difference of hp_iab_ik (step
                  * 1e-5·ri: truncation ~1e-10, rounding ~1e-16·P/1e-5·ri) */
                 double hh = 1e-5 * ri, Pp, Pm;
@@ -158,7 +165,8 @@ static void test_derivatives(void **state)
             }
         }
     printf("derivatives vs quad: worst |d1 err|/S = %.3g (%.2f ulps), worst |d2 err|·ri/S = %.3g "
-           "(%.2f ulps)\n", worst1, worst1 / ULP, worst2, worst2 / ULP);
+           "(%.2f ulps)\n",
+           worst1, worst1 / ULP, worst2, worst2 / ULP);
 }
 
 /* Volume law: ro against quad cbrt (2 ulps: cbrt of a sum of two positive terms), and the
@@ -213,11 +221,14 @@ static void test_wall_stress(void **state)
             /* The library takes r == ro (== ri) as the outer (inner) surface, R = Ro (Ri):
              * the reference does the same rather than map the rounded ro back through the
              * volume law, which would amplify ro's rounding by dR/dr = r²/R². */
-            q128 R = j == 10 ? (q128)Ro : j == 0 ? (q128)Ri
-                             : cbrtq(qr * qr * qr - qri * qri * qri + (q128)Ri * Ri * Ri);
+            q128 R = j == 10  ? (q128)Ro
+                     : j == 0 ? (q128)Ri
+                              : cbrtq(qr * qr * qr - qri * qri * qri + (q128)Ri * Ri * Ri);
             q128 l = qr / R, qro = q_ro(Ri, Ro, qri);
-            q128 srr_q = -(2 * (q128)C1 * (qf(l) - qf(qro / Ro)) + 2 * (q128)C2 * (qg(l) - qg(qro / Ro)));
-            q128 diff_q = (q128)C1 * (l * l - 1 / (l * l * l * l)) - (q128)C2 * (1 / (l * l) - l * l * l * l);
+            q128 srr_q = -(2 * (q128)C1 * (qf(l) - qf(qro / Ro)) +
+                           2 * (q128)C2 * (qg(l) - qg(qro / Ro)));
+            q128 diff_q = (q128)C1 * (l * l - 1 / (l * l * l * l)) -
+                          (q128)C2 * (1 / (l * l) - l * l * l * l);
             double scale = fmax(fmax(fabs(P), C1), fabs(stt));
             hp_assert_close(srr, (double)srr_q, 0, 32 * ULP * scale);
             hp_assert_close(stt - srr, (double)diff_q, 0, 32 * ULP * scale);
@@ -275,8 +286,7 @@ static void test_cbrt(void **state)
         assert_true(hpi_iab_cbrt(c) == k);
         assert_true(hpi_iab_cbrt(c * 0x1p-600) == k * 0x1p-200);
     }
-    const double special[] = {0.0, -0.0, 0x1p-1074, 0x1p-1030, -8.0, -1e-300, INFINITY,
-                              -INFINITY};
+    const double special[] = {0.0, -0.0, 0x1p-1074, 0x1p-1030, -8.0, -1e-300, INFINITY, -INFINITY};
     for (size_t i = 0; i < sizeof special / sizeof special[0]; ++i) {
         double a = hpi_iab_cbrt(special[i]), b = cbrt(special[i]);
         assert_memory_equal(&a, &b, sizeof a);
@@ -295,8 +305,8 @@ static void test_cbrt_near(void **state)
 {
     (void)state;
     uint64_t st = 0x2545f4914f6cdd1dULL;
-    static const double near[] = {0.0, 0x1p-52, -0x1p-52, 3 * 0x1p-52, -3 * 0x1p-52,
-                                  1000 * 0x1p-52, -1e-13, 1e-13};
+    static const double near[] = {0.0,          0x1p-52,        -0x1p-52, 3 * 0x1p-52,
+                                  -3 * 0x1p-52, 1000 * 0x1p-52, -1e-13,   1e-13};
     static const double far[] = {1e-9, -1e-9, 0.01, 1.0, -0.5};
     double worst = 0;
     long differ = 0;
@@ -327,8 +337,8 @@ static void test_cbrt_near(void **state)
         }
     }
     const double bad_start[] = {0.0, -1.0, NAN, INFINITY, 1e200, 1e-200};
-    const double xs[] = {0.5, 27.0, 0x1p-300, 0x1p300, 0x1p-301, 0x1p302, 1e-320, 1e308, 0.0,
-                         -8.0, INFINITY};
+    const double xs[] = {0.5,    27.0,  0x1p-300, 0x1p300, 0x1p-301, 0x1p302,
+                         1e-320, 1e308, 0.0,      -8.0,    INFINITY};
     for (size_t i = 0; i < sizeof xs / sizeof xs[0]; ++i) {
         double ref = hpi_iab_cbrt(xs[i]);
         for (size_t j = 0; j < sizeof bad_start / sizeof bad_start[0]; ++j) {
@@ -352,8 +362,9 @@ static void test_cbrt_near(void **state)
 static void test_scale_bits(void **state)
 {
     (void)state;
-    const double ros[] = {0.03, 1.0, 2.0, 0.5, 1.5, 0x1.fffffffffffffp-1, 1e-300, 0x1p-1022,
-                          1e300, 0x1p1022, DBL_MAX, 3e-200, 7e250};
+    const double ros[] = {0.03,   1.0,       2.0,   0.5,      1.5,     0x1.fffffffffffffp-1,
+                          1e-300, 0x1p-1022, 1e300, 0x1p1022, DBL_MAX, 3e-200,
+                          7e250};
     for (size_t i = 0; i < sizeof ros / sizeof ros[0]; ++i) {
         hp_iab b = {ros[i] * 0.5, ros[i], 1e4, 0};
         hp_iab_s s;
@@ -404,13 +415,13 @@ static void test_validated_once_same_bits(void **state)
                 assert_int_equal(e1, e2);
                 if (e1 == HP_OK) assert_memory_equal(&r1, &r2, sizeof r1);
             }
-            const double bad[] = {NAN, INFINITY, -INFINITY, 0.0, -Ri, 1e-40, 1e40,
-                                  0.5 * (Ro - Ri)};
+            const double bad[] = {NAN, INFINITY, -INFINITY, 0.0, -Ri, 1e-40, 1e40, 0.5 * (Ro - Ri)};
             for (size_t i = 0; i < sizeof bad / sizeof bad[0]; ++i) {
                 double x = 5.0, y = 5.0;
                 assert_int_equal(hpi_iab_s_ik_m(&s, bad[i], &x), hp_iab_ik(&b, bad[i], &y));
                 assert_int_equal(hpi_iab_s_ro_m(&s, bad[i], &x), hp_iab_ro(&b, bad[i], &y));
-                assert_int_equal(hpi_iab_s_ik_near_m(&s, bad[i], Ro, &x), hp_iab_ik(&b, bad[i], &y));
+                assert_int_equal(hpi_iab_s_ik_near_m(&s, bad[i], Ro, &x),
+                                 hp_iab_ik(&b, bad[i], &y));
                 double z = 5.0;
                 assert_int_equal(hpi_iab_s_ik_ro_m(&s, bad[i], &x, &z), hp_iab_ik(&b, bad[i], &y));
                 assert_int_equal(hpi_iab_s_ri_m(&s, bad[i], &x), hp_iab_ri(&b, bad[i], &y));
@@ -421,12 +432,17 @@ static void test_validated_once_same_bits(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_reference_values), cmocka_unit_test(test_accuracy_vs_quad),
-        cmocka_unit_test(test_naive_form_is_worse), cmocka_unit_test(test_derivatives),
-        cmocka_unit_test(test_volume_law), cmocka_unit_test(test_wall_stress),
-        cmocka_unit_test(test_scale_invariance), cmocka_unit_test(test_cbrt),
+        cmocka_unit_test(test_reference_values),
+        cmocka_unit_test(test_accuracy_vs_quad),
+        cmocka_unit_test(test_naive_form_is_worse),
+        cmocka_unit_test(test_derivatives),
+        cmocka_unit_test(test_volume_law),
+        cmocka_unit_test(test_wall_stress),
+        cmocka_unit_test(test_scale_invariance),
+        cmocka_unit_test(test_cbrt),
         cmocka_unit_test(test_cbrt_near),
-        cmocka_unit_test(test_scale_bits), cmocka_unit_test(test_validated_once_same_bits),
+        cmocka_unit_test(test_scale_bits),
+        cmocka_unit_test(test_validated_once_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

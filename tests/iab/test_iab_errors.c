@@ -40,21 +40,51 @@ static void test_bladder_errors(void **state)
     (void)state;
     hp_iab b;
     assert_int_equal(hp_iab_validate(&good, NULL), HP_OK);
-    b = good; b.Ri = NAN; expect_invalid(b, HP_ERR_INVALID, "Ri");
-    b = good; b.Ri = INFINITY; expect_invalid(b, HP_ERR_INVALID, "Ri");
-    b = good; b.Ro = NAN; expect_invalid(b, HP_ERR_INVALID, "Ro");
-    b = good; b.Ro = -INFINITY; expect_invalid(b, HP_ERR_INVALID, "Ro");
-    b = good; b.C1 = NAN; expect_invalid(b, HP_ERR_INVALID, "C1");
-    b = good; b.C2 = INFINITY; expect_invalid(b, HP_ERR_INVALID, "C2");
-    b = good; b.Ri = 0; expect_invalid(b, HP_ERR_INVALID, "Ri");
-    b = good; b.Ri = -0.027; expect_invalid(b, HP_ERR_INVALID, "Ri");
-    b = good; b.Ro = b.Ri; expect_invalid(b, HP_ERR_DOMAIN, "Ro");
-    b = good; b.Ro = 0.02; expect_invalid(b, HP_ERR_DOMAIN, "Ro");
-    b = good; b.Ri = 1e-12; expect_invalid(b, HP_ERR_DOMAIN, "Ri");
-    b = good; b.C1 = 0; expect_invalid(b, HP_ERR_INVALID, "C1");
-    b = good; b.C1 = -1; expect_invalid(b, HP_ERR_INVALID, "C1");
-    b = good; b.C2 = -1e-300; expect_invalid(b, HP_ERR_INVALID, "C2");
-    b = good; b.C2 = 0; assert_int_equal(hp_iab_validate(&b, NULL), HP_OK);
+    b = good;
+    b.Ri = NAN;
+    expect_invalid(b, HP_ERR_INVALID, "Ri");
+    b = good;
+    b.Ri = INFINITY;
+    expect_invalid(b, HP_ERR_INVALID, "Ri");
+    b = good;
+    b.Ro = NAN;
+    expect_invalid(b, HP_ERR_INVALID, "Ro");
+    b = good;
+    b.Ro = -INFINITY;
+    expect_invalid(b, HP_ERR_INVALID, "Ro");
+    b = good;
+    b.C1 = NAN;
+    expect_invalid(b, HP_ERR_INVALID, "C1");
+    b = good;
+    b.C2 = INFINITY;
+    expect_invalid(b, HP_ERR_INVALID, "C2");
+    b = good;
+    b.Ri = 0;
+    expect_invalid(b, HP_ERR_INVALID, "Ri");
+    b = good;
+    b.Ri = -0.027;
+    expect_invalid(b, HP_ERR_INVALID, "Ri");
+    b = good;
+    b.Ro = b.Ri;
+    expect_invalid(b, HP_ERR_DOMAIN, "Ro");
+    b = good;
+    b.Ro = 0.02;
+    expect_invalid(b, HP_ERR_DOMAIN, "Ro");
+    b = good;
+    b.Ri = 1e-12;
+    expect_invalid(b, HP_ERR_DOMAIN, "Ri");
+    b = good;
+    b.C1 = 0;
+    expect_invalid(b, HP_ERR_INVALID, "C1");
+    b = good;
+    b.C1 = -1;
+    expect_invalid(b, HP_ERR_INVALID, "C1");
+    b = good;
+    b.C2 = -1e-300;
+    expect_invalid(b, HP_ERR_INVALID, "C2");
+    b = good;
+    b.C2 = 0;
+    assert_int_equal(hp_iab_validate(&b, NULL), HP_OK);
     hp_diag d;
     assert_int_equal(hp_iab_validate(NULL, &d), HP_ERR_NULL);
 }
@@ -111,7 +141,8 @@ static void test_conventions(void **state)
     assert_int_equal(hp_material_convention_parse(NULL, &c), HP_ERR_NULL);
     for (int i = 0; i < 2; ++i) {
         hp_material_convention cc = (hp_material_convention)i, back;
-        assert_int_equal(hp_material_convention_parse(hp_material_convention_name(cc), &back), HP_OK);
+        assert_int_equal(hp_material_convention_parse(hp_material_convention_name(cc), &back),
+                         HP_OK);
         assert_int_equal(back, cc);
     }
     double C1 = 0, C2 = 0;
@@ -122,7 +153,8 @@ static void test_conventions(void **state)
     assert_true(C1 == 1.1e4 && C2 == 2.2e4);
     assert_int_equal(hp_iab_moduli_to_paper(HP_MATERIAL_FE, NAN, 1, &C1, &C2), HP_ERR_INVALID);
     assert_int_equal(hp_iab_moduli_to_paper(HP_MATERIAL_FE, 1e308, 1, &C1, &C2), HP_ERR_INVALID);
-    assert_int_equal(hp_iab_moduli_to_paper((hp_material_convention)5, 1, 1, &C1, &C2), HP_ERR_INVALID);
+    assert_int_equal(hp_iab_moduli_to_paper((hp_material_convention)5, 1, 1, &C1, &C2),
+                     HP_ERR_INVALID);
     assert_int_equal(hp_iab_moduli_to_paper(HP_MATERIAL_PAPER, 1, 1, NULL, &C2), HP_ERR_NULL);
     assert_true(C1 == 1.1e4 && C2 == 2.2e4);
 }
@@ -130,7 +162,8 @@ static void test_conventions(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_bladder_errors), cmocka_unit_test(test_radius_errors),
+        cmocka_unit_test(test_bladder_errors),
+        cmocka_unit_test(test_radius_errors),
         cmocka_unit_test(test_conventions),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

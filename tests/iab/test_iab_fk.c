@@ -16,7 +16,8 @@ static q128 hand_residual(q128 l, q128 q)
 {
     q128 q3 = q * q * q;
     q128 lo = cbrtq(1 + (l * l * l - 1) * q3);
-    return (1 + 1 / (l * l * l)) / (l * l * l * l) - q3 * (1 + 1 / (lo * lo * lo)) / (lo * lo * lo * lo);
+    return (1 + 1 / (l * l * l)) / (l * l * l * l) -
+           q3 * (1 + 1 / (lo * lo * lo)) / (lo * lo * lo * lo);
 }
 
 static q128 hand_limit(q128 q)
@@ -24,7 +25,8 @@ static q128 hand_limit(q128 q)
     q128 a = 1, b = 10 / q;
     for (int it = 0; it < 200; ++it) {
         q128 m = (a + b) / 2;
-        if (hand_residual(m, q) > 0) a = m; else b = m;
+        if (hand_residual(m, q) > 0) a = m;
+        else b = m;
     }
     return (a + b) / 2;
 }
@@ -45,7 +47,8 @@ static void test_limit_point_neo_hookean(void **state)
          * dP/dri, whose rounding noise (~ulps of its two terms of size S) shifts the root by
          * ~ε·S/|d²P/dri²|·(1/ri), about 1e-14 here (measured below); 100× margin. */
         hp_assert_close(lp.lambda_i, (double)lq, 1e-12, 0);
-        if (fabs(lp.lambda_i - (double)lq) / (double)lq > worst) worst = fabs(lp.lambda_i - (double)lq) / (double)lq;
+        if (fabs(lp.lambda_i - (double)lq) / (double)lq > worst)
+            worst = fabs(lp.lambda_i - (double)lq) / (double)lq;
         hp_assert_close(lp.ri, lp.lambda_i * Ri, 2 * ULP, 0);
         /* P is flat at its maximum, so the λ error enters P at second order: 16 ulps. */
         hp_assert_close(lp.pressure, (double)q_ik(Ri, Ro, C1, 0, lq * Ri), 16 * ULP, 0);
@@ -55,7 +58,9 @@ static void test_limit_point_neo_hookean(void **state)
         assert_int_equal(hp_iab_ik(&b, lp.ri * (1 + 1e-4), &Pp), HP_OK);
         assert_true(Pm < lp.pressure && Pp < lp.pressure);
     }
-    printf("neo-Hookean limit point vs quad hand derivation: worst relative error in lambda_i %.3g\n", worst);
+    printf(
+        "neo-Hookean limit point vs quad hand derivation: worst relative error in lambda_i %.3g\n",
+        worst);
     /* docs/model.md's "near 1.43" is the 27/30 mm shell: 1.4312271769565827 (quad). */
     hp_iab b = {0.027, 0.03, 1.1e4, 0};
     hp_iab_limit lp;
@@ -86,7 +91,8 @@ static void test_limit_point_mooney_rivlin(void **state)
         assert_true(q_dik(Ri, Ro, C1, cs[i] * C1, c) < 0);
         for (int it = 0; it < 200; ++it) {
             q128 m = (a + c) / 2;
-            if (q_dik(Ri, Ro, C1, cs[i] * C1, m) > 0) a = m; else c = m;
+            if (q_dik(Ri, Ro, C1, cs[i] * C1, m) > 0) a = m;
+            else c = m;
         }
         hp_assert_close(lp.ri, (double)a, 1e-12, 0);
     }
@@ -298,9 +304,12 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_limit_point_neo_hookean),
         cmocka_unit_test(test_limit_point_mooney_rivlin),
-        cmocka_unit_test(test_limit_point_threshold), cmocka_unit_test(test_fk_round_trip),
-        cmocka_unit_test(test_fk_no_stable), cmocka_unit_test(test_fk_limit_same_as_fk),
-        cmocka_unit_test(test_fk_warm), cmocka_unit_test(test_fk_warm_ro),
+        cmocka_unit_test(test_limit_point_threshold),
+        cmocka_unit_test(test_fk_round_trip),
+        cmocka_unit_test(test_fk_no_stable),
+        cmocka_unit_test(test_fk_limit_same_as_fk),
+        cmocka_unit_test(test_fk_warm),
+        cmocka_unit_test(test_fk_warm_ro),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -171,15 +171,18 @@ static void test_adaptive_vs_closed_form(void **state)
 static void test_quadrature_reference_values(void **state)
 {
     (void)state;
-    static const struct { double Ri, Ro, ri, P; } rows[] = {
-        {27, 30, 30, 3053.1854}, {25, 30, 23, -5402.1338}, {27.5, 30, 27.5, 0}};
+    static const struct {
+        double Ri, Ro, ri, P;
+    } rows[] = {{27, 30, 30, 3053.1854}, {25, 30, 23, -5402.1338}, {27.5, 30, 27.5, 0}};
     for (size_t i = 0; i < 3; ++i) {
         hp_iab b = {rows[i].Ri * 1e-3, rows[i].Ro * 1e-3, 1.1e4, 2.2e4};
         for (int form = 0; form < 2; ++form) {
             double Pg, Pa;
-            assert_int_equal(hp_iab_ik_gauss(&b, rows[i].ri * 1e-3, (hp_quad_form)form, 20, &Pg), HP_OK);
+            assert_int_equal(hp_iab_ik_gauss(&b, rows[i].ri * 1e-3, (hp_quad_form)form, 20, &Pg),
+                             HP_OK);
             assert_int_equal(hp_iab_ik_adaptive(&b, rows[i].ri * 1e-3, (hp_quad_form)form, 1e-12,
-                                                &Pa, NULL, NULL), HP_OK);
+                                                &Pa, NULL, NULL),
+                             HP_OK);
             hp_assert_close(Pg, rows[i].P, 0, 0.5e-4);
             hp_assert_close(Pa, rows[i].P, 0, 0.5e-4);
         }
@@ -231,19 +234,26 @@ static void test_quadrature_errors(void **state)
     assert_int_equal(hp_iab_ik_gauss(&b, -0.03, HP_QUAD_CURRENT, 10, &P), HP_ERR_DOMAIN);
     assert_int_equal(hp_iab_ik_gauss(&bad, 0.03, HP_QUAD_CURRENT, 10, &P), HP_ERR_DOMAIN);
     assert_int_equal(hp_iab_ik_gauss(&b, 0.03, HP_QUAD_CURRENT, 10, NULL), HP_ERR_NULL);
-    assert_int_equal(hp_iab_ik_adaptive(&b, 0.03, HP_QUAD_REFERENCE, 0, &P, NULL, NULL), HP_ERR_INVALID);
-    assert_int_equal(hp_iab_ik_adaptive(&b, 0.03, HP_QUAD_REFERENCE, NAN, &P, NULL, NULL), HP_ERR_INVALID);
-    assert_int_equal(hp_iab_ik_adaptive(&b, NAN, HP_QUAD_REFERENCE, 1e-8, &P, NULL, NULL), HP_ERR_INVALID);
-    assert_int_equal(hp_iab_ik_adaptive(&b, 0.03, HP_QUAD_REFERENCE, 1e-8, NULL, NULL, NULL), HP_ERR_NULL);
+    assert_int_equal(hp_iab_ik_adaptive(&b, 0.03, HP_QUAD_REFERENCE, 0, &P, NULL, NULL),
+                     HP_ERR_INVALID);
+    assert_int_equal(hp_iab_ik_adaptive(&b, 0.03, HP_QUAD_REFERENCE, NAN, &P, NULL, NULL),
+                     HP_ERR_INVALID);
+    assert_int_equal(hp_iab_ik_adaptive(&b, NAN, HP_QUAD_REFERENCE, 1e-8, &P, NULL, NULL),
+                     HP_ERR_INVALID);
+    assert_int_equal(hp_iab_ik_adaptive(&b, 0.03, HP_QUAD_REFERENCE, 1e-8, NULL, NULL, NULL),
+                     HP_ERR_NULL);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_gauss_legendre_rule), cmocka_unit_test(test_gauss_vs_closed_form),
-        cmocka_unit_test(test_gauss_convergence), cmocka_unit_test(test_adaptive_vs_closed_form),
+        cmocka_unit_test(test_gauss_legendre_rule),
+        cmocka_unit_test(test_gauss_vs_closed_form),
+        cmocka_unit_test(test_gauss_convergence),
+        cmocka_unit_test(test_adaptive_vs_closed_form),
         cmocka_unit_test(test_quadrature_reference_values),
-        cmocka_unit_test(test_kronrod_rule), cmocka_unit_test(test_quadrature_errors),
+        cmocka_unit_test(test_kronrod_rule),
+        cmocka_unit_test(test_quadrature_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -21,8 +21,7 @@ static inline void kin_rng_vec3(uint64_t *r, double len, double out[3])
 
 /* Random pose with translation norm <= tmax (m) and angle-vector norm <= rmax (rad);
  * on_sphere = 1 puts both exactly on their bounds. */
-static inline void kin_rng_pose(uint64_t *r, double tmax, double rmax, int on_sphere,
-                                double xi[6])
+static inline void kin_rng_pose(uint64_t *r, double tmax, double rmax, int on_sphere, double xi[6])
 {
     double ft = on_sphere ? 1.0 : cbrt(test_rng_uniform(r, 0, 1));
     double fr = on_sphere ? 1.0 : cbrt(test_rng_uniform(r, 0, 1));

@@ -37,9 +37,9 @@ static double sampled_worst(const hp_layout *L, hp_level lv, double T, double ro
 static void test_bounds_hold_and_are_tight(void **state)
 {
     (void)state;
-    const double sizes[][2] = {{1e-5, 1e-4}, {0.001, 0.0175}, {0.003, 0.0349}, {0.005, 0.0524},
-                               {0.010, 0.0873}, {0.005, 0.0},    {0.0, 0.0524}, {0.02, 0.2},
-                               {0.04, 0.5}};
+    const double sizes[][2] = {{1e-5, 1e-4},    {0.001, 0.0175}, {0.003, 0.0349},
+                               {0.005, 0.0524}, {0.010, 0.0873}, {0.005, 0.0},
+                               {0.0, 0.0524},   {0.02, 0.2},     {0.04, 0.5}};
     for (size_t s = 0; s < sizeof sizes / sizeof sizes[0]; ++s)
         for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_PLANE; ++lv) {
             double T = sizes[s][0], rot = sizes[s][1], b;
@@ -81,8 +81,8 @@ static void test_bounds_other_layouts(void **state)
         for (int s = 0; s < 3; ++s)
             for (int lv = HP_LEVEL_LINEAR; lv <= HP_LEVEL_PLANE; ++lv) {
                 double b;
-                assert_int_equal(hp_contact_error_bound(&L, (hp_level)lv, sizes[s][0], sizes[s][1], &b),
-                                 HP_OK);
+                assert_int_equal(
+                    hp_contact_error_bound(&L, (hp_level)lv, sizes[s][0], sizes[s][1], &b), HP_OK);
                 double w = sampled_worst(&L, (hp_level)lv, sizes[s][0], sizes[s][1], 2000, 77 + s);
                 assert_true(w <= b);
             }
@@ -158,7 +158,8 @@ static void test_step_bound(void **state)
                 double ra[HP_MAX_BLADDERS], rb[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6],
                     b[HP_MAX_BLADDERS];
                 assert_int_equal(hpi_contact_eval_g(&L, &G, (hp_level)lv, xa, ra, J, NULL), HP_OK);
-                assert_int_equal(hpi_contact_eval_g(&L, &G, (hp_level)lv, xb, rb, NULL, NULL), HP_OK);
+                assert_int_equal(hpi_contact_eval_g(&L, &G, (hp_level)lv, xb, rb, NULL, NULL),
+                                 HP_OK);
                 assert_int_equal(hpi_kin_contact_step_bound(&L, &G, (hp_level)lv, xa, dx, ra, b),
                                  HP_OK);
                 for (int k = 0; k < L.n; ++k) {
@@ -171,21 +172,24 @@ static void test_step_bound(void **state)
                     if (b[k] == INFINITY) ++infinite[it % 3];
                     if (!(rem <= b[k] + 3e-15))
                         print_error("layout %d level %d step %d bladder %d: remainder %.3e m "
-                                    "bound %.3e m\n", c, lv, it, k, rem, b[k]);
+                                    "bound %.3e m\n",
+                                    c, lv, it, k, rem, b[k]);
                     assert_true(rem <= b[k] + 3e-15);
                     if (b[k] > 0) worst_ratio = fmax(worst_ratio, rem / b[k]);
                 }
             }
             print_message("layout %d %-7s: largest remainder / bound %.3f; infinite bounds "
-                          "%d/%d/%d at h = 1e-2/1e-3/1e-4\n", c, hp_level_name((hp_level)lv),
-                          worst_ratio, infinite[0], infinite[1], infinite[2]);
+                          "%d/%d/%d at h = 1e-2/1e-3/1e-4\n",
+                          c, hp_level_name((hp_level)lv), worst_ratio, infinite[0], infinite[1],
+                          infinite[2]);
             /* Steps of a converging solver (h <= 1e-4 here) always get a finite bound. */
             assert_int_equal(infinite[2], 0);
         }
         /* A step long enough to reach the head: no finite bound at the surface level. */
         double xa[6] = {0}, dx[6] = {0.2, 0, 0, 0, 0, 0}, ra[HP_MAX_BLADDERS], b[HP_MAX_BLADDERS];
         assert_int_equal(hpi_contact_eval_g(&L, &G, HP_LEVEL_SURFACE, xa, ra, NULL, NULL), HP_OK);
-        assert_int_equal(hpi_kin_contact_step_bound(&L, &G, HP_LEVEL_SURFACE, xa, dx, ra, b), HP_OK);
+        assert_int_equal(hpi_kin_contact_step_bound(&L, &G, HP_LEVEL_SURFACE, xa, dx, ra, b),
+                         HP_OK);
         for (int k = 0; k < L.n; ++k) assert_true(b[k] == INFINITY);
         /* Arguments */
         dx[0] = NAN;
@@ -290,7 +294,8 @@ static void test_ball_curvature(void **state)
                         double m = fmax(lam, q);
                         if (!(m <= h[k]))
                             print_error("layout %d level %d ball %d bladder %d: |H| %.6e > bound "
-                                        "%.6e mm/unit^2\n", c, lv, it, k, m, h[k]);
+                                        "%.6e mm/unit^2\n",
+                                        c, lv, it, k, m, h[k]);
                         assert_true(m <= h[k]);
                         worst = fmax(worst, m / h[k]);
                     }
@@ -298,8 +303,8 @@ static void test_ball_curvature(void **state)
             }
             if (lv == HP_LEVEL_LINEAR) continue;
             print_message("layout %d %-7s: largest |Hessian| / ball bound %.3f (infinite "
-                          "bounds: %d of %d)\n", c, hp_level_name((hp_level)lv), worst, infinite,
-                          400 * 4 * L.n);
+                          "bounds: %d of %d)\n",
+                          c, hp_level_name((hp_level)lv), worst, infinite, 400 * 4 * L.n);
             assert_true(worst > 0.02);
             assert_true(infinite < 400 * L.n); /* balls of 5 units near the head only */
         }

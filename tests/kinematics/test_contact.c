@@ -132,7 +132,8 @@ static void test_levels_agree_at_zero(void **state)
         hp_assert_close(r[0][k], 0.030, 0, 1e-15); /* touching at Ro, no preload */
         for (int lv = 1; lv < 3; ++lv) {
             hp_assert_close(r[lv][k], r[0][k], 0, 1e-16);
-            for (int i = 0; i < 6; ++i) hp_assert_close(J[lv][k * 6 + i], J[0][k * 6 + i], 0, 1e-15);
+            for (int i = 0; i < 6; ++i)
+                hp_assert_close(J[lv][k * 6 + i], J[0][k * 6 + i], 0, 1e-15);
         }
     }
 }
@@ -220,8 +221,8 @@ static void test_surface_brute_force(void **state)
  * Jacobian and Hessian entry must be equal (==; only the sign of a zero may differ), at the
  * plane and surface levels, on 400 seeded poses up to 20 mm and up to 170° (and some with
  * one angle exactly 0 or ±π/2). */
-static void ref_contact(const hp_layout *L, hp_level lv, const double xi[6], double *rho,
-                        double *J, double *H)
+static void ref_contact(const hp_layout *L, hp_level lv, const double xi[6], double *rho, double *J,
+                        double *H)
 {
     double R[9], dR[3][9], d2R[3][3][9];
     hpi_kin_rotation_derivs(xi + 3, R, dR, d2R);
@@ -257,7 +258,8 @@ static void ref_contact(const hp_layout *L, hp_level lv, const double xi[6], dou
                 }
             for (int a = 0; a < 3; ++a)
                 for (int i = 0; i < 6; ++i)
-                    hC[a][i] = hf[a * 3] * C[0][i] + hf[a * 3 + 1] * C[1][i] + hf[a * 3 + 2] * C[2][i];
+                    hC[a][i] = hf[a * 3] * C[0][i] + hf[a * 3 + 1] * C[1][i] +
+                               hf[a * 3 + 2] * C[2][i];
             for (int i = 0; i < 6; ++i)
                 for (int j = i; j < 6; ++j)
                     Hs[i][j] = C[0][i] * hC[0][j] + C[1][i] * hC[1][j] + C[2][i] * hC[2][j];
@@ -344,7 +346,8 @@ static void check_inside(const hp_geom *G, hp_level lv, const double xi[6], cons
     for (int k = 0; k < LAY.n; ++k) got[k] = -1.0;
     for (int i = 0; i < LAY.n * 6; ++i) gJ[i] = -1.0;
     int inside = -1, inside2 = -1;
-    assert_int_equal(hpi_kin_contact_inside(&LAY, G, lv, xi, 1000.0, lo, hi, got, NULL, &inside), HP_OK);
+    assert_int_equal(hpi_kin_contact_inside(&LAY, G, lv, xi, 1000.0, lo, hi, got, NULL, &inside),
+                     HP_OK);
     assert_int_equal(inside, want);
     /* With the Jacobian asked for: the same distances and verdict, and the full
      * evaluation's Jacobian rows (bit for bit) of exactly the bladders evaluated. */
@@ -397,9 +400,10 @@ static void test_inside(void **state)
             /* mostly inside; in a third of the poses one bladder in eight at or one ulp past
              * a bound, in another third one in four well past a bound (0.01..3 mm) */
             int mode = (it / 3) % 3;
-            int pick = mode == 0 ? (int)test_rng_uniform(&rng, 0, 32)
-                     : mode == 1 ? 4 + (int)test_rng_uniform(&rng, 0, 4)
-                                 : test_rng_uniform(&rng, 0, 4) < 1 ? 8 : 4;
+            int pick = mode == 0                          ? (int)test_rng_uniform(&rng, 0, 32)
+                       : mode == 1                        ? 4 + (int)test_rng_uniform(&rng, 0, 4)
+                       : test_rng_uniform(&rng, 0, 4) < 1 ? 8
+                                                          : 4;
             double past = test_rng_uniform(&rng, 0.01, 3.0);
             lo[k] = pick == 0 ? mm : pick == 1 ? nextafter(mm, INFINITY) : mm - 1.0;
             hi[k] = pick == 2 ? mm : pick == 3 ? nextafter(mm, -INFINITY) : mm + 1.0;
@@ -417,22 +421,24 @@ static void test_inside(void **state)
            hi[HP_MAX_BLADDERS];
     for (int k = 0; k < LAY.n; ++k) hi[k] = 1e9;
     int inside = 1;
-    assert_int_equal(hpi_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, lo, hi, got,
-                                           NULL, &inside), HP_ERR_INVALID);
+    assert_int_equal(
+        hpi_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, lo, hi, got, NULL, &inside),
+        HP_ERR_INVALID);
     assert_int_equal(inside, 0);
     for (int k = 0; k < LAY.n; ++k) assert_true(isnan(got[k]));
     xi[3] = 0.0;
     const double *bad[4][2] = {{NULL, hi}, {lo, NULL}, {lo, hi}, {lo, hi}};
     for (int c = 0; c < 4; ++c)
         assert_int_equal(hpi_kin_contact_inside(&LAY, &G, HP_LEVEL_SURFACE, xi, 1000.0, bad[c][0],
-                                               bad[c][1], c == 2 ? NULL : got, NULL,
-                                               c == 3 ? NULL : &inside),
+                                                bad[c][1], c == 2 ? NULL : got, NULL,
+                                                c == 3 ? NULL : &inside),
                          HP_ERR_NULL);
     /* A NaN bound is outside whatever the order (the comparison fails). */
     hi[LAY.n - 1] = NAN;
     inside = 1;
-    assert_int_equal(hpi_kin_contact_inside(&LAY, &G, HP_LEVEL_PLANE, xi, 1000.0, lo, hi, got,
-                                           NULL, &inside), HP_OK);
+    assert_int_equal(
+        hpi_kin_contact_inside(&LAY, &G, HP_LEVEL_PLANE, xi, 1000.0, lo, hi, got, NULL, &inside),
+        HP_OK);
     assert_int_equal(inside, 0);
 }
 
@@ -479,8 +485,9 @@ static void test_inside_prediction_wrong(void **state)
             if (lv == HP_LEVEL_SURFACE)
                 assert_int_equal(order[0], a); /* the construction makes a the predicted worst */
             int inside = -1;
-            assert_int_equal(hpi_kin_contact_inside(&LAY, &G, lv, xi, 1000.0, lo, hi, got,
-                                                   NULL, &inside), HP_OK);
+            assert_int_equal(
+                hpi_kin_contact_inside(&LAY, &G, lv, xi, 1000.0, lo, hi, got, NULL, &inside),
+                HP_OK);
             assert_int_equal(inside, 0);
             if (lv == HP_LEVEL_SURFACE) assert_true(got[a] == rho[a]);
             assert_true(got[b] == rho[b]);
@@ -525,8 +532,9 @@ static void test_eval_mask(void **state)
            H[HP_MAX_BLADDERS * 36];
     unsigned char none[HP_MAX_BLADDERS] = {0};
     for (int i = 0; i < LAY.n * 36; ++i) H[i] = sentinel;
-    assert_int_equal(hpi_kin_contact_eval_mask(&LAY, &G, HP_LEVEL_SURFACE, bad, NULL, none, r, J, H),
-                     HP_ERR_INVALID);
+    assert_int_equal(
+        hpi_kin_contact_eval_mask(&LAY, &G, HP_LEVEL_SURFACE, bad, NULL, none, r, J, H),
+        HP_ERR_INVALID);
     for (int i = 0; i < LAY.n * 36; ++i) assert_true(isnan(H[i]));
 }
 
@@ -552,10 +560,14 @@ static void test_bad_args(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_derivatives_all_levels), cmocka_unit_test(test_levels_agree_at_zero),
-        cmocka_unit_test(test_plane_formula),          cmocka_unit_test(test_surface_brute_force),
-        cmocka_unit_test(test_bad_args),              cmocka_unit_test(test_generic_form),
-        cmocka_unit_test(test_inside),                cmocka_unit_test(test_inside_prediction_wrong),
+        cmocka_unit_test(test_derivatives_all_levels),
+        cmocka_unit_test(test_levels_agree_at_zero),
+        cmocka_unit_test(test_plane_formula),
+        cmocka_unit_test(test_surface_brute_force),
+        cmocka_unit_test(test_bad_args),
+        cmocka_unit_test(test_generic_form),
+        cmocka_unit_test(test_inside),
+        cmocka_unit_test(test_inside_prediction_wrong),
         cmocka_unit_test(test_eval_mask),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

@@ -115,9 +115,11 @@ static void fem_state(int i, hp_claw_bladder *b, double x[3])
     double ro = 0.033;
     b->C1 = 1.1e4;
     b->C2 = b->C1 * (i % 2 ? HP_CLAW_FIT_CMAX : HP_CLAW_FIT_CMIN);
-    b->wall = ro * (HP_CLAW_FIT_WMIN + (HP_CLAW_FIT_WMAX - HP_CLAW_FIT_WMIN) * (0.01 + 0.98 * u[0]));
+    b->wall = ro *
+              (HP_CLAW_FIT_WMIN + (HP_CLAW_FIT_WMAX - HP_CLAW_FIT_WMIN) * (0.01 + 0.98 * u[0]));
     b->curv = HP_CLAW_FIT_KMAX * 0.99 * u[2] / ro;
-    x[0] = b->C1 * (HP_CLAW_FIT_PMIN + (HP_CLAW_FIT_PMAX - HP_CLAW_FIT_PMIN) * (0.01 + 0.98 * u[1]));
+    x[0] = b->C1 *
+           (HP_CLAW_FIT_PMIN + (HP_CLAW_FIT_PMAX - HP_CLAW_FIT_PMIN) * (0.01 + 0.98 * u[1]));
     x[1] = ro;
     x[2] = ro * (1.0 - (0.005 + (HP_CLAW_FIT_DMAX - 0.01) * u[3]));
 }
@@ -240,9 +242,10 @@ static void test_fem_against_tables(void **st)
     int n = 0, outside = 0;
     double worst = 0.0;
     enum { NCOL = 9 };
-    static const char *const names[NCOL] = {"Ri_mm", "Ro_mm", "C1_pa", "C2_pa", "P_pa",
-                                            "ro_mm", "delta_over_ro", "ro_over_head_radius",
-                                            "F_over_P_pi_ro2"};
+    static const char *const names[NCOL] = {
+        "Ri_mm",          "Ro_mm", "C1_pa",         "C2_pa",
+        "P_pa",           "ro_mm", "delta_over_ro", "ro_over_head_radius",
+        "F_over_P_pi_ro2"};
     int col[NCOL + 1];
     while (fgets(line, sizeof line, f)) {
         if (line[0] == '#') continue;
@@ -277,7 +280,8 @@ static void test_fem_against_tables(void **st)
     }
     fclose(f);
     print_message("fitted law against %d FEM rows inside its domain (%d outside): worst "
-                  "relative error %.2f %%\n", n, outside, 100 * worst);
+                  "relative error %.2f %%\n",
+                  n, outside, 100 * worst);
     assert_true(n >= 20 && outside <= 2);
     assert_true(worst <= HP_TEST_LAW_MAX_ERR);
 }
@@ -285,12 +289,9 @@ static void test_fem_against_tables(void **st)
 int main(void)
 {
     const struct CMUnitTest t[] = {
-        cmocka_unit_test(test_cap_value),
-        cmocka_unit_test(test_cap_derivatives),
-        cmocka_unit_test(test_load_law_reads_it),
-        cmocka_unit_test(test_fem_derivatives),
-        cmocka_unit_test(test_fem_domain),
-        cmocka_unit_test(test_fem_against_tables),
+        cmocka_unit_test(test_cap_value),         cmocka_unit_test(test_cap_derivatives),
+        cmocka_unit_test(test_load_law_reads_it), cmocka_unit_test(test_fem_derivatives),
+        cmocka_unit_test(test_fem_domain),        cmocka_unit_test(test_fem_against_tables),
     };
     return cmocka_run_group_tests(t, NULL, NULL);
 }

@@ -53,7 +53,8 @@ static void check_closest(const hp_head *h, const double q[3])
             double th = 3.14159265358979 * (i + 0.5) / N, ph = 6.28318530717959 * j / N;
             double s[3] = {a[0] * sin(th) * cos(ph), a[1] * sin(th) * sin(ph), a[2] * cos(th)};
             double e = 0;
-            for (int k = 0; k < 3; ++k) e += (q[k] - h->center[k] - s[k]) * (q[k] - h->center[k] - s[k]);
+            for (int k = 0; k < 3; ++k)
+                e += (q[k] - h->center[k] - s[k]) * (q[k] - h->center[k] - s[k]);
             best = fmin(best, sqrt(e));
         }
     assert_true(fabs(d) <= best + 1e-12);
@@ -155,7 +156,8 @@ static void check_derivs(const hp_head *h, const double q[3])
         qm[j] -= hh;
         assert_int_equal(hpi_kin_head_distance(h, qp, &dp, gp, NULL, NULL), HP_OK);
         assert_int_equal(hpi_kin_head_distance(h, qm, &dm, gm, NULL, NULL), HP_OK);
-        for (int i = 0; i < 3; ++i) hp_assert_close(H[i * 3 + j], (gp[i] - gm[i]) / (2 * hh), 0, 2e-8);
+        for (int i = 0; i < 3; ++i)
+            hp_assert_close(H[i * 3 + j], (gp[i] - gm[i]) / (2 * hh), 0, 2e-8);
         /* Richardson on the value for the gradient. */
         double D[2];
         for (int l = 0; l < 2; ++l) {
@@ -314,8 +316,8 @@ static void check_warm_vs_cold(const hp_head *h, const double q[3], hp_kin_dist_
     double bd = sp * e * 1.7320508 * (1.0 + fabs(c.s) / (1.0 + c.s)) + 4.0 * eps * fabs(dc);
     double bs = sp, bg = sp * 2.0 / (1.0 + c.s) + 8.0 * eps;
     if (!(fabs(w->s - c.s) <= bs && fabs(d - dc) <= bd))
-        fail_msg("warm s %.17g d %.17g, cold s %.17g d %.17g (bounds %.3g, %.3g)", w->s, d, c.s,
-                 dc, bs, bd);
+        fail_msg("warm s %.17g d %.17g, cold s %.17g d %.17g (bounds %.3g, %.3g)", w->s, d, c.s, dc,
+                 bs, bd);
     worst[0] = fmax(worst[0], fabs(d - dc) / bd);
     worst[1] = fmax(worst[1], fabs(d - dc));
     for (int k = 0; k < 3; ++k) assert_true(fabs(g[k] - gc[k]) <= bg);
@@ -357,8 +359,8 @@ static void test_warm_predictor(void **state)
                 if (len <= hsmall) {
                     ++small;
                     if (w.evals != 1)
-                        fail_msg("head %d walk %d step %d (%.3g m): %d evaluations", hc, i, st,
-                                 len, w.evals);
+                        fail_msg("head %d walk %d step %d (%.3g m): %d evaluations", hc, i, st, len,
+                                 w.evals);
                 }
                 double dm;
                 wm.ds[0] = wm.ds[1] = wm.ds[2] = 0.0; /* the multiplier alone */
@@ -379,7 +381,8 @@ static void test_warm_predictor(void **state)
         }
     }
     print_message("warm predictor: %ld evaluations predicted, %ld from the multiplier alone "
-                  "(%ld steps <= 2e-3 of the smallest curvature radius, all one evaluation); worst distance difference %.2f of "
+                  "(%ld steps <= 2e-3 of the smallest curvature radius, all one evaluation); worst "
+                  "distance difference %.2f of "
                   "its bound, %.2g m\n",
                   ev_pred, ev_mult, small, worst[0], worst[1]);
     assert_true(ev_pred < ev_mult);
@@ -420,7 +423,8 @@ static void fill_point(uint64_t *rng, const hp_head *h, double q[3])
     const double *a = h->semi_axes;
     double u = test_rng_uniform(rng, 0.0, 1.0), f = test_rng_uniform(rng, 0.5, 1.6);
     kin_rng_vec3(rng, 1.0, q);
-    for (int i = 0; i < 3; ++i) q[i] = h->center[i] + q[i] * a[h->shape == HP_HEAD_SPHERE ? 0 : i] * f;
+    for (int i = 0; i < 3; ++i)
+        q[i] = h->center[i] + q[i] * a[h->shape == HP_HEAD_SPHERE ? 0 : i] * f;
     if (u < 0.03) q[1] = NAN;
     else if (u < 0.06) q[0] = 2e6;
     else if (u < 0.09)
@@ -476,12 +480,12 @@ static void test_batch(void **state)
             int first = -1;
             for (int j = 0; j < n && er == HP_OK; ++j) {
                 er = hpi_kin_head_distance_k(h, &k, q[j], &wr[j], &dr[j], gr[j],
-                                            want[j] ? Hr[j] : NULL, NULL);
+                                             want[j] ? Hr[j] : NULL, NULL);
                 if (er != HP_OK) first = j;
             }
             int bad = -2;
             hp_error eb = hpi_kin_head_distances(h, &k, n, (const double(*)[3])q, wb, db, gb, Hb,
-                                                want, &bad);
+                                                 want, &bad);
             assert_int_equal(eb, er);
             assert_int_equal(bad, first);
             errors += er != HP_OK;
@@ -507,14 +511,13 @@ static void test_batch(void **state)
         hp_kin_head_k k0;
         hpi_kin_head_consts(&heads[0], &k0);
         int bad8 = 0;
-        assert_int_equal(hpi_kin_head_distances(&heads[0], &k0, 8, (const double(*)[3])q8, NULL,
-                                               d8, g8, H8, NULL, &bad8),
+        assert_int_equal(hpi_kin_head_distances(&heads[0], &k0, 8, (const double(*)[3])q8, NULL, d8,
+                                                g8, H8, NULL, &bad8),
                          HP_OK);
         assert_int_equal(bad8, -1);
         for (int j = 0; j < 8; ++j) {
-            assert_int_equal(hpi_kin_head_distance_k(&heads[0], &k0, q8[j], NULL, &dr1, gr1, Hr1,
-                                                    NULL),
-                             HP_OK);
+            assert_int_equal(
+                hpi_kin_head_distance_k(&heads[0], &k0, q8[j], NULL, &dr1, gr1, Hr1, NULL), HP_OK);
             assert_memory_equal(&d8[j], &dr1, sizeof dr1);
             assert_memory_equal(H8[j], Hr1, sizeof Hr1);
         }
@@ -523,7 +526,7 @@ static void test_batch(void **state)
     double q1[HP_MAX_BLADDERS + 1][3] = {{0}}, d1[HP_MAX_BLADDERS + 1], g1[HP_MAX_BLADDERS + 1][3];
     int bad = 0;
     assert_int_equal(hpi_kin_head_distances(&heads[0], &(hp_kin_head_k){0}, HP_MAX_BLADDERS + 1,
-                                           (const double(*)[3])q1, NULL, d1, g1, NULL, NULL, &bad),
+                                            (const double(*)[3])q1, NULL, d1, g1, NULL, NULL, &bad),
                      HP_ERR_INVALID);
 }
 
@@ -618,10 +621,11 @@ static void test_long_double_reference(void **state)
             /* ∂d/∂s = e²(|m| + s·∂|m|/∂s) with |m| <= √3/e, |∂|m|/∂s| <= |m|/(1 + s);
              * ∂n/∂s <= 2/(1 + s) per component. Margin ×2 over these first-order terms (the
              * worst point measured uses 15 % of the bound on d, 4 % on the normal). */
-            double bound = 8 * eps * fabs((double)dref) + 2 * ds * e * 1.7320508 * (1 + fabs(sref) / ops);
+            double bound = 8 * eps * fabs((double)dref) +
+                           2 * ds * e * 1.7320508 * (1 + fabs(sref) / ops);
             if (!(fabs(d - (double)dref) <= bound))
-                fail_msg("head %d point %d: d %.17g, reference %.17Lg, bound %.3g", hc, it, d,
-                         dref, bound);
+                fail_msg("head %d point %d: d %.17g, reference %.17Lg, bound %.3g", hc, it, d, dref,
+                         bound);
             double gb = 8 * eps + 2 * ds * 2 / ops;
             for (int k = 0; k < 3; ++k)
                 if (!(fabs(g[k] - (double)(ml[k] / mnl)) <= gb))
@@ -638,12 +642,9 @@ static void test_long_double_reference(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_axes_and_far),
-        cmocka_unit_test(test_warm_predictor),
-        cmocka_unit_test(test_near_sphere),
-        cmocka_unit_test(test_derivatives),
-        cmocka_unit_test(test_warm_start),
-        cmocka_unit_test(test_long_double_reference),
+        cmocka_unit_test(test_axes_and_far), cmocka_unit_test(test_warm_predictor),
+        cmocka_unit_test(test_near_sphere),  cmocka_unit_test(test_derivatives),
+        cmocka_unit_test(test_warm_start),   cmocka_unit_test(test_long_double_reference),
         cmocka_unit_test(test_batch),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

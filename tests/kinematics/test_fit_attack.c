@@ -57,9 +57,8 @@ static double logu(uint64_t *r, double lo, double hi)
 }
 
 enum { FA_DEFAULT, FA_SPHERE, FA_GENERATED, FA_EXTREME, FA_DEGENERATE, FA_KINDS };
-static const char *const fa_kind_names[FA_KINDS] = {"default, pivot off", "sphere",
-                                                    "generated", "generated, extreme",
-                                                    "near-degenerate"};
+static const char *const fa_kind_names[FA_KINDS] = {"default, pivot off", "sphere", "generated",
+                                                    "generated, extreme", "near-degenerate"};
 
 /* Layout i of the sequence (kind i % FA_KINDS). The generated kinds follow test_sweep's
  * generator (head up to 10 mm off the origin, pivot off it, rays tilted by up to ±0.15,
@@ -132,8 +131,7 @@ static const char *const fa_target_names[FT_KINDS] = {"tiny", "mid", "large", "s
 /* A target pose of kind tk (zero in the components not free): tiny (1e-6 mm, 1e-6 deg),
  * mid (0.5 mm/0.3 deg or 3 mm/2 deg), large (up to 0.95 of the identifiable range), one
  * component (1e-6 mm or deg up to that range), or a rotation about a random axis. */
-static void fa_target(uint64_t *r, int tk, const hp_identifiable *id, const int fr[6],
-                      double xi[6])
+static void fa_target(uint64_t *r, int tk, const hp_identifiable *id, const int fr[6], double xi[6])
 {
     double tl = 0.95 * id->trans_limit, rl = id->centre_only ? 1e-7 : 0.95 * id->rot_limit;
     for (int i = 0; i < 6; ++i) xi[i] = 0.0;
@@ -189,9 +187,9 @@ static int fa_residual(const hp_layout *L, const hp_geom *G, hp_level lv, const 
  * iterations: the iterations it took and its end in xe when it stops, −1 when it does not
  * within maxit (or a solver fails). accepted (may be NULL): whether its first trial was
  * accepted. */
-static int fa_replica(const hp_layout *L, const hp_geom *G, hp_level lv, const double *tg,
-                      int nf, const int *col, const double xs[6], double lambda, int maxit,
-                      double xe[6], int *accepted)
+static int fa_replica(const hp_layout *L, const hp_geom *G, hp_level lv, const double *tg, int nf,
+                      const int *col, const double xs[6], double lambda, int maxit, double xe[6],
+                      int *accepted)
 {
     int n = L->n, it = 0, done = 0;
     double x[6], r[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], cost = 0.0;
@@ -280,13 +278,15 @@ static void test_certificate_promise(void **state)
                 nr.has_anchor = 1;
                 nr.anchor_J = aJ;
                 memcpy(nr.anchor, a, sizeof a);
-                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, a, nr.anchor_rho, aJ, NULL) !=
-                    HP_OK)
+                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, a, nr.anchor_rho, aJ, NULL) != HP_OK)
                     continue;
-                double tg[HP_MAX_BLADDERS], noise = (t / 2) % 3 == 0 ? 0.0 : (t / 2) % 3 == 1 ? 1e-15 : 1e-14;
+                double tg[HP_MAX_BLADDERS], noise = (t / 2) % 3 == 0   ? 0.0
+                                                    : (t / 2) % 3 == 1 ? 1e-15
+                                                                       : 1e-14;
                 for (int k = 0; k < n; ++k)
                     tg[k] = nr.anchor_rho[k] + noise * test_rng_uniform(&rng, -1, 1);
-                double x[6], d[6], dn = 0.0, e = logu(&rng, 1e-10, 3.0), lam = logu(&rng, 1e-15, 10.0);
+                double x[6], d[6], dn = 0.0, e = logu(&rng, 1e-10, 3.0),
+                                   lam = logu(&rng, 1e-15, 10.0);
                 for (int i = 0; i < 6; ++i) {
                     d[i] = fr[i] ? test_rng_normal(&rng) : 0.0;
                     dn += d[i] * d[i];
@@ -304,8 +304,8 @@ static void test_certificate_promise(void **state)
                 int ok;
                 memcpy(xs, x, sizeof xs);
                 if (form == 0) {
-                    ok = hpi_kin_fit_certified(&L, &G, (hp_level)lv, nf, col, x, A, r, lam, tg, left,
-                                              &nr);
+                    ok = hpi_kin_fit_certified(&L, &G, (hp_level)lv, nf, col, x, A, r, lam, tg,
+                                               left, &nr);
                 } else {
                     /* Half of these with the Jacobian taken 1e-9..3 scaled units from the
                      * anchor, and its drift bound (as the planner hands over the realtime
@@ -317,11 +317,12 @@ static void test_certificate_promise(void **state)
                             dd[i] = fr[i] ? test_rng_normal(&rng) : 0.0;
                             dn2 += dd[i] * dd[i];
                         }
-                        for (int i = 0; i < 6; ++i) ap[i] = a[i] + dd[i] / sqrt(dn2) * dj * unit_of(i);
+                        for (int i = 0; i < 6; ++i)
+                            ap[i] = a[i] + dd[i] / sqrt(dn2) * dj * unit_of(i);
                         if (hpi_contact_eval_g(&L, &G, (hp_level)lv, ap, rp, aJ, NULL) != HP_OK)
                             continue;
                         nr.anchor_J_err = hpi_kin_jacobian_drift(&L, &G, (hp_level)lv, ap, rp, aJ,
-                                                                dj * (1.0 + 1e-12));
+                                                                 dj * (1.0 + 1e-12));
                         drifted++;
                     }
                     /* the fit's first step from x, then the proof before evaluating it */
@@ -339,7 +340,7 @@ static void test_certificate_promise(void **state)
                     fa_gram(n, nf, Ja, Aa);
                     lam_next = fmax(lam * 0.1, 1e-15);
                     ok = hpi_kin_fit_certified_trial(&L, &G, (hp_level)lv, nf, col, xs, Aa, cost,
-                                                    lam_next, tg, left, &nr, NULL);
+                                                     lam_next, tg, left, &nr, NULL);
                     if (ok) {
                         int acc = 0;
                         double x1[6];
@@ -355,21 +356,25 @@ static void test_certificate_promise(void **state)
                 fired[form]++;
                 fired_drifted += nr.anchor_J_err > 0;
                 double xe[6];
-                int rc = fa_replica(&L, &G, (hp_level)lv, tg, nf, col, xs, lam_next, left, xe, NULL);
+                int rc = fa_replica(&L, &G, (hp_level)lv, tg, nf, col, xs, lam_next, left, xe,
+                                    NULL);
                 double off = rc >= 0 ? fa_off(xe, a) : INFINITY;
                 most_iters = rc > most_iters ? rc : most_iters;
                 if (!(off <= 0.25))
                     print_error("layout %d (%s) level %d state %d form %d: certified, the fit %s "
                                 "%.3g tolerances from the expected pose (e %.3g, lambda %.3g, "
-                                "%d left)\n", li, fa_kind_names[li % FA_KINDS], lv, t, form,
+                                "%d left)\n",
+                                li, fa_kind_names[li % FA_KINDS], lv, t, form,
                                 rc >= 0 ? "ends" : "does not end:", off, e, lam, left);
                 assert_true(off <= 0.25);
                 worst[form] = fmax(worst[form], off);
                 /* the replica is hpi_kin_fit's loop: the same bits from the nominal pose */
                 if (fired[form] % 16 == 1) {
                     double x1[6], x2[6];
-                    hp_error e1 = hpi_kin_fit(&L, &G, (hp_level)lv, tg, fr, zero, NULL, NULL, x1, NULL, NULL);
-                    int e2 = fa_replica(&L, &G, (hp_level)lv, tg, nf, col, zero, 1e-3, 200, x2, NULL);
+                    hp_error e1 = hpi_kin_fit(&L, &G, (hp_level)lv, tg, fr, zero, NULL, NULL, x1,
+                                              NULL, NULL);
+                    int e2 = fa_replica(&L, &G, (hp_level)lv, tg, nf, col, zero, 1e-3, 200, x2,
+                                        NULL);
                     assert_int_equal(e1 == HP_OK, e2 >= 0);
                     if (e1 == HP_OK) assert_memory_equal(x1, x2, sizeof x1);
                     ++same;
@@ -380,8 +385,7 @@ static void test_certificate_promise(void **state)
                   "first trial: %ld of %ld (worst %.2e); replica = hpi_kin_fit in %ld fits; the "
                   "full fit took at most %d iterations after a certificate\n",
                   fired[0], tried[0], worst[0], fired[1], tried[1], worst[1], same, most_iters);
-    print_message("with a drifted Jacobian: certified %ld of %ld trials\n", fired_drifted,
-                  drifted);
+    print_message("with a drifted Jacobian: certified %ld of %ld trials\n", fired_drifted, drifted);
     /* not vacuous: measured ~35 % and ~55 % */
     assert_true(fired[0] * 10 >= tried[0]);
     assert_true(fired[1] * 10 >= tried[1]);
@@ -434,7 +438,8 @@ static void test_certified_fit_verdict(void **state)
                             if (ak != FN_SHIFTED) an[i] += o;
                             if (ak != FN_OFF) src[i] += o;
                         }
-                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, src, rs, NULL, NULL) != HP_OK) continue;
+                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, src, rs, NULL, NULL) != HP_OK)
+                    continue;
                 double nz = noise[(int)test_rng_uniform(&rng, 0, 6)];
                 for (int k = 0; k < L.n; ++k) ro[k] = rs[k] + nz * test_rng_uniform(&rng, -1, 1);
                 hp_kin_fit_near nr;
@@ -448,8 +453,7 @@ static void test_certified_fit_verdict(void **state)
                 nr.has_anchor = 1;
                 nr.anchor_J = test_rng_uniform(&rng, 0, 1) < 0.5 ? aJ : NULL;
                 memcpy(nr.anchor, an, sizeof an);
-                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, an, nr.anchor_rho, aJ, NULL) !=
-                    HP_OK)
+                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, an, nr.anchor_rho, aJ, NULL) != HP_OK)
                     continue;
                 if (ak == FN_ULPS)
                     for (int k = 0; k < L.n; ++k) {
@@ -467,9 +471,11 @@ static void test_certified_fit_verdict(void **state)
                 }
                 double xa[6], xb[6], xc[6];
                 int ia = 0;
-                hp_error ec = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, &plain, xc, NULL, NULL);
+                hp_error ec = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, &plain, xc, NULL,
+                                          NULL);
                 hp_error ea = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, &nr, xa, NULL, &ia);
-                hp_error eb = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, NULL, xb, NULL, NULL);
+                hp_error eb = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, x0, sp, NULL, xb, NULL,
+                                          NULL);
                 int certified = ea == HP_OK && memcmp(xa, an, sizeof xa) == 0 &&
                                 !(ec == HP_OK && memcmp(xc, an, sizeof xc) == 0);
                 double db = eb == HP_OK ? fa_off(xb, xi) : INFINITY;
@@ -484,8 +490,8 @@ static void test_certified_fit_verdict(void **state)
                     worst = fmax(worst, db);
                     if (!(db <= 0.25))
                         print_error("layout %d (%s) level %d fit %d (%s, %s, noise %g): "
-                                    "certified, the full fit %.3g tolerances away\n", li,
-                                    fa_kind_names[kind], lv, t, fa_target_names[tk],
+                                    "certified, the full fit %.3g tolerances away\n",
+                                    li, fa_kind_names[kind], lv, t, fa_target_names[tk],
                                     fa_anchor_names[ak], nz, db);
                     assert_true(db <= 0.25);
                     assert_true(fa_off(an, xi) <= 0.25);
@@ -500,7 +506,8 @@ static void test_certified_fit_verdict(void **state)
     for (int k = 0; k < FN_KINDS; ++k)
         print_message("  %-24s certified %4ld\n", fa_anchor_names[k], by_anchor[k]);
     print_message("certified %ld of %ld fits (%ld before evaluating a step); full fit at most "
-                  "%.2e tol from the expected pose there\n", total_cert, total, early, worst);
+                  "%.2e tol from the expected pose there\n",
+                  total_cert, total, early, worst);
     /* not vacuous: measured ~20 % and ~6 % */
     assert_true(total_cert * 10 >= total);
     assert_true(early > 0);
@@ -563,8 +570,8 @@ static void test_ball_curvature_generated(void **state)
                 if (id.centre_only) xc[3] = xc[4] = xc[5] = 0.0;
                 if (hpi_contact_eval_g(&L, &G, (hp_level)lv, xc, rc, NULL, NULL) != HP_OK) continue;
                 double rad = logu(&rng, 0.01, 40.0);
-                assert_int_equal(hpi_kin_contact_ball_curvature(&L, &G, (hp_level)lv, xc, rad, rc, h),
-                                 HP_OK);
+                assert_int_equal(
+                    hpi_kin_contact_ball_curvature(&L, &G, (hp_level)lv, xc, rad, rc, h), HP_OK);
                 for (int s = 0; s < 6; ++s) {
                     double off[6], n2 = 0.0, p[6];
                     for (int i = 0; i < 6; ++i) off[i] = test_rng_normal(&rng);
@@ -579,11 +586,13 @@ static void test_ball_curvature_generated(void **state)
                         double Hs[36];
                         for (int m = 0; m < 6; ++m)
                             for (int c = 0; c < 6; ++c)
-                                Hs[m * 6 + c] = 1e3 * H[k * 36 + m * 6 + c] * unit_of(m) * unit_of(c);
+                                Hs[m * 6 + c] = 1e3 * H[k * 36 + m * 6 + c] * unit_of(m) *
+                                                unit_of(c);
                         double nrm = fa_spectral_norm(Hs);
                         if (!(nrm <= h[k]))
                             print_error("layout %d level %d ball %d bladder %d: |H| %.6e > bound "
-                                        "%.6e mm/unit^2\n", li, lv, b, k, nrm, h[k]);
+                                        "%.6e mm/unit^2\n",
+                                        li, lv, b, k, nrm, h[k]);
                         assert_true(nrm <= h[k]);
                         worst[lv - 1] = fmax(worst[lv - 1], nrm / h[k]);
                         ++checked;

@@ -120,15 +120,18 @@ static void test_bad_input(void **state)
     double ro[HP_MAX_BLADDERS], xi[6], res;
     for (int k = 0; k < LAY.n; ++k) ro[k] = 0.03;
     ro[3] = NAN;
-    assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_SURFACE, ro, NULL, xi, &res, NULL), HP_ERR_INVALID);
+    assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_SURFACE, ro, NULL, xi, &res, NULL),
+                     HP_ERR_INVALID);
     ro[3] = -0.01;
-    assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_SURFACE, ro, NULL, xi, &res, NULL), HP_ERR_INVALID);
+    assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_SURFACE, ro, NULL, xi, &res, NULL),
+                     HP_ERR_INVALID);
     ro[3] = 0.03;
     assert_int_equal(hp_contact_fk(&LAY, HP_LEVEL_AUTO, ro, NULL, xi, &res, NULL), HP_ERR_INVALID);
     hp_layout few = LAY;
     few.n = 5;
     assert_int_equal(hp_layout_prepare(&few, NULL), HP_OK);
-    assert_int_equal(hp_contact_fk(&few, HP_LEVEL_SURFACE, ro, NULL, xi, &res, NULL), HP_ERR_INVALID);
+    assert_int_equal(hp_contact_fk(&few, HP_LEVEL_SURFACE, ro, NULL, xi, &res, NULL),
+                     HP_ERR_INVALID);
     /* Five bladders cannot hold six degrees of freedom: the analysis says rank 5. */
     hp_layout_analysis a;
     assert_int_equal(hp_layout_analyze(&few, HP_LEVEL_LINEAR, &a), HP_OK);
@@ -165,8 +168,8 @@ static void test_fit_start_and_near(void **state)
             }
             assert_int_equal(hp_contact_eval(&LAY, (hp_level)lv, xi, ro, NULL, NULL), HP_OK);
             assert_int_equal(hp_contact_fit(&LAY, (hp_level)lv, ro, fr, zero, a, &ra, &ia), HP_OK);
-            assert_int_equal(hpi_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, NULL, b, &rb, &ib),
-                             HP_OK);
+            assert_int_equal(
+                hpi_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, NULL, b, &rb, &ib), HP_OK);
             assert_int_equal(ia, ib);
             assert_memory_equal(a, b, sizeof a);
             assert_true(ra == rb);
@@ -176,8 +179,8 @@ static void test_fit_start_and_near(void **state)
                 nr.pose[i] = xi[i];
                 nr.tol[i] = 1e-10;
             }
-            assert_int_equal(hpi_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, &nr, c, NULL, &ic),
-                             HP_OK);
+            assert_int_equal(
+                hpi_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, &nr, c, NULL, &ic), HP_OK);
             stopped += ic < ia;
             for (int i = 0; i < 6; ++i) {
                 assert_true(fabs(c[i] - xi[i]) <= 0.5e-10);
@@ -186,8 +189,8 @@ static void test_fit_start_and_near(void **state)
             int k = it % 6;
             if (!fr[k]) k = (k + 1) % 6;
             nr.pose[k] += k < 3 ? 1e-4 : 1e-4 * 3.14159265358979323846 / 0.18;
-            assert_int_equal(hpi_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, &nr, e, NULL, &ic),
-                             HP_OK);
+            assert_int_equal(
+                hpi_kin_fit(&LAY, &G, (hp_level)lv, ro, fr, zero, &st, &nr, e, NULL, &ic), HP_OK);
             assert_int_equal(ic, ia);
             assert_memory_equal(e, a, sizeof a);
         }
@@ -249,7 +252,8 @@ static void test_fit_certificate(void **state)
                         fr[i] = 0;
                         xi[i] = 0.0;
                     }
-                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, xi, rho, NULL, NULL) != HP_OK) continue;
+                if (hpi_contact_eval_g(&L, &G, (hp_level)lv, xi, rho, NULL, NULL) != HP_OK)
+                    continue;
                 for (int k = 0; k < L.n; ++k)
                     ro[k] = rho[k] * (1.0 + 4e-16 * test_rng_uniform(&rng, -1.0, 1.0));
                 hp_kin_fit_near nr;
@@ -259,7 +263,8 @@ static void test_fit_certificate(void **state)
                     nr.tol[i] = tol[i];
                 }
                 /* without the anchor: the fit as before the certificate */
-                hp_error ec = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xc, NULL, &ic);
+                hp_error ec = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xc, NULL,
+                                          &ic);
                 nr.has_anchor = 1;
                 memcpy(nr.anchor, xi, sizeof xi);
                 memcpy(nr.anchor_rho, rho, sizeof rho);
@@ -270,9 +275,11 @@ static void test_fit_certificate(void **state)
                 if (nr.anchor_J)
                     assert_int_equal(hpi_contact_eval_g(&L, &G, (hp_level)lv, xi, NULL, Ja, NULL),
                                      HP_OK);
-                hp_error ea = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xa, NULL, &ia);
+                hp_error ea = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, &nr, xa, NULL,
+                                          &ia);
                 /* the full fit, to its end */
-                hp_error eb = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, NULL, xb, NULL, &ib);
+                hp_error eb = hpi_kin_fit(&L, &G, (hp_level)lv, ro, fr, zero, &st, NULL, xb, NULL,
+                                          &ib);
                 ++fits;
                 /* distances in units of the tolerance */
                 double da = ea == HP_OK ? 0.0 : INFINITY, db = eb == HP_OK ? 0.0 : INFINITY;
@@ -289,8 +296,8 @@ static void test_fit_certificate(void **state)
                 elsewhere += !(db <= 1.0);
                 if ((da <= 1.0) != (db <= 1.0) || (certified && !(db <= 0.5)))
                     print_error("head %d level %d target %d: certified %d, anchor fit %.3e, "
-                                "full fit %.3e tolerances from the planned pose\n", c, lv, it,
-                                certified, da, db);
+                                "full fit %.3e tolerances from the planned pose\n",
+                                c, lv, it, certified, da, db);
                 assert_int_equal(da <= 1.0, db <= 1.0);
                 if (certified) assert_true(db <= 0.5);
                 /* Expecting a pose 0.3 tolerances off in one free component (the fit still
@@ -304,10 +311,11 @@ static void test_fit_certificate(void **state)
                 assert_true(memcmp(xo, xi, sizeof xo) != 0);
             }
             print_message("head %d %-7s: certified %d of %d fits (%d before evaluating a "
-                          "step); full fit elsewhere in %d\n", c, hp_level_name((hp_level)lv),
-                          cert, fits, early, elsewhere);
+                          "step); full fit elsewhere in %d\n",
+                          c, hp_level_name((hp_level)lv), cert, fits, early, elsewhere);
             if (c < 3) assert_true(cert >= fits / 2);
-            if (c < 2) assert_true(early > 0); /* the elongated head's curvature bound is
+            if (c < 2)
+                assert_true(early > 0); /* the elongated head's curvature bound is
                                                    too large for it */
             total_early += early;
             total_cert += cert;
@@ -315,7 +323,8 @@ static void test_fit_certificate(void **state)
         }
     }
     print_message("certified %d fits (%d before evaluating a step); %d full fits ended away "
-                  "from the planned pose\n", total_cert, total_early, total_elsewhere);
+                  "from the planned pose\n",
+                  total_cert, total_early, total_elsewhere);
 }
 
 /* Column norms of J (n×nf), the fit's Marquardt scales. */

@@ -15,9 +15,15 @@ static void my_rotation(const double th[3], double R[9])
 {
     double ca = cos(th[0]), sa = sin(th[0]), cb = cos(th[1]), sb = sin(th[1]);
     double cg = cos(th[2]), sg = sin(th[2]);
-    double M[9] = {cg * cb, cg * sb * sa - sg * ca, cg * sb * ca + sg * sa,
-                   sg * cb, sg * sb * sa + cg * ca, sg * sb * ca - cg * sa,
-                   -sb,     cb * sa,                cb * ca};
+    double M[9] = {cg * cb,
+                   cg * sb * sa - sg * ca,
+                   cg * sb * ca + sg * sa,
+                   sg * cb,
+                   sg * sb * sa + cg * ca,
+                   sg * sb * ca - cg * sa,
+                   -sb,
+                   cb * sa,
+                   cb * ca};
     memcpy(R, M, sizeof M);
 }
 
@@ -25,10 +31,14 @@ static void my_rotation(const double th[3], double R[9])
 static void axis_angle_pose(const double u[3], double th, double xi[6])
 {
     double c = cos(th), s = sin(th), v = 1.0 - c, R[9];
-    R[0] = c + u[0] * u[0] * v;        R[1] = u[0] * u[1] * v - u[2] * s;
-    R[2] = u[0] * u[2] * v + u[1] * s; R[3] = u[1] * u[0] * v + u[2] * s;
-    R[4] = c + u[1] * u[1] * v;        R[5] = u[1] * u[2] * v - u[0] * s;
-    R[6] = u[2] * u[0] * v - u[1] * s; R[7] = u[2] * u[1] * v + u[0] * s;
+    R[0] = c + u[0] * u[0] * v;
+    R[1] = u[0] * u[1] * v - u[2] * s;
+    R[2] = u[0] * u[2] * v + u[1] * s;
+    R[3] = u[1] * u[0] * v + u[2] * s;
+    R[4] = c + u[1] * u[1] * v;
+    R[5] = u[1] * u[2] * v - u[0] * s;
+    R[6] = u[2] * u[0] * v - u[1] * s;
+    R[7] = u[2] * u[1] * v + u[0] * s;
     R[8] = c + u[2] * u[2] * v;
     xi[0] = xi[1] = xi[2] = 0.0;
     xi[4] = -asin(fmax(-1.0, fmin(1.0, R[6])));
@@ -41,7 +51,8 @@ static void triaxial_range(void **st)
     (void)st;
     hp_layout L;
     assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin, il_origin, 8,
-                               il_default_rays, 1.0), HP_OK);
+                               il_default_rays, 1.0),
+                     HP_OK);
     hp_identifiable id;
     assert_int_equal(hp_layout_identify(&L, &id), HP_OK);
     assert_int_equal(id.rank, 6);
@@ -64,8 +75,9 @@ static void sphere_rank3_any_pivot(void **st)
     const double pivots[4][3] = {{0, 0, 0}, {0, 0, -0.07}, {0, 100, 0}, {0, 0, 1000}};
     for (int pi = 0; pi < 4; ++pi) {
         hp_layout L;
-        assert_int_equal(il_layout(&L, HP_HEAD_SPHERE, r90, il_origin, pivots[pi], 8,
-                                   il_default_rays, 1.0), HP_OK);
+        assert_int_equal(
+            il_layout(&L, HP_HEAD_SPHERE, r90, il_origin, pivots[pi], 8, il_default_rays, 1.0),
+            HP_OK);
         hp_identifiable id;
         assert_int_equal(hp_layout_identify(&L, &id), HP_OK);
         assert_int_equal(id.rank, 3);
@@ -82,8 +94,7 @@ static void sphere_rank3_any_pivot(void **st)
             const double *w = pivots[pi]; /* pivot − centre */
             double t[3] = {v[4] * w[2] - v[5] * w[1], v[5] * w[0] - v[3] * w[2],
                            v[3] * w[1] - v[4] * w[0]};
-            for (int i = 0; i < 3; ++i)
-                hp_assert_close(v[i], t[i], 1e-12, 1e-12);
+            for (int i = 0; i < 3; ++i) hp_assert_close(v[i], t[i], 1e-12, 1e-12);
             /* Scale of the terms: every column's largest entry times its component, plus
              * the translation columns times |ω|·radius (the lever of a turn about the
              * centre, whose exact effect is zero). */
@@ -109,8 +120,8 @@ static void spheroid_rank5(void **st)
     (void)st;
     const double ax[3] = {0.09, 0.115, 0.09};
     hp_layout L;
-    assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, ax, il_origin, il_origin, 8,
-                               il_default_rays, 1.0), HP_OK);
+    assert_int_equal(
+        il_layout(&L, HP_HEAD_ELLIPSOID, ax, il_origin, il_origin, 8, il_default_rays, 1.0), HP_OK);
     hp_identifiable id;
     assert_int_equal(hp_layout_identify(&L, &id), HP_OK);
     assert_int_equal(id.rank, 5);
@@ -118,10 +129,13 @@ static void spheroid_rank5(void **st)
     assert_false(id.centre_only);
     assert_true(id.rot_limit == 0.5 * PI);
     assert_non_null(strstr(id.symmetry, "every turn about its Y axis"));
-    assert_true(fabs(id.null_space[0][HP_ROLL]) > 0.99 * sqrt(
-        id.null_space[0][0] * id.null_space[0][0] + id.null_space[0][1] * id.null_space[0][1] +
-        id.null_space[0][2] * id.null_space[0][2] + id.null_space[0][3] * id.null_space[0][3] +
-        id.null_space[0][4] * id.null_space[0][4] + id.null_space[0][5] * id.null_space[0][5]));
+    assert_true(fabs(id.null_space[0][HP_ROLL]) >
+                0.99 * sqrt(id.null_space[0][0] * id.null_space[0][0] +
+                            id.null_space[0][1] * id.null_space[0][1] +
+                            id.null_space[0][2] * id.null_space[0][2] +
+                            id.null_space[0][3] * id.null_space[0][3] +
+                            id.null_space[0][4] * id.null_space[0][4] +
+                            id.null_space[0][5] * id.null_space[0][5]));
 }
 
 /* The rank decision does not depend on units, the scene's scale or the pivot. Why the test
@@ -158,12 +172,16 @@ static void rank_independent_of_scale_and_pivot(void **st)
         {"sphere", HP_HEAD_SPHERE, r90, 8, il_default_rays, 3},
     };
     const double scales[3] = {1e-3, 1.0, 1e3};
-    const double pivots[5][3] = {{0, 0, 0}, {0.01, -0.02, -0.07}, {0, 100, 0}, {0, 0, 1000},
+    const double pivots[5][3] = {{0, 0, 0},
+                                 {0.01, -0.02, -0.07},
+                                 {0, 100, 0},
+                                 {0, 0, 1000},
                                  {700, -700, 0}}; /* [m] at scale 1 */
     for (size_t c = 0; c < sizeof cases / sizeof cases[0]; ++c) {
         hp_layout L;
         assert_int_equal(il_layout(&L, cases[c].shape, cases[c].ax, il_origin, il_origin,
-                                   cases[c].n, cases[c].rays, 1.0), HP_OK);
+                                   cases[c].n, cases[c].rays, 1.0),
+                         HP_OK);
         hp_identifiable ref;
         assert_int_equal(hp_layout_identify(&L, &ref), HP_OK);
         if (ref.rank != cases[c].rank)
@@ -174,14 +192,16 @@ static void rank_independent_of_scale_and_pivot(void **st)
                 /* The whole scene times s, pivot included (s = 1e3: a 115 m head turned
                  * about a pivot 1000 km away). */
                 assert_int_equal(il_layout(&L, cases[c].shape, cases[c].ax, il_origin, pivots[pi],
-                                           cases[c].n, cases[c].rays, scales[si]), HP_OK);
+                                           cases[c].n, cases[c].rays, scales[si]),
+                                 HP_OK);
                 hp_identifiable id;
                 assert_int_equal(hp_layout_identify(&L, &id), HP_OK);
-                if (id.rank != ref.rank || memcmp(id.commanded, ref.commanded, sizeof ref.commanded))
+                if (id.rank != ref.rank ||
+                    memcmp(id.commanded, ref.commanded, sizeof ref.commanded))
                     print_error("%s scale %g pivot #%d: rank %d commanded %d%d%d%d%d%d\n",
                                 cases[c].name, scales[si], pi, id.rank, id.commanded[0],
-                                id.commanded[1], id.commanded[2], id.commanded[3],
-                                id.commanded[4], id.commanded[5]);
+                                id.commanded[1], id.commanded[2], id.commanded[3], id.commanded[4],
+                                id.commanded[5]);
                 assert_int_equal(id.rank, ref.rank);
                 assert_memory_equal(id.commanded, ref.commanded, sizeof ref.commanded);
                 for (int j = 0; j < ref.rank; ++j) /* rounding of the scaled geometry only */
@@ -215,8 +235,9 @@ static void commanded_part_same_distances(void **st)
     uint64_t rng = 7;
     for (int n = 1; n <= 5; ++n) {
         hp_layout L;
-        assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin,
-                                   il_origin, n, il_default_rays, 1.0), HP_OK);
+        assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin, il_origin, n,
+                                   il_default_rays, 1.0),
+                         HP_OK);
         hp_identifiable id;
         assert_int_equal(hp_layout_identify(&L, &id), HP_OK);
         for (int t = 0; t < 20; ++t) {
@@ -241,8 +262,8 @@ static void commanded_part_sphere_centre(void **st)
     (void)st;
     const double r90[3] = {0.09, 0.09, 0.09}, pivot[3] = {0.01, -0.02, -0.07};
     hp_layout L;
-    assert_int_equal(il_layout(&L, HP_HEAD_SPHERE, r90, il_origin, pivot, 8, il_default_rays,
-                               1.0), HP_OK);
+    assert_int_equal(il_layout(&L, HP_HEAD_SPHERE, r90, il_origin, pivot, 8, il_default_rays, 1.0),
+                     HP_OK);
     hp_identifiable id;
     assert_int_equal(hp_layout_identify(&L, &id), HP_OK);
     uint64_t rng = 11;

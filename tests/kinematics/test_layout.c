@@ -32,7 +32,12 @@ static void test_invalid_layouts(void **state)
     /* A valid layout comes back unchanged: validation derives and stores nothing. */
     assert_memory_equal(&L, &G, sizeof L);
 
-#define BAD(stmt, code, s1, s2) do { L = G; stmt; expect_bad(&L, code, s1, s2); } while (0)
+#define BAD(stmt, code, s1, s2)                                                                    \
+    do {                                                                                           \
+        L = G;                                                                                     \
+        stmt;                                                                                      \
+        expect_bad(&L, code, s1, s2);                                                              \
+    } while (0)
     BAD(L.head.semi_axes[1] = -0.1, HP_ERR_INVALID, "head", "semi_axes.y");
     BAD(L.head.semi_axes[2] = NAN, HP_ERR_INVALID, "head", "semi_axes.z");
     BAD(L.head.center[0] = INFINITY, HP_ERR_INVALID, "head", "center");
@@ -182,10 +187,17 @@ static void test_analysis_default(void **state)
                 for (int k = 0; k < L.n; ++k) {
                     const hp_bladder *b = &L.bladders[k];
                     double ri, P;
-                    if (hp_iab_ri(&b->iab, rho[k], &ri) != HP_OK) { ok = 0; break; }
-                    if (hp_iab_ik(&b->iab, ri, &P) != HP_OK) { ok = 0; break; }
+                    if (hp_iab_ri(&b->iab, rho[k], &ri) != HP_OK) {
+                        ok = 0;
+                        break;
+                    }
+                    if (hp_iab_ik(&b->iab, ri, &P) != HP_OK) {
+                        ok = 0;
+                        break;
+                    }
                     double lam = ri / b->iab.Ri;
-                    if (lam < b->stretch_min || lam > b->stretch_max || P < b->p_min || P > b->p_max)
+                    if (lam < b->stretch_min || lam > b->stretch_max || P < b->p_min ||
+                        P > b->p_max)
                         ok = 0;
                 }
                 assert_int_equal(ok, f == 0);
@@ -235,14 +247,12 @@ static void answers_of(const hp_layout *L, kin_answers *a)
     const double xi[6] = {0.002, -0.001, 0.0015, 0.02, -0.015, 0.01};
     for (int l = 0; l < 3; ++l)
         assert_int_equal(hp_contact_eval(L, (hp_level)l, xi, a->rho[l], a->J[l], a->H[l]), HP_OK);
-    assert_int_equal(hp_contact_error_bound(L, HP_LEVEL_LINEAR, 0.005, 0.05, &a->bound[0]),
-                     HP_OK);
-    assert_int_equal(hp_contact_error_bound(L, HP_LEVEL_PLANE, 0.005, 0.05, &a->bound[1]),
-                     HP_OK);
+    assert_int_equal(hp_contact_error_bound(L, HP_LEVEL_LINEAR, 0.005, 0.05, &a->bound[0]), HP_OK);
+    assert_int_equal(hp_contact_error_bound(L, HP_LEVEL_PLANE, 0.005, 0.05, &a->bound[1]), HP_OK);
     assert_int_equal(hp_contact_auto(L, 1e-5, 0.005, 0.05, &a->autolevel), HP_OK);
     /* Forward kinematics from the surface distances of xi; a fit in x, y, z alone. */
-    assert_int_equal(hp_contact_fk(L, HP_LEVEL_SURFACE, a->rho[2], NULL, a->fk, &a->fk_resid,
-                                   NULL), HP_OK);
+    assert_int_equal(hp_contact_fk(L, HP_LEVEL_SURFACE, a->rho[2], NULL, a->fk, &a->fk_resid, NULL),
+                     HP_OK);
     const int free_[6] = {1, 1, 1, 0, 0, 0};
     const double x0[6] = {0};
     assert_int_equal(hp_contact_fit(L, HP_LEVEL_PLANE, a->rho[1], free_, x0, a->fit, NULL, NULL),
@@ -251,8 +261,7 @@ static void answers_of(const hp_layout *L, kin_answers *a)
     assert_int_equal(hp_pose_commanded_part(L, &a->id, HP_LEVEL_SURFACE, xi, a->xc), HP_OK);
     assert_int_equal(hp_layout_analyze(L, HP_LEVEL_PLANE, &a->an), HP_OK);
     for (int k = 0; k < L->n; ++k)
-        assert_int_equal(hp_layout_contact(L, k, a->contact[k], a->normal[k], &a->rho0[k]),
-                         HP_OK);
+        assert_int_equal(hp_layout_contact(L, k, a->contact[k], a->normal[k], &a->rho0[k]), HP_OK);
 }
 
 /* The layout holds inputs only, so editing it after validation cannot leave stale derived
@@ -323,17 +332,14 @@ static void test_edit_after_validation(void **state)
     assert_int_equal(hp_contact_eval(&E, HP_LEVEL_LINEAR, xi, r, Jb, NULL), HP_ERR_INVALID);
     for (int k = 0; k < 8; ++k) assert_true(isnan(r[k]) && isnan(Jb[6 * k]));
     assert_int_equal(hp_layout_identify(&E, &ie), HP_ERR_INVALID);
-    assert_int_equal(hp_contact_error_bound(&E, HP_LEVEL_PLANE, 0.005, 0.0, &b_e),
-                     HP_ERR_INVALID);
+    assert_int_equal(hp_contact_error_bound(&E, HP_LEVEL_PLANE, 0.005, 0.0, &b_e), HP_ERR_INVALID);
 }
 
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_invalid_layouts),
-        cmocka_unit_test(test_touch_and_preload),
-        cmocka_unit_test(test_edit_after_validation),
-        cmocka_unit_test(test_analysis_default),
+        cmocka_unit_test(test_invalid_layouts),       cmocka_unit_test(test_touch_and_preload),
+        cmocka_unit_test(test_edit_after_validation), cmocka_unit_test(test_analysis_default),
         cmocka_unit_test(test_analysis_sphere),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -87,15 +87,19 @@ static void q_of_p(const hp_load_model *M, const double *P, double *out, int nou
     assert_int_equal(hp_load_eval(M, XI_AT, P, out, NULL, NULL, NULL, NULL), HP_OK);
 }
 
-static void richardson(const hp_load_model *M, vec_fn f, const double *x0, int nx, int i,
-                       double h, int nout, double *d)
+static void richardson(const hp_load_model *M, vec_fn f, const double *x0, int nx, int i, double h,
+                       int nout, double *d)
 {
     double x[16], a[6], b[6], c[6], e[6];
     memcpy(x, x0, (size_t)nx * sizeof *x);
-    x[i] = x0[i] + h;       f(M, x, a, nout);
-    x[i] = x0[i] - h;       f(M, x, b, nout);
-    x[i] = x0[i] + h / 2.0; f(M, x, c, nout);
-    x[i] = x0[i] - h / 2.0; f(M, x, e, nout);
+    x[i] = x0[i] + h;
+    f(M, x, a, nout);
+    x[i] = x0[i] - h;
+    f(M, x, b, nout);
+    x[i] = x0[i] + h / 2.0;
+    f(M, x, c, nout);
+    x[i] = x0[i] - h / 2.0;
+    f(M, x, e, nout);
     for (int r = 0; r < nout; ++r) {
         double D1 = (a[r] - b[r]) / (2.0 * h), D2 = (c[r] - e[r]) / h;
         d[r] = (4.0 * D2 - D1) / 3.0;
@@ -290,9 +294,8 @@ static void test_owns_layout(void **state)
         const hp_load_model *M = MOD[l];
         assert_int_equal(hp_load_model_level(M), LEVELS[l]);
         double rho[8], Q[6], F[8];
-        assert_int_equal(hp_contact_eval(hp_load_model_layout(M), LEVELS[l], XI_TEST, rho, NULL,
-                                         NULL),
-                         HP_OK);
+        assert_int_equal(
+            hp_contact_eval(hp_load_model_layout(M), LEVELS[l], XI_TEST, rho, NULL, NULL), HP_OK);
         assert_int_equal(hp_load_eval(M, XI_TEST, P_HOLD, Q, NULL, NULL, F, NULL), HP_OK);
         for (int k = 0; k < 8; ++k) {
             double ro;
@@ -311,9 +314,8 @@ static void test_owns_layout(void **state)
     L.bladders[0].center[2] -= 2e-3; /* edits after create */
     L.head.semi_axes[1] += 1e-3;
     s.mass *= 2.0;
-    assert_int_equal(hp_load_model_create(&kept, hp_load_model_spec(M), HP_LEVEL_SURFACE, &Mk,
-                                          NULL),
-                     HP_OK);
+    assert_int_equal(
+        hp_load_model_create(&kept, hp_load_model_spec(M), HP_LEVEL_SURFACE, &Mk, NULL), HP_OK);
     assert_int_equal(hp_load_model_create(&L, &s, HP_LEVEL_SURFACE, &Me, NULL), HP_OK);
     assert_true(hp_load_model_layout(M)->bladders[0].center[2] == kept.bladders[0].center[2]);
     assert_true(hp_load_model_spec(M)->mass * 2.0 == s.mass);
@@ -355,14 +357,13 @@ static void test_bad_input(void **state)
     assert_non_null(strstr(d.text, "gravity"));
     assert_int_equal(hp_load_spec_validate(NULL, &d), HP_ERR_NULL);
     hp_load_model *M = MOD[0];
-    assert_int_equal(hp_load_model_create(hp_load_model_layout(MOD[0]), &s, HP_LEVEL_AUTO, &M,
-                                          &d),
+    assert_int_equal(hp_load_model_create(hp_load_model_layout(MOD[0]), &s, HP_LEVEL_AUTO, &M, &d),
                      HP_ERR_INVALID);
     assert_null(M); /* *out is cleared on error */
     assert_non_null(strstr(d.text, "level"));
-    assert_int_equal(hp_load_model_create(hp_load_model_layout(MOD[0]), &s, HP_LEVEL_SURFACE,
-                                          NULL, &d),
-                     HP_ERR_NULL);
+    assert_int_equal(
+        hp_load_model_create(hp_load_model_layout(MOD[0]), &s, HP_LEVEL_SURFACE, NULL, &d),
+        HP_ERR_NULL);
     assert_int_equal(hp_load_model_create(NULL, &s, HP_LEVEL_SURFACE, &M, &d), HP_ERR_NULL);
     assert_null(M);
     double xi[6] = {0, NAN, 0, 0, 0, 0}, Q[6], F[8];
@@ -387,14 +388,10 @@ static void test_bad_input(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_law_hand_values),
-        cmocka_unit_test(test_derivatives),
-        cmocka_unit_test(test_potential),
-        cmocka_unit_test(test_rest),
-        cmocka_unit_test(test_no_rest),
-        cmocka_unit_test(test_compliance_predicts),
-        cmocka_unit_test(test_auto_choice),
-        cmocka_unit_test(test_owns_layout),
+        cmocka_unit_test(test_law_hand_values), cmocka_unit_test(test_derivatives),
+        cmocka_unit_test(test_potential),       cmocka_unit_test(test_rest),
+        cmocka_unit_test(test_no_rest),         cmocka_unit_test(test_compliance_predicts),
+        cmocka_unit_test(test_auto_choice),     cmocka_unit_test(test_owns_layout),
         cmocka_unit_test(test_bad_input),
     };
     return cmocka_run_group_tests(tests, setup, teardown);

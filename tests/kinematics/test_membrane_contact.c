@@ -94,8 +94,7 @@ static double shoot(double lc, double s0a, double P, int steps, double *a, doubl
 }
 
 /* The centre stretch for contact edge s0a, by bisection on the equator angle. */
-static int solve_contact(double s0a, double P, double lfree, int steps, double *a,
-                         double *rho)
+static int solve_contact(double s0a, double P, double lfree, int steps, double *a, double *rho)
 {
     /* The equator angle turns very fast near the root (a centre stretch a little too
      * small curls the meridian over): scan for the sign change from + to − where both

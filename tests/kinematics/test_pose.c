@@ -80,8 +80,8 @@ static void test_rotation_90(void **state)
 static void test_rotation_orthogonal(void **state)
 {
     (void)state;
-    const double angles[4][3] = {{0.3, -1.1, 2.5}, {-3.0, 0.01, 0.7}, {1e-9, 2e-9, -3e-9},
-                                 {PI, -PI / 3, PI / 7}};
+    const double angles[4][3] = {
+        {0.3, -1.1, 2.5}, {-3.0, 0.01, 0.7}, {1e-9, 2e-9, -3e-9}, {PI, -PI / 3, PI / 7}};
     for (int a = 0; a < 4; ++a) {
         double R[9], RtR[9], Rt[9];
         hp_rotation(angles[a][0], angles[a][1], angles[a][2], R);
@@ -231,10 +231,9 @@ static void test_names(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_clinical_round_trip), cmocka_unit_test(test_rotation_90),
-        cmocka_unit_test(test_rotation_orthogonal), cmocka_unit_test(test_rotation_derivs),
-        cmocka_unit_test(test_rotation_derivs_closed_form),
-        cmocka_unit_test(test_names),
+        cmocka_unit_test(test_clinical_round_trip),         cmocka_unit_test(test_rotation_90),
+        cmocka_unit_test(test_rotation_orthogonal),         cmocka_unit_test(test_rotation_derivs),
+        cmocka_unit_test(test_rotation_derivs_closed_form), cmocka_unit_test(test_names),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -54,16 +54,32 @@ static void plans_without_allocation(hp_level level, double rate)
         total += alloc_count;
         assert_int_equal(e, HP_OK);
     }
-    print_message("%s level, rate %g: %ld allocations in 60 plans\n", hp_level_name(level),
-                  rate, total);
+    print_message("%s level, rate %g: %ld allocations in 60 plans\n", hp_level_name(level), rate,
+                  total);
     assert_int_equal(total, 0);
     hp_planner_destroy(p);
 }
 
-static void test_linear(void **st) { (void)st; plans_without_allocation(HP_LEVEL_LINEAR, INFINITY); }
-static void test_plane(void **st) { (void)st; plans_without_allocation(HP_LEVEL_PLANE, INFINITY); }
-static void test_surface(void **st) { (void)st; plans_without_allocation(HP_LEVEL_SURFACE, INFINITY); }
-static void test_rate(void **st) { (void)st; plans_without_allocation(HP_LEVEL_SURFACE, 400.0); }
+static void test_linear(void **st)
+{
+    (void)st;
+    plans_without_allocation(HP_LEVEL_LINEAR, INFINITY);
+}
+static void test_plane(void **st)
+{
+    (void)st;
+    plans_without_allocation(HP_LEVEL_PLANE, INFINITY);
+}
+static void test_surface(void **st)
+{
+    (void)st;
+    plans_without_allocation(HP_LEVEL_SURFACE, INFINITY);
+}
+static void test_rate(void **st)
+{
+    (void)st;
+    plans_without_allocation(HP_LEVEL_SURFACE, 400.0);
+}
 
 int main(void)
 {

@@ -25,9 +25,15 @@ static double my_angle(const double th[3])
 {
     double ca = cos(th[0]), sa = sin(th[0]), cb = cos(th[1]), sb = sin(th[1]);
     double cg = cos(th[2]), sg = sin(th[2]);
-    double R[9] = {cg * cb, cg * sb * sa - sg * ca, cg * sb * ca + sg * sa,
-                   sg * cb, sg * sb * sa + cg * ca, sg * sb * ca - cg * sa,
-                   -sb,     cb * sa,                cb * ca};
+    double R[9] = {cg * cb,
+                   cg * sb * sa - sg * ca,
+                   cg * sb * ca + sg * sa,
+                   sg * cb,
+                   sg * sb * sa + cg * ca,
+                   sg * sb * ca - cg * sa,
+                   -sb,
+                   cb * sa,
+                   cb * ca};
     double s = 0.5 * sqrt((R[7] - R[5]) * (R[7] - R[5]) + (R[2] - R[6]) * (R[2] - R[6]) +
                           (R[3] - R[1]) * (R[3] - R[1]));
     return atan2(s, 0.5 * (R[0] + R[4] + R[8] - 1.0));
@@ -79,19 +85,18 @@ static void five_direction_answers_in_range(void **st)
                     }
                     ++answers;
                     closest += r.status == HP_STATUS_CLOSEST;
-                    double tn = sqrt(r.achieved[0] * r.achieved[0] +
-                                     r.achieved[1] * r.achieved[1] +
+                    double tn = sqrt(r.achieved[0] * r.achieved[0] + r.achieved[1] * r.achieved[1] +
                                      r.achieved[2] * r.achieved[2]);
                     double ang = my_angle(r.achieved + 3), deg = 180 / 3.14159265358979323846;
                     if (!(tn <= id->trans_limit && ang < id->rot_limit))
                         fail_msg("%s, layout %d %s, correction %d: %s at (%.1f, %.1f, %.1f) mm "
                                  "(%.1f, %.1f, %.1f) deg: |t| %.1f mm (limit %.1f), angle "
                                  "%.1f deg (limit %.1f)",
-                                 hp_backend_name(backends[bi]), li, hp_level_name(levels[lv]),
-                                 t, hp_status_name(r.status), r.achieved[0] * 1e3,
-                                 r.achieved[1] * 1e3, r.achieved[2] * 1e3, r.achieved[3] * deg,
-                                 r.achieved[4] * deg, r.achieved[5] * deg, tn * 1e3,
-                                 id->trans_limit * 1e3, ang * deg, id->rot_limit * deg);
+                                 hp_backend_name(backends[bi]), li, hp_level_name(levels[lv]), t,
+                                 hp_status_name(r.status), r.achieved[0] * 1e3, r.achieved[1] * 1e3,
+                                 r.achieved[2] * 1e3, r.achieved[3] * deg, r.achieved[4] * deg,
+                                 r.achieved[5] * deg, tn * 1e3, id->trans_limit * 1e3, ang * deg,
+                                 id->rot_limit * deg);
                 }
                 hp_planner_destroy(p);
             }

@@ -120,12 +120,21 @@ static void test_settings_validator(void **st)
 {
     (void)st;
     const bad_case cases[] = {
-        {"backend", b_backend},   {"level", b_level},       {"level_tolerance", b_ltol},
-        {"level_tolerance", b_ltol0}, {"auto_trans", b_atrans}, {"auto_rot", b_arot},
-        {"tolerance", b_tol},     {"tolerance", b_tol0},    {"tolerance", b_tol_huge},
+        {"backend", b_backend},
+        {"level", b_level},
+        {"level_tolerance", b_ltol},
+        {"level_tolerance", b_ltol0},
+        {"auto_trans", b_atrans},
+        {"auto_rot", b_arot},
+        {"tolerance", b_tol},
+        {"tolerance", b_tol0},
+        {"tolerance", b_tol_huge},
         {"max_iter", b_iter},
-        {"max_time", b_time},     {"weight_mm_per_deg", b_weight}, {"mu", b_mu},
-        {"use_rate_limits", b_rate}, {"warm_start", b_warm},
+        {"max_time", b_time},
+        {"weight_mm_per_deg", b_weight},
+        {"mu", b_mu},
+        {"use_rate_limits", b_rate},
+        {"warm_start", b_warm},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         hp_settings s;

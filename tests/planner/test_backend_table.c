@@ -40,7 +40,8 @@ static void test_capabilities(void **st)
     unsigned ip = hpi_backend_table(HP_BACKEND_IPOPT)->caps;
     unsigned sq = hpi_backend_table(HP_BACKEND_NLOPT_SLSQP)->caps;
     unsigned cb = hpi_backend_table(HP_BACKEND_NLOPT_COBYLA)->caps;
-    assert_true(rt & HP_BACKEND_REAL_TIME && rt & HP_BACKEND_THREAD_SAFE && rt & HP_BACKEND_CERTIFIES);
+    assert_true(rt & HP_BACKEND_REAL_TIME && rt & HP_BACKEND_THREAD_SAFE &&
+                rt & HP_BACKEND_CERTIFIES);
     assert_true(ip & HP_BACKEND_CERTIFIES && !(ip & HP_BACKEND_THREAD_SAFE));
     assert_true(!(sq & HP_BACKEND_CERTIFIES) && !(cb & HP_BACKEND_CERTIFIES));
     for (int b = 0; b < HP_BACKEND_COUNT_; ++b)

@@ -174,13 +174,15 @@ static void unreachable_closest(void **st)
     assert_int_equal(hpi_backend_kkt_measure(&pb, xi, &mi), HP_OK);
     assert_int_equal(hpi_backend_kkt_measure(&pb, xs, &ms), HP_OK);
     print_message("KKT residual: ipopt %.2e, slsqp %.2e; contact violation ipopt %.2e, slsqp "
-                  "%.2e mm\n", mi.stationarity, ms.stationarity, mi.feasibility, ms.feasibility);
+                  "%.2e mm\n",
+                  mi.stationarity, ms.stationarity, mi.feasibility, ms.feasibility);
     assert_true(mi.stationarity <= 1e-9);
     assert_true(mi.wrong_sign == 0.0 && ms.wrong_sign == 0.0);
     double worst = 0.0;
     for (int i = 0; i < pb.nx; i++) worst = fmax(worst, fabs(xi[i] - xs[i]));
     print_message("closest: ipopt x = %.6f mm (iters %d), slsqp x = %.6f mm (evals %d); max "
-                  "difference %.2e\n", xi[0], ri.iterations, xs[0], rs.iterations, worst);
+                  "difference %.2e\n",
+                  xi[0], ri.iterations, xs[0], rs.iterations, worst);
     assert_true(worst <= 1e-5);
     assert_true(max_contact_violation(&pb, xi) <= 1e-9);
     assert_true(max_contact_violation(&pb, xs) <= 1e-9);
@@ -204,8 +206,9 @@ static void unreachable_closest(void **st)
         int bs = xs[6 + k] - pb.ri_lo[k] <= 1e-6 || pb.ri_hi[k] - xs[6 + k] <= 1e-6;
         assert_int_equal(bi, bs);
         nbind += bi;
-        if (bi) print_message("  binding: %s ri %.6f mm in [%.6f, %.6f]\n", L.bladders[k].name,
-                              xi[6 + k], pb.ri_lo[k], pb.ri_hi[k]);
+        if (bi)
+            print_message("  binding: %s ri %.6f mm in [%.6f, %.6f]\n", L.bladders[k].name,
+                          xi[6 + k], pb.ri_lo[k], pb.ri_hi[k]);
     }
     assert_true(nbind >= 1);
     /* Releasing the binding bounds must let the pose error fall: they really bind. */
@@ -260,7 +263,7 @@ static void deterministic(void **st)
 #define THREAD_SOLVES 20
 
 typedef struct job {
-    int first;                                 /* index of the first target */
+    int first; /* index of the first target */
     double x[THREAD_SOLVES][HP_PROBLEM_NX_MAX];
     int ok;
 } job;

@@ -101,8 +101,8 @@ static void sweep(const hp_layout *L, int n_axes, int n_random, uint64_t seed)
             assert_int_equal(hp_plan(ip, xi, &r), HP_OK);
             if (r.status != HP_STATUS_CLOSEST) {
                 ++failed;
-                print_message("ipopt, direction %d, x%.7f (reach %.6f): %s: %s\n", dI,
-                              factors[f], t, hp_status_name(r.status), hp_planner_error(ip));
+                print_message("ipopt, direction %d, x%.7f (reach %.6f): %s: %s\n", dI, factors[f],
+                              t, hp_status_name(r.status), hp_planner_error(ip));
                 continue;
             }
             ++closest;
@@ -113,7 +113,8 @@ static void sweep(const hp_layout *L, int n_axes, int n_random, uint64_t seed)
         }
     }
     printf("%d directions, ipopt: %d closest, %d not; worst distance to realtime's closest "
-           "pose %.3g mm/deg\n", dirs, closest, failed, worst);
+           "pose %.3g mm/deg\n",
+           dirs, closest, failed, worst);
     assert_true(dirs >= 2 * n_axes + n_random - 4); /* nearly every direction has a reach */
     assert_int_equal(failed, 0);
     assert_true(worst <= 1e-5);

@@ -28,8 +28,7 @@
 #define N_UNREACH 40 /* seeded unreachable targets per level */
 
 static const hp_backend backends[N_BACKENDS] = {HP_BACKEND_IPOPT, HP_BACKEND_REALTIME,
-                                                HP_BACKEND_NLOPT_SLSQP,
-                                                HP_BACKEND_NLOPT_COBYLA};
+                                                HP_BACKEND_NLOPT_SLSQP, HP_BACKEND_NLOPT_COBYLA};
 
 /* Settings tolerance per backend (mm and deg). COBYLA's linear models converge linearly: its
  * documented working tolerance is 1e-7 (docs/backends.md); the others run the default 1e-9. */
@@ -85,9 +84,9 @@ static void check_limits(const hp_layout *L, const hp_result *r, const char *who
                  b->pressure >= B->p_min && b->pressure <= B->p_max &&
                  b->stretch >= B->stretch_min && b->stretch <= B->stretch_max;
         if (!ok) {
-            print_error("%s: bladder %s: pressure %.17g Pa [%g, %g], stretch %.17g [%g, %g]\n",
-                        who, B->name, b->pressure, B->p_min, B->p_max, b->stretch,
-                        B->stretch_min, B->stretch_max);
+            print_error("%s: bladder %s: pressure %.17g Pa [%g, %g], stretch %.17g [%g, %g]\n", who,
+                        B->name, b->pressure, B->p_min, B->p_max, b->stretch, B->stretch_min,
+                        B->stretch_max);
             fail();
         }
     }
@@ -191,22 +190,21 @@ static void unreachable_at(hp_level level)
             if (diff > worst[b]) worst[b] = diff;
             if (!(diff <= agree_tolerance(backends[b]))) {
                 print_error("%s level %s target %d: closest pose %.3g from Ipopt's (> %.3g)\n",
-                            name, hp_level_name(level), t, diff,
-                            agree_tolerance(backends[b]));
+                            name, hp_level_name(level), t, diff, agree_tolerance(backends[b]));
                 fail();
             }
             for (int k = 0; k < L.n; ++k) {
                 if ((r.bladders[k].binding != 0) != (ref.bladders[k].binding != 0)) {
-                    print_error("%s level %s target %d: bladder %s binding %#x, Ipopt %#x\n",
-                                name, hp_level_name(level), t, L.bladders[k].name,
-                                r.bladders[k].binding, ref.bladders[k].binding);
+                    print_error("%s level %s target %d: bladder %s binding %#x, Ipopt %#x\n", name,
+                                hp_level_name(level), t, L.bladders[k].name, r.bladders[k].binding,
+                                ref.bladders[k].binding);
                     fail();
                 }
             }
         }
     }
-    print_message("level %-7s worst round trip from the achieved pose %.3g\n",
-                  hp_level_name(level), worst_rt);
+    print_message("level %-7s worst round trip from the achieved pose %.3g\n", hp_level_name(level),
+                  worst_rt);
     for (int b = 1; b < N_BACKENDS; ++b)
         print_message("level %-7s %-12s worst closest-pose difference from Ipopt %.3g\n",
                       hp_level_name(level), hp_backend_name(backends[b]), worst[b]);
@@ -274,12 +272,36 @@ static void test_loose_tolerance(void **s)
     for (int l = HP_LEVEL_LINEAR; l <= HP_LEVEL_SURFACE; ++l) loose_tolerance_at((hp_level)l);
 }
 
-static void test_reachable_linear(void **s) { (void)s; reachable_at(HP_LEVEL_LINEAR); }
-static void test_reachable_plane(void **s) { (void)s; reachable_at(HP_LEVEL_PLANE); }
-static void test_reachable_surface(void **s) { (void)s; reachable_at(HP_LEVEL_SURFACE); }
-static void test_unreachable_linear(void **s) { (void)s; unreachable_at(HP_LEVEL_LINEAR); }
-static void test_unreachable_plane(void **s) { (void)s; unreachable_at(HP_LEVEL_PLANE); }
-static void test_unreachable_surface(void **s) { (void)s; unreachable_at(HP_LEVEL_SURFACE); }
+static void test_reachable_linear(void **s)
+{
+    (void)s;
+    reachable_at(HP_LEVEL_LINEAR);
+}
+static void test_reachable_plane(void **s)
+{
+    (void)s;
+    reachable_at(HP_LEVEL_PLANE);
+}
+static void test_reachable_surface(void **s)
+{
+    (void)s;
+    reachable_at(HP_LEVEL_SURFACE);
+}
+static void test_unreachable_linear(void **s)
+{
+    (void)s;
+    unreachable_at(HP_LEVEL_LINEAR);
+}
+static void test_unreachable_plane(void **s)
+{
+    (void)s;
+    unreachable_at(HP_LEVEL_PLANE);
+}
+static void test_unreachable_surface(void **s)
+{
+    (void)s;
+    unreachable_at(HP_LEVEL_SURFACE);
+}
 
 /* A clinical pose tolerance (0.05, 0.5 mm/deg) is the acceptance of an answer, not the
  * solver's precision: NLopt is handed at most the default tolerance, so a binding target
@@ -336,11 +358,10 @@ static void nlopt_loose_tolerance(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_reachable_linear),   cmocka_unit_test(test_reachable_plane),
-        cmocka_unit_test(test_reachable_surface),  cmocka_unit_test(test_unreachable_linear),
-        cmocka_unit_test(test_unreachable_plane),  cmocka_unit_test(test_unreachable_surface),
-        cmocka_unit_test(test_loose_tolerance),
-        cmocka_unit_test(nlopt_loose_tolerance),
+        cmocka_unit_test(test_reachable_linear),  cmocka_unit_test(test_reachable_plane),
+        cmocka_unit_test(test_reachable_surface), cmocka_unit_test(test_unreachable_linear),
+        cmocka_unit_test(test_unreachable_plane), cmocka_unit_test(test_unreachable_surface),
+        cmocka_unit_test(test_loose_tolerance),   cmocka_unit_test(nlopt_loose_tolerance),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

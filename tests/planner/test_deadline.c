@@ -18,8 +18,8 @@
 #define RT_LATE_MAX 3
 
 static const double beyond[][6] = {
-    {30, 0, 0, 0, 0, 0},  {0, -25, 0, 0, 0, 0}, {0, 0, 20, 10, 0, 0},
-    {12, 8, -9, 6, -7, 5}, {0, 0, 0, 0, 0, 20}, {-20, 15, 0, 0, 8, 0},
+    {30, 0, 0, 0, 0, 0},   {0, -25, 0, 0, 0, 0}, {0, 0, 20, 10, 0, 0},
+    {12, 8, -9, 6, -7, 5}, {0, 0, 0, 0, 0, 20},  {-20, 15, 0, 0, 8, 0},
 };
 #define N_BEYOND (int)(sizeof beyond / sizeof beyond[0])
 
@@ -47,8 +47,8 @@ static void check_safe(const hp_planner *p, const hp_result *r, const double *P0
         const hp_bladder *B = &L->bladders[k];
         double P = r->bladders[k].pressure;
         if (!(P >= B->p_min && P <= B->p_max && P >= P0[k] - rate && P <= P0[k] + rate)) {
-            print_error("%s: bladder %d pressure %.17g outside its limits or rate window\n",
-                        what, k, P);
+            print_error("%s: bladder %d pressure %.17g outside its limits or rate window\n", what,
+                        k, P);
             fail();
         }
     }
@@ -59,8 +59,8 @@ static void check_safe(const hp_planner *p, const hp_result *r, const double *P0
          * anything a head can feel. */
         double tol = i < 3 ? 1e-7 : 1e-6;
         if (!(fabs(xi[i] - r->achieved[i]) <= tol)) {
-            print_error("%s: component %d: forward model %.12g, stated achieved %.12g\n", what,
-                        i, xi[i], r->achieved[i]);
+            print_error("%s: component %d: forward model %.12g, stated achieved %.12g\n", what, i,
+                        xi[i], r->achieved[i]);
             fail();
         }
     }
@@ -96,8 +96,8 @@ static void test_expired_budget(void **state)
                 hp_test_rt_counts c;
                 hpi_test_realtime_counts(&c);
                 char what[80];
-                snprintf(what, sizeof what, "%s rate %g plan %d (%s)",
-                         hp_level_name(levels[l]), rate, t, hp_status_name(r.status));
+                snprintf(what, sizeof what, "%s rate %g plan %d (%s)", hp_level_name(levels[l]),
+                         rate, t, hp_status_name(r.status));
                 if (c.solves > 0) {
                     if (r.status != HP_STATUS_TIME_LIMIT) {
                         print_error("%s: the solver ran; want time-limit: %s\n", what,
@@ -112,7 +112,8 @@ static void test_expired_budget(void **state)
                 late += c.late;
                 if (c.late > RT_LATE_MAX * c.solves) {
                     print_error("%s: %ld pieces of work begun after the deadline in %ld "
-                                "solves\n", what, c.late, c.solves);
+                                "solves\n",
+                                what, c.late, c.solves);
                     fail();
                 }
             }
@@ -120,7 +121,8 @@ static void test_expired_budget(void **state)
         }
     }
     print_message("expired budget: %ld plans stopped by time, %ld solves, %ld late pieces "
-                  "of work\n", stopped, solves, late);
+                  "of work\n",
+                  stopped, solves, late);
     assert_true(stopped >= 36); /* the solver ran on most of the 72 plans */
 }
 

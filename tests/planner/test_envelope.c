@@ -62,7 +62,8 @@ static void check_layout(const hp_layout *L, const char *what, unsigned want_hi_
     double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
     assert_int_equal(hp_planner_pressure_bounds(lp, lo, hi), HP_OK);
     for (int k = 0; k < L->n; ++k)
-        if (memcmp(&lo[k], &sb.p_lo[k], sizeof lo[k]) || memcmp(&hi[k], &sb.p_hi[k], sizeof hi[k])) {
+        if (memcmp(&lo[k], &sb.p_lo[k], sizeof lo[k]) ||
+            memcmp(&hi[k], &sb.p_hi[k], sizeof hi[k])) {
             print_error("%s bladder %d: load bounds [%.17g, %.17g], envelope [%.17g, %.17g]\n",
                         what, k, lo[k], hi[k], sb.p_lo[k], sb.p_hi[k]);
             fail();
@@ -83,8 +84,8 @@ static void test_envelope_everywhere(void **state)
 
     assert_int_equal(lf_layout(&L), HP_OK);
     double s_cap;
-    assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[0].iab, 1.2 * L.bladders[0].iab.Ri,
-                                              &s_cap), HP_OK);
+    assert_int_equal(
+        hp_iab_hoop_stress_inner(&L.bladders[0].iab, 1.2 * L.bladders[0].iab.Ri, &s_cap), HP_OK);
     for (int k = 0; k < L.n; ++k) L.bladders[k].stress_max = s_cap;
     assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
     check_layout(&L, "stress", HP_BIND_STRESS_MAX);

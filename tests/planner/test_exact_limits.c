@@ -79,17 +79,15 @@ static void stretch_limits_exact_every_backend(void **st)
                 const hp_bladder_result *b = &r.bladders[k];
                 if (!inside_exactly(b->ri, B->iab.Ri, B->stretch_min, B->stretch_max))
                     fail_msg("%s, plan %d, %s (%s): ri %a outside [%a, %a] * Ri %a exactly",
-                             hp_backend_name(backends[bi]), t, B->name,
-                             hp_status_name(r.status), b->ri, B->stretch_min, B->stretch_max,
-                             B->iab.Ri);
+                             hp_backend_name(backends[bi]), t, B->name, hp_status_name(r.status),
+                             b->ri, B->stretch_min, B->stretch_max, B->iab.Ri);
                 on_limit += b->binding & (HP_BIND_STRETCH_MIN | HP_BIND_STRETCH_MAX) ? 1 : 0;
                 ++checked;
             }
             hp_planner_destroy(p);
         }
         printf("%s: %d radii checked, %d on a stretch limit; %d of %d bladders round outward\n",
-               hp_backend_name(backends[bi]), checked, on_limit, outward,
-               plans_per_backend * 8);
+               hp_backend_name(backends[bi]), checked, on_limit, outward, plans_per_backend * 8);
         /* The test must exercise the limit: answers on it, from pairs that round outward. */
         assert_true(on_limit >= plans_per_backend);
         assert_true(outward > 0);

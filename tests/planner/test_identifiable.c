@@ -27,9 +27,15 @@ static void my_rotation(const double th[3], double R[9])
 {
     double ca = cos(th[0]), sa = sin(th[0]), cb = cos(th[1]), sb = sin(th[1]);
     double cg = cos(th[2]), sg = sin(th[2]);
-    double M[9] = {cg * cb, cg * sb * sa - sg * ca, cg * sb * ca + sg * sa,
-                   sg * cb, sg * sb * sa + cg * ca, sg * sb * ca - cg * sa,
-                   -sb,     cb * sa,                cb * ca};
+    double M[9] = {cg * cb,
+                   cg * sb * sa - sg * ca,
+                   cg * sb * ca + sg * sa,
+                   sg * cb,
+                   sg * sb * sa + cg * ca,
+                   sg * sb * ca - cg * sa,
+                   -sb,
+                   cb * sa,
+                   cb * ca};
     memcpy(R, M, sizeof M);
 }
 
@@ -129,8 +135,8 @@ static void range_verdict_exact(void **st)
         const char *e = hp_planner_error(p);
         int refused = r.status == HP_STATUS_INVALID_INPUT && strstr(e, "identifiable range");
         if (refused != (bad_t || bad_r))
-            print_error("pose %d: |t| %.17g (limit %.17g), angle %.17g (limit %.17g): %s %s\n",
-                        t, nrm, id->trans_limit, ang, id->rot_limit, hp_status_name(r.status), e);
+            print_error("pose %d: |t| %.17g (limit %.17g), angle %.17g (limit %.17g): %s %s\n", t,
+                        nrm, id->trans_limit, ang, id->rot_limit, hp_status_name(r.status), e);
         assert_int_equal(refused, bad_t || bad_r);
         if (bad_t) assert_non_null(strstr(e, "desired translation"));
         else if (bad_r) assert_non_null(strstr(e, "desired rotation"));
@@ -157,8 +163,9 @@ static void deficient_layouts_never_reached(void **st)
         hp_layout L;
         int n = c <= 5 ? c : 8;
         const double(*rays)[3] = c <= 5 ? il_default_rays : (const double(*)[3])flat;
-        assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin,
-                                   il_origin, n, rays, 1.0), HP_OK);
+        assert_int_equal(
+            il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin, il_origin, n, rays, 1.0),
+            HP_OK);
         for (int bi = 0; bi < 2; ++bi) {
             hp_planner *p = make(&L, backends[bi], HP_LEVEL_SURFACE);
             assert_non_null(p);
@@ -219,8 +226,9 @@ static void far_pivot_commands_everything(void **st)
     const double pivots[3][3] = {{0, 0, -0.07}, {0, 100.0, 0}, {0, 0, 1000.0}};
     for (int pi = 0; pi < 3; ++pi) {
         hp_layout L;
-        assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin,
-                                   pivots[pi], 8, il_default_rays, 1.0), HP_OK);
+        assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, il_default_axes, il_origin, pivots[pi], 8,
+                                   il_default_rays, 1.0),
+                         HP_OK);
         hp_planner *p = make(&L, HP_BACKEND_REALTIME, HP_LEVEL_SURFACE);
         assert_non_null(p);
         const double small[6] = {0.3e-3, -0.2e-3, 0.1e-3, 1e-7, -2e-7, 1e-7};
@@ -248,8 +256,9 @@ static void sphere_off_centre_pivot(void **st)
     uint64_t seed = 45;
     for (int pi = 0; pi < 2; ++pi) {
         hp_layout L;
-        assert_int_equal(il_layout(&L, HP_HEAD_SPHERE, r90, il_origin, pivots[pi], 8,
-                                   il_default_rays, 1.0), HP_OK);
+        assert_int_equal(
+            il_layout(&L, HP_HEAD_SPHERE, r90, il_origin, pivots[pi], 8, il_default_rays, 1.0),
+            HP_OK);
         for (int bi = 0; bi < 4; ++bi) {
             hp_planner *p = make(&L, backends[bi], HP_LEVEL_SURFACE);
             assert_non_null(p);
@@ -268,7 +277,8 @@ static void sphere_off_centre_pivot(void **st)
                 }
                 /* The part not commanded: the turn, and the translation that makes it a
                  * turn about the centre; the commanded part is the centre's motion. */
-                for (int i = 0; i < 3; ++i) hp_assert_close(xi[i] - r.uncommanded[i], c[i], 0, 1e-15);
+                for (int i = 0; i < 3; ++i)
+                    hp_assert_close(xi[i] - r.uncommanded[i], c[i], 0, 1e-15);
                 for (int i = 3; i < 6; ++i) assert_true(r.uncommanded[i] == xi[i]);
                 assert_true(r.status != HP_STATUS_REACHED);
                 if (r.status != HP_STATUS_UNCOMMANDED) continue;
@@ -276,7 +286,8 @@ static void sphere_off_centre_pivot(void **st)
                 for (int k = 0; k < 8; ++k) {
                     const double *b = L.bladders[k].center;
                     double d = sqrt((b[0] - c[0]) * (b[0] - c[0]) + (b[1] - c[1]) * (b[1] - c[1]) +
-                                    (b[2] - c[2]) * (b[2] - c[2])) - 0.09;
+                                    (b[2] - c[2]) * (b[2] - c[2])) -
+                               0.09;
                     /* Pose tolerance 1e-9 mm through a unit-gain Jacobian, plus rounding. */
                     hp_assert_close(r.bladders[k].ro, d, 0, 2e-12);
                 }
@@ -290,8 +301,8 @@ static void sphere_off_centre_pivot(void **st)
     /* The issue's case: 25 degrees of pitch about a pivot 70 mm below the centre moves the
      * centre 29.6 mm; that motion is commanded (here beyond reach: closest), the turn not. */
     hp_layout L;
-    assert_int_equal(il_layout(&L, HP_HEAD_SPHERE, r90, il_origin, pivots[0], 8,
-                               il_default_rays, 1.0), HP_OK);
+    assert_int_equal(
+        il_layout(&L, HP_HEAD_SPHERE, r90, il_origin, pivots[0], 8, il_default_rays, 1.0), HP_OK);
     hp_planner *p = make(&L, HP_BACKEND_REALTIME, HP_LEVEL_SURFACE);
     const double pitch25[6] = {0, 0, 0, 25 * PI / 180, 0, 0};
     hp_result r;
@@ -344,12 +355,10 @@ static void loose_tolerance_reached_beyond_reach(void **st)
             double ro[HP_MAX_BLADDERS], back[6], resid;
             for (int k = 0; k < L.n; ++k) {
                 double ri;
-                assert_int_equal(hp_iab_fk(&L.bladders[k].iab, r.bladders[k].pressure, &ri),
-                                 HP_OK);
+                assert_int_equal(hp_iab_fk(&L.bladders[k].iab, r.bladders[k].pressure, &ri), HP_OK);
                 assert_int_equal(hp_iab_ro(&L.bladders[k].iab, ri, &ro[k]), HP_OK);
             }
-            assert_int_equal(hp_contact_fk(&L, levels[li], ro, NULL, back, &resid, NULL),
-                             HP_OK);
+            assert_int_equal(hp_contact_fk(&L, levels[li], ro, NULL, back, &resid, NULL), HP_OK);
             for (int i = 0; i < 6; ++i) {
                 double sc = i < 3 ? 1e3 : 180.0 / PI;
                 hp_assert_close(back[i] * sc, r.achieved[i] * sc, 0, 1e-6);

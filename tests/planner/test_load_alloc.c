@@ -26,16 +26,17 @@ static void test_load_plan_no_alloc(void **st)
     hp_planner *p = NULL;
     alloc_armed = 1;
     alloc_count = 0;
-    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p, NULL),
-                     HP_OK);
+    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p, NULL), HP_OK);
     alloc_armed = 0;
     assert_true(alloc_count >= 1); /* the wrapping is active */
     const double deg = 0.0174532925199;
-    const double ds[5][6] = {{0}, {1e-3, 0, -0.5e-3, 0.3 * deg, 0, -0.2 * deg},
-                             {0, 0, 5e-3, 0, 0, 0}, {0, 0, 40e-3, 0, 0, 0} /* unreachable */,
+    const double ds[5][6] = {{0},
+                             {1e-3, 0, -0.5e-3, 0.3 * deg, 0, -0.2 * deg},
+                             {0, 0, 5e-3, 0, 0, 0},
+                             {0, 0, 40e-3, 0, 0, 0} /* unreachable */,
                              {NAN, 0, 0, 0, 0, 0}};
-    hp_status want[5] = {HP_STATUS_REACHED, HP_STATUS_REACHED, HP_STATUS_REACHED,
-                         HP_STATUS_CLOSEST, HP_STATUS_INVALID_INPUT};
+    hp_status want[5] = {HP_STATUS_REACHED, HP_STATUS_REACHED, HP_STATUS_REACHED, HP_STATUS_CLOSEST,
+                         HP_STATUS_INVALID_INPUT};
     for (int q = 0; q < 5; ++q)
         for (int details = 0; details < 2; ++details) {
             hp_result r;

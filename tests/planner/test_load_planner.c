@@ -102,8 +102,8 @@ static void test_reached_nominal(void **state)
     assert_true(r.pose_error == 0.0);
     assert_in_bounds(p, &r);
     for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
-    assert_int_equal(hp_load_eval(hp_planner_load_model(p), r.achieved, P, Q, NULL, NULL, NULL,
-                                  NULL), HP_OK);
+    assert_int_equal(
+        hp_load_eval(hp_planner_load_model(p), r.achieved, P, Q, NULL, NULL, NULL, NULL), HP_OK);
     for (int i = 0; i < 6; ++i) assert_true(fabs(Q[i]) < 1e-9);
     assert_true(info.residual_force < 1e-9);
     assert_true(info.residual_moment < 1e-10);
@@ -111,7 +111,8 @@ static void test_reached_nominal(void **state)
     for (int k = 1; k < 4; ++k) hp_assert_close(info.force[k], info.force[0], 1e-9, 0.0);
     double rest[6];
     assert_int_equal(hp_load_rest(hp_planner_load_model(p), P, NULL, rest, NULL), HP_OK);
-    for (int i = 0; i < 6; ++i) assert_true(fabs(rest[i] - d[i]) / (i < 3 ? 1e-3 : 0.0174532925199) < 1e-8);
+    for (int i = 0; i < 6; ++i)
+        assert_true(fabs(rest[i] - d[i]) / (i < 3 ? 1e-3 : 0.0174532925199) < 1e-8);
     hp_planner_destroy(p);
 }
 
@@ -162,8 +163,9 @@ static void test_levels(void **state)
         assert_int_equal(hp_load_model_level(hp_planner_load_model(p)), lv[l]);
         assert_in_bounds(p, &r);
         for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
-        assert_int_equal(hp_load_eval(hp_planner_load_model(p), r.achieved, P, Q, NULL, NULL,
-                                      NULL, NULL), HP_OK);
+        assert_int_equal(
+            hp_load_eval(hp_planner_load_model(p), r.achieved, P, Q, NULL, NULL, NULL, NULL),
+            HP_OK);
         for (int i = 0; i < 6; ++i) assert_true(fabs(Q[i]) < 1e-9);
         if (l > 0) assert_true(info.residual_force < 1e-9 && info.residual_moment < 1e-10);
         hp_planner_destroy(p);
@@ -225,12 +227,10 @@ static void test_backends_agree(void **state)
     set.level = HP_LEVEL_SURFACE;
     hp_planner *p[3];
     hp_diag d;
-    const hp_backend backends[3] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT,
-                                    HP_BACKEND_NLOPT_SLSQP};
+    const hp_backend backends[3] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT, HP_BACKEND_NLOPT_SLSQP};
     for (int b = 0; b < 3; ++b) {
         set.backend = backends[b];
-        assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p[b], &d),
-                         HP_OK);
+        assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p[b], &d), HP_OK);
     }
     const double deg = 0.0174532925199;
     const double ds[3][6] = {{1e-3, 0, -0.5e-3, 0.3 * deg, 0, -0.2 * deg},
@@ -248,8 +248,7 @@ static void test_backends_agree(void **state)
         }
         for (int b = 1; b < 3; ++b)
             for (int k = 0; k < r[0].n; ++k)
-                hp_assert_close(r[b].bladders[k].pressure, r[0].bladders[k].pressure, 0.0,
-                                1e-6);
+                hp_assert_close(r[b].bladders[k].pressure, r[0].bladders[k].pressure, 0.0, 1e-6);
     }
     (void)chosen; /* least squeeze mostly ends with six carrying bladders: a vertex, where
                    * this check has nothing to test; the agreement below still does */
@@ -292,8 +291,8 @@ static void test_stress_binding(void **state)
     hp_layout L;
     layout_with(&L, 1.6);
     double s_cap;
-    assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[0].iab, 1.6 * L.bladders[0].iab.Ri,
-                                              &s_cap), HP_OK);
+    assert_int_equal(
+        hp_iab_hoop_stress_inner(&L.bladders[0].iab, 1.6 * L.bladders[0].iab.Ri, &s_cap), HP_OK);
     for (int k = 0; k < 4; ++k) L.bladders[k].stress_max = 0.3 * s_cap;
     assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
     hp_load_spec s;
@@ -308,8 +307,7 @@ static void test_stress_binding(void **state)
     int bound = 0;
     for (int k = 0; k < r.n; ++k) {
         double h;
-        assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[k].iab, r.bladders[k].ri, &h),
-                         HP_OK);
+        assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[k].iab, r.bladders[k].ri, &h), HP_OK);
         if (k < 4) assert_true(h <= 0.3 * s_cap * (1 + 1e-9));
         bound += (r.bladders[k].binding & HP_BIND_STRESS_MAX) != 0;
     }
@@ -325,8 +323,7 @@ static void test_stress_binding(void **state)
     bound = 0;
     for (int k = 0; k < 4; ++k) {
         double h;
-        assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[k].iab, r.bladders[k].ri, &h),
-                         HP_OK);
+        assert_int_equal(hp_iab_hoop_stress_inner(&L.bladders[k].iab, r.bladders[k].ri, &h), HP_OK);
         assert_true(h <= 0.3 * s_cap * (1 + 1e-9));
         bound += (r.bladders[k].binding & HP_BIND_STRESS_MAX) != 0;
     }
@@ -349,15 +346,13 @@ static void test_refused(void **state)
     s.gravity[2] = +HP_GRAVITY;
     hp_planner *p = (hp_planner *)1;
     hp_diag d;
-    assert_int_equal(load_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
-                     HP_ERR_INVALID);
+    assert_int_equal(load_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d), HP_ERR_INVALID);
     assert_null(p);
     assert_non_null(strstr(d.text, "no bladder pushes against gravity"));
     assert_non_null(strstr(d.text, "-z"));
     s.gravity[2] = -HP_GRAVITY;
     s.mass = 100.0;
-    assert_int_equal(load_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
-                     HP_ERR_INVALID);
+    assert_int_equal(load_create(&L, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d), HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "can carry at most"));
     /* A sphere head cannot be held at the load level. */
     hp_layout S;
@@ -366,8 +361,7 @@ static void test_refused(void **state)
     h.semi_axes[0] = h.semi_axes[1] = h.semi_axes[2] = 0.09;
     assert_int_equal(default_layout_on(&S, &h, 0.0), 0);
     s.mass = 4.5;
-    assert_int_equal(load_create(&S, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d),
-                     HP_ERR_INVALID);
+    assert_int_equal(load_create(&S, &s, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d), HP_ERR_INVALID);
     assert_non_null(strstr(d.text, "sphere"));
 }
 
@@ -385,8 +379,7 @@ static void test_tiebreak_previous(void **state)
     set.level = HP_LEVEL_SURFACE;
     hp_planner *prev = NULL, *ls = NULL;
     assert_int_equal(load_create(&L, &s, &set, HP_TIE_PREVIOUS, &prev, NULL), HP_OK);
-    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &ls, NULL),
-                     HP_OK);
+    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &ls, NULL), HP_OK);
     const double a[6] = {0, 0, 5e-3, 0, 0, 0}, b[6] = {0.5e-3, 0, 5.5e-3, 0, 0, 0};
     hp_result r0, r1, r2, q;
     assert_int_equal(load_plan(prev, a, &r0, NULL), HP_OK);
@@ -433,8 +426,7 @@ static void test_tiebreak_stiffness(void **state)
     assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &ls, &d), HP_OK);
     for (int b = 0; b < 2; ++b) {
         set.backend = b ? HP_BACKEND_NLOPT_SLSQP : HP_BACKEND_REALTIME;
-        assert_int_equal(load_create(&L, &s, &set, HP_TIE_STIFFNESS, &st, &d),
-                         HP_ERR_INVALID);
+        assert_int_equal(load_create(&L, &s, &set, HP_TIE_STIFFNESS, &st, &d), HP_ERR_INVALID);
         assert_null(st);
         assert_non_null(strstr(d.text, "stiffness"));
         assert_non_null(strstr(d.text, "ipopt"));
@@ -453,7 +445,8 @@ static void test_tiebreak_stiffness(void **state)
     assert_int_equal(r1.status, HP_STATUS_REACHED);
     assert_in_bounds(st, &r1);
     assert_true(i1.residual_force < 1e-9 && i1.residual_moment < 1e-10);
-    if (!i1.holding.stable) print_error("stiffness hold not stable: %s\n", i1.holding.weakest_words);
+    if (!i1.holding.stable)
+        print_error("stiffness hold not stable: %s\n", i1.holding.weakest_words);
     assert_int_equal(i1.holding.stable, 1);
     assert_true(i1.holding.weakest_compliance < 1e3);
     const hp_load_model *M = hp_planner_load_model(st);
@@ -534,7 +527,8 @@ static void test_stiffness_derivatives(void **state)
         }
     }
     print_message("stiffness objective: |grad| %.3g, gradient error %.2g; |hess| %.3g, "
-                  "Hessian error %.2g\n", gs, eg, hs, eh);
+                  "Hessian error %.2g\n",
+                  gs, eg, hs, eh);
     hp_load_model_destroy(M);
 }
 
@@ -584,8 +578,7 @@ static void test_rate_limits(void **state)
     /* Without rate limits in the settings: reached. */
     set.use_rate_limits = 0;
     hp_planner *off = NULL;
-    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &off, NULL),
-                     HP_OK);
+    assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &off, NULL), HP_OK);
     assert_int_equal(hp_planner_set_previous(off, prev), HP_OK);
     assert_int_equal(load_plan(off, lift, &r2, NULL), HP_OK);
     assert_int_equal(r2.status, HP_STATUS_REACHED);
@@ -614,11 +607,17 @@ static void test_invalid_input(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_reached_nominal), cmocka_unit_test(test_reached_lift), cmocka_unit_test(test_levels),
+        cmocka_unit_test(test_reached_nominal),
+        cmocka_unit_test(test_reached_lift),
+        cmocka_unit_test(test_levels),
         cmocka_unit_test(test_backends_agree),
-        cmocka_unit_test(test_unreachable), cmocka_unit_test(test_stress_binding),     cmocka_unit_test(test_refused),
-        cmocka_unit_test(test_invalid_input), cmocka_unit_test(test_tiebreak_previous),
-        cmocka_unit_test(test_tiebreak_stiffness), cmocka_unit_test(test_stiffness_derivatives),
+        cmocka_unit_test(test_unreachable),
+        cmocka_unit_test(test_stress_binding),
+        cmocka_unit_test(test_refused),
+        cmocka_unit_test(test_invalid_input),
+        cmocka_unit_test(test_tiebreak_previous),
+        cmocka_unit_test(test_tiebreak_stiffness),
+        cmocka_unit_test(test_stiffness_derivatives),
         cmocka_unit_test(test_rate_limits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

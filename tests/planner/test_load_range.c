@@ -34,12 +34,12 @@ static void test_same_refusals_as_hp_plan(void **state)
     assert_int_equal(hp_planner_pressure_bounds(lp, lo, hi), HP_OK);
     /* The smallest semi-axis of the default head is 77.5 mm. */
     const double bad[][6] = {
-        {0, 0, 0, 100 * DEG, 0, 0},   /* the adversarial case: REACHED before, rest inf */
-        {0, 0, 0, 0, -120 * DEG, 0},  /* CLOSEST before */
+        {0, 0, 0, 100 * DEG, 0, 0},       /* the adversarial case: REACHED before, rest inf */
+        {0, 0, 0, 0, -120 * DEG, 0},      /* CLOSEST before */
         {0, 0, 0, 60 * DEG, 60 * DEG, 0}, /* a turn of 82.8 deg: inside, accepted by both */
-        {0.2, 0, 0, 0, 0, 0},         /* SOLVER_ERROR before */
+        {0.2, 0, 0, 0, 0, 0},             /* SOLVER_ERROR before */
         {0, 0, 0.080, 0, 0, 0},
-        {0, 0, 0, 0, 0, 4.0},         /* beyond hp_plan's |rotation| <= pi cap */
+        {0, 0, 0, 0, 0, 4.0}, /* beyond hp_plan's |rotation| <= pi cap */
         {0, NAN, 0, 0, 0, 0},
     };
     const int nb = (int)(sizeof bad / sizeof bad[0]);

@@ -68,10 +68,9 @@ static void test_least_squeeze_is_least(void **state)
     (void)state;
     /* Targets (mm, degrees): small corrections in every axis and some combinations. */
     static const double T[][6] = {
-        {0, 0, 0, 0, 0, 0},    {1, 0, -0.5, 0.3, 0, -0.2}, {0, 0, 3, 0, 0, 0},
-        {0, 0, 6, 0, 0, 0},    {2, 0, 0, 0, 0, 0},         {0, 2, 1, 0, 0, 0},
-        {0, -2, 1, 0, 0, 0},   {0, 0, 1, 2, 0, 0},         {0, 0, 1, 0, 2, 0},
-        {0, 0, 1, 0, 0, 2},    {-3, 1, 2, 1, -1, 2},       {3, -1, 4, -1, 1, -2},
+        {0, 0, 0, 0, 0, 0}, {1, 0, -0.5, 0.3, 0, -0.2}, {0, 0, 3, 0, 0, 0},   {0, 0, 6, 0, 0, 0},
+        {2, 0, 0, 0, 0, 0}, {0, 2, 1, 0, 0, 0},         {0, -2, 1, 0, 0, 0},  {0, 0, 1, 2, 0, 0},
+        {0, 0, 1, 0, 2, 0}, {0, 0, 1, 0, 0, 2},         {-3, 1, 2, 1, -1, 2}, {3, -1, 4, -1, 1, -2},
     };
     unsigned long long seed = 77ull;
     int reached = 0, beaten = 0;
@@ -86,8 +85,7 @@ static void test_least_squeeze_is_least(void **state)
         set.use_rate_limits = 0;
         for (size_t t = 0; t < sizeof T / sizeof T[0]; ++t) {
             hp_planner *p = NULL;
-            assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p, NULL),
-                             HP_OK);
+            assert_int_equal(load_create(&L, &s, &set, HP_TIE_LEAST_SQUEEZE, &p, NULL), HP_OK);
             const hp_load_model *M = hp_planner_load_model(p);
             const int n = L.n;
             double xi[6], lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
@@ -105,10 +103,13 @@ static void test_least_squeeze_is_least(void **state)
             double mine = squeeze(P, n), best = INFINITY, zero[HP_MAX_BLADDERS] = {0};
             for (int start = 0; start < 24; ++start) {
                 double P0[HP_MAX_BLADDERS], Pr[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS];
-                for (int k = 0; k < n; ++k) P0[k] = fmax(lo[k], 0.0) + lcg(&seed) * (hi[k] - fmax(lo[k], 0.0));
-                hpi_load_solve_status st =
-                    start % 2 ? hpi_load_hold_with(hpi_load_hold_ipopt, M, xi, lo, hi, zero, P0, 200, 0, Pr, F, NULL, NULL)
-                              : hpi_load_hold(M, xi, lo, hi, zero, P0, 200, Pr, F, NULL);
+                for (int k = 0; k < n; ++k)
+                    P0[k] = fmax(lo[k], 0.0) + lcg(&seed) * (hi[k] - fmax(lo[k], 0.0));
+                hpi_load_solve_status st = start % 2 ? hpi_load_hold_with(hpi_load_hold_ipopt, M,
+                                                                          xi, lo, hi, zero, P0, 200,
+                                                                          0, Pr, F, NULL, NULL)
+                                                     : hpi_load_hold(M, xi, lo, hi, zero, P0, 200,
+                                                                     Pr, F, NULL);
                 if (st == HP_LOAD_SOLVE_OK && valid(M, xi, Pr, lo, hi))
                     best = fmin(best, squeeze(Pr, n));
             }
@@ -123,8 +124,8 @@ static void test_least_squeeze_is_least(void **state)
             hp_planner_destroy(p);
         }
     }
-    print_message("reached %d, beaten by the multi-start %d, worst excess %.3g\n", reached,
-                  beaten, worst);
+    print_message("reached %d, beaten by the multi-start %d, worst excess %.3g\n", reached, beaten,
+                  worst);
     assert_true(reached >= 12);
     assert_int_equal(beaten, 0);
 }

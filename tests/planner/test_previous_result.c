@@ -27,8 +27,7 @@ static void same_result(const hp_result *a, const hp_result *b, int row)
         same = memcmp(&x->ri, &y->ri, sizeof x->ri) == 0 &&
                memcmp(&x->ro, &y->ro, sizeof x->ro) == 0 &&
                memcmp(&x->pressure, &y->pressure, sizeof x->pressure) == 0 &&
-               memcmp(&x->stretch, &y->stretch, sizeof x->stretch) == 0 &&
-               x->binding == y->binding;
+               memcmp(&x->stretch, &y->stretch, sizeof x->stretch) == 0 && x->binding == y->binding;
     }
     if (!same) fail_msg("row %d: results differ (status %d / %d)", row, a->status, b->status);
 }
@@ -159,7 +158,7 @@ typedef struct spoil_case {
 static void s_n(hp_result *r) { r->n = 7; }
 static void s_pose_nan(hp_result *r) { r->achieved[1] = NAN; }
 static void s_pose_inf(hp_result *r) { r->achieved[4] = INFINITY; }
-static void s_pose_far(hp_result *r) { r->achieved[0] = 0.2; } /* > the smallest semi-axis */
+static void s_pose_far(hp_result *r) { r->achieved[0] = 0.2; }  /* > the smallest semi-axis */
 static void s_pose_turn(hp_result *r) { r->achieved[5] = 1.7; } /* 97 degrees */
 static void s_p_nan(hp_result *r) { r->bladders[2].pressure = NAN; }
 static void s_p_high(hp_result *r) { r->bladders[2].pressure = 2e4; }
@@ -405,7 +404,8 @@ static void test_set_previous_states_a_fitted_pose(void **st)
          * converge to ~1e-12. */
         assert_int_equal(hp_contact_fk(PL, HP_LEVEL_PLANE, ro, NULL, xi, &resid, NULL), HP_OK);
         for (int i = 0; i < 6; ++i)
-            assert_true(fabs(xi[i] - r.achieved[i]) * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD) <= 1e-6);
+            assert_true(fabs(xi[i] - r.achieved[i]) * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD) <=
+                        1e-6);
     }
     print_message("set_previous: %d accepted, %d refused\n", accepted, refused);
     assert_true(refused >= 1 && accepted >= 100);
@@ -447,7 +447,8 @@ static void test_set_previous_rank_deficient(void **st)
             /* Its own nominal pressures hold the nominal answer's pose (1e-9 mm/deg). */
             for (int i = 0; i < 6; ++i)
                 assert_true(fabs(r.achieved[i] - nominal.achieved[i]) *
-                                (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD) <= 1e-9);
+                                (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD) <=
+                            1e-9);
             hp_planner_destroy(p);
         }
     }

@@ -56,7 +56,7 @@ static void values_and_linear_jacobian(void **st)
     double x[HP_PROBLEM_NX_MAX], c[HP_MAX_BLADDERS], jac[HP_MAX_BLADDERS * HP_PROBLEM_NX_MAX];
     test_point(&pb, x);
     assert_int_equal(hpi_problem_constraints(&pb, x, c, jac, NULL, NULL), HP_OK);
-    double xi[6] = {x[0] * 1e-3, x[1] * 1e-3, x[2] * 1e-3,
+    double xi[6] = {x[0] * 1e-3,     x[1] * 1e-3,     x[2] * 1e-3,
                     x[3] * PI / 180, x[4] * PI / 180, x[5] * PI / 180};
     double rho[HP_MAX_BLADDERS];
     assert_int_equal(hp_contact_eval(&L, HP_LEVEL_LINEAR, xi, rho, NULL, NULL), HP_OK);
@@ -71,9 +71,8 @@ static void values_and_linear_jacobian(void **st)
             hp_assert_close(jac[k * pb.nx + i], nv[i], 1e-12, 1e-15);
             hp_assert_close(jac[k * pb.nx + 3 + i], 1e3 * m[i] * PI / 180, 1e-12, 1e-15);
         }
-        hp_assert_close(jac[k * pb.nx + 6 + k], ri * ri / ((c[k] + 1e3 * rho[k]) *
-                                                           (c[k] + 1e3 * rho[k])),
-                        1e-13, 0.0);
+        hp_assert_close(jac[k * pb.nx + 6 + k],
+                        ri * ri / ((c[k] + 1e3 * rho[k]) * (c[k] + 1e3 * rho[k])), 1e-13, 0.0);
     }
 }
 
@@ -148,12 +147,20 @@ static void check_derivatives(hp_level level, double mu)
             hp_assert_close(HL[i * nx + j], HL[j * nx + i], 1e-14, 1e-15);
         }
     print_message("level %s mu %g: worst |FD - exact| grad %.2e hess %.2e jac %.2e "
-                  "lagr-hess %.2e\n", hp_level_name(level), mu, worst_g, worst_h, worst_j,
-                  worst_hl);
+                  "lagr-hess %.2e\n",
+                  hp_level_name(level), mu, worst_g, worst_h, worst_j, worst_hl);
 }
 
-static void derivatives_linear(void **st) { (void)st; check_derivatives(HP_LEVEL_LINEAR, 1e-8); }
-static void derivatives_plane(void **st) { (void)st; check_derivatives(HP_LEVEL_PLANE, 1e-8); }
+static void derivatives_linear(void **st)
+{
+    (void)st;
+    check_derivatives(HP_LEVEL_LINEAR, 1e-8);
+}
+static void derivatives_plane(void **st)
+{
+    (void)st;
+    check_derivatives(HP_LEVEL_PLANE, 1e-8);
+}
 static void derivatives_surface(void **st)
 {
     (void)st;
@@ -210,12 +217,9 @@ static void rejects_bad_input(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(nominal_touches),
-        cmocka_unit_test(values_and_linear_jacobian),
-        cmocka_unit_test(derivatives_linear),
-        cmocka_unit_test(derivatives_plane),
-        cmocka_unit_test(derivatives_surface),
-        cmocka_unit_test(constraints_hessian_adds),
+        cmocka_unit_test(nominal_touches),     cmocka_unit_test(values_and_linear_jacobian),
+        cmocka_unit_test(derivatives_linear),  cmocka_unit_test(derivatives_plane),
+        cmocka_unit_test(derivatives_surface), cmocka_unit_test(constraints_hessian_adds),
         cmocka_unit_test(rejects_bad_input),
     };
     return cmocka_run_group_tests(tests, setup, NULL);

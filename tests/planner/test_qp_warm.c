@@ -303,8 +303,8 @@ static void test_warm_vs_cold(void **st)
                   cold_fail, accepted, nondeg, refused_cond, wrong, empty_ok, pairs, worst_x,
                   worst_u);
     /* the sample exercises every branch */
-    assert_true(accepted > 5000 && nondeg > 3000 && wrong > 6000 && empty_ok > 100 &&
-                pairs > 500 && refused_cond > 10 && cold_fail < 10);
+    assert_true(accepted > 5000 && nondeg > 3000 && wrong > 6000 && empty_ok > 100 && pairs > 500 &&
+                refused_cond > 10 && cold_fail < 10);
 }
 
 /* The caller's Cholesky factor (as the backend passes it) changes nothing: the warm answer
@@ -345,12 +345,12 @@ static void test_warm_refusals(void **st)
     for (int i = 0; i < 3; ++i) q.G[i * 3 + i] = 1.0;
     q.a[0] = q.a[1] = q.a[2] = -10.0; /* unconstrained minimum (10, 10, 10) */
     const double rows[8][3] = {
-        {-1, 0, 0}, {1, 0, 0},   /* twin pair: 0 <= x0 <= 1 */
-        {0, -1, 0}, {0, 1, 0},   /* twin pair: 0 <= x1 <= 2 */
-        {0, 0, -1},              /* x2 <= 50: inactive */
-        {0, 0, 0},               /* zero row, 0 >= −1 */
-        {-1, 0, 0},              /* a copy of row 0, x0 <= 3: inactive */
-        {-1, -1e-9, 0},          /* nearly row 0, x0 + 1e-9 x1 <= 4: inactive */
+        {-1, 0, 0},     {1, 0, 0}, /* twin pair: 0 <= x0 <= 1 */
+        {0, -1, 0},     {0, 1, 0}, /* twin pair: 0 <= x1 <= 2 */
+        {0, 0, -1},                /* x2 <= 50: inactive */
+        {0, 0, 0},                 /* zero row, 0 >= −1 */
+        {-1, 0, 0},                /* a copy of row 0, x0 <= 3: inactive */
+        {-1, -1e-9, 0},            /* nearly row 0, x0 + 1e-9 x1 <= 4: inactive */
     };
     const double b[8] = {-1, 0, -2, 0, -50, -1, -3, -4};
     for (int j = 0; j < 8; ++j) {
@@ -429,8 +429,7 @@ static void test_warm_bad_input_and_infeasible(void **st)
             hp_qp q = base;
             *(double *)((char *)&q + ((char *)where[k] - (char *)&base)) = bad[v];
             assert_int_equal(hpi_qp_solve_warm(&q, NULL, g, 200, 1e-12), HP_QP_BAD_INPUT);
-            assert_int_equal(hpi_qp_solve_warm(&q, NULL, cold.active, 200, 1e-12),
-                             HP_QP_BAD_INPUT);
+            assert_int_equal(hpi_qp_solve_warm(&q, NULL, cold.active, 200, 1e-12), HP_QP_BAD_INPUT);
         }
     }
     hp_qp q;
@@ -446,16 +445,14 @@ static void test_warm_bad_input_and_infeasible(void **st)
     const int guesses[4][3] = {{1, 0, 0}, {0, 1, 0}, {1, 1, 0}, {0, 0, 0}};
     for (int k = 0; k < 4; ++k) {
         hp_qp w = q;
-        assert_int_equal(hpi_qp_solve_warm(&w, NULL, guesses[k], 100, 1e-12),
-                         HP_QP_INFEASIBLE);
+        assert_int_equal(hpi_qp_solve_warm(&w, NULL, guesses[k], 100, 1e-12), HP_QP_INFEASIBLE);
         assert_int_not_equal(w.warm, HP_QP_WARM_ACCEPTED);
     }
     q.b[1] = -5.0; /* now feasible; the zero row made unsatisfiable: 0 >= 1 */
     q.b[2] = 1.0;
     for (int k = 0; k < 4; ++k) {
         hp_qp w = q;
-        assert_int_equal(hpi_qp_solve_warm(&w, NULL, guesses[k], 100, 1e-12),
-                         HP_QP_INFEASIBLE);
+        assert_int_equal(hpi_qp_solve_warm(&w, NULL, guesses[k], 100, 1e-12), HP_QP_INFEASIBLE);
     }
 }
 

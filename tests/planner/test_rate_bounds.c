@@ -79,8 +79,10 @@ static void test_bounds_equal_cold_reference(void **state)
         for (int k = 0; k < L.n; ++k) {
             double u = 0.5 * (lf_uniform(&seed) + 1.0);
             int pick = (int)(test_rng_next(&seed) % 8);
-            P[k] = pick == 0 ? sb.p_lo[k] : pick == 1 ? sb.p_hi[k] : pick == 2 ? 0.0
-                 : sb.p_lo[k] + u * (sb.p_hi[k] - sb.p_lo[k]);
+            P[k] = pick == 0   ? sb.p_lo[k]
+                   : pick == 1 ? sb.p_hi[k]
+                   : pick == 2 ? 0.0
+                               : sb.p_lo[k] + u * (sb.p_hi[k] - sb.p_lo[k]);
             /* log-uniform 1e-3 .. 2e4 Pa */
             L.bladders[k].rate_max = pow(10.0, -3.0 + 7.3 * 0.5 * (lf_uniform(&seed) + 1.0));
         }
@@ -97,8 +99,8 @@ static void test_bounds_equal_cold_reference(void **state)
             }
             if (e != HP_OK) continue;
             rate_bound += (rl | rh) & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP) ? 1 : 0;
-            if (memcmp(&pb.ri_lo_si[k], &lo, sizeof lo) || memcmp(&pb.ri_hi_si[k], &hi, sizeof hi) ||
-                lof[k] != rl || hif[k] != rh) {
+            if (memcmp(&pb.ri_lo_si[k], &lo, sizeof lo) ||
+                memcmp(&pb.ri_hi_si[k], &hi, sizeof hi) || lof[k] != rl || hif[k] != rh) {
                 print_error("draw %d bladder %d (P %.17g, rate %.17g): lo %.17g/%u want "
                             "%.17g/%u, hi %.17g/%u want %.17g/%u\n",
                             t, k, P[k], L.bladders[k].rate_max, pb.ri_lo_si[k], lof[k], lo, rl,
@@ -112,7 +114,8 @@ static void test_bounds_equal_cold_reference(void **state)
         refused += !all_ok;
     }
     print_message("rate bounds: %ld bladders checked bit for bit (%ld with a rate bound), "
-                  "%ld draws refused by both\n", checked, rate_bound, refused);
+                  "%ld draws refused by both\n",
+                  checked, rate_bound, refused);
     assert_true(rate_bound > 10000); /* the sweep exercised the rate bounds */
 }
 
@@ -122,8 +125,8 @@ static int same_result(const hp_result *a, const hp_result *b)
 {
 #define SAME(f) (memcmp(&a->f, &b->f, sizeof a->f) == 0)
     if (!(SAME(status) && SAME(raw_code) && SAME(backend) && SAME(level) && SAME(desired) &&
-          SAME(achieved) && SAME(commanded) && SAME(uncommanded) && SAME(pose_error) &&
-          SAME(n) && SAME(iterations)))
+          SAME(achieved) && SAME(commanded) && SAME(uncommanded) && SAME(pose_error) && SAME(n) &&
+          SAME(iterations)))
         return 0;
     for (int k = 0; k < a->n; ++k)
         if (!(SAME(bladders[k].ri) && SAME(bladders[k].ro) && SAME(bladders[k].pressure) &&
@@ -136,8 +139,8 @@ static int same_result(const hp_result *a, const hp_result *b)
 /* A chain of seeded corrections at one level: step_mm / step_deg the largest change per
  * axis from one to the next. Plans with a deferring planner and with one that solves the
  * bounds first; returns the plans that solved no rate bound. */
-static int chain(hp_level level, double rate, double step_mm, double step_deg, int n,
-                 uint64_t seed, int *binding)
+static int chain(hp_level level, double rate, double step_mm, double step_deg, int n, uint64_t seed,
+                 int *binding)
 {
     hp_planner *a = NULL, *b = NULL;
     assert_int_equal(lf_planner(level, rate, &a), HP_OK);
@@ -223,8 +226,8 @@ static void test_held_answer_reuses_its_bounds(void **state)
             last = r;
         }
         print_message("%s: %d of the last 20 plans repeated the answer, %lu rate bounds "
-                      "solved in them, %lu in all 20\n", hp_level_name(levels[l]), same, held,
-                      solves);
+                      "solved in them, %lu in all 20\n",
+                      hp_level_name(levels[l]), same, held, solves);
         assert_int_equal(held, 0);
         if (levels[l] == HP_LEVEL_LINEAR) assert_int_equal(same, 20);
         hp_planner_destroy(p);

@@ -17,11 +17,8 @@
 /* Corrections (mm, deg) planned one after the other against the held pressures: the first
  * is met after the nominal pressures, the others are out of reach of held ones. */
 static const double corrections[N_CORR][6] = {
-    {0, 0, 0, 0, 0, 0},
-    {1.0, 0, 0, 0, 0, 0},
-    {-0.5, 0.8, 0.3, 0.2, 0, -0.3},
-    {0, 0, -2.0, 0, 0.5, 0},
-    {0.2, -0.1, 0.05, 0, 0, 0.1},
+    {0, 0, 0, 0, 0, 0},      {1.0, 0, 0, 0, 0, 0},         {-0.5, 0.8, 0.3, 0.2, 0, -0.3},
+    {0, 0, -2.0, 0, 0.5, 0}, {0.2, -0.1, 0.05, 0, 0, 0.1},
 };
 
 /* The poses (mm, deg) whose pressures start each chain; start 3 is start 1's pressures
@@ -53,11 +50,11 @@ static hp_planner *limited(hp_backend bk, hp_level level, double rate)
     return p;
 }
 
-#define FAIL(...)                                                                          \
-    do {                                                                                   \
-        print_error(__VA_ARGS__);                                                          \
-        print_error("\n");                                                                 \
-        return 0;                                                                          \
+#define FAIL(...)                                                                                  \
+    do {                                                                                           \
+        print_error(__VA_ARGS__);                                                                  \
+        print_error("\n");                                                                         \
+        return 0;                                                                                  \
     } while (0)
 
 /* Every check of answer r against the held pressures P0 under allowance rate. Prints what

@@ -77,9 +77,9 @@ static int run(hp_backend bk, hp_level level, int *n_err)
             if (!ok) {
                 ++failed;
                 *n_err += r.status == HP_STATUS_SOLVER_ERROR;
-                print_error("%s, %s level, plan %d.%d, rate %.3g Pa: %s: %s\n",
-                            hp_backend_name(bk), hp_level_name(level), t, c, rate,
-                            hp_status_name(r.status), hp_planner_error(p));
+                print_error("%s, %s level, plan %d.%d, rate %.3g Pa: %s: %s\n", hp_backend_name(bk),
+                            hp_level_name(level), t, c, rate, hp_status_name(r.status),
+                            hp_planner_error(p));
             }
             for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
         }

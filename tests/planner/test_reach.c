@@ -63,8 +63,8 @@ static int check_reach(const hp_layout *L, hp_level level)
                 hp_planner_reset(p);
                 assert_int_equal(hp_plan(p, xi, &res), HP_OK);
                 if (res.status != (f ? HP_STATUS_CLOSEST : HP_STATUS_REACHED))
-                    print_error("%s axis %d sign %d at %.2f of %.6f: %s\n", hp_level_name(level),
-                                i, j, f ? 1.01 : 0.99, r, hp_status_name(res.status));
+                    print_error("%s axis %d sign %d at %.2f of %.6f: %s\n", hp_level_name(level), i,
+                                j, f ? 1.01 : 0.99, r, hp_status_name(res.status));
                 assert_int_equal(res.status, f ? HP_STATUS_CLOSEST : HP_STATUS_REACHED);
             }
         }
@@ -80,7 +80,8 @@ static void test_soft_layout_cap(void **st)
     assert_int_equal(lf_soft_layout(&L, 2.0, &lp), HP_OK);
     int beyond = check_reach(&L, HP_LEVEL_SURFACE) + check_reach(&L, HP_LEVEL_PLANE);
     print_message("soft layout: the bare-limit reach lies beyond the planner's on %d axis "
-                  "directions\n", beyond);
+                  "directions\n",
+                  beyond);
     assert_true(beyond > 0); /* the cap binds: the old reach was not the planner's */
 }
 

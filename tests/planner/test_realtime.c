@@ -67,9 +67,21 @@ static void reachable_at(hp_level level)
     }
     hp_planner_destroy(p);
 }
-static void test_reachable_linear(void **s) { (void)s; reachable_at(HP_LEVEL_LINEAR); }
-static void test_reachable_plane(void **s) { (void)s; reachable_at(HP_LEVEL_PLANE); }
-static void test_reachable_surface(void **s) { (void)s; reachable_at(HP_LEVEL_SURFACE); }
+static void test_reachable_linear(void **s)
+{
+    (void)s;
+    reachable_at(HP_LEVEL_LINEAR);
+}
+static void test_reachable_plane(void **s)
+{
+    (void)s;
+    reachable_at(HP_LEVEL_PLANE);
+}
+static void test_reachable_surface(void **s)
+{
+    (void)s;
+    reachable_at(HP_LEVEL_SURFACE);
+}
 
 /* ---- brute force: every active set of at most 6 linearly independent constraints ---- *
  * Problem (scaled mm, deg, unit weights): min |x − d|² s.t. lo_k <= rho0_k + J_k x <= hi_k.
@@ -251,8 +263,8 @@ static void closest_vs_bruteforce(const hp_layout *L, uint64_t seed, int count, 
             assert_int_equal(r.status, HP_STATUS_REACHED);
         }
     }
-    print_message("closest: %d of %d, worst |planner − brute force| %.3g mm/deg\n", closest,
-                  count, worst);
+    print_message("closest: %d of %d, worst |planner − brute force| %.3g mm/deg\n", closest, count,
+                  worst);
     /* A pending note does not outlive the next plan: the nominal pose is reached. */
     double zero[6] = {0};
     hp_result r0;
@@ -373,8 +385,9 @@ static void test_closest_plane_far(void **s)
     hpi_test_realtime_counts(&c);
     print_message("paths: %ld solves, %ld QPs (%ld warm starts accepted), %ld SOC re-solves "
                   "(%ld warm), %ld trials kept the Hessians, %ld answers' radii extrapolated "
-                  "(%ld refused)\n", c.solves, c.qps, c.qp_warm, c.soc, c.soc_warm, c.h_kept,
-                  c.rho_step, c.rho_refused);
+                  "(%ld refused)\n",
+                  c.solves, c.qps, c.qp_warm, c.soc, c.soc_warm, c.h_kept, c.rho_step,
+                  c.rho_refused);
     assert_true(c.solves > 0 && c.qps >= c.solves);
     assert_true(c.qp_warm > 0);
     assert_true(c.soc > 0 && c.soc_warm > 0 && c.soc_warm <= c.soc);
@@ -412,7 +425,8 @@ static void test_rho_step_refused(void **s)
             check_limits(&L, &r);
             assert_true(r.status == HP_STATUS_CLOSEST || r.status == HP_STATUS_REACHED);
             assert_int_equal(hp_contact_eval(&L, (hp_level)lv, r.achieved, rho, NULL, NULL), HP_OK);
-            for (int k = 0; k < L.n; ++k) hp_assert_close(r.bladders[k].ro, rho[k], 32 * DBL_EPSILON, 0);
+            for (int k = 0; k < L.n; ++k)
+                hp_assert_close(r.bladders[k].ro, rho[k], 32 * DBL_EPSILON, 0);
         }
         hp_planner_destroy(p);
     }
@@ -420,7 +434,8 @@ static void test_rho_step_refused(void **s)
     hp_test_rt_counts c;
     hpi_test_realtime_counts(&c);
     print_message("tolerance 1e-3: %ld solves, %ld answers extrapolated, %ld refused by the "
-                  "step bound\n", c.solves, c.rho_step, c.rho_refused);
+                  "step bound\n",
+                  c.solves, c.rho_step, c.rho_refused);
     assert_true(c.rho_refused > 0);
 }
 
@@ -616,15 +631,16 @@ static void test_loose_tolerance_converges(void **state)
                 assert_int_equal(hp_plan(ref, xi, &rr), HP_OK);
                 if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST)
                     print_error("%s tol %g target %d: %s after %d iterations: %s\n",
-                                hp_level_name(levels[li]), tols[ti], t,
-                                hp_status_name(r.status), r.iterations, hp_planner_error(p));
+                                hp_level_name(levels[li]), tols[ti], t, hp_status_name(r.status),
+                                r.iterations, hp_planner_error(p));
                 assert_true(r.status == HP_STATUS_REACHED || r.status == HP_STATUS_CLOSEST);
                 if (r.status != HP_STATUS_CLOSEST) continue;
                 ++closest;
                 assert_int_equal(rr.status, HP_STATUS_CLOSEST);
                 for (int i = 0; i < 6; ++i)
                     hp_assert_close(r.achieved[i] * (i < 3 ? 1e3 : 57.295779513082320877),
-                                    rr.achieved[i] * (i < 3 ? 1e3 : 57.295779513082320877), 0, 1e-6);
+                                    rr.achieved[i] * (i < 3 ? 1e3 : 57.295779513082320877), 0,
+                                    1e-6);
             }
             assert_true(closest >= 30); /* the targets bind */
             hp_planner_destroy(p);

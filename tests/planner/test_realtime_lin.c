@@ -14,8 +14,7 @@
 
 static long handed, checked;
 
-static void check_lin(const hp_problem *pb, const double *x, const hp_backend_result *r,
-                      int fault)
+static void check_lin(const hp_problem *pb, const double *x, const hp_backend_result *r, int fault)
 {
     if (!r->has_lin) return;
     ++handed;
@@ -39,8 +38,8 @@ static void check_lin(const hp_problem *pb, const double *x, const hp_backend_re
     for (int k = 0; k < pb->n; ++k)
         for (int i = 0; i < 6; ++i)
             if (!(fabs(r->lin_J[k * 6 + i] - J[k * 6 + i]) <= 1e-12 * jmax))
-                fail_msg("J[%d][%d]: lin_J %.17g, model at lin_x %.17g", k, i,
-                         r->lin_J[k * 6 + i], J[k * 6 + i]);
+                fail_msg("J[%d][%d]: lin_J %.17g, model at lin_x %.17g", k, i, r->lin_J[k * 6 + i],
+                         J[k * 6 + i]);
     ++checked;
 }
 
@@ -73,7 +72,7 @@ static void run(hp_level level, int fault)
         for (int i = 0; i < 6; ++i) pb.d[i] = a * dir[i] * (t % 7 == 3 ? -1.0 : 1.0);
         hp_backend_result r;
         hp_error e = hpi_backend_realtime_ops.solve(state, &pb, have_prev && t % 5 ? xprev : NULL,
-                                                   x, &r, &dg);
+                                                    x, &r, &dg);
         if (fault != HP_TEST_FAULT_NONE) {
             check_lin(&pb, x, &r, fault); /* the model itself is clean */
             continue;

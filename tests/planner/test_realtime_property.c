@@ -11,8 +11,8 @@ typedef struct tally {
     long n, by_status[HP_STATUS_COUNT_];
 } tally;
 
-static void check_one(hp_planner *p, const hp_layout *L, const double xi[6],
-                      const hp_result *prev, double rate, tally *t, hp_result *r)
+static void check_one(hp_planner *p, const hp_layout *L, const double xi[6], const hp_result *prev,
+                      double rate, tally *t, hp_result *r)
 {
     assert_int_equal(hp_plan(p, xi, r), HP_OK);
     assert_true((int)r->status >= 0 && r->status < HP_STATUS_COUNT_);
@@ -30,9 +30,7 @@ static void check_one(hp_planner *p, const hp_layout *L, const double xi[6],
     }
     for (int i = 0; i < 6; ++i) assert_true(isfinite(r->achieved[i]));
     switch (r->status) {
-    case HP_STATUS_REACHED:
-        assert_true(r->pose_error <= 1e-9);
-        break;
+    case HP_STATUS_REACHED: assert_true(r->pose_error <= 1e-9); break;
     case HP_STATUS_UNCOMMANDED: /* an answer: the commanded part reached, the rest named */
         assert_true(r->pose_error <= 1e-9);
         assert_true(strstr(hp_planner_note(p), "not commanded") != NULL);
@@ -47,9 +45,7 @@ static void check_one(hp_planner *p, const hp_layout *L, const double xi[6],
         break;
     }
     case HP_STATUS_ITERATION_LIMIT:
-    case HP_STATUS_TIME_LIMIT:
-        assert_true(hp_planner_error(p)[0] != '\0');
-        break;
+    case HP_STATUS_TIME_LIMIT: assert_true(hp_planner_error(p)[0] != '\0'); break;
     default: /* failures: the safe output is the previous answer */
         assert_true(hp_planner_error(p)[0] != '\0');
         for (int k = 0; k < L->n; ++k)
@@ -78,8 +74,8 @@ static void run(const hp_layout *L, hp_level level, double rate, uint64_t seed, 
     hp_result prev, r;
     const double nan6[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
     check_one(p, &C, nan6, &prev, INFINITY, &t, &prev); /* the nominal answer */
-    static const double special[] = {NAN, INFINITY, -INFINITY, 1e300, -1e300, 0.0, -0.0,
-                                     4.9e-324, 1.0, -1.0, 3.2, -3.2};
+    static const double special[] = {NAN,  INFINITY, -INFINITY, 1e300, -1e300, 0.0,
+                                     -0.0, 4.9e-324, 1.0,       -1.0,  3.2,    -3.2};
     const int nspecial = (int)(sizeof special / sizeof special[0]);
     for (int it = 0; it < count; ++it) {
         double xi[6];
@@ -89,10 +85,10 @@ static void run(const hp_layout *L, hp_level level, double rate, uint64_t seed, 
                 xi[i] = i < 3 ? logu(&seed, -15, 0) : logu(&seed, -15, 0.47);
             else if (kind == 3) /* one special value among ordinary ones */
                 xi[i] = i < 3 ? 0.004 * lf_uniform(&seed) : 0.05 * lf_uniform(&seed);
-            else
-                xi[i] = 0.0;
+            else xi[i] = 0.0;
         }
-        if (kind == 3) xi[test_rng_next(&seed) % 6] = special[test_rng_next(&seed) % (uint64_t)nspecial];
+        if (kind == 3)
+            xi[test_rng_next(&seed) % 6] = special[test_rng_next(&seed) % (uint64_t)nspecial];
         if (kind == 4) { /* exactly at the edge of the reachable set along a random ray */
             double u[6], lo = 0, hi = 1.0;
             for (int i = 0; i < 6; ++i) u[i] = (i < 3 ? 0.05 : 0.5) * lf_uniform(&seed);

@@ -53,7 +53,8 @@ static void test_random_kkt(void **st)
     uint64_t seed = 2024;
     hp_qp q;
     for (int t = 0; t < 2000; ++t) {
-        int n = 1 + (int)(test_rng_next(&seed) % 6), m = (int)(test_rng_next(&seed) % (HP_QP_MMAX + 1));
+        int n = 1 + (int)(test_rng_next(&seed) % 6),
+            m = (int)(test_rng_next(&seed) % (HP_QP_MMAX + 1));
         random_qp(&q, &seed, n, m);
         assert_int_equal(hpi_qp_solve(&q, 200, 1e-12), HP_QP_OPTIMAL);
         /* 1e-9: the data are O(10), the factorisations well conditioned (G >= I). */
@@ -70,7 +71,8 @@ static void test_factored_same_bits(void **st)
     uint64_t seed = 77;
     hp_qp q, r;
     for (int t = 0; t < 2000; ++t) {
-        int n = 1 + (int)(test_rng_next(&seed) % 6), m = (int)(test_rng_next(&seed) % (HP_QP_MMAX + 1));
+        int n = 1 + (int)(test_rng_next(&seed) % 6),
+            m = (int)(test_rng_next(&seed) % (HP_QP_MMAX + 1));
         random_qp(&q, &seed, n, m);
         double L[HP_QP_NMAX * HP_QP_NMAX];
         for (int i = 0; i < n * n; ++i) L[i] = NAN; /* entries above the diagonal: not read */
@@ -130,9 +132,9 @@ static void test_infeasible(void **st)
     q.n = 2;
     q.m = 2;
     q.G[0] = q.G[3] = 1.0;
-    q.C[0] = 1.0;             /* x0 >= 1 */
+    q.C[0] = 1.0; /* x0 >= 1 */
     q.b[0] = 1.0;
-    q.C[HP_QP_NMAX] = -1.0;   /* −x0 >= 0, i.e. x0 <= 0 */
+    q.C[HP_QP_NMAX] = -1.0; /* −x0 >= 0, i.e. x0 <= 0 */
     q.b[1] = 0.0;
     assert_int_equal(hpi_qp_solve(&q, 100, 1e-12), HP_QP_INFEASIBLE);
     /* bad input: G not positive definite, NaN in b, zero budget */
@@ -252,7 +254,8 @@ static void test_random_vs_enumeration(void **st)
         int style = (int)(test_rng_next(&seed) % 3); /* 0 unpaired, 1 pairs, 2 pairs + a zero row */
         if (style > 0) {
             for (int c = 1; c < m; c += 2) {
-                for (int i = 0; i < n; ++i) q.C[c * HP_QP_NMAX + i] = -q.C[(c - 1) * HP_QP_NMAX + i];
+                for (int i = 0; i < n; ++i)
+                    q.C[c * HP_QP_NMAX + i] = -q.C[(c - 1) * HP_QP_NMAX + i];
                 q.b[c] = -0.5 - 0.5 * fabs(lf_uniform(&seed)); /* width > 0: feasible */
             }
             with_pairs += m > 1;
@@ -298,9 +301,15 @@ static void bad_input_at(int n, int factored)
     assert_int_equal(hpi_qp_solve_factored(&q, L, 100, 1e-12), HP_QP_OPTIMAL);
     for (int v = 0; v < 3; ++v) {
         /* with a factor given, G's lower triangle is the factor's business (qp.h) */
-        double *where[] = {&q.G[0 * n + 3], &q.G[2 * n + 3], &q.a[1], &q.b[4],
-                           &q.C[0 * HP_QP_NMAX + 2], &q.C[3 * HP_QP_NMAX + 1],
-                           &q.C[4 * HP_QP_NMAX + n - 1], &q.G[3 * n + 0], &q.G[2 * n + 2]};
+        double *where[] = {&q.G[0 * n + 3],
+                           &q.G[2 * n + 3],
+                           &q.a[1],
+                           &q.b[4],
+                           &q.C[0 * HP_QP_NMAX + 2],
+                           &q.C[3 * HP_QP_NMAX + 1],
+                           &q.C[4 * HP_QP_NMAX + n - 1],
+                           &q.G[3 * n + 0],
+                           &q.G[2 * n + 2]};
         size_t nw = sizeof where / sizeof *where - (factored ? 2 : 0);
         for (size_t w = 0; w < nw; ++w) {
             q = base;

@@ -25,13 +25,12 @@ static int parse_pose(const char *msg, const char *key, double v[6])
 {
     const char *s = strstr(msg, key);
     if (!s) return 0;
-    return sscanf(s + strlen(key), "(%lf, %lf, %lf) mm (%lf, %lf, %lf) deg", &v[0], &v[1],
-                  &v[2], &v[3], &v[4], &v[5]) == 6;
+    return sscanf(s + strlen(key), "(%lf, %lf, %lf) mm (%lf, %lf, %lf) deg", &v[0], &v[1], &v[2],
+                  &v[3], &v[4], &v[5]) == 6;
 }
 
 /* Largest |ρ(a) − ρ(b)| [mm] at a level for poses a, b in mm and degrees. */
-static double distance_gap(const hp_layout *L, hp_level level, const double a[6],
-                           const double b[6])
+static double distance_gap(const hp_layout *L, hp_level level, const double a[6], const double b[6])
 {
     double xa[6], xb[6], ra[HP_MAX_BLADDERS], rb[HP_MAX_BLADDERS], g = 0.0;
     lf_pose(a, xa);
@@ -48,9 +47,8 @@ static void refusal_names_a_verified_pose(void **st)
     (void)st;
     const double ax[3] = {0.090, 0.09001, 0.09002};
     hp_layout L;
-    assert_int_equal(il_layout(&L, HP_HEAD_ELLIPSOID, ax, il_origin, il_origin, 6,
-                               il_default_rays, 1.0),
-                     HP_OK);
+    assert_int_equal(
+        il_layout(&L, HP_HEAD_ELLIPSOID, ax, il_origin, il_origin, 6, il_default_rays, 1.0), HP_OK);
     const hp_level levels[2] = {HP_LEVEL_SURFACE, HP_LEVEL_PLANE};
     int named = 0, stalled = 0, other = 0, closest_stalled = 0;
     for (int li = 0; li < 2; ++li) {
@@ -92,12 +90,11 @@ static void refusal_names_a_verified_pose(void **st)
             } else if (parse_pose(msg, "stalled at ", end)) {
                 const char *m = strstr(msg, "miss these pressures' by ");
                 assert_non_null(m);
-                assert_int_equal(sscanf(m + strlen("miss these pressures' by "), "%lf", &said),
-                                 1);
+                assert_int_equal(sscanf(m + strlen("miss these pressures' by "), "%lf", &said), 1);
                 gap = distance_gap(&L, levels[li], end, v);
                 if (!(gap > 1e-6 - 1e-8 && fabs(gap - said) <= 1e-6 + 1e-8))
-                    fail_msg("stalled: distances %.9g mm off, message says %.9g: %s", gap,
-                             said, msg);
+                    fail_msg("stalled: distances %.9g mm off, message says %.9g: %s", gap, said,
+                             msg);
                 ++stalled;
             } else if (!strstr(msg, "did not converge")) {
                 fail_msg("refusal names no pose and no stall: %s", msg);
@@ -106,7 +103,8 @@ static void refusal_names_a_verified_pose(void **st)
         hp_planner_destroy(p);
     }
     printf("near-spherical six: %d refusals named a verified pose, %d a stalled fit; %d were "
-           "closest answers, %d of them stalled\n", named, stalled, other, closest_stalled);
+           "closest answers, %d of them stalled\n",
+           named, stalled, other, closest_stalled);
     /* Both verdicts occur on this layout (else the test would show nothing). */
     assert_true(named >= 10 && stalled + closest_stalled >= 1);
 }

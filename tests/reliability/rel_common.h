@@ -79,8 +79,8 @@ static inline hp_error rel_layout(hp_layout *L, int kind)
     return hp_layout_prepare(L, NULL);
 }
 
-static inline hp_planner *rel_planner(const hp_layout *L, hp_backend b, hp_level level,
-                                      double rate, int max_iter)
+static inline hp_planner *rel_planner(const hp_layout *L, hp_backend b, hp_level level, double rate,
+                                      int max_iter)
 {
     hp_layout M = *L;
     for (int k = 0; k < M.n; ++k) M.bladders[k].rate_max = rate;
@@ -106,8 +106,8 @@ static inline hp_planner *rel_planner(const hp_layout *L, hp_backend b, hp_level
         hp_planner_destroy(p);
         return NULL;
     }
-    if (e != HP_OK) print_error("create %s/%s: %s\n", hp_backend_name(b), hp_level_name(level),
-                                d.text);
+    if (e != HP_OK)
+        print_error("create %s/%s: %s\n", hp_backend_name(b), hp_level_name(level), d.text);
     return e == HP_OK ? p : NULL;
 }
 
@@ -115,7 +115,7 @@ static inline hp_planner *rel_planner(const hp_layout *L, hp_backend b, hp_level
 typedef struct rel_ctx {
     const hp_planner *p;
     hp_iab_limit lp[HP_MAX_BLADDERS];
-    hp_result safe;   /* the expected safe output */
+    hp_result safe; /* the expected safe output */
     int have_safe;
     int use_fk_limit; /* 1: hp_iab_fk_limit in the round trip (the same root, cheaper) */
     double worst_fk;  /* largest round-trip error of a REACHED plan (mm or deg) */
@@ -182,8 +182,8 @@ static inline int rel_answer_status(hp_status s)
 
 /* Checks one plan's result r (hp_plan returned ret) against the invariants in mask; 1 when
  * all hold, else 0 with the reason in why. Updates the expected safe output. */
-static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
-                            const hp_result *r, unsigned mask, char *why, size_t wn)
+static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6], const hp_result *r,
+                            unsigned mask, char *why, size_t wn)
 {
     const hp_planner *p = c->p;
     const hp_layout *L = hp_planner_layout(p);
@@ -201,16 +201,16 @@ static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
                             b->pressure, B->p_min, B->p_max, hp_status_name(r->status));
         if (mask & REL_INV_STRETCH) {
             if (!(b->stretch >= B->stretch_min && b->stretch <= B->stretch_max))
-                return rel_fail(why, wn, "%s: stretch %.17g outside [%g, %g]", B->name,
-                                b->stretch, B->stretch_min, B->stretch_max);
+                return rel_fail(why, wn, "%s: stretch %.17g outside [%g, %g]", B->name, b->stretch,
+                                B->stretch_min, B->stretch_max);
             if (c->lp[k].exists && !(b->ri < c->lp[k].ri))
                 return rel_fail(why, wn, "%s: ri %.17g at/above the limit point %.17g", B->name,
                                 b->ri, c->lp[k].ri);
             if (!(fabs(b->stretch - b->ri / B->iab.Ri) <= 1e-15 * b->stretch))
                 return rel_fail(why, wn, "%s: stretch != ri/Ri", B->name);
         }
-        if ((mask & REL_INV_FINITE) && !(isfinite(b->ri) && isfinite(b->ro) &&
-                                         isfinite(b->pressure) && isfinite(b->stretch)))
+        if ((mask & REL_INV_FINITE) &&
+            !(isfinite(b->ri) && isfinite(b->ro) && isfinite(b->pressure) && isfinite(b->stretch)))
             return rel_fail(why, wn, "%s: a bladder field is not finite", B->name);
     }
     int answer = isfinite(r->pose_error);
@@ -226,8 +226,7 @@ static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
         if (!answer && rel_answer_status(r->status))
             return rel_fail(why, wn, "%s with pose_error +inf", hp_status_name(r->status));
         if (r->iterations < 0 || !isfinite(r->solve_time) || r->solve_time < 0)
-            return rel_fail(why, wn, "iterations %d / solve_time %g", r->iterations,
-                            r->solve_time);
+            return rel_fail(why, wn, "iterations %d / solve_time %g", r->iterations, r->solve_time);
         if (r->level != hp_planner_level(p)) return rel_fail(why, wn, "level changed");
     }
     if (mask & REL_INV_SAFE) {
@@ -291,7 +290,7 @@ static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
             if (!(fabs(Q[i]) <= REL_Q_TOL))
                 return rel_fail(why, wn, "load: reached, Q[%d] = %.3g", i, Q[i]);
     } else if ((mask & REL_INV_REACHED) &&
-        (r->status == HP_STATUS_REACHED || r->status == HP_STATUS_UNCOMMANDED)) {
+               (r->status == HP_STATUS_REACHED || r->status == HP_STATUS_UNCOMMANDED)) {
         /* The strict round trip: pressures -> radii -> forward contact kinematics started
          * from the NOMINAL pose (not from the answer) must give the desired pose (REACHED)
          * or its commanded part desired − uncommanded (UNCOMMANDED), in every component. */
@@ -344,8 +343,7 @@ static inline int rel_check(rel_ctx *c, hp_error ret, const double desired[6],
 }
 
 /* Fails the cmocka test with the context when rel_check fails. */
-static inline void rel_report(const rel_ctx *c, const char *tag, const char *why,
-                              const double *des)
+static inline void rel_report(const rel_ctx *c, const char *tag, const char *why, const double *des)
 {
     double z[6] = {0};
     if (!des) des = z;
@@ -353,13 +351,13 @@ static inline void rel_report(const rel_ctx *c, const char *tag, const char *why
                 des[0], des[1], des[2], des[3], des[4], des[5], hp_planner_error(c->p));
 }
 
-#define REL_ASSERT(c, ret, des, r, mask, tag)                                               \
-    do {                                                                                    \
-        char why_[512];                                                                     \
-        if (!rel_check((c), (ret), (des), (r), (mask), why_, sizeof why_)) {                \
-            rel_report((c), (tag), why_, (des));                                            \
-            fail();                                                                         \
-        }                                                                                   \
+#define REL_ASSERT(c, ret, des, r, mask, tag)                                                      \
+    do {                                                                                           \
+        char why_[512];                                                                            \
+        if (!rel_check((c), (ret), (des), (r), (mask), why_, sizeof why_)) {                       \
+            rel_report((c), (tag), why_, (des));                                                   \
+            fail();                                                                                \
+        }                                                                                          \
     } while (0)
 
 #endif

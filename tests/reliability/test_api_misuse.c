@@ -80,7 +80,10 @@ static void m_nan_center(hp_layout *L) { L->bladders[4].center[1] = NAN; }
 static void m_inf_center(hp_layout *L) { L->bladders[5].center[0] = INFINITY; }
 /* The fixture layout was validated; an edit after that must be seen by the next call. */
 static void m_edited_after_check(hp_layout *L) { L->bladders[4].center[2] = NAN; }
-static void m_center_inside(hp_layout *L) { for (int i = 0; i < 3; ++i) L->bladders[0].center[i] = 0; }
+static void m_center_inside(hp_layout *L)
+{
+    for (int i = 0; i < 3; ++i) L->bladders[0].center[i] = 0;
+}
 static void m_nan_pmin(hp_layout *L) { L->bladders[6].p_min = NAN; }
 static void m_inverted_p(hp_layout *L) { L->bladders[6].p_min = 2e4; }
 static void m_ri_ge_ro(hp_layout *L) { L->bladders[7].iab.Ri = 0.031; }
@@ -218,8 +221,7 @@ static void invalid_settings(void **st)
         assert_int_equal(hp_planner_create(&L, &s, &p, &d2), HP_ERR_INVALID);
         assert_null(p);
         assert_string_equal(d.text, d2.text);
-        print_message("settings %-20s -> invalid-argument '%s'\n", settings_cases[i].what,
-                      d.text);
+        print_message("settings %-20s -> invalid-argument '%s'\n", settings_cases[i].what, d.text);
     }
 }
 
@@ -286,10 +288,8 @@ static void bad_previous_pressures(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(null_arguments),
-        cmocka_unit_test(invalid_layouts),
-        cmocka_unit_test(invalid_settings),
-        cmocka_unit_test(destroy_twice_separate),
+        cmocka_unit_test(null_arguments),         cmocka_unit_test(invalid_layouts),
+        cmocka_unit_test(invalid_settings),       cmocka_unit_test(destroy_twice_separate),
         cmocka_unit_test(bad_previous_pressures),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

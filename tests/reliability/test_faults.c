@@ -21,15 +21,14 @@ typedef struct fault_case {
     hp_backend backend;
     hp_level level;
     enum hook hook;
-    int value;         /* fault or forced code */
-    int max_iter;      /* 0: default */
-    double max_time;   /* 0: default */
+    int value;       /* fault or forced code */
+    int max_iter;    /* 0: default */
+    double max_time; /* 0: default */
     hp_status want;
     int want_raw;
-    int safe_output;   /* 1: the result must be the safe output (pose_error +inf) */
-    int conflict;      /* 1: 1 Pa rate limits around previous pressures no pose holds */
+    int safe_output; /* 1: the result must be the safe output (pose_error +inf) */
+    int conflict;    /* 1: 1 Pa rate limits around previous pressures no pose holds */
 } fault_case;
-
 
 /* A target well beyond reach on every level (20 mm up, 20 mm sideways, 10° yaw), so the
  * backend always runs. */
@@ -61,7 +60,8 @@ static const fault_case cases[] = {
      HP_STATUS_TIME_LIMIT, IPOPT_TIME_RAW, 0, 0},
     /* ---- Ipopt: forced codes ---- */
     {"ipopt forced infeasible", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, H_IPOPT_FORCE,
-     Infeasible_Problem_Detected, 0, 0, HP_STATUS_INFEASIBLE_START, Infeasible_Problem_Detected, 1, 0},
+     Infeasible_Problem_Detected, 0, 0, HP_STATUS_INFEASIBLE_START, Infeasible_Problem_Detected, 1,
+     0},
     {"ipopt forced restoration failed", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, H_IPOPT_FORCE,
      Restoration_Failed, 0, 0, HP_STATUS_SOLVER_ERROR, Restoration_Failed, 1, 0},
     {"ipopt forced step computation", HP_BACKEND_IPOPT, HP_LEVEL_LINEAR, H_IPOPT_FORCE,
@@ -69,10 +69,11 @@ static const fault_case cases[] = {
     {"ipopt forced search direction tiny", HP_BACKEND_IPOPT, HP_LEVEL_PLANE, H_IPOPT_FORCE,
      Search_Direction_Becomes_Too_Small, 0, 0, HP_STATUS_SOLVER_ERROR,
      Search_Direction_Becomes_Too_Small, 1, 0},
-    {"ipopt forced diverging", HP_BACKEND_IPOPT, HP_LEVEL_PLANE, H_IPOPT_FORCE,
-     Diverging_Iterates, 0, 0, HP_STATUS_SOLVER_ERROR, Diverging_Iterates, 1, 0},
+    {"ipopt forced diverging", HP_BACKEND_IPOPT, HP_LEVEL_PLANE, H_IPOPT_FORCE, Diverging_Iterates,
+     0, 0, HP_STATUS_SOLVER_ERROR, Diverging_Iterates, 1, 0},
     {"ipopt forced too few DOF", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, H_IPOPT_FORCE,
-     Not_Enough_Degrees_Of_Freedom, 0, 0, HP_STATUS_SOLVER_ERROR, Not_Enough_Degrees_Of_Freedom, 1, 0},
+     Not_Enough_Degrees_Of_Freedom, 0, 0, HP_STATUS_SOLVER_ERROR, Not_Enough_Degrees_Of_Freedom, 1,
+     0},
     {"ipopt forced invalid problem", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, H_IPOPT_FORCE,
      Invalid_Problem_Definition, 0, 0, HP_STATUS_SOLVER_ERROR, Invalid_Problem_Definition, 1, 0},
     {"ipopt forced invalid option", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, H_IPOPT_FORCE,
@@ -86,21 +87,22 @@ static const fault_case cases[] = {
     {"ipopt forced internal error", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, H_IPOPT_FORCE,
      Internal_Error, 0, 0, HP_STATUS_SOLVER_ERROR, Internal_Error, 1, 0},
     {"ipopt forced max_iter", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, H_IPOPT_FORCE,
-     Maximum_Iterations_Exceeded, 0, 0, HP_STATUS_ITERATION_LIMIT, Maximum_Iterations_Exceeded, 0, 0},
+     Maximum_Iterations_Exceeded, 0, 0, HP_STATUS_ITERATION_LIMIT, Maximum_Iterations_Exceeded, 0,
+     0},
     {"ipopt forced cpu time", HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, H_IPOPT_FORCE,
      Maximum_CpuTime_Exceeded, 0, 0, HP_STATUS_TIME_LIMIT, Maximum_CpuTime_Exceeded, 0, 0},
     /* ---- NLopt SLSQP ---- */
     {"slsqp NaN objective", HP_BACKEND_NLOPT_SLSQP, HP_LEVEL_SURFACE, H_NLOPT_FAULT,
      HP_TEST_FAULT_NAN_OBJECTIVE, 0, 0, HP_STATUS_SOLVER_ERROR, NLOPT_FORCED_STOP, 1, 0},
     {"slsqp constraints fail (forced stop)", HP_BACKEND_NLOPT_SLSQP, HP_LEVEL_SURFACE,
-     H_NLOPT_FAULT, HP_TEST_FAULT_FAIL_CONSTRAINTS, 0, 0, HP_STATUS_SOLVER_ERROR,
-     NLOPT_FORCED_STOP, 1, 0},
+     H_NLOPT_FAULT, HP_TEST_FAULT_FAIL_CONSTRAINTS, 0, 0, HP_STATUS_SOLVER_ERROR, NLOPT_FORCED_STOP,
+     1, 0},
     {"slsqp max_iter 1 (maxeval)", HP_BACKEND_NLOPT_SLSQP, HP_LEVEL_PLANE, H_NONE, 0, 1, 0,
      HP_STATUS_ITERATION_LIMIT, NLOPT_MAXEVAL_REACHED, 0, 0},
     {"slsqp max_time 1e-9 s", HP_BACKEND_NLOPT_SLSQP, HP_LEVEL_LINEAR, H_NONE, 0, 0, 1e-9,
      HP_STATUS_TIME_LIMIT, NLOPT_MAXTIME_REACHED, 0, 0},
-    {"slsqp forced failure", HP_BACKEND_NLOPT_SLSQP, HP_LEVEL_SURFACE, H_NLOPT_FORCE,
-     NLOPT_FAILURE, 0, 0, HP_STATUS_SOLVER_ERROR, NLOPT_FAILURE, 1, 0},
+    {"slsqp forced failure", HP_BACKEND_NLOPT_SLSQP, HP_LEVEL_SURFACE, H_NLOPT_FORCE, NLOPT_FAILURE,
+     0, 0, HP_STATUS_SOLVER_ERROR, NLOPT_FAILURE, 1, 0},
     {"slsqp forced invalid args", HP_BACKEND_NLOPT_SLSQP, HP_LEVEL_SURFACE, H_NLOPT_FORCE,
      NLOPT_INVALID_ARGS, 0, 0, HP_STATUS_SOLVER_ERROR, NLOPT_INVALID_ARGS, 1, 0},
     {"slsqp forced out of memory", HP_BACKEND_NLOPT_SLSQP, HP_LEVEL_SURFACE, H_NLOPT_FORCE,
@@ -118,8 +120,8 @@ static const fault_case cases[] = {
     {"cobyla NaN objective", HP_BACKEND_NLOPT_COBYLA, HP_LEVEL_SURFACE, H_NLOPT_FAULT,
      HP_TEST_FAULT_NAN_OBJECTIVE, 0, 0, HP_STATUS_SOLVER_ERROR, NLOPT_FORCED_STOP, 1, 0},
     {"cobyla constraints fail (forced stop)", HP_BACKEND_NLOPT_COBYLA, HP_LEVEL_SURFACE,
-     H_NLOPT_FAULT, HP_TEST_FAULT_FAIL_CONSTRAINTS, 0, 0, HP_STATUS_SOLVER_ERROR,
-     NLOPT_FORCED_STOP, 1, 0},
+     H_NLOPT_FAULT, HP_TEST_FAULT_FAIL_CONSTRAINTS, 0, 0, HP_STATUS_SOLVER_ERROR, NLOPT_FORCED_STOP,
+     1, 0},
     {"cobyla max_iter 1 (maxeval)", HP_BACKEND_NLOPT_COBYLA, HP_LEVEL_PLANE, H_NONE, 0, 1, 0,
      HP_STATUS_ITERATION_LIMIT, NLOPT_MAXEVAL_REACHED, 0, 0},
     {"cobyla max_time 1e-9 s", HP_BACKEND_NLOPT_COBYLA, HP_LEVEL_LINEAR, H_NONE, 0, 0, 1e-9,
@@ -222,8 +224,7 @@ static void run_case(const fault_case *fc)
         assert_int_equal(hp_plan(q, down, &rd), HP_OK);
         hp_planner_destroy(q);
         double P[HP_MAX_BLADDERS];
-        for (int k = 0; k < L.n; ++k)
-            P[k] = (k % 2 ? ru : rd).bladders[k].pressure;
+        for (int k = 0; k < L.n; ++k) P[k] = (k % 2 ? ru : rd).bladders[k].pressure;
         assert_int_equal(hp_planner_set_previous(p, P), HP_OK);
         rel_ctx_capture_safe(&c, p);
         before = c.safe;
@@ -251,8 +252,8 @@ static void run_case(const fault_case *fc)
     fstat(sink, &sb);
     close(sink);
 
-    print_message("%-46s -> %-16s raw %5d  '%s'\n", fc->name, hp_status_name(r.status),
-                  r.raw_code, hp_planner_error(p)[0] ? hp_planner_error(p) : hp_planner_note(p));
+    print_message("%-46s -> %-16s raw %5d  '%s'\n", fc->name, hp_status_name(r.status), r.raw_code,
+                  hp_planner_error(p)[0] ? hp_planner_error(p) : hp_planner_note(p));
     assert_int_equal(sb.st_size, 0);
     REL_ASSERT(&c, e, far_target, &r, REL_INV_ALL, fc->name);
     int raw_ok = fc->want_raw == ANY_RAW ||

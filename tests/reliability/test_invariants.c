@@ -80,8 +80,8 @@ static long campaign_on(const hp_layout *Lp, unsigned mask, around_fn around, co
                 hp_planner_destroy(p);
             }
     if (mask & REL_INV_REACHED)
-        print_message("%s: %ld plans, worst REACHED round-trip error %.3g mm/deg\n", name,
-                      plans, worst_fk);
+        print_message("%s: %ld plans, worst REACHED round-trip error %.3g mm/deg\n", name, plans,
+                      worst_fk);
     return plans;
 }
 
@@ -114,8 +114,8 @@ static void stretch_within_limits(void **st)
         int lp_any = 0;
         for (int k = 0; k < L.n; ++k) lp_any |= c.lp[k].exists;
         assert_true(lp_any);
-        const double far[3][6] = {{0, 0, 0.03, 0, 0, 0}, {0.03, 0, 0, 0, 0, 0},
-                                  {0, 0, -0.03, 0, 0, 0}};
+        const double far[3][6] = {
+            {0, 0, 0.03, 0, 0, 0}, {0.03, 0, 0, 0, 0, 0}, {0, 0, -0.03, 0, 0, 0}};
         for (int t = 0; t < 3; ++t) {
             hp_result r;
             hp_error e = hp_plan(p, far[t], &r);
@@ -141,10 +141,14 @@ static void failure_labelled_with_safe_output(void **st)
 static void axis_angle_pose(const double u[3], double th, double xi[6])
 {
     double c = cos(th), s = sin(th), v = 1.0 - c, R[9];
-    R[0] = c + u[0] * u[0] * v;        R[1] = u[0] * u[1] * v - u[2] * s;
-    R[2] = u[0] * u[2] * v + u[1] * s; R[3] = u[1] * u[0] * v + u[2] * s;
-    R[4] = c + u[1] * u[1] * v;        R[5] = u[1] * u[2] * v - u[0] * s;
-    R[6] = u[2] * u[0] * v - u[1] * s; R[7] = u[2] * u[1] * v + u[0] * s;
+    R[0] = c + u[0] * u[0] * v;
+    R[1] = u[0] * u[1] * v - u[2] * s;
+    R[2] = u[0] * u[2] * v + u[1] * s;
+    R[3] = u[1] * u[0] * v + u[2] * s;
+    R[4] = c + u[1] * u[1] * v;
+    R[5] = u[1] * u[2] * v - u[0] * s;
+    R[6] = u[2] * u[0] * v - u[1] * s;
+    R[7] = u[2] * u[1] * v + u[0] * s;
     R[8] = c + u[2] * u[2] * v;
     xi[0] = xi[1] = xi[2] = 0.0;
     xi[4] = -asin(fmax(-1.0, fmin(1.0, R[6])));
@@ -197,8 +201,8 @@ static void rotation_sweep(const hp_layout *L)
                          * round trip from the nominal pose does not confirm (near 90
                          * degrees the head's symmetry gives its pressures a second pose). */
                         assert_true(fabs(deg[t]) >= 10.0);
-                        assert_non_null(strstr(hp_planner_error(p),
-                                               "its closest reachable pose lies outside"));
+                        assert_non_null(
+                            strstr(hp_planner_error(p), "its closest reachable pose lies outside"));
                         ++unconfirmed;
                     } else {
                         if (fabs(deg[t]) <= 1.0) assert_int_equal(r.status, HP_STATUS_REACHED);
@@ -422,7 +426,8 @@ static void closest_names_binding(void **st)
         for (int li = 0; li < REL_LEVELS; ++li)
             for (int kind = 0; kind < 2; ++kind) {
                 hp_planner *p = kind == 0
-                                    ? rel_planner(&tight, rel_backends[bi], rel_levels[li], INFINITY, 0)
+                                    ? rel_planner(&tight, rel_backends[bi], rel_levels[li],
+                                                  INFINITY, 0)
                                     : rel_planner(&L, rel_backends[bi], rel_levels[li], 1.0, 0);
                 if (!rel_plans(rel_backends[bi], rel_levels[li])) continue; /* refused, named */
                 /* The tight layout carries no load (a few micrometres of stretch): the load
@@ -525,22 +530,23 @@ static void checker_detects_violations(void **st)
     for (int k = 0; k < L.n; ++k)
         if (c.lp[k].exists) lk = k;
     assert_true(lk >= 0);
-#define EXPECT_CAUGHT(mask, mutate, base, d)                                              \
-    do {                                                                                  \
-        r = (base);                                                                       \
-        mutate;                                                                           \
-        c.safe = safe;                                                                    \
-        c.have_safe = 1;                                                                  \
-        assert_false(rel_check(&c, HP_OK, (d), &r, (mask), why, sizeof why));            \
+#define EXPECT_CAUGHT(mask, mutate, base, d)                                                       \
+    do {                                                                                           \
+        r = (base);                                                                                \
+        mutate;                                                                                    \
+        c.safe = safe;                                                                             \
+        c.have_safe = 1;                                                                           \
+        assert_false(rel_check(&c, HP_OK, (d), &r, (mask), why, sizeof why));                      \
     } while (0)
-    EXPECT_CAUGHT(REL_INV_PRESSURE, r.bladders[2].pressure = L.bladders[2].p_max * 1.0000001,
-                  good, far);
+    EXPECT_CAUGHT(REL_INV_PRESSURE, r.bladders[2].pressure = L.bladders[2].p_max * 1.0000001, good,
+                  far);
     EXPECT_CAUGHT(REL_INV_PRESSURE, r.bladders[2].pressure = NAN, good, far);
-    EXPECT_CAUGHT(REL_INV_STRETCH, r.bladders[1].stretch = L.bladders[1].stretch_min * 0.999,
-                  good, far);
+    EXPECT_CAUGHT(REL_INV_STRETCH, r.bladders[1].stretch = L.bladders[1].stretch_min * 0.999, good,
+                  far);
     EXPECT_CAUGHT(REL_INV_STRETCH,
                   (r.bladders[lk].ri = c.lp[lk].ri,
-                   r.bladders[lk].stretch = c.lp[lk].ri / L.bladders[lk].iab.Ri), good, far);
+                   r.bladders[lk].stretch = c.lp[lk].ri / L.bladders[lk].iab.Ri),
+                  good, far);
     EXPECT_CAUGHT(REL_INV_FINITE, r.achieved[4] = INFINITY, good, far);
     EXPECT_CAUGHT(REL_INV_FINITE, r.pose_error = NAN, good, far);
     EXPECT_CAUGHT(REL_INV_FINITE, r.pose_error = INFINITY, good, far);

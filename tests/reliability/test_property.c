@@ -93,9 +93,18 @@ static void one_plan(prop_planner *pp, uint64_t *seed, long t, const char *tag)
         for (int i = 0; i < 6; ++i) xi[i] = 1e-12 * lf_uniform(seed);
         break;
     case 4: xi[comp] = (lf_uniform(seed) < 0 ? -1e6 : 1e6); break;
-    case 5: random_pose(seed, 1.0, xi); xi[comp] = NAN; break;
-    case 6: random_pose(seed, 1.0, xi); xi[comp] = INFINITY; break;
-    case 7: random_pose(seed, 1.0, xi); xi[comp] = -INFINITY; break;
+    case 5:
+        random_pose(seed, 1.0, xi);
+        xi[comp] = NAN;
+        break;
+    case 6:
+        random_pose(seed, 1.0, xi);
+        xi[comp] = INFINITY;
+        break;
+    case 7:
+        random_pose(seed, 1.0, xi);
+        xi[comp] = -INFINITY;
+        break;
     case 8: {
         int dir = (int)((t / 72) % 2);
         double v = pp->an.reach[comp][dir];
@@ -188,8 +197,8 @@ static void run_backend(hp_backend b)
             int k = (int)(t % KINDS);
             if (!pp[k].p) continue;
             snprintf(tag, sizeof tag, "%s/%s %s plan %ld", hp_backend_name(b),
-                     hp_level_name(rel_levels[li]),
-                     k < REL_KINDS ? rel_kind_names[k] : "rate-1Pa", t);
+                     hp_level_name(rel_levels[li]), k < REL_KINDS ? rel_kind_names[k] : "rate-1Pa",
+                     t);
             one_plan(&pp[k], &seed, t / KINDS, tag);
         }
         long by[HP_STATUS_COUNT_] = {0}, total = 0;
@@ -202,15 +211,31 @@ static void run_backend(hp_backend b)
         }
         print_message("%-12s %-7s %8ld plans: reached %ld closest %ld iter %ld time %ld "
                       "infeasible %ld invalid %ld error %ld; worst FK %.2g\n",
-                      hp_backend_name(b), hp_level_name(rel_levels[li]), total, by[0], by[1],
-                      by[2], by[3], by[4], by[5], by[6], worst);
+                      hp_backend_name(b), hp_level_name(rel_levels[li]), total, by[0], by[1], by[2],
+                      by[3], by[4], by[5], by[6], worst);
     }
 }
 
-static void property_realtime(void **st) { (void)st; run_backend(HP_BACKEND_REALTIME); }
-static void property_ipopt(void **st) { (void)st; run_backend(HP_BACKEND_IPOPT); }
-static void property_nlopt_slsqp(void **st) { (void)st; run_backend(HP_BACKEND_NLOPT_SLSQP); }
-static void property_nlopt_cobyla(void **st) { (void)st; run_backend(HP_BACKEND_NLOPT_COBYLA); }
+static void property_realtime(void **st)
+{
+    (void)st;
+    run_backend(HP_BACKEND_REALTIME);
+}
+static void property_ipopt(void **st)
+{
+    (void)st;
+    run_backend(HP_BACKEND_IPOPT);
+}
+static void property_nlopt_slsqp(void **st)
+{
+    (void)st;
+    run_backend(HP_BACKEND_NLOPT_SLSQP);
+}
+static void property_nlopt_cobyla(void **st)
+{
+    (void)st;
+    run_backend(HP_BACKEND_NLOPT_COBYLA);
+}
 
 int main(void)
 {

@@ -36,7 +36,7 @@ static void check_answer(hp_planner *p, const hp_layout *L, hp_level level, cons
     for (int k = 0; k < L->n; ++k) {
         double ri;
         if (hpi_iab_s_fk_limit_warm_ro(&p->sb.iab_s[k], &p->sb.limit[k], r->bladders[k].pressure,
-                                      r->bladders[k].ri, &ri, &ro[k]) != HP_OK)
+                                       r->bladders[k].ri, &ri, &ro[k]) != HP_OK)
             ro[k] = r->bladders[k].ro;
     }
     hp_error e = hpi_plan_fit_from_nominal(p, ro, p->commanded, NULL, xf, &resid);
@@ -47,8 +47,8 @@ static void check_answer(hp_planner *p, const hp_layout *L, hp_level level, cons
                             (w <= HP_IDENT_SAME && resid * HP_MM_PER_M <= HP_IDENT_FIT_MM));
     if (!ok) {
         ++disagree;
-        print_error("%s #%d: %s confirmed with the early stop, not by the full fit (%.3g)\n",
-                    what, i, hp_status_name(r->status), w);
+        print_error("%s #%d: %s confirmed with the early stop, not by the full fit (%.3g)\n", what,
+                    i, hp_status_name(r->status), w);
     }
     if (w > worst_full) worst_full = w;
     /* All six commanded on these layouts: the user's fit (hp_iab_fk's radii) is the
@@ -79,8 +79,8 @@ static void one_on(const hp_layout *Lin, const char *name, hp_backend b, hp_leve
     assert_non_null(p);
     const hp_layout *PL = hp_planner_layout(p);
     char what[96];
-    snprintf(what, sizeof what, "%s/%s/%s/rate %g", name, hp_backend_name(b),
-             hp_level_name(level), rate);
+    snprintf(what, sizeof what, "%s/%s/%s/rate %g", name, hp_backend_name(b), hp_level_name(level),
+             rate);
     hp_result r;
     for (int i = 0; i < 60; ++i) {
         double mmdeg[6], x[6];
@@ -125,7 +125,8 @@ static void verdict_kept(void **st)
         for (int b = 0; b < 2; ++b)
             for (int l = 0; l < 2; ++l)
                 for (int rt = 0; rt < 2; ++rt)
-                    one(kinds[k], bs[b], levels[l], rt ? 400.0 : INFINITY, seed + 7u * (unsigned)(k * 8 + b * 4 + l * 2 + rt));
+                    one(kinds[k], bs[b], levels[l], rt ? 400.0 : INFINITY,
+                        seed + 7u * (unsigned)(k * 8 + b * 4 + l * 2 + rt));
     /* The shipped scenes' layouts (all commanding six components). */
     const char *scenes[4] = {"near_degenerate.yaml", "large_rotation.yaml", "soft_material.yaml",
                              "saturation.yaml"};
@@ -136,7 +137,8 @@ static void verdict_kept(void **st)
         snprintf(path, sizeof path, "%s/scenarios/%s", HP_SOURCE_DIR, scenes[k]);
         if (hp_scene_load(path, &sc, &d) != HP_OK) fail_msg("%s: %s", path, d.text);
         for (int l = 0; l < 2; ++l)
-            one_on(&sc.layout, scenes[k], HP_BACKEND_REALTIME, levels[l], INFINITY, seed + 99u * (unsigned)k);
+            one_on(&sc.layout, scenes[k], HP_BACKEND_REALTIME, levels[l], INFINITY,
+                   seed + 99u * (unsigned)k);
     }
     print_message("%ld answers confirmed, %ld disagree, full fit within %.3g\n", confirmed,
                   disagree, worst_full);

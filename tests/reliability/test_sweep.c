@@ -88,7 +88,8 @@ static void sw_unit3(uint64_t *s, double u[3])
 static hp_error sw_layout(uint64_t *s, hp_layout *L, char *kind, size_t kn)
 {
     int sphere = test_rng_next(s) % 4 == 0;
-    double ax[3] = {test_rng_uniform(s, 0.070, 0.090), test_rng_uniform(s, 0.100, 0.125), test_rng_uniform(s, 0.085, 0.105)};
+    double ax[3] = {test_rng_uniform(s, 0.070, 0.090), test_rng_uniform(s, 0.100, 0.125),
+                    test_rng_uniform(s, 0.085, 0.105)};
     if (sphere) ax[0] = test_rng_uniform(s, 0.080, 0.100);
     double c[3], pv[3], rays[8][3];
     for (int i = 0; i < 3; ++i) c[i] = test_rng_uniform(s, -0.010, 0.010);
@@ -96,7 +97,8 @@ static hp_error sw_layout(uint64_t *s, hp_layout *L, char *kind, size_t kn)
     pv[1] = c[1] + test_rng_uniform(s, -0.030, 0.030);
     pv[2] = c[2] - test_rng_uniform(s, 0.0, 0.120);
     for (int k = 0; k < 8; ++k)
-        for (int i = 0; i < 3; ++i) rays[k][i] = il_default_rays[k][i] + test_rng_uniform(s, -0.15, 0.15);
+        for (int i = 0; i < 3; ++i)
+            rays[k][i] = il_default_rays[k][i] + test_rng_uniform(s, -0.15, 0.15);
     hp_error e = il_layout(L, sphere ? HP_HEAD_SPHERE : HP_HEAD_ELLIPSOID, ax, c, pv, 8,
                            (const double(*)[3])rays, test_rng_uniform(s, 0.85, 1.15));
     if (e != HP_OK) return e;
@@ -170,8 +172,8 @@ static hp_planner *sw_planner(const hp_layout *L, hp_backend b, hp_level level, 
 
 static void fmt(char *buf, size_t n, const double xi[6])
 {
-    snprintf(buf, n, "%.4f %.4f %.4f mm %.4f %.4f %.4f deg", xi[0] * 1e3, xi[1] * 1e3,
-             xi[2] * 1e3, xi[3] * 180 / PI, xi[4] * 180 / PI, xi[5] * 180 / PI);
+    snprintf(buf, n, "%.4f %.4f %.4f mm %.4f %.4f %.4f deg", xi[0] * 1e3, xi[1] * 1e3, xi[2] * 1e3,
+             xi[3] * 180 / PI, xi[4] * 180 / PI, xi[5] * 180 / PI);
 }
 
 /* The weighted distance (mm, deg: the planner's default weight 1 mm per deg) from the
@@ -255,9 +257,8 @@ static void sw_report(const char *name, const sw_tally *t)
                   "iteration-limit %ld, time-limit %ld, ipopt without answer %ld, "
                   "another local optimum %ld, disagreements %ld; worst pose diff %.3g mm/deg, "
                   "pressure %.3g Pa (agreeing answers)\n",
-                  name, t->plans, t->compared, t->reached, t->closest, t->iter_limit,
-                  t->time_limit, t->ipopt_failed, t->local, t->disagree, t->worst_pose,
-                  t->worst_p);
+                  name, t->plans, t->compared, t->reached, t->closest, t->iter_limit, t->time_limit,
+                  t->ipopt_failed, t->local, t->disagree, t->worst_pose, t->worst_p);
 }
 
 static void sw_assert(const sw_tally *t)
@@ -270,8 +271,7 @@ static void sw_assert(const sw_tally *t)
 
 static const hp_level sw_levels[2] = {HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
 
-static void sweep_layout(const hp_layout *L, const char *what, uint64_t *s, int n,
-                         sw_tally *t)
+static void sweep_layout(const hp_layout *L, const char *what, uint64_t *s, int n, sw_tally *t)
 {
     hp_identifiable id;
     assert_int_equal(hp_layout_identify(L, &id), HP_OK);
@@ -348,8 +348,8 @@ static void trace_layout(const hp_layout *L, const char *what, uint64_t *s, sw_t
  * rejecting a 1.5e-6 mm step again and again. */
 static void fine_trace(const hp_layout *L, sw_tally *t)
 {
-    static const double u[6] = {1, 0.6, -0.75, 0.25 * PI / 180 * 1e3, 0.1 * PI / 180 * 1e3,
-                                -0.15 * PI / 180 * 1e3};
+    static const double u[6] = {
+        1, 0.6, -0.75, 0.25 * PI / 180 * 1e3, 0.1 * PI / 180 * 1e3, -0.15 * PI / 180 * 1e3};
     for (int l = 0; l < 2; ++l) {
         double prev[HP_MAX_BLADDERS];
         hp_planner *rt = sw_planner(L, HP_BACKEND_REALTIME, sw_levels[l], 1, prev);
@@ -363,8 +363,7 @@ static void fine_trace(const hp_layout *L, sw_tally *t)
                 assert_int_equal(hp_planner_set_previous(ip, prev), HP_OK);
                 assert_int_equal(hp_plan(ip, xi, &b), HP_OK);
                 sw_tally_pair(&a, &b, L, "fine trace on default.yaml", xi, &t[l]);
-            } else if (a.status == HP_STATUS_ITERATION_LIMIT ||
-                       a.status == HP_STATUS_TIME_LIMIT) {
+            } else if (a.status == HP_STATUS_ITERATION_LIMIT || a.status == HP_STATUS_TIME_LIMIT) {
                 t[l].plans++;
                 if (a.status == HP_STATUS_ITERATION_LIMIT) t[l].iter_limit++;
                 else t[l].time_limit++;
@@ -411,8 +410,7 @@ static void test_warm_traces(void **st)
  * the checks accept, its 30 targets of the full-size sweep) up to layout `layout`; returns
  * that layout in L and its target `target` in xi. */
 #define SW_FULL_TARGETS 30
-static void sw_replay(int layout, int target, hp_layout *L, char *kind, size_t kn,
-                      double xi[6])
+static void sw_replay(int layout, int target, hp_layout *L, char *kind, size_t kn, double xi[6])
 {
     uint64_t s = SW_SEED;
     for (int i = 0; i <= layout; ++i) {
@@ -518,7 +516,8 @@ static void walk_scene(const char *scene, hp_level level, uint64_t *s)
         if (r < 0.06) { /* the previous pressures of another plan */
             double t[6];
             hp_result o;
-            for (int i = 0; i < 6; ++i) t[i] = test_rng_uniform(s, -0.5, 0.5) * (i < 3 ? 0.012 : 0.1);
+            for (int i = 0; i < 6; ++i)
+                t[i] = test_rng_uniform(s, -0.5, 0.5) * (i < 3 ? 0.012 : 0.1);
             hp_planner_reset(c);
             assert_int_equal(hp_plan(c, t, &o), HP_OK);
             if (o.status == HP_STATUS_REACHED || o.status == HP_STATUS_CLOSEST) {
@@ -604,10 +603,8 @@ static void test_catalogue(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_catalogue),
-        cmocka_unit_test(test_generated_layouts),
-        cmocka_unit_test(test_warm_traces),
-        cmocka_unit_test(test_random_walks),
+        cmocka_unit_test(test_catalogue),    cmocka_unit_test(test_generated_layouts),
+        cmocka_unit_test(test_warm_traces),  cmocka_unit_test(test_random_walks),
         cmocka_unit_test(test_local_optima),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -26,8 +26,8 @@ static void test_no_model_section_is_auto(void **st)
      * range (the scene leaves both to the planner's defaults), a curved one here: the
      * linear level's error bound over 10 mm, 5 degrees exceeds 0.01 mm. */
     hp_level want;
-    assert_int_equal(hp_contact_auto(&sc.layout, HP_DEFAULT_LEVEL_TOLERANCE,
-                                     HP_DEFAULT_AUTO_TRANS, HP_DEFAULT_AUTO_ROT, &want),
+    assert_int_equal(hp_contact_auto(&sc.layout, HP_DEFAULT_LEVEL_TOLERANCE, HP_DEFAULT_AUTO_TRANS,
+                                     HP_DEFAULT_AUTO_ROT, &want),
                      HP_OK);
     assert_true(want != HP_LEVEL_LINEAR);
     s.use_rate_limits = 0;

@@ -47,7 +47,7 @@ static ctx open_scene(const char *file, hp_backend backend)
     set.backend = backend;
     set.use_rate_limits = 0;
     assert_int_equal(load_create(&c.sc->layout, &c.sc->load, &set,
-                                            (hp_load_tiebreak)c.sc->load_tiebreak, &c.p, &d),
+                                 (hp_load_tiebreak)c.sc->load_tiebreak, &c.p, &d),
                      HP_OK);
     return c;
 }
@@ -58,8 +58,8 @@ static void close_scene(ctx *c)
     free(c->sc);
 }
 
-static hp_status plan(const char *file, hp_backend backend, const double corr[6],
-                      hp_result *r, hp_load_info *info)
+static hp_status plan(const char *file, hp_backend backend, const double corr[6], hp_result *r,
+                      hp_load_info *info)
 {
     ctx c = open_scene(file, backend);
     double xi[6];
@@ -80,10 +80,7 @@ static double dist(const double a[6], const double b[6])
     return sqrt(e);
 }
 
-static int answered(hp_status s)
-{
-    return s == HP_STATUS_REACHED || s == HP_STATUS_CLOSEST;
-}
+static int answered(hp_status s) { return s == HP_STATUS_REACHED || s == HP_STATUS_CLOSEST; }
 
 /* Each bladder's delta/ro at the answer, from the public contact distance and radius. */
 static void indentation(const hp_load_model *M, const hp_result *r, double *ratio)
@@ -102,9 +99,15 @@ static void indentation(const hp_load_model *M, const hp_result *r, double *rati
 static const char *const SCENES[] = {SCN "load_supine.yaml", SCN "load_tilted.yaml",
                                      SCN "load_heavy.yaml"};
 static const double CORR[][6] = {
-    {0, 0, 0, 0, 0, 0},  {1, 0, -0.5, 0.3, 0, -0.2}, {0, 0, -4, 0, 0, 0},
-    {0, 0, 10, 0, 0, 0}, {0, 0, -10, 0, 0, 0},       {0, 10, 0, 0, 0, 0},
-    {0, 0, 0, 10, 0, 0}, {5, -5, 3, 5, -5, 10},      {6.264, 7.0991, -2.4693, 3.2596, -0.5412, 2.9385},
+    {0, 0, 0, 0, 0, 0},
+    {1, 0, -0.5, 0.3, 0, -0.2},
+    {0, 0, -4, 0, 0, 0},
+    {0, 0, 10, 0, 0, 0},
+    {0, 0, -10, 0, 0, 0},
+    {0, 10, 0, 0, 0, 0},
+    {0, 0, 0, 10, 0, 0},
+    {5, -5, 3, 5, -5, 10},
+    {6.264, 7.0991, -2.4693, 3.2596, -0.5412, 2.9385},
 };
 #define NSCENE ((int)(sizeof SCENES / sizeof SCENES[0]))
 #define NCORR ((int)(sizeof CORR / sizeof CORR[0]))
@@ -133,8 +136,8 @@ static void test_indent_range(void **state)
                 for (int k = 0; k < r.n; ++k) {
                     if (!(ratio[k] <= HP_LOAD_INDENT_MAX + RATIO_TOL)) {
                         print_error("%s, correction %d, %s: bladder %d indented to "
-                                    "delta/ro = %.4f\n", SCENES[s], c,
-                                    hp_backend_name(BACKENDS[b]), k, ratio[k]);
+                                    "delta/ro = %.4f\n",
+                                    SCENES[s], c, hp_backend_name(BACKENDS[b]), k, ratio[k]);
                         fail();
                     }
                     assert_true(fabs(info.indent[k] - ratio[k]) <= RATIO_TOL);
@@ -170,8 +173,7 @@ static void test_heavy_refused(void **state)
     assert_int_equal(hp_scene_settings(sc, &set, NULL), HP_OK);
     set.level = sc->load_geometry;
     hp_planner *p = NULL;
-    assert_int_equal(load_create(&sc->layout, &sc->load, &set, HP_TIE_LEAST_SQUEEZE,
-                                            &p, &d),
+    assert_int_equal(load_create(&sc->layout, &sc->load, &set, HP_TIE_LEAST_SQUEEZE, &p, &d),
                      HP_ERR_INVALID);
     assert_null(p);
     assert_non_null(strstr(d.text, "indent_max"));
@@ -186,29 +188,29 @@ static void test_rest_flags_indent(void **state)
     (void)state;
     int flagged = 0, clear = 0;
     for (int s = 0; s < NSCENE; ++s) {
-    ctx x = open_scene(SCENES[s], HP_BACKEND_REALTIME);
-    const hp_load_model *M = hp_planner_load_model(x.p);
-    double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
-    assert_int_equal(hp_planner_pressure_bounds(x.p, lo, hi), HP_OK);
-    for (int trial = 0; trial < 6; ++trial) {
-        for (int k = 0; k < 8; ++k) P[k] = k < 4 ? hi[k] * (0.3 + 0.14 * trial) : 0.0;
-        double xi[6];
-        hp_load_rest_info ri;
-        if (hp_load_rest(M, P, NULL, xi, &ri) != HP_OK) continue;
-        hp_result r;
-        memset(&r, 0, sizeof r);
-        r.n = 8;
-        memcpy(r.achieved, xi, sizeof xi);
-        for (int k = 0; k < 8; ++k) r.bladders[k].pressure = P[k];
-        double ratio[HP_MAX_BLADDERS], mx = 0.0;
-        indentation(M, &r, ratio);
-        for (int k = 0; k < 8; ++k) mx = fmax(mx, ratio[k]);
-        assert_true(fabs(ri.indent_max - mx) <= RATIO_TOL);
-        assert_int_equal(ri.beyond_indent, mx > HP_LOAD_INDENT_MAX);
-        flagged += ri.beyond_indent;
-        clear += !ri.beyond_indent;
-    }
-    close_scene(&x);
+        ctx x = open_scene(SCENES[s], HP_BACKEND_REALTIME);
+        const hp_load_model *M = hp_planner_load_model(x.p);
+        double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
+        assert_int_equal(hp_planner_pressure_bounds(x.p, lo, hi), HP_OK);
+        for (int trial = 0; trial < 6; ++trial) {
+            for (int k = 0; k < 8; ++k) P[k] = k < 4 ? hi[k] * (0.3 + 0.14 * trial) : 0.0;
+            double xi[6];
+            hp_load_rest_info ri;
+            if (hp_load_rest(M, P, NULL, xi, &ri) != HP_OK) continue;
+            hp_result r;
+            memset(&r, 0, sizeof r);
+            r.n = 8;
+            memcpy(r.achieved, xi, sizeof xi);
+            for (int k = 0; k < 8; ++k) r.bladders[k].pressure = P[k];
+            double ratio[HP_MAX_BLADDERS], mx = 0.0;
+            indentation(M, &r, ratio);
+            for (int k = 0; k < 8; ++k) mx = fmax(mx, ratio[k]);
+            assert_true(fabs(ri.indent_max - mx) <= RATIO_TOL);
+            assert_int_equal(ri.beyond_indent, mx > HP_LOAD_INDENT_MAX);
+            flagged += ri.beyond_indent;
+            clear += !ri.beyond_indent;
+        }
+        close_scene(&x);
     }
     print_message("rests beyond the range %d, inside %d\n", flagged, clear);
     assert_true(flagged >= 1 && clear >= 1); /* both sides of the flag were seen */
@@ -372,8 +374,9 @@ static void test_closest_held_pose(void **state)
             st = plan(CASES[c].scene, BACKENDS[b], CASES[c].desired, &r, &info);
             double got = answered(st) ? dist(r.achieved, want) : INFINITY;
             print_message("%s case %zu on %s: %s %.6g mm/deg away; nearest reached of %d "
-                          "samples %.6g\n", CASES[c].scene, c, hp_backend_name(BACKENDS[b]),
-                          hp_status_name(st), got, reached, bound);
+                          "samples %.6g\n",
+                          CASES[c].scene, c, hp_backend_name(BACKENDS[b]), hp_status_name(st), got,
+                          reached, bound);
             assert_true(answered(st));
             assert_true(got <= bound + 1e-6);
         }
@@ -384,9 +387,8 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_indent_range),      cmocka_unit_test(test_heavy_refused),
-        cmocka_unit_test(test_rest_flags_indent),
-        cmocka_unit_test(test_cannot_pull),       cmocka_unit_test(test_holding_of_answer),
-        cmocka_unit_test(test_closest_held_pose),
+        cmocka_unit_test(test_rest_flags_indent), cmocka_unit_test(test_cannot_pull),
+        cmocka_unit_test(test_holding_of_answer), cmocka_unit_test(test_closest_held_pose),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

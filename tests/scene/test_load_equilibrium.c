@@ -33,12 +33,11 @@
  * (20 mm + 40° yaw, 30° and 60° pitch: all through a panel before), and large single-axis
  * ones up to pitch 89.9° (held, at a saddle). */
 static const double CORR[][6] = {
-    {0, 0, 0, 0, 0, 0},      {1, 0, -0.5, 0.3, 0, -0.2}, {20, 0, 0, 0, 0, 40},
-    {0, 0, 0, 30, 0, 0},     {0, 0, 0, 60, 0, 0},        {0, 0, 0, 89.9, 0, 0},
-    {-20, 0, 0, 0, 0, -40},  {0, 0, 0, 0, 0, 40},        {20, 0, 0, 0, 0, 0},
-    {0, 10, 0, 0, 0, 0},     {0, -10, 0, 0, 0, 0},       {0, 0, 10, 0, 0, 0},
-    {0, 0, -10, 0, 0, 0},    {0, 0, 0, -10, 0, 0},       {0, 0, 0, 10, 0, 0},
-    {0, 0, 0, 0, 10, 0},     {0, 0, 0, 0, 30, 0},        {5, -5, 3, 5, -5, 10},
+    {0, 0, 0, 0, 0, 0},   {1, 0, -0.5, 0.3, 0, -0.2}, {20, 0, 0, 0, 0, 40},   {0, 0, 0, 30, 0, 0},
+    {0, 0, 0, 60, 0, 0},  {0, 0, 0, 89.9, 0, 0},      {-20, 0, 0, 0, 0, -40}, {0, 0, 0, 0, 0, 40},
+    {20, 0, 0, 0, 0, 0},  {0, 10, 0, 0, 0, 0},        {0, -10, 0, 0, 0, 0},   {0, 0, 10, 0, 0, 0},
+    {0, 0, -10, 0, 0, 0}, {0, 0, 0, -10, 0, 0},       {0, 0, 0, 10, 0, 0},    {0, 0, 0, 0, 10, 0},
+    {0, 0, 0, 0, 30, 0},  {5, -5, 3, 5, -5, 10},
 };
 #define NCORR ((int)(sizeof CORR / sizeof CORR[0]))
 
@@ -46,10 +45,7 @@ typedef struct tally {
     int answers, refused;
 } tally;
 
-static double norm3(const double v[3])
-{
-    return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-}
+static double norm3(const double v[3]) { return sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
 
 /* One answer: the pressures inside the bounds, Q below its acceptance and the Newton–Euler
  * residual below NE_TOL (when the forward statics of the answer's pressures reports a rest,
@@ -114,8 +110,8 @@ static void sweep(const char *file, hp_backend backend, int ncorr, tally *t)
     set.level = sc->load_geometry;
     set.backend = backend;
     hp_planner *p = NULL;
-    hp_error e = load_create(&sc->layout, &sc->load, &set,
-                                        (hp_load_tiebreak)sc->load_tiebreak, &p, &d);
+    hp_error e = load_create(&sc->layout, &sc->load, &set, (hp_load_tiebreak)sc->load_tiebreak, &p,
+                             &d);
     if (e) {
         /* The only catalogue scene refused: the prone head, too heavy (docs/load.md). */
         assert_non_null(strstr(file, "load_prone.yaml"));
@@ -167,8 +163,7 @@ static void test_catalogue_answers_are_equilibria(void **state)
         sweep(file, HP_BACKEND_REALTIME, NCORR, &t);
     }
     closedir(dir);
-    print_message("%d load scenes: %d answers checked, %d refused\n", scenes, t.answers,
-                  t.refused);
+    print_message("%d load scenes: %d answers checked, %d refused\n", scenes, t.answers, t.refused);
     assert_true(scenes >= 4); /* supine, tilted, heavy, prone */
     /* Most corrections are answered: the check is not vacuous. */
     assert_true(t.answers >= 2 * NCORR);

@@ -41,8 +41,8 @@ static void test_auto_follows_the_predicted_sag(void **state)
     char ref_why[256];
     assert_int_equal(hp_load_model_create(&sc->layout, &sc->load, sc->load_geometry, &M, NULL),
                      HP_OK);
-    assert_int_equal(hp_load_auto_choose(M, sc->level_tolerance, &ref, NULL, ref_why,
-                                         sizeof ref_why), HP_OK);
+    assert_int_equal(
+        hp_load_auto_choose(M, sc->level_tolerance, &ref, NULL, ref_why, sizeof ref_why), HP_OK);
     hp_load_model_destroy(M);
     int use = -1;
     char why[256];
@@ -150,14 +150,12 @@ static void test_kinematic_only(void **state)
     assert_string_equal(d.text, want);
     assert_int_equal(hp_scene_kinematic_only(sc, "surface", "batch", &refused, NULL), HP_OK);
     assert_int_equal(refused, HP_LEVEL_REFUSED_NONE);
-    assert_int_equal(hp_scene_kinematic_only(sc, "cubic", "batch", &refused, &d),
-                     HP_ERR_INVALID);
+    assert_int_equal(hp_scene_kinematic_only(sc, "cubic", "batch", &refused, &d), HP_ERR_INVALID);
     assert_int_equal(refused, HP_LEVEL_REFUSED_UNKNOWN);
     assert_int_equal(hp_scene_kinematic_only(sc, NULL, NULL, &refused, NULL), HP_ERR_NULL);
     load(SCN "default.yaml", sc);
     assert_int_equal(hp_scene_kinematic_only(sc, NULL, "batch", &refused, &d), HP_OK);
-    assert_int_equal(hp_scene_kinematic_only(sc, "load", "batch", &refused, &d),
-                     HP_ERR_INVALID);
+    assert_int_equal(hp_scene_kinematic_only(sc, "load", "batch", &refused, &d), HP_ERR_INVALID);
     assert_int_equal(refused, HP_LEVEL_REFUSED_NO_LOAD);
     free(sc);
 }

@@ -124,10 +124,10 @@ static void test_default_layout(void **state)
         const char *name;
         double d[3];
     } want[8] = {
-        {"base_neck_left", {0.35, -0.45, -1}},  {"base_neck_right", {-0.35, -0.45, -1}},
-        {"base_skull_left", {0.35, 0.45, -1}},  {"base_skull_right", {-0.35, 0.45, -1}},
-        {"side_fore_left", {1, 0.45, 0.15}},    {"side_fore_right", {-1, 0.45, 0.15}},
-        {"side_chin_left", {1, -0.45, -0.15}},  {"side_chin_right", {-1, -0.45, -0.15}},
+        {"base_neck_left", {0.35, -0.45, -1}}, {"base_neck_right", {-0.35, -0.45, -1}},
+        {"base_skull_left", {0.35, 0.45, -1}}, {"base_skull_right", {-0.35, 0.45, -1}},
+        {"side_fore_left", {1, 0.45, 0.15}},   {"side_fore_right", {-1, 0.45, 0.15}},
+        {"side_chin_left", {1, -0.45, -0.15}}, {"side_chin_right", {-1, -0.45, -0.15}},
     };
     hp_scene *s = load("default.yaml");
     const hp_layout *L = &s->layout;

@@ -21,15 +21,14 @@ static void check_scene(const char *file, const char *level)
 
     hp_level want = s.level;
     if (want == HP_LEVEL_AUTO)
-        assert_int_equal(hp_contact_auto(&sc->layout, s.level_tolerance, s.auto_trans,
-                                         s.auto_rot, &want),
-                         HP_OK);
+        assert_int_equal(
+            hp_contact_auto(&sc->layout, s.level_tolerance, s.auto_trans, s.auto_rot, &want),
+            HP_OK);
     assert_int_equal(x.requested, s.level);
     assert_int_equal(x.level, want);
     double bl;
-    assert_int_equal(hp_contact_error_bound(&sc->layout, HP_LEVEL_LINEAR, s.auto_trans,
-                                            s.auto_rot, &bl),
-                     HP_OK);
+    assert_int_equal(
+        hp_contact_error_bound(&sc->layout, HP_LEVEL_LINEAR, s.auto_trans, s.auto_rot, &bl), HP_OK);
     assert_memory_equal(&bl, &x.bound_linear, sizeof bl);
     hp_layout_analysis an;
     assert_int_equal(hp_layout_analyze(&sc->layout, want, &an), HP_OK);

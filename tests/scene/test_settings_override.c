@@ -50,8 +50,9 @@ static void test_sets_fields(void **state)
 static void test_refusals(void **state)
 {
     (void)state;
-    expect_refused("backend", "gurobi", 0,
-                   "backend: unknown backend 'gurobi' (realtime, ipopt, nlopt-slsqp, nlopt-cobyla)");
+    expect_refused(
+        "backend", "gurobi", 0,
+        "backend: unknown backend 'gurobi' (realtime, ipopt, nlopt-slsqp, nlopt-cobyla)");
     expect_refused("level", "exact", 0,
                    "level: unknown level 'exact' (linear, plane, surface, auto, load)");
     expect_refused("level", NULL, 1, "level: expected a name");

@@ -89,10 +89,10 @@ static void csv_corrections(void **state)
 {
     (void)state;
     hp_trace_reader *r = open_text(COR "t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n"
-                                   "0,1,2,3,0.5,-0.25,0\n"
-                                   "\n"
-                                   "# a comment\n"
-                                   "0.1,1e-3,-2.5,0,0,0,90\n",
+                                       "0,1,2,3,0.5,-0.25,0\n"
+                                       "\n"
+                                       "# a comment\n"
+                                       "0.1,1e-3,-2.5,0,0,0,90\n",
                                    HP_TRACE_CSV);
     assert_int_equal(hp_trace_rows_of(r), HP_TRACE_CORRECTION);
     expect_row(r, 3, 0.0, (const double[6]){1, 2, 3, 0.5, -0.25, 0});
@@ -199,7 +199,8 @@ static void jsonl_rows(void **state)
     (void)state;
     hp_trace_reader *r = open_text(
         "{\"headplan_trace\": 1, \"rows\": \"deviation\"}\n"
-        "{\"t_s\":0,\"x_mm\":1,\"y_mm\":0,\"z_mm\":0,\"pitch_deg\":0,\"roll_deg\":0,\"yaw_deg\":0}\n"
+        "{\"t_s\":0,\"x_mm\":1,\"y_mm\":0,\"z_mm\":0,\"pitch_deg\":0,\"roll_deg\":0,\"yaw_deg\":0}"
+        "\n"
         "{\"t_s\":0,\"x_mm\":1}\n"
         "{\"t_s\":0,\"x_mm\":1,\"y_mm\":0,\"z_mm\":0,\"pitch_deg\":0,\"roll_deg\":0,\"yaw_deg\":2,"
         "\"w\":1}\n"
@@ -207,7 +208,8 @@ static void jsonl_rows(void **state)
         "\"yaw_deg\":2}\n"
         "[1,2]\n"
         "{\"t_s\":0,\"t_s\":1}\n"
-        "{\"t_s\":1,\"x_mm\":0,\"y_mm\":0,\"z_mm\":0,\"pitch_deg\":0,\"roll_deg\":0,\"yaw_deg\":0}\n",
+        "{\"t_s\":1,\"x_mm\":0,\"y_mm\":0,\"z_mm\":0,\"pitch_deg\":0,\"roll_deg\":0,\"yaw_deg\":0}"
+        "\n",
         HP_TRACE_JSONL);
     assert_int_equal(hp_trace_rows_of(r), HP_TRACE_DEVIATION);
     expect_row(r, 2, 0.0, (const double[6]){-1, 0, 0, 0, 0, 0});
@@ -224,9 +226,9 @@ static void jsonl_rows(void **state)
 static void jsonl_first_line_is_data(void **state)
 {
     (void)state;
-    hp_trace_reader *r = open_rows(
-        "{\"t_s\":0,\"x_mm\":1,\"y_mm\":0,\"z_mm\":0,\"pitch_deg\":0,\"roll_deg\":0,\"yaw_deg\":0}\n",
-        HP_TRACE_JSONL, &CORRECTION);
+    hp_trace_reader *r = open_rows("{\"t_s\":0,\"x_mm\":1,\"y_mm\":0,\"z_mm\":0,\"pitch_deg\":0,"
+                                   "\"roll_deg\":0,\"yaw_deg\":0}\n",
+                                   HP_TRACE_JSONL, &CORRECTION);
     assert_int_equal(hp_trace_rows_of(r), HP_TRACE_CORRECTION);
     expect_row(r, 1, 0.0, (const double[6]){1, 0, 0, 0, 0, 0});
     expect_end(r);
@@ -250,8 +252,8 @@ static void rows_kind_rules(void **state)
     /* The old JSON Lines form {"rows": ...} is refused, not taken for data or a header. */
     expect_open_fails("{\"rows\": \"deviation\"}\n", HP_TRACE_JSONL, NULL, HP_ERR_PARSE,
                       "t:1:1: header record must be exactly");
-    expect_open_fails("{\"headplan_trace\": 2, \"rows\": \"deviation\"}\n", HP_TRACE_JSONL,
-                      NULL, HP_ERR_PARSE, "header record must be exactly");
+    expect_open_fails("{\"headplan_trace\": 2, \"rows\": \"deviation\"}\n", HP_TRACE_JSONL, NULL,
+                      HP_ERR_PARSE, "header record must be exactly");
     hp_trace_reader *r = open_rows(dev, HP_TRACE_CSV, &DEVIATION); /* agreeing: fine */
     assert_int_equal(hp_trace_rows_of(r), HP_TRACE_DEVIATION);
     assert_int_equal(hp_trace_states_rows(r), 1);
@@ -262,7 +264,8 @@ static void rows_kind_rules(void **state)
     hp_trace_close(r);
     /* A directive after the header, or a header record after the first line: bad rows. */
     r = open_text(COR HDR "0,1,0,0,0,0,0\n# rows: deviation\n"
-                  "# Headplan-trace: rows=deviation\n1,0,0,0,0,0,0\n", HP_TRACE_CSV);
+                          "# Headplan-trace: rows=deviation\n1,0,0,0,0,0,0\n",
+                  HP_TRACE_CSV);
     expect_row(r, 3, 0.0, (const double[6]){1, 0, 0, 0, 0, 0});
     expect_bad(r, "t:4:1: a directive must be the first line");
     expect_bad(r, "t:5:1: a directive must be the first line");
@@ -296,9 +299,11 @@ static void pose_forms(void **state)
     expect_bad(r, "t:4: quaternion: norm");
     hp_trace_close(r);
     /* A 4x4 of yaw 90° and a 2 mm lift; a reflection is a bad row. */
-    r = open_text(DEV "t_s,m00,m01,m02,m03_mm,m10,m11,m12,m13_mm,m20,m21,m22,m23_mm,m30,m31,m32,m33\n"
+    r = open_text(DEV
+                  "t_s,m00,m01,m02,m03_mm,m10,m11,m12,m13_mm,m20,m21,m22,m23_mm,m30,m31,m32,m33\n"
                   "0,0,-1,0,0,1,0,0,0,0,0,1,2,0,0,0,1\n"
-                  "0,-1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1\n", HP_TRACE_CSV);
+                  "0,-1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1\n",
+                  HP_TRACE_CSV);
     assert_int_equal(hp_trace_form_of(r), HP_TRACE_MATRIX);
     assert_int_equal(hp_trace_next(r, &row, NULL), HP_OK);
     /* Deviation: yaw +90° and z +2 mm; correction: yaw −90° and z −2 mm (R keeps z). */
@@ -307,10 +312,12 @@ static void pose_forms(void **state)
     expect_bad(r, "t:4: matrix: a reflection");
     hp_trace_close(r);
     /* JSON Lines with quaternion keys; a row of another form is a bad row. */
-    r = open_text("{\"headplan_trace\":1,\"rows\":\"correction\"}\n"
-                  "{\"t_s\":0,\"x_mm\":0,\"y_mm\":0,\"z_mm\":0,\"qw\":1,\"qx\":0,\"qy\":0,\"qz\":0}\n"
-                  "{\"t_s\":0,\"x_mm\":1,\"y_mm\":0,\"z_mm\":0,\"pitch_deg\":0,\"roll_deg\":0,\"yaw_deg\":0}\n",
-                  HP_TRACE_JSONL);
+    r = open_text(
+        "{\"headplan_trace\":1,\"rows\":\"correction\"}\n"
+        "{\"t_s\":0,\"x_mm\":0,\"y_mm\":0,\"z_mm\":0,\"qw\":1,\"qx\":0,\"qy\":0,\"qz\":0}\n"
+        "{\"t_s\":0,\"x_mm\":1,\"y_mm\":0,\"z_mm\":0,\"pitch_deg\":0,\"roll_deg\":0,\"yaw_deg\":0}"
+        "\n",
+        HP_TRACE_JSONL);
     expect_row(r, 2, 0.0, (const double[6]){0, 0, 0, 0, 0, 0});
     assert_int_equal(hp_trace_form_of(r), HP_TRACE_QUATERNION);
     expect_bad(r, "t:3: unknown key");
@@ -368,8 +375,7 @@ static void long_line_stops(void **state)
     assert_non_null(f);
     hp_trace_reader *r = NULL;
     hp_diag d = {{0}};
-    assert_int_equal(hp_trace_open_stream(f, "zero.csv", &CORRECTION, NULL, &r, &d),
-                     HP_ERR_STATE);
+    assert_int_equal(hp_trace_open_stream(f, "zero.csv", &CORRECTION, NULL, &r, &d), HP_ERR_STATE);
     assert_non_null(strstr(d.text, "zero.csv:1: line longer than 4096 bytes"));
     fclose(f);
     static char big[HP_TRACE_LINE_MAX + 200];
@@ -410,13 +416,19 @@ static void override_and_names(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(csv_corrections),       cmocka_unit_test(csv_deviation_inverted),
+        cmocka_unit_test(csv_corrections),
+        cmocka_unit_test(csv_deviation_inverted),
         cmocka_unit_test(csv_bad_rows_continue),
-        cmocka_unit_test(truncated_line_column), cmocka_unit_test(csv_bad_header),
-        cmocka_unit_test(jsonl_rows),            cmocka_unit_test(jsonl_first_line_is_data),
-        cmocka_unit_test(rows_kind_rules),       cmocka_unit_test(pose_forms),
-        cmocka_unit_test(bytes_and_bom),         cmocka_unit_test(pipe_reads_sequentially),
-        cmocka_unit_test(long_line_stops),       cmocka_unit_test(override_and_names),
+        cmocka_unit_test(truncated_line_column),
+        cmocka_unit_test(csv_bad_header),
+        cmocka_unit_test(jsonl_rows),
+        cmocka_unit_test(jsonl_first_line_is_data),
+        cmocka_unit_test(rows_kind_rules),
+        cmocka_unit_test(pose_forms),
+        cmocka_unit_test(bytes_and_bom),
+        cmocka_unit_test(pipe_reads_sequentially),
+        cmocka_unit_test(long_line_stops),
+        cmocka_unit_test(override_and_names),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

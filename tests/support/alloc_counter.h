@@ -29,10 +29,26 @@ int __wrap_posix_memalign(void **p, size_t a, size_t n);
 void *__wrap__Znwm(size_t n);
 void *__wrap__Znam(size_t n);
 
-void *__wrap_malloc(size_t n) { alloc_count += alloc_armed; return __real_malloc(n); }
-void *__wrap_calloc(size_t a, size_t b) { alloc_count += alloc_armed; return __real_calloc(a, b); }
-void *__wrap_realloc(void *p, size_t n) { alloc_count += alloc_armed; return __real_realloc(p, n); }
-void __wrap_free(void *p) { alloc_count += alloc_armed && p; __real_free(p); }
+void *__wrap_malloc(size_t n)
+{
+    alloc_count += alloc_armed;
+    return __real_malloc(n);
+}
+void *__wrap_calloc(size_t a, size_t b)
+{
+    alloc_count += alloc_armed;
+    return __real_calloc(a, b);
+}
+void *__wrap_realloc(void *p, size_t n)
+{
+    alloc_count += alloc_armed;
+    return __real_realloc(p, n);
+}
+void __wrap_free(void *p)
+{
+    alloc_count += alloc_armed && p;
+    __real_free(p);
+}
 void *__wrap_aligned_alloc(size_t a, size_t n)
 {
     alloc_count += alloc_armed;
@@ -43,7 +59,15 @@ int __wrap_posix_memalign(void **p, size_t a, size_t n)
     alloc_count += alloc_armed;
     return __real_posix_memalign(p, a, n);
 }
-void *__wrap__Znwm(size_t n) { alloc_count += alloc_armed; return __real__Znwm(n); }
-void *__wrap__Znam(size_t n) { alloc_count += alloc_armed; return __real__Znam(n); }
+void *__wrap__Znwm(size_t n)
+{
+    alloc_count += alloc_armed;
+    return __real__Znwm(n);
+}
+void *__wrap__Znam(size_t n)
+{
+    alloc_count += alloc_armed;
+    return __real__Znam(n);
+}
 
 #endif

@@ -49,9 +49,9 @@ static inline hp_error fx_layout(hp_layout *L)
     L->n = 8;
     struct {
         const char *name;
-        int axis;      /* coordinate solved for on the surface */
-        double u, v;   /* the other two coordinates, in the order (axis+1, axis+2) mod 3 */
-        double s;      /* side */
+        int axis;    /* coordinate solved for on the surface */
+        double u, v; /* the other two coordinates, in the order (axis+1, axis+2) mod 3 */
+        double s;    /* side */
     } spec[8] = {
         /* base: axis Z, given (X, Y) */
         {"base_neck_left", 2, 0.025, -0.040, -1},
@@ -88,8 +88,8 @@ static inline hp_error fx_layout(hp_layout *L)
  * previous pressures 0, and the radius bounds of the stretch and pressure limits:
  * ri_lo = max(0.8·Ri, FK(p_min)), ri_hi = min(1.3·Ri, FK(p_max)) (mm), ro bounds by the
  * volume law. */
-static inline hp_error fx_problem(const hp_layout *L, hp_geom *G, hp_level level,
-                                  const double d[6], hp_problem *pb)
+static inline hp_error fx_problem(const hp_layout *L, hp_geom *G, hp_level level, const double d[6],
+                                  hp_problem *pb)
 {
     memset(pb, 0, sizeof *pb);
     hp_error eg = hpi_geom_derive(L, G, NULL);

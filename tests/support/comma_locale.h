@@ -20,8 +20,7 @@ static int comma_locale(void)
     static char dir[] = "/tmp/hp_locale_XXXXXX";
     if (!mkdtemp(dir)) return 0;
     char cmd[256];
-    snprintf(cmd, sizeof cmd, "localedef -i de_DE -f UTF-8 %s/de_DE.UTF-8 >/dev/null 2>&1",
-             dir);
+    snprintf(cmd, sizeof cmd, "localedef -i de_DE -f UTF-8 %s/de_DE.UTF-8 >/dev/null 2>&1", dir);
     int built = system(cmd) == 0;
     if (built) setenv("LOCPATH", dir, 1); /* glibc reads it at every setlocale */
     int ok = built && setlocale(LC_NUMERIC, "de_DE.UTF-8") && is_comma();

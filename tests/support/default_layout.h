@@ -38,10 +38,9 @@ static inline void default_touch_mm(int k, double p[3])
 
 static inline const char *default_name(int k)
 {
-    static const char *const names[8] = {"base_neck_left",  "base_neck_right",
-                                         "base_skull_left", "base_skull_right",
-                                         "side_fore_left",  "side_fore_right",
-                                         "side_chin_left",  "side_chin_right"};
+    static const char *const names[8] = {"base_neck_left",   "base_neck_right", "base_skull_left",
+                                         "base_skull_right", "side_fore_left",  "side_fore_right",
+                                         "side_chin_left",   "side_chin_right"};
     return names[k];
 }
 

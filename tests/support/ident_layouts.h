@@ -18,7 +18,7 @@
 #include <string.h>
 
 static const double il_default_rays[8][3] = {
-    {0.35, -0.45, -1}, {-0.35, -0.45, -1}, {0.35, 0.45, -1}, {-0.35, 0.45, -1},
+    {0.35, -0.45, -1}, {-0.35, -0.45, -1}, {0.35, 0.45, -1},  {-0.35, 0.45, -1},
     {1, 0.45, 0.15},   {-1, 0.45, 0.15},   {1, -0.45, -0.15}, {-1, -0.45, -0.15}};
 
 static inline void il_flat_rays(double rays[8][3])
@@ -61,7 +61,8 @@ static inline hp_error il_layout(hp_layout *L, hp_head_shape shape, const double
         B->rate_max = INFINITY;
         const double *u = rays[k];
         double q = 0.0;
-        for (int i = 0; i < 3; ++i) q += (u[i] / L->head.semi_axes[i]) * (u[i] / L->head.semi_axes[i]);
+        for (int i = 0; i < 3; ++i)
+            q += (u[i] / L->head.semi_axes[i]) * (u[i] / L->head.semi_axes[i]);
         double t = 1.0 / sqrt(q), p[3];
         for (int i = 0; i < 3; ++i) p[i] = L->head.center[i] + t * u[i];
         hp_error e = hp_head_center_from_touch(&L->head, p, B->iab.Ro, 0.0, B->center, NULL);

@@ -23,9 +23,9 @@
 #include <stdio.h>
 #include <string.h>
 
-static const char *const lf_names[8] = {
-    "base_neck_left", "base_neck_right", "base_skull_left", "base_skull_right",
-    "side_fore_left", "side_fore_right", "side_chin_left", "side_chin_right"};
+static const char *const lf_names[8] = {"base_neck_left",   "base_neck_right", "base_skull_left",
+                                        "base_skull_right", "side_fore_left",  "side_fore_right",
+                                        "side_chin_left",   "side_chin_right"};
 
 /* Builds (and prepares) the default layout on an ellipsoid (sphere = 0) or on a sphere of
  * radius 90 mm (sphere = 1). C2 is the second modulus [Pa]. Returns HP_OK or the error. */
@@ -130,10 +130,7 @@ static inline hp_error lf_soft_layout(hp_layout *L, double p_max_factor, hp_iab_
 }
 
 /* Uniform in [−1, 1). */
-static inline double lf_uniform(uint64_t *s)
-{
-    return test_rng_uniform(s, -1.0, 1.0);
-}
+static inline double lf_uniform(uint64_t *s) { return test_rng_uniform(s, -1.0, 1.0); }
 
 /* A correction in clinical units (mm, deg) -> SI. */
 static inline void lf_pose(const double mm_deg[6], double xi[6])

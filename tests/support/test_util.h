@@ -13,15 +13,15 @@
 #include <cmocka.h>
 
 /* Fails unless |got − want| <= abs_tol + rel_tol·|want|, printing both and the excess. */
-#define hp_assert_close(got, want, rel_tol, abs_tol)                                       \
-    do {                                                                                    \
-        double g_ = (got), w_ = (want);                                                     \
-        double lim_ = (abs_tol) + (rel_tol) * fabs(w_);                                     \
-        if (!(fabs(g_ - w_) <= lim_)) {                                                     \
-            print_error("%s = %.17g, want %.17g (|diff| %.3g > %.3g)\n", #got, g_, w_,     \
-                        fabs(g_ - w_), lim_);                                               \
-            fail();                                                                         \
-        }                                                                                   \
+#define hp_assert_close(got, want, rel_tol, abs_tol)                                               \
+    do {                                                                                           \
+        double g_ = (got), w_ = (want);                                                            \
+        double lim_ = (abs_tol) + (rel_tol)*fabs(w_);                                              \
+        if (!(fabs(g_ - w_) <= lim_)) {                                                            \
+            print_error("%s = %.17g, want %.17g (|diff| %.3g > %.3g)\n", #got, g_, w_,             \
+                        fabs(g_ - w_), lim_);                                                      \
+            fail();                                                                                \
+        }                                                                                          \
     } while (0)
 
 /* Solves the 6×6 system A x = b in place (b becomes x) by Gaussian elimination without
