@@ -413,8 +413,9 @@ static hp_error fill_bladders(const hp_load_level *p, const double xi[6], const 
 {
     const hp_load_model *M = &p->M;
     r->n = M->layout.n;
-    double force[HP_MAX_BLADDERS], ratio[HP_MAX_BLADDERS], Q[6];
+    double force[HP_MAX_BLADDERS], ratio[HP_MAX_BLADDERS];
     if (closest) {
+        double Q[6];
         hp_error err = hp_load_eval(M, xi, P, Q, NULL, NULL, force, NULL);
         if (!err) err = hp_load_indentation(M, xi, P, ratio);
         if (err) return err;
@@ -464,12 +465,13 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
     /* The request check of hp_plan: the same corrections refused with the same words. */
     int bad = !hpi_plan_desired_ok(&p->id, desired, p->err);
     plan_bounds(p);
-    double target[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], xi[6];
+    double target[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS], xi[6];
     for (int k = 0; k < n; ++k)
         target[k] = p->set.load_tiebreak == HP_TIE_PREVIOUS ? p->prev_P[k] : 0.0;
     hpi_load_solve_status st = HP_LOAD_SOLVE_ERROR;
     int it1 = 0, it2 = 0, it3 = 0, held = 0; /* held: holds(M, xi, P) already checked */
     if (!bad) {
+        double F[HP_MAX_BLADDERS];
         /* HOLD at the desired pose, accepted only when its equilibrium checks out. */
         memcpy(xi, desired, sizeof xi);
         st = hold(p, xi, target, p->prev_P, P, F, &it1, &r->raw_code);

@@ -50,8 +50,9 @@ SUPPRESS=(
 )
 # Every library module (the list CMakeLists.txt builds, so a new module is analysed at once),
 # the program and the benchmark lab.
-read -r -a MODULES <<<"$(sed -n 's/^set(HP_MODULES \(.*\))$/\1/p' CMakeLists.txt)"
-[ "${#MODULES[@]}" -gt 0 ] || { echo "cppcheck.sh: no HP_MODULES in CMakeLists.txt" >&2; exit 1; }
+# The library's modules: the `lib` lines of cmake/layers.txt, which CMake builds from too.
+read -r -a MODULES <<<"$(awk '$1 == "lib" {printf "%s ", $2}' cmake/layers.txt)"
+[ "${#MODULES[@]}" -gt 0 ] || { echo "cppcheck.sh: no lib modules in cmake/layers.txt" >&2; exit 1; }
 echo "cppcheck: ${MODULES[*]} cli bench"
 cppcheck --std=c11 --enable=warning,performance,portability,style --inline-suppr \
   --error-exitcode=1 --quiet --template='{file}:{line}:{column}: {severity}: {message} [{id}]' \
