@@ -138,10 +138,8 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
          * same candidates. */
         if (d > 0 && fabs(f / d) <= 0.5 * DBL_EPSILON * x) {
             double xs = nextafter(x, f < 0 ? INFINITY : 0.0);
-            if (hpi_iab_s_ik(s, xs, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f) {
-                best_f = fabs(p - target);
+            if (hpi_iab_s_ik(s, xs, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f)
                 best = xs;
-            }
             break;
         }
         if (!(hi - lo > 2.0 * DBL_EPSILON * hi)) break;
