@@ -16,6 +16,8 @@ runs (the fixed configuration, in this order):
                     bench/csv_tables.py docs/figures                        docs/benchmarks.md,
                                                                             README.md
   backends-table    headplan-bench-backends                                 docs/backends.md
+  loop-table        loop.csv of the same headplan-bench run                 docs/control-loop.md
+  load-table        load.csv of the same headplan-bench run                 docs/load.md
   horizon-rh        headplan-bench-horizon rh scenarios/horizon/step.yaml
                     scenarios/traces/step.csv                               docs/horizon.md
   python-row        Planner(default scene).run_trace() of its drift trace,
@@ -145,6 +147,58 @@ def speed(src, figures):
     return block("\n".join(lines))
 
 
+def loop_table(figures):
+    """The control-loop family (loop.csv of this run): per backend, level and trace the
+    medians of the four modes, × the ratio to the rate-free plan of the same trace (the modes
+    take turns every cycle), `set` hp_planner_set_measured's median, and the deadline mode's
+    time-limit stops and overshoots of the budget by more than 5 us."""
+    with open(os.path.join(figures, "loop.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    by = {(r["backend"], r["level"], r["trace"], r["mode"]): r for r in rows}
+    keys = []
+    for r in rows:
+        k = (r["backend"], r["level"], r["trace"])
+        if k not in keys:
+            keys.append(k)
+    lines = ["%-8s %-12s %-7s %6s  %-14s %-14s %-14s %5s  %s" % (
+        "level", "backend", "trace", "free", "rate (x)", "measured (x)", "deadline (x)", "set",
+        "deadline: time-limit / over")]
+    for b, lv, tr in keys:
+        m = {mode: by[(b, lv, tr, mode)] for mode in ("free", "rate", "measured", "deadline")}
+
+        def med(mode):
+            return "%.2f (%.2f)" % (float(m[mode]["median_us"]), float(m[mode]["ratio_median"]))
+        d = m["deadline"]
+        lines.append("%-8s %-12s %-7s %6.2f  %-14s %-14s %-14s %5.2f  %s / %s of %s" % (
+            lv, b, tr, float(m["free"]["median_us"]), med("rate"), med("measured"),
+            med("deadline"), float(m["measured"]["set_measured_median_us"]), d["time_limit"],
+            d["overshoots"], d["cycles"]))
+    return block("```text\n" + "\n".join(lines) + "\n```")
+
+
+def load_table(figures):
+    """The load family (load.csv of this run): per scene the kinematic plan's median, and per
+    backend the load level's status and median with its ratio to that kinematic plan."""
+    with open(os.path.join(figures, "load.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    order = ("realtime", "ipopt", "nlopt-slsqp")
+    lines = ["| scene | kinematic realtime (baseline) | load, realtime | load, ipopt "
+             "| load, nlopt-slsqp |", "|---|---|---|---|---|"]
+    for scene in sorted({r["scene"] for r in rows}):
+        by = {r["backend"]: r for r in rows if r["scene"] == scene}
+        base = float(by[order[0]]["kinematic_median_ns"])
+        cells = []
+        for b in order:
+            r = by[b]
+            if r["load_status"] == "refused":
+                cells.append("refused at create")
+            else:
+                t = float(r["load_median_ns"])
+                cells.append("%s, %s (×%.0f)" % (r["load_status"], csv_tables.t(t), t / base))
+        lines.append("| `%s` | %s | %s |" % (scene, csv_tables.t(base), " | ".join(cells)))
+    return block("\n".join(lines))
+
+
 def horizon_table(out):
     rows = list(csv.DictReader(out.splitlines()))
     by = {(r["N"], r["prediction"]): r for r in rows}
@@ -230,6 +284,8 @@ def main():
     sp = speed(src, figures)
     new["README.md"]["speed-readme"] = sp
     new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp})
+    new["docs/control-loop.md"] = {"loop-table": loop_table(figures)}
+    new["docs/load.md"] = {"load-table": load_table(figures)}
     out, w = run([os.path.join(binary, "headplan-bench-backends")], src)
     wall.append(("headplan-bench-backends", w))
     new["docs/backends.md"] = {"backends-table": block(out.strip("\n"))}
