@@ -12,48 +12,50 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 3.14764e+07]
+set xrange [* : 1.00584e+07]
 
 $front << EOD
-845.417,4.646568e-01,realtime-linear-1e-09
-5609,1.355203e-10,realtime-surface-1e-04
-9.18389e+06,1.000000e-17,ipopt-surface-1e-04
-3.14764e+07,1.000000e-17,end
+868,4.646568e-01,realtime-linear-1e-09
+5698,1.355203e-10,realtime-surface-1e-04
+3.14363e+06,1.000000e-17,ipopt-surface-1e-04
+1.00584e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-371.667,4.936830e-03,fastpath-linear
-2183.25,1.000000e-17,fastpath-surface
-3.14764e+07,1.000000e-17,end
+368.828,4.936830e-03,fastpath-linear
+2173.2,1.000000e-17,fastpath-surface
+1.00584e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-834.963,9.238732e-02,trace-realtime-linear
-4917.4,3.417474e-08,trace-realtime-surface
-3.14764e+07,3.417474e-08,end
+853.69,9.238732e-02,trace-realtime-linear
+5012.5,3.417474e-08,trace-realtime-surface
+1.00584e+07,3.417474e-08,end
 EOD
 
 $front3 << EOD
-845.417,4.646568e-01,realtime-linear-1e-09
-5609,1.355203e-10,realtime-surface-1e-04
-3.14764e+07,1.355203e-10,end
+868,4.646568e-01,realtime-linear-1e-09
+5698,1.355203e-10,realtime-surface-1e-04
+1.00584e+07,1.355203e-10,end
 EOD
 
 $front4 << EOD
-9.18389e+06,1.000000e-17,ipopt-surface-1e-04
-3.14764e+07,1.000000e-17,end
+2.90202e+06,1.571590e+00,ipopt-plane-1e-09
+3.03118e+06,4.646568e-01,ipopt-linear-1e-09
+3.14363e+06,1.000000e-17,ipopt-surface-1e-04
+1.00584e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-66710,4.646568e-01,nlopt-slsqp-linear-1e-09
-76896,1.324757e-05,nlopt-slsqp-surface-1e-04
-3.14764e+07,1.324757e-05,end
+67591,4.646568e-01,nlopt-slsqp-linear-1e-09
+76985,1.324757e-05,nlopt-slsqp-surface-1e-04
+1.00584e+07,1.324757e-05,end
 EOD
 
 $front6 << EOD
-264307,4.646567e-01,nlopt-cobyla-linear-1e-09
-404538,5.181534e-07,nlopt-cobyla-surface-1e-04
-3.14764e+07,5.181534e-07,end
+264798,4.646567e-01,nlopt-cobyla-linear-1e-09
+397157,5.181534e-07,nlopt-cobyla-surface-1e-09
+1.00584e+07,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
