@@ -221,7 +221,22 @@ print(float(np.median(run["solve_time_us"])))
 """
 
 
-def machine(src, binary, wall):
+def source_rev(src):
+    """The commit the run measures, read before the run: the run itself rewrites the tracked
+    figures, which would otherwise read as local changes."""
+    def sh(cmd):
+        return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+                              env=dict(os.environ, LC_ALL="C")).stdout.strip()
+    try:
+        rev = sh(["git", "-C", src, "rev-parse", "--short", "HEAD"])
+        if rev and sh(["git", "-C", src, "status", "--porcelain", "--untracked-files=no"]):
+            rev += " plus the working tree's changes"
+        return rev
+    except OSError:
+        return ""
+
+
+def machine(src, binary, wall, rev):
     def sh(cmd):
         try:
             return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
@@ -241,9 +256,6 @@ def machine(src, binary, wall):
     gcc = sh(["gcc", "-dumpfullversion"])
     ipopt = sh(["pkg-config", "--modversion", "ipopt"])
     nlopt = sh(["dpkg-query", "-W", "-f=${Version}", "libnlopt0"])
-    rev = sh(["git", "-C", src, "rev-parse", "--short", "HEAD"])
-    if rev and sh(["git", "-C", src, "status", "--porcelain", "--untracked-files=no"]):
-        rev += " plus the working tree's changes"
     load = open("/proc/loadavg").read().split()[:3] if os.path.exists("/proc/loadavg") else []
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     lines = [
@@ -275,6 +287,7 @@ def main():
         return check_readme(src, binary)
 
     figures = os.path.join(src, "docs", "figures")
+    rev = source_rev(src)
     wall, new = [], {}
     new["README.md"] = {"readme-solve": readme_solve(src, binary)}
     bench = [os.path.join(binary, "headplan-bench"), "--out", figures] + (["--quick"] if a.quick else [])
@@ -301,7 +314,7 @@ def main():
                   "20" if a.quick else "200", os.path.join(binary, "headplan")], src)
     wall.append(("batch_throughput.sh", w))
     new["docs/batch.md"] = {"batch-throughput": block("```text\n" + out.strip("\n") + "\n```")}
-    new["docs/measurements.md"] = {"run": machine(src, binary, wall)}
+    new["docs/measurements.md"] = {"run": machine(src, binary, wall, rev)}
 
     # Every file's marks are checked before any file is written.
     done = [replace(os.path.join(src, p), r) for p, r in new.items()]
