@@ -80,8 +80,8 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
     int n = c->n, nb = c->L0->n, dp = c->dofp, np = c->np;
     size_t per = (size_t)nb * 6;
     double(*xi)[6] = malloc(sizeof *xi * (size_t)n);
-    double *drho = malloc(sizeof(double) * (size_t)n * nb * np);
-    double *dJc = malloc(sizeof(double) * (size_t)n * per * np);
+    double *drho = malloc(sizeof(double) * (size_t)n * (size_t)nb * (size_t)np);
+    double *dJc = malloc(sizeof(double) * (size_t)n * per * (size_t)np);
     hp_error err = (!xi || !drho || !dJc) ? HP_ERR_NOMEM : HP_OK;
     hp_layout L;
     hp_geom G;
@@ -103,10 +103,11 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
             err = hpi_contact_eval_g(&Lp, &Gp, c->level, xi[i], rp, Jp, NULL);
             if (!err) err = hpi_contact_eval_g(&Lm, &Gm, c->level, xi[i], rm, Jm, NULL);
             if (err) break;
+            const size_t ij = (size_t)i * (size_t)np + (size_t)j;
             for (int k = 0; k < nb; ++k)
-                drho[((size_t)i * np + j) * nb + k] = (rp[k] - rm[k]) / (2.0 * LAY_FD_STEP);
+                drho[ij * (size_t)nb + (size_t)k] = (rp[k] - rm[k]) / (2.0 * LAY_FD_STEP);
             for (size_t q = 0; q < per; ++q)
-                dJc[((size_t)i * np + j) * per + q] = (Jp[q] - Jm[q]) / (2.0 * LAY_FD_STEP);
+                dJc[ij * per + q] = (Jp[q] - Jm[q]) / (2.0 * LAY_FD_STEP);
         }
     }
     for (int i = 0; !err && i < n; ++i) {
@@ -123,8 +124,9 @@ static hp_error jacobian(const lay_ctx *c, const double *theta, double *J)
                 A[a * dp + b] = sum;
             }
         for (int j = 0; j < np; ++j) {
-            const double *dr = &drho[((size_t)i * np + j) * nb];
-            const double *dj = &dJc[((size_t)i * np + j) * per];
+            const size_t ij = (size_t)i * (size_t)np + (size_t)j;
+            const double *dr = &drho[ij * (size_t)nb];
+            const double *dj = &dJc[ij * per];
             double rhs[6], dx[6], ones[6] = {1, 1, 1, 1, 1, 1};
             for (int a = 0; a < dp; ++a) {
                 double sum = 0.0;
@@ -372,7 +374,7 @@ hp_error hp_fit_layout(const hp_layout *L, const hp_calib_row *rows, int n,
         invalidate(out);
         return hp_diag_set(diag, HP_ERR_NOMEM, "out of memory");
     }
-    double *et = e + m, *J = e + 2 * m, *S = J + (size_t)m * np;
+    double *et = e + m, *J = e + 2 * m, *S = J + (size_t)m * (size_t)np;
     double theta[HP_CALIB_MAX_PARAMS] = {0}, scale[HP_CALIB_MAX_PARAMS];
     double svall[HP_CALIB_MAX_PARAMS], V[HP_CALIB_MAX_PARAMS * HP_CALIB_MAX_PARAMS];
     err = resid_at(&c, theta, e, 1, NULL, NULL);
@@ -586,7 +588,7 @@ hp_error hp_fit_layout_gain(const hp_layout *L, const hp_calib_row *rows, int n,
         }
     if (!err && sym_inverse(k, A, Ci)) err = HP_ERR_INVALID;
     for (int r = 0; !err && r < n; ++r) {
-        memcpy(B, A, sizeof(double) * (size_t)k * k);
+        memcpy(B, A, sizeof(double) * (size_t)k * (size_t)k);
         for (int a = 0; a < k; ++a)
             for (int b = 0; b < k; ++b)
                 for (int j = 0; j < c.dofp; ++j) {

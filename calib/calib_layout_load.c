@@ -73,7 +73,8 @@ hp_error calib_load_jacobian(const lay_ctx *c, const double *theta, double *J)
             if (!err)
                 err = hp_load_eval(&M[2], xi[i], c->rows[i].pressure, Qm, NULL, NULL, NULL, NULL);
             for (int a = 0; !err && a < 6; ++a)
-                dQ[((size_t)i * np + j) * 6 + a] = (Qp[a] - Qm[a]) / (2.0 * h);
+                dQ[((size_t)i * (size_t)np + (size_t)j) * 6 + (size_t)a] = (Qp[a] - Qm[a]) /
+                                                                           (2.0 * h);
         }
     }
     for (int i = 0; !err && i < n; ++i) {
@@ -83,7 +84,8 @@ hp_error calib_load_jacobian(const lay_ctx *c, const double *theta, double *J)
         for (int j = 0; !err && j < np; ++j) {
             double dx[6];
             /* (∂Q/∂ξ)·dx = −∂Q/∂θ, i.e. dx = dξ/dθ, by the kinematics' QR least squares. */
-            if (hpi_kin_damped_lstsq(6, 6, K, &dQ[((size_t)i * np + j) * 6], ones, 0.0, dx)) {
+            if (hpi_kin_damped_lstsq(6, 6, K, &dQ[((size_t)i * (size_t)np + (size_t)j) * 6], ones,
+                                     0.0, dx)) {
                 err = HP_ERR_NO_CONVERGENCE;
                 break;
             }

@@ -2,7 +2,8 @@
 # name the source tree's folders; the installed pages name the installed ones under the
 # prefix being installed to (CMAKE_INSTALL_PREFIX here is `--prefix` or the package's /usr).
 # The help prints them as "documentation: docs", "example scenes: scenarios" and
-# "(scenarios)" (cli/cli_paths.c's fallbacks).
+# "(scenarios)" (cli/cli_paths.c's fallbacks). Installed gzipped, as Debian policy asks
+# (gzip -9n: no name or time stamp inside, so two installs give the same bytes).
 file(GLOB _pages "${HP_MAN_DIR}/man1/*.1")
 if(NOT _pages)
   message(FATAL_ERROR "no man pages in ${HP_MAN_DIR}/man1: build first")
@@ -20,7 +21,11 @@ foreach(_p ${_pages})
   string(REPLACE "(scenarios)" "(${_scenes})" _t "${_t}")
   get_filename_component(_n "${_p}" NAME)
   file(WRITE "${_out}/${_n}" "${_t}")
+  execute_process(COMMAND gzip -9nf "${_out}/${_n}" RESULT_VARIABLE _rc)
+  if(NOT _rc EQUAL 0)
+    message(FATAL_ERROR "gzip ${_out}/${_n} failed (${_rc})")
+  endif()
 endforeach()
-file(GLOB _installed "${_out}/*.1")
+file(GLOB _installed "${_out}/*.1.gz")
 file(INSTALL ${_installed} DESTINATION "${CMAKE_INSTALL_PREFIX}/${HP_MAN_DEST}")
 file(REMOVE_RECURSE "${_out}")

@@ -76,11 +76,11 @@ static hp_error apply_state(hp_trace_plan *tp, hp_diag *d)
 {
     if (!tp->pending) return HP_OK;
     if (tp->kind == STATE_ROW) {
-        hp_error e = hp_planner_set_previous_result(tp->p, &tp->prev);
+        const hp_error e = hp_planner_set_previous_result(tp->p, &tp->prev);
         if (e != HP_OK)
             return hp_diag_set(d, e, "line %ld: %s", tp->prev_line, hp_planner_error(tp->p));
     } else if (tp->have_start) {
-        hp_error e = hp_planner_set_previous(tp->p, tp->start);
+        const hp_error e = hp_planner_set_previous(tp->p, tp->start);
         if (e != HP_OK) return hp_diag_set(d, e, "start pressures: %s", hp_planner_error(tp->p));
     } else {
         hp_planner_reset(tp->p);

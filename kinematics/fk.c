@@ -28,7 +28,6 @@ int hpi_kin_damped_qr(int n, int nf, const double *J, const double *r, const dou
 {
     enum { MR = HP_MAX_BLADDERS + 6 };
     double A[MR][6], b[MR];
-    int m = n + nf;
     double sl = sqrt(lambda);
     for (int i = 0; i < n; ++i) {
         for (int j = 0; j < nf; ++j) A[i][j] = J[i * nf + j];
@@ -42,7 +41,7 @@ int hpi_kin_damped_qr(int n, int nf, const double *J, const double *r, const dou
         /* Rows below n + j are still zero in the columns from j on (damping row n + i has
          * only its diagonal until column i's reflection reaches it): skipping them changes
          * no bit and saves a third of the work. */
-        m = n + j + 1;
+        const int m = n + j + 1;
         double nrm = 0.0;
         for (int i = j; i < m; ++i) nrm += A[i][j] * A[i][j];
         nrm = sqrt(nrm);

@@ -280,7 +280,7 @@ static void cross(const double a[3], const double b[3], double c[3])
 static void move_point(const hp_layout *L, const double R[9], const double t[3], const double x0[3],
                        double x[3])
 {
-    double v[3] = {x0[0] - L->pivot[0], x0[1] - L->pivot[1], x0[2] - L->pivot[2]};
+    const double v[3] = {x0[0] - L->pivot[0], x0[1] - L->pivot[1], x0[2] - L->pivot[2]};
     for (int a = 0; a < 3; ++a)
         x[a] = L->pivot[a] + R[a * 3] * v[0] + R[a * 3 + 1] * v[1] + R[a * 3 + 2] * v[2] + t[a];
 }

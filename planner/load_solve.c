@@ -269,7 +269,8 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
         for (int a = 0; a < m; ++a)
             for (int bb = nfree > 1 ? a + 1 : m; bb < (nfree > 1 ? m : m + 1); ++bb)
                 for (int sides = 0; sides < (nfree > 1 ? 4 : 2); ++sides) {
-                    int fix[2] = {a, bb}, nfix = nfree > 1 ? 2 : 1, rest[6], nr = 0;
+                    const int fix[2] = {a, bb};
+                    int nfix = nfree > 1 ? 2 : 1, rest[6], nr = 0;
                     for (int k = 0; k < n; ++k) x[k] = 0.0;
                     for (int q = 0; q < nfix; ++q) {
                         int k = col[fix[q]];

@@ -6,8 +6,6 @@
 #   bash scripts/check_format.sh            every tracked .c/.h/.cpp file (every such file
 #                                           under the source folders when not a git checkout)
 #   bash scripts/check_format.sh FILE...    only these (the pre-commit hook passes the staged ones)
-# Files named in scripts/format-pending.txt are skipped: the tree as it was before the one-time
-# reformat (its command is in CONTRIBUTING.md, which also empties that list).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 CF=${CLANG_FORMAT:-clang-format}
@@ -24,15 +22,9 @@ else
   mapfile -t files < <(find common iab kinematics planner scene calib horizon cli bench include \
                          python tests fuzz examples -name '*.[ch]' -o -name '*.cpp' | sort)
 fi
-declare -A pending=()
-if [ -f scripts/format-pending.txt ]; then
-  while read -r f; do [ -n "$f" ] && [ "${f:0:1}" != "#" ] && pending[$f]=1; done \
-    < scripts/format-pending.txt
-fi
 checked=0 bad=0
 for f in "${files[@]}"; do
   case "$f" in *.c|*.h|*.cpp) ;; *) continue ;; esac
-  [ -n "${pending[$f]:-}" ] && continue
   checked=$((checked + 1))
   if ! out=$("$CF" --style=file --dry-run --Werror "$f" 2>&1); then
     grep -E '^[^ ].*: error:' <<<"$out" || echo "$f: clang-format failed: $out"
@@ -43,4 +35,4 @@ if [ "$bad" -gt 0 ]; then
   echo "check_format.sh: $bad of $checked files not formatted (clang-format -i FILE)" >&2
   exit 1
 fi
-echo "check_format.sh: $checked files formatted (${#pending[@]} pending the one-time reformat)"
+echo "check_format.sh: $checked files formatted"

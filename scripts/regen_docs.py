@@ -16,6 +16,8 @@ runs (the fixed configuration, in this order):
                     bench/csv_tables.py docs/figures                        docs/benchmarks.md,
                                                                             README.md
   backends-table    headplan-bench-backends                                 docs/backends.md
+  loop-table        loop.csv of the same headplan-bench run                 docs/control-loop.md
+  load-table        load.csv of the same headplan-bench run                 docs/load.md
   horizon-rh        headplan-bench-horizon rh scenarios/horizon/step.yaml
                     scenarios/traces/step.csv                               docs/horizon.md
   python-row        Planner(default scene).run_trace() of its drift trace,
@@ -145,6 +147,58 @@ def speed(src, figures):
     return block("\n".join(lines))
 
 
+def loop_table(figures):
+    """The control-loop family (loop.csv of this run): per backend, level and trace the
+    medians of the four modes, × the ratio to the rate-free plan of the same trace (the modes
+    take turns every cycle), `set` hp_planner_set_measured's median, and the deadline mode's
+    time-limit stops and overshoots of the budget by more than 5 us."""
+    with open(os.path.join(figures, "loop.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    by = {(r["backend"], r["level"], r["trace"], r["mode"]): r for r in rows}
+    keys = []
+    for r in rows:
+        k = (r["backend"], r["level"], r["trace"])
+        if k not in keys:
+            keys.append(k)
+    lines = ["%-8s %-12s %-7s %6s  %-14s %-14s %-14s %5s  %s" % (
+        "level", "backend", "trace", "free", "rate (x)", "measured (x)", "deadline (x)", "set",
+        "deadline: time-limit / over")]
+    for b, lv, tr in keys:
+        m = {mode: by[(b, lv, tr, mode)] for mode in ("free", "rate", "measured", "deadline")}
+
+        def med(mode):
+            return "%.2f (%.2f)" % (float(m[mode]["median_us"]), float(m[mode]["ratio_median"]))
+        d = m["deadline"]
+        lines.append("%-8s %-12s %-7s %6.2f  %-14s %-14s %-14s %5.2f  %s / %s of %s" % (
+            lv, b, tr, float(m["free"]["median_us"]), med("rate"), med("measured"),
+            med("deadline"), float(m["measured"]["set_measured_median_us"]), d["time_limit"],
+            d["overshoots"], d["cycles"]))
+    return block("```text\n" + "\n".join(lines) + "\n```")
+
+
+def load_table(figures):
+    """The load family (load.csv of this run): per scene the kinematic plan's median, and per
+    backend the load level's status and median with its ratio to that kinematic plan."""
+    with open(os.path.join(figures, "load.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    order = ("realtime", "ipopt", "nlopt-slsqp")
+    lines = ["| scene | kinematic realtime (baseline) | load, realtime | load, ipopt "
+             "| load, nlopt-slsqp |", "|---|---|---|---|---|"]
+    for scene in sorted({r["scene"] for r in rows}):
+        by = {r["backend"]: r for r in rows if r["scene"] == scene}
+        base = float(by[order[0]]["kinematic_median_ns"])
+        cells = []
+        for b in order:
+            r = by[b]
+            if r["load_status"] == "refused":
+                cells.append("refused at create")
+            else:
+                t = float(r["load_median_ns"])
+                cells.append("%s, %s (×%.0f)" % (r["load_status"], csv_tables.t(t), t / base))
+        lines.append("| `%s` | %s | %s |" % (scene, csv_tables.t(base), " | ".join(cells)))
+    return block("\n".join(lines))
+
+
 def horizon_table(out):
     rows = list(csv.DictReader(out.splitlines()))
     by = {(r["N"], r["prediction"]): r for r in rows}
@@ -167,7 +221,22 @@ print(float(np.median(run["solve_time_us"])))
 """
 
 
-def machine(src, binary, wall):
+def source_rev(src):
+    """The commit the run measures, read before the run: the run itself rewrites the tracked
+    figures, which would otherwise read as local changes."""
+    def sh(cmd):
+        return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True,
+                              env=dict(os.environ, LC_ALL="C")).stdout.strip()
+    try:
+        rev = sh(["git", "-C", src, "rev-parse", "--short", "HEAD"])
+        if rev and sh(["git", "-C", src, "status", "--porcelain", "--untracked-files=no"]):
+            rev += " plus the working tree's changes"
+        return rev
+    except OSError:
+        return ""
+
+
+def machine(src, binary, wall, rev):
     def sh(cmd):
         try:
             return subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
@@ -187,9 +256,6 @@ def machine(src, binary, wall):
     gcc = sh(["gcc", "-dumpfullversion"])
     ipopt = sh(["pkg-config", "--modversion", "ipopt"])
     nlopt = sh(["dpkg-query", "-W", "-f=${Version}", "libnlopt0"])
-    rev = sh(["git", "-C", src, "rev-parse", "--short", "HEAD"])
-    if rev and sh(["git", "-C", src, "status", "--porcelain", "--untracked-files=no"]):
-        rev += " plus the working tree's changes"
     load = open("/proc/loadavg").read().split()[:3] if os.path.exists("/proc/loadavg") else []
     now = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC")
     lines = [
@@ -221,6 +287,7 @@ def main():
         return check_readme(src, binary)
 
     figures = os.path.join(src, "docs", "figures")
+    rev = source_rev(src)
     wall, new = [], {}
     new["README.md"] = {"readme-solve": readme_solve(src, binary)}
     bench = [os.path.join(binary, "headplan-bench"), "--out", figures] + (["--quick"] if a.quick else [])
@@ -230,6 +297,8 @@ def main():
     sp = speed(src, figures)
     new["README.md"]["speed-readme"] = sp
     new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp})
+    new["docs/control-loop.md"] = {"loop-table": loop_table(figures)}
+    new["docs/load.md"] = {"load-table": load_table(figures)}
     out, w = run([os.path.join(binary, "headplan-bench-backends")], src)
     wall.append(("headplan-bench-backends", w))
     new["docs/backends.md"] = {"backends-table": block(out.strip("\n"))}
@@ -245,7 +314,7 @@ def main():
                   "20" if a.quick else "200", os.path.join(binary, "headplan")], src)
     wall.append(("batch_throughput.sh", w))
     new["docs/batch.md"] = {"batch-throughput": block("```text\n" + out.strip("\n") + "\n```")}
-    new["docs/measurements.md"] = {"run": machine(src, binary, wall)}
+    new["docs/measurements.md"] = {"run": machine(src, binary, wall, rev)}
 
     # Every file's marks are checked before any file is written.
     done = [replace(os.path.join(src, p), r) for p, r in new.items()]

@@ -12,48 +12,49 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 3.14764e+07]
+set xrange [* : 8.66501e+06]
 
 $front << EOD
-845.417,4.646568e-01,realtime-linear-1e-09
-5609,1.355203e-10,realtime-surface-1e-04
-9.18389e+06,1.000000e-17,ipopt-surface-1e-04
-3.14764e+07,1.000000e-17,end
+872.083,4.646568e-01,realtime-linear-1e-09
+5739,1.355203e-10,realtime-surface-1e-04
+2.82004e+06,1.000000e-17,ipopt-surface-1e-04
+8.66501e+06,1.000000e-17,end
 EOD
 
 $front1 << EOD
-371.667,4.936830e-03,fastpath-linear
-2183.25,1.000000e-17,fastpath-surface
-3.14764e+07,1.000000e-17,end
+373.429,4.936830e-03,fastpath-linear
+2251,1.000000e-17,fastpath-surface
+8.66501e+06,1.000000e-17,end
 EOD
 
 $front2 << EOD
-834.963,9.238732e-02,trace-realtime-linear
-4917.4,3.417474e-08,trace-realtime-surface
-3.14764e+07,3.417474e-08,end
+866.679,9.238732e-02,trace-realtime-linear
+5109.8,3.417474e-08,trace-realtime-surface
+8.66501e+06,3.417474e-08,end
 EOD
 
 $front3 << EOD
-845.417,4.646568e-01,realtime-linear-1e-09
-5609,1.355203e-10,realtime-surface-1e-04
-3.14764e+07,1.355203e-10,end
+872.083,4.646568e-01,realtime-linear-1e-09
+5739,1.355203e-10,realtime-surface-1e-04
+8.66501e+06,1.355203e-10,end
 EOD
 
 $front4 << EOD
-9.18389e+06,1.000000e-17,ipopt-surface-1e-04
-3.14764e+07,1.000000e-17,end
+2.76183e+06,4.646568e-01,ipopt-linear-1e-09
+2.82004e+06,1.000000e-17,ipopt-surface-1e-04
+8.66501e+06,1.000000e-17,end
 EOD
 
 $front5 << EOD
-66710,4.646568e-01,nlopt-slsqp-linear-1e-09
-76896,1.324757e-05,nlopt-slsqp-surface-1e-04
-3.14764e+07,1.324757e-05,end
+69875,4.646568e-01,nlopt-slsqp-linear-1e-09
+79464.5,1.324757e-05,nlopt-slsqp-surface-1e-09
+8.66501e+06,1.324757e-05,end
 EOD
 
 $front6 << EOD
-264307,4.646567e-01,nlopt-cobyla-linear-1e-09
-404538,5.181534e-07,nlopt-cobyla-surface-1e-04
-3.14764e+07,5.181534e-07,end
+269670,4.646567e-01,nlopt-cobyla-linear-1e-09
+408293,5.181534e-07,nlopt-cobyla-surface-1e-04
+8.66501e+06,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {

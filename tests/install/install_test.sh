@@ -16,6 +16,21 @@ test -f "$prefix/include/headplan/hp_version.h"
 libdir=$(dirname "$(find "$prefix" -name 'libheadplan.so' | head -1)")
 test -n "$libdir"
 
+# Man pages (when help2man built them): one per subcommand of `headplan --help`, installed
+# gzipped (Debian policy; man reads them so), each with a SYNOPSIS that is its own usage line.
+if [ -d "$build/man/man1" ]; then
+  man1="$prefix/share/man/man1"
+  if ls "$man1"/*.1 >/dev/null 2>&1; then echo "man pages installed uncompressed: $(ls "$man1"/*.1 | head -3)"; exit 1; fi
+  for cmd in "" $("$cli" --help | sed -n '/^commands:$/,/^$/p' | sed '1d' | awk '{print $1}'); do
+    page="$man1/headplan${cmd:+-$cmd}.1.gz"
+    [ -f "$page" ] || { echo "no man page $page"; exit 1; }
+    gzip -t "$page" || { echo "$page: not gzip"; exit 1; }
+    syn=$(gzip -dc "$page" | sed -n '/^\.SH SYNOPSIS$/,/^\.SH/p')
+    [ -n "$syn" ] || { echo "$page: no SYNOPSIS section"; exit 1; }
+    grep -q "headplan${cmd:+ $cmd}" <<<"$syn" || { echo "$page: SYNOPSIS does not name headplan${cmd:+ $cmd}: $syn"; exit 1; }
+  done
+fi
+
 # 1. CMake package
 cmake -S "$src/examples" -B "$tmp/cmake-build" -DCMAKE_PREFIX_PATH="$prefix" \
       -DCMAKE_BUILD_TYPE=Release >"$tmp/cmake.log"

@@ -82,14 +82,14 @@ done
    --no-progress -o "$tmp/batch.csv") || fail "batch of the installed default scene (its trace)"
 n=0
 for cmd in $("$prefix/bin/headplan" --help | sed -n '/^commands:$/,/^$/p' | sed '1d' | awk '{print $1}'); do
-  page="$prefix/share/man/man1/headplan-$cmd.1"
+  page="$prefix/share/man/man1/headplan-$cmd.1.gz"
   [ -f "$page" ] || fail "no man page $page"
   n=$((n + 1))
 done
 [ "$n" -ge 10 ] || fail "only $n subcommands in headplan --help"
-grep -q "documentation: $prefix/share/doc/headplan/docs" "$prefix/share/man/man1/headplan-solve.1" ||
-  fail "headplan-solve.1 does not name the installed docs"
-if grep -q "documentation: docs" "$prefix"/share/man/man1/*.1; then fail "a man page names the source tree's docs"; fi
+zgrep -q "documentation: $prefix/share/doc/headplan/docs" "$prefix/share/man/man1/headplan-solve.1.gz" ||
+  fail "headplan-solve.1.gz does not name the installed docs"
+if zgrep -q "documentation: docs" "$prefix"/share/man/man1/*.1.gz; then fail "a man page names the source tree's docs"; fi
 
 # The venv's module in a fresh shell: no LD_LIBRARY_PATH, nothing of the prefix linked.
 mod=$(ls "$copy"/.venv/lib/python3*/site-packages/headplan*.so)

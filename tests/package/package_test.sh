@@ -88,8 +88,8 @@ headplan solve /usr/share/headplan/scenarios/default.yaml --json >solve.json
 grep -q "\"status\": \"reached\"" solve.json
 headplan --help | grep -qx "documentation: /usr/share/doc/headplan/docs"
 test -f /usr/share/doc/headplan/docs/scenes.md
-test -f /usr/share/man/man1/headplan-solve.1
-grep -q "documentation: /usr/share/doc/headplan/docs" /usr/share/man/man1/headplan-solve.1
+test -f /usr/share/man/man1/headplan-solve.1.gz
+zgrep -q "documentation: /usr/share/doc/headplan/docs" /usr/share/man/man1/headplan-solve.1.gz
 cc -std=c11 -Wall -Wextra -Werror /usr/share/headplan/examples/plan_scene.c -o plan_scene \
    $(pkg-config --cflags --libs headplan) -lm
 ./plan_scene /usr/share/headplan/scenarios/default.yaml | grep -qx "status reached"
