@@ -4,6 +4,9 @@
 #include "contact_law.h"
 #include "common/units.h"
 #include "contact_law_fit.h"
+#include "headplan/hp_iab.h"
+
+#include <math.h>
 
 #include <string.h>
 
@@ -133,4 +136,23 @@ const char *hpi_claw_domain_name(hp_claw_domain d)
 {
     static const char *const names[] = {"in", "indent", "wall", "pressure", "moduli", "curvature"};
     return (unsigned)d < sizeof names / sizeof names[0] ? names[d] : "?";
+}
+
+void hpi_claw_bladder_of(const struct hp_iab *iab, const double semi[3], const double x[3],
+                         hp_claw_bladder *b)
+{
+    double a2 = semi[0] * semi[0], b2 = semi[1] * semi[1], c2 = semi[2] * semi[2];
+    double q = x[0] * x[0] / (a2 * a2) + x[1] * x[1] / (b2 * b2) + x[2] * x[2] / (c2 * c2);
+    double h = 1.0 / sqrt(q), r2 = x[0] * x[0] + x[1] * x[1] + x[2] * x[2];
+    b->C1 = iab->C1;
+    b->C2 = iab->C2;
+    b->wall = iab->Ro - iab->Ri;
+    b->curv = h * h * h * (a2 + b2 + c2 - r2) / (2.0 * a2 * b2 * c2);
+}
+
+void hpi_claw_eval(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
+                   hp_claw *c)
+{
+    if (law == HP_CLAW_LAW_FEM) hpi_claw_fem(b, P, ro, rho, c);
+    else hpi_claw_cap(P, ro, rho, c);
 }

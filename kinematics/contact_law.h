@@ -60,6 +60,26 @@ void hpi_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_
  * else the first group that leaves it (a caller refuses or flags the state by that name). */
 hp_claw_domain hpi_claw_fem_domain(const hp_claw_bladder *b, double P, double ro, double rho);
 
+/* Which law a caller evaluates: the load level reads its choice from the load model. */
+typedef enum hp_claw_law { HP_CLAW_LAW_CAP = 0, HP_CLAW_LAW_FEM } hp_claw_law;
+
+/* What the fitted law needs from a bladder (iab: moduli, wall Ro − Ri) and the head at the
+ * contact point x (head frame, relative to its centre; semi the head's semi-axes, a sphere
+ * with all three equal): curv is the head's mean curvature there, (k1 + k2)/2. The tables
+ * are axisymmetric (a sphere, one curvature) and the law is linear in ro/Rh, so the mean of
+ * the two principal curvatures (the average normal curvature over the directions around
+ * the normal) is the first-order axisymmetric equivalent of an ellipsoid's patch; the mean
+ * of the principal radii would weight the flatter direction more. For an ellipsoid
+ * x²/a² + y²/b² + z²/c² = 1, with h = (x²/a⁴ + y²/b⁴ + z²/c⁴)^(−1/2),
+ *     H = h³·(a² + b² + c² − |x|²) / (2·a²·b²·c²). */
+struct hp_iab;
+void hpi_claw_bladder_of(const struct hp_iab *iab, const double semi[3], const double x[3],
+                         hp_claw_bladder *b);
+
+/* The one entry for a caller that picks its law: hpi_claw_cap (b unused) or hpi_claw_fem. */
+void hpi_claw_eval(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
+                   hp_claw *c);
+
 /* The group's name for messages ("indent", "wall", "pressure", "moduli", "curvature"). */
 const char *hpi_claw_domain_name(hp_claw_domain d);
 

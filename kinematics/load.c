@@ -69,6 +69,12 @@ hp_error hpi_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_loa
                                M->layout.bladders[k].name, hp_error_message(err));
     M->spec = *spec;
     M->level = level;
+    M->law = HP_LOAD_LAW;
+    for (int k = 0; k < M->layout.n; ++k) {
+        double x[3]; /* the nominal contact point relative to the head's centre */
+        for (int i = 0; i < 3; ++i) x[i] = M->geom.contact[k][i] - M->geom.head.center[i];
+        hpi_claw_bladder_of(&M->layout.bladders[k].iab, M->geom.head.semi_axes, x, &M->claw[k]);
+    }
     return HP_OK;
 }
 
@@ -124,10 +130,29 @@ hp_error hpi_load_radii(const hp_load_model *M, const double *P, double *ro, dou
     return HP_OK;
 }
 
-void hpi_load_law(double P, double ro, double dro, double rho, int right, hp_load_force *f)
+void hpi_load_claw(const hp_load_model *M, int k, double P, double ro, double rho, hp_claw *c)
+{
+    hpi_claw_eval(M->law, &M->claw[k], P, ro, rho, c);
+}
+
+hp_error hpi_load_claw_check(const hp_load_model *M, int k, double P, double ro, double rho,
+                             hp_diag *diag)
+{
+    if (M->law != HP_CLAW_LAW_FEM) return HP_OK;
+    hp_claw_domain g = hpi_claw_fem_domain(&M->claw[k], P, ro, rho);
+    if (g == HP_CLAW_IN) return HP_OK;
+    return hp_diag_set(diag, HP_ERR_INVALID,
+                       "load: bladder '%s': contact outside the fitted law's domain (%s: "
+                       "delta/ro %.3g, P/C1 %.3g, ro/Rh %.3g)",
+                       M->layout.bladders[k].name, hpi_claw_domain_name(g), 1.0 - rho / ro,
+                       P / M->claw[k].C1, ro * M->claw[k].curv);
+}
+
+void hpi_load_law(const hp_load_model *M, int k, double P, double ro, double dro, double rho,
+                  int right, hp_load_force *f)
 {
     hp_claw c;
-    hpi_claw_cap(P, ro, rho, &c);
+    hpi_load_claw(M, k, P, ro, rho, &c);
     int on = P > 0 && ro > rho;
     /* right: the derivatives of the contact branch also where the bladder just touches
      * (the one-sided derivative a planner needs to bring a bladder into contact). */
@@ -205,7 +230,7 @@ hp_error hpi_load_eval_radii(const hp_load_model *M, const double xi[6], const d
     hpi_load_gravity(M, xi, Q, dQ_dxi, energy ? &e : NULL);
     for (int k = 0; k < n; ++k) {
         hp_load_force f;
-        hpi_load_law(P[k], ro[k], dro ? dro[k] : 0.0, rho[k], right, &f);
+        hpi_load_law(M, k, P[k], ro[k], dro ? dro[k] : 0.0, rho[k], right, &f);
         const double *Jk = J + 6 * k;
         for (int i = 0; i < 6; ++i) Q[i] += f.F * Jk[i];
         if (dQ_dxi && (f.F != 0.0 || f.dF_drho != 0.0))
@@ -331,7 +356,7 @@ hp_error hp_load_newton_euler(const hp_load_model *M, const double xi[6], const 
     }
     for (int k = 0; k < L->n; ++k) {
         hp_load_force f;
-        hpi_load_law(P[k], ro[k], 0.0, rho[k], 0, &f);
+        hpi_load_law(M, k, P[k], ro[k], 0.0, rho[k], 0, &f);
         if (f.F == 0.0) continue;
         double p[3], u[3], fk[3], arm[3], m[3];
         if ((err = contact_point(M, k, R, xi, rho[k], p))) return err;

@@ -4,6 +4,7 @@
 #define HP_LOAD_INTERNAL_H
 
 #include "headplan/hp_load.h"
+#include "contact_law.h"
 #include "kin_geom.h"
 
 /* The load model behind the public handle. Every field is derived by hpi_load_model_setup
@@ -11,12 +12,28 @@
  * belong to this layout. Objects that own a model embed it (the load planner) so that
  * their create is their only allocation. */
 struct hp_load_model {
-    hp_layout layout;                    /* validated copy (hp_layout_prepare) */
-    hp_geom geom;                        /* layout's nominal contact geometry */
-    hp_load_spec spec;                   /* validated copy */
-    hp_level level;                      /* linear, plane or surface */
-    hp_iab_limit limit[HP_MAX_BLADDERS]; /* each bladder's inflation limit point */
+    hp_layout layout;                      /* validated copy (hp_layout_prepare) */
+    hp_geom geom;                          /* layout's nominal contact geometry */
+    hp_load_spec spec;                     /* validated copy */
+    hp_level level;                        /* linear, plane or surface */
+    hp_iab_limit limit[HP_MAX_BLADDERS];   /* each bladder's inflation limit point */
+    hp_claw_law law;                       /* the contact law (HP_LOAD_LAW at setup) */
+    hp_claw_bladder claw[HP_MAX_BLADDERS]; /* what the fitted law needs of each bladder,
+                                              at its nominal contact point */
 };
+
+/* The load level's contact law: the one place that picks it. The cap law until the load
+ * planners accept the fitted law's shape (docs/load.md, "The contact law"). */
+#define HP_LOAD_LAW HP_CLAW_LAW_CAP
+
+/* Bladder k's contact law at (P, ro, rho): hpi_claw_eval with the model's law and bladder. */
+void hpi_load_claw(const hp_load_model *M, int k, double P, double ro, double rho, hp_claw *c);
+
+/* HP_OK when bladder k's contact state (P, ro, rho) lies in the model law's domain (the
+ * cap law has none); else HP_ERR_INVALID with a message naming the bladder and the group
+ * that leaves the fitted law's domain (hpi_claw_fem_domain). */
+hp_error hpi_load_claw_check(const hp_load_model *M, int k, double P, double ro, double rho,
+                             hp_diag *diag);
 
 /* hp_load_model_create without the allocation: fills *M (same checks, same messages). */
 hp_error hpi_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_load_spec *spec,
@@ -34,7 +51,8 @@ typedef struct hp_load_force {
 /* The membrane law for pressure P, free outer radius ro (with dro = dro/dP) and contact
  * distance rho. right = 1 gives the contact branch's derivatives also where the bladder
  * just touches (delta = 0 or P = 0), the one-sided derivative a planner needs. */
-void hpi_load_law(double P, double ro, double dro, double rho, int right, hp_load_force *f);
+void hpi_load_law(const hp_load_model *M, int k, double P, double ro, double dro, double rho,
+                  int right, hp_load_force *f);
 
 /* Gravity's generalized force m·(dx_com/dxi)ᵀ·g at xi, its Jacobian dQ (36, row-major; may
  * be NULL) and its potential (may be NULL): Q of a head that no bladder touches, without

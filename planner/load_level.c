@@ -62,7 +62,7 @@ static hp_error check_carry(hp_load_level *p, hp_diag *diag)
         double ro;
         hp_claw c;
         if (hp_load_radius(M, k, p->hi[k], &ro, NULL) == HP_OK) {
-            hpi_claw_cap(p->hi[k], ro, (1.0 - HP_LOAD_INDENT_MAX) * ro, &c);
+            hpi_load_claw(M, k, p->hi[k], ro, (1.0 - HP_LOAD_INDENT_MAX) * ro, &c);
             cap += s * c.F;
         }
     }

@@ -47,7 +47,7 @@ static hp_error bladder_state(const hp_load_model *M, int k, double P, double rh
     double q2 = 2.0 * ri / (ro * ro) - 2.0 * q * q / ro; /* d²ro/dri² */
     double o1 = q * r1, o2 = q2 * r1 * r1 + q * r2;      /* ro', ro'' */
     hp_claw c; /* F(P, ro(P), rho) and its total derivatives along P */
-    hpi_claw_cap(P, ro, rho, &c);
+    hpi_load_claw(M, k, P, ro, rho, &c);
     s->F = c.F;
     s->FP = c.d[HP_CLAW_P] + c.d[HP_CLAW_RO] * o1;
     s->FPP = c.d2[HP_CLAW_P][HP_CLAW_P] + 2.0 * c.d2[HP_CLAW_P][HP_CLAW_RO] * o1 +
@@ -120,7 +120,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         if (!err) err = hp_iab_ro(b, x, &ro);
         if (err) return err;
         hp_claw law;
-        hpi_claw_cap(Px, ro, rho, &law);
+        hpi_load_claw(M, k, Px, ro, rho, &law);
         double r = law.F - F;
         if (r > 0) c = x;
         else a = x;

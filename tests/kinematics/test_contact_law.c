@@ -9,6 +9,7 @@
 #include "kinematics/contact_law.h"
 #include "kinematics/contact_law_fit.h"
 #include "kinematics/load_internal.h"
+#include "support/default_layout.h"
 
 #include <quadmath.h>
 #include <stdio.h>
@@ -87,18 +88,31 @@ static void test_cap_derivatives(void **st)
     assert_true(t.F == 0.0 && t.W == 0.0);
 }
 
+/* A load model on the default layout (ellipsoid head), its law set by law. */
+static hp_load_model cap_model;
+static void model_on(hp_load_model *M, hp_claw_law law)
+{
+    hp_layout L;
+    hp_load_spec spec;
+    assert_int_equal(default_layout(&L), 0);
+    hp_load_spec_default(&L.head, &spec);
+    assert_int_equal(hpi_load_model_setup(M, &L, &spec, HP_LEVEL_SURFACE, NULL), HP_OK);
+    M->law = law;
+}
+
 /* The load model's law is the same function (plus the contact switch and the chain rule
  * through ro(P)): bit for bit where the bladder touches. */
 static void test_load_law_reads_it(void **st)
 {
     (void)st;
+    model_on(&cap_model, HP_CLAW_LAW_CAP);
     for (int i = 0; i < 210; ++i) {
         double P, ro, rho, dro = 1e-6 * (1 + i % 3);
         state(i, &P, &ro, &rho);
         hp_claw c;
         hp_load_force f;
         hpi_claw_cap(P, ro, rho, &c);
-        hpi_load_law(P, ro, dro, rho, 0, &f);
+        hpi_load_law(&cap_model, 0, P, ro, dro, rho, 0, &f);
         assert_true(f.F == c.F);
         assert_true(f.dF_drho == c.d[HP_CLAW_RHO]);
         assert_true(f.dF_dro == c.d[HP_CLAW_RO]);
@@ -286,12 +300,81 @@ static void test_fem_against_tables(void **st)
     assert_true(worst <= HP_TEST_LAW_MAX_ERR);
 }
 
+/* What the fitted law needs from a bladder and the head: C1, C2 copied, the wall Ro − Ri,
+ * and the head's mean curvature at the contact point, against closed forms: a sphere's
+ * 1/R everywhere, an ellipsoid's (a/b² + a/c²)/2 at (a, 0, 0) and (b/a² + b/c²)/2 at
+ * (0, b, 0) (the principal curvatures at an axis end are the axis over the others²). */
+static void test_bladder_of(void **st)
+{
+    (void)st;
+    hp_iab iab = {0.05, 0.0545, 110e3, 220e3};
+    hp_claw_bladder b;
+    const double sph[3] = {0.09, 0.09, 0.09}, ps[3] = {0.0, 0.09 * 0.6, 0.09 * 0.8};
+    hpi_claw_bladder_of(&iab, sph, ps, &b);
+    assert_true(b.C1 == 110e3 && b.C2 == 220e3);
+    assert_true(fabs(b.wall - 0.0045) <= 1e-15);
+    assert_true(fabs(b.curv - 1.0 / 0.09) <= 1e-12 / 0.09);
+    const double ax[3] = {0.0775, 0.115, 0.0975}, pole[3] = {0.0775, 0, 0}, eq[3] = {0, 0.115, 0};
+    hpi_claw_bladder_of(&iab, ax, pole, &b);
+    double k = 0.5 * (ax[0] / (ax[1] * ax[1]) + ax[0] / (ax[2] * ax[2]));
+    assert_true(fabs(b.curv - k) <= 1e-12 * k);
+    hpi_claw_bladder_of(&iab, ax, eq, &b);
+    k = 0.5 * (ax[1] / (ax[0] * ax[0]) + ax[1] / (ax[2] * ax[2]));
+    assert_true(fabs(b.curv - k) <= 1e-12 * k);
+}
+
+/* The load model's law under the fitted law reads hpi_claw_fem with the model's own
+ * bladder (moduli, wall, the head's curvature at the nominal contact): bit for bit. */
+static void test_load_law_fem(void **st)
+{
+    (void)st;
+    static hp_load_model M;
+    model_on(&M, HP_CLAW_LAW_FEM);
+    for (int k = 0; k < M.layout.n; ++k) {
+        hp_claw_bladder b;
+        hpi_claw_bladder_of(&M.layout.bladders[k].iab, M.geom.head.semi_axes, M.geom.contact[k],
+                            &b);
+        assert_true(b.curv > 0);
+        double ro = 0.06, rho = 0.056, P = 20e3, dro = 1e-7;
+        hp_claw c;
+        hp_load_force f;
+        hpi_claw_fem(&b, P, ro, rho, &c);
+        hpi_load_law(&M, k, P, ro, dro, rho, 0, &f);
+        assert_true(f.F == c.F);
+        assert_true(f.dF_drho == c.d[HP_CLAW_RHO]);
+        assert_true(f.dF_dP == c.d[HP_CLAW_P] + c.d[HP_CLAW_RO] * dro);
+        assert_true(f.E == c.W);
+    }
+}
+
+/* Outside the fitted law's domain the load model refuses by name: the bladder and the
+ * group ("indent" past the tables' largest indentation); inside it says nothing. The state
+ * is inside the tables' box: wall/ro = 3/33 in [0.085, 0.098], P/C1 = 0.3, d = 0.1. */
+static void test_load_domain_named(void **st)
+{
+    (void)st;
+    static hp_load_model M;
+    model_on(&M, HP_CLAW_LAW_FEM);
+    double ro = M.layout.bladders[2].iab.Ro * 1.1, P = 0.3 * M.layout.bladders[2].iab.C1;
+    hp_diag d;
+    memset(&d, 0, sizeof d);
+    assert_int_equal(hpi_load_claw_check(&M, 2, P, ro, ro * 0.9, &d), HP_OK);
+    assert_int_equal(hpi_load_claw_check(&M, 2, P, ro, ro * 0.5, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, M.layout.bladders[2].name));
+    assert_non_null(strstr(d.text, "indent"));
+    /* the cap law has no fitted domain: nothing to refuse */
+    M.law = HP_CLAW_LAW_CAP;
+    assert_int_equal(hpi_load_claw_check(&M, 2, P, ro, ro * 0.5, &d), HP_OK);
+}
+
 int main(void)
 {
     const struct CMUnitTest t[] = {
         cmocka_unit_test(test_cap_value),         cmocka_unit_test(test_cap_derivatives),
         cmocka_unit_test(test_load_law_reads_it), cmocka_unit_test(test_fem_derivatives),
         cmocka_unit_test(test_fem_domain),        cmocka_unit_test(test_fem_against_tables),
+        cmocka_unit_test(test_bladder_of),        cmocka_unit_test(test_load_law_fem),
+        cmocka_unit_test(test_load_domain_named),
     };
     return cmocka_run_group_tests(t, NULL, NULL);
 }
