@@ -326,6 +326,8 @@ static void nlopt_loose_tolerance(void **state)
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);
     const hp_backend bes[2] = {HP_BACKEND_NLOPT_SLSQP, HP_BACKEND_NLOPT_COBYLA};
+    /* Not the load level: the tolerance mapping under test is the contact NLopt solve's
+     * (COBYLA does not plan the load level at all). */
     const hp_level levels[2] = {HP_LEVEL_LINEAR, HP_LEVEL_SURFACE};
     uint64_t seed = 77;
     double targets[12][6];
