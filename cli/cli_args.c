@@ -1,6 +1,7 @@
 /* Strict parsing of command-line values (see cli_args.h). */
 #include "cli/cli_args.h"
 #include "cli/exit_codes.h"
+#include "headplan/hp_planner.h"
 #include "scene/text_check.h"
 
 #include <errno.h>
@@ -229,4 +230,17 @@ int cli_scene_args(const char *cmd, int argc, char **argv, void (*help)(void),
     if (!*scene)
         return cli_fail(CLI_EXIT_USAGE, cmd, "SCENE: missing (see headplan %s --help)", cmd);
     return -1;
+}
+
+const char *cli_backend_names(const char *last, char *buf, size_t len)
+{
+    size_t at = 0;
+    if (len) buf[0] = '\0';
+    for (int b = 0; b < HP_BACKEND_COUNT_ && at < len; ++b) {
+        const char *sep = b == 0 ? "" : b == HP_BACKEND_COUNT_ - 1 ? last : ", ";
+        int w = snprintf(buf + at, len - at, "%s%s", sep, hp_backend_name((hp_backend)b));
+        if (w < 0) break;
+        at += (size_t)w;
+    }
+    return buf;
 }

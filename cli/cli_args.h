@@ -68,6 +68,11 @@ int cli_wants_help(int argc, char **argv, int from);
  * "missing FIRST (see --help)", a missing value or an option given twice. */
 int cli_parse(const char *cmd, int argc, char **argv, const cli_grammar *g);
 
+/* The backends' names (hp_backend_name over the backend table, in its order) joined as
+ * "a, b, c", the last separator `last` (" or "), into buf (len bytes). Returns buf: the
+ * list --help gives, so a backend added to the table is listed without touching it. */
+const char *cli_backend_names(const char *last, char *buf, size_t len);
+
 /* The name of an input file in messages: "<stdin>" for "-" (standard input, as every
  * subcommand reads it), else path itself. */
 const char *cli_name(const char *path);

@@ -21,7 +21,9 @@ static const char *const CMD = "solve";
 
 static void help(void)
 {
-    char names[96];
+    char names[96], backends[96];
+    hp_settings def;
+    hp_settings_default(&def);
     printf("usage: headplan solve SCENE [--correction X,Y,Z,PITCH,ROLL,YAW] [--backend NAME]\n"
            "                      [--level NAME] [--json]\n\n"
            "Plans the bladder pressures that produce one desired head correction for the\n"
@@ -32,8 +34,8 @@ static void help(void)
            "headplan batch).\n\n"
            "  --correction X,Y,Z,PITCH,ROLL,YAW  desired correction, mm and degrees (pitch\n"
            "                 about X, roll about Y, yaw about Z); default: the scene's\n"
-           "  --backend NAME realtime (default unless the scene says), ipopt, nlopt-slsqp,\n"
-           "                 nlopt-cobyla\n"
+           "  --backend NAME %s;\n"
+           "                 default: %s unless the scene says\n"
            "  --level NAME   contact model: %s (the head's\n"
            "                 weight, load.md); default: the scene's\n"
            "  --json         one JSON object on stdout instead of the tables\n"
@@ -47,6 +49,7 @@ static void help(void)
            "read, 70 solver failure\n\n"
            "documentation: %s\n"
            "example scenes: %s\n",
+           cli_backend_names(" or ", backends, sizeof backends), hp_backend_name(def.backend),
            hp_scene_level_names(1, " or ", names, sizeof names), cli_doc_dir(), cli_scene_dir());
 }
 

@@ -4,25 +4,27 @@
 #include "headplan/hp_version.h"
 
 #include "common/c_locale.h"
+#include "common/names.h"
 
 #include <errno.h>
 #include <stdarg.h>
 #include <stdio.h>
 
-static const char *const error_names[HP_ERR_COUNT_] = {
-    "ok",
-    "null-argument",
-    "invalid-argument",
-    "domain",
-    "no-stable-radius",
-    "no-convergence",
-    "parse",
-    "io",
-    "out-of-memory",
-    "solver",
-    "state",
-    "end",
-};
+const char *const hpi_error_words[] = {"ok",
+                                       "null-argument",
+                                       "invalid-argument",
+                                       "domain",
+                                       "no-stable-radius",
+                                       "no-convergence",
+                                       "parse",
+                                       "io",
+                                       "out-of-memory",
+                                       "solver",
+                                       "state",
+                                       "end",
+                                       NULL};
+_Static_assert(sizeof hpi_error_words / sizeof *hpi_error_words == HP_ERR_COUNT_ + 1,
+               "one word per error code");
 
 static const char *const error_messages[HP_ERR_COUNT_] = {
     "success",
@@ -39,11 +41,7 @@ static const char *const error_messages[HP_ERR_COUNT_] = {
     "end of input",
 };
 
-const char *hp_error_name(hp_error e)
-{
-    if ((int)e < 0 || e >= HP_ERR_COUNT_) return "unknown";
-    return error_names[e];
-}
+HP_NAMES_NAME_CALL(hp_error, hpi_error_words, hp_error_name)
 
 const char *hp_error_message(hp_error e)
 {

@@ -9,6 +9,9 @@
 
 #include <stddef.h>
 
+/* hp_error's table (hp_error_name), in common/hp_common.c beside the messages. */
+extern const char *const hpi_error_words[];
+
 /* The word of value v, or "unknown" for a value outside the table. */
 const char *hpi_names_word(const char *const *words, int v);
 

@@ -4,6 +4,7 @@
 #include "planner/planner_internal.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,6 +57,45 @@ void hp_planner_reset(hp_planner *p)
     hpi_plan_set_previous_answer(p, &p->nominal);
 }
 
+/* The part of create that decides the level, and all that hp_planner_level_for runs: the
+ * layout prepared, its geometry derived, the level resolved once (level_choice.c). s is
+ * validated. On failure *out is NULL and nothing is left allocated. */
+static hp_error begin(const hp_layout *layout, const hp_settings *s, hp_planner **out, hp_diag *d)
+{
+    *out = NULL;
+    hp_planner *p = calloc(1, sizeof *p);
+    if (!p) return hp_diag_set(d, HP_ERR_NOMEM, "planner: out of memory");
+    p->L = *layout;
+    p->s = *s;
+    hp_error e = hp_layout_prepare(&p->L, d);
+    if (e == HP_OK) e = hpi_geom_derive(&p->L, &p->G, d);
+    if (e == HP_OK) e = hpi_planner_resolve_level(p, layout, d);
+    if (e != HP_OK) {
+        hp_planner_destroy(p);
+        return e;
+    }
+    *out = p;
+    return HP_OK;
+}
+
+hp_error hp_planner_level_for(const hp_layout *layout, const hp_settings *settings, hp_level *level,
+                              char *why, size_t len, hp_diag *d)
+{
+    if (why && len) why[0] = '\0';
+    if (!layout || !level) return hp_diag_set(d, HP_ERR_NULL, "layout or level is NULL");
+    hp_settings s;
+    if (settings) s = *settings;
+    else hp_settings_default(&s);
+    hp_error e = hp_settings_validate(&s, d);
+    hp_planner *p = NULL;
+    if (e == HP_OK) e = begin(layout, &s, &p, d);
+    if (e != HP_OK) return e;
+    *level = p->level;
+    if (why && len) snprintf(why, len, "%s", p->level_why);
+    hp_planner_destroy(p);
+    return HP_OK;
+}
+
 hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings, hp_planner **out,
                            hp_diag *d)
 {
@@ -71,14 +111,8 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
         return hp_diag_set(d, HP_ERR_INVALID, "backend: '%s' is not built into this library",
                            hp_backend_name(s.backend));
 
-    hp_planner *p = calloc(1, sizeof *p);
-    if (!p) return hp_diag_set(d, HP_ERR_NOMEM, "planner: out of memory");
-    p->L = *layout;
-    p->s = s;
-    e = hp_layout_prepare(&p->L, d);
-    if (e == HP_OK) e = hpi_geom_derive(&p->L, &p->G, d);
-    if (e != HP_OK) goto fail;
-    if ((e = hpi_planner_resolve_level(p, layout, d)) != HP_OK) goto fail;
+    hp_planner *p = NULL;
+    if ((e = begin(layout, &s, &p, d)) != HP_OK) return e;
     if ((e = hpi_layout_identify_g(&p->L, &p->G, &p->id)) != HP_OK) {
         hp_diag_set(d, e, "layout: the contact Jacobian at the nominal pose: %s",
                     hp_error_message(e));

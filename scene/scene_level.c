@@ -1,6 +1,7 @@
 /* Which planner a scene is planned with (hp_scene.h, hp_scene_plan_level): the one decision
  * the command line and the Python module share, so a scene plans at the same level
  * whichever entry point loads it. */
+#include "headplan/hp_planner.h"
 #include "headplan/hp_scene.h"
 
 #include <stdio.h>
@@ -52,16 +53,17 @@ hp_error hp_scene_plan_level(const hp_scene *sc, const char *level, int *use_loa
         return HP_OK;
     }
     if (!automatic || !sc->has_load) return HP_OK;
-    /* auto on a scene that states its load: the load level when the sag a kinematic plan
-     * would leave exceeds model.tolerance_mm (hp_load_auto_choose). */
-    hp_load_model *M = NULL;
-    hp_error e = hp_load_model_create(&sc->layout, &sc->load, sc->load_geometry, &M, diag);
-    if (!e) {
-        e = hp_load_auto_choose(M, sc->level_tolerance, use_load, NULL, why, len);
-        if (e) hp_diag_set(diag, e, "%s", hp_error_message(e));
-    }
-    hp_load_model_destroy(M);
-    return e;
+    /* auto on a scene that states its load: the planner's own decision (hp_planner_level_for,
+     * the code hp_planner_create runs), so that this answer and the level solve, batch and
+     * Python plan at are one. */
+    hp_settings s;
+    hp_error e = hp_scene_settings(sc, &s, diag);
+    if (e) return e;
+    s.level = HP_LEVEL_AUTO;
+    hp_level chosen = HP_LEVEL_AUTO;
+    if ((e = hp_planner_level_for(&sc->layout, &s, &chosen, why, len, diag))) return e;
+    *use_load = chosen == HP_LEVEL_LOAD;
+    return HP_OK;
 }
 
 hp_error hp_scene_kinematic_only(const hp_scene *sc, const char *level, const char *who,

@@ -58,7 +58,10 @@ hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
     }
     s->load_tiebreak = HP_TIE_LEAST_SQUEEZE;
     if ((n = yt_map_get(node, "tiebreak"))) {
-        static const char *const TIES[] = {"least-squeeze", "previous", "stiffness", NULL};
+        const char *TIES[HP_TIE_COUNT_ + 1]; /* the tie-breaker table's words, NULL */
+        for (int i = 0; i < HP_TIE_COUNT_; ++i)
+            TIES[i] = hp_load_tiebreak_name((hp_load_tiebreak)i);
+        TIES[HP_TIE_COUNT_] = NULL;
         char name[16];
         hp_load_tiebreak t;
         if ((e = sr_word(c, n, "load.tiebreak", "tie-breaker", TIES, name, sizeof name))) return e;

@@ -66,6 +66,14 @@ def read_layers(path):
     return rows
 
 
+def read_private(path):
+    """The private layer: internal headers other modules may include (one path a line)."""
+    if not os.path.exists(path):
+        return set()
+    lines = (ln.split("#")[0].strip() for ln in open(path, encoding="utf-8"))
+    return {ln for ln in lines if ln}
+
+
 def module_of_include(inc, own, modules):
     parts = inc.split("/")
     if parts[0] == "headplan" and len(parts) == 2:
@@ -142,6 +150,7 @@ def main():
                 pending.discard((mod, tuple(comp)))
                 continue
             bad.append(f"{mod}/: the files {', '.join(comp)} depend on each other (a cycle)")
+    private = read_private(os.path.join(root, "cmake", "private_headers.txt"))
     inc_dir = os.path.join(root, "include", "headplan")
     for f in sorted(os.listdir(inc_dir)) if os.path.isdir(inc_dir) else []:
         if f.endswith((".h", ".h.in")):
@@ -166,6 +175,9 @@ def main():
             elif tgt not in reach[mod]:
                 bad.append(f"{rel}: {mod} includes {inc} from {tgt}, which {mod} does not use "
                            f"(its line in {os.path.relpath(layers, root)})")
+            elif tgt != mod and not inc.startswith("headplan/") and inc not in private:
+                bad.append(f"{rel}: includes {inc}, an internal header of {tgt} not in the "
+                           f"private layer (cmake/private_headers.txt)")
     for mod, comp in sorted(pending):
         bad.append(f"{mod}/: {', '.join(comp)} no longer form a cycle: delete its line in "
                    f"PENDING_CYCLES ({sys.argv[0]})")

@@ -330,6 +330,17 @@ HP_API const hp_identifiable *hp_planner_identifiable(const hp_planner *p);
  * HP_ERR_STATE for a planner not built. Does not allocate; thread-safe on a const planner. */
 HP_API hp_error hp_planner_level_choice(const hp_planner *p, char *why, size_t len);
 
+/* The level a planner created from layout and settings (NULL: the defaults) plans at, into
+ * *level, and why (the text hp_planner_level_choice gives, "" when the settings name a
+ * level) into why (len bytes, may be NULL): hp_planner_create's own resolution of auto over
+ * all four levels, run without building the rest of the planner, for a caller that needs
+ * only the level (hp_scene_plan_level, so `headplan analyze` and `render` agree with solve).
+ * Returns HP_OK, HP_ERR_NULL (layout or level NULL), or hp_planner_create's error for the
+ * settings, the layout or auto's decision (diag says which). Allocates (a planner's
+ * level-deciding part, freed before it returns). */
+HP_API hp_error hp_planner_level_for(const hp_layout *layout, const hp_settings *settings,
+                                     hp_level *level, char *why, size_t len, hp_diag *d);
+
 /* The reach of planner p along each pose axis, as a single solve (from the nominal pose,
  * no rate limits) sees it: reach[i][1] >= 0 (reach[i][0] <= 0) is the largest correction
  * [mm or deg] along +e_i (−e_i) such that every correction up to it along that ray is

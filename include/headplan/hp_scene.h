@@ -211,17 +211,19 @@ typedef enum hp_level_refusal {
  * caller's override of the scene's model.level ("linear", "plane", "surface", "auto" or
  * "load"; the command line's --level), NULL for the scene's own. *use_load gets 1 when:
  * the level is "load" (the scene's `model.level: load`, or the override); or it is "auto"
- * and the scene has a `load` section and the sag a kinematic plan would leave exceeds
- * model.tolerance_mm (hp_load_auto_choose). Otherwise 0: a kinematic level plans it.
- * why (may be NULL, len bytes) gets the reason in one line ("load: asked for by
- * model.level", "load: asked for by the caller's level" for the override, "load: predicted
- * sag ... > tolerance ...", "kinematic: ..."; "" when the scene has no load and auto was not
+ * and the scene has a `load` section and the planner built from the scene's settings
+ * resolves auto to the load level (hp_planner_level_for: the one decision, the sag a
+ * kinematic plan would leave exceeding model.tolerance_mm). Otherwise 0: a kinematic level
+ * plans it. why (may be NULL, len bytes) gets the reason in one line ("load: asked for by
+ * model.level", "load: asked for by the caller's level" for the override; for auto the
+ * planner's own line, hp_planner_level_choice: "load: predicted sag ... > tolerance ...",
+ * or "kinematic: ...; auto chose ..."; "" when the scene has no load and auto was not
  * involved; a caller may word the override's reason in its own terms, as the command line's
  * "--level"). Returns HP_OK; HP_ERR_NULL; HP_ERR_INVALID for an unknown override or
- * "load" on a scene without a `load` section (message in diag; *refused says which); or the
- * load model's error (hp_load_model_create: the layout cannot carry the load), message in
- * diag. refused (may be NULL) gets HP_LEVEL_REFUSED_NONE unless the level argument itself
- * was refused. Allocates (the load model) only for auto on a scene with a `load` section. */
+ * "load" on a scene without a `load` section (message in diag; *refused says which); or
+ * hp_planner_level_for's error (the layout cannot carry the load model), message in diag.
+ * refused (may be NULL) gets HP_LEVEL_REFUSED_NONE unless the level argument itself was
+ * refused. Allocates (hp_planner_level_for) only for auto on a scene with a `load` section. */
 /* The name of HP_LEVEL_LOAD (hp_level_name), which a scene's model.level and the command
  * line's --level may name besides the contact levels (docs/load.md). */
 #define HP_SCENE_LEVEL_LOAD "load"

@@ -53,6 +53,7 @@ NAME_OF(hp_trace_format_name, hp_trace_format)
 PARSE_OF(hp_trace_format_parse, hp_trace_format)
 NAME_OF(hp_trace_form_name, hp_trace_form)
 NAME_OF(hp_scene_kind_name, hp_scene_kind)
+NAME_OF(hp_error_name, hp_error)
 static const char *binding_i(int v) { return hp_binding_name(1u << v); }
 
 static const enum_case CASES[] = {
@@ -68,6 +69,7 @@ static const enum_case CASES[] = {
     {"trace format", hpi_trace_format_words, hp_trace_format_name_i, hp_trace_format_parse_i},
     {"trace form", hpi_trace_form_words, hp_trace_form_name_i, NULL},
     {"scene kind", hpi_scene_kind_words, hp_scene_kind_name_i, NULL},
+    {"error", hpi_error_words, hp_error_name_i, NULL},
 };
 
 static void test_round_trip(void **st)
@@ -110,6 +112,7 @@ static void test_round_trip(void **st)
     assert_int_equal(hp_trace_format_parse("csv", NULL), HP_ERR_NULL);
     /* One word per value the public headers count. */
     assert_int_equal(hpi_names_count(hpi_backend_words), HP_BACKEND_COUNT_);
+    assert_int_equal(hpi_names_count(hpi_error_words), HP_ERR_COUNT_);
     assert_int_equal(hpi_names_count(hpi_status_words), HP_STATUS_COUNT_);
     assert_int_equal(hpi_names_count(hpi_binding_words), HP_BIND_COUNT);
     assert_int_equal(hpi_names_count(hpi_level_words), HP_LEVEL_LOAD + 1);

@@ -54,5 +54,15 @@ grep -q 'calib/: the files a.c, b.c depend on each other' <<<"$out" || { echo "F
 rm "$tmp/calib/"*.c; mkdir -p "$tmp/horizon"
 printf '#include "calib/calib_internal.h"\n' >"$tmp/horizon/x.c"
 python3 "$src/scripts/check_layers.py" "$tmp" >/dev/null && { echo "FAIL: the checker missed horizon -> calib"; fails=$((fails + 1)); }
-echo "$((n + 5 - fails)) passed, $fails failed"
+# Nor blind to a module's internal header included by another module that is not on the
+# private layer's list (cmake/private_headers.txt): scene uses planner, but
+# planner/load_qp.h is planner's own; planner/names.h is on the list.
+rm "$tmp/horizon/x.c"; mkdir -p "$tmp/scene" "$tmp/planner"
+cp "$src/cmake/private_headers.txt" "$tmp/cmake/private_headers.txt"
+printf '#include "planner/names.h"\n' >"$tmp/scene/x.c"
+python3 "$src/scripts/check_layers.py" "$tmp" >/dev/null || { echo "FAIL: the checker refused a listed private header"; fails=$((fails + 1)); }
+printf '#include "planner/load_qp.h"\n' >"$tmp/scene/x.c"
+out=$(python3 "$src/scripts/check_layers.py" "$tmp")
+grep -q 'scene/x.c: includes planner/load_qp.h, an internal header of planner not in the private layer' <<<"$out" || { echo "FAIL: the checker missed scene -> planner/load_qp.h"; fails=$((fails + 1)); }
+echo "$((n + 7 - fails)) passed, $fails failed"
 [ "$fails" -eq 0 ]

@@ -325,6 +325,7 @@ static void loose_tolerance_reached_beyond_reach(void **st)
     (void)st;
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);
+    /* Not the load level: hp_planner_reach and hp_contact_fk refuse it by design. */
     const hp_level levels[3] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
     for (int li = 0; li < 3; ++li) {
         hp_settings s;

@@ -91,6 +91,8 @@ static int run(hp_backend bk, hp_level level, int *n_err)
 static void test_every_backend_answers(void **st)
 {
     (void)st;
+    /* Not the load level: each start is a REACHED contact plan of a random pose, which the
+     * weight's sag makes CLOSEST there; its rate windows are test_load_planner.c's. */
     const hp_level levels[4] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE, HP_LEVEL_AUTO};
     int failed = 0;
     for (int b = 0; b < HP_BACKEND_COUNT_; ++b) {

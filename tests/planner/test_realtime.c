@@ -407,6 +407,7 @@ static void test_rho_step_refused(void **s)
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);
     hpi_test_realtime_count(1);
+    /* Not the load level: the step counted is the contact SQP's, which it does not run. */
     for (int lv = HP_LEVEL_PLANE; lv <= HP_LEVEL_SURFACE; ++lv) {
         hp_settings st;
         hp_settings_default(&st);
@@ -607,6 +608,7 @@ static void test_loose_tolerance_converges(void **state)
     (void)state;
     hp_layout L;
     assert_int_equal(lf_layout(&L), HP_OK);
+    /* Not the load level: RT_FULL_STEP is the contact SQP's, which it does not run. */
     const hp_level levels[2] = {HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
     const double tols[2] = {0.05, 0.5};
     uint64_t seed = 4242;

@@ -117,6 +117,8 @@ static void one(int kind, hp_backend b, hp_level level, double rate, uint64_t se
 static void verdict_kept(void **st)
 {
     (void)st;
+    /* Not the load level: it confirms an answer by its forward statics, not by this contact
+     * round trip (hp_contact_fk refuses HP_LEVEL_LOAD by design). */
     const hp_level levels[2] = {HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
     const hp_backend bs[2] = {HP_BACKEND_REALTIME, HP_BACKEND_NLOPT_SLSQP};
     const int kinds[2] = {REL_DEFAULT, REL_DEGENERATE};

@@ -269,6 +269,8 @@ static void sw_assert(const sw_tally *t)
     assert_true(t->compared > 0);
 }
 
+/* Not the load level: the generated layouts include sphere heads, which it refuses by design,
+ * and its realtime-Ipopt agreement is test_load_planner.c's test_backends_agree. */
 static const hp_level sw_levels[2] = {HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
 
 static void sweep_layout(const hp_layout *L, const char *what, uint64_t *s, int n, sw_tally *t)
