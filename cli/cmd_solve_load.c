@@ -39,11 +39,12 @@ int cli_load_level(const char *cmd, const hp_scene *sc, const char *level_arg, i
 int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_arg,
                        const char *instead)
 {
-    char levels[96];
-    if (level_arg && strcmp(level_arg, "load") == 0)
+    if (level_arg && strcmp(level_arg, "load") == 0) {
+        char levels[96];
         return cli_fail(CLI_EXIT_USAGE, cmd,
                         "--level: load is not planned by %s; it plans the contact levels (%s)", cmd,
                         hp_scene_level_names(0, ", ", levels, sizeof levels));
+    }
     hp_diag d = {{0}};
     hp_level_refusal refused;
     hp_error e = hp_scene_kinematic_only(sc, level_arg, cmd, &refused, &d);
