@@ -2,6 +2,7 @@
  * hp_pose_commanded_part): rank and commanded components per head shape and layout, their
  * independence of units, scale and pivot, the rotation bound below the head's half-turn
  * symmetry, and the commanded part of a correction checked against geometry written here. */
+#include "support/rotation_ref.h"
 #include "support/test_util.h"
 #include "kin_test_util.h"
 #include "support/ident_layouts.h"
@@ -9,42 +10,6 @@
 #include <string.h>
 
 #define PI 3.14159265358979323846
-
-/* R = Rz(yaw)·Ry(roll)·Rx(pitch), written out here (not the library's). */
-static void my_rotation(const double th[3], double R[9])
-{
-    double ca = cos(th[0]), sa = sin(th[0]), cb = cos(th[1]), sb = sin(th[1]);
-    double cg = cos(th[2]), sg = sin(th[2]);
-    double M[9] = {cg * cb,
-                   cg * sb * sa - sg * ca,
-                   cg * sb * ca + sg * sa,
-                   sg * cb,
-                   sg * sb * sa + cg * ca,
-                   sg * sb * ca - cg * sa,
-                   -sb,
-                   cb * sa,
-                   cb * ca};
-    memcpy(R, M, sizeof M);
-}
-
-/* Rotation by angle th about unit axis u (Rodrigues), and its Z-Y-X angles. */
-static void axis_angle_pose(const double u[3], double th, double xi[6])
-{
-    double c = cos(th), s = sin(th), v = 1.0 - c, R[9];
-    R[0] = c + u[0] * u[0] * v;
-    R[1] = u[0] * u[1] * v - u[2] * s;
-    R[2] = u[0] * u[2] * v + u[1] * s;
-    R[3] = u[1] * u[0] * v + u[2] * s;
-    R[4] = c + u[1] * u[1] * v;
-    R[5] = u[1] * u[2] * v - u[0] * s;
-    R[6] = u[2] * u[0] * v - u[1] * s;
-    R[7] = u[2] * u[1] * v + u[0] * s;
-    R[8] = c + u[2] * u[2] * v;
-    xi[0] = xi[1] = xi[2] = 0.0;
-    xi[4] = -asin(fmax(-1.0, fmin(1.0, R[6])));
-    xi[3] = atan2(R[7], R[8]);
-    xi[5] = atan2(R[3], R[0]);
-}
 
 static void triaxial_range(void **st)
 {
@@ -219,7 +184,7 @@ static void rotation_angle(void **st)
         double u[3], xi[6];
         kin_rng_vec3(&rng, 1.0, u);
         double th = test_rng_uniform(&rng, 0.0, PI);
-        axis_angle_pose(u, th, xi);
+        ref_axis_angle_pose(u, th, xi);
         hp_assert_close(hp_pose_rotation_angle(xi), th, 0, 1e-12);
     }
     const double half[6] = {0, 0, 0, PI, 0, 0}, t170[6] = {0, 0, 0, 0, 0, 170 * PI / 180};
@@ -271,7 +236,7 @@ static void commanded_part_sphere_centre(void **st)
         double xd[6], xc[6], R[9];
         kin_rng_pose(&rng, 0.01, 0.5, 0, xd);
         assert_int_equal(hp_pose_commanded_part(&L, &id, HP_LEVEL_SURFACE, xd, xc), HP_OK);
-        my_rotation(xd + 3, R);
+        ref_rotation(xd + 3, R);
         for (int i = 0; i < 3; ++i) {
             double c = pivot[i] + xd[i]; /* pivot + R(centre − pivot) + t, centre = 0 */
             for (int j = 0; j < 3; ++j) c += R[i * 3 + j] * (0.0 - pivot[j]);

@@ -11,6 +11,7 @@
  * the range: translation norm <= trans_limit, rotation angle < rot_limit, both computed here
  * from the pose (the rotation written out, not the library's). A correction whose closest
  * pose lies outside is refused (INVALID_INPUT, the range named) with the safe output. */
+#include "support/rotation_ref.h"
 #include "support/test_util.h"
 #include "support/ident_layouts.h"
 #include "support/layout_fixture.h"
@@ -19,25 +20,6 @@
 
 static const hp_backend backends[4] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT,
                                        HP_BACKEND_NLOPT_SLSQP, HP_BACKEND_NLOPT_COBYLA};
-
-/* Rotation angle of R = Rz(yaw)·Ry(roll)·Rx(pitch), written out here. */
-static double my_angle(const double th[3])
-{
-    double ca = cos(th[0]), sa = sin(th[0]), cb = cos(th[1]), sb = sin(th[1]);
-    double cg = cos(th[2]), sg = sin(th[2]);
-    double R[9] = {cg * cb,
-                   cg * sb * sa - sg * ca,
-                   cg * sb * ca + sg * sa,
-                   sg * cb,
-                   sg * sb * sa + cg * ca,
-                   sg * sb * ca - cg * sa,
-                   -sb,
-                   cb * sa,
-                   cb * ca};
-    double s = 0.5 * sqrt((R[7] - R[5]) * (R[7] - R[5]) + (R[2] - R[6]) * (R[2] - R[6]) +
-                          (R[3] - R[1]) * (R[3] - R[1]));
-    return atan2(s, 0.5 * (R[0] + R[4] + R[8] - 1.0));
-}
 
 /* Generated layouts of five bladders: four on the back (rays (u, v, −1)) and one more, u, v
  * and the fifth ray seeded uniform in [−1, 1); those of rank 5 are used. */
@@ -87,7 +69,8 @@ static void five_direction_answers_in_range(void **st)
                     closest += r.status == HP_STATUS_CLOSEST;
                     double tn = sqrt(r.achieved[0] * r.achieved[0] + r.achieved[1] * r.achieved[1] +
                                      r.achieved[2] * r.achieved[2]);
-                    double ang = my_angle(r.achieved + 3), deg = 180 / 3.14159265358979323846;
+                    double ang = ref_rotation_angle(r.achieved + 3),
+                           deg = 180 / 3.14159265358979323846;
                     if (!(tn <= id->trans_limit && ang < id->rot_limit))
                         fail_msg("%s, layout %d %s, correction %d: %s at (%.1f, %.1f, %.1f) mm "
                                  "(%.1f, %.1f, %.1f) deg: |t| %.1f mm (limit %.1f), angle "

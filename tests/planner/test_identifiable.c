@@ -6,6 +6,7 @@
  *   - a sphere turned about an off-centre pivot: the turn moves the centre, which the layout
  *     observes, but the whole turn was dropped (checked here against contact distances
  *     computed from the geometry in this file, not the library's). */
+#include "support/rotation_ref.h"
 #include "support/test_util.h"
 #include "support/ident_layouts.h"
 #include "support/layout_fixture.h"
@@ -20,23 +21,6 @@ static const hp_backend backends[4] = {HP_BACKEND_REALTIME, HP_BACKEND_IPOPT,
 static hp_planner *make(const hp_layout *L, hp_backend b, hp_level level)
 {
     return lf_planner_on(L, b, level);
-}
-
-/* R = Rz(yaw)·Ry(roll)·Rx(pitch), written out here (not the library's). */
-static void my_rotation(const double th[3], double R[9])
-{
-    double ca = cos(th[0]), sa = sin(th[0]), cb = cos(th[1]), sb = sin(th[1]);
-    double cg = cos(th[2]), sg = sin(th[2]);
-    double M[9] = {cg * cb,
-                   cg * sb * sa - sg * ca,
-                   cg * sb * ca + sg * sa,
-                   sg * cb,
-                   sg * sb * sa + cg * ca,
-                   sg * sb * ca - cg * sa,
-                   -sb,
-                   cb * sa,
-                   cb * ca};
-    memcpy(R, M, sizeof M);
 }
 
 /* Half-turns and everything at or beyond 90° about any axis are refused as invalid input
@@ -122,7 +106,7 @@ static void range_verdict_exact(void **st)
         }
         for (int i = 0; i < 3; ++i) xi[3 + i] = (lf_uniform(&seed) < 0 ? -1 : 1) * rs * w[i] / ws;
         double R[9];
-        my_rotation(xi + 3, R);
+        ref_rotation(xi + 3, R);
         double s = 0.5 * sqrt((R[7] - R[5]) * (R[7] - R[5]) + (R[2] - R[6]) * (R[2] - R[6]) +
                               (R[3] - R[1]) * (R[3] - R[1]));
         double ang = atan2(s, 0.5 * (R[0] + R[4] + R[8] - 1.0));
@@ -270,7 +254,7 @@ static void sphere_off_centre_pivot(void **st)
                 lf_pose(cl, xi);
                 hp_result r;
                 assert_int_equal(hp_plan(p, xi, &r), HP_OK);
-                my_rotation(xi + 3, R);
+                ref_rotation(xi + 3, R);
                 for (int i = 0; i < 3; ++i) {
                     c[i] = pivots[pi][i] + xi[i];
                     for (int j = 0; j < 3; ++j) c[i] += R[i * 3 + j] * (0.0 - pivots[pi][j]);

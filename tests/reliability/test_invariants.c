@@ -20,6 +20,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include "support/rotation_ref.h"
 #include "support/alloc_counter.h"
 
 /* Targets per backend × level × planner: Ipopt ~3–5 ms a plan, COBYLA ~10× more. */
@@ -137,25 +138,6 @@ static void failure_labelled_with_safe_output(void **st)
     campaign(REL_INV_SAFE, NULL, "failure_labelled_with_safe_output");
 }
 
-/* Rotation of angle th (rad) about unit axis u (Rodrigues, written here) as a pose. */
-static void axis_angle_pose(const double u[3], double th, double xi[6])
-{
-    double c = cos(th), s = sin(th), v = 1.0 - c, R[9];
-    R[0] = c + u[0] * u[0] * v;
-    R[1] = u[0] * u[1] * v - u[2] * s;
-    R[2] = u[0] * u[2] * v + u[1] * s;
-    R[3] = u[1] * u[0] * v + u[2] * s;
-    R[4] = c + u[1] * u[1] * v;
-    R[5] = u[1] * u[2] * v - u[0] * s;
-    R[6] = u[2] * u[0] * v - u[1] * s;
-    R[7] = u[2] * u[1] * v + u[0] * s;
-    R[8] = c + u[2] * u[2] * v;
-    xi[0] = xi[1] = xi[2] = 0.0;
-    xi[4] = -asin(fmax(-1.0, fmin(1.0, R[6])));
-    xi[3] = atan2(R[7], R[8]);
-    xi[5] = atan2(R[3], R[0]);
-}
-
 /* Rotations to ±180 degrees about each axis and about random axes, through every backend
  * and level: at or beyond 90 degrees (the head's half-turn symmetry) the plan is refused as
  * invalid input naming the identifiable range; below it every answer passes every
@@ -190,7 +172,7 @@ static void rotation_sweep(const hp_layout *L)
                 for (int t = 0; t < 13; ++t) {
                     double xi[6];
                     hp_result r;
-                    axis_angle_pose(axes[a], deg[t] * (3.14159265358979323846 / 180.0), xi);
+                    ref_axis_angle_pose(axes[a], deg[t] * (3.14159265358979323846 / 180.0), xi);
                     hp_plan(p, xi, &r);
                     REL_ASSERT(&c, HP_OK, xi, &r, REL_INV_ALL, "rotation sweep");
                     if (fabs(deg[t]) >= 90.0) {
