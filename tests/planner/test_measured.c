@@ -11,6 +11,7 @@
  * - the next plan's rate windows are centred on the taken pressures. */
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
+#include "support/load_fixture.h"
 
 static hp_planner *planner(hp_level level, double rate)
 {
@@ -136,11 +137,48 @@ static void test_readings_at_and_beyond_limits(void **state)
     hp_planner_destroy(p);
 }
 
+/* The load level reads a measurement against its own pressure bounds
+ * (hp_planner_pressure_bounds), with the same clamp, report and refusal. */
+static void test_load_level_readings(void **state)
+{
+    (void)state;
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    hp_load_spec spec;
+    hp_load_spec_default(&L.head, &spec);
+    spec.mass *= 0.2; /* light enough for the layout to carry */
+    hp_planner *p = NULL;
+    hp_diag d = {{0}};
+    assert_int_equal(load_create(&L, &spec, NULL, HP_TIE_LEAST_SQUEEZE, &p, &d), HP_OK);
+    const double zero[6] = {0};
+    hp_result r;
+    assert_int_equal(hp_plan(p, zero, &r), HP_OK);
+    assert_true(r.status == HP_STATUS_REACHED || r.status == HP_STATUS_CLOSEST);
+    double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS], Q[HP_MAX_BLADDERS];
+    assert_int_equal(hp_planner_pressure_bounds(p, lo, hi), HP_OK);
+    for (int k = 0; k < r.n; ++k) Q[k] = r.bladders[k].pressure;
+    const hp_bladder *B = &L.bladders[2];
+    double tol = HP_MEASURED_TOL_REL * (B->p_max - B->p_min);
+    /* Half the tolerance above the load level's upper bound: clamped, reported. */
+    Q[2] = hi[2] + 0.5 * tol;
+    unsigned clamped = 0;
+    assert_int_equal(hp_planner_set_measured(p, Q, &clamped), HP_OK);
+    assert_int_equal(clamped, 1u << 2);
+    /* Twice the tolerance above: refused, the bladder named, the mask untouched. */
+    Q[2] = hi[2] + 2.0 * tol;
+    clamped = 77u;
+    assert_int_equal(hp_planner_set_measured(p, Q, &clamped), HP_ERR_INVALID);
+    assert_int_equal(clamped, 77u);
+    assert_non_null(strstr(hp_planner_error(p), B->name));
+    hp_planner_destroy(p);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_noisy_readings),
         cmocka_unit_test(test_readings_at_and_beyond_limits),
+        cmocka_unit_test(test_load_level_readings),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
