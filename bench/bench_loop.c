@@ -15,7 +15,7 @@
  *             than the budget + LOOP_OVERSHOOT_US.
  * Per row: median, p99, p99.9 and max of the plan time (CLOCK_MONOTONIC around hp_plan), the
  * ratios of median and p99.9 to the free planner's on the same trace in the same run, the
- * statuses, and set_measured's median. Writes DIR/loop.csv; prints a summary. */
+ * statuses (held answers apart from call errors), and set_measured's median. Writes DIR/loop.csv; prints a summary. */
 #include "bench/bench.h"
 #include "bench/bench_timing.h"
 #include "bench/bench_util.h"
@@ -49,7 +49,11 @@ typedef struct {
     int trace, mode;
     long cycles;
     double med_us, p99_us, p999_us, max_us, ratio_med, ratio_p999, set_med_us;
-    long reached, closest, time_limit, other, rate_binding, overshoots, clamped;
+    /* other: plan outcomes beside reached, closest and time-limit (a held answer: iteration
+     * limit, solver error, ...); errors: calls (hp_plan, set_measured) that returned an error
+     * code. Under a deadline the trajectory depends on where the clock stopped each plan, so
+     * there other counts states the host's timing led to. */
+    long reached, closest, time_limit, other, errors, rate_binding, overshoots, clamped;
 } loop_row;
 
 /* The trace's correction at cycle j [SI]. */
@@ -128,7 +132,7 @@ static int run_trace(const bench_options *o, const hp_layout *L0, const hp_setti
             hp_error e = hp_plan(p[m], xi, &res);
             double dt = bench_now_ns() - t0;
             times[m * n + j] = dt;
-            if (e != HP_OK) ++r->other;
+            if (e != HP_OK) ++r->errors;
             else if (res.status == HP_STATUS_REACHED || res.status == HP_STATUS_UNCOMMANDED)
                 ++r->reached;
             else if (res.status == HP_STATUS_CLOSEST) ++r->closest;
@@ -150,7 +154,7 @@ static int run_trace(const bench_options *o, const hp_layout *L0, const hp_setti
                 hp_error es = hp_planner_set_measured(p[m], P, &cl);
                 double ds = bench_now_ns() - t0;
                 if (m == 2) set_times[j] = ds;
-                if (es != HP_OK) ++r->other;
+                if (es != HP_OK) ++r->errors;
                 r->clamped += cl != 0;
             }
         }
@@ -173,10 +177,11 @@ static void csv_row(const void *arg, int i, FILE *f)
 {
     const loop_row *r = (const loop_row *)arg + i;
     fprintf(
-        f, "%s,%s,%s,%s,%ld,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%g\n",
+        f,
+        "%s,%s,%s,%s,%ld,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%g\n",
         hp_level_name(r->level), hp_backend_name(r->backend), trace_names[r->trace],
         mode_names[r->mode], r->cycles, r->med_us, r->p99_us, r->p999_us, r->max_us, r->ratio_med,
-        r->ratio_p999, r->set_med_us, r->reached, r->closest, r->time_limit, r->other,
+        r->ratio_p999, r->set_med_us, r->reached, r->closest, r->time_limit, r->other, r->errors,
         r->rate_binding, r->clamped, r->overshoots, r->mode == 3 ? LOOP_BUDGET_US : NAN);
 }
 
@@ -213,7 +218,7 @@ int bench_loop(const bench_options *o, const char *dir)
     rc = bench_save_csv(dir, "loop.csv",
                         "level,backend,trace,mode,cycles,median_us,p99_us,p999_us,max_us,"
                         "ratio_median,ratio_p999,set_measured_median_us,reached,closest,"
-                        "time_limit,other,rate_binding,clamped,overshoots,budget_us",
+                        "time_limit,other,errors,rate_binding,clamped,overshoots,budget_us",
                         csv_row, rows, nr);
     printf("loop (rate %g Pa/plan, measured noise +-%g Pa, deadline %g us; ratios to the "
            "free plan of the same trace):\n",
