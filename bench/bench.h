@@ -129,5 +129,11 @@ int bench_load(const bench_options *o, const char *dir);
  * and backend (realtime, nlopt-slsqp). Writes DIR/loop.csv (bench/bench_loop.c). Needs
  * o->scene. */
 int bench_loop(const bench_options *o, const char *dir);
+/* Each level's pose error against the finite-element reference: every level's pressures on
+ * the catalogue's layout scenes (their corrections and a seeded clinical sweep) rested under
+ * the head's weight with the contact law fitted to the CalculiX tables, against the pose the
+ * plan claims, with the law's own error band. Writes DIR/fidelity.csv
+ * (bench/bench_fidelity.c). */
+int bench_fidelity(const bench_options *o, const char *dir);
 
 #endif

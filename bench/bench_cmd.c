@@ -53,6 +53,7 @@ static const family families[] = {
     {{"levels", NULL, NULL, NULL}, NULL, bench_levels, 0},
     {{"load", NULL, NULL, NULL}, NULL, bench_load, 0},
     {{"loop", NULL, NULL, NULL}, NULL, bench_loop, 1},
+    {{"fidelity", NULL, NULL, NULL}, NULL, bench_fidelity, 0},
 };
 #define N_FAMILIES (sizeof families / sizeof families[0])
 
@@ -74,7 +75,10 @@ static void help(void)
            "the load family writes DIR/load.csv (the load level's cost on each backend and\n"
            "the sag a kinematic plan leaves on the load scenes) and the chart load.png/.svg;\n"
            "the loop family writes DIR/loop.csv (traces planned cycle by cycle with rate\n"
-           "limits, measured pressures and a deadline, against the plan without rate limits).\n\n"
+           "limits, measured pressures and a deadline, against the plan without rate limits);\n"
+           "the fidelity family writes DIR/fidelity.csv (each level's pose error against the\n"
+           "finite-element reference: its pressures rested under the head's weight with the\n"
+           "fitted contact law, on the catalogue's corrections and a seeded clinical sweep).\n\n"
            "  --out DIR      output folder, created if missing (default %s)\n"
            "  --quick        a test run: few timing samples; the IK's accuracy is still measured\n"
            "                 on every input, the planner's on 4 targets per group (not 40)\n"
@@ -110,7 +114,7 @@ static int parse_only(const char *list, int *on)
         if (k == N_FAMILIES)
             return cli_fail(CLI_EXIT_USAGE, CMD,
                             "--only: unknown family '%s' (known: ik, "
-                            "planner, stability, peers, levels, load, loop)",
+                            "planner, stability, peers, levels, load, loop, fidelity)",
                             p);
         on[k] = 1;
         if (!comma) break;

@@ -236,6 +236,53 @@ touch "$TMP/file"
 run --quick --only ik --out "$TMP/file/sub"
 expect_exit 73 "--out under a file"; expect_stderr_has "$TMP/file" "names the folder"
 
+# The fidelity family (no timing at all): each level's pressures rested under the head's
+# weight with the fitted contact law, against the pose the plan claims.
+run --quick --only fidelity --out "$OUT" --scenarios "$HP_SRC/scenarios"
+expect_exit 0 "bench --only fidelity"
+csv="$OUT/fidelity.csv"
+[ -f "$csv" ] && [ "$(head -n 1 "$csv")" = "scene,case,level,backend,law,status,mass,tolerance,level_tolerance_mm,law_band,pose_mm,pose_deg,band_mm,band_deg,indent_max,domain" ] \
+  && ok || bad "fidelity.csv header"
+# Four levels per case, in order; the single-bladder studies are left out; the load scenes
+# carry their own mass, the others the default head's.
+bad_rows=$(awk -F, 'NR > 1 && $3 != substr("linear plane  surfaceload   ", 1 + 7 * ((NR - 2) % 4), length($3)) { print NR ": " $3 }' "$csv")
+[ -z "$bad_rows" ] && ok || bad "fidelity: levels out of order: $bad_rows"
+[ "$(awk -F, 'NR > 1 && $1 ~ /^paper_/' "$csv" | wc -l)" -eq 0 ] && ok || bad "fidelity: a bladder study measured"
+[ "$(awk -F, 'NR > 1 && $1 == "load_supine" && $3 == "linear"' "$csv" | wc -l)" -ge 2 ] && ok || bad "fidelity: load_supine cases"
+bad_rows=$(awk -F, 'NR > 1 && (($1 ~ /^load_/) != ($7 == "scene")) { print $1 }' "$csv" | sort -u)
+[ -z "$bad_rows" ] && ok || bad "fidelity: mass source: $bad_rows"
+# The law's band is its worst error over its own tables' domain (a few per cent), the same
+# on every row; only the load level has a planning law, and on the load scenes it has one.
+[ "$(awk -F, 'NR > 1 { print $10 }' "$csv" | sort -u | wc -l)" -eq 1 ] && awk -F, 'NR == 2 { exit !($10 > 0.01 && $10 < 0.1) }' "$csv" \
+  && ok || bad "fidelity: law_band"
+bad_rows=$(awk -F, 'NR > 1 && (($3 == "load") != ($5 != "-")) && $6 != "refused" { print NR }' "$csv")
+[ -z "$bad_rows" ] && ok || bad "fidelity: law column on rows $bad_rows"
+awk -F, 'NR > 1 && $1 == "load_supine" && $3 == "load" && ($5 == "cap" || $5 == "fitted") { n++ } END { exit !(n > 0) }' "$csv" \
+  && ok || bad "fidelity: load_supine's load level names its law"
+# Relations every row keeps: no plan, no measurement; a rest or none ("no rest" exactly when
+# the error is unbounded); the band's error is at least the nominal law's; a rest inside the
+# law's domain is indented at most 0.26 of the radius, one beyond it is flagged.
+bad_rows=$(awk -F, 'NR > 1 {
+    planned = $6 != "refused" && $6 != "error"
+    if (!planned && ($11 != "nan" || $16 != "-")) print NR ": measured without a plan"
+    if (planned && (($11 == "inf") != ($16 == "no rest"))) print NR ": unbounded vs no rest"
+    if (planned && $11 != "inf" && !($13 + 0 >= $11 + 0 && $14 + 0 >= $12 + 0)) print NR ": band below nominal"
+    if ($16 == "in" && !($15 + 0 <= 0.26 + 1e-6)) print NR ": in the domain at indent " $15
+    if (planned && $11 != "inf" && $15 + 0 > 0.26 + 1e-6 && $16 == "in") print NR ": beyond, not flagged"
+  }' "$csv")
+[ -z "$bad_rows" ] && ok || bad "fidelity: $bad_rows"
+# When the load level plans with the fitted law, its pressures hold the head under that law:
+# the load level's error on the supine load scene is then bounded and below every kinematic
+# level's on the same case (those ignore the weight).
+if awk -F, 'NR > 1 && $1 == "load_supine" && $3 == "load" && $5 == "fitted" { f = 1 } END { exit !f }' "$csv"; then
+  bad_rows=$(awk -F, 'NR > 1 && $1 == "load_supine" { e[$2, $3] = $13 + 0; s[$2, $3] = $6 }
+    END { for (k in s) { split(k, p, SUBSEP); c = p[1]
+      if (p[2] == "load" && s[k] == "reached") for (l in s) { split(l, q, SUBSEP)
+        if (q[1] == c && q[2] != "load" && !(e[k] < e[l])) print c ":" q[2] } } }' "$csv")
+  [ -z "$bad_rows" ] && ok || bad "fidelity: load level not below the kinematic levels on load_supine: $bad_rows"
+fi
+expect_stdout_has "median_mm" "fidelity summary header"
+
 # A scene that is not a layout scene: refused before any measurement, no output folder.
 run --quick --only planner --out "$TMP/notlayout" --scene "$HP_SRC/scenarios/paper_expansion.yaml"
 expect_exit 65 "--scene single-bladder study"; expect_stderr_has "not a layout scene" "says why"

@@ -1,0 +1,365 @@
+/* headplan-bench, family "fidelity": each level's pose error against the finite-element
+ * reference, on the catalogue's layout scenes.
+ *
+ * For every layout scene and its cases (the scene's own correction, then a seeded sweep
+ * inside the clinical range: |t| <= 20 mm, every angle <= 15°), each level (linear, plane,
+ * surface, load) plans with the scene's backend and settings. Its pressures go to the
+ * reference: the head's rest under its weight (hp_load_rest, surface geometry) on a load
+ * model that evaluates the contact law fitted to the CalculiX tables (fem/), from the pose
+ * the plan claims. The level's error is that rest against the claimed pose (the desired pose
+ * when the plan reached it): the translation's norm in mm and the rotation's angle in
+ * degrees. The fitted law itself is uncertain by its worst error against the tables
+ * (fem/tables/law_error.csv, read at run time); the band columns are the larger deviation of
+ * the rests under a force scaled by 1 ± that error (a force scaled by s rests where the
+ * weight over s does, so the band scales the mass). A scene with no load carries the
+ * default head (hp_load_spec_default: the head's mass at its centre, supine gravity): the
+ * row says so. A rest whose contact leaves the fitted law's domain is flagged with the
+ * bladder and the group (an extrapolation, never silent). The load level's row names the law
+ * its planner used: with the cap law it measures the cap law's error, with the fitted law
+ * only the band is left. Writes DIR/fidelity.csv and prints one line per scene and level. */
+#define _DEFAULT_SOURCE
+#include "bench/bench.h"
+#include "bench/bench_util.h"
+#include "cli/cli_args.h"
+#include "cli/exit_codes.h"
+#include "headplan/headplan.h"
+#include "kinematics/load_law_pick.h"
+#include "planner/planner_internal.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define MAX_FID_SCENES 24
+#define N_SWEEP_FULL 6
+#define N_SWEEP_QUICK 2
+#define MAX_CASES (1 + N_SWEEP_FULL)
+#define N_LEVELS 4
+#define SWEEP_T_MAX 0.020                    /* [m] */
+#define SWEEP_ANGLE_MAX (15.0 * HP_PI / 180) /* [rad] */
+#define LAW_ERROR_CSV HP_SOURCE_DIR "/fem/tables/law_error.csv"
+
+static const hp_level LEVELS[N_LEVELS] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE,
+                                          HP_LEVEL_LOAD};
+
+typedef struct fid_cell {
+    char status[20]; /* the plan's status, "refused" (create) or "error" (hp_plan) */
+    char law[8];     /* the load level's planning law ("cap", "fitted"); "-" elsewhere */
+    double pose_mm, pose_deg, band_mm, band_deg; /* NaN: no plan; +inf: no rest */
+    double indent_max;
+    char domain[48]; /* "in", or "BLADDER:GROUP" outside the fitted law's domain */
+} fid_cell;
+
+typedef struct fid_row {
+    char scene[48];
+    char backend[16];
+    int scene_mass; /* 1: the scene's load; 0: the default head's */
+    double tolerance, level_tol_mm;
+    int ncases;
+    fid_cell c[MAX_CASES][N_LEVELS];
+} fid_row;
+
+/* The fitted law's worst relative error in force over its tables (the band's half-width). */
+static double g_band = NAN;
+
+/* Column index of name in a CSV header line (modified: split at commas), or -1. */
+static int col_of(char *header, const char *name)
+{
+    char *save = NULL;
+    int i = 0;
+    for (char *tok = strtok_r(header, ",\n", &save); tok; tok = strtok_r(NULL, ",\n", &save), ++i)
+        if (strcmp(tok, name) == 0) return i;
+    return -1;
+}
+
+/* The fitted law's worst |law_error| over the rows of its table that lie in its domain
+ * (rows outside it, such as the thick wall's, say how far it extrapolates, not how well it
+ * fits): the dimensionless groups make a bladder with C1 = 1 and ro = 1. */
+static int read_band(void)
+{
+    FILE *f = fopen(LAW_ERROR_CSV, "r");
+    if (!f)
+        return cli_fail(CLI_EXIT_NOINPUT, "bench",
+                        "fidelity: cannot open %s (the fitted law's error table)", LAW_ERROR_CSV);
+    static const char *const names[6] = {"delta_over_ro", "thickness_over_ro",   "P_over_C1",
+                                         "C2_over_C1",    "ro_over_head_radius", "law_error"};
+    char line[512];
+    int col[6] = {-1, -1, -1, -1, -1, -1}, rows = 0;
+    double worst = 0.0;
+    while (fgets(line, sizeof line, f)) {
+        if (line[0] == '#') continue;
+        if (col[0] < 0) {
+            for (int j = 0; j < 6; ++j) {
+                char h[512];
+                memcpy(h, line, sizeof h);
+                col[j] = col_of(h, names[j]);
+            }
+            continue;
+        }
+        double v[6] = {0};
+        int got = 0;
+        char *save = NULL, *tok = strtok_r(line, ",\n", &save);
+        for (int i = 0; tok; ++i, tok = strtok_r(NULL, ",\n", &save))
+            for (int j = 0; j < 6; ++j)
+                if (col[j] == i) {
+                    char *end;
+                    v[j] = strtod(tok, &end);
+                    got += end != tok;
+                }
+        if (got != 6) continue;
+        hp_claw_bladder b = {1.0, v[3], v[1], v[4]};
+        if (hpi_claw_fem_domain(&b, v[2], 1.0, 1.0 - v[0]) != HP_CLAW_IN) continue;
+        worst = fmax(worst, fabs(v[5]));
+        ++rows;
+    }
+    fclose(f);
+    if (rows == 0 || !(worst > 0 && worst < 0.5))
+        return cli_fail(CLI_EXIT_DATAERR, "bench",
+                        "fidelity: %s: no row in the law's domain with a law_error in (0, 0.5)",
+                        LAW_ERROR_CSV);
+    g_band = worst;
+    return 0;
+}
+
+/* The angle [deg] of the rotation between two poses' orientations: 2·asin(|Ra − Rb|_F /
+ * (2·sqrt 2)), well conditioned at small angles where acos of the trace is not. */
+static double rotation_between_deg(const double a[6], const double b[6])
+{
+    double Ra[9], Rb[9], s = 0.0;
+    hp_rotation(a[3], a[4], a[5], Ra);
+    hp_rotation(b[3], b[4], b[5], Rb);
+    for (int i = 0; i < 9; ++i) s += (Ra[i] - Rb[i]) * (Ra[i] - Rb[i]);
+    return 2.0 * asin(fmin(1.0, sqrt(s) / (2.0 * sqrt(2.0)))) * 180.0 / HP_PI;
+}
+
+static double translation_between_mm(const double a[6], const double b[6])
+{
+    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                (a[2] - b[2]) * (a[2] - b[2])) *
+           1e3;
+}
+
+/* The reference models: the scene's layout and load under the fitted law, and the same
+ * with the force scaled by 1 + band and 1 − band (the mass divided by them). */
+typedef struct fid_ref {
+    hp_load_model *M[3];
+} fid_ref;
+
+static hp_error ref_create(const hp_layout *L, const hp_load_spec *spec, fid_ref *r)
+{
+    const double scale[3] = {1.0, 1.0 + g_band, 1.0 - g_band};
+    memset(r, 0, sizeof *r);
+    for (int i = 0; i < 3; ++i) {
+        hp_load_spec s = *spec;
+        s.mass /= scale[i];
+        hp_error e = hp_load_model_create(L, &s, HP_LEVEL_SURFACE, &r->M[i], NULL);
+        if (!e) e = hpi_load_model_set_law(r->M[i], HP_CLAW_LAW_FEM);
+        if (e) return e;
+    }
+    return HP_OK;
+}
+
+static void ref_destroy(fid_ref *r)
+{
+    for (int i = 0; i < 3; ++i) hp_load_model_destroy(r->M[i]);
+}
+
+/* Pressures P against the reference, from the claimed pose xi. */
+static void measure(const fid_ref *ref, const double *P, const double xi[6], fid_cell *c)
+{
+    double rest[6];
+    hp_load_rest_info info;
+    c->pose_mm = c->pose_deg = c->band_mm = c->band_deg = INFINITY;
+    c->indent_max = NAN;
+    snprintf(c->domain, sizeof c->domain, "no rest");
+    if (hp_load_rest(ref->M[0], P, xi, rest, &info) != HP_OK) return;
+    c->pose_mm = c->band_mm = translation_between_mm(rest, xi);
+    c->pose_deg = c->band_deg = rotation_between_deg(rest, xi);
+    c->indent_max = info.indent_max;
+    int k;
+    hp_claw_domain g;
+    if (hpi_load_fem_domain_at(ref->M[0], rest, P, &k, &g) != HP_OK)
+        snprintf(c->domain, sizeof c->domain, "unknown");
+    else if (k < 0) snprintf(c->domain, sizeof c->domain, "in");
+    else
+        snprintf(c->domain, sizeof c->domain, "%s:%s",
+                 hp_load_model_layout(ref->M[0])->bladders[k].name, hpi_claw_domain_name(g));
+    for (int i = 1; i < 3; ++i) {
+        double r2[6];
+        if (hp_load_rest(ref->M[i], P, xi, r2, NULL) != HP_OK) {
+            c->band_mm = c->band_deg = INFINITY;
+            return;
+        }
+        c->band_mm = fmax(c->band_mm, translation_between_mm(r2, xi));
+        c->band_deg = fmax(c->band_deg, rotation_between_deg(r2, xi));
+    }
+}
+
+/* The cases: the scene's correction (when it has one), then the seeded sweep. */
+static int cases_of(const bench_options *o, const hp_scene *sc, double (*t)[6])
+{
+    int n = 0;
+    if (sc->has_correction) memcpy(t[n++], sc->correction, sizeof t[0]);
+    uint64_t s = 0x9e3779b97f4a7c15ULL ^ (uint64_t)o->seed;
+    int sweep = o->quick ? N_SWEEP_QUICK : N_SWEEP_FULL;
+    for (int k = 0; k < sweep; ++k) {
+        double u[6];
+        bench_unit6(&s, u);
+        double nt = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+        double nr = sqrt(u[3] * u[3] + u[4] * u[4] + u[5] * u[5]);
+        double at = SWEEP_T_MAX * bench_urand(&s), ar = SWEEP_ANGLE_MAX * bench_urand(&s);
+        for (int i = 0; i < 3; ++i) {
+            t[n][i] = nt > 0 ? at * u[i] / nt : 0.0;
+            t[n][3 + i] = nr > 0 ? ar * u[3 + i] / nr : 0.0;
+        }
+        ++n;
+    }
+    return n;
+}
+
+static int run_scene(const bench_options *o, const char *path, const char *stem, void *vrow)
+{
+    fid_row *row = vrow;
+    static hp_scene sc;
+    hp_diag d;
+    if (hp_scene_file_kind(path) != HP_SCENE_LAYOUT) return 1;
+    if (hp_scene_load(path, &sc, &d) != HP_OK) {
+        fprintf(stderr, "bench fidelity: %s: refused, left out: %s\n", stem, d.text);
+        return 1;
+    }
+    hp_settings base;
+    if (hp_scene_settings(&sc, &base, &d) != HP_OK) {
+        fprintf(stderr, "bench fidelity: %s: settings refused, left out: %s\n", stem, d.text);
+        return 1;
+    }
+    memset(row, 0, sizeof *row);
+    snprintf(row->scene, sizeof row->scene, "%s", stem);
+    snprintf(row->backend, sizeof row->backend, "%s", hp_backend_name(base.backend));
+    row->tolerance = base.tolerance;
+    row->level_tol_mm = sc.level_tolerance * 1e3;
+    hp_load_spec spec = sc.load;
+    row->scene_mass = sc.has_load;
+    if (!sc.has_load) {
+        hp_head h = sc.layout.head; /* a head that states no mass weighs the default's */
+        if (!(h.mass > 0)) h.mass = HP_HEAD_DEFAULT_MASS;
+        hp_load_spec_default(&h, &spec);
+    }
+    fid_ref ref;
+    if (ref_create(&sc.layout, &spec, &ref) != HP_OK) {
+        ref_destroy(&ref);
+        fprintf(stderr, "bench fidelity: %s: no load model, left out\n", stem);
+        return 1;
+    }
+    double t[MAX_CASES][6];
+    row->ncases = cases_of(o, &sc, t);
+    for (int li = 0; li < N_LEVELS; ++li) {
+        hp_settings s = base;
+        s.level = LEVELS[li];
+        s.use_rate_limits = 0;
+        s.warm_start = 0;
+        if (LEVELS[li] == HP_LEVEL_LOAD) {
+            s.load = spec;
+            if (!sc.has_load) s.load_geometry = HP_LEVEL_SURFACE;
+        } else {
+            memset(&s.load, 0, sizeof s.load); /* the kinematic levels leave the weight out */
+        }
+        hp_planner *p = NULL;
+        hp_error ce = hp_planner_create(&sc.layout, &s, &p, &d);
+        const char *law = "-";
+        if (!ce && p->load)
+            law = hpi_load_model_law(&p->load->M) == HP_CLAW_LAW_FEM ? "fitted" : "cap";
+        for (int k = 0; k < row->ncases; ++k) {
+            fid_cell *c = &row->c[k][li];
+            snprintf(c->law, sizeof c->law, "%s", law);
+            c->pose_mm = c->pose_deg = c->band_mm = c->band_deg = c->indent_max = NAN;
+            snprintf(c->domain, sizeof c->domain, "-");
+            if (ce) {
+                snprintf(c->status, sizeof c->status, "refused");
+                continue;
+            }
+            hp_result r;
+            hp_planner_reset(p);
+            if (hp_plan(p, t[k], &r) != HP_OK) {
+                snprintf(c->status, sizeof c->status, "error");
+                continue;
+            }
+            snprintf(c->status, sizeof c->status, "%s", hp_status_name(r.status));
+            double P[HP_MAX_BLADDERS];
+            for (int b = 0; b < r.n; ++b) P[b] = r.bladders[b].pressure;
+            measure(&ref, P, r.achieved, c);
+        }
+        hp_planner_destroy(p);
+    }
+    ref_destroy(&ref);
+    fprintf(stderr, "bench fidelity: %s: %d cases\n", stem, row->ncases);
+    return 0;
+}
+
+static void csv_row(const void *arg, int i, FILE *f)
+{
+    const fid_row *r = (const fid_row *)arg + i;
+    for (int k = 0; k < r->ncases; ++k)
+        for (int li = 0; li < N_LEVELS; ++li) {
+            const fid_cell *c = &r->c[k][li];
+            fprintf(f, "%s,%d,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s\n",
+                    r->scene, k, hp_level_name(LEVELS[li]), r->backend, c->law, c->status,
+                    r->scene_mass ? "scene" : "default", r->tolerance, r->level_tol_mm, g_band,
+                    c->pose_mm, c->pose_deg, c->band_mm, c->band_deg, c->indent_max, c->domain);
+        }
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Median of the finite-or-infinite (not NaN) values of v[n] (sorted in place); NaN when
+ * none. */
+static double median_of(double *v, int n)
+{
+    int m = 0;
+    for (int i = 0; i < n; ++i)
+        if (!isnan(v[i])) v[m++] = v[i];
+    if (m == 0) return NAN;
+    qsort(v, (size_t)m, sizeof *v, cmp_double);
+    return m % 2 ? v[m / 2] : 0.5 * (v[m / 2 - 1] + v[m / 2]);
+}
+
+int bench_fidelity(const bench_options *o, const char *dir)
+{
+    int rc = read_band();
+    if (rc) return rc;
+    static fid_row rows[MAX_FID_SCENES];
+    int nr = 0;
+    if ((rc = bench_each_scene(o, run_scene, rows, sizeof *rows, MAX_FID_SCENES, &nr)) != 0)
+        return rc;
+    if ((rc = bench_save_csv(
+             dir, "fidelity.csv",
+             "scene,case,level,backend,law,status,mass,tolerance,level_tolerance_mm,"
+             "law_band,pose_mm,pose_deg,band_mm,band_deg,indent_max,domain",
+             csv_row, rows, nr)) != 0)
+        return rc;
+    printf("%-18s %-8s %-7s %10s %10s %10s %10s %9s\n", "scene", "level", "law", "median_mm",
+           "median_deg", "worst_mm", "worst_deg", "outside");
+    for (int i = 0; i < nr; ++i)
+        for (int li = 0; li < N_LEVELS; ++li) {
+            double mm[MAX_CASES], dg[MAX_CASES], wmm = NAN, wdg = NAN;
+            int out = 0;
+            for (int k = 0; k < rows[i].ncases; ++k) {
+                const fid_cell *c = &rows[i].c[k][li];
+                mm[k] = c->pose_mm;
+                dg[k] = c->pose_deg;
+                if (!isnan(c->band_mm)) wmm = isnan(wmm) ? c->band_mm : fmax(wmm, c->band_mm);
+                if (!isnan(c->band_deg)) wdg = isnan(wdg) ? c->band_deg : fmax(wdg, c->band_deg);
+                out += strcmp(c->domain, "in") != 0 && strcmp(c->domain, "-") != 0;
+            }
+            printf("%-18s %-8s %-7s %10.4g %10.4g %10.4g %10.4g %5d/%-3d\n", rows[i].scene,
+                   hp_level_name(LEVELS[li]), rows[i].c[0][li].law, median_of(mm, rows[i].ncases),
+                   median_of(dg, rows[i].ncases), wmm, wdg, out, rows[i].ncases);
+        }
+    fprintf(stderr, "bench fidelity: wrote %s/fidelity.csv (law band ±%.1f %%)\n", dir,
+            100 * g_band);
+    return 0;
+}
