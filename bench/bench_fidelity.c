@@ -48,6 +48,8 @@ typedef struct fid_cell {
     char law[8];     /* the load level's planning law ("cap", "fitted"); "-" elsewhere */
     double pose_mm, pose_deg, band_mm, band_deg; /* NaN: no plan; +inf: no rest */
     double indent_max;
+    double carried;  /* fraction of the weight the fitted law's forces bear along gravity at
+                       the claimed pose (1 at a held pose; NaN: no plan) */
     char domain[48]; /* "in", or "BLADDER:GROUP" outside the fitted law's domain */
 } fid_cell;
 
@@ -165,6 +167,22 @@ static void ref_destroy(fid_ref *r)
     for (int i = 0; i < 3; ++i) hp_load_model_destroy(r->M[i]);
 }
 
+/* The share of the weight the bladders' forces bear along gravity at pose xi: Q's
+ * translation rows are sum f + m·g (hp_load.h), so sum f = Q − m·g. NaN when M cannot
+ * evaluate there. */
+static double carried_fraction(const hp_load_model *M, const double *P, const double xi[6])
+{
+    double Q[6];
+    if (hp_load_eval(M, xi, P, Q, NULL, NULL, NULL, NULL) != HP_OK) return NAN;
+    const hp_load_spec *s = hp_load_model_spec(M);
+    double g2 = 0.0, fg = 0.0;
+    for (int i = 0; i < 3; ++i) {
+        g2 += s->gravity[i] * s->gravity[i];
+        fg += (Q[i] - s->mass * s->gravity[i]) * s->gravity[i];
+    }
+    return -fg / (s->mass * g2);
+}
+
 /* Pressures P against the reference, from the claimed pose xi. */
 static void measure(const fid_ref *ref, const double *P, const double xi[6], fid_cell *c)
 {
@@ -172,6 +190,7 @@ static void measure(const fid_ref *ref, const double *P, const double xi[6], fid
     hp_load_rest_info info;
     c->pose_mm = c->pose_deg = c->band_mm = c->band_deg = INFINITY;
     c->indent_max = NAN;
+    c->carried = carried_fraction(ref->M[0], P, xi);
     snprintf(c->domain, sizeof c->domain, "no rest");
     if (hp_load_rest(ref->M[0], P, xi, rest, &info) != HP_OK) return;
     c->pose_mm = c->band_mm = translation_between_mm(rest, xi);
@@ -273,6 +292,7 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
             fid_cell *c = &row->c[k][li];
             snprintf(c->law, sizeof c->law, "%s", law);
             c->pose_mm = c->pose_deg = c->band_mm = c->band_deg = c->indent_max = NAN;
+            c->carried = NAN;
             snprintf(c->domain, sizeof c->domain, "-");
             if (ce) {
                 snprintf(c->status, sizeof c->status, "refused");
@@ -302,10 +322,11 @@ static void csv_row(const void *arg, int i, FILE *f)
     for (int k = 0; k < r->ncases; ++k)
         for (int li = 0; li < N_LEVELS; ++li) {
             const fid_cell *c = &r->c[k][li];
-            fprintf(f, "%s,%d,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s\n",
+            fprintf(f, "%s,%d,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s\n",
                     r->scene, k, hp_level_name(LEVELS[li]), r->backend, c->law, c->status,
                     r->scene_mass ? "scene" : "default", r->tolerance, r->level_tol_mm, g_band,
-                    c->pose_mm, c->pose_deg, c->band_mm, c->band_deg, c->indent_max, c->domain);
+                    c->pose_mm, c->pose_deg, c->band_mm, c->band_deg, c->indent_max, c->carried,
+                    c->domain);
         }
 }
 
@@ -338,7 +359,7 @@ int bench_fidelity(const bench_options *o, const char *dir)
     if ((rc = bench_save_csv(
              dir, "fidelity.csv",
              "scene,case,level,backend,law,status,mass,tolerance,level_tolerance_mm,"
-             "law_band,pose_mm,pose_deg,band_mm,band_deg,indent_max,domain",
+             "law_band,pose_mm,pose_deg,band_mm,band_deg,indent_max,carried,domain",
              csv_row, rows, nr)) != 0)
         return rc;
     printf("%-18s %-8s %-7s %10s %10s %10s %10s %9s\n", "scene", "level", "law", "median_mm",
