@@ -18,6 +18,7 @@ runs (the fixed configuration, in this order):
   backends-table    headplan-bench-backends                                 docs/backends.md
   loop-table        loop.csv of the same headplan-bench run                 docs/control-loop.md
   load-table        load.csv of the same headplan-bench run                 docs/load.md
+  fidelity-table    fidelity.csv of the same headplan-bench run             docs/accuracy.md
   horizon-rh        headplan-bench-horizon rh scenarios/horizon/step.yaml
                     scenarios/traces/step.csv                               docs/horizon.md
   python-row        Planner(default scene).run_trace() of its drift trace,
@@ -199,6 +200,46 @@ def load_table(figures):
     return block("\n".join(lines))
 
 
+def fidelity_table(figures):
+    """The fidelity family (fidelity.csv of this run): per scene and level, the law the level
+    planned with, the solver's tolerance, the median over the cases of the pose error under
+    the fitted law and the worst with the law's error band, the median share of the weight
+    the fitted law's forces bear at the claimed pose, and the rests outside the law's
+    domain."""
+    import statistics
+    with open(os.path.join(figures, "fidelity.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+
+    def err(v):
+        return "∞" if v == float("inf") else "%.3g" % v
+
+    lines = ["| scene | mass | level | law | solver tolerance (mm, °) | cases | median error "
+             "mm / ° | worst with the band mm / ° | weight carried (median) | outside the "
+             "domain |", "|---|---|---|---|---|---|---|---|---|---|"]
+    keys = []
+    for r in rows:
+        if (r["scene"], r["level"]) not in keys:
+            keys.append((r["scene"], r["level"]))
+    for scene, level in keys:
+        rs = [r for r in rows if r["scene"] == scene and r["level"] == level]
+        head = "| `%s` | %s | %s | %s | %s |" % (scene, rs[0]["mass"], level, rs[0]["law"],
+                                                rs[0]["tolerance"])
+        planned = [r for r in rs if r["status"] not in ("refused", "error")]
+        if not planned:
+            lines.append(head + " 0 of %d | refused at create | | | |" % len(rs))
+            continue
+        mm = [float(r["pose_mm"]) for r in planned]
+        dg = [float(r["pose_deg"]) for r in planned]
+        out = sum(1 for r in planned if r["domain"] != "in")
+        norest = sum(1 for r in planned if r["domain"] == "no rest")
+        lines.append(head + " %d of %d | %s / %s | %s / %s | %.0f %% | %d (%d no rest) |" % (
+            len(planned), len(rs), err(statistics.median(mm)), err(statistics.median(dg)),
+            err(max(float(r["band_mm"]) for r in planned)),
+            err(max(float(r["band_deg"]) for r in planned)),
+            100 * statistics.median(float(r["carried"]) for r in planned) + 0.0, out, norest))
+    return block("\n".join(lines))
+
+
 def horizon_table(out):
     rows = list(csv.DictReader(out.splitlines()))
     by = {(r["N"], r["prediction"]): r for r in rows}
@@ -299,6 +340,7 @@ def main():
     new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp})
     new["docs/control-loop.md"] = {"loop-table": loop_table(figures)}
     new["docs/load.md"] = {"load-table": load_table(figures)}
+    new["docs/accuracy.md"] = {"fidelity-table": fidelity_table(figures)}
     out, w = run([os.path.join(binary, "headplan-bench-backends")], src)
     wall.append(("headplan-bench-backends", w))
     new["docs/backends.md"] = {"backends-table": block(out.strip("\n"))}
