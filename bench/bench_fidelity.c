@@ -16,7 +16,9 @@
  * row says so. A rest whose contact leaves the fitted law's domain is flagged with the
  * bladder and the group (an extrapolation, never silent). The load level's row names the law
  * its planner used: with the cap law it measures the cap law's error, with the fitted law
- * only the band is left. Writes DIR/fidelity.csv and prints one line per scene and level. */
+ * only the band is left; and, as the harness's own check, the rest of its pressures under
+ * the planner's own load model from the pose it claims (that pose, when its stiffness there
+ * is positive definite: own_stable). Writes DIR/fidelity.csv and prints one line per scene and level. */
 #define _DEFAULT_SOURCE
 #include "bench/bench.h"
 #include "bench/bench_util.h"
@@ -48,6 +50,11 @@ typedef struct fid_cell {
     char law[8];     /* the load level's planning law ("cap", "fitted"); "-" elsewhere */
     double pose_mm, pose_deg, band_mm, band_deg; /* NaN: no plan; +inf: no rest */
     double indent_max;
+    double own_mm;   /* load level: its pressures' rest under its own model (law and
+                        geometry) against the pose it claims, the harness's check (NaN
+                        elsewhere; +inf: no rest) */
+    int own_stable;  /* load level: 1 when its own model's stiffness is positive definite at
+                        the pose it claims, 0 when not, -1 unknown or another level */
     double carried;  /* fraction of the weight the fitted law's forces bear along gravity at
                        the claimed pose (1 at a held pose; NaN: no plan) */
     char domain[48]; /* "in", or "BLADDER:GROUP" outside the fitted law's domain */
@@ -292,7 +299,8 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
             fid_cell *c = &row->c[k][li];
             snprintf(c->law, sizeof c->law, "%s", law);
             c->pose_mm = c->pose_deg = c->band_mm = c->band_deg = c->indent_max = NAN;
-            c->carried = NAN;
+            c->carried = c->own_mm = NAN;
+            c->own_stable = -1;
             snprintf(c->domain, sizeof c->domain, "-");
             if (ce) {
                 snprintf(c->status, sizeof c->status, "refused");
@@ -308,6 +316,16 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
             double P[HP_MAX_BLADDERS];
             for (int b = 0; b < r.n; ++b) P[b] = r.bladders[b].pressure;
             measure(&ref, P, r.achieved, c);
+            if (p->load) {
+                double rest[6];
+                hp_load_holding h;
+                c->own_stable = hp_load_holding_at(&p->load->M, r.achieved, P, &h) == HP_OK
+                                    ? h.stable
+                                    : -1;
+                c->own_mm = hp_load_rest(&p->load->M, P, r.achieved, rest, NULL) == HP_OK
+                                ? translation_between_mm(rest, r.achieved)
+                                : INFINITY;
+            }
         }
         hp_planner_destroy(p);
     }
@@ -322,11 +340,12 @@ static void csv_row(const void *arg, int i, FILE *f)
     for (int k = 0; k < r->ncases; ++k)
         for (int li = 0; li < N_LEVELS; ++li) {
             const fid_cell *c = &r->c[k][li];
-            fprintf(f, "%s,%d,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s\n",
-                    r->scene, k, hp_level_name(LEVELS[li]), r->backend, c->law, c->status,
-                    r->scene_mass ? "scene" : "default", r->tolerance, r->level_tol_mm, g_band,
-                    c->pose_mm, c->pose_deg, c->band_mm, c->band_deg, c->indent_max, c->carried,
-                    c->domain);
+            fprintf(
+                f, "%s,%d,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s,%.6g,%d\n",
+                r->scene, k, hp_level_name(LEVELS[li]), r->backend, c->law, c->status,
+                r->scene_mass ? "scene" : "default", r->tolerance, r->level_tol_mm, g_band,
+                c->pose_mm, c->pose_deg, c->band_mm, c->band_deg, c->indent_max, c->carried,
+                c->domain, c->own_mm, c->own_stable);
         }
 }
 
@@ -359,7 +378,8 @@ int bench_fidelity(const bench_options *o, const char *dir)
     if ((rc = bench_save_csv(
              dir, "fidelity.csv",
              "scene,case,level,backend,law,status,mass,tolerance,level_tolerance_mm,"
-             "law_band,pose_mm,pose_deg,band_mm,band_deg,indent_max,carried,domain",
+             "law_band,pose_mm,pose_deg,band_mm,band_deg,indent_max,carried,domain,own_mm,"
+             "own_stable",
              csv_row, rows, nr)) != 0)
         return rc;
     printf("%-18s %-8s %-7s %10s %10s %10s %10s %9s\n", "scene", "level", "law", "median_mm",

@@ -241,7 +241,7 @@ expect_exit 73 "--out under a file"; expect_stderr_has "$TMP/file" "names the fo
 run --quick --only fidelity --out "$OUT" --scenarios "$HP_SRC/scenarios"
 expect_exit 0 "bench --only fidelity"
 csv="$OUT/fidelity.csv"
-[ -f "$csv" ] && [ "$(head -n 1 "$csv")" = "scene,case,level,backend,law,status,mass,tolerance,level_tolerance_mm,law_band,pose_mm,pose_deg,band_mm,band_deg,indent_max,carried,domain" ] \
+[ -f "$csv" ] && [ "$(head -n 1 "$csv")" = "scene,case,level,backend,law,status,mass,tolerance,level_tolerance_mm,law_band,pose_mm,pose_deg,band_mm,band_deg,indent_max,carried,domain,own_mm,own_stable" ] \
   && ok || bad "fidelity.csv header"
 # Four levels per case, in order; the single-bladder studies are left out; the load scenes
 # carry their own mass, the others the default head's.
@@ -274,6 +274,17 @@ bad_rows=$(awk -F, 'NR > 1 {
     if (planned && $3 != "load" && !($16 + 0 < 0.01)) print NR ": a kinematic plan carries " $16 " of the weight"
   }' "$csv")
 [ -z "$bad_rows" ] && ok || bad "fidelity: $bad_rows"
+# The harness's own check: where the load level's own model is stiff (positive definite) at
+# the pose the plan claims, its pressures rest there under that model (Newton's rest to
+# 1e-12 mm steps; 1e-6 mm leaves room for the plan's tolerance, 1e-9). Where it is not, the
+# claimed pose is an unstable equilibrium and the rest may leave it (own_mm inf), so no
+# relation is asserted there. Other levels have no own load model.
+bad_rows=$(awk -F, 'NR > 1 && $6 != "refused" && $6 != "error" {
+    if ($3 == "load" && $19 == 1 && !($18 + 0 <= 1e-6 && $18 != "inf")) print NR ": stable, own rest " $18
+    if ($3 == "load" && $19 == -1) print NR ": stiffness unknown"
+    if ($3 != "load" && ($18 != "nan" || $19 != -1)) print NR ": own columns on " $3 }' "$csv")
+[ -z "$bad_rows" ] && ok || bad "fidelity: $bad_rows"
+awk -F, 'NR > 1 && $3 == "load" && $19 == 1 { n++ } END { exit !(n > 0) }' "$csv" && ok || bad "fidelity: no stable load plan to check the harness on"
 # Whatever law it plans with, the load level's pressures bear more of the weight on the
 # supine load scene than any kinematic level's (which bear next to none): by a margin of
 # 10 % of the weight (the cap-law plans bear 22-29 % in the quick run).
