@@ -303,6 +303,14 @@ if awk -F, 'NR > 1 && $1 == "load_supine" && $3 == "load" && $5 == "fitted" { f 
   [ -z "$bad_rows" ] && ok || bad "fidelity: load level not below the kinematic levels on load_supine: $bad_rows"
 fi
 expect_stdout_has "median_mm" "fidelity summary header"
+png="$OUT/fidelity.png"; svg="$OUT/fidelity.svg"
+[ -s "$png" ] && [ "$(head -c 4 "$png" | od -An -tx1 | tr -d ' \n')" = "89504e47" ] && ok || bad "fidelity.png"
+[ -s "$svg" ] && grep -q "<svg" "$svg" && ok || bad "fidelity.svg"
+# The scene names reach the script as quoted text only, never inside its data block.
+awk '/^\$d << EOD/ { on = 1; next } /^EOD/ { on = 0 }
+     on { for (i = 1; i <= NF; i++) if ($i !~ /^-?[0-9.]+(e[-+][0-9]+)?$/ && $i != "nan" && $i != "-nan") bad = 1 }
+     END { exit bad }' "$OUT/fidelity.gp" \
+  && ok || bad "fidelity.gp: text inside the data block"
 
 # A scene that is not a layout scene: refused before any measurement, no output folder.
 run --quick --only planner --out "$TMP/notlayout" --scene "$HP_SRC/scenarios/paper_expansion.yaml"
