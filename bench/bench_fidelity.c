@@ -25,6 +25,7 @@
 #include "bench/bench_report.h"
 #include "bench/bench_util.h"
 #include "cli/cli_args.h"
+#include "cli/cli_fidelity.h"
 #include "cli/cli_gptext.h"
 #include "cli/exit_codes.h"
 #include "headplan/headplan.h"
@@ -49,18 +50,14 @@ static const hp_level LEVELS[N_LEVELS] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LE
                                           HP_LEVEL_LOAD};
 
 typedef struct fid_cell {
-    char status[20]; /* the plan's status, "refused" (create) or "error" (hp_plan) */
-    char law[8];     /* the load level's planning law ("cap", "fitted"); "-" elsewhere */
-    double pose_mm, pose_deg, band_mm, band_deg; /* NaN: no plan; +inf: no rest */
-    double indent_max;
-    double own_mm;   /* load level: its pressures' rest under its own model (law and
+    char status[20];       /* the plan's status, "refused" (create) or "error" (hp_plan) */
+    char law[8];           /* the load level's planning law ("cap", "fitted"); "-" elsewhere */
+    cli_fidelity_result m; /* the pressures against the reference (NaN: no plan) */
+    double own_mm;         /* load level: its pressures' rest under its own model (law and
                         geometry) against the pose it claims, the harness's check (NaN
                         elsewhere; +inf: no rest) */
-    int own_stable;  /* load level: 1 when its own model's stiffness is positive definite at
+    int own_stable;        /* load level: 1 when its own model's stiffness is positive definite at
                         the pose it claims, 0 when not, -1 unknown or another level */
-    double carried;  /* fraction of the weight the fitted law's forces bear along gravity at
-                       the claimed pose (1 at a held pose; NaN: no plan) */
-    char domain[48]; /* "in", or "BLADDER:GROUP" outside the fitted law's domain */
 } fid_cell;
 
 typedef struct fid_row {
@@ -134,97 +131,6 @@ static int read_band(void)
     return 0;
 }
 
-/* The angle [deg] of the rotation between two poses' orientations: 2·asin(|Ra − Rb|_F /
- * (2·sqrt 2)), well conditioned at small angles where acos of the trace is not. */
-static double rotation_between_deg(const double a[6], const double b[6])
-{
-    double Ra[9], Rb[9], s = 0.0;
-    hp_rotation(a[3], a[4], a[5], Ra);
-    hp_rotation(b[3], b[4], b[5], Rb);
-    for (int i = 0; i < 9; ++i) s += (Ra[i] - Rb[i]) * (Ra[i] - Rb[i]);
-    return 2.0 * asin(fmin(1.0, sqrt(s) / (2.0 * sqrt(2.0)))) * 180.0 / HP_PI;
-}
-
-static double translation_between_mm(const double a[6], const double b[6])
-{
-    return sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
-                (a[2] - b[2]) * (a[2] - b[2])) *
-           1e3;
-}
-
-/* The reference models: the scene's layout and load under the fitted law, and the same
- * with the force scaled by 1 + band and 1 − band (the mass divided by them). */
-typedef struct fid_ref {
-    hp_load_model *M[3];
-} fid_ref;
-
-static hp_error ref_create(const hp_layout *L, const hp_load_spec *spec, fid_ref *r)
-{
-    const double scale[3] = {1.0, 1.0 + g_band, 1.0 - g_band};
-    memset(r, 0, sizeof *r);
-    for (int i = 0; i < 3; ++i) {
-        hp_load_spec s = *spec;
-        s.mass /= scale[i];
-        hp_error e = hp_load_model_create(L, &s, HP_LEVEL_SURFACE, &r->M[i], NULL);
-        if (!e) e = hpi_load_model_set_law(r->M[i], HP_CLAW_LAW_FEM);
-        if (e) return e;
-    }
-    return HP_OK;
-}
-
-static void ref_destroy(fid_ref *r)
-{
-    for (int i = 0; i < 3; ++i) hp_load_model_destroy(r->M[i]);
-}
-
-/* The share of the weight the bladders' forces bear along gravity at pose xi: Q's
- * translation rows are sum f + m·g (hp_load.h), so sum f = Q − m·g. NaN when M cannot
- * evaluate there. */
-static double carried_fraction(const hp_load_model *M, const double *P, const double xi[6])
-{
-    double Q[6];
-    if (hp_load_eval(M, xi, P, Q, NULL, NULL, NULL, NULL) != HP_OK) return NAN;
-    const hp_load_spec *s = hp_load_model_spec(M);
-    double g2 = 0.0, fg = 0.0;
-    for (int i = 0; i < 3; ++i) {
-        g2 += s->gravity[i] * s->gravity[i];
-        fg += (Q[i] - s->mass * s->gravity[i]) * s->gravity[i];
-    }
-    return -fg / (s->mass * g2);
-}
-
-/* Pressures P against the reference, from the claimed pose xi. */
-static void measure(const fid_ref *ref, const double *P, const double xi[6], fid_cell *c)
-{
-    double rest[6];
-    hp_load_rest_info info;
-    c->pose_mm = c->pose_deg = c->band_mm = c->band_deg = INFINITY;
-    c->indent_max = NAN;
-    c->carried = carried_fraction(ref->M[0], P, xi);
-    snprintf(c->domain, sizeof c->domain, "no rest");
-    if (hp_load_rest(ref->M[0], P, xi, rest, &info) != HP_OK) return;
-    c->pose_mm = c->band_mm = translation_between_mm(rest, xi);
-    c->pose_deg = c->band_deg = rotation_between_deg(rest, xi);
-    c->indent_max = info.indent_max;
-    int k;
-    hp_claw_domain g;
-    if (hpi_load_fem_domain_at(ref->M[0], rest, P, &k, &g) != HP_OK)
-        snprintf(c->domain, sizeof c->domain, "unknown");
-    else if (k < 0) snprintf(c->domain, sizeof c->domain, "in");
-    else
-        snprintf(c->domain, sizeof c->domain, "%s:%s",
-                 hp_load_model_layout(ref->M[0])->bladders[k].name, hpi_claw_domain_name(g));
-    for (int i = 1; i < 3; ++i) {
-        double r2[6];
-        if (hp_load_rest(ref->M[i], P, xi, r2, NULL) != HP_OK) {
-            c->band_mm = c->band_deg = INFINITY;
-            return;
-        }
-        c->band_mm = fmax(c->band_mm, translation_between_mm(r2, xi));
-        c->band_deg = fmax(c->band_deg, rotation_between_deg(r2, xi));
-    }
-}
-
 /* The cases: the scene's correction (when it has one), then the seeded sweep. */
 static int cases_of(const bench_options *o, const hp_scene *sc, double (*t)[6])
 {
@@ -267,16 +173,11 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     snprintf(row->backend, sizeof row->backend, "%s", hp_backend_name(base.backend));
     row->tolerance = base.tolerance;
     row->level_tol_mm = sc.level_tolerance * 1e3;
-    hp_load_spec spec = sc.load;
-    row->scene_mass = sc.has_load;
-    if (!sc.has_load) {
-        hp_head h = sc.layout.head; /* a head that states no mass weighs the default's */
-        if (!(h.mass > 0)) h.mass = HP_HEAD_DEFAULT_MASS;
-        hp_load_spec_default(&h, &spec);
-    }
-    fid_ref ref;
-    if (ref_create(&sc.layout, &spec, &ref) != HP_OK) {
-        ref_destroy(&ref);
+    hp_load_spec spec;
+    row->scene_mass = cli_fidelity_spec(&sc, &spec);
+    cli_fidelity_ref ref;
+    if (cli_fidelity_open(&sc.layout, &spec, g_band, &ref) != HP_OK) {
+        cli_fidelity_close(&ref);
         fprintf(stderr, "bench fidelity: %s: no load model, left out\n", stem);
         return 1;
     }
@@ -301,10 +202,10 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
         for (int k = 0; k < row->ncases; ++k) {
             fid_cell *c = &row->c[k][li];
             snprintf(c->law, sizeof c->law, "%s", law);
-            c->pose_mm = c->pose_deg = c->band_mm = c->band_deg = c->indent_max = NAN;
-            c->carried = c->own_mm = NAN;
+            c->m.pose_mm = c->m.pose_deg = c->m.band_mm = c->m.band_deg = NAN;
+            c->m.indent_max = c->m.carried = c->own_mm = NAN;
             c->own_stable = -1;
-            snprintf(c->domain, sizeof c->domain, "-");
+            snprintf(c->m.domain, sizeof c->m.domain, "-");
             if (ce) {
                 snprintf(c->status, sizeof c->status, "refused");
                 continue;
@@ -318,7 +219,7 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
             snprintf(c->status, sizeof c->status, "%s", hp_status_name(r.status));
             double P[HP_MAX_BLADDERS];
             for (int b = 0; b < r.n; ++b) P[b] = r.bladders[b].pressure;
-            measure(&ref, P, r.achieved, c);
+            cli_fidelity_measure(&ref, P, r.achieved, &c->m);
             if (p->load) {
                 double rest[6];
                 hp_load_holding h;
@@ -326,13 +227,13 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
                                     ? h.stable
                                     : -1;
                 c->own_mm = hp_load_rest(&p->load->M, P, r.achieved, rest, NULL) == HP_OK
-                                ? translation_between_mm(rest, r.achieved)
+                                ? cli_fidelity_translation_mm(rest, r.achieved)
                                 : INFINITY;
             }
         }
         hp_planner_destroy(p);
     }
-    ref_destroy(&ref);
+    cli_fidelity_close(&ref);
     fprintf(stderr, "bench fidelity: %s: %d cases\n", stem, row->ncases);
     return 0;
 }
@@ -347,8 +248,8 @@ static void csv_row(const void *arg, int i, FILE *f)
                 f, "%s,%d,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s,%.6g,%d\n",
                 r->scene, k, hp_level_name(LEVELS[li]), r->backend, c->law, c->status,
                 r->scene_mass ? "scene" : "default", r->tolerance, r->level_tol_mm, g_band,
-                c->pose_mm, c->pose_deg, c->band_mm, c->band_deg, c->indent_max, c->carried,
-                c->domain, c->own_mm, c->own_stable);
+                c->m.pose_mm, c->m.pose_deg, c->m.band_mm, c->m.band_deg, c->m.indent_max,
+                c->m.carried, c->m.domain, c->own_mm, c->own_stable);
         }
 }
 
@@ -405,9 +306,10 @@ static int chart_writer(const void *arg, FILE *f)
             double mm[MAX_CASES], car[MAX_CASES], worst = NAN;
             for (int k = 0; k < r->ncases; ++k) {
                 const fid_cell *c = &r->c[k][li];
-                mm[k] = c->pose_mm;
-                car[k] = c->carried;
-                if (!isnan(c->band_mm)) worst = isnan(worst) ? c->band_mm : fmax(worst, c->band_mm);
+                mm[k] = c->m.pose_mm;
+                car[k] = c->m.carried;
+                if (!isnan(c->m.band_mm))
+                    worst = isnan(worst) ? c->m.band_mm : fmax(worst, c->m.band_mm);
             }
             double med = median_of(mm, r->ncases), cm = median_of(car, r->ncases);
             if (isnan(med)) continue; /* refused: nothing to draw */
@@ -484,11 +386,12 @@ int bench_fidelity(const bench_options *o, const char *dir)
             int out = 0;
             for (int k = 0; k < rows[i].ncases; ++k) {
                 const fid_cell *c = &rows[i].c[k][li];
-                mm[k] = c->pose_mm;
-                dg[k] = c->pose_deg;
-                if (!isnan(c->band_mm)) wmm = isnan(wmm) ? c->band_mm : fmax(wmm, c->band_mm);
-                if (!isnan(c->band_deg)) wdg = isnan(wdg) ? c->band_deg : fmax(wdg, c->band_deg);
-                out += strcmp(c->domain, "in") != 0 && strcmp(c->domain, "-") != 0;
+                mm[k] = c->m.pose_mm;
+                dg[k] = c->m.pose_deg;
+                if (!isnan(c->m.band_mm)) wmm = isnan(wmm) ? c->m.band_mm : fmax(wmm, c->m.band_mm);
+                if (!isnan(c->m.band_deg))
+                    wdg = isnan(wdg) ? c->m.band_deg : fmax(wdg, c->m.band_deg);
+                out += strcmp(c->m.domain, "in") != 0 && strcmp(c->m.domain, "-") != 0;
             }
             printf("%-18s %-8s %-7s %10.4g %10.4g %10.4g %10.4g %5d/%-3d\n", rows[i].scene,
                    hp_level_name(LEVELS[li]), rows[i].c[0][li].law, median_of(mm, rows[i].ncases),

@@ -1,0 +1,52 @@
+/* A plan's pressures against the finite-element reference: the one home of the measurement
+ * that `headplan analyze` prints for its scene and the benchmark lab's fidelity family
+ * (bench/bench_fidelity.c) makes on the catalogue (docs/accuracy.md §5.7).
+ *
+ * The pressures are held and the head let go under its weight: its rest (hp_load_rest,
+ * surface geometry) on a load model that evaluates the contact law fitted to the CalculiX
+ * tables, from the pose the plan claims. The error is that rest against the claimed pose.
+ * With a band b > 0, the law's own error is bounded too: the rests with the force scaled by
+ * 1 + b and 1 − b (a force scaled by s rests where the weight over s does, so the model's
+ * mass is divided by s), the larger deviation reported. */
+#ifndef CLI_FIDELITY_H
+#define CLI_FIDELITY_H
+
+#include "headplan/headplan.h"
+
+/* What the bladders carry in a fidelity measurement: the scene's load when it states one
+ * (returns 1), else the default head's (returns 0): the head's mass, or HP_HEAD_DEFAULT_MASS
+ * when the head states none, at its centre under supine gravity (hp_load_spec_default). */
+int cli_fidelity_spec(const hp_scene *sc, hp_load_spec *spec);
+
+/* The reference models of a layout and load: the fitted law, and with band > 0 the two
+ * scaled ones. */
+typedef struct cli_fidelity_ref {
+    hp_load_model *M[3];
+    int n; /* 1, or 3 with a band */
+} cli_fidelity_ref;
+
+/* Builds the models (band in [0, 0.5)). HP_OK, or the first error of hp_load_model_create
+ * (the models built so far are freed by cli_fidelity_close, which is always called). */
+hp_error cli_fidelity_open(const hp_layout *L, const hp_load_spec *spec, double band,
+                           cli_fidelity_ref *r);
+void cli_fidelity_close(cli_fidelity_ref *r);
+
+/* One plan's pressures against the reference. */
+typedef struct cli_fidelity_result {
+    double pose_mm, pose_deg; /* the rest against the claimed pose: translation norm, rotation
+                                 angle; +inf: no rest */
+    double band_mm, band_deg; /* the larger deviation with the band (= pose_* without one) */
+    double indent_max;        /* the largest delta/ro at the rest (NaN: no rest) */
+    double carried;           /* share of the weight the bladders bear along gravity at the
+                                 claimed pose (1 at a pose the pressures hold) */
+    char domain[48];          /* "in", "BLADDER:GROUP" outside the fitted law's domain, or
+                                 "no rest" */
+} cli_fidelity_result;
+
+void cli_fidelity_measure(const cli_fidelity_ref *r, const double *P, const double xi[6],
+                          cli_fidelity_result *out);
+
+/* Translation between two poses [mm]: the norm of the difference of (x, y, z). */
+double cli_fidelity_translation_mm(const double a[6], const double b[6]);
+
+#endif
