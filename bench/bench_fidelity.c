@@ -184,16 +184,8 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     double t[MAX_CASES][6];
     row->ncases = cases_of(o, &sc, t);
     for (int li = 0; li < N_LEVELS; ++li) {
-        hp_settings s = base;
-        s.level = LEVELS[li];
-        s.use_rate_limits = 0;
-        s.warm_start = 0;
-        if (LEVELS[li] == HP_LEVEL_LOAD) {
-            s.load = spec;
-            if (!sc.has_load) s.load_geometry = HP_LEVEL_SURFACE;
-        } else {
-            memset(&s.load, 0, sizeof s.load); /* the kinematic levels leave the weight out */
-        }
+        hp_settings s;
+        cli_fidelity_settings(&sc, &base, LEVELS[li], &spec, &s);
         hp_planner *p = NULL;
         hp_error ce = hp_planner_create(&sc.layout, &s, &p, &d);
         const char *law = "-";

@@ -107,3 +107,72 @@ void cli_fidelity_measure(const cli_fidelity_ref *r, const double *P, const doub
         c->band_deg = fmax(c->band_deg, rotation_between_deg(r2, xi));
     }
 }
+
+void cli_fidelity_settings(const hp_scene *sc, const hp_settings *base, hp_level level,
+                           const hp_load_spec *spec, hp_settings *s)
+{
+    *s = *base;
+    s->level = level;
+    s->use_rate_limits = 0;
+    s->warm_start = 0;
+    if (level == HP_LEVEL_LOAD) {
+        s->load = *spec;
+        if (!sc->has_load) s->load_geometry = HP_LEVEL_SURFACE;
+    } else {
+        memset(&s->load, 0, sizeof s->load); /* the kinematic levels leave the weight out */
+    }
+}
+
+void cli_fidelity_text(const hp_scene *sc, hp_level level, char *buf, size_t len)
+{
+    hp_settings base, s;
+    hp_load_spec spec;
+    hp_diag d = {{0}};
+    int own = cli_fidelity_spec(sc, &spec);
+    char head[96] = "";
+    if (!own)
+        snprintf(head, sizeof head, " (default head: %.3g kg at its centre, supine)", spec.mass);
+    if (hp_scene_settings(sc, &base, &d) != HP_OK) {
+        snprintf(buf, len, "level %s: not measured (settings: %s)", hp_level_name(level), d.text);
+        return;
+    }
+    cli_fidelity_settings(sc, &base, level, &spec, &s);
+    const double zero[6] = {0};
+    const double *want = sc->has_correction ? sc->correction : zero;
+    hp_planner *p = NULL;
+    hp_result r;
+    cli_fidelity_ref ref;
+    hp_error e = hp_planner_create(&sc->layout, &s, &p, &d);
+    if (e) {
+        snprintf(buf, len, "level %s: not planned (%s)", hp_level_name(level), d.text);
+        return;
+    }
+    e = hp_plan(p, want, &r);
+    hp_planner_destroy(p);
+    if (e) {
+        snprintf(buf, len, "level %s: not planned (%s)", hp_level_name(level), hp_error_message(e));
+        return;
+    }
+    if (cli_fidelity_open(&sc->layout, &spec, 0.0, &ref) != HP_OK) {
+        cli_fidelity_close(&ref);
+        snprintf(buf, len, "level %s: not measured (no load model)", hp_level_name(level));
+        return;
+    }
+    double P[HP_MAX_BLADDERS];
+    for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
+    cli_fidelity_result m;
+    cli_fidelity_measure(&ref, P, r.achieved, &m);
+    cli_fidelity_close(&ref);
+    if (isfinite(m.pose_mm))
+        snprintf(buf, len,
+                 "level %s: %.4g mm, %.4g deg against the fitted law (rest %s%s)%s; solver "
+                 "tolerance %g mm and deg",
+                 hp_level_name(level), m.pose_mm, m.pose_deg,
+                 strcmp(m.domain, "in") == 0 ? "in its domain" : "outside its domain: ",
+                 strcmp(m.domain, "in") == 0 ? "" : m.domain, head, s.tolerance);
+    else
+        snprintf(buf, len,
+                 "level %s: no rest under the fitted law (the pressures bear %.0f %% of the "
+                 "weight at the planned pose)%s; solver tolerance %g mm and deg",
+                 hp_level_name(level), 100.0 * m.carried + 0.0, head, s.tolerance);
+}

@@ -13,6 +13,8 @@
 
 #include "headplan/headplan.h"
 
+#include <stddef.h>
+
 /* What the bladders carry in a fidelity measurement: the scene's load when it states one
  * (returns 1), else the default head's (returns 0): the head's mass, or HP_HEAD_DEFAULT_MASS
  * when the head states none, at its centre under supine gravity (hp_load_spec_default). */
@@ -45,6 +47,19 @@ typedef struct cli_fidelity_result {
 
 void cli_fidelity_measure(const cli_fidelity_ref *r, const double *P, const double xi[6],
                           cli_fidelity_result *out);
+
+/* The settings a fidelity plan uses at level, from the scene's (base): no rate limits and
+ * no warm start (each plan cold, alone); the kinematic levels leave the weight out, the
+ * load level carries spec (surface geometry when the scene states no load). */
+void cli_fidelity_settings(const hp_scene *sc, const hp_settings *base, hp_level level,
+                           const hp_load_spec *spec, hp_settings *s);
+
+/* The model error line of `headplan analyze` into buf (len bytes, no newline): the scene's
+ * correction (none: the nominal pose) planned at level with the fidelity settings, its
+ * pressures against the reference without the law's band, beside the solver's tolerance,
+ * e.g. "level load: 0.1234 mm, 0.01 deg against the fitted law (rest in its domain);
+ * solver tolerance 1e-09 mm and deg". */
+void cli_fidelity_text(const hp_scene *sc, hp_level level, char *buf, size_t len);
 
 /* Translation between two poses [mm]: the norm of the difference of (x, y, z). */
 double cli_fidelity_translation_mm(const double a[6], const double b[6]);

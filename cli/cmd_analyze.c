@@ -6,6 +6,7 @@
 #include "cli/analyze_load.h"
 #include "common/units.h"
 #include "cli/cli_args.h"
+#include "cli/cli_fidelity.h"
 #include "cli/cli_paths.h"
 #include "cli/cli_scene.h"
 #include "cli/cmd_solve_load.h"
@@ -39,9 +40,11 @@ static void help(void)
            "of the contact Jacobian (translation per mm, rotation per degree), the weakest\n"
            "direction, the largest correction along each axis inside every bladder's\n"
            "pressure and stretch limits (searched up to 50 mm and 30 deg), the error bounds\n"
-           "of the linear and plane contact models and the level auto picks, and the\n"
-           "resolved geometry (bladder centres, nominal contact points and normals). See\n"
-           "kinematics.md in the documentation.\n\n"
+           "of the linear and plane contact models and the level auto picks, the model\n"
+           "error (the scene's plan held under the head's weight with the contact law\n"
+           "fitted to the finite-element reference, beside the solver's tolerance; text\n"
+           "only), and the resolved geometry (bladder centres, nominal contact points and\n"
+           "normals). See kinematics.md and accuracy.md in the documentation.\n\n"
            "  --level NAME   contact model for the reach: %s;\n"
            "                 default: the scene's (auto resolves with the scene's tolerance);\n"
            "                 load (as solve plans it, load.md): the reach at the scene's\n"
@@ -335,6 +338,9 @@ static void print_text(const hp_scene *sc, const analysis *r)
     printf("%-13s 0 (exact)\n", "surface");
     printf("%-13s %s (tolerance %.6g mm)\n", "auto picks", hp_level_name(r->x.auto_level),
            sc->level_tolerance * 1e3);
+    char model[HP_DIAG_MAX + 256];
+    cli_fidelity_text(sc, r->solve_load ? HP_LEVEL_LOAD : r->x.level, model, sizeof model);
+    printf("%-13s %s\n", "model error", model);
 
     printf("\n%-18s %-30s %-30s %-28s %6s %6s %8s %8s %8s %8s\n", "bladder", "centre_mm",
            "contact_mm", "normal", "Ri_mm", "Ro_mm", "C1_pa", "C2_pa", "Pmin_pa", "Pmax_pa");
