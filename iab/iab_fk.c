@@ -163,8 +163,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             dx_old = dx;
             dx = xn - x;
             if (fabs(dx) <= DBL_EPSILON * x) { /* converged: one last look at xn */
-                if (hpi_iab_s_pressure_ro(s, xn, &p, &ro) == HP_OK &&
-                    fabs(p - target) < best_f) {
+                if (hpi_iab_s_pressure_ro(s, xn, &p, &ro) == HP_OK && fabs(p - target) < best_f) {
                     best = xn;
                     best_ro = ro;
                 }

@@ -50,7 +50,8 @@ hp_error hpi_iab_s_slopes(const hp_iab_s *s, double ri, double ro, double *d1, d
     double ro2 = ro * ro;
     double q = ri * ri / (s->Ro * ro2); /* dλo/dri */
     double iRi = 1.0 / s->Ri;
-    double dp = 2.0 * s->C1 * (fp(li) * iRi - fp(lo) * q) + 2.0 * s->C2 * (gp(li) * iRi - gp(lo) * q);
+    double dp = 2.0 * s->C1 * (fp(li) * iRi - fp(lo) * q) +
+                2.0 * s->C2 * (gp(li) * iRi - gp(lo) * q);
     if (!isfinite(dp)) return HP_ERR_DOMAIN;
     /* The curvature only when asked: the FK's Newton steps take the slope alone, and the
      * curvature's terms (λ⁻⁶, ro⁻⁵) were a third of each of their evaluations. */

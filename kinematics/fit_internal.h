@@ -143,9 +143,8 @@ int hpi_kin_linear_fit_prepare(const hp_layout *L, const hp_geom *G, const int f
  * Gauss–Newton steps from 0 with the prepared factor (the model is linear: the first solves
  * it, the second corrects its rounding). The same minimiser as hpi_kin_fit at this level to
  * rounding. HP_ERR_INVALID for an unprepared f or a non-finite target. Allocates nothing. */
-hp_error hpi_kin_linear_fit_solve(const hp_kin_linear_fit *f, const hp_layout *L,
-                                  const hp_geom *G, const double *target, double xi[6],
-                                  double *residual_rms);
+hp_error hpi_kin_linear_fit_solve(const hp_kin_linear_fit *f, const hp_layout *L, const hp_geom *G,
+                                  const double *target, double xi[6], double *residual_rms);
 
 /* hp_contact_fit, started from st (computed at x0 for the same layout and level) when st
  * is not NULL. With near, the iteration may stop early at an iterate x (an accepted step,

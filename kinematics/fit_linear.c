@@ -52,9 +52,8 @@ static void step(const hp_kin_linear_fit *f, int n, const hp_geom *G, const doub
     *cost = c;
 }
 
-hp_error hpi_kin_linear_fit_solve(const hp_kin_linear_fit *f, const hp_layout *L,
-                                  const hp_geom *G, const double *target, double xi[6],
-                                  double *residual_rms)
+hp_error hpi_kin_linear_fit_solve(const hp_kin_linear_fit *f, const hp_layout *L, const hp_geom *G,
+                                  const double *target, double xi[6], double *residual_rms)
 {
     if (!f->ready) return HP_ERR_INVALID;
     for (int k = 0; k < L->n; ++k)
