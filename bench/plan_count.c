@@ -17,6 +17,12 @@
  *       400 seeded targets of the same generator, cold (WARM 0) or in order with the warm
  *       start (WARM 1); prints per plan the status, the active-set steps and the achieved
  *       pose (%a, exact) instead of the statuses.
+ *   headplan-bench-count SCENE loop LEVEL BACKEND CYCLES
+ *       the control loop of the loop benchmark's measured mode on a step trace: a new
+ *       seeded target within ±3 mm, ±2 deg every 300 cycles, held between; every bladder's
+ *       rate_max 500 Pa a plan; after each plan its pressures read back with ±3 Pa of
+ *       seeded noise through hp_planner_set_measured; default settings otherwise, BACKEND
+ *       by name (bench/loop_profile.sh profiles it by phase).
  *   headplan-bench-count clocks ROUNDS
  *       the cost of one read of the precise and of the coarse monotonic clock (the realtime
  *       backend's time budget reads the coarse one when max_time spans 100 of its ticks):
@@ -45,6 +51,7 @@ static int usage(void)
                     "       headplan-bench-count SCENE trace LEVEL AMP_MM ROWS\n"
                     "       headplan-bench-count SCENE time LEVEL MM DEG ROUNDS\n"
                     "       headplan-bench-count SCENE answers LEVEL MM DEG WARM\n"
+                    "       headplan-bench-count SCENE loop LEVEL BACKEND CYCLES\n"
                     "       headplan-bench-count clocks ROUNDS\n");
     return 64;
 }
@@ -117,11 +124,59 @@ static int time_clocks(long rounds)
     return 0;
 }
 
+/* The loop mode (see the top). */
+static int run_loop(const hp_layout *L0, int level, const char *backend, long cycles)
+{
+    hp_settings st;
+    hp_settings_default(&st);
+    st.level = (hp_level)level;
+    st.use_rate_limits = 1;
+    if (hp_backend_parse(backend, &st.backend) != HP_OK || cycles < 1) return usage();
+    hp_layout L = *L0;
+    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
+    hp_planner *p = NULL;
+    hp_diag d = {{0}};
+    if (hp_planner_create(&L, &st, &p, &d) != HP_OK) {
+        fprintf(stderr, "headplan-bench-count: %s\n", d.text);
+        return 65;
+    }
+    int count[HP_STATUS_COUNT_] = {0};
+    double tgt[6] = {0};
+    for (long j = 0; j < cycles; ++j) {
+        if (j % 300 == 0)
+            for (int i = 0; i < 6; ++i)
+                tgt[i] = (2.0 * sa_urand() - 1.0) * (i < 3 ? 3e-3 : 2.0 * PI / 180);
+        hp_result res;
+        if (hp_plan(p, tgt, &res) != HP_OK) break;
+        count[res.status]++;
+        double P[HP_MAX_BLADDERS];
+        for (int k = 0; k < res.n; ++k)
+            P[k] = res.bladders[k].pressure + 3.0 * (2.0 * sa_urand() - 1.0);
+        if (hp_planner_set_measured(p, P, NULL) != HP_OK) break;
+    }
+    printf("cycles %ld;", cycles);
+    for (int i = 0; i < HP_STATUS_COUNT_; ++i)
+        if (count[i]) printf(" %s %d", hp_status_name((hp_status)i), count[i]);
+    printf("\n");
+    hp_planner_destroy(p);
+    return 0;
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 3 && strcmp(argv[1], "clocks") == 0) return time_clocks(atol(argv[2]));
     if (argc != 7 && argc != 6) return usage();
     const char *mode = argv[2];
+    if (strcmp(mode, "loop") == 0 && argc == 6) {
+        static hp_scene ls;
+        hp_diag ld = {{0}};
+        if (hp_scene_load(argv[1], &ls, &ld) != HP_OK) {
+            fprintf(stderr, "headplan-bench-count: %s\n", ld.text);
+            return 66;
+        }
+        int lv = atoi(argv[3]);
+        return lv < 0 || lv > 2 ? usage() : run_loop(&ls.layout, lv, argv[4], atol(argv[5]));
+    }
     int cold = strcmp(mode, "cold") == 0, timed = strcmp(mode, "time") == 0,
         answers = strcmp(mode, "answers") == 0, trace = strcmp(mode, "trace") == 0;
     if (!(cold || timed || answers || trace) || argc != (trace ? 6 : 7)) return usage();

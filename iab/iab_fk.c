@@ -111,20 +111,33 @@ hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp)
  * iterate stays strictly inside the bracket, which shrinks at every step; a Newton step that
  * leaves it or fails to halve the step before last is replaced by bisection. */
 static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, double hi, double guess,
-                              double *out)
+                              const double at_guess[3], double *out, double *out_ro)
 {
     /* A guess inside the bracket (a nearby answer) saves most steps; the bracket and the
      * bisection fallback make any start safe. */
+    int start_known = guess > lo && guess < hi && at_guess;
     double x = guess > lo && guess < hi ? guess : 0.5 * (lo + hi);
     double dx_old = hi - lo, dx = dx_old;
-    double best = x, best_f = INFINITY;
+    /* The outer radius of each evaluation is kept with it (hpi_iab_s_ik forms it for the
+     * pressure): the caller gets the root's without another cube root. */
+    double best = x, best_f = INFINITY, best_ro = NAN, ro;
     for (int it = 0; it < 300; ++it) {
         double p, d;
-        if (hpi_iab_s_ik(s, x, &p, &d, NULL) != HP_OK) return HP_ERR_DOMAIN;
+        /* The first step at the guess: its pressure, slope and outer radius when the caller
+         * formed them (hpi_iab_s_ik's bits), else evaluated here. */
+        if (it == 0 && start_known) {
+            p = at_guess[0];
+            d = at_guess[1];
+            ro = at_guess[2];
+        } else if (hpi_iab_s_pressure_ro(s, x, &p, &ro) != HP_OK ||
+                   hpi_iab_s_slopes(s, x, ro, &d, NULL) != HP_OK) {
+            return HP_ERR_DOMAIN;
+        }
         double f = p - target;
         if (fabs(f) < best_f) {
             best_f = fabs(f);
             best = x;
+            best_ro = ro;
         }
         if (f == 0) break;
         if (f < 0) lo = x;
@@ -138,8 +151,10 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
          * same candidates. */
         if (d > 0 && fabs(f / d) <= 0.5 * DBL_EPSILON * x) {
             double xs = nextafter(x, f < 0 ? INFINITY : 0.0);
-            if (hpi_iab_s_ik(s, xs, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f)
+            if (hpi_iab_s_pressure_ro(s, xs, &p, &ro) == HP_OK && fabs(p - target) < best_f) {
                 best = xs;
+                best_ro = ro;
+            }
             break;
         }
         if (!(hi - lo > 2.0 * DBL_EPSILON * hi)) break;
@@ -148,8 +163,10 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             dx_old = dx;
             dx = xn - x;
             if (fabs(dx) <= DBL_EPSILON * x) { /* converged: one last look at xn */
-                if (hpi_iab_s_ik(s, xn, &p, NULL, NULL) == HP_OK && fabs(p - target) < best_f)
+                if (hpi_iab_s_pressure_ro(s, xn, &p, &ro) == HP_OK && fabs(p - target) < best_f) {
                     best = xn;
+                    best_ro = ro;
+                }
                 break;
             }
             x = xn;
@@ -161,11 +178,12 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
         }
     }
     *out = best;
+    *out_ro = best_ro;
     return HP_OK;
 }
 
-/* The root ri [m]; *ro_s the scaled outer radius at it when the guess was the root (the
- * pressure's evaluation there formed it), else NAN. */
+/* The root ri [m]; *ro_s the scaled outer radius at it when an evaluation of the pressure
+ * there formed it (the guess was the root, or the Newton iteration ended there), else NAN. */
 static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P, double guess,
                           double *ri, double *ro_s)
 {
@@ -186,12 +204,20 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
      * strictly inside the bracket found there and the safeguarded Newton iteration, which
      * starts at it, stops at once. */
     double g = guess * s.scale;
-    double rg;
+    double rg, at_g[3];
+    int g_known = 0;
     if ((P > 0 ? g > s.Ri && g < r_lp : g > 0 && g < s.Ri) &&
-        hpi_iab_s_pressure_ro(&s, g, &p, &rg) == HP_OK && p == P) {
-        *ri = g * s.inv_scale;
-        *ro_s = rg;
-        return HP_OK;
+        hpi_iab_s_pressure_ro(&s, g, &p, &rg) == HP_OK) {
+        if (p == P) {
+            *ri = g * s.inv_scale;
+            *ro_s = rg;
+            return HP_OK;
+        }
+        /* A reading near the guess (a measured pressure): the Newton iteration below starts
+         * at the guess with this pressure and its slope, not a second evaluation there. */
+        at_g[0] = p;
+        at_g[2] = rg;
+        g_known = hpi_iab_s_slopes(&s, g, rg, &at_g[1], NULL) == HP_OK;
     }
     if (P > 0) {
         lo = s.Ri;
@@ -231,7 +257,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
         }
     }
     double r;
-    e = solve_bracket(&s, P, lo, hi, guess * s.scale, &r);
+    e = solve_bracket(&s, P, lo, hi, g, g_known ? at_g : NULL, &r, ro_s);
     if (e != HP_OK) return e;
     *ri = r * s.inv_scale;
     return HP_OK;

@@ -44,25 +44,34 @@ hp_error hpi_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *
     return HP_OK;
 }
 
+hp_error hpi_iab_s_slopes(const hp_iab_s *s, double ri, double ro, double *d1, double *d2)
+{
+    double li = ri / s->Ri, lo = ro / s->Ro;
+    double ro2 = ro * ro;
+    double q = ri * ri / (s->Ro * ro2); /* dλo/dri */
+    double iRi = 1.0 / s->Ri;
+    double dp = 2.0 * s->C1 * (fp(li) * iRi - fp(lo) * q) +
+                2.0 * s->C2 * (gp(li) * iRi - gp(lo) * q);
+    if (!isfinite(dp)) return HP_ERR_DOMAIN;
+    /* The curvature only when asked: the FK's Newton steps take the slope alone, and the
+     * curvature's terms (λ⁻⁶, ro⁻⁵) were a third of each of their evaluations. */
+    if (d2) {
+        double qp = 2.0 * ri * s->W / (s->Ro * ro2 * ro2 * ro); /* d²λo/dri² */
+        double ddp = 2.0 * s->C1 * (fpp(li) * iRi * iRi - fpp(lo) * q * q - fp(lo) * qp) +
+                     2.0 * s->C2 * (gpp(li) * iRi * iRi - gpp(lo) * q * q - gp(lo) * qp);
+        if (!isfinite(ddp)) return HP_ERR_DOMAIN;
+        *d2 = ddp;
+    }
+    if (d1) *d1 = dp;
+    return HP_OK;
+}
+
 hp_error hpi_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2)
 {
     double p, ro;
     if (hpi_iab_s_pressure_ro(s, ri, &p, &ro) != HP_OK) return HP_ERR_DOMAIN;
-    double dp = 0, ddp = 0;
-    if (d1 || d2) {
-        double li = ri / s->Ri, lo = ro / s->Ro;
-        double ro2 = ro * ro;
-        double q = ri * ri / (s->Ro * ro2);                     /* dλo/dri */
-        double qp = 2.0 * ri * s->W / (s->Ro * ro2 * ro2 * ro); /* d²λo/dri² */
-        double iRi = 1.0 / s->Ri;
-        dp = 2.0 * s->C1 * (fp(li) * iRi - fp(lo) * q) + 2.0 * s->C2 * (gp(li) * iRi - gp(lo) * q);
-        ddp = 2.0 * s->C1 * (fpp(li) * iRi * iRi - fpp(lo) * q * q - fp(lo) * qp) +
-              2.0 * s->C2 * (gpp(li) * iRi * iRi - gpp(lo) * q * q - gp(lo) * qp);
-        if (!isfinite(dp) || !isfinite(ddp)) return HP_ERR_DOMAIN;
-    }
+    if ((d1 || d2) && hpi_iab_s_slopes(s, ri, ro, d1, d2) != HP_OK) return HP_ERR_DOMAIN;
     *P = p;
-    if (d1) *d1 = dp;
-    if (d2) *d2 = ddp;
     return HP_OK;
 }
 

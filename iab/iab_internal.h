@@ -87,6 +87,11 @@ double hpi_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2,
  * or so large that the pressure overflows). d1, d2 may be NULL. */
 hp_error hpi_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2);
 
+/* hpi_iab_s_ik's derivatives at scaled ri whose scaled outer radius is ro (hpi_iab_s_ro(s,
+ * ri)): the same bits as hpi_iab_s_ik's, for a caller that has the pressure already. A
+ * derivative not asked for is not formed (nor checked). d1, d2 may be NULL. */
+hp_error hpi_iab_s_slopes(const hp_iab_s *s, double ri, double ro, double *d1, double *d2);
+
 /* hpi_iab_s_ik_m for an inner radius ri [m] whose outer radius is known to be close to
  * ro_near [m] (the one ri was solved from by hpi_iab_s_ri_m): the outer radius the pressure
  * uses comes from hpi_iab_cbrt_near, so the same bits as hpi_iab_s_ik_m but within ~1e-7 ulp

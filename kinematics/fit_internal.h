@@ -128,6 +128,24 @@ int hpi_kin_fit_certified_trial(const hp_layout *L, const hp_geom *G, hp_level l
                                 double lambda_next, const double *target, int iters_left,
                                 const hp_kin_fit_near *near, hp_kin_trial_cache *cache);
 
+/* The linear level's fit in the free components free_ (the others 0), prepared once per
+ * layout: the column-scaled normal matrix of the linear model's rows and its Cholesky factor.
+ * prepare returns 0, or -1 (ready = 0) when no component is free or the scaled matrix is
+ * not provably well conditioned (HP_KIN_NORMAL_MAX_COND): then hpi_kin_fit decides. */
+typedef struct hp_kin_linear_fit {
+    int ready, nf, col[6], free_[6];
+    double d[6];     /* the columns' scales: 1/sqrt of the normal matrix's diagonal */
+    double chol[36]; /* the scaled matrix's lower factor, leading dimension 6 */
+} hp_kin_linear_fit;
+int hpi_kin_linear_fit_prepare(const hp_layout *L, const hp_geom *G, const int free_[6],
+                               hp_kin_linear_fit *f);
+/* The least-squares pose of the outer radii target (n, [m]) at the linear level: two
+ * Gauss–Newton steps from 0 with the prepared factor (the model is linear: the first solves
+ * it, the second corrects its rounding). The same minimiser as hpi_kin_fit at this level to
+ * rounding. HP_ERR_INVALID for an unprepared f or a non-finite target. Allocates nothing. */
+hp_error hpi_kin_linear_fit_solve(const hp_kin_linear_fit *f, const hp_layout *L, const hp_geom *G,
+                                  const double *target, double xi[6], double *residual_rms);
+
 /* hp_contact_fit, started from st (computed at x0 for the same layout and level) when st
  * is not NULL. With near, the iteration may stop early at an iterate x (an accepted step,
  * never x0) within tol/4 of near->pose whose undamped Gauss–Newton step is below tol/4

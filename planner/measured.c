@@ -17,12 +17,16 @@ hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const 
         /* From the previous answer's radius when warm: a reading near it takes a step or two
          * of the FK's Newton iteration instead of a search of the whole stable branch; the
          * same root to rounding whatever the start (hpi_iab_fk_limit_warm). */
-        double ri, guess = warm ? p->prev.bladders[k].ri : NAN;
-        hp_error e = hpi_iab_s_fk_limit_warm(s, &p->sb.limit[k], P[k], guess, &ri);
+        double ri, root, guess = warm ? p->prev.bladders[k].ri : NAN;
+        /* The outer radius comes with the root (the FK's last evaluation formed it, the
+         * same bits as hpi_iab_s_ro_m of the root). */
+        hp_error e = hpi_iab_s_fk_limit_warm_ro(s, &p->sb.limit[k], P[k], guess, &root, &ro[k]);
         /* The root of a pressure inside [p_lo, p_hi] lies inside [ri_lo, ri_hi] up to an
-         * ulp or two: keep the stretch inside its limits to the last bit. */
-        if (e == HP_OK) ri = fmin(fmax(ri, p->sb.ri_lo[k]), p->sb.ri_hi[k]);
-        if (e != HP_OK || hpi_iab_s_ro_m(s, ri, &ro[k]) != HP_OK) {
+         * ulp or two: keep the stretch inside its limits to the last bit (and the outer
+         * radius then of the clamped radius). */
+        ri = e == HP_OK ? fmin(fmax(root, p->sb.ri_lo[k]), p->sb.ri_hi[k]) : root;
+        if (e == HP_OK && ri != root) e = hpi_iab_s_ro_m(s, ri, &ro[k]);
+        if (e != HP_OK) {
             hpi_text_set(p->err, who);
             hpi_text_add(p->err, ": no stable radius for the pressure of ");
             hpi_text_add(p->err, B->name);
@@ -43,7 +47,17 @@ hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const 
      * steps away for a reading near the last plan (a fit from the nominal pose takes the
      * whole way, most of set_previous's cost); from the nominal pose when it fails. */
     int fitted = 0;
-    if (warm) {
+    /* The linear level's fit is linear least squares: solved directly with the factor
+     * prepared at the first reading (a quarter of a reading's cost by the iteration). */
+    if (warm && p->level == HP_LEVEL_LINEAR) {
+        if (!p->lin_fit_tried) {
+            p->lin_fit_tried = 1;
+            (void)hpi_kin_linear_fit_prepare(&p->L, &p->G, p->commanded, &p->lin_fit);
+        }
+        fitted = p->lin_fit.ready &&
+                 hpi_kin_linear_fit_solve(&p->lin_fit, &p->L, &p->G, ro, xi, &resid) == HP_OK;
+    }
+    if (warm && !fitted) {
         double x0[6];
         for (int i = 0; i < 6; ++i) x0[i] = p->commanded[i] ? p->prev.achieved[i] : 0.0;
         fitted = hpi_kin_fit(&p->L, &p->G, p->level, ro, p->commanded, x0, NULL, NULL, xi, &resid,

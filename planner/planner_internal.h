@@ -77,6 +77,10 @@ struct hp_planner {
     /* Why auto chose the level (hp_planner_level_choice), written once by create; "" when
      * the settings name the level. */
     char level_why[HP_DIAG_MAX];
+    /* The linear level's fit of a measured reading's outer radii (set_measured), its normal
+     * matrix factored at the first reading; lin_fit_tried: prepared (or refused) once. */
+    int lin_fit_tried;
+    hp_kin_linear_fit lin_fit;
     /* The contact model at the nominal pose (fit starts). Last, and its warm states last
      * in it: when they grew from 64 to 512 bytes in the middle, padding main's structs the
      * same way (a placebo, no code change) made plans 2.5 % slower at every level, a

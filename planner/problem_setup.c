@@ -171,7 +171,13 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
         }
     }
     atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
-    if (!(hpi_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], pw, NAN, r) == HP_OK &&
+    /* From the last bound of the same window end: a control loop's windows move by a
+     * sensor's noise or one plan's step, so the root is a few Newton steps away instead of a
+     * bracket search and a Newton iteration from its middle (most of a rate-limited plan's
+     * cost on the step trace). The same root either way (tests/planner/test_rate_bounds.c:
+     * bit for bit against the cold reference along such chains). */
+    double guess = memo && *ok ? *mr : NAN;
+    if (!(hpi_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], pw, guess, r) == HP_OK &&
           nudge(&b->iab_s[k], r, pw, up)))
         return 0;
     if (memo) {

@@ -3,10 +3,10 @@
 ceiling = 1000
 # index, kinematic us, load us (realtime, ipopt, nlopt-slsqp), sag mm, unbounded
 $d << EOD
-0 1.27812 13456.3 31462.9 2263.12 1000 1
-1 2.804 nan nan nan 1000 1
-2 2.805 239.194 8499.16 251.723 1000 1
-3 2.784 32005.1 58800.9 23252.7 1000 1
+0 1.2995 27485.3 50441.5 4986.03 1000 1
+1 2.824 nan nan nan 1000 1
+2 2.854 232.76 16228.1 243.631 1000 1
+3 2.714 44427.6 99189.1 49031.7 1000 1
 EOD
 set xtics ("load_heavy" 0, "load_prone" 1, "load_supine" 2, "load_tilted" 3)
 

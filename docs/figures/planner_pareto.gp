@@ -12,49 +12,49 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 8.66501e+06]
+set xrange [* : 1.99114e+07]
 
 $front << EOD
-872.083,4.646568e-01,realtime-linear-1e-09
-5739,1.355203e-10,realtime-surface-1e-04
-2.82004e+06,1.000000e-17,ipopt-surface-1e-04
-8.66501e+06,1.000000e-17,end
+848.3,4.646568e-01,realtime-linear-1e-04
+5638,1.355203e-10,realtime-surface-1e-04
+6.53968e+06,1.000000e-17,ipopt-surface-1e-04
+1.99114e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-373.429,4.936830e-03,fastpath-linear
-2251,1.000000e-17,fastpath-surface
-8.66501e+06,1.000000e-17,end
+370.571,4.936830e-03,fastpath-linear
+2213.5,1.000000e-17,fastpath-surface
+1.99114e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-866.679,9.238732e-02,trace-realtime-linear
-5109.8,3.417474e-08,trace-realtime-surface
-8.66501e+06,3.417474e-08,end
+827.679,9.238732e-02,trace-realtime-linear
+4965.4,3.417474e-08,trace-realtime-surface
+1.99114e+07,3.417474e-08,end
 EOD
 
 $front3 << EOD
-872.083,4.646568e-01,realtime-linear-1e-09
-5739,1.355203e-10,realtime-surface-1e-04
-8.66501e+06,1.355203e-10,end
+848.3,4.646568e-01,realtime-linear-1e-04
+5638,1.355203e-10,realtime-surface-1e-04
+1.99114e+07,1.355203e-10,end
 EOD
 
 $front4 << EOD
-2.76183e+06,4.646568e-01,ipopt-linear-1e-09
-2.82004e+06,1.000000e-17,ipopt-surface-1e-04
-8.66501e+06,1.000000e-17,end
+5.57691e+06,4.646568e-01,ipopt-linear-1e-04
+6.53968e+06,1.000000e-17,ipopt-surface-1e-04
+1.99114e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-69875,4.646568e-01,nlopt-slsqp-linear-1e-09
-79464.5,1.324757e-05,nlopt-slsqp-surface-1e-09
-8.66501e+06,1.324757e-05,end
+66089,4.646568e-01,nlopt-slsqp-linear-1e-09
+77186,1.324757e-05,nlopt-slsqp-surface-1e-09
+1.99114e+07,1.324757e-05,end
 EOD
 
 $front6 << EOD
-269670,4.646567e-01,nlopt-cobyla-linear-1e-09
-408293,5.181534e-07,nlopt-cobyla-surface-1e-04
-8.66501e+06,5.181534e-07,end
+263551,4.646567e-01,nlopt-cobyla-linear-1e-09
+403240,5.181534e-07,nlopt-cobyla-surface-1e-04
+1.99114e+07,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {

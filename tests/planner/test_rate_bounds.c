@@ -119,6 +119,73 @@ static void test_bounds_equal_cold_reference(void **state)
     assert_true(rate_bound > 10000); /* the sweep exercised the rate bounds */
 }
 
+/* How many doubles lie between two positive finite doubles. */
+static long ulps_apart(double a, double b)
+{
+    int64_t ia, ib;
+    memcpy(&ia, &a, sizeof ia);
+    memcpy(&ib, &b, sizeof ib);
+    return (long)(ia > ib ? ia - ib : ib - ia);
+}
+
+/* The bounds a control loop asks for cycle after cycle: each bladder's previous pressure a
+ * random walk (±3 Pa of sensor noise a cycle, a jump anywhere inside the limits every 50
+ * cycles), through one memo kept across the cycles as the planner keeps it (each window
+ * end's root find then starts from the last one): every bound holds exactly (its pressure
+ * inside the window), with the reference's flags, and lies within 4 ulps of the cold
+ * reference's radius, differing from it in at most 1 % of the bounds. */
+static void test_memo_chain_equals_cold_reference(void **state)
+{
+    (void)state;
+    hp_layout L;
+    assert_int_equal(lf_layout(&L), HP_OK);
+    hp_static_bounds sb;
+    assert_int_equal(hpi_setup_static_bounds(&L, &sb, NULL), HP_OK);
+    hp_rate_memo memo;
+    memset(&memo, 0, sizeof memo);
+    uint64_t seed = 0xc4a1;
+    double P[HP_MAX_BLADDERS];
+    long checked = 0, differ = 0, worst_ulps = 0;
+    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
+    for (int t = 0; t < 4000; ++t) {
+        for (int k = 0; k < L.n; ++k) {
+            double u = 0.5 * (lf_uniform(&seed) + 1.0);
+            if (t % 50 == 0) P[k] = sb.p_lo[k] + u * (sb.p_hi[k] - sb.p_lo[k]);
+            else P[k] = fmin(fmax(P[k] + 3.0 * lf_uniform(&seed), sb.p_lo[k]), sb.p_hi[k]);
+        }
+        hp_problem pb;
+        unsigned lof[HP_MAX_BLADDERS], hif[HP_MAX_BLADDERS];
+        assert_int_equal(hpi_setup_cycle_bounds_memo(&L, &sb, P, 1, &memo, &pb, lof, hif, NULL),
+                         HP_OK);
+        for (int k = 0; k < L.n; ++k) {
+            double lo, hi;
+            unsigned rl, rh;
+            assert_true(ref_bounds(&L, &sb, k, P[k], &lo, &hi, &rl, &rh));
+            /* Exact: the pressure at each bound lies inside its window (hp_iab_ik, the
+             * public closed form), the flags are the reference's, and the bound is the cold
+             * reference's or a few ulps from it (the warm root find may end on the other
+             * double next to the root, the nudge's doubling steps then differ). */
+            double plo_at, phi_at;
+            assert_int_equal(hp_iab_ik(&L.bladders[k].iab, pb.ri_lo_si[k], &plo_at), HP_OK);
+            assert_int_equal(hp_iab_ik(&L.bladders[k].iab, pb.ri_hi_si[k], &phi_at), HP_OK);
+            if (rl & HP_BIND_RATE_DOWN) assert_true(plo_at >= P[k] - L.bladders[k].rate_max);
+            if (rh & HP_BIND_RATE_UP) assert_true(phi_at <= P[k] + L.bladders[k].rate_max);
+            assert_int_equal(lof[k], rl);
+            assert_int_equal(hif[k], rh);
+            long du = ulps_apart(pb.ri_lo_si[k], lo), dh = ulps_apart(pb.ri_hi_si[k], hi);
+            worst_ulps = du > worst_ulps ? du : worst_ulps;
+            worst_ulps = dh > worst_ulps ? dh : worst_ulps;
+            differ += (du != 0) + (dh != 0);
+            checked += 2;
+        }
+    }
+    print_message("memo chain: %ld bounds checked, %ld not the cold reference's bits, at most "
+                  "%ld ulps from it\n",
+                  checked, differ, worst_ulps);
+    assert_true(worst_ulps <= 4);
+    assert_true(differ * 100 <= checked); /* at most 1 % */
+}
+
 /* 1 when two results carry the same bits in every field a caller reads (solve_time aside;
  * memcmp of the whole struct would compare padding). */
 static int same_result(const hp_result *a, const hp_result *b)
@@ -238,6 +305,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_bounds_equal_cold_reference),
+        cmocka_unit_test(test_memo_chain_equals_cold_reference),
         cmocka_unit_test(test_plans_defer_the_bounds),
         cmocka_unit_test(test_held_answer_reuses_its_bounds),
     };

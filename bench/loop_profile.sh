@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# Where a rate-limited plan with measured feedback spends its instructions, by phase
+# (valgrind's callgrind: counts, unlike times, do not depend on how busy the machine is).
+# Runs headplan-bench-count's loop mode (bench/plan_count.c: the step trace, rate_max
+# 500 Pa, ±3 Pa readings through hp_planner_set_measured) at the plane and surface levels on
+# the realtime backend and NLopt SLSQP, and prints hp_plan's instructions per plan and the
+# share of each phase. docs/control-loop.md quotes a run.
+#
+#   bench/loop_profile.sh [COUNT_PROGRAM] [SCENE] [CYCLES]
+set -euo pipefail
+PROG=${1:-build/headplan-bench-count}
+SCENE=${2:-scenarios/default.yaml}
+CYCLES=${3:-3000}
+command -v valgrind >/dev/null || { echo "needs valgrind (Debian package 'valgrind')" >&2; exit 1; }
+command -v callgrind_annotate >/dev/null || { echo "needs callgrind_annotate (valgrind)" >&2; exit 1; }
+tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
+names=(linear plane surface)
+printf '%-8s %-12s %9s  %s\n' level backend "Ir/plan" "phase shares of hp_plan"
+for level in 1 2; do
+  for backend in realtime nlopt-slsqp; do
+    valgrind --tool=callgrind --callgrind-out-file="$tmp/cg" "$PROG" "$SCENE" loop "$level" \
+      "$backend" "$CYCLES" >"$tmp/out" 2>"$tmp/err" || { tail -n 5 "$tmp/err" >&2; exit 1; }
+    callgrind_annotate --tree=calling "$tmp/cg" >"$tmp/ann"
+    # hp_plan's callees (inclusive), grouped into phases; the rest is hp_plan's own code and
+    # small calls.
+    awk -v cycles="$CYCLES" -v lv="${names[$level]}" -v bk="$backend" '
+      /\*  .*:hp_plan \[/ { on = 1; self = $1; gsub(",", "", self); total = self; next }
+      on && /^ *$/ { on = 0 }
+      on && />   / {
+        ir = $1; gsub(",", "", ir); total += ir
+        f = $0; sub(/.*>   [^:]*:/, "", f); sub(/ .*/, "", f)
+        ph = f ~ /cycle_bounds_memo/ ? "rate bounds" \
+           : f ~ /recovered_from_nominal/ ? "round trip" \
+           : f ~ /^rt_solve|^nlopt_solve/ ? "solver" \
+           : f ~ /kkt_measure/ ? "KKT check" \
+           : f ~ /answer_from_pose/ ? "answer" \
+           : f ~ /contact_inside/ ? "direct chain" : "other"
+        s[ph] += ir }
+      END {
+        if (total == 0) { print "hp_plan not found in the profile" > "/dev/stderr"; exit 1 }
+        printf "%-8s %-12s %9d ", lv, bk, total / cycles
+        n = split("rate bounds,round trip,solver,KKT check,answer,direct chain,other", o, ",")
+        for (i = 1; i <= n; i++) if (s[o[i]] > 0) printf " %s %.0f%%", o[i], 100 * s[o[i]] / total
+        printf "\n" }' "$tmp/ann"
+  done
+done
