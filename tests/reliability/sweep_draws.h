@@ -14,6 +14,7 @@
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 static const double PI = 3.14159265358979323846;
 
@@ -145,6 +146,32 @@ static inline hp_planner *sw_planner(const hp_layout *L, hp_backend b, hp_level 
     }
     if (prev) assert_int_equal(hp_planner_nominal_pressures(p, prev), HP_OK);
     return p;
+}
+
+/* The seed of test_sweep.c's generated sweep. */
+#define SW_SEED 0x16a2026u
+
+/* Replays the generated sweep's draws (test_generated_layouts: layouts and, for every layout
+ * the checks accept, its 30 targets of the full-size sweep) up to layout `layout`; returns
+ * that layout in L and its target `target` in xi. */
+#define SW_FULL_TARGETS 30
+static inline void sw_replay(int layout, int target, hp_layout *L, char *kind, size_t kn,
+                             double xi[6])
+{
+    uint64_t s = SW_SEED;
+    for (int i = 0; i <= layout; ++i) {
+        if (sw_layout(&s, L, kind, kn) != HP_OK) {
+            assert_true(i != layout);
+            continue;
+        }
+        hp_identifiable id;
+        assert_int_equal(hp_layout_identify(L, &id), HP_OK);
+        for (int j = 0; j < SW_FULL_TARGETS; ++j) {
+            double t[6];
+            sw_target(&s, j % 3, &id, t);
+            if (i == layout && j == target) memcpy(xi, t, sizeof t);
+        }
+    }
 }
 
 #endif

@@ -42,7 +42,6 @@
 #define SW_WALK_STEPS 12000
 #endif
 #endif
-#define SW_SEED 0x16a2026u
 /* Agreement with Ipopt (tolerance 1e-10, realtime 1e-9). Both meet the KKT conditions to
  * ~1e-9 of the pose; where the closest pose sits on a curved limit surface the two solvers'
  * stopping rules differ by a few 1e-8 mm/deg (measured: 3e-8), and where the optimum is
@@ -295,28 +294,6 @@ static void test_warm_traces(void **st)
     sw_report("warm traces, surface", &t[1]);
     sw_assert(&t[0]);
     sw_assert(&t[1]);
-}
-
-/* Replays the generated sweep's draws (test_generated_layouts: layouts and, for every layout
- * the checks accept, its 30 targets of the full-size sweep) up to layout `layout`; returns
- * that layout in L and its target `target` in xi. */
-#define SW_FULL_TARGETS 30
-static void sw_replay(int layout, int target, hp_layout *L, char *kind, size_t kn, double xi[6])
-{
-    uint64_t s = SW_SEED;
-    for (int i = 0; i <= layout; ++i) {
-        if (sw_layout(&s, L, kind, kn) != HP_OK) {
-            assert_true(i != layout);
-            continue;
-        }
-        hp_identifiable id;
-        assert_int_equal(hp_layout_identify(L, &id), HP_OK);
-        for (int j = 0; j < SW_FULL_TARGETS; ++j) {
-            double t[6];
-            sw_target(&s, j % 3, &id, t);
-            if (i == layout && j == target) memcpy(xi, t, sizeof t);
-        }
-    }
 }
 
 /* The number of bladders of answer r that sit on a rate bound, each checked against the
