@@ -368,7 +368,7 @@ static void restart(nlopt_state *st, const hp_problem *pb, const double *xs, dou
         if (!(left > 0.0) || nlopt_set_maxtime(st->opt, left) < 0) break;
         double xj[HP_PROBLEM_NX_MAX], vj[HP_PROBLEM_NX_MAX];
         hp_backend_result rj = *r;
-        hpi_multistart_point(pb, xs, j, st->s.restarts, xj);
+        hpi_multistart_point(pb, xs, j, xj);
         hpi_backend_clip(pb, xj);
         one_solve(st, pb, xj, vj, &rj);
         r->iterations += rj.iterations;

@@ -148,7 +148,7 @@ HP_API const char *hp_binding_name(unsigned flag);
 #define HP_DEFAULT_WARM_START 1
 #define HP_DEFAULT_LOAD_GEOMETRY HP_LEVEL_SURFACE
 #define HP_DEFAULT_LOAD_TIEBREAK HP_TIE_LEAST_SQUEEZE
-#define HP_DEFAULT_RESTARTS 4 /* further starts of NLopt SLSQP after a binding answer */
+#define HP_DEFAULT_RESTARTS 7 /* NLopt SLSQP: 1/8, 2/8, ... 7/8 of the way to the target */
 
 /* The load level (HP_LEVEL_LOAD, docs/load.md): a desired pose -> the pressures that HOLD the
  * head there against its weight. At a pose the six equilibrium equations are linear in the

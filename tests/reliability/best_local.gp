@@ -22,13 +22,16 @@ set grid
 set logscale y
 set format y "10^{%L}"
 set ylabel "distance - best distance [mm/deg]"
-set key below horizontal box noenhanced
+set key top left box noenhanced
+set yrange [floor / 3:*]
+# The sweep's tolerance (BL_TOL): above this line an answer counts as worse.
+set arrow from graph 0, first 1e-4 to graph 1, first 1e-4 nohead dt 2 lc rgb "#666666"
 set xlabel "translation [mm]"
-plot in using 3:(gap(6)) skip 1 with points pt 7 ps 0.8 lc rgb "#1b9e77" title "realtime", \
-     in using 3:(gap(8)) skip 1 with points pt 5 ps 0.6 lc rgb "#d95f02" title "ipopt", \
-     in using 3:(gap(10)) skip 1 with points pt 9 ps 0.6 lc rgb "#7570b3" title "nlopt-slsqp"
+plot in using 3:(gap(8)) skip 1 with points pt 5 ps 0.6 lc rgb "#d95f02" title "ipopt", \
+     in using 3:(gap(10)) skip 1 with points pt 9 ps 0.6 lc rgb "#7570b3" title "nlopt-slsqp", \
+     in using 3:(gap(6)) skip 1 with points pt 6 ps 1.4 lc rgb "#1b9e77" title "realtime"
 set xlabel "largest angle [deg]"
-plot in using 4:(gap(6)) skip 1 with points pt 7 ps 0.8 lc rgb "#1b9e77" title "realtime", \
-     in using 4:(gap(8)) skip 1 with points pt 5 ps 0.6 lc rgb "#d95f02" title "ipopt", \
-     in using 4:(gap(10)) skip 1 with points pt 9 ps 0.6 lc rgb "#7570b3" title "nlopt-slsqp"
+plot in using 4:(gap(8)) skip 1 with points pt 5 ps 0.6 lc rgb "#d95f02" title "ipopt", \
+     in using 4:(gap(10)) skip 1 with points pt 9 ps 0.6 lc rgb "#7570b3" title "nlopt-slsqp", \
+     in using 4:(gap(6)) skip 1 with points pt 6 ps 1.4 lc rgb "#1b9e77" title "realtime"
 unset multiplot
