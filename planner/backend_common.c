@@ -270,3 +270,15 @@ hp_error hpi_backend_begin(const char *name, const hp_problem *pb, int n, int nx
     *go = 1;
     return HP_OK;
 }
+
+int hpi_backend_first_order_ok(const hp_problem *pb, const double *x, double tolerance)
+{
+    hp_kkt_measure m;
+    if (hpi_backend_kkt_measure(pb, x, &m) != HP_OK) return 0;
+    /* Loose on purpose: SLSQP's answers stop up to ~1e-5 mm/deg short and its multipliers
+     * are not exact, while a stalled start point misses stationarity by O(1) of the
+     * gradient; 1e-3 of the gradient's scale separates the two. */
+    double feas = 10.0 * tolerance > 1e-6 ? 10.0 * tolerance : 1e-6;
+    double stat = 1e-3 * (1.0 + m.grad_max);
+    return m.in_bounds && m.feasibility <= feas && m.stationarity <= stat && m.wrong_sign <= stat;
+}

@@ -50,4 +50,10 @@ hp_error hpi_backend_kkt_measure(const hp_problem *pb, const double *x, hp_kkt_m
  * vanish to 1e-6·(1 + |∇f|∞) with bound multipliers of the right sign; else 0. */
 int hpi_backend_kkt_ok(const hp_problem *pb, const double *x, double feas_tol);
 
+/* The core's check of a claimed optimum that its backend does not certify (plan.c's
+ * closest_verified; the NLopt restarts keep only answers it accepts): contacts to
+ * max(10·tolerance, 1e-6) mm, radii in bounds, stationarity and multiplier signs to 1e-3 of
+ * the gradient's scale. 1 when x passes. */
+int hpi_backend_first_order_ok(const hp_problem *pb, const double *x, double tolerance);
+
 #endif

@@ -21,6 +21,8 @@
 #include "planner/backend_common.h"
 #include "common/units.h"
 #include "planner/backend_testing.h"
+#include "planner/clock.h"
+#include "planner/multistart.h"
 
 #include <math.h>
 #include <nlopt.h>
@@ -286,34 +288,11 @@ static hp_status map_result(nlopt_result r, int *converged)
     }
 }
 
-static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0, double *x,
-                            hp_backend_result *r, hp_diag *d)
+/* One optimisation from xs; the point in v (nx values, inside the radius bounds), r's
+ * status, raw code, iterations and converged flag set as nlopt_solve reports them. */
+static void one_solve(nlopt_state *st, const hp_problem *pb, const double *xs, double *v,
+                      hp_backend_result *r)
 {
-    nlopt_state *st = state;
-    if (!st || !pb || !x || !r) return hp_diag_set(d, HP_ERR_NULL, "nlopt: NULL argument");
-    double xs[HP_PROBLEM_NX_MAX];
-    int go;
-    hp_error e = hpi_backend_begin("nlopt", pb, st->n, st->nx, x0, xs, r, &go, d);
-    if (e != HP_OK || !go) return e;
-
-    {
-        /* An uncommanded pose component (weight 0) is fixed at 0, as the core holds it:
-         * left free, the solver uses it to meet the contacts. */
-        double lb[HP_PROBLEM_NX_MAX], ub[HP_PROBLEM_NX_MAX];
-        for (int i = 0; i < 6; i++) {
-            double b = pb->w[i] > 0.0 ? HUGE_VAL : 0.0;
-            lb[i] = -b, ub[i] = b;
-            if (b == 0.0) xs[i] = 0.0;
-        }
-        for (int k = 0; !st->reduced && k < pb->n; k++)
-            lb[6 + k] = pb->ri_lo[k], ub[6 + k] = pb->ri_hi[k];
-        if ((e = nl(nlopt_set_lower_bounds(st->opt, lb), "set_lower_bounds", d)) ||
-            (e = nl(nlopt_set_upper_bounds(st->opt, ub), "set_upper_bounds", d)) ||
-            (st->reduced &&
-             (e = nl(nlopt_set_initial_step1(st->opt, cobyla_step(pb)), "set_initial_step", d))))
-            return e;
-    }
-    double v[HP_PROBLEM_NX_MAX];
     memcpy(v, xs, (size_t)st->nx * sizeof *v);
     st->pb = pb;
     st->eval_failed = 0;
@@ -353,6 +332,90 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
         }
     }
     hpi_backend_clip(pb, v);
+}
+
+/* The objective at v, +inf when it cannot be evaluated. */
+static double objective_at(const hp_problem *pb, const double *v)
+{
+    double f;
+    return hpi_problem_objective(pb, v, &f, NULL, NULL) == HP_OK && isfinite(f) ? f : HUGE_VAL;
+}
+
+/* SLSQP cannot tell a local minimum from the closest pose (its stopping tests say nothing
+ * about other minima), and the closest pose of a far target can be any of several vertices
+ * of the limits (docs/planner.md, Restarts). After a converged answer v that binds a limit
+ * (a radius within HP_BINDING_TOL_MM of a bound) it solves again from settings.restarts
+ * deterministic starts (hpi_multistart_point) while max_time lasts, and keeps the answer of
+ * least objective among those converged that the core's first-order check accepts, so a
+ * restart never turns an answer into a refused one. The iterations add up; t0 is when the
+ * solve began (the budget is the whole solve's). */
+static void restart(nlopt_state *st, const hp_problem *pb, const double *xs, double t0, double *v,
+                    hp_backend_result *r)
+{
+    if (st->s.restarts <= 0 || !r->converged) return;
+    /* Only when a limit binds: with none the objective's one minimum is the target. */
+    int binds = 0;
+    for (int k = 0; k < pb->n; k++)
+        binds |= !(v[6 + k] - pb->ri_lo[k] > HP_BINDING_TOL_MM &&
+                   pb->ri_hi[k] - v[6 + k] > HP_BINDING_TOL_MM);
+    if (!binds) return;
+    /* The solve's tolerance, not the pose tolerance: a looser pose tolerance is solved as
+     * the default one (create_common), restarts included. */
+    const double stol = fmin(st->s.tolerance, HP_NLOPT_SOLVE_TOL_MAX);
+    double best = objective_at(pb, v);
+    for (int j = 1; j <= st->s.restarts; j++) {
+        double left = st->s.max_time - (hpi_plan_now() - t0);
+        if (!(left > 0.0) || nlopt_set_maxtime(st->opt, left) < 0) break;
+        double xj[HP_PROBLEM_NX_MAX], vj[HP_PROBLEM_NX_MAX];
+        hp_backend_result rj = *r;
+        hpi_multistart_point(pb, xs, j, xj);
+        hpi_backend_clip(pb, xj);
+        one_solve(st, pb, xj, vj, &rj);
+        r->iterations += rj.iterations;
+        double f = objective_at(pb, vj);
+        /* Better by more than rounding: 1e-12 of the objective (a squared distance). */
+        if (!rj.converged || !(f < best * (1.0 - 1e-12)) ||
+            !hpi_backend_first_order_ok(pb, vj, stol))
+            continue;
+        best = f;
+        memcpy(v, vj, (size_t)st->nx * sizeof *v);
+        r->status = rj.status;
+        r->raw_code = rj.raw_code;
+    }
+    nlopt_set_maxtime(st->opt, st->s.max_time);
+}
+
+static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0, double *x,
+                            hp_backend_result *r, hp_diag *d)
+{
+    nlopt_state *st = state;
+    if (!st || !pb || !x || !r) return hp_diag_set(d, HP_ERR_NULL, "nlopt: NULL argument");
+    double xs[HP_PROBLEM_NX_MAX];
+    int go;
+    hp_error e = hpi_backend_begin("nlopt", pb, st->n, st->nx, x0, xs, r, &go, d);
+    if (e != HP_OK || !go) return e;
+    double t0 = st->s.restarts > 0 ? hpi_plan_now() : 0.0;
+
+    {
+        /* An uncommanded pose component (weight 0) is fixed at 0, as the core holds it:
+         * left free, the solver uses it to meet the contacts. */
+        double lb[HP_PROBLEM_NX_MAX], ub[HP_PROBLEM_NX_MAX];
+        for (int i = 0; i < 6; i++) {
+            double b = pb->w[i] > 0.0 ? HUGE_VAL : 0.0;
+            lb[i] = -b, ub[i] = b;
+            if (b == 0.0) xs[i] = 0.0;
+        }
+        for (int k = 0; !st->reduced && k < pb->n; k++)
+            lb[6 + k] = pb->ri_lo[k], ub[6 + k] = pb->ri_hi[k];
+        if ((e = nl(nlopt_set_lower_bounds(st->opt, lb), "set_lower_bounds", d)) ||
+            (e = nl(nlopt_set_upper_bounds(st->opt, ub), "set_upper_bounds", d)) ||
+            (st->reduced &&
+             (e = nl(nlopt_set_initial_step1(st->opt, cobyla_step(pb)), "set_initial_step", d))))
+            return e;
+    }
+    double v[HP_PROBLEM_NX_MAX];
+    one_solve(st, pb, xs, v, r);
+    if (!st->reduced) restart(st, pb, xs, t0, v, r);
     memcpy(x, v, (size_t)st->nx * sizeof *x);
     return HP_OK;
 }

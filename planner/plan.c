@@ -329,14 +329,7 @@ static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
 static int closest_verified(const hp_planner *p, const double *x)
 {
     if (p->ops->caps & HP_BACKEND_CERTIFIES) return 1;
-    hp_kkt_measure m;
-    if (hpi_backend_kkt_measure(&p->pb, x, &m) != HP_OK) return 0;
-    /* Loose on purpose: SLSQP's answers stop up to ~1e-5 mm/deg short and its multipliers
-     * are not exact, while a stalled start point misses stationarity by O(1) of the
-     * gradient; 1e-3 of the gradient's scale separates the two. */
-    double feas = 10.0 * p->s.tolerance > 1e-6 ? 10.0 * p->s.tolerance : 1e-6;
-    double stat = 1e-3 * (1.0 + m.grad_max);
-    return m.in_bounds && m.feasibility <= feas && m.stationarity <= stat && m.wrong_sign <= stat;
+    return hpi_backend_first_order_ok(&p->pb, x, p->s.tolerance);
 }
 
 /* 1 when the strict round trip of answer r gives back achieved, its achieved pose

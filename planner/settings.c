@@ -23,6 +23,7 @@ void hp_settings_default(hp_settings *s)
     memset(&s->load, 0, sizeof s->load); /* no load */
     s->load_geometry = HP_DEFAULT_LOAD_GEOMETRY;
     s->load_tiebreak = HP_DEFAULT_LOAD_TIEBREAK;
+    s->restarts = HP_DEFAULT_RESTARTS;
 }
 
 /* Each check accepts only finite values in range; written as !(v > x) so NaN fails. */
@@ -63,6 +64,11 @@ const char *hpi_check_weight(double v)
                : "must be in [1e-6, 1e6] (its square and inverse square enter the objective)";
 }
 
+const char *hpi_check_restarts(long v)
+{
+    return (v >= 0 && v <= HP_RESTARTS_MAX) ? NULL : "must be an integer in 0..64";
+}
+
 hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
 {
     if (!s) return hp_diag_set(d, HP_ERR_NULL, "settings: NULL");
@@ -94,6 +100,8 @@ hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
                            s->use_rate_limits);
     if (s->warm_start != 0 && s->warm_start != 1)
         return hp_diag_set(d, HP_ERR_INVALID, "warm_start: must be 0 or 1 (got %d)", s->warm_start);
+    if ((why = hpi_check_restarts(s->restarts)))
+        return hp_diag_set(d, HP_ERR_INVALID, "restarts: %s (got %d)", why, s->restarts);
     /* The load: none (mass exactly 0, the default) or one that hp_load_spec_validate
      * accepts; the load level needs one. */
     int has_load = !(s->load.mass == 0.0);

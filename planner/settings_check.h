@@ -16,6 +16,8 @@
 /* Longest iteration budget and time budget a plan may be given. */
 #define HP_MAX_ITER_MAX 1000000
 #define HP_MAX_TIME_MAX 3600.0
+/* Most restarts a plan may be given: each is a full solve. */
+#define HP_RESTARTS_MAX 64
 
 const char *hpi_check_level_tolerance(double v); /* [m] */
 const char *hpi_check_auto_trans(double v);      /* [m] */
@@ -24,5 +26,6 @@ const char *hpi_check_tolerance(double v);       /* mm and degrees */
 const char *hpi_check_max_iter(long v);
 const char *hpi_check_max_time(double v); /* [s] */
 const char *hpi_check_weight(double v);   /* mm per degree */
+const char *hpi_check_restarts(long v);
 
 #endif

@@ -148,6 +148,7 @@ HP_API const char *hp_binding_name(unsigned flag);
 #define HP_DEFAULT_WARM_START 1
 #define HP_DEFAULT_LOAD_GEOMETRY HP_LEVEL_SURFACE
 #define HP_DEFAULT_LOAD_TIEBREAK HP_TIE_LEAST_SQUEEZE
+#define HP_DEFAULT_RESTARTS 7 /* NLopt SLSQP: 1/8, 2/8, ... 7/8 of the way to the target */
 
 /* The load level (HP_LEVEL_LOAD, docs/load.md): a desired pose -> the pressures that HOLD the
  * head there against its weight. At a pose the six equilibrium equations are linear in the
@@ -185,6 +186,12 @@ typedef struct hp_settings {
     hp_level load_geometry;         /* the load level's contact geometry: linear, plane, surface */
     hp_load_tiebreak load_tiebreak; /* which holding pressures a reachable pose gets;
                                  HP_TIE_STIFFNESS needs a backend that solves it (ipopt) */
+    /* A local method's closest pose depends on where it starts (docs/planner.md, Restarts).
+     * NLopt SLSQP cannot tell a local minimum from the closest pose: after a converged
+     * answer short of the target it solves again from this many deterministic starts along
+     * the correction (within max_time) and keeps the closest answer. 0..64; the other
+     * backends ignore it. */
+    int restarts;
 } hp_settings;
 
 /* Fills every field with its HP_DEFAULT_* value (load: all zero, no load). s may be NULL

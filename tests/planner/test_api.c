@@ -40,10 +40,11 @@ static void test_settings_defaults(void **st)
     assert_false(FIELD_KEPT_SENTINEL(s, load.gravity));
     assert_false(FIELD_KEPT_SENTINEL(s, load_geometry));
     assert_false(FIELD_KEPT_SENTINEL(s, load_tiebreak));
-    /* load_tiebreak is the last field (the struct ends there, up to alignment), so a field
+    assert_false(FIELD_KEPT_SENTINEL(s, restarts));
+    /* restarts is the last field (the struct ends there, up to alignment), so a field
      * appended without a line above fails this test. (Backend-only switches are options of
      * the backend, hp_planner_set_option, not fields.) */
-    size_t end = offsetof(hp_settings, load_tiebreak) + sizeof s.load_tiebreak;
+    size_t end = offsetof(hp_settings, restarts) + sizeof s.restarts;
     assert_int_equal(sizeof s, (end + _Alignof(hp_settings) - 1) / _Alignof(hp_settings) *
                                    _Alignof(hp_settings));
     assert_int_equal(s.backend, HP_DEFAULT_BACKEND);
@@ -53,6 +54,7 @@ static void test_settings_defaults(void **st)
     assert_true(s.load.mass == 0.0); /* no load */
     assert_int_equal(s.load_geometry, HP_DEFAULT_LOAD_GEOMETRY);
     assert_int_equal(s.load_tiebreak, HP_DEFAULT_LOAD_TIEBREAK);
+    assert_int_equal(s.restarts, HP_DEFAULT_RESTARTS);
     assert_int_equal(hp_settings_validate(&s, NULL), HP_OK);
     hp_settings_default(NULL); /* no crash */
 }
@@ -115,6 +117,8 @@ static void b_weight(hp_settings *s) { s->weight_mm_per_deg = -1.0; }
 static void b_mu(hp_settings *s) { s->mu = NAN; }
 static void b_rate(hp_settings *s) { s->use_rate_limits = 2; }
 static void b_warm(hp_settings *s) { s->warm_start = -1; }
+static void b_restarts(hp_settings *s) { s->restarts = -1; }
+static void b_restarts_many(hp_settings *s) { s->restarts = 65; }
 
 static void test_settings_validator(void **st)
 {
@@ -135,6 +139,8 @@ static void test_settings_validator(void **st)
         {"mu", b_mu},
         {"use_rate_limits", b_rate},
         {"warm_start", b_warm},
+        {"restarts", b_restarts},
+        {"restarts", b_restarts_many},
     };
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; ++i) {
         hp_settings s;
