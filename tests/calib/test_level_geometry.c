@@ -22,7 +22,8 @@ static int listed(int l)
 static void test_predicate(void **state)
 {
     (void)state;
-    for (int l = FIRST; l <= LAST; ++l) assert_int_equal(hp_level_is_geometry((hp_level)l), listed(l));
+    for (int l = FIRST; l <= LAST; ++l)
+        assert_int_equal(hp_level_is_geometry((hp_level)l), listed(l));
 }
 
 static void test_contact_calls(void **state)
@@ -62,7 +63,8 @@ static void test_settings(void **state)
         s.load_geometry = (hp_level)l;
         hp_diag d = {{0}};
         assert_int_equal(hp_settings_validate(&s, &d), listed(l) ? HP_OK : HP_ERR_INVALID);
-        if (!listed(l)) assert_non_null(strstr(d.text, "load_geometry: must be linear, plane or surface"));
+        if (!listed(l))
+            assert_non_null(strstr(d.text, "load_geometry: must be linear, plane or surface"));
     }
 }
 
