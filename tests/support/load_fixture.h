@@ -7,6 +7,10 @@
 
 #include "headplan/hp_planner.h"
 
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
 static inline hp_error load_create(const hp_layout *L, const hp_load_spec *spec,
                                    const hp_settings *s, hp_load_tiebreak tie, hp_planner **out,
                                    hp_diag *d)
@@ -27,6 +31,45 @@ static inline hp_error load_plan(hp_planner *p, const double desired[6], hp_resu
     hp_error e = hp_plan(p, desired, r);
     if (e == HP_OK && info) e = hp_planner_load_info(p, info);
     return e;
+}
+
+/* The largest |Q_i| (N on the force rows, N·m on the moment rows) an answer held at its pose
+ * may leave: the planner accepts 1e-9 N on the force rows (5.7e-11 N·m/rad on the moment
+ * rows); 10x that, far below the ~1 N/mm x 1e-6 mm a visible pose change would take. */
+#define LOAD_Q_TOL 1e-8
+
+/* The forward model's verdict on a load-level answer r to `desired` of planner p, written
+ * from hp_load_eval alone: an answer (REACHED, CLOSEST) holds the head at its achieved pose
+ * (the generalized force of the returned pressures there within LOAD_Q_TOL), and a REACHED
+ * one holds it at the desired pose itself (the achieved pose is the desired one, bit for
+ * bit). Other statuses pass (the safe output is checked where it is the subject). Returns 1
+ * when confirmed, else 0 with the reason in why. */
+static inline int load_confirms(const hp_planner *p, const double desired[6], const hp_result *r,
+                                char *why, size_t len)
+{
+    if (r->status != HP_STATUS_REACHED && r->status != HP_STATUS_CLOSEST) return 1;
+    if (r->status == HP_STATUS_REACHED)
+        for (int i = 0; i < 6; ++i)
+            if (memcmp(&r->achieved[i], &desired[i], sizeof(double)) != 0) {
+                snprintf(why, len, "reached, achieved[%d] %.17g is not desired %.17g", i,
+                         r->achieved[i], desired[i]);
+                return 0;
+            }
+    double P[HP_MAX_BLADDERS], Q[6];
+    for (int k = 0; k < r->n; ++k) P[k] = r->bladders[k].pressure;
+    if (hp_load_eval(hp_planner_load_model(p), r->achieved, P, Q, NULL, NULL, NULL, NULL) !=
+        HP_OK) {
+        snprintf(why, len, "%s, the load model cannot evaluate the answer",
+                 hp_status_name(r->status));
+        return 0;
+    }
+    for (int i = 0; i < 6; ++i)
+        if (!(fabs(Q[i]) <= LOAD_Q_TOL)) {
+            snprintf(why, len, "%s, not held at its pose: Q[%d] = %.3g", hp_status_name(r->status),
+                     i, Q[i]);
+            return 0;
+        }
+    return 1;
 }
 
 #endif
