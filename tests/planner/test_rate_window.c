@@ -20,32 +20,14 @@
 #define N_CHAIN 4
 #define SEED 0x5EEDu
 
-/* A planner on the default layout with every rate_max = rate [Pa]; at the load level
- * carrying 20 % of the default head's weight along -Z at the surface geometry (what this
- * layout, stretch_max 1.3, holds; the reliability tests carry the same). NULL for a
- * backend that does not plan the load level, which create must refuse by name. */
+/* A planner on the default layout with every rate_max = rate [Pa] (load_lf_planner: at
+ * the load level carrying 20 % of the head's weight). NULL for a backend that does not plan
+ * the load level, which create refuses by name. */
 static hp_planner *limited(hp_backend bk, hp_level level, double rate)
 {
-    hp_planner *p = NULL;
-    if (level != HP_LEVEL_LOAD) {
-        assert_int_equal(lf_planner_backend(bk, level, rate, &p), HP_OK);
-        return p;
-    }
-    hp_layout L;
-    assert_int_equal(lf_layout(&L), HP_OK);
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = rate;
-    hp_settings s;
-    hp_settings_default(&s);
-    s.backend = bk;
-    s.level = HP_LEVEL_SURFACE;
-    hp_load_spec spec;
-    hp_load_spec_default(&L.head, &spec);
-    spec.mass *= 0.2;
-    hp_diag d = {{0}};
-    hp_error e = load_create(&L, &spec, &s, HP_TIE_LEAST_SQUEEZE, &p, &d);
-    if (e == HP_ERR_INVALID && strstr(d.text, "not available at the load level")) return NULL;
-    if (e != HP_OK) print_error("create %s/load: %s\n", hp_backend_name(bk), d.text);
-    assert_int_equal(e, HP_OK);
+    int refused = 0;
+    hp_planner *p = load_lf_planner(bk, level, rate, &refused);
+    if (!refused) assert_non_null(p);
     return p;
 }
 

@@ -6,6 +6,7 @@
 #define TESTS_PLANNER_LOAD_FIXTURE_H
 
 #include "headplan/hp_planner.h"
+#include "support/layout_fixture.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -31,6 +32,47 @@ static inline hp_error load_plan(hp_planner *p, const double desired[6], hp_resu
     hp_error e = hp_plan(p, desired, r);
     if (e == HP_OK && info) e = hp_planner_load_info(p, info);
     return e;
+}
+
+/* The load the tests built on support/layout_fixture.h's default layout carry at the load
+ * level: 20 % of the default head's weight along -Z (8.8 N; the neck rest carries the rest),
+ * which that layout (stretch_max 1.3) holds; tests/reliability carries the same. */
+#define LOAD_LF_FRACTION 0.2
+
+/* A planner on layout_fixture.h's default layout (lf_layout)
+ * with backend b at any level, every rate_max = rate [Pa]; at the load level carrying
+ * LOAD_LF_FRACTION of the head's weight at the surface geometry. Returns NULL, the message
+ * printed, when create fails, and NULL silently when b does not plan the load level and
+ * create refuses it by name (*refused = 1 then; may be NULL). */
+static inline hp_planner *load_lf_planner(hp_backend b, hp_level level, double rate, int *refused)
+{
+    if (refused) *refused = 0;
+    hp_layout L;
+    if (lf_layout(&L) != HP_OK) return NULL;
+    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = rate;
+    hp_settings s;
+    hp_settings_default(&s);
+    s.backend = b;
+    s.level = level;
+    hp_planner *p = NULL;
+    hp_diag d = {{0}};
+    hp_error e;
+    if (level == HP_LEVEL_LOAD) {
+        hp_load_spec spec;
+        hp_load_spec_default(&L.head, &spec);
+        spec.mass *= LOAD_LF_FRACTION;
+        s.level = HP_LEVEL_SURFACE;
+        e = load_create(&L, &spec, &s, HP_TIE_LEAST_SQUEEZE, &p, &d);
+        if (e == HP_ERR_INVALID && strstr(d.text, "not available at the load level")) {
+            if (refused) *refused = 1;
+            return NULL;
+        }
+    } else {
+        e = hp_planner_create(&L, &s, &p, &d);
+    }
+    if (e != HP_OK)
+        fprintf(stderr, "create %s/%s: %s\n", hp_backend_name(b), hp_level_name(level), d.text);
+    return p;
 }
 
 /* The largest |Q_i| (N on the force rows, N·m on the moment rows) an answer held at its pose
