@@ -119,7 +119,7 @@ static void stretch_limits_exact_load_level(void **st)
 {
     (void)st;
     /* Fewer plans: a load plan costs several contact plans (the held-pose searches). */
-    stretch_limits_exact_at(HP_LEVEL_LOAD, 24);
+    stretch_limits_exact_at(HP_LEVEL_LOAD, 16);
 }
 
 /* The directed products themselves, against __float128 (exact for a product of two

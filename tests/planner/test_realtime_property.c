@@ -163,8 +163,8 @@ static void test_default_layout(void **st)
     run(&L, HP_LEVEL_SURFACE, INFINITY, 3, 400);
     run(&L, HP_LEVEL_LINEAR, 250.0, 4, 400);
     run(&L, HP_LEVEL_SURFACE, 250.0, 5, 200);
-    run(&L, HP_LEVEL_LOAD, INFINITY, 10, 30);
-    run(&L, HP_LEVEL_LOAD, 250.0, 11, 20);
+    run(&L, HP_LEVEL_LOAD, INFINITY, 10, 24);
+    run(&L, HP_LEVEL_LOAD, 250.0, 11, 16);
 }
 
 /* C2 = 0: a neo-Hookean shell with an inflation limit point; the stretch limit placed just
@@ -177,7 +177,7 @@ static void test_soft_material(void **st)
     assert_int_equal(lf_soft_layout(&L, 2.0, &lp), HP_OK);
     run(&L, HP_LEVEL_LINEAR, INFINITY, 6, 500);
     run(&L, HP_LEVEL_SURFACE, INFINITY, 7, 200);
-    run(&L, HP_LEVEL_LOAD, INFINITY, 12, 15);
+    run(&L, HP_LEVEL_LOAD, INFINITY, 12, 12);
 }
 
 static void test_sphere(void **st)
