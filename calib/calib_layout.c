@@ -9,6 +9,7 @@
 #include "kinematics/kin_geom.h"
 #include "kinematics/kin_internal.h"
 #include "kinematics/linalg.h"
+#include "kinematics/names.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -214,9 +215,11 @@ static hp_error setup(const hp_layout *L, const hp_calib_row *rows, int n,
     if (e0 != HP_OK) return e0;
     if (n < 1 || n > HP_CALIB_MAX_ROWS)
         return hp_diag_set(d, HP_ERR_INVALID, "rows: %d (need 1..%d)", n, HP_CALIB_MAX_ROWS);
-    if (opt->level != HP_LEVEL_LINEAR && opt->level != HP_LEVEL_PLANE &&
-        opt->level != HP_LEVEL_SURFACE)
-        return hp_diag_set(d, HP_ERR_INVALID, "level: must be linear, plane or surface");
+    if (!hp_level_is_geometry(opt->level)) {
+        char names[64];
+        return hp_diag_set(d, HP_ERR_INVALID, "level: must be %s",
+                           hpi_level_geometry_names(names, sizeof names));
+    }
     if (!(opt->sigma_trans > 0) || !isfinite(opt->sigma_trans) || !(opt->sigma_rot > 0) ||
         !isfinite(opt->sigma_rot))
         return hp_diag_set(d, HP_ERR_INVALID, "sigma: must be finite and > 0");

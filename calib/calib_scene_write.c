@@ -150,8 +150,7 @@ hp_error hp_calib_write_scene(const char *path, const hp_layout *L, hp_level lev
     hp_layout chk = *L; /* the full checks, on a copy: L is the caller's */
     hp_error e0 = hp_layout_prepare(&chk, d);
     if (e0 != HP_OK) return e0;
-    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE &&
-        level != HP_LEVEL_AUTO)
+    if (!hp_level_is_geometry(level) && level != HP_LEVEL_AUTO)
         return hp_diag_set(d, HP_ERR_INVALID, "level: unknown");
     hp_error refused = hp_calib_check_output(path, inputs, n_inputs, d);
     if (refused) return refused;

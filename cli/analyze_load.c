@@ -20,6 +20,27 @@ typedef struct load_report {
     hp_load_info info;
 } load_report;
 
+/* What auto decides with this load: the planner's own decision and reason
+ * (hp_planner_level_for, what hp_planner_create runs for solve, batch and Python) from the
+ * scene's settings with level auto and the load of `load` (the scene's, or the assumed
+ * one), so that for a scene that states its load this line is the reason solve gives. */
+static hp_error auto_choice(const hp_scene *sc, const hp_settings *load, load_report *rep)
+{
+    hp_settings s;
+    hp_diag d = {{0}};
+    hp_error e = hp_scene_settings(sc, &s, &d);
+    if (e != HP_OK) return e;
+    s.level = HP_LEVEL_AUTO;
+    s.load = load->load;
+    s.load_geometry = load->load_geometry;
+    s.load_tiebreak = load->load_tiebreak;
+    s.backend = load->backend;
+    hp_level chosen = HP_LEVEL_AUTO;
+    e = hp_planner_level_for(&sc->layout, &s, &chosen, rep->why, sizeof rep->why, &d);
+    rep->use_load = e == HP_OK && chosen == HP_LEVEL_LOAD;
+    return e;
+}
+
 /* Fills rep; returns 0, or -1 when the scene states no mass. */
 static int compute(const hp_scene *sc, load_report *rep)
 {
@@ -39,8 +60,8 @@ static int compute(const hp_scene *sc, load_report *rep)
     hp_planner *p = NULL;
     hp_diag d = {{0}};
     hp_error e = hp_planner_create(&sc->layout, &s, &p, &d);
-    /* The sag and auto's verdict from the planner's load model; a layout the load level
-     * refuses still has them (its own model), with the refusal beside them. */
+    /* The sag from the planner's load model; a layout the load level refuses still has it
+     * (its own model), with the refusal beside it. */
     hp_load_model *own = NULL;
     const hp_load_model *M = hp_planner_load_model(p);
     if (e != HP_OK) {
@@ -48,9 +69,9 @@ static int compute(const hp_scene *sc, load_report *rep)
         if (hp_load_model_create(&sc->layout, &rep->spec, s.load_geometry, &own, &d) == HP_OK)
             M = own;
     }
-    if (!M || hp_load_predicted_sag(M, &rep->sag, &rep->k_gravity) != HP_OK ||
-        hp_load_auto_choose(M, sc->level_tolerance, &rep->use_load, NULL, rep->why,
-                            sizeof rep->why) != HP_OK) {
+    /* A layout the planner refuses has no decision of auto's to report: no auto line. */
+    if (auto_choice(sc, &s, rep) != HP_OK) rep->why[0] = '\0';
+    if (!M || hp_load_predicted_sag(M, &rep->sag, &rep->k_gravity) != HP_OK) {
         if (!M) snprintf(rep->refused, sizeof rep->refused, "%s", d.text);
         hp_load_model_destroy(own);
         hp_planner_destroy(p);

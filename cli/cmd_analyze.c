@@ -230,9 +230,12 @@ static int print_json(const hp_scene *sc, const analysis *r)
     json_object_set_new(b, "translation_mm", json_real(r->x.trans * 1e3));
     json_object_set_new(b, "rotation_deg", json_real(r->x.rot * 180.0 / HP_PI));
     json_object_set_new(b, "range_source", json_string(r->range_from_scene ? "scene" : "default"));
-    json_object_set_new(b, "linear_mm", json_real(r->x.bound_linear * 1e3));
-    json_object_set_new(b, "plane_mm", json_real(r->x.bound_plane * 1e3));
-    json_object_set_new(b, "surface_mm", json_real(0.0));
+    for (int l = 0; l < HP_LEVEL_COUNT_; ++l) {
+        if (!hp_level_is_geometry((hp_level)l)) continue;
+        char key[32];
+        snprintf(key, sizeof key, "%s_mm", hp_level_name((hp_level)l));
+        json_object_set_new(b, key, json_real(r->x.bound[l] * 1e3));
+    }
     json_object_set_new(b, "auto_level", json_string(hp_level_name(r->x.auto_level)));
     json_object_set_new(o, "error_bounds", b);
     json_object_set_new(o, "head", head_json(&L->head));
@@ -333,9 +336,12 @@ static void print_text(const hp_scene *sc, const analysis *r)
            r->x.trans * 1e3, r->x.rot * 180.0 / HP_PI,
            r->range_from_scene ? "model.auto_translation_mm/auto_rotation_deg"
                                : "default range: the scene states none");
-    printf("%-13s %.6g mm\n", "linear", r->x.bound_linear * 1e3);
-    printf("%-13s %.6g mm\n", "plane", r->x.bound_plane * 1e3);
-    printf("%-13s 0 (exact)\n", "surface");
+    for (int l = 0; l < HP_LEVEL_COUNT_; ++l) {
+        if (!hp_level_is_geometry((hp_level)l)) continue;
+        /* The exact distance's bound is 0 by definition, which the text says in words. */
+        if (l == HP_LEVEL_SURFACE) printf("%-13s 0 (exact)\n", hp_level_name((hp_level)l));
+        else printf("%-13s %.6g mm\n", hp_level_name((hp_level)l), r->x.bound[l] * 1e3);
+    }
     printf("%-13s %s (tolerance %.6g mm)\n", "auto picks", hp_level_name(r->x.auto_level),
            sc->level_tolerance * 1e3);
     char model[HP_DIAG_MAX + 256];

@@ -13,6 +13,7 @@
 #include "cli/fit_plot.h"
 #include "cli/gnuplot_out.h"
 #include "headplan/headplan.h"
+#include "kinematics/names.h"
 
 #include <jansson.h>
 #include <math.h>
@@ -27,6 +28,7 @@
 
 static void help(void)
 {
+    char geometries[64];
     printf("usage: headplan fit material DATA --Ri-mm R --Ro-mm R [--fit-ref Ri|Ro]\n"
            "                             [--plot OUT.svg] [--json]\n"
            "       headplan fit layout SCENE DATA [-o OUT.yaml] [--level L] [--fit WHAT]\n"
@@ -45,7 +47,7 @@ static void help(void)
            "  (pressures, pose) rows. DATA is CSV: p_<bladder>_pa (or _kpa) for every bladder of\n"
            "  SCENE, then x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg.\n"
            "  -o OUT.yaml        write the calibrated scene (atomically; never over an input)\n"
-           "  --level L          forward model: linear, plane or surface (default: the scene's\n"
+           "  --level L          forward model: %s (default: the scene's\n"
            "                     level, auto resolved as solve does)\n"
            "  --fit WHAT         a comma list of offsets, axes, mass (default offsets,axes; with\n"
            "                     a load section also mass, fitted through the forward statics)\n"
@@ -59,7 +61,8 @@ static void help(void)
            "Intervals are 95 %% (Student's t), from the fit's Jacobian with the scatter estimated\n"
            "from the residuals. exit status: 0 ok, 64 usage, 65 bad data or data that cannot\n"
            "determine the fit, 66 cannot open, 69 gnuplot missing (--plot), 70 internal failure,\n"
-           "73 cannot write\n");
+           "73 cannot write\n",
+           hpi_level_geometry_names(geometries, sizeof geometries));
 }
 
 static int status_of(hp_error e)
@@ -454,9 +457,10 @@ static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fi
     if (sc->has_load) {
         o->load = &sc->load;
         if (!a->level) o->level = sc->load_geometry;
-        if (o->level == HP_LEVEL_AUTO)
-            return cli_fail(CLI_EXIT_USAGE, CMD,
-                            "--level: the forward statics need linear, plane or surface");
+        char geometries[64];
+        if (!hp_level_is_geometry(o->level))
+            return cli_fail(CLI_EXIT_USAGE, CMD, "--level: the forward statics need %s",
+                            hpi_level_geometry_names(geometries, sizeof geometries));
         return 0;
     }
     if (o->level == HP_LEVEL_AUTO &&

@@ -86,8 +86,7 @@ hp_error hp_layout_analyze(const hp_layout *L, hp_level level, hp_layout_analysi
     if (!L || !out) return HP_ERR_NULL;
     hp_geom G;
     if (hpi_geom_derive(L, &G, NULL) != HP_OK) return HP_ERR_INVALID;
-    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
-        return HP_ERR_INVALID;
+    if (!hp_level_is_geometry(level)) return HP_ERR_INVALID;
     double xi0[6] = {0}, J[HP_MAX_BLADDERS * 6];
     hp_error err = hp_contact_eval(L, HP_LEVEL_LINEAR, xi0, NULL, J, NULL);
     if (err) return err;

@@ -29,6 +29,7 @@
  * ½(V²/(Rmin + ρa − V) + A) on the surface while V < ρa. */
 #include "kin_internal.h"
 #include "kin_geom.h"
+#include "kinematics/names.h"
 #include "common/units.h"
 
 #include <math.h>
@@ -90,8 +91,7 @@ hp_error hpi_contact_error_bound_g(const hp_layout *L, const hp_geom *G, hp_leve
 {
     if (!L || !G || !bound) return HP_ERR_NULL;
     if (!(trans >= 0) || !isfinite(trans) || !(rot >= 0) || !isfinite(rot)) return HP_ERR_INVALID;
-    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
-        return HP_ERR_INVALID;
+    if (!hp_level_is_geometry(level)) return HP_ERR_INVALID;
     double worst = 0.0;
     if (level != HP_LEVEL_SURFACE)
         for (int k = 0; k < L->n; ++k) {
@@ -107,18 +107,17 @@ hp_error hpi_contact_auto_g(const hp_layout *L, const hp_geom *G, double tol, do
 {
     if (!L || !G || !level) return HP_ERR_NULL;
     if (!(tol >= 0) || !isfinite(tol)) return HP_ERR_INVALID;
-    static const hp_level order[2] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE};
-    for (int i = 0; i < 2; ++i) {
+    /* The geometries cheapest first; the last is exact (bound 0 <= tol), so one is chosen. */
+    for (int i = 0; i < hpi_level_n_geometries; ++i) {
         double b;
-        hp_error err = hpi_contact_error_bound_g(L, G, order[i], trans, rot, &b);
+        hp_error err = hpi_contact_error_bound_g(L, G, hpi_level_geometries[i], trans, rot, &b);
         if (err) return err;
         if (b <= tol) {
-            *level = order[i];
+            *level = hpi_level_geometries[i];
             return HP_OK;
         }
     }
-    *level = HP_LEVEL_SURFACE;
-    return HP_OK;
+    return HP_ERR_INVALID; /* not reached: the exact geometry's bound is 0 */
 }
 
 hp_error hp_contact_error_bound(const hp_layout *L, hp_level level, double trans, double rot,
@@ -146,8 +145,7 @@ hp_error hpi_kin_contact_step_bound(const hp_layout *L, const hp_geom *G, hp_lev
 {
     if (!L || !G || !xi || !dxi || !bound || (level == HP_LEVEL_SURFACE && !rho))
         return HP_ERR_NULL;
-    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
-        return HP_ERR_INVALID;
+    if (!hp_level_is_geometry(level)) return HP_ERR_INVALID;
     for (int i = 0; i < 6; ++i)
         if (!isfinite(xi[i]) || !isfinite(dxi[i])) return HP_ERR_INVALID;
     /* Rates along the path are the constant dxi. With R = Rz(γ)Ry(β)Rx(α) the angular
@@ -195,8 +193,7 @@ hp_error hpi_kin_contact_ball_curvature(const hp_layout *L, const hp_geom *G, hp
                                         const double xc[6], double r, const double *rho, double *h)
 {
     if (!L || !G || !xc || !h || (level == HP_LEVEL_SURFACE && !rho)) return HP_ERR_NULL;
-    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
-        return HP_ERR_INVALID;
+    if (!hp_level_is_geometry(level)) return HP_ERR_INVALID;
     if (!(r >= 0) || !isfinite(r)) return HP_ERR_INVALID;
     for (int i = 0; i < 6; ++i)
         if (!isfinite(xc[i])) return HP_ERR_INVALID;

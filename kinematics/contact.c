@@ -190,8 +190,7 @@ static hp_error eval_args(const hp_layout *L, const hp_geom *G, hp_level level, 
                           double *rho, double *J, double *H)
 {
     if (!L || !G || !xi) return HP_ERR_NULL;
-    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
-        return HP_ERR_INVALID;
+    if (!hp_level_is_geometry(level)) return HP_ERR_INVALID;
     for (int i = 0; i < 6; ++i)
         if (!isfinite(xi[i])) {
             fill_nan(L->n, rho, J, H);

@@ -274,8 +274,7 @@ hp_error hpi_kin_fit(const hp_layout *L, const hp_geom *G, hp_level level, const
                      const hp_kin_fit_near *near, double xi[6], double *residual_rms, int *iters)
 {
     if (!L || !G || !target || !free_ || !x0 || !xi) return HP_ERR_NULL;
-    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
-        return HP_ERR_INVALID;
+    if (!hp_level_is_geometry(level)) return HP_ERR_INVALID;
     for (int k = 0; k < L->n; ++k)
         if (!isfinite(target[k])) return HP_ERR_INVALID;
     for (int i = 0; i < 6; ++i)
@@ -413,8 +412,7 @@ hp_error hpi_contact_fk_g(const hp_layout *L, const hp_geom *G, hp_level level, 
                           const double *xi0, double xi[6], double *residual_rms, int *iters)
 {
     if (!L || !G || !ro || !xi) return HP_ERR_NULL;
-    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
-        return HP_ERR_INVALID;
+    if (!hp_level_is_geometry(level)) return HP_ERR_INVALID;
     int n = L->n;
     int dof = L->head.shape == HP_HEAD_SPHERE ? 3 : 6;
     if (n < dof) return HP_ERR_INVALID;

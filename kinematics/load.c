@@ -15,6 +15,7 @@
 #include "contact_law.h"
 #include "load_internal.h"
 #include "kin_internal.h"
+#include "kinematics/names.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -54,10 +55,11 @@ hp_error hpi_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_loa
 {
     if (!M || !L || !spec) return hp_diag_set(diag, HP_ERR_NULL, "load model: NULL argument");
     memset(M, 0, sizeof *M);
-    if (level != HP_LEVEL_LINEAR && level != HP_LEVEL_PLANE && level != HP_LEVEL_SURFACE)
-        return hp_diag_set(diag, HP_ERR_INVALID,
-                           "load model: level must be linear, plane or surface (got %s)",
-                           hp_level_name(level));
+    if (!hp_level_is_geometry(level)) {
+        char names[64];
+        return hp_diag_set(diag, HP_ERR_INVALID, "load model: level must be %s (got %s)",
+                           hpi_level_geometry_names(names, sizeof names), hp_level_name(level));
+    }
     hp_error err = hp_load_spec_validate(spec, diag);
     if (err) return err;
     M->layout = *L;

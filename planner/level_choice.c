@@ -4,37 +4,47 @@
 #include "planner/planner_internal.h"
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
+#include "kinematics/names.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* Why auto chose contact level `chosen`: the bounds it compared (hp_contact_auto), every
- * cheaper level's exceeding the tolerance, the chosen one's (0 for surface) meeting it. */
+/* Why auto chose contact level `chosen`: the bounds it compared (hp_contact_auto, the
+ * geometries in its order), every cheaper geometry's exceeding the tolerance, the chosen
+ * one's meeting it (said only of an inexact one: the last geometry's bound is 0). E.g.
+ * "auto chose plane: the error bound of linear (1.56 mm) exceeds RANGE; plane's meets it". */
 static void contact_why(const hp_planner *p, hp_level chosen, char *why, size_t len)
 {
     const hp_settings *s = &p->s;
     char range[96];
     snprintf(range, sizeof range, "model.tolerance_mm %g for corrections up to %g mm, %g deg",
              s->level_tolerance * 1e3, s->auto_trans * 1e3, s->auto_rot * HP_DEG_PER_RAD);
-    double b[2] = {NAN, NAN};
-    for (int l = HP_LEVEL_LINEAR; l < (int)chosen && l <= HP_LEVEL_PLANE; ++l)
-        if (hpi_contact_error_bound_g(&p->L, &p->G, (hp_level)l, s->auto_trans, s->auto_rot,
-                                      &b[l]) != HP_OK)
-            b[l] = NAN;
     const char *name = hp_level_name(chosen);
-    if (chosen == HP_LEVEL_SURFACE)
-        snprintf(why, len,
-                 "auto chose %s: the error bounds of linear (%.3g mm) and plane "
-                 "(%.3g mm) exceed %s",
-                 name, b[0] * 1e3, b[1] * 1e3, range);
-    else if (chosen == HP_LEVEL_PLANE)
-        snprintf(why, len,
-                 "auto chose %s: the error bound of linear (%.3g mm) exceeds %s; "
-                 "plane's meets it",
-                 name, b[0] * 1e3, range);
-    else snprintf(why, len, "auto chose %s: its error bound meets %s", name, range);
+    int cheaper = 0;
+    while (cheaper < hpi_level_n_geometries && hpi_level_geometries[cheaper] != chosen) ++cheaper;
+    if (cheaper == 0 || cheaper == hpi_level_n_geometries) {
+        snprintf(why, len, "auto chose %s: its error bound meets %s", name, range);
+        return;
+    }
+    char list[160] = "";
+    size_t at = 0;
+    for (int i = 0; i < cheaper && at < sizeof list; ++i) {
+        hp_level l = hpi_level_geometries[i];
+        double b = NAN;
+        if (hpi_contact_error_bound_g(&p->L, &p->G, l, s->auto_trans, s->auto_rot, &b) != HP_OK)
+            b = NAN;
+        const char *sep = i == 0 ? "" : i == cheaper - 1 ? " and " : ", ";
+        int w = snprintf(list + at, sizeof list - at, "%s%s (%.3g mm)", sep, hp_level_name(l),
+                         b * 1e3);
+        if (w < 0) break;
+        at += (size_t)w;
+    }
+    const int exact = cheaper == hpi_level_n_geometries - 1;
+    snprintf(why, len, "auto chose %s: the error bound%s of %s %s %s%s%s%s", name,
+             cheaper > 1 ? "s" : "", list, cheaper > 1 ? "exceed" : "exceeds", range,
+             exact ? "" : "; ", exact ? "" : name, exact ? "" : "'s meets it");
 }
 
 hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_diag *d)

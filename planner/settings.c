@@ -1,6 +1,7 @@
 /* Planner settings: defaults and the one validator. */
 #include "headplan/hp_planner.h"
 #include "planner/settings_check.h"
+#include "kinematics/names.h"
 
 #include <math.h>
 #include <string.h>
@@ -113,11 +114,11 @@ hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
                            "level: load needs a load (settings load.mass > 0: what the "
                            "bladders carry)");
     }
-    if (s->load_geometry != HP_LEVEL_LINEAR && s->load_geometry != HP_LEVEL_PLANE &&
-        s->load_geometry != HP_LEVEL_SURFACE)
-        return hp_diag_set(d, HP_ERR_INVALID,
-                           "load_geometry: must be linear, plane or surface (got %d)",
-                           (int)s->load_geometry);
+    if (!hp_level_is_geometry(s->load_geometry)) {
+        char names[64];
+        return hp_diag_set(d, HP_ERR_INVALID, "load_geometry: must be %s (got %d)",
+                           hpi_level_geometry_names(names, sizeof names), (int)s->load_geometry);
+    }
     if ((int)s->load_tiebreak < 0 || s->load_tiebreak >= HP_TIE_COUNT_)
         return hp_diag_set(d, HP_ERR_INVALID, "load_tiebreak: unknown value %d",
                            (int)s->load_tiebreak);

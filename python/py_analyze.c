@@ -47,12 +47,15 @@ PyObject *hpy_analyze(PyObject *self, PyObject *args, PyObject *kwargs)
         goto fail;
     if (hpy_put(b, "tolerance_mm", PyFloat_FromDouble(s.level_tolerance * 1e3)) ||
         hpy_put(b, "translation_mm", PyFloat_FromDouble(x.trans * 1e3)) ||
-        hpy_put(b, "rotation_deg", PyFloat_FromDouble(x.rot * 180.0 / HP_PI)) ||
-        hpy_put(b, "linear_mm", PyFloat_FromDouble(x.bound_linear * 1e3)) ||
-        hpy_put(b, "plane_mm", PyFloat_FromDouble(x.bound_plane * 1e3)) ||
-        hpy_put(b, "surface_mm", PyFloat_FromDouble(0.0)) ||
-        hpy_put(b, "auto_level", PyUnicode_FromString(hp_level_name(x.auto_level))))
+        hpy_put(b, "rotation_deg", PyFloat_FromDouble(x.rot * 180.0 / HP_PI)))
         goto fail;
+    for (int l = 0; l < HP_LEVEL_COUNT_; ++l) {
+        if (!hp_level_is_geometry((hp_level)l)) continue;
+        char key[32];
+        snprintf(key, sizeof key, "%s_mm", hp_level_name((hp_level)l));
+        if (hpy_put(b, key, PyFloat_FromDouble(x.bound[l] * 1e3))) goto fail;
+    }
+    if (hpy_put(b, "auto_level", PyUnicode_FromString(hp_level_name(x.auto_level)))) goto fail;
     /* Reach: 6×2, negative then positive direction; NaN where the planner commands none. */
     double reach[12];
     for (int i = 0; i < 6; ++i)

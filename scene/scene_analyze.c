@@ -2,6 +2,7 @@
  * `headplan analyze` and the Python module's analyze(). */
 #include "headplan/hp_scene.h"
 
+#include <math.h>
 #include <string.h>
 
 hp_error hp_scene_analyze(const hp_layout *L, const hp_settings *s, hp_scene_analysis *out,
@@ -12,9 +13,12 @@ hp_error hp_scene_analyze(const hp_layout *L, const hp_settings *s, hp_scene_ana
     out->requested = s->level;
     out->trans = s->auto_trans;
     out->rot = s->auto_rot;
-    hp_error e = hp_contact_error_bound(L, HP_LEVEL_LINEAR, out->trans, out->rot,
-                                        &out->bound_linear);
-    if (!e) e = hp_contact_error_bound(L, HP_LEVEL_PLANE, out->trans, out->rot, &out->bound_plane);
+    hp_error e = HP_OK;
+    for (int l = 0; l < HP_LEVEL_COUNT_; ++l) {
+        out->bound[l] = NAN;
+        if (!e && hp_level_is_geometry((hp_level)l))
+            e = hp_contact_error_bound(L, (hp_level)l, out->trans, out->rot, &out->bound[l]);
+    }
     if (!e) e = hp_contact_auto(L, s->level_tolerance, out->trans, out->rot, &out->auto_level);
     if (e) return hp_diag_set(d, e, "error bounds: %s", hp_error_message(e));
     out->level = s->level == HP_LEVEL_AUTO ? out->auto_level : s->level;

@@ -29,13 +29,19 @@ typedef enum hp_level {
     HP_LEVEL_PLANE,      /* tangent plane at the nominal contact, moving with the head */
     HP_LEVEL_SURFACE,    /* exact distance to the moved sphere or ellipsoid */
     HP_LEVEL_AUTO,       /* the cheapest level whose error bound meets a tolerance */
-    HP_LEVEL_LOAD        /* a planner level, not a contact geometry: the head's weight held by
+    HP_LEVEL_LOAD,       /* a planner level, not a contact geometry: the head's weight held by
                             the bladders' contact forces (hp_load.h, hp_planner.h). The
                             contact functions below refuse it (HP_ERR_INVALID) */
+    HP_LEVEL_COUNT_      /* the number of levels; not a level */
 } hp_level;
-/* "linear", "plane", "surface", "auto", "load"; "unknown" for other values. */
+/* Each level's word ("linear", "plane", "surface", "auto", "load"); "unknown" for other
+ * values. */
 HP_API const char *hp_level_name(hp_level l);
 HP_API hp_error hp_level_parse(const char *s, hp_level *out);
+/* 1 when l is a contact geometry (linear, plane or surface): a level the contact calls
+ * below take, with a contact distance and an error bound; 0 for auto, load and any value
+ * outside the enum. The one test of it: every call that takes a geometry asks this. */
+HP_API int hp_level_is_geometry(hp_level l);
 
 /* Contact distances rho[k] (m) from each bladder centre to the head surface at pose xi,
  * for level linear, plane or surface (not auto). rho is signed (negative when a centre is

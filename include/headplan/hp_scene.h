@@ -161,14 +161,16 @@ HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag 
 /* The layout analysis of a scene, as `headplan analyze` and the Python analyze() report it.
  * Units SI. */
 typedef struct hp_scene_analysis {
-    hp_level requested;               /* the settings' level (may be auto) */
-    hp_level level;                   /* resolved: the level of the analysis and the reach */
-    hp_level auto_level;              /* what auto picks for level_tolerance over the range below */
-    double trans, rot;                /* [m], [rad] correction size the error bounds cover
+    hp_level requested;            /* the settings' level (may be auto) */
+    hp_level level;                /* resolved: the level of the analysis and the reach */
+    hp_level auto_level;           /* what auto picks for level_tolerance over the range below */
+    double trans, rot;             /* [m], [rad] correction size the error bounds cover
                                     (the settings' auto_trans, auto_rot) */
-    double bound_linear, bound_plane; /* [m] error bounds of the linear and plane models */
-    hp_identifiable id;               /* what the contact model can tell apart */
-    hp_layout_analysis an;            /* at level; an.reach is the planner's (hp_planner_reach) */
+    double bound[HP_LEVEL_COUNT_]; /* [m] each contact geometry's error bound against the
+                                         exact distance (hp_contact_error_bound), indexed by
+                                         hp_level: 0 for surface, NaN for auto and load */
+    hp_identifiable id;            /* what the contact model can tell apart */
+    hp_layout_analysis an;         /* at level; an.reach is the planner's (hp_planner_reach) */
 } hp_scene_analysis;
 
 /* Analyses layout L under settings s (hp_scene_settings, with any override): the contact

@@ -9,9 +9,12 @@
  * pressure limits wide enough that the stretch limits are the ones that bind, and asks for a
  * correction far beyond reach along ±Z, so that the base (or the side) bladders end on a
  * stretch limit. Every returned radius is compared in exact arithmetic, whatever the status,
- * and at least some answers must sit on the limit (else the test would show nothing). */
+ * and at least some answers must sit on the limit (else the test would show nothing).
+ * The same at the load level (every backend that plans it, carrying 20 % of the head's
+ * weight): its returned radii come from its own bounds, which must be as exact. */
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
+#include "support/load_fixture.h"
 
 #include "common/exact_prod.h"
 
@@ -35,12 +38,13 @@ static int rounds_outward(double Ri, double smin, double smax)
     return (__float128)lo < (__float128)smin * Ri || (__float128)hi > (__float128)smax * Ri;
 }
 
-static void stretch_limits_exact_every_backend(void **st)
+/* The campaign on every backend at one level (HP_LEVEL_SURFACE or HP_LEVEL_LOAD), with
+ * plans_per_backend plans each. */
+static void stretch_limits_exact_at(hp_level level, int plans_per_backend)
 {
-    (void)st;
     uint64_t seed = 20261204;
-    const int plans_per_backend = 64;
     for (int bi = 0; bi < 4; ++bi) {
+        if (level == HP_LEVEL_LOAD && backends[bi] == HP_BACKEND_NLOPT_COBYLA) continue;
         int on_limit = 0, outward = 0, checked = 0;
         for (int t = 0; t < plans_per_backend; ++t) {
             hp_layout L;
@@ -64,7 +68,16 @@ static void stretch_limits_exact_every_backend(void **st)
             s.level = HP_LEVEL_SURFACE;
             s.max_time = 60.0; /* outcomes must not depend on the machine's speed */
             hp_planner *p = NULL;
-            if (hp_planner_create(&L, &s, &p, &d) != HP_OK) print_error("create: %s\n", d.text);
+            hp_error e;
+            if (level == HP_LEVEL_LOAD) {
+                hp_load_spec spec;
+                hp_load_spec_default(&L.head, &spec);
+                spec.mass *= LOAD_LF_FRACTION;
+                e = load_create(&L, &spec, &s, HP_TIE_LEAST_SQUEEZE, &p, &d);
+            } else {
+                e = hp_planner_create(&L, &s, &p, &d);
+            }
+            if (e != HP_OK) print_error("create: %s\n", d.text);
             assert_non_null(p);
             /* Down into the base bladders (their stretch_min), or up (their stretch_max),
              * with a little of every other axis so the answers differ. */
@@ -86,12 +99,27 @@ static void stretch_limits_exact_every_backend(void **st)
             }
             hp_planner_destroy(p);
         }
-        printf("%s: %d radii checked, %d on a stretch limit; %d of %d bladders round outward\n",
-               hp_backend_name(backends[bi]), checked, on_limit, outward, plans_per_backend * 8);
+        printf("%s, %s level: %d radii checked, %d on a stretch limit; %d of %d bladders round "
+               "outward\n",
+               hp_backend_name(backends[bi]), hp_level_name(level), checked, on_limit, outward,
+               plans_per_backend * 8);
         /* The test must exercise the limit: answers on it, from pairs that round outward. */
         assert_true(on_limit >= plans_per_backend);
         assert_true(outward > 0);
     }
+}
+
+static void stretch_limits_exact_every_backend(void **st)
+{
+    (void)st;
+    stretch_limits_exact_at(HP_LEVEL_SURFACE, 64);
+}
+
+static void stretch_limits_exact_load_level(void **st)
+{
+    (void)st;
+    /* Fewer plans: a load plan costs several contact plans (the held-pose searches). */
+    stretch_limits_exact_at(HP_LEVEL_LOAD, 16);
 }
 
 /* The directed products themselves, against __float128 (exact for a product of two
@@ -126,6 +154,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(directed_products_exact),
         cmocka_unit_test(stretch_limits_exact_every_backend),
+        cmocka_unit_test(stretch_limits_exact_load_level),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -11,6 +11,7 @@
  *     planner's own last answer. */
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
+#include "support/load_fixture.h"
 #include "common/units.h"
 #include "support/ident_layouts.h"
 
@@ -132,6 +133,57 @@ static void test_surface(void **st)
     (void)st;
     check_level(HP_LEVEL_SURFACE, INFINITY);
     check_level(HP_LEVEL_SURFACE, 1500.0);
+}
+
+/* The load level (20 % of the head's weight, surface geometry): the same walk, where the
+ * weight makes the far rows CLOSEST. Its state is the previous pressures and pose alone (no
+ * solver's warm point), so both halves hold bit for bit: the planner that planned other
+ * corrections in between, and the sequential run. */
+static void check_load(double rate_max, int rows)
+{
+    hp_planner *p[3];
+    for (int j = 0; j < 3; ++j) {
+        p[j] = load_lf_planner(HP_BACKEND_REALTIME, HP_LEVEL_LOAD, rate_max, NULL);
+        assert_non_null(p[j]);
+    }
+    static hp_result seq[WALK_ROWS];
+    int closest = 0;
+    for (int i = 0; i < rows; ++i) {
+        double d[6];
+        char why[160] = "";
+        walk_row(i, d);
+        assert_int_equal(hp_plan(p[0], d, &seq[i]), HP_OK);
+        assert_true(seq[i].status == HP_STATUS_REACHED || seq[i].status == HP_STATUS_CLOSEST);
+        if (!load_confirms(p[0], d, &seq[i], why, sizeof why)) fail_msg("row %d: %s", i, why);
+        closest += seq[i].status == HP_STATUS_CLOSEST;
+    }
+    /* Both kinds of row occur. */
+    assert_true(closest >= 5 && closest <= rows - 5);
+    for (int i = 1; i < rows; ++i) {
+        double d[6], other[6];
+        walk_row(i, d);
+        walk_row(i + 17, other);
+        for (int j = 0; j < 6; ++j) other[j] = -other[j];
+        hp_result ra, rb, junk;
+        assert_int_equal(hp_plan(p[2], other, &junk), HP_OK);
+        assert_int_equal(hp_planner_set_previous_result(p[1], &seq[i - 1]), HP_OK);
+        assert_int_equal(hp_planner_set_previous_result(p[2], &seq[i - 1]), HP_OK);
+        assert_int_equal(hp_plan(p[1], d, &ra), HP_OK);
+        assert_int_equal(hp_plan(p[2], d, &rb), HP_OK);
+        same_result(&ra, &rb, i);
+        same_result(&ra, &seq[i], i);
+    }
+    print_message("load level, rate_max %g: %d of %d rows closest\n", rate_max, closest, rows);
+    for (int j = 0; j < 3; ++j) hp_planner_destroy(p[j]);
+}
+
+static void test_load(void **st)
+{
+    (void)st;
+    /* Fewer rows than at the contact levels: a load plan costs ~100 contact plans, and with
+     * the rate limits the rate origin (what set_previous_result sets) is exercised too. */
+    check_load(INFINITY, 24);
+    check_load(1500.0, 32);
 }
 
 /* The safe output after a plan that fails: the bladders and pose of the result set. */
@@ -463,6 +515,7 @@ int main(void)
         cmocka_unit_test(test_every_result_is_accepted),
         cmocka_unit_test(test_linear),
         cmocka_unit_test(test_surface),
+        cmocka_unit_test(test_load),
         cmocka_unit_test(test_set_previous_states_a_fitted_pose),
         cmocka_unit_test(test_set_previous_rank_deficient),
     };

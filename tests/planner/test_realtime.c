@@ -2,13 +2,18 @@
  * (checked by the round trip through the bladder and contact forward kinematics), the true
  * constrained optimum for unreachable ones (checked against a brute-force enumeration of
  * active sets, an independent method), degenerate vertices, rate limits, a sphere head's
- * uncommanded rotations and a soft material's limit point. */
+ * uncommanded rotations and a soft material's limit point. At the load level: the
+ * reachable corrections, held by its forward model (test_reachable_load); the brute-force
+ * optimum, vertices and the rest are statements about the contact program, whose answer the
+ * load level replaces by a balance of forces (its closest answers are checked against Ipopt
+ * in tests/reliability/test_sweep.c's test_load_level). */
 #define _POSIX_C_SOURCE 200809L /* clock_getres */
 #include "support/test_util.h"
 
 #include <float.h>
 #include <string.h>
 #include "support/layout_fixture.h"
+#include "support/load_fixture.h"
 #include "planner/backend_testing.h"
 
 #include <stdlib.h>
@@ -81,6 +86,43 @@ static void test_reachable_surface(void **s)
 {
     (void)s;
     reachable_at(HP_LEVEL_SURFACE);
+}
+
+/* The load level (20 % of the head's weight, surface geometry), the same corrections: the
+ * held ones REACHED, the pressures inside the load planner's bounds, and every answer held
+ * by the forward model (load_confirms: for REACHED, the returned pressures balance the
+ * weight at the desired pose itself, to 1e-8 N). The round trip above does not apply:
+ * there the pose comes from the contact distances alone, here from the balance of forces
+ * (its own forward model, hp_load_eval). Iterations are not 0: the load level always
+ * solves for the holding forces. Every one of these small corrections is held (measured:
+ * 60 of 60). */
+static void test_reachable_load(void **s)
+{
+    (void)s;
+    hp_planner *p = load_lf_planner(HP_BACKEND_REALTIME, HP_LEVEL_LOAD, INFINITY, NULL);
+    assert_non_null(p);
+    double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
+    assert_int_equal(hp_planner_pressure_bounds(p, lo, hi), HP_OK);
+    uint64_t seed = 12345;
+    int reached = 0;
+    const int n = 60;
+    for (int t = 0; t < n; ++t) {
+        double c[6], xi[6];
+        for (int i = 0; i < 6; ++i) c[i] = (i < 3 ? 1.0 : 0.5) * lf_uniform(&seed);
+        lf_pose(c, xi);
+        hp_result r;
+        char why[160] = "";
+        assert_int_equal(hp_plan(p, xi, &r), HP_OK);
+        assert_true(r.status == HP_STATUS_REACHED || r.status == HP_STATUS_CLOSEST);
+        reached += r.status == HP_STATUS_REACHED;
+        check_limits(hp_planner_layout(p), &r);
+        for (int k = 0; k < r.n; ++k)
+            assert_true(r.bladders[k].pressure >= lo[k] && r.bladders[k].pressure <= hi[k]);
+        if (!load_confirms(p, xi, &r, why, sizeof why)) fail_msg("target %d: %s", t, why);
+    }
+    print_message("load level: %d of %d small corrections held at the desired pose\n", reached, n);
+    assert_int_equal(reached, n);
+    hp_planner_destroy(p);
 }
 
 /* ---- brute force: every active set of at most 6 linearly independent constraints ---- *
@@ -657,6 +699,7 @@ int main(void)
         cmocka_unit_test(test_reachable_linear),
         cmocka_unit_test(test_reachable_plane),
         cmocka_unit_test(test_reachable_surface),
+        cmocka_unit_test(test_reachable_load),
         cmocka_unit_test(test_closest_matches_bruteforce),
         cmocka_unit_test(test_degenerate_vertex),
         cmocka_unit_test(test_closest_plane),

@@ -1,9 +1,13 @@
 /* Property test of the realtime planner: over seeded random and adversarial targets (tiny,
  * huge, NaN, infinities, exactly at the limits, a soft material near its limit point, rate
  * limits, every contact level) it always returns a labelled status, never a pressure or
- * stretch outside the limits, never a NaN, and holds the previous answer on failure. */
+ * stretch outside the limits, never a NaN, and holds the previous answer on failure. The
+ * same at the load level (20 % of the head's weight), where an answer must also be held by
+ * the forward model (load_confirms) and a pressure stays inside the load planner's own
+ * bounds (hp_planner_pressure_bounds, within the bladder's limits). */
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
+#include "support/load_fixture.h"
 
 #include <stdlib.h>
 
@@ -29,6 +33,14 @@ static void check_one(hp_planner *p, const hp_layout *L, const double xi[6], con
             assert_true(fabs(b->pressure - prev->bladders[k].pressure) <= rate + 1e-9);
     }
     for (int i = 0; i < 6; ++i) assert_true(isfinite(r->achieved[i]));
+    if (hp_planner_level(p) == HP_LEVEL_LOAD) {
+        double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
+        char why[160] = "";
+        assert_int_equal(hp_planner_pressure_bounds(p, lo, hi), HP_OK);
+        for (int k = 0; k < L->n; ++k)
+            assert_true(r->bladders[k].pressure >= lo[k] && r->bladders[k].pressure <= hi[k]);
+        if (!load_confirms(p, xi, r, why, sizeof why)) fail_msg("load level: %s", why);
+    }
     switch (r->status) {
     case HP_STATUS_REACHED: assert_true(r->pose_error <= 1e-9); break;
     case HP_STATUS_UNCOMMANDED: /* an answer: the commanded part reached, the rest named */
@@ -68,12 +80,26 @@ static void run(const hp_layout *L, hp_level level, double rate, uint64_t seed, 
     hp_settings s;
     hp_settings_default(&s);
     s.level = level;
+    if (level == HP_LEVEL_LOAD) { /* the load level's settings: load, surface geometry */
+        hp_load_spec_default(&C.head, &s.load);
+        s.load.mass *= LOAD_LF_FRACTION;
+        s.load_geometry = HP_LEVEL_SURFACE;
+    }
     hp_planner *p = NULL;
     assert_int_equal(hp_planner_create(&C, &s, &p, NULL), HP_OK);
     tally t = {0, {0}};
     hp_result prev, r;
     const double nan6[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
     check_one(p, &C, nan6, &prev, INFINITY, &t, &prev); /* the nominal answer */
+    if (level == HP_LEVEL_LOAD) {
+        /* The load level has no previous pressure before its first plan, which is then not
+         * rate-limited (hp_planner_set_previous), and its safe output after create is no
+         * hold of the weight; the contact levels start from the nominal answer. So the
+         * first plan here is the nominal pose's hold, unlimited, and the rest start from it. */
+        const double zero[6] = {0};
+        check_one(p, &C, zero, &prev, INFINITY, &t, &prev);
+        assert_int_equal(prev.status, HP_STATUS_REACHED);
+    }
     static const double special[] = {NAN,  INFINITY, -INFINITY, 1e300, -1e300, 0.0,
                                      -0.0, 4.9e-324, 1.0,       -1.0,  3.2,    -3.2};
     const int nspecial = (int)(sizeof special / sizeof special[0]);
@@ -96,13 +122,17 @@ static void run(const hp_layout *L, hp_level level, double rate, uint64_t seed, 
             hp_settings sq = s;
             sq.use_rate_limits = 0;
             assert_int_equal(hp_planner_create(&C, &sq, &q, NULL), HP_OK);
-            for (int b = 0; b < 60; ++b) {
+            /* 60 halvings put the target on the edge to the last bits; at the load level,
+             * whose plans cost ~100 contact plans, 16 (the edge to 2e-5 of the ray). */
+            const int halvings = level == HP_LEVEL_LOAD ? 16 : 60;
+            for (int b = 0; b < halvings; ++b) {
                 double mid = 0.5 * (lo + hi), x[6];
                 for (int i = 0; i < 6; ++i) x[i] = mid * u[i];
                 hp_result rq;
                 assert_int_equal(hp_plan(q, x, &rq), HP_OK);
+                /* The direct chain's edge; at the load level, the edge of what is held. */
                 if ((rq.status == HP_STATUS_REACHED || rq.status == HP_STATUS_UNCOMMANDED) &&
-                    rq.iterations == 0)
+                    (rq.iterations == 0 || level == HP_LEVEL_LOAD))
                     lo = mid;
                 else hi = mid;
             }
@@ -133,6 +163,8 @@ static void test_default_layout(void **st)
     run(&L, HP_LEVEL_SURFACE, INFINITY, 3, 400);
     run(&L, HP_LEVEL_LINEAR, 250.0, 4, 400);
     run(&L, HP_LEVEL_SURFACE, 250.0, 5, 200);
+    run(&L, HP_LEVEL_LOAD, INFINITY, 10, 24);
+    run(&L, HP_LEVEL_LOAD, 250.0, 11, 16);
 }
 
 /* C2 = 0: a neo-Hookean shell with an inflation limit point; the stretch limit placed just
@@ -145,6 +177,7 @@ static void test_soft_material(void **st)
     assert_int_equal(lf_soft_layout(&L, 2.0, &lp), HP_OK);
     run(&L, HP_LEVEL_LINEAR, INFINITY, 6, 500);
     run(&L, HP_LEVEL_SURFACE, INFINITY, 7, 200);
+    run(&L, HP_LEVEL_LOAD, INFINITY, 12, 12);
 }
 
 static void test_sphere(void **st)

@@ -26,10 +26,18 @@ static void check_scene(const char *file, const char *level)
             HP_OK);
     assert_int_equal(x.requested, s.level);
     assert_int_equal(x.level, want);
-    double bl;
-    assert_int_equal(
-        hp_contact_error_bound(&sc->layout, HP_LEVEL_LINEAR, s.auto_trans, s.auto_rot, &bl), HP_OK);
-    assert_memory_equal(&bl, &x.bound_linear, sizeof bl);
+    /* Every geometry's bound (linear, plane, surface: written out), NaN for the others. */
+    for (int l = 0; l < HP_LEVEL_COUNT_; ++l) {
+        if (l != HP_LEVEL_LINEAR && l != HP_LEVEL_PLANE && l != HP_LEVEL_SURFACE) {
+            assert_true(isnan(x.bound[l]));
+            continue;
+        }
+        double bl;
+        assert_int_equal(
+            hp_contact_error_bound(&sc->layout, (hp_level)l, s.auto_trans, s.auto_rot, &bl), HP_OK);
+        assert_memory_equal(&bl, &x.bound[l], sizeof bl);
+    }
+    assert_true(x.bound[HP_LEVEL_SURFACE] == 0.0);
     hp_layout_analysis an;
     assert_int_equal(hp_layout_analyze(&sc->layout, want, &an), HP_OK);
     assert_int_equal(an.rank, x.an.rank);
