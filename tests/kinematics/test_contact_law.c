@@ -237,6 +237,45 @@ static void test_fem_covers_scenes(void **st)
     assert_true(HP_CLAW_FIT_WMIN <= 3.0 / 37.4);
 }
 
+/* hpi_claw_eval_drho is the law's dF/drho with its own derivatives: its value and gradient
+ * equal the law's d[rho] and d2[.][rho] (same forward derivatives: to rounding, 1e-12), its
+ * Hessian the Richardson-extrapolated central differences of its gradient (1e-7, as above);
+ * under both laws. */
+static void test_drho(void **st)
+{
+    (void)st;
+    for (int i = 0; i < 60; ++i) {
+        hp_claw_bladder b;
+        double x[3];
+        fem_state(i, &b, x);
+        for (int law = HP_CLAW_LAW_CAP; law <= HP_CLAW_LAW_FEM; ++law) {
+            hp_claw c, r;
+            hpi_claw_eval((hp_claw_law)law, &b, x[0], x[1], x[2], &c);
+            hpi_claw_eval_drho((hp_claw_law)law, &b, x[0], x[1], x[2], &r);
+            double fs = fabs(c.d[HP_CLAW_RHO]);
+            hp_assert_close(r.F, c.d[HP_CLAW_RHO], 1e-12, 0.0);
+            const double scale[3] = {x[0], x[1], x[1]};
+            for (int j = 0; j < 3; ++j) {
+                hp_assert_close(r.d[j], c.d2[j][HP_CLAW_RHO], 1e-12, 1e-12 * fs / scale[j]);
+                for (int k = 0; k < 3; ++k) {
+                    double h = 1e-3 * scale[k], v[4];
+                    const double hs[4] = {h, -h, h / 2, -h / 2};
+                    for (int m = 0; m < 4; ++m) {
+                        double y[3] = {x[0], x[1], x[2]};
+                        y[k] += hs[m];
+                        hp_claw t;
+                        hpi_claw_eval_drho((hp_claw_law)law, &b, y[0], y[1], y[2], &t);
+                        v[m] = t.d[j];
+                    }
+                    double D1 = (v[0] - v[1]) / (2 * h), D2 = (v[2] - v[3]) / h;
+                    hp_assert_close(r.d2[j][k], (4 * D2 - D1) / 3, 1e-7,
+                                    1e-8 * fs / (scale[j] * scale[k]));
+                }
+            }
+        }
+    }
+}
+
 static void test_fem_domain(void **st)
 {
     (void)st;
@@ -419,7 +458,7 @@ int main(void)
         cmocka_unit_test(test_fem_domain),        cmocka_unit_test(test_fem_against_tables),
         cmocka_unit_test(test_bladder_of),        cmocka_unit_test(test_load_law_fem),
         cmocka_unit_test(test_load_domain_named), cmocka_unit_test(test_fem_shape),
-        cmocka_unit_test(test_fem_covers_scenes),
+        cmocka_unit_test(test_fem_covers_scenes), cmocka_unit_test(test_drho),
     };
     return cmocka_run_group_tests(t, NULL, NULL);
 }

@@ -469,16 +469,17 @@ static void test_tiebreak_stiffness(void **state)
 /* The stiffness objective's exact gradient and Hessian (load_stiffness.c) against central
  * differences (step 1e-4 kPa: truncation ~1e-8 of the scale, rounding ~1e-12), and its
  * value against the soft minimum of the eigenvalues of K assembled independently by
- * hp_load_eval (to 1e-9 N/mm). At the 10 mm lift with pressures inside every bound. */
-static void test_stiffness_derivatives(void **state)
+ * hp_load_eval (to 1e-9 N/mm). At the 10 mm lift with pressures inside every bound, under
+ * each contact law: the fitted law is not linear in P, so K(P) is not affine in P there. */
+static void stiffness_derivatives(hp_claw_law law)
 {
-    (void)state;
     hp_layout L;
     hp_load_spec s;
     hp_settings set;
     supine(&L, &s, &set);
     hp_load_model *M = NULL;
     assert_int_equal(hp_load_model_create(&L, &s, HP_LEVEL_SURFACE, &M, NULL), HP_OK);
+    M->law = law;
     const double xi[6] = {0.2e-3, -0.1e-3, 10e-3, 0.3 * 0.0174532925199, 0, 0};
     double target[HP_MAX_BLADDERS] = {0};
     hp_load_stiff S;
@@ -526,10 +527,17 @@ static void test_stiffness_derivatives(void **state)
             eh = fmax(eh, fabs(H[l * nv + j] - (gp[l] - gm[l]) / (2 * h)));
         }
     }
-    print_message("stiffness objective: |grad| %.3g, gradient error %.2g; |hess| %.3g, "
-                  "Hessian error %.2g\n",
-                  gs, eg, hs, eh);
+    print_message("stiffness objective (%s law): |grad| %.3g, gradient error %.2g; |hess| "
+                  "%.3g, Hessian error %.2g\n",
+                  law == HP_CLAW_LAW_FEM ? "fitted" : "cap", gs, eg, hs, eh);
     hp_load_model_destroy(M);
+}
+
+static void test_stiffness_derivatives(void **state)
+{
+    (void)state;
+    stiffness_derivatives(HP_CLAW_LAW_CAP);
+    stiffness_derivatives(HP_CLAW_LAW_FEM);
 }
 
 /* set_previous and the rate limits at the load level: a previous pressure outside the
