@@ -74,16 +74,27 @@ static hd hd_mul(hd x, hd y)
     return r;
 }
 
-static hd hd_inv(hd x) /* 1/x: f' = −1/x², f'' = 2/x³ */
+static hd hd_chain(hd x, double f, double f1, double f2) /* f(x) given f, f', f'' at x */
 {
     hd r;
-    double f = 1.0 / x.v, f1 = -f * f, f2 = 2.0 * f * f * f;
     r.v = f;
     for (int i = 0; i < 3; ++i) {
         r.g[i] = f1 * x.g[i];
         for (int j = 0; j < 3; ++j) r.h[i][j] = f1 * x.h[i][j] + f2 * x.g[i] * x.g[j];
     }
     return r;
+}
+
+static hd hd_inv(hd x) /* 1/x: f' = −1/x², f'' = 2/x³ */
+{
+    double f = 1.0 / x.v;
+    return hd_chain(x, f, -f * f, 2.0 * f * f * f);
+}
+
+static hd hd_rsqrt(hd x) /* x^(−1/2): f' = −f/(2x), f'' = 3f/(4x²) */
+{
+    double f = 1.0 / sqrt(x.v);
+    return hd_chain(x, f, -0.5 * f / x.v, 0.75 * f / (x.v * x.v));
 }
 
 static hd hd_poly(hd x, const double *c, int n) /* c[0] + c[1]·x + ... + c[n−1]·x^(n−1) */
@@ -94,10 +105,10 @@ static hd hd_poly(hd x, const double *c, int n) /* c[0] + c[1]·x + ... + c[n−
 }
 
 /* The fitted law's pieces: d = delta/ro, pi·ro², the pressure's share P·s and the wall's
- * share w = b_p·mu·P/(P + pc·mu) (mu = C1 + C2), so that
+ * share w = b_p·mu·P/sqrt(P² + (pc·mu)²) (mu = C1 + C2), so that
  *     F = pi·ro²·(P·s·G(d) + w·H(d)),  G(d) = d·(a1 + a2·d + a3·d²),  H(d) = G(d)·(1 + b_d·d).
  * The wall's share vanishes with P (no force without pressure, as the load model's contact
- * switch has it) and is smooth for P > −pc·mu. */
+ * switch has it) and is smooth and bounded for every P. */
 typedef struct fem_parts {
     hd r, d, area, ps, w;
 } fem_parts;
@@ -116,8 +127,9 @@ static fem_parts fem_parts_of(const hp_claw_bladder *b, double P, double ro, dou
     s = hd_lin(1.0, s, HP_CLAW_FIT_BK, kap);
     f.ps = hd_mul(p, s);
     double mu = b->C1 + b->C2;
-    hd pc = hd_lin(1.0, p, 1.0, hd_const(HP_CLAW_FIT_PC * mu));
-    f.w = hd_scale(HP_CLAW_FIT_BP * mu, hd_mul(p, hd_inv(pc)));
+    double pc = HP_CLAW_FIT_PC * mu;
+    f.w = hd_scale(HP_CLAW_FIT_BP * mu,
+                   hd_mul(p, hd_rsqrt(hd_lin(1.0, hd_mul(p, p), pc * pc, hd_const(1.0)))));
     f.area = hd_scale(HP_PI, hd_mul(f.r, f.r));
     return f;
 }

@@ -32,13 +32,13 @@ void hpi_claw_cap(double P, double ro, double rho, hp_claw *c);
  * along its axis by a rigid frictionless plane or sphere. With d = delta/ro and
  * mu = C1 + C2 (the rubber's initial shear modulus),
  *     F = pi·ro²·(P·s·G(d) + w·H(d)),   G(d) = d·(a1 + a2·d + a3·d²),  H(d) = G(d)·(1 + b_d·d),
- *     s = 1 + b_w·(wall/ro − w0) + b_k·ro/Rh,   w = b_p·mu·P/(P + p_c·mu),
+ *     s = 1 + b_w·(wall/ro − w0) + b_k·ro/Rh,   w = b_p·mu·P/sqrt(P² + (p_c·mu)²),
  * and W = ro·pi·ro²·(P·s·∫G + w·∫H) (integrals from 0 to d; s and w do not depend on rho).
  * w is the wall's own share: the rubber carries a force that does not scale with the
  * pressure (F/(P·pi·ro²) grows as the pressure falls), and p_c > 0 makes it vanish with P,
  * so the force is 0 at P = 0 (where the load model switches it off) and the law is smooth
- * for every P > −p_c·mu (finite at the negative pressures the scenes allow, which its
- * domain refuses). The coefficients and the domain they were fitted over are generated
+ * and finite for every P (the negative pressures the scenes allow too, which its domain
+ * refuses). The coefficients and the domain they were fitted over are generated
  * into contact_law_fit.h by fem/fit_law.py. */
 typedef struct hp_claw_bladder {
     double C1, C2; /* [Pa] moduli, paper convention */
