@@ -87,8 +87,8 @@ void hpi_claw_eval(hp_claw_law law, const hp_claw_bladder *b, double P, double r
 /* The law's dF/drho as a function of (P, ro, rho), with its own exact first and second
  * derivatives in c->d and c->d2 (c->W is 0): what a caller needs to differentiate the
  * contact stiffness (−dF/drho along the normal) twice in P. */
-void hpi_claw_eval_drho(hp_claw_law law, const hp_claw_bladder *b, double P, double ro,
-                        double rho, hp_claw *c);
+void hpi_claw_eval_drho(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
+                        hp_claw *c);
 
 /* The group's name for messages ("indent", "wall", "pressure", "moduli", "curvature"). */
 const char *hpi_claw_domain_name(hp_claw_domain d);
