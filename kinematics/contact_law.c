@@ -74,16 +74,27 @@ static hd hd_mul(hd x, hd y)
     return r;
 }
 
-static hd hd_inv(hd x) /* 1/x: f' = −1/x², f'' = 2/x³ */
+static hd hd_chain(hd x, double f, double f1, double f2) /* f(x) given f, f', f'' at x */
 {
     hd r;
-    double f = 1.0 / x.v, f1 = -f * f, f2 = 2.0 * f * f * f;
     r.v = f;
     for (int i = 0; i < 3; ++i) {
         r.g[i] = f1 * x.g[i];
         for (int j = 0; j < 3; ++j) r.h[i][j] = f1 * x.h[i][j] + f2 * x.g[i] * x.g[j];
     }
     return r;
+}
+
+static hd hd_inv(hd x) /* 1/x: f' = −1/x², f'' = 2/x³ */
+{
+    double f = 1.0 / x.v;
+    return hd_chain(x, f, -f * f, 2.0 * f * f * f);
+}
+
+static hd hd_rsqrt(hd x) /* x^(−1/2): f' = −f/(2x), f'' = 3f/(4x²) */
+{
+    double f = 1.0 / sqrt(x.v);
+    return hd_chain(x, f, -0.5 * f / x.v, 0.75 * f / (x.v * x.v));
 }
 
 static hd hd_poly(hd x, const double *c, int n) /* c[0] + c[1]·x + ... + c[n−1]·x^(n−1) */
@@ -93,31 +104,94 @@ static hd hd_poly(hd x, const double *c, int n) /* c[0] + c[1]·x + ... + c[n−
     return r;
 }
 
-void hpi_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
+/* The fitted law's pieces: d = delta/ro, pi·ro², the pressure's share P·s and the wall's
+ * share w = b_p·mu·P/sqrt(P² + (pc·mu)²) (mu = C1 + C2), so that
+ *     F = pi·ro²·(P·s·G(d) + w·H(d)),  G(d) = d·(a1 + a2·d + a3·d²),  H(d) = G(d)·(1 + b_d·d).
+ * The wall's share vanishes with P (no force without pressure, as the load model's contact
+ * switch has it) and is smooth and bounded for every P. */
+typedef struct fem_parts {
+    hd r, d, area, ps, w;
+} fem_parts;
+
+static fem_parts fem_parts_of(const hp_claw_bladder *b, double P, double ro, double rho)
 {
-    hd p = hd_var(P, HP_CLAW_P), r = hd_var(ro, HP_CLAW_RO), q = hd_var(rho, HP_CLAW_RHO);
-    hd inv_r = hd_inv(r);
-    hd d = hd_lin(1.0, hd_const(1.0), -1.0, hd_mul(q, inv_r)); /* delta/ro = 1 − rho/ro */
-    hd wall = hd_scale(b->wall, inv_r);                        /* wall/ro */
-    hd cp = hd_scale(b->C1, hd_inv(p));                        /* C1/P */
-    hd kap = hd_scale(b->curv, r);                             /* ro/Rh */
-    hd s = hd_const(1.0 + HP_CLAW_FIT_BC * (b->C2 / b->C1 - HP_CLAW_FIT_C0) -
-                    HP_CLAW_FIT_BW * HP_CLAW_FIT_W0 - HP_CLAW_FIT_BP / HP_CLAW_FIT_P0);
+    fem_parts f;
+    hd p = hd_var(P, HP_CLAW_P), q = hd_var(rho, HP_CLAW_RHO);
+    f.r = hd_var(ro, HP_CLAW_RO);
+    hd inv_r = hd_inv(f.r);
+    f.d = hd_lin(1.0, hd_const(1.0), -1.0, hd_mul(q, inv_r)); /* delta/ro = 1 − rho/ro */
+    hd wall = hd_scale(b->wall, inv_r);                       /* wall/ro */
+    hd kap = hd_scale(b->curv, f.r);                          /* ro/Rh */
+    hd s = hd_const(1.0 - HP_CLAW_FIT_BW * HP_CLAW_FIT_W0);
     s = hd_lin(1.0, s, HP_CLAW_FIT_BW, wall);
-    s = hd_lin(1.0, s, HP_CLAW_FIT_BP, cp);
     s = hd_lin(1.0, s, HP_CLAW_FIT_BK, kap);
-    static const double ga[4] = {0.0, HP_CLAW_FIT_A1, HP_CLAW_FIT_A2, HP_CLAW_FIT_A3};
-    static const double wa[5] = {0.0, 0.0, HP_CLAW_FIT_A1 / 2.0, HP_CLAW_FIT_A2 / 3.0,
-                                 HP_CLAW_FIT_A3 / 4.0};
-    hd scale = hd_scale(HP_PI, hd_mul(p, hd_mul(r, r))); /* P·pi·ro² */
-    hd F = hd_mul(scale, hd_mul(s, hd_poly(d, ga, 4)));
-    hd W = hd_mul(hd_mul(scale, r), hd_mul(s, hd_poly(d, wa, 5)));
+    f.ps = hd_mul(p, s);
+    double mu = b->C1 + b->C2;
+    double pc = HP_CLAW_FIT_PC * mu;
+    f.w = hd_scale(HP_CLAW_FIT_BP * mu,
+                   hd_mul(p, hd_rsqrt(hd_lin(1.0, hd_mul(p, p), pc * pc, hd_const(1.0)))));
+    f.area = hd_scale(HP_PI, hd_mul(f.r, f.r));
+    return f;
+}
+
+static void hd_out(hd F, hp_claw *c)
+{
     c->F = F.v;
     for (int i = 0; i < 3; ++i) {
         c->d[i] = F.g[i];
         for (int j = i; j < 3; ++j) c->d2[i][j] = c->d2[j][i] = F.h[i][j]; /* symmetric */
     }
-    c->W = W.v;
+}
+
+#define A1 HP_CLAW_FIT_A1
+#define A2 HP_CLAW_FIT_A2
+#define A3 HP_CLAW_FIT_A3
+#define BD HP_CLAW_FIT_BD
+/* G and H as polynomials in d, their derivatives, and their integrals from 0 */
+static const double G_[4] = {0.0, A1, A2, A3};
+static const double H_[5] = {0.0, A1, A2 + A1 *BD, A3 + A2 *BD, A3 *BD};
+static const double G1_[3] = {A1, 2.0 * A2, 3.0 * A3};
+static const double H1_[4] = {A1, 2.0 * (A2 + A1 * BD), 3.0 * (A3 + A2 * BD), 4.0 * A3 *BD};
+static const double GI_[5] = {0.0, 0.0, A1 / 2.0, A2 / 3.0, A3 / 4.0};
+static const double HI_[6] = {
+    0.0, 0.0, A1 / 2.0, (A2 + A1 * BD) / 3.0, (A3 + A2 * BD) / 4.0, A3 *BD / 5.0};
+#undef A1
+#undef A2
+#undef A3
+#undef BD
+
+/* pi·ro²·(P·s·g(d) + w·h(d)) for a pair of polynomials (g, h) */
+static hd fem_sum(const fem_parts *f, const double *g, int ng, const double *h, int nh)
+{
+    hd v = hd_lin(1.0, hd_mul(f->ps, hd_poly(f->d, g, ng)), 1.0,
+                  hd_mul(f->w, hd_poly(f->d, h, nh)));
+    return hd_mul(f->area, v);
+}
+
+void hpi_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
+{
+    fem_parts f = fem_parts_of(b, P, ro, rho);
+    hd_out(fem_sum(&f, G_, 4, H_, 5), c);
+    /* W = integral of F over rho' from rho to ro = ro·(the same with G, H integrated in d) */
+    c->W = hd_mul(f.r, fem_sum(&f, GI_, 5, HI_, 6)).v;
+}
+
+/* dF/drho = −(1/ro)·pi·ro²·(P·s·G'(d) + w·H'(d)) (dd/drho = −1/ro). */
+static void fem_drho(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
+{
+    fem_parts f = fem_parts_of(b, P, ro, rho);
+    hd_out(hd_scale(-1.0, hd_mul(hd_inv(f.r), fem_sum(&f, G1_, 3, H1_, 4))), c);
+    c->W = 0.0;
+}
+
+/* dF/drho of the cap law: −2·pi·P·rho. */
+static void cap_drho(double P, double rho, hp_claw *c)
+{
+    memset(c, 0, sizeof *c);
+    c->F = -2.0 * HP_PI * P * rho;
+    c->d[HP_CLAW_P] = -2.0 * HP_PI * rho;
+    c->d[HP_CLAW_RHO] = -2.0 * HP_PI * P;
+    c->d2[HP_CLAW_P][HP_CLAW_RHO] = c->d2[HP_CLAW_RHO][HP_CLAW_P] = -2.0 * HP_PI;
 }
 
 hp_claw_domain hpi_claw_fem_domain(const hp_claw_bladder *b, double P, double ro, double rho)
@@ -155,4 +229,11 @@ void hpi_claw_eval(hp_claw_law law, const hp_claw_bladder *b, double P, double r
 {
     if (law == HP_CLAW_LAW_FEM) hpi_claw_fem(b, P, ro, rho, c);
     else hpi_claw_cap(P, ro, rho, c);
+}
+
+void hpi_claw_eval_drho(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
+                        hp_claw *c)
+{
+    if (law == HP_CLAW_LAW_FEM) fem_drho(b, P, ro, rho, c);
+    else cap_drho(P, rho, c);
 }

@@ -29,13 +29,17 @@ void hpi_claw_cap(double P, double ro, double rho, hp_claw *c);
 
 /* The law fitted to the finite-element reference (fem/, docs/accuracy.md): a thick,
  * nearly incompressible Mooney–Rivlin bladder with its centre held, pressure held, pressed
- * along its axis by a rigid frictionless plane or sphere. With d = delta/ro,
- *     F = P·pi·ro²·g,   g = d·(a1 + a2·d + a3·d²)·s,
- *     s = 1 + b_w·(wall/ro − w0) + b_p·(C1/P − 1/p0) + b_c·(C2/C1 − c0) + b_k·ro/Rh,
- * and W = P·pi·ro³·s·(a1·d²/2 + a2·d³/3 + a3·d⁴/4) (s does not depend on rho). C1/P, not
- * P/C1: the wall's own stiffness adds a force that does not scale with the pressure, so
- * F/(P·pi·ro²) grows like 1/P at low pressure. The coefficients and the domain they were
- * fitted over are generated into contact_law_fit.h by fem/fit_law.py. */
+ * along its axis by a rigid frictionless plane or sphere. With d = delta/ro and
+ * mu = C1 + C2 (the rubber's initial shear modulus),
+ *     F = pi·ro²·(P·s·G(d) + w·H(d)),   G(d) = d·(a1 + a2·d + a3·d²),  H(d) = G(d)·(1 + b_d·d),
+ *     s = 1 + b_w·(wall/ro − w0) + b_k·ro/Rh,   w = b_p·mu·P/sqrt(P² + (p_c·mu)²),
+ * and W = ro·pi·ro²·(P·s·∫G + w·∫H) (integrals from 0 to d; s and w do not depend on rho).
+ * w is the wall's own share: the rubber carries a force that does not scale with the
+ * pressure (F/(P·pi·ro²) grows as the pressure falls), and p_c > 0 makes it vanish with P,
+ * so the force is 0 at P = 0 (where the load model switches it off) and the law is smooth
+ * and finite for every P (the negative pressures the scenes allow too, which its domain
+ * refuses). The coefficients and the domain they were fitted over are generated
+ * into contact_law_fit.h by fem/fit_law.py. */
 typedef struct hp_claw_bladder {
     double C1, C2; /* [Pa] moduli, paper convention */
     double wall;   /* [m] reference wall thickness Ro − Ri */
@@ -79,6 +83,12 @@ void hpi_claw_bladder_of(const struct hp_iab *iab, const double semi[3], const d
 /* The one entry for a caller that picks its law: hpi_claw_cap (b unused) or hpi_claw_fem. */
 void hpi_claw_eval(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
                    hp_claw *c);
+
+/* The law's dF/drho as a function of (P, ro, rho), with its own exact first and second
+ * derivatives in c->d and c->d2 (c->W is 0): what a caller needs to differentiate the
+ * contact stiffness (−dF/drho along the normal) twice in P. */
+void hpi_claw_eval_drho(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
+                        hp_claw *c);
 
 /* The group's name for messages ("indent", "wall", "pressure", "moduli", "curvature"). */
 const char *hpi_claw_domain_name(hp_claw_domain d);

@@ -137,6 +137,11 @@ void hpi_load_claw(const hp_load_model *M, int k, double P, double ro, double rh
     hpi_claw_eval(M->law, &M->claw[k], P, ro, rho, c);
 }
 
+void hpi_load_claw_drho(const hp_load_model *M, int k, double P, double ro, double rho, hp_claw *c)
+{
+    hpi_claw_eval_drho(M->law, &M->claw[k], P, ro, rho, c);
+}
+
 hp_error hpi_load_claw_check(const hp_load_model *M, int k, double P, double ro, double rho,
                              hp_diag *diag)
 {

@@ -29,6 +29,10 @@ struct hp_load_model {
 /* Bladder k's contact law at (P, ro, rho): hpi_claw_eval with the model's law and bladder. */
 void hpi_load_claw(const hp_load_model *M, int k, double P, double ro, double rho, hp_claw *c);
 
+/* Bladder k's dF/drho at (P, ro, rho) with its own derivatives: hpi_claw_eval_drho with the
+ * model's law and bladder. */
+void hpi_load_claw_drho(const hp_load_model *M, int k, double P, double ro, double rho, hp_claw *c);
+
 /* HP_OK when bladder k's contact state (P, ro, rho) lies in the model law's domain (the
  * cap law has none); else HP_ERR_INVALID with a message naming the bladder and the group
  * that leaves the fitted law's domain (hpi_claw_fem_domain). */

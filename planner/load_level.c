@@ -405,6 +405,27 @@ static int indent_ok(const hp_load_model *M, const double xi[6], const double *P
     return 1;
 }
 
+/* The fitted contact law's domain at an answer (load_internal.h, hpi_load_claw_check): HP_OK
+ * when every bladder that presses on the head does so inside the tables the law was fitted
+ * to (always under the cap law, which has no such domain), else HP_ERR_INVALID with the
+ * bladder and the group it leaves in diag. */
+static hp_error law_domain_ok(const hp_load_model *M, const double xi[6], const double *P,
+                              hp_diag *diag)
+{
+    double rho[HP_MAX_BLADDERS];
+    hp_error err = hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, NULL, NULL);
+    if (err) return hp_diag_set(diag, err, "load: the contact distances at the answer");
+    for (int k = 0; k < M->layout.n; ++k) {
+        double ro;
+        if ((err = hp_load_radius(M, k, P[k], &ro, NULL)))
+            return hp_diag_set(diag, err, "load: the radius of bladder '%s'",
+                               M->layout.bladders[k].name);
+        if (P[k] > 0.0 && ro > rho[k] && (err = hpi_load_claw_check(M, k, P[k], ro, rho[k], diag)))
+            return err;
+    }
+    return HP_OK;
+}
+
 /* Fills the per-bladder part of r from pressures P held at pose xi. A CLOSEST answer names
  * what binds: the pressure bounds each bladder sits on, the indentation range, and a
  * bladder carrying nothing (it cannot pull the head toward the desired pose). */
@@ -552,9 +573,20 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
     int unverified = !bad && st == HP_LOAD_SOLVE_OK &&
                      !((held || holds(M, xi, P)) && newton_euler_holds(M, xi, P));
     int beyond = !bad && st == HP_LOAD_SOLVE_OK && !unverified && !indent_ok(M, xi, P);
-    if (bad || st != HP_LOAD_SOLVE_OK || unverified || beyond) {
+    /* An answer the fitted law describes only outside its tables is not returned: refused
+     * by name (the bladder and the group), never silent. */
+    hp_diag dom;
+    dom.text[0] = '\0';
+    int outside = !bad && st == HP_LOAD_SOLVE_OK && !unverified && !beyond &&
+                  law_domain_ok(M, xi, P, &dom) != HP_OK;
+    if (bad || st != HP_LOAD_SOLVE_OK || unverified || beyond || outside) {
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
-        if (beyond)
+        if (outside)
+            snprintf(p->err, HP_DIAG_MAX,
+                     "load planner: the pose found near the desired one "
+                     "is not returned: %s",
+                     dom.text);
+        else if (beyond)
             hpi_text_set(p->err, "load planner: the pose found near the desired one indents a "
                                  "bladder beyond the range where the contact law is trusted "
                                  "(indent_max), so it is not returned");

@@ -34,24 +34,42 @@ typedef struct bstate {
     double F, FP, FPP;
 } bstate;
 
-static hp_error bladder_state(const hp_load_model *M, int k, double P, double rho, bstate *s)
+/* ro(P) of bladder k with ro' and ro'' (ro'' from the bladder model's d²P/dri²). */
+static hp_error radius_chain(const hp_load_model *M, int k, double P, double *ro, double *o1,
+                             double *o2)
 {
     const hp_iab *b = &M->layout.bladders[k].iab;
-    double ri, ro, Pc, Pr, Prr;
+    double ri, Pc, Pr, Prr;
     hp_error err = hp_iab_fk_limit(b, &M->limit[k], P, &ri);
-    if (!err) err = hp_iab_ro(b, ri, &ro);
+    if (!err) err = hp_iab_ro(b, ri, ro);
     if (!err) err = hp_iab_ik_derivs(b, ri, &Pc, &Pr, &Prr);
     if (err) return err;
-    double r1 = 1.0 / Pr, r2 = -Prr * r1 * r1 * r1;      /* ri', ri'' */
-    double q = ri * ri / (ro * ro);                      /* dro/dri */
-    double q2 = 2.0 * ri / (ro * ro) - 2.0 * q * q / ro; /* d²ro/dri² */
-    double o1 = q * r1, o2 = q2 * r1 * r1 + q * r2;      /* ro', ro'' */
+    double r1 = 1.0 / Pr, r2 = -Prr * r1 * r1 * r1;         /* ri', ri'' */
+    double q = ri * ri / (*ro * *ro);                       /* dro/dri */
+    double q2 = 2.0 * ri / (*ro * *ro) - 2.0 * q * q / *ro; /* d²ro/dri² */
+    *o1 = q * r1;
+    *o2 = q2 * r1 * r1 + q * r2;
+    return HP_OK;
+}
+
+/* A law's value (F, or dF/drho) and its total first and second derivatives along P at a
+ * fixed contact distance, through ro(P) (ro' = o1, ro'' = o2). */
+static void along_p(const hp_claw *c, double o1, double o2, double *v, double *v1, double *v2)
+{
+    *v = c->F;
+    *v1 = c->d[HP_CLAW_P] + c->d[HP_CLAW_RO] * o1;
+    *v2 = c->d2[HP_CLAW_P][HP_CLAW_P] + 2.0 * c->d2[HP_CLAW_P][HP_CLAW_RO] * o1 +
+          c->d2[HP_CLAW_RO][HP_CLAW_RO] * o1 * o1 + c->d[HP_CLAW_RO] * o2;
+}
+
+static hp_error bladder_state(const hp_load_model *M, int k, double P, double rho, bstate *s)
+{
+    double ro, o1, o2;
+    hp_error err = radius_chain(M, k, P, &ro, &o1, &o2);
+    if (err) return err;
     hp_claw c; /* F(P, ro(P), rho) and its total derivatives along P */
     hpi_load_claw(M, k, P, ro, rho, &c);
-    s->F = c.F;
-    s->FP = c.d[HP_CLAW_P] + c.d[HP_CLAW_RO] * o1;
-    s->FPP = c.d2[HP_CLAW_P][HP_CLAW_P] + 2.0 * c.d2[HP_CLAW_P][HP_CLAW_RO] * o1 +
-             c.d2[HP_CLAW_RO][HP_CLAW_RO] * o1 * o1 + c.d[HP_CLAW_RO] * o2;
+    along_p(&c, o1, o2, &s->F, &s->FP, &s->FPP);
     return HP_OK;
 }
 
@@ -574,6 +592,18 @@ hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_
 {
     return hold_core(M, xi, lo, hi, target, start, max_iter, nlp_solve, stiffness, P, F, iterations,
                      raw);
+}
+
+hp_error hpi_load_bladder_stiff(const hp_load_model *M, int k, double P, double rho, double a[3])
+{
+    double ro, o1, o2;
+    hp_error err = radius_chain(M, k, P, &ro, &o1, &o2);
+    if (err) return err;
+    hp_claw c;
+    hpi_load_claw_drho(M, k, P, ro, rho, &c);
+    along_p(&c, o1, o2, &a[0], &a[1], &a[2]);
+    for (int i = 0; i < 3; ++i) a[i] = -a[i];
+    return HP_OK;
 }
 
 hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho, double *F,

@@ -27,7 +27,7 @@ typedef struct hp_load_stiff {
     const hp_load_model *M;
     int n;
     double K0[36];                  /* gravity's stiffness, scaled */
-    double JJ[HP_MAX_BLADDERS][36]; /* 2·pi·rho_k·J_k J_kᵀ per Pa, scaled */
+    double JJ[HP_MAX_BLADDERS][36]; /* J_k J_kᵀ, scaled (times the law's normal stiffness) */
     double H[HP_MAX_BLADDERS][36];  /* the contact distance's Hessian, scaled */
     double rho[HP_MAX_BLADDERS];
     const double *target; /* [Pa] */
@@ -96,6 +96,10 @@ hpi_load_solve_status hpi_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p
  * formula, not clipped at 0) with dF/dP and d²F/dP². */
 hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho, double *F,
                                 double *dF, double *d2F);
+
+/* Bladder k's contact stiffness along its normal at pressure P against rho, a = −dF/drho
+ * (the contact branch's formula), with da/dP and d²a/dP² (through ro(P)): a[0..2]. */
+hp_error hpi_load_bladder_stiff(const hp_load_model *M, int k, double P, double rho, double a[3]);
 
 /* Row weights of the equilibrium equations: N for the force rows, and N·m/rad times
  * (1°/1 mm) for the moment rows, so both read as "force per unit of pose". */

@@ -1,9 +1,11 @@
 /* The minimum-holding-stiffness tie-breaker of HOLD (load_solve.h).
  *
- * At a fixed pose the holding stiffness is affine in each bladder's own terms:
- *     K(P) = K_grav + sum_k (2·pi·rho_k·P_k·J_k J_kᵀ − F_k(P_k)·H_k),
- * (the contact branch of −dQ/dxi, docs/load.md), so dK/dP_k = 2·pi·rho_k·J_k J_kᵀ −
- * F_k'(P_k)·H_k and d²K/dP_k² = −F_k''(P_k)·H_k (and no mixed terms). The objective is the
+ * At a fixed pose the holding stiffness is a sum of each bladder's own terms:
+ *     K(P) = K_grav + sum_k (a_k(P_k)·J_k J_kᵀ − F_k(P_k)·H_k),
+ * (the contact branch of −dQ/dxi, docs/load.md), a_k = −dF_k/drho_k the contact law's own
+ * normal stiffness (2·pi·rho_k·P_k for the cap law; not linear in P for the fitted law), so
+ * dK/dP_k = a_k'·J_k J_kᵀ − F_k'·H_k and d²K/dP_k² = a_k''·J_k J_kᵀ − F_k''·H_k (and no
+ * mixed terms), every derivative along P through ro(P). The objective is the
  * smallest eigenvalue of K in mm/degree units (as hp_load_holding reports it), made smooth by
  * the soft minimum −(1/beta)·log sum_i exp(−beta·lambda_i) = −(1/beta)·log tr exp(−beta·K),
  * a spectral function of K with exact first and second derivatives (Daleckii–Krein), which
@@ -12,7 +14,6 @@
 #include "planner/load_solve.h"
 #include "common/units.h"
 #include "kinematics/linalg.h"
-#include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
 
 #include <math.h>
@@ -38,14 +39,9 @@ hp_error hpi_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const dou
             S->K0[i * 6 + j] = -0.5 * (dQ[i * 6 + j] + dQ[j * 6 + i]) * kscale(i, j);
     for (int k = 0; k < n; ++k) {
         S->rho[k] = rho[k];
-        /* dK/dP_k's J·Jᵀ weight: −d²F/(dP·drho) of the contact law, which for the cap law is
-         * 2·pi·rho at every P and ro (F is linear in P), so K stays affine in P. */
-        hp_claw c;
-        hpi_claw_cap(0.0, rho[k], rho[k], &c);
         for (int i = 0; i < 6; ++i)
             for (int j = 0; j < 6; ++j) {
-                S->JJ[k][i * 6 + j] = -c.d2[HP_CLAW_P][HP_CLAW_RHO] * J[6 * k + i] * J[6 * k + j] *
-                                      kscale(i, j);
+                S->JJ[k][i * 6 + j] = J[6 * k + i] * J[6 * k + j] * kscale(i, j);
                 S->H[k][i * 6 + j] = 0.5 * (H[k * 36 + i * 6 + j] + H[k * 36 + j * 6 + i]) *
                                      kscale(i, j);
             }
@@ -73,16 +69,16 @@ int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const do
     memcpy(K, S->K0, sizeof K);
     for (int j = 0; j < nv; ++j) {
         int k = idx[j];
-        double F, F1, F2;
-        if (hpi_load_bladder_force(S->M, k, x[j] * 1e3, S->rho[k], &F, &F1, &F2) != HP_OK)
+        double F, F1, F2, a[3];
+        if (hpi_load_bladder_force(S->M, k, x[j] * 1e3, S->rho[k], &F, &F1, &F2) != HP_OK ||
+            hpi_load_bladder_stiff(S->M, k, x[j] * 1e3, S->rho[k], a) != HP_OK)
             return -1;
         F1 *= 1e3; /* per kPa */
         F2 *= 1e6;
-        double P = x[j] * 1e3;
         for (int q = 0; q < 36; ++q) {
-            K[q] += P * S->JJ[k][q] - F * S->H[k][q];
-            dK[j][q] = 1e3 * S->JJ[k][q] - F1 * S->H[k][q];
-            d2K[j][q] = -F2 * S->H[k][q];
+            K[q] += a[0] * S->JJ[k][q] - F * S->H[k][q];
+            dK[j][q] = 1e3 * a[1] * S->JJ[k][q] - F1 * S->H[k][q];
+            d2K[j][q] = 1e6 * a[2] * S->JJ[k][q] - F2 * S->H[k][q];
         }
     }
     double lam[6], V[36];
