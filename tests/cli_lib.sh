@@ -11,6 +11,17 @@ expect_stdout_empty() { [ ! -s "$TMP/out" ] && ok || bad "$1: stdout not empty";
 expect_stderr_has() { grep -qF -- "$1" "$TMP/err" && ok || bad "$2: stderr lacks '$1'"; }
 expect_stdout_has() { grep -qF -- "$1" "$TMP/out" && ok || bad "$2: stdout lacks '$1'"; }
 finish() { echo "$passes passed, $fails failed"; [ "$fails" -eq 0 ]; }
+# patient_scenes: prints the folder of a copy of scenarios/ in which every time budget a scene
+# states (solver.max_time_s) is 60 s. The scenes' own budgets (1 s a plan) are read on the wall
+# clock, and the receding horizon stops each row's solve after half of one: on a machine
+# stalled that long a row ends "time-limit" and the exit status and output change. A test
+# whose verdict needs no row stopped by time plans these instead.
+patient_scenes() {
+    cp -r "$HP_SRC/scenarios" "$TMP/scenarios_60s" &&
+        find "$TMP/scenarios_60s" -name '*.yaml' -exec \
+            sed -i -E 's/max_time_s: [0-9.eE+-]+/max_time_s: 60/' {} + &&
+        echo "$TMP/scenarios_60s"
+}
 # drop_measured FILE: a batch CSV result with its measured columns (the solve time: not a
 # function of the inputs) blanked, its metadata and header kept, for comparing two runs.
 # Which columns are measured is the program's column table (`headplan batch --columns`).

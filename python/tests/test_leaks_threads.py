@@ -13,6 +13,10 @@ from conftest import DEFAULT, UNDER_ASAN, scenario
 
 PLANS = 100_000 if UNDER_ASAN else 1_000_000  # ASan runs about ten times slower
 CHUNK = 100_000
+# How long a thread waits for another before the test gives up: a bound for a loaded machine
+# (the CI machine is loaded on purpose), not a time the test expects; the waits below end as
+# soon as the other thread has done its few milliseconds of work.
+WAIT_S = 300
 
 
 def rss_bytes():
@@ -162,7 +166,7 @@ def test_plan_message_is_its_own_plans_when_another_thread_plans_in_between(defa
     go, done = threading.Event(), threading.Event()
 
     def other():
-        go.wait(10)
+        go.wait(WAIT_S)
         p.plan(near)
         done.set()
 
@@ -173,7 +177,7 @@ def test_plan_message_is_its_own_plans_when_another_thread_plans_in_between(defa
         def __del__(self):
             if not go.is_set():
                 go.set()
-                done.wait(10)
+                done.wait(WAIT_S)
 
     t = threading.Thread(target=other)
     t.start()

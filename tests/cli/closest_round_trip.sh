@@ -2,7 +2,7 @@
 # output). Every path that plans such a row must say so the way solve does. Each case here was
 # once answered otherwise (see the commit).
 source "$2/tests/cli_lib.sh"
-S="$HP_SRC/scenarios"
+S=$(patient_scenes) || exit 1 # time budgets of 60 s (tests/cli_lib.sh)
 H='# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n'
 # An 89.9 deg pitch of the default scene: solve refuses it (65).
 printf "$H"'0,1,0,0,0,0,0\n1,0,0,0,89.9,0,0\n2,1,0,0,0,0,0\n3,0,0,0,20,0,0\n' > "$TMP/t.csv"

@@ -1,7 +1,7 @@
 # headplan horizon: the comparison of greedy, receding-horizon and offline plans, its outputs
 # (summary, JSON, CSV with the summary in its header), and every bad input refused.
 source "$2/tests/cli_lib.sh"
-S="$HP_SRC/scenarios"
+S=$(patient_scenes) || exit 1 # time budgets of 60 s (tests/cli_lib.sh)
 
 # A short step trace: the first shift (5 s) and its settling, rate-limited.
 head -81 "$S/traces/step.csv" > "$TMP/step.csv"

@@ -3,7 +3,7 @@
 # result cut short) must get the same honest answer. Each case here was once answered wrongly (see the commit).
 source "$2/tests/cli_lib.sh"
 HP_BIN=$(realpath "$HP_BIN"); HP_SRC=$(realpath "$HP_SRC") # some cases run in $TMP
-S="$HP_SRC/scenarios"
+S=$(patient_scenes) || exit 1 # time budgets of 60 s (tests/cli_lib.sh)
 E="$HP_SRC/examples/calibration"
 
 # fit material took the last of two --Ri-mm (--Ro-mm, --plot, --fit-ref) silently, exit 0;

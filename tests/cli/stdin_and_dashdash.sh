@@ -3,7 +3,7 @@
 # (FILE:LINE:COL for its content) with its own exit code, and writes nothing.
 source "$2/tests/cli_lib.sh"
 HP_BIN=$(realpath "$HP_BIN"); HP_SRC=$(realpath "$HP_SRC")
-S="$HP_SRC/scenarios"
+S=$(patient_scenes) || exit 1 # time budgets of 60 s (tests/cli_lib.sh)
 
 # plot RESULT that could not be read (a directory, as a file or on standard input) was
 # "empty (no header)", exit 65: the read error was checked after the header. Now 66 with
