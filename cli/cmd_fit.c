@@ -457,10 +457,11 @@ static int layout_options(const layout_args *a, const hp_scene *sc, hp_layout_fi
     if (sc->has_load) {
         o->load = &sc->load;
         if (!a->level) o->level = sc->load_geometry;
-        char geometries[64];
-        if (!hp_level_is_geometry(o->level))
+        if (!hp_level_is_geometry(o->level)) {
+            char geometries[64];
             return cli_fail(CLI_EXIT_USAGE, CMD, "--level: the forward statics need %s",
                             hpi_level_geometry_names(geometries, sizeof geometries));
+        }
         return 0;
     }
     if (o->level == HP_LEVEL_AUTO &&
