@@ -16,6 +16,7 @@
 
 #include "headplan/hp_planner.h"
 #include "support/load_fixture.h"
+#include "support/spd.h"
 #include "headplan/hp_scene.h"
 #include "common/units.h"
 
@@ -243,23 +244,6 @@ static void test_cannot_pull(void **state)
     assert_string_equal(hp_binding_name(HP_BIND_CANNOT_PULL), "cannot_pull");
 }
 
-/* Positive definiteness by Cholesky (the reference for "stable"). */
-static int positive_definite(double A[36])
-{
-    for (int j = 0; j < 6; ++j) {
-        double s = A[j * 6 + j];
-        for (int k = 0; k < j; ++k) s -= A[j * 6 + k] * A[j * 6 + k];
-        if (!(s > 0)) return 0;
-        A[j * 6 + j] = sqrt(s);
-        for (int i = j + 1; i < 6; ++i) {
-            double t = A[i * 6 + j];
-            for (int k = 0; k < j; ++k) t -= A[i * 6 + k] * A[j * 6 + k];
-            A[i * 6 + j] = t / A[j * 6 + j];
-        }
-    }
-    return 1;
-}
-
 /* The holding reported is the answer's: K = −dQ/dxi at the achieved pose with the returned
  * pressures (hp_load_eval), and "stable" is K's positive definiteness. The repro: the tilted
  * scene at z −4 mm on Ipopt was reported stable from a rest 6.15 mm/deg away while its hold
@@ -296,7 +280,7 @@ static void test_holding_of_answer(void **state)
                         K[i * 6 + j] = -0.5 * (dQ[i * 6 + j] + dQ[j * 6 + i]) *
                                        (i < 3 ? 1e-3 : HP_RAD_PER_DEG) *
                                        (j < 3 ? 1e-3 : HP_RAD_PER_DEG);
-                int pd = positive_definite(K);
+                int pd = test_positive_definite6(K);
                 assert_int_equal(info.holding.stable, pd);
                 unstable_seen += !pd;
                 ++checked;
