@@ -581,12 +581,11 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
                   law_domain_ok(M, xi, P, &dom) != HP_OK;
     if (bad || st != HP_LOAD_SOLVE_OK || unverified || beyond || outside) {
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
-        if (outside)
-            snprintf(p->err, HP_DIAG_MAX,
-                     "load planner: the pose found near the desired one "
-                     "is not returned: %s",
-                     dom.text);
-        else if (beyond)
+        if (outside) {
+            hpi_text_set(p->err, "load planner: the pose found near the desired one is not "
+                                 "returned: ");
+            hpi_text_add(p->err, dom.text);
+        } else if (beyond)
             hpi_text_set(p->err, "load planner: the pose found near the desired one indents a "
                                  "bladder beyond the range where the contact law is trusted "
                                  "(indent_max), so it is not returned");
