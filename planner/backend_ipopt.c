@@ -524,7 +524,7 @@ static hpi_load_solve_status ipopt_load_hold(const hp_load_model *M, const doubl
 const hp_backend_ops hpi_backend_ipopt_ops = {
     .name = "ipopt",
     .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_WARM_STARTS | HP_BACKEND_LOAD |
-            HP_BACKEND_LOAD_STIFFNESS,
+            HP_BACKEND_LOAD_STIFFNESS | HP_BACKEND_ONE_START,
     .load_hold = ipopt_load_hold,
     .create = ipopt_create,
     .solve = ipopt_solve,

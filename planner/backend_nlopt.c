@@ -435,7 +435,7 @@ static hpi_load_solve_status slsqp_load_hold(const hp_load_model *M, const doubl
 
 const hp_backend_ops hpi_backend_nlopt_slsqp_ops = {
     .name = "nlopt-slsqp",
-    .caps = HP_BACKEND_THREAD_SAFE | HP_BACKEND_LOAD,
+    .caps = HP_BACKEND_THREAD_SAFE | HP_BACKEND_LOAD | HP_BACKEND_ONE_START | HP_BACKEND_RESTARTS,
     .load_hold = slsqp_load_hold,
     .create = slsqp_create,
     .solve = nlopt_solve,
@@ -444,7 +444,7 @@ const hp_backend_ops hpi_backend_nlopt_slsqp_ops = {
 
 const hp_backend_ops hpi_backend_nlopt_cobyla_ops = {
     .name = "nlopt-cobyla",
-    .caps = HP_BACKEND_THREAD_SAFE,
+    .caps = HP_BACKEND_THREAD_SAFE | HP_BACKEND_ONE_START,
     .create = cobyla_create,
     .solve = nlopt_solve,
     .destroy = nlopt_state_destroy,

@@ -485,6 +485,17 @@ static void add_binding(const hp_planner *p, char *buf, hp_status st, const unsi
     if (!any) hpi_text_add(buf, " none");
 }
 
+/* A CLOSEST answer's note: its binding limits, and when the backend solved from one start
+ * only (p->note_local) that the answer is a local optimum another start may improve on. */
+static void add_closest(const hp_planner *p, char *buf, const unsigned *binding)
+{
+    add_binding(p, buf, HP_STATUS_CLOSEST, binding);
+    if (!p->note_local) return;
+    hpi_text_add(buf, "; a local optimum: the ");
+    hpi_text_add(buf, p->ops->name);
+    hpi_text_add(buf, " backend made no restarts, and another start may end closer");
+}
+
 /* Step 5: the label. REACHED / UNCOMMANDED when the commanded part is met and the strict
  * round trip confirms it; CLOSEST when a certified or verified optimum binds a limit and
  * the same round trip confirms its pose;
@@ -554,6 +565,11 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
          * distances, and the fit from the nominal pose (the forward model hp_planner_set_
          * previous and every reached answer use) ends at the other. */
         r->status = HP_STATUS_CLOSEST;
+        /* A backend's own answer (not the direct chain's, not a hold): one start's optimum
+         * unless the backend restarted. */
+        unsigned caps = p->ops->caps;
+        p->note_local = !c->direct && !c->held && (caps & HP_BACKEND_ONE_START) &&
+                        !((caps & HP_BACKEND_RESTARTS) && p->s.restarts > 0);
         if (!recovered_from_nominal(p, r, r->achieved, c)) {
             c->unconfirmed = 1;
             fail_safe(p, r, HP_STATUS_INVALID_INPUT, c);
@@ -577,7 +593,7 @@ static int label(hp_planner *p, hp_result *r, plan_ctx *c)
             return 1;
         }
         char *buf = r->status == HP_STATUS_CLOSEST ? p->note : p->err;
-        if (r->status == HP_STATUS_CLOSEST) add_binding(p, buf, r->status, binding);
+        if (r->status == HP_STATUS_CLOSEST) add_closest(p, buf, binding);
         else add_budget(p, buf, r->status);
         if (unc_any) {
             hpi_text_add(buf, "; ");
@@ -591,7 +607,7 @@ void hpi_plan_note_flush(hp_planner *p)
 {
     if (!p->note_pending) return;
     p->note_pending = 0;
-    add_binding(p, p->note, HP_STATUS_CLOSEST, p->note_binding);
+    add_closest(p, p->note, p->note_binding);
 }
 
 hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
@@ -610,6 +626,7 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     p->err[0] = '\0';
     p->note[0] = '\0';
     p->note_pending = 0;
+    p->note_local = 0;
     if (p->load) {
         /* The load level's plan; a CLOSEST answer's note names its binding limits as the
          * contact levels' does (composed when asked for, hp_planner_note). */

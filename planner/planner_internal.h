@@ -61,6 +61,9 @@ struct hp_planner {
      * for (hp_planner_note), from these flags: a control loop that never reads it does not
      * pay for the text (about 1 % of a plan). */
     int note_pending;
+    /* The CLOSEST answer is a backend's one-start local optimum (HP_BACKEND_ONE_START and
+     * no restarts): its note says so after the binding limits. */
+    int note_local;
     /* No rate limit applies (use_rate_limits off, or no bladder has a finite rate_max): the
      * cycle's bounds do not depend on the previous answer and stay as create set them. */
     int rate_free;

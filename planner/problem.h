@@ -86,7 +86,15 @@ enum {
     /* Plans the load level: load_hold is set (load_level.c). */
     HP_BACKEND_LOAD = 1u << 4,
     /* Its load_hold solves the stiffness tie-breaker (HP_TIE_STIFFNESS). */
-    HP_BACKEND_LOAD_STIFFNESS = 1u << 5
+    HP_BACKEND_LOAD_STIFFNESS = 1u << 5,
+    /* A contact-level CLOSEST is the local optimum its one start leads to: nothing looks
+     * for another, so the answer's note says so. The realtime backend has no such flag: its
+     * closest answers are held to the best of the offline backends and a multi-start
+     * reference in the clinically relevant range (tests/reliability/test_best_local.c). */
+    HP_BACKEND_ONE_START = 1u << 6,
+    /* With HP_BACKEND_ONE_START: solves again from settings.restarts further starts after a
+     * CLOSEST answer (docs/planner.md, Restarts), so only restarts = 0 leaves it one start. */
+    HP_BACKEND_RESTARTS = 1u << 7
 };
 
 typedef struct hp_backend_ops {

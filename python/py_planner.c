@@ -231,11 +231,11 @@ static PyObject *get_settings(PyObject *o, void *c)
     hpy_planner *self = (hpy_planner *)o;
     if (!built(self)) return NULL;
     const hp_settings *s = &self->s;
-    return Py_BuildValue("{s:s,s:s,s:d,s:d,s:i,s:d,s:d,s:i}", "backend",
-                         hp_backend_name(s->backend), "level", hp_level_name(s->level),
-                         "level_tolerance_mm", s->level_tolerance * 1e3, "tolerance", s->tolerance,
-                         "max_iter", s->max_iter, "max_time_s", s->max_time, "weight_mm_per_deg",
-                         s->weight_mm_per_deg, "warm_start", s->warm_start);
+    return Py_BuildValue(
+        "{s:s,s:s,s:d,s:d,s:i,s:d,s:d,s:i,s:i}", "backend", hp_backend_name(s->backend), "level",
+        hp_level_name(s->level), "level_tolerance_mm", s->level_tolerance * 1e3, "tolerance",
+        s->tolerance, "max_iter", s->max_iter, "max_time_s", s->max_time, "weight_mm_per_deg",
+        s->weight_mm_per_deg, "warm_start", s->warm_start, "restarts", s->restarts);
 }
 
 static PyMethodDef planner_methods[] = {
@@ -300,12 +300,13 @@ PyTypeObject hpy_planner_type = {
     .tp_doc =
         "Planner(scene, *, backend=None, level=None, tolerance=None, max_iter=None,\n"
         "        max_time_s=None, weight_mm_per_deg=None, level_tolerance_mm=None,\n"
-        "        warm_start=None)\n\n"
+        "        warm_start=None, restarts=None)\n\n"
         "A planner for a layout scene, with the scene's model and solver settings and these\n"
         "overrides: backend ('realtime', 'ipopt', 'nlopt-slsqp', 'nlopt-cobyla'), level\n"
         "('linear', 'plane', 'surface', 'auto'), tolerance (pose tolerance, mm and degrees),\n"
         "max_iter, max_time_s [s], weight_mm_per_deg, level_tolerance_mm [mm] (for 'auto'),\n"
-        "warm_start (0/1). Raises headplan.Error for a bad value. One call at a time per\n"
+        "warm_start (0/1), restarts (0..64: NLopt SLSQP's further starts after a closest\n"
+        "answer). Raises headplan.Error for a bad value. One call at a time per\n"
         "planner (a second thread waits); use one planner per thread for parallel work.",
     .tp_methods = planner_methods,
     .tp_getset = planner_getset,

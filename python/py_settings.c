@@ -17,7 +17,7 @@ static int kw_text(PyObject *kw, const char *key, const char **out)
 }
 
 /* One keyword onto s through the library's override of the same name: a str for a name
- * (backend, level), else a number (an int where the field is one: max_iter, warm_start). */
+ * (backend, level), else a number (an int where the field is one: max_iter, warm_start, restarts). */
 static int kw_override(PyObject *kw, const char *key, hp_settings *s)
 {
     PyObject *v = kw ? PyDict_GetItemString(kw, key) : NULL;
@@ -26,7 +26,8 @@ static int kw_override(PyObject *kw, const char *key, hp_settings *s)
     double x = 0;
     if (strcmp(key, "backend") == 0 || strcmp(key, "level") == 0) {
         if (kw_text(kw, key, &text)) return -1;
-    } else if (strcmp(key, "max_iter") == 0 || strcmp(key, "warm_start") == 0) {
+    } else if (strcmp(key, "max_iter") == 0 || strcmp(key, "warm_start") == 0 ||
+               strcmp(key, "restarts") == 0) {
         int i;
         if (hpy_int(v, key, &i) < 0) return -1;
         x = i;

@@ -103,8 +103,8 @@ static hp_error model(const sr_ctx *c, const yt_node *node, hp_scene *s)
 
 static hp_error solver(const sr_ctx *c, const yt_node *node, hp_scene *s)
 {
-    static const char *const KEYS[] = {"backend",    "tolerance",         "max_iter",
-                                       "max_time_s", "weight_mm_per_deg", NULL};
+    static const char *const KEYS[] = {"backend",           "tolerance", "max_iter", "max_time_s",
+                                       "weight_mm_per_deg", "restarts",  NULL};
     hp_error e = sr_map(c, node, "solver", KEYS, NULL);
     if (e) return e;
     const yt_node *n;
@@ -134,6 +134,11 @@ static hp_error solver(const sr_ctx *c, const yt_node *node, hp_scene *s)
         long it;
         if ((e = sr_integer(c, n, "solver.max_iter", 1, HP_MAX_ITER_MAX, &it))) return e;
         s->max_iter = (int)it;
+    }
+    if ((n = yt_map_get(node, "restarts"))) {
+        long r;
+        if ((e = sr_integer(c, n, "solver.restarts", 0, HP_RESTARTS_MAX, &r))) return e;
+        s->restarts = (int)r;
     }
     return HP_OK;
 }
@@ -281,6 +286,7 @@ static hp_error layout_tree(const sr_ctx *c, const yt_node *root, hp_scene *s)
     s->max_iter = def.max_iter;
     s->max_time = def.max_time;
     s->weight_mm_per_deg = def.weight_mm_per_deg;
+    s->restarts = def.restarts;
     if (!yt_map_get(root, "bladders"))
         return sr_fail(c, root, "bladders", HP_ERR_PARSE,
                        "missing required key (a scene has 'bladders' and a 'head', or one "

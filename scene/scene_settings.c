@@ -24,6 +24,7 @@ hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag)
     s.max_iter = sc->max_iter;
     s.max_time = sc->max_time;
     s.weight_mm_per_deg = sc->weight_mm_per_deg;
+    s.restarts = sc->restarts;
     hp_error e = hp_settings_validate(&s, diag);
     if (e != HP_OK) return e;
     *out = s;

@@ -22,11 +22,22 @@ typedef struct override {
     const char *unit;                /* said after the check's phrase, "" for none */
 } override;
 
+/* An integer field's check takes a long: a value beyond [lo, hi] (NaN, a huge one that no
+ * long holds) or not whole is out of range as it is, so it is handed lo - 1. */
+static const char *whole(double v, long lo, long hi, const char *(*check)(long))
+{
+    if (!(v >= (double)lo && v <= (double)hi) || v != floor(v)) return check(lo - 1);
+    return check((long)v);
+}
+
 static const char *check_max_iter(double v)
 {
-    /* hpi_check_max_iter takes a long: a value beyond one is out of range as it is. */
-    if (!(v >= 1 && v <= HP_MAX_ITER_MAX) || v != floor(v)) return hpi_check_max_iter(0);
-    return hpi_check_max_iter((long)v);
+    return whole(v, 1, HP_MAX_ITER_MAX, hpi_check_max_iter);
+}
+
+static const char *check_restarts(double v)
+{
+    return whole(v, 0, HP_RESTARTS_MAX, hpi_check_restarts);
 }
 
 static const override TABLE[] = {
@@ -40,6 +51,7 @@ static const override TABLE[] = {
     {"level_tolerance_mm", OV_REAL, offsetof(hp_settings, level_tolerance), 1e-3,
      hpi_check_level_tolerance, " mm"},
     {"warm_start", OV_BOOL, offsetof(hp_settings, warm_start), 1.0, NULL, ""},
+    {"restarts", OV_INT, offsetof(hp_settings, restarts), 1.0, check_restarts, ""},
 };
 #define N_OVERRIDES (sizeof TABLE / sizeof TABLE[0])
 

@@ -299,7 +299,9 @@ HP_API const char *hp_planner_error(const hp_planner *p);
 
 /* Why the last answer is CLOSEST or UNCOMMANDED (answers, not failures): the binding
  * limits (bladder and limit names) and the components the layout cannot command, with
- * their values. "" after REACHED and after a failure. Never NULL. A CLOSEST answer's text
+ * their values; for a contact-level CLOSEST of a backend that solved from one start (Ipopt,
+ * NLopt COBYLA, NLopt SLSQP with restarts 0), "; a local optimum: the BACKEND backend made
+ * no restarts, and another start may end closer". "" after REACHED and after a failure. Never NULL. A CLOSEST answer's text
  * is composed by the first call after the plan (a control loop that never asks does not
  * pay for it), so this call writes into the planner: like hp_plan, not concurrently with
  * another call on the same planner. */

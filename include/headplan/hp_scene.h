@@ -93,6 +93,7 @@ typedef struct hp_scene {
     int max_iter;                       /* `solver.max_iter`, 1..1000000 */
     double max_time;                    /* `solver.max_time_s` [s], > 0 */
     double weight_mm_per_deg;           /* `solver.weight_mm_per_deg`, > 0 */
+    int restarts;                       /* `solver.restarts`, 0..64 (NLopt SLSQP) */
     int has_correction;                 /* `correction` given */
     double correction[6];               /* [m, m, m, rad, rad, rad]: x y z pitch roll yaw */
     int has_trace;                      /* `trace` given */
@@ -185,8 +186,8 @@ HP_API hp_error hp_scene_analyze(const hp_layout *L, const hp_settings *s, hp_sc
 /* Applies one named override to planner settings s, as the command line's options and the
  * Python module's keywords give them: "backend" and "level" (a name: hp_backend_parse,
  * hp_level_parse; the load level is not one of them), "tolerance" (mm and degrees),
- * "max_iter", "max_time_s", "weight_mm_per_deg", "level_tolerance_mm" and "warm_start" (0 or
- * 1). The value is text (parsed strictly, as a scene's numbers are), or with text NULL the
+ * "max_iter", "max_time_s", "weight_mm_per_deg", "level_tolerance_mm", "warm_start" (0 or
+ * 1) and "restarts" (0..64). The value is text (parsed strictly, as a scene's numbers are), or with text NULL the
  * number. Each value is checked by the planner's own check of its field, in the override's
  * units. Returns HP_OK; HP_ERR_NULL; HP_ERR_INVALID (s unchanged) with "NAME: reason" in diag
  * ("level: unknown level 'x' (linear, plane, surface, auto)", "max_time_s: must be > 0 and at

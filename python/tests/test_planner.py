@@ -176,6 +176,19 @@ def test_settings_overrides_and_errors(default_scene):
     # NumPy scalars are numbers like Python's.
     s = headplan.Planner(default_scene, max_iter=np.int32(50), tolerance=np.float32(0.5)).settings
     assert s["max_iter"] == 50 and s["tolerance"] == 0.5
+    # restarts (NLopt SLSQP's further starts): an int in 0..64, like max_iter a keyword.
+    assert headplan.Planner(default_scene).settings["restarts"] == 7  # HP_DEFAULT_RESTARTS
+    assert headplan.Planner(default_scene, restarts=np.int64(0)).settings["restarts"] == 0
+    assert headplan.Planner(default_scene, restarts=64).settings["restarts"] == 64
+    for bad in (-1, 65):
+        with pytest.raises(headplan.Error,
+                           match=rf"^restarts: must be an integer in 0\.\.64 \(got {bad}\)$"):
+            headplan.Planner(default_scene, restarts=bad)
+    with pytest.raises(headplan.Error, match=r"^restarts: \d+ is out of range"):  # no Overflow
+        headplan.Planner(default_scene, restarts=2**70)
+    for bad in (3.0, float("nan"), float("inf"), "3", [3]):
+        with pytest.raises(TypeError, match="restarts"):
+            headplan.Planner(default_scene, restarts=bad)
     with pytest.raises(TypeError, match="unknown keyword 'speed'"):
         headplan.Planner(default_scene, speed=3)
 
@@ -230,6 +243,19 @@ def test_iteration_limit_message_is_the_clis(tmp_path, name, backend, c):
     assert err == f"headplan solve: {path}: {r['message']} (no answer printed)\n"
     assert r["message"].startswith("iteration-limit: the ")
     assert "backend did not converge within solver.max_iter = 1 iterations" in r["message"]
+
+
+def test_scene_restarts_reach_the_planner(tmp_path):
+    """solver.restarts in a scene file is the Planner's setting; a bad value is refused with
+    the file, line and column, as the command line refuses it."""
+    text = open(scenario("default.yaml")).read()
+    path = tmp_path / "restarts.yaml"
+    path.write_text(text.replace("solver: {", "solver: {restarts: 2, ", 1))
+    assert headplan.Planner(headplan.load_scene(str(path))).settings["restarts"] == 2
+    path.write_text(text.replace("solver: {", "solver: {restarts: 65, ", 1))
+    with pytest.raises(headplan.Error, match=r"restarts.yaml:\d+:\d+: solver.restarts: 65 is "
+                       r"out of range \[0, 64\]"):
+        headplan.load_scene(str(path))
 
 
 def test_level_choice_is_solves_text(default_scene):

@@ -205,7 +205,35 @@ static void test_sphere_head(void **state)
     assert_int_equal(s->level, HP_LEVEL_SURFACE);
     /* defaults where the solver section omits a key */
     assert_true(s->max_iter == HP_DEFAULT_MAX_ITER && s->tolerance == 1e-9);
+    assert_int_equal(s->restarts, HP_DEFAULT_RESTARTS);
     assert_int_equal(s->has_trace, 0);
+}
+
+/* solver.restarts reaches the planner settings; a value other than the default (7) shows
+ * it was read, and the bounds 0 and 64 are accepted. */
+static void test_solver_restarts(void **state)
+{
+    (void)state;
+    static const char *const VALUES[] = {"3", "0", "64"};
+    for (int i = 0; i < 3; ++i) {
+        char text[512];
+        snprintf(text, sizeof text,
+                 "headplan_scene: 1\nname: restarts\nhead: {shape: sphere, radius_mm: 90}\n"
+                 "bladder_defaults: {Ri_mm: 27, Ro_mm: 30, material: {convention: paper, "
+                 "C1_pa: 1.1e4, C2_pa: 2.2e4}, pressure_min_kpa: -5, pressure_max_kpa: 10, "
+                 "stretch_min: 0.8, stretch_max: 1.3}\n"
+                 "bladders:\n  - {name: a, touch_dir: [0, 0, -1]}\n"
+                 "solver: {backend: nlopt-slsqp, restarts: %s}\n",
+                 VALUES[i]);
+        static hp_scene s;
+        hp_diag d = {{0}};
+        expect_loaded("restarts", hp_scene_parse(text, strlen(text), "restarts.yaml", &s, &d), &d);
+        assert_int_equal(s.restarts, atoi(VALUES[i]));
+        hp_settings st;
+        assert_int_equal(hp_scene_settings(&s, &st, &d), HP_OK);
+        assert_int_equal(st.restarts, atoi(VALUES[i]));
+        assert_int_equal(st.backend, HP_BACKEND_NLOPT_SLSQP);
+    }
 }
 
 static void test_soft_material(void **state)
@@ -270,6 +298,7 @@ int main(void)
         cmocka_unit_test(test_default_layout),
         cmocka_unit_test(test_sphere_head),
         cmocka_unit_test(test_soft_material),
+        cmocka_unit_test(test_solver_restarts),
         cmocka_unit_test(test_saturation_and_rotation),
         cmocka_unit_test(test_layout_conditioning),
     };

@@ -35,6 +35,12 @@ static void test_sets_fields(void **state)
     assert_true(s.tolerance == 0.25);
     assert_int_equal(hp_scene_settings_override(&s, "max_iter", NULL, 50, &d), HP_OK);
     assert_int_equal(s.max_iter, 50);
+    assert_int_equal(hp_scene_settings_override(&s, "restarts", NULL, 3, &d), HP_OK);
+    assert_int_equal(s.restarts, 3);
+    assert_int_equal(hp_scene_settings_override(&s, "restarts", "0", 0, &d), HP_OK);
+    assert_int_equal(s.restarts, 0);
+    assert_int_equal(hp_scene_settings_override(&s, "restarts", NULL, 64, &d), HP_OK);
+    assert_int_equal(s.restarts, 64);
     assert_int_equal(hp_scene_settings_override(&s, "max_time_s", NULL, 0.5, &d), HP_OK);
     assert_true(s.max_time == 0.5);
     assert_int_equal(hp_scene_settings_override(&s, "weight_mm_per_deg", "2", 0, &d), HP_OK);
@@ -60,6 +66,13 @@ static void test_refusals(void **state)
     expect_refused("max_iter", NULL, 2.5, "max_iter: must be an integer in 1..1000000 (got 2.5)");
     expect_refused("max_iter", NULL, 1e300,
                    "max_iter: must be an integer in 1..1000000 (got 1e+300)");
+    expect_refused("restarts", NULL, -1, "restarts: must be an integer in 0..64 (got -1)");
+    expect_refused("restarts", NULL, 65, "restarts: must be an integer in 0..64 (got 65)");
+    expect_refused("restarts", NULL, 2.5, "restarts: must be an integer in 0..64 (got 2.5)");
+    expect_refused("restarts", NULL, 1e300, "restarts: must be an integer in 0..64 (got 1e+300)");
+    expect_refused("restarts", NULL, NAN, "restarts: must be an integer in 0..64 (got nan)");
+    expect_refused("restarts", NULL, -INFINITY, "restarts: must be an integer in 0..64 (got -inf)");
+    expect_refused("restarts", "7.0x", 0, "restarts: '7.0x': not a number");
     expect_refused("level_tolerance_mm", NULL, -1,
                    "level_tolerance_mm: must be finite and > 0 mm (got -1)");
     expect_refused("tolerance", NULL, NAN,
@@ -82,7 +95,7 @@ static void test_names(void **state)
         hp_scene_settings_override(&s, name, "?", 0, &d);
         assert_null(strstr(d.text, "no such setting"));
     }
-    assert_int_equal(n, 8);
+    assert_int_equal(n, 9);
 }
 
 int main(void)
