@@ -98,9 +98,12 @@ static void write_body(FILE *f, const hp_layout *L, hp_level level, const hp_sce
                 base->auto_rot * HP_DEG_PER_RAD);
     fprintf(f,
             "}\nsolver: {backend: %s, tolerance: %.17g, max_iter: %d, max_time_s: %.17g, "
-            "weight_mm_per_deg: %.17g}\n",
+            "weight_mm_per_deg: %.17g",
             hp_backend_name(base->backend), base->tolerance, base->max_iter, base->max_time,
             base->weight_mm_per_deg);
+    /* Written when it is not the default, so that a fitted scene plans as its base does. */
+    if (base->restarts != HP_DEFAULT_RESTARTS) fprintf(f, ", restarts: %d", base->restarts);
+    fprintf(f, "}\n");
     if (base->has_correction) {
         double c[6];
         hp_pose_to_clinical(base->correction, c);

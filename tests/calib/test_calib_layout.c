@@ -413,7 +413,9 @@ static void test_calibrated_scene(void **state)
     assert_int_equal(hp_calib_write_scene(path, &f.fitted, HP_LEVEL_SURFACE, NULL,
                                           "calibrated \"x\"", inputs, 1, &d),
                      HP_OK);
-    /* Written twice (the second replaces the first): still one file and no temporary. */
+    /* Written twice (the second replaces the first): still one file and no temporary. The
+     * base scene's restarts are not the default, so the written scene must carry them. */
+    sc->restarts = 2;
     assert_int_equal(
         hp_calib_write_scene(path, &f.fitted, HP_LEVEL_AUTO, sc, "calibrated \"x\"", inputs, 1, &d),
         HP_OK);
@@ -433,6 +435,7 @@ static void test_calibrated_scene(void **state)
     hp_assert_close(back->auto_rot, sc->auto_rot, 1e-15, 0);
     assert_int_equal(back->backend, sc->backend);
     assert_int_equal(back->max_iter, sc->max_iter);
+    assert_int_equal(back->restarts, 2);
     assert_int_equal(back->has_correction, 1);
     for (int j = 0; j < 6; ++j)
         hp_assert_close(back->correction[j], sc->correction[j], 1e-15, 1e-18);
