@@ -8,6 +8,9 @@
 # ipopt (7, 8), nlopt-slsqp (9, 10), multi-start (11, 12), and 13 the best distance.
 if (!exists("in")) in = "best_local.csv"
 if (!exists("out")) out = "best_local.png"
+# A relative path is read as a path, never as gnuplot's '<command' or '|command'.
+if (in[1:1] ne "/") in = "./".in
+if (out[1:1] ne "/") out = "./".out
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
   set terminal pngcairo size 1200,520 enhanced font "Sans,10"
 } else {

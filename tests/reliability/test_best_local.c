@@ -187,7 +187,11 @@ static void bl_open(bl_run *run)
     }
     const char *path = getenv("HP_BEST_LOCAL_CSV");
     if (!path) return;
-    run->csv = fopen(path, "a");
+    /* Both tests of one run write to the file: the first starts it afresh, the second
+     * appends (a second run never doubles the rows). */
+    static int started;
+    run->csv = fopen(path, started ? "a" : "w");
+    started = 1;
     if (!run->csv) {
         print_error("HP_BEST_LOCAL_CSV: cannot open %s\n", path);
         fail();
