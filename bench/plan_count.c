@@ -131,6 +131,9 @@ static int run_loop(const hp_layout *L0, int level, const char *backend, long cy
     hp_settings_default(&st);
     st.level = (hp_level)level;
     st.use_rate_limits = 1;
+    /* One start for every backend, as realtime solves: the profile compares one solve's
+     * work (SLSQP's restarts, on by default, repeat it on plans that bind). */
+    st.restarts = 0;
     if (hp_backend_parse(backend, &st.backend) != HP_OK || cycles < 1) return usage();
     hp_layout L = *L0;
     for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
