@@ -12,49 +12,49 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 1.99114e+07]
+set xrange [* : 7.78337e+06]
 
 $front << EOD
-848.3,4.646568e-01,realtime-linear-1e-04
-5638,1.355203e-10,realtime-surface-1e-04
-6.53968e+06,1.000000e-17,ipopt-surface-1e-04
-1.99114e+07,1.000000e-17,end
+914.091,4.646568e-01,realtime-linear-1e-09
+5773.5,1.355203e-10,realtime-surface-1e-04
+2.54346e+06,1.000000e-17,ipopt-surface-1e-04
+7.78337e+06,1.000000e-17,end
 EOD
 
 $front1 << EOD
-370.571,4.936830e-03,fastpath-linear
-2213.5,1.000000e-17,fastpath-surface
-1.99114e+07,1.000000e-17,end
+372.778,4.936830e-03,fastpath-linear
+2273.5,1.000000e-17,fastpath-surface
+7.78337e+06,1.000000e-17,end
 EOD
 
 $front2 << EOD
-827.679,9.238732e-02,trace-realtime-linear
-4965.4,3.417474e-08,trace-realtime-surface
-1.99114e+07,3.417474e-08,end
+893.464,9.238732e-02,trace-realtime-linear
+5087.6,3.417474e-08,trace-realtime-surface
+7.78337e+06,3.417474e-08,end
 EOD
 
 $front3 << EOD
-848.3,4.646568e-01,realtime-linear-1e-04
-5638,1.355203e-10,realtime-surface-1e-04
-1.99114e+07,1.355203e-10,end
+914.091,4.646568e-01,realtime-linear-1e-09
+5773.5,1.355203e-10,realtime-surface-1e-04
+7.78337e+06,1.355203e-10,end
 EOD
 
 $front4 << EOD
-5.57691e+06,4.646568e-01,ipopt-linear-1e-04
-6.53968e+06,1.000000e-17,ipopt-surface-1e-04
-1.99114e+07,1.000000e-17,end
+2.45976e+06,4.646568e-01,ipopt-linear-1e-09
+2.54346e+06,1.000000e-17,ipopt-surface-1e-04
+7.78337e+06,1.000000e-17,end
 EOD
 
 $front5 << EOD
-66089,4.646568e-01,nlopt-slsqp-linear-1e-09
-77186,1.324757e-05,nlopt-slsqp-surface-1e-09
-1.99114e+07,1.324757e-05,end
+572610,4.646568e-01,nlopt-slsqp-linear-1e-09
+637898,3.072245e-05,nlopt-slsqp-surface-1e-09
+7.78337e+06,3.072245e-05,end
 EOD
 
 $front6 << EOD
-263551,4.646567e-01,nlopt-cobyla-linear-1e-09
-403240,5.181534e-07,nlopt-cobyla-surface-1e-04
-1.99114e+07,5.181534e-07,end
+265288,4.646567e-01,nlopt-cobyla-linear-1e-04
+402309,5.181534e-07,nlopt-cobyla-surface-1e-09
+7.78337e+06,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
