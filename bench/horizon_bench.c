@@ -1,6 +1,7 @@
 /* Benchmark of the horizon planners (docs/horizon.md), a standalone program built as
  * build/headplan-bench-horizon:
- *   headplan-bench-horizon rh SCENE TRACE      time per receding-horizon call against N
+ *   headplan-bench-horizon rh SCENE TRACE [N]  time per receding-horizon call against N
+ *                                             (the table's N, or only the N given)
  *   headplan-bench-horizon windows SCENE TRACE WINDOW OVERLAP
  *                                             whole offline solve against overlapping windows
  * Prints CSV on stdout. Per-call times are the calling thread's CPU time
@@ -101,14 +102,17 @@ static int load(const char *scene, const char *trace, hp_scene *sc, hp_settings 
     return rc;
 }
 
-static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row *rows, size_t T)
+static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row *rows, size_t T,
+                    int only)
 {
-    static const int Ns[] = {1, 2, 5, 10, 20, 40, 64};
+    static const int table[] = {1, 2, 5, 10, 20, 40, 64};
+    const int *Ns = only ? &only : table;
+    const size_t nN = only ? 1 : sizeof table / sizeof table[0];
     double *times = malloc(T * sizeof *times);
     if (!times) return no_memory("the times");
     printf("N,prediction,calls,median_us,p99_us,max_us\n");
     for (int p = 0; p < 2; ++p)
-        for (size_t a = 0; a < sizeof Ns / sizeof Ns[0]; ++a) {
+        for (size_t a = 0; a < nN; ++a) {
             hp_horizon_settings hs;
             hp_horizon_settings_default(&hs);
             hs.horizon = Ns[a];
@@ -196,7 +200,7 @@ static int count_arg(const char *name, const char *arg, int min)
 
 int main(int argc, char **argv)
 {
-    static const char usage[] = "usage: headplan-bench-horizon rh SCENE TRACE | "
+    static const char usage[] = "usage: headplan-bench-horizon rh SCENE TRACE [N] | "
                                 "headplan-bench-horizon windows SCENE TRACE WINDOW OVERLAP\n";
     if (argc < 2) {
         fputs(usage, stderr);
@@ -208,11 +212,12 @@ int main(int argc, char **argv)
                 usage);
         return EX_USAGE_;
     }
-    if (argc != (rh ? 4 : 6)) {
+    if (rh ? argc != 4 && argc != 5 : argc != 6) {
         fputs(usage, stderr);
         return EX_USAGE_;
     }
-    int window = 0, overlap = 0;
+    int window = 0, overlap = 0, only = 0;
+    if (rh && argc == 5 && (only = count_arg("N", argv[4], 1)) < 0) return EX_USAGE_;
     if (!rh && ((window = count_arg("WINDOW", argv[4], 1)) < 0 ||
                 (overlap = count_arg("OVERLAP", argv[5], 0)) < 0))
         return EX_USAGE_;
@@ -226,7 +231,7 @@ int main(int argc, char **argv)
     size_t T = 0;
     int rc = load(argv[2], argv[3], sc, &s, &rows, &T);
     if (rc == 0)
-        rc = rh ? bench_rh(sc, &s, rows, T) : bench_windows(sc, &s, rows, T, window, overlap);
+        rc = rh ? bench_rh(sc, &s, rows, T, only) : bench_windows(sc, &s, rows, T, window, overlap);
     free(rows);
     free(sc);
     return rc;
