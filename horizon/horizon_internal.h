@@ -14,6 +14,13 @@ hp_error hpi_horizon_row_dt(const hp_horizon_settings *hs, const hp_trace_row *r
 /* The planner's own words for its last hp_plan (its error, else its note), or "". */
 const char *hpi_horizon_rh_reason(const hp_horizon_rh *rh);
 
+/* Test access to the receding horizon's solve: the interior-point iterations of every call
+ * so far, and a switch to the reference solve (every call from a cold start with fixed
+ * centring, up to 100 iterations and a tolerance 100 times tighter than the default: the
+ * converged answer a faster solve is held to). */
+long hpi_horizon_rh_iterations(const hp_horizon_rh *rh);
+void hpi_horizon_rh_reference(hp_horizon_rh *rh);
+
 /* hp_horizon_check_rows with the refused row's line in the message. */
 hp_error hpi_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
                                    hp_diag *d);

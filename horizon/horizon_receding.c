@@ -7,18 +7,22 @@
  *   s.t.      ro_lo_k <= ρ_k(z_j) <= ro_hi_k,   |u_j,k| <= Δ_j,k / 1 kPa
  * with u_j,k = (P_j,k − P_j−1,k) / 1 kPa (row 0 against the pressures held now). It is
  * solved by a primal-dual interior-point method (slacks s and multipliers λ for the 4·n·N
- * inequalities, started inside, fraction-to-the-boundary steps, centring σ = RH_SIGMA), with
- * the constraints linearised at every iterate (exact contact Jacobians, dP/dro of the bladder
- * model) and a Gauss–Newton Hessian of the objective. Eliminating s and λ leaves the normal
- * matrix H + Σ_i (λ_i/s_i) ∇c_i ∇c_iᵀ, block tridiagonal (row j couples only with j ± 1
- * through the rate and smoothness terms), so each step is a block Cholesky in O(N · 6³): no
- * dense 6N × 6N matrix. At most rh_max_iter iterations (fewer once converged, none begun
- * after half the planner's max_time), started from the previous call's plan
- * shifted by one row. The iterate need not be feasible: the applied first row goes through
- * hp_plan (realtime backend, this row's rate limits), which keeps every limit exactly.
- * Uncommanded pose components are pulled to 0 with unit weight, as the planner holds them. */
+ * inequalities, started inside, fraction-to-the-boundary steps), with the constraints
+ * linearised at every iterate (exact contact Jacobians, dP/dro of the bladder model) and a
+ * Gauss–Newton Hessian of the objective. Eliminating s and λ leaves the normal matrix
+ * H + Σ_i (λ_i/s_i) ∇c_i ∇c_iᵀ, block tridiagonal (row j couples only with j ± 1 through the
+ * rate and smoothness terms), so each step is a block Cholesky in O(N · 6³): no dense 6N × 6N
+ * matrix. Each iteration is Mehrotra's predictor–corrector (one factorisation, two solves),
+ * and a call starts from the previous call's plan and multipliers shifted by one row: on the
+ * horizon traces 3–5 iterations a call where a fixed centring from cold multipliers took
+ * 11–14 (tests/horizon/test_rh_solve.c). At most rh_max_iter iterations, none begun after
+ * half the planner's max_time. The iterate need not be feasible: the applied first row goes
+ * through hp_plan (realtime backend, this row's rate limits), which keeps every limit
+ * exactly. Uncommanded pose components are pulled to 0 with unit weight, as the planner
+ * holds them. */
 #define _POSIX_C_SOURCE 200809L
 #include "horizon/horizon_internal.h"
+#include "iab/iab_internal.h"
 #include "planner/problem_setup.h"
 
 #include <math.h>
@@ -31,9 +35,24 @@
 #define RH_BOUNDARY 0.995 /* fraction-to-the-boundary of a step */
 #define RH_S_MIN 1e-3     /* smallest starting slack (mm or kPa) */
 #define RH_MU0 1e-3       /* starting complementarity s·λ */
+#define RH_WARM_S 1e-2    /* smallest slack of a warm start (mm or kPa) */
+#define RH_WARM_MU 1e-3   /* smallest s·λ of a warm start */
 #define RH_GAP_TOL 1e-10  /* stop when the mean s·λ is below this ... */
 #define RH_STEP_TOL 1e-9  /* ... and the last step moved no pose by more (mm or degrees) */
-#define RH_NC 4           /* inequalities per bladder and row: ro >= lo, ro <= hi, ±u <= Δ */
+/* ... or, with the same gap, the last step moved the first row (the one applied) by at most
+ * RH_STEP_FIRST and no row by more than RH_STEP_REST (mm or degrees). The pose converges
+ * linearly near the end (the Gauss–Newton matrix leaves out the constraints' curvature; the
+ * steps shrank by a factor of 100 or more per iteration on the horizon traces), so the first
+ * row is then within about 1e-8 of where it converges, a hundredth of the 1e-6 at which the
+ * applied row aims at the desired pose itself (HP_HORIZON_AIM_TOL); the later rows only start
+ * the next call, which corrects them. */
+#define RH_STEP_FIRST 1e-6
+#define RH_STEP_REST 1e-4
+/* The reference solve of the tests (hpi_horizon_rh_reference): cold, to these. */
+#define RH_REF_MAX_ITER 100
+#define RH_REF_GAP_TOL 1e-13
+#define RH_REF_STEP_TOL 1e-11
+#define RH_NC 4 /* inequalities per bladder and row: ro >= lo, ro <= hi, ±u <= Δ */
 
 struct hp_horizon_rh {
     hp_planner *p;
@@ -46,6 +65,7 @@ struct hp_horizon_rh {
     int commanded[6];
     double w[6]; /* pose weights (1 where not commanded) */
     double ro_lo[HP_MAX_BLADDERS], ro_hi[HP_MAX_BLADDERS]; /* [mm] static box */
+    hp_iab_s S[HP_MAX_BLADDERS];        /* the bladders validated once, at create */
     double rate_scene[HP_MAX_BLADDERS]; /* [Pa] the scene's per-row limits (the planner's
                                            copy holds the last row's allowance) */
     double p_now[HP_MAX_BLADDERS];      /* pressures the bladders hold [Pa] */
@@ -59,6 +79,7 @@ struct hp_horizon_rh {
     double delta[HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double rho[HP_HORIZON_MAX * HP_MAX_BLADDERS], J[HP_HORIZON_MAX * HP_MAX_BLADDERS * 6];
     double P[HP_HORIZON_MAX * HP_MAX_BLADDERS], dP[HP_HORIZON_MAX * HP_MAX_BLADDERS];
+    double du[HP_HORIZON_MAX * HP_MAX_BLADDERS * 6]; /* ∇P_j,k / 1 kPa on row j's pose */
     double g[HP_HORIZON_MAX * 6];
     double A[HP_HORIZON_MAX * 36], B[HP_HORIZON_MAX * 36]; /* diagonal / sub-diagonal blocks */
     hp_result applied;     /* the last applied answer (its pose starts a cold plan) */
@@ -69,15 +90,22 @@ struct hp_horizon_rh {
     double lam[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* multipliers */
     double ds[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double dl[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];
+    double tgt[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* complementarity targets */
+    int warm;        /* sl and lam hold the previous call's answer, shifted by one row */
+    long iterations; /* interior-point iterations of every call so far (tests) */
+    int reference;   /* solve every call cold to a tight tolerance (tests) */
 };
 
 /* P [Pa] and dP/dro [Pa/mm] at outer radius ro (mm), ro held inside the box. */
 static int press_of_ro(const hp_horizon_rh *rh, int k, double ro, double *P, double *dP)
 {
-    const hp_iab *b = &rh->L->bladders[k].iab;
-    double rc = fmin(fmax(ro, rh->ro_lo[k]), rh->ro_hi[k]) / HP_MM_PER_M, ri, dPdri;
-    if (hp_iab_ri(b, rc, &ri) != HP_OK || hp_iab_ik_derivs(b, ri, P, &dPdri, NULL) != HP_OK)
+    const hp_iab_s *b = &rh->S[k];
+    double rc = fmin(fmax(ro, rh->ro_lo[k]), rh->ro_hi[k]) / HP_MM_PER_M, ri, ris, dPdri;
+    /* hp_iab_ri and hp_iab_ik_derivs on the bladder validated at create: the same bits. */
+    if (hpi_iab_s_ri_m(b, rc, &ri) != HP_OK || hpi_iab_s_radius(b, ri, &ris) != HP_OK ||
+        hpi_iab_s_ik(b, ris, P, &dPdri, NULL) != HP_OK)
         return 0;
+    dPdri *= b->scale;
     /* Outside the box the value is held (the box constraints pull the iterate back), so is
      * its slope. */
     *dP = (ro < rh->ro_lo[k] || ro > rh->ro_hi[k]) ? 0.0
@@ -101,6 +129,8 @@ static int evaluate(hp_horizon_rh *rh, const double *z)
             double prev = j ? rh->P[n * (j - 1) + k] : rh->p_now[k];
             double u = (rh->P[n * j + k] - prev) * 1e-3, D = rh->delta[n * j + k] * 1e-3;
             if (!isfinite(D)) D = 1e6, u = 0;
+            for (int i = 0; i < 6; ++i)
+                rh->du[6 * (n * j + k) + i] = rh->dP[n * j + k] * 1e-3 * rh->J[6 * (n * j + k) + i];
             c[0] = ro - rh->ro_lo[k];
             c[1] = rh->ro_hi[k] - ro;
             c[2] = D - u;
@@ -117,64 +147,93 @@ static void add_outer(double *M, double c, const double *a, const double *b)
         for (int q = 0; q < 6; ++q) M[6 * r + q] += c * a[r] * b[q];
 }
 
-/* ∇u_j,k on row j (a) and on row j − 1 (b, zero for j = 0). */
+/* Adds c·a·aᵀ into the lower triangle of the symmetric 6×6 block M: the factorisation reads
+ * nothing else, so the upper half is not formed. */
+static void add_outer_lower(double *M, double c, const double *a)
+{
+    for (int r = 0; r < 6; ++r)
+        for (int q = 0; q <= r; ++q) M[6 * r + q] += c * a[r] * a[q];
+}
+
+/* ∇u_j,k on row j (a) and on row j − 1 (b, zero for j = 0), from evaluate()'s ∇P. */
 static void rate_grad(const hp_horizon_rh *rh, int j, int k, double *a, double *b)
 {
     const int n = rh->n;
     for (int i = 0; i < 6; ++i) {
-        a[i] = rh->dP[n * j + k] * 1e-3 * rh->J[6 * (n * j + k) + i];
-        b[i] = j ? -rh->dP[n * (j - 1) + k] * 1e-3 * rh->J[6 * (n * (j - 1) + k) + i] : 0.0;
+        a[i] = rh->du[6 * (n * j + k) + i];
+        b[i] = j ? -rh->du[6 * (n * (j - 1) + k) + i] : 0.0;
     }
 }
 
-/* The reduced Newton system at the point evaluate() last saw, for barrier weight mu:
- *   (H + Σ_i (λ_i/s_i) ∇c_i∇c_iᵀ) dz = −g,  g = ∇f − Σ_i ∇c_i (mu − λ_i (c_i − s_i)) / s_i,
- * H the Gauss–Newton Hessian of the objective (halved, like g's objective part), in the
- * blocks A (diagonal), B (sub-diagonal) and g. */
-static void normal_equations(hp_horizon_rh *rh, const double *z, double mu)
+/* The matrix of the reduced Newton system at the point evaluate() last saw:
+ *   H + Σ_i (λ_i/s_i) ∇c_i∇c_iᵀ,
+ * H the Gauss–Newton Hessian of the objective (halved, like the gradient's objective part),
+ * in the blocks A (diagonal, lower triangles) and B (sub-diagonal). It depends on the
+ * iterate alone, so both solves of an iteration (predictor and corrector) share one
+ * factorisation. */
+static void normal_matrix(hp_horizon_rh *rh)
 {
     const int n = rh->n, N = rh->N;
     memset(rh->A, 0, sizeof(double) * 36 * (size_t)N);
     memset(rh->B, 0, sizeof(double) * 36 * (size_t)N);
-    memset(rh->g, 0, sizeof(double) * 6 * (size_t)N);
     for (int j = 0; j < N; ++j) {
-        double *A = rh->A + 36 * j, *g = rh->g + 6 * j;
-        for (int i = 0; i < 6; ++i) {
-            A[7 * i] += 2.0 * rh->w[i];
-            g[i] += 2.0 * rh->w[i] * (z[6 * j + i] - rh->d[6 * j + i]);
-        }
+        double *A = rh->A + 36 * j;
+        for (int i = 0; i < 6; ++i) A[7 * i] += 2.0 * rh->w[i];
         for (int k = 0; k < n; ++k) {
-            const double *Jk = rh->J + 6 * (n * j + k);
             const int o = RH_NC * (n * j + k);
-            double q[RH_NC], wt[RH_NC];
-            for (int c = 0; c < RH_NC; ++c) {
-                wt[c] = rh->lam[o + c] / rh->sl[o + c];
-                q[c] = (mu - rh->lam[o + c] * (rh->c[o + c] - rh->sl[o + c])) / rh->sl[o + c];
-            }
+            double wt[RH_NC];
+            for (int c = 0; c < RH_NC; ++c) wt[c] = rh->lam[o + c] / rh->sl[o + c];
             /* box: ∇c0 = J, ∇c1 = −J */
-            add_outer(A, wt[0] + wt[1], Jk, Jk);
-            for (int i = 0; i < 6; ++i) g[i] -= (q[0] - q[1]) * Jk[i];
+            add_outer_lower(A, wt[0] + wt[1], rh->J + 6 * (n * j + k));
             /* rate (∇c2 = −∇u, ∇c3 = ∇u) and smoothness smooth·u² */
+            double cw = 2.0 * rh->hs.smooth +
+                        (isfinite(rh->delta[n * j + k]) ? wt[2] + wt[3] : 0.0);
+            if (cw == 0.0) continue;
             double a[6], b[6];
             rate_grad(rh, j, k, a, b);
-            double prev = j ? rh->P[n * (j - 1) + k] : rh->p_now[k];
-            double u = (rh->P[n * j + k] - prev) * 1e-3;
-            int lim = isfinite(rh->delta[n * j + k]);
-            double cw = 2.0 * rh->hs.smooth + (lim ? wt[2] + wt[3] : 0.0);
-            double ge = 2.0 * rh->hs.smooth * u - (lim ? q[3] - q[2] : 0.0);
-            if (cw == 0.0 && ge == 0.0) continue;
-            add_outer(A, cw, a, a);
-            for (int i = 0; i < 6; ++i) g[i] += ge * a[i];
+            add_outer_lower(A, cw, a);
             if (j) {
-                add_outer(rh->A + 36 * (j - 1), cw, b, b);
+                add_outer_lower(rh->A + 36 * (j - 1), cw, b);
                 add_outer(rh->B + 36 * j, cw, a, b);
-                for (int i = 0; i < 6; ++i) rh->g[6 * (j - 1) + i] += ge * b[i];
             }
         }
     }
 }
 
-/* In-place Cholesky of a symmetric positive definite 6×6 block (lower triangle kept). */
+/* The right-hand side g of the reduced Newton system (H + Σ_i (λ_i/s_i) ∇c_i∇c_iᵀ) dz = −g
+ * for complementarity targets t_i (rh->tgt: s_i λ_i → t_i):
+ *   g = ∇f − Σ_i ∇c_i (t_i − λ_i (c_i − s_i)) / s_i. */
+static void normal_rhs(hp_horizon_rh *rh, const double *z)
+{
+    const int n = rh->n, N = rh->N;
+    memset(rh->g, 0, sizeof(double) * 6 * (size_t)N);
+    for (int j = 0; j < N; ++j) {
+        double *g = rh->g + 6 * j;
+        for (int i = 0; i < 6; ++i) g[i] += 2.0 * rh->w[i] * (z[6 * j + i] - rh->d[6 * j + i]);
+        for (int k = 0; k < n; ++k) {
+            const double *Jk = rh->J + 6 * (n * j + k);
+            const int o = RH_NC * (n * j + k);
+            double q[RH_NC];
+            for (int c = 0; c < RH_NC; ++c)
+                q[c] = (rh->tgt[o + c] - rh->lam[o + c] * (rh->c[o + c] - rh->sl[o + c])) /
+                       rh->sl[o + c];
+            for (int i = 0; i < 6; ++i) g[i] -= (q[0] - q[1]) * Jk[i];
+            double prev = j ? rh->P[n * (j - 1) + k] : rh->p_now[k];
+            double u = (rh->P[n * j + k] - prev) * 1e-3;
+            int lim = isfinite(rh->delta[n * j + k]);
+            double ge = 2.0 * rh->hs.smooth * u - (lim ? q[3] - q[2] : 0.0);
+            if (ge == 0.0) continue;
+            double a[6], b[6];
+            rate_grad(rh, j, k, a, b);
+            for (int i = 0; i < 6; ++i) g[i] += ge * a[i];
+            if (j)
+                for (int i = 0; i < 6; ++i) rh->g[6 * (j - 1) + i] += ge * b[i];
+        }
+    }
+}
+
+/* In-place Cholesky of a symmetric positive definite 6×6 block (lower triangle read and
+ * kept). */
 static int chol6(double *M)
 {
     for (int c = 0; c < 6; ++c) {
@@ -207,12 +266,10 @@ static void tri6(const double *L, double *x, int trans)
     }
 }
 
-/* Solves the block-tridiagonal system (A, B) dz = −g by block Cholesky; A and B are
- * overwritten by the factors (A_j → L_jj, B_j → L_j,j−1). */
-static int solve_banded(hp_horizon_rh *rh)
+/* Block Cholesky of the block-tridiagonal matrix (A, B): A_j → L_jj, B_j → L_j,j−1. */
+static int factor_banded(hp_horizon_rh *rh)
 {
-    const int N = rh->N;
-    for (int j = 0; j < N; ++j) {
+    for (int j = 0; j < rh->N; ++j) {
         double *A = rh->A + 36 * j;
         if (j) {
             double *Bj = rh->B + 36 * j;
@@ -225,10 +282,15 @@ static int solve_banded(hp_horizon_rh *rh)
                     A[6 * r + q] -= s;
                 }
         }
-        for (int r = 0; r < 6; ++r)
-            for (int q = r + 1; q < 6; ++q) A[6 * r + q] = A[6 * q + r];
         if (!chol6(A)) return 0;
     }
+    return 1;
+}
+
+/* dz = −(L Lᵀ)⁻¹ g with the factors of factor_banded. */
+static int solve_banded(hp_horizon_rh *rh)
+{
+    const int N = rh->N;
     double *y = rh->dz;
     for (int j = 0; j < N; ++j) {
         for (int i = 0; i < 6; ++i) y[6 * j + i] = -rh->g[6 * j + i];
@@ -250,12 +312,38 @@ static int solve_banded(hp_horizon_rh *rh)
     return 1;
 }
 
-/* Largest step in (0, 1] keeping v + α dv >= (1 − RH_BOUNDARY) v. */
-static double to_boundary(const double *v, const double *dv, int m)
+/* The slack and multiplier steps of a pose step dz for the targets rh->tgt:
+ *   ds = ∇cᵀdz + (c − s),  dλ = (t − sλ − λ ds)/s. */
+static void slack_steps(hp_horizon_rh *rh)
+{
+    const int n = rh->n;
+    for (int j = 0; j < rh->N; ++j)
+        for (int k = 0; k < n; ++k) {
+            const int o = RH_NC * (n * j + k);
+            const double *Jk = rh->J + 6 * (n * j + k), *dzj = rh->dz + 6 * j;
+            double a[6], b[6], dr = 0, du = 0;
+            rate_grad(rh, j, k, a, b);
+            for (int i = 0; i < 6; ++i) {
+                dr += Jk[i] * dzj[i];
+                du += a[i] * dzj[i] + (j ? b[i] * rh->dz[6 * (j - 1) + i] : 0.0);
+            }
+            if (!isfinite(rh->delta[n * j + k])) du = 0;
+            const double dc[RH_NC] = {dr, -dr, -du, du};
+            for (int c = 0; c < RH_NC; ++c) {
+                rh->ds[o + c] = dc[c] + rh->c[o + c] - rh->sl[o + c];
+                rh->dl[o + c] = (rh->tgt[o + c] - rh->sl[o + c] * rh->lam[o + c] -
+                                 rh->lam[o + c] * rh->ds[o + c]) /
+                                rh->sl[o + c];
+            }
+        }
+}
+
+/* Largest step in (0, 1] keeping v + α dv >= (1 − tau) v. */
+static double to_boundary(const double *v, const double *dv, int m, double tau)
 {
     double alpha = 1.0;
     for (int i = 0; i < m; ++i)
-        if (dv[i] < 0) alpha = fmin(alpha, -RH_BOUNDARY * v[i] / dv[i]);
+        if (dv[i] < 0) alpha = fmin(alpha, -tau * v[i] / dv[i]);
     return alpha;
 }
 
@@ -266,65 +354,106 @@ static double now_s(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
+/* The slacks and multipliers an interior-point solve starts from, at the point evaluate()
+ * last saw. Cold: s = max(c, RH_S_MIN), s·λ = RH_MU0. Warm (the previous call's answer,
+ * shifted by one row): its multipliers, with every slack at least RH_WARM_S and every
+ * product s·λ at least RH_WARM_MU, so that a constraint the new row's data makes active or
+ * inactive is not pinned at the boundary by the old answer. */
+static void start_point(hp_horizon_rh *rh, int m, int warm)
+{
+    for (int i = 0; i < m; ++i) {
+        rh->sl[i] = fmax(rh->c[i], warm ? RH_WARM_S : RH_S_MIN);
+        rh->lam[i] = warm ? fmax(rh->lam[i], RH_WARM_MU / rh->sl[i]) : RH_MU0 / rh->sl[i];
+    }
+}
+
 /* At most rh_max_iter primal-dual interior-point iterations from rh->z, and none started
- * after the planner's max_time (half of it: hp_plan gets the rest). Returns how many ran when
- * the time budget stopped it before it converged or used them all, else -1: its plan then
- * depends on the machine's speed, and the row says so. A budget below a nanosecond (the
- * clock's resolution) stops it before the first iteration, always. */
+ * after the planner's max_time (half of it: hp_plan gets the rest). Each iteration is
+ * Mehrotra's predictor–corrector: one factorisation, an affine step (targets 0) that gives
+ * the centring σ = (μ_aff/μ)³, and the corrected step (targets σμ − ds_aff·dλ_aff); the
+ * reference solve of the tests takes the plain step (targets RH_SIGMA·μ) from a cold start.
+ * Returns how many ran when the time budget stopped it before it converged or used them all,
+ * else -1: its plan then depends on the machine's speed, and the row says so. A budget below
+ * a nanosecond (the clock's resolution) stops it before the first iteration, always. */
 static int interior_point(hp_horizon_rh *rh)
 {
     const int n = rh->n, m = RH_NC * n * rh->N;
     const double budget = 0.5 * rh->s.max_time, t_end = now_s() + budget;
+    const int max_iter = rh->reference ? RH_REF_MAX_ITER : rh->hs.rh_max_iter;
+    const double gap_tol = rh->reference ? RH_REF_GAP_TOL : RH_GAP_TOL;
+    const double step_tol = rh->reference ? RH_REF_STEP_TOL : RH_STEP_TOL;
+    const int warm = rh->warm && !rh->reference;
+    rh->warm = 0; /* until the slacks and multipliers are a solve's again */
     if (!evaluate(rh, rh->z)) return -1;
-    for (int i = 0; i < m; ++i) {
-        rh->sl[i] = fmax(rh->c[i], RH_S_MIN);
-        rh->lam[i] = RH_MU0 / rh->sl[i];
-    }
-    for (int it = 0; it < rh->hs.rh_max_iter; ++it) {
+    start_point(rh, m, warm);
+    for (int it = 0; it < max_iter; ++it) {
         if (budget < 1e-9 || now_s() >= t_end) return it;
+        rh->iterations++;
         double gap = 0;
         for (int i = 0; i < m; ++i) gap += rh->sl[i] * rh->lam[i];
-        double mu = RH_SIGMA * gap / m;
-        normal_equations(rh, rh->z, mu);
+        const double mu = gap / m;
+        normal_matrix(rh);
+        if (!factor_banded(rh)) return -1;
+        double sigma = RH_SIGMA;
+        if (!rh->reference) {
+            for (int i = 0; i < m; ++i) rh->tgt[i] = 0.0;
+            normal_rhs(rh, rh->z);
+            if (!solve_banded(rh)) return -1;
+            slack_steps(rh);
+            double ap = to_boundary(rh->sl, rh->ds, m, 1.0),
+                   ad = to_boundary(rh->lam, rh->dl, m, 1.0);
+            double aff = 0;
+            for (int i = 0; i < m; ++i)
+                aff += (rh->sl[i] + ap * rh->ds[i]) * (rh->lam[i] + ad * rh->dl[i]);
+            double r = fmin(aff / m / mu, 1.0);
+            sigma = r * r * r;
+        }
+        for (int i = 0; i < m; ++i)
+            rh->tgt[i] = sigma * mu - (rh->reference ? 0.0 : rh->ds[i] * rh->dl[i]);
+        normal_rhs(rh, rh->z);
         if (!solve_banded(rh)) return -1;
-        /* ds = ∇cᵀdz + (c − s), dλ = (mu − sλ − λ ds)/s */
-        for (int j = 0; j < rh->N; ++j)
-            for (int k = 0; k < n; ++k) {
-                const int o = RH_NC * (n * j + k);
-                const double *Jk = rh->J + 6 * (n * j + k), *dzj = rh->dz + 6 * j;
-                double a[6], b[6], dr = 0, du = 0;
-                rate_grad(rh, j, k, a, b);
-                for (int i = 0; i < 6; ++i) {
-                    dr += Jk[i] * dzj[i];
-                    du += a[i] * dzj[i] + (j ? b[i] * rh->dz[6 * (j - 1) + i] : 0.0);
-                }
-                if (!isfinite(rh->delta[n * j + k])) du = 0;
-                const double dc[RH_NC] = {dr, -dr, -du, du};
-                for (int c = 0; c < RH_NC; ++c) {
-                    rh->ds[o + c] = dc[c] + rh->c[o + c] - rh->sl[o + c];
-                    rh->dl[o + c] = (mu - rh->sl[o + c] * rh->lam[o + c] -
-                                     rh->lam[o + c] * rh->ds[o + c]) /
-                                    rh->sl[o + c];
-                }
-            }
-        double ap = to_boundary(rh->sl, rh->ds, m), ad = to_boundary(rh->lam, rh->dl, m);
+        slack_steps(rh);
+        /* Fraction to the boundary: RH_BOUNDARY, nearer 1 as μ vanishes (1 − μ, as Ipopt's
+         * τ), so that the last steps are whole Newton steps: a fixed 0.995 leaves 0.5 % of
+         * every step to the next iteration, and the step test then waits for it. */
+        const double tau = rh->reference ? RH_BOUNDARY : fmax(RH_BOUNDARY, 1.0 - mu);
+        double ap = to_boundary(rh->sl, rh->ds, m, tau), ad = to_boundary(rh->lam, rh->dl, m, tau);
         for (int i = 0; i < 6 * rh->N; ++i) rh->zt[i] = rh->z[i] + ap * rh->dz[i];
         if (!evaluate(rh, rh->zt)) {
             evaluate(rh, rh->z); /* keep the last point that evaluated */
             return -1;
         }
         memcpy(rh->z, rh->zt, sizeof(double) * 6 * (size_t)rh->N);
-        double step = 0;
+        double step = 0, step0 = 0;
         for (int i = 0; i < 6 * rh->N; ++i) step = fmax(step, fabs(ap * rh->dz[i]));
+        for (int i = 0; i < 6; ++i) step0 = fmax(step0, fabs(ap * rh->dz[i]));
         gap = 0;
         for (int i = 0; i < m; ++i) {
             rh->sl[i] += ap * rh->ds[i];
             rh->lam[i] += ad * rh->dl[i];
             gap += rh->sl[i] * rh->lam[i];
         }
-        if (gap / m < RH_GAP_TOL && step < RH_STEP_TOL) return -1;
+        rh->warm = 1;
+        if (gap / m < gap_tol &&
+            (step < step_tol || (!rh->reference && step0 < RH_STEP_FIRST && step < RH_STEP_REST)))
+            return -1;
     }
     return -1;
+}
+
+/* The allowance the applied row's hp_plan gets for a bladder holding p [Pa] whose rate limit
+ * is delta [Pa]: delta less one ulp of the window's end. The planner's window is
+ * [p − delta, p + delta] as rounded, and a rounded end can lie half an ulp of p + delta
+ * beyond |P − p| <= delta (seen on the drift trace: |ΔP| 61.200000000000216 Pa against an
+ * allowance of 61.200000000000188 Pa, a plan that ended on the limit). One ulp inside, a
+ * rounded end is within the allowance, and so is P − p formed in floating point. An
+ * allowance below that ulp (a bladder that can only hold its pressure) is passed as it is:
+ * the planner pins such a bladder at p. */
+static double inward_allowance(double p, double delta)
+{
+    if (!isfinite(delta)) return delta;
+    double end = fabs(p) + delta, d = delta - (nextafter(end, INFINITY) - end);
+    return d > 0 ? d : delta;
 }
 
 /* The predicted desired poses of rows 0..N−1 and their rate limits (row 0: dt0). */
@@ -371,6 +500,9 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
     rh->level = hp_planner_level(rh->p);
     rh->n = rh->L->n;
     rh->N = rh->hs.horizon;
+    for (int k = 0; k < rh->n && e == HP_OK; ++k)
+        e = hpi_iab_scaled_init(&rh->L->bladders[k].iab, &rh->S[k], d);
+    if (e != HP_OK) goto fail;
     hpi_horizon_scene_rates(rh->L, rh->rate_scene);
     hp_static_bounds sb;
     hp_problem pb;
@@ -475,6 +607,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     }
     double delta[HP_MAX_BLADDERS];
     hpi_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, dt0, delta);
+    for (int k = 0; k < rh->n; ++k) delta[k] = inward_allowance(rh->p_now[k], delta[k]);
     hp_error e = hp_planner_set_rate_max(rh->p, delta);
     if (e == HP_OK) e = hp_plan(rh->p, target, result);
     if (e != HP_OK) return e;
@@ -497,13 +630,20 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     /* Shift the plan by one row and start the next call from it (the new last row repeats
      * the old one); with N = 1 the applied pose is the start. */
     if (rh->N > 1) {
+        const size_t row = RH_NC * (size_t)rh->n, rest = row * (size_t)(rh->N - 1);
         memmove(rh->z, rh->z + 6, sizeof(double) * 6 * (size_t)(rh->N - 1));
+        memmove(rh->sl, rh->sl + row, sizeof(double) * rest);
+        memmove(rh->lam, rh->lam + row, sizeof(double) * rest);
     } else {
         for (int i = 0; i < 6; ++i)
             rh->z[i] = result->achieved[i] * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
     }
     return HP_OK;
 }
+
+long hpi_horizon_rh_iterations(const hp_horizon_rh *rh) { return rh->iterations; }
+
+void hpi_horizon_rh_reference(hp_horizon_rh *rh) { rh->reference = 1; }
 
 const char *hpi_horizon_rh_reason(const hp_horizon_rh *rh)
 {
