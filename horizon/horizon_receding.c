@@ -92,6 +92,7 @@ struct hp_horizon_rh {
     double dl[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double tgt[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* complementarity targets */
     int warm;        /* sl and lam hold the previous call's answer, shifted by one row */
+    int geom_ok;     /* rho, J, P, dP and du are those of every row of z */
     long iterations; /* interior-point iterations of every call so far (tests) */
     int reference;   /* solve every call cold to a tight tolerance (tests) */
 };
@@ -113,30 +114,49 @@ static int press_of_ro(const hp_horizon_rh *rh, int k, double ro, double *P, dou
     return isfinite(*P) && isfinite(*dP);
 }
 
-/* Contact distances, Jacobians, pressures and the constraint values c (index
- * RH_NC·(n·j + k) + 0..3: ro − lo, hi − ro, Δ − u, Δ + u; without a rate limit the last two
- * are a large constant) of every row at z. 0 on failure. */
-static int evaluate(hp_horizon_rh *rh, const double *z)
+/* Contact distances, Jacobians, pressures, dP/dro and ∇P of row j at its pose zj: what a
+ * row's pose alone decides. 0 on failure. */
+static int row_geometry(hp_horizon_rh *rh, int j, const double *zj)
 {
     const int n = rh->n;
-    for (int j = 0; j < rh->N; ++j) {
-        if (hpi_setup_contact_scaled(rh->L, rh->G, rh->level, z + 6 * j, rh->rho + n * j,
-                                     rh->J + 6 * n * j) != HP_OK)
-            return 0;
+    if (hpi_setup_contact_scaled(rh->L, rh->G, rh->level, zj, rh->rho + n * j,
+                                 rh->J + 6 * n * j) != HP_OK)
+        return 0;
+    for (int k = 0; k < n; ++k) {
+        const int o = n * j + k;
+        if (!press_of_ro(rh, k, rh->rho[o], &rh->P[o], &rh->dP[o])) return 0;
+        for (int i = 0; i < 6; ++i) rh->du[6 * o + i] = rh->dP[o] * 1e-3 * rh->J[6 * o + i];
+    }
+    return 1;
+}
+
+/* The constraint values c (index RH_NC·(n·j + k) + 0..3: ro − lo, hi − ro, Δ − u, Δ + u;
+ * without a rate limit the last two are a large constant) of every row, from the rows'
+ * geometry, the pressures held now and the allowances. */
+static void constraints(hp_horizon_rh *rh)
+{
+    const int n = rh->n;
+    for (int j = 0; j < rh->N; ++j)
         for (int k = 0; k < n; ++k) {
             double ro = rh->rho[n * j + k], *c = rh->c + RH_NC * (n * j + k);
-            if (!press_of_ro(rh, k, ro, &rh->P[n * j + k], &rh->dP[n * j + k])) return 0;
             double prev = j ? rh->P[n * (j - 1) + k] : rh->p_now[k];
             double u = (rh->P[n * j + k] - prev) * 1e-3, D = rh->delta[n * j + k] * 1e-3;
             if (!isfinite(D)) D = 1e6, u = 0;
-            for (int i = 0; i < 6; ++i)
-                rh->du[6 * (n * j + k) + i] = rh->dP[n * j + k] * 1e-3 * rh->J[6 * (n * j + k) + i];
             c[0] = ro - rh->ro_lo[k];
             c[1] = rh->ro_hi[k] - ro;
             c[2] = D - u;
             c[3] = D + u;
         }
-    }
+}
+
+/* The geometry of every row at z and the constraint values. 0 on failure, and the geometry
+ * then matches no pose (rh->geom_ok cleared). */
+static int evaluate(hp_horizon_rh *rh, const double *z)
+{
+    rh->geom_ok = 0;
+    for (int j = 0; j < rh->N; ++j)
+        if (!row_geometry(rh, j, z + 6 * j)) return 0;
+    constraints(rh);
     return 1;
 }
 
@@ -384,7 +404,10 @@ static int interior_point(hp_horizon_rh *rh)
     const double step_tol = rh->reference ? RH_REF_STEP_TOL : RH_STEP_TOL;
     const int warm = rh->warm && !rh->reference;
     rh->warm = 0; /* until the slacks and multipliers are a solve's again */
-    if (!evaluate(rh, rh->z)) return -1;
+    /* The geometry of the shifted plan is the last call's, shifted with it: only the
+     * constraint values change (the pressures held now, the allowances). */
+    if (rh->geom_ok) constraints(rh);
+    else if (!(rh->geom_ok = evaluate(rh, rh->z))) return -1;
     start_point(rh, m, warm);
     for (int it = 0; it < max_iter; ++it) {
         if (budget < 1e-9 || now_s() >= t_end) return it;
@@ -420,10 +443,11 @@ static int interior_point(hp_horizon_rh *rh)
         double ap = to_boundary(rh->sl, rh->ds, m, tau), ad = to_boundary(rh->lam, rh->dl, m, tau);
         for (int i = 0; i < 6 * rh->N; ++i) rh->zt[i] = rh->z[i] + ap * rh->dz[i];
         if (!evaluate(rh, rh->zt)) {
-            evaluate(rh, rh->z); /* keep the last point that evaluated */
+            rh->geom_ok = evaluate(rh, rh->z); /* keep the last point that evaluated */
             return -1;
         }
         memcpy(rh->z, rh->zt, sizeof(double) * 6 * (size_t)rh->N);
+        rh->geom_ok = 1;
         double step = 0, step0 = 0;
         for (int i = 0; i < 6 * rh->N; ++i) step = fmax(step, fabs(ap * rh->dz[i]));
         for (int i = 0; i < 6; ++i) step0 = fmax(step0, fabs(ap * rh->dz[i]));
@@ -584,6 +608,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
         predict(rh, dt0);
         if (!rh->started) {
             /* the pose the start pressures hold, over the whole horizon */
+            rh->geom_ok = 0;
             for (int j = 0; j < rh->N; ++j)
                 for (int i = 0; i < 6; ++i)
                     rh->z[6 * j + i] = rh->applied.achieved[i] *
@@ -631,10 +656,18 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
      * the old one); with N = 1 the applied pose is the start. */
     if (rh->N > 1) {
         const size_t row = RH_NC * (size_t)rh->n, rest = row * (size_t)(rh->N - 1);
-        memmove(rh->z, rh->z + 6, sizeof(double) * 6 * (size_t)(rh->N - 1));
+        const size_t n = (size_t)rh->n, N1 = (size_t)(rh->N - 1);
+        memmove(rh->z, rh->z + 6, sizeof(double) * 6 * N1);
         memmove(rh->sl, rh->sl + row, sizeof(double) * rest);
         memmove(rh->lam, rh->lam + row, sizeof(double) * rest);
+        /* The last row keeps its pose, and so its geometry. */
+        memmove(rh->rho, rh->rho + n, sizeof(double) * n * N1);
+        memmove(rh->P, rh->P + n, sizeof(double) * n * N1);
+        memmove(rh->dP, rh->dP + n, sizeof(double) * n * N1);
+        memmove(rh->J, rh->J + 6 * n, sizeof(double) * 6 * n * N1);
+        memmove(rh->du, rh->du + 6 * n, sizeof(double) * 6 * n * N1);
     } else {
+        rh->geom_ok = 0;
         for (int i = 0; i < 6; ++i)
             rh->z[i] = result->achieved[i] * (i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD);
     }
