@@ -39,15 +39,16 @@
 #define RH_WARM_MU 1e-3   /* smallest s·λ of a warm start */
 #define RH_GAP_TOL 1e-10  /* stop when the mean s·λ is below this ... */
 #define RH_STEP_TOL 1e-9  /* ... and the last step moved no pose by more (mm or degrees) */
-/* ... or, with the same gap, the last step moved the first row (the one applied) by at most
- * RH_STEP_FIRST and no row by more than RH_STEP_REST (mm or degrees). The pose converges
- * linearly near the end (the Gauss–Newton matrix leaves out the constraints' curvature; the
- * steps shrank by a factor of 100 or more per iteration on the horizon traces), so the first
- * row is then within about 1e-8 of where it converges, a hundredth of the 1e-6 at which the
- * applied row aims at the desired pose itself (HP_HORIZON_AIM_TOL); the later rows only start
- * the next call, which corrects them. */
-#define RH_STEP_FIRST 1e-6
-#define RH_STEP_REST 1e-4
+/* ... or, with the same gap, the first row (the one applied) is estimated within
+ * RH_LEFT_FIRST of where it converges and the last step moved no row by more than
+ * RH_STEP_REST (mm or degrees). Near the end the pose converges linearly (the Gauss–Newton
+ * matrix leaves out the constraints' curvature), so the distance left is estimated from the
+ * contraction of the first row's last two steps. 1e-7 is a tenth of the distance at which
+ * the applied row aims at the desired pose itself (HP_HORIZON_AIM_TOL); the later rows only
+ * start the next call, which corrects them. Against the reference solve the applied rows
+ * agree to 2.2e-7 mm/deg on the horizon traces (tests/horizon/test_rh_solve.c). */
+#define RH_LEFT_FIRST 1e-7
+#define RH_STEP_REST 1e-3
 /* The reference solve of the tests (hpi_horizon_rh_reference): cold, to these. */
 #define RH_REF_MAX_ITER 100
 #define RH_REF_GAP_TOL 1e-13
@@ -101,10 +102,15 @@ struct hp_horizon_rh {
 static int press_of_ro(const hp_horizon_rh *rh, int k, double ro, double *P, double *dP)
 {
     const hp_iab_s *b = &rh->S[k];
-    double rc = fmin(fmax(ro, rh->ro_lo[k]), rh->ro_hi[k]) / HP_MM_PER_M, ri, ris, dPdri;
-    /* hp_iab_ri and hp_iab_ik_derivs on the bladder validated at create: the same bits. */
+    double rc = ro < rh->ro_lo[k] ? rh->ro_lo[k] : ro > rh->ro_hi[k] ? rh->ro_hi[k] : ro;
+    rc /= HP_MM_PER_M;
+    double ri, ris, dPdri;
+    /* hp_iab_ri, then hp_iab_ik and its slope on the bladder validated at create, with the
+     * outer radius the pressure needs taken from rc (one Newton step of the cube root
+     * instead of a cube root: the same bits but within 1e-7 ulp of a rounding midpoint). */
     if (hpi_iab_s_ri_m(b, rc, &ri) != HP_OK || hpi_iab_s_radius(b, ri, &ris) != HP_OK ||
-        hpi_iab_s_ik(b, ris, P, &dPdri, NULL) != HP_OK)
+        hpi_iab_s_ik_near_m(b, ri, rc, P) != HP_OK ||
+        hpi_iab_s_slopes(b, ris, rc * b->scale, &dPdri, NULL) != HP_OK)
         return 0;
     dPdri *= b->scale;
     /* Outside the box the value is held (the box constraints pull the iterate back), so is
@@ -119,8 +125,8 @@ static int press_of_ro(const hp_horizon_rh *rh, int k, double ro, double *P, dou
 static int row_geometry(hp_horizon_rh *rh, int j, const double *zj)
 {
     const int n = rh->n;
-    if (hpi_setup_contact_scaled(rh->L, rh->G, rh->level, zj, rh->rho + n * j,
-                                 rh->J + 6 * n * j) != HP_OK)
+    if (hpi_setup_contact_scaled(rh->L, rh->G, rh->level, zj, rh->rho + n * j, rh->J + 6 * n * j) !=
+        HP_OK)
         return 0;
     for (int k = 0; k < n; ++k) {
         const int o = n * j + k;
@@ -363,7 +369,10 @@ static double to_boundary(const double *v, const double *dv, int m, double tau)
 {
     double alpha = 1.0;
     for (int i = 0; i < m; ++i)
-        if (dv[i] < 0) alpha = fmin(alpha, -tau * v[i] / dv[i]);
+        if (dv[i] < 0) {
+            double a = -tau * v[i] / dv[i];
+            if (a < alpha) alpha = a;
+        }
     return alpha;
 }
 
@@ -409,6 +418,7 @@ static int interior_point(hp_horizon_rh *rh)
     if (rh->geom_ok) constraints(rh);
     else if (!(rh->geom_ok = evaluate(rh, rh->z))) return -1;
     start_point(rh, m, warm);
+    double prev0 = INFINITY;
     for (int it = 0; it < max_iter; ++it) {
         if (budget < 1e-9 || now_s() >= t_end) return it;
         rh->iterations++;
@@ -458,8 +468,12 @@ static int interior_point(hp_horizon_rh *rh)
             gap += rh->sl[i] * rh->lam[i];
         }
         rh->warm = 1;
+        /* The first row's distance to where it converges, from the contraction θ of its
+         * last two steps: step0 · θ / (1 − θ). */
+        double theta = step0 / prev0, left0 = theta < 1 ? step0 * theta / (1 - theta) : INFINITY;
+        prev0 = step0;
         if (gap / m < gap_tol &&
-            (step < step_tol || (!rh->reference && step0 < RH_STEP_FIRST && step < RH_STEP_REST)))
+            (step < step_tol || (!rh->reference && left0 < RH_LEFT_FIRST && step < RH_STEP_REST)))
             return -1;
     }
     return -1;
