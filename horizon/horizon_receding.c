@@ -80,7 +80,12 @@ struct hp_horizon_rh {
     double delta[HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double rho[HP_HORIZON_MAX * HP_MAX_BLADDERS], J[HP_HORIZON_MAX * HP_MAX_BLADDERS * 6];
     double P[HP_HORIZON_MAX * HP_MAX_BLADDERS], dP[HP_HORIZON_MAX * HP_MAX_BLADDERS];
-    double du[HP_HORIZON_MAX * HP_MAX_BLADDERS * 6]; /* ∇P_j,k / 1 kPa on row j's pose */
+    /* ∇u_j,k = α_j,k J_j,k − α_j−1,k J_j−1,k with α = (dP/dro) / 1 kPa: every gradient of
+     * a bladder's constraints lies along its contact Jacobian, so the normal matrix, its
+     * right-hand side and the slack steps are sums of scalars times J (one outer product per
+     * bladder and row, not three). */
+    double alpha[HP_HORIZON_MAX * HP_MAX_BLADDERS];
+    double wk[HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* per bladder and row, within one step */
     double g[HP_HORIZON_MAX * 6];
     double A[HP_HORIZON_MAX * 36], B[HP_HORIZON_MAX * 36]; /* diagonal / sub-diagonal blocks */
     hp_result applied;     /* the last applied answer (its pose starts a cold plan) */
@@ -120,7 +125,7 @@ static int press_of_ro(const hp_horizon_rh *rh, int k, double ro, double *P, dou
     return isfinite(*P) && isfinite(*dP);
 }
 
-/* Contact distances, Jacobians, pressures, dP/dro and ∇P of row j at its pose zj: what a
+/* Contact distances, Jacobians, pressures and dP/dro (α) of row j at its pose zj: what a
  * row's pose alone decides. 0 on failure. */
 static int row_geometry(hp_horizon_rh *rh, int j, const double *zj)
 {
@@ -131,7 +136,7 @@ static int row_geometry(hp_horizon_rh *rh, int j, const double *zj)
     for (int k = 0; k < n; ++k) {
         const int o = n * j + k;
         if (!press_of_ro(rh, k, rh->rho[o], &rh->P[o], &rh->dP[o])) return 0;
-        for (int i = 0; i < 6; ++i) rh->du[6 * o + i] = rh->dP[o] * 1e-3 * rh->J[6 * o + i];
+        rh->alpha[o] = rh->dP[o] * 1e-3;
     }
     return 1;
 }
@@ -181,47 +186,36 @@ static void add_outer_lower(double *M, double c, const double *a)
         for (int q = 0; q <= r; ++q) M[6 * r + q] += c * a[r] * a[q];
 }
 
-/* ∇u_j,k on row j (a) and on row j − 1 (b, zero for j = 0), from evaluate()'s ∇P. */
-static void rate_grad(const hp_horizon_rh *rh, int j, int k, double *a, double *b)
-{
-    const int n = rh->n;
-    for (int i = 0; i < 6; ++i) {
-        a[i] = rh->du[6 * (n * j + k) + i];
-        b[i] = j ? -rh->du[6 * (n * (j - 1) + k) + i] : 0.0;
-    }
-}
-
 /* The matrix of the reduced Newton system at the point evaluate() last saw:
  *   H + Σ_i (λ_i/s_i) ∇c_i∇c_iᵀ,
  * H the Gauss–Newton Hessian of the objective (halved, like the gradient's objective part),
  * in the blocks A (diagonal, lower triangles) and B (sub-diagonal). It depends on the
  * iterate alone, so both solves of an iteration (predictor and corrector) share one
- * factorisation. */
+ * factorisation. A bladder's box rows (∇c = ±J) and its rate rows (∇u, along J of two
+ * consecutive rows) fold into one weight per row's J Jᵀ and one per J_j J_j−1ᵀ. */
 static void normal_matrix(hp_horizon_rh *rh)
 {
     const int n = rh->n, N = rh->N;
-    memset(rh->A, 0, sizeof(double) * 36 * (size_t)N);
+    double *cw = rh->wk; /* weight of ∇u∇uᵀ: smoothness, and the rate rows when limited */
+    for (int o = 0; o < n * N; ++o) {
+        const double *lam = rh->lam + RH_NC * o, *sl = rh->sl + RH_NC * o;
+        cw[o] = 2.0 * rh->hs.smooth +
+                (isfinite(rh->delta[o]) ? lam[2] / sl[2] + lam[3] / sl[3] : 0.0);
+    }
     memset(rh->B, 0, sizeof(double) * 36 * (size_t)N);
     for (int j = 0; j < N; ++j) {
         double *A = rh->A + 36 * j;
-        for (int i = 0; i < 6; ++i) A[7 * i] += 2.0 * rh->w[i];
+        memset(A, 0, sizeof(double) * 36);
+        for (int i = 0; i < 6; ++i) A[7 * i] = 2.0 * rh->w[i];
         for (int k = 0; k < n; ++k) {
-            const int o = RH_NC * (n * j + k);
-            double wt[RH_NC];
-            for (int c = 0; c < RH_NC; ++c) wt[c] = rh->lam[o + c] / rh->sl[o + c];
-            /* box: ∇c0 = J, ∇c1 = −J */
-            add_outer_lower(A, wt[0] + wt[1], rh->J + 6 * (n * j + k));
-            /* rate (∇c2 = −∇u, ∇c3 = ∇u) and smoothness smooth·u² */
-            double cw = 2.0 * rh->hs.smooth +
-                        (isfinite(rh->delta[n * j + k]) ? wt[2] + wt[3] : 0.0);
-            if (cw == 0.0) continue;
-            double a[6], b[6];
-            rate_grad(rh, j, k, a, b);
-            add_outer_lower(A, cw, a);
-            if (j) {
-                add_outer_lower(rh->A + 36 * (j - 1), cw, b);
-                add_outer(rh->B + 36 * j, cw, a, b);
-            }
+            const int o = n * j + k;
+            const double *lam = rh->lam + RH_NC * o, *sl = rh->sl + RH_NC * o, a = rh->alpha[o];
+            double W = lam[0] / sl[0] + lam[1] / sl[1] +
+                       (cw[o] + (j + 1 < N ? cw[o + n] : 0.0)) * a * a;
+            add_outer_lower(A, W, rh->J + 6 * o);
+            if (j)
+                add_outer(rh->B + 36 * j, -cw[o] * a * rh->alpha[o - n], rh->J + 6 * o,
+                          rh->J + 6 * (o - n));
         }
     }
 }
@@ -232,28 +226,30 @@ static void normal_matrix(hp_horizon_rh *rh)
 static void normal_rhs(hp_horizon_rh *rh, const double *z)
 {
     const int n = rh->n, N = rh->N;
-    memset(rh->g, 0, sizeof(double) * 6 * (size_t)N);
+    double *ge = rh->wk; /* the coefficient of ∇u: smoothness and the rate rows */
+    for (int j = 0; j < N; ++j)
+        for (int k = 0; k < n; ++k) {
+            const int o = n * j + k, b = RH_NC * o;
+            double prev = j ? rh->P[o - n] : rh->p_now[k];
+            double u = (rh->P[o] - prev) * 1e-3;
+            ge[o] = 2.0 * rh->hs.smooth * u;
+            if (isfinite(rh->delta[o]))
+                ge[o] -= (rh->tgt[b + 3] - rh->lam[b + 3] * (rh->c[b + 3] - rh->sl[b + 3])) /
+                             rh->sl[b + 3] -
+                         (rh->tgt[b + 2] - rh->lam[b + 2] * (rh->c[b + 2] - rh->sl[b + 2])) /
+                             rh->sl[b + 2];
+        }
     for (int j = 0; j < N; ++j) {
         double *g = rh->g + 6 * j;
-        for (int i = 0; i < 6; ++i) g[i] += 2.0 * rh->w[i] * (z[6 * j + i] - rh->d[6 * j + i]);
+        for (int i = 0; i < 6; ++i) g[i] = 2.0 * rh->w[i] * (z[6 * j + i] - rh->d[6 * j + i]);
         for (int k = 0; k < n; ++k) {
-            const double *Jk = rh->J + 6 * (n * j + k);
-            const int o = RH_NC * (n * j + k);
-            double q[RH_NC];
-            for (int c = 0; c < RH_NC; ++c)
-                q[c] = (rh->tgt[o + c] - rh->lam[o + c] * (rh->c[o + c] - rh->sl[o + c])) /
-                       rh->sl[o + c];
-            for (int i = 0; i < 6; ++i) g[i] -= (q[0] - q[1]) * Jk[i];
-            double prev = j ? rh->P[n * (j - 1) + k] : rh->p_now[k];
-            double u = (rh->P[n * j + k] - prev) * 1e-3;
-            int lim = isfinite(rh->delta[n * j + k]);
-            double ge = 2.0 * rh->hs.smooth * u - (lim ? q[3] - q[2] : 0.0);
-            if (ge == 0.0) continue;
-            double a[6], b[6];
-            rate_grad(rh, j, k, a, b);
-            for (int i = 0; i < 6; ++i) g[i] += ge * a[i];
-            if (j)
-                for (int i = 0; i < 6; ++i) rh->g[6 * (j - 1) + i] += ge * b[i];
+            const int o = n * j + k, b = RH_NC * o;
+            double q0 = (rh->tgt[b] - rh->lam[b] * (rh->c[b] - rh->sl[b])) / rh->sl[b];
+            double q1 = (rh->tgt[b + 1] - rh->lam[b + 1] * (rh->c[b + 1] - rh->sl[b + 1])) /
+                        rh->sl[b + 1];
+            double gam = q1 - q0 + (ge[o] - (j + 1 < N ? ge[o + n] : 0.0)) * rh->alpha[o];
+            const double *Jk = rh->J + 6 * o;
+            for (int i = 0; i < 6; ++i) g[i] += gam * Jk[i];
         }
     }
 }
@@ -343,23 +339,23 @@ static int solve_banded(hp_horizon_rh *rh)
 static void slack_steps(hp_horizon_rh *rh)
 {
     const int n = rh->n;
+    double *dr = rh->wk; /* J_j,k · dz_j: the step of the contact distance */
     for (int j = 0; j < rh->N; ++j)
         for (int k = 0; k < n; ++k) {
-            const int o = RH_NC * (n * j + k);
-            const double *Jk = rh->J + 6 * (n * j + k), *dzj = rh->dz + 6 * j;
-            double a[6], b[6], dr = 0, du = 0;
-            rate_grad(rh, j, k, a, b);
-            for (int i = 0; i < 6; ++i) {
-                dr += Jk[i] * dzj[i];
-                du += a[i] * dzj[i] + (j ? b[i] * rh->dz[6 * (j - 1) + i] : 0.0);
-            }
-            if (!isfinite(rh->delta[n * j + k])) du = 0;
-            const double dc[RH_NC] = {dr, -dr, -du, du};
+            const int o = n * j + k, b = RH_NC * o;
+            const double *Jk = rh->J + 6 * o, *dzj = rh->dz + 6 * j;
+            double r = 0;
+            for (int i = 0; i < 6; ++i) r += Jk[i] * dzj[i];
+            dr[o] = r;
+            double du = 0;
+            if (isfinite(rh->delta[o]))
+                du = rh->alpha[o] * r - (j ? rh->alpha[o - n] * dr[o - n] : 0.0);
+            const double dc[RH_NC] = {r, -r, -du, du};
             for (int c = 0; c < RH_NC; ++c) {
-                rh->ds[o + c] = dc[c] + rh->c[o + c] - rh->sl[o + c];
-                rh->dl[o + c] = (rh->tgt[o + c] - rh->sl[o + c] * rh->lam[o + c] -
-                                 rh->lam[o + c] * rh->ds[o + c]) /
-                                rh->sl[o + c];
+                rh->ds[b + c] = dc[c] + rh->c[b + c] - rh->sl[b + c];
+                rh->dl[b + c] = (rh->tgt[b + c] - rh->sl[b + c] * rh->lam[b + c] -
+                                 rh->lam[b + c] * rh->ds[b + c]) /
+                                rh->sl[b + c];
             }
         }
 }
@@ -679,7 +675,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
         memmove(rh->P, rh->P + n, sizeof(double) * n * N1);
         memmove(rh->dP, rh->dP + n, sizeof(double) * n * N1);
         memmove(rh->J, rh->J + 6 * n, sizeof(double) * 6 * n * N1);
-        memmove(rh->du, rh->du + 6 * n, sizeof(double) * 6 * n * N1);
+        memmove(rh->alpha, rh->alpha + n, sizeof(double) * n * N1);
     } else {
         rh->geom_ok = 0;
         for (int i = 0; i < 6; ++i)
