@@ -111,12 +111,14 @@ static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row
     double *times = malloc(T * sizeof *times);
     if (!times) return no_memory("the times");
     printf("N,prediction,calls,median_us,p99_us,max_us\n");
-    for (int p = 0; p < 2; ++p)
+    static const hp_prediction preds[] = {HP_PREDICT_HOLD, HP_PREDICT_VELOCITY,
+                                          HP_PREDICT_PERIODIC};
+    for (size_t p = 0; p < sizeof preds / sizeof preds[0]; ++p)
         for (size_t a = 0; a < nN; ++a) {
             hp_horizon_settings hs;
             hp_horizon_settings_default(&hs);
             hs.horizon = Ns[a];
-            hs.prediction = p ? HP_PREDICT_VELOCITY : HP_PREDICT_HOLD;
+            hs.prediction = preds[p];
             hp_horizon_rh *rh = NULL;
             hp_diag d = {{0}};
             hp_error e = hp_horizon_rh_create(&sc->layout, s, &hs, NULL, &rh, &d);

@@ -22,7 +22,7 @@ static const char *const CMD = "horizon";
 static void help(void)
 {
     printf("usage: headplan horizon SCENE [TRACE|-] [--mode greedy|receding|offline|compare]\n"
-           "           [--horizon N] [--prediction hold|velocity] [--window ROWS]\n"
+           "           [--horizon N] [--prediction hold|velocity|periodic] [--window ROWS]\n"
            "           [--overlap ROWS] [--rate-kpa-per-s R] [--smooth S]\n"
            "           [--rows deviation|correction] [--tolerance-mm MM] [--tolerance-deg DEG]\n"
            "           [-o OUT.csv] [--json]\n\n"
@@ -102,7 +102,7 @@ static int settings_from_args(const hz_args *a, hp_horizon_settings *hs, double 
         hs->smooth = x;
     }
     if (a->prediction && hp_prediction_parse(a->prediction, &hs->prediction) != HP_OK)
-        return cli_fail(CLI_EXIT_USAGE, CMD, "--prediction: '%s' is not hold or velocity",
+        return cli_fail(CLI_EXIT_USAGE, CMD, "--prediction: '%s' is not hold, velocity or periodic",
                         a->prediction);
     *tol_mm = *tol_deg = 0.5;
     if (a->tol_mm) {

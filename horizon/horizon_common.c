@@ -40,7 +40,8 @@ hp_error hp_horizon_settings_validate(const hp_horizon_settings *s, hp_diag *d)
     if (s->horizon < 1 || s->horizon > HP_HORIZON_MAX)
         return hp_diag_set(d, HP_ERR_INVALID, "horizon: must be in 1..%d rows (got %d)",
                            HP_HORIZON_MAX, s->horizon);
-    if (s->prediction != HP_PREDICT_HOLD && s->prediction != HP_PREDICT_VELOCITY)
+    if (s->prediction != HP_PREDICT_HOLD && s->prediction != HP_PREDICT_VELOCITY &&
+        s->prediction != HP_PREDICT_PERIODIC)
         return hp_diag_set(d, HP_ERR_INVALID, "prediction: unknown value %d", (int)s->prediction);
     if (s->velocity_rows < 2 || s->velocity_rows > HP_HORIZON_MAX)
         return hp_diag_set(d, HP_ERR_INVALID, "velocity_rows: must be in 2..%d (got %d)",

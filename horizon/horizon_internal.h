@@ -21,6 +21,21 @@ const char *hpi_horizon_rh_reason(const hp_horizon_rh *rh);
 long hpi_horizon_rh_iterations(const hp_horizon_rh *rh);
 void hpi_horizon_rh_reference(hp_horizon_rh *rh);
 
+/* A sinusoid on a linear trend, x(t) = a + e·τ + b·cos ωτ + c·sin ωτ with τ = t − t0: the
+ * periodic prediction of one pose component (HP_PREDICT_PERIODIC). */
+typedef struct hpi_periodic {
+    double t0, omega, a, e, b, c;
+} hpi_periodic;
+
+/* Fits f to count rows (times t, increasing; values x[stride·k]), t0 the last row's time:
+ * the period is twice the mean interval between the signal's crossings of its trend line
+ * (with a hysteresis of a quarter of its largest deviation from the line), and a, e, b, c
+ * are the least-squares fit over the rows of the last two periods. Returns 0, f untouched,
+ * when no whole period shows (fewer than three crossings) or the fit is not finite. */
+int hpi_horizon_periodic_fit(const double *t, const double *x, int stride, int count,
+                             hpi_periodic *f);
+double hpi_horizon_periodic_at(const hpi_periodic *f, double t);
+
 /* hp_horizon_check_rows with the refused row's line in the message. */
 hp_error hpi_horizon_check_rows_at(const hp_layout *L, const hp_trace_row *rows, size_t T,
                                    hp_diag *d);

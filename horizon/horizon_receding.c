@@ -53,6 +53,10 @@
 #define RH_REF_MAX_ITER 100
 #define RH_REF_GAP_TOL 1e-13
 #define RH_REF_STEP_TOL 1e-11
+/* Rows of desired poses kept for the predictions: the velocity's at most HP_HORIZON_MAX,
+ * the periodic fit's two periods and the crossings before them (12.8 s at 10 Hz, three
+ * breathing cycles of 4 s). */
+#define RH_HIST 128
 #define RH_NC 4 /* inequalities per bladder and row: ro >= lo, ro <= hi, ±u <= Δ */
 
 struct hp_horizon_rh {
@@ -72,9 +76,8 @@ struct hp_horizon_rh {
     double p_now[HP_MAX_BLADDERS];      /* pressures the bladders hold [Pa] */
     double last_t;
     int started;
-    int hist_n; /* commanded parts of the desired poses, kept for the
-                                        velocity prediction */
-    double hist_t[HP_HORIZON_MAX], hist_d[HP_HORIZON_MAX][6];
+    int hist_n; /* commanded parts of the desired poses, kept for the predictions */
+    double hist_t[RH_HIST], hist_d[RH_HIST][6];
     double z[HP_HORIZON_MAX * 6], zt[HP_HORIZON_MAX * 6], dz[HP_HORIZON_MAX * 6];
     double d[HP_HORIZON_MAX * 6];
     double delta[HP_HORIZON_MAX * HP_MAX_BLADDERS];
@@ -499,13 +502,26 @@ static void predict(hp_horizon_rh *rh, double dt0)
     if (m >= 1) {
         double span = rh->hist_t[h] - rh->hist_t[h - m];
         dtp = span / m;
-        if (rh->hs.prediction == HP_PREDICT_VELOCITY)
+        if (rh->hs.prediction != HP_PREDICT_HOLD)
             for (int i = 0; i < 6; ++i) v[i] = (rh->hist_d[h][i] - rh->hist_d[h - m][i]) / span;
     }
+    /* The periodic fit of each commanded component, anchored at the latest desired pose:
+     * row j is that pose plus the fit's change over j intervals. */
+    hpi_periodic fit[6];
+    int periodic[6] = {0};
+    if (rh->hs.prediction == HP_PREDICT_PERIODIC)
+        for (int i = 0; i < 6; ++i)
+            periodic[i] = rh->commanded[i] &&
+                          hpi_horizon_periodic_fit(rh->hist_t, &rh->hist_d[0][i], 6, rh->hist_n,
+                                                   &fit[i]);
+    const double t_now = rh->hist_t[h];
     for (int j = 0; j < rh->N; ++j) {
         for (int i = 0; i < 6; ++i) {
             double s = i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD;
-            rh->d[6 * j + i] = rh->commanded[i] ? (rh->hist_d[h][i] + v[i] * dtp * j) * s : 0.0;
+            double ahead = periodic[i] ? hpi_horizon_periodic_at(&fit[i], t_now + dtp * j) -
+                                             hpi_horizon_periodic_at(&fit[i], t_now)
+                                       : v[i] * dtp * j;
+            rh->d[6 * j + i] = rh->commanded[i] ? (rh->hist_d[h][i] + ahead) * s : 0.0;
         }
         hpi_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, j ? dtp : dt0, rh->delta + rh->n * j);
     }
@@ -607,9 +623,9 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
                                          xc) != HP_OK)
         finite = 0; /* hp_plan refuses such a row itself */
     if (finite) {
-        if (rh->hist_n == HP_HORIZON_MAX) {
-            memmove(rh->hist_t, rh->hist_t + 1, sizeof(double) * (HP_HORIZON_MAX - 1));
-            memmove(rh->hist_d, rh->hist_d + 1, sizeof(double) * 6 * (HP_HORIZON_MAX - 1));
+        if (rh->hist_n == RH_HIST) {
+            memmove(rh->hist_t, rh->hist_t + 1, sizeof(double) * (RH_HIST - 1));
+            memmove(rh->hist_d, rh->hist_d + 1, sizeof(double) * 6 * (RH_HIST - 1));
             rh->hist_n--;
         }
         rh->hist_t[rh->hist_n] = t;

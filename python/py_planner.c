@@ -273,7 +273,8 @@ static PyMethodDef planner_methods[] = {
      "it; so is the planner's reason for a row it refused (invalid-input).\n\n"
      "mode plans over a horizon instead, as `headplan horizon` does (every row must be\n"
      "good): 'greedy' (row by row with the per-row and per-second rate limits), 'receding'\n"
-     "(horizon rows ahead, prediction 'hold' or 'velocity'), 'offline' (the whole trace in\n"
+     "(horizon rows ahead, prediction 'hold', 'velocity' or 'periodic'), 'offline' (the whole "
+     "trace in\n"
      "one sparse Ipopt NLP, or windows of `window` rows overlapping by `overlap`);\n"
      "rate_kpa_per_s is the per-second pressure rate limit [kPa/s]."},
     {NULL, NULL, 0, NULL},

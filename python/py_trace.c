@@ -273,7 +273,7 @@ PyObject *hpy_planner_run_trace(PyObject *o, PyObject *args, PyObject *kwargs)
     if (rate_o != Py_None && !(rate_kpa_s > 0)) /* the validator would say it in Pa/s */
         return hpy_fail("rate_kpa_per_s: must be > 0 kPa/s (got %g)", rate_kpa_s);
     if (pred && hp_prediction_parse(pred, &hs.prediction) != HP_OK)
-        return hpy_fail("prediction: '%s' is neither 'hold' nor 'velocity'", pred);
+        return hpy_fail("prediction: '%s' is not 'hold', 'velocity' or 'periodic'", pred);
     hp_diag hd = {{0}};
     if (mode > 0 && hp_horizon_settings_validate(&hs, &hd) != HP_OK) return hpy_fail("%s", hd.text);
     if (mode == 0 && (given || pred))

@@ -37,9 +37,13 @@ extern "C" {
 
 typedef enum hp_prediction {
     HP_PREDICT_HOLD = 0, /* the future desired poses equal the latest one */
-    HP_PREDICT_VELOCITY  /* extrapolated at the mean velocity of the recent rows */
+    HP_PREDICT_VELOCITY, /* extrapolated at the mean velocity of the recent rows */
+    HP_PREDICT_PERIODIC  /* per component, a sinusoid on a linear trend fitted to the last two
+                            periods of the recent rows (the period from the component's own
+                            crossings of its trend line); velocity where no period shows */
 } hp_prediction;
-HP_API const char *hp_prediction_name(hp_prediction p); /* "hold", "velocity"; "unknown" */
+/* "hold", "velocity", "periodic"; "unknown" */
+HP_API const char *hp_prediction_name(hp_prediction p);
 HP_API hp_error hp_prediction_parse(const char *s, hp_prediction *out);
 
 #define HP_DEFAULT_RATE_PER_S INFINITY /* [Pa/s]: no per-second limit */

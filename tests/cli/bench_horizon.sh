@@ -14,8 +14,14 @@ head -n 21 "$S/traces/step.csv" > "$TMP/step20.csv"
 brun rh "$S/horizon/step.yaml" "$TMP/step20.csv"
 expect_exit 0 "rh on the step trace"
 expect_stdout_has "N,prediction,calls,median_us,p99_us,max_us" "rh header"
-[ "$(grep -c ',20,' "$TMP/out")" -eq 14 ] && ok || bad "rh: want 14 lines of 20 calls"
+[ "$(grep -c ',20,' "$TMP/out")" -eq 21 ] && ok || bad "rh: want 21 lines of 20 calls"
 grep -q '^64,velocity,20,' "$TMP/out" && ok || bad "rh: no line for N = 64, velocity"
+grep -q '^10,periodic,20,' "$TMP/out" && ok || bad "rh: no line for N = 10, periodic"
+# One horizon only (the profile's run): one line per prediction, N = 10.
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10
+expect_exit 0 "rh with N"
+[ "$(grep -c ',20,' "$TMP/out")" -eq 3 ] && ok || bad "rh 10: want 3 lines"
+[ "$(grep -c '^10,' "$TMP/out")" -eq 3 ] && ok || bad "rh 10: every line for N = 10"
 
 # Every refusal: one line on stderr, naming what is wrong, and a non-zero status.
 brun
@@ -29,6 +35,12 @@ expect_exit 64 "WINDOW not a number"; expect_stderr_has "WINDOW 'ten'" "WINDOW n
 expect_one_line_stderr "WINDOW not a number"
 brun windows "$S/horizon/step.yaml" "$TMP/step20.csv" 10 -1
 expect_exit 64 "negative OVERLAP"; expect_stderr_has "OVERLAP '-1'" "OVERLAP named"
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 0
+expect_exit 64 "N = 0"; expect_stderr_has "N '0'" "N named"
+expect_one_line_stderr "N = 0"
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 65
+expect_exit 65 "N beyond the largest horizon"; expect_stderr_has "horizon: must be in 1..64" "N range"
+expect_one_line_stderr "N beyond the largest horizon"
 brun rh "$TMP/missing.yaml" "$TMP/step20.csv"
 expect_exit 66 "missing scene"; expect_stderr_has "missing.yaml" "missing scene named"
 expect_one_line_stderr "missing scene"

@@ -74,6 +74,11 @@ static void test_surface_velocity(void **st)
     (void)st;
     steps_without_allocation(HP_LEVEL_SURFACE, HP_PREDICT_VELOCITY, 3);
 }
+static void test_surface_periodic(void **st)
+{
+    (void)st;
+    steps_without_allocation(HP_LEVEL_SURFACE, HP_PREDICT_PERIODIC, 10);
+}
 static void test_one_row(void **st)
 {
     (void)st;
@@ -88,9 +93,10 @@ static void test_longest(void **st)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_wrap_active),    cmocka_unit_test(test_linear_hold),
-        cmocka_unit_test(test_plane_velocity), cmocka_unit_test(test_surface_velocity),
-        cmocka_unit_test(test_one_row),        cmocka_unit_test(test_longest),
+        cmocka_unit_test(test_wrap_active),      cmocka_unit_test(test_linear_hold),
+        cmocka_unit_test(test_plane_velocity),   cmocka_unit_test(test_surface_velocity),
+        cmocka_unit_test(test_one_row),          cmocka_unit_test(test_longest),
+        cmocka_unit_test(test_surface_periodic),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

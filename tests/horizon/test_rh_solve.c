@@ -95,6 +95,7 @@ static rh_case cases[] = {
     {"horizon/step.yaml", "step.csv", HP_PREDICT_VELOCITY},
     {"horizon/breathing.yaml", "breathing.csv", HP_PREDICT_HOLD},
     {"horizon/breathing.yaml", "breathing.csv", HP_PREDICT_VELOCITY},
+    {"horizon/breathing.yaml", "breathing.csv", HP_PREDICT_PERIODIC},
 };
 
 static void test_case(void **st)
@@ -110,6 +111,7 @@ int main(void)
         cmocka_unit_test_prestate(test_case, &cases[1]),
         cmocka_unit_test_prestate(test_case, &cases[2]),
         cmocka_unit_test_prestate(test_case, &cases[3]),
+        cmocka_unit_test_prestate(test_case, &cases[4]),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
