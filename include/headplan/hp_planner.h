@@ -141,7 +141,7 @@ HP_API const char *hp_binding_name(unsigned flag);
 #define HP_DEFAULT_AUTO_ROT 0.0872664625997164788 /* [rad] (5 degrees) rotation auto covers */
 #define HP_DEFAULT_TOLERANCE 1e-9                 /* pose tolerance, mm and degrees */
 #define HP_DEFAULT_MAX_ITER 200
-#define HP_DEFAULT_MAX_TIME 1.0 /* seconds (Ipopt: CPU time) */
+#define HP_DEFAULT_MAX_TIME 1.0 /* seconds of the plan's wall time (a monotonic clock) */
 #define HP_DEFAULT_WEIGHT_MM_PER_DEG 1.0
 #define HP_DEFAULT_MU 0.0
 #define HP_DEFAULT_USE_RATE_LIMITS 1
