@@ -17,7 +17,12 @@
  * each, warm start off, so the order of the targets does not matter; except on the
  * "trace" rows: the realtime backend at each level with warm start on, walking a drift
  * (N_TRACE rows, in order, no reset) from the nominal pose out to a correction where
- * limits bind and back, as the control loop plans it. */
+ * limits bind and back, as the control loop plans it.
+ *
+ * What restarts cost (docs/planner.md, Restarts): Ipopt and NLopt SLSQP at the surface level,
+ * tolerance 1e-9, with restarts 0 (one start, "-r0") beside their default rows, on the
+ * binding targets and on the reachable ones ("-reach": the direct chain answers them, so no
+ * restart runs), timed in the same rounds as every other row. */
 #include "cli/cli_args.h"
 #include "bench/bench.h"
 #include "bench/bench_settings.h"
@@ -58,13 +63,16 @@ typedef struct {
     hp_backend backend; /* HP_BACKEND_COUNT_: the fast path (realtime on reachable targets) */
     hp_level level;
     double tol;
-    int trace; /* 1: the warm trace */
+    int trace;    /* 1: the warm trace */
+    int restarts; /* settings.restarts; -1: the default */
+    int reach;    /* 1: a backend row on the reachable targets */
 } plan_method;
 
 static int create(const hp_layout *L, hp_backend b, hp_level level, double tol, int warm,
-                  hp_planner **p)
+                  int restarts, hp_planner **p)
 {
     hp_settings s = bench_settings(b, level, tol, warm);
+    if (restarts >= 0) s.restarts = restarts;
     hp_diag d;
     if (hp_planner_create(L, &s, p, &d) != HP_OK) {
         cli_fail(0, "bench", "planner (%s, %s, tolerance %g): %s", hp_backend_name(b),
@@ -78,7 +86,7 @@ static int create(const hp_layout *L, hp_backend b, hp_level level, double tol, 
 static int reference(const hp_layout *L, const double (*t)[6], long n, double (*ref)[6])
 {
     hp_planner *p;
-    int rc = create(L, HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, REF_TOLERANCE, 0, &p);
+    int rc = create(L, HP_BACKEND_IPOPT, HP_LEVEL_SURFACE, REF_TOLERANCE, 0, -1, &p);
     for (long k = 0; k < n && rc == 0; ++k) {
         hp_result r;
         hp_planner_reset(p);
@@ -177,12 +185,20 @@ int bench_planner(const bench_options *o, bench_table *t)
     int nm = 0;
     static const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
     static const double tols[] = {1e-4, 1e-9};
-    for (int l = 0; l < 3; ++l) ms[nm++] = (plan_method){HP_BACKEND_COUNT_, levels[l], 1e-9, 0};
-    for (int l = 0; l < 3; ++l) ms[nm++] = (plan_method){HP_BACKEND_REALTIME, levels[l], 1e-9, 1};
+    for (int l = 0; l < 3; ++l)
+        ms[nm++] = (plan_method){HP_BACKEND_COUNT_, levels[l], 1e-9, 0, -1, 0};
+    for (int l = 0; l < 3; ++l)
+        ms[nm++] = (plan_method){HP_BACKEND_REALTIME, levels[l], 1e-9, 1, -1, 0};
     for (int b = 0; b < HP_BACKEND_COUNT_; ++b)
         for (int l = 0; l < 3; ++l)
             for (int k = 0; k < 2; ++k)
-                ms[nm++] = (plan_method){(hp_backend)b, levels[l], tols[k], 0};
+                ms[nm++] = (plan_method){(hp_backend)b, levels[l], tols[k], 0, -1, 0};
+    static const hp_backend restarting[] = {HP_BACKEND_IPOPT, HP_BACKEND_NLOPT_SLSQP};
+    for (int b = 0; b < 2; ++b) {
+        ms[nm++] = (plan_method){restarting[b], HP_LEVEL_SURFACE, 1e-9, 0, 0, 0};
+        ms[nm++] = (plan_method){restarting[b], HP_LEVEL_SURFACE, 1e-9, 0, -1, 1};
+        ms[nm++] = (plan_method){restarting[b], HP_LEVEL_SURFACE, 1e-9, 0, 0, 1};
+    }
 
     /* Every method's planner is created and its accuracy measured first; then all are timed
      * together, in rounds (bench_time_set), so that a slow spell of the host falls on every
@@ -194,7 +210,7 @@ int bench_planner(const bench_options *o, bench_table *t)
     int made = 0;
     for (int i = 0; i < nm && rc == 0; ++i) {
         const plan_method *m = &ms[i];
-        int fast = m->backend == HP_BACKEND_COUNT_, tr = m->trace;
+        int fast = m->backend == HP_BACKEND_COUNT_, tr = m->trace, reach = fast || m->reach;
         bench_row *row = bench_table_add(t);
         if (!row) {
             cli_fail(0, "bench", "out of memory");
@@ -204,9 +220,9 @@ int bench_planner(const bench_options *o, bench_table *t)
         rowi[i] = t->n - 1;
         snprintf(row->family, sizeof row->family, "planner");
         snprintf(row->input_set, sizeof row->input_set, "%s",
-                 fast ? "reachable"
-                 : tr ? "trace"
-                      : "binding");
+                 reach ? "reachable"
+                 : tr  ? "trace"
+                       : "binding");
         if (tr) {
             snprintf(row->method, sizeof row->method, "trace-realtime-%s", hp_level_name(m->level));
             snprintf(row->variant, sizeof row->variant, "warm-trace");
@@ -216,23 +232,24 @@ int bench_planner(const bench_options *o, bench_table *t)
             snprintf(row->variant, sizeof row->variant, "fast-path");
             snprintf(row->parameter, sizeof row->parameter, "%s", hp_level_name(m->level));
         } else {
-            snprintf(row->method, sizeof row->method, "%s-%s-%.0e", hp_backend_name(m->backend),
-                     hp_level_name(m->level), m->tol);
+            snprintf(row->method, sizeof row->method, "%s-%s-%.0e%s%s", hp_backend_name(m->backend),
+                     hp_level_name(m->level), m->tol, m->reach ? "-reach" : "",
+                     m->restarts == 0 ? "-r0" : "");
             snprintf(row->variant, sizeof row->variant, "%s", hp_backend_name(m->backend));
             snprintf(row->parameter, sizeof row->parameter, "%s/%.0e", hp_level_name(m->level),
                      m->tol);
         }
         fprintf(stderr, "bench planner: [%2d/%d] %-24s", i + 1, nm, row->method);
         if ((rc = create(L, fast ? HP_BACKEND_REALTIME : m->backend, m->level, m->tol, tr,
-                         &planners[i])))
+                         m->restarts, &planners[i])))
             break;
         made = i + 1;
-        long off = fast ? N_BIND_FULL : tr ? N_BIND_FULL + N_REACH : 0;
+        long off = reach ? N_BIND_FULL : tr ? N_BIND_FULL + N_REACH : 0;
         const double(*tg)[6] = (const double(*)[6])targets + off;
-        long n = fast ? n_reach : tr ? n_trace : n_bind;
+        long n = reach ? n_reach : tr ? n_trace : n_bind;
         measure_accuracy(planners[i], L, tg, (const double(*)[6])ref + off, n, tr, row,
                          &row->model_error);
-        ctx[i] = (bench_plan_ctx){planners[i], tg, n, fast ? perm_reach : tr ? NULL : perm_bind,
+        ctx[i] = (bench_plan_ctx){planners[i], tg, n, reach ? perm_reach : tr ? NULL : perm_bind,
                                   0,           tr};
         timed[i] = (bench_timed){.fn = bench_plan_batch, .ctx = &ctx[i]};
         fprintf(stderr, "  max error %.2e  failures %ld\n", row->max_error, row->failures);

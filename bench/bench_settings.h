@@ -6,7 +6,7 @@
 #include "headplan/hp_planner.h"
 
 /* A budget generous enough that it never decides a benchmark's answer: iterations
- * (COBYLA counts evaluations, hence more) and seconds (Ipopt: CPU time). */
+ * (COBYLA counts evaluations, hence more) and seconds of the plan's wall time. */
 #define BENCH_MAX_ITER 3000
 #define BENCH_MAX_ITER_COBYLA 5000
 #define BENCH_MAX_TIME_S 5.0

@@ -354,9 +354,10 @@ void batch_columns_print(FILE *f)
 
 void batch_sink_meta(batch_sink *k, const batch_meta *m)
 {
-    char ver[64], tol[CLI_FMT_MAX], tmax[CLI_FMT_MAX], w[CLI_FMT_MAX], iters[24];
+    char ver[64], tol[CLI_FMT_MAX], tmax[CLI_FMT_MAX], w[CLI_FMT_MAX], iters[24], rst[24];
     snprintf(ver, sizeof ver, "headplan %s", hp_version());
     snprintf(iters, sizeof iters, "%d", m->s->max_iter);
+    snprintf(rst, sizeof rst, "%d", m->s->restarts);
     cli_fmt(tol, m->s->tolerance);
     cli_fmt(tmax, m->s->max_time);
     cli_fmt(w, m->s->weight_mm_per_deg);
@@ -386,6 +387,7 @@ void batch_sink_meta(batch_sink *k, const batch_meta *m)
         {"weight_mm_per_deg", w, 1, NULL},
         {"rate_limits", m->s->use_rate_limits ? "true" : "false", 1, NULL},
         {"warm_start", m->s->warm_start ? "true" : "false", 1, NULL},
+        {"restarts", rst, 1, NULL},
     };
     const size_t nm = sizeof meta / sizeof meta[0];
     FILE *f = k->f;

@@ -18,7 +18,9 @@
 #include "common/unconst.h"
 #include "planner/backend_common.h"
 #include "planner/backend_testing.h"
+#include "planner/clock.h"
 #include "planner/ipopt_shared.h"
+#include "planner/multistart.h"
 
 #include <IpStdCInterface.h>
 #include <float.h>
@@ -26,7 +28,6 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 /* Test-only hooks (planner/backend_testing.h): inert unless a test sets them. */
 static atomic_int ipopt_fault = HP_TEST_FAULT_NONE;
@@ -40,6 +41,9 @@ void hpi_test_ipopt_force_status(int code) { atomic_store(&ipopt_forced, code); 
 /* mu_init for a cold start (Ipopt's default) and for a warm start near the solution. */
 #define MU_INIT_COLD 0.1
 #define MU_INIT_WARM 1e-9
+/* Ipopt's own CPU-time limit, its default (about 11.6 days): never reached, the budget is
+ * read by intermediate on the plan's clock. */
+#define IPOPT_NO_CPU_LIMIT 1e6
 
 typedef struct ipopt_state {
     IpoptProblem app;
@@ -51,7 +55,7 @@ typedef struct ipopt_state {
     int have_prev; /* the last solve converged: its multipliers are usable */
     int accepted;  /* the core starts the next solve from that answer (warm_point) */
     int lbfgs;     /* option "hessian_approximation" = 1 */
-    clock_t cpu0;  /* CPU clock at the start of this solve (the polish's budget) */
+    double t0;     /* the plan's clock (hpi_plan_now) when this solve began: its budget's start */
     int timed_out; /* the intermediate callback stopped the solve: max_time spent */
     int rebuild;   /* an option changed: rebuild the app before the next solve */
     double mult_g[HP_MAX_BLADDERS];
@@ -145,11 +149,12 @@ static Bool intermediate(Index alg_mod, Index iter, Number obj, Number inf_pr, N
     (void)alpha_du, (void)alpha_pr, (void)ls;
     ipopt_state *st = u;
     st->iters = iter;
-    /* Ipopt 3.11 reads max_cpu_time on a clock that can stand still over a short solve, so a
-     * budget far below a solve's cost was met or missed by chance. The plan's own CPU clock
-     * (clock(): the process's CPU time, microseconds) is read here at every iteration, the
-     * first included: the budget stops a solve whatever Ipopt's clock says. */
-    if ((double)(clock() - st->cpu0) / CLOCKS_PER_SEC > st->s.max_time) {
+    /* The budget is read here at every iteration, the first included, on the planner's one
+     * clock (hpi_plan_now: monotonic wall time, as the other backends read theirs), from the
+     * plan's start: Ipopt's own max_cpu_time reads the process's CPU time, which counts every
+     * thread (under `batch --jobs N` up to N times this plan's) and can stand still over a
+     * short solve, so it is left at its never-reached default (IPOPT_NO_CPU_LIMIT). */
+    if (hpi_plan_now() - st->t0 > st->s.max_time) {
         st->timed_out = 1;
         return FALSE;
     }
@@ -178,7 +183,7 @@ static hp_error build_app(ipopt_state *st, const hp_problem *pb, hp_diag *d)
                                  eval_g, eval_grad_f, eval_jac_g, eval_h);
     if (!st->app) return hp_diag_set(d, HP_ERR_SOLVER, "ipopt: CreateIpoptProblem failed");
     const hp_settings *s = &st->s;
-    hp_error e = hpi_ipopt_base_options(st->app, s->tolerance, s->max_iter, s->max_time, d);
+    hp_error e = hpi_ipopt_base_options(st->app, s->tolerance, s->max_iter, IPOPT_NO_CPU_LIMIT, d);
     if (e != HP_OK) return e;
     /* The quasi-Newton peer of the benchmarks: Ipopt then never calls eval_h. */
     if (st->lbfgs && (e = hpi_ipopt_opt_str(st->app, "hessian_approximation", "limited-memory", d)))
@@ -259,7 +264,7 @@ static hp_status map_status(enum ApplicationReturnStatus r, int timed_out, int *
  * bounds' multipliers included) and its objective is no worse than the interior point's (a
  * feasible point, so the optimum's objective is at most its own). Otherwise the answer is
  * left as it was, and the core labels it. The polish's solves share the plan's budgets: at
- * most max_iter iterations and max_time s of CPU time in all. */
+ * most max_iter iterations and max_time s on the plan's clock in all. */
 
 /* z / slack of the bounds taken as active must exceed every other bound's by this factor. */
 #define POLISH_GAP 1e4
@@ -353,11 +358,12 @@ static int solve_fixed(ipopt_state *st, const hp_problem *pb, const double *x,
     int iters0 = st->iters;
     enum ApplicationReturnStatus rc = Internal_Error;
     double obj;
-    /* What is left of the plan's budgets (CPU time, as Ipopt's max_cpu_time counts it). */
+    /* What is left of the plan's budgets (the time on the plan's clock, read by
+     * intermediate). */
     int iters_left = s->max_iter - iters0;
-    double time_left = s->max_time - (double)(clock() - st->cpu0) / CLOCKS_PER_SEC;
+    double time_left = s->max_time - (hpi_plan_now() - st->t0);
     if (iters_left > 0 && time_left > 0.0 &&
-        hpi_ipopt_base_options(app, s->tolerance, iters_left, time_left, NULL) == HP_OK &&
+        hpi_ipopt_base_options(app, s->tolerance, iters_left, IPOPT_NO_CPU_LIMIT, NULL) == HP_OK &&
         SetIntermediateCallback(app, intermediate))
         rc = IpoptSolve(app, xp, NULL, &obj, mg, ml, mu_, st);
     FreeIpoptProblem(app);
@@ -411,6 +417,55 @@ static int polish(ipopt_state *st, const hp_problem *pb, double *x)
     return 0;
 }
 
+/* One solve from xs into x (caller holds the lock; st->app is built for pb's bounds), warm
+ * (the stored multipliers, tiny bound pushes) or cold, polished when it needs it; r filled.
+ * *polished = 1 when the polish replaced the answer. The budget is the plan's: st->t0. */
+static hp_error one_solve(ipopt_state *st, const hp_problem *pb, const double *xs, int warm,
+                          double *x, hp_backend_result *r, int *polished, hp_diag *d)
+{
+    hp_error e = hpi_ipopt_opt_str(st->app, "warm_start_init_point", warm ? "yes" : "no", d);
+    if (e == HP_OK)
+        e = hpi_ipopt_opt_num(st->app, "mu_init", warm ? MU_INIT_WARM : MU_INIT_COLD, d);
+    if (e != HP_OK) return e;
+    st->pb = pb;
+    st->iters = 0;
+    st->timed_out = 0;
+    *polished = 0;
+    double obj;
+    memcpy(x, xs, (size_t)st->nx * sizeof *x);
+    enum ApplicationReturnStatus rc = IpoptSolve(st->app, x, NULL, &obj, st->mult_g, st->mult_xl,
+                                                 st->mult_xu, st);
+    int forced = atomic_load(&ipopt_forced);
+    if (forced != HP_TEST_NO_FORCE) rc = (enum ApplicationReturnStatus)forced;
+    int conv;
+    map_status(rc, st->timed_out, &conv);
+    int finite = 1;
+    for (int i = 0; i < st->nx; i++) finite = finite && isfinite(x[i]);
+    if (conv && finite && needs_polish(st, pb, x) && polish(st, pb, x)) *polished = 1;
+    st->pb = NULL;
+
+    r->raw_code = (int)rc;
+    r->iterations = st->iters;
+    r->status = map_status(rc, st->timed_out, &r->converged);
+    if (!finite) {
+        /* Never hand back NaN: the start point is at least inside the bounds. */
+        memcpy(x, xs, (size_t)st->nx * sizeof *x);
+        r->converged = 0;
+        r->status = HP_STATUS_SOLVER_ERROR;
+    }
+    hpi_backend_clip(pb, x);
+    return HP_OK;
+}
+
+/* A restart (hpi_multistart_solve): a cold solve; its budget is the plan's (st->t0). */
+static int restart_solve(void *ctx, const hp_problem *pb, const double *x0, double left, double *x,
+                         hp_backend_result *r)
+{
+    (void)left;
+    int polished;
+    return one_solve(ctx, pb, x0, 0, x, r, &polished, NULL) == HP_OK;
+}
+
 static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0, double *x,
                             hp_backend_result *r, hp_diag *d)
 {
@@ -427,7 +482,10 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
     int same_bounds = memcmp(st->ri_lo, pb->ri_lo, (size_t)st->n * sizeof(double)) == 0 &&
                       memcmp(st->ri_hi, pb->ri_hi, (size_t)st->n * sizeof(double)) == 0;
 
+    /* The lock is held over the first solve and its restarts, and the budget starts once it
+     * is taken: time spent waiting for another thread's Ipopt is not this plan's. */
     hpi_ipopt_lock();
+    st->t0 = hpi_plan_now();
     if (!same_bounds || !st->app || st->rebuild) { /* also retries after a failed rebuild */
         st->rebuild = 0;
         if (st->app) FreeIpoptProblem(st->app);
@@ -438,48 +496,29 @@ static hp_error ipopt_solve(void *state, const hp_problem *pb, const double *x0,
             st->app = NULL;
         }
     }
-    if (e == HP_OK) e = hpi_ipopt_opt_str(st->app, "warm_start_init_point", warm ? "yes" : "no", d);
-    if (e == HP_OK)
-        e = hpi_ipopt_opt_num(st->app, "mu_init", warm ? MU_INIT_WARM : MU_INIT_COLD, d);
-    enum ApplicationReturnStatus rc = Internal_Error;
-    int polished = 0;
-    if (e == HP_OK) {
-        st->pb = pb;
-        st->iters = 0;
-        st->cpu0 = clock();
-        st->timed_out = 0;
-        double obj;
-        memcpy(x, xs, (size_t)st->nx * sizeof *x);
-        rc = IpoptSolve(st->app, x, NULL, &obj, st->mult_g, st->mult_xl, st->mult_xu, st);
-        int forced = atomic_load(&ipopt_forced);
-        if (forced != HP_TEST_NO_FORCE) rc = (enum ApplicationReturnStatus)forced;
-        int conv;
-        map_status(rc, st->timed_out, &conv);
-        int fin = 1;
-        for (int i = 0; i < st->nx; i++) fin = fin && isfinite(x[i]);
-        if (conv && fin && needs_polish(st, pb, x) && polish(st, pb, x)) polished = 1;
-        st->pb = NULL;
+    int polished = 0, kept = 0, ran = 0;
+    if (e == HP_OK) e = one_solve(st, pb, xs, warm, x, r, &polished, d);
+    if (e == HP_OK && st->s.restarts > 0) {
+        /* The first solve's multipliers, for a warm start after it if it is the answer kept
+         * (a restart's solve overwrites them). */
+        double mg[HP_MAX_BLADDERS], ml[HP_PROBLEM_NX_MAX], mu_[HP_PROBLEM_NX_MAX];
+        memcpy(mg, st->mult_g, sizeof mg);
+        memcpy(ml, st->mult_xl, sizeof ml);
+        memcpy(mu_, st->mult_xu, sizeof mu_);
+        kept = hpi_multistart_run(pb, xs, st->s.restarts, st->t0, st->s.max_time, st->s.tolerance,
+                                  restart_solve, st, x, r, &ran);
+        memcpy(st->mult_g, mg, sizeof mg);
+        memcpy(st->mult_xl, ml, sizeof ml);
+        memcpy(st->mult_xu, mu_, sizeof mu_);
     }
     hpi_ipopt_unlock();
     if (e != HP_OK) {
         st->have_prev = 0;
         return e;
     }
-
-    r->raw_code = (int)rc;
-    r->iterations = st->iters;
-    r->status = map_status(rc, st->timed_out, &r->converged);
-    int finite = 1;
-    for (int i = 0; i < st->nx; i++) finite = finite && isfinite(x[i]);
-    if (!finite) {
-        /* Never hand back NaN: the start point is at least inside the bounds. */
-        memcpy(x, xs, (size_t)st->nx * sizeof *x);
-        r->converged = 0;
-        r->status = HP_STATUS_SOLVER_ERROR;
-    }
-    hpi_backend_clip(pb, x);
-    /* The stored multipliers belong to the unpolished point: the next solve starts cold. */
-    st->have_prev = r->converged && !polished;
+    /* The stored multipliers belong to the first solve's unpolished point: the next solve
+     * starts cold after a polished answer or one a restart found. */
+    st->have_prev = r->converged && !polished && kept == 0;
     return HP_OK;
 }
 
@@ -524,7 +563,7 @@ static hpi_load_solve_status ipopt_load_hold(const hp_load_model *M, const doubl
 const hp_backend_ops hpi_backend_ipopt_ops = {
     .name = "ipopt",
     .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_WARM_STARTS | HP_BACKEND_LOAD |
-            HP_BACKEND_LOAD_STIFFNESS | HP_BACKEND_ONE_START,
+            HP_BACKEND_LOAD_STIFFNESS | HP_BACKEND_ONE_START | HP_BACKEND_RESTARTS,
     .load_hold = ipopt_load_hold,
     .create = ipopt_create,
     .solve = ipopt_solve,

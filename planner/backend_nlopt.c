@@ -334,55 +334,31 @@ static void one_solve(nlopt_state *st, const hp_problem *pb, const double *xs, d
     hpi_backend_clip(pb, v);
 }
 
-/* The objective at v, +inf when it cannot be evaluated. */
-static double objective_at(const hp_problem *pb, const double *v)
+/* One restart (hpi_multistart_solve): SLSQP from x0 with what is left of the budget. */
+static int restart_solve(void *ctx, const hp_problem *pb, const double *x0, double left, double *x,
+                         hp_backend_result *r)
 {
-    double f;
-    return hpi_problem_objective(pb, v, &f, NULL, NULL) == HP_OK && isfinite(f) ? f : HUGE_VAL;
+    nlopt_state *st = ctx;
+    if (nlopt_set_maxtime(st->opt, left) < 0) return 0;
+    one_solve(st, pb, x0, x, r);
+    return 1;
 }
 
 /* SLSQP cannot tell a local minimum from the closest pose (its stopping tests say nothing
  * about other minima), and the closest pose of a far target can be any of several vertices
- * of the limits (docs/planner.md, Restarts). After a converged answer v that binds a limit
- * (a radius within HP_BINDING_TOL_MM of a bound) it solves again from settings.restarts
- * deterministic starts (hpi_multistart_point) while max_time lasts, and keeps the answer of
- * least objective among those converged that the core's first-order check accepts, so a
- * restart never turns an answer into a refused one. The iterations add up; t0 is when the
- * solve began (the budget is the whole solve's). */
+ * of the limits (docs/planner.md, Restarts): after a converged answer v that binds a limit
+ * it solves again from settings.restarts deterministic starts while max_time lasts
+ * (hpi_multistart_run). t0 is when the solve began (the budget is the whole solve's). */
 static void restart(nlopt_state *st, const hp_problem *pb, const double *xs, double t0, double *v,
                     hp_backend_result *r)
 {
-    if (st->s.restarts <= 0 || !r->converged) return;
-    /* Only when a limit binds: with none the objective's one minimum is the target. */
-    int binds = 0;
-    for (int k = 0; k < pb->n; k++)
-        binds |= !(v[6 + k] - pb->ri_lo[k] > HP_BINDING_TOL_MM &&
-                   pb->ri_hi[k] - v[6 + k] > HP_BINDING_TOL_MM);
-    if (!binds) return;
     /* The solve's tolerance, not the pose tolerance: a looser pose tolerance is solved as
      * the default one (create_common), restarts included. */
     const double stol = fmin(st->s.tolerance, HP_NLOPT_SOLVE_TOL_MAX);
-    double best = objective_at(pb, v);
-    for (int j = 1; j <= st->s.restarts; j++) {
-        double left = st->s.max_time - (hpi_plan_now() - t0);
-        if (!(left > 0.0) || nlopt_set_maxtime(st->opt, left) < 0) break;
-        double xj[HP_PROBLEM_NX_MAX], vj[HP_PROBLEM_NX_MAX];
-        hp_backend_result rj = *r;
-        hpi_multistart_point(pb, xs, j, xj);
-        hpi_backend_clip(pb, xj);
-        one_solve(st, pb, xj, vj, &rj);
-        r->iterations += rj.iterations;
-        double f = objective_at(pb, vj);
-        /* Better by more than rounding: 1e-12 of the objective (a squared distance). */
-        if (!rj.converged || !(f < best * (1.0 - 1e-12)) ||
-            !hpi_backend_first_order_ok(pb, vj, stol))
-            continue;
-        best = f;
-        memcpy(v, vj, (size_t)st->nx * sizeof *v);
-        r->status = rj.status;
-        r->raw_code = rj.raw_code;
-    }
-    nlopt_set_maxtime(st->opt, st->s.max_time);
+    int ran;
+    hpi_multistart_run(pb, xs, st->s.restarts, t0, st->s.max_time, stol, restart_solve, st, v, r,
+                       &ran);
+    if (ran) nlopt_set_maxtime(st->opt, st->s.max_time);
 }
 
 static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0, double *x,

@@ -306,8 +306,8 @@ PyTypeObject hpy_planner_type = {
         "overrides: backend ('realtime', 'ipopt', 'nlopt-slsqp', 'nlopt-cobyla'), level\n"
         "('linear', 'plane', 'surface', 'auto'), tolerance (pose tolerance, mm and degrees),\n"
         "max_iter, max_time_s [s], weight_mm_per_deg, level_tolerance_mm [mm] (for 'auto'),\n"
-        "warm_start (0/1), restarts (0..64: NLopt SLSQP's further starts after a closest\n"
-        "answer). Raises headplan.Error for a bad value. One call at a time per\n"
+        "warm_start (0/1), restarts (0..64: Ipopt's and NLopt SLSQP's further starts after a\n"
+        "closest answer). Raises headplan.Error for a bad value. One call at a time per\n"
         "planner (a second thread waits); use one planner per thread for parallel work.",
     .tp_methods = planner_methods,
     .tp_getset = planner_getset,

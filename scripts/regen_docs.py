@@ -15,6 +15,7 @@ runs (the fixed configuration, in this order):
   bench-*, speed-*  headplan-bench --out docs/figures (all families), then
                     bench/csv_tables.py docs/figures                        docs/benchmarks.md,
                                                                             README.md
+  restarts-cost     planner.csv of the same headplan-bench run              docs/planner.md
   backends-table    headplan-bench-backends                                 docs/backends.md
   loop-table        loop.csv of the same headplan-bench run                 docs/control-loop.md
   load-table        load.csv of the same headplan-bench run                 docs/load.md
@@ -145,6 +146,23 @@ def speed(src, figures):
                  "chain on reachable targets, the rest on binding ones (`docs/benchmarks.md`, "
                  "section 2); along a warm trace the surface level takes %s a row. The run: "
                  "`docs/measurements.md`." % fmt_us(trace / 1e3))
+    return block("\n".join(lines))
+
+
+def restarts_cost(figures):
+    """What restarts cost (docs/planner.md, Restarts): the planner family's Ipopt and SLSQP
+    rows at the surface level, tolerance 1e-9, with restarts 0 (-r0) and the default, on the
+    binding and the reachable targets (-reach); medians and their ratio, one run."""
+    with open(os.path.join(figures, "planner.csv"), newline="") as f:
+        rows = {r["method"]: r for r in csv.DictReader(f)}
+    lines = ["| backend | targets | restarts 0 | default restarts (7) | default / 0 |",
+             "|---|---|---|---|---|"]
+    for b in ("ipopt", "nlopt-slsqp"):
+        for reach, what in (("", "binding"), ("-reach", "reachable")):
+            m = "%s-surface-1e-09%s" % (b, reach)
+            one, dflt = float(rows[m + "-r0"]["median_ns"]), float(rows[m]["median_ns"])
+            lines.append("| %s | %s | %s | %s | %.2f× |" % (
+                b, what, fmt_us(one / 1e3), fmt_us(dflt / 1e3), dflt / one))
     return block("\n".join(lines))
 
 
@@ -340,6 +358,7 @@ def main():
     new["README.md"]["speed-readme"] = sp
     new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp})
     new["docs/control-loop.md"] = {"loop-table": loop_table(figures)}
+    new["docs/planner.md"] = {"restarts-cost": restarts_cost(figures)}
     new["docs/load.md"] = {"load-table": load_table(figures)}
     new["docs/accuracy.md"] = {"fidelity-table": fidelity_table(figures)}
     out, w = run([os.path.join(binary, "headplan-bench-backends")], src)

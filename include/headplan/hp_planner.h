@@ -141,14 +141,14 @@ HP_API const char *hp_binding_name(unsigned flag);
 #define HP_DEFAULT_AUTO_ROT 0.0872664625997164788 /* [rad] (5 degrees) rotation auto covers */
 #define HP_DEFAULT_TOLERANCE 1e-9                 /* pose tolerance, mm and degrees */
 #define HP_DEFAULT_MAX_ITER 200
-#define HP_DEFAULT_MAX_TIME 1.0 /* seconds (Ipopt: CPU time) */
+#define HP_DEFAULT_MAX_TIME 1.0 /* seconds of the plan's wall time (a monotonic clock) */
 #define HP_DEFAULT_WEIGHT_MM_PER_DEG 1.0
 #define HP_DEFAULT_MU 0.0
 #define HP_DEFAULT_USE_RATE_LIMITS 1
 #define HP_DEFAULT_WARM_START 1
 #define HP_DEFAULT_LOAD_GEOMETRY HP_LEVEL_SURFACE
 #define HP_DEFAULT_LOAD_TIEBREAK HP_TIE_LEAST_SQUEEZE
-#define HP_DEFAULT_RESTARTS 7 /* NLopt SLSQP: 1/8, 2/8, ... 7/8 of the way to the target */
+#define HP_DEFAULT_RESTARTS 7 /* Ipopt, NLopt SLSQP: 1/8, 2/8, ... 7/8 of the way to the target */
 
 /* The load level (HP_LEVEL_LOAD, docs/load.md): a desired pose -> the pressures that HOLD the
  * head there against its weight. At a pose the six equilibrium equations are linear in the
@@ -187,10 +187,10 @@ typedef struct hp_settings {
     hp_load_tiebreak load_tiebreak; /* which holding pressures a reachable pose gets;
                                  HP_TIE_STIFFNESS needs a backend that solves it (ipopt) */
     /* A local method's closest pose depends on where it starts (docs/planner.md, Restarts).
-     * NLopt SLSQP cannot tell a local minimum from the closest pose: after a converged
-     * answer short of the target it solves again from this many deterministic starts along
-     * the correction (within max_time) and keeps the closest answer. 0..64; the other
-     * backends ignore it. */
+     * Ipopt and NLopt SLSQP cannot tell a local minimum from the closest pose: after a
+     * converged answer short of the target they solve again from this many deterministic
+     * starts along the correction (within max_time) and keep the closest answer. 0..64; the
+     * other backends ignore it. */
     int restarts;
 } hp_settings;
 
@@ -299,8 +299,8 @@ HP_API const char *hp_planner_error(const hp_planner *p);
 
 /* Why the last answer is CLOSEST or UNCOMMANDED (answers, not failures): the binding
  * limits (bladder and limit names) and the components the layout cannot command, with
- * their values; for a contact-level CLOSEST of a backend that solved from one start (Ipopt,
- * NLopt COBYLA, NLopt SLSQP with restarts 0), "; a local optimum: the BACKEND backend made
+ * their values; for a contact-level CLOSEST of a backend that solved from one start (NLopt
+ * COBYLA, Ipopt and NLopt SLSQP with restarts 0), "; a local optimum: the BACKEND backend made
  * no restarts, and another start may end closer". "" after REACHED and after a failure. Never NULL. A CLOSEST answer's text
  * is composed by the first call after the plan (a control loop that never asks does not
  * pay for it), so this call writes into the planner: like hp_plan, not concurrently with

@@ -93,7 +93,7 @@ typedef struct hp_scene {
     int max_iter;                       /* `solver.max_iter`, 1..1000000 */
     double max_time;                    /* `solver.max_time_s` [s], > 0 */
     double weight_mm_per_deg;           /* `solver.weight_mm_per_deg`, > 0 */
-    int restarts;                       /* `solver.restarts`, 0..64 (NLopt SLSQP) */
+    int restarts;                       /* `solver.restarts`, 0..64 (Ipopt, NLopt SLSQP) */
     int has_correction;                 /* `correction` given */
     double correction[6];               /* [m, m, m, rad, rad, rad]: x y z pitch roll yaw */
     int has_trace;                      /* `trace` given */

@@ -71,7 +71,20 @@ png="$OUT/ik_pareto.png"; svg="$OUT/ik_pareto.svg"
 run --quick --only planner --out "$OUT" --scene "$HP_SRC/scenarios/default.yaml"
 expect_exit 0 "bench --only planner"
 csv="$OUT/planner.csv"
-[ "$(($(wc -l <"$csv") - 1))" -eq 30 ] && ok || bad "planner: 30 rows"
+[ "$(($(wc -l <"$csv") - 1))" -eq 36 ] && ok || bad "planner: 36 rows"
+# What restarts cost: Ipopt and SLSQP with restarts 0 beside the default, binding and
+# reachable, every plan answered; the docs' table (regen_docs.py restarts_cost) reads them.
+for b in ipopt nlopt-slsqp; do
+  for m in "$b-surface-1e-09-r0 binding" "$b-surface-1e-09-reach reachable" \
+           "$b-surface-1e-09-reach-r0 reachable"; do
+    read -r name set <<<"$m"
+    [ "$(field "$name" input_set)" = "$set" ] && [ "$(field "$name" failures)" = 0 ] \
+      && ok || bad "planner: $name row ($set, no failure)"
+  done
+done
+PYTHONPATH="$HP_SRC/scripts" /usr/bin/python3 -c \
+  "import sys, regen_docs; t = regen_docs.restarts_cost(sys.argv[1]); assert t.count('\n| ') == 5, t" \
+  "$OUT" && ok || bad "planner: regen_docs.restarts_cost reads the rows"
 # The warm-trace rows walk the trace in order: every row answered, none failed.
 for lv in linear plane surface; do
   [ "$(field trace-realtime-$lv input_set)" = trace ] && [ "$(field trace-realtime-$lv failures)" = 0 ] \

@@ -219,8 +219,10 @@ meta = dict(l[2:].split(': ', 1) for l in lines if l.startswith('# '))
 sha = lambda p: hashlib.sha256(open(p, 'rb').read()).hexdigest()
 assert meta['scene_sha256'] == sha(sys.argv[3]) and meta['trace_sha256'] == sha(sys.argv[4])
 assert meta['program'].startswith('headplan ') and meta['backend'] and meta['level']
-for k in ('rows', 'pose_form', 'tolerance_mm_deg', 'max_iter', 'max_time_s', 'weight_mm_per_deg'):
+for k in ('rows', 'pose_form', 'tolerance_mm_deg', 'max_iter', 'max_time_s', 'weight_mm_per_deg',
+          'restarts'):
     assert k in meta, k
+assert meta['restarts'] == '7', meta['restarts']  # the scene states none: the default
 rows = list(csv.reader(l for l in lines if not l.startswith('#')))
 head = rows[0]
 for col in ('desired_x_mm', 'achieved_yaw_deg', 'error_pitch_deg', 'commanded_x', 'pose_error_mm',
@@ -241,6 +243,15 @@ for c, j in zip(rows[1:], jl[1:]):
         v = obj[name]
         assert (v or '') == text or (v is None and text == ''), (name, v, text)
 PY
+
+# The restarts a scene states are the ones recorded (both files).
+sed 's/^solver: {/solver: {restarts: 2, /' "$S/saturation.yaml" >"$TMP/restarts2.yaml"
+run batch "$TMP/restarts2.yaml" "$TMP/fast.csv" --no-times -o "$TMP/r2.csv"
+expect_exit 0 "batch with solver.restarts 2"
+grep -qx '# restarts: 2' "$TMP/r2.csv" && ok || bad "CSV metadata: no '# restarts: 2'"
+run batch "$TMP/restarts2.yaml" "$TMP/fast.csv" --no-times -o "$TMP/r2.jsonl"
+expect_exit 0 "batch with solver.restarts 2, JSON Lines"
+head -n 1 "$TMP/r2.jsonl" | grep -q '"restarts":2[,}]' && ok || bad "JSON Lines metadata: no restarts 2"
 
 # ---- bad rows: reported with their line, the other rows go on, exit 65 ----
 # The path holds ':' so a line number read back from the message would be wrong.

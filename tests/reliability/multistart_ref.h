@@ -11,8 +11,8 @@
  *
  * A start is a feasible pose of that program: the realtime planner's answer (REACHED or
  * CLOSEST) for a seeded pose, the desired pose scaled by a random factor in [0, 1.2] plus a
- * random offset of up to 10 mm and 10 deg per component; Ipopt starts from it with
- * hp_planner_set_previous_result. Each start's answer counts only when Ipopt says REACHED
+ * random offset of up to 10 mm and 10 deg per component; Ipopt (restarts 0, sw_planner: one
+ * solve a start) starts from it with hp_planner_set_previous_result. Each start's answer counts only when Ipopt says REACHED
  * or CLOSEST (the planner has confirmed it by its forward model). */
 #ifndef HP_TESTS_RELIABILITY_MULTISTART_REF_H
 #define HP_TESTS_RELIABILITY_MULTISTART_REF_H

@@ -16,7 +16,12 @@
  * about its axis, the translation below 0.95 of the head's smallest semi-axis), and counts
  * how often and by how much each backend is worse than the best answer instead of
  * asserting; HP_BEST_LOCAL_CSV=FILE appends one row per plan (docs/control-loop.md, "The
- * best local answer"; chart: tests/reliability/best_local.gp). */
+ * best local answer"; chart: tests/reliability/best_local.gp). The Ipopt and SLSQP compared
+ * plan with their default restarts (the reference with one solve a start);
+ * HP_BEST_LOCAL_IPOPT_RESTARTS=N gives Ipopt N instead (0: one start, to count how often
+ * one start is worse: docs/planner.md, Restarts). test_slsqp_restarts and
+ * test_ipopt_restarts check the restarts on programs where one start ends at a local
+ * minimum. */
 #include "multistart_ref.h"
 
 #include <stdlib.h>
@@ -117,13 +122,44 @@ static void bl_compare(hp_planner *const pl[3], ms_ref *ref, const char *what, h
                       xi[2] * 1e3, xi[3] * 180 / PI, xi[4] * 180 / PI, xi[5] * 180 / PI);
 }
 
+/* A planner of backend b as ms_planner makes it, with `restarts` further starts. */
+static hp_planner *bl_planner(const hp_layout *L, hp_backend b, hp_level level, int restarts)
+{
+    hp_settings st;
+    hp_settings_default(&st);
+    st.backend = b;
+    st.level = level;
+    st.warm_start = 1;
+    st.max_time = 60.0;
+    if (b == HP_BACKEND_IPOPT) st.tolerance = 1e-10;
+    st.restarts = restarts;
+    hp_planner *p = NULL;
+    assert_int_equal(hp_planner_create(L, &st, &p, NULL), HP_OK);
+    return p;
+}
+
+/* HP_BEST_LOCAL_IPOPT_RESTARTS=N (0..64): the compared Ipopt's restarts (default: the
+ * library's, HP_DEFAULT_RESTARTS), to count how often one start is worse (N = 0). */
+static int bl_ipopt_restarts(void)
+{
+    const char *e = getenv("HP_BEST_LOCAL_IPOPT_RESTARTS");
+    if (!e) return HP_DEFAULT_RESTARTS;
+    char *end;
+    long n = strtol(e, &end, 10);
+    if (*e == '\0' || *end != '\0' || n < 0 || n > 64) {
+        print_error("HP_BEST_LOCAL_IPOPT_RESTARTS: an integer in 0..64, got '%s'\n", e);
+        fail();
+    }
+    return (int)n;
+}
+
 static void bl_layout(const hp_layout *L, const char *what, uint64_t *s, int n, bl_run *run)
 {
     hp_identifiable id;
     assert_int_equal(hp_layout_identify(L, &id), HP_OK);
     for (int l = 0; l < 2; ++l) {
         hp_planner *pl[3] = {ms_planner(L, HP_BACKEND_REALTIME, bl_levels[l]),
-                             ms_planner(L, HP_BACKEND_IPOPT, bl_levels[l]),
+                             bl_planner(L, HP_BACKEND_IPOPT, bl_levels[l], bl_ipopt_restarts()),
                              ms_planner(L, HP_BACKEND_NLOPT_SLSQP, bl_levels[l])};
         ms_ref ref;
         ms_ref_create(&ref, L, bl_levels[l]);
@@ -245,60 +281,76 @@ static void test_generated_layouts(void **st)
     bl_assert(&run);
 }
 
-/* NLopt SLSQP's restarts (hp_settings.restarts): the three programs of test_sweep.c's
- * generated sweep (2400 plans) where SLSQP's cold answer is a local minimum 11-14.5 mm/deg
- * from the closest pose the multi-start reference finds (this file's comparison run over
- * that sweep's draws): layout 12 target 19 at the plane level (rate windows; SLSQP 79.924,
- * reference 78.663), layout 17 target 4 at the surface level (soft bladders; 66.750 against
- * 66.591) and layout 33 target 21 at the plane level (rate windows; 36.833 against 36.798):
- * the closest poses are found from the starts 3/4, 7/8 and 1/2 of the way to the target
- * (planner/multistart.c), all among the default restarts. With its default restarts SLSQP's answer must be the reference's to BL_TOL; with restarts = 0 it
- * is the local minimum, which keeps the comparison able to fail. Outside the clinical range
- * (both corrections beyond 20 mm or 15 deg), where the realtime backend also answers the
- * local minimum: counted by the beyond mode, not asserted. */
-static void test_slsqp_restarts(void **st)
+typedef struct bl_case {
+    int layout, target;
+    hp_level level;
+} bl_case;
+
+/* Backend b's restarts (hp_settings.restarts) on programs of test_sweep.c's generated sweep
+ * where b's one-start answer is a local minimum: with its default restarts b's answer must
+ * be the multi-start reference's to BL_TOL; with restarts = 0 it must be the local minimum,
+ * farther by more than 0.01, which keeps the comparison able to fail. */
+static void bl_restarts(hp_backend b, const bl_case *cases, int n)
 {
-    (void)st;
-    static const struct {
-        int layout, target;
-        hp_level level;
-    } cases[3] = {{12, 19, HP_LEVEL_PLANE}, {17, 4, HP_LEVEL_SURFACE}, {33, 21, HP_LEVEL_PLANE}};
-    for (int c = 0; c < 3; ++c) {
+    for (int c = 0; c < n; ++c) {
         hp_layout L;
         char kind[64];
         double xi[6];
         sw_replay(cases[c].layout, cases[c].target, &L, kind, sizeof kind, xi);
         ms_ref ref;
         ms_ref_create(&ref, &L, cases[c].level);
-        hp_result best, a, b;
+        hp_result best, a, one;
         /* The full reference on every build: three plans (with the sanitizers' 4 starts
          * layout 12's better optimum was not found). */
         ms_ref_best(&ref, xi, 8, BL_SEED + (uint64_t)c, &best);
         assert_int_equal(best.status, HP_STATUS_CLOSEST);
-        hp_planner *sq = ms_planner(&L, HP_BACKEND_NLOPT_SLSQP, cases[c].level);
-        hp_settings one;
-        hp_settings_default(&one);
-        one.backend = HP_BACKEND_NLOPT_SLSQP;
-        one.level = cases[c].level;
-        one.max_time = 60.0;
-        one.restarts = 0;
-        hp_planner *sq0 = NULL;
-        assert_int_equal(hp_planner_create(&L, &one, &sq0, NULL), HP_OK);
-        assert_int_equal(hp_plan(sq, xi, &a), HP_OK);
-        assert_int_equal(hp_plan(sq0, xi, &b), HP_OK);
-        print_message("layout %d target %d %s (%s): slsqp %.9g (%s), without restarts %.9g "
+        hp_planner *p = bl_planner(&L, b, cases[c].level, HP_DEFAULT_RESTARTS);
+        hp_planner *p0 = bl_planner(&L, b, cases[c].level, 0);
+        assert_int_equal(hp_plan(p, xi, &a), HP_OK);
+        assert_int_equal(hp_plan(p0, xi, &one), HP_OK);
+        print_message("layout %d target %d %s (%s): %s %.9g (%s), without restarts %.9g "
                       "(%s), multi-start %.9g\n",
                       cases[c].layout, cases[c].target, hp_level_name(cases[c].level), kind,
-                      bl_dist(&a), hp_status_name(a.status), bl_dist(&b), hp_status_name(b.status),
-                      sw_dist(&best));
-        assert_int_equal(b.status, HP_STATUS_CLOSEST);
-        assert_true(sw_dist(&b) > sw_dist(&best) + 0.01); /* the local minimum, without */
+                      hp_backend_name(b), bl_dist(&a), hp_status_name(a.status), bl_dist(&one),
+                      hp_status_name(one.status), sw_dist(&best));
+        assert_int_equal(one.status, HP_STATUS_CLOSEST);
+        assert_true(sw_dist(&one) > sw_dist(&best) + 0.01); /* the local minimum, without */
         assert_int_equal(a.status, HP_STATUS_CLOSEST);
         assert_true(sw_dist(&a) <= sw_dist(&best) + BL_TOL);
-        hp_planner_destroy(sq);
-        hp_planner_destroy(sq0);
+        /* Its note says it is a local optimum only without restarts. */
+        assert_null(strstr(hp_planner_note(p), "a local optimum"));
+        assert_non_null(strstr(hp_planner_note(p0), "a local optimum"));
+        hp_planner_destroy(p);
+        hp_planner_destroy(p0);
         ms_ref_destroy(&ref);
     }
+}
+
+/* NLopt SLSQP: the three programs of test_sweep.c's generated sweep (2400 plans) where
+ * SLSQP's cold answer is a local minimum 11-14.5 mm/deg from the closest pose the
+ * multi-start reference finds (this file's comparison run over that sweep's draws): layout
+ * 12 target 19 at the plane level (rate windows; SLSQP 79.924, reference 78.663), layout 17
+ * target 4 at the surface level (soft bladders; 66.750 against 66.591) and layout 33 target
+ * 21 at the plane level (rate windows; 36.833 against 36.798): the closest poses are found
+ * from the starts 3/4, 7/8 and 1/2 of the way to the target (planner/multistart.c), all
+ * among the default restarts. Outside the clinical range (both corrections beyond 20 mm or
+ * 15 deg), where the realtime backend also answers the local minimum: counted by the
+ * beyond mode, not asserted. */
+static void test_slsqp_restarts(void **st)
+{
+    (void)st;
+    static const bl_case cases[3] = {
+        {12, 19, HP_LEVEL_PLANE}, {17, 4, HP_LEVEL_SURFACE}, {33, 21, HP_LEVEL_PLANE}};
+    bl_restarts(HP_BACKEND_NLOPT_SLSQP, cases, 3);
+}
+
+/* Ipopt: layout 12 target 19 at the plane level, where Ipopt's one start ends at 79.588 and
+ * the reference (and SLSQP with restarts) at 78.663; the default restarts find it. */
+static void test_ipopt_restarts(void **st)
+{
+    (void)st;
+    static const bl_case cases[1] = {{12, 19, HP_LEVEL_PLANE}};
+    bl_restarts(HP_BACKEND_IPOPT, cases, 1);
 }
 
 int main(void)
@@ -307,6 +359,7 @@ int main(void)
         cmocka_unit_test(test_catalogue),
         cmocka_unit_test(test_generated_layouts),
         cmocka_unit_test(test_slsqp_restarts),
+        cmocka_unit_test(test_ipopt_restarts),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
