@@ -61,7 +61,7 @@ typedef struct fid_cell {
 } fid_cell;
 
 typedef struct fid_row {
-    char scene[48];
+    char scene[BENCH_STEM_MAX]; /* the file's stem, whole */
     char backend[16];
     int scene_mass; /* 1: the scene's load; 0: the default head's */
     double tolerance, level_tol_mm;
@@ -169,7 +169,7 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
         return 1;
     }
     memset(row, 0, sizeof *row);
-    snprintf(row->scene, sizeof row->scene, "%s", stem);
+    snprintf(row->scene, sizeof row->scene, "%s", stem); /* fits: bench_util.h */
     snprintf(row->backend, sizeof row->backend, "%s", hp_backend_name(base.backend));
     row->tolerance = base.tolerance;
     row->level_tol_mm = sc.level_tolerance * 1e3;
@@ -209,6 +209,7 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
                 continue;
             }
             snprintf(c->status, sizeof c->status, "%s", hp_status_name(r.status));
+            if (!cli_fidelity_answered(r.status)) continue; /* no answer: not measured */
             double P[HP_MAX_BLADDERS];
             for (int b = 0; b < r.n; ++b) P[b] = r.bladders[b].pressure;
             cli_fidelity_measure(&ref, P, r.achieved, &c->m);
@@ -236,12 +237,15 @@ static void csv_row(const void *arg, int i, FILE *f)
     for (int k = 0; k < r->ncases; ++k)
         for (int li = 0; li < N_LEVELS; ++li) {
             const fid_cell *c = &r->c[k][li];
-            fprintf(
-                f, "%s,%d,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s,%.6g,%d\n",
-                r->scene, k, hp_level_name(LEVELS[li]), r->backend, c->law, c->status,
-                r->scene_mass ? "scene" : "default", r->tolerance, r->level_tol_mm, g_band,
-                c->m.pose_mm, c->m.pose_deg, c->m.band_mm, c->m.band_deg, c->m.indent_max,
-                c->m.carried, c->m.domain, c->own_mm, c->own_stable);
+            /* The scene's stem and the domain (a bladder's name) are the user's text. */
+            cli_put_csv_text(f, r->scene);
+            fprintf(f, ",%d,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,", k,
+                    hp_level_name(LEVELS[li]), r->backend, c->law, c->status,
+                    r->scene_mass ? "scene" : "default", r->tolerance, r->level_tol_mm, g_band,
+                    c->m.pose_mm, c->m.pose_deg, c->m.band_mm, c->m.band_deg, c->m.indent_max,
+                    c->m.carried);
+            cli_put_csv_text(f, c->m.domain);
+            fprintf(f, ",%.6g,%d\n", c->own_mm, c->own_stable);
         }
 }
 

@@ -108,6 +108,12 @@ void cli_fidelity_measure(const cli_fidelity_ref *r, const double *P, const doub
     }
 }
 
+int cli_fidelity_answered(hp_status status)
+{
+    return status == HP_STATUS_REACHED || status == HP_STATUS_CLOSEST ||
+           status == HP_STATUS_UNCOMMANDED;
+}
+
 void cli_fidelity_settings(const hp_scene *sc, const hp_settings *base, hp_level level,
                            const hp_load_spec *spec, hp_settings *s)
 {
@@ -151,6 +157,11 @@ void cli_fidelity_text(const hp_scene *sc, hp_level level, char *buf, size_t len
     hp_planner_destroy(p);
     if (e) {
         snprintf(buf, len, "level %s: not planned (%s)", hp_level_name(level), hp_error_message(e));
+        return;
+    }
+    if (!cli_fidelity_answered(r.status)) {
+        snprintf(buf, len, "level %s: not measured: plan %s", hp_level_name(level),
+                 hp_status_name(r.status));
         return;
     }
     if (cli_fidelity_open(&sc->layout, &spec, 0.0, &ref) != HP_OK) {

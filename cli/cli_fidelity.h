@@ -48,6 +48,11 @@ typedef struct cli_fidelity_result {
 void cli_fidelity_measure(const cli_fidelity_ref *r, const double *P, const double xi[6],
                           cli_fidelity_result *out);
 
+/* 1 when a plan of this status is an answer whose pressures are measured (reached, closest,
+ * uncommanded: the answers solve prints); 0 for the others (failed, a time or iteration
+ * limit, refused input), whose pressures are only the safe output, no plan to measure. */
+int cli_fidelity_answered(hp_status status);
+
 /* The settings a fidelity plan uses at level, from the scene's (base): no rate limits and
  * no warm start (each plan cold, alone); the kinematic levels leave the weight out, the
  * load level carries spec (surface geometry when the scene states no load). */
@@ -58,7 +63,8 @@ void cli_fidelity_settings(const hp_scene *sc, const hp_settings *base, hp_level
  * correction (none: the nominal pose) planned at level with the fidelity settings, its
  * pressures against the reference without the law's band, beside the solver's tolerance,
  * e.g. "level load: 0.1234 mm, 0.01 deg against the fitted law (rest in its domain);
- * solver tolerance 1e-09 mm and deg". */
+ * solver tolerance 1e-09 mm and deg"; "level surface: not measured: plan iteration-limit"
+ * for a plan that is no answer (cli_fidelity_answered). */
 void cli_fidelity_text(const hp_scene *sc, hp_level level, char *buf, size_t len);
 
 /* Translation between two poses [mm]: the norm of the difference of (x, y, z). */
