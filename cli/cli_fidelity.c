@@ -129,15 +129,70 @@ void cli_fidelity_settings(const hp_scene *sc, const hp_settings *base, hp_level
     }
 }
 
+void cli_model_error_of(const hp_scene *sc, const hp_result *r, hp_level level, double tol,
+                        cli_model_error *e)
+{
+    hp_load_spec spec;
+    memset(e, 0, sizeof *e);
+    e->level = level;
+    e->tolerance = tol;
+    e->own_mass = cli_fidelity_spec(sc, &spec);
+    e->mass = spec.mass;
+    e->m.pose_mm = e->m.pose_deg = e->m.band_mm = e->m.band_deg = NAN;
+    e->m.indent_max = e->m.carried = NAN;
+    snprintf(e->m.domain, sizeof e->m.domain, "-");
+    if (!cli_fidelity_answered(r->status)) {
+        snprintf(e->not_measured, sizeof e->not_measured, "plan %s", hp_status_name(r->status));
+        return;
+    }
+    cli_fidelity_ref ref;
+    hp_error err = cli_fidelity_open(&sc->layout, &spec, CLI_FIDELITY_LAW_BAND, &ref);
+    if (err == HP_OK) {
+        double P[HP_MAX_BLADDERS];
+        for (int k = 0; k < r->n; ++k) P[k] = r->bladders[k].pressure;
+        cli_fidelity_measure(&ref, P, r->achieved, &e->m);
+    } else {
+        snprintf(e->not_measured, sizeof e->not_measured, "no load model: %s",
+                 hp_error_message(err));
+    }
+    cli_fidelity_close(&ref);
+}
+
+void cli_model_error_text(const cli_model_error *e, char *buf, size_t len)
+{
+    const char *lv = hp_level_name(e->level);
+    if (*e->not_measured) {
+        snprintf(buf, len, "level %s: not measured: %s", lv, e->not_measured);
+        return;
+    }
+    char head[96] = "", band[128];
+    if (!e->own_mass)
+        snprintf(head, sizeof head, " (default head: %.3g kg at its centre, supine)", e->mass);
+    const cli_fidelity_result *m = &e->m;
+    if (isfinite(m->band_mm))
+        snprintf(band, sizeof band, "up to %.4g mm, %.4g deg", m->band_mm, m->band_deg);
+    else snprintf(band, sizeof band, "unbounded");
+    const int in = strcmp(m->domain, "in") == 0;
+    if (isfinite(m->pose_mm))
+        snprintf(buf, len,
+                 "level %s: %.4g mm, %.4g deg against the fitted law, %s with its ±%.3g %% band "
+                 "(rest %s%s)%s; solver tolerance %g mm and deg",
+                 lv, m->pose_mm, m->pose_deg, band, 100.0 * CLI_FIDELITY_LAW_BAND,
+                 in ? "in its domain" : "outside its domain: ", in ? "" : m->domain, head,
+                 e->tolerance);
+    else
+        snprintf(buf, len,
+                 "level %s: unbounded (no rest under the fitted law; the pressures bear %.0f %% "
+                 "of the weight at the planned pose)%s; solver tolerance %g mm and deg",
+                 lv, 100.0 * m->carried + 0.0, head, e->tolerance);
+}
+
 void cli_fidelity_text(const hp_scene *sc, hp_level level, char *buf, size_t len)
 {
     hp_settings base, s;
     hp_load_spec spec;
     hp_diag d = {{0}};
-    int own = cli_fidelity_spec(sc, &spec);
-    char head[96] = "";
-    if (!own)
-        snprintf(head, sizeof head, " (default head: %.3g kg at its centre, supine)", spec.mass);
+    cli_fidelity_spec(sc, &spec);
     if (hp_scene_settings(sc, &base, &d) != HP_OK) {
         snprintf(buf, len, "level %s: not measured (settings: %s)", hp_level_name(level), d.text);
         return;
@@ -147,7 +202,6 @@ void cli_fidelity_text(const hp_scene *sc, hp_level level, char *buf, size_t len
     const double *want = sc->has_correction ? sc->correction : zero;
     hp_planner *p = NULL;
     hp_result r;
-    cli_fidelity_ref ref;
     hp_error e = hp_planner_create(&sc->layout, &s, &p, &d);
     if (e) {
         snprintf(buf, len, "level %s: not planned (%s)", hp_level_name(level), d.text);
@@ -159,31 +213,7 @@ void cli_fidelity_text(const hp_scene *sc, hp_level level, char *buf, size_t len
         snprintf(buf, len, "level %s: not planned (%s)", hp_level_name(level), hp_error_message(e));
         return;
     }
-    if (!cli_fidelity_answered(r.status)) {
-        snprintf(buf, len, "level %s: not measured: plan %s", hp_level_name(level),
-                 hp_status_name(r.status));
-        return;
-    }
-    if (cli_fidelity_open(&sc->layout, &spec, 0.0, &ref) != HP_OK) {
-        cli_fidelity_close(&ref);
-        snprintf(buf, len, "level %s: not measured (no load model)", hp_level_name(level));
-        return;
-    }
-    double P[HP_MAX_BLADDERS];
-    for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
-    cli_fidelity_result m;
-    cli_fidelity_measure(&ref, P, r.achieved, &m);
-    cli_fidelity_close(&ref);
-    if (isfinite(m.pose_mm))
-        snprintf(buf, len,
-                 "level %s: %.4g mm, %.4g deg against the fitted law (rest %s%s)%s; solver "
-                 "tolerance %g mm and deg",
-                 hp_level_name(level), m.pose_mm, m.pose_deg,
-                 strcmp(m.domain, "in") == 0 ? "in its domain" : "outside its domain: ",
-                 strcmp(m.domain, "in") == 0 ? "" : m.domain, head, s.tolerance);
-    else
-        snprintf(buf, len,
-                 "level %s: no rest under the fitted law (the pressures bear %.0f %% of the "
-                 "weight at the planned pose)%s; solver tolerance %g mm and deg",
-                 hp_level_name(level), 100.0 * m.carried + 0.0, head, s.tolerance);
+    cli_model_error me;
+    cli_model_error_of(sc, &r, level, s.tolerance, &me);
+    cli_model_error_text(&me, buf, len);
 }

@@ -3,7 +3,8 @@
 # inside it; a scene named with a comma and a quote in fidelity.csv (RFC 4180: bladder names
 # cannot hold either, the scene reader refuses them, but a file's stem can); a plan that
 # stops at its iteration limit is not measured; a scene stem longer than 47 characters
-# reaches the CSV whole. The scenes are load_supine.yaml with a light head (0.3 kg, 0.1 kg:
+# reaches the CSV whole; the law's band the command line states is the one the lab reads from
+# the fitted law's error table. The scenes are load_supine.yaml with a light head (0.3 kg, 0.1 kg:
 # the load level's pressures then hold a rest under the fitted law, which the 4.5 kg head's
 # do not) and a 60 s budget (no row may end by time). No timing.
 source "$2/tests/cli_lib.sh"
@@ -26,13 +27,13 @@ scene "$TMP/inside.yaml" 0.3 27.2
 run analyze "$TMP/outside.yaml" --level load
 expect_exit 0 "analyze outside"
 line=$(grep '^model error' "$TMP/out")
-grep -qE 'level load: [0-9.e+-]+ mm, [0-9.e+-]+ deg against the fitted law \(rest outside its domain: [^)]*:wall\)' <<<"$line" \
+grep -qE 'level load: [0-9.e+-]+ mm, [0-9.e+-]+ deg against the fitted law, up to [^(]* band \(rest outside its domain: [^)]*:wall\)' <<<"$line" \
   && ok || bad "outside: rest outside the domain by wall not said: $line"
 grep -qF 'side_chin_left:wall' <<<"$line" && ok || bad "outside: bladder side_chin_left not named: $line"
 run analyze "$TMP/inside.yaml" --level load
 expect_exit 0 "analyze inside"
 line=$(grep '^model error' "$TMP/out")
-grep -qE 'level load: [0-9.e+-]+ mm, [0-9.e+-]+ deg against the fitted law \(rest in its domain\)' <<<"$line" \
+grep -qE 'level load: [0-9.e+-]+ mm, [0-9.e+-]+ deg against the fitted law, up to [^(]* band \(rest in its domain\)' <<<"$line" \
   && ok || bad "inside: rest in the domain not said: $line"
 
 # (c) A plan stopped by its iteration limit (ipopt, one iteration, a correction it cannot
@@ -56,7 +57,11 @@ cp "$TMP/inside.yaml" "$TMP/scn/$long.yaml"
 "$BENCH" --quick --only fidelity --out "$TMP/fid" --scenarios "$TMP/scn" >"$TMP/out" 2>"$TMP/err"
 rc=$?
 expect_exit 0 "headplan-bench --only fidelity"
-python3 - "$TMP/fid/fidelity.csv" "$long" "$odd" <<'EOF' && ok || bad "fidelity.csv"
+# The command line's band (a constant: it is installed without fem/) is the one the lab reads
+# from fem/tables/law_error.csv at run time.
+run solve "$TMP/inside.yaml" --level load --json
+cli_band=$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["model_error"]["law_band"])' "$TMP/out")
+python3 - "$TMP/fid/fidelity.csv" "$long" "$odd" "$cli_band" <<'EOF' && ok || bad "fidelity.csv"
 import csv, sys
 rows = list(csv.reader(open(sys.argv[1], newline="")))
 head, body = rows[0], rows[1:]
@@ -70,6 +75,8 @@ d = cell(sys.argv[3], "load", "domain")
 assert d == "side_chin_left:wall", f"outside load domain {d!r}"
 assert cell("inside", "load", "domain") == "in", cell("inside", "load", "domain")
 assert float(cell("inside", "load", "pose_mm")) > 0
+bands = {float(r[col["law_band"]]) for r in body}
+assert bands == {float(sys.argv[4])}, f"law_band {bands} in the CSV, {sys.argv[4]} in solve --json"
 assert {r[col["scene"]] for r in body} == {sys.argv[3], "inside", sys.argv[2]}, \
     sorted({r[col["scene"]] for r in body})
 EOF
