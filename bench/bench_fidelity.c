@@ -52,7 +52,7 @@ static const hp_level LEVELS[N_LEVELS] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LE
 typedef struct fid_cell {
     char status[20];       /* the plan's status, "refused" (create) or "error" (hp_plan) */
     char law[8];           /* the load level's planning law ("cap", "fitted"); "-" elsewhere */
-    cli_fidelity_result m; /* the pressures against the reference (NaN: no plan) */
+    hpi_fidelity_result m; /* the pressures against the reference (NaN: no plan) */
     double own_mm;         /* load level: its pressures' rest under its own model (law and
                         geometry) against the pose it claims, the harness's check (NaN
                         elsewhere; +inf: no rest) */
@@ -175,9 +175,9 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
     row->level_tol_mm = sc.level_tolerance * 1e3;
     hp_load_spec spec;
     row->scene_mass = cli_fidelity_spec(&sc, &spec);
-    cli_fidelity_ref ref;
-    if (cli_fidelity_open(&sc.layout, &spec, g_band, &ref) != HP_OK) {
-        cli_fidelity_close(&ref);
+    hpi_fidelity_ref ref;
+    if (hpi_fidelity_open(&sc.layout, &spec, g_band, &ref) != HP_OK) {
+        hpi_fidelity_close(&ref);
         fprintf(stderr, "bench fidelity: %s: no load model, left out\n", stem);
         return 1;
     }
@@ -209,10 +209,10 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
                 continue;
             }
             snprintf(c->status, sizeof c->status, "%s", hp_status_name(r.status));
-            if (!cli_fidelity_answered(r.status)) continue; /* no answer: not measured */
+            if (!hpi_fidelity_answered(r.status)) continue; /* no answer: not measured */
             double P[HP_MAX_BLADDERS];
             for (int b = 0; b < r.n; ++b) P[b] = r.bladders[b].pressure;
-            cli_fidelity_measure(&ref, P, r.achieved, &c->m);
+            hpi_fidelity_measure(&ref, P, r.achieved, &c->m);
             if (p->load) {
                 double rest[6];
                 hp_load_holding h;
@@ -220,13 +220,13 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
                                     ? h.stable
                                     : -1;
                 c->own_mm = hp_load_rest(&p->load->M, P, r.achieved, rest, NULL) == HP_OK
-                                ? cli_fidelity_translation_mm(rest, r.achieved)
+                                ? hpi_pose_translation_mm(rest, r.achieved)
                                 : INFINITY;
             }
         }
         hp_planner_destroy(p);
     }
-    cli_fidelity_close(&ref);
+    hpi_fidelity_close(&ref);
     fprintf(stderr, "bench fidelity: %s: %d cases\n", stem, row->ncases);
     return 0;
 }

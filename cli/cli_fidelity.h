@@ -1,18 +1,11 @@
-/* A plan's pressures against the finite-element reference: the one home of the measurement
- * that `headplan solve` prints for its answer, `headplan analyze` for its scene and the
- * benchmark lab's fidelity family
- * (bench/bench_fidelity.c) makes on the catalogue (docs/accuracy.md §5.7).
- *
- * The pressures are held and the head let go under its weight: its rest (hp_load_rest,
- * surface geometry) on a load model that evaluates the contact law fitted to the CalculiX
- * tables, from the pose the plan claims. The error is that rest against the claimed pose.
- * With a band b > 0, the law's own error is bounded too: the rests with the force scaled by
- * 1 + b and 1 − b (a force scaled by s rests where the weight over s does, so the model's
- * mass is divided by s), the larger deviation reported. */
+/* The model error the command line states (`headplan solve`, `headplan analyze`) and the
+ * fidelity plans the benchmark lab's fidelity family makes (bench/bench_fidelity.c,
+ * docs/accuracy.md §5.7): the measurement itself is planner/model_error.h's. */
 #ifndef CLI_FIDELITY_H
 #define CLI_FIDELITY_H
 
 #include "headplan/headplan.h"
+#include "planner/model_error.h"
 
 #include <stddef.h>
 
@@ -20,39 +13,6 @@
  * (returns 1), else the default head's (returns 0): the head's mass, or HP_HEAD_DEFAULT_MASS
  * when the head states none, at its centre under supine gravity (hp_load_spec_default). */
 int cli_fidelity_spec(const hp_scene *sc, hp_load_spec *spec);
-
-/* The reference models of a layout and load: the fitted law, and with band > 0 the two
- * scaled ones. */
-typedef struct cli_fidelity_ref {
-    hp_load_model *M[3];
-    int n; /* 1, or 3 with a band */
-} cli_fidelity_ref;
-
-/* Builds the models (band in [0, 0.5)). HP_OK, or the first error of hp_load_model_create
- * (the models built so far are freed by cli_fidelity_close, which is always called). */
-hp_error cli_fidelity_open(const hp_layout *L, const hp_load_spec *spec, double band,
-                           cli_fidelity_ref *r);
-void cli_fidelity_close(cli_fidelity_ref *r);
-
-/* One plan's pressures against the reference. */
-typedef struct cli_fidelity_result {
-    double pose_mm, pose_deg; /* the rest against the claimed pose: translation norm, rotation
-                                 angle; +inf: no rest */
-    double band_mm, band_deg; /* the larger deviation with the band (= pose_* without one) */
-    double indent_max;        /* the largest delta/ro at the rest (NaN: no rest) */
-    double carried;           /* share of the weight the bladders bear along gravity at the
-                                 claimed pose (1 at a pose the pressures hold) */
-    char domain[48];          /* "in", "BLADDER:GROUP" outside the fitted law's domain, or
-                                 "no rest" */
-} cli_fidelity_result;
-
-void cli_fidelity_measure(const cli_fidelity_ref *r, const double *P, const double xi[6],
-                          cli_fidelity_result *out);
-
-/* 1 when a plan of this status is an answer whose pressures are measured (reached, closest,
- * uncommanded: the answers solve prints); 0 for the others (failed, a time or iteration
- * limit, refused input), whose pressures are only the safe output, no plan to measure. */
-int cli_fidelity_answered(hp_status status);
 
 /* The settings a fidelity plan uses at level, from the scene's (base): no rate limits and
  * no warm start (each plan cold, alone); the kinematic levels leave the weight out, the
@@ -73,7 +33,7 @@ typedef struct cli_model_error {
     double mass;            /* the head's mass the reference carries [kg] */
     int own_mass;           /* 1: the scene's load or head mass; 0: the default head's */
     char not_measured[160]; /* why it was not measured ("" when it was) */
-    cli_fidelity_result m;  /* the measurement, with the band CLI_FIDELITY_LAW_BAND */
+    hpi_fidelity_result m; /* the measurement, with the band CLI_FIDELITY_LAW_BAND */
 } cli_model_error;
 
 /* Answer r of scene sc (planned at level with solver tolerance tol) against the reference:
@@ -92,10 +52,7 @@ void cli_model_error_text(const cli_model_error *e, char *buf, size_t len);
 /* The model error line of `headplan analyze` into buf (len bytes, no newline): the scene's
  * correction (none: the nominal pose) planned at level with the fidelity settings, then
  * cli_model_error_of and cli_model_error_text; "not measured: plan STATUS" for a plan that
- * is no answer (cli_fidelity_answered). */
+ * is no answer (hpi_fidelity_answered). */
 void cli_fidelity_text(const hp_scene *sc, hp_level level, char *buf, size_t len);
-
-/* Translation between two poses [mm]: the norm of the difference of (x, y, z). */
-double cli_fidelity_translation_mm(const double a[6], const double b[6]);
 
 #endif

@@ -25,7 +25,7 @@ json_t *cli_json_num(double v) { return isfinite(v) ? json_real(v) : json_null()
 json_t *cli_json_model_error(const cli_model_error *e)
 {
     json_t *o = json_object();
-    const cli_fidelity_result *m = &e->m;
+    const hpi_fidelity_result *m = &e->m;
     json_object_set_new(o, "level", json_string(hp_level_name(e->level)));
     json_object_set_new(o, "measured", json_boolean(!*e->not_measured));
     json_object_set_new(o, "not_measured", *e->not_measured ? json_string(e->not_measured)
