@@ -110,7 +110,8 @@ static int candidate_text(const candidate *c, char *buf, size_t len)
  * the load level. At the nominal pose every contact level's plan has the same pressures
  * (each bladder at its nominal contact distance), so one measurement serves them, and each
  * adds its geometry's error bound over the auto range (what the nominal pose cannot show).
- * *chosen stays HP_LEVEL_AUTO (why untouched) when nothing could be measured. */
+ * A load level that cannot be planned, with nothing meeting the tolerance, is chosen all the
+ * same (below). *chosen stays HP_LEVEL_AUTO (why untouched) only if no level is left. */
 static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hp_level *chosen,
                                     char *why, size_t len)
 {
@@ -180,12 +181,13 @@ static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hp_l
     }
     if (at < len) {
         if (meets) snprintf(why + at, len - at, " meets it");
+        else if (isnan(c[pick].scaled))
+            snprintf(why + at, len - at, ": none meets it; %s models the weight",
+                     hp_level_name(c[pick].level));
         else
             snprintf(why + at, len - at, " exceed it; %s has the %s",
                      hp_level_name(c[pick].level),
-                     isnan(c[pick].scaled)      ? "weight in its model"
-                     : isfinite(c[pick].scaled) ? "smallest"
-                                                : "most weight carried");
+                     isfinite(c[pick].scaled) ? "smallest" : "most weight carried");
     }
     return HP_OK;
 }

@@ -82,6 +82,14 @@ has "$why" "$TMP/heavy.yaml" surface 0
 has "$why" "$TMP/heavy.yaml" load -
 same_in_analyze "$TMP/heavy.yaml" "$why"
 
+# A load the bladders cannot carry (load_prone.yaml, level auto): the load level cannot be
+# planned and no contact level meets the tolerance, so auto takes the load level, whose
+# refusal says why, rather than a contact level that leaves the weight out.
+sed 's/level: load/level: auto/' "$S/load_prone.yaml" >"$TMP/prone.yaml"
+run solve "$TMP/prone.yaml"
+expect_exit 65 "solve prone (auto)"
+expect_stderr_has "load: the bladders can carry at most" "solve prone (auto)"
+
 # No load: the geometry's bounds, as before, and the reason says why.
 why=$(reason "$S/default.yaml")
 grep -q "^auto chose surface: the error bounds of linear (1.56 mm) and plane (0.969 mm) exceed model.tolerance_mm 0.01 for corrections up to 5 mm, 3 deg" <<<"$why" \
