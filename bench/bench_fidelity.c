@@ -52,7 +52,7 @@ static const hp_level LEVELS[N_LEVELS] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LE
 typedef struct fid_cell {
     char status[20];       /* the plan's status, "refused" (create) or "error" (hp_plan) */
     char law[8];           /* the load level's planning law ("cap", "fitted"); "-" elsewhere */
-    cli_fidelity_result m; /* the pressures against the reference (NaN: no plan) */
+    hpi_fidelity_result m; /* the pressures against the reference (NaN: no plan) */
     double own_mm;         /* load level: its pressures' rest under its own model (law and
                         geometry) against the pose it claims, the harness's check (NaN
                         elsewhere; +inf: no rest) */
@@ -61,7 +61,7 @@ typedef struct fid_cell {
 } fid_cell;
 
 typedef struct fid_row {
-    char scene[48];
+    char scene[BENCH_STEM_MAX]; /* the file's stem, whole */
     char backend[16];
     int scene_mass; /* 1: the scene's load; 0: the default head's */
     double tolerance, level_tol_mm;
@@ -169,15 +169,15 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
         return 1;
     }
     memset(row, 0, sizeof *row);
-    snprintf(row->scene, sizeof row->scene, "%s", stem);
+    snprintf(row->scene, sizeof row->scene, "%s", stem); /* fits: bench_util.h */
     snprintf(row->backend, sizeof row->backend, "%s", hp_backend_name(base.backend));
     row->tolerance = base.tolerance;
     row->level_tol_mm = sc.level_tolerance * 1e3;
     hp_load_spec spec;
     row->scene_mass = cli_fidelity_spec(&sc, &spec);
-    cli_fidelity_ref ref;
-    if (cli_fidelity_open(&sc.layout, &spec, g_band, &ref) != HP_OK) {
-        cli_fidelity_close(&ref);
+    hpi_fidelity_ref ref;
+    if (hpi_fidelity_open(&sc.layout, &spec, g_band, &ref) != HP_OK) {
+        hpi_fidelity_close(&ref);
         fprintf(stderr, "bench fidelity: %s: no load model, left out\n", stem);
         return 1;
     }
@@ -209,9 +209,10 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
                 continue;
             }
             snprintf(c->status, sizeof c->status, "%s", hp_status_name(r.status));
+            if (!hpi_fidelity_answered(r.status)) continue; /* no answer: not measured */
             double P[HP_MAX_BLADDERS];
             for (int b = 0; b < r.n; ++b) P[b] = r.bladders[b].pressure;
-            cli_fidelity_measure(&ref, P, r.achieved, &c->m);
+            hpi_fidelity_measure(&ref, P, r.achieved, &c->m);
             if (p->load) {
                 double rest[6];
                 hp_load_holding h;
@@ -219,13 +220,13 @@ static int run_scene(const bench_options *o, const char *path, const char *stem,
                                     ? h.stable
                                     : -1;
                 c->own_mm = hp_load_rest(&p->load->M, P, r.achieved, rest, NULL) == HP_OK
-                                ? cli_fidelity_translation_mm(rest, r.achieved)
+                                ? hpi_pose_translation_mm(rest, r.achieved)
                                 : INFINITY;
             }
         }
         hp_planner_destroy(p);
     }
-    cli_fidelity_close(&ref);
+    hpi_fidelity_close(&ref);
     fprintf(stderr, "bench fidelity: %s: %d cases\n", stem, row->ncases);
     return 0;
 }
@@ -236,12 +237,15 @@ static void csv_row(const void *arg, int i, FILE *f)
     for (int k = 0; k < r->ncases; ++k)
         for (int li = 0; li < N_LEVELS; ++li) {
             const fid_cell *c = &r->c[k][li];
-            fprintf(
-                f, "%s,%d,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%s,%.6g,%d\n",
-                r->scene, k, hp_level_name(LEVELS[li]), r->backend, c->law, c->status,
-                r->scene_mass ? "scene" : "default", r->tolerance, r->level_tol_mm, g_band,
-                c->m.pose_mm, c->m.pose_deg, c->m.band_mm, c->m.band_deg, c->m.indent_max,
-                c->m.carried, c->m.domain, c->own_mm, c->own_stable);
+            /* The scene's stem and the domain (a bladder's name) are the user's text. */
+            cli_put_csv_text(f, r->scene);
+            fprintf(f, ",%d,%s,%s,%s,%s,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,", k,
+                    hp_level_name(LEVELS[li]), r->backend, c->law, c->status,
+                    r->scene_mass ? "scene" : "default", r->tolerance, r->level_tol_mm, g_band,
+                    c->m.pose_mm, c->m.pose_deg, c->m.band_mm, c->m.band_deg, c->m.indent_max,
+                    c->m.carried);
+            cli_put_csv_text(f, c->m.domain);
+            fprintf(f, ",%.6g,%d\n", c->own_mm, c->own_stable);
         }
 }
 

@@ -197,9 +197,15 @@ int bench_each_scene(const bench_options *o, bench_scene_fn run, void *rows, siz
     closedir(dp);
     qsort(names, (size_t)nn, sizeof *names, cmp_names);
     for (int i = 0; i < nn && rc == 0 && *nrows < max_rows; ++i) {
-        char path[4096], stem[64];
-        snprintf(path, sizeof path, "%s/%s", o->scenarios, names[i]);
-        snprintf(stem, sizeof stem, "%.*s", (int)(strlen(names[i]) - 5), names[i]);
+        char path[4096], stem[BENCH_STEM_MAX];
+        if ((size_t)snprintf(path, sizeof path, "%s/%s", o->scenarios, names[i]) >= sizeof path ||
+            (size_t)snprintf(stem, sizeof stem, "%.*s", (int)(strlen(names[i]) - 5), names[i]) >=
+                sizeof stem) {
+            cli_fail(0, "bench", "--scenarios: %s/%s: path or name too long", o->scenarios,
+                     names[i]);
+            rc = CLI_EXIT_USAGE;
+            break;
+        }
         int r = run(o, path, stem, (char *)rows + (size_t)*nrows * row_size);
         if (r == 0) ++*nrows;
         else if (r != 1) rc = r;

@@ -64,8 +64,13 @@ typedef struct bench_plan_ctx {
 } bench_plan_ctx;
 void bench_plan_batch(void *ctx, long first, long count);
 
+/* A scene file's stem with its NUL: a file name (NAME_MAX, 255 bytes on Linux) without
+ * ".yaml" always fits. */
+#define BENCH_STEM_MAX 256
+
 /* One scene of a catalogue walk: fills row from the scene at path (stem: its file name
- * without .yaml). Returns 0 (row kept), 1 (scene skipped) or an exit status. */
+ * without .yaml, whole: shorter than BENCH_STEM_MAX). Returns 0 (row kept), 1 (scene
+ * skipped) or an exit status. */
 typedef int (*bench_scene_fn)(const bench_options *o, const char *path, const char *stem,
                               void *row);
 

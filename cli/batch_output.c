@@ -204,7 +204,7 @@ static void row_cells(const batch_sink *k, const hp_trace_row *in, const char *m
 }
 
 /* Text with control characters and broken UTF-8 escaped (\xNN), then quoted as the format
- * needs: CSV (RFC 4180, only when it holds , " or \) or a JSON string. */
+ * needs: CSV (cli_put_csv_text) or a JSON string. */
 /* The length of the leading printable ASCII of s that needs no quoting in either format. */
 static size_t plain_len(const char *s)
 {
@@ -224,31 +224,18 @@ static void put_text(FILE *f, const char *s, hp_trace_format fmt)
         if (fmt == HP_TRACE_JSONL) fputc('"', f);
         return;
     }
-    char *clean = NULL;
-    size_t size = 0;
-    FILE *m = open_memstream(&clean, &size);
-    if (!m) return;
-    cli_put_escaped(m, s);
-    fclose(m);
     if (fmt == HP_TRACE_CSV) {
-        if (strpbrk(clean, ",\"\\") == NULL) {
-            fputs(clean, f);
-        } else {
-            fputc('"', f);
-            for (const char *p = clean; *p; ++p) {
-                if (*p == '"') fputc('"', f);
-                fputc(*p, f);
-            }
-            fputc('"', f);
-        }
-    } else {
-        fputc('"', f);
-        for (const char *p = clean; *p; ++p) {
-            if (*p == '"' || *p == '\\') fputc('\\', f);
-            fputc(*p, f);
-        }
-        fputc('"', f);
+        cli_put_csv_text(f, s);
+        return;
     }
+    char *clean = cli_escaped_copy(s);
+    if (!clean) return;
+    fputc('"', f); /* a JSON string */
+    for (const char *p = clean; *p; ++p) {
+        if (*p == '"' || *p == '\\') fputc('\\', f);
+        fputc(*p, f);
+    }
+    fputc('"', f);
     free(clean);
 }
 

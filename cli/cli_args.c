@@ -1,4 +1,5 @@
 /* Strict parsing of command-line values (see cli_args.h). */
+#define _POSIX_C_SOURCE 200809L /* open_memstream */
 #include "cli/cli_args.h"
 #include "cli/exit_codes.h"
 #include "headplan/hp_planner.h"
@@ -25,6 +26,44 @@ void cli_put_escaped(FILE *f, const char *s)
         i += clean;
         if (i < len) fprintf(f, "\\x%02x", (unsigned char)s[i++]);
     }
+}
+
+char *cli_escaped_copy(const char *s)
+{
+    char *clean = NULL;
+    size_t size = 0;
+    FILE *m = open_memstream(&clean, &size);
+    if (!m) return NULL;
+    cli_put_escaped(m, s);
+    if (fclose(m) != 0) {
+        free(clean);
+        return NULL;
+    }
+    return clean;
+}
+
+void cli_put_csv_text(FILE *f, const char *s)
+{
+    const char *c = s;
+    while (*c >= 0x20 && *c < 0x7f && *c != ',' && *c != '"' && *c != '\\') ++c;
+    if (*c == '\0') {
+        fputs(s, f); /* printable ASCII with nothing to quote or escape */
+        return;
+    }
+    char *clean = cli_escaped_copy(s);
+    if (!clean) return;
+    if (strpbrk(clean, ",\"\\") == NULL) {
+        fputs(clean, f);
+        free(clean);
+        return;
+    }
+    fputc('"', f);
+    for (const char *p = clean; *p; ++p) {
+        if (*p == '"') fputc('"', f);
+        fputc(*p, f);
+    }
+    fputc('"', f);
+    free(clean);
 }
 
 int cli_fail(int status, const char *cmd, const char *fmt, ...)

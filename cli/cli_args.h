@@ -81,6 +81,15 @@ const char *cli_name(const char *path);
  * part of well-formed UTF-8 as \xNN: echoed text cannot break a message's one line. */
 void cli_put_escaped(FILE *f, const char *s);
 
+/* s escaped as by cli_put_escaped, in a new string the caller frees; NULL when out of
+ * memory. */
+char *cli_escaped_copy(const char *s);
+
+/* Writes s to f as one CSV field: escaped as by cli_put_escaped, then quoted by RFC 4180
+ * (inside double quotes, a quote doubled) when it holds a comma, a quote or a backslash (the
+ * escapes' own), else as it is. Every text field of the program's CSV files goes through it. */
+void cli_put_csv_text(FILE *f, const char *s);
+
 /* Prints "headplan CMD: message" and a newline to stderr, the message escaped as by
  * cli_put_escaped; returns status. */
 int cli_fail(int status, const char *cmd, const char *fmt, ...)

@@ -389,7 +389,7 @@ int cmd_batch(int argc, char **argv)
         const char *from = hp_trace_states_rows(r) ? "trace"
                            : a.rows                ? "--rows"
                                                    : "scene trace.rows";
-        char level_why[320];
+        char level_why[HP_DIAG_MAX]; /* the planner's reason, whole */
         hp_planner_level_choice(eng.p, level_why, sizeof level_why); /* built: HP_OK */
         const batch_meta meta = {cli_name(a.scene),
                                  scene_sha,

@@ -1,6 +1,7 @@
 /* headplan solve: a scene file -> every bladder's pressure for one desired correction, the
  * achieved pose and the status. Command-line units: mm and degrees; the library speaks SI. */
 #include "cli/cli_output.h"
+#include "cli/cli_fidelity.h"
 #include "cli/cli_args.h"
 #include "cli/cli_paths.h"
 #include "cli/cli_scene.h"
@@ -43,6 +44,10 @@ static void help(void)
            "A correction outside the layout's identifiable range (headplan analyze) is refused.\n"
            "The part of a correction the layout cannot observe (e.g. a sphere's turn about its\n"
            "centre) is not commanded: it is shown, and the status is 'uncommanded'.\n\n"
+           "Beside the solver's error the answer states its model error: the head let go\n"
+           "under its weight with the answer's pressures held, on the contact law fitted to\n"
+           "the finite-element reference, rests that far from the achieved pose (mm, deg;\n"
+           "'unbounded' when it finds no rest), with the fitted law's own band.\n\n"
            "exit status: 0 reached, 1 only the closest reachable correction, 2 uncommanded\n"
            "(the commanded part reached, the rest not observable), 64 bad command line, 65 bad\n"
            "scene or correction (also outside the identifiable range), 66 scene cannot be\n"
@@ -79,7 +84,7 @@ static json_t *binding_json(unsigned flags)
 static int uncommanded_axis(const double u[6], int i) { return fabs(u[i]) > HP_DEFAULT_TOLERANCE; }
 
 static int print_json(const hp_layout *L, const hp_result *r, const char *msg,
-                      const char *level_why)
+                      const char *level_why, const cli_model_error *me)
 {
     json_t *o = json_object();
     json_object_set_new(o, "status", json_string(hp_status_name(r->status)));
@@ -102,6 +107,7 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg,
     for (int i = 0; i < 6; ++i)
         if (uncommanded_axis(u, i)) json_array_append_new(ud, json_string(hp_pose_key(i)));
     json_object_set_new(o, "uncommanded_directions", ud);
+    json_object_set_new(o, "model_error", cli_json_model_error(me));
     json_t *bl = json_array();
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
@@ -141,7 +147,8 @@ static int print_json(const hp_layout *L, const hp_result *r, const char *msg,
     return 0;
 }
 
-static void print_table(const hp_layout *L, const hp_result *r, const char *msg)
+static void print_table(const hp_layout *L, const hp_result *r, const char *msg,
+                        const cli_model_error *me)
 {
     double d[6], a[6], u[6];
     hp_pose_to_clinical(r->desired, d);
@@ -174,6 +181,10 @@ static void print_table(const hp_layout *L, const hp_result *r, const char *msg)
                uncommanded_axis(u, i) ? "  (uncommanded)"
                : r->commanded[i]      ? ""
                                       : "  (not commanded)");
+    /* Beside the solver's error (the column above): the model's against the reference. */
+    char line[512];
+    cli_model_error_text(me, line, sizeof line);
+    printf("%-13s %s\n", "model error", line);
 }
 
 int cmd_solve(int argc, char **argv)
@@ -226,7 +237,7 @@ int cmd_solve(int argc, char **argv)
         snprintf(why, sizeof why, "%s", level_why);
         if (!*why)
             snprintf(why, sizeof why, "load: asked for by %s", a.level ? "--level" : "model.level");
-        rc = cli_solve_load(CMD, cli_name(a.scene), p, &s, desired,
+        rc = cli_solve_load(CMD, sc, cli_name(a.scene), p, &s, desired,
                             a.correction ? "--correction" : "correction", a.json, why);
         hp_planner_destroy(p);
         free(sc);
@@ -258,10 +269,13 @@ int cmd_solve(int argc, char **argv)
         status = r.status == HP_STATUS_REACHED       ? CLI_EXIT_OK
                  : r.status == HP_STATUS_UNCOMMANDED ? CLI_EXIT_UNCOMMANDED
                                                      : CLI_EXIT_CLOSEST;
+        cli_model_error me;
+        cli_model_error_of(sc, &r, r.level, s.tolerance, &me);
         if (a.json) {
-            if (print_json(hp_planner_layout(p), &r, msg, level_why)) status = CLI_EXIT_SOFTWARE;
+            if (print_json(hp_planner_layout(p), &r, msg, level_why, &me))
+                status = CLI_EXIT_SOFTWARE;
         } else {
-            print_table(hp_planner_layout(p), &r, msg);
+            print_table(hp_planner_layout(p), &r, msg, &me);
             cli_print_hoop(hp_planner_layout(p), &r);
             if (level_why[0]) printf("\nlevel choice: %s\n", level_why);
         }

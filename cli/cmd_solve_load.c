@@ -2,6 +2,7 @@
  * the load planner's answer with its equilibrium residual, holding compliance, the forward
  * statics' round trip and the binding limits. */
 #include "cli/cli_output.h"
+#include "cli/cli_fidelity.h"
 #include "cli/cmd_solve_load.h"
 #include "cli/json_out.h"
 #include "cli/exit_codes.h"
@@ -89,7 +90,8 @@ void cli_print_hoop(const hp_layout *L, const hp_result *r)
 }
 
 static void print_table(const hp_layout *L, const hp_result *r, const hp_load_info *info,
-                        const char *why, hp_level geom, hp_load_tiebreak tie)
+                        const char *why, hp_level geom, hp_load_tiebreak tie,
+                        const cli_model_error *me)
 {
     double d[6], a[6];
     hp_pose_to_clinical(r->desired, d);
@@ -122,6 +124,10 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
     else
         printf("forward statics       no rest found from the achieved pose (the head does not "
                "settle there: see holding)\n");
+    /* Beside the forward statics on the planner's own law: the rest on the reference's. */
+    char line[512];
+    cli_model_error_text(me, line, sizeof line);
+    printf("%-21s %s\n", "model error", line);
     printf("holding               at the answer: %s; weakest %s, %.4g %s\n",
            h->stable ? "stable" : "NOT stable (the stiffness is not positive definite)",
            h->weakest_words, h->weakest_compliance, h->weakest_is_rotation ? "deg/(N*m)" : "mm/N");
@@ -133,7 +139,7 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
 
 static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
                       const hp_load_info *info, const char *why, hp_level geom,
-                      hp_load_tiebreak tie)
+                      hp_load_tiebreak tie, const cli_model_error *me)
 {
     json_t *o = json_object();
     json_object_set_new(o, "status", json_string(hp_status_name(r->status)));
@@ -165,6 +171,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
     json_object_set_new(o, "residual_force_n", json_real(info->residual_force));
     json_object_set_new(o, "residual_moment_nm", json_real(info->residual_moment));
     json_object_set_new(o, "rest_error", cli_json_num(info->rest_error));
+    json_object_set_new(o, "model_error", cli_json_model_error(me));
     const hp_load_holding *h = &info->holding;
     json_t *c = json_object();
     static const char *const keys[6] = {"x_mm_per_n",       "y_mm_per_n",      "z_mm_per_n",
@@ -202,8 +209,9 @@ int cli_planner_refused(const char *cmd, const char *name, const char *backend_o
                     cmd, "%s: %s", name, d->text);
 }
 
-int cli_solve_load(const char *cmd, const char *name, hp_planner *p, const hp_settings *s,
-                   const double desired[6], const char *from, int json, const char *why)
+int cli_solve_load(const char *cmd, const hp_scene *sc, const char *name, hp_planner *p,
+                   const hp_settings *s, const double desired[6], const char *from, int json,
+                   const char *why)
 {
     const hp_layout *L = hp_planner_layout(p);
     const hp_level geom = hp_load_model_level(hp_planner_load_model(p));
@@ -222,10 +230,12 @@ int cli_solve_load(const char *cmd, const char *name, hp_planner *p, const hp_se
                         hp_planner_error(p));
     int status = r.status == HP_STATUS_REACHED ? CLI_EXIT_OK : CLI_EXIT_CLOSEST;
     const hp_load_tiebreak tie = s->load_tiebreak;
+    cli_model_error me;
+    cli_model_error_of(sc, &r, HP_LEVEL_LOAD, s->tolerance, &me);
     if (json) {
-        if (print_json(cmd, L, &r, &info, why, geom, tie)) status = CLI_EXIT_SOFTWARE;
+        if (print_json(cmd, L, &r, &info, why, geom, tie, &me)) status = CLI_EXIT_SOFTWARE;
     } else {
-        print_table(L, &r, &info, why, geom, tie);
+        print_table(L, &r, &info, why, geom, tie, &me);
     }
     return status;
 }

@@ -31,14 +31,15 @@ int cli_kinematic_only(const char *cmd, const hp_scene *sc, const char *level_ar
 int cli_planner_refused(const char *cmd, const char *name, const char *backend_opt, hp_error e,
                         const hp_diag *d);
 
-/* Plans desired[6] (SI) with planner p at the load level (built from settings s) and prints
- * the answer (table or JSON): pressures, forces, binding limits, equilibrium residual,
- * compliance, forward statics' round trip. from names where desired came from
+/* Plans desired[6] (SI) with planner p at the load level (built from settings s, for scene
+ * sc) and prints the answer (table or JSON): pressures, forces, binding limits, equilibrium
+ * residual, compliance, forward statics' round trip and the model error (cli_fidelity.h). from names where desired came from
  * ("--correction" or "correction") in the message of a refused one. Returns the exit
  * status (0 reached, 1 closest, 65 a correction outside the identifiable range, 70 no
  * confirmed answer). */
-int cli_solve_load(const char *cmd, const char *name, hp_planner *p, const hp_settings *s,
-                   const double desired[6], const char *from, int json, const char *why);
+int cli_solve_load(const char *cmd, const hp_scene *sc, const char *name, hp_planner *p,
+                   const hp_settings *s, const double desired[6], const char *from, int json,
+                   const char *why);
 
 /* When a bladder of L has a stress limit: a table of every bladder's hoop stress at the
  * inner surface (kPa) beside its limit. Prints nothing otherwise. */

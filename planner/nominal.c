@@ -1,6 +1,7 @@
-/* The pressures that hold a planner's nominal pose: where a trace run starts (see
- * hp_planner_nominal_pressures in hp_planner.h). */
-#include "headplan/hp_planner.h"
+/* The pressures that hold a layout's nominal pose (nominal.h): where a trace run starts
+ * (hp_planner_nominal_pressures, planner.c) and what auto measures the contact levels by
+ * (level_choice.c). It calls nothing of the planner's, so both may call it. */
+#include "headplan/hp_iab.h"
 #include "planner/nominal.h"
 #include "planner/problem_setup.h"
 
@@ -20,16 +21,4 @@ hp_error hpi_nominal_pressures_of(const hp_layout *L, const hp_geom *G, double *
         pressures[k] = P;
     }
     return HP_OK;
-}
-
-hp_error hp_planner_nominal_pressures(const hp_planner *p, double *pressures)
-{
-    if (!p || !pressures) return HP_ERR_NULL;
-    const hp_layout *L = hp_planner_layout(p);
-    if (!L) return HP_ERR_STATE;
-    int bad = 0;
-    hp_error e = hpi_nominal_pressures_of(L, hpi_planner_geom(p), pressures, &bad);
-    if (e != HP_OK)
-        for (int j = 0; j < L->n; ++j) pressures[j] = NAN;
-    return e;
 }

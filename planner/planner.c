@@ -2,6 +2,7 @@
  * (reset, set_previous), options, accessors, destroy. The plan itself is in plan.c, the
  * load level's in load_level.c. */
 #include "planner/planner_internal.h"
+#include "planner/nominal.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -371,4 +372,17 @@ hp_error hp_planner_load_info(const hp_planner *p, hp_load_info *info)
 const hp_load_model *hp_planner_load_model(const hp_planner *p)
 {
     return p && p->load ? &p->load->M : NULL;
+}
+
+/* The pressures of the nominal pose (hp_planner.h): nominal.c computes them. */
+hp_error hp_planner_nominal_pressures(const hp_planner *p, double *pressures)
+{
+    if (!p || !pressures) return HP_ERR_NULL;
+    const hp_layout *L = hp_planner_layout(p);
+    if (!L) return HP_ERR_STATE;
+    int bad = 0;
+    hp_error e = hpi_nominal_pressures_of(L, hpi_planner_geom(p), pressures, &bad);
+    if (e != HP_OK)
+        for (int j = 0; j < L->n; ++j) pressures[j] = NAN;
+    return e;
 }

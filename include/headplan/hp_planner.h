@@ -179,9 +179,12 @@ typedef struct hp_settings {
     int use_rate_limits;      /* 1: apply each bladder's rate_max from the previous plan */
     int warm_start;           /* 1: start each solve from the previous result */
     /* The load level. load.mass 0 (the default) states no load: HP_LEVEL_LOAD is refused
-     * and auto chooses among the contact levels. With a load (hp_load_spec_validate), auto
-     * chooses the load level when the sag a kinematic plan would leave exceeds
-     * level_tolerance (hp_load_auto_choose), once, in hp_planner_create. */
+     * and auto chooses among the contact levels by their geometry's error bounds. With a
+     * load (hp_load_spec_validate), auto compares every level's model error at the nominal
+     * pose (its plan's pressures rested under the load with the contact law fitted to the
+     * finite-element reference; a contact level adds its geometry's bound) and takes the
+     * cheapest within level_tolerance, else the smallest; once, in hp_planner_create
+     * (docs/planner.md, "What create does"). */
     hp_load_spec load;              /* what the bladders carry (hp_load.h) */
     hp_level load_geometry;         /* the load level's contact geometry: linear, plane, surface */
     hp_load_tiebreak load_tiebreak; /* which holding pressures a reachable pose gets;

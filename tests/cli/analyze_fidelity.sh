@@ -22,8 +22,8 @@ for scene in default load_supine sphere_head; do
   grep -q "solver tolerance $tol mm and deg" <<<"$line" && ok || bad "$scene: solver tolerance $tol: $line"
   # The same computation: the bench's row for case 0 at that level.
   want=$(awk -F, -v s="$scene" -v l="$level" 'NR > 1 && $1 == s && $2 == 0 && $3 == l {
-      if ($11 == "inf") printf "no rest under the fitted law (the pressures bear %.0f %% of the weight", 100 * $16 + 0
-      else printf "%.4g mm, %.4g deg against the fitted law", $11, $12 }' "$csv")
+      if ($11 == "inf") printf "unbounded (no rest under the fitted law; the pressures bear %.0f %% of the weight", 100 * $16 + 0
+      else printf "%.4g mm, %.4g deg against the fitted law, up to %.4g mm, %.4g deg", $11, $12, $13, $14 }' "$csv")
   [ -n "$want" ] && grep -qF "$want" <<<"$line" && ok || bad "$scene: '$want' not in: $line"
   # Not in the JSON: its keys stay as they are.
   run analyze "$S/$scene.yaml" --json

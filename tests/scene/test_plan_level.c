@@ -1,8 +1,10 @@
 /* hp_scene_plan_level: the one decision of which planner plans a scene (the command line
- * and the Python module both call it). References: hp_load_auto_choose on a load model
- * built here from the scene's own fields, and the scene files' stated model.level. */
+ * and the Python module both call it). References: a planner created here from the scene's
+ * settings (its level and reason: auto compares the levels' model error), and the scene
+ * files' stated model.level. */
 #include "support/test_util.h"
 
+#include "headplan/hp_planner.h"
 #include "headplan/hp_scene.h"
 
 #include <stdio.h>
@@ -28,29 +30,32 @@ static void supine_level_load(hp_scene *sc)
     free(text);
 }
 
-static void test_auto_follows_the_predicted_sag(void **state)
+static void test_auto_follows_the_model_error(void **state)
 {
     (void)state;
     hp_scene *sc = malloc(sizeof *sc);
     assert_non_null(sc);
     load(SCN "load_supine.yaml", sc);
     assert_int_equal(sc->level, HP_LEVEL_AUTO);
-    /* The reference: auto's criterion on the scene's own load model. */
-    hp_load_model *M = NULL;
-    int ref = -1;
-    char ref_why[256];
-    assert_int_equal(hp_load_model_create(&sc->layout, &sc->load, sc->load_geometry, &M, NULL),
-                     HP_OK);
-    assert_int_equal(
-        hp_load_auto_choose(M, sc->level_tolerance, &ref, NULL, ref_why, sizeof ref_why), HP_OK);
-    hp_load_model_destroy(M);
+    /* The reference: the planner built from the scene's own settings. */
+    hp_settings s;
+    assert_int_equal(hp_scene_settings(sc, &s, NULL), HP_OK);
+    hp_planner *p = NULL;
+    assert_int_equal(hp_planner_create(&sc->layout, &s, &p, NULL), HP_OK);
+    int ref = hp_planner_level(p) == HP_LEVEL_LOAD;
+    char ref_why[HP_DIAG_MAX];
+    assert_int_equal(hp_planner_level_choice(p, ref_why, sizeof ref_why), HP_OK);
+    hp_planner_destroy(p);
+    /* no preload: the contact levels' pressures find no rest under the weight */
+    assert_non_null(strstr(ref_why, "auto chose load by model error at the nominal pose"));
+    assert_non_null(strstr(ref_why, "surface no rest (0 % carried)"));
     int use = -1;
-    char why[256];
+    char why[HP_DIAG_MAX];
     hp_level_refusal refused = HP_LEVEL_REFUSED_LOAD;
     assert_int_equal(hp_scene_plan_level(sc, NULL, &use, why, sizeof why, &refused, NULL), HP_OK);
     assert_int_equal(refused, HP_LEVEL_REFUSED_NONE);
     assert_int_equal(use, ref);
-    assert_int_equal(use, 1); /* no preload: the sag is unbounded */
+    assert_int_equal(use, 1);
     assert_string_equal(why, ref_why);
     assert_int_equal(hp_scene_plan_level(sc, "auto", &use, why, sizeof why, &refused, NULL), HP_OK);
     assert_int_equal(use, 1);
@@ -163,7 +168,7 @@ static void test_kinematic_only(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_auto_follows_the_predicted_sag),
+        cmocka_unit_test(test_auto_follows_the_model_error),
         cmocka_unit_test(test_level_load_scene),
         cmocka_unit_test(test_no_load_section),
         cmocka_unit_test(test_kinematic_only),
