@@ -122,7 +122,7 @@ typedef struct fk_root {
  * (scaled), the pressure and outer radius evaluated there, the last slope and the number of
  * evaluations. */
 static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, double hi, double guess,
-                              const double at_guess[3], int exact, fk_root *o)
+                              const double at_guess[3], int loose, fk_root *o)
 {
     /* A guess inside the bracket (a nearby answer) saves most steps; the bracket and the
      * bisection fallback make any start safe. */
@@ -141,13 +141,6 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             p = at_guess[0];
             d = at_guess[1];
             ro = at_guess[2];
-            if (!exact) {
-                /* A pressure near the closed form's (a reading's): one Newton step from it,
-                 * neither a candidate nor a bracket end. */
-                double xn = x - (p - target) / d;
-                if (xn > lo && xn < hi) x = xn;
-                continue;
-            }
         } else if (++o->evals, hpi_iab_s_pressure_ro(s, x, &p, &ro) != HP_OK ||
                                    hpi_iab_s_slopes(s, x, ro, &d, NULL) != HP_OK) {
             return HP_ERR_DOMAIN;
@@ -171,6 +164,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
          * looked at instead: the bisection ended on the two doubles around the root, the
          * same candidates. */
         if (d > 0 && fabs(f / d) <= 0.5 * DBL_EPSILON * x) {
+            if (loose) break; /* x is the root to rounding; its neighbour not looked at */
             double xs = nextafter(x, f < 0 ? INFINITY : 0.0);
             ++o->evals;
             if (hpi_iab_s_pressure_ro(s, xs, &p, &ro) == HP_OK && fabs(p - target) < best_f) {
@@ -186,6 +180,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             dx_old = dx;
             dx = xn - x;
             if (fabs(dx) <= DBL_EPSILON * x) { /* converged: one last look at xn */
+                if (loose) break;              /* x, an ulp or two from the root */
                 ++o->evals;
                 if (hpi_iab_s_pressure_ro(s, xn, &p, &ro) == HP_OK && fabs(p - target) < best_f) {
                     best = xn;
@@ -235,9 +230,16 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
      * starts at it, stops at once. */
     double g = st ? st->ri * s.scale : NAN;
     double rg, at_g[3];
-    int g_known = 0, g_exact = st && st->exact, g_has_p = 0;
-    if (P > 0 ? g > s.Ri && g < r_lp : g > 0 && g < s.Ri) {
-        if (st->slope) {
+    int g_known = 0, g_exact = st && st->exact && st->slope, g_has_p = 0;
+#define FK_ON_BRANCH(x) (P > 0 ? (x) > s.Ri && (x) < r_lp : (x) > 0 && (x) < s.Ri)
+    if (st && st->slope && !st->exact && FK_ON_BRANCH(g) && st->d > 0 && isfinite(st->d)) {
+        /* A pressure near the closed form's at the start (the previous answer's, for a
+         * reading): one Newton step from it, then the start is evaluated there as any. */
+        double g1 = g - (st->p - P) / st->d;
+        if (FK_ON_BRANCH(g1)) g = g1;
+    }
+    if (FK_ON_BRANCH(g)) {
+        if (g_exact) {
             /* The caller's evaluation at the start (a memo of the last root near here): no
              * second one. */
             at_g[0] = st->p;
@@ -256,6 +258,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
             g_exact = g_has_p = 1;
             g_known = hpi_iab_s_slopes(&s, g, rg, &at_g[1], NULL) == HP_OK;
         }
+#undef FK_ON_BRANCH
         if (g_has_p && g_exact && p == P) {
             o->ri = g * s.inv_scale;
             o->ro = rg;
@@ -315,7 +318,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
         }
     }
     fk_root r = *o;
-    e = solve_bracket(&s, P, lo, hi, g, g_known ? at_g : NULL, g_exact, &r);
+    e = solve_bracket(&s, P, lo, hi, g, g_known ? at_g : NULL, st && st->loose, &r);
     o->evals = r.evals;
     if (e != HP_OK) return e;
     o->ri = r.ri * s.inv_scale;
@@ -359,9 +362,7 @@ static hp_error limit_init(const hp_iab_s *s, const hp_iab_limit *lp, double P, 
 /* A start at ri_guess [m] alone (NAN: none): its pressure evaluated there. */
 static const hpi_iab_fk_start *start_at(double ri_guess, hpi_iab_fk_start *st)
 {
-    st->ri = ri_guess;
-    st->slope = 0;
-    st->exact = 0;
+    *st = (hpi_iab_fk_start){.ri = ri_guess};
     return isnan(ri_guess) ? NULL : st;
 }
 

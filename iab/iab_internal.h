@@ -131,11 +131,15 @@ hp_error hpi_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, d
 /* A start for the bladder FK's Newton iteration: the radius ri [m]; with slope set, the
  * caller's evaluation there too: the pressure p, the slope d (dP/dri per scaled length, as
  * hpi_iab_s_slopes gives it) and the outer radius ro [m], which the FK then does not form
- * again. exact: p is the closed form's bits at ri (hpi_iab_s_pressure_ro's); else p is
- * near them (a reading's pressure) and serves one Newton step only. */
+ * again when exact: p is the closed form's bits at ri (hpi_iab_s_pressure_ro's). Without
+ * exact, p is only near them (the pressure stated with a radius): the FK takes one Newton
+ * step from ri with p and d, and starts there as from a radius alone. */
 typedef struct hpi_iab_fk_start {
     double ri, p, d, ro;
     int slope, exact;
+    /* 1: a root within an ulp or two will do (the Newton iteration's last point, without
+     * the look at the double next to it). */
+    int loose;
 } hpi_iab_fk_start;
 
 /* A root with what its iteration formed: ri [m]; ro [m] and p, the outer radius and the
