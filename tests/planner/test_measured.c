@@ -177,15 +177,6 @@ static void test_load_level_readings(void **state)
     hp_planner_destroy(p);
 }
 
-/* How many doubles lie between two positive finite doubles. */
-static long ulps_apart(double a, double b)
-{
-    int64_t ia, ib;
-    memcpy(&ia, &a, sizeof ia);
-    memcpy(&ib, &b, sizeof ib);
-    return (long)(ia > ib ? ia - ib : ib - ia);
-}
-
 /* The loop of the loop benchmark's measured mode at every level: a seeded target held for
  * 40 cycles, then another (rate limits of 500 Pa a plan bind on the way), each plan's
  * pressures read back with ±3 Pa of noise. Every reading inside the limits (clamped ones
@@ -221,7 +212,7 @@ static void test_loop_readings(void **state)
                 if (clamped & (1u << k)) continue;
                 double cold;
                 assert_int_equal(hp_iab_fk(&L->bladders[k].iab, P[k], &cold), HP_OK);
-                long u = ulps_apart(r.bladders[k].ri, cold);
+                long u = hp_test_ulps_apart(r.bladders[k].ri, cold);
                 worst = u > worst ? u : worst;
                 ++checked;
             }

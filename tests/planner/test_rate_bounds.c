@@ -119,15 +119,6 @@ static void test_bounds_equal_cold_reference(void **state)
     assert_true(rate_bound > 10000); /* the sweep exercised the rate bounds */
 }
 
-/* How many doubles lie between two positive finite doubles. */
-static long ulps_apart(double a, double b)
-{
-    int64_t ia, ib;
-    memcpy(&ia, &a, sizeof ia);
-    memcpy(&ib, &b, sizeof ib);
-    return (long)(ia > ib ? ia - ib : ib - ia);
-}
-
 /* The bounds a control loop asks for cycle after cycle: each bladder's previous pressure a
  * random walk (±3 Pa of sensor noise a cycle, a jump anywhere inside the limits every 50
  * cycles, and after each jump 10 cycles moving by the whole rate, as a step walks), through
@@ -190,7 +181,8 @@ static void test_memo_chain_equals_cold_reference(void **state)
             assert_true(pb.ro_lo[k] == ro * HP_MM_PER_M);
             assert_int_equal(hp_iab_ro(&L.bladders[k].iab, pb.ri_hi_si[k], &ro), HP_OK);
             assert_true(pb.ro_hi[k] == ro * HP_MM_PER_M);
-            long du = ulps_apart(pb.ri_lo_si[k], lo), dh = ulps_apart(pb.ri_hi_si[k], hi);
+            long du = hp_test_ulps_apart(pb.ri_lo_si[k], lo),
+                 dh = hp_test_ulps_apart(pb.ri_hi_si[k], hi);
             worst_ulps = du > worst_ulps ? du : worst_ulps;
             worst_ulps = dh > worst_ulps ? dh : worst_ulps;
             differ += (du != 0) + (dh != 0);
