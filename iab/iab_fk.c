@@ -107,20 +107,32 @@ hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp)
     return HP_OK;
 }
 
+/* A root as the iteration leaves it: ri (scaled inside solve_bracket, metres from
+ * fk_scaled), the scaled outer radius and the pressure the last evaluation there formed
+ * (NAN when none did), the slope of the last Newton step (a few ulps from the root), and
+ * the closed-form pressure evaluations spent. */
+typedef struct fk_root {
+    double ri, ro, p, d;
+    int evals;
+} fk_root;
+
 /* Safeguarded Newton on P(ri) = target inside [lo, hi] with P(lo) < target < P(hi): every
  * iterate stays strictly inside the bracket, which shrinks at every step; a Newton step that
- * leaves it or fails to halve the step before last is replaced by bisection. */
+ * leaves it or fails to halve the step before last is replaced by bisection. o gets the root
+ * (scaled), the pressure and outer radius evaluated there, the last slope and the number of
+ * evaluations. */
 static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, double hi, double guess,
-                              const double at_guess[3], double *out, double *out_ro)
+                              const double at_guess[3], int loose, fk_root *o)
 {
     /* A guess inside the bracket (a nearby answer) saves most steps; the bracket and the
      * bisection fallback make any start safe. */
-    int start_known = guess > lo && guess < hi && at_guess;
+    int start_known = guess >= lo && guess <= hi && at_guess;
     double x = guess > lo && guess < hi ? guess : 0.5 * (lo + hi);
+    if (start_known) x = guess; /* an end of the bracket when its pressure made it one */
     double dx_old = hi - lo, dx = dx_old;
     /* The outer radius of each evaluation is kept with it (hpi_iab_s_ik forms it for the
      * pressure): the caller gets the root's without another cube root. */
-    double best = x, best_f = INFINITY, best_ro = NAN, ro;
+    double best = x, best_f = INFINITY, best_ro = NAN, best_p = NAN, ro;
     for (int it = 0; it < 300; ++it) {
         double p, d;
         /* The first step at the guess: its pressure, slope and outer radius when the caller
@@ -129,15 +141,17 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             p = at_guess[0];
             d = at_guess[1];
             ro = at_guess[2];
-        } else if (hpi_iab_s_pressure_ro(s, x, &p, &ro) != HP_OK ||
-                   hpi_iab_s_slopes(s, x, ro, &d, NULL) != HP_OK) {
+        } else if (++o->evals, hpi_iab_s_pressure_ro(s, x, &p, &ro) != HP_OK ||
+                                   hpi_iab_s_slopes(s, x, ro, &d, NULL) != HP_OK) {
             return HP_ERR_DOMAIN;
         }
+        o->d = d;
         double f = p - target;
         if (fabs(f) < best_f) {
             best_f = fabs(f);
             best = x;
             best_ro = ro;
+            best_p = p;
         }
         if (f == 0) break;
         if (f < 0) lo = x;
@@ -150,10 +164,13 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
          * looked at instead: the bisection ended on the two doubles around the root, the
          * same candidates. */
         if (d > 0 && fabs(f / d) <= 0.5 * DBL_EPSILON * x) {
+            if (loose) break; /* x is the root to rounding; its neighbour not looked at */
             double xs = nextafter(x, f < 0 ? INFINITY : 0.0);
+            ++o->evals;
             if (hpi_iab_s_pressure_ro(s, xs, &p, &ro) == HP_OK && fabs(p - target) < best_f) {
                 best = xs;
                 best_ro = ro;
+                best_p = p;
             }
             break;
         }
@@ -163,9 +180,12 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             dx_old = dx;
             dx = xn - x;
             if (fabs(dx) <= DBL_EPSILON * x) { /* converged: one last look at xn */
+                if (loose) break;              /* x, an ulp or two from the root */
+                ++o->evals;
                 if (hpi_iab_s_pressure_ro(s, xn, &p, &ro) == HP_OK && fabs(p - target) < best_f) {
                     best = xn;
                     best_ro = ro;
+                    best_p = p;
                 }
                 break;
             }
@@ -177,23 +197,28 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             if (!(x > lo && x < hi)) break;
         }
     }
-    *out = best;
-    *out_ro = best_ro;
+    o->ri = best;
+    o->ro = best_ro;
+    o->p = best_p;
     return HP_OK;
 }
 
-/* The root ri [m]; *ro_s the scaled outer radius at it when an evaluation of the pressure
- * there formed it (the guess was the root, or the Newton iteration ended there), else NAN. */
-static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P, double guess,
-                          double *ri, double *ro_s)
+/* The root of P on the stable branch into o (o->ri in metres, the rest as fk_root says).
+ * The start st (may be NULL: none) is taken when it lies on the stable branch's side of Ri
+ * and below the limit point: st->exact, its pressure is the closed form's bits there (then
+ * a start whose pressure is P is the root at once); with st->slope its pressure, slope and
+ * outer radius are not evaluated again. A start only changes the steps: the bracket and
+ * the bisection fallback make the iteration safe from any. */
+static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P,
+                          const hpi_iab_fk_start *st, fk_root *o)
 {
     const hp_iab_s s = *sp;
     hp_error e;
-    *ro_s = NAN;
-    if (!ri) return HP_ERR_NULL;
+    o->ro = o->p = o->d = NAN;
+    o->evals = 0;
     if (!isfinite(P)) return HP_ERR_INVALID;
     if (P == 0) {
-        *ri = s.Ri_m;
+        o->ri = s.Ri_m;
         return HP_OK;
     }
     double lo, hi, p;
@@ -203,33 +228,61 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
      * below would return: P is strictly increasing on the stable branch, so the guess lies
      * strictly inside the bracket found there and the safeguarded Newton iteration, which
      * starts at it, stops at once. */
-    double g = guess * s.scale;
+    double g = st ? st->ri * s.scale : NAN;
     double rg, at_g[3];
-    int g_known = 0;
-    if ((P > 0 ? g > s.Ri && g < r_lp : g > 0 && g < s.Ri) &&
-        hpi_iab_s_pressure_ro(&s, g, &p, &rg) == HP_OK) {
-        if (p == P) {
-            *ri = g * s.inv_scale;
-            *ro_s = rg;
+    int g_known = 0, g_exact = st && st->exact && st->slope, g_has_p = 0;
+#define FK_ON_BRANCH(x) (P > 0 ? (x) > s.Ri && (x) < r_lp : (x) > 0 && (x) < s.Ri)
+    if (st && st->slope && !st->exact && FK_ON_BRANCH(g) && st->d > 0 && isfinite(st->d)) {
+        /* A pressure near the closed form's at the start (the previous answer's, for a
+         * reading): one Newton step from it, then the start is evaluated there as any. */
+        double g1 = g - (st->p - P) / st->d;
+        if (FK_ON_BRANCH(g1)) g = g1;
+    }
+    if (FK_ON_BRANCH(g)) {
+        if (g_exact) {
+            /* The caller's evaluation at the start (a memo of the last root near here): no
+             * second one. */
+            at_g[0] = st->p;
+            at_g[1] = st->d;
+            at_g[2] = st->ro * s.scale;
+            g_has_p = isfinite(at_g[0]) && at_g[2] > 0;
+            g_known = g_has_p && st->d > 0 && isfinite(st->d);
+            p = at_g[0];
+            rg = at_g[2];
+        } else if (++o->evals, hpi_iab_s_pressure_ro(&s, g, &p, &rg) == HP_OK) {
+            /* A reading near the guess (a measured pressure): the Newton iteration below
+             * starts at the guess with this pressure and its slope, not a second evaluation
+             * there. */
+            at_g[0] = p;
+            at_g[2] = rg;
+            g_exact = g_has_p = 1;
+            g_known = hpi_iab_s_slopes(&s, g, rg, &at_g[1], NULL) == HP_OK;
+        }
+#undef FK_ON_BRANCH
+        if (g_has_p && g_exact && p == P) {
+            o->ri = g * s.inv_scale;
+            o->ro = rg;
+            o->p = p;
+            o->d = g_known ? at_g[1] : NAN;
             return HP_OK;
         }
-        /* A reading near the guess (a measured pressure): the Newton iteration below starts
-         * at the guess with this pressure and its slope, not a second evaluation there. */
-        at_g[0] = p;
-        at_g[2] = rg;
-        g_known = hpi_iab_s_slopes(&s, g, rg, &at_g[1], NULL) == HP_OK;
     }
+    /* A start whose pressure is the closed form's is one end of the bracket: no search. */
+    int below = g_has_p && g_exact && p < P, above = g_has_p && g_exact && p > P;
     if (P > 0) {
         lo = s.Ri;
         if (isfinite(r_lp)) {
             /* P at r_lp is p_lp > P (the caller's limit point, computed there by the same
              * hpi_iab_s_ik): r_lp is the upper end, with no evaluation. */
             hi = r_lp;
+        } else if (above) {
+            hi = g;
         } else {
             /* No limit point: P grows without bound (like 2C2(1 − Ri/Ro)λi), so doubling
              * finds an upper end, or leaves the range of the model. */
             hi = 2.0 * s.Ri;
             for (;;) {
+                ++o->evals;
                 if (hpi_iab_s_ik(&s, hi, &p, NULL, NULL) != HP_OK || hi > 1e30)
                     return HP_ERR_DOMAIN;
                 if (p >= P) break;
@@ -237,29 +290,41 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
                 hi *= 2.0;
             }
             if (p == P) {
-                *ri = hi / s.scale;
+                o->ri = hi / s.scale;
                 return HP_OK;
             }
         }
+        if (below && g > lo) lo = g;
+        if (above && g < hi) hi = g;
+    } else if (below || above) {
+        /* Compression from a start: P → −∞ as ri → 0, so 0 is a lower end too (never
+         * evaluated: the iteration stays strictly inside). */
+        lo = below ? g : 0.0;
+        hi = below ? s.Ri : g;
     } else {
         /* Compression: P → −∞ as ri → 0, so halving finds a lower end. */
         hi = s.Ri;
         lo = 0.5 * s.Ri;
         for (;;) {
+            ++o->evals;
             if (lo < 1e-30 || hpi_iab_s_ik(&s, lo, &p, NULL, NULL) != HP_OK) return HP_ERR_DOMAIN;
             if (p <= P) break;
             hi = lo;
             lo *= 0.5;
         }
         if (p == P) {
-            *ri = lo / s.scale;
+            o->ri = lo / s.scale;
             return HP_OK;
         }
     }
-    double r;
-    e = solve_bracket(&s, P, lo, hi, g, g_known ? at_g : NULL, &r, ro_s);
+    fk_root r = *o;
+    e = solve_bracket(&s, P, lo, hi, g, g_known ? at_g : NULL, st && st->loose, &r);
+    o->evals = r.evals;
     if (e != HP_OK) return e;
-    *ri = r * s.inv_scale;
+    o->ri = r.ri * s.inv_scale;
+    o->ro = r.ro;
+    o->p = r.p;
+    o->d = r.d;
     return HP_OK;
 }
 
@@ -272,8 +337,10 @@ hp_error hp_iab_fk(const hp_iab *b, double P, double *ri)
     if (!isfinite(P)) return HP_ERR_INVALID;
     double r_lp = INFINITY, p_lp = INFINITY;
     if (P > 0 && (e = limit_scaled(&s, &r_lp, &p_lp)) != HP_OK) return e;
-    double ro_s;
-    return fk_scaled(&s, r_lp, p_lp, P, NAN, ri, &ro_s);
+    fk_root o;
+    e = fk_scaled(&s, r_lp, p_lp, P, NULL, &o);
+    if (e == HP_OK) *ri = o.ri;
+    return e;
 }
 
 hp_error hp_iab_fk_limit(const hp_iab *b, const hp_iab_limit *lp, double P, double *ri)
@@ -292,44 +359,72 @@ static hp_error limit_init(const hp_iab_s *s, const hp_iab_limit *lp, double P, 
     return HP_OK;
 }
 
+/* A start at ri_guess [m] alone (NAN: none): its pressure evaluated there. */
+static const hpi_iab_fk_start *start_at(double ri_guess, hpi_iab_fk_start *st)
+{
+    *st = (hpi_iab_fk_start){.ri = ri_guess};
+    return isnan(ri_guess) ? NULL : st;
+}
+
 hp_error hpi_iab_fk_limit_warm(const hp_iab *b, const hp_iab_limit *lp, double P, double ri_guess,
                                double *ri)
 {
     if (!ri || !lp) return HP_ERR_NULL;
     hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
-    double r_lp, p_lp, ro_s;
     hp_error e = hpi_iab_scaled_init(b, &s, NULL);
-    if (e == HP_OK) e = limit_init(&s, lp, P, &r_lp, &p_lp);
-    return e != HP_OK ? e : fk_scaled(&s, r_lp, p_lp, P, ri_guess, ri, &ro_s);
+    return e != HP_OK ? e : hpi_iab_s_fk_limit_warm(&s, lp, P, ri_guess, ri);
 }
 
 hp_error hpi_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, double P,
                                  double ri_guess, double *ri)
 {
     if (!ri || !lp) return HP_ERR_NULL;
-    double r_lp, p_lp, ro_s;
+    hpi_iab_fk_start st;
+    hpi_iab_fk_out o;
+    hp_error e = hpi_iab_s_fk_from(s, lp, P, start_at(ri_guess, &st), &o);
+    if (e == HP_OK) *ri = o.ri;
+    return e;
+}
+
+hp_error hpi_iab_s_fk_from(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+                           const hpi_iab_fk_start *st, hpi_iab_fk_out *out)
+{
+    if (!out || !lp) return HP_ERR_NULL;
+    double r_lp, p_lp;
+    fk_root o = {0};
     hp_error e = limit_init(s, lp, P, &r_lp, &p_lp);
-    return e != HP_OK ? e : fk_scaled(s, r_lp, p_lp, P, ri_guess, ri, &ro_s);
+    if (e == HP_OK) e = fk_scaled(s, r_lp, p_lp, P, st, &o);
+    out->evals = o.evals;
+    if (e != HP_OK) return e;
+    out->ri = o.ri;
+    out->ro = o.ro * s->inv_scale; /* exact: a power of two */
+    out->p = o.p;
+    out->d = o.d;
+    return HP_OK;
 }
 
 hp_error hpi_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
                                     double ri_guess, double *ri, double *ro)
 {
     if (!ri || !ro || !lp) return HP_ERR_NULL;
-    double r_lp, p_lp, ro_s, r;
-    hp_error e = limit_init(s, lp, P, &r_lp, &p_lp);
-    if (e == HP_OK) e = fk_scaled(s, r_lp, p_lp, P, ri_guess, &r, &ro_s);
-    if (e != HP_OK) return e;
+    hpi_iab_fk_start st;
+    hpi_iab_fk_out o;
+    hp_error e = hpi_iab_s_fk_from(s, lp, P, start_at(ri_guess, &st), &o);
+    if (e == HP_OK) e = hpi_iab_s_fk_ro(s, &o, ro);
+    if (e == HP_OK) *ri = o.ri;
+    return e;
+}
+
+hp_error hpi_iab_s_fk_ro(const hp_iab_s *s, const hpi_iab_fk_out *o, double *ro)
+{
     /* hp_iab_ro(b, r) scales r back to the same g (a power of two, both ways exact) and
      * checks its range; whenever that is not plainly so, it is asked. */
-    double rs = r * s->scale;
-    if (isfinite(ro_s) && rs >= 1e-30 && rs <= 1e30) {
-        *ro = ro_s * s->inv_scale;
-    } else if ((e = hpi_iab_s_ro_m(s, r, ro)) != HP_OK) {
-        return e;
+    double rs = o->ri * s->scale;
+    if (isfinite(o->ro) && rs >= 1e-30 && rs <= 1e30) {
+        *ro = o->ro;
+        return HP_OK;
     }
-    *ri = r;
-    return HP_OK;
+    return hpi_iab_s_ro_m(s, o->ri, ro);
 }
 
 hp_error hpi_iab_fk_limit_warm_ro(const hp_iab *b, const hp_iab_limit *lp, double P,

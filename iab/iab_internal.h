@@ -128,6 +128,36 @@ hp_error hpi_iab_s_fk_limit_warm(const hp_iab_s *s, const hp_iab_limit *lp, doub
 hp_error hpi_iab_s_fk_limit_warm_ro(const hp_iab_s *s, const hp_iab_limit *lp, double P,
                                     double ri_guess, double *ri, double *ro);
 
+/* A start for the bladder FK's Newton iteration: the radius ri [m]; with slope set, the
+ * caller's evaluation there too: the pressure p, the slope d (dP/dri per scaled length, as
+ * hpi_iab_s_slopes gives it) and the outer radius ro [m], which the FK then does not form
+ * again when exact: p is the closed form's bits at ri (hpi_iab_s_pressure_ro's). Without
+ * exact, p is only near them (the pressure stated with a radius): the FK takes one Newton
+ * step from ri with p and d, and starts there as from a radius alone. */
+typedef struct hpi_iab_fk_start {
+    double ri, p, d, ro;
+    int slope, exact;
+    /* 1: a root within an ulp or two will do (the Newton iteration's last point, without
+     * the look at the double next to it). */
+    int loose;
+} hpi_iab_fk_start;
+
+/* A root with what its iteration formed: ri [m]; ro [m] and p, the outer radius and the
+ * pressure (the closed form's bits) at ri when an evaluation there formed them, else NAN; d
+ * the slope (per scaled length) of the last Newton step, a few ulps from ri, else NAN; evals
+ * the closed-form pressure evaluations spent (set on failure too). */
+typedef struct hpi_iab_fk_out {
+    double ri, ro, p, d;
+    int evals;
+} hpi_iab_fk_out;
+
+/* hpi_iab_s_fk_limit_warm from a start st (NULL: none). The same root to rounding whatever
+ * the start, the same codes. */
+hp_error hpi_iab_s_fk_from(const hp_iab_s *s, const hp_iab_limit *lp, double P,
+                           const hpi_iab_fk_start *st, hpi_iab_fk_out *o);
+/* The root's outer radius [m] with hp_iab_ro's bits: o->ro when the FK formed it. */
+hp_error hpi_iab_s_fk_ro(const hp_iab_s *s, const hpi_iab_fk_out *o, double *ro);
+
 /* Gauss–Legendre rule of n points on [-1, 1] (1 <= n <= HP_IAB_GL_MAX): nodes x[k] >= 0 and
  * weights w[k] for k < (n + 1)/2 (the rule is symmetric; x[k] = 0 only for the middle node
  * of an odd rule). Computed by Newton's method on the Legendre recurrence; no allocation. */

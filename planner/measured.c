@@ -5,7 +5,12 @@
 #include "kinematics/fit_internal.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <string.h>
+
+static atomic_ulong fk_evals;
+
+unsigned long hpi_test_measured_fk_evals(void) { return atomic_load(&fk_evals); }
 
 hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const char *who)
 {
@@ -17,10 +22,24 @@ hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const 
         /* From the previous answer's radius when warm: a reading near it takes a step or two
          * of the FK's Newton iteration instead of a search of the whole stable branch; the
          * same root to rounding whatever the start (hpi_iab_fk_limit_warm). */
-        double ri, root, guess = warm ? p->prev.bladders[k].ri : NAN;
+        double ri, root;
+        const hp_bladder_result *pr = &p->prev.bladders[k];
+        /* The previous answer's radius with its pressure and the slope there (formed from
+         * the radii, no pressure evaluation): one Newton step toward the reading before the
+         * FK's first evaluation, so that a reading a sensor's noise away is the root after
+         * about two. */
+        hpi_iab_fk_start st = {
+            .ri = pr->ri, .p = pr->pressure, .ro = pr->ro, .slope = 1, .loose = 1};
+        if (!warm ||
+            hpi_iab_s_slopes(s, pr->ri * s->scale, pr->ro * s->scale, &st.d, NULL) != HP_OK)
+            st.slope = 0;
+        hpi_iab_fk_out o;
         /* The outer radius comes with the root (the FK's last evaluation formed it, the
          * same bits as hpi_iab_s_ro_m of the root). */
-        hp_error e = hpi_iab_s_fk_limit_warm_ro(s, &p->sb.limit[k], P[k], guess, &root, &ro[k]);
+        hp_error e = hpi_iab_s_fk_from(s, &p->sb.limit[k], P[k], warm ? &st : NULL, &o);
+        atomic_fetch_add_explicit(&fk_evals, (unsigned long)o.evals, memory_order_relaxed);
+        if (e == HP_OK) e = hpi_iab_s_fk_ro(s, &o, &ro[k]);
+        root = o.ri;
         /* The root of a pressure inside [p_lo, p_hi] lies inside [ri_lo, ri_hi] up to an
          * ulp or two: keep the stretch inside its limits to the last bit (and the outer
          * radius then of the clamped radius). */

@@ -156,6 +156,9 @@ void hpi_plan_set_previous_answer(hp_planner *p, const hp_result *r);
  * pose (cold) or from the previous answer's pose (warm; the nominal one when that does not
  * converge). who starts the message of a refusal. HP_OK or HP_ERR_INVALID. */
 hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const char *who);
+/* TEST-ONLY count (inert): the closed-form pressure evaluations the bladder FK spent in
+ * hpi_plan_previous_from in this process so far. */
+unsigned long hpi_test_measured_fk_evals(void);
 
 /* Writes a pending CLOSEST note (note_pending) into p->note; nothing otherwise. */
 void hpi_plan_note_flush(hp_planner *p);

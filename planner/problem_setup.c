@@ -6,29 +6,46 @@
 #include <stdatomic.h>
 #include <string.h>
 
-static atomic_ulong rate_solves;
+static atomic_ulong rate_solves, rate_evals;
 static atomic_int rate_eager;
 
 unsigned long hpi_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
+unsigned long hpi_test_rate_bound_evals(void) { return atomic_load(&rate_evals); }
 void hpi_test_rate_lazy(int on) { atomic_store(&rate_eager, !on); }
 int hpi_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory_order_relaxed); }
 
 /* Moves ri up (up) or down until its pressure is >= p (up) or <= p; FK roots sit within a
  * few ulps of the exact radius, so a few widening steps always suffice. The bladder as
- * validated once (hpi_iab_s_ik_m: the bits of hp_iab_ik). Returns 0 when it could not. */
-static int nudge(const hp_iab_s *s, double *ri, double p, int up)
+ * validated once (hpi_iab_s_ik_m: the bits of hp_iab_ik). p0: the pressure at *ri when the
+ * caller has it (those bits; NAN: evaluated here), ro0 the outer radius there (NAN: not
+ * known). On success *ro gets the outer radius at the moved ri [m] (hp_iab_ro's bits) when
+ * ro is not NULL, and *p_at the pressure there (those bits; p_at may be NULL). *evals counts
+ * the evaluations. Returns 0 when it could not. */
+static int nudge_n(const hp_iab_s *s, double *ri, double p, int up, double p0, double ro0,
+                   double *p_at, double *ro, int *evals)
 {
     double r = *ri, step = fabs(r) * 1e-16;
     for (int i = 0; i < 80; ++i) {
-        double P;
-        if (hpi_iab_s_ik_m(s, r, &P) == HP_OK && (up ? P >= p : P <= p)) {
+        double P = p0, o = ro0;
+        if (i > 0 || isnan(p0)) {
+            ++*evals;
+            if (hpi_iab_s_ik_ro_m(s, r, &P, &o) != HP_OK) P = NAN;
+        }
+        if (up ? P >= p : P <= p) {
             *ri = r;
-            return 1;
+            if (p_at) *p_at = P;
+            return !ro || !isnan(*ro = o) || hpi_iab_s_ro_m(s, r, ro) == HP_OK;
         }
         r += up ? step : -step;
         step *= 2.0;
     }
     return 0;
+}
+
+static int nudge(const hp_iab_s *s, double *ri, double p, int up)
+{
+    int evals = 0;
+    return nudge_n(s, ri, p, up, NAN, NAN, NULL, NULL, &evals);
 }
 
 /* The largest dP/dro [Pa/m] of a bladder over [lo, hi] (m), twice the largest of 257 even
@@ -154,36 +171,46 @@ hp_error hpi_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_dia
 }
 
 /* The radius bound of one rate window end at pressure pw (up: a lower bound, whose
- * pressure must be >= pw), from the memo when it holds pw, else solved and memoised.
- * Returns 0 when no stable radius has it. */
+ * pressure must be >= pw) and its outer radius, from the memo when it holds pw, else solved
+ * and memoised. Returns 0 when no stable radius has it. */
 static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_rate_memo *memo,
-                      double *r)
+                      double *r, double *ro)
 {
-    double *mp = NULL, *mr = NULL;
-    unsigned char *ok = NULL;
-    if (memo) {
-        mp = up ? &memo->p_down[k] : &memo->p_up[k];
-        mr = up ? &memo->r_down[k] : &memo->r_up[k];
-        ok = up ? &memo->down_ok[k] : &memo->up_ok[k];
-        if (*ok && memcmp(mp, &pw, sizeof pw) == 0) {
-            *r = *mr;
-            return 1;
-        }
+    hp_rate_end *m = memo ? (up ? &memo->down[k] : &memo->up[k]) : NULL;
+    if (m && m->ok && memcmp(&m->p, &pw, sizeof pw) == 0) {
+        *r = m->r;
+        *ro = m->ro;
+        return 1;
     }
     atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
-    /* From the last bound of the same window end: a control loop's windows move by a
-     * sensor's noise or one plan's step, so the root is a few Newton steps away instead of a
-     * bracket search and a Newton iteration from its middle (most of a rate-limited plan's
-     * cost on the step trace). The same root either way (tests/planner/test_rate_bounds.c:
-     * bit for bit against the cold reference along such chains). */
-    double guess = memo && *ok ? *mr : NAN;
-    if (!(hpi_iab_s_fk_limit_warm(&b->iab_s[k], &b->limit[k], pw, guess, r) == HP_OK &&
-          nudge(&b->iab_s[k], r, pw, up)))
-        return 0;
-    if (memo) {
-        *mp = pw;
-        *mr = *r;
-        *ok = 1;
+    /* From the last bound of the same window end, with the pressure, slope and outer radius
+     * evaluated there: a control loop's windows move by a sensor's noise or one plan's step,
+     * so the root is a Newton step or two away instead of a bracket search and a Newton
+     * iteration from its middle (most of a rate-limited plan's cost on the step trace). The
+     * same root to rounding either way (tests/planner/test_rate_bounds.c: against the cold
+     * reference along such chains). */
+    hpi_iab_fk_start st;
+    if (m && m->ok)
+        st = (hpi_iab_fk_start){
+            .ri = m->r, .p = m->p_at, .d = m->d, .ro = m->ro, .slope = 1, .exact = 1};
+    hpi_iab_fk_out o;
+    int evals = 0;
+    const hp_iab_s *s = &b->iab_s[k];
+    hp_error e = hpi_iab_s_fk_from(s, &b->limit[k], pw, m && m->ok ? &st : NULL, &o);
+    /* The nudge's first look is the root's own evaluation when the root find ended on one
+     * (the same bits as evaluating it again). */
+    *r = o.ri;
+    double p_at = NAN;
+    int found = e == HP_OK && nudge_n(s, r, pw, up, o.p, o.ro, &p_at, ro, &evals);
+    atomic_fetch_add_explicit(&rate_evals, (unsigned long)(o.evals + evals), memory_order_relaxed);
+    if (!found) return 0;
+    if (m) {
+        m->p = pw;
+        m->r = *r;
+        m->ro = *ro;
+        m->p_at = p_at; /* the nudge's last look: the closed form's bits at the bound */
+        m->d = o.d;
+        m->ok = 1;
     }
     return 1;
 }
@@ -204,17 +231,21 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
         const hp_bladder *B = &L->bladders[k];
         double lo = b->ri_lo[k], hi = b->ri_hi[k];
         unsigned lof = b->lo_flags[k], hif = b->hi_flags[k];
+        /* The rate bounds solved and their outer radii (hp_iab_ro's bits, from the solve). */
+        double r_r[2] = {NAN, NAN}, ro_r[2] = {NAN, NAN};
         if (use_rate && p_prev && isfinite(B->rate_max)) {
             double r, pl = p_prev[k] - B->rate_max, ph = p_prev[k] + B->rate_max;
             if (pl > b->p_lo[k]) {
-                if (rate_bound(b, k, pl, 1, memo, &r)) take_max(&lo, &lof, r, HP_BIND_RATE_DOWN);
+                if (rate_bound(b, k, pl, 1, memo, &r, &ro_r[0]))
+                    take_max(&lo, &lof, r_r[0] = r, HP_BIND_RATE_DOWN);
                 else
                     return hp_diag_set(d, HP_ERR_INVALID,
                                        "bladder %s: rate limit: no stable radius at %.6g Pa",
                                        B->name, pl);
             }
             if (ph < b->p_hi[k]) {
-                if (rate_bound(b, k, ph, 0, memo, &r)) take_min(&hi, &hif, r, HP_BIND_RATE_UP);
+                if (rate_bound(b, k, ph, 0, memo, &r, &ro_r[1]))
+                    take_min(&hi, &hif, r_r[1] = r, HP_BIND_RATE_UP);
                 else
                     return hp_diag_set(d, HP_ERR_INVALID,
                                        "bladder %s: rate limit: no stable radius at %.6g Pa",
@@ -231,8 +262,8 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
                 lo = hi = fmin(fmax(hi, b->ri_lo[k]), b->ri_hi[k]);
         }
         /* The static bounds' outer radii when the rate limits left them as they were. */
-        double rol = lo == b->ri_lo[k] ? b->ro_lo[k] : NAN;
-        double roh = hi == b->ri_hi[k] ? b->ro_hi[k] : NAN;
+        double rol = lo == b->ri_lo[k] ? b->ro_lo[k] : lo == r_r[0] ? ro_r[0] : NAN;
+        double roh = hi == b->ri_hi[k] ? b->ro_hi[k] : hi == r_r[1] ? ro_r[1] : NAN;
         if (!(lo <= hi) || (isnan(rol) && hp_iab_ro(&B->iab, lo, &rol) != HP_OK) ||
             (isnan(roh) && hp_iab_ro(&B->iab, hi, &roh) != HP_OK))
             return hp_diag_set(d, HP_ERR_INVALID,

@@ -81,14 +81,18 @@ hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b, c
                                 unsigned *hi_flags, hp_diag *d);
 
 /* The last radius bound solved for each end of each bladder's rate window, keyed by the
- * window end's pressure: the solve (FK from no start, then the nudge) is a function of that
- * pressure alone, so the same pressure, bit for bit, gives the same bound without a solve
- * (a plan holding a closest answer under rate limits sets the same windows cycle after
- * cycle). Zeroed: empty. */
+ * window end's pressure p: the same pressure, bit for bit, gives the same bound r and outer
+ * radius ro without a solve (a plan holding a closest answer under rate limits sets the
+ * same windows cycle after cycle); another starts its root find at r with the pressure
+ * there (p_at, the closed form's bits) and the slope d (per scaled length) of the last
+ * Newton step, no evaluation. Zeroed: empty. */
+typedef struct hp_rate_end {
+    double p, r, ro, p_at, d;
+    int ok;
+} hp_rate_end;
+
 typedef struct hp_rate_memo {
-    double p_down[HP_MAX_BLADDERS], r_down[HP_MAX_BLADDERS];
-    double p_up[HP_MAX_BLADDERS], r_up[HP_MAX_BLADDERS];
-    unsigned char down_ok[HP_MAX_BLADDERS], up_ok[HP_MAX_BLADDERS];
+    hp_rate_end down[HP_MAX_BLADDERS], up[HP_MAX_BLADDERS];
 } hp_rate_memo;
 
 /* hpi_setup_cycle_bounds with a memo (may be NULL) read and filled: the same bounds, bits
@@ -103,6 +107,8 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
  * (an atomic count), and whether hp_plan defers the rate bounds until a plan needs them
  * (1, the default) or solves them first (0). */
 unsigned long hpi_test_rate_bound_solves(void);
+/* The closed-form pressure evaluations those solves spent (root find and nudge). */
+unsigned long hpi_test_rate_bound_evals(void);
 void hpi_test_rate_lazy(int on);
 int hpi_setup_rate_lazy(void);
 

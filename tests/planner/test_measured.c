@@ -8,10 +8,14 @@
  *   the limit and reported in the mask, not refused;
  * - a reading beyond that, or not finite, is refused (HP_ERR_INVALID) with the bladder named
  *   in hp_planner_error, and nothing changes;
- * - the next plan's rate windows are centred on the taken pressures. */
+ * - the next plan's rate windows are centred on the taken pressures;
+ * - in a control loop (a plan, its pressures read back with ±3 Pa of noise, and again) each
+ *   reading's radii are the cold FK's of the reading (hp_iab_fk) to 2 ulps, and the FK,
+ *   started from the previous answer, spends few closed-form evaluations (counted). */
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
 #include "support/load_fixture.h"
+#include "planner/planner_internal.h"
 
 static hp_planner *planner(hp_level level, double rate)
 {
@@ -173,12 +177,63 @@ static void test_load_level_readings(void **state)
     hp_planner_destroy(p);
 }
 
+/* The loop of the loop benchmark's measured mode at every level: a seeded target held for
+ * 40 cycles, then another (rate limits of 500 Pa a plan bind on the way), each plan's
+ * pressures read back with ±3 Pa of noise. Every reading inside the limits (clamped ones
+ * apart) gives the radii of the cold FK of the reading (hp_iab_fk, no start) within 2 ulps
+ * (the root to rounding: the start changes the steps only), and the FK evaluations per
+ * bladder are counted (hpi_test_measured_fk_evals; a function of the seeded loop alone). */
+static void test_loop_readings(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    uint64_t seed = 0x10097;
+    unsigned long evals = 0, fks = 0;
+    long worst = 0, checked = 0;
+    for (int l = 0; l < 3; ++l) {
+        hp_planner *p = planner(levels[l], 500.0);
+        const hp_layout *L = hp_planner_layout(p);
+        double mm_deg[6] = {0}, d[6];
+        for (int t = 0; t < 400; ++t) {
+            if (t % 40 == 0)
+                for (int i = 0; i < 6; ++i) mm_deg[i] = (i < 3 ? 3.0 : 2.0) * lf_uniform(&seed);
+            lf_pose(mm_deg, d);
+            hp_result r;
+            assert_int_equal(hp_plan(p, d, &r), HP_OK);
+            double P[HP_MAX_BLADDERS];
+            for (int k = 0; k < L->n; ++k) P[k] = r.bladders[k].pressure + 3.0 * lf_uniform(&seed);
+            unsigned clamped = 0;
+            unsigned long e0 = hpi_test_measured_fk_evals();
+            assert_int_equal(hp_planner_set_measured(p, P, &clamped), HP_OK);
+            evals += hpi_test_measured_fk_evals() - e0;
+            fks += (unsigned long)L->n;
+            previous(p, &r);
+            for (int k = 0; k < L->n; ++k) {
+                if (clamped & (1u << k)) continue;
+                double cold;
+                assert_int_equal(hp_iab_fk(&L->bladders[k].iab, P[k], &cold), HP_OK);
+                long u = hp_test_ulps_apart(r.bladders[k].ri, cold);
+                worst = u > worst ? u : worst;
+                ++checked;
+            }
+        }
+        hp_planner_destroy(p);
+    }
+    double per_fk = (double)evals / (double)fks;
+    print_message("loop readings: %ld radii checked, at most %ld ulps from the cold FK; %.2f "
+                  "evaluations per bladder FK\n",
+                  checked, worst, per_fk);
+    assert_true(worst <= 2);
+    assert_true(per_fk <= 3.5);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_noisy_readings),
         cmocka_unit_test(test_readings_at_and_beyond_limits),
         cmocka_unit_test(test_load_level_readings),
+        cmocka_unit_test(test_loop_readings),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

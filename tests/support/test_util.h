@@ -82,4 +82,14 @@ static inline char *hp_test_edit_file(const char *path, const char *from, const 
     return out;
 }
 
+/* How many doubles lie between two positive finite doubles (their bit patterns are ordered
+ * as the values are). */
+static inline long hp_test_ulps_apart(double a, double b)
+{
+    int64_t ia, ib;
+    memcpy(&ia, &a, sizeof ia);
+    memcpy(&ib, &b, sizeof ib);
+    return (long)(ia > ib ? ia - ib : ib - ia);
+}
+
 #endif
