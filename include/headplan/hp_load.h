@@ -42,19 +42,30 @@ extern "C" {
  * rest beyond it (hp_load_rest_info.beyond_indent). */
 #define HP_LOAD_INDENT_MAX 0.26
 
+/* The contact law the load model evaluates (docs/load.md, "The contact law").
+ * HP_LOAD_LAW_FEM (the default): the law fitted to the finite-element reference of a thick
+ * Mooney–Rivlin bladder (docs/accuracy.md, section 5), with its domain enforced on every
+ * answer. HP_LOAD_LAW_CAP: the cap law F = P·pi·(ro² − rho²) of the header's comment, the
+ * rigid-sphere picture that overestimates the force 2.5–5.6× against that reference; kept
+ * for comparison studies and for tests of its own algebra. */
+typedef enum hp_load_law { HP_LOAD_LAW_FEM = 0, HP_LOAD_LAW_CAP, HP_LOAD_LAW_COUNT_ } hp_load_law;
+HP_API const char *hp_load_law_name(hp_load_law l); /* "fem", "cap"; "unknown" otherwise */
+HP_API hp_error hp_load_law_parse(const char *s, hp_load_law *out);
+
 /* What the bladders carry. */
 typedef struct hp_load_spec {
     double mass;       /* [kg] the mass whose weight the bladders carry (> 0) */
     double com[3];     /* [m] its centre of mass at the nominal pose */
     double gravity[3]; /* [m/s²] acceleration of gravity (non-zero), e.g. (0, 0, −9.80665) */
+    hp_load_law law;   /* the contact law (HP_LOAD_LAW_FEM by default) */
 } hp_load_spec;
 
 /* Defaults for head h: all of its mass, centre of mass at its centre, gravity along −Z
- * (supine patient). */
+ * (supine patient), the fitted contact law. */
 HP_API void hp_load_spec_default(const hp_head *h, hp_load_spec *s);
 
-/* Checks: mass finite > 0, com finite, gravity finite with |g| in [1e-3, 1e3] m/s².
- * HP_ERR_NULL / HP_ERR_INVALID with the field named in diag (may be NULL). */
+/* Checks: mass finite > 0, com finite, gravity finite with |g| in [1e-3, 1e3] m/s², law one
+ * of hp_load_law. HP_ERR_NULL / HP_ERR_INVALID with the field named in diag (may be NULL). */
 HP_API hp_error hp_load_spec_validate(const hp_load_spec *s, hp_diag *diag);
 
 /* A layout, what it carries, and the contact level, ready for load evaluations: an opaque
