@@ -3,11 +3,11 @@
 # load section and model.level auto, its "auto" line (text and --json load.auto) is the
 # reason `headplan solve` gives for the level it plans at ("level choice:" or "why"), word for
 # word, whether auto takes the load level (load_supine: nothing inflated, unbounded sag) or
-# keeps a contact level (the same scene preloaded 2 mm with a 100 mm tolerance: a finite
+# keeps a contact level (the same scene with its base preloaded 2 mm too, and a 100 mm tolerance: a finite
 # sag within it, then the contact level's bounds).
 . "$(dirname "$0")/../cli_lib.sh"
 cd "$TMP" || exit 1
-sed -e 's/touch_dir: \(\[[^]]*\]\)}/touch_dir: \1, preload_mm: 2}/' \
+sed -e 's/Ro_mm: 45}/Ro_mm: 45, preload_mm: 2}/' \
     -e 's/tolerance_mm: 0.01/tolerance_mm: 100/' "$HP_SRC/scenarios/load_supine.yaml" >kept.yaml
 cp "$HP_SRC/scenarios/load_supine.yaml" load.yaml
 for scene in load.yaml kept.yaml; do

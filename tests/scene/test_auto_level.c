@@ -153,8 +153,8 @@ static void test_every_catalogue_scene_gets_one_level(void **state)
     assert_true(load_scenes < n);
 }
 
-/* A load scene auto keeps kinematic: load_supine.yaml with every bladder preloaded 2 mm (the
- * sag is finite) and model.tolerance_mm 100 (above it). The level is a contact level, and
+/* A load scene auto keeps kinematic: load_supine.yaml with every bladder preloaded 2 mm (its
+ * side bladders are; the base bladders are preloaded here, so the sag is finite) and model.tolerance_mm 100 (above it). The level is a contact level, and
  * the reason analyze and render are given is the planner's whole line (the sag that kept it
  * kinematic, then the contact level's bounds), not a second decision's. */
 static void test_a_load_scene_auto_keeps_kinematic(void **state)
@@ -163,7 +163,7 @@ static void test_a_load_scene_auto_keeps_kinematic(void **state)
     size_t n;
     char *text = hp_test_read_all(SCN "/load_supine.yaml", &n);
     text[n] = '\0';
-    text = replace_all(text, "touch_dir: [", "preload_mm: 2, touch_dir: [");
+    text = replace_all(text, "Ro_mm: 45}", "Ro_mm: 45, preload_mm: 2}");
     text = replace_all(text, "tolerance_mm: 0.01", "tolerance_mm: 100");
     hp_scene *sc = malloc(sizeof *sc);
     assert_non_null(sc);
