@@ -4,11 +4,13 @@
  * point nearest to the bladder centre c_k, rho_k = |p_k − c_k| (the contact distance of the
  * chosen geometry: linear, plane or surface) and ro_k(P_k) the bladder's free outer radius
  * at pressure P_k (the bladder model's forward kinematics, stable branch), the indentation
- * is delta_k = ro_k − rho_k and the membrane law gives the contact force
+ * is delta_k = ro_k − rho_k and the load's contact law (hp_load_spec.law) gives the contact
+ * force F_k = F(P_k, ro_k, rho_k) when delta_k > 0 and P_k > 0, else 0: by default the law
+ * fitted to the finite-element reference of the bladder (HP_LOAD_LAW_FEM), or the cap law
  *     F_k = P_k·pi·(2·ro_k·delta_k − delta_k²) = P_k·pi·(ro_k² − rho_k²)
- * when delta_k > 0 and P_k > 0, else 0 (the pressure times the flattened patch's area, the
- * base of the spherical cap cut off by the head). It pushes the head along
- * u_k = (p_k − c_k)/rho_k. Gravity m·g acts at the centre of mass. See docs/load.md.
+ * (HP_LOAD_LAW_CAP: the pressure times the base of the spherical cap cut off by the head).
+ * It pushes the head along u_k = (p_k − c_k)/rho_k. Gravity m·g acts at the centre of mass.
+ * See docs/load.md.
  *
  * The six equilibrium equations are written as the generalized force on the pose
  * coordinates xi = (x, y, z, pitch, roll, yaw):
@@ -16,9 +18,10 @@
  * Its translation rows are exactly sum_k f_k + m·g (N); its rotation rows are the total
  * moment about the moved pivot projected on the three Euler-angle axes (N·m per rad), so
  * Q = 0 is the Newton–Euler equilibrium wherever the angles are regular (|roll| < 90°).
- * Q = −dPi/dxi for the potential Pi = sum_k P_k·V_cap,k − m·gᵀ(x_com − x_com0) (V_cap the
- * volume of the cap the head cuts off), so the stiffness K = −dQ/dxi is symmetric and a
- * rest is stable exactly when K is positive definite.
+ * Q = −dPi/dxi for the potential Pi = sum_k W_k − m·gᵀ(x_com − x_com0) (W_k the work of the
+ * contact force from first touch; for the cap law P_k times the cap's volume), so the
+ * stiffness K = −dQ/dxi is symmetric and a rest is stable exactly when K is positive
+ * definite.
  *
  * Units: SI throughout (m, rad, Pa, N, kg). Every function is reentrant and allocates
  * nothing, except hp_load_model_create. */
@@ -36,8 +39,8 @@ extern "C" {
 #define HP_GRAVITY 9.80665
 
 /* The indentation range where the contact law is trusted: a carrying bladder (P > 0, in
- * contact) with delta/ro at most this. docs/load.md checks the law against a membrane
- * solution up to delta/ro = 0.26 and no further; the load planner treats it as a limit
+ * contact) with delta/ro at most this. The finite-element tables the fitted law comes from
+ * end there, and docs/load.md checks the cap law against a membrane solution up to it; the load planner treats it as a limit
  * (bound by the name "indent_max", HP_BIND_INDENT_MAX) and the forward statics flags a
  * rest beyond it (hp_load_rest_info.beyond_indent). */
 #define HP_LOAD_INDENT_MAX 0.26
