@@ -536,7 +536,9 @@ static void test_load_level(void **st)
                 strstr(hp_planner_error(pl[0]), "outside the fitted law's domain")) {
                 /* Refused by name: the realtime answer left the fitted contact law's domain
                  * (a light contact below its tables, docs/load.md "The contact law") where
-                 * Ipopt's did not. Counted apart, at most one (the measured count). */
+                 * Ipopt's did not. Counted apart, at most one (the measured count: on
+                 * load_supine a forehead bladder at a rounding-level pressure, P/C1 3e-14,
+                 * indented 0.14). */
                 print_message("DOMAIN %s: realtime refused (%s), ipopt %s\n", scenes[i],
                               hp_planner_error(pl[0]), hp_status_name(b.status));
                 ++domain;
