@@ -86,10 +86,14 @@ static void write_body(FILE *f, const hp_layout *L, hp_level level, const hp_sce
         double frac = L->head.mass > 0 ? base->load.mass / L->head.mass : 1.0;
         fprintf(f, "load: {carried_fraction: %.17g, com_mm: ", frac > 1.0 ? 1.0 : frac);
         vec_mm(f, base->load.com);
-        fprintf(f, ", gravity_dir: [%.17g, %.17g, %.17g], geometry: %s, tiebreak: %s}\n",
+        fprintf(f, ", gravity_dir: [%.17g, %.17g, %.17g], geometry: %s, tiebreak: %s",
                 base->load.gravity[0] / g, base->load.gravity[1] / g, base->load.gravity[2] / g,
                 hp_level_name(base->load_geometry),
                 hp_load_tiebreak_name((hp_load_tiebreak)base->load_tiebreak));
+        /* the contact law when not the default (a scene written before the key reads the same) */
+        if (base->load.law != HP_LOAD_LAW_FEM)
+            fprintf(f, ", law: %s", hp_load_law_name(base->load.law));
+        fputs("}\n", f);
     }
     fprintf(f, "model: {level: %s, tolerance_mm: %.17g",
             base->level_load ? "load" : hp_level_name(level), base->level_tolerance * 1e3);

@@ -16,6 +16,7 @@
 #include "load_internal.h"
 #include "kin_internal.h"
 #include "kinematics/names.h"
+#include "common/names.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -47,6 +48,12 @@ hp_error hp_load_spec_validate(const hp_load_spec *s, hp_diag *diag)
     if (!(g >= 1e-3 && g <= 1e3))
         return hp_diag_set(diag, HP_ERR_INVALID,
                            "load: gravity: magnitude must be in [1e-3, 1e3] m/s^2 (got %g)", g);
+    if ((unsigned)s->law >= (unsigned)HP_LOAD_LAW_COUNT_) {
+        char words[32];
+        return hp_diag_set(diag, HP_ERR_INVALID, "load: law: must be %s (got %d)",
+                           hpi_names_join(hpi_load_law_words, " or ", words, sizeof words),
+                           (int)s->law);
+    }
     return HP_OK;
 }
 
@@ -71,7 +78,8 @@ hp_error hpi_load_model_setup(hp_load_model *M, const hp_layout *L, const hp_loa
                                M->layout.bladders[k].name, hp_error_message(err));
     M->spec = *spec;
     M->level = level;
-    M->law = HP_LOAD_LAW;
+    /* The one place the load level's law is picked: the spec's (validated above). */
+    M->law = spec->law == HP_LOAD_LAW_CAP ? HP_CLAW_LAW_CAP : HP_CLAW_LAW_FEM;
     for (int k = 0; k < M->layout.n; ++k) {
         double x[3]; /* the nominal contact point relative to the head's centre */
         for (int i = 0; i < 3; ++i) x[i] = M->geom.contact[k][i] - M->geom.head.center[i];

@@ -17,14 +17,10 @@ struct hp_load_model {
     hp_load_spec spec;                     /* validated copy */
     hp_level level;                        /* linear, plane or surface */
     hp_iab_limit limit[HP_MAX_BLADDERS];   /* each bladder's inflation limit point */
-    hp_claw_law law;                       /* the contact law (HP_LOAD_LAW at setup) */
+    hp_claw_law law;                       /* the contact law (the spec's, at setup) */
     hp_claw_bladder claw[HP_MAX_BLADDERS]; /* what the fitted law needs of each bladder,
                                               at its nominal contact point */
 };
-
-/* The load level's contact law: the one place that picks it. The cap law until the load
- * planners accept the fitted law's shape (docs/load.md, "The contact law"). */
-#define HP_LOAD_LAW HP_CLAW_LAW_CAP
 
 /* Bladder k's contact law at (P, ro, rho): hpi_claw_eval with the model's law and bladder. */
 void hpi_load_claw(const hp_load_model *M, int k, double P, double ro, double rho, hp_claw *c);

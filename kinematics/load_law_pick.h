@@ -1,8 +1,8 @@
 /* A load model's contact law, chosen after creation. Internal (not installed).
  *
- * hp_load_model_create gives a model the law the load level plans with (HP_LOAD_LAW). The
+ * hp_load_model_create gives a model the law its spec names (hp_load_spec.law). The
  * fidelity benchmark (bench/bench_fidelity.c) needs the same layout and load under the law
- * fitted to the finite-element reference, whatever the load level plans with, to find
+ * fitted to the finite-element reference, whatever law the load level plans with, to find
  * where the head really rests under a plan's pressures; and it must know which law the
  * load level used, to say what the load level's row measures. */
 #ifndef HP_LOAD_LAW_PICK_H

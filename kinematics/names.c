@@ -2,6 +2,7 @@
  * messages and the command line's help all read these tables (hp_scene_level_names adds the
  * scene's "load"). */
 #include "headplan/hp_contact.h"
+#include "headplan/hp_load.h"
 #include "common/names.h"
 #include "kinematics/names.h"
 
@@ -18,9 +19,15 @@ const int hpi_level_n_geometries = (int)(sizeof hpi_level_geometries /
 
 const char *const hpi_head_shape_words[] = {"sphere", "ellipsoid", NULL};
 
+const char *const hpi_load_law_words[] = {"fem", "cap", NULL};
+_Static_assert(sizeof hpi_load_law_words / sizeof *hpi_load_law_words == HP_LOAD_LAW_COUNT_ + 1,
+               "one word per load law");
+
 HP_NAMES_CALLS(hp_level, hpi_level_words, hp_level_name, hp_level_parse)
 
 HP_NAMES_CALLS(hp_head_shape, hpi_head_shape_words, hp_head_shape_name, hp_head_shape_parse)
+
+HP_NAMES_CALLS(hp_load_law, hpi_load_law_words, hp_load_law_name, hp_load_law_parse)
 
 int hp_level_is_geometry(hp_level l)
 {

@@ -9,6 +9,7 @@
 
 extern const char *const hpi_level_words[]; /* every level, auto and load after the geometries */
 extern const char *const hpi_head_shape_words[];
+extern const char *const hpi_load_law_words[]; /* hp_load_law: the load model's contact laws */
 
 /* The contact geometries (hp_level_is_geometry), in the order auto tries them: cheapest
  * first, the exact one (error bound 0) last. */

@@ -1,5 +1,6 @@
 /* The `load` section of a layout scene: what part of the head's weight the bladders carry,
- * where its centre of mass is, which way gravity points, and the load planner's choices. */
+ * where its centre of mass is, which way gravity points, the contact law, and the load
+ * planner's choices. */
 #include "headplan/hp_planner.h"
 #include "scene/scene_parts.h"
 
@@ -8,8 +9,8 @@
 
 hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
 {
-    static const char *const KEYS[] = {"carried_fraction", "com_mm",   "gravity_dir",
-                                       "geometry",         "tiebreak", NULL};
+    static const char *const KEYS[] = {"carried_fraction", "com_mm", "gravity_dir", "geometry",
+                                       "tiebreak",         "law",    NULL};
     hp_error e = sr_map(c, node, "load", KEYS, NULL);
     if (e) return e;
     const hp_head *h = &s->layout.head;
@@ -67,6 +68,14 @@ hp_error sp_load(const sr_ctx *c, const yt_node *node, hp_scene *s)
         if ((e = sr_word(c, n, "load.tiebreak", "tie-breaker", TIES, name, sizeof name))) return e;
         (void)hp_load_tiebreak_parse(name, &t); /* cannot fail: name is in TIES */
         s->load_tiebreak = (int)t;
+    }
+    if ((n = yt_map_get(node, "law"))) {
+        const char *LAWS[HP_LOAD_LAW_COUNT_ + 1]; /* the contact law table's words, NULL */
+        for (int i = 0; i < HP_LOAD_LAW_COUNT_; ++i) LAWS[i] = hp_load_law_name((hp_load_law)i);
+        LAWS[HP_LOAD_LAW_COUNT_] = NULL;
+        char name[16];
+        if ((e = sr_word(c, n, "load.law", "contact law", LAWS, name, sizeof name))) return e;
+        (void)hp_load_law_parse(name, &s->load.law); /* cannot fail: name is in LAWS */
     }
     s->has_load = 1;
     return HP_OK;

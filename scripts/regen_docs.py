@@ -19,6 +19,8 @@ runs (the fixed configuration, in this order):
   backends-table    headplan-bench-backends                                 docs/backends.md
   loop-table        loop.csv of the same headplan-bench run                 docs/control-loop.md
   load-table        load.csv of the same headplan-bench run                 docs/load.md
+  load-law-table    bench/load_law_table.py (headplan solve, both laws)     docs/load.md
+  load-law-cost     bench/load_law_table.py --cost 21                       docs/load.md
   fidelity-table    fidelity.csv of the same headplan-bench run             docs/accuracy.md
   horizon-rh        headplan-bench-horizon rh scenarios/horizon/step.yaml
                     scenarios/traces/step.csv                               docs/horizon.md
@@ -360,6 +362,13 @@ def main():
     new["docs/control-loop.md"] = {"loop-table": loop_table(figures)}
     new["docs/planner.md"] = {"restarts-cost": restarts_cost(figures)}
     new["docs/load.md"] = {"load-table": load_table(figures)}
+    law_table = [sys.executable, "bench/load_law_table.py", os.path.join(binary, "headplan"), src]
+    out, w = run(law_table, src)
+    wall.append(("load_law_table.py", w))
+    new["docs/load.md"]["load-law-table"] = block(out.strip("\n"))
+    out, w = run(law_table + ["--cost", "5" if a.quick else "21"], src)
+    wall.append(("load_law_table.py --cost", w))
+    new["docs/load.md"]["load-law-cost"] = block(out.strip("\n"))
     new["docs/accuracy.md"] = {"fidelity-table": fidelity_table(figures)}
     out, w = run([os.path.join(binary, "headplan-bench-backends")], src)
     wall.append(("headplan-bench-backends", w))

@@ -1,5 +1,5 @@
 /* Writes examples/calibration/load_rows.csv: rows of (pressures, rest pose) of the load level
- * of scenarios/load_supine.yaml with a carried mass of 3.0 kg (the scene says 0.8 · 4.5 kg),
+ * of examples/calibration/load_supine_cap.yaml with a carried mass of 3.0 kg (the scene says 0.8 · 4.5 kg),
  * the poses measured with seeded normal noise of 0.05 mm and 0.05 degrees. Pressures come in
  * left/right pairs, the base's near 5 kPa and the sides' near 1.5 kPa (±2 %): the forward
  * statics find a rest reliably only for nearly symmetric pressures on this scene, and every
@@ -40,7 +40,7 @@ int main(void)
 {
     static hp_scene sc;
     hp_diag d = {{0}};
-    if (hp_scene_load("scenarios/load_supine.yaml", &sc, &d)) {
+    if (hp_scene_load("examples/calibration/load_supine_cap.yaml", &sc, &d)) {
         fprintf(stderr, "%s\n", d.text);
         return 1;
     }
@@ -53,7 +53,8 @@ int main(void)
             return 1;
         }
     }
-    printf("# layout rows of the load level for scenarios/load_supine.yaml (make_load_rows.c)\n"
+    printf("# layout rows of the load level for examples/calibration/load_supine_cap.yaml "
+           "(make_load_rows.c)\n"
            "# truth: carried_mass_kg=%g (offsets 0, semi-axes as the scene's)\n"
            "# pose noise sigma 0.05 mm, 0.05 deg\n",
            MASS);

@@ -4,11 +4,13 @@
  * point nearest to the bladder centre c_k, rho_k = |p_k − c_k| (the contact distance of the
  * chosen geometry: linear, plane or surface) and ro_k(P_k) the bladder's free outer radius
  * at pressure P_k (the bladder model's forward kinematics, stable branch), the indentation
- * is delta_k = ro_k − rho_k and the membrane law gives the contact force
+ * is delta_k = ro_k − rho_k and the load's contact law (hp_load_spec.law) gives the contact
+ * force F_k = F(P_k, ro_k, rho_k) when delta_k > 0 and P_k > 0, else 0: by default the law
+ * fitted to the finite-element reference of the bladder (HP_LOAD_LAW_FEM), or the cap law
  *     F_k = P_k·pi·(2·ro_k·delta_k − delta_k²) = P_k·pi·(ro_k² − rho_k²)
- * when delta_k > 0 and P_k > 0, else 0 (the pressure times the flattened patch's area, the
- * base of the spherical cap cut off by the head). It pushes the head along
- * u_k = (p_k − c_k)/rho_k. Gravity m·g acts at the centre of mass. See docs/load.md.
+ * (HP_LOAD_LAW_CAP: the pressure times the base of the spherical cap cut off by the head).
+ * It pushes the head along u_k = (p_k − c_k)/rho_k. Gravity m·g acts at the centre of mass.
+ * See docs/load.md.
  *
  * The six equilibrium equations are written as the generalized force on the pose
  * coordinates xi = (x, y, z, pitch, roll, yaw):
@@ -16,9 +18,10 @@
  * Its translation rows are exactly sum_k f_k + m·g (N); its rotation rows are the total
  * moment about the moved pivot projected on the three Euler-angle axes (N·m per rad), so
  * Q = 0 is the Newton–Euler equilibrium wherever the angles are regular (|roll| < 90°).
- * Q = −dPi/dxi for the potential Pi = sum_k P_k·V_cap,k − m·gᵀ(x_com − x_com0) (V_cap the
- * volume of the cap the head cuts off), so the stiffness K = −dQ/dxi is symmetric and a
- * rest is stable exactly when K is positive definite.
+ * Q = −dPi/dxi for the potential Pi = sum_k W_k − m·gᵀ(x_com − x_com0) (W_k the work of the
+ * contact force from first touch; for the cap law P_k times the cap's volume), so the
+ * stiffness K = −dQ/dxi is symmetric and a rest is stable exactly when K is positive
+ * definite.
  *
  * Units: SI throughout (m, rad, Pa, N, kg). Every function is reentrant and allocates
  * nothing, except hp_load_model_create. */
@@ -36,25 +39,36 @@ extern "C" {
 #define HP_GRAVITY 9.80665
 
 /* The indentation range where the contact law is trusted: a carrying bladder (P > 0, in
- * contact) with delta/ro at most this. docs/load.md checks the law against a membrane
- * solution up to delta/ro = 0.26 and no further; the load planner treats it as a limit
+ * contact) with delta/ro at most this. The finite-element tables the fitted law comes from
+ * end there, and docs/load.md checks the cap law against a membrane solution up to it; the load planner treats it as a limit
  * (bound by the name "indent_max", HP_BIND_INDENT_MAX) and the forward statics flags a
  * rest beyond it (hp_load_rest_info.beyond_indent). */
 #define HP_LOAD_INDENT_MAX 0.26
+
+/* The contact law the load model evaluates (docs/load.md, "The contact law").
+ * HP_LOAD_LAW_FEM (the default): the law fitted to the finite-element reference of a thick
+ * Mooney–Rivlin bladder (docs/accuracy.md, section 5), with its domain enforced on every
+ * answer. HP_LOAD_LAW_CAP: the cap law F = P·pi·(ro² − rho²) of the header's comment, the
+ * rigid-sphere picture that overestimates the force 2.5–5.6× against that reference; kept
+ * for comparison studies and for tests of its own algebra. */
+typedef enum hp_load_law { HP_LOAD_LAW_FEM = 0, HP_LOAD_LAW_CAP, HP_LOAD_LAW_COUNT_ } hp_load_law;
+HP_API const char *hp_load_law_name(hp_load_law l); /* "fem", "cap"; "unknown" otherwise */
+HP_API hp_error hp_load_law_parse(const char *s, hp_load_law *out);
 
 /* What the bladders carry. */
 typedef struct hp_load_spec {
     double mass;       /* [kg] the mass whose weight the bladders carry (> 0) */
     double com[3];     /* [m] its centre of mass at the nominal pose */
     double gravity[3]; /* [m/s²] acceleration of gravity (non-zero), e.g. (0, 0, −9.80665) */
+    hp_load_law law;   /* the contact law (HP_LOAD_LAW_FEM by default) */
 } hp_load_spec;
 
 /* Defaults for head h: all of its mass, centre of mass at its centre, gravity along −Z
- * (supine patient). */
+ * (supine patient), the fitted contact law. */
 HP_API void hp_load_spec_default(const hp_head *h, hp_load_spec *s);
 
-/* Checks: mass finite > 0, com finite, gravity finite with |g| in [1e-3, 1e3] m/s².
- * HP_ERR_NULL / HP_ERR_INVALID with the field named in diag (may be NULL). */
+/* Checks: mass finite > 0, com finite, gravity finite with |g| in [1e-3, 1e3] m/s², law one
+ * of hp_load_law. HP_ERR_NULL / HP_ERR_INVALID with the field named in diag (may be NULL). */
 HP_API hp_error hp_load_spec_validate(const hp_load_spec *s, hp_diag *diag);
 
 /* A layout, what it carries, and the contact level, ready for load evaluations: an opaque

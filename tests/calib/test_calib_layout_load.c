@@ -1,7 +1,9 @@
 /* The layout fit at the load level (hp_fit_layout with a load): the carried mass recovered
  * from synthetic rests of the forward statics (with the offsets too: refused as stalled), its standard
  * error against central differences of whole rest solves, coverage of its 95 % interval
- * over seeded trials, and the mass named as undetermined without a load. */
+ * over seeded trials, the mass named as undetermined without a load, and the scene writer
+ * keeping the load's contact law. */
+#define _POSIX_C_SOURCE 200809L /* mkdtemp */
 #include "support/test_util.h"
 #include "support/rng.h"
 #include "headplan/headplan.h"
@@ -10,6 +12,7 @@
 
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #define MASS_TRUE 3.0   /* [kg] */
 #define MASS_START 3.05 /* [kg] the load the fit starts from (the scene says 0.8 · 4.5) */
@@ -228,13 +231,44 @@ static void test_no_load_names_mass(void **state)
     free(sc);
 }
 
+/* The scene writer carries the load's contact law: a base scene that asks for the cap law
+ * (not the default) is written with it and read back so; the default (fitted) law reads back
+ * as itself. */
+static void test_writer_keeps_law(void **state)
+{
+    (void)state;
+    hp_scene *sc = load_supine();
+    char dir[] = "/tmp/hp_calib_law_XXXXXX", path[128];
+    assert_non_null(mkdtemp(dir));
+    snprintf(path, sizeof path, "%s/written.yaml", dir);
+    const hp_load_law laws[2] = {HP_LOAD_LAW_CAP, HP_LOAD_LAW_FEM};
+    hp_scene *back = calloc(1, sizeof *back);
+    assert_non_null(back);
+    for (int i = 0; i < 2; ++i) {
+        hp_diag d = {{0}};
+        sc->load.law = laws[i];
+        assert_int_equal(
+            hp_calib_write_scene(path, &sc->layout, HP_LEVEL_SURFACE, sc, "law", NULL, 0, &d),
+            HP_OK);
+        if (hp_scene_load(path, back, &d) != HP_OK) {
+            print_error("%s\n", d.text);
+            fail();
+        }
+        assert_true(back->has_load);
+        assert_int_equal(back->load.law, laws[i]);
+    }
+    unlink(path);
+    rmdir(dir);
+    free(back);
+    free(sc);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_recovery),
-        cmocka_unit_test(test_se_vs_rest_differences),
-        cmocka_unit_test(test_coverage),
-        cmocka_unit_test(test_no_load_names_mass),
+        cmocka_unit_test(test_recovery),         cmocka_unit_test(test_se_vs_rest_differences),
+        cmocka_unit_test(test_coverage),         cmocka_unit_test(test_no_load_names_mass),
+        cmocka_unit_test(test_writer_keeps_law),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

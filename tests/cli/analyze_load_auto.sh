@@ -4,10 +4,11 @@
 # reason `headplan solve` gives for the level it plans at ("level choice:" or "why"), word for
 # word, whether auto takes the load level (load_supine: the contact levels' pressures find
 # no rest under the head's weight) or keeps a contact level (the same scene with a 0.05 kg
-# head, preloaded 2 mm, with a 100 mm tolerance: a model error of about 1 mm within it).
+# head, its base preloaded 2 mm too (its sides are), with a 100 mm tolerance: a model error
+# within it).
 . "$(dirname "$0")/../cli_lib.sh"
 cd "$TMP" || exit 1
-sed -e 's/touch_dir: \(\[[^]]*\]\)}/touch_dir: \1, preload_mm: 2}/' -e 's/mass_kg: 4.5/mass_kg: 0.05/' \
+sed -e 's/Ro_mm: 45}/Ro_mm: 45, preload_mm: 2}/' -e 's/mass_kg: 4.5/mass_kg: 0.05/' \
     -e 's/tolerance_mm: 0.01/tolerance_mm: 100/' "$HP_SRC/scenarios/load_supine.yaml" >kept.yaml
 cp "$HP_SRC/scenarios/load_supine.yaml" load.yaml
 for scene in load.yaml kept.yaml; do

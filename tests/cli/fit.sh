@@ -176,9 +176,9 @@ expect_stdout_has "(not fitted)" "axes not asked for"
 expect_stdout_has "not determined by these data (held at the scene's value): offset:side_chin_left offset:side_chin_right" "linear level names the two undetermined offsets"
 
 # ---- layout at the load level: the carried mass through the forward statics ---------------
-# load_rows.csv: rests of scenarios/load_supine.yaml carrying 3.0 kg (make_load_rows.c); the
+# load_rows.csv: rests of examples/calibration/load_supine_cap.yaml carrying 3.0 kg (make_load_rows.c); the
 # fit starts from a scene carrying 0.68 * 4.5 = 3.06 kg.
-sed 's/carried_fraction: 0.8,/carried_fraction: 0.68,/' "$S/load_supine.yaml" > "$TMP/load.yaml"
+sed 's/carried_fraction: 0.8,/carried_fraction: 0.68,/' "$E/load_supine_cap.yaml" > "$TMP/load.yaml"
 run fit layout "$TMP/load.yaml" "$E/load_rows.csv" --fit mass --sigma-mm 0.05 --sigma-deg 0.05 \
     --json -o "$TMP/load_cal.yaml"
 expect_exit 0 "load level, mass"

@@ -95,7 +95,7 @@ expect_exit 64 "fit layout - -"; expect_stdout_empty "fit layout - -"
 
 # fit layout printed the standard error along the weakest combination in "mm" when that
 # combination is the carried mass: 1.899 "mm" for 0.0019 kg. The unit follows the direction.
-sed 's/carried_fraction: 0.8/carried_fraction: 0.68/' "$S/load_supine.yaml" > "$TMP/load.yaml"
+sed 's/carried_fraction: 0.8/carried_fraction: 0.68/' "$E/load_supine_cap.yaml" > "$TMP/load.yaml"
 run fit layout "$TMP/load.yaml" "$E/load_rows.csv" --fit mass --sigma-mm 0.05 --sigma-deg 0.05
 expect_exit 0 "fit layout, the mass alone"
 grep -Eq 'weakest combination \(SE 0\.00[0-9]+ kg along it\): \+1\.00 mass' "$TMP/out" && ok || bad "the mass's SE in kg"

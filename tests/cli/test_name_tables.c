@@ -54,6 +54,8 @@ PARSE_OF(hp_trace_format_parse, hp_trace_format)
 NAME_OF(hp_trace_form_name, hp_trace_form)
 NAME_OF(hp_scene_kind_name, hp_scene_kind)
 NAME_OF(hp_error_name, hp_error)
+NAME_OF(hp_load_law_name, hp_load_law)
+PARSE_OF(hp_load_law_parse, hp_load_law)
 static const char *binding_i(int v) { return hp_binding_name(1u << v); }
 
 static const enum_case CASES[] = {
@@ -70,6 +72,7 @@ static const enum_case CASES[] = {
     {"trace form", hpi_trace_form_words, hp_trace_form_name_i, NULL},
     {"scene kind", hpi_scene_kind_words, hp_scene_kind_name_i, NULL},
     {"error", hpi_error_words, hp_error_name_i, NULL},
+    {"load law", hpi_load_law_words, hp_load_law_name_i, hp_load_law_parse_i},
 };
 
 static void test_round_trip(void **st)
@@ -110,6 +113,7 @@ static void test_round_trip(void **st)
     assert_int_equal(hp_prediction_parse("hold", NULL), HP_ERR_NULL);
     assert_int_equal(hp_trace_rows_parse("deviation", NULL), HP_ERR_NULL);
     assert_int_equal(hp_trace_format_parse("csv", NULL), HP_ERR_NULL);
+    assert_int_equal(hp_load_law_parse("fem", NULL), HP_ERR_NULL);
     /* One word per value the public headers count. */
     assert_int_equal(hpi_names_count(hpi_backend_words), HP_BACKEND_COUNT_);
     assert_int_equal(hpi_names_count(hpi_error_words), HP_ERR_COUNT_);
@@ -117,6 +121,7 @@ static void test_round_trip(void **st)
     assert_int_equal(hpi_names_count(hpi_binding_words), HP_BIND_COUNT);
     assert_int_equal(hpi_names_count(hpi_level_words), HP_LEVEL_LOAD + 1);
     assert_int_equal(hpi_names_count(hpi_load_tiebreak_words), HP_TIE_COUNT_);
+    assert_int_equal(hpi_names_count(hpi_load_law_words), HP_LOAD_LAW_COUNT_);
 }
 
 /* The table's words joined as "a, b, c". */

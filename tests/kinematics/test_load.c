@@ -22,6 +22,7 @@ static int setup(void **state)
     if (default_layout(&L) != 0) return -1;
     hp_load_spec s;
     hp_load_spec_default(&L.head, &s);
+    s.law = HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
     for (int i = 0; i < 3; ++i)
         if (hp_load_model_create(&L, &s, LEVELS[i], &MOD[i], NULL) != HP_OK) return -1;
     return 0;
@@ -254,6 +255,7 @@ static void test_auto_choice(void **state)
     assert_int_equal(hp_layout_prepare(&L, NULL), HP_OK);
     hp_load_spec s;
     hp_load_spec_default(&L.head, &s);
+    s.law = HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
     hp_load_model *M = NULL;
     assert_int_equal(hp_load_model_create(&L, &s, HP_LEVEL_SURFACE, &M, NULL), HP_OK);
     double kg;
@@ -309,6 +311,7 @@ static void test_owns_layout(void **state)
     kept = L;
     hp_load_spec s;
     hp_load_spec_default(&L.head, &s);
+    s.law = HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
     hp_load_model *M = NULL, *Mk = NULL, *Me = NULL;
     assert_int_equal(hp_load_model_create(&L, &s, HP_LEVEL_SURFACE, &M, NULL), HP_OK);
     L.bladders[0].center[2] -= 2e-3; /* edits after create */
@@ -338,6 +341,7 @@ static void test_bad_input(void **state)
     (void)state;
     hp_load_spec s;
     hp_load_spec_default(&hp_load_model_layout(MOD[0])->head, &s);
+    s.law = HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
     assert_int_equal(hp_load_spec_validate(&s, NULL), HP_OK);
     hp_diag d;
     hp_load_spec b = s;

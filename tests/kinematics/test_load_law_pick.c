@@ -154,6 +154,45 @@ static void test_domain_flag(void **state)
     assert_int_equal(k, -1);
 }
 
+/* The load spec picks the law: its default is the fitted law, HP_LOAD_LAW_CAP gives the cap
+ * law, and a value outside the enum is refused at create, naming the field. hp_load_eval's
+ * force at an indented pose is the picked law's own formula (the laws differ 2.5-5.6x
+ * there, so a wrong pick fails by far more than the 1e-12 allowed for rounding). */
+static void test_spec_picks_law(void **state)
+{
+    (void)state;
+    hp_load_spec s;
+    hp_load_spec_default(&LAY.head, &s);
+    assert_int_equal(s.law, HP_LOAD_LAW_FEM);
+    assert_int_equal(hp_load_spec_validate(&s, NULL), HP_OK);
+    hp_load_model *M[2] = {NULL, NULL};
+    assert_int_equal(hp_load_model_create(&LAY, &s, HP_LEVEL_SURFACE, &M[0], NULL), HP_OK);
+    s.law = HP_LOAD_LAW_CAP;
+    assert_int_equal(hp_load_model_create(&LAY, &s, HP_LEVEL_SURFACE, &M[1], NULL), HP_OK);
+    assert_int_equal(hpi_load_model_law(M[0]), HP_CLAW_LAW_FEM);
+    assert_int_equal(hpi_load_model_law(M[1]), HP_CLAW_LAW_CAP);
+    const hp_claw_law want[2] = {HP_CLAW_LAW_FEM, HP_CLAW_LAW_CAP};
+    hp_claw_bladder cb = {1.1e4, 2.2e4, 0.003, 1.0 / R_HEAD};
+    double P[1] = {P_B}, xi[6] = {0, 0, -0.004, 0, 0, 0}, Q[6], F, ratio, ro;
+    for (int m = 0; m < 2; ++m) {
+        assert_int_equal(hp_load_eval(M[m], xi, P, Q, NULL, NULL, &F, NULL), HP_OK);
+        assert_int_equal(hp_load_indentation(M[m], xi, P, &ratio), HP_OK);
+        assert_int_equal(hp_load_radius(M[m], 0, P_B, &ro, NULL), HP_OK);
+        hp_claw c;
+        hpi_claw_eval(want[m], &cb, P_B, ro, ro * (1.0 - ratio), &c);
+        hp_assert_close(F, c.F, 1e-12, 0.0);
+        hp_load_model_destroy(M[m]);
+    }
+    s.law = (hp_load_law)7;
+    hp_diag d;
+    hp_load_model *bad = NULL;
+    assert_int_equal(hp_load_spec_validate(&s, &d), HP_ERR_INVALID);
+    assert_non_null(strstr(d.text, "load: law: "));
+    assert_int_equal(hp_load_model_create(&LAY, &s, HP_LEVEL_SURFACE, &bad, &d), HP_ERR_INVALID);
+    assert_null(bad);
+    assert_non_null(strstr(d.text, "load: law: "));
+}
+
 /* A law that does not exist is refused and changes nothing. */
 static void test_set_law_checks(void **state)
 {
@@ -170,6 +209,7 @@ int main(void)
         cmocka_unit_test(test_scaled_force_is_scaled_weight),
         cmocka_unit_test(test_domain_flag),
         cmocka_unit_test(test_set_law_checks),
+        cmocka_unit_test(test_spec_picks_law),
     };
     return cmocka_run_group_tests(tests, setup, teardown);
 }

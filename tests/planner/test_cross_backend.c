@@ -59,6 +59,7 @@ static void carry_at_load(const hp_layout *L, hp_settings *s)
 {
     if (s->level != HP_LEVEL_LOAD) return;
     hp_load_spec_default(&L->head, &s->load);
+    s->load.law = HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
     s->load.mass *= 0.2;
 }
 

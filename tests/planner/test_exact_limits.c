@@ -72,6 +72,8 @@ static void stretch_limits_exact_at(hp_level level, int plans_per_backend)
             if (level == HP_LEVEL_LOAD) {
                 hp_load_spec spec;
                 hp_load_spec_default(&L.head, &spec);
+                spec.law =
+                    HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
                 spec.mass *= LOAD_LF_FRACTION;
                 e = load_create(&L, &spec, &s, HP_TIE_LEAST_SQUEEZE, &p, &d);
             } else {

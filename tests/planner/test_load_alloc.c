@@ -20,6 +20,7 @@ static void test_load_plan_no_alloc(void **st)
     for (int k = 0; k < L.n; ++k) L.bladders[k].stretch_max = 1.6;
     hp_load_spec s;
     hp_load_spec_default(&L.head, &s);
+    s.law = HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
     hp_settings set;
     hp_settings_default(&set);
     set.level = HP_LEVEL_SURFACE;

@@ -82,6 +82,8 @@ static void run(const hp_layout *L, hp_level level, double rate, uint64_t seed, 
     s.level = level;
     if (level == HP_LEVEL_LOAD) { /* the load level's settings: load, surface geometry */
         hp_load_spec_default(&C.head, &s.load);
+        s.load.law =
+            HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
         s.load.mass *= LOAD_LF_FRACTION;
         s.load_geometry = HP_LEVEL_SURFACE;
     }

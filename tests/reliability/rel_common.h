@@ -90,6 +90,8 @@ static inline hp_planner *rel_planner(const hp_layout *L, hp_backend b, hp_level
     s.level = level;
     if (level == HP_LEVEL_LOAD) {
         hp_load_spec_default(&M.head, &s.load);
+        s.load.law =
+            HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
         s.load.mass *= REL_LOAD_FRACTION;
     }
     if (max_iter > 0) s.max_iter = max_iter;

@@ -154,7 +154,7 @@ static void test_every_catalogue_scene_gets_one_level(void **state)
 }
 
 /* A load scene auto keeps kinematic: load_supine.yaml with a 0.05 kg head on bladders
- * preloaded 2 mm (the nominal pressures hold it, a rest about 1 mm away under the fitted
+ * preloaded 2 mm (its sides are; its base is preloaded here) (the nominal pressures hold it, a rest about 1 mm away under the fitted
  * law) and model.tolerance_mm 100 (above that model error). The level is a contact level,
  * and the reason analyze and render are given is the planner's whole line, not a second
  * decision's. (The 4.5 kg head finds no rest on those pressures: auto takes the load level,
@@ -165,7 +165,7 @@ static void test_a_load_scene_auto_keeps_kinematic(void **state)
     size_t n;
     char *text = hp_test_read_all(SCN "/load_supine.yaml", &n);
     text[n] = '\0';
-    text = replace_all(text, "touch_dir: [", "preload_mm: 2, touch_dir: [");
+    text = replace_all(text, "Ro_mm: 45}", "Ro_mm: 45, preload_mm: 2}");
     text = replace_all(text, "tolerance_mm: 0.01", "tolerance_mm: 100");
     text = replace_all(text, "mass_kg: 4.5", "mass_kg: 0.05");
     hp_scene *sc = malloc(sizeof *sc);

@@ -60,6 +60,7 @@ static inline hp_planner *load_lf_planner(hp_backend b, hp_level level, double r
     if (level == HP_LEVEL_LOAD) {
         hp_load_spec spec;
         hp_load_spec_default(&L.head, &spec);
+        spec.law = HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
         spec.mass *= LOAD_LF_FRACTION;
         s.level = HP_LEVEL_SURFACE;
         e = load_create(&L, &spec, &s, HP_TIE_LEAST_SQUEEZE, &p, &d);

@@ -6,7 +6,9 @@
  * HOLD scanned the holding set's vertices, the planner's answer was beaten on 2 of these 21
  * reached targets (by 0.96 % and 1.81 %: a bladder kept carrying where dropping it and
  * adding another was cheaper). HOLD's own scan now runs inside every reference start too,
- * so the reference is the planner's method from 24 other starts. docs/load.md. */
+ * so the reference is the planner's method from 24 other starts. docs/load.md. The same on
+ * the catalogue's supine and tilted load scenes under the fitted contact law (their own),
+ * where a reference result must also lie inside the law's domain (as every answer does). */
 #include "support/test_util.h"
 
 #include "support/default_layout.h"
@@ -15,7 +17,10 @@
 #include "support/load_fixture.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_solve.h"
+#include "kinematics/load_law_pick.h"
+#include "headplan/hp_scene.h"
 
+#include <stdlib.h>
 #include <string.h>
 
 static double lcg(unsigned long long *st)
@@ -43,17 +48,41 @@ static int valid(const hp_load_model *M, const double xi[6], const double *P, co
         if (!(fabs(Q[i]) * (i < 3 ? 1.0 : hpi_load_unit(i) / 1e-3) <= 1e-9)) return 0;
     for (int k = 0; k < M->layout.n; ++k)
         if (!(P[k] >= lo[k] && P[k] <= hi[k] && ratio[k] <= HP_LOAD_INDENT_MAX + 1e-9)) return 0;
+    if (hpi_load_model_law(M) == HP_CLAW_LAW_FEM) {
+        int k;
+        hp_claw_domain g;
+        if (hpi_load_fem_domain_at(M, xi, P, &k, &g) != HP_OK || k >= 0) return 0;
+    }
     return 1;
 }
 
-/* The two layouts: the default one at stretch_max 1.6 carrying 80 % of the head along −Z,
- * and the same under gravity tilted 10° head-up. */
+/* The four layouts: the default one at stretch_max 1.6 carrying 80 % of the head along −Z,
+ * and the same under gravity tilted 10° head-up (the cap law: these default-size bladders
+ * carry the head under it only); then the catalogue's load_supine.yaml and load_tilted.yaml,
+ * sized for the fitted law, with their own load (the fitted law). */
 static void layout(int which, hp_layout *L, hp_load_spec *s)
 {
+    if (which >= 2) {
+        hp_scene *sc = calloc(1, sizeof *sc);
+        hp_diag d = {{0}};
+        assert_non_null(sc);
+        const char *path = which == 2 ? HP_SOURCE_DIR "/scenarios/load_supine.yaml"
+                                      : HP_SOURCE_DIR "/scenarios/load_tilted.yaml";
+        if (hp_scene_load(path, sc, &d) != HP_OK) {
+            print_error("%s\n", d.text);
+            fail();
+        }
+        *L = sc->layout;
+        *s = sc->load;
+        assert_int_equal(s->law, HP_LOAD_LAW_FEM);
+        free(sc);
+        return;
+    }
     assert_int_equal(default_layout(L), 0);
     for (int k = 0; k < L->n; ++k) L->bladders[k].stretch_max = 1.6;
     assert_int_equal(hp_layout_prepare(L, NULL), HP_OK);
     hp_load_spec_default(&L->head, s);
+    s->law = HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
     s->mass *= 0.8;
     if (which == 1) {
         double g = HP_GRAVITY, a = 10.0 * HP_PI / 180.0;
@@ -73,9 +102,9 @@ static void test_least_squeeze_is_least(void **state)
         {0, 0, 1, 0, 2, 0}, {0, 0, 1, 0, 0, 2},         {-3, 1, 2, 1, -1, 2}, {3, -1, 4, -1, 1, -2},
     };
     unsigned long long seed = 77ull;
-    int reached = 0, beaten = 0;
+    int reached = 0, reached_fem = 0, beaten = 0;
     double worst = 0.0;
-    for (int which = 0; which < 2; ++which) {
+    for (int which = 0; which < 4; ++which) {
         hp_layout L;
         hp_load_spec s;
         layout(which, &L, &s);
@@ -98,6 +127,7 @@ static void test_least_squeeze_is_least(void **state)
                 continue;
             }
             ++reached;
+            reached_fem += which >= 2;
             for (int k = 0; k < n; ++k) P[k] = r.bladders[k].pressure;
             assert_true(valid(M, xi, P, lo, hi));
             double mine = squeeze(P, n), best = INFINITY, zero[HP_MAX_BLADDERS] = {0};
@@ -124,9 +154,12 @@ static void test_least_squeeze_is_least(void **state)
             hp_planner_destroy(p);
         }
     }
-    print_message("reached %d, beaten by the multi-start %d, worst excess %.3g\n", reached, beaten,
-                  worst);
-    assert_true(reached >= 12);
+    print_message("reached %d (%d under the fitted law), beaten by the multi-start %d, worst "
+                  "excess %.3g\n",
+                  reached, reached_fem, beaten, worst);
+    assert_true(reached - reached_fem >= 12);
+    /* 3 measured: the fitted-law scenes hold few of these targets (most are CLOSEST there) */
+    assert_true(reached_fem >= 3);
     assert_int_equal(beaten, 0);
 }
 
