@@ -14,7 +14,7 @@ typedef struct load_report {
     double sag, k_gravity; /* predicted sag of a kinematic plan [m], stiffness [N/m] */
     int use_load;
     char why[HP_DIAG_MAX]; /* the planner's reason, whole (hp_planner_level_choice) */
-    int held; /* 1: the load planner answered at the nominal pose */
+    int held;              /* 1: the load planner answered at the nominal pose */
     char refused[HP_DIAG_MAX];
     hp_result r;
     hp_load_info info;

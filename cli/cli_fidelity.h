@@ -33,7 +33,7 @@ typedef struct cli_model_error {
     double mass;            /* the head's mass the reference carries [kg] */
     int own_mass;           /* 1: the scene's load or head mass; 0: the default head's */
     char not_measured[160]; /* why it was not measured ("" when it was) */
-    hpi_fidelity_result m; /* the measurement, with the band CLI_FIDELITY_LAW_BAND */
+    hpi_fidelity_result m;  /* the measurement, with the band CLI_FIDELITY_LAW_BAND */
 } cli_model_error;
 
 /* Answer r of scene sc (planned at level with solver tolerance tol) against the reference:

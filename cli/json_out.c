@@ -28,20 +28,17 @@ json_t *cli_json_model_error(const cli_model_error *e)
     const hpi_fidelity_result *m = &e->m;
     json_object_set_new(o, "level", json_string(hp_level_name(e->level)));
     json_object_set_new(o, "measured", json_boolean(!*e->not_measured));
-    json_object_set_new(o, "not_measured", *e->not_measured ? json_string(e->not_measured)
-                                                             : json_null());
+    json_object_set_new(o, "not_measured",
+                        *e->not_measured ? json_string(e->not_measured) : json_null());
     json_object_set_new(o, "law", json_string("fitted"));
     json_object_set_new(o, "bounded", json_boolean(isfinite(m->pose_mm)));
     json_object_set_new(o, "pose_mm", cli_json_num(m->pose_mm));
-    json_object_set_new(o, "pose_deg",
-                        cli_json_num(m->pose_deg));
+    json_object_set_new(o, "pose_deg", cli_json_num(m->pose_deg));
     json_object_set_new(o, "law_band", json_real(CLI_FIDELITY_LAW_BAND));
     json_object_set_new(o, "band_mm", cli_json_num(m->band_mm));
-    json_object_set_new(o, "band_deg",
-                        cli_json_num(m->band_deg));
+    json_object_set_new(o, "band_deg", cli_json_num(m->band_deg));
     json_object_set_new(o, "domain", json_string(m->domain));
-    json_object_set_new(o, "indent_max",
-                        cli_json_num(m->indent_max));
+    json_object_set_new(o, "indent_max", cli_json_num(m->indent_max));
     json_object_set_new(o, "carried", cli_json_num(m->carried));
     json_object_set_new(o, "mass_kg", json_real(e->mass));
     json_object_set_new(o, "mass", json_string(e->own_mass ? "scene" : "default"));

@@ -138,8 +138,8 @@ static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hp_l
             measured = e == HP_OK && measure_load(p, layout, &ref, &x->m) == 0;
         } else if (kin) {
             double b = 0.0;
-            measured = hpi_contact_error_bound_g(&p->L, &p->G, x->level, s->auto_trans,
-                                                 s->auto_rot, &b) == HP_OK;
+            measured = hpi_contact_error_bound_g(&p->L, &p->G, x->level, s->auto_trans, s->auto_rot,
+                                                 &b) == HP_OK;
             x->m = nominal;
             x->bound_mm = b * 1e3;
         }
@@ -165,14 +165,15 @@ static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hp_l
     /* "auto chose L by model error at the nominal pose (tolerance T mm, D deg): A, B exceed
      * it; L ... meets it" or "...: A, B, C and L exceed it; L has the smallest" */
     size_t at = 0;
-    int w = snprintf(why, len, "auto chose %s by model error at the nominal pose (tolerance %g mm, "
-                               "%g deg): ",
+    int w = snprintf(why, len,
+                     "auto chose %s by model error at the nominal pose (tolerance %g mm, "
+                     "%g deg): ",
                      hp_level_name(c[pick].level), tol_mm, tol_deg);
     at = w > 0 ? (size_t)w : 0;
     const int last = meets ? pick : n - 1;
     for (int i = 0; i <= last && at < len; ++i) {
-        if (meets && i == pick && i > 0) at += (size_t)snprintf(why + at, len - at, " exceed%s it; ",
-                                                                 pick > 1 ? "" : "s");
+        if (meets && i == pick && i > 0)
+            at += (size_t)snprintf(why + at, len - at, " exceed%s it; ", pick > 1 ? "" : "s");
         else if (i > 0) at += (size_t)snprintf(why + at, len - at, ", ");
         if (at >= len) break;
         w = candidate_text(&c[i], why + at, len - at);
@@ -185,8 +186,7 @@ static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hp_l
             snprintf(why + at, len - at, ": none meets it; %s models the weight",
                      hp_level_name(c[pick].level));
         else
-            snprintf(why + at, len - at, " exceed it; %s has the %s",
-                     hp_level_name(c[pick].level),
+            snprintf(why + at, len - at, " exceed it; %s has the %s", hp_level_name(c[pick].level),
                      isfinite(c[pick].scaled) ? "smallest" : "most weight carried");
     }
     return HP_OK;
@@ -198,7 +198,7 @@ hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_di
     p->level = s->level;
     p->level_why[0] = '\0';
     const int has_load = !(s->load.mass == 0.0); /* hp_settings_validate checked it */
-    char load_why[32] = ""; /* why the geometry decides a load's level */
+    char load_why[32] = "";                      /* why the geometry decides a load's level */
     if (s->level == HP_LEVEL_AUTO && has_load) {
         hp_level chosen = HP_LEVEL_AUTO;
         hp_error e = auto_by_model_error(p, layout, &chosen, p->level_why, sizeof p->level_why);
@@ -229,8 +229,9 @@ hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_di
     contact_why(p, p->level, why, sizeof why);
     /* Without a load the levels differ by their geometry alone: the reason says so. */
     snprintf(p->level_why, sizeof p->level_why, "%s%s%s", load_why, why,
-             has_load ? "" : "; no load stated, so the weight of the head is left out (no sag, no "
-                             "indentation) and the levels differ by geometry alone");
+             has_load ? ""
+                      : "; no load stated, so the weight of the head is left out (no sag, no "
+                        "indentation) and the levels differ by geometry alone");
     return HP_OK;
 }
 

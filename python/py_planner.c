@@ -203,7 +203,7 @@ static PyObject *get_level_choice(PyObject *o, void *c)
     (void)c;
     hpy_planner *self = (hpy_planner *)o;
     if (!built(self)) return NULL;
-    char why[HP_DIAG_MAX]; /* the reason whole */
+    char why[HP_DIAG_MAX];                             /* the reason whole */
     hp_planner_level_choice(self->p, why, sizeof why); /* built: HP_OK */
     if (!why[0]) Py_RETURN_NONE;
     return PyUnicode_FromString(why);
