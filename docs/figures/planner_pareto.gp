@@ -12,49 +12,47 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 7.78337e+06]
+set xrange [* : 5.89936e+07]
 
 $front << EOD
-914.091,4.646568e-01,realtime-linear-1e-09
-5773.5,1.355203e-10,realtime-surface-1e-04
-2.54346e+06,1.000000e-17,ipopt-surface-1e-04
-7.78337e+06,1.000000e-17,end
+894.4,4.646568e-01,realtime-linear-1e-04
+5798.5,1.355203e-10,realtime-surface-1e-04
+2.26654e+06,1.000000e-17,ipopt-surface-1e-09-r0
+5.89936e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-372.778,4.936830e-03,fastpath-linear
-2273.5,1.000000e-17,fastpath-surface
-7.78337e+06,1.000000e-17,end
+369.5,4.936830e-03,fastpath-linear
+2306,1.000000e-17,fastpath-surface
+5.89936e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-893.464,9.238732e-02,trace-realtime-linear
-5087.6,3.417474e-08,trace-realtime-surface
-7.78337e+06,3.417474e-08,end
+880.607,9.238732e-02,trace-realtime-linear
+5017.6,3.417474e-08,trace-realtime-surface
+5.89936e+07,3.417474e-08,end
 EOD
 
 $front3 << EOD
-914.091,4.646568e-01,realtime-linear-1e-09
-5773.5,1.355203e-10,realtime-surface-1e-04
-7.78337e+06,1.355203e-10,end
+894.4,4.646568e-01,realtime-linear-1e-04
+5798.5,1.355203e-10,realtime-surface-1e-04
+5.89936e+07,1.355203e-10,end
 EOD
 
 $front4 << EOD
-2.45976e+06,4.646568e-01,ipopt-linear-1e-09
-2.54346e+06,1.000000e-17,ipopt-surface-1e-04
-7.78337e+06,1.000000e-17,end
+2193,1.000000e-17,ipopt-surface-1e-09-reach
+5.89936e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-572610,4.646568e-01,nlopt-slsqp-linear-1e-09
-637898,3.072245e-05,nlopt-slsqp-surface-1e-09
-7.78337e+06,3.072245e-05,end
+2317.4,1.000000e-17,nlopt-slsqp-surface-1e-09-reach-r0
+5.89936e+07,1.000000e-17,end
 EOD
 
 $front6 << EOD
-265288,4.646567e-01,nlopt-cobyla-linear-1e-04
-402309,5.181534e-07,nlopt-cobyla-surface-1e-09
-7.78337e+06,5.181534e-07,end
+260692,4.646567e-01,nlopt-cobyla-linear-1e-04
+394042,5.181534e-07,nlopt-cobyla-surface-1e-04
+5.89936e+07,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
