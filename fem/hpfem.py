@@ -259,8 +259,10 @@ def read_dat(path):
     return out
 
 
-def run(case, workdir=None, keep=False):
-    """Write the deck, run ccx (nice'd, one thread) and return the parsed .dat and deck."""
+def run(case, workdir=None, keep=False, partial=False):
+    """Write the deck, run ccx (nice'd, one thread) and return the parsed .dat. A run that
+    fails raises, unless partial: then what it printed up to its last converged increment
+    is returned with the key "failed" (the engine's error lines)."""
     d = workdir or tempfile.mkdtemp(prefix="hpfem_")
     os.makedirs(d, exist_ok=True)
     deck = case.deck()
@@ -277,6 +279,9 @@ def run(case, workdir=None, keep=False):
         os.rmdir(d)
     if not ok:
         tail = "\n".join(l for l in r.stdout.splitlines() if "ERROR" in l)[:600]
+        if partial:
+            res["failed"] = tail
+            return res
         raise RuntimeError("ccx failed (%s): %s" % (case.describe(), tail))
     return res
 

@@ -125,6 +125,19 @@ def shape():
             " / ".join(f(r[k], 3) if r[k] else "patch" for k in angles)]))
 
 
+def tilt():
+    print("| tilt (°) | δ/ro | bulk/shear | t reached | δ/ro at t | F/(P·π·ro²), 3-D | axisymmetric | 3-D/axisymmetric − 1 | against tilt 0 at the same t | fitted law | 3-D/law − 1 | force to normal (°) | centre of pressure off the normal's foot /ro |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    pc = lambda x: "—" if x in ("", "nan") else "%+.2f %%" % (100 * (float(x) - 1))
+    for r in table("tilt.csv"):
+        print("| %s |" % " | ".join([
+            f(r["tilt_deg"]), f(r["delta_over_ro"]), f(r["bulk_over_shear"]),
+            f(r["t_reached"]), f(r["delta_over_ro_at_t"], 3), f(r["F_over_P_pi_ro2"]),
+            f(r["F_axisymmetric"]),
+            pc(r["F_over_F_axisymmetric"]), pc(r["F_over_F_3d_tilt_0"]), f(r["F_law"]),
+            pc(r["F_over_F_law"]), f(r["angle_deg"], 2), f(r["offset_over_ro"], 3)]))
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "all"
     if what in ("all", "inflation"):
@@ -139,3 +152,5 @@ if __name__ == "__main__":
         sweep()
     if what in ("all", "shape"):
         shape()
+    if what in ("all", "tilt"):
+        tilt()
