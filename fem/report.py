@@ -152,5 +152,7 @@ if __name__ == "__main__":
         sweep()
     if what in ("all", "shape"):
         shape()
+    if what in ("all", "thick"):
+        contact("thick.csv", None)
     if what in ("all", "tilt"):
         tilt()
