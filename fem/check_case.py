@@ -1,11 +1,13 @@
 #!/usr/bin/python3
-"""Re-run two small committed cases with CalculiX and compare with the tables (ctest -L fem).
+"""Re-run three small committed cases with CalculiX and compare with the tables (ctest -L fem).
 
     fem/check_case.py HEADPLAN
 
 1. free inflation, C2/C1 = 2, lambda_i = 1.15, mesh 2x10 (fem/tables/inflation.csv): the
    inner radius must agree to 1e-6 relative (the table prints 7 digits);
-2. contact against a plane, delta/ro = 0.1, mesh 4x20 (fem/tables/contact_checks.csv, tag
+2. displacement-controlled inflation to stretch 1.6, mesh 2x10 (inflation.csv, control
+   displacement): the pressure read from the reactions must agree to 1e-6 relative;
+3. contact against a plane, delta/ro = 0.1, mesh 4x20 (fem/tables/contact_checks.csv, tag
    mesh): F/(P pi ro^2) must agree to 0.5 % (CalculiX's default force criterion for Newton
    convergence is 0.5 % of the average force, so another build may stop elsewhere inside it).
 Exit 0 agree, 1 differ, 77 ccx not installed (ctest SKIP_RETURN_CODE).
@@ -39,6 +41,14 @@ def main():
     e = ri * 1e3 / float(row["ri_fem_mm"]) - 1
     print("inflation ri %.7g mm, table %s mm, relative %.2g (tolerance 1e-6)"
           % (ri * 1e3, row["ri_fem_mm"], e))
+    bad += not abs(e) <= 1e-6
+    row = [r for r in table("inflation.csv") if r.get("control") == "displacement"
+           and r["mesh"] == "2x10" and r["lambda_i_ik"] == "1.6"][0]
+    c = hpfem.Case(nr=2, nt=10, grade=1.0, bulk_ratio=1e4, stretch=1.6)
+    P = hpfem.cavity_pressure(c, hpfem.run(c))
+    e = P / float(row["P_pa"]) - 1
+    print("inflation to stretch 1.6: P %.7g Pa, table %s Pa, relative %.2g (tolerance 1e-6)"
+          % (P, row["P_pa"], e))
     bad += not abs(e) <= 1e-6
     row = [r for r in table("contact_checks.csv") if r["tag"] == "mesh" and r["mesh"] == "4x20"][0]
     kw = dict(make_tables.BASE, delta=float(row["delta_over_ro"]), nr=4, nt=20)

@@ -59,6 +59,22 @@ def model(th, d, w, p, c, k, ref):
     return d * (a1 + a2 * d + a3 * d * d) * (s + bp * (1 + bd * d) / np.sqrt(pm * pm + PC * PC))
 
 
+def committed_law():
+    """The law kinematics/contact_law_fit.h holds, as g(d, w, p, c, k) = F/(P pi ro^2) with
+    model()'s arguments (scalars): what the C code evaluates, for comparing new tables
+    with it without refitting."""
+    v = {}
+    with open(os.path.join(ROOT, "kinematics", "contact_law_fit.h")) as fh:
+        for line in fh:
+            p = line.split()
+            if len(p) == 3 and p[0] == "#define" and p[1].startswith("HP_CLAW_FIT_"):
+                v[p[1][12:]] = float(p[2].strip("()"))
+    if v["PC"] != PC:
+        raise SystemExit("fit_law.py: contact_law_fit.h was fitted with another PC")
+    th = [v[n] for n in ("A1", "A2", "A3", "BW", "BP", "BK", "BD")]
+    return lambda d, w, p, c, k: float(model(th, d, w, p, c, k, (v["W0"],)))
+
+
 def sane(th, dom):
     """The checks a planner relies on over the domain: the force is positive and rises with
     the indentation (G' > 0 and (G (1 + bd d))' > 0 on [0, DMAX], both terms positive) and

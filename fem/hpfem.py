@@ -66,7 +66,7 @@ class Case:
     def __init__(self, Ri=0.027, Ro=0.030, C1=1.1e4, C2=2.2e4, P=5e3, nr=4, nt=40,
                  grade=3.0, bulk_ratio=1e4, indenter=None, support="centre",
                  delta=0.0, penalty=100.0, inc=0.05, contact="NODE TO SURFACE",
-                 controls=None, gap=1.0):
+                 controls=None, gap=1.0, stretch=None):
         self.__dict__.update(locals())
         del self.__dict__["self"]
 
@@ -165,14 +165,24 @@ class Case:
             L.append("EQUATOR,1,1")
         if ind:
             L.append("IND,1,1")
-        L += ["*STEP,NLGEOM,INC=2000", "*STATIC", "%g,1.0,1e-7,%g" % (self.inc, self.inc * 2),
-              "*DLOAD", "INNEREL,P4,%.10e" % self.P]
+        L += ["*STEP,NLGEOM,INC=2000", "*STATIC", "%g,1.0,1e-7,%g" % (self.inc, self.inc * 2)]
+        if self.stretch is None:
+            L += ["*DLOAD", "INNEREL,P4,%.10e" % self.P]
+        else:
+            # displacement control: the inner surface is moved to the sphere of radius
+            # stretch*Ri (free inflation's exact inner displacement) and the pressure is read
+            # from its reactions (cavity_pressure); no follower load, no limit to pass
+            L.append("*BOUNDARY")
+            for k in self.inner_nodes:
+                L += ["%d,%d,%d,%.12e" % (k, d + 1, d + 1, (self.stretch - 1) * nodes[k][d])
+                      for d in (0, 1)]
         if self.controls:
             L += ["*CONTROLS,PARAMETERS=TIME INCREMENTATION", self.controls]
         if ind:
             L += ["*BOUNDARY", "IND,2,2,%.12e" % (self.rho() - self.z_start),
                   "*NODE PRINT,NSET=IND,TOTALS=ONLY", "RF"]
-        L += ["*NODE PRINT,NSET=INNER", "U", "*NODE PRINT,NSET=OUTER", "U",
+        L += ["*NODE PRINT,NSET=INNER", "U" if self.stretch is None else "U,RF",
+              "*NODE PRINT,NSET=OUTER", "U",
               "*NODE PRINT,NSET=EQUATOR,TOTALS=ONLY", "RF", "*END STEP"]
         return "\n".join(L) + "\n"
 
@@ -219,7 +229,8 @@ _BLOCK = re.compile(r"^\s*(displacements|forces|total force)\s*\(.*?\)\s*for set
 
 
 def read_dat(path):
-    """{(kind, set): [(time, {node: (x, y)} or (fx, fy))]} from a CalculiX .dat file."""
+    """{(kind, set): [(time, {node: (x, y, z)} or [fx, fy, fz])]} from a CalculiX .dat file
+    (the axisymmetric decks use the first two components, r and z)."""
     out = {}
     cur = None
     step_base, last_t = 0.0, -1.0
@@ -242,14 +253,16 @@ def read_dat(path):
                 cur = None
                 continue
             if isinstance(cur, list):
-                cur.extend(vals[:2])
+                cur.extend(vals)
             elif len(vals) >= 3:
-                cur[int(vals[0])] = (vals[1], vals[2])
+                cur[int(vals[0])] = tuple(vals[1:])
     return out
 
 
-def run(case, workdir=None, keep=False):
-    """Write the deck, run ccx (nice'd, one thread) and return the parsed .dat and deck."""
+def run(case, workdir=None, keep=False, partial=False):
+    """Write the deck, run ccx (nice'd, one thread) and return the parsed .dat. A run that
+    fails raises, unless partial: then what it printed up to its last converged increment
+    is returned with the key "failed" (the engine's error lines)."""
     d = workdir or tempfile.mkdtemp(prefix="hpfem_")
     os.makedirs(d, exist_ok=True)
     deck = case.deck()
@@ -266,8 +279,29 @@ def run(case, workdir=None, keep=False):
         os.rmdir(d)
     if not ok:
         tail = "\n".join(l for l in r.stdout.splitlines() if "ERROR" in l)[:600]
+        if partial:
+            res["failed"] = tail
+            return res
         raise RuntimeError("ccx failed (%s): %s" % (case.describe(), tail))
     return res
+
+
+def cavity_pressure(case, res):
+    """The pressure a displacement-controlled inflation (case.stretch) holds, from the inner
+    surface's axial reactions: for consistent nodal loads of a uniform pressure p,
+    sum(z_i f_z,i) = p * integral(z n_z dA) = p V exactly (z is in the elements'
+    interpolation; the equator plane, z = 0, and the segment's sides, n_z = 0, add
+    nothing), V the deformed half cavity, here the hemisphere of radius stretch*Ri the nodes
+    lie on (the quadratic faces' departure from it is below 1e-7 on the coarsest mesh). The
+    equator's own support reaction acts at z = 0 and drops out. The radial reactions are
+    not used: CalculiX's expansion of the axisymmetric segment leaves them short by a few
+    per cent of the pressure's. Whole circle: 180 segments."""
+    t, U = res[("displacements", "INNER")][-1]
+    if abs(t - 1.0) > 1e-9:
+        raise RuntimeError("inflation stopped at t = %g" % t)
+    _, RF = res[("forces", "INNER")][-1]
+    m = sum((case._nodes[k][1] + U[k][1]) * RF[k][1] for k in case.inner_nodes)
+    return SEGMENT * m / ((2.0 / 3.0) * math.pi * (case.stretch * case.Ri) ** 3)
 
 
 def ccx_version():
@@ -292,13 +326,76 @@ def cavity_volume(pts):
     return v
 
 
+def indenter_gap(case, r, z, rho):
+    """Distance of the point (r, z) from the indenter whose nearest point to the centre is at
+    height rho on the axis (a plane, or a sphere of radius case.indenter)."""
+    if case.indenter == "plane":
+        return rho - z
+    Rh = float(case.indenter)
+    return math.hypot(r, rho + Rh - z) - Rh
+
+
+SHAPE_ANGLES = (0, 30, 45, 60)  # elevations above the equator where the profile is sampled
+
+
+def surface_shape(pts, ro, rho, gap=None, tol=None):
+    """The free outer surface's departure from the shape the levels assume: the sphere of
+    radius ro about the held centre, cut by the indenter (the cap law's shape).
+
+    pts  the deformed outer meridian, equator to pole, (r, z) about the held centre
+    gap  gap(r, z): distance from the indenter, positive outside (default: a plane at
+         height rho)
+    tol  a point nearer than this is in contact (default 1e-9 ro)
+    bulge(point) = (|x| - R_cut)/ro, R_cut the cut sphere's radius along the point's ray
+    from the centre (ro below the cap's edge, the indenter's distance along the ray above).
+    Returns bulge_max and bulge_min over the free surface with their elevations
+    bulge_max_deg and bulge_min_deg above the equator, bulge_A at elevation A degrees for A
+    in SHAPE_ANGLES (interpolated linearly between nodes; NaN inside the patch) and
+    edge_deg, the elevation of the patch's edge (the first point in contact from the
+    equator)."""
+    gap = gap or (lambda r, z: rho - z)
+    tol = 1e-9 * ro if tol is None else tol
+
+    def cut(c, s):  # the cut sphere's radius along the ray (c, s), by bisection
+        if gap(ro * c, ro * s) >= 0:
+            return ro
+        lo, hi = 0.0, ro  # gap > 0 at the centre, < 0 at ro
+        for _ in range(100):
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if gap(mid * c, mid * s) > 0 else (lo, mid)
+        return 0.5 * (lo + hi)
+    free = []
+    for r, z in pts:
+        if gap(r, z) < tol:
+            break
+        R = math.hypot(r, z)
+        free.append((math.degrees(math.atan2(z, r)), (R - cut(r / R, z / R)) / ro))
+    edge = (math.degrees(math.atan2(pts[len(free)][1], pts[len(free)][0]))
+            if len(free) < len(pts) else 90.0)
+    k = max(range(len(free)), key=lambda i: free[i][1])
+    m = min(range(len(free)), key=lambda i: free[i][1])
+    out = {"bulge_max": free[k][1], "bulge_max_deg": free[k][0], "bulge_min": free[m][1],
+           "bulge_min_deg": free[m][0], "edge_deg": edge}
+    for a in SHAPE_ANGLES:
+        out["bulge_%d" % a] = float("nan")
+        for (a1, b1), (a2, b2) in zip(free, free[1:]):
+            if a1 <= a <= a2 and a2 > a1:
+                out["bulge_%d" % a] = b1 + (b2 - b1) * (a - a1) / (a2 - a1)
+                break
+        if a == free[0][0]:
+            out["bulge_%d" % a] = free[0][1]
+    return out
+
+
 def contact_result(case, res):
-    """Force, contact patch radius and cavity volume change at the end of a contact run.
+    """Force, contact patch radius, cavity volume change and the free surface's shape at the
+    end of a contact run.
 
     force  whole-circle reaction on the indenter [N] (CalculiX prints a 2-degree segment's)
     patch  deformed radius of the outermost outer-surface node within the contact tolerance
            of the indenter (twice the penalty overclosure at the pressure, plus 1e-6 ro)
     dvol   cavity volume over the free-inflated sphere's (4/3 pi ri^3) minus 1
+    and surface_shape's keys for the outer meridian with the same tolerance
     """
     t, f = res[("total force", "IND")][-1]
     if abs(t - 1.0) > 1e-9:
@@ -310,11 +407,11 @@ def contact_result(case, res):
     rho = case.rho()
     kpen = case.penalty * (case.C1 + case.C2) / (case.Ro - case.Ri)
     tol = 2.0 * case.P / kpen + 1e-6 * ro
-    Rh = None if case.indenter == "plane" else float(case.indenter)
-    a = 0.0
-    for (r, z) in polyline(case, Uo, case.outer_nodes):
-        gap = rho - z if Rh is None else math.hypot(r, rho + Rh - z) - Rh
-        if gap < tol:
-            a = max(a, r)
+    outer = polyline(case, Uo, case.outer_nodes)
+    gap = lambda r, z: indenter_gap(case, r, z, rho)
+    a = max([r for r, z in outer if gap(r, z) < tol] + [0.0])
     V = 2.0 * cavity_volume(polyline(case, Ui, case.inner_nodes))
-    return {"force": F, "patch": a, "dvol": V / (4.0 / 3.0 * math.pi * ri ** 3) - 1.0}
+    out = {"force": F, "patch": a, "dvol": V / (4.0 / 3.0 * math.pi * ri ** 3) - 1.0,
+           "outer": outer}
+    out.update(surface_shape(outer, ro, rho, gap, tol))
+    return out

@@ -25,30 +25,33 @@ def f(x, n=4):
 
 
 def inflation():
-    print("| Ri/Ro | C2/C1 | λi | P (Pa) | P_IK(ri)/P − 1, meshes 2×10 / 4×20 / 8×40 | observed order |")
-    print("|---|---|---|---|---|---|")
+    print("| control | Ri/Ro | C2/C1 | λi | P (Pa) | P_IK(ri)/P − 1, meshes 2×10 / 4×20 / 8×40 | observed order |")
+    print("|---|---|---|---|---|---|---|")
     rows = [r for r in table("inflation.csv") if r["bulk_over_shear"] == "10000"]
     for i in range(0, len(rows), 4):
         g = rows[i:i + 4]
         if len(g) < 4 or g[3]["mesh"] != "rate":
             continue
-        print("| %s/%s | %s | %s | %s | %s | %s |" % (
-            f(g[0]["Ri_mm"]), f(g[0]["Ro_mm"]), f(float(g[0]["C2_pa"]) / float(g[0]["C1_pa"])),
-            g[0]["lambda_i_ik"], f(g[0]["P_pa"], 5),
+        print("| %s | %s/%s | %s | %s | %s | %s | %s |" % (
+            g[0].get("control", "pressure"), f(g[0]["Ri_mm"]), f(g[0]["Ro_mm"]),
+            f(float(g[0]["C2_pa"]) / float(g[0]["C1_pa"])), g[0]["lambda_i_ik"],
+            f(g[2]["P_pa"], 5),
             " / ".join("%.1e" % float(r["P_ik_at_ri_fem_over_P_minus_1"]) for r in g[:3]),
             f(g[3]["ri_fem_mm"], 2)))
 
 
 def d1():
-    print("| bulk/shear | P_IK(ri)/P − 1 |")
-    print("|---|---|")
+    print("| control | λi | bulk/shear | P_IK(ri)/P − 1 |")
+    print("|---|---|---|---|")
     seen = set()
     for r in table("inflation.csv"):
-        if (r["mesh"] == "8x40" and r["lambda_i_ik"] == "1.3" and r["Ri_mm"] == "27"
-                and r["C2_pa"] == "22000" and r["bulk_over_shear"] not in seen):
-            seen.add(r["bulk_over_shear"])
-            print("| %s | %.1e |" % (f(r["bulk_over_shear"]),
-                                     float(r["P_ik_at_ri_fem_over_P_minus_1"])))
+        key = (r.get("control", "pressure"), r["lambda_i_ik"], r["bulk_over_shear"])
+        if (r["mesh"] == "8x40" and r["Ri_mm"] == "27" and r["C2_pa"] == "22000"
+                and (key[0], key[1]) in (("pressure", "1.3"), ("displacement", "1.6"))
+                and key not in seen):
+            seen.add(key)
+            print("| %s | %s | %s | %.1e |" % (key[0], key[1], f(r["bulk_over_shear"]),
+                                               float(r["P_ik_at_ri_fem_over_P_minus_1"])))
 
 
 def membrane():
@@ -106,6 +109,35 @@ def sweep():
             f(r["patch_over_ro"], 3), f(r["volume_change"], 3)]))
 
 
+def shape():
+    rows = table("shape.csv")
+    angles = [k for k in (rows[0].keys() if rows else []) if k[6:].isdigit()]  # bulge_A
+    print("| case | δ/ro | F/(P·π·ro²) | patch edge (° above the equator) | largest bulge Δr/ro at (°), mm | most drawn in Δr/ro at (°), mm | Δr/ro at %s |"
+          % " / ".join(k[6:] + "°" for k in angles))
+    print("|---|---|---|---|---|---|---|")
+    for r in rows:
+        print("| %s |" % " | ".join([
+            r["tag"], f(r["delta_over_ro"]), f(r["F_over_P_pi_ro2"]), f(r["edge_deg"], 3),
+            "%s at %s°, %s" % (f(r["bulge_max"], 3), f(r["bulge_max_deg"], 2),
+                               f(r["bulge_max_mm"], 2)),
+            "%s at %s°, %s" % (f(r["bulge_min"], 3), f(r["bulge_min_deg"], 2),
+                               f(r["bulge_min_mm"], 2)),
+            " / ".join(f(r[k], 3) if r[k] else "patch" for k in angles)]))
+
+
+def tilt():
+    print("| tilt (°) | δ/ro | bulk/shear | t reached | δ/ro at t | F/(P·π·ro²), 3-D | axisymmetric | 3-D/axisymmetric − 1 | against tilt 0 at the same t | fitted law | 3-D/law − 1 | force to normal (°) | centre of pressure off the normal's foot /ro |")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    pc = lambda x: "—" if x in ("", "nan") else "%+.2f %%" % (100 * (float(x) - 1))
+    for r in table("tilt.csv"):
+        print("| %s |" % " | ".join([
+            f(r["tilt_deg"]), f(r["delta_over_ro"]), f(r["bulk_over_shear"]),
+            f(r["t_reached"]), f(r["delta_over_ro_at_t"], 3), f(r["F_over_P_pi_ro2"]),
+            f(r["F_axisymmetric"]),
+            pc(r["F_over_F_axisymmetric"]), pc(r["F_over_F_3d_tilt_0"]), f(r["F_law"]),
+            pc(r["F_over_F_law"]), f(r["angle_deg"], 2), f(r["offset_over_ro"], 3)]))
+
+
 if __name__ == "__main__":
     what = sys.argv[1] if len(sys.argv) > 1 else "all"
     if what in ("all", "inflation"):
@@ -118,3 +150,9 @@ if __name__ == "__main__":
         contact("contact_checks.csv", None)
     if what in ("all", "sweep"):
         sweep()
+    if what in ("all", "shape"):
+        shape()
+    if what in ("all", "thick"):
+        contact("thick.csv", None)
+    if what in ("all", "tilt"):
+        tilt()
