@@ -186,8 +186,8 @@ HP_API hp_error hp_load_rest(const hp_load_model *M, const double *P, const doub
 HP_API hp_error hp_load_predicted_sag(const hp_load_model *M, double *sag, double *k_gravity);
 
 /* The sag criterion: the load level when the predicted sag exceeds tol [m] (> 0), else the
- * kinematic levels. `auto` itself picks by the levels' model error (docs/load.md, "`auto`, `analyze`, `solve`");
- * this is the sag half of what `analyze` reports beside it. *use_load gets 1 or 0 and why (may be
+ * kinematic levels. `auto` itself picks by the levels' model error (docs/load.md,
+ * "`auto`, `analyze`, `solve`"); this is the sag half of what `analyze` reports beside it. *use_load gets 1 or 0 and why (may be
  * NULL, len bytes) one line saying so with the numbers, e.g. "load: predicted sag
  * 12.3 mm > tolerance 0.01 mm". */
 HP_API hp_error hp_load_auto_choose(const hp_load_model *M, double tol, int *use_load, double *sag,
