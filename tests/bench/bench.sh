@@ -296,8 +296,9 @@ bad_rows=$(awk -F, 'NR > 1 {
 # the pose the plan claims, its pressures rest there under that model (Newton's rest to
 # 1e-12 mm steps; 1e-6 mm leaves room for the plan's tolerance, 1e-9). Where it is not, the
 # claimed pose is an unstable equilibrium and the rest may leave it (own_mm inf), so no
-# relation is asserted there. Other levels have no own load model.
-bad_rows=$(awk -F, 'NR > 1 && $6 != "refused" && $6 != "error" {
+# relation is asserted there. Other levels have no own load model. Only answers are
+# measured (reached, closest, uncommanded): a plan that is no answer has neither.
+bad_rows=$(awk -F, 'NR > 1 && ($6 == "reached" || $6 == "closest" || $6 == "uncommanded") {
     if ($3 == "load" && $19 == 1 && !($18 + 0 <= 1e-6 && $18 != "inf")) print NR ": stable, own rest " $18
     if ($3 == "load" && $19 == -1) print NR ": stiffness unknown"
     if ($3 != "load" && ($18 != "nan" || $19 != -1)) print NR ": own columns on " $3 }' "$csv")
