@@ -26,6 +26,24 @@ import tempfile
 SEGMENT = 180.0  # whole circle / CalculiX's 2-degree axisymmetric segment
 
 
+def id_lines(ids):
+    """A CalculiX set's members, 12 to a line (the deck format's limit is 16)."""
+    return [",".join(map(str, ids[i:i + 12])) for i in range(0, len(ids), 12)]
+
+
+def rubber_section(C10, C01, D1):
+    """The shell's nearly incompressible Mooney-Rivlin material on the element set SHELL."""
+    return ["*MATERIAL,NAME=RUBBER", "*HYPERELASTIC,MOONEY-RIVLIN",
+            "%.10e,%.10e,%.10e" % (C10, C01, D1),
+            "*SOLID SECTION,ELSET=SHELL,MATERIAL=RUBBER"]
+
+
+def steel_section(elset):
+    """A rigid-enough steel body (an indenter or a plate) on the element set elset."""
+    return ["*MATERIAL,NAME=STEEL", "*ELASTIC", "2e11,0.3",
+            "*SOLID SECTION,ELSET=%s,MATERIAL=STEEL" % elset]
+
+
 def f_(lam):
     return -1.0 / lam - 0.25 / lam ** 4
 
@@ -134,17 +152,13 @@ class Case:
             sets["IND"] = [k for k, _ in ind["nodes"]]
         for name, ids in sets.items():
             L.append("*NSET,NSET=%s" % name)
-            L += [",".join(map(str, ids[i:i + 12])) for i in range(0, len(ids), 12)]
+            L += id_lines(ids)
         L.append("*ELSET,ELSET=INNEREL")
-        L += [",".join(map(str, inner_el[i:i + 12])) for i in range(0, len(inner_el), 12)]
-        L += ["*MATERIAL,NAME=RUBBER", "*HYPERELASTIC,MOONEY-RIVLIN",
-              "%.10e,%.10e,%.10e" % (C10, C01, D1),
-              "*SOLID SECTION,ELSET=SHELL,MATERIAL=RUBBER"]
+        L += id_lines(inner_el)
+        L += rubber_section(C10, C01, D1)
         if ind:
             # every indenter node is prescribed: a rigid body whose reaction is the force
-            L += ["*MATERIAL,NAME=STEEL", "*ELASTIC", "2e11,0.3",
-                  "*SOLID SECTION,ELSET=INDENTER,MATERIAL=STEEL",
-                  "*SURFACE,NAME=SOUT,TYPE=ELEMENT"]
+            L += steel_section("INDENTER") + ["*SURFACE,NAME=SOUT,TYPE=ELEMENT"]
             L += ["%d,S2" % e for e in outer_el]
             L.append("*SURFACE,NAME=SIND,TYPE=ELEMENT")
             L += ["%d,S1" % e for e in ind["face"]]

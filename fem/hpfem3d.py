@@ -195,14 +195,10 @@ class Case3D:
             sets.append(("IND", [k for k, _ in pn]))
         for name, ids in sets:
             L.append("*NSET,NSET=%s" % name)
-            L += [",".join(map(str, ids[i:i + 12])) for i in range(0, len(ids), 12)]
-        L += ["*MATERIAL,NAME=RUBBER", "*HYPERELASTIC,MOONEY-RIVLIN",
-              "%.10e,%.10e,%.10e" % (C10, C01, D1),
-              "*SOLID SECTION,ELSET=SHELL,MATERIAL=RUBBER"]
+            L += hpfem.id_lines(ids)
+        L += hpfem.rubber_section(C10, C01, D1)
         if pn:
-            L += ["*MATERIAL,NAME=STEEL", "*ELASTIC", "2e11,0.3",
-                  "*SOLID SECTION,ELSET=PLATE,MATERIAL=STEEL",
-                  "*SURFACE,NAME=SOUT,TYPE=ELEMENT"]
+            L += hpfem.steel_section("PLATE") + ["*SURFACE,NAME=SOUT,TYPE=ELEMENT"]
             # the slave surface: the outer faces within 55 degrees of the plane's normal
             # (the patch reaches 40 at tilt 20, delta/ro 0.18). small_sliding freezes the
             # pairing at the step's start: in CalculiX 2.20 that diverged at first touch
