@@ -119,6 +119,7 @@ static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hp_l
     *chosen = HP_LEVEL_AUTO;
     const double tol_mm = s->level_tolerance * 1e3, tol_deg = tol_mm * s->weight_mm_per_deg;
     candidate c[HP_LEVEL_COUNT_];
+    memset(c, 0, sizeof c); /* every field read is set below; zeros keep the rest defined */
     const int n = hpi_level_n_geometries + 1;
     hpi_fidelity_ref ref;
     hp_error e = hpi_fidelity_open(&p->L, &s->load, 0.0, &ref);
