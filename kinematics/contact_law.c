@@ -29,75 +29,109 @@ void hpi_claw_cap(double P, double ro, double rho, hp_claw *c)
 }
 
 /* Second-order forward derivatives in the law's three variables (P, ro, rho): a value
- * with its gradient and Hessian, so a formula written once gives exact derivatives. */
+ * with its gradient and Hessian, so a formula written once gives exact derivatives. o is
+ * the highest order carried (hp_claw_order): an operation carries the lower of its operands'
+ * orders and skips the rest (left unset), so a caller that needs no Hessian does not pay for
+ * one. What is carried is computed by the same operations in the same order whatever o is:
+ * the same bits. A constant carries every order (its derivatives are 0). */
 typedef struct hd {
     double v, g[3], h[3][3];
+    int o;
 } hd;
 
-static hd hd_const(double v)
+/* The arithmetic below is inlined into each order's entry (fem_value, fem_gradient,
+ * fem_hessian), where o is a constant: the tests on it fold away and the skipped orders cost
+ * nothing. Without the forced inlining the compiler keeps these as calls, and the run-time
+ * tests cost more than the Hessian they skip. */
+#if defined(__GNUC__)
+#define HD_INLINE static inline __attribute__((always_inline))
+#else
+#define HD_INLINE static inline
+#endif
+
+HD_INLINE hd hd_const(double v)
 {
     hd r;
     memset(&r, 0, sizeof r);
     r.v = v;
+    r.o = HP_CLAW_HESSIAN;
     return r;
 }
 
-static hd hd_var(double v, int i)
+HD_INLINE hd hd_var(double v, int i, int o)
 {
     hd r = hd_const(v);
     r.g[i] = 1.0;
+    r.o = o;
     return r;
 }
 
-static hd hd_lin(double a, hd x, double b, hd y) /* a·x + b·y */
+HD_INLINE int hd_min(int a, int b) { return a < b ? a : b; }
+
+/* r carrying order o, its value set: the orders it does not carry are cleared (stores the
+ * compiler drops once inlined, where nothing reads them), so that no copy of r reads an
+ * unset field. Returns whether r carries the gradient. */
+HD_INLINE int hd_begin(hd *r, int o, double v)
+{
+    r->o = o;
+    r->v = v;
+    if (o < HP_CLAW_HESSIAN)
+        for (int i = 0; i < 3; ++i)
+            for (int j = 0; j < 3; ++j) r->h[i][j] = 0.0;
+    if (o < HP_CLAW_GRADIENT)
+        for (int i = 0; i < 3; ++i) r->g[i] = 0.0;
+    return o >= HP_CLAW_GRADIENT;
+}
+
+HD_INLINE hd hd_lin(double a, hd x, double b, hd y) /* a·x + b·y */
 {
     hd r;
-    r.v = a * x.v + b * y.v;
-    for (int i = 0; i < 3; ++i) {
-        r.g[i] = a * x.g[i] + b * y.g[i];
+    if (!hd_begin(&r, hd_min(x.o, y.o), a * x.v + b * y.v)) return r;
+    for (int i = 0; i < 3; ++i) r.g[i] = a * x.g[i] + b * y.g[i];
+    if (r.o < HP_CLAW_HESSIAN) return r;
+    for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) r.h[i][j] = a * x.h[i][j] + b * y.h[i][j];
-    }
     return r;
 }
 
-static hd hd_scale(double a, hd x) { return hd_lin(a, x, 0.0, x); }
+HD_INLINE hd hd_scale(double a, hd x) { return hd_lin(a, x, 0.0, x); }
 
-static hd hd_mul(hd x, hd y)
+HD_INLINE hd hd_mul(hd x, hd y)
 {
     hd r;
-    r.v = x.v * y.v;
-    for (int i = 0; i < 3; ++i) {
-        r.g[i] = x.v * y.g[i] + y.v * x.g[i];
+    if (!hd_begin(&r, hd_min(x.o, y.o), x.v * y.v)) return r;
+    for (int i = 0; i < 3; ++i) r.g[i] = x.v * y.g[i] + y.v * x.g[i];
+    if (r.o < HP_CLAW_HESSIAN) return r;
+    for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
             r.h[i][j] = x.v * y.h[i][j] + y.v * x.h[i][j] + x.g[i] * y.g[j] + x.g[j] * y.g[i];
-    }
     return r;
 }
 
-static hd hd_chain(hd x, double f, double f1, double f2) /* f(x) given f, f', f'' at x */
+HD_INLINE hd hd_chain(hd x, double f, double f1, double f2) /* f(x) given f, f', f'' at x */
 {
     hd r;
-    r.v = f;
-    for (int i = 0; i < 3; ++i) {
-        r.g[i] = f1 * x.g[i];
+    if (!hd_begin(&r, x.o, f)) return r;
+    for (int i = 0; i < 3; ++i) r.g[i] = f1 * x.g[i];
+    if (r.o < HP_CLAW_HESSIAN) return r;
+    for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j) r.h[i][j] = f1 * x.h[i][j] + f2 * x.g[i] * x.g[j];
-    }
     return r;
 }
 
-static hd hd_inv(hd x) /* 1/x: f' = −1/x², f'' = 2/x³ */
+HD_INLINE hd hd_inv(hd x) /* 1/x: f' = −1/x², f'' = 2/x³ */
 {
     double f = 1.0 / x.v;
     return hd_chain(x, f, -f * f, 2.0 * f * f * f);
 }
 
-static hd hd_rsqrt(hd x) /* x^(−1/2): f' = −f/(2x), f'' = 3f/(4x²) */
+HD_INLINE hd hd_rsqrt(hd x) /* x^(−1/2): f' = −f/(2x), f'' = 3f/(4x²) */
 {
     double f = 1.0 / sqrt(x.v);
     return hd_chain(x, f, -0.5 * f / x.v, 0.75 * f / (x.v * x.v));
 }
 
-static hd hd_poly(hd x, const double *c, int n) /* c[0] + c[1]·x + ... + c[n−1]·x^(n−1) */
+HD_INLINE hd hd_poly(hd x, const double *c, int n) /* c[0] + c[1]·x + ... + c[n−1]·x^(n−1) */
 {
     hd r = hd_const(c[n - 1]);
     for (int k = n - 2; k >= 0; --k) r = hd_lin(1.0, hd_mul(r, x), 1.0, hd_const(c[k]));
@@ -113,11 +147,11 @@ typedef struct fem_parts {
     hd r, d, area, ps, w;
 } fem_parts;
 
-static fem_parts fem_parts_of(const hp_claw_bladder *b, double P, double ro, double rho)
+HD_INLINE fem_parts fem_parts_of(const hp_claw_bladder *b, double P, double ro, double rho, int o)
 {
     fem_parts f;
-    hd p = hd_var(P, HP_CLAW_P), q = hd_var(rho, HP_CLAW_RHO);
-    f.r = hd_var(ro, HP_CLAW_RO);
+    hd p = hd_var(P, HP_CLAW_P, o), q = hd_var(rho, HP_CLAW_RHO, o);
+    f.r = hd_var(ro, HP_CLAW_RO, o);
     hd inv_r = hd_inv(f.r);
     f.d = hd_lin(1.0, hd_const(1.0), -1.0, hd_mul(q, inv_r)); /* delta/ro = 1 − rho/ro */
     hd wall = hd_scale(b->wall, inv_r);                       /* wall/ro */
@@ -134,12 +168,14 @@ static fem_parts fem_parts_of(const hp_claw_bladder *b, double P, double ro, dou
     return f;
 }
 
-static void hd_out(hd F, hp_claw *c)
+/* F's value and the derivatives it carries into c; what it does not carry is NaN. */
+HD_INLINE void hd_out(hd F, hp_claw *c)
 {
     c->F = F.v;
     for (int i = 0; i < 3; ++i) {
-        c->d[i] = F.g[i];
-        for (int j = i; j < 3; ++j) c->d2[i][j] = c->d2[j][i] = F.h[i][j]; /* symmetric */
+        c->d[i] = F.o >= HP_CLAW_GRADIENT ? F.g[i] : NAN;
+        for (int j = i; j < 3; ++j) /* symmetric */
+            c->d2[i][j] = c->d2[j][i] = F.o >= HP_CLAW_HESSIAN ? F.h[i][j] : NAN;
     }
 }
 
@@ -161,25 +197,42 @@ static const double HI_[6] = {
 #undef BD
 
 /* pi·ro²·(P·s·g(d) + w·h(d)) for a pair of polynomials (g, h) */
-static hd fem_sum(const fem_parts *f, const double *g, int ng, const double *h, int nh)
+HD_INLINE hd fem_sum(const fem_parts *f, const double *g, int ng, const double *h, int nh)
 {
     hd v = hd_lin(1.0, hd_mul(f->ps, hd_poly(f->d, g, ng)), 1.0,
                   hd_mul(f->w, hd_poly(f->d, h, nh)));
     return hd_mul(f->area, v);
 }
 
+HD_INLINE void fem_to(const hp_claw_bladder *b, double P, double ro, double rho, int o, hp_claw *c)
+{
+    fem_parts f = fem_parts_of(b, P, ro, rho, o);
+    hd_out(fem_sum(&f, G_, 4, H_, 5), c);
+    /* W = integral of F over rho' from rho to ro = ro·(the same with G, H integrated in d);
+     * only its value is used, so its parts are evaluated without derivatives (same bits). */
+    fem_parts v = o == HP_CLAW_VALUE ? f : fem_parts_of(b, P, ro, rho, HP_CLAW_VALUE);
+    c->W = hd_mul(v.r, fem_sum(&v, GI_, 5, HI_, 6)).v;
+}
+
+static void fem_value(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
+{
+    fem_to(b, P, ro, rho, HP_CLAW_VALUE, c);
+}
+
+static void fem_gradient(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
+{
+    fem_to(b, P, ro, rho, HP_CLAW_GRADIENT, c);
+}
+
 void hpi_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
 {
-    fem_parts f = fem_parts_of(b, P, ro, rho);
-    hd_out(fem_sum(&f, G_, 4, H_, 5), c);
-    /* W = integral of F over rho' from rho to ro = ro·(the same with G, H integrated in d) */
-    c->W = hd_mul(f.r, fem_sum(&f, GI_, 5, HI_, 6)).v;
+    fem_to(b, P, ro, rho, HP_CLAW_HESSIAN, c);
 }
 
 /* dF/drho = −(1/ro)·pi·ro²·(P·s·G'(d) + w·H'(d)) (dd/drho = −1/ro). */
 static void fem_drho(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
 {
-    fem_parts f = fem_parts_of(b, P, ro, rho);
+    fem_parts f = fem_parts_of(b, P, ro, rho, HP_CLAW_HESSIAN);
     hd_out(hd_scale(-1.0, hd_mul(hd_inv(f.r), fem_sum(&f, G1_, 3, H1_, 4))), c);
     c->W = 0.0;
 }
@@ -224,11 +277,27 @@ void hpi_claw_bladder_of(const struct hp_iab *iab, const double semi[3], const d
     b->curv = h * h * h * (a2 + b2 + c2 - r2) / (2.0 * a2 * b2 * c2);
 }
 
+void hpi_claw_eval_to(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
+                      hp_claw_order o, hp_claw *c)
+{
+    if (law == HP_CLAW_LAW_FEM) {
+        if (o == HP_CLAW_VALUE) fem_value(b, P, ro, rho, c);
+        else if (o == HP_CLAW_GRADIENT) fem_gradient(b, P, ro, rho, c);
+        else hpi_claw_fem(b, P, ro, rho, c);
+        return;
+    }
+    hpi_claw_cap(P, ro, rho, c); /* a few products: computed whole, then trimmed to o */
+    for (int i = 0; i < 3; ++i) {
+        if (o < HP_CLAW_GRADIENT) c->d[i] = NAN;
+        for (int j = 0; j < 3; ++j)
+            if (o < HP_CLAW_HESSIAN) c->d2[i][j] = NAN;
+    }
+}
+
 void hpi_claw_eval(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
                    hp_claw *c)
 {
-    if (law == HP_CLAW_LAW_FEM) hpi_claw_fem(b, P, ro, rho, c);
-    else hpi_claw_cap(P, ro, rho, c);
+    hpi_claw_eval_to(law, b, P, ro, rho, HP_CLAW_HESSIAN, c);
 }
 
 void hpi_claw_eval_drho(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,

@@ -84,6 +84,15 @@ void hpi_claw_bladder_of(const struct hp_iab *iab, const double semi[3], const d
 void hpi_claw_eval(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
                    hp_claw *c);
 
+/* How much of the law a caller needs: F and W; also the gradient d; also the Hessian d2. */
+typedef enum hp_claw_order { HP_CLAW_VALUE = 0, HP_CLAW_GRADIENT, HP_CLAW_HESSIAN } hp_claw_order;
+
+/* hpi_claw_eval up to order o: what it computes has the same bits as hpi_claw_eval's (the
+ * fitted law skips the higher derivatives' arithmetic, most of its cost), what it does not
+ * is NaN. hpi_claw_eval is this at HP_CLAW_HESSIAN. */
+void hpi_claw_eval_to(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
+                      hp_claw_order o, hp_claw *c);
+
 /* The law's dF/drho as a function of (P, ro, rho), with its own exact first and second
  * derivatives in c->d and c->d2 (c->W is 0): what a caller needs to differentiate the
  * contact stiffness (−dF/drho along the normal) twice in P. */

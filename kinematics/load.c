@@ -145,6 +145,12 @@ void hpi_load_claw(const hp_load_model *M, int k, double P, double ro, double rh
     hpi_claw_eval(M->law, &M->claw[k], P, ro, rho, c);
 }
 
+void hpi_load_claw_to(const hp_load_model *M, int k, double P, double ro, double rho,
+                      hp_claw_order o, hp_claw *c)
+{
+    hpi_claw_eval_to(M->law, &M->claw[k], P, ro, rho, o, c);
+}
+
 void hpi_load_claw_drho(const hp_load_model *M, int k, double P, double ro, double rho, hp_claw *c)
 {
     hpi_claw_eval_drho(M->law, &M->claw[k], P, ro, rho, c);
@@ -166,8 +172,8 @@ hp_error hpi_load_claw_check(const hp_load_model *M, int k, double P, double ro,
 void hpi_load_law(const hp_load_model *M, int k, double P, double ro, double dro, double rho,
                   int right, hp_load_force *f)
 {
-    hp_claw c;
-    hpi_load_claw(M, k, P, ro, rho, &c);
+    hp_claw c; /* F, its gradient and W: no Hessian */
+    hpi_load_claw_to(M, k, P, ro, rho, HP_CLAW_GRADIENT, &c);
     int on = P > 0 && ro > rho;
     /* right: the derivatives of the contact branch also where the bladder just touches
      * (the one-sided derivative a planner needs to bring a bladder into contact). */

@@ -25,6 +25,10 @@ struct hp_load_model {
 /* Bladder k's contact law at (P, ro, rho): hpi_claw_eval with the model's law and bladder. */
 void hpi_load_claw(const hp_load_model *M, int k, double P, double ro, double rho, hp_claw *c);
 
+/* hpi_load_claw up to order o (hpi_claw_eval_to): for the callers that use no Hessian. */
+void hpi_load_claw_to(const hp_load_model *M, int k, double P, double ro, double rho,
+                      hp_claw_order o, hp_claw *c);
+
 /* Bladder k's dF/drho at (P, ro, rho) with its own derivatives: hpi_claw_eval_drho with the
  * model's law and bladder. */
 void hpi_load_claw_drho(const hp_load_model *M, int k, double P, double ro, double rho, hp_claw *c);

@@ -138,7 +138,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         if (!err) err = hp_iab_ro(b, x, &ro);
         if (err) return err;
         hp_claw law;
-        hpi_load_claw(M, k, Px, ro, rho, &law);
+        hpi_load_claw_to(M, k, Px, ro, rho, HP_CLAW_GRADIENT, &law); /* F and d only */
         double r = law.F - F;
         if (r > 0) c = x;
         else a = x;

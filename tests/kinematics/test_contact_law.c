@@ -449,15 +449,68 @@ static void test_load_domain_named(void **st)
     assert_int_equal(hpi_load_claw_check(&M, 2, P, ro, ro * 0.5, &d), HP_OK);
 }
 
+/* The cheaper evaluations (hpi_claw_eval_to: the value and W, or also the gradient) give the
+ * same bits as the full one for what they compute, and NaN for what they do not (so a
+ * caller reading a part it did not ask for fails loudly), under both laws, on a grid of the
+ * fitted law's domain with its edges: 5 points in each of P/C1, wall/ro, C2/C1, ro/Rh and
+ * delta/ro. Bit equality, not a tolerance: the parts are the same operations in the same
+ * order, only the unused higher derivatives are skipped. */
+static int same_bits(double a, double b) { return memcmp(&a, &b, sizeof a) == 0; }
+
+static void test_eval_orders_same_bits(void **st)
+{
+    (void)st;
+    const double ro = 0.0334;
+    int n = 0;
+    for (int i = 0; i < 5 * 5 * 5 * 5 * 5; ++i) {
+        double u[5];
+        for (int m = 0, r = i; m < 5; ++m, r /= 5) u[m] = (double)(r % 5) / 4.0;
+        hp_claw_bladder b;
+        b.C1 = 1.1e4;
+        b.C2 = b.C1 * (HP_CLAW_FIT_CMIN + (HP_CLAW_FIT_CMAX - HP_CLAW_FIT_CMIN) * u[0]);
+        b.wall = ro * (HP_CLAW_FIT_WMIN + (HP_CLAW_FIT_WMAX - HP_CLAW_FIT_WMIN) * u[1]);
+        b.curv = HP_CLAW_FIT_KMAX * u[2] / ro;
+        double P = b.C1 * (HP_CLAW_FIT_PMIN + (HP_CLAW_FIT_PMAX - HP_CLAW_FIT_PMIN) * u[3]);
+        double rho = ro * (1.0 - HP_CLAW_FIT_DMAX * u[4]);
+        assert_int_equal(hpi_claw_fem_domain(&b, P, ro, rho), HP_CLAW_IN);
+        for (int law = HP_CLAW_LAW_CAP; law <= HP_CLAW_LAW_FEM; ++law) {
+            hp_claw full;
+            hpi_claw_eval((hp_claw_law)law, &b, P, ro, rho, &full);
+            for (int o = HP_CLAW_VALUE; o <= HP_CLAW_HESSIAN; ++o) {
+                hp_claw c;
+                hpi_claw_eval_to((hp_claw_law)law, &b, P, ro, rho, (hp_claw_order)o, &c);
+                assert_true(same_bits(c.F, full.F));
+                assert_true(same_bits(c.W, full.W));
+                for (int j = 0; j < 3; ++j) {
+                    assert_true(o >= HP_CLAW_GRADIENT ? same_bits(c.d[j], full.d[j])
+                                                      : isnan(c.d[j]));
+                    for (int k = 0; k < 3; ++k)
+                        assert_true(o >= HP_CLAW_HESSIAN ? same_bits(c.d2[j][k], full.d2[j][k])
+                                                         : isnan(c.d2[j][k]));
+                }
+                ++n;
+            }
+        }
+    }
+    assert_int_equal(n, 3125 * 2 * 3);
+}
+
 int main(void)
 {
     const struct CMUnitTest t[] = {
-        cmocka_unit_test(test_cap_value),         cmocka_unit_test(test_cap_derivatives),
-        cmocka_unit_test(test_load_law_reads_it), cmocka_unit_test(test_fem_derivatives),
-        cmocka_unit_test(test_fem_domain),        cmocka_unit_test(test_fem_against_tables),
-        cmocka_unit_test(test_bladder_of),        cmocka_unit_test(test_load_law_fem),
-        cmocka_unit_test(test_load_domain_named), cmocka_unit_test(test_fem_shape),
-        cmocka_unit_test(test_fem_covers_scenes), cmocka_unit_test(test_drho),
+        cmocka_unit_test(test_cap_value),
+        cmocka_unit_test(test_cap_derivatives),
+        cmocka_unit_test(test_load_law_reads_it),
+        cmocka_unit_test(test_fem_derivatives),
+        cmocka_unit_test(test_fem_domain),
+        cmocka_unit_test(test_fem_against_tables),
+        cmocka_unit_test(test_bladder_of),
+        cmocka_unit_test(test_load_law_fem),
+        cmocka_unit_test(test_load_domain_named),
+        cmocka_unit_test(test_fem_shape),
+        cmocka_unit_test(test_fem_covers_scenes),
+        cmocka_unit_test(test_drho),
+        cmocka_unit_test(test_eval_orders_same_bits),
     };
     return cmocka_run_group_tests(t, NULL, NULL);
 }
