@@ -3,10 +3,10 @@
 ceiling = 1000
 # index, kinematic us, load us (realtime, ipopt, nlopt-slsqp), sag mm, unbounded
 $d << EOD
-0 1.36825 3197.2 13317.6 3360.52 1000 1
-1 2.904 nan nan nan 1000 1
-2 2.86675 295.964 4488.69 294.352 1000 1
-3 2.884 8669.24 78118 8751.72 1000 1
+0 1.3645 2897.6 13017.5 3025.74 1000 1
+1 2.864 nan nan nan 1000 1
+2 2.84925 236.876 4388.35 237.697 1000 1
+3 2.884 8002.24 75593.7 8040.87 1000 1
 EOD
 set xtics ("load_heavy" 0, "load_prone" 1, "load_supine" 2, "load_tilted" 3)
 
