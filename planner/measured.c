@@ -1,6 +1,6 @@
 /* Pressures the bladders hold now, from the caller: set_previous (exact, inside the limits)
- * and set_measured (a sensor's reading: clamped within a tolerance, fitted from the last
- * answer). */
+ * and set_measured (a sensor's reading: clamped within a tolerance, its radii and pose
+ * fitted from the last answer when something first needs them). */
 #include "planner/planner_internal.h"
 #include "kinematics/fit_internal.h"
 
@@ -135,8 +135,44 @@ hp_error hp_planner_set_measured(hp_planner *p, const double *pressures, unsigne
         P[k] = fmin(fmax(v, lo), hi);
         if (P[k] != v) mask |= 1u << k;
     }
-    hp_error e = p->load ? hpi_load_level_set_previous(p->load, P)
-                         : hpi_plan_previous_from(p, P, 1, "set_measured");
-    if (e == HP_OK && clamped) *clamped = mask;
-    return e;
+    if (p->load) {
+        hp_error e = hpi_load_level_set_previous(p->load, P);
+        if (e == HP_OK && clamped) *clamped = mask;
+        return e;
+    }
+    /* A reading no plan used is derived first: its radii and pose start this one's, as
+     * they did when every reading was derived at once (dropped when it has none). */
+    char err[HP_DIAG_MAX];
+    memcpy(err, p->err, sizeof err);
+    if (hpi_plan_measured_derive(p) != HP_OK) memcpy(p->err, err, sizeof err);
+    /* Most plans need no radius of the reading: the rate windows are centred on its
+     * pressures, and a plan the direct chain answers reads nothing else of it. Its radii
+     * and pose are derived when a solve, a hold or the safe output first needs them
+     * (hpi_plan_measured_derive), from the answer before it: the same bits as at once. */
+    memcpy(p->meas_P, P, (size_t)p->L.n * sizeof *P);
+    memcpy(p->pb.p_prev, P, (size_t)p->L.n * sizeof *P);
+    p->meas_pending = 1;
+    p->prev_checked = 0;
+    /* The next start is this reading's answer, not a backend's own last point. */
+    if (p->ops && p->ops->warm_point && p->bstate) p->ops->warm_point(p->bstate, 0);
+    if (clamped) *clamped = mask;
+    return HP_OK;
+}
+
+hp_error hpi_plan_measured_derive(hp_planner *p)
+{
+    if (!p->meas_pending) return HP_OK;
+    char held[HP_DIAG_MAX], why[HP_DIAG_MAX];
+    memcpy(held, p->err, sizeof held);
+    if (hpi_plan_previous_from(p, p->meas_P, 1, "set_measured") == HP_OK) return HP_OK;
+    /* Dropped: the previous answer is the one before the reading, its pressures the
+     * windows' centres again. */
+    p->meas_pending = 0;
+    for (int k = 0; k < p->L.n; ++k) p->pb.p_prev[k] = p->prev.bladders[k].pressure;
+    memcpy(why, p->err, sizeof why);
+    hpi_text_set(p->err, held);
+    if (*held) hpi_text_add(p->err, "; ");
+    hpi_text_add(p->err, why);
+    hpi_text_add(p->err, ": the reading is dropped");
+    return HP_ERR_INVALID;
 }

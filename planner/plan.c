@@ -38,6 +38,8 @@ typedef struct plan_ctx {
  * is already in p->err). */
 static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, const plan_ctx *c)
 {
+    /* A reading's answer, derived now (or dropped, said after the cause in p->err). */
+    (void)hpi_plan_measured_derive(p);
     double desired[6];
     memcpy(desired, res->desired, sizeof desired);
     *res = p->prev;
@@ -52,6 +54,17 @@ static hp_error fail_safe(hp_planner *p, hp_result *res, hp_status st, const pla
     p->note_pending = 0;
     res->solve_time = hpi_plan_now() - (c ? c->t0 : res->solve_time);
     return HP_OK;
+}
+
+/* The previous answer's radii and pose, for a step that starts from them: a reading of
+ * set_measured is derived here when pending. Returns 1, or 0 with res labelled (the
+ * reading has no radius or pose: dropped, the safe output the answer before it). */
+static int previous_ready(hp_planner *p, hp_result *res, plan_ctx *c)
+{
+    if (hpi_plan_measured_derive(p) == HP_OK) return 1;
+    hpi_text_add(p->err, "; holding the previous pressures");
+    fail_safe(p, res, HP_STATUS_INVALID_INPUT, c);
+    return 0;
 }
 
 /* "STATUS: the BACKEND backend did not converge within solver.max_iter = N iterations" (or
@@ -184,6 +197,7 @@ static int rate_pinned(const hp_planner *p)
  * Returns 1 with c set, or 0 with res labelled (safe output). */
 static int hold(hp_planner *p, hp_result *res, plan_ctx *c)
 {
+    if (!previous_ready(p, res, c)) return 0;
     double rho[HP_MAX_BLADDERS], ss = 0.0;
     if (hpi_setup_contact_scaled(&p->L, &p->G, p->level, p->x_prev, rho, NULL) != HP_OK)
         ss = INFINITY;
@@ -226,6 +240,7 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c, int cold)
         x0 = xcold;
     }
     c->warm = x0 == p->x_prev;
+    if (c->warm && !previous_ready(p, res, c)) return 0;
     p->diag.text[0] = '\0';
     hp_error e = p->ops->solve(p->bstate, &p->pb, x0, p->x_work, &br, &p->diag);
     if (br.status == HP_STATUS_INFEASIBLE_START && x0 != p->x_prev) {
@@ -233,6 +248,7 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c, int cold)
          * nominal pose) while the program is feasible: the previous answer meets this
          * cycle's rate windows, which are centred on its pressures. Try from there before
          * calling the limits contradictory. */
+        if (!previous_ready(p, res, c)) return 0;
         hp_backend_result b2 = {.status = HP_STATUS_SOLVER_ERROR};
         p->diag.text[0] = '\0';
         e = p->ops->solve(p->bstate, &p->pb, p->x_prev, p->x_work, &b2, &p->diag);

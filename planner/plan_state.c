@@ -32,9 +32,10 @@ int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rh
     for (int k = 0; k < p->L.n; ++k) {
         const hp_bladder *B = &p->L.bladders[k];
         double plo = p->sb.p_lo[k], phi = p->sb.p_hi[k];
+        /* The windows' centres: the previous pressures (a reading's, derived or not). */
         if (p->s.use_rate_limits && isfinite(B->rate_max)) {
-            plo = fmax(plo, p->prev.bladders[k].pressure - B->rate_max);
-            phi = fmin(phi, p->prev.bladders[k].pressure + B->rate_max);
+            plo = fmax(plo, p->pb.p_prev[k] - B->rate_max);
+            phi = fmin(phi, p->pb.p_prev[k] + B->rate_max);
         }
         int c = clamped[k];
         hp_bladder_result *br = &res->bladders[k];
@@ -73,6 +74,7 @@ void hpi_plan_set_previous_answer(hp_planner *p, const hp_result *r)
 {
     if (r != &p->prev) p->prev = *r;
     p->prev_checked = 1; /* hp_planner_set_previous clears it after this call */
+    p->meas_pending = 0;
     hpi_plan_to_scaled(r->achieved, p->x_prev);
     for (int k = 0; k < p->L.n; ++k) p->x_prev[6 + k] = r->bladders[k].ri * HP_MM_PER_M;
     for (int k = 0; k < p->L.n; ++k) p->pb.p_prev[k] = r->bladders[k].pressure;

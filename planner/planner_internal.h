@@ -84,6 +84,11 @@ struct hp_planner {
      * matrix factored at the first reading; lin_fit_tried: prepared (or refused) once. */
     int lin_fit_tried;
     hp_kin_linear_fit lin_fit;
+    /* A reading of set_measured whose radii and pose are not derived yet (measured.c):
+     * its pressures, already the rate windows' centres (pb.p_prev), while prev still holds
+     * the answer they are derived from. */
+    int meas_pending;
+    double meas_P[HP_MAX_BLADDERS];
     /* The contact model at the nominal pose (fit starts). Last, and its warm states last
      * in it: when they grew from 64 to 512 bytes in the middle, padding main's structs the
      * same way (a placebo, no code change) made plans 2.5 % slower at every level, a
@@ -149,13 +154,20 @@ int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rh
                               hp_result *res, double *clamp_mm);
 
 /* Makes r the previous answer: the safe output, the rate limits' origin and the next
- * solve's start point. */
+ * solve's start point (a pending reading is forgotten). */
 void hpi_plan_set_previous_answer(hp_planner *p, const hp_result *r);
 /* The previous answer from pressures P inside [p_lo, p_hi] (measured.c): radii by the FK
  * (started at the previous answer's radii when warm), the pose by a fit from the nominal
  * pose (cold) or from the previous answer's pose (warm; the nominal one when that does not
  * converge). who starts the message of a refusal. HP_OK or HP_ERR_INVALID. */
 hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const char *who);
+/* Derives a pending reading of set_measured (meas_pending) into the previous answer, as
+ * hpi_plan_previous_from(p, meas_P, 1, "set_measured"); nothing when none is pending.
+ * Called by whatever reads the previous answer's radii or pose. When the reading has no
+ * stable radius or no pose, it is dropped (the previous answer and the rate windows'
+ * centres are those before it) and p->err says why, after what it held ("; " between).
+ * HP_OK or HP_ERR_INVALID. */
+hp_error hpi_plan_measured_derive(hp_planner *p);
 /* TEST-ONLY count (inert): the closed-form pressure evaluations the bladder FK spent in
  * hpi_plan_previous_from in this process so far. */
 unsigned long hpi_test_measured_fk_evals(void);

@@ -387,10 +387,16 @@ HP_API hp_error hp_planner_set_previous(hp_planner *p, const double *pressures);
  * HP_MEASURED_TOL_REL·(p_max − p_min) is clamped onto that limit and reported in *clamped
  * (bit k for bladder k; clamped may be NULL), not refused. One farther beyond, or not
  * finite: HP_ERR_INVALID naming the bladder in hp_planner_error, and nothing changes. The
- * pose stated for them is the forward contact kinematics' fit started from the previous
- * answer's pose (a few steps for a reading near the last plan; from the nominal pose when
- * that start does not converge), the radii solved from the previous answer's. Allocates
- * nothing. */
+ * pressures become the next plan's rate windows' centres at once. The pose stated for them
+ * is the forward contact kinematics' fit started from the previous answer's pose (a few
+ * steps for a reading near the last plan; from the nominal pose when that start does not
+ * converge), the radii solved from the previous answer's; both are derived when first
+ * needed (a solve's start, a hold, the safe output, or the next reading when no plan used
+ * this one), the same bits as at once; a plan the direct chain answers needs neither.
+ * Should a reading have no stable radius or no pose there, it is dropped (the answer before
+ * it stays the previous answer and the windows' centres) and the plan that needed it
+ * returns INVALID_INPUT with that safe output, the reading named in hp_planner_error.
+ * Allocates nothing. */
 HP_API hp_error hp_planner_set_measured(hp_planner *p, const double *pressures, unsigned *clamped);
 
 /* Makes a result the previous answer, as if hp_plan had just returned it, from its fields

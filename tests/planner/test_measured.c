@@ -11,10 +11,14 @@
  * - the next plan's rate windows are centred on the taken pressures;
  * - in a control loop (a plan, its pressures read back with ±3 Pa of noise, and again) each
  *   reading's radii are the cold FK's of the reading (hp_iab_fk) to 2 ulps, and the FK,
- *   started from the previous answer, spends few closed-form evaluations (counted). */
+ *   started from the previous answer, spends few closed-form evaluations (counted);
+ * - a reading's radii and pose are derived only when something needs them: set_measured
+ *   evaluates no bladder FK, a plan the direct chain answers none either, and every plan
+ *   and safe output is bit for bit what it is when they are derived at once. */
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
 #include "support/load_fixture.h"
+#include "support/same_result.h"
 #include "planner/planner_internal.h"
 
 static hp_planner *planner(hp_level level, double rate)
@@ -183,7 +187,7 @@ static void test_load_level_readings(void **state)
  * pressures read back with ±3 Pa of noise. Every reading inside the limits (clamped ones
  * apart) gives the radii of the cold FK of the reading (hp_iab_fk, no start) within 2 ulps
  * (the root to rounding: the start changes the steps only), and the FK evaluations per
- * bladder are counted (hpi_test_measured_fk_evals; a function of the seeded loop alone). */
+ * bladder, spent when the safe output asks for the reading's radii, are counted (hpi_test_measured_fk_evals; a function of the seeded loop alone). */
 static void test_loop_readings(void **state)
 {
     (void)state;
@@ -206,9 +210,9 @@ static void test_loop_readings(void **state)
             unsigned clamped = 0;
             unsigned long e0 = hpi_test_measured_fk_evals();
             assert_int_equal(hp_planner_set_measured(p, P, &clamped), HP_OK);
+            previous(p, &r); /* derives the reading's radii */
             evals += hpi_test_measured_fk_evals() - e0;
             fks += (unsigned long)L->n;
-            previous(p, &r);
             for (int k = 0; k < L->n; ++k) {
                 if (clamped & (1u << k)) continue;
                 double cold;
@@ -228,6 +232,100 @@ static void test_loop_readings(void **state)
     assert_true(per_fk <= 3.5);
 }
 
+/* One cycle's reading: the plan's pressures with ±3 Pa of noise, except that a bladder the
+ * plan left on one of its static bounds reads half the tolerance beyond it, as a sensor at
+ * a limit reads (clamped and reported). */
+static void reading(hp_planner *p, const hp_result *r, uint64_t *seed, double *P)
+{
+    const hp_layout *L = hp_planner_layout(p);
+    double lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
+    assert_int_equal(hp_planner_pressure_bounds(p, lo, hi), HP_OK);
+    for (int k = 0; k < L->n; ++k) {
+        double tol = HP_MEASURED_TOL_REL * (L->bladders[k].p_max - L->bladders[k].p_min);
+        P[k] = r->bladders[k].pressure + 3.0 * lf_uniform(seed);
+        if (r->bladders[k].pressure == hi[k]) P[k] = hi[k] + 0.5 * tol;
+        if (r->bladders[k].pressure == lo[k]) P[k] = lo[k] - 0.5 * tol;
+    }
+}
+
+/* The reading's radii and pose are derived when first needed, exactly as they were at
+ * once. Two planners run the same loop at every contact level (a seeded target held 30
+ * cycles, then another, so that the 500 Pa rate limits bind; noisy readings, some a hair
+ * beyond a limit, every fifth cycle a second reading before the plan): one asks for its
+ * previous answer right after each reading (the safe output of a refused plan, which needs
+ * the radii and pose then: the derivation at once), the other plans at once. Every plan of
+ * the two, their clamp reports and the last safe output are the same bits. set_measured
+ * evaluates no bladder FK unless a reading no plan used is still underived (the second
+ * reading: the first one's radii start the second's FK, as they did), and neither does a
+ * plan the direct chain answers (reached, no solver iteration, no limit binding). */
+static void test_lazy_readings_same_bits(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    for (int l = 0; l < 3; ++l) {
+        hp_planner *eager = planner(levels[l], 500.0), *lazy = planner(levels[l], 500.0);
+        uint64_t seed = 0x1a2b + (uint64_t)l;
+        double mm_deg[6] = {0}, d[6];
+        hp_result re, rl;
+        long direct = 0, none_in_set = 0, solved = 0, clamped_n = 0;
+        unsigned long set_evals = 0, direct_evals = 0;
+        for (int t = 0; t < 240; ++t) {
+            if (t % 30 == 0)
+                for (int i = 0; i < 6; ++i) mm_deg[i] = (i < 3 ? 3.0 : 2.0) * lf_uniform(&seed);
+            lf_pose(mm_deg, d);
+            assert_int_equal(hp_plan(eager, d, &re), HP_OK);
+            unsigned long e0 = hpi_test_measured_fk_evals();
+            assert_int_equal(hp_plan(lazy, d, &rl), HP_OK);
+            unsigned long plan_evals = hpi_test_measured_fk_evals() - e0;
+            if (!hp_test_same_result(&re, &rl))
+                fail_msg("%s cycle %d: the plans differ (status %s / %s)", hp_level_name(levels[l]),
+                         t, hp_status_name(re.status), hp_status_name(rl.status));
+            unsigned binding = 0;
+            for (int k = 0; k < rl.n; ++k) binding |= rl.bladders[k].binding;
+            if (rl.status == HP_STATUS_REACHED && rl.iterations == 0 && !binding) {
+                ++direct;
+                direct_evals += plan_evals;
+            } else {
+                solved += plan_evals > 0;
+            }
+            for (int twice = 0; twice < 1 + (t % 5 == 4); ++twice) {
+                double P[HP_MAX_BLADDERS];
+                reading(lazy, &rl, &seed, P);
+                unsigned ce = 0, cl = 0;
+                assert_int_equal(hp_planner_set_measured(eager, P, &ce), HP_OK);
+                previous(eager, &re);
+                e0 = hpi_test_measured_fk_evals();
+                assert_int_equal(hp_planner_set_measured(lazy, P, &cl), HP_OK);
+                unsigned long ev = hpi_test_measured_fk_evals() - e0;
+                assert_int_equal(ce, cl);
+                clamped_n += cl != 0;
+                if (!twice) {
+                    set_evals += ev;
+                    none_in_set += ev == 0;
+                } else {
+                    assert_true(ev > 0); /* the first reading derived now, from its start */
+                }
+            }
+        }
+        hp_result pe, pl;
+        previous(eager, &pe);
+        previous(lazy, &pl);
+        assert_true(hp_test_same_result(&pe, &pl));
+        print_message("%s: %ld direct plans (%lu FK evaluations in them), %ld plans that "
+                      "derived a reading, %ld readings clamped, %lu FK evaluations in "
+                      "set_measured (%ld of 240 readings none)\n",
+                      hp_level_name(levels[l]), direct, direct_evals, solved, clamped_n, set_evals,
+                      none_in_set);
+        assert_true(set_evals == 0);
+        assert_true(direct_evals == 0);
+        assert_true(direct >= 60); /* the loop exercises both kinds of plan */
+        assert_true(solved >= 10);
+        assert_true(clamped_n >= 20);
+        hp_planner_destroy(eager);
+        hp_planner_destroy(lazy);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -235,6 +333,7 @@ int main(void)
         cmocka_unit_test(test_readings_at_and_beyond_limits),
         cmocka_unit_test(test_load_level_readings),
         cmocka_unit_test(test_loop_readings),
+        cmocka_unit_test(test_lazy_readings_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

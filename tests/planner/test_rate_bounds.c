@@ -15,6 +15,7 @@
  *    rate limits bind). */
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
+#include "support/same_result.h"
 #include "planner/problem_setup.h"
 #include "common/units.h"
 
@@ -203,23 +204,6 @@ static void test_memo_chain_equals_cold_reference(void **state)
     assert_true(per_solve <= 5.0);
 }
 
-/* 1 when two results carry the same bits in every field a caller reads (solve_time aside;
- * memcmp of the whole struct would compare padding). */
-static int same_result(const hp_result *a, const hp_result *b)
-{
-#define SAME(f) (memcmp(&a->f, &b->f, sizeof a->f) == 0)
-    if (!(SAME(status) && SAME(raw_code) && SAME(backend) && SAME(level) && SAME(desired) &&
-          SAME(achieved) && SAME(commanded) && SAME(uncommanded) && SAME(pose_error) && SAME(n) &&
-          SAME(iterations)))
-        return 0;
-    for (int k = 0; k < a->n; ++k)
-        if (!(SAME(bladders[k].ri) && SAME(bladders[k].ro) && SAME(bladders[k].pressure) &&
-              SAME(bladders[k].stretch) && SAME(bladders[k].binding)))
-            return 0;
-#undef SAME
-    return 1;
-}
-
 /* A chain of seeded corrections at one level: step_mm / step_deg the largest change per
  * axis from one to the next. Plans with a deferring planner and with one that solves the
  * bounds first; returns the plans that solved no rate bound. */
@@ -248,7 +232,7 @@ static int chain(hp_level level, double rate, double step_mm, double step_deg, i
         hpi_test_rate_lazy(1);
         for (int k = 0; k < ra.n; ++k)
             *binding += (ra.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP)) != 0;
-        if (!same_result(&ra, &rb)) {
+        if (!hp_test_same_result(&ra, &rb)) {
             print_error("%s plan %d: deferred and eager bounds answer differently (%s / %s)\n",
                         hp_level_name(level), t, hp_status_name(ra.status),
                         hp_status_name(rb.status));
@@ -304,7 +288,7 @@ static void test_held_answer_reuses_its_bounds(void **state)
             unsigned long before = hpi_test_rate_bound_solves();
             assert_int_equal(hp_plan(p, d, &r), HP_OK);
             assert_int_equal(r.status, HP_STATUS_CLOSEST);
-            int repeat = t > 0 && same_result(&r, &last);
+            int repeat = t > 0 && hp_test_same_result(&r, &last);
             if (t >= 40) solves += hpi_test_rate_bound_solves() - before;
             if (repeat && t >= 40) held += hpi_test_rate_bound_solves() - before, ++same;
             last = r;
