@@ -478,21 +478,6 @@ static int interior_point(hp_horizon_rh *rh)
     return -1;
 }
 
-/* The allowance the applied row's hp_plan gets for a bladder holding p [Pa] whose rate limit
- * is delta [Pa]: delta less one ulp of the window's end. The planner's window is
- * [p − delta, p + delta] as rounded, and a rounded end can lie half an ulp of p + delta
- * beyond |P − p| <= delta (seen on the drift trace: |ΔP| 61.200000000000216 Pa against an
- * allowance of 61.200000000000188 Pa, a plan that ended on the limit). One ulp inside, a
- * rounded end is within the allowance, and so is P − p formed in floating point. An
- * allowance below that ulp (a bladder that can only hold its pressure) is passed as it is:
- * the planner pins such a bladder at p. */
-static double inward_allowance(double p, double delta)
-{
-    if (!isfinite(delta)) return delta;
-    double end = fabs(p) + delta, d = delta - (nextafter(end, INFINITY) - end);
-    return d > 0 ? d : delta;
-}
-
 /* The predicted desired poses of rows 0..N−1 and their rate limits (row 0: dt0). */
 static void predict(hp_horizon_rh *rh, double dt0)
 {
@@ -658,7 +643,6 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
     }
     double delta[HP_MAX_BLADDERS];
     hpi_horizon_row_rates(rh->rate_scene, rh->n, &rh->hs, dt0, delta);
-    for (int k = 0; k < rh->n; ++k) delta[k] = inward_allowance(rh->p_now[k], delta[k]);
     hp_error e = hp_planner_set_rate_max(rh->p, delta);
     if (e == HP_OK) e = hp_plan(rh->p, target, result);
     if (e != HP_OK) return e;

@@ -47,6 +47,9 @@
  * A solve whose every outer-radius window is narrower starts from the widest window
  * instead (cobyla_step). */
 #define COBYLA_INITIAL_STEP 1.0
+/* The floor of a COBYLA constraint's scale [mm] (cobyla_scale): a window narrower than the
+ * binding tolerance is a held bladder, not a range to resolve. */
+#define COBYLA_SCALE_MIN HP_BINDING_TOL_MM
 
 typedef struct nlopt_state {
     nlopt_opt opt;
@@ -55,6 +58,8 @@ typedef struct nlopt_state {
     hp_settings s;
     const hp_problem *pb; /* during a solve only */
     int eval_failed;
+    /* COBYLA: each bladder's constraints are divided by this [mm] (cobyla_scale). */
+    double csc[HP_MAX_BLADDERS];
 } nlopt_state;
 
 /* Test-only hooks (planner/backend_testing.h): inert unless a test sets them. */
@@ -172,8 +177,8 @@ static void reduced_constraints(unsigned m, double *c, unsigned n6, const double
         return;
     }
     for (int k = 0; k < pb->n; k++) {
-        c[2 * k] = pb->ro_lo[k] - rho[k];
-        c[2 * k + 1] = rho[k] - pb->ro_hi[k];
+        c[2 * k] = (pb->ro_lo[k] - rho[k]) / st->csc[k];
+        c[2 * k + 1] = (rho[k] - pb->ro_hi[k]) / st->csc[k];
     }
 }
 
@@ -183,6 +188,15 @@ static hp_error nl(nlopt_result r, const char *what, hp_diag *d)
 {
     if (r < 0) return hp_diag_set(d, HP_ERR_SOLVER, "nlopt: %s failed (%d)", what, (int)r);
     return HP_OK;
+}
+
+/* The tolerance of each contact constraint handed to NLopt [mm]. NLopt's SLSQP returns the
+ * best *feasible* point it met, feasible meaning |c_k| <= tol_k: below ~1e-10 mm (3 ulp-ish
+ * of rounding in ρ and ro near 30 mm, amplified by the linearisation error of each step) no
+ * iterate may qualify and it hands back the start point. Hence the floor. */
+static double contact_tol(const hp_settings *s)
+{
+    return fmax(fmin(s->tolerance, HP_NLOPT_SOLVE_TOL_MAX), HP_NLOPT_CONTACT_TOL_MIN);
 }
 
 static hp_error create_common(void **state, const hp_problem *pb, const hp_settings *s, hp_diag *d,
@@ -206,13 +220,10 @@ static hp_error create_common(void **state, const hp_problem *pb, const hp_setti
         free(st);
         return hp_diag_set(d, HP_ERR_NOMEM, "nlopt: nlopt_create failed");
     }
-    /* NLopt's SLSQP returns the best *feasible* point it met, feasible meaning |c_k| <= tol_k:
-     * below ~1e-10 mm (3 ulp-ish of rounding in ρ and ro near 30 mm, amplified by the
-     * linearisation error of each step) no iterate may qualify and it hands back the start
-     * point. Hence the floor. */
     const double stol = fmin(s->tolerance, HP_NLOPT_SOLVE_TOL_MAX);
     double tol[2 * HP_MAX_BLADDERS];
-    for (int k = 0; k < 2 * HP_MAX_BLADDERS; k++) tol[k] = fmax(stol, HP_NLOPT_CONTACT_TOL_MIN);
+    for (int k = 0; k < 2 * HP_MAX_BLADDERS; k++) tol[k] = contact_tol(s);
+    for (int k = 0; k < HP_MAX_BLADDERS; k++) st->csc[k] = 1.0;
     double xtol[HP_PROBLEM_NX_MAX];
     for (int i = 0; i < HP_PROBLEM_NX_MAX; i++) xtol[i] = stol;
     int evals_per_iter = reduced ? COBYLA_EVALS_PER_ITER : SLSQP_EVALS_PER_ITER;
@@ -269,6 +280,38 @@ static double cobyla_step(const hp_problem *pb)
     double widest = 0.0;
     for (int k = 0; k < pb->n; k++) widest = fmax(widest, pb->ro_hi[k] - pb->ro_lo[k]);
     return widest > 0.0 ? fmin(COBYLA_INITIAL_STEP, widest) : COBYLA_INITIAL_STEP;
+}
+
+/* COBYLA's constraint scales for pb: each bladder's pair divided by its outer-radius window
+ * [mm] when that is narrower than 1 mm (floored at COBYLA_SCALE_MIN), with its tolerance
+ * divided alike (the same contact tolerance in mm). COBYLA weighs constraint values against
+ * the objective's in its merit function and linear models; under rate limits of about 1e-2 Pa
+ * the windows are ~1e-5 mm wide, and unscaled constraint values of that size against an
+ * objective of order 1 let it wander: one plan at a 0.0112 Pa rate took 2321 evaluations and
+ * ended at a point the planner's first-order check refused, where scaled it takes 99 (and the
+ * largest of test_rate_window's 160 COBYLA plans 787, within its 1400). Windows of 1 mm and
+ * more (no rate limit binds that tight) keep scale 1: the program is the one without it.
+ * The constraints are handed to NLopt again only when a scale changed. */
+static hp_error cobyla_scale(nlopt_state *st, const hp_problem *pb, hp_diag *d)
+{
+    double sc[HP_MAX_BLADDERS];
+    int changed = 0;
+    for (int k = 0; k < pb->n; k++) {
+        sc[k] = fmin(1.0, fmax(pb->ro_hi[k] - pb->ro_lo[k], COBYLA_SCALE_MIN));
+        changed |= sc[k] != st->csc[k];
+    }
+    if (!changed) return HP_OK;
+    double tol[2 * HP_MAX_BLADDERS];
+    for (int k = 0; k < pb->n; k++) {
+        st->csc[k] = sc[k];
+        tol[2 * k] = tol[2 * k + 1] = contact_tol(&st->s) / sc[k];
+    }
+    hp_error e = nl(nlopt_remove_inequality_constraints(st->opt), "remove constraints", d);
+    if (e == HP_OK)
+        e = nl(nlopt_add_inequality_mconstraint(st->opt, 2u * (unsigned)pb->n, reduced_constraints,
+                                                st, tol),
+               "add constraints", d);
+    return e;
 }
 
 static hp_status map_result(nlopt_result r, int *converged)
@@ -386,7 +429,8 @@ static hp_error nlopt_solve(void *state, const hp_problem *pb, const double *x0,
         if ((e = nl(nlopt_set_lower_bounds(st->opt, lb), "set_lower_bounds", d)) ||
             (e = nl(nlopt_set_upper_bounds(st->opt, ub), "set_upper_bounds", d)) ||
             (st->reduced &&
-             (e = nl(nlopt_set_initial_step1(st->opt, cobyla_step(pb)), "set_initial_step", d))))
+             ((e = nl(nlopt_set_initial_step1(st->opt, cobyla_step(pb)), "set_initial_step", d)) ||
+              (e = cobyla_scale(st, pb, d)))))
             return e;
     }
     double v[HP_PROBLEM_NX_MAX];

@@ -358,7 +358,7 @@ static int closest_program(const hp_load_level *p, const double desired[6], cons
 }
 
 /* This plan's bounds: the pressure, stretch and limit-point bounds, cut by each bladder's
- * rate_max around the previous pressures when the settings use rate limits and a previous
+ * rate window (hpi_rate_window) around the previous pressures when the settings use rate limits and a previous
  * pressure is known (a plan, hp_planner_set_previous or hp_planner_set_previous_result gave one). prev_P is always
  * inside the static bounds, so the cut box is never empty. */
 static void plan_bounds(hp_load_level *p)
@@ -370,12 +370,14 @@ static void plan_bounds(hp_load_level *p)
         p->elo_bind[k] = p->lo_bind[k];
         p->ehi_bind[k] = p->hi_bind[k];
         if (!p->set.use_rate_limits || !p->have_prev || !isfinite(b->rate_max)) continue;
-        if (p->prev_P[k] - b->rate_max > p->elo[k]) {
-            p->elo[k] = p->prev_P[k] - b->rate_max;
+        double wl, wh;
+        hpi_rate_window(p->prev_P[k], b->rate_max, &wl, &wh);
+        if (wl > p->elo[k]) {
+            p->elo[k] = wl;
             p->elo_bind[k] = HP_BIND_RATE_DOWN;
         }
-        if (p->prev_P[k] + b->rate_max < p->ehi[k]) {
-            p->ehi[k] = p->prev_P[k] + b->rate_max;
+        if (wh < p->ehi[k]) {
+            p->ehi[k] = wh;
             p->ehi_bind[k] = HP_BIND_RATE_UP;
         }
     }

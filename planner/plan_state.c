@@ -34,8 +34,10 @@ int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rh
         double plo = p->sb.p_lo[k], phi = p->sb.p_hi[k];
         /* The windows' centres: the previous pressures (a reading's, derived or not). */
         if (p->s.use_rate_limits && isfinite(B->rate_max)) {
-            plo = fmax(plo, p->pb.p_prev[k] - B->rate_max);
-            phi = fmin(phi, p->pb.p_prev[k] + B->rate_max);
+            double wl, wh;
+            hpi_rate_window(p->pb.p_prev[k], B->rate_max, &wl, &wh);
+            plo = fmax(plo, wl);
+            phi = fmin(phi, wh);
         }
         int c = clamped[k];
         hp_bladder_result *br = &res->bladders[k];

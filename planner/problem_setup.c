@@ -234,7 +234,8 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
         /* The rate bounds solved and their outer radii (hp_iab_ro's bits, from the solve). */
         double r_r[2] = {NAN, NAN}, ro_r[2] = {NAN, NAN};
         if (use_rate && p_prev && isfinite(B->rate_max)) {
-            double r, pl = p_prev[k] - B->rate_max, ph = p_prev[k] + B->rate_max;
+            double r, pl, ph;
+            hpi_rate_window(p_prev[k], B->rate_max, &pl, &ph);
             if (pl > b->p_lo[k]) {
                 if (rate_bound(b, k, pl, 1, memo, &r, &ro_r[0]))
                     take_max(&lo, &lof, r_r[0] = r, HP_BIND_RATE_DOWN);
@@ -288,7 +289,8 @@ int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const do
     for (int k = 0; k < L->n; ++k) {
         double rate = L->bladders[k].rate_max, P = br[k].pressure, m = b->rate_slack[k];
         if (!isfinite(rate)) continue;
-        double pl = p_prev[k] - rate, ph = p_prev[k] + rate;
+        double pl, ph;
+        hpi_rate_window(p_prev[k], rate, &pl, &ph);
         /* The same tests as hpi_setup_cycle_bounds for whether a window end is a bound. */
         if (pl > b->p_lo[k] && !(P >= pl + m)) return 0;
         if (ph < b->p_hi[k] && !(P <= ph - m)) return 0;

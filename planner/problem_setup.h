@@ -41,6 +41,22 @@ static inline double hpi_setup_rate_slack(double slope)
     return isfinite(slope) ? slope * 2e-3 * HP_BINDING_TOL_MM + 1e-6 : INFINITY;
 }
 
+/* The one home of a rate window: the pressures a plan may reach from prev [Pa] under a rate
+ * limit rate [Pa], [prev − rate, prev + rate] with each end rounded inward: lo the least
+ * double with fl(prev − lo) <= rate, hi the greatest with fl(hi − prev) <= rate. fl(P − prev)
+ * is monotone in P, so every P in [lo, hi] keeps fabs(P − prev) <= rate as a caller computes
+ * it; a plainly rounded end can lie half an ulp of prev ± rate beyond (fl(fl(prev + rate) −
+ * prev) > rate), so a plan ending on it would break the limit it was given by ~1e-14 Pa.
+ * prev itself is always inside. One or two ulps move each end; rate may be +inf. */
+static inline void hpi_rate_window(double prev, double rate, double *lo, double *hi)
+{
+    double l = prev - rate, h = prev + rate;
+    while (prev - l > rate) l = nextafter(l, INFINITY);
+    while (h - prev > rate) h = nextafter(h, -INFINITY);
+    *lo = l;
+    *hi = h;
+}
+
 /* 1 when every bladder's pressure br[k].pressure lies more than its rate slack inside the rate window
  * around p_prev[k] on each side where that window is tighter than the static pressure
  * bounds: then the answer those pressures came from (a direct chain inside the static

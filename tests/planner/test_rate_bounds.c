@@ -1,7 +1,8 @@
 /* The rate limits' radius bounds, and what a plan pays for them.
  *
  * 1. hpi_setup_cycle_bounds gives, bit for bit, the bounds of the cold reference written out
- *    here from the public bladder API alone: each window end's radius by hp_iab_fk_limit
+ *    here from the public bladder API alone: each window end (rounded inward, so that
+ *    fabs(P − p_prev) <= rate holds as computed) and its radius by hp_iab_fk_limit
  *    from no start, then moved inward by the nudge (steps of 1e-16 of the radius, doubling)
  *    until hp_iab_ik puts its pressure inside the window, intersected with the static
  *    bounds (the tighter wins, equal ones keep both flags). A seeded sweep of previous
@@ -46,7 +47,10 @@ static int ref_bounds(const hp_layout *L, const hp_static_bounds *sb, int k, dou
     *hi = sb->ri_hi[k];
     *lof = sb->lo_flags[k];
     *hif = sb->hi_flags[k];
+    /* The window's ends rounded inward: fabs(P − p_prev) <= rate as computed for each. */
     double pl = p_prev - rate, ph = p_prev + rate;
+    while (p_prev - pl > rate) pl = nextafter(pl, INFINITY);
+    while (ph - p_prev > rate) ph = nextafter(ph, -INFINITY);
     if (pl > sb->p_lo[k]) {
         if (hp_iab_fk_limit(&B->iab, &sb->limit[k], pl, &r) != HP_OK ||
             !ref_nudge(&B->iab, &r, pl, 1))

@@ -11,10 +11,15 @@
  * pressure <= 0) is out of reach whatever the rates. Seeded: per backend, 5 levels (linear,
  * plane, surface, auto, load; nlopt-cobyla does not plan the load level and is refused by
  * name) x 10 starts x a chain of 4 corrections (each from the planner's own previous
- * answer) = 200 plans. */
+ * answer) = 200 plans.
+ *
+ * A plan that ends on a window end keeps |P − P_prev| <= rate_max as computed in floating
+ * point, at every backend and level: the window's ends are rounded inward, so a rounded
+ * end never lies half an ulp beyond the allowance (test_window_end_within_rate). */
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
 #include "support/load_fixture.h"
+#include "planner/problem_setup.h"
 
 #define N_PLANS 10
 #define N_CHAIN 4
@@ -123,10 +128,105 @@ static void test_every_backend_answers(void **st)
     assert_int_equal(failed, 0);
 }
 
+/* A rate in [40, 80) Pa for which the plainly rounded window ends around P lie beyond it in
+ * floating point: fl(fl(P + r) − P) > r and fl(P − fl(P − r)) > r (half an ulp of P beyond,
+ * as the horizon's drift trace met at 61.2 Pa); both when a few thousand draws find such a
+ * rate, else one, else neither (a sum that is exact cannot overshoot: |P| small against r).
+ * Seeded. */
+static double overshooting_rate(uint64_t *s, double P)
+{
+    for (int i = 0; i < 100000; ++i) {
+        double r = 60.0 + 20.0 * lf_uniform(s);
+        int up = (P + r) - P > r, down = P - (P - r) > r;
+        if (up && down) return r;
+        if ((i >= 4000 && (up || down)) || i >= 20000) return r;
+    }
+    return NAN;
+}
+
+/* Every backend at every level it plans: from a start's pressures, rates chosen so that
+ * both plainly rounded window ends overshoot, then corrections far beyond the windows (every
+ * bladder ends on a window end or a static limit), a chain of 4 from the planner's own
+ * answers. Every returned pressure P must satisfy fabs(P − P_prev) <= rate, as computed. */
+static void test_window_end_within_rate(void **st)
+{
+    (void)st;
+    const hp_level levels[4] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE, HP_LEVEL_LOAD};
+    long over = 0, on_end = 0, plans = 0;
+    for (int b = 0; b < HP_BACKEND_COUNT_; ++b) {
+        for (int l = 0; l < 4; ++l) {
+            uint64_t s = SEED + 31u * (uint64_t)l;
+            double x0[6], d[6], P0[HP_MAX_BLADDERS], rate[HP_MAX_BLADDERS];
+            random_pose(&s, 1.0, x0);
+            pressures_of(levels[l], x0, P0);
+            hp_planner *p = limited((hp_backend)b, levels[l], INFINITY);
+            if (!p) continue; /* refused by name */
+            assert_int_equal(hp_planner_set_previous(p, P0), HP_OK);
+            const int n = hp_planner_layout(p)->n;
+            for (int c = 0; c < N_CHAIN; ++c) {
+                for (int k = 0; k < n; ++k) rate[k] = overshooting_rate(&s, P0[k]);
+                assert_int_equal(hp_planner_set_rate_max(p, rate), HP_OK);
+                random_pose(&s, 3.0, d);
+                for (int i = 0; i < 6; ++i) d[i] += x0[i];
+                hp_result r;
+                assert_int_equal(hp_plan(p, d, &r), HP_OK);
+                ++plans;
+                for (int k = 0; k < n; ++k) {
+                    double P = r.bladders[k].pressure;
+                    on_end += (r.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP)) != 0;
+                    if (!(fabs(P - P0[k]) <= rate[k])) {
+                        ++over;
+                        print_error("%s, %s level, plan %d, bladder %d (%s): |P - P_prev| = "
+                                    "%.17g Pa > rate %.17g Pa\n",
+                                    hp_backend_name((hp_backend)b), hp_level_name(levels[l]), c, k,
+                                    hp_status_name(r.status), fabs(P - P0[k]), rate[k]);
+                    }
+                }
+                for (int k = 0; k < n; ++k) P0[k] = r.bladders[k].pressure;
+            }
+            hp_planner_destroy(p);
+        }
+    }
+    print_message("%ld plans, %ld bladders on a rate window's end, %ld beyond the rate\n", plans,
+                  on_end, over);
+    assert_true(on_end >= 100);
+    assert_int_equal(over, 0);
+}
+
+/* hpi_rate_window over seeded previous pressures (uniform in ±10 kPa) and rates
+ * (log-uniform 1e-3 Pa .. 20 kPa): each end keeps fabs(end − prev) <= rate as computed, is
+ * the outermost double that does (the next one out breaks it, or the end is the plain
+ * rounding of prev ± rate), and prev lies inside. The plain ends break the property on a
+ * good share of the draws (counted: that is what the inward rounding is for). */
+static void test_window_ends_inward(void **st)
+{
+    (void)st;
+    uint64_t s = SEED;
+    long plain_over = 0;
+    const int n = 100000;
+    for (int i = 0; i < n; ++i) {
+        double prev = 1e4 * lf_uniform(&s), rate = pow(10.0, 0.65 + 3.65 * lf_uniform(&s));
+        double lo, hi, pl = prev - rate, ph = prev + rate;
+        hpi_rate_window(prev, rate, &lo, &hi);
+        assert_true(fabs(lo - prev) <= rate && fabs(hi - prev) <= rate);
+        assert_true(lo <= prev && prev <= hi);
+        assert_true(lo == pl || !(fabs(nextafter(lo, -INFINITY) - prev) <= rate));
+        assert_true(hi == ph || !(fabs(nextafter(hi, INFINITY) - prev) <= rate));
+        plain_over += !(fabs(pl - prev) <= rate) || !(fabs(ph - prev) <= rate);
+    }
+    double lo, hi;
+    hpi_rate_window(5.0, INFINITY, &lo, &hi);
+    assert_true(lo == -INFINITY && hi == INFINITY);
+    print_message("%ld of %d plainly rounded windows have an end beyond the rate\n", plain_over, n);
+    assert_true(plain_over > n / 20);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_backend_answers),
+        cmocka_unit_test(test_window_ends_inward),
+        cmocka_unit_test(test_window_end_within_rate),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
