@@ -9,8 +9,11 @@
 #include <string.h>
 
 static atomic_ulong fk_evals;
+static atomic_int refuse_next;
 
 unsigned long hpi_test_measured_fk_evals(void) { return atomic_load(&fk_evals); }
+
+void hpi_test_measured_refuse(int on) { atomic_store(&refuse_next, on); }
 
 hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const char *who)
 {
@@ -164,7 +167,11 @@ hp_error hpi_plan_measured_derive(hp_planner *p)
     if (!p->meas_pending) return HP_OK;
     char held[HP_DIAG_MAX], why[HP_DIAG_MAX];
     memcpy(held, p->err, sizeof held);
-    if (hpi_plan_previous_from(p, p->meas_P, 1, "set_measured") == HP_OK) return HP_OK;
+    if (atomic_load(&refuse_next)) {
+        hpi_text_set(p->err, "set_measured: refused by the test hook");
+    } else if (hpi_plan_previous_from(p, p->meas_P, 1, "set_measured") == HP_OK) {
+        return HP_OK;
+    }
     /* Dropped: the previous answer is the one before the reading, its pressures the
      * windows' centres again. */
     p->meas_pending = 0;

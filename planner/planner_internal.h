@@ -171,6 +171,9 @@ hp_error hpi_plan_measured_derive(hp_planner *p);
 /* TEST-ONLY count (inert): the closed-form pressure evaluations the bladder FK spent in
  * hpi_plan_previous_from in this process so far. */
 unsigned long hpi_test_measured_fk_evals(void);
+/* TEST-ONLY hook (inert unless a test sets it): while on, hpi_plan_measured_derive finds no
+ * radius or pose for a pending reading (as a reading with none), so the drop is tested. */
+void hpi_test_measured_refuse(int on);
 
 /* Writes a pending CLOSEST note (note_pending) into p->note; nothing otherwise. */
 void hpi_plan_note_flush(hp_planner *p);

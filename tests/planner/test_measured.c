@@ -326,6 +326,62 @@ static void test_lazy_readings_same_bits(void **state)
     }
 }
 
+/* A reading whose radii or pose cannot be derived (forced by the test hook, as one with no
+ * stable radius or no pose) is dropped when a plan first needs it: that plan returns
+ * INVALID_INPUT with the answer before the reading as its safe output, bit for bit, and the
+ * reading named after the plan's own cause; the next plan's windows are centred on that
+ * answer's pressures again. A plan the direct chain answers needs no derivation, so it is
+ * answered even then. */
+static void test_reading_dropped(void **state)
+{
+    (void)state;
+    hp_planner *p = planner(HP_LEVEL_PLANE, 500.0);
+    const hp_layout *L = hp_planner_layout(p);
+    double d[6], P[HP_MAX_BLADDERS];
+    hp_result r0, r, q;
+    lf_pose((const double[6]){0.3, 0, 0, 0, 0, 0}, d);
+    assert_int_equal(hp_plan(p, d, &r0), HP_OK);
+    assert_int_equal(r0.status, HP_STATUS_REACHED);
+    for (int k = 0; k < L->n; ++k) P[k] = r0.bladders[k].pressure + 2.0;
+    /* A far correction: the solver runs (its start is the reading's answer). */
+    assert_int_equal(hp_planner_set_measured(p, P, NULL), HP_OK);
+    hpi_test_measured_refuse(1);
+    lf_pose((const double[6]){4.0, 0, 0, 3.0, 0, 0}, d);
+    assert_int_equal(hp_plan(p, d, &r), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_INVALID_INPUT);
+    assert_non_null(strstr(hp_planner_error(p), "the reading is dropped"));
+    for (int k = 0; k < L->n; ++k) {
+        assert_true(r.bladders[k].pressure == r0.bladders[k].pressure);
+        assert_true(r.bladders[k].ri == r0.bladders[k].ri);
+    }
+    assert_memory_equal(r.achieved, r0.achieved, sizeof r.achieved);
+    /* The safe output of a refused request: the plan's cause first, then the reading. */
+    assert_int_equal(hp_planner_set_measured(p, P, NULL), HP_OK);
+    previous(p, &q);
+    assert_non_null(strstr(hp_planner_error(p), "desired"));
+    assert_non_null(strstr(hp_planner_error(p), "; set_measured: "));
+    for (int k = 0; k < L->n; ++k) assert_true(q.bladders[k].pressure == r0.bladders[k].pressure);
+    /* A direct answer needs no derivation: reached, from the reading's windows. */
+    assert_int_equal(hp_planner_set_measured(p, P, NULL), HP_OK);
+    lf_pose((const double[6]){0.31, 0, 0, 0, 0, 0}, d);
+    assert_int_equal(hp_plan(p, d, &r), HP_OK);
+    assert_int_equal(r.status, HP_STATUS_REACHED);
+    hpi_test_measured_refuse(0);
+    /* A reading dropped after that direct answer: the windows are centred on the answer
+     * again, so a far plan moves no pressure more than 500 Pa from it. */
+    assert_int_equal(hp_planner_set_measured(p, P, NULL), HP_OK);
+    hpi_test_measured_refuse(1);
+    lf_pose((const double[6]){4.0, 0, 0, 3.0, 0, 0}, d);
+    assert_int_equal(hp_plan(p, d, &q), HP_OK);
+    hpi_test_measured_refuse(0);
+    assert_int_equal(q.status, HP_STATUS_INVALID_INPUT);
+    assert_int_equal(hp_plan(p, d, &q), HP_OK);
+    assert_true(q.status == HP_STATUS_CLOSEST || q.status == HP_STATUS_REACHED);
+    for (int k = 0; k < L->n; ++k)
+        assert_true(fabs(q.bladders[k].pressure - r.bladders[k].pressure) <= 500.0);
+    hp_planner_destroy(p);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -334,6 +390,7 @@ int main(void)
         cmocka_unit_test(test_load_level_readings),
         cmocka_unit_test(test_loop_readings),
         cmocka_unit_test(test_lazy_readings_same_bits),
+        cmocka_unit_test(test_reading_dropped),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
