@@ -99,6 +99,12 @@ int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_
     return cli_load_scene_text(cmd, path, study_msg, out, NULL, NULL);
 }
 
+void cli_scene_set_correction(hp_scene *sc, const double desired[6])
+{
+    memcpy(sc->correction, desired, sizeof sc->correction);
+    sc->has_correction = 1;
+}
+
 int cli_settings(const char *cmd, const hp_scene *sc, const char *backend, const char *level,
                  hp_settings *s)
 {
