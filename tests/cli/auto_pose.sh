@@ -4,7 +4,8 @@
 # nominal pose linear meets model.tolerance_mm 0.35, at the scene's correction (a 3 deg
 # pitch) no contact level does and the load level does. The reason names the pose, and its
 # numbers are checked against a direct measurement (solve --level L at the same correction,
-# its model_error). analyze (the scene's correction) gives solve's reason word for word. A
+# its model_error). analyze (the scene's correction) gives solve's reason word for word, and
+# batch records it with the pose in its metadata. A
 # correction outside the identifiable range is refused naming auto_pose. No timing.
 source "$2/tests/cli_lib.sh"
 F="$HP_SRC/tests/scene/auto_pose.yaml"
@@ -60,6 +61,15 @@ run analyze "$F"
 expect_exit 0 "analyze"
 got=$(sed -n 's/^auto  *//p' "$TMP/out" | grep -v '^picks')
 [ "$got" = "$why" ] && ok || bad "analyze: auto '$got', solve '$why'"
+
+# batch resolves auto once, at the scene's correction (the rows are planned at that level):
+# its metadata records the pose and the reason, solve's word for word.
+printf '# headplan-trace: rows=correction\nt_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,0,0,0,1,0,0\n' >"$TMP/one.csv"
+run batch "$F" "$TMP/one.csv" --no-times --no-progress -o "$TMP/b.csv"
+expect_exit 0 "batch"
+grep -qx "# level: load" "$TMP/b.csv" && ok || bad "batch: not load"
+grep -qx "# level_choice: $why" "$TMP/b.csv" && ok || bad "batch: level_choice not solve's"
+grep -qx "# auto_pose_mm_deg: 0,0,0,3,0,0" "$TMP/b.csv" && ok || bad "batch: auto_pose_mm_deg"
 
 # A correction auto cannot measure at (outside the identifiable range: a 100 deg pitch of an
 # ellipsoid) is refused at create, the setting named.
