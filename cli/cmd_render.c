@@ -335,7 +335,10 @@ int cmd_render(int argc, char **argv)
     if ((rc = cli_load_scene(CMD, a.scene, NULL, &sc))) return rc;
     if (a.correction) {
         hp_pose_from_clinical(clin, desired);
-        cli_scene_set_correction(sc, desired);
+        if ((rc = cli_scene_set_correction(CMD, sc, desired))) {
+            free(sc);
+            return rc;
+        }
     } else if (sc->has_correction) memcpy(desired, sc->correction, sizeof desired);
     hp_settings s;
     if ((rc = cli_kinematic_only(CMD, sc, a.level,

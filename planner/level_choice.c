@@ -8,6 +8,7 @@
 #include "planner/model_error.h"
 #include "planner/nominal.h"
 #include "planner/plan_range.h"
+#include "planner/settings_check.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -265,8 +266,7 @@ hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hpi_p
         hp_identifiable id;
         char err[HP_DIAG_MAX];
         if (!is_nominal(s->auto_pose) && hp_layout_identify(&p->L, &id) == HP_OK &&
-            !hpi_plan_range_ok(&id, s->auto_pose, "auto_pose (the correction auto measures at)",
-                               err))
+            !hpi_plan_range_ok(&id, s->auto_pose, HPI_AUTO_POSE_NAME, err))
             return hp_diag_set(d, HP_ERR_INVALID, "%s", err);
         hp_level chosen = HP_LEVEL_AUTO;
         hp_error e = auto_by_model_error(p, layout, plan_at, &chosen, p->level_why,

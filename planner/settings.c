@@ -109,7 +109,7 @@ hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
      * (hp_planner_create, where auto measures there). */
     int i = hpi_plan_pose_out_of_range(s->auto_pose);
     if (i >= 0)
-        return hp_diag_set(d, HP_ERR_INVALID, "auto_pose %s: %s (got %g %s)",
+        return hp_diag_set(d, HP_ERR_INVALID, HPI_AUTO_POSE_NAME " %s: %s (got %g %s)",
                            hpi_pose_component_names[i],
                            isfinite(s->auto_pose[i]) ? HP_PLAN_RANGE_TEXT : "not finite",
                            s->auto_pose[i], i < 3 ? "m" : "rad");

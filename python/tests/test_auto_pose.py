@@ -54,7 +54,8 @@ def test_bad_auto_pose_refused(scene, i):
                      (2000.0 if i < 3 else 200.0, "out of range")):
         pose = [0.0] * 6
         pose[i] = bad
-        with pytest.raises(headplan.Error, match=rf"^auto_pose {name}: {why}"):
+        with pytest.raises(headplan.Error,
+                           match=rf"^auto_pose \(the correction auto measures at\) {name}: {why}"):
             headplan.Planner(scene, auto_pose=pose)
 
 

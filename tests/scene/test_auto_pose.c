@@ -143,9 +143,9 @@ static void test_auto_pose_checked(void **state)
             t.auto_pose[i] = j < 2 ? bad[j] : i < 3 ? -1.5 : 4.0;
             hp_diag d = {{0}};
             assert_int_equal(hp_settings_validate(&t, &d), HP_ERR_INVALID);
-            char want[64];
-            snprintf(want, sizeof want, "auto_pose %s: %s", names[i],
-                     j < 2 ? "not finite" : "out of range (|translation| <= 1 m");
+            char want[128];
+            snprintf(want, sizeof want, "auto_pose (the correction auto measures at) %s: %s",
+                     names[i], j < 2 ? "not finite" : "out of range (|translation| <= 1 m");
             has(d.text, want);
             hp_planner *p = NULL;
             assert_int_equal(hp_planner_create(&sc->layout, &t, &p, &d), HP_ERR_INVALID);
