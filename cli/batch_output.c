@@ -348,6 +348,15 @@ void batch_sink_meta(batch_sink *k, const batch_meta *m)
     cli_fmt(tol, m->s->tolerance);
     cli_fmt(tmax, m->s->max_time);
     cli_fmt(w, m->s->weight_mm_per_deg);
+    /* auto_pose in a correction's units: "x,y,z,pitch,roll,yaw" (mm, degrees) */
+    char ap[6 * CLI_FMT_MAX];
+    double cp[6];
+    hp_pose_to_clinical(m->s->auto_pose, cp);
+    ap[0] = '\0';
+    for (int i = 0; i < 6; ++i) {
+        char one[CLI_FMT_MAX];
+        strcat(strcat(ap, i ? "," : ""), cli_fmt(one, cp[i]));
+    }
     /* key, value, 1 when the value is a number (JSON); a NULL value is JSON null and, in a
      * CSV comment, the entry's `none` text */
     static const char *const not_file = "none (not a regular file)";
@@ -375,6 +384,7 @@ void batch_sink_meta(batch_sink *k, const batch_meta *m)
         {"rate_limits", m->s->use_rate_limits ? "true" : "false", 1, NULL},
         {"warm_start", m->s->warm_start ? "true" : "false", 1, NULL},
         {"restarts", rst, 1, NULL},
+        {"auto_pose_mm_deg", ap, 0, NULL},
     };
     const size_t nm = sizeof meta / sizeof meta[0];
     FILE *f = k->f;

@@ -99,6 +99,20 @@ int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_
     return cli_load_scene_text(cmd, path, study_msg, out, NULL, NULL);
 }
 
+int cli_scene_set_correction(const char *cmd, hp_scene *sc, const double desired[6])
+{
+    memcpy(sc->correction, desired, sizeof sc->correction);
+    sc->has_correction = 1;
+    if (!sc->has_load) return 0; /* hp_scene_settings makes auto_pose of a load scene's only */
+    hp_settings s;               /* auto_pose's own check, the rest at its defaults */
+    hp_settings_default(&s);
+    memcpy(s.auto_pose, desired, sizeof s.auto_pose);
+    hp_diag d = {{0}};
+    if (hp_settings_validate(&s, &d) != HP_OK)
+        return cli_fail(CLI_EXIT_DATAERR, cmd, "--correction: %s", d.text);
+    return 0;
+}
+
 int cli_settings(const char *cmd, const hp_scene *sc, const char *backend, const char *level,
                  hp_settings *s)
 {

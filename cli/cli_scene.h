@@ -29,6 +29,14 @@ int cli_load_scene(const char *cmd, const char *path, const char *study_msg, hp_
 int cli_load_scene_text(const char *cmd, const char *path, const char *study_msg, hp_scene **out,
                         char **bytes, size_t *nbytes);
 
+/* A correction given on the command line (--correction, SI) becomes the scene's, so that
+ * what the scene decides from it follows the correction planned: the settings' auto_pose
+ * (hp_scene_settings: where auto measures the levels' model error, for a scene with a load)
+ * and the level analyze and render report (hp_scene_plan_level). Prints and returns 65 when
+ * the settings refuse it as auto_pose (not finite, beyond 1 m or pi rad), naming
+ * --correction; else 0. */
+int cli_scene_set_correction(const char *cmd, hp_scene *sc, const double desired[6]);
+
 /* Settings from the scene's model and solver sections, then the command-line overrides
  * (backend/level: NULL = keep the scene's). Prints and returns 64 for an unknown name given
  * on the command line, 65 for one in the scene; 0 on success. */

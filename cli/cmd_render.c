@@ -333,8 +333,13 @@ int cmd_render(int argc, char **argv)
     if (a.correction && (rc = cli_doubles(CMD, "--correction", a.correction, 6, clin))) return rc;
     hp_scene *sc = NULL;
     if ((rc = cli_load_scene(CMD, a.scene, NULL, &sc))) return rc;
-    if (a.correction) hp_pose_from_clinical(clin, desired);
-    else if (sc->has_correction) memcpy(desired, sc->correction, sizeof desired);
+    if (a.correction) {
+        hp_pose_from_clinical(clin, desired);
+        if ((rc = cli_scene_set_correction(CMD, sc, desired))) {
+            free(sc);
+            return rc;
+        }
+    } else if (sc->has_correction) memcpy(desired, sc->correction, sizeof desired);
     hp_settings s;
     if ((rc = cli_kinematic_only(CMD, sc, a.level,
                                  "give --level surface (or plane, linear) to draw the plan "

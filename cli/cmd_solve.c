@@ -206,6 +206,10 @@ int cmd_solve(int argc, char **argv)
     double desired[6];
     if (a.correction) {
         hp_pose_from_clinical(corr_clin, desired);
+        if ((rc = cli_scene_set_correction(CMD, sc, desired))) {
+            free(sc);
+            return rc;
+        }
     } else if (sc->has_correction) {
         memcpy(desired, sc->correction, sizeof desired);
     } else {

@@ -7,6 +7,8 @@
 #include "kinematics/names.h"
 #include "planner/model_error.h"
 #include "planner/nominal.h"
+#include "planner/plan_range.h"
+#include "planner/settings_check.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -49,20 +51,31 @@ static void contact_why(const hp_planner *p, hp_level chosen, char *why, size_t 
              exact ? "" : "; ", exact ? "" : name, exact ? "" : "'s meets it");
 }
 
-/* One candidate of auto by model error: its error at the nominal pose against the reference
- * (model_error.h), a contact level's geometry bound over the auto range [mm], and its
- * tolerance-scaled size (<= 1 meets the tolerance; +inf without a rest; NaN not measured). */
+/* One candidate of auto by model error: its error at auto_pose against the reference
+ * (model_error.h), whether its plan there was the closest answer, a contact level's geometry
+ * bound over the auto range [mm], and its tolerance-scaled size (<= 1 meets the tolerance;
+ * +inf without a rest; NaN not measured). */
 typedef struct candidate {
     hp_level level;
     hpi_fidelity_result m;
+    int closest;
     double bound_mm;
     double scaled;
 } candidate;
 
-/* The load level's plan of the nominal pose on a load level of its own (the planner's is
- * built after the level is known), measured against ref. 0 when measured. */
+/* A plan's pressures at its claimed pose against ref, into x. */
+static void measure_result(const hpi_fidelity_ref *ref, const hp_result *r, candidate *x)
+{
+    double P[HP_MAX_BLADDERS];
+    for (int k = 0; k < r->n; ++k) P[k] = r->bladders[k].pressure;
+    hpi_fidelity_measure(ref, P, r->achieved, &x->m);
+    x->closest = r->status == HP_STATUS_CLOSEST;
+}
+
+/* The load level's plan of auto_pose on a load level of its own (the planner's is built
+ * after the level is known), measured against ref. 0 when measured. */
 static int measure_load(const hp_planner *p, const hp_layout *layout, const hpi_fidelity_ref *ref,
-                        hpi_fidelity_result *m)
+                        candidate *x)
 {
     hp_settings s = p->s;
     s.level = HP_LEVEL_LOAD;
@@ -75,13 +88,10 @@ static int measure_load(const hp_planner *p, const hp_layout *layout, const hpi_
     if (L && err && ops) {
         err[0] = '\0';
         hp_result r;
-        const double zero[6] = {0};
         if (hpi_load_level_model(L, layout, &s, NULL) == HP_OK &&
             hpi_load_level_build(L, &s, ops, err, NULL) == HP_OK &&
-            hpi_load_level_plan(L, zero, &r) == HP_OK && hpi_fidelity_answered(r.status)) {
-            double P[HP_MAX_BLADDERS];
-            for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure;
-            hpi_fidelity_measure(ref, P, r.achieved, m);
+            hpi_load_level_plan(L, s.auto_pose, &r) == HP_OK && hpi_fidelity_answered(r.status)) {
+            measure_result(ref, &r, x);
             rc = 0;
         }
     }
@@ -90,30 +100,82 @@ static int measure_load(const hp_planner *p, const hp_layout *layout, const hpi_
     return rc;
 }
 
+/* A contact level's plan of auto_pose (away from the nominal pose), by plan_at, measured
+ * against ref. 0 when measured. */
+static int measure_contact(const hp_planner *p, const hp_layout *layout, hpi_plan_at_fn plan_at,
+                           hp_level level, const hpi_fidelity_ref *ref, candidate *x)
+{
+    hp_result r;
+    if (plan_at(layout, &p->s, level, p->s.auto_pose, &r) != HP_OK ||
+        !hpi_fidelity_answered(r.status))
+        return -1;
+    measure_result(ref, &r, x);
+    return 0;
+}
+
+/* The nominal pose's measurement, shared by the contact levels: at the nominal pose every
+ * contact level's plan has the same pressures (each bladder at its nominal contact
+ * distance). 0 when measured. */
+static int measure_nominal(const hp_planner *p, const hpi_fidelity_ref *ref, candidate *x)
+{
+    double P[HP_MAX_BLADDERS];
+    int bad = -1;
+    if (hpi_nominal_pressures_of(&p->L, &p->G, P, &bad) != HP_OK) return -1;
+    const double zero[6] = {0};
+    hpi_fidelity_measure(ref, P, zero, &x->m);
+    x->closest = 0;
+    return 0;
+}
+
+static int is_nominal(const double xi[6])
+{
+    for (int i = 0; i < 6; ++i)
+        if (xi[i] != 0.0) return 0;
+    return 1;
+}
+
+/* "the nominal pose" or "the pose x 1 mm, y 0 mm, z -0.5 mm, pitch 0.3 deg, roll 0 deg,
+ * yaw -0.2 deg" (hp_plan's components, in the command line's units). */
+static void pose_text(const double xi[6], char *buf, size_t len)
+{
+    if (is_nominal(xi)) {
+        snprintf(buf, len, "the nominal pose");
+        return;
+    }
+    double c[6];
+    hp_pose_to_clinical(xi, c);
+    snprintf(buf, len, "the pose x %g mm, y %g mm, z %g mm, pitch %g deg, roll %g deg, yaw %g deg",
+             c[0] + 0.0, c[1] + 0.0, c[2] + 0.0, c[3] + 0.0, c[4] + 0.0, c[5] + 0.0);
+}
+
 /* "linear 1.07 mm, 0.342 deg (+1.56 mm geometry)", "surface no rest (0 % carried)",
- * "load not measured". */
+ * "linear 0.403 mm, 0.97 deg at its closest answer", "load not measured". */
 static int candidate_text(const candidate *c, char *buf, size_t len)
 {
     const char *name = hp_level_name(c->level);
+    const char *at = c->closest ? " at its closest answer" : "";
     if (isnan(c->scaled)) return snprintf(buf, len, "%s not measured", name);
     if (!isfinite(c->m.pose_mm))
-        return snprintf(buf, len, "%s no rest (%.0f %% carried)", name, 100.0 * c->m.carried + 0.0);
+        return snprintf(buf, len, "%s no rest (%.0f %% carried)%s", name,
+                        100.0 * c->m.carried + 0.0, at);
     if (c->bound_mm > 0)
-        return snprintf(buf, len, "%s %.3g mm, %.3g deg (+%.3g mm geometry)", name, c->m.pose_mm,
-                        c->m.pose_deg, c->bound_mm);
-    return snprintf(buf, len, "%s %.3g mm, %.3g deg", name, c->m.pose_mm, c->m.pose_deg);
+        return snprintf(buf, len, "%s %.3g mm, %.3g deg%s (+%.3g mm geometry)", name, c->m.pose_mm,
+                        c->m.pose_deg, at, c->bound_mm);
+    return snprintf(buf, len, "%s %.3g mm, %.3g deg%s", name, c->m.pose_mm, c->m.pose_deg, at);
 }
 
-/* auto on settings that state a load: the cheapest level whose model error meets the
- * tolerance, else the smallest error (equal, unbounded errors: the most weight carried; the
- * dearer level on a full tie). The contact levels in their order (hpi_level_geometries), then
- * the load level. At the nominal pose every contact level's plan has the same pressures
- * (each bladder at its nominal contact distance), so one measurement serves them, and each
- * adds its geometry's error bound over the auto range (what the nominal pose cannot show).
- * A load level that cannot be planned, with nothing meeting the tolerance, is chosen all the
- * same (below). *chosen stays HP_LEVEL_AUTO (why untouched) only if no level is left. */
-static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hp_level *chosen,
-                                    char *why, size_t len)
+/* auto on settings that state a load: the cheapest level whose model error at auto_pose
+ * meets the tolerance, else the smallest error (equal, unbounded errors: the most weight
+ * carried; the dearer level on a full tie). The contact levels in their order
+ * (hpi_level_geometries), then the load level, each measured only when no cheaper one met
+ * the tolerance. Each level plans auto_pose as solve would (a level that cannot reach it is
+ * measured at its closest answer, said so); at the nominal pose the contact levels share one
+ * measurement (measure_nominal). A contact level adds its geometry's error bound over the
+ * auto range: the other corrections of that range, which one pose cannot show. A load level
+ * that cannot be planned, with nothing meeting the tolerance, is chosen all the same
+ * (below). *chosen stays HP_LEVEL_AUTO (why untouched) only if no level is left. */
+static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hpi_plan_at_fn plan_at,
+                                    hp_level *chosen, char *why, size_t len)
 {
     const hp_settings *s = &p->s;
     *chosen = HP_LEVEL_AUTO;
@@ -121,36 +183,34 @@ static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hp_l
     candidate c[HP_LEVEL_COUNT_];
     memset(c, 0, sizeof c); /* every field read is set below; zeros keep the rest defined */
     const int n = hpi_level_n_geometries + 1;
+    const int nominal = is_nominal(s->auto_pose);
     hpi_fidelity_ref ref;
     hp_error e = hpi_fidelity_open(&p->L, &s->load, 0.0, &ref);
-    double P[HP_MAX_BLADDERS];
-    int bad = -1;
-    const int kin = e == HP_OK && hpi_nominal_pressures_of(&p->L, &p->G, P, &bad) == HP_OK;
-    hpi_fidelity_result nominal;
-    const double zero[6] = {0};
-    if (kin) hpi_fidelity_measure(&ref, P, zero, &nominal);
-    for (int i = 0; i < n; ++i) {
+    int shared = -1; /* nominal: the contact candidate whose measurement the others share */
+    int pick = -1, meets = 0;
+    for (int i = 0; i < n && !meets; ++i) {
         candidate *x = &c[i];
         x->level = i < hpi_level_n_geometries ? hpi_level_geometries[i] : HP_LEVEL_LOAD;
         x->bound_mm = 0.0;
         x->scaled = NAN;
         int measured = 0;
-        if (x->level == HP_LEVEL_LOAD) {
-            measured = e == HP_OK && measure_load(p, layout, &ref, &x->m) == 0;
-        } else if (kin) {
-            double b = 0.0;
-            measured = hpi_contact_error_bound_g(&p->L, &p->G, x->level, s->auto_trans, s->auto_rot,
-                                                 &b) == HP_OK;
-            x->m = nominal;
+        double b = 0.0;
+        if (e != HP_OK) {
+            /* no reference: nothing is measured */
+        } else if (x->level == HP_LEVEL_LOAD) {
+            measured = measure_load(p, layout, &ref, x) == 0;
+        } else if (hpi_contact_error_bound_g(&p->L, &p->G, x->level, s->auto_trans, s->auto_rot,
+                                             &b) == HP_OK) {
             x->bound_mm = b * 1e3;
+            if (!nominal) measured = measure_contact(p, layout, plan_at, x->level, &ref, x) == 0;
+            else if (shared >= 0) x->m = c[shared].m, measured = 1;
+            else if ((measured = measure_nominal(p, &ref, x) == 0)) shared = i;
         }
         if (measured)
             x->scaled = fmax((x->m.pose_mm + x->bound_mm) / tol_mm, x->m.pose_deg / tol_deg);
+        if (x->scaled <= 1.0) pick = i, meets = 1;
     }
     hpi_fidelity_close(&ref);
-    int pick = -1, meets = 0;
-    for (int i = 0; i < n && pick < 0; ++i)
-        if (c[i].scaled <= 1.0) pick = i, meets = 1;
     /* No level meets it and the load level could not be planned (its refusal, say that the
      * bladders cannot carry the head): the load level, whose create then refuses it by name,
      * rather than a contact level that leaves the weight out in silence. */
@@ -163,13 +223,13 @@ static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hp_l
     }
     if (pick < 0) return HP_OK;
     *chosen = c[pick].level;
-    /* "auto chose L by model error at the nominal pose (tolerance T mm, D deg): A, B exceed
-     * it; L ... meets it" or "...: A, B, C and L exceed it; L has the smallest" */
+    /* "auto chose L by model error at POSE (tolerance T mm, D deg): A, B exceed it; L ...
+     * meets it" or "...: A, B, C and L exceed it; L has the smallest" */
+    char pose[160];
+    pose_text(s->auto_pose, pose, sizeof pose);
     size_t at = 0;
-    int w = snprintf(why, len,
-                     "auto chose %s by model error at the nominal pose (tolerance %g mm, "
-                     "%g deg): ",
-                     hp_level_name(c[pick].level), tol_mm, tol_deg);
+    int w = snprintf(why, len, "auto chose %s by model error at %s (tolerance %g mm, %g deg): ",
+                     hp_level_name(c[pick].level), pose, tol_mm, tol_deg);
     at = w > 0 ? (size_t)w : 0;
     const int last = meets ? pick : n - 1;
     for (int i = 0; i <= last && at < len; ++i) {
@@ -193,7 +253,8 @@ static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hp_l
     return HP_OK;
 }
 
-hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_diag *d)
+hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hpi_plan_at_fn plan_at,
+                                   hp_diag *d)
 {
     const hp_settings *s = &p->s;
     p->level = s->level;
@@ -201,8 +262,15 @@ hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_di
     const int has_load = !(s->load.mass == 0.0); /* hp_settings_validate checked it */
     char load_why[32] = "";                      /* why the geometry decides a load's level */
     if (s->level == HP_LEVEL_AUTO && has_load) {
+        /* A pose auto cannot plan is refused by name, as hp_plan would refuse it. */
+        hp_identifiable id;
+        char err[HP_DIAG_MAX];
+        if (!is_nominal(s->auto_pose) && hp_layout_identify(&p->L, &id) == HP_OK &&
+            !hpi_plan_range_ok(&id, s->auto_pose, HPI_AUTO_POSE_NAME, err))
+            return hp_diag_set(d, HP_ERR_INVALID, "%s", err);
         hp_level chosen = HP_LEVEL_AUTO;
-        hp_error e = auto_by_model_error(p, layout, &chosen, p->level_why, sizeof p->level_why);
+        hp_error e = auto_by_model_error(p, layout, plan_at, &chosen, p->level_why,
+                                         sizeof p->level_why);
         if (e != HP_OK)
             return hp_diag_set(d, e, "level: auto could not compare the levels' model error (%s)",
                                hp_error_message(e));

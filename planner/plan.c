@@ -730,6 +730,9 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     return HP_OK;
 }
 
+/* The three texts of the last plan live beside it: the failure's, the answer's, either. */
+const char *hp_planner_error(const hp_planner *p) { return p ? p->err : "planner is NULL"; }
+
 const char *hp_planner_note(const hp_planner *p)
 {
     if (!p) return "";

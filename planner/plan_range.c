@@ -52,19 +52,25 @@ int hpi_plan_range_ok(const hp_identifiable *id, const double xi[6], const char 
     return 1;
 }
 
-int hpi_plan_desired_ok(const hp_identifiable *id, const double desired[6], char *err)
+const char *const hpi_pose_component_names[6] = {"x", "y", "z", "pitch", "roll", "yaw"};
+
+int hpi_plan_pose_out_of_range(const double xi[6])
 {
-    static const char *const pose_names[6] = {"x", "y", "z", "pitch", "roll", "yaw"};
     for (int i = 0; i < 6; ++i) {
         double lim = i < 3 ? HP_PLAN_MAX_TRANS : HP_PLAN_MAX_ROT;
-        if (!isfinite(desired[i]) || !(fabs(desired[i]) <= lim)) {
-            hpi_text_set(err, "desired ");
-            hpi_text_add(err, pose_names[i]);
-            hpi_text_add(err, isfinite(desired[i]) ? ": out of range (|translation| <= 1 m, "
-                                                     "|rotation| <= pi rad)"
-                                                   : ": not finite");
-            return 0;
-        }
+        if (!isfinite(xi[i]) || !(fabs(xi[i]) <= lim)) return i;
+    }
+    return -1;
+}
+
+int hpi_plan_desired_ok(const hp_identifiable *id, const double desired[6], char *err)
+{
+    int i = hpi_plan_pose_out_of_range(desired);
+    if (i >= 0) {
+        hpi_text_set(err, "desired ");
+        hpi_text_add(err, hpi_pose_component_names[i]);
+        hpi_text_add(err, isfinite(desired[i]) ? ": " HP_PLAN_RANGE_TEXT : ": not finite");
+        return 0;
     }
     return hpi_plan_range_ok(id, desired, "desired", err);
 }

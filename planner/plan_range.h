@@ -11,6 +11,16 @@
  * every contact model stays well defined. */
 #define HP_PLAN_MAX_TRANS 1.0 /* [m] */
 #define HP_PLAN_MAX_ROT HP_PI /* [rad] */
+/* What a component beyond them is told. */
+#define HP_PLAN_RANGE_TEXT "out of range (|translation| <= 1 m, |rotation| <= pi rad)"
+
+/* A pose's components in hp_plan's order: "x", "y", "z", "pitch", "roll", "yaw". */
+extern const char *const hpi_pose_component_names[6];
+
+/* The first component of pose xi (SI) that is not finite or lies beyond HP_PLAN_MAX_TRANS
+ * (translation) or HP_PLAN_MAX_ROT (rotation), else -1: the check hp_plan applies to a
+ * desired correction and hp_settings_validate to auto_pose. */
+int hpi_plan_pose_out_of_range(const double xi[6]);
 
 /* Where pose xi (SI) lies against the layout's identifiable range id (hp_identifiable): 0
  * inside; 1 its translation norm is beyond trans_limit; 2 its rotation angle is not below

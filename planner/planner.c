@@ -58,6 +58,22 @@ void hp_planner_reset(hp_planner *p)
     hpi_plan_set_previous_answer(p, &p->nominal);
 }
 
+/* hpi_plan_at_fn: the plan of one correction at a named contact level (level_choice.c's
+ * measurement of auto_pose). */
+static hp_error plan_at(const hp_layout *layout, const hp_settings *settings, hp_level level,
+                        const double desired[6], hp_result *r)
+{
+    hp_settings s = *settings;
+    s.level = level;
+    s.use_rate_limits = 0;
+    s.warm_start = 0;
+    hp_planner *q = NULL;
+    hp_error e = hp_planner_create(layout, &s, &q, NULL);
+    if (e == HP_OK) e = hp_plan(q, desired, r);
+    hp_planner_destroy(q);
+    return e;
+}
+
 /* The part of create that decides the level, and all that hp_planner_level_for runs: the
  * layout prepared, its geometry derived, the level resolved once (level_choice.c). s is
  * validated. On failure *out is NULL and nothing is left allocated. */
@@ -70,7 +86,7 @@ static hp_error begin(const hp_layout *layout, const hp_settings *s, hp_planner 
     p->s = *s;
     hp_error e = hp_layout_prepare(&p->L, d);
     if (e == HP_OK) e = hpi_geom_derive(&p->L, &p->G, d);
-    if (e == HP_OK) e = hpi_planner_resolve_level(p, layout, d);
+    if (e == HP_OK) e = hpi_planner_resolve_level(p, layout, plan_at, d);
     if (e != HP_OK) {
         hp_planner_destroy(p);
         return e;
@@ -172,8 +188,6 @@ void hp_planner_destroy(hp_planner *p)
     free(p->load);
     free(p);
 }
-
-const char *hp_planner_error(const hp_planner *p) { return p ? p->err : "planner is NULL"; }
 
 hp_level hp_planner_level(const hp_planner *p) { return p ? p->level : HP_LEVEL_AUTO; }
 

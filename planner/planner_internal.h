@@ -134,10 +134,20 @@ void hpi_plan_trip_text(char *buf, const hp_plan_trip *t);
 hp_error hpi_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],
                                    const hp_kin_fit_near *near, double xi[6], double *residual_rms);
 
+/* One plan of desired[6] (SI) at contact level `level`, as `headplan solve` makes it: a
+ * planner of its own from layout and settings s with that level, from rest (no rate limits,
+ * no warm start), into *r. HP_OK when hp_plan produced a result, else create's error.
+ * planner.c hands it to hpi_planner_resolve_level, so that level_choice.c plans with it
+ * without depending on the file that calls it. */
+typedef hp_error (*hpi_plan_at_fn)(const hp_layout *layout, const hp_settings *s, hp_level level,
+                                   const double desired[6], hp_result *r);
+
 /* Resolves p->s.level into p->level once, over all four levels (level_choice.c), and writes
  * why into p->level_why. For the load level (asked for, or chosen by auto) p->load gets its
- * model, built from layout (the caller's) with p->s. Needs p->L, p->G. */
-hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hp_diag *d);
+ * model, built from layout (the caller's) with p->s. Needs p->L, p->G. Auto away from the
+ * nominal pose plans settings.auto_pose at each contact level with plan_at. */
+hp_error hpi_planner_resolve_level(hp_planner *p, const hp_layout *layout, hpi_plan_at_fn plan_at,
+                                   hp_diag *d);
 
 /* The backend of an enum value (backends.c); NULL for a value with no backend. */
 const hp_backend_ops *hpi_backend_table(hp_backend b);

@@ -2,6 +2,7 @@
 #include "headplan/hp_planner.h"
 #include "planner/settings_check.h"
 #include "kinematics/names.h"
+#include "planner/plan_range.h"
 
 #include <math.h>
 #include <string.h>
@@ -25,6 +26,7 @@ void hp_settings_default(hp_settings *s)
     s->load_geometry = HP_DEFAULT_LOAD_GEOMETRY;
     s->load_tiebreak = HP_DEFAULT_LOAD_TIEBREAK;
     s->restarts = HP_DEFAULT_RESTARTS;
+    for (int i = 0; i < 6; ++i) s->auto_pose[i] = HP_DEFAULT_AUTO_POSE;
 }
 
 /* Each check accepts only finite values in range; written as !(v > x) so NaN fails. */
@@ -103,6 +105,14 @@ hp_error hp_settings_validate(const hp_settings *s, hp_diag *d)
         return hp_diag_set(d, HP_ERR_INVALID, "warm_start: must be 0 or 1 (got %d)", s->warm_start);
     if ((why = hpi_check_restarts(s->restarts)))
         return hp_diag_set(d, HP_ERR_INVALID, "restarts: %s (got %d)", why, s->restarts);
+    /* auto_pose as hp_plan checks a correction; its identifiable range needs the layout
+     * (hp_planner_create, where auto measures there). */
+    int i = hpi_plan_pose_out_of_range(s->auto_pose);
+    if (i >= 0)
+        return hp_diag_set(d, HP_ERR_INVALID, HPI_AUTO_POSE_NAME " %s: %s (got %g %s)",
+                           hpi_pose_component_names[i],
+                           isfinite(s->auto_pose[i]) ? HP_PLAN_RANGE_TEXT : "not finite",
+                           s->auto_pose[i], i < 3 ? "m" : "rad");
     /* The load: none (mass exactly 0, the default) or one that hp_load_spec_validate
      * accepts; the load level needs one. */
     int has_load = !(s->load.mass == 0.0);

@@ -19,6 +19,10 @@
 /* Most restarts a plan may be given: each is a full solve. */
 #define HP_RESTARTS_MAX 64
 
+/* How a message names settings.auto_pose: the field, and what it is to a caller who gave a
+ * correction (the command line sets it to the correction planned). */
+#define HPI_AUTO_POSE_NAME "auto_pose (the correction auto measures at)"
+
 const char *hpi_check_level_tolerance(double v); /* [m] */
 const char *hpi_check_auto_trans(double v);      /* [m] */
 const char *hpi_check_auto_rot(double v);        /* [rad] */

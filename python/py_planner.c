@@ -231,11 +231,14 @@ static PyObject *get_settings(PyObject *o, void *c)
     hpy_planner *self = (hpy_planner *)o;
     if (!built(self)) return NULL;
     const hp_settings *s = &self->s;
-    return Py_BuildValue(
-        "{s:s,s:s,s:d,s:d,s:i,s:d,s:d,s:i,s:i}", "backend", hp_backend_name(s->backend), "level",
-        hp_level_name(s->level), "level_tolerance_mm", s->level_tolerance * 1e3, "tolerance",
-        s->tolerance, "max_iter", s->max_iter, "max_time_s", s->max_time, "weight_mm_per_deg",
-        s->weight_mm_per_deg, "warm_start", s->warm_start, "restarts", s->restarts);
+    double cp[6]; /* auto_pose in a correction's units, mm and degrees */
+    hp_pose_to_clinical(s->auto_pose, cp);
+    return Py_BuildValue("{s:s,s:s,s:d,s:d,s:i,s:d,s:d,s:i,s:i,s:[dddddd]}", "backend",
+                         hp_backend_name(s->backend), "level", hp_level_name(s->level),
+                         "level_tolerance_mm", s->level_tolerance * 1e3, "tolerance", s->tolerance,
+                         "max_iter", s->max_iter, "max_time_s", s->max_time, "weight_mm_per_deg",
+                         s->weight_mm_per_deg, "warm_start", s->warm_start, "restarts", s->restarts,
+                         "auto_pose", cp[0], cp[1], cp[2], cp[3], cp[4], cp[5]);
 }
 
 static PyMethodDef planner_methods[] = {
@@ -289,7 +292,9 @@ static PyGetSetDef planner_getset[] = {
     {"backend", get_backend, NULL, "the backend name", NULL},
     {"bladder_names", get_names, NULL, "tuple of the bladders' names (column order)", NULL},
     {"settings", get_settings, NULL,
-     "dict of the settings in use (tolerance in mm and degrees, level_tolerance_mm)", NULL},
+     "dict of the settings in use (tolerance in mm and degrees, level_tolerance_mm, auto_pose\n"
+     "in mm and degrees)",
+     NULL},
     {NULL, NULL, NULL, NULL, NULL},
 };
 
@@ -301,13 +306,16 @@ PyTypeObject hpy_planner_type = {
     .tp_doc =
         "Planner(scene, *, backend=None, level=None, tolerance=None, max_iter=None,\n"
         "        max_time_s=None, weight_mm_per_deg=None, level_tolerance_mm=None,\n"
-        "        warm_start=None, restarts=None)\n\n"
+        "        warm_start=None, restarts=None, auto_pose=None)\n\n"
         "A planner for a layout scene, with the scene's model and solver settings and these\n"
         "overrides: backend ('realtime', 'ipopt', 'nlopt-slsqp', 'nlopt-cobyla'), level\n"
         "('linear', 'plane', 'surface', 'auto'), tolerance (pose tolerance, mm and degrees),\n"
         "max_iter, max_time_s [s], weight_mm_per_deg, level_tolerance_mm [mm] (for 'auto'),\n"
         "warm_start (0/1), restarts (0..64: Ipopt's and NLopt SLSQP's further starts after a\n"
-        "closest answer). Raises headplan.Error for a bad value. One call at a time per\n"
+        "closest answer), auto_pose (6 values [x_mm, y_mm, z_mm, pitch_deg, roll_deg, yaw_deg]:\n"
+        "the correction at which 'auto' on a scene with a load measures the levels' model\n"
+        "error; default the scene's correction, as `headplan solve` plans it). Raises\n"
+        "headplan.Error for a bad value. One call at a time per\n"
         "planner (a second thread waits); use one planner per thread for parallel work.",
     .tp_methods = planner_methods,
     .tp_getset = planner_getset,

@@ -1,5 +1,5 @@
 /* Planner settings for the Python module: the scene's model and solver sections, then the
- * keyword overrides a Planner is built with. */
+ * keyword overrides a Planner is built with (the library's named overrides, and auto_pose). */
 #include "hpy.h"
 
 #include <string.h>
@@ -42,6 +42,22 @@ static int kw_override(PyObject *kw, const char *key, hp_settings *s)
     return 0;
 }
 
+/* The auto_pose keyword: six numbers in a correction's units (mm, degrees) onto s; the
+ * validator checks them (finite, in range) and names the component. */
+static int kw_auto_pose(PyObject *kw, hp_settings *s)
+{
+    PyObject *v = kw ? PyDict_GetItemString(kw, "auto_pose") : NULL;
+    if (!v || v == Py_None) return 0;
+    PyArrayObject *a = hpy_doubles(v, "auto_pose", 0);
+    if (!a) return -1;
+    int ok = PyArray_NDIM(a) == 1 && PyArray_DIM(a, 0) == 6;
+    if (ok) hp_pose_from_clinical((const double *)PyArray_DATA(a), s->auto_pose);
+    Py_DECREF(a);
+    if (!ok)
+        hpy_fail("auto_pose: expected 6 values [x_mm, y_mm, z_mm, pitch_deg, roll_deg, yaw_deg]");
+    return ok ? 0 : -1;
+}
+
 int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
 {
     if (kw) {
@@ -50,7 +66,7 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
         while (PyDict_Next(kw, &pos, &key, &value)) {
             const char *k = PyUnicode_AsUTF8(key);
             if (!k) return -1;
-            int found = 0;
+            int found = strcmp(k, "auto_pose") == 0;
             for (size_t i = 0; hp_scene_override_name(i); ++i)
                 found |= strcmp(k, hp_scene_override_name(i)) == 0;
             if (!found) {
@@ -66,6 +82,7 @@ int hpy_settings(const hp_scene *sc, PyObject *kw, hp_settings *s)
     }
     for (size_t i = 0; hp_scene_override_name(i); ++i)
         if (kw_override(kw, hp_scene_override_name(i), s)) return -1;
+    if (kw_auto_pose(kw, s)) return -1;
     if (s->level == HP_LEVEL_LOAD && !sc->has_load) { /* as the command line's --level load */
         hpy_fail("level: load needs a scene with a 'load' section (%s has none)", sc->file);
         return -1;

@@ -1,6 +1,8 @@
 /* A loaded scene -> planner settings: the one place this happens (see hp_scene.h). */
 #include "headplan/hp_scene.h"
 
+#include <string.h>
+
 hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag)
 {
     if (!sc || !out) return hp_diag_set(diag, HP_ERR_NULL, "scene settings: NULL argument");
@@ -25,6 +27,9 @@ hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag)
     s.max_time = sc->max_time;
     s.weight_mm_per_deg = sc->weight_mm_per_deg;
     s.restarts = sc->restarts;
+    /* auto measures the levels' model error at the correction the scene plans (it matters
+     * only with a load: without one auto compares geometry bounds over its range). */
+    if (sc->has_load && sc->has_correction) memcpy(s.auto_pose, sc->correction, sizeof s.auto_pose);
     hp_error e = hp_settings_validate(&s, diag);
     if (e != HP_OK) return e;
     *out = s;

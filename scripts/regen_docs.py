@@ -361,6 +361,10 @@ def main():
     new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp})
     new["docs/control-loop.md"] = {"loop-table": loop_table(figures)}
     new["docs/planner.md"] = {"restarts-cost": restarts_cost(figures)}
+    out, w = run(["/usr/bin/python3", "bench/auto_cost.py", "--runs", "5" if a.quick else "21"],
+                 src, env={"PYTHONPATH": os.path.join(binary, "python")})
+    wall.append(("auto_cost.py", w))
+    new["docs/planner.md"]["auto-cost"] = block(out.strip("\n"))
     new["docs/load.md"] = {"load-table": load_table(figures)}
     law_table = [sys.executable, "bench/load_law_table.py", os.path.join(binary, "headplan"), src]
     out, w = run(law_table, src)

@@ -149,6 +149,7 @@ HP_API const char *hp_binding_name(unsigned flag);
 #define HP_DEFAULT_LOAD_GEOMETRY HP_LEVEL_SURFACE
 #define HP_DEFAULT_LOAD_TIEBREAK HP_TIE_LEAST_SQUEEZE
 #define HP_DEFAULT_RESTARTS 7 /* Ipopt, NLopt SLSQP: 1/8, 2/8, ... 7/8 of the way to the target */
+#define HP_DEFAULT_AUTO_POSE 0.0 /* [m, rad] every component: auto measures at the nominal pose */
 
 /* The load level (HP_LEVEL_LOAD, docs/load.md): a desired pose -> the pressures that HOLD the
  * head there against its weight. At a pose the six equilibrium equations are linear in the
@@ -180,8 +181,8 @@ typedef struct hp_settings {
     int warm_start;           /* 1: start each solve from the previous result */
     /* The load level. load.mass 0 (the default) states no load: HP_LEVEL_LOAD is refused
      * and auto chooses among the contact levels by their geometry's error bounds. With a
-     * load (hp_load_spec_validate), auto compares every level's model error at the nominal
-     * pose (its plan's pressures rested under the load with the contact law fitted to the
+     * load (hp_load_spec_validate), auto compares every level's model error at auto_pose
+     * (its plan's pressures rested under the load with the contact law fitted to the
      * finite-element reference; a contact level adds its geometry's bound) and takes the
      * cheapest within level_tolerance, else the smallest; once, in hp_planner_create
      * (docs/planner.md, "What create does"). */
@@ -195,6 +196,15 @@ typedef struct hp_settings {
      * starts along the correction (within max_time) and keep the closest answer. 0..64; the
      * other backends ignore it. */
     int restarts;
+    /* [m, rad] The correction at which auto, on settings that state a load, measures every
+     * level's model error: the correction the planner will be asked for (hp_plan's desired
+     * convention), since create decides before it sees one. Default: every component
+     * HP_DEFAULT_AUTO_POSE, the nominal pose. Each component finite, |translation| <= 1 m
+     * and |rotation| <= pi rad (as hp_plan checks a correction); where auto measures there,
+     * hp_planner_create also refuses one outside the layout's identifiable range.
+     * hp_scene_settings sets it to the scene's correction when the scene states a load. A
+     * level that cannot reach it is measured at its closest answer (docs/planner.md). */
+    double auto_pose[6];
 } hp_settings;
 
 /* Fills every field with its HP_DEFAULT_* value (load: all zero, no load). s may be NULL

@@ -151,12 +151,13 @@ HP_API hp_error hp_scene_parse(const char *text, size_t len, const char *filenam
  * sections. The one place a scene becomes settings: the command line and the Python module
  * call it too, so a scene plans the same whichever entry point loads it. Returns HP_OK;
  * HP_ERR_NULL for NULL arguments; HP_ERR_INVALID for settings that hp_settings_validate
- * refuses (only possible for an hp_scene that was not filled by hp_scene_load/parse). out
- * is filled only on HP_OK.
+ * refuses (for an hp_scene filled by hp_scene_load/parse only a load scene's correction
+ * beyond 1 m or pi rad, as auto_pose; the message names it). out is filled only on HP_OK.
  *
- * A scene with a `load` section gives its load (load, load_geometry, load_tiebreak); one
- * that says `model.level: load` gives HP_LEVEL_LOAD, and one at `auto` lets
- * hp_planner_create choose the load level when the sag calls for it (hp_planner.h). */
+ * A scene with a `load` section gives its load (load, load_geometry, load_tiebreak) and its
+ * correction as auto_pose (where auto measures the levels' model error); one that says
+ * `model.level: load` gives HP_LEVEL_LOAD, and one at `auto` lets hp_planner_create choose
+ * the load level when the model error at that correction calls for it (hp_planner.h). */
 HP_API hp_error hp_scene_settings(const hp_scene *sc, hp_settings *out, hp_diag *diag);
 
 /* The layout analysis of a scene, as `headplan analyze` and the Python analyze() report it.

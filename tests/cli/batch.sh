@@ -220,9 +220,10 @@ sha = lambda p: hashlib.sha256(open(p, 'rb').read()).hexdigest()
 assert meta['scene_sha256'] == sha(sys.argv[3]) and meta['trace_sha256'] == sha(sys.argv[4])
 assert meta['program'].startswith('headplan ') and meta['backend'] and meta['level']
 for k in ('rows', 'pose_form', 'tolerance_mm_deg', 'max_iter', 'max_time_s', 'weight_mm_per_deg',
-          'restarts'):
+          'restarts', 'auto_pose_mm_deg'):
     assert k in meta, k
 assert meta['restarts'] == '7', meta['restarts']  # the scene states none: the default
+assert meta['auto_pose_mm_deg'] == '0,0,0,0,0,0', meta['auto_pose_mm_deg']  # no load: nominal
 rows = list(csv.reader(l for l in lines if not l.startswith('#')))
 head = rows[0]
 for col in ('desired_x_mm', 'achieved_yaw_deg', 'error_pitch_deg', 'commanded_x', 'pose_error_mm',

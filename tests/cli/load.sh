@@ -97,12 +97,13 @@ expect_stdout_has "kinematic sag unbounded" "analyze reports the sag it ignores"
 expect_stdout_has "plans stay kinematic" "and that the plans stay kinematic"
 
 # A correction outside the identifiable range is refused at the load level as at the
-# kinematic ones, with the same message (it was "reached" beside "rest inf mm/deg").
-for lv in "" "--level surface"; do
+# kinematic ones, with the same message (it was "reached" beside "rest inf mm/deg"). With
+# level auto it is refused before, as the pose auto would measure at (tests/cli/auto_pose.sh).
+for lv in "--level load" "--level surface"; do
     run solve "$S/load_supine.yaml" --correction 0,0,0,100,0,0 $lv
-    expect_exit 65 "100 deg pitch refused ${lv:-at the load level}"
-    expect_stdout_empty "100 deg pitch ${lv:-at the load level}: no answer"
-    expect_stderr_has "headplan solve: --correction: desired rotation: angle 100.0 deg is outside the identifiable range" "names the limit ${lv:-at the load level}"
+    expect_exit 65 "100 deg pitch refused $lv"
+    expect_stdout_empty "100 deg pitch $lv: no answer"
+    expect_stderr_has "headplan solve: --correction: desired rotation: angle 100.0 deg is outside the identifiable range" "names the limit $lv"
 done
 # 89.9 deg pitch is inside the range; the pressures found hold the head there (an exact
 # equilibrium, reached), but the hold is a saddle, and solve says so.

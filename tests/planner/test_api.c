@@ -41,10 +41,11 @@ static void test_settings_defaults(void **st)
     assert_false(FIELD_KEPT_SENTINEL(s, load_geometry));
     assert_false(FIELD_KEPT_SENTINEL(s, load_tiebreak));
     assert_false(FIELD_KEPT_SENTINEL(s, restarts));
-    /* restarts is the last field (the struct ends there, up to alignment), so a field
+    assert_false(FIELD_KEPT_SENTINEL(s, auto_pose));
+    /* auto_pose is the last field (the struct ends there, up to alignment), so a field
      * appended without a line above fails this test. (Backend-only switches are options of
      * the backend, hp_planner_set_option, not fields.) */
-    size_t end = offsetof(hp_settings, restarts) + sizeof s.restarts;
+    size_t end = offsetof(hp_settings, auto_pose) + sizeof s.auto_pose;
     assert_int_equal(sizeof s, (end + _Alignof(hp_settings) - 1) / _Alignof(hp_settings) *
                                    _Alignof(hp_settings));
     assert_int_equal(s.backend, HP_DEFAULT_BACKEND);
