@@ -283,7 +283,7 @@ def run(case, workdir=None, keep=False, partial=False):
     with open(os.path.join(d, "b.inp"), "w") as fh:
         fh.write(deck)
     env = dict(os.environ, OMP_NUM_THREADS="1", CCX_NPROC_EQUATION_SOLVER="1")
-    r = subprocess.run(["nice", "ccx", "-i", "b"], cwd=d, env=env, capture_output=True,
+    r = subprocess.run(["nice", "-n", "19", "ccx", "-i", "b"], cwd=d, env=env, capture_output=True,
                        text=True, timeout=1800)
     ok = r.returncode == 0 and "Job finished" in r.stdout and "*ERROR" not in r.stdout
     res = read_dat(os.path.join(d, "b.dat")) if os.path.exists(os.path.join(d, "b.dat")) else {}

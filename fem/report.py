@@ -126,12 +126,12 @@ def shape():
 
 
 def tilt():
-    print("| tilt (°) | δ/ro | bulk/shear | t reached | δ/ro at t | F/(P·π·ro²), 3-D | axisymmetric | 3-D/axisymmetric − 1 | against tilt 0 at the same t | fitted law | 3-D/law − 1 | force to normal (°) | centre of pressure off the normal's foot /ro |")
+    print("| support | tilt (°) | δ/ro | t reached | δ/ro at t | F/(P·π·ro²), 3-D | axisymmetric | 3-D/axisymmetric − 1 | against tilt 0, same support and t | fitted law | 3-D/law − 1 | force to normal (°) | centre of pressure off the normal's foot /ro |")
     print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
     pc = lambda x: "—" if x in ("", "nan") else "%+.2f %%" % (100 * (float(x) - 1))
     for r in table("tilt.csv"):
         print("| %s |" % " | ".join([
-            f(r["tilt_deg"]), f(r["delta_over_ro"]), f(r["bulk_over_shear"]),
+            r["support"], f(r["tilt_deg"]), f(r["delta_over_ro"]),
             f(r["t_reached"]), f(r["delta_over_ro_at_t"], 3), f(r["F_over_P_pi_ro2"]),
             f(r["F_axisymmetric"]),
             pc(r["F_over_F_axisymmetric"]), pc(r["F_over_F_3d_tilt_0"]), f(r["F_law"]),

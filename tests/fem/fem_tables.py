@@ -19,7 +19,11 @@
    patch's edge is resolved more coarsely); every run's force along the plane's normal
    within 0.5 degrees (a frictionless plane can push only along its normal: more would be
    a reading error); a tilted run (its end state, or the last state it reached past half
-   of the step) compared with the run along the axis at the same point of the path.
+   of the step) compared with the run along the axis at the same point of the path; runs
+   tilted 10 and 20 degrees reach the fitted law's largest delta/ro (HP_CLAW_FIT_DMAX in
+   kinematics/contact_law_fit.h) at their end state, compared with the 3-D run along the
+   axis (with the same support) and the axisymmetric run; every tilted state within
+   TILT_BOUND of the run along the axis (the bound docs/accuracy.md states).
 6. fem/tables/thick.csv (the 5 mm wall): its provenance, a converged row at every sweep
    indentation, the force rising with it, and at delta/ro 0.02 within 2 % of sweep.csv's
    row at bulk/shear 1e4 (on the 3 mm wall the change is 4.5e-3).
@@ -28,6 +32,7 @@ Exit 0 pass, 1 fail.
 import csv
 import math
 import os
+import re
 import subprocess
 import sys
 
@@ -36,6 +41,10 @@ sys.path.insert(0, os.path.join(SRC, "fem"))
 import hpfem  # noqa: E402
 
 bad = 0
+# what tilting the plane's normal 10 or 20 degrees from the bladder's axis may change in the
+# force at the same indentation, either support (docs/accuracy.md section 5.4: held by the
+# panel 2.7 % and 10.1 % at most, centre held below 1 % as far as those runs go)
+TILT_BOUND = {10.0: 0.03, 20.0: 0.11}
 
 
 def check(ok, what):
@@ -170,6 +179,30 @@ for r in tilted:
           "tilt %s at delta/ro %s (t %s) compared with the run along the axis on the same "
           "mesh at the same point of the path" % (r["tilt_deg"], r["delta_over_ro"],
                                                   r["t_reached"]))
+# the fitted law's whole indentation domain: a run tilted 10 and one tilted 20 degrees reach
+# its largest delta/ro (kinematics/contact_law_fit.h) at their end state; every tilted state
+# is within TILT_BOUND of the 3-D run along the axis (same support and mesh, same point of
+# the path), and an end state also has an axisymmetric run to compare
+with open(os.path.join(SRC, "kinematics", "contact_law_fit.h")) as fh:
+    dmax = float(re.search(r"#define HP_CLAW_FIT_DMAX \(([0-9.eE+-]+)\)", fh.read()).group(1))
+for deg in sorted(TILT_BOUND):
+    ends = [r for r in tilted if float(r["tilt_deg"]) == deg and float(r["t_reached"]) == 1
+            and abs(float(r["delta_over_ro"]) - dmax) <= 1e-6]
+    check(len(ends) > 0, "tilt %g reaches the fitted law's largest delta/ro %.4g" % (deg, dmax))
+for r in tilted:
+    e0, ea = float(r["F_over_F_3d_tilt_0"]) - 1, float(r["F_over_F_axisymmetric"]) - 1
+    b = TILT_BOUND.get(float(r["tilt_deg"]), 0.0)
+    check(abs(e0) <= b and (float(r["t_reached"]) < 1 or not math.isnan(ea)),
+          "tilt %s, support %s, delta/ro %s (t %s): against the 3-D run along the axis %+.3g "
+          "(bound %g), against the axisymmetric run %+.3g" % (
+              r["tilt_deg"], r["support"], r["delta_over_ro"], r["t_reached"], e0, b, ea))
+
+out = subprocess.run([sys.executable, os.path.join(SRC, "fem", "report.py"), "tilt"],
+                     capture_output=True, text=True).stdout
+printed = [l.split(" | ")[0][2:] for l in out.splitlines() if l.startswith("| ") and
+           not l.startswith("| support") and not l.startswith("|---")]
+check(printed == sorted(r["support"] for r in provenanced("tilt.csv")),
+      "report.py tilt prints every row with its support (%s)" % printed)
 
 rows = provenanced("thick.csv")
 got = sorted((float(r["delta_over_ro"]), float(r["F_over_P_pi_ro2"])) for r in rows
