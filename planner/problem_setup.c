@@ -48,20 +48,25 @@ static int nudge(const hp_iab_s *s, double *ri, double p, int up)
     return nudge_n(s, ri, p, up, NAN, NAN, NULL, NULL, &evals);
 }
 
-/* The largest dP/dro [Pa/m] of a bladder over [lo, hi] (m), twice the largest of 257 even
- * samples (the slope is smooth there and varies by a small factor across the interval: the
- * factor 2 covers what falls between samples). dP/dro = dP/dri · ri²/ro² (ro³ − ri³ is
- * constant). NAN when the model fails at a sample. */
-static double slope_max(const hp_iab_s *s, double lo, double hi)
+/* Bounds on dP/dro [Pa/m] of a bladder over [lo, hi] (m): twice the largest and half the
+ * smallest of 257 even samples, ends included (the slope is smooth there and varies by a
+ * small factor across the interval, falling toward an inflation limit point, whose
+ * margin keeps it positive at hi: the factors cover what falls between samples).
+ * dP/dro = dP/dri · ri²/ro² (ro³ − ri³ is constant). NAN both when the model fails at a
+ * sample. */
+static void slope_range(const hp_iab_s *s, double lo, double hi, double *smin, double *smax)
 {
-    double m = 0.0;
+    double m = 0.0, mn = INFINITY;
+    *smin = *smax = NAN;
     for (int i = 0; i <= 256; ++i) {
         double ri = (lo + (hi - lo) * i / 256.0) * s->scale, P, d1;
-        if (hpi_iab_s_ik(s, ri, &P, &d1, NULL) != HP_OK) return NAN;
-        double ro = hpi_iab_s_ro(s, ri);
-        m = fmax(m, d1 * s->scale * (ri * ri) / (ro * ro));
+        if (hpi_iab_s_ik(s, ri, &P, &d1, NULL) != HP_OK) return;
+        double ro = hpi_iab_s_ro(s, ri), v = d1 * s->scale * (ri * ri) / (ro * ro);
+        m = fmax(m, v);
+        mn = fmin(mn, v);
     }
-    return 2.0 * m;
+    *smax = 2.0 * m;
+    *smin = 0.5 * mn;
 }
 
 /* Tightest of two bounds with their flags; equal bounds keep both flags. */
@@ -165,7 +170,8 @@ hp_error hpi_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_dia
         b->p_hi[k] = env.p_hi;
         b->ro_lo[k] = env.ro_lo;
         b->ro_hi[k] = env.ro_hi;
-        b->rate_slack[k] = hpi_setup_rate_slack(slope_max(&b->iab_s[k], env.ri_lo, env.ri_hi));
+        slope_range(&b->iab_s[k], env.ri_lo, env.ri_hi, &b->dpdro_min[k], &b->dpdro_max[k]);
+        b->rate_slack[k] = hpi_setup_rate_slack(b->dpdro_max[k]);
     }
     return HP_OK;
 }
@@ -222,64 +228,201 @@ hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b, c
     return hpi_setup_cycle_bounds_memo(L, b, p_prev, use_rate, NULL, pb, lo_flags, hi_flags, d);
 }
 
+/* A stand-in for the outer-radius bound [m] of the window end at pressure pw (up: the
+ * lower end, whose radius bound must have a pressure >= pw), strictly inside the exact
+ * bound: from a point (ra, Pa) where the pressure is known (the last bound solved for
+ * that end, or the static bound on the far side) along the slope bounds of dP/dro, to
+ * the radius where the pressure is certainly beyond pw by the rate slack. Returns NAN
+ * when there is no such point. Arithmetic only: no model evaluation. */
+static double stand_in(const hp_static_bounds *b, int k, double pw, int up, const hp_rate_end *m)
+{
+    double smax = b->dpdro_max[k], smin = b->dpdro_min[k], sl = b->rate_slack[k];
+    if (!(smin > 0.0) || !isfinite(smax) || !isfinite(sl)) return NAN;
+    double ra, Pa;
+    int memo = m && m->ok;
+    if (memo) {
+        ra = m->ro;
+        Pa = m->p_at;
+    } else { /* the static bound on the other side: its pressure bounds the model's there */
+        ra = up ? b->ro_hi[k] : b->ro_lo[k];
+        Pa = up ? b->p_hi[k] : b->p_lo[k];
+    }
+    if (up) { /* P(r) >= pw + sl: from above with the largest slope, from below the smallest */
+        double t = pw + sl;
+        if (Pa >= t) return ra - (Pa - t) / smax;
+        return memo ? ra + (t - Pa) / smin : NAN;
+    }
+    double t = pw - sl; /* P(r) <= pw - sl */
+    if (Pa <= t) return ra + (t - Pa) / smax;
+    return memo ? ra - (Pa - t) / smin : NAN;
+}
+
+/* Bladder k's bounds for this plan: the static ones intersected with its rate window's
+ * ends, each solved exactly unless lazy_lo / lazy_hi (may be NULL) marks it: then a
+ * stand-in (stand_in) for its outer radius, and the static inner radius. *nostand is set
+ * when a stand-in was asked for and none could be made (the caller solves the end). */
+static hp_error bladder_bounds(const hp_layout *L, const hp_static_bounds *b, int k,
+                               const double *p_prev, int use_rate, hp_rate_memo *memo,
+                               const unsigned char *lazy_lo, const unsigned char *lazy_hi,
+                               hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags, int *nostand,
+                               hp_diag *d)
+{
+    const hp_bladder *B = &L->bladders[k];
+    double lo = b->ri_lo[k], hi = b->ri_hi[k];
+    unsigned lof = b->lo_flags[k], hif = b->hi_flags[k];
+    /* The rate bounds solved and their outer radii (hp_iab_ro's bits, from the solve). */
+    double r_r[2] = {NAN, NAN}, ro_r[2] = {NAN, NAN};
+    double sro_lo = NAN, sro_hi = NAN; /* stand-ins' outer radii [m] */
+    if (use_rate && p_prev && isfinite(B->rate_max)) {
+        double r, pl = p_prev[k] - B->rate_max, ph = p_prev[k] + B->rate_max;
+        if (pl > b->p_lo[k]) {
+            if (lazy_lo && lazy_lo[k]) {
+                sro_lo = stand_in(b, k, pl, 1, memo ? &memo->down[k] : NULL);
+                *nostand |= isnan(sro_lo);
+            } else if (rate_bound(b, k, pl, 1, memo, &r, &ro_r[0])) {
+                take_max(&lo, &lof, r_r[0] = r, HP_BIND_RATE_DOWN);
+            } else {
+                return hp_diag_set(d, HP_ERR_INVALID,
+                                   "bladder %s: rate limit: no stable radius at %.6g Pa", B->name,
+                                   pl);
+            }
+        }
+        if (ph < b->p_hi[k]) {
+            if (lazy_hi && lazy_hi[k]) {
+                sro_hi = stand_in(b, k, ph, 0, memo ? &memo->up[k] : NULL);
+                *nostand |= isnan(sro_hi);
+            } else if (rate_bound(b, k, ph, 0, memo, &r, &ro_r[1])) {
+                take_min(&hi, &hif, r_r[1] = r, HP_BIND_RATE_UP);
+            } else {
+                return hp_diag_set(d, HP_ERR_INVALID,
+                                   "bladder %s: rate limit: no stable radius at %.6g Pa", B->name,
+                                   ph);
+            }
+        }
+        /* A window narrower than the pressure step of one ulp of radius (about 4e-12 Pa;
+         * a limit of 1e-300 kPa): no radius need have its pressure inside it, and the
+         * two roots, each moved inward until its pressure is, pass each other by ulps.
+         * The previous pressure lies in the window and in [p_lo, p_hi], so its own root
+         * (within those ulps) is the one radius: the bladder holds its pressure, which
+         * the plan reports clamped into the window (hpi_setup_bladder_from_ri_s). A gap
+         * beyond 1e-12 of the radius (27 fm at 27 mm) would be no rounding: refused. */
+        if (lo > hi && lo - hi <= 1e-12 * lo) lo = hi = fmin(fmax(hi, b->ri_lo[k]), b->ri_hi[k]);
+    }
+    if (*nostand) return HP_OK;
+    /* The static bounds' outer radii when the rate limits left them as they were. */
+    double rol = lo == b->ri_lo[k] ? b->ro_lo[k] : lo == r_r[0] ? ro_r[0] : NAN;
+    double roh = hi == b->ri_hi[k] ? b->ro_hi[k] : hi == r_r[1] ? ro_r[1] : NAN;
+    if (!(lo <= hi) || (isnan(rol) && hp_iab_ro(&B->iab, lo, &rol) != HP_OK) ||
+        (isnan(roh) && hp_iab_ro(&B->iab, hi, &roh) != HP_OK))
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "bladder %s: the rate limit around %.6g Pa leaves no radius "
+                           "inside the pressure and stretch limits",
+                           B->name, p_prev ? p_prev[k] : 0.0);
+    /* A stand-in replaces the outer radius where it is tighter than the exact end's other
+     * bound could be: a stand-in lies inside the exact rate bound, so whichever of the two
+     * (static, rate) the exact plan takes, the stand-in is inside it. */
+    if (!isnan(sro_lo)) {
+        rol = fmax(rol, sro_lo);
+        if (rol != b->ro_lo[k]) lof = HP_BIND_RATE_DOWN;
+    }
+    if (!isnan(sro_hi)) {
+        roh = fmin(roh, sro_hi);
+        if (roh != b->ro_hi[k]) hif = HP_BIND_RATE_UP;
+    }
+    pb->ri_lo_si[k] = lo;
+    pb->ri_hi_si[k] = hi;
+    pb->ri_lo[k] = lo * HP_MM_PER_M;
+    pb->ri_hi[k] = hi * HP_MM_PER_M;
+    pb->ro_lo[k] = rol * HP_MM_PER_M;
+    pb->ro_hi[k] = roh * HP_MM_PER_M;
+    if (lo_flags) lo_flags[k] = lof;
+    if (hi_flags) hi_flags[k] = hif;
+    return HP_OK;
+}
+
 hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
                                      const double *p_prev, int use_rate, hp_rate_memo *memo,
                                      hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
                                      hp_diag *d)
 {
     for (int k = 0; k < L->n; ++k) {
-        const hp_bladder *B = &L->bladders[k];
-        double lo = b->ri_lo[k], hi = b->ri_hi[k];
-        unsigned lof = b->lo_flags[k], hif = b->hi_flags[k];
-        /* The rate bounds solved and their outer radii (hp_iab_ro's bits, from the solve). */
-        double r_r[2] = {NAN, NAN}, ro_r[2] = {NAN, NAN};
-        if (use_rate && p_prev && isfinite(B->rate_max)) {
-            double r, pl = p_prev[k] - B->rate_max, ph = p_prev[k] + B->rate_max;
-            if (pl > b->p_lo[k]) {
-                if (rate_bound(b, k, pl, 1, memo, &r, &ro_r[0]))
-                    take_max(&lo, &lof, r_r[0] = r, HP_BIND_RATE_DOWN);
-                else
-                    return hp_diag_set(d, HP_ERR_INVALID,
-                                       "bladder %s: rate limit: no stable radius at %.6g Pa",
-                                       B->name, pl);
-            }
-            if (ph < b->p_hi[k]) {
-                if (rate_bound(b, k, ph, 0, memo, &r, &ro_r[1]))
-                    take_min(&hi, &hif, r_r[1] = r, HP_BIND_RATE_UP);
-                else
-                    return hp_diag_set(d, HP_ERR_INVALID,
-                                       "bladder %s: rate limit: no stable radius at %.6g Pa",
-                                       B->name, ph);
-            }
-            /* A window narrower than the pressure step of one ulp of radius (about 4e-12 Pa;
-             * a limit of 1e-300 kPa): no radius need have its pressure inside it, and the
-             * two roots, each moved inward until its pressure is, pass each other by ulps.
-             * The previous pressure lies in the window and in [p_lo, p_hi], so its own root
-             * (within those ulps) is the one radius: the bladder holds its pressure, which
-             * the plan reports clamped into the window (hpi_setup_bladder_from_ri_s). A gap
-             * beyond 1e-12 of the radius (27 fm at 27 mm) would be no rounding: refused. */
-            if (lo > hi && lo - hi <= 1e-12 * lo)
-                lo = hi = fmin(fmax(hi, b->ri_lo[k]), b->ri_hi[k]);
-        }
-        /* The static bounds' outer radii when the rate limits left them as they were. */
-        double rol = lo == b->ri_lo[k] ? b->ro_lo[k] : lo == r_r[0] ? ro_r[0] : NAN;
-        double roh = hi == b->ri_hi[k] ? b->ro_hi[k] : hi == r_r[1] ? ro_r[1] : NAN;
-        if (!(lo <= hi) || (isnan(rol) && hp_iab_ro(&B->iab, lo, &rol) != HP_OK) ||
-            (isnan(roh) && hp_iab_ro(&B->iab, hi, &roh) != HP_OK))
-            return hp_diag_set(d, HP_ERR_INVALID,
-                               "bladder %s: the rate limit around %.6g Pa leaves no radius "
-                               "inside the pressure and stretch limits",
-                               B->name, p_prev ? p_prev[k] : 0.0);
-        pb->ri_lo_si[k] = lo;
-        pb->ri_hi_si[k] = hi;
-        pb->ri_lo[k] = lo * HP_MM_PER_M;
-        pb->ri_hi[k] = hi * HP_MM_PER_M;
-        pb->ro_lo[k] = rol * HP_MM_PER_M;
-        pb->ro_hi[k] = roh * HP_MM_PER_M;
-        if (lo_flags) lo_flags[k] = lof;
-        if (hi_flags) hi_flags[k] = hif;
+        int nostand = 0;
+        hp_error e = bladder_bounds(L, b, k, p_prev, use_rate, memo, NULL, NULL, pb, lo_flags,
+                                    hi_flags, &nostand, d);
+        if (e != HP_OK) return e;
     }
     return HP_OK;
+}
+
+/* The width of the window of outer radii [mm] below which a bladder's ends are solved at
+ * once: a stand-in so narrow could make the plan's pinned test (plan.c, rate_pinned) or
+ * the realtime margin (half a window of 4e-11 mm) see another window than the exact one. */
+#define HP_LAZY_MIN_WIDTH_MM (2.0 * HP_BINDING_TOL_MM)
+
+/* Bladder k with the ends marked in z a stand-in, or both solved when a stand-in cannot be
+ * made or leaves too narrow a window. */
+static hp_error lazy_bladder(hp_rate_lazy *z, int k, hp_diag *d)
+{
+    int nostand = 0;
+    hp_problem *pb = z->pb;
+    hp_error e = bladder_bounds(z->L, z->b, k, pb->p_prev, 1, z->memo, z->lo, z->hi, pb,
+                                z->lo_flags, z->hi_flags, &nostand, d);
+    if (e != HP_OK) return e;
+    if (!(z->lo[k] || z->hi[k]) || (!nostand && pb->ro_hi[k] - pb->ro_lo[k] > HP_LAZY_MIN_WIDTH_MM))
+        return HP_OK;
+    z->lo[k] = z->hi[k] = 0;
+    nostand = 0;
+    return bladder_bounds(z->L, z->b, k, pb->p_prev, 1, z->memo, NULL, NULL, pb, z->lo_flags,
+                          z->hi_flags, &nostand, d);
+}
+
+hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
+{
+    z->failed = 0;
+    for (int k = 0; k < z->L->n; ++k) {
+        const hp_bladder *B = &z->L->bladders[k];
+        double P = z->pb->p_prev[k];
+        int rated = isfinite(B->rate_max);
+        z->lo[k] = rated && P - B->rate_max > z->b->p_lo[k];
+        z->hi[k] = rated && P + B->rate_max < z->b->p_hi[k];
+        hp_error e = lazy_bladder(z, k, d);
+        if (e != HP_OK) return e;
+    }
+    return HP_OK;
+}
+
+int hpi_setup_rate_resolve(hp_rate_lazy *z, int k, unsigned ends)
+{
+    unsigned char lo = z->lo[k] && !(ends & 1u), hi = z->hi[k] && !(ends & 2u);
+    if (lo == z->lo[k] && hi == z->hi[k]) return 1;
+    z->lo[k] = lo;
+    z->hi[k] = hi;
+    if (lazy_bladder(z, k, NULL) == HP_OK) return 1;
+    z->failed = 1;
+    return 0;
+}
+
+int hpi_setup_rate_touch(hp_rate_lazy *z, const double *rho_mm, int n, double margin_mm)
+{
+    if (!z) return 1;
+    int ok = 1;
+    for (int k = 0; k < n; ++k) {
+        if (!z->lo[k] && !z->hi[k]) continue;
+        double r = rho_mm[k];
+        /* false for a NaN: nothing to decide (every comparison of it fails either way) */
+        unsigned ends = (z->lo[k] && r < z->pb->ro_lo[k] + margin_mm ? 1u : 0u) |
+                        (z->hi[k] && r > z->pb->ro_hi[k] - margin_mm ? 2u : 0u);
+        if (ends) ok &= hpi_setup_rate_resolve(z, k, ends);
+    }
+    return ok;
+}
+
+int hpi_setup_rate_pending(const hp_rate_lazy *z)
+{
+    if (!z) return 0;
+    for (int k = 0; k < z->L->n; ++k)
+        if (z->lo[k] || z->hi[k]) return 1;
+    return 0;
 }
 
 int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
