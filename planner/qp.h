@@ -103,12 +103,13 @@ hp_qp_status hpi_qp_solve_warm(hp_qp *q, const double *Lg, const int *guess, int
 /* hpi_qp_solve_warm with some rows' b a stand-in (lazy[j] != 0; NULL: none): each such b
  * is at least the exact one (a tighter constraint, never looser), and the solve stops
  * with HP_QP_LAZY and *hit = that row (hit may be NULL) at the first decision the stand-in
- * could make differently: the row is the most violated one (picked, or first among equal
- * violations), a guessed row (its b enters the warm start's equality solve), a violated
- * row refusing the warm start, or a row of zero norm. A stand-in row that is never the
- * most violated one is not violated under its exact b either, and every other row's
- * violation is the same: a solve that does not stop is, step for step and bit for bit,
- * the solve with the exact b (the rows' b enter nowhere else). On HP_QP_LAZY the outputs
+ * could make differently: the row is the most violated one (the one picked, or the one
+ * refusing the warm start), a guessed row (its b enters the warm start's equality solve)
+ * or a row of zero norm (its b alone says whether the QP is empty). Under its exact b a
+ * stand-in row is violated less or not at all, and every other row's violation is the
+ * same, so while no stand-in row is picked the exact solve picks the same rows: a solve
+ * that does not stop is, step for step and bit for bit, the solve with the exact b (the
+ * rows' b enter nowhere else; tests/planner/test_qp_warm.c, test_lazy_rows_same_bits). On HP_QP_LAZY the outputs
  * are not meaningful except x, the iterate at the stop. */
 hp_qp_status hpi_qp_solve_lazy(hp_qp *q, const double *Lg, const int *guess,
                                const unsigned char *lazy, int *hit, int max_iter, double feas_tol);
