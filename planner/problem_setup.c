@@ -48,25 +48,35 @@ static int nudge(const hp_iab_s *s, double *ri, double p, int up)
     return nudge_n(s, ri, p, up, NAN, NAN, NULL, NULL, &evals);
 }
 
-/* Bounds on dP/dro [Pa/m] of a bladder over [lo, hi] (m): twice the largest and half the
- * smallest of 257 even samples, ends included (the slope is smooth there and varies by a
- * small factor across the interval, falling toward an inflation limit point, whose
- * margin keeps it positive at hi: the factors cover what falls between samples).
- * dP/dro = dP/dri · ri²/ro² (ro³ − ri³ is constant). NAN both when the model fails at a
- * sample. */
-static void slope_range(const hp_iab_s *s, double lo, double hi, double *smin, double *smax)
+/* The largest dP/dro [Pa/m] of a bladder over [lo, hi] (m), twice the largest of 257 even
+ * samples (the slope is smooth there and varies by a small factor across the interval: the
+ * factor 2 covers what falls between samples). dP/dro = dP/dri · ri²/ro² (ro³ − ri³ is
+ * constant). NAN when the model fails at a sample. */
+static double slope_max(const hp_iab_s *s, double lo, double hi)
 {
-    double m = 0.0, mn = INFINITY;
-    *smin = *smax = NAN;
+    double m = 0.0;
     for (int i = 0; i <= 256; ++i) {
         double ri = (lo + (hi - lo) * i / 256.0) * s->scale, P, d1;
-        if (hpi_iab_s_ik(s, ri, &P, &d1, NULL) != HP_OK) return;
-        double ro = hpi_iab_s_ro(s, ri), v = d1 * s->scale * (ri * ri) / (ro * ro);
-        m = fmax(m, v);
-        mn = fmin(mn, v);
+        if (hpi_iab_s_ik(s, ri, &P, &d1, NULL) != HP_OK) return NAN;
+        double ro = hpi_iab_s_ro(s, ri);
+        m = fmax(m, d1 * s->scale * (ri * ri) / (ro * ro));
     }
-    *smax = 2.0 * m;
-    *smin = 0.5 * mn;
+    return 2.0 * m;
+}
+
+/* The knots of bladder k (hp_static_bounds.knot_ro, knot_p): HP_RATE_KNOTS inner radii evenly
+ * over [lo, hi], each with its outer radius and the closed form's pressure there (the bits
+ * hpi_iab_s_ik_ro_m gives). 0 when the model fails at one or the pressures do not rise
+ * (then no stand-in is made from them). */
+static int rate_knots(const hp_iab_s *s, double lo, double hi, double *ro, double *p)
+{
+    for (int i = 0; i < HP_RATE_KNOTS; ++i) {
+        double ri = lo + (hi - lo) * i / (HP_RATE_KNOTS - 1.0);
+        if (hpi_iab_s_ik_ro_m(s, ri, &p[i], &ro[i]) != HP_OK || !isfinite(p[i]) ||
+            !isfinite(ro[i]) || (i > 0 && !(p[i] > p[i - 1] && ro[i] > ro[i - 1])))
+            return 0;
+    }
+    return 1;
 }
 
 /* Tightest of two bounds with their flags; equal bounds keep both flags. */
@@ -170,10 +180,17 @@ hp_error hpi_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_dia
         b->p_hi[k] = env.p_hi;
         b->ro_lo[k] = env.ro_lo;
         b->ro_hi[k] = env.ro_hi;
-        slope_range(&b->iab_s[k], env.ri_lo, env.ri_hi, &b->dpdro_min[k], &b->dpdro_max[k]);
-        b->rate_slack[k] = hpi_setup_rate_slack(b->dpdro_max[k]);
+        b->rate_slack[k] = hpi_setup_rate_slack(slope_max(&b->iab_s[k], env.ri_lo, env.ri_hi));
+        b->knots_ok[k] = rate_knots(&b->iab_s[k], env.ri_lo, env.ri_hi, b->knot_ro[k],
+                                    b->knot_p[k]);
     }
     return HP_OK;
+}
+
+/* 1 when m (may be NULL) holds the bound of a window end at pressure pw, bit for bit. */
+static int memo_holds(const hp_rate_end *m, double pw)
+{
+    return m && m->ok && memcmp(&m->p, &pw, sizeof pw) == 0;
 }
 
 /* The radius bound of one rate window end at pressure pw (up: a lower bound, whose
@@ -183,7 +200,7 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
                       double *r, double *ro)
 {
     hp_rate_end *m = memo ? (up ? &memo->down[k] : &memo->up[k]) : NULL;
-    if (m && m->ok && memcmp(&m->p, &pw, sizeof pw) == 0) {
+    if (memo_holds(m, pw)) {
         *r = m->r;
         *ro = m->ro;
         return 1;
@@ -230,31 +247,45 @@ hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b, c
 
 /* A stand-in for the outer-radius bound [m] of the window end at pressure pw (up: the
  * lower end, whose radius bound must have a pressure >= pw), strictly inside the exact
- * bound: from a point (ra, Pa) where the pressure is known (the last bound solved for
- * that end, or the static bound on the far side) along the slope bounds of dP/dro, to
- * the radius where the pressure is certainly beyond pw by the rate slack. Returns NAN
- * when there is no such point. Arithmetic only: no model evaluation. */
+ * bound: the outer radius of a point whose closed-form pressure lies beyond pw by the rate
+ * slack on the window's side — the last bound solved for that end when it qualifies (a
+ * window moves little from cycle to cycle), else the nearest such knot of the bladder. The pressure rises with the radius
+ * on the stable branch, so the exact bound, where the pressure crosses pw, lies outside
+ * that point by at least the slack's radius (about 1e-5 mm; the closed form's last-bit
+ * wobble is ~1e-11 Pa). No model evaluation; NAN when no point qualifies. */
 static double stand_in(const hp_static_bounds *b, int k, double pw, int up, const hp_rate_end *m)
 {
-    double smax = b->dpdro_max[k], smin = b->dpdro_min[k], sl = b->rate_slack[k];
-    if (!(smin > 0.0) || !isfinite(smax) || !isfinite(sl)) return NAN;
-    double ra, Pa;
+    double sl = b->rate_slack[k], r = NAN;
+    if (!isfinite(sl)) return NAN;
+    const double *kp = b->knot_p[k], *kr = b->knot_ro[k];
     int memo = m && m->ok;
-    if (memo) {
-        ra = m->ro;
-        Pa = m->p_at;
-    } else { /* the static bound on the other side: its pressure bounds the model's there */
-        ra = up ? b->ro_hi[k] : b->ro_lo[k];
-        Pa = up ? b->p_hi[k] : b->p_lo[k];
-    }
-    if (up) { /* P(r) >= pw + sl: from above with the largest slope, from below the smallest */
+    if (up) { /* the smallest radius with P >= pw + sl */
         double t = pw + sl;
-        if (Pa >= t) return ra - (Pa - t) / smax;
-        return memo ? ra + (t - Pa) / smin : NAN;
+        /* The last bound, where it qualifies, is the window's end a cycle ago: near. */
+        if (memo && m->p_at >= t) return m->ro;
+        if (b->knots_ok[k] && kp[HP_RATE_KNOTS - 1] >= t) {
+            int lo = 0, hi = HP_RATE_KNOTS - 1; /* kp[hi] >= t */
+            while (hi - lo > 1) {
+                int mid = (lo + hi) / 2;
+                if (kp[mid] >= t) hi = mid;
+                else lo = mid;
+            }
+            r = kp[lo] >= t ? kr[lo] : kr[hi];
+        }
+        return r;
     }
-    double t = pw - sl; /* P(r) <= pw - sl */
-    if (Pa <= t) return ra + (t - Pa) / smax;
-    return memo ? ra - (Pa - t) / smin : NAN;
+    double t = pw - sl; /* the largest radius with P <= pw - sl */
+    if (memo && m->p_at <= t) return m->ro;
+    if (b->knots_ok[k] && kp[0] <= t) {
+        int lo = 0, hi = HP_RATE_KNOTS - 1; /* kp[lo] <= t */
+        while (hi - lo > 1) {
+            int mid = (lo + hi) / 2;
+            if (kp[mid] <= t) lo = mid;
+            else hi = mid;
+        }
+        r = kp[hi] <= t ? kr[hi] : kr[lo];
+    }
+    return r;
 }
 
 /* Bladder k's bounds for this plan: the static ones intersected with its rate window's
@@ -383,8 +414,10 @@ hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
         const hp_bladder *B = &z->L->bladders[k];
         double P = z->pb->p_prev[k];
         int rated = isfinite(B->rate_max);
-        z->lo[k] = rated && P - B->rate_max > z->b->p_lo[k];
-        z->hi[k] = rated && P + B->rate_max < z->b->p_hi[k];
+        /* An end the memo holds costs nothing exact (a plan holding its answer) */
+        double pl = P - B->rate_max, ph = P + B->rate_max;
+        z->lo[k] = rated && pl > z->b->p_lo[k] && !memo_holds(&z->memo->down[k], pl);
+        z->hi[k] = rated && ph < z->b->p_hi[k] && !memo_holds(&z->memo->up[k], ph);
         hp_error e = lazy_bladder(z, k, d);
         if (e != HP_OK) return e;
     }

@@ -13,6 +13,13 @@
  * recover the radius from the pressure (dP/dri vanishes at the peak). */
 #define HP_STABLE_MARGIN 1e-3
 
+/* Knots per bladder for the rate window ends' stand-ins (hp_static_bounds.knot_ro): a
+ * stand-in from a knot lies at most one knot spacing inside its exact bound (the static
+ * interval / 32: a few hundred Pa on the default scene). 33, not more: with 129 the
+ * tables (33 KB a planner) cost a rate-limited plan 0.1 to 0.3 us more on the loop
+ * benchmark than they saved, though fewer ends were solved. */
+#define HP_RATE_KNOTS 33
+
 /* Limits of one layout that do not change from plan to plan, in SI. */
 typedef struct hp_static_bounds {
     double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];         /* [m] */
@@ -29,10 +36,11 @@ typedef struct hp_static_bounds {
     /* hpi_setup_rate_slack of the bladder: how far inside a rate window [Pa] a pressure
      * must lie for the window's radius bound not to matter (hpi_setup_rate_clear). */
     double rate_slack[HP_MAX_BLADDERS];
-    /* Bounds on dP/dro [Pa/m] over the static interval (twice the largest, half the
-     * smallest of 257 samples; NAN when the model failed at one): what a window end's
-     * stand-in (hp_rate_lazy) is derived with. */
-    double dpdro_max[HP_MAX_BLADDERS], dpdro_min[HP_MAX_BLADDERS];
+    /* HP_RATE_KNOTS points evenly over the static interval of inner radii: their outer
+     * radii [m] and closed-form pressures [Pa] (rising; knots_ok 0 when they could not be
+     * made): where a window end's stand-in (hp_rate_lazy) comes from. */
+    double knot_ro[HP_MAX_BLADDERS][HP_RATE_KNOTS], knot_p[HP_MAX_BLADDERS][HP_RATE_KNOTS];
+    int knots_ok[HP_MAX_BLADDERS];
 } hp_static_bounds;
 
 /* The rate slack of a bladder whose dP/dro is at most slope [Pa/m] on its static bounds:
@@ -108,8 +116,8 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
 
 /* One plan's bounds with the rate windows' ends not yet solved (lazy): each such end's
  * outer-radius bound in pb (ro_lo, ro_hi) is a stand-in strictly inside the exact bound, by
- * at least the radius of the rate slack (derived from the last bound solved for that end,
- * or from the static bound, and the slope bounds of hp_static_bounds), and its inner-radius
+ * at least the radius of the rate slack (a knot of hp_static_bounds or the last bound solved
+ * for that end, whose pressure lies beyond the window end), and its inner-radius
  * bounds (ri_lo, ri_hi) are the static ones, outside the exact bound. So a comparison of a
  * radius that lies strictly inside the stand-in decides as the exact bound would, and one
  * that does not is made only after hpi_setup_rate_resolve has put the exact bound (the bits
@@ -127,7 +135,7 @@ typedef struct hp_rate_lazy {
 
 /* Sets z's bounds into z->pb around pb->p_prev with every rate window end a stand-in (a
  * bladder whose stand-ins leave a window of outer radii narrower than 2·HP_BINDING_TOL_MM,
- * or that has no slope bounds, gets its exact bounds at once). z's pointers must be set.
+ * or for which no stand-in can be made, gets its exact bounds at once). z's pointers must be set.
  * Errors as hpi_setup_cycle_bounds_memo. */
 hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d);
 

@@ -375,7 +375,7 @@ static void test_measured_step_trace_lazy_ends(void **state)
                       hp_level_name(levels[l]), closest, binding, lazy, eager, lazy / 600.0,
                       eager / 600.0);
         assert_true(binding > 0);
-        assert_true(4 * lazy <= eager); /* measured: 18, 17 and 20 % */
+        assert_true(8 * lazy <= eager); /* measured: 10.0, 9.8 and 11.4 % */
         hp_planner_destroy(a);
         hp_planner_destroy(b);
     }
