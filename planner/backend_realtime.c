@@ -459,15 +459,13 @@ static void rt_row_b(rt_state *st, const hp_problem *pb, int k)
  * stops there): the bladder of that row, and every other bladder whose stand-in row the
  * stopped iterate violates (it is likely to be needed next), get their exact bounds and
  * the solve starts again. The solve that runs to its end is the exact bounds' solve, bit
- * for bit. Rows are rebuilt from the bounds first (a window end resolved since the QP was
- * built, by a comparison elsewhere). */
+ * for bit. The rows' b must be those of the bounds as they are (qp_at, line_search). */
 static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, const int *guess,
                           int budget)
 {
     hp_qp *q = &st->qp;
     hp_rate_lazy *z = pb->lazy;
     if (!z) return hpi_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL);
-    for (int k = 0; k < pb->n; ++k) rt_row_b(st, pb, k);
     for (;;) {
         unsigned char lz[HP_QP_MMAX] = {0};
         int any = 0, hit = -1;
@@ -739,9 +737,8 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
         for (int v = 0; v < nv; ++v) dk -= st->J[k * 6 + map[v]] * (xn[map[v]] - xk[map[v]]);
         st->dk[k] = dk;
     }
-    st->soc = 1; /* the rows' b shifted by dk (rt_row_b; rt_qp rebuilds them) */
-    if (!pb->lazy)
-        for (int k = 0; k < pb->n; ++k) rt_row_b(st, pb, k);
+    st->soc = 1; /* the rows' b shifted by dk (rt_row_b), from the bounds as they are now */
+    for (int k = 0; k < pb->n; ++k) rt_row_b(st, pb, k);
     double xt[6];
     int soc_ok = 1, guess[HP_QP_MMAX]; /* the QP just solved: its active set is the guess */
     memcpy(guess, q->active, sizeof guess);

@@ -376,6 +376,25 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
                                      hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
                                      hp_diag *d)
 {
+    if (!use_rate || !p_prev) { /* the static bounds as they are (every plan starts so) */
+        for (int k = 0; k < L->n; ++k) {
+            pb->ri_lo_si[k] = b->ri_lo[k];
+            pb->ri_hi_si[k] = b->ri_hi[k];
+            pb->ri_lo[k] = b->ri_lo[k] * HP_MM_PER_M;
+            pb->ri_hi[k] = b->ri_hi[k] * HP_MM_PER_M;
+            pb->ro_lo[k] = b->ro_lo[k] * HP_MM_PER_M;
+            pb->ro_hi[k] = b->ro_hi[k] * HP_MM_PER_M;
+            if (lo_flags) lo_flags[k] = b->lo_flags[k];
+            if (hi_flags) hi_flags[k] = b->hi_flags[k];
+            int nostand = 0; /* a volume law that failed there: evaluated again, or refused */
+            hp_error e = isnan(b->ro_lo[k]) || isnan(b->ro_hi[k])
+                             ? bladder_bounds(L, b, k, NULL, 0, NULL, NULL, NULL, pb, lo_flags,
+                                              hi_flags, &nostand, d)
+                             : HP_OK;
+            if (e != HP_OK) return e;
+        }
+        return HP_OK;
+    }
     for (int k = 0; k < L->n; ++k) {
         int nostand = 0;
         hp_error e = bladder_bounds(L, b, k, p_prev, use_rate, memo, NULL, NULL, pb, lo_flags,
