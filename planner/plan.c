@@ -723,7 +723,10 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
                  * test against the stand-ins as against the exact bounds once the ends
                  * they come near are resolved. */
                 hpi_setup_rate_touch(p->pb.lazy, c.rho, p->L.n, 2.0 * HP_BINDING_TOL_MM);
-                if (p->pb.lazy && p->rate_lazy.failed) return rate_failed(p, res, &c), HP_OK;
+                if (p->pb.lazy && p->rate_lazy.failed) {
+                    rate_failed(p, res, &c);
+                    return HP_OK;
+                }
                 c.direct = direct_chain(p, &c);
                 c.held = !c.direct && rate_pinned(p);
                 c.clamp_mm = 0;
