@@ -29,7 +29,7 @@ for level in 1 2; do
       on && />   / {
         ir = $1; gsub(",", "", ir); total += ir
         f = $0; sub(/.*>   [^:]*:/, "", f); sub(/ .*/, "", f)
-        ph = f ~ /cycle_bounds_memo/ ? "rate bounds" \
+        ph = f ~ /cycle_bounds_memo|^rate_bounds|^rate_settle|rate_touch/ ? "rate bounds" \
            : f ~ /recovered_from_nominal/ ? "round trip" \
            : f ~ /^rt_solve|^nlopt_solve/ ? "solver" \
            : f ~ /kkt_measure/ ? "KKT check" \

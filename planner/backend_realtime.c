@@ -100,6 +100,12 @@ typedef struct rt_state {
     int map[6], nv;
     double hsc[HP_QP_NMAX * HP_QP_NMAX];
     double mg[HP_MAX_BLADDERS];
+    /* The last QP's rows (qp_at, rt_row_b): each bladder's linearisation constant rho − J·x,
+     * its extra tightening, and the second-order correction's shift (soc: line_search) —
+     * what rebuilds a row's b when its rate window end is resolved after the QP was built
+     * (hp_problem.lazy). */
+    double base[HP_MAX_BLADDERS], ext[HP_MAX_BLADDERS], dk[HP_MAX_BLADDERS];
+    int soc;
 } rt_state;
 
 /* Test-only hook (planner/backend_testing.h), inert unless a test sets it: the contact
@@ -263,6 +269,19 @@ static double rt_margin(const hp_problem *pb, int k)
     return hpi_min2(RT_MARGIN_MM, 0.25 * (pb->ro_hi[k] - pb->ro_lo[k]));
 }
 
+/* How far inside a rate window end's stand-in (hp_problem.lazy) a radius must lie for the
+ * backend's comparisons of it (against the limits and against the limits moved inward by
+ * the margin, rt_margin) to decide as the exact bound would: beyond the margin. Closer,
+ * the end is resolved first. */
+#define RT_LAZY_MARGIN_MM (2.0 * RT_MARGIN_MM)
+
+static void rt_touch(const hp_problem *pb, const double *rho)
+{
+    /* A failed resolve leaves the stand-in (a tighter limit) and is reported by the core
+     * (hp_rate_lazy.failed), as the eager bounds' failure would be. */
+    (void)hpi_setup_rate_touch(pb->lazy, rho, pb->n, RT_LAZY_MARGIN_MM);
+}
+
 /* Violation (mm, summed) of the limits the QP sees: moved inward by the margin. The merit
  * must measure the same constraints as the QP: against the true limits, the step that
  * moves an active radius the last 1e-11 mm into its margin only costs objective, and near
@@ -271,6 +290,7 @@ static double rt_margin(const hp_problem *pb, int k)
 static double qp_violation(const rt_state *st, const hp_problem *pb, const double *rho)
 {
     double v = 0;
+    rt_touch(pb, rho);
     for (int k = 0; k < pb->n; ++k) {
         if (!isfinite(rho[k])) return INFINITY;
         double mg = st->mg[k];
@@ -419,6 +439,58 @@ static void build_objective(rt_state *st, const hp_problem *pb, const double *xk
     }
 }
 
+/* Bladder k's two rows' b in the QP from its bounds (read now: a resolved rate window end
+ * has its exact bound there), the linearisation's constant, the extra tightening and,
+ * after a second-order correction, its shift. */
+static void rt_row_b(rt_state *st, const hp_problem *pb, int k)
+{
+    hp_qp *q = &st->qp;
+    double mg = st->mg[k] + st->ext[k], base = st->base[k];
+    q->b[2 * k] = pb->ro_lo[k] + mg - base;        /* J x >= lo − base */
+    q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base); /* −J x >= −(hi − base) */
+    if (st->soc) {
+        q->b[2 * k] -= st->dk[k];
+        q->b[2 * k + 1] += st->dk[k];
+    }
+}
+
+/* The QP in st->qp solved as hpi_qp_solve_warm solves it, with every rate window end that
+ * is still a stand-in (hp_problem.lazy) resolved when the solve needs it (hpi_qp_solve_lazy
+ * stops there): the bladder of that row, and every other bladder whose stand-in row the
+ * stopped iterate violates (it is likely to be needed next), get their exact bounds and
+ * the solve starts again. The solve that runs to its end is the exact bounds' solve, bit
+ * for bit. The rows' b must be those of the bounds as they are (qp_at, line_search). */
+static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, const int *guess,
+                          int budget)
+{
+    hp_qp *q = &st->qp;
+    hp_rate_lazy *z = pb->lazy;
+    if (!z) return hpi_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL);
+    for (;;) {
+        unsigned char lz[HP_QP_MMAX] = {0};
+        int any = 0, hit = -1;
+        for (int k = 0; k < pb->n; ++k) {
+            lz[2 * k] = z->lo[k];
+            lz[2 * k + 1] = z->hi[k];
+            any |= z->lo[k] | z->hi[k];
+        }
+        hp_qp_status qs = hpi_qp_solve_lazy(q, Lg, guess, any ? lz : NULL, &hit, budget,
+                                            RT_FEAS_TOL);
+        if (qs != HP_QP_LAZY) return qs;
+        for (int k = 0; k < pb->n; ++k) {
+            if (!(z->lo[k] | z->hi[k])) continue;
+            const double *c = &q->C[2 * k * HP_QP_NMAX];
+            double cx = 0.0;
+            for (int v = 0; v < q->n; ++v) cx += c[v] * q->x[v];
+            unsigned ends = (hit == 2 * k || (z->lo[k] && cx < q->b[2 * k]) ? 1u : 0u) |
+                            (hit == 2 * k + 1 || (z->hi[k] && -cx < q->b[2 * k + 1]) ? 2u : 0u);
+            if (!ends) continue;
+            if (!hpi_setup_rate_resolve(z, k, ends)) return HP_QP_BAD_INPUT;
+            rt_row_b(st, pb, k);
+        }
+    }
+}
+
 /* Builds and solves the QP linearised at xk (scaled pose; uncommanded entries 0), with the
  * limits tightened by extra[k] (mm, may be NULL). Writes the new pose into x. guess (may
  * be NULL) is the active set the QP is warm-started from (hpi_qp_solve_warm): successive
@@ -474,8 +546,9 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk, 
         for (int v = 0; v < nv; ++v) xm[v] = xk[map[v]];
         xv = xm;
     }
+    st->soc = 0;
     for (int k = 0; k < pb->n; ++k) {
-        double mg = st->mg[k] + (extra ? extra[k] : 0.0);
+        st->ext[k] = extra ? extra[k] : 0.0;
         double base = st->rho[k]; /* rho(xk) − J·xk: the linearisation's constant */
         const double *jr = &st->J[k * 6];
         double *lo = &q->C[(2 * k) * HP_QP_NMAX], *hi = lo + HP_QP_NMAX;
@@ -489,15 +562,15 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk, 
             lo[v] = jr[v];
             hi[v] = -jr[v];
         }
-        q->b[2 * k] = pb->ro_lo[k] + mg - base;        /* J x >= lo − base */
-        q->b[2 * k + 1] = -(pb->ro_hi[k] - mg - base); /* −J x >= −(hi − base) */
+        st->base[k] = base;
+        rt_row_b(st, pb, k);
     }
     build_objective(st, pb, xk, curved);
-    hp_qp_status qs = hpi_qp_solve_warm(q, st->Lg_ok ? st->Lg : NULL, guess, budget, RT_FEAS_TOL);
+    hp_qp_status qs = rt_qp(st, pb, st->Lg_ok ? st->Lg : NULL, guess, budget);
     *iters += q->iterations;
     if (qs == HP_QP_BAD_INPUT && curved) { /* Lagrangian not convex here: plain W */
         build_objective(st, pb, xk, 0);
-        qs = hpi_qp_solve_warm(q, st->Lg, guess, budget, RT_FEAS_TOL);
+        qs = rt_qp(st, pb, st->Lg, guess, budget);
         *iters += q->iterations;
     }
     ++st->qps;
@@ -522,6 +595,7 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
         memcpy(st->rho, st->c_rho, sizeof st->rho);
     else if (rt_contact(st, pb, x, st->rho, NULL, NULL, NULL) != HP_OK) return INFINITY;
     else rt_inject(st, pb->n, st->rho);
+    rt_touch(pb, st->rho);
     double worst = 0;
     for (int k = 0; k < pb->n; ++k) {
         if (!isfinite(st->rho[k])) return INFINITY; /* a max would drop a NaN */
@@ -555,9 +629,11 @@ static int rho_by_step(rt_state *st, const hp_problem *pb, const double *xa, con
         for (int i = 0; i < 6; ++i) v += st->J[k * 6 + i] * (xk[i] - xa[i]);
         /* comparisons false for a NaN: a failed model never passes */
         if (!(b[k] * HP_MM_PER_M <= DBL_EPSILON * fabs(v))) return 0;
-        if (!(v >= pb->ro_lo[k] && v <= pb->ro_hi[k])) return 0;
         r[k] = v;
     }
+    rt_touch(pb, r);
+    for (int k = 0; k < pb->n; ++k)
+        if (!(r[k] >= pb->ro_lo[k] && r[k] <= pb->ro_hi[k])) return 0;
     memcpy(st->rho, r, (size_t)pb->n * sizeof *r);
     return 1;
 }
@@ -659,17 +735,17 @@ static int line_search(rt_state *st, const hp_problem *pb, double *xk, const dou
     for (int k = 0; k < pb->n; ++k) {
         double dk = st->c_rho[k] - st->rho_k[k];
         for (int v = 0; v < nv; ++v) dk -= st->J[k * 6 + map[v]] * (xn[map[v]] - xk[map[v]]);
-        q->b[2 * k] -= dk;
-        q->b[2 * k + 1] += dk;
+        st->dk[k] = dk;
     }
+    st->soc = 1; /* the rows' b shifted by dk (rt_row_b), from the bounds as they are now */
+    for (int k = 0; k < pb->n; ++k) rt_row_b(st, pb, k);
     double xt[6];
     int soc_ok = 1, guess[HP_QP_MMAX]; /* the QP just solved: its active set is the guess */
     memcpy(guess, q->active, sizeof guess);
     for (int k = 0; k < pb->n; ++k) soc_ok &= isfinite(st->c_rho[k]) != 0;
     const double *Lg = st->Lg_ok ? st->Lg : NULL;
     if (rt_late(st)) return 0;
-    if (soc_ok && isfinite(phi0) &&
-        hpi_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL) == HP_QP_OPTIMAL) {
+    if (soc_ok && isfinite(phi0) && rt_qp(st, pb, Lg, guess, budget) == HP_QP_OPTIMAL) {
         *iters += q->iterations;
         ++st->cnt.soc;
         st->cnt.soc_warm += q->warm == HP_QP_WARM_ACCEPTED;
@@ -801,6 +877,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
          * exceed the margin (a stop there was restored and labelled iteration-limit). */
         int measured = st->c_ok && same_bits(st->c_x, xk, 6);
         int inside = measured || step <= RT_FULL_STEP;
+        if (measured) rt_touch(pb, st->c_rho);
         for (int k = 0; measured && inside && k < pb->n; ++k)
             inside = st->c_rho[k] >= pb->ro_lo[k] && st->c_rho[k] <= pb->ro_hi[k];
         /* Converged when the step is far below the pose tolerance, or below a tenth of it
@@ -943,7 +1020,7 @@ static hpi_load_solve_status rt_load_hold(const hp_load_model *M, const double x
 const hp_backend_ops hpi_backend_realtime_ops = {
     .name = "realtime",
     .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_THREAD_SAFE | HP_BACKEND_REAL_TIME |
-            HP_BACKEND_WARM_STARTS | HP_BACKEND_LOAD,
+            HP_BACKEND_WARM_STARTS | HP_BACKEND_LOAD | HP_BACKEND_LAZY_RATE,
     .load_hold = rt_load_hold,
     .create = rt_create,
     .solve = rt_solve,

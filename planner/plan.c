@@ -111,20 +111,57 @@ static void err_backend(hp_planner *p, hp_status st, int raw)
     hpi_text_add(p->err, ")");
 }
 
-/* This cycle's exact bounds: the static ones intersected with the rate windows around the
- * previous pressures. Returns 1, or 0 with res labelled (safe output). */
+/* The plan's label when this cycle's rate bounds cannot be solved (safe output). */
+static int rate_failed(hp_planner *p, hp_result *res, plan_ctx *c)
+{
+    hpi_text_set(p->err, "the rate limits leave no radius inside the pressure and stretch "
+                         "limits");
+    fail_safe(p, res, HP_STATUS_INFEASIBLE_START, c);
+    return 0;
+}
+
+/* This cycle's bounds: the static ones intersected with the rate windows around the
+ * previous pressures. For a backend that resolves window ends itself
+ * (HP_BACKEND_LAZY_RATE) the ends are stand-ins until a point of the plan comes near one
+ * (problem_setup.h, hp_rate_lazy; p->pb.lazy); for the others every end is solved here.
+ * Returns 1, or 0 with res labelled (safe output). */
 static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
 {
     c->rate_deferred = 0;
-    if (hpi_setup_cycle_bounds_memo(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits,
-                                    &p->rate_memo, &p->pb, p->lo_flags, p->hi_flags,
-                                    NULL) != HP_OK) {
-        hpi_text_set(p->err, "the rate limits leave no radius inside the pressure and stretch "
-                             "limits");
-        fail_safe(p, res, HP_STATUS_INFEASIBLE_START, c);
-        return 0;
+    hp_error e;
+    p->pb.lazy = NULL;
+    if (hpi_setup_rate_lazy() && (p->ops->caps & HP_BACKEND_LAZY_RATE)) {
+        hp_rate_lazy *z = &p->rate_lazy;
+        *z = (hp_rate_lazy){.L = &p->L,
+                            .b = &p->sb,
+                            .memo = &p->rate_memo,
+                            .pb = &p->pb,
+                            .lo_flags = p->lo_flags,
+                            .hi_flags = p->hi_flags};
+        e = hpi_setup_cycle_bounds_lazy(z, NULL);
+        if (e == HP_OK && hpi_setup_rate_pending(z)) p->pb.lazy = z;
+    } else {
+        e = hpi_setup_cycle_bounds_memo(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits,
+                                        &p->rate_memo, &p->pb, p->lo_flags, p->hi_flags, NULL);
     }
-    return 1;
+    return e == HP_OK ? 1 : rate_failed(p, res, c);
+}
+
+/* Before the plan's answer is taken from its point: every window end still a stand-in that
+ * the answer's radii (c->rho) do not lie clearly inside (twice the binding tolerance, so
+ * that the binding flags and the radius clamps decide as with the exact bound) is
+ * resolved, every one when the radii are not known. Returns 1, or 0 with res labelled
+ * when a resolved end (here or in the backend) had no stable radius. */
+static int rate_settle(hp_planner *p, hp_result *res, plan_ctx *c)
+{
+    hp_rate_lazy *z = p->pb.lazy;
+    if (!z) return 1;
+    if (c->direct || c->has_rho) {
+        hpi_setup_rate_touch(z, c->rho, p->L.n, 2.0 * HP_BINDING_TOL_MM);
+    } else {
+        for (int k = 0; k < p->L.n; ++k) hpi_setup_rate_resolve(z, k, 3u);
+    }
+    return z->failed ? rate_failed(p, res, c) : 1;
 }
 
 /* Step 1: the request. Checks desired (finite, in range, identifiable), splits it into the
@@ -147,6 +184,7 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
     }
     for (int i = 0; i < 6; ++i) c->unc[i] = desired[i] - c->xc[i];
     hp_problem *pb = &p->pb;
+    pb->lazy = NULL;
     hpi_plan_to_scaled(c->xc, pb->d);
     for (int i = 0; i < 6; ++i)
         if (!p->commanded[i]) pb->d[i] = 0.0;
@@ -681,7 +719,11 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
         c.x = p->pb.d;
         c.unconfirmed = 0;
         int iters0 = c.iters;
-        if (c.held ? !hold(p, res, &c) : !c.direct && !solve(p, res, &c, pass > 0)) return HP_OK;
+        int ok = c.held ? hold(p, res, &c) : c.direct || solve(p, res, &c, pass > 0);
+        /* A window end the backend resolved without a radius fails the plan as the eager
+         * bounds would have, before any solve. */
+        if (!ok && p->pb.lazy && p->rate_lazy.failed) rate_failed(p, res, &c);
+        if (!ok || !rate_settle(p, res, &c)) return HP_OK;
         c.iters += pass > 0 ? iters0 : 0;
         res->raw_code = c.raw;
         res->iterations = c.iters;
@@ -693,6 +735,14 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
                 c.rate_deferred = 0;
             } else {
                 if (!rate_bounds(p, res, &c)) return HP_OK;
+                /* The direct chain's radii (c.rho, every bladder's: it answered) decide its
+                 * test against the stand-ins as against the exact bounds once the ends
+                 * they come near are resolved. */
+                hpi_setup_rate_touch(p->pb.lazy, c.rho, p->L.n, 2.0 * HP_BINDING_TOL_MM);
+                if (p->pb.lazy && p->rate_lazy.failed) {
+                    rate_failed(p, res, &c);
+                    return HP_OK;
+                }
                 c.direct = direct_chain(p, &c);
                 c.held = !c.direct && rate_pinned(p);
                 c.clamp_mm = 0;

@@ -43,6 +43,7 @@ struct hp_planner {
     int commanded[6];   /* = id.commanded */
     hp_static_bounds sb;
     hp_rate_memo rate_memo; /* the last rate bounds solved (plan.c), keyed by pressure */
+    hp_rate_lazy rate_lazy; /* this plan's window ends not yet solved (pb.lazy points here) */
     hp_problem pb;
     unsigned lo_flags[HP_MAX_BLADDERS], hi_flags[HP_MAX_BLADDERS];
     const hp_backend_ops *ops;

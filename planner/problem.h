@@ -37,6 +37,11 @@ typedef struct hp_problem {
                                          stretch and pressure hold their limits in double
                                          precision (the mm copies may differ by an ulp) */
     double ri_hi_si[HP_MAX_BLADDERS];
+    /* NULL: every bound above is exact. Else some rate window ends are stand-ins inside
+     * their exact bounds (problem_setup.h, hp_rate_lazy), for a backend with
+     * HP_BACKEND_LAZY_RATE: it resolves an end before any comparison a stand-in could decide
+     * differently from the exact bound. */
+    struct hp_rate_lazy *lazy;
 } hp_problem;
 
 /* Objective f(x); grad (nx) and hess (nx×nx dense, row-major) may be NULL. */
@@ -94,7 +99,10 @@ enum {
     HP_BACKEND_ONE_START = 1u << 6,
     /* With HP_BACKEND_ONE_START: solves again from settings.restarts further starts after a
      * CLOSEST answer (docs/planner.md, Restarts), so only restarts = 0 leaves it one start. */
-    HP_BACKEND_RESTARTS = 1u << 7
+    HP_BACKEND_RESTARTS = 1u << 7,
+    /* Solves with rate window ends not yet solved (hp_problem.lazy), resolving those its
+     * points come near; the other backends get every bound exact. */
+    HP_BACKEND_LAZY_RATE = 1u << 8
 };
 
 typedef struct hp_backend_ops {

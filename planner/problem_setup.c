@@ -64,6 +64,21 @@ static double slope_max(const hp_iab_s *s, double lo, double hi)
     return 2.0 * m;
 }
 
+/* The knots of bladder k (hp_static_bounds.knot_ro, knot_p): HP_RATE_KNOTS inner radii evenly
+ * over [lo, hi], each with its outer radius and the closed form's pressure there (the bits
+ * hpi_iab_s_ik_ro_m gives). 0 when the model fails at one or the pressures do not rise
+ * (then no stand-in is made from them). */
+static int rate_knots(const hp_iab_s *s, double lo, double hi, double *ro, double *p)
+{
+    for (int i = 0; i < HP_RATE_KNOTS; ++i) {
+        double ri = lo + (hi - lo) * i / (HP_RATE_KNOTS - 1.0);
+        if (hpi_iab_s_ik_ro_m(s, ri, &p[i], &ro[i]) != HP_OK || !isfinite(p[i]) ||
+            !isfinite(ro[i]) || (i > 0 && !(p[i] > p[i - 1] && ro[i] > ro[i - 1])))
+            return 0;
+    }
+    return 1;
+}
+
 /* Tightest of two bounds with their flags; equal bounds keep both flags. */
 static void take_max(double *v, unsigned *f, double cand, unsigned cf)
 {
@@ -166,8 +181,16 @@ hp_error hpi_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_dia
         b->ro_lo[k] = env.ro_lo;
         b->ro_hi[k] = env.ro_hi;
         b->rate_slack[k] = hpi_setup_rate_slack(slope_max(&b->iab_s[k], env.ri_lo, env.ri_hi));
+        b->knots_ok[k] = rate_knots(&b->iab_s[k], env.ri_lo, env.ri_hi, b->knot_ro[k],
+                                    b->knot_p[k]);
     }
     return HP_OK;
+}
+
+/* 1 when m (may be NULL) holds the bound of a window end at pressure pw, bit for bit. */
+static int memo_holds(const hp_rate_end *m, double pw)
+{
+    return m && m->ok && memcmp(&m->p, &pw, sizeof pw) == 0;
 }
 
 /* The radius bound of one rate window end at pressure pw (up: a lower bound, whose
@@ -177,7 +200,7 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
                       double *r, double *ro)
 {
     hp_rate_end *m = memo ? (up ? &memo->down[k] : &memo->up[k]) : NULL;
-    if (m && m->ok && memcmp(&m->p, &pw, sizeof pw) == 0) {
+    if (memo_holds(m, pw)) {
         *r = m->r;
         *ro = m->ro;
         return 1;
@@ -222,65 +245,238 @@ hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b, c
     return hpi_setup_cycle_bounds_memo(L, b, p_prev, use_rate, NULL, pb, lo_flags, hi_flags, d);
 }
 
+/* A stand-in for the outer-radius bound [m] of the window end at pressure pw (up: the
+ * lower end, whose radius bound must have a pressure >= pw), strictly inside the exact
+ * bound: the outer radius of a point whose closed-form pressure lies beyond pw by the rate
+ * slack on the window's side — the last bound solved for that end when it qualifies (a
+ * window moves little from cycle to cycle), else the nearest such knot of the bladder. The pressure rises with the radius
+ * on the stable branch, so the exact bound, where the pressure crosses pw, lies outside
+ * that point by at least the slack's radius (about 1e-5 mm; the closed form's last-bit
+ * wobble is ~1e-11 Pa). No model evaluation; NAN when no point qualifies. */
+static double stand_in(const hp_static_bounds *b, int k, double pw, int up, const hp_rate_end *m)
+{
+    double sl = b->rate_slack[k], r = NAN;
+    if (!isfinite(sl)) return NAN;
+    const double *kp = b->knot_p[k], *kr = b->knot_ro[k];
+    int memo = m && m->ok;
+    if (up) { /* the smallest radius with P >= pw + sl */
+        double t = pw + sl;
+        /* The last bound, where it qualifies, is the window's end a cycle ago: near. */
+        if (memo && m->p_at >= t) return m->ro;
+        if (b->knots_ok[k] && kp[HP_RATE_KNOTS - 1] >= t) {
+            int lo = 0, hi = HP_RATE_KNOTS - 1; /* kp[hi] >= t */
+            while (hi - lo > 1) {
+                int mid = (lo + hi) / 2;
+                if (kp[mid] >= t) hi = mid;
+                else lo = mid;
+            }
+            r = kp[lo] >= t ? kr[lo] : kr[hi];
+        }
+        return r;
+    }
+    double t = pw - sl; /* the largest radius with P <= pw - sl */
+    if (memo && m->p_at <= t) return m->ro;
+    if (b->knots_ok[k] && kp[0] <= t) {
+        int lo = 0, hi = HP_RATE_KNOTS - 1; /* kp[lo] <= t */
+        while (hi - lo > 1) {
+            int mid = (lo + hi) / 2;
+            if (kp[mid] <= t) lo = mid;
+            else hi = mid;
+        }
+        r = kp[hi] <= t ? kr[hi] : kr[lo];
+    }
+    return r;
+}
+
+/* Bladder k's bounds for this plan: the static ones intersected with its rate window's
+ * ends, each solved exactly unless lazy_lo / lazy_hi (may be NULL) marks it: then a
+ * stand-in (stand_in) for its outer radius, and the static inner radius. *nostand is set
+ * when a stand-in was asked for and none could be made (the caller solves the end). */
+static hp_error bladder_bounds(const hp_layout *L, const hp_static_bounds *b, int k,
+                               const double *p_prev, int use_rate, hp_rate_memo *memo,
+                               const unsigned char *lazy_lo, const unsigned char *lazy_hi,
+                               hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags, int *nostand,
+                               hp_diag *d)
+{
+    const hp_bladder *B = &L->bladders[k];
+    double lo = b->ri_lo[k], hi = b->ri_hi[k];
+    unsigned lof = b->lo_flags[k], hif = b->hi_flags[k];
+    /* The rate bounds solved and their outer radii (hp_iab_ro's bits, from the solve). */
+    double r_r[2] = {NAN, NAN}, ro_r[2] = {NAN, NAN};
+    double sro_lo = NAN, sro_hi = NAN; /* stand-ins' outer radii [m] */
+    if (use_rate && p_prev && isfinite(B->rate_max)) {
+        double r, pl, ph;
+        hpi_rate_window(p_prev[k], B->rate_max, &pl, &ph);
+        if (pl > b->p_lo[k]) {
+            if (lazy_lo && lazy_lo[k]) {
+                sro_lo = stand_in(b, k, pl, 1, memo ? &memo->down[k] : NULL);
+                *nostand |= isnan(sro_lo);
+            } else if (rate_bound(b, k, pl, 1, memo, &r, &ro_r[0])) {
+                take_max(&lo, &lof, r_r[0] = r, HP_BIND_RATE_DOWN);
+            } else {
+                return hp_diag_set(d, HP_ERR_INVALID,
+                                   "bladder %s: rate limit: no stable radius at %.6g Pa", B->name,
+                                   pl);
+            }
+        }
+        if (ph < b->p_hi[k]) {
+            if (lazy_hi && lazy_hi[k]) {
+                sro_hi = stand_in(b, k, ph, 0, memo ? &memo->up[k] : NULL);
+                *nostand |= isnan(sro_hi);
+            } else if (rate_bound(b, k, ph, 0, memo, &r, &ro_r[1])) {
+                take_min(&hi, &hif, r_r[1] = r, HP_BIND_RATE_UP);
+            } else {
+                return hp_diag_set(d, HP_ERR_INVALID,
+                                   "bladder %s: rate limit: no stable radius at %.6g Pa", B->name,
+                                   ph);
+            }
+        }
+        /* A window narrower than the pressure step of one ulp of radius (about 4e-12 Pa;
+         * a limit of 1e-300 kPa): no radius need have its pressure inside it, and the
+         * two roots, each moved inward until its pressure is, pass each other by ulps.
+         * The previous pressure lies in the window and in [p_lo, p_hi], so its own root
+         * (within those ulps) is the one radius: the bladder holds its pressure, which
+         * the plan reports clamped into the window (hpi_setup_bladder_from_ri_s). A gap
+         * beyond 1e-12 of the radius (27 fm at 27 mm) would be no rounding: refused. */
+        if (lo > hi && lo - hi <= 1e-12 * lo) lo = hi = fmin(fmax(hi, b->ri_lo[k]), b->ri_hi[k]);
+    }
+    if (*nostand) return HP_OK;
+    /* The static bounds' outer radii when the rate limits left them as they were. */
+    double rol = lo == b->ri_lo[k] ? b->ro_lo[k] : lo == r_r[0] ? ro_r[0] : NAN;
+    double roh = hi == b->ri_hi[k] ? b->ro_hi[k] : hi == r_r[1] ? ro_r[1] : NAN;
+    if (!(lo <= hi) || (isnan(rol) && hp_iab_ro(&B->iab, lo, &rol) != HP_OK) ||
+        (isnan(roh) && hp_iab_ro(&B->iab, hi, &roh) != HP_OK))
+        return hp_diag_set(d, HP_ERR_INVALID,
+                           "bladder %s: the rate limit around %.6g Pa leaves no radius "
+                           "inside the pressure and stretch limits",
+                           B->name, p_prev ? p_prev[k] : 0.0);
+    /* A stand-in replaces the outer radius where it is tighter than the exact end's other
+     * bound could be: a stand-in lies inside the exact rate bound, so whichever of the two
+     * (static, rate) the exact plan takes, the stand-in is inside it. */
+    if (!isnan(sro_lo)) {
+        rol = fmax(rol, sro_lo);
+        if (rol != b->ro_lo[k]) lof = HP_BIND_RATE_DOWN;
+    }
+    if (!isnan(sro_hi)) {
+        roh = fmin(roh, sro_hi);
+        if (roh != b->ro_hi[k]) hif = HP_BIND_RATE_UP;
+    }
+    pb->ri_lo_si[k] = lo;
+    pb->ri_hi_si[k] = hi;
+    pb->ri_lo[k] = lo * HP_MM_PER_M;
+    pb->ri_hi[k] = hi * HP_MM_PER_M;
+    pb->ro_lo[k] = rol * HP_MM_PER_M;
+    pb->ro_hi[k] = roh * HP_MM_PER_M;
+    if (lo_flags) lo_flags[k] = lof;
+    if (hi_flags) hi_flags[k] = hif;
+    return HP_OK;
+}
+
 hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds *b,
                                      const double *p_prev, int use_rate, hp_rate_memo *memo,
                                      hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
                                      hp_diag *d)
 {
-    for (int k = 0; k < L->n; ++k) {
-        const hp_bladder *B = &L->bladders[k];
-        double lo = b->ri_lo[k], hi = b->ri_hi[k];
-        unsigned lof = b->lo_flags[k], hif = b->hi_flags[k];
-        /* The rate bounds solved and their outer radii (hp_iab_ro's bits, from the solve). */
-        double r_r[2] = {NAN, NAN}, ro_r[2] = {NAN, NAN};
-        if (use_rate && p_prev && isfinite(B->rate_max)) {
-            double r, pl, ph;
-            hpi_rate_window(p_prev[k], B->rate_max, &pl, &ph);
-            if (pl > b->p_lo[k]) {
-                if (rate_bound(b, k, pl, 1, memo, &r, &ro_r[0]))
-                    take_max(&lo, &lof, r_r[0] = r, HP_BIND_RATE_DOWN);
-                else
-                    return hp_diag_set(d, HP_ERR_INVALID,
-                                       "bladder %s: rate limit: no stable radius at %.6g Pa",
-                                       B->name, pl);
-            }
-            if (ph < b->p_hi[k]) {
-                if (rate_bound(b, k, ph, 0, memo, &r, &ro_r[1]))
-                    take_min(&hi, &hif, r_r[1] = r, HP_BIND_RATE_UP);
-                else
-                    return hp_diag_set(d, HP_ERR_INVALID,
-                                       "bladder %s: rate limit: no stable radius at %.6g Pa",
-                                       B->name, ph);
-            }
-            /* A window narrower than the pressure step of one ulp of radius (about 4e-12 Pa;
-             * a limit of 1e-300 kPa): no radius need have its pressure inside it, and the
-             * two roots, each moved inward until its pressure is, pass each other by ulps.
-             * The previous pressure lies in the window and in [p_lo, p_hi], so its own root
-             * (within those ulps) is the one radius: the bladder holds its pressure, which
-             * the plan reports clamped into the window (hpi_setup_bladder_from_ri_s). A gap
-             * beyond 1e-12 of the radius (27 fm at 27 mm) would be no rounding: refused. */
-            if (lo > hi && lo - hi <= 1e-12 * lo)
-                lo = hi = fmin(fmax(hi, b->ri_lo[k]), b->ri_hi[k]);
+    if (!use_rate || !p_prev) { /* the static bounds as they are (every plan starts so) */
+        for (int k = 0; k < L->n; ++k) {
+            pb->ri_lo_si[k] = b->ri_lo[k];
+            pb->ri_hi_si[k] = b->ri_hi[k];
+            pb->ri_lo[k] = b->ri_lo[k] * HP_MM_PER_M;
+            pb->ri_hi[k] = b->ri_hi[k] * HP_MM_PER_M;
+            pb->ro_lo[k] = b->ro_lo[k] * HP_MM_PER_M;
+            pb->ro_hi[k] = b->ro_hi[k] * HP_MM_PER_M;
+            if (lo_flags) lo_flags[k] = b->lo_flags[k];
+            if (hi_flags) hi_flags[k] = b->hi_flags[k];
+            int nostand = 0; /* a volume law that failed there: evaluated again, or refused */
+            hp_error e = isnan(b->ro_lo[k]) || isnan(b->ro_hi[k])
+                             ? bladder_bounds(L, b, k, NULL, 0, NULL, NULL, NULL, pb, lo_flags,
+                                              hi_flags, &nostand, d)
+                             : HP_OK;
+            if (e != HP_OK) return e;
         }
-        /* The static bounds' outer radii when the rate limits left them as they were. */
-        double rol = lo == b->ri_lo[k] ? b->ro_lo[k] : lo == r_r[0] ? ro_r[0] : NAN;
-        double roh = hi == b->ri_hi[k] ? b->ro_hi[k] : hi == r_r[1] ? ro_r[1] : NAN;
-        if (!(lo <= hi) || (isnan(rol) && hp_iab_ro(&B->iab, lo, &rol) != HP_OK) ||
-            (isnan(roh) && hp_iab_ro(&B->iab, hi, &roh) != HP_OK))
-            return hp_diag_set(d, HP_ERR_INVALID,
-                               "bladder %s: the rate limit around %.6g Pa leaves no radius "
-                               "inside the pressure and stretch limits",
-                               B->name, p_prev ? p_prev[k] : 0.0);
-        pb->ri_lo_si[k] = lo;
-        pb->ri_hi_si[k] = hi;
-        pb->ri_lo[k] = lo * HP_MM_PER_M;
-        pb->ri_hi[k] = hi * HP_MM_PER_M;
-        pb->ro_lo[k] = rol * HP_MM_PER_M;
-        pb->ro_hi[k] = roh * HP_MM_PER_M;
-        if (lo_flags) lo_flags[k] = lof;
-        if (hi_flags) hi_flags[k] = hif;
+        return HP_OK;
+    }
+    for (int k = 0; k < L->n; ++k) {
+        int nostand = 0;
+        hp_error e = bladder_bounds(L, b, k, p_prev, use_rate, memo, NULL, NULL, pb, lo_flags,
+                                    hi_flags, &nostand, d);
+        if (e != HP_OK) return e;
     }
     return HP_OK;
+}
+
+/* The width of the window of outer radii [mm] below which a bladder's ends are solved at
+ * once: a stand-in so narrow could make the plan's pinned test (plan.c, rate_pinned) or
+ * the realtime margin (half a window of 4e-11 mm) see another window than the exact one. */
+#define HP_LAZY_MIN_WIDTH_MM (2.0 * HP_BINDING_TOL_MM)
+
+/* Bladder k with the ends marked in z a stand-in, or both solved when a stand-in cannot be
+ * made or leaves too narrow a window. */
+static hp_error lazy_bladder(hp_rate_lazy *z, int k, hp_diag *d)
+{
+    int nostand = 0;
+    hp_problem *pb = z->pb;
+    hp_error e = bladder_bounds(z->L, z->b, k, pb->p_prev, 1, z->memo, z->lo, z->hi, pb,
+                                z->lo_flags, z->hi_flags, &nostand, d);
+    if (e != HP_OK) return e;
+    if (!(z->lo[k] || z->hi[k]) || (!nostand && pb->ro_hi[k] - pb->ro_lo[k] > HP_LAZY_MIN_WIDTH_MM))
+        return HP_OK;
+    z->lo[k] = z->hi[k] = 0;
+    nostand = 0;
+    return bladder_bounds(z->L, z->b, k, pb->p_prev, 1, z->memo, NULL, NULL, pb, z->lo_flags,
+                          z->hi_flags, &nostand, d);
+}
+
+hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
+{
+    z->failed = 0;
+    for (int k = 0; k < z->L->n; ++k) {
+        const hp_bladder *B = &z->L->bladders[k];
+        double P = z->pb->p_prev[k];
+        int rated = isfinite(B->rate_max);
+        /* An end the memo holds costs nothing exact (a plan holding its answer) */
+        double pl, ph;
+        hpi_rate_window(P, B->rate_max, &pl, &ph);
+        z->lo[k] = rated && pl > z->b->p_lo[k] && !memo_holds(&z->memo->down[k], pl);
+        z->hi[k] = rated && ph < z->b->p_hi[k] && !memo_holds(&z->memo->up[k], ph);
+        hp_error e = lazy_bladder(z, k, d);
+        if (e != HP_OK) return e;
+    }
+    return HP_OK;
+}
+
+int hpi_setup_rate_resolve(hp_rate_lazy *z, int k, unsigned ends)
+{
+    unsigned char lo = z->lo[k] && !(ends & 1u), hi = z->hi[k] && !(ends & 2u);
+    if (lo == z->lo[k] && hi == z->hi[k]) return 1;
+    z->lo[k] = lo;
+    z->hi[k] = hi;
+    if (lazy_bladder(z, k, NULL) == HP_OK) return 1;
+    z->failed = 1;
+    return 0;
+}
+
+int hpi_setup_rate_touch(hp_rate_lazy *z, const double *rho_mm, int n, double margin_mm)
+{
+    if (!z) return 1;
+    int ok = 1;
+    for (int k = 0; k < n; ++k) {
+        if (!z->lo[k] && !z->hi[k]) continue;
+        double r = rho_mm[k];
+        /* false for a NaN: nothing to decide (every comparison of it fails either way) */
+        unsigned ends = (z->lo[k] && r < z->pb->ro_lo[k] + margin_mm ? 1u : 0u) |
+                        (z->hi[k] && r > z->pb->ro_hi[k] - margin_mm ? 2u : 0u);
+        if (ends) ok &= hpi_setup_rate_resolve(z, k, ends);
+    }
+    return ok;
+}
+
+int hpi_setup_rate_pending(const hp_rate_lazy *z)
+{
+    if (!z) return 0;
+    for (int k = 0; k < z->L->n; ++k)
+        if (z->lo[k] || z->hi[k]) return 1;
+    return 0;
 }
 
 int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,

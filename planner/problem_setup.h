@@ -13,6 +13,13 @@
  * recover the radius from the pressure (dP/dri vanishes at the peak). */
 #define HP_STABLE_MARGIN 1e-3
 
+/* Knots per bladder for the rate window ends' stand-ins (hp_static_bounds.knot_ro): a
+ * stand-in from a knot lies at most one knot spacing inside its exact bound (the static
+ * interval / 32: a few hundred Pa on the default scene). 33, not more: with 129 the
+ * tables (33 KB a planner) cost a rate-limited plan 0.1 to 0.3 us more on the loop
+ * benchmark than they saved, though fewer ends were solved. */
+#define HP_RATE_KNOTS 33
+
 /* Limits of one layout that do not change from plan to plan, in SI. */
 typedef struct hp_static_bounds {
     double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];         /* [m] */
@@ -29,6 +36,11 @@ typedef struct hp_static_bounds {
     /* hpi_setup_rate_slack of the bladder: how far inside a rate window [Pa] a pressure
      * must lie for the window's radius bound not to matter (hpi_setup_rate_clear). */
     double rate_slack[HP_MAX_BLADDERS];
+    /* HP_RATE_KNOTS points evenly over the static interval of inner radii: their outer
+     * radii [m] and closed-form pressures [Pa] (rising; knots_ok 0 when they could not be
+     * made): where a window end's stand-in (hp_rate_lazy) comes from. */
+    double knot_ro[HP_MAX_BLADDERS][HP_RATE_KNOTS], knot_p[HP_MAX_BLADDERS][HP_RATE_KNOTS];
+    int knots_ok[HP_MAX_BLADDERS];
 } hp_static_bounds;
 
 /* The rate slack of a bladder whose dP/dro is at most slope [Pa/m] on its static bounds:
@@ -117,6 +129,45 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
                                      const double *p_prev, int use_rate, hp_rate_memo *memo,
                                      hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
                                      hp_diag *d);
+
+/* One plan's bounds with the rate windows' ends not yet solved (lazy): each such end's
+ * outer-radius bound in pb (ro_lo, ro_hi) is a stand-in strictly inside the exact bound, by
+ * at least the radius of the rate slack (a knot of hp_static_bounds or the last bound solved
+ * for that end, whose pressure lies beyond the window end), and its inner-radius
+ * bounds (ri_lo, ri_hi) are the static ones, outside the exact bound. So a comparison of a
+ * radius that lies strictly inside the stand-in decides as the exact bound would, and one
+ * that does not is made only after hpi_setup_rate_resolve has put the exact bound (the bits
+ * of hpi_setup_cycle_bounds_memo) in its place. The plan owns it (hp_planner); a backend
+ * that resolves ends itself (HP_BACKEND_LAZY_RATE) finds it in hp_problem.lazy. */
+typedef struct hp_rate_lazy {
+    const hp_layout *L;
+    const hp_static_bounds *b;
+    hp_rate_memo *memo;
+    hp_problem *pb;
+    unsigned *lo_flags, *hi_flags;
+    unsigned char lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS]; /* 1: a stand-in, not solved */
+    int failed; /* a resolved end had no stable radius: the plan fails as the eager one */
+} hp_rate_lazy;
+
+/* Sets z's bounds into z->pb around pb->p_prev with every rate window end a stand-in (a
+ * bladder whose stand-ins leave a window of outer radii narrower than 2·HP_BINDING_TOL_MM,
+ * or for which no stand-in can be made, gets its exact bounds at once). z's pointers must be set.
+ * Errors as hpi_setup_cycle_bounds_memo. */
+hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d);
+
+/* Puts the exact bound of bladder k's window ends in ends (1: the lower, 2: the upper, 3:
+ * both) in place of their stand-ins (the memo's bits when it holds the end; both ends
+ * when the other's stand-in would leave too narrow a window). 0 (and z->failed set) when
+ * a window end has no stable radius. */
+int hpi_setup_rate_resolve(hp_rate_lazy *z, int k, unsigned ends);
+
+/* Resolves every stand-in end of the bladders k (n of them) that the radius rho_mm[k] does
+ * not lie more than margin_mm inside; a non-finite rho resolves nothing (every comparison
+ * of it fails whatever the bound). 0 when a resolve failed. z may be NULL (no-op). */
+int hpi_setup_rate_touch(hp_rate_lazy *z, const double *rho_mm, int n, double margin_mm);
+
+/* Whether any end of z is still a stand-in. */
+int hpi_setup_rate_pending(const hp_rate_lazy *z);
 
 /* TEST-ONLY hooks (not installed, no public header; inert until a test sets them):
  * the number of rate-limit window ends solved into radius bounds in this process so far

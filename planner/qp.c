@@ -307,9 +307,15 @@ static void back_subst(const double *L, int ldl, int n, double *y, double *x)
  * equality solve, which the full solve then overwrites. */
 static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr, const int *A,
                            int k, const double *a, const double *nrm2, const int *twin, int *skip,
-                           int max_iter, double feas_tol)
+                           int max_iter, double feas_tol, const unsigned char *lazy, int *hit)
 {
     int n = qp->n;
+    if (lazy) /* a guessed row's b enters the equality solve: it must be exact */
+        for (int c = 0; c < k; ++c)
+            if (lazy[A[c]]) {
+                *hit = A[c];
+                return HP_QP_WARM_NONE;
+            }
     if (k > n || k > max_iter) return HP_QP_WARM_SHAPE;
     for (int c = 0; c < k; ++c) {
         int j = A[c];
@@ -349,6 +355,10 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr
     for (int c = 0; c < k; ++c) skip[A[c]] = 1;
     int viol = most_violated(qp, Cr, x, nrm2, twin, skip, feas_tol);
     for (int c = 0; c < k; ++c) skip[A[c]] = 0;
+    if (viol >= 0 && lazy && lazy[viol]) {
+        *hit = viol;
+        return HP_QP_WARM_NONE;
+    }
     if (viol >= 0) return HP_QP_WARM_VIOLATED;
     for (int c = 0; c < k; ++c) {
         qp->u[A[c]] = us[c] / D[c];
@@ -371,7 +381,15 @@ hp_qp_status hpi_qp_solve_factored(hp_qp *qp, const double *Lg, int max_iter, do
 hp_qp_status hpi_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, int max_iter,
                                double feas_tol)
 {
-    int n = qp->n, m = qp->m;
+    return hpi_qp_solve_lazy(qp, Lg, guess, NULL, NULL, max_iter, feas_tol);
+}
+
+hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
+                               const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
+{
+    int n = qp->n, m = qp->m, hit_row = -1;
+    if (!hit) hit = &hit_row;
+    *hit = -1;
     qp->warm = HP_QP_WARM_NONE;
     if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1 || qp->pairs < 0 ||
         qp->pairs > m / 2)
@@ -397,9 +415,17 @@ hp_qp_status hpi_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, in
     const double *L;
     int ldl;
     if (!cholesky_factor(qp->G, n, Lg, qp->L_, &L, &ldl)) return HP_QP_BAD_INPUT;
+    if (lazy) /* a row of zero norm: its b alone decides emptiness */
+        for (int j = 0; j < m; ++j)
+            if (lazy[j] && skip[j]) {
+                *hit = j;
+                return HP_QP_LAZY;
+            }
     if (empty) return HP_QP_INFEASIBLE; /* a row of zero norm that no x satisfies */
     if (guess) {
-        qp->warm = warm_try(qp, L, ldl, Cr, ga, gk, a, nrm2, twin, skip, max_iter, feas_tol);
+        qp->warm = warm_try(qp, L, ldl, Cr, ga, gk, a, nrm2, twin, skip, max_iter, feas_tol, lazy,
+                            hit);
+        if (*hit >= 0) return HP_QP_LAZY;
         if (qp->warm == HP_QP_WARM_ACCEPTED) {
             for (int i = 0; i < n; ++i)
                 if (!isfinite(x[i])) return HP_QP_BAD_INPUT;
@@ -420,6 +446,10 @@ hp_qp_status hpi_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, in
         /* Step 1: the most violated constraint. */
         int p = most_violated(qp, Cr, x, nrm2, twin, skip, feas_tol);
         if (p < 0) break;
+        if (lazy && lazy[p]) {
+            *hit = p;
+            return HP_QP_LAZY;
+        }
         const double *np = &Cr[p * NM];
         double up = 0.0;
         for (;;) { /* Step 2 */

@@ -16,7 +16,8 @@ typedef enum hp_qp_status {
     HP_QP_OPTIMAL = 0,
     HP_QP_INFEASIBLE, /* no x satisfies C x >= b */
     HP_QP_ITERATION_LIMIT,
-    HP_QP_BAD_INPUT /* G not positive definite, NaN, sizes out of range */
+    HP_QP_BAD_INPUT, /* G not positive definite, NaN, sizes out of range */
+    HP_QP_LAZY       /* hpi_qp_solve_lazy: a stand-in row's exact b is needed (*hit) */
 } hp_qp_status;
 
 /* What the warm start of hpi_qp_solve_warm did with its guessed active set. */
@@ -98,5 +99,19 @@ hp_qp_status hpi_qp_solve_factored(hp_qp *q, const double *Lg, int max_iter, dou
  * they are not unique (degenerate vertices); x agrees to rounding. */
 hp_qp_status hpi_qp_solve_warm(hp_qp *q, const double *Lg, const int *guess, int max_iter,
                                double feas_tol);
+
+/* hpi_qp_solve_warm with some rows' b a stand-in (lazy[j] != 0; NULL: none): each such b
+ * is at least the exact one (a tighter constraint, never looser), and the solve stops
+ * with HP_QP_LAZY and *hit = that row (hit may be NULL) at the first decision the stand-in
+ * could make differently: the row is the most violated one (the one picked, or the one
+ * refusing the warm start), a guessed row (its b enters the warm start's equality solve)
+ * or a row of zero norm (its b alone says whether the QP is empty). Under its exact b a
+ * stand-in row is violated less or not at all, and every other row's violation is the
+ * same, so while no stand-in row is picked the exact solve picks the same rows: a solve
+ * that does not stop is, step for step and bit for bit, the solve with the exact b (the
+ * rows' b enter nowhere else; tests/planner/test_qp_warm.c, test_lazy_rows_same_bits). On HP_QP_LAZY the outputs
+ * are not meaningful except x, the iterate at the stop. */
+hp_qp_status hpi_qp_solve_lazy(hp_qp *q, const double *Lg, const int *guess,
+                               const unsigned char *lazy, int *hit, int max_iter, double feas_tol);
 
 #endif

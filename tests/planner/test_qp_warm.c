@@ -584,6 +584,68 @@ static void test_dense_fixed_sizes_same_bits(void **st)
     }
 }
 
+/* hpi_qp_solve_lazy: on seeded random QPs of the realtime shape, some rows' b raised by a
+ * random amount (a stand-in: the constraint tightened, never loosened) and marked lazy.
+ * Each stop (HP_QP_LAZY) names a marked row, whose exact b is then put back, and the solve
+ * starts again, as the realtime backend does; the solve that runs to its end must be the
+ * exact QP's solve bit for bit (status, x, multipliers, active set, iterations, what the
+ * warm start did), with no guess, with the exact answer's active set as the guess and with
+ * a random guess. */
+static void test_lazy_rows_same_bits(void **st)
+{
+    (void)st;
+    uint64_t seed = 0x1a2e;
+    long stops = 0, skipped = 0, solves = 0;
+    for (int t = 0; t < 3000; ++t) {
+        hp_qp exact;
+        realtime_qp(&exact, &seed);
+        int m = exact.m;
+        hp_qp probe = exact;
+        if (hpi_qp_solve(&probe, 200, 1e-12) != HP_QP_OPTIMAL) continue;
+        for (int v = 0; v < 3; ++v) {
+            int g[HP_QP_MMAX] = {0};
+            for (int j = 0; j < m; ++j)
+                g[j] = v == 1 ? probe.active[j] : v == 2 && test_rng_next(&seed) % 4 == 0;
+            hp_qp ref = exact, q = exact;
+            hp_qp_status rs = hpi_qp_solve_warm(&ref, NULL, v ? g : NULL, 200, 1e-12);
+            unsigned char lazy[HP_QP_MMAX] = {0};
+            for (int j = 0; j < m; ++j)
+                if (test_rng_next(&seed) % 2 == 0) {
+                    lazy[j] = 1;
+                    q.b[j] += pow(10.0, -6.0 + 6.0 * test_rng_uniform(&seed, 0.0, 1.0));
+                }
+            hp_qp_status qs;
+            int hit;
+            for (;;) {
+                hp_qp w = q;
+                qs = hpi_qp_solve_lazy(&w, NULL, v ? g : NULL, lazy, &hit, 200, 1e-12);
+                if (qs != HP_QP_LAZY) {
+                    q = w;
+                    break;
+                }
+                assert_true(hit >= 0 && hit < m && lazy[hit]);
+                lazy[hit] = 0;
+                q.b[hit] = exact.b[hit];
+                ++stops;
+            }
+            for (int j = 0; j < m; ++j) skipped += lazy[j];
+            ++solves;
+            assert_int_equal(qs, rs);
+            if (rs != HP_QP_OPTIMAL) continue;
+            assert_memory_equal(q.x, ref.x, sizeof q.x);
+            assert_memory_equal(q.u, ref.u, sizeof q.u);
+            assert_memory_equal(q.active, ref.active, sizeof q.active);
+            assert_int_equal(q.iterations, ref.iterations);
+            assert_int_equal(q.warm, ref.warm);
+        }
+    }
+    print_message("lazy rows: %ld solves, %ld stops for an exact b, %ld stand-in rows never "
+                  "needed\n",
+                  solves, stops, skipped);
+    assert_true(solves > 6000);
+    assert_true(stops > 0 && skipped > 0);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -593,6 +655,7 @@ int main(void)
         cmocka_unit_test(test_warm_bad_input_and_infeasible),
         cmocka_unit_test(test_declared_pairs_same_bits),
         cmocka_unit_test(test_dense_fixed_sizes_same_bits),
+        cmocka_unit_test(test_lazy_rows_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

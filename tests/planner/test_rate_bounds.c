@@ -306,6 +306,69 @@ static void test_held_answer_reuses_its_bounds(void **state)
     }
 }
 
+/* The loop benchmark's measured mode on its step trace at every level: a seeded target
+ * (within 3 mm, 2 deg) held for 60 cycles, then another, rate limits of 500 Pa a plan,
+ * each plan's pressures read back with +-3 Pa of noise (new bits every cycle, so the memo
+ * never holds a window end's pressure). A planner that consults a window end only when a
+ * point of its plan comes near it (lazy) and one that solves every end first (eager,
+ * hpi_test_rate_lazy(0)) are given the same readings: every answer is the same, bit for
+ * bit, and the lazy planner solves fewer window ends (the counter of problem_setup.h, a
+ * function of the seeded loop alone). */
+static void test_measured_step_trace_lazy_ends(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    uint64_t seed = 0x5737;
+    for (int l = 0; l < 3; ++l) {
+        hp_planner *a = NULL, *b = NULL;
+        assert_int_equal(lf_planner(levels[l], 500.0, &a), HP_OK);
+        assert_int_equal(lf_planner(levels[l], 500.0, &b), HP_OK);
+        const int n = hp_planner_layout(a)->n;
+        double mm_deg[6] = {0}, d[6];
+        unsigned long lazy = 0, eager = 0;
+        int binding = 0, closest = 0;
+        for (int t = 0; t < 600; ++t) {
+            if (t % 60 == 0)
+                for (int i = 0; i < 6; ++i) mm_deg[i] = (i < 3 ? 3.0 : 2.0) * lf_uniform(&seed);
+            lf_pose(mm_deg, d);
+            hp_result ra, rb;
+            unsigned long s0 = hpi_test_rate_bound_solves();
+            assert_int_equal(hp_plan(a, d, &ra), HP_OK);
+            unsigned long s1 = hpi_test_rate_bound_solves();
+            hpi_test_rate_lazy(0);
+            assert_int_equal(hp_plan(b, d, &rb), HP_OK);
+            hpi_test_rate_lazy(1);
+            lazy += s1 - s0;
+            eager += hpi_test_rate_bound_solves() - s1;
+            if (!hp_test_same_result(&ra, &rb)) {
+                print_error("%s plan %d: lazy and eager window ends answer differently (%s / "
+                            "%s)\n",
+                            hp_level_name(levels[l]), t, hp_status_name(ra.status),
+                            hp_status_name(rb.status));
+                fail();
+            }
+            assert_string_equal(hp_planner_message(a), hp_planner_message(b));
+            closest += ra.status == HP_STATUS_CLOSEST;
+            for (int k = 0; k < n; ++k)
+                binding += (ra.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP)) != 0;
+            double P[HP_MAX_BLADDERS];
+            for (int k = 0; k < n; ++k) P[k] = ra.bladders[k].pressure + 3.0 * lf_uniform(&seed);
+            unsigned ca = 0, cb = 0;
+            assert_int_equal(hp_planner_set_measured(a, P, &ca), HP_OK);
+            assert_int_equal(hp_planner_set_measured(b, P, &cb), HP_OK);
+            assert_int_equal(ca, cb);
+        }
+        print_message("%s, measured step trace: %d closest answers, %d rate limits binding; "
+                      "window ends solved: %lu lazy, %lu eager (%.2f a plan against %.2f)\n",
+                      hp_level_name(levels[l]), closest, binding, lazy, eager, lazy / 600.0,
+                      eager / 600.0);
+        assert_true(binding > 0);
+        assert_true(8 * lazy <= eager); /* measured: 10.0, 9.8 and 11.4 % */
+        hp_planner_destroy(a);
+        hp_planner_destroy(b);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -313,6 +376,7 @@ int main(void)
         cmocka_unit_test(test_memo_chain_equals_cold_reference),
         cmocka_unit_test(test_plans_defer_the_bounds),
         cmocka_unit_test(test_held_answer_reuses_its_bounds),
+        cmocka_unit_test(test_measured_step_trace_lazy_ends),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
