@@ -165,7 +165,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
 static int tie_cost(const hp_load_model *M, int k, const double *rho, const double *lo,
                     const double *L, const double *U, const double *ra, const double *rc,
                     const double *Flo, const double *Fhi, const double *target, const double *x,
-                    double *e)
+                    double *e, double *P)
 {
     double Pk;
     if (x[k] <= 0.0 && Flo[k] <= 0.0) {
@@ -174,6 +174,7 @@ static int tie_cost(const hp_load_model *M, int k, const double *rho, const doub
         return -1;
     }
     *e += (Pk - target[k]) * (Pk - target[k]);
+    P[k] = Pk;
     return 0;
 }
 
@@ -182,22 +183,217 @@ static int tie_cost(const hp_load_model *M, int k, const double *rho, const doub
  * search; the grid adds interior starts at little cost (3 x 3 points). */
 #define GRID_N 3
 
-/* The holding set {A·F = b, Flo <= F <= Fhi} (A 6×n, weighted rows) written in at most two
- * free forces: Gauss–Jordan elimination with partial pivoting over the bladders that can
- * carry; the free ones are scanned on a GRID_N-point grid of their pressures, the others
- * follow (checked against their ranges); then every vertex of the set (the free count of
- * bladders at an end of their force range, the six others solved for). f gets the point
- * with the least tie-breaker sum (tie_cost: a bladder at zero force takes its best
- * pressure that carries nothing). 0 on success, -1 when no point is in the set or the set
- * has more than two free coordinates (more than eight carrying bladders: not scanned). */
-static int grid_forces(const hp_load_model *M, int n, const double *rho, const double *A,
-                       const double *b, const double *lo, const double *L, const double *U,
-                       const double *Flo, const double *Fhi, const double *target, double tol,
-                       double *f)
+/* The holding set at a pose: {A·F = b, Flo <= F <= Fhi} (A 6×n, weighted rows) in the
+ * forces, with each bladder's carrying pressures [L, U] (L: where it starts to carry, U: the
+ * top of its bounds and of the indentation range) and touching pressure Pt. */
+typedef struct hold_set {
+    const hp_load_model *M;
+    int n;
+    const double *lo, *target;
+    double rho[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
+    double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS], Fhi[HP_MAX_BLADDERS];
+    double Pt[HP_MAX_BLADDERS];
+    double fscale, tol; /* the largest |b_r| and the rows' tolerance */
+} hold_set;
+
+/* The holding set at pose xi inside [lo, hi]: OK, UNREACHABLE when a bladder centre is
+ * inside the head or a row no force box can meet (a necessary condition, exact, and cheap
+ * where phase 1's QP must run out its multiplier updates to show infeasibility: the sinking
+ * search asks this ~20 times per unreachable pose), ERROR when the model fails. */
+static hpi_load_solve_status hold_set_at(const hp_load_model *M, const double xi[6],
+                                         const double *lo, const double *hi, const double *target,
+                                         hold_set *h)
 {
-    int col[HP_MAX_BLADDERS], m = 0;
-    for (int k = 0; k < n; ++k)
-        if (L[k] < U[k]) col[m++] = k;
+    const int n = M->layout.n;
+    h->M = M;
+    h->n = n;
+    h->lo = lo;
+    h->target = target;
+    double J[HP_MAX_BLADDERS * 6], Qg[6];
+    if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, h->rho, J, NULL) != HP_OK)
+        return HP_LOAD_SOLVE_ERROR;
+    /* A pose with a bladder centre inside the head (through its panel) is held by nothing. */
+    if (hpi_load_domain(M, h->rho) != HP_OK) return HP_LOAD_SOLVE_UNREACHABLE;
+    hpi_load_gravity(M, xi, Qg, NULL, NULL);
+    for (int k = 0; k < n; ++k) {
+        h->Pt[k] = hpi_load_touch_pressure(M, k, h->rho[k]);
+        h->L[k] = fmax(lo[k], fmax(0.0, h->Pt[k]));
+        /* The indentation range where the contact law is trusted caps a carrying bladder's
+         * pressure at this pose: ro(P) <= rho/(1 − HP_LOAD_INDENT_MAX). A bladder whose
+         * lowest pressure already carries beyond it cannot hold the pose. */
+        double Pi = hpi_load_indent_pressure(M, k, h->rho[k]);
+        if (lo[k] > 0 && lo[k] > h->Pt[k] && lo[k] > Pi) return HP_LOAD_SOLVE_UNREACHABLE;
+        h->U[k] = fmin(hi[k], Pi);
+        bstate st;
+        h->Flo[k] = h->Fhi[k] = 0.0;
+        if (h->L[k] < h->U[k]) {
+            if (bladder_state(M, k, h->L[k], h->rho[k], &st)) return HP_LOAD_SOLVE_ERROR;
+            h->Flo[k] = fmax(0.0, st.F);
+            if (bladder_state(M, k, h->U[k], h->rho[k], &st)) return HP_LOAD_SOLVE_ERROR;
+            h->Fhi[k] = st.F;
+        }
+        for (int r = 0; r < 6; ++r) h->A[r * n + k] = J[k * 6 + r] * row_w(r);
+    }
+    h->fscale = 0.0;
+    for (int r = 0; r < 6; ++r) {
+        h->b[r] = -Qg[r] * row_w(r);
+        h->fscale = fmax(h->fscale, fabs(h->b[r]));
+    }
+    h->tol = 1e-13 * fmax(1.0, h->fscale);
+    for (int r = 0; r < 6; ++r) {
+        double rlo = 0.0, rhi = 0.0;
+        for (int k = 0; k < n; ++k) {
+            double a = h->A[r * n + k] * h->Flo[k], c = h->A[r * n + k] * h->Fhi[k];
+            rlo += fmin(a, c);
+            rhi += fmax(a, c);
+        }
+        if (h->b[r] < rlo - h->tol || h->b[r] > rhi + h->tol) return HP_LOAD_SOLVE_UNREACHABLE;
+    }
+    return HP_LOAD_SOLVE_OK;
+}
+
+/* The smallest eigenvalue of the holding stiffness [N/mm, mm/degree units] with pressures P
+ * (n, Pa) whose forces are x, counting only the bladders whose contact lasts: a bladder adds
+ * its terms when its force outlasts HP_LOAD_STABLE_CONTACT of the head moving away from it
+ * (x_k >= a_k·that, a_k its normal stiffness). A bladder that only just touches is stiff
+ * toward the head and gives nothing away from it: counting it would call a hold stable that
+ * the forward statics leaves. 0 on success. */
+static int stiff_min(const hp_load_stiff *S, const double *x, const double *P, double *lam)
+{
+    int idx[HP_MAX_BLADDERS], nv = 0;
+    double Fv[HP_MAX_BLADDERS], av[HP_MAX_BLADDERS];
+    for (int k = 0; k < S->n; ++k) {
+        double ro, o1, o2;
+        hp_claw c;
+        if (!(x[k] > 0.0)) continue;
+        if (radius_chain(S->M, k, P[k], &ro, &o1, &o2) != HP_OK) return -1;
+        hpi_load_claw_to(S->M, k, P[k], ro, S->rho[k], HP_CLAW_GRADIENT, &c);
+        double a = -c.d[HP_CLAW_RHO];
+        if (!(x[k] >= a * HP_LOAD_STABLE_CONTACT)) continue;
+        idx[nv] = k;
+        Fv[nv] = x[k];
+        av[nv++] = a;
+    }
+    return hpi_load_stiff_lambda_at(S, nv, idx, Fv, av, lam);
+}
+
+/* The bladders that can carry at the set's pose (col[], returned count) and the inner radii
+ * at the ends of their carrying pressures (ra at L, rc at U; 0 for the others), which
+ * tie_cost's pressure solve brackets with. -1 when the model fails. */
+static int carrying(const hold_set *h, int *col, double *ra, double *rc)
+{
+    const hp_load_model *M = h->M;
+    int m = 0;
+    for (int k = 0; k < h->n; ++k) {
+        ra[k] = rc[k] = 0.0;
+        if (!(h->L[k] < h->U[k])) continue;
+        col[m++] = k;
+        if (hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], h->L[k], &ra[k]) ||
+            hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], h->U[k], &rc[k]))
+            return -1;
+    }
+    return m;
+}
+
+/* A point x of the holding set: P gets its pressures (tie_cost for the m carrying-capable
+ * bladders col[], the others at their best pressure that carries nothing) and *e their
+ * tie-breaker sum, stopping early (e >= stop) as soon as it cannot win. 0, or -1 when the
+ * model fails. */
+static int point_cost(const hold_set *h, const int *col, int m, const double *ra, const double *rc,
+                      const double *x, double stop, double *e, double *P)
+{
+    *e = 0.0;
+    for (int k = 0; k < h->n; ++k) P[k] = fmin(fmax(h->target[k], h->lo[k]), h->L[k]);
+    for (int j = 0; j < m && *e < stop; ++j)
+        if (tie_cost(h->M, col[j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target, x,
+                     e, P))
+            return -1;
+    return 0;
+}
+
+/* Grid points per free coordinate of the stable scan: the stable part of the family can lie
+ * where the 3×3 grid of the tie-breaker's scan does not look (a side bladder's band between
+ * touching and carrying at the top of its range). */
+#define STABLE_GRID_N 7
+/* The stable scan's points: its grid and the vertices (nfree of at most eight carrying
+ * bladders at an end of their range: at most 4·C(8, 2)). */
+#define STABLE_POINTS (STABLE_GRID_N * STABLE_GRID_N + 4 * 28)
+
+/* The stable scan's candidates: every point of the holding set the scan visits with its
+ * tie-breaker sum, checked for stability afterwards from the cheapest up (a stiffness check
+ * costs several tie-breaker sums, and the cheapest stable point is what is wanted). */
+typedef struct stable_scan {
+    const hp_load_stiff *S;
+    int count;
+    double e[STABLE_POINTS];
+    double x[STABLE_POINTS][HP_MAX_BLADDERS];
+} stable_scan;
+
+/* A point x of the holding set: kept in f (its pressures in Pf, may be NULL) when its
+ * tie-breaker sum is below *best; with a stable scan, recorded as its candidate instead. 0,
+ * or -1 when the model fails. */
+static int consider(const hold_set *h, const int *col, int m, const double *ra, const double *rc,
+                    stable_scan *scan, const double *x, double *best, double *f, double *Pf)
+{
+    double e, P[HP_MAX_BLADDERS];
+    if (point_cost(h, col, m, ra, rc, x, scan ? INFINITY : *best, &e, P)) return -1;
+    if (scan) {
+        if (scan->count < STABLE_POINTS) {
+            scan->e[scan->count] = e;
+            memcpy(scan->x[scan->count++], x, (size_t)h->n * sizeof *x);
+        }
+        return 0;
+    }
+    if (!(e < *best)) return 0;
+    *best = e;
+    memcpy(f, x, (size_t)h->n * sizeof *f);
+    if (Pf) memcpy(Pf, P, (size_t)h->n * sizeof *Pf);
+    return 0;
+}
+
+/* The cheapest of the scan's candidates whose stiffness's smallest eigenvalue is at least
+ * HP_LOAD_STABLE_MARGIN into f and Pf: 0, or -1 when none is (or the model fails). */
+static int cheapest_stable(const hold_set *h, const int *col, int m, const double *ra,
+                           const double *rc, stable_scan *scan, double *f, double *Pf)
+{
+    for (int round = 0; round < scan->count; ++round) {
+        int i = -1;
+        for (int j = 0; j < scan->count; ++j)
+            if (scan->e[j] < INFINITY && (i < 0 || scan->e[j] < scan->e[i])) i = j;
+        if (i < 0) return -1;
+        double e, lam;
+        if (point_cost(h, col, m, ra, rc, scan->x[i], INFINITY, &e, Pf) ||
+            stiff_min(scan->S, scan->x[i], Pf, &lam) != 0)
+            return -1;
+        if (lam >= HP_LOAD_STABLE_MARGIN) {
+            memcpy(f, scan->x[i], (size_t)h->n * sizeof *f);
+            return 0;
+        }
+        scan->e[i] = INFINITY; /* checked */
+    }
+    return -1;
+}
+
+/* The holding set written in at most two free forces: Gauss–Jordan elimination with
+ * partial pivoting over the bladders that can carry; the free ones are scanned on a
+ * grid_n-point grid of their pressures, the others follow (checked against their ranges);
+ * then every vertex of the set (the free count of bladders at an end of their force range,
+ * the six others solved for). f gets the point with the least tie-breaker sum (tie_cost: a
+ * bladder at zero force takes its best pressure that carries nothing), Pf (may be NULL) its
+ * pressures; with stab, among the points whose holding stiffness has its smallest
+ * eigenvalue at least HP_LOAD_STABLE_MARGIN only. At most grid_n² + 4·C(8, 2) points. 0 on
+ * success, -1 when no point qualifies or the set has more than two free coordinates (more
+ * than eight carrying bladders: not scanned). */
+static int grid_forces(const hold_set *h, int grid_n, stable_scan *stab, double *f, double *Pf)
+{
+    const hp_load_model *M = h->M;
+    const int n = h->n;
+    const double *A = h->A, *b = h->b, *L = h->L, *U = h->U, *Flo = h->Flo, *Fhi = h->Fhi;
+    const double tol = h->tol;
+    int col[HP_MAX_BLADDERS];
+    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
+    const int m = carrying(h, col, ra, rc);
+    if (m < 0) return -1;
     double E[6][HP_MAX_BLADDERS + 1];
     for (int r = 0; r < 6; ++r) {
         for (int j = 0; j < m; ++j) E[r][j] = A[r * n + col[j]];
@@ -236,15 +432,7 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
             if (nfree == 2) return -1;
             fr[nfree++] = j;
         }
-    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
-    for (int k = 0; k < n; ++k) {
-        ra[k] = rc[k] = 0.0;
-        if (L[k] < U[k] &&
-            (hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], L[k], &ra[k]) ||
-             hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], U[k], &rc[k])))
-            return -1;
-    }
-    const int g0 = nfree > 0 ? GRID_N : 1, g1 = nfree > 1 ? GRID_N : 1;
+    const int g0 = nfree > 0 ? grid_n : 1, g1 = nfree > 1 ? grid_n : 1;
     double best = INFINITY, x[HP_MAX_BLADDERS];
     for (int i0 = 0; i0 < g0; ++i0)
         for (int i1 = 0; i1 < g1; ++i1) {
@@ -256,8 +444,8 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
             for (int q = 0; q < nfree && ok; ++q) {
                 int k = col[fr[q]], i = q ? i1 : i0;
                 bstate st;
-                double Pq = L[k] + (double)i / (GRID_N - 1) * (U[k] - L[k]);
-                ok = bladder_state(M, k, Pq, rho[k], &st) == HP_OK;
+                double Pq = L[k] + (double)i / (grid_n - 1) * (U[k] - L[k]);
+                ok = bladder_state(M, k, Pq, h->rho[k], &st) == HP_OK;
                 x[k] = fmin(fmax(st.F, Flo[k]), Fhi[k]);
             }
             for (int r = 0; r < rank && ok; ++r) {
@@ -269,14 +457,7 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
                 x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
             }
             for (int r = rank; r < 6 && ok; ++r) ok = fabs(E[r][m]) <= tol; /* consistent */
-            if (!ok) continue;
-            double e = 0.0;
-            for (int j = 0; j < m && e < best; ++j)
-                if (tie_cost(M, col[j], rho, lo, L, U, ra, rc, Flo, Fhi, target, x, &e)) return -1;
-            if (e < best) {
-                best = e;
-                memcpy(f, x, (size_t)n * sizeof *f);
-            }
+            if (ok && consider(h, col, m, ra, rc, stab, x, &best, f, Pf)) return -1;
         }
     /* The polytope's vertices too (nfree of the carrying bladders at an end of their range,
      * the six others solved for): where the tie-breaker is concave the least sum lies on
@@ -310,17 +491,10 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
                         ok = sol[j] >= Flo[k] - tol && sol[j] <= Fhi[k] + tol;
                         x[k] = fmin(fmax(sol[j], Flo[k]), Fhi[k]);
                     }
-                    if (!ok) continue;
-                    double e = 0.0;
-                    for (int j = 0; j < m && e < best; ++j)
-                        if (tie_cost(M, col[j], rho, lo, L, U, ra, rc, Flo, Fhi, target, x, &e))
-                            return -1;
-                    if (e < best) {
-                        best = e;
-                        memcpy(f, x, (size_t)n * sizeof *f);
-                    }
+                    if (ok && consider(h, col, m, ra, rc, stab, x, &best, f, Pf)) return -1;
                 }
     }
+    if (stab) return cheapest_stable(h, col, m, ra, rc, stab, f, Pf);
     return isfinite(best) ? 0 : -1;
 }
 
@@ -336,51 +510,12 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
 {
     *cost = INFINITY;
     const int n = M->layout.n;
-    double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
-    if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, NULL) != HP_OK)
-        return HP_LOAD_SOLVE_ERROR;
-    /* A pose with a bladder centre inside the head (through its panel) is held by nothing. */
-    if (hpi_load_domain(M, rho) != HP_OK) return HP_LOAD_SOLVE_UNREACHABLE;
-    hpi_load_gravity(M, xi, Qg, NULL, NULL);
-    double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS], Fhi[HP_MAX_BLADDERS],
-        Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
-    for (int k = 0; k < n; ++k) {
-        Pt[k] = hpi_load_touch_pressure(M, k, rho[k]);
-        L[k] = fmax(lo[k], fmax(0.0, Pt[k]));
-        /* The indentation range where the contact law is trusted caps a carrying bladder's
-         * pressure at this pose: ro(P) <= rho/(1 − HP_LOAD_INDENT_MAX). A bladder whose
-         * lowest pressure already carries beyond it cannot hold the pose. */
-        double Pi = hpi_load_indent_pressure(M, k, rho[k]);
-        if (lo[k] > 0 && lo[k] > Pt[k] && lo[k] > Pi) return HP_LOAD_SOLVE_UNREACHABLE;
-        U[k] = fmin(hi[k], Pi);
-        bstate s;
-        Flo[k] = Fhi[k] = 0.0;
-        if (L[k] < U[k]) {
-            if (bladder_state(M, k, L[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
-            Flo[k] = fmax(0.0, s.F);
-            if (bladder_state(M, k, U[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
-            Fhi[k] = s.F;
-        }
-        for (int r = 0; r < 6; ++r) A[r * n + k] = J[k * 6 + r] * row_w(r);
-    }
-    for (int r = 0; r < 6; ++r) b[r] = -Qg[r] * row_w(r);
-    double fscale = 0.0;
-    for (int r = 0; r < 6; ++r) fscale = fmax(fscale, fabs(b[r]));
-    const double tol = 1e-13 * fmax(1.0, fscale);
-
-    /* A row no force box can meet (sum_k A[r][k]·F_k ranges over an interval as F moves in
-     * its box) proves the pose unreachable at once: a necessary condition, exact, and cheap
-     * where phase 1's QP must run out its multiplier updates to show infeasibility (the
-     * sinking search asks this ~20 times per unreachable pose). */
-    for (int r = 0; r < 6; ++r) {
-        double rlo = 0.0, rhi = 0.0;
-        for (int k = 0; k < n; ++k) {
-            double a = A[r * n + k] * Flo[k], c = A[r * n + k] * Fhi[k];
-            rlo += fmin(a, c);
-            rhi += fmax(a, c);
-        }
-        if (b[r] < rlo - tol || b[r] > rhi + tol) return HP_LOAD_SOLVE_UNREACHABLE;
-    }
+    hold_set hs;
+    hpi_load_solve_status hst = hold_set_at(M, xi, lo, hi, target, &hs);
+    if (hst != HP_LOAD_SOLVE_OK) return hst;
+    const double *rho = hs.rho, *A = hs.A, *b = hs.b, *L = hs.L, *U = hs.U, *Flo = hs.Flo,
+                 *Fhi = hs.Fhi, *Pt = hs.Pt;
+    const double fscale = hs.fscale, tol = hs.tol;
     /* Phase 1, in the forces: the point of {A·F = b, Flo <= F <= Fhi} nearest to the
      * forces of the starting pressures (each force scaled by its range). The constraints are
      * linear, so this decides reachability exactly. */
@@ -401,8 +536,7 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
         }
-        if (grid && grid_forces(M, n, rho, A, b, lo, L, U, Flo, Fhi, target, tol, f) != 0)
-            return HP_LOAD_SOLVE_UNREACHABLE;
+        if (grid && grid_forces(&hs, GRID_N, NULL, f, NULL) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
         for (int k = 0; k < n; ++k) {
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
@@ -592,6 +726,72 @@ hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_
 {
     return hold_core(M, xi, lo, hi, target, start, max_iter, nlp_solve, stiffness, P, F, iterations,
                      raw);
+}
+
+/* The bisection's halvings: the answer within 2^-16 = 1.5e-5 of the segment from the pick. */
+#define STABLE_HALVINGS 16
+
+hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi, const double *target,
+                                           double *P, double *F, double *lam_min)
+{
+    hold_set hs;
+    hpi_load_solve_status st = hold_set_at(M, xi, lo, hi, target, &hs);
+    if (st != HP_LOAD_SOLVE_OK) return st;
+    hp_load_stiff S;
+    if (hpi_load_stiff_init(&S, M, xi, target) != HP_OK) return HP_LOAD_SOLVE_ERROR;
+    const int n = hs.n;
+    /* The pick's forces: a bladder below its carrying pressures carries nothing. */
+    double f0[HP_MAX_BLADDERS], lam;
+    for (int k = 0; k < n; ++k) {
+        bstate b;
+        f0[k] = 0.0;
+        if (!(hs.L[k] < hs.U[k]) || !(P[k] > hs.L[k])) continue;
+        if (bladder_state(M, k, P[k], hs.rho[k], &b)) return HP_LOAD_SOLVE_ERROR;
+        f0[k] = fmin(fmax(b.F, hs.Flo[k]), hs.Fhi[k]);
+    }
+    if (stiff_min(&S, f0, P, &lam) != 0) return HP_LOAD_SOLVE_ERROR;
+    if (lam >= HP_LOAD_STABLE_MARGIN) {
+        if (lam_min) *lam_min = lam;
+        return HP_LOAD_SOLVE_OK;
+    }
+    /* The cheapest stable point of the scan. */
+    double c[HP_MAX_BLADDERS], Pc[HP_MAX_BLADDERS];
+    stable_scan scan;
+    scan.S = &S;
+    scan.count = 0;
+    if (grid_forces(&hs, STABLE_GRID_N, &scan, c, Pc) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
+    int col[HP_MAX_BLADDERS];
+    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS], best;
+    const int m = carrying(&hs, col, ra, rc);
+    if (m < 0 || point_cost(&hs, col, m, ra, rc, c, INFINITY, &best, Pc) ||
+        stiff_min(&S, c, Pc, &lam) != 0)
+        return HP_LOAD_SOLVE_ERROR;
+    /* The stable point nearest the pick on the segment of forces from it to c: the set is
+     * convex in the forces, so the segment holds the head throughout. */
+    double a = 0.0, b = 1.0;
+    for (int it = 0; it < STABLE_HALVINGS; ++it) {
+        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], e, lx;
+        for (int k = 0; k < n; ++k)
+            x[k] = fmin(fmax(f0[k] + t * (c[k] - f0[k]), hs.Flo[k]), hs.Fhi[k]);
+        if (point_cost(&hs, col, m, ra, rc, x, INFINITY, &e, Px) || stiff_min(&S, x, Px, &lx))
+            return HP_LOAD_SOLVE_ERROR;
+        if (!(lx >= HP_LOAD_STABLE_MARGIN)) {
+            a = t;
+            continue;
+        }
+        b = t;
+        if (e < best) {
+            best = e;
+            lam = lx;
+            memcpy(c, x, (size_t)n * sizeof *c);
+            memcpy(Pc, Px, (size_t)n * sizeof *Pc);
+        }
+    }
+    memcpy(P, Pc, (size_t)n * sizeof *P);
+    memcpy(F, c, (size_t)n * sizeof *F);
+    if (lam_min) *lam_min = lam;
+    return HP_LOAD_SOLVE_OK;
 }
 
 hp_error hpi_load_bladder_stiff(const hp_load_model *M, int k, double P, double rho, double a[3])

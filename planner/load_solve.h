@@ -44,6 +44,46 @@ hp_error hpi_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const dou
 int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x, double *f,
                         double *grad, double *hess, double *lam_min);
 
+/* The stable hold (docs/load.md, "Stable holds"): the smallest eigenvalue of the holding
+ * stiffness [N/mm, mm/degree units] HOLD's stable search asks of a hold. A plan's answer
+ * meets the equilibrium to 1e-9 N (load_level.c), so the forward statics started at a hold
+ * this stable moves the head by at most about 1e-9 N / margin = 1e-7 mm (or degree): ten
+ * times inside the 1e-6 mm/deg at which the rest must confirm a REACHED answer, and eleven
+ * orders of magnitude above the eigenvalue's rounding (~1e-12 N/mm at stiffnesses of tens
+ * of N/mm). The plan's own verdict is that confirmation (K positive definite and the rest
+ * within 1e-6 mm/deg), so a pick below the margin that the rest confirms stands. */
+#define HP_LOAD_STABLE_MARGIN 1e-2
+/* [m] The stable hold counts a bladder's stiffness only when its force outlasts this much of
+ * the head moving away from it (force >= its normal stiffness times this): a thousand times
+ * the 1e-7 mm the forward statics may move from an answer, so a contact the stability
+ * relies on is not lost on the way to the rest. */
+#define HP_LOAD_STABLE_CONTACT 1e-7
+
+/* HOLD's stable member: P[n] (in: the tie-breaker's pick, holding the head at xi inside
+ * [lo, hi]) is kept when its holding stiffness's smallest eigenvalue is at least
+ * HP_LOAD_STABLE_MARGIN; otherwise P gets the member of the holding family with the least
+ * tie-breaker sum sum (P − t)² that the search finds among those that are at least that
+ * stable: a scan of the family (load_solve.c, grid_forces: a 7×7 grid of its free pressures
+ * and its vertices, at most 49 + 112 points) for the cheapest stable point c, then a
+ * bisection on the segment of forces from the pick to c (the set is convex in the forces)
+ * for the stable point nearest the pick, 24 halvings; the cheaper of the stable points seen
+ * wins. F gets its forces, *lam_min (may be NULL) its smallest eigenvalue. OK with P stable;
+ * UNREACHABLE (P and F unchanged) when no point of the scan is stable; ERROR when the model
+ * fails. Deterministic, no allocation, at most 49 + 112 + 25 evaluations of the family. */
+hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi, const double *target,
+                                           double *P, double *F, double *lam_min);
+
+/* The smallest eigenvalue [N/mm] of the holding stiffness of S's pose when the nv bladders
+ * idx[] carry forces F [N] with normal stiffnesses a [N/m] (a = −dF/drho) and the others
+ * nothing. 0, or -1 when the decomposition fails. */
+int hpi_load_stiff_lambda_at(const hp_load_stiff *S, int nv, const int *idx, const double *F,
+                             const double *a, double *lam);
+
+/* The smallest eigenvalue [N/mm, mm/degree units, the scale of the stable margin] of a
+ * holding stiffness K (hp_load_holding.K, SI). 0, or -1 when the decomposition fails. */
+int hpi_load_stiff_lambda_min(const double K[36], double *lam);
+
 /* The tie-breaker NLP of HOLD at a fixed pose, for a general-purpose solver: variables the
  * pressures (kPa) of the bladders with L_k < U_k (the others fixed at L_k), objective
  * ½·sum (P − t)² (or, with stiffness, the stiffness objective above), constraints

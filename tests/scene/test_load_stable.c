@@ -174,8 +174,9 @@ static void test_scenes(void **state)
                   "refused as unstable %d; REACHED not confirmed %d\n",
                   y.answered, y.reached, y.stable_reached, y.unstable_answers,
                   y.not_reached_unstable, y.violations);
-    assert_true(y.reached >= 5);
-    assert_true(y.stable_reached >= 5);
+    /* load_supine's own correction is reached on each backend (the scenes' sweeps reach
+     * beyond what their layouts hold: those answers are CLOSEST). */
+    assert_true(y.stable_reached >= NBACKEND);
     assert_int_equal(y.violations, 0);
 }
 
@@ -186,7 +187,8 @@ static void test_default_layout(void **state)
 {
     (void)state;
     tally y = {0};
-    double t[3 + N_SWEEP][6] = {{0}, {0, 0, 10e-3, 0, 0, 0},
+    double t[3 + N_SWEEP][6] = {{0},
+                                {0, 0, 10e-3, 0, 0, 0},
                                 {1e-3, 0, -0.5e-3, 0.3 * HP_RAD_PER_DEG, 0, -0.2 * HP_RAD_PER_DEG}};
     int nc = sweep(0x5eed0100ull, 10e-3, 10.0 * HP_RAD_PER_DEG, 3, t);
     for (int b = 0; b < NBACKEND; ++b) {
