@@ -96,8 +96,8 @@ double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho)
  * kinematics, not every Newton step (it was half of an unreachable plan's time).
  * Safeguarded Newton with bisection, to two ulps of ri. */
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
-                                     double hi, double a, double c, double Fhi, double F,
-                                     double *P);
+                                     double hi, double a, double c, double Fhi, double F, double *P,
+                                     double *ri);
 
 static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, double lo, double hi,
                                   double Fhi, double F, double *P)
@@ -114,19 +114,23 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
     hp_error err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], lo, &a);
     if (!err) err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], hi, &c);
     if (err) return err;
-    return pressure_of_force_in(M, k, rho, lo, hi, a, c, Fhi, F, P);
+    return pressure_of_force_in(M, k, rho, lo, hi, a, c, Fhi, F, P, NULL);
 }
 
-/* pressure_of_force with the inner radii at lo and hi (a, c) known. */
+/* pressure_of_force with the inner radii at lo and hi (a, c) known; *ri (may be NULL) gets
+ * the inner radius at the answer. */
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
-                                     double hi, double a, double c, double Fhi, double F, double *P)
+                                     double hi, double a, double c, double Fhi, double F, double *P,
+                                     double *ri)
 {
     if (F <= 0.0) {
         *P = lo;
+        if (ri) *ri = a;
         return HP_OK;
     }
     if (F >= Fhi) {
         *P = hi;
+        if (ri) *ri = c;
         return HP_OK;
     }
     const hp_iab *b = &M->layout.bladders[k].iab;
@@ -155,22 +159,25 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         }
     }
     *P = fmin(fmax(Px, lo), hi);
+    if (ri) *ri = x;
     return HP_OK;
 }
 
 /* Adds bladder k's share of the tie-breaker sum at force x[k] to *e: (P(F) − t)² for a
  * carrying bladder, and for one at zero force the best pressure that carries nothing (any in
- * [lo, L], L the bottom of its carrying range), as HOLD's answer gives it. Non-zero when the
+ * [lo, L], L the bottom of its carrying range), as HOLD's answer gives it; P[k] gets that
+ * pressure and R[k] (R may be NULL) a carrying bladder's inner radius. Non-zero when the
  * model fails. ra, rc: the inner radii at L and U. */
 static int tie_cost(const hp_load_model *M, int k, const double *rho, const double *lo,
                     const double *L, const double *U, const double *ra, const double *rc,
                     const double *Flo, const double *Fhi, const double *target, const double *x,
-                    double *e, double *P)
+                    double *e, double *P, double *R)
 {
     double Pk;
     if (x[k] <= 0.0 && Flo[k] <= 0.0) {
         Pk = fmin(fmax(target[k], lo[k]), L[k]);
-    } else if (pressure_of_force_in(M, k, rho[k], L[k], U[k], ra[k], rc[k], Fhi[k], x[k], &Pk)) {
+    } else if (pressure_of_force_in(M, k, rho[k], L[k], U[k], ra[k], rc[k], Fhi[k], x[k], &Pk,
+                                    R ? &R[k] : NULL)) {
         return -1;
     }
     *e += (Pk - target[k]) * (Pk - target[k]);
@@ -253,20 +260,21 @@ static hpi_load_solve_status hold_set_at(const hp_load_model *M, const double xi
 }
 
 /* The smallest eigenvalue of the holding stiffness [N/mm, mm/degree units] with pressures P
- * (n, Pa) whose forces are x, counting only the bladders whose contact lasts: a bladder adds
- * its terms when its force outlasts HP_LOAD_STABLE_CONTACT of the head moving away from it
- * (x_k >= a_k·that, a_k its normal stiffness). A bladder that only just touches is stiff
- * toward the head and gives nothing away from it: counting it would call a hold stable that
- * the forward statics leaves. 0 on success. */
-static int stiff_min(const hp_load_stiff *S, const double *x, const double *P, double *lam)
+ * (n, Pa) whose forces are x and inner radii R, counting only the bladders whose contact
+ * lasts: a bladder adds its terms when its force outlasts HP_LOAD_STABLE_CONTACT of the head
+ * moving away from it (x_k >= a_k·that, a_k = −dF/drho its normal stiffness). A bladder that
+ * only just touches is stiff toward the head and gives nothing away from it: counting it
+ * would call a hold stable that the forward statics leaves. 0 on success. */
+static int stiff_min(const hp_load_stiff *S, const double *x, const double *P, const double *R,
+                     double *lam)
 {
     int idx[HP_MAX_BLADDERS], nv = 0;
     double Fv[HP_MAX_BLADDERS], av[HP_MAX_BLADDERS];
     for (int k = 0; k < S->n; ++k) {
-        double ro, o1, o2;
+        double ro;
         hp_claw c;
         if (!(x[k] > 0.0)) continue;
-        if (radius_chain(S->M, k, P[k], &ro, &o1, &o2) != HP_OK) return -1;
+        if (hp_iab_ro(&S->M->layout.bladders[k].iab, R[k], &ro) != HP_OK) return -1;
         hpi_load_claw_to(S->M, k, P[k], ro, S->rho[k], HP_CLAW_GRADIENT, &c);
         double a = -c.d[HP_CLAW_RHO];
         if (!(x[k] >= a * HP_LOAD_STABLE_CONTACT)) continue;
@@ -296,17 +304,17 @@ static int carrying(const hold_set *h, int *col, double *ra, double *rc)
 }
 
 /* A point x of the holding set: P gets its pressures (tie_cost for the m carrying-capable
- * bladders col[], the others at their best pressure that carries nothing) and *e their
- * tie-breaker sum, stopping early (e >= stop) as soon as it cannot win. 0, or -1 when the
- * model fails. */
+ * bladders col[], the others at their best pressure that carries nothing), R (may be NULL)
+ * the carrying ones' inner radii, and *e their tie-breaker sum, stopping early (e >= stop) as
+ * soon as it cannot win. 0, or -1 when the model fails. */
 static int point_cost(const hold_set *h, const int *col, int m, const double *ra, const double *rc,
-                      const double *x, double stop, double *e, double *P)
+                      const double *x, double stop, double *e, double *P, double *R)
 {
     *e = 0.0;
     for (int k = 0; k < h->n; ++k) P[k] = fmin(fmax(h->target[k], h->lo[k]), h->L[k]);
     for (int j = 0; j < m && *e < stop; ++j)
         if (tie_cost(h->M, col[j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target, x,
-                     e, P))
+                     e, P, R))
             return -1;
     return 0;
 }
@@ -315,63 +323,26 @@ static int point_cost(const hold_set *h, const int *col, int m, const double *ra
  * where the 3×3 grid of the tie-breaker's scan does not look (a side bladder's band between
  * touching and carrying at the top of its range). */
 #define STABLE_GRID_N 7
-/* The stable scan's points: its grid and the vertices (nfree of at most eight carrying
- * bladders at an end of their range: at most 4·C(8, 2)). */
-#define STABLE_POINTS (STABLE_GRID_N * STABLE_GRID_N + 4 * 28)
-
-/* The stable scan's candidates: every point of the holding set the scan visits with its
- * tie-breaker sum, checked for stability afterwards from the cheapest up (a stiffness check
- * costs several tie-breaker sums, and the cheapest stable point is what is wanted). */
-typedef struct stable_scan {
-    const hp_load_stiff *S;
-    int count;
-    double e[STABLE_POINTS];
-    double x[STABLE_POINTS][HP_MAX_BLADDERS];
-} stable_scan;
 
 /* A point x of the holding set: kept in f (its pressures in Pf, may be NULL) when its
- * tie-breaker sum is below *best; with a stable scan, recorded as its candidate instead. 0,
- * or -1 when the model fails. */
+ * tie-breaker sum is below *best and, with stab, when its stiffness's smallest eigenvalue is
+ * at least HP_LOAD_STABLE_MARGIN (checked only for a point that would win: the sum stops as
+ * soon as it cannot). 0, or -1 when the model fails. */
 static int consider(const hold_set *h, const int *col, int m, const double *ra, const double *rc,
-                    stable_scan *scan, const double *x, double *best, double *f, double *Pf)
+                    const hp_load_stiff *stab, const double *x, double *best, double *f, double *Pf)
 {
-    double e, P[HP_MAX_BLADDERS];
-    if (point_cost(h, col, m, ra, rc, x, scan ? INFINITY : *best, &e, P)) return -1;
-    if (scan) {
-        if (scan->count < STABLE_POINTS) {
-            scan->e[scan->count] = e;
-            memcpy(scan->x[scan->count++], x, (size_t)h->n * sizeof *x);
-        }
-        return 0;
-    }
+    double e, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS];
+    if (point_cost(h, col, m, ra, rc, x, *best, &e, P, R)) return -1;
     if (!(e < *best)) return 0;
+    if (stab) {
+        double lam;
+        if (stiff_min(stab, x, P, R, &lam) != 0) return -1;
+        if (!(lam >= HP_LOAD_STABLE_MARGIN)) return 0;
+    }
     *best = e;
     memcpy(f, x, (size_t)h->n * sizeof *f);
     if (Pf) memcpy(Pf, P, (size_t)h->n * sizeof *Pf);
     return 0;
-}
-
-/* The cheapest of the scan's candidates whose stiffness's smallest eigenvalue is at least
- * HP_LOAD_STABLE_MARGIN into f and Pf: 0, or -1 when none is (or the model fails). */
-static int cheapest_stable(const hold_set *h, const int *col, int m, const double *ra,
-                           const double *rc, stable_scan *scan, double *f, double *Pf)
-{
-    for (int round = 0; round < scan->count; ++round) {
-        int i = -1;
-        for (int j = 0; j < scan->count; ++j)
-            if (scan->e[j] < INFINITY && (i < 0 || scan->e[j] < scan->e[i])) i = j;
-        if (i < 0) return -1;
-        double e, lam;
-        if (point_cost(h, col, m, ra, rc, scan->x[i], INFINITY, &e, Pf) ||
-            stiff_min(scan->S, scan->x[i], Pf, &lam) != 0)
-            return -1;
-        if (lam >= HP_LOAD_STABLE_MARGIN) {
-            memcpy(f, scan->x[i], (size_t)h->n * sizeof *f);
-            return 0;
-        }
-        scan->e[i] = INFINITY; /* checked */
-    }
-    return -1;
 }
 
 /* The holding set written in at most two free forces: Gauss–Jordan elimination with
@@ -384,7 +355,8 @@ static int cheapest_stable(const hold_set *h, const int *col, int m, const doubl
  * eigenvalue at least HP_LOAD_STABLE_MARGIN only. At most grid_n² + 4·C(8, 2) points. 0 on
  * success, -1 when no point qualifies or the set has more than two free coordinates (more
  * than eight carrying bladders: not scanned). */
-static int grid_forces(const hold_set *h, int grid_n, stable_scan *stab, double *f, double *Pf)
+static int grid_forces(const hold_set *h, int grid_n, const hp_load_stiff *stab, double *f,
+                       double *Pf)
 {
     const hp_load_model *M = h->M;
     const int n = h->n;
@@ -494,7 +466,6 @@ static int grid_forces(const hold_set *h, int grid_n, stable_scan *stab, double 
                     if (ok && consider(h, col, m, ra, rc, stab, x, &best, f, Pf)) return -1;
                 }
     }
-    if (stab) return cheapest_stable(h, col, m, ra, rc, stab, f, Pf);
     return isfinite(best) ? 0 : -1;
 }
 
@@ -741,8 +712,14 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
     hp_load_stiff S;
     if (hpi_load_stiff_init(&S, M, xi, target) != HP_OK) return HP_LOAD_SOLVE_ERROR;
     const int n = hs.n;
-    /* The pick's forces: a bladder below its carrying pressures carries nothing. */
-    double f0[HP_MAX_BLADDERS], lam;
+    int col[HP_MAX_BLADDERS];
+    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
+    const int m = carrying(&hs, col, ra, rc);
+    if (m < 0) return HP_LOAD_SOLVE_ERROR;
+    /* The pick's forces (a bladder below its carrying pressures carries nothing), and its
+     * stiffness from the pressures of those forces (the pick's to the pressure solve's
+     * rounding). */
+    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS], e0, lam;
     for (int k = 0; k < n; ++k) {
         bstate b;
         f0[k] = 0.0;
@@ -750,31 +727,34 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
         if (bladder_state(M, k, P[k], hs.rho[k], &b)) return HP_LOAD_SOLVE_ERROR;
         f0[k] = fmin(fmax(b.F, hs.Flo[k]), hs.Fhi[k]);
     }
-    if (stiff_min(&S, f0, P, &lam) != 0) return HP_LOAD_SOLVE_ERROR;
+    if (point_cost(&hs, col, m, ra, rc, f0, INFINITY, &e0, P0, R0) ||
+        stiff_min(&S, f0, P0, R0, &lam) != 0)
+        return HP_LOAD_SOLVE_ERROR;
     if (lam >= HP_LOAD_STABLE_MARGIN) {
         if (lam_min) *lam_min = lam;
         return HP_LOAD_SOLVE_OK;
     }
-    /* The cheapest stable point of the scan. */
-    double c[HP_MAX_BLADDERS], Pc[HP_MAX_BLADDERS];
-    stable_scan scan;
-    scan.S = &S;
-    scan.count = 0;
-    if (grid_forces(&hs, STABLE_GRID_N, &scan, c, Pc) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
-    int col[HP_MAX_BLADDERS];
-    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS], best;
-    const int m = carrying(&hs, col, ra, rc);
-    if (m < 0 || point_cost(&hs, col, m, ra, rc, c, INFINITY, &best, Pc) ||
-        stiff_min(&S, c, Pc, &lam) != 0)
+    /* The cheapest stable point of the scan (the tie-breaker's 3×3 grid and the vertices;
+     * where none is stable, the finer grid): the segment's far end c. */
+    double c[HP_MAX_BLADDERS], best, fb[HP_MAX_BLADDERS], Pb[HP_MAX_BLADDERS], Rb[HP_MAX_BLADDERS];
+    if (grid_forces(&hs, GRID_N, &S, c, NULL) != 0 &&
+        grid_forces(&hs, STABLE_GRID_N, &S, c, NULL) != 0)
+        return HP_LOAD_SOLVE_UNREACHABLE;
+    memcpy(fb, c, (size_t)n * sizeof *fb);
+    if (point_cost(&hs, col, m, ra, rc, c, INFINITY, &best, Pb, Rb) ||
+        stiff_min(&S, c, Pb, Rb, &lam) != 0)
         return HP_LOAD_SOLVE_ERROR;
     /* The stable point nearest the pick on the segment of forces from it to c: the set is
-     * convex in the forces, so the segment holds the head throughout. */
+     * convex in the forces, so the segment holds the head throughout. The cheapest stable
+     * point seen wins. */
     double a = 0.0, b = 1.0;
     for (int it = 0; it < STABLE_HALVINGS; ++it) {
-        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], e, lx;
+        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], Rx[HP_MAX_BLADDERS], e,
+               lx;
         for (int k = 0; k < n; ++k)
             x[k] = fmin(fmax(f0[k] + t * (c[k] - f0[k]), hs.Flo[k]), hs.Fhi[k]);
-        if (point_cost(&hs, col, m, ra, rc, x, INFINITY, &e, Px) || stiff_min(&S, x, Px, &lx))
+        if (point_cost(&hs, col, m, ra, rc, x, INFINITY, &e, Px, Rx) ||
+            stiff_min(&S, x, Px, Rx, &lx))
             return HP_LOAD_SOLVE_ERROR;
         if (!(lx >= HP_LOAD_STABLE_MARGIN)) {
             a = t;
@@ -784,12 +764,12 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
         if (e < best) {
             best = e;
             lam = lx;
-            memcpy(c, x, (size_t)n * sizeof *c);
-            memcpy(Pc, Px, (size_t)n * sizeof *Pc);
+            memcpy(fb, x, (size_t)n * sizeof *fb);
+            memcpy(Pb, Px, (size_t)n * sizeof *Pb);
         }
     }
-    memcpy(P, Pc, (size_t)n * sizeof *P);
-    memcpy(F, c, (size_t)n * sizeof *F);
+    memcpy(P, Pb, (size_t)n * sizeof *P);
+    memcpy(F, fb, (size_t)n * sizeof *F);
     if (lam_min) *lam_min = lam;
     return HP_LOAD_SOLVE_OK;
 }
