@@ -62,17 +62,20 @@ int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const do
  * 0.36 mm. */
 #define HP_LOAD_STABLE_CONTACT 1e-4
 
-/* HOLD's stable member: P[n] (in: the tie-breaker's pick, holding the head at xi inside
- * [lo, hi]) is kept when its holding stiffness's smallest eigenvalue is at least
- * HP_LOAD_STABLE_MARGIN; otherwise P gets the member of the holding family with the least
+/* HOLD's stable member (docs/load.md, "Stable holds"): P[n] (in: the tie-breaker's pick,
+ * holding the head at xi inside [lo, hi]) is kept when its holding stiffness's smallest
+ * eigenvalue is at least HP_LOAD_STABLE_MARGIN (counting the bladders whose contact outlasts
+ * HP_LOAD_STABLE_CONTACT); otherwise P gets the member of the holding family with the least
  * tie-breaker sum sum (P − t)² that the search finds among those that are at least that
- * stable: a scan of the family (load_solve.c, grid_forces: a 7×7 grid of its free pressures
- * and its vertices, at most 49 + 112 points) for the cheapest stable point c, then a
- * bisection on the segment of forces from the pick to c (the set is convex in the forces)
- * for the stable point nearest the pick, 24 halvings; the cheaper of the stable points seen
- * wins. F gets its forces, *lam_min (may be NULL) its smallest eigenvalue. OK with P stable;
- * UNREACHABLE (P and F unchanged) when no point of the scan is stable; ERROR when the model
- * fails. Deterministic, no allocation, at most 49 + 112 + 25 evaluations of the family. */
+ * stable: a scan of the family (load_solve.c, grid_forces: the tie-breaker's 3×3 grid of its
+ * free pressures and its vertices, at most 9 + 112 points; where none is stable a 7×7 grid
+ * and the vertices, at most 49 + 112) for the cheapest stable point c, then a bisection on
+ * the segment of forces from the pick to c (the set is convex in the forces) for the stable
+ * point nearest the pick, 16 halvings; the cheapest stable point seen wins. F gets its
+ * forces, *lam_min (may be NULL) its smallest eigenvalue. OK with P stable; UNREACHABLE (P
+ * and F unchanged) when no point of the scans is stable; ERROR when the model fails.
+ * Deterministic, no allocation, at most 282 scan points and 17 segment points, each one
+ * tie-breaker sum and at most one 6×6 symmetric eigenproblem. */
 hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double xi[6],
                                            const double *lo, const double *hi, const double *target,
                                            double *P, double *F, double *lam_min);
