@@ -6,6 +6,7 @@
 #include "kinematics/contact_law.h"
 #include "kinematics/kin_geom.h"
 #include "planner/clock.h"
+#include "planner/load_stable.h"
 #include "planner/plan_range.h"
 #include "planner/problem_setup.h"
 #include "planner/text.h"

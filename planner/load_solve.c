@@ -188,28 +188,15 @@ static int tie_cost(const hp_load_model *M, int k, const double *rho, const doub
 /* Grid points per free coordinate of the holding set (at most two coordinates): the ends
  * and the middle of each free bladder's pressure range. The vertices below carry the
  * search; the grid adds interior starts at little cost (3 x 3 points). */
-#define GRID_N 3
-
-/* The holding set at a pose: {A·F = b, Flo <= F <= Fhi} (A 6×n, weighted rows) in the
- * forces, with each bladder's carrying pressures [L, U] (L: where it starts to carry, U: the
- * top of its bounds and of the indentation range) and touching pressure Pt. */
-typedef struct hold_set {
-    const hp_load_model *M;
-    int n;
-    const double *lo, *target;
-    double rho[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
-    double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS], Fhi[HP_MAX_BLADDERS];
-    double Pt[HP_MAX_BLADDERS];
-    double fscale, tol; /* the largest |b_r| and the rows' tolerance */
-} hold_set;
+#define GRID_N HP_LOAD_SCAN_GRID_N
 
 /* The holding set at pose xi inside [lo, hi]: OK, UNREACHABLE when a bladder centre is
  * inside the head or a row no force box can meet (a necessary condition, exact, and cheap
  * where phase 1's QP must run out its multiplier updates to show infeasibility: the sinking
  * search asks this ~20 times per unreachable pose), ERROR when the model fails. */
-static hpi_load_solve_status hold_set_at(const hp_load_model *M, const double xi[6],
-                                         const double *lo, const double *hi, const double *target,
-                                         hold_set *h)
+hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi, const double *target,
+                                           hp_load_hold_set *h)
 {
     const int n = M->layout.n;
     h->M = M;
@@ -259,36 +246,10 @@ static hpi_load_solve_status hold_set_at(const hp_load_model *M, const double xi
     return HP_LOAD_SOLVE_OK;
 }
 
-/* The smallest eigenvalue of the holding stiffness [N/mm, mm/degree units] with pressures P
- * (n, Pa) whose forces are x and inner radii R, counting only the bladders whose contact
- * lasts: a bladder adds its terms when its force outlasts HP_LOAD_STABLE_CONTACT of the head
- * moving away from it (x_k >= a_k·that, a_k = −dF/drho its normal stiffness). A bladder that
- * only just touches is stiff toward the head and gives nothing away from it: counting it
- * would call a hold stable that the forward statics leaves. 0 on success. */
-static int stiff_min(const hp_load_stiff *S, const double *x, const double *P, const double *R,
-                     double *lam)
-{
-    int idx[HP_MAX_BLADDERS], nv = 0;
-    double Fv[HP_MAX_BLADDERS], av[HP_MAX_BLADDERS];
-    for (int k = 0; k < S->n; ++k) {
-        double ro;
-        hp_claw c;
-        if (!(x[k] > 0.0)) continue;
-        if (hp_iab_ro(&S->M->layout.bladders[k].iab, R[k], &ro) != HP_OK) return -1;
-        hpi_load_claw_to(S->M, k, P[k], ro, S->rho[k], HP_CLAW_GRADIENT, &c);
-        double a = -c.d[HP_CLAW_RHO];
-        if (!(x[k] >= a * HP_LOAD_STABLE_CONTACT)) continue;
-        idx[nv] = k;
-        Fv[nv] = x[k];
-        av[nv++] = a;
-    }
-    return hpi_load_stiff_lambda_at(S, nv, idx, Fv, av, lam);
-}
-
 /* The bladders that can carry at the set's pose (col[], returned count) and the inner radii
  * at the ends of their carrying pressures (ra at L, rc at U; 0 for the others), which
  * tie_cost's pressure solve brackets with. -1 when the model fails. */
-static int carrying(const hold_set *h, int *col, double *ra, double *rc)
+int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, double *rc)
 {
     const hp_load_model *M = h->M;
     int m = 0;
@@ -303,12 +264,11 @@ static int carrying(const hold_set *h, int *col, double *ra, double *rc)
     return m;
 }
 
-/* A point x of the holding set: P gets its pressures (tie_cost for the m carrying-capable
- * bladders col[], the others at their best pressure that carries nothing), R (may be NULL)
- * the carrying ones' inner radii, and *e their tie-breaker sum, stopping early (e >= stop) as
- * soon as it cannot win. 0, or -1 when the model fails. */
-static int point_cost(const hold_set *h, const int *col, int m, const double *ra, const double *rc,
-                      const double *x, double stop, double *e, double *P, double *R)
+/* tie_cost over the m carrying-capable bladders col[]; the others at their best pressure
+ * that carries nothing (load_solve.h). */
+int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, const double *ra,
+                            const double *rc, const double *x, double stop, double *e, double *P,
+                            double *R)
 {
     *e = 0.0;
     for (int k = 0; k < h->n; ++k) P[k] = fmin(fmax(h->target[k], h->lo[k]), h->L[k]);
@@ -319,29 +279,23 @@ static int point_cost(const hold_set *h, const int *col, int m, const double *ra
     return 0;
 }
 
-/* Grid points per free coordinate of the stable scan: the stable part of the family can lie
- * where the 3×3 grid of the tie-breaker's scan does not look (a side bladder's band between
- * touching and carrying at the top of its range). */
-#define STABLE_GRID_N 7
-
-/* A point x of the holding set: kept in f (its pressures in Pf, may be NULL) when its
- * tie-breaker sum is below *best and, with stab, when its stiffness's smallest eigenvalue is
- * at least HP_LOAD_STABLE_MARGIN (checked only for a point that would win: the sum stops as
- * soon as it cannot). 0, or -1 when the model fails. */
-static int consider(const hold_set *h, const int *col, int m, const double *ra, const double *rc,
-                    const hp_load_stiff *stab, const double *x, double *best, double *f, double *Pf)
+/* A point x of the holding set: kept in f when its tie-breaker sum is below *best and, with
+ * a test, when the test accepts it (asked only of a point that would win: the sum stops as
+ * soon as it cannot). 0, or -1 when the model or the test fails. */
+static int consider(const hp_load_hold_set *h, const int *col, int m, const double *ra,
+                    const double *rc, hp_load_point_test test, void *ctx, const double *x,
+                    double *best, double *f)
 {
     double e, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS];
-    if (point_cost(h, col, m, ra, rc, x, *best, &e, P, R)) return -1;
+    if (hpi_load_hold_set_point(h, col, m, ra, rc, x, *best, &e, P, R)) return -1;
     if (!(e < *best)) return 0;
-    if (stab) {
-        double lam;
-        if (stiff_min(stab, x, P, R, &lam) != 0) return -1;
-        if (!(lam >= HP_LOAD_STABLE_MARGIN)) return 0;
+    if (test) {
+        int ok = test(ctx, x, P, R);
+        if (ok < 0) return -1;
+        if (!ok) return 0;
     }
     *best = e;
     memcpy(f, x, (size_t)h->n * sizeof *f);
-    if (Pf) memcpy(Pf, P, (size_t)h->n * sizeof *Pf);
     return 0;
 }
 
@@ -350,13 +304,12 @@ static int consider(const hold_set *h, const int *col, int m, const double *ra, 
  * grid_n-point grid of their pressures, the others follow (checked against their ranges);
  * then every vertex of the set (the free count of bladders at an end of their force range,
  * the six others solved for). f gets the point with the least tie-breaker sum (tie_cost: a
- * bladder at zero force takes its best pressure that carries nothing), Pf (may be NULL) its
- * pressures; with stab, among the points whose holding stiffness has its smallest
- * eigenvalue at least HP_LOAD_STABLE_MARGIN only. At most grid_n² + 4·C(8, 2) points. 0 on
- * success, -1 when no point qualifies or the set has more than two free coordinates (more
- * than eight carrying bladders: not scanned). */
-static int grid_forces(const hold_set *h, int grid_n, const hp_load_stiff *stab, double *f,
-                       double *Pf)
+ * bladder at zero force takes its best pressure that carries nothing); with a test, among
+ * the points it accepts only. At most grid_n² + 4·C(8, 2) points. 0 on success, -1 when no
+ * point qualifies or the set has more than two free coordinates (more than eight carrying
+ * bladders: not scanned). */
+static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test test, void *ctx,
+                       double *f)
 {
     const hp_load_model *M = h->M;
     const int n = h->n;
@@ -364,7 +317,7 @@ static int grid_forces(const hold_set *h, int grid_n, const hp_load_stiff *stab,
     const double tol = h->tol;
     int col[HP_MAX_BLADDERS];
     double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
-    const int m = carrying(h, col, ra, rc);
+    const int m = hpi_load_hold_set_carrying(h, col, ra, rc);
     if (m < 0) return -1;
     double E[6][HP_MAX_BLADDERS + 1];
     for (int r = 0; r < 6; ++r) {
@@ -429,7 +382,7 @@ static int grid_forces(const hold_set *h, int grid_n, const hp_load_stiff *stab,
                 x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
             }
             for (int r = rank; r < 6 && ok; ++r) ok = fabs(E[r][m]) <= tol; /* consistent */
-            if (ok && consider(h, col, m, ra, rc, stab, x, &best, f, Pf)) return -1;
+            if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f)) return -1;
         }
     /* The polytope's vertices too (nfree of the carrying bladders at an end of their range,
      * the six others solved for): where the tie-breaker is concave the least sum lies on
@@ -463,7 +416,7 @@ static int grid_forces(const hold_set *h, int grid_n, const hp_load_stiff *stab,
                         ok = sol[j] >= Flo[k] - tol && sol[j] <= Fhi[k] + tol;
                         x[k] = fmin(fmax(sol[j], Flo[k]), Fhi[k]);
                     }
-                    if (ok && consider(h, col, m, ra, rc, stab, x, &best, f, Pf)) return -1;
+                    if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f)) return -1;
                 }
     }
     return isfinite(best) ? 0 : -1;
@@ -481,8 +434,8 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
 {
     *cost = INFINITY;
     const int n = M->layout.n;
-    hold_set hs;
-    hpi_load_solve_status hst = hold_set_at(M, xi, lo, hi, target, &hs);
+    hp_load_hold_set hs;
+    hpi_load_solve_status hst = hpi_load_hold_set_at(M, xi, lo, hi, target, &hs);
     if (hst != HP_LOAD_SOLVE_OK) return hst;
     const double *rho = hs.rho, *A = hs.A, *b = hs.b, *L = hs.L, *U = hs.U, *Flo = hs.Flo,
                  *Fhi = hs.Fhi, *Pt = hs.Pt;
@@ -507,7 +460,7 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
         }
-        if (grid && grid_forces(&hs, GRID_N, NULL, f, NULL) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
+        if (grid && grid_forces(&hs, GRID_N, NULL, NULL, f) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
         for (int k = 0; k < n; ++k) {
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
@@ -699,79 +652,10 @@ hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_
                      raw);
 }
 
-/* The bisection's halvings: the answer within 2^-16 = 1.5e-5 of the segment from the pick. */
-#define STABLE_HALVINGS 16
-
-hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double xi[6],
-                                           const double *lo, const double *hi, const double *target,
-                                           double *P, double *F, double *lam_min)
+int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
+                           void *ctx, double *f)
 {
-    hold_set hs;
-    hpi_load_solve_status st = hold_set_at(M, xi, lo, hi, target, &hs);
-    if (st != HP_LOAD_SOLVE_OK) return st;
-    hp_load_stiff S;
-    if (hpi_load_stiff_init(&S, M, xi, target) != HP_OK) return HP_LOAD_SOLVE_ERROR;
-    const int n = hs.n;
-    int col[HP_MAX_BLADDERS];
-    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
-    const int m = carrying(&hs, col, ra, rc);
-    if (m < 0) return HP_LOAD_SOLVE_ERROR;
-    /* The pick's forces (a bladder below its carrying pressures carries nothing), and its
-     * stiffness from the pressures of those forces (the pick's to the pressure solve's
-     * rounding). */
-    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS], e0, lam;
-    for (int k = 0; k < n; ++k) {
-        bstate b;
-        f0[k] = 0.0;
-        if (!(hs.L[k] < hs.U[k]) || !(P[k] > hs.L[k])) continue;
-        if (bladder_state(M, k, P[k], hs.rho[k], &b)) return HP_LOAD_SOLVE_ERROR;
-        f0[k] = fmin(fmax(b.F, hs.Flo[k]), hs.Fhi[k]);
-    }
-    if (point_cost(&hs, col, m, ra, rc, f0, INFINITY, &e0, P0, R0) ||
-        stiff_min(&S, f0, P0, R0, &lam) != 0)
-        return HP_LOAD_SOLVE_ERROR;
-    if (lam >= HP_LOAD_STABLE_MARGIN) {
-        if (lam_min) *lam_min = lam;
-        return HP_LOAD_SOLVE_OK;
-    }
-    /* The cheapest stable point of the scan (the tie-breaker's 3×3 grid and the vertices;
-     * where none is stable, the finer grid): the segment's far end c. */
-    double c[HP_MAX_BLADDERS], best, fb[HP_MAX_BLADDERS], Pb[HP_MAX_BLADDERS], Rb[HP_MAX_BLADDERS];
-    if (grid_forces(&hs, GRID_N, &S, c, NULL) != 0 &&
-        grid_forces(&hs, STABLE_GRID_N, &S, c, NULL) != 0)
-        return HP_LOAD_SOLVE_UNREACHABLE;
-    memcpy(fb, c, (size_t)n * sizeof *fb);
-    if (point_cost(&hs, col, m, ra, rc, c, INFINITY, &best, Pb, Rb) ||
-        stiff_min(&S, c, Pb, Rb, &lam) != 0)
-        return HP_LOAD_SOLVE_ERROR;
-    /* The stable point nearest the pick on the segment of forces from it to c: the set is
-     * convex in the forces, so the segment holds the head throughout. The cheapest stable
-     * point seen wins. */
-    double a = 0.0, b = 1.0;
-    for (int it = 0; it < STABLE_HALVINGS; ++it) {
-        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], Rx[HP_MAX_BLADDERS], e,
-               lx;
-        for (int k = 0; k < n; ++k)
-            x[k] = fmin(fmax(f0[k] + t * (c[k] - f0[k]), hs.Flo[k]), hs.Fhi[k]);
-        if (point_cost(&hs, col, m, ra, rc, x, INFINITY, &e, Px, Rx) ||
-            stiff_min(&S, x, Px, Rx, &lx))
-            return HP_LOAD_SOLVE_ERROR;
-        if (!(lx >= HP_LOAD_STABLE_MARGIN)) {
-            a = t;
-            continue;
-        }
-        b = t;
-        if (e < best) {
-            best = e;
-            lam = lx;
-            memcpy(fb, x, (size_t)n * sizeof *fb);
-            memcpy(Pb, Px, (size_t)n * sizeof *Pb);
-        }
-    }
-    memcpy(P, Pb, (size_t)n * sizeof *P);
-    memcpy(F, fb, (size_t)n * sizeof *F);
-    if (lam_min) *lam_min = lam;
-    return HP_LOAD_SOLVE_OK;
+    return grid_forces(h, grid_n, test, ctx, f);
 }
 
 hp_error hpi_load_bladder_stiff(const hp_load_model *M, int k, double P, double rho, double a[3])

@@ -44,41 +44,50 @@ hp_error hpi_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const dou
 int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x, double *f,
                         double *grad, double *hess, double *lam_min);
 
-/* The stable hold (docs/load.md, "Stable holds"): the smallest eigenvalue of the holding
- * stiffness [N/mm, mm/degree units] HOLD's stable search asks of a hold. A plan's answer
- * meets the equilibrium to 1e-9 N (load_level.c), so the forward statics started at a hold
- * this stable moves the head by at most about 1e-9 N / margin = 1e-7 mm (or degree): ten
- * times inside the 1e-6 mm/deg at which the rest must confirm a REACHED answer, and eleven
- * orders of magnitude above the eigenvalue's rounding (~1e-12 N/mm at stiffnesses of tens
- * of N/mm). The plan's own verdict is that confirmation (K positive definite and the rest
- * within 1e-6 mm/deg), so a pick below the margin that the rest confirms stands. */
-#define HP_LOAD_STABLE_MARGIN 1e-2
-/* [m] The stable hold counts a bladder's stiffness only when its force outlasts this much of
- * the head moving away from it (force >= its normal stiffness times this), so that a contact
- * the stability relies on is not lost on the way to the rest or under the contact law's own
- * error: 1e6 times the 1e-7 mm the forward statics may move from an answer. At 1e-7 m the
- * supine scene's stable hold touched its forehead bladders with 1e-5 N, and the fitted
- * law's ±4.61 % band already left the head without a rest; at 1e-4 m it rests within
- * 0.36 mm. */
-#define HP_LOAD_STABLE_CONTACT 1e-4
+/* The holding set at a pose: {A·F = b, Flo <= F <= Fhi} (A 6×n, weighted rows) in the
+ * forces, with each bladder's carrying pressures [L, U] (L: where it starts to carry, U: the
+ * top of its bounds and of the indentation range) and touching pressure Pt. HOLD's scan
+ * and the stable search (load_stable.c) work on it. */
+typedef struct hp_load_hold_set {
+    const hp_load_model *M;
+    int n;
+    const double *lo, *target;
+    double rho[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
+    double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS], Fhi[HP_MAX_BLADDERS];
+    double Pt[HP_MAX_BLADDERS];
+    double fscale, tol; /* the largest |b_r| and the rows' tolerance */
+} hp_load_hold_set;
 
-/* HOLD's stable member (docs/load.md, "Stable holds"): P[n] (in: the tie-breaker's pick,
- * holding the head at xi inside [lo, hi]) is kept when its holding stiffness's smallest
- * eigenvalue is at least HP_LOAD_STABLE_MARGIN (counting the bladders whose contact outlasts
- * HP_LOAD_STABLE_CONTACT); otherwise P gets the member of the holding family with the least
- * tie-breaker sum sum (P − t)² that the search finds among those that are at least that
- * stable: a scan of the family (load_solve.c, grid_forces: the tie-breaker's 3×3 grid of its
- * free pressures and its vertices, at most 9 + 112 points; where none is stable a 7×7 grid
- * and the vertices, at most 49 + 112) for the cheapest stable point c, then a bisection on
- * the segment of forces from the pick to c (the set is convex in the forces) for the stable
- * point nearest the pick, 16 halvings; the cheapest stable point seen wins. F gets its
- * forces, *lam_min (may be NULL) its smallest eigenvalue. OK with P stable; UNREACHABLE (P
- * and F unchanged) when no point of the scans is stable; ERROR when the model fails.
- * Deterministic, no allocation, at most 282 scan points and 17 segment points, each one
- * tie-breaker sum and at most one 6×6 symmetric eigenproblem. */
-hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double xi[6],
+/* The holding set at pose xi inside [lo, hi] for the tie-breaker target (both kept by
+ * pointer): OK, UNREACHABLE when a bladder centre is inside the head or a row no force box
+ * can meet, ERROR when the model fails. */
+hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double xi[6],
                                            const double *lo, const double *hi, const double *target,
-                                           double *P, double *F, double *lam_min);
+                                           hp_load_hold_set *h);
+
+/* The bladders that can carry (col[], the returned count) and the inner radii at the ends of
+ * their carrying pressures (ra at L, rc at U). -1 when the model fails. */
+int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, double *rc);
+
+/* A point x (forces) of the set: P gets its pressures, R (may be NULL) the carrying
+ * bladders' inner radii, *e the tie-breaker sum (P − t)², which stops early once it reaches
+ * stop. col, m, ra, rc from hpi_load_hold_set_carrying. 0, or -1 when the model fails. */
+int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, const double *ra,
+                            const double *rc, const double *x, double stop, double *e, double *P,
+                            double *R);
+
+/* A test of a point of the set (forces x, pressures P, inner radii R): 1 accept, 0 reject,
+ * -1 failure. */
+typedef int (*hp_load_point_test)(void *ctx, const double *x, const double *P, const double *R);
+
+/* The tie-breaker's grid points per free coordinate of the set. */
+#define HP_LOAD_SCAN_GRID_N 3
+
+/* HOLD's scan of the set (load_solve.c): a grid_n × grid_n grid of its (at most two) free
+ * pressures and its vertices; f gets the point with the least tie-breaker sum among those
+ * test (may be NULL) accepts. 0, or -1 when none qualifies. */
+int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
+                           void *ctx, double *f);
 
 /* The smallest eigenvalue [N/mm] of the holding stiffness of S's pose when the nv bladders
  * idx[] carry forces F [N] with normal stiffnesses a [N/m] (a = −dF/drho) and the others

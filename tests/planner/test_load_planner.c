@@ -11,6 +11,7 @@
 #include "kinematics/linalg.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_solve.h"
+#include "planner/load_stable.h"
 
 #include <string.h>
 

@@ -23,6 +23,7 @@
 #include "kinematics/linalg.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_solve.h"
+#include "planner/load_stable.h"
 #include "kinematics/load_law_pick.h"
 #include "headplan/hp_scene.h"
 
