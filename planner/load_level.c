@@ -6,6 +6,7 @@
 #include "kinematics/contact_law.h"
 #include "kinematics/kin_geom.h"
 #include "planner/clock.h"
+#include "planner/load_stable.h"
 #include "planner/plan_range.h"
 #include "planner/problem_setup.h"
 #include "planner/text.h"
@@ -384,12 +385,43 @@ static void plan_bounds(hp_load_level *p)
 }
 
 /* HOLD with the configured backend's tie-breaker (its load_hold: Ipopt's and NLopt's raw
- * code in *raw). */
+ * code in *raw), then the stable member of the holding family (hpi_load_stable_hold) when
+ * the tie-breaker's pick is not stable: the same for every backend. Where the search finds
+ * no stable member the pick stands, and the plan's stability check refuses it. */
 static hpi_load_solve_status hold(const hp_load_level *p, const double xi[6], const double *target,
                                   const double *start, double *P, double *F, int *iters, int *raw)
 {
-    return p->ops->load_hold(&p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter,
-                             p->set.load_tiebreak == HP_TIE_STIFFNESS, P, F, iters, raw);
+    hpi_load_solve_status st = p->ops->load_hold(
+        &p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter,
+        p->set.load_tiebreak == HP_TIE_STIFFNESS, P, F, iters, raw);
+    if (st != HP_LOAD_SOLVE_OK) return st;
+    double Ps[HP_MAX_BLADDERS], Fs[HP_MAX_BLADDERS];
+    const int n = p->M.layout.n;
+    memcpy(Ps, P, (size_t)n * sizeof *Ps);
+    memcpy(Fs, F, (size_t)n * sizeof *Fs);
+    if (hpi_load_stable_hold(&p->M, xi, p->elo, p->ehi, target, Ps, Fs, NULL) == HP_LOAD_SOLVE_OK) {
+        memcpy(P, Ps, (size_t)n * sizeof *P);
+        memcpy(F, Fs, (size_t)n * sizeof *F);
+    }
+    return st;
+}
+
+/* What a REACHED answer must also have (docs/load.md, "Stable holds"): the forward model
+ * confirms it. The holding stiffness at (xi, P), the one hp_planner_load_info reports, is
+ * positive definite, and the forward statics of P started at xi rests within 1e-6 mm/deg of
+ * xi (the tolerance of hp_planner.h's reached_means_reached). 1 when confirmed; *lam gets
+ * the stiffness's smallest eigenvalue [N/mm] for the message. */
+static int confirmed_hold(const hp_load_model *M, const double xi[6], const double *P, double *lam)
+{
+    hp_load_holding h;
+    double rest[6];
+    *lam = NAN;
+    if (hp_load_holding_at(M, xi, P, &h) != HP_OK || hpi_load_stiff_lambda_min(h.K, lam) != 0 ||
+        !h.stable || hp_load_rest(M, P, xi, rest, NULL) != HP_OK)
+        return 0;
+    for (int i = 0; i < 6; ++i)
+        if (!(fabs(rest[i] - xi[i]) / hpi_load_unit(i) <= 1e-6)) return 0;
+    return 1;
 }
 
 /* The indentation check a returned answer must meet: every carrying bladder inside the
@@ -581,9 +613,24 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
     dom.text[0] = '\0';
     int outside = !bad && st == HP_LOAD_SOLVE_OK && !unverified && !beyond &&
                   law_domain_ok(M, xi, P, &dom) != HP_OK;
-    if (bad || st != HP_LOAD_SOLVE_OK || unverified || beyond || outside) {
+    /* A hold at the desired pose that the forward model does not confirm is not REACHED: the
+     * head, let go there, leaves it. HOLD has already looked for a stable member of the
+     * holding family; none was found inside the limits. */
+    double lam = NAN;
+    int unstable = !bad && st == HP_LOAD_SOLVE_OK && !unverified && !beyond && !outside &&
+                   r->status == HP_STATUS_REACHED && !confirmed_hold(M, xi, P, &lam);
+    if (bad || st != HP_LOAD_SOLVE_OK || unverified || beyond || outside || unstable) {
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
-        if (outside) {
+        if (unstable) {
+            char t[HP_DIAG_MAX];
+            snprintf(t, sizeof t,
+                     "load planner: the desired pose is held inside the limits only at an "
+                     "unstable equilibrium (no stable hold found: the holding stiffness's "
+                     "smallest eigenvalue is %.3g N/mm, and the forward statics does not "
+                     "rest within 1e-6 mm/deg of it), so it is not returned",
+                     lam);
+            hpi_text_set(p->err, t);
+        } else if (outside) {
             hpi_text_set(p->err, "load planner: the pose found near the desired one is not "
                                  "returned: ");
             hpi_text_add(p->err, dom.text);

@@ -96,8 +96,8 @@ double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho)
  * kinematics, not every Newton step (it was half of an unreachable plan's time).
  * Safeguarded Newton with bisection, to two ulps of ri. */
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
-                                     double hi, double a, double c, double Fhi, double F,
-                                     double *P);
+                                     double hi, double a, double c, double Fhi, double F, double *P,
+                                     double *ri);
 
 static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, double lo, double hi,
                                   double Fhi, double F, double *P)
@@ -114,19 +114,23 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
     hp_error err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], lo, &a);
     if (!err) err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], hi, &c);
     if (err) return err;
-    return pressure_of_force_in(M, k, rho, lo, hi, a, c, Fhi, F, P);
+    return pressure_of_force_in(M, k, rho, lo, hi, a, c, Fhi, F, P, NULL);
 }
 
-/* pressure_of_force with the inner radii at lo and hi (a, c) known. */
+/* pressure_of_force with the inner radii at lo and hi (a, c) known; *ri (may be NULL) gets
+ * the inner radius at the answer. */
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
-                                     double hi, double a, double c, double Fhi, double F, double *P)
+                                     double hi, double a, double c, double Fhi, double F, double *P,
+                                     double *ri)
 {
     if (F <= 0.0) {
         *P = lo;
+        if (ri) *ri = a;
         return HP_OK;
     }
     if (F >= Fhi) {
         *P = hi;
+        if (ri) *ri = c;
         return HP_OK;
     }
     const hp_iab *b = &M->layout.bladders[k].iab;
@@ -155,49 +159,166 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         }
     }
     *P = fmin(fmax(Px, lo), hi);
+    if (ri) *ri = x;
     return HP_OK;
 }
 
 /* Adds bladder k's share of the tie-breaker sum at force x[k] to *e: (P(F) − t)² for a
  * carrying bladder, and for one at zero force the best pressure that carries nothing (any in
- * [lo, L], L the bottom of its carrying range), as HOLD's answer gives it. Non-zero when the
+ * [lo, L], L the bottom of its carrying range), as HOLD's answer gives it; P[k] gets that
+ * pressure and R[k] (R may be NULL) a carrying bladder's inner radius. Non-zero when the
  * model fails. ra, rc: the inner radii at L and U. */
 static int tie_cost(const hp_load_model *M, int k, const double *rho, const double *lo,
                     const double *L, const double *U, const double *ra, const double *rc,
                     const double *Flo, const double *Fhi, const double *target, const double *x,
-                    double *e)
+                    double *e, double *P, double *R)
 {
     double Pk;
     if (x[k] <= 0.0 && Flo[k] <= 0.0) {
         Pk = fmin(fmax(target[k], lo[k]), L[k]);
-    } else if (pressure_of_force_in(M, k, rho[k], L[k], U[k], ra[k], rc[k], Fhi[k], x[k], &Pk)) {
+    } else if (pressure_of_force_in(M, k, rho[k], L[k], U[k], ra[k], rc[k], Fhi[k], x[k], &Pk,
+                                    R ? &R[k] : NULL)) {
         return -1;
     }
     *e += (Pk - target[k]) * (Pk - target[k]);
+    P[k] = Pk;
     return 0;
 }
 
 /* Grid points per free coordinate of the holding set (at most two coordinates): the ends
  * and the middle of each free bladder's pressure range. The vertices below carry the
  * search; the grid adds interior starts at little cost (3 x 3 points). */
-#define GRID_N 3
+#define GRID_N HP_LOAD_SCAN_GRID_N
 
-/* The holding set {A·F = b, Flo <= F <= Fhi} (A 6×n, weighted rows) written in at most two
- * free forces: Gauss–Jordan elimination with partial pivoting over the bladders that can
- * carry; the free ones are scanned on a GRID_N-point grid of their pressures, the others
- * follow (checked against their ranges); then every vertex of the set (the free count of
- * bladders at an end of their force range, the six others solved for). f gets the point
- * with the least tie-breaker sum (tie_cost: a bladder at zero force takes its best
- * pressure that carries nothing). 0 on success, -1 when no point is in the set or the set
- * has more than two free coordinates (more than eight carrying bladders: not scanned). */
-static int grid_forces(const hp_load_model *M, int n, const double *rho, const double *A,
-                       const double *b, const double *lo, const double *L, const double *U,
-                       const double *Flo, const double *Fhi, const double *target, double tol,
+/* The holding set at pose xi inside [lo, hi]: OK, UNREACHABLE when a bladder centre is
+ * inside the head or a row no force box can meet (a necessary condition, exact, and cheap
+ * where phase 1's QP must run out its multiplier updates to show infeasibility: the sinking
+ * search asks this ~20 times per unreachable pose), ERROR when the model fails. */
+hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi, const double *target,
+                                           hp_load_hold_set *h)
+{
+    const int n = M->layout.n;
+    h->M = M;
+    h->n = n;
+    h->lo = lo;
+    h->target = target;
+    double J[HP_MAX_BLADDERS * 6], Qg[6];
+    if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, h->rho, J, NULL) != HP_OK)
+        return HP_LOAD_SOLVE_ERROR;
+    /* A pose with a bladder centre inside the head (through its panel) is held by nothing. */
+    if (hpi_load_domain(M, h->rho) != HP_OK) return HP_LOAD_SOLVE_UNREACHABLE;
+    hpi_load_gravity(M, xi, Qg, NULL, NULL);
+    for (int k = 0; k < n; ++k) {
+        h->Pt[k] = hpi_load_touch_pressure(M, k, h->rho[k]);
+        h->L[k] = fmax(lo[k], fmax(0.0, h->Pt[k]));
+        /* The indentation range where the contact law is trusted caps a carrying bladder's
+         * pressure at this pose: ro(P) <= rho/(1 − HP_LOAD_INDENT_MAX). A bladder whose
+         * lowest pressure already carries beyond it cannot hold the pose. */
+        double Pi = hpi_load_indent_pressure(M, k, h->rho[k]);
+        if (lo[k] > 0 && lo[k] > h->Pt[k] && lo[k] > Pi) return HP_LOAD_SOLVE_UNREACHABLE;
+        h->U[k] = fmin(hi[k], Pi);
+        bstate st;
+        h->Flo[k] = h->Fhi[k] = 0.0;
+        if (h->L[k] < h->U[k]) {
+            if (bladder_state(M, k, h->L[k], h->rho[k], &st)) return HP_LOAD_SOLVE_ERROR;
+            h->Flo[k] = fmax(0.0, st.F);
+            if (bladder_state(M, k, h->U[k], h->rho[k], &st)) return HP_LOAD_SOLVE_ERROR;
+            h->Fhi[k] = st.F;
+        }
+        for (int r = 0; r < 6; ++r) h->A[r * n + k] = J[k * 6 + r] * row_w(r);
+    }
+    h->fscale = 0.0;
+    for (int r = 0; r < 6; ++r) {
+        h->b[r] = -Qg[r] * row_w(r);
+        h->fscale = fmax(h->fscale, fabs(h->b[r]));
+    }
+    h->tol = 1e-13 * fmax(1.0, h->fscale);
+    for (int r = 0; r < 6; ++r) {
+        double rlo = 0.0, rhi = 0.0;
+        for (int k = 0; k < n; ++k) {
+            double a = h->A[r * n + k] * h->Flo[k], c = h->A[r * n + k] * h->Fhi[k];
+            rlo += fmin(a, c);
+            rhi += fmax(a, c);
+        }
+        if (h->b[r] < rlo - h->tol || h->b[r] > rhi + h->tol) return HP_LOAD_SOLVE_UNREACHABLE;
+    }
+    return HP_LOAD_SOLVE_OK;
+}
+
+/* The bladders that can carry at the set's pose (col[], returned count) and the inner radii
+ * at the ends of their carrying pressures (ra at L, rc at U; 0 for the others), which
+ * tie_cost's pressure solve brackets with. -1 when the model fails. */
+int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, double *rc)
+{
+    const hp_load_model *M = h->M;
+    int m = 0;
+    for (int k = 0; k < h->n; ++k) {
+        ra[k] = rc[k] = 0.0;
+        if (!(h->L[k] < h->U[k])) continue;
+        col[m++] = k;
+        if (hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], h->L[k], &ra[k]) ||
+            hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], h->U[k], &rc[k]))
+            return -1;
+    }
+    return m;
+}
+
+/* tie_cost over the m carrying-capable bladders col[]; the others at their best pressure
+ * that carries nothing (load_solve.h). */
+int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, const double *ra,
+                            const double *rc, const double *x, double stop, double *e, double *P,
+                            double *R)
+{
+    *e = 0.0;
+    for (int k = 0; k < h->n; ++k) P[k] = fmin(fmax(h->target[k], h->lo[k]), h->L[k]);
+    for (int j = 0; j < m && *e < stop; ++j)
+        if (tie_cost(h->M, col[j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target, x,
+                     e, P, R))
+            return -1;
+    return 0;
+}
+
+/* A point x of the holding set: kept in f when its tie-breaker sum is below *best and, with
+ * a test, when the test accepts it (asked only of a point that would win: the sum stops as
+ * soon as it cannot). 0, or -1 when the model or the test fails. */
+static int consider(const hp_load_hold_set *h, const int *col, int m, const double *ra,
+                    const double *rc, hp_load_point_test test, void *ctx, const double *x,
+                    double *best, double *f)
+{
+    double e, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS];
+    if (hpi_load_hold_set_point(h, col, m, ra, rc, x, *best, &e, P, R)) return -1;
+    if (!(e < *best)) return 0;
+    if (test) {
+        int ok = test(ctx, x, P, R);
+        if (ok < 0) return -1;
+        if (!ok) return 0;
+    }
+    *best = e;
+    memcpy(f, x, (size_t)h->n * sizeof *f);
+    return 0;
+}
+
+/* The holding set written in at most two free forces: Gauss–Jordan elimination with
+ * partial pivoting over the bladders that can carry; the free ones are scanned on a
+ * grid_n-point grid of their pressures, the others follow (checked against their ranges);
+ * then every vertex of the set (the free count of bladders at an end of their force range,
+ * the six others solved for). f gets the point with the least tie-breaker sum (tie_cost: a
+ * bladder at zero force takes its best pressure that carries nothing); with a test, among
+ * the points it accepts only. At most grid_n² + 4·C(8, 2) points. 0 on success, -1 when no
+ * point qualifies or the set has more than two free coordinates (more than eight carrying
+ * bladders: not scanned). */
+static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test test, void *ctx,
                        double *f)
 {
-    int col[HP_MAX_BLADDERS], m = 0;
-    for (int k = 0; k < n; ++k)
-        if (L[k] < U[k]) col[m++] = k;
+    const hp_load_model *M = h->M;
+    const int n = h->n;
+    const double *A = h->A, *b = h->b, *L = h->L, *U = h->U, *Flo = h->Flo, *Fhi = h->Fhi;
+    const double tol = h->tol;
+    int col[HP_MAX_BLADDERS];
+    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
+    const int m = hpi_load_hold_set_carrying(h, col, ra, rc);
+    if (m < 0) return -1;
     double E[6][HP_MAX_BLADDERS + 1];
     for (int r = 0; r < 6; ++r) {
         for (int j = 0; j < m; ++j) E[r][j] = A[r * n + col[j]];
@@ -236,15 +357,7 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
             if (nfree == 2) return -1;
             fr[nfree++] = j;
         }
-    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
-    for (int k = 0; k < n; ++k) {
-        ra[k] = rc[k] = 0.0;
-        if (L[k] < U[k] &&
-            (hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], L[k], &ra[k]) ||
-             hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], U[k], &rc[k])))
-            return -1;
-    }
-    const int g0 = nfree > 0 ? GRID_N : 1, g1 = nfree > 1 ? GRID_N : 1;
+    const int g0 = nfree > 0 ? grid_n : 1, g1 = nfree > 1 ? grid_n : 1;
     double best = INFINITY, x[HP_MAX_BLADDERS];
     for (int i0 = 0; i0 < g0; ++i0)
         for (int i1 = 0; i1 < g1; ++i1) {
@@ -256,8 +369,8 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
             for (int q = 0; q < nfree && ok; ++q) {
                 int k = col[fr[q]], i = q ? i1 : i0;
                 bstate st;
-                double Pq = L[k] + (double)i / (GRID_N - 1) * (U[k] - L[k]);
-                ok = bladder_state(M, k, Pq, rho[k], &st) == HP_OK;
+                double Pq = L[k] + (double)i / (grid_n - 1) * (U[k] - L[k]);
+                ok = bladder_state(M, k, Pq, h->rho[k], &st) == HP_OK;
                 x[k] = fmin(fmax(st.F, Flo[k]), Fhi[k]);
             }
             for (int r = 0; r < rank && ok; ++r) {
@@ -269,14 +382,7 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
                 x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
             }
             for (int r = rank; r < 6 && ok; ++r) ok = fabs(E[r][m]) <= tol; /* consistent */
-            if (!ok) continue;
-            double e = 0.0;
-            for (int j = 0; j < m && e < best; ++j)
-                if (tie_cost(M, col[j], rho, lo, L, U, ra, rc, Flo, Fhi, target, x, &e)) return -1;
-            if (e < best) {
-                best = e;
-                memcpy(f, x, (size_t)n * sizeof *f);
-            }
+            if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f)) return -1;
         }
     /* The polytope's vertices too (nfree of the carrying bladders at an end of their range,
      * the six others solved for): where the tie-breaker is concave the least sum lies on
@@ -310,15 +416,7 @@ static int grid_forces(const hp_load_model *M, int n, const double *rho, const d
                         ok = sol[j] >= Flo[k] - tol && sol[j] <= Fhi[k] + tol;
                         x[k] = fmin(fmax(sol[j], Flo[k]), Fhi[k]);
                     }
-                    if (!ok) continue;
-                    double e = 0.0;
-                    for (int j = 0; j < m && e < best; ++j)
-                        if (tie_cost(M, col[j], rho, lo, L, U, ra, rc, Flo, Fhi, target, x, &e))
-                            return -1;
-                    if (e < best) {
-                        best = e;
-                        memcpy(f, x, (size_t)n * sizeof *f);
-                    }
+                    if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f)) return -1;
                 }
     }
     return isfinite(best) ? 0 : -1;
@@ -336,51 +434,12 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
 {
     *cost = INFINITY;
     const int n = M->layout.n;
-    double rho[HP_MAX_BLADDERS], J[HP_MAX_BLADDERS * 6], Qg[6];
-    if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, NULL) != HP_OK)
-        return HP_LOAD_SOLVE_ERROR;
-    /* A pose with a bladder centre inside the head (through its panel) is held by nothing. */
-    if (hpi_load_domain(M, rho) != HP_OK) return HP_LOAD_SOLVE_UNREACHABLE;
-    hpi_load_gravity(M, xi, Qg, NULL, NULL);
-    double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS], Fhi[HP_MAX_BLADDERS],
-        Pt[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
-    for (int k = 0; k < n; ++k) {
-        Pt[k] = hpi_load_touch_pressure(M, k, rho[k]);
-        L[k] = fmax(lo[k], fmax(0.0, Pt[k]));
-        /* The indentation range where the contact law is trusted caps a carrying bladder's
-         * pressure at this pose: ro(P) <= rho/(1 − HP_LOAD_INDENT_MAX). A bladder whose
-         * lowest pressure already carries beyond it cannot hold the pose. */
-        double Pi = hpi_load_indent_pressure(M, k, rho[k]);
-        if (lo[k] > 0 && lo[k] > Pt[k] && lo[k] > Pi) return HP_LOAD_SOLVE_UNREACHABLE;
-        U[k] = fmin(hi[k], Pi);
-        bstate s;
-        Flo[k] = Fhi[k] = 0.0;
-        if (L[k] < U[k]) {
-            if (bladder_state(M, k, L[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
-            Flo[k] = fmax(0.0, s.F);
-            if (bladder_state(M, k, U[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
-            Fhi[k] = s.F;
-        }
-        for (int r = 0; r < 6; ++r) A[r * n + k] = J[k * 6 + r] * row_w(r);
-    }
-    for (int r = 0; r < 6; ++r) b[r] = -Qg[r] * row_w(r);
-    double fscale = 0.0;
-    for (int r = 0; r < 6; ++r) fscale = fmax(fscale, fabs(b[r]));
-    const double tol = 1e-13 * fmax(1.0, fscale);
-
-    /* A row no force box can meet (sum_k A[r][k]·F_k ranges over an interval as F moves in
-     * its box) proves the pose unreachable at once: a necessary condition, exact, and cheap
-     * where phase 1's QP must run out its multiplier updates to show infeasibility (the
-     * sinking search asks this ~20 times per unreachable pose). */
-    for (int r = 0; r < 6; ++r) {
-        double rlo = 0.0, rhi = 0.0;
-        for (int k = 0; k < n; ++k) {
-            double a = A[r * n + k] * Flo[k], c = A[r * n + k] * Fhi[k];
-            rlo += fmin(a, c);
-            rhi += fmax(a, c);
-        }
-        if (b[r] < rlo - tol || b[r] > rhi + tol) return HP_LOAD_SOLVE_UNREACHABLE;
-    }
+    hp_load_hold_set hs;
+    hpi_load_solve_status hst = hpi_load_hold_set_at(M, xi, lo, hi, target, &hs);
+    if (hst != HP_LOAD_SOLVE_OK) return hst;
+    const double *rho = hs.rho, *A = hs.A, *b = hs.b, *L = hs.L, *U = hs.U, *Flo = hs.Flo,
+                 *Fhi = hs.Fhi, *Pt = hs.Pt;
+    const double fscale = hs.fscale, tol = hs.tol;
     /* Phase 1, in the forces: the point of {A·F = b, Flo <= F <= Fhi} nearest to the
      * forces of the starting pressures (each force scaled by its range). The constraints are
      * linear, so this decides reachability exactly. */
@@ -401,8 +460,7 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
         }
-        if (grid && grid_forces(M, n, rho, A, b, lo, L, U, Flo, Fhi, target, tol, f) != 0)
-            return HP_LOAD_SOLVE_UNREACHABLE;
+        if (grid && grid_forces(&hs, GRID_N, NULL, NULL, f) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
         for (int k = 0; k < n; ++k) {
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
@@ -592,6 +650,12 @@ hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_
 {
     return hold_core(M, xi, lo, hi, target, start, max_iter, nlp_solve, stiffness, P, F, iterations,
                      raw);
+}
+
+int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
+                           void *ctx, double *f)
+{
+    return grid_forces(h, grid_n, test, ctx, f);
 }
 
 hp_error hpi_load_bladder_stiff(const hp_load_model *M, int k, double P, double rho, double a[3])

@@ -44,6 +44,61 @@ hp_error hpi_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const dou
 int hpi_load_stiff_eval(const hp_load_stiff *S, int nv, const int *idx, const double *x, double *f,
                         double *grad, double *hess, double *lam_min);
 
+/* The holding set at a pose: {A·F = b, Flo <= F <= Fhi} (A 6×n, weighted rows) in the
+ * forces, with each bladder's carrying pressures [L, U] (L: where it starts to carry, U: the
+ * top of its bounds and of the indentation range) and touching pressure Pt. HOLD's scan
+ * and the stable search (load_stable.c) work on it. */
+typedef struct hp_load_hold_set {
+    const hp_load_model *M;
+    int n;
+    const double *lo, *target;
+    double rho[HP_MAX_BLADDERS], A[6 * HP_MAX_BLADDERS], b[6];
+    double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS], Fhi[HP_MAX_BLADDERS];
+    double Pt[HP_MAX_BLADDERS];
+    double fscale, tol; /* the largest |b_r| and the rows' tolerance */
+} hp_load_hold_set;
+
+/* The holding set at pose xi inside [lo, hi] for the tie-breaker target (both kept by
+ * pointer): OK, UNREACHABLE when a bladder centre is inside the head or a row no force box
+ * can meet, ERROR when the model fails. */
+hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi, const double *target,
+                                           hp_load_hold_set *h);
+
+/* The bladders that can carry (col[], the returned count) and the inner radii at the ends of
+ * their carrying pressures (ra at L, rc at U). -1 when the model fails. */
+int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, double *rc);
+
+/* A point x (forces) of the set: P gets its pressures, R (may be NULL) the carrying
+ * bladders' inner radii, *e the tie-breaker sum (P − t)², which stops early once it reaches
+ * stop. col, m, ra, rc from hpi_load_hold_set_carrying. 0, or -1 when the model fails. */
+int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, const double *ra,
+                            const double *rc, const double *x, double stop, double *e, double *P,
+                            double *R);
+
+/* A test of a point of the set (forces x, pressures P, inner radii R): 1 accept, 0 reject,
+ * -1 failure. */
+typedef int (*hp_load_point_test)(void *ctx, const double *x, const double *P, const double *R);
+
+/* The tie-breaker's grid points per free coordinate of the set. */
+#define HP_LOAD_SCAN_GRID_N 3
+
+/* HOLD's scan of the set (load_solve.c): a grid_n × grid_n grid of its (at most two) free
+ * pressures and its vertices; f gets the point with the least tie-breaker sum among those
+ * test (may be NULL) accepts. 0, or -1 when none qualifies. */
+int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
+                           void *ctx, double *f);
+
+/* The smallest eigenvalue [N/mm] of the holding stiffness of S's pose when the nv bladders
+ * idx[] carry forces F [N] with normal stiffnesses a [N/m] (a = −dF/drho) and the others
+ * nothing. 0, or -1 when the decomposition fails. */
+int hpi_load_stiff_lambda_at(const hp_load_stiff *S, int nv, const int *idx, const double *F,
+                             const double *a, double *lam);
+
+/* The smallest eigenvalue [N/mm, mm/degree units, the scale of the stable margin] of a
+ * holding stiffness K (hp_load_holding.K, SI). 0, or -1 when the decomposition fails. */
+int hpi_load_stiff_lambda_min(const double K[36], double *lam);
+
 /* The tie-breaker NLP of HOLD at a fixed pose, for a general-purpose solver: variables the
  * pressures (kPa) of the bladders with L_k < U_k (the others fixed at L_k), objective
  * ½·sum (P − t)² (or, with stiffness, the stiffness objective above), constraints

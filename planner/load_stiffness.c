@@ -52,6 +52,29 @@ hp_error hpi_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const dou
     return HP_OK;
 }
 
+int hpi_load_stiff_lambda_at(const hp_load_stiff *S, int nv, const int *idx, const double *F,
+                             const double *a, double *lam)
+{
+    double K[36], l[6], V[36];
+    memcpy(K, S->K0, sizeof K);
+    for (int j = 0; j < nv; ++j)
+        for (int q = 0; q < 36; ++q) K[q] += a[j] * S->JJ[idx[j]][q] - F[j] * S->H[idx[j]][q];
+    if (hpi_kin_symeig6(K, l, V) != 0) return -1;
+    *lam = l[0];
+    return 0;
+}
+
+int hpi_load_stiff_lambda_min(const double K[36], double *lam)
+{
+    double Ks[36], l[6], V[36];
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 6; ++j)
+            Ks[i * 6 + j] = 0.5 * (K[i * 6 + j] + K[j * 6 + i]) * kscale(i, j);
+    if (hpi_kin_symeig6(Ks, l, V) != 0) return -1;
+    *lam = l[0];
+    return 0;
+}
+
 /* g'[a, b]: the divided difference of g'(l) = −beta·exp(−beta·(l − l0)) (with its limit
  * g''(a) when a == b); expm1 keeps nearby eigenvalues exact. */
 static double ddiff(double beta, double a, double b, double l0)

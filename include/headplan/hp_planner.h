@@ -55,9 +55,11 @@
  *     translation beyond the smallest semi-axis) is INVALID_INPUT, the limit named. No
  *     result carries an achieved pose outside that range either: a converged answer there is
  *     INVALID_INPUT, a budget's iterate there is replaced by the safe output.
- *   At the load level REACHED means held instead: achieved is the desired pose and the load
+ *   At the load level REACHED means held instead: achieved is the desired pose, the load
  *     model's generalized force there with the returned pressures vanishes (below 1e-9 N,
- *     hp_plan's load-level paragraph); its CLOSEST answers name their binding limits too.
+ *     hp_plan's load-level paragraph), and the forward model confirms the hold: its
+ *     stiffness is positive definite and the forward statics started there rests within
+ *     1e-6 mm / degree of it; its CLOSEST answers name their binding limits too.
  *   closest_names_binding: a CLOSEST answer has at least one bladder with binding flags
  *     (HP_BINDING_TOL_MM, the same for every backend) named in hp_planner_error; a claimed
  *     optimum with nothing binding is SOLVER_ERROR with the safe output. */
@@ -156,8 +158,9 @@ HP_API const char *hp_binding_name(unsigned flag);
  * contact forces, and n pressures leave an (n − 6)-dimensional family that holds a
  * reachable pose, from which the tie-breaker picks one. */
 typedef enum hp_load_tiebreak {
-    HP_TIE_LEAST_SQUEEZE = 0, /* "least-squeeze": minimise sum_k P_k² */
-    HP_TIE_PREVIOUS,          /* "previous": minimise sum_k (P_k − P_prev,k)² */
+    HP_TIE_LEAST_SQUEEZE = 0, /* "least-squeeze": minimise sum_k P_k² among the stable
+                                 holds (docs/load.md, "Stable holds") */
+    HP_TIE_PREVIOUS,          /* "previous": minimise sum_k (P_k − P_prev,k)², likewise */
     HP_TIE_STIFFNESS,         /* "stiffness": maximise the holding stiffness's smallest
                                  eigenvalue (a smooth soft minimum of it; ipopt only) */
     HP_TIE_COUNT_
@@ -302,7 +305,11 @@ HP_API hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *resul
  * bladder centre outside the moved head) and, at the plane and surface geometries, the
  * Newton–Euler residual from the contact points below 1e-6 N and 1e-6 N·m; a pose found
  * that fails either is not returned (SOLVER_ERROR with the safe output: the previous
- * pressures at the previous pose). result.level is HP_LEVEL_LOAD, commanded[] all 1,
+ * pressures at the previous pose). HOLD prefers a stable hold (docs/load.md, "Stable
+ * holds"); a REACHED answer is one (its stiffness positive definite, its forward statics at
+ * rest within 1e-6 mm / degree of it), and a desired pose held only at an unstable
+ * equilibrium is SOLVER_ERROR with the safe output, the message saying so. A CLOSEST
+ * answer may still be a saddle: hp_planner_load_info's holding says so. result.level is HP_LEVEL_LOAD, commanded[] all 1,
  * uncommanded[] 0. With the realtime backend nothing is allocated. */
 
 /* The message of the last failure: a plan whose status is not REACHED, CLOSEST or

@@ -55,14 +55,23 @@ expect_exit 64 "cobyla refused at the load level"
 expect_stderr_has "not available at the load level" "says why"
 
 # The minimum-holding-stiffness tie-breaker (scene load.tiebreak: stiffness): refused by name
-# on the realtime backend; on Ipopt the supine correction, which least squeeze holds at an
-# unstable equilibrium, is held stably.
+# on the realtime backend; on Ipopt the supine correction is held stably. Least squeeze
+# holds it stably too: its plain pick is a saddle (a side bladder at 0 kPa), so HOLD takes
+# the least squeeze among the stable holds, and the forward statics confirms it.
 sed 's/tiebreak: least-squeeze/tiebreak: stiffness/' "$S/load_supine.yaml" >"$TMP/stiff.yaml"
 run solve "$TMP/stiff.yaml"
 expect_exit 65 "stiffness refused on realtime"
 expect_stderr_has "tie-breaker stiffness needs the ipopt backend" "names the tie-breaker and the backend"
 run solve "$S/load_supine.yaml"
-expect_stdout_has "holding               at the answer: NOT stable" "least squeeze: unstable hold"
+expect_exit 0 "least squeeze: reached"
+expect_stdout_has "holding               at the answer: stable" "least squeeze: a stable hold"
+run solve "$S/load_supine.yaml" --json
+python3 - "$TMP/out" <<'PY' && ok || bad "least squeeze: the forward statics confirms the hold"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["status"] == "reached" and d["stable"] is True
+assert d["rest_error"] <= 1e-6  # mm/deg: the tolerance a REACHED answer is confirmed to
+PY
 run solve "$TMP/stiff.yaml" --backend ipopt
 expect_exit 0 "stiffness on ipopt"
 expect_stdout_has "tie-breaker stiffness" "says the tie-breaker"
@@ -105,11 +114,12 @@ for lv in "--level load" "--level surface"; do
     expect_stdout_empty "100 deg pitch $lv: no answer"
     expect_stderr_has "headplan solve: --correction: desired rotation: angle 100.0 deg is outside the identifiable range" "names the limit $lv"
 done
-# 89.9 deg pitch is inside the range; the pressures found hold the head there (an exact
-# equilibrium, reached), but the hold is a saddle, and solve says so.
+# 89.9 deg pitch is inside the range; pressures inside the limits hold the head there (an
+# exact equilibrium), but only at a saddle: no stable hold, so no answer (the safe output),
+# and the message says why.
 run solve "$S/load_supine.yaml" --correction 0,0,0,89.9,0,0
-expect_exit 0 "89.9 deg pitch: an exact equilibrium"
-expect_stdout_has "NOT stable" "the saddle named"
+expect_exit 70 "89.9 deg pitch: held only at a saddle"
+expect_stderr_has "only at an unstable equilibrium (no stable hold found" "the saddle named"
 # Through a panel (side_chin_left's centre 11.6 mm inside the head) it was CLOSEST with
 # a Newton-Euler residual of 2.74 N; the closest-pose program (started from the held pose
 # nearest the nominal one) answers a held pose with every centre outside the head.

@@ -147,18 +147,27 @@ static void check_load(double rate_max, int rows)
         assert_non_null(p[j]);
     }
     static hp_result seq[WALK_ROWS];
-    int closest = 0;
+    int closest = 0, unstable = 0;
     for (int i = 0; i < rows; ++i) {
         double d[6];
         char why[160] = "";
         walk_row(i, d);
         assert_int_equal(hp_plan(p[0], d, &seq[i]), HP_OK);
+        /* A row held only at an unstable equilibrium is refused by name with the safe
+         * output (docs/load.md, "Stable holds"); the others are answers. */
+        if (seq[i].status == HP_STATUS_SOLVER_ERROR &&
+            strstr(hp_planner_error(p[0]), "only at an unstable equilibrium")) {
+            ++unstable;
+            continue;
+        }
         assert_true(seq[i].status == HP_STATUS_REACHED || seq[i].status == HP_STATUS_CLOSEST);
         if (!load_confirms(p[0], d, &seq[i], why, sizeof why)) fail_msg("row %d: %s", i, why);
         closest += seq[i].status == HP_STATUS_CLOSEST;
     }
-    /* Both kinds of row occur. */
-    assert_true(closest >= 5 && closest <= rows - 5);
+    /* Both kinds of answer occur. */
+    print_message("load level, rate_max %g: %d rows held only at a saddle (refused)\n", rate_max,
+                  unstable);
+    assert_true(closest >= 5 && closest <= rows - 5 - unstable);
     for (int i = 1; i < rows; ++i) {
         double d[6], other[6];
         walk_row(i, d);

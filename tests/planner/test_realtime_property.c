@@ -10,9 +10,11 @@
 #include "support/load_fixture.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 typedef struct tally {
     long n, by_status[HP_STATUS_COUNT_];
+    long unstable; /* SOLVER_ERROR: a load-level pose held only at an unstable equilibrium */
 } tally;
 
 static void check_one(hp_planner *p, const hp_layout *L, const double xi[6], const hp_result *prev,
@@ -22,6 +24,8 @@ static void check_one(hp_planner *p, const hp_layout *L, const double xi[6], con
     assert_true((int)r->status >= 0 && r->status < HP_STATUS_COUNT_);
     t->n++;
     t->by_status[r->status]++;
+    t->unstable += r->status == HP_STATUS_SOLVER_ERROR && r->level == HP_LEVEL_LOAD &&
+                   strstr(hp_planner_error(p), "only at an unstable equilibrium") != NULL;
     assert_int_equal(r->n, L->n);
     for (int k = 0; k < L->n; ++k) {
         const hp_bladder *B = &L->bladders[k];
@@ -89,7 +93,7 @@ static void run(const hp_layout *L, hp_level level, double rate, uint64_t seed, 
     }
     hp_planner *p = NULL;
     assert_int_equal(hp_planner_create(&C, &s, &p, NULL), HP_OK);
-    tally t = {0, {0}};
+    tally t = {0, {0}, 0};
     hp_result prev, r;
     const double nan6[6] = {NAN, NAN, NAN, NAN, NAN, NAN};
     check_one(p, &C, nan6, &prev, INFINITY, &t, &prev); /* the nominal answer */
@@ -151,7 +155,9 @@ static void run(const hp_layout *L, hp_level level, double rate, uint64_t seed, 
                   t.by_status[HP_STATUS_INVALID_INPUT], t.by_status[HP_STATUS_INFEASIBLE_START],
                   t.by_status[HP_STATUS_SOLVER_ERROR], t.by_status[HP_STATUS_UNCOMMANDED]);
     /* Every plan is accounted for by a named status; ordinary targets do not fail. */
-    assert_int_equal(t.by_status[HP_STATUS_SOLVER_ERROR], 0);
+    /* A load-level pose held only at an unstable equilibrium is SOLVER_ERROR by name
+     * (docs/load.md, "Stable holds"; check_one checks its safe output); nothing else is. */
+    assert_int_equal(t.by_status[HP_STATUS_SOLVER_ERROR], t.unstable);
     hp_planner_destroy(p);
 }
 

@@ -1,0 +1,124 @@
+/* HOLD's stable member (load_stable.h): the stiffness of a point of the holding set from
+ * the pressures and radii the set's scan already solved for, the scan with a stability test,
+ * and the bisection toward the pick. No allocation. */
+#include "planner/load_stable.h"
+#include "kinematics/contact_law.h"
+#include "kinematics/load_internal.h"
+
+#include <math.h>
+#include <string.h>
+
+/* The smallest eigenvalue of the holding stiffness [N/mm, mm/degree units] with pressures P
+ * (n, Pa) whose forces are x and inner radii R, counting only the bladders whose contact
+ * lasts: a bladder adds its terms when its force outlasts HP_LOAD_STABLE_CONTACT of the head
+ * moving away from it (x_k >= a_k·that, a_k = −dF/drho its normal stiffness). A bladder that
+ * only just touches is stiff toward the head and gives nothing away from it: counting it
+ * would call a hold stable that the forward statics leaves. 0 on success. */
+static int stiff_min(const hp_load_stiff *S, const double *x, const double *P, const double *R,
+                     double *lam)
+{
+    int idx[HP_MAX_BLADDERS], nv = 0;
+    double Fv[HP_MAX_BLADDERS], av[HP_MAX_BLADDERS];
+    for (int k = 0; k < S->n; ++k) {
+        double ro;
+        hp_claw c;
+        if (!(x[k] > 0.0)) continue;
+        if (hp_iab_ro(&S->M->layout.bladders[k].iab, R[k], &ro) != HP_OK) return -1;
+        hpi_load_claw_to(S->M, k, P[k], ro, S->rho[k], HP_CLAW_GRADIENT, &c);
+        double a = -c.d[HP_CLAW_RHO];
+        if (!(x[k] >= a * HP_LOAD_STABLE_CONTACT)) continue;
+        idx[nv] = k;
+        Fv[nv] = x[k];
+        av[nv++] = a;
+    }
+    return hpi_load_stiff_lambda_at(S, nv, idx, Fv, av, lam);
+}
+
+/* The scan's test: the point is stable with the margin. */
+static int stable_test(void *ctx, const double *x, const double *P, const double *R)
+{
+    double lam;
+    if (stiff_min((const hp_load_stiff *)ctx, x, P, R, &lam) != 0) return -1;
+    return lam >= HP_LOAD_STABLE_MARGIN;
+}
+
+/* Grid points per free coordinate of the second scan: the stable part of the family can lie
+ * where the tie-breaker's 3×3 grid does not look (a side bladder's band between touching and
+ * carrying at the top of its range). */
+#define STABLE_GRID_N 7
+
+/* The bisection's halvings: the answer within 2^-16 = 1.5e-5 of the segment from the pick. */
+#define STABLE_HALVINGS 16
+
+hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi, const double *target,
+                                           double *P, double *F, double *lam_min)
+{
+    hp_load_hold_set hs;
+    hpi_load_solve_status st = hpi_load_hold_set_at(M, xi, lo, hi, target, &hs);
+    if (st != HP_LOAD_SOLVE_OK) return st;
+    hp_load_stiff S;
+    if (hpi_load_stiff_init(&S, M, xi, target) != HP_OK) return HP_LOAD_SOLVE_ERROR;
+    const int n = hs.n;
+    int col[HP_MAX_BLADDERS];
+    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
+    const int m = hpi_load_hold_set_carrying(&hs, col, ra, rc);
+    if (m < 0) return HP_LOAD_SOLVE_ERROR;
+    /* The pick's forces (a bladder below its carrying pressures carries nothing), and its
+     * stiffness from the pressures of those forces (the pick's to the pressure solve's
+     * rounding). */
+    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS], e0, lam;
+    for (int k = 0; k < n; ++k) {
+        double Fk, d1, d2;
+        f0[k] = 0.0;
+        if (!(hs.L[k] < hs.U[k]) || !(P[k] > hs.L[k])) continue;
+        if (hpi_load_bladder_force(M, k, P[k], hs.rho[k], &Fk, &d1, &d2) != HP_OK)
+            return HP_LOAD_SOLVE_ERROR;
+        f0[k] = fmin(fmax(Fk, hs.Flo[k]), hs.Fhi[k]);
+    }
+    if (hpi_load_hold_set_point(&hs, col, m, ra, rc, f0, INFINITY, &e0, P0, R0) ||
+        stiff_min(&S, f0, P0, R0, &lam) != 0)
+        return HP_LOAD_SOLVE_ERROR;
+    if (lam >= HP_LOAD_STABLE_MARGIN) {
+        if (lam_min) *lam_min = lam;
+        return HP_LOAD_SOLVE_OK;
+    }
+    /* The cheapest stable point of the scan (the tie-breaker's 3×3 grid and the vertices;
+     * where none is stable, the finer grid): the segment's far end c. */
+    double c[HP_MAX_BLADDERS], best, fb[HP_MAX_BLADDERS], Pb[HP_MAX_BLADDERS], Rb[HP_MAX_BLADDERS];
+    if (hpi_load_hold_set_scan(&hs, HP_LOAD_SCAN_GRID_N, stable_test, &S, c) != 0 &&
+        hpi_load_hold_set_scan(&hs, STABLE_GRID_N, stable_test, &S, c) != 0)
+        return HP_LOAD_SOLVE_UNREACHABLE;
+    memcpy(fb, c, (size_t)n * sizeof *fb);
+    if (hpi_load_hold_set_point(&hs, col, m, ra, rc, c, INFINITY, &best, Pb, Rb) ||
+        stiff_min(&S, c, Pb, Rb, &lam) != 0)
+        return HP_LOAD_SOLVE_ERROR;
+    /* The stable point nearest the pick on the segment of forces from it to c: the set is
+     * convex in the forces, so the segment holds the head throughout. The cheapest stable
+     * point seen wins. */
+    double a = 0.0, b = 1.0;
+    for (int it = 0; it < STABLE_HALVINGS; ++it) {
+        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], Rx[HP_MAX_BLADDERS], e,
+               lx;
+        for (int k = 0; k < n; ++k)
+            x[k] = fmin(fmax(f0[k] + t * (c[k] - f0[k]), hs.Flo[k]), hs.Fhi[k]);
+        if (hpi_load_hold_set_point(&hs, col, m, ra, rc, x, INFINITY, &e, Px, Rx) ||
+            stiff_min(&S, x, Px, Rx, &lx))
+            return HP_LOAD_SOLVE_ERROR;
+        if (!(lx >= HP_LOAD_STABLE_MARGIN)) {
+            a = t;
+            continue;
+        }
+        b = t;
+        if (e < best) {
+            best = e;
+            lam = lx;
+            memcpy(fb, x, (size_t)n * sizeof *fb);
+            memcpy(Pb, Px, (size_t)n * sizeof *Pb);
+        }
+    }
+    memcpy(P, Pb, (size_t)n * sizeof *P);
+    memcpy(F, fb, (size_t)n * sizeof *F);
+    if (lam_min) *lam_min = lam;
+    return HP_LOAD_SOLVE_OK;
+}

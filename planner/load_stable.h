@@ -1,0 +1,45 @@
+/* Internal: HOLD's stable member (load_stable.c, docs/load.md "Stable holds"): when the
+ * tie-breaker's pick at a pose is not a stable hold, the cheapest stable member of the
+ * holding family that the search finds. No allocation. */
+#ifndef HP_PLANNER_LOAD_STABLE_H
+#define HP_PLANNER_LOAD_STABLE_H
+
+#include "planner/load_solve.h"
+
+/* The stable hold (docs/load.md, "Stable holds"): the smallest eigenvalue of the holding
+ * stiffness [N/mm, mm/degree units] HOLD's stable search asks of a hold. A plan's answer
+ * meets the equilibrium to 1e-9 N (load_level.c), so the forward statics started at a hold
+ * this stable moves the head by at most about 1e-9 N / margin = 1e-7 mm (or degree): ten
+ * times inside the 1e-6 mm/deg at which the rest must confirm a REACHED answer, and eleven
+ * orders of magnitude above the eigenvalue's rounding (~1e-12 N/mm at stiffnesses of tens
+ * of N/mm). The plan's own verdict is that confirmation (K positive definite and the rest
+ * within 1e-6 mm/deg), so a pick below the margin that the rest confirms stands. */
+#define HP_LOAD_STABLE_MARGIN 1e-2
+/* [m] The stable hold counts a bladder's stiffness only when its force outlasts this much of
+ * the head moving away from it (force >= its normal stiffness times this), so that a contact
+ * the stability relies on is not lost on the way to the rest or under the contact law's own
+ * error: 1e6 times the 1e-7 mm the forward statics may move from an answer. At 1e-7 m the
+ * supine scene's stable hold touched its forehead bladders with 1e-5 N, and the fitted
+ * law's ±4.61 % band already left the head without a rest; at 1e-4 m it rests within
+ * 0.36 mm. */
+#define HP_LOAD_STABLE_CONTACT 1e-4
+
+/* HOLD's stable member (docs/load.md, "Stable holds"): P[n] (in: the tie-breaker's pick,
+ * holding the head at xi inside [lo, hi]) is kept when its holding stiffness's smallest
+ * eigenvalue is at least HP_LOAD_STABLE_MARGIN (counting the bladders whose contact outlasts
+ * HP_LOAD_STABLE_CONTACT); otherwise P gets the member of the holding family with the least
+ * tie-breaker sum sum (P − t)² that the search finds among those that are at least that
+ * stable: a scan of the family (load_solve.c, grid_forces: the tie-breaker's 3×3 grid of its
+ * free pressures and its vertices, at most 9 + 112 points; where none is stable a 7×7 grid
+ * and the vertices, at most 49 + 112) for the cheapest stable point c, then a bisection on
+ * the segment of forces from the pick to c (the set is convex in the forces) for the stable
+ * point nearest the pick, 16 halvings; the cheapest stable point seen wins. F gets its
+ * forces, *lam_min (may be NULL) its smallest eigenvalue. OK with P stable; UNREACHABLE (P
+ * and F unchanged) when no point of the scans is stable; ERROR when the model fails.
+ * Deterministic, no allocation, at most 282 scan points and 17 segment points, each one
+ * tie-breaker sum and at most one 6×6 symmetric eigenproblem. */
+hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double xi[6],
+                                           const double *lo, const double *hi, const double *target,
+                                           double *P, double *F, double *lam_min);
+
+#endif
