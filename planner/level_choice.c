@@ -204,7 +204,10 @@ static hp_error auto_by_model_error(hp_planner *p, const hp_layout *layout, hpi_
             x->bound_mm = b * 1e3;
             if (!nominal) measured = measure_contact(p, layout, plan_at, x->level, &ref, x) == 0;
             else if (shared >= 0) x->m = c[shared].m, measured = 1;
-            else if ((measured = measure_nominal(p, &ref, x) == 0)) shared = i;
+            else {
+                measured = measure_nominal(p, &ref, x) == 0;
+                if (measured) shared = i;
+            }
         }
         if (measured)
             x->scaled = fmax((x->m.pose_mm + x->bound_mm) / tol_mm, x->m.pose_deg / tol_deg);
