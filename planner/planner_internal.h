@@ -179,6 +179,12 @@ hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const 
  * centres are those before it) and p->err says why, after what it held ("; " between).
  * HP_OK or HP_ERR_INVALID. */
 hp_error hpi_plan_measured_derive(hp_planner *p);
+/* 1 when a solve may start from the previous answer (x_prev) without deriving a pending
+ * reading: none is pending, or every bladder's previous pressure lies inside its limits and
+ * inside the reading's rate window by the slack at which the window's radius bound does not
+ * matter (hpi_setup_rate_clear): a feasible start, found in pressure space without an FK.
+ * A start is only a start: the answer is verified as every answer is. */
+int hpi_plan_measured_start_ok(const hp_planner *p);
 /* TEST-ONLY count (inert): the closed-form pressure evaluations the bladder FK spent in
  * hpi_plan_previous_from in this process so far. */
 unsigned long hpi_test_measured_fk_evals(void);
