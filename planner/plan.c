@@ -141,7 +141,16 @@ static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
     c->rate_deferred = 0;
     hp_error e;
     p->pb.lazy = NULL;
-    if (hpi_setup_rate_lazy() && (p->ops->caps & HP_BACKEND_LAZY_RATE)) {
+    /* Windows that are the last plan's, bit for bit (a plan holding its answer): that plan
+     * met the ends it needed, which the memo holds, and the others, solved here once, are
+     * held by the memo for every later plan with the same windows; the stand-ins, set up
+     * again every plan and consulted by the backend, would cost more. Either way the
+     * bounds the answer is checked against are the exact ones. */
+    size_t nb = (size_t)p->L.n * sizeof *p->pb.p_prev;
+    int same = p->rate_last_ok && memcmp(p->rate_last_P, p->pb.p_prev, nb) == 0;
+    memcpy(p->rate_last_P, p->pb.p_prev, nb);
+    p->rate_last_ok = 1;
+    if (!same && hpi_setup_rate_lazy() && (p->ops->caps & HP_BACKEND_LAZY_RATE)) {
         hp_rate_lazy *z = &p->rate_lazy;
         *z = (hp_rate_lazy){.L = &p->L,
                             .b = &p->sb,

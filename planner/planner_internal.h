@@ -90,6 +90,11 @@ struct hp_planner {
      * the answer they are derived from. */
     int meas_pending;
     double meas_P[HP_MAX_BLADDERS];
+    /* The rate windows' centres of the last plan that set rate bounds (rate_last_ok: one
+     * did), so that a plan with the same windows takes the memo's exact bounds (plan.c,
+     * rate_bounds). */
+    int rate_last_ok;
+    double rate_last_P[HP_MAX_BLADDERS];
     /* The contact model at the nominal pose (fit starts). Last, and its warm states last
      * in it: when they grew from 64 to 512 bytes in the middle, padding main's structs the
      * same way (a placebo, no code change) made plans 2.5 % slower at every level, a
