@@ -162,6 +162,22 @@ hp_error hp_planner_set_measured(hp_planner *p, const double *pressures, unsigne
     return HP_OK;
 }
 
+int hpi_plan_measured_start_ok(const hp_planner *p)
+{
+    if (!p->meas_pending) return 1;
+    /* Without rate limits the windows are the static limits, which every previous answer
+     * meets (an answer's pressures are clamped into them; set_previous and
+     * set_previous_result check them). */
+    if (p->rate_free) return 1;
+    for (int k = 0; k < p->L.n; ++k) {
+        double P = p->prev.bladders[k].pressure;
+        if (!(P >= p->sb.p_lo[k] && P <= p->sb.p_hi[k])) return 0;
+    }
+    /* Inside every window by the slack at which its radius bound does not matter: the
+     * answer's radii then lie inside this cycle's radius bounds too. */
+    return hpi_setup_rate_clear(&p->L, &p->sb, p->pb.p_prev, p->prev.bladders);
+}
+
 hp_error hpi_plan_measured_derive(hp_planner *p)
 {
     if (!p->meas_pending) return HP_OK;

@@ -67,6 +67,17 @@ static int previous_ready(hp_planner *p, hp_result *res, plan_ctx *c)
     return 0;
 }
 
+/* The previous answer as a solve's start (x_prev): a pending reading is derived only when
+ * that answer is no feasible start for the reading's windows (hpi_plan_measured_start_ok).
+ * Otherwise the last plan's pose and radii, already known, start the solve: the reading's
+ * own answer would only be another start, and the answer reached from either passes the
+ * same checks (limits and rate windows exact, the round trip). Returns 1, or 0 with res
+ * labelled as previous_ready. */
+static int start_ready(hp_planner *p, hp_result *res, plan_ctx *c)
+{
+    return hpi_plan_measured_start_ok(p) || previous_ready(p, res, c);
+}
+
 /* "STATUS: the BACKEND backend did not converge within solver.max_iter = N iterations" (or
  * max_time_s = T s): the budget that stopped it, so that a caller knows what to raise; the
  * command line, batch and Python all print this one text. */
@@ -130,7 +141,16 @@ static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
     c->rate_deferred = 0;
     hp_error e;
     p->pb.lazy = NULL;
-    if (hpi_setup_rate_lazy() && (p->ops->caps & HP_BACKEND_LAZY_RATE)) {
+    /* Windows that are the last plan's, bit for bit (a plan holding its answer): that plan
+     * met the ends it needed, which the memo holds, and the others, solved here once, are
+     * held by the memo for every later plan with the same windows; the stand-ins, set up
+     * again every plan and consulted by the backend, would cost more. Either way the
+     * bounds the answer is checked against are the exact ones. */
+    size_t nb = (size_t)p->L.n * sizeof *p->pb.p_prev;
+    int same = p->rate_last_ok && memcmp(p->rate_last_P, p->pb.p_prev, nb) == 0;
+    memcpy(p->rate_last_P, p->pb.p_prev, nb);
+    p->rate_last_ok = 1;
+    if (!same && hpi_setup_rate_lazy() && (p->ops->caps & HP_BACKEND_LAZY_RATE)) {
         hp_rate_lazy *z = &p->rate_lazy;
         *z = (hp_rate_lazy){.L = &p->L,
                             .b = &p->sb,
@@ -278,7 +298,7 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c, int cold)
         x0 = xcold;
     }
     c->warm = x0 == p->x_prev;
-    if (c->warm && !previous_ready(p, res, c)) return 0;
+    if (c->warm && !start_ready(p, res, c)) return 0;
     p->diag.text[0] = '\0';
     hp_error e = p->ops->solve(p->bstate, &p->pb, x0, p->x_work, &br, &p->diag);
     if (br.status == HP_STATUS_INFEASIBLE_START && x0 != p->x_prev) {
@@ -286,7 +306,7 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c, int cold)
          * nominal pose) while the program is feasible: the previous answer meets this
          * cycle's rate windows, which are centred on its pressures. Try from there before
          * calling the limits contradictory. */
-        if (!previous_ready(p, res, c)) return 0;
+        if (!start_ready(p, res, c)) return 0;
         hp_backend_result b2 = {.status = HP_STATUS_SOLVER_ERROR};
         p->diag.text[0] = '\0';
         e = p->ops->solve(p->bstate, &p->pb, p->x_prev, p->x_work, &b2, &p->diag);

@@ -90,6 +90,11 @@ struct hp_planner {
      * the answer they are derived from. */
     int meas_pending;
     double meas_P[HP_MAX_BLADDERS];
+    /* The rate windows' centres of the last plan that set rate bounds (rate_last_ok: one
+     * did), so that a plan with the same windows takes the memo's exact bounds (plan.c,
+     * rate_bounds). */
+    int rate_last_ok;
+    double rate_last_P[HP_MAX_BLADDERS];
     /* The contact model at the nominal pose (fit starts). Last, and its warm states last
      * in it: when they grew from 64 to 512 bytes in the middle, padding main's structs the
      * same way (a placebo, no code change) made plans 2.5 % slower at every level, a
@@ -179,6 +184,12 @@ hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const 
  * centres are those before it) and p->err says why, after what it held ("; " between).
  * HP_OK or HP_ERR_INVALID. */
 hp_error hpi_plan_measured_derive(hp_planner *p);
+/* 1 when a solve may start from the previous answer (x_prev) without deriving a pending
+ * reading: none is pending, or every bladder's previous pressure lies inside its limits and
+ * inside the reading's rate window by the slack at which the window's radius bound does not
+ * matter (hpi_setup_rate_clear): a feasible start, found in pressure space without an FK.
+ * A start is only a start: the answer is verified as every answer is. */
+int hpi_plan_measured_start_ok(const hp_planner *p);
 /* TEST-ONLY count (inert): the closed-form pressure evaluations the bladder FK spent in
  * hpi_plan_previous_from in this process so far. */
 unsigned long hpi_test_measured_fk_evals(void);

@@ -6,11 +6,12 @@
 #include <stdatomic.h>
 #include <string.h>
 
-static atomic_ulong rate_solves, rate_evals;
+static atomic_ulong rate_solves, rate_evals, rate_lazy_setups;
 static atomic_int rate_eager;
 
 unsigned long hpi_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
 unsigned long hpi_test_rate_bound_evals(void) { return atomic_load(&rate_evals); }
+unsigned long hpi_test_rate_lazy_setups(void) { return atomic_load(&rate_lazy_setups); }
 void hpi_test_rate_lazy(int on) { atomic_store(&rate_eager, !on); }
 int hpi_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory_order_relaxed); }
 
@@ -429,6 +430,7 @@ static hp_error lazy_bladder(hp_rate_lazy *z, int k, hp_diag *d)
 
 hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
 {
+    atomic_fetch_add_explicit(&rate_lazy_setups, 1, memory_order_relaxed);
     z->failed = 0;
     for (int k = 0; k < z->L->n; ++k) {
         const hp_bladder *B = &z->L->bladders[k];

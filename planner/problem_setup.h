@@ -176,6 +176,8 @@ int hpi_setup_rate_pending(const hp_rate_lazy *z);
 unsigned long hpi_test_rate_bound_solves(void);
 /* The closed-form pressure evaluations those solves spent (root find and nudge). */
 unsigned long hpi_test_rate_bound_evals(void);
+/* The plans whose bounds were set up with stand-ins (hpi_setup_cycle_bounds_lazy). */
+unsigned long hpi_test_rate_lazy_setups(void);
 void hpi_test_rate_lazy(int on);
 int hpi_setup_rate_lazy(void);
 
