@@ -13,12 +13,16 @@
 
 #include "headplan/hp_planner.h"
 #include "headplan/hp_scene.h"
+#include "planner/load_solve.h"
 #include "planner/load_stable.h"
 #include "support/load_fixture.h"
 
 #include <stdlib.h>
 
 #define STABLE_POINTS 12
+/* A scan's vertices: one least-squares factorisation per pair of carrying bladders (at most
+ * C(8, 2) = 28), its four end combinations solved from it (one per vertex, 4·28, before). */
+#define SCAN_FACTOR 28
 #define STABLE_EIGEN 60
 
 static void test_supine_work(void **state)
@@ -38,10 +42,13 @@ static void test_supine_work(void **state)
         load_create(&sc->layout, &sc->load, &set, (hp_load_tiebreak)sc->load_tiebreak, &p, &d),
         HP_OK);
     hp_test_stable_counts c0, c1;
+    unsigned long s0, f0, s1, f1;
     hpi_test_stable_counts(&c0);
+    hpi_test_scan_counts(&s0, &f0);
     hp_result r;
     assert_int_equal(hp_plan(p, sc->correction, &r), HP_OK);
     hpi_test_stable_counts(&c1);
+    hpi_test_scan_counts(&s1, &f1);
     assert_int_equal(r.status, HP_STATUS_REACHED);
     unsigned long s = c1.searches - c0.searches, pts = c1.points - c0.points,
                   eig = c1.eigen - c0.eigen;
@@ -49,6 +56,9 @@ static void test_supine_work(void **state)
     assert_true(s >= 1);
     assert_true(pts <= STABLE_POINTS * s);
     assert_true(eig <= STABLE_EIGEN * s);
+    print_message("load_supine: %lu scans, %lu vertex factorisations\n", s1 - s0, f1 - f0);
+    assert_true(s1 - s0 >= 1);
+    assert_true(f1 - f0 <= SCAN_FACTOR * (s1 - s0));
     hp_planner_destroy(p);
     free(sc);
 }
