@@ -22,6 +22,7 @@
 #include "kinematics/linalg.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <string.h>
 
 double hpi_load_row_weight(int r) { return r < 3 ? 1.0 : hpi_load_unit(r) / 1e-3; }
@@ -308,9 +309,18 @@ static int consider(const hp_load_hold_set *h, const int *col, int m, const doub
  * the points it accepts only. At most grid_n² + 4·C(8, 2) points. 0 on success, -1 when no
  * point qualifies or the set has more than two free coordinates (more than eight carrying
  * bladders: not scanned). */
+static atomic_ulong n_scans, n_factor;
+
+void hpi_test_scan_counts(unsigned long *scans, unsigned long *factorisations)
+{
+    *scans = atomic_load(&n_scans);
+    *factorisations = atomic_load(&n_factor);
+}
+
 static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test test, void *ctx,
                        double *f)
 {
+    atomic_fetch_add(&n_scans, 1);
     const hp_load_model *M = h->M;
     const int n = h->n;
     const double *A = h->A, *b = h->b, *L = h->L, *U = h->U, *Flo = h->Flo, *Fhi = h->Fhi;
@@ -390,34 +400,45 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
      * near. */
     if (rank == 6 && nfree > 0) {
         const double one[6] = {1, 1, 1, 1, 1, 1};
+        const int nfix = nfree > 1 ? 2 : 1, nsides = nfree > 1 ? 4 : 2;
         for (int a = 0; a < m; ++a)
-            for (int bb = nfree > 1 ? a + 1 : m; bb < (nfree > 1 ? m : m + 1); ++bb)
-                for (int sides = 0; sides < (nfree > 1 ? 4 : 2); ++sides) {
-                    const int fix[2] = {a, bb};
-                    int nfix = nfree > 1 ? 2 : 1, rest[6], nr = 0;
-                    for (int k = 0; k < n; ++k) x[k] = 0.0;
-                    for (int q = 0; q < nfix; ++q) {
-                        int k = col[fix[q]];
-                        x[k] = (sides >> q) & 1 ? Fhi[k] : Flo[k];
+            for (int bb = nfree > 1 ? a + 1 : m; bb < (nfree > 1 ? m : m + 1); ++bb) {
+                /* The same six columns for every end combination: one factorisation. */
+                const int fix[2] = {col[a], bb < m ? col[bb] : -1};
+                int rest[6], nr = 0;
+                for (int j = 0; j < m; ++j)
+                    if (j != a && (nfix < 2 || j != bb)) {
+                        if (nr == 6) break;
+                        rest[nr++] = col[j];
                     }
-                    for (int j = 0; j < m; ++j)
-                        if (j != a && (nfix < 2 || j != bb)) rest[nr++] = col[j];
-                    double Ar[36], r[6], sol[6];
+                if (nr != 6 || m - nfix != 6) continue;
+                double Ar[36], r[4 * 6], sol[4 * 6], xf[4][2];
+                for (int row = 0; row < 6; ++row)
+                    for (int j = 0; j < 6; ++j) Ar[row * 6 + j] = A[row * n + rest[j]];
+                for (int sides = 0; sides < nsides; ++sides)
                     for (int row = 0; row < 6; ++row) {
-                        r[row] = -b[row];
-                        for (int q = 0; q < nfix; ++q)
-                            r[row] += A[row * n + col[fix[q]]] * x[col[fix[q]]];
-                        for (int j = 0; j < 6; ++j) Ar[row * 6 + j] = A[row * n + rest[j]];
+                        r[sides * 6 + row] = -b[row];
+                        for (int q = 0; q < nfix; ++q) {
+                            int k = fix[q];
+                            xf[sides][q] = (sides >> q) & 1 ? Fhi[k] : Flo[k];
+                            r[sides * 6 + row] += A[row * n + k] * xf[sides][q];
+                        }
                     }
-                    if (nr != 6 || hpi_kin_damped_lstsq(6, 6, Ar, r, one, 0.0, sol) != 0) continue;
+                atomic_fetch_add(&n_factor, 1);
+                if (hpi_kin_damped_lstsq_n(6, 6, Ar, nsides, r, one, 0.0, sol) != 0) continue;
+                for (int sides = 0; sides < nsides; ++sides) {
+                    for (int k = 0; k < n; ++k) x[k] = 0.0;
+                    for (int q = 0; q < nfix; ++q) x[fix[q]] = xf[sides][q];
                     int ok = 1;
                     for (int j = 0; j < 6 && ok; ++j) {
                         int k = rest[j];
-                        ok = sol[j] >= Flo[k] - tol && sol[j] <= Fhi[k] + tol;
-                        x[k] = fmin(fmax(sol[j], Flo[k]), Fhi[k]);
+                        double v = sol[sides * 6 + j];
+                        ok = v >= Flo[k] - tol && v <= Fhi[k] + tol;
+                        x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
                     }
                     if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f)) return -1;
                 }
+            }
     }
     return isfinite(best) ? 0 : -1;
 }

@@ -88,6 +88,9 @@ typedef int (*hp_load_point_test)(void *ctx, const double *x, const double *P, c
  * test (may be NULL) accepts. 0, or -1 when none qualifies. */
 int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
                            void *ctx, double *f);
+/* TEST-ONLY counts (summed over the process): the scans of holding sets (HOLD's and the
+ * stable search's) and the least-squares factorisations their vertices took. */
+void hpi_test_scan_counts(unsigned long *scans, unsigned long *factorisations);
 
 /* The smallest eigenvalue [N/mm] of the holding stiffness of S's pose when the nv bladders
  * idx[] carry forces F [N] with normal stiffnesses a [N/m] (a = −dF/drho) and the others

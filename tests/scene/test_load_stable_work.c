@@ -1,0 +1,70 @@
+/* The work of HOLD's stable search (planner/load_stable.c, docs/load.md "Stable holds: the
+ * bounds on work"), counted, not timed: load_supine's own correction, planned with the
+ * scene's settings (realtime backend), runs the search past the pick's own test (its
+ * least-squeeze pick is not stable there), and the search solves the pressures of at most
+ * STABLE_POINTS points of the set outside its scan (the pick, the scan's point and the
+ * segment's) and at most STABLE_EIGEN stiffness eigenproblems (the scan's included), per
+ * search (2 + 10 halvings; the bisection had 16, 18 points a search). The answer stays REACHED
+ * and confirmed by the forward model (test_load_stable checks that independently). */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <cmocka.h>
+
+#include "headplan/hp_planner.h"
+#include "headplan/hp_scene.h"
+#include "planner/load_solve.h"
+#include "planner/load_stable.h"
+#include "support/load_fixture.h"
+
+#include <stdlib.h>
+
+#define STABLE_POINTS 12
+/* A scan's vertices: one least-squares factorisation per pair of carrying bladders (at most
+ * C(8, 2) = 28), its four end combinations solved from it (one per vertex, 4·28, before). */
+#define SCAN_FACTOR 28
+#define STABLE_EIGEN 60
+
+static void test_supine_work(void **state)
+{
+    (void)state;
+    hp_scene *sc = malloc(sizeof *sc);
+    assert_non_null(sc);
+    hp_diag d = {{0}};
+    assert_int_equal(hp_scene_load(HP_SOURCE_DIR "/scenarios/load_supine.yaml", sc, &d), HP_OK);
+    assert_true(sc->has_correction);
+    hp_settings set;
+    assert_int_equal(hp_scene_settings(sc, &set, NULL), HP_OK);
+    set.level = sc->load_geometry;
+    set.max_time = 60.0; /* never time-limited: the counts, not the clock, are asserted */
+    hp_planner *p = NULL;
+    assert_int_equal(
+        load_create(&sc->layout, &sc->load, &set, (hp_load_tiebreak)sc->load_tiebreak, &p, &d),
+        HP_OK);
+    hp_test_stable_counts c0, c1;
+    unsigned long s0, f0, s1, f1;
+    hpi_test_stable_counts(&c0);
+    hpi_test_scan_counts(&s0, &f0);
+    hp_result r;
+    assert_int_equal(hp_plan(p, sc->correction, &r), HP_OK);
+    hpi_test_stable_counts(&c1);
+    hpi_test_scan_counts(&s1, &f1);
+    assert_int_equal(r.status, HP_STATUS_REACHED);
+    unsigned long s = c1.searches - c0.searches, pts = c1.points - c0.points,
+                  eig = c1.eigen - c0.eigen;
+    print_message("load_supine: %lu stable searches, %lu points, %lu eigenproblems\n", s, pts, eig);
+    assert_true(s >= 1);
+    assert_true(pts <= STABLE_POINTS * s);
+    assert_true(eig <= STABLE_EIGEN * s);
+    print_message("load_supine: %lu scans, %lu vertex factorisations\n", s1 - s0, f1 - f0);
+    assert_true(s1 - s0 >= 1);
+    assert_true(f1 - f0 <= SCAN_FACTOR * (s1 - s0));
+    hp_planner_destroy(p);
+    free(sc);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_supine_work)};
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
