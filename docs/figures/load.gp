@@ -3,10 +3,10 @@
 ceiling = 1000
 # index, kinematic us, load us (realtime, ipopt, nlopt-slsqp), sag mm, unbounded
 $d << EOD
-0 1.3645 2897.6 13017.5 3025.74 1000 1
-1 2.864 nan nan nan 1000 1
-2 2.84925 236.876 4388.35 237.697 1000 1
-3 2.884 8002.24 75593.7 8040.87 1000 1
+0 1.30325 2992.67 12525.5 3199.63 1000 1
+1 2.704 nan nan nan 1000 1
+2 2.6865 491.758 4526.43 488.389 1000 1
+3 2.694 7470.3 73605.4 7839.96 1000 1
 EOD
 set xtics ("load_heavy" 0, "load_prone" 1, "load_supine" 2, "load_tilted" 3)
 
