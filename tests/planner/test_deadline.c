@@ -25,16 +25,13 @@ static const double beyond[][6] = {
 
 static hp_planner *budget_planner(hp_level level, double rate, double max_time)
 {
-    hp_layout L;
-    assert_int_equal(lf_layout(&L), HP_OK);
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = rate;
     hp_settings s;
     hp_settings_default(&s);
     s.backend = HP_BACKEND_REALTIME;
     s.level = level;
     s.max_time = max_time;
     hp_planner *p = NULL;
-    assert_int_equal(hp_planner_create(&L, &s, &p, NULL), HP_OK);
+    assert_int_equal(lf_planner_settings(&s, rate, &p), HP_OK);
     return p;
 }
 

@@ -389,16 +389,14 @@ static void test_reading_after_time_limit(void **state)
     (void)state;
     static const double far[][6] = {
         {30, 0, 0, 0, 0, 0}, {0, -25, 0, 0, 0, 0}, {0, 0, 20, 10, 0, 0}, {12, 8, -9, 6, -7, 5}};
-    hp_layout L;
-    assert_int_equal(lf_layout(&L), HP_OK);
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
     hp_settings s;
     hp_settings_default(&s);
     s.backend = HP_BACKEND_REALTIME;
     s.level = HP_LEVEL_PLANE;
     s.max_time = 1e-9;
     hp_planner *p = NULL;
-    assert_int_equal(hp_planner_create(&L, &s, &p, NULL), HP_OK);
+    assert_int_equal(lf_planner_settings(&s, 500.0, &p), HP_OK);
+    const int n = hp_planner_layout(p)->n;
     int after_budget = 0;
     for (int t = 0; t < 4; ++t) {
         double d[6], P[HP_MAX_BLADDERS];
@@ -406,7 +404,7 @@ static void test_reading_after_time_limit(void **state)
         lf_pose(far[t], d);
         assert_int_equal(hp_plan(p, d, &r), HP_OK);
         if (p->prev.status != HP_STATUS_TIME_LIMIT) continue; /* a safe output: no iterate */
-        for (int k = 0; k < L.n; ++k) P[k] = r.bladders[k].pressure + (k % 2 ? 2.0 : -2.0);
+        for (int k = 0; k < n; ++k) P[k] = r.bladders[k].pressure + (k % 2 ? 2.0 : -2.0);
         assert_int_equal(hp_planner_set_measured(p, P, NULL), HP_OK);
         lf_pose(far[(t + 1) % 4], d);
         unsigned long e0 = hpi_test_measured_fk_evals();

@@ -73,19 +73,25 @@ static inline hp_error lf_layout(hp_layout *L) { return lf_layout_ex(L, 0, 2.2e4
 
 /* A planner on the default layout with backend b and default settings at a level, every
  * bladder's rate_max set (INFINITY: none). Returns HP_OK or the error (*p NULL). */
-static inline hp_error lf_planner_backend(hp_backend b, hp_level level, double rate_max,
-                                          hp_planner **p)
+/* A planner on the fixture layout with every bladder's rate_max and settings s. */
+static inline hp_error lf_planner_settings(const hp_settings *s, double rate_max, hp_planner **p)
 {
     hp_layout L;
     hp_error e = lf_layout(&L);
     *p = NULL;
     if (e != HP_OK) return e;
     for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = rate_max;
+    return hp_planner_create(&L, s, p, NULL);
+}
+
+static inline hp_error lf_planner_backend(hp_backend b, hp_level level, double rate_max,
+                                          hp_planner **p)
+{
     hp_settings s;
     hp_settings_default(&s);
     s.backend = b;
     s.level = level;
-    return hp_planner_create(&L, &s, p, NULL);
+    return lf_planner_settings(&s, rate_max, p);
 }
 
 /* The same with the default backend. */
