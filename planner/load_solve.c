@@ -100,6 +100,22 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
                                      double hi, double a, double c, double Fhi, double F, double *P,
                                      double *ri);
 
+static atomic_ulong n_psolves, n_psteps, n_plong;
+
+void hpi_test_pressure_counts(unsigned long *solves, unsigned long *steps, unsigned long *longer)
+{
+    *solves = atomic_load(&n_psolves);
+    *steps = atomic_load(&n_psteps);
+    *longer = atomic_load(&n_plong);
+}
+
+static void count_pressure_solve(int steps)
+{
+    atomic_fetch_add(&n_psolves, 1);
+    atomic_fetch_add(&n_psteps, (unsigned long)steps);
+    if (steps > HP_LOAD_PRESSURE_STEPS_LONG) atomic_fetch_add(&n_plong, 1);
+}
+
 static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, double lo, double hi,
                                   double Fhi, double F, double *P)
 {
@@ -137,7 +153,9 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
     const hp_iab *b = &M->layout.bladders[k].iab;
     hp_error err;
     double x = a + (c - a) * (F / Fhi), Px = lo;
+    int steps = 0;
     for (int it = 0; it < 200; ++it) {
+        ++steps;
         double Pr, ro;
         err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL);
         if (!err) err = hp_iab_ro(b, x, &ro);
@@ -151,7 +169,13 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         /* dF/dri along the bladder: F_P·dP/dri + F_ro·dro/dri, dro/dri = ri²/ro² */
         double dF = law.d[HP_CLAW_P] * Pr + law.d[HP_CLAW_RO] * (x * x) / (ro * ro);
         double xn = dF > 0 ? x - r / dF : 0.5 * (a + c);
-        if (!(xn > a && xn < c)) xn = 0.5 * (a + c);
+        if (!(xn > a && xn < c)) {
+            /* A step of rounding size out of the open bracket: this step's own residual has
+             * just made x an end of the bracket, and x is the root to two ulps. Halving
+             * instead would close the bracket onto it from its far end, 50 steps. */
+            if (dF > 0 && fabs(xn - x) <= 4e-16 * x) break;
+            xn = 0.5 * (a + c);
+        }
         int done = fabs(xn - x) <= 4e-16 * x || c - a <= 4e-16 * x;
         x = xn;
         if (done) {
@@ -159,6 +183,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
             break;
         }
     }
+    count_pressure_solve(steps);
     *P = fmin(fmax(Px, lo), hi);
     if (ri) *ri = x;
     return HP_OK;

@@ -91,6 +91,11 @@ int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_
 /* TEST-ONLY counts (summed over the process): the scans of holding sets (HOLD's and the
  * stable search's) and the least-squares factorisations their vertices took. */
 void hpi_test_scan_counts(unsigned long *scans, unsigned long *factorisations);
+/* TEST-ONLY counts (summed over the process): the pressure-of-force solves that iterated
+ * (a force strictly inside a bladder's range), their Newton-or-bisection steps (one law
+ * evaluation each), and those that took more than HP_LOAD_PRESSURE_STEPS_LONG steps. */
+#define HP_LOAD_PRESSURE_STEPS_LONG 16
+void hpi_test_pressure_counts(unsigned long *solves, unsigned long *steps, unsigned long *longer);
 
 /* The smallest eigenvalue [N/mm] of the holding stiffness of S's pose when the nv bladders
  * idx[] carry forces F [N] with normal stiffnesses a [N/m] (a = −dF/drho) and the others

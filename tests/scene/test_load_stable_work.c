@@ -25,22 +25,31 @@
 #define SCAN_FACTOR 28
 #define STABLE_EIGEN 60
 
+/* load_supine.yaml's planner with the scene's settings (realtime backend); *sc gets the
+ * scene (freed by the caller). */
+static hp_planner *supine_planner(hp_scene **sc)
+{
+    *sc = malloc(sizeof **sc);
+    assert_non_null(*sc);
+    hp_diag d = {{0}};
+    assert_int_equal(hp_scene_load(HP_SOURCE_DIR "/scenarios/load_supine.yaml", *sc, &d), HP_OK);
+    assert_true((*sc)->has_correction);
+    hp_settings set;
+    assert_int_equal(hp_scene_settings(*sc, &set, NULL), HP_OK);
+    set.level = (*sc)->load_geometry;
+    set.max_time = 60.0; /* never time-limited: the counts, not the clock, are asserted */
+    hp_planner *p = NULL;
+    assert_int_equal(load_create(&(*sc)->layout, &(*sc)->load, &set,
+                                 (hp_load_tiebreak)(*sc)->load_tiebreak, &p, &d),
+                     HP_OK);
+    return p;
+}
+
 static void test_supine_work(void **state)
 {
     (void)state;
-    hp_scene *sc = malloc(sizeof *sc);
-    assert_non_null(sc);
-    hp_diag d = {{0}};
-    assert_int_equal(hp_scene_load(HP_SOURCE_DIR "/scenarios/load_supine.yaml", sc, &d), HP_OK);
-    assert_true(sc->has_correction);
-    hp_settings set;
-    assert_int_equal(hp_scene_settings(sc, &set, NULL), HP_OK);
-    set.level = sc->load_geometry;
-    set.max_time = 60.0; /* never time-limited: the counts, not the clock, are asserted */
-    hp_planner *p = NULL;
-    assert_int_equal(
-        load_create(&sc->layout, &sc->load, &set, (hp_load_tiebreak)sc->load_tiebreak, &p, &d),
-        HP_OK);
+    hp_scene *sc;
+    hp_planner *p = supine_planner(&sc);
     hp_test_stable_counts c0, c1;
     unsigned long s0, f0, s1, f1;
     hpi_test_stable_counts(&c0);
@@ -63,8 +72,38 @@ static void test_supine_work(void **state)
     free(sc);
 }
 
+/* The pressure-of-force solves (planner/load_solve.c, pressure_of_force_in: safeguarded
+ * Newton in the inner radius, to two ulps) of load_supine's plan: Newton converges
+ * quadratically from a start inside a bracket of about 20 % of ri, so a solve takes about
+ * five steps. A solve whose Newton step lands on an end of its bracket (the root itself, once
+ * a residual of rounding size has moved that end there) must stop, not halve the bracket
+ * down to two ulps (50 steps: 10.2 a solve on average before). */
+#define PRESSURE_STEPS_MEAN 7.0
+
+static void test_supine_pressure_steps(void **state)
+{
+    (void)state;
+    hp_scene *sc;
+    hp_planner *p = supine_planner(&sc);
+    unsigned long n0, s0, l0, n1, s1, l1;
+    hpi_test_pressure_counts(&n0, &s0, &l0);
+    hp_result r;
+    assert_int_equal(hp_plan(p, sc->correction, &r), HP_OK);
+    hpi_test_pressure_counts(&n1, &s1, &l1);
+    assert_int_equal(r.status, HP_STATUS_REACHED);
+    const double mean = (double)(s1 - s0) / (double)(n1 - n0);
+    print_message("load_supine: %lu pressure solves, %lu steps (%.2f a solve), %lu over %d\n",
+                  n1 - n0, s1 - s0, mean, l1 - l0, HP_LOAD_PRESSURE_STEPS_LONG);
+    assert_true(n1 - n0 >= 50);
+    assert_true(mean <= PRESSURE_STEPS_MEAN);
+    assert_int_equal(l1 - l0, 0);
+    hp_planner_destroy(p);
+    free(sc);
+}
+
 int main(void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(test_supine_work)};
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_supine_work),
+                                       cmocka_unit_test(test_supine_pressure_steps)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
