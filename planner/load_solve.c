@@ -19,7 +19,6 @@
 #include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_qp.h"
-#include "kinematics/linalg.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -334,12 +333,12 @@ static int consider(const hp_load_hold_set *h, const int *col, int m, const doub
  * the points it accepts only. At most grid_n² + 4·C(8, 2) points. 0 on success, -1 when no
  * point qualifies or the set has more than two free coordinates (more than eight carrying
  * bladders: not scanned). */
-static atomic_ulong n_scans, n_factor;
+static atomic_ulong n_scans, n_vertices;
 
-void hpi_test_scan_counts(unsigned long *scans, unsigned long *factorisations)
+void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices)
 {
     *scans = atomic_load(&n_scans);
-    *factorisations = atomic_load(&n_factor);
+    *vertices = atomic_load(&n_vertices);
 }
 
 static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test test, void *ctx,
@@ -422,42 +421,52 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
     /* The polytope's vertices too (nfree of the carrying bladders at an end of their range,
      * the six others solved for): where the tie-breaker is concave the least sum lies on
      * the boundary, and a dependent force reaching its end is a line the grid only comes
-     * near. */
-    if (rank == 6 && nfree > 0) {
-        const double one[6] = {1, 1, 1, 1, 1, 1};
-        const int nfix = nfree > 1 ? 2 : 1, nsides = nfree > 1 ? 4 : 2;
+     * near. The elimination above already writes every carrying force as an affine
+     * function of the free ones, x_j = g_j0 + g_j1·t_0 + g_j2·t_1, so a vertex is nfree
+     * such equations in the t (a 2×2 or 1×1 solve), no factorisation. */
+    if (rank == 6 && nfree > 0 && m - nfree == 6) {
+        double g[HP_MAX_BLADDERS][3];
+        for (int q = 0; q < nfree; ++q) {
+            g[fr[q]][0] = 0.0;
+            g[fr[q]][1] = q == 0;
+            g[fr[q]][2] = q == 1;
+        }
+        for (int r = 0; r < rank; ++r) {
+            int j = pivcol[r];
+            g[j][0] = E[r][m] / E[r][j];
+            for (int q = 0; q < 2; ++q) g[j][1 + q] = q < nfree ? -E[r][fr[q]] / E[r][j] : 0.0;
+        }
+        const int nsides = nfree > 1 ? 4 : 2;
         for (int a = 0; a < m; ++a)
             for (int bb = nfree > 1 ? a + 1 : m; bb < (nfree > 1 ? m : m + 1); ++bb) {
-                /* The same six columns for every end combination: one factorisation. */
-                const int fix[2] = {col[a], bb < m ? col[bb] : -1};
-                int rest[6], nr = 0;
-                for (int j = 0; j < m; ++j)
-                    if (j != a && (nfix < 2 || j != bb)) {
-                        if (nr == 6) break;
-                        rest[nr++] = col[j];
-                    }
-                if (nr != 6 || m - nfix != 6) continue;
-                double Ar[36], r[4 * 6], sol[4 * 6], xf[4][2];
-                for (int row = 0; row < 6; ++row)
-                    for (int j = 0; j < 6; ++j) Ar[row * 6 + j] = A[row * n + rest[j]];
-                for (int sides = 0; sides < nsides; ++sides)
-                    for (int row = 0; row < 6; ++row) {
-                        r[sides * 6 + row] = -b[row];
-                        for (int q = 0; q < nfix; ++q) {
-                            int k = fix[q];
-                            xf[sides][q] = (sides >> q) & 1 ? Fhi[k] : Flo[k];
-                            r[sides * 6 + row] += A[row * n + k] * xf[sides][q];
-                        }
-                    }
-                atomic_fetch_add(&n_factor, 1);
-                if (hpi_kin_damped_lstsq_n(6, 6, Ar, nsides, r, one, 0.0, sol) != 0) continue;
+                /* The fixed bladders' rows of the map: singular when the two fixed forces
+                 * do not determine the free ones (no vertex there). */
+                double det = nfree > 1 ? g[a][1] * g[bb][2] - g[a][2] * g[bb][1] : g[a][1];
+                double size = nfree > 1 ? fabs(g[a][1] * g[bb][2]) + fabs(g[a][2] * g[bb][1])
+                                        : 1.0;
+                if (!(fabs(det) > 1e-12 * size)) continue;
                 for (int sides = 0; sides < nsides; ++sides) {
+                    const int ka = col[a], kb = nfree > 1 ? col[bb] : -1;
+                    const double va = sides & 1 ? Fhi[ka] : Flo[ka];
+                    const double vb = kb >= 0 ? ((sides >> 1) & 1 ? Fhi[kb] : Flo[kb]) : 0.0;
+                    double t0, t1 = 0.0;
+                    if (nfree > 1) { /* Cramer's rule */
+                        double ea = va - g[a][0], eb = vb - g[bb][0];
+                        t0 = (ea * g[bb][2] - g[a][2] * eb) / det;
+                        t1 = (g[a][1] * eb - ea * g[bb][1]) / det;
+                    } else {
+                        t0 = (va - g[a][0]) / det;
+                    }
+                    atomic_fetch_add(&n_vertices, 1);
                     for (int k = 0; k < n; ++k) x[k] = 0.0;
-                    for (int q = 0; q < nfix; ++q) x[fix[q]] = xf[sides][q];
                     int ok = 1;
-                    for (int j = 0; j < 6 && ok; ++j) {
-                        int k = rest[j];
-                        double v = sol[sides * 6 + j];
+                    for (int j = 0; j < m && ok; ++j) {
+                        int k = col[j];
+                        if (k == ka || k == kb) {
+                            x[k] = k == ka ? va : vb;
+                            continue;
+                        }
+                        double v = g[j][0] + g[j][1] * t0 + g[j][2] * t1;
                         ok = v >= Flo[k] - tol && v <= Fhi[k] + tol;
                         x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
                     }

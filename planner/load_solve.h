@@ -89,8 +89,8 @@ typedef int (*hp_load_point_test)(void *ctx, const double *x, const double *P, c
 int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
                            void *ctx, double *f);
 /* TEST-ONLY counts (summed over the process): the scans of holding sets (HOLD's and the
- * stable search's) and the least-squares factorisations their vertices took. */
-void hpi_test_scan_counts(unsigned long *scans, unsigned long *factorisations);
+ * stable search's) and the vertices they solved for (at most 4·C(8, 2) a scan). */
+void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices);
 /* TEST-ONLY counts (summed over the process): the pressure-of-force solves that iterated
  * (a force strictly inside a bladder's range), their Newton-or-bisection steps (one law
  * evaluation each), and those that took more than HP_LOAD_PRESSURE_STEPS_LONG steps. */
