@@ -103,6 +103,13 @@ void hpi_test_pressure_counts(unsigned long *solves, unsigned long *steps, unsig
 int hpi_load_stiff_lambda_at(const hp_load_stiff *S, int nv, const int *idx, const double *F,
                              const double *a, double *lam);
 
+/* Whether that stiffness's smallest eigenvalue is above margin [N/mm]: exactly when
+ * K − margin·I is positive definite, so one 6×6 Cholesky factorisation answers it (about a
+ * twentieth of the eigenproblem's work). 1 above, 0 not (at margin itself too), -1 when K is
+ * not finite. */
+int hpi_load_stiff_above(const hp_load_stiff *S, int nv, const int *idx, const double *F,
+                         const double *a, double margin);
+
 /* The smallest eigenvalue [N/mm, mm/degree units, the scale of the stable margin] of a
  * holding stiffness K (hp_load_holding.K, SI). 0, or -1 when the decomposition fails. */
 int hpi_load_stiff_lambda_min(const double K[36], double *lam);

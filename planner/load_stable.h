@@ -44,10 +44,10 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
 
 /* TEST-ONLY counts (inert unless a test reads them; summed over the process): the stable
  * searches that went past the pick's own test, the points of the set whose pressures they
- * solved outside the scan (the pick, the scan's point and the segment's), and the 6×6
- * stiffness eigenproblems they solved (the scan's included). */
+ * solved outside the scan (the pick, the scan's point and the segment's), the stability
+ * tests of a point (the scan's included), and the 6×6 stiffness eigenproblems solved. */
 typedef struct hp_test_stable_counts {
-    unsigned long searches, points, eigen;
+    unsigned long searches, points, tests, eigen;
 } hp_test_stable_counts;
 void hpi_test_stable_counts(hp_test_stable_counts *out);
 
