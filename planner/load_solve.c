@@ -62,8 +62,17 @@ static void along_p(const hp_claw *c, double o1, double o2, double *v, double *v
           c->d2[HP_CLAW_RO][HP_CLAW_RO] * o1 * o1 + c->d[HP_CLAW_RO] * o2;
 }
 
+static atomic_ulong n_sets, n_derived;
+
+void hpi_test_hold_counts(unsigned long *sets, unsigned long *derived)
+{
+    *sets = atomic_load(&n_sets);
+    *derived = atomic_load(&n_derived);
+}
+
 static hp_error bladder_state(const hp_load_model *M, int k, double P, double rho, bstate *s)
 {
+    atomic_fetch_add(&n_derived, 1);
     double ro, o1, o2;
     hp_error err = radius_chain(M, k, P, &ro, &o1, &o2);
     if (err) return err;
@@ -71,6 +80,28 @@ static hp_error bladder_state(const hp_load_model *M, int k, double P, double rh
     hpi_load_claw(M, k, P, ro, rho, &c);
     along_p(&c, o1, o2, &s->F, &s->FP, &s->FPP);
     return HP_OK;
+}
+
+/* Bladder k's force at pressure P whose inner radius is ri (the law's value alone: the same
+ * bits as bladder_state's F, without the law's derivatives or the IK's). */
+static hp_error force_at_ri(const hp_load_model *M, int k, double P, double ri, double rho,
+                            double *F)
+{
+    double ro;
+    hp_error err = hp_iab_ro(&M->layout.bladders[k].iab, ri, &ro);
+    if (err) return err;
+    hp_claw c;
+    hpi_load_claw_to(M, k, P, ro, rho, HP_CLAW_VALUE, &c);
+    *F = c.F;
+    return HP_OK;
+}
+
+/* Bladder k's force at pressure P (bladder_state's F alone). */
+static hp_error bladder_force(const hp_load_model *M, int k, double P, double rho, double *F)
+{
+    double ri;
+    hp_error err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], P, &ri);
+    return err ? err : force_at_ri(M, k, P, ri, rho, F);
 }
 
 /* The touching pressure: the one whose free radius equals rho (−inf when rho is below the
@@ -223,9 +254,11 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
                                            const double *lo, const double *hi, const double *target,
                                            hp_load_hold_set *h)
 {
+    atomic_fetch_add(&n_sets, 1);
     const int n = M->layout.n;
     h->M = M;
     h->n = n;
+    h->m = 0;
     h->lo = lo;
     h->target = target;
     double J[HP_MAX_BLADDERS * 6], Qg[6];
@@ -243,13 +276,18 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
         double Pi = hpi_load_indent_pressure(M, k, h->rho[k]);
         if (lo[k] > 0 && lo[k] > h->Pt[k] && lo[k] > Pi) return HP_LOAD_SOLVE_UNREACHABLE;
         h->U[k] = fmin(hi[k], Pi);
-        bstate st;
-        h->Flo[k] = h->Fhi[k] = 0.0;
+        h->Flo[k] = h->Fhi[k] = h->ra[k] = h->rc[k] = 0.0;
         if (h->L[k] < h->U[k]) {
-            if (bladder_state(M, k, h->L[k], h->rho[k], &st)) return HP_LOAD_SOLVE_ERROR;
-            h->Flo[k] = fmax(0.0, st.F);
-            if (bladder_state(M, k, h->U[k], h->rho[k], &st)) return HP_LOAD_SOLVE_ERROR;
-            h->Fhi[k] = st.F;
+            const hp_iab *bk = &M->layout.bladders[k].iab;
+            double F;
+            h->col[h->m++] = k;
+            if (hp_iab_fk_limit(bk, &M->limit[k], h->L[k], &h->ra[k]) ||
+                hp_iab_fk_limit(bk, &M->limit[k], h->U[k], &h->rc[k]) ||
+                force_at_ri(M, k, h->L[k], h->ra[k], h->rho[k], &F))
+                return HP_LOAD_SOLVE_ERROR;
+            h->Flo[k] = fmax(0.0, F);
+            if (force_at_ri(M, k, h->U[k], h->rc[k], h->rho[k], &F)) return HP_LOAD_SOLVE_ERROR;
+            h->Fhi[k] = F;
         }
         for (int r = 0; r < 6; ++r) h->A[r * n + k] = J[k * 6 + r] * row_w(r);
     }
@@ -271,22 +309,14 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
     return HP_LOAD_SOLVE_OK;
 }
 
-/* The bladders that can carry at the set's pose (col[], returned count) and the inner radii
- * at the ends of their carrying pressures (ra at L, rc at U; 0 for the others), which
- * tie_cost's pressure solve brackets with. -1 when the model fails. */
+/* The bladders that can carry at the set's pose and the inner radii at the ends of their
+ * carrying pressures, as the set found them. */
 int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, double *rc)
 {
-    const hp_load_model *M = h->M;
-    int m = 0;
-    for (int k = 0; k < h->n; ++k) {
-        ra[k] = rc[k] = 0.0;
-        if (!(h->L[k] < h->U[k])) continue;
-        col[m++] = k;
-        if (hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], h->L[k], &ra[k]) ||
-            hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], h->U[k], &rc[k]))
-            return -1;
-    }
-    return m;
+    memcpy(col, h->col, (size_t)h->m * sizeof *col);
+    memcpy(ra, h->ra, (size_t)h->n * sizeof *ra);
+    memcpy(rc, h->rc, (size_t)h->n * sizeof *rc);
+    return h->m;
 }
 
 /* tie_cost over the m carrying-capable bladders col[]; the others at their best pressure
@@ -402,10 +432,9 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
             int ok = 1;
             for (int q = 0; q < nfree && ok; ++q) {
                 int k = col[fr[q]], i = q ? i1 : i0;
-                bstate st;
-                double Pq = L[k] + (double)i / (grid_n - 1) * (U[k] - L[k]);
-                ok = bladder_state(M, k, Pq, h->rho[k], &st) == HP_OK;
-                x[k] = fmin(fmax(st.F, Flo[k]), Fhi[k]);
+                double Pq = L[k] + (double)i / (grid_n - 1) * (U[k] - L[k]), Fq = 0.0;
+                ok = bladder_force(M, k, Pq, h->rho[k], &Fq) == HP_OK;
+                x[k] = fmin(fmax(Fq, Flo[k]), Fhi[k]);
             }
             for (int r = 0; r < rank && ok; ++r) {
                 int j = pivcol[r], k = col[j];
@@ -481,20 +510,19 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
  * grid_forces instead) onto the holding set, phase 2 tie-breaks from there. *cost
  * gets the tie-breaker's sum (P − t)² [Pa²] of the answer when its rows are met (to
  * 1e-11 of the weight), +inf otherwise. */
-static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6], const double *lo,
-                                       const double *hi, const double *target, const double *start,
-                                       int max_iter, hp_load_nlp_solver nlp_solve, int stiffness,
-                                       int grid, double *P, double *F, int *iterations, int *raw,
+static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double xi[6],
+                                       const double *hi, const double *start, int max_iter,
+                                       hp_load_nlp_solver nlp_solve, int stiffness, int grid,
+                                       double *P, double *F, int *iterations, int *raw,
                                        double *cost)
 {
     *cost = INFINITY;
-    const int n = M->layout.n;
-    hp_load_hold_set hs;
-    hpi_load_solve_status hst = hpi_load_hold_set_at(M, xi, lo, hi, target, &hs);
-    if (hst != HP_LOAD_SOLVE_OK) return hst;
-    const double *rho = hs.rho, *A = hs.A, *b = hs.b, *L = hs.L, *U = hs.U, *Flo = hs.Flo,
-                 *Fhi = hs.Fhi, *Pt = hs.Pt;
-    const double fscale = hs.fscale, tol = hs.tol;
+    const hp_load_model *M = hs->M;
+    const int n = hs->n;
+    const double *lo = hs->lo, *target = hs->target;
+    const double *rho = hs->rho, *A = hs->A, *b = hs->b, *L = hs->L, *U = hs->U, *Flo = hs->Flo,
+                 *Fhi = hs->Fhi, *Pt = hs->Pt;
+    const double fscale = hs->fscale, tol = hs->tol;
     /* Phase 1, in the forces: the point of {A·F = b, Flo <= F <= Fhi} nearest to the
      * forces of the starting pressures (each force scaled by its range). The constraints are
      * linear, so this decides reachability exactly. */
@@ -503,19 +531,18 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
         double h[HP_MAX_BLADDERS], g[HP_MAX_BLADDERS], l[HP_MAX_BLADDERS], u[HP_MAX_BLADDERS],
             d[HP_MAX_BLADDERS], c[6];
         for (int k = 0; k < n; ++k) {
-            bstate s;
-            double p0 = start ? start[k] : 0.5 * (L[k] + U[k]);
+            double p0 = start ? start[k] : 0.5 * (L[k] + U[k]), F0;
             p0 = fmin(fmax(p0, L[k]), U[k]);
             f[k] = 0.0;
-            if (L[k] < U[k] && bladder_state(M, k, p0, rho[k], &s) == HP_OK)
-                f[k] = fmin(fmax(s.F, Flo[k]), Fhi[k]);
+            if (L[k] < U[k] && bladder_force(M, k, p0, rho[k], &F0) == HP_OK)
+                f[k] = fmin(fmax(F0, Flo[k]), Fhi[k]);
             double Fs = fmax(Fhi[k], 1e-6);
             h[k] = 1.0 / (Fs * Fs);
             g[k] = 0.0;
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
         }
-        if (grid && grid_forces(&hs, GRID_N, NULL, NULL, f) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
+        if (grid && grid_forces(hs, GRID_N, NULL, NULL, f) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
         for (int k = 0; k < n; ++k) {
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
@@ -603,11 +630,11 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
             }
             for (int r = 0; r < 6; ++r) cr[r] = -b[r];
             for (int k = 0; k < n && okk; ++k) {
-                bstate s;
+                double Fn;
                 if (!(L[k] < U[k])) continue;
-                if (bladder_state(M, k, pn[k], rho[k], &s)) okk = 0;
+                if (bladder_force(M, k, pn[k], rho[k], &Fn)) okk = 0;
                 else
-                    for (int r = 0; r < 6; ++r) cr[r] += A[r * n + k] * fmax(s.F, 0.0);
+                    for (int r = 0; r < 6; ++r) cr[r] += A[r * n + k] * fmax(Fn, 0.0);
             }
             for (int r = 0; r < 6; ++r) cn += fabs(cr[r]);
             if (okk && (phin + nu * cn <= merit + 1e-4 * t * dmerit || dmax * t < 1e-10)) break;
@@ -619,11 +646,11 @@ static hpi_load_solve_status hold_from(const hp_load_model *M, const double xi[6
     }
     int feasible = 1;
     for (int k = 0; k < n; ++k) {
-        bstate s;
+        double Fk0;
         f[k] = 0.0;
         if (!(L[k] < U[k])) continue;
-        if (bladder_state(M, k, p[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
-        f[k] = fmax(s.F, 0.0);
+        if (bladder_force(M, k, p[k], rho[k], &Fk0)) return HP_LOAD_SOLVE_ERROR;
+        f[k] = fmax(Fk0, 0.0);
     }
     if (iterations) *iterations = it;
     if (!feasible) return HP_LOAD_SOLVE_UNREACHABLE;
@@ -669,16 +696,20 @@ static hpi_load_solve_status hold_core(const hp_load_model *M, const double xi[6
 {
     double cost;
     int it = 0;
-    hpi_load_solve_status st = hold_from(M, xi, lo, hi, target, start, max_iter, nlp_solve,
-                                         stiffness, 0, P, F, &it, raw, &cost);
+    /* Both starts work on one holding set. */
+    hp_load_hold_set hs;
+    hpi_load_solve_status st = hpi_load_hold_set_at(M, xi, lo, hi, target, &hs);
+    if (st == HP_LOAD_SOLVE_OK)
+        st = hold_from(&hs, xi, hi, start, max_iter, nlp_solve, stiffness, 0, P, F, &it, raw,
+                       &cost);
     int total = it;
     if (st == HP_LOAD_SOLVE_OK && max_iter > 0 && !stiffness) {
         const int n = M->layout.n;
         double Pk[HP_MAX_BLADDERS], Fk[HP_MAX_BLADDERS], ck;
         int rk = 0;
         it = 0;
-        if (hold_from(M, xi, lo, hi, target, start, max_iter, nlp_solve, 0, 1, Pk, Fk, &it, &rk,
-                      &ck) == HP_LOAD_SOLVE_OK &&
+        if (hold_from(&hs, xi, hi, start, max_iter, nlp_solve, 0, 1, Pk, Fk, &it, &rk, &ck) ==
+                HP_LOAD_SOLVE_OK &&
             ck < cost * (1.0 - 1e-12)) {
             memcpy(P, Pk, (size_t)n * sizeof *P);
             memcpy(F, Fk, (size_t)n * sizeof *F);
@@ -728,12 +759,13 @@ hp_error hpi_load_bladder_stiff(const hp_load_model *M, int k, double P, double 
 hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho, double *F,
                                 double *dF, double *d2F)
 {
+    if (!dF && !d2F) return bladder_force(M, k, P, rho, F);
     bstate s;
     hp_error err = bladder_state(M, k, P, rho, &s);
     if (err) return err;
     *F = s.F;
-    *dF = s.FP;
-    *d2F = s.FPP;
+    if (dF) *dF = s.FP;
+    if (d2F) *d2F = s.FPP;
     return HP_OK;
 }
 

@@ -56,6 +56,10 @@ typedef struct hp_load_hold_set {
     double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS], Fhi[HP_MAX_BLADDERS];
     double Pt[HP_MAX_BLADDERS];
     double fscale, tol; /* the largest |b_r| and the rows' tolerance */
+    /* The m bladders that can carry (L < U), col[], and the inner radii at the ends of their
+     * carrying pressures (ra at L, rc at U; 0 for the others). */
+    int col[HP_MAX_BLADDERS], m;
+    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
 } hp_load_hold_set;
 
 /* The holding set at pose xi inside [lo, hi] for the tie-breaker target (both kept by
@@ -66,7 +70,7 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
                                            hp_load_hold_set *h);
 
 /* The bladders that can carry (col[], the returned count) and the inner radii at the ends of
- * their carrying pressures (ra at L, rc at U). -1 when the model fails. */
+ * their carrying pressures (ra at L, rc at U), copied from the set. */
 int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, double *rc);
 
 /* A point x (forces) of the set: P gets its pressures, R (may be NULL) the carrying
@@ -96,6 +100,10 @@ void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices);
  * evaluation each), and those that took more than HP_LOAD_PRESSURE_STEPS_LONG steps. */
 #define HP_LOAD_PRESSURE_STEPS_LONG 16
 void hpi_test_pressure_counts(unsigned long *solves, unsigned long *steps, unsigned long *longer);
+/* TEST-ONLY counts (summed over the process): the holding sets formed (hpi_load_hold_set_at),
+ * and the bladder states evaluated with their pressure derivatives (the tie-breaker's SQP
+ * steps need them; a force alone needs neither the law's derivatives nor the IK's). */
+void hpi_test_hold_counts(unsigned long *sets, unsigned long *derived);
 
 /* The smallest eigenvalue [N/mm] of the holding stiffness of S's pose when the nv bladders
  * idx[] carry forces F [N] with normal stiffnesses a [N/m] (a = −dF/drho) and the others
@@ -163,7 +171,8 @@ hpi_load_solve_status hpi_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p
                                           int *iterations, int *raw);
 
 /* Bladder k's contact force at pressure P against contact distance rho (the contact branch's
- * formula, not clipped at 0) with dF/dP and d²F/dP². */
+ * formula, not clipped at 0) with dF/dP and d²F/dP² (both NULL: the force alone, without the
+ * law's derivatives or the IK's; the same bits). */
 hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho, double *F,
                                 double *dF, double *d2F);
 

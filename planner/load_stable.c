@@ -112,10 +112,10 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
      * rounding). */
     double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS], e0;
     for (int k = 0; k < n; ++k) {
-        double Fk, d1, d2;
+        double Fk;
         f0[k] = 0.0;
         if (!(hs.L[k] < hs.U[k]) || !(P[k] > hs.L[k])) continue;
-        if (hpi_load_bladder_force(M, k, P[k], hs.rho[k], &Fk, &d1, &d2) != HP_OK)
+        if (hpi_load_bladder_force(M, k, P[k], hs.rho[k], &Fk, NULL, NULL) != HP_OK)
             return HP_LOAD_SOLVE_ERROR;
         f0[k] = fmin(fmax(Fk, hs.Flo[k]), hs.Fhi[k]);
     }

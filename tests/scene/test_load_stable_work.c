@@ -111,9 +111,37 @@ static void test_supine_pressure_steps(void **state)
     free(sc);
 }
 
+/* HOLD's work at one pose (planner/load_solve.c): the realtime tie-breaker's two starts
+ * share one holding set, so a plan whose pick needs the stable search forms two (HOLD's and
+ * the search's; three before), and only the SQP's steps evaluate a bladder's force
+ * derivatives (one state a carrying bladder a step: at most n·(iterations + 2) with the two
+ * starts' last states; 148 in this plan before, where the scan, the set's ends and the line
+ * search asked for them too). */
+static void test_supine_hold_work(void **state)
+{
+    (void)state;
+    hp_scene *sc;
+    hp_planner *p = supine_planner(&sc);
+    unsigned long s0, d0, s1, d1;
+    hpi_test_hold_counts(&s0, &d0);
+    hp_result r;
+    assert_int_equal(hp_plan(p, sc->correction, &r), HP_OK);
+    hpi_test_hold_counts(&s1, &d1);
+    assert_int_equal(r.status, HP_STATUS_REACHED);
+    const unsigned long n = (unsigned long)sc->layout.n;
+    print_message("load_supine: %lu holding sets, %lu derived bladder states, %d iterations\n",
+                  s1 - s0, d1 - d0, r.iterations);
+    assert_true(s1 - s0 >= 1);
+    assert_true(s1 - s0 <= 2);
+    assert_true(d1 - d0 <= n * ((unsigned long)r.iterations + 2));
+    hp_planner_destroy(p);
+    free(sc);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {cmocka_unit_test(test_supine_work),
-                                       cmocka_unit_test(test_supine_pressure_steps)};
+                                       cmocka_unit_test(test_supine_pressure_steps),
+                                       cmocka_unit_test(test_supine_hold_work)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
