@@ -56,21 +56,21 @@ static int force_range(const hp_load_model *M, int k, double rho, double plo, do
     if (plo > 0 && plo > Pt) { /* the lowest pressure already carries */
         if (hp_load_radius(M, k, plo, &ro, NULL) != HP_OK) return -1;
         hp_claw lo;
-        hpi_load_claw(M, k, plo, ro, rho, &lo);
+        hpi_load_claw_to(M, k, plo, ro, rho, HP_CLAW_GRADIENT, &lo);
         r->lo = lo.F;
         r->dlo = lo.d[HP_CLAW_RHO];
     }
     if (U == phi) {
         if (hp_load_radius(M, k, phi, &ro, NULL) != HP_OK) return -1;
         hp_claw hi;
-        hpi_load_claw(M, k, phi, ro, rho, &hi);
+        hpi_load_claw_to(M, k, phi, ro, rho, HP_CLAW_GRADIENT, &hi);
         r->hi = hi.F;
         r->dhi = hi.d[HP_CLAW_RHO];
     } else { /* at the indentation edge: ro = rho/c and P = Pi(rho), both moving with rho */
         if (hp_load_radius(M, k, U, &ro, &dro) != HP_OK || !(dro > 0)) return -1;
         double dPi = 1.0 / (c * dro);
         hp_claw e;
-        hpi_load_claw(M, k, U, rho / c, rho, &e);
+        hpi_load_claw_to(M, k, U, rho / c, rho, HP_CLAW_GRADIENT, &e);
         r->hi = e.F;
         r->dhi = e.d[HP_CLAW_P] * dPi + e.d[HP_CLAW_RO] / c + e.d[HP_CLAW_RHO];
     }

@@ -56,6 +56,10 @@ typedef struct hp_load_hold_set {
     double L[HP_MAX_BLADDERS], U[HP_MAX_BLADDERS], Flo[HP_MAX_BLADDERS], Fhi[HP_MAX_BLADDERS];
     double Pt[HP_MAX_BLADDERS];
     double fscale, tol; /* the largest |b_r| and the rows' tolerance */
+    /* The m bladders that can carry (L < U), col[], and the inner radii at the ends of their
+     * carrying pressures (ra at L, rc at U; 0 for the others). */
+    int col[HP_MAX_BLADDERS], m;
+    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
 } hp_load_hold_set;
 
 /* The holding set at pose xi inside [lo, hi] for the tie-breaker target (both kept by
@@ -66,7 +70,7 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
                                            hp_load_hold_set *h);
 
 /* The bladders that can carry (col[], the returned count) and the inner radii at the ends of
- * their carrying pressures (ra at L, rc at U). -1 when the model fails. */
+ * their carrying pressures (ra at L, rc at U), copied from the set. */
 int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, double *rc);
 
 /* A point x (forces) of the set: P gets its pressures, R (may be NULL) the carrying
@@ -89,14 +93,30 @@ typedef int (*hp_load_point_test)(void *ctx, const double *x, const double *P, c
 int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
                            void *ctx, double *f);
 /* TEST-ONLY counts (summed over the process): the scans of holding sets (HOLD's and the
- * stable search's) and the least-squares factorisations their vertices took. */
-void hpi_test_scan_counts(unsigned long *scans, unsigned long *factorisations);
+ * stable search's) and the vertices they solved for (at most 4·C(8, 2) a scan). */
+void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices);
+/* TEST-ONLY counts (summed over the process): the pressure-of-force solves that iterated
+ * (a force strictly inside a bladder's range), their Newton-or-bisection steps (one law
+ * evaluation each), and those that took more than HP_LOAD_PRESSURE_STEPS_LONG steps. */
+#define HP_LOAD_PRESSURE_STEPS_LONG 16
+void hpi_test_pressure_counts(unsigned long *solves, unsigned long *steps, unsigned long *longer);
+/* TEST-ONLY counts (summed over the process): the holding sets formed (hpi_load_hold_set_at),
+ * and the bladder states evaluated with their pressure derivatives (the tie-breaker's SQP
+ * steps need them; a force alone needs neither the law's derivatives nor the IK's). */
+void hpi_test_hold_counts(unsigned long *sets, unsigned long *derived);
 
 /* The smallest eigenvalue [N/mm] of the holding stiffness of S's pose when the nv bladders
  * idx[] carry forces F [N] with normal stiffnesses a [N/m] (a = −dF/drho) and the others
  * nothing. 0, or -1 when the decomposition fails. */
 int hpi_load_stiff_lambda_at(const hp_load_stiff *S, int nv, const int *idx, const double *F,
                              const double *a, double *lam);
+
+/* Whether that stiffness's smallest eigenvalue is above margin [N/mm]: exactly when
+ * K − margin·I is positive definite, so one 6×6 Cholesky factorisation answers it (about a
+ * twentieth of the eigenproblem's work). 1 above, 0 not (at margin itself too), -1 when K is
+ * not finite. */
+int hpi_load_stiff_above(const hp_load_stiff *S, int nv, const int *idx, const double *F,
+                         const double *a, double margin);
 
 /* The smallest eigenvalue [N/mm, mm/degree units, the scale of the stable margin] of a
  * holding stiffness K (hp_load_holding.K, SI). 0, or -1 when the decomposition fails. */
@@ -151,7 +171,8 @@ hpi_load_solve_status hpi_load_hold_nlopt(const hp_load_hold_nlp *nlp, double *p
                                           int *iterations, int *raw);
 
 /* Bladder k's contact force at pressure P against contact distance rho (the contact branch's
- * formula, not clipped at 0) with dF/dP and d²F/dP². */
+ * formula, not clipped at 0) with dF/dP and d²F/dP² (both NULL: the force alone, without the
+ * law's derivatives or the IK's; the same bits). */
 hp_error hpi_load_bladder_force(const hp_load_model *M, int k, double P, double rho, double *F,
                                 double *dF, double *d2F);
 

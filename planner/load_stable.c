@@ -9,12 +9,13 @@
 #include <stdatomic.h>
 #include <string.h>
 
-static atomic_ulong n_searches, n_points, n_eigen;
+static atomic_ulong n_searches, n_points, n_tests, n_eigen;
 
 void hpi_test_stable_counts(hp_test_stable_counts *out)
 {
     out->searches = atomic_load(&n_searches);
     out->points = atomic_load(&n_points);
+    out->tests = atomic_load(&n_tests);
     out->eigen = atomic_load(&n_eigen);
 }
 
@@ -26,17 +27,17 @@ static int seg_point(const hp_load_hold_set *hs, const int *col, int m, const do
     return hpi_load_hold_set_point(hs, col, m, ra, rc, x, INFINITY, e, P, R);
 }
 
-/* The smallest eigenvalue of the holding stiffness [N/mm, mm/degree units] with pressures P
- * (n, Pa) whose forces are x and inner radii R, counting only the bladders whose contact
- * lasts: a bladder adds its terms when its force outlasts HP_LOAD_STABLE_CONTACT of the head
- * moving away from it (x_k >= a_k·that, a_k = −dF/drho its normal stiffness). A bladder that
- * only just touches is stiff toward the head and gives nothing away from it: counting it
- * would call a hold stable that the forward statics leaves. 0 on success. */
-static int stiff_min(const hp_load_stiff *S, const double *x, const double *P, const double *R,
-                     double *lam)
+/* The terms of the holding stiffness with pressures P (n, Pa) whose forces are x and inner
+ * radii R, counting only the bladders whose contact lasts: a bladder adds its terms when its
+ * force outlasts HP_LOAD_STABLE_CONTACT of the head moving away from it (x_k >= a_k·that,
+ * a_k = −dF/drho its normal stiffness). A bladder that only just touches is stiff toward the
+ * head and gives nothing away from it: counting it would call a hold stable that the forward
+ * statics leaves. idx, Fv, av get the nv counted bladders' terms; 0, or -1 when the model
+ * fails. */
+static int stiff_terms(const hp_load_stiff *S, const double *x, const double *P, const double *R,
+                       int *idx, double *Fv, double *av, int *nv)
 {
-    int idx[HP_MAX_BLADDERS], nv = 0;
-    double Fv[HP_MAX_BLADDERS], av[HP_MAX_BLADDERS];
+    *nv = 0;
     for (int k = 0; k < S->n; ++k) {
         double ro;
         hp_claw c;
@@ -45,10 +46,32 @@ static int stiff_min(const hp_load_stiff *S, const double *x, const double *P, c
         hpi_load_claw_to(S->M, k, P[k], ro, S->rho[k], HP_CLAW_GRADIENT, &c);
         double a = -c.d[HP_CLAW_RHO];
         if (!(x[k] >= a * HP_LOAD_STABLE_CONTACT)) continue;
-        idx[nv] = k;
-        Fv[nv] = x[k];
-        av[nv++] = a;
+        idx[*nv] = k;
+        Fv[*nv] = x[k];
+        av[(*nv)++] = a;
     }
+    return 0;
+}
+
+/* The stable test of a point: its holding stiffness's smallest eigenvalue reaches the margin
+ * (1, else 0; -1 when the model fails), by one Cholesky factorisation of K − margin·I. */
+static int stable_at(const hp_load_stiff *S, const double *x, const double *P, const double *R)
+{
+    int idx[HP_MAX_BLADDERS], nv;
+    double Fv[HP_MAX_BLADDERS], av[HP_MAX_BLADDERS];
+    if (stiff_terms(S, x, P, R, idx, Fv, av, &nv) != 0) return -1;
+    atomic_fetch_add(&n_tests, 1);
+    return hpi_load_stiff_above(S, nv, idx, Fv, av, HP_LOAD_STABLE_MARGIN);
+}
+
+/* The smallest eigenvalue [N/mm] of a point's holding stiffness, for a caller that reports
+ * it. 0, or -1 when the model fails. */
+static int lambda_at(const hp_load_stiff *S, const double *x, const double *P, const double *R,
+                     double *lam)
+{
+    int idx[HP_MAX_BLADDERS], nv;
+    double Fv[HP_MAX_BLADDERS], av[HP_MAX_BLADDERS];
+    if (stiff_terms(S, x, P, R, idx, Fv, av, &nv) != 0) return -1;
     atomic_fetch_add(&n_eigen, 1);
     return hpi_load_stiff_lambda_at(S, nv, idx, Fv, av, lam);
 }
@@ -56,9 +79,7 @@ static int stiff_min(const hp_load_stiff *S, const double *x, const double *P, c
 /* The scan's test: the point is stable with the margin. */
 static int stable_test(void *ctx, const double *x, const double *P, const double *R)
 {
-    double lam;
-    if (stiff_min((const hp_load_stiff *)ctx, x, P, R, &lam) != 0) return -1;
-    return lam >= HP_LOAD_STABLE_MARGIN;
+    return stable_at((const hp_load_stiff *)ctx, x, P, R);
 }
 
 /* Grid points per free coordinate of the second scan: the stable part of the family can lie
@@ -89,31 +110,30 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
     /* The pick's forces (a bladder below its carrying pressures carries nothing), and its
      * stiffness from the pressures of those forces (the pick's to the pressure solve's
      * rounding). */
-    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS], e0, lam;
+    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS], e0;
     for (int k = 0; k < n; ++k) {
-        double Fk, d1, d2;
+        double Fk;
         f0[k] = 0.0;
         if (!(hs.L[k] < hs.U[k]) || !(P[k] > hs.L[k])) continue;
-        if (hpi_load_bladder_force(M, k, P[k], hs.rho[k], &Fk, &d1, &d2) != HP_OK)
+        if (hpi_load_bladder_force(M, k, P[k], hs.rho[k], &Fk, NULL, NULL) != HP_OK)
             return HP_LOAD_SOLVE_ERROR;
         f0[k] = fmin(fmax(Fk, hs.Flo[k]), hs.Fhi[k]);
     }
-    if (seg_point(&hs, col, m, ra, rc, f0, &e0, P0, R0) || stiff_min(&S, f0, P0, R0, &lam) != 0)
+    int ok;
+    if (seg_point(&hs, col, m, ra, rc, f0, &e0, P0, R0) || (ok = stable_at(&S, f0, P0, R0)) < 0)
         return HP_LOAD_SOLVE_ERROR;
-    if (lam >= HP_LOAD_STABLE_MARGIN) {
-        if (lam_min) *lam_min = lam;
-        return HP_LOAD_SOLVE_OK;
-    }
+    if (ok) return lam_min && lambda_at(&S, f0, P0, R0, lam_min) ? HP_LOAD_SOLVE_ERROR
+                                                                  : HP_LOAD_SOLVE_OK;
     atomic_fetch_add(&n_searches, 1);
     /* The cheapest stable point of the scan (the tie-breaker's 3×3 grid and the vertices;
-     * where none is stable, the finer grid): the segment's far end c. */
+     * where none is stable, the finer grid): the segment's far end c, stable by the scan's
+     * own test at the pressures seg_point solves again. */
     double c[HP_MAX_BLADDERS], best, fb[HP_MAX_BLADDERS], Pb[HP_MAX_BLADDERS], Rb[HP_MAX_BLADDERS];
     if (hpi_load_hold_set_scan(&hs, HP_LOAD_SCAN_GRID_N, stable_test, &S, c) != 0 &&
         hpi_load_hold_set_scan(&hs, STABLE_GRID_N, stable_test, &S, c) != 0)
         return HP_LOAD_SOLVE_UNREACHABLE;
     memcpy(fb, c, (size_t)n * sizeof *fb);
-    if (seg_point(&hs, col, m, ra, rc, c, &best, Pb, Rb) || stiff_min(&S, c, Pb, Rb, &lam) != 0)
-        return HP_LOAD_SOLVE_ERROR;
+    if (seg_point(&hs, col, m, ra, rc, c, &best, Pb, Rb)) return HP_LOAD_SOLVE_ERROR;
     /* The stable point nearest the pick on the segment of forces from it to c: the set is
      * convex in the forces, so the segment holds the head throughout. Bisection of the
      * bracket [a, b] (the pick's end unstable, the other stable): lam jumps where a
@@ -122,26 +142,25 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
      * point seen wins. */
     double a = 0.0, b = 1.0;
     for (int it = 0; it < STABLE_HALVINGS; ++it) {
-        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], Rx[HP_MAX_BLADDERS], e,
-               lx;
+        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], Rx[HP_MAX_BLADDERS], e;
         for (int k = 0; k < n; ++k)
             x[k] = fmin(fmax(f0[k] + t * (c[k] - f0[k]), hs.Flo[k]), hs.Fhi[k]);
-        if (seg_point(&hs, col, m, ra, rc, x, &e, Px, Rx) || stiff_min(&S, x, Px, Rx, &lx))
+        if (seg_point(&hs, col, m, ra, rc, x, &e, Px, Rx) || (ok = stable_at(&S, x, Px, Rx)) < 0)
             return HP_LOAD_SOLVE_ERROR;
-        if (!(lx >= HP_LOAD_STABLE_MARGIN)) {
+        if (!ok) {
             a = t;
             continue;
         }
         b = t;
         if (e < best) {
             best = e;
-            lam = lx;
             memcpy(fb, x, (size_t)n * sizeof *fb);
             memcpy(Pb, Px, (size_t)n * sizeof *Pb);
+            memcpy(Rb, Rx, (size_t)n * sizeof *Rb);
         }
     }
+    if (lam_min && lambda_at(&S, fb, Pb, Rb, lam_min)) return HP_LOAD_SOLVE_ERROR;
     memcpy(P, Pb, (size_t)n * sizeof *P);
     memcpy(F, fb, (size_t)n * sizeof *F);
-    if (lam_min) *lam_min = lam;
     return HP_LOAD_SOLVE_OK;
 }

@@ -33,21 +33,23 @@
  * free pressures and its vertices, at most 9 + 112 points; where none is stable a 7×7 grid
  * and the vertices, at most 49 + 112) for the cheapest stable point c, then a bisection on
  * the segment of forces from the pick to c (the set is convex in the forces) for the stable
- * point nearest the pick, 10 halvings (2^-10 of the segment); the cheapest stable point seen wins. F gets its
- * forces, *lam_min (may be NULL) its smallest eigenvalue. OK with P stable; UNREACHABLE (P
- * and F unchanged) when no point of the scans is stable; ERROR when the model fails.
- * Deterministic, no allocation, at most 282 scan points and 12 other points (the pick, the scan's, 10 on the segment), each one
- * tie-breaker sum and at most one 6×6 symmetric eigenproblem. */
+ * point nearest the pick, 10 halvings (2^-10 of the segment); the cheapest stable point seen
+ * wins. F gets its forces, *lam_min (may be NULL) its smallest eigenvalue (one 6×6
+ * eigenproblem, solved only when asked for). OK with P stable; UNREACHABLE (P and F
+ * unchanged) when no point of the scans is stable; ERROR when the model fails.
+ * Deterministic, no allocation, at most 282 scan points and 12 other points (the pick, the
+ * scan's, 10 on the segment), each one tie-breaker sum and at most one stability test (a
+ * 6×6 Cholesky factorisation of K − margin·I). */
 hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double xi[6],
                                            const double *lo, const double *hi, const double *target,
                                            double *P, double *F, double *lam_min);
 
 /* TEST-ONLY counts (inert unless a test reads them; summed over the process): the stable
  * searches that went past the pick's own test, the points of the set whose pressures they
- * solved outside the scan (the pick, the scan's point and the segment's), and the 6×6
- * stiffness eigenproblems they solved (the scan's included). */
+ * solved outside the scan (the pick, the scan's point and the segment's), the stability
+ * tests of a point (the scan's included), and the 6×6 stiffness eigenproblems solved. */
 typedef struct hp_test_stable_counts {
-    unsigned long searches, points, eigen;
+    unsigned long searches, points, tests, eigen;
 } hp_test_stable_counts;
 void hpi_test_stable_counts(hp_test_stable_counts *out);
 

@@ -52,16 +52,35 @@ hp_error hpi_load_stiff_init(hp_load_stiff *S, const hp_load_model *M, const dou
     return HP_OK;
 }
 
+/* The holding stiffness [N/mm, mm/degree units] when the nv bladders idx[] carry forces F
+ * with normal stiffnesses a, the others nothing. */
+static void stiff_at(const hp_load_stiff *S, int nv, const int *idx, const double *F,
+                     const double *a, double K[36])
+{
+    memcpy(K, S->K0, 36 * sizeof *K);
+    for (int j = 0; j < nv; ++j)
+        for (int q = 0; q < 36; ++q) K[q] += a[j] * S->JJ[idx[j]][q] - F[j] * S->H[idx[j]][q];
+}
+
 int hpi_load_stiff_lambda_at(const hp_load_stiff *S, int nv, const int *idx, const double *F,
                              const double *a, double *lam)
 {
     double K[36], l[6], V[36];
-    memcpy(K, S->K0, sizeof K);
-    for (int j = 0; j < nv; ++j)
-        for (int q = 0; q < 36; ++q) K[q] += a[j] * S->JJ[idx[j]][q] - F[j] * S->H[idx[j]][q];
+    stiff_at(S, nv, idx, F, a, K);
     if (hpi_kin_symeig6(K, l, V) != 0) return -1;
     *lam = l[0];
     return 0;
+}
+
+int hpi_load_stiff_above(const hp_load_stiff *S, int nv, const int *idx, const double *F,
+                         const double *a, double margin)
+{
+    double K[36];
+    stiff_at(S, nv, idx, F, a, K);
+    for (int i = 0; i < 6; ++i) K[i * 6 + i] -= margin;
+    for (int q = 0; q < 36; ++q)
+        if (!isfinite(K[q])) return -1;
+    return hpi_load_cholesky(6, K) == 0;
 }
 
 int hpi_load_stiff_lambda_min(const double K[36], double *lam)
