@@ -605,8 +605,7 @@ static int stable_answer(const hp_load_level *p, const double desired[6], const 
         if (cut) {
             double Ps[HP_MAX_BLADDERS];
             memcpy(Ps, P, (size_t)n * sizeof *Ps);
-            if (hpi_load_stable_hold(M, xi, p->lo, p->hi, target, Ps, Fs, NULL) ==
-                HP_LOAD_SOLVE_OK)
+            if (hpi_load_stable_hold(M, xi, p->lo, p->hi, target, Ps, Fs, NULL) == HP_LOAD_SOLVE_OK)
                 memcpy(goal, Ps, (size_t)n * sizeof *goal);
         }
         hpi_load_walk(M, p->prev_P, p->prev_xi, goal, p->elo, p->ehi, &g, &best);
@@ -749,7 +748,8 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
                      "load planner: the %s pose is held inside the limits only at an "
                      "unstable equilibrium (no stable hold found: the holding stiffness's "
                      "smallest eigenvalue is %.3g N/mm, and the forward statics does not "
-                     "rest within 1e-6 mm/deg of it; no stable rest found near it), so it is not returned",
+                     "rest within 1e-6 mm/deg of it; no stable rest found near it), so it is "
+                     "not returned",
                      was_reached ? "desired" : "closest", lam);
             hpi_text_set(p->err, t);
         } else if (outside) {

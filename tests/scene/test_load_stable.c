@@ -105,8 +105,8 @@ static void check_plans(hp_planner *p, const char *what, const double (*t)[6], i
         if (r.status != HP_STATUS_REACHED && r.status != HP_STATUS_CLOSEST) {
             /* A refusal names its cause; count the ones that are the saddle. */
             assert_true(hp_planner_error(p)[0] != '\0');
-            y->not_reached_unstable +=
-                strstr(hp_planner_error(p), "only at an unstable equilibrium") != NULL;
+            y->not_reached_unstable += strstr(hp_planner_error(p),
+                                              "only at an unstable equilibrium") != NULL;
             continue;
         }
         ++y->answered;
@@ -136,10 +136,8 @@ static void check_plans(hp_planner *p, const char *what, const double (*t)[6], i
             ++y->unstable_answers;
         }
         y->violations += !confirmed;
-        if (r.status == HP_STATUS_REACHED)
-            y->stable_reached += confirmed;
-        else
-            y->stable_closest += confirmed;
+        if (r.status == HP_STATUS_REACHED) y->stable_reached += confirmed;
+        else y->stable_closest += confirmed;
     }
 }
 
