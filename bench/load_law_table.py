@@ -75,7 +75,7 @@ def cost(n):
         o, _ = solve(with_law(text, "fem"))
         oc, _ = solve(with_law(text, "cap"))
         if o is None or oc is None:
-            continue  # refused at create under a law: no plan to time
+            continue  # refused (at create, or held only at a saddle) under a law: no answer to time
         t = {"fem": [], "cap": []}
         for _ in range(n):
             for law in ("fem", "cap"):
@@ -108,7 +108,10 @@ def row(name, law, text):
     o, err = solve(with_law(text, law))
     if o is None:
         m = re.search(r"carry at most ([0-9.]+) N.*weighs ([0-9.]+) N", err)
-        what = ("refused at create: carries at most %s N of %s N" % m.groups()) if m else err
+        u = re.search(r"only at an unstable equilibrium.*smallest eigenvalue is ([-0-9.e]+) N/mm",
+                      err)
+        what = ("refused at create: carries at most %s N of %s N" % m.groups() if m else
+                "refused: held only at a saddle (λ_min %s N/mm)" % u.group(1) if u else err)
         return "| `%s` | %s | %s | | | | | |" % (name, law, what)
     bl = o["bladders"]
     sink = o["desired"]["z_mm"] - o["achieved"]["z_mm"]

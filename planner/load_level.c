@@ -7,6 +7,7 @@
 #include "kinematics/kin_geom.h"
 #include "planner/clock.h"
 #include "planner/load_stable.h"
+#include "planner/load_walk.h"
 #include "planner/plan_range.h"
 #include "planner/problem_setup.h"
 #include "planner/text.h"
@@ -172,6 +173,13 @@ static double pose_err(const double xi[6], const double desired[6], const double
         e += W[i] * v * v;
     }
     return e;
+}
+
+/* The weights of the closest-pose distance: 1 per mm², 1/weight² per degree². */
+static void pose_weights(const hp_load_level *p, double W[6])
+{
+    for (int i = 0; i < 6; ++i)
+        W[i] = i < 3 ? 1.0 : 1.0 / (p->set.weight_mm_per_deg * p->set.weight_mm_per_deg);
 }
 
 /* Is the pose `depth` metres below desired (along gravity) held inside this plan's bounds?
@@ -460,21 +468,40 @@ static hp_error law_domain_ok(const hp_load_model *M, const double xi[6], const 
     return HP_OK;
 }
 
-/* Fills the per-bladder part of r from pressures P held at pose xi. A CLOSEST answer names
- * what binds: the pressure bounds each bladder sits on, the indentation range, and a
- * bladder carrying nothing (it cannot pull the head toward the desired pose). */
+/* What binds a CLOSEST answer (pressures P held at pose xi), per bladder in flags: the
+ * pressure bounds it sits on, the indentation range, and carrying nothing (it cannot pull
+ * the head toward the desired pose). Returns how many bladders have a flag, or -1 when the
+ * model fails. */
+static int closest_binding(const hp_load_level *p, const double xi[6], const double *P,
+                           unsigned *flags)
+{
+    const hp_load_model *M = &p->M;
+    double force[HP_MAX_BLADDERS], ratio[HP_MAX_BLADDERS], Q[6];
+    if (hp_load_eval(M, xi, P, Q, NULL, NULL, force, NULL) != HP_OK ||
+        hp_load_indentation(M, xi, P, ratio) != HP_OK)
+        return -1;
+    int any = 0;
+    for (int k = 0; k < M->layout.n; ++k) {
+        double eps = 1e-9 * (p->hi[k] - p->lo[k]);
+        flags[k] = 0;
+        if (P[k] <= p->elo[k] + eps) flags[k] |= p->elo_bind[k];
+        if (P[k] >= p->ehi[k] - eps) flags[k] |= p->ehi_bind[k];
+        if (ratio[k] >= HP_LOAD_INDENT_MAX - INDENT_TOL) flags[k] |= HP_BIND_INDENT_MAX;
+        if (force[k] == 0.0) flags[k] |= HP_BIND_CANNOT_PULL;
+        any += flags[k] != 0;
+    }
+    return any;
+}
+
+/* Fills the per-bladder part of r from pressures P held at pose xi; a CLOSEST answer names
+ * what binds (closest_binding). */
 static hp_error fill_bladders(const hp_load_level *p, const double xi[6], const double *P,
                               int closest, hp_result *r)
 {
     const hp_load_model *M = &p->M;
     r->n = M->layout.n;
-    double force[HP_MAX_BLADDERS], ratio[HP_MAX_BLADDERS];
-    if (closest) {
-        double Q[6];
-        hp_error err = hp_load_eval(M, xi, P, Q, NULL, NULL, force, NULL);
-        if (!err) err = hp_load_indentation(M, xi, P, ratio);
-        if (err) return err;
-    }
+    unsigned flags[HP_MAX_BLADDERS] = {0};
+    if (closest && closest_binding(p, xi, P, flags) < 0) return HP_ERR_DOMAIN;
     for (int k = 0; k < M->layout.n; ++k) {
         const hp_iab *b = &M->layout.bladders[k].iab;
         hp_bladder_result *o = &r->bladders[k];
@@ -490,16 +517,104 @@ static hp_error fill_bladders(const hp_load_level *p, const double xi[6], const 
         o->ri = ri;
         o->ro = ro;
         o->stretch = ri / b->Ri;
-        o->binding = 0;
-        if (closest) {
-            double eps = 1e-9 * (p->hi[k] - p->lo[k]);
-            if (P[k] <= p->elo[k] + eps) o->binding |= p->elo_bind[k];
-            if (P[k] >= p->ehi[k] - eps) o->binding |= p->ehi_bind[k];
-            if (ratio[k] >= HP_LOAD_INDENT_MAX - INDENT_TOL) o->binding |= HP_BIND_INDENT_MAX;
-            if (force[k] == 0.0) o->binding |= HP_BIND_CANNOT_PULL;
-        }
+        o->binding = flags[k];
     }
     return HP_OK;
+}
+
+/* The checks every returned answer meets (the plan's, below), for a candidate of the stable
+ * walk: an equilibrium by both checks, inside the indentation range and the fitted law's
+ * domain, confirmed by the forward model (confirmed_hold), and, as every CLOSEST answer,
+ * naming a limit that binds (closest_binding). */
+static int walk_answer_ok(const void *ctx, const double xi[6], const double *P)
+{
+    const hp_load_level *p = ctx;
+    const hp_load_model *M = &p->M;
+    double lam;
+    unsigned flags[HP_MAX_BLADDERS];
+    hp_diag dom;
+    return holds(M, xi, P) && newton_euler_holds(M, xi, P) && indent_ok(M, xi, P) &&
+           law_domain_ok(M, xi, P, &dom) == HP_OK && closest_binding(p, xi, P, flags) > 0 &&
+           confirmed_hold(M, xi, P, &lam);
+}
+
+/* Depths of the stable search along gravity: 1/16 mm to 64 mm in steps of 2^(1/4). */
+#define GRAVITY_STEPS 41
+
+/* The stable hold nearest the desired pose along gravity: the head sunk (sign +1) or lifted
+ * (−1) from the desired pose by depths 1/16 mm · 2^(j/4), j = 0..40, the first depth held
+ * inside this plan's bounds (held_at) whose HOLD answer the checks accept (walk_answer_ok:
+ * stable among them) is the candidate of that side. Where the shallowest held depth (the
+ * sinking search's) is a saddle, a deeper one can be stable (load_heavy.yaml's nominal pose:
+ * the hold 8 mm lower is). At most 2·41 feasibility checks and one HOLD and its checks per
+ * held depth tried. */
+static void stable_along_gravity(const hp_load_level *p, const hpi_load_walk_goal *g,
+                                 const double *target, hpi_load_pick *best)
+{
+    const int n = p->M.layout.n;
+    for (int sign = 1; sign >= -1; sign -= 2)
+        for (int j = 0; j < GRAVITY_STEPS; ++j) {
+            double x[6], Pt[HP_MAX_BLADDERS], Ph[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], e = 0.0;
+            int it = 0, raw = 0;
+            int h = held_at(p, g->desired, sign * 6.25e-5 * pow(2.0, 0.25 * j), target, x, Pt);
+            if (h < 0) break; /* into a panel: deeper is outside the model */
+            if (h == 0) continue;
+            if (hold(p, x, target, Pt, Ph, F, &it, &raw) != HP_LOAD_SOLVE_OK ||
+                !g->check(g->ctx, x, Ph))
+                continue;
+            for (int i = 0; i < 6; ++i) {
+                double v = (x[i] - g->desired[i]) / hpi_load_unit(i);
+                e += g->W[i] * v * v;
+            }
+            if (e < best->err) {
+                best->err = e;
+                memcpy(best->xi, x, sizeof best->xi);
+                memcpy(best->P, Ph, (size_t)n * sizeof *Ph);
+            }
+            break;
+        }
+}
+
+/* An answer (xi, P) that the forward model does not confirm (a saddle): the stable answer
+ * nearest the desired pose among two kinds of candidates, each checked as every answer is
+ * (walk_answer_ok). The stable holds along gravity (stable_along_gravity). And, from a
+ * previous answer the forward model can start from (a previous pose its pressures hold: not
+ * after create or reset, where the head's pose is not known, and the rest of pressures
+ * depends on where the head starts), the stable walk (load_walk.h) toward the stable hold of
+ * xi inside the static limits (which the rate windows cut off; where there is none, toward P
+ * itself), its candidates inside this plan's bounds; its candidate t = 0 is the previous
+ * answer itself, so the winner is never farther from the desired pose than the previous
+ * pose. 1 with (xi, P) replaced by the winner. */
+static int stable_answer(const hp_load_level *p, const double desired[6], const double *target,
+                         double xi[6], double *P)
+{
+    const hp_load_model *M = &p->M;
+    const int n = M->layout.n;
+    double W[6];
+    pose_weights(p, W);
+    const hpi_load_walk_goal g = {desired, W, walk_answer_ok, p};
+    hpi_load_pick best;
+    best.err = INFINITY;
+    if (p->have_prev && holds(M, p->prev_xi, p->prev_P)) {
+        double goal[HP_MAX_BLADDERS], Fs[HP_MAX_BLADDERS];
+        memcpy(goal, P, (size_t)n * sizeof *goal);
+        int cut = 0;
+        for (int k = 0; k < n; ++k) cut |= p->elo[k] > p->lo[k] || p->ehi[k] < p->hi[k];
+        /* Without a window the search inside the static limits already ran (hold) and
+         * failed. */
+        if (cut) {
+            double Ps[HP_MAX_BLADDERS];
+            memcpy(Ps, P, (size_t)n * sizeof *Ps);
+            if (hpi_load_stable_hold(M, xi, p->lo, p->hi, target, Ps, Fs, NULL) == HP_LOAD_SOLVE_OK)
+                memcpy(goal, Ps, (size_t)n * sizeof *goal);
+        }
+        hpi_load_walk(M, p->prev_P, p->prev_xi, goal, p->elo, p->ehi, &g, &best);
+    }
+    stable_along_gravity(p, &g, target, &best);
+    if (!(best.err < INFINITY)) return 0;
+    memcpy(xi, best.xi, sizeof best.xi);
+    memcpy(P, best.P, (size_t)n * sizeof *P);
+    return 1;
 }
 
 hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_result *r)
@@ -536,8 +651,7 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
             /* POSE: the nearest held pose (the desired one itself when HOLD's tie-breaking
              * solve failed on a reachable pose), then HOLD there for the tie-breaker. */
             double W[6];
-            for (int i = 0; i < 6; ++i)
-                W[i] = i < 3 ? 1.0 : 1.0 / (p->set.weight_mm_per_deg * p->set.weight_mm_per_deg);
+            pose_weights(p, W);
             double Pa[HP_MAX_BLADDERS], xs[6], Ps[HP_MAX_BLADDERS], xu[6], Pu[HP_MAX_BLADDERS];
             int sunk = sink(p, desired, target, 1.0, xs, Ps);
             /* Lifted against gravity: where the indentation range caps the forces, a
@@ -618,17 +732,25 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
      * holding family; none was found inside the limits. */
     double lam = NAN;
     int unstable = !bad && st == HP_LOAD_SOLVE_OK && !unverified && !beyond && !outside &&
-                   r->status == HP_STATUS_REACHED && !confirmed_hold(M, xi, P, &lam);
+                   (r->status == HP_STATUS_REACHED || r->status == HP_STATUS_CLOSEST) &&
+                   !confirmed_hold(M, xi, P, &lam);
+    const int was_reached = r->status == HP_STATUS_REACHED;
+    /* Nor a CLOSEST one: the stable walk from the previous answer, else refused. */
+    if (unstable && stable_answer(p, desired, target, xi, P)) {
+        unstable = 0;
+        r->status = HP_STATUS_CLOSEST;
+    }
     if (bad || st != HP_LOAD_SOLVE_OK || unverified || beyond || outside || unstable) {
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
         if (unstable) {
             char t[HP_DIAG_MAX];
             snprintf(t, sizeof t,
-                     "load planner: the desired pose is held inside the limits only at an "
+                     "load planner: the %s pose is held inside the limits only at an "
                      "unstable equilibrium (no stable hold found: the holding stiffness's "
                      "smallest eigenvalue is %.3g N/mm, and the forward statics does not "
-                     "rest within 1e-6 mm/deg of it), so it is not returned",
-                     lam);
+                     "rest within 1e-6 mm/deg of it; no stable rest found near it), so it is "
+                     "not returned",
+                     was_reached ? "desired" : "closest", lam);
             hpi_text_set(p->err, t);
         } else if (outside) {
             hpi_text_set(p->err, "load planner: the pose found near the desired one is not "

@@ -306,10 +306,12 @@ HP_API hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *resul
  * Newton–Euler residual from the contact points below 1e-6 N and 1e-6 N·m; a pose found
  * that fails either is not returned (SOLVER_ERROR with the safe output: the previous
  * pressures at the previous pose). HOLD prefers a stable hold (docs/load.md, "Stable
- * holds"); a REACHED answer is one (its stiffness positive definite, its forward statics at
- * rest within 1e-6 mm / degree of it), and a desired pose held only at an unstable
- * equilibrium is SOLVER_ERROR with the safe output, the message saying so. A CLOSEST
- * answer may still be a saddle: hp_planner_load_info's holding says so. result.level is HP_LEVEL_LOAD, commanded[] all 1,
+ * holds"); every REACHED or CLOSEST answer is one (its stiffness positive definite, its
+ * forward statics at rest within 1e-6 mm / degree of it). Where the hold found is only an
+ * unstable equilibrium, a stable CLOSEST answer nearby is looked for (a rest of pressures on
+ * the way from the previous answer, inside the rate windows, or a stable hold along
+ * gravity); without one the plan is SOLVER_ERROR with the safe output, the message saying
+ * so. result.level is HP_LEVEL_LOAD, commanded[] all 1,
  * uncommanded[] 0. With the realtime backend nothing is allocated. */
 
 /* The message of the last failure: a plan whose status is not REACHED, CLOSEST or

@@ -83,9 +83,12 @@ expect_stdout_has "holding               at the answer: stable" "the tilted hold
 expect_stdout_has "pressure_max" "names the binding limit"
 expect_stdout_has "cannot_pull" "names the bladders that carry nothing"
 
+# Too heavy for the limits: the closest held pose (every base bladder at pressure_max) is
+# held only at a saddle, and the stable holds found instead (5.7 mm lower along gravity)
+# name no binding limit, so no answer (the safe output), and the message says why.
 run solve "$S/load_heavy.yaml"
-expect_exit 1 "too heavy for the limits: closest"
-expect_stdout_has "pressure_max" "names the binding limit"
+expect_exit 70 "too heavy for the limits: the closest held pose is a saddle"
+expect_stderr_has "the closest pose is held inside the limits only at an unstable equilibrium" "the saddle named"
 
 run solve "$S/load_prone.yaml"
 expect_exit 65 "prone: refused"

@@ -255,7 +255,9 @@ static void loose_tolerance_at(hp_level level)
         hp_result ref, r;
         hp_planner_reset(tight);
         assert_int_equal(hp_plan(tight, xi, &ref), HP_OK);
-        if (ref.status == HP_STATUS_REACHED) continue;
+        /* Not REACHED, and not refused: at the load level a target whose closest held pose
+         * is only a saddle is refused at every tolerance (docs/load.md, "Stable holds"). */
+        if (ref.status != HP_STATUS_CLOSEST) continue;
         ++done;
         hp_planner_reset(loose);
         assert_int_equal(hp_plan(loose, xi, &r), HP_OK);

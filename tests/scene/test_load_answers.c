@@ -109,6 +109,10 @@ static const double CORR[][6] = {
     {0, 0, 0, 10, 0, 0},
     {5, -5, 3, 5, -5, 10},
     {6.264, 7.0991, -2.4693, 3.2596, -0.5412, 2.9385},
+    /* load_heavy's stable CLOSEST answer that the indentation range binds (its nominal
+     * pose, which bound it too, is held only at a saddle and refused: docs/load.md,
+     * "Stable holds") */
+    {0, 0, -10, -5, 0, 0},
 };
 #define NSCENE ((int)(sizeof SCENES / sizeof SCENES[0]))
 #define NCORR ((int)(sizeof CORR / sizeof CORR[0]))
@@ -287,7 +291,10 @@ static void test_holding_of_answer(void **state)
                 close_scene(&x);
             }
     print_message("answers checked %d, unstable holds %d\n", checked, unstable_seen);
-    assert_true(checked >= 15 && unstable_seen >= 1);
+    /* No answer is a saddle (a pose held only at one is refused: docs/load.md, "Stable
+     * holds"), so the report is checked on stable holds here; tests/scene/test_load_stable.c
+     * checks it on every answer of its sweep. */
+    assert_true(checked >= 15 && unstable_seen == 0);
 }
 
 /* The closest held pose. The reference is sampled: poses around the desired one (seeded,
@@ -330,8 +337,9 @@ static void test_closest_held_pose(void **state)
         {SCN "load_tilted.yaml", {6.264, 7.0991, -2.4693, 3.2596, -0.5412, 2.9385}},
         /* lifted 6 mm: the base at pressure_max holds it only lower */
         {SCN "load_supine.yaml", {0, 0, 6, 0, 0, 0}},
-        {SCN "load_heavy.yaml", {0, 0, 0, 0, 0, 0}},
         {SCN "load_heavy.yaml", {0, 0, -10, -5, 0, 0}},
+        /* Not here: load_heavy's nominal pose (its closest held pose, 5.49 mm/deg away, is
+         * held only at a saddle: refused, docs/load.md "Stable holds"). */
         /* Not here: the tilted scene's nominal pose (answered 10.18 mm/deg away, 9.9° of
          * pitch: only 4 of the 90 samples are reached, too few for a reference). */
     };
