@@ -9,6 +9,12 @@
 static atomic_ulong rate_solves, rate_evals, rate_lazy_setups;
 static atomic_int rate_eager;
 
+/* How near [Pa] the last bound of a window end must be for its root find to start there
+ * (no evaluation, the memo's pressure and slope) rather than at the knots' interpolant
+ * (one evaluation, ~1e-10 from the root): from farther, the Newton steps from the memo
+ * cost more than that evaluation. */
+#define HP_RATE_MEMO_NEAR_PA 20.0
+
 unsigned long hpi_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
 unsigned long hpi_test_rate_bound_evals(void) { return atomic_load(&rate_evals); }
 unsigned long hpi_test_rate_lazy_setups(void) { return atomic_load(&rate_lazy_setups); }
@@ -65,19 +71,61 @@ static double slope_max(const hp_iab_s *s, double lo, double hi)
     return 2.0 * m;
 }
 
-/* The knots of bladder k (hp_static_bounds.knot_ro, knot_p): HP_RATE_KNOTS inner radii evenly
- * over [lo, hi], each with its outer radius and the closed form's pressure there (the bits
- * hpi_iab_s_ik_ro_m gives). 0 when the model fails at one or the pressures do not rise
- * (then no stand-in is made from them). */
-static int rate_knots(const hp_iab_s *s, double lo, double hi, double *ro, double *p)
+/* The knots of bladder k (hp_static_bounds.knot_*): HP_RATE_KNOTS points whose pressures
+ * are spread evenly over [p_lo, p_hi] (the static interval's ends ri_lo, ri_hi, and the FK
+ * roots of the evenly spaced pressures between them), each with its inner and outer radius,
+ * the closed form's pressure there (the bits hpi_iab_s_ik_ro_m gives: a knot is an
+ * evaluated point, not an estimate) and its slope dP/dri (per scaled length, hpi_iab_s_slopes).
+ * Even in pressure, not in radius: the pressure's slope varies fivefold over the interval,
+ * and even radii left 770 Pa between the low knots, wider than half a 1 kPa window, so a
+ * window there had no knot inside and both its ends were solved at once (the plans that
+ * made the loop benchmark's p99.9). 0 when the model fails at one or the pressures or radii
+ * do not rise (then no stand-in or start is made from them). */
+static int rate_knots(const hp_iab_s *s, const hp_iab_limit *lp, const hp_envelope *env,
+                      hp_static_bounds *b, int k)
 {
     for (int i = 0; i < HP_RATE_KNOTS; ++i) {
-        double ri = lo + (hi - lo) * i / (HP_RATE_KNOTS - 1.0);
-        if (hpi_iab_s_ik_ro_m(s, ri, &p[i], &ro[i]) != HP_OK || !isfinite(p[i]) ||
-            !isfinite(ro[i]) || (i > 0 && !(p[i] > p[i - 1] && ro[i] > ro[i - 1])))
+        double ri = i == 0 ? env->ri_lo : env->ri_hi, ro, P, d;
+        if (i > 0 && i < HP_RATE_KNOTS - 1) {
+            double t = env->p_lo + (env->p_hi - env->p_lo) * i / (HP_RATE_KNOTS - 1.0);
+            hpi_iab_fk_out o;
+            if (hpi_iab_s_fk_from(s, lp, t, NULL, &o) != HP_OK) return 0;
+            ri = o.ri;
+        }
+        if (hpi_iab_s_ik_ro_m(s, ri, &P, &ro) != HP_OK ||
+            hpi_iab_s_slopes(s, ri * s->scale, ro * s->scale, &d, NULL) != HP_OK || !isfinite(P) ||
+            !isfinite(ro) || !(d > 0 && isfinite(d)) ||
+            (i > 0 &&
+             !(P > b->knot_p[k][i - 1] && ro > b->knot_ro[k][i - 1] && ri > b->knot_ri[k][i - 1])))
             return 0;
+        b->knot_ri[k][i] = ri;
+        b->knot_ro[k][i] = ro;
+        b->knot_p[k][i] = P;
+        b->knot_d[k][i] = d;
     }
     return 1;
+}
+
+/* A start for the root find of pressure pw on bladder k: the inner radius [m] the cubic
+ * Hermite interpolant of ri(P) through the two knots around pw gives (their radii and
+ * slopes dri/dP = 1 / dP/dri), within ~1e-10 of the radius over the default scene's
+ * knots, so the Newton iteration that evaluates it there needs one more step and the look at
+ * the neighbouring double. NAN when pw lies outside the knots (or they failed): the root
+ * find then starts without it. Only a start: the root is the FK's whatever the guess. */
+static double knot_guess(const hp_static_bounds *b, int k, double pw)
+{
+    const double *kp = b->knot_p[k];
+    if (!b->knots_ok[k] || !(pw >= kp[0] && pw <= kp[HP_RATE_KNOTS - 1])) return NAN;
+    /* The knots' pressures are nearly even: their index from pw, then a step or two */
+    double u = (pw - kp[0]) / (kp[HP_RATE_KNOTS - 1] - kp[0]) * (HP_RATE_KNOTS - 1);
+    int j = u < HP_RATE_KNOTS - 2 ? (int)u : HP_RATE_KNOTS - 2;
+    while (j > 0 && kp[j] > pw) --j;
+    while (j < HP_RATE_KNOTS - 2 && kp[j + 1] < pw) ++j;
+    double h = kp[j + 1] - kp[j], t = (pw - kp[j]) / h, sc = b->iab_s[k].scale;
+    double m0 = h / (b->knot_d[k][j] * sc), m1 = h / (b->knot_d[k][j + 1] * sc);
+    double t2 = t * t, t3 = t2 * t;
+    return (2.0 * t3 - 3.0 * t2 + 1.0) * b->knot_ri[k][j] + (t3 - 2.0 * t2 + t) * m0 +
+           (3.0 * t2 - 2.0 * t3) * b->knot_ri[k][j + 1] + (t3 - t2) * m1;
 }
 
 /* Tightest of two bounds with their flags; equal bounds keep both flags. */
@@ -182,8 +230,7 @@ hp_error hpi_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_dia
         b->ro_lo[k] = env.ro_lo;
         b->ro_hi[k] = env.ro_hi;
         b->rate_slack[k] = hpi_setup_rate_slack(slope_max(&b->iab_s[k], env.ri_lo, env.ri_hi));
-        b->knots_ok[k] = rate_knots(&b->iab_s[k], env.ri_lo, env.ri_hi, b->knot_ro[k],
-                                    b->knot_p[k]);
+        b->knots_ok[k] = rate_knots(&b->iab_s[k], &env.limit, &env, b, k);
     }
     return HP_OK;
 }
@@ -213,14 +260,21 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
      * iteration from its middle (most of a rate-limited plan's cost on the step trace). The
      * same root to rounding either way (tests/planner/test_rate_bounds.c: against the cold
      * reference along such chains). */
-    hpi_iab_fk_start st;
-    if (m && m->ok)
+    /* A window end far from the last one (a jump) starts from the knots' interpolant
+     * instead: one evaluation there, ~1e-10 from the root, where a start a few hundred Pa
+     * away takes three or four Newton steps more. A first bound starts from nothing: the
+     * cold root find's bits, which tests/planner/test_rate_bounds.c holds it to. */
+    hpi_iab_fk_start st = {0};
+    int held = m && m->ok;
+    double g = held && fabs(pw - m->p) > HP_RATE_MEMO_NEAR_PA ? knot_guess(b, k, pw) : NAN;
+    if (!isnan(g)) st.ri = g; /* a radius alone: evaluated there */
+    else if (held)
         st = (hpi_iab_fk_start){
             .ri = m->r, .p = m->p_at, .d = m->d, .ro = m->ro, .slope = 1, .exact = 1};
     hpi_iab_fk_out o;
     int evals = 0;
     const hp_iab_s *s = &b->iab_s[k];
-    hp_error e = hpi_iab_s_fk_from(s, &b->limit[k], pw, m && m->ok ? &st : NULL, &o);
+    hp_error e = hpi_iab_s_fk_from(s, &b->limit[k], pw, !isnan(g) || held ? &st : NULL, &o);
     /* The nudge's first look is the root's own evaluation when the root find ended on one
      * (the same bits as evaluating it again). */
     *r = o.ri;
