@@ -303,21 +303,25 @@ hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b, c
 /* A stand-in for the outer-radius bound [m] of the window end at pressure pw (up: the
  * lower end, whose radius bound must have a pressure >= pw), strictly inside the exact
  * bound: the outer radius of a point whose closed-form pressure lies beyond pw by the rate
- * slack on the window's side — the last bound solved for that end when it qualifies (a
- * window moves little from cycle to cycle), else the nearest such knot of the bladder. The pressure rises with the radius
- * on the stable branch, so the exact bound, where the pressure crosses pw, lies outside
- * that point by at least the slack's radius (about 1e-5 mm; the closed form's last-bit
- * wobble is ~1e-11 Pa). No model evaluation; NAN when no point qualifies. */
+ * slack on the window's side: the last bound solved for that end when its pressure lies
+ * within a knot spacing of that (a window moves little from cycle to cycle; no search),
+ * else the nearer of it and the bladder's nearest knot. Not the memo whenever it
+ * qualifies: a memo left by a window far away (before a jump, or on the other side of a
+ * binding limit) qualifies too, and a stand-in that far inside crossed the other end's, so
+ * that both ends were solved at once. The pressure rises with the radius on the stable
+ * branch, so the exact bound, where the pressure crosses pw, lies outside that point by at
+ * least the slack's radius (about 1e-5 mm; the closed form's last-bit wobble is ~1e-11 Pa).
+ * No model evaluation; NAN when no point qualifies. */
 static double stand_in(const hp_static_bounds *b, int k, double pw, int up, const hp_rate_end *m)
 {
     double sl = b->rate_slack[k], r = NAN;
     if (!isfinite(sl)) return NAN;
     const double *kp = b->knot_p[k], *kr = b->knot_ro[k];
     int memo = m && m->ok;
+    double near = (kp[HP_RATE_KNOTS - 1] - kp[0]) / (HP_RATE_KNOTS - 1); /* a knot spacing */
     if (up) { /* the smallest radius with P >= pw + sl */
         double t = pw + sl;
-        /* The last bound, where it qualifies, is the window's end a cycle ago: near. */
-        if (memo && m->p_at >= t) return m->ro;
+        if (memo && m->p_at >= t && m->p_at - t <= near) return m->ro;
         if (b->knots_ok[k] && kp[HP_RATE_KNOTS - 1] >= t) {
             int lo = 0, hi = HP_RATE_KNOTS - 1; /* kp[hi] >= t */
             while (hi - lo > 1) {
@@ -327,10 +331,10 @@ static double stand_in(const hp_static_bounds *b, int k, double pw, int up, cons
             }
             r = kp[lo] >= t ? kr[lo] : kr[hi];
         }
-        return r;
+        return memo && m->p_at >= t && !(m->ro >= r) ? m->ro : r;
     }
     double t = pw - sl; /* the largest radius with P <= pw - sl */
-    if (memo && m->p_at <= t) return m->ro;
+    if (memo && m->p_at <= t && t - m->p_at <= near) return m->ro;
     if (b->knots_ok[k] && kp[0] <= t) {
         int lo = 0, hi = HP_RATE_KNOTS - 1; /* kp[lo] <= t */
         while (hi - lo > 1) {
@@ -340,7 +344,7 @@ static double stand_in(const hp_static_bounds *b, int k, double pw, int up, cons
         }
         r = kp[hi] <= t ? kr[hi] : kr[lo];
     }
-    return r;
+    return memo && m->p_at <= t && !(m->ro <= r) ? m->ro : r;
 }
 
 /* Bladder k's bounds for this plan: the static ones intersected with its rate window's
