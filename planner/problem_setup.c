@@ -103,7 +103,22 @@ static int rate_knots(const hp_iab_s *s, const hp_iab_limit *lp, const hp_envelo
         b->knot_p[k][i] = P;
         b->knot_d[k][i] = d;
     }
+    b->knot_dp[k] = (b->knot_p[k][HP_RATE_KNOTS - 1] - b->knot_p[k][0]) / (HP_RATE_KNOTS - 1);
     return 1;
+}
+
+/* The knot interval of pressure p on bladder k: j in 0..HP_RATE_KNOTS − 2 with knot_p[j] <=
+ * p <= knot_p[j + 1] when p lies within the knots (else the first or the last interval).
+ * The knots' pressures are nearly even (knot_dp apart): the index from p, then a step or
+ * two, not a search. */
+static int knot_index(const hp_static_bounds *b, int k, double p)
+{
+    const double *kp = b->knot_p[k];
+    double u = (p - kp[0]) / b->knot_dp[k];
+    int j = u > 0 ? (u < HP_RATE_KNOTS - 2 ? (int)u : HP_RATE_KNOTS - 2) : 0;
+    while (j > 0 && kp[j] > p) --j;
+    while (j < HP_RATE_KNOTS - 2 && kp[j + 1] < p) ++j;
+    return j;
 }
 
 /* A start for the root find of pressure pw on bladder k: the inner radius [m] the cubic
@@ -116,11 +131,7 @@ static double knot_guess(const hp_static_bounds *b, int k, double pw)
 {
     const double *kp = b->knot_p[k];
     if (!b->knots_ok[k] || !(pw >= kp[0] && pw <= kp[HP_RATE_KNOTS - 1])) return NAN;
-    /* The knots' pressures are nearly even: their index from pw, then a step or two */
-    double u = (pw - kp[0]) / (kp[HP_RATE_KNOTS - 1] - kp[0]) * (HP_RATE_KNOTS - 1);
-    int j = u < HP_RATE_KNOTS - 2 ? (int)u : HP_RATE_KNOTS - 2;
-    while (j > 0 && kp[j] > pw) --j;
-    while (j < HP_RATE_KNOTS - 2 && kp[j + 1] < pw) ++j;
+    int j = knot_index(b, k, pw);
     double h = kp[j + 1] - kp[j], t = (pw - kp[j]) / h, sc = b->iab_s[k].scale;
     double m0 = h / (b->knot_d[k][j] * sc), m1 = h / (b->knot_d[k][j + 1] * sc);
     double t2 = t * t, t3 = t2 * t;
@@ -317,32 +328,21 @@ static double stand_in(const hp_static_bounds *b, int k, double pw, int up, cons
     double sl = b->rate_slack[k], r = NAN;
     if (!isfinite(sl)) return NAN;
     const double *kp = b->knot_p[k], *kr = b->knot_ro[k];
-    int memo = m && m->ok;
-    double near = (kp[HP_RATE_KNOTS - 1] - kp[0]) / (HP_RATE_KNOTS - 1); /* a knot spacing */
+    int memo = m && m->ok, ok = b->knots_ok[k];
     if (up) { /* the smallest radius with P >= pw + sl */
         double t = pw + sl;
-        if (memo && m->p_at >= t && m->p_at - t <= near) return m->ro;
-        if (b->knots_ok[k] && kp[HP_RATE_KNOTS - 1] >= t) {
-            int lo = 0, hi = HP_RATE_KNOTS - 1; /* kp[hi] >= t */
-            while (hi - lo > 1) {
-                int mid = (lo + hi) / 2;
-                if (kp[mid] >= t) hi = mid;
-                else lo = mid;
-            }
-            r = kp[lo] >= t ? kr[lo] : kr[hi];
+        if (memo && m->p_at >= t && m->p_at - t <= b->knot_dp[k]) return m->ro;
+        if (ok && kp[HP_RATE_KNOTS - 1] >= t) {
+            int j = knot_index(b, k, t); /* kp[j] <= t <= kp[j + 1], or t below the knots */
+            r = kp[j] >= t ? kr[j] : kr[j + 1];
         }
         return memo && m->p_at >= t && !(m->ro >= r) ? m->ro : r;
     }
     double t = pw - sl; /* the largest radius with P <= pw - sl */
-    if (memo && m->p_at <= t && t - m->p_at <= near) return m->ro;
-    if (b->knots_ok[k] && kp[0] <= t) {
-        int lo = 0, hi = HP_RATE_KNOTS - 1; /* kp[lo] <= t */
-        while (hi - lo > 1) {
-            int mid = (lo + hi) / 2;
-            if (kp[mid] <= t) lo = mid;
-            else hi = mid;
-        }
-        r = kp[hi] <= t ? kr[hi] : kr[lo];
+    if (memo && m->p_at <= t && t - m->p_at <= b->knot_dp[k]) return m->ro;
+    if (ok && kp[0] <= t) {
+        int j = knot_index(b, k, t); /* kp[j] <= t <= kp[j + 1], or t above the knots */
+        r = kp[j + 1] <= t ? kr[j + 1] : kr[j];
     }
     return memo && m->p_at <= t && !(m->ro <= r) ? m->ro : r;
 }

@@ -44,6 +44,7 @@ typedef struct hp_static_bounds {
     /* and their inner radii [m] and slopes dP/dri (per scaled length): the root finds'
      * starts (a cubic Hermite interpolant of ri(P) between two knots) */
     double knot_ri[HP_MAX_BLADDERS][HP_RATE_KNOTS], knot_d[HP_MAX_BLADDERS][HP_RATE_KNOTS];
+    double knot_dp[HP_MAX_BLADDERS]; /* their mean spacing [Pa] */
     int knots_ok[HP_MAX_BLADDERS];
 } hp_static_bounds;
 
