@@ -84,6 +84,7 @@ static double slope_max(const hp_iab_s *s, double lo, double hi)
 static int rate_knots(const hp_iab_s *s, const hp_iab_limit *lp, const hp_envelope *env,
                       hp_static_bounds *b, int k)
 {
+    b->knot_dp[k] = INFINITY; /* no knots: a remembered bound is near wherever it lies */
     for (int i = 0; i < HP_RATE_KNOTS; ++i) {
         double ri = i == 0 ? env->ri_lo : env->ri_hi, ro, P, d;
         if (i > 0 && i < HP_RATE_KNOTS - 1) {
@@ -265,16 +266,15 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
         return 1;
     }
     atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
-    /* From the last bound of the same window end, with the pressure, slope and outer radius
-     * evaluated there: a control loop's windows move by a sensor's noise or one plan's step,
-     * so the root is a Newton step or two away instead of a bracket search and a Newton
-     * iteration from its middle (most of a rate-limited plan's cost on the step trace). The
-     * same root to rounding either way (tests/planner/test_rate_bounds.c: against the cold
-     * reference along such chains). */
-    /* A window end far from the last one (a jump) starts from the knots' interpolant
-     * instead: one evaluation there, ~1e-10 from the root, where a start a few hundred Pa
-     * away takes three or four Newton steps more. A first bound starts from nothing: the
-     * cold root find's bits, which tests/planner/test_rate_bounds.c holds it to. */
+    /* From the last bound of the same window end when it lies within HP_RATE_MEMO_NEAR_PA,
+     * with the pressure, slope and outer radius evaluated there: a sensor's noise moves a
+     * window that little, and the root is a Newton step or two away instead of a bracket
+     * search and a Newton iteration from its middle. From farther (a jump, a ramp of one
+     * plan's step) it starts at the knots' interpolant instead: one evaluation there, ~1e-10
+     * from the root, where the last bound a few hundred Pa away takes three or four Newton
+     * steps more. The same root to rounding either way (tests/planner/test_rate_bounds.c:
+     * against the cold reference along such chains). A first bound starts from nothing: the
+     * cold root find's bits, which that test holds it to. */
     hpi_iab_fk_start st = {0};
     int held = m && m->ok;
     double g = held && fabs(pw - m->p) > HP_RATE_MEMO_NEAR_PA ? knot_guess(b, k, pw) : NAN;
