@@ -34,6 +34,7 @@ typedef struct bench_options {
     const char *python;      /* the Python with SciPy (peers) */
     const char *peer_script; /* bench/scipy_peer.py (peers) */
     const char *out_dir;     /* the output folder (peers writes its exchange files there) */
+    int repeat;              /* loop: each trace run this many times, its cycles pooled */
 } bench_options;
 
 /* Fills the sampling settings for a full (quick = 0) or quick run; the paths NULL. */

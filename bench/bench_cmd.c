@@ -61,7 +61,7 @@ static void help(void)
 {
     printf("usage: headplan-bench [--out DIR] [--quick] [--only FAMILY[,FAMILY]] [--seed N]\n"
            "                      [--scene FILE] [--scenarios DIR] [--python EXE]\n"
-           "                      [--peer-script FILE]\n\n"
+           "                      [--peer-script FILE] [--repeat N]\n\n"
            "Measures every method of each family on the same inputs: median and 99th\n"
            "percentile time per evaluation (CLOCK_MONOTONIC, warm-up, batches timed together;\n"
            "the planner and peers methods take turns, 7 rounds of 9 turns, so a slow spell of\n"
@@ -92,6 +92,8 @@ static void help(void)
            "                 (default " DEFAULT_SCENARIOS ")\n"
            "  --python EXE   Python with SciPy for the peers family (default " DEFAULT_PYTHON ")\n"
            "  --peer-script FILE  the SciPy peer (default " DEFAULT_PEER_SCRIPT ")\n"
+           "  --repeat N     loop family: run each trace N times (fresh planners each time) and\n"
+           "                 take its percentiles over all N x cycles (default 1; 1..100)\n"
            "  --help         this text\n\n"
            "exit status: 0 ok, 64 bad command line, 70 gnuplot or SciPy missing or failed,\n"
            "66 scene, catalogue or peer script cannot be read, 73 cannot write the output\n"
@@ -154,7 +156,7 @@ int bench_run_cli(int argc, char **argv)
     const char *python = DEFAULT_PYTHON, *peer_script = DEFAULT_PEER_SCRIPT;
     int quick = 0, only_given = 0, rc;
     int on[N_FAMILIES] = {0};
-    long seed = 1;
+    long seed = 1, repeat = 1;
     for (int i = 1; i < argc; ++i) {
         if (strcmp(argv[i], "--help") == 0 || strcmp(argv[i], "-h") == 0) {
             help();
@@ -185,6 +187,9 @@ int bench_run_cli(int argc, char **argv)
         } else if ((m = cli_opt(CMD, argc, argv, &i, "--peer-script", &v)) != 0) {
             if (m < 0) return CLI_EXIT_USAGE;
             peer_script = v;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--repeat", &v)) != 0) {
+            if (m < 0 || (rc = cli_int(CMD, "--repeat", v, 1, 100, &repeat)) != 0)
+                return CLI_EXIT_USAGE;
         } else if ((m = cli_opt(CMD, argc, argv, &i, "--seed", &v)) != 0) {
             if (m < 0 || (rc = cli_int(CMD, "--seed", v, 0, LONG_MAX, &seed)) != 0)
                 return CLI_EXIT_USAGE;
@@ -234,6 +239,7 @@ int bench_run_cli(int argc, char **argv)
     o.python = python;
     o.peer_script = peer_script;
     o.out_dir = out;
+    o.repeat = (int)repeat;
     for (size_t k = 0; k < N_FAMILIES; ++k)
         if (on[k] && (rc = run_family(&families[k], &o, out)) != 0) return rc;
     return CLI_EXIT_OK;

@@ -18,11 +18,18 @@
  *             host's (on the shared VM of the docs, multiples of its 4 ms scheduler tick).
  * Per row: median, p99, p99.9 and max of the plan time (CLOCK_MONOTONIC around hp_plan), the
  * ratios of median and p99.9 to the free planner's on the same trace in the same run, the
- * statuses (held answers apart from call errors), and set_measured's median. Writes DIR/loop.csv; prints a summary. */
+ * statuses (held answers apart from call errors), and set_measured's median; what the rate
+ * limits' exact window ends cost, counted (not timed): the ends solved per 1000 plans and
+ * the closed-form pressure evaluations per end (the library's test counters,
+ * planner/problem_setup.h), and the share of the slowest 1 % of plans (at or above the
+ * p99) that solved at least one end. With o->repeat > 1 each trace runs that many times
+ * (fresh planners each time) and every figure is over all the cycles. Writes DIR/loop.csv;
+ * prints a summary. */
 #include "bench/bench.h"
 #include "bench/bench_timing.h"
 #include "bench/bench_util.h"
 #include "cli/exit_codes.h"
+#include "planner/problem_setup.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -59,6 +66,8 @@ typedef struct {
      * there other counts states the host's timing led to. */
     long reached, closest, time_limit, other, errors, rate_binding, overshoots, clamped;
     long overshoots_host;
+    long ends, evals;        /* rate window ends solved, closed-form evaluations they spent */
+    double slow_solving_pct; /* of the plans at or above the p99, % that solved an end */
 } loop_row;
 
 /* The trace's correction at cycle j [SI]. */
@@ -89,20 +98,37 @@ static int cmp_d(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Sorts t[0..n-1] and fills the row's percentiles [us]. */
-static void summarise(double *t, long n, loop_row *r)
+/* Fills the row's percentiles [us] from t[0..n-1] (sorted into sorted[], t kept in cycle
+ * order), and the share of the plans at or above the p99 whose flag solved[] is set. */
+static void summarise(const double *t, const unsigned char *solved, long n, double *sorted,
+                      loop_row *r)
 {
-    qsort(t, (size_t)n, sizeof *t, cmp_d);
-    r->med_us = bench_percentile(t, n, 0.5) * 1e-3;
-    r->p99_us = bench_percentile(t, n, 0.99) * 1e-3;
-    r->p999_us = bench_percentile(t, n, 0.999) * 1e-3;
-    r->max_us = t[n - 1] * 1e-3;
+    memcpy(sorted, t, sizeof *t * (size_t)n);
+    qsort(sorted, (size_t)n, sizeof *sorted, cmp_d);
+    r->med_us = bench_percentile(sorted, n, 0.5) * 1e-3;
+    r->p99_us = bench_percentile(sorted, n, 0.99) * 1e-3;
+    r->p999_us = bench_percentile(sorted, n, 0.999) * 1e-3;
+    r->max_us = sorted[n - 1] * 1e-3;
+    long slow = 0, slow_solving = 0;
+    for (long j = 0; j < n; ++j)
+        if (t[j] * 1e-3 >= r->p99_us) {
+            ++slow;
+            slow_solving += solved[j];
+        }
+    r->slow_solving_pct = slow ? 100.0 * (double)slow_solving / (double)slow : NAN;
 }
 
-/* One level × backend × trace: the four planners in turn on every cycle. */
-static int run_trace(const bench_options *o, const hp_layout *L0, const hp_settings *s0,
-                     hp_level level, hp_backend bk, int trace, loop_row *rows, double *times,
-                     double *set_times)
+/* The buffers of a trace's run: per mode and cycle (N_MODES x cycles x repeats). */
+typedef struct loop_buf {
+    double *times, *set_times, *sorted;
+    unsigned char *solved;
+} loop_buf;
+
+/* One run of a level × backend × trace: the four planners in turn on every cycle, cycles
+ * rep·n .. rep·n + n − 1 of the rows' buffers (total cycles nt a mode). */
+static int run_once(const bench_options *o, const hp_layout *L0, const hp_settings *s0,
+                    hp_level level, hp_backend bk, int trace, loop_row *rows, const loop_buf *bf,
+                    int rep, long nt)
 {
     long n = o->quick ? LOOP_CYCLES_QUICK : LOOP_CYCLES_FULL;
     hp_planner *p[N_MODES] = {0};
@@ -116,13 +142,6 @@ static int run_trace(const bench_options *o, const hp_layout *L0, const hp_setti
         s.use_rate_limits = m > 0;
         s.max_time = m == 3 ? LOOP_BUDGET_US * 1e-6 : 10.0;
         rc = bench_planner_new(&L, &s, &p[m]);
-        loop_row *r = &rows[m];
-        memset(r, 0, sizeof *r);
-        r->level = level;
-        r->backend = bk;
-        r->trace = trace;
-        r->mode = m;
-        r->cycles = n;
     }
     uint64_t seed = 0x100b + (uint64_t)trace, noise = 0x5e7 + (uint64_t)trace;
     double tgt[6] = {0};
@@ -133,10 +152,15 @@ static int run_trace(const bench_options *o, const hp_layout *L0, const hp_setti
             int m = j % 2 ? N_MODES - 1 - mm : mm; /* forwards, then backwards */
             loop_row *r = &rows[m];
             hp_result res;
+            unsigned long n0 = hpi_test_rate_bound_solves(), e0 = hpi_test_rate_bound_evals();
             double t0 = bench_now_ns();
             hp_error e = hp_plan(p[m], xi, &res);
             double dt = bench_now_ns() - t0;
-            times[m * n + j] = dt;
+            unsigned long ds = hpi_test_rate_bound_solves() - n0;
+            r->ends += (long)ds;
+            r->evals += (long)(hpi_test_rate_bound_evals() - e0);
+            bf->times[m * nt + rep * n + j] = dt;
+            bf->solved[m * nt + rep * n + j] = ds > 0;
             if (e != HP_OK) ++r->errors;
             else if (res.status == HP_STATUS_REACHED || res.status == HP_STATUS_UNCOMMANDED)
                 ++r->reached;
@@ -158,22 +182,43 @@ static int run_trace(const bench_options *o, const hp_layout *L0, const hp_setti
                            LOOP_NOISE_PA * (2.0 * bench_urand(&noise) - 1.0);
                 t0 = bench_now_ns();
                 hp_error es = hp_planner_set_measured(p[m], P, &cl);
-                double ds = bench_now_ns() - t0;
-                if (m == 2) set_times[j] = ds;
+                double dts = bench_now_ns() - t0;
+                if (m == 2) bf->set_times[rep * n + j] = dts;
                 if (es != HP_OK) ++r->errors;
                 r->clamped += cl != 0;
             }
         }
     }
     for (int m = 0; m < N_MODES; ++m) hp_planner_destroy(p[m]);
+    return rc;
+}
+
+/* One level × backend × trace, o->repeat times: the rows of its four modes. */
+static int run_trace(const bench_options *o, const hp_layout *L0, const hp_settings *s0,
+                     hp_level level, hp_backend bk, int trace, loop_row *rows, const loop_buf *bf)
+{
+    long nt = (o->quick ? LOOP_CYCLES_QUICK : LOOP_CYCLES_FULL) * o->repeat;
+    for (int m = 0; m < N_MODES; ++m) {
+        loop_row *r = &rows[m];
+        memset(r, 0, sizeof *r);
+        r->level = level;
+        r->backend = bk;
+        r->trace = trace;
+        r->mode = m;
+        r->cycles = nt;
+    }
+    int rc = 0;
+    for (int rep = 0; rep < o->repeat && rc == 0; ++rep)
+        rc = run_once(o, L0, s0, level, bk, trace, rows, bf, rep, nt);
     if (rc != 0) return rc;
-    for (int m = 0; m < N_MODES; ++m) summarise(times + m * n, n, &rows[m]);
+    for (int m = 0; m < N_MODES; ++m)
+        summarise(bf->times + m * nt, bf->solved + m * nt, nt, bf->sorted, &rows[m]);
     for (int m = 0; m < N_MODES; ++m) {
         rows[m].ratio_med = rows[m].med_us / rows[0].med_us;
         rows[m].ratio_p999 = rows[m].p999_us / rows[0].p999_us;
     }
-    qsort(set_times, (size_t)n, sizeof *set_times, cmp_d);
-    double sm = bench_percentile(set_times, n, 0.5) * 1e-3;
+    qsort(bf->set_times, (size_t)nt, sizeof *bf->set_times, cmp_d);
+    double sm = bench_percentile(bf->set_times, nt, 0.5) * 1e-3;
     rows[2].set_med_us = rows[3].set_med_us = sm;
     rows[0].set_med_us = rows[1].set_med_us = NAN;
     return 0;
@@ -184,12 +229,14 @@ static void csv_row(const void *arg, int i, FILE *f)
     const loop_row *r = (const loop_row *)arg + i;
     fprintf(f,
             "%s,%s,%s,%s,%ld,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%g,"
-            "%ld\n",
+            "%ld,%.1f,%.2f,%.1f\n",
             hp_level_name(r->level), hp_backend_name(r->backend), trace_names[r->trace],
             mode_names[r->mode], r->cycles, r->med_us, r->p99_us, r->p999_us, r->max_us,
             r->ratio_med, r->ratio_p999, r->set_med_us, r->reached, r->closest, r->time_limit,
             r->other, r->errors, r->rate_binding, r->clamped, r->overshoots,
-            r->mode == 3 ? LOOP_BUDGET_US : NAN, r->overshoots_host);
+            r->mode == 3 ? LOOP_BUDGET_US : NAN, r->overshoots_host,
+            1000.0 * (double)r->ends / (double)r->cycles,
+            r->ends ? (double)r->evals / (double)r->ends : NAN, r->slow_solving_pct);
 }
 
 int bench_loop(const bench_options *o, const char *dir)
@@ -199,13 +246,16 @@ int bench_loop(const bench_options *o, const char *dir)
     if (rc != 0) return rc;
     hp_settings s;
     hp_settings_default(&s);
-    long n = o->quick ? LOOP_CYCLES_QUICK : LOOP_CYCLES_FULL;
+    long nt = (o->quick ? LOOP_CYCLES_QUICK : LOOP_CYCLES_FULL) * o->repeat;
     static loop_row rows[N_ROWS];
-    double *times = malloc(sizeof(double) * (size_t)(N_MODES * n));
-    double *set_times = malloc(sizeof(double) * (size_t)n);
-    if (!times || !set_times) {
-        free(times);
-        free(set_times);
+    loop_buf bf = {malloc(sizeof(double) * (size_t)(N_MODES * nt)),
+                   malloc(sizeof(double) * (size_t)nt), malloc(sizeof(double) * (size_t)nt),
+                   malloc((size_t)(N_MODES * nt))};
+    if (!bf.times || !bf.set_times || !bf.sorted || !bf.solved) {
+        free(bf.times);
+        free(bf.set_times);
+        free(bf.sorted);
+        free(bf.solved);
         fprintf(stderr, "headplan-bench: loop: out of memory\n");
         return CLI_EXIT_SOFTWARE;
     }
@@ -215,31 +265,35 @@ int bench_loop(const bench_options *o, const char *dir)
             for (int t = 0; t < N_TRACES && rc == 0; ++t) {
                 fprintf(stderr, "bench loop: %s %s %s\n", hp_backend_name(backends[b]),
                         hp_level_name(levels[l]), trace_names[t]);
-                rc = run_trace(o, &scene.layout, &s, levels[l], backends[b], t, rows + nr, times,
-                               set_times);
+                rc = run_trace(o, &scene.layout, &s, levels[l], backends[b], t, rows + nr, &bf);
                 nr += N_MODES;
             }
-    free(times);
-    free(set_times);
+    free(bf.times);
+    free(bf.set_times);
+    free(bf.sorted);
+    free(bf.solved);
     if (rc != 0) return rc;
     rc = bench_save_csv(
         dir, "loop.csv",
         "level,backend,trace,mode,cycles,median_us,p99_us,p999_us,max_us,"
         "ratio_median,ratio_p999,set_measured_median_us,reached,closest,"
-        "time_limit,other,errors,rate_binding,clamped,overshoots,budget_us,overshoots_host",
+        "time_limit,other,errors,rate_binding,clamped,overshoots,budget_us,overshoots_host,"
+        "ends_per_1000,evals_per_end,slow_solving_pct",
         csv_row, rows, nr);
     printf("loop (rate %g Pa/plan, measured noise +-%g Pa, deadline %g us; ratios to the "
            "free plan of the same trace):\n",
            LOOP_RATE_PA, LOOP_NOISE_PA, LOOP_BUDGET_US);
-    printf("%-8s %-12s %-7s %-9s %8s %8s %8s %8s %6s %6s %7s %5s %5s %5s\n", "level", "backend",
-           "trace", "mode", "med_us", "p99_us", "p999_us", "max_us", "x_med", "x_p999", "set_us",
-           "tlim", "over", "ohost");
+    printf("%-8s %-12s %-7s %-9s %8s %8s %8s %8s %6s %6s %7s %5s %5s %5s %6s %5s\n", "level",
+           "backend", "trace", "mode", "med_us", "p99_us", "p999_us", "max_us", "x_med", "x_p999",
+           "set_us", "tlim", "over", "ohost", "ends/k", "slow%");
     for (int i = 0; i < nr; ++i) {
         const loop_row *r = &rows[i];
-        printf("%-8s %-12s %-7s %-9s %8.2f %8.2f %8.2f %8.1f %6.2f %6.2f %7.2f %5ld %5ld %5ld\n",
+        printf("%-8s %-12s %-7s %-9s %8.2f %8.2f %8.2f %8.1f %6.2f %6.2f %7.2f %5ld %5ld %5ld "
+               "%6.0f %5.0f\n",
                hp_level_name(r->level), hp_backend_name(r->backend), trace_names[r->trace],
                mode_names[r->mode], r->med_us, r->p99_us, r->p999_us, r->max_us, r->ratio_med,
-               r->ratio_p999, r->set_med_us, r->time_limit, r->overshoots, r->overshoots_host);
+               r->ratio_p999, r->set_med_us, r->time_limit, r->overshoots, r->overshoots_host,
+               1000.0 * (double)r->ends / (double)r->cycles, r->slow_solving_pct);
     }
     return rc;
 }

@@ -37,6 +37,7 @@ void bench_options_default(bench_options *o, int quick, unsigned long seed)
     o->python = NULL;
     o->peer_script = NULL;
     o->out_dir = NULL;
+    o->repeat = 1;
 }
 
 double bench_now_ns(void)

@@ -466,29 +466,42 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
     hp_qp *q = &st->qp;
     hp_rate_lazy *z = pb->lazy;
     if (!z) return hpi_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL);
-    for (;;) {
-        unsigned char lz[HP_QP_MMAX] = {0};
-        int any = 0, hit = -1;
-        for (int k = 0; k < pb->n; ++k) {
-            lz[2 * k] = z->lo[k];
-            lz[2 * k + 1] = z->hi[k];
-            any |= z->lo[k] | z->hi[k];
-        }
-        hp_qp_status qs = hpi_qp_solve_lazy(q, Lg, guess, any ? lz : NULL, &hit, budget,
-                                            RT_FEAS_TOL);
-        if (qs != HP_QP_LAZY) return qs;
+    unsigned char lz[HP_QP_MMAX] = {0};
+    int any = 0, hit = -1;
+    for (int k = 0; k < pb->n; ++k) {
+        lz[2 * k] = z->lo[k];
+        lz[2 * k + 1] = z->hi[k];
+        any |= z->lo[k] | z->hi[k];
+    }
+    hp_qp_status qs = hpi_qp_solve_lazy(q, Lg, guess, any ? lz : NULL, &hit, budget, RT_FEAS_TOL);
+    while (qs == HP_QP_LAZY) {
+        /* A stop in the full solve's loop goes on from its iterate once the row is exact
+         * (hpi_qp_resume_lazy): only that end is solved. A warm start's stop starts again,
+         * so every bladder whose stand-in row the iterate violates is solved with it (it is
+         * likely to stop the next start too). */
+        int resume = q->resumable;
         for (int k = 0; k < pb->n; ++k) {
             if (!(z->lo[k] | z->hi[k])) continue;
-            const double *c = &q->C[2 * k * HP_QP_NMAX];
-            double cx = 0.0;
-            for (int v = 0; v < q->n; ++v) cx += c[v] * q->x[v];
-            unsigned ends = (hit == 2 * k || (z->lo[k] && cx < q->b[2 * k]) ? 1u : 0u) |
-                            (hit == 2 * k + 1 || (z->hi[k] && -cx < q->b[2 * k + 1]) ? 2u : 0u);
+            unsigned ends = (hit == 2 * k ? 1u : 0u) | (hit == 2 * k + 1 ? 2u : 0u);
+            if (!resume) {
+                const double *c = &q->C[2 * k * HP_QP_NMAX];
+                double cx = 0.0;
+                for (int v = 0; v < q->n; ++v) cx += c[v] * q->x[v];
+                ends |= (z->lo[k] && cx < q->b[2 * k] ? 1u : 0u) |
+                        (z->hi[k] && -cx < q->b[2 * k + 1] ? 2u : 0u);
+            }
             if (!ends) continue;
             if (!hpi_setup_rate_resolve(z, k, ends)) return HP_QP_BAD_INPUT;
             rt_row_b(st, pb, k);
+            lz[2 * k] = z->lo[k];
+            lz[2 * k + 1] = z->hi[k];
         }
+        any = 0;
+        for (int k = 0; k < pb->n; ++k) any |= z->lo[k] | z->hi[k];
+        qs = resume ? hpi_qp_resume_lazy(q, any ? lz : NULL, &hit, budget, RT_FEAS_TOL)
+                    : hpi_qp_solve_lazy(q, Lg, guess, any ? lz : NULL, &hit, budget, RT_FEAS_TOL);
     }
+    return qs;
 }
 
 /* Builds and solves the QP linearised at xk (scaled pose; uncommanded entries 0), with the

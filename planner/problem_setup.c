@@ -9,6 +9,12 @@
 static atomic_ulong rate_solves, rate_evals, rate_lazy_setups;
 static atomic_int rate_eager;
 
+/* How near [Pa] the last bound of a window end must be for its root find to start there
+ * (no evaluation, the memo's pressure and slope) rather than at the knots' interpolant
+ * (one evaluation, ~1e-10 from the root): from farther, the Newton steps from the memo
+ * cost more than that evaluation. */
+#define HP_RATE_MEMO_NEAR_PA 20.0
+
 unsigned long hpi_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
 unsigned long hpi_test_rate_bound_evals(void) { return atomic_load(&rate_evals); }
 unsigned long hpi_test_rate_lazy_setups(void) { return atomic_load(&rate_lazy_setups); }
@@ -65,19 +71,73 @@ static double slope_max(const hp_iab_s *s, double lo, double hi)
     return 2.0 * m;
 }
 
-/* The knots of bladder k (hp_static_bounds.knot_ro, knot_p): HP_RATE_KNOTS inner radii evenly
- * over [lo, hi], each with its outer radius and the closed form's pressure there (the bits
- * hpi_iab_s_ik_ro_m gives). 0 when the model fails at one or the pressures do not rise
- * (then no stand-in is made from them). */
-static int rate_knots(const hp_iab_s *s, double lo, double hi, double *ro, double *p)
+/* The knots of bladder k (hp_static_bounds.knot_*): HP_RATE_KNOTS points whose pressures
+ * are spread evenly over [p_lo, p_hi] (the static interval's ends ri_lo, ri_hi, and the FK
+ * roots of the evenly spaced pressures between them), each with its inner and outer radius,
+ * the closed form's pressure there (the bits hpi_iab_s_ik_ro_m gives: a knot is an
+ * evaluated point, not an estimate) and its slope dP/dri (per scaled length, hpi_iab_s_slopes).
+ * Even in pressure, not in radius: the pressure's slope varies fivefold over the interval,
+ * and even radii left 770 Pa between the low knots, wider than half a 1 kPa window, so a
+ * window there had no knot inside and both its ends were solved at once (the plans that
+ * made the loop benchmark's p99.9). 0 when the model fails at one or the pressures or radii
+ * do not rise (then no stand-in or start is made from them). */
+static int rate_knots(const hp_iab_s *s, const hp_iab_limit *lp, const hp_envelope *env,
+                      hp_static_bounds *b, int k)
 {
+    b->knot_dp[k] = INFINITY; /* no knots: a remembered bound is near wherever it lies */
     for (int i = 0; i < HP_RATE_KNOTS; ++i) {
-        double ri = lo + (hi - lo) * i / (HP_RATE_KNOTS - 1.0);
-        if (hpi_iab_s_ik_ro_m(s, ri, &p[i], &ro[i]) != HP_OK || !isfinite(p[i]) ||
-            !isfinite(ro[i]) || (i > 0 && !(p[i] > p[i - 1] && ro[i] > ro[i - 1])))
+        double ri = i == 0 ? env->ri_lo : env->ri_hi, ro, P, d;
+        if (i > 0 && i < HP_RATE_KNOTS - 1) {
+            double t = env->p_lo + (env->p_hi - env->p_lo) * i / (HP_RATE_KNOTS - 1.0);
+            hpi_iab_fk_out o;
+            if (hpi_iab_s_fk_from(s, lp, t, NULL, &o) != HP_OK) return 0;
+            ri = o.ri;
+        }
+        if (hpi_iab_s_ik_ro_m(s, ri, &P, &ro) != HP_OK ||
+            hpi_iab_s_slopes(s, ri * s->scale, ro * s->scale, &d, NULL) != HP_OK || !isfinite(P) ||
+            !isfinite(ro) || !(d > 0 && isfinite(d)) ||
+            (i > 0 &&
+             !(P > b->knot_p[k][i - 1] && ro > b->knot_ro[k][i - 1] && ri > b->knot_ri[k][i - 1])))
             return 0;
+        b->knot_ri[k][i] = ri;
+        b->knot_ro[k][i] = ro;
+        b->knot_p[k][i] = P;
+        b->knot_d[k][i] = d;
     }
+    b->knot_dp[k] = (b->knot_p[k][HP_RATE_KNOTS - 1] - b->knot_p[k][0]) / (HP_RATE_KNOTS - 1);
     return 1;
+}
+
+/* The knot interval of pressure p on bladder k: j in 0..HP_RATE_KNOTS − 2 with knot_p[j] <=
+ * p <= knot_p[j + 1] when p lies within the knots (else the first or the last interval).
+ * The knots' pressures are nearly even (knot_dp apart): the index from p, then a step or
+ * two, not a search. */
+static int knot_index(const hp_static_bounds *b, int k, double p)
+{
+    const double *kp = b->knot_p[k];
+    double u = (p - kp[0]) / b->knot_dp[k];
+    int j = u > 0 ? (u < HP_RATE_KNOTS - 2 ? (int)u : HP_RATE_KNOTS - 2) : 0;
+    while (j > 0 && kp[j] > p) --j;
+    while (j < HP_RATE_KNOTS - 2 && kp[j + 1] < p) ++j;
+    return j;
+}
+
+/* A start for the root find of pressure pw on bladder k: the inner radius [m] the cubic
+ * Hermite interpolant of ri(P) through the two knots around pw gives (their radii and
+ * slopes dri/dP = 1 / dP/dri), within ~1e-10 of the radius over the default scene's
+ * knots, so the Newton iteration that evaluates it there needs one more step and the look at
+ * the neighbouring double. NAN when pw lies outside the knots (or they failed): the root
+ * find then starts without it. Only a start: the root is the FK's whatever the guess. */
+static double knot_guess(const hp_static_bounds *b, int k, double pw)
+{
+    const double *kp = b->knot_p[k];
+    if (!b->knots_ok[k] || !(pw >= kp[0] && pw <= kp[HP_RATE_KNOTS - 1])) return NAN;
+    int j = knot_index(b, k, pw);
+    double h = kp[j + 1] - kp[j], t = (pw - kp[j]) / h, sc = b->iab_s[k].scale;
+    double m0 = h / (b->knot_d[k][j] * sc), m1 = h / (b->knot_d[k][j + 1] * sc);
+    double t2 = t * t, t3 = t2 * t;
+    return (2.0 * t3 - 3.0 * t2 + 1.0) * b->knot_ri[k][j] + (t3 - 2.0 * t2 + t) * m0 +
+           (3.0 * t2 - 2.0 * t3) * b->knot_ri[k][j + 1] + (t3 - t2) * m1;
 }
 
 /* Tightest of two bounds with their flags; equal bounds keep both flags. */
@@ -182,8 +242,7 @@ hp_error hpi_setup_static_bounds(const hp_layout *L, hp_static_bounds *b, hp_dia
         b->ro_lo[k] = env.ro_lo;
         b->ro_hi[k] = env.ro_hi;
         b->rate_slack[k] = hpi_setup_rate_slack(slope_max(&b->iab_s[k], env.ri_lo, env.ri_hi));
-        b->knots_ok[k] = rate_knots(&b->iab_s[k], env.ri_lo, env.ri_hi, b->knot_ro[k],
-                                    b->knot_p[k]);
+        b->knots_ok[k] = rate_knots(&b->iab_s[k], &env.limit, &env, b, k);
     }
     return HP_OK;
 }
@@ -207,20 +266,26 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
         return 1;
     }
     atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
-    /* From the last bound of the same window end, with the pressure, slope and outer radius
-     * evaluated there: a control loop's windows move by a sensor's noise or one plan's step,
-     * so the root is a Newton step or two away instead of a bracket search and a Newton
-     * iteration from its middle (most of a rate-limited plan's cost on the step trace). The
-     * same root to rounding either way (tests/planner/test_rate_bounds.c: against the cold
-     * reference along such chains). */
-    hpi_iab_fk_start st;
-    if (m && m->ok)
+    /* From the last bound of the same window end when it lies within HP_RATE_MEMO_NEAR_PA,
+     * with the pressure, slope and outer radius evaluated there: a sensor's noise moves a
+     * window that little, and the root is a Newton step or two away instead of a bracket
+     * search and a Newton iteration from its middle. From farther (a jump, a ramp of one
+     * plan's step) it starts at the knots' interpolant instead: one evaluation there, ~1e-10
+     * from the root, where the last bound a few hundred Pa away takes three or four Newton
+     * steps more. The same root to rounding either way (tests/planner/test_rate_bounds.c:
+     * against the cold reference along such chains). A first bound starts from nothing: the
+     * cold root find's bits, which that test holds it to. */
+    hpi_iab_fk_start st = {0};
+    int held = m && m->ok;
+    double g = held && fabs(pw - m->p) > HP_RATE_MEMO_NEAR_PA ? knot_guess(b, k, pw) : NAN;
+    if (!isnan(g)) st.ri = g; /* a radius alone: evaluated there */
+    else if (held)
         st = (hpi_iab_fk_start){
             .ri = m->r, .p = m->p_at, .d = m->d, .ro = m->ro, .slope = 1, .exact = 1};
     hpi_iab_fk_out o;
     int evals = 0;
     const hp_iab_s *s = &b->iab_s[k];
-    hp_error e = hpi_iab_s_fk_from(s, &b->limit[k], pw, m && m->ok ? &st : NULL, &o);
+    hp_error e = hpi_iab_s_fk_from(s, &b->limit[k], pw, !isnan(g) || held ? &st : NULL, &o);
     /* The nudge's first look is the root's own evaluation when the root find ended on one
      * (the same bits as evaluating it again). */
     *r = o.ri;
@@ -249,44 +314,37 @@ hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b, c
 /* A stand-in for the outer-radius bound [m] of the window end at pressure pw (up: the
  * lower end, whose radius bound must have a pressure >= pw), strictly inside the exact
  * bound: the outer radius of a point whose closed-form pressure lies beyond pw by the rate
- * slack on the window's side — the last bound solved for that end when it qualifies (a
- * window moves little from cycle to cycle), else the nearest such knot of the bladder. The pressure rises with the radius
- * on the stable branch, so the exact bound, where the pressure crosses pw, lies outside
- * that point by at least the slack's radius (about 1e-5 mm; the closed form's last-bit
- * wobble is ~1e-11 Pa). No model evaluation; NAN when no point qualifies. */
+ * slack on the window's side: the last bound solved for that end when its pressure lies
+ * within a knot spacing of that (a window moves little from cycle to cycle; no search),
+ * else the nearer of it and the bladder's nearest knot. Not the memo whenever it
+ * qualifies: a memo left by a window far away (before a jump, or on the other side of a
+ * binding limit) qualifies too, and a stand-in that far inside crossed the other end's, so
+ * that both ends were solved at once. The pressure rises with the radius on the stable
+ * branch, so the exact bound, where the pressure crosses pw, lies outside that point by at
+ * least the slack's radius (about 1e-5 mm; the closed form's last-bit wobble is ~1e-11 Pa).
+ * No model evaluation; NAN when no point qualifies. */
 static double stand_in(const hp_static_bounds *b, int k, double pw, int up, const hp_rate_end *m)
 {
     double sl = b->rate_slack[k], r = NAN;
     if (!isfinite(sl)) return NAN;
     const double *kp = b->knot_p[k], *kr = b->knot_ro[k];
-    int memo = m && m->ok;
+    int memo = m && m->ok, ok = b->knots_ok[k];
     if (up) { /* the smallest radius with P >= pw + sl */
         double t = pw + sl;
-        /* The last bound, where it qualifies, is the window's end a cycle ago: near. */
-        if (memo && m->p_at >= t) return m->ro;
-        if (b->knots_ok[k] && kp[HP_RATE_KNOTS - 1] >= t) {
-            int lo = 0, hi = HP_RATE_KNOTS - 1; /* kp[hi] >= t */
-            while (hi - lo > 1) {
-                int mid = (lo + hi) / 2;
-                if (kp[mid] >= t) hi = mid;
-                else lo = mid;
-            }
-            r = kp[lo] >= t ? kr[lo] : kr[hi];
+        if (memo && m->p_at >= t && m->p_at - t <= b->knot_dp[k]) return m->ro;
+        if (ok && kp[HP_RATE_KNOTS - 1] >= t) {
+            int j = knot_index(b, k, t); /* kp[j] <= t <= kp[j + 1], or t below the knots */
+            r = kp[j] >= t ? kr[j] : kr[j + 1];
         }
-        return r;
+        return memo && m->p_at >= t && !(m->ro >= r) ? m->ro : r;
     }
     double t = pw - sl; /* the largest radius with P <= pw - sl */
-    if (memo && m->p_at <= t) return m->ro;
-    if (b->knots_ok[k] && kp[0] <= t) {
-        int lo = 0, hi = HP_RATE_KNOTS - 1; /* kp[lo] <= t */
-        while (hi - lo > 1) {
-            int mid = (lo + hi) / 2;
-            if (kp[mid] <= t) lo = mid;
-            else hi = mid;
-        }
-        r = kp[hi] <= t ? kr[hi] : kr[lo];
+    if (memo && m->p_at <= t && t - m->p_at <= b->knot_dp[k]) return m->ro;
+    if (ok && kp[0] <= t) {
+        int j = knot_index(b, k, t); /* kp[j] <= t <= kp[j + 1], or t above the knots */
+        r = kp[j + 1] <= t ? kr[j + 1] : kr[j];
     }
-    return r;
+    return memo && m->p_at <= t && !(m->ro <= r) ? m->ro : r;
 }
 
 /* Bladder k's bounds for this plan: the static ones intersected with its rate window's

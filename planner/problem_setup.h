@@ -13,11 +13,12 @@
  * recover the radius from the pressure (dP/dri vanishes at the peak). */
 #define HP_STABLE_MARGIN 1e-3
 
-/* Knots per bladder for the rate window ends' stand-ins (hp_static_bounds.knot_ro): a
- * stand-in from a knot lies at most one knot spacing inside its exact bound (the static
- * interval / 32: a few hundred Pa on the default scene). 33, not more: with 129 the
- * tables (33 KB a planner) cost a rate-limited plan 0.1 to 0.3 us more on the loop
- * benchmark than they saved, though fewer ends were solved. */
+/* Knots per bladder for the rate window ends' stand-ins and root-find starts
+ * (hp_static_bounds.knot_*), evenly spaced in pressure: a stand-in from a knot lies at most
+ * one knot spacing inside its exact bound (the static pressure interval / 32: 338 Pa on the
+ * default scene), so a window wider than two spacings (the loop benchmark's 1 kPa) always
+ * has stand-ins at both ends. 33, not more: with 129 (evenly in radius) the tables cost a
+ * rate-limited plan 0.1 to 0.3 us more on the loop benchmark than they saved. */
 #define HP_RATE_KNOTS 33
 
 /* Limits of one layout that do not change from plan to plan, in SI. */
@@ -36,10 +37,14 @@ typedef struct hp_static_bounds {
     /* hpi_setup_rate_slack of the bladder: how far inside a rate window [Pa] a pressure
      * must lie for the window's radius bound not to matter (hpi_setup_rate_clear). */
     double rate_slack[HP_MAX_BLADDERS];
-    /* HP_RATE_KNOTS points evenly over the static interval of inner radii: their outer
+    /* HP_RATE_KNOTS points over the static interval, evenly in pressure: their outer
      * radii [m] and closed-form pressures [Pa] (rising; knots_ok 0 when they could not be
      * made): where a window end's stand-in (hp_rate_lazy) comes from. */
     double knot_ro[HP_MAX_BLADDERS][HP_RATE_KNOTS], knot_p[HP_MAX_BLADDERS][HP_RATE_KNOTS];
+    /* and their inner radii [m] and slopes dP/dri (per scaled length): the root finds'
+     * starts (a cubic Hermite interpolant of ri(P) between two knots) */
+    double knot_ri[HP_MAX_BLADDERS][HP_RATE_KNOTS], knot_d[HP_MAX_BLADDERS][HP_RATE_KNOTS];
+    double knot_dp[HP_MAX_BLADDERS]; /* their mean spacing [Pa] */
     int knots_ok[HP_MAX_BLADDERS];
 } hp_static_bounds;
 

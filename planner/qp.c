@@ -384,63 +384,16 @@ hp_qp_status hpi_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, in
     return hpi_qp_solve_lazy(qp, Lg, guess, NULL, NULL, max_iter, feas_tol);
 }
 
-hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
-                               const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
+/* The Goldfarb–Idnani loop of hpi_qp_solve_lazy from the state in qp (x, Jᵀ, R, the active
+ * set A_ of size q_ with multipliers uA_, the row state nrm2_, twin_, skip_): adds the most
+ * violated row until none is. A stand-in row picked stops it (HP_QP_LAZY, resumable). */
+static hp_qp_status gi_loop(hp_qp *qp, const double *Cr, const unsigned char *lazy, int *hit,
+                            int max_iter, double feas_tol)
 {
-    int n = qp->n, m = qp->m, hit_row = -1;
-    if (!hit) hit = &hit_row;
-    *hit = -1;
-    qp->warm = HP_QP_WARM_NONE;
-    if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1 || qp->pairs < 0 ||
-        qp->pairs > m / 2)
-        return HP_QP_BAD_INPUT;
-    double *Jt = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_;
-    double nrm2[HP_QP_MMAX], a[NM] = {0};
-    int twin[HP_QP_MMAX], skip[HP_QP_MMAX]; /* skip: active rows and rows of zero norm */
-    /* the guessed rows in index order, read before the outputs (guess may be qp->active) */
-    int ga[HP_QP_MMAX], gk = 0;
-    if (guess)
-        for (int j = 0; j < m; ++j) {
-            ga[gk] = j; /* gk <= j < m */
-            gk += guess[j] != 0;
-        }
-    for (int i = 0; i < n; ++i) {
-        if (!isfinite(qp->a[i])) return HP_QP_BAD_INPUT;
-        a[i] = qp->a[i];
-    }
-    int empty;
-    const double *Cr = load_rows(qp, feas_tol, nrm2, twin, skip, &empty);
-    if (!Cr) return HP_QP_BAD_INPUT;
-    qp->iterations = 0;
-    const double *L;
-    int ldl;
-    if (!cholesky_factor(qp->G, n, Lg, qp->L_, &L, &ldl)) return HP_QP_BAD_INPUT;
-    if (lazy) /* a row of zero norm: its b alone decides emptiness */
-        for (int j = 0; j < m; ++j)
-            if (lazy[j] && skip[j]) {
-                *hit = j;
-                return HP_QP_LAZY;
-            }
-    if (empty) return HP_QP_INFEASIBLE; /* a row of zero norm that no x satisfies */
-    if (guess) {
-        qp->warm = warm_try(qp, L, ldl, Cr, ga, gk, a, nrm2, twin, skip, max_iter, feas_tol, lazy,
-                            hit);
-        if (*hit >= 0) return HP_QP_LAZY;
-        if (qp->warm == HP_QP_WARM_ACCEPTED) {
-            for (int i = 0; i < n; ++i)
-                if (!isfinite(x[i])) return HP_QP_BAD_INPUT;
-            return HP_QP_OPTIMAL;
-        }
-    }
-    /* row by row: a small memset compiles to a few stores, this one whole to a string
-     * store with a slow start */
-    for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
-    invert_factor(L, ldl, n, Jt);
-
-    /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
-    memset(x, 0, sizeof qp->x);
-    for (int k = 0; k < n; ++k) axpy(x, -dot(&Jt[IDX(k, 0)], a), &Jt[IDX(k, 0)]);
-    int q = 0;
+    int n = qp->n;
+    double *Jt = qp->J_, *R = qp->R_, *x = qp->x, *u = qp->uA_, *nrm2 = qp->nrm2_;
+    int *twin = qp->twin_, *skip = qp->skip_;
+    int q = qp->q_;
 
     for (;;) {
         /* Step 1: the most violated constraint. */
@@ -448,6 +401,8 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
         if (p < 0) break;
         if (lazy && lazy[p]) {
             *hit = p;
+            qp->q_ = q;
+            qp->resumable = 1;
             return HP_QP_LAZY;
         }
         const double *np = &Cr[p * NM];
@@ -518,4 +473,81 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
     for (int i = 0; i < n; ++i)
         if (!isfinite(x[i])) return HP_QP_BAD_INPUT;
     return HP_QP_OPTIMAL;
+}
+
+hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
+                               const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
+{
+    int n = qp->n, m = qp->m, hit_row = -1;
+    if (!hit) hit = &hit_row;
+    *hit = -1;
+    qp->warm = HP_QP_WARM_NONE;
+    qp->resumable = 0;
+    if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1 || qp->pairs < 0 ||
+        qp->pairs > m / 2)
+        return HP_QP_BAD_INPUT;
+    double *Jt = qp->J_, *R = qp->R_, *x = qp->x;
+    double *nrm2 = qp->nrm2_, a[NM] = {0};
+    int *twin = qp->twin_, *skip = qp->skip_; /* skip: active rows and rows of zero norm */
+    /* the guessed rows in index order, read before the outputs (guess may be qp->active) */
+    int ga[HP_QP_MMAX], gk = 0;
+    if (guess)
+        for (int j = 0; j < m; ++j) {
+            ga[gk] = j; /* gk <= j < m */
+            gk += guess[j] != 0;
+        }
+    for (int i = 0; i < n; ++i) {
+        if (!isfinite(qp->a[i])) return HP_QP_BAD_INPUT;
+        a[i] = qp->a[i];
+    }
+    int empty;
+    const double *Cr = load_rows(qp, feas_tol, nrm2, twin, skip, &empty);
+    if (!Cr) return HP_QP_BAD_INPUT;
+    qp->iterations = 0;
+    const double *L;
+    int ldl;
+    if (!cholesky_factor(qp->G, n, Lg, qp->L_, &L, &ldl)) return HP_QP_BAD_INPUT;
+    if (lazy) /* a row of zero norm: its b alone decides emptiness */
+        for (int j = 0; j < m; ++j)
+            if (lazy[j] && skip[j]) {
+                *hit = j;
+                return HP_QP_LAZY;
+            }
+    if (empty) return HP_QP_INFEASIBLE; /* a row of zero norm that no x satisfies */
+    if (guess) {
+        qp->warm = warm_try(qp, L, ldl, Cr, ga, gk, a, nrm2, twin, skip, max_iter, feas_tol, lazy,
+                            hit);
+        if (*hit >= 0) return HP_QP_LAZY;
+        if (qp->warm == HP_QP_WARM_ACCEPTED) {
+            for (int i = 0; i < n; ++i)
+                if (!isfinite(x[i])) return HP_QP_BAD_INPUT;
+            return HP_QP_OPTIMAL;
+        }
+    }
+    /* row by row: a small memset compiles to a few stores, this one whole to a string
+     * store with a slow start */
+    for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
+    invert_factor(L, ldl, n, Jt);
+
+    /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
+    memset(x, 0, sizeof qp->x);
+    for (int k = 0; k < n; ++k) axpy(x, -dot(&Jt[IDX(k, 0)], a), &Jt[IDX(k, 0)]);
+    qp->q_ = 0;
+    return gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol);
+}
+
+hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, int max_iter,
+                                double feas_tol)
+{
+    int hit_row = -1;
+    if (!hit) hit = &hit_row;
+    *hit = -1;
+    if (!qp->resumable) return HP_QP_BAD_INPUT;
+    qp->resumable = 0;
+    /* load_rows's choice of rows: C itself at full width, else its padded copy (which
+     * the stopped solve wrote and nothing since has changed) */
+    const double *Cr = qp->n < NM ? qp->C_ : qp->C;
+    for (int j = 0; j < qp->m; ++j) /* a row's b made exact must still be a number */
+        if (!isfinite(qp->b[j])) return HP_QP_BAD_INPUT;
+    return gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol);
 }

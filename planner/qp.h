@@ -68,6 +68,13 @@ typedef struct hp_qp {
     double uA_[HP_QP_NMAX + 1];
     double L_[HP_QP_NMAX * HP_QP_NMAX]; /* the Cholesky factor of G when the caller gives none
                                          * (lower triangle, leading dimension HP_QP_NMAX) */
+    /* the full solve's row state: squared norms, twin flags, rows skipped (active or of zero
+     * norm), the active set's size: kept here so that a stopped solve can go on */
+    double nrm2_[HP_QP_MMAX];
+    int twin_[HP_QP_MMAX], skip_[HP_QP_MMAX], q_;
+    /* 1 when the last hpi_qp_solve_lazy or hpi_qp_resume_lazy stopped (HP_QP_LAZY) in the
+     * full solve's loop, which hpi_qp_resume_lazy can continue; 0 after any other return */
+    int resumable;
 } hp_qp;
 
 /* Solves the QP held in q (n, m, G, a, C, b filled) with at most max_iter add/drop steps;
@@ -113,5 +120,17 @@ hp_qp_status hpi_qp_solve_warm(hp_qp *q, const double *Lg, const int *guess, int
  * are not meaningful except x, the iterate at the stop. */
 hp_qp_status hpi_qp_solve_lazy(hp_qp *q, const double *Lg, const int *guess,
                                const unsigned char *lazy, int *hit, int max_iter, double feas_tol);
+
+/* Continues a solve that stopped with HP_QP_LAZY in its full loop (q->resumable), after the
+ * caller made the stopped row's b exact (and possibly other stand-in rows': lazy as it is
+ * now). Nothing else of q may have changed: not G, a, C, the other rows' b, nor the
+ * outputs. The stopped iterate is the exact solve's at the same step (no stand-in row was
+ * picked before, and the rows' b enter only through the active rows, none of them a
+ * stand-in), so going on from it is that solve, bit for bit, without the set-up, the
+ * factorisation and the steps a new start repeats (tests/planner/test_qp_warm.c,
+ * test_lazy_resume_same_bits). The same outputs and statuses as hpi_qp_solve_lazy;
+ * HP_QP_BAD_INPUT when q is not resumable. */
+hp_qp_status hpi_qp_resume_lazy(hp_qp *q, const unsigned char *lazy, int *hit, int max_iter,
+                                double feas_tol);
 
 #endif

@@ -239,6 +239,18 @@ badl=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
 awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
   $3 == "step" && $4 == "rate" && $c["rate_binding"] > 0 { n++ } END { exit !(n == 6) }' "$lcsv" \
   && ok || bad "loop: rate limits never bind on the step trace"
+# The rate limits' window ends, counted: none without rate limits; solved on the step trace
+# (its targets jump beyond the rate) and found among the slowest plans there.
+awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+  $4 == "free" && $c["ends_per_1000"] != 0 { bad = 1 }
+  $2 == "realtime" && $3 == "step" && $4 == "rate" && !($c["ends_per_1000"] > 0 && $c["evals_per_end"] >= 1) { bad = 1 }
+  END { exit bad }' "$lcsv" && ok || bad "loop: ends_per_1000 / evals_per_end"
+# --repeat pools the cycles of N runs of each trace.
+run --quick --only loop --repeat 2 --out "$TMP/rep" --scene "$HP_SRC/scenarios/default.yaml"
+expect_exit 0 "bench --only loop --repeat 2"
+awk -F, 'NR > 1 && $5 != 240 { bad = 1 } END { exit bad }' "$TMP/rep/loop.csv" && ok || bad "loop --repeat 2: 240 cycles a row"
+run --repeat 0 --out "$TMP/x"
+expect_exit 64 "--repeat 0"; expect_stderr_has "--repeat" "names --repeat"
 run --only nonsense --out "$TMP/x"
 expect_exit 64 "--only nonsense"; expect_stderr_has "--only" "names --only"; expect_stdout_empty "--only nonsense"
 run --seed -3 --out "$TMP/x"

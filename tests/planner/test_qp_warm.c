@@ -587,15 +587,16 @@ static void test_dense_fixed_sizes_same_bits(void **st)
 /* hpi_qp_solve_lazy: on seeded random QPs of the realtime shape, some rows' b raised by a
  * random amount (a stand-in: the constraint tightened, never loosened) and marked lazy.
  * Each stop (HP_QP_LAZY) names a marked row, whose exact b is then put back, and the solve
- * starts again, as the realtime backend does; the solve that runs to its end must be the
+ * starts again (as the realtime backend does after a warm start's stop); the solve that runs to its end must be the
  * exact QP's solve bit for bit (status, x, multipliers, active set, iterations, what the
  * warm start did), with no guess, with the exact answer's active set as the guess and with
- * a random guess. */
-static void test_lazy_rows_same_bits(void **st)
+ * a random guess. With resume, each stop of the full solve's loop (qp.resumable) goes on
+ * from its iterate (hpi_qp_resume_lazy) instead of starting again; a warm start's stop
+ * starts again. The counts: *stops (started again), *resumes, *skipped (stand-in rows never
+ * needed); returns the solves compared. */
+static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, long *skipped)
 {
-    (void)st;
-    uint64_t seed = 0x1a2e;
-    long stops = 0, skipped = 0, solves = 0;
+    long solves = 0;
     for (int t = 0; t < 3000; ++t) {
         hp_qp exact;
         realtime_qp(&exact, &seed);
@@ -614,21 +615,21 @@ static void test_lazy_rows_same_bits(void **st)
                     lazy[j] = 1;
                     q.b[j] += pow(10.0, -6.0 + 6.0 * test_rng_uniform(&seed, 0.0, 1.0));
                 }
-            hp_qp_status qs;
             int hit;
-            for (;;) {
-                hp_qp w = q;
-                qs = hpi_qp_solve_lazy(&w, NULL, v ? g : NULL, lazy, &hit, 200, 1e-12);
-                if (qs != HP_QP_LAZY) {
-                    q = w;
-                    break;
-                }
+            hp_qp_status qs = hpi_qp_solve_lazy(&q, NULL, v ? g : NULL, lazy, &hit, 200, 1e-12);
+            while (qs == HP_QP_LAZY) {
                 assert_true(hit >= 0 && hit < m && lazy[hit]);
                 lazy[hit] = 0;
                 q.b[hit] = exact.b[hit];
-                ++stops;
+                if (resume && q.resumable) {
+                    ++*resumes;
+                    qs = hpi_qp_resume_lazy(&q, lazy, &hit, 200, 1e-12);
+                } else {
+                    ++*stops;
+                    qs = hpi_qp_solve_lazy(&q, NULL, v ? g : NULL, lazy, &hit, 200, 1e-12);
+                }
             }
-            for (int j = 0; j < m; ++j) skipped += lazy[j];
+            for (int j = 0; j < m; ++j) *skipped += lazy[j];
             ++solves;
             assert_int_equal(qs, rs);
             if (rs != HP_QP_OPTIMAL) continue;
@@ -639,11 +640,39 @@ static void test_lazy_rows_same_bits(void **st)
             assert_int_equal(q.warm, ref.warm);
         }
     }
+    return solves;
+}
+
+static void test_lazy_rows_same_bits(void **st)
+{
+    (void)st;
+    long stops = 0, resumes = 0, skipped = 0;
+    long solves = lazy_sweep(0x1a2e, 0, &stops, &resumes, &skipped);
     print_message("lazy rows: %ld solves, %ld stops for an exact b, %ld stand-in rows never "
                   "needed\n",
                   solves, stops, skipped);
     assert_true(solves > 6000);
     assert_true(stops > 0 && skipped > 0);
+}
+
+/* test_lazy_rows_same_bits with resume: the stopped solve goes on from its iterate with the
+ * row made exact, and the finished solve equals the exact solve in x, multipliers, active
+ * set, iterations and the warm start's outcome. A finished solve is not resumable. */
+static void test_lazy_resume_same_bits(void **st)
+{
+    (void)st;
+    long stops = 0, resumes = 0, skipped = 0;
+    long solves = lazy_sweep(0x2e5e, 1, &stops, &resumes, &skipped);
+    print_message("lazy rows resumed: %ld solves, %ld stops resumed, %ld started again\n", solves,
+                  resumes, stops);
+    assert_true(solves > 6000);
+    assert_true(resumes > 1000);
+    uint64_t seed = 0x5e5;
+    hp_qp q;
+    realtime_qp(&q, &seed);
+    assert_int_equal(hpi_qp_solve(&q, 200, 1e-12) == HP_QP_LAZY, 0);
+    assert_false(q.resumable);
+    assert_int_equal(hpi_qp_resume_lazy(&q, NULL, NULL, 200, 1e-12), HP_QP_BAD_INPUT);
 }
 
 int main(void)
@@ -656,6 +685,7 @@ int main(void)
         cmocka_unit_test(test_declared_pairs_same_bits),
         cmocka_unit_test(test_dense_fixed_sizes_same_bits),
         cmocka_unit_test(test_lazy_rows_same_bits),
+        cmocka_unit_test(test_lazy_resume_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
