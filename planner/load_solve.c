@@ -471,8 +471,7 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
                 /* The fixed bladders' rows of the map: singular when the two fixed forces
                  * do not determine the free ones (no vertex there). */
                 double det = nfree > 1 ? g[a][1] * g[bb][2] - g[a][2] * g[bb][1] : g[a][1];
-                double size = nfree > 1 ? fabs(g[a][1] * g[bb][2]) + fabs(g[a][2] * g[bb][1])
-                                        : 1.0;
+                double size = nfree > 1 ? fabs(g[a][1] * g[bb][2]) + fabs(g[a][2] * g[bb][1]) : 1.0;
                 if (!(fabs(det) > 1e-12 * size)) continue;
                 for (int sides = 0; sides < nsides; ++sides) {
                     const int ka = col[a], kb = nfree > 1 ? col[bb] : -1;

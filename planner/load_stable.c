@@ -122,8 +122,9 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
     int ok;
     if (seg_point(&hs, col, m, ra, rc, f0, &e0, P0, R0) || (ok = stable_at(&S, f0, P0, R0)) < 0)
         return HP_LOAD_SOLVE_ERROR;
-    if (ok) return lam_min && lambda_at(&S, f0, P0, R0, lam_min) ? HP_LOAD_SOLVE_ERROR
-                                                                  : HP_LOAD_SOLVE_OK;
+    if (ok)
+        return lam_min && lambda_at(&S, f0, P0, R0, lam_min) ? HP_LOAD_SOLVE_ERROR
+                                                             : HP_LOAD_SOLVE_OK;
     atomic_fetch_add(&n_searches, 1);
     /* The cheapest stable point of the scan (the tie-breaker's 3×3 grid and the vertices;
      * where none is stable, the finer grid): the segment's far end c, stable by the scan's
