@@ -121,19 +121,26 @@ enum {
     HP_BIND_STRESS_MAX = 1u << 7,  /* the bladder's inner hoop-stress limit (stress_max) */
     HP_BIND_INDENT_MAX = 1u << 8,  /* load level: the indentation range where the contact law
                                       is trusted (delta/ro <= HP_LOAD_INDENT_MAX, hp_load.h) */
-    HP_BIND_CANNOT_PULL = 1u << 9  /* load level: the bladder carries no load (it cannot pull
+    HP_BIND_CANNOT_PULL = 1u << 9, /* load level: the bladder carries no load (it cannot pull
                                       the head: zero force at zero gauge pressure or out of
                                       contact), and more would be needed the other way */
+    HP_BIND_STABILITY = 1u << 10   /* load level: nearer poses are held inside the limits
+                                      only at an unstable equilibrium (a saddle), so the
+                                      answer is a stable hold found farther away. Set on the
+                                      bladders that carry load in it: the holding stiffness
+                                      that decides stability is the sum of their contacts'
+                                      (a bladder carrying nothing adds none), so theirs are
+                                      the pressures a nearer stable hold would need changed */
 };
-#define HP_BIND_COUNT 10
+#define HP_BIND_COUNT 11
 /* A bladder is reported as sitting on a limit when its outer radius is within this many mm
  * of the bound, the one threshold for every backend and level: above the solvers' stopping
  * slack at a bound (Ipopt's interior point keeps ~1e-8 of the bound, the realtime QP
  * 1e-11 mm), far below any clinical meaning. A CLOSEST answer names at least one. */
 #define HP_BINDING_TOL_MM 1e-6
 /* "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
- * "limit_point", "stress_max", "indent_max", "cannot_pull" for one flag bit; "unknown"
- * otherwise. */
+ * "limit_point", "stress_max", "indent_max", "cannot_pull", "stability" for one flag bit;
+ * "unknown" otherwise. */
 HP_API const char *hp_binding_name(unsigned flag);
 
 #define HP_DEFAULT_BACKEND HP_BACKEND_REALTIME
