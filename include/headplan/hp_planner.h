@@ -306,7 +306,8 @@ HP_API hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *resul
  * CLOSEST: no pressures inside the limits hold it there, and the answer is the nearest pose
  * (weighted as the settings say) at which some do that the closest-pose program finds (a
  * local method from several starts: docs/load.md), with the binding limits flagged, among
- * them indent_max (HP_LOAD_INDENT_MAX) and cannot_pull (a bladder carrying nothing).
+ * them indent_max (HP_LOAD_INDENT_MAX), cannot_pull (a bladder carrying nothing) and
+ * stability (below).
  * "Limits" include the indentation range throughout. A REACHED or CLOSEST answer is an
  * equilibrium by two checks: Q below 1e-9 N (hp_load_eval, which also requires every
  * bladder centre outside the moved head) and, at the plane and surface geometries, the
@@ -317,8 +318,10 @@ HP_API hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *resul
  * forward statics at rest within 1e-6 mm / degree of it). Where the hold found is only an
  * unstable equilibrium, a stable CLOSEST answer nearby is looked for (a rest of pressures on
  * the way from the previous answer, inside the rate windows, or a stable hold along
- * gravity); without one the plan is SOLVER_ERROR with the safe output, the message saying
- * so. result.level is HP_LEVEL_LOAD, commanded[] all 1,
+ * gravity); the nearest candidate found is the answer, its carrying bladders flagged
+ * HP_BIND_STABILITY, and hp_planner_note says it is the nearest stable hold the search
+ * found, not a proven nearest stable pose, and how far it is. Without one the plan is
+ * SOLVER_ERROR with the safe output, the message saying so. result.level is HP_LEVEL_LOAD, commanded[] all 1,
  * uncommanded[] 0. With the realtime backend nothing is allocated. */
 
 /* The message of the last failure: a plan whose status is not REACHED, CLOSEST or
