@@ -333,10 +333,13 @@ HP_API const char *hp_planner_error(const hp_planner *p);
  * limits (bladder and limit names) and the components the layout cannot command, with
  * their values; for a contact-level CLOSEST of a backend that solved from one start (NLopt
  * COBYLA, Ipopt and NLopt SLSQP with restarts 0), "; a local optimum: the BACKEND backend made
- * no restarts, and another start may end closer". "" after REACHED and after a failure. Never NULL. A CLOSEST answer's text
- * is composed by the first call after the plan (a control loop that never asks does not
- * pay for it), so this call writes into the planner: like hp_plan, not concurrently with
- * another call on the same planner. */
+ * no restarts, and another start may end closer"; for a load-level CLOSEST answer limited
+ * by stability (HP_BIND_STABILITY), "; the nearest stable hold the search found (...), not
+ * a proven nearest stable pose: D mm/deg from the desired pose[, E mm/deg from the closest
+ * held pose], which is held only at an unstable equilibrium". "" after REACHED and after a
+ * failure. Never NULL. A CLOSEST answer's text is composed by the first call after the
+ * plan (a control loop that never asks does not pay for it), so this call writes into the
+ * planner: like hp_plan, not concurrently with another call on the same planner. */
 HP_API const char *hp_planner_note(const hp_planner *p);
 
 /* The message of the last plan whatever its status, for a caller that shows one text with
