@@ -90,13 +90,14 @@ void cli_print_hoop(const hp_layout *L, const hp_result *r)
 }
 
 static void print_table(const hp_layout *L, const hp_result *r, const hp_load_info *info,
-                        const char *why, hp_level geom, hp_load_tiebreak tie,
+                        const char *msg, const char *why, hp_level geom, hp_load_tiebreak tie,
                         const cli_model_error *me)
 {
     double d[6], a[6];
     hp_pose_to_clinical(r->desired, d);
     hp_pose_to_clinical(r->achieved, a);
-    printf("status      %s\n", hp_status_name(r->status));
+    /* A CLOSEST answer explains itself on its status line, as the kinematic levels' do. */
+    printf("status      %s%s%s\n", hp_status_name(r->status), *msg ? " — " : "", msg);
     printf("level       load (contact geometry %s, tie-breaker %s), backend %s, %.1f us\n",
            hp_level_name(geom), hp_load_tiebreak_name(tie), hp_backend_name(r->backend),
            r->solve_time * 1e6);
@@ -235,7 +236,7 @@ int cli_solve_load(const char *cmd, const hp_scene *sc, const char *name, hp_pla
     if (json) {
         if (print_json(cmd, L, &r, &info, why, geom, tie, &me)) status = CLI_EXIT_SOFTWARE;
     } else {
-        print_table(L, &r, &info, why, geom, tie, &me);
+        print_table(L, &r, &info, hp_planner_message(p), why, geom, tie, &me);
     }
     return status;
 }

@@ -165,6 +165,14 @@ static int newton_euler_holds(const hp_load_model *M, const double xi[6], const 
            sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]) <= NEWTON_EULER_TOL;
 }
 
+/* The largest component of xi − to in mm and degrees (result.pose_error's measure). */
+static double pose_dist(const double xi[6], const double to[6])
+{
+    double e = 0.0;
+    for (int i = 0; i < 6; ++i) e = fmax(e, fabs(xi[i] - to[i]) / hpi_load_unit(i));
+    return e;
+}
+
 static double pose_err(const double xi[6], const double desired[6], const double W[6])
 {
     double e = 0.0;
@@ -470,9 +478,11 @@ static hp_error law_domain_ok(const hp_load_model *M, const double xi[6], const 
 
 /* What binds a CLOSEST answer (pressures P held at pose xi), per bladder in flags: the
  * pressure bounds it sits on, the indentation range, and carrying nothing (it cannot pull
- * the head toward the desired pose). Returns how many bladders have a flag, or -1 when the
- * model fails. */
-static int closest_binding(const hp_load_level *p, const double xi[6], const double *P,
+ * the head toward the desired pose); with stab (an answer found because the nearer held
+ * pose is a saddle: stable_answer) stability on every bladder that carries load, whose
+ * contacts make the holding stiffness (hp_planner.h, HP_BIND_STABILITY). Returns how many
+ * bladders have a flag, or -1 when the model fails. */
+static int closest_binding(const hp_load_level *p, const double xi[6], const double *P, int stab,
                            unsigned *flags)
 {
     const hp_load_model *M = &p->M;
@@ -488,20 +498,21 @@ static int closest_binding(const hp_load_level *p, const double xi[6], const dou
         if (P[k] >= p->ehi[k] - eps) flags[k] |= p->ehi_bind[k];
         if (ratio[k] >= HP_LOAD_INDENT_MAX - INDENT_TOL) flags[k] |= HP_BIND_INDENT_MAX;
         if (force[k] == 0.0) flags[k] |= HP_BIND_CANNOT_PULL;
+        if (stab && force[k] > 0.0) flags[k] |= HP_BIND_STABILITY;
         any += flags[k] != 0;
     }
     return any;
 }
 
 /* Fills the per-bladder part of r from pressures P held at pose xi; a CLOSEST answer names
- * what binds (closest_binding). */
+ * what binds (closest_binding, stab as there). */
 static hp_error fill_bladders(const hp_load_level *p, const double xi[6], const double *P,
-                              int closest, hp_result *r)
+                              int closest, int stab, hp_result *r)
 {
     const hp_load_model *M = &p->M;
     r->n = M->layout.n;
     unsigned flags[HP_MAX_BLADDERS] = {0};
-    if (closest && closest_binding(p, xi, P, flags) < 0) return HP_ERR_DOMAIN;
+    if (closest && closest_binding(p, xi, P, stab, flags) < 0) return HP_ERR_DOMAIN;
     for (int k = 0; k < M->layout.n; ++k) {
         const hp_iab *b = &M->layout.bladders[k].iab;
         hp_bladder_result *o = &r->bladders[k];
@@ -525,7 +536,9 @@ static hp_error fill_bladders(const hp_load_level *p, const double xi[6], const 
 /* The checks every returned answer meets (the plan's, below), for a candidate of the stable
  * walk: an equilibrium by both checks, inside the indentation range and the fitted law's
  * domain, confirmed by the forward model (confirmed_hold), and, as every CLOSEST answer,
- * naming a limit that binds (closest_binding). */
+ * naming a limit that binds (closest_binding). Stability counts: what keeps a candidate
+ * from the desired pose may be only that the nearer holds are saddles, named on the
+ * bladders that carry (at least one does: the head's weight rests on some). */
 static int walk_answer_ok(const void *ctx, const double xi[6], const double *P)
 {
     const hp_load_level *p = ctx;
@@ -534,7 +547,7 @@ static int walk_answer_ok(const void *ctx, const double xi[6], const double *P)
     unsigned flags[HP_MAX_BLADDERS];
     hp_diag dom;
     return holds(M, xi, P) && newton_euler_holds(M, xi, P) && indent_ok(M, xi, P) &&
-           law_domain_ok(M, xi, P, &dom) == HP_OK && closest_binding(p, xi, P, flags) > 0 &&
+           law_domain_ok(M, xi, P, &dom) == HP_OK && closest_binding(p, xi, P, 1, flags) > 0 &&
            confirmed_hold(M, xi, P, &lam);
 }
 
@@ -683,10 +696,7 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
             int have = st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT;
             if (closest_program(p, desired, W, target, have, xi, Pa, &it2)) st = HP_LOAD_SOLVE_OK;
             if (st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT) {
-                double err = 0.0;
-                for (int i = 0; i < 6; ++i)
-                    err = fmax(err, fabs(xi[i] - desired[i]) / hpi_load_unit(i));
-                int reached = err <= p->set.tolerance;
+                int reached = pose_dist(xi, desired) <= p->set.tolerance;
                 double xp[6]; /* POSE's pose, which its pressures Pa hold */
                 memcpy(xp, xi, sizeof xp);
                 if (reached) memcpy(xi, desired, sizeof xi);
@@ -735,10 +745,19 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
                    (r->status == HP_STATUS_REACHED || r->status == HP_STATUS_CLOSEST) &&
                    !confirmed_hold(M, xi, P, &lam);
     const int was_reached = r->status == HP_STATUS_REACHED;
-    /* Nor a CLOSEST one: the stable walk from the previous answer, else refused. */
+    /* Nor a CLOSEST one: the stable walk from the previous answer and the stable holds along
+     * gravity, else refused. An answer so found is limited by stability (HP_BIND_STABILITY):
+     * the nearest stable hold among the candidates tried, not a proven nearest one. */
+    double saddle[6];
+    memcpy(saddle, xi, sizeof saddle);
+    p->stab_found = 0;
     if (unstable && stable_answer(p, desired, target, xi, P)) {
         unstable = 0;
         r->status = HP_STATUS_CLOSEST;
+        p->stab_found = 1;
+        p->stab_was_reached = was_reached;
+        p->stab_from_desired = pose_dist(xi, desired);
+        p->stab_from_saddle = pose_dist(xi, saddle);
     }
     if (bad || st != HP_LOAD_SOLVE_OK || unverified || beyond || outside || unstable) {
         r->status = bad ? HP_STATUS_INVALID_INPUT : HP_STATUS_SOLVER_ERROR;
@@ -771,12 +790,10 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
         memcpy(xi, p->prev_xi, sizeof xi);
         memcpy(P, p->prev_P, (size_t)n * sizeof *P);
     }
-    hp_error err = fill_bladders(p, xi, P, r->status == HP_STATUS_CLOSEST, r);
+    hp_error err = fill_bladders(p, xi, P, r->status == HP_STATUS_CLOSEST, p->stab_found, r);
     if (err) return err;
     memcpy(r->achieved, xi, sizeof xi);
-    r->pose_error = 0.0;
-    for (int i = 0; i < 6; ++i)
-        r->pose_error = fmax(r->pose_error, fabs(xi[i] - desired[i]) / hpi_load_unit(i));
+    r->pose_error = pose_dist(xi, desired);
     if (r->status == HP_STATUS_INVALID_INPUT || r->status == HP_STATUS_SOLVER_ERROR)
         r->pose_error = INFINITY;
     else {
@@ -789,6 +806,22 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
     memcpy(p->last_xi, xi, sizeof xi);
     r->solve_time = hpi_plan_now() - t0;
     return HP_OK;
+}
+
+void hpi_load_level_note(const hp_load_level *p, char *buf)
+{
+    if (!p->stab_found) return;
+    hpi_text_add(buf, "; the nearest stable hold the search found (the stable walk's "
+                      "candidates and the holds along gravity), not a proven nearest stable "
+                      "pose: ");
+    hpi_text_add_num(buf, p->stab_from_desired, 3);
+    hpi_text_add(buf, " mm/deg from the desired pose");
+    if (!p->stab_was_reached) {
+        hpi_text_add(buf, ", ");
+        hpi_text_add_num(buf, p->stab_from_saddle, 3);
+        hpi_text_add(buf, " mm/deg from the closest held pose");
+    }
+    hpi_text_add(buf, ", which is held only at an unstable equilibrium");
 }
 
 hp_error hpi_load_level_info(const hp_load_level *p, hp_load_info *info)

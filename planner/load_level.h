@@ -30,6 +30,11 @@ typedef struct hp_load_level {
      * hp_planner_load_info describes. */
     double last_P[HP_MAX_BLADDERS];
     double last_xi[6];
+    /* The last plan's answer was found instead of a saddle (stable_answer, flagged
+     * HP_BIND_STABILITY): its distance [mm/deg] from the desired pose and from the saddle's
+     * pose, for the note (hpi_load_level_note). */
+    int stab_found, stab_was_reached;
+    double stab_from_desired, stab_from_saddle;
     char *err; /* the planner's error text (HP_DIAG_MAX bytes) */
 } hp_load_level;
 
@@ -46,6 +51,10 @@ hp_error hpi_load_level_build(hp_load_level *p, const hp_settings *s, const hp_b
 hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_result *r);
 /* hp_planner_load_info of the last returned pressures and pose. */
 hp_error hpi_load_level_info(const hp_load_level *p, hp_load_info *info);
+/* What a CLOSEST answer's note adds at the load level, appended to buf (HP_DIAG_MAX
+ * bytes): for an answer found instead of a saddle, what it is and how far; else nothing.
+ * Formats without printf (hp_planner_note's rule). */
+void hpi_load_level_note(const hp_load_level *p, char *buf);
 /* The static pressure bounds (n values each). */
 void hpi_load_level_bounds(const hp_load_level *p, double *lo, double *hi);
 /* The previous-answer calls of hp_planner.h at the load level: pressures inside the static

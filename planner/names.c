@@ -15,7 +15,7 @@ _Static_assert(sizeof hpi_status_words / sizeof *hpi_status_words == HP_STATUS_C
 
 const char *const hpi_binding_words[] = {
     "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
-    "limit_point",  "stress_max",   "indent_max",  "cannot_pull", NULL};
+    "limit_point",  "stress_max",   "indent_max",  "cannot_pull", "stability", NULL};
 _Static_assert(sizeof hpi_binding_words / sizeof *hpi_binding_words == HP_BIND_COUNT + 1,
                "one word per binding reason");
 

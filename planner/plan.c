@@ -682,6 +682,7 @@ void hpi_plan_note_flush(hp_planner *p)
     if (!p->note_pending) return;
     p->note_pending = 0;
     add_closest(p, p->note, p->note_binding);
+    if (p->load) hpi_load_level_note(p->load, p->note);
 }
 
 hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)

@@ -238,8 +238,9 @@ static PyMethodDef functions[] = {
      "binding_names(flags) -> list of str\n\n"
      "The limits named by one bladder's binding flags (an int from a result's 'binding'\n"
      "array): 'pressure_min', 'pressure_max', 'stretch_min', 'stretch_max', 'rate_down',\n"
-     "'rate_up', 'limit_point', 'stress_max', 'indent_max', 'cannot_pull' (the last two at\n"
-     "the load level). Raises ValueError for a negative value or a bit beyond these."},
+     "'rate_up', 'limit_point', 'stress_max', 'indent_max', 'cannot_pull', 'stability'\n"
+     "(the last three at the load level). Raises ValueError for a negative value or a bit\n"
+     "beyond these."},
     {"columns", hpy_columns, METH_NOARGS,
      "columns() -> list of dict\n\n"
      "The table of a planned row's columns that batch's files, the arrays of plan_many and\n"

@@ -121,19 +121,26 @@ enum {
     HP_BIND_STRESS_MAX = 1u << 7,  /* the bladder's inner hoop-stress limit (stress_max) */
     HP_BIND_INDENT_MAX = 1u << 8,  /* load level: the indentation range where the contact law
                                       is trusted (delta/ro <= HP_LOAD_INDENT_MAX, hp_load.h) */
-    HP_BIND_CANNOT_PULL = 1u << 9  /* load level: the bladder carries no load (it cannot pull
+    HP_BIND_CANNOT_PULL = 1u << 9, /* load level: the bladder carries no load (it cannot pull
                                       the head: zero force at zero gauge pressure or out of
                                       contact), and more would be needed the other way */
+    HP_BIND_STABILITY = 1u << 10   /* load level: nearer poses are held inside the limits
+                                      only at an unstable equilibrium (a saddle), so the
+                                      answer is a stable hold found farther away. Set on the
+                                      bladders that carry load in it: the holding stiffness
+                                      that decides stability is the sum of their contacts'
+                                      (a bladder carrying nothing adds none), so theirs are
+                                      the pressures a nearer stable hold would need changed */
 };
-#define HP_BIND_COUNT 10
+#define HP_BIND_COUNT 11
 /* A bladder is reported as sitting on a limit when its outer radius is within this many mm
  * of the bound, the one threshold for every backend and level: above the solvers' stopping
  * slack at a bound (Ipopt's interior point keeps ~1e-8 of the bound, the realtime QP
  * 1e-11 mm), far below any clinical meaning. A CLOSEST answer names at least one. */
 #define HP_BINDING_TOL_MM 1e-6
 /* "pressure_min", "pressure_max", "stretch_min", "stretch_max", "rate_down", "rate_up",
- * "limit_point", "stress_max", "indent_max", "cannot_pull" for one flag bit; "unknown"
- * otherwise. */
+ * "limit_point", "stress_max", "indent_max", "cannot_pull", "stability" for one flag bit;
+ * "unknown" otherwise. */
 HP_API const char *hp_binding_name(unsigned flag);
 
 #define HP_DEFAULT_BACKEND HP_BACKEND_REALTIME
@@ -299,7 +306,8 @@ HP_API hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *resul
  * CLOSEST: no pressures inside the limits hold it there, and the answer is the nearest pose
  * (weighted as the settings say) at which some do that the closest-pose program finds (a
  * local method from several starts: docs/load.md), with the binding limits flagged, among
- * them indent_max (HP_LOAD_INDENT_MAX) and cannot_pull (a bladder carrying nothing).
+ * them indent_max (HP_LOAD_INDENT_MAX), cannot_pull (a bladder carrying nothing) and
+ * stability (below).
  * "Limits" include the indentation range throughout. A REACHED or CLOSEST answer is an
  * equilibrium by two checks: Q below 1e-9 N (hp_load_eval, which also requires every
  * bladder centre outside the moved head) and, at the plane and surface geometries, the
@@ -310,8 +318,10 @@ HP_API hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *resul
  * forward statics at rest within 1e-6 mm / degree of it). Where the hold found is only an
  * unstable equilibrium, a stable CLOSEST answer nearby is looked for (a rest of pressures on
  * the way from the previous answer, inside the rate windows, or a stable hold along
- * gravity); without one the plan is SOLVER_ERROR with the safe output, the message saying
- * so. result.level is HP_LEVEL_LOAD, commanded[] all 1,
+ * gravity); the nearest candidate found is the answer, its carrying bladders flagged
+ * HP_BIND_STABILITY, and hp_planner_note says it is the nearest stable hold the search
+ * found, not a proven nearest stable pose, and how far it is. Without one the plan is
+ * SOLVER_ERROR with the safe output, the message saying so. result.level is HP_LEVEL_LOAD, commanded[] all 1,
  * uncommanded[] 0. With the realtime backend nothing is allocated. */
 
 /* The message of the last failure: a plan whose status is not REACHED, CLOSEST or
@@ -323,10 +333,13 @@ HP_API const char *hp_planner_error(const hp_planner *p);
  * limits (bladder and limit names) and the components the layout cannot command, with
  * their values; for a contact-level CLOSEST of a backend that solved from one start (NLopt
  * COBYLA, Ipopt and NLopt SLSQP with restarts 0), "; a local optimum: the BACKEND backend made
- * no restarts, and another start may end closer". "" after REACHED and after a failure. Never NULL. A CLOSEST answer's text
- * is composed by the first call after the plan (a control loop that never asks does not
- * pay for it), so this call writes into the planner: like hp_plan, not concurrently with
- * another call on the same planner. */
+ * no restarts, and another start may end closer"; for a load-level CLOSEST answer limited
+ * by stability (HP_BIND_STABILITY), "; the nearest stable hold the search found (...), not
+ * a proven nearest stable pose: D mm/deg from the desired pose[, E mm/deg from the closest
+ * held pose], which is held only at an unstable equilibrium". "" after REACHED and after a
+ * failure. Never NULL. A CLOSEST answer's text is composed by the first call after the
+ * plan (a control loop that never asks does not pay for it), so this call writes into the
+ * planner: like hp_plan, not concurrently with another call on the same planner. */
 HP_API const char *hp_planner_note(const hp_planner *p);
 
 /* The message of the last plan whatever its status, for a caller that shows one text with

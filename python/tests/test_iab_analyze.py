@@ -98,14 +98,15 @@ def test_binding_names():
     assert headplan.binding_names(1 | 8 | 64) == ["pressure_min", "stretch_max", "limit_point"]
     with pytest.raises(TypeError):
         headplan.binding_names("x")
-    assert headplan.binding_names(1023) == ["pressure_min", "pressure_max", "stretch_min",
+    assert headplan.binding_names(2047) == ["pressure_min", "pressure_max", "stretch_min",
                                             "stretch_max", "rate_down", "rate_up",
                                             "limit_point", "stress_max", "indent_max",
-                                            "cannot_pull"]
+                                            "cannot_pull", "stability"]
+    assert headplan.binding_names(1024) == ["stability"]
     # A bit no flag defines, or a value out of any C integer's range, is refused, not read
     # as "binds nothing"; so is a negative value.
-    for bad in (1024, 2**31, 2**40, 2**64, -1, -2**70, np.int64(-3)):
-        with pytest.raises(ValueError, match=r"^binding_names: flags must be in 0\.\.1023"):
+    for bad in (2048, 2**31, 2**40, 2**64, -1, -2**70, np.int64(-3)):
+        with pytest.raises(ValueError, match=r"^binding_names: flags must be in 0\.\.2047"):
             headplan.binding_names(bad)
     # An element of a result's binding array (a NumPy uint32), as the docs say to pass.
     sat = headplan.load_scene(scenario("saturation.yaml"))

@@ -84,11 +84,18 @@ expect_stdout_has "pressure_max" "names the binding limit"
 expect_stdout_has "cannot_pull" "names the bladders that carry nothing"
 
 # Too heavy for the limits: the closest held pose (every base bladder at pressure_max) is
-# held only at a saddle, and the stable holds found instead (5.7 mm lower along gravity)
-# name no binding limit, so no answer (the safe output), and the message says why.
+# held only at a saddle; the answer is the stable hold found lower along gravity, CLOSEST,
+# what limits it named "stability" on the bladders that carry, and the status line says it
+# is the nearest stable hold the search found, not a proven nearest stable pose.
 run solve "$S/load_heavy.yaml"
-expect_exit 70 "too heavy for the limits: the closest held pose is a saddle"
-expect_stderr_has "the closest pose is held inside the limits only at an unstable equilibrium" "the saddle named"
+expect_exit 1 "too heavy for the limits: the stable hold found instead of the saddle"
+expect_stdout_has "status      closest" "closest"
+expect_stdout_has "holding               at the answer: stable" "the hold returned is stable"
+expect_stdout_has "base_neck_left" "the table"
+awk '$1 == "base_neck_left" && $NF ~ /(^|,)stability(,|$)/ { f = 1 } END { exit !f }' "$TMP/out" \
+  && ok || bad "a carrying base bladder is named stability"
+expect_stdout_has "the nearest stable hold the search found" "says what the answer is"
+expect_stdout_has "not a proven nearest stable pose" "and what it is not"
 
 run solve "$S/load_prone.yaml"
 expect_exit 65 "prone: refused"

@@ -253,10 +253,10 @@ static void test_load(void **st)
      * answer, which cannot reach the stable hold either: 16 of these 32 rows were refused
      * so, and every row after the first refusal). What this guarantees here: every row the
      * unlimited walk reaches is reached within one row under the windows, and a refusal is
-     * a row where no stable candidate inside the windows names a binding limit (a CLOSEST
-     * answer must: hp_planner.h, closest_names_binding). Measured: refused 2 (rows 7 and
-     * 15) with the windows and none without; every row reached in the same row as without
-     * the windows. */
+     * a row where no stable candidate inside the windows passes an answer's checks.
+     * Measured: refused none with the windows or without (2, rows 7 and 15, while a
+     * candidate limited only by stability named no binding limit: HP_BIND_STABILITY); every
+     * row reached in the same row as without the windows. */
     int refused = 0, reached = 0, closest = 0, late = 0, free_refused = 0;
     for (int i = 0; i < ROWS; ++i) {
         refused += rate_st[i] == HP_STATUS_SOLVER_ERROR;

@@ -8,7 +8,8 @@
  *  - holding: the stability and stiffness reported describe the answer (its pose and
  *    pressures), not a rest of those pressures elsewhere;
  *  - closest: a CLOSEST answer is no farther from the desired pose than a pose the same
- *    planner reaches, and a pose near one it reaches is answered, not refused.
+ *    planner reaches, and a pose near one it reaches is answered, not refused;
+ *  - names: every binding flag has its own name, "stability" the last one.
  *
  * The references are computed here from the public model (hp_contact_eval, hp_load_radius,
  * hp_load_eval), not from the planner's own bookkeeping. */
@@ -374,12 +375,31 @@ static void test_closest_held_pose(void **state)
     }
 }
 
+/* The binding flags' names: HP_BIND_STABILITY is the bit after HP_BIND_CANNOT_PULL, named
+ * "stability", and every flag below HP_BIND_COUNT has a name of its own (a name printed
+ * for two flags would make a CLOSEST answer's note ambiguous), none "unknown". */
+static void test_binding_names(void **state)
+{
+    (void)state;
+    assert_int_equal(HP_BIND_STABILITY, HP_BIND_CANNOT_PULL << 1);
+    assert_int_equal(HP_BIND_COUNT, 11);
+    assert_int_equal(HP_BIND_STABILITY, 1u << (HP_BIND_COUNT - 1));
+    assert_string_equal(hp_binding_name(HP_BIND_STABILITY), "stability");
+    assert_string_equal(hp_binding_name(1u << HP_BIND_COUNT), "unknown");
+    for (int a = 0; a < HP_BIND_COUNT; ++a) {
+        assert_string_not_equal(hp_binding_name(1u << a), "unknown");
+        for (int b = 0; b < a; ++b)
+            assert_string_not_equal(hp_binding_name(1u << a), hp_binding_name(1u << b));
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_indent_range),      cmocka_unit_test(test_heavy_refused),
-        cmocka_unit_test(test_rest_flags_indent), cmocka_unit_test(test_cannot_pull),
-        cmocka_unit_test(test_holding_of_answer), cmocka_unit_test(test_closest_held_pose),
+        cmocka_unit_test(test_binding_names),     cmocka_unit_test(test_indent_range),
+        cmocka_unit_test(test_heavy_refused),     cmocka_unit_test(test_rest_flags_indent),
+        cmocka_unit_test(test_cannot_pull),       cmocka_unit_test(test_holding_of_answer),
+        cmocka_unit_test(test_closest_held_pose),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
