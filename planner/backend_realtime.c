@@ -94,6 +94,17 @@ typedef struct rt_state {
      * (warm_point): then its multipliers and distances' multipliers start the next solve. */
     double x_last[6];
     int accepted;
+    /* Linear level: the active set of the last plan's QP (lin_k rows; 0: none kept), for n
+     * bladders and nv commanded components. In a control loop consecutive plans walking
+     * toward a target bind the same rate limits, so it starts the next plan's QP
+     * (hpi_qp_solve_warm: one equality solve and a check, or the full solve). */
+    int lin_act[HP_QP_MMAX];
+    int lin_k, lin_n, lin_nv;
+    /* lin_own: the kept set is the last answer's and the next plan starts from that answer
+     * or from readings of it (warm_point, rt_reading); lin_pending: lin_own before the last
+     * warm_point(0), which a reading then restores. A set_previous_result (warm_point(0)
+     * alone) clears it: the next plan's state does not depend on the history. */
+    int lin_own, lin_pending;
     /* Fixed for one solve (rt_begin): the commanded components map[0..nv), the factor
      * taking entry (a, b) of an SI Hessian of rho to the QP's units (mm per scaled unit
      * squared), each bladder's margin (rt_margin). */
@@ -336,7 +347,19 @@ static void rt_begin(rt_state *st, const hp_problem *pb)
     for (int k = 0; k < pb->n; ++k) st->mg[k] = rt_margin(pb, k);
 }
 
-static void rt_warm_point(void *state, int accepted) { ((rt_state *)state)->accepted = accepted; }
+static void rt_warm_point(void *state, int accepted)
+{
+    rt_state *st = state;
+    st->accepted = accepted;
+    st->lin_pending = accepted ? 0 : st->lin_own;
+    st->lin_own = accepted;
+}
+
+static void rt_reading(void *state)
+{
+    rt_state *st = state;
+    st->lin_own = st->lin_pending;
+}
 
 /* 1 when the symmetric G (nv×nv) is positive definite with every Cholesky pivot above
  * frac × its diagonal entry: far from the answer, large multipliers times the contact
@@ -468,6 +491,15 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
     if (!z) return hpi_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL);
     unsigned char lz[HP_QP_MMAX] = {0};
     int any = 0, hit = -1;
+    /* A guessed row's b enters the warm start's equality solve, which stops on each stand-in
+     * among them (and starts again): their exact ends now, in one pass. */
+    for (int k = 0; guess && k < pb->n; ++k) {
+        unsigned ends = (guess[2 * k] && z->lo[k] ? 1u : 0u) |
+                        (guess[2 * k + 1] && z->hi[k] ? 2u : 0u);
+        if (!ends) continue;
+        if (!hpi_setup_rate_resolve(z, k, ends)) return HP_QP_BAD_INPUT;
+        rt_row_b(st, pb, k);
+    }
     for (int k = 0; k < pb->n; ++k) {
         lz[2 * k] = z->lo[k];
         lz[2 * k + 1] = z->hi[k];
@@ -812,7 +844,9 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
      * from theirs; along a trace the answer moves little and its active set rarely. */
     int warm = st->accepted && st->have_u && pb->level != HP_LEVEL_LINEAR && x0 &&
                same_bits(x0, st->x_last, 6);
+    int lin_own = st->lin_own;
     st->accepted = 0;
+    st->lin_own = 0; /* until the core accepts this answer (warm_point) */
     if (!warm) {
         st->have_u = 0;
         hpi_kin_dist_warm_cold(st->sw, HP_MAX_BLADDERS); /* a cold first distance */
@@ -837,6 +871,13 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
          * (st->act is then the last solve's, for another target: measured on the default
          * scene's binding targets, right 2 times in 37). */
         const int *guess = sqp > 0 || warm ? st->act : NULL;
+        /* Linear level: the last plan's active set, when this plan starts from that answer
+         * or a reading of it (in a loop walking toward a target, consecutive plans bind the
+         * same rate limits). Counted on the loop's step trace (tests/planner/
+         * test_rate_window.c, test_binding_walk_warm): accepted in 155 QPs of 240 plans. */
+        if (pb->level == HP_LEVEL_LINEAR && lin_own && st->lin_k > 0 && st->lin_n == pb->n &&
+            st->lin_nv == st->nv)
+            guess = st->lin_act;
         /* Out of time (before the first QP too: a budget already spent by the core): stop
          * at the current iterate, which the restoration below makes feasible or replaces
          * by the warm start or the nominal pose. */
@@ -863,6 +904,11 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
             if (s > step) step = s; /* fmax, inline */
         }
         if (pb->level == HP_LEVEL_LINEAR) {
+            st->lin_k = 0;
+            for (int j = 0; j < st->qp.m; ++j) st->lin_k += st->qp.active[j] != 0;
+            memcpy(st->lin_act, st->qp.active, sizeof st->lin_act);
+            st->lin_n = pb->n;
+            st->lin_nv = st->nv;
             memcpy(xk, xn, sizeof xk);
             r->converged = 1;
             break;
@@ -1039,4 +1085,5 @@ const hp_backend_ops hpi_backend_realtime_ops = {
     .solve = rt_solve,
     .destroy = rt_destroy,
     .warm_point = rt_warm_point,
+    .reading = rt_reading,
 };

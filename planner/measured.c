@@ -158,6 +158,7 @@ hp_error hp_planner_set_measured(hp_planner *p, const double *pressures, unsigne
     p->prev_checked = 0;
     /* The next start is this reading's answer, not a backend's own last point. */
     if (p->ops && p->ops->warm_point && p->bstate) p->ops->warm_point(p->bstate, 0);
+    if (p->ops && p->ops->reading && p->bstate) p->ops->reading(p->bstate);
     if (clamped) *clamped = mask;
     return HP_OK;
 }

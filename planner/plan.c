@@ -758,8 +758,11 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
                 if (!rate_bounds(p, res, &c)) return HP_OK;
                 /* The direct chain's radii (c.rho, every bladder's: it answered) decide its
                  * test against the stand-ins as against the exact bounds once the ends
-                 * they come near are resolved. */
-                hpi_setup_rate_touch(p->pb.lazy, c.rho, p->L.n, 2.0 * HP_BINDING_TOL_MM);
+                 * they come near are resolved; none when a radius lies beyond an exact
+                 * end for certain (the test fails either way, and the solver resolves
+                 * only the ends its answer needs). */
+                if (!hpi_setup_rate_surely_out(p->pb.lazy, c.rho, p->L.n, 2.0 * HP_BINDING_TOL_MM))
+                    hpi_setup_rate_touch(p->pb.lazy, c.rho, p->L.n, 2.0 * HP_BINDING_TOL_MM);
                 if (p->pb.lazy && p->rate_lazy.failed) {
                     rate_failed(p, res, &c);
                     return HP_OK;

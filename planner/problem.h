@@ -116,6 +116,12 @@ typedef struct hp_backend_ops {
      * next solve starts from the answer this backend's last solve returned (accepted = 1:
      * the backend may reuse its multipliers) or from some other point (0). */
     void (*warm_point)(void *state, int accepted);
+    /* Optional (NULL: ignored). Called after warm_point(state, 0) by
+     * hp_planner_set_measured: the next solve's previous pressures are a reading, not this
+     * backend's answer. When the answer before the reading was this backend's own (or a
+     * reading of it), the reading is most likely of that answer's pressures, so the
+     * backend may take the limits that answer bound as a guess (never as a start point). */
+    void (*reading)(void *state);
     /* Optional (NULL: no options). A backend-specific option by name; HP_ERR_INVALID for a
      * name it does not know or a bad value (message in d). Takes effect at the next solve. */
     hp_error (*set_option)(void *state, const char *name, double value, hp_diag *d);

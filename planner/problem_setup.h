@@ -171,6 +171,14 @@ int hpi_setup_rate_resolve(hp_rate_lazy *z, int k, unsigned ends);
  * of it fails whatever the bound). 0 when a resolve failed. z may be NULL (no-op). */
 int hpi_setup_rate_touch(hp_rate_lazy *z, const double *rho_mm, int n, double margin_mm);
 
+/* 1 when some bladder's outer radius rho_mm[k] [mm] lies outside its exact window for
+ * certain, by more than margin_mm beyond an end still a stand-in: beyond the knot whose
+ * pressure brackets that end's from outside (the pressure rises with the radius, so the
+ * exact bound lies inside that knot). Then "is every radius inside its bounds" is answered
+ * no with the exact bounds as with the stand-ins, whatever ends are left unsolved. 0 when
+ * z is NULL, for a NaN radius, and where the knots bracket nothing. No model evaluation. */
+int hpi_setup_rate_surely_out(const hp_rate_lazy *z, const double *rho_mm, int n, double margin_mm);
+
 /* Whether any end of z is still a stand-in. */
 int hpi_setup_rate_pending(const hp_rate_lazy *z);
 

@@ -370,7 +370,12 @@ static void test_measured_step_trace_lazy_ends(void **state)
                       hp_level_name(levels[l]), closest, binding, lazy, eager, lazy / 600.0,
                       eager / 600.0);
         assert_true(binding > 0);
-        assert_true(8 * lazy <= eager); /* measured: 10.0, 9.8 and 11.4 % */
+        assert_true(8 * lazy <= eager); /* measured: 5.2, 5.1 and 5.4 % */
+        /* Each binding limit needs its end solved; beyond those, only the ends an answer
+         * comes near. The direct chain's radii beyond an end for certain
+         * (hpi_setup_rate_surely_out) resolve none: 1.68, 1.56 and 1.63 ends per binding
+         * limit here, against 2.00, 1.88 and 2.00 when they resolved every end they passed. */
+        assert_true(4 * lazy <= 7 * (unsigned long)binding);
         hp_planner_destroy(a);
         hp_planner_destroy(b);
     }

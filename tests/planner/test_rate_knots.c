@@ -22,7 +22,9 @@
  *    (hpi_test_rate_bound_evals, a deterministic count; measured 4.64, against 8.14 when it
  *    started from the far memo); every such bound holds exactly (fabs(P − P_prev) <= rate
  *    with P from hp_iab_ik at the bound). A bladder's first bound (no memo) stays the cold
- *    root find's, bit for bit (tests/planner/test_rate_bounds.c). */
+ *    root find's, bit for bit (tests/planner/test_rate_bounds.c).
+ * 4. The knots' bracket of a window (hpi_setup_rate_surely_out) calls a radius outside only
+ *    when it is (test_surely_out_is_sure). */
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
 #include "planner/problem_setup.h"
@@ -218,12 +220,62 @@ static void test_far_end_starts_near(void **state)
     assert_true(per <= 5.0); /* measured 4.64; from the memo 8.14 */
 }
 
+/* 4. hpi_setup_rate_surely_out never calls a radius outside its window when it is not: 500 Pa
+ *    windows around uniform previous pressures with every end a stand-in, one bladder's
+ *    radius drawn over three window widths around its exact window (the eager bounds) and
+ *    at the knots' radii, the others at their windows' middles. Whenever it answers 1, that
+ *    radius lies beyond an exact bound by more than the margin; and it does answer 1 for
+ *    most radii beyond the knots that bracket the window (counted), so the test fires. */
+static void test_surely_out_is_sure(void **state)
+{
+    (void)state;
+    hp_layout L;
+    static hp_static_bounds sb;
+    fixture(&L, &sb, 500.0);
+    uint64_t seed = 0x5e7e;
+    const double margin = 2.0 * HP_BINDING_TOL_MM;
+    long out = 0, far = 0;
+    for (int t = 0; t < 2000; ++t) {
+        double P[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
+        for (int k = 0; k < L.n; ++k) P[k] = uniform_p(&sb, k, &seed);
+        hp_rate_memo mz, me;
+        memset(&mz, 0, sizeof mz);
+        memset(&me, 0, sizeof me);
+        hp_problem pz, pe;
+        unsigned lz[HP_MAX_BLADDERS], hz[HP_MAX_BLADDERS], le[HP_MAX_BLADDERS], he[HP_MAX_BLADDERS];
+        memcpy(pz.p_prev, P, sizeof pz.p_prev);
+        hp_rate_lazy z = {
+            .L = &L, .b = &sb, .memo = &mz, .pb = &pz, .lo_flags = lz, .hi_flags = hz};
+        assert_int_equal(hpi_setup_cycle_bounds_lazy(&z, NULL), HP_OK);
+        assert_int_equal(hpi_setup_cycle_bounds_memo(&L, &sb, P, 1, &me, &pe, le, he, NULL), HP_OK);
+        for (int k = 0; k < L.n; ++k) rho[k] = 0.5 * (pe.ro_lo[k] + pe.ro_hi[k]);
+        assert_false(hpi_setup_rate_surely_out(&z, rho, L.n, margin));
+        int k = (int)(test_rng_next(&seed) % (uint64_t)L.n);
+        double w = pe.ro_hi[k] - pe.ro_lo[k], mid = rho[k];
+        for (int i = 0; i < HP_RATE_KNOTS + 7; ++i) {
+            rho[k] = i < HP_RATE_KNOTS
+                         ? sb.knot_ro[k][i] * HP_MM_PER_M
+                         : pe.ro_lo[k] - w + 3.0 * w * 0.5 * (lf_uniform(&seed) + 1.0);
+            int said = hpi_setup_rate_surely_out(&z, rho, L.n, margin);
+            if (said) assert_true(rho[k] < pe.ro_lo[k] - margin || rho[k] > pe.ro_hi[k] + margin);
+            out += said;
+            far += rho[k] < pe.ro_lo[k] - w || rho[k] > pe.ro_hi[k] + w;
+        }
+        rho[k] = mid;
+    }
+    print_message("%ld radii called outside their window for certain, %ld drawn beyond a window "
+                  "width outside it\n",
+                  out, far);
+    assert_true(out > far / 2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_loop_windows_have_stand_ins),
         cmocka_unit_test(test_fast_ends_equal_reference),
         cmocka_unit_test(test_far_end_starts_near),
+        cmocka_unit_test(test_surely_out_is_sure),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

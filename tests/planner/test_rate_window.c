@@ -20,6 +20,7 @@
 #include "support/layout_fixture.h"
 #include "support/load_fixture.h"
 #include "planner/problem_setup.h"
+#include "planner/backend_testing.h"
 
 #define N_PLANS 10
 #define N_CHAIN 4
@@ -221,12 +222,94 @@ static void test_window_ends_inward(void **st)
     assert_true(plain_over > n / 20);
 }
 
+/* The loop benchmark's step trace at the linear level (bench/bench_loop.c): a new seeded
+ * target within ±3 mm / ±2° every WALK_HOLD plans, rate_max 500 Pa, so that after each new
+ * target the plans walk toward it binding several rate limits, plan after plan; with
+ * measured = 1 the pressures come back through hp_planner_set_measured with ±3 Pa of seeded
+ * noise. Consecutive binding plans mostly bind the same limits, so the realtime backend
+ * starts each plan's QP from the previous plan's active set (hpi_qp_solve_warm): counted
+ * through the planner (backend_testing.h), the warm start must answer most binding plans
+ * (without the kept active set none is, at this level). The answers against a solve of
+ * the same plan by a new planner given the same previous (or measured) pressures (no
+ * active set kept):
+ * the same status and binding flags, every pressure within 1e-9 Pa (a warm-started x agrees
+ * with the full solve's to rounding, qp.h; measured up to 1.7e-11 Pa apart on pressures of
+ * ~1 kPa, and a binding flag's pressure is the answer radius's, within the binding
+ * tolerance of the limit, not the limit's bits) and, fed back its own answers, within the
+ * rate of the previous one. */
+#define WALK_TARGETS 6
+#define WALK_HOLD 40
+static void binding_walk(int measured, long *binding, long *warm, long *cold_warm)
+{
+    uint64_t s = SEED + 101u * (uint64_t)measured;
+    hp_planner *p = limited(HP_BACKEND_REALTIME, HP_LEVEL_LINEAR, 500.0);
+    const int n = hp_planner_layout(p)->n;
+    double tgt[6] = {0}, P0[HP_MAX_BLADDERS] = {0};
+    hp_test_rt_counts c0, c1;
+    for (int t = 0; t < WALK_TARGETS; ++t) {
+        random_pose(&s, 1.0, tgt);
+        for (int i = 0; i < 6; ++i) tgt[i] *= i < 3 ? 3.0 : 2.0;
+        for (int j = 0; j < WALK_HOLD; ++j) {
+            hp_result r, rc;
+            hpi_test_realtime_count(1);
+            assert_int_equal(hp_plan(p, tgt, &r), HP_OK);
+            hpi_test_realtime_count(0);
+            hpi_test_realtime_counts(&c0);
+            unsigned any = 0;
+            for (int k = 0; k < n; ++k)
+                any |= r.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP);
+            *binding += any != 0 && c0.solves > 0;
+            *warm += c0.qp_warm;
+            if (t > 0 || j > 0) { /* the cold solve of the same plan */
+                hp_planner *q = limited(HP_BACKEND_REALTIME, HP_LEVEL_LINEAR, 500.0);
+                assert_int_equal(measured ? hp_planner_set_measured(q, P0, NULL)
+                                          : hp_planner_set_previous(q, P0),
+                                 HP_OK);
+                hpi_test_realtime_count(1);
+                assert_int_equal(hp_plan(q, tgt, &rc), HP_OK);
+                hpi_test_realtime_count(0);
+                hpi_test_realtime_counts(&c1);
+                *cold_warm += c1.qp_warm;
+                assert_int_equal(r.status, rc.status);
+                for (int k = 0; k < n; ++k) {
+                    assert_int_equal(r.bladders[k].binding, rc.bladders[k].binding);
+                    hp_assert_close(r.bladders[k].pressure, rc.bladders[k].pressure, 0, 1e-9);
+                    /* a reading a hair beyond a limit is clamped first (the window's centre) */
+                    if (!measured) assert_true(fabs(r.bladders[k].pressure - P0[k]) <= 500.0);
+                }
+                hp_planner_destroy(q);
+            }
+            for (int k = 0; k < n; ++k) {
+                P0[k] = r.bladders[k].pressure;
+                if (measured) P0[k] += 3.0 * lf_uniform(&s);
+            }
+            if (measured) assert_int_equal(hp_planner_set_measured(p, P0, NULL), HP_OK);
+        }
+    }
+    hp_planner_destroy(p);
+}
+
+static void test_binding_walk_warm(void **st)
+{
+    (void)st;
+    for (int measured = 0; measured < 2; ++measured) {
+        long binding = 0, warm = 0, cold_warm = 0;
+        binding_walk(measured, &binding, &warm, &cold_warm);
+        print_message("%s: %ld plans binding a rate limit, %ld QPs warm-started from the last "
+                      "plan's active set (%ld in the new planners' plans)\n",
+                      measured ? "measured" : "own answers", binding, warm, cold_warm);
+        assert_true(binding >= WALK_TARGETS * 5);
+        assert_true(warm >= binding * 3 / 4);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_every_backend_answers),
         cmocka_unit_test(test_window_ends_inward),
         cmocka_unit_test(test_window_end_within_rate),
+        cmocka_unit_test(test_binding_walk_warm),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
