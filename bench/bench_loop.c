@@ -43,6 +43,12 @@
 #define LOOP_HOST_US 100.0
 #define LOOP_CYCLES_FULL 3000
 #define LOOP_CYCLES_QUICK 120
+
+/* Cycles of one run of a trace. */
+static long loop_cycles(const bench_options *o)
+{
+    return o->quick ? LOOP_CYCLES_QUICK : LOOP_CYCLES_FULL;
+}
 #define N_MODES 4
 #define N_TRACES 3
 #define N_LEVELS 3
@@ -130,7 +136,7 @@ static int run_once(const bench_options *o, const hp_layout *L0, const hp_settin
                     hp_level level, hp_backend bk, int trace, loop_row *rows, const loop_buf *bf,
                     int rep, long nt)
 {
-    long n = o->quick ? LOOP_CYCLES_QUICK : LOOP_CYCLES_FULL;
+    long n = loop_cycles(o);
     hp_planner *p[N_MODES] = {0};
     hp_layout L = *L0;
     for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = LOOP_RATE_PA;
@@ -197,7 +203,7 @@ static int run_once(const bench_options *o, const hp_layout *L0, const hp_settin
 static int run_trace(const bench_options *o, const hp_layout *L0, const hp_settings *s0,
                      hp_level level, hp_backend bk, int trace, loop_row *rows, const loop_buf *bf)
 {
-    long nt = (o->quick ? LOOP_CYCLES_QUICK : LOOP_CYCLES_FULL) * o->repeat;
+    long nt = loop_cycles(o) * o->repeat;
     for (int m = 0; m < N_MODES; ++m) {
         loop_row *r = &rows[m];
         memset(r, 0, sizeof *r);
@@ -246,7 +252,7 @@ int bench_loop(const bench_options *o, const char *dir)
     if (rc != 0) return rc;
     hp_settings s;
     hp_settings_default(&s);
-    long nt = (o->quick ? LOOP_CYCLES_QUICK : LOOP_CYCLES_FULL) * o->repeat;
+    long nt = loop_cycles(o) * o->repeat;
     static loop_row rows[N_ROWS];
     loop_buf bf = {malloc(sizeof(double) * (size_t)(N_MODES * nt)),
                    malloc(sizeof(double) * (size_t)nt), malloc(sizeof(double) * (size_t)nt),

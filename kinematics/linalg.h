@@ -16,13 +16,6 @@ extern "C" {
 int hpi_kin_damped_lstsq(int m, int ncol, const double *J, const double *r, const double *D,
                          double lambda, double *dx);
 
-/* The same for nrhs right-hand sides at once (1..HP_KIN_LSTSQ_MAX_RHS; r nrhs×m and dx
- * nrhs×ncol, one row each), from one factorisation: HOLD's scan solves a vertex's four
- * end combinations with it. */
-#define HP_KIN_LSTSQ_MAX_RHS 4
-int hpi_kin_damped_lstsq_n(int m, int ncol, const double *J, int nrhs, const double *r,
-                           const double *D, double lambda, double *dx);
-
 /* Singular value decomposition of A (m×6 row-major, 1 <= m <= HP_KIN_LINALG_MAX_ROWS):
  * sv[0..5] descending (zeros past min(m, 6)), V 6×6 row-major whose column j is the right
  * singular vector of sv[j]. Returns 0 on success. */

@@ -10,42 +10,30 @@ namespace
 constexpr int kMax = HP_KIN_LINALG_MAX_ROWS;
 using Mat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMax, 6>;
 using Vec = Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, kMax, 1>;
-using RhsMat = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, kMax,
-                             HP_KIN_LSTSQ_MAX_RHS>;
 using Mat6 = Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::ColMajor, kMax, 6>;
 } // namespace
-
-extern "C" int hpi_kin_damped_lstsq_n(int m, int ncol, const double *J, int nrhs, const double *r,
-                                      const double *D, double lambda, double *dx)
-{
-    if (m < 0 || ncol < 1 || ncol > 6 || m + ncol > kMax || nrhs < 1 ||
-        nrhs > HP_KIN_LSTSQ_MAX_RHS || !(lambda >= 0))
-        return -1;
-    Mat A(m + ncol, ncol);
-    RhsMat b(m + ncol, nrhs);
-    A.setZero();
-    b.setZero();
-    for (int i = 0; i < m; ++i) {
-        for (int j = 0; j < ncol; ++j) A(i, j) = J[i * ncol + j];
-        for (int q = 0; q < nrhs; ++q) b(i, q) = -r[q * m + i];
-    }
-    double sl = std::sqrt(lambda);
-    for (int j = 0; j < ncol; ++j) A(m + j, j) = sl * D[j];
-    Eigen::ColPivHouseholderQR<Mat> qr(A);
-    Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::ColMajor, 6, HP_KIN_LSTSQ_MAX_RHS>
-        x = qr.solve(b);
-    for (int q = 0; q < nrhs; ++q)
-        for (int j = 0; j < ncol; ++j) {
-            if (!std::isfinite(x(j, q))) return -1;
-            dx[q * ncol + j] = x(j, q);
-        }
-    return 0;
-}
 
 extern "C" int hpi_kin_damped_lstsq(int m, int ncol, const double *J, const double *r,
                                     const double *D, double lambda, double *dx)
 {
-    return hpi_kin_damped_lstsq_n(m, ncol, J, 1, r, D, lambda, dx);
+    if (m < 0 || ncol < 1 || ncol > 6 || m + ncol > kMax || !(lambda >= 0)) return -1;
+    Mat A(m + ncol, ncol);
+    Vec b(m + ncol);
+    A.setZero();
+    b.setZero();
+    for (int i = 0; i < m; ++i) {
+        for (int j = 0; j < ncol; ++j) A(i, j) = J[i * ncol + j];
+        b(i) = -r[i];
+    }
+    double sl = std::sqrt(lambda);
+    for (int j = 0; j < ncol; ++j) A(m + j, j) = sl * D[j];
+    Eigen::ColPivHouseholderQR<Mat> qr(A);
+    Eigen::Matrix<double, Eigen::Dynamic, 1, Eigen::ColMajor, 6, 1> x = qr.solve(b);
+    for (int j = 0; j < ncol; ++j) {
+        if (!std::isfinite(x(j))) return -1;
+        dx[j] = x(j);
+    }
+    return 0;
 }
 
 extern "C" int hpi_kin_svd6(int m, const double *A, double sv[6], double V[36])

@@ -477,6 +477,19 @@ static void rt_row_b(rt_state *st, const hp_problem *pb, int k)
     }
 }
 
+/* The QP's lazy rows (lz[2k], lz[2k+1]: bladder k's window ends still stand-ins); 1 when
+ * any is. */
+static int lazy_rows(const hp_rate_lazy *z, int n, unsigned char *lz)
+{
+    int any = 0;
+    for (int k = 0; k < n; ++k) {
+        lz[2 * k] = z->lo[k];
+        lz[2 * k + 1] = z->hi[k];
+        any |= z->lo[k] | z->hi[k];
+    }
+    return any;
+}
+
 /* The QP in st->qp solved as hpi_qp_solve_warm solves it, with every rate window end that
  * is still a stand-in (hp_problem.lazy) resolved when the solve needs it (hpi_qp_solve_lazy
  * stops there): the bladder of that row, and every other bladder whose stand-in row the
@@ -490,7 +503,7 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
     hp_rate_lazy *z = pb->lazy;
     if (!z) return hpi_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL);
     unsigned char lz[HP_QP_MMAX] = {0};
-    int any = 0, hit = -1;
+    int hit = -1;
     /* A guessed row's b enters the warm start's equality solve, which stops on each stand-in
      * among them (and starts again): their exact ends now, in one pass. */
     for (int k = 0; guess && k < pb->n; ++k) {
@@ -500,11 +513,7 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
         if (!hpi_setup_rate_resolve(z, k, ends)) return HP_QP_BAD_INPUT;
         rt_row_b(st, pb, k);
     }
-    for (int k = 0; k < pb->n; ++k) {
-        lz[2 * k] = z->lo[k];
-        lz[2 * k + 1] = z->hi[k];
-        any |= z->lo[k] | z->hi[k];
-    }
+    int any = lazy_rows(z, pb->n, lz);
     hp_qp_status qs = hpi_qp_solve_lazy(q, Lg, guess, any ? lz : NULL, &hit, budget, RT_FEAS_TOL);
     while (qs == HP_QP_LAZY) {
         /* A stop in the full solve's loop goes on from its iterate once the row is exact
@@ -525,11 +534,8 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
             if (!ends) continue;
             if (!hpi_setup_rate_resolve(z, k, ends)) return HP_QP_BAD_INPUT;
             rt_row_b(st, pb, k);
-            lz[2 * k] = z->lo[k];
-            lz[2 * k + 1] = z->hi[k];
         }
-        any = 0;
-        for (int k = 0; k < pb->n; ++k) any |= z->lo[k] | z->hi[k];
+        any = lazy_rows(z, pb->n, lz);
         qs = resume ? hpi_qp_resume_lazy(q, any ? lz : NULL, &hit, budget, RT_FEAS_TOL)
                     : hpi_qp_solve_lazy(q, Lg, guess, any ? lz : NULL, &hit, budget, RT_FEAS_TOL);
     }

@@ -173,16 +173,6 @@ static double pose_dist(const double xi[6], const double to[6])
     return e;
 }
 
-static double pose_err(const double xi[6], const double desired[6], const double W[6])
-{
-    double e = 0.0;
-    for (int i = 0; i < 6; ++i) {
-        double v = (xi[i] - desired[i]) / hpi_load_unit(i);
-        e += W[i] * v * v;
-    }
-    return e;
-}
-
 /* The weights of the closest-pose distance: 1 per mm², 1/weight² per degree². */
 static void pose_weights(const hp_load_level *p, double W[6])
 {
@@ -355,7 +345,8 @@ static int closest_program(const hp_load_level *p, const double desired[6], cons
                 memcpy(Px, P0, (size_t)n * sizeof *Px);
             }
         }
-        if (have && !(pose_err(x, desired, W) < pose_err(xi, desired, W))) continue;
+        if (have && !(hpi_load_pose_err(x, desired, W) < hpi_load_pose_err(xi, desired, W)))
+            continue;
         memcpy(xi, x, 6 * sizeof *xi);
         memcpy(P, Px, (size_t)n * sizeof *P);
         have = 1;
@@ -366,7 +357,7 @@ static int closest_program(const hp_load_level *p, const double desired[6], cons
         if (hp_load_eval(M, xi, P, Q, NULL, NULL, F0, NULL) != HP_OK) break;
         memcpy(x0, xi, sizeof x0);
         if (!closest_from(p, desired, W, target, x0, F0, x, Px, iters) ||
-            !(pose_err(x, desired, W) < pose_err(xi, desired, W)))
+            !(hpi_load_pose_err(x, desired, W) < hpi_load_pose_err(xi, desired, W)))
             break;
         memcpy(xi, x, 6 * sizeof *xi);
         memcpy(P, Px, (size_t)n * sizeof *P);
@@ -567,7 +558,7 @@ static void stable_along_gravity(const hp_load_level *p, const hpi_load_walk_goa
     const int n = p->M.layout.n;
     for (int sign = 1; sign >= -1; sign -= 2)
         for (int j = 0; j < GRAVITY_STEPS; ++j) {
-            double x[6], Pt[HP_MAX_BLADDERS], Ph[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS], e = 0.0;
+            double x[6], Pt[HP_MAX_BLADDERS], Ph[HP_MAX_BLADDERS], F[HP_MAX_BLADDERS];
             int it = 0, raw = 0;
             int h = held_at(p, g->desired, sign * 6.25e-5 * pow(2.0, 0.25 * j), target, x, Pt);
             if (h < 0) break; /* into a panel: deeper is outside the model */
@@ -575,10 +566,7 @@ static void stable_along_gravity(const hp_load_level *p, const hpi_load_walk_goa
             if (hold(p, x, target, Pt, Ph, F, &it, &raw) != HP_LOAD_SOLVE_OK ||
                 !g->check(g->ctx, x, Ph))
                 continue;
-            for (int i = 0; i < 6; ++i) {
-                double v = (x[i] - g->desired[i]) / hpi_load_unit(i);
-                e += g->W[i] * v * v;
-            }
+            double e = hpi_load_pose_err(x, g->desired, g->W);
             if (e < best->err) {
                 best->err = e;
                 memcpy(best->xi, x, sizeof best->xi);
@@ -670,7 +658,7 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
             /* Lifted against gravity: where the indentation range caps the forces, a
              * shallower pose may be held where a deeper one is not. */
             if (sink(p, desired, target, -1.0, xu, Pu) &&
-                (!sunk || pose_err(xu, desired, W) < pose_err(xs, desired, W))) {
+                (!sunk || hpi_load_pose_err(xu, desired, W) < hpi_load_pose_err(xs, desired, W))) {
                 memcpy(xs, xu, sizeof xs);
                 memcpy(Ps, Pu, (size_t)n * sizeof *Ps);
                 sunk = 1;
@@ -680,7 +668,8 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
             /* The 6-D refinement must end on a held pose nearer than the sunk one. */
             if (st == HP_LOAD_SOLVE_OK || st == HP_LOAD_SOLVE_ITERATION_LIMIT) {
                 int ok = holds(M, xi, Pa) && indent_ok(M, xi, Pa);
-                if (sunk && (!ok || pose_err(xi, desired, W) > pose_err(xs, desired, W))) {
+                if (sunk && (!ok || hpi_load_pose_err(xi, desired, W) >
+                                        hpi_load_pose_err(xs, desired, W))) {
                     memcpy(xi, xs, sizeof xi);
                     memcpy(Pa, Ps, (size_t)n * sizeof *Pa);
                     st = HP_LOAD_SOLVE_OK;

@@ -7,16 +7,23 @@
 #include <math.h>
 #include <string.h>
 
+double hpi_load_pose_err(const double xi[6], const double desired[6], const double W[6])
+{
+    double e = 0.0;
+    for (int i = 0; i < 6; ++i) {
+        double v = (xi[i] - desired[i]) / hpi_load_unit(i);
+        e += W[i] * v * v;
+    }
+    return e;
+}
+
 /* One candidate: the rest of P from xi0. 1 when it replaced *best. */
 static int try_rest(const hp_load_model *M, const double *P, const double xi0[6],
                     const hpi_load_walk_goal *g, hpi_load_pick *best)
 {
-    double rest[6], e = 0.0;
+    double rest[6];
     if (hp_load_rest(M, P, xi0, rest, NULL) != HP_OK) return 0;
-    for (int i = 0; i < 6; ++i) {
-        double v = (rest[i] - g->desired[i]) / hpi_load_unit(i);
-        e += g->W[i] * v * v;
-    }
+    double e = hpi_load_pose_err(rest, g->desired, g->W);
     if (!(e < best->err) || !g->check(g->ctx, rest, P)) return 0;
     best->err = e;
     memcpy(best->xi, rest, sizeof best->xi);

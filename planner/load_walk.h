@@ -11,6 +11,10 @@
  * pressures toward the goal's (HP_LOAD_WALK_STEPS + 1 of them). */
 #define HP_LOAD_WALK_STEPS 8
 
+/* The closest-pose program's distance of xi from desired: sum W[i]·(difference in mm or
+ * degrees)², W per mm² and per degree². */
+double hpi_load_pose_err(const double xi[6], const double desired[6], const double W[6]);
+
 /* The caller's checks of a candidate answer: 1 when pressures P holding the head at xi may
  * be returned (an equilibrium, stable, inside the contact law's range, a limit named), else
  * 0. */

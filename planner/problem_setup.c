@@ -541,11 +541,12 @@ int hpi_setup_rate_surely_out(const hp_rate_lazy *z, const double *rho_mm, int n
         double r = rho_mm[k];
         double pl, ph;
         hpi_rate_window(z->pb->p_prev[k], z->L->bladders[k].rate_max, &pl, &ph);
-        int j = knot_index(b, k, z->lo[k] ? pl : ph);
-        /* lower end: kp[j] <= pl, so its radius kr[j] lies at or inside the bound's */
-        if (z->lo[k] && kp[j] <= pl && r < kr[j] * HP_MM_PER_M - margin_mm) return 1;
+        if (z->lo[k]) { /* kp[j] <= pl, so its radius kr[j] lies at or inside the bound's */
+            int j = knot_index(b, k, pl);
+            if (kp[j] <= pl && r < kr[j] * HP_MM_PER_M - margin_mm) return 1;
+        }
         if (z->hi[k]) {
-            j = knot_index(b, k, ph);
+            int j = knot_index(b, k, ph);
             if (kp[j + 1] >= ph && r > kr[j + 1] * HP_MM_PER_M + margin_mm) return 1;
         }
     }
