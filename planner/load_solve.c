@@ -319,30 +319,60 @@ int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, 
     return h->m;
 }
 
+/* The pressures of every bladder at a point before its sum: each at its best pressure that
+ * carries nothing (tie_cost overwrites the carrying ones). */
+static void point_start(const hp_load_hold_set *h, double *P)
+{
+    for (int k = 0; k < h->n; ++k) P[k] = fmin(fmax(h->target[k], h->lo[k]), h->L[k]);
+}
+
+/* The sum of a point carried on from the carrying bladder *j (the sum so far in *e) while it
+ * is below stop; *j gets where it stopped. */
+static int point_from(const hp_load_hold_set *h, const int *col, int m, const double *ra,
+                      const double *rc, const double *x, int *j, double stop, double *e,
+                      double *P, double *R)
+{
+    for (; *j < m && *e < stop; ++*j)
+        if (tie_cost(h->M, col[*j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target,
+                     x, e, P, R))
+            return -1;
+    return 0;
+}
+
 /* tie_cost over the m carrying-capable bladders col[]; the others at their best pressure
  * that carries nothing (load_solve.h). */
 int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, const double *ra,
                             const double *rc, const double *x, double stop, double *e, double *P,
                             double *R)
 {
+    int j = 0;
     *e = 0.0;
-    for (int k = 0; k < h->n; ++k) P[k] = fmin(fmax(h->target[k], h->lo[k]), h->L[k]);
-    for (int j = 0; j < m && *e < stop; ++j)
-        if (tie_cost(h->M, col[j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target, x,
-                     e, P, R))
-            return -1;
-    return 0;
+    point_start(h, P);
+    return point_from(h, col, m, ra, rc, x, &j, stop, e, P, R);
 }
 
 /* A point x of the holding set: kept in f when its tie-breaker sum is below *best and, with
  * a test, when the test accepts it (asked only of a point that would win: the sum stops as
- * soon as it cannot). 0, or -1 when the model or the test fails. */
+ * soon as it cannot). rec (may be NULL) gets the point and its sum as far as it went.
+ * 0, or -1 when the model or the test fails. */
 static int consider(const hp_load_hold_set *h, const int *col, int m, const double *ra,
                     const double *rc, hp_load_point_test test, void *ctx, const double *x,
-                    double *best, double *f)
+                    double *best, double *f, hp_load_scan_rec *rec)
 {
-    double e, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS];
-    if (hpi_load_hold_set_point(h, col, m, ra, rc, x, *best, &e, P, R)) return -1;
+    double e = 0.0, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS] = {0};
+    int j = 0;
+    point_start(h, P);
+    if (point_from(h, col, m, ra, rc, x, &j, *best, &e, P, R)) return -1;
+    if (rec && rec->count++ < HP_LOAD_SCAN_POINTS && m <= HP_LOAD_SCAN_CARRY) {
+        const int i = rec->count - 1;
+        rec->done[i] = j;
+        rec->e[i] = e;
+        for (int q = 0; q < m; ++q) {
+            rec->x[i][q] = x[col[q]];
+            rec->P[i][q] = P[col[q]];
+            rec->R[i][q] = R[col[q]];
+        }
+    }
     if (!(e < *best)) return 0;
     if (test) {
         int ok = test(ctx, x, P, R);
@@ -372,9 +402,10 @@ void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices)
 }
 
 static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test test, void *ctx,
-                       double *f)
+                       double *f, hp_load_scan_rec *rec)
 {
     atomic_fetch_add(&n_scans, 1);
+    if (rec) rec->valid = rec->count = 0;
     const hp_load_model *M = h->M;
     const int n = h->n;
     const double *A = h->A, *b = h->b, *L = h->L, *U = h->U, *Flo = h->Flo, *Fhi = h->Fhi;
@@ -445,7 +476,7 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
                 x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
             }
             for (int r = rank; r < 6 && ok; ++r) ok = fabs(E[r][m]) <= tol; /* consistent */
-            if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f)) return -1;
+            if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f, rec)) return -1;
         }
     /* The polytope's vertices too (nfree of the carrying bladders at an end of their range,
      * the six others solved for): where the tie-breaker is concave the least sum lies on
@@ -498,9 +529,50 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
                         ok = v >= Flo[k] - tol && v <= Fhi[k] + tol;
                         x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
                     }
-                    if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f)) return -1;
+                    if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f, rec)) return -1;
                 }
             }
+    }
+    if (rec) rec->valid = rec->count <= HP_LOAD_SCAN_POINTS && m <= HP_LOAD_SCAN_CARRY;
+    return isfinite(best) ? 0 : -1;
+}
+
+int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec,
+                         hp_load_point_test test, void *ctx, double *f)
+{
+    const int n = h->n, m = h->m, *col = h->col;
+    double best = INFINITY;
+    for (int i = 0; i < rec->count; ++i) {
+        double x[HP_MAX_BLADDERS] = {0}, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS] = {0}, e = rec->e[i];
+        int j = rec->done[i];
+        point_start(h, P);
+        for (int q = 0; q < m; ++q) {
+            x[col[q]] = rec->x[i][q];
+            if (q < j) {
+                P[col[q]] = rec->P[i][q];
+                R[col[q]] = rec->R[i][q];
+            }
+        }
+        /* The test's scan sums a point while it is below its own best, which is never below
+         * HOLD's: the sum goes on from where HOLD's stopped, through the same terms. */
+        if (j < m && e < best) {
+            const int j0 = j;
+            if (point_from(h, col, m, h->ra, h->rc, x, &j, best, &e, P, R)) return -1;
+            rec->done[i] = j;
+            rec->e[i] = e;
+            for (int q = j0; q < j; ++q) {
+                rec->P[i][q] = P[col[q]];
+                rec->R[i][q] = R[col[q]];
+            }
+        }
+        if (!(e < best)) continue;
+        if (test) {
+            int ok = test(ctx, x, P, R);
+            if (ok < 0) return -1;
+            if (!ok) continue;
+        }
+        best = e;
+        memcpy(f, x, (size_t)n * sizeof *f);
     }
     return isfinite(best) ? 0 : -1;
 }
@@ -513,7 +585,7 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
                                        const double *hi, const double *start, int max_iter,
                                        hp_load_nlp_solver nlp_solve, int stiffness, int grid,
                                        double *P, double *F, int *iterations, int *raw,
-                                       double *cost)
+                                       double *cost, hp_load_scan_rec *rec)
 {
     *cost = INFINITY;
     const hp_load_model *M = hs->M;
@@ -541,7 +613,7 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
         }
-        if (grid && grid_forces(hs, GRID_N, NULL, NULL, f) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
+        if (grid && grid_forces(hs, GRID_N, NULL, NULL, f, rec) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
         for (int k = 0; k < n; ++k) {
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
@@ -696,23 +768,25 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
 static hpi_load_solve_status hold_core(const hp_load_model *M, const double xi[6], const double *lo,
                                        const double *hi, const double *target, const double *start,
                                        int max_iter, hp_load_nlp_solver nlp_solve, int stiffness,
-                                       double *P, double *F, int *iterations, int *raw)
+                                       double *P, double *F, int *iterations, int *raw,
+                                       hp_load_hold_set *keep, hp_load_scan_rec *rec)
 {
     double cost;
     int it = 0;
-    /* Both starts work on one holding set. */
-    hp_load_hold_set hs;
-    hpi_load_solve_status st = hpi_load_hold_set_at(M, xi, lo, hi, target, &hs);
+    /* Both starts work on one holding set (the caller's, when it keeps it). */
+    hp_load_hold_set own, *hs = keep ? keep : &own;
+    if (rec) rec->valid = 0;
+    hpi_load_solve_status st = hpi_load_hold_set_at(M, xi, lo, hi, target, hs);
     if (st == HP_LOAD_SOLVE_OK)
-        st = hold_from(&hs, xi, hi, start, max_iter, nlp_solve, stiffness, 0, P, F, &it, raw,
-                       &cost);
+        st = hold_from(hs, xi, hi, start, max_iter, nlp_solve, stiffness, 0, P, F, &it, raw,
+                       &cost, NULL);
     int total = it;
     if (st == HP_LOAD_SOLVE_OK && max_iter > 0 && !stiffness) {
         const int n = M->layout.n;
         double Pk[HP_MAX_BLADDERS], Fk[HP_MAX_BLADDERS], ck;
         int rk = 0;
         it = 0;
-        if (hold_from(&hs, xi, hi, start, max_iter, nlp_solve, 0, 1, Pk, Fk, &it, &rk, &ck) ==
+        if (hold_from(hs, xi, hi, start, max_iter, nlp_solve, 0, 1, Pk, Fk, &it, &rk, &ck, rec) ==
                 HP_LOAD_SOLVE_OK &&
             ck < cost * (1.0 - 1e-12)) {
             memcpy(P, Pk, (size_t)n * sizeof *P);
@@ -729,7 +803,18 @@ hpi_load_solve_status hpi_load_hold(const hp_load_model *M, const double xi[6], 
                                     const double *hi, const double *target, const double *start,
                                     int max_iter, double *P, double *F, int *iterations)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL,
+                     NULL, NULL);
+}
+
+hpi_load_solve_status hpi_load_hold_keep(const hp_load_model *M, const double xi[6],
+                                         const double *lo, const double *hi,
+                                         const double *target, const double *start, int max_iter,
+                                         double *P, double *F, int *iterations,
+                                         hp_load_hold_set *hs, hp_load_scan_rec *rec)
+{
+    return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL, hs,
+                     rec);
 }
 
 hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_load_model *M,
@@ -739,13 +824,13 @@ hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_
                                          int *raw)
 {
     return hold_core(M, xi, lo, hi, target, start, max_iter, nlp_solve, stiffness, P, F, iterations,
-                     raw);
+                     raw, NULL, NULL);
 }
 
 int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
                            void *ctx, double *f)
 {
-    return grid_forces(h, grid_n, test, ctx, f);
+    return grid_forces(h, grid_n, test, ctx, f, NULL);
 }
 
 hp_error hpi_load_bladder_stiff(const hp_load_model *M, int k, double P, double rho, double a[3])

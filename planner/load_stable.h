@@ -44,12 +44,21 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
                                            const double *lo, const double *hi, const double *target,
                                            double *P, double *F, double *lam_min);
 
+/* hpi_load_stable_hold on the holding set HOLD formed at xi (hs: its bounds and target), with
+ * HOLD's scan record rec (may be NULL, or not valid: the search scans the set itself). The
+ * same answer, bit for bit; rec's sums may be carried on. */
+hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_load_scan_rec *rec,
+                                               const double xi[6], double *P, double *F,
+                                               double *lam_min);
+
 /* TEST-ONLY counts (inert unless a test reads them; summed over the process): the stable
  * searches that went past the pick's own test, the points of the set whose pressures they
  * solved outside the scan (the pick, the scan's point and the segment's), the stability
- * tests of a point (the scan's included), and the 6×6 stiffness eigenproblems solved. */
+ * tests of a point (the scan's included), the 6×6 stiffness eigenproblems solved, and the
+ * pressure-of-force solves of those points with their steps (hpi_test_pressure_counts). */
 typedef struct hp_test_stable_counts {
     unsigned long searches, points, tests, eigen;
+    unsigned long solves, steps; /* those points' pressure-of-force solves and their steps */
 } hp_test_stable_counts;
 void hpi_test_stable_counts(hp_test_stable_counts *out);
 
