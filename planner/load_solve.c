@@ -126,8 +126,11 @@ double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho)
  * volume law) are closed forms: only the bracket's two ends need the bladder's forward
  * kinematics, not every Newton step (it was half of an unreachable plan's time).
  * Safeguarded Newton with bisection, to two ulps of ri. */
+typedef struct radius_bracket {
+    double a, c, Fa, Fc; /* inner radii holding the forces Fa < Fc: the root lies between */
+} radius_bracket;
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
-                                     double hi, double a, double c, double Fhi, double F, double *P,
+                                     double hi, radius_bracket br, double Fhi, double F, double *P,
                                      double *ri);
 
 static atomic_ulong n_psolves, n_psteps, n_plong;
@@ -161,15 +164,19 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
     hp_error err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], lo, &a);
     if (!err) err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], hi, &c);
     if (err) return err;
-    return pressure_of_force_in(M, k, rho, lo, hi, a, c, Fhi, F, P, NULL);
+    return pressure_of_force_in(M, k, rho, lo, hi, (radius_bracket){a, c, 0.0, Fhi}, Fhi, F, P,
+                                NULL);
 }
 
-/* pressure_of_force with the inner radii at lo and hi (a, c) known; *ri (may be NULL) gets
- * the inner radius at the answer. */
+/* pressure_of_force with a bracket of the inner radius known: br's radii hold its forces
+ * (the radii at lo and hi with the forces 0 and Fhi, or a narrower bracket inside them), and
+ * Newton starts from the secant between them; *ri (may be NULL) gets the inner radius at the
+ * answer (at lo or hi: br's a or c, when F is at or beyond an end of the carrying range). */
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
-                                     double hi, double a, double c, double Fhi, double F, double *P,
+                                     double hi, radius_bracket br, double Fhi, double F, double *P,
                                      double *ri)
 {
+    double a = br.a, c = br.c;
     if (F <= 0.0) {
         *P = lo;
         if (ri) *ri = a;
@@ -182,7 +189,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
     }
     const hp_iab *b = &M->layout.bladders[k].iab;
     hp_error err;
-    double x = a + (c - a) * (F / Fhi), Px = lo;
+    double x = a + (c - a) * ((F - br.Fa) / (br.Fc - br.Fa)), Px = lo;
     int steps = 0;
     for (int it = 0; it < 200; ++it) {
         ++steps;
@@ -227,12 +234,20 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
 static int tie_cost(const hp_load_model *M, int k, const double *rho, const double *lo,
                     const double *L, const double *U, const double *ra, const double *rc,
                     const double *Flo, const double *Fhi, const double *target, const double *x,
-                    double *e, double *P, double *R)
+                    const hp_load_near *nr, double *e, double *P, double *R)
 {
     double Pk;
+    radius_bracket br = {ra[k], rc[k], 0.0, Fhi[k]};
+    if (nr) { /* a narrower bracket: two points whose forces lie on either side of x[k] */
+        const int up = nr->xa[k] < nr->xb[k];
+        const double f1 = up ? nr->xa[k] : nr->xb[k], f2 = up ? nr->xb[k] : nr->xa[k];
+        const double r1 = up ? nr->Ra[k] : nr->Rb[k], r2 = up ? nr->Rb[k] : nr->Ra[k];
+        if (f1 > 0.0 && f1 < x[k] && x[k] < f2 && f2 < Fhi[k] && r1 < r2)
+            br = (radius_bracket){r1, r2, f1, f2};
+    }
     if (x[k] <= 0.0 && Flo[k] <= 0.0) {
         Pk = fmin(fmax(target[k], lo[k]), L[k]);
-    } else if (pressure_of_force_in(M, k, rho[k], L[k], U[k], ra[k], rc[k], Fhi[k], x[k], &Pk,
+    } else if (pressure_of_force_in(M, k, rho[k], L[k], U[k], br, Fhi[k], x[k], &Pk,
                                     R ? &R[k] : NULL)) {
         return -1;
     }
@@ -329,12 +344,12 @@ static void point_start(const hp_load_hold_set *h, double *P)
 /* The sum of a point carried on from the carrying bladder *j (the sum so far in *e) while it
  * is below stop; *j gets where it stopped. */
 static int point_from(const hp_load_hold_set *h, const int *col, int m, const double *ra,
-                      const double *rc, const double *x, int *j, double stop, double *e,
-                      double *P, double *R)
+                      const double *rc, const double *x, const hp_load_near *nr, int *j,
+                      double stop, double *e, double *P, double *R)
 {
     for (; *j < m && *e < stop; ++*j)
         if (tie_cost(h->M, col[*j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target,
-                     x, e, P, R))
+                     x, nr, e, P, R))
             return -1;
     return 0;
 }
@@ -348,7 +363,16 @@ int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, co
     int j = 0;
     *e = 0.0;
     point_start(h, P);
-    return point_from(h, col, m, ra, rc, x, &j, stop, e, P, R);
+    return point_from(h, col, m, ra, rc, x, NULL, &j, stop, e, P, R);
+}
+
+int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *nr,
+                                 const double *x, double *e, double *P, double *R)
+{
+    int j = 0;
+    *e = 0.0;
+    point_start(h, P);
+    return point_from(h, h->col, h->m, h->ra, h->rc, x, nr, &j, INFINITY, e, P, R);
 }
 
 /* A point x of the holding set: kept in f when its tie-breaker sum is below *best and, with
@@ -362,7 +386,7 @@ static int consider(const hp_load_hold_set *h, const int *col, int m, const doub
     double e = 0.0, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS] = {0};
     int j = 0;
     point_start(h, P);
-    if (point_from(h, col, m, ra, rc, x, &j, *best, &e, P, R)) return -1;
+    if (point_from(h, col, m, ra, rc, x, NULL, &j, *best, &e, P, R)) return -1;
     if (rec && rec->count++ < HP_LOAD_SCAN_POINTS && m <= HP_LOAD_SCAN_CARRY) {
         const int i = rec->count - 1;
         rec->done[i] = j;
@@ -557,7 +581,7 @@ int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec,
          * HOLD's: the sum goes on from where HOLD's stopped, through the same terms. */
         if (j < m && e < best) {
             const int j0 = j;
-            if (point_from(h, col, m, h->ra, h->rc, x, &j, best, &e, P, R)) return -1;
+            if (point_from(h, col, m, h->ra, h->rc, x, NULL, &j, best, &e, P, R)) return -1;
             rec->done[i] = j;
             rec->e[i] = e;
             for (int q = j0; q < j; ++q) {

@@ -80,6 +80,21 @@ int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, co
                             const double *rc, const double *x, double stop, double *e, double *P,
                             double *R);
 
+/* Two points a, b of the set (forces xa, xb) whose pressures were solved, with their inner
+ * radii Ra, Rb (hpi_load_hold_set_point's R): a point between them (forces x between xa and
+ * xb bladder by bladder, as on the segment from a to b) has each carrying bladder's inner
+ * radius between theirs, so its pressure solve starts from that bracket. */
+typedef struct hp_load_near {
+    const double *xa, *Ra, *xb, *Rb;
+} hp_load_near;
+
+/* hpi_load_hold_set_point(h, h's carrying bladders, x, no stop, ...) with each bladder whose
+ * force lies strictly between nr's two (both carrying, below the top of the range) solved
+ * from their radii: the same root to the pressure solve's two ulps of the radius, in about
+ * two Newton steps once the two points are close. 0, or -1 when the model fails. */
+int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *nr,
+                                 const double *x, double *e, double *P, double *R);
+
 /* A test of a point of the set (forces x, pressures P, inner radii R): 1 accept, 0 reject,
  * -1 failure. */
 typedef int (*hp_load_point_test)(void *ctx, const double *x, const double *P, const double *R);

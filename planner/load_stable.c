@@ -21,14 +21,17 @@ void hpi_test_stable_counts(hp_test_stable_counts *out)
     out->steps = atomic_load(&n_psteps);
 }
 
-/* A point of the set outside the scan (counted). */
+/* A point of the set outside the scan (counted); nr (may be NULL) two solved points it lies
+ * between. */
 static int seg_point(const hp_load_hold_set *hs, const int *col, int m, const double *ra,
-                     const double *rc, const double *x, double *e, double *P, double *R)
+                     const double *rc, const double *x, const hp_load_near *nr, double *e,
+                     double *P, double *R)
 {
     atomic_fetch_add(&n_points, 1);
     unsigned long s0, t0, l0, s1, t1, l1;
     hpi_test_pressure_counts(&s0, &t0, &l0);
-    int r = hpi_load_hold_set_point(hs, col, m, ra, rc, x, INFINITY, e, P, R);
+    int r = nr ? hpi_load_hold_set_point_near(hs, nr, x, e, P, R)
+               : hpi_load_hold_set_point(hs, col, m, ra, rc, x, INFINITY, e, P, R);
     hpi_test_pressure_counts(&s1, &t1, &l1);
     atomic_fetch_add(&n_psolves, s1 - s0);
     atomic_fetch_add(&n_psteps, t1 - t0);
@@ -126,7 +129,7 @@ hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_lo
     /* The pick's forces (a bladder below its carrying pressures carries nothing), and its
      * stiffness from the pressures of those forces (the pick's to the pressure solve's
      * rounding). */
-    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS], e0;
+    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS] = {0}, e0;
     for (int k = 0; k < n; ++k) {
         double Fk;
         f0[k] = 0.0;
@@ -136,7 +139,7 @@ hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_lo
         f0[k] = fmin(fmax(Fk, hs->Flo[k]), hs->Fhi[k]);
     }
     int ok;
-    if (seg_point(hs, col, m, ra, rc, f0, &e0, P0, R0) || (ok = stable_at(&S, f0, P0, R0)) < 0)
+    if (seg_point(hs, col, m, ra, rc, f0, NULL, &e0, P0, R0) || (ok = stable_at(&S, f0, P0, R0)) < 0)
         return HP_LOAD_SOLVE_ERROR;
     if (ok)
         return lam_min && lambda_at(&S, f0, P0, R0, lam_min) ? HP_LOAD_SOLVE_ERROR
@@ -146,27 +149,40 @@ hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_lo
      * HOLD's own scan replayed when the caller kept it; where none is stable, the finer
      * grid): the segment's far end c, stable by the scan's own test at the pressures
      * seg_point solves again. */
-    double c[HP_MAX_BLADDERS], best, fb[HP_MAX_BLADDERS], Pb[HP_MAX_BLADDERS], Rb[HP_MAX_BLADDERS];
+    double c[HP_MAX_BLADDERS], best, fb[HP_MAX_BLADDERS], Pb[HP_MAX_BLADDERS];
+    double Rb[HP_MAX_BLADDERS] = {0};
     if ((rec && rec->valid ? hpi_load_scan_replay(hs, rec, stable_test, &S, c)
                            : hpi_load_hold_set_scan(hs, HP_LOAD_SCAN_GRID_N, stable_test, &S, c)) !=
             0 &&
         hpi_load_hold_set_scan(hs, STABLE_GRID_N, stable_test, &S, c) != 0)
         return HP_LOAD_SOLVE_UNREACHABLE;
     memcpy(fb, c, (size_t)n * sizeof *fb);
-    if (seg_point(hs, col, m, ra, rc, c, &best, Pb, Rb)) return HP_LOAD_SOLVE_ERROR;
+    if (seg_point(hs, col, m, ra, rc, c, NULL, &best, Pb, Rb)) return HP_LOAD_SOLVE_ERROR;
     /* The stable point nearest the pick on the segment of forces from it to c: the set is
      * convex in the forces, so the segment holds the head throughout. Bisection of the
      * bracket [a, b] (the pick's end unstable, the other stable): lam jumps where a
      * contact starts to count (seen on the supine scene: +0.003 to −0.031 N/mm past the
      * margin), and there false position gains nothing on halving. The cheapest stable
      * point seen wins. */
+    /* Each point's pressures are solved from the inner radii at the bracket's two ends
+     * (forces on a segment: each bladder's force, so its radius, lies between the ends'). */
     double a = 0.0, b = 1.0;
+    double xa[HP_MAX_BLADDERS], Ra[HP_MAX_BLADDERS], xb[HP_MAX_BLADDERS], Rbr[HP_MAX_BLADDERS];
+    memcpy(xa, f0, (size_t)n * sizeof *xa);
+    memcpy(Ra, R0, (size_t)n * sizeof *Ra);
+    memcpy(xb, c, (size_t)n * sizeof *xb);
+    memcpy(Rbr, Rb, (size_t)n * sizeof *Rbr);
+    const hp_load_near nr = {xa, Ra, xb, Rbr};
     for (int it = 0; it < STABLE_HALVINGS; ++it) {
-        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], Rx[HP_MAX_BLADDERS], e;
+        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], e;
+        double Rx[HP_MAX_BLADDERS] = {0};
         for (int k = 0; k < n; ++k)
             x[k] = fmin(fmax(f0[k] + t * (c[k] - f0[k]), hs->Flo[k]), hs->Fhi[k]);
-        if (seg_point(hs, col, m, ra, rc, x, &e, Px, Rx) || (ok = stable_at(&S, x, Px, Rx)) < 0)
+        if (seg_point(hs, col, m, ra, rc, x, &nr, &e, Px, Rx) ||
+            (ok = stable_at(&S, x, Px, Rx)) < 0)
             return HP_LOAD_SOLVE_ERROR;
+        memcpy(ok ? xb : xa, x, (size_t)n * sizeof *x);
+        memcpy(ok ? Rbr : Ra, Rx, (size_t)n * sizeof *Rx);
         if (!ok) {
             a = t;
             continue;
