@@ -562,7 +562,8 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
 }
 
 int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec,
-                         hp_load_point_test test, void *ctx, double *f)
+                         hp_load_point_test test, void *ctx, double *f, double *eb, double *Pb,
+                         double *Rb)
 {
     const int n = h->n, m = h->m, *col = h->col;
     double best = INFINITY;
@@ -595,8 +596,10 @@ int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec,
             if (ok < 0) return -1;
             if (!ok) continue;
         }
-        best = e;
+        *eb = best = e;
         memcpy(f, x, (size_t)n * sizeof *f);
+        memcpy(Pb, P, (size_t)n * sizeof *Pb);
+        memcpy(Rb, R, (size_t)n * sizeof *Rb);
     }
     return isfinite(best) ? 0 : -1;
 }

@@ -131,9 +131,12 @@ typedef struct hp_load_scan_rec {
 /* The same answer as hpi_load_hold_set_scan(h, HP_LOAD_SCAN_GRID_N, test, ctx, f), bit for
  * bit, from rec (HOLD's scan of h): the points in the scan's order, each sum carried on from
  * where HOLD's stopped only as far as the test's scan would carry it. Sums it carries on
- * are written back to rec. 0, or -1 when none qualifies or the model or the test fails. */
+ * are written back to rec. *e, P and R get the answer's tie-breaker sum, pressures and
+ * inner radii, the bits hpi_load_hold_set_point gives for f. 0, or -1 when none qualifies or
+ * the model or the test fails. */
 int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec,
-                         hp_load_point_test test, void *ctx, double *f);
+                         hp_load_point_test test, void *ctx, double *f, double *e, double *P,
+                         double *R);
 
 /* hpi_load_hold (the realtime tie-breaker) that also hands back the holding set it formed
  * at xi (*hs, when the status is not ERROR) and its scan's record (*rec), for HOLD's stable

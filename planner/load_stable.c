@@ -146,18 +146,20 @@ hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_lo
                                                              : HP_LOAD_SOLVE_OK;
     atomic_fetch_add(&n_searches, 1);
     /* The cheapest stable point of the scan (the tie-breaker's 3×3 grid and the vertices:
-     * HOLD's own scan replayed when the caller kept it; where none is stable, the finer
-     * grid): the segment's far end c, stable by the scan's own test at the pressures
-     * seg_point solves again. */
+     * HOLD's own scan replayed when the caller kept it, which hands over c's pressures too;
+     * where none is stable, the finer grid): the segment's far end c, stable by the scan's
+     * own test at the pressures seg_point solves again (the replay's: the same bits). */
     double c[HP_MAX_BLADDERS], best, fb[HP_MAX_BLADDERS], Pb[HP_MAX_BLADDERS];
     double Rb[HP_MAX_BLADDERS] = {0};
-    if ((rec && rec->valid ? hpi_load_scan_replay(hs, rec, stable_test, &S, c)
-                           : hpi_load_hold_set_scan(hs, HP_LOAD_SCAN_GRID_N, stable_test, &S, c)) !=
-            0 &&
-        hpi_load_hold_set_scan(hs, STABLE_GRID_N, stable_test, &S, c) != 0)
+    const int replay = rec && rec->valid;
+    const int found = (replay ? hpi_load_scan_replay(hs, rec, stable_test, &S, c, &best, Pb, Rb)
+                              : hpi_load_hold_set_scan(hs, HP_LOAD_SCAN_GRID_N, stable_test, &S,
+                                                       c)) == 0;
+    if (!found && hpi_load_hold_set_scan(hs, STABLE_GRID_N, stable_test, &S, c) != 0)
         return HP_LOAD_SOLVE_UNREACHABLE;
+    if (!(replay && found) && seg_point(hs, col, m, ra, rc, c, NULL, &best, Pb, Rb))
+        return HP_LOAD_SOLVE_ERROR;
     memcpy(fb, c, (size_t)n * sizeof *fb);
-    if (seg_point(hs, col, m, ra, rc, c, NULL, &best, Pb, Rb)) return HP_LOAD_SOLVE_ERROR;
     /* The stable point nearest the pick on the segment of forces from it to c: the set is
      * convex in the forces, so the segment holds the head throughout. Bisection of the
      * bracket [a, b] (the pick's end unstable, the other stable): lam jumps where a

@@ -2,9 +2,9 @@
  * bounds on work"), counted, not timed: load_supine's own correction, planned with the
  * scene's settings (realtime backend), runs the search past the pick's own test (its
  * least-squeeze pick is not stable there), and the search solves the pressures of at most
- * STABLE_POINTS points of the set outside its scan (the pick, the scan's point and the
- * segment's) and at most STABLE_TESTS stability tests (the scan's included), per search
- * (2 + 10 halvings; the bisection had 16, 18 points a search). The answer stays REACHED and
+ * STABLE_POINTS points of the set outside its scan (the pick and the segment's 10 halvings;
+ * the scan's point c comes with its pressures from the replay of HOLD's scan, re-solved
+ * before: 12) and at most STABLE_TESTS stability tests (the scan's included), per search. The answer stays REACHED and
  * confirmed by the forward model (test_load_stable checks that independently). */
 #include <setjmp.h>
 #include <stdarg.h>
@@ -19,7 +19,7 @@
 
 #include <stdlib.h>
 
-#define STABLE_POINTS 12
+#define STABLE_POINTS 11
 /* A scan's vertices come from the elimination its grid already made (each force affine in
  * the at most two free ones, a vertex two of them fixed: a 2×2 solve; a least-squares
  * factorisation per pair of carrying bladders before, 56 in this plan): at most four per
