@@ -412,11 +412,13 @@ static hpi_load_solve_status hold(const hp_load_level *p, const double xi[6], co
     const int keep = p->ops->load_hold_keep && p->set.load_tiebreak != HP_TIE_STIFFNESS;
     hp_load_hold_set hs;
     hp_load_scan_rec rec;
-    hpi_load_solve_status st =
-        keep ? p->ops->load_hold_keep(&p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter,
-                                      P, F, iters, &hs, &rec)
-             : p->ops->load_hold(&p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter,
-                                 p->set.load_tiebreak == HP_TIE_STIFFNESS, P, F, iters, raw);
+    hpi_load_solve_status st = keep ? p->ops->load_hold_keep(&p->M, xi, p->elo, p->ehi, target,
+                                                             start, p->set.max_iter, P, F, iters,
+                                                             &hs, &rec)
+                                    : p->ops->load_hold(&p->M, xi, p->elo, p->ehi, target, start,
+                                                        p->set.max_iter,
+                                                        p->set.load_tiebreak == HP_TIE_STIFFNESS, P,
+                                                        F, iters, raw);
     if (st != HP_LOAD_SOLVE_OK) return st;
     double Ps[HP_MAX_BLADDERS], Fs[HP_MAX_BLADDERS];
     const int n = p->M.layout.n;

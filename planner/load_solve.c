@@ -348,8 +348,8 @@ static int point_from(const hp_load_hold_set *h, const int *col, int m, const do
                       double stop, double *e, double *P, double *R)
 {
     for (; *j < m && *e < stop; ++*j)
-        if (tie_cost(h->M, col[*j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target,
-                     x, nr, e, P, R))
+        if (tie_cost(h->M, col[*j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target, x,
+                     nr, e, P, R))
             return -1;
     return 0;
 }
@@ -366,8 +366,8 @@ int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, co
     return point_from(h, col, m, ra, rc, x, NULL, &j, stop, e, P, R);
 }
 
-int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *nr,
-                                 const double *x, double *e, double *P, double *R)
+int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *nr, const double *x,
+                                 double *e, double *P, double *R)
 {
     int j = 0;
     *e = 0.0;
@@ -561,14 +561,14 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
     return isfinite(best) ? 0 : -1;
 }
 
-int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec,
-                         hp_load_point_test test, void *ctx, double *f, double *eb, double *Pb,
-                         double *Rb)
+int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec, hp_load_point_test test,
+                         void *ctx, double *f, double *eb, double *Pb, double *Rb)
 {
     const int n = h->n, m = h->m, *col = h->col;
     double best = INFINITY;
     for (int i = 0; i < rec->count; ++i) {
-        double x[HP_MAX_BLADDERS] = {0}, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS] = {0}, e = rec->e[i];
+        double x[HP_MAX_BLADDERS] = {0}, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS] = {0},
+               e = rec->e[i];
         int j = rec->done[i];
         point_start(h, P);
         for (int q = 0; q < m; ++q) {
@@ -640,7 +640,8 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
         }
-        if (grid && grid_forces(hs, GRID_N, NULL, NULL, f, rec) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
+        if (grid && grid_forces(hs, GRID_N, NULL, NULL, f, rec) != 0)
+            return HP_LOAD_SOLVE_UNREACHABLE;
         for (int k = 0; k < n; ++k) {
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
@@ -805,8 +806,8 @@ static hpi_load_solve_status hold_core(const hp_load_model *M, const double xi[6
     if (rec) rec->valid = 0;
     hpi_load_solve_status st = hpi_load_hold_set_at(M, xi, lo, hi, target, hs);
     if (st == HP_LOAD_SOLVE_OK)
-        st = hold_from(hs, xi, hi, start, max_iter, nlp_solve, stiffness, 0, P, F, &it, raw,
-                       &cost, NULL);
+        st = hold_from(hs, xi, hi, start, max_iter, nlp_solve, stiffness, 0, P, F, &it, raw, &cost,
+                       NULL);
     int total = it;
     if (st == HP_LOAD_SOLVE_OK && max_iter > 0 && !stiffness) {
         const int n = M->layout.n;
@@ -830,15 +831,15 @@ hpi_load_solve_status hpi_load_hold(const hp_load_model *M, const double xi[6], 
                                     const double *hi, const double *target, const double *start,
                                     int max_iter, double *P, double *F, int *iterations)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL,
-                     NULL, NULL);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL, NULL,
+                     NULL);
 }
 
 hpi_load_solve_status hpi_load_hold_keep(const hp_load_model *M, const double xi[6],
-                                         const double *lo, const double *hi,
-                                         const double *target, const double *start, int max_iter,
-                                         double *P, double *F, int *iterations,
-                                         hp_load_hold_set *hs, hp_load_scan_rec *rec)
+                                         const double *lo, const double *hi, const double *target,
+                                         const double *start, int max_iter, double *P, double *F,
+                                         int *iterations, hp_load_hold_set *hs,
+                                         hp_load_scan_rec *rec)
 {
     return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL, hs,
                      rec);

@@ -92,8 +92,8 @@ typedef struct hp_load_near {
  * force lies strictly between nr's two (both carrying, below the top of the range) solved
  * from their radii: the same root to the pressure solve's two ulps of the radius, in about
  * two Newton steps once the two points are close. 0, or -1 when the model fails. */
-int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *nr,
-                                 const double *x, double *e, double *P, double *R);
+int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *nr, const double *x,
+                                 double *e, double *P, double *R);
 
 /* A test of a point of the set (forces x, pressures P, inner radii R): 1 accept, 0 reject,
  * -1 failure. */
@@ -134,18 +134,17 @@ typedef struct hp_load_scan_rec {
  * are written back to rec. *e, P and R get the answer's tie-breaker sum, pressures and
  * inner radii, the bits hpi_load_hold_set_point gives for f. 0, or -1 when none qualifies or
  * the model or the test fails. */
-int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec,
-                         hp_load_point_test test, void *ctx, double *f, double *e, double *P,
-                         double *R);
+int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec, hp_load_point_test test,
+                         void *ctx, double *f, double *e, double *P, double *R);
 
 /* hpi_load_hold (the realtime tie-breaker) that also hands back the holding set it formed
  * at xi (*hs, when the status is not ERROR) and its scan's record (*rec), for HOLD's stable
  * search (load_stable.h, hpi_load_stable_hold_set). */
 hpi_load_solve_status hpi_load_hold_keep(const hp_load_model *M, const double xi[6],
-                                         const double *lo, const double *hi,
-                                         const double *target, const double *start, int max_iter,
-                                         double *P, double *F, int *iterations,
-                                         hp_load_hold_set *hs, hp_load_scan_rec *rec);
+                                         const double *lo, const double *hi, const double *target,
+                                         const double *start, int max_iter, double *P, double *F,
+                                         int *iterations, hp_load_hold_set *hs,
+                                         hp_load_scan_rec *rec);
 /* TEST-ONLY counts (summed over the process): the scans of holding sets (HOLD's and the
  * stable search's) and the vertices they solved for (at most 4·C(8, 2) a scan). */
 void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices);

@@ -139,7 +139,8 @@ hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_lo
         f0[k] = fmin(fmax(Fk, hs->Flo[k]), hs->Fhi[k]);
     }
     int ok;
-    if (seg_point(hs, col, m, ra, rc, f0, NULL, &e0, P0, R0) || (ok = stable_at(&S, f0, P0, R0)) < 0)
+    if (seg_point(hs, col, m, ra, rc, f0, NULL, &e0, P0, R0) ||
+        (ok = stable_at(&S, f0, P0, R0)) < 0)
         return HP_LOAD_SOLVE_ERROR;
     if (ok)
         return lam_min && lambda_at(&S, f0, P0, R0, lam_min) ? HP_LOAD_SOLVE_ERROR

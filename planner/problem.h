@@ -140,8 +140,8 @@ typedef struct hp_backend_ops {
      * search (load_stable.h) neither forms nor scans the same set again. */
     hpi_load_solve_status (*load_hold_keep)(const hp_load_model *M, const double xi[6],
                                             const double *lo, const double *hi,
-                                            const double *target, const double *start,
-                                            int max_iter, double *P, double *F, int *iterations,
+                                            const double *target, const double *start, int max_iter,
+                                            double *P, double *F, int *iterations,
                                             hp_load_hold_set *hs, hp_load_scan_rec *rec);
 } hp_backend_ops;
 
