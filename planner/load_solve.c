@@ -128,6 +128,7 @@ double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho)
  * Safeguarded Newton with bisection, to two ulps of ri. */
 typedef struct radius_bracket {
     double a, c, Fa, Fc; /* inner radii holding the forces Fa < Fc: the root lies between */
+    double step;         /* a Newton step this short (relative to ri) is the last one */
 } radius_bracket;
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
                                      double hi, radius_bracket br, double Fhi, double F, double *P,
@@ -164,8 +165,8 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
     hp_error err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], lo, &a);
     if (!err) err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], hi, &c);
     if (err) return err;
-    return pressure_of_force_in(M, k, rho, lo, hi, (radius_bracket){a, c, 0.0, Fhi}, Fhi, F, P,
-                                NULL);
+    return pressure_of_force_in(M, k, rho, lo, hi, (radius_bracket){a, c, 0.0, Fhi, 4e-16}, Fhi, F,
+                                P, NULL);
 }
 
 /* pressure_of_force with a bracket of the inner radius known: br's radii hold its forces
@@ -213,7 +214,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
             if (dF > 0 && fabs(xn - x) <= 4e-16 * x) break;
             xn = 0.5 * (a + c);
         }
-        int done = fabs(xn - x) <= 4e-16 * x || c - a <= 4e-16 * x;
+        int done = fabs(xn - x) <= br.step * x || c - a <= 4e-16 * x;
         x = xn;
         if (done) {
             if ((err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL))) return err;
@@ -226,6 +227,13 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
     return HP_OK;
 }
 
+/* The last Newton step of a pressure solve from a narrow bracket (hp_load_near): a step of at
+ * most 1e-8 of the radius, applied, leaves an error of the order of its square (Newton
+ * converges quadratically there), rounding size, so the step that would only confirm it is
+ * not taken. On load_supine's stable search: 2.36 steps a solve instead of 3.20, and the
+ * answer's pressures within 1e-11 Pa of those solved from the carrying range's ends. */
+#define NEAR_STEP 1e-8
+
 /* Adds bladder k's share of the tie-breaker sum at force x[k] to *e: (P(F) − t)² for a
  * carrying bladder, and for one at zero force the best pressure that carries nothing (any in
  * [lo, L], L the bottom of its carrying range), as HOLD's answer gives it; P[k] gets that
@@ -237,13 +245,13 @@ static int tie_cost(const hp_load_model *M, int k, const double *rho, const doub
                     const hp_load_near *nr, double *e, double *P, double *R)
 {
     double Pk;
-    radius_bracket br = {ra[k], rc[k], 0.0, Fhi[k]};
+    radius_bracket br = {ra[k], rc[k], 0.0, Fhi[k], 4e-16};
     if (nr) { /* a narrower bracket: two points whose forces lie on either side of x[k] */
         const int up = nr->xa[k] < nr->xb[k];
         const double f1 = up ? nr->xa[k] : nr->xb[k], f2 = up ? nr->xb[k] : nr->xa[k];
         const double r1 = up ? nr->Ra[k] : nr->Rb[k], r2 = up ? nr->Rb[k] : nr->Ra[k];
         if (f1 > 0.0 && f1 < x[k] && x[k] < f2 && f2 < Fhi[k] && r1 < r2)
-            br = (radius_bracket){r1, r2, f1, f2};
+            br = (radius_bracket){r1, r2, f1, f2, NEAR_STEP};
     }
     if (x[k] <= 0.0 && Flo[k] <= 0.0) {
         Pk = fmin(fmax(target[k], lo[k]), L[k]);

@@ -90,8 +90,8 @@ typedef struct hp_load_near {
 
 /* hpi_load_hold_set_point(h, h's carrying bladders, x, no stop, ...) with each bladder whose
  * force lies strictly between nr's two (both carrying, below the top of the range) solved
- * from their radii: the same root to the pressure solve's two ulps of the radius, in about
- * two Newton steps once the two points are close. 0, or -1 when the model fails. */
+ * from their radii, stopping after a Newton step of at most 1e-8 of the radius (the root to
+ * rounding: quadratic convergence), about two steps. 0, or -1 when the model fails. */
 int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *nr, const double *x,
                                  double *e, double *P, double *R);
 
