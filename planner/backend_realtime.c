@@ -1087,6 +1087,7 @@ const hp_backend_ops hpi_backend_realtime_ops = {
     .caps = HP_BACKEND_CERTIFIES | HP_BACKEND_THREAD_SAFE | HP_BACKEND_REAL_TIME |
             HP_BACKEND_WARM_STARTS | HP_BACKEND_LOAD | HP_BACKEND_LAZY_RATE,
     .load_hold = rt_load_hold,
+    .load_hold_keep = hpi_load_hold_keep,
     .create = rt_create,
     .solve = rt_solve,
     .destroy = rt_destroy,

@@ -398,15 +398,26 @@ static void plan_bounds(hp_load_level *p)
 static hpi_load_solve_status hold(const hp_load_level *p, const double xi[6], const double *target,
                                   const double *start, double *P, double *F, int *iters, int *raw)
 {
-    hpi_load_solve_status st = p->ops->load_hold(
-        &p->M, xi, p->elo, p->ehi, target, start, p->set.max_iter,
-        p->set.load_tiebreak == HP_TIE_STIFFNESS, P, F, iters, raw);
+    /* The distance tie-breaker of a backend that keeps its holding set and scan hands both
+     * to the stable search (load_hold_keep): the search then replays the scan. */
+    const int keep = p->ops->load_hold_keep && p->set.load_tiebreak != HP_TIE_STIFFNESS;
+    hp_load_hold_set hs;
+    hp_load_scan_rec rec;
+    hpi_load_solve_status st = keep ? p->ops->load_hold_keep(&p->M, xi, p->elo, p->ehi, target,
+                                                             start, p->set.max_iter, P, F, iters,
+                                                             &hs, &rec)
+                                    : p->ops->load_hold(&p->M, xi, p->elo, p->ehi, target, start,
+                                                        p->set.max_iter,
+                                                        p->set.load_tiebreak == HP_TIE_STIFFNESS, P,
+                                                        F, iters, raw);
     if (st != HP_LOAD_SOLVE_OK) return st;
     double Ps[HP_MAX_BLADDERS], Fs[HP_MAX_BLADDERS];
     const int n = p->M.layout.n;
     memcpy(Ps, P, (size_t)n * sizeof *Ps);
     memcpy(Fs, F, (size_t)n * sizeof *Fs);
-    if (hpi_load_stable_hold(&p->M, xi, p->elo, p->ehi, target, Ps, Fs, NULL) == HP_LOAD_SOLVE_OK) {
+    if ((keep ? hpi_load_stable_hold_set(&hs, &rec, xi, Ps, Fs, NULL)
+              : hpi_load_stable_hold(&p->M, xi, p->elo, p->ehi, target, Ps, Fs, NULL)) ==
+        HP_LOAD_SOLVE_OK) {
         memcpy(P, Ps, (size_t)n * sizeof *P);
         memcpy(F, Fs, (size_t)n * sizeof *F);
     }

@@ -126,8 +126,12 @@ double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho)
  * volume law) are closed forms: only the bracket's two ends need the bladder's forward
  * kinematics, not every Newton step (it was half of an unreachable plan's time).
  * Safeguarded Newton with bisection, to two ulps of ri. */
+typedef struct radius_bracket {
+    double a, c, Fa, Fc; /* inner radii holding the forces Fa < Fc: the root lies between */
+    double step;         /* a Newton step this short (relative to ri) is the last one */
+} radius_bracket;
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
-                                     double hi, double a, double c, double Fhi, double F, double *P,
+                                     double hi, radius_bracket br, double Fhi, double F, double *P,
                                      double *ri);
 
 static atomic_ulong n_psolves, n_psteps, n_plong;
@@ -161,15 +165,19 @@ static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, dou
     hp_error err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], lo, &a);
     if (!err) err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], hi, &c);
     if (err) return err;
-    return pressure_of_force_in(M, k, rho, lo, hi, a, c, Fhi, F, P, NULL);
+    return pressure_of_force_in(M, k, rho, lo, hi, (radius_bracket){a, c, 0.0, Fhi, 4e-16}, Fhi, F,
+                                P, NULL);
 }
 
-/* pressure_of_force with the inner radii at lo and hi (a, c) known; *ri (may be NULL) gets
- * the inner radius at the answer. */
+/* pressure_of_force with a bracket of the inner radius known: br's radii hold its forces
+ * (the radii at lo and hi with the forces 0 and Fhi, or a narrower bracket inside them), and
+ * Newton starts from the secant between them; *ri (may be NULL) gets the inner radius at the
+ * answer (at lo or hi: br's a or c, when F is at or beyond an end of the carrying range). */
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
-                                     double hi, double a, double c, double Fhi, double F, double *P,
+                                     double hi, radius_bracket br, double Fhi, double F, double *P,
                                      double *ri)
 {
+    double a = br.a, c = br.c;
     if (F <= 0.0) {
         *P = lo;
         if (ri) *ri = a;
@@ -182,7 +190,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
     }
     const hp_iab *b = &M->layout.bladders[k].iab;
     hp_error err;
-    double x = a + (c - a) * (F / Fhi), Px = lo;
+    double x = a + (c - a) * ((F - br.Fa) / (br.Fc - br.Fa)), Px = lo;
     int steps = 0;
     for (int it = 0; it < 200; ++it) {
         ++steps;
@@ -206,7 +214,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
             if (dF > 0 && fabs(xn - x) <= 4e-16 * x) break;
             xn = 0.5 * (a + c);
         }
-        int done = fabs(xn - x) <= 4e-16 * x || c - a <= 4e-16 * x;
+        int done = fabs(xn - x) <= br.step * x || c - a <= 4e-16 * x;
         x = xn;
         if (done) {
             if ((err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL))) return err;
@@ -219,6 +227,13 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
     return HP_OK;
 }
 
+/* The last Newton step of a pressure solve from a narrow bracket (hp_load_near): a step of at
+ * most 1e-8 of the radius, applied, leaves an error of the order of its square (Newton
+ * converges quadratically there), rounding size, so the step that would only confirm it is
+ * not taken. On load_supine's stable search: 2.36 steps a solve instead of 3.20, and the
+ * answer's pressures within 1e-11 Pa of those solved from the carrying range's ends. */
+#define NEAR_STEP 1e-8
+
 /* Adds bladder k's share of the tie-breaker sum at force x[k] to *e: (P(F) − t)² for a
  * carrying bladder, and for one at zero force the best pressure that carries nothing (any in
  * [lo, L], L the bottom of its carrying range), as HOLD's answer gives it; P[k] gets that
@@ -227,12 +242,20 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
 static int tie_cost(const hp_load_model *M, int k, const double *rho, const double *lo,
                     const double *L, const double *U, const double *ra, const double *rc,
                     const double *Flo, const double *Fhi, const double *target, const double *x,
-                    double *e, double *P, double *R)
+                    const hp_load_near *nr, double *e, double *P, double *R)
 {
     double Pk;
+    radius_bracket br = {ra[k], rc[k], 0.0, Fhi[k], 4e-16};
+    if (nr) { /* a narrower bracket: two points whose forces lie on either side of x[k] */
+        const int up = nr->xa[k] < nr->xb[k];
+        const double f1 = up ? nr->xa[k] : nr->xb[k], f2 = up ? nr->xb[k] : nr->xa[k];
+        const double r1 = up ? nr->Ra[k] : nr->Rb[k], r2 = up ? nr->Rb[k] : nr->Ra[k];
+        if (f1 > 0.0 && f1 < x[k] && x[k] < f2 && f2 < Fhi[k] && r1 < r2)
+            br = (radius_bracket){r1, r2, f1, f2, NEAR_STEP};
+    }
     if (x[k] <= 0.0 && Flo[k] <= 0.0) {
         Pk = fmin(fmax(target[k], lo[k]), L[k]);
-    } else if (pressure_of_force_in(M, k, rho[k], L[k], U[k], ra[k], rc[k], Fhi[k], x[k], &Pk,
+    } else if (pressure_of_force_in(M, k, rho[k], L[k], U[k], br, Fhi[k], x[k], &Pk,
                                     R ? &R[k] : NULL)) {
         return -1;
     }
@@ -319,30 +342,69 @@ int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, 
     return h->m;
 }
 
+/* The pressures of every bladder at a point before its sum: each at its best pressure that
+ * carries nothing (tie_cost overwrites the carrying ones). */
+static void point_start(const hp_load_hold_set *h, double *P)
+{
+    for (int k = 0; k < h->n; ++k) P[k] = fmin(fmax(h->target[k], h->lo[k]), h->L[k]);
+}
+
+/* The sum of a point carried on from the carrying bladder *j (the sum so far in *e) while it
+ * is below stop; *j gets where it stopped. */
+static int point_from(const hp_load_hold_set *h, const int *col, int m, const double *ra,
+                      const double *rc, const double *x, const hp_load_near *nr, int *j,
+                      double stop, double *e, double *P, double *R)
+{
+    for (; *j < m && *e < stop; ++*j)
+        if (tie_cost(h->M, col[*j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target, x,
+                     nr, e, P, R))
+            return -1;
+    return 0;
+}
+
 /* tie_cost over the m carrying-capable bladders col[]; the others at their best pressure
  * that carries nothing (load_solve.h). */
 int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, const double *ra,
                             const double *rc, const double *x, double stop, double *e, double *P,
                             double *R)
 {
+    int j = 0;
     *e = 0.0;
-    for (int k = 0; k < h->n; ++k) P[k] = fmin(fmax(h->target[k], h->lo[k]), h->L[k]);
-    for (int j = 0; j < m && *e < stop; ++j)
-        if (tie_cost(h->M, col[j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target, x,
-                     e, P, R))
-            return -1;
-    return 0;
+    point_start(h, P);
+    return point_from(h, col, m, ra, rc, x, NULL, &j, stop, e, P, R);
+}
+
+int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *nr, const double *x,
+                                 double *e, double *P, double *R)
+{
+    int j = 0;
+    *e = 0.0;
+    point_start(h, P);
+    return point_from(h, h->col, h->m, h->ra, h->rc, x, nr, &j, INFINITY, e, P, R);
 }
 
 /* A point x of the holding set: kept in f when its tie-breaker sum is below *best and, with
  * a test, when the test accepts it (asked only of a point that would win: the sum stops as
- * soon as it cannot). 0, or -1 when the model or the test fails. */
+ * soon as it cannot). rec (may be NULL) gets the point and its sum as far as it went.
+ * 0, or -1 when the model or the test fails. */
 static int consider(const hp_load_hold_set *h, const int *col, int m, const double *ra,
                     const double *rc, hp_load_point_test test, void *ctx, const double *x,
-                    double *best, double *f)
+                    double *best, double *f, hp_load_scan_rec *rec)
 {
-    double e, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS];
-    if (hpi_load_hold_set_point(h, col, m, ra, rc, x, *best, &e, P, R)) return -1;
+    double e = 0.0, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS] = {0};
+    int j = 0;
+    point_start(h, P);
+    if (point_from(h, col, m, ra, rc, x, NULL, &j, *best, &e, P, R)) return -1;
+    if (rec && rec->count++ < HP_LOAD_SCAN_POINTS && m <= HP_LOAD_SCAN_CARRY) {
+        const int i = rec->count - 1;
+        rec->done[i] = j;
+        rec->e[i] = e;
+        for (int q = 0; q < m; ++q) {
+            rec->x[i][q] = x[col[q]];
+            rec->P[i][q] = P[col[q]];
+            rec->R[i][q] = R[col[q]];
+        }
+    }
     if (!(e < *best)) return 0;
     if (test) {
         int ok = test(ctx, x, P, R);
@@ -372,9 +434,10 @@ void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices)
 }
 
 static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test test, void *ctx,
-                       double *f)
+                       double *f, hp_load_scan_rec *rec)
 {
     atomic_fetch_add(&n_scans, 1);
+    if (rec) rec->valid = rec->count = 0;
     const hp_load_model *M = h->M;
     const int n = h->n;
     const double *A = h->A, *b = h->b, *L = h->L, *U = h->U, *Flo = h->Flo, *Fhi = h->Fhi;
@@ -445,7 +508,7 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
                 x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
             }
             for (int r = rank; r < 6 && ok; ++r) ok = fabs(E[r][m]) <= tol; /* consistent */
-            if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f)) return -1;
+            if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f, rec)) return -1;
         }
     /* The polytope's vertices too (nfree of the carrying bladders at an end of their range,
      * the six others solved for): where the tie-breaker is concave the least sum lies on
@@ -498,9 +561,53 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
                         ok = v >= Flo[k] - tol && v <= Fhi[k] + tol;
                         x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
                     }
-                    if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f)) return -1;
+                    if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f, rec)) return -1;
                 }
             }
+    }
+    if (rec) rec->valid = rec->count <= HP_LOAD_SCAN_POINTS && m <= HP_LOAD_SCAN_CARRY;
+    return isfinite(best) ? 0 : -1;
+}
+
+int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec, hp_load_point_test test,
+                         void *ctx, double *f, double *eb, double *Pb, double *Rb)
+{
+    const int n = h->n, m = h->m, *col = h->col;
+    double best = INFINITY;
+    for (int i = 0; i < rec->count; ++i) {
+        double x[HP_MAX_BLADDERS] = {0}, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS] = {0},
+               e = rec->e[i];
+        int j = rec->done[i];
+        point_start(h, P);
+        for (int q = 0; q < m; ++q) {
+            x[col[q]] = rec->x[i][q];
+            if (q < j) {
+                P[col[q]] = rec->P[i][q];
+                R[col[q]] = rec->R[i][q];
+            }
+        }
+        /* The test's scan sums a point while it is below its own best, which is never below
+         * HOLD's: the sum goes on from where HOLD's stopped, through the same terms. */
+        if (j < m && e < best) {
+            const int j0 = j;
+            if (point_from(h, col, m, h->ra, h->rc, x, NULL, &j, best, &e, P, R)) return -1;
+            rec->done[i] = j;
+            rec->e[i] = e;
+            for (int q = j0; q < j; ++q) {
+                rec->P[i][q] = P[col[q]];
+                rec->R[i][q] = R[col[q]];
+            }
+        }
+        if (!(e < best)) continue;
+        if (test) {
+            int ok = test(ctx, x, P, R);
+            if (ok < 0) return -1;
+            if (!ok) continue;
+        }
+        *eb = best = e;
+        memcpy(f, x, (size_t)n * sizeof *f);
+        memcpy(Pb, P, (size_t)n * sizeof *Pb);
+        memcpy(Rb, R, (size_t)n * sizeof *Rb);
     }
     return isfinite(best) ? 0 : -1;
 }
@@ -513,7 +620,7 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
                                        const double *hi, const double *start, int max_iter,
                                        hp_load_nlp_solver nlp_solve, int stiffness, int grid,
                                        double *P, double *F, int *iterations, int *raw,
-                                       double *cost)
+                                       double *cost, hp_load_scan_rec *rec)
 {
     *cost = INFINITY;
     const hp_load_model *M = hs->M;
@@ -541,7 +648,8 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
         }
-        if (grid && grid_forces(hs, GRID_N, NULL, NULL, f) != 0) return HP_LOAD_SOLVE_UNREACHABLE;
+        if (grid && grid_forces(hs, GRID_N, NULL, NULL, f, rec) != 0)
+            return HP_LOAD_SOLVE_UNREACHABLE;
         for (int k = 0; k < n; ++k) {
             l[k] = Flo[k] - f[k];
             u[k] = Fhi[k] - f[k];
@@ -696,23 +804,25 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
 static hpi_load_solve_status hold_core(const hp_load_model *M, const double xi[6], const double *lo,
                                        const double *hi, const double *target, const double *start,
                                        int max_iter, hp_load_nlp_solver nlp_solve, int stiffness,
-                                       double *P, double *F, int *iterations, int *raw)
+                                       double *P, double *F, int *iterations, int *raw,
+                                       hp_load_hold_set *keep, hp_load_scan_rec *rec)
 {
     double cost;
     int it = 0;
-    /* Both starts work on one holding set. */
-    hp_load_hold_set hs;
-    hpi_load_solve_status st = hpi_load_hold_set_at(M, xi, lo, hi, target, &hs);
+    /* Both starts work on one holding set (the caller's, when it keeps it). */
+    hp_load_hold_set own, *hs = keep ? keep : &own;
+    if (rec) rec->valid = 0;
+    hpi_load_solve_status st = hpi_load_hold_set_at(M, xi, lo, hi, target, hs);
     if (st == HP_LOAD_SOLVE_OK)
-        st = hold_from(&hs, xi, hi, start, max_iter, nlp_solve, stiffness, 0, P, F, &it, raw,
-                       &cost);
+        st = hold_from(hs, xi, hi, start, max_iter, nlp_solve, stiffness, 0, P, F, &it, raw, &cost,
+                       NULL);
     int total = it;
     if (st == HP_LOAD_SOLVE_OK && max_iter > 0 && !stiffness) {
         const int n = M->layout.n;
         double Pk[HP_MAX_BLADDERS], Fk[HP_MAX_BLADDERS], ck;
         int rk = 0;
         it = 0;
-        if (hold_from(&hs, xi, hi, start, max_iter, nlp_solve, 0, 1, Pk, Fk, &it, &rk, &ck) ==
+        if (hold_from(hs, xi, hi, start, max_iter, nlp_solve, 0, 1, Pk, Fk, &it, &rk, &ck, rec) ==
                 HP_LOAD_SOLVE_OK &&
             ck < cost * (1.0 - 1e-12)) {
             memcpy(P, Pk, (size_t)n * sizeof *P);
@@ -729,7 +839,18 @@ hpi_load_solve_status hpi_load_hold(const hp_load_model *M, const double xi[6], 
                                     const double *hi, const double *target, const double *start,
                                     int max_iter, double *P, double *F, int *iterations)
 {
-    return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL);
+    return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL, NULL,
+                     NULL);
+}
+
+hpi_load_solve_status hpi_load_hold_keep(const hp_load_model *M, const double xi[6],
+                                         const double *lo, const double *hi, const double *target,
+                                         const double *start, int max_iter, double *P, double *F,
+                                         int *iterations, hp_load_hold_set *hs,
+                                         hp_load_scan_rec *rec)
+{
+    return hold_core(M, xi, lo, hi, target, start, max_iter, NULL, 0, P, F, iterations, NULL, hs,
+                     rec);
 }
 
 hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_load_model *M,
@@ -739,13 +860,13 @@ hpi_load_solve_status hpi_load_hold_with(hp_load_nlp_solver nlp_solve, const hp_
                                          int *raw)
 {
     return hold_core(M, xi, lo, hi, target, start, max_iter, nlp_solve, stiffness, P, F, iterations,
-                     raw);
+                     raw, NULL, NULL);
 }
 
 int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
                            void *ctx, double *f)
 {
-    return grid_forces(h, grid_n, test, ctx, f);
+    return grid_forces(h, grid_n, test, ctx, f, NULL);
 }
 
 hp_error hpi_load_bladder_stiff(const hp_load_model *M, int k, double P, double rho, double a[3])

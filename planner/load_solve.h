@@ -80,6 +80,21 @@ int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, co
                             const double *rc, const double *x, double stop, double *e, double *P,
                             double *R);
 
+/* Two points a, b of the set (forces xa, xb) whose pressures were solved, with their inner
+ * radii Ra, Rb (hpi_load_hold_set_point's R): a point between them (forces x between xa and
+ * xb bladder by bladder, as on the segment from a to b) has each carrying bladder's inner
+ * radius between theirs, so its pressure solve starts from that bracket. */
+typedef struct hp_load_near {
+    const double *xa, *Ra, *xb, *Rb;
+} hp_load_near;
+
+/* hpi_load_hold_set_point(h, h's carrying bladders, x, no stop, ...) with each bladder whose
+ * force lies strictly between nr's two (both carrying, below the top of the range) solved
+ * from their radii, stopping after a Newton step of at most 1e-8 of the radius (the root to
+ * rounding: quadratic convergence), about two steps. 0, or -1 when the model fails. */
+int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *nr, const double *x,
+                                 double *e, double *P, double *R);
+
 /* A test of a point of the set (forces x, pressures P, inner radii R): 1 accept, 0 reject,
  * -1 failure. */
 typedef int (*hp_load_point_test)(void *ctx, const double *x, const double *P, const double *R);
@@ -92,6 +107,44 @@ typedef int (*hp_load_point_test)(void *ctx, const double *x, const double *P, c
  * test (may be NULL) accepts. 0, or -1 when none qualifies. */
 int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
                            void *ctx, double *f);
+
+/* The scan can carry at most eight bladders (six rows, at most two free forces), so it has at
+ * most HP_LOAD_SCAN_GRID_N² grid points and 4·C(8, 2) vertices. */
+#define HP_LOAD_SCAN_CARRY 8
+#define HP_LOAD_SCAN_POINTS (HP_LOAD_SCAN_GRID_N * HP_LOAD_SCAN_GRID_N + 4 * 28)
+
+/* HOLD's scan (the tie-breaker's, without a test) as it went, point by point in its order,
+ * for the stable search to replay instead of scanning the same set again: each point's
+ * carrying forces, and its tie-breaker sum as far as the scan summed it (done of the m
+ * carrying bladders, in col order: the scan stops a sum once it cannot win) with those
+ * bladders' pressures and inner radii. Indexed like the set's col[]. valid = 0: no record
+ * (the scan did not run to its end, or the set was not scanned). */
+typedef struct hp_load_scan_rec {
+    int valid, count;
+    int done[HP_LOAD_SCAN_POINTS];
+    double e[HP_LOAD_SCAN_POINTS];
+    double x[HP_LOAD_SCAN_POINTS][HP_LOAD_SCAN_CARRY];
+    double P[HP_LOAD_SCAN_POINTS][HP_LOAD_SCAN_CARRY];
+    double R[HP_LOAD_SCAN_POINTS][HP_LOAD_SCAN_CARRY];
+} hp_load_scan_rec;
+
+/* The same answer as hpi_load_hold_set_scan(h, HP_LOAD_SCAN_GRID_N, test, ctx, f), bit for
+ * bit, from rec (HOLD's scan of h): the points in the scan's order, each sum carried on from
+ * where HOLD's stopped only as far as the test's scan would carry it. Sums it carries on
+ * are written back to rec. *e, P and R get the answer's tie-breaker sum, pressures and
+ * inner radii, the bits hpi_load_hold_set_point gives for f. 0, or -1 when none qualifies or
+ * the model or the test fails. */
+int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec, hp_load_point_test test,
+                         void *ctx, double *f, double *e, double *P, double *R);
+
+/* hpi_load_hold (the realtime tie-breaker) that also hands back the holding set it formed
+ * at xi (*hs, when the status is not ERROR) and its scan's record (*rec), for HOLD's stable
+ * search (load_stable.h, hpi_load_stable_hold_set). */
+hpi_load_solve_status hpi_load_hold_keep(const hp_load_model *M, const double xi[6],
+                                         const double *lo, const double *hi, const double *target,
+                                         const double *start, int max_iter, double *P, double *F,
+                                         int *iterations, hp_load_hold_set *hs,
+                                         hp_load_scan_rec *rec);
 /* TEST-ONLY counts (summed over the process): the scans of holding sets (HOLD's and the
  * stable search's) and the vertices they solved for (at most 4·C(8, 2) a scan). */
 void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices);

@@ -9,7 +9,7 @@
 #include <stdatomic.h>
 #include <string.h>
 
-static atomic_ulong n_searches, n_points, n_tests, n_eigen;
+static atomic_ulong n_searches, n_points, n_tests, n_eigen, n_psolves, n_psteps;
 
 void hpi_test_stable_counts(hp_test_stable_counts *out)
 {
@@ -17,14 +17,25 @@ void hpi_test_stable_counts(hp_test_stable_counts *out)
     out->points = atomic_load(&n_points);
     out->tests = atomic_load(&n_tests);
     out->eigen = atomic_load(&n_eigen);
+    out->solves = atomic_load(&n_psolves);
+    out->steps = atomic_load(&n_psteps);
 }
 
-/* A point of the set outside the scan (counted). */
+/* A point of the set outside the scan (counted); nr (may be NULL) two solved points it lies
+ * between. */
 static int seg_point(const hp_load_hold_set *hs, const int *col, int m, const double *ra,
-                     const double *rc, const double *x, double *e, double *P, double *R)
+                     const double *rc, const double *x, const hp_load_near *nr, double *e,
+                     double *P, double *R)
 {
     atomic_fetch_add(&n_points, 1);
-    return hpi_load_hold_set_point(hs, col, m, ra, rc, x, INFINITY, e, P, R);
+    unsigned long s0, t0, l0, s1, t1, l1;
+    hpi_test_pressure_counts(&s0, &t0, &l0);
+    int r = nr ? hpi_load_hold_set_point_near(hs, nr, x, e, P, R)
+               : hpi_load_hold_set_point(hs, col, m, ra, rc, x, INFINITY, e, P, R);
+    hpi_test_pressure_counts(&s1, &t1, &l1);
+    atomic_fetch_add(&n_psolves, s1 - s0);
+    atomic_fetch_add(&n_psteps, t1 - t0);
+    return r;
 }
 
 /* The terms of the holding stiffness with pressures P (n, Pa) whose forces are x and inner
@@ -100,54 +111,81 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
     hp_load_hold_set hs;
     hpi_load_solve_status st = hpi_load_hold_set_at(M, xi, lo, hi, target, &hs);
     if (st != HP_LOAD_SOLVE_OK) return st;
+    return hpi_load_stable_hold_set(&hs, NULL, xi, P, F, lam_min);
+}
+
+hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_load_scan_rec *rec,
+                                               const double xi[6], double *P, double *F,
+                                               double *lam_min)
+{
+    const hp_load_model *M = hs->M;
     hp_load_stiff S;
-    if (hpi_load_stiff_init(&S, M, xi, target) != HP_OK) return HP_LOAD_SOLVE_ERROR;
-    const int n = hs.n;
+    if (hpi_load_stiff_init(&S, M, xi, hs->target) != HP_OK) return HP_LOAD_SOLVE_ERROR;
+    const int n = hs->n;
     int col[HP_MAX_BLADDERS];
     double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
-    const int m = hpi_load_hold_set_carrying(&hs, col, ra, rc);
+    const int m = hpi_load_hold_set_carrying(hs, col, ra, rc);
     if (m < 0) return HP_LOAD_SOLVE_ERROR;
     /* The pick's forces (a bladder below its carrying pressures carries nothing), and its
      * stiffness from the pressures of those forces (the pick's to the pressure solve's
      * rounding). */
-    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS], e0;
+    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS] = {0}, e0;
     for (int k = 0; k < n; ++k) {
         double Fk;
         f0[k] = 0.0;
-        if (!(hs.L[k] < hs.U[k]) || !(P[k] > hs.L[k])) continue;
-        if (hpi_load_bladder_force(M, k, P[k], hs.rho[k], &Fk, NULL, NULL) != HP_OK)
+        if (!(hs->L[k] < hs->U[k]) || !(P[k] > hs->L[k])) continue;
+        if (hpi_load_bladder_force(M, k, P[k], hs->rho[k], &Fk, NULL, NULL) != HP_OK)
             return HP_LOAD_SOLVE_ERROR;
-        f0[k] = fmin(fmax(Fk, hs.Flo[k]), hs.Fhi[k]);
+        f0[k] = fmin(fmax(Fk, hs->Flo[k]), hs->Fhi[k]);
     }
     int ok;
-    if (seg_point(&hs, col, m, ra, rc, f0, &e0, P0, R0) || (ok = stable_at(&S, f0, P0, R0)) < 0)
+    if (seg_point(hs, col, m, ra, rc, f0, NULL, &e0, P0, R0) ||
+        (ok = stable_at(&S, f0, P0, R0)) < 0)
         return HP_LOAD_SOLVE_ERROR;
     if (ok)
         return lam_min && lambda_at(&S, f0, P0, R0, lam_min) ? HP_LOAD_SOLVE_ERROR
                                                              : HP_LOAD_SOLVE_OK;
     atomic_fetch_add(&n_searches, 1);
-    /* The cheapest stable point of the scan (the tie-breaker's 3×3 grid and the vertices;
+    /* The cheapest stable point of the scan (the tie-breaker's 3×3 grid and the vertices:
+     * HOLD's own scan replayed when the caller kept it, which hands over c's pressures too;
      * where none is stable, the finer grid): the segment's far end c, stable by the scan's
-     * own test at the pressures seg_point solves again. */
-    double c[HP_MAX_BLADDERS], best, fb[HP_MAX_BLADDERS], Pb[HP_MAX_BLADDERS], Rb[HP_MAX_BLADDERS];
-    if (hpi_load_hold_set_scan(&hs, HP_LOAD_SCAN_GRID_N, stable_test, &S, c) != 0 &&
-        hpi_load_hold_set_scan(&hs, STABLE_GRID_N, stable_test, &S, c) != 0)
+     * own test at the pressures seg_point solves again (the replay's: the same bits). */
+    double c[HP_MAX_BLADDERS], best, fb[HP_MAX_BLADDERS], Pb[HP_MAX_BLADDERS];
+    double Rb[HP_MAX_BLADDERS] = {0};
+    const int replay = rec && rec->valid;
+    const int found = (replay ? hpi_load_scan_replay(hs, rec, stable_test, &S, c, &best, Pb, Rb)
+                              : hpi_load_hold_set_scan(hs, HP_LOAD_SCAN_GRID_N, stable_test, &S,
+                                                       c)) == 0;
+    if (!found && hpi_load_hold_set_scan(hs, STABLE_GRID_N, stable_test, &S, c) != 0)
         return HP_LOAD_SOLVE_UNREACHABLE;
+    if (!(replay && found) && seg_point(hs, col, m, ra, rc, c, NULL, &best, Pb, Rb))
+        return HP_LOAD_SOLVE_ERROR;
     memcpy(fb, c, (size_t)n * sizeof *fb);
-    if (seg_point(&hs, col, m, ra, rc, c, &best, Pb, Rb)) return HP_LOAD_SOLVE_ERROR;
     /* The stable point nearest the pick on the segment of forces from it to c: the set is
      * convex in the forces, so the segment holds the head throughout. Bisection of the
      * bracket [a, b] (the pick's end unstable, the other stable): lam jumps where a
      * contact starts to count (seen on the supine scene: +0.003 to −0.031 N/mm past the
      * margin), and there false position gains nothing on halving. The cheapest stable
      * point seen wins. */
+    /* Each point's pressures are solved from the inner radii at the bracket's two ends
+     * (forces on a segment: each bladder's force, so its radius, lies between the ends'). */
     double a = 0.0, b = 1.0;
+    double xa[HP_MAX_BLADDERS], Ra[HP_MAX_BLADDERS], xb[HP_MAX_BLADDERS], Rbr[HP_MAX_BLADDERS];
+    memcpy(xa, f0, (size_t)n * sizeof *xa);
+    memcpy(Ra, R0, (size_t)n * sizeof *Ra);
+    memcpy(xb, c, (size_t)n * sizeof *xb);
+    memcpy(Rbr, Rb, (size_t)n * sizeof *Rbr);
+    const hp_load_near nr = {xa, Ra, xb, Rbr};
     for (int it = 0; it < STABLE_HALVINGS; ++it) {
-        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], Rx[HP_MAX_BLADDERS], e;
+        double t = 0.5 * (a + b), x[HP_MAX_BLADDERS], Px[HP_MAX_BLADDERS], e;
+        double Rx[HP_MAX_BLADDERS] = {0};
         for (int k = 0; k < n; ++k)
-            x[k] = fmin(fmax(f0[k] + t * (c[k] - f0[k]), hs.Flo[k]), hs.Fhi[k]);
-        if (seg_point(&hs, col, m, ra, rc, x, &e, Px, Rx) || (ok = stable_at(&S, x, Px, Rx)) < 0)
+            x[k] = fmin(fmax(f0[k] + t * (c[k] - f0[k]), hs->Flo[k]), hs->Fhi[k]);
+        if (seg_point(hs, col, m, ra, rc, x, &nr, &e, Px, Rx) ||
+            (ok = stable_at(&S, x, Px, Rx)) < 0)
             return HP_LOAD_SOLVE_ERROR;
+        memcpy(ok ? xb : xa, x, (size_t)n * sizeof *x);
+        memcpy(ok ? Rbr : Ra, Rx, (size_t)n * sizeof *Rx);
         if (!ok) {
             a = t;
             continue;

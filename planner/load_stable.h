@@ -33,8 +33,8 @@
  * free pressures and its vertices, at most 9 + 112 points; where none is stable a 7×7 grid
  * and the vertices, at most 49 + 112) for the cheapest stable point c, then a bisection on
  * the segment of forces from the pick to c (the set is convex in the forces) for the stable
- * point nearest the pick, 10 halvings (2^-10 of the segment); the cheapest stable point seen
- * wins. F gets its forces, *lam_min (may be NULL) its smallest eigenvalue (one 6×6
+ * point nearest the pick, 10 halvings (2^-10 of the segment; each point's pressures solved
+ * from the inner radii at the bracket's two ends); the cheapest stable point seen wins. F gets its forces, *lam_min (may be NULL) its smallest eigenvalue (one 6×6
  * eigenproblem, solved only when asked for). OK with P stable; UNREACHABLE (P and F
  * unchanged) when no point of the scans is stable; ERROR when the model fails.
  * Deterministic, no allocation, at most 282 scan points and 12 other points (the pick, the
@@ -44,12 +44,22 @@ hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double 
                                            const double *lo, const double *hi, const double *target,
                                            double *P, double *F, double *lam_min);
 
+/* hpi_load_stable_hold on the holding set HOLD formed at xi (hs: its bounds and target), with
+ * HOLD's scan record rec (may be NULL, or not valid: the search scans the set itself). The
+ * same answer: the replay finds the scan's c bit for bit and hands over its pressures (one
+ * point fewer to solve); rec's sums may be carried on. */
+hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_load_scan_rec *rec,
+                                               const double xi[6], double *P, double *F,
+                                               double *lam_min);
+
 /* TEST-ONLY counts (inert unless a test reads them; summed over the process): the stable
  * searches that went past the pick's own test, the points of the set whose pressures they
  * solved outside the scan (the pick, the scan's point and the segment's), the stability
- * tests of a point (the scan's included), and the 6×6 stiffness eigenproblems solved. */
+ * tests of a point (the scan's included), the 6×6 stiffness eigenproblems solved, and the
+ * pressure-of-force solves of those points with their steps (hpi_test_pressure_counts). */
 typedef struct hp_test_stable_counts {
     unsigned long searches, points, tests, eigen;
+    unsigned long solves, steps; /* those points' pressure-of-force solves and their steps */
 } hp_test_stable_counts;
 void hpi_test_stable_counts(hp_test_stable_counts *out);
 

@@ -134,6 +134,15 @@ typedef struct hp_backend_ops {
                                        const double *hi, const double *target, const double *start,
                                        int max_iter, int stiffness, double *P, double *F,
                                        int *iterations, int *raw);
+    /* Optional (NULL: HOLD's stable search forms the holding set and scans it itself).
+     * load_hold with the distance tie-breaker that also hands back the holding set it formed
+     * at xi and its scan's record (load_solve.h, hpi_load_hold_keep), so that the stable
+     * search (load_stable.h) neither forms nor scans the same set again. */
+    hpi_load_solve_status (*load_hold_keep)(const hp_load_model *M, const double xi[6],
+                                            const double *lo, const double *hi,
+                                            const double *target, const double *start, int max_iter,
+                                            double *P, double *F, int *iterations,
+                                            hp_load_hold_set *hs, hp_load_scan_rec *rec);
 } hp_backend_ops;
 
 extern const hp_backend_ops hpi_backend_realtime_ops;
