@@ -139,7 +139,7 @@ static void print_table(const hp_layout *L, const hp_result *r, const hp_load_in
 }
 
 static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
-                      const hp_load_info *info, const char *why, hp_level geom,
+                      const hp_load_info *info, const char *msg, const char *why, hp_level geom,
                       hp_load_tiebreak tie, const cli_model_error *me)
 {
     json_t *o = json_object();
@@ -183,6 +183,7 @@ static int print_json(const char *cmd, const hp_layout *L, const hp_result *r,
     json_object_set_new(o, "weakest", json_string(h->weakest_words));
     json_object_set_new(o, "weakest_compliance", cli_json_num(h->weakest_compliance));
     json_object_set_new(o, "iterations", json_integer(r->iterations));
+    json_object_set_new(o, "message", json_string(msg)); /* the status line's words */
     char *s = json_dumps(o, JSON_PRESERVE_ORDER | JSON_REAL_PRECISION(CLI_JSON_REAL_PRECISION));
     json_decref(o);
     if (!s) return cli_fail(CLI_EXIT_SOFTWARE, cmd, "cannot format JSON output");
@@ -234,7 +235,8 @@ int cli_solve_load(const char *cmd, const hp_scene *sc, const char *name, hp_pla
     cli_model_error me;
     cli_model_error_of(sc, &r, HP_LEVEL_LOAD, s->tolerance, &me);
     if (json) {
-        if (print_json(cmd, L, &r, &info, why, geom, tie, &me)) status = CLI_EXIT_SOFTWARE;
+        if (print_json(cmd, L, &r, &info, hp_planner_message(p), why, geom, tie, &me))
+            status = CLI_EXIT_SOFTWARE;
     } else {
         print_table(L, &r, &info, hp_planner_message(p), why, geom, tie, &me);
     }

@@ -96,6 +96,15 @@ awk '$1 == "base_neck_left" && $NF ~ /(^|,)stability(,|$)/ { f = 1 } END { exit 
   && ok || bad "a carrying base bladder is named stability"
 expect_stdout_has "the nearest stable hold the search found" "says what the answer is"
 expect_stdout_has "not a proven nearest stable pose" "and what it is not"
+# The JSON output carries the same words (a "message" key, as the kinematic levels' JSON).
+run solve "$S/load_heavy.yaml" --json
+expect_exit 1 "too heavy, --json: closest"
+python3 - "$TMP/out" <<'PY' && ok || bad "load JSON message says what the closest answer is"
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["status"] == "closest", d["status"]
+assert "the nearest stable hold the search found" in d["message"], d.get("message")
+PY
 
 run solve "$S/load_prone.yaml"
 expect_exit 65 "prone: refused"
