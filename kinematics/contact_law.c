@@ -35,17 +35,25 @@ void hpi_claw_cap(double P, double ro, double rho, hp_claw *c)
  * the wall share w(P) = b_p·mu·P·t with t = (P² + (p_c·mu)²)^(−1/2) (w' = b_p·mu·(p_c·mu)²·t³,
  * w'' = −3·P·t²·w'). Each law's output is m(ro)·X with X = P·s·g(d) + w·h(d) for a pair of
  * polynomials (g, h): F has m = pi·ro² and (G, H); dF/drho has m = −pi·ro and (G', H')
- * (dd/drho = −1/ro); W has m = pi·ro³ and the integrals of (G, H). Only what the order asks
+ * (dd/drho = −1/ro); W has m = pi·ro³ and the integrals of (G, H) (value only). Only what the order asks
  * for is computed; what is computed is the same operations in the same order at every
  * order, so the same bits. The tests compare with forward-mode dual numbers
  * (tests/support/claw_ref.h). */
+/* The pieces below are inlined into each order's entry (fem_value, fem_gradient,
+ * fem_hessian), where the order is a constant and the tests on it fold away. */
+#if defined(__GNUC__)
+#define FEM_INLINE static inline __attribute__((always_inline))
+#else
+#define FEM_INLINE static inline
+#endif
+
 typedef struct fem_parts {
     double P, d, d_r, d_q, d_rr, d_rq; /* _r: d/dro, _q: d/drho */
     double s, s_r, s_rr, w, w1, w2;
 } fem_parts;
 
-static void fem_parts_of(const hp_claw_bladder *b, double P, double ro, double rho, int o,
-                         fem_parts *f)
+FEM_INLINE void fem_parts_of(const hp_claw_bladder *b, double P, double ro, double rho, int o,
+                             fem_parts *f)
 {
     double u = 1.0 / ro, bw = HP_CLAW_FIT_BW * b->wall * u, bk = HP_CLAW_FIT_BK * b->curv;
     double mu = b->C1 + b->C2, pc = HP_CLAW_FIT_PC * mu, bp = HP_CLAW_FIT_BP * mu;
@@ -66,30 +74,54 @@ static void fem_parts_of(const hp_claw_bladder *b, double P, double ro, double r
     f->w2 = -3.0 * P * t * t * f->w1;
 }
 
-/* c[0] + c[1]·x + ... + c[n−1]·x^(n−1) into p[0], and its first (o ≥ 1) and second (o ≥ 2)
- * derivatives into p[1], p[2], by one Horner pass. */
-static void poly(const double *c, int n, double x, int o, double p[3])
+#define A1 HP_CLAW_FIT_A1
+#define A2 HP_CLAW_FIT_A2
+#define A3 HP_CLAW_FIT_A3
+#define BD HP_CLAW_FIT_BD
+
+/* The polynomials of family n at d, with their d-derivatives up to order o: n = 0 gives
+ * g = G, h = H (for F), n = 1 gives g = G', h = H' (for dF/drho). H = G·L with
+ * L = 1 + b_d·d, so H^(j) = G^(j)·L + j·b_d·G^(j−1): H costs a few products once G's
+ * derivatives (G = a1·d + a2·d² + a3·d³) are known. g[j] = G^(n+j), h[j] = H^(n+j). */
+FEM_INLINE void fem_polys(int n, double d, int o, double g[3], double h[3])
 {
-    double p0 = c[n - 1], p1 = 0.0, p2 = 0.0;
-    for (int k = n - 2; k >= 0; --k) {
-        if (o >= HP_CLAW_HESSIAN) p2 = p2 * x + p1;
-        if (o >= HP_CLAW_GRADIENT) p1 = p1 * x + p0;
-        p0 = p0 * x + c[k];
+    double G[4]; /* G and its first three d-derivatives, as far as needed */
+    int top = n + o;
+    G[0] = d * (A1 + d * (A2 + d * A3));
+    if (top >= 1) G[1] = A1 + d * (2.0 * A2 + d * (3.0 * A3));
+    if (top >= 2) G[2] = 2.0 * A2 + d * (6.0 * A3);
+    if (top >= 3) G[3] = 6.0 * A3;
+    double L = 1.0 + BD * d;
+    for (int j = 0; j <= o; ++j) {
+        int m = n + j;
+        g[j] = G[m];
+        h[j] = m == 0 ? G[0] * L : G[m] * L + (double)m * BD * G[m - 1];
     }
-    p[0] = p0;
-    p[1] = p1;
-    p[2] = 2.0 * p2;
 }
 
-/* m(ro)·X, X = P·s·g(d) + w·h(d), up to order o into c (F, d, d2; NaN beyond o), given the
- * coefficients of g and h (ng, nh of them) and m, m', m''. */
-static void fem_out(const fem_parts *f, const double *gc, int ng, const double *hc, int nh,
-                    const double m[3], int o, hp_claw *c)
+/* The integrals of G and H from 0 (for W): the coefficients of d^0, d^1, ... */
+static const double GI_[5] = {0.0, 0.0, A1 / 2.0, A2 / 3.0, A3 / 4.0};
+static const double HI_[6] = {
+    0.0, 0.0, A1 / 2.0, (A2 + A1 * BD) / 3.0, (A3 + A2 * BD) / 4.0, A3 *BD / 5.0};
+#undef A1
+#undef A2
+#undef A3
+#undef BD
+
+/* c[0] + c[1]·x + ... + c[n−1]·x^(n−1) by Horner's rule. */
+FEM_INLINE double poly(const double *c, int n, double x)
+{
+    double p = c[n - 1];
+    for (int k = n - 2; k >= 0; --k) p = p * x + c[k];
+    return p;
+}
+
+/* m(ro)·X, X = P·s·g(d) + w·h(d), up to order o into c (F, d, d2; NaN beyond o), given g, h
+ * with their d-derivatives up to o (fem_polys) and m, m', m''. */
+FEM_INLINE void fem_out(const fem_parts *f, const double g[3], const double h[3], const double m[3],
+                        int o, hp_claw *c)
 {
     enum { P_ = HP_CLAW_P, R_ = HP_CLAW_RO, Q_ = HP_CLAW_RHO };
-    double g[3], h[3];
-    poly(gc, ng, f->d, o, g);
-    poly(hc, nh, f->d, o, h);
     double ps = f->P * f->s;
     double X = ps * g[0] + f->w * h[0];
     c->F = m[0] * X;
@@ -121,38 +153,33 @@ static void fem_out(const fem_parts *f, const double *gc, int ng, const double *
     c->d2[Q_][Q_] = m[0] * Xdd * f->d_q * f->d_q;
 }
 
-#define A1 HP_CLAW_FIT_A1
-#define A2 HP_CLAW_FIT_A2
-#define A3 HP_CLAW_FIT_A3
-#define BD HP_CLAW_FIT_BD
-/* G and H as polynomials in d, their derivatives, and their integrals from 0 */
-static const double G_[4] = {0.0, A1, A2, A3};
-static const double H_[5] = {0.0, A1, A2 + A1 *BD, A3 + A2 *BD, A3 *BD};
-static const double G1_[3] = {A1, 2.0 * A2, 3.0 * A3};
-static const double H1_[4] = {A1, 2.0 * (A2 + A1 * BD), 3.0 * (A3 + A2 * BD), 4.0 * A3 *BD};
-static const double GI_[5] = {0.0, 0.0, A1 / 2.0, A2 / 3.0, A3 / 4.0};
-static const double HI_[6] = {
-    0.0, 0.0, A1 / 2.0, (A2 + A1 * BD) / 3.0, (A3 + A2 * BD) / 4.0, A3 *BD / 5.0};
-#undef A1
-#undef A2
-#undef A3
-#undef BD
-
 /* F (and W with HP_CLAW_WORK, else NaN) up to the order in o. */
-static void fem_to(const hp_claw_bladder *b, double P, double ro, double rho, int o, hp_claw *c)
+FEM_INLINE void fem_to(const hp_claw_bladder *b, double P, double ro, double rho, int o, hp_claw *c)
 {
     int k = o & (HP_CLAW_WORK - 1);
     fem_parts f;
     fem_parts_of(b, P, ro, rho, k, &f);
     const double area = HP_PI * (ro * ro), m[3] = {area, 2.0 * HP_PI * ro, 2.0 * HP_PI};
-    fem_out(&f, G_, 4, H_, 5, m, k, c);
+    double g[3], h[3];
+    fem_polys(0, f.d, k, g, h);
+    fem_out(&f, g, h, m, k, c);
     c->W = NAN;
     if (!(o & HP_CLAW_WORK)) return;
     /* W = integral of F over rho' from rho to ro = ro·pi·ro²·(P·s·∫G + w·∫H) */
-    double gi[3], hi[3];
-    poly(GI_, 5, f.d, HP_CLAW_VALUE, gi);
-    poly(HI_, 6, f.d, HP_CLAW_VALUE, hi);
-    c->W = ro * (area * (f.P * f.s * gi[0] + f.w * hi[0]));
+    c->W = ro * (area * (f.P * f.s * poly(GI_, 5, f.d) + f.w * poly(HI_, 6, f.d)));
+}
+
+/* One entry per order the callers ask for (the constant folds the order's tests away). */
+static void fem_value(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
+{
+    fem_to(b, P, ro, rho, HP_CLAW_VALUE, c);
+}
+
+static void fem_gradient(const hp_claw_bladder *b, double P, double ro, double rho, int work,
+                         hp_claw *c)
+{
+    if (work) fem_to(b, P, ro, rho, HP_CLAW_GRADIENT | HP_CLAW_WORK, c);
+    else fem_to(b, P, ro, rho, HP_CLAW_GRADIENT, c);
 }
 
 void hpi_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
@@ -166,7 +193,9 @@ static void fem_drho(const hp_claw_bladder *b, double P, double ro, double rho, 
     fem_parts f;
     fem_parts_of(b, P, ro, rho, HP_CLAW_HESSIAN, &f);
     const double m[3] = {-HP_PI * ro, -HP_PI, 0.0};
-    fem_out(&f, G1_, 3, H1_, 4, m, HP_CLAW_HESSIAN, c);
+    double g[3], h[3];
+    fem_polys(1, f.d, HP_CLAW_HESSIAN, g, h);
+    fem_out(&f, g, h, m, HP_CLAW_HESSIAN, c);
     c->W = 0.0;
 }
 
@@ -214,7 +243,10 @@ void hpi_claw_eval_to(hp_claw_law law, const hp_claw_bladder *b, double P, doubl
                       hp_claw_order o, hp_claw *c)
 {
     if (law == HP_CLAW_LAW_FEM) {
-        fem_to(b, P, ro, rho, (int)o, c);
+        int k = (int)o & (HP_CLAW_WORK - 1), work = ((int)o & HP_CLAW_WORK) != 0;
+        if (k == HP_CLAW_GRADIENT) fem_gradient(b, P, ro, rho, work, c);
+        else if (k == HP_CLAW_VALUE && !work) fem_value(b, P, ro, rho, c);
+        else fem_to(b, P, ro, rho, (int)o, c); /* the rarer combinations */
         return;
     }
     hpi_claw_cap(P, ro, rho, c); /* a few products: computed whole, then trimmed to o */
