@@ -28,166 +28,78 @@ void hpi_claw_cap(double P, double ro, double rho, hp_claw *c)
     c->W = P * pi * d * d * (ro - d / 3.0);
 }
 
-/* Second-order forward derivatives in the law's three variables (P, ro, rho): a value
- * with its gradient and Hessian, so a formula written once gives exact derivatives. o is
- * the highest order carried (hp_claw_order): an operation carries the lower of its operands'
- * orders and skips the rest (left unset), so a caller that needs no Hessian does not pay for
- * one. What is carried is computed by the same operations in the same order whatever o is:
- * the same bits. A constant carries every order (its derivatives are 0). */
-typedef struct hd {
-    double v, g[3], h[3][3];
-    int o;
-} hd;
-
-/* The arithmetic below is inlined into each order's entry (fem_value, fem_gradient,
- * fem_hessian), where o is a constant: the tests on it fold away and the skipped orders cost
- * nothing. Without the forced inlining the compiler keeps these as calls, and the run-time
- * tests cost more than the Hessian they skip. */
+/* The fitted law in closed form (contact_law.h). Its parts, each computed once: with
+ * u = 1/ro, the indentation d = 1 − rho·u (d_P = 0, d_ro = rho·u², d_rho = −u,
+ * d_roro = −2·rho·u³, d_rorho = u², d_rhorho = 0); the pressure share's factor
+ * s(ro) = 1 + b_w·(wall·u − w0) + b_k·curv·ro (s' = b_k·curv − b_w·wall·u², s'' = 2·b_w·wall·u³);
+ * the wall share w(P) = b_p·mu·P·t with t = (P² + (p_c·mu)²)^(−1/2) (w' = b_p·mu·(p_c·mu)²·t³,
+ * w'' = −3·P·t²·w'). Each law's output is m(ro)·X with X = P·s·g(d) + w·h(d) for a pair of
+ * polynomials (g, h): F has m = pi·ro² and (G, H); dF/drho has m = −pi·ro and (G', H')
+ * (dd/drho = −1/ro); W has m = pi·ro³ and the integrals of (G, H) (value only). Only what the order asks
+ * for is computed; what is computed is the same operations in the same order at every
+ * order, so the same bits. The tests compare with forward-mode dual numbers
+ * (tests/support/claw_ref.h). */
+/* The pieces below are inlined into each order's entry (fem_value, fem_gradient,
+ * fem_hessian), where the order is a constant and the tests on it fold away. */
 #if defined(__GNUC__)
-#define HD_INLINE static inline __attribute__((always_inline))
+#define FEM_INLINE static inline __attribute__((always_inline))
 #else
-#define HD_INLINE static inline
+#define FEM_INLINE static inline
 #endif
 
-HD_INLINE hd hd_const(double v)
-{
-    hd r;
-    memset(&r, 0, sizeof r);
-    r.v = v;
-    r.o = HP_CLAW_HESSIAN;
-    return r;
-}
-
-HD_INLINE hd hd_var(double v, int i, int o)
-{
-    hd r = hd_const(v);
-    r.g[i] = 1.0;
-    r.o = o;
-    return r;
-}
-
-HD_INLINE int hd_min(int a, int b) { return a < b ? a : b; }
-
-/* r carrying order o, its value set: the orders it does not carry are cleared (stores the
- * compiler drops once inlined, where nothing reads them), so that no copy of r reads an
- * unset field. Returns whether r carries the gradient. */
-HD_INLINE int hd_begin(hd *r, int o, double v)
-{
-    r->o = o;
-    r->v = v;
-    if (o < HP_CLAW_HESSIAN)
-        for (int i = 0; i < 3; ++i)
-            for (int j = 0; j < 3; ++j) r->h[i][j] = 0.0;
-    if (o < HP_CLAW_GRADIENT)
-        for (int i = 0; i < 3; ++i) r->g[i] = 0.0;
-    return o >= HP_CLAW_GRADIENT;
-}
-
-HD_INLINE hd hd_lin(double a, hd x, double b, hd y) /* a·x + b·y */
-{
-    hd r;
-    if (!hd_begin(&r, hd_min(x.o, y.o), a * x.v + b * y.v)) return r;
-    for (int i = 0; i < 3; ++i) r.g[i] = a * x.g[i] + b * y.g[i];
-    if (r.o < HP_CLAW_HESSIAN) return r;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) r.h[i][j] = a * x.h[i][j] + b * y.h[i][j];
-    return r;
-}
-
-HD_INLINE hd hd_scale(double a, hd x) { return hd_lin(a, x, 0.0, x); }
-
-HD_INLINE hd hd_mul(hd x, hd y)
-{
-    hd r;
-    if (!hd_begin(&r, hd_min(x.o, y.o), x.v * y.v)) return r;
-    for (int i = 0; i < 3; ++i) r.g[i] = x.v * y.g[i] + y.v * x.g[i];
-    if (r.o < HP_CLAW_HESSIAN) return r;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j)
-            r.h[i][j] = x.v * y.h[i][j] + y.v * x.h[i][j] + x.g[i] * y.g[j] + x.g[j] * y.g[i];
-    return r;
-}
-
-HD_INLINE hd hd_chain(hd x, double f, double f1, double f2) /* f(x) given f, f', f'' at x */
-{
-    hd r;
-    if (!hd_begin(&r, x.o, f)) return r;
-    for (int i = 0; i < 3; ++i) r.g[i] = f1 * x.g[i];
-    if (r.o < HP_CLAW_HESSIAN) return r;
-    for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) r.h[i][j] = f1 * x.h[i][j] + f2 * x.g[i] * x.g[j];
-    return r;
-}
-
-HD_INLINE hd hd_inv(hd x) /* 1/x: f' = −1/x², f'' = 2/x³ */
-{
-    double f = 1.0 / x.v;
-    return hd_chain(x, f, -f * f, 2.0 * f * f * f);
-}
-
-HD_INLINE hd hd_rsqrt(hd x) /* x^(−1/2): f' = −f/(2x), f'' = 3f/(4x²) */
-{
-    double f = 1.0 / sqrt(x.v);
-    return hd_chain(x, f, -0.5 * f / x.v, 0.75 * f / (x.v * x.v));
-}
-
-HD_INLINE hd hd_poly(hd x, const double *c, int n) /* c[0] + c[1]·x + ... + c[n−1]·x^(n−1) */
-{
-    hd r = hd_const(c[n - 1]);
-    for (int k = n - 2; k >= 0; --k) r = hd_lin(1.0, hd_mul(r, x), 1.0, hd_const(c[k]));
-    return r;
-}
-
-/* The fitted law's pieces: d = delta/ro, pi·ro², the pressure's share P·s and the wall's
- * share w = b_p·mu·P/sqrt(P² + (pc·mu)²) (mu = C1 + C2), so that
- *     F = pi·ro²·(P·s·G(d) + w·H(d)),  G(d) = d·(a1 + a2·d + a3·d²),  H(d) = G(d)·(1 + b_d·d).
- * The wall's share vanishes with P (no force without pressure, as the load model's contact
- * switch has it) and is smooth and bounded for every P. */
 typedef struct fem_parts {
-    hd r, d, area, ps, w;
+    double P, d, d_r, d_q, d_rr, d_rq; /* _r: d/dro, _q: d/drho */
+    double s, s_r, s_rr, w, w1, w2;
 } fem_parts;
 
-HD_INLINE fem_parts fem_parts_of(const hp_claw_bladder *b, double P, double ro, double rho, int o)
+FEM_INLINE void fem_parts_of(const hp_claw_bladder *b, double P, double ro, double rho, int o,
+                             fem_parts *f)
 {
-    fem_parts f;
-    hd p = hd_var(P, HP_CLAW_P, o), q = hd_var(rho, HP_CLAW_RHO, o);
-    f.r = hd_var(ro, HP_CLAW_RO, o);
-    hd inv_r = hd_inv(f.r);
-    f.d = hd_lin(1.0, hd_const(1.0), -1.0, hd_mul(q, inv_r)); /* delta/ro = 1 − rho/ro */
-    hd wall = hd_scale(b->wall, inv_r);                       /* wall/ro */
-    hd kap = hd_scale(b->curv, f.r);                          /* ro/Rh */
-    hd s = hd_const(1.0 - HP_CLAW_FIT_BW * HP_CLAW_FIT_W0);
-    s = hd_lin(1.0, s, HP_CLAW_FIT_BW, wall);
-    s = hd_lin(1.0, s, HP_CLAW_FIT_BK, kap);
-    f.ps = hd_mul(p, s);
-    double mu = b->C1 + b->C2;
-    double pc = HP_CLAW_FIT_PC * mu;
-    f.w = hd_scale(HP_CLAW_FIT_BP * mu,
-                   hd_mul(p, hd_rsqrt(hd_lin(1.0, hd_mul(p, p), pc * pc, hd_const(1.0)))));
-    f.area = hd_scale(HP_PI, hd_mul(f.r, f.r));
-    return f;
-}
-
-/* F's value and the derivatives it carries into c; what it does not carry is NaN. */
-HD_INLINE void hd_out(hd F, hp_claw *c)
-{
-    c->F = F.v;
-    for (int i = 0; i < 3; ++i) {
-        c->d[i] = F.o >= HP_CLAW_GRADIENT ? F.g[i] : NAN;
-        for (int j = i; j < 3; ++j) /* symmetric */
-            c->d2[i][j] = c->d2[j][i] = F.o >= HP_CLAW_HESSIAN ? F.h[i][j] : NAN;
-    }
+    double u = 1.0 / ro, bw = HP_CLAW_FIT_BW * b->wall * u, bk = HP_CLAW_FIT_BK * b->curv;
+    double mu = b->C1 + b->C2, pc = HP_CLAW_FIT_PC * mu, bp = HP_CLAW_FIT_BP * mu;
+    double t = 1.0 / sqrt(P * P + pc * pc);
+    f->P = P;
+    f->d = 1.0 - rho * u;
+    f->s = (1.0 - HP_CLAW_FIT_BW * HP_CLAW_FIT_W0) + bw + bk * ro;
+    f->w = bp * P * t;
+    if (o < HP_CLAW_GRADIENT) return;
+    f->d_r = rho * u * u;
+    f->d_q = -u;
+    f->s_r = bk - bw * u;
+    f->w1 = bp * pc * pc * t * t * t;
+    if (o < HP_CLAW_HESSIAN) return;
+    f->d_rr = -2.0 * f->d_r * u;
+    f->d_rq = u * u;
+    f->s_rr = 2.0 * bw * u * u;
+    f->w2 = -3.0 * P * t * t * f->w1;
 }
 
 #define A1 HP_CLAW_FIT_A1
 #define A2 HP_CLAW_FIT_A2
 #define A3 HP_CLAW_FIT_A3
 #define BD HP_CLAW_FIT_BD
-/* G and H as polynomials in d, their derivatives, and their integrals from 0 */
-static const double G_[4] = {0.0, A1, A2, A3};
-static const double H_[5] = {0.0, A1, A2 + A1 *BD, A3 + A2 *BD, A3 *BD};
-static const double G1_[3] = {A1, 2.0 * A2, 3.0 * A3};
-static const double H1_[4] = {A1, 2.0 * (A2 + A1 * BD), 3.0 * (A3 + A2 * BD), 4.0 * A3 *BD};
+
+/* The polynomials of family n at d, with their d-derivatives up to order o: n = 0 gives
+ * g = G, h = H (for F), n = 1 gives g = G', h = H' (for dF/drho). H = G·L with
+ * L = 1 + b_d·d, so H^(j) = G^(j)·L + j·b_d·G^(j−1): H costs a few products once G's
+ * derivatives (G = a1·d + a2·d² + a3·d³) are known. g[j] = G^(n+j), h[j] = H^(n+j). */
+FEM_INLINE void fem_polys(int n, double d, int o, double g[3], double h[3])
+{
+    double G[4]; /* G and its first three d-derivatives, as far as needed */
+    int top = n + o;
+    G[0] = d * (A1 + d * (A2 + d * A3));
+    if (top >= 1) G[1] = A1 + d * (2.0 * A2 + d * (3.0 * A3));
+    if (top >= 2) G[2] = 2.0 * A2 + d * (6.0 * A3);
+    if (top >= 3) G[3] = 6.0 * A3;
+    double L = 1.0 + BD * d;
+    for (int j = 0; j <= o; ++j) {
+        int m = n + j;
+        g[j] = G[m];
+        h[j] = m == 0 ? G[0] * L : G[m] * L + (double)m * BD * G[m - 1];
+    }
+}
+
+/* The integrals of G and H from 0 (for W): the coefficients of d^0, d^1, ... */
 static const double GI_[5] = {0.0, 0.0, A1 / 2.0, A2 / 3.0, A3 / 4.0};
 static const double HI_[6] = {
     0.0, 0.0, A1 / 2.0, (A2 + A1 * BD) / 3.0, (A3 + A2 * BD) / 4.0, A3 *BD / 5.0};
@@ -196,44 +108,94 @@ static const double HI_[6] = {
 #undef A3
 #undef BD
 
-/* pi·ro²·(P·s·g(d) + w·h(d)) for a pair of polynomials (g, h) */
-HD_INLINE hd fem_sum(const fem_parts *f, const double *g, int ng, const double *h, int nh)
+/* c[0] + c[1]·x + ... + c[n−1]·x^(n−1) by Horner's rule. */
+FEM_INLINE double poly(const double *c, int n, double x)
 {
-    hd v = hd_lin(1.0, hd_mul(f->ps, hd_poly(f->d, g, ng)), 1.0,
-                  hd_mul(f->w, hd_poly(f->d, h, nh)));
-    return hd_mul(f->area, v);
+    double p = c[n - 1];
+    for (int k = n - 2; k >= 0; --k) p = p * x + c[k];
+    return p;
 }
 
-HD_INLINE void fem_to(const hp_claw_bladder *b, double P, double ro, double rho, int o, hp_claw *c)
+/* m(ro)·X, X = P·s·g(d) + w·h(d), up to order o into c (F, d, d2; NaN beyond o), given g, h
+ * with their d-derivatives up to o (fem_polys) and m, m', m''. */
+FEM_INLINE void fem_out(const fem_parts *f, const double g[3], const double h[3], const double m[3],
+                        int o, hp_claw *c)
 {
-    fem_parts f = fem_parts_of(b, P, ro, rho, o);
-    hd_out(fem_sum(&f, G_, 4, H_, 5), c);
-    /* W = integral of F over rho' from rho to ro = ro·(the same with G, H integrated in d);
-     * only its value is used, so its parts are evaluated without derivatives (same bits). */
-    fem_parts v = o == HP_CLAW_VALUE ? f : fem_parts_of(b, P, ro, rho, HP_CLAW_VALUE);
-    c->W = hd_mul(v.r, fem_sum(&v, GI_, 5, HI_, 6)).v;
+    enum { P_ = HP_CLAW_P, R_ = HP_CLAW_RO, Q_ = HP_CLAW_RHO };
+    double ps = f->P * f->s;
+    double X = ps * g[0] + f->w * h[0];
+    c->F = m[0] * X;
+    for (int i = 0; i < 3; ++i) {
+        c->d[i] = NAN;
+        for (int j = 0; j < 3; ++j) c->d2[i][j] = NAN;
+    }
+    if (o < HP_CLAW_GRADIENT) return;
+    double Xd = ps * g[1] + f->w * h[1]; /* dX/dd */
+    double Prs = f->P * f->s_r;
+    double XP = f->s * g[0] + f->w1 * h[0];
+    double Xr = Prs * g[0] + Xd * f->d_r;
+    double Xq = Xd * f->d_q;
+    c->d[P_] = m[0] * XP;
+    c->d[R_] = m[1] * X + m[0] * Xr;
+    c->d[Q_] = m[0] * Xq;
+    if (o < HP_CLAW_HESSIAN) return;
+    double Xdd = ps * g[2] + f->w * h[2];
+    double XPd = f->s * g[1] + f->w1 * h[1]; /* d²X/dP dd */
+    double XPr = f->s_r * g[0] + XPd * f->d_r;
+    double Xrr = f->P * f->s_rr * g[0] + 2.0 * Prs * g[1] * f->d_r + Xdd * f->d_r * f->d_r +
+                 Xd * f->d_rr;
+    double Xrq = Prs * g[1] * f->d_q + Xdd * f->d_r * f->d_q + Xd * f->d_rq;
+    c->d2[P_][P_] = m[0] * f->w2 * h[0];
+    c->d2[P_][R_] = c->d2[R_][P_] = m[1] * XP + m[0] * XPr;
+    c->d2[P_][Q_] = c->d2[Q_][P_] = m[0] * XPd * f->d_q;
+    c->d2[R_][R_] = m[2] * X + 2.0 * m[1] * Xr + m[0] * Xrr;
+    c->d2[R_][Q_] = c->d2[Q_][R_] = m[1] * Xq + m[0] * Xrq;
+    c->d2[Q_][Q_] = m[0] * Xdd * f->d_q * f->d_q;
 }
 
+/* F (and W with HP_CLAW_WORK, else NaN) up to the order in o. */
+FEM_INLINE void fem_to(const hp_claw_bladder *b, double P, double ro, double rho, int o, hp_claw *c)
+{
+    int k = o & (HP_CLAW_WORK - 1);
+    fem_parts f;
+    fem_parts_of(b, P, ro, rho, k, &f);
+    const double area = HP_PI * (ro * ro), m[3] = {area, 2.0 * HP_PI * ro, 2.0 * HP_PI};
+    double g[3], h[3];
+    fem_polys(0, f.d, k, g, h);
+    fem_out(&f, g, h, m, k, c);
+    c->W = NAN;
+    if (!(o & HP_CLAW_WORK)) return;
+    /* W = integral of F over rho' from rho to ro = ro·pi·ro²·(P·s·∫G + w·∫H) */
+    c->W = ro * (area * (f.P * f.s * poly(GI_, 5, f.d) + f.w * poly(HI_, 6, f.d)));
+}
+
+/* One entry per order the callers ask for (the constant folds the order's tests away). */
 static void fem_value(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
 {
     fem_to(b, P, ro, rho, HP_CLAW_VALUE, c);
 }
 
-static void fem_gradient(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
+static void fem_gradient(const hp_claw_bladder *b, double P, double ro, double rho, int work,
+                         hp_claw *c)
 {
-    fem_to(b, P, ro, rho, HP_CLAW_GRADIENT, c);
+    if (work) fem_to(b, P, ro, rho, HP_CLAW_GRADIENT | HP_CLAW_WORK, c);
+    else fem_to(b, P, ro, rho, HP_CLAW_GRADIENT, c);
 }
 
 void hpi_claw_fem(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
 {
-    fem_to(b, P, ro, rho, HP_CLAW_HESSIAN, c);
+    fem_to(b, P, ro, rho, HP_CLAW_HESSIAN | HP_CLAW_WORK, c);
 }
 
-/* dF/drho = −(1/ro)·pi·ro²·(P·s·G'(d) + w·H'(d)) (dd/drho = −1/ro). */
+/* dF/drho = m·(P·s·G'(d) + w·H'(d)) with m = −pi·ro (dd/drho = −1/ro times pi·ro²). */
 static void fem_drho(const hp_claw_bladder *b, double P, double ro, double rho, hp_claw *c)
 {
-    fem_parts f = fem_parts_of(b, P, ro, rho, HP_CLAW_HESSIAN);
-    hd_out(hd_scale(-1.0, hd_mul(hd_inv(f.r), fem_sum(&f, G1_, 3, H1_, 4))), c);
+    fem_parts f;
+    fem_parts_of(b, P, ro, rho, HP_CLAW_HESSIAN, &f);
+    const double m[3] = {-HP_PI * ro, -HP_PI, 0.0};
+    double g[3], h[3];
+    fem_polys(1, f.d, HP_CLAW_HESSIAN, g, h);
+    fem_out(&f, g, h, m, HP_CLAW_HESSIAN, c);
     c->W = 0.0;
 }
 
@@ -281,23 +243,26 @@ void hpi_claw_eval_to(hp_claw_law law, const hp_claw_bladder *b, double P, doubl
                       hp_claw_order o, hp_claw *c)
 {
     if (law == HP_CLAW_LAW_FEM) {
-        if (o == HP_CLAW_VALUE) fem_value(b, P, ro, rho, c);
-        else if (o == HP_CLAW_GRADIENT) fem_gradient(b, P, ro, rho, c);
-        else hpi_claw_fem(b, P, ro, rho, c);
+        int k = (int)o & (HP_CLAW_WORK - 1), work = ((int)o & HP_CLAW_WORK) != 0;
+        if (k == HP_CLAW_GRADIENT) fem_gradient(b, P, ro, rho, work, c);
+        else if (k == HP_CLAW_VALUE && !work) fem_value(b, P, ro, rho, c);
+        else fem_to(b, P, ro, rho, (int)o, c); /* the rarer combinations */
         return;
     }
     hpi_claw_cap(P, ro, rho, c); /* a few products: computed whole, then trimmed to o */
+    int k = (int)o & (HP_CLAW_WORK - 1);
     for (int i = 0; i < 3; ++i) {
-        if (o < HP_CLAW_GRADIENT) c->d[i] = NAN;
+        if (k < HP_CLAW_GRADIENT) c->d[i] = NAN;
         for (int j = 0; j < 3; ++j)
-            if (o < HP_CLAW_HESSIAN) c->d2[i][j] = NAN;
+            if (k < HP_CLAW_HESSIAN) c->d2[i][j] = NAN;
     }
+    if (!(o & HP_CLAW_WORK)) c->W = NAN;
 }
 
 void hpi_claw_eval(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
                    hp_claw *c)
 {
-    hpi_claw_eval_to(law, b, P, ro, rho, HP_CLAW_HESSIAN, c);
+    hpi_claw_eval_to(law, b, P, ro, rho, HP_CLAW_HESSIAN | HP_CLAW_WORK, c);
 }
 
 void hpi_claw_eval_drho(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,

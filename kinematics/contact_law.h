@@ -84,12 +84,19 @@ void hpi_claw_bladder_of(const struct hp_iab *iab, const double semi[3], const d
 void hpi_claw_eval(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
                    hp_claw *c);
 
-/* How much of the law a caller needs: F and W; also the gradient d; also the Hessian d2. */
-typedef enum hp_claw_order { HP_CLAW_VALUE = 0, HP_CLAW_GRADIENT, HP_CLAW_HESSIAN } hp_claw_order;
+/* How much of the law a caller needs: F; also the gradient d; also the Hessian d2; and, or-ed
+ * with one of them, HP_CLAW_WORK for the work W too (of the load model's callers only the
+ * potential energy reads W). */
+typedef enum hp_claw_order {
+    HP_CLAW_VALUE = 0,
+    HP_CLAW_GRADIENT = 1,
+    HP_CLAW_HESSIAN = 2,
+    HP_CLAW_WORK = 4
+} hp_claw_order;
 
 /* hpi_claw_eval up to order o: what it computes has the same bits as hpi_claw_eval's (the
- * fitted law skips the higher derivatives' arithmetic, most of its cost), what it does not
- * is NaN. hpi_claw_eval is this at HP_CLAW_HESSIAN. */
+ * fitted law skips the arithmetic of what is not asked for), what it does not is NaN.
+ * hpi_claw_eval is this at HP_CLAW_HESSIAN | HP_CLAW_WORK. */
 void hpi_claw_eval_to(hp_claw_law law, const hp_claw_bladder *b, double P, double ro, double rho,
                       hp_claw_order o, hp_claw *c);
 

@@ -173,7 +173,7 @@ void hpi_load_law(const hp_load_model *M, int k, double P, double ro, double dro
                   int right, hp_load_force *f)
 {
     hp_claw c; /* F, its gradient and W: no Hessian */
-    hpi_load_claw_to(M, k, P, ro, rho, HP_CLAW_GRADIENT, &c);
+    hpi_load_claw_to(M, k, P, ro, rho, HP_CLAW_GRADIENT | HP_CLAW_WORK, &c);
     int on = P > 0 && ro > rho;
     /* right: the derivatives of the contact branch also where the bladder just touches
      * (the one-sided derivative a planner needs to bring a bladder into contact). */

@@ -4,12 +4,16 @@
  * touch), and the load model's law (hpi_load_law) reading the same numbers. The fitted law
  * (hpi_claw_fem): its derivatives against Richardson-extrapolated central differences, its
  * work, its domain, and its force against every converged row of the finite-element
- * sweep (fem/tables/sweep.csv) within the error docs/accuracy.md states. */
+ * sweep (fem/tables/sweep.csv) within the error docs/accuracy.md states; its closed forms
+ * (value, derivatives, work, dF/drho) against the forward-mode reference of
+ * tests/support/claw_ref.h on a seeded sweep of its whole domain and its edges. */
 #include "support/test_util.h"
 #include "kinematics/contact_law.h"
 #include "kinematics/contact_law_fit.h"
 #include "kinematics/load_internal.h"
+#include "support/claw_ref.h"
 #include "support/default_layout.h"
+#include "support/rng.h"
 
 #include <quadmath.h>
 #include <stdio.h>
@@ -169,29 +173,36 @@ static double rich(const hp_claw_bladder *b, const double x[3], int j, double h,
     return rich_of(hpi_claw_eval, HP_CLAW_LAW_FEM, b, x, j, h, which);
 }
 
+/* The law's derivatives at x against Richardson-extrapolated central differences (tolerances
+ * as rich_of says), and its work: dW/drho = −F. */
+static void check_fem_derivatives(const hp_claw_bladder *b, const double x[3])
+{
+    assert_int_equal(hpi_claw_fem_domain(b, x[0], x[1], x[2]), HP_CLAW_IN);
+    hp_claw c;
+    fem_at(b, x, &c);
+    const double scale[3] = {x[0], x[1], x[1]};
+    for (int j = 0; j < 3; ++j) {
+        double h = 1e-3 * scale[j];
+        double fs = fabs(c.F) / scale[j];
+        hp_assert_close(c.d[j], rich(b, x, j, h, 0), 1e-8, 1e-9 * fs);
+        for (int k = 0; k < 3; ++k) {
+            hp_assert_close(c.d2[j][k], rich(b, x, k, 1e-3 * scale[k], 1 + j), 1e-7,
+                            1e-8 * fs / scale[k]);
+            assert_true(c.d2[j][k] == c.d2[k][j]);
+        }
+    }
+    /* W is the integral of F over the contact distance: dW/drho = −F */
+    hp_assert_close(rich(b, x, HP_CLAW_RHO, 1e-3 * x[1], 4), -c.F, 1e-8, 0.0);
+}
+
 static void test_fem_derivatives(void **st)
 {
     (void)st;
     for (int i = 0; i < 120; ++i) {
-        hp_claw_bladder bl, *b = &bl;
+        hp_claw_bladder b;
         double x[3];
-        fem_state(i, b, x);
-        assert_int_equal(hpi_claw_fem_domain(b, x[0], x[1], x[2]), HP_CLAW_IN);
-        hp_claw c;
-        fem_at(b, x, &c);
-        const double scale[3] = {x[0], x[1], x[1]};
-        for (int j = 0; j < 3; ++j) {
-            double h = 1e-3 * scale[j];
-            double fs = fabs(c.F) / scale[j];
-            hp_assert_close(c.d[j], rich(b, x, j, h, 0), 1e-8, 1e-9 * fs);
-            for (int k = 0; k < 3; ++k) {
-                hp_assert_close(c.d2[j][k], rich(b, x, k, 1e-3 * scale[k], 1 + j), 1e-7,
-                                1e-8 * fs / scale[k]);
-                assert_true(c.d2[j][k] == c.d2[k][j]);
-            }
-        }
-        /* W is the integral of F over the contact distance: dW/drho = −F */
-        hp_assert_close(rich(b, x, HP_CLAW_RHO, 1e-3 * x[1], 4), -c.F, 1e-8, 0.0);
+        fem_state(i, &b, x);
+        check_fem_derivatives(&b, x);
     }
     hp_claw t;
     hp_claw_bladder b0;
@@ -449,12 +460,12 @@ static void test_load_domain_named(void **st)
     assert_int_equal(hpi_load_claw_check(&M, 2, P, ro, ro * 0.5, &d), HP_OK);
 }
 
-/* The cheaper evaluations (hpi_claw_eval_to: the value and W, or also the gradient) give the
- * same bits as the full one for what they compute, and NaN for what they do not (so a
- * caller reading a part it did not ask for fails loudly), under both laws, on a grid of the
- * fitted law's domain with its edges: 5 points in each of P/C1, wall/ro, C2/C1, ro/Rh and
- * delta/ro. Bit equality, not a tolerance: the parts are the same operations in the same
- * order, only the unused higher derivatives are skipped. */
+/* The cheaper evaluations (hpi_claw_eval_to: the value, or also the gradient, or also the
+ * Hessian; W only with HP_CLAW_WORK) give the same bits as the full one for what they
+ * compute, and NaN for what they do not (so a caller reading a part it did not ask for fails
+ * loudly), under both laws, on a grid of the fitted law's domain with its edges: 5 points in
+ * each of P/C1, wall/ro, C2/C1, ro/Rh and delta/ro. Bit equality, not a tolerance: the parts
+ * are the same operations in the same order, only what is not asked for is skipped. */
 static int same_bits(double a, double b) { return memcmp(&a, &b, sizeof a) == 0; }
 
 static void test_eval_orders_same_bits(void **st)
@@ -476,11 +487,13 @@ static void test_eval_orders_same_bits(void **st)
         for (int law = HP_CLAW_LAW_CAP; law <= HP_CLAW_LAW_FEM; ++law) {
             hp_claw full;
             hpi_claw_eval((hp_claw_law)law, &b, P, ro, rho, &full);
-            for (int o = HP_CLAW_VALUE; o <= HP_CLAW_HESSIAN; ++o) {
+            for (int ow = 0; ow < 6; ++ow) {
+                int o = ow % 3, work = ow >= 3;
                 hp_claw c;
-                hpi_claw_eval_to((hp_claw_law)law, &b, P, ro, rho, (hp_claw_order)o, &c);
+                hpi_claw_eval_to((hp_claw_law)law, &b, P, ro, rho,
+                                 (hp_claw_order)(o | (work ? HP_CLAW_WORK : 0)), &c);
                 assert_true(same_bits(c.F, full.F));
-                assert_true(same_bits(c.W, full.W));
+                assert_true(work ? same_bits(c.W, full.W) : isnan(c.W));
                 for (int j = 0; j < 3; ++j) {
                     assert_true(o >= HP_CLAW_GRADIENT ? same_bits(c.d[j], full.d[j])
                                                       : isnan(c.d[j]));
@@ -492,7 +505,90 @@ static void test_eval_orders_same_bits(void **st)
             }
         }
     }
-    assert_int_equal(n, 3125 * 2 * 3);
+    assert_int_equal(n, 3125 * 2 * 6);
+}
+
+/* got against the reference want, whose terms add up in magnitude to mag: both evaluations
+ * take about 40 rounded steps, each off by at most an ulp of a partial sum no larger than
+ * mag, so each is within ~40·eps·mag (1e-14·mag) of the exact value; 1e-13·mag leaves a
+ * factor 4 above the two together, and is still 1e-13 of the largest term. */
+static void ref_close(double got, double want, double mag)
+{
+    hp_assert_close(got, want, 0.0, 1e-13 * mag);
+}
+
+/* The closed forms of hpi_claw_fem (F, gradient, Hessian, W) and hpi_claw_eval_drho (dF/drho
+ * and its gradient and Hessian) against the reference at one state. */
+static void check_against_ref(const hp_claw_bladder *b, double P, double ro, double rho)
+{
+    hp_claw c, r, m;
+    hpi_claw_fem(b, P, ro, rho, &c);
+    claw_ref_fem(b, P, ro, rho, CREF_F, 0, &r);
+    claw_ref_fem(b, P, ro, rho, CREF_F, 1, &m);
+    ref_close(c.F, r.F, m.F);
+    ref_close(c.W, r.W, m.W);
+    for (int i = 0; i < 3; ++i) {
+        ref_close(c.d[i], r.d[i], m.d[i]);
+        for (int j = 0; j < 3; ++j) ref_close(c.d2[i][j], r.d2[i][j], m.d2[i][j]);
+    }
+    hpi_claw_eval_drho(HP_CLAW_LAW_FEM, b, P, ro, rho, &c);
+    claw_ref_fem(b, P, ro, rho, CREF_DRHO, 0, &r);
+    claw_ref_fem(b, P, ro, rho, CREF_DRHO, 1, &m);
+    ref_close(c.F, r.F, m.F);
+    assert_true(c.W == 0.0);
+    for (int i = 0; i < 3; ++i) {
+        ref_close(c.d[i], r.d[i], m.d[i]);
+        for (int j = 0; j < 3; ++j) ref_close(c.d2[i][j], r.d2[i][j], m.d2[i][j]);
+    }
+}
+
+/* A state from u in [0, 1]^5 spanning the domain: C2/C1, wall/ro, ro/Rh, P/C1, delta/ro. */
+static void domain_state(const double u[5], double C1, double ro, hp_claw_bladder *b, double *P,
+                         double *rho)
+{
+    b->C1 = C1;
+    b->C2 = C1 * (HP_CLAW_FIT_CMIN + (HP_CLAW_FIT_CMAX - HP_CLAW_FIT_CMIN) * u[0]);
+    b->wall = ro * (HP_CLAW_FIT_WMIN + (HP_CLAW_FIT_WMAX - HP_CLAW_FIT_WMIN) * u[1]);
+    b->curv = HP_CLAW_FIT_KMAX * u[2] / ro;
+    *P = C1 * (HP_CLAW_FIT_PMIN + (HP_CLAW_FIT_PMAX - HP_CLAW_FIT_PMIN) * u[3]);
+    *rho = ro * (1.0 - HP_CLAW_FIT_DMAX * u[4]);
+}
+
+/* The closed forms against the reference over the whole domain: 4000 seeded states (C1 in
+ * 5..200 kPa, ro in 20..60 mm and every dimensionless group over its fitted range), the 32
+ * corners of the domain, and at each corner the edges the load model reaches: touch (d = 0),
+ * no pressure (P = 0) and a vanishing one (1e-9 of C1). On 200 of the seeded states, the
+ * derivatives against central differences too (check_fem_derivatives). */
+static void test_fem_closed_forms(void **st)
+{
+    (void)st;
+    uint64_t seed = 31;
+    for (int i = 0; i < 4000; ++i) {
+        double u[5];
+        for (int m = 0; m < 5; ++m) u[m] = test_rng_unit(&seed);
+        double C1 = test_rng_uniform(&seed, 5e3, 2e5), ro = test_rng_uniform(&seed, 0.02, 0.06);
+        hp_claw_bladder b;
+        double P, rho;
+        domain_state(u, C1, ro, &b, &P, &rho);
+        check_against_ref(&b, P, ro, rho);
+        if (i < 200) {
+            const double x[3] = {P, ro, rho};
+            check_fem_derivatives(&b, x);
+        }
+    }
+    for (int i = 0; i < 32; ++i) {
+        double u[5];
+        for (int m = 0; m < 5; ++m) u[m] = (double)((i >> m) & 1);
+        hp_claw_bladder b;
+        double P, rho, ro = 0.0334;
+        domain_state(u, 1.1e4, ro, &b, &P, &rho);
+        assert_int_equal(hpi_claw_fem_domain(&b, P, ro, rho), HP_CLAW_IN);
+        check_against_ref(&b, P, ro, rho);
+        check_against_ref(&b, P, ro, ro);
+        check_against_ref(&b, 0.0, ro, rho);
+        check_against_ref(&b, 1e-9 * b.C1, ro, rho);
+        check_against_ref(&b, 0.0, ro, ro);
+    }
 }
 
 int main(void)
@@ -511,6 +607,7 @@ int main(void)
         cmocka_unit_test(test_fem_covers_scenes),
         cmocka_unit_test(test_drho),
         cmocka_unit_test(test_eval_orders_same_bits),
+        cmocka_unit_test(test_fem_closed_forms),
     };
     return cmocka_run_group_tests(t, NULL, NULL);
 }
