@@ -201,8 +201,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
                 double pn, ron;
                 ++o->evals;
                 if (hpi_iab_s_pressure_ro(s, xn, &pn, &ron) == HP_OK)
-                    last_look(target, x, p, ro, xn, pn, ron, &best, &best_p, &best_ro, &best_f,
-                              o);
+                    last_look(target, x, p, ro, xn, pn, ron, &best, &best_p, &best_ro, &best_f, o);
                 break;
             }
             x = xn;
