@@ -36,9 +36,10 @@ int hpi_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory
 static int nudge_n(const hp_iab_s *s, double *ri, double p, int up, double p0, double ro0,
                    const hpi_iab_fk_out *nb, double *p_at, double *ro, int *evals)
 {
-    double r = *ri, step = fabs(r) * 1e-16, last = NAN, P = p0, o = ro0;
+    double r = *ri, step = fabs(r) * 1e-16, last = r, P = p0, o = ro0;
+    double r2 = nb ? nb->ri2 : NAN; /* NAN: equal to no radius */
     for (int i = 0; i < 80; ++i) {
-        if (i > 0 && nb && r == nb->ri2 && !isnan(nb->p2)) {
+        if (r == r2) {
             P = nb->p2;
             o = nb->ro2;
         } else if (i > 0 ? r != last : isnan(p0)) {
