@@ -110,11 +110,31 @@ hp_error hp_iab_limit_point(const hp_iab *b, hp_iab_limit *lp)
 /* A root as the iteration leaves it: ri (scaled inside solve_bracket, metres from
  * fk_scaled), the scaled outer radius and the pressure the last evaluation there formed
  * (NAN when none did), the slope of the last Newton step (a few ulps from the root), and
- * the closed-form pressure evaluations spent. */
+ * the closed-form pressure evaluations spent; ri2, ro2, p2 the same of the other double the
+ * last look evaluated next to the root (ri2 NAN when none). */
 typedef struct fk_root {
     double ri, ro, p, d;
+    double ri2, ro2, p2;
     int evals;
 } fk_root;
+
+/* The last look of solve_bracket: candidate xs evaluated (pressure p, outer radius ro) after
+ * x (px, rox): the better of the two for target replaces best if it is better, and o keeps
+ * the other as the root's neighbour (a caller moving off the root by an ulp has it). */
+static void last_look(double target, double x, double px, double rox, double xs, double ps,
+                      double ros, double *best, double *best_p, double *best_ro,
+                      const double *best_f, fk_root *o)
+{
+    if (fabs(ps - target) < *best_f) {
+        *best = xs;
+        *best_p = ps;
+        *best_ro = ros;
+    }
+    int x_best = *best == x;
+    o->ri2 = x_best ? xs : x;
+    o->p2 = x_best ? ps : px;
+    o->ro2 = x_best ? ros : rox;
+}
 
 /* Safeguarded Newton on P(ri) = target inside [lo, hi] with P(lo) < target < P(hi): every
  * iterate stays strictly inside the bracket, which shrinks at every step; a Newton step that
@@ -165,13 +185,10 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
          * same candidates. */
         if (d > 0 && fabs(f / d) <= 0.5 * DBL_EPSILON * x) {
             if (loose) break; /* x is the root to rounding; its neighbour not looked at */
-            double xs = nextafter(x, f < 0 ? INFINITY : 0.0);
+            double xs = nextafter(x, f < 0 ? INFINITY : 0.0), ps, ros;
             ++o->evals;
-            if (hpi_iab_s_pressure_ro(s, xs, &p, &ro) == HP_OK && fabs(p - target) < best_f) {
-                best = xs;
-                best_ro = ro;
-                best_p = p;
-            }
+            if (hpi_iab_s_pressure_ro(s, xs, &ps, &ros) == HP_OK)
+                last_look(target, x, p, ro, xs, ps, ros, &best, &best_p, &best_ro, &best_f, o);
             break;
         }
         if (!(hi - lo > 2.0 * DBL_EPSILON * hi)) break;
@@ -181,12 +198,10 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             dx = xn - x;
             if (fabs(dx) <= DBL_EPSILON * x) { /* converged: one last look at xn */
                 if (loose) break;              /* x, an ulp or two from the root */
+                double pn, ron;
                 ++o->evals;
-                if (hpi_iab_s_pressure_ro(s, xn, &p, &ro) == HP_OK && fabs(p - target) < best_f) {
-                    best = xn;
-                    best_ro = ro;
-                    best_p = p;
-                }
+                if (hpi_iab_s_pressure_ro(s, xn, &pn, &ron) == HP_OK)
+                    last_look(target, x, p, ro, xn, pn, ron, &best, &best_p, &best_ro, &best_f, o);
                 break;
             }
             x = xn;
@@ -214,7 +229,7 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
 {
     const hp_iab_s s = *sp;
     hp_error e;
-    o->ro = o->p = o->d = NAN;
+    o->ro = o->p = o->d = o->ri2 = o->ro2 = o->p2 = NAN;
     o->evals = 0;
     if (!isfinite(P)) return HP_ERR_INVALID;
     if (P == 0) {
@@ -325,6 +340,9 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
     o->ro = r.ro;
     o->p = r.p;
     o->d = r.d;
+    o->ri2 = r.ri2 * s.inv_scale;
+    o->ro2 = r.ro2;
+    o->p2 = r.p2;
     return HP_OK;
 }
 
@@ -400,6 +418,9 @@ hp_error hpi_iab_s_fk_from(const hp_iab_s *s, const hp_iab_limit *lp, double P,
     out->ro = o.ro * s->inv_scale; /* exact: a power of two */
     out->p = o.p;
     out->d = o.d;
+    out->ri2 = o.ri2;
+    out->ro2 = o.ro2 * s->inv_scale;
+    out->p2 = o.p2;
     return HP_OK;
 }
 

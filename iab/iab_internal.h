@@ -144,10 +144,13 @@ typedef struct hpi_iab_fk_start {
 
 /* A root with what its iteration formed: ri [m]; ro [m] and p, the outer radius and the
  * pressure (the closed form's bits) at ri when an evaluation there formed them, else NAN; d
- * the slope (per scaled length) of the last Newton step, a few ulps from ri, else NAN; evals
- * the closed-form pressure evaluations spent (set on failure too). */
+ * the slope (per scaled length) of the last Newton step, a few ulps from ri, else NAN; ri2,
+ * ro2, p2 the same of the other double the iteration's last look evaluated beside ri (ri2
+ * NAN when none: a caller stepping off the root by an ulp need not evaluate it again);
+ * evals the closed-form pressure evaluations spent (set on failure too). */
 typedef struct hpi_iab_fk_out {
     double ri, ro, p, d;
+    double ri2, ro2, p2;
     int evals;
 } hpi_iab_fk_out;
 

@@ -25,19 +25,28 @@ int hpi_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory
  * few ulps of the exact radius, so a few widening steps always suffice. The bladder as
  * validated once (hpi_iab_s_ik_m: the bits of hp_iab_ik). p0: the pressure at *ri when the
  * caller has it (those bits; NAN: evaluated here), ro0 the outer radius there (NAN: not
- * known). On success *ro gets the outer radius at the moved ri [m] (hp_iab_ro's bits) when
- * ro is not NULL, and *p_at the pressure there (those bits; p_at may be NULL). *evals counts
- * the evaluations. Returns 0 when it could not. */
+ * known); nb (may be NULL) another radius the caller evaluated (the root find's look at the
+ * double beside its root, hpi_iab_fk_out.ri2), taken when a step lands on it. A step too
+ * small to move the radius (1e-16 of it, below half an ulp when its mantissa is below
+ * 1.11) keeps the last look's pressure. Either way the pressures are the bits an
+ * evaluation there gives: the same moved radius as evaluating each step. On success *ro
+ * gets the outer radius at the moved ri [m] (hp_iab_ro's bits) when ro is not NULL, and
+ * *p_at the pressure there (those bits; p_at may be NULL). *evals counts the evaluations.
+ * Returns 0 when it could not. */
 static int nudge_n(const hp_iab_s *s, double *ri, double p, int up, double p0, double ro0,
-                   double *p_at, double *ro, int *evals)
+                   const hpi_iab_fk_out *nb, double *p_at, double *ro, int *evals)
 {
-    double r = *ri, step = fabs(r) * 1e-16;
+    double r = *ri, step = fabs(r) * 1e-16, last = r, P = p0, o = ro0;
+    double r2 = nb ? nb->ri2 : NAN; /* NAN: equal to no radius */
     for (int i = 0; i < 80; ++i) {
-        double P = p0, o = ro0;
-        if (i > 0 || isnan(p0)) {
+        if (r == r2) {
+            P = nb->p2;
+            o = nb->ro2;
+        } else if (i > 0 ? r != last : isnan(p0)) {
             ++*evals;
             if (hpi_iab_s_ik_ro_m(s, r, &P, &o) != HP_OK) P = NAN;
         }
+        last = r;
         if (up ? P >= p : P <= p) {
             *ri = r;
             if (p_at) *p_at = P;
@@ -52,7 +61,7 @@ static int nudge_n(const hp_iab_s *s, double *ri, double p, int up, double p0, d
 static int nudge(const hp_iab_s *s, double *ri, double p, int up)
 {
     int evals = 0;
-    return nudge_n(s, ri, p, up, NAN, NAN, NULL, NULL, &evals);
+    return nudge_n(s, ri, p, up, NAN, NAN, NULL, NULL, NULL, &evals);
 }
 
 /* The largest dP/dro [Pa/m] of a bladder over [lo, hi] (m), twice the largest of 257 even
@@ -290,7 +299,7 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
      * (the same bits as evaluating it again). */
     *r = o.ri;
     double p_at = NAN;
-    int found = e == HP_OK && nudge_n(s, r, pw, up, o.p, o.ro, &p_at, ro, &evals);
+    int found = e == HP_OK && nudge_n(s, r, pw, up, o.p, o.ro, &o, &p_at, ro, &evals);
     atomic_fetch_add_explicit(&rate_evals, (unsigned long)(o.evals + evals), memory_order_relaxed);
     if (!found) return 0;
     if (m) {
