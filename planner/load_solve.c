@@ -147,11 +147,17 @@ double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho)
  * the inner radius ri, where the pressure (the bladder model's IK) and the outer radius (the
  * volume law) are closed forms: only the bracket's two ends need the bladder's forward
  * kinematics, not every Newton step (it was half of an unreachable plan's time).
- * Safeguarded Newton with bisection, to two ulps of ri. */
+ * Safeguarded Newton with bisection, up to its first step of at most PRESSURE_STEP of ri. */
 typedef struct radius_bracket {
     double a, c, Fa, Fc; /* inner radii holding the forces Fa < Fc: the root lies between */
-    double step;         /* a Newton step this short (relative to ri) is the last one */
 } radius_bracket;
+/* The last Newton step of a pressure solve: a step of at most 1e-8 of the radius, applied,
+ * leaves an error of the order of its square (Newton converges quadratically there),
+ * rounding size, so the step that would only confirm it is not taken. On load_supine's plan:
+ * 2.89 steps a solve instead of 3.37 (solves from the carrying range's ends that ran on to a
+ * step of two ulps), its pressures within 1e-11 Pa of those, and load_heavy's within
+ * 1e-11 Pa. */
+#define PRESSURE_STEP 1e-8
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
                                      double hi, radius_bracket br, double Fhi, double F, double *P,
                                      double *ri);
@@ -174,8 +180,8 @@ static void count_pressure_solve(int steps)
 
 /* The pressure in [lo, hi] whose force against rho is F, with a bracket of the inner radius
  * known: br's radii hold its forces (the radii at lo and hi with the forces 0 and Fhi, or a
- * narrower bracket inside them), and Newton starts from the secant between them; *ri (may be NULL) gets the inner radius at the
- * answer (at lo or hi: br's a or c, when F is at or beyond an end of the carrying range). */
+ * narrower bracket inside them), and Newton starts from the secant between them; *ri (may
+ * be NULL) gets the inner radius at the answer (at lo or hi: br's a or c, when F is at or beyond an end of the carrying range). */
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
                                      double hi, radius_bracket br, double Fhi, double F, double *P,
                                      double *ri)
@@ -217,7 +223,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
             if (dF > 0 && fabs(xn - x) <= 4e-16 * x) break;
             xn = 0.5 * (a + c);
         }
-        int done = fabs(xn - x) <= br.step * x || c - a <= 4e-16 * x;
+        int done = fabs(xn - x) <= PRESSURE_STEP * x || c - a <= 4e-16 * x;
         x = xn;
         if (done) {
             if ((err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL))) return err;
@@ -230,13 +236,6 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
     return HP_OK;
 }
 
-/* The last Newton step of a pressure solve from a narrow bracket (hp_load_near): a step of at
- * most 1e-8 of the radius, applied, leaves an error of the order of its square (Newton
- * converges quadratically there), rounding size, so the step that would only confirm it is
- * not taken. On load_supine's stable search: 2.36 steps a solve instead of 3.20, and the
- * answer's pressures within 1e-11 Pa of those solved from the carrying range's ends. */
-#define NEAR_STEP 1e-8
-
 /* Adds bladder k's share of the tie-breaker sum at force x[k] to *e: (P(F) − t)² for a
  * carrying bladder, and for one at zero force the best pressure that carries nothing (any in
  * [lo, L], L the bottom of its carrying range), as HOLD's answer gives it; P[k] gets that
@@ -248,13 +247,13 @@ static int tie_cost(const hp_load_model *M, int k, const double *rho, const doub
                     const hp_load_near *nr, double *e, double *P, double *R)
 {
     double Pk;
-    radius_bracket br = {ra[k], rc[k], 0.0, Fhi[k], 4e-16};
+    radius_bracket br = {ra[k], rc[k], 0.0, Fhi[k]};
     if (nr) { /* a narrower bracket: two points whose forces lie on either side of x[k] */
         const int up = nr->xa[k] < nr->xb[k];
         const double f1 = up ? nr->xa[k] : nr->xb[k], f2 = up ? nr->xb[k] : nr->xa[k];
         const double r1 = up ? nr->Ra[k] : nr->Rb[k], r2 = up ? nr->Rb[k] : nr->Ra[k];
         if (f1 > 0.0 && f1 < x[k] && x[k] < f2 && f2 < Fhi[k] && r1 < r2)
-            br = (radius_bracket){r1, r2, f1, f2, NEAR_STEP};
+            br = (radius_bracket){r1, r2, f1, f2};
     }
     if (x[k] <= 0.0 && Flo[k] <= 0.0) {
         Pk = fmin(fmax(target[k], lo[k]), L[k]);
@@ -726,10 +725,9 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
     double p[HP_MAX_BLADDERS];
     for (int k = 0; k < n; ++k) {
         p[k] = L[k];
-        if (L[k] < U[k] &&
-            pressure_of_force_in(M, k, rho[k], L[k], U[k],
-                                 (radius_bracket){hs->ra[k], hs->rc[k], 0.0, Fhi[k], 4e-16}, Fhi[k],
-                                 f[k], &p[k], NULL))
+        if (L[k] < U[k] && pressure_of_force_in(M, k, rho[k], L[k], U[k],
+                                                (radius_bracket){hs->ra[k], hs->rc[k], 0.0, Fhi[k]},
+                                                Fhi[k], f[k], &p[k], NULL))
             return HP_LOAD_SOLVE_ERROR;
     }
     memset(lam, 0, sizeof lam);
