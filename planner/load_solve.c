@@ -128,19 +128,35 @@ static hp_error bladder_state(const hp_load_model *M, int k, double P, double rh
 
 /* The touching pressure: the one whose free radius equals rho (−inf when rho is below the
  * smallest radius the cavity allows, +inf past the limit point). */
-double hpi_load_touch_pressure(const hp_load_model *M, int k, double rho)
+/* *ri gets the inner radius whose outer radius is rho (the bladder's volume law, closed
+ * form: what the forward kinematics of the returned pressure solves for), NaN when the
+ * pressure is infinite. */
+static double touch_pressure_ri(const hp_load_model *M, int k, double rho, double *ri)
 {
     const hp_iab *b = &M->layout.bladders[k].iab;
-    double ri, P;
-    if (hp_iab_ri(b, rho, &ri) != HP_OK) return -INFINITY;
-    if (M->limit[k].exists && !(ri < M->limit[k].ri)) return INFINITY;
-    if (hp_iab_ik(b, ri, &P) != HP_OK) return ri > b->Ri ? INFINITY : -INFINITY;
+    double P;
+    *ri = NAN;
+    if (hp_iab_ri(b, rho, ri) != HP_OK) return -INFINITY;
+    if (M->limit[k].exists && !(*ri < M->limit[k].ri)) return INFINITY;
+    if (hp_iab_ik(b, *ri, &P) != HP_OK) return *ri > b->Ri ? INFINITY : -INFINITY;
     return P;
+}
+
+double hpi_load_touch_pressure(const hp_load_model *M, int k, double rho)
+{
+    double ri;
+    return touch_pressure_ri(M, k, rho, &ri);
+}
+
+static double indent_pressure_ri(const hp_load_model *M, int k, double rho, double *ri)
+{
+    return touch_pressure_ri(M, k, rho / (1.0 - HP_LOAD_INDENT_MAX), ri);
 }
 
 double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho)
 {
-    return hpi_load_touch_pressure(M, k, rho / (1.0 - HP_LOAD_INDENT_MAX));
+    double ri;
+    return indent_pressure_ri(M, k, rho, &ri);
 }
 
 /* The pressure in [lo, hi] whose force against rho is F (F increasing in P there). Solved in
@@ -293,21 +309,27 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
     if (hpi_load_domain(M, h->rho) != HP_OK) return HP_LOAD_SOLVE_UNREACHABLE;
     hpi_load_gravity(M, xi, Qg, NULL, NULL);
     for (int k = 0; k < n; ++k) {
-        h->Pt[k] = hpi_load_touch_pressure(M, k, h->rho[k]);
+        double rt, rin; /* the inner radii at the touching and the indentation pressures */
+        h->Pt[k] = touch_pressure_ri(M, k, h->rho[k], &rt);
         h->L[k] = fmax(lo[k], fmax(0.0, h->Pt[k]));
         /* The indentation range where the contact law is trusted caps a carrying bladder's
          * pressure at this pose: ro(P) <= rho/(1 − HP_LOAD_INDENT_MAX). A bladder whose
          * lowest pressure already carries beyond it cannot hold the pose. */
-        double Pi = hpi_load_indent_pressure(M, k, h->rho[k]);
+        double Pi = indent_pressure_ri(M, k, h->rho[k], &rin);
         if (lo[k] > 0 && lo[k] > h->Pt[k] && lo[k] > Pi) return HP_LOAD_SOLVE_UNREACHABLE;
         h->U[k] = fmin(hi[k], Pi);
         h->Flo[k] = h->Fhi[k] = h->ra[k] = h->rc[k] = 0.0;
         if (h->L[k] < h->U[k]) {
             double F;
             h->col[h->m++] = k;
-            if (fk_of(M, k, h->L[k], &h->ra[k]) || fk_of(M, k, h->U[k], &h->rc[k]) ||
-                force_at_ri(M, k, h->L[k], h->ra[k], h->rho[k], &F))
-                return HP_LOAD_SOLVE_ERROR;
+            /* An end at the touching or the indentation pressure has its inner radius in
+             * closed form already (the forward kinematics of that pressure returns it to
+             * the solve's rounding); the others are solved. */
+            if (h->L[k] == h->Pt[k]) h->ra[k] = rt;
+            else if (fk_of(M, k, h->L[k], &h->ra[k])) return HP_LOAD_SOLVE_ERROR;
+            if (h->U[k] == Pi) h->rc[k] = rin;
+            else if (fk_of(M, k, h->U[k], &h->rc[k])) return HP_LOAD_SOLVE_ERROR;
+            if (force_at_ri(M, k, h->L[k], h->ra[k], h->rho[k], &F)) return HP_LOAD_SOLVE_ERROR;
             h->Flo[k] = fmax(0.0, F);
             if (force_at_ri(M, k, h->U[k], h->rc[k], h->rho[k], &F)) return HP_LOAD_SOLVE_ERROR;
             h->Fhi[k] = F;
