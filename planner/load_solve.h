@@ -280,5 +280,8 @@ hpi_load_solve_status hpi_load_closest(const hp_load_model *M, const double desi
                                        const double W[6], const double *lo, const double *hi,
                                        const double xi0[6], const double *F0, int max_iter,
                                        double xi[6], int *iterations);
+/* TEST-ONLY counts (summed over the process): CLOSEST's solves, their evaluations of the rows
+ * and the free outer radii (hp_load_radius: a forward-kinematics solve each) they asked for. */
+void hpi_test_closest_counts(unsigned long *solves, unsigned long *evals, unsigned long *radii);
 
 #endif
