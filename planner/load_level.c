@@ -411,16 +411,9 @@ static hpi_load_solve_status hold(const hp_load_level *p, const double xi[6], co
                                                         p->set.load_tiebreak == HP_TIE_STIFFNESS, P,
                                                         F, iters, raw);
     if (st != HP_LOAD_SOLVE_OK) return st;
-    double Ps[HP_MAX_BLADDERS], Fs[HP_MAX_BLADDERS];
-    const int n = p->M.layout.n;
-    memcpy(Ps, P, (size_t)n * sizeof *Ps);
-    memcpy(Fs, F, (size_t)n * sizeof *Fs);
-    if ((keep ? hpi_load_stable_hold_set(&hs, &rec, xi, Ps, Fs, NULL)
-              : hpi_load_stable_hold(&p->M, xi, p->elo, p->ehi, target, Ps, Fs, NULL)) ==
-        HP_LOAD_SOLVE_OK) {
-        memcpy(P, Ps, (size_t)n * sizeof *P);
-        memcpy(F, Fs, (size_t)n * sizeof *F);
-    }
+    /* The search replaces (P, F) only with a stable hold it found (OK), else leaves them. */
+    if (keep) hpi_load_stable_hold_set(&hs, &rec, xi, P, F, NULL);
+    else hpi_load_stable_hold(&p->M, xi, p->elo, p->ehi, target, P, F, NULL);
     return st;
 }
 
