@@ -16,6 +16,7 @@
  * Each QP is load_qp.c's 6-dimensional dual. No allocation. */
 #include "planner/load_solve.h"
 #include "common/units.h"
+#include "iab/iab_internal.h"
 #include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_qp.h"
@@ -178,13 +179,34 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
                                      double hi, radius_bracket br, double Fhi, double F, double *P,
                                      double *ri);
 
-static atomic_ulong n_psolves, n_psteps, n_plong;
+static atomic_ulong n_psolves, n_psteps, n_plong, n_pmodel;
 
 void hpi_test_pressure_counts(unsigned long *solves, unsigned long *steps, unsigned long *longer)
 {
     *solves = atomic_load(&n_psolves);
     *steps = atomic_load(&n_psteps);
     *longer = atomic_load(&n_plong);
+}
+
+void hpi_test_pressure_model_counts(unsigned long *passes) { *passes = atomic_load(&n_pmodel); }
+
+/* One pass through the bladder model (validated into s once a solve) at inner radius ri [m]:
+ * the pressure, its slope dP/dri (Pr NULL: not formed) and the outer radius [m] that the
+ * pressure's closed form forms anyway; the same codes and bits as hp_iab_ik_derivs and
+ * hp_iab_ro (iab_internal.h: hpi_iab_s_pressure_ro, hpi_iab_s_slopes). Counted. */
+static hp_error model_at(const hp_iab_s *s, double ri, double *P, double *Pr, double *ro)
+{
+    atomic_fetch_add(&n_pmodel, 1);
+    double ris, rs, d1;
+    hp_error e = hpi_iab_s_radius(s, ri, &ris);
+    if (e) return e;
+    if (hpi_iab_s_pressure_ro(s, ris, P, &rs) != HP_OK) return HP_ERR_DOMAIN;
+    if (Pr) {
+        if (hpi_iab_s_slopes(s, ris, rs, &d1, NULL) != HP_OK) return HP_ERR_DOMAIN;
+        *Pr = d1 * s->scale;
+    }
+    *ro = rs * s->inv_scale;
+    return HP_OK;
 }
 
 static void count_pressure_solve(int steps)
@@ -213,16 +235,15 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         if (ri) *ri = c;
         return HP_OK;
     }
-    const hp_iab *b = &M->layout.bladders[k].iab;
-    hp_error err;
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_error err = hpi_iab_scaled_init(&M->layout.bladders[k].iab, &s, NULL);
+    if (err) return err;
     double x = a + (c - a) * ((F - br.Fa) / (br.Fc - br.Fa)), Px = lo;
     int steps = 0;
     for (int it = 0; it < 200; ++it) {
         ++steps;
         double Pr, ro;
-        err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL);
-        if (!err) err = hp_iab_ro(b, x, &ro);
-        if (err) return err;
+        if ((err = model_at(&s, x, &Px, &Pr, &ro))) return err;
         hp_claw law;
         hpi_load_claw_to(M, k, Px, ro, rho, HP_CLAW_GRADIENT, &law); /* F and d only */
         double r = law.F - F;
@@ -242,7 +263,7 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         int done = fabs(xn - x) <= PRESSURE_STEP * x || c - a <= 4e-16 * x;
         x = xn;
         if (done) {
-            if ((err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL))) return err;
+            if ((err = model_at(&s, x, &Px, NULL, &ro))) return err;
             break;
         }
     }

@@ -160,6 +160,9 @@ void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices);
  * evaluation each), and those that took more than HP_LOAD_PRESSURE_STEPS_LONG steps. */
 #define HP_LOAD_PRESSURE_STEPS_LONG 16
 void hpi_test_pressure_counts(unsigned long *solves, unsigned long *steps, unsigned long *longer);
+/* TEST-ONLY count (summed over the process): the passes through the bladder model (its
+ * validation, the pressure at an inner radius and the outer radius) those solves made. */
+void hpi_test_pressure_model_counts(unsigned long *passes);
 /* TEST-ONLY counts (summed over the process): the holding sets formed (hpi_load_hold_set_at),
  * and the bladder states evaluated with their pressure derivatives (the tie-breaker's SQP
  * steps need them; a force alone needs neither the law's derivatives nor the IK's). */
