@@ -253,14 +253,18 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         /* dF/dri along the bladder: F_P·dP/dri + F_ro·dro/dri, dro/dri = ri²/ro² */
         double dF = law.d[HP_CLAW_P] * Pr + law.d[HP_CLAW_RO] * (x * x) / (ro * ro);
         double xn = dF > 0 ? x - r / dF : 0.5 * (a + c);
+        int newton = dF > 0;
         if (!(xn > a && xn < c)) {
             /* A step of rounding size out of the open bracket: this step's own residual has
              * just made x an end of the bracket, and x is the root to two ulps. Halving
              * instead would close the bracket onto it from its far end, 50 steps. */
             if (dF > 0 && fabs(xn - x) <= 4e-16 * x) break;
             xn = 0.5 * (a + c);
+            newton = 0;
         }
-        int done = fabs(xn - x) <= PRESSURE_STEP * x || c - a <= 4e-16 * x;
+        /* Only a Newton step this short is the last: a halving this short leaves the root
+         * anywhere in a bracket of twice its size. */
+        int done = (newton && fabs(xn - x) <= PRESSURE_STEP * x) || c - a <= 4e-16 * x;
         x = xn;
         if (done) {
             if ((err = model_at(&s, x, &Px, NULL, &ro))) return err;
