@@ -23,6 +23,7 @@
 #include "planner/load_qp.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <string.h>
 
 /* The proximal weight on the force fractions s: keeps the QP strictly convex where the
@@ -41,10 +42,42 @@ typedef struct frange {
     double dlo, dhi; /* [N/m] their derivatives in rho */
 } frange;
 
+static atomic_ulong n_solves, n_evals, n_radii;
+
+void hpi_test_closest_counts(unsigned long *solves, unsigned long *evals, unsigned long *radii)
+{
+    *solves = atomic_load(&n_solves);
+    *evals = atomic_load(&n_evals);
+    *radii = atomic_load(&n_radii);
+}
+
+/* hp_load_radius (the bladder's forward kinematics: an iterative solve), counted. */
+static hp_error radius(const hp_load_model *M, int k, double P, double *ro, double *dro)
+{
+    atomic_fetch_add(&n_radii, 1);
+    return hp_load_radius(M, k, P, ro, dro);
+}
+
 /* Bladder k's carrying force range at contact distance rho inside [plo, phi] and the
  * indentation range. 0 on success, -1 when the model fails, 1 when no pressure in the
  * bounds is inside the indentation range (its lowest pressure already carries beyond it). */
-static int force_range(const hp_load_model *M, int k, double rho, double plo, double phi, frange *r)
+/* The free outer radii at a bladder's pressure bounds: they do not move with the pose, so a
+ * CLOSEST solve asks them once (the status too: an end whose radius fails fails the range
+ * only where it is used). */
+typedef struct bound_radii {
+    double lo, hi;
+    hp_error elo, ehi;
+} bound_radii;
+
+static void bound_radii_at(const hp_load_model *M, int k, double plo, double phi, bound_radii *b)
+{
+    b->lo = b->hi = NAN;
+    b->elo = plo > 0 ? radius(M, k, plo, &b->lo, NULL) : HP_ERR_INVALID; /* used only then */
+    b->ehi = radius(M, k, phi, &b->hi, NULL);
+}
+
+static int force_range(const hp_load_model *M, int k, double rho, double plo, double phi,
+                       const bound_radii *br, frange *r)
 {
     memset(r, 0, sizeof *r);
     const double c = 1.0 - HP_LOAD_INDENT_MAX;
@@ -54,20 +87,22 @@ static int force_range(const hp_load_model *M, int k, double rho, double plo, do
     if (!(L < U)) return 0;
     double ro, dro;
     if (plo > 0 && plo > Pt) { /* the lowest pressure already carries */
-        if (hp_load_radius(M, k, plo, &ro, NULL) != HP_OK) return -1;
+        if (br->elo != HP_OK) return -1;
+        ro = br->lo;
         hp_claw lo;
         hpi_load_claw_to(M, k, plo, ro, rho, HP_CLAW_GRADIENT, &lo);
         r->lo = lo.F;
         r->dlo = lo.d[HP_CLAW_RHO];
     }
     if (U == phi) {
-        if (hp_load_radius(M, k, phi, &ro, NULL) != HP_OK) return -1;
+        if (br->ehi != HP_OK) return -1;
+        ro = br->hi;
         hp_claw hi;
         hpi_load_claw_to(M, k, phi, ro, rho, HP_CLAW_GRADIENT, &hi);
         r->hi = hi.F;
         r->dhi = hi.d[HP_CLAW_RHO];
     } else { /* at the indentation edge: ro = rho/c and P = Pi(rho), both moving with rho */
-        if (hp_load_radius(M, k, U, &ro, &dro) != HP_OK || !(dro > 0)) return -1;
+        if (radius(M, k, U, &ro, &dro) != HP_OK || !(dro > 0)) return -1;
         double dPi = 1.0 / (c * dro);
         hp_claw e;
         hpi_load_claw_to(M, k, U, rho / c, rho, HP_CLAW_GRADIENT, &e);
@@ -82,6 +117,7 @@ typedef struct cl_ctx {
     const hp_load_model *M;
     const double *lo, *hi;
     int n;
+    bound_radii br[HP_MAX_BLADDERS];
 } cl_ctx;
 
 /* The equilibrium rows c (weighted, N) at scaled pose y (mm, degrees) and fractions s, and
@@ -92,6 +128,7 @@ static int cl_eval(const cl_ctx *C, const double y[6], const double *s, double c
 {
     const hp_load_model *M = C->M;
     const int n = C->n;
+    atomic_fetch_add(&n_evals, 1);
     double xi[6], rho[HP_MAX_BLADDERS], J[6 * HP_MAX_BLADDERS], H[36 * HP_MAX_BLADDERS];
     for (int i = 0; i < 6; ++i) xi[i] = y[i] * hpi_load_unit(i);
     if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, Cy ? H : NULL) != HP_OK ||
@@ -104,7 +141,7 @@ static int cl_eval(const cl_ctx *C, const double y[6], const double *s, double c
     if (Cy) memcpy(D, dQg, sizeof D);
     for (int k = 0; k < n; ++k) {
         frange r;
-        if (force_range(M, k, rho[k], C->lo[k], C->hi[k], &r) != 0) return -1;
+        if (force_range(M, k, rho[k], C->lo[k], C->hi[k], &C->br[k], &r) != 0) return -1;
         double Fk = r.lo + s[k] * (r.hi - r.lo), dF = r.dlo + s[k] * (r.dhi - r.dlo);
         const double *Jk = J + 6 * k;
         if (F) F[k] = Fk;
@@ -144,7 +181,13 @@ hpi_load_solve_status hpi_load_closest(const hp_load_model *M, const double desi
                                        double xi[6], int *iterations)
 {
     const int n = M->layout.n, nv = 6 + n;
-    cl_ctx C = {M, lo, hi, n};
+    atomic_fetch_add(&n_solves, 1);
+    cl_ctx C;
+    C.M = M;
+    C.lo = lo;
+    C.hi = hi;
+    C.n = n;
+    for (int k = 0; k < n; ++k) bound_radii_at(M, k, lo[k], hi[k], &C.br[k]);
     double y[6], yd[6], s[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
     for (int i = 0; i < 6; ++i) {
         y[i] = xi0[i] / hpi_load_unit(i);
@@ -154,7 +197,7 @@ hpi_load_solve_status hpi_load_closest(const hp_load_model *M, const double desi
         return HP_LOAD_SOLVE_ERROR;
     for (int k = 0; k < n; ++k) {
         frange r;
-        if (force_range(M, k, rho[k], lo[k], hi[k], &r) != 0) return HP_LOAD_SOLVE_ERROR;
+        if (force_range(M, k, rho[k], lo[k], hi[k], &C.br[k], &r) != 0) return HP_LOAD_SOLVE_ERROR;
         s[k] = !F0 ? 0.5 : r.hi > r.lo ? fmin(fmax((F0[k] - r.lo) / (r.hi - r.lo), 0.0), 1.0) : 0.0;
     }
     double c[6], Cy[36], Cs[6 * HP_MAX_BLADDERS];

@@ -411,35 +411,37 @@ static hpi_load_solve_status hold(const hp_load_level *p, const double xi[6], co
                                                         p->set.load_tiebreak == HP_TIE_STIFFNESS, P,
                                                         F, iters, raw);
     if (st != HP_LOAD_SOLVE_OK) return st;
-    double Ps[HP_MAX_BLADDERS], Fs[HP_MAX_BLADDERS];
-    const int n = p->M.layout.n;
-    memcpy(Ps, P, (size_t)n * sizeof *Ps);
-    memcpy(Fs, F, (size_t)n * sizeof *Fs);
-    if ((keep ? hpi_load_stable_hold_set(&hs, &rec, xi, Ps, Fs, NULL)
-              : hpi_load_stable_hold(&p->M, xi, p->elo, p->ehi, target, Ps, Fs, NULL)) ==
-        HP_LOAD_SOLVE_OK) {
-        memcpy(P, Ps, (size_t)n * sizeof *P);
-        memcpy(F, Fs, (size_t)n * sizeof *F);
-    }
+    /* The search replaces (P, F) only with a stable hold it found (OK), else leaves them. */
+    if (keep) hpi_load_stable_hold_set(&hs, &rec, xi, P, F, NULL);
+    else hpi_load_stable_hold(&p->M, xi, p->elo, p->ehi, target, P, F, NULL);
     return st;
 }
 
 /* What a REACHED answer must also have (docs/load.md, "Stable holds"): the forward model
  * confirms it. The holding stiffness at (xi, P), the one hp_planner_load_info reports, is
  * positive definite, and the forward statics of P started at xi rests within 1e-6 mm/deg of
- * xi (the tolerance of hp_planner.h's reached_means_reached). 1 when confirmed; *lam gets
- * the stiffness's smallest eigenvalue [N/mm] for the message. */
-static int confirmed_hold(const hp_load_model *M, const double xi[6], const double *P, double *lam)
+ * xi (the tolerance of hp_planner.h's reached_means_reached). 1 when confirmed. */
+static int confirmed_hold(const hp_load_model *M, const double xi[6], const double *P)
 {
     hp_load_holding h;
     double rest[6];
-    *lam = NAN;
-    if (hp_load_holding_at(M, xi, P, &h) != HP_OK || hpi_load_stiff_lambda_min(h.K, lam) != 0 ||
-        !h.stable || hp_load_rest(M, P, xi, rest, NULL) != HP_OK)
+    if (hp_load_holding_at(M, xi, P, &h) != HP_OK || !h.stable ||
+        hp_load_rest(M, P, xi, rest, NULL) != HP_OK)
         return 0;
     for (int i = 0; i < 6; ++i)
         if (!(fabs(rest[i] - xi[i]) / hpi_load_unit(i) <= 1e-6)) return 0;
     return 1;
+}
+
+/* The smallest eigenvalue [N/mm] of the holding stiffness at (xi, P), for the message of a
+ * refused hold only (confirmed_hold asks no eigenvalue); NaN when the model fails. */
+static double hold_lambda(const hp_load_model *M, const double xi[6], const double *P)
+{
+    hp_load_holding h;
+    double lam;
+    if (hp_load_holding_at(M, xi, P, &h) != HP_OK || hpi_load_stiff_lambda_min(h.K, &lam) != 0)
+        return NAN;
+    return lam;
 }
 
 /* The indentation check a returned answer must meet: every carrying bladder inside the
@@ -545,12 +547,11 @@ static int walk_answer_ok(const void *ctx, const double xi[6], const double *P)
 {
     const hp_load_level *p = ctx;
     const hp_load_model *M = &p->M;
-    double lam;
     unsigned flags[HP_MAX_BLADDERS];
     hp_diag dom;
     return holds(M, xi, P) && newton_euler_holds(M, xi, P) && indent_ok(M, xi, P) &&
            law_domain_ok(M, xi, P, &dom) == HP_OK && closest_binding(p, xi, P, 1, flags) > 0 &&
-           confirmed_hold(M, xi, P, &lam);
+           confirmed_hold(M, xi, P);
 }
 
 /* Depths of the stable search along gravity: 1/16 mm to 64 mm in steps of 2^(1/4). */
@@ -740,10 +741,9 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
     /* A hold at the desired pose that the forward model does not confirm is not REACHED: the
      * head, let go there, leaves it. HOLD has already looked for a stable member of the
      * holding family; none was found inside the limits. */
-    double lam = NAN;
     int unstable = !bad && st == HP_LOAD_SOLVE_OK && !unverified && !beyond && !outside &&
                    (r->status == HP_STATUS_REACHED || r->status == HP_STATUS_CLOSEST) &&
-                   !confirmed_hold(M, xi, P, &lam);
+                   !confirmed_hold(M, xi, P);
     const int was_reached = r->status == HP_STATUS_REACHED;
     /* Nor a CLOSEST one: the stable walk from the previous answer and the stable holds along
      * gravity, else refused. An answer so found is limited by stability (HP_BIND_STABILITY):
@@ -769,7 +769,7 @@ hp_error hpi_load_level_plan(hp_load_level *p, const double desired[6], hp_resul
                      "smallest eigenvalue is %.3g N/mm, and the forward statics does not "
                      "rest within 1e-6 mm/deg of it; no stable rest found near it), so it is "
                      "not returned",
-                     was_reached ? "desired" : "closest", lam);
+                     was_reached ? "desired" : "closest", hold_lambda(M, xi, P));
             hpi_text_set(p->err, t);
         } else if (outside) {
             hpi_text_set(p->err, "load planner: the pose found near the desired one is not "

@@ -16,6 +16,7 @@
  * Each QP is load_qp.c's 6-dimensional dual. No allocation. */
 #include "planner/load_solve.h"
 #include "common/units.h"
+#include "iab/iab_internal.h"
 #include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_qp.h"
@@ -34,14 +35,26 @@ typedef struct bstate {
     double F, FP, FPP;
 } bstate;
 
-/* ro(P) of bladder k with ro' and ro'' (ro'' from the bladder model's d²P/dri²). */
-static hp_error radius_chain(const hp_load_model *M, int k, double P, double *ro, double *o1,
+static atomic_ulong n_fk;
+
+void hpi_test_fk_counts(unsigned long *fk) { *fk = atomic_load(&n_fk); }
+
+/* Bladder k's inner radius at pressure P: the bladder's forward kinematics (an iterative
+ * solve, the dearest step of a force), counted. */
+static hp_error fk_of(const hp_load_model *M, int k, double P, double *ri)
+{
+    atomic_fetch_add(&n_fk, 1);
+    return hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], P, ri);
+}
+
+/* ro of bladder k at inner radius ri with ro' and ro'' along the pressure (ro'' from the
+ * bladder model's d²P/dri²). */
+static hp_error radius_chain(const hp_load_model *M, int k, double ri, double *ro, double *o1,
                              double *o2)
 {
     const hp_iab *b = &M->layout.bladders[k].iab;
-    double ri, Pc, Pr, Prr;
-    hp_error err = hp_iab_fk_limit(b, &M->limit[k], P, &ri);
-    if (!err) err = hp_iab_ro(b, ri, ro);
+    double Pc, Pr, Prr;
+    hp_error err = hp_iab_ro(b, ri, ro);
     if (!err) err = hp_iab_ik_derivs(b, ri, &Pc, &Pr, &Prr);
     if (err) return err;
     double r1 = 1.0 / Pr, r2 = -Prr * r1 * r1 * r1;         /* ri', ri'' */
@@ -70,11 +83,13 @@ void hpi_test_hold_counts(unsigned long *sets, unsigned long *derived)
     *derived = atomic_load(&n_derived);
 }
 
-static hp_error bladder_state(const hp_load_model *M, int k, double P, double rho, bstate *s)
+/* Bladder k's state at pressure P whose inner radius is ri. */
+static hp_error bladder_state_ri(const hp_load_model *M, int k, double P, double ri, double rho,
+                                 bstate *s)
 {
     atomic_fetch_add(&n_derived, 1);
     double ro, o1, o2;
-    hp_error err = radius_chain(M, k, P, &ro, &o1, &o2);
+    hp_error err = radius_chain(M, k, ri, &ro, &o1, &o2);
     if (err) return err;
     hp_claw c; /* F(P, ro(P), rho) and its total derivatives along P */
     hpi_load_claw(M, k, P, ro, rho, &c);
@@ -100,47 +115,98 @@ static hp_error force_at_ri(const hp_load_model *M, int k, double P, double ri, 
 static hp_error bladder_force(const hp_load_model *M, int k, double P, double rho, double *F)
 {
     double ri;
-    hp_error err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], P, &ri);
+    hp_error err = fk_of(M, k, P, &ri);
     return err ? err : force_at_ri(M, k, P, ri, rho, F);
+}
+
+/* Bladder k's state at pressure P. */
+static hp_error bladder_state(const hp_load_model *M, int k, double P, double rho, bstate *s)
+{
+    double ri;
+    hp_error err = fk_of(M, k, P, &ri);
+    return err ? err : bladder_state_ri(M, k, P, ri, rho, s);
 }
 
 /* The touching pressure: the one whose free radius equals rho (−inf when rho is below the
  * smallest radius the cavity allows, +inf past the limit point). */
-double hpi_load_touch_pressure(const hp_load_model *M, int k, double rho)
+/* *ri gets the inner radius whose outer radius is rho (the bladder's volume law, closed
+ * form: what the forward kinematics of the returned pressure solves for), NaN when the
+ * pressure is infinite. */
+static double touch_pressure_ri(const hp_load_model *M, int k, double rho, double *ri)
 {
     const hp_iab *b = &M->layout.bladders[k].iab;
-    double ri, P;
-    if (hp_iab_ri(b, rho, &ri) != HP_OK) return -INFINITY;
-    if (M->limit[k].exists && !(ri < M->limit[k].ri)) return INFINITY;
-    if (hp_iab_ik(b, ri, &P) != HP_OK) return ri > b->Ri ? INFINITY : -INFINITY;
+    double P;
+    *ri = NAN;
+    if (hp_iab_ri(b, rho, ri) != HP_OK) return -INFINITY;
+    if (M->limit[k].exists && !(*ri < M->limit[k].ri)) return INFINITY;
+    if (hp_iab_ik(b, *ri, &P) != HP_OK) return *ri > b->Ri ? INFINITY : -INFINITY;
     return P;
+}
+
+double hpi_load_touch_pressure(const hp_load_model *M, int k, double rho)
+{
+    double ri;
+    return touch_pressure_ri(M, k, rho, &ri);
+}
+
+static double indent_pressure_ri(const hp_load_model *M, int k, double rho, double *ri)
+{
+    return touch_pressure_ri(M, k, rho / (1.0 - HP_LOAD_INDENT_MAX), ri);
 }
 
 double hpi_load_indent_pressure(const hp_load_model *M, int k, double rho)
 {
-    return hpi_load_touch_pressure(M, k, rho / (1.0 - HP_LOAD_INDENT_MAX));
+    double ri;
+    return indent_pressure_ri(M, k, rho, &ri);
 }
 
 /* The pressure in [lo, hi] whose force against rho is F (F increasing in P there). Solved in
  * the inner radius ri, where the pressure (the bladder model's IK) and the outer radius (the
  * volume law) are closed forms: only the bracket's two ends need the bladder's forward
  * kinematics, not every Newton step (it was half of an unreachable plan's time).
- * Safeguarded Newton with bisection, to two ulps of ri. */
+ * Safeguarded Newton with bisection, up to its first step of at most PRESSURE_STEP of ri. */
 typedef struct radius_bracket {
     double a, c, Fa, Fc; /* inner radii holding the forces Fa < Fc: the root lies between */
-    double step;         /* a Newton step this short (relative to ri) is the last one */
 } radius_bracket;
+/* The last Newton step of a pressure solve: a step of at most 1e-8 of the radius, applied,
+ * leaves an error of the order of its square (Newton converges quadratically there),
+ * rounding size, so the step that would only confirm it is not taken. On load_supine's plan:
+ * 2.89 steps a solve instead of 3.37 (solves from the carrying range's ends that ran on to a
+ * step of two ulps), its pressures within 1e-11 Pa of those, and load_heavy's within
+ * 1e-11 Pa. */
+#define PRESSURE_STEP 1e-8
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
                                      double hi, radius_bracket br, double Fhi, double F, double *P,
                                      double *ri);
 
-static atomic_ulong n_psolves, n_psteps, n_plong;
+static atomic_ulong n_psolves, n_psteps, n_plong, n_pmodel;
 
 void hpi_test_pressure_counts(unsigned long *solves, unsigned long *steps, unsigned long *longer)
 {
     *solves = atomic_load(&n_psolves);
     *steps = atomic_load(&n_psteps);
     *longer = atomic_load(&n_plong);
+}
+
+void hpi_test_pressure_model_counts(unsigned long *passes) { *passes = atomic_load(&n_pmodel); }
+
+/* One pass through the bladder model (validated into s once a solve) at inner radius ri [m]:
+ * the pressure, its slope dP/dri (Pr NULL: not formed) and the outer radius [m] that the
+ * pressure's closed form forms anyway; the same codes and bits as hp_iab_ik_derivs and
+ * hp_iab_ro (iab_internal.h: hpi_iab_s_pressure_ro, hpi_iab_s_slopes). Counted. */
+static hp_error model_at(const hp_iab_s *s, double ri, double *P, double *Pr, double *ro)
+{
+    atomic_fetch_add(&n_pmodel, 1);
+    double ris, rs, d1;
+    hp_error e = hpi_iab_s_radius(s, ri, &ris);
+    if (e) return e;
+    if (hpi_iab_s_pressure_ro(s, ris, P, &rs) != HP_OK) return HP_ERR_DOMAIN;
+    if (Pr) {
+        if (hpi_iab_s_slopes(s, ris, rs, &d1, NULL) != HP_OK) return HP_ERR_DOMAIN;
+        *Pr = d1 * s->scale;
+    }
+    *ro = rs * s->inv_scale;
+    return HP_OK;
 }
 
 static void count_pressure_solve(int steps)
@@ -150,29 +216,10 @@ static void count_pressure_solve(int steps)
     if (steps > HP_LOAD_PRESSURE_STEPS_LONG) atomic_fetch_add(&n_plong, 1);
 }
 
-static hp_error pressure_of_force(const hp_load_model *M, int k, double rho, double lo, double hi,
-                                  double Fhi, double F, double *P)
-{
-    if (F <= 0.0) {
-        *P = lo;
-        return HP_OK;
-    }
-    if (F >= Fhi) {
-        *P = hi;
-        return HP_OK;
-    }
-    double a, c;
-    hp_error err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], lo, &a);
-    if (!err) err = hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], hi, &c);
-    if (err) return err;
-    return pressure_of_force_in(M, k, rho, lo, hi, (radius_bracket){a, c, 0.0, Fhi, 4e-16}, Fhi, F,
-                                P, NULL);
-}
-
-/* pressure_of_force with a bracket of the inner radius known: br's radii hold its forces
- * (the radii at lo and hi with the forces 0 and Fhi, or a narrower bracket inside them), and
- * Newton starts from the secant between them; *ri (may be NULL) gets the inner radius at the
- * answer (at lo or hi: br's a or c, when F is at or beyond an end of the carrying range). */
+/* The pressure in [lo, hi] whose force against rho is F, with a bracket of the inner radius
+ * known: br's radii hold its forces (the radii at lo and hi with the forces 0 and Fhi, or a
+ * narrower bracket inside them), and Newton starts from the secant between them; *ri (may
+ * be NULL) gets the inner radius at the answer (at lo or hi: br's a or c, when F is at or beyond an end of the carrying range). */
 static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, double lo,
                                      double hi, radius_bracket br, double Fhi, double F, double *P,
                                      double *ri)
@@ -188,16 +235,15 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         if (ri) *ri = c;
         return HP_OK;
     }
-    const hp_iab *b = &M->layout.bladders[k].iab;
-    hp_error err;
+    hp_iab_s s = {0}; /* written by hpi_iab_scaled_init; zeroed for -O3's flow analysis */
+    hp_error err = hpi_iab_scaled_init(&M->layout.bladders[k].iab, &s, NULL);
+    if (err) return err;
     double x = a + (c - a) * ((F - br.Fa) / (br.Fc - br.Fa)), Px = lo;
     int steps = 0;
     for (int it = 0; it < 200; ++it) {
         ++steps;
         double Pr, ro;
-        err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL);
-        if (!err) err = hp_iab_ro(b, x, &ro);
-        if (err) return err;
+        if ((err = model_at(&s, x, &Px, &Pr, &ro))) return err;
         hp_claw law;
         hpi_load_claw_to(M, k, Px, ro, rho, HP_CLAW_GRADIENT, &law); /* F and d only */
         double r = law.F - F;
@@ -207,17 +253,21 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
         /* dF/dri along the bladder: F_P·dP/dri + F_ro·dro/dri, dro/dri = ri²/ro² */
         double dF = law.d[HP_CLAW_P] * Pr + law.d[HP_CLAW_RO] * (x * x) / (ro * ro);
         double xn = dF > 0 ? x - r / dF : 0.5 * (a + c);
+        int newton = dF > 0;
         if (!(xn > a && xn < c)) {
             /* A step of rounding size out of the open bracket: this step's own residual has
              * just made x an end of the bracket, and x is the root to two ulps. Halving
              * instead would close the bracket onto it from its far end, 50 steps. */
             if (dF > 0 && fabs(xn - x) <= 4e-16 * x) break;
             xn = 0.5 * (a + c);
+            newton = 0;
         }
-        int done = fabs(xn - x) <= br.step * x || c - a <= 4e-16 * x;
+        /* Only a Newton step this short is the last: a halving this short leaves the root
+         * anywhere in a bracket of twice its size. */
+        int done = (newton && fabs(xn - x) <= PRESSURE_STEP * x) || c - a <= 4e-16 * x;
         x = xn;
         if (done) {
-            if ((err = hp_iab_ik_derivs(b, x, &Px, &Pr, NULL))) return err;
+            if ((err = model_at(&s, x, &Px, NULL, &ro))) return err;
             break;
         }
     }
@@ -226,13 +276,6 @@ static hp_error pressure_of_force_in(const hp_load_model *M, int k, double rho, 
     if (ri) *ri = x;
     return HP_OK;
 }
-
-/* The last Newton step of a pressure solve from a narrow bracket (hp_load_near): a step of at
- * most 1e-8 of the radius, applied, leaves an error of the order of its square (Newton
- * converges quadratically there), rounding size, so the step that would only confirm it is
- * not taken. On load_supine's stable search: 2.36 steps a solve instead of 3.20, and the
- * answer's pressures within 1e-11 Pa of those solved from the carrying range's ends. */
-#define NEAR_STEP 1e-8
 
 /* Adds bladder k's share of the tie-breaker sum at force x[k] to *e: (P(F) − t)² for a
  * carrying bladder, and for one at zero force the best pressure that carries nothing (any in
@@ -245,13 +288,13 @@ static int tie_cost(const hp_load_model *M, int k, const double *rho, const doub
                     const hp_load_near *nr, double *e, double *P, double *R)
 {
     double Pk;
-    radius_bracket br = {ra[k], rc[k], 0.0, Fhi[k], 4e-16};
+    radius_bracket br = {ra[k], rc[k], 0.0, Fhi[k]};
     if (nr) { /* a narrower bracket: two points whose forces lie on either side of x[k] */
         const int up = nr->xa[k] < nr->xb[k];
         const double f1 = up ? nr->xa[k] : nr->xb[k], f2 = up ? nr->xb[k] : nr->xa[k];
         const double r1 = up ? nr->Ra[k] : nr->Rb[k], r2 = up ? nr->Rb[k] : nr->Ra[k];
         if (f1 > 0.0 && f1 < x[k] && x[k] < f2 && f2 < Fhi[k] && r1 < r2)
-            br = (radius_bracket){r1, r2, f1, f2, NEAR_STEP};
+            br = (radius_bracket){r1, r2, f1, f2};
     }
     if (x[k] <= 0.0 && Flo[k] <= 0.0) {
         Pk = fmin(fmax(target[k], lo[k]), L[k]);
@@ -291,23 +334,27 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
     if (hpi_load_domain(M, h->rho) != HP_OK) return HP_LOAD_SOLVE_UNREACHABLE;
     hpi_load_gravity(M, xi, Qg, NULL, NULL);
     for (int k = 0; k < n; ++k) {
-        h->Pt[k] = hpi_load_touch_pressure(M, k, h->rho[k]);
+        double rt, rin; /* the inner radii at the touching and the indentation pressures */
+        h->Pt[k] = touch_pressure_ri(M, k, h->rho[k], &rt);
         h->L[k] = fmax(lo[k], fmax(0.0, h->Pt[k]));
         /* The indentation range where the contact law is trusted caps a carrying bladder's
          * pressure at this pose: ro(P) <= rho/(1 − HP_LOAD_INDENT_MAX). A bladder whose
          * lowest pressure already carries beyond it cannot hold the pose. */
-        double Pi = hpi_load_indent_pressure(M, k, h->rho[k]);
+        double Pi = indent_pressure_ri(M, k, h->rho[k], &rin);
         if (lo[k] > 0 && lo[k] > h->Pt[k] && lo[k] > Pi) return HP_LOAD_SOLVE_UNREACHABLE;
         h->U[k] = fmin(hi[k], Pi);
         h->Flo[k] = h->Fhi[k] = h->ra[k] = h->rc[k] = 0.0;
         if (h->L[k] < h->U[k]) {
-            const hp_iab *bk = &M->layout.bladders[k].iab;
             double F;
             h->col[h->m++] = k;
-            if (hp_iab_fk_limit(bk, &M->limit[k], h->L[k], &h->ra[k]) ||
-                hp_iab_fk_limit(bk, &M->limit[k], h->U[k], &h->rc[k]) ||
-                force_at_ri(M, k, h->L[k], h->ra[k], h->rho[k], &F))
-                return HP_LOAD_SOLVE_ERROR;
+            /* An end at the touching or the indentation pressure has its inner radius in
+             * closed form already (the forward kinematics of that pressure returns it to
+             * the solve's rounding); the others are solved. */
+            if (h->L[k] == h->Pt[k]) h->ra[k] = rt;
+            else if (fk_of(M, k, h->L[k], &h->ra[k])) return HP_LOAD_SOLVE_ERROR;
+            if (h->U[k] == Pi) h->rc[k] = rin;
+            else if (fk_of(M, k, h->U[k], &h->rc[k])) return HP_LOAD_SOLVE_ERROR;
+            if (force_at_ri(M, k, h->L[k], h->ra[k], h->rho[k], &F)) return HP_LOAD_SOLVE_ERROR;
             h->Flo[k] = fmax(0.0, F);
             if (force_at_ri(M, k, h->U[k], h->rc[k], h->rho[k], &F)) return HP_LOAD_SOLVE_ERROR;
             h->Fhi[k] = F;
@@ -332,14 +379,41 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
     return HP_LOAD_SOLVE_OK;
 }
 
-/* The bladders that can carry at the set's pose and the inner radii at the ends of their
- * carrying pressures, as the set found them. */
-int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, double *rc)
+/* The inner radii of the pressures last asked of each bladder on a holding set: HOLD asks a
+ * bladder's force again at the same pressure (the SQP's state at the point its line search
+ * accepted, the answer's forces, a pressure at a bound, a grid's ends), and the forward
+ * kinematics is the dearest step of a force. The set's carrying ends are known (ra at L, rc
+ * at U, solved by the same call): the same bits. */
+typedef struct ri_memo {
+    double P[HP_MAX_BLADDERS], ri[HP_MAX_BLADDERS];
+} ri_memo;
+
+static void memo_init(ri_memo *mm)
 {
-    memcpy(col, h->col, (size_t)h->m * sizeof *col);
-    memcpy(ra, h->ra, (size_t)h->n * sizeof *ra);
-    memcpy(rc, h->rc, (size_t)h->n * sizeof *rc);
-    return h->m;
+    for (int k = 0; k < HP_MAX_BLADDERS; ++k) mm->P[k] = NAN; /* NaN equals nothing */
+}
+
+/* Bladder k's inner radius at P (a carrying bladder of h: L < U). */
+static hp_error memo_ri(const hp_load_hold_set *h, ri_memo *mm, int k, double P, double *ri)
+{
+    if (P == h->L[k]) *ri = h->ra[k];
+    else if (P == h->U[k]) *ri = h->rc[k];
+    else if (P == mm->P[k]) *ri = mm->ri[k];
+    else {
+        hp_error err = fk_of(h->M, k, P, ri);
+        if (err) return err;
+        mm->P[k] = P;
+        mm->ri[k] = *ri;
+    }
+    return HP_OK;
+}
+
+/* Bladder k's force at P on h (bladder_force, the same bits). */
+static hp_error memo_force(const hp_load_hold_set *h, ri_memo *mm, int k, double P, double *F)
+{
+    double ri;
+    hp_error err = memo_ri(h, mm, k, P, &ri);
+    return err ? err : force_at_ri(h->M, k, P, ri, h->rho[k], F);
 }
 
 /* The pressures of every bladder at a point before its sum: each at its best pressure that
@@ -351,27 +425,25 @@ static void point_start(const hp_load_hold_set *h, double *P)
 
 /* The sum of a point carried on from the carrying bladder *j (the sum so far in *e) while it
  * is below stop; *j gets where it stopped. */
-static int point_from(const hp_load_hold_set *h, const int *col, int m, const double *ra,
-                      const double *rc, const double *x, const hp_load_near *nr, int *j,
+static int point_from(const hp_load_hold_set *h, const double *x, const hp_load_near *nr, int *j,
                       double stop, double *e, double *P, double *R)
 {
-    for (; *j < m && *e < stop; ++*j)
-        if (tie_cost(h->M, col[*j], h->rho, h->lo, h->L, h->U, ra, rc, h->Flo, h->Fhi, h->target, x,
-                     nr, e, P, R))
+    for (; *j < h->m && *e < stop; ++*j)
+        if (tie_cost(h->M, h->col[*j], h->rho, h->lo, h->L, h->U, h->ra, h->rc, h->Flo, h->Fhi,
+                     h->target, x, nr, e, P, R))
             return -1;
     return 0;
 }
 
 /* tie_cost over the m carrying-capable bladders col[]; the others at their best pressure
  * that carries nothing (load_solve.h). */
-int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, const double *ra,
-                            const double *rc, const double *x, double stop, double *e, double *P,
-                            double *R)
+int hpi_load_hold_set_point(const hp_load_hold_set *h, const double *x, double stop, double *e,
+                            double *P, double *R)
 {
     int j = 0;
     *e = 0.0;
     point_start(h, P);
-    return point_from(h, col, m, ra, rc, x, NULL, &j, stop, e, P, R);
+    return point_from(h, x, NULL, &j, stop, e, P, R);
 }
 
 int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *nr, const double *x,
@@ -380,21 +452,43 @@ int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *
     int j = 0;
     *e = 0.0;
     point_start(h, P);
-    return point_from(h, h->col, h->m, h->ra, h->rc, x, nr, &j, INFINITY, e, P, R);
+    return point_from(h, x, nr, &j, INFINITY, e, P, R);
+}
+
+int hpi_load_hold_set_at_pressures(const hp_load_hold_set *h, const double *P, double *x,
+                                   double *Pp, double *R)
+{
+    point_start(h, Pp);
+    for (int k = 0; k < h->n; ++k) x[k] = R[k] = 0.0;
+    for (int j = 0; j < h->m; ++j) {
+        const int k = h->col[j];
+        double ri = h->rc[k], F;
+        if (P[k] > h->L[k]) {
+            if (P[k] < h->U[k] && fk_of(h->M, k, P[k], &ri)) return -1;
+            if (force_at_ri(h->M, k, P[k], ri, h->rho[k], &F)) return -1;
+            x[k] = fmin(fmax(F, h->Flo[k]), h->Fhi[k]);
+        }
+        /* As tie_cost takes a force: none (the best pressure that carries nothing), the
+         * least the bladder carries (L: ra), the most (U: rc), else the pick's own. */
+        if (x[k] <= 0.0 && h->Flo[k] <= 0.0) continue;
+        Pp[k] = x[k] <= 0.0 ? h->L[k] : x[k] >= h->Fhi[k] ? h->U[k] : P[k];
+        R[k] = x[k] <= 0.0 ? h->ra[k] : x[k] >= h->Fhi[k] ? h->rc[k] : ri;
+    }
+    return 0;
 }
 
 /* A point x of the holding set: kept in f when its tie-breaker sum is below *best and, with
  * a test, when the test accepts it (asked only of a point that would win: the sum stops as
  * soon as it cannot). rec (may be NULL) gets the point and its sum as far as it went.
  * 0, or -1 when the model or the test fails. */
-static int consider(const hp_load_hold_set *h, const int *col, int m, const double *ra,
-                    const double *rc, hp_load_point_test test, void *ctx, const double *x,
+static int consider(const hp_load_hold_set *h, hp_load_point_test test, void *ctx, const double *x,
                     double *best, double *f, hp_load_scan_rec *rec)
 {
+    const int m = h->m, *col = h->col;
     double e = 0.0, P[HP_MAX_BLADDERS], R[HP_MAX_BLADDERS] = {0};
     int j = 0;
     point_start(h, P);
-    if (point_from(h, col, m, ra, rc, x, NULL, &j, *best, &e, P, R)) return -1;
+    if (point_from(h, x, NULL, &j, *best, &e, P, R)) return -1;
     if (rec && rec->count++ < HP_LOAD_SCAN_POINTS && m <= HP_LOAD_SCAN_CARRY) {
         const int i = rec->count - 1;
         rec->done[i] = j;
@@ -438,14 +532,10 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
 {
     atomic_fetch_add(&n_scans, 1);
     if (rec) rec->valid = rec->count = 0;
-    const hp_load_model *M = h->M;
     const int n = h->n;
     const double *A = h->A, *b = h->b, *L = h->L, *U = h->U, *Flo = h->Flo, *Fhi = h->Fhi;
     const double tol = h->tol;
-    int col[HP_MAX_BLADDERS];
-    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
-    const int m = hpi_load_hold_set_carrying(h, col, ra, rc);
-    if (m < 0) return -1;
+    const int m = h->m, *col = h->col;
     double E[6][HP_MAX_BLADDERS + 1];
     for (int r = 0; r < 6; ++r) {
         for (int j = 0; j < m; ++j) E[r][j] = A[r * n + col[j]];
@@ -485,19 +575,30 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
             fr[nfree++] = j;
         }
     const int g0 = nfree > 0 ? grid_n : 1, g1 = nfree > 1 ? grid_n : 1;
+    /* Free bladders on a grid of their pressures, both ends included: the force rises from
+     * 0 like (P − P_touch)², so a grid in the forces would leave the cheap pressures near
+     * the bottom unvisited. Each grid force once (its ends from the set's radii). */
+    double Fg[2][HP_LOAD_SCAN_GRID_MAX];
+    int okg[2][HP_LOAD_SCAN_GRID_MAX];
+    ri_memo mm;
+    memo_init(&mm);
+    if (grid_n > HP_LOAD_SCAN_GRID_MAX) return -1;
+    for (int q = 0; q < nfree; ++q)
+        for (int i = 0; i < grid_n; ++i) {
+            int k = col[fr[q]];
+            double Pq = L[k] + (double)i / (grid_n - 1) * (U[k] - L[k]), Fq = 0.0;
+            okg[q][i] = memo_force(h, &mm, k, Pq, &Fq) == HP_OK;
+            Fg[q][i] = fmin(fmax(Fq, Flo[k]), Fhi[k]);
+        }
     double best = INFINITY, x[HP_MAX_BLADDERS];
     for (int i0 = 0; i0 < g0; ++i0)
         for (int i1 = 0; i1 < g1; ++i1) {
             for (int k = 0; k < n; ++k) x[k] = 0.0;
-            /* Free bladders on a grid of their pressures, both ends included: the force
-             * rises from 0 like (P − P_touch)², so a grid in the forces would leave the
-             * cheap pressures near the bottom unvisited. */
             int ok = 1;
             for (int q = 0; q < nfree && ok; ++q) {
-                int k = col[fr[q]], i = q ? i1 : i0;
-                double Pq = L[k] + (double)i / (grid_n - 1) * (U[k] - L[k]), Fq = 0.0;
-                ok = bladder_force(M, k, Pq, h->rho[k], &Fq) == HP_OK;
-                x[k] = fmin(fmax(Fq, Flo[k]), Fhi[k]);
+                const int i = q ? i1 : i0;
+                ok = okg[q][i];
+                x[col[fr[q]]] = Fg[q][i];
             }
             for (int r = 0; r < rank && ok; ++r) {
                 int j = pivcol[r], k = col[j];
@@ -508,7 +609,7 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
                 x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
             }
             for (int r = rank; r < 6 && ok; ++r) ok = fabs(E[r][m]) <= tol; /* consistent */
-            if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f, rec)) return -1;
+            if (ok && consider(h, test, ctx, x, &best, f, rec)) return -1;
         }
     /* The polytope's vertices too (nfree of the carrying bladders at an end of their range,
      * the six others solved for): where the tie-breaker is concave the least sum lies on
@@ -561,7 +662,7 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
                         ok = v >= Flo[k] - tol && v <= Fhi[k] + tol;
                         x[k] = fmin(fmax(v, Flo[k]), Fhi[k]);
                     }
-                    if (ok && consider(h, col, m, ra, rc, test, ctx, x, &best, f, rec)) return -1;
+                    if (ok && consider(h, test, ctx, x, &best, f, rec)) return -1;
                 }
             }
     }
@@ -590,7 +691,7 @@ int hpi_load_scan_replay(const hp_load_hold_set *h, hp_load_scan_rec *rec, hp_lo
          * HOLD's: the sum goes on from where HOLD's stopped, through the same terms. */
         if (j < m && e < best) {
             const int j0 = j;
-            if (point_from(h, col, m, h->ra, h->rc, x, NULL, &j, best, &e, P, R)) return -1;
+            if (point_from(h, x, NULL, &j, best, &e, P, R)) return -1;
             rec->done[i] = j;
             rec->e[i] = e;
             for (int q = j0; q < j; ++q) {
@@ -633,6 +734,8 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
      * forces of the starting pressures (each force scaled by its range). The constraints are
      * linear, so this decides reachability exactly. */
     double f[HP_MAX_BLADDERS], lam[6] = {0};
+    ri_memo mm;
+    memo_init(&mm);
     {
         double h[HP_MAX_BLADDERS], g[HP_MAX_BLADDERS], l[HP_MAX_BLADDERS], u[HP_MAX_BLADDERS],
             d[HP_MAX_BLADDERS], c[6];
@@ -640,7 +743,8 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
             double p0 = start ? start[k] : 0.5 * (L[k] + U[k]), F0;
             p0 = fmin(fmax(p0, L[k]), U[k]);
             f[k] = 0.0;
-            if (L[k] < U[k] && bladder_force(M, k, p0, rho[k], &F0) == HP_OK)
+            /* (the grid's start replaces these forces) */
+            if (!grid && L[k] < U[k] && memo_force(hs, &mm, k, p0, &F0) == HP_OK)
                 f[k] = fmin(fmax(F0, Flo[k]), Fhi[k]);
             double Fs = fmax(Fhi[k], 1e-6);
             h[k] = 1.0 / (Fs * Fs);
@@ -668,7 +772,9 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
     double p[HP_MAX_BLADDERS];
     for (int k = 0; k < n; ++k) {
         p[k] = L[k];
-        if (L[k] < U[k] && pressure_of_force(M, k, rho[k], L[k], U[k], Fhi[k], f[k], &p[k]))
+        if (L[k] < U[k] && pressure_of_force_in(M, k, rho[k], L[k], U[k],
+                                                (radius_bracket){hs->ra[k], hs->rc[k], 0.0, Fhi[k]},
+                                                Fhi[k], f[k], &p[k], NULL))
             return HP_LOAD_SOLVE_ERROR;
     }
     memset(lam, 0, sizeof lam);
@@ -684,7 +790,9 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
             bstate s;
             Fk[k] = F1[k] = F2[k] = 0.0;
             if (!(L[k] < U[k])) continue;
-            if (bladder_state(M, k, p[k], rho[k], &s)) return HP_LOAD_SOLVE_ERROR;
+            double ri;
+            if (memo_ri(hs, &mm, k, p[k], &ri) || bladder_state_ri(M, k, p[k], ri, rho[k], &s))
+                return HP_LOAD_SOLVE_ERROR;
             Fk[k] = fmax(s.F, 0.0);
             F1[k] = s.FP * 1e3; /* N per kPa */
             F2[k] = s.FPP * 1e6;
@@ -739,7 +847,7 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
             for (int k = 0; k < n && okk; ++k) {
                 double Fn;
                 if (!(L[k] < U[k])) continue;
-                if (bladder_force(M, k, pn[k], rho[k], &Fn)) okk = 0;
+                if (memo_force(hs, &mm, k, pn[k], &Fn)) okk = 0;
                 else
                     for (int r = 0; r < 6; ++r) cr[r] += A[r * n + k] * fmax(Fn, 0.0);
             }
@@ -756,7 +864,7 @@ static hpi_load_solve_status hold_from(const hp_load_hold_set *hs, const double 
         double Fk0;
         f[k] = 0.0;
         if (!(L[k] < U[k])) continue;
-        if (bladder_force(M, k, p[k], rho[k], &Fk0)) return HP_LOAD_SOLVE_ERROR;
+        if (memo_force(hs, &mm, k, p[k], &Fk0)) return HP_LOAD_SOLVE_ERROR;
         f[k] = fmax(Fk0, 0.0);
     }
     if (iterations) *iterations = it;
@@ -871,8 +979,9 @@ int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_
 
 hp_error hpi_load_bladder_stiff(const hp_load_model *M, int k, double P, double rho, double a[3])
 {
-    double ro, o1, o2;
-    hp_error err = radius_chain(M, k, P, &ro, &o1, &o2);
+    double ri, ro, o1, o2;
+    hp_error err = fk_of(M, k, P, &ri);
+    if (!err) err = radius_chain(M, k, ri, &ro, &o1, &o2);
     if (err) return err;
     hp_claw c;
     hpi_load_claw_drho(M, k, P, ro, rho, &c);

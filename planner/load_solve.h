@@ -69,16 +69,21 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
                                            const double *lo, const double *hi, const double *target,
                                            hp_load_hold_set *h);
 
-/* The bladders that can carry (col[], the returned count) and the inner radii at the ends of
- * their carrying pressures (ra at L, rc at U), copied from the set. */
-int hpi_load_hold_set_carrying(const hp_load_hold_set *h, int *col, double *ra, double *rc);
-
 /* A point x (forces) of the set: P gets its pressures, R (may be NULL) the carrying
  * bladders' inner radii, *e the tie-breaker sum (P − t)², which stops early once it reaches
- * stop. col, m, ra, rc from hpi_load_hold_set_carrying. 0, or -1 when the model fails. */
-int hpi_load_hold_set_point(const hp_load_hold_set *h, const int *col, int m, const double *ra,
-                            const double *rc, const double *x, double stop, double *e, double *P,
-                            double *R);
+ * stop. 0, or -1 when the model fails. */
+int hpi_load_hold_set_point(const hp_load_hold_set *h, const double *x, double stop, double *e,
+                            double *P, double *R);
+
+/* The point of the set at pressures P[n] (a HOLD answer: inside [L, U] where a bladder
+ * carries): x gets its forces (each clamped into its range; 0 at or below the carrying
+ * range), Pp the pressures hpi_load_hold_set_point gives a point of those forces, P itself
+ * where the bladder carries (the solve from the force would return it to rounding), and R
+ * the carrying bladders' inner radii at them (0 for the others). One forward-kinematics
+ * solve a carrying bladder strictly inside its carrying range (none at its ends: the set's
+ * ra, rc), no pressure solve. 0, or -1 when the model fails. */
+int hpi_load_hold_set_at_pressures(const hp_load_hold_set *h, const double *P, double *x,
+                                   double *Pp, double *R);
 
 /* Two points a, b of the set (forces xa, xb) whose pressures were solved, with their inner
  * radii Ra, Rb (hpi_load_hold_set_point's R): a point between them (forces x between xa and
@@ -99,8 +104,10 @@ int hpi_load_hold_set_point_near(const hp_load_hold_set *h, const hp_load_near *
  * -1 failure. */
 typedef int (*hp_load_point_test)(void *ctx, const double *x, const double *P, const double *R);
 
-/* The tie-breaker's grid points per free coordinate of the set. */
+/* The tie-breaker's grid points per free coordinate of the set, and the most a scan takes
+ * (the stable search's finer scan: 7). */
 #define HP_LOAD_SCAN_GRID_N 3
+#define HP_LOAD_SCAN_GRID_MAX 7
 
 /* HOLD's scan of the set (load_solve.c): a grid_n × grid_n grid of its (at most two) free
  * pressures and its vertices; f gets the point with the least tie-breaker sum among those
@@ -153,10 +160,19 @@ void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices);
  * evaluation each), and those that took more than HP_LOAD_PRESSURE_STEPS_LONG steps. */
 #define HP_LOAD_PRESSURE_STEPS_LONG 16
 void hpi_test_pressure_counts(unsigned long *solves, unsigned long *steps, unsigned long *longer);
+/* TEST-ONLY count (summed over the process): the passes through the bladder model (its
+ * validation, the pressure at an inner radius and the outer radius) those solves made. */
+void hpi_test_pressure_model_counts(unsigned long *passes);
 /* TEST-ONLY counts (summed over the process): the holding sets formed (hpi_load_hold_set_at),
  * and the bladder states evaluated with their pressure derivatives (the tie-breaker's SQP
  * steps need them; a force alone needs neither the law's derivatives nor the IK's). */
 void hpi_test_hold_counts(unsigned long *sets, unsigned long *derived);
+/* TEST-ONLY count (summed over the process): the bladder forward-kinematics solves (inner
+ * radius of a pressure, hp_iab_fk_limit) of HOLD, its holding sets and the stable search. */
+void hpi_test_fk_counts(unsigned long *fk);
+/* TEST-ONLY count (summed over the process): the 6×6 holding-stiffness eigenproblems the
+ * load planner solved (hpi_load_stiff_lambda_at, hpi_load_stiff_lambda_min). */
+void hpi_test_eigen_counts(unsigned long *eigen);
 
 /* The smallest eigenvalue [N/mm] of the holding stiffness of S's pose when the nv bladders
  * idx[] carry forces F [N] with normal stiffnesses a [N/m] (a = −dF/drho) and the others
@@ -267,5 +283,8 @@ hpi_load_solve_status hpi_load_closest(const hp_load_model *M, const double desi
                                        const double W[6], const double *lo, const double *hi,
                                        const double xi0[6], const double *F0, int max_iter,
                                        double xi[6], int *iterations);
+/* TEST-ONLY counts (summed over the process): CLOSEST's solves, their evaluations of the rows
+ * and the free outer radii (hp_load_radius: a forward-kinematics solve each) they asked for. */
+void hpi_test_closest_counts(unsigned long *solves, unsigned long *evals, unsigned long *radii);
 
 #endif

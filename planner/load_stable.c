@@ -23,15 +23,14 @@ void hpi_test_stable_counts(hp_test_stable_counts *out)
 
 /* A point of the set outside the scan (counted); nr (may be NULL) two solved points it lies
  * between. */
-static int seg_point(const hp_load_hold_set *hs, const int *col, int m, const double *ra,
-                     const double *rc, const double *x, const hp_load_near *nr, double *e,
+static int seg_point(const hp_load_hold_set *hs, const double *x, const hp_load_near *nr, double *e,
                      double *P, double *R)
 {
     atomic_fetch_add(&n_points, 1);
     unsigned long s0, t0, l0, s1, t1, l1;
     hpi_test_pressure_counts(&s0, &t0, &l0);
     int r = nr ? hpi_load_hold_set_point_near(hs, nr, x, e, P, R)
-               : hpi_load_hold_set_point(hs, col, m, ra, rc, x, INFINITY, e, P, R);
+               : hpi_load_hold_set_point(hs, x, INFINITY, e, P, R);
     hpi_test_pressure_counts(&s1, &t1, &l1);
     atomic_fetch_add(&n_psolves, s1 - s0);
     atomic_fetch_add(&n_psteps, t1 - t0);
@@ -97,6 +96,7 @@ static int stable_test(void *ctx, const double *x, const double *P, const double
  * where the tie-breaker's 3×3 grid does not look (a side bladder's band between touching and
  * carrying at the top of its range). */
 #define STABLE_GRID_N 7
+_Static_assert(STABLE_GRID_N <= HP_LOAD_SCAN_GRID_MAX, "the scan keeps its grid forces");
 
 /* The bisection's halvings: the answer within 2^-10 of the segment from the crossing of the
  * margin (docs/load.md, "Stable holds: the bounds on work": on the supine scene's own
@@ -122,25 +122,12 @@ hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_lo
     hp_load_stiff S;
     if (hpi_load_stiff_init(&S, M, xi, hs->target) != HP_OK) return HP_LOAD_SOLVE_ERROR;
     const int n = hs->n;
-    int col[HP_MAX_BLADDERS];
-    double ra[HP_MAX_BLADDERS], rc[HP_MAX_BLADDERS];
-    const int m = hpi_load_hold_set_carrying(hs, col, ra, rc);
-    if (m < 0) return HP_LOAD_SOLVE_ERROR;
-    /* The pick's forces (a bladder below its carrying pressures carries nothing), and its
-     * stiffness from the pressures of those forces (the pick's to the pressure solve's
-     * rounding). */
-    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS] = {0}, e0;
-    for (int k = 0; k < n; ++k) {
-        double Fk;
-        f0[k] = 0.0;
-        if (!(hs->L[k] < hs->U[k]) || !(P[k] > hs->L[k])) continue;
-        if (hpi_load_bladder_force(M, k, P[k], hs->rho[k], &Fk, NULL, NULL) != HP_OK)
-            return HP_LOAD_SOLVE_ERROR;
-        f0[k] = fmin(fmax(Fk, hs->Flo[k]), hs->Fhi[k]);
-    }
+    /* The pick's forces and inner radii from its own pressures (one forward-kinematics
+     * solve a carrying bladder; a bladder below its carrying pressures carries nothing): no
+     * pressure solve. */
+    double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS];
     int ok;
-    if (seg_point(hs, col, m, ra, rc, f0, NULL, &e0, P0, R0) ||
-        (ok = stable_at(&S, f0, P0, R0)) < 0)
+    if (hpi_load_hold_set_at_pressures(hs, P, f0, P0, R0) || (ok = stable_at(&S, f0, P0, R0)) < 0)
         return HP_LOAD_SOLVE_ERROR;
     if (ok)
         return lam_min && lambda_at(&S, f0, P0, R0, lam_min) ? HP_LOAD_SOLVE_ERROR
@@ -158,8 +145,7 @@ hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_lo
                                                        c)) == 0;
     if (!found && hpi_load_hold_set_scan(hs, STABLE_GRID_N, stable_test, &S, c) != 0)
         return HP_LOAD_SOLVE_UNREACHABLE;
-    if (!(replay && found) && seg_point(hs, col, m, ra, rc, c, NULL, &best, Pb, Rb))
-        return HP_LOAD_SOLVE_ERROR;
+    if (!(replay && found) && seg_point(hs, c, NULL, &best, Pb, Rb)) return HP_LOAD_SOLVE_ERROR;
     memcpy(fb, c, (size_t)n * sizeof *fb);
     /* The stable point nearest the pick on the segment of forces from it to c: the set is
      * convex in the forces, so the segment holds the head throughout. Bisection of the
@@ -181,8 +167,7 @@ hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_lo
         double Rx[HP_MAX_BLADDERS] = {0};
         for (int k = 0; k < n; ++k)
             x[k] = fmin(fmax(f0[k] + t * (c[k] - f0[k]), hs->Flo[k]), hs->Fhi[k]);
-        if (seg_point(hs, col, m, ra, rc, x, &nr, &e, Px, Rx) ||
-            (ok = stable_at(&S, x, Px, Rx)) < 0)
+        if (seg_point(hs, x, &nr, &e, Px, Rx) || (ok = stable_at(&S, x, Px, Rx)) < 0)
             return HP_LOAD_SOLVE_ERROR;
         memcpy(ok ? xb : xa, x, (size_t)n * sizeof *x);
         memcpy(ok ? Rbr : Ra, Rx, (size_t)n * sizeof *Rx);

@@ -34,12 +34,15 @@
  * and the vertices, at most 49 + 112) for the cheapest stable point c, then a bisection on
  * the segment of forces from the pick to c (the set is convex in the forces) for the stable
  * point nearest the pick, 10 halvings (2^-10 of the segment; each point's pressures solved
- * from the inner radii at the bracket's two ends); the cheapest stable point seen wins. F gets its forces, *lam_min (may be NULL) its smallest eigenvalue (one 6×6
- * eigenproblem, solved only when asked for). OK with P stable; UNREACHABLE (P and F
- * unchanged) when no point of the scans is stable; ERROR when the model fails.
- * Deterministic, no allocation, at most 282 scan points and 12 other points (the pick, the
- * scan's, 10 on the segment), each one tie-breaker sum and at most one stability test (a
- * 6×6 Cholesky factorisation of K − margin·I). */
+ * from the inner radii at the bracket's two ends); the cheapest stable point seen wins. F
+ * gets its forces, *lam_min (may be NULL) its smallest eigenvalue (one 6×6 eigenproblem,
+ * solved only when asked for). OK with P stable (P and F unchanged when the pick is);
+ * UNREACHABLE when no point of the scans is stable, ERROR when the model fails (P and F
+ * unchanged on both). Deterministic, no allocation, at most 282 scan points and 11 other
+ * points whose pressures it solves (the scan's, 10 on the segment; the pick's inner radii
+ * come from its own pressures, one forward-kinematics solve a carrying bladder), each one
+ * tie-breaker sum and at most one stability test (a 6×6 Cholesky factorisation of
+ * K − margin·I). */
 hpi_load_solve_status hpi_load_stable_hold(const hp_load_model *M, const double xi[6],
                                            const double *lo, const double *hi, const double *target,
                                            double *P, double *F, double *lam_min);

@@ -17,6 +17,7 @@
 #include "kinematics/load_internal.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <string.h>
 
 /* Stiffness in mm/degree units and N/mm: K·unit_i·unit_j·1e3 (1 mm weighs as 1°). */
@@ -62,11 +63,16 @@ static void stiff_at(const hp_load_stiff *S, int nv, const int *idx, const doubl
         for (int q = 0; q < 36; ++q) K[q] += a[j] * S->JJ[idx[j]][q] - F[j] * S->H[idx[j]][q];
 }
 
+static atomic_ulong n_eigen;
+
+void hpi_test_eigen_counts(unsigned long *eigen) { *eigen = atomic_load(&n_eigen); }
+
 int hpi_load_stiff_lambda_at(const hp_load_stiff *S, int nv, const int *idx, const double *F,
                              const double *a, double *lam)
 {
     double K[36], l[6], V[36];
     stiff_at(S, nv, idx, F, a, K);
+    atomic_fetch_add(&n_eigen, 1);
     if (hpi_kin_symeig6(K, l, V) != 0) return -1;
     *lam = l[0];
     return 0;
@@ -89,6 +95,7 @@ int hpi_load_stiff_lambda_min(const double K[36], double *lam)
     for (int i = 0; i < 6; ++i)
         for (int j = 0; j < 6; ++j)
             Ks[i * 6 + j] = 0.5 * (K[i * 6 + j] + K[j * 6 + i]) * kscale(i, j);
+    atomic_fetch_add(&n_eigen, 1);
     if (hpi_kin_symeig6(Ks, l, V) != 0) return -1;
     *lam = l[0];
     return 0;
