@@ -154,7 +154,7 @@ int bench_run_cli(int argc, char **argv)
 {
     const char *out = DEFAULT_OUT, *scene = DEFAULT_SCENE, *scenarios = DEFAULT_SCENARIOS;
     const char *python = DEFAULT_PYTHON, *peer_script = DEFAULT_PEER_SCRIPT;
-    int quick = 0, only_given = 0, rc;
+    int quick = 0, only_given = 0, repeat_given = 0, rc;
     int on[N_FAMILIES] = {0};
     long seed = 1, repeat = 1;
     for (int i = 1; i < argc; ++i) {
@@ -190,6 +190,7 @@ int bench_run_cli(int argc, char **argv)
         } else if ((m = cli_opt(CMD, argc, argv, &i, "--repeat", &v)) != 0) {
             if (m < 0 || (rc = cli_int(CMD, "--repeat", v, 1, 100, &repeat)) != 0)
                 return CLI_EXIT_USAGE;
+            repeat_given = 1;
         } else if ((m = cli_opt(CMD, argc, argv, &i, "--seed", &v)) != 0) {
             if (m < 0 || (rc = cli_int(CMD, "--seed", v, 0, LONG_MAX, &seed)) != 0)
                 return CLI_EXIT_USAGE;
@@ -200,6 +201,12 @@ int bench_run_cli(int argc, char **argv)
     }
     if (!only_given)
         for (size_t k = 0; k < N_FAMILIES; ++k) on[k] = 1;
+    int loop_on = 0;
+    for (size_t k = 0; k < N_FAMILIES; ++k)
+        loop_on |= on[k] && strcmp(families[k].chart.family, "loop") == 0;
+    if (repeat_given && !loop_on) /* it would be silently ignored */
+        return cli_fail(CLI_EXIT_USAGE, CMD,
+                        "--repeat: only the loop family repeats its traces (add loop to --only)");
 
     /* Fail before minutes of measuring, not after. */
     if (bench_gnuplot_available() != 0)

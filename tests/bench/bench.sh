@@ -251,6 +251,10 @@ expect_exit 0 "bench --only loop --repeat 2"
 awk -F, 'NR > 1 && $5 != 240 { bad = 1 } END { exit bad }' "$TMP/rep/loop.csv" && ok || bad "loop --repeat 2: 240 cycles a row"
 run --repeat 0 --out "$TMP/x"
 expect_exit 64 "--repeat 0"; expect_stderr_has "--repeat" "names --repeat"
+# --repeat repeats the loop family's traces only: with no loop family asked for it would be
+# ignored, so it is refused before any measuring.
+run --quick --only ik --repeat 3 --out "$TMP/x"
+expect_exit 64 "--repeat without the loop family"; expect_stderr_has "--repeat" "names --repeat"
 run --only nonsense --out "$TMP/x"
 expect_exit 64 "--only nonsense"; expect_stderr_has "--only" "names --only"; expect_stdout_empty "--only nonsense"
 run --seed -3 --out "$TMP/x"
