@@ -173,11 +173,10 @@ static double pose_dist(const double xi[6], const double to[6])
     return e;
 }
 
-/* The weights of the closest-pose distance: 1 per mm², 1/weight² per degree². */
+/* The weights of the closest-pose distance: the objective's (problem.h). */
 static void pose_weights(const hp_load_level *p, double W[6])
 {
-    for (int i = 0; i < 6; ++i)
-        W[i] = i < 3 ? 1.0 : 1.0 / (p->set.weight_mm_per_deg * p->set.weight_mm_per_deg);
+    for (int i = 0; i < 6; ++i) W[i] = hpi_pose_weight(p->set.weight_mm_per_deg, i);
 }
 
 /* Is the pose `depth` metres below desired (along gravity) held inside this plan's bounds?

@@ -161,8 +161,7 @@ hp_error hp_planner_create(const hp_layout *layout, const hp_settings *settings,
     pb->n = p->L.n;
     pb->nx = 6 + p->L.n;
     for (int i = 0; i < 6; ++i) {
-        double w = i < 3 ? 1.0 : 1.0 / (s.weight_mm_per_deg * s.weight_mm_per_deg);
-        pb->w[i] = p->commanded[i] ? w : 0.0;
+        pb->w[i] = p->commanded[i] ? hpi_pose_weight(s.weight_mm_per_deg, i) : 0.0;
     }
     pb->mu = s.mu;
     if ((e = build_nominal(p, d)) != HP_OK) goto fail;

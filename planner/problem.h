@@ -44,6 +44,13 @@ typedef struct hp_problem {
     struct hp_rate_lazy *lazy;
 } hp_problem;
 
+/* The objective's weight of pose component i (0..5) in its scaled unit: 1 per mm², and
+ * 1/weight² per degree² for weight_mm_per_deg (a degree counts as that many mm). */
+static inline double hpi_pose_weight(double weight_mm_per_deg, int i)
+{
+    return i < 3 ? 1.0 : 1.0 / (weight_mm_per_deg * weight_mm_per_deg);
+}
+
 /* Objective f(x); grad (nx) and hess (nx×nx dense, row-major) may be NULL. */
 hp_error hpi_problem_objective(const hp_problem *pb, const double *x, double *f, double *grad,
                                double *hess);
