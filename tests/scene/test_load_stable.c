@@ -31,6 +31,7 @@
 #include "headplan/hp_planner.h"
 #include "headplan/hp_scene.h"
 #include "support/load_fixture.h"
+#include "support/load_stiffness.h"
 #include "support/spd.h"
 #include "support/rng.h"
 
@@ -46,15 +47,11 @@ static const char *const SCENES[] = {SCN "load_heavy.yaml", SCN "load_supine.yam
                                      SCN "load_tilted.yaml"};
 #define NSCENE ((int)(sizeof SCENES / sizeof SCENES[0]))
 
-/* K at (xi, P) in mm/degree units, symmetrised, positive definite? */
+/* K at (xi, P) (tests/support/load_stiffness.h) positive definite? */
 static int stable_at(const hp_load_model *M, const double xi[6], const double *P)
 {
-    double Q[6], dQ[36], K[36];
-    assert_int_equal(hp_load_eval(M, xi, P, Q, dQ, NULL, NULL, NULL), HP_OK);
-    for (int i = 0; i < 6; ++i)
-        for (int j = 0; j < 6; ++j)
-            K[i * 6 + j] = -0.5 * (dQ[i * 6 + j] + dQ[j * 6 + i]) *
-                           (i < 3 ? 1e-3 : HP_RAD_PER_DEG) * (j < 3 ? 1e-3 : HP_RAD_PER_DEG);
+    double K[36];
+    assert_int_equal(test_load_stiffness(M, xi, P, K), 0);
     return test_positive_definite6(K);
 }
 
