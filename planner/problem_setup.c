@@ -6,7 +6,7 @@
 #include <stdatomic.h>
 #include <string.h>
 
-static atomic_ulong rate_solves, rate_evals, rate_lazy_setups;
+static atomic_ulong rate_solves, rate_evals, rate_lazy_setups, rate_resolves, rate_rederived;
 static atomic_int rate_eager;
 
 /* How near [Pa] the last bound of a window end must be for its root find to start there
@@ -18,6 +18,8 @@ static atomic_int rate_eager;
 unsigned long hpi_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
 unsigned long hpi_test_rate_bound_evals(void) { return atomic_load(&rate_evals); }
 unsigned long hpi_test_rate_lazy_setups(void) { return atomic_load(&rate_lazy_setups); }
+unsigned long hpi_test_rate_resolves(void) { return atomic_load(&rate_resolves); }
+unsigned long hpi_test_rate_rederived(void) { return atomic_load(&rate_rederived); }
 void hpi_test_rate_lazy(int on) { atomic_store(&rate_eager, !on); }
 int hpi_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory_order_relaxed); }
 
@@ -359,12 +361,13 @@ static double stand_in(const hp_static_bounds *b, int k, double pw, int up, cons
 /* Bladder k's bounds for this plan: the static ones intersected with its rate window's
  * ends, each solved exactly unless lazy_lo / lazy_hi (may be NULL) marks it: then a
  * stand-in (stand_in) for its outer radius, and the static inner radius. *nostand is set
- * when a stand-in was asked for and none could be made (the caller solves the end). */
+ * when a stand-in was asked for and none could be made (the caller solves the end).
+ * *nder (may be NULL) counts the window ends derived (stand-in, memo or solve). */
 static hp_error bladder_bounds(const hp_layout *L, const hp_static_bounds *b, int k,
                                const double *p_prev, int use_rate, hp_rate_memo *memo,
                                const unsigned char *lazy_lo, const unsigned char *lazy_hi,
                                hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags, int *nostand,
-                               hp_diag *d)
+                               int *nder, hp_diag *d)
 {
     const hp_bladder *B = &L->bladders[k];
     double lo = b->ri_lo[k], hi = b->ri_hi[k];
@@ -375,6 +378,7 @@ static hp_error bladder_bounds(const hp_layout *L, const hp_static_bounds *b, in
     if (use_rate && p_prev && isfinite(B->rate_max)) {
         double r, pl, ph;
         hpi_rate_window(p_prev[k], B->rate_max, &pl, &ph);
+        if (nder) *nder += (pl > b->p_lo[k]) + (ph < b->p_hi[k]);
         if (pl > b->p_lo[k]) {
             if (lazy_lo && lazy_lo[k]) {
                 sro_lo = stand_in(b, k, pl, 1, memo ? &memo->down[k] : NULL);
@@ -458,7 +462,7 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
             int nostand = 0; /* a volume law that failed there: evaluated again, or refused */
             hp_error e = isnan(b->ro_lo[k]) || isnan(b->ro_hi[k])
                              ? bladder_bounds(L, b, k, NULL, 0, NULL, NULL, NULL, pb, lo_flags,
-                                              hi_flags, &nostand, d)
+                                              hi_flags, &nostand, NULL, d)
                              : HP_OK;
             if (e != HP_OK) return e;
         }
@@ -467,7 +471,7 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
     for (int k = 0; k < L->n; ++k) {
         int nostand = 0;
         hp_error e = bladder_bounds(L, b, k, p_prev, use_rate, memo, NULL, NULL, pb, lo_flags,
-                                    hi_flags, &nostand, d);
+                                    hi_flags, &nostand, NULL, d);
         if (e != HP_OK) return e;
     }
     return HP_OK;
@@ -479,20 +483,20 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
 #define HP_LAZY_MIN_WIDTH_MM (2.0 * HP_BINDING_TOL_MM)
 
 /* Bladder k with the ends marked in z a stand-in, or both solved when a stand-in cannot be
- * made or leaves too narrow a window. */
-static hp_error lazy_bladder(hp_rate_lazy *z, int k, hp_diag *d)
+ * made or leaves too narrow a window. *nder (may be NULL) counts the ends derived. */
+static hp_error lazy_bladder(hp_rate_lazy *z, int k, int *nder, hp_diag *d)
 {
     int nostand = 0;
     hp_problem *pb = z->pb;
     hp_error e = bladder_bounds(z->L, z->b, k, pb->p_prev, 1, z->memo, z->lo, z->hi, pb,
-                                z->lo_flags, z->hi_flags, &nostand, d);
+                                z->lo_flags, z->hi_flags, &nostand, nder, d);
     if (e != HP_OK) return e;
     if (!(z->lo[k] || z->hi[k]) || (!nostand && pb->ro_hi[k] - pb->ro_lo[k] > HP_LAZY_MIN_WIDTH_MM))
         return HP_OK;
     z->lo[k] = z->hi[k] = 0;
     nostand = 0;
     return bladder_bounds(z->L, z->b, k, pb->p_prev, 1, z->memo, NULL, NULL, pb, z->lo_flags,
-                          z->hi_flags, &nostand, d);
+                          z->hi_flags, &nostand, nder, d);
 }
 
 hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
@@ -508,19 +512,62 @@ hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
         hpi_rate_window(P, B->rate_max, &pl, &ph);
         z->lo[k] = rated && pl > z->b->p_lo[k] && !memo_holds(&z->memo->down[k], pl);
         z->hi[k] = rated && ph < z->b->p_hi[k] && !memo_holds(&z->memo->up[k], ph);
-        hp_error e = lazy_bladder(z, k, d);
+        hp_error e = lazy_bladder(z, k, NULL, d);
         if (e != HP_OK) return e;
     }
     return HP_OK;
+}
+
+/* Bladder k's one stand-in end (up: the lower) made exact, the other end's bounds as they
+ * are in z->pb: the bits bladder_bounds and lazy_bladder give for the bladder, since the
+ * other end's bounds do not depend on this one's (its inner radius is the static one or
+ * its own exact bound, its outer radius that bound's or its stand-in's). Where they would
+ * depend on it, it does not decide and returns 0 with nothing stored: the solved bound
+ * beyond the other end (a window narrower than an ulp's pressure step, or no radius left),
+ * the window of outer radii too narrow for the other end's stand-in, an outer radius the
+ * volume law does not give. 1 when stored; -1 when the end has no stable radius. */
+static int exact_end(hp_rate_lazy *z, int k, int up)
+{
+    const hp_static_bounds *b = z->b;
+    const hp_bladder *B = &z->L->bladders[k];
+    hp_problem *pb = z->pb;
+    double pw[2], r, ro;
+    hpi_rate_window(pb->p_prev[k], B->rate_max, &pw[0], &pw[1]);
+    if (!rate_bound(b, k, pw[!up], up, z->memo, &r, &ro)) return -1;
+    double v = up ? b->ri_lo[k] : b->ri_hi[k];
+    unsigned f = up ? b->lo_flags[k] : b->hi_flags[k];
+    if (up) take_max(&v, &f, r, HP_BIND_RATE_DOWN);
+    else take_min(&v, &f, r, HP_BIND_RATE_UP);
+    double vro = v == (up ? b->ri_lo[k] : b->ri_hi[k]) ? (up ? b->ro_lo[k] : b->ro_hi[k])
+                 : v == r                              ? ro
+                                                       : NAN;
+    if (!(up ? v <= pb->ri_hi_si[k] : pb->ri_lo_si[k] <= v) || isnan(vro)) return 0;
+    double ro_mm = vro * HP_MM_PER_M;
+    if ((up ? z->hi[k] : z->lo[k]) &&
+        !((up ? pb->ro_hi[k] - ro_mm : ro_mm - pb->ro_lo[k]) > HP_LAZY_MIN_WIDTH_MM))
+        return 0;
+    *(up ? &pb->ri_lo_si[k] : &pb->ri_hi_si[k]) = v;
+    *(up ? &pb->ri_lo[k] : &pb->ri_hi[k]) = v * HP_MM_PER_M;
+    *(up ? &pb->ro_lo[k] : &pb->ro_hi[k]) = ro_mm;
+    unsigned *fl = up ? z->lo_flags : z->hi_flags;
+    if (fl) fl[k] = f;
+    return 1;
 }
 
 int hpi_setup_rate_resolve(hp_rate_lazy *z, int k, unsigned ends)
 {
     unsigned char lo = z->lo[k] && !(ends & 1u), hi = z->hi[k] && !(ends & 2u);
     if (lo == z->lo[k] && hi == z->hi[k]) return 1;
+    /* One end made exact: that end's bounds alone (exact_end), else the whole bladder. */
+    int tried = lo == z->lo[k] || hi == z->hi[k];
+    int one = tried ? exact_end(z, k, lo != z->lo[k]) : 0;
+    int nder = tried;
     z->lo[k] = lo;
     z->hi[k] = hi;
-    if (lazy_bladder(z, k, NULL) == HP_OK) return 1;
+    hp_error e = one > 0 ? HP_OK : one < 0 ? HP_ERR_INVALID : lazy_bladder(z, k, &nder, NULL);
+    atomic_fetch_add_explicit(&rate_resolves, 1, memory_order_relaxed);
+    atomic_fetch_add_explicit(&rate_rederived, (unsigned long)nder, memory_order_relaxed);
+    if (e == HP_OK) return 1;
     z->failed = 1;
     return 0;
 }

@@ -191,6 +191,10 @@ unsigned long hpi_test_rate_bound_solves(void);
 unsigned long hpi_test_rate_bound_evals(void);
 /* The plans whose bounds were set up with stand-ins (hpi_setup_cycle_bounds_lazy). */
 unsigned long hpi_test_rate_lazy_setups(void);
+/* The resolves (hpi_setup_rate_resolve calls that made an end exact) and the window ends
+ * they derived again (solved, taken from the memo or a stand-in made), ends solved included. */
+unsigned long hpi_test_rate_resolves(void);
+unsigned long hpi_test_rate_rederived(void);
 void hpi_test_rate_lazy(int on);
 int hpi_setup_rate_lazy(void);
 
