@@ -153,10 +153,18 @@ FEM_INLINE void fem_out(const fem_parts *f, const double g[3], const double h[3]
     c->d2[Q_][Q_] = m[0] * Xdd * f->d_q * f->d_q;
 }
 
+/* The derivative order o names (its bits below HP_CLAW_WORK), at most the Hessian: a caller
+ * that or-s two orders gets the higher, never an order the arrays below do not have. */
+FEM_INLINE int order_of(int o)
+{
+    int k = o & (HP_CLAW_WORK - 1);
+    return k > HP_CLAW_HESSIAN ? HP_CLAW_HESSIAN : k;
+}
+
 /* F (and W with HP_CLAW_WORK, else NaN) up to the order in o. */
 FEM_INLINE void fem_to(const hp_claw_bladder *b, double P, double ro, double rho, int o, hp_claw *c)
 {
-    int k = o & (HP_CLAW_WORK - 1);
+    int k = order_of(o);
     fem_parts f;
     fem_parts_of(b, P, ro, rho, k, &f);
     const double area = HP_PI * (ro * ro), m[3] = {area, 2.0 * HP_PI * ro, 2.0 * HP_PI};
@@ -243,14 +251,14 @@ void hpi_claw_eval_to(hp_claw_law law, const hp_claw_bladder *b, double P, doubl
                       hp_claw_order o, hp_claw *c)
 {
     if (law == HP_CLAW_LAW_FEM) {
-        int k = (int)o & (HP_CLAW_WORK - 1), work = ((int)o & HP_CLAW_WORK) != 0;
+        int k = order_of((int)o), work = ((int)o & HP_CLAW_WORK) != 0;
         if (k == HP_CLAW_GRADIENT) fem_gradient(b, P, ro, rho, work, c);
         else if (k == HP_CLAW_VALUE && !work) fem_value(b, P, ro, rho, c);
         else fem_to(b, P, ro, rho, (int)o, c); /* the rarer combinations */
         return;
     }
     hpi_claw_cap(P, ro, rho, c); /* a few products: computed whole, then trimmed to o */
-    int k = (int)o & (HP_CLAW_WORK - 1);
+    int k = order_of((int)o);
     for (int i = 0; i < 3; ++i) {
         if (k < HP_CLAW_GRADIENT) c->d[i] = NAN;
         for (int j = 0; j < 3; ++j)

@@ -58,9 +58,6 @@ static hp_error radius(const hp_load_model *M, int k, double P, double *ro, doub
     return hp_load_radius(M, k, P, ro, dro);
 }
 
-/* Bladder k's carrying force range at contact distance rho inside [plo, phi] and the
- * indentation range. 0 on success, -1 when the model fails, 1 when no pressure in the
- * bounds is inside the indentation range (its lowest pressure already carries beyond it). */
 /* The free outer radii at a bladder's pressure bounds: they do not move with the pose, so a
  * CLOSEST solve asks them once (the status too: an end whose radius fails fails the range
  * only where it is used). */
@@ -76,6 +73,10 @@ static void bound_radii_at(const hp_load_model *M, int k, double plo, double phi
     b->ehi = radius(M, k, phi, &b->hi, NULL);
 }
 
+/* Bladder k's carrying force range at contact distance rho inside [plo, phi] and the
+ * indentation range (br: the free radii at plo and phi). 0 on success, -1 when the model
+ * fails, 1 when no pressure in the bounds is inside the indentation range (its lowest
+ * pressure already carries beyond it). */
 static int force_range(const hp_load_model *M, int k, double rho, double plo, double phi,
                        const bound_radii *br, frange *r)
 {

@@ -128,10 +128,10 @@ static hp_error bladder_state(const hp_load_model *M, int k, double P, double rh
 }
 
 /* The touching pressure: the one whose free radius equals rho (−inf when rho is below the
- * smallest radius the cavity allows, +inf past the limit point). */
-/* *ri gets the inner radius whose outer radius is rho (the bladder's volume law, closed
- * form: what the forward kinematics of the returned pressure solves for), NaN when the
- * pressure is infinite. */
+ * smallest radius the cavity allows, +inf past the limit point). *ri gets the inner radius
+ * whose outer radius is rho (the bladder's volume law, closed form: what the forward
+ * kinematics of the returned pressure solves for, to a few ulps), NaN when the pressure is
+ * infinite. */
 static double touch_pressure_ri(const hp_load_model *M, int k, double rho, double *ri)
 {
     const hp_iab *b = &M->layout.bladders[k].iab;
@@ -383,7 +383,8 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
  * bladder's force again at the same pressure (the SQP's state at the point its line search
  * accepted, the answer's forces, a pressure at a bound, a grid's ends), and the forward
  * kinematics is the dearest step of a force. The set's carrying ends are known (ra at L, rc
- * at U, solved by the same call): the same bits. */
+ * at U; at the touching and indentation pressures from the closed form, which may differ
+ * from the forward kinematics by a few ulps): every user of the set reads these same ra, rc. */
 typedef struct ri_memo {
     double P[HP_MAX_BLADDERS], ri[HP_MAX_BLADDERS];
 } ri_memo;
@@ -408,7 +409,7 @@ static hp_error memo_ri(const hp_load_hold_set *h, ri_memo *mm, int k, double P,
     return HP_OK;
 }
 
-/* Bladder k's force at P on h (bladder_force, the same bits). */
+/* Bladder k's force at P on h (bladder_force's, at the memo's radius). */
 static hp_error memo_force(const hp_load_hold_set *h, ri_memo *mm, int k, double P, double *F)
 {
     double ri;

@@ -108,10 +108,12 @@ typedef int (*hp_load_point_test)(void *ctx, const double *x, const double *P, c
  * (the stable search's finer scan: 7). */
 #define HP_LOAD_SCAN_GRID_N 3
 #define HP_LOAD_SCAN_GRID_MAX 7
+_Static_assert(HP_LOAD_SCAN_GRID_N <= HP_LOAD_SCAN_GRID_MAX, "the scan keeps its grid forces");
 
 /* HOLD's scan of the set (load_solve.c): a grid_n × grid_n grid of its (at most two) free
  * pressures and its vertices; f gets the point with the least tie-breaker sum among those
- * test (may be NULL) accepts. 0, or -1 when none qualifies. */
+ * test (may be NULL) accepts. 0, or -1 when none qualifies (and for grid_n above
+ * HP_LOAD_SCAN_GRID_MAX, which every caller's constant is asserted not to be). */
 int hpi_load_hold_set_scan(const hp_load_hold_set *h, int grid_n, hp_load_point_test test,
                            void *ctx, double *f);
 

@@ -487,11 +487,14 @@ static void test_eval_orders_same_bits(void **st)
         for (int law = HP_CLAW_LAW_CAP; law <= HP_CLAW_LAW_FEM; ++law) {
             hp_claw full;
             hpi_claw_eval((hp_claw_law)law, &b, P, ro, rho, &full);
-            for (int ow = 0; ow < 6; ++ow) {
-                int o = ow % 3, work = ow >= 3;
+            /* o = 3 (HP_CLAW_GRADIENT | HP_CLAW_HESSIAN, an easy caller's slip) means the
+             * Hessian: the highest order named, never an order past it. */
+            for (int ow = 0; ow < 8; ++ow) {
+                int asked = ow % 4, work = ow >= 4;
+                int o = asked > HP_CLAW_HESSIAN ? HP_CLAW_HESSIAN : asked;
                 hp_claw c;
                 hpi_claw_eval_to((hp_claw_law)law, &b, P, ro, rho,
-                                 (hp_claw_order)(o | (work ? HP_CLAW_WORK : 0)), &c);
+                                 (hp_claw_order)(asked | (work ? HP_CLAW_WORK : 0)), &c);
                 assert_true(same_bits(c.F, full.F));
                 assert_true(work ? same_bits(c.W, full.W) : isnan(c.W));
                 for (int j = 0; j < 3; ++j) {
@@ -505,7 +508,7 @@ static void test_eval_orders_same_bits(void **st)
             }
         }
     }
-    assert_int_equal(n, 3125 * 2 * 6);
+    assert_int_equal(n, 3125 * 2 * 8);
 }
 
 /* got against the reference want, whose terms add up in magnitude to mag: both evaluations
