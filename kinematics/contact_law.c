@@ -40,7 +40,7 @@ void hpi_claw_cap(double P, double ro, double rho, hp_claw *c)
  * order, so the same bits. The tests compare with forward-mode dual numbers
  * (tests/support/claw_ref.h). */
 /* The pieces below are inlined into each order's entry (fem_value, fem_gradient,
- * fem_hessian), where the order is a constant and the tests on it fold away. */
+ * hpi_claw_fem), where the order is a constant and the tests on it fold away. */
 #if defined(__GNUC__)
 #define FEM_INLINE static inline __attribute__((always_inline))
 #else

@@ -86,7 +86,7 @@ void hpi_claw_eval(hp_claw_law law, const hp_claw_bladder *b, double P, double r
 
 /* How much of the law a caller needs: F; also the gradient d; also the Hessian d2; and, or-ed
  * with one of them, HP_CLAW_WORK for the work W too (of the load model's callers only the
- * potential energy reads W). */
+ * potential energy reads W). Two levels or-ed together name the higher. */
 typedef enum hp_claw_order {
     HP_CLAW_VALUE = 0,
     HP_CLAW_GRADIENT = 1,
