@@ -28,6 +28,7 @@
 #include "bench/bench.h"
 #include "bench/bench_timing.h"
 #include "bench/bench_util.h"
+#include "bench/loop_trace.h"
 #include "cli/exit_codes.h"
 #include "planner/problem_setup.h"
 
@@ -76,25 +77,11 @@ typedef struct {
     double slow_solving_pct; /* of the plans at or above the p99, % that solved an end */
 } loop_row;
 
-/* The trace's correction at cycle j [SI]. */
+/* The trace's correction at cycle j [SI] (sa_loop_trace). */
 static void trace_at(int trace, long j, uint64_t *s, double step_tgt[6], double xi[6])
 {
-    double mm_deg[6] = {0};
-    if (trace == 2) {
-        if (j % 300 == 0)
-            for (int i = 0; i < 6; ++i)
-                step_tgt[i] = (2.0 * bench_urand(s) - 1.0) * (i < 3 ? 3.0 : 2.0);
-        memcpy(mm_deg, step_tgt, sizeof mm_deg);
-    } else {
-        double ph = 2.0 * BENCH_PI * (double)j / 200.0;
-        mm_deg[0] = 1.0 * sin(2.0 * BENCH_PI * (double)j / 2000.0);
-        mm_deg[1] = 0.8 * sin(ph + 0.3);
-        mm_deg[2] = 2.0 * sin(ph);
-        mm_deg[3] = 0.6 * sin(ph + 0.1);
-        if (trace == 1)
-            for (int i = 0; i < 6; ++i)
-                mm_deg[i] += (2.0 * bench_urand(s) - 1.0) * (i < 3 ? 0.1 : 0.05);
-    }
+    double mm_deg[6];
+    sa_loop_trace(trace, j, s, step_tgt, mm_deg);
     bench_to_si(mm_deg, xi);
 }
 

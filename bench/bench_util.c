@@ -3,6 +3,7 @@
 /* headplan-bench: shared helpers (see bench_util.h). */
 #include "bench/bench_util.h"
 #include "bench/bench_report.h"
+#include "bench/loop_trace.h"
 #include "cli/exit_codes.h"
 #include "planner/problem_setup.h"
 
@@ -124,13 +125,7 @@ double bench_contact_violation(const hp_layout *L, hp_level level, const hp_resu
     return v;
 }
 
-double bench_urand(uint64_t *s)
-{
-    *s ^= *s >> 12;
-    *s ^= *s << 25;
-    *s ^= *s >> 27;
-    return (double)((*s * 0x2545F4914F6CDD1Du) >> 11) / 9007199254740992.0;
-}
+double bench_urand(uint64_t *s) { return sa_xorshift(s); }
 
 void bench_unit6(uint64_t *s, double u[6])
 {

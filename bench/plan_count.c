@@ -23,6 +23,15 @@
  *       rate_max 500 Pa a plan; after each plan its pressures read back with ±3 Pa of
  *       seeded noise through hp_planner_set_measured; default settings otherwise, BACKEND
  *       by name (bench/loop_profile.sh profiles it by phase).
+ *   headplan-bench-count SCENE tail LEVEL TRACE FEED CYCLES
+ *       the loop benchmark's trace TRACE (smooth, noisy or step: sa_loop_trace, seeded as
+ *       there) on two realtime planners in turn, rate-free first, then rate-limited
+ *       (every bladder's rate_max 500 Pa), default settings otherwise; FEED 1 reads the
+ *       rate-limited planner's pressures back with ±3 Pa of seeded noise through
+ *       hp_planner_set_measured (the loop benchmark's measured mode), FEED 0 lets it plan
+ *       from its own answers (the rate mode). Prints a line a plan: cycle, planner (0 free,
+ *       1 rate-limited), status, 1 if a rate limit binds (else 0). bench/loop_tail.sh counts
+ *       each plan's instructions.
  *   headplan-bench-count clocks ROUNDS
  *       the cost of one read of the precise and of the coarse monotonic clock (the realtime
  *       backend's time budget reads the coarse one when max_time spans 100 of its ticks):
@@ -33,6 +42,7 @@
 #include <headplan/headplan.h>
 #include <headplan/hp_planner.h>
 #include <headplan/hp_scene.h>
+#include "loop_trace.h"
 #include "standalone.h"
 
 #include <math.h>
@@ -52,6 +62,7 @@ static int usage(void)
                     "       headplan-bench-count SCENE time LEVEL MM DEG ROUNDS\n"
                     "       headplan-bench-count SCENE answers LEVEL MM DEG WARM\n"
                     "       headplan-bench-count SCENE loop LEVEL BACKEND CYCLES\n"
+                    "       headplan-bench-count SCENE tail LEVEL TRACE FEED CYCLES\n"
                     "       headplan-bench-count clocks ROUNDS\n");
     return 64;
 }
@@ -165,11 +176,79 @@ static int run_loop(const hp_layout *L0, int level, const char *backend, long cy
     return 0;
 }
 
+/* The tail mode (see the top). */
+static int run_tail(const hp_layout *L0, int level, int trace, int feed, long cycles)
+{
+    hp_layout L = *L0;
+    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
+    hp_planner *p[2] = {NULL, NULL};
+    int rc = 0;
+    for (int m = 0; m < 2 && rc == 0; ++m) {
+        hp_settings st;
+        hp_settings_default(&st);
+        st.level = (hp_level)level;
+        st.use_rate_limits = m;
+        st.max_time = 10.0; /* the loop benchmark's, for its rate and measured modes */
+        hp_diag d = {{0}};
+        if (hp_planner_create(&L, &st, &p[m], &d) != HP_OK) {
+            fprintf(stderr, "headplan-bench-count: %s\n", d.text);
+            rc = 65;
+        }
+    }
+    uint64_t seed = 0x100b + (uint64_t)trace, noise = 0x5e7 + (uint64_t)trace;
+    double tgt[6] = {0};
+    for (long j = 0; j < cycles && rc == 0; ++j) {
+        double mm_deg[6], xi[6];
+        sa_loop_trace(trace, j, &seed, tgt, mm_deg);
+        for (int i = 0; i < 6; ++i) xi[i] = mm_deg[i] * (i < 3 ? 1e-3 : PI / 180);
+        for (int m = 0; m < 2 && rc == 0; ++m) {
+            hp_result res;
+            if (hp_plan(p[m], xi, &res) != HP_OK) {
+                rc = 70;
+                break;
+            }
+            int rate = 0;
+            for (int k = 0; k < res.n; ++k)
+                rate |= (res.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP)) != 0;
+            printf("%ld %d %s %d\n", j, m, hp_status_name(res.status), rate);
+            if (m == 1 && feed) {
+                double P[HP_MAX_BLADDERS];
+                for (int k = 0; k < res.n; ++k)
+                    P[k] = res.bladders[k].pressure + 3.0 * (2.0 * sa_xorshift(&noise) - 1.0);
+                if (hp_planner_set_measured(p[m], P, NULL) != HP_OK) rc = 70;
+            }
+        }
+    }
+    for (int m = 0; m < 2; ++m) hp_planner_destroy(p[m]);
+    return rc;
+}
+
+/* The trace's number from its name (smooth, noisy, step), or -1. */
+static int trace_of(const char *name)
+{
+    static const char *const names[] = {"smooth", "noisy", "step"};
+    for (int t = 0; t < 3; ++t)
+        if (strcmp(name, names[t]) == 0) return t;
+    return -1;
+}
+
 int main(int argc, char **argv)
 {
     if (argc == 3 && strcmp(argv[1], "clocks") == 0) return time_clocks(atol(argv[2]));
     if (argc != 7 && argc != 6) return usage();
     const char *mode = argv[2];
+    if (strcmp(mode, "tail") == 0 && argc == 7) {
+        static hp_scene ts;
+        hp_diag td = {{0}};
+        int lv = atoi(argv[3]), tr = trace_of(argv[4]), feed = atoi(argv[5]);
+        long n = atol(argv[6]);
+        if (lv < 0 || lv > 2 || tr < 0 || (feed != 0 && feed != 1) || n < 1) return usage();
+        if (hp_scene_load(argv[1], &ts, &td) != HP_OK) {
+            fprintf(stderr, "headplan-bench-count: %s\n", td.text);
+            return 66;
+        }
+        return run_tail(&ts.layout, lv, tr, feed, n);
+    }
     if (strcmp(mode, "loop") == 0 && argc == 6) {
         static hp_scene ls;
         hp_diag ld = {{0}};

@@ -1,0 +1,44 @@
+/* The loop benchmark's traces and the lab's seeded generator, header-only so that the
+ * standalone plan_count.c (public API alone) replays the same traces as bench_loop.c. */
+#ifndef HP_BENCH_LOOP_TRACE_H
+#define HP_BENCH_LOOP_TRACE_H
+
+#include <math.h>
+#include <stdint.h>
+
+/* Uniform in [0, 1) from the xorshift state *s (the lab's seeded generator: bench_urand). */
+static inline double sa_xorshift(uint64_t *s)
+{
+    *s ^= *s >> 12;
+    *s ^= *s << 25;
+    *s ^= *s >> 27;
+    return (double)((*s * 0x2545F4914F6CDD1Du) >> 11) / 9007199254740992.0;
+}
+
+/* The loop benchmark's correction at cycle j of trace 0 (smooth), 1 (noisy: smooth plus
+ * uniform noise of ±0.1 mm, ±0.05 deg) or 2 (step: a new target uniform in ±3 mm, ±2 deg
+ * every 300 cycles, held between), in mm and deg; *s is the trace's generator (seeded
+ * 0x100b + trace), step_tgt the step trace's current target, kept by the caller. */
+static inline void sa_loop_trace(int trace, long j, uint64_t *s, double step_tgt[6],
+                                 double mm_deg[6])
+{
+    const double pi = 3.14159265358979323846;
+    for (int i = 0; i < 6; ++i) mm_deg[i] = 0;
+    if (trace == 2) {
+        if (j % 300 == 0)
+            for (int i = 0; i < 6; ++i)
+                step_tgt[i] = (2.0 * sa_xorshift(s) - 1.0) * (i < 3 ? 3.0 : 2.0);
+        for (int i = 0; i < 6; ++i) mm_deg[i] = step_tgt[i];
+        return;
+    }
+    double ph = 2.0 * pi * (double)j / 200.0;
+    mm_deg[0] = 1.0 * sin(2.0 * pi * (double)j / 2000.0);
+    mm_deg[1] = 0.8 * sin(ph + 0.3);
+    mm_deg[2] = 2.0 * sin(ph);
+    mm_deg[3] = 0.6 * sin(ph + 0.1);
+    if (trace == 1)
+        for (int i = 0; i < 6; ++i)
+            mm_deg[i] += (2.0 * sa_xorshift(s) - 1.0) * (i < 3 ? 0.1 : 0.05);
+}
+
+#endif

@@ -1,0 +1,47 @@
+# headplan-bench-count's tail mode replays the loop benchmark's traces (bench/loop_trace.h),
+# and bench/loop_tail.sh counts its plans' instructions. No timing: counts of plans on which
+# a rate limit binds, which depend on the trace and the planners alone.
+# Arguments: headplan-bench, headplan-bench-count, the source tree, 1 if the build is
+# instrumented by the sanitizers (valgrind cannot run such a program).
+BENCH="$1"; COUNT="$2"; SANITIZED="${4:-0}"
+source "$3/tests/cli_lib.sh" "$COUNT" "$3"
+SCENE="$HP_SRC/scenarios/default.yaml"
+
+# The loop benchmark's quick run (120 cycles a trace): its rate and measured rows count the
+# plans that bound a rate limit; the tail mode's rate-limited planner (FEED 0 its own
+# answers, FEED 1 the readings) must count the same on the same trace, at every level.
+"$BENCH" --quick --only loop --out "$TMP/loop" >"$TMP/out" 2>"$TMP/err"
+rc=$?; expect_exit 0 "bench --quick --only loop"
+levels=(linear plane surface)
+for lv in 0 1 2; do
+  for tr in smooth noisy step; do
+    for feed in 0 1; do
+      mode=$([ $feed -eq 0 ] && echo rate || echo measured)
+      want=$(awk -F, -v l="${levels[$lv]}" -v t="$tr" -v m="$mode" '
+        NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
+        $1 == l && $2 == "realtime" && $3 == t && $4 == m { print $c["rate_binding"] }' "$TMP/loop/loop.csv")
+      run "$SCENE" tail $lv $tr $feed 120
+      expect_exit 0 "tail $lv $tr $feed"
+      got=$(awk '$2 == 1 { s += $4 } END { print s + 0 }' "$TMP/out")
+      lines=$(wc -l <"$TMP/out")
+      [ -n "$want" ] && [ "$got" = "$want" ] && [ "$lines" -eq 240 ] && ok \
+        || bad "tail $lv $tr $feed: $got plans bound a rate limit ($lines lines), loop.csv says '$want'"
+    done
+  done
+done
+# The tail mode's arguments are checked.
+for args in "0 jump 0 10" "3 step 0 10" "0 step 2 10" "0 step 0 0"; do
+  run "$SCENE" tail $args
+  expect_exit 64 "tail $args"
+done
+
+# loop_tail.sh over 20 cycles: a row each planner, and with 20 plans the nearest-rank p99.9
+# is the largest (rank ceil(19.98) = 20).
+if [ "$SANITIZED" != 1 ] && command -v valgrind >/dev/null; then
+  bash "$HP_SRC/bench/loop_tail.sh" "$COUNT" "$SCENE" 0 step 0 20 >"$TMP/out" 2>"$TMP/err"
+  rc=$?; expect_exit 0 "loop_tail.sh"
+  awk '$1 == "rate-free" || $1 == "rate-limited" { n++; if (!($4 == $5 && $2 > 0 && $3 >= $2)) bad_row = 1 }
+       END { exit !(n == 2 && !bad_row) }' "$TMP/out" && ok || bad "loop_tail.sh rows"
+  expect_stdout_has "the slowest 1 rate-limited plans, by function" "loop_tail.sh profile"
+fi
+finish
