@@ -1,5 +1,6 @@
 /* The inflation limit point and forward kinematics (pressure -> inner radius). */
 #include "iab/iab_internal.h"
+#include "common/next_double.h"
 
 #include <float.h>
 #include <math.h>
@@ -185,7 +186,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
          * same candidates. */
         if (d > 0 && fabs(f / d) <= 0.5 * DBL_EPSILON * x) {
             if (loose) break; /* x is the root to rounding; its neighbour not looked at */
-            double xs = nextafter(x, f < 0 ? INFINITY : 0.0), ps, ros;
+            double xs = f < 0 ? hpi_next_up(x) : hpi_next_down(x), ps, ros;
             ++o->evals;
             if (hpi_iab_s_pressure_ro(s, xs, &ps, &ros) == HP_OK)
                 last_look(target, x, p, ro, xs, ps, ros, &best, &best_p, &best_ro, &best_f, o);
