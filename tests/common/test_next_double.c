@@ -29,9 +29,9 @@ static void test_next_double_is_nextafter(void **state)
 {
     (void)state;
     long n = 0;
-    const double edges[] = {0.0,      -0.0,     DBL_TRUE_MIN, -DBL_TRUE_MIN, DBL_MIN, -DBL_MIN,
-                            DBL_MAX,  -DBL_MAX, 1.0,          -1.0,          2.0,     0.5,
-                            INFINITY, -INFINITY};
+    const double edges[] = {0.0,      -0.0,    DBL_TRUE_MIN, -DBL_TRUE_MIN, DBL_MIN,
+                            -DBL_MIN, DBL_MAX, -DBL_MAX,     1.0,           -1.0,
+                            2.0,      0.5,     INFINITY,     -INFINITY};
     for (size_t i = 0; i < sizeof edges / sizeof edges[0]; ++i) {
         check(edges[i], &n);
         check(nextafter(edges[i], 0.0), &n);
