@@ -10,6 +10,8 @@
 #ifndef HP_COMMON_EXACT_PROD_H
 #define HP_COMMON_EXACT_PROD_H
 
+#include "common/next_double.h"
+
 #include <math.h>
 
 /* a·b − p exactly, for p = a·b rounded to nearest. */
@@ -26,14 +28,14 @@ static inline double hpi_prod_err(double a, double b, double p)
 static inline double hpi_prod_up(double a, double b)
 {
     double p = a * b;
-    return hpi_prod_err(a, b, p) > 0.0 ? nextafter(p, INFINITY) : p;
+    return hpi_prod_err(a, b, p) > 0.0 ? hpi_next_up(p) : p;
 }
 
 /* The largest double r with r <= a·b exactly. */
 static inline double hpi_prod_down(double a, double b)
 {
     double p = a * b;
-    return hpi_prod_err(a, b, p) < 0.0 ? nextafter(p, -INFINITY) : p;
+    return hpi_prod_err(a, b, p) < 0.0 ? hpi_next_down(p) : p;
 }
 
 #endif

@@ -1,5 +1,6 @@
 /* The inflation limit point and forward kinematics (pressure -> inner radius). */
 #include "iab/iab_internal.h"
+#include "common/next_double.h"
 
 #include <float.h>
 #include <math.h>
@@ -161,8 +162,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             p = at_guess[0];
             d = at_guess[1];
             ro = at_guess[2];
-        } else if (++o->evals, hpi_iab_s_pressure_ro(s, x, &p, &ro) != HP_OK ||
-                                   hpi_iab_s_slopes(s, x, ro, &d, NULL) != HP_OK) {
+        } else if (++o->evals, hpi_iab_s_pressure_slope(s, x, &p, &ro, &d) != HP_OK) {
             return HP_ERR_DOMAIN;
         }
         o->d = d;
@@ -185,7 +185,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
          * same candidates. */
         if (d > 0 && fabs(f / d) <= 0.5 * DBL_EPSILON * x) {
             if (loose) break; /* x is the root to rounding; its neighbour not looked at */
-            double xs = nextafter(x, f < 0 ? INFINITY : 0.0), ps, ros;
+            double xs = f < 0 ? hpi_next_up(x) : hpi_next_down(x), ps, ros;
             ++o->evals;
             if (hpi_iab_s_pressure_ro(s, xs, &ps, &ros) == HP_OK)
                 last_look(target, x, p, ro, xs, ps, ros, &best, &best_p, &best_ro, &best_f, o);
@@ -264,14 +264,19 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
             g_known = g_has_p && st->d > 0 && isfinite(st->d);
             p = at_g[0];
             rg = at_g[2];
-        } else if (++o->evals, hpi_iab_s_pressure_ro(&s, g, &p, &rg) == HP_OK) {
+        } else {
             /* A reading near the guess (a measured pressure): the Newton iteration below
              * starts at the guess with this pressure and its slope, not a second evaluation
-             * there. */
-            at_g[0] = p;
-            at_g[2] = rg;
-            g_exact = g_has_p = 1;
-            g_known = hpi_iab_s_slopes(&s, g, rg, &at_g[1], NULL) == HP_OK;
+             * there. A slope the model cannot form leaves the pressure (the fallback's,
+             * the same bits) without it. */
+            ++o->evals;
+            int slope = hpi_iab_s_pressure_slope(&s, g, &p, &rg, &at_g[1]) == HP_OK;
+            if (slope || hpi_iab_s_pressure_ro(&s, g, &p, &rg) == HP_OK) {
+                at_g[0] = p;
+                at_g[2] = rg;
+                g_exact = g_has_p = 1;
+                g_known = slope;
+            }
         }
 #undef FK_ON_BRANCH
         if (g_has_p && g_exact && p == P) {

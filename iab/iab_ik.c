@@ -4,16 +4,23 @@
 
 #include <math.h>
 
-double hpi_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, double R2,
-                             double a, double c21)
+/* hpi_iab_s_energy_diff with the stretches l1 = r1/R1, l2 = r2/R2 formed by the caller (the
+ * root find's evaluation forms them once for the pressure and its slope). */
+static inline double energy_diff_l(const hp_iab_s *s, double r1, double R1, double r2, double R2,
+                                   double a, double c21, double l1, double l2)
 {
     double x = r1 * R2, y = r2 * R1;
     double dl = a * c21 / ((x * x + x * y + y * y) * (R1 * R2)); /* λ1 − λ2 */
-    double l1 = r1 / R1, l2 = r2 / R2;
     double p = l1 * l2, p2 = p * p;
     double F = 1.0 / p + (l1 + l2) * (l1 * l1 + l2 * l2) / (4.0 * p2 * p2);
     double G = 1.0 + (l1 + l2) / (2.0 * p2);
     return 2.0 * dl * (s->C1 * F + s->C2 * G);
+}
+
+double hpi_iab_s_energy_diff(const hp_iab_s *s, double r1, double R1, double r2, double R2,
+                             double a, double c21)
+{
+    return energy_diff_l(s, r1, R1, r2, R2, a, c21, r1 / R1, r2 / R2);
 }
 
 /* f'(λ) = λ⁻² + λ⁻⁵, g'(λ) = 1 + λ⁻³ and their derivatives. */
@@ -44,9 +51,10 @@ hp_error hpi_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *
     return HP_OK;
 }
 
-hp_error hpi_iab_s_slopes(const hp_iab_s *s, double ri, double ro, double *d1, double *d2)
+/* hpi_iab_s_slopes with the stretches li = ri/Ri, lo = ro/Ro formed by the caller. */
+static inline hp_error slopes_l(const hp_iab_s *s, double ri, double ro, double li, double lo,
+                                double *d1, double *d2)
 {
-    double li = ri / s->Ri, lo = ro / s->Ro;
     double ro2 = ro * ro;
     double q = ri * ri / (s->Ro * ro2); /* dλo/dri */
     double iRi = 1.0 / s->Ri;
@@ -63,6 +71,21 @@ hp_error hpi_iab_s_slopes(const hp_iab_s *s, double ri, double ro, double *d1, d
         *d2 = ddp;
     }
     if (d1) *d1 = dp;
+    return HP_OK;
+}
+
+hp_error hpi_iab_s_slopes(const hp_iab_s *s, double ri, double ro, double *d1, double *d2)
+{
+    return slopes_l(s, ri, ro, ri / s->Ri, ro / s->Ro, d1, d2);
+}
+
+hp_error hpi_iab_s_pressure_slope(const hp_iab_s *s, double ri, double *P, double *ro, double *d1)
+{
+    double r = hpi_iab_s_ro(s, ri), li = ri / s->Ri, lo = r / s->Ro;
+    double p = energy_diff_l(s, ri, s->Ri, r, s->Ro, hpi_iab_cube_diff(ri, s->Ri), s->W, li, lo);
+    if (!isfinite(p) || slopes_l(s, ri, r, li, lo, d1, NULL) != HP_OK) return HP_ERR_DOMAIN;
+    *P = p;
+    *ro = r;
     return HP_OK;
 }
 

@@ -106,6 +106,10 @@ hp_error hpi_iab_s_ik_ro_m(const hp_iab_s *s, double ri, double *P, double *ro);
 /* hpi_iab_s_ik's pressure without derivatives, and the scaled outer radius it used
  * (hpi_iab_s_ro(s, ri), the same bits). */
 hp_error hpi_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro);
+/* hpi_iab_s_pressure_ro and then hpi_iab_s_slopes' d1 at its outer radius, in one pass: the
+ * same bits and codes as the two calls (the stretches ri/Ri and ro/Ro both formulas use are
+ * formed once). The root find's evaluation of a Newton step. */
+hp_error hpi_iab_s_pressure_slope(const hp_iab_s *s, double ri, double *P, double *ro, double *d1);
 
 /* hp_iab_fk_limit with a start for its safeguarded Newton iteration: ri_guess [m] (a
  * nearby answer; NAN or outside the bracket: the bracket's midpoint). The same root to

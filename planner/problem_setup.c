@@ -6,7 +6,8 @@
 #include <stdatomic.h>
 #include <string.h>
 
-static atomic_ulong rate_solves, rate_evals, rate_lazy_setups, rate_resolves, rate_rederived;
+static atomic_ulong rate_solves, rate_evals, rate_lazy_setups, rate_resolves, rate_rederived,
+    rate_lazy_windows;
 static atomic_int rate_eager;
 
 /* How near [Pa] the last bound of a window end must be for its root find to start there
@@ -20,6 +21,7 @@ unsigned long hpi_test_rate_bound_evals(void) { return atomic_load(&rate_evals);
 unsigned long hpi_test_rate_lazy_setups(void) { return atomic_load(&rate_lazy_setups); }
 unsigned long hpi_test_rate_resolves(void) { return atomic_load(&rate_resolves); }
 unsigned long hpi_test_rate_rederived(void) { return atomic_load(&rate_rederived); }
+unsigned long hpi_test_rate_lazy_windows(void) { return atomic_load(&rate_lazy_windows); }
 void hpi_test_rate_lazy(int on) { atomic_store(&rate_eager, !on); }
 int hpi_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory_order_relaxed); }
 
@@ -358,13 +360,14 @@ static double stand_in(const hp_static_bounds *b, int k, double pw, int up, cons
     return memo && m->p_at <= t && !(m->ro <= r) ? m->ro : r;
 }
 
-/* Bladder k's bounds for this plan: the static ones intersected with its rate window's
- * ends, each solved exactly unless lazy_lo / lazy_hi (may be NULL) marks it: then a
+/* Bladder k's bounds for this plan: the static ones intersected with the ends of its rate
+ * window win (the caller's hpi_rate_window around p_prev[k]; NULL: the static bounds
+ * alone), each solved exactly unless lazy_lo / lazy_hi (may be NULL) marks it: then a
  * stand-in (stand_in) for its outer radius, and the static inner radius. *nostand is set
  * when a stand-in was asked for and none could be made (the caller solves the end).
  * *nder (may be NULL) counts the window ends derived (stand-in, memo or solve). */
 static hp_error bladder_bounds(const hp_layout *L, const hp_static_bounds *b, int k,
-                               const double *p_prev, int use_rate, hp_rate_memo *memo,
+                               const double *p_prev, const double win[2], hp_rate_memo *memo,
                                const unsigned char *lazy_lo, const unsigned char *lazy_hi,
                                hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags, int *nostand,
                                int *nder, hp_diag *d)
@@ -375,9 +378,8 @@ static hp_error bladder_bounds(const hp_layout *L, const hp_static_bounds *b, in
     /* The rate bounds solved and their outer radii (hp_iab_ro's bits, from the solve). */
     double r_r[2] = {NAN, NAN}, ro_r[2] = {NAN, NAN};
     double sro_lo = NAN, sro_hi = NAN; /* stand-ins' outer radii [m] */
-    if (use_rate && p_prev && isfinite(B->rate_max)) {
-        double r, pl, ph;
-        hpi_rate_window(p_prev[k], B->rate_max, &pl, &ph);
+    if (win) {
+        double r, pl = win[0], ph = win[1];
         if (nder) *nder += (pl > b->p_lo[k]) + (ph < b->p_hi[k]);
         if (pl > b->p_lo[k]) {
             if (lazy_lo && lazy_lo[k]) {
@@ -461,7 +463,7 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
             if (hi_flags) hi_flags[k] = b->hi_flags[k];
             int nostand = 0; /* a volume law that failed there: evaluated again, or refused */
             hp_error e = isnan(b->ro_lo[k]) || isnan(b->ro_hi[k])
-                             ? bladder_bounds(L, b, k, NULL, 0, NULL, NULL, NULL, pb, lo_flags,
+                             ? bladder_bounds(L, b, k, NULL, NULL, NULL, NULL, NULL, pb, lo_flags,
                                               hi_flags, &nostand, NULL, d)
                              : HP_OK;
             if (e != HP_OK) return e;
@@ -470,8 +472,11 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
     }
     for (int k = 0; k < L->n; ++k) {
         int nostand = 0;
-        hp_error e = bladder_bounds(L, b, k, p_prev, use_rate, memo, NULL, NULL, pb, lo_flags,
-                                    hi_flags, &nostand, NULL, d);
+        double w[2];
+        int rated = isfinite(L->bladders[k].rate_max);
+        if (rated) hpi_rate_window(p_prev[k], L->bladders[k].rate_max, &w[0], &w[1]);
+        hp_error e = bladder_bounds(L, b, k, p_prev, rated ? w : NULL, memo, NULL, NULL, pb,
+                                    lo_flags, hi_flags, &nostand, NULL, d);
         if (e != HP_OK) return e;
     }
     return HP_OK;
@@ -488,14 +493,15 @@ static hp_error lazy_bladder(hp_rate_lazy *z, int k, int *nder, hp_diag *d)
 {
     int nostand = 0;
     hp_problem *pb = z->pb;
-    hp_error e = bladder_bounds(z->L, z->b, k, pb->p_prev, 1, z->memo, z->lo, z->hi, pb,
+    double w[2] = {z->pl[k], z->ph[k]};
+    hp_error e = bladder_bounds(z->L, z->b, k, pb->p_prev, w, z->memo, z->lo, z->hi, pb,
                                 z->lo_flags, z->hi_flags, &nostand, nder, d);
     if (e != HP_OK) return e;
     if (!(z->lo[k] || z->hi[k]) || (!nostand && pb->ro_hi[k] - pb->ro_lo[k] > HP_LAZY_MIN_WIDTH_MM))
         return HP_OK;
     z->lo[k] = z->hi[k] = 0;
     nostand = 0;
-    return bladder_bounds(z->L, z->b, k, pb->p_prev, 1, z->memo, NULL, NULL, pb, z->lo_flags,
+    return bladder_bounds(z->L, z->b, k, pb->p_prev, w, z->memo, NULL, NULL, pb, z->lo_flags,
                           z->hi_flags, &nostand, nder, d);
 }
 
@@ -504,14 +510,15 @@ hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
     atomic_fetch_add_explicit(&rate_lazy_setups, 1, memory_order_relaxed);
     z->failed = 0;
     for (int k = 0; k < z->L->n; ++k) {
-        const hp_bladder *B = &z->L->bladders[k];
-        double P = z->pb->p_prev[k];
-        int rated = isfinite(B->rate_max);
-        /* An end the memo holds costs nothing exact (a plan holding its answer) */
+        /* The window, once: without a rate limit [-inf, inf], which binds nowhere. */
         double pl, ph;
-        hpi_rate_window(P, B->rate_max, &pl, &ph);
-        z->lo[k] = rated && pl > z->b->p_lo[k] && !memo_holds(&z->memo->down[k], pl);
-        z->hi[k] = rated && ph < z->b->p_hi[k] && !memo_holds(&z->memo->up[k], ph);
+        hpi_rate_window(z->pb->p_prev[k], z->L->bladders[k].rate_max, &pl, &ph);
+        atomic_fetch_add_explicit(&rate_lazy_windows, 1, memory_order_relaxed);
+        z->pl[k] = pl;
+        z->ph[k] = ph;
+        /* An end the memo holds costs nothing exact (a plan holding its answer) */
+        z->lo[k] = pl > z->b->p_lo[k] && !memo_holds(&z->memo->down[k], pl);
+        z->hi[k] = ph < z->b->p_hi[k] && !memo_holds(&z->memo->up[k], ph);
         hp_error e = lazy_bladder(z, k, NULL, d);
         if (e != HP_OK) return e;
     }
@@ -529,11 +536,9 @@ hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
 static int exact_end(hp_rate_lazy *z, int k, int up)
 {
     const hp_static_bounds *b = z->b;
-    const hp_bladder *B = &z->L->bladders[k];
     hp_problem *pb = z->pb;
-    double pw[2], r, ro;
-    hpi_rate_window(pb->p_prev[k], B->rate_max, &pw[0], &pw[1]);
-    if (!rate_bound(b, k, pw[!up], up, z->memo, &r, &ro)) return -1;
+    double r, ro;
+    if (!rate_bound(b, k, up ? z->pl[k] : z->ph[k], up, z->memo, &r, &ro)) return -1;
     double v = up ? b->ri_lo[k] : b->ri_hi[k];
     unsigned f = up ? b->lo_flags[k] : b->hi_flags[k];
     if (up) take_max(&v, &f, r, HP_BIND_RATE_DOWN);
@@ -594,9 +599,7 @@ int hpi_setup_rate_surely_out(const hp_rate_lazy *z, const double *rho_mm, int n
     for (int k = 0; k < n; ++k) {
         if (!(z->lo[k] || z->hi[k]) || !b->knots_ok[k]) continue;
         const double *kp = b->knot_p[k], *kr = b->knot_ro[k];
-        double r = rho_mm[k];
-        double pl, ph;
-        hpi_rate_window(z->pb->p_prev[k], z->L->bladders[k].rate_max, &pl, &ph);
+        double r = rho_mm[k], pl = z->pl[k], ph = z->ph[k];
         if (z->lo[k]) { /* kp[j] <= pl, so its radius kr[j] lies at or inside the bound's */
             int j = knot_index(b, k, pl);
             if (kp[j] <= pl && r < kr[j] * HP_MM_PER_M - margin_mm) return 1;

@@ -5,6 +5,7 @@
 
 #include "planner/problem.h"
 
+#include "common/next_double.h"
 /* Scaled units of hp_problem: x[0..2] mm, x[3..5] degrees, radii mm (common/units.h). */
 #include "common/units.h"
 #include "iab/iab_internal.h"
@@ -68,8 +69,8 @@ static inline double hpi_setup_rate_slack(double slope)
 static inline void hpi_rate_window(double prev, double rate, double *lo, double *hi)
 {
     double l = prev - rate, h = prev + rate;
-    while (prev - l > rate) l = nextafter(l, INFINITY);
-    while (h - prev > rate) h = nextafter(h, -INFINITY);
+    while (prev - l > rate) l = hpi_next_up(l);
+    while (h - prev > rate) h = hpi_next_down(h);
     *lo = l;
     *hi = h;
 }
@@ -151,6 +152,9 @@ typedef struct hp_rate_lazy {
     hp_problem *pb;
     unsigned *lo_flags, *hi_flags;
     unsigned char lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS]; /* 1: a stand-in, not solved */
+    /* each bladder's rate window (hpi_rate_window around pb->p_prev; [-inf, inf] without a
+     * rate limit), worked out once by the set-up for its bounds and every resolve */
+    double pl[HP_MAX_BLADDERS], ph[HP_MAX_BLADDERS];
     int failed; /* a resolved end had no stable radius: the plan fails as the eager one */
 } hp_rate_lazy;
 
@@ -195,6 +199,9 @@ unsigned long hpi_test_rate_lazy_setups(void);
  * they derived again (solved, taken from the memo or a stand-in made), ends solved included. */
 unsigned long hpi_test_rate_resolves(void);
 unsigned long hpi_test_rate_rederived(void);
+/* The rate windows (hpi_rate_window) worked out for stand-in bounds (the lazy set-up, one a
+ * bladder, which its bounds, resolves and hpi_setup_rate_surely_out use). */
+unsigned long hpi_test_rate_lazy_windows(void);
 void hpi_test_rate_lazy(int on);
 int hpi_setup_rate_lazy(void);
 

@@ -2,6 +2,7 @@
  * dP/dλi = 0 solved in quad precision, the thin-shell limit 7^(1/6), FK∘IK round trips,
  * and HP_ERR_NO_STABLE at and above the limit-point pressure. */
 #include "support/test_util.h"
+#include "support/rng.h"
 #include "headplan/hp_iab.h"
 #include "iab_quadref.h"
 #include "iab/iab_internal.h"
@@ -299,6 +300,41 @@ static void test_fk_warm_ro(void **state)
     }
 }
 
+/* The root find's evaluation (hpi_iab_s_pressure_slope: the pressure, the outer radius and
+ * the slope in one pass, sharing the stretches the two formulas both form) gives the bits of
+ * the two calls it stands for (hpi_iab_s_pressure_ro, then hpi_iab_s_slopes at that outer
+ * radius), and their codes: seeded bladders (thickness ratio 0.6..0.97, C2/C1 0..0.5) at
+ * inner radii from a twentieth of Ri to twenty times it (log-uniform), and the edges 0 and
+ * a radius whose pressure overflows. */
+static void test_pressure_slope_same_bits(void **state)
+{
+    (void)state;
+    uint64_t seed = 0x51095;
+    long n = 0;
+    for (int t = 0; t < 2000; ++t) {
+        double q = test_rng_uniform(&seed, 0.6, 0.97), c = test_rng_uniform(&seed, 0.0, 0.5);
+        hp_iab b = {q * 0.03, 0.03, 1.1e4, c * 1.1e4};
+        hp_iab_s s = {0};
+        assert_int_equal(hpi_iab_scaled_init(&b, &s, NULL), HP_OK);
+        for (int i = 0; i < 50; ++i) {
+            double ri = s.Ri * exp(test_rng_uniform(&seed, log(0.05), log(20.0)));
+            if (i == 0) ri = 1e200;
+            double p1, ro1, d1 = NAN, p2 = NAN, ro2 = NAN, d2 = NAN;
+            hp_error e1 = hpi_iab_s_pressure_ro(&s, ri, &p1, &ro1);
+            if (e1 == HP_OK) e1 = hpi_iab_s_slopes(&s, ri, ro1, &d1, NULL);
+            hp_error e2 = hpi_iab_s_pressure_slope(&s, ri, &p2, &ro2, &d2);
+            assert_int_equal(e1, e2);
+            if (e1 != HP_OK) continue;
+            assert_memory_equal(&p1, &p2, sizeof p1);
+            assert_memory_equal(&ro1, &ro2, sizeof ro1);
+            assert_memory_equal(&d1, &d2, sizeof d1);
+            ++n;
+        }
+    }
+    print_message("%ld evaluations, the two calls' bits each time\n", n);
+    assert_true(n > 90000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -310,6 +346,7 @@ int main(void)
         cmocka_unit_test(test_fk_limit_same_as_fk),
         cmocka_unit_test(test_fk_warm),
         cmocka_unit_test(test_fk_warm_ro),
+        cmocka_unit_test(test_pressure_slope_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
