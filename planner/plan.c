@@ -131,6 +131,65 @@ static int rate_failed(hp_planner *p, hp_result *res, plan_ctx *c)
     return 0;
 }
 
+/* 1 when this plan's rate windows are those of the last plan that set rate bounds, bit for
+ * bit (the same centres p_prev and limits), and they become the last ones. */
+static int same_windows(hp_planner *p)
+{
+    int same = p->rate_last_ok;
+    for (int k = 0; k < p->L.n; ++k) {
+        double P = p->pb.p_prev[k], rate = p->L.bladders[k].rate_max;
+        same &= memcmp(&P, &p->rate_last_P[k], sizeof P) == 0 &&
+                memcmp(&rate, &p->rate_last_rate[k], sizeof rate) == 0;
+        p->rate_last_P[k] = P;
+        p->rate_last_rate[k] = rate;
+    }
+    p->rate_last_ok = 1;
+    return same;
+}
+
+/* The plan's bounds and stand-in marks into p->rate_kept (to_kept), or back from it. Whole
+ * arrays, HP_MAX_BLADDERS long: copies of a size known at compile time are a few vector
+ * moves each, where copies of n bladders' were library calls (about 100 instructions more
+ * a copy). */
+static void copy_kept(hp_planner *p, int to_kept)
+{
+    hp_rate_kept *m = &p->rate_kept;
+    hp_problem *pb = &p->pb;
+    hp_rate_lazy *z = &p->rate_lazy;
+#define HP_KEPT_COPY(kept, plan)                                                                   \
+    memcpy(to_kept ? (void *)(kept) : (void *)(plan), to_kept ? (void *)(plan) : (void *)(kept),   \
+           sizeof(kept))
+    HP_KEPT_COPY(m->ri_lo, pb->ri_lo);
+    HP_KEPT_COPY(m->ri_hi, pb->ri_hi);
+    HP_KEPT_COPY(m->ro_lo, pb->ro_lo);
+    HP_KEPT_COPY(m->ro_hi, pb->ro_hi);
+    HP_KEPT_COPY(m->ri_lo_si, pb->ri_lo_si);
+    HP_KEPT_COPY(m->ri_hi_si, pb->ri_hi_si);
+    HP_KEPT_COPY(m->lo_flags, p->lo_flags);
+    HP_KEPT_COPY(m->hi_flags, p->hi_flags);
+    HP_KEPT_COPY(m->lo, z->lo);
+    HP_KEPT_COPY(m->hi, z->hi);
+#undef HP_KEPT_COPY
+}
+
+/* After a plan that set its bounds with stand-ins: those bounds as the plan left them, for
+ * the next plan with the same windows (rate_bounds). Ends it resolved are exact, the others
+ * still stand-ins strictly inside theirs, so they are a valid lazy start for the same
+ * windows; not when a resolve failed (that plan failed, and so will the next). Kept only
+ * when the next plan's centres, this answer's pressures, are this plan's (a held answer):
+ * a plan that moved, or a measured reading, sets other windows, and copying for them cost
+ * every such plan 170 instructions. */
+static void keep_rate_bounds(hp_planner *p)
+{
+    if (!p->rate_live) return;
+    p->rate_live = 0;
+    int held = !p->rate_lazy.failed;
+    for (int k = 0; k < p->L.n && held; ++k)
+        held = memcmp(&p->pb.p_prev[k], &p->rate_last_P[k], sizeof p->rate_last_P[k]) == 0;
+    p->rate_kept_ok = held;
+    if (held) copy_kept(p, 1);
+}
+
 /* This cycle's bounds: the static ones intersected with the rate windows around the
  * previous pressures. For a backend that resolves window ends itself
  * (HP_BACKEND_LAZY_RATE) the ends are stand-ins until a point of the plan comes near one
@@ -139,19 +198,31 @@ static int rate_failed(hp_planner *p, hp_result *res, plan_ctx *c)
 static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
 {
     c->rate_deferred = 0;
-    hp_error e;
+    hp_error e = HP_OK;
     p->pb.lazy = NULL;
-    /* Windows that are the last plan's, bit for bit (a plan holding its answer): that plan
-     * met the ends it needed, which the memo holds, and the others, solved here once, are
-     * held by the memo for every later plan with the same windows; the stand-ins, set up
-     * again every plan and consulted by the backend, would cost more. Either way the
-     * bounds the answer is checked against are the exact ones. */
-    size_t nb = (size_t)p->L.n * sizeof *p->pb.p_prev;
-    int same = p->rate_last_ok && memcmp(p->rate_last_P, p->pb.p_prev, nb) == 0;
-    memcpy(p->rate_last_P, p->pb.p_prev, nb);
-    p->rate_last_ok = 1;
-    if (!same && hpi_setup_rate_lazy() && (p->ops->caps & HP_BACKEND_LAZY_RATE)) {
-        hp_rate_lazy *z = &p->rate_lazy;
+    int lazy = hpi_setup_rate_lazy() && (p->ops->caps & HP_BACKEND_LAZY_RATE);
+    hp_rate_lazy *z = &p->rate_lazy;
+    /* Windows that are the last plan's, bit for bit (a plan holding its answer): that
+     * plan's bounds as it left them (keep_rate_bounds), the ends it needed exact and the
+     * others its stand-ins, and one stand-in more made exact. Setting them up again would
+     * cost more, and solving every end it never needed at once (15 on the loop benchmark's
+     * step trace) made the first held plan the slowest of the trace; one a plan, a hold
+     * of a few plans has them all when the target moves (a step from a held answer comes
+     * near most ends). The eager bounds of such windows come from the memo (no solve after
+     * the first). */
+    int same = same_windows(p);
+    p->rate_live = 0;
+    if (lazy && same && p->rate_kept_ok) {
+        copy_kept(p, 0);
+        z->failed = 0;
+        p->rate_live = 1;
+        for (int k = 0; k < p->L.n; ++k)
+            if (z->lo[k] || z->hi[k]) {
+                if (!hpi_setup_rate_resolve(z, k, z->lo[k] ? 1u : 2u)) e = HP_ERR_INVALID;
+                break;
+            }
+    } else if (lazy) {
+        p->rate_kept_ok = 0;
         *z = (hp_rate_lazy){.L = &p->L,
                             .b = &p->sb,
                             .memo = &p->rate_memo,
@@ -159,11 +230,13 @@ static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
                             .lo_flags = p->lo_flags,
                             .hi_flags = p->hi_flags};
         e = hpi_setup_cycle_bounds_lazy(z, NULL);
-        if (e == HP_OK && hpi_setup_rate_pending(z)) p->pb.lazy = z;
+        p->rate_live = e == HP_OK;
     } else {
+        p->rate_kept_ok = 0;
         e = hpi_setup_cycle_bounds_memo(&p->L, &p->sb, p->pb.p_prev, p->s.use_rate_limits,
                                         &p->rate_memo, &p->pb, p->lo_flags, p->hi_flags, NULL);
     }
+    if (p->rate_live && hpi_setup_rate_pending(z)) p->pb.lazy = z;
     return e == HP_OK ? 1 : rate_failed(p, res, c);
 }
 
@@ -685,7 +758,7 @@ void hpi_plan_note_flush(hp_planner *p)
     if (p->load) hpi_load_level_note(p->load, p->note);
 }
 
-hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
+static hp_error plan_once(hp_planner *p, const double desired[6], hp_result *res)
 {
     plan_ctx c = {.t0 = hpi_plan_now(), .st = HP_STATUS_REACHED, .converged = 1};
     if (!p) return HP_ERR_NULL;
@@ -802,6 +875,13 @@ hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
     res->solve_time = hpi_plan_now() - c.t0;
     p->prev.solve_time = res->solve_time;
     return HP_OK;
+}
+
+hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *res)
+{
+    hp_error e = plan_once(p, desired, res);
+    if (p) keep_rate_bounds(p);
+    return e;
 }
 
 /* The three texts of the last plan live beside it: the failure's, the answer's, either. */

@@ -34,6 +34,15 @@
  * below anything physical. */
 #define HP_CLAMP_RESID_MM 1e-6
 
+/* One plan's bounds set with stand-ins (hp_rate_lazy) as the plan left them: the bounds of
+ * hp_problem, their HP_BIND_* flags, and which ends are still stand-ins. */
+typedef struct hp_rate_kept {
+    double ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS], ro_lo[HP_MAX_BLADDERS],
+        ro_hi[HP_MAX_BLADDERS], ri_lo_si[HP_MAX_BLADDERS], ri_hi_si[HP_MAX_BLADDERS];
+    unsigned lo_flags[HP_MAX_BLADDERS], hi_flags[HP_MAX_BLADDERS];
+    unsigned char lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
+} hp_rate_kept;
+
 struct hp_planner {
     hp_layout L; /* private, validated copy */
     hp_geom G;   /* its contact geometry, derived once at create */
@@ -90,11 +99,17 @@ struct hp_planner {
      * the answer they are derived from. */
     int meas_pending;
     double meas_P[HP_MAX_BLADDERS];
-    /* The rate windows' centres of the last plan that set rate bounds (rate_last_ok: one
-     * did), so that a plan with the same windows takes the memo's exact bounds (plan.c,
-     * rate_bounds). */
+    /* The rate windows of the last plan that set rate bounds (rate_last_ok: one did), by
+     * their centres and limits, so that a plan with the same windows takes that plan's
+     * bounds as it left them (plan.c, rate_bounds). */
     int rate_last_ok;
     double rate_last_P[HP_MAX_BLADDERS];
+    double rate_last_rate[HP_MAX_BLADDERS];
+    /* rate_live: this plan set its bounds with stand-ins (p->rate_lazy); rate_kept_ok: the
+     * bounds rate_kept holds are those the last such plan left, every end it resolved exact,
+     * the others its stand-ins (plan.c, keep_rate_bounds). */
+    int rate_live, rate_kept_ok;
+    hp_rate_kept rate_kept;
     /* The contact model at the nominal pose (fit starts). Last, and its warm states last
      * in it: when they grew from 64 to 512 bytes in the middle, padding main's structs the
      * same way (a placebo, no code change) made plans 2.5 % slower at every level, a

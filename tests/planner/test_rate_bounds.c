@@ -314,6 +314,39 @@ static void test_held_answer_reuses_its_bounds(void **state)
     }
 }
 
+/* The loop benchmark's step trace: two planners at level, rate limits of 500 Pa a plan
+ * (returns the bladders), and its target, a seeded one within 3 mm and 2 deg every 60
+ * plans. */
+static int step_pair(hp_level level, hp_planner **a, hp_planner **b)
+{
+    assert_int_equal(lf_planner(level, 500.0, a), HP_OK);
+    assert_int_equal(lf_planner(level, 500.0, b), HP_OK);
+    return hp_planner_layout(*a)->n;
+}
+
+static void step_target(int t, uint64_t *seed, double mm_deg[6])
+{
+    if (t % 60 == 0)
+        for (int i = 0; i < 6; ++i) mm_deg[i] = (i < 3 ? 3.0 : 2.0) * lf_uniform(seed);
+}
+
+/* The plan of planner b with every window end solved first (the eager reference), and the
+ * check that it is, bit for bit and in its message, planner a's plan ra of plan t. */
+static void eager_same(hp_level level, int t, hp_planner *a, const hp_result *ra, hp_planner *b,
+                       const double d[6], hp_result *rb)
+{
+    hpi_test_rate_lazy(0);
+    assert_int_equal(hp_plan(b, d, rb), HP_OK);
+    hpi_test_rate_lazy(1);
+    if (!hp_test_same_result(ra, rb)) {
+        print_error("%s plan %d: lazy and eager window ends answer differently (%s / %s)\n",
+                    hp_level_name(level), t, hp_status_name(ra->status),
+                    hp_status_name(rb->status));
+        fail();
+    }
+    assert_string_equal(hp_planner_message(a), hp_planner_message(b));
+}
+
 /* The loop benchmark's measured mode on its step trace at every level: a seeded target
  * (within 3 mm, 2 deg) held for 60 cycles, then another, rate limits of 500 Pa a plan,
  * each plan's pressures read back with +-3 Pa of noise (new bits every cycle, so the memo
@@ -329,15 +362,12 @@ static void test_measured_step_trace_lazy_ends(void **state)
     uint64_t seed = 0x5737;
     for (int l = 0; l < 3; ++l) {
         hp_planner *a = NULL, *b = NULL;
-        assert_int_equal(lf_planner(levels[l], 500.0, &a), HP_OK);
-        assert_int_equal(lf_planner(levels[l], 500.0, &b), HP_OK);
-        const int n = hp_planner_layout(a)->n;
+        const int n = step_pair(levels[l], &a, &b);
         double mm_deg[6] = {0}, d[6];
         unsigned long lazy = 0, eager = 0, lazy_evals = 0, resolves = 0, rederived = 0;
         int binding = 0, closest = 0;
         for (int t = 0; t < 600; ++t) {
-            if (t % 60 == 0)
-                for (int i = 0; i < 6; ++i) mm_deg[i] = (i < 3 ? 3.0 : 2.0) * lf_uniform(&seed);
+            step_target(t, &seed, mm_deg);
             lf_pose(mm_deg, d);
             hp_result ra, rb;
             unsigned long s0 = hpi_test_rate_bound_solves(), e0 = hpi_test_rate_bound_evals();
@@ -347,19 +377,9 @@ static void test_measured_step_trace_lazy_ends(void **state)
             lazy_evals += hpi_test_rate_bound_evals() - e0;
             resolves += hpi_test_rate_resolves() - v0;
             rederived += hpi_test_rate_rederived() - r0;
-            hpi_test_rate_lazy(0);
-            assert_int_equal(hp_plan(b, d, &rb), HP_OK);
-            hpi_test_rate_lazy(1);
+            eager_same(levels[l], t, a, &ra, b, d, &rb);
             lazy += s1 - s0;
             eager += hpi_test_rate_bound_solves() - s1;
-            if (!hp_test_same_result(&ra, &rb)) {
-                print_error("%s plan %d: lazy and eager window ends answer differently (%s / "
-                            "%s)\n",
-                            hp_level_name(levels[l]), t, hp_status_name(ra.status),
-                            hp_status_name(rb.status));
-                fail();
-            }
-            assert_string_equal(hp_planner_message(a), hp_planner_message(b));
             closest += ra.status == HP_STATUS_CLOSEST;
             for (int k = 0; k < n; ++k)
                 binding += (ra.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP)) != 0;
@@ -401,6 +421,103 @@ static void test_measured_step_trace_lazy_ends(void **state)
     }
 }
 
+/* The loop benchmark's step trace with the planner fed its own answers, at every level: a
+ * seeded target (within 3 mm, 2 deg) held for 60 cycles, then another, rate limits of 500 Pa
+ * a plan. After the rate-limited walk to a target beyond reach the answer repeats, and a plan
+ * whose previous answer repeats the one before it plans inside the windows of the last plan
+ * that set rate bounds, bit for bit: that plan made exact the window ends it came near, and
+ * the others need no solve either (they were stand-ins there, and nothing the held plan does
+ * differs from it). Counted: the window ends solved in such held plans (the counter of
+ * problem_setup.h, a function of the seeded loop alone). At plan 450 the last answer is given
+ * back by hp_planner_set_previous (the same centres); then a target beyond reach is held and
+ * the rate limits narrowed (hp_planner_set_rate_max: the same centres, other windows). Every
+ * answer equals, bit for bit, that of a planner that solves every end first
+ * (hpi_test_rate_lazy(0)). */
+static void test_step_trace_holds_solve_no_end(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    uint64_t seed = 0x57e9;
+    for (int l = 0; l < 3; ++l) {
+        hp_planner *a = NULL, *b = NULL;
+        const int n = step_pair(levels[l], &a, &b);
+        double mm_deg[6] = {0}, d[6];
+        unsigned long held_max = 0, step_solves = 0, solves = 0;
+        int held = 0, steps = 0;
+        hp_result last[2];
+        for (int t = 0; t < 600; ++t) {
+            step_target(t, &seed, mm_deg);
+            if (t == 450) { /* the last answer given back: the same centres */
+                double P[HP_MAX_BLADDERS];
+                for (int k = 0; k < n; ++k) P[k] = last[1].bladders[k].pressure;
+                assert_int_equal(hp_planner_set_previous(a, P), HP_OK);
+                assert_int_equal(hp_planner_set_previous(b, P), HP_OK);
+            }
+            lf_pose(mm_deg, d);
+            hp_result ra, rb;
+            unsigned long s0 = hpi_test_rate_bound_solves();
+            assert_int_equal(hp_plan(a, d, &ra), HP_OK);
+            unsigned long s1 = hpi_test_rate_bound_solves();
+            eager_same(levels[l], t, a, &ra, b, d, &rb);
+            solves += s1 - s0;
+            int repeat = t % 60 != 0 && t != 450 && hp_test_same_result(&last[0], &last[1]);
+            if (repeat) {
+                held_max = s1 - s0 > held_max ? s1 - s0 : held_max;
+                ++held;
+            }
+            /* a step from a held answer, its windows those of the hold */
+            if (t % 60 == 0 && t > 0 && last[1].status == HP_STATUS_CLOSEST &&
+                hp_test_same_result(&last[0], &last[1])) {
+                step_solves += s1 - s0;
+                ++steps;
+            }
+            last[0] = last[1];
+            last[1] = ra;
+        }
+        print_message("%s, step trace, own answers: %d held plans, at most %lu window ends "
+                      "solved in one; %lu in the %d steps from a held answer; %lu in all 600 "
+                      "plans\n",
+                      hp_level_name(levels[l]), held, held_max, step_solves, steps, solves);
+        if (levels[l] == HP_LEVEL_LINEAR) assert_true(held > 100 && steps > 0);
+        /* Measured before held plans kept their bounds: 15 ends in the first plan of a
+         * hold, 0 in the steps from it (that plan had solved them all). Now one end a
+         * held plan, and the holds (59 plans) outlast the 16 ends. */
+        assert_true(held_max <= 1);
+        assert_int_equal(step_solves, 0);
+        /* A target beyond reach held (the same windows plan after plan), then the rate
+         * limits narrowed (the same centres, other windows) and the target turned: the
+         * answer moves by the new limit at most, as the eager planner's. */
+        double rate[HP_MAX_BLADDERS], P[HP_MAX_BLADDERS];
+        for (int k = 0; k < n; ++k) rate[k] = 2000.0;
+        for (int t = 0; t < 46; ++t) {
+            if (t == 40)
+                for (int k = 0; k < n; ++k) rate[k] = 700.0;
+            if (t == 0 || t == 40) {
+                assert_int_equal(hp_planner_set_rate_max(a, rate), HP_OK);
+                assert_int_equal(hp_planner_set_rate_max(b, rate), HP_OK);
+            }
+            double far[6] = {25, 0, 6, 0, 4, 0};
+            for (int i = 0; i < 6; ++i) far[i] *= t < 40 ? 1.0 : -1.0;
+            lf_pose(far, d);
+            hp_result ra, rb;
+            assert_int_equal(hp_plan(a, d, &ra), HP_OK);
+            hpi_test_rate_lazy(0);
+            assert_int_equal(hp_plan(b, d, &rb), HP_OK);
+            hpi_test_rate_lazy(1);
+            assert_int_equal(ra.status, HP_STATUS_CLOSEST);
+            for (int k = 0; k < n && t > 0; ++k)
+                assert_true(fabs(ra.bladders[k].pressure - P[k]) <= rate[k]);
+            /* At the curved levels the turned plans (12 to 38 iterations) differ from the
+             * eager planner's by ulps of pressure (1e-11 Pa), as before held plans kept their
+             * bounds: an open difference of the lazy and eager paths, not asserted here. */
+            if (levels[l] == HP_LEVEL_LINEAR) assert_true(hp_test_same_result(&ra, &rb));
+            for (int k = 0; k < n; ++k) P[k] = ra.bladders[k].pressure;
+        }
+        hp_planner_destroy(a);
+        hp_planner_destroy(b);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -409,6 +526,7 @@ int main(void)
         cmocka_unit_test(test_plans_defer_the_bounds),
         cmocka_unit_test(test_held_answer_reuses_its_bounds),
         cmocka_unit_test(test_measured_step_trace_lazy_ends),
+        cmocka_unit_test(test_step_trace_holds_solve_no_end),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
