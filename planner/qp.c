@@ -495,14 +495,13 @@ static hp_qp_status gi_loop(hp_qp *qp, const double *Cr, const unsigned char *la
 }
 
 /* The full Goldfarb–Idnani solve from the unconstrained minimum, with the rows as
- * load_rows left them (no active row), L, ldl from cholesky_factor and a = qp->a
- * zero-padded to NM. */
-static hp_qp_status full_solve(hp_qp *qp, const double *L, int ldl, const double *a,
-                               const double *Cr, const unsigned char *lazy, int *hit, int max_iter,
-                               double feas_tol)
+ * load_rows left them (no active row) and L, ldl from cholesky_factor. */
+static hp_qp_status full_solve(hp_qp *qp, const double *L, int ldl, const double *Cr,
+                               const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
 {
     int n = qp->n;
-    double *Jt = qp->J_, *R = qp->R_, *x = qp->x;
+    double *Jt = qp->J_, *R = qp->R_, *x = qp->x, a[NM] = {0};
+    for (int i = 0; i < n; ++i) a[i] = qp->a[i]; /* checked finite by hpi_qp_solve_lazy */
     /* row by row: a small memset compiles to a few stores, this one whole to a string
      * store with a slow start */
     for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
@@ -519,9 +518,8 @@ static hp_qp_status full_solve(hp_qp *qp, const double *L, int ldl, const double
  * full solve. A stop in the check (a stand-in row the most violated) is resumable
  * (resumable 2): the factor of G is kept in qp->L_ (leading dimension NM, the same
  * entries) for the full solve a refusal after the resume runs. */
-static hp_qp_status warm_finish(hp_qp *qp, const double *L, int ldl, const double *a,
-                                const double *Cr, const unsigned char *lazy, int *hit, int max_iter,
-                                double feas_tol)
+static hp_qp_status warm_finish(hp_qp *qp, const double *L, int ldl, const double *Cr,
+                                const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
 {
     qp->warm = warm_check(qp, Cr, qp->nrm2_, qp->twin_, qp->skip_, feas_tol, lazy, hit);
     if (*hit >= 0) {
@@ -536,7 +534,7 @@ static hp_qp_status warm_finish(hp_qp *qp, const double *L, int ldl, const doubl
             if (!isfinite(qp->x[i])) return HP_QP_BAD_INPUT;
         return HP_QP_OPTIMAL;
     }
-    return full_solve(qp, L, ldl, a, Cr, lazy, hit, max_iter, feas_tol);
+    return full_solve(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
 }
 
 hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
@@ -582,9 +580,9 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
         qp->warm = warm_solve(qp, L, ldl, Cr, ga, gk, a, twin, skip, max_iter, lazy, hit);
         if (*hit >= 0) return HP_QP_LAZY; /* before the equality solve: start again */
         if (qp->warm == HP_QP_WARM_ACCEPTED)
-            return warm_finish(qp, L, ldl, a, Cr, lazy, hit, max_iter, feas_tol);
+            return warm_finish(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
     }
-    return full_solve(qp, L, ldl, a, Cr, lazy, hit, max_iter, feas_tol);
+    return full_solve(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
 }
 
 hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, int max_iter,
@@ -602,10 +600,7 @@ hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, 
     const double *Cr = qp->n < NM ? qp->C_ : qp->C;
     for (int j = 0; j < qp->m; ++j) /* a row's b made exact must still be a number */
         if (!isfinite(qp->b[j])) return HP_QP_BAD_INPUT;
-    if (resumable == 2) { /* stopped in the warm start's check, the factor kept in L_ */
-        double a[NM] = {0};
-        for (int i = 0; i < qp->n; ++i) a[i] = qp->a[i]; /* checked when the solve began */
-        return warm_finish(qp, qp->L_, NM, a, Cr, lazy, hit, max_iter, feas_tol);
-    }
+    if (resumable == 2) /* stopped in the warm start's check, the factor kept in L_ */
+        return warm_finish(qp, qp->L_, NM, Cr, lazy, hit, max_iter, feas_tol);
     return gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol);
 }
