@@ -303,11 +303,16 @@ static void back_subst(const double *L, int ldl, int n, double *y, double *x)
  * (a) also bounds the rounding (qp.h): the computed u solves (S + E) u = r with |E| ~ kε|S|,
  * so u carries κ(S)·kε; but stationarity holds for any u, so an error δu moves x only by
  * L⁻ᵀM δu, and |M δu| <= |E||u|/σ_min(M) — a factor √κ(S), as in the full solve's QR.
- * Writes the outputs u and active only on acceptance; x also on a refusal after the
- * equality solve, which the full solve then overwrites. */
-static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr, const int *A,
-                           int k, const double *a, const double *nrm2, const int *twin, int *skip,
-                           int max_iter, double feas_tol, const unsigned char *lazy, int *hit)
+ *
+ * warm_solve does (a) and (b): it writes x (the full solve overwrites it on a refusal) and
+ * keeps the guessed rows (qp->wa_, qp->wk_), their scaled multipliers (qp->wu_) and column
+ * norms (qp->wd_) for warm_check, which does (c) and writes the outputs u and active on
+ * acceptance. Split so that a stop in (c) on a stand-in row resumes at (c): the equality
+ * solve reads only the guessed rows' b, none of them a stand-in, so it would give the same
+ * bits again. warm_solve returns HP_QP_WARM_ACCEPTED when (a) and (b) hold. */
+static hp_qp_warm warm_solve(hp_qp *qp, const double *L, int ldl, const double *Cr, const int *A,
+                             int k, const double *a, const int *twin, const int *skip, int max_iter,
+                             const unsigned char *lazy, int *hit)
 {
     int n = qp->n;
     if (lazy) /* a guessed row's b enters the equality solve: it must be exact */
@@ -322,7 +327,8 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr
         /* a twin pair's rows are exact negations: both active would leave no interior */
         if (skip[j] || (twin[j] && c > 0 && A[c - 1] == j - 1)) return HP_QP_WARM_SHAPE;
     }
-    double w[NM], Mt[NM * NM], D[NM], S[NM * NM], Rs[NM * NM], us[NM], y[NM], *x = qp->x;
+    double w[NM], Mt[NM * NM], S[NM * NM], Rs[NM * NM], y[NM];
+    double *D = qp->wd_, *us = qp->wu_;
     forward_subst(L, ldl, n, a, w);
     for (int i = 0; i < n; ++i) w[i] = -w[i];
     for (int c = 0; c < k; ++c) {
@@ -345,15 +351,28 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr
     /* scaled multipliers us_c = |M_c|·u_c: S us = (b_c − M_cᵀw)/|M_c| */
     for (int c = 0; c < k; ++c) us[c] = qp->b[A[c]] / D[c] - dot(&Mt[c * NM], w);
     if (k > 0) hpi_cholesky_solve(Rs, k, k, us);
+    qp->warm_solved = 1;
     for (int c = 0; c < k; ++c)
         if (!(us[c] >= 0.0)) return HP_QP_WARM_SIGN;
     memcpy(y, w, sizeof y);
     for (int c = 0; c < k; ++c) axpy(y, us[c], &Mt[c * NM]);
-    back_subst(L, ldl, n, y, x); /* the output x (the full solve overwrites it on refusal) */
+    back_subst(L, ldl, n, y, qp->x); /* the output x (the full solve overwrites it on refusal) */
+    memcpy(qp->wa_, A, (size_t)k * sizeof *A);
+    qp->wk_ = k;
+    return HP_QP_WARM_ACCEPTED;
+}
+
+/* (c) of the warm start on warm_solve's x and kept rows: no other row violated beyond
+ * feas_tol, as the full solve measures it; then the outputs u, active and iterations. A
+ * stand-in row as the most violated one: HP_QP_WARM_NONE with *hit = that row. */
+static hp_qp_warm warm_check(hp_qp *qp, const double *Cr, const double *nrm2, const int *twin,
+                             int *skip, double feas_tol, const unsigned char *lazy, int *hit)
+{
+    const int *A = qp->wa_, k = qp->wk_;
     /* the guessed rows hold as equalities: skipped in the test (restored after; they were
-     * 0, a skipped row having been refused above) */
+     * 0, a skipped row having been refused by warm_solve) */
     for (int c = 0; c < k; ++c) skip[A[c]] = 1;
-    int viol = most_violated(qp, Cr, x, nrm2, twin, skip, feas_tol);
+    int viol = most_violated(qp, Cr, qp->x, nrm2, twin, skip, feas_tol);
     for (int c = 0; c < k; ++c) skip[A[c]] = 0;
     if (viol >= 0 && lazy && lazy[viol]) {
         *hit = viol;
@@ -361,7 +380,7 @@ static hp_qp_warm warm_try(hp_qp *qp, const double *L, int ldl, const double *Cr
     }
     if (viol >= 0) return HP_QP_WARM_VIOLATED;
     for (int c = 0; c < k; ++c) {
-        qp->u[A[c]] = us[c] / D[c];
+        qp->u[A[c]] = qp->wu_[c] / qp->wd_[c];
         qp->active[A[c]] = 1;
     }
     qp->iterations = k;
@@ -475,6 +494,49 @@ static hp_qp_status gi_loop(hp_qp *qp, const double *Cr, const unsigned char *la
     return HP_QP_OPTIMAL;
 }
 
+/* The full Goldfarb–Idnani solve from the unconstrained minimum, with the rows as
+ * load_rows left them (no active row) and L, ldl from cholesky_factor. */
+static hp_qp_status full_solve(hp_qp *qp, const double *L, int ldl, const double *Cr,
+                               const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
+{
+    int n = qp->n;
+    double *Jt = qp->J_, *R = qp->R_, *x = qp->x, a[NM] = {0};
+    for (int i = 0; i < n; ++i) a[i] = qp->a[i]; /* checked finite by hpi_qp_solve_lazy */
+    /* row by row: a small memset compiles to a few stores, this one whole to a string
+     * store with a slow start */
+    for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
+    invert_factor(L, ldl, n, Jt);
+
+    /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
+    memset(x, 0, sizeof qp->x);
+    for (int k = 0; k < n; ++k) axpy(x, -dot(&Jt[IDX(k, 0)], a), &Jt[IDX(k, 0)]);
+    qp->q_ = 0;
+    return gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol);
+}
+
+/* After warm_solve's (a) and (b) held: its check (c), the answer when it holds, else the
+ * full solve. A stop in the check (a stand-in row the most violated) is resumable
+ * (resumable 2): the factor of G is kept in qp->L_ (leading dimension NM, the same
+ * entries) for the full solve a refusal after the resume runs. */
+static hp_qp_status warm_finish(hp_qp *qp, const double *L, int ldl, const double *Cr,
+                                const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
+{
+    qp->warm = warm_check(qp, Cr, qp->nrm2_, qp->twin_, qp->skip_, feas_tol, lazy, hit);
+    if (*hit >= 0) {
+        if (L != qp->L_)
+            for (int i = 0; i < qp->n; ++i)
+                for (int j = 0; j <= i; ++j) qp->L_[i * NM + j] = L[i * ldl + j];
+        qp->resumable = 2;
+        return HP_QP_LAZY;
+    }
+    if (qp->warm == HP_QP_WARM_ACCEPTED) {
+        for (int i = 0; i < qp->n; ++i)
+            if (!isfinite(qp->x[i])) return HP_QP_BAD_INPUT;
+        return HP_QP_OPTIMAL;
+    }
+    return full_solve(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
+}
+
 hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
                                const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
 {
@@ -483,10 +545,10 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
     *hit = -1;
     qp->warm = HP_QP_WARM_NONE;
     qp->resumable = 0;
+    qp->warm_solved = 0;
     if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1 || qp->pairs < 0 ||
         qp->pairs > m / 2)
         return HP_QP_BAD_INPUT;
-    double *Jt = qp->J_, *R = qp->R_, *x = qp->x;
     double *nrm2 = qp->nrm2_, a[NM] = {0};
     int *twin = qp->twin_, *skip = qp->skip_; /* skip: active rows and rows of zero norm */
     /* the guessed rows in index order, read before the outputs (guess may be qp->active) */
@@ -515,25 +577,12 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
             }
     if (empty) return HP_QP_INFEASIBLE; /* a row of zero norm that no x satisfies */
     if (guess) {
-        qp->warm = warm_try(qp, L, ldl, Cr, ga, gk, a, nrm2, twin, skip, max_iter, feas_tol, lazy,
-                            hit);
-        if (*hit >= 0) return HP_QP_LAZY;
-        if (qp->warm == HP_QP_WARM_ACCEPTED) {
-            for (int i = 0; i < n; ++i)
-                if (!isfinite(x[i])) return HP_QP_BAD_INPUT;
-            return HP_QP_OPTIMAL;
-        }
+        qp->warm = warm_solve(qp, L, ldl, Cr, ga, gk, a, twin, skip, max_iter, lazy, hit);
+        if (*hit >= 0) return HP_QP_LAZY; /* before the equality solve: start again */
+        if (qp->warm == HP_QP_WARM_ACCEPTED)
+            return warm_finish(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
     }
-    /* row by row: a small memset compiles to a few stores, this one whole to a string
-     * store with a slow start */
-    for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
-    invert_factor(L, ldl, n, Jt);
-
-    /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
-    memset(x, 0, sizeof qp->x);
-    for (int k = 0; k < n; ++k) axpy(x, -dot(&Jt[IDX(k, 0)], a), &Jt[IDX(k, 0)]);
-    qp->q_ = 0;
-    return gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol);
+    return full_solve(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
 }
 
 hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, int max_iter,
@@ -542,12 +591,16 @@ hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, 
     int hit_row = -1;
     if (!hit) hit = &hit_row;
     *hit = -1;
-    if (!qp->resumable) return HP_QP_BAD_INPUT;
+    int resumable = qp->resumable;
+    if (!resumable) return HP_QP_BAD_INPUT;
     qp->resumable = 0;
+    qp->warm_solved = 0;
     /* load_rows's choice of rows: C itself at full width, else its padded copy (which
      * the stopped solve wrote and nothing since has changed) */
     const double *Cr = qp->n < NM ? qp->C_ : qp->C;
     for (int j = 0; j < qp->m; ++j) /* a row's b made exact must still be a number */
         if (!isfinite(qp->b[j])) return HP_QP_BAD_INPUT;
+    if (resumable == 2) /* stopped in the warm start's check, the factor kept in L_ */
+        return warm_finish(qp, qp->L_, NM, Cr, lazy, hit, max_iter, feas_tol);
     return gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol);
 }

@@ -61,6 +61,8 @@ typedef struct hp_qp {
     int iterations;         /* add + drop steps; an accepted warm start counts one add
                              * step per guessed row */
     hp_qp_warm warm;        /* what the warm start did (HP_QP_WARM_NONE without a guess) */
+    int warm_solved;        /* 1 when this call solved the guessed rows' equality system
+                             * (the warm start's main cost), else 0 */
     /* workspace: Jᵀ and C zero-padded to HP_QP_NMAX columns, R, the active set */
     double J_[HP_QP_NMAX * HP_QP_NMAX], R_[HP_QP_NMAX * HP_QP_NMAX];
     double C_[HP_QP_MMAX * HP_QP_NMAX];
@@ -72,8 +74,14 @@ typedef struct hp_qp {
      * norm), the active set's size: kept here so that a stopped solve can go on */
     double nrm2_[HP_QP_MMAX];
     int twin_[HP_QP_MMAX], skip_[HP_QP_MMAX], q_;
-    /* 1 when the last hpi_qp_solve_lazy or hpi_qp_resume_lazy stopped (HP_QP_LAZY) in the
-     * full solve's loop, which hpi_qp_resume_lazy can continue; 0 after any other return */
+    /* the warm start's guessed rows, their scaled multipliers and column norms, kept from
+     * its equality solve for its check of the other rows (which a stop can interrupt) */
+    double wu_[HP_QP_NMAX], wd_[HP_QP_NMAX];
+    int wa_[HP_QP_NMAX], wk_;
+    /* When the last hpi_qp_solve_lazy or hpi_qp_resume_lazy stopped (HP_QP_LAZY) where
+     * hpi_qp_resume_lazy can continue: 1 in the full solve's loop, 2 in the warm start's
+     * check of the other rows (after its equality solve); 0 after any other return (a stop
+     * on a guessed row, before the equality solve, starts again) */
     int resumable;
 } hp_qp;
 
@@ -121,13 +129,16 @@ hp_qp_status hpi_qp_solve_warm(hp_qp *q, const double *Lg, const int *guess, int
 hp_qp_status hpi_qp_solve_lazy(hp_qp *q, const double *Lg, const int *guess,
                                const unsigned char *lazy, int *hit, int max_iter, double feas_tol);
 
-/* Continues a solve that stopped with HP_QP_LAZY in its full loop (q->resumable), after the
+/* Continues a solve that stopped with HP_QP_LAZY where it can (q->resumable), after the
  * caller made the stopped row's b exact (and possibly other stand-in rows': lazy as it is
  * now). Nothing else of q may have changed: not G, a, C, the other rows' b, nor the
- * outputs. The stopped iterate is the exact solve's at the same step (no stand-in row was
- * picked before, and the rows' b enter only through the active rows, none of them a
- * stand-in), so going on from it is that solve, bit for bit, without the set-up, the
- * factorisation and the steps a new start repeats (tests/planner/test_qp_warm.c,
+ * outputs; the factor of G need not be given again (a stop in the warm start's check keeps
+ * a copy). A stop in the full loop: the stopped iterate is the exact solve's at the same
+ * step (no stand-in row was picked before, and the rows' b enter only through the active
+ * rows, none of them a stand-in). A stop in the warm start's check: its equality solve read
+ * only the guessed rows' b, none of them a stand-in, so the check goes on from its x. Either
+ * way going on is the exact solve, bit for bit, without the set-up, the factorisation, the
+ * equality solve and the steps a new start repeats (tests/planner/test_qp_warm.c,
  * test_lazy_resume_same_bits). The same outputs and statuses as hpi_qp_solve_lazy;
  * HP_QP_BAD_INPUT when q is not resumable. */
 hp_qp_status hpi_qp_resume_lazy(hp_qp *q, const unsigned char *lazy, int *hit, int max_iter,

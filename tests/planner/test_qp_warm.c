@@ -591,10 +591,14 @@ static void test_dense_fixed_sizes_same_bits(void **st)
  * exact QP's solve bit for bit (status, x, multipliers, active set, iterations, what the
  * warm start did), with no guess, with the exact answer's active set as the guess and with
  * a random guess. With resume, each stop of the full solve's loop (qp.resumable) goes on
- * from its iterate (hpi_qp_resume_lazy) instead of starting again; a warm start's stop
- * starts again. The counts: *stops (started again), *resumes, *skipped (stand-in rows never
- * needed); returns the solves compared. */
-static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, long *skipped)
+ * from its iterate (hpi_qp_resume_lazy) instead of starting again, and so does a stop in
+ * the warm start's check of the other rows (after its equality solve); a stop on a guessed
+ * stand-in row (before it) starts again. The counts: *stops (started again), *resumes,
+ * *skipped (stand-in rows never needed), *repeats (equality solves of the warm start beyond
+ * one per solve: the work a start again repeats, qp.warm_solved); returns the solves
+ * compared. */
+static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, long *skipped,
+                       long *repeats)
 {
     long solves = 0;
     for (int t = 0; t < 3000; ++t) {
@@ -617,6 +621,7 @@ static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, lo
                 }
             int hit;
             hp_qp_status qs = hpi_qp_solve_lazy(&q, NULL, v ? g : NULL, lazy, &hit, 200, 1e-12);
+            int eq = q.warm_solved;
             while (qs == HP_QP_LAZY) {
                 assert_true(hit >= 0 && hit < m && lazy[hit]);
                 lazy[hit] = 0;
@@ -628,7 +633,9 @@ static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, lo
                     ++*stops;
                     qs = hpi_qp_solve_lazy(&q, NULL, v ? g : NULL, lazy, &hit, 200, 1e-12);
                 }
+                eq += q.warm_solved;
             }
+            *repeats += eq > 1 ? eq - 1 : 0;
             for (int j = 0; j < m; ++j) *skipped += lazy[j];
             ++solves;
             assert_int_equal(qs, rs);
@@ -646,27 +653,32 @@ static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, lo
 static void test_lazy_rows_same_bits(void **st)
 {
     (void)st;
-    long stops = 0, resumes = 0, skipped = 0;
-    long solves = lazy_sweep(0x1a2e, 0, &stops, &resumes, &skipped);
+    long stops = 0, resumes = 0, skipped = 0, repeats = 0;
+    long solves = lazy_sweep(0x1a2e, 0, &stops, &resumes, &skipped, &repeats);
     print_message("lazy rows: %ld solves, %ld stops for an exact b, %ld stand-in rows never "
-                  "needed\n",
-                  solves, stops, skipped);
+                  "needed, %ld warm equality solves repeated\n",
+                  solves, stops, skipped, repeats);
     assert_true(solves > 6000);
     assert_true(stops > 0 && skipped > 0);
+    assert_true(repeats > 0); /* starting again repeats the warm start's equality solve */
 }
 
 /* test_lazy_rows_same_bits with resume: the stopped solve goes on from its iterate with the
  * row made exact, and the finished solve equals the exact solve in x, multipliers, active
- * set, iterations and the warm start's outcome. A finished solve is not resumable. */
+ * set, iterations and the warm start's outcome, without solving a warm start's equality
+ * system twice. A finished solve is not resumable. */
 static void test_lazy_resume_same_bits(void **st)
 {
     (void)st;
-    long stops = 0, resumes = 0, skipped = 0;
-    long solves = lazy_sweep(0x2e5e, 1, &stops, &resumes, &skipped);
-    print_message("lazy rows resumed: %ld solves, %ld stops resumed, %ld started again\n", solves,
-                  resumes, stops);
+    long stops = 0, resumes = 0, skipped = 0, repeats = 0;
+    long solves = lazy_sweep(0x2e5e, 1, &stops, &resumes, &skipped, &repeats);
+    print_message("lazy rows resumed: %ld solves, %ld stops resumed, %ld started again, %ld warm "
+                  "equality solves repeated\n",
+                  solves, resumes, stops, repeats);
     assert_true(solves > 6000);
     assert_true(resumes > 1000);
+    /* a stop after the warm start's equality solve resumes its check: never solved twice */
+    assert_int_equal(repeats, 0);
     uint64_t seed = 0x5e5;
     hp_qp q;
     realtime_qp(&q, &seed);
