@@ -362,8 +362,8 @@ static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
 {
     /* The direct chain's answer is the pose it just evaluated, and a backend may hand back
      * its distances at its answer: no second evaluation. */
-    if (!hpi_plan_answer_from_pose(p, c->x, c->direct || c->has_rho ? c->rho : NULL, r,
-                                   &c->clamp_mm)) {
+    if (!hpi_plan_answer_from_pose(p, c->x, c->direct || c->has_rho ? c->rho : NULL,
+                                   c->direct || c->held, r, &c->clamp_mm)) {
         hpi_text_set(p->err, "the answer was not finite or left a limit: holding the previous "
                              "pressures");
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
