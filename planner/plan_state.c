@@ -22,21 +22,17 @@ void hpi_plan_from_scaled(const double x[6], double xi[6]) { hpi_setup_pose_from
 
 static int same_bits(double a, double b) { return memcmp(&a, &b, sizeof a) == 0; }
 
-/* The memo's entry whose key is this answer's, or -1. The first distance decides most
- * misses (a new answer moves every bladder). */
-static int memo_find(const hp_answer_memo *m, const double *rho, const double *lo,
-                     const double *hi, int n)
+/* 1 when the memo holds the rows of these distances rho [mm] and radius bounds. The first
+ * distance decides most misses (a new answer moves every bladder). */
+static int memo_holds(const hp_answer_memo *m, const double *rho, const double *lo,
+                      const double *hi, int n)
 {
-    for (int i = 0; i < 2; ++i) {
-        const hp_answer_rows *w = &m->e[i];
-        if (!w->ok) continue;
-        int k = 0;
-        while (k < n && same_bits(w->rho[k], rho[k]) && same_bits(w->ri_lo[k], lo[k]) &&
-               same_bits(w->ri_hi[k], hi[k]))
-            ++k;
-        if (k == n) return i;
-    }
-    return -1;
+    if (!m->ok) return 0;
+    int k = 0;
+    while (k < n && same_bits(m->rho[k], rho[k]) && same_bits(m->ri_lo[k], lo[k]) &&
+           same_bits(m->ri_hi[k], hi[k]))
+        ++k;
+    return k == n;
 }
 
 /* Bladder k's pressure window in this plan: its limits, within the rate window around the
@@ -69,70 +65,53 @@ static inline int row_finish(const hp_planner *p, int k, hp_bladder_result *br, 
            isfinite(br->ro);
 }
 
-/* The answer from memoised rows w: this plan's windows, flags and checks. */
+/* The answer from the memo's rows: this plan's windows, flags and checks. */
 static int answer_from_memo(hp_planner *p, const double x[6], const double *rho,
-                            const hp_answer_rows *w, hp_result *res, double *clamp_mm)
+                            hp_result *res, double *clamp_mm)
 {
+    const hp_answer_memo *m = &p->ans_memo;
     for (int k = 0; k < p->L.n; ++k) {
         double plo, phi;
         row_window(p, k, &plo, &phi);
         hp_bladder_result *br = &res->bladders[k];
-        *br = w->res[k];
+        *br = m->res[k];
         br->pressure = hpi_setup_pressure_in(br->pressure, plo, phi);
-        if (!row_finish(p, k, br, w->clamped[k], rho[k], clamp_mm)) return 0;
+        if (!row_finish(p, k, br, m->clamped[k], rho[k], clamp_mm)) return 0;
     }
     hpi_plan_from_scaled(x, res->achieved);
     return 1;
 }
 
-/* The entry a missed answer at scaled pose x is kept in (its ok cleared until it is
- * complete), or NULL when x is not the pose evaluated last (then it is, from now). */
-static hp_answer_rows *memo_slot(hp_answer_memo *m, const double x[6])
-{
-    int same = 1;
-    for (int i = 0; i < 6; ++i) same &= same_bits(m->x_seen[i], x[i]);
-    if (!same) {
-        memcpy(m->x_seen, x, sizeof m->x_seen);
-        return NULL;
-    }
-    hp_answer_rows *w = &m->e[!m->last];
-    w->ok = 0;
-    return w;
-}
-
 /* The answer evaluated from the distances rho [mm]: every bladder's inner radius first,
  * then the pressures (each half is a chain of roots and divisions, and back to back the
  * processor overlaps one bladder's chain with the next one's: the same bits as one pass).
- * put (may be NULL): where its rows are kept. Called with put NULL, it is specialised
- * without the copies (the answers of every solve). */
+ * hold (may be NULL): where each pressure before its window and clamp flag are held for
+ * hpi_plan_answer_keep. Called with hold NULL, it is specialised without them (the answers
+ * of every solve). */
 static inline int answer_eval(hp_planner *p, const double x[6], const double *rho,
-                              hp_answer_rows *put, hp_result *res, double *clamp_mm)
+                              hp_answer_memo *hold, hp_result *res, double *clamp_mm)
 {
     const int n = p->L.n;
-    const double *lo = p->pb.ri_lo_si, *hi = p->pb.ri_hi_si;
     atomic_fetch_add_explicit(&answer_rows, (unsigned long)n, memory_order_relaxed);
     double ri[HP_MAX_BLADDERS];
     int clamped[HP_MAX_BLADDERS];
     for (int k = 0; k < n; ++k)
-        if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, lo[k], hi[k], &ri[k],
-                                   &clamped[k]) != HP_OK)
+        if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
+                                   p->pb.ri_hi_si[k], &ri[k], &clamped[k]) != HP_OK)
             return 0;
     for (int k = 0; k < n; ++k) {
         double plo, phi;
         row_window(p, k, &plo, &phi);
         hp_bladder_result *br = &res->bladders[k];
-        /* A row kept is the row before any window; the clamp after is the one the call
+        /* A row held is the row before any window; the clamp after is the one the call
          * makes. */
         if (hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
-                                        ri[k], clamped[k], put ? -INFINITY : plo,
-                                        put ? INFINITY : phi, br) != HP_OK)
+                                        ri[k], clamped[k], hold ? -INFINITY : plo,
+                                        hold ? INFINITY : phi, br) != HP_OK)
             return 0;
-        if (put) {
-            put->rho[k] = rho[k];
-            put->ri_lo[k] = lo[k];
-            put->ri_hi[k] = hi[k];
-            put->res[k] = *br;
-            put->clamped[k] = (unsigned char)clamped[k];
+        if (hold) {
+            hold->res[k].pressure = br->pressure;
+            hold->clamped[k] = (unsigned char)clamped[k];
             br->pressure = hpi_setup_pressure_in(br->pressure, plo, phi);
         }
         if (!row_finish(p, k, br, clamped[k], rho[k], clamp_mm)) return 0;
@@ -141,37 +120,44 @@ static inline int answer_eval(hp_planner *p, const double x[6], const double *rh
     return 1;
 }
 
-/* The answer of a kept kind (hpi_plan_answer_from_pose's keep): from the memo when it holds
- * these rows, else evaluated (and kept when hp_answer_memo says so). */
-static int answer_kept(hp_planner *p, const double x[6], const double *rho, hp_result *res,
-                       double *clamp_mm)
-{
-    hp_answer_memo *m = &p->ans_memo;
-    int found = memo_find(m, rho, p->pb.ri_lo_si, p->pb.ri_hi_si, p->L.n);
-    if (found >= 0) {
-        m->last = found;
-        return answer_from_memo(p, x, rho, &m->e[found], res, clamp_mm);
-    }
-    hp_answer_rows *put = memo_slot(m, x);
-    if (!put) return answer_eval(p, x, rho, NULL, res, clamp_mm);
-    if (!answer_eval(p, x, rho, put, res, clamp_mm)) return 0;
-    put->ok = 1;
-    m->last = !m->last;
-    return 1;
-}
-
-int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known, int keep,
-                              hp_result *res, double *clamp_mm)
+int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
+                              int direct, hp_result *res, double *clamp_mm)
 {
     double rho[HP_MAX_BLADDERS];
     *clamp_mm = 0;
     if (rho_known) memcpy(rho, rho_known, sizeof(double) * (size_t)p->L.n);
     else if (hpi_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
-    /* Rows whose distances and radius bounds a kept answer had, bit for bit, are that
-     * answer's (hp_answer_memo): only the windows are this plan's. */
-    if (keep && !atomic_load_explicit(&answer_memo_off, memory_order_relaxed))
-        return answer_kept(p, x, rho, res, clamp_mm);
-    return answer_eval(p, x, rho, NULL, res, clamp_mm);
+    hp_answer_memo *m = &p->ans_memo;
+    m->pending = 0;
+    if (!direct || atomic_load_explicit(&answer_memo_off, memory_order_relaxed))
+        return answer_eval(p, x, rho, NULL, res, clamp_mm);
+    /* Rows whose distances and radius bounds the discarded answer had, bit for bit, are its
+     * rows (hp_answer_memo): only the windows are this plan's. */
+    if (memo_holds(m, rho, p->pb.ri_lo_si, p->pb.ri_hi_si, p->L.n))
+        return answer_from_memo(p, x, rho, res, clamp_mm);
+    m->ok = 0; /* its pressures are overwritten */
+    if (!answer_eval(p, x, rho, m, res, clamp_mm)) return 0;
+    m->pending = 1;
+    return 1;
+}
+
+void hpi_plan_answer_keep(hp_planner *p, const double *rho, const hp_result *res)
+{
+    hp_answer_memo *m = &p->ans_memo;
+    if (!m->pending) return;
+    for (int k = 0; k < p->L.n; ++k) {
+        m->rho[k] = rho[k];
+        m->ri_lo[k] = p->pb.ri_lo_si[k];
+        m->ri_hi[k] = p->pb.ri_hi_si[k];
+        /* ri, ro and stretch are the row's own; the pressure held is before the window. */
+        const hp_bladder_result *br = &res->bladders[k];
+        m->res[k].ri = br->ri;
+        m->res[k].ro = br->ro;
+        m->res[k].stretch = br->stretch;
+        m->res[k].binding = 0;
+    }
+    m->pending = 0;
+    m->ok = 1;
 }
 
 hp_error hpi_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],

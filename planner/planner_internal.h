@@ -34,29 +34,21 @@
  * below anything physical. */
 #define HP_CLAMP_RESID_MM 1e-6
 
-/* The rows of one answer (hpi_plan_answer_from_pose): each bladder's state from its outer
- * radius rho[k] [mm] with the inner radius moved into [ri_lo[k], ri_hi[k]] [m] (the key,
- * compared bit for bit), before this cycle's pressure window clamps the pressure. A
- * function of the key and of the bladders' models alone, both fixed for the planner's
- * life: the same key gives the same rows, so rows found here are the rows an evaluation
- * would give. */
-typedef struct hp_answer_rows {
-    int ok;
+/* The rows of the last direct answer a plan discarded (hpi_plan_answer_from_pose,
+ * hpi_plan_answer_keep): each bladder's state from its outer radius rho[k] [mm] with the
+ * inner radius moved into [ri_lo[k], ri_hi[k]] [m] (the key, compared bit for bit), before
+ * a pressure window clamps the pressure. A function of the key and of the bladders' models
+ * alone, both fixed for the planner's life: the same key gives the same rows, so rows
+ * found here are the rows an evaluation would give. Such an answer comes again: a
+ * rate-limited plan whose direct answer at the target comes near a rate window's end
+ * discards it and solves, and the next plan toward the same target tests the same direct
+ * answer against its windows. pending: the last direct answer's pressures before the
+ * window and clamp flags are in res and clamped (ok 0) until kept. Zeroed: empty. */
+typedef struct hp_answer_memo {
+    int ok, pending;
     double rho[HP_MAX_BLADDERS], ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];
     hp_bladder_result res[HP_MAX_BLADDERS]; /* pressure not clamped into a window; binding 0 */
     unsigned char clamped[HP_MAX_BLADDERS];
-} hp_answer_rows;
-
-/* The rows of the last two answers kept (the most recent: e[last]). Two, because a
- * rate-limited plan toward a held target evaluates two answers a cycle: the direct
- * chain's at the target, the same bits every cycle (its pressures are what is tested
- * against the rate windows), and the solver's. An answer is kept the second time its scaled
- * pose is evaluated in a row of such answers (x_seen): a target seen once (a smooth or
- * noisy trace's every target) is not worth the copy. Zeroed: empty. */
-typedef struct hp_answer_memo {
-    hp_answer_rows e[2];
-    int last;
-    double x_seen[6];
 } hp_answer_memo;
 
 struct hp_planner {
@@ -120,7 +112,7 @@ struct hp_planner {
      * rate_bounds). */
     int rate_last_ok;
     double rate_last_P[HP_MAX_BLADDERS];
-    hp_answer_memo ans_memo; /* plan_state.c: rows of the last answers */
+    hp_answer_memo ans_memo; /* plan_state.c: rows of the last discarded direct answer */
     /* The contact model at the nominal pose (fit starts). Last, and its warm states last
      * in it: when they grew from 64 to 512 bytes in the middle, padding main's structs the
      * same way (a placebo, no code change) made plans 2.5 % slower at every level, a
@@ -191,12 +183,16 @@ void hpi_plan_from_scaled(const double x[6], double xi[6]);
 /* Fills res from a scaled pose x: contact distances at the planner's level (rho_known:
  * already evaluated at x [mm], else NULL), radii, pressures (clamped into this cycle's
  * limits), binding flags and achieved pose. Returns 0 when something was not finite.
- * clamp_mm receives the largest radius correction. keep: an answer that may come again
- * bit for bit (the direct chain's at the target, a held one): its rows are looked up in
- * p->ans_memo and kept there (hp_answer_memo says when), the same bits as evaluating
- * them; a solver's answer seldom repeats, and neither is done for it. */
-int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known, int keep,
-                              hp_result *res, double *clamp_mm);
+ * clamp_mm receives the largest radius correction. direct: the direct chain's answer
+ * under deferred rate bounds, which the plan may discard: its rows come from p->ans_memo
+ * when it holds them (the same bits as evaluating them), else are evaluated and held
+ * pending for hpi_plan_answer_keep. */
+int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
+                              int direct, hp_result *res, double *clamp_mm);
+/* Keeps the rows of the direct answer res at distances rho [mm] that the plan discards (the
+ * last hpi_plan_answer_from_pose with direct, evaluated, not from the memo; else nothing),
+ * under the radius bounds it was answered with (call it before they change). */
+void hpi_plan_answer_keep(hp_planner *p, const double *rho, const hp_result *res);
 
 /* TEST-ONLY count (inert): the answer rows (a bladder's inner radius and pressure from its
  * outer radius) hpi_plan_answer_from_pose evaluated in this process so far, rows it took
