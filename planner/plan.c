@@ -435,8 +435,8 @@ static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
 {
     /* The direct chain's answer is the pose it just evaluated, and a backend may hand back
      * its distances at its answer: no second evaluation. */
-    if (!hpi_plan_answer_from_pose(p, c->x, c->direct || c->has_rho ? c->rho : NULL, r,
-                                   &c->clamp_mm)) {
+    if (!hpi_plan_answer_from_pose(p, c->x, c->direct || c->has_rho ? c->rho : NULL,
+                                   c->direct && c->rate_deferred, r, &c->clamp_mm)) {
         hpi_text_set(p->err, "the answer was not finite or left a limit: holding the previous "
                              "pressures");
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
@@ -828,6 +828,8 @@ static hp_error plan_once(hp_planner *p, const double desired[6], hp_result *res
             if (hpi_setup_rate_clear(&p->L, &p->sb, p->pb.p_prev, res->bladders)) {
                 c.rate_deferred = 0;
             } else {
+                /* Its rows, for the next plan toward the same target (hp_answer_memo). */
+                hpi_plan_answer_keep(p, c.rho, res);
                 if (!rate_bounds(p, res, &c)) return HP_OK;
                 /* The direct chain's radii (c.rho, every bladder's: it answered) decide its
                  * test against the stand-ins as against the exact bounds once the ends

@@ -4,7 +4,14 @@
 #include "planner/planner_internal.h"
 
 #include <math.h>
+#include <stdatomic.h>
 #include <string.h>
+
+static atomic_ulong answer_rows;
+static atomic_int answer_memo_off;
+
+unsigned long hpi_test_answer_rows(void) { return atomic_load(&answer_rows); }
+void hpi_test_answer_memo(int on) { atomic_store(&answer_memo_off, !on); }
 
 void hpi_plan_to_scaled(const double xi[6], double x[6])
 {
@@ -13,47 +20,144 @@ void hpi_plan_to_scaled(const double xi[6], double x[6])
 
 void hpi_plan_from_scaled(const double x[6], double xi[6]) { hpi_setup_pose_from_scaled(x, xi); }
 
+static int same_bits(double a, double b) { return memcmp(&a, &b, sizeof a) == 0; }
+
+/* 1 when the memo holds the rows of these distances rho [mm] and radius bounds. The first
+ * distance decides most misses (a new answer moves every bladder). */
+static int memo_holds(const hp_answer_memo *m, const double *rho, const double *lo,
+                      const double *hi, int n)
+{
+    if (!m->ok) return 0;
+    int k = 0;
+    while (k < n && same_bits(m->rho[k], rho[k]) && same_bits(m->ri_lo[k], lo[k]) &&
+           same_bits(m->ri_hi[k], hi[k]))
+        ++k;
+    return k == n;
+}
+
+/* Bladder k's pressure window in this plan: its limits, within the rate window around the
+ * previous pressure (a reading's, derived or not) when a rate limit applies. */
+static inline void row_window(const hp_planner *p, int k, double *plo, double *phi)
+{
+    const hp_bladder *B = &p->L.bladders[k];
+    *plo = p->sb.p_lo[k];
+    *phi = p->sb.p_hi[k];
+    if (p->s.use_rate_limits && isfinite(B->rate_max)) {
+        double wl, wh;
+        hpi_rate_window(p->pb.p_prev[k], B->rate_max, &wl, &wh);
+        *plo = fmax(*plo, wl);
+        *phi = fmin(*phi, wh);
+    }
+}
+
+/* The rest of bladder k's row br (its pressure in its window) at distance rho_mm: the
+ * radius correction (c: its inner radius was clamped), the binding flags, and 0 when it
+ * left a limit or was not finite. */
+static inline int row_finish(const hp_planner *p, int k, hp_bladder_result *br, int c, double rho_mm,
+                      double *clamp_mm)
+{
+    const hp_bladder *B = &p->L.bladders[k];
+    if (c) *clamp_mm = fmax(*clamp_mm, fabs(br->ro * HP_MM_PER_M - rho_mm));
+    double ro_mm = br->ro * HP_MM_PER_M;
+    if (ro_mm <= p->pb.ro_lo[k] + HP_BINDING_TOL_MM) br->binding |= p->lo_flags[k];
+    if (ro_mm >= p->pb.ro_hi[k] - HP_BINDING_TOL_MM) br->binding |= p->hi_flags[k];
+    return br->pressure >= B->p_min && br->pressure <= B->p_max && isfinite(br->ri) &&
+           isfinite(br->ro);
+}
+
+/* The answer from the memo's rows: this plan's windows, flags and checks. */
+static int answer_from_memo(hp_planner *p, const double x[6], const double *rho,
+                            hp_result *res, double *clamp_mm)
+{
+    const hp_answer_memo *m = &p->ans_memo;
+    for (int k = 0; k < p->L.n; ++k) {
+        double plo, phi;
+        row_window(p, k, &plo, &phi);
+        hp_bladder_result *br = &res->bladders[k];
+        *br = m->res[k];
+        br->pressure = hpi_setup_pressure_in(br->pressure, plo, phi);
+        if (!row_finish(p, k, br, m->clamped[k], rho[k], clamp_mm)) return 0;
+    }
+    hpi_plan_from_scaled(x, res->achieved);
+    return 1;
+}
+
+/* The answer evaluated from the distances rho [mm]: every bladder's inner radius first,
+ * then the pressures (each half is a chain of roots and divisions, and back to back the
+ * processor overlaps one bladder's chain with the next one's: the same bits as one pass).
+ * hold (may be NULL): where each pressure before its window and clamp flag are held for
+ * hpi_plan_answer_keep. Called with hold NULL, it is specialised without them (the answers
+ * of every solve). */
+static inline int answer_eval(hp_planner *p, const double x[6], const double *rho,
+                              hp_answer_memo *hold, hp_result *res, double *clamp_mm)
+{
+    const int n = p->L.n;
+    atomic_fetch_add_explicit(&answer_rows, (unsigned long)n, memory_order_relaxed);
+    double ri[HP_MAX_BLADDERS];
+    int clamped[HP_MAX_BLADDERS];
+    for (int k = 0; k < n; ++k)
+        if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
+                                   p->pb.ri_hi_si[k], &ri[k], &clamped[k]) != HP_OK)
+            return 0;
+    for (int k = 0; k < n; ++k) {
+        double plo, phi;
+        row_window(p, k, &plo, &phi);
+        hp_bladder_result *br = &res->bladders[k];
+        /* A row held is the row before any window; the clamp after is the one the call
+         * makes. */
+        if (hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
+                                        ri[k], clamped[k], hold ? -INFINITY : plo,
+                                        hold ? INFINITY : phi, br) != HP_OK)
+            return 0;
+        if (hold) {
+            hold->res[k].pressure = br->pressure;
+            hold->clamped[k] = (unsigned char)clamped[k];
+            br->pressure = hpi_setup_pressure_in(br->pressure, plo, phi);
+        }
+        if (!row_finish(p, k, br, clamped[k], rho[k], clamp_mm)) return 0;
+    }
+    hpi_plan_from_scaled(x, res->achieved);
+    return 1;
+}
+
 int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
-                              hp_result *res, double *clamp_mm)
+                              int direct, hp_result *res, double *clamp_mm)
 {
     double rho[HP_MAX_BLADDERS];
     *clamp_mm = 0;
     if (rho_known) memcpy(rho, rho_known, sizeof(double) * (size_t)p->L.n);
     else if (hpi_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
-    /* Every bladder's inner radius first, then the pressures: each half is a chain of
-     * roots and divisions, and back to back the processor overlaps one bladder's chain with
-     * the next one's (the same bits as one pass). */
-    double ri[HP_MAX_BLADDERS];
-    int clamped[HP_MAX_BLADDERS];
-    for (int k = 0; k < p->L.n; ++k)
-        if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
-                                   p->pb.ri_hi_si[k], &ri[k], &clamped[k]) != HP_OK)
-            return 0;
-    for (int k = 0; k < p->L.n; ++k) {
-        const hp_bladder *B = &p->L.bladders[k];
-        double plo = p->sb.p_lo[k], phi = p->sb.p_hi[k];
-        /* The windows' centres: the previous pressures (a reading's, derived or not). */
-        if (p->s.use_rate_limits && isfinite(B->rate_max)) {
-            double wl, wh;
-            hpi_rate_window(p->pb.p_prev[k], B->rate_max, &wl, &wh);
-            plo = fmax(plo, wl);
-            phi = fmin(phi, wh);
-        }
-        int c = clamped[k];
-        hp_bladder_result *br = &res->bladders[k];
-        if (hpi_setup_bladder_from_ri_s(B, &p->sb.iab_s[k], rho[k] / HP_MM_PER_M, ri[k], c, plo,
-                                        phi, br) != HP_OK)
-            return 0;
-        if (c) *clamp_mm = fmax(*clamp_mm, fabs(br->ro * HP_MM_PER_M - rho[k]));
-        double ro_mm = br->ro * HP_MM_PER_M;
-        if (ro_mm <= p->pb.ro_lo[k] + HP_BINDING_TOL_MM) br->binding |= p->lo_flags[k];
-        if (ro_mm >= p->pb.ro_hi[k] - HP_BINDING_TOL_MM) br->binding |= p->hi_flags[k];
-        if (!(br->pressure >= B->p_min && br->pressure <= B->p_max) || !isfinite(br->ri) ||
-            !isfinite(br->ro))
-            return 0;
-    }
-    hpi_plan_from_scaled(x, res->achieved);
+    hp_answer_memo *m = &p->ans_memo;
+    m->pending = 0;
+    if (!direct || atomic_load_explicit(&answer_memo_off, memory_order_relaxed))
+        return answer_eval(p, x, rho, NULL, res, clamp_mm);
+    /* Rows whose distances and radius bounds the discarded answer had, bit for bit, are its
+     * rows (hp_answer_memo): only the windows are this plan's. */
+    if (memo_holds(m, rho, p->pb.ri_lo_si, p->pb.ri_hi_si, p->L.n))
+        return answer_from_memo(p, x, rho, res, clamp_mm);
+    m->ok = 0; /* its pressures are overwritten */
+    if (!answer_eval(p, x, rho, m, res, clamp_mm)) return 0;
+    m->pending = 1;
     return 1;
+}
+
+void hpi_plan_answer_keep(hp_planner *p, const double *rho, const hp_result *res)
+{
+    hp_answer_memo *m = &p->ans_memo;
+    if (!m->pending) return;
+    for (int k = 0; k < p->L.n; ++k) {
+        m->rho[k] = rho[k];
+        m->ri_lo[k] = p->pb.ri_lo_si[k];
+        m->ri_hi[k] = p->pb.ri_hi_si[k];
+        /* ri, ro and stretch are the row's own; the pressure held is before the window. */
+        const hp_bladder_result *br = &res->bladders[k];
+        m->res[k].ri = br->ri;
+        m->res[k].ro = br->ro;
+        m->res[k].stretch = br->stretch;
+        m->res[k].binding = 0;
+    }
+    m->pending = 0;
+    m->ok = 1;
 }
 
 hp_error hpi_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],

@@ -43,6 +43,23 @@ typedef struct hp_rate_kept {
     unsigned char lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
 } hp_rate_kept;
 
+/* The rows of the last direct answer a plan discarded (hpi_plan_answer_from_pose,
+ * hpi_plan_answer_keep): each bladder's state from its outer radius rho[k] [mm] with the
+ * inner radius moved into [ri_lo[k], ri_hi[k]] [m] (the key, compared bit for bit), before
+ * a pressure window clamps the pressure. A function of the key and of the bladders' models
+ * alone, both fixed for the planner's life: the same key gives the same rows, so rows
+ * found here are the rows an evaluation would give. Such an answer comes again: a
+ * rate-limited plan whose direct answer at the target comes near a rate window's end
+ * discards it and solves, and the next plan toward the same target tests the same direct
+ * answer against its windows. pending: the last direct answer's pressures before the
+ * window and clamp flags are in res and clamped (ok 0) until kept. Zeroed: empty. */
+typedef struct hp_answer_memo {
+    int ok, pending;
+    double rho[HP_MAX_BLADDERS], ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];
+    hp_bladder_result res[HP_MAX_BLADDERS]; /* pressure not clamped into a window; binding 0 */
+    unsigned char clamped[HP_MAX_BLADDERS];
+} hp_answer_memo;
+
 struct hp_planner {
     hp_layout L; /* private, validated copy */
     hp_geom G;   /* its contact geometry, derived once at create */
@@ -110,6 +127,7 @@ struct hp_planner {
      * the others its stand-ins (plan.c, keep_rate_bounds). */
     int rate_live, rate_kept_ok;
     hp_rate_kept rate_kept;
+    hp_answer_memo ans_memo; /* plan_state.c: rows of the last discarded direct answer */
     /* The contact model at the nominal pose (fit starts). Last, and its warm states last
      * in it: when they grew from 64 to 512 bytes in the middle, padding main's structs the
      * same way (a placebo, no code change) made plans 2.5 % slower at every level, a
@@ -180,9 +198,23 @@ void hpi_plan_from_scaled(const double x[6], double xi[6]);
 /* Fills res from a scaled pose x: contact distances at the planner's level (rho_known:
  * already evaluated at x [mm], else NULL), radii, pressures (clamped into this cycle's
  * limits), binding flags and achieved pose. Returns 0 when something was not finite.
- * clamp_mm receives the largest radius correction. */
+ * clamp_mm receives the largest radius correction. direct: the direct chain's answer
+ * under deferred rate bounds, which the plan may discard: its rows come from p->ans_memo
+ * when it holds them (the same bits as evaluating them), else are evaluated and held
+ * pending for hpi_plan_answer_keep. */
 int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
-                              hp_result *res, double *clamp_mm);
+                              int direct, hp_result *res, double *clamp_mm);
+/* Keeps the rows of the direct answer res at distances rho [mm] that the plan discards (the
+ * last hpi_plan_answer_from_pose with direct, evaluated, not from the memo; else nothing),
+ * under the radius bounds it was answered with (call it before they change). */
+void hpi_plan_answer_keep(hp_planner *p, const double *rho, const hp_result *res);
+
+/* TEST-ONLY count (inert): the answer rows (a bladder's inner radius and pressure from its
+ * outer radius) hpi_plan_answer_from_pose evaluated in this process so far, rows it took
+ * from the planner's memo of earlier answers not counted; and a hook that turns that memo
+ * off (0) or on (1, the default), so a test can compare the two bit for bit. */
+unsigned long hpi_test_answer_rows(void);
+void hpi_test_answer_memo(int on);
 
 /* Makes r the previous answer: the safe output, the rate limits' origin and the next
  * solve's start point (a pending reading is forgotten). */

@@ -722,8 +722,7 @@ hp_error hpi_setup_bladder_from_ri_s(const hp_bladder *B, const hp_iab_s *s, dou
      * midpoint). */
     hp_error e = clamped ? hpi_iab_s_ik_ro_m(s, ri, &P, &ro) : hpi_iab_s_ik_near_m(s, ri, ro, &P);
     if (e != HP_OK || !isfinite(P)) return HP_ERR_DOMAIN;
-    if (P < p_lo) P = p_lo;
-    if (P > p_hi) P = p_hi;
+    P = hpi_setup_pressure_in(P, p_lo, p_hi);
     out->ri = ri;
     out->ro = ro;
     out->pressure = P;

@@ -226,6 +226,16 @@ hp_error hpi_setup_contact_inside(const hp_layout *L, const hp_geom *G, hp_level
                                   const double x[6], const double *lo_mm, const double *hi_mm,
                                   double *rho_mm, double *J_si, int *inside);
 
+/* The one home of the clamp of a bladder's pressure P into [p_lo, p_hi] (a plan's limits
+ * and rate window): comparisons, not fmin/fmax, so a P of -0.0 at a bound of 0.0 keeps its
+ * bits. */
+static inline double hpi_setup_pressure_in(double P, double p_lo, double p_hi)
+{
+    if (P < p_lo) P = p_lo;
+    if (P > p_hi) P = p_hi;
+    return P;
+}
+
 /* A bladder's state from its outer radius ro [m]: ri, pressure (clamped into [p_lo, p_hi]
  * after the model is evaluated), stretch. HP_ERR_DOMAIN/INVALID on a non-finite result. */
 hp_error hpi_setup_bladder_from_ro(const hp_bladder *B, double ro, double ri_lo, double ri_hi,
