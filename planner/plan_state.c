@@ -53,8 +53,8 @@ static inline void row_window(const hp_planner *p, int k, double *plo, double *p
 /* The rest of bladder k's row br (its pressure in its window) at distance rho_mm: the
  * radius correction (c: its inner radius was clamped), the binding flags, and 0 when it
  * left a limit or was not finite. */
-static inline int row_finish(const hp_planner *p, int k, hp_bladder_result *br, int c, double rho_mm,
-                      double *clamp_mm)
+static inline int row_finish(const hp_planner *p, int k, hp_bladder_result *br, int c,
+                             double rho_mm, double *clamp_mm)
 {
     const hp_bladder *B = &p->L.bladders[k];
     if (c) *clamp_mm = fmax(*clamp_mm, fabs(br->ro * HP_MM_PER_M - rho_mm));
@@ -66,8 +66,8 @@ static inline int row_finish(const hp_planner *p, int k, hp_bladder_result *br, 
 }
 
 /* The answer from the memo's rows: this plan's windows, flags and checks. */
-static int answer_from_memo(hp_planner *p, const double x[6], const double *rho,
-                            hp_result *res, double *clamp_mm)
+static int answer_from_memo(hp_planner *p, const double x[6], const double *rho, hp_result *res,
+                            double *clamp_mm)
 {
     const hp_answer_memo *m = &p->ans_memo;
     for (int k = 0; k < p->L.n; ++k) {
@@ -120,8 +120,8 @@ static inline int answer_eval(hp_planner *p, const double x[6], const double *rh
     return 1;
 }
 
-int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
-                              int direct, hp_result *res, double *clamp_mm)
+int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known, int direct,
+                              hp_result *res, double *clamp_mm)
 {
     double rho[HP_MAX_BLADDERS];
     *clamp_mm = 0;

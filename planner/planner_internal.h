@@ -202,8 +202,8 @@ void hpi_plan_from_scaled(const double x[6], double xi[6]);
  * under deferred rate bounds, which the plan may discard: its rows come from p->ans_memo
  * when it holds them (the same bits as evaluating them), else are evaluated and held
  * pending for hpi_plan_answer_keep. */
-int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
-                              int direct, hp_result *res, double *clamp_mm);
+int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known, int direct,
+                              hp_result *res, double *clamp_mm);
 /* Keeps the rows of the direct answer res at distances rho [mm] that the plan discards (the
  * last hpi_plan_answer_from_pose with direct, evaluated, not from the memo; else nothing),
  * under the radius bounds it was answered with (call it before they change). */

@@ -6,7 +6,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 B=${HP_BUILD_DIR:-build}
-for p in headplan headplan-bench headplan-bench-backends headplan-bench-horizon; do
+for p in headplan headplan-bench headplan-bench-backends headplan-bench-horizon headplan-bench-count; do
   [ -x "$B/$p" ] || { echo "regen-docs.sh: $B/$p missing: build first (cmake --build $B)" >&2; exit 66; }
 done
 export LC_ALL=C

@@ -18,6 +18,8 @@ runs (the fixed configuration, in this order):
   restarts-cost     planner.csv of the same headplan-bench run              docs/planner.md
   backends-table    headplan-bench-backends                                 docs/backends.md
   loop-table        loop.csv of the same headplan-bench run                 docs/control-loop.md
+  loop-tail         bench/loop_tail.sh (callgrind: instructions a plan), linear
+                    level, step trace, own answers and measured readings    docs/control-loop.md
   load-table        load.csv of the same headplan-bench run                 docs/load.md
   load-law-table    bench/load_law_table.py (headplan solve, both laws)     docs/load.md
   load-law-cost     bench/load_law_table.py --cost 21                       docs/load.md
@@ -360,6 +362,13 @@ def main():
     new["README.md"]["speed-readme"] = sp
     new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp})
     new["docs/control-loop.md"] = {"loop-table": loop_table(figures)}
+    tails = []
+    for feed in ("0", "1"):
+        out, w = run(["bash", "bench/loop_tail.sh", os.path.join(binary, "headplan-bench-count"),
+                      "scenarios/default.yaml", "0", "step", feed, "300" if a.quick else "3000"], src)
+        wall.append(("loop_tail.sh feed " + feed, w))
+        tails.append(out.strip("\n"))
+    new["docs/control-loop.md"]["loop-tail"] = block("```text\n" + "\n\n".join(tails) + "\n```")
     new["docs/planner.md"] = {"restarts-cost": restarts_cost(figures)}
     out, w = run(["/usr/bin/python3", "bench/auto_cost.py", "--runs", "5" if a.quick else "21"],
                  src, env={"PYTHONPATH": os.path.join(binary, "python")})

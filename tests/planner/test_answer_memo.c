@@ -70,8 +70,8 @@ static void test_held_target_rows(void **state)
         ++repeats;
         two_off += off > (unsigned long)n;
         if (on > (unsigned long)n) {
-            print_error("plan %d: %lu rows evaluated with the memo (%lu without), want <= %d\n",
-                        t, on, off, n);
+            print_error("plan %d: %lu rows evaluated with the memo (%lu without), want <= %d\n", t,
+                        on, off, n);
             fail();
         }
     }
@@ -107,8 +107,8 @@ static void same_bits(hp_level level, int rate, int trace, int measured)
         if (!hp_test_same_result(&ra, &rb)) {
             print_error("%s, rate %d, trace %d, measured %d, plan %d: the memo changed the "
                         "answer (%s / %s)\n",
-                        hp_level_name(level), rate, trace, measured, t,
-                        hp_status_name(ra.status), hp_status_name(rb.status));
+                        hp_level_name(level), rate, trace, measured, t, hp_status_name(ra.status),
+                        hp_status_name(rb.status));
             fail();
         }
         if (!measured) continue;
