@@ -427,6 +427,7 @@ static hp_qp_status gi_loop(hp_qp *qp, const double *Cr, const unsigned char *la
         const double *np = &Cr[p * NM];
         double up = 0.0;
         for (;;) { /* Step 2 */
+            ++qp->gi_steps;
             if (++qp->iterations > max_iter) return HP_QP_ITERATION_LIMIT;
             double d[NM], z[NM] = {0}, r[NM] = {0}, dd_all = 0, dd2 = 0;
             for (int k = 0; k < n; ++k) {
@@ -546,6 +547,7 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
     qp->warm = HP_QP_WARM_NONE;
     qp->resumable = 0;
     qp->warm_solved = 0;
+    qp->gi_steps = 0;
     if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1 || qp->pairs < 0 ||
         qp->pairs > m / 2)
         return HP_QP_BAD_INPUT;
@@ -595,6 +597,7 @@ hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, 
     if (!resumable) return HP_QP_BAD_INPUT;
     qp->resumable = 0;
     qp->warm_solved = 0;
+    qp->gi_steps = 0;
     /* load_rows's choice of rows: C itself at full width, else its padded copy (which
      * the stopped solve wrote and nothing since has changed) */
     const double *Cr = qp->n < NM ? qp->C_ : qp->C;

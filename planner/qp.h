@@ -63,6 +63,8 @@ typedef struct hp_qp {
     hp_qp_warm warm;        /* what the warm start did (HP_QP_WARM_NONE without a guess) */
     int warm_solved;        /* 1 when this call solved the guessed rows' equality system
                              * (the warm start's main cost), else 0 */
+    int gi_steps;           /* the Goldfarb–Idnani loop's add and drop steps this call ran
+                             * (the rows a warm start takes as given count none) */
     /* workspace: Jᵀ and C zero-padded to HP_QP_NMAX columns, R, the active set */
     double J_[HP_QP_NMAX * HP_QP_NMAX], R_[HP_QP_NMAX * HP_QP_NMAX];
     double C_[HP_QP_MMAX * HP_QP_NMAX];
