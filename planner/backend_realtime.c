@@ -131,29 +131,29 @@ static double now_s(clockid_t clk);
 /* Test-only path counts (backend_testing.h): each solve counts in st->cnt with plain
  * increments and adds them here at its end, only while a test has counting on. */
 static atomic_int rt_counting;
-static atomic_long rt_counts[9];
+static atomic_long rt_counts[10];
 
 void hpi_test_realtime_count(int on)
 {
     if (on)
-        for (int i = 0; i < 9; ++i) atomic_store(&rt_counts[i], 0);
+        for (int i = 0; i < 10; ++i) atomic_store(&rt_counts[i], 0);
     atomic_store(&rt_counting, on != 0);
 }
 
 void hpi_test_realtime_counts(hp_test_rt_counts *out)
 {
-    long *f[9] = {&out->solves, &out->qps,      &out->qp_warm,     &out->soc, &out->soc_warm,
-                  &out->h_kept, &out->rho_step, &out->rho_refused, &out->late};
-    for (int i = 0; i < 9; ++i) *f[i] = atomic_load(&rt_counts[i]);
+    long *f[10] = {&out->solves,  &out->qps,      &out->qp_warm,     &out->soc,  &out->soc_warm,
+                   &out->h_kept,  &out->rho_step, &out->rho_refused, &out->late, &out->qp_steps};
+    for (int i = 0; i < 10; ++i) *f[i] = atomic_load(&rt_counts[i]);
 }
 
 static void rt_count_flush(const rt_state *st)
 {
     if (!atomic_load_explicit(&rt_counting, memory_order_relaxed)) return;
     const hp_test_rt_counts *c = &st->cnt;
-    const long v[9] = {1,         st->qps,     c->qp_warm,     c->soc, c->soc_warm,
-                       c->h_kept, c->rho_step, c->rho_refused, c->late};
-    for (int i = 0; i < 9; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
+    const long v[10] = {1,         st->qps,     c->qp_warm,     c->soc,  c->soc_warm,
+                        c->h_kept, c->rho_step, c->rho_refused, c->late, c->qp_steps};
+    for (int i = 0; i < 10; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
 }
 
 /* Test-only: one more piece of work (a contact evaluation or a QP) begun after the budget
@@ -501,7 +501,11 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
 {
     hp_qp *q = &st->qp;
     hp_rate_lazy *z = pb->lazy;
-    if (!z) return hpi_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL);
+    if (!z) {
+        hp_qp_status qs = hpi_qp_solve_warm(q, Lg, guess, budget, RT_FEAS_TOL);
+        st->cnt.qp_steps += q->gi_steps;
+        return qs;
+    }
     unsigned char lz[HP_QP_MMAX] = {0};
     int hit = -1;
     /* A guessed row's b enters the warm start's equality solve, which stops on each stand-in
@@ -515,6 +519,7 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
     }
     int any = lazy_rows(z, pb->n, lz);
     hp_qp_status qs = hpi_qp_solve_lazy(q, Lg, guess, any ? lz : NULL, &hit, budget, RT_FEAS_TOL);
+    st->cnt.qp_steps += q->gi_steps;
     while (qs == HP_QP_LAZY) {
         /* A stop in the full solve's loop goes on from its iterate once the row is exact
          * (hpi_qp_resume_lazy): only that end is solved. A warm start's stop (in its check
@@ -541,6 +546,7 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
         any = lazy_rows(z, pb->n, lz);
         qs = resume ? hpi_qp_resume_lazy(q, any ? lz : NULL, &hit, budget, RT_FEAS_TOL)
                     : hpi_qp_solve_lazy(q, Lg, guess, any ? lz : NULL, &hit, budget, RT_FEAS_TOL);
+        st->cnt.qp_steps += q->gi_steps;
     }
     return qs;
 }

@@ -54,10 +54,11 @@ int hpi_test_realtime_coarse_clock(double max_time);
  * the previous point's Hessians, answers whose radii were extrapolated over the last step,
  * and answers after a short last step whose extrapolation the step bound refused (their
  * radii evaluated instead), and the contact evaluations and QPs a solve began after its
- * time budget had run out (late: what a deadline overshoots by). Off by default: a solve
+ * time budget had run out (late: what a deadline overshoots by), and the Goldfarb–Idnani
+ * add and drop steps of every QP solve call (qp_steps: hp_qp.gi_steps summed). Off by default: a solve
  * then reads one atomic int and adds nothing. */
 typedef struct hp_test_rt_counts {
-    long solves, qps, qp_warm, soc, soc_warm, h_kept, rho_step, rho_refused, late;
+    long solves, qps, qp_warm, soc, soc_warm, h_kept, rho_step, rho_refused, late, qp_steps;
 } hp_test_rt_counts;
 /* on = 1: zero the counts and count from now on; on = 0: stop counting (counts kept). */
 void hpi_test_realtime_count(int on);

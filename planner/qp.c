@@ -290,6 +290,20 @@ static void back_subst(const double *L, int ldl, int n, double *y, double *x)
     else back_subst_n(L, ldl, n, y, x);
 }
 
+/* The scaled Gram matrix S of the k normalised columns Mt (row c at Mt + c·NM), its
+ * Cholesky factor Rs (leading dimension k) and the test (a) of warm_solve: 1 when every
+ * pivot is positive and κ₂(S) <= trace(S)·‖Rs⁻¹‖_F² <= HP_QP_WARM_KAPPA. */
+static int gram_factor(const double *Mt, int k, double *S, double *Rs)
+{
+    double trace = 0;
+    for (int c = 0; c < k; ++c) {
+        for (int e = 0; e <= c; ++e) S[c * k + e] = dot(&Mt[c * NM], &Mt[e * NM]);
+        trace += S[c * k + c];
+    }
+    return k == 0 || (hpi_cholesky(S, k, k, 0.0, Rs, k) &&
+                      trace * hpi_cholesky_inv_frob2(Rs, k, k) <= HP_QP_WARM_KAPPA);
+}
+
 /* The warm start (qp.h, hpi_qp_solve_warm): the equality-constrained QP on the guessed rows,
  * accepted as the answer only when it is the answer. With x = L⁻ᵀ(w + M u), w = −L⁻¹a and
  * the columns M_c = L⁻¹C_cᵀ of the k guessed rows, stationarity G x + a = Σ C_cᵀu_c holds
@@ -309,12 +323,18 @@ static void back_subst(const double *L, int ldl, int n, double *y, double *x)
  * norms (qp->wd_) for warm_check, which does (c) and writes the outputs u and active on
  * acceptance. Split so that a stop in (c) on a stand-in row resumes at (c): the equality
  * solve reads only the guessed rows' b, none of them a stand-in, so it would give the same
- * bits again. warm_solve returns HP_QP_WARM_ACCEPTED when (a) and (b) hold. */
+ * bits again. warm_solve returns HP_QP_WARM_ACCEPTED when (a) and (b) hold. When (b) fails
+ * it drops the row of the most negative scaled multiplier and solves the smaller system
+ * again (a principal submatrix of S: its condition is no worse, (a) is tested again all
+ * the same), until every multiplier is >= 0: HP_QP_WARM_SIGN with the rows kept in
+ * qp->wa_, qp->wk_ (wk_ 0: none kept, a NaN multiplier, or a refusal before the sign) and
+ * their point in x, the dual-feasible start of warm_gi. */
 static hp_qp_warm warm_solve(hp_qp *qp, const double *L, int ldl, const double *Cr, const int *A,
                              int k, const double *a, const int *twin, const int *skip, int max_iter,
                              const unsigned char *lazy, int *hit)
 {
     int n = qp->n;
+    qp->wk_ = 0;
     if (lazy) /* a guessed row's b enters the equality solve: it must be exact */
         for (int c = 0; c < k; ++c)
             if (lazy[A[c]]) {
@@ -340,26 +360,37 @@ static hp_qp_warm warm_solve(hp_qp *qp, const double *L, int ldl, const double *
         double inv = 1.0 / D[c];
         for (int i = 0; i < NM; ++i) mc[i] *= inv;
     }
-    double trace = 0;
-    for (int c = 0; c < k; ++c) {
-        for (int e = 0; e <= c; ++e) S[c * k + e] = dot(&Mt[c * NM], &Mt[e * NM]);
-        trace += S[c * k + c];
+    int *wa = qp->wa_;
+    memcpy(wa, A, (size_t)k * sizeof *A);
+    hp_qp_warm verdict = HP_QP_WARM_ACCEPTED;
+    for (;;) {
+        if (!gram_factor(Mt, k, S, Rs)) /* (a); after a drop, of a principal submatrix */
+            return verdict == HP_QP_WARM_ACCEPTED ? HP_QP_WARM_CONDITION : verdict;
+        /* scaled multipliers us_c = |M_c|·u_c: S us = (b_c − M_cᵀw)/|M_c| */
+        for (int c = 0; c < k; ++c) us[c] = qp->b[wa[c]] / D[c] - dot(&Mt[c * NM], w);
+        if (k > 0) hpi_cholesky_solve(Rs, k, k, us);
+        qp->warm_solved = 1;
+        int neg = -1;
+        for (int c = 0; c < k; ++c) {
+            if (us[c] != us[c]) return HP_QP_WARM_SIGN; /* NaN: nothing to keep */
+            if (us[c] < 0.0 && (neg < 0 || us[c] < us[neg])) neg = c;
+        }
+        if (neg < 0) break;
+        /* the most negative (scaled) multiplier's row leaves; none left: the full solve,
+         * whose start is that (empty) set's optimum */
+        verdict = HP_QP_WARM_SIGN;
+        if (--k == 0) return verdict;
+        for (int c = neg; c < k; ++c) {
+            wa[c] = wa[c + 1];
+            D[c] = D[c + 1];
+            memcpy(&Mt[c * NM], &Mt[(c + 1) * NM], NM * sizeof *Mt);
+        }
     }
-    if (k > 0 && !(hpi_cholesky(S, k, k, 0.0, Rs, k) &&
-                   trace * hpi_cholesky_inv_frob2(Rs, k, k) <= HP_QP_WARM_KAPPA))
-        return HP_QP_WARM_CONDITION;
-    /* scaled multipliers us_c = |M_c|·u_c: S us = (b_c − M_cᵀw)/|M_c| */
-    for (int c = 0; c < k; ++c) us[c] = qp->b[A[c]] / D[c] - dot(&Mt[c * NM], w);
-    if (k > 0) hpi_cholesky_solve(Rs, k, k, us);
-    qp->warm_solved = 1;
-    for (int c = 0; c < k; ++c)
-        if (!(us[c] >= 0.0)) return HP_QP_WARM_SIGN;
     memcpy(y, w, sizeof y);
     for (int c = 0; c < k; ++c) axpy(y, us[c], &Mt[c * NM]);
     back_subst(L, ldl, n, y, qp->x); /* the output x (the full solve overwrites it on refusal) */
-    memcpy(qp->wa_, A, (size_t)k * sizeof *A);
     qp->wk_ = k;
-    return HP_QP_WARM_ACCEPTED;
+    return verdict;
 }
 
 /* (c) of the warm start on warm_solve's x and kept rows: no other row violated beyond
@@ -403,6 +434,22 @@ hp_qp_status hpi_qp_solve_warm(hp_qp *qp, const double *Lg, const int *guess, in
     return hpi_qp_solve_lazy(qp, Lg, guess, NULL, NULL, max_iter, feas_tol);
 }
 
+/* Row p joins the active set as number q, d = Jᵀn_p: the reflectors zero d below entry q
+ * (rotating the columns of J with them) and d's first q + 1 entries become column q of R. */
+static void add_active(hp_qp *qp, int q, double *d, int p)
+{
+    for (int j = qp->n - 1; j > q; --j) {
+        if (d[j] == 0.0) continue;
+        double c, s;
+        d[j - 1] = givens(d[j - 1], d[j], &c, &s);
+        d[j] = 0.0;
+        rotate_rows(qp->J_, j - 1, c, s);
+    }
+    for (int i = 0; i <= q; ++i) qp->R_[IDX(i, q)] = d[i];
+    qp->A_[q] = p;
+    qp->skip_[p] = 1;
+}
+
 /* The Goldfarb–Idnani loop of hpi_qp_solve_lazy from the state in qp (x, Jᵀ, R, the active
  * set A_ of size q_ with multipliers uA_, the row state nrm2_, twin_, skip_): adds the most
  * violated row until none is. A stand-in row picked stops it (HP_QP_LAZY, resumable). */
@@ -427,6 +474,7 @@ static hp_qp_status gi_loop(hp_qp *qp, const double *Cr, const unsigned char *la
         const double *np = &Cr[p * NM];
         double up = 0.0;
         for (;;) { /* Step 2 */
+            ++qp->gi_steps;
             if (++qp->iterations > max_iter) return HP_QP_ITERATION_LIMIT;
             double d[NM], z[NM] = {0}, r[NM] = {0}, dd_all = 0, dd2 = 0;
             for (int k = 0; k < n; ++k) {
@@ -467,17 +515,8 @@ static hp_qp_status gi_loop(hp_qp *qp, const double *Cr, const unsigned char *la
             for (int k = 0; k < q; ++k) u[k] -= t * r[k];
             up += t;
             if (t2 <= t1) { /* full step: p joins the active set */
-                for (int j = n - 1; j > q; --j) {
-                    if (d[j] == 0.0) continue;
-                    double c, s;
-                    d[j - 1] = givens(d[j - 1], d[j], &c, &s);
-                    d[j] = 0.0;
-                    rotate_rows(Jt, j - 1, c, s);
-                }
-                for (int i = 0; i <= q; ++i) R[IDX(i, q)] = d[i];
-                qp->A_[q] = p;
+                add_active(qp, q, d, p);
                 u[q] = up;
-                skip[p] = 1;
                 ++q;
                 break;
             }
@@ -511,7 +550,54 @@ static hp_qp_status full_solve(hp_qp *qp, const double *L, int ldl, const double
     memset(x, 0, sizeof qp->x);
     for (int k = 0; k < n; ++k) axpy(x, -dot(&Jt[IDX(k, 0)], a), &Jt[IDX(k, 0)]);
     qp->q_ = 0;
+    qp->kept_ = 0;
     return gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol);
+}
+
+/* The status qs of the loop; when it started from a warm start's kept rows (qp->kept_) and
+ * found the QP empty, the full solve's verdict instead. From a degenerate vertex (rows
+ * meeting at a point, one violated only by rounding) the loop can find a row dependent on
+ * the kept ones that no multiplier lets in, where the full solve, through other rows,
+ * finds the answer; an empty verdict is rare and final, so it is checked from scratch. */
+static hp_qp_status kept_verdict(hp_qp *qp, hp_qp_status qs, const double *Cr,
+                                 const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
+{
+    if (qs != HP_QP_INFEASIBLE || !qp->kept_) return qs;
+    qp->kept_ = 0;
+    for (int j = 0; j < qp->m; ++j) qp->skip_[j] = qp->nrm2_[j] == 0.0; /* as load_rows left them */
+    qp->iterations = 0;
+    return full_solve(qp, qp->L_, NM, Cr, lazy, hit, max_iter, feas_tol);
+}
+
+/* The Goldfarb–Idnani solve started from the warm start's kept rows (qp->wa_, qp->wk_,
+ * none a stand-in) and warm_solve's x, the minimum with those rows as equalities, and
+ * their multipliers, all >= 0: a dual-feasible start, from which the loop reaches the
+ * same unique minimum as from the unconstrained one (G positive definite), in fewer adds
+ * when the rows kept are rows of the answer. J and R are those of adding the kept rows in
+ * order (the factorisation of the add step, without its step: x is already there); each
+ * kept row counts as one add step, as in an accepted warm start. */
+static hp_qp_status warm_gi(hp_qp *qp, const double *L, int ldl, const double *Cr,
+                            const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
+{
+    int n = qp->n, k = qp->wk_;
+    double *Jt = qp->J_, *R = qp->R_;
+    for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
+    invert_factor(L, ldl, n, Jt);
+    for (int c = 0; c < k; ++c) {
+        int p = qp->wa_[c];
+        double d[NM];
+        for (int i = 0; i < n; ++i) d[i] = dot(&Jt[IDX(i, 0)], &Cr[p * NM]);
+        add_active(qp, c, d, p);
+        qp->uA_[c] = qp->wu_[c] / qp->wd_[c];
+    }
+    qp->q_ = k;
+    qp->iterations = k;
+    if (L != qp->L_) /* for kept_verdict's full solve after a resume */
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j <= i; ++j) qp->L_[i * NM + j] = L[i * ldl + j];
+    qp->kept_ = 1;
+    return kept_verdict(qp, gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol), Cr, lazy, hit,
+                        max_iter, feas_tol);
 }
 
 /* After warm_solve's (a) and (b) held: its check (c), the answer when it holds, else the
@@ -534,6 +620,8 @@ static hp_qp_status warm_finish(hp_qp *qp, const double *L, int ldl, const doubl
             if (!isfinite(qp->x[i])) return HP_QP_BAD_INPUT;
         return HP_QP_OPTIMAL;
     }
+    if (qp->wk_ > 0) /* (a) and (b) hold: a dual-feasible start */
+        return warm_gi(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
     return full_solve(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
 }
 
@@ -546,6 +634,8 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
     qp->warm = HP_QP_WARM_NONE;
     qp->resumable = 0;
     qp->warm_solved = 0;
+    qp->gi_steps = 0;
+    qp->kept_ = 0;
     if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1 || qp->pairs < 0 ||
         qp->pairs > m / 2)
         return HP_QP_BAD_INPUT;
@@ -581,6 +671,8 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
         if (*hit >= 0) return HP_QP_LAZY; /* before the equality solve: start again */
         if (qp->warm == HP_QP_WARM_ACCEPTED)
             return warm_finish(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
+        if (qp->warm == HP_QP_WARM_SIGN && qp->wk_ > 0)
+            return warm_gi(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
     }
     return full_solve(qp, L, ldl, Cr, lazy, hit, max_iter, feas_tol);
 }
@@ -595,6 +687,7 @@ hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, 
     if (!resumable) return HP_QP_BAD_INPUT;
     qp->resumable = 0;
     qp->warm_solved = 0;
+    qp->gi_steps = 0;
     /* load_rows's choice of rows: C itself at full width, else its padded copy (which
      * the stopped solve wrote and nothing since has changed) */
     const double *Cr = qp->n < NM ? qp->C_ : qp->C;
@@ -602,5 +695,6 @@ hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, 
         if (!isfinite(qp->b[j])) return HP_QP_BAD_INPUT;
     if (resumable == 2) /* stopped in the warm start's check, the factor kept in L_ */
         return warm_finish(qp, qp->L_, NM, Cr, lazy, hit, max_iter, feas_tol);
-    return gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol);
+    return kept_verdict(qp, gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol), Cr, lazy, hit,
+                        max_iter, feas_tol);
 }

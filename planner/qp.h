@@ -1,7 +1,7 @@
 /* Internal: a small dense strictly convex QP,
  *     minimise ½ xᵀ G x + aᵀ x   subject to   C x >= b   (m rows),
  * by the Goldfarb–Idnani dual active-set method (Math. Programming 27, 1983). It starts from
- * the unconstrained minimum and adds violated constraints one at a time, keeping the dual
+ * the unconstrained minimum (or a warm start's dual-feasible rows) and adds violated constraints one at a time, keeping the dual
  * feasible; linearly dependent (degenerate) constraints are handled by its "drop" steps, and
  * an empty feasible set is detected, not looped on. Fixed-size workspace: no allocation. */
 #ifndef HP_PLANNER_QP_H
@@ -24,7 +24,9 @@ typedef enum hp_qp_status {
 typedef enum hp_qp_warm {
     HP_QP_WARM_NONE = 0, /* no guess given (hpi_qp_solve, hpi_qp_solve_factored) */
     HP_QP_WARM_ACCEPTED, /* the guessed rows' equality-constrained QP is the answer */
-    /* refused, the full Goldfarb–Idnani solve ran instead: */
+    /* refused: the Goldfarb–Idnani loop ran, from the unconstrained minimum for the first
+     * two, from the guessed rows kept (none kept: from the unconstrained minimum) for the
+     * last two (hpi_qp_solve_warm) */
     HP_QP_WARM_SHAPE,     /* more rows than n or the budget, a twin pair, a zero row */
     HP_QP_WARM_CONDITION, /* the rows dependent or their Gram matrix too ill-conditioned */
     HP_QP_WARM_SIGN,      /* a guessed row's multiplier negative */
@@ -58,11 +60,15 @@ typedef struct hp_qp {
     double x[HP_QP_NMAX];   /* entries >= n are set to 0 */
     double u[HP_QP_MMAX];   /* multiplier of every constraint (0 when inactive) */
     int active[HP_QP_MMAX]; /* 1 when constraint j is in the final active set */
-    int iterations;         /* add + drop steps; an accepted warm start counts one add
-                             * step per guessed row */
+    int iterations;         /* add + drop steps; a warm start counts one add step per
+                             * guessed row it keeps (iterations − gi_steps of them) */
     hp_qp_warm warm;        /* what the warm start did (HP_QP_WARM_NONE without a guess) */
     int warm_solved;        /* 1 when this call solved the guessed rows' equality system
                              * (the warm start's main cost), else 0 */
+    int gi_steps;           /* the Goldfarb–Idnani loop's add and drop steps this call ran
+                             * (the rows a warm start keeps count none; a loop from kept
+                             * rows that found the QP empty and the full solve that
+                             * checked it both count) */
     /* workspace: Jᵀ and C zero-padded to HP_QP_NMAX columns, R, the active set */
     double J_[HP_QP_NMAX * HP_QP_NMAX], R_[HP_QP_NMAX * HP_QP_NMAX];
     double C_[HP_QP_MMAX * HP_QP_NMAX];
@@ -83,6 +89,9 @@ typedef struct hp_qp {
      * check of the other rows (after its equality solve); 0 after any other return (a stop
      * on a guessed row, before the equality solve, starts again) */
     int resumable;
+    /* 1 while the loop runs from a warm start's kept rows (qp.c, warm_gi): an empty verdict
+     * reached from there is checked by the full solve from scratch */
+    int kept_;
 } hp_qp;
 
 /* Solves the QP held in q (n, m, G, a, C, b filled) with at most max_iter add/drop steps;
@@ -107,11 +116,25 @@ hp_qp_status hpi_qp_solve_factored(hp_qp *q, const double *Lg, int max_iter, dou
  * solved directly and returned when it meets the full QP's optimality conditions — rows
  * independent and well conditioned (HP_QP_WARM_KAPPA), every guessed multiplier >= 0,
  * every other row satisfied to feas_tol as the full solve measures it — which make it the
- * unique minimum; otherwise the full solve runs from scratch (q->warm says which). A guess
- * with both rows of a twin pair, more rows than n or than max_iter, or a zero row is
- * refused unsolved. Outputs, statuses and the refusal of bad input are those of
- * hpi_qp_solve; the active set and multipliers can differ from the full solve's only where
- * they are not unique (degenerate vertices); x agrees to rounding. */
+ * unique minimum. Otherwise (q->warm says why): refused on a multiplier's sign, the
+ * guessed rows with negative multipliers leave one at a time, the most negative (scaled
+ * by its row's norm in the G⁻¹ metric) first, the smaller system solved again, until every
+ * multiplier is >= 0; that point, or on a violated row the guessed rows' point itself, is
+ * dual feasible (the minimum with the kept rows as equalities, multipliers >= 0), and the
+ * Goldfarb–Idnani loop starts there, with J and R those of adding the kept rows in order.
+ * From any dual-feasible start the loop reaches the same unique minimum as from the
+ * unconstrained one, in fewer steps when the kept rows are rows of the answer (the loop
+ * steps of the loop benchmark's step trace: tests/planner/test_rate_window.c,
+ * test_binding_walk_warm); if it finds the QP empty, the full solve from scratch decides
+ * (a degenerate vertex, a row violated only by rounding, can end the loop from kept rows
+ * there). Refused for shape or conditioning, or with no row kept, the full solve runs from
+ * scratch: the same bits as without a guess. A guess with both rows of a twin pair, more
+ * rows than n or than max_iter, or a zero row is refused unsolved. Outputs, statuses and
+ * the refusal of bad input are those of hpi_qp_solve; the active set and multipliers can
+ * differ from the full solve's only where they are not unique (degenerate vertices); x
+ * agrees to rounding (tests/planner/test_qp_warm.c, test_warm_vs_cold); a QP whose feasible
+ * set is a single point to rounding may be found empty by one path and that point, within
+ * feas_tol, by the other. */
 hp_qp_status hpi_qp_solve_warm(hp_qp *q, const double *Lg, const int *guess, int max_iter,
                                double feas_tol);
 
