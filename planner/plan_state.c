@@ -47,8 +47,8 @@ static inline void row_window(const hp_planner *p, int k, double *plo, double *p
 /* The rest of bladder k's row br (its pressure in its window) at distance rho_mm: the
  * radius correction (c: its inner radius was clamped), the binding flags, and 0 when it
  * left a limit or was not finite. */
-static inline int row_finish(const hp_planner *p, int k, hp_bladder_result *br, int c, double rho_mm,
-                      double *clamp_mm)
+static inline int row_finish(const hp_planner *p, int k, hp_bladder_result *br, int c,
+                             double rho_mm, double *clamp_mm)
 {
     const hp_bladder *B = &p->L.bladders[k];
     if (c) *clamp_mm = fmax(*clamp_mm, fabs(br->ro * HP_MM_PER_M - rho_mm));
@@ -110,8 +110,8 @@ static int answer_direct(hp_planner *p, const double x[6], const double *rho, hp
 /* The answer evaluated from the distances rho [mm]: every bladder's inner radius first,
  * then the pressures (each half is a chain of roots and divisions, and back to back the
  * processor overlaps one bladder's chain with the next one's: the same bits as one pass). */
-static int answer_eval(hp_planner *p, const double x[6], const double *rho, hp_result *res,
-                       double *clamp_mm)
+static inline int answer_eval(hp_planner *p, const double x[6], const double *rho, hp_result *res,
+                              double *clamp_mm)
 {
     const int n = p->L.n;
     atomic_fetch_add_explicit(&answer_rows, (unsigned long)n, memory_order_relaxed);
@@ -134,15 +134,14 @@ static int answer_eval(hp_planner *p, const double x[6], const double *rho, hp_r
     return 1;
 }
 
-int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
-                              int direct, hp_result *res, double *clamp_mm)
+int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known, int direct,
+                              hp_result *res, double *clamp_mm)
 {
     double rho[HP_MAX_BLADDERS];
     *clamp_mm = 0;
     if (rho_known) memcpy(rho, rho_known, sizeof(double) * (size_t)p->L.n);
     else if (hpi_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
-    return direct ? answer_direct(p, x, rho, res, clamp_mm)
-                  : answer_eval(p, x, rho, res, clamp_mm);
+    return direct ? answer_direct(p, x, rho, res, clamp_mm) : answer_eval(p, x, rho, res, clamp_mm);
 }
 
 hp_error hpi_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],

@@ -205,8 +205,8 @@ void hpi_plan_from_scaled(const double x[6], double xi[6]);
  * kept there, bladder by bladder, and the first row near its window's end stops it:
  * HPI_ANSWER_NEAR_RATE (res unfinished; the rows after it are neither evaluated nor
  * checked). Returned 1 with direct, every pressure passed that test. */
-int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known,
-                              int direct, hp_result *res, double *clamp_mm);
+int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known, int direct,
+                              hp_result *res, double *clamp_mm);
 #define HPI_ANSWER_NEAR_RATE 2
 
 /* TEST-ONLY count (inert): the answer rows (a bladder's inner radius and pressure from its

@@ -115,7 +115,7 @@ static void test_new_target_rows(void **state)
         if (t == 0 || t % hold != 0) continue;
         ++jumps;
         n = (unsigned long)r.n;
-        assert_true(rows >= n); /* the answer's own rows, at the least */
+        assert_true(rows >= n);  /* the answer's own rows, at the least */
         if (rows == n) continue; /* the direct answer held, or came from the memo */
         ++discarded;
         rows_discarded += rows;
@@ -157,8 +157,8 @@ static void same_bits(hp_level level, int rate, int trace, int measured)
         if (!hp_test_same_result(&ra, &rb)) {
             print_error("%s, rate %d, trace %d, measured %d, plan %d: the memo changed the "
                         "answer (%s / %s)\n",
-                        hp_level_name(level), rate, trace, measured, t,
-                        hp_status_name(ra.status), hp_status_name(rb.status));
+                        hp_level_name(level), rate, trace, measured, t, hp_status_name(ra.status),
+                        hp_status_name(rb.status));
             fail();
         }
         if (!measured) continue;
