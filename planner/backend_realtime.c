@@ -142,8 +142,8 @@ void hpi_test_realtime_count(int on)
 
 void hpi_test_realtime_counts(hp_test_rt_counts *out)
 {
-    long *f[10] = {&out->solves,  &out->qps,      &out->qp_warm,     &out->soc,  &out->soc_warm,
-                   &out->h_kept,  &out->rho_step, &out->rho_refused, &out->late, &out->qp_steps};
+    long *f[10] = {&out->solves, &out->qps,      &out->qp_warm,     &out->soc,  &out->soc_warm,
+                   &out->h_kept, &out->rho_step, &out->rho_refused, &out->late, &out->qp_steps};
     for (int i = 0; i < 10; ++i) *f[i] = atomic_load(&rt_counts[i]);
 }
 

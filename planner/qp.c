@@ -596,8 +596,8 @@ static hp_qp_status warm_gi(hp_qp *qp, const double *L, int ldl, const double *C
         for (int i = 0; i < n; ++i)
             for (int j = 0; j <= i; ++j) qp->L_[i * NM + j] = L[i * ldl + j];
     qp->kept_ = 1;
-    return kept_verdict(qp, gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol), Cr, lazy, hit,
-                        max_iter, feas_tol);
+    return kept_verdict(qp, gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol), Cr, lazy, hit, max_iter,
+                        feas_tol);
 }
 
 /* After warm_solve's (a) and (b) held: its check (c), the answer when it holds, else the
@@ -695,6 +695,6 @@ hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, 
         if (!isfinite(qp->b[j])) return HP_QP_BAD_INPUT;
     if (resumable == 2) /* stopped in the warm start's check, the factor kept in L_ */
         return warm_finish(qp, qp->L_, NM, Cr, lazy, hit, max_iter, feas_tol);
-    return kept_verdict(qp, gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol), Cr, lazy, hit,
-                        max_iter, feas_tol);
+    return kept_verdict(qp, gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol), Cr, lazy, hit, max_iter,
+                        feas_tol);
 }

@@ -264,8 +264,7 @@ static void test_warm_vs_cold(void **st)
             refused_cond += w.warm == HP_QP_WARM_CONDITION;
             if (w.iterations > w.gi_steps) /* a degenerate vertex: the loop from the rows kept */
                 compare(&w, &cold);
-            else
-                assert_same_bits(&w, &cold);
+            else assert_same_bits(&w, &cold);
         }
 
         /* (ii) wrong sets: the true set with one row flipped (a superset or a subset),
