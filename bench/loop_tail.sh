@@ -13,6 +13,7 @@
 #   defaults: build/headplan-bench-count scenarios/default.yaml 0 step 0 3000
 #   LEVEL 0 linear, 1 plane, 2 surface; TRACE smooth, noisy or step; FEED 1 feeds the
 #   rate-limited planner ±3 Pa readings of its answers (the loop benchmark's measured mode).
+# Needs bash 4 or later (an associative array) and valgrind.
 set -euo pipefail
 PROG=${1:-build/headplan-bench-count}
 SCENE=${2:-scenarios/default.yaml}
@@ -35,7 +36,10 @@ mkdir "$tmp/cg"
   || { tail -n 5 "$tmp/err" >&2; exit 1; }
 n=$(wc -l <"$tmp/plans")
 [ "$n" -eq $((2 * CYCLES)) ] || { echo "loop_tail.sh: $n plans listed, expected $((2 * CYCLES))" >&2; exit 1; }
-seq 1 "$n" | sed "s|^|$tmp/cg/cg.|" | xargs awk '/^summary:/ { print $2; nextfile }' >"$tmp/ir"
+# A dump beyond the plans (an hp_plan call the listing does not show) would shift every
+# plan onto another's dump.
+[ -e "$tmp/cg/cg.$((n + 1))" ] && { echo "loop_tail.sh: more profile dumps than plans" >&2; exit 1; }
+(cd "$tmp/cg" && seq 1 "$n" | sed 's/^/cg./' | xargs awk '/^summary:/ { print $2; nextfile }') >"$tmp/ir"
 [ "$(wc -l <"$tmp/ir")" -eq "$n" ] || { echo "loop_tail.sh: fewer profile dumps than plans" >&2; exit 1; }
 paste -d' ' "$tmp/plans" "$tmp/ir" >"$tmp/joined"
 echo "level $LEVEL, $TRACE trace, feed $FEED, $CYCLES cycles: instructions a plan (callgrind)"
@@ -57,7 +61,7 @@ printf '%-13s %9.0f %9.0f %9.0f %9.0f\n' rate-limited "${st[1,0.5]}" "${st[1,0.9
 awk -v a="${st[1,0.5]}" -v b="${st[0,0.5]}" -v c="${st[1,0.999]}" -v d="${st[0,0.999]}" \
   'BEGIN { printf "ratio         median %.2f  p99.9 %.2f\n", a / b, c / d }'
 echo "slowest rate-limited plans (cycle, instructions, the rate-free plan's of the cycle):"
-awk '{ ir[$1, $2] = $5 } $2 == 1 { print $1, $5 }' "$tmp/joined" | sort -k2,2nr | awk 'NR <= 8' >"$tmp/top"
+awk '$2 == 1 { print $1, $5 }' "$tmp/joined" | sort -k2,2nr | awk 'NR <= 8' >"$tmp/top"
 while read -r j ir; do
   printf '  %5d %7d %7d\n' "$j" "$ir" "$(awk -v j="$j" '$1 == j && $2 == 0 { print $5 }' "$tmp/joined")"
 done <"$tmp/top"
@@ -65,11 +69,12 @@ done <"$tmp/top"
 slow=$(( (CYCLES + 99) / 100 ))
 awk '$2 == 1 { print NR, $5 }' "$tmp/joined" | sort -k2,2nr | awk -v n="$slow" 'NR <= n' | cut -d' ' -f1 >"$tmp/slow"
 while read -r i; do
-  callgrind_annotate --inclusive=yes --auto=no --threshold=100 "$tmp/cg/cg.$i" 2>/dev/null \
-    | awk '/^-+$/ { sec++ } sec >= 3 && $1 ~ /^[0-9,]+$/ && $0 ~ /:/ {
+  callgrind_annotate --inclusive=yes --auto=no --threshold=100 "$tmp/cg/cg.$i" >"$tmp/ann" \
+    || { echo "loop_tail.sh: callgrind_annotate failed on the dump of plan $i" >&2; exit 1; }
+  awk '/^-+$/ { sec++ } sec >= 3 && $1 ~ /^[0-9,]+$/ && $0 ~ /:/ {
         ir = $1; gsub(",", "", ir); f = $0; sub(/ \[.*/, "", f); sub(/.*:/, "", f); gsub(/ /, "_", f)
         if (!(f in m) || ir + 0 > m[f]) m[f] = ir + 0 }
-        END { for (f in m) print f, m[f] }' # a function inlined elsewhere is listed once more
+        END { for (f in m) print f, m[f] }' "$tmp/ann" # a function inlined elsewhere is listed once more
 done <"$tmp/slow" | awk -v n="$slow" '{ s[$1] += $2 } END { for (f in s) printf "%s %.0f\n", f, s[f] / n }' \
   | sort -k2,2nr | awk '!/^(main|\(below|0x|__libc_start)/' | awk 'NR <= 16' >"$tmp/fn"
 echo "the slowest $slow rate-limited plans, by function (inclusive, mean a plan):"

@@ -223,6 +223,15 @@ static int run_tail(const hp_layout *L0, int level, int trace, int feed, long cy
     return rc;
 }
 
+/* A whole number of decimal digits (at most 9), or -1 for anything else. */
+static long whole(const char *a)
+{
+    long v = 0;
+    int k = 0;
+    for (; a[k] >= '0' && a[k] <= '9' && k < 9; ++k) v = 10 * v + (a[k] - '0');
+    return k > 0 && a[k] == '\0' ? v : -1;
+}
+
 /* The trace's number from its name (smooth, noisy, step), or -1. */
 static int trace_of(const char *name)
 {
@@ -240,14 +249,14 @@ int main(int argc, char **argv)
     if (strcmp(mode, "tail") == 0 && argc == 7) {
         static hp_scene ts;
         hp_diag td = {{0}};
-        int lv = atoi(argv[3]), tr = trace_of(argv[4]), feed = atoi(argv[5]);
-        long n = atol(argv[6]);
+        long lv = whole(argv[3]), feed = whole(argv[5]), n = whole(argv[6]);
+        int tr = trace_of(argv[4]);
         if (lv < 0 || lv > 2 || tr < 0 || (feed != 0 && feed != 1) || n < 1) return usage();
         if (hp_scene_load(argv[1], &ts, &td) != HP_OK) {
             fprintf(stderr, "headplan-bench-count: %s\n", td.text);
             return 66;
         }
-        return run_tail(&ts.layout, lv, tr, feed, n);
+        return run_tail(&ts.layout, (int)lv, tr, (int)feed, n);
     }
     if (strcmp(mode, "loop") == 0 && argc == 6) {
         static hp_scene ls;

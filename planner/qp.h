@@ -61,7 +61,10 @@ typedef struct hp_qp {
     double u[HP_QP_MMAX];   /* multiplier of every constraint (0 when inactive) */
     int active[HP_QP_MMAX]; /* 1 when constraint j is in the final active set */
     int iterations;         /* add + drop steps; a warm start counts one add step per
-                             * guessed row it keeps (iterations − gi_steps of them) */
+                             * guessed row it keeps (iterations − gi_steps of them in a
+                             * call that neither resumed a stopped solve, whose count it
+                             * carries on, nor fell back to the full solve, which counts
+                             * from 0 again while gi_steps counts both runs) */
     hp_qp_warm warm;        /* what the warm start did (HP_QP_WARM_NONE without a guess) */
     int warm_solved;        /* 1 when this call solved the guessed rows' equality system
                              * (the warm start's main cost), else 0 */

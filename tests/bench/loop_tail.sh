@@ -30,7 +30,7 @@ for lv in 0 1 2; do
   done
 done
 # The tail mode's arguments are checked.
-for args in "0 jump 0 10" "3 step 0 10" "0 step 2 10" "0 step 0 0"; do
+for args in "0 jump 0 10" "3 step 0 10" "0 step 2 10" "0 step 0 0" "x step 0 10" "0 step 1x 10"; do
   run "$SCENE" tail $args
   expect_exit 64 "tail $args"
 done
