@@ -430,18 +430,13 @@ static int solve(hp_planner *p, hp_result *res, plan_ctx *c, int cold)
 
 /* Step 4: the answer at the point c->x: radii and pressures inside this cycle's limits; a
  * backend's radii moved back into their limits hold a slightly different pose, found by
- * forward contact kinematics (not real time). Returns 1, HPI_ANSWER_NEAR_RATE (a direct
- * answer under deferred rate bounds with a pressure near a rate window's end, left
- * unfinished: hpi_plan_answer_from_pose), or 0 with res labelled. */
+ * forward contact kinematics (not real time). Returns 1, or 0 with res labelled. */
 static int accept(hp_planner *p, hp_result *r, plan_ctx *c)
 {
     /* The direct chain's answer is the pose it just evaluated, and a backend may hand back
      * its distances at its answer: no second evaluation. */
-    int a = hpi_plan_answer_from_pose(p, c->x, c->direct || c->has_rho ? c->rho : NULL,
-                                      c->direct && c->rate_deferred, r, &c->clamp_mm);
-    /* A direct answer the plan discards: no pose of its radii to find. */
-    if (a == HPI_ANSWER_NEAR_RATE) return a;
-    if (!a) {
+    if (!hpi_plan_answer_from_pose(p, c->x, c->direct || c->has_rho ? c->rho : NULL,
+                                   c->direct && c->rate_deferred, r, &c->clamp_mm)) {
         hpi_text_set(p->err, "the answer was not finite or left a limit: holding the previous "
                              "pressures");
         fail_safe(p, r, HP_STATUS_SOLVER_ERROR, c);
@@ -826,15 +821,15 @@ static hp_error plan_once(hp_planner *p, const double desired[6], hp_result *res
         c.iters += pass > 0 ? iters0 : 0;
         res->raw_code = c.raw;
         res->iterations = c.iters;
-        int acc = accept(p, res, &c);
-        if (!acc) return HP_OK;
+        if (!accept(p, res, &c)) return HP_OK;
         if (c.rate_deferred) {
             /* A direct answer inside the static bounds: the plan's own unless a pressure
-             * comes near a rate window's end (hpi_setup_rate_clear, tested row by row as
-             * accept built it). Then the exact bounds, and the plan again. */
-            if (acc != HPI_ANSWER_NEAR_RATE) {
+             * comes near a rate window's end. Then the exact bounds, and the plan again. */
+            if (hpi_setup_rate_clear(&p->L, &p->sb, p->pb.p_prev, res->bladders)) {
                 c.rate_deferred = 0;
             } else {
+                /* Its rows, for the next plan toward the same target (hp_answer_memo). */
+                hpi_plan_answer_keep(p, c.rho, res);
                 if (!rate_bounds(p, res, &c)) return HP_OK;
                 /* The direct chain's radii (c.rho, every bladder's: it answered) decide its
                  * test against the stand-ins as against the exact bounds once the ends

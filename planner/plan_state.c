@@ -22,11 +22,17 @@ void hpi_plan_from_scaled(const double x[6], double xi[6]) { hpi_setup_pose_from
 
 static int same_bits(double a, double b) { return memcmp(&a, &b, sizeof a) == 0; }
 
-/* 1 when the memo holds bladder k's row at distance rho_mm [mm] and radius bounds lo, hi. */
-static int memo_holds(const hp_answer_memo *m, int k, double rho_mm, double lo, double hi)
+/* 1 when the memo holds the rows of these distances rho [mm] and radius bounds. The first
+ * distance decides most misses (a new answer moves every bladder). */
+static int memo_holds(const hp_answer_memo *m, const double *rho, const double *lo,
+                      const double *hi, int n)
 {
-    return m->valid[k] && same_bits(m->rho[k], rho_mm) && same_bits(m->ri_lo[k], lo) &&
-           same_bits(m->ri_hi[k], hi);
+    if (!m->ok) return 0;
+    int k = 0;
+    while (k < n && same_bits(m->rho[k], rho[k]) && same_bits(m->ri_lo[k], lo[k]) &&
+           same_bits(m->ri_hi[k], hi[k]))
+        ++k;
+    return k == n;
 }
 
 /* Bladder k's pressure window in this plan: its limits, within the rate window around the
@@ -59,49 +65,18 @@ static inline int row_finish(const hp_planner *p, int k, hp_bladder_result *br, 
            isfinite(br->ro);
 }
 
-/* The direct answer under deferred rate bounds (hpi_plan_answer_from_pose with direct):
- * bladder by bladder, each row from the memo or evaluated (and kept there), in this plan's
- * window, checked, and tested against the rate window; the first row near its window's
- * end ends it, as the plan discards the answer then. Row by row, the chains of one
- * bladder's radius and pressure no longer overlap with the next bladder's (answer_eval),
- * but a discarded answer stops at its first such row (the first on most new targets). */
-static int answer_direct(hp_planner *p, const double x[6], const double *rho, hp_result *res,
-                         double *clamp_mm)
+/* The answer from the memo's rows: this plan's windows, flags and checks. */
+static int answer_from_memo(hp_planner *p, const double x[6], const double *rho, hp_result *res,
+                            double *clamp_mm)
 {
-    hp_answer_memo *m = &p->ans_memo;
-    const int memo = !atomic_load_explicit(&answer_memo_off, memory_order_relaxed);
+    const hp_answer_memo *m = &p->ans_memo;
     for (int k = 0; k < p->L.n; ++k) {
-        hp_bladder_result *br = &res->bladders[k];
-        const double lo = p->pb.ri_lo_si[k], hi = p->pb.ri_hi_si[k];
-        int c;
-        if (memo && memo_holds(m, k, rho[k], lo, hi)) {
-            *br = m->res[k];
-            c = m->clamped[k];
-        } else {
-            atomic_fetch_add_explicit(&answer_rows, 1ul, memory_order_relaxed);
-            double ri;
-            m->valid[k] = 0; /* its row is overwritten */
-            if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, lo, hi, &ri, &c) !=
-                    HP_OK ||
-                hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k],
-                                            rho[k] / HP_MM_PER_M, ri, c, -INFINITY, INFINITY,
-                                            br) != HP_OK)
-                return 0;
-            if (memo) {
-                m->res[k] = *br;
-                m->clamped[k] = (unsigned char)c;
-                m->rho[k] = rho[k];
-                m->ri_lo[k] = lo;
-                m->ri_hi[k] = hi;
-                m->valid[k] = 1;
-            }
-        }
         double plo, phi;
         row_window(p, k, &plo, &phi);
+        hp_bladder_result *br = &res->bladders[k];
+        *br = m->res[k];
         br->pressure = hpi_setup_pressure_in(br->pressure, plo, phi);
-        if (!row_finish(p, k, br, c, rho[k], clamp_mm)) return 0;
-        if (!hpi_setup_rate_clear_row(&p->L, &p->sb, p->pb.p_prev, k, br->pressure))
-            return HPI_ANSWER_NEAR_RATE;
+        if (!row_finish(p, k, br, m->clamped[k], rho[k], clamp_mm)) return 0;
     }
     hpi_plan_from_scaled(x, res->achieved);
     return 1;
@@ -109,9 +84,12 @@ static int answer_direct(hp_planner *p, const double x[6], const double *rho, hp
 
 /* The answer evaluated from the distances rho [mm]: every bladder's inner radius first,
  * then the pressures (each half is a chain of roots and divisions, and back to back the
- * processor overlaps one bladder's chain with the next one's: the same bits as one pass). */
-static inline int answer_eval(hp_planner *p, const double x[6], const double *rho, hp_result *res,
-                              double *clamp_mm)
+ * processor overlaps one bladder's chain with the next one's: the same bits as one pass).
+ * hold (may be NULL): where each pressure before its window and clamp flag are held for
+ * hpi_plan_answer_keep. Called with hold NULL, it is specialised without them (the answers
+ * of every solve). */
+static inline int answer_eval(hp_planner *p, const double x[6], const double *rho,
+                              hp_answer_memo *hold, hp_result *res, double *clamp_mm)
 {
     const int n = p->L.n;
     atomic_fetch_add_explicit(&answer_rows, (unsigned long)n, memory_order_relaxed);
@@ -125,9 +103,17 @@ static inline int answer_eval(hp_planner *p, const double x[6], const double *rh
         double plo, phi;
         row_window(p, k, &plo, &phi);
         hp_bladder_result *br = &res->bladders[k];
+        /* A row held is the row before any window; the clamp after is the one the call
+         * makes. */
         if (hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
-                                        ri[k], clamped[k], plo, phi, br) != HP_OK)
+                                        ri[k], clamped[k], hold ? -INFINITY : plo,
+                                        hold ? INFINITY : phi, br) != HP_OK)
             return 0;
+        if (hold) {
+            hold->res[k].pressure = br->pressure;
+            hold->clamped[k] = (unsigned char)clamped[k];
+            br->pressure = hpi_setup_pressure_in(br->pressure, plo, phi);
+        }
         if (!row_finish(p, k, br, clamped[k], rho[k], clamp_mm)) return 0;
     }
     hpi_plan_from_scaled(x, res->achieved);
@@ -141,7 +127,37 @@ int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rh
     *clamp_mm = 0;
     if (rho_known) memcpy(rho, rho_known, sizeof(double) * (size_t)p->L.n);
     else if (hpi_setup_contact_scaled(&p->L, &p->G, p->level, x, rho, NULL) != HP_OK) return 0;
-    return direct ? answer_direct(p, x, rho, res, clamp_mm) : answer_eval(p, x, rho, res, clamp_mm);
+    hp_answer_memo *m = &p->ans_memo;
+    m->pending = 0;
+    if (!direct || atomic_load_explicit(&answer_memo_off, memory_order_relaxed))
+        return answer_eval(p, x, rho, NULL, res, clamp_mm);
+    /* Rows whose distances and radius bounds the discarded answer had, bit for bit, are its
+     * rows (hp_answer_memo): only the windows are this plan's. */
+    if (memo_holds(m, rho, p->pb.ri_lo_si, p->pb.ri_hi_si, p->L.n))
+        return answer_from_memo(p, x, rho, res, clamp_mm);
+    m->ok = 0; /* its pressures are overwritten */
+    if (!answer_eval(p, x, rho, m, res, clamp_mm)) return 0;
+    m->pending = 1;
+    return 1;
+}
+
+void hpi_plan_answer_keep(hp_planner *p, const double *rho, const hp_result *res)
+{
+    hp_answer_memo *m = &p->ans_memo;
+    if (!m->pending) return;
+    for (int k = 0; k < p->L.n; ++k) {
+        m->rho[k] = rho[k];
+        m->ri_lo[k] = p->pb.ri_lo_si[k];
+        m->ri_hi[k] = p->pb.ri_hi_si[k];
+        /* ri, ro and stretch are the row's own; the pressure held is before the window. */
+        const hp_bladder_result *br = &res->bladders[k];
+        m->res[k].ri = br->ri;
+        m->res[k].ro = br->ro;
+        m->res[k].stretch = br->stretch;
+        m->res[k].binding = 0;
+    }
+    m->pending = 0;
+    m->ok = 1;
 }
 
 hp_error hpi_plan_fit_from_nominal(const hp_planner *p, const double *ro, const int free_[6],

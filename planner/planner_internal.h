@@ -43,21 +43,21 @@ typedef struct hp_rate_kept {
     unsigned char lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
 } hp_rate_kept;
 
-/* The rows of direct answers the rate-limited plans evaluated (hpi_plan_answer_from_pose):
- * bladder k's state from its outer radius rho[k] [mm] with the inner radius moved into
- * [ri_lo[k], ri_hi[k]] [m] (the row's key, compared bit for bit), before a pressure window
- * clamps the pressure. A function of the key and of bladder k's model alone, fixed for the
- * planner's life: the same key gives the same row, so a row found here is the row an
- * evaluation would give. Such rows come again: a rate-limited plan whose direct answer at
- * the target comes near a rate window's end discards it and solves, and the next plan
- * toward the same target tests the same direct answer against its windows. Each row is
- * its own entry (valid[k]): a discarded answer is evaluated only up to its first pressure
- * near a window's end, and the next plan takes those rows and evaluates the rest as it
- * needs them. Zeroed: empty. */
+/* The rows of the last direct answer a plan discarded (hpi_plan_answer_from_pose,
+ * hpi_plan_answer_keep): each bladder's state from its outer radius rho[k] [mm] with the
+ * inner radius moved into [ri_lo[k], ri_hi[k]] [m] (the key, compared bit for bit), before
+ * a pressure window clamps the pressure. A function of the key and of the bladders' models
+ * alone, both fixed for the planner's life: the same key gives the same rows, so rows
+ * found here are the rows an evaluation would give. Such an answer comes again: a
+ * rate-limited plan whose direct answer at the target comes near a rate window's end
+ * discards it and solves, and the next plan toward the same target tests the same direct
+ * answer against its windows. pending: the last direct answer's pressures before the
+ * window and clamp flags are in res and clamped (ok 0) until kept. Zeroed: empty. */
 typedef struct hp_answer_memo {
-    unsigned char valid[HP_MAX_BLADDERS], clamped[HP_MAX_BLADDERS];
+    int ok, pending;
     double rho[HP_MAX_BLADDERS], ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];
     hp_bladder_result res[HP_MAX_BLADDERS]; /* pressure not clamped into a window; binding 0 */
+    unsigned char clamped[HP_MAX_BLADDERS];
 } hp_answer_memo;
 
 struct hp_planner {
@@ -197,17 +197,17 @@ void hpi_plan_from_scaled(const double x[6], double xi[6]);
 
 /* Fills res from a scaled pose x: contact distances at the planner's level (rho_known:
  * already evaluated at x [mm], else NULL), radii, pressures (clamped into this cycle's
- * limits), binding flags and achieved pose. Returns 1, or 0 when something was not finite
- * or left a limit. clamp_mm receives the largest radius correction. direct: the direct
- * chain's answer under deferred rate bounds, which the plan discards when a pressure
- * comes near a rate window's end (hpi_setup_rate_clear): its rows are taken from
- * p->ans_memo where it holds them (the same bits as evaluating them), else evaluated and
- * kept there, bladder by bladder, and the first row near its window's end stops it:
- * HPI_ANSWER_NEAR_RATE (res unfinished; the rows after it are neither evaluated nor
- * checked). Returned 1 with direct, every pressure passed that test. */
+ * limits), binding flags and achieved pose. Returns 0 when something was not finite.
+ * clamp_mm receives the largest radius correction. direct: the direct chain's answer
+ * under deferred rate bounds, which the plan may discard: its rows come from p->ans_memo
+ * when it holds them (the same bits as evaluating them), else are evaluated and held
+ * pending for hpi_plan_answer_keep. */
 int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known, int direct,
                               hp_result *res, double *clamp_mm);
-#define HPI_ANSWER_NEAR_RATE 2
+/* Keeps the rows of the direct answer res at distances rho [mm] that the plan discards (the
+ * last hpi_plan_answer_from_pose with direct, evaluated, not from the memo; else nothing),
+ * under the radius bounds it was answered with (call it before they change). */
+void hpi_plan_answer_keep(hp_planner *p, const double *rho, const hp_result *res);
 
 /* TEST-ONLY count (inert): the answer rows (a bladder's inner radius and pressure from its
  * outer radius) hpi_plan_answer_from_pose evaluated in this process so far, rows it took

@@ -620,22 +620,18 @@ int hpi_setup_rate_pending(const hp_rate_lazy *z)
     return 0;
 }
 
-int hpi_setup_rate_clear_row(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
-                             int k, double P)
-{
-    double rate = L->bladders[k].rate_max, m = b->rate_slack[k];
-    if (!isfinite(rate)) return 1;
-    double pl, ph;
-    hpi_rate_window(p_prev[k], rate, &pl, &ph);
-    /* The same tests as hpi_setup_cycle_bounds for whether a window end is a bound. */
-    return !(pl > b->p_lo[k] && !(P >= pl + m)) && !(ph < b->p_hi[k] && !(P <= ph - m));
-}
-
 int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
                          const hp_bladder_result *br)
 {
-    for (int k = 0; k < L->n; ++k)
-        if (!hpi_setup_rate_clear_row(L, b, p_prev, k, br[k].pressure)) return 0;
+    for (int k = 0; k < L->n; ++k) {
+        double rate = L->bladders[k].rate_max, P = br[k].pressure, m = b->rate_slack[k];
+        if (!isfinite(rate)) continue;
+        double pl, ph;
+        hpi_rate_window(p_prev[k], rate, &pl, &ph);
+        /* The same tests as hpi_setup_cycle_bounds for whether a window end is a bound. */
+        if (pl > b->p_lo[k] && !(P >= pl + m)) return 0;
+        if (ph < b->p_hi[k] && !(P <= ph - m)) return 0;
+    }
     return 1;
 }
 

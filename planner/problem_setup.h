@@ -82,9 +82,6 @@ static inline void hpi_rate_window(double prev, double rate, double *lo, double 
  * them, no rate limit binding within the tolerance), and hp_plan need not solve them. */
 int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
                          const hp_bladder_result *br);
-/* hpi_setup_rate_clear's test of bladder k alone, at its pressure P [Pa]. */
-int hpi_setup_rate_clear_row(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
-                             int k, double P);
 
 /* One bladder's safe envelope: the one home of its pressure, stretch, hoop-stress and
  * limit-point limits as bounds on its inner radius, so that IK(ri_lo) >= p_min and
