@@ -3,10 +3,10 @@
 ceiling = 1000
 # index, kinematic us, load us (realtime, ipopt, nlopt-slsqp), sag mm, unbounded
 $d << EOD
-0 1.36838 2935.69 17018.2 2815.59 1000 1
-1 2.704 nan nan nan 1000 1
-2 2.6915 127.271 4511.98 179.349 1000 1
-3 2.875 4472.28 59822.6 4277.91 1000 1
+0 1.27812 2824.67 17679.8 2816.73 1000 1
+1 2.724 nan nan nan 1000 1
+2 2.744 129.134 4396.06 172.829 1000 1
+3 2.774 4220.38 56975.9 4068.68 1000 1
 EOD
 set xtics ("load_heavy" 0, "load_prone" 1, "load_supine" 2, "load_tilted" 3)
 

@@ -12,47 +12,47 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 5.65009e+07]
+set xrange [* : 5.86384e+07]
 
 $front << EOD
-889.667,4.646568e-01,realtime-linear-1e-09
-5744,1.355203e-10,realtime-surface-1e-04
-2.43505e+06,1.000000e-17,ipopt-surface-1e-09-r0
-5.65009e+07,1.000000e-17,end
+863.3,4.646568e-01,realtime-linear-1e-04
+5759,1.355203e-10,realtime-surface-1e-04
+2.62231e+06,1.000000e-17,ipopt-surface-1e-09-r0
+5.86384e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-367.793,4.936830e-03,fastpath-linear
-2235.2,1.000000e-17,fastpath-surface
-5.65009e+07,1.000000e-17,end
+367.115,4.936830e-03,fastpath-linear
+2228.25,1.000000e-17,fastpath-surface
+5.86384e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-786.179,9.238732e-02,trace-realtime-linear
-4945.83,3.417474e-08,trace-realtime-surface
-5.65009e+07,3.417474e-08,end
+758.423,9.238732e-02,trace-realtime-linear
+4981.6,3.417474e-08,trace-realtime-surface
+5.86384e+07,3.417474e-08,end
 EOD
 
 $front3 << EOD
-889.667,4.646568e-01,realtime-linear-1e-09
-5744,1.355203e-10,realtime-surface-1e-04
-5.65009e+07,1.355203e-10,end
+863.3,4.646568e-01,realtime-linear-1e-04
+5759,1.355203e-10,realtime-surface-1e-04
+5.86384e+07,1.355203e-10,end
 EOD
 
 $front4 << EOD
-2215.75,1.000000e-17,ipopt-surface-1e-09-reach
-5.65009e+07,1.000000e-17,end
+2223.4,1.000000e-17,ipopt-surface-1e-09-reach-r0
+5.86384e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-2213.4,1.000000e-17,nlopt-slsqp-surface-1e-09-reach-r0
-5.65009e+07,1.000000e-17,end
+2210.75,1.000000e-17,nlopt-slsqp-surface-1e-09-reach
+5.86384e+07,1.000000e-17,end
 EOD
 
 $front6 << EOD
-258077,4.646567e-01,nlopt-cobyla-linear-1e-04
-392570,5.181534e-07,nlopt-cobyla-surface-1e-04
-5.65009e+07,5.181534e-07,end
+257592,4.646567e-01,nlopt-cobyla-linear-1e-04
+389655,5.181534e-07,nlopt-cobyla-surface-1e-04
+5.86384e+07,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
