@@ -33,14 +33,22 @@ static double fpp(double l)
 }
 static double gpp(double l) { return -3.0 / (l * l * l * l); }
 
-/* The pressure at scaled inner radius ri whose scaled outer radius is r. */
-static hp_error pressure_at(const hp_iab_s *s, double ri, double r, double *P)
+/* The pressure at scaled inner radius ri whose scaled outer radius is r, the stretches
+ * li = ri/Ri and lo = r/Ro formed by the caller. */
+static hp_error pressure_at_l(const hp_iab_s *s, double ri, double r, double li, double lo,
+                              double *P)
 {
     double a = hpi_iab_cube_diff(ri, s->Ri); /* ri³ − Ri³ */
-    double p = hpi_iab_s_energy_diff(s, ri, s->Ri, r, s->Ro, a, s->W);
+    double p = energy_diff_l(s, ri, s->Ri, r, s->Ro, a, s->W, li, lo);
     if (!isfinite(p)) return HP_ERR_DOMAIN;
     *P = p;
     return HP_OK;
+}
+
+/* The pressure at scaled inner radius ri whose scaled outer radius is r. */
+static hp_error pressure_at(const hp_iab_s *s, double ri, double r, double *P)
+{
+    return pressure_at_l(s, ri, r, ri / s->Ri, r / s->Ro, P);
 }
 
 hp_error hpi_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro)
@@ -81,9 +89,10 @@ hp_error hpi_iab_s_slopes(const hp_iab_s *s, double ri, double ro, double *d1, d
 
 hp_error hpi_iab_s_pressure_slope(const hp_iab_s *s, double ri, double *P, double *ro, double *d1)
 {
-    double r = hpi_iab_s_ro(s, ri), li = ri / s->Ri, lo = r / s->Ro;
-    double p = energy_diff_l(s, ri, s->Ri, r, s->Ro, hpi_iab_cube_diff(ri, s->Ri), s->W, li, lo);
-    if (!isfinite(p) || slopes_l(s, ri, r, li, lo, d1, NULL) != HP_OK) return HP_ERR_DOMAIN;
+    double r = hpi_iab_s_ro(s, ri), li = ri / s->Ri, lo = r / s->Ro, p;
+    if (pressure_at_l(s, ri, r, li, lo, &p) != HP_OK ||
+        slopes_l(s, ri, r, li, lo, d1, NULL) != HP_OK)
+        return HP_ERR_DOMAIN;
     *P = p;
     *ro = r;
     return HP_OK;
