@@ -36,17 +36,22 @@ static int memo_holds(const hp_answer_memo *m, const double *rho, const double *
 }
 
 /* Bladder k's pressure window in this plan: its limits, within the rate window around the
- * previous pressure (a reading's, derived or not) when a rate limit applies. */
-static inline void row_window(const hp_planner *p, int k, double *plo, double *phi)
+ * previous pressure (a reading's, derived or not) when a rate limit applies; w (may be
+ * NULL) receives that rate window ([-inf, inf] without one). */
+static inline void row_window(const hp_planner *p, int k, double *plo, double *phi, double *w)
 {
     const hp_bladder *B = &p->L.bladders[k];
     *plo = p->sb.p_lo[k];
     *phi = p->sb.p_hi[k];
+    double wl = -INFINITY, wh = INFINITY;
     if (p->s.use_rate_limits && isfinite(B->rate_max)) {
-        double wl, wh;
         hpi_rate_window(p->pb.p_prev[k], B->rate_max, &wl, &wh);
         *plo = fmax(*plo, wl);
         *phi = fmin(*phi, wh);
+    }
+    if (w) {
+        w[0] = wl;
+        w[1] = wh;
     }
 }
 
@@ -72,7 +77,7 @@ static int answer_from_memo(hp_planner *p, const double x[6], const double *rho,
     const hp_answer_memo *m = &p->ans_memo;
     for (int k = 0; k < p->L.n; ++k) {
         double plo, phi;
-        row_window(p, k, &plo, &phi);
+        row_window(p, k, &plo, &phi, NULL);
         hp_bladder_result *br = &res->bladders[k];
         *br = m->res[k];
         br->pressure = hpi_setup_pressure_in(br->pressure, plo, phi);
@@ -101,7 +106,7 @@ static inline int answer_eval(hp_planner *p, const double x[6], const double *rh
             return 0;
     for (int k = 0; k < n; ++k) {
         double plo, phi;
-        row_window(p, k, &plo, &phi);
+        row_window(p, k, &plo, &phi, NULL);
         hp_bladder_result *br = &res->bladders[k];
         /* A row held is the row before any window; the clamp after is the one the call
          * makes. */
@@ -118,6 +123,33 @@ static inline int answer_eval(hp_planner *p, const double x[6], const double *rh
     }
     hpi_plan_from_scaled(x, res->achieved);
     return 1;
+}
+
+int hpi_plan_direct_left(hp_planner *p, const double *rho)
+{
+    unsigned near;
+    if (hpi_setup_rate_surely_left(&p->L, &p->sb, p->pb.p_prev, rho, 2.0 * HP_BINDING_TOL_MM,
+                                   &near))
+        return 1;
+    /* A radius within a knot spacing of a window's end: its row alone (answer_eval's calls,
+     * so its bits) tells whether the answer would be discarded for it. A row that fails or
+     * leaves a limit stops the look: the answer is built and refused as before. */
+    for (int k = 0; near; ++k, near >>= 1) {
+        if (!(near & 1u)) continue;
+        double ri, plo, phi, w[2], clamp_mm = 0;
+        int clamped;
+        hp_bladder_result br;
+        row_window(p, k, &plo, &phi, w);
+        br.binding = 0;
+        if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
+                                   p->pb.ri_hi_si[k], &ri, &clamped) != HP_OK ||
+            hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
+                                        ri, clamped, plo, phi, &br) != HP_OK ||
+            !row_finish(p, k, &br, clamped, rho[k], &clamp_mm))
+            return 0;
+        if (!hpi_setup_rate_clear_row(&p->sb, k, w[0], w[1], br.pressure)) return 1;
+    }
+    return 0;
 }
 
 int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known, int direct,

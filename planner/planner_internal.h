@@ -204,6 +204,12 @@ void hpi_plan_from_scaled(const double x[6], double xi[6]);
  * pending for hpi_plan_answer_keep. */
 int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rho_known, int direct,
                               hp_result *res, double *clamp_mm);
+/* 1 when the direct answer at distances rho [mm] (deferred rate bounds: the static ones) is
+ * one the plan discards for certain (hpi_setup_rate_clear would say 0 for it): a radius
+ * beyond a rate window's end by the knots (hpi_setup_rate_surely_left), or the row of a
+ * radius within a knot spacing of an end, evaluated alone, with its pressure not clear of
+ * that end. 0 says nothing. Builds no answer and writes no memo. */
+int hpi_plan_direct_left(hp_planner *p, const double *rho);
 /* Keeps the rows of the direct answer res at distances rho [mm] that the plan discards (the
  * last hpi_plan_answer_from_pose with direct, evaluated, not from the memo; else nothing),
  * under the radius bounds it was answered with (call it before they change). */

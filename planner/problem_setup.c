@@ -592,22 +592,49 @@ int hpi_setup_rate_touch(hp_rate_lazy *z, const double *rho_mm, int n, double ma
     return ok;
 }
 
+/* Where bladder k's outer radius r [mm] lies against the knots around pressure pw (lower:
+ * pw is a window's lower end, else its upper): 2 when more than margin_mm beyond the knot
+ * whose pressure brackets pw from outside (the pressure rises with the radius on the stable
+ * branch, so the radius where the pressure crosses pw lies inside that knot's, and r beyond
+ * it too), 1 when only beyond the knot inside it (near pw, one knot spacing or less), else
+ * 0 (a NaN r: 0). */
+static int knot_side(const hp_static_bounds *b, int k, double pw, int lower, double r,
+                     double margin_mm)
+{
+    const double *kp = b->knot_p[k], *kr = b->knot_ro[k];
+    int j = knot_index(b, k, pw);
+    if (lower)
+        return kp[j] <= pw && r < kr[j] * HP_MM_PER_M - margin_mm ? 2 : r < kr[j + 1] * HP_MM_PER_M;
+    return kp[j + 1] >= pw && r > kr[j + 1] * HP_MM_PER_M + margin_mm ? 2 : r > kr[j] * HP_MM_PER_M;
+}
+
 int hpi_setup_rate_surely_out(const hp_rate_lazy *z, const double *rho_mm, int n, double margin_mm)
 {
     if (!z) return 0;
     const hp_static_bounds *b = z->b;
     for (int k = 0; k < n; ++k) {
         if (!(z->lo[k] || z->hi[k]) || !b->knots_ok[k]) continue;
-        const double *kp = b->knot_p[k], *kr = b->knot_ro[k];
-        double r = rho_mm[k], pl = z->pl[k], ph = z->ph[k];
-        if (z->lo[k]) { /* kp[j] <= pl, so its radius kr[j] lies at or inside the bound's */
-            int j = knot_index(b, k, pl);
-            if (kp[j] <= pl && r < kr[j] * HP_MM_PER_M - margin_mm) return 1;
-        }
-        if (z->hi[k]) {
-            int j = knot_index(b, k, ph);
-            if (kp[j + 1] >= ph && r > kr[j + 1] * HP_MM_PER_M + margin_mm) return 1;
-        }
+        if (z->lo[k] && knot_side(b, k, z->pl[k], 1, rho_mm[k], margin_mm) == 2) return 1;
+        if (z->hi[k] && knot_side(b, k, z->ph[k], 0, rho_mm[k], margin_mm) == 2) return 1;
+    }
+    return 0;
+}
+
+int hpi_setup_rate_surely_left(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+                               const double *rho_mm, double margin_mm, unsigned *near)
+{
+    *near = 0;
+    for (int k = 0; k < L->n; ++k) {
+        double rate = L->bladders[k].rate_max;
+        if (!isfinite(rate) || !b->knots_ok[k]) continue;
+        /* hpi_rate_window moves its ends only inward from these (pl >= tl, ph <= th): a
+         * knot that brackets tl or th from outside brackets the window's end, and an end
+         * tighter than the static bound here is one there. No window worked out. */
+        double tl = p_prev[k] - rate, th = p_prev[k] + rate;
+        int lo = tl > b->p_lo[k] ? knot_side(b, k, tl, 1, rho_mm[k], margin_mm) : 0;
+        int hi = th < b->p_hi[k] ? knot_side(b, k, th, 0, rho_mm[k], margin_mm) : 0;
+        if (lo == 2 || hi == 2) return 1;
+        if (lo || hi) *near |= 1u << k;
     }
     return 0;
 }
@@ -620,17 +647,22 @@ int hpi_setup_rate_pending(const hp_rate_lazy *z)
     return 0;
 }
 
+int hpi_setup_rate_clear_row(const hp_static_bounds *b, int k, double pl, double ph, double P)
+{
+    double m = b->rate_slack[k];
+    /* The same tests as hpi_setup_cycle_bounds for whether a window end is a bound. */
+    return !(pl > b->p_lo[k] && !(P >= pl + m)) && !(ph < b->p_hi[k] && !(P <= ph - m));
+}
+
 int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
                          const hp_bladder_result *br)
 {
     for (int k = 0; k < L->n; ++k) {
-        double rate = L->bladders[k].rate_max, P = br[k].pressure, m = b->rate_slack[k];
+        double rate = L->bladders[k].rate_max;
         if (!isfinite(rate)) continue;
         double pl, ph;
         hpi_rate_window(p_prev[k], rate, &pl, &ph);
-        /* The same tests as hpi_setup_cycle_bounds for whether a window end is a bound. */
-        if (pl > b->p_lo[k] && !(P >= pl + m)) return 0;
-        if (ph < b->p_hi[k] && !(P <= ph - m)) return 0;
+        if (!hpi_setup_rate_clear_row(b, k, pl, ph, br[k].pressure)) return 0;
     }
     return 1;
 }

@@ -82,6 +82,9 @@ static inline void hpi_rate_window(double prev, double rate, double *lo, double 
  * them, no rate limit binding within the tolerance), and hp_plan need not solve them. */
 int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
                          const hp_bladder_result *br);
+/* hpi_setup_rate_clear's test of bladder k's pressure P against its rate window [pl, ph]
+ * (hpi_rate_window's): 1 when clear. */
+int hpi_setup_rate_clear_row(const hp_static_bounds *b, int k, double pl, double ph, double P);
 
 /* One bladder's safe envelope: the one home of its pressure, stretch, hoop-stress and
  * limit-point limits as bounds on its inner radius, so that IK(ri_lo) >= p_min and
@@ -182,6 +185,18 @@ int hpi_setup_rate_touch(hp_rate_lazy *z, const double *rho_mm, int n, double ma
  * no with the exact bounds as with the stand-ins, whatever ends are left unsolved. 0 when
  * z is NULL, for a NaN radius, and where the knots bracket nothing. No model evaluation. */
 int hpi_setup_rate_surely_out(const hp_rate_lazy *z, const double *rho_mm, int n, double margin_mm);
+
+/* 1 when some bladder's outer radius rho_mm[k] [mm] (L->n of them) lies beyond an end of
+ * its rate window around p_prev[k] for certain, by more than margin_mm beyond the knot that
+ * brackets that end from outside, where the end is tighter than the static pressure bound:
+ * before any bound of the plan is set, from the knots alone (no model evaluation, no window
+ * worked out). Then that radius's pressure lies beyond the window's end, so the answer's,
+ * clamped into the window, lies on it (not its rate slack inside), and hpi_setup_rate_clear
+ * says 0 for that answer. 0 for a NaN radius and where the knots bracket nothing; then bit
+ * k of *near is set for each bladder whose radius lies beyond the knot inside an end (its
+ * pressure within a knot spacing of the end, or beyond it). */
+int hpi_setup_rate_surely_left(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+                               const double *rho_mm, double margin_mm, unsigned *near);
 
 /* Whether any end of z is still a stand-in. */
 int hpi_setup_rate_pending(const hp_rate_lazy *z);

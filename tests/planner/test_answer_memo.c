@@ -5,9 +5,10 @@
  *   target at the rate evaluates the direct chain's answer at the target (the pressures it
  *   tests against the rate windows) and, when a pressure comes near a window's end, the
  *   solver's answer each cycle; the first repeats bit for bit from cycle to cycle, so after
- *   the first plan of a hold a plan evaluates at most one answer's rows (the solver's). The
- *   same trace with the memo off evaluates two answers' rows on such plans (the test
- *   asserts some do, so it exercises the memo).
+ *   the first plan of a hold a plan evaluates at most one answer's rows (the solver's).
+ *   Since a direct answer the windows discard for certain is not built
+ *   (hpi_plan_direct_left), this trace evaluates no plan's rows twice even with the memo
+ *   off (before: 14 plans did, and the memo saved 312 of 1 720 rows).
  * - Bit for bit: planners with the memo on and off, fed the same targets (a step trace, a
  *   noisy breathing trace) and the same measured pressures (hp_planner_set_measured, ±3 Pa
  *   of seeded noise on the answer's), give the same results to the last bit at the linear
@@ -78,10 +79,60 @@ static void test_held_target_rows(void **state)
     print_message("step trace, %d plans holding a target: rows evaluated %lu with the memo, "
                   "%lu without; %d plans evaluated two answers without it\n",
                   repeats, rows_on, rows_off, two_off);
-    assert_true(two_off >= steps); /* the rate limits held every step back for a plan or more */
-    assert_true(rows_on < rows_off);
+    assert_true(rows_on <= rows_off);
     hp_planner_destroy(a);
     hp_planner_destroy(b);
+}
+
+/* A jump plan of the step trace (the first toward a new target, several windows away)
+ * evaluates one answer's rows, the solver's: the direct chain's radii lie beyond a rate
+ * window's end for certain (hpi_setup_rate_surely_left), so its answer, which the rate
+ * windows would discard, is not built. Before, a jump plan whose direct chain answered
+ * inside the static bounds evaluated two answers' rows, memo on (a new target: nothing to
+ * take from it; the linear trace's plan 80 first). Own answers as the next plan's
+ * centres, and ±3 Pa readings of them (hp_planner_set_measured), at the linear and plane
+ * levels. Every jump plan is held back by the windows (a rate limit binds), so each
+ * counted plan went the rate bounds' way. */
+static void jump_rows(hp_level level, int measured)
+{
+    const int hold = 40, steps = 5;
+    hp_planner *p = planner(level, 1);
+    uint64_t seed = 0x5eed32, noise = 0x301;
+    double mm_deg[6] = {0}, d[6];
+    int jumps = 0;
+    for (int t = 0; t < hold * steps; ++t) {
+        step_target(&seed, t, hold, mm_deg);
+        lf_pose(mm_deg, d);
+        hp_result r;
+        unsigned long rows = plan_rows(p, d, &r, 1);
+        if (t % hold == 0) {
+            unsigned rate = 0;
+            for (int k = 0; k < r.n; ++k)
+                rate |= r.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP);
+            if (rows != (unsigned long)r.n || !rate) {
+                print_error("%s, measured %d, jump plan %d (%s): %lu rows evaluated, want %d; "
+                            "rate limit binding: %s\n",
+                            hp_level_name(level), measured, t, hp_status_name(r.status), rows, r.n,
+                            rate ? "yes" : "no");
+                fail();
+            }
+            ++jumps;
+        }
+        if (!measured) continue;
+        double P[HP_MAX_BLADDERS];
+        for (int k = 0; k < r.n; ++k) P[k] = r.bladders[k].pressure + 3.0 * lf_uniform(&noise);
+        assert_int_equal(hp_planner_set_measured(p, P, NULL), HP_OK);
+    }
+    assert_int_equal(jumps, steps);
+    hp_planner_destroy(p);
+}
+
+static void test_jump_plans_one_answer(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE};
+    for (int l = 0; l < 2; ++l)
+        for (int m = 0; m < 2; ++m) jump_rows(levels[l], m);
 }
 
 /* One trace through a planner with the memo and one without: the same results. */
@@ -136,6 +187,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_held_target_rows),
         cmocka_unit_test(test_memo_same_bits),
+        cmocka_unit_test(test_jump_plans_one_answer),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -24,8 +24,9 @@
  *    from the far memo); every such bound holds exactly (fabs(P − P_prev) <= rate
  *    with P from hp_iab_ik at the bound). A bladder's first bound (no memo) stays the cold
  *    root find's, bit for bit (tests/planner/test_rate_bounds.c).
- * 4. The knots' bracket of a window (hpi_setup_rate_surely_out) calls a radius outside only
- *    when it is (test_surely_out_is_sure).
+ * 4. The knots' bracket of a window (hpi_setup_rate_surely_out, and before any bound is set
+ *    hpi_setup_rate_surely_left) calls a radius outside only when it is
+ *    (test_surely_out_is_sure).
  * 5. A bladder's rate window is worked out once a plan: the lazy set-up's, which its
  *    bounds, the knots' bracket and every resolve after it use (hpi_test_rate_lazy_windows,
  *    a deterministic count); the bounds are the eager ones bit for bit (2.). */
@@ -238,7 +239,7 @@ static void test_surely_out_is_sure(void **state)
     fixture(&L, &sb, 500.0);
     uint64_t seed = 0x5e7e;
     const double margin = 2.0 * HP_BINDING_TOL_MM;
-    long out = 0, far = 0;
+    long out = 0, far = 0, left_out = 0;
     for (int t = 0; t < 2000; ++t) {
         double P[HP_MAX_BLADDERS], rho[HP_MAX_BLADDERS];
         for (int k = 0; k < L.n; ++k) P[k] = uniform_p(&sb, k, &seed);
@@ -254,6 +255,8 @@ static void test_surely_out_is_sure(void **state)
         assert_int_equal(hpi_setup_cycle_bounds_memo(&L, &sb, P, 1, &me, &pe, le, he, NULL), HP_OK);
         for (int k = 0; k < L.n; ++k) rho[k] = 0.5 * (pe.ro_lo[k] + pe.ro_hi[k]);
         assert_false(hpi_setup_rate_surely_out(&z, rho, L.n, margin));
+        unsigned near;
+        assert_false(hpi_setup_rate_surely_left(&L, &sb, P, rho, margin, &near));
         int k = (int)(test_rng_next(&seed) % (uint64_t)L.n);
         double w = pe.ro_hi[k] - pe.ro_lo[k], mid = rho[k];
         for (int i = 0; i < HP_RATE_KNOTS + 7; ++i) {
@@ -263,14 +266,25 @@ static void test_surely_out_is_sure(void **state)
             int said = hpi_setup_rate_surely_out(&z, rho, L.n, margin);
             if (said) assert_true(rho[k] < pe.ro_lo[k] - margin || rho[k] > pe.ro_hi[k] + margin);
             out += said;
+            /* the same bracket before any bound is set (plan.c's direct answer) */
+            int left = hpi_setup_rate_surely_left(&L, &sb, P, rho, margin, &near);
+            if (left) assert_true(rho[k] < pe.ro_lo[k] - margin || rho[k] > pe.ro_hi[k] + margin);
+            /* outside a window end (not the static bounds, which the direct chain's radii
+             * meet), not for certain: near that end */
+            if (!left && rho[k] >= sb.ro_lo[k] * HP_MM_PER_M &&
+                rho[k] <= sb.ro_hi[k] * HP_MM_PER_M &&
+                (rho[k] < pe.ro_lo[k] || rho[k] > pe.ro_hi[k]))
+                assert_true(near & (1u << k));
+            left_out += left;
             far += rho[k] < pe.ro_lo[k] - w || rho[k] > pe.ro_hi[k] + w;
         }
         rho[k] = mid;
     }
-    print_message("%ld radii called outside their window for certain, %ld drawn beyond a window "
-                  "width outside it\n",
-                  out, far);
+    print_message("%ld radii called outside their window for certain (%ld before any bound "
+                  "is set), %ld drawn beyond a window width outside it\n",
+                  out, left_out, far);
     assert_true(out > far / 2);
+    assert_true(left_out > far / 2);
 }
 
 /* 5.: along a seeded chain of previous pressures (draw_pressure, one memo kept along it),
