@@ -43,16 +43,16 @@ typedef struct hp_rate_kept {
     unsigned char lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
 } hp_rate_kept;
 
-/* The rows of the last direct answer a plan discarded (hpi_plan_answer_from_pose,
- * hpi_plan_answer_keep): each bladder's state from its outer radius rho[k] [mm] with the
- * inner radius moved into [ri_lo[k], ri_hi[k]] [m] (the key, compared bit for bit), before
- * a pressure window clamps the pressure. A function of the key and of the bladders' models
- * alone, both fixed for the planner's life: the same key gives the same rows, so rows
- * found here are the rows an evaluation would give. Such an answer comes again: a
- * rate-limited plan whose direct answer at the target comes near a rate window's end
- * discards it and solves, and the next plan toward the same target tests the same direct
- * answer against its windows. pending: the last direct answer's pressures before the
- * window and clamp flags are in res and clamped (ok 0) until kept. Zeroed: empty. */
+/* The rows of the last direct answer a plan discarded, or kept at the end of a walk the rate
+ * windows held back (hpi_plan_answer_from_pose, hpi_plan_answer_keep): each bladder's state from
+ * its outer radius rho[k] [mm] with the inner radius moved into [ri_lo[k], ri_hi[k]] [m] (the key,
+ * compared bit for bit), before a pressure window clamps the pressure. A function of the key and
+ * of the bladders' models alone, both fixed for the planner's life: the same key gives the same
+ * rows, so rows found here are the rows an evaluation would give. Such an answer comes again: a
+ * rate-limited plan whose direct answer at the target comes near a rate window's end discards it
+ * and solves, and the next plan toward the same target tests the same direct answer against its
+ * windows. pending: the last direct answer's pressures before the window and clamp flags are in
+ * res and clamped (ok 0) until kept. Zeroed: empty. */
 typedef struct hp_answer_memo {
     int ok, pending;
     double rho[HP_MAX_BLADDERS], ri_lo[HP_MAX_BLADDERS], ri_hi[HP_MAX_BLADDERS];
@@ -210,9 +210,10 @@ int hpi_plan_answer_from_pose(hp_planner *p, const double x[6], const double *rh
  * radius within a knot spacing of an end, evaluated alone, with its pressure not clear of
  * that end. 0 says nothing. Builds no answer and writes no memo. */
 int hpi_plan_direct_left(hp_planner *p, const double *rho);
-/* Keeps the rows of the direct answer res at distances rho [mm] that the plan discards (the
- * last hpi_plan_answer_from_pose with direct, evaluated, not from the memo; else nothing),
- * under the radius bounds it was answered with (call it before they change). */
+/* Keeps the rows of the direct answer res at distances rho [mm] that the plan discards, or keeps
+ * where a walk the rate windows held back ends (the last hpi_plan_answer_from_pose with direct,
+ * evaluated, not from the memo; else nothing), under the radius bounds it was answered with (call
+ * it before they change). */
 void hpi_plan_answer_keep(hp_planner *p, const double *rho, const hp_result *res);
 
 /* TEST-ONLY count (inert): the answer rows (a bladder's inner radius and pressure from its
