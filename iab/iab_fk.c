@@ -219,11 +219,12 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
 }
 
 /* The root of P on the stable branch into o (o->ri in metres, the rest as fk_root says).
- * The start st (may be NULL: none) is taken when it lies on the stable branch's side of Ri
- * and below the limit point: st->exact, its pressure is the closed form's bits there (then
- * a start whose pressure is P is the root at once); with st->slope its pressure, slope and
- * outer radius are not evaluated again. A start only changes the steps: the bracket and
- * the bisection fallback make the iteration safe from any. */
+ * The start st (may be NULL, or st->ri NAN: none) is taken when it lies on the stable
+ * branch's side of Ri and below the limit point: st->exact, its pressure is the closed
+ * form's bits there (then a start whose pressure is P is the root at once); with st->slope
+ * its pressure, slope and outer radius are not evaluated again. A start only changes the
+ * steps: the bracket and the bisection fallback make the iteration safe from any; its
+ * p_2ri only the evaluations (the same bits as evaluating 2·Ri). */
 static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P,
                           const hpi_iab_fk_start *st, fk_root *o)
 {
@@ -301,10 +302,14 @@ static hp_error fk_scaled(const hp_iab_s *sp, double r_lp, double p_lp, double P
             /* No limit point: P grows without bound (like 2C2(1 − Ri/Ro)λi), so doubling
              * finds an upper end, or leaves the range of the model. */
             hi = 2.0 * s.Ri;
-            for (;;) {
-                ++o->evals;
-                if (hpi_iab_s_ik(&s, hi, &p, NULL, NULL) != HP_OK || hi > 1e30)
-                    return HP_ERR_DOMAIN;
+            for (int probe = 0;; ++probe) {
+                if (probe == 0 && st && st->p_2ri > 0) {
+                    p = st->p_2ri; /* the caller's evaluation at 2·Ri: the same bits */
+                } else {
+                    ++o->evals;
+                    if (hpi_iab_s_ik(&s, hi, &p, NULL, NULL) != HP_OK || hi > 1e30)
+                        return HP_ERR_DOMAIN;
+                }
                 if (p >= P) break;
                 lo = hi;
                 hi *= 2.0;

@@ -144,6 +144,11 @@ typedef struct hpi_iab_fk_start {
     /* 1: a root within an ulp or two will do (the Newton iteration's last point, without
      * the look at the double next to it). */
     int loose;
+    /* > 0: the closed form's pressure at twice Ri (hpi_iab_s_ik's bits at scaled 2·Ri, a
+     * constant of the bladder the caller keeps), which the FK's search for an upper end of
+     * a bladder without a limit point probes first: taken, not evaluated again. Else (0)
+     * evaluated there when the search needs it. */
+    double p_2ri;
 } hpi_iab_fk_start;
 
 /* A root with what its iteration formed: ri [m]; ro [m] and p, the outer radius and the

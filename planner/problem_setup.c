@@ -97,6 +97,8 @@ static double slope_max(const hp_iab_s *s, double lo, double hi)
 static int rate_knots(const hp_iab_s *s, const hp_iab_limit *lp, const hp_envelope *env,
                       hp_static_bounds *b, int k)
 {
+    double p2;
+    b->p_2ri[k] = hpi_iab_s_ik(s, 2.0 * s->Ri, &p2, NULL, NULL) == HP_OK && p2 > 0 ? p2 : 0.0;
     b->knot_dp[k] = INFINITY; /* no knots: a remembered bound is near wherever it lies */
     for (int i = 0; i < HP_RATE_KNOTS; ++i) {
         double ri = i == 0 ? env->ri_lo : env->ri_hi, ro, P, d;
@@ -288,17 +290,20 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
      * steps more. The same root to rounding either way (tests/planner/test_rate_bounds.c:
      * against the cold reference along such chains). A first bound starts from nothing: the
      * cold root find's bits, which that test holds it to. */
-    hpi_iab_fk_start st = {0};
     int held = m && m->ok;
     double g = held && fabs(pw - m->p) > HP_RATE_MEMO_NEAR_PA ? knot_guess(b, k, pw) : NAN;
-    if (!isnan(g)) st.ri = g; /* a radius alone: evaluated there */
-    else if (held)
+    /* A radius alone (the knots' guess, evaluated there; NAN: no start, as for none) */
+    hpi_iab_fk_start st = {.ri = g};
+    if (isnan(g) && held)
         st = (hpi_iab_fk_start){
             .ri = m->r, .p = m->p_at, .d = m->d, .ro = m->ro, .slope = 1, .exact = 1};
+    /* A bladder without a limit point: the search for an upper end of a start below the
+     * root probes 2·Ri first, evaluated once per layout instead (the same bits). */
+    st.p_2ri = b->p_2ri[k];
     hpi_iab_fk_out o;
     int evals = 0;
     const hp_iab_s *s = &b->iab_s[k];
-    hp_error e = hpi_iab_s_fk_from(s, &b->limit[k], pw, !isnan(g) || held ? &st : NULL, &o);
+    hp_error e = hpi_iab_s_fk_from(s, &b->limit[k], pw, &st, &o);
     /* The nudge's first look is the root's own evaluation when the root find ended on one
      * (the same bits as evaluating it again). */
     *r = o.ri;

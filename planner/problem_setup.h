@@ -47,6 +47,10 @@ typedef struct hp_static_bounds {
     double knot_ri[HP_MAX_BLADDERS][HP_RATE_KNOTS], knot_d[HP_MAX_BLADDERS][HP_RATE_KNOTS];
     double knot_dp[HP_MAX_BLADDERS]; /* their mean spacing [Pa] */
     int knots_ok[HP_MAX_BLADDERS];
+    /* The closed form's pressure at twice Ri (0 when it failed or is not positive): the
+     * window ends' root finds take it as their first probe for an upper end
+     * (hpi_iab_fk_start.p_2ri) instead of evaluating it each time. */
+    double p_2ri[HP_MAX_BLADDERS];
 } hp_static_bounds;
 
 /* The rate slack of a bladder whose dP/dro is at most slope [Pa/m] on its static bounds:
