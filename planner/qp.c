@@ -222,22 +222,52 @@ static inline void violation(double r, double nrm2, int skip, int j, double *wor
 /* The most violated row at x, measured per unit-norm row (the violation (C_j x − b_j)/|C_j|
  * below −feas_tol), ignoring the rows marked in skip; −1 when none is. A twin row reuses
  * the product of the row before it, negated: a declared pair (qp->pairs) is tested as one
- * product and two rows, the rows after the pairs one by one. */
-static int most_violated(const hp_qp *qp, const double *Cr, const double *x, const double *nrm2,
-                         const int *twin, const int *skip, double feas_tol)
+ * product and two rows, the rows after the pairs one by one. keep (may be NULL) receives
+ * every row's product C_j x; kept (may be NULL) gives them instead of x: the products a
+ * scan at this x kept, so the same bits, and the row picked is the same whatever b_j
+ * changed since (each r = C_j x − b_j is formed again). Both NULL: the plain scan. */
+static inline int scan_rows(hp_qp *qp, const double *Cr, const double *x, const double *nrm2,
+                            const int *twin, const int *skip, double feas_tol, double *keep,
+                            const double *kept)
 {
     int p = -1, p2 = 2 * qp->pairs;
     double worst = -feas_tol, cx = 0;
+    qp->scans += !kept;
     for (int j = 0; j < p2; j += 2) {
-        cx = dot(&Cr[j * NM], x);
+        cx = kept ? kept[j] : dot(&Cr[j * NM], x);
+        if (keep) keep[j] = cx;
         violation(cx - qp->b[j], nrm2[j], skip[j], j, &worst, &p);
         violation(-cx - qp->b[j + 1], nrm2[j + 1], skip[j + 1], j + 1, &worst, &p);
     }
     for (int j = p2; j < qp->m; ++j) {
-        cx = twin[j] ? -cx : dot(&Cr[j * NM], x);
+        cx = kept ? kept[j] : twin[j] ? -cx : dot(&Cr[j * NM], x);
+        if (keep) keep[j] = cx;
         violation(cx - qp->b[j], nrm2[j], skip[j], j, &worst, &p);
     }
     return p;
+}
+
+static int most_violated(hp_qp *qp, const double *Cr, const double *x, const double *nrm2,
+                         const int *twin, const int *skip, double feas_tol)
+{
+    return scan_rows(qp, Cr, x, nrm2, twin, skip, feas_tol, NULL, NULL);
+}
+
+/* most_violated in a solve that can stop on a stand-in row (lazy given) or that resumes one
+ * (qp->cxk_: the scan before the stop kept the products at this x, which a resume leaves
+ * as it was): the first scan after the stop takes the products kept, and a scan that can
+ * stop keeps them. They are read only at the x they were formed at: every scan clears
+ * cxk_, a stop alone sets it, and a stop leaves x where the scan was (a resume, which may
+ * stop again on another stand-in at that x, then reads them again). */
+static int most_violated_lazy(hp_qp *qp, const double *Cr, const double *x, const double *nrm2,
+                              const int *twin, const int *skip, double feas_tol,
+                              const unsigned char *lazy)
+{
+    int kept = qp->cxk_;
+    qp->cxk_ = 0;
+    if (kept) return scan_rows(qp, Cr, x, nrm2, twin, skip, feas_tol, NULL, qp->cx_);
+    if (lazy) return scan_rows(qp, Cr, x, nrm2, twin, skip, feas_tol, qp->cx_, NULL);
+    return most_violated(qp, Cr, x, nrm2, twin, skip, feas_tol);
 }
 
 /* y = L⁻¹v by forward substitution (L, ldl from cholesky_factor, its lower triangle read;
@@ -403,10 +433,11 @@ static hp_qp_warm warm_check(hp_qp *qp, const double *Cr, const double *nrm2, co
     /* the guessed rows hold as equalities: skipped in the test (restored after; they were
      * 0, a skipped row having been refused by warm_solve) */
     for (int c = 0; c < k; ++c) skip[A[c]] = 1;
-    int viol = most_violated(qp, Cr, qp->x, nrm2, twin, skip, feas_tol);
+    int viol = most_violated_lazy(qp, Cr, qp->x, nrm2, twin, skip, feas_tol, lazy);
     for (int c = 0; c < k; ++c) skip[A[c]] = 0;
     if (viol >= 0 && lazy && lazy[viol]) {
         *hit = viol;
+        qp->cxk_ = 1;
         return HP_QP_WARM_NONE;
     }
     if (viol >= 0) return HP_QP_WARM_VIOLATED;
@@ -463,12 +494,13 @@ static hp_qp_status gi_loop(hp_qp *qp, const double *Cr, const unsigned char *la
 
     for (;;) {
         /* Step 1: the most violated constraint. */
-        int p = most_violated(qp, Cr, x, nrm2, twin, skip, feas_tol);
+        int p = most_violated_lazy(qp, Cr, x, nrm2, twin, skip, feas_tol, lazy);
         if (p < 0) break;
         if (lazy && lazy[p]) {
             *hit = p;
             qp->q_ = q;
             qp->resumable = 1;
+            qp->cxk_ = 1;
             return HP_QP_LAZY;
         }
         const double *np = &Cr[p * NM];
@@ -635,7 +667,9 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
     qp->resumable = 0;
     qp->warm_solved = 0;
     qp->gi_steps = 0;
+    qp->scans = 0;
     qp->kept_ = 0;
+    qp->cxk_ = 0;
     if (n < 1 || n > NM || m < 0 || m > HP_QP_MMAX || max_iter < 1 || qp->pairs < 0 ||
         qp->pairs > m / 2)
         return HP_QP_BAD_INPUT;
@@ -688,6 +722,7 @@ hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, 
     qp->resumable = 0;
     qp->warm_solved = 0;
     qp->gi_steps = 0;
+    qp->scans = 0;
     /* load_rows's choice of rows: C itself at full width, else its padded copy (which
      * the stopped solve wrote and nothing since has changed) */
     const double *Cr = qp->n < NM ? qp->C_ : qp->C;

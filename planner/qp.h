@@ -72,6 +72,9 @@ typedef struct hp_qp {
                              * (the rows a warm start keeps count none; a loop from kept
                              * rows that found the QP empty and the full solve that
                              * checked it both count) */
+    int scans;              /* the scans for the most violated row this call ran that formed
+                             * the rows' products with x (a resume's first scan, at the
+                             * stopped iterate, reuses the stop's products: none) */
     /* workspace: Jᵀ and C zero-padded to HP_QP_NMAX columns, R, the active set */
     double J_[HP_QP_NMAX * HP_QP_NMAX], R_[HP_QP_NMAX * HP_QP_NMAX];
     double C_[HP_QP_MMAX * HP_QP_NMAX];
@@ -95,6 +98,10 @@ typedef struct hp_qp {
     /* 1 while the loop runs from a warm start's kept rows (qp.c, warm_gi): an empty verdict
      * reached from there is checked by the full solve from scratch */
     int kept_;
+    /* the rows' products C_j x at a stop's iterate (cxk_ 1 until a scan reads them): a
+     * resume's first scan is at that x and takes them instead of forming them again */
+    double cx_[HP_QP_MMAX];
+    int cxk_;
 } hp_qp;
 
 /* Solves the QP held in q (n, m, G, a, C, b filled) with at most max_iter add/drop steps;
@@ -164,9 +171,11 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *q, const double *Lg, const int *guess,
  * rows, none of them a stand-in). A stop in the warm start's check: its equality solve read
  * only the guessed rows' b, none of them a stand-in, so the check goes on from its x. Either
  * way going on is the exact solve, bit for bit, without the set-up, the factorisation, the
- * equality solve and the steps a new start repeats (tests/planner/test_qp_warm.c,
- * test_lazy_resume_same_bits). The same outputs and statuses as hpi_qp_solve_lazy;
- * HP_QP_BAD_INPUT when q is not resumable. */
+ * equality solve, the steps a new start repeats and the rows' products at the stopped
+ * iterate, which its first scan for the most violated row takes from the stop's scan
+ * (the same bits; hp_qp.scans; tests/planner/test_qp_warm.c, test_lazy_resume_same_bits).
+ * The same outputs and statuses as hpi_qp_solve_lazy; HP_QP_BAD_INPUT when q is not
+ * resumable. */
 hp_qp_status hpi_qp_resume_lazy(hp_qp *q, const unsigned char *lazy, int *hit, int max_iter,
                                 double feas_tol);
 
