@@ -3,10 +3,10 @@
 ceiling = 1000
 # index, kinematic us, load us (realtime, ipopt, nlopt-slsqp), sag mm, unbounded
 $d << EOD
-0 1.27812 2824.67 17679.8 2816.73 1000 1
-1 2.724 nan nan nan 1000 1
-2 2.744 129.134 4396.06 172.829 1000 1
-3 2.774 4220.38 56975.9 4068.68 1000 1
+0 1.523 3603.65 38500.4 4357.02 1000 1
+1 4.258 nan nan nan 1000 1
+2 4.299 181.368 9470.57 204.672 1000 1
+3 3.306 5389.8 94358.8 5069.28 1000 1
 EOD
 set xtics ("load_heavy" 0, "load_prone" 1, "load_supine" 2, "load_tilted" 3)
 

@@ -12,47 +12,47 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 5.86384e+07]
+set xrange [* : 1.22505e+08]
 
 $front << EOD
-863.3,4.646568e-01,realtime-linear-1e-04
-5759,1.355203e-10,realtime-surface-1e-04
-2.62231e+06,1.000000e-17,ipopt-surface-1e-09-r0
-5.86384e+07,1.000000e-17,end
+1031.86,4.646568e-01,realtime-linear-1e-04
+6643,1.355203e-10,realtime-surface-1e-04
+4.02996e+06,1.000000e-17,ipopt-surface-1e-09-r0
+1.22505e+08,1.000000e-17,end
 EOD
 
 $front1 << EOD
-367.115,4.936830e-03,fastpath-linear
-2228.25,1.000000e-17,fastpath-surface
-5.86384e+07,1.000000e-17,end
+425.125,4.936830e-03,fastpath-linear
+2625,1.000000e-17,fastpath-surface
+1.22505e+08,1.000000e-17,end
 EOD
 
 $front2 << EOD
-758.423,9.238732e-02,trace-realtime-linear
-4981.6,3.417474e-08,trace-realtime-surface
-5.86384e+07,3.417474e-08,end
+884,9.238732e-02,trace-realtime-linear
+5818.5,3.417474e-08,trace-realtime-surface
+1.22505e+08,3.417474e-08,end
 EOD
 
 $front3 << EOD
-863.3,4.646568e-01,realtime-linear-1e-04
-5759,1.355203e-10,realtime-surface-1e-04
-5.86384e+07,1.355203e-10,end
+1031.86,4.646568e-01,realtime-linear-1e-04
+6643,1.355203e-10,realtime-surface-1e-04
+1.22505e+08,1.355203e-10,end
 EOD
 
 $front4 << EOD
-2223.4,1.000000e-17,ipopt-surface-1e-09-reach-r0
-5.86384e+07,1.000000e-17,end
+2587.25,1.000000e-17,ipopt-surface-1e-09-reach
+1.22505e+08,1.000000e-17,end
 EOD
 
 $front5 << EOD
-2210.75,1.000000e-17,nlopt-slsqp-surface-1e-09-reach
-5.86384e+07,1.000000e-17,end
+2415,1.000000e-17,nlopt-slsqp-surface-1e-09-reach
+1.22505e+08,1.000000e-17,end
 EOD
 
 $front6 << EOD
-257592,4.646567e-01,nlopt-cobyla-linear-1e-04
-389655,5.181534e-07,nlopt-cobyla-surface-1e-04
-5.86384e+07,5.181534e-07,end
+312220,4.646567e-01,nlopt-cobyla-linear-1e-09
+475189,5.181534e-07,nlopt-cobyla-surface-1e-04
+1.22505e+08,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
