@@ -214,13 +214,14 @@ int bench_run_cli(int argc, char **argv)
                         "gnuplot not found on PATH (it draws the charts; install the "
                         "'gnuplot' package)");
     for (size_t k = 0; k < N_FAMILIES; ++k) {
-        FILE *f;
-        if (on[k] && families[k].needs_scene && !(f = fopen(scene, "r")))
+        if (!on[k] || !families[k].needs_scene) continue;
+        FILE *f = fopen(scene, "r");
+        if (!f)
             return cli_fail(CLI_EXIT_NOINPUT, CMD,
                             "--scene: cannot open '%s' (the %s "
                             "family needs a layout scene)",
                             scene, families[k].chart.family);
-        else if (on[k] && families[k].needs_scene) fclose(f);
+        fclose(f);
     }
     int peers_on = 0;
     for (size_t k = 0; k < N_FAMILIES; ++k) peers_on |= on[k] && families[k].run == bench_peers;

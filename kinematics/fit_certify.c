@@ -204,7 +204,8 @@ int hpi_kin_fit_certified(const hp_layout *L, const hp_geom *G, hp_level level, 
     if (!near || !near->has_anchor || nf < 1 || level == HP_LEVEL_LINEAR) return 0;
     int n = L->n;
     cert_ctx cx = {.L = L, .G = G, .level = level, .nf = nf, .col = col, .near = near, .centre = x};
-    double rho_x[HP_MAX_BLADDERS], t2 = 0.0;
+    /* = {0}: GCC at -O1 (the sanitizer build) cannot see that n > 0 fills what is read. */
+    double rho_x[HP_MAX_BLADDERS] = {0}, t2 = 0.0;
     for (int k = 0; k < n; ++k) {
         rho_x[k] = target[k] + r[k];
         t2 += r[k] * r[k];

@@ -46,9 +46,11 @@ static void contact_why(const hp_planner *p, hp_level chosen, char *why, size_t 
         at += (size_t)w;
     }
     const int exact = cheaper == hpi_level_n_geometries - 1;
-    snprintf(why, len, "auto chose %s: the error bound%s of %s %s %s%s%s%s", name,
-             cheaper > 1 ? "s" : "", list, cheaper > 1 ? "exceed" : "exceeds", range,
-             exact ? "" : "; ", exact ? "" : name, exact ? "" : "'s meets it");
+    /* A text longer than len is cut there and ends in "...", so a reader sees the cut. */
+    int w = snprintf(why, len, "auto chose %s: the error bound%s of %s %s %s%s%s%s", name,
+                     cheaper > 1 ? "s" : "", list, cheaper > 1 ? "exceed" : "exceeds", range,
+                     exact ? "" : "; ", exact ? "" : name, exact ? "" : "'s meets it");
+    if (w >= 0 && (size_t)w >= len && len >= 4) memcpy(why + len - 4, "...", 4);
 }
 
 /* One candidate of auto by model error: its error at auto_pose against the reference

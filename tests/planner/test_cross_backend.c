@@ -24,8 +24,8 @@
 
 #define DEG (3.14159265358979323846 / 180.0)
 #define N_BACKENDS 4
-#define N_REACH 60   /* seeded reachable targets per level */
-#define N_UNREACH 40 /* seeded unreachable targets per level */
+#define N_REACH HP_TEST_SMALL(60, 16)   /* seeded reachable targets per level */
+#define N_UNREACH HP_TEST_SMALL(40, 12) /* seeded unreachable targets per level */
 
 static const hp_backend backends[N_BACKENDS] = {HP_BACKEND_IPOPT, HP_BACKEND_REALTIME,
                                                 HP_BACKEND_NLOPT_SLSQP, HP_BACKEND_NLOPT_COBYLA};

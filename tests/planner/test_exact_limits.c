@@ -114,14 +114,14 @@ static void stretch_limits_exact_at(hp_level level, int plans_per_backend)
 static void stretch_limits_exact_every_backend(void **st)
 {
     (void)st;
-    stretch_limits_exact_at(HP_LEVEL_SURFACE, 64);
+    stretch_limits_exact_at(HP_LEVEL_SURFACE, HP_TEST_SMALL(64, 16));
 }
 
 static void stretch_limits_exact_load_level(void **st)
 {
     (void)st;
     /* Fewer plans: a load plan costs several contact plans (the held-pose searches). */
-    stretch_limits_exact_at(HP_LEVEL_LOAD, 16);
+    stretch_limits_exact_at(HP_LEVEL_LOAD, HP_TEST_SMALL(16, 6));
 }
 
 /* The directed products themselves, against __float128 (exact for a product of two

@@ -25,6 +25,7 @@ static void test_same_refusals_as_hp_plan(void **state)
     s.law = HP_LOAD_LAW_CAP; /* the default bladders carry the head under the cap law only */
     hp_settings set;
     hp_settings_default(&set);
+    set.max_time = 60.0; /* the outcome, not the clock, is asserted */
     set.level = HP_LEVEL_SURFACE;
     hp_diag d = {{0}};
     hp_planner *lp = NULL;

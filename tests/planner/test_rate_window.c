@@ -22,7 +22,7 @@
 #include "planner/problem_setup.h"
 #include "planner/backend_testing.h"
 
-#define N_PLANS 10
+#define N_PLANS HP_TEST_SMALL(10, 3) /* seeded start poses and rates per backend and level */
 #define N_CHAIN 4
 #define SEED 0x5EEDu
 

@@ -26,10 +26,10 @@
 static long default_plans(hp_backend b)
 {
     switch (b) {
-    case HP_BACKEND_REALTIME: return 3000;
-    case HP_BACKEND_IPOPT: return 150;
-    case HP_BACKEND_NLOPT_SLSQP: return 150;
-    default: return 40;
+    case HP_BACKEND_REALTIME: return HP_TEST_SMALL(3000, 600);
+    case HP_BACKEND_IPOPT: return HP_TEST_SMALL(150, 40);
+    case HP_BACKEND_NLOPT_SLSQP: return HP_TEST_SMALL(150, 40);
+    default: return HP_TEST_SMALL(40, 12);
     }
 }
 

@@ -89,6 +89,7 @@ static inline hp_error lf_planner_backend(hp_backend b, hp_level level, double r
 {
     hp_settings s;
     hp_settings_default(&s);
+    s.max_time = 60.0; /* outcomes must not depend on the machine's speed */
     s.backend = b;
     s.level = level;
     return lf_planner_settings(&s, rate_max, p);

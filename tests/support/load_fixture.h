@@ -18,7 +18,10 @@ static inline hp_error load_create(const hp_layout *L, const hp_load_spec *spec,
 {
     hp_settings set;
     if (s) set = *s;
-    else hp_settings_default(&set);
+    else {
+        hp_settings_default(&set);
+        set.max_time = 60.0; /* outcomes must not depend on the machine's speed */
+    }
     set.load_geometry = set.level == HP_LEVEL_AUTO ? HP_LEVEL_SURFACE : set.level;
     set.level = HP_LEVEL_LOAD;
     set.load = *spec;
@@ -52,6 +55,7 @@ static inline hp_planner *load_lf_planner(hp_backend b, hp_level level, double r
     for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = rate;
     hp_settings s;
     hp_settings_default(&s);
+    s.max_time = 60.0; /* outcomes must not depend on the machine's speed */
     s.backend = b;
     s.level = level;
     hp_planner *p = NULL;
