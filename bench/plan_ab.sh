@@ -21,15 +21,8 @@ set -euo pipefail
 [ $# -ge 2 ] || { sed -n 2,19p "$0" >&2; exit 64; }
 A=$1; B=$2; LEVEL=${3:-2}; MM=${4:-6}; DEG=${5:-4}; PAIRS=${6:-16}; ROUNDS=${7:-30}
 ROUNDS_IN=${8:-2000}
-for d in "$A" "$B"; do
-  [ -e "$d/libheadplan.so" ] || { echo "plan_ab: no libheadplan.so in $d" >&2; exit 66; }
-done
-here=$(cd "$(dirname "$0")/.." && pwd)
-tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
-cc -O2 -std=c11 -I "$here/include" -I "$here/build/include" "$here/bench/plan_count.c" \
-  -o "$tmp/count" -L "$A" -lheadplan -lm
-scene="$here/scenarios/default.yaml"
-run() { LD_LIBRARY_PATH=$1 "$tmp/count" "$scene" "${@:2}"; }
+NAME=plan_ab
+source "$(dirname "$0")/count_two.sh"
 for warm in 0 1; do
   run "$A" answers "$LEVEL" "$MM" "$DEG" "$warm" >"$tmp/a"
   run "$B" answers "$LEVEL" "$MM" "$DEG" "$warm" >"$tmp/b"

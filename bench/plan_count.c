@@ -32,6 +32,12 @@
  *       from its own answers (the rate mode). Prints a line a plan: cycle, planner (0 free,
  *       1 rate-limited), status, 1 if a rate limit binds (else 0). bench/loop_tail.sh counts
  *       each plan's instructions.
+ *   headplan-bench-count SCENE bits CYCLES
+ *       the tail mode's replay for every level (0..2), trace and feed (18 replays, 2·CYCLES
+ *       plans each), printing every answer whole: level, trace, feed, cycle, planner,
+ *       status, the achieved pose and pose error, and every bladder's pressure, radii and
+ *       binding flags, the numbers in %a (exact). Two builds that print the same text gave
+ *       the same answers bit for bit (bench/plan_bits.sh compares two).
  *   headplan-bench-count clocks ROUNDS
  *       the cost of one read of the precise and of the coarse monotonic clock (the realtime
  *       backend's time budget reads the coarse one when max_time spans 100 of its ticks):
@@ -63,6 +69,7 @@ static int usage(void)
                     "       headplan-bench-count SCENE answers LEVEL MM DEG WARM\n"
                     "       headplan-bench-count SCENE loop LEVEL BACKEND CYCLES\n"
                     "       headplan-bench-count SCENE tail LEVEL TRACE FEED CYCLES\n"
+                    "       headplan-bench-count SCENE bits CYCLES\n"
                     "       headplan-bench-count clocks ROUNDS\n");
     return 64;
 }
@@ -176,8 +183,20 @@ static int run_loop(const hp_layout *L0, int level, const char *backend, long cy
     return 0;
 }
 
-/* The tail mode (see the top). */
-static int run_tail(const hp_layout *L0, int level, int trace, int feed, long cycles)
+/* One answer whole, exactly (the bits mode). */
+static void print_bits(int level, int trace, int feed, long j, int m, const hp_result *r)
+{
+    printf("L%d T%d F%d %ld %d %s", level, trace, feed, j, m, hp_status_name(r->status));
+    for (int i = 0; i < 6; ++i) printf(" %a", r->achieved[i]);
+    printf(" %a", r->pose_error);
+    for (int k = 0; k < r->n; ++k)
+        printf(" %a %a %a %u", r->bladders[k].pressure, r->bladders[k].ri, r->bladders[k].ro,
+               r->bladders[k].binding);
+    printf("\n");
+}
+
+/* The tail mode (see the top); bits: the bits mode's line a plan instead. */
+static int run_tail(const hp_layout *L0, int level, int trace, int feed, long cycles, int bits)
 {
     hp_layout L = *L0;
     for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
@@ -210,7 +229,8 @@ static int run_tail(const hp_layout *L0, int level, int trace, int feed, long cy
             int rate = 0;
             for (int k = 0; k < res.n; ++k)
                 rate |= (res.bladders[k].binding & (HP_BIND_RATE_DOWN | HP_BIND_RATE_UP)) != 0;
-            printf("%ld %d %s %d\n", j, m, hp_status_name(res.status), rate);
+            if (bits) print_bits(level, trace, feed, j, m, &res);
+            else printf("%ld %d %s %d\n", j, m, hp_status_name(res.status), rate);
             if (m == 1 && feed) {
                 double P[HP_MAX_BLADDERS];
                 for (int k = 0; k < res.n; ++k)
@@ -244,7 +264,7 @@ static int trace_of(const char *name)
 int main(int argc, char **argv)
 {
     if (argc == 3 && strcmp(argv[1], "clocks") == 0) return time_clocks(atol(argv[2]));
-    if (argc != 7 && argc != 6) return usage();
+    if (argc != 7 && argc != 6 && argc != 4) return usage();
     const char *mode = argv[2];
     if (strcmp(mode, "tail") == 0 && argc == 7) {
         static hp_scene ts;
@@ -256,7 +276,24 @@ int main(int argc, char **argv)
             fprintf(stderr, "headplan-bench-count: %s\n", td.text);
             return 66;
         }
-        return run_tail(&ts.layout, (int)lv, tr, (int)feed, n);
+        return run_tail(&ts.layout, (int)lv, tr, (int)feed, n, 0);
+    }
+    if (argc == 4 && strcmp(mode, "bits") == 0) {
+        static hp_scene bs;
+        hp_diag bd = {{0}};
+        long n = whole(argv[3]);
+        if (n < 1) return usage();
+        if (hp_scene_load(argv[1], &bs, &bd) != HP_OK) {
+            fprintf(stderr, "headplan-bench-count: %s\n", bd.text);
+            return 66;
+        }
+        for (int lv = 0; lv < 3; ++lv)
+            for (int tr = 0; tr < 3; ++tr)
+                for (int feed = 0; feed < 2; ++feed) {
+                    int rc = run_tail(&bs.layout, lv, tr, feed, n, 1);
+                    if (rc) return rc;
+                }
+        return 0;
     }
     if (strcmp(mode, "loop") == 0 && argc == 6) {
         static hp_scene ls;

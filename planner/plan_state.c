@@ -87,6 +87,22 @@ static int answer_from_memo(hp_planner *p, const double x[6], const double *rho,
     return 1;
 }
 
+/* Bladder k's inner radius for its outer radius rho_mm [mm], clamped into this plan's
+ * bounds (*clamped says so): the first half of a row, answer_eval's and the look's. */
+static inline hp_error row_ri(const hp_planner *p, int k, double rho_mm, double *ri, int *clamped)
+{
+    return hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho_mm / HP_MM_PER_M, p->pb.ri_lo_si[k],
+                                  p->pb.ri_hi_si[k], ri, clamped);
+}
+
+/* The row's second half: bladder k's pressure (clamped into [plo, phi]) and radii from ri. */
+static inline hp_error row_pressure(const hp_planner *p, int k, double rho_mm, double ri,
+                                    int clamped, double plo, double phi, hp_bladder_result *br)
+{
+    return hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k], rho_mm / HP_MM_PER_M, ri,
+                                       clamped, plo, phi, br);
+}
+
 /* The answer evaluated from the distances rho [mm]: every bladder's inner radius first,
  * then the pressures (each half is a chain of roots and divisions, and back to back the
  * processor overlaps one bladder's chain with the next one's: the same bits as one pass).
@@ -101,18 +117,15 @@ static inline int answer_eval(hp_planner *p, const double x[6], const double *rh
     double ri[HP_MAX_BLADDERS];
     int clamped[HP_MAX_BLADDERS];
     for (int k = 0; k < n; ++k)
-        if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
-                                   p->pb.ri_hi_si[k], &ri[k], &clamped[k]) != HP_OK)
-            return 0;
+        if (row_ri(p, k, rho[k], &ri[k], &clamped[k]) != HP_OK) return 0;
     for (int k = 0; k < n; ++k) {
         double plo, phi;
         row_window(p, k, &plo, &phi, NULL);
         hp_bladder_result *br = &res->bladders[k];
         /* A row held is the row before any window; the clamp after is the one the call
          * makes. */
-        if (hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
-                                        ri[k], clamped[k], hold ? -INFINITY : plo,
-                                        hold ? INFINITY : phi, br) != HP_OK)
+        if (row_pressure(p, k, rho[k], ri[k], clamped[k], hold ? -INFINITY : plo,
+                         hold ? INFINITY : phi, br) != HP_OK)
             return 0;
         if (hold) {
             hold->res[k].pressure = br->pressure;
@@ -141,10 +154,8 @@ int hpi_plan_direct_left(hp_planner *p, const double *rho)
         hp_bladder_result br;
         row_window(p, k, &plo, &phi, w);
         br.binding = 0;
-        if (hpi_setup_ri_from_ro_s(&p->sb.iab_s[k], rho[k] / HP_MM_PER_M, p->pb.ri_lo_si[k],
-                                   p->pb.ri_hi_si[k], &ri, &clamped) != HP_OK ||
-            hpi_setup_bladder_from_ri_s(&p->L.bladders[k], &p->sb.iab_s[k], rho[k] / HP_MM_PER_M,
-                                        ri, clamped, plo, phi, &br) != HP_OK ||
+        if (row_ri(p, k, rho[k], &ri, &clamped) != HP_OK ||
+            row_pressure(p, k, rho[k], ri, clamped, plo, phi, &br) != HP_OK ||
             !row_finish(p, k, &br, clamped, rho[k], &clamp_mm))
             return 0;
         if (!hpi_setup_rate_clear_row(&p->sb, k, w[0], w[1], br.pressure)) return 1;

@@ -223,6 +223,12 @@ void hpi_plan_answer_keep(hp_planner *p, const double *rho, const hp_result *res
 unsigned long hpi_test_answer_rows(void);
 void hpi_test_answer_memo(int on);
 
+/* TEST-ONLY hook (inert at 0, the default): whether a rate-limited plan looks for a direct
+ * answer its windows discard for certain (hpi_plan_direct_left): 0 when the gate says so
+ * (after an answer the windows held back or toward a far target), 1 always, -1 never. The
+ * look saves work and changes no answer; a test compares the three bit for bit. */
+void hpi_test_plan_look(int mode);
+
 /* Makes r the previous answer: the safe output, the rate limits' origin and the next
  * solve's start point (a pending reading is forgotten). */
 void hpi_plan_set_previous_answer(hp_planner *p, const hp_result *r);

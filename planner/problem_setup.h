@@ -198,7 +198,9 @@ int hpi_setup_rate_surely_out(const hp_rate_lazy *z, const double *rho_mm, int n
  * clamped into the window, lies on it (not its rate slack inside), and hpi_setup_rate_clear
  * says 0 for that answer. 0 for a NaN radius and where the knots bracket nothing; then bit
  * k of *near is set for each bladder whose radius lies beyond the knot inside an end (its
- * pressure within a knot spacing of the end, or beyond it). */
+ * pressure within a knot spacing of the end, or beyond it). It reads p_prev and the rate
+ * as given and does not look at use_rate_limits: the caller asks only when the plan's rate
+ * windows apply (planner/plan_state.c: under rate_deferred). */
 int hpi_setup_rate_surely_left(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
                                const double *rho_mm, double margin_mm, unsigned *near);
 

@@ -29,6 +29,30 @@ for lv in 0 1 2; do
     done
   done
 done
+# The bits mode replays the same traces (every level, trace and feed, in that order) and
+# prints each answer whole: its statuses are the tail mode's, plan for plan.
+run "$SCENE" bits 20
+expect_exit 0 "bits 20"
+cp "$TMP/out" "$TMP/bits"
+[ "$(wc -l <"$TMP/bits")" -eq 720 ] && ok || bad "bits 20: $(wc -l <"$TMP/bits") lines, want 720"
+run "$SCENE" tail 1 step 1 20
+awk '{ print $1, $2, $3 }' "$TMP/out" >"$TMP/tail_st"
+awk '$1 == "L1" && $2 == "T2" && $3 == "F1" { print $4, $5, $6 }' "$TMP/bits" >"$TMP/bits_st"
+cmp -s "$TMP/tail_st" "$TMP/bits_st" && ok || bad "bits: level 1 step feed 1 statuses differ from the tail mode's"
+for args in "0" "x" "-3"; do
+  run "$SCENE" bits $args
+  expect_exit 64 "bits $args"
+done
+# bench/plan_bits.sh: a build against itself is the same bits; a folder without the
+# library is refused.
+if [ "$SANITIZED" != 1 ]; then
+  libdir=$(dirname "$COUNT")
+  bash "$HP_SRC/bench/plan_bits.sh" "$libdir" "$libdir" 20 >"$TMP/out" 2>"$TMP/err"
+  rc=$?; expect_exit 0 "plan_bits.sh self"
+  expect_stdout_has "plan_bits: 720 plans, the same bits" "plan_bits.sh self"
+  bash "$HP_SRC/bench/plan_bits.sh" "$libdir" "$TMP" 20 >"$TMP/out" 2>"$TMP/err"
+  rc=$?; expect_exit 66 "plan_bits.sh without a library"
+fi
 # The tail mode's arguments are checked.
 for args in "0 jump 0 10" "3 step 0 10" "0 step 2 10" "0 step 0 0" "x step 0 10" "0 step 1x 10"; do
   run "$SCENE" tail $args
