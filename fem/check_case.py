@@ -33,6 +33,7 @@ def main():
         return 77
     import hpfem
     import make_tables
+    hpfem.NICE = 0  # a test: its CPU share must not depend on the machine's other load
     bad = 0
     row = [r for r in table("inflation.csv") if r["mesh"] == "2x10" and r["C2_pa"] == "22000"
            and r["lambda_i_ik"] == "1.15" and r["Ri_mm"] == "27"][0]

@@ -86,7 +86,6 @@ static inline hp_planner *rel_planner(const hp_layout *L, hp_backend b, hp_level
     for (int k = 0; k < M.n; ++k) M.bladders[k].rate_max = rate;
     hp_settings s;
     hp_settings_default(&s);
-    s.max_time = 60.0; /* outcomes must not depend on the machine's speed */
     s.backend = b;
     s.level = level;
     if (level == HP_LEVEL_LOAD) {
