@@ -10,6 +10,10 @@ expect_exit() { [ "$rc" -eq "$1" ] && ok || bad "$2: exit $rc, want $1"; }
 expect_stdout_empty() { [ ! -s "$TMP/out" ] && ok || bad "$1: stdout not empty"; }
 expect_stderr_has() { grep -qF -- "$1" "$TMP/err" && ok || bad "$2: stderr lacks '$1'"; }
 expect_stdout_has() { grep -qF -- "$1" "$TMP/out" && ok || bad "$2: stdout lacks '$1'"; }
+# under_sanitizers: true in the sanitizer build's run (HP_UNDER_ASAN=1, set by ctest there),
+# where a script may take the first of its cases: that build runs its code 3 to 10 times
+# slower, on a machine .ci/run loads on purpose.
+under_sanitizers() { [ "${HP_UNDER_ASAN:-0}" = 1 ]; }
 finish() { echo "$passes passed, $fails failed"; [ "$fails" -eq 0 ]; }
 # patient_scenes: prints the folder of a copy of scenarios/ in which every time budget a scene
 # states (solver.max_time_s) is 60 s. The scenes' own budgets (1 s a plan) are read on the wall

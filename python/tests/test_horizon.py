@@ -5,20 +5,14 @@ and the offline plan tracks no worse than the greedy one (it is the optimum of t
 problem)."""
 import csv
 import io  # noqa: F401
-import re
 
 import numpy as np
 import pytest
 
 import headplan
-from conftest import cli, scenario
+from conftest import PATIENT_S, cli, patient_scene, scenario
 
 KEYS = headplan.POSE_KEYS
-# The scenes' time budget is read on the wall clock, and the receding horizon stops each
-# row's solve after half of it: on a stalled machine a row ends "time-limit" in one run and
-# not in the other. The runs compared below plan with this budget instead, so
-# that no verdict depends on the machine's speed.
-PATIENT_S = 60
 
 
 @pytest.fixture(scope="module")
@@ -31,17 +25,10 @@ def step(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def step_scene(tmp_path_factory):
-    """scenarios/horizon/step.yaml with a time budget of PATIENT_S s (its trace named by its
-    absolute path: the copy lives elsewhere)."""
-    text = open(scenario("horizon/step.yaml")).read()
-    text, n = re.subn(r"max_time_s: [0-9.eE+-]+,", f"max_time_s: {PATIENT_S},", text)
-    assert n == 1
-    old = "file: ../traces/step.csv"
-    assert old in text
-    text = text.replace(old, "file: " + scenario("traces/step.csv"))
-    path = tmp_path_factory.mktemp("hz") / "step.yaml"
-    path.write_text(text)
-    return str(path)
+    # The receding horizon stops each row's solve after half of the scene's budget: the runs
+    # compared below plan with PATIENT_S instead, so that no row ends "time-limit" in one run
+    # and not in the other on a stalled machine.
+    return patient_scene(scenario("horizon/step.yaml"), tmp_path_factory.mktemp("hz"))
 
 
 def horizon_csv(scene, trace, mode):

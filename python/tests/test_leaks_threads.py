@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import headplan
-from conftest import DEFAULT, UNDER_ASAN, scenario
+from conftest import DEFAULT, UNDER_ASAN, PATIENT_S, scenario
 
 PLANS = 100_000 if UNDER_ASAN else 1_000_000  # ASan runs about ten times slower
 CHUNK = 100_000
@@ -129,10 +129,11 @@ def test_threads_with_their_own_planners_equal_serial(default_scene):
     rng = np.random.default_rng(11)
     inputs = [rng.uniform(-3, 3, (3000, 6)) for _ in range(4)]
     sat = headplan.load_scene(scenario("saturation.yaml"))
-    make = [lambda: headplan.Planner(default_scene),
-            lambda: headplan.Planner(default_scene, backend="nlopt-slsqp"),
-            lambda: headplan.Planner(sat),
-            lambda: headplan.Planner(default_scene, backend="ipopt", level="linear")]
+    t = PATIENT_S  # the clock must not stop one run and not the other
+    make = [lambda: headplan.Planner(default_scene, max_time_s=t),
+            lambda: headplan.Planner(default_scene, backend="nlopt-slsqp", max_time_s=t),
+            lambda: headplan.Planner(sat, max_time_s=t),
+            lambda: headplan.Planner(default_scene, backend="ipopt", level="linear", max_time_s=t)]
     sizes = [3000, 300, 300, 30]  # saturation (surface SQP) and Ipopt take milliseconds a plan
     if UNDER_ASAN:
         sizes = [s // 5 for s in sizes]

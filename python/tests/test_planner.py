@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import headplan
-from conftest import DEFAULT, cli, scenario
+from conftest import DEFAULT, PATIENT_S, cli, scenario, patient_scene
 
 KEYS = headplan.POSE_KEYS
 
@@ -43,8 +43,9 @@ def assert_same(r, j, names):
 @pytest.mark.parametrize("backend,level", [("realtime", None), ("realtime", "linear"),
                                            ("realtime", "plane"), ("nlopt-slsqp", None),
                                            ("ipopt", "linear")])
-def test_plan_equals_cli_bit_for_bit(default_scene, backend, level):
-    kw = {"backend": backend}
+def test_plan_equals_cli_bit_for_bit(default_scene, backend, level, tmp_path):
+    kw = {"backend": backend, "max_time_s": PATIENT_S}
+    scene = patient_scene(DEFAULT, tmp_path)
     extra = ["--backend", backend]
     if level:
         kw["level"] = level
@@ -55,7 +56,7 @@ def test_plan_equals_cli_bit_for_bit(default_scene, backend, level):
     many = p.plan_many(np.array(cs))
     for i, c in enumerate(cs):
         r = p.plan(c)
-        j = solve_json(DEFAULT, c, *extra)
+        j = solve_json(scene, c, *extra)
         assert_same(r, j, p.bladder_names)
         seen.add(r["status"])
         # plan_many row i is plan(c), bit for bit (each from the nominal pose).
@@ -67,11 +68,12 @@ def test_plan_equals_cli_bit_for_bit(default_scene, backend, level):
 
 @pytest.mark.parametrize("name", ["saturation.yaml", "sphere_head.yaml", "large_rotation.yaml",
                                   "soft_material.yaml", "near_degenerate.yaml"])
-def test_other_scenes_equal_cli(name):
-    sc = headplan.load_scene(scenario(name))
+def test_other_scenes_equal_cli(name, tmp_path):
+    path = patient_scene(scenario(name), tmp_path)
+    sc = headplan.load_scene(path)
     p = headplan.Planner(sc)
     c = sc.correction if sc.correction is not None else np.zeros(6)
-    assert_same(p.plan(c), solve_json(scenario(name), c), p.bladder_names)
+    assert_same(p.plan(c), solve_json(path, c), p.bladder_names)
 
 
 def test_result_fields_and_units(default_planner, default_scene):

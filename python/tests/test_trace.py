@@ -9,7 +9,7 @@ import pytest
 import headplan
 import subprocess
 
-from conftest import BIN, DEFAULT, cli, scenario
+from conftest import BIN, DEFAULT, cli, scenario, patient_scene
 
 KEYS = headplan.POSE_KEYS
 
@@ -44,13 +44,14 @@ def assert_same_as_batch(r, rows, names):
 @pytest.mark.parametrize("name,extra", [("default.yaml", []), ("nodding.yaml", []),
                                         ("saturation.yaml", ["traces/nodding.csv"]),
                                         ("default.yaml", ["--backend", "nlopt-slsqp"])])
-def test_trace_equals_batch(name, extra):
-    sc = headplan.load_scene(scenario(name))
+def test_trace_equals_batch(name, extra, tmp_path):
+    path = patient_scene(scenario(name), tmp_path)
+    sc = headplan.load_scene(path)
     kw = {}
     if "--backend" in extra:
         kw["backend"] = extra[extra.index("--backend") + 1]
     p = headplan.Planner(sc, **kw)
-    args = [scenario(name)]
+    args = [path]
     trace = None
     if extra and not extra[0].startswith("--"):
         trace = scenario(extra[0])
@@ -63,7 +64,8 @@ def test_trace_equals_batch(name, extra):
 
 def test_rate_limits_carry_over_like_batch(tmp_path):
     # Jumps of 3 mm each cycle need more than the saturation scene's 2 kPa per cycle.
-    sc = headplan.load_scene(scenario("saturation.yaml"))
+    sat = patient_scene(scenario("saturation.yaml"), tmp_path)
+    sc = headplan.load_scene(sat)
     poses = np.zeros((12, 6))
     poses[:, 2] = np.where(np.arange(12) % 2, 3.0, -3.0)
     r = headplan.Planner(sc).run_trace(poses, rows="correction")
@@ -72,7 +74,7 @@ def test_rate_limits_carry_over_like_batch(tmp_path):
     f = tmp_path / "jumps.csv"
     np.savetxt(f, np.column_stack([np.arange(12) * 0.1, poses]), delimiter=",", fmt="%.17g",
                header="t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg", comments="")
-    rows = batch_csv(scenario("saturation.yaml"), str(f), "--rows", "correction")
+    rows = batch_csv(sat, str(f), "--rows", "correction")
     rf = headplan.Planner(sc).run_trace(str(f), rows="correction")
     assert_same_as_batch(rf, rows, sc.bladder_names)
     assert np.array_equal(rf["pressure_pa"], r["pressure_pa"])

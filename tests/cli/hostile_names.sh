@@ -35,6 +35,11 @@ names=(
   "''.system('touch CANARY').''"
   "'lead {brace}"
 )
+# Under the sanitizers one payload of each kind (gnuplot quoting, a line break, gnuplot's
+# EOD, a shell backquote, bytes that are not UTF-8), and the lab once: its five runs took half
+# an hour there. The plain pass runs the whole catalogue.
+picked=("${!names[@]}"); lab=(0 2 3 5 10)
+if under_sanitizers; then picked=(0 2 3 5 10); lab=(2); fi
 
 has_ctl() { [[ $1 == *[[:cntrl:]]* ]]; }
 magic() { head -c "$2" "$1" 2>/dev/null | od -An -tx1 | tr -d ' \n'; }
@@ -88,7 +93,7 @@ PY
 "$HP_BIN" batch "$S/nodding.yaml" -o "$W/r.csv" --no-progress --no-times 2>/dev/null ||
   bad "batch of the result to draw"
 
-for i in "${!names[@]}"; do
+for i in "${picked[@]}"; do
   n="${names[$i]}"
   t="name $i"
 
@@ -237,8 +242,8 @@ is_png "$W/$deep/long.png" && ok || bad "long name: kept script: no PNG under it
 if [ -x "$BENCH" ]; then
   cat_dir="$W/catalogue"
   mkdir -p "$cat_dir"
-  for i in "${!names[@]}"; do cp "$S/load_supine.yaml" "$cat_dir/${names[$i]}.yaml"; done
-  for i in 0 2 3 5 10; do
+  for i in "${picked[@]}"; do cp "$S/load_supine.yaml" "$cat_dir/${names[$i]}.yaml"; done
+  for i in "${lab[@]}"; do
     out="$W/${names[$i]}"
     mkdir -p "$out"
     "$BENCH" --quick --only ik,load --scenarios "$cat_dir" --out "$out" >"$TMP/out" 2>"$TMP/err"

@@ -20,10 +20,11 @@
  * Compiling a plain build with -DHP_TEST_FORCE_SMALL checks that every assertion still
  * holds on the small sizes. */
 #if defined(__SANITIZE_ADDRESS__) || defined(HP_TEST_FORCE_SMALL)
-#define HP_TEST_SMALL(plain, small) (small)
+#define HP_TEST_IS_SMALL 1
 #else
-#define HP_TEST_SMALL(plain, small) (plain)
+#define HP_TEST_IS_SMALL 0
 #endif
+#define HP_TEST_SMALL(plain, small) (HP_TEST_IS_SMALL ? (small) : (plain))
 
 /* Fails unless |got − want| <= abs_tol + rel_tol·|want|, printing both and the excess. */
 #define hp_assert_close(got, want, rel_tol, abs_tol)                                               \
