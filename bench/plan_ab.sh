@@ -48,7 +48,7 @@ print("time: A median %.0f ns, B median %.0f ns, B/A %.3f, median of pair ratios
       % (s.median(a), s.median(b), s.median(b) / s.median(a), s.median([y / x for x, y in r]), len(r)))'
 fi
 if [ "$ROUNDS_IN" -gt 0 ]; then
-  cc -O2 -std=c11 -I "$here/include" -I "$here/build/include" "$here/bench/plan_ab_inproc.c" \
+  cc -O2 -std=c11 "${inc[@]}" "$here/bench/plan_ab_inproc.c" \
     -o "$tmp/inproc" -ldl -lm
   # two files, so the loader maps two copies even when A and B are the same build
   cp "$A/libheadplan.so" "$tmp/a.so"
