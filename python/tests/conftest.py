@@ -39,9 +39,12 @@ def patient_scene(path, folder):
     lines[at[0]] = lines[at[0]].replace(", }", "}")
     # The scene's trace stays where it is (its path is relative to the scene's folder).
     here = os.path.dirname(os.path.abspath(path))
-    lines = [re.sub(r"^trace: \{file: ([^,}]+)",
-                    lambda m: "trace: {file: " + os.path.normpath(os.path.join(here, m.group(1))), l)
-             for l in lines]
+    moved = [re.subn(r"^trace: \{file: ([^,}]+)",
+                     lambda m: "trace: {file: " + os.path.normpath(os.path.join(here, m.group(1))),
+                     l) for l in lines]
+    lines = [l for l, _ in moved]
+    traces = [l for l in lines if l.startswith("trace:")]
+    assert sum(n for _, n in moved) == len(traces), f"{path}: a trace line not in flow style"
     out = folder / os.path.basename(path)
     out.write_text("\n".join(lines))
     return str(out)

@@ -2,7 +2,7 @@
 # times depend on the machine; accuracies do not).
 source "$2/tests/cli_lib.sh"
 
-OUT="$TMP/bench out"
+OUT="$TMP/bench out"   # a space in the folder name: gnuplot runs without a shell
 # whole_family NAME: true unless under the sanitizers, where the families that take minutes
 # there (stability, peers, levels, fidelity: half an hour of CI's sanitizer pass) are left
 # to the plain pass, which checks every family; the lab's shared code (catalogue, CSV,
@@ -10,7 +10,7 @@ OUT="$TMP/bench out"
 # tests/cli/hostile_names.sh.
 whole_family() {
   if under_sanitizers; then echo "note: the $1 family is checked in the plain build only"; return 1; fi
-}   # a space in the folder name: gnuplot runs without a shell
+}
 run --quick --only ik --out "$OUT" --seed 7
 expect_exit 0 "bench --quick"
 expect_stdout_has "median_ns" "summary table header"
