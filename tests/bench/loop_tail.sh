@@ -1,9 +1,10 @@
 # headplan-bench-count's tail mode replays the loop benchmark's traces (bench/loop_trace.h),
 # and bench/loop_tail.sh counts its plans' instructions. No timing: counts of plans on which
 # a rate limit binds, which depend on the trace and the planners alone.
-# Arguments: headplan-bench, headplan-bench-count, the source tree, 1 if the build is
-# instrumented by the sanitizers (valgrind cannot run such a program).
-BENCH="$1"; COUNT="$2"; SANITIZED="${4:-0}"
+# Arguments: headplan-bench, headplan-bench-count, the source tree. Under the sanitizers
+# (under_sanitizers, tests/cli_lib.sh) the valgrind parts are left out: valgrind cannot run
+# a program the sanitizers instrument.
+BENCH="$1"; COUNT="$2"
 source "$3/tests/cli_lib.sh" "$COUNT" "$3"
 SCENE="$HP_SRC/scenarios/default.yaml"
 
@@ -45,7 +46,7 @@ for args in "0" "x" "-3"; do
 done
 # bench/plan_bits.sh: a build against itself is the same bits; a folder without the
 # library is refused.
-if [ "$SANITIZED" != 1 ]; then
+if ! under_sanitizers; then
   libdir=$(dirname "$COUNT")
   bash "$HP_SRC/bench/plan_bits.sh" "$libdir" "$libdir" 20 >"$TMP/out" 2>"$TMP/err"
   rc=$?; expect_exit 0 "plan_bits.sh self"
@@ -61,7 +62,7 @@ done
 
 # loop_tail.sh over 20 cycles: a row each planner, and with 20 plans the nearest-rank p99.9
 # is the largest (rank ceil(19.98) = 20).
-if [ "$SANITIZED" != 1 ] && command -v valgrind >/dev/null; then
+if ! under_sanitizers && command -v valgrind >/dev/null; then
   bash "$HP_SRC/bench/loop_tail.sh" "$COUNT" "$SCENE" 0 step 0 20 >"$TMP/out" 2>"$TMP/err"
   rc=$?; expect_exit 0 "loop_tail.sh"
   awk '$1 == "rate-free" || $1 == "rate-limited" { n++; if (!($4 == $5 && $2 > 0 && $3 >= $2)) bad_row = 1 }
