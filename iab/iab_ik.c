@@ -65,7 +65,7 @@ static inline hp_error slopes_l(const hp_iab_s *s, double ri, double ro, double 
 {
     double ro2 = ro * ro;
     double q = ri * ri / (s->Ro * ro2); /* dλo/dri */
-    double iRi = 1.0 / s->Ri;
+    double iRi = s->iRi;                /* 1.0 / s->Ri, formed once per bladder (off the divider) */
     double dp = 2.0 * s->C1 * (fp(li) * iRi - fp(lo) * q) +
                 2.0 * s->C2 * (gp(li) * iRi - gp(lo) * q);
     if (!isfinite(dp)) return HP_ERR_DOMAIN;

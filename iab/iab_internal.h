@@ -20,6 +20,7 @@ typedef struct hp_iab_s {
     double inv_scale; /* 1/scale, exact (a power of two): length [m] = scaled × inv_scale */
     double W;    /* Ro³ − Ri³ (scaled), the wall's volume / (4π/3); ro³ − ri³ = W always */
     double Ri_m; /* Ri [m] as given: FK's exact answer at P = 0 */
+    double iRi;  /* 1/Ri (scaled), the slope's dλi/dri: the bits each slope formed again */
 } hp_iab_s;
 
 /* x³ − y³ without cancellation beyond the one rounding of x − y (exact by Sterbenz's lemma

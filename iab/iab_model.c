@@ -93,6 +93,7 @@ hp_error hpi_iab_scaled_init(const hp_iab *b, hp_iab_s *s, hp_diag *diag)
         s->C2 = b->C2;
         s->W = hpi_iab_cube_diff(s->Ro, s->Ri);
         s->Ri_m = b->Ri;
+        s->iRi = 1.0 / s->Ri;
     }
     return HP_OK;
 }

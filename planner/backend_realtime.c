@@ -13,6 +13,7 @@
 #include "common/minmax.h"
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
+#include "common/same_bits.h"
 
 #include <float.h>
 #include <math.h>
@@ -169,21 +170,6 @@ static void rt_inject(const rt_state *st, int n, double *rho)
     int f = atomic_load(&rt_fault);
     if (f == HP_TEST_FAULT_NAN_CONTACT || (f == HP_TEST_FAULT_NAN_CONTACT_LATE && st->qps > 0))
         for (int k = 0; k < n; ++k) rho[k] = NAN;
-}
-
-/* 1 when the n doubles at a and b have the same bits (memcmp's answer: a point is "the same"
- * only when it is, and −0 is not 0). Inline: these compare six numbers a few times a step,
- * where a library memcmp's call cost more than the comparison (~1 % of a plan, perf). */
-static inline int same_bits(const double *a, const double *b, int n)
-{
-    uint64_t d = 0;
-    for (int i = 0; i < n; ++i) {
-        uint64_t u, v;
-        memcpy(&u, &a[i], sizeof u);
-        memcpy(&v, &b[i], sizeof v);
-        d |= u ^ v;
-    }
-    return d == 0;
 }
 
 /* 1 when two QP active sets (HP_QP_MMAX flags) are equal. */
@@ -563,7 +549,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk, 
     int curved = pb->level != HP_LEVEL_LINEAR && st->have_u;
     int at_zero = !curved && st->z_ok;
     for (int i = 0; i < 6; ++i) at_zero &= xk[i] == 0.0;
-    if (st->c_ok && same_bits(st->c_x, xk, 6)) {
+    if (st->c_ok && hpi_same_bits(st->c_x, xk, 6)) {
         memcpy(st->rho, st->c_rho, sizeof st->rho);
         /* The trial evaluation's J and Hessians become the current ones (its Hessians are
          * those of the bladders with a multiplier, the same st->u that build_objective
@@ -651,7 +637,7 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
 {
     if (viol) /* every entry is written, even when a non-finite rho ends the scan */
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
-    if (st->c_ok && same_bits(st->c_x, x, 6)) /* the line search's point */
+    if (st->c_ok && hpi_same_bits(st->c_x, x, 6)) /* the line search's point */
         memcpy(st->rho, st->c_rho, sizeof st->rho);
     else if (rt_contact(st, pb, x, st->rho, NULL, NULL, NULL) != HP_OK) return INFINITY;
     else rt_inject(st, pb->n, st->rho);
@@ -858,7 +844,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
      * the first QP is a Newton step with that answer's multipliers, and the distances start
      * from theirs; along a trace the answer moves little and its active set rarely. */
     int warm = st->accepted && st->have_u && pb->level != HP_LEVEL_LINEAR && x0 &&
-               same_bits(x0, st->x_last, 6);
+               hpi_same_bits(x0, st->x_last, 6);
     int lin_own = st->lin_own;
     st->accepted = 0;
     st->lin_own = 0; /* until the core accepts this answer (warm_point) */
@@ -949,7 +935,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
          * (κ <= ~0.1 mm per mm² or deg²) is far below the margin. What a longer step leaves
          * of the curved limits' violation does not follow the pose's Newton rate and can
          * exceed the margin (a stop there was restored and labelled iteration-limit). */
-        int measured = st->c_ok && same_bits(st->c_x, xk, 6);
+        int measured = st->c_ok && hpi_same_bits(st->c_x, xk, 6);
         int inside = measured || step <= RT_FULL_STEP;
         if (measured) rt_touch(pb, st->c_rho);
         for (int k = 0; measured && inside && k < pb->n; ++k)

@@ -21,6 +21,7 @@
 #include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_qp.h"
+#include "common/test_count.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -54,7 +55,7 @@ void hpi_test_closest_counts(unsigned long *solves, unsigned long *evals, unsign
 /* hp_load_radius (the bladder's forward kinematics: an iterative solve), counted. */
 static hp_error radius(const hp_load_model *M, int k, double P, double *ro, double *dro)
 {
-    atomic_fetch_add(&n_radii, 1);
+    hpi_count(&n_radii, 1);
     return hp_load_radius(M, k, P, ro, dro);
 }
 
@@ -129,7 +130,7 @@ static int cl_eval(const cl_ctx *C, const double y[6], const double *s, double c
 {
     const hp_load_model *M = C->M;
     const int n = C->n;
-    atomic_fetch_add(&n_evals, 1);
+    hpi_count(&n_evals, 1);
     double xi[6], rho[HP_MAX_BLADDERS], J[6 * HP_MAX_BLADDERS], H[36 * HP_MAX_BLADDERS];
     for (int i = 0; i < 6; ++i) xi[i] = y[i] * hpi_load_unit(i);
     if (hpi_contact_eval_g(&M->layout, &M->geom, M->level, xi, rho, J, Cy ? H : NULL) != HP_OK ||
@@ -182,7 +183,7 @@ hpi_load_solve_status hpi_load_closest(const hp_load_model *M, const double desi
                                        double xi[6], int *iterations)
 {
     const int n = M->layout.n, nv = 6 + n;
-    atomic_fetch_add(&n_solves, 1);
+    hpi_count(&n_solves, 1);
     cl_ctx C;
     C.M = M;
     C.lo = lo;

@@ -20,6 +20,7 @@
 #include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
 #include "planner/load_qp.h"
+#include "common/test_count.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -43,7 +44,7 @@ void hpi_test_fk_counts(unsigned long *fk) { *fk = atomic_load(&n_fk); }
  * solve, the dearest step of a force), counted. */
 static hp_error fk_of(const hp_load_model *M, int k, double P, double *ri)
 {
-    atomic_fetch_add(&n_fk, 1);
+    hpi_count(&n_fk, 1);
     return hp_iab_fk_limit(&M->layout.bladders[k].iab, &M->limit[k], P, ri);
 }
 
@@ -87,7 +88,7 @@ void hpi_test_hold_counts(unsigned long *sets, unsigned long *derived)
 static hp_error bladder_state_ri(const hp_load_model *M, int k, double P, double ri, double rho,
                                  bstate *s)
 {
-    atomic_fetch_add(&n_derived, 1);
+    hpi_count(&n_derived, 1);
     double ro, o1, o2;
     hp_error err = radius_chain(M, k, ri, &ro, &o1, &o2);
     if (err) return err;
@@ -196,7 +197,7 @@ void hpi_test_pressure_model_counts(unsigned long *passes) { *passes = atomic_lo
  * hp_iab_ro (iab_internal.h: hpi_iab_s_pressure_ro, hpi_iab_s_slopes). Counted. */
 static hp_error model_at(const hp_iab_s *s, double ri, double *P, double *Pr, double *ro)
 {
-    atomic_fetch_add(&n_pmodel, 1);
+    hpi_count(&n_pmodel, 1);
     double ris, rs, d1;
     hp_error e = hpi_iab_s_radius(s, ri, &ris);
     if (e) return e;
@@ -211,9 +212,9 @@ static hp_error model_at(const hp_iab_s *s, double ri, double *P, double *Pr, do
 
 static void count_pressure_solve(int steps)
 {
-    atomic_fetch_add(&n_psolves, 1);
-    atomic_fetch_add(&n_psteps, (unsigned long)steps);
-    if (steps > HP_LOAD_PRESSURE_STEPS_LONG) atomic_fetch_add(&n_plong, 1);
+    hpi_count(&n_psolves, 1);
+    hpi_count(&n_psteps, (unsigned long)steps);
+    if (steps > HP_LOAD_PRESSURE_STEPS_LONG) hpi_count(&n_plong, 1);
 }
 
 /* The pressure in [lo, hi] whose force against rho is F, with a bracket of the inner radius
@@ -320,7 +321,7 @@ hpi_load_solve_status hpi_load_hold_set_at(const hp_load_model *M, const double 
                                            const double *lo, const double *hi, const double *target,
                                            hp_load_hold_set *h)
 {
-    atomic_fetch_add(&n_sets, 1);
+    hpi_count(&n_sets, 1);
     const int n = M->layout.n;
     h->M = M;
     h->n = n;
@@ -531,7 +532,7 @@ void hpi_test_scan_counts(unsigned long *scans, unsigned long *vertices)
 static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test test, void *ctx,
                        double *f, hp_load_scan_rec *rec)
 {
-    atomic_fetch_add(&n_scans, 1);
+    hpi_count(&n_scans, 1);
     if (rec) rec->valid = rec->count = 0;
     const int n = h->n;
     const double *A = h->A, *b = h->b, *L = h->L, *U = h->U, *Flo = h->Flo, *Fhi = h->Fhi;
@@ -650,7 +651,7 @@ static int grid_forces(const hp_load_hold_set *h, int grid_n, hp_load_point_test
                     } else {
                         t0 = (va - g[a][0]) / det;
                     }
-                    atomic_fetch_add(&n_vertices, 1);
+                    hpi_count(&n_vertices, 1);
                     for (int k = 0; k < n; ++k) x[k] = 0.0;
                     int ok = 1;
                     for (int j = 0; j < m && ok; ++j) {

@@ -4,6 +4,7 @@
 #include "planner/load_stable.h"
 #include "kinematics/contact_law.h"
 #include "kinematics/load_internal.h"
+#include "common/test_count.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -26,14 +27,14 @@ void hpi_test_stable_counts(hp_test_stable_counts *out)
 static int seg_point(const hp_load_hold_set *hs, const double *x, const hp_load_near *nr, double *e,
                      double *P, double *R)
 {
-    atomic_fetch_add(&n_points, 1);
+    hpi_count(&n_points, 1);
     unsigned long s0, t0, l0, s1, t1, l1;
     hpi_test_pressure_counts(&s0, &t0, &l0);
     int r = nr ? hpi_load_hold_set_point_near(hs, nr, x, e, P, R)
                : hpi_load_hold_set_point(hs, x, INFINITY, e, P, R);
     hpi_test_pressure_counts(&s1, &t1, &l1);
-    atomic_fetch_add(&n_psolves, s1 - s0);
-    atomic_fetch_add(&n_psteps, t1 - t0);
+    hpi_count(&n_psolves, s1 - s0);
+    hpi_count(&n_psteps, t1 - t0);
     return r;
 }
 
@@ -70,7 +71,7 @@ static int stable_at(const hp_load_stiff *S, const double *x, const double *P, c
     int idx[HP_MAX_BLADDERS], nv;
     double Fv[HP_MAX_BLADDERS], av[HP_MAX_BLADDERS];
     if (stiff_terms(S, x, P, R, idx, Fv, av, &nv) != 0) return -1;
-    atomic_fetch_add(&n_tests, 1);
+    hpi_count(&n_tests, 1);
     return hpi_load_stiff_above(S, nv, idx, Fv, av, HP_LOAD_STABLE_MARGIN);
 }
 
@@ -82,7 +83,7 @@ static int lambda_at(const hp_load_stiff *S, const double *x, const double *P, c
     int idx[HP_MAX_BLADDERS], nv;
     double Fv[HP_MAX_BLADDERS], av[HP_MAX_BLADDERS];
     if (stiff_terms(S, x, P, R, idx, Fv, av, &nv) != 0) return -1;
-    atomic_fetch_add(&n_eigen, 1);
+    hpi_count(&n_eigen, 1);
     return hpi_load_stiff_lambda_at(S, nv, idx, Fv, av, lam);
 }
 
@@ -132,7 +133,7 @@ hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_lo
     if (ok)
         return lam_min && lambda_at(&S, f0, P0, R0, lam_min) ? HP_LOAD_SOLVE_ERROR
                                                              : HP_LOAD_SOLVE_OK;
-    atomic_fetch_add(&n_searches, 1);
+    hpi_count(&n_searches, 1);
     /* The cheapest stable point of the scan (the tie-breaker's 3×3 grid and the vertices:
      * HOLD's own scan replayed when the caller kept it, which hands over c's pressures too;
      * where none is stable, the finer grid): the segment's far end c, stable by the scan's

@@ -15,6 +15,7 @@
 #include "common/units.h"
 #include "kinematics/linalg.h"
 #include "kinematics/load_internal.h"
+#include "common/test_count.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -72,7 +73,7 @@ int hpi_load_stiff_lambda_at(const hp_load_stiff *S, int nv, const int *idx, con
 {
     double K[36], l[6], V[36];
     stiff_at(S, nv, idx, F, a, K);
-    atomic_fetch_add(&n_eigen, 1);
+    hpi_count(&n_eigen, 1);
     if (hpi_kin_symeig6(K, l, V) != 0) return -1;
     *lam = l[0];
     return 0;
@@ -95,7 +96,7 @@ int hpi_load_stiff_lambda_min(const double K[36], double *lam)
     for (int i = 0; i < 6; ++i)
         for (int j = 0; j < 6; ++j)
             Ks[i * 6 + j] = 0.5 * (K[i * 6 + j] + K[j * 6 + i]) * kscale(i, j);
-    atomic_fetch_add(&n_eigen, 1);
+    hpi_count(&n_eigen, 1);
     if (hpi_kin_symeig6(Ks, l, V) != 0) return -1;
     *lam = l[0];
     return 0;

@@ -3,6 +3,7 @@
  * fitted from the last answer when something first needs them). */
 #include "planner/planner_internal.h"
 #include "kinematics/fit_internal.h"
+#include "common/test_count.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -40,7 +41,7 @@ hp_error hpi_plan_previous_from(hp_planner *p, const double *P, int warm, const 
         /* The outer radius comes with the root (the FK's last evaluation formed it, the
          * same bits as hpi_iab_s_ro_m of the root). */
         hp_error e = hpi_iab_s_fk_from(s, &p->sb.limit[k], P[k], warm ? &st : NULL, &o);
-        atomic_fetch_add_explicit(&fk_evals, (unsigned long)o.evals, memory_order_relaxed);
+        hpi_count(&fk_evals, (unsigned long)o.evals);
         if (e == HP_OK) e = hpi_iab_s_fk_ro(s, &o, &ro[k]);
         root = o.ri;
         /* The root of a pressure inside [p_lo, p_hi] lies inside [ri_lo, ri_hi] up to an

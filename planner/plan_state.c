@@ -2,6 +2,7 @@
  * (plan.c): pose scaling, the answer of a pose, the fit from the nominal pose and the
  * previous answer. */
 #include "planner/planner_internal.h"
+#include "common/test_count.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -113,7 +114,7 @@ static inline int answer_eval(hp_planner *p, const double x[6], const double *rh
                               hp_answer_memo *hold, hp_result *res, double *clamp_mm)
 {
     const int n = p->L.n;
-    atomic_fetch_add_explicit(&answer_rows, (unsigned long)n, memory_order_relaxed);
+    hpi_count(&answer_rows, (unsigned long)n);
     double ri[HP_MAX_BLADDERS];
     int clamped[HP_MAX_BLADDERS];
     for (int k = 0; k < n; ++k)

@@ -1,6 +1,8 @@
 /* Limits as radius bounds, commanded directions, scaled contact evaluation. */
 #include "planner/problem_setup.h"
 #include "common/exact_prod.h"
+#include "common/minmax.h"
+#include "common/test_count.h"
 
 #include <math.h>
 #include <stdatomic.h>
@@ -280,7 +282,7 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
         *ro = m->ro;
         return 1;
     }
-    atomic_fetch_add_explicit(&rate_solves, 1, memory_order_relaxed);
+    hpi_count(&rate_solves, 1);
     /* From the last bound of the same window end when it lies within HP_RATE_MEMO_NEAR_PA,
      * with the pressure, slope and outer radius evaluated there: a sensor's noise moves a
      * window that little, and the root is a Newton step or two away instead of a bracket
@@ -309,7 +311,7 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
     *r = o.ri;
     double p_at = NAN;
     int found = e == HP_OK && nudge_n(s, r, pw, up, o.p, o.ro, &o, &p_at, ro, &evals);
-    atomic_fetch_add_explicit(&rate_evals, (unsigned long)(o.evals + evals), memory_order_relaxed);
+    hpi_count(&rate_evals, (unsigned long)(o.evals + evals));
     if (!found) return 0;
     if (m) {
         m->p = pw;
@@ -431,13 +433,15 @@ static hp_error bladder_bounds(const hp_layout *L, const hp_static_bounds *b, in
                            B->name, p_prev ? p_prev[k] : 0.0);
     /* A stand-in replaces the outer radius where it is tighter than the exact end's other
      * bound could be: a stand-in lies inside the exact rate bound, so whichever of the two
-     * (static, rate) the exact plan takes, the stand-in is inside it. */
+     * (static, rate) the exact plan takes, the stand-in is inside it. rol and roh are
+     * numbers here (a NaN was evaluated above or refused), so hpi_max2 and hpi_min2 give fmax's
+     * and fmin's answer without their library calls. */
     if (!isnan(sro_lo)) {
-        rol = fmax(rol, sro_lo);
+        rol = hpi_max2(sro_lo, rol);
         if (rol != b->ro_lo[k]) lof = HP_BIND_RATE_DOWN;
     }
     if (!isnan(sro_hi)) {
-        roh = fmin(roh, sro_hi);
+        roh = hpi_min2(sro_hi, roh);
         if (roh != b->ro_hi[k]) hif = HP_BIND_RATE_UP;
     }
     pb->ri_lo_si[k] = lo;
@@ -498,6 +502,34 @@ static hp_error lazy_bladder(hp_rate_lazy *z, int k, int *nder, hp_diag *d)
 {
     int nostand = 0;
     hp_problem *pb = z->pb;
+    const hp_static_bounds *b = z->b;
+    if (z->lo[k] && z->hi[k] && !isnan(b->ro_lo[k]) && !isnan(b->ro_hi[k])) {
+        /* Both ends stand-ins (every bladder of a plan's set-up but those a memo holds):
+         * bladder_bounds' steps for that case alone, the same operations on the same
+         * numbers. The marks say pl > p_lo and ph < p_hi (hpi_setup_cycle_bounds_lazy), the
+         * radii stay the static ones (lo < hi), their outer radii are numbers, and the
+         * stand-ins take the outer radii where tighter. A stand-in that cannot be made, or
+         * a window too narrow for them, goes the general way below, which decides it
+         * from the start. */
+        double sl = stand_in(b, k, z->pl[k], 1, z->memo ? &z->memo->down[k] : NULL);
+        double sh = stand_in(b, k, z->ph[k], 0, z->memo ? &z->memo->up[k] : NULL);
+        double rol = hpi_max2(sl, b->ro_lo[k]);
+        double roh = hpi_min2(sh, b->ro_hi[k]);
+        double rol_mm = rol * HP_MM_PER_M, roh_mm = roh * HP_MM_PER_M;
+        if (!isnan(sl) && !isnan(sh) && roh_mm - rol_mm > HP_LAZY_MIN_WIDTH_MM) {
+            if (nder) *nder += 2;
+            pb->ri_lo_si[k] = b->ri_lo[k];
+            pb->ri_hi_si[k] = b->ri_hi[k];
+            pb->ri_lo[k] = b->ri_lo[k] * HP_MM_PER_M;
+            pb->ri_hi[k] = b->ri_hi[k] * HP_MM_PER_M;
+            pb->ro_lo[k] = rol_mm;
+            pb->ro_hi[k] = roh_mm;
+            if (z->lo_flags)
+                z->lo_flags[k] = rol != b->ro_lo[k] ? HP_BIND_RATE_DOWN : b->lo_flags[k];
+            if (z->hi_flags) z->hi_flags[k] = roh != b->ro_hi[k] ? HP_BIND_RATE_UP : b->hi_flags[k];
+            return HP_OK;
+        }
+    }
     double w[2] = {z->pl[k], z->ph[k]};
     hp_error e = bladder_bounds(z->L, z->b, k, pb->p_prev, w, z->memo, z->lo, z->hi, pb,
                                 z->lo_flags, z->hi_flags, &nostand, nder, d);
@@ -512,13 +544,13 @@ static hp_error lazy_bladder(hp_rate_lazy *z, int k, int *nder, hp_diag *d)
 
 hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
 {
-    atomic_fetch_add_explicit(&rate_lazy_setups, 1, memory_order_relaxed);
+    hpi_count(&rate_lazy_setups, 1);
     z->failed = 0;
     for (int k = 0; k < z->L->n; ++k) {
         /* The window, once: without a rate limit [-inf, inf], which binds nowhere. */
         double pl, ph;
         hpi_rate_window(z->pb->p_prev[k], z->L->bladders[k].rate_max, &pl, &ph);
-        atomic_fetch_add_explicit(&rate_lazy_windows, 1, memory_order_relaxed);
+        hpi_count(&rate_lazy_windows, 1);
         z->pl[k] = pl;
         z->ph[k] = ph;
         /* An end the memo holds costs nothing exact (a plan holding its answer) */
@@ -575,8 +607,8 @@ int hpi_setup_rate_resolve(hp_rate_lazy *z, int k, unsigned ends)
     z->lo[k] = lo;
     z->hi[k] = hi;
     hp_error e = one > 0 ? HP_OK : one < 0 ? HP_ERR_INVALID : lazy_bladder(z, k, &nder, NULL);
-    atomic_fetch_add_explicit(&rate_resolves, 1, memory_order_relaxed);
-    atomic_fetch_add_explicit(&rate_rederived, (unsigned long)nder, memory_order_relaxed);
+    hpi_count(&rate_resolves, 1);
+    hpi_count(&rate_rederived, (unsigned long)nder);
     if (e == HP_OK) return 1;
     z->failed = 1;
     return 0;

@@ -17,8 +17,10 @@
  * Every one of these is arranged to give the bits of the plain formulation. */
 #include "planner/qp.h"
 #include "common/dense.h"
+#include "common/same_bits.h"
 
 #include <math.h>
+#include <stdint.h>
 #include <string.h>
 
 #define NM HP_QP_NMAX
@@ -80,6 +82,42 @@ static void invert_factor(const double *L, int ldl, int n, double *Jt)
         for (int j = 0; j < i; ++j) row[j] /= lii;
         row[i] = 1.0 / lii;
     }
+}
+
+/* 1 when the factor L (order n, leading dimension ldl; its lower triangle, all that
+ * invert_factor reads) is the one whose inverse qp keeps (hp_qp.ck_). */
+static int same_factor(const hp_qp *qp, const double *L, int ldl, int n)
+{
+    if (qp->ck_ < 1 || qp->ckn_ != n) return 0;
+    if (ldl == NM) /* the n rows whole, as kept: one run of a loop that vectorises */
+        return hpi_same_bits(L, qp->ckL_, n * NM);
+    int same = 1;
+    for (int i = 0; i < n; ++i) same &= hpi_same_bits(&L[i * ldl], &qp->ckL_[i * NM], i + 1);
+    return same;
+}
+
+/* R zeroed and Jᵀ = L⁻¹ (invert_factor) in qp, the start of every Goldfarb–Idnani set-up:
+ * the kept inverse when L is the factor it was formed from (the same function of the same
+ * bits), else formed and kept. */
+static void setup_inverse(hp_qp *qp, const double *L, int ldl, int n)
+{
+    double *R = qp->R_;
+    /* row by row: a small memset compiles to a few stores, this one whole to a string
+     * store with a slow start */
+    for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
+    if (same_factor(qp, L, ldl, n)) {
+        memcpy(qp->J_, qp->ckJ0_, sizeof qp->J_);
+        return;
+    }
+    invert_factor(L, ldl, n, qp->J_);
+    if (ldl == NM) /* whole rows, above the diagonal too: same_factor compares them so */
+        memcpy(qp->ckL_, L, (size_t)n * NM * sizeof *L);
+    else
+        for (int i = 0; i < n; ++i)
+            for (int j = 0; j <= i; ++j) qp->ckL_[i * NM + j] = L[i * ldl + j];
+    qp->ckn_ = n;
+    memcpy(qp->ckJ0_, qp->J_, sizeof qp->J_);
+    qp->ck_ = 1;
 }
 
 /* The reflector zeroing b against a: c = a/h, s = b/h, returns h = |(a, b)| (b != 0).
@@ -449,13 +487,16 @@ static hp_qp_warm warm_check(hp_qp *qp, const double *Cr, const double *nrm2, co
     return HP_QP_WARM_ACCEPTED;
 }
 
+/* The cold entries take a q whose problem alone was filled: nothing kept is read. */
 hp_qp_status hpi_qp_solve(hp_qp *qp, int max_iter, double feas_tol)
 {
+    qp->ck_ = 0;
     return hpi_qp_solve_warm(qp, NULL, NULL, max_iter, feas_tol);
 }
 
 hp_qp_status hpi_qp_solve_factored(hp_qp *qp, const double *Lg, int max_iter, double feas_tol)
 {
+    qp->ck_ = 0;
     return hpi_qp_solve_warm(qp, Lg, NULL, max_iter, feas_tol);
 }
 
@@ -571,12 +612,9 @@ static hp_qp_status full_solve(hp_qp *qp, const double *L, int ldl, const double
                                const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
 {
     int n = qp->n;
-    double *Jt = qp->J_, *R = qp->R_, *x = qp->x, a[NM] = {0};
+    double *Jt = qp->J_, *x = qp->x, a[NM] = {0};
     for (int i = 0; i < n; ++i) a[i] = qp->a[i]; /* checked finite by hpi_qp_solve_lazy */
-    /* row by row: a small memset compiles to a few stores, this one whole to a string
-     * store with a slow start */
-    for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
-    invert_factor(L, ldl, n, Jt);
+    setup_inverse(qp, L, ldl, n);
 
     /* x = −G⁻¹a = −J Jᵀ a, column by column of J (rows of Jt) */
     memset(x, 0, sizeof qp->x);
@@ -612,16 +650,36 @@ static hp_qp_status warm_gi(hp_qp *qp, const double *L, int ldl, const double *C
                             const unsigned char *lazy, int *hit, int max_iter, double feas_tol)
 {
     int n = qp->n, k = qp->wk_;
-    double *Jt = qp->J_, *R = qp->R_;
-    for (int i = 0; i < NM; ++i) memset(&R[IDX(i, 0)], 0, NM * sizeof *R);
-    invert_factor(L, ldl, n, Jt);
-    for (int c = 0; c < k; ++c) {
-        int p = qp->wa_[c];
-        double d[NM];
-        for (int i = 0; i < n; ++i) d[i] = dot(&Jt[IDX(i, 0)], &Cr[p * NM]);
-        add_active(qp, c, d, p);
-        qp->uA_[c] = qp->wu_[c] / qp->wd_[c];
+    /* Jᵀ and R after the adds of the kept rows depend on the factor and on those rows (in
+     * order) alone: kept from the last warm_gi when every one is the same bits (a ramp of
+     * the rate limits keeps the same rows from plan to plan; hp_qp.ck_). */
+    int same = qp->ck_ == 2 && qp->ckk_ == k && same_factor(qp, L, ldl, n);
+    for (int c = 0; same && c < k; ++c)
+        same = qp->cka_[c] == qp->wa_[c] &&
+               hpi_same_bits(&qp->ckC_[c * NM], &Cr[qp->wa_[c] * NM], NM);
+    if (same) {
+        memcpy(qp->J_, qp->ckJ_, sizeof qp->J_);
+        memcpy(qp->R_, qp->ckR_, sizeof qp->R_);
+        for (int c = 0; c < k; ++c) { /* add_active's bookkeeping */
+            qp->A_[c] = qp->wa_[c];
+            qp->skip_[qp->wa_[c]] = 1;
+        }
+    } else {
+        setup_inverse(qp, L, ldl, n);
+        for (int c = 0; c < k; ++c) {
+            int p = qp->wa_[c];
+            double d[NM];
+            for (int i = 0; i < n; ++i) d[i] = dot(&qp->J_[IDX(i, 0)], &Cr[p * NM]);
+            add_active(qp, c, d, p);
+            qp->cka_[c] = p;
+            memcpy(&qp->ckC_[c * NM], &Cr[p * NM], NM * sizeof *Cr);
+        }
+        qp->ckk_ = k;
+        memcpy(qp->ckJ_, qp->J_, sizeof qp->J_);
+        memcpy(qp->ckR_, qp->R_, sizeof qp->R_);
+        qp->ck_ = 2;
     }
+    for (int c = 0; c < k; ++c) qp->uA_[c] = qp->wu_[c] / qp->wd_[c];
     qp->q_ = k;
     qp->iterations = k;
     if (L != qp->L_) /* for kept_verdict's full solve after a resume */

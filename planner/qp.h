@@ -102,6 +102,17 @@ typedef struct hp_qp {
      * resume's first scan is at that x and takes them instead of forming them again */
     double cx_[HP_QP_MMAX];
     int cxk_;
+    /* What the last set-ups of Jᵀ and R were formed from, and gave (qp.c, setup_inverse and
+     * warm_gi): the factor of G (lower triangle, leading dimension HP_QP_NMAX, order ckn_)
+     * and its inverse Jᵀ = L⁻¹; then the rows a warm start kept, added in order (ckk_ rows:
+     * their indices and zero-padded normals), and Jᵀ, R after those adds. ck_ 0: nothing
+     * kept (a zeroed struct), 1: the inverse, 2: the inverse and the adds. A copy is read
+     * only where every input is the same bits, so it is the bits forming it again gives:
+     * at the linear level G and the rows are the same every solve, only b and a change. */
+    int ck_, ckn_, ckk_, cka_[HP_QP_NMAX];
+    double ckL_[HP_QP_NMAX * HP_QP_NMAX], ckJ0_[HP_QP_NMAX * HP_QP_NMAX];
+    double ckC_[HP_QP_NMAX * HP_QP_NMAX], ckJ_[HP_QP_NMAX * HP_QP_NMAX];
+    double ckR_[HP_QP_NMAX * HP_QP_NMAX];
 } hp_qp;
 
 /* Solves the QP held in q (n, m, G, a, C, b filled) with at most max_iter add/drop steps;
@@ -144,7 +155,9 @@ hp_qp_status hpi_qp_solve_factored(hp_qp *q, const double *Lg, int max_iter, dou
  * differ from the full solve's only where they are not unique (degenerate vertices); x
  * agrees to rounding (tests/planner/test_qp_warm.c, test_warm_vs_cold); a QP whose feasible
  * set is a single point to rounding may be found empty by one path and that point, within
- * feas_tol, by the other. */
+ * feas_tol, by the other. q must have been zeroed when it was made (or its ck_ set to 0):
+ * the set-up kept from its last solve (ck_) is read, and taken where its inputs are the same
+ * bits; hpi_qp_solve and hpi_qp_solve_factored forget it. */
 hp_qp_status hpi_qp_solve_warm(hp_qp *q, const double *Lg, const int *guess, int max_iter,
                                double feas_tol);
 

@@ -2,7 +2,7 @@
 # the rows kind never guessed, exact deviation inverse, pose forms, safe -o, streams, signals,
 # columns and metadata, exit statuses (issue 9).
 source "$2/tests/cli_lib.sh"
-S="$HP_SRC/scenarios"
+S=$(patient_scenes) || exit 1 # time budgets of 60 s: runs compared plan alike (tests/cli_lib.sh)
 DRIFT="$S/traces/drift_10hz.csv"
 HDR='t_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg'
 COR='# headplan-trace: rows=correction'

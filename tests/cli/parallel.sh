@@ -7,7 +7,7 @@
 source "$2/tests/cli_lib.sh"
 command -v parallel >/dev/null || { echo "SKIP: GNU parallel not installed"; exit 0; }
 HP_BIN=$(realpath "$HP_BIN"); HP_SRC=$(realpath "$HP_SRC")
-S="$HP_SRC/scenarios"
+S=$(patient_scenes) || exit 1 # time budgets of 60 s: runs compared plan alike (tests/cli_lib.sh)
 cd "$TMP" || exit 1
 mkdir bin && ln -s "$HP_BIN" bin/headplan && export PATH="$TMP/bin:$PATH"
 cp -r "$S" scenarios

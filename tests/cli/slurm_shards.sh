@@ -13,7 +13,8 @@ mkdir bin && ln -s "$HP_BIN" bin/headplan
 printf '#!/bin/sh\necho "$@" >> "%s/sbatch.args"\necho "Submitted batch job 7"\n' "$TMP" > bin/sbatch
 chmod +x bin/sbatch
 export PATH="$TMP/bin:$PATH"
-cp "$HP_SRC/scenarios/default.yaml" study.yaml
+S=$(patient_scenes) || exit 1 # time budgets of 60 s: runs compared plan alike (tests/cli_lib.sh)
+cp "$S/default.yaml" study.yaml
 cp "$HP_SRC/scenarios/traces/drift_10hz.csv" recording.csv
 sh_run() { "$@" >"$TMP/out" 2>"$TMP/err"; rc=$?; }
 task() { SLURM_ARRAY_TASK_ID=$1 bash "$E/batch_array.sh" study.yaml shards.txt res 2>/dev/null; }

@@ -3,7 +3,7 @@
 # same honest answer. Each case here was once answered wrongly (see the commit).
 source "$2/tests/cli_lib.sh"
 HP_BIN=$(realpath "$HP_BIN"); HP_SRC=$(realpath "$HP_SRC")
-S="$HP_SRC/scenarios"
+S=$(patient_scenes) || exit 1 # time budgets of 60 s: runs compared plan alike (tests/cli_lib.sh)
 E="$HP_SRC/examples/calibration"
 
 # A JSON Lines number beyond a double's range was refused in jansson's words, naming no key

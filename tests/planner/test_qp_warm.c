@@ -360,6 +360,46 @@ static void test_warm_factored_same_bits(void **st)
     }
 }
 
+/* The set-up a QP keeps between solves (hp_qp.ck_: the inverse factor, and the inverse and
+ * R after a warm start's kept rows) changes nothing: a second solve on the same struct with
+ * only a and b changed (as the realtime backend's QPs at the linear level change from plan
+ * to plan, G and the rows the same), warm-started from the same guess as the solve before it
+ * (the first one's active set, with one row wrong on three trials in four), is the solve
+ * of a copy that keeps nothing, bit for bit. The sample must reach both kept set-ups. */
+static void test_setup_cache_same_bits(void **st)
+{
+    (void)st;
+    uint64_t seed = 777;
+    int kept_inverse = 0, kept_adds = 0;
+    for (int t = 0; t < 2000; ++t) {
+        hp_qp q;
+        realtime_qp(&q, &seed);
+        hp_qp_status s1 = hpi_qp_solve_warm(&q, NULL, NULL, 200, 1e-12);
+        if (s1 == HP_QP_BAD_INPUT) continue;
+        int g[HP_QP_MMAX];
+        memcpy(g, q.active, sizeof g);
+        /* one row of the true set's guess wrong on most trials: a refused guess whose kept
+         * rows start the loop (warm_gi), the adds kept */
+        if (t % 4 && q.m > 0) g[t % q.m] = !g[t % q.m];
+        (void)hpi_qp_solve_warm(&q, NULL, g, 200, 1e-12);
+        for (int i = 0; i < q.n; ++i) q.a[i] *= 1.0 + 0.2 * (lf_uniform(&seed) - 0.5);
+        for (int j = 0; j < q.m; ++j) q.b[j] += 0.05 * (lf_uniform(&seed) - 0.5);
+        kept_inverse += q.ck_ >= 1;
+        kept_adds += q.ck_ == 2;
+        hp_qp fresh = q;
+        fresh.ck_ = 0; /* keeps nothing */
+        double L[NM * NM];
+        const double *Lg = t % 2 && hpi_cholesky(q.G, q.n, q.n, 0.0, L, q.n) ? L : NULL;
+        hp_qp_status a = hpi_qp_solve_warm(&q, Lg, g, 200, 1e-12);
+        assert_int_equal(hpi_qp_solve_warm(&fresh, Lg, g, 200, 1e-12), a);
+        assert_int_equal(q.warm, fresh.warm);
+        assert_same_bits(&q, &fresh);
+    }
+    print_message("set-up kept before the second solve: the inverse %d, the adds %d of 2000\n",
+                  kept_inverse, kept_adds);
+    assert_true(kept_inverse > 1000 && kept_adds > 300);
+}
+
 /* The refusals, one by one, on a 3-variable QP whose answer has rows 0 and 2 active:
  * the true set is accepted; a twin pair, more rows than n, a zero row and a budget below
  * the guess's size are refused unsolved; dependent rows for conditioning; a subset and a
@@ -741,6 +781,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_warm_vs_cold),
         cmocka_unit_test(test_warm_factored_same_bits),
+        cmocka_unit_test(test_setup_cache_same_bits),
         cmocka_unit_test(test_warm_refusals),
         cmocka_unit_test(test_warm_bad_input_and_infeasible),
         cmocka_unit_test(test_declared_pairs_same_bits),
