@@ -43,7 +43,7 @@ static void five_direction_answers_in_range(void **st)
     const hp_level levels[2] = {HP_LEVEL_SURFACE, HP_LEVEL_PLANE};
     for (int bi = 0; bi < 4; ++bi) {
         /* realtime is fast: more layouts; every backend sees the first ones */
-        int n_layouts = bi == 0 ? HP_TEST_SMALL(60, 16) : HP_TEST_SMALL(12, 4);
+        int n_layouts = bi == 0 ? HP_TEST_SMALL(60, 8) : HP_TEST_SMALL(12, 2);
         uint64_t lseed = 99, seed = 15;
         int answers = 0, refused = 0, closest = 0, layouts = 0;
         for (int li = 0; li < n_layouts; ++li) {
