@@ -45,7 +45,7 @@ for args in "0" "x" "-3"; do
   expect_exit 64 "bits $args"
 done
 # bench/plan_bits.sh: a build against itself is the same bits; a folder without the
-# library is refused.
+# library is refused; two libraries whose answers differ in one plan are reported so.
 if ! under_sanitizers; then
   libdir=$(dirname "$COUNT")
   bash "$HP_SRC/bench/plan_bits.sh" "$libdir" "$libdir" 20 >"$TMP/out" 2>"$TMP/err"
@@ -53,6 +53,43 @@ if ! under_sanitizers; then
   expect_stdout_has "plan_bits: 720 plans, the same bits" "plan_bits.sh self"
   bash "$HP_SRC/bench/plan_bits.sh" "$libdir" "$TMP" 20 >"$TMP/out" 2>"$TMP/err"
   rc=$?; expect_exit 66 "plan_bits.sh without a library"
+  # Two libraries that differ: the same library loaded from a folder named shim, with an
+  # hp_plan interposed (LD_PRELOAD, for both runs) that moves the first bladder's pressure
+  # of the 100th plan by one ulp when the hp_plan it wraps was loaded from that folder.
+  # plan_bits.sh must count one differing plan, name it and exit 1.
+  mkdir "$TMP/shim"
+  for f in "$libdir"/libheadplan.so*; do ln -s "$(cd "$libdir" && pwd)/$(basename "$f")" "$TMP/shim/"; done
+  cat >"$TMP/perturb.c" <<'C'
+#define _GNU_SOURCE
+#include <dlfcn.h>
+#include <math.h>
+#include <string.h>
+#include "headplan/headplan.h"
+typedef hp_error (*plan_fn)(hp_planner *, const double *, hp_result *);
+hp_error hp_plan(hp_planner *p, const double desired[6], hp_result *result)
+{
+    static plan_fn real;
+    static long calls;
+    if (!real) {
+        void *sym = dlsym(RTLD_NEXT, "hp_plan");
+        memcpy(&real, &sym, sizeof real);
+    }
+    hp_error e = real(p, desired, result);
+    Dl_info in;
+    void *addr;
+    memcpy(&addr, &real, sizeof addr);
+    if (++calls == 100 && dladdr(addr, &in) && strstr(in.dli_fname, "/shim/"))
+        result->bladders[0].pressure = nextafter(result->bladders[0].pressure, INFINITY);
+    return e;
+}
+C
+  inc=(-I "$HP_SRC/include" -I "$libdir/include")
+  cc -shared -fPIC -std=c11 "${inc[@]}" "$TMP/perturb.c" -o "$TMP/perturb.so" -ldl -lm 2>"$TMP/err" \
+    && ok || bad "plan_bits.sh differ: the interposer did not compile: $(head -c 300 "$TMP/err")"
+  LD_PRELOAD="$TMP/perturb.so" bash "$HP_SRC/bench/plan_bits.sh" "$libdir" "$TMP/shim" 20 \
+    >"$TMP/out" 2>"$TMP/err"
+  rc=$?; expect_exit 1 "plan_bits.sh differ"
+  expect_stdout_has "plan_bits: 720 plans, 1 differ; the first: " "plan_bits.sh differ"
 fi
 # The tail mode's arguments are checked.
 for args in "0 jump 0 10" "3 step 0 10" "0 step 2 10" "0 step 0 0" "x step 0 10" "0 step 1x 10"; do
