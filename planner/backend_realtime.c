@@ -11,14 +11,13 @@
 #include "planner/qp.h"
 #include "common/dense.h"
 #include "common/minmax.h"
+#include "common/same_bits.h"
 #include "common/units.h"
 #include "kinematics/kin_geom.h"
-#include "common/same_bits.h"
 
 #include <float.h>
 #include <math.h>
 #include <stdatomic.h>
-#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>

@@ -2,6 +2,7 @@
  * (plan.c): pose scaling, the answer of a pose, the fit from the nominal pose and the
  * previous answer. */
 #include "planner/planner_internal.h"
+#include "common/same_bits.h"
 #include "common/test_count.h"
 
 #include <math.h>
@@ -21,8 +22,6 @@ void hpi_plan_to_scaled(const double xi[6], double x[6])
 
 void hpi_plan_from_scaled(const double x[6], double xi[6]) { hpi_setup_pose_from_scaled(x, xi); }
 
-static int same_bits(double a, double b) { return memcmp(&a, &b, sizeof a) == 0; }
-
 /* 1 when the memo holds the rows of these distances rho [mm] and radius bounds. The first
  * distance decides most misses (a new answer moves every bladder). */
 static int memo_holds(const hp_answer_memo *m, const double *rho, const double *lo,
@@ -30,8 +29,8 @@ static int memo_holds(const hp_answer_memo *m, const double *rho, const double *
 {
     if (!m->ok) return 0;
     int k = 0;
-    while (k < n && same_bits(m->rho[k], rho[k]) && same_bits(m->ri_lo[k], lo[k]) &&
-           same_bits(m->ri_hi[k], hi[k]))
+    while (k < n && hpi_same_bits(&m->rho[k], &rho[k], 1) &&
+           hpi_same_bits(&m->ri_lo[k], &lo[k], 1) && hpi_same_bits(&m->ri_hi[k], &hi[k], 1))
         ++k;
     return k == n;
 }

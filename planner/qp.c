@@ -20,7 +20,6 @@
 #include "common/same_bits.h"
 
 #include <math.h>
-#include <stdint.h>
 #include <string.h>
 
 #define NM HP_QP_NMAX
