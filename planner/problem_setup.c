@@ -12,12 +12,6 @@ static atomic_ulong rate_solves, rate_evals, rate_lazy_setups, rate_resolves, ra
     rate_lazy_windows;
 static atomic_int rate_eager;
 
-/* How near [Pa] the last bound of a window end must be for its root find to start there
- * (no evaluation, the memo's pressure and slope) rather than at the knots' interpolant
- * (one evaluation, ~1e-10 from the root): from farther, the Newton steps from the memo
- * cost more than that evaluation. */
-#define HP_RATE_MEMO_NEAR_PA 20.0
-
 unsigned long hpi_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
 unsigned long hpi_test_rate_bound_evals(void) { return atomic_load(&rate_evals); }
 unsigned long hpi_test_rate_lazy_setups(void) { return atomic_load(&rate_lazy_setups); }
@@ -103,7 +97,7 @@ static int rate_knots(const hp_iab_s *s, const hp_iab_limit *lp, const hp_envelo
     b->p_2ri[k] = hpi_iab_s_ik(s, 2.0 * s->Ri, &p2, NULL, NULL) == HP_OK && p2 > 0 ? p2 : 0.0;
     b->knot_dp[k] = INFINITY; /* no knots: a remembered bound is near wherever it lies */
     for (int i = 0; i < HP_RATE_KNOTS; ++i) {
-        double ri = i == 0 ? env->ri_lo : env->ri_hi, ro, P, d;
+        double ri = i == 0 ? env->ri_lo : env->ri_hi, ro, P, d, d2;
         if (i > 0 && i < HP_RATE_KNOTS - 1) {
             double t = env->p_lo + (env->p_hi - env->p_lo) * i / (HP_RATE_KNOTS - 1.0);
             hpi_iab_fk_out o;
@@ -111,8 +105,8 @@ static int rate_knots(const hp_iab_s *s, const hp_iab_limit *lp, const hp_envelo
             ri = o.ri;
         }
         if (hpi_iab_s_ik_ro_m(s, ri, &P, &ro) != HP_OK ||
-            hpi_iab_s_slopes(s, ri * s->scale, ro * s->scale, &d, NULL) != HP_OK || !isfinite(P) ||
-            !isfinite(ro) || !(d > 0 && isfinite(d)) ||
+            hpi_iab_s_slopes(s, ri * s->scale, ro * s->scale, &d, &d2) != HP_OK || !isfinite(P) ||
+            !isfinite(ro) || !(d > 0 && isfinite(d)) || !isfinite(d2) ||
             (i > 0 &&
              !(P > b->knot_p[k][i - 1] && ro > b->knot_ro[k][i - 1] && ri > b->knot_ri[k][i - 1])))
             return 0;
@@ -120,6 +114,7 @@ static int rate_knots(const hp_iab_s *s, const hp_iab_limit *lp, const hp_envelo
         b->knot_ro[k][i] = ro;
         b->knot_p[k][i] = P;
         b->knot_d[k][i] = d;
+        b->knot_d2[k][i] = d2;
     }
     b->knot_dp[k] = (b->knot_p[k][HP_RATE_KNOTS - 1] - b->knot_p[k][0]) / (HP_RATE_KNOTS - 1);
     return 1;
@@ -139,22 +134,33 @@ static int knot_index(const hp_static_bounds *b, int k, double p)
     return j;
 }
 
-/* A start for the root find of pressure pw on bladder k: the inner radius [m] the cubic
- * Hermite interpolant of ri(P) through the two knots around pw gives (their radii and
- * slopes dri/dP = 1 / dP/dri), within ~1e-10 of the radius over the default scene's
- * knots, so the Newton iteration that evaluates it there needs one more step and the look at
- * the neighbouring double. NAN when pw lies outside the knots (or they failed): the root
- * find then starts without it. Only a start: the root is the FK's whatever the guess. */
+/* A start for the root find of pressure pw on bladder k: the inner radius [m] the quintic
+ * Hermite interpolant of ri(P) through the two knots around pw gives (their radii, slopes
+ * dri/dP = 1/P' and curvatures d²ri/dP² = −P''/P'³), written as the left knot's radius plus
+ * a correction so that its rounding is the correction's. Over the default scene's knots it
+ * lies within 2e-10 of the radius (the cubic through radii and slopes alone: 9e-8), so one
+ * Newton step from it reaches the root to rounding and the root find evaluates three
+ * times: the start, the Newton point, the double beside it (the cubic's starts took a
+ * second Newton step on the step trace's slowest plans: 4.5 evaluations an end). NAN when
+ * pw lies outside the knots (or they failed): the root find then starts without it. Only a
+ * start: the root is the FK's whatever the guess. */
 static double knot_guess(const hp_static_bounds *b, int k, double pw)
 {
     const double *kp = b->knot_p[k];
     if (!b->knots_ok[k] || !(pw >= kp[0] && pw <= kp[HP_RATE_KNOTS - 1])) return NAN;
     int j = knot_index(b, k, pw);
     double h = kp[j + 1] - kp[j], t = (pw - kp[j]) / h, sc = b->iab_s[k].scale;
-    double m0 = h / (b->knot_d[k][j] * sc), m1 = h / (b->knot_d[k][j + 1] * sc);
-    double t2 = t * t, t3 = t2 * t;
-    return (2.0 * t3 - 3.0 * t2 + 1.0) * b->knot_ri[k][j] + (t3 - 2.0 * t2 + t) * m0 +
-           (3.0 * t2 - 2.0 * t3) * b->knot_ri[k][j + 1] + (t3 - t2) * m1;
+    /* P' and P'' per metre; h times dri/dP and h² times d²ri/dP² at the two knots */
+    double s0 = b->knot_d[k][j] * sc, s1 = b->knot_d[k][j + 1] * sc;
+    double c0 = b->knot_d2[k][j] * sc * sc, c1 = b->knot_d2[k][j + 1] * sc * sc;
+    double v0 = h / s0, v1 = h / s1;
+    double a0 = -(v0 * v0 * v0) * c0 / h, a1 = -(v1 * v1 * v1) * c1 / h;
+    double t2 = t * t, t3 = t2 * t, t4 = t3 * t, t5 = t4 * t;
+    double r0 = b->knot_ri[k][j], dr = b->knot_ri[k][j + 1] - r0;
+    return r0 +
+           ((10.0 * t3 - 15.0 * t4 + 6.0 * t5) * dr + (t - 6.0 * t3 + 8.0 * t4 - 3.0 * t5) * v0 +
+            (-4.0 * t3 + 7.0 * t4 - 3.0 * t5) * v1 + 0.5 * (t2 - 3.0 * t3 + 3.0 * t4 - t5) * a0 +
+            0.5 * (t3 - 2.0 * t4 + t5) * a1);
 }
 
 /* Tightest of two bounds with their flags; equal bounds keep both flags. */
@@ -283,17 +289,19 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
         return 1;
     }
     hpi_count(&rate_solves, 1);
-    /* From the last bound of the same window end when it lies within HP_RATE_MEMO_NEAR_PA,
-     * with the pressure, slope and outer radius evaluated there: a sensor's noise moves a
-     * window that little, and the root is a Newton step or two away instead of a bracket
-     * search and a Newton iteration from its middle. From farther (a jump, a ramp of one
-     * plan's step) it starts at the knots' interpolant instead: one evaluation there, ~1e-10
-     * from the root, where the last bound a few hundred Pa away takes three or four Newton
-     * steps more. The same root to rounding either way (tests/planner/test_rate_bounds.c:
-     * against the cold reference along such chains). A first bound starts from nothing: the
-     * cold root find's bits, which that test holds it to. */
+    /* From the knots' interpolant (knot_guess): one evaluation there, within 2e-10 of the
+     * root, then one Newton step and the look at the double beside it. The last bound of
+     * the same window end (the memo) is the start only where the knots give none: even a
+     * sensor's noise of a few Pa away it took a Newton step more (on the seeded chains of
+     * tests/planner/test_rate_bounds.c: 3.19 evaluations a solve from a memo within 20 Pa,
+     * 2.89 from the knots; against the cubic interpolant of ri(P) the memo had paid). A
+     * bound solved with a memo (a planner's) starts at the knots even the first time, where
+     * it searched a bracket from nothing (9 evaluations; the step trace's first plans after
+     * a jump solve several such ends). The same root to rounding either way (that test:
+     * against the cold reference along such chains); without a memo
+     * (hpi_setup_cycle_bounds) the cold root find's bits, which that test holds it to. */
     int held = m && m->ok;
-    double g = held && fabs(pw - m->p) > HP_RATE_MEMO_NEAR_PA ? knot_guess(b, k, pw) : NAN;
+    double g = m ? knot_guess(b, k, pw) : NAN;
     /* A radius alone (the knots' guess, evaluated there; NAN: no start, as for none) */
     hpi_iab_fk_start st = {.ri = g};
     if (isnan(g) && held)

@@ -42,9 +42,10 @@ typedef struct hp_static_bounds {
      * radii [m] and closed-form pressures [Pa] (rising; knots_ok 0 when they could not be
      * made): where a window end's stand-in (hp_rate_lazy) comes from. */
     double knot_ro[HP_MAX_BLADDERS][HP_RATE_KNOTS], knot_p[HP_MAX_BLADDERS][HP_RATE_KNOTS];
-    /* and their inner radii [m] and slopes dP/dri (per scaled length): the root finds'
-     * starts (a cubic Hermite interpolant of ri(P) between two knots) */
+    /* and their inner radii [m], slopes dP/dri and curvatures d²P/dri² (per scaled length):
+     * the root finds' starts (a quintic Hermite interpolant of ri(P) between two knots) */
     double knot_ri[HP_MAX_BLADDERS][HP_RATE_KNOTS], knot_d[HP_MAX_BLADDERS][HP_RATE_KNOTS];
+    double knot_d2[HP_MAX_BLADDERS][HP_RATE_KNOTS];
     double knot_dp[HP_MAX_BLADDERS]; /* their mean spacing [Pa] */
     int knots_ok[HP_MAX_BLADDERS];
     /* The closed form's pressure at twice Ri (0 when it failed or is not positive): the

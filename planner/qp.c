@@ -783,8 +783,11 @@ hp_qp_status hpi_qp_resume_lazy(hp_qp *qp, const unsigned char *lazy, int *hit, 
     /* load_rows's choice of rows: C itself at full width, else its padded copy (which
      * the stopped solve wrote and nothing since has changed) */
     const double *Cr = qp->n < NM ? qp->C_ : qp->C;
-    for (int j = 0; j < qp->m; ++j) /* a row's b made exact must still be a number */
-        if (!isfinite(qp->b[j])) return HP_QP_BAD_INPUT;
+    /* A row's b made exact must still be a number: b − b is +0 for a finite b and NaN
+     * otherwise, so the sum is 0 exactly when every b is finite (no branch per row). */
+    double zb = 0.0;
+    for (int j = 0; j < qp->m; ++j) zb += qp->b[j] - qp->b[j];
+    if (!(zb == 0.0)) return HP_QP_BAD_INPUT;
     if (resumable == 2) /* stopped in the warm start's check, the factor kept in L_ */
         return warm_finish(qp, qp->L_, NM, Cr, lazy, hit, max_iter, feas_tol);
     return kept_verdict(qp, gi_loop(qp, Cr, lazy, hit, max_iter, feas_tol), Cr, lazy, hit, max_iter,
