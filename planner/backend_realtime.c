@@ -515,17 +515,12 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
          * at a time). */
         int resume = q->resumable;
         if (resume == 1) {
-            /* The hit row's bladder alone (a stand-in row, so of a bladder with one), and
-             * its two rows' marks: the step trace's slowest plans stop here once an end,
-             * seven times, and the pass over every bladder cost each stop about 150
-             * instructions. */
+            /* The hit row's bladder alone (a stand-in row, so of a bladder with one): the
+             * step trace's slowest plans stop here once an end, seven times, and the pass
+             * over every bladder cost each stop about 150 instructions. */
             int k = hit / 2;
             if (!hpi_setup_rate_resolve(z, k, hit == 2 * k ? 1u : 2u)) return HP_QP_BAD_INPUT;
             rt_row_b(st, pb, k);
-            lz[2 * k] = z->lo[k];
-            lz[2 * k + 1] = z->hi[k];
-            any = 0;
-            for (int j = 0; j < 2 * pb->n; ++j) any |= lz[j];
         } else {
             for (int k = 0; k < pb->n; ++k) {
                 if (!(z->lo[k] | z->hi[k])) continue;
@@ -539,8 +534,8 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
                 if (!hpi_setup_rate_resolve(z, k, ends)) return HP_QP_BAD_INPUT;
                 rt_row_b(st, pb, k);
             }
-            any = lazy_rows(z, pb->n, lz);
         }
+        any = lazy_rows(z, pb->n, lz);
         qs = resume ? hpi_qp_resume_lazy(q, any ? lz : NULL, &hit, budget, RT_FEAS_TOL)
                     : hpi_qp_solve_lazy(q, Lg, guess, any ? lz : NULL, &hit, budget, RT_FEAS_TOL);
         st->cnt.qp_steps += q->gi_steps;

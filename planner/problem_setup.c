@@ -144,7 +144,7 @@ static int knot_index(const hp_static_bounds *b, int k, double p)
  * second Newton step on the step trace's slowest plans: 4.5 evaluations an end). NAN when
  * pw lies outside the knots (or they failed): the root find then starts without it. Only a
  * start: the root is the FK's whatever the guess. */
-static double knot_guess(const hp_static_bounds *b, int k, double pw)
+double hpi_setup_knot_guess(const hp_static_bounds *b, int k, double pw)
 {
     const double *kp = b->knot_p[k];
     if (!b->knots_ok[k] || !(pw >= kp[0] && pw <= kp[HP_RATE_KNOTS - 1])) return NAN;
@@ -289,7 +289,7 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
         return 1;
     }
     hpi_count(&rate_solves, 1);
-    /* From the knots' interpolant (knot_guess): one evaluation there, within 2e-10 of the
+    /* From the knots' interpolant (hpi_setup_knot_guess): one evaluation there, within 2e-10 of the
      * root, then one Newton step and the look at the double beside it. The last bound of
      * the same window end (the memo) is the start only where the knots give none: even a
      * sensor's noise of a few Pa away it took a Newton step more (on the seeded chains of
@@ -301,7 +301,7 @@ static int rate_bound(const hp_static_bounds *b, int k, double pw, int up, hp_ra
      * against the cold reference along such chains); without a memo
      * (hpi_setup_cycle_bounds) the cold root find's bits, which that test holds it to. */
     int held = m && m->ok;
-    double g = m ? knot_guess(b, k, pw) : NAN;
+    double g = m ? hpi_setup_knot_guess(b, k, pw) : NAN;
     /* A radius alone (the knots' guess, evaluated there; NAN: no start, as for none) */
     hpi_iab_fk_start st = {.ri = g};
     if (isnan(g) && held)

@@ -125,13 +125,20 @@ hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b, c
 /* The last radius bound solved for each end of each bladder's rate window, keyed by the
  * window end's pressure p: the same pressure, bit for bit, gives the same bound r and outer
  * radius ro without a solve (a plan holding a closest answer under rate limits sets the
- * same windows cycle after cycle); another starts its root find at r with the pressure
+ * same windows cycle after cycle). Another pressure's root find starts at the knots'
+ * interpolant (hpi_setup_knot_guess), or, where the knots give none, at r with the pressure
  * there (p_at, the closed form's bits) and the slope d (per scaled length) of the last
- * Newton step, no evaluation. Zeroed: empty. */
+ * Newton step, no evaluation. p_at also places the end's stand-in. Zeroed: empty. */
 typedef struct hp_rate_end {
     double p, r, ro, p_at, d;
     int ok;
 } hp_rate_end;
+
+/* A start for the root find of pressure pw [Pa] on bladder k of b: the inner radius [m] of
+ * the quintic Hermite interpolant of ri(P) through the two knots around pw (their radii,
+ * slopes and curvatures). NAN when pw lies outside the knots or they failed. Only a start:
+ * the root is the FK's whatever it is (tests/planner/test_rate_knots.c measures how near). */
+double hpi_setup_knot_guess(const hp_static_bounds *b, int k, double pw);
 
 typedef struct hp_rate_memo {
     hp_rate_end down[HP_MAX_BLADDERS], up[HP_MAX_BLADDERS];
