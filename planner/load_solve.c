@@ -465,7 +465,12 @@ int hpi_load_hold_set_at_pressures(const hp_load_hold_set *h, const double *P, d
     for (int j = 0; j < h->m; ++j) {
         const int k = h->col[j];
         double ri = h->rc[k], F;
-        if (P[k] > h->L[k]) {
+        /* At or below L: its least force, Flo (positive when its pressure floor lies above
+         * touching: it carries there already), at L and ra, where the set computed Flo. */
+        int floor = !(P[k] > h->L[k]);
+        if (floor) {
+            x[k] = h->Flo[k];
+        } else {
             if (P[k] < h->U[k] && fk_of(h->M, k, P[k], &ri)) return -1;
             if (force_at_ri(h->M, k, P[k], ri, h->rho[k], &F)) return -1;
             x[k] = fmin(fmax(F, h->Flo[k]), h->Fhi[k]);
@@ -473,8 +478,8 @@ int hpi_load_hold_set_at_pressures(const hp_load_hold_set *h, const double *P, d
         /* As tie_cost takes a force: none (the best pressure that carries nothing), the
          * least the bladder carries (L: ra), the most (U: rc), else the pick's own. */
         if (x[k] <= 0.0 && h->Flo[k] <= 0.0) continue;
-        Pp[k] = x[k] <= 0.0 ? h->L[k] : x[k] >= h->Fhi[k] ? h->U[k] : P[k];
-        R[k] = x[k] <= 0.0 ? h->ra[k] : x[k] >= h->Fhi[k] ? h->rc[k] : ri;
+        Pp[k] = floor || x[k] <= 0.0 ? h->L[k] : x[k] >= h->Fhi[k] ? h->U[k] : P[k];
+        R[k] = floor || x[k] <= 0.0 ? h->ra[k] : x[k] >= h->Fhi[k] ? h->rc[k] : ri;
     }
     return 0;
 }
