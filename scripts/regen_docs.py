@@ -18,6 +18,7 @@ runs (the fixed configuration, in this order):
   restarts-cost     planner.csv of the same headplan-bench run              docs/planner.md
   backends-table    headplan-bench-backends                                 docs/backends.md
   loop-table        loop.csv of the same headplan-bench run                 docs/control-loop.md
+  loop-headline     the same loop.csv, realtime medians                     docs/benchmarks.md
   loop-tail         bench/loop_tail.sh (callgrind: instructions a plan), linear
                     level, step trace, own answers and measured readings    docs/control-loop.md
   load-table        load.csv of the same headplan-bench run                 docs/load.md
@@ -200,6 +201,33 @@ def loop_table(figures):
     return block("```text\n" + "\n".join(lines) + "\n```")
 
 
+def loop_headline(figures):
+    """docs/benchmarks.md's headline of the control-loop family (loop.csv of this run): the
+    realtime backend's medians per level, rate-free and rate-limited on the smooth trace,
+    rate-free, rate-limited and measured on the step trace (x: the ratio to the rate-free
+    plan of the same trace), and hp_planner_set_measured's median on the step trace."""
+    with open(os.path.join(figures, "loop.csv"), newline="") as f:
+        rows = list(csv.DictReader(f))
+    by = {(r["level"], r["trace"], r["mode"]): r for r in rows if r["backend"] == "realtime"}
+    levels = []
+    for r in rows:
+        if r["backend"] == "realtime" and r["level"] not in levels:
+            levels.append(r["level"])
+
+    def x(lv, tr, mode):
+        r = by[(lv, tr, mode)]
+        return "%.2f (%.2f)" % (float(r["median_us"]), float(r["ratio_median"]))
+    lines = ["%-8s %12s  %-12s %11s  %-12s %-13s  %s" % (
+        "level", "smooth: free", "rate (x)", "step: free", "rate (x)", "measured (x)",
+        "set_measured")]
+    for lv in levels:
+        lines.append("%-8s %12.2f  %-12s %11.2f  %-12s %-13s  %.2f us" % (
+            lv, float(by[(lv, "smooth", "free")]["median_us"]), x(lv, "smooth", "rate"),
+            float(by[(lv, "step", "free")]["median_us"]), x(lv, "step", "rate"),
+            x(lv, "step", "measured"), float(by[(lv, "step", "measured")]["set_measured_median_us"])))
+    return block("```text\n" + "\n".join(lines) + "\n```")
+
+
 def load_table(figures):
     """The load family (load.csv of this run): per scene the kinematic plan's median, and per
     backend the load level's status and median with its ratio to that kinematic plan."""
@@ -360,7 +388,8 @@ def main():
     tables = bench_tables(src, figures)
     sp = speed(src, figures)
     new["README.md"]["speed-readme"] = sp
-    new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp})
+    new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp,
+                                                "loop-headline": loop_headline(figures)})
     new["docs/control-loop.md"] = {"loop-table": loop_table(figures)}
     tails = []
     for feed in ("0", "1"):

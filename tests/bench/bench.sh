@@ -249,6 +249,13 @@ badl=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
       print id ": overshoots_host " $c["overshoots_host"]
     if ($c["overshoots_host"] > $c["overshoots"]) print id ": host overshoots beyond overshoots" }' "$lcsv")
 [ -z "$badl" ] && ok || bad "loop: $badl"
+# The docs' loop tables (regen_docs.py loop_table, loop_headline) read the rows: 18 rows
+# (levels x backends x traces) and a headline row for each level.
+PYTHONPATH="$HP_SRC/scripts" /usr/bin/python3 -c \
+  "import sys, regen_docs as r; t = r.loop_table(sys.argv[1]); h = r.loop_headline(sys.argv[1])
+assert t.count(' of 120') == 18, t
+assert [l.split()[0] for l in h.splitlines()[3:-1]] == ['linear', 'plane', 'surface'], h" \
+  "$OUT" && ok || bad "loop: regen_docs.loop_table / loop_headline read the rows"
 # The step trace makes the rate limits bind (500 Pa a plan against steps of kPa).
 awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) c[$i] = i; next }
   $3 == "step" && $4 == "rate" && $c["rate_binding"] > 0 { n++ } END { exit !(n == 6) }' "$lcsv" \
