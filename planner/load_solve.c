@@ -467,8 +467,8 @@ int hpi_load_hold_set_at_pressures(const hp_load_hold_set *h, const double *P, d
         double ri = h->rc[k], F;
         /* At or below L: its least force, Flo (positive when its pressure floor lies above
          * touching: it carries there already), at L and ra, where the set computed Flo. */
-        int floor = !(P[k] > h->L[k]);
-        if (floor) {
+        int at_floor = !(P[k] > h->L[k]);
+        if (at_floor) {
             x[k] = h->Flo[k];
         } else {
             if (P[k] < h->U[k] && fk_of(h->M, k, P[k], &ri)) return -1;
@@ -476,10 +476,11 @@ int hpi_load_hold_set_at_pressures(const hp_load_hold_set *h, const double *P, d
             x[k] = fmin(fmax(F, h->Flo[k]), h->Fhi[k]);
         }
         /* As tie_cost takes a force: none (the best pressure that carries nothing), the
-         * least the bladder carries (L: ra), the most (U: rc), else the pick's own. */
+         * least the bladder carries (L: ra), the most (U: rc), else the pick's own. Past
+         * the first line x > 0 (x >= Flo > 0, or a clamped F > 0). */
         if (x[k] <= 0.0 && h->Flo[k] <= 0.0) continue;
-        Pp[k] = floor || x[k] <= 0.0 ? h->L[k] : x[k] >= h->Fhi[k] ? h->U[k] : P[k];
-        R[k] = floor || x[k] <= 0.0 ? h->ra[k] : x[k] >= h->Fhi[k] ? h->rc[k] : ri;
+        Pp[k] = at_floor ? h->L[k] : x[k] >= h->Fhi[k] ? h->U[k] : P[k];
+        R[k] = at_floor ? h->ra[k] : x[k] >= h->Fhi[k] ? h->rc[k] : ri;
     }
     return 0;
 }

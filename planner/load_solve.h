@@ -78,8 +78,8 @@ int hpi_load_hold_set_point(const hp_load_hold_set *h, const double *x, double s
 /* The point of the set at pressures P[n] (a HOLD answer: inside [L, U] where a bladder
  * carries): x gets its forces (each clamped into its range; at or below L its least force
  * Flo, positive where its pressure floor lies above touching), Pp the pressures
- * hpi_load_hold_set_point gives a point of those forces, P itself where the bladder
- * carries (the solve from the force would return it to rounding), and R
+ * hpi_load_hold_set_point gives a point of those forces (L at or below L, U at the top,
+ * else P itself: the solve from the force would return it to rounding), and R
  * the carrying bladders' inner radii at them (0 for the others). One forward-kinematics
  * solve a carrying bladder strictly inside its carrying range (none at its ends: the set's
  * ra, rc), no pressure solve. 0, or -1 when the model fails. */

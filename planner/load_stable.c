@@ -124,8 +124,8 @@ hpi_load_solve_status hpi_load_stable_hold_set(const hp_load_hold_set *hs, hp_lo
     if (hpi_load_stiff_init(&S, M, xi, hs->target) != HP_OK) return HP_LOAD_SOLVE_ERROR;
     const int n = hs->n;
     /* The pick's forces and inner radii from its own pressures (one forward-kinematics
-     * solve a carrying bladder; a bladder below its carrying pressures carries nothing): no
-     * pressure solve. */
+     * solve a carrying bladder; a bladder at or below L its least force Flo, 0 unless its
+     * pressure floor lies above touching): no pressure solve. */
     double f0[HP_MAX_BLADDERS], P0[HP_MAX_BLADDERS], R0[HP_MAX_BLADDERS];
     int ok;
     if (hpi_load_hold_set_at_pressures(hs, P, f0, P0, R0) || (ok = stable_at(&S, f0, P0, R0)) < 0)
