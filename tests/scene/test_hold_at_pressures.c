@@ -9,14 +9,16 @@
  * touching pressure already carries at its lowest carrying pressure L (its least force Flo
  * is positive). A hold at exactly L is common (a least-squeeze hold puts a bladder on its
  * floor wherever it can); its force is Flo, not 0, or the stable search's stiffness leaves
- * a carrying bladder out. The second test checks that consequence: the smallest stiffness
- * eigenvalue the stable search reports for such a hold against the tests' own stiffness
- * (tests/support/load_stiffness.h, from hp_load_eval's Jacobian).
+ * a carrying bladder out. The second test checks that consequence: a stable hold with
+ * bladders on their floors is kept without a search, and the smallest stiffness eigenvalue
+ * the stable search reports is the tests' own (tests/support/load_stiffness.h, from
+ * hp_load_eval's Jacobian).
  *
  * Layout: the load tests' default layout at stretch_max 1.6 under the cap law, carrying
- * 80 % of the head (as tests/scene/test_load_squeeze.c), at the nominal pose and at a 3 mm
- * lift; each carrying bladder's floor raised to 30 % of the way from the bottom of its
- * carrying range L (touching, here) to its top. */
+ * 80 % of the head (as tests/scene/test_load_squeeze.c); each carrying bladder's floor
+ * raised to 30 % of the way from the bottom of its carrying range L (touching, here) to its
+ * top. The first test at the nominal pose and a 3 mm lift, the second at nine small
+ * corrections. */
 #include "support/test_util.h"
 
 #include "support/default_layout.h"
