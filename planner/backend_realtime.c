@@ -511,10 +511,11 @@ static hp_qp_status rt_qp(rt_state *st, const hp_problem *pb, const double *Lg, 
          * of the other rows: resumed there; on a guessed row: started again) solves with it
          * every bladder whose stand-in row the iterate violates: the check, and the full
          * solve a refusal runs from the unconstrained minimum, are likely to stop on them
-         * next. Measured with bench/loop_tail.sh on the step trace: p99.9 34 390 instructions
-         * a plan, one end at a time 34 884, though of the 75 ends resolved this way beside a
-         * hit row over the trace only 6 end in the answer's active set: the further stops
-         * one at a time costs exceed those root finds. */
+         * next. Measured with bench/loop_tail.sh on the step trace, both ways in one build
+         * (a run-time switch, its check in both figures): p99.9 34 390 instructions a plan,
+         * one end at a time 34 884, though of the 75 ends resolved this way beside a hit row
+         * over the trace only 6 end in the answer's active set: the further stops one at a
+         * time costs exceed those root finds. */
         int resume = q->resumable;
         if (resume == 1) {
             /* The hit row's bladder alone (a stand-in row, so of a bladder with one): the

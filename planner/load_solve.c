@@ -477,7 +477,7 @@ int hpi_load_hold_set_at_pressures(const hp_load_hold_set *h, const double *P, d
         }
         /* As tie_cost takes a force: none (the best pressure that carries nothing), the
          * least the bladder carries (L: ra), the most (U: rc), else the pick's own. Past
-         * the first line x > 0 (x >= Flo > 0, or a clamped F > 0). */
+         * the continue, x > 0 (x >= Flo > 0, or a clamped F > 0). */
         if (x[k] <= 0.0 && h->Flo[k] <= 0.0) continue;
         Pp[k] = at_floor ? h->L[k] : x[k] >= h->Fhi[k] ? h->U[k] : P[k];
         R[k] = at_floor ? h->ra[k] : x[k] >= h->Fhi[k] ? h->rc[k] : ri;

@@ -171,14 +171,19 @@ def restarts_cost(figures):
     return block("\n".join(lines))
 
 
+def loop_rows(figures):
+    """The rows of loop.csv of this run, as dictionaries keyed by its header."""
+    with open(os.path.join(figures, "loop.csv"), newline="") as f:
+        return list(csv.DictReader(f))
+
+
 def loop_table(figures):
     """The control-loop family (loop.csv of this run): per backend, level and trace the
     medians of the four modes, × the ratio to the rate-free plan of the same trace (the modes
     take turns every cycle), `set` hp_planner_set_measured's median, and the deadline mode's
     time-limit stops, overshoots of the budget by more than 5 us and, of those, the ones by
     more than 100 us (the host's stalls)."""
-    with open(os.path.join(figures, "loop.csv"), newline="") as f:
-        rows = list(csv.DictReader(f))
+    rows = loop_rows(figures)
     by = {(r["backend"], r["level"], r["trace"], r["mode"]): r for r in rows}
     keys = []
     for r in rows:
@@ -206,8 +211,7 @@ def loop_headline(figures):
     realtime backend's medians per level, rate-free and rate-limited on the smooth trace,
     rate-free, rate-limited and measured on the step trace (x: the ratio to the rate-free
     plan of the same trace), and hp_planner_set_measured's median on the step trace."""
-    with open(os.path.join(figures, "loop.csv"), newline="") as f:
-        rows = list(csv.DictReader(f))
+    rows = loop_rows(figures)
     by = {(r["level"], r["trace"], r["mode"]): r for r in rows if r["backend"] == "realtime"}
     levels = []
     for r in rows:
