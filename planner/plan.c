@@ -148,13 +148,12 @@ static int same_windows(hp_planner *p)
     return same;
 }
 
-/* The plan's bounds and stand-in marks into p->rate_kept (to_kept), or back from it. Whole
+/* The plan's bounds, and with marks its stand-in marks, into m (to_kept), or back. Whole
  * arrays, HP_MAX_BLADDERS long: copies of a size known at compile time are a few vector
  * moves each, where copies of n bladders' were library calls (about 100 instructions more
  * a copy). */
-static void copy_kept(hp_planner *p, int to_kept)
+static void copy_bounds(hp_planner *p, hp_rate_kept *m, int to_kept, int marks)
 {
-    hp_rate_kept *m = &p->rate_kept;
     hp_problem *pb = &p->pb;
     hp_rate_lazy *z = &p->rate_lazy;
 #define HP_KEPT_COPY(kept, plan)                                                                   \
@@ -168,10 +167,15 @@ static void copy_kept(hp_planner *p, int to_kept)
     HP_KEPT_COPY(m->ri_hi_si, pb->ri_hi_si);
     HP_KEPT_COPY(m->lo_flags, p->lo_flags);
     HP_KEPT_COPY(m->hi_flags, p->hi_flags);
-    HP_KEPT_COPY(m->lo, z->lo);
-    HP_KEPT_COPY(m->hi, z->hi);
+    if (marks) {
+        HP_KEPT_COPY(m->lo, z->lo);
+        HP_KEPT_COPY(m->hi, z->hi);
+    }
 #undef HP_KEPT_COPY
 }
+
+/* The plan's bounds and stand-in marks into p->rate_kept (to_kept), or back from it. */
+static void copy_kept(hp_planner *p, int to_kept) { copy_bounds(p, &p->rate_kept, to_kept, 1); }
 
 /* After a plan that set its bounds with stand-ins: those bounds as the plan left them, for
  * the next plan with the same windows (rate_bounds). Ends it resolved are exact, the others
@@ -227,6 +231,7 @@ static int rate_bounds(hp_planner *p, hp_result *res, plan_ctx *c)
         *z = (hp_rate_lazy){.L = &p->L,
                             .b = &p->sb,
                             .memo = &p->rate_memo,
+                            .stand = &p->rate_stand,
                             .pb = &p->pb,
                             .lo_flags = p->lo_flags,
                             .hi_flags = p->hi_flags};
@@ -288,7 +293,19 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
      * pressure -> radius solves a bladder) change nothing (rate_bounds). */
     if (p->rate_free) return 1;
     if (!hpi_setup_rate_lazy()) return rate_bounds(p, res, c);
-    hpi_setup_cycle_bounds(&p->L, &p->sb, NULL, 0, pb, p->lo_flags, p->hi_flags, NULL);
+    /* The static bounds from the image the first plan took of them: the same bits, copied
+     * in a few vector moves where setting them up bladder by bladder cost each plan 283
+     * instructions (callgrind, the loop benchmark's step trace; with the copy the
+     * rate-limited median there is 155 lower, 12 559 -> 12 404, bench/loop_tail.sh). A
+     * set-up that failed (a volume law that gave no outer radius) is not kept: the next
+     * plan sets them up again. */
+    if (p->static_kept_ok) {
+        copy_bounds(p, &p->static_kept, 0, 0);
+    } else if (hpi_setup_cycle_bounds(&p->L, &p->sb, NULL, 0, pb, p->lo_flags, p->hi_flags, NULL) ==
+               HP_OK) {
+        copy_bounds(p, &p->static_kept, 1, 0);
+        p->static_kept_ok = 1;
+    }
     c->rate_deferred = 1;
     return 1;
 }

@@ -68,8 +68,9 @@ struct hp_planner {
     hp_identifiable id; /* what the layout can tell apart (hp_layout_identify) */
     int commanded[6];   /* = id.commanded */
     hp_static_bounds sb;
-    hp_rate_memo rate_memo; /* the last rate bounds solved (plan.c), keyed by pressure */
-    hp_rate_lazy rate_lazy; /* this plan's window ends not yet solved (pb.lazy points here) */
+    hp_rate_memo rate_memo;   /* the last rate bounds solved (plan.c), keyed by pressure */
+    hp_rate_lazy rate_lazy;   /* this plan's window ends not yet solved (pb.lazy points here) */
+    hp_rate_stand rate_stand; /* the stand-ins of the last set-ups (problem_setup.h) */
     hp_problem pb;
     unsigned lo_flags[HP_MAX_BLADDERS], hi_flags[HP_MAX_BLADDERS];
     const hp_backend_ops *ops;
@@ -127,6 +128,11 @@ struct hp_planner {
      * the others its stand-ins (plan.c, keep_rate_bounds). */
     int rate_live, rate_kept_ok;
     hp_rate_kept rate_kept;
+    /* The static bounds as hpi_setup_cycle_bounds puts them without windows (static_kept_ok:
+     * taken), for every rate-limited plan's start (plan.c, validate); the layout and its
+     * static bounds do not change after create. */
+    int static_kept_ok;
+    hp_rate_kept static_kept;
     hp_answer_memo ans_memo; /* plan_state.c: rows of the last discarded direct answer */
     /* The contact model at the nominal pose (fit starts). Last, and its warm states last
      * in it: when they grew from 64 to 512 bytes in the middle, padding main's structs the

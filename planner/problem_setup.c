@@ -9,7 +9,7 @@
 #include <string.h>
 
 static atomic_ulong rate_solves, rate_evals, rate_lazy_setups, rate_resolves, rate_rederived,
-    rate_lazy_windows;
+    rate_lazy_windows, rate_stands_new;
 static atomic_int rate_eager;
 
 unsigned long hpi_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
@@ -18,6 +18,7 @@ unsigned long hpi_test_rate_lazy_setups(void) { return atomic_load(&rate_lazy_se
 unsigned long hpi_test_rate_resolves(void) { return atomic_load(&rate_resolves); }
 unsigned long hpi_test_rate_rederived(void) { return atomic_load(&rate_rederived); }
 unsigned long hpi_test_rate_lazy_windows(void) { return atomic_load(&rate_lazy_windows); }
+unsigned long hpi_test_rate_stands_new(void) { return atomic_load(&rate_stands_new); }
 void hpi_test_rate_lazy(int on) { atomic_store(&rate_eager, !on); }
 int hpi_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory_order_relaxed); }
 
@@ -350,29 +351,49 @@ hp_error hpi_setup_cycle_bounds(const hp_layout *L, const hp_static_bounds *b, c
  * that both ends were solved at once. The pressure rises with the radius on the stable
  * branch, so the exact bound, where the pressure crosses pw, lies outside that point by at
  * least the slack's radius (about 1e-5 mm; the closed form's last-bit wobble is ~1e-11 Pa).
- * No model evaluation; NAN when no point qualifies. */
-static double stand_in(const hp_static_bounds *b, int k, double pw, int up, const hp_rate_end *m)
+ * No model evaluation; NAN when no point qualifies. *ps receives the closed-form pressure
+ * at the stand-in's point (NAN with none), by which a later window's end can take it again
+ * (stand_serves). */
+static double stand_in(const hp_static_bounds *b, int k, double pw, int up, const hp_rate_end *m,
+                       double *ps)
 {
-    double sl = b->rate_slack[k], r = NAN;
+    double sl = b->rate_slack[k], r = NAN, pr = NAN;
+    *ps = NAN;
     if (!isfinite(sl)) return NAN;
     const double *kp = b->knot_p[k], *kr = b->knot_ro[k];
     int memo = m && m->ok, ok = b->knots_ok[k];
     if (up) { /* the smallest radius with P >= pw + sl */
         double t = pw + sl;
-        if (memo && m->p_at >= t && m->p_at - t <= b->knot_dp[k]) return m->ro;
+        if (memo && m->p_at >= t && m->p_at - t <= b->knot_dp[k]) return *ps = m->p_at, m->ro;
         if (ok && kp[HP_RATE_KNOTS - 1] >= t) {
             int j = knot_index(b, k, t); /* kp[j] <= t <= kp[j + 1], or t below the knots */
-            r = kp[j] >= t ? kr[j] : kr[j + 1];
+            j += !(kp[j] >= t);
+            r = kr[j];
+            pr = kp[j];
         }
-        return memo && m->p_at >= t && !(m->ro >= r) ? m->ro : r;
+        if (memo && m->p_at >= t && !(m->ro >= r)) return *ps = m->p_at, m->ro;
+        return *ps = pr, r;
     }
     double t = pw - sl; /* the largest radius with P <= pw - sl */
-    if (memo && m->p_at <= t && t - m->p_at <= b->knot_dp[k]) return m->ro;
+    if (memo && m->p_at <= t && t - m->p_at <= b->knot_dp[k]) return *ps = m->p_at, m->ro;
     if (ok && kp[0] <= t) {
         int j = knot_index(b, k, t); /* kp[j] <= t <= kp[j + 1], or t above the knots */
-        r = kp[j + 1] <= t ? kr[j + 1] : kr[j];
+        j += kp[j + 1] <= t;
+        r = kr[j];
+        pr = kp[j];
     }
-    return memo && m->p_at <= t && !(m->ro <= r) ? m->ro : r;
+    if (memo && m->p_at <= t && !(m->ro <= r)) return *ps = m->p_at, m->ro;
+    return *ps = pr, r;
+}
+
+/* 1 when a stand-in whose point has the closed-form pressure ps [Pa] serves the window end
+ * at pw (up: the lower end): beyond pw by the rate slack on the window's side, the test
+ * stand_in makes, which puts it strictly inside the exact bound, and within a knot spacing
+ * of that, no farther inside than stand_in's own can lie. */
+static int stand_serves(const hp_static_bounds *b, int k, double pw, double ps, int up)
+{
+    double d = up ? ps - (pw + b->rate_slack[k]) : (pw - b->rate_slack[k]) - ps;
+    return d >= 0.0 && d <= b->knot_dp[k];
 }
 
 /* Bladder k's bounds for this plan: the static ones intersected with the ends of its rate
@@ -394,11 +415,11 @@ static hp_error bladder_bounds(const hp_layout *L, const hp_static_bounds *b, in
     double r_r[2] = {NAN, NAN}, ro_r[2] = {NAN, NAN};
     double sro_lo = NAN, sro_hi = NAN; /* stand-ins' outer radii [m] */
     if (win) {
-        double r, pl = win[0], ph = win[1];
+        double r, ps, pl = win[0], ph = win[1];
         if (nder) *nder += (pl > b->p_lo[k]) + (ph < b->p_hi[k]);
         if (pl > b->p_lo[k]) {
             if (lazy_lo && lazy_lo[k]) {
-                sro_lo = stand_in(b, k, pl, 1, memo ? &memo->down[k] : NULL);
+                sro_lo = stand_in(b, k, pl, 1, memo ? &memo->down[k] : NULL, &ps);
                 *nostand |= isnan(sro_lo);
             } else if (rate_bound(b, k, pl, 1, memo, &r, &ro_r[0])) {
                 take_max(&lo, &lof, r_r[0] = r, HP_BIND_RATE_DOWN);
@@ -410,7 +431,7 @@ static hp_error bladder_bounds(const hp_layout *L, const hp_static_bounds *b, in
         }
         if (ph < b->p_hi[k]) {
             if (lazy_hi && lazy_hi[k]) {
-                sro_hi = stand_in(b, k, ph, 0, memo ? &memo->up[k] : NULL);
+                sro_hi = stand_in(b, k, ph, 0, memo ? &memo->up[k] : NULL, &ps);
                 *nostand |= isnan(sro_hi);
             } else if (rate_bound(b, k, ph, 0, memo, &r, &ro_r[1])) {
                 take_min(&hi, &hif, r_r[1] = r, HP_BIND_RATE_UP);
@@ -504,40 +525,70 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
  * the realtime margin (half a window of 4e-11 mm) see another window than the exact one. */
 #define HP_LAZY_MIN_WIDTH_MM (2.0 * HP_BINDING_TOL_MM)
 
-/* Bladder k with the ends marked in z a stand-in, or both solved when a stand-in cannot be
- * made or leaves too narrow a window. *nder (may be NULL) counts the ends derived. */
-static hp_error lazy_bladder(hp_rate_lazy *z, int k, int *nder, hp_diag *d)
+/* A new stand-in for bladder k's window end in z (up: the lower), kept in z->stand. */
+static inline double lazy_stand_new(hp_rate_lazy *z, int k, int up)
+{
+    double ps = NAN, pw = up ? z->pl[k] : z->ph[k];
+    double r = stand_in(z->b, k, pw, up,
+                        z->memo ? (up ? &z->memo->down[k] : &z->memo->up[k]) : NULL, &ps);
+    hpi_count(&rate_stands_new, 1);
+    hp_rate_stand *st = z->stand;
+    if (st) {
+        st->ok[!up][k] = (unsigned char)!isnan(r);
+        st->p[!up][k] = ps;
+        st->ro[!up][k] = r;
+    }
+    return r;
+}
+
+/* The stand-in of bladder k's window end in z (up: the lower): the one z->stand keeps when
+ * it serves the end (stand_serves), else a new one (lazy_stand_new). Inline: the kept one
+ * is most ends' answer, a few instructions. */
+static inline double lazy_stand(hp_rate_lazy *z, int k, int up)
+{
+    const hp_rate_stand *st = z->stand;
+    if (st && st->ok[!up][k] && stand_serves(z->b, k, up ? z->pl[k] : z->ph[k], st->p[!up][k], up))
+        return st->ro[!up][k];
+    return lazy_stand_new(z, k, up);
+}
+
+/* Bladder k when both its ends are marked stand-ins (every bladder of a plan's set-up but
+ * those a memo holds an end of): bladder_bounds' steps for that case alone, the same
+ * operations on the same numbers. The marks say pl > p_lo and ph < p_hi
+ * (hpi_setup_cycle_bounds_lazy), the radii stay the static ones (lo < hi), their outer radii
+ * are numbers, and the stand-ins take the outer radii where tighter. Returns 0, nothing
+ * stored, for any other case, a stand-in that cannot be made, or a window too narrow for
+ * them: lazy_general decides those from the start. Inline, apart from the general way: the
+ * set-up's loop runs it for every bladder. */
+static inline int lazy_common(hp_rate_lazy *z, int k, int *nder)
+{
+    const hp_static_bounds *b = z->b;
+    double ro_lo = b->ro_lo[k], ro_hi = b->ro_hi[k];
+    if (!(z->lo[k] && z->hi[k]) || isnan(ro_lo) || isnan(ro_hi)) return 0;
+    double sl = lazy_stand(z, k, 1), sh = lazy_stand(z, k, 0);
+    double rol = hpi_max2(sl, ro_lo), roh = hpi_min2(sh, ro_hi);
+    double rol_mm = rol * HP_MM_PER_M, roh_mm = roh * HP_MM_PER_M;
+    if (isnan(sl) || isnan(sh) || !(roh_mm - rol_mm > HP_LAZY_MIN_WIDTH_MM)) return 0;
+    if (nder) *nder += 2;
+    hp_problem *pb = z->pb;
+    double ri_lo = b->ri_lo[k], ri_hi = b->ri_hi[k];
+    pb->ri_lo_si[k] = ri_lo;
+    pb->ri_hi_si[k] = ri_hi;
+    pb->ri_lo[k] = ri_lo * HP_MM_PER_M;
+    pb->ri_hi[k] = ri_hi * HP_MM_PER_M;
+    pb->ro_lo[k] = rol_mm;
+    pb->ro_hi[k] = roh_mm;
+    if (z->lo_flags) z->lo_flags[k] = rol != ro_lo ? HP_BIND_RATE_DOWN : b->lo_flags[k];
+    if (z->hi_flags) z->hi_flags[k] = roh != ro_hi ? HP_BIND_RATE_UP : b->hi_flags[k];
+    return 1;
+}
+
+/* Bladder k the general way (bladder_bounds): the ends marked in z stand-ins, or both solved
+ * when a stand-in cannot be made or leaves too narrow a window. */
+static hp_error lazy_general(hp_rate_lazy *z, int k, int *nder, hp_diag *d)
 {
     int nostand = 0;
     hp_problem *pb = z->pb;
-    const hp_static_bounds *b = z->b;
-    if (z->lo[k] && z->hi[k] && !isnan(b->ro_lo[k]) && !isnan(b->ro_hi[k])) {
-        /* Both ends stand-ins (every bladder of a plan's set-up but those a memo holds):
-         * bladder_bounds' steps for that case alone, the same operations on the same
-         * numbers. The marks say pl > p_lo and ph < p_hi (hpi_setup_cycle_bounds_lazy), the
-         * radii stay the static ones (lo < hi), their outer radii are numbers, and the
-         * stand-ins take the outer radii where tighter. A stand-in that cannot be made, or
-         * a window too narrow for them, goes the general way below, which decides it
-         * from the start. */
-        double sl = stand_in(b, k, z->pl[k], 1, z->memo ? &z->memo->down[k] : NULL);
-        double sh = stand_in(b, k, z->ph[k], 0, z->memo ? &z->memo->up[k] : NULL);
-        double rol = hpi_max2(sl, b->ro_lo[k]);
-        double roh = hpi_min2(sh, b->ro_hi[k]);
-        double rol_mm = rol * HP_MM_PER_M, roh_mm = roh * HP_MM_PER_M;
-        if (!isnan(sl) && !isnan(sh) && roh_mm - rol_mm > HP_LAZY_MIN_WIDTH_MM) {
-            if (nder) *nder += 2;
-            pb->ri_lo_si[k] = b->ri_lo[k];
-            pb->ri_hi_si[k] = b->ri_hi[k];
-            pb->ri_lo[k] = b->ri_lo[k] * HP_MM_PER_M;
-            pb->ri_hi[k] = b->ri_hi[k] * HP_MM_PER_M;
-            pb->ro_lo[k] = rol_mm;
-            pb->ro_hi[k] = roh_mm;
-            if (z->lo_flags)
-                z->lo_flags[k] = rol != b->ro_lo[k] ? HP_BIND_RATE_DOWN : b->lo_flags[k];
-            if (z->hi_flags) z->hi_flags[k] = roh != b->ro_hi[k] ? HP_BIND_RATE_UP : b->hi_flags[k];
-            return HP_OK;
-        }
-    }
     double w[2] = {z->pl[k], z->ph[k]};
     hp_error e = bladder_bounds(z->L, z->b, k, pb->p_prev, w, z->memo, z->lo, z->hi, pb,
                                 z->lo_flags, z->hi_flags, &nostand, nder, d);
@@ -550,21 +601,36 @@ static hp_error lazy_bladder(hp_rate_lazy *z, int k, int *nder, hp_diag *d)
                           z->hi_flags, &nostand, nder, d);
 }
 
+/* Bladder k with the ends marked in z a stand-in, or both solved when a stand-in cannot be
+ * made or leaves too narrow a window. *nder (may be NULL) counts the ends derived. */
+static hp_error lazy_bladder(hp_rate_lazy *z, int k, int *nder, hp_diag *d)
+{
+    return lazy_common(z, k, nder) ? HP_OK : lazy_general(z, k, nder, d);
+}
+
 hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
 {
     hpi_count(&rate_lazy_setups, 1);
     z->failed = 0;
-    for (int k = 0; k < z->L->n; ++k) {
+    /* Locals: the marks are chars, which may alias anything, so each store of one would
+     * have every field read through z loaded again. */
+    const hp_static_bounds *b = z->b;
+    const hp_bladder *B = z->L->bladders;
+    const double *p_prev = z->pb->p_prev;
+    hp_rate_memo *memo = z->memo;
+    int n = z->L->n;
+    hpi_count(&rate_lazy_windows, (unsigned long)n);
+    for (int k = 0; k < n; ++k) {
         /* The window, once: without a rate limit [-inf, inf], which binds nowhere. */
         double pl, ph;
-        hpi_rate_window(z->pb->p_prev[k], z->L->bladders[k].rate_max, &pl, &ph);
-        hpi_count(&rate_lazy_windows, 1);
+        hpi_rate_window(p_prev[k], B[k].rate_max, &pl, &ph);
         z->pl[k] = pl;
         z->ph[k] = ph;
         /* An end the memo holds costs nothing exact (a plan holding its answer) */
-        z->lo[k] = pl > z->b->p_lo[k] && !memo_holds(&z->memo->down[k], pl);
-        z->hi[k] = ph < z->b->p_hi[k] && !memo_holds(&z->memo->up[k], ph);
-        hp_error e = lazy_bladder(z, k, NULL, d);
+        z->lo[k] = pl > b->p_lo[k] && !memo_holds(&memo->down[k], pl);
+        z->hi[k] = ph < b->p_hi[k] && !memo_holds(&memo->up[k], ph);
+        if (lazy_common(z, k, NULL)) continue;
+        hp_error e = lazy_general(z, k, NULL, d);
         if (e != HP_OK) return e;
     }
     return HP_OK;

@@ -151,10 +151,25 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
                                      hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
                                      hp_diag *d);
 
+/* The stand-ins (hp_rate_lazy) the set-up's common case (both ends of a bladder stand-ins)
+ * made, each with the closed-form pressure at its point: a later set-up takes one again,
+ * without a knot looked up, for a window end it still serves (its pressure beyond the new
+ * end by the rate slack and within a knot spacing of that, as a new stand-in would lie). A
+ * reading fed back every cycle moves each window by the sensor's noise, a few Pa. Where a
+ * memo bound would also serve, the kept stand-in is taken, up to a knot spacing farther
+ * inside: the same answers, perhaps an end resolved more. The planner owns it; zeroed:
+ * empty. */
+typedef struct hp_rate_stand {
+    /* [0] the lower end's, [1] the upper end's: a point's pressure [Pa], its outer radius [m] */
+    double p[2][HP_MAX_BLADDERS], ro[2][HP_MAX_BLADDERS];
+    unsigned char ok[2][HP_MAX_BLADDERS]; /* 1: kept */
+} hp_rate_stand;
+
 /* One plan's bounds with the rate windows' ends not yet solved (lazy): each such end's
  * outer-radius bound in pb (ro_lo, ro_hi) is a stand-in strictly inside the exact bound, by
  * at least the radius of the rate slack (a knot of hp_static_bounds or the last bound solved
- * for that end, whose pressure lies beyond the window end), and its inner-radius
+ * for that end, whose pressure lies beyond the window end, or such a point kept from an
+ * earlier set-up, hp_rate_stand), and its inner-radius
  * bounds (ri_lo, ri_hi) are the static ones, outside the exact bound. So a comparison of a
  * radius that lies strictly inside the stand-in decides as the exact bound would, and one
  * that does not is made only after hpi_setup_rate_resolve has put the exact bound (the bits
@@ -164,6 +179,7 @@ typedef struct hp_rate_lazy {
     const hp_layout *L;
     const hp_static_bounds *b;
     hp_rate_memo *memo;
+    hp_rate_stand *stand; /* may be NULL */
     hp_problem *pb;
     unsigned *lo_flags, *hi_flags;
     unsigned char lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS]; /* 1: a stand-in, not solved */
@@ -231,6 +247,9 @@ unsigned long hpi_test_rate_rederived(void);
 /* The rate windows (hpi_rate_window) worked out for stand-in bounds (the lazy set-up, one a
  * bladder, which its bounds, resolves and hpi_setup_rate_surely_out use). */
 unsigned long hpi_test_rate_lazy_windows(void);
+/* The stand-ins made anew by the set-up's common path (both ends stand-ins), not taken
+ * from hp_rate_lazy.stand. */
+unsigned long hpi_test_rate_stands_new(void);
 void hpi_test_rate_lazy(int on);
 int hpi_setup_rate_lazy(void);
 

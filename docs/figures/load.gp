@@ -3,10 +3,10 @@
 ceiling = 1000
 # index, kinematic us, load us (realtime, ipopt, nlopt-slsqp), sag mm, unbounded
 $d << EOD
-0 1.523 3603.65 38500.4 4357.02 1000 1
-1 4.258 nan nan nan 1000 1
-2 4.299 181.368 9470.57 204.672 1000 1
-3 3.306 5389.8 94358.8 5069.28 1000 1
+0 1.48429 3265.21 27814.8 3108.98 1000 1
+1 2.926 nan nan nan 1000 1
+2 2.916 136.29 6318.48 187.929 1000 1
+3 2.996 4890.58 96344.7 4778.72 1000 1
 EOD
 set xtics ("load_heavy" 0, "load_prone" 1, "load_supine" 2, "load_tilted" 3)
 
