@@ -1,5 +1,6 @@
 # headplan-bench-count's tail mode replays the loop benchmark's traces (bench/loop_trace.h),
-# and bench/loop_tail.sh counts its plans' instructions. No timing: counts of plans on which
+# bench/loop_tail.sh counts its plans' instructions and bench/loop_profile.sh groups the
+# loop mode's by phase. No timing: counts of plans on which
 # a rate limit binds, which depend on the trace and the planners alone.
 # Arguments: headplan-bench, headplan-bench-count, the source tree. Under the sanitizers
 # (under_sanitizers, tests/cli_lib.sh) the valgrind parts are left out: valgrind cannot run
@@ -105,5 +106,16 @@ if ! under_sanitizers && command -v valgrind >/dev/null; then
   awk '$1 == "rate-free" || $1 == "rate-limited" { n++; if (!($4 == $5 && $2 > 0 && $3 >= $2)) bad_row = 1 }
        END { exit !(n == 2 && !bad_row) }' "$TMP/out" && ok || bad "loop_tail.sh rows"
   expect_stdout_has "the slowest 1 rate-limited plans, by function" "loop_tail.sh profile"
+  # bench/loop_profile.sh over 10 plans: a row per level and backend whose phase shares add
+  # up to the plan (100 % to their rounding), with the solver a named phase of each (a
+  # grouping that misses the phases' functions puts everything under "other").
+  bash "$HP_SRC/bench/loop_profile.sh" "$COUNT" "$SCENE" 10 >"$TMP/out" 2>"$TMP/err"
+  rc=$?; expect_exit 0 "loop_profile.sh"
+  awk '$1 == "plane" || $1 == "surface" {
+         n++; sum = 0; solver = 0
+         for (i = 4; i <= NF; i++) if ($i ~ /%$/) { v = $i; sub("%", "", v); sum += v
+                                                    if ($(i - 1) == "solver") solver = v }
+         if (!($3 > 0 && sum >= 97 && sum <= 103 && solver >= 10)) bad_row = 1 }
+       END { exit !(n == 4 && !bad_row) }' "$TMP/out" && ok || bad "loop_profile.sh rows: $(cat "$TMP/out")"
 fi
 finish
