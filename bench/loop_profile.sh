@@ -6,17 +6,25 @@
 # the realtime backend and NLopt SLSQP, and prints hp_plan's instructions per plan and the
 # share of each phase. docs/control-loop.md quotes a run.
 #
-#   bench/loop_profile.sh [COUNT_PROGRAM] [SCENE] [CYCLES]
+#   bench/loop_profile.sh [COUNT_PROGRAM] [SCENE] [CYCLES] [LEVELS]
+#   LEVELS: the contact levels to run, "1 2" unless given (0 linear, 1 plane, 2 surface)
 set -euo pipefail
 PROG=${1:-build/headplan-bench-count}
 SCENE=${2:-scenarios/default.yaml}
 CYCLES=${3:-3000}
+LEVELS=${4:-1 2}
+for level in $LEVELS; do
+  case $level in
+    0|1|2) ;;
+    *) echo "loop_profile.sh: level '$level': must be 0, 1 or 2" >&2; exit 64 ;;
+  esac
+done
 command -v valgrind >/dev/null || { echo "needs valgrind (Debian package 'valgrind')" >&2; exit 1; }
 command -v callgrind_annotate >/dev/null || { echo "needs callgrind_annotate (valgrind)" >&2; exit 1; }
 tmp=$(mktemp -d); trap 'rm -rf "$tmp"' EXIT
 names=(linear plane surface)
 printf '%-8s %-12s %9s  %s\n' level backend "Ir/plan" "phase shares of the plan"
-for level in 1 2; do
+for level in $LEVELS; do
   for backend in realtime nlopt-slsqp; do
     valgrind --tool=callgrind --callgrind-out-file="$tmp/cg" "$PROG" "$SCENE" loop "$level" \
       "$backend" "$CYCLES" >"$tmp/out" 2>"$tmp/err" || { tail -n 5 "$tmp/err" >&2; exit 1; }

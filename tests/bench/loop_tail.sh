@@ -117,5 +117,8 @@ if ! under_sanitizers && command -v valgrind >/dev/null; then
                                                     if ($(i - 1) == "solver") solver = v }
          if (!($3 > 0 && sum >= 97 && sum <= 103 && solver >= 10)) bad_row = 1 }
        END { exit !(n == 4 && !bad_row) }' "$TMP/out" && ok || bad "loop_profile.sh rows: $(cat "$TMP/out")"
+  bash "$HP_SRC/bench/loop_profile.sh" "$COUNT" "$SCENE" 10 "1 3" >"$TMP/out" 2>"$TMP/err"
+  rc=$?; expect_exit 64 "loop_profile.sh level 3"
+  grep -q "level '3': must be 0, 1 or 2" "$TMP/err" && ok || bad "loop_profile.sh level 3: $(cat "$TMP/err")"
 fi
 finish

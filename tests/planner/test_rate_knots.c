@@ -419,8 +419,9 @@ static void test_windows_worked_out_once(void **state)
  * outer radius strictly inside the eager bound, its point's pressure beyond the window end
  * by the rate slack (what puts it strictly inside: problem_setup.h), and the bound it
  * gives the bladder's static one or that point's outer radius, bit for bit. Chain A then
- * resolves the ends as a plan does: those that random radii inside the window come near
- * (hpi_setup_rate_touch), then the rest one end at a time, so that each resolve meets the
+ * resolves the ends as a plan does: those that radii on a stand-in (a third of the
+ * bladders each side, the rest between) come near (hpi_setup_rate_touch, whose resolves
+ * are counted), then the rest one end at a time, so that each resolve meets the
  * other end's kept stand-in (exact_end's width test reads it); the bounds then equal the
  * eager ones bit for bit: what a plan decides does not depend on which stand-in it had.
  * Chain B resolves nothing and counts the stand-ins made anew on the noise steps. A kept
@@ -443,7 +444,7 @@ static void test_kept_stand_ins_serve(void **state)
         memset(&st, 0, sizeof st);
         uint64_t seed = 0x57a0 + (uint64_t)chain;
         double P0[HP_MAX_BLADDERS];
-        unsigned long noise_ends = 0, noise_new = 0, marked = 0;
+        unsigned long noise_ends = 0, noise_new = 0, marked = 0, touched = 0;
         for (int t = 0; t < 50 * 40; ++t) {
             if (t % 40 == 0)
                 for (int k = 0; k < L.n; ++k) {
@@ -493,11 +494,14 @@ static void test_kept_stand_ins_serve(void **state)
             }
             if (chain == 1) continue;
             double rho[HP_MAX_BLADDERS];
-            for (int k = 0; k < L.n; ++k) {
-                double u = 0.5 * (lf_uniform(&seed) + 1.0);
+            for (int k = 0; k < L.n; ++k) { /* on the lower stand-in, the upper, or between */
+                int at = (int)(test_rng_next(&seed) % 3);
+                double u = at == 0 ? 0.0 : at == 1 ? 1.0 : 0.5 * (lf_uniform(&seed) + 1.0);
                 rho[k] = pz.ro_lo[k] + u * (pz.ro_hi[k] - pz.ro_lo[k]);
             }
+            unsigned long r0 = hpi_test_rate_resolves();
             assert_true(hpi_setup_rate_touch(&z, rho, L.n, 2.0 * HP_BINDING_TOL_MM));
+            touched += hpi_test_rate_resolves() - r0;
             for (int k = 0; k < L.n; ++k) {
                 assert_true(hpi_setup_rate_resolve(&z, k, 1u));
                 assert_true(hpi_setup_rate_resolve(&z, k, 2u));
@@ -505,10 +509,11 @@ static void test_kept_stand_ins_serve(void **state)
             same_bounds(L.n, &pz, &pe, lz, le, hz, he);
         }
         print_message("chain %c: %lu stand-ins checked; on the noise steps %lu of %lu ends made "
-                      "anew (%.2f %%)\n",
+                      "anew (%.2f %%); %lu ends resolved by radii on them\n",
                       chain ? 'B' : 'A', marked, noise_new, noise_ends,
-                      100.0 * (double)noise_new / (double)noise_ends);
+                      100.0 * (double)noise_new / (double)noise_ends, touched);
         assert_int_equal(marked, 50u * 40u * 2u * (unsigned long)L.n);
+        if (chain == 0) assert_true(touched > 0);
         if (chain == 1) assert_true(noise_new * 20u <= noise_ends);
     }
 }
