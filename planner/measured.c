@@ -177,13 +177,17 @@ int hpi_plan_measured_start_ok(const hp_planner *p)
      * meets (an answer's pressures are clamped into them; set_previous and
      * set_previous_result check them). */
     if (p->rate_free) return 1;
+    /* Inside its static limits, and inside its window by the slack at which the window's
+     * radius bound does not matter (hpi_setup_rate_clear's test): the answer's radii then
+     * lie inside this cycle's radius bounds too. One pass over the bladders. */
+    const hp_problem *pb = &p->pb;
     for (int k = 0; k < p->L.n; ++k) {
         double P = p->prev.bladders[k].pressure;
-        if (!(P >= p->sb.p_lo[k] && P <= p->sb.p_hi[k])) return 0;
+        if (!(P >= p->sb.p_lo[k] && P <= p->sb.p_hi[k]) ||
+            !hpi_setup_rate_clear_row(&p->sb, k, pb->w_lo[k], pb->w_hi[k], P))
+            return 0;
     }
-    /* Inside every window by the slack at which its radius bound does not matter: the
-     * answer's radii then lie inside this cycle's radius bounds too. */
-    return hpi_setup_rate_clear(&p->L, &p->sb, p->pb.p_prev, p->prev.bladders);
+    return 1;
 }
 
 hp_error hpi_plan_measured_derive(hp_planner *p)
@@ -200,6 +204,7 @@ hp_error hpi_plan_measured_derive(hp_planner *p)
      * windows' centres again. */
     p->meas_pending = 0;
     for (int k = 0; k < p->L.n; ++k) p->pb.p_prev[k] = p->prev.bladders[k].pressure;
+    if (!p->rate_free) hpi_setup_rate_windows(&p->L, &p->pb); /* the plan's, moved with them */
     memcpy(why, p->err, sizeof why);
     hpi_text_set(p->err, held);
     if (*held) hpi_text_add(p->err, "; ");

@@ -292,6 +292,8 @@ static int validate(hp_planner *p, const double desired[6], hp_result *res, plan
      * pressure well inside its rate window, and then the rate limits' radius bounds (two
      * pressure -> radius solves a bladder) change nothing (rate_bounds). */
     if (p->rate_free) return 1;
+    /* The windows, once a plan (the start check, the bounds and the answer read them). */
+    hpi_setup_rate_windows(&p->L, pb);
     if (!hpi_setup_rate_lazy()) return rate_bounds(p, res, c);
     /* The static bounds from the image the first plan took of them: the same bits, copied
      * in a few vector moves where setting them up bladder by bladder cost each plan 283
@@ -878,7 +880,7 @@ static hp_error plan_once(hp_planner *p, const double desired[6], hp_result *res
         if (c.rate_deferred) {
             /* A direct answer inside the static bounds: the plan's own unless a pressure
              * comes near a rate window's end. Then the exact bounds, and the plan again. */
-            if (!left && hpi_setup_rate_clear(&p->L, &p->sb, p->pb.p_prev, res->bladders)) {
+            if (!left && hpi_setup_rate_clear(&p->L, &p->sb, &p->pb, res->bladders)) {
                 c.rate_deferred = 0;
                 /* Kept where a walk the windows held back ends (look): the plans holding
                  * its target test the same direct answer (hp_answer_memo), and no discarded

@@ -2,6 +2,7 @@
  * (plan.c): pose scaling, the answer of a pose, the fit from the nominal pose and the
  * previous answer. */
 #include "planner/planner_internal.h"
+#include "common/minmax.h"
 #include "common/same_bits.h"
 #include "common/test_count.h"
 
@@ -36,18 +37,22 @@ static int memo_holds(const hp_answer_memo *m, const double *rho, const double *
 }
 
 /* Bladder k's pressure window in this plan: its limits, within the rate window around the
- * previous pressure (a reading's, derived or not) when a rate limit applies; w (may be
- * NULL) receives that rate window ([-inf, inf] without one). */
+ * previous pressure (a reading's, derived or not; the plan's, hp_problem.w_lo) when rate
+ * limits apply; w (may be NULL) receives that rate window ([-inf, inf] without one). */
 static inline void row_window(const hp_planner *p, int k, double *plo, double *phi, double *w)
 {
-    const hp_bladder *B = &p->L.bladders[k];
     *plo = p->sb.p_lo[k];
     *phi = p->sb.p_hi[k];
     double wl = -INFINITY, wh = INFINITY;
-    if (p->s.use_rate_limits && isfinite(B->rate_max)) {
-        hpi_rate_window(p->pb.p_prev[k], B->rate_max, &wl, &wh);
-        *plo = fmax(*plo, wl);
-        *phi = fmin(*phi, wh);
+    if (!p->rate_free) {
+        wl = p->pb.w_lo[k];
+        wh = p->pb.w_hi[k];
+        /* No operand is a NaN here (static limits, a window around a finite pressure or
+         * [-inf, inf]): a compare and a select, not two library calls on every bladder of
+         * every rate-limited plan. On equal values both return the second operand, as
+         * glibc's x86-64 fmax/fmin (maxsd/minsd) do, so the window is the same bits. */
+        *plo = hpi_max2(*plo, wl);
+        *phi = hpi_min2(*phi, wh);
     }
     if (w) {
         w[0] = wl;

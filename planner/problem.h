@@ -32,7 +32,12 @@ typedef struct hp_problem {
     double ri_hi[HP_MAX_BLADDERS];
     double ro_lo[HP_MAX_BLADDERS]; /* the same bounds as outer radius [mm] */
     double ro_hi[HP_MAX_BLADDERS];
-    double p_prev[HP_MAX_BLADDERS];   /* previous pressures [Pa] */
+    double p_prev[HP_MAX_BLADDERS]; /* previous pressures [Pa] */
+    /* Each bladder's rate window around p_prev ([-inf, inf] without a rate limit), worked
+     * out once a plan (hpi_setup_rate_windows) and read by every step that asks where a
+     * pressure may go: the measured start check, the bounds' set-up and resolves, the
+     * answer. Set only when rate limits apply. */
+    double w_lo[HP_MAX_BLADDERS], w_hi[HP_MAX_BLADDERS];
     double ri_lo_si[HP_MAX_BLADDERS]; /* ri_lo, ri_hi in metres, exactly the radii whose
                                          stretch and pressure hold their limits in double
                                          precision (the mm copies may differ by an ulp) */

@@ -613,15 +613,12 @@ hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
     /* Locals: the marks are chars, which may alias anything, so each store of one would
      * have every field read through z loaded again. */
     const hp_static_bounds *b = z->b;
-    const hp_bladder *B = z->L->bladders;
-    const double *p_prev = z->pb->p_prev;
+    const double *w_lo = z->pb->w_lo, *w_hi = z->pb->w_hi;
     hp_rate_memo *memo = z->memo;
     int n = z->L->n;
-    hpi_count(&rate_lazy_windows, (unsigned long)n);
     for (int k = 0; k < n; ++k) {
-        /* The window, once: without a rate limit [-inf, inf], which binds nowhere. */
-        double pl, ph;
-        hpi_rate_window(p_prev[k], B[k].rate_max, &pl, &ph);
+        /* Without a rate limit [-inf, inf], which binds nowhere. */
+        double pl = w_lo[k], ph = w_hi[k];
         z->pl[k] = pl;
         z->ph[k] = ph;
         /* An end the memo holds costs nothing exact (a plan holding its answer) */
@@ -756,24 +753,20 @@ int hpi_setup_rate_pending(const hp_rate_lazy *z)
     return 0;
 }
 
-int hpi_setup_rate_clear_row(const hp_static_bounds *b, int k, double pl, double ph, double P)
-{
-    double m = b->rate_slack[k];
-    /* The same tests as hpi_setup_cycle_bounds for whether a window end is a bound. */
-    return !(pl > b->p_lo[k] && !(P >= pl + m)) && !(ph < b->p_hi[k] && !(P <= ph - m));
-}
-
-int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const hp_problem *pb,
                          const hp_bladder_result *br)
 {
-    for (int k = 0; k < L->n; ++k) {
-        double rate = L->bladders[k].rate_max;
-        if (!isfinite(rate)) continue;
-        double pl, ph;
-        hpi_rate_window(p_prev[k], rate, &pl, &ph);
-        if (!hpi_setup_rate_clear_row(b, k, pl, ph, br[k].pressure)) return 0;
-    }
+    /* A bladder without a rate limit has [-inf, inf]: clear. */
+    for (int k = 0; k < L->n; ++k)
+        if (!hpi_setup_rate_clear_row(b, k, pb->w_lo[k], pb->w_hi[k], br[k].pressure)) return 0;
     return 1;
+}
+
+void hpi_setup_rate_windows(const hp_layout *L, hp_problem *pb)
+{
+    hpi_count(&rate_lazy_windows, (unsigned long)L->n);
+    for (int k = 0; k < L->n; ++k)
+        hpi_rate_window(pb->p_prev[k], L->bladders[k].rate_max, &pb->w_lo[k], &pb->w_hi[k]);
 }
 
 void hpi_setup_pose_from_scaled(const double x[6], double xi[6])

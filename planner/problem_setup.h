@@ -80,16 +80,27 @@ static inline void hpi_rate_window(double prev, double rate, double *lo, double 
     *hi = h;
 }
 
-/* 1 when every bladder's pressure br[k].pressure lies more than its rate slack inside the rate window
- * around p_prev[k] on each side where that window is tighter than the static pressure
+/* 1 when every bladder's pressure br[k].pressure lies more than its rate slack inside its rate
+ * window (pb->w_lo[k], pb->w_hi[k]: hpi_setup_rate_windows) on each side where that window is tighter than the static pressure
  * bounds: then the answer those pressures came from (a direct chain inside the static
  * bounds) is, bit for bit, the one the exact rate bounds would give (no radius clamped by
  * them, no rate limit binding within the tolerance), and hp_plan need not solve them. */
-int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const double *p_prev,
+int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const hp_problem *pb,
                          const hp_bladder_result *br);
+
+/* Every bladder's rate window around pb->p_prev (hpi_rate_window, with L's rate limits) into
+ * pb->w_lo and pb->w_hi: [-inf, inf] where the rate is infinite. */
+void hpi_setup_rate_windows(const hp_layout *L, hp_problem *pb);
 /* hpi_setup_rate_clear's test of bladder k's pressure P against its rate window [pl, ph]
- * (hpi_rate_window's): 1 when clear. */
-int hpi_setup_rate_clear_row(const hp_static_bounds *b, int k, double pl, double ph, double P);
+ * (hpi_rate_window's): 1 when clear. Inline: the measured start check runs it beside its
+ * own test of each bladder. */
+static inline int hpi_setup_rate_clear_row(const hp_static_bounds *b, int k, double pl, double ph,
+                                           double P)
+{
+    double m = b->rate_slack[k];
+    /* The same tests as hpi_setup_cycle_bounds for whether a window end is a bound. */
+    return !(pl > b->p_lo[k] && !(P >= pl + m)) && !(ph < b->p_hi[k] && !(P <= ph - m));
+}
 
 /* One bladder's safe envelope: the one home of its pressure, stretch, hoop-stress and
  * limit-point limits as bounds on its inner radius, so that IK(ri_lo) >= p_min and
@@ -183,13 +194,14 @@ typedef struct hp_rate_lazy {
     hp_problem *pb;
     unsigned *lo_flags, *hi_flags;
     unsigned char lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS]; /* 1: a stand-in, not solved */
-    /* each bladder's rate window (hpi_rate_window around pb->p_prev; [-inf, inf] without a
-     * rate limit), worked out once by the set-up for its bounds and every resolve */
+    /* each bladder's rate window, pb's (hpi_setup_rate_windows), for its bounds and every
+     * resolve */
     double pl[HP_MAX_BLADDERS], ph[HP_MAX_BLADDERS];
     int failed; /* a resolved end had no stable radius: the plan fails as the eager one */
 } hp_rate_lazy;
 
-/* Sets z's bounds into z->pb around pb->p_prev with every rate window end a stand-in (a
+/* Sets z's bounds into z->pb for its rate windows (pb->w_lo, pb->w_hi, which the caller has
+ * worked out: hpi_setup_rate_windows) with every rate window end a stand-in (a
  * bladder whose stand-ins leave a window of outer radii narrower than 2·HP_BINDING_TOL_MM,
  * or for which no stand-in can be made, gets its exact bounds at once). z's pointers must be set.
  * Errors as hpi_setup_cycle_bounds_memo. */
@@ -244,8 +256,8 @@ unsigned long hpi_test_rate_lazy_setups(void);
  * they derived again (solved, taken from the memo or a stand-in made), ends solved included. */
 unsigned long hpi_test_rate_resolves(void);
 unsigned long hpi_test_rate_rederived(void);
-/* The rate windows (hpi_rate_window) worked out for stand-in bounds (the lazy set-up, one a
- * bladder, which its bounds, resolves and hpi_setup_rate_surely_out use). */
+/* The rate windows worked out (hpi_setup_rate_windows, one a bladder), which a plan's start
+ * check, its lazy set-up, resolves, hpi_setup_rate_surely_out and its answer use. */
 unsigned long hpi_test_rate_lazy_windows(void);
 /* The stand-ins made anew by the set-up's common path (both ends stand-ins), not taken
  * from hp_rate_lazy.stand. */

@@ -33,9 +33,11 @@
  * 4. The knots' bracket of a window (hpi_setup_rate_surely_out, and before any bound is set
  *    hpi_setup_rate_surely_left) calls a radius outside only when it is
  *    (test_surely_out_is_sure).
- * 5. A bladder's rate window is worked out once a plan: the lazy set-up's, which its
- *    bounds, the knots' bracket and every resolve after it use (hpi_test_rate_lazy_windows,
- *    a deterministic count); the bounds are the eager ones bit for bit (2.).
+ * 5. A bladder's rate window is worked out once a plan (hpi_setup_rate_windows, into
+ *    hp_problem): the lazy set-up, the knots' bracket and every resolve after it read it and
+ *    work out none of their own (hpi_test_rate_lazy_windows, a deterministic count); the
+ *    bounds are the eager ones bit for bit (2.). A whole plan works out each window once too
+ *    (tests/planner/test_rate_bounds.c, the measured step trace).
  * 6. The stand-ins a set-up keeps (hp_rate_stand) and takes again for windows that move by
  *    a reading's noise lie inside their exact bounds, leave the resolved bounds the eager
  *    ones bit for bit, and are seldom made anew (test_kept_stand_ins_serve). */
@@ -99,6 +101,7 @@ static hp_error lazy_all(const hp_layout *L, const hp_static_bounds *sb, hp_rate
                          const double *P, hp_problem *pb, unsigned *lof, unsigned *hif)
 {
     memcpy(pb->p_prev, P, sizeof pb->p_prev);
+    hpi_setup_rate_windows(L, pb);
     hp_rate_lazy z = {.L = L, .b = sb, .memo = mz, .pb = pb, .lo_flags = lof, .hi_flags = hif};
     hp_error e = hpi_setup_cycle_bounds_lazy(&z, NULL);
     if (e != HP_OK) return e;
@@ -130,6 +133,7 @@ static void test_loop_windows_have_stand_ins(void **state)
         }
         me = mz;
         memcpy(pz.p_prev, P, sizeof pz.p_prev);
+        hpi_setup_rate_windows(&L, &pz);
         hp_rate_lazy z = {
             .L = &L, .b = &sb, .memo = &mz, .pb = &pz, .lo_flags = lz, .hi_flags = hz};
         unsigned long s0 = hpi_test_rate_bound_solves();
@@ -323,6 +327,7 @@ static void test_surely_out_is_sure(void **state)
         hp_problem pz, pe;
         unsigned lz[HP_MAX_BLADDERS], hz[HP_MAX_BLADDERS], le[HP_MAX_BLADDERS], he[HP_MAX_BLADDERS];
         memcpy(pz.p_prev, P, sizeof pz.p_prev);
+        hpi_setup_rate_windows(&L, &pz);
         hp_rate_lazy z = {
             .L = &L, .b = &sb, .memo = &mz, .pb = &pz, .lo_flags = lz, .hi_flags = hz};
         assert_int_equal(hpi_setup_cycle_bounds_lazy(&z, NULL), HP_OK);
@@ -384,9 +389,10 @@ static void test_windows_worked_out_once(void **state)
         hp_problem pz, pe;
         unsigned lz[HP_MAX_BLADDERS], hz[HP_MAX_BLADDERS], le[HP_MAX_BLADDERS], he[HP_MAX_BLADDERS];
         memcpy(pz.p_prev, P, sizeof pz.p_prev);
+        unsigned long w0 = hpi_test_rate_lazy_windows();
+        hpi_setup_rate_windows(&L, &pz);
         hp_rate_lazy z = {
             .L = &L, .b = &sb, .memo = &mz, .pb = &pz, .lo_flags = lz, .hi_flags = hz};
-        unsigned long w0 = hpi_test_rate_lazy_windows();
         hp_error ez = hpi_setup_cycle_bounds_lazy(&z, NULL);
         hp_error ee = hpi_setup_cycle_bounds_memo(&L, &sb, P, 1, &me, &pe, le, he, NULL);
         assert_int_equal(ez, ee);
@@ -457,6 +463,7 @@ static void test_kept_stand_ins_serve(void **state)
             unsigned lz[HP_MAX_BLADDERS], hz[HP_MAX_BLADDERS], le[HP_MAX_BLADDERS],
                 he[HP_MAX_BLADDERS];
             memcpy(pz.p_prev, P, sizeof pz.p_prev);
+            hpi_setup_rate_windows(&L, &pz);
             hp_rate_lazy z = {.L = &L,
                               .b = &sb,
                               .memo = &mz,
