@@ -50,7 +50,8 @@ static inline void row_window(const hp_planner *p, int k, double *plo, double *p
         /* No operand is a NaN here (static limits, a window around a finite pressure or
          * [-inf, inf]): a compare and a select, not two library calls on every bladder of
          * every rate-limited plan. On equal values both return the second operand, as
-         * glibc's x86-64 fmax/fmin (maxsd/minsd) do, so the window is the same bits. */
+         * glibc's x86-64 fmax/fmin (maxsd/minsd) do, so the window is the same bits there
+         * (another libm may give the other sign of a zero limit: the same value). */
         *plo = hpi_max2(*plo, wl);
         *phi = hpi_min2(*phi, wh);
     }

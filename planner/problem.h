@@ -34,9 +34,11 @@ typedef struct hp_problem {
     double ro_hi[HP_MAX_BLADDERS];
     double p_prev[HP_MAX_BLADDERS]; /* previous pressures [Pa] */
     /* Each bladder's rate window around p_prev ([-inf, inf] without a rate limit), worked
-     * out once a plan (hpi_setup_rate_windows) and read by every step that asks where a
-     * pressure may go: the measured start check, the bounds' set-up and resolves, the
-     * answer. Set only when rate limits apply. */
+     * out once a plan (hpi_setup_rate_windows, in validate: valid from there to the plan's
+     * end; the setters of p_prev leave them, the next plan works them out) and read by the
+     * measured start check, the lazy set-up and its resolves, and the answer. Set only when
+     * rate limits apply. The eager set-up (hpi_setup_cycle_bounds_memo, for backends that
+     * do not resolve ends themselves) and hpi_setup_rate_surely_left work from p_prev. */
     double w_lo[HP_MAX_BLADDERS], w_hi[HP_MAX_BLADDERS];
     double ri_lo_si[HP_MAX_BLADDERS]; /* ri_lo, ri_hi in metres, exactly the radii whose
                                          stretch and pressure hold their limits in double

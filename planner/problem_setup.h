@@ -256,8 +256,9 @@ unsigned long hpi_test_rate_lazy_setups(void);
  * they derived again (solved, taken from the memo or a stand-in made), ends solved included. */
 unsigned long hpi_test_rate_resolves(void);
 unsigned long hpi_test_rate_rederived(void);
-/* The rate windows worked out (hpi_setup_rate_windows, one a bladder), which a plan's start
- * check, its lazy set-up, resolves, hpi_setup_rate_surely_out and its answer use. */
+/* The rate windows worked out by hpi_setup_rate_windows (one a bladder; every rate-limited
+ * plan, eager or lazy, and a reading dropped in a plan), which a plan's start check, its lazy
+ * set-up, resolves, hpi_setup_rate_surely_out and its answer use. */
 unsigned long hpi_test_rate_lazy_windows(void);
 /* The stand-ins made anew by the set-up's common path (both ends stand-ins), not taken
  * from hp_rate_lazy.stand. */
