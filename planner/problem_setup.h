@@ -80,11 +80,12 @@ static inline void hpi_rate_window(double prev, double rate, double *lo, double 
     *hi = h;
 }
 
-/* 1 when every bladder's pressure br[k].pressure lies more than its rate slack inside its rate
- * window (pb->w_lo[k], pb->w_hi[k]: hpi_setup_rate_windows) on each side where that window is tighter than the static pressure
- * bounds: then the answer those pressures came from (a direct chain inside the static
- * bounds) is, bit for bit, the one the exact rate bounds would give (no radius clamped by
- * them, no rate limit binding within the tolerance), and hp_plan need not solve them. */
+/* 1 when every bladder's pressure br[k].pressure lies more than its rate slack inside its
+ * rate window (pb->w_lo[k], pb->w_hi[k]: hpi_setup_rate_windows) on each side where that
+ * window is tighter than the static pressure bounds: then the answer those pressures came
+ * from (a direct chain inside the static bounds) is, bit for bit, the one the exact rate
+ * bounds would give (no radius clamped by them, no rate limit binding within the
+ * tolerance), and hp_plan need not solve them. */
 int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const hp_problem *pb,
                          const hp_bladder_result *br);
 
