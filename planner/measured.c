@@ -204,7 +204,10 @@ hp_error hpi_plan_measured_derive(hp_planner *p)
      * windows' centres again. */
     p->meas_pending = 0;
     for (int k = 0; k < p->L.n; ++k) p->pb.p_prev[k] = p->prev.bladders[k].pressure;
-    if (!p->rate_free) hpi_setup_rate_windows(&p->L, &p->pb); /* the plan's, moved with them */
+    /* The windows move with their centres. Nothing reads them after a drop today (a plan
+     * that drops its reading ends in its safe output; between plans the next validate
+     * works them out), but hp_problem.w_lo promises p_prev's windows for the rest of a plan. */
+    if (!p->rate_free) hpi_setup_rate_windows(&p->L, &p->pb);
     memcpy(why, p->err, sizeof why);
     hpi_text_set(p->err, held);
     if (*held) hpi_text_add(p->err, "; ");

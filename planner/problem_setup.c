@@ -9,7 +9,7 @@
 #include <string.h>
 
 static atomic_ulong rate_solves, rate_evals, rate_lazy_setups, rate_resolves, rate_rederived,
-    rate_lazy_windows, rate_stands_new;
+    rate_windows, rate_stands_new;
 static atomic_int rate_eager;
 
 unsigned long hpi_test_rate_bound_solves(void) { return atomic_load(&rate_solves); }
@@ -17,7 +17,7 @@ unsigned long hpi_test_rate_bound_evals(void) { return atomic_load(&rate_evals);
 unsigned long hpi_test_rate_lazy_setups(void) { return atomic_load(&rate_lazy_setups); }
 unsigned long hpi_test_rate_resolves(void) { return atomic_load(&rate_resolves); }
 unsigned long hpi_test_rate_rederived(void) { return atomic_load(&rate_rederived); }
-unsigned long hpi_test_rate_lazy_windows(void) { return atomic_load(&rate_lazy_windows); }
+unsigned long hpi_test_rate_windows(void) { return atomic_load(&rate_windows); }
 unsigned long hpi_test_rate_stands_new(void) { return atomic_load(&rate_stands_new); }
 void hpi_test_rate_lazy(int on) { atomic_store(&rate_eager, !on); }
 int hpi_setup_rate_lazy(void) { return !atomic_load_explicit(&rate_eager, memory_order_relaxed); }
@@ -531,7 +531,7 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
 /* A new stand-in for bladder k's window end in z (up: the lower), kept in z->stand. */
 static inline double lazy_stand_new(hp_rate_lazy *z, int k, int up)
 {
-    double ps = NAN, pw = up ? z->pl[k] : z->ph[k];
+    double ps, pw = up ? z->pb->w_lo[k] : z->pb->w_hi[k]; /* ps: stand_in writes it */
     double r = stand_in(z->b, k, pw, up,
                         z->memo ? (up ? &z->memo->down[k] : &z->memo->up[k]) : NULL, &ps);
     hpi_count(&rate_stands_new, 1);
@@ -550,7 +550,8 @@ static inline double lazy_stand_new(hp_rate_lazy *z, int k, int up)
 static inline double lazy_stand(hp_rate_lazy *z, int k, int up)
 {
     const hp_rate_stand *st = z->stand;
-    if (st && st->ok[!up][k] && stand_serves(z->b, k, up ? z->pl[k] : z->ph[k], st->p[!up][k], up))
+    if (st && st->ok[!up][k] &&
+        stand_serves(z->b, k, up ? z->pb->w_lo[k] : z->pb->w_hi[k], st->p[!up][k], up))
         return st->ro[!up][k];
     return lazy_stand_new(z, k, up);
 }
@@ -594,7 +595,7 @@ static hp_error lazy_general(hp_rate_lazy *z, int k, int *nder, hp_diag *d)
 {
     int nostand = 0;
     hp_problem *pb = z->pb;
-    double w[2] = {z->pl[k], z->ph[k]};
+    double w[2] = {pb->w_lo[k], pb->w_hi[k]};
     hp_error e = bladder_bounds(z->L, z->b, k, pb->p_prev, w, z->memo, z->lo, z->hi, pb,
                                 z->lo_flags, z->hi_flags, &nostand, nder, d);
     if (e != HP_OK) return e;
@@ -619,8 +620,6 @@ hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
     for (int k = 0; k < n; ++k) {
         /* Without a rate limit [-inf, inf], which binds nowhere. */
         double pl = w_lo[k], ph = w_hi[k];
-        z->pl[k] = pl;
-        z->ph[k] = ph;
         /* An end the memo holds costs nothing exact (a plan holding its answer) */
         z->lo[k] = pl > b->p_lo[k] && !memo_holds(&memo->down[k], pl);
         z->hi[k] = ph < b->p_hi[k] && !memo_holds(&memo->up[k], ph);
@@ -644,7 +643,7 @@ static int exact_end(hp_rate_lazy *z, int k, int up)
     const hp_static_bounds *b = z->b;
     hp_problem *pb = z->pb;
     double r, ro;
-    if (!rate_bound(b, k, up ? z->pl[k] : z->ph[k], up, z->memo, &r, &ro)) return -1;
+    if (!rate_bound(b, k, up ? z->pb->w_lo[k] : z->pb->w_hi[k], up, z->memo, &r, &ro)) return -1;
     double v = up ? b->ri_lo[k] : b->ri_hi[k];
     unsigned f = up ? b->lo_flags[k] : b->hi_flags[k];
     if (up) take_max(&v, &f, r, HP_BIND_RATE_DOWN);
@@ -720,8 +719,8 @@ int hpi_setup_rate_surely_out(const hp_rate_lazy *z, const double *rho_mm, int n
     const hp_static_bounds *b = z->b;
     for (int k = 0; k < n; ++k) {
         if (!(z->lo[k] || z->hi[k]) || !b->knots_ok[k]) continue;
-        if (z->lo[k] && knot_side(b, k, z->pl[k], 1, rho_mm[k], margin_mm) == 2) return 1;
-        if (z->hi[k] && knot_side(b, k, z->ph[k], 0, rho_mm[k], margin_mm) == 2) return 1;
+        if (z->lo[k] && knot_side(b, k, z->pb->w_lo[k], 1, rho_mm[k], margin_mm) == 2) return 1;
+        if (z->hi[k] && knot_side(b, k, z->pb->w_hi[k], 0, rho_mm[k], margin_mm) == 2) return 1;
     }
     return 0;
 }
@@ -764,7 +763,7 @@ int hpi_setup_rate_clear(const hp_layout *L, const hp_static_bounds *b, const hp
 
 void hpi_setup_rate_windows(const hp_layout *L, hp_problem *pb)
 {
-    hpi_count(&rate_lazy_windows, (unsigned long)L->n);
+    hpi_count(&rate_windows, (unsigned long)L->n);
     for (int k = 0; k < L->n; ++k)
         hpi_rate_window(pb->p_prev[k], L->bladders[k].rate_max, &pb->w_lo[k], &pb->w_hi[k]);
 }

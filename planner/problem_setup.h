@@ -194,10 +194,8 @@ typedef struct hp_rate_lazy {
     hp_rate_stand *stand; /* may be NULL */
     hp_problem *pb;
     unsigned *lo_flags, *hi_flags;
-    unsigned char lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS]; /* 1: a stand-in, not solved */
-    /* each bladder's rate window, pb's (hpi_setup_rate_windows), for its bounds and every
-     * resolve */
-    double pl[HP_MAX_BLADDERS], ph[HP_MAX_BLADDERS];
+    /* 1: a stand-in, not solved. The windows are pb's (w_lo, w_hi: hpi_setup_rate_windows). */
+    unsigned char lo[HP_MAX_BLADDERS], hi[HP_MAX_BLADDERS];
     int failed; /* a resolved end had no stable radius: the plan fails as the eager one */
 } hp_rate_lazy;
 
@@ -260,7 +258,7 @@ unsigned long hpi_test_rate_rederived(void);
 /* The rate windows worked out by hpi_setup_rate_windows (one a bladder; every rate-limited
  * plan, eager or lazy, and a reading dropped in a plan), which a plan's start check, its lazy
  * set-up, resolves, hpi_setup_rate_surely_out and its answer use. */
-unsigned long hpi_test_rate_lazy_windows(void);
+unsigned long hpi_test_rate_windows(void);
 /* The stand-ins made anew by the set-up's common path (both ends stand-ins), not taken
  * from hp_rate_lazy.stand. */
 unsigned long hpi_test_rate_stands_new(void);

@@ -375,12 +375,12 @@ static void test_measured_step_trace_lazy_ends(void **state)
             hp_result ra, rb;
             unsigned long s0 = hpi_test_rate_bound_solves(), e0 = hpi_test_rate_bound_evals();
             unsigned long v0 = hpi_test_rate_resolves(), r0 = hpi_test_rate_rederived();
-            unsigned long w0 = hpi_test_rate_lazy_windows();
+            unsigned long w0 = hpi_test_rate_windows();
             assert_int_equal(hp_plan(a, d, &ra), HP_OK);
             /* Each bladder's window worked out once a plan (hp_problem.w_lo): the start
              * check, the set-up, its resolves and the answer read it (no reading here is
              * dropped, which would move the centres and work them out again). */
-            assert_int_equal(hpi_test_rate_lazy_windows() - w0, (unsigned long)n);
+            assert_int_equal(hpi_test_rate_windows() - w0, (unsigned long)n);
             unsigned long s1 = hpi_test_rate_bound_solves();
             lazy_evals += hpi_test_rate_bound_evals() - e0;
             resolves += hpi_test_rate_resolves() - v0;

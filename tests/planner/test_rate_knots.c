@@ -35,7 +35,7 @@
  *    (test_surely_out_is_sure).
  * 5. A bladder's rate window is worked out once a plan (hpi_setup_rate_windows, into
  *    hp_problem): the lazy set-up, the knots' bracket and every resolve after it read it and
- *    work out none of their own (hpi_test_rate_lazy_windows, a deterministic count); the
+ *    work out none of their own (hpi_test_rate_windows, a deterministic count); the
  *    bounds are the eager ones bit for bit (2.). A whole plan works out each window once too
  *    (tests/planner/test_rate_bounds.c, the measured step trace).
  * 6. The stand-ins a set-up keeps (hp_rate_stand) and takes again for windows that move by
@@ -394,7 +394,7 @@ static void test_windows_worked_out_once(void **state)
         memcpy(pz.p_prev, P, sizeof pz.p_prev);
         hpi_setup_rate_windows(&L, &pz);
         for (int k = 0; k < L.n; ++k) pz.p_prev[k] = NAN;
-        unsigned long w0 = hpi_test_rate_lazy_windows();
+        unsigned long w0 = hpi_test_rate_windows();
         hp_rate_lazy z = {
             .L = &L, .b = &sb, .memo = &mz, .pb = &pz, .lo_flags = lz, .hi_flags = hz};
         hp_error ez = hpi_setup_cycle_bounds_lazy(&z, NULL);
@@ -410,7 +410,7 @@ static void test_windows_worked_out_once(void **state)
             assert_true(hpi_setup_rate_resolve(&z, k, 1u));
             assert_true(hpi_setup_rate_resolve(&z, k, 2u));
         }
-        windows += hpi_test_rate_lazy_windows() - w0;
+        windows += hpi_test_rate_windows() - w0;
         draws += (unsigned long)L.n;
         same_bounds(L.n, &pz, &pe, lz, le, hz, he);
     }
@@ -484,7 +484,7 @@ static void test_kept_stand_ins_serve(void **state)
                 double sl = sb.rate_slack[k];
                 if (z.lo[k]) {
                     assert_true(pz.ro_lo[k] > pe.ro_lo[k]);
-                    assert_true(st.ok[0][k] && st.p[0][k] >= z.pl[k] + sl);
+                    assert_true(st.ok[0][k] && st.p[0][k] >= pz.w_lo[k] + sl);
                     double want = (st.ro[0][k] > sb.ro_lo[k] ? st.ro[0][k] : sb.ro_lo[k]) *
                                   HP_MM_PER_M;
                     assert_true(memcmp(&pz.ro_lo[k], &want, sizeof want) == 0);
@@ -492,7 +492,7 @@ static void test_kept_stand_ins_serve(void **state)
                 }
                 if (z.hi[k]) {
                     assert_true(pz.ro_hi[k] < pe.ro_hi[k]);
-                    assert_true(st.ok[1][k] && st.p[1][k] <= z.ph[k] - sl);
+                    assert_true(st.ok[1][k] && st.p[1][k] <= pz.w_hi[k] - sl);
                     double want = (st.ro[1][k] < sb.ro_hi[k] ? st.ro[1][k] : sb.ro_hi[k]) *
                                   HP_MM_PER_M;
                     assert_true(memcmp(&pz.ro_hi[k], &want, sizeof want) == 0);
