@@ -399,6 +399,18 @@ static double stand_in(const hp_static_bounds *b, int k, double pw, int up, cons
     return *ps = pr, r;
 }
 
+/* Bladder k's bounds into pb: inner radii lo, hi and outer radii rol, roh [m], each also
+ * in mm. */
+static inline void put_bounds(hp_problem *pb, int k, double lo, double hi, double rol, double roh)
+{
+    pb->ri_lo_si[k] = lo;
+    pb->ri_hi_si[k] = hi;
+    pb->ri_lo[k] = lo * HP_MM_PER_M;
+    pb->ri_hi[k] = hi * HP_MM_PER_M;
+    pb->ro_lo[k] = rol * HP_MM_PER_M;
+    pb->ro_hi[k] = roh * HP_MM_PER_M;
+}
+
 /* Bladder k's bounds for this plan: the static ones intersected with the ends of its rate
  * window win (the caller's hpi_rate_window around p_prev[k]; NULL: the static bounds
  * alone), each solved exactly unless lazy_lo / lazy_hi (may be NULL) marks it: then a
@@ -476,12 +488,7 @@ static hp_error bladder_bounds(const hp_layout *L, const hp_static_bounds *b, in
         roh = hpi_min2(sro_hi, roh);
         if (roh != b->ro_hi[k]) hif = HP_BIND_RATE_UP;
     }
-    pb->ri_lo_si[k] = lo;
-    pb->ri_hi_si[k] = hi;
-    pb->ri_lo[k] = lo * HP_MM_PER_M;
-    pb->ri_hi[k] = hi * HP_MM_PER_M;
-    pb->ro_lo[k] = rol * HP_MM_PER_M;
-    pb->ro_hi[k] = roh * HP_MM_PER_M;
+    put_bounds(pb, k, lo, hi, rol, roh);
     if (lo_flags) lo_flags[k] = lof;
     if (hi_flags) hi_flags[k] = hif;
     return HP_OK;
@@ -494,12 +501,7 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
 {
     if (!use_rate || !p_prev) { /* the static bounds as they are (every plan starts so) */
         for (int k = 0; k < L->n; ++k) {
-            pb->ri_lo_si[k] = b->ri_lo[k];
-            pb->ri_hi_si[k] = b->ri_hi[k];
-            pb->ri_lo[k] = b->ri_lo[k] * HP_MM_PER_M;
-            pb->ri_hi[k] = b->ri_hi[k] * HP_MM_PER_M;
-            pb->ro_lo[k] = b->ro_lo[k] * HP_MM_PER_M;
-            pb->ro_hi[k] = b->ro_hi[k] * HP_MM_PER_M;
+            put_bounds(pb, k, b->ri_lo[k], b->ri_hi[k], b->ro_lo[k], b->ro_hi[k]);
             if (lo_flags) lo_flags[k] = b->lo_flags[k];
             if (hi_flags) hi_flags[k] = b->hi_flags[k];
             int nostand = 0; /* a volume law that failed there: evaluated again, or refused */
@@ -556,6 +558,19 @@ static inline double lazy_stand(hp_rate_lazy *z, int k, int up)
     return lazy_stand_new(z, k, up);
 }
 
+/* Bladder k's bounds with the static inner radii and the outer radii rol, roh [m] (the
+ * static ones ro_lo, ro_hi, or stand-ins where tighter): a flag says a rate limit where an
+ * outer radius is not the static one. The caller's static outer radii: read again here
+ * they would be loaded again after the stores (which may alias them). */
+static inline void lazy_store(hp_rate_lazy *z, int k, double rol, double roh, double ro_lo,
+                              double ro_hi)
+{
+    const hp_static_bounds *b = z->b;
+    put_bounds(z->pb, k, b->ri_lo[k], b->ri_hi[k], rol, roh);
+    if (z->lo_flags) z->lo_flags[k] = rol != ro_lo ? HP_BIND_RATE_DOWN : b->lo_flags[k];
+    if (z->hi_flags) z->hi_flags[k] = roh != ro_hi ? HP_BIND_RATE_UP : b->hi_flags[k];
+}
+
 /* Bladder k when both its ends are marked stand-ins (every bladder of a plan's set-up but
  * those a memo holds an end of): bladder_bounds' steps for that case alone, the same
  * operations on the same numbers. The marks say pl > p_lo and ph < p_hi
@@ -574,23 +589,40 @@ static inline int lazy_common(hp_rate_lazy *z, int k, int *nder)
     double rol_mm = rol * HP_MM_PER_M, roh_mm = roh * HP_MM_PER_M;
     if (isnan(sl) || isnan(sh) || !(roh_mm - rol_mm > HP_LAZY_MIN_WIDTH_MM)) return 0;
     if (nder) *nder += 2;
-    hp_problem *pb = z->pb;
-    double ri_lo = b->ri_lo[k], ri_hi = b->ri_hi[k];
-    pb->ri_lo_si[k] = ri_lo;
-    pb->ri_hi_si[k] = ri_hi;
-    pb->ri_lo[k] = ri_lo * HP_MM_PER_M;
-    pb->ri_hi[k] = ri_hi * HP_MM_PER_M;
-    pb->ro_lo[k] = rol_mm;
-    pb->ro_hi[k] = roh_mm;
-    if (z->lo_flags) z->lo_flags[k] = rol != ro_lo ? HP_BIND_RATE_DOWN : b->lo_flags[k];
-    if (z->hi_flags) z->hi_flags[k] = roh != ro_hi ? HP_BIND_RATE_UP : b->hi_flags[k];
+    lazy_store(z, k, rol, roh, ro_lo, ro_hi);
+    return 1;
+}
+
+/* Bladder k when one end is a marked stand-in and the other's window end lies beyond the
+ * static limit (a bladder at or near a pressure limit): bladder_bounds' steps for that case
+ * alone, as lazy_common's for two stand-ins. The unmarked end keeps the static bounds and
+ * flags, as bladder_bounds leaves an end whose window end is beyond the static limit; its
+ * outer radius is a number. Returns 1 when stored; 0, nothing stored, for any other case
+ * (both ends or none marked, the other end a memo's) or a window too narrow for the
+ * stand-in; -1 when no stand-in can be made, where bladder_bounds solves both ends. Apart
+ * from lazy_common, after it: folded into it, its extra tests cost every bladder about 12
+ * instructions (95 a plan of the step trace with the plan's own answers, where few
+ * bladders come here; bench/loop_tail.sh). */
+static inline int lazy_static_end(hp_rate_lazy *z, int k, double pl, double ph)
+{
+    const hp_static_bounds *b = z->b;
+    int up = z->lo[k]; /* the marked end is the lower */
+    if (up == z->hi[k] || (up ? ph < b->p_hi[k] : pl > b->p_lo[k])) return 0;
+    double ro_lo = b->ro_lo[k], ro_hi = b->ro_hi[k];
+    if (isnan(ro_lo) || isnan(ro_hi)) return 0;
+    double sr = lazy_stand(z, k, up);
+    if (isnan(sr)) return -1;
+    double rol = up ? hpi_max2(sr, ro_lo) : ro_lo, roh = up ? ro_hi : hpi_min2(sr, ro_hi);
+    double rol_mm = rol * HP_MM_PER_M, roh_mm = roh * HP_MM_PER_M;
+    if (!(roh_mm - rol_mm > HP_LAZY_MIN_WIDTH_MM)) return 0;
+    lazy_store(z, k, rol, roh, ro_lo, ro_hi);
     return 1;
 }
 
 /* Bladder k the general way (bladder_bounds): the ends marked in z stand-ins, or both solved
  * when a stand-in cannot be made or leaves too narrow a window. *nder (may be NULL) counts
- * the ends derived. A resolve comes here directly: it has cleared a mark, so lazy_common's
- * case (both marked) is never its. */
+ * the ends derived. A resolve comes here directly: it has cleared the mark of an end it
+ * needs exact, which lazy_common and lazy_static_end never solve. */
 static hp_error lazy_general(hp_rate_lazy *z, int k, int *nder, hp_diag *d)
 {
     int nostand = 0;
@@ -624,6 +656,9 @@ hp_error hpi_setup_cycle_bounds_lazy(hp_rate_lazy *z, hp_diag *d)
         z->lo[k] = pl > b->p_lo[k] && !memo_holds(&memo->down[k], pl);
         z->hi[k] = ph < b->p_hi[k] && !memo_holds(&memo->up[k], ph);
         if (lazy_common(z, k, NULL)) continue;
+        int c = lazy_static_end(z, k, pl, ph);
+        if (c > 0) continue;
+        if (c < 0) z->lo[k] = z->hi[k] = 0; /* bladder_bounds' way without a stand-in */
         hp_error e = lazy_general(z, k, NULL, d);
         if (e != HP_OK) return e;
     }

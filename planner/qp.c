@@ -180,16 +180,26 @@ static int negates(const double *c, const double *p)
     return s == 0.0;
 }
 
+/* load_rows' word on the rows of zero norm: there is one (the lazy rows among them are
+ * looked at only then: a loop over every row a solve saved), one is violated whatever x is. */
+enum { ROWS_ZERO = 1, ROWS_EMPTY = 2 };
+
+/* Row j's zero-norm verdict (ROWS_*) when its norm is zero and its b is bj */
+static inline int zero_row(double bj, double feas_tol)
+{
+    return ROWS_ZERO | (-bj < -feas_tol ? ROWS_EMPTY : 0);
+}
+
 /* One row's checks: |w|² finite (a NaN or infinity in the row, or an overflowing norm,
  * fails), its squared norm, whether it is skipped (zero norm) and violated whatever x is. */
 static int load_row(const hp_qp *qp, const double *w, int j, double feas_tol, double *nrm2,
-                    int *skip, int *empty)
+                    int *skip, int *rows)
 {
     double s = dot(w, w);
     if (!isfinite(s) || !isfinite(qp->b[j])) return 0;
     nrm2[j] = s;
     skip[j] = s == 0.0;
-    *empty |= skip[j] && -qp->b[j] < -feas_tol;
+    if (skip[j]) *rows |= zero_row(qp->b[j], feas_tol);
     return 1;
 }
 
@@ -198,12 +208,12 @@ static int load_row(const hp_qp *qp, const double *w, int j, double feas_tol, do
  * overflow), fills nrm2 with the squared row norms, marks in twin the rows that are the
  * exact negation of the row before (that row not itself a twin): the odd rows of the
  * qp->pairs declared pairs without comparing, the rows after them by comparison; marks in
- * skip the rows of zero norm; *empty is set when such a row is violated beyond feas_tol
- * (it holds for every x or for none). Sets the outputs u and active to 0 on the way
+ * skip the rows of zero norm; *rows (ROWS_*) says whether there is such a row and whether
+ * one is violated beyond feas_tol (it holds for every x or for none). Sets the outputs u and active to 0 on the way
  * (scalar stores the loop hides; a memset of them costs a string store's start-up). One
  * pass over the rows. Returns the rows, NULL on bad input. */
 static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm2, int *twin, int *skip,
-                               int *empty)
+                               int *rows)
 {
     int n = qp->n, m = qp->m, p2 = 2 * qp->pairs;
     const double *Cr = qp->C;
@@ -212,13 +222,13 @@ static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm2, int *tw
             for (int i = 0; i < NM; ++i) qp->C_[j * NM + i] = i < n ? qp->C[j * NM + i] : 0.0;
         Cr = qp->C_;
     }
-    *empty = 0;
+    *rows = 0;
     for (int j = 0; j < p2; j += 2) { /* declared pairs: the twin's norm is its partner's */
-        if (!load_row(qp, &Cr[j * NM], j, feas_tol, nrm2, skip, empty) || !isfinite(qp->b[j + 1]))
+        if (!load_row(qp, &Cr[j * NM], j, feas_tol, nrm2, skip, rows) || !isfinite(qp->b[j + 1]))
             return NULL;
         nrm2[j + 1] = nrm2[j];
         skip[j + 1] = skip[j];
-        *empty |= skip[j] && -qp->b[j + 1] < -feas_tol;
+        if (skip[j]) *rows |= zero_row(qp->b[j + 1], feas_tol);
         twin[j] = 0;
         twin[j + 1] = 1;
         qp->u[j] = qp->u[j + 1] = 0.0;
@@ -230,14 +240,14 @@ static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm2, int *tw
         qp->u[j] = 0.0;
         qp->active[j] = 0;
         if (!twin[j]) {
-            if (!load_row(qp, w, j, feas_tol, nrm2, skip, empty)) return NULL;
+            if (!load_row(qp, w, j, feas_tol, nrm2, skip, rows)) return NULL;
             continue;
         }
         /* the negation of a checked row: finite, the same norm */
         if (!isfinite(qp->b[j])) return NULL;
         nrm2[j] = nrm2[j - 1];
         skip[j] = skip[j - 1];
-        *empty |= skip[j] && -qp->b[j] < -feas_tol;
+        if (skip[j]) *rows |= zero_row(qp->b[j], feas_tol);
     }
     return Cr;
 }
@@ -743,20 +753,20 @@ hp_qp_status hpi_qp_solve_lazy(hp_qp *qp, const double *Lg, const int *guess,
         if (!isfinite(qp->a[i])) return HP_QP_BAD_INPUT;
         a[i] = qp->a[i];
     }
-    int empty;
-    const double *Cr = load_rows(qp, feas_tol, nrm2, twin, skip, &empty);
+    int rows;
+    const double *Cr = load_rows(qp, feas_tol, nrm2, twin, skip, &rows);
     if (!Cr) return HP_QP_BAD_INPUT;
     qp->iterations = 0;
     const double *L;
     int ldl;
     if (!cholesky_factor(qp->G, n, Lg, qp->L_, &L, &ldl)) return HP_QP_BAD_INPUT;
-    if (lazy) /* a row of zero norm: its b alone decides emptiness */
+    if (lazy && (rows & ROWS_ZERO)) /* a row of zero norm: its b alone decides emptiness */
         for (int j = 0; j < m; ++j)
             if (lazy[j] && skip[j]) {
                 *hit = j;
                 return HP_QP_LAZY;
             }
-    if (empty) return HP_QP_INFEASIBLE; /* a row of zero norm that no x satisfies */
+    if (rows & ROWS_EMPTY) return HP_QP_INFEASIBLE; /* a row of zero norm that no x satisfies */
     if (guess) {
         qp->warm = warm_solve(qp, L, ldl, Cr, ga, gk, a, twin, skip, max_iter, lazy, hit);
         if (*hit >= 0) return HP_QP_LAZY; /* before the equality solve: start again */

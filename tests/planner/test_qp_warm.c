@@ -666,8 +666,9 @@ static void test_dense_fixed_sizes_same_bits(void **st)
 }
 
 /* hpi_qp_solve_lazy: on seeded random QPs of the realtime shape, some rows' b raised by a
- * random amount (a stand-in: the constraint tightened, never loosened) and marked lazy.
- * Each stop (HP_QP_LAZY) names a marked row, whose exact b is then put back, and the solve
+ * random amount (a stand-in: the constraint tightened, never loosened) and marked lazy; one
+ * QP in seven has a pair of zero rows first, whose b alone decides (a raised one that no x
+ * satisfies must stop the solve on it, not call the QP infeasible). Each stop (HP_QP_LAZY) names a marked row, whose exact b is then put back, and the solve
  * starts again (as the realtime backend does after a warm start's stop); the solve that runs to its end must be the
  * exact QP's solve bit for bit (status, x, multipliers, active set, iterations, what the
  * warm start did), with no guess, with the exact answer's active set as the guess and with
@@ -676,16 +677,21 @@ static void test_dense_fixed_sizes_same_bits(void **st)
  * the warm start's check of the other rows (after its equality solve); a stop on a guessed
  * stand-in row (before it) starts again. The counts: *stops (started again), *resumes,
  * *skipped (stand-in rows never needed), *repeats (equality solves of the warm start beyond
- * one per solve: the work a start again repeats, qp.warm_solved); returns the solves
- * compared. */
+ * one per solve: the work a start again repeats, qp.warm_solved), *zstops (stops on a zero
+ * row); returns the solves compared. */
 static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, long *skipped,
-                       long *repeats, long *rescans)
+                       long *repeats, long *rescans, long *zstops)
 {
     long solves = 0;
     for (int t = 0; t < 3000; ++t) {
         hp_qp exact;
         realtime_qp(&exact, &seed);
         int m = exact.m;
+        if (t % 7 == 0 && m >= 2) /* a pair of zero rows: its b alone decides, 0 >= b */
+            for (int i = 0; i < exact.n; ++i) {
+                exact.C[i] = 0.0;
+                exact.C[NM + i] = -0.0;
+            }
         hp_qp probe = exact;
         if (hpi_qp_solve(&probe, 200, 1e-12) != HP_QP_OPTIMAL) continue;
         for (int v = 0; v < 3; ++v) {
@@ -705,6 +711,7 @@ static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, lo
             int eq = q.warm_solved, scans = q.scans, again = 0;
             while (qs == HP_QP_LAZY) {
                 assert_true(hit >= 0 && hit < m && lazy[hit]);
+                *zstops += t % 7 == 0 && hit < 2;
                 lazy[hit] = 0;
                 q.b[hit] = exact.b[hit];
                 if (resume && q.resumable) {
@@ -738,13 +745,13 @@ static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, lo
 static void test_lazy_rows_same_bits(void **st)
 {
     (void)st;
-    long stops = 0, resumes = 0, skipped = 0, repeats = 0, rescans = 0;
-    long solves = lazy_sweep(0x1a2e, 0, &stops, &resumes, &skipped, &repeats, &rescans);
-    print_message("lazy rows: %ld solves, %ld stops for an exact b, %ld stand-in rows never "
-                  "needed, %ld warm equality solves repeated\n",
-                  solves, stops, skipped, repeats);
+    long stops = 0, resumes = 0, skipped = 0, repeats = 0, rescans = 0, zstops = 0;
+    long solves = lazy_sweep(0x1a2e, 0, &stops, &resumes, &skipped, &repeats, &rescans, &zstops);
+    print_message("lazy rows: %ld solves, %ld stops for an exact b (%ld on a zero row), %ld "
+                  "stand-in rows never needed, %ld warm equality solves repeated\n",
+                  solves, stops, zstops, skipped, repeats);
     assert_true(solves > 6000);
-    assert_true(stops > 0 && skipped > 0);
+    assert_true(stops > 0 && skipped > 0 && zstops > 0);
     assert_true(repeats > 0); /* starting again repeats the warm start's equality solve */
 }
 
@@ -755,8 +762,8 @@ static void test_lazy_rows_same_bits(void **st)
 static void test_lazy_resume_same_bits(void **st)
 {
     (void)st;
-    long stops = 0, resumes = 0, skipped = 0, repeats = 0, rescans = 0;
-    long solves = lazy_sweep(0x2e5e, 1, &stops, &resumes, &skipped, &repeats, &rescans);
+    long stops = 0, resumes = 0, skipped = 0, repeats = 0, rescans = 0, zstops = 0;
+    long solves = lazy_sweep(0x2e5e, 1, &stops, &resumes, &skipped, &repeats, &rescans, &zstops);
     print_message("lazy rows resumed: %ld solves, %ld stops resumed, %ld started again, %ld warm "
                   "equality solves repeated, %ld rows' products formed again\n",
                   solves, resumes, stops, repeats, rescans);

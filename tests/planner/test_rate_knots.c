@@ -40,7 +40,10 @@
  *    (tests/planner/test_rate_bounds.c, the measured step trace).
  * 6. The stand-ins a set-up keeps (hp_rate_stand) and takes again for windows that move by
  *    a reading's noise lie inside their exact bounds, leave the resolved bounds the eager
- *    ones bit for bit, and are seldom made anew (test_kept_stand_ins_serve). */
+ *    ones bit for bit, and are seldom made anew (test_kept_stand_ins_serve).
+ * 7. A bladder at or near a static pressure limit (its window reaching past it) takes the
+ *    set-up's short way too: its far end a kept stand-in, its near end the static bounds
+ *    bit for bit (test_static_end_stand_ins). */
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
 #include "planner/problem_setup.h"
@@ -94,6 +97,21 @@ static void same_bounds(int n, const hp_problem *a, const hp_problem *b, const u
         assert_int_equal(la[k], lb[k]);
         assert_int_equal(ha[k], hb[k]);
     }
+}
+
+/* The bounds around P set up lazily into pz (memo mz, kept stand-ins st: may be NULL; the
+ * set-up's state into *z) and eagerly into pe (memo me of its own), both without error. */
+static void both_setups(const hp_layout *L, const hp_static_bounds *sb, const double *P,
+                        hp_rate_memo *mz, hp_rate_stand *st, hp_rate_memo *me, hp_rate_lazy *z,
+                        hp_problem *pz, unsigned *lz, unsigned *hz, hp_problem *pe, unsigned *le,
+                        unsigned *he)
+{
+    memcpy(pz->p_prev, P, sizeof pz->p_prev);
+    hpi_setup_rate_windows(L, pz);
+    *z = (hp_rate_lazy){
+        .L = L, .b = sb, .memo = mz, .stand = st, .pb = pz, .lo_flags = lz, .hi_flags = hz};
+    assert_int_equal(hpi_setup_cycle_bounds_lazy(z, NULL), HP_OK);
+    assert_int_equal(hpi_setup_cycle_bounds_memo(L, sb, P, 1, me, pe, le, he, NULL), HP_OK);
 }
 
 /* Lazy bounds around P into pb (memo mz) with every stand-in then resolved. */
@@ -466,20 +484,10 @@ static void test_kept_stand_ins_serve(void **state)
             hp_problem pz, pe;
             unsigned lz[HP_MAX_BLADDERS], hz[HP_MAX_BLADDERS], le[HP_MAX_BLADDERS],
                 he[HP_MAX_BLADDERS];
-            memcpy(pz.p_prev, P, sizeof pz.p_prev);
-            hpi_setup_rate_windows(&L, &pz);
-            hp_rate_lazy z = {.L = &L,
-                              .b = &sb,
-                              .memo = &mz,
-                              .stand = &st,
-                              .pb = &pz,
-                              .lo_flags = lz,
-                              .hi_flags = hz};
-            unsigned long n0 = hpi_test_rate_stands_new();
-            assert_int_equal(hpi_setup_cycle_bounds_lazy(&z, NULL), HP_OK);
+            hp_rate_lazy z;
+            unsigned long n0 = hpi_test_rate_stands_new(); /* the eager set-up makes none */
+            both_setups(&L, &sb, P, &mz, &st, &me, &z, &pz, lz, hz, &pe, le, he);
             unsigned long made = hpi_test_rate_stands_new() - n0;
-            assert_int_equal(hpi_setup_cycle_bounds_memo(&L, &sb, P, 1, &me, &pe, le, he, NULL),
-                             HP_OK);
             for (int k = 0; k < L.n; ++k) {
                 double sl = sb.rate_slack[k];
                 if (z.lo[k]) {
@@ -529,6 +537,82 @@ static void test_kept_stand_ins_serve(void **state)
     }
 }
 
+/* A bladder whose rate window reaches past a static pressure limit: the window end beyond
+ * it leaves the static bound, the other end is a stand-in. Seeded draws on the default
+ * layout (rate 500 Pa), every bladder's previous pressure within 0.9 of the rate of one of
+ * its limits, or on it (its own draw of the side), 2 000 set-ups with an empty stand-in
+ * keep (hp_rate_stand), half of them from an empty memo and half from the memo of windows
+ * elsewhere. Each bladder's far end is a stand-in that the set-up keeps (st.ok, the outer
+ * radius its bound, bit for bit: the short way, lazy_static_end; the general way made one
+ * without keeping it), strictly inside the eager bound
+ * (hpi_setup_cycle_bounds_memo, a memo of its own), with the rate flag where it binds; the
+ * near end is the eager bound and flag bit for bit; every end resolved then gives the
+ * eager bounds bit for bit. */
+static void test_static_end_stand_ins(void **state)
+{
+    (void)state;
+    hp_layout L;
+    static hp_static_bounds sb;
+    fixture(&L, &sb, 500.0);
+    uint64_t seed = 0x5eed5;
+    unsigned long ends = 0;
+    for (int t = 0; t < 2000; ++t) {
+        double P[HP_MAX_BLADDERS];
+        int low[HP_MAX_BLADDERS];
+        for (int k = 0; k < L.n; ++k) {
+            low[k] = (int)(test_rng_next(&seed) % 2);
+            double u = 0.5 * (lf_uniform(&seed) + 1.0) * (t % 5 ? 0.9 : 0.0);
+            P[k] = low[k] ? sb.p_lo[k] + u * 500.0 : sb.p_hi[k] - u * 500.0;
+        }
+        hp_rate_memo mz, me;
+        memset(&mz, 0, sizeof mz);
+        hp_problem pz, pe;
+        unsigned lz[HP_MAX_BLADDERS], hz[HP_MAX_BLADDERS], le[HP_MAX_BLADDERS], he[HP_MAX_BLADDERS];
+        if (t % 2) { /* the memo of windows elsewhere */
+            double Q[HP_MAX_BLADDERS];
+            for (int k = 0; k < L.n; ++k) Q[k] = uniform_p(&sb, k, &seed);
+            assert_int_equal(hpi_setup_cycle_bounds_memo(&L, &sb, Q, 1, &mz, &pe, le, he, NULL),
+                             HP_OK);
+        }
+        me = mz;
+        hp_rate_stand st;
+        memset(&st, 0, sizeof st);
+        hp_rate_lazy z;
+        both_setups(&L, &sb, P, &mz, &st, &me, &z, &pz, lz, hz, &pe, le, he);
+        for (int k = 0; k < L.n; ++k) {
+            int far = low[k]; /* the far end: the upper when near the lower limit */
+            assert_true(far ? pz.w_lo[k] <= sb.p_lo[k] : pz.w_hi[k] >= sb.p_hi[k]);
+            assert_int_equal(far ? z.hi[k] : z.lo[k], 1);
+            assert_int_equal(far ? z.lo[k] : z.hi[k], 0);
+            assert_true(st.ok[far][k]);
+            if (far) {
+                double want = (st.ro[1][k] < sb.ro_hi[k] ? st.ro[1][k] : sb.ro_hi[k]) * HP_MM_PER_M;
+                assert_true(memcmp(&pz.ro_hi[k], &want, sizeof want) == 0);
+                assert_true(pz.ro_hi[k] < pe.ro_hi[k]);
+                assert_int_equal(hz[k], want != sb.ro_hi[k] * HP_MM_PER_M ? HP_BIND_RATE_UP
+                                                                          : sb.hi_flags[k]);
+                assert_true(memcmp(&pz.ro_lo[k], &pe.ro_lo[k], sizeof(double)) == 0);
+                assert_true(memcmp(&pz.ri_lo_si[k], &pe.ri_lo_si[k], sizeof(double)) == 0);
+                assert_int_equal(lz[k], le[k]);
+            } else {
+                double want = (st.ro[0][k] > sb.ro_lo[k] ? st.ro[0][k] : sb.ro_lo[k]) * HP_MM_PER_M;
+                assert_true(memcmp(&pz.ro_lo[k], &want, sizeof want) == 0);
+                assert_true(pz.ro_lo[k] > pe.ro_lo[k]);
+                assert_int_equal(lz[k], want != sb.ro_lo[k] * HP_MM_PER_M ? HP_BIND_RATE_DOWN
+                                                                          : sb.lo_flags[k]);
+                assert_true(memcmp(&pz.ro_hi[k], &pe.ro_hi[k], sizeof(double)) == 0);
+                assert_true(memcmp(&pz.ri_hi_si[k], &pe.ri_hi_si[k], sizeof(double)) == 0);
+                assert_int_equal(hz[k], he[k]);
+            }
+            ++ends;
+        }
+        for (int k = 0; k < L.n; ++k) assert_true(hpi_setup_rate_resolve(&z, k, 3u));
+        same_bounds(L.n, &pz, &pe, lz, le, hz, he);
+    }
+    print_message("%lu bladders at a static limit: far end a kept stand-in\n", ends);
+    assert_int_equal(ends, 2000u * (unsigned long)L.n);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -539,6 +623,7 @@ int main(void)
         cmocka_unit_test(test_surely_out_is_sure),
         cmocka_unit_test(test_windows_worked_out_once),
         cmocka_unit_test(test_kept_stand_ins_serve),
+        cmocka_unit_test(test_static_end_stand_ins),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
