@@ -163,8 +163,8 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
                                      hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
                                      hp_diag *d);
 
-/* The stand-ins (hp_rate_lazy) the set-up's common case (both ends of a bladder stand-ins)
- * made, each with the closed-form pressure at its point: a later set-up takes one again,
+/* The stand-ins (hp_rate_lazy) the set-up's short ways (both ends of a bladder stand-ins,
+ * or one with the other end beyond a static limit) made, each with the closed-form pressure at its point: a later set-up takes one again,
  * without a knot looked up, for a window end it still serves (its pressure beyond the new
  * end by the rate slack and within a knot spacing of that, as a new stand-in would lie). A
  * reading fed back every cycle moves each window by the sensor's noise, a few Pa. Where a
@@ -259,8 +259,8 @@ unsigned long hpi_test_rate_rederived(void);
  * plan, eager or lazy, and a reading dropped in a plan), which a plan's start check, its lazy
  * set-up, resolves, hpi_setup_rate_surely_out and its answer use. */
 unsigned long hpi_test_rate_windows(void);
-/* The stand-ins made anew by the set-up's common path (both ends stand-ins), not taken
- * from hp_rate_lazy.stand. */
+/* The stand-ins made anew by the set-up's short ways (both ends stand-ins, or one beside a
+ * static limit), not taken from hp_rate_lazy.stand. */
 unsigned long hpi_test_rate_stands_new(void);
 void hpi_test_rate_lazy(int on);
 int hpi_setup_rate_lazy(void);
