@@ -577,7 +577,7 @@ static inline void lazy_store(hp_rate_lazy *z, int k, double rol, double roh, do
  * (hpi_setup_cycle_bounds_lazy), the radii stay the static ones (lo < hi), their outer radii
  * are numbers, and the stand-ins take the outer radii where tighter. Returns 0, nothing
  * stored, for any other case, a stand-in that cannot be made, or a window too narrow for
- * them: lazy_general decides those from the start. Inline, apart from the general way: the
+ * them: lazy_static_end (one end at a static limit) or lazy_general decides those. Inline, apart from the general way: the
  * set-up's loop runs it for every bladder. */
 static inline int lazy_common(hp_rate_lazy *z, int k, int *nder)
 {

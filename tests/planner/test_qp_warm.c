@@ -711,7 +711,7 @@ static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, lo
             int eq = q.warm_solved, scans = q.scans, again = 0;
             while (qs == HP_QP_LAZY) {
                 assert_true(hit >= 0 && hit < m && lazy[hit]);
-                *zstops += t % 7 == 0 && hit < 2;
+                *zstops += t % 7 == 0 && m >= 2 && hit < 2; /* as zeroed above */
                 lazy[hit] = 0;
                 q.b[hit] = exact.b[hit];
                 if (resume && q.resumable) {
