@@ -571,14 +571,13 @@ static inline void lazy_store(hp_rate_lazy *z, int k, double rol, double roh, do
     if (z->hi_flags) z->hi_flags[k] = roh != ro_hi ? HP_BIND_RATE_UP : b->hi_flags[k];
 }
 
-/* Bladder k when both its ends are marked stand-ins (every bladder of a plan's set-up but
- * those a memo holds an end of): bladder_bounds' steps for that case alone, the same
- * operations on the same numbers. The marks say pl > p_lo and ph < p_hi
- * (hpi_setup_cycle_bounds_lazy), the radii stay the static ones (lo < hi), their outer radii
- * are numbers, and the stand-ins take the outer radii where tighter. Returns 0, nothing
- * stored, for any other case, a stand-in that cannot be made, or a window too narrow for
- * them: lazy_static_end (one end at a static limit) or lazy_general decides those. Inline, apart from the general way: the
- * set-up's loop runs it for every bladder. */
+/* Bladder k when both its ends are marked stand-ins (every bladder of a plan's set-up but those a
+ * memo holds an end of): bladder_bounds' steps for that case alone, the same operations on the same
+ * numbers. The marks say pl > p_lo and ph < p_hi (hpi_setup_cycle_bounds_lazy), the radii stay the
+ * static ones (lo < hi), their outer radii are numbers, and the stand-ins take the outer radii
+ * where tighter. Returns 0, nothing stored, for any other case, a stand-in that cannot be made, or
+ * a window too narrow for them: lazy_static_end (one end at a static limit) or lazy_general decides
+ * those. Inline, apart from the general way: the set-up's loop runs it for every bladder. */
 static inline int lazy_common(hp_rate_lazy *z, int k, int *nder)
 {
     const hp_static_bounds *b = z->b;

@@ -163,13 +163,13 @@ hp_error hpi_setup_cycle_bounds_memo(const hp_layout *L, const hp_static_bounds 
                                      hp_problem *pb, unsigned *lo_flags, unsigned *hi_flags,
                                      hp_diag *d);
 
-/* The stand-ins (hp_rate_lazy) the set-up's short ways (both ends of a bladder stand-ins,
- * or one with the other end beyond a static limit) made, each with the closed-form pressure at its point: a later set-up takes one again,
- * without a knot looked up, for a window end it still serves (its pressure beyond the new
- * end by the rate slack and within a knot spacing of that, as a new stand-in would lie). A
- * reading fed back every cycle moves each window by the sensor's noise, a few Pa. Where a
- * memo bound would also serve, the kept stand-in is taken, up to a knot spacing farther
- * inside: the same answers, perhaps an end resolved more. The planner owns it; zeroed:
+/* The stand-ins (hp_rate_lazy) the set-up's short ways (both ends of a bladder stand-ins, or one
+ * with the other end beyond a static limit) made, each with the closed-form pressure at its point:
+ * a later set-up takes one again, without a knot looked up, for a window end it still serves (its
+ * pressure beyond the new end by the rate slack and within a knot spacing of that, as a new
+ * stand-in would lie). A reading fed back every cycle moves each window by the sensor's noise, a
+ * few Pa. Where a memo bound would also serve, the kept stand-in is taken, up to a knot spacing
+ * farther inside: the same answers, perhaps an end resolved more. The planner owns it; zeroed:
  * empty. */
 typedef struct hp_rate_stand {
     /* [0] the lower end's, [1] the upper end's: a point's pressure [Pa], its outer radius [m] */

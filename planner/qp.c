@@ -180,8 +180,9 @@ static int negates(const double *c, const double *p)
     return s == 0.0;
 }
 
-/* load_rows' word on the rows of zero norm: there is one (the lazy rows among them are
- * looked at only then: a loop over every row a solve saved), one is violated whatever x is. */
+/* What load_rows found among the rows of zero norm: that there is one (only then does the
+ * lazy solve look for a lazy one among them, a loop over every row otherwise run each solve),
+ * and that one is violated whatever x is (the QP is empty). */
 enum { ROWS_ZERO = 1, ROWS_EMPTY = 2 };
 
 /* Row j's zero-norm verdict (ROWS_*) when its norm is zero and its b is bj */
@@ -203,15 +204,14 @@ static int load_row(const hp_qp *qp, const double *w, int j, double feas_tol, do
     return 1;
 }
 
-/* The rows of C zero-padded to NM columns: C itself when n = NM (every column is read),
- * else a copy in qp->C_. Checks them and b (finite entries, a row norm that does not
- * overflow), fills nrm2 with the squared row norms, marks in twin the rows that are the
- * exact negation of the row before (that row not itself a twin): the odd rows of the
- * qp->pairs declared pairs without comparing, the rows after them by comparison; marks in
- * skip the rows of zero norm; *rows (ROWS_*) says whether there is such a row and whether
- * one is violated beyond feas_tol (it holds for every x or for none). Sets the outputs u and active to 0 on the way
- * (scalar stores the loop hides; a memset of them costs a string store's start-up). One
- * pass over the rows. Returns the rows, NULL on bad input. */
+/* The rows of C zero-padded to NM columns: C itself when n = NM (every column is read), else a copy
+ * in qp->C_. Checks them and b (finite entries, a row norm that does not overflow), fills nrm2 with
+ * the squared row norms, marks in twin the rows that are the exact negation of the row before (that
+ * row not itself a twin): the odd rows of the qp->pairs declared pairs without comparing, the rows
+ * after them by comparison; marks in skip the rows of zero norm; *rows (ROWS_*) says whether there
+ * is such a row and whether one is violated beyond feas_tol (it holds for every x or for none).
+ * Sets the outputs u and active to 0 on the way (scalar stores the loop hides; a memset of them
+ * costs a string store's start-up). One pass over the rows. Returns the rows, NULL on bad input. */
 static const double *load_rows(hp_qp *qp, double feas_tol, double *nrm2, int *twin, int *skip,
                                int *rows)
 {

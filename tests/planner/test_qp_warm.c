@@ -665,19 +665,19 @@ static void test_dense_fixed_sizes_same_bits(void **st)
     }
 }
 
-/* hpi_qp_solve_lazy: on seeded random QPs of the realtime shape, some rows' b raised by a
- * random amount (a stand-in: the constraint tightened, never loosened) and marked lazy; one
- * QP in seven has a pair of zero rows first, whose b alone decides (a raised one that no x
- * satisfies must stop the solve on it, not call the QP infeasible). Each stop (HP_QP_LAZY) names a marked row, whose exact b is then put back, and the solve
- * starts again (as the realtime backend does after a warm start's stop); the solve that runs to its end must be the
- * exact QP's solve bit for bit (status, x, multipliers, active set, iterations, what the
- * warm start did), with no guess, with the exact answer's active set as the guess and with
- * a random guess. With resume, each stop of the full solve's loop (qp.resumable) goes on
- * from its iterate (hpi_qp_resume_lazy) instead of starting again, and so does a stop in
- * the warm start's check of the other rows (after its equality solve); a stop on a guessed
- * stand-in row (before it) starts again. The counts: *stops (started again), *resumes,
- * *skipped (stand-in rows never needed), *repeats (equality solves of the warm start beyond
- * one per solve: the work a start again repeats, qp.warm_solved), *zstops (stops on a zero
+/* hpi_qp_solve_lazy: on seeded random QPs of the realtime shape, some rows' b raised by a random
+ * amount (a stand-in: the constraint tightened, never loosened) and marked lazy; one QP in seven
+ * has a pair of zero rows first, whose b alone decides (a raised one that no x satisfies must stop
+ * the solve on it, not call the QP infeasible). Each stop (HP_QP_LAZY) names a marked row, whose
+ * exact b is then put back, and the solve starts again (as the realtime backend does after a warm
+ * start's stop); the solve that runs to its end must be the exact QP's solve bit for bit (status,
+ * x, multipliers, active set, iterations, what the warm start did), with no guess, with the exact
+ * answer's active set as the guess and with a random guess. With resume, each stop of the full
+ * solve's loop (qp.resumable) goes on from its iterate (hpi_qp_resume_lazy) instead of starting
+ * again, and so does a stop in the warm start's check of the other rows (after its equality solve);
+ * a stop on a guessed stand-in row (before it) starts again. The counts: *stops (started again),
+ * *resumes, *skipped (stand-in rows never needed), *repeats (equality solves of the warm start
+ * beyond one per solve: the work a start again repeats, qp.warm_solved), *zstops (stops on a zero
  * row); returns the solves compared. */
 static long lazy_sweep(uint64_t seed, int resume, long *stops, long *resumes, long *skipped,
                        long *repeats, long *rescans, long *zstops)

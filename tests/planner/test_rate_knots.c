@@ -99,6 +99,16 @@ static void same_bounds(int n, const hp_problem *a, const hp_problem *b, const u
     }
 }
 
+/* The memo mz of the bounds of windows elsewhere (previous pressures uniform over each
+ * bladder's range, as after a jump); pe and the flags are scratch. */
+static void memo_elsewhere(const hp_layout *L, const hp_static_bounds *sb, uint64_t *seed,
+                           hp_rate_memo *mz, hp_problem *pe, unsigned *le, unsigned *he)
+{
+    double Q[HP_MAX_BLADDERS];
+    for (int k = 0; k < L->n; ++k) Q[k] = uniform_p(sb, k, seed);
+    assert_int_equal(hpi_setup_cycle_bounds_memo(L, sb, Q, 1, mz, pe, le, he, NULL), HP_OK);
+}
+
 /* The bounds around P set up lazily into pz (memo mz, kept stand-ins st: may be NULL; the
  * set-up's state into *z) and eagerly into pe (memo me of its own), both without error. */
 static void both_setups(const hp_layout *L, const hp_static_bounds *sb, const double *P,
@@ -143,12 +153,8 @@ static void test_loop_windows_have_stand_ins(void **state)
         memset(&mz, 0, sizeof mz);
         hp_problem pz, pe;
         unsigned lz[HP_MAX_BLADDERS], hz[HP_MAX_BLADDERS], le[HP_MAX_BLADDERS], he[HP_MAX_BLADDERS];
-        if (t % 2) { /* odd draws: the memo holds the bounds of windows elsewhere (a jump) */
-            double Q[HP_MAX_BLADDERS];
-            for (int k = 0; k < L.n; ++k) Q[k] = uniform_p(&sb, k, &seed);
-            assert_int_equal(hpi_setup_cycle_bounds_memo(&L, &sb, Q, 1, &mz, &pe, le, he, NULL),
-                             HP_OK);
-        }
+        /* odd draws: the memo holds the bounds of windows elsewhere (a jump) */
+        if (t % 2) memo_elsewhere(&L, &sb, &seed, &mz, &pe, le, he);
         me = mz;
         memcpy(pz.p_prev, P, sizeof pz.p_prev);
         hpi_setup_rate_windows(&L, &pz);
@@ -570,12 +576,7 @@ static void test_static_end_stand_ins(void **state)
         memset(&mz, 0, sizeof mz);
         hp_problem pz, pe;
         unsigned lz[HP_MAX_BLADDERS], hz[HP_MAX_BLADDERS], le[HP_MAX_BLADDERS], he[HP_MAX_BLADDERS];
-        if (t % 2) { /* the memo of windows elsewhere */
-            double Q[HP_MAX_BLADDERS];
-            for (int k = 0; k < L.n; ++k) Q[k] = uniform_p(&sb, k, &seed);
-            assert_int_equal(hpi_setup_cycle_bounds_memo(&L, &sb, Q, 1, &mz, &pe, le, he, NULL),
-                             HP_OK);
-        }
+        if (t % 2) memo_elsewhere(&L, &sb, &seed, &mz, &pe, le, he);
         me = mz;
         hp_rate_stand st;
         memset(&st, 0, sizeof st);
