@@ -19,6 +19,9 @@ const char *hpi_horizon_rh_reason(const hp_horizon_rh *rh);
  * centring, up to 100 iterations and a tolerance 100 times tighter than the default: the
  * converged answer a faster solve is held to). */
 long hpi_horizon_rh_iterations(const hp_horizon_rh *rh);
+/* The mean root-find steps per contact distance of every call so far (the surface level's;
+ * 0 at the others): each row's distances start from where the row was last evaluated. */
+double hpi_horizon_rh_dist_steps(const hp_horizon_rh *rh);
 void hpi_horizon_rh_reference(hp_horizon_rh *rh);
 
 /* A sinusoid on a linear trend, x(t) = a + e·τ + b·cos ωτ + c·sin ωτ with τ = t − t0: the

@@ -15,11 +15,12 @@
  * matrix. Each iteration is Mehrotra's predictor–corrector (one factorisation, two solves),
  * and a call starts from the previous call's plan and multipliers shifted by one row: on the
  * horizon traces 3–5 iterations a call where a fixed centring from cold multipliers took
- * 11–14 (tests/horizon/test_rh_solve.c). At most rh_max_iter iterations, none begun after
- * half the planner's max_time. The iterate need not be feasible: the applied first row goes
- * through hp_plan (realtime backend, this row's rate limits), which keeps every limit
- * exactly. Uncommanded pose components are pulled to 0 with unit weight, as the planner
- * holds them. */
+ * 11–14 (tests/horizon/test_rh_solve.c); each row's contact distances start from the row's
+ * last evaluation, shifted with it (one root-find step a distance, 2.5 from the bracket). At
+ * most rh_max_iter iterations, none begun after half the planner's max_time. The iterate
+ * need not be feasible: the applied first row goes through hp_plan (realtime backend, this
+ * row's rate limits), which keeps every limit exactly. Uncommanded pose components are
+ * pulled to 0 with unit weight, as the planner holds them. */
 #define _POSIX_C_SOURCE 200809L
 #include "horizon/horizon_internal.h"
 #include "iab/iab_internal.h"
@@ -88,6 +89,11 @@ struct hp_horizon_rh {
      * right-hand side and the slack steps are sums of scalars times J (one outer product per
      * bladder and row, not three). */
     double alpha[HP_HORIZON_MAX * HP_MAX_BLADDERS];
+    /* The surface level's root-find state of each bladder and row at the last pose its row
+     * was evaluated at: the next evaluation of the row starts from it (an iterate moves a
+     * row little, a call's shifted row less), in fewer steps to the same distance to
+     * rounding. The reference solve of the tests starts every distance from its bracket. */
+    hp_kin_dist_warm dw[HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double wk[HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* per bladder and row, within one step */
     double g[HP_HORIZON_MAX * 6];
     double A[HP_HORIZON_MAX * 36], B[HP_HORIZON_MAX * 36]; /* diagonal / sub-diagonal blocks */
@@ -100,10 +106,11 @@ struct hp_horizon_rh {
     double ds[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double dl[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double tgt[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* complementarity targets */
-    int warm;        /* sl and lam hold the previous call's answer, shifted by one row */
-    int geom_ok;     /* rho, J, P, dP and du are those of every row of z */
-    long iterations; /* interior-point iterations of every call so far (tests) */
-    int reference;   /* solve every call cold to a tight tolerance (tests) */
+    int warm;               /* sl and lam hold the previous call's answer, shifted by one row */
+    int geom_ok;            /* rho, J, P, dP and du are those of every row of z */
+    long iterations;        /* interior-point iterations of every call so far (tests) */
+    long dist_steps, dists; /* the surface level's root-find steps and distances (tests) */
+    int reference;          /* solve every call cold to a tight tolerance (tests) */
 };
 
 /* P [Pa] and dP/dro [Pa/mm] at outer radius ro (mm), ro held inside the box. */
@@ -133,11 +140,15 @@ static int press_of_ro(const hp_horizon_rh *rh, int k, double ro, double *P, dou
 static int row_geometry(hp_horizon_rh *rh, int j, const double *zj)
 {
     const int n = rh->n;
-    if (hpi_setup_contact_scaled(rh->L, rh->G, rh->level, zj, rh->rho + n * j, rh->J + 6 * n * j) !=
-        HP_OK)
+    rh->dists += n;
+    hp_kin_dist_warm *w = rh->dw + n * j;
+    if (rh->reference) hpi_kin_dist_warm_cold(w, n); /* every distance from its bracket */
+    if (hpi_setup_contact_scaled_warm(rh->L, rh->G, rh->level, zj, w, rh->rho + n * j,
+                                      rh->J + 6 * n * j) != HP_OK)
         return 0;
     for (int k = 0; k < n; ++k) {
         const int o = n * j + k;
+        rh->dist_steps += w[k].evals;
         if (!press_of_ro(rh, k, rh->rho[o], &rh->P[o], &rh->dP[o])) return 0;
         rh->alpha[o] = rh->dP[o] * 1e-3;
     }
@@ -535,6 +546,7 @@ hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *settings,
     rh->level = hp_planner_level(rh->p);
     rh->n = rh->L->n;
     rh->N = rh->hs.horizon;
+    hpi_kin_dist_warm_cold(rh->dw, HP_HORIZON_MAX * HP_MAX_BLADDERS);
     for (int k = 0; k < rh->n && e == HP_OK; ++k)
         e = hpi_iab_scaled_init(&rh->L->bladders[k].iab, &rh->S[k], d);
     if (e != HP_OK) goto fail;
@@ -676,6 +688,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
         memmove(rh->dP, rh->dP + n, sizeof(double) * n * N1);
         memmove(rh->J, rh->J + 6 * n, sizeof(double) * 6 * n * N1);
         memmove(rh->alpha, rh->alpha + n, sizeof(double) * n * N1);
+        memmove(rh->dw, rh->dw + n, sizeof rh->dw[0] * n * N1);
     } else {
         rh->geom_ok = 0;
         for (int i = 0; i < 6; ++i)
@@ -685,6 +698,11 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
 }
 
 long hpi_horizon_rh_iterations(const hp_horizon_rh *rh) { return rh->iterations; }
+
+double hpi_horizon_rh_dist_steps(const hp_horizon_rh *rh)
+{
+    return rh->dists ? (double)rh->dist_steps / (double)rh->dists : 0.0;
+}
 
 void hpi_horizon_rh_reference(hp_horizon_rh *rh) { rh->reference = 1; }
 

@@ -813,9 +813,16 @@ void hpi_setup_pose_from_scaled(const double x[6], double xi[6])
 hp_error hpi_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
                                   const double x[6], double *rho_mm, double *J_s)
 {
+    return hpi_setup_contact_scaled_warm(L, G, level, x, NULL, rho_mm, J_s);
+}
+
+hp_error hpi_setup_contact_scaled_warm(const hp_layout *L, const hp_geom *G, hp_level level,
+                                       const double x[6], hp_kin_dist_warm *warm, double *rho_mm,
+                                       double *J_s)
+{
     double xi[6], J[HP_MAX_BLADDERS * 6];
     hpi_setup_pose_from_scaled(x, xi);
-    hp_error e = hpi_contact_eval_g(L, G, level, xi, rho_mm, J_s ? J : NULL, NULL);
+    hp_error e = hpi_kin_contact_eval_warm(L, G, level, xi, warm, rho_mm, J_s ? J : NULL, NULL);
     if (e != HP_OK) return e;
     for (int k = 0; k < L->n; ++k) {
         rho_mm[k] *= HP_MM_PER_M;

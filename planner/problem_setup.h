@@ -277,6 +277,12 @@ void hpi_setup_pose_from_scaled(const double x[6], double xi[6]);
  * degree); J_s may be NULL. x is scaled (mm, deg). Allocates nothing. */
 hp_error hpi_setup_contact_scaled(const hp_layout *L, const hp_geom *G, hp_level level,
                                   const double x[6], double *rho_mm, double *J_s);
+/* hpi_setup_contact_scaled with one warm state per bladder for the surface level's distances
+ * (warm[0..n-1], see hpi_kin_head_distance_warm; NULL: cold): the same answers to rounding,
+ * fewer root-find steps where the pose moved little since warm was written. */
+hp_error hpi_setup_contact_scaled_warm(const hp_layout *L, const hp_geom *G, hp_level level,
+                                       const double x[6], hp_kin_dist_warm *warm, double *rho_mm,
+                                       double *J_s);
 /* Whether every contact distance at scaled pose x lies inside [lo_mm[k], hi_mm[k]] (mm):
  * *inside 1 with rho_mm[0..n-1] the distances (mm, the bits hpi_setup_contact_scaled gives),
  * else *inside 0 (rho_mm partly written). The evaluation stops at the first bladder

@@ -13,7 +13,7 @@
 /* Runs the receding horizon over the case's rows; the applied poses go to achieved (scaled:
  * mm, degrees), the statuses to status. Returns the mean iterations per call. */
 static double run(const hf_case *c, hp_prediction pred, int reference, double (*achieved)[6],
-                  hp_status *status)
+                  hp_status *status, double *dist_steps)
 {
     hp_horizon_settings hs;
     hp_horizon_settings_default(&hs);
@@ -32,6 +32,7 @@ static double run(const hf_case *c, hp_prediction pred, int reference, double (*
         status[t] = r.status;
     }
     double mean = (double)hpi_horizon_rh_iterations(rh) / (double)c->T;
+    *dist_steps = hpi_horizon_rh_dist_steps(rh);
     hp_horizon_rh_destroy(rh);
     return mean;
 }
@@ -52,6 +53,14 @@ static double run(const hf_case *c, hp_prediction pred, int reference, double (*
  * plain primal-dual method from a cold start took on these traces. */
 #define MAX_MEAN_ITER 5.0
 
+/* Root-find steps per contact distance allowed (the surface level's ellipsoid head): a row's
+ * distances start from where the row was last evaluated (a step of the interior point, or
+ * the previous call's plan shifted by a row), predicted to first order, so the start is off
+ * by the square of a small move and the third-order step ends in one evaluation; from the
+ * bracket (the reference) a distance takes 2–3. Measured 1.00–1.01 on these traces; with the
+ * states reset at every call (kept only within one) 1.33–1.47, and 2.5 with none kept. */
+#define MAX_DIST_STEPS 1.2
+
 static void check_trace(const char *scene, const char *trace, hp_prediction pred)
 {
     hf_case *c = hf_load(scene, trace, HF_MAX_ROWS);
@@ -59,8 +68,9 @@ static void check_trace(const char *scene, const char *trace, hp_prediction pred
     double(*fast)[6] = calloc(c->T, sizeof *fast), (*ref)[6] = calloc(c->T, sizeof *ref);
     hp_status *sf = calloc(c->T, sizeof *sf), *sr = calloc(c->T, sizeof *sr);
     assert_true(fast && ref && sf && sr);
-    double it_fast = run(c, pred, 0, fast, sf);
-    double it_ref = run(c, pred, 1, ref, sr);
+    double ds_fast, ds_ref;
+    double it_fast = run(c, pred, 0, fast, sf, &ds_fast);
+    double it_ref = run(c, pred, 1, ref, sr, &ds_ref);
     double worst = 0;
     size_t at = 0, differ = 0;
     for (size_t t = 0; t < c->T; ++t) {
@@ -72,12 +82,15 @@ static void check_trace(const char *scene, const char *trace, hp_prediction pred
         differ += sf[t] != sr[t];
     }
     print_message("%s %s: %zu rows, mean iterations %.2f (reference %.2f), largest applied pose "
-                  "difference %.3g mm/deg at line %ld, %zu statuses differ\n",
+                  "difference %.3g mm/deg at line %ld, %zu statuses differ; root-find steps per "
+                  "distance %.2f (from its bracket %.2f)\n",
                   trace, hp_prediction_name(pred), c->T, it_fast, it_ref, worst, c->rows[at].line,
-                  differ);
+                  differ, ds_fast, ds_ref);
     assert_true(worst <= AGREE_TOL);
     assert_int_equal(differ, 0);
     assert_true(it_fast <= MAX_MEAN_ITER);
+    assert_true(ds_ref >= 2.0); /* the scenes' heads are ellipsoids: the count is live */
+    assert_true(ds_fast <= MAX_DIST_STEPS);
     free(fast);
     free(ref);
     free(sf);
