@@ -19,8 +19,9 @@ const char *hpi_horizon_rh_reason(const hp_horizon_rh *rh);
  * centring, up to 100 iterations and a tolerance 100 times tighter than the default: the
  * converged answer a faster solve is held to). */
 long hpi_horizon_rh_iterations(const hp_horizon_rh *rh);
-/* The mean root-find steps per contact distance of every call so far (the surface level's;
- * 0 at the others): each row's distances start from where the row was last evaluated. */
+/* The mean root-find steps per contact distance of every call so far: the ellipsoid head's
+ * distances at the surface level (0 where none is solved: the plane and linear levels, a
+ * sphere head); each row's distances start from where the row was last evaluated. */
 double hpi_horizon_rh_dist_steps(const hp_horizon_rh *rh);
 void hpi_horizon_rh_reference(hp_horizon_rh *rh);
 

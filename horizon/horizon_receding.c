@@ -91,8 +91,11 @@ struct hp_horizon_rh {
     double alpha[HP_HORIZON_MAX * HP_MAX_BLADDERS];
     /* The surface level's root-find state of each bladder and row at the last pose its row
      * was evaluated at: the next evaluation of the row starts from it (an iterate moves a
-     * row little, a call's shifted row less), in fewer steps to the same distance to
-     * rounding. The reference solve of the tests starts every distance from its bracket. */
+     * row little), in fewer steps to the same distance to rounding. Shifted with the rows,
+     * so that a call starts each row from that row's own pose; unshifted, the neighbouring
+     * row's pose served as well on the horizon traces (1.00–1.01 steps a distance either
+     * way), so the tests hold the states kept across calls, not the shift. The reference
+     * solve of the tests starts every distance from its bracket. */
     hp_kin_dist_warm dw[HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double wk[HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* per bladder and row, within one step */
     double g[HP_HORIZON_MAX * 6];
@@ -106,11 +109,11 @@ struct hp_horizon_rh {
     double ds[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double dl[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];
     double tgt[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS]; /* complementarity targets */
-    int warm;               /* sl and lam hold the previous call's answer, shifted by one row */
-    int geom_ok;            /* rho, J, P, dP and du are those of every row of z */
-    long iterations;        /* interior-point iterations of every call so far (tests) */
-    long dist_steps, dists; /* the surface level's root-find steps and distances (tests) */
-    int reference;          /* solve every call cold to a tight tolerance (tests) */
+    int warm;        /* sl and lam hold the previous call's answer, shifted by one row */
+    int geom_ok;     /* rho, J, P, dP and du are those of every row of z */
+    long iterations; /* interior-point iterations of every call so far (tests) */
+    unsigned long dist_steps, dists; /* ellipsoid distances' root-find steps, and count (tests) */
+    int reference;                   /* solve every call cold to a tight tolerance (tests) */
 };
 
 /* P [Pa] and dP/dro [Pa/mm] at outer radius ro (mm), ro held inside the box. */
@@ -140,15 +143,15 @@ static int press_of_ro(const hp_horizon_rh *rh, int k, double ro, double *P, dou
 static int row_geometry(hp_horizon_rh *rh, int j, const double *zj)
 {
     const int n = rh->n;
-    rh->dists += n;
     hp_kin_dist_warm *w = rh->dw + n * j;
     if (rh->reference) hpi_kin_dist_warm_cold(w, n); /* every distance from its bracket */
     if (hpi_setup_contact_scaled_warm(rh->L, rh->G, rh->level, zj, w, rh->rho + n * j,
                                       rh->J + 6 * n * j) != HP_OK)
         return 0;
+    rh->dists += (unsigned long)n; /* counted with their steps: a failed row adds neither */
+    for (int k = 0; k < n; ++k) rh->dist_steps += (unsigned long)w[k].evals;
     for (int k = 0; k < n; ++k) {
         const int o = n * j + k;
-        rh->dist_steps += w[k].evals;
         if (!press_of_ro(rh, k, rh->rho[o], &rh->P[o], &rh->dP[o])) return 0;
         rh->alpha[o] = rh->dP[o] * 1e-3;
     }

@@ -1,5 +1,5 @@
 /* The receding horizon's solve at N = 10 on the step and breathing traces (hold and
- * velocity): its applied rows against a reference solve of the same problem (every call
+ * velocity; periodic on breathing): its applied rows against a reference solve of the same problem (every call
  * from a cold start with fixed centring, to a tolerance 100 times tighter and up to 100
  * iterations: the converged answer), and the number of interior-point iterations a call
  * takes, a count that does not depend on the machine (the call's cost is about that count
@@ -58,7 +58,10 @@ static double run(const hf_case *c, hp_prediction pred, int reference, double (*
  * the previous call's plan shifted by a row), predicted to first order, so the start is off
  * by the square of a small move and the third-order step ends in one evaluation; from the
  * bracket (the reference) a distance takes 2–3. Measured 1.00–1.01 on these traces; with the
- * states reset at every call (kept only within one) 1.33–1.47, and 2.5 with none kept. */
+ * states reset at every call (kept only within one) 1.33–1.47, and 2.5 with none kept. What
+ * this holds is the states kept across calls: unshifted (each row starting from its
+ * neighbour's pose) the count was 1.00–1.01 too, and one state per bladder shared by all
+ * rows 1.05–1.09. */
 #define MAX_DIST_STEPS 1.2
 
 static void check_trace(const char *scene, const char *trace, hp_prediction pred)
@@ -89,7 +92,7 @@ static void check_trace(const char *scene, const char *trace, hp_prediction pred
     assert_true(worst <= AGREE_TOL);
     assert_int_equal(differ, 0);
     assert_true(it_fast <= MAX_MEAN_ITER);
-    assert_true(ds_ref >= 2.0); /* the scenes' heads are ellipsoids: the count is live */
+    assert_true(ds_ref > MAX_DIST_STEPS); /* ellipsoid heads: the limit can bind */
     assert_true(ds_fast <= MAX_DIST_STEPS);
     free(fast);
     free(ref);
