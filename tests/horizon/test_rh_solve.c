@@ -1,9 +1,10 @@
 /* The receding horizon's solve at N = 10 on the step and breathing traces (hold and
- * velocity; periodic on breathing): its applied rows against a reference solve of the same problem (every call
- * from a cold start with fixed centring, to a tolerance 100 times tighter and up to 100
- * iterations: the converged answer), and the number of interior-point iterations a call
- * takes, a count that does not depend on the machine (the call's cost is about that count
- * times one iteration's; timing itself is in bench/horizon_bench.c). */
+ * velocity; periodic on breathing): its applied rows against a reference solve of the same
+ * problem (every call from a cold start with fixed centring, to a tolerance 100 times tighter
+ * and up to 100 iterations: the converged answer), and the number of interior-point
+ * iterations a call takes and of root-find steps a contact distance takes, counts that do not
+ * depend on the machine (the call's cost is about the first times one iteration's; timing
+ * itself is in bench/horizon_bench.c). */
 #include "support/test_util.h"
 #include "tests/horizon/horizon_fixture.h"
 #include "horizon/horizon_internal.h"
