@@ -153,18 +153,23 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
     double dx_old = hi - lo, dx = dx_old;
     /* The outer radius of each evaluation is kept with it (hpi_iab_s_ik forms it for the
      * pressure): the caller gets the root's without another cube root. */
-    double best = x, best_f = INFINITY, best_ro = NAN, best_p = NAN, ro;
+    double best = x, best_f = INFINITY, best_ro = NAN, best_p = NAN, ro = NAN, x_ro = NAN;
+    int newton = 0; /* x is a short Newton step from x_ro, whose outer radius ro is */
     for (int it = 0; it < 300; ++it) {
         double p, d;
         /* The first step at the guess: its pressure, slope and outer radius when the caller
-         * formed them (hpi_iab_s_ik's bits), else evaluated here. */
+         * formed them (hpi_iab_s_ik's bits), else evaluated here; a Newton step's outer
+         * radius from the last one's (hpi_iab_cbrt_near: the same bits but within ~1e-7 ulp
+         * of a midpoint, a third of the cube root's latency). */
         if (it == 0 && start_known) {
             p = at_guess[0];
             d = at_guess[1];
             ro = at_guess[2];
-        } else if (++o->evals, hpi_iab_s_pressure_slope(s, x, &p, &ro, &d) != HP_OK) {
+        } else if (++o->evals, (newton ? hpi_iab_s_pressure_slope_near(s, x, x_ro, ro, &p, &ro, &d)
+                                       : hpi_iab_s_pressure_slope(s, x, &p, &ro, &d)) != HP_OK) {
             return HP_ERR_DOMAIN;
         }
+        x_ro = x;
         o->d = d;
         double f = p - target;
         if (fabs(f) < best_f) {
@@ -187,7 +192,7 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
             if (loose) break; /* x is the root to rounding; its neighbour not looked at */
             double xs = f < 0 ? hpi_next_up(x) : hpi_next_down(x), ps, ros;
             ++o->evals;
-            if (hpi_iab_s_pressure_ro(s, xs, &ps, &ros) == HP_OK)
+            if (hpi_iab_s_pressure_ro_near(s, xs, x, ro, &ps, &ros) == HP_OK)
                 last_look(target, x, p, ro, xs, ps, ros, &best, &best_p, &best_ro, &best_f, o);
             break;
         }
@@ -200,15 +205,19 @@ static hp_error solve_bracket(const hp_iab_s *s, double target, double lo, doubl
                 if (loose) break;              /* x, an ulp or two from the root */
                 double pn, ron;
                 ++o->evals;
-                if (hpi_iab_s_pressure_ro(s, xn, &pn, &ron) == HP_OK)
+                if (hpi_iab_s_pressure_ro_near(s, xn, x, ro, &pn, &ron) == HP_OK)
                     last_look(target, x, p, ro, xn, pn, ron, &best, &best_p, &best_ro, &best_f, o);
                 break;
             }
             x = xn;
+            /* Within 1e-7 of the last: a first-order start of its outer radius is within
+             * ~1e-14, inside hpi_iab_cbrt_near's 2^-40 (a longer step: the full root). */
+            newton = fabs(dx) <= 1e-7 * x;
         } else {
             dx_old = dx;
             dx = 0.5 * (hi - lo);
             x = lo + dx;
+            newton = 0;
             if (!(x > lo && x < hi)) break;
         }
     }

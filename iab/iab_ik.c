@@ -51,12 +51,17 @@ static hp_error pressure_at(const hp_iab_s *s, double ri, double r, double *P)
     return pressure_at_l(s, ri, r, ri / s->Ri, r / s->Ro, P);
 }
 
-hp_error hpi_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro)
+/* The pressure at scaled inner radius ri whose scaled outer radius is r, and r. */
+static inline hp_error pressure_ro_at(const hp_iab_s *s, double ri, double r, double *P, double *ro)
 {
-    double r = hpi_iab_s_ro(s, ri);
     if (pressure_at(s, ri, r, P) != HP_OK) return HP_ERR_DOMAIN;
     *ro = r;
     return HP_OK;
+}
+
+hp_error hpi_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *ro)
+{
+    return pressure_ro_at(s, ri, hpi_iab_s_ro(s, ri), P, ro);
 }
 
 /* hpi_iab_s_slopes with the stretches li = ri/Ri, lo = ro/Ro formed by the caller. */
@@ -87,15 +92,44 @@ hp_error hpi_iab_s_slopes(const hp_iab_s *s, double ri, double ro, double *d1, d
     return slopes_l(s, ri, ro, ri / s->Ri, ro / s->Ro, d1, d2);
 }
 
-hp_error hpi_iab_s_pressure_slope(const hp_iab_s *s, double ri, double *P, double *ro, double *d1)
+/* The pressure and slope at scaled inner radius ri whose scaled outer radius is r. */
+static inline hp_error pressure_slope_at(const hp_iab_s *s, double ri, double r, double *P,
+                                         double *ro, double *d1)
 {
-    double r = hpi_iab_s_ro(s, ri), li = ri / s->Ri, lo = r / s->Ro, p;
+    double li = ri / s->Ri, lo = r / s->Ro, p;
     if (pressure_at_l(s, ri, r, li, lo, &p) != HP_OK ||
         slopes_l(s, ri, r, li, lo, d1, NULL) != HP_OK)
         return HP_ERR_DOMAIN;
     *P = p;
     *ro = r;
     return HP_OK;
+}
+
+hp_error hpi_iab_s_pressure_slope(const hp_iab_s *s, double ri, double *P, double *ro, double *d1)
+{
+    return pressure_slope_at(s, ri, hpi_iab_s_ro(s, ri), P, ro, d1);
+}
+
+/* The outer radius at ri from a nearby evaluation (ri0, ro0), by the first-order step
+ * dro/dri = ri²/ro² from it: within ~(Δri/ri)² of the root, so hpi_iab_cbrt_near takes it
+ * for Newton steps and neighbours (Δri/ri below ~1e-6); NAN ro0 or a far ri0: the full
+ * cube root. */
+static inline double ro_from_near(const hp_iab_s *s, double ri, double ri0, double ro0)
+{
+    double q = ri0 / ro0;
+    return hpi_iab_cbrt_near(s->W + ri * ri * ri, ro0 + q * q * (ri - ri0));
+}
+
+hp_error hpi_iab_s_pressure_slope_near(const hp_iab_s *s, double ri, double ri0, double ro0,
+                                       double *P, double *ro, double *d1)
+{
+    return pressure_slope_at(s, ri, ro_from_near(s, ri, ri0, ro0), P, ro, d1);
+}
+
+hp_error hpi_iab_s_pressure_ro_near(const hp_iab_s *s, double ri, double ri0, double ro0, double *P,
+                                    double *ro)
+{
+    return pressure_ro_at(s, ri, ro_from_near(s, ri, ri0, ro0), P, ro);
 }
 
 hp_error hpi_iab_s_ik(const hp_iab_s *s, double ri, double *P, double *d1, double *d2)

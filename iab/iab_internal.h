@@ -111,6 +111,15 @@ hp_error hpi_iab_s_pressure_ro(const hp_iab_s *s, double ri, double *P, double *
  * same bits and codes as the two calls (the stretches ri/Ri and ro/Ro both formulas use are
  * formed once). The root find's evaluation of a Newton step. */
 hp_error hpi_iab_s_pressure_slope(const hp_iab_s *s, double ri, double *P, double *ro, double *d1);
+/* hpi_iab_s_pressure_slope and hpi_iab_s_pressure_ro at ri next to an evaluation at ri0
+ * whose scaled outer radius was ro0 (a root find's next step or the double beside its
+ * root): the outer radius from hpi_iab_cbrt_near, started a first-order step from ro0, so
+ * the same bits except within ~1e-7 ulp of a rounding midpoint of that radius, for less
+ * latency. Any ri0, ro0 are safe (NAN or far off: the full cube root). */
+hp_error hpi_iab_s_pressure_slope_near(const hp_iab_s *s, double ri, double ri0, double ro0,
+                                       double *P, double *ro, double *d1);
+hp_error hpi_iab_s_pressure_ro_near(const hp_iab_s *s, double ri, double ri0, double ro0, double *P,
+                                    double *ro);
 
 /* hp_iab_fk_limit with a start for its safeguarded Newton iteration: ri_guess [m] (a
  * nearby answer; NAN or outside the bracket: the bracket's midpoint). The same root to

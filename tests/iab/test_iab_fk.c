@@ -300,6 +300,16 @@ static void test_fk_warm_ro(void **state)
     }
 }
 
+/* A seeded bladder, validated: thickness ratio 0.6..0.97, C2/C1 0..0.5. */
+static hp_iab_s seeded_bladder(uint64_t *seed)
+{
+    double q = test_rng_uniform(seed, 0.6, 0.97), c = test_rng_uniform(seed, 0.0, 0.5);
+    hp_iab b = {q * 0.03, 0.03, 1.1e4, c * 1.1e4};
+    hp_iab_s s = {0};
+    assert_int_equal(hpi_iab_scaled_init(&b, &s, NULL), HP_OK);
+    return s;
+}
+
 /* The root find's evaluation (hpi_iab_s_pressure_slope: the pressure, the outer radius and
  * the slope in one pass, sharing the stretches the two formulas both form) gives the bits of
  * the two calls it stands for (hpi_iab_s_pressure_ro, then hpi_iab_s_slopes at that outer
@@ -312,10 +322,7 @@ static void test_pressure_slope_same_bits(void **state)
     uint64_t seed = 0x51095;
     long n = 0;
     for (int t = 0; t < 2000; ++t) {
-        double q = test_rng_uniform(&seed, 0.6, 0.97), c = test_rng_uniform(&seed, 0.0, 0.5);
-        hp_iab b = {q * 0.03, 0.03, 1.1e4, c * 1.1e4};
-        hp_iab_s s = {0};
-        assert_int_equal(hpi_iab_scaled_init(&b, &s, NULL), HP_OK);
+        hp_iab_s s = seeded_bladder(&seed);
         for (int i = 0; i < 50; ++i) {
             double ri = s.Ri * exp(test_rng_uniform(&seed, log(0.05), log(20.0)));
             if (i == 0) ri = 1e200;
@@ -335,6 +342,53 @@ static void test_pressure_slope_same_bits(void **state)
     assert_true(n > 90000);
 }
 
+/* The root find's evaluations next to an earlier one (hpi_iab_s_pressure_slope_near and
+ * hpi_iab_s_pressure_ro_near: the outer radius's cube root from a first-order step off the
+ * earlier evaluation's) give the bits of the full ones: on seeded bladders as above, at
+ * radii a Newton step (relative 1e-16 to 1e-7) from the earlier one, whose first-order start
+ * is checked to lie within the 2^-40 the near cube root takes (so that path, not its fall
+ * back, gave the bits), and from far (1e-2) and NaN earlier radii (the full cube root's
+ * fall back). The near root is the correctly rounded one but within ~1e-7 ulp of a midpoint,
+ * as the full one is, so the bits may differ there: none of these 600 000 do. */
+static void test_pressure_near_same_bits(void **state)
+{
+    (void)state;
+    static const double steps[] = {0.0, 1e-16, -3e-16, 1e-13, -1e-12, 1e-10, -1e-9, 1e-7, 1e-2};
+    const int ns = (int)(sizeof steps / sizeof steps[0]);
+    uint64_t seed = 0x4ea5;
+    long n = 0, near = 0;
+    for (int t = 0; t < 1000; ++t) {
+        hp_iab_s s = seeded_bladder(&seed);
+        for (int i = 0; i < 30; ++i) {
+            double ri = s.Ri * exp(test_rng_uniform(&seed, log(0.3), log(3.0)));
+            double p1, ro1, d1;
+            if (hpi_iab_s_pressure_slope(&s, ri, &p1, &ro1, &d1) != HP_OK) continue;
+            for (int j = 0; j <= ns; ++j) {
+                /* j == ns: no earlier evaluation (NaN) */
+                double ri0 = j < ns ? ri * (1.0 - steps[j]) : NAN, ro0 = hpi_iab_s_ro(&s, ri0);
+                if (j < ns && fabs(steps[j]) <= 1e-7) {
+                    double w = ri0 / ro0, y0 = ro0 + w * w * (ri - ri0);
+                    assert_true(fabs(y0 - ro1) <= 0x1p-41 * ro1);
+                    ++near;
+                }
+                double p2 = NAN, ro2 = NAN, d2 = NAN, p3 = NAN, ro3 = NAN;
+                assert_int_equal(hpi_iab_s_pressure_slope_near(&s, ri, ri0, ro0, &p2, &ro2, &d2),
+                                 HP_OK);
+                assert_int_equal(hpi_iab_s_pressure_ro_near(&s, ri, ri0, ro0, &p3, &ro3), HP_OK);
+                assert_memory_equal(&p1, &p2, sizeof p1);
+                assert_memory_equal(&ro1, &ro2, sizeof ro1);
+                assert_memory_equal(&d1, &d2, sizeof d1);
+                assert_memory_equal(&p1, &p3, sizeof p1);
+                assert_memory_equal(&ro1, &ro3, sizeof ro1);
+                n += 2;
+            }
+        }
+    }
+    print_message("%ld near evaluations (%ld from a start within 2^-41), the full bits each time\n",
+                  n, near);
+    assert_true(n > 500000 && near > 200000);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -347,6 +401,7 @@ int main(void)
         cmocka_unit_test(test_fk_warm),
         cmocka_unit_test(test_fk_warm_ro),
         cmocka_unit_test(test_pressure_slope_same_bits),
+        cmocka_unit_test(test_pressure_near_same_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
