@@ -35,6 +35,8 @@ typedef struct bench_options {
     const char *peer_script; /* bench/scipy_peer.py (peers) */
     const char *out_dir;     /* the output folder (peers writes its exchange files there) */
     int repeat;              /* loop: each trace run this many times, its cycles pooled */
+    int loop_level;          /* loop: the one hp_level it runs (-1: linear, plane, surface) */
+    int loop_backend;        /* loop: the one hp_backend it runs (-1: realtime, SLSQP) */
 } bench_options;
 
 /* Fills the sampling settings for a full (quick = 0) or quick run; the paths NULL. */

@@ -3,6 +3,8 @@
  * summary table on stdout and progress on stderr. A benchmark measures; it never fails on
  * a time. */
 #include "bench/bench.h"
+#include "headplan/hp_contact.h"
+#include "headplan/hp_planner.h"
 #include "common/unconst.h"
 #include "bench/bench_report.h"
 #include "cli/cli_args.h"
@@ -61,7 +63,8 @@ static void help(void)
 {
     printf("usage: headplan-bench [--out DIR] [--quick] [--only FAMILY[,FAMILY]] [--seed N]\n"
            "                      [--scene FILE] [--scenarios DIR] [--python EXE]\n"
-           "                      [--peer-script FILE] [--repeat N]\n\n"
+           "                      [--peer-script FILE] [--repeat N]\n"
+           "                      [--loop-level LEVEL] [--loop-backend NAME]\n\n"
            "Measures every method of each family on the same inputs: median and 99th\n"
            "percentile time per evaluation (CLOCK_MONOTONIC, warm-up, batches timed together;\n"
            "the planner and peers methods take turns, 7 rounds of 9 turns, so a slow spell of\n"
@@ -96,6 +99,11 @@ static void help(void)
            "                 take its percentiles over all N x cycles (default 1; 1..100);\n"
            "                 from N = 3 also the p99.9 of each cycle's median time over the\n"
            "                 N runs (the plans' own tail, without the host's stalls)\n"
+           "  --loop-level LEVEL  loop family: only this contact level (linear, plane or\n"
+           "                 surface; default all three)\n"
+           "  --loop-backend NAME  loop family: only this backend (realtime or nlopt-slsqp;\n"
+           "                 default both): a few seconds for realtime at one level, so two\n"
+           "                 builds can take many turns\n"
            "  --help         this text\n\n"
            "exit status: 0 ok, 64 bad command line, 70 gnuplot or SciPy missing or failed,\n"
            "66 scene, catalogue or peer script cannot be read, 73 cannot write the output\n"
@@ -157,6 +165,8 @@ int bench_run_cli(int argc, char **argv)
     const char *out = DEFAULT_OUT, *scene = DEFAULT_SCENE, *scenarios = DEFAULT_SCENARIOS;
     const char *python = DEFAULT_PYTHON, *peer_script = DEFAULT_PEER_SCRIPT;
     int quick = 0, only_given = 0, repeat_given = 0, rc;
+    const char *loop_opt = NULL; /* the first loop-only option given */
+    int loop_level = -1, loop_backend = -1;
     int on[N_FAMILIES] = {0};
     long seed = 1, repeat = 1;
     for (int i = 1; i < argc; ++i) {
@@ -193,6 +203,28 @@ int bench_run_cli(int argc, char **argv)
             if (m < 0 || (rc = cli_int(CMD, "--repeat", v, 1, 100, &repeat)) != 0)
                 return CLI_EXIT_USAGE;
             repeat_given = 1;
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--loop-level", &v)) != 0) {
+            hp_level lv;
+            if (m < 0) return CLI_EXIT_USAGE;
+            if (hp_level_parse(v, &lv) != HP_OK ||
+                (lv != HP_LEVEL_LINEAR && lv != HP_LEVEL_PLANE && lv != HP_LEVEL_SURFACE))
+                return cli_fail(CLI_EXIT_USAGE, CMD,
+                                "--loop-level: '%s' is not a level the loop family runs "
+                                "(linear, plane or surface)",
+                                v);
+            loop_level = (int)lv;
+            if (!loop_opt) loop_opt = "--loop-level";
+        } else if ((m = cli_opt(CMD, argc, argv, &i, "--loop-backend", &v)) != 0) {
+            hp_backend bk;
+            if (m < 0) return CLI_EXIT_USAGE;
+            if (hp_backend_parse(v, &bk) != HP_OK ||
+                (bk != HP_BACKEND_REALTIME && bk != HP_BACKEND_NLOPT_SLSQP))
+                return cli_fail(CLI_EXIT_USAGE, CMD,
+                                "--loop-backend: '%s' is not a backend the loop family runs "
+                                "(realtime or nlopt-slsqp)",
+                                v);
+            loop_backend = (int)bk;
+            if (!loop_opt) loop_opt = "--loop-backend";
         } else if ((m = cli_opt(CMD, argc, argv, &i, "--seed", &v)) != 0) {
             if (m < 0 || (rc = cli_int(CMD, "--seed", v, 0, LONG_MAX, &seed)) != 0)
                 return CLI_EXIT_USAGE;
@@ -209,6 +241,9 @@ int bench_run_cli(int argc, char **argv)
     if (repeat_given && !loop_on) /* it would be silently ignored */
         return cli_fail(CLI_EXIT_USAGE, CMD,
                         "--repeat: only the loop family repeats its traces (add loop to --only)");
+    if (loop_opt && !loop_on)
+        return cli_fail(CLI_EXIT_USAGE, CMD,
+                        "%s: only the loop family takes it (add loop to --only)", loop_opt);
 
     /* Fail before minutes of measuring, not after. */
     if (bench_gnuplot_available() != 0)
@@ -250,6 +285,8 @@ int bench_run_cli(int argc, char **argv)
     o.peer_script = peer_script;
     o.out_dir = out;
     o.repeat = (int)repeat;
+    o.loop_level = loop_level;
+    o.loop_backend = loop_backend;
     for (size_t k = 0; k < N_FAMILIES; ++k)
         if (on[k] && (rc = run_family(&families[k], &o, out)) != 0) return rc;
     return CLI_EXIT_OK;

@@ -285,6 +285,9 @@ int bench_loop(const bench_options *o, const char *dir)
     for (int b = 0; b < N_BACKENDS && rc == 0; ++b)
         for (int l = 0; l < N_LEVELS && rc == 0; ++l)
             for (int t = 0; t < N_TRACES && rc == 0; ++t) {
+                if ((o->loop_backend >= 0 && (int)backends[b] != o->loop_backend) ||
+                    (o->loop_level >= 0 && (int)levels[l] != o->loop_level))
+                    continue;
                 fprintf(stderr, "bench loop: %s %s %s\n", hp_backend_name(backends[b]),
                         hp_level_name(levels[l]), trace_names[t]);
                 rc = run_trace(o, &scene.layout, &s, levels[l], backends[b], t, rows + nr, &bf);

@@ -288,6 +288,20 @@ expect_exit 64 "--repeat 0"; expect_stderr_has "--repeat" "names --repeat"
 # ignored, so it is refused before any measuring.
 run --quick --only ik --repeat 3 --out "$TMP/x"
 expect_exit 64 "--repeat without the loop family"; expect_stderr_has "--repeat" "names --repeat"
+# --loop-level and --loop-backend keep the loop family to one level and backend (so that two
+# builds can take many quick turns): only those rows, all of them; a name the family does not
+# run, or either option without the loop family, is refused before any measuring.
+run --quick --only loop --loop-level linear --loop-backend realtime --out "$TMP/lone" \
+  --scene "$HP_SRC/scenarios/default.yaml"
+expect_exit 0 "bench --only loop --loop-level linear --loop-backend realtime"
+awk -F, 'NR > 1 { n++; if ($1 != "linear" || $2 != "realtime") bad = 1 } END { exit bad || n != 12 }' \
+  "$TMP/lone/loop.csv" && ok || bad "loop --loop-level linear --loop-backend realtime: 12 linear realtime rows"
+run --quick --only loop --loop-level load --out "$TMP/x"
+expect_exit 64 "--loop-level load"; expect_stderr_has "--loop-level" "names --loop-level"
+run --quick --only loop --loop-backend ipopt --out "$TMP/x"
+expect_exit 64 "--loop-backend ipopt"; expect_stderr_has "--loop-backend" "names --loop-backend"
+run --quick --only ik --loop-level plane --out "$TMP/x"
+expect_exit 64 "--loop-level without the loop family"; expect_stderr_has "--loop-level" "names --loop-level"
 run --only nonsense --out "$TMP/x"
 expect_exit 64 "--only nonsense"; expect_stderr_has "--only" "names --only"; expect_stdout_empty "--only nonsense"
 run --seed -3 --out "$TMP/x"
