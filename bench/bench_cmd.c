@@ -102,7 +102,7 @@ static void help(void)
            "  --loop-level LEVEL  loop family: only this contact level (linear, plane or\n"
            "                 surface; default all three)\n"
            "  --loop-backend NAME  loop family: only this backend (realtime or nlopt-slsqp;\n"
-           "                 default both): a few seconds for realtime at one level, so two\n"
+           "                 default both): under a second for realtime at one level, so two\n"
            "                 builds can take many turns\n"
            "  --help         this text\n\n"
            "exit status: 0 ok, 64 bad command line, 70 gnuplot or SciPy missing or failed,\n"

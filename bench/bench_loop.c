@@ -24,8 +24,9 @@
  * planner/problem_setup.h), and the share of the slowest 1 % of plans (at or above the
  * p99) that solved at least one end. With o->repeat > 1 each trace runs that many times
  * (fresh planners each time) and every figure is over all the cycles; from 3 runs on also
- * the p99.9 of each cycle's median time over the runs (cycle_p999). Writes DIR/loop.csv;
- * prints a summary. */
+ * the p99.9 of each cycle's median time over the runs (cycle_p999). o->loop_level and
+ * o->loop_backend (>= 0) keep it to that level and backend. Writes DIR/loop.csv; prints a
+ * summary. */
 #include "bench/bench.h"
 #include "bench/bench_timing.h"
 #include "bench/bench_util.h"

@@ -112,8 +112,8 @@ hp_error hpi_iab_s_pressure_slope(const hp_iab_s *s, double ri, double *P, doubl
 
 /* The outer radius at ri from a nearby evaluation (ri0, ro0), by the first-order step
  * dro/dri = ri²/ro² from it: within ~(Δri/ri)² of the root, so hpi_iab_cbrt_near takes it
- * for Newton steps and neighbours (Δri/ri below ~1e-6); NAN ro0 or a far ri0: the full
- * cube root. */
+ * for Newton steps and neighbours (the root find's are within 1e-7); NAN ro0 or a far ri0:
+ * the full cube root. */
 static inline double ro_from_near(const hp_iab_s *s, double ri, double ri0, double ro0)
 {
     double q = ri0 / ro0;

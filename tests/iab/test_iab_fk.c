@@ -347,9 +347,10 @@ static void test_pressure_slope_same_bits(void **state)
  * earlier evaluation's) give the bits of the full ones: on seeded bladders as above, at
  * radii a Newton step (relative 1e-16 to 1e-7) from the earlier one, whose first-order start
  * is checked to lie within the 2^-40 the near cube root takes (so that path, not its fall
- * back, gave the bits), and from far (1e-2) and NaN earlier radii (the full cube root's
- * fall back). The near root is the correctly rounded one but within ~1e-7 ulp of a midpoint,
- * as the full one is, so the bits may differ there: none of these 600 000 do. */
+ * back, gave the bits), and from far (1e-2) and NaN earlier radii and outer radii no
+ * evaluation gives (0, negative, infinite, 1e±300: the full cube root's fall back). The
+ * near root is the correctly rounded one but within ~1e-7 ulp of a midpoint, as the full
+ * one is, so the bits may differ there: none of these 600 000 do. */
 static void test_pressure_near_same_bits(void **state)
 {
     (void)state;
@@ -381,6 +382,17 @@ static void test_pressure_near_same_bits(void **state)
                 assert_memory_equal(&p1, &p3, sizeof p1);
                 assert_memory_equal(&ro1, &ro3, sizeof ro1);
                 n += 2;
+            }
+            /* Outer radii no evaluation gives (zero, negative, infinite, out of range): the
+             * full cube root's bits too. */
+            static const double odd[] = {0.0, -1.0, INFINITY, -INFINITY, 1e-300, 1e300};
+            for (int j = 0; j < (int)(sizeof odd / sizeof odd[0]); ++j) {
+                double p2 = NAN, ro2 = NAN, d2 = NAN;
+                assert_int_equal(hpi_iab_s_pressure_slope_near(&s, ri, ri, odd[j], &p2, &ro2, &d2),
+                                 HP_OK);
+                assert_memory_equal(&p1, &p2, sizeof p1);
+                assert_memory_equal(&ro1, &ro2, sizeof ro1);
+                assert_memory_equal(&d1, &d2, sizeof d1);
             }
         }
     }
