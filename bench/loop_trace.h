@@ -3,8 +3,11 @@
 #ifndef HP_BENCH_LOOP_TRACE_H
 #define HP_BENCH_LOOP_TRACE_H
 
+#include <headplan/headplan.h>
+
 #include <math.h>
 #include <stdint.h>
+#include <stdio.h>
 
 /* Uniform in [0, 1) from the xorshift state *s (the lab's seeded generator: bench_urand). */
 static inline double sa_xorshift(uint64_t *s)
@@ -39,6 +42,24 @@ static inline void sa_loop_trace(int trace, long j, uint64_t *s, double step_tgt
     if (trace == 1)
         for (int i = 0; i < 6; ++i)
             mm_deg[i] += (2.0 * sa_xorshift(s) - 1.0) * (i < 3 ? 0.1 : 0.05);
+}
+
+/* A realtime planner of the loop benchmark's replays (plan_count.c's tail mode,
+ * loop_phases.c) at level (0 linear, 1 plane, 2 surface), rate limits on or off, max_time
+ * 10 s: the loop benchmark's rate and measured planners' settings. 0, or 65 after printing
+ * prog and the planner's message on stderr. */
+static inline int sa_loop_planner(const hp_layout *L, int level, int rate, const char *prog,
+                                  hp_planner **p)
+{
+    hp_settings st;
+    hp_settings_default(&st);
+    st.level = (hp_level)level;
+    st.use_rate_limits = rate;
+    st.max_time = 10.0;
+    hp_diag d = {{0}};
+    if (hp_planner_create(L, &st, p, &d) == HP_OK) return 0;
+    fprintf(stderr, "%s: %s\n", prog, d.text);
+    return 65;
 }
 
 #endif

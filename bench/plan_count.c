@@ -202,18 +202,8 @@ static int run_tail(const hp_layout *L0, int level, int trace, int feed, long cy
     for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
     hp_planner *p[2] = {NULL, NULL};
     int rc = 0;
-    for (int m = 0; m < 2 && rc == 0; ++m) {
-        hp_settings st;
-        hp_settings_default(&st);
-        st.level = (hp_level)level;
-        st.use_rate_limits = m;
-        st.max_time = 10.0; /* the loop benchmark's, for its rate and measured modes */
-        hp_diag d = {{0}};
-        if (hp_planner_create(&L, &st, &p[m], &d) != HP_OK) {
-            fprintf(stderr, "headplan-bench-count: %s\n", d.text);
-            rc = 65;
-        }
-    }
+    for (int m = 0; m < 2 && rc == 0; ++m)
+        rc = sa_loop_planner(&L, level, m, "headplan-bench-count", &p[m]);
     uint64_t seed = 0x100b + (uint64_t)trace, noise = 0x5e7 + (uint64_t)trace;
     double tgt[6] = {0};
     for (long j = 0; j < cycles && rc == 0; ++j) {
