@@ -39,8 +39,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LOOP_RATE_PA 500.0
-#define LOOP_NOISE_PA 3.0
+#define LOOP_RATE_PA SA_LOOP_RATE_PA /* bench/loop_trace.h: the replays' too */
+#define LOOP_NOISE_PA SA_LOOP_NOISE_PA
 #define LOOP_BUDGET_US 20.0
 #define LOOP_OVERSHOOT_US 5.0
 #define LOOP_HOST_US 100.0
@@ -59,7 +59,6 @@ static long loop_cycles(const bench_options *o)
 #define N_ROWS (N_LEVELS * N_BACKENDS * N_TRACES * N_MODES)
 
 static const char *const mode_names[N_MODES] = {"free", "rate", "measured", "deadline"};
-static const char *const trace_names[N_TRACES] = {"smooth", "noisy", "step"};
 static const hp_level levels[N_LEVELS] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
 static const hp_backend backends[N_BACKENDS] = {HP_BACKEND_REALTIME, HP_BACKEND_NLOPT_SLSQP};
 
@@ -81,14 +80,6 @@ typedef struct {
     long ends, evals;        /* rate window ends solved, closed-form evaluations they spent */
     double slow_solving_pct; /* of the plans at or above the p99, % that solved an end */
 } loop_row;
-
-/* The trace's correction at cycle j [SI] (sa_loop_trace). */
-static void trace_at(int trace, long j, uint64_t *s, double step_tgt[6], double xi[6])
-{
-    double mm_deg[6];
-    sa_loop_trace(trace, j, s, step_tgt, mm_deg);
-    bench_to_si(mm_deg, xi);
-}
 
 static int cmp_d(const void *a, const void *b)
 {
@@ -159,11 +150,12 @@ static int run_once(const bench_options *o, const hp_layout *L0, const hp_settin
         s.max_time = m == 3 ? LOOP_BUDGET_US * 1e-6 : 10.0;
         rc = bench_planner_new(&L, &s, &p[m]);
     }
-    uint64_t seed = 0x100b + (uint64_t)trace, noise = 0x5e7 + (uint64_t)trace;
+    uint64_t seed, noise;
+    sa_loop_seeds(trace, &seed, &noise);
     double tgt[6] = {0};
     for (long j = 0; j < n && rc == 0; ++j) {
         double xi[6];
-        trace_at(trace, j, &seed, tgt, xi);
+        sa_loop_trace_si(trace, j, &seed, tgt, xi);
         for (int mm = 0; mm < N_MODES; ++mm) {
             int m = j % 2 ? N_MODES - 1 - mm : mm; /* forwards, then backwards */
             loop_row *r = &rows[m];
@@ -193,9 +185,7 @@ static int run_once(const bench_options *o, const hp_layout *L0, const hp_settin
             if (m >= 2) {
                 double P[HP_MAX_BLADDERS];
                 unsigned cl = 0;
-                for (int k = 0; k < res.n; ++k)
-                    P[k] = res.bladders[k].pressure +
-                           LOOP_NOISE_PA * (2.0 * bench_urand(&noise) - 1.0);
+                sa_loop_readings(&res, &noise, P);
                 t0 = bench_now_ns();
                 hp_error es = hp_planner_set_measured(p[m], P, &cl);
                 double dts = bench_now_ns() - t0;
@@ -252,7 +242,7 @@ static void csv_row(const void *arg, int i, FILE *f)
     fprintf(f,
             "%s,%s,%s,%s,%ld,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%.3f,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%ld,%g,"
             "%ld,%.1f,%.2f,%.1f,%.3f,%.3f\n",
-            hp_level_name(r->level), hp_backend_name(r->backend), trace_names[r->trace],
+            hp_level_name(r->level), hp_backend_name(r->backend), sa_loop_trace_name(r->trace),
             mode_names[r->mode], r->cycles, r->med_us, r->p99_us, r->p999_us, r->max_us,
             r->ratio_med, r->ratio_p999, r->set_med_us, r->reached, r->closest, r->time_limit,
             r->other, r->errors, r->rate_binding, r->clamped, r->overshoots,
@@ -290,7 +280,7 @@ int bench_loop(const bench_options *o, const char *dir)
                     (o->loop_level >= 0 && (int)levels[l] != o->loop_level))
                     continue;
                 fprintf(stderr, "bench loop: %s %s %s\n", hp_backend_name(backends[b]),
-                        hp_level_name(levels[l]), trace_names[t]);
+                        hp_level_name(levels[l]), sa_loop_trace_name(t));
                 rc = run_trace(o, &scene.layout, &s, levels[l], backends[b], t, rows + nr, &bf);
                 nr += N_MODES;
             }
@@ -317,7 +307,7 @@ int bench_loop(const bench_options *o, const char *dir)
         const loop_row *r = &rows[i];
         printf("%-8s %-12s %-7s %-9s %8.2f %8.2f %8.2f %8.1f %6.2f %6.2f %7.2f %5ld %5ld %5ld "
                "%6.0f %5.0f %7.2f\n",
-               hp_level_name(r->level), hp_backend_name(r->backend), trace_names[r->trace],
+               hp_level_name(r->level), hp_backend_name(r->backend), sa_loop_trace_name(r->trace),
                mode_names[r->mode], r->med_us, r->p99_us, r->p999_us, r->max_us, r->ratio_med,
                r->ratio_p999, r->set_med_us, r->time_limit, r->overshoots, r->overshoots_host,
                1000.0 * (double)r->ends / (double)r->cycles, r->slow_solving_pct,

@@ -110,12 +110,11 @@ static int usage(void)
     return 64;
 }
 
-/* A whole number in [lo, hi] from a, or -1 (a message naming what on stderr). */
+/* A whole number in [lo, hi] from a (sa_whole), or -1 (a message naming what on stderr). */
 static long number(const char *what, const char *a, long lo, long hi)
 {
-    char *end = NULL;
-    long v = strtol(a, &end, 10);
-    if (!*a || *end || v < lo || v > hi) {
+    long v = sa_whole(a);
+    if (v < lo || v > hi) {
         fprintf(stderr, "headplan-bench-phases: %s: '%s' is not a whole number in %ld..%ld\n", what,
                 a, lo, hi);
         return -1;
@@ -129,23 +128,31 @@ static double median(double *v, int n)
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+/* The cycles' median times of one planner, by which its cycles are ranked (qsort has no
+ * context argument; one ranking at a time). */
+static const double *rank_key;
+static int slower_first(const void *a, const void *b)
+{
+    double x = rank_key[*(const long *)a], y = rank_key[*(const long *)b];
+    return (x < y) - (x > y);
+}
+
 /* Runs the trace REPEATS times into r[(planner · repeats + rep) · cycles + j]. */
 static int run(const hp_layout *L0, int level, int trace, long cycles, int repeats, rec *r)
 {
     hp_layout L = *L0;
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
+    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = SA_LOOP_RATE_PA;
     for (int rep = 0; rep < repeats; ++rep) {
         hp_planner *p[N_PLANNERS] = {NULL};
         int rc = 0;
         for (int m = 0; m < N_PLANNERS && rc == 0; ++m)
             rc = sa_loop_planner(&L, level, m > 0, "headplan-bench-phases", &p[m]);
-        uint64_t seed = 0x100b + (uint64_t)trace, noise = 0x5e7 + (uint64_t)trace;
+        uint64_t seed, noise;
+        sa_loop_seeds(trace, &seed, &noise);
         double tgt[6] = {0};
         for (long j = 0; j < cycles && rc == 0; ++j) {
-            double mm_deg[6], xi[6];
-            sa_loop_trace(trace, j, &seed, tgt, mm_deg);
-            for (int i = 0; i < 6; ++i)
-                xi[i] = mm_deg[i] * (i < 3 ? 1e-3 : 3.14159265358979323846 / 180.0);
+            double xi[6];
+            sa_loop_trace_si(trace, j, &seed, tgt, xi);
             for (int mm = 0; mm < N_PLANNERS && rc == 0; ++mm) {
                 int m = j % 2 ? N_PLANNERS - 1 - mm : mm; /* forwards, then backwards */
                 memset(in_phase, 0, sizeof in_phase);
@@ -167,8 +174,7 @@ static int run(const hp_layout *L0, int level, int trace, long cycles, int repea
                 }
                 if (m == 2) {
                     double P[HP_MAX_BLADDERS];
-                    for (int k = 0; k < res.n; ++k)
-                        P[k] = res.bladders[k].pressure + 3.0 * (2.0 * sa_xorshift(&noise) - 1.0);
+                    sa_loop_readings(&res, &noise, P);
                     if (hp_planner_set_measured(p[m], P, NULL) != HP_OK) rc = 70;
                 }
             }
@@ -201,10 +207,7 @@ static void print_cycle(const rec *r, long cycles, int repeats, int m, long j, d
 int main(int argc, char **argv)
 {
     if (argc != 7) return usage();
-    static const char *const traces[] = {"smooth", "noisy", "step"};
-    int trace = -1;
-    for (int t = 0; t < 3; ++t)
-        if (strcmp(argv[3], traces[t]) == 0) trace = t;
+    int trace = sa_loop_trace_of(argv[3]);
     if (trace < 0) {
         fprintf(stderr, "headplan-bench-phases: TRACE: '%s' is not smooth, noisy or step\n",
                 argv[3]);
@@ -222,13 +225,12 @@ int main(int argc, char **argv)
         return 66;
     }
     rec *r = calloc((size_t)(N_PLANNERS * repeats * cycles), sizeof *r);
-    double *tot = malloc((size_t)cycles * sizeof *tot), *v = malloc(MAX_REPEATS * sizeof *v);
+    double *tot = malloc((size_t)cycles * sizeof *tot);
     long *order = malloc((size_t)cycles * sizeof *order);
-    if (!r || !tot || !v || !order) {
+    if (!r || !tot || !order) {
         fprintf(stderr, "headplan-bench-phases: out of memory\n");
         free(r);
         free(tot);
-        free(v);
         free(order);
         return 70;
     }
@@ -237,45 +239,28 @@ int main(int argc, char **argv)
     if (rc == 0) {
         printf("# %s, level %ld, %s trace, %ld cycles, medians over %ld repeats (ns); per phase "
                "the time and the calls\n",
-               argv[1], level, traces[trace], cycles, repeats);
+               argv[1], level, sa_loop_trace_name(trace), cycles, repeats);
         printf("%-8s %-6s %6s %8s", "planner", "rank", "cycle", "total");
         for (int ph = 0; ph < N_PH; ++ph) printf(" %8s %3s", phase_names[ph], "n");
         printf(" %8s\n", "other");
     }
     for (int m = 0; m < N_PLANNERS && rc == 0; ++m) {
+        double v[MAX_REPEATS];
         for (long j = 0; j < cycles; ++j) {
             for (int rep = 0; rep < repeats; ++rep)
                 v[rep] = r[((long)m * repeats + rep) * cycles + j].t[0];
             tot[j] = median(v, (int)repeats);
             order[j] = j;
         }
-        /* the TOP slowest by selection (TOP is small), then the median cycle */
-        for (long a = 0; a < top; ++a)
-            for (long b = a + 1; b < cycles; ++b)
-                if (tot[order[b]] > tot[order[a]]) {
-                    long t = order[a];
-                    order[a] = order[b];
-                    order[b] = t;
-                }
+        /* slowest first; the median cycle is the one ranked in the middle */
+        rank_key = tot;
+        qsort(order, (size_t)cycles, sizeof *order, slower_first);
         char tag[24];
         for (long a = 0; a < top; ++a) {
             snprintf(tag, sizeof tag, "%ld", a + 1);
             print_cycle(r, cycles, (int)repeats, m, order[a], npt, tag);
         }
-        double *w = malloc((size_t)cycles * sizeof *w);
-        if (!w) {
-            rc = 70;
-            break;
-        }
-        memcpy(w, tot, (size_t)cycles * sizeof *w);
-        qsort(w, (size_t)cycles, sizeof *w, sa_by_value);
-        double mid = w[cycles / 2];
-        free(w);
-        for (long j = 0; j < cycles; ++j)
-            if (tot[j] == mid) {
-                print_cycle(r, cycles, (int)repeats, m, j, npt, "median");
-                break;
-            }
+        print_cycle(r, cycles, (int)repeats, m, order[cycles / 2], npt, "median");
         /* every phase's calls over the first repeat's trace: the same in every run */
         unsigned long sum[N_PH] = {0};
         for (long j = 0; j < cycles; ++j)
@@ -286,7 +271,6 @@ int main(int argc, char **argv)
     }
     free(r);
     free(tot);
-    free(v);
     free(order);
     return rc;
 }

@@ -8,6 +8,12 @@
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <string.h>
+
+/* The loop benchmark's rate limit on every bladder of its rate-limited planners [Pa a plan]
+ * and the noise of its readings [Pa, uniform within ±]. */
+#define SA_LOOP_RATE_PA 500.0
+#define SA_LOOP_NOISE_PA 3.0
 
 /* Uniform in [0, 1) from the xorshift state *s (the lab's seeded generator: bench_urand). */
 static inline double sa_xorshift(uint64_t *s)
@@ -42,6 +48,42 @@ static inline void sa_loop_trace(int trace, long j, uint64_t *s, double step_tgt
     if (trace == 1)
         for (int i = 0; i < 6; ++i)
             mm_deg[i] += (2.0 * sa_xorshift(s) - 1.0) * (i < 3 ? 0.1 : 0.05);
+}
+
+/* A trace's number from its name (0 smooth, 1 noisy, 2 step), or -1; and back. */
+static inline const char *sa_loop_trace_name(int trace)
+{
+    static const char *const names[] = {"smooth", "noisy", "step"};
+    return trace >= 0 && trace < 3 ? names[trace] : "unknown";
+}
+static inline int sa_loop_trace_of(const char *name)
+{
+    for (int t = 0; t < 3; ++t)
+        if (strcmp(name, sa_loop_trace_name(t)) == 0) return t;
+    return -1;
+}
+
+/* A trace's seeds: its generator's (sa_loop_trace) and its readings' noise's. */
+static inline void sa_loop_seeds(int trace, uint64_t *seed, uint64_t *noise)
+{
+    *seed = 0x100b + (uint64_t)trace;
+    *noise = 0x5e7 + (uint64_t)trace;
+}
+
+/* sa_loop_trace's correction in SI units (m, rad). */
+static inline void sa_loop_trace_si(int trace, long j, uint64_t *s, double step_tgt[6],
+                                    double xi[6])
+{
+    double mm_deg[6];
+    sa_loop_trace(trace, j, s, step_tgt, mm_deg);
+    for (int i = 0; i < 6; ++i) xi[i] = mm_deg[i] * (i < 3 ? 1e-3 : 3.14159265358979323846 / 180.0);
+}
+
+/* The readings of an answer's pressures: each within ±SA_LOOP_NOISE_PA, drawn from *noise. */
+static inline void sa_loop_readings(const hp_result *res, uint64_t *noise, double *P)
+{
+    for (int k = 0; k < res->n; ++k)
+        P[k] = res->bladders[k].pressure + SA_LOOP_NOISE_PA * (2.0 * sa_xorshift(noise) - 1.0);
 }
 
 /* A realtime planner of the loop benchmark's replays (plan_count.c's tail mode,

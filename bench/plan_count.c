@@ -154,7 +154,7 @@ static int run_loop(const hp_layout *L0, int level, const char *backend, long cy
     st.restarts = 0;
     if (hp_backend_parse(backend, &st.backend) != HP_OK || cycles < 1) return usage();
     hp_layout L = *L0;
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
+    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = SA_LOOP_RATE_PA;
     hp_planner *p = NULL;
     hp_diag d = {{0}};
     if (hp_planner_create(&L, &st, &p, &d) != HP_OK) {
@@ -204,12 +204,12 @@ static int run_tail(const hp_layout *L0, int level, int trace, int feed, long cy
     int rc = 0;
     for (int m = 0; m < 2 && rc == 0; ++m)
         rc = sa_loop_planner(&L, level, m, "headplan-bench-count", &p[m]);
-    uint64_t seed = 0x100b + (uint64_t)trace, noise = 0x5e7 + (uint64_t)trace;
+    uint64_t seed, noise;
+    sa_loop_seeds(trace, &seed, &noise);
     double tgt[6] = {0};
     for (long j = 0; j < cycles && rc == 0; ++j) {
-        double mm_deg[6], xi[6];
-        sa_loop_trace(trace, j, &seed, tgt, mm_deg);
-        for (int i = 0; i < 6; ++i) xi[i] = mm_deg[i] * (i < 3 ? 1e-3 : PI / 180);
+        double xi[6];
+        sa_loop_trace_si(trace, j, &seed, tgt, xi);
         for (int m = 0; m < 2 && rc == 0; ++m) {
             hp_result res;
             if (hp_plan(p[m], xi, &res) != HP_OK) {
@@ -223,32 +223,13 @@ static int run_tail(const hp_layout *L0, int level, int trace, int feed, long cy
             else printf("%ld %d %s %d\n", j, m, hp_status_name(res.status), rate);
             if (m == 1 && feed) {
                 double P[HP_MAX_BLADDERS];
-                for (int k = 0; k < res.n; ++k)
-                    P[k] = res.bladders[k].pressure + 3.0 * (2.0 * sa_xorshift(&noise) - 1.0);
+                sa_loop_readings(&res, &noise, P);
                 if (hp_planner_set_measured(p[m], P, NULL) != HP_OK) rc = 70;
             }
         }
     }
     for (int m = 0; m < 2; ++m) hp_planner_destroy(p[m]);
     return rc;
-}
-
-/* A whole number of decimal digits (at most 9), or -1 for anything else. */
-static long whole(const char *a)
-{
-    long v = 0;
-    int k = 0;
-    for (; a[k] >= '0' && a[k] <= '9' && k < 9; ++k) v = 10 * v + (a[k] - '0');
-    return k > 0 && a[k] == '\0' ? v : -1;
-}
-
-/* The trace's number from its name (smooth, noisy, step), or -1. */
-static int trace_of(const char *name)
-{
-    static const char *const names[] = {"smooth", "noisy", "step"};
-    for (int t = 0; t < 3; ++t)
-        if (strcmp(name, names[t]) == 0) return t;
-    return -1;
 }
 
 int main(int argc, char **argv)
@@ -259,8 +240,8 @@ int main(int argc, char **argv)
     if (strcmp(mode, "tail") == 0 && argc == 7) {
         static hp_scene ts;
         hp_diag td = {{0}};
-        long lv = whole(argv[3]), feed = whole(argv[5]), n = whole(argv[6]);
-        int tr = trace_of(argv[4]);
+        long lv = sa_whole(argv[3]), feed = sa_whole(argv[5]), n = sa_whole(argv[6]);
+        int tr = sa_loop_trace_of(argv[4]);
         if (lv < 0 || lv > 2 || tr < 0 || (feed != 0 && feed != 1) || n < 1) return usage();
         if (hp_scene_load(argv[1], &ts, &td) != HP_OK) {
             fprintf(stderr, "headplan-bench-count: %s\n", td.text);
@@ -271,7 +252,7 @@ int main(int argc, char **argv)
     if (argc == 4 && strcmp(mode, "bits") == 0) {
         static hp_scene bs;
         hp_diag bd = {{0}};
-        long n = whole(argv[3]);
+        long n = sa_whole(argv[3]);
         if (n < 1) return usage();
         if (hp_scene_load(argv[1], &bs, &bd) != HP_OK) {
             fprintf(stderr, "headplan-bench-count: %s\n", bd.text);

@@ -43,4 +43,14 @@ static inline void sa_targets(double mm, double deg, int n, double (*t)[6])
         }
 }
 
+/* A whole number of decimal digits (at most 9), or -1 for anything else (a sign, a space,
+ * an empty string). */
+static inline long sa_whole(const char *a)
+{
+    long v = 0;
+    int k = 0;
+    for (; a[k] >= '0' && a[k] <= '9' && k < 9; ++k) v = 10 * v + (a[k] - '0');
+    return k > 0 && a[k] == '\0' ? v : -1;
+}
+
 #endif
