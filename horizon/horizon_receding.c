@@ -380,15 +380,26 @@ static void slack_steps(hp_horizon_rh *rh)
         }
 }
 
-/* Largest step in (0, 1] keeping v + α dv >= (1 − tau) v. */
+/* Largest step in (0, 1] keeping v + α dv >= (1 − tau) v. Every quotient is formed and the
+ * ones of dv >= 0 discarded by a select, in RH_LANES running minima: no branch on the sign
+ * of dv, which the processor cannot predict (half the rows' steps are negative), and the
+ * lanes vectorise. A minimum does not depend on the order it is taken in: the same bits. */
+#define RH_LANES 4
 static double to_boundary(const double *v, const double *dv, int m, double tau)
 {
-    double alpha = 1.0;
-    for (int i = 0; i < m; ++i)
-        if (dv[i] < 0) {
-            double a = -tau * v[i] / dv[i];
-            if (a < alpha) alpha = a;
+    double lane[RH_LANES] = {1.0, 1.0, 1.0, 1.0};
+    int i = 0;
+    for (; i + RH_LANES <= m; i += RH_LANES)
+        for (int l = 0; l < RH_LANES; ++l) {
+            double q = -tau * v[i + l] / dv[i + l];
+            lane[l] = dv[i + l] < 0 && q < lane[l] ? q : lane[l];
         }
+    for (; i < m; ++i) {
+        double q = -tau * v[i] / dv[i];
+        lane[0] = dv[i] < 0 && q < lane[0] ? q : lane[0];
+    }
+    double alpha = lane[0];
+    for (int l = 1; l < RH_LANES; ++l) alpha = lane[l] < alpha ? lane[l] : alpha;
     return alpha;
 }
 
