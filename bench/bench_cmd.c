@@ -160,12 +160,52 @@ static int run_family(const family *fam, const bench_options *o, const char *dir
     return rc;
 }
 
+/* The options that take a value, in the order help() lists them. */
+enum {
+    O_OUT,
+    O_ONLY,
+    O_SEED,
+    O_SCENE,
+    O_SCENARIOS,
+    O_PYTHON,
+    O_PEER,
+    O_REPEAT,
+    O_LEVEL,
+    O_BACKEND,
+    N_OPTS
+};
+static const char *const opt_names[N_OPTS] = {
+    "--out",    "--only",        "--seed",   "--scene",      "--scenarios",
+    "--python", "--peer-script", "--repeat", "--loop-level", "--loop-backend"};
+
+/* The loop family's level and backend from --loop-level and --loop-backend (either may be
+ * NULL: all). Returns 0 or CLI_EXIT_USAGE after one line naming the option. */
+static int loop_choice(const char *level, const char *backend, int *lv_out, int *bk_out)
+{
+    hp_level lv = HP_LEVEL_LINEAR; /* read only when given */
+    hp_backend bk = HP_BACKEND_REALTIME;
+    if (level && (hp_level_parse(level, &lv) != HP_OK ||
+                  (lv != HP_LEVEL_LINEAR && lv != HP_LEVEL_PLANE && lv != HP_LEVEL_SURFACE)))
+        return cli_fail(CLI_EXIT_USAGE, CMD,
+                        "--loop-level: '%s' is not a level the loop family runs (linear, "
+                        "plane or surface)",
+                        level);
+    if (backend && (hp_backend_parse(backend, &bk) != HP_OK ||
+                    (bk != HP_BACKEND_REALTIME && bk != HP_BACKEND_NLOPT_SLSQP)))
+        return cli_fail(CLI_EXIT_USAGE, CMD,
+                        "--loop-backend: '%s' is not a backend the loop family runs (realtime "
+                        "or nlopt-slsqp)",
+                        backend);
+    *lv_out = level ? (int)lv : -1;
+    *bk_out = backend ? (int)bk : -1;
+    return 0;
+}
+
 int bench_run_cli(int argc, char **argv)
 {
-    const char *out = DEFAULT_OUT, *scene = DEFAULT_SCENE, *scenarios = DEFAULT_SCENARIOS;
-    const char *python = DEFAULT_PYTHON, *peer_script = DEFAULT_PEER_SCRIPT;
-    int quick = 0, only_given = 0, repeat_given = 0, rc;
-    const char *loop_opt = NULL; /* the first loop-only option given */
+    const char *val[N_OPTS] = {0}, **slots[N_OPTS];
+    for (int o = 0; o < N_OPTS; ++o) slots[o] = &val[o];
+    int quick = 0, rc;
     int loop_level = -1, loop_backend = -1;
     int on[N_FAMILIES] = {0};
     long seed = 1, repeat = 1;
@@ -175,64 +215,35 @@ int bench_run_cli(int argc, char **argv)
             return CLI_EXIT_OK;
         }
     }
+    /* Each option at most once (cli_named_opt): of two values one would be dropped silently. */
     for (int i = 1; i < argc; ++i) {
-        const char *v = NULL;
-        int m;
         if (strcmp(argv[i], "--quick") == 0) {
+            if (quick) return cli_fail(CLI_EXIT_USAGE, CMD, "--quick: given more than once");
             quick = 1;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--out", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            if (!*v) return cli_fail(CLI_EXIT_USAGE, CMD, "--out: empty folder name");
-            out = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--only", &v)) != 0) {
-            if (m < 0 || (rc = parse_only(v, on)) != 0) return CLI_EXIT_USAGE;
-            only_given = 1;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--scene", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            scene = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--scenarios", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            scenarios = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--python", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            python = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--peer-script", &v)) != 0) {
-            if (m < 0) return CLI_EXIT_USAGE;
-            peer_script = v;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--repeat", &v)) != 0) {
-            if (m < 0 || (rc = cli_int(CMD, "--repeat", v, 1, 100, &repeat)) != 0)
-                return CLI_EXIT_USAGE;
-            repeat_given = 1;
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--loop-level", &v)) != 0) {
-            hp_level lv;
-            if (m < 0) return CLI_EXIT_USAGE;
-            if (hp_level_parse(v, &lv) != HP_OK ||
-                (lv != HP_LEVEL_LINEAR && lv != HP_LEVEL_PLANE && lv != HP_LEVEL_SURFACE))
-                return cli_fail(CLI_EXIT_USAGE, CMD,
-                                "--loop-level: '%s' is not a level the loop family runs "
-                                "(linear, plane or surface)",
-                                v);
-            loop_level = (int)lv;
-            if (!loop_opt) loop_opt = "--loop-level";
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--loop-backend", &v)) != 0) {
-            hp_backend bk;
-            if (m < 0) return CLI_EXIT_USAGE;
-            if (hp_backend_parse(v, &bk) != HP_OK ||
-                (bk != HP_BACKEND_REALTIME && bk != HP_BACKEND_NLOPT_SLSQP))
-                return cli_fail(CLI_EXIT_USAGE, CMD,
-                                "--loop-backend: '%s' is not a backend the loop family runs "
-                                "(realtime or nlopt-slsqp)",
-                                v);
-            loop_backend = (int)bk;
-            if (!loop_opt) loop_opt = "--loop-backend";
-        } else if ((m = cli_opt(CMD, argc, argv, &i, "--seed", &v)) != 0) {
-            if (m < 0 || (rc = cli_int(CMD, "--seed", v, 0, LONG_MAX, &seed)) != 0)
-                return CLI_EXIT_USAGE;
-        } else {
+            continue;
+        }
+        int m = cli_named_opt(CMD, argc, argv, &i, opt_names, slots, N_OPTS);
+        if (m < 0) return CLI_EXIT_USAGE;
+        if (m == 0)
             return cli_fail(CLI_EXIT_USAGE, CMD, "unknown option '%s' (see headplan-bench --help)",
                             argv[i]);
-        }
     }
+    const char *out = val[O_OUT] ? val[O_OUT] : DEFAULT_OUT;
+    const char *scene = val[O_SCENE] ? val[O_SCENE] : DEFAULT_SCENE;
+    const char *scenarios = val[O_SCENARIOS] ? val[O_SCENARIOS] : DEFAULT_SCENARIOS;
+    const char *python = val[O_PYTHON] ? val[O_PYTHON] : DEFAULT_PYTHON;
+    const char *peer_script = val[O_PEER] ? val[O_PEER] : DEFAULT_PEER_SCRIPT;
+    const int only_given = val[O_ONLY] != NULL, repeat_given = val[O_REPEAT] != NULL;
+    /* the loop-only option named when there is no loop family */
+    const char *loop_opt = val[O_LEVEL] ? "--loop-level" : val[O_BACKEND] ? "--loop-backend" : NULL;
+    if (!*out) return cli_fail(CLI_EXIT_USAGE, CMD, "--out: empty folder name");
+    if (only_given && parse_only(val[O_ONLY], on) != 0) return CLI_EXIT_USAGE;
+    if (repeat_given && cli_int(CMD, "--repeat", val[O_REPEAT], 1, 100, &repeat) != 0)
+        return CLI_EXIT_USAGE;
+    if (val[O_SEED] && cli_int(CMD, "--seed", val[O_SEED], 0, LONG_MAX, &seed) != 0)
+        return CLI_EXIT_USAGE;
+    if (loop_choice(val[O_LEVEL], val[O_BACKEND], &loop_level, &loop_backend) != 0)
+        return CLI_EXIT_USAGE;
     if (!only_given)
         for (size_t k = 0; k < N_FAMILIES; ++k) on[k] = 1;
     int loop_on = 0;

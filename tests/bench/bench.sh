@@ -310,6 +310,15 @@ run --frobnicate
 expect_exit 64 "unknown option"; expect_stderr_has "--frobnicate" "names the option"
 run --out
 expect_exit 64 "--out without value"
+# An option given twice is refused (one of its values would be dropped without a word), before
+# any measuring: a flag, an option with a value, and the loop family's own.
+run --quick --quick --only ik --out "$TMP/x"
+expect_exit 64 "--quick twice"; expect_stderr_has "--quick: given more than once" "names --quick"
+run --quick --only ik --only loop --out "$TMP/x"
+expect_exit 64 "--only twice"; expect_stderr_has "--only: given more than once" "names --only"
+run --quick --only loop --loop-level linear --loop-level=plane --out "$TMP/x"
+expect_exit 64 "--loop-level twice"; expect_stderr_has "--loop-level: given more than once" "names --loop-level"
+[ ! -e "$TMP/x/loop.csv" ] && [ ! -e "$TMP/x/ik.csv" ] && ok || bad "a refused command line wrote a table"
 run --help
 expect_exit 0 "--help"; expect_stdout_has "--quick" "help lists --quick"
 
