@@ -3,10 +3,10 @@
 ceiling = 1000
 # index, kinematic us, load us (realtime, ipopt, nlopt-slsqp), sag mm, unbounded
 $d << EOD
-0 1.483 3181.98 25259.4 3189.81 1000 1
-1 2.956 nan nan nan 1000 1
-2 2.946 138.645 6163.77 183.37 1000 1
-3 3.717 4832.28 114611 5916.95 1000 1
+0 1.33163 3359.11 20425.9 3250.77 1000 1
+1 2.96 nan nan nan 1000 1
+2 2.93033 142.293 5149.09 190.782 1000 1
+3 2.926 5165.64 66703.8 5079.62 1000 1
 EOD
 set xtics ("load_heavy" 0, "load_prone" 1, "load_supine" 2, "load_tilted" 3)
 

@@ -12,32 +12,32 @@ set title "Peers on the same NLP (linear contact level, default layout, binding 
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 7.87e-05]
-set xrange [* : 4.3425e+08]
+set xrange [* : 4.06345e+08]
 
 $front << EOD
-982,3.161592e-10,realtime-linear
-2.47226e+07,1.000000e-17,ipopt-exact-linear
-4.3425e+08,1.000000e-17,end
+1090,3.161592e-10,realtime-linear
+2.15679e+07,1.000000e-17,ipopt-exact-linear
+4.06345e+08,1.000000e-17,end
 EOD
 
 $front1 << EOD
-2.46716e+07,1.000000e-17,ipopt-exact-surface
-4.3425e+08,1.000000e-17,end
+2.15679e+07,1.000000e-17,ipopt-exact-linear
+4.06345e+08,1.000000e-17,end
 EOD
 
 $front2 << EOD
-1.4458e+08,9.654773e-10,ipopt-lbfgs-linear
-4.3425e+08,9.654773e-10,end
+1.34436e+08,9.654773e-10,ipopt-lbfgs-linear
+4.06345e+08,9.654773e-10,end
 EOD
 
 $front3 << EOD
-982,3.161592e-10,realtime-linear
-4.3425e+08,3.161592e-10,end
+1090,3.161592e-10,realtime-linear
+4.06345e+08,3.161592e-10,end
 EOD
 
 $front4 << EOD
-617892,3.948884e-07,scipy-slsqp
-4.3425e+08,3.948884e-07,end
+820487,3.948884e-07,scipy-slsqp
+4.06345e+08,3.948884e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {

@@ -12,47 +12,47 @@ set title "Planner: speed versus accuracy (default layout, targets where a limit
 set grid xtics ytics mxtics mytics lc rgb "#e0e0e0"
 set key outside right top box opaque noenhanced
 set yrange [floor / 4 : 157]
-set xrange [* : 1.08199e+08]
+set xrange [* : 6.66139e+07]
 
 $front << EOD
-959.667,4.646568e-01,realtime-linear-1e-04
-6622,1.355203e-10,realtime-surface-1e-04
-5.05141e+06,1.000000e-17,ipopt-surface-1e-09-r0
-1.08199e+08,1.000000e-17,end
+888.125,4.646568e-01,realtime-linear-1e-04
+6174.5,1.355203e-10,realtime-surface-1e-04
+3.01515e+06,1.000000e-17,ipopt-surface-1e-09-r0
+6.66139e+07,1.000000e-17,end
 EOD
 
 $front1 << EOD
-426.208,4.936830e-03,fastpath-linear
-2550,1.000000e-17,fastpath-surface
-1.08199e+08,1.000000e-17,end
+416.12,4.936830e-03,fastpath-linear
+2463.25,1.000000e-17,fastpath-surface
+6.66139e+07,1.000000e-17,end
 EOD
 
 $front2 << EOD
-860.375,9.238732e-02,trace-realtime-linear
-5795.2,3.417474e-08,trace-realtime-surface
-1.08199e+08,3.417474e-08,end
+802.538,9.238732e-02,trace-realtime-linear
+5346.2,3.417474e-08,trace-realtime-surface
+6.66139e+07,3.417474e-08,end
 EOD
 
 $front3 << EOD
-959.667,4.646568e-01,realtime-linear-1e-04
-6622,1.355203e-10,realtime-surface-1e-04
-1.08199e+08,1.355203e-10,end
+888.125,4.646568e-01,realtime-linear-1e-04
+6174.5,1.355203e-10,realtime-surface-1e-04
+6.66139e+07,1.355203e-10,end
 EOD
 
 $front4 << EOD
-2405,1.000000e-17,ipopt-surface-1e-09-reach
-1.08199e+08,1.000000e-17,end
+2465.75,1.000000e-17,ipopt-surface-1e-09-reach
+6.66139e+07,1.000000e-17,end
 EOD
 
 $front5 << EOD
-2414,1.000000e-17,nlopt-slsqp-surface-1e-09-reach-r0
-1.08199e+08,1.000000e-17,end
+2471.75,1.000000e-17,nlopt-slsqp-surface-1e-09-reach-r0
+6.66139e+07,1.000000e-17,end
 EOD
 
 $front6 << EOD
-302538,4.646567e-01,nlopt-cobyla-linear-1e-09
-457785,5.181534e-07,nlopt-cobyla-surface-1e-04
-1.08199e+08,5.181534e-07,end
+359292,4.646567e-01,nlopt-cobyla-linear-1e-04
+515456,5.181534e-07,nlopt-cobyla-surface-1e-04
+6.66139e+07,5.181534e-07,end
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
