@@ -1,7 +1,9 @@
 /* Benchmark of the horizon planners (docs/horizon.md), a standalone program built as
  * build/headplan-bench-horizon:
  *   headplan-bench-horizon rh SCENE TRACE [N]  time per receding-horizon call against N
- *                                             (the table's N, or only the N given)
+ *                                             (the table's N, or only the N given), and its
+ *                                             interior-point iterations (counted: the same
+ *                                             on any machine without a time budget)
  *   headplan-bench-horizon windows SCENE TRACE WINDOW OVERLAP
  *                                             whole offline solve against overlapping windows
  * Prints CSV on stdout. Per-call times are the calling thread's CPU time
@@ -9,6 +11,7 @@
  * solves' wall time (CLOCK_MONOTONIC). */
 #define _POSIX_C_SOURCE 200809L
 #include "headplan/headplan.h"
+#include "horizon/horizon_internal.h"
 #include "standalone.h"
 
 #include <math.h>
@@ -110,7 +113,8 @@ static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row
     const size_t nN = only ? 1 : sizeof table / sizeof table[0];
     double *times = malloc(T * sizeof *times);
     if (!times) return no_memory("the times");
-    printf("N,prediction,calls,median_us,p99_us,max_us\n");
+    printf("N,prediction,calls,median_us,p99_us,max_us,mean_iterations,max_iterations,"
+           "calls_6_or_more\n");
     static const hp_prediction preds[] = {HP_PREDICT_HOLD, HP_PREDICT_VELOCITY,
                                           HP_PREDICT_PERIODIC};
     for (size_t p = 0; p < sizeof preds / sizeof preds[0]; ++p)
@@ -126,16 +130,23 @@ static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row
                 free(times);
                 return call_failed("receding horizon", e, &d);
             }
+            long before = 0, most = 0, slow = 0; /* iterations: the last count, a call's most */
             for (size_t t = 0; t < T; ++t) {
                 hp_result r;
                 double t0 = cpu_s();
                 hp_horizon_rh_step(rh, rows[t].t, rows[t].correction, &r);
                 times[t] = cpu_s() - t0;
+                long now = hpi_horizon_rh_iterations(rh), it = now - before;
+                before = now;
+                most = it > most ? it : most;
+                slow += it >= 6;
             }
             hp_horizon_rh_destroy(rh);
             qsort(times, T, sizeof *times, sa_by_value);
-            printf("%d,%s,%zu,%.1f,%.1f,%.1f\n", Ns[a], hp_prediction_name(hs.prediction), T,
-                   1e6 * times[T / 2], 1e6 * times[(T * 99) / 100], 1e6 * times[T - 1]);
+            printf("%d,%s,%zu,%.1f,%.1f,%.1f,%.3f,%ld,%ld\n", Ns[a],
+                   hp_prediction_name(hs.prediction), T, 1e6 * times[T / 2],
+                   1e6 * times[(T * 99) / 100], 1e6 * times[T - 1], (double)before / (double)T,
+                   most, slow);
             fflush(stdout);
         }
     free(times);

@@ -13,7 +13,7 @@ expect_one_line_stderr() { [ "$(wc -l < "$TMP/err")" -eq 1 ] && ok || bad "$1: s
 head -n 21 "$S/traces/step.csv" > "$TMP/step20.csv"
 brun rh "$S/horizon/step.yaml" "$TMP/step20.csv"
 expect_exit 0 "rh on the step trace"
-expect_stdout_has "N,prediction,calls,median_us,p99_us,max_us" "rh header"
+expect_stdout_has "N,prediction,calls,median_us,p99_us,max_us,mean_iterations,max_iterations,calls_6_or_more" "rh header"
 [ "$(grep -c ',20,' "$TMP/out")" -eq 21 ] && ok || bad "rh: want 21 lines of 20 calls"
 grep -q '^64,velocity,20,' "$TMP/out" && ok || bad "rh: no line for N = 64, velocity"
 grep -q '^10,periodic,20,' "$TMP/out" && ok || bad "rh: no line for N = 10, periodic"
@@ -22,6 +22,13 @@ brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10
 expect_exit 0 "rh with N"
 [ "$(grep -c ',20,' "$TMP/out")" -eq 3 ] && ok || bad "rh 10: want 3 lines"
 [ "$(grep -c '^10,' "$TMP/out")" -eq 3 ] && ok || bad "rh 10: every line for N = 10"
+# The iterations are counted, not timed: within their bounds (at least one a call, at most
+# rh_max_iter's default of 20, the mean between), and the same in a second run.
+awk -F, 'NR > 1 && !($7 >= 1 && $7 <= $8 && $8 <= 20 && $9 >= 0 && $9 <= $3) { bad = 1 }
+         END { exit bad }' "$TMP/out" && ok || bad "rh 10: iteration columns out of their bounds"
+cut -d, -f1-3,7-9 "$TMP/out" > "$TMP/iters1"
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10
+cut -d, -f1-3,7-9 "$TMP/out" | cmp -s - "$TMP/iters1" && ok || bad "rh 10: iterations differ between two runs"
 
 # Every refusal: one line on stderr, naming what is wrong, and a non-zero status.
 brun
