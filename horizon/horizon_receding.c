@@ -383,7 +383,9 @@ static void slack_steps(hp_horizon_rh *rh)
 /* Largest step in (0, 1] keeping v + α dv >= (1 − tau) v. Every quotient is formed and the
  * ones of dv >= 0 discarded by a select, in RH_LANES running minima: no branch on the sign
  * of dv, which the processor cannot predict (half the rows' steps are negative), and the
- * lanes vectorise. A minimum does not depend on the order it is taken in: the same bits. */
+ * lanes vectorise. A minimum does not depend on the order it is taken in: the same value as
+ * a scan in row order, and the same bits but for a zero minimum reached as both +0 and −0
+ * (a v <= −0), which slacks and multipliers kept positive never give. */
 #define RH_LANES 4
 static double to_boundary(const double *v, const double *dv, int m, double tau)
 {
