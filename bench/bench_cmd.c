@@ -7,6 +7,7 @@
 #include "headplan/hp_planner.h"
 #include "common/unconst.h"
 #include "bench/bench_report.h"
+#include "bench/bench_util.h"
 #include "cli/cli_args.h"
 #include "cli/exit_codes.h"
 
@@ -30,8 +31,9 @@ typedef struct {
     bench_chart chart;
     bench_family_fn run;
     bench_files_fn files;
-    int needs_scene; /* reads --scene */
+    unsigned reads; /* READS_SCENE: --scene; READS_CATALOGUE: the --scenarios folder */
 } family;
+enum { READS_SCENE = 1u, READS_CATALOGUE = 2u };
 
 static const family families[] = {
     {{"ik", "Bladder inverse kinematics (radius to pressure): speed versus accuracy",
@@ -44,18 +46,18 @@ static const family families[] = {
       "max pose difference from the reference after the exact-model round trip [mm or deg]"},
      bench_planner,
      NULL,
-     1},
-    {{"stability", NULL, NULL, NULL}, NULL, bench_stability, 0},
+     READS_SCENE},
+    {{"stability", NULL, NULL, NULL}, NULL, bench_stability, READS_CATALOGUE},
     {{"peers", "Peers on the same NLP (linear contact level, default layout, binding targets)",
       "median time per plan [ns]",
       "max pose difference from Ipopt (exact Hessian, tolerance 1e-10) [mm or deg]"},
      bench_peers,
      NULL,
-     1},
-    {{"levels", NULL, NULL, NULL}, NULL, bench_levels, 0},
-    {{"load", NULL, NULL, NULL}, NULL, bench_load, 0},
-    {{"loop", NULL, NULL, NULL}, NULL, bench_loop, 1},
-    {{"fidelity", NULL, NULL, NULL}, NULL, bench_fidelity, 0},
+     READS_SCENE},
+    {{"levels", NULL, NULL, NULL}, NULL, bench_levels, READS_CATALOGUE},
+    {{"load", NULL, NULL, NULL}, NULL, bench_load, READS_CATALOGUE},
+    {{"loop", NULL, NULL, NULL}, NULL, bench_loop, READS_SCENE},
+    {{"fidelity", NULL, NULL, NULL}, NULL, bench_fidelity, READS_CATALOGUE},
 };
 #define N_FAMILIES (sizeof families / sizeof families[0])
 
@@ -236,7 +238,11 @@ int bench_run_cli(int argc, char **argv)
     const int only_given = val[O_ONLY] != NULL, repeat_given = val[O_REPEAT] != NULL;
     /* the loop-only option named when there is no loop family */
     const char *loop_opt = val[O_LEVEL] ? "--loop-level" : val[O_BACKEND] ? "--loop-backend" : NULL;
-    if (!*out) return cli_fail(CLI_EXIT_USAGE, CMD, "--out: empty folder name");
+    /* An empty name names no file: refused as itself, not as a file that cannot be read. */
+    for (int o = 0; o < N_OPTS; ++o)
+        if (val[o] && !*val[o] &&
+            (o == O_OUT || o == O_SCENE || o == O_SCENARIOS || o == O_PYTHON || o == O_PEER))
+            return cli_fail(CLI_EXIT_USAGE, CMD, "%s: empty name", opt_names[o]);
     if (only_given && parse_only(val[O_ONLY], on) != 0) return CLI_EXIT_USAGE;
     if (repeat_given && cli_int(CMD, "--repeat", val[O_REPEAT], 1, 100, &repeat) != 0)
         return CLI_EXIT_USAGE;
@@ -262,7 +268,10 @@ int bench_run_cli(int argc, char **argv)
                         "gnuplot not found on PATH (it draws the charts; install the "
                         "'gnuplot' package)");
     for (size_t k = 0; k < N_FAMILIES; ++k) {
-        if (!on[k] || !families[k].needs_scene) continue;
+        if (on[k] && (families[k].reads & READS_CATALOGUE) &&
+            (rc = bench_catalogue_readable(scenarios)) != 0)
+            return rc;
+        if (!on[k] || !(families[k].reads & READS_SCENE)) continue;
         FILE *f = fopen(scene, "r");
         if (!f)
             return cli_fail(CLI_EXIT_NOINPUT, CMD,

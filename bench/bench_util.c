@@ -167,15 +167,27 @@ static int cmp_names(const void *a, const void *b)
 
 #define BENCH_MAX_SCENE_FILES 64
 
+/* The catalogue folder dir cannot be opened: one line, CLI_EXIT_NOINPUT. */
+static int catalogue_refused(const char *dir)
+{
+    cli_fail(0, "bench", "--scenarios: cannot open folder '%s'", dir);
+    return CLI_EXIT_NOINPUT;
+}
+
+int bench_catalogue_readable(const char *dir)
+{
+    DIR *dp = opendir(dir);
+    if (!dp) return catalogue_refused(dir);
+    closedir(dp);
+    return 0;
+}
+
 int bench_each_scene(const bench_options *o, bench_scene_fn run, void *rows, size_t row_size,
                      int max_rows, int *nrows)
 {
     *nrows = 0;
     DIR *dp = opendir(o->scenarios);
-    if (!dp) {
-        cli_fail(0, "bench", "--scenarios: cannot open folder '%s'", o->scenarios);
-        return CLI_EXIT_NOINPUT;
-    }
+    if (!dp) return catalogue_refused(o->scenarios);
     char *names[BENCH_MAX_SCENE_FILES];
     int nn = 0, rc = 0;
     struct dirent *de;

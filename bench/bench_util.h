@@ -78,6 +78,11 @@ typedef int (*bench_scene_fn)(const bench_options *o, const char *path, const ch
  * o->scenarios in name order (at most 64 files), rows of row_size bytes filled in that
  * order, at most max_rows kept; *nrows gets how many. Returns 0, the first exit status run
  * returned, or CLI_EXIT_NOINPUT after one line on stderr when the folder cannot be read. */
+/* 0 when dir opens as a folder (the scene catalogue bench_each_scene walks), else
+ * CLI_EXIT_NOINPUT after one line naming --scenarios: the command line checks it before it
+ * creates the output folder. */
+int bench_catalogue_readable(const char *dir);
+
 int bench_each_scene(const bench_options *o, bench_scene_fn run, void *rows, size_t row_size,
                      int max_rows, int *nrows);
 

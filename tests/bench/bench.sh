@@ -152,6 +152,15 @@ listed=$(awk -F, 'NR > 1 && $7 != "ipopt-worse"' "$OUT/stability_wrong.csv" | wc
 fi
 run --quick --only stability --out "$OUT" --scenarios "$TMP/nowhere"
 expect_exit 66 "--scenarios missing"; expect_stderr_has "nowhere" "names the catalogue"
+# Checked before the output folder is made: a refused catalogue leaves no folder behind, and
+# an empty name is refused as one (not as a file that cannot be opened).
+run --quick --only levels --out "$TMP/nofolder" --scenarios "$TMP/nowhere"
+expect_exit 66 "--scenarios missing (levels)"; expect_stderr_has "--scenarios: cannot open folder" "names --scenarios"
+[ ! -e "$TMP/nofolder" ] && ok || bad "a refused catalogue left the output folder"
+for o in --scenarios --scene --python --peer-script --out; do
+  run --quick --only fidelity "$o="
+  expect_exit 64 "$o empty"; expect_stderr_has "$o: empty name" "names $o"
+done
 
 if whole_family peers; then
 # The peers family: the baseline (Ipopt, exact Hessian) has ratio 1; every method solves the
