@@ -18,7 +18,8 @@ runs (the fixed configuration, in this order):
   restarts-cost     planner.csv of the same headplan-bench run              docs/planner.md
   backends-table    headplan-bench-backends                                 docs/backends.md
   loop-table        loop.csv of the same headplan-bench run                 docs/control-loop.md
-  loop-headline     the same loop.csv, realtime medians                     docs/benchmarks.md
+  loop-headline     the same loop.csv, realtime medians                     docs/benchmarks.md,
+                                                                            README.md
   loop-tail         bench/loop_tail.sh (callgrind: instructions a plan), linear
                     level, step trace, own answers and measured readings    docs/control-loop.md
   load-table        load.csv of the same headplan-bench run                 docs/load.md
@@ -207,8 +208,8 @@ def loop_table(figures):
 
 
 def loop_headline(figures):
-    """docs/benchmarks.md's headline of the control-loop family (loop.csv of this run): the
-    realtime backend's medians per level, rate-free and rate-limited on the smooth trace,
+    """The headline of the control-loop family in README.md and docs/benchmarks.md (loop.csv of
+    this run): the realtime backend's medians per level, rate-free and rate-limited on the smooth trace,
     rate-free, rate-limited and measured on the step trace (x: the ratio to the rate-free
     plan of the same trace), and hp_planner_set_measured's median on the step trace."""
     rows = loop_rows(figures)
@@ -392,8 +393,9 @@ def main():
     tables = bench_tables(src, figures)
     sp = speed(src, figures)
     new["README.md"]["speed-readme"] = sp
-    new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp,
-                                                "loop-headline": loop_headline(figures)})
+    lh = loop_headline(figures)
+    new["README.md"]["loop-headline"] = lh
+    new["docs/benchmarks.md"] = dict(tables, **{"speed-benchmarks": sp, "loop-headline": lh})
     new["docs/control-loop.md"] = {"loop-table": loop_table(figures)}
     tails = []
     for feed in ("0", "1"):
