@@ -8,8 +8,8 @@
  * Four planners run every trace, taking turns on each cycle (so a slow spell of the host
  * hits all four alike):
  *   free      rate limits off, each plan from the last answer (the headline numbers' plan);
- *   rate      every bladder's rate_max LOOP_RATE_PA per plan;
- *   measured  rate, and after each plan the pressures read back with +-LOOP_NOISE_PA noise
+ *   rate      every bladder's rate_max SA_LOOP_RATE_PA per plan (bench/loop_trace.h);
+ *   measured  rate, and after each plan the pressures read back with +-SA_LOOP_NOISE_PA noise
  *             through hp_planner_set_measured (its own time kept apart);
  *   deadline  measured, with max_time LOOP_BUDGET_US: overshoots are plans that took longer
  *             than the budget + LOOP_OVERSHOOT_US; overshoots_host those that took longer than
@@ -39,8 +39,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LOOP_RATE_PA SA_LOOP_RATE_PA /* bench/loop_trace.h: the replays' too */
-#define LOOP_NOISE_PA SA_LOOP_NOISE_PA
 #define LOOP_BUDGET_US 20.0
 #define LOOP_OVERSHOOT_US 5.0
 #define LOOP_HOST_US 100.0
@@ -139,8 +137,8 @@ static int run_once(const bench_options *o, const hp_layout *L0, const hp_settin
 {
     long n = loop_cycles(o);
     hp_planner *p[N_MODES] = {0};
-    hp_layout L = *L0;
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = LOOP_RATE_PA;
+    hp_layout L;
+    sa_loop_layout(L0, &L);
     int rc = 0;
     for (int m = 0; m < N_MODES && rc == 0; ++m) {
         hp_settings s = *s0;
@@ -150,12 +148,11 @@ static int run_once(const bench_options *o, const hp_layout *L0, const hp_settin
         s.max_time = m == 3 ? LOOP_BUDGET_US * 1e-6 : 10.0;
         rc = bench_planner_new(&L, &s, &p[m]);
     }
-    uint64_t seed, noise;
-    sa_loop_seeds(trace, &seed, &noise);
-    double tgt[6] = {0};
+    sa_loop_walk w;
+    sa_loop_walk_start(&w, trace);
     for (long j = 0; j < n && rc == 0; ++j) {
         double xi[6];
-        sa_loop_trace_si(trace, j, &seed, tgt, xi);
+        sa_loop_walk_at(&w, j, xi);
         for (int mm = 0; mm < N_MODES; ++mm) {
             int m = j % 2 ? N_MODES - 1 - mm : mm; /* forwards, then backwards */
             loop_row *r = &rows[m];
@@ -185,7 +182,7 @@ static int run_once(const bench_options *o, const hp_layout *L0, const hp_settin
             if (m >= 2) {
                 double P[HP_MAX_BLADDERS];
                 unsigned cl = 0;
-                sa_loop_readings(&res, &noise, P);
+                sa_loop_readings(&res, &w.noise, P);
                 t0 = bench_now_ns();
                 hp_error es = hp_planner_set_measured(p[m], P, &cl);
                 double dts = bench_now_ns() - t0;
@@ -299,7 +296,7 @@ int bench_loop(const bench_options *o, const char *dir)
         csv_row, rows, nr);
     printf("loop (rate %g Pa/plan, measured noise +-%g Pa, deadline %g us; ratios to the "
            "free plan of the same trace):\n",
-           LOOP_RATE_PA, LOOP_NOISE_PA, LOOP_BUDGET_US);
+           SA_LOOP_RATE_PA, SA_LOOP_NOISE_PA, LOOP_BUDGET_US);
     printf("%-8s %-12s %-7s %-9s %8s %8s %8s %8s %6s %6s %7s %5s %5s %5s %6s %5s %7s\n", "level",
            "backend", "trace", "mode", "med_us", "p99_us", "p999_us", "max_us", "x_med", "x_p999",
            "set_us", "tlim", "over", "ohost", "ends/k", "slow%", "x_p999c");

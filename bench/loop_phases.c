@@ -140,19 +140,14 @@ static int slower_first(const void *a, const void *b)
 /* Runs the trace REPEATS times into r[(planner · repeats + rep) · cycles + j]. */
 static int run(const hp_layout *L0, int level, int trace, long cycles, int repeats, rec *r)
 {
-    hp_layout L = *L0;
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = SA_LOOP_RATE_PA;
     for (int rep = 0; rep < repeats; ++rep) {
-        hp_planner *p[N_PLANNERS] = {NULL};
-        int rc = 0;
-        for (int m = 0; m < N_PLANNERS && rc == 0; ++m)
-            rc = sa_loop_planner(&L, level, m > 0, "headplan-bench-phases", &p[m]);
-        uint64_t seed, noise;
-        sa_loop_seeds(trace, &seed, &noise);
-        double tgt[6] = {0};
+        hp_planner *p[N_PLANNERS];
+        int rc = sa_loop_planners(L0, level, N_PLANNERS, "headplan-bench-phases", p);
+        sa_loop_walk w;
+        sa_loop_walk_start(&w, trace);
         for (long j = 0; j < cycles && rc == 0; ++j) {
             double xi[6];
-            sa_loop_trace_si(trace, j, &seed, tgt, xi);
+            sa_loop_walk_at(&w, j, xi);
             for (int mm = 0; mm < N_PLANNERS && rc == 0; ++mm) {
                 int m = j % 2 ? N_PLANNERS - 1 - mm : mm; /* forwards, then backwards */
                 memset(in_phase, 0, sizeof in_phase);
@@ -174,7 +169,7 @@ static int run(const hp_layout *L0, int level, int trace, long cycles, int repea
                 }
                 if (m == 2) {
                     double P[HP_MAX_BLADDERS];
-                    sa_loop_readings(&res, &noise, P);
+                    sa_loop_readings(&res, &w.noise, P);
                     if (hp_planner_set_measured(p[m], P, NULL) != HP_OK) rc = 70;
                 }
             }

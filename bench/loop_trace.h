@@ -63,19 +63,28 @@ static inline int sa_loop_trace_of(const char *name)
     return -1;
 }
 
-/* A trace's seeds: its generator's (sa_loop_trace) and its readings' noise's. */
-static inline void sa_loop_seeds(int trace, uint64_t *seed, uint64_t *noise)
+/* A trace walked cycle by cycle: which trace, its generator (sa_loop_trace), its readings'
+ * noise's generator (sa_loop_readings) and the step trace's current target. */
+typedef struct sa_loop_walk {
+    int trace;
+    uint64_t seed, noise;
+    double step_tgt[6];
+} sa_loop_walk;
+
+/* The walk of a trace from its first cycle, with the loop benchmark's seeds. */
+static inline void sa_loop_walk_start(sa_loop_walk *w, int trace)
 {
-    *seed = 0x100b + (uint64_t)trace;
-    *noise = 0x5e7 + (uint64_t)trace;
+    w->trace = trace;
+    w->seed = 0x100b + (uint64_t)trace;
+    w->noise = 0x5e7 + (uint64_t)trace;
+    for (int i = 0; i < 6; ++i) w->step_tgt[i] = 0;
 }
 
-/* sa_loop_trace's correction in SI units (m, rad). */
-static inline void sa_loop_trace_si(int trace, long j, uint64_t *s, double step_tgt[6],
-                                    double xi[6])
+/* The walk's correction at cycle j (cycles taken in order from 0) in SI units (m, rad). */
+static inline void sa_loop_walk_at(sa_loop_walk *w, long j, double xi[6])
 {
     double mm_deg[6];
-    sa_loop_trace(trace, j, s, step_tgt, mm_deg);
+    sa_loop_trace(w->trace, j, &w->seed, w->step_tgt, mm_deg);
     for (int i = 0; i < 6; ++i) xi[i] = mm_deg[i] * (i < 3 ? 1e-3 : 3.14159265358979323846 / 180.0);
 }
 
@@ -102,6 +111,28 @@ static inline int sa_loop_planner(const hp_layout *L, int level, int rate, const
     if (hp_planner_create(L, &st, p, &d) == HP_OK) return 0;
     fprintf(stderr, "%s: %s\n", prog, d.text);
     return 65;
+}
+
+/* L0 with every bladder's rate_max SA_LOOP_RATE_PA: the layout of the loop benchmark's
+ * planners (a rate-free planner ignores it). */
+static inline void sa_loop_layout(const hp_layout *L0, hp_layout *L)
+{
+    *L = *L0;
+    for (int k = 0; k < L->n; ++k) L->bladders[k].rate_max = SA_LOOP_RATE_PA;
+}
+
+/* The replays' n planners on sa_loop_layout(L0): p[0] rate-free, the others rate-limited
+ * (sa_loop_planner). 0, or its status at the first that fails; the ones made stay in p for
+ * the caller to destroy (the rest NULL). */
+static inline int sa_loop_planners(const hp_layout *L0, int level, int n, const char *prog,
+                                   hp_planner **p)
+{
+    hp_layout L;
+    sa_loop_layout(L0, &L);
+    int rc = 0;
+    for (int m = 0; m < n; ++m) p[m] = NULL;
+    for (int m = 0; m < n && rc == 0; ++m) rc = sa_loop_planner(&L, level, m > 0, prog, &p[m]);
+    return rc;
 }
 
 #endif

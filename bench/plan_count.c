@@ -153,8 +153,8 @@ static int run_loop(const hp_layout *L0, int level, const char *backend, long cy
      * work (SLSQP's restarts, on by default, repeat it on plans that bind). */
     st.restarts = 0;
     if (hp_backend_parse(backend, &st.backend) != HP_OK || cycles < 1) return usage();
-    hp_layout L = *L0;
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = SA_LOOP_RATE_PA;
+    hp_layout L;
+    sa_loop_layout(L0, &L);
     hp_planner *p = NULL;
     hp_diag d = {{0}};
     if (hp_planner_create(&L, &st, &p, &d) != HP_OK) {
@@ -198,18 +198,13 @@ static void print_bits(int level, int trace, int feed, long j, int m, const hp_r
 /* The tail mode (see the top); bits: the bits mode's line a plan instead. */
 static int run_tail(const hp_layout *L0, int level, int trace, int feed, long cycles, int bits)
 {
-    hp_layout L = *L0;
-    for (int k = 0; k < L.n; ++k) L.bladders[k].rate_max = 500.0;
-    hp_planner *p[2] = {NULL, NULL};
-    int rc = 0;
-    for (int m = 0; m < 2 && rc == 0; ++m)
-        rc = sa_loop_planner(&L, level, m, "headplan-bench-count", &p[m]);
-    uint64_t seed, noise;
-    sa_loop_seeds(trace, &seed, &noise);
-    double tgt[6] = {0};
+    hp_planner *p[2];
+    int rc = sa_loop_planners(L0, level, 2, "headplan-bench-count", p);
+    sa_loop_walk w;
+    sa_loop_walk_start(&w, trace);
     for (long j = 0; j < cycles && rc == 0; ++j) {
         double xi[6];
-        sa_loop_trace_si(trace, j, &seed, tgt, xi);
+        sa_loop_walk_at(&w, j, xi);
         for (int m = 0; m < 2 && rc == 0; ++m) {
             hp_result res;
             if (hp_plan(p[m], xi, &res) != HP_OK) {
@@ -223,7 +218,7 @@ static int run_tail(const hp_layout *L0, int level, int trace, int feed, long cy
             else printf("%ld %d %s %d\n", j, m, hp_status_name(res.status), rate);
             if (m == 1 && feed) {
                 double P[HP_MAX_BLADDERS];
-                sa_loop_readings(&res, &noise, P);
+                sa_loop_readings(&res, &w.noise, P);
                 if (hp_planner_set_measured(p[m], P, NULL) != HP_OK) rc = 70;
             }
         }
