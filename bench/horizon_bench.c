@@ -1,9 +1,14 @@
 /* Benchmark of the horizon planners (docs/horizon.md), a standalone program built as
  * build/headplan-bench-horizon:
- *   headplan-bench-horizon rh SCENE TRACE [N]  time per receding-horizon call against N
- *                                             (the table's N, or only the N given), and its
+ *   headplan-bench-horizon rh SCENE TRACE [N] [--max-time-us US] [--repeat R]
+ *                                             time per receding-horizon call against N
+ *                                             (the table's N, or only the N given), its
  *                                             interior-point iterations (counted: the same
- *                                             on any machine without a time budget)
+ *                                             on any machine without a time budget), the
+ *                                             calls the budget stopped and the plan's cost;
+ *                                             --max-time-us replaces the scene's
+ *                                             solver.max_time_s (a control loop's deadline),
+ *                                             --repeat takes each call's median of R runs
  *   headplan-bench-horizon windows SCENE TRACE WINDOW OVERLAP
  *                                             whole offline solve against overlapping windows
  * Prints CSV on stdout. Per-call times are the calling thread's CPU time
@@ -19,6 +24,9 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+
+/* The most runs of a trace --repeat takes (each call's times sorted on the stack). */
+#define RH_MAX_REPEAT 99
 
 static double cpu_s(void)
 {
@@ -105,52 +113,98 @@ static int load(const char *scene, const char *trace, hp_scene *sc, hp_settings 
     return rc;
 }
 
+/* Every N (or only), every prediction: one line of times, iterations, the calls the time
+ * budget stopped (status time-limit) and the plan's cost, measured as headplan horizon
+ * measures its receding plan (the same start pressures, start interval and tolerances), so
+ * that a budget's effect on tracking shows beside its effect on time. With repeat R > 1 the
+ * trace is planned R times (new planners each time) and each call's time is its median over
+ * the R runs: a call is the same work in every run while no budget stops it, and a stall of
+ * the host lands in one run's time of it, not in the median. The other columns are the first
+ * run's. */
 static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row *rows, size_t T,
-                    int only)
+                    int only, int repeat)
 {
     static const int table[] = {1, 2, 5, 10, 20, 40, 64};
     const int *Ns = only ? &only : table;
-    const size_t nN = only ? 1 : sizeof table / sizeof table[0];
-    double *times = malloc(T * sizeof *times);
-    if (!times) return no_memory("the times");
+    const size_t nN = only ? 1 : sizeof table / sizeof table[0], R = (size_t)repeat;
+    double p0[HP_MAX_BLADDERS];
+    hp_diag d0 = {{0}};
+    hp_error e0 = hp_horizon_nominal_pressures(&sc->layout, p0, &d0);
+    if (e0 != HP_OK) return call_failed("start pressures", e0, &d0);
+    double *runs = malloc(R * T * sizeof *runs), *times = malloc(T * sizeof *times);
+    hp_horizon_row *plan = malloc(T * sizeof *plan);
+    if (!runs || !times || !plan) {
+        free(runs);
+        free(times);
+        free(plan);
+        return no_memory("the times");
+    }
     printf("N,prediction,calls,median_us,p99_us,max_us,mean_iterations,max_iterations,"
-           "calls_6_or_more\n");
+           "calls_6_or_more,time_limited,cost\n");
     static const hp_prediction preds[] = {HP_PREDICT_HOLD, HP_PREDICT_VELOCITY,
                                           HP_PREDICT_PERIODIC};
-    for (size_t p = 0; p < sizeof preds / sizeof preds[0]; ++p)
-        for (size_t a = 0; a < nN; ++a) {
+    int rc = 0;
+    for (size_t p = 0; p < sizeof preds / sizeof preds[0] && !rc; ++p)
+        for (size_t a = 0; a < nN && !rc; ++a) {
             hp_horizon_settings hs;
             hp_horizon_settings_default(&hs);
             hs.horizon = Ns[a];
             hs.prediction = preds[p];
-            hp_horizon_rh *rh = NULL;
+            hs.start_interval_s = hp_horizon_start_interval(rows, T, hs.start_interval_s);
+            long first = 0, most = 0, slow = 0; /* the first run's iterations */
+            size_t stopped = 0;
+            hp_error e = HP_OK;
             hp_diag d = {{0}};
-            hp_error e = hp_horizon_rh_create(&sc->layout, s, &hs, NULL, &rh, &d);
+            for (size_t k = 0; k < R && e == HP_OK; ++k) {
+                hp_horizon_rh *rh = NULL;
+                if ((e = hp_horizon_rh_create(&sc->layout, s, &hs, p0, &rh, &d)) != HP_OK) break;
+                long before = 0;
+                for (size_t t = 0; t < T && e == HP_OK; ++t) {
+                    hp_result r;
+                    double t0 = cpu_s();
+                    e = hp_horizon_rh_step(rh, rows[t].t, rows[t].correction, &r);
+                    runs[k * T + t] = cpu_s() - t0;
+                    if (e != HP_OK) {
+                        hp_diag_set(&d, e, "line %ld: t_s: not after the previous row",
+                                    rows[t].line);
+                        break;
+                    }
+                    if (k) continue;
+                    long now = hpi_horizon_rh_iterations(rh), it = now - before;
+                    before = now;
+                    most = it > most ? it : most;
+                    slow += it >= 6;
+                    stopped += r.status == HP_STATUS_TIME_LIMIT;
+                    hpi_horizon_row_from_result(rows + t, &r, sc->layout.n, plan + t);
+                }
+                if (!k) first = before;
+                hp_horizon_rh_destroy(rh);
+            }
+            hp_horizon_metrics m;
+            if (e == HP_OK &&
+                (e = hp_horizon_measure(plan, T, sc->layout.n, p0, s, &hs, 0.5, 0.5, &m)) != HP_OK)
+                hp_diag_set(&d, e, "metrics: %s", hp_error_message(e));
             if (e != HP_OK) {
-                free(times);
-                return call_failed("receding horizon", e, &d);
+                rc = call_failed("receding horizon", e, &d);
+                break;
             }
-            long before = 0, most = 0, slow = 0; /* iterations: the last count, a call's most */
+            double col[RH_MAX_REPEAT];
             for (size_t t = 0; t < T; ++t) {
-                hp_result r;
-                double t0 = cpu_s();
-                hp_horizon_rh_step(rh, rows[t].t, rows[t].correction, &r);
-                times[t] = cpu_s() - t0;
-                long now = hpi_horizon_rh_iterations(rh), it = now - before;
-                before = now;
-                most = it > most ? it : most;
-                slow += it >= 6;
+                for (size_t k = 0; k < R; ++k) col[k] = runs[k * T + t];
+                qsort(col, R, sizeof col[0], sa_by_value);
+                times[t] = col[R / 2];
             }
-            hp_horizon_rh_destroy(rh);
             qsort(times, T, sizeof *times, sa_by_value);
-            printf("%d,%s,%zu,%.1f,%.1f,%.1f,%.3f,%ld,%ld\n", Ns[a],
+            printf("%d,%s,%zu,%.1f,%.1f,%.1f,%.3f,%ld,%ld,%zu,%.17g\n", Ns[a],
                    hp_prediction_name(hs.prediction), T, 1e6 * times[T / 2],
-                   1e6 * times[(T * 99) / 100], 1e6 * times[T - 1], (double)before / (double)T,
-                   most, slow);
+                   1e6 * times[(T * 99) / 100], 1e6 * times[T - 1], (double)first / (double)T, most,
+                   slow, stopped, m.cost);
             fflush(stdout);
         }
+    free(runs);
     free(times);
-    return 0;
+    free(plan);
+    return rc;
 }
 
 static int bench_windows(const hp_scene *sc, const hp_settings *s, const hp_trace_row *rows,
@@ -211,10 +265,24 @@ static int count_arg(const char *name, const char *arg, int min)
     return (int)v;
 }
 
+/* A number > 0 and finite from a command-line argument, or -1 after printing why. */
+static double positive_arg(const char *name, const char *arg)
+{
+    char *end = NULL;
+    double v = strtod(arg, &end);
+    if (end == arg || *end != '\0' || !(v > 0) || !isfinite(v)) {
+        fprintf(stderr, "headplan-bench-horizon: %s '%s': want a finite number > 0\n", name, arg);
+        return -1;
+    }
+    return v;
+}
+
 int main(int argc, char **argv)
 {
-    static const char usage[] = "usage: headplan-bench-horizon rh SCENE TRACE [N] | "
-                                "headplan-bench-horizon windows SCENE TRACE WINDOW OVERLAP\n";
+    static const char usage[] =
+        "usage: headplan-bench-horizon rh SCENE TRACE [N] [--max-time-us US] "
+        "[--repeat R] | headplan-bench-horizon windows SCENE TRACE WINDOW "
+        "OVERLAP\n";
     if (argc < 2) {
         fputs(usage, stderr);
         return EX_USAGE_;
@@ -225,12 +293,44 @@ int main(int argc, char **argv)
                 usage);
         return EX_USAGE_;
     }
-    if (rh ? argc != 4 && argc != 5 : argc != 6) {
+    /* rh: the positional arguments end at the first option */
+    int npos = argc;
+    for (int i = 2; i < argc && rh; ++i)
+        if (strncmp(argv[i], "--", 2) == 0) {
+            npos = i;
+            break;
+        }
+    if (rh ? npos < 4 || npos > 5 : argc != 6) {
         fputs(usage, stderr);
         return EX_USAGE_;
     }
-    int window = 0, overlap = 0, only = 0;
-    if (rh && argc == 5 && (only = count_arg("N", argv[4], 1)) < 0) return EX_USAGE_;
+    int window = 0, overlap = 0, only = 0, repeat = 1;
+    double max_time_us = 0; /* 0: the scene's solver.max_time_s */
+    int seen[2] = {0, 0};   /* --repeat, --max-time-us */
+    if (rh && npos == 5 && (only = count_arg("N", argv[4], 1)) < 0) return EX_USAGE_;
+    for (int i = npos; i < argc; i += 2) {
+        const int is_time = strcmp(argv[i], "--max-time-us") == 0;
+        if (!is_time && strcmp(argv[i], "--repeat") != 0) {
+            fprintf(stderr, "headplan-bench-horizon: unknown option '%s'; %s", argv[i], usage);
+            return EX_USAGE_;
+        }
+        if (i + 1 == argc) {
+            fprintf(stderr, "headplan-bench-horizon: %s: missing value\n", argv[i]);
+            return EX_USAGE_;
+        }
+        if (seen[is_time]++) {
+            fprintf(stderr, "headplan-bench-horizon: %s: given more than once\n", argv[i]);
+            return EX_USAGE_;
+        }
+        if (is_time ? (max_time_us = positive_arg(argv[i], argv[i + 1])) < 0
+                    : (repeat = count_arg(argv[i], argv[i + 1], 1)) < 0)
+            return EX_USAGE_;
+        if (repeat > RH_MAX_REPEAT) {
+            fprintf(stderr, "headplan-bench-horizon: --repeat '%s': at most %d\n", argv[i + 1],
+                    RH_MAX_REPEAT);
+            return EX_USAGE_;
+        }
+    }
     if (!rh && ((window = count_arg("WINDOW", argv[4], 1)) < 0 ||
                 (overlap = count_arg("OVERLAP", argv[5], 0)) < 0))
         return EX_USAGE_;
@@ -243,8 +343,10 @@ int main(int argc, char **argv)
     hp_trace_row *rows = NULL;
     size_t T = 0;
     int rc = load(argv[2], argv[3], sc, &s, &rows, &T);
+    if (max_time_us > 0) s.max_time = 1e-6 * max_time_us;
     if (rc == 0)
-        rc = rh ? bench_rh(sc, &s, rows, T, only) : bench_windows(sc, &s, rows, T, window, overlap);
+        rc = rh ? bench_rh(sc, &s, rows, T, only, repeat)
+                : bench_windows(sc, &s, rows, T, window, overlap);
     free(rows);
     free(sc);
     return rc;

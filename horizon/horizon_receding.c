@@ -17,7 +17,8 @@
  * horizon traces 3–5 iterations a call where a fixed centring from cold multipliers took
  * 11–14 (tests/horizon/test_rh_solve.c); each row's contact distances start from the row's
  * last evaluation, shifted with it (one root-find step a distance, 2.5 from the bracket). At
- * most rh_max_iter iterations, none begun after half the planner's max_time. The iterate
+ * most rh_max_iter iterations, ending within four fifths of the planner's max_time from the
+ * call's start (none begun that this call's longest would carry past it). The iterate
  * need not be feasible: the applied first row goes through hp_plan (realtime backend, this
  * row's rate limits), which keeps every limit exactly. Uncommanded pose components are
  * pulled to 0 with unit weight, as the planner holds them. */
@@ -54,6 +55,11 @@
 #define RH_REF_MAX_ITER 100
 #define RH_REF_GAP_TOL 1e-13
 #define RH_REF_STEP_TOL 1e-11
+/* The share of the settings' max_time, from the call's start, within which the interior
+ * point ends; the applied row's hp_plan (a few microseconds at N = 10: a twentieth of a
+ * 100 µs budget) has the rest. Half left the solve two iterations at 100 µs, and tracked
+ * worse (docs/horizon.md, A deadline). */
+#define RH_SOLVE_SHARE 0.8
 /* Rows of desired poses kept for the predictions: the velocity's at most HP_HORIZON_MAX,
  * the periodic fit's two periods and the crossings before them (12.8 s at 10 Hz, three
  * breathing cycles of 4 s). */
@@ -102,6 +108,7 @@ struct hp_horizon_rh {
     double A[HP_HORIZON_MAX * 36], B[HP_HORIZON_MAX * 36]; /* diagonal / sub-diagonal blocks */
     hp_result applied;     /* the last applied answer (its pose starts a cold plan) */
     int budget_stopped;    /* the last call's horizon solve stopped at its time budget */
+    double t_call;         /* [s] CLOCK_MONOTONIC at the call's start: its budget's origin */
     char why[HP_DIAG_MAX]; /* ... and what it says about it */
     double c[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];   /* constraint values (>= 0 wanted) */
     double sl[RH_NC * HP_HORIZON_MAX * HP_MAX_BLADDERS];  /* slacks */
@@ -425,8 +432,14 @@ static void start_point(hp_horizon_rh *rh, int m, int warm)
     }
 }
 
-/* At most rh_max_iter primal-dual interior-point iterations from rh->z, and none started
- * after the planner's max_time (half of it: hp_plan gets the rest). Each iteration is
+/* At most rh_max_iter primal-dual interior-point iterations from rh->z, within
+ * RH_SOLVE_SHARE of the planner's max_time from the call's start (hp_plan gets the rest):
+ * the first iteration begins while that share lasts, each later one only if the longest of
+ * this call's
+ * iterations so far would end within it. An iteration is one evaluation of the N rows, one
+ * factorisation and two solves, about the same work each time, so a call ends near its
+ * budget rather than one whole iteration past it; the estimate is this call's own, so a
+ * preempted iteration in one call does not starve the next. Each iteration is
  * Mehrotra's predictor–corrector: one factorisation, an affine step (targets 0) that gives
  * the centring σ = (μ_aff/μ)³, and the corrected step (targets σμ − ds_aff·dλ_aff); the
  * reference solve of the tests takes the plain step (targets RH_SIGMA·μ) from a cold start.
@@ -436,7 +449,7 @@ static void start_point(hp_horizon_rh *rh, int m, int warm)
 static int interior_point(hp_horizon_rh *rh)
 {
     const int n = rh->n, m = RH_NC * n * rh->N;
-    const double budget = 0.5 * rh->s.max_time, t_end = now_s() + budget;
+    const double budget = RH_SOLVE_SHARE * rh->s.max_time, t_end = rh->t_call + budget;
     const int max_iter = rh->reference ? RH_REF_MAX_ITER : rh->hs.rh_max_iter;
     const double gap_tol = rh->reference ? RH_REF_GAP_TOL : RH_GAP_TOL;
     const double step_tol = rh->reference ? RH_REF_STEP_TOL : RH_STEP_TOL;
@@ -447,9 +460,10 @@ static int interior_point(hp_horizon_rh *rh)
     if (rh->geom_ok) constraints(rh);
     else if (!(rh->geom_ok = evaluate(rh, rh->z))) return -1;
     start_point(rh, m, warm);
-    double prev0 = INFINITY;
+    double prev0 = INFINITY, longest = 0.0;
     for (int it = 0; it < max_iter; ++it) {
-        if (budget < 1e-9 || now_s() >= t_end) return it;
+        const double t_it = now_s();
+        if (budget < 1e-9 || t_it + longest >= t_end) return it;
         rh->iterations++;
         double gap = 0;
         for (int i = 0; i < m; ++i) gap += rh->sl[i] * rh->lam[i];
@@ -504,6 +518,7 @@ static int interior_point(hp_horizon_rh *rh)
         if (gap / m < gap_tol &&
             (step < step_tol || (!rh->reference && left0 < RH_LEFT_FIRST && step < RH_STEP_REST)))
             return -1;
+        longest = fmax(longest, now_s() - t_it);
     }
     return -1;
 }
@@ -626,6 +641,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
 {
     if (!rh || !desired || !result) return HP_ERR_NULL;
     if (!isfinite(t) || (rh->started && !(t > rh->last_t))) return HP_ERR_INVALID;
+    rh->t_call = now_s(); /* the prediction's fit counts against the budget too */
     double dt0 = rh->started ? t - rh->last_t : rh->hs.start_interval_s;
     int finite = 1;
     for (int i = 0; i < 6; ++i) finite = finite && isfinite(desired[i]);
@@ -660,10 +676,10 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
         rh->budget_stopped = done >= 0;
         if (done >= 0)
             snprintf(rh->why, sizeof rh->why,
-                     "time-limit: the receding horizon's solve stopped at its time budget (half "
-                     "of solver.max_time_s = %g s) after %d of at most %d iterations; the row "
+                     "time-limit: the receding horizon's solve stopped at its time budget (%g of "
+                     "solver.max_time_s = %g s) after %d of at most %d iterations; the row "
                      "depends on the machine's speed",
-                     rh->s.max_time, done, rh->hs.rh_max_iter);
+                     RH_SOLVE_SHARE, rh->s.max_time, done, rh->hs.rh_max_iter);
         int aim_desired = 1;
         for (int i = 0; i < 6; ++i) {
             double s = i < 3 ? HP_MM_PER_M : HP_DEG_PER_RAD;

@@ -17,7 +17,7 @@ under_sanitizers() { [ "${HP_UNDER_ASAN:-0}" = 1 ]; }
 finish() { echo "$passes passed, $fails failed"; [ "$fails" -eq 0 ]; }
 # patient_scenes: prints the folder of a copy of scenarios/ in which every time budget a scene
 # states (solver.max_time_s) is 60 s. The scenes' own budgets (1 s a plan) are read on the wall
-# clock, and the receding horizon stops each row's solve after half of one: on a machine
+# clock, and the receding horizon stops each row's solve within four fifths of one: on a machine
 # stalled that long a row ends "time-limit" and the exit status and output change. A test
 # whose verdict needs no row stopped by time plans these instead.
 patient_scenes() {

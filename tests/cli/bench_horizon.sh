@@ -13,7 +13,7 @@ expect_one_line_stderr() { [ "$(wc -l < "$TMP/err")" -eq 1 ] && ok || bad "$1: s
 head -n 21 "$S/traces/step.csv" > "$TMP/step20.csv"
 brun rh "$S/horizon/step.yaml" "$TMP/step20.csv"
 expect_exit 0 "rh on the step trace"
-expect_stdout_has "N,prediction,calls,median_us,p99_us,max_us,mean_iterations,max_iterations,calls_6_or_more" "rh header"
+expect_stdout_has "N,prediction,calls,median_us,p99_us,max_us,mean_iterations,max_iterations,calls_6_or_more,time_limited,cost" "rh header"
 [ "$(grep -c ',20,' "$TMP/out")" -eq 21 ] && ok || bad "rh: want 21 lines of 20 calls"
 grep -q '^64,velocity,20,' "$TMP/out" && ok || bad "rh: no line for N = 64, velocity"
 grep -q '^10,periodic,20,' "$TMP/out" && ok || bad "rh: no line for N = 10, periodic"
@@ -29,8 +29,57 @@ awk -F, 'NR > 1 && !($7 >= 1 && $7 <= $8 && $8 <= 20 && $9 >= 0 && $9 <= $3) { b
 cut -d, -f1-3,7-9 "$TMP/out" > "$TMP/iters1"
 brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10
 cut -d, -f1-3,7-9 "$TMP/out" | cmp -s - "$TMP/iters1" && ok || bad "rh 10: iterations differ between two runs"
+# No budget stops a call (the scene's 10 s), and the cost is headplan horizon's for its
+# receding plan of the same rows, to the last digit printed (the same planner calls, the same
+# start pressures, start interval and tolerances), on 80 rows that hold the first step.
+head -n 81 "$S/traces/step.csv" > "$TMP/step80.csv"
+brun rh "$S/horizon/step.yaml" "$TMP/step80.csv" 10
+expect_exit 0 "rh 10 on 80 rows"
+cp "$TMP/out" "$TMP/rh80"
+awk -F, 'NR > 1 && $10 != 0 { bad = 1 } END { exit bad }' "$TMP/rh80" && ok \
+  || bad "rh 10: a call stopped by the scene's budget"
+for pred in hold velocity periodic; do
+  "$HP_BIN" horizon "$S/horizon/step.yaml" "$TMP/step80.csv" --rows deviation --mode receding \
+    --prediction "$pred" --json > "$TMP/cli.json" 2>/dev/null
+  want=$(sed -n 's/.*"cost": \([^,]*\),.*/\1/p' "$TMP/cli.json")
+  got=$(awk -F, -v p="$pred" '$2 == p { print $11 }' "$TMP/rh80")
+  awk -v a="$want" -v b="$got" 'BEGIN { d = a - b; if (d < 0) d = -d;
+      exit !(a != "" && b != "" && a > 0 && d <= 1e-15 * a) }' && ok \
+    || bad "rh 10 $pred: cost $got, headplan horizon says $want"
+done
+# --repeat: the counted columns and the cost are the first run's, the same as one run's.
+brun rh "$S/horizon/step.yaml" "$TMP/step80.csv" 10 --repeat 3
+expect_exit 0 "rh --repeat 3"
+cut -d, -f1-3,7-11 "$TMP/out" | cmp -s - <(cut -d, -f1-3,7-11 "$TMP/rh80") && ok \
+  || bad "rh --repeat 3: counted columns or cost differ from one run"
+# A budget below the clock's resolution stops every call's solve before its first iteration,
+# whatever the machine: every call is counted as stopped (the count is not timed).
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 --max-time-us 1e-6
+expect_exit 0 "rh --max-time-us 1e-6"
+awk -F, 'NR > 1 && $10 != $3 { bad = 1 } END { exit bad || NR != 4 }' "$TMP/out" && ok \
+  || bad "rh --max-time-us 1e-6: want every call stopped"
 
 # Every refusal: one line on stderr, naming what is wrong, and a non-zero status.
+for bad_opt in "--repeat 0" "--repeat 100" "--repeat two" "--max-time-us 0" "--max-time-us -5" \
+               "--max-time-us nan" "--max-time-us inf" "--max-time-us 5us" "--repeat" \
+               "--max-time-us" "--repeat 3 --repeat 3" "--max-time-us 9 --max-time-us 9" \
+               "--bogus 1"; do
+  # shellcheck disable=SC2086 # the option and its value are two words
+  brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 $bad_opt
+  expect_exit 64 "rh $bad_opt"
+  expect_one_line_stderr "rh $bad_opt"
+  [ -s "$TMP/out" ] && bad "rh $bad_opt: wrote to stdout" || ok
+done
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 --repeat 2 --repeat 3
+expect_stderr_has "--repeat: given more than once" "repeated option named"
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 --max-time-us nan
+expect_stderr_has "--max-time-us 'nan'" "bad budget named"
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 --bogus 1
+expect_stderr_has "unknown option '--bogus'" "unknown option named"
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" --repeat 3 10
+expect_exit 64 "rh N after an option"; expect_one_line_stderr "rh N after an option"
+brun windows "$S/horizon/step.yaml" "$TMP/step20.csv" 10 2 --repeat 3
+expect_exit 64 "windows with --repeat"; expect_stderr_has "usage:" "windows takes no option"
 brun
 expect_exit 64 "no arguments"; expect_stderr_has "usage: headplan-bench-horizon rh" "usage"
 brun sideways "$S/horizon/step.yaml" "$TMP/step20.csv"

@@ -37,10 +37,59 @@ static void test_binding_budget_is_marked_and_repeatable(void **st)
     free(c);
 }
 
+/* A control loop's deadline (100 µs a call, docs/horizon.md, A deadline) on the breathing
+ * trace, every prediction: which rows the clock stops depends on the machine and its load,
+ * so the test asserts what holds for every such subset. Each row is planned (reached,
+ * closest, or time-limit when its solve was cut short), its pressures are inside every limit
+ * and its change from the row before within the row's rate allowance, exactly: hp_plan applies
+ * whatever iterate the solve stopped at. */
+static void test_deadline_rows_keep_every_limit(void **st)
+{
+    (void)st;
+    hf_case *c = hf_load("horizon/breathing.yaml", "breathing.csv", 200);
+    assert_non_null(c);
+    c->s.max_time = 1e-4;
+    static const hp_prediction preds[] = {HP_PREDICT_HOLD, HP_PREDICT_VELOCITY,
+                                          HP_PREDICT_PERIODIC};
+    hp_horizon_row *a = calloc(c->T, sizeof *a);
+    double *delta = calloc(c->T * HP_MAX_BLADDERS, sizeof *delta);
+    assert_true(a && delta);
+    const int n = c->sc.layout.n;
+    for (size_t p = 0; p < sizeof preds / sizeof preds[0]; ++p) {
+        hp_horizon_settings hs;
+        hp_horizon_settings_default(&hs);
+        hs.prediction = preds[p];
+        hs.start_interval_s = hp_horizon_start_interval(c->rows, c->T, hs.start_interval_s);
+        hp_diag d = {{0}};
+        assert_int_equal(hp_horizon_rates(&c->sc.layout, &hs, c->rows, c->T, delta, &d), HP_OK);
+        assert_int_equal(
+            hp_horizon_receding(&c->sc.layout, &c->s, &hs, c->rows, c->T, c->p0, a, &d), HP_OK);
+        for (size_t t = 0; t < c->T; ++t) {
+            const hp_status st_t = a[t].status;
+            if (st_t != HP_STATUS_REACHED && st_t != HP_STATUS_CLOSEST &&
+                st_t != HP_STATUS_TIME_LIMIT)
+                print_error("%s, line %ld: %s\n", hp_prediction_name(preds[p]), c->rows[t].line,
+                            hp_status_name(st_t));
+            assert_true(st_t == HP_STATUS_REACHED || st_t == HP_STATUS_CLOSEST ||
+                        st_t == HP_STATUS_TIME_LIMIT);
+            for (int k = 0; k < n; ++k) {
+                const hp_bladder *B = &c->sc.layout.bladders[k];
+                const double P = a[t].pressure[k], prev = t ? a[t - 1].pressure[k] : c->p0[k];
+                assert_true(P >= B->p_min && P <= B->p_max);
+                assert_true(fabs(P - prev) <= delta[t * (size_t)n + (size_t)k]);
+            }
+        }
+    }
+    free(a);
+    free(delta);
+    free(c);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_binding_budget_is_marked_and_repeatable),
+        cmocka_unit_test(test_deadline_rows_keep_every_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
