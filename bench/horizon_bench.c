@@ -19,6 +19,7 @@
 #include "horizon/horizon_internal.h"
 #include "standalone.h"
 
+#include <ctype.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -164,9 +165,8 @@ static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row
                     double t0 = cpu_s();
                     e = hp_horizon_rh_step(rh, rows[t].t, rows[t].correction, &r);
                     runs[k * T + t] = cpu_s() - t0;
-                    if (e != HP_OK) {
-                        hp_diag_set(&d, e, "line %ld: t_s: not after the previous row",
-                                    rows[t].line);
+                    if (e != HP_OK) { /* the rows were checked: not expected */
+                        hp_diag_set(&d, e, "line %ld: %s", rows[t].line, hp_error_message(e));
                         break;
                     }
                     if (k) continue;
@@ -192,7 +192,7 @@ static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row
             for (size_t t = 0; t < T; ++t) {
                 for (size_t k = 0; k < R; ++k) col[k] = runs[k * T + t];
                 qsort(col, R, sizeof col[0], sa_by_value);
-                times[t] = col[R / 2];
+                times[t] = 0.5 * (col[(R - 1) / 2] + col[R / 2]);
             }
             qsort(times, T, sizeof *times, sa_by_value);
             printf("%d,%s,%zu,%.1f,%.1f,%.1f,%.3f,%ld,%ld,%zu,%.17g\n", Ns[a],
@@ -257,7 +257,8 @@ static int count_arg(const char *name, const char *arg, int min)
 {
     char *end = NULL;
     long v = strtol(arg, &end, 10);
-    if (end == arg || *end != '\0' || v < min || v > 1000000000L) {
+    if (end == arg || *end != '\0' || isspace((unsigned char)arg[0]) || v < min ||
+        v > 1000000000L) {
         fprintf(stderr, "headplan-bench-horizon: %s '%s': want a whole number >= %d\n", name, arg,
                 min);
         return -1;
@@ -265,12 +266,36 @@ static int count_arg(const char *name, const char *arg, int min)
     return (int)v;
 }
 
+/* Refuses, before anything is printed, a trace the horizon planners refuse: a desired pose
+ * hp_plan would refuse, or time stamps that are not finite and increasing. 0, or the exit
+ * status after one line on stderr. */
+static int check_trace(const char *trace, const hp_scene *sc, const hp_trace_row *rows, size_t T)
+{
+    hp_diag d = {{0}};
+    size_t bad = 0;
+    if (hp_horizon_check_rows(&sc->layout, rows, T, &bad, &d) != HP_OK) {
+        fprintf(stderr, "headplan-bench-horizon: %s:%ld: %s\n", trace, rows[bad].line, d.text);
+        return EX_DATA_;
+    }
+    hp_horizon_settings hs;
+    hp_horizon_settings_default(&hs);
+    double *delta = malloc(T * HP_MAX_BLADDERS * sizeof *delta);
+    if (!delta) return no_memory("the rate limits");
+    hp_error e = hp_horizon_rates(&sc->layout, &hs, rows, T, delta, &d);
+    free(delta);
+    if (e != HP_OK) {
+        fprintf(stderr, "headplan-bench-horizon: %s: %s\n", trace, d.text);
+        return EX_DATA_;
+    }
+    return 0;
+}
+
 /* A number > 0 and finite from a command-line argument, or -1 after printing why. */
 static double positive_arg(const char *name, const char *arg)
 {
     char *end = NULL;
     double v = strtod(arg, &end);
-    if (end == arg || *end != '\0' || !(v > 0) || !isfinite(v)) {
+    if (end == arg || *end != '\0' || isspace((unsigned char)arg[0]) || !(v > 0) || !isfinite(v)) {
         fprintf(stderr, "headplan-bench-horizon: %s '%s': want a finite number > 0\n", name, arg);
         return -1;
     }
@@ -293,10 +318,10 @@ int main(int argc, char **argv)
                 usage);
         return EX_USAGE_;
     }
-    /* rh: the positional arguments end at the first option */
+    /* rh: the positional arguments end at the first option (N is never negative) */
     int npos = argc;
     for (int i = 2; i < argc && rh; ++i)
-        if (strncmp(argv[i], "--", 2) == 0) {
+        if (argv[i][0] == '-') {
             npos = i;
             break;
         }
@@ -307,6 +332,7 @@ int main(int argc, char **argv)
     int window = 0, overlap = 0, only = 0, repeat = 1;
     double max_time_us = 0; /* 0: the scene's solver.max_time_s */
     int seen[2] = {0, 0};   /* --repeat, --max-time-us */
+    const char *time_text = "";
     if (rh && npos == 5 && (only = count_arg("N", argv[4], 1)) < 0) return EX_USAGE_;
     for (int i = npos; i < argc; i += 2) {
         const int is_time = strcmp(argv[i], "--max-time-us") == 0;
@@ -322,6 +348,7 @@ int main(int argc, char **argv)
             fprintf(stderr, "headplan-bench-horizon: %s: given more than once\n", argv[i]);
             return EX_USAGE_;
         }
+        if (is_time) time_text = argv[i + 1];
         if (is_time ? (max_time_us = positive_arg(argv[i], argv[i + 1])) < 0
                     : (repeat = count_arg(argv[i], argv[i + 1], 1)) < 0)
             return EX_USAGE_;
@@ -343,7 +370,15 @@ int main(int argc, char **argv)
     hp_trace_row *rows = NULL;
     size_t T = 0;
     int rc = load(argv[2], argv[3], sc, &s, &rows, &T);
-    if (max_time_us > 0) s.max_time = 1e-6 * max_time_us;
+    if (rc == 0) rc = check_trace(argv[3], sc, rows, T);
+    if (rc == 0 && max_time_us > 0) {
+        hp_diag d = {{0}};
+        s.max_time = 1e-6 * max_time_us;
+        if (hp_settings_validate(&s, &d) != HP_OK) {
+            fprintf(stderr, "headplan-bench-horizon: --max-time-us '%s': %s\n", time_text, d.text);
+            rc = EX_USAGE_;
+        }
+    }
     if (rc == 0)
         rc = rh ? bench_rh(sc, &s, rows, T, only, repeat)
                 : bench_windows(sc, &s, rows, T, window, overlap);

@@ -17,8 +17,9 @@
  * horizon traces 3–5 iterations a call where a fixed centring from cold multipliers took
  * 11–14 (tests/horizon/test_rh_solve.c); each row's contact distances start from the row's
  * last evaluation, shifted with it (one root-find step a distance, 2.5 from the bracket). At
- * most rh_max_iter iterations, ending within four fifths of the planner's max_time from the
- * call's start (none begun that this call's longest would carry past it). The iterate
+ * most rh_max_iter iterations, aimed to end within four fifths of the planner's max_time from
+ * the call's start (none after the first begun that this call's longest would carry past
+ * it). The iterate
  * need not be feasible: the applied first row goes through hp_plan (realtime backend, this
  * row's rate limits), which keeps every limit exactly. Uncommanded pose components are
  * pulled to 0 with unit weight, as the planner holds them. */
@@ -56,9 +57,9 @@
 #define RH_REF_GAP_TOL 1e-13
 #define RH_REF_STEP_TOL 1e-11
 /* The share of the settings' max_time, from the call's start, within which the interior
- * point ends; the applied row's hp_plan (a few microseconds at N = 10: a twentieth of a
- * 100 µs budget) has the rest. Half left the solve two iterations at 100 µs, and tracked
- * worse (docs/horizon.md, A deadline). */
+ * point aims to end; the applied row's hp_plan runs after it (a few microseconds at N = 10,
+ * a twentieth of a 100 µs budget, under its own max_time). Half left the solve two
+ * iterations at 100 µs, and tracked worse (docs/horizon.md, A deadline). */
 #define RH_SOLVE_SHARE 0.8
 /* Rows of desired poses kept for the predictions: the velocity's at most HP_HORIZON_MAX,
  * the periodic fit's two periods and the crossings before them (12.8 s at 10 Hz, three
@@ -432,14 +433,16 @@ static void start_point(hp_horizon_rh *rh, int m, int warm)
     }
 }
 
-/* At most rh_max_iter primal-dual interior-point iterations from rh->z, within
- * RH_SOLVE_SHARE of the planner's max_time from the call's start (hp_plan gets the rest):
+/* At most rh_max_iter primal-dual interior-point iterations from rh->z, aimed to end within
+ * RH_SOLVE_SHARE of the planner's max_time from the call's start (hp_plan runs after it):
  * the first iteration begins while that share lasts, each later one only if the longest of
- * this call's
- * iterations so far would end within it. An iteration is one evaluation of the N rows, one
- * factorisation and two solves, about the same work each time, so a call ends near its
- * budget rather than one whole iteration past it; the estimate is this call's own, so a
- * preempted iteration in one call does not starve the next. Each iteration is
+ * this call's iterations so far would end within it. An iteration is one evaluation of the N
+ * rows, one factorisation and two solves, about the same work each time, so a call mostly
+ * ends within its share rather than one whole iteration past it. It can still pass it by up
+ * to one iteration: a first iteration begun just before the end (every call makes one, or
+ * its plan would never follow a new target), an iteration longer than the longest before
+ * it, a stall of the host. The estimate is this call's own, so a preempted iteration in one
+ * call does not starve the next. Each iteration is
  * Mehrotra's predictor–corrector: one factorisation, an affine step (targets 0) that gives
  * the centring σ = (μ_aff/μ)³, and the corrected step (targets σμ − ds_aff·dλ_aff); the
  * reference solve of the tests takes the plain step (targets RH_SIGMA·μ) from a cold start.

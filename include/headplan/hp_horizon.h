@@ -174,9 +174,11 @@ HP_API hp_error hp_horizon_rh_create(const hp_layout *L, const hp_settings *sett
  * is hp_plan's, its desired[], pose_error and status those of this row's own desired
  * correction (docs/horizon.md, Row statuses); HP_STATUS_TIME_LIMIT when the time budget
  * stopped the horizon solve early (the answer then depends on the machine's speed).
- * Allocates nothing, prints nothing, takes no lock; bounded: the horizon solve ends within
- * four fifths of the settings' max_time from the call's start (no iteration begins that the
- * call's longest so far would carry past it), and hp_plan keeps its own bounds.
+ * Allocates nothing, prints nothing, takes no lock; bounded: the horizon solve aims to end
+ * within four fifths of the settings' max_time from the call's start (no iteration after the
+ * first begins that the call's longest so far would carry past it; one iteration past it at
+ * most, but for a stall of the host or an iteration longer than those before it), then
+ * hp_plan runs under its own max_time.
  * HP_ERR_NULL / HP_ERR_INVALID (t not finite or not increasing: result holds nothing new). */
 HP_API hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6],
                                    hp_result *result);

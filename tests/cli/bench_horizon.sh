@@ -63,7 +63,7 @@ awk -F, 'NR > 1 && $10 != $3 { bad = 1 } END { exit bad || NR != 4 }' "$TMP/out"
 for bad_opt in "--repeat 0" "--repeat 100" "--repeat two" "--max-time-us 0" "--max-time-us -5" \
                "--max-time-us nan" "--max-time-us inf" "--max-time-us 5us" "--repeat" \
                "--max-time-us" "--repeat 3 --repeat 3" "--max-time-us 9 --max-time-us 9" \
-               "--bogus 1"; do
+               "--bogus 1" "-r 3" "--max-time-us 1e300" "--max-time-us 4e9"; do
   # shellcheck disable=SC2086 # the option and its value are two words
   brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 $bad_opt
   expect_exit 64 "rh $bad_opt"
@@ -76,6 +76,26 @@ brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 --max-time-us nan
 expect_stderr_has "--max-time-us 'nan'" "bad budget named"
 brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 --bogus 1
 expect_stderr_has "unknown option '--bogus'" "unknown option named"
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 --max-time-us 1e300
+expect_stderr_has "--max-time-us '1e300': max_time:" "budget beyond the settings' range named"
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 --repeat " 3"
+expect_exit 64 "a value with a leading space"; expect_stderr_has "--repeat ' 3'" "spaced value named"
+brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" 10 -r 3
+expect_stderr_has "unknown option '-r'" "short option named"
+# A trace the horizon planners refuse is refused before anything is printed: a repeated time
+# stamp, a desired pose outside the identifiable range (each named with its line).
+printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,0,0,0,0,0,0\n0,0,0,0,0,0,0\n' \
+  > "$TMP/same_t.csv"
+brun rh "$S/horizon/step.yaml" "$TMP/same_t.csv" 10
+expect_exit 65 "repeated time stamp"; expect_stderr_has "line 3: t_s" "repeated time stamp named"
+expect_one_line_stderr "repeated time stamp"
+[ -s "$TMP/out" ] && bad "repeated time stamp: wrote to stdout" || ok
+printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,0,0,0,0,0,0\n0.1,500,0,0,0,0,0\n' \
+  > "$TMP/far.csv"
+brun rh "$S/horizon/step.yaml" "$TMP/far.csv" 10
+expect_exit 65 "unreachable row"; expect_stderr_has "far.csv:3: desired translation" "row named"
+expect_one_line_stderr "unreachable row"
+[ -s "$TMP/out" ] && bad "unreachable row: wrote to stdout" || ok
 brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" --repeat 3 10
 expect_exit 64 "rh N after an option"; expect_one_line_stderr "rh N after an option"
 brun windows "$S/horizon/step.yaml" "$TMP/step20.csv" 10 2 --repeat 3

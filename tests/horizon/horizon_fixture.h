@@ -35,7 +35,7 @@ static inline hf_case *hf_load(const char *scene, const char *trace, size_t max_
         return NULL;
     }
     /* The scenes' budget (1 s a plan) is read on the wall clock, and the receding horizon's
-     * solve of each row stops within four fifths of it: on a machine stalled for half a second a row
+     * solve of each row stops within four fifths of it: on a machine stalled that long a row
      * ended "time-limit" (seen at a 1 % CPU share). 60 s, so that no verdict depends on the
      * machine's speed; a test of the budget itself sets its own. */
     c->s.max_time = HF_MAX_TIME_S;

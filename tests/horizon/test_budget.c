@@ -12,7 +12,7 @@ static void test_binding_budget_is_marked_and_repeatable(void **st)
     (void)st;
     hf_case *c = hf_load("horizon/step.yaml", "step.csv", 80);
     assert_non_null(c);
-    c->s.max_time = 1e-12; /* s: half of it is far below a clock tick */
+    c->s.max_time = 1e-12; /* s: its four fifths are far below a clock tick */
     hp_horizon_settings hs;
     hp_horizon_settings_default(&hs);
     hp_horizon_row *a = calloc(c->T, sizeof *a), *b = calloc(c->T, sizeof *b);
@@ -37,18 +37,17 @@ static void test_binding_budget_is_marked_and_repeatable(void **st)
     free(c);
 }
 
-/* A control loop's deadline (100 µs a call, docs/horizon.md, A deadline) on the breathing
- * trace, every prediction: which rows the clock stops depends on the machine and its load,
- * so the test asserts what holds for every such subset. Each row is planned (reached,
- * closest, or time-limit when its solve was cut short), its pressures are inside every limit
- * and its change from the row before within the row's rate allowance, exactly: hp_plan applies
- * whatever iterate the solve stopped at. */
-static void test_deadline_rows_keep_every_limit(void **st)
+/* Plans the first 200 rows of the breathing trace with every prediction, horizon settings
+ * from hs_in (prediction set here) and budget max_time, and asserts what holds for any solve
+ * however short: each row is planned (reached, closest, or time-limit when its budget cut the
+ * solve), its pressures are inside every limit and its change from the row before within the
+ * row's rate allowance, exactly, because hp_plan applies whatever iterate the solve stopped
+ * at. */
+static void rows_keep_every_limit(const hp_horizon_settings *hs_in, double max_time)
 {
-    (void)st;
     hf_case *c = hf_load("horizon/breathing.yaml", "breathing.csv", 200);
     assert_non_null(c);
-    c->s.max_time = 1e-4;
+    c->s.max_time = max_time;
     static const hp_prediction preds[] = {HP_PREDICT_HOLD, HP_PREDICT_VELOCITY,
                                           HP_PREDICT_PERIODIC};
     hp_horizon_row *a = calloc(c->T, sizeof *a);
@@ -56,8 +55,7 @@ static void test_deadline_rows_keep_every_limit(void **st)
     assert_true(a && delta);
     const int n = c->sc.layout.n;
     for (size_t p = 0; p < sizeof preds / sizeof preds[0]; ++p) {
-        hp_horizon_settings hs;
-        hp_horizon_settings_default(&hs);
+        hp_horizon_settings hs = *hs_in;
         hs.prediction = preds[p];
         hs.start_interval_s = hp_horizon_start_interval(c->rows, c->T, hs.start_interval_s);
         hp_diag d = {{0}};
@@ -85,11 +83,36 @@ static void test_deadline_rows_keep_every_limit(void **st)
     free(c);
 }
 
+/* A control loop's deadline (100 µs a call, docs/horizon.md, A deadline): which rows the
+ * clock stops depends on the machine and its load, so only what holds for every such subset
+ * is asserted (on a machine fast enough to stop none, the test below still cuts solves). */
+static void test_deadline_rows_keep_every_limit(void **st)
+{
+    (void)st;
+    hp_horizon_settings hs;
+    hp_horizon_settings_default(&hs);
+    rows_keep_every_limit(&hs, 1e-4);
+}
+
+/* The same, with every solve cut short by the machine-independent means: one and two
+ * iterations a call (rh_max_iter), the scenes' patient budget. */
+static void test_short_solves_keep_every_limit(void **st)
+{
+    (void)st;
+    hp_horizon_settings hs;
+    hp_horizon_settings_default(&hs);
+    for (int it = 1; it <= 2; ++it) {
+        hs.rh_max_iter = it;
+        rows_keep_every_limit(&hs, HF_MAX_TIME_S);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_binding_budget_is_marked_and_repeatable),
         cmocka_unit_test(test_deadline_rows_keep_every_limit),
+        cmocka_unit_test(test_short_solves_keep_every_limit),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
