@@ -18,6 +18,11 @@ int bench_run_cli(int argc, char **argv);
 #define BENCH_MAX_ROUNDS 15
 
 /* How hard to measure. */
+/* The loop family's deadline planner: its default time budget and the largest
+ * --loop-budget-us takes [us]. */
+#define BENCH_LOOP_BUDGET_US 20.0
+#define BENCH_LOOP_BUDGET_MAX_US 1e6
+
 typedef struct bench_options {
     int quick;               /* 1: a test run: few samples; the IK's accuracy still on every
                                input, the planner's on fewer targets */
@@ -37,6 +42,7 @@ typedef struct bench_options {
     int repeat;              /* loop: each trace run this many times, its cycles pooled */
     int loop_level;          /* loop: the one hp_level it runs (-1: linear, plane, surface) */
     int loop_backend;        /* loop: the one hp_backend it runs (-1: realtime, SLSQP) */
+    double loop_budget_us;   /* loop: the deadline planner's max_time [us] */
 } bench_options;
 
 /* Fills the sampling settings for a full (quick = 0) or quick run; the paths NULL. */

@@ -66,7 +66,8 @@ static void help(void)
     printf("usage: headplan-bench [--out DIR] [--quick] [--only FAMILY[,FAMILY]] [--seed N]\n"
            "                      [--scene FILE] [--scenarios DIR] [--python EXE]\n"
            "                      [--peer-script FILE] [--repeat N]\n"
-           "                      [--loop-level LEVEL] [--loop-backend NAME]\n\n"
+           "                      [--loop-level LEVEL] [--loop-backend NAME]\n"
+           "                      [--loop-budget-us US]\n\n"
            "Measures every method of each family on the same inputs: median and 99th\n"
            "percentile time per evaluation (CLOCK_MONOTONIC, warm-up, batches timed together;\n"
            "the planner and peers methods take turns, 7 rounds of 9 turns, so a slow spell of\n"
@@ -106,11 +107,13 @@ static void help(void)
            "  --loop-backend NAME  loop family: only this backend (realtime or nlopt-slsqp;\n"
            "                 default both): under a second for realtime at one level, so two\n"
            "                 builds can take many turns\n"
+           "  --loop-budget-us US  loop family: the deadline planner's time budget in\n"
+           "                 microseconds (default %g; > 0, at most %g)\n"
            "  --help         this text\n\n"
            "exit status: 0 ok, 64 bad command line, 70 gnuplot or SciPy missing or failed,\n"
            "66 scene, catalogue or peer script cannot be read, 73 cannot write the output\n"
            "folder\n",
-           DEFAULT_SCENE);
+           DEFAULT_SCENE, BENCH_LOOP_BUDGET_US, BENCH_LOOP_BUDGET_MAX_US);
 }
 
 /* Marks the families named in a comma-separated list. Returns 0 or CLI_EXIT_USAGE. */
@@ -174,11 +177,12 @@ enum {
     O_REPEAT,
     O_LEVEL,
     O_BACKEND,
+    O_BUDGET,
     N_OPTS
 };
 static const char *const opt_names[N_OPTS] = {
-    "--out",    "--only",        "--seed",   "--scene",      "--scenarios",
-    "--python", "--peer-script", "--repeat", "--loop-level", "--loop-backend"};
+    "--out",         "--only",   "--seed",       "--scene",        "--scenarios",     "--python",
+    "--peer-script", "--repeat", "--loop-level", "--loop-backend", "--loop-budget-us"};
 
 /* The loop family's level and backend from --loop-level and --loop-backend (either may be
  * NULL: all). Returns 0 or CLI_EXIT_USAGE after one line naming the option. */
@@ -237,7 +241,10 @@ int bench_run_cli(int argc, char **argv)
     const char *peer_script = val[O_PEER] ? val[O_PEER] : DEFAULT_PEER_SCRIPT;
     const int only_given = val[O_ONLY] != NULL, repeat_given = val[O_REPEAT] != NULL;
     /* the loop-only option named when there is no loop family */
-    const char *loop_opt = val[O_LEVEL] ? "--loop-level" : val[O_BACKEND] ? "--loop-backend" : NULL;
+    const char *loop_opt = val[O_LEVEL]     ? "--loop-level"
+                           : val[O_BACKEND] ? "--loop-backend"
+                           : val[O_BUDGET]  ? "--loop-budget-us"
+                                            : NULL;
     /* An empty name names no file: refused as itself, not as a file that cannot be read. */
     for (int o = 0; o < N_OPTS; ++o)
         if (val[o] && !*val[o] &&
@@ -250,6 +257,15 @@ int bench_run_cli(int argc, char **argv)
         return CLI_EXIT_USAGE;
     if (loop_choice(val[O_LEVEL], val[O_BACKEND], &loop_level, &loop_backend) != 0)
         return CLI_EXIT_USAGE;
+    double budget_us = BENCH_LOOP_BUDGET_US;
+    if (val[O_BUDGET]) {
+        if (cli_double(CMD, "--loop-budget-us", val[O_BUDGET], &budget_us) != 0)
+            return CLI_EXIT_USAGE;
+        if (!(budget_us > 0) || !(budget_us <= BENCH_LOOP_BUDGET_MAX_US))
+            return cli_fail(CLI_EXIT_USAGE, CMD,
+                            "--loop-budget-us: must be > 0 and at most %g (got %s)",
+                            BENCH_LOOP_BUDGET_MAX_US, val[O_BUDGET]);
+    }
     if (!only_given)
         for (size_t k = 0; k < N_FAMILIES; ++k) on[k] = 1;
     int loop_on = 0;
@@ -307,6 +323,7 @@ int bench_run_cli(int argc, char **argv)
     o.repeat = (int)repeat;
     o.loop_level = loop_level;
     o.loop_backend = loop_backend;
+    o.loop_budget_us = budget_us;
     for (size_t k = 0; k < N_FAMILIES; ++k)
         if (on[k] && (rc = run_family(&families[k], &o, out)) != 0) return rc;
     return CLI_EXIT_OK;

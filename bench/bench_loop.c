@@ -11,8 +11,9 @@
  *   rate      every bladder's rate_max SA_LOOP_RATE_PA per plan (bench/loop_trace.h);
  *   measured  rate, and after each plan the pressures read back with +-SA_LOOP_NOISE_PA noise
  *             through hp_planner_set_measured (its own time kept apart);
- *   deadline  measured, with max_time LOOP_BUDGET_US: overshoots are plans that took longer
- *             than the budget + LOOP_OVERSHOOT_US; overshoots_host those that took longer than
+ *   deadline  measured, with max_time o->loop_budget_us (--loop-budget-us, default
+ *             BENCH_LOOP_BUDGET_US): overshoots are plans that took longer than the budget +
+ *             LOOP_OVERSHOOT_US; overshoots_host those that took longer than
  *             the budget + LOOP_HOST_US, a stall no plan's own work explains (a whole plan on
  *             the step trace is ~10 us of work, what runs past a deadline a few us): the
  *             host's (on the shared VM of the docs, multiples of its 4 ms scheduler tick).
@@ -39,7 +40,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define LOOP_BUDGET_US 20.0
 #define LOOP_OVERSHOOT_US 5.0
 #define LOOP_HOST_US 100.0
 #define LOOP_CYCLES_FULL 3000
@@ -69,6 +69,7 @@ typedef struct {
     /* With o->repeat >= 3: the p99.9 over the cycles of each cycle's median time across
      * the repeats, and its ratio to the free planner's (NAN otherwise; see cycle_p999). */
     double p999_cyc_us, ratio_p999_cyc;
+    double budget_us; /* the deadline planner's max_time [us]; NAN for the others */
     /* other: plan outcomes beside reached, closest and time-limit (a held answer: iteration
      * limit, solver error, ...); errors: calls (hp_plan, set_measured) that returned an error
      * code. Under a deadline the trajectory depends on where the clock stopped each plan, so
@@ -109,8 +110,10 @@ static void summarise(const double *t, const unsigned char *solved, long n, doub
  * (t[rep * n + j]); work holds n + reps doubles. Every run plans the same states (fresh
  * planners, the same seeded trace), so cycle j's plan is the same work in each, and a
  * stall of the host lands in one run's time of it, not in its median over three or more:
- * the tail of the plans' own cost, not of the host's interruptions. Not for the deadline
- * planner, whose states depend on where the clock stopped it. */
+ * the tail of the plans' own cost, not of the host's interruptions. For the deadline
+ * planner too, whose states depend on where the clock stopped it: there a cycle's runs are
+ * of the same plan up to the point the budget cut, and their median is what that cycle
+ * takes without a stall (no ratio: its runs do not plan the same states). */
 static double cycle_p999(const double *t, long n, int reps, double *work)
 {
     double *cyc = work, *one = work + n;
@@ -145,7 +148,7 @@ static int run_once(const bench_options *o, const hp_layout *L0, const hp_settin
         s.backend = bk;
         s.level = level;
         s.use_rate_limits = m > 0;
-        s.max_time = m == 3 ? LOOP_BUDGET_US * 1e-6 : 10.0;
+        s.max_time = m == 3 ? o->loop_budget_us * 1e-6 : 10.0;
         rc = bench_planner_new(&L, &s, &p[m]);
     }
     sa_loop_walk w;
@@ -177,8 +180,8 @@ static int run_once(const bench_options *o, const hp_layout *L0, const hp_settin
                     ++r->rate_binding;
                     break;
                 }
-            if (m == 3 && dt > (LOOP_BUDGET_US + LOOP_OVERSHOOT_US) * 1e3) ++r->overshoots;
-            if (m == 3 && dt > (LOOP_BUDGET_US + LOOP_HOST_US) * 1e3) ++r->overshoots_host;
+            if (m == 3 && dt > (o->loop_budget_us + LOOP_OVERSHOOT_US) * 1e3) ++r->overshoots;
+            if (m == 3 && dt > (o->loop_budget_us + LOOP_HOST_US) * 1e3) ++r->overshoots_host;
             if (m >= 2) {
                 double P[HP_MAX_BLADDERS];
                 unsigned cl = 0;
@@ -209,6 +212,7 @@ static int run_trace(const bench_options *o, const hp_layout *L0, const hp_setti
         r->trace = trace;
         r->mode = m;
         r->cycles = nt;
+        r->budget_us = m == 3 ? o->loop_budget_us : NAN;
     }
     int rc = 0;
     for (int rep = 0; rep < o->repeat && rc == 0; ++rep)
@@ -218,13 +222,13 @@ static int run_trace(const bench_options *o, const hp_layout *L0, const hp_setti
         summarise(bf->times + m * nt, bf->solved + m * nt, nt, bf->sorted, &rows[m]);
     long n = loop_cycles(o);
     for (int m = 0; m < N_MODES; ++m)
-        rows[m].p999_cyc_us = o->repeat >= 3 && m < 3
+        rows[m].p999_cyc_us = o->repeat >= 3
                                   ? cycle_p999(bf->times + m * nt, n, o->repeat, bf->sorted)
                                   : NAN;
     for (int m = 0; m < N_MODES; ++m) {
         rows[m].ratio_med = rows[m].med_us / rows[0].med_us;
         rows[m].ratio_p999 = rows[m].p999_us / rows[0].p999_us;
-        rows[m].ratio_p999_cyc = rows[m].p999_cyc_us / rows[0].p999_cyc_us;
+        rows[m].ratio_p999_cyc = m < 3 ? rows[m].p999_cyc_us / rows[0].p999_cyc_us : NAN;
     }
     qsort(bf->set_times, (size_t)nt, sizeof *bf->set_times, cmp_d);
     double sm = bench_percentile(bf->set_times, nt, 0.5) * 1e-3;
@@ -242,9 +246,8 @@ static void csv_row(const void *arg, int i, FILE *f)
             hp_level_name(r->level), hp_backend_name(r->backend), sa_loop_trace_name(r->trace),
             mode_names[r->mode], r->cycles, r->med_us, r->p99_us, r->p999_us, r->max_us,
             r->ratio_med, r->ratio_p999, r->set_med_us, r->reached, r->closest, r->time_limit,
-            r->other, r->errors, r->rate_binding, r->clamped, r->overshoots,
-            r->mode == 3 ? LOOP_BUDGET_US : NAN, r->overshoots_host,
-            1000.0 * (double)r->ends / (double)r->cycles,
+            r->other, r->errors, r->rate_binding, r->clamped, r->overshoots, r->budget_us,
+            r->overshoots_host, 1000.0 * (double)r->ends / (double)r->cycles,
             r->ends ? (double)r->evals / (double)r->ends : NAN, r->slow_solving_pct, r->p999_cyc_us,
             r->ratio_p999_cyc);
 }
@@ -296,7 +299,7 @@ int bench_loop(const bench_options *o, const char *dir)
         csv_row, rows, nr);
     printf("loop (rate %g Pa/plan, measured noise +-%g Pa, deadline %g us; ratios to the "
            "free plan of the same trace):\n",
-           SA_LOOP_RATE_PA, SA_LOOP_NOISE_PA, LOOP_BUDGET_US);
+           SA_LOOP_RATE_PA, SA_LOOP_NOISE_PA, o->loop_budget_us);
     printf("%-8s %-12s %-7s %-9s %8s %8s %8s %8s %6s %6s %7s %5s %5s %5s %6s %5s %7s\n", "level",
            "backend", "trace", "mode", "med_us", "p99_us", "p999_us", "max_us", "x_med", "x_p999",
            "set_us", "tlim", "over", "ohost", "ends/k", "slow%", "x_p999c");

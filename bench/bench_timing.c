@@ -24,6 +24,7 @@ void bench_options_default(bench_options *o, int quick, unsigned long seed)
     o->seed = seed;
     o->loop_level = -1;
     o->loop_backend = -1;
+    o->loop_budget_us = BENCH_LOOP_BUDGET_US;
     /* 10 µs batches: clock_gettime costs ~20 ns through the vDSO, so the clock is < 1 % of
      * a batch; quick mode only needs the rows, not stable numbers. */
     o->samples = quick ? 101 : 20001;

@@ -171,7 +171,8 @@ int hpi_plan_measured_start_ok(const hp_planner *p)
      * carries the progress the cycles make (started from the iterate, NLopt SLSQP with a
      * 20 us budget ran out of time on 1 659 of 3 000 noisy-trace plans, against 147). */
     if (p->prev.status != HP_STATUS_REACHED && p->prev.status != HP_STATUS_CLOSEST &&
-        p->prev.status != HP_STATUS_UNCOMMANDED)
+        p->prev.status != HP_STATUS_UNCOMMANDED &&
+        !(p->prev.status == HP_STATUS_TIME_LIMIT && (p->ops->caps & HP_BACKEND_REAL_TIME)))
         return 0;
     /* Without rate limits the windows are the static limits, which every previous answer
      * meets (an answer's pressures are clamped into them; set_previous and

@@ -14,6 +14,7 @@
 #include "support/test_util.h"
 #include "support/layout_fixture.h"
 #include "planner/backend_testing.h"
+#include "planner/clock.h"
 
 #define RT_LATE_MAX 3
 
@@ -123,10 +124,74 @@ static void test_expired_budget(void **state)
     assert_true(stopped >= 36); /* the solver ran on most of the 72 plans */
 }
 
+/* A budget that binds on every plan of a walk to a held target still moves the plan toward
+ * it: a solve the clock stops keeps the step its QP paid for (one line-search trial) or part
+ * of it (three bisection steps toward the feasible anchor), so a loop under a tight budget
+ * reaches its target over cycles instead of answering from where it started forever (each
+ * plan time-limit, the pose never moving: the loop benchmark's step trace at 3 us before).
+ * The test clock (hpi_test_plan_clock: every reading 1 us later) makes the budget a count of
+ * clock readings, so which plans it stops is the same on every machine. Asserted, at the
+ * plane and surface levels, rate-limited, with the plans' own answers and with readings fed
+ * back, for budgets of 4 to 40 readings: every answer safe (check_safe), the budget stopping
+ * at least one plan of each walk, and the walk reaching its target's closest point (status
+ * reached or closest) within its 40 plans. */
+static void test_binding_budget_makes_progress(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    static const double target_mm_deg[6] = {4, -3, 3, 2, -1.5, 1.5};
+    static const int budgets[] = {2, 3, 4, 5};
+    const double rate = 400.0;
+    int walks = 0, stopped_walks = 0;
+    for (int l = 0; l < 2; ++l)
+        for (int fed = 0; fed < 2; ++fed)
+            for (size_t b = 0; b < sizeof budgets / sizeof budgets[0]; ++b) {
+                hp_planner *p = budget_planner(levels[l], rate, 1e-6 * budgets[b]);
+                hpi_test_plan_clock(1e-6);
+                double P0[HP_MAX_BLADDERS], zero[6] = {0}, d[6];
+                hp_result r;
+                assert_int_equal(hp_plan(p, zero, &r), HP_OK);
+                for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
+                lf_pose(target_mm_deg, d);
+                int stopped = 0, done = -1;
+                for (int t = 0; t < 40 && done < 0; ++t) {
+                    assert_int_equal(hp_plan(p, d, &r), HP_OK);
+                    char what[96];
+                    snprintf(what, sizeof what, "%s %s budget %d plan %d (%s)",
+                             hp_level_name(levels[l]), fed ? "readings" : "answers", budgets[b], t,
+                             hp_status_name(r.status));
+                    check_safe(p, &r, P0, rate, what);
+                    stopped += r.status == HP_STATUS_TIME_LIMIT;
+                    if (r.status == HP_STATUS_REACHED || r.status == HP_STATUS_CLOSEST) done = t;
+                    for (int k = 0; k < r.n; ++k)
+                        P0[k] = r.bladders[k].pressure + (fed ? (k % 2 ? 1.0 : -1.0) : 0.0);
+                    if (fed) assert_int_equal(hp_planner_set_measured(p, P0, NULL), HP_OK);
+                }
+                hpi_test_plan_clock(0.0);
+                print_message("%s, %s, budget %2d readings: %2d plans stopped by it, %s at "
+                              "plan %d\n",
+                              hp_level_name(levels[l]), fed ? "readings" : "answers", budgets[b],
+                              stopped, done >= 0 ? hp_status_name(r.status) : "not reached", done);
+                if (done < 0) {
+                    print_error("%s budget %d (%s): the walk did not reach its target in 40 "
+                                "plans\n",
+                                hp_level_name(levels[l]), budgets[b], fed ? "readings" : "answers");
+                    fail();
+                }
+                ++walks;
+                stopped_walks += stopped > 0;
+                hp_planner_destroy(p);
+            }
+    /* the budgets bind: most walks have plans the clock stopped */
+    print_message("%d walks, %d with plans stopped by the budget\n", walks, stopped_walks);
+    assert_true(stopped_walks >= walks / 2);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_expired_budget),
+        cmocka_unit_test(test_binding_budget_makes_progress),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
