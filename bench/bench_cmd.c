@@ -261,7 +261,7 @@ int bench_run_cli(int argc, char **argv)
     if (val[O_BUDGET]) {
         if (cli_double(CMD, "--loop-budget-us", val[O_BUDGET], &budget_us) != 0)
             return CLI_EXIT_USAGE;
-        if (!(budget_us > 0) || !(budget_us <= BENCH_LOOP_BUDGET_MAX_US))
+        if (!(budget_us * 1e-6 > 0) || !(budget_us <= BENCH_LOOP_BUDGET_MAX_US))
             return cli_fail(CLI_EXIT_USAGE, CMD,
                             "--loop-budget-us: must be > 0 and at most %g (got %s)",
                             BENCH_LOOP_BUDGET_MAX_US, val[O_BUDGET]);

@@ -111,9 +111,10 @@ static void summarise(const double *t, const unsigned char *solved, long n, doub
  * planners, the same seeded trace), so cycle j's plan is the same work in each, and a
  * stall of the host lands in one run's time of it, not in its median over three or more:
  * the tail of the plans' own cost, not of the host's interruptions. For the deadline
- * planner too, whose states depend on where the clock stopped it: there a cycle's runs are
- * of the same plan up to the point the budget cut, and their median is what that cycle
- * takes without a stall (no ratio: its runs do not plan the same states). */
+ * planner too, as an estimate: its runs plan the same states until the clock first cuts a
+ * plan at another point, and from then on states of the same walk, so a cycle's median over
+ * the runs still leaves out a stall that hit one run (no ratio: its runs do not plan the
+ * same states). */
 static double cycle_p999(const double *t, long n, int reps, double *work)
 {
     double *cyc = work, *one = work + n;

@@ -7,6 +7,7 @@
  * prints nothing, takes no lock, and its time is bounded by max_iter and max_time. */
 #define _POSIX_C_SOURCE 200809L
 #include "planner/backend_testing.h"
+#include "planner/clock.h"
 #include "planner/problem_setup.h"
 #include "planner/qp.h"
 #include "common/dense.h"
@@ -179,12 +180,8 @@ static inline int same_set(const int *a, const int *b)
     return d == 0;
 }
 
-static double now_s(clockid_t clk)
-{
-    struct timespec ts;
-    clock_gettime(clk, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+/* The budget clock's reading (the test clock when a test set one: hpi_test_plan_clock). */
+static double now_s(clockid_t clk) { return hpi_plan_now_on((int)clk); }
 
 /* The clock the time budget is read on: the kernel's coarse monotonic clock when max_time
  * spans at least RT_COARSE_TICKS of its ticks, so the budget holds to 1 % of itself; else
@@ -990,6 +987,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
 
     /* Feasibility restoration (only the nonlinear levels can need it). */
     double viol[HP_MAX_BLADDERS], extra[HP_MAX_BLADDERS] = {0};
+    double anchor[6] = {0}; /* the bisection's feasible end (have), when v > 0 below */
+    int have = 0;
     /* rho(xk): after a short last step, from that step's linearisation (rho_by_step). */
     double v = 0.0;
     if (short_last && rho_by_step(st, pb, xa, xk)) {
@@ -1001,22 +1000,23 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         v = violation(st, pb, xk, viol);
     }
     int rho_at_xk = v == 0.0; /* st->rho holds rho(xk) until a restoration moves on */
-    /* Restoration tightens finite violations; a non-finite one has nothing to tighten. */
-    for (int round = 0; v > 0 && isfinite(v) && round < RT_RESTORE_ROUNDS && !rt_late(st);
-         ++round) {
-        for (int k = 0; k < pb->n; ++k) extra[k] += 2.0 * viol[k];
-        if (qp_at(st, pb, xk, extra, st->act, xn, st->max_iter, &iters) != HP_QP_OPTIMAL) break;
-        double vn = violation(st, pb, xn, viol);
-        if (vn < v) {
-            memcpy(xk, xn, sizeof xk);
-            v = vn;
+    /* Restoration tightens finite violations; a non-finite one has nothing to tighten. Out
+     * of time it is left to the bisection below, unless that has no feasible anchor. */
+    int round = 0;
+    for (int heed_clock = 1; heed_clock >= 0; --heed_clock) {
+        for (; v > 0 && isfinite(v) && round < RT_RESTORE_ROUNDS && !(heed_clock && rt_late(st));
+             ++round) {
+            for (int k = 0; k < pb->n; ++k) extra[k] += 2.0 * viol[k];
+            if (qp_at(st, pb, xk, extra, st->act, xn, st->max_iter, &iters) != HP_QP_OPTIMAL) break;
+            double vn = violation(st, pb, xn, viol);
+            if (vn < v) {
+                memcpy(xk, xn, sizeof xk);
+                v = vn;
+            }
+            r->converged = 0; /* a tightened answer is feasible but not proven closest */
         }
-        r->converged = 0; /* a tightened answer is feasible but not proven closest */
-    }
-    if (v > 0) {
+        if (!(v > 0) || !heed_clock) break;
         /* Bisection toward a feasible anchor: the warm start, else the nominal pose. */
-        double anchor[6] = {0};
-        int have = 0;
         if (x0) {
             for (int i = 0; i < 6; ++i) anchor[i] = pb->w[i] > 0 && isfinite(x0[i]) ? x0[i] : 0;
             have = violation(st, pb, anchor, NULL) == 0;
@@ -1025,6 +1025,12 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
             memset(anchor, 0, sizeof anchor);
             have = violation(st, pb, anchor, NULL) == 0;
         }
+        /* Neither is feasible (a reading at a limit, a start the windows moved off): the
+         * rounds the clock cut short are the last chance before the safe output, so they
+         * run whatever the clock (at most RT_RESTORE_ROUNDS in all). */
+        if (have) break;
+    }
+    if (v > 0) {
         if (!have) {
             r->status = HP_STATUS_SOLVER_ERROR;
             rt_count_flush(st);
@@ -1034,9 +1040,9 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         double lo = 0, hi = 1, xt[6];
         for (int it = 0; it < RT_BISECT_STEPS; ++it) {
             /* Every 4 steps (each a contact evaluation) the clock, first after three: lo is
-             * feasible at every step, so stopping anywhere is safe, and three steps keep at
-             * least an eighth of a step the budget cut (stopping at once kept none: the
-             * anchor, where the plan started). */
+             * feasible at every step, so stopping anywhere is safe, and three steps find the
+             * feasible fraction of a step the budget cut to within an eighth (stopping at
+             * once kept none of it: the anchor, where the plan started). */
             if (it % 4 == 3 && rt_late(st)) break;
             double mid = 0.5 * (lo + hi);
             for (int i = 0; i < 6; ++i) xt[i] = anchor[i] + mid * (xk[i] - anchor[i]);

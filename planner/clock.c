@@ -17,11 +17,13 @@ void hpi_test_plan_clock(double step)
     atomic_store(&fake_step_ns, step > 0.0 ? llround(step * 1e9) : 0);
 }
 
-double hpi_plan_now(void)
+double hpi_plan_now_on(int clk)
 {
     long long step = atomic_load_explicit(&fake_step_ns, memory_order_relaxed);
     if (step) return 1e-9 * (double)(atomic_fetch_add(&fake_now_ns, step) + step);
     struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
+    clock_gettime((clockid_t)clk, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
+
+double hpi_plan_now(void) { return hpi_plan_now_on(CLOCK_MONOTONIC); }

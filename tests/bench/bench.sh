@@ -321,7 +321,7 @@ expect_exit 0 "bench --only loop --loop-budget-us 3"
 awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "budget_us") c = i }
          NR > 1 && $4 == "deadline" { n++; if ($c != 3) bad = 1 } END { exit bad || n != 3 }' \
   "$TMP/lbud/loop.csv" && ok || bad "loop --loop-budget-us 3: the deadline rows' budget_us"
-for v in 0 -2 nan inf 2e6 3us ""; do
+for v in 0 -2 nan inf 2e6 3us "" 4e-324; do
   run --quick --only loop --loop-budget-us "$v" --out "$TMP/x"
   expect_exit 64 "--loop-budget-us '$v'"; expect_stderr_has "--loop-budget-us" "names --loop-budget-us ($v)"
   expect_stdout_empty "--loop-budget-us '$v'"

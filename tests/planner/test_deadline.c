@@ -125,24 +125,24 @@ static void test_expired_budget(void **state)
 }
 
 /* A budget that binds on every plan of a walk to a held target still moves the plan toward
- * it: a solve the clock stops keeps the step its QP paid for (one line-search trial) or part
- * of it (three bisection steps toward the feasible anchor), so a loop under a tight budget
- * reaches its target over cycles instead of answering from where it started forever (each
- * plan time-limit, the pose never moving: the loop benchmark's step trace at 3 us before).
- * The test clock (hpi_test_plan_clock: every reading 1 us later) makes the budget a count of
- * clock readings, so which plans it stops is the same on every machine. Asserted, at the
- * plane and surface levels, rate-limited, with the plans' own answers and with readings fed
- * back, for budgets of 4 to 40 readings: every answer safe (check_safe), the budget stopping
- * at least one plan of each walk, and the walk reaching its target's closest point (status
- * reached or closest) within its 40 plans. */
+ * it: a solve the clock stops keeps the step its QP paid for (one line-search trial) or the
+ * part of it three bisection steps find feasible, so a loop under a tight budget reaches its
+ * target over cycles instead of answering from where it started forever (each plan
+ * time-limit, the pose never moving: the loop benchmark's step trace at 3 us before). The
+ * test clock (hpi_test_plan_clock, which the realtime backend's budget clock follows: every
+ * reading 1 us later) makes the budget a count of clock readings, so which plans it stops is
+ * the same on every machine and under any tool. Asserted, at the plane and surface levels,
+ * rate-limited, with the plans' own answers and with readings fed back: every answer safe
+ * (check_safe); with a budget of 2 readings every walk has at least 10 plans stopped by it,
+ * and with 2 and 3 readings every walk reaches its target's closest point (status reached or
+ * closest) within its 40 plans. */
 static void test_binding_budget_makes_progress(void **state)
 {
     (void)state;
     const hp_level levels[] = {HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
     static const double target_mm_deg[6] = {4, -3, 3, 2, -1.5, 1.5};
-    static const int budgets[] = {2, 3, 4, 5};
+    static const int budgets[] = {2, 3};
     const double rate = 400.0;
-    int walks = 0, stopped_walks = 0;
     for (int l = 0; l < 2; ++l)
         for (int fed = 0; fed < 2; ++fed)
             for (size_t b = 0; b < sizeof budgets / sizeof budgets[0]; ++b) {
@@ -178,13 +178,13 @@ static void test_binding_budget_makes_progress(void **state)
                                 hp_level_name(levels[l]), budgets[b], fed ? "readings" : "answers");
                     fail();
                 }
-                ++walks;
-                stopped_walks += stopped > 0;
+                if (budgets[b] == 2 && stopped < 10) {
+                    print_error("%s budget 2 (%s): %d plans stopped; want the budget to bind\n",
+                                hp_level_name(levels[l]), fed ? "readings" : "answers", stopped);
+                    fail();
+                }
                 hp_planner_destroy(p);
             }
-    /* the budgets bind: most walks have plans the clock stopped */
-    print_message("%d walks, %d with plans stopped by the budget\n", walks, stopped_walks);
-    assert_true(stopped_walks >= walks / 2);
 }
 
 int main(void)
