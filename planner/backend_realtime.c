@@ -35,6 +35,9 @@
 /* Restoration: re-solves with limits tightened by the measured violation, then bisection. */
 #define RT_RESTORE_ROUNDS 3
 #define RT_BISECT_STEPS 60
+/* The fraction of a stopped step's linearly interpolated reach kept (the radii curve
+ * between the segment's ends; a tenth left for that). */
+#define RT_LATE_SHRINK 0.9
 /* SQP steps below this (mm or deg) are taken whole, larger ones by a merit line search:
  * 1000x the default pose tolerance, where the merit's changes (~step²) reach its rounding. */
 #define RT_FULL_STEP 1e-6
@@ -1000,6 +1003,10 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         v = violation(st, pb, xk, viol);
     }
     int rho_at_xk = v == 0.0; /* st->rho holds rho(xk) until a restoration moves on */
+    /* rho(xk) and rho(anchor) kept for a stop by time: a step fraction from them (below) */
+    double rho_x[HP_MAX_BLADDERS], rho_a[HP_MAX_BLADDERS];
+    int have_rho_x = v > 0 && isfinite(v), rho_fresh = 0;
+    if (have_rho_x) memcpy(rho_x, st->rho, sizeof rho_x);
     /* Restoration tightens finite violations; a non-finite one has nothing to tighten. Out
      * of time it is left to the bisection below, unless that has no feasible anchor. */
     int round = 0;
@@ -1012,6 +1019,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
             if (vn < v) {
                 memcpy(xk, xn, sizeof xk);
                 v = vn;
+                memcpy(rho_x, st->rho, sizeof rho_x);
             }
             r->converged = 0; /* a tightened answer is feasible but not proven closest */
         }
@@ -1025,6 +1033,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
             memset(anchor, 0, sizeof anchor);
             have = violation(st, pb, anchor, NULL) == 0;
         }
+        if (have) memcpy(rho_a, st->rho, sizeof rho_a);
         /* Neither is feasible (a reading at a limit, a start the windows moved off): the
          * rounds the clock cut short are the last chance before the safe output, so they
          * run whatever the clock (at most RT_RESTORE_ROUNDS in all). */
@@ -1038,7 +1047,31 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
                                "realtime SQP: no feasible point found for the restoration");
         }
         double lo = 0, hi = 1, xt[6];
-        for (int it = 0; it < RT_BISECT_STEPS; ++it) {
+        /* Stopped by time: the fraction of the segment anchor -> xk at which each violated
+         * radius, interpolated linearly between its two ends, meets its limit, the least of
+         * them shrunk by RT_LATE_SHRINK for the curvature, tried first: one contact
+         * evaluation where the bisection's three find the fraction to an eighth. Kept only
+         * when that point is inside every limit (measured, not interpolated); else the
+         * bisection below it. Without a stop by time the bisection alone, as always. */
+        if (st->late && have_rho_x) {
+            double t = 1.0;
+            for (int k = 0; k < pb->n; ++k) {
+                double den = rho_x[k] - rho_a[k];
+                if (rho_x[k] > pb->ro_hi[k]) t = fmin(t, (pb->ro_hi[k] - rho_a[k]) / den);
+                else if (rho_x[k] < pb->ro_lo[k]) t = fmin(t, (pb->ro_lo[k] - rho_a[k]) / den);
+            }
+            t *= RT_LATE_SHRINK;
+            if (t > 0 && t < 1) {
+                for (int i = 0; i < 6; ++i) xt[i] = anchor[i] + t * (xk[i] - anchor[i]);
+                if (violation(st, pb, xt, NULL) == 0) {
+                    lo = t;
+                    rho_fresh = 1; /* st->rho is rho of that point, the answer below */
+                } else {
+                    hi = t;
+                }
+            }
+        }
+        for (int it = 0; it < RT_BISECT_STEPS && !rho_fresh; ++it) {
             /* Every 4 steps (each a contact evaluation) the clock, first after three: lo is
              * feasible at every step, so stopping anywhere is safe, and three steps find the
              * feasible fraction of a step the budget cut to within an eighth (stopping at
@@ -1062,7 +1095,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     r->status = st_out;
     /* Pose and the inner radii that keep contact with it (rho(xk) is in st->rho when the
      * answer is the point the violation was measured at). */
-    if (!(rho_at_xk && isfinite(v)) && rt_contact(st, pb, xk, st->rho, NULL, NULL, NULL) != HP_OK) {
+    if (!((rho_at_xk && isfinite(v)) || rho_fresh) &&
+        rt_contact(st, pb, xk, st->rho, NULL, NULL, NULL) != HP_OK) {
         r->status = HP_STATUS_SOLVER_ERROR;
         rt_count_flush(st);
         return hp_diag_set(d, HP_ERR_SOLVER, "realtime: contact model failed at the answer");
