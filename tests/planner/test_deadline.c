@@ -207,7 +207,7 @@ static void test_tiny_real_budgets_stay_safe(void **state)
             for (int fed = 0; fed < 2; ++fed) {
                 hp_planner *p = budget_planner(levels[l], rate, budgets[b]);
                 uint64_t seed = 0xbee5 + (uint64_t)(6 * l + 2 * (int)b + fed);
-                double P0[HP_MAX_BLADDERS], zero[6] = {0}, d[6], mm_deg[6];
+                double P0[HP_MAX_BLADDERS], zero[6] = {0}, d[6], mm_deg[6] = {0};
                 hp_result r;
                 assert_int_equal(hp_plan(p, zero, &r), HP_OK);
                 for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
