@@ -17,12 +17,12 @@ int bench_run_cli(int argc, char **argv);
 /* Most rounds the timing protocol may use (bench_timing.h). */
 #define BENCH_MAX_ROUNDS 15
 
-/* How hard to measure. */
 /* The loop family's deadline planner: its default time budget and the largest
  * --loop-budget-us takes [us]. */
 #define BENCH_LOOP_BUDGET_US 20.0
 #define BENCH_LOOP_BUDGET_MAX_US 1e6
 
+/* How hard to measure. */
 typedef struct bench_options {
     int quick;               /* 1: a test run: few samples; the IK's accuracy still on every
                                input, the planner's on fewer targets */

@@ -191,8 +191,7 @@ static int bench_rh(const hp_scene *sc, const hp_settings *s, const hp_trace_row
             double col[RH_MAX_REPEAT];
             for (size_t t = 0; t < T; ++t) {
                 for (size_t k = 0; k < R; ++k) col[k] = runs[k * T + t];
-                qsort(col, R, sizeof col[0], sa_by_value);
-                times[t] = 0.5 * (col[(R - 1) / 2] + col[R / 2]);
+                times[t] = sa_median(col, R);
             }
             qsort(times, T, sizeof *times, sa_by_value);
             printf("%d,%s,%zu,%.1f,%.1f,%.1f,%.3f,%ld,%ld,%zu,%.17g\n", Ns[a],
@@ -272,22 +271,16 @@ static int count_arg(const char *name, const char *arg, int min)
 static int check_trace(const char *trace, const hp_scene *sc, const hp_trace_row *rows, size_t T)
 {
     hp_diag d = {{0}};
-    size_t bad = 0;
-    if (hp_horizon_check_rows(&sc->layout, rows, T, &bad, &d) != HP_OK) {
-        fprintf(stderr, "headplan-bench-horizon: %s:%ld: %s\n", trace, rows[bad].line, d.text);
-        return EX_DATA_;
-    }
     hp_horizon_settings hs;
     hp_horizon_settings_default(&hs);
-    double *delta = malloc(T * HP_MAX_BLADDERS * sizeof *delta);
-    if (!delta) return no_memory("the rate limits");
-    hp_error e = hp_horizon_rates(&sc->layout, &hs, rows, T, delta, &d);
-    free(delta);
-    if (e != HP_OK) {
-        fprintf(stderr, "headplan-bench-horizon: %s: %s\n", trace, d.text);
-        return EX_DATA_;
+    hp_error e = hpi_horizon_check_rows_at(&sc->layout, rows, T, &d);
+    for (size_t t = 0; t < T && e == HP_OK; ++t) {
+        double dt;
+        e = hpi_horizon_row_dt(&hs, rows, t, &dt, &d);
     }
-    return 0;
+    if (e == HP_OK) return 0;
+    fprintf(stderr, "headplan-bench-horizon: %s: %s\n", trace, d.text);
+    return EX_DATA_;
 }
 
 /* A number > 0 and finite from a command-line argument, or -1 after printing why. */

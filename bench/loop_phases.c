@@ -122,12 +122,6 @@ static long number(const char *what, const char *a, long lo, long hi)
     return v;
 }
 
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, sa_by_value);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /* The cycles' median times of one planner, by which its cycles are ranked (qsort has no
  * context argument; one ranking at a time). */
 static const double *rank_key;
@@ -189,7 +183,7 @@ static void print_cycle(const rec *r, long cycles, int repeats, int m, long j, d
     for (int c = 0; c <= N_PH; ++c) {
         for (int rep = 0; rep < repeats; ++rep)
             v[rep] = r[((long)m * repeats + rep) * cycles + j].t[c];
-        med[c] = median(v, repeats) * npt;
+        med[c] = sa_median(v, (size_t)repeats) * npt;
     }
     double other = med[0];
     for (int ph = 0; ph < N_PH; ++ph) other -= med[1 + ph];
@@ -244,7 +238,7 @@ int main(int argc, char **argv)
         for (long j = 0; j < cycles; ++j) {
             for (int rep = 0; rep < repeats; ++rep)
                 v[rep] = r[((long)m * repeats + rep) * cycles + j].t[0];
-            tot[j] = median(v, (int)repeats);
+            tot[j] = sa_median(v, (size_t)repeats);
             order[j] = j;
         }
         /* slowest first; the median cycle is the one ranked in the middle */

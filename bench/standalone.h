@@ -25,6 +25,13 @@ static inline int sa_by_value(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+/* The median of v[0..n-1], n >= 1 (sorted in place; the mean of the middle two for even n). */
+static inline double sa_median(double *v, size_t n)
+{
+    qsort(v, n, sizeof *v, sa_by_value);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
 /* Uniform in [0, 1) from a 64-bit LCG seeded 12345: the same sequence on every machine. */
 static inline double sa_urand(void)
 {

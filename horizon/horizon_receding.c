@@ -26,13 +26,13 @@
 #define _POSIX_C_SOURCE 200809L
 #include "horizon/horizon_internal.h"
 #include "iab/iab_internal.h"
+#include "planner/clock.h"
 #include "planner/problem_setup.h"
 
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #define RH_SIGMA 0.1      /* centring: the next barrier weight is this times the mean s·λ */
 #define RH_BOUNDARY 0.995 /* fraction-to-the-boundary of a step */
@@ -413,13 +413,6 @@ static double to_boundary(const double *v, const double *dv, int m, double tau)
     return alpha;
 }
 
-static double now_s(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 /* The slacks and multipliers an interior-point solve starts from, at the point evaluate()
  * last saw. Cold: s = max(c, RH_S_MIN), s·λ = RH_MU0. Warm (the previous call's answer,
  * shifted by one row): its multipliers, with every slack at least RH_WARM_S and every
@@ -465,7 +458,7 @@ static int interior_point(hp_horizon_rh *rh)
     start_point(rh, m, warm);
     double prev0 = INFINITY, longest = 0.0;
     for (int it = 0; it < max_iter; ++it) {
-        const double t_it = now_s();
+        const double t_it = hpi_plan_now();
         if (budget < 1e-9 || t_it + longest >= t_end) return it;
         rh->iterations++;
         double gap = 0;
@@ -521,7 +514,7 @@ static int interior_point(hp_horizon_rh *rh)
         if (gap / m < gap_tol &&
             (step < step_tol || (!rh->reference && left0 < RH_LEFT_FIRST && step < RH_STEP_REST)))
             return -1;
-        longest = fmax(longest, now_s() - t_it);
+        longest = fmax(longest, hpi_plan_now() - t_it);
     }
     return -1;
 }
@@ -644,7 +637,7 @@ hp_error hp_horizon_rh_step(hp_horizon_rh *rh, double t, const double desired[6]
 {
     if (!rh || !desired || !result) return HP_ERR_NULL;
     if (!isfinite(t) || (rh->started && !(t > rh->last_t))) return HP_ERR_INVALID;
-    rh->t_call = now_s(); /* the prediction's fit counts against the budget too */
+    rh->t_call = hpi_plan_now(); /* the prediction's fit counts against the budget too */
     double dt0 = rh->started ? t - rh->last_t : rh->hs.start_interval_s;
     int finite = 1;
     for (int i = 0; i < 6; ++i) finite = finite && isfinite(desired[i]);

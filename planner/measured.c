@@ -167,9 +167,12 @@ hp_error hp_planner_set_measured(hp_planner *p, const double *pressures, unsigne
 int hpi_plan_measured_start_ok(const hp_planner *p)
 {
     if (!p->meas_pending) return 1;
-    /* A budget's iterate is no answer to start from: the reading, where the bladders are,
-     * carries the progress the cycles make (started from the iterate, NLopt SLSQP with a
-     * 20 us budget ran out of time on 1 659 of 3 000 noisy-trace plans, against 147). */
+    /* A budget's iterate is no answer to start from for a backend that is not real-time:
+     * the reading, where the bladders are, carries the progress the cycles make (started
+     * from the iterate, NLopt SLSQP with a 20 us budget ran out of time on 1 659 of 3 000
+     * noisy-trace plans, against 147). The realtime backend starts from it: deriving the
+     * reading is a contact fit before the solve's budget begins, which the plans after a
+     * time-limit then overran by (docs/control-loop.md, A time budget that holds). */
     if (p->prev.status != HP_STATUS_REACHED && p->prev.status != HP_STATUS_CLOSEST &&
         p->prev.status != HP_STATUS_UNCOMMANDED &&
         !(p->prev.status == HP_STATUS_TIME_LIMIT && (p->ops->caps & HP_BACKEND_REAL_TIME)))

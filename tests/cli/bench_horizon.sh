@@ -93,7 +93,7 @@ expect_one_line_stderr "repeated time stamp"
 printf 't_s,x_mm,y_mm,z_mm,pitch_deg,roll_deg,yaw_deg\n0,0,0,0,0,0,0\n0.1,500,0,0,0,0,0\n' \
   > "$TMP/far.csv"
 brun rh "$S/horizon/step.yaml" "$TMP/far.csv" 10
-expect_exit 65 "unreachable row"; expect_stderr_has "far.csv:3: desired translation" "row named"
+expect_exit 65 "unreachable row"; expect_stderr_has "far.csv: line 3: desired translation" "row named"
 expect_one_line_stderr "unreachable row"
 [ -s "$TMP/out" ] && bad "unreachable row: wrote to stdout" || ok
 brun rh "$S/horizon/step.yaml" "$TMP/step20.csv" --repeat 3 10
