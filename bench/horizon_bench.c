@@ -275,7 +275,7 @@ static int check_trace(const char *trace, const hp_scene *sc, const hp_trace_row
     hp_horizon_settings_default(&hs);
     hp_error e = hpi_horizon_check_rows_at(&sc->layout, rows, T, &d);
     for (size_t t = 0; t < T && e == HP_OK; ++t) {
-        double dt;
+        double dt = NAN; /* written on HP_OK; read by nothing here */
         e = hpi_horizon_row_dt(&hs, rows, t, &dt, &d);
     }
     if (e == HP_OK) return 0;
