@@ -38,6 +38,14 @@
 /* The fraction of a stopped step's linearly interpolated reach kept (the radii curve
  * between the segment's ends; a tenth left for that). */
 #define RT_LATE_SHRINK 0.9
+/* Under a budget an SQP step after the first begins only while this share of the longest
+ * step so far still fits before the deadline: a step predicted right then ends at most
+ * three quarters of a step late. A trade-off measured on the loop benchmark's deadline rows
+ * (docs/control-loop.md, A time budget that holds): without the prediction a step begun
+ * just before the deadline ran a whole step past it; with the whole step (1) the budget
+ * stopped many plans that would have ended a fraction of a microsecond late, and the plane
+ * step trace reached its targets in half as many plans at 3 us. */
+#define RT_STEP_FIT 0.25
 /* SQP steps below this (mm or deg) are taken whole, larger ones by a merit line search:
  * 1000x the default pose tolerance, where the merit's changes (~step²) reach its rounding. */
 #define RT_FULL_STEP 1e-6
@@ -67,7 +75,15 @@ typedef struct rt_state {
     double rho[HP_MAX_BLADDERS], *J, *H;
     double Jb[2][HP_MAX_BLADDERS * 6], Hb[2][HP_MAX_BLADDERS * 36];
     double rho_k[HP_MAX_BLADDERS]; /* rho at the point the last QP was linearised at */
-    double u[HP_QP_MMAX];          /* multipliers of the last QP: the Lagrangian's curvature */
+    /* This solve's start and, once an evaluation measured it (r0_ok), rho there: the
+     * restoration's first anchor is that start, and after a deadline its check (violation)
+     * reads these instead of evaluating the model there again. Without a deadline it
+     * evaluates: a model that began failing during the solve shows there and the solve
+     * ends in a solver error (tests/reliability/test_faults.c, NaN contact after the first
+     * QP), where these radii, measured before the failure, would answer. */
+    double r0_x[6], r0_rho[HP_MAX_BLADDERS];
+    int r0_ok;
+    double u[HP_QP_MMAX]; /* multipliers of the last QP: the Lagrangian's curvature */
     int have_u;
     int qps;                              /* QPs solved in this solve (for the test hook) */
     hp_test_rt_counts cnt;                /* this solve's paths (hpi_test_realtime_count) */
@@ -257,6 +273,15 @@ static hp_error rt_contact(rt_state *st, const hp_problem *pb, const double *x, 
         }
     }
     return HP_OK;
+}
+
+/* Keeps st->rho as the radii at this solve's start when x is that start (rt_state.r0_x) and
+ * none were kept yet. */
+static void rt_note_start(rt_state *st, const hp_problem *pb, const double *x)
+{
+    if (st->r0_ok || !hpi_same_bits(x, st->r0_x, 6)) return;
+    memcpy(st->r0_rho, st->rho, (size_t)pb->n * sizeof *st->rho);
+    st->r0_ok = 1;
 }
 
 /* The margin (mm) by which the QP moves bladder k's limits inward. */
@@ -587,6 +612,7 @@ static hp_qp_status qp_at(rt_state *st, const hp_problem *pb, const double *xk, 
     st->c_ok = 0;
     rt_inject(st, pb->n, st->rho);
     memcpy(st->rho_k, st->rho, sizeof st->rho_k);
+    rt_note_start(st, pb, xk);
     q->n = nv;
     q->m = 2 * pb->n;
     q->pairs = pb->n; /* rows 2k, 2k + 1: bladder k's limits, exact negations (below) */
@@ -648,8 +674,13 @@ static double violation(rt_state *st, const hp_problem *pb, const double *x, dou
         for (int k = 0; k < pb->n; ++k) viol[k] = 0.0;
     if (st->c_ok && hpi_same_bits(st->c_x, x, 6)) /* the line search's point */
         memcpy(st->rho, st->c_rho, sizeof st->rho);
+    else if (st->late && st->r0_ok && hpi_same_bits(st->r0_x, x, 6)) /* the solve's start */
+        memcpy(st->rho, st->r0_rho, sizeof st->rho);
     else if (rt_contact(st, pb, x, st->rho, NULL, NULL, NULL) != HP_OK) return INFINITY;
-    else rt_inject(st, pb->n, st->rho);
+    else {
+        rt_inject(st, pb->n, st->rho);
+        rt_note_start(st, pb, x);
+    }
     rt_touch(pb, st->rho);
     double worst = 0;
     for (int k = 0; k < pb->n; ++k) {
@@ -850,6 +881,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
     for (int i = 0; i < 6; ++i) xk[i] = (pb->w[i] > 0 && x0 && isfinite(x0[i])) ? x0[i] : 0.0;
     if (pb->level == HP_LEVEL_LINEAR)
         for (int i = 0; i < 6; ++i) xk[i] = 0.0;
+    memcpy(st->r0_x, xk, sizeof st->r0_x);
+    st->r0_ok = 0;
 
     int iters = 0, sqp = 0;
     double prev_step = INFINITY;
@@ -880,6 +913,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
      * restoration then tightens into a point not proven closest: ITERATION_LIMIT after a
      * handful of steps whenever the tolerance is clinical (0.05 to 0.5 mm). */
     const double stop_tol = fmin(st->tolerance, RT_FULL_STEP);
+    double t_step = t0, longest = 0.0; /* the last SQP step's start; the longest step */
     for (;;) {
         /* The previous step's active set as the guess; none for a cold solve's first QP
          * (st->act is then the last solve's, for another target: measured on the default
@@ -892,10 +926,18 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         if (pb->level == HP_LEVEL_LINEAR && lin_own && st->lin_k > 0 && st->lin_n == pb->n &&
             st->lin_nv == st->nv)
             guess = st->lin_act;
-        /* Out of time (before the first QP too: a budget already spent by the core): stop
-         * at the current iterate, which the restoration below makes feasible or replaces
-         * by the warm start or the nominal pose. */
-        if (rt_late(st)) {
+        /* Out of time (before the first QP too: a budget already spent by the core), or a
+         * step like the longest so far would end past the budget: stop at the current
+         * iterate, which the restoration below makes feasible or replaces by the warm
+         * start or the nominal pose. A step begun near the deadline ran on past it by a
+         * whole QP and its trial, the largest part of a stopped plan's overshoot. */
+        if (!st->late) {
+            double t = now_s(st->clk);
+            if (sqp > 0) longest = fmax(longest, t - t_step);
+            t_step = t;
+            st->late = t + RT_STEP_FIT * longest > st->t_end;
+        }
+        if (st->late) {
             st_out = HP_STATUS_TIME_LIMIT;
             r->converged = 0;
             break;
@@ -1079,10 +1121,20 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
             if (it % 4 == 3 && rt_late(st)) break;
             double mid = 0.5 * (lo + hi);
             for (int i = 0; i < 6; ++i) xt[i] = anchor[i] + mid * (xk[i] - anchor[i]);
-            if (violation(st, pb, xt, NULL) == 0) lo = mid;
-            else hi = mid;
+            if (violation(st, pb, xt, NULL) == 0) {
+                lo = mid;
+                memcpy(rho_a, st->rho, sizeof rho_a); /* rho at the feasible end */
+            } else {
+                hi = mid;
+            }
         }
         for (int i = 0; i < 6; ++i) xk[i] = anchor[i] + lo * (xk[i] - anchor[i]);
+        /* The feasible end's radii, measured at these very bits (the same expression; at lo
+         * = 0 the anchor's, the same value): the answer's, without evaluating there again. */
+        if (!rho_fresh) {
+            memcpy(st->rho, rho_a, sizeof rho_a);
+            rho_fresh = 1;
+        }
         r->converged = 0;
     }
     r->iterations = iters;

@@ -187,6 +187,62 @@ static void test_binding_budget_makes_progress(void **state)
             }
 }
 
+/* An SQP step after the first begins only while a quarter of the longest step so far still
+ * fits in the budget (RT_STEP_FIT in the backend), so the step in flight at a deadline is
+ * one predicted to end at most three quarters of a step late. On the test clock (every
+ * reading 1 us later) a solve reads its start at T and its first step's start at T + 1;
+ * when that step's full step is taken the next reading is the second step's start, T + 2,
+ * the longest step so far 1 us: the second step needs 2.25 us of budget (when the full step
+ * is refused, the line search's own readings make every later one past 2.3 us). Each target
+ * beyond reach is planned by a fresh planner from the nominal pose under budgets of 1.9,
+ * 2.1 and 2.3 us (the backend's test counters stay off: they read the clock too). Asserted
+ * per level: some answers differ between 2.1 and 2.3 us (a second step under 2.3 only),
+ * and those under 2.1 are the same bits as under 1.9, where the clock itself is past the
+ * deadline at T + 2 (a predicted stop ends as a stop by time does); every answer safe. A
+ * backend reading only whether the clock is past the deadline begins the second step under
+ * 2.1 too, one predicting more than 0.3 of the step under neither. */
+static void test_step_begins_only_if_it_fits(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    static const double budgets[] = {1.9e-6, 2.1e-6, 2.3e-6};
+    for (int l = 0; l < 2; ++l) {
+        int more = 0;
+        for (int t = 0; t < N_BEYOND; ++t) {
+            double P[3][HP_MAX_BLADDERS];
+            for (int b = 0; b < 3; ++b) {
+                hp_planner *p = budget_planner(levels[l], INFINITY, budgets[b]);
+                double d[6], P0[HP_MAX_BLADDERS], zero[6] = {0};
+                hp_result r;
+                assert_int_equal(hp_plan(p, zero, &r), HP_OK);
+                for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
+                lf_pose(beyond[t], d);
+                hpi_test_plan_clock(1e-6);
+                assert_int_equal(hp_plan(p, d, &r), HP_OK);
+                hpi_test_plan_clock(0.0);
+                char what[80];
+                snprintf(what, sizeof what, "%s budget %g s target %d (%s)",
+                         hp_level_name(levels[l]), budgets[b], t, hp_status_name(r.status));
+                check_safe(p, &r, P0, INFINITY, what);
+                for (int k = 0; k < r.n; ++k) P[b][k] = r.bladders[k].pressure;
+                if (b == 2 && memcmp(P[1], P[2], (size_t)r.n * sizeof P[0][0]) != 0) {
+                    ++more;
+                    if (memcmp(P[0], P[1], (size_t)r.n * sizeof P[0][0]) != 0) {
+                        print_error("%s: a second step under 2.3 us, and the answer under "
+                                    "2.1 us differs from 1.9 us's\n",
+                                    what);
+                        fail();
+                    }
+                }
+                hp_planner_destroy(p);
+            }
+        }
+        print_message("%s: %d of %d targets took a second step under 2.3 us and not under 2.1\n",
+                      hp_level_name(levels[l]), more, N_BEYOND);
+        assert_true(more > 0);
+    }
+}
+
 /* Tiny budgets on the real clock (0.3, 1 and 3 us), every contact level, rate-limited,
  * walks between far targets with the plans' own answers and with noisy readings fed back:
  * which plans the clock stops, and where (before a QP, in the line search, at a point
@@ -244,6 +300,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_expired_budget),
         cmocka_unit_test(test_binding_budget_makes_progress),
+        cmocka_unit_test(test_step_begins_only_if_it_fits),
         cmocka_unit_test(test_tiny_real_budgets_stay_safe),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
