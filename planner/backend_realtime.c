@@ -68,7 +68,9 @@ typedef struct rt_state {
     double max_time, tolerance;
     clockid_t clk; /* the clock max_time is checked on (budget_clock) */
     double t_end;  /* this solve's deadline on clk: its start + max_time */
-    int late;      /* the clock was read past t_end in this solve (rt_late) */
+    /* This solve stops for time: the clock was read past t_end (rt_late), or the next SQP
+     * step was predicted to end too far past it (RT_STEP_FIT). */
+    int late;
     /* rho, J and the Hessians at the point the last QP was linearised at; J and H point into
      * Jb and Hb, whose other halves c_J and c_H take the line search's trial evaluation:
      * when that point is accepted the halves swap instead of being copied. */
@@ -150,31 +152,39 @@ static double now_s(clockid_t clk);
 
 /* Test-only path counts (backend_testing.h): each solve counts in st->cnt with plain
  * increments and adds them here at its end, only while a test has counting on. */
+#define RT_N_COUNTS 12
 static atomic_int rt_counting;
-static atomic_long rt_counts[10];
+static atomic_long rt_counts[RT_N_COUNTS];
 
 void hpi_test_realtime_count(int on)
 {
     if (on)
-        for (int i = 0; i < 10; ++i) atomic_store(&rt_counts[i], 0);
+        for (int i = 0; i < RT_N_COUNTS; ++i) atomic_store(&rt_counts[i], 0);
     atomic_store(&rt_counting, on != 0);
 }
 
 void hpi_test_realtime_counts(hp_test_rt_counts *out)
 {
-    long *f[10] = {&out->solves, &out->qps,      &out->qp_warm,     &out->soc,  &out->soc_warm,
-                   &out->h_kept, &out->rho_step, &out->rho_refused, &out->late, &out->qp_steps};
-    for (int i = 0; i < 10; ++i) *f[i] = atomic_load(&rt_counts[i]);
+    long *f[RT_N_COUNTS] = {&out->solves,   &out->qps,      &out->qp_warm,     &out->soc,
+                            &out->soc_warm, &out->h_kept,   &out->rho_step,    &out->rho_refused,
+                            &out->late,     &out->qp_steps, &out->bisect_kept, &out->bisect_anchor};
+    for (int i = 0; i < RT_N_COUNTS; ++i) *f[i] = atomic_load(&rt_counts[i]);
 }
 
 static void rt_count_flush(const rt_state *st)
 {
     if (!atomic_load_explicit(&rt_counting, memory_order_relaxed)) return;
     const hp_test_rt_counts *c = &st->cnt;
-    const long v[10] = {1,         st->qps,     c->qp_warm,     c->soc,  c->soc_warm,
-                        c->h_kept, c->rho_step, c->rho_refused, c->late, c->qp_steps};
-    for (int i = 0; i < 10; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
+    const long v[RT_N_COUNTS] = {1,           st->qps,     c->qp_warm,     c->soc,
+                                 c->soc_warm, c->h_kept,   c->rho_step,    c->rho_refused,
+                                 c->late,     c->qp_steps, c->bisect_kept, c->bisect_anchor};
+    for (int i = 0; i < RT_N_COUNTS; ++i) atomic_fetch_add(&rt_counts[i], v[i]);
 }
+
+/* Test-only (backend_testing.h): the path a solve stopped by time takes to its answer. */
+static atomic_int rt_late_path = HP_TEST_LATE_AS_BUILT;
+
+void hpi_test_realtime_late_path(int path) { atomic_store(&rt_late_path, path); }
 
 /* Test-only: one more piece of work (a contact evaluation or a QP) begun after the budget
  * ran out, counted only while a test counts (one relaxed atomic read otherwise). */
@@ -225,10 +235,11 @@ int hpi_test_realtime_coarse_clock(double max_time)
     return budget_clock(max_time) != CLOCK_MONOTONIC;
 }
 
-/* 1 once this solve's budget has run out (the clock read past t_end, and from then on
- * without reading it again). Read before every QP, every line-search trial, every
- * restoration round and every few bisection steps: the work a solve begins after its
- * deadline is the few evaluations that find a feasible point to stop at. */
+/* 1 once this solve stops for time (the clock read past t_end, or a step predicted too
+ * long, rt_state.late; from then on without reading the clock again). Read before every QP,
+ * every line-search trial, every restoration round and every few bisection steps: the work
+ * a solve begins after its deadline is the few evaluations that find a feasible point to
+ * stop at. */
 static int rt_late(rt_state *st)
 {
     if (!st->late && now_s(st->clk) > st->t_end) st->late = 1;
@@ -926,8 +937,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         if (pb->level == HP_LEVEL_LINEAR && lin_own && st->lin_k > 0 && st->lin_n == pb->n &&
             st->lin_nv == st->nv)
             guess = st->lin_act;
-        /* Out of time (before the first QP too: a budget already spent by the core), or a
-         * step like the longest so far would end past the budget: stop at the current
+        /* Out of time (before the first QP too: a budget shorter than the solve's set-up),
+         * or a step like the longest so far would end past the budget: stop at the current
          * iterate, which the restoration below makes feasible or replaces by the warm
          * start or the nominal pose. A step begun near the deadline ran on past it by a
          * whole QP and its trial, the largest part of a stopped plan's overshoot. */
@@ -1095,7 +1106,9 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
          * evaluation where the bisection's three find the fraction to an eighth. Kept only
          * when that point is inside every limit (measured, not interpolated); else the
          * bisection below it. Without a stop by time the bisection alone, as always. */
-        if (st->late && have_rho_x) {
+        int path = st->late ? atomic_load_explicit(&rt_late_path, memory_order_relaxed)
+                            : HP_TEST_LATE_AS_BUILT;
+        if (st->late && have_rho_x && path == HP_TEST_LATE_AS_BUILT) {
             double t = 1.0;
             for (int k = 0; k < pb->n; ++k) {
                 double den = rho_x[k] - rho_a[k];
@@ -1113,7 +1126,8 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
                 }
             }
         }
-        for (int it = 0; it < RT_BISECT_STEPS && !rho_fresh; ++it) {
+        const int steps = path == HP_TEST_LATE_ANCHOR ? 0 : RT_BISECT_STEPS;
+        for (int it = 0; it < steps && !rho_fresh; ++it) {
             /* Every 4 steps (each a contact evaluation) the clock, first after three: lo is
              * feasible at every step, so stopping anywhere is safe, and three steps find the
              * feasible fraction of a step the budget cut to within an eighth (stopping at
@@ -1134,6 +1148,7 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
         if (!rho_fresh) {
             memcpy(st->rho, rho_a, sizeof rho_a);
             rho_fresh = 1;
+            ++*(lo > 0 ? &st->cnt.bisect_kept : &st->cnt.bisect_anchor);
         }
         r->converged = 0;
     }

@@ -43,6 +43,13 @@ void hpi_test_nlopt_force_result(int code);
 /* Fault in the realtime backend's contact evaluations (HP_TEST_FAULT_NAN_CONTACT*). */
 void hpi_test_realtime_fault(int fault);
 
+/* The path a realtime solve stopped by its budget at a point outside a curved limit takes,
+ * so a test can hold the rare ones to the same checks: HP_TEST_LATE_AS_BUILT; _BISECT: no
+ * interpolated step fraction, the bisection toward the anchor at once; _ANCHOR: neither, the
+ * anchor itself (a bisection the clock stopped before any step). */
+enum { HP_TEST_LATE_AS_BUILT = 0, HP_TEST_LATE_BISECT, HP_TEST_LATE_ANCHOR };
+void hpi_test_realtime_late_path(int path);
+
 /* 1 when a realtime backend created with this max_time reads its time budget on the coarse
  * monotonic clock (max_time at least 100 of its ticks), 0 when on the precise one. */
 int hpi_test_realtime_coarse_clock(double max_time);
@@ -55,10 +62,13 @@ int hpi_test_realtime_coarse_clock(double max_time);
  * and answers after a short last step whose extrapolation the step bound refused (their
  * radii evaluated instead), and the contact evaluations and QPs a solve began after its
  * time budget had run out (late: what a deadline overshoots by), and the Goldfarb–Idnani
- * add and drop steps of every QP solve call (qp_steps: hp_qp.gi_steps summed). Off by default: a solve
- * then reads one atomic int and adds nothing. */
+ * add and drop steps of every QP solve call (qp_steps: hp_qp.gi_steps summed), and the
+ * restorations' bisections that ended inside the segment (bisect_kept: part of the step
+ * kept) and at its anchor (bisect_anchor). Off by default: a solve then reads one atomic int
+ * and adds nothing. */
 typedef struct hp_test_rt_counts {
     long solves, qps, qp_warm, soc, soc_warm, h_kept, rho_step, rho_refused, late, qp_steps;
+    long bisect_kept, bisect_anchor;
 } hp_test_rt_counts;
 /* on = 1: zero the counts and count from now on; on = 0: stop counting (counts kept). */
 void hpi_test_realtime_count(int on);

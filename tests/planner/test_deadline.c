@@ -124,6 +124,45 @@ static void test_expired_budget(void **state)
     assert_true(stopped >= 36); /* the solver ran on most of the 72 plans */
 }
 
+/* One walk of test_binding_budget_makes_progress: from the nominal pose toward a held target
+ * (rate-limited, test clock, a budget of `budget` readings), at most 40 plans, every answer
+ * checked (check_safe) and none the safe output (solver-error: the core refused the
+ * backend's answer); readings fed back when fed. Sets *stopped to the plans the budget
+ * stopped and returns the plan that reached the target's closest point, or -1. */
+static int budget_walk(hp_level level, int fed, int budget, int *stopped)
+{
+    static const double target_mm_deg[6] = {4, -3, 3, 2, -1.5, 1.5};
+    const double rate = 400.0;
+    hp_planner *p = budget_planner(level, rate, 1e-6 * budget);
+    hpi_test_plan_clock(1e-6);
+    double P0[HP_MAX_BLADDERS], zero[6] = {0}, d[6];
+    hp_result r;
+    assert_int_equal(hp_plan(p, zero, &r), HP_OK);
+    for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
+    lf_pose(target_mm_deg, d);
+    int done = -1;
+    *stopped = 0;
+    for (int t = 0; t < 40 && done < 0; ++t) {
+        assert_int_equal(hp_plan(p, d, &r), HP_OK);
+        char what[96];
+        snprintf(what, sizeof what, "%s %s budget %d plan %d (%s)", hp_level_name(level),
+                 fed ? "readings" : "answers", budget, t, hp_status_name(r.status));
+        check_safe(p, &r, P0, rate, what);
+        if (r.status == HP_STATUS_SOLVER_ERROR) { /* the safe output: a refused answer */
+            print_error("%s: %s\n", what, hp_planner_error(p));
+            fail();
+        }
+        *stopped += r.status == HP_STATUS_TIME_LIMIT;
+        if (r.status == HP_STATUS_REACHED || r.status == HP_STATUS_CLOSEST) done = t;
+        for (int k = 0; k < r.n; ++k)
+            P0[k] = r.bladders[k].pressure + (fed ? (k % 2 ? 1.0 : -1.0) : 0.0);
+        if (fed) assert_int_equal(hp_planner_set_measured(p, P0, NULL), HP_OK);
+    }
+    hpi_test_plan_clock(0.0);
+    hp_planner_destroy(p);
+    return done;
+}
+
 /* A budget that binds on every plan of a walk to a held target still moves the plan toward
  * it: a solve the clock stops keeps the step its QP paid for (one line-search trial) or the
  * part of it three bisection steps find feasible, so a loop under a tight budget reaches its
@@ -140,38 +179,16 @@ static void test_binding_budget_makes_progress(void **state)
 {
     (void)state;
     const hp_level levels[] = {HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
-    static const double target_mm_deg[6] = {4, -3, 3, 2, -1.5, 1.5};
     static const int budgets[] = {2, 3};
-    const double rate = 400.0;
     for (int l = 0; l < 2; ++l)
         for (int fed = 0; fed < 2; ++fed)
             for (size_t b = 0; b < sizeof budgets / sizeof budgets[0]; ++b) {
-                hp_planner *p = budget_planner(levels[l], rate, 1e-6 * budgets[b]);
-                hpi_test_plan_clock(1e-6);
-                double P0[HP_MAX_BLADDERS], zero[6] = {0}, d[6];
-                hp_result r;
-                assert_int_equal(hp_plan(p, zero, &r), HP_OK);
-                for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
-                lf_pose(target_mm_deg, d);
-                int stopped = 0, done = -1;
-                for (int t = 0; t < 40 && done < 0; ++t) {
-                    assert_int_equal(hp_plan(p, d, &r), HP_OK);
-                    char what[96];
-                    snprintf(what, sizeof what, "%s %s budget %d plan %d (%s)",
-                             hp_level_name(levels[l]), fed ? "readings" : "answers", budgets[b], t,
-                             hp_status_name(r.status));
-                    check_safe(p, &r, P0, rate, what);
-                    stopped += r.status == HP_STATUS_TIME_LIMIT;
-                    if (r.status == HP_STATUS_REACHED || r.status == HP_STATUS_CLOSEST) done = t;
-                    for (int k = 0; k < r.n; ++k)
-                        P0[k] = r.bladders[k].pressure + (fed ? (k % 2 ? 1.0 : -1.0) : 0.0);
-                    if (fed) assert_int_equal(hp_planner_set_measured(p, P0, NULL), HP_OK);
-                }
-                hpi_test_plan_clock(0.0);
+                int stopped;
+                int done = budget_walk(levels[l], fed, budgets[b], &stopped);
                 print_message("%s, %s, budget %2d readings: %2d plans stopped by it, %s at "
                               "plan %d\n",
                               hp_level_name(levels[l]), fed ? "readings" : "answers", budgets[b],
-                              stopped, done >= 0 ? hp_status_name(r.status) : "not reached", done);
+                              stopped, done >= 0 ? "closest point" : "not reached", done);
                 if (done < 0) {
                     print_error("%s budget %d (%s): the walk did not reach its target in 40 "
                                 "plans\n",
@@ -183,8 +200,45 @@ static void test_binding_budget_makes_progress(void **state)
                                 hp_level_name(levels[l]), fed ? "readings" : "answers", stopped);
                     fail();
                 }
-                hp_planner_destroy(p);
             }
+}
+
+/* A stopped solve whose point reached is outside a curved limit keeps the interpolated step
+ * fraction when that point holds, which it nearly always does: the bisection below it, and
+ * its answer's radii (those of its last feasible point, or of its anchor when it kept
+ * nothing, not evaluated again at the answer), are then rarely walked. The backend's test
+ * hook (hpi_test_realtime_late_path) sends the walks of test_binding_budget_makes_progress
+ * (budget 2 readings) down each: the bisection at once, and the anchor itself (a bisection
+ * stopped before its first step). Asserted: every answer safe and its forward model giving
+ * the stated pose (check_safe); bisections that kept part of the step, and answers at the
+ * anchor, among them (the backend's test counts); none the safe output. An answer inside
+ * the segment carrying the anchor's radii fails the forward model's check (a mutation
+ * tried). */
+static void test_late_bisection_answers_hold(void **state)
+{
+    (void)state;
+    const hp_level levels[] = {HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
+    const int paths[] = {HP_TEST_LATE_BISECT, HP_TEST_LATE_ANCHOR};
+    long kept = 0, anchor = 0;
+    for (int m = 0; m < 2; ++m) {
+        hpi_test_realtime_late_path(paths[m]);
+        for (int l = 0; l < 2; ++l)
+            for (int fed = 0; fed < 2; ++fed) {
+                int stopped;
+                hp_test_rt_counts c;
+                hpi_test_realtime_count(1);
+                (void)budget_walk(levels[l], fed, 2, &stopped);
+                hpi_test_realtime_count(0);
+                hpi_test_realtime_counts(&c);
+                kept += c.bisect_kept;
+                anchor += c.bisect_anchor;
+            }
+    }
+    hpi_test_realtime_late_path(HP_TEST_LATE_AS_BUILT);
+    print_message("late bisections: %ld kept part of the step, %ld answered at the anchor\n", kept,
+                  anchor);
+    assert_true(kept > 0);
+    assert_true(anchor > 0);
 }
 
 /* An SQP step after the first begins only while a quarter of the longest step so far still
@@ -254,6 +308,8 @@ static void test_step_begins_only_if_it_fits(void **state)
 static void test_tiny_real_budgets_stay_safe(void **state)
 {
     (void)state;
+    hpi_test_plan_clock(0.0); /* the real clock, even after a failed test left the test one on */
+    hpi_test_realtime_late_path(HP_TEST_LATE_AS_BUILT);
     const hp_level levels[] = {HP_LEVEL_LINEAR, HP_LEVEL_PLANE, HP_LEVEL_SURFACE};
     static const double budgets[] = {3e-7, 1e-6, 3e-6};
     const double rate = 400.0;
@@ -300,6 +356,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_expired_budget),
         cmocka_unit_test(test_binding_budget_makes_progress),
+        cmocka_unit_test(test_late_bisection_answers_hold),
         cmocka_unit_test(test_step_begins_only_if_it_fits),
         cmocka_unit_test(test_tiny_real_budgets_stay_safe),
     };
