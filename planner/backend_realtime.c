@@ -45,7 +45,9 @@
  * just before the deadline ran a whole step past it; with the whole step (1) the budget
  * stopped many plans that would have ended a fraction of a microsecond late, and the plane
  * step trace reached its targets in half as many plans at 3 us. */
+#ifndef RT_STEP_FIT /* defined on the compiler's command line for that measurement */
 #define RT_STEP_FIT 0.25
+#endif
 /* SQP steps below this (mm or deg) are taken whole, larger ones by a merit line search:
  * 1000x the default pose tolerance, where the merit's changes (~step²) reach its rounding. */
 #define RT_FULL_STEP 1e-6
@@ -942,13 +944,11 @@ static hp_error rt_solve(void *state, const hp_problem *pb, const double *x0, do
          * iterate, which the restoration below makes feasible or replaces by the warm
          * start or the nominal pose. A step begun near the deadline ran on past it by a
          * whole QP and its trial, the largest part of a stopped plan's overshoot. */
-        if (!st->late) {
-            double t = now_s(st->clk);
-            if (sqp > 0) longest = fmax(longest, t - t_step);
-            t_step = t;
-            st->late = t + RT_STEP_FIT * longest > st->t_end;
-        }
-        if (st->late) {
+        const double t = now_s(st->clk); /* nothing in the loop sets late and goes on */
+        if (sqp > 0) longest = fmax(longest, t - t_step);
+        t_step = t;
+        if (t + RT_STEP_FIT * longest > st->t_end) {
+            st->late = 1;
             st_out = HP_STATUS_TIME_LIMIT;
             r->converged = 0;
             break;

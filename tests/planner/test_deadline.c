@@ -24,7 +24,10 @@ static const double beyond[][6] = {
 };
 #define N_BEYOND (int)(sizeof beyond / sizeof beyond[0])
 
-static hp_planner *budget_planner(hp_level level, double rate, double max_time)
+/* A realtime planner of this level, rate limit and budget that has planned the zero
+ * correction (answered by the direct chain, REACHED); P0 gets its pressures, the first
+ * previous pressures (the rate windows' centres) of every walk here. */
+static hp_planner *budget_planner(hp_level level, double rate, double max_time, double *P0)
 {
     hp_settings s;
     hp_settings_default(&s);
@@ -33,6 +36,11 @@ static hp_planner *budget_planner(hp_level level, double rate, double max_time)
     s.max_time = max_time;
     hp_planner *p = NULL;
     assert_int_equal(lf_planner_settings(&s, rate, &p), HP_OK);
+    const double zero[6] = {0};
+    hp_result r0;
+    assert_int_equal(hp_plan(p, zero, &r0), HP_OK);
+    assert_int_equal(r0.status, HP_STATUS_REACHED);
+    for (int k = 0; k < r0.n; ++k) P0[k] = r0.bladders[k].pressure;
     return p;
 }
 
@@ -72,16 +80,11 @@ static void test_expired_budget(void **state)
     for (int l = 0; l < 2; ++l) {
         for (int rl = 0; rl < 2; ++rl) {
             double rate = rl ? 400.0 : INFINITY;
-            hp_planner *p = budget_planner(levels[l], rate, 1e-9);
+            /* The previous pressures: the nominal ones, then each result's own (a stopped
+             * solve's iterate, or the safe output, which is the previous answer). */
+            double P0[HP_MAX_BLADDERS];
+            hp_planner *p = budget_planner(levels[l], rate, 1e-9, P0);
             uint64_t seed = 0xdead + (uint64_t)(2 * l + rl);
-            /* The previous pressures: the nominal ones (the zero correction, answered by the
-             * direct chain), then each result's own (a stopped solve's iterate, or the safe
-             * output, which is the previous answer). */
-            double P0[HP_MAX_BLADDERS], zero[6] = {0};
-            hp_result r0;
-            assert_int_equal(hp_plan(p, zero, &r0), HP_OK);
-            assert_int_equal(r0.status, HP_STATUS_REACHED);
-            for (int k = 0; k < r0.n; ++k) P0[k] = r0.bladders[k].pressure;
             for (int t = 0; t < 3 * N_BEYOND; ++t) {
                 double d[6], mm_deg[6];
                 for (int i = 0; i < 6; ++i)
@@ -133,12 +136,10 @@ static int budget_walk(hp_level level, int fed, int budget, int *stopped)
 {
     static const double target_mm_deg[6] = {4, -3, 3, 2, -1.5, 1.5};
     const double rate = 400.0;
-    hp_planner *p = budget_planner(level, rate, 1e-6 * budget);
+    double P0[HP_MAX_BLADDERS], d[6];
+    hp_planner *p = budget_planner(level, rate, 1e-6 * budget, P0);
     hpi_test_plan_clock(1e-6);
-    double P0[HP_MAX_BLADDERS], zero[6] = {0}, d[6];
     hp_result r;
-    assert_int_equal(hp_plan(p, zero, &r), HP_OK);
-    for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
     lf_pose(target_mm_deg, d);
     int done = -1;
     *stopped = 0;
@@ -265,11 +266,9 @@ static void test_step_begins_only_if_it_fits(void **state)
         for (int t = 0; t < N_BEYOND; ++t) {
             double P[3][HP_MAX_BLADDERS];
             for (int b = 0; b < 3; ++b) {
-                hp_planner *p = budget_planner(levels[l], INFINITY, budgets[b]);
-                double d[6], P0[HP_MAX_BLADDERS], zero[6] = {0};
+                double d[6], P0[HP_MAX_BLADDERS];
+                hp_planner *p = budget_planner(levels[l], INFINITY, budgets[b], P0);
                 hp_result r;
-                assert_int_equal(hp_plan(p, zero, &r), HP_OK);
-                for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
                 lf_pose(beyond[t], d);
                 hpi_test_plan_clock(1e-6);
                 assert_int_equal(hp_plan(p, d, &r), HP_OK);
@@ -317,12 +316,10 @@ static void test_tiny_real_budgets_stay_safe(void **state)
     for (int l = 0; l < 3; ++l)
         for (size_t b = 0; b < sizeof budgets / sizeof budgets[0]; ++b)
             for (int fed = 0; fed < 2; ++fed) {
-                hp_planner *p = budget_planner(levels[l], rate, budgets[b]);
+                double P0[HP_MAX_BLADDERS], d[6], mm_deg[6] = {0};
+                hp_planner *p = budget_planner(levels[l], rate, budgets[b], P0);
                 uint64_t seed = 0xbee5 + (uint64_t)(6 * l + 2 * (int)b + fed);
-                double P0[HP_MAX_BLADDERS], zero[6] = {0}, d[6], mm_deg[6] = {0};
                 hp_result r;
-                assert_int_equal(hp_plan(p, zero, &r), HP_OK);
-                for (int k = 0; k < r.n; ++k) P0[k] = r.bladders[k].pressure;
                 for (int t = 0; t < 60; ++t) {
                     if (t % 15 == 0) /* a new target, held for 15 plans */
                         for (int i = 0; i < 6; ++i)
